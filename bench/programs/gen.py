@@ -1,0 +1,131 @@
+#!/usr/bin/env python3
+"""Generate the interpreter benchmark programs (deterministic, stdlib only).
+
+Usage: python3 bench/programs/gen.py [OUT_DIR] [--moves N] [--iters N]
+
+Writes into OUT_DIR (default: bench/out/ next to this script's parent):
+  linear-200k.nc   FANUC syntax (fivex): O0001, 200,000 G01 moves, M30
+  linear-200k.ngc  the very same moves for LinuxCNC rs274, M2
+  macro-200k.nc    FANUC custom macro B WHILE/DO/END loop, 200,000 iterations
+  macro-200k.ngc   the equivalent LinuxCNC o-word while loop, ends (debug,#2)
+and prints the expected final value of #2 for the macro programs.
+
+Coordinates are computed with integer arithmetic only (micrometres), so the
+output is byte-identical on every machine and Python version.
+"""
+import argparse
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DEFAULT_OUT = os.path.normpath(os.path.join(HERE, "..", "out"))
+
+ROW_MOVES = 500          # moves per zig-zag row
+ROW_LEN_UM = 200_000     # row length: 200 mm
+ROW_PITCH_UM = 250       # Y step between rows: 0.25 mm
+Y_ROWS = 320             # rows before the raster starts again from Y=0
+
+
+def fmt(um):
+    """Micrometres -> decimal-point millimetres, always 3 decimals."""
+    sign = "-" if um < 0 else ""
+    um = abs(um)
+    return "%s%d.%03d" % (sign, um // 1000, um % 1000)
+
+
+def moves(n):
+    """Deterministic zig-zag raster with a wobble in Y and a varying depth.
+
+    Yields (N word or None, x_um, y_um, z_um).  Every 10th block gets a
+    sequence number N10, N20, ... wrapping after N99990 (5 digits).
+    """
+    state = 12345
+    for i in range(n):
+        row, k = divmod(i, ROW_MOVES)
+        step = (k + 1) * ROW_LEN_UM // ROW_MOVES
+        x = step if row % 2 == 0 else ROW_LEN_UM - step
+        x -= ROW_LEN_UM // 2                     # centre on X0
+        state = (state * 1103515245 + 12345) & 0x7FFFFFFF   # LCG
+        wobble = (state >> 8) % 201 - 100        # -0.100 .. +0.100 mm
+        y = (row % Y_ROWS) * ROW_PITCH_UM - 40_000 + wobble
+        z = -500 - ((state >> 16) % 1501)        # -0.500 .. -2.000 mm
+        nword = None
+        if (i + 1) % 10 == 0:
+            nword = ((i + 1) // 10 - 1) % 9999 * 10 + 10
+        yield nword, x, y, z
+
+
+def write_linear(path, n, fanuc):
+    with open(path, "w", newline="\n") as f:
+        if fanuc:
+            f.write("O0001\n")
+        f.write("G21 G90 G17 G94 G54\n")
+        f.write("G00 X0 Y0 Z5.\n")
+        f.write("G01 Z0 F1000.\n")
+        for nword, x, y, z in moves(n):
+            pre = "N%d " % nword if nword is not None else ""
+            f.write("%sG01 X%s Y%s Z%s\n" % (pre, fmt(x), fmt(y), fmt(z)))
+        f.write("G00 Z5.\n")
+        f.write("M30\n" if fanuc else "M2\n")
+
+
+def write_macro_fanuc(path, iters):
+    with open(path, "w", newline="\n") as f:
+        f.write("O0002\n")
+        f.write("#1=0\n")
+        f.write("#2=0\n")
+        f.write("WHILE [#1 LT %d] DO 1\n" % iters)
+        f.write("#2 = #2 + SIN[#1] + SQRT[ABS[#1]] + ABS[#1 - 100]\n")
+        f.write("#1 = #1 + 1\n")
+        f.write("END 1\n")
+        f.write("#100 = #2\n")
+        f.write("M30\n")
+
+
+def write_macro_ngc(path, iters):
+    # LinuxCNC wants a bracketed expression on the right of '=' and
+    # evaluates sin[] in degrees, as FANUC SIN[] does.
+    with open(path, "w", newline="\n") as f:
+        f.write("#1=0\n")
+        f.write("#2=0\n")
+        f.write("o100 while [#1 lt %d]\n" % iters)
+        f.write("#2 = [#2 + sin[#1] + sqrt[abs[#1]] + abs[#1 - 100]]\n")
+        f.write("#1 = [#1 + 1]\n")
+        f.write("o100 endwhile\n")
+        f.write("#100 = #2\n")
+        f.write("(debug,#2)\n")
+        f.write("M2\n")
+
+
+def expected_macro(iters):
+    acc = 0.0
+    for i in range(iters):
+        x = float(i)
+        acc = acc + math.sin(math.radians(x)) + math.sqrt(abs(x)) + abs(x - 100)
+    return acc
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out", nargs="?", default=DEFAULT_OUT)
+    ap.add_argument("--moves", type=int, default=200_000)
+    ap.add_argument("--iters", type=int, default=200_000)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    files = {
+        "linear-200k.nc": lambda p: write_linear(p, a.moves, True),
+        "linear-200k.ngc": lambda p: write_linear(p, a.moves, False),
+        "macro-200k.nc": lambda p: write_macro_fanuc(p, a.iters),
+        "macro-200k.ngc": lambda p: write_macro_ngc(p, a.iters),
+    }
+    for name, writer in files.items():
+        path = os.path.join(a.out, name)
+        writer(path)
+        print("%-16s %10d bytes  %s" % (name, os.path.getsize(path), path))
+    print("expected final #2 (macro): %.6f" % expected_macro(a.iters))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
