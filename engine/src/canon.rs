@@ -1,0 +1,118 @@
+//! Canonical commands: what the interpreter hands to motion, one per action, in program order.
+//!
+//! Positions are full axis vectors in the machine's axis order (`[f64; MAX_AXES]`, unused slots
+//! zero). `target` is in programming coordinates (the active workpiece system after G52/G92);
+//! `machine` is the same point in machine coordinates with work and tool length offsets applied.
+
+use crate::machine::MAX_AXES;
+
+pub type Pos = [f64; MAX_AXES];
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MotionKind {
+    /// G00
+    Rapid,
+    /// G01 (and, until their own interpolators exist, the other group-01 codes)
+    Linear,
+    /// G02
+    ArcCw,
+    /// G03
+    ArcCcw,
+    /// G53: rapid in machine coordinates
+    MachineRapid,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FeedMode {
+    /// G93: F is 1/min, the block takes 1/F minutes.
+    InverseTime,
+    /// G94: mm/min (deg/min for rotary-only moves)
+    PerMinute,
+    /// G95: mm per spindle revolution
+    PerRevolution,
+}
+
+/// A circular or helical move.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arc {
+    /// Center in programming coordinates (only the plane's two axes are meaningful).
+    pub center: Pos,
+    /// The plane's first and second axis index and the helix axis index.
+    pub plane_axes: (usize, usize, usize),
+    pub radius: f64,
+    /// Signed swept angle in degrees (positive = counter-clockwise seen from the plane normal).
+    pub sweep_deg: f64,
+}
+
+/// The modal context a motion is executed in, as G-code numbers ×10 (G43.4 → 434).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionContext {
+    pub plane: u16,
+    pub wcs: u16,
+    /// P of G54.1 (0 otherwise).
+    pub wcs_p: u16,
+    pub length_comp: u16,
+    pub h: u32,
+    pub tool_length: f64,
+    pub cutter_comp: u16,
+    pub d: u32,
+    pub cutter_radius: f64,
+    pub path_mode: u16,
+    pub rotation: u16,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Motion {
+    pub kind: MotionKind,
+    pub target: Pos,
+    pub machine: Pos,
+    pub arc: Option<Arc>,
+    /// F in the unit of `feed_mode` (converted to mm).
+    pub feed: f64,
+    pub feed_mode: FeedMode,
+    /// Spindle speed at the time (for G95).
+    pub spindle: f64,
+    pub context: MotionContext,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpindleState {
+    Cw,
+    Ccw,
+    Stop,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Coolant {
+    Mist,
+    Flood,
+    Off,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum CanonKind {
+    Motion(Motion),
+    Dwell { seconds: f64 },
+    /// T word: the tool is prepared.
+    ToolSelect { tool: u32 },
+    /// M06
+    ToolChange { tool: u32 },
+    Spindle { state: SpindleState, speed: f64 },
+    Coolant(Coolant),
+    /// Any other M code, for the machine's PLC.
+    Aux { m: u32 },
+    /// M00, M01 (optional) or `#3006`.
+    Stop { optional: bool, message: Option<String> },
+    /// DPRNT/BPRNT text.
+    Print { text: String },
+    /// M02 or M30.
+    ProgramEnd { m: u32 },
+}
+
+/// One canonical command with the block it came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Canon {
+    pub line: u32,
+    pub n: Option<u32>,
+    pub kind: CanonKind,
+}

@@ -1,0 +1,64 @@
+//! Static checks for `fivex check`: everything that can be known without running the program.
+//!
+//! Beyond the parser's diagnostics: G codes the dialect does not have, DO/END structure, GOTO
+//! targets and called programs given as literal numbers that do not exist.
+
+use crate::alarm::AlarmId;
+use crate::dialect::Dialect;
+use crate::interp::gcode;
+use crate::interp::Loaded;
+use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
+use std::collections::HashSet;
+
+/// Every diagnostic of `file`, sorted by line and column.
+pub fn check(file: &File, dialect: Dialect) -> Vec<Diagnostic> {
+    let mut diags = file.diagnostics.clone();
+    let numbers: HashSet<u32> = file.programs.iter().filter_map(|p| p.number).collect();
+    for program in &file.programs {
+        let loaded = Loaded::new(program.clone());
+        for (i, block) in program.blocks.iter().enumerate() {
+            let at = |col: u32, id: AlarmId, detail: String| Diagnostic { line: block.line, col, id, detail };
+            if let Some(id) = loaded.loop_error.get(&(i as u32)) {
+                diags.push(at(block.col, id.clone(), "DO/END: unmatched, crossing, or a loop number other than 1–3".into()));
+            }
+            match &block.kind {
+                BlockKind::Goto(Expr::Num(n)) | BlockKind::IfGoto { target: Expr::Num(n), .. } => {
+                    if loaded.find_label(*n as u32, i).is_none() {
+                        diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
+                    }
+                }
+                BlockKind::Words(words) => {
+                    let mut calls = false;
+                    for w in words {
+                        let WordValue::Number { value, .. } = w.value else { continue };
+                        match w.letter {
+                            b'G' => match gcode::code_of(value).and_then(|c| gcode::lookup(c, dialect)) {
+                                None => diags.push(at(w.col, AlarmId::ImproperGCode, format!("G{value} is not a G code of the {} dialect", dialect.name()))),
+                                Some(d) => calls |= matches!(d.code, 650 | 660 | 661),
+                            },
+                            b'M' => calls |= matches!(value as u32, 98 | 198),
+                            _ => {}
+                        }
+                    }
+                    if calls {
+                        let p = words.iter().find_map(|w| match (w.letter, &w.value) {
+                            (b'P', WordValue::Number { value, .. }) => Some((*value, w.col)),
+                            _ => None,
+                        });
+                        if let Some((p, col)) = p {
+                            let m98 = words.iter().any(|w| w.letter == b'M');
+                            let has_l = words.iter().any(|w| w.letter == b'L');
+                            let number = if m98 && !has_l && p >= 10_000.0 { p % 10_000.0 } else { p };
+                            if !numbers.contains(&(number as u32)) {
+                                diags.push(at(col, AlarmId::ProgramNotFound, format!("no program O{:04} in this file", number as u32)));
+                            }
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    diags.sort_by_key(|d| (d.line, d.col));
+    diags
+}

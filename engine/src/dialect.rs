@@ -1,0 +1,116 @@
+//! The dialect layer: one place per vendor for alarm codes and messages.
+//!
+//! FANUC codes are the 30i's own (`PS0010`, `PS0112`…). Syntec's seed lists only its 5-axis
+//! alarms (`COR-070`, `COR-153`, `MAR-406`…); the codes it does not print are *constructed* in a
+//! range the seed does not use and are marked so in `docs/dialects.md`.
+
+use crate::alarm::AlarmId;
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dialect {
+    #[default]
+    Fanuc,
+    Syntec,
+}
+
+impl std::str::FromStr for Dialect {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "fanuc" => Ok(Dialect::Fanuc),
+            "syntec" => Ok(Dialect::Syntec),
+            other => Err(format!("unknown dialect '{other}' (expected fanuc or syntec)")),
+        }
+    }
+}
+
+impl Dialect {
+    pub fn name(self) -> &'static str {
+        match self {
+            Dialect::Fanuc => "fanuc",
+            Dialect::Syntec => "syntec",
+        }
+    }
+
+    /// The vendor's code and message for an alarm.
+    pub fn describe(self, id: &AlarmId) -> (String, String) {
+        if let AlarmId::MacroAlarm { number, message } = id {
+            return match self {
+                Dialect::Fanuc => (format!("MC{}", 3000 + number), message.clone()),
+                Dialect::Syntec => (format!("MAR-{number:03}"), message.clone()),
+            };
+        }
+        if let AlarmId::BlockBudgetExceeded { budget } = id {
+            return ("FX0001".into(), format!("BLOCK BUDGET EXCEEDED ({budget} BLOCKS)"));
+        }
+        if let AlarmId::TimeBudgetExceeded { budget_s } = id {
+            return ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"));
+        }
+        let (fanuc, syntec) = codes(id);
+        match self {
+            Dialect::Fanuc => (fanuc.0.into(), fanuc.1.into()),
+            Dialect::Syntec => (syntec.0.into(), syntec.1.into()),
+        }
+    }
+}
+
+type Text = (&'static str, &'static str);
+
+/// (FANUC, Syntec) code and message of every alarm that carries no data.
+fn codes(id: &AlarmId) -> (Text, Text) {
+    use AlarmId::*;
+    match id {
+        Syntax => (("PS0004", "INVALID BREAK POINT OF WORDS"), ("COR-001", "Syntax error")),
+        ImproperAddress => (("PS0009", "IMPROPER NC-ADDRESS"), ("COR-002", "Illegal address")),
+        NoDataAfterAddress => (("PS0005", "NO DATA AFTER ADDRESS"), ("COR-003", "Missing value after address")),
+        TooManyDigits => (("PS0003", "TOO MANY DIGITS"), ("COR-004", "Value out of range")),
+        ImproperGCode => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
+        IllegalGCodeCombination => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
+        FeedZero => (("PS0011", "FEED ZERO ( COMMAND )"), ("COR-010", "Feedrate is zero")),
+        IllegalOffsetNumber => (("PS0030", "ILLEGAL OFFSET NUMBER"), ("COR-011", "Illegal offset number")),
+        ArcRadiusTolerance => (("PS0020", "OVER TOLERANCE OF RADIUS"), ("COR-012", "Arc end point not on the arc")),
+        PlaneChangeInCompensation => (("PS0037", "CAN NOT CHANGE PLANE IN G41/G42"), ("COR-013", "Plane change in cutter compensation")),
+        DataSettingFormat => (("PS1144", "G10 FORMAT ERROR"), ("COR-014", "G10 format error")),
+        MissingQ => (("PS0045", "ADDRESS Q NOT FOUND (G73/G83)"), ("COR-015", "Peck depth Q missing")),
+        ReferenceReturnInCycle => (("PS0044", "G27-G30 NOT ALLOWED IN FIXED CYC"), ("COR-016", "Reference return in canned cycle")),
+        IllegalCommandInMode => (("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"), ("COR-100", "Unsupported G code command or option software is not activated")),
+        MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),
+        VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-021", "Variable number out of range")),
+        WriteProtectedVariable => (("PS0116", "WRITE PROTECTED VARIABLE"), ("COR-022", "Variable is read-only")),
+        ZeroDivide => (("PS0112", "ZERO DIVIDE"), ("COR-023", "Division by zero")),
+        BracketNesting => (("PS0118", "PARENTHESIS NESTING LEVEL"), ("COR-024", "Too many nested brackets")),
+        ArgumentOutOfRange => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-025", "Function argument out of range")),
+        FloatOverflow => (("PS0111", "OVERFLOW :FLOAT"), ("COR-026", "Calculation overflow")),
+        MissingEnd => (("PS0124", "MISSING END STATEMENT"), ("COR-027", "DO without END")),
+        IllegalLoopNumber => (("PS0126", "ILLEGAL LOOP NUMBER"), ("COR-028", "Illegal loop number")),
+        IllegalSequenceNumber => (("PS0128", "ILLEGAL MACRO SEQUENCE NUMBER"), ("COR-029", "GOTO target not found")),
+        ProgramNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
+        NestingTooDeep => (("PS0077", "TOO MANY SUB,MACRO NESTING"), ("COR-031", "Too many nested calls")),
+        GAsArgument => (("PS0129", "USE 'G' AS ARGUMENT"), ("COR-032", "G used as macro argument")),
+        MixedStatements => (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block")),
+        MacroAlarm { .. } | BlockBudgetExceeded { .. } | TimeBudgetExceeded { .. } => {
+            unreachable!("alarms with data are described in Dialect::describe")
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fanuc_and_syntec_codes_differ_per_dialect() {
+        assert_eq!(Dialect::Fanuc.describe(&AlarmId::ImproperGCode).0, "PS0010");
+        assert_eq!(Dialect::Syntec.describe(&AlarmId::ImproperGCode).0, "COR-070");
+        assert_eq!(Dialect::Fanuc.describe(&AlarmId::ZeroDivide).0, "PS0112");
+    }
+
+    #[test]
+    fn macro_alarm_numbering() {
+        let id = AlarmId::MacroAlarm { number: 12, message: "TOOL BROKEN".into() };
+        assert_eq!(Dialect::Fanuc.describe(&id), ("MC3012".into(), "TOOL BROKEN".into()));
+        assert_eq!(Dialect::Syntec.describe(&id), ("MAR-012".into(), "TOOL BROKEN".into()));
+    }
+}

@@ -1,0 +1,179 @@
+//! Canned cycles G73–G89, expanded into canonical motions.
+//!
+//! FANUC conventions: the drilling axis is the plane normal; in G91 the R word is the distance
+//! from the initial level and the drilling-axis word the distance from the R point; G98 returns
+//! to the initial level, G99 to the R point; L repeats the cycle (L0 only stores its data).
+
+use super::nc::Words;
+use super::State;
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, CanonKind, MotionKind, SpindleState};
+
+/// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm.
+const G73_RETRACT: f64 = 0.5;
+const G83_CLEARANCE: f64 = 0.5;
+
+impl State {
+    /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
+    pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+        let (pa, pb, d) = self.plane_axes()?;
+        let incremental = self.modes[3] == 910;
+        let drill_letter = self.cfg.machine.axes[d].name as u8;
+        if let Some(r) = self.value(w, b'R') {
+            self.cycle.r = if incremental { self.cycle.initial + r } else { r };
+            self.cycle.r_set = true;
+        }
+        if let Some(z) = self.value(w, drill_letter) {
+            self.cycle.z = if incremental { self.cycle.r + z } else { z };
+        }
+        if let Some(q) = self.value(w, b'Q') {
+            self.cycle.q = q.abs();
+        }
+        if let Some(p) = w.integer(b'P') {
+            self.cycle.p = p / 1000.0;
+        }
+        if !self.cycle.r_set {
+            self.cycle.r = self.pos[d];
+        }
+        let repeats = Self::count(w)?;
+        let code = self.modes[9];
+        if matches!(code, 730 | 830) && self.cycle.q <= 0.0 {
+            return Err(AlarmId::MissingQ);
+        }
+        if self.f <= 0.0 {
+            return Err(AlarmId::FeedZero);
+        }
+        for _ in 0..repeats {
+            // Position over the hole: every axis but the drilling axis.
+            let mut hole = self.pos;
+            for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+                if i == d {
+                    continue;
+                }
+                if let Some(v) = self.value(w, axis.name as u8) {
+                    hole[i] = if incremental { self.pos[i] + v } else { v };
+                }
+            }
+            self.emit_motion(MotionKind::Rapid, hole, None, out);
+            self.hole(code, d, (pa, pb), out)?;
+        }
+        Ok(repeats > 0)
+    }
+
+    fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) {
+        let mut t = self.pos;
+        t[d] = level;
+        self.emit_motion(kind, t, None, out);
+    }
+
+    fn shift(&mut self, axis: usize, by: f64, out: &mut Vec<Canon>) {
+        let mut t = self.pos;
+        t[axis] += by;
+        self.emit_motion(MotionKind::Rapid, t, None, out);
+    }
+
+    fn spindle(&mut self, state: SpindleState, out: &mut Vec<Canon>) {
+        self.emit(out, CanonKind::Spindle { state, speed: self.s });
+    }
+
+    fn hole(&mut self, code: u16, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        use MotionKind::{Linear, Rapid};
+        let c = self.cycle;
+        let ret = if self.modes[10] == 990 { c.r } else { c.initial };
+        let dir = if c.z < c.r { -1.0 } else { 1.0 };
+        let dwell = |st: &mut State, out: &mut Vec<Canon>| {
+            if c.p > 0.0 {
+                st.emit(out, CanonKind::Dwell { seconds: c.p });
+            }
+        };
+        if code == 870 {
+            // Back boring: orient, shift, go below to R (the hole bottom), bore upward to Z.
+            self.emit(out, CanonKind::Aux { m: 19 });
+            self.shift(plane.0, c.q, out);
+            self.move_drill_axis(d, c.r, Rapid, out);
+            self.shift(plane.0, -c.q, out);
+            self.spindle(SpindleState::Cw, out);
+            self.move_drill_axis(d, c.z, Linear, out);
+            dwell(self, out);
+            self.emit(out, CanonKind::Aux { m: 19 });
+            self.shift(plane.0, c.q, out);
+            self.move_drill_axis(d, c.initial, Rapid, out);
+            self.shift(plane.0, -c.q, out);
+            self.spindle(SpindleState::Cw, out);
+            return Ok(());
+        }
+        if self.pos[d] != c.r {
+            self.move_drill_axis(d, c.r, Rapid, out);
+        }
+        match code {
+            730 | 830 => {
+                let mut depth = c.r;
+                loop {
+                    let next = if (c.z - depth) * dir <= c.q { c.z } else { depth + dir * c.q };
+                    self.move_drill_axis(d, next, Linear, out);
+                    depth = next;
+                    if depth == c.z {
+                        break;
+                    }
+                    if code == 730 {
+                        self.move_drill_axis(d, depth - dir * G73_RETRACT, Rapid, out);
+                    } else {
+                        self.move_drill_axis(d, c.r, Rapid, out);
+                        self.move_drill_axis(d, depth - dir * G83_CLEARANCE, Rapid, out);
+                    }
+                }
+                dwell(self, out);
+                self.move_drill_axis(d, ret, Rapid, out);
+            }
+            740 | 840 | 842 | 843 => {
+                let (forward, reverse) =
+                    if matches!(code, 740 | 843) { (SpindleState::Ccw, SpindleState::Cw) } else { (SpindleState::Cw, SpindleState::Ccw) };
+                self.move_drill_axis(d, c.z, Linear, out);
+                dwell(self, out);
+                self.spindle(reverse, out);
+                self.move_drill_axis(d, c.r, Linear, out);
+                self.spindle(forward, out);
+                if ret != c.r {
+                    self.move_drill_axis(d, ret, Rapid, out);
+                }
+            }
+            760 => {
+                self.move_drill_axis(d, c.z, Linear, out);
+                dwell(self, out);
+                self.emit(out, CanonKind::Aux { m: 19 });
+                self.shift(plane.0, c.q, out);
+                self.move_drill_axis(d, ret, Rapid, out);
+                self.shift(plane.0, -c.q, out);
+                self.spindle(SpindleState::Cw, out);
+            }
+            850 | 890 => {
+                self.move_drill_axis(d, c.z, Linear, out);
+                if code == 890 {
+                    dwell(self, out);
+                }
+                self.move_drill_axis(d, c.r, Linear, out);
+                if ret != c.r {
+                    self.move_drill_axis(d, ret, Rapid, out);
+                }
+            }
+            860 | 880 => {
+                self.move_drill_axis(d, c.z, Linear, out);
+                if code == 880 {
+                    dwell(self, out);
+                }
+                self.spindle(SpindleState::Stop, out);
+                self.move_drill_axis(d, ret, Rapid, out);
+                self.spindle(SpindleState::Cw, out);
+            }
+            // G81, G82
+            _ => {
+                self.move_drill_axis(d, c.z, Linear, out);
+                if code == 820 {
+                    dwell(self, out);
+                }
+                self.move_drill_axis(d, ret, Rapid, out);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,265 @@
+//! Expression evaluation with FANUC's vacant (`#0`, "null") rules.
+//!
+//! A value is `Option<f64>`: `None` is vacant. A lone variable reference (also bracketed or
+//! negated) keeps vacancy; arithmetic and functions read a vacant operand as 0; `EQ`/`NE` tell
+//! vacant from 0 while `GT GE LT LE` read it as 0.
+
+use crate::alarm::AlarmId;
+use crate::lang::{BinOp, Expr, Func, Func2};
+
+pub type Value = Option<f64>;
+
+/// Parameters that change what functions return.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ExprSettings {
+    /// FANUC parameter NAT (6004#0): ATAN in (-180, 180] and ASIN in [-90, 90] instead of
+    /// [0, 360) and 270…90.
+    pub nat: bool,
+    /// Least input increment for ADP, mm (or inch in G20): 0.001 for IS-B metric.
+    pub increment: f64,
+}
+
+/// Read access to variables, so evaluation does not depend on where they live.
+pub trait Variables {
+    fn read(&self, number: u32) -> Result<Value, AlarmId>;
+}
+
+/// The variable number an `#[expr]` designates: the value rounded to an integer; vacant is #0.
+pub fn var_number(v: Value) -> Result<u32, AlarmId> {
+    let x = v.unwrap_or(0.0).round();
+    if !(0.0..=u32::MAX as f64).contains(&x) {
+        return Err(AlarmId::VariableOutOfRange);
+    }
+    Ok(x as u32)
+}
+
+pub fn eval(e: &Expr, vars: &impl Variables, s: &ExprSettings) -> Result<Value, AlarmId> {
+    Ok(match e {
+        Expr::Num(x) => Some(*x),
+        Expr::Var(n) => vars.read(*n)?,
+        Expr::IndirectVar(inner) => vars.read(var_number(eval(inner, vars, s)?)?)?,
+        Expr::Bracket(inner) => eval(inner, vars, s)?,
+        Expr::Neg(inner) => eval(inner, vars, s)?.map(|x| -x),
+        Expr::Binary(op, a, b) => {
+            let a = eval(a, vars, s)?;
+            let b = eval(b, vars, s)?;
+            Some(finite(binary(*op, a, b)?)?)
+        }
+        Expr::Func(f, a) => Some(finite(func(*f, eval(a, vars, s)?.unwrap_or(0.0), s)?)?),
+        Expr::Func2(f, a, b) => {
+            let a = eval(a, vars, s)?.unwrap_or(0.0);
+            let b = eval(b, vars, s)?.unwrap_or(0.0);
+            Some(finite(func2(*f, a, b, s)?)?)
+        }
+    })
+}
+
+/// Evaluate a condition (IF, WHILE): true when the value is non-zero.
+pub fn truth(v: Value) -> bool {
+    v.is_some_and(|x| x != 0.0)
+}
+
+fn finite(x: f64) -> Result<f64, AlarmId> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(AlarmId::FloatOverflow)
+    }
+}
+
+fn bool_value(b: bool) -> f64 {
+    if b {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// The integer value AND/OR/XOR/MOD work on (rounded half away from zero).
+fn integer(x: f64) -> Result<i64, AlarmId> {
+    let r = x.round();
+    if r.abs() > i64::MAX as f64 / 2.0 {
+        return Err(AlarmId::FloatOverflow);
+    }
+    Ok(r as i64)
+}
+
+fn binary(op: BinOp, a: Value, b: Value) -> Result<f64, AlarmId> {
+    let (x, y) = (a.unwrap_or(0.0), b.unwrap_or(0.0));
+    Ok(match op {
+        BinOp::Add => x + y,
+        BinOp::Sub => x - y,
+        BinOp::Mul => x * y,
+        BinOp::Div => {
+            if y == 0.0 {
+                return Err(AlarmId::ZeroDivide);
+            }
+            x / y
+        }
+        BinOp::Mod => {
+            let (i, j) = (integer(x)?, integer(y)?);
+            if j == 0 {
+                return Err(AlarmId::ZeroDivide);
+            }
+            (i % j) as f64
+        }
+        BinOp::And => (integer(x)? & integer(y)?) as f64,
+        BinOp::Or => (integer(x)? | integer(y)?) as f64,
+        BinOp::Xor => (integer(x)? ^ integer(y)?) as f64,
+        BinOp::Eq => bool_value(a == b),
+        BinOp::Ne => bool_value(a != b),
+        BinOp::Gt => bool_value(x > y),
+        BinOp::Ge => bool_value(x >= y),
+        BinOp::Lt => bool_value(x < y),
+        BinOp::Le => bool_value(x <= y),
+    })
+}
+
+/// sin/cos of degrees, exact at multiples of 90°.
+fn sin_cos_deg(x: f64) -> (f64, f64) {
+    let r = x.rem_euclid(360.0);
+    match r {
+        0.0 => (0.0, 1.0),
+        90.0 => (1.0, 0.0),
+        180.0 => (0.0, -1.0),
+        270.0 => (-1.0, 0.0),
+        _ => r.to_radians().sin_cos(),
+    }
+}
+
+/// Map an angle in (-180, 180] to the dialect's range: [0, 360) unless NAT.
+fn angle_range(deg: f64, s: &ExprSettings) -> f64 {
+    if s.nat || deg >= 0.0 {
+        deg
+    } else {
+        deg + 360.0
+    }
+}
+
+fn func(f: Func, x: f64, s: &ExprSettings) -> Result<f64, AlarmId> {
+    Ok(match f {
+        Func::Sin => sin_cos_deg(x).0,
+        Func::Cos => sin_cos_deg(x).1,
+        Func::Tan => {
+            let (sin, cos) = sin_cos_deg(x);
+            if cos == 0.0 {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            sin / cos
+        }
+        Func::Asin => {
+            if !(-1.0..=1.0).contains(&x) {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            angle_range(x.asin().to_degrees(), s)
+        }
+        Func::Acos => {
+            if !(-1.0..=1.0).contains(&x) {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            x.acos().to_degrees()
+        }
+        Func::Atan => angle_range(x.atan().to_degrees(), s),
+        Func::Sqrt => {
+            if x < 0.0 {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            x.sqrt()
+        }
+        Func::Abs => x.abs(),
+        Func::Bin => bcd_to_binary(x)?,
+        Func::Bcd => binary_to_bcd(x)?,
+        Func::Round => x.round(),
+        Func::Fix => x.trunc(),
+        Func::Fup => {
+            let t = x.trunc();
+            if t == x {
+                x
+            } else {
+                t + x.signum()
+            }
+        }
+        Func::Ln => {
+            if x <= 0.0 {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            x.ln()
+        }
+        Func::Exp => x.exp(),
+        Func::Adp => x * s.increment,
+    })
+}
+
+fn func2(f: Func2, a: f64, b: f64, s: &ExprSettings) -> Result<f64, AlarmId> {
+    Ok(match f {
+        // ATAN[a]/[b]: the angle of the vector (x=b, y=a).
+        Func2::Atan => {
+            if a == 0.0 && b == 0.0 {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            let deg = a.atan2(b).to_degrees();
+            // atan2 gives [-180, 180]; FANUC's NAT=1 range is (-180, 180].
+            let deg = if deg == -180.0 { 180.0 } else { deg };
+            angle_range(deg, s)
+        }
+        Func2::Pow => {
+            if a == 0.0 && b <= 0.0 {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            if a < 0.0 && b.fract() != 0.0 {
+                return Err(AlarmId::ArgumentOutOfRange);
+            }
+            a.powf(b)
+        }
+    })
+}
+
+fn bcd_to_binary(x: f64) -> Result<f64, AlarmId> {
+    if x < 0.0 || x.fract() != 0.0 || x > u32::MAX as f64 {
+        return Err(AlarmId::ArgumentOutOfRange);
+    }
+    let mut v = x as u64;
+    let (mut result, mut scale) = (0u64, 1u64);
+    while v > 0 {
+        let digit = v & 0xF;
+        if digit > 9 {
+            return Err(AlarmId::ArgumentOutOfRange);
+        }
+        result += digit * scale;
+        scale *= 10;
+        v >>= 4;
+    }
+    Ok(result as f64)
+}
+
+fn binary_to_bcd(x: f64) -> Result<f64, AlarmId> {
+    if x < 0.0 || x.fract() != 0.0 || x > 99_999_999.0 {
+        return Err(AlarmId::ArgumentOutOfRange);
+    }
+    let mut v = x as u64;
+    let (mut result, mut shift) = (0u64, 0);
+    while v > 0 {
+        result |= (v % 10) << shift;
+        shift += 4;
+        v /= 10;
+    }
+    Ok(result as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bcd_round_trip() {
+        assert_eq!(binary_to_bcd(1234.0).unwrap(), 0x1234 as f64);
+        assert_eq!(bcd_to_binary(0x1234 as f64).unwrap(), 1234.0);
+        assert_eq!(bcd_to_binary(0x1A as f64), Err(AlarmId::ArgumentOutOfRange));
+    }
+
+    #[test]
+    fn exact_quadrant_angles() {
+        assert_eq!(sin_cos_deg(180.0), (0.0, -1.0));
+        assert_eq!(sin_cos_deg(-90.0), (-1.0, 0.0));
+    }
+}

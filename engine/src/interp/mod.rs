@@ -1,0 +1,573 @@
+//! The custom macro B interpreter: executes blocks one at a time and emits canonical commands.
+//!
+//! [`Interpreter`] owns the loaded programs (immutable while running) and the [`State`] (all that
+//! a block can change). Splitting them lets a block be borrowed from the programs while the state
+//! is mutated, with no copying on the hot path.
+
+pub mod expr;
+pub mod gcode;
+mod cycles;
+mod nc;
+mod offsets;
+pub(crate) mod program;
+mod vars;
+
+use crate::alarm::{Alarm, AlarmId};
+use crate::canon::{Canon, CanonKind, Pos};
+use crate::dialect::Dialect;
+use crate::lang::{Block, BlockKind, Output, PrintItem};
+use crate::machine::{MachineConfig, MAX_AXES};
+use expr::{eval, truth, ExprSettings, Value};
+use gcode::GROUPS;
+pub use offsets::{Offsets, ToolOffset};
+pub(crate) use program::Loaded;
+use std::collections::HashMap;
+
+/// Number of local variables per level (`#1`–`#33`).
+pub const LOCALS: usize = 33;
+/// `#500`–`#999`.
+pub const PERSISTENT: usize = 500;
+/// `#100`–`#199`.
+pub const COMMON: usize = 100;
+
+/// Macro call levels (G65/G66) that may nest, and calls of any kind in total.
+pub const MAX_MACRO_LEVELS: usize = 5;
+pub const MAX_NESTED_CALLS: usize = 15;
+
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub dialect: Dialect,
+    pub machine: MachineConfig,
+    /// The block delete (optional block skip) switch: when on, `/` blocks are skipped.
+    pub block_delete: bool,
+    /// The optional stop switch: when on, M01 stops like M00.
+    pub optional_stop: bool,
+    /// "Pocket calculator" input (FANUC DPI): numbers without a point are mm/deg, not increments.
+    pub pocket_calculator: bool,
+    /// FANUC parameter NAT (ATAN/ASIN result ranges).
+    pub nat: bool,
+    /// Executed blocks after which the run stops with an alarm (endless loops, recursion).
+    pub max_blocks: u64,
+    /// `#3011` (YYYYMMDD) and `#3012` (HHMMSS) at the start: the caller's clock.
+    pub date: f64,
+    pub time: f64,
+    /// Arc end-point radius tolerance, mm (FANUC No.3410).
+    pub arc_tolerance: f64,
+}
+
+impl Config {
+    pub fn new(machine: MachineConfig, dialect: Dialect) -> Config {
+        Config {
+            dialect,
+            machine,
+            block_delete: false,
+            optional_stop: false,
+            pocket_calculator: false,
+            nat: false,
+            max_blocks: 50_000_000,
+            date: 0.0,
+            time: 0.0,
+            arc_tolerance: 0.02,
+        }
+    }
+}
+
+/// What one call of [`Interpreter::step`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// A block was executed; more follow.
+    Continue,
+    /// The program ended (M02/M30, or the end of the main program).
+    Ended,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FrameKind {
+    Main,
+    /// M98: same local level as the caller.
+    Sub,
+    /// G65/G66/G66.1: a new local level.
+    Macro,
+}
+
+#[derive(Debug, Clone)]
+struct Frame {
+    prog: usize,
+    pc: usize,
+    kind: FrameKind,
+    /// Further repetitions after this one (L of M98/G65).
+    repeats: u32,
+    /// The arguments a G65 repetition starts from again.
+    args: Option<Box<[Value; LOCALS]>>,
+    /// O number of the program (for #4115).
+    number: u32,
+}
+
+/// An active G66/G66.1.
+#[derive(Debug, Clone)]
+struct ModalCall {
+    /// true for G66.1 (every block is a call), false for G66 (after every move).
+    every_block: bool,
+    prog: usize,
+    count: u32,
+    args: Box<[Value; LOCALS]>,
+    /// Local level the call was specified at; blocks of deeper levels do not trigger it.
+    level: usize,
+}
+
+/// Data of the active canned cycle (group 09), kept between blocks.
+#[derive(Debug, Clone, Copy, Default)]
+struct CycleData {
+    /// R point and hole bottom on the drilling axis, absolute programming coordinates.
+    r: f64,
+    z: f64,
+    q: f64,
+    p: f64,
+    /// Whether an R word was given since the cycle started.
+    r_set: bool,
+    /// The drilling-axis level when the cycle started (G98 returns here).
+    initial: f64,
+}
+
+/// Everything a block can change.
+#[derive(Debug, Clone)]
+pub struct State {
+    cfg: Config,
+    expr: ExprSettings,
+    frames: Vec<Frame>,
+    locals: Vec<Box<[Value; LOCALS]>>,
+    common: Box<[Value; COMMON]>,
+    persistent: Box<[Value; PERSISTENT]>,
+    /// Modal G codes per group, ×10.
+    modes: [u16; GROUPS],
+    /// P of G54.1.
+    wcs_p: u16,
+    f: f64,
+    s: f64,
+    /// Last T word (the tool prepared) and the tool in the spindle.
+    t: u32,
+    tool_in_spindle: u32,
+    h: u32,
+    d: u32,
+    e: f64,
+    last_m: u32,
+    last_n: u32,
+    spindle: crate::canon::SpindleState,
+    pub offsets: Offsets,
+    /// Programming coordinates of the current point (the last block's end point).
+    pos: Pos,
+    /// G52 local offset and G92 shift, added to the work offset.
+    local: Pos,
+    shift: Pos,
+    /// Tool length offset vector currently applied.
+    tool_vec: Pos,
+    cycle: CycleData,
+    /// The intermediate point of the last G28, for G29.
+    last_g28_mid: Pos,
+    modal_call: Option<ModalCall>,
+    /// Simulated time, seconds, advanced by the executor.
+    clock_s: f64,
+    /// #3001 / #3002 are the clock minus these (they are writable).
+    timer_ms_base: f64,
+    timer_h_base: f64,
+    sys3003: f64,
+    sys3004: f64,
+    parts_done: f64,
+    parts_required: f64,
+    blocks: u64,
+    ended: bool,
+    /// Line and N of the block being executed, for alarms.
+    line: u32,
+    n: Option<u32>,
+}
+
+/// A loaded set of programs and the state that runs them.
+#[derive(Debug, Clone)]
+pub struct Interpreter {
+    progs: Vec<Loaded>,
+    by_number: HashMap<u32, usize>,
+    pub state: State,
+}
+
+impl Interpreter {
+    /// Prepare to run `file`'s first program; its other programs can be called.
+    pub fn new(file: crate::lang::File, cfg: Config) -> Interpreter {
+        let progs: Vec<Loaded> = file.programs.into_iter().map(Loaded::new).collect();
+        let mut by_number = HashMap::new();
+        for (i, p) in progs.iter().enumerate() {
+            if let Some(n) = p.number() {
+                by_number.entry(n).or_insert(i);
+            }
+        }
+        let state = State::new(cfg);
+        let mut interp = Interpreter { progs, by_number, state };
+        if !interp.progs.is_empty() {
+            let mut main = Frame::main();
+            main.number = interp.progs[0].number().unwrap_or(0);
+            interp.state.frames.push(main);
+        } else {
+            interp.state.ended = true;
+        }
+        interp
+    }
+
+    /// Execute the next block; its canonical commands are appended to `out`.
+    pub fn step(&mut self, out: &mut Vec<Canon>) -> Result<Step, Alarm> {
+        let st = &mut self.state;
+        if st.ended {
+            return Ok(Step::Ended);
+        }
+        let result = st.step(&self.progs, &self.by_number, out);
+        match result {
+            Ok(step) => Ok(step),
+            Err(id) => {
+                st.ended = true;
+                let (code, message) = st.cfg.dialect.describe(&id);
+                Err(Alarm { code, message, line: st.line, n: st.n })
+            }
+        }
+    }
+
+    /// Run to the end, handing every canonical command to `sink`.
+    pub fn run(&mut self, mut sink: impl FnMut(&Canon)) -> Result<(), Alarm> {
+        let mut out = Vec::with_capacity(16);
+        loop {
+            let step = self.step(&mut out);
+            for c in out.drain(..) {
+                sink(&c);
+            }
+            if step? == Step::Ended {
+                return Ok(());
+            }
+        }
+    }
+
+    /// Executed blocks so far.
+    pub fn blocks(&self) -> u64 {
+        self.state.blocks
+    }
+
+    pub fn config(&self) -> &Config {
+        &self.state.cfg
+    }
+}
+
+impl State {
+    fn new(cfg: Config) -> State {
+        let expr = ExprSettings { nat: cfg.nat, increment: 0.001 };
+        State {
+            expr,
+            frames: Vec::new(),
+            locals: vec![Box::new([None; LOCALS])],
+            common: Box::new([None; COMMON]),
+            persistent: Box::new([None; PERSISTENT]),
+            modes: gcode::initial_modes(),
+            wcs_p: 0,
+            f: 0.0,
+            s: 0.0,
+            t: 0,
+            tool_in_spindle: 0,
+            h: 0,
+            d: 0,
+            e: 0.0,
+            last_m: 0,
+            last_n: 0,
+            spindle: crate::canon::SpindleState::Stop,
+            offsets: Offsets::default(),
+            pos: [0.0; MAX_AXES],
+            local: [0.0; MAX_AXES],
+            shift: [0.0; MAX_AXES],
+            tool_vec: [0.0; MAX_AXES],
+            cycle: CycleData::default(),
+            last_g28_mid: [0.0; MAX_AXES],
+            modal_call: None,
+            clock_s: 0.0,
+            timer_ms_base: 0.0,
+            timer_h_base: 0.0,
+            sys3003: 0.0,
+            sys3004: 0.0,
+            parts_done: 0.0,
+            parts_required: 0.0,
+            blocks: 0,
+            ended: false,
+            line: 0,
+            n: None,
+            cfg,
+        }
+    }
+
+    /// Advance simulated time (the executor calls this as motion takes time).
+    pub fn advance_time(&mut self, seconds: f64) {
+        self.clock_s += seconds;
+    }
+
+    /// Persistent common variables `#500`–`#999`, to save between runs.
+    pub fn persistent(&self) -> &[Value; PERSISTENT] {
+        &self.persistent
+    }
+
+    pub fn load_persistent(&mut self, values: &[Value; PERSISTENT]) {
+        *self.persistent = *values;
+    }
+
+    /// Every non-vacant common variable (#100–#199, #500–#999) as (number, value).
+    pub fn common_variables(&self) -> Vec<(u32, f64)> {
+        let c = self.common.iter().enumerate().filter_map(|(i, v)| v.map(|x| (100 + i as u32, x)));
+        let p = self.persistent.iter().enumerate().filter_map(|(i, v)| v.map(|x| (500 + i as u32, x)));
+        c.chain(p).collect()
+    }
+
+    /// Current position in programming (workpiece) coordinates.
+    pub fn position(&self) -> Pos {
+        self.pos
+    }
+
+    /// Current position in machine coordinates.
+    pub fn machine_position(&self) -> Pos {
+        self.to_machine(&self.pos)
+    }
+
+    pub fn modal(&self, group: usize) -> u16 {
+        self.modes[group]
+    }
+
+    fn step(&mut self, progs: &[Loaded], by_number: &HashMap<u32, usize>, out: &mut Vec<Canon>) -> Result<Step, AlarmId> {
+        let frame = self.frames.last_mut().expect("a running interpreter has a frame");
+        let prog = &progs[frame.prog];
+        if frame.pc >= prog.len() {
+            // The end of a program's text: the main program ends, a called one returns.
+            if self.frames.len() == 1 {
+                self.ended = true;
+                return Ok(Step::Ended);
+            }
+            self.return_from_call(progs, None)?;
+            return Ok(Step::Continue);
+        }
+        let idx = frame.pc;
+        frame.pc += 1;
+        let prog_idx = frame.prog;
+        let block = &prog.program.blocks[idx];
+        self.line = block.line;
+        self.n = block.n;
+        if block.block_delete.is_some() && self.cfg.block_delete {
+            return Ok(Step::Continue);
+        }
+        self.blocks += 1;
+        if self.blocks > self.cfg.max_blocks {
+            return Err(AlarmId::BlockBudgetExceeded { budget: self.cfg.max_blocks });
+        }
+        if let Some(n) = block.n {
+            self.last_n = n;
+        }
+        self.exec(progs, by_number, prog_idx, idx, block, out)?;
+        Ok(if self.ended { Step::Ended } else { Step::Continue })
+    }
+
+    fn exec(
+        &mut self,
+        progs: &[Loaded],
+        by_number: &HashMap<u32, usize>,
+        prog_idx: usize,
+        idx: usize,
+        block: &Block,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
+        let prog = &progs[prog_idx];
+        match &block.kind {
+            BlockKind::Empty => {}
+            BlockKind::Error(d) => return Err(d.id.clone()),
+            BlockKind::Assign { var, value } => {
+                let number = self.target_number(var)?;
+                let v = eval(value, self, &self.expr)?;
+                self.write(number, v, block, out)?;
+            }
+            BlockKind::IfGoto { cond, target } => {
+                if truth(eval(cond, self, &self.expr)?) {
+                    self.goto(prog, idx, target)?;
+                }
+            }
+            BlockKind::IfThen { cond, var, value } => {
+                if truth(eval(cond, self, &self.expr)?) {
+                    let number = self.target_number(var)?;
+                    let v = eval(value, self, &self.expr)?;
+                    self.write(number, v, block, out)?;
+                }
+            }
+            BlockKind::Goto(target) => self.goto(prog, idx, target)?,
+            BlockKind::Do { cond, .. } => {
+                if let Some(e) = prog.loop_error.get(&(idx as u32)) {
+                    return Err(e.clone());
+                }
+                let end = prog.pair_of(idx).ok_or(AlarmId::MissingEnd)?;
+                let go_on = match cond {
+                    Some(c) => truth(eval(c, self, &self.expr)?),
+                    None => true,
+                };
+                if !go_on {
+                    self.frame_mut().pc = end + 1;
+                }
+            }
+            BlockKind::End { .. } => {
+                if let Some(e) = prog.loop_error.get(&(idx as u32)) {
+                    return Err(e.clone());
+                }
+                let start = prog.pair_of(idx).ok_or(AlarmId::IllegalLoopNumber)?;
+                self.frame_mut().pc = start;
+            }
+            BlockKind::Output(o) => self.output(o, out)?,
+            BlockKind::Words(words) => self.exec_words(progs, by_number, words, block, out)?,
+        }
+        Ok(())
+    }
+
+    fn frame_mut(&mut self) -> &mut Frame {
+        self.frames.last_mut().expect("a running interpreter has a frame")
+    }
+
+    fn target_number(&self, var: &crate::lang::Expr) -> Result<u32, AlarmId> {
+        match var {
+            crate::lang::Expr::Var(n) => Ok(*n),
+            crate::lang::Expr::IndirectVar(e) => expr::var_number(eval(e, self, &self.expr)?),
+            _ => Err(AlarmId::MacroFormat),
+        }
+    }
+
+    fn goto(&mut self, prog: &Loaded, from: usize, target: &crate::lang::Expr) -> Result<(), AlarmId> {
+        let v = eval(target, self, &self.expr)?.ok_or(AlarmId::IllegalSequenceNumber)?;
+        let n = v.round();
+        if !(0.0..=99_999_999.0).contains(&n) {
+            return Err(AlarmId::IllegalSequenceNumber);
+        }
+        let to = prog.find_label(n as u32, from).ok_or(AlarmId::IllegalSequenceNumber)?;
+        if prog.jump_enters_loop(from, to) {
+            return Err(AlarmId::IllegalLoopNumber);
+        }
+        self.frame_mut().pc = to;
+        Ok(())
+    }
+
+    fn output(&mut self, o: &Output, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let items = match o {
+            Output::Open | Output::Close => return Ok(()),
+            Output::Print(items) | Output::BinaryPrint(items) => items,
+        };
+        let mut text = String::new();
+        for item in items {
+            match item {
+                PrintItem::Text(t) => text.push_str(t),
+                PrintItem::Var { var, int_digits, frac_digits } => {
+                    let v = eval(var, self, &self.expr)?.unwrap_or(0.0);
+                    text.push_str(&format_dprnt(v, *int_digits, *frac_digits));
+                }
+            }
+        }
+        self.emit(out, CanonKind::Print { text });
+        Ok(())
+    }
+
+    fn emit(&self, out: &mut Vec<Canon>, kind: CanonKind) {
+        out.push(Canon { line: self.line, n: self.n, kind });
+    }
+
+    /// Call a program: M98 (`macro_args` None, same local level) or G65/G66 (a new level).
+    fn call(&mut self, prog: usize, count: u32, macro_args: Option<Box<[Value; LOCALS]>>) -> Result<(), AlarmId> {
+        if self.frames.len() > MAX_NESTED_CALLS {
+            return Err(AlarmId::NestingTooDeep);
+        }
+        if count == 0 {
+            return Ok(());
+        }
+        let kind = match macro_args {
+            Some(args) => {
+                if self.locals.len() > MAX_MACRO_LEVELS {
+                    return Err(AlarmId::NestingTooDeep);
+                }
+                self.locals.push(args.clone());
+                self.frames.push(Frame { prog, pc: 0, kind: FrameKind::Macro, repeats: count - 1, args: Some(args), number: 0 });
+                return Ok(());
+            }
+            None => FrameKind::Sub,
+        };
+        self.frames.push(Frame { prog, pc: 0, kind, repeats: count - 1, args: None, number: 0 });
+        Ok(())
+    }
+
+    /// M99 (or the end of a called program's text): repeat, or return to the caller, optionally
+    /// to its sequence number `to_n`.
+    fn return_from_call(&mut self, progs: &[Loaded], to_n: Option<u32>) -> Result<(), AlarmId> {
+        let frame = self.frames.last_mut().expect("frame");
+        if frame.kind == FrameKind::Main {
+            // M99 in the main program: start again (at N to_n if given).
+            frame.pc = match to_n {
+                Some(n) => progs[frame.prog].find_label(n, 0).ok_or(AlarmId::ProgramNotFound)?,
+                None => 0,
+            };
+            return Ok(());
+        }
+        if frame.repeats > 0 {
+            frame.repeats -= 1;
+            frame.pc = 0;
+            if let Some(args) = &frame.args {
+                let fresh = args.clone();
+                *self.locals.last_mut().expect("macro level") = fresh;
+            }
+            return Ok(());
+        }
+        let frame = self.frames.pop().expect("frame");
+        if frame.kind == FrameKind::Macro {
+            self.locals.pop();
+        }
+        if let Some(n) = to_n {
+            let caller = self.frames.last_mut().expect("caller frame");
+            let from = caller.pc.saturating_sub(1);
+            caller.pc = progs[caller.prog].find_label(n, from).ok_or(AlarmId::ProgramNotFound)?;
+        }
+        Ok(())
+    }
+
+    fn level(&self) -> usize {
+        self.locals.len() - 1
+    }
+
+    /// Programming → machine coordinates (work offset, local, G92 shift, tool length).
+    fn to_machine(&self, p: &Pos) -> Pos {
+        let w = self.offsets.work(self.work_index());
+        let ext = self.offsets.work(0);
+        let mut m = [0.0; MAX_AXES];
+        for i in 0..self.cfg.machine.axes.len() {
+            m[i] = p[i] + w[i] + ext[i] + self.local[i] + self.shift[i] + self.tool_vec[i];
+        }
+        m
+    }
+
+    fn from_machine(&self, m: &Pos) -> Pos {
+        let w = self.offsets.work(self.work_index());
+        let ext = self.offsets.work(0);
+        let mut p = [0.0; MAX_AXES];
+        for i in 0..self.cfg.machine.axes.len() {
+            p[i] = m[i] - w[i] - ext[i] - self.local[i] - self.shift[i] - self.tool_vec[i];
+        }
+        p
+    }
+
+    /// Index in [`Offsets`] of the active work coordinate system.
+    fn work_index(&self) -> usize {
+        match self.modes[14] {
+            541 => offsets::g54_1_index(self.wcs_p as usize),
+            code => ((code - 540) / 10) as usize + 1,
+        }
+    }
+}
+
+/// DPRNT number format: sign, `int_digits` integer digits at most, `frac_digits` decimals.
+fn format_dprnt(v: f64, int_digits: u8, frac_digits: u8) -> String {
+    let s = format!("{:.*}", frac_digits as usize, v.abs());
+    let (int_part, frac_part) = s.split_once('.').unwrap_or((&s, ""));
+    let int_part = if int_part.len() > int_digits as usize { &int_part[int_part.len() - int_digits as usize..] } else { int_part };
+    let sign = if v < 0.0 { "-" } else { "" };
+    if frac_digits == 0 {
+        format!("{sign}{int_part}")
+    } else {
+        format!("{sign}{int_part}.{frac_part}")
+    }
+}

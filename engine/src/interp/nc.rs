@@ -1,0 +1,796 @@
+//! Execution of an NC statement (a block of address words): modal updates, data setting,
+//! coordinate systems, motion, M codes and subprogram/macro calls, in FANUC's order.
+
+use super::expr::{eval, Value};
+use super::gcode::{self, GDef};
+use super::offsets::{g54_1_index, MAX_G54_1};
+use super::program::Loaded;
+use super::{Frame, FrameKind, ModalCall, State, LOCALS};
+use crate::alarm::AlarmId;
+use crate::canon::{Arc, Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
+use crate::lang::{Block, Word, WordValue};
+use crate::machine::{AxisKind, MAX_AXES};
+use std::collections::HashMap;
+
+/// Most words one block may hold (G65 with ten I/J/K sets needs 35).
+const MAX_WORDS: usize = 48;
+
+/// A block's words after evaluation: vacant words are gone, values are raw numbers.
+pub(super) struct Words {
+    list: [(u8, f64, bool); MAX_WORDS],
+    len: usize,
+    /// Index into `list` of the last word per letter, +1 (0 = absent).
+    last: [u8; 26],
+    g: [u16; 12],
+    ng: usize,
+    m: [u32; 4],
+    nm: usize,
+}
+
+impl Words {
+    fn raw(&self, letter: u8) -> Option<(f64, bool)> {
+        let i = self.last[(letter - b'A') as usize];
+        (i != 0).then(|| {
+            let (_, v, no_point) = self.list[i as usize - 1];
+            (v, no_point)
+        })
+    }
+
+    fn has(&self, letter: u8) -> bool {
+        self.last[(letter - b'A') as usize] != 0
+    }
+
+    fn has_g(&self, code: u16) -> bool {
+        self.g[..self.ng].contains(&code)
+    }
+
+    pub(super) fn integer(&self, letter: u8) -> Option<f64> {
+        self.raw(letter).map(|(v, _)| v)
+    }
+}
+
+impl State {
+    fn collect(&self, words: &[Word]) -> Result<Words, AlarmId> {
+        let mut w = Words { list: [(0, 0.0, false); MAX_WORDS], len: 0, last: [0; 26], g: [0; 12], ng: 0, m: [0; 4], nm: 0 };
+        for word in words {
+            let (v, no_point) = match &word.value {
+                WordValue::Number { value, decimal_point } => (*value, !decimal_point),
+                WordValue::Expr(e) => match eval(e, self, &self.expr)? {
+                    Some(v) => (v, false),
+                    None => continue,
+                },
+            };
+            match word.letter {
+                b'G' => {
+                    let code = gcode::code_of(v).ok_or(AlarmId::ImproperGCode)?;
+                    gcode::lookup(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
+                    if w.ng == w.g.len() {
+                        return Err(AlarmId::IllegalGCodeCombination);
+                    }
+                    w.g[w.ng] = code;
+                    w.ng += 1;
+                }
+                b'M' => {
+                    if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
+                        return Err(AlarmId::ImproperAddress);
+                    }
+                    if w.nm == w.m.len() - 1 {
+                        return Err(AlarmId::ImproperAddress);
+                    }
+                    w.m[w.nm] = v as u32;
+                    w.nm += 1;
+                }
+                _ => {}
+            }
+            if w.len == MAX_WORDS {
+                return Err(AlarmId::ImproperAddress);
+            }
+            w.list[w.len] = (word.letter, v, no_point);
+            w.len += 1;
+            w.last[(word.letter - b'A') as usize] = w.len as u8;
+        }
+        Ok(w)
+    }
+
+    fn inch(&self) -> bool {
+        self.modes[6] == 200
+    }
+
+    fn increment(&self) -> f64 {
+        if self.inch() {
+            0.0001
+        } else {
+            0.001
+        }
+    }
+
+    /// Whether a number without a decimal point at this address counts least increments.
+    fn counts_increments(&self, letter: u8) -> bool {
+        !self.cfg.pocket_calculator && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') || self.cfg.machine.axis_index(letter).is_some())
+    }
+
+    /// A distance/angle word in mm or degrees.
+    pub(super) fn value(&self, w: &Words, letter: u8) -> Option<f64> {
+        let (v, no_point) = w.raw(letter)?;
+        let v = if no_point && self.counts_increments(letter) { v * self.increment() } else { v };
+        let linear = match self.cfg.machine.axis_index(letter) {
+            Some(i) => self.cfg.machine.axes[i].kind == AxisKind::Linear,
+            None => matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q'),
+        };
+        Some(if linear && self.inch() { v * 25.4 } else { v })
+    }
+
+    /// Arguments of G65/G66/G66.1: specification I and II mixed as FANUC does (later wins).
+    fn macro_args(&self, w: &Words) -> Result<Box<[Value; LOCALS]>, AlarmId> {
+        let mut args = State::empty_locals();
+        let (mut set, mut last_ijk) = (0usize, 0u8);
+        for &(letter, v, no_point) in &w.list[..w.len] {
+            let v = if no_point && self.counts_increments(letter) { v * self.increment() } else { v };
+            let var = match letter {
+                b'G' | b'L' | b'N' | b'O' | b'P' => continue,
+                b'A' => 1,
+                b'B' => 2,
+                b'C' => 3,
+                b'I' | b'J' | b'K' => {
+                    let k = letter - b'I' + 1;
+                    if last_ijk != 0 && k <= last_ijk {
+                        set += 1;
+                    }
+                    last_ijk = k;
+                    if set >= 10 {
+                        return Err(AlarmId::ImproperAddress);
+                    }
+                    4 + 3 * set + (k as usize - 1)
+                }
+                b'D' => 7,
+                b'E' => 8,
+                b'F' => 9,
+                b'H' => 11,
+                b'M' => 13,
+                b'Q' => 17,
+                b'R' => 18,
+                b'S' => 19,
+                b'T' => 20,
+                b'U' => 21,
+                b'V' => 22,
+                b'W' => 23,
+                b'X' => 24,
+                b'Y' => 25,
+                b'Z' => 26,
+                _ => return Err(AlarmId::ImproperAddress),
+            };
+            args[var - 1] = Some(v);
+        }
+        Ok(args)
+    }
+
+    fn find_program(&self, by_number: &HashMap<u32, usize>, p: Option<f64>) -> Result<usize, AlarmId> {
+        let p = p.ok_or(AlarmId::ProgramNotFound)?;
+        if p < 0.0 || p.fract() != 0.0 || p > u32::MAX as f64 {
+            return Err(AlarmId::ProgramNotFound);
+        }
+        by_number.get(&(p as u32)).copied().ok_or(AlarmId::ProgramNotFound)
+    }
+
+    pub(super) fn count(w: &Words) -> Result<u32, AlarmId> {
+        match w.integer(b'L') {
+            None => Ok(1),
+            Some(l) if (0.0..=9999.0).contains(&l) && l.fract() == 0.0 => Ok(l as u32),
+            Some(_) => Err(AlarmId::ImproperAddress),
+        }
+    }
+
+    fn push_frame(&mut self, progs: &[Loaded], prog: usize, count: u32, args: Option<Box<[Value; LOCALS]>>) -> Result<(), AlarmId> {
+        self.call(prog, count, args)?;
+        if let Some(f) = self.frames.last_mut() {
+            f.number = progs[f.prog].number().unwrap_or(0);
+        }
+        Ok(())
+    }
+
+    pub(super) fn exec_words(
+        &mut self,
+        progs: &[Loaded],
+        by_number: &HashMap<u32, usize>,
+        words: &[Word],
+        block: &Block,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
+        let w = self.collect(words)?;
+
+        // --- macro calls: the block's words are arguments, nothing else runs ----------------
+        if w.has_g(650) {
+            if w.ng > 1 {
+                return Err(AlarmId::GAsArgument);
+            }
+            let prog = self.find_program(by_number, w.integer(b'P'))?;
+            let args = self.macro_args(&w)?;
+            return self.push_frame(progs, prog, Self::count(&w)?, Some(args));
+        }
+        if w.has_g(660) || w.has_g(661) {
+            let every_block = w.has_g(661);
+            let prog = self.find_program(by_number, w.integer(b'P'))?;
+            let args = self.macro_args(&w)?;
+            let count = Self::count(&w)?;
+            self.modes[12] = if every_block { 661 } else { 660 };
+            self.modal_call = Some(ModalCall { every_block, prog, count, args: args.clone(), level: self.level() });
+            if every_block {
+                return self.push_frame(progs, prog, count, Some(args));
+            }
+            return Ok(());
+        }
+        if w.has_g(670) {
+            self.modes[12] = 670;
+            self.modal_call = None;
+        } else if let Some(mc) = &self.modal_call {
+            if mc.every_block && mc.level == self.level() && w.len > 0 {
+                if w.ng > 0 {
+                    return Err(AlarmId::GAsArgument);
+                }
+                let (prog, count) = (mc.prog, mc.count);
+                let args = self.macro_args(&w)?;
+                return self.push_frame(progs, prog, count, Some(args));
+            }
+        }
+
+        // --- addresses this machine does not have ------------------------------------------
+        for &(letter, _, _) in &w.list[..w.len] {
+            let known = matches!(letter, b'D' | b'E' | b'F' | b'G' | b'H' | b'I' | b'J' | b'K' | b'L' | b'M' | b'N' | b'P' | b'Q' | b'R' | b'S' | b'T')
+                || self.cfg.machine.axis_index(letter).is_some();
+            if !known {
+                return Err(AlarmId::ImproperAddress);
+            }
+        }
+
+        // --- G codes: units first, then the modal groups in block order ---------------------
+        if w.has_g(200) {
+            self.modes[6] = 200;
+        }
+        if w.has_g(210) {
+            self.modes[6] = 210;
+        }
+        let machine_before = self.machine_position();
+        let mut axes_owner: Option<u16> = None;
+        let mut one_shots: [u16; 12] = [0; 12];
+        let mut n_one_shots = 0;
+        let mut tool_length_changed = false;
+        let mut wcs_changed = false;
+        for &code in &w.g[..w.ng] {
+            let def: &GDef = gcode::lookup(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
+            if def.group == gcode::ONE_SHOT {
+                if def.takes_axes {
+                    if axes_owner.is_some() {
+                        return Err(AlarmId::IllegalGCodeCombination);
+                    }
+                    axes_owner = Some(code);
+                }
+                one_shots[n_one_shots] = code;
+                n_one_shots += 1;
+                continue;
+            }
+            let group = def.group as usize;
+            match group {
+                1 => self.modes[9] = 800,
+                2 if self.modes[7] != 400 && self.modes[2] != code => return Err(AlarmId::PlaneChangeInCompensation),
+                7 => {
+                    if let Some(d) = w.integer(b'D') {
+                        self.d = offset_number(d)?;
+                    }
+                }
+                8 => tool_length_changed = true,
+                9 if code != 800 && self.modes[9] == 800 => {
+                    let axis = self.drill_axis();
+                    self.cycle.initial = axis.map_or(0.0, |a| self.pos[a]);
+                }
+                14 => {
+                    wcs_changed = true;
+                    if code == 541 {
+                        let p = w.integer(b'P').unwrap_or(1.0);
+                        if !(1.0..=MAX_G54_1 as f64).contains(&p) || p.fract() != 0.0 {
+                            return Err(AlarmId::IllegalOffsetNumber);
+                        }
+                        self.wcs_p = p as u16;
+                    } else {
+                        self.wcs_p = 0;
+                    }
+                }
+                _ => {}
+            }
+            self.modes[group] = code;
+        }
+        if self.modes[7] != 400 {
+            if let Some(d) = w.integer(b'D') {
+                self.d = offset_number(d)?;
+            }
+        }
+        if wcs_changed {
+            self.pos = self.from_machine(&machine_before);
+        }
+
+        // --- F S T, and the M codes that act before motion ----------------------------------
+        if let Some(f) = w.integer(b'F') {
+            if f < 0.0 {
+                return Err(AlarmId::ImproperAddress);
+            }
+            self.f = if self.inch() && self.modes[5] != 930 { f * 25.4 } else { f };
+        }
+        if let Some(e) = w.integer(b'E') {
+            self.e = e;
+        }
+        if let Some(s) = w.integer(b'S') {
+            if s < 0.0 {
+                return Err(AlarmId::ImproperAddress);
+            }
+            self.s = s;
+            if self.spindle != SpindleState::Stop && !w.m[..w.nm].iter().any(|&m| matches!(m, 3..=5)) {
+                self.emit(out, CanonKind::Spindle { state: self.spindle, speed: s });
+            }
+        }
+        if let Some(t) = w.integer(b'T') {
+            if t < 0.0 || t.fract() != 0.0 || t > 99_999_999.0 {
+                return Err(AlarmId::ImproperAddress);
+            }
+            self.t = t as u32;
+            self.emit(out, CanonKind::ToolSelect { tool: self.t });
+        }
+        for &m in &w.m[..w.nm] {
+            self.last_m = m;
+            match m {
+                3 | 4 => {
+                    self.spindle = if m == 3 { SpindleState::Cw } else { SpindleState::Ccw };
+                    self.emit(out, CanonKind::Spindle { state: self.spindle, speed: self.s });
+                }
+                6 => {
+                    self.tool_in_spindle = self.t;
+                    self.emit(out, CanonKind::ToolChange { tool: self.t });
+                }
+                7 => self.emit(out, CanonKind::Coolant(Coolant::Mist)),
+                8 => self.emit(out, CanonKind::Coolant(Coolant::Flood)),
+                _ => {}
+            }
+        }
+
+        // --- tool length compensation (group 08) --------------------------------------------
+        if let Some(h) = w.integer(b'H') {
+            if w.has_g(100) {
+                // H is data of G10 there, not an offset selection.
+            } else {
+                self.h = offset_number(h)?;
+                tool_length_changed |= self.modes[8] != 490;
+            }
+        }
+        if tool_length_changed {
+            self.refresh_tool_length();
+        }
+
+        // --- one-shot G codes ---------------------------------------------------------------
+        let mut moved = false;
+        for &code in &one_shots[..n_one_shots] {
+            moved |= self.one_shot(code, &w, machine_before, out)?;
+        }
+
+        // --- motion -------------------------------------------------------------------------
+        let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
+        if axes_owner.is_none() {
+            if self.modes[9] != 800 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c))) {
+                if has_axes || w.has(b'R') || w.has(b'Z') {
+                    moved |= self.canned_cycle(&w, out)?;
+                }
+            } else if has_axes || (matches!(self.modes[1], 20 | 30) && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
+                self.group01_motion(&w, out)?;
+                moved = true;
+            } else if tool_length_changed {
+                // The offset takes effect at once: the tool moves, the programmed point stays.
+                let target = self.pos;
+                let kind = if self.modes[1] == 0 { MotionKind::Rapid } else { MotionKind::Linear };
+                self.emit_motion(kind, target, None, out);
+            }
+        }
+
+        // --- M codes after motion, program end, subprogram calls ----------------------------
+        for &m in &w.m[..w.nm] {
+            match m {
+                0 => self.emit(out, CanonKind::Stop { optional: false, message: block.comment.clone() }),
+                1 => {
+                    if self.cfg.optional_stop {
+                        self.emit(out, CanonKind::Stop { optional: true, message: block.comment.clone() })
+                    }
+                }
+                2 | 30 => {
+                    self.parts_done += 1.0;
+                    self.emit(out, CanonKind::ProgramEnd { m });
+                    self.ended = true;
+                }
+                5 => {
+                    self.spindle = SpindleState::Stop;
+                    self.emit(out, CanonKind::Spindle { state: SpindleState::Stop, speed: self.s });
+                }
+                9 => self.emit(out, CanonKind::Coolant(Coolant::Off)),
+                3 | 4 | 6 | 7 | 8 => {}
+                98 | 198 => {
+                    let (prog, count) = self.subprogram_target(by_number, &w)?;
+                    self.push_frame(progs, prog, count, None)?;
+                }
+                99 => {
+                    let to_n = w.integer(b'P').map(|p| p as u32);
+                    self.return_from_call(progs, to_n)?;
+                }
+                other => self.emit(out, CanonKind::Aux { m: other }),
+            }
+        }
+        if moved && !self.ended {
+            if let Some(mc) = &self.modal_call {
+                if !mc.every_block && mc.level == self.level() {
+                    let (prog, count, args) = (mc.prog, mc.count, mc.args.clone());
+                    self.push_frame(progs, prog, count, Some(args))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// M98 P… L…, or P with the count in front of a four-digit number (`P30010` = O0010 ×3).
+    fn subprogram_target(&self, by_number: &HashMap<u32, usize>, w: &Words) -> Result<(usize, u32), AlarmId> {
+        let p = w.integer(b'P').ok_or(AlarmId::ProgramNotFound)?;
+        if w.has(b'L') || p < 10_000.0 {
+            return Ok((self.find_program(by_number, Some(p))?, Self::count(w)?));
+        }
+        let count = (p / 10_000.0).trunc();
+        let number = p - count * 10_000.0;
+        Ok((self.find_program(by_number, Some(number))?, count as u32))
+    }
+
+    /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A).
+    pub(super) fn refresh_tool_length(&mut self) {
+        let mut v = [0.0; MAX_AXES];
+        if let Some(z) = self.cfg.machine.axis_index(b'Z') {
+            let length = self.offsets.length(self.h);
+            v[z] = match self.modes[8] {
+                490 | 491 => 0.0,
+                440 => -length,
+                _ => length,
+            };
+        }
+        self.tool_vec = v;
+    }
+
+    fn context(&self) -> MotionContext {
+        let length_on = !matches!(self.modes[8], 490 | 491);
+        let comp_on = self.modes[7] != 400;
+        MotionContext {
+            plane: self.modes[2],
+            wcs: self.modes[14],
+            wcs_p: self.wcs_p,
+            length_comp: self.modes[8],
+            h: self.h,
+            tool_length: if length_on { self.offsets.length(self.h) } else { 0.0 },
+            cutter_comp: self.modes[7],
+            d: self.d,
+            cutter_radius: if comp_on { self.offsets.radius(self.d) } else { 0.0 },
+            path_mode: self.modes[15],
+            rotation: self.modes[16],
+        }
+    }
+
+    fn feed_mode(&self) -> FeedMode {
+        match self.modes[5] {
+            930 => FeedMode::InverseTime,
+            950 => FeedMode::PerRevolution,
+            _ => FeedMode::PerMinute,
+        }
+    }
+
+    /// Emit a motion to `target` (programming coordinates) and make it the current point.
+    pub(super) fn emit_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Arc>, out: &mut Vec<Canon>) {
+        let machine = self.to_machine(&target);
+        let motion = Motion {
+            kind,
+            target,
+            machine,
+            arc,
+            feed: self.f,
+            feed_mode: self.feed_mode(),
+            spindle: self.s,
+            context: self.context(),
+        };
+        self.emit(out, CanonKind::Motion(motion));
+        self.pos = target;
+    }
+
+    /// A motion in machine coordinates (G53, reference returns).
+    fn emit_machine_motion(&mut self, machine: Pos, out: &mut Vec<Canon>) {
+        let target = self.from_machine(&machine);
+        let motion = Motion {
+            kind: MotionKind::MachineRapid,
+            target,
+            machine,
+            arc: None,
+            feed: self.f,
+            feed_mode: self.feed_mode(),
+            spindle: self.s,
+            context: self.context(),
+        };
+        self.emit(out, CanonKind::Motion(motion));
+        self.pos = target;
+    }
+
+    /// The end point of the block's axis words (absolute or incremental).
+    pub(super) fn target(&self, w: &Words) -> Pos {
+        let mut t = self.pos;
+        let incremental = self.modes[3] == 910;
+        for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+            if let Some(v) = self.value(w, axis.name as u8) {
+                t[i] = if incremental { self.pos[i] + v } else { v };
+            }
+        }
+        t
+    }
+
+    fn check_feed(&self) -> Result<(), AlarmId> {
+        if self.f <= 0.0 {
+            return Err(AlarmId::FeedZero);
+        }
+        Ok(())
+    }
+
+    fn group01_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let target = self.target(w);
+        match self.modes[1] {
+            0 => self.emit_motion(MotionKind::Rapid, target, None, out),
+            20 | 30 => {
+                self.check_feed()?;
+                let arc = self.arc(w, &target)?;
+                let kind = if self.modes[1] == 20 { MotionKind::ArcCw } else { MotionKind::ArcCcw };
+                self.emit_motion(kind, target, arc, out);
+            }
+            _ => {
+                self.check_feed()?;
+                self.emit_motion(MotionKind::Linear, target, None, out);
+            }
+        }
+        Ok(())
+    }
+
+    /// The plane's first, second and normal axis indices.
+    pub(super) fn plane_axes(&self) -> Result<(usize, usize, usize), AlarmId> {
+        let m = &self.cfg.machine;
+        let (a, b, c) = match self.modes[2] {
+            180 => (b'Z', b'X', b'Y'),
+            190 => (b'Y', b'Z', b'X'),
+            _ => (b'X', b'Y', b'Z'),
+        };
+        match (m.axis_index(a), m.axis_index(b), m.axis_index(c)) {
+            (Some(a), Some(b), Some(c)) => Ok((a, b, c)),
+            _ => Err(AlarmId::ImproperGCode),
+        }
+    }
+
+    /// The drilling axis of canned cycles: the plane normal.
+    pub(super) fn drill_axis(&self) -> Option<usize> {
+        self.plane_axes().ok().map(|(_, _, c)| c)
+    }
+
+    /// Circle geometry of a G02/G03 block from I/J/K or R. `None` for an R arc whose end point
+    /// equals its start (no movement in the plane).
+    fn arc(&self, w: &Words, target: &Pos) -> Result<Option<Arc>, AlarmId> {
+        let (a, b, c) = self.plane_axes()?;
+        let cw = self.modes[1] == 20;
+        let (sx, sy) = (self.pos[a], self.pos[b]);
+        let (ex, ey) = (target[a], target[b]);
+        let ijk = |axis: usize| -> Option<f64> {
+            let letter = match self.cfg.machine.axes[axis].name {
+                'X' => b'I',
+                'Y' => b'J',
+                _ => b'K',
+            };
+            self.value(w, letter)
+        };
+        let (cx, cy) = if let Some(r) = self.value(w, b'R') {
+            let (dx, dy) = (ex - sx, ey - sy);
+            let d = (dx * dx + dy * dy).sqrt();
+            if d < 1e-9 {
+                return Ok(None);
+            }
+            let half = d / 2.0;
+            if half - r.abs() > self.cfg.arc_tolerance {
+                return Err(AlarmId::ArcRadiusTolerance);
+            }
+            let h = (r * r - half * half).max(0.0).sqrt();
+            let (ux, uy) = (dx / d, dy / d);
+            // Left normal of the chord; CCW arcs of at most 180° have their center on the left.
+            let side = if cw { -1.0 } else { 1.0 } * if r < 0.0 { -1.0 } else { 1.0 };
+            (sx + dx / 2.0 - side * h * uy, sy + dy / 2.0 + side * h * ux)
+        } else {
+            (sx + ijk(a).unwrap_or(0.0), sy + ijk(b).unwrap_or(0.0))
+        };
+        let r0 = ((sx - cx).powi(2) + (sy - cy).powi(2)).sqrt();
+        let r1 = ((ex - cx).powi(2) + (ey - cy).powi(2)).sqrt();
+        if (r0 - r1).abs() > self.cfg.arc_tolerance || r0 < 1e-9 {
+            return Err(AlarmId::ArcRadiusTolerance);
+        }
+        let a0 = (sy - cy).atan2(sx - cx);
+        let a1 = (ey - cy).atan2(ex - cx);
+        let full = (ex - sx).abs() < 1e-9 && (ey - sy).abs() < 1e-9;
+        let tau = std::f64::consts::TAU;
+        let sweep = if cw {
+            let s = (a0 - a1).rem_euclid(tau);
+            -(if full || s == 0.0 { tau } else { s })
+        } else {
+            let s = (a1 - a0).rem_euclid(tau);
+            if full || s == 0.0 {
+                tau
+            } else {
+                s
+            }
+        };
+        let mut center = self.pos;
+        center[a] = cx;
+        center[b] = cy;
+        Ok(Some(Arc { center, plane_axes: (a, b, c), radius: r0, sweep_deg: sweep.to_degrees() }))
+    }
+
+    /// A group 00 code. Returns whether it moved the tool.
+    fn one_shot(&mut self, code: u16, w: &Words, machine_before: Pos, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+        let axes = self.cfg.machine.axes.len();
+        match code {
+            40 => {
+                let seconds = match (w.integer(b'P'), w.raw(b'X')) {
+                    (Some(p), _) => p / 1000.0,
+                    (None, Some((x, no_point))) => {
+                        if no_point && !self.cfg.pocket_calculator {
+                            x * 0.001
+                        } else {
+                            x
+                        }
+                    }
+                    (None, None) => 0.0,
+                };
+                if seconds < 0.0 {
+                    return Err(AlarmId::ImproperAddress);
+                }
+                self.emit(out, CanonKind::Dwell { seconds });
+            }
+            100 => self.data_setting(w, machine_before)?,
+            520 => {
+                let incremental = self.modes[3] == 910;
+                for i in 0..axes {
+                    if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
+                        self.local[i] = if incremental { self.local[i] + v } else { v };
+                    }
+                }
+                self.pos = self.from_machine(&machine_before);
+            }
+            530 => {
+                let mut m = machine_before;
+                for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+                    if let Some(v) = self.value(w, axis.name as u8) {
+                        m[i] = v;
+                    }
+                }
+                self.emit_machine_motion(m, out);
+                return Ok(true);
+            }
+            920 => {
+                let w0 = *self.offsets.work(self.work_index());
+                let ext = *self.offsets.work(0);
+                for i in 0..axes {
+                    if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
+                        self.shift[i] = machine_before[i] - w0[i] - ext[i] - self.local[i] - self.tool_vec[i] - v;
+                        self.pos[i] = v;
+                    }
+                }
+            }
+            921 => {
+                for i in 0..axes {
+                    if w.has(self.cfg.machine.axes[i].name as u8) {
+                        self.shift[i] = 0.0;
+                        self.local[i] = 0.0;
+                    }
+                }
+                self.pos = self.from_machine(&machine_before);
+            }
+            280 | 300 => {
+                if self.modes[9] != 800 {
+                    return Err(AlarmId::ReferenceReturnInCycle);
+                }
+                // Through the intermediate point, then to the reference position (machine 0).
+                let mid = self.target(w);
+                self.emit_motion(MotionKind::Rapid, mid, None, out);
+                self.last_g28_mid = mid;
+                let mut m = self.machine_position();
+                for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+                    if w.has(axis.name as u8) {
+                        m[i] = 0.0;
+                    }
+                }
+                self.emit_machine_motion(m, out);
+                return Ok(true);
+            }
+            290 => {
+                let mut mid = self.pos;
+                for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+                    if w.has(axis.name as u8) {
+                        mid[i] = self.last_g28_mid[i];
+                    }
+                }
+                self.emit_motion(MotionKind::Rapid, mid, None, out);
+                let target = self.target(w);
+                self.emit_motion(MotionKind::Rapid, target, None, out);
+                return Ok(true);
+            }
+            270 | 282 | 301 | 600 => {
+                let target = self.target(w);
+                self.emit_motion(MotionKind::Rapid, target, None, out);
+                return Ok(true);
+            }
+            310 | 318 | 319 | 370 | 450 | 460 | 470 | 480 => {
+                self.check_feed()?;
+                let target = self.target(w);
+                self.emit_motion(MotionKind::Linear, target, None, out);
+                return Ok(true);
+            }
+            220 => {}
+            // Codes whose effect belongs to later stages (look-ahead, 5-axis alignment…):
+            // accepted and visible in the modal context, nothing to do for positions here.
+            _ => {}
+        }
+        Ok(false)
+    }
+
+    /// G10: programmable data input of work and tool offsets.
+    fn data_setting(&mut self, w: &Words, machine_before: Pos) -> Result<(), AlarmId> {
+        let l = w.integer(b'L').ok_or(AlarmId::DataSettingFormat)?;
+        let p = w.integer(b'P').ok_or(AlarmId::DataSettingFormat)?;
+        if p < 0.0 || p.fract() != 0.0 {
+            return Err(AlarmId::DataSettingFormat);
+        }
+        let incremental = self.modes[3] == 910;
+        let p = p as usize;
+        match l as u32 {
+            2 | 20 => {
+                let index = match (l as u32, p) {
+                    (2, 0..=6) => p,
+                    (20, 1..=MAX_G54_1) => g54_1_index(p),
+                    _ => return Err(AlarmId::IllegalOffsetNumber),
+                };
+                for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
+                    if let Some(v) = self.value(w, axis.name as u8) {
+                        let slot = &mut self.offsets.work_mut(index)[i];
+                        *slot = if incremental { *slot + v } else { v };
+                    }
+                }
+                self.pos = self.from_machine(&machine_before);
+            }
+            1 | 10..=13 => {
+                let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;
+                let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalOffsetNumber)?;
+                let slot = match l as u32 {
+                    10 => &mut t.h_geometry,
+                    1 | 11 => &mut t.h_wear,
+                    12 => &mut t.d_geometry,
+                    _ => &mut t.d_wear,
+                };
+                *slot = if incremental { *slot + r } else { r };
+            }
+            _ => return Err(AlarmId::DataSettingFormat),
+        }
+        Ok(())
+    }
+}
+
+fn offset_number(v: f64) -> Result<u32, AlarmId> {
+    if v < 0.0 || v.fract() != 0.0 || v > super::offsets::MAX_TOOL_OFFSETS as f64 {
+        return Err(AlarmId::IllegalOffsetNumber);
+    }
+    Ok(v as u32)
+}
+
+fn is_cycle(code: u16) -> bool {
+    matches!(gcode::lookup(code, crate::dialect::Dialect::Fanuc), Some(d) if d.group == 9 && code != 800)
+}
+
+impl Frame {
+    pub(super) fn main() -> Frame {
+        Frame { prog: 0, pc: 0, kind: FrameKind::Main, repeats: 0, args: None, number: 0 }
+    }
+}

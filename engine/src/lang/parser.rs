@@ -1,0 +1,516 @@
+//! Lines → blocks → programs. Every block is parsed on its own, so one bad block yields one
+//! diagnostic and parsing goes on with the next.
+
+use super::ast::*;
+use super::diag::Diagnostic;
+use super::lexer::{Kw, Lexer, Tok};
+use crate::alarm::AlarmId;
+
+/// Brackets may nest this deep (FANUC: five levels, function brackets included).
+const MAX_BRACKET_DEPTH: u32 = 5;
+
+/// Parse a whole NC file. Never fails: problems are collected in `File::diagnostics` and the
+/// offending blocks become [`BlockKind::Error`].
+pub fn parse_file(text: &str) -> File {
+    let mut file = File::default();
+    let mut current: Option<Program> = None;
+    for (idx, raw_line) in text.lines().enumerate() {
+        let line_no = idx as u32 + 1;
+        let (cleaned, first_comment) = blank_comments(raw_line);
+        let trimmed = cleaned.trim();
+        if trimmed.is_empty() && first_comment.is_none() {
+            continue;
+        }
+        if trimmed.starts_with('%') {
+            continue;
+        }
+        // `;` ends a block; text after it on the same line is another block.
+        let mut col0 = 1u32;
+        for segment in cleaned.split(';') {
+            let seg_col = col0;
+            col0 += segment.len() as u32 + 1;
+            if segment.trim().is_empty() && (first_comment.is_none() || seg_col != 1) {
+                continue;
+            }
+            if let Some((number, rest_col)) = program_number(segment) {
+                if let Some(p) = current.take() {
+                    file.programs.push(p);
+                }
+                current = Some(Program { number: Some(number), line: line_no, blocks: vec![] });
+                let rest = &segment[rest_col..];
+                if rest.trim().is_empty() {
+                    continue;
+                }
+                let block = parse_block(rest, seg_col + rest_col as u32, line_no, first_comment.clone());
+                push_block(&mut file, &mut current, block, line_no);
+                continue;
+            }
+            let block = parse_block(segment, seg_col, line_no, first_comment.clone());
+            push_block(&mut file, &mut current, block, line_no);
+        }
+    }
+    if let Some(p) = current.take() {
+        file.programs.push(p);
+    }
+    file
+}
+
+fn push_block(file: &mut File, current: &mut Option<Program>, block: Block, line: u32) {
+    if let BlockKind::Error(d) = &block.kind {
+        file.diagnostics.push(d.clone());
+    }
+    current.get_or_insert_with(|| Program { number: None, line, blocks: vec![] }).blocks.push(block);
+}
+
+/// `O1234` at the start of a segment: the number and the byte offset after it.
+fn program_number(segment: &str) -> Option<(u32, usize)> {
+    let lead = segment.len() - segment.trim_start().len();
+    let bytes = segment.as_bytes();
+    if !matches!(bytes.get(lead), Some(b'O') | Some(b'o')) {
+        return None;
+    }
+    let digits = bytes[lead + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
+    if digits == 0 {
+        return None;
+    }
+    let end = lead + 1 + digits;
+    let number = segment[lead + 1..end].parse::<u32>().ok()?;
+    Some((number, end))
+}
+
+/// Replace comments by spaces (keeping columns) and upper-case the rest. Returns the first
+/// comment's text. An unclosed `(` runs to the end of the line.
+fn blank_comments(line: &str) -> (String, Option<String>) {
+    if !line.contains('(') {
+        return (line.to_ascii_uppercase(), None);
+    }
+    let mut out = String::with_capacity(line.len());
+    let mut first = None;
+    let mut rest = line;
+    while let Some(open) = rest.find('(') {
+        out.push_str(&rest[..open].to_ascii_uppercase());
+        let after = &rest[open + 1..];
+        let (body, consumed) = match after.find(')') {
+            Some(close) => (&after[..close], close + 2),
+            None => (after, after.len() + 1),
+        };
+        if first.is_none() {
+            first = Some(body.trim().to_string());
+        }
+        out.extend(std::iter::repeat_n(' ', consumed));
+        rest = &rest[(open + consumed).min(rest.len())..];
+    }
+    out.push_str(&rest.to_ascii_uppercase());
+    (out, first)
+}
+
+struct BlockParser<'a> {
+    lx: Lexer<'a>,
+    line: u32,
+    depth: u32,
+}
+
+type PResult<T> = Result<T, Diagnostic>;
+
+fn parse_block(text: &str, col0: u32, line: u32, comment: Option<String>) -> Block {
+    let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), col0), line, depth: 0 };
+    let col = col0 + (text.len() - text.trim_start().len()) as u32;
+    let mut block = Block { line, col, block_delete: None, n: None, kind: BlockKind::Empty, comment };
+    match p.block(&mut block) {
+        Ok(kind) => block.kind = kind,
+        Err(d) => block.kind = BlockKind::Error(d),
+    }
+    block
+}
+
+impl BlockParser<'_> {
+    fn err<T>(&self, col: u32, id: AlarmId, detail: impl Into<String>) -> PResult<T> {
+        Err(Diagnostic { line: self.line, col, id, detail: detail.into() })
+    }
+
+    fn block(&mut self, block: &mut Block) -> PResult<BlockKind> {
+        if let (Tok::Slash, _) = self.lx.peek() {
+            self.lx.next_tok();
+            let level = match self.lx.peek() {
+                (Tok::Num { value, point: false }, _) if (1.0..=9.0).contains(&value) => {
+                    self.lx.next_tok();
+                    value as u8
+                }
+                _ => 1,
+            };
+            block.block_delete = Some(level);
+        }
+        if let (Tok::Letter(b'N'), col) = self.lx.peek() {
+            self.lx.next_tok();
+            match self.lx.next_tok() {
+                (Tok::Num { value, point: false }, _) if value <= 99_999_999.0 => block.n = Some(value as u32),
+                (_, c) => return self.err(c.max(col), AlarmId::NoDataAfterAddress, "N needs an integer sequence number"),
+            }
+        }
+        let (tok, col) = self.lx.peek();
+        let kind = match tok {
+            Tok::Eof => return Ok(BlockKind::Empty),
+            Tok::Hash => {
+                self.lx.next_tok();
+                let var = self.variable_after_hash(col)?;
+                self.expect(Tok::Assign, "expected '=' after the variable")?;
+                let value = self.expr(false)?;
+                BlockKind::Assign { var, value }
+            }
+            Tok::Kw(Kw::If) => {
+                self.lx.next_tok();
+                let cond = self.condition()?;
+                match self.lx.next_tok() {
+                    (Tok::Kw(Kw::Goto), _) => BlockKind::IfGoto { cond, target: self.expr(false)? },
+                    (Tok::Kw(Kw::Then), _) => {
+                        let (t, c) = self.lx.next_tok();
+                        if t != Tok::Hash {
+                            return self.err(c, AlarmId::MacroFormat, "THEN must be followed by an assignment '#i = …'");
+                        }
+                        let var = self.variable_after_hash(c)?;
+                        self.expect(Tok::Assign, "expected '=' after the variable")?;
+                        let value = self.expr(false)?;
+                        BlockKind::IfThen { cond, var, value }
+                    }
+                    (_, c) => return self.err(c, AlarmId::MacroFormat, "IF [condition] must be followed by GOTO or THEN"),
+                }
+            }
+            Tok::Kw(Kw::Goto) => {
+                self.lx.next_tok();
+                BlockKind::Goto(self.expr(false)?)
+            }
+            Tok::Kw(Kw::While) => {
+                self.lx.next_tok();
+                let cond = self.condition()?;
+                match self.lx.next_tok() {
+                    (Tok::Kw(Kw::Do), _) => BlockKind::Do { cond: Some(cond), id: self.loop_id()? },
+                    (_, c) => return self.err(c, AlarmId::MacroFormat, "WHILE [condition] must be followed by DO m"),
+                }
+            }
+            Tok::Kw(Kw::Do) => {
+                self.lx.next_tok();
+                BlockKind::Do { cond: None, id: self.loop_id()? }
+            }
+            Tok::Kw(Kw::End) => {
+                self.lx.next_tok();
+                BlockKind::End { id: self.loop_id()? }
+            }
+            Tok::Kw(Kw::Popen) => {
+                self.lx.next_tok();
+                BlockKind::Output(Output::Open)
+            }
+            Tok::Kw(Kw::Pclos) => {
+                self.lx.next_tok();
+                BlockKind::Output(Output::Close)
+            }
+            Tok::Kw(Kw::Dprnt) => {
+                self.lx.next_tok();
+                BlockKind::Output(Output::Print(self.print_items()?))
+            }
+            Tok::Kw(Kw::Bprnt) => {
+                self.lx.next_tok();
+                BlockKind::Output(Output::BinaryPrint(self.print_items()?))
+            }
+            Tok::Letter(_) => BlockKind::Words(self.words()?),
+            _ => return self.unexpected(tok, col),
+        };
+        match self.lx.peek() {
+            (Tok::Eof, _) => Ok(kind),
+            (Tok::Letter(_), col) | (Tok::Hash, col) if !matches!(kind, BlockKind::Words(_)) => {
+                self.err(col, AlarmId::MixedStatements, "a macro statement and NC words in one block")
+            }
+            (tok, col) => self.unexpected(tok, col),
+        }
+    }
+
+    fn unexpected<T>(&self, tok: Tok, col: u32) -> PResult<T> {
+        match tok {
+            Tok::Bad(c) => self.err(col, AlarmId::Syntax, format!("unexpected character '{}'", c as char)),
+            Tok::BadNumber => self.err(col, AlarmId::Syntax, "more than one decimal point in a number"),
+            Tok::Assign => self.err(col, AlarmId::MixedStatements, "an assignment after NC words"),
+            Tok::Kw(_) => self.err(col, AlarmId::MacroFormat, "a macro keyword out of place"),
+            Tok::Eof => self.err(col, AlarmId::MacroFormat, "unexpected end of block"),
+            other => self.err(col, AlarmId::Syntax, format!("unexpected {}", describe(other))),
+        }
+    }
+
+    fn expect(&mut self, want: Tok, detail: &str) -> PResult<()> {
+        let (tok, col) = self.lx.next_tok();
+        if tok == want {
+            Ok(())
+        } else {
+            self.err(col, AlarmId::MacroFormat, detail)
+        }
+    }
+
+    fn loop_id(&mut self) -> PResult<u8> {
+        match self.lx.next_tok() {
+            (Tok::Num { value, point: false }, _) if value <= 255.0 => Ok(value as u8),
+            (_, col) => self.err(col, AlarmId::IllegalLoopNumber, "DO/END need a loop number 1, 2 or 3"),
+        }
+    }
+
+    fn words(&mut self) -> PResult<Vec<Word>> {
+        let mut words = Vec::with_capacity(4);
+        while let (Tok::Letter(letter), col) = self.lx.peek() {
+            self.lx.next_tok();
+            let value = self.word_value(letter, col)?;
+            words.push(Word { letter, value, col });
+        }
+        Ok(words)
+    }
+
+    fn word_value(&mut self, letter: u8, letter_col: u32) -> PResult<WordValue> {
+        let (tok, col) = self.lx.next_tok();
+        let (negative, tok, col) = match tok {
+            Tok::Minus => {
+                let (t, c) = self.lx.next_tok();
+                (true, t, c)
+            }
+            Tok::Plus => {
+                let (t, c) = self.lx.next_tok();
+                (false, t, c)
+            }
+            _ => (false, tok, col),
+        };
+        let sign = |e: Expr| if negative { Expr::Neg(Box::new(e)) } else { e };
+        match tok {
+            Tok::Num { value, point } => Ok(WordValue::Number { value: if negative { -value } else { value }, decimal_point: point }),
+            Tok::Hash => Ok(WordValue::Expr(sign(self.variable_after_hash(col)?))),
+            Tok::LBracket => {
+                let inner = self.bracketed(col, false)?;
+                Ok(WordValue::Expr(sign(Expr::Bracket(Box::new(inner)))))
+            }
+            Tok::BadNumber => self.err(col, AlarmId::Syntax, "more than one decimal point in a number"),
+            _ => self.err(letter_col, AlarmId::NoDataAfterAddress, format!("address {} has no value", letter as char)),
+        }
+    }
+
+    /// After `#`: a number or a bracketed expression.
+    fn variable_after_hash(&mut self, hash_col: u32) -> PResult<Expr> {
+        match self.lx.next_tok() {
+            (Tok::Num { value, point: false }, _) if value <= u32::MAX as f64 => Ok(Expr::Var(value as u32)),
+            (Tok::LBracket, col) => Ok(Expr::IndirectVar(Box::new(self.bracketed(col, false)?))),
+            _ => self.err(hash_col, AlarmId::MacroFormat, "'#' must be followed by a variable number or [expression]"),
+        }
+    }
+
+    /// After `[`: the expression and its closing `]`.
+    fn bracketed(&mut self, open_col: u32, allow_cmp: bool) -> PResult<Expr> {
+        self.depth += 1;
+        if self.depth > MAX_BRACKET_DEPTH {
+            return self.err(open_col, AlarmId::BracketNesting, "brackets nest deeper than 5 levels");
+        }
+        let e = self.expr(allow_cmp)?;
+        match self.lx.next_tok() {
+            (Tok::RBracket, _) => {
+                self.depth -= 1;
+                Ok(e)
+            }
+            (_, col) => self.err(col, AlarmId::MacroFormat, "missing ']'"),
+        }
+    }
+
+    fn condition(&mut self) -> PResult<Expr> {
+        match self.lx.next_tok() {
+            (Tok::LBracket, col) => self.bracketed(col, true),
+            (_, col) => self.err(col, AlarmId::MacroFormat, "a condition must be in brackets: [ … ]"),
+        }
+    }
+
+    fn expr(&mut self, allow_cmp: bool) -> PResult<Expr> {
+        self.binary(if allow_cmp { 1 } else { 2 }, allow_cmp)
+    }
+
+    fn binary(&mut self, min_prec: u8, allow_cmp: bool) -> PResult<Expr> {
+        let mut lhs = self.unary(allow_cmp)?;
+        loop {
+            let Some(op) = binop(self.lx.peek().0) else { return Ok(lhs) };
+            if op.precedence() < min_prec {
+                return Ok(lhs);
+            }
+            self.lx.next_tok();
+            let rhs = self.binary(op.precedence() + 1, allow_cmp)?;
+            lhs = Expr::Binary(op, Box::new(lhs), Box::new(rhs));
+        }
+    }
+
+    fn unary(&mut self, allow_cmp: bool) -> PResult<Expr> {
+        match self.lx.peek().0 {
+            Tok::Minus => {
+                self.lx.next_tok();
+                Ok(Expr::Neg(Box::new(self.unary(allow_cmp)?)))
+            }
+            Tok::Plus => {
+                self.lx.next_tok();
+                self.unary(allow_cmp)
+            }
+            _ => self.primary(allow_cmp),
+        }
+    }
+
+    fn primary(&mut self, allow_cmp: bool) -> PResult<Expr> {
+        let (tok, col) = self.lx.next_tok();
+        match tok {
+            Tok::Num { value, .. } => Ok(Expr::Num(value)),
+            Tok::Hash => self.variable_after_hash(col),
+            Tok::LBracket => Ok(Expr::Bracket(Box::new(self.bracketed(col, allow_cmp)?))),
+            Tok::Kw(Kw::Func(f)) => {
+                let arg = self.func_arg()?;
+                Ok(Expr::Func(f, Box::new(arg)))
+            }
+            Tok::Kw(Kw::Atan) => {
+                let open = self.lx.col();
+                self.expect(Tok::LBracket, "ATAN needs '['")?;
+                let a = self.expr(false)?;
+                match self.lx.next_tok() {
+                    (Tok::Comma, _) => {
+                        let b = self.expr(false)?;
+                        self.close_func(open)?;
+                        Ok(Expr::Func2(Func2::Atan, Box::new(a), Box::new(b)))
+                    }
+                    (Tok::RBracket, _) => {
+                        self.check_depth(open)?;
+                        // `ATAN[a]/[b]` is the two-argument form.
+                        let (t1, _) = self.lx.peek();
+                        if t1 == Tok::Slash {
+                            self.lx.next_tok();
+                            let (t2, c2) = self.lx.next_tok();
+                            if t2 != Tok::LBracket {
+                                return self.err(c2, AlarmId::MacroFormat, "ATAN[a]/ must be followed by [b]");
+                            }
+                            let b = self.bracketed(c2, false)?;
+                            Ok(Expr::Func2(Func2::Atan, Box::new(a), Box::new(b)))
+                        } else {
+                            Ok(Expr::Func(Func::Atan, Box::new(a)))
+                        }
+                    }
+                    (_, c) => self.err(c, AlarmId::MacroFormat, "missing ']'"),
+                }
+            }
+            Tok::Kw(Kw::Pow) => {
+                let open = self.lx.col();
+                self.expect(Tok::LBracket, "POW needs '['")?;
+                let a = self.expr(false)?;
+                self.expect(Tok::Comma, "POW needs two arguments: POW[a,b]")?;
+                let b = self.expr(false)?;
+                self.close_func(open)?;
+                Ok(Expr::Func2(Func2::Pow, Box::new(a), Box::new(b)))
+            }
+            Tok::Eof => self.err(col, AlarmId::MacroFormat, "expression expected"),
+            other => self.unexpected(other, col),
+        }
+    }
+
+    /// `[expr]` after a function name; the function's brackets count towards the nesting limit.
+    fn func_arg(&mut self) -> PResult<Expr> {
+        match self.lx.next_tok() {
+            (Tok::LBracket, col) => self.bracketed(col, false),
+            (_, col) => self.err(col, AlarmId::MacroFormat, "a function's argument must be in brackets"),
+        }
+    }
+
+    fn check_depth(&self, open_col: u32) -> PResult<()> {
+        if self.depth + 1 > MAX_BRACKET_DEPTH {
+            return self.err(open_col, AlarmId::BracketNesting, "brackets nest deeper than 5 levels");
+        }
+        Ok(())
+    }
+
+    fn close_func(&mut self, open_col: u32) -> PResult<()> {
+        self.check_depth(open_col)?;
+        self.expect(Tok::RBracket, "missing ']'")
+    }
+
+    /// DPRNT/BPRNT: `[text #var[ab] text …]`. Text is raw: letters, digits and signs print as
+    /// written, `*` prints a space, spaces are not printed.
+    fn print_items(&mut self) -> PResult<Vec<PrintItem>> {
+        let start_col = self.lx.col();
+        let raw = self.lx.rest();
+        if raw.first() != Some(&b'[') {
+            return self.err(start_col, AlarmId::MacroFormat, "DPRNT needs [ … ]");
+        }
+        let mut items = Vec::new();
+        let mut text = String::new();
+        let mut i = 1;
+        while i < raw.len() {
+            match raw[i] {
+                b']' => {
+                    if !text.is_empty() {
+                        items.push(PrintItem::Text(std::mem::take(&mut text)));
+                    }
+                    self.lx.advance_raw(i + 1);
+                    return Ok(items);
+                }
+                b'#' => {
+                    if !text.is_empty() {
+                        items.push(PrintItem::Text(std::mem::take(&mut text)));
+                    }
+                    let digits = raw[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
+                    if digits == 0 {
+                        return self.err(start_col + i as u32, AlarmId::MacroFormat, "DPRNT variables are written #number[ab]");
+                    }
+                    let number: u32 = std::str::from_utf8(&raw[i + 1..i + 1 + digits]).ok().and_then(|s| s.parse().ok()).unwrap_or(u32::MAX);
+                    i += 1 + digits;
+                    let (mut int_digits, mut frac_digits) = (8u8, 0u8);
+                    if raw.get(i) == Some(&b'[') && raw.get(i + 3) == Some(&b']') && raw[i + 1].is_ascii_digit() && raw[i + 2].is_ascii_digit() {
+                        int_digits = raw[i + 1] - b'0';
+                        frac_digits = raw[i + 2] - b'0';
+                        i += 4;
+                    }
+                    items.push(PrintItem::Var { var: Expr::Var(number), int_digits, frac_digits });
+                }
+                b'*' => {
+                    text.push(' ');
+                    i += 1;
+                }
+                b' ' | b'\t' => i += 1,
+                c => {
+                    text.push(c as char);
+                    i += 1;
+                }
+            }
+        }
+        self.err(start_col, AlarmId::MacroFormat, "DPRNT is missing its closing ']'")
+    }
+}
+
+fn binop(tok: Tok) -> Option<BinOp> {
+    Some(match tok {
+        Tok::Star => BinOp::Mul,
+        Tok::Slash => BinOp::Div,
+        Tok::Plus => BinOp::Add,
+        Tok::Minus => BinOp::Sub,
+        Tok::Kw(Kw::And) => BinOp::And,
+        Tok::Kw(Kw::Mod) => BinOp::Mod,
+        Tok::Kw(Kw::Or) => BinOp::Or,
+        Tok::Kw(Kw::Xor) => BinOp::Xor,
+        Tok::Kw(Kw::Eq) => BinOp::Eq,
+        Tok::Kw(Kw::Ne) => BinOp::Ne,
+        Tok::Kw(Kw::Gt) => BinOp::Gt,
+        Tok::Kw(Kw::Ge) => BinOp::Ge,
+        Tok::Kw(Kw::Lt) => BinOp::Lt,
+        Tok::Kw(Kw::Le) => BinOp::Le,
+        _ => return None,
+    })
+}
+
+fn describe(tok: Tok) -> String {
+    match tok {
+        Tok::Letter(c) => format!("address {}", c as char),
+        Tok::Num { value, .. } => format!("number {value}"),
+        Tok::Hash => "'#'".into(),
+        Tok::LBracket => "'['".into(),
+        Tok::RBracket => "']'".into(),
+        Tok::Comma => "','".into(),
+        Tok::Assign => "'='".into(),
+        Tok::Plus => "'+'".into(),
+        Tok::Minus => "'-'".into(),
+        Tok::Star => "'*'".into(),
+        Tok::Slash => "'/'".into(),
+        Tok::Kw(k) => format!("keyword {k:?}"),
+        Tok::Bad(c) => format!("character '{}'", c as char),
+        Tok::BadNumber => "malformed number".into(),
+        Tok::Eof => "end of block".into(),
+    }
+}

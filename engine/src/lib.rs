@@ -1,0 +1,16 @@
+//! The pure engine of fivex.
+//!
+//! No IO, no threads, no wall clock: every input arrives as a value, time advances only when the
+//! caller says so, and the same inputs give the same outputs bit for bit. See `ARCHITECTURE.md`.
+
+pub mod alarm;
+pub mod canon;
+pub mod check;
+pub mod dialect;
+pub mod interp;
+pub mod lang;
+pub mod machine;
+pub mod run;
+
+pub use alarm::{Alarm, AlarmId};
+pub use dialect::Dialect;
