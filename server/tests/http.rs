@@ -1,0 +1,608 @@
+//! HTTP service tests.
+//!
+//! Most tests drive [`serve::app`] directly with `tower::ServiceExt::oneshot`, each on a fresh
+//! SQLite database in its own temporary directory (`spawn_app`). One test runs the real server on
+//! a loopback port-0 listener and talks to it with a plain HTTP client. The checked-in
+//! `openapi/openapi.json` and `docker-compose.yml` are checked here too.
+
+use std::path::{Path, PathBuf};
+
+use axum::body::{Body, Bytes};
+use axum::http::{header, Method, Request, StatusCode};
+use axum::response::IntoResponse;
+use axum::Router;
+use fivex_server::db::{self, ControllerRow};
+use fivex_server::serve::{self, ApiError, AppState};
+use http_body_util::BodyExt;
+use serde_json::{json, Value};
+use tempfile::TempDir;
+use tower::ServiceExt;
+
+/// One test's application: its state over a fresh database in a temporary directory that lives
+/// as long as the value.
+struct TestApp {
+    state: AppState,
+    db_path: PathBuf,
+    _dir: TempDir,
+}
+
+/// Everything a test reads back from a response.
+struct Reply {
+    status: StatusCode,
+    content_type: String,
+    body: Bytes,
+}
+
+impl Reply {
+    fn json(&self) -> Value {
+        serde_json::from_slice(&self.body).unwrap_or_else(|e| {
+            panic!(
+                "response body is not JSON ({e}): {:?}",
+                String::from_utf8_lossy(&self.body)
+            )
+        })
+    }
+
+    fn text(&self) -> String {
+        String::from_utf8(self.body.to_vec()).expect("UTF-8 body")
+    }
+}
+
+async fn spawn_app() -> TestApp {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let db_path = dir.path().join("fivex.db");
+    let state = AppState::open(&db_path).await.expect("open the database");
+    TestApp {
+        state,
+        db_path,
+        _dir: dir,
+    }
+}
+
+impl TestApp {
+    fn router(&self) -> Router {
+        serve::app(self.state.clone())
+    }
+
+    async fn send(&self, request: Request<Body>) -> Reply {
+        let response = self.router().oneshot(request).await.expect("infallible");
+        let status = response.status();
+        let content_type = response
+            .headers()
+            .get(header::CONTENT_TYPE)
+            .map(|v| v.to_str().unwrap().to_owned())
+            .unwrap_or_default();
+        let body = response
+            .into_body()
+            .collect()
+            .await
+            .expect("body")
+            .to_bytes();
+        Reply {
+            status,
+            content_type,
+            body,
+        }
+    }
+
+    async fn request(&self, method: Method, uri: &str) -> Reply {
+        let request = Request::builder()
+            .method(method)
+            .uri(uri)
+            .body(Body::empty())
+            .unwrap();
+        self.send(request).await
+    }
+
+    async fn get(&self, uri: &str) -> Reply {
+        self.request(Method::GET, uri).await
+    }
+}
+
+fn controller(id: &str, name: &str, created_at: &str) -> ControllerRow {
+    ControllerRow {
+        id: id.into(),
+        name: name.into(),
+        dialect: "fanuc".into(),
+        machine_json: r#"{"kind":"mill3"}"#.into(),
+        created_at: created_at.into(),
+    }
+}
+
+fn workspace_file(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(relative)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Through `oneshot`
+
+#[tokio::test]
+async fn healthz_answers_ok_json() {
+    let app = spawn_app().await;
+    let reply = app.get("/healthz").await;
+    assert_eq!(reply.status, StatusCode::OK);
+    assert_eq!(reply.content_type, "application/json");
+    assert_eq!(reply.json(), json!({"status": "ok"}));
+}
+
+#[tokio::test]
+async fn healthz_is_503_json_when_the_database_is_gone() {
+    let app = spawn_app().await;
+    app.state.db.close().await;
+    let reply = app.get("/healthz").await;
+    assert_eq!(reply.status, StatusCode::SERVICE_UNAVAILABLE);
+    let error = reply.json()["error"].as_str().unwrap().to_owned();
+    assert!(error.contains("database"), "{error}");
+}
+
+#[tokio::test]
+async fn head_healthz_is_200_without_body() {
+    let app = spawn_app().await;
+    let reply = app.request(Method::HEAD, "/healthz").await;
+    assert_eq!(reply.status, StatusCode::OK);
+    assert!(reply.body.is_empty());
+}
+
+#[tokio::test]
+async fn index_serves_the_dashboard_page() {
+    let app = spawn_app().await;
+    let reply = app.get("/").await;
+    assert_eq!(reply.status, StatusCode::OK);
+    assert!(
+        reply.content_type.starts_with("text/html"),
+        "{}",
+        reply.content_type
+    );
+    let page = reply.text();
+    assert!(page.contains("<title>fivex</title>"));
+    assert!(page.contains(r#"fetch("/healthz")"#));
+    assert_eq!(page, serve::INDEX_HTML);
+}
+
+#[tokio::test]
+async fn controllers_list_is_empty_on_a_fresh_database() {
+    let app = spawn_app().await;
+    let reply = app.get("/api/v1/controllers").await;
+    assert_eq!(reply.status, StatusCode::OK);
+    assert_eq!(reply.content_type, "application/json");
+    assert_eq!(reply.json(), json!([]));
+}
+
+#[tokio::test]
+async fn controllers_list_reads_the_controllers_table_oldest_first() {
+    let app = spawn_app().await;
+    db::insert_controller(
+        &app.state.db,
+        &controller("b", "second", "2025-01-02T00:00:00Z"),
+    )
+    .await
+    .unwrap();
+    db::insert_controller(
+        &app.state.db,
+        &controller("a", "first", "2025-01-01T00:00:00Z"),
+    )
+    .await
+    .unwrap();
+    let reply = app.get("/api/v1/controllers").await;
+    assert_eq!(reply.status, StatusCode::OK);
+    assert_eq!(
+        reply.json(),
+        json!([
+            {"id": "a", "name": "first", "dialect": "fanuc", "created_at": "2025-01-01T00:00:00Z"},
+            {"id": "b", "name": "second", "dialect": "fanuc", "created_at": "2025-01-02T00:00:00Z"},
+        ])
+    );
+}
+
+#[tokio::test]
+async fn unknown_routes_are_404_json() {
+    let app = spawn_app().await;
+    for uri in ["/nope", "/api/v1/nope", "/api/v1", "/api/v2/controllers"] {
+        let reply = app.get(uri).await;
+        assert_eq!(reply.status, StatusCode::NOT_FOUND, "{uri}");
+        assert_eq!(reply.content_type, "application/json", "{uri}");
+        assert_eq!(
+            reply.json(),
+            json!({"error": format!("no route for GET {uri}")}),
+            "{uri}"
+        );
+    }
+}
+
+#[tokio::test]
+async fn wrong_methods_are_405_json() {
+    let app = spawn_app().await;
+    for uri in ["/healthz", "/api/v1/controllers"] {
+        let reply = app.request(Method::PATCH, uri).await;
+        assert_eq!(reply.status, StatusCode::METHOD_NOT_ALLOWED, "{uri}");
+        assert_eq!(
+            reply.json(),
+            json!({"error": format!("method PATCH is not allowed on {uri}")})
+        );
+    }
+}
+
+#[tokio::test]
+async fn api_errors_render_as_json_with_their_status() {
+    let cases = [
+        (ApiError::BadRequest("bad".into()), 400, "bad"),
+        (ApiError::NotFound("gone".into()), 404, "gone"),
+        (ApiError::Conflict("taken".into()), 409, "taken"),
+        // The database's own message is logged, not sent to the client.
+        (
+            ApiError::Database(sqlx::Error::RowNotFound),
+            500,
+            "internal database error",
+        ),
+    ];
+    for (error, status, message) in cases {
+        let response = error.into_response();
+        assert_eq!(response.status().as_u16(), status);
+        let body = response.into_body().collect().await.unwrap().to_bytes();
+        let body: Value = serde_json::from_slice(&body).unwrap();
+        assert_eq!(body, json!({ "error": message }));
+    }
+}
+
+#[tokio::test]
+async fn openapi_document_is_served_and_is_openapi_3_1() {
+    let app = spawn_app().await;
+    let reply = app.get("/api-docs/openapi.json").await;
+    assert_eq!(reply.status, StatusCode::OK);
+    let doc = reply.json();
+    assert!(doc["openapi"].as_str().unwrap().starts_with("3.1"), "{doc}");
+    assert_eq!(doc["info"]["title"], "fivex");
+    for path in ["/healthz", "/api/v1/controllers"] {
+        assert!(doc["paths"][path]["get"].is_object(), "{path} missing");
+    }
+    let generated: Value = serde_json::from_str(&serve::openapi_json()).unwrap();
+    assert_eq!(doc, generated);
+}
+
+#[tokio::test]
+async fn swagger_ui_is_served() {
+    let app = spawn_app().await;
+    let reply = app.get("/swagger-ui/").await;
+    assert_eq!(reply.status, StatusCode::OK);
+    assert!(
+        reply.content_type.starts_with("text/html"),
+        "{}",
+        reply.content_type
+    );
+    assert!(reply.text().to_lowercase().contains("swagger"));
+
+    let config = app.get("/swagger-ui/swagger-initializer.js").await;
+    assert_eq!(config.status, StatusCode::OK);
+    assert!(config.text().contains("/api-docs/openapi.json"));
+
+    let bare = app.get("/swagger-ui").await;
+    assert!(bare.status.is_redirection(), "{}", bare.status);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Database
+
+#[tokio::test]
+async fn opening_creates_and_migrates_the_database_idempotently() {
+    let app = spawn_app().await;
+    assert!(app.db_path.is_file());
+    let tables: Vec<String> = sqlx::query_scalar(
+        "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE '\\_%' ESCAPE '\\' \
+         AND name NOT LIKE 'sqlite%' ORDER BY name",
+    )
+    .fetch_all(&app.state.db)
+    .await
+    .unwrap();
+    assert_eq!(tables, ["controllers", "programs", "variables"]);
+    db::insert_controller(
+        &app.state.db,
+        &controller("c1", "kept", "2025-01-01T00:00:00Z"),
+    )
+    .await
+    .unwrap();
+    app.state.db.close().await;
+
+    // Opening again runs no migration twice and keeps the data.
+    let again = AppState::open(&app.db_path).await.expect("reopen");
+    let rows = db::list_controllers(&again.db).await.unwrap();
+    assert_eq!(rows, [controller("c1", "kept", "2025-01-01T00:00:00Z")]);
+}
+
+#[tokio::test]
+async fn deleting_a_controller_cascades_to_programs_and_variables() {
+    let app = spawn_app().await;
+    let pool = &app.state.db;
+    db::insert_controller(pool, &controller("c1", "m", "2025-01-01T00:00:00Z"))
+        .await
+        .unwrap();
+    sqlx::query(
+        "INSERT INTO programs (controller_id, number, text) VALUES ('c1', 1, 'O0001\nM30\n')",
+    )
+    .execute(pool)
+    .await
+    .unwrap();
+    sqlx::query("INSERT INTO variables (controller_id, number, value) VALUES ('c1', 500, 1.5), ('c1', 501, NULL)")
+        .execute(pool)
+        .await
+        .unwrap();
+    // Foreign keys are enforced: no program for an unknown controller.
+    let orphan =
+        sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('zz', 1, '')")
+            .execute(pool)
+            .await;
+    assert!(orphan.is_err());
+
+    sqlx::query("DELETE FROM controllers WHERE id = 'c1'")
+        .execute(pool)
+        .await
+        .unwrap();
+    for table in ["programs", "variables"] {
+        let count: i64 = sqlx::query_scalar(&format!("SELECT COUNT(*) FROM {table}"))
+            .fetch_one(pool)
+            .await
+            .unwrap();
+        assert_eq!(count, 0, "{table}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A real server on a loopback port
+
+#[tokio::test]
+async fn real_server_on_port_0_serves_and_shuts_down_gracefully() {
+    use hyper_util::client::legacy::Client;
+    use hyper_util::rt::TokioExecutor;
+
+    let app = spawn_app().await;
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(serve::serve(listener, app.state.clone(), async {
+        let _ = stopped.await;
+    }));
+
+    let client: Client<_, http_body_util::Empty<Bytes>> =
+        Client::builder(TokioExecutor::new()).build_http();
+    let get = |path: &str| {
+        let uri = format!("http://{addr}{path}").parse().unwrap();
+        let client = client.clone();
+        async move {
+            let response = client.get(uri).await.expect("request");
+            let status = response.status();
+            let body = response.into_body().collect().await.unwrap().to_bytes();
+            (status, serde_json::from_slice::<Value>(&body).unwrap())
+        }
+    };
+
+    assert_eq!(
+        get("/healthz").await,
+        (StatusCode::OK, json!({"status": "ok"}))
+    );
+    assert_eq!(
+        get("/api/v1/controllers").await,
+        (StatusCode::OK, json!([]))
+    );
+    let (status, body) = get("/missing").await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert_eq!(body, json!({"error": "no route for GET /missing"}));
+    drop(client);
+
+    stop.send(()).unwrap();
+    let result = tokio::time::timeout(std::time::Duration::from_secs(5), server)
+        .await
+        .expect("server stops promptly after the shutdown signal")
+        .expect("server task");
+    assert!(result.is_ok(), "{result:?}");
+    // The port is free again.
+    tokio::net::TcpListener::bind(addr).await.unwrap();
+}
+
+#[test]
+fn run_blocking_creates_the_database_and_reports_an_address_in_use() {
+    let dir = tempfile::tempdir().unwrap();
+    let db_path = dir.path().join("new.db");
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = taken.local_addr().unwrap().to_string();
+    let error = serve::run_blocking(&db_path, &addr).unwrap_err();
+    assert!(
+        error.contains(&format!("cannot listen on {addr}")),
+        "{error}"
+    );
+    // The database was created and migrated before binding.
+    assert!(db_path.is_file());
+}
+
+#[test]
+fn run_blocking_reports_a_database_that_cannot_be_created() {
+    let dir = tempfile::tempdir().unwrap();
+    let db_path = dir.path().join("no/such/dir/fivex.db");
+    let error = serve::run_blocking(&db_path, "127.0.0.1:0").unwrap_err();
+    assert!(error.contains("cannot open database"), "{error}");
+    assert!(error.contains("fivex.db"), "{error}");
+}
+
+/// The `fivex serve` binary end to end: it announces its address, answers, and on SIGTERM stops
+/// gracefully with exit status 0.
+#[cfg(unix)]
+#[test]
+fn fivex_serve_binary_answers_and_stops_gracefully_on_sigterm() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    use std::process::{Command, Stdio};
+    use std::sync::mpsc;
+    use std::time::{Duration, Instant};
+
+    let dir = tempfile::tempdir().unwrap();
+    let db_path = dir.path().join("bin.db");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fivex"))
+        .arg("serve")
+        .arg("--db")
+        .arg(&db_path)
+        .args(["--addr", "127.0.0.1:0"])
+        .env("RUST_LOG", "info")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start fivex serve");
+    let stderr = child.stderr.take().unwrap();
+    let (lines_tx, lines) = mpsc::channel::<String>();
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines() {
+            let Ok(line) = line else { break };
+            if lines_tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let mut log = Vec::new();
+    let next_line = |log: &mut Vec<String>| {
+        let line = lines.recv_timeout(Duration::from_secs(20)).ok()?;
+        log.push(line.clone());
+        Some(line)
+    };
+
+    let marker = "listening on http://";
+    let addr = loop {
+        match next_line(&mut log) {
+            Some(line) => {
+                if let Some(at) = line.find(marker) {
+                    break line[at + marker.len()..].trim().to_owned();
+                }
+            }
+            None => {
+                let _ = child.kill();
+                panic!("fivex serve never announced its address; log: {log:#?}");
+            }
+        }
+    };
+
+    let mut stream = std::net::TcpStream::connect(&addr).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    stream
+        .write_all(b"GET /healthz HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n")
+        .unwrap();
+    let mut response = String::new();
+    stream.read_to_string(&mut response).unwrap();
+    assert!(response.starts_with("HTTP/1.1 200"), "{response}");
+    assert!(response.ends_with(r#"{"status":"ok"}"#), "{response}");
+    assert!(db_path.is_file());
+
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("fivex serve did not stop within 20 s of SIGTERM; log: {log:#?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    reader.join().unwrap();
+    while let Some(_line) = next_line(&mut log) {}
+    assert!(status.success(), "{status}; log: {log:#?}");
+    let log = log.join("\n");
+    assert!(log.contains("received SIGTERM"), "{log}");
+    assert!(log.contains("fivex stopped"), "{log}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checked-in artefacts
+
+/// `openapi/openapi.json` must be what the code generates. `FIVEX_BLESS=1` rewrites it.
+#[test]
+fn checked_in_openapi_json_matches_the_code() {
+    let path = workspace_file("openapi/openapi.json");
+    let generated = serve::openapi_json();
+    if std::env::var("FIVEX_BLESS").as_deref() == Ok("1") {
+        std::fs::write(&path, &generated).expect("write openapi/openapi.json");
+        return;
+    }
+    let checked_in = std::fs::read_to_string(&path).unwrap_or_default();
+    if checked_in != generated {
+        let (line, ours, theirs) = checked_in
+            .lines()
+            .chain(std::iter::repeat("<end of file>"))
+            .zip(generated.lines())
+            .enumerate()
+            .find(|(_, (a, b))| a != b)
+            .map(|(i, (a, b))| (i + 1, a.to_owned(), b.to_owned()))
+            .unwrap_or((
+                checked_in.lines().count() + 1,
+                "<more lines>".into(),
+                String::new(),
+            ));
+        panic!(
+            "openapi/openapi.json is out of date with the code (first difference at line {line}):\n  \
+             checked in: {ours}\n  generated:  {theirs}\n\
+             Regenerate it with: FIVEX_BLESS=1 cargo test -p fivex-server --test http checked_in_openapi"
+        );
+    }
+}
+
+#[test]
+fn docker_compose_runs_fivex_serve_with_a_data_volume() {
+    let text = std::fs::read_to_string(workspace_file("docker-compose.yml")).unwrap();
+    let compose: Value = serde_norway::from_str(&text).expect("docker-compose.yml is YAML");
+    let services = compose["services"].as_object().expect("services");
+    assert_eq!(services.keys().collect::<Vec<_>>(), ["fivex"]);
+    let fivex = &services["fivex"];
+
+    let command: Vec<&str> = match &fivex["command"] {
+        Value::Array(items) => items.iter().map(|v| v.as_str().unwrap()).collect(),
+        Value::String(line) => line.split_whitespace().collect(),
+        other => panic!("command: {other}"),
+    };
+    assert_eq!(
+        command,
+        ["serve", "--db", "/data/fivex.db", "--addr", "0.0.0.0:8080"]
+    );
+
+    let ports: Vec<&str> = fivex["ports"]
+        .as_array()
+        .expect("ports")
+        .iter()
+        .map(|p| p.as_str().expect("port mapping as a string"))
+        .collect();
+    assert!(
+        ports.iter().any(|p| p.ends_with(":8080")),
+        "no host port maps to container port 8080: {ports:?}"
+    );
+
+    let volumes: Vec<&str> = fivex["volumes"]
+        .as_array()
+        .expect("volumes")
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    let data = volumes
+        .iter()
+        .find(|v| v.split(':').nth(1) == Some("/data"))
+        .unwrap_or_else(|| panic!("no volume mounted at /data: {volumes:?}"));
+    let volume_name = data.split(':').next().unwrap();
+    assert!(
+        compose["volumes"].get(volume_name).is_some(),
+        "named volume {volume_name} is not declared"
+    );
+
+    // It builds this repository with the Dockerfile next to it, whose entry point is `fivex`.
+    let build = &fivex["build"];
+    let context = build.as_str().or(build["context"].as_str()).expect("build");
+    assert_eq!(context, ".");
+    let dockerfile = std::fs::read_to_string(workspace_file("Dockerfile")).unwrap();
+    assert!(
+        dockerfile.contains("--bin fivex"),
+        "Dockerfile builds the fivex binary"
+    );
+    assert!(dockerfile.contains(r#"ENTRYPOINT ["/usr/local/bin/fivex"]"#));
+    assert!(dockerfile.contains("EXPOSE 8080"));
+}
