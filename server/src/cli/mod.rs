@@ -1,0 +1,255 @@
+//! The `fivex` command line (see `CONTRACTS.md`): `run`, `interp`, `check` and `serve`.
+//!
+//! Exit status: 0 completed, 1 ended in an alarm (or diagnostics for `check`), 2 usage or IO.
+
+mod json;
+
+use clap::{Args, Parser, Subcommand};
+use fivex_engine::interp::{Config, Interpreter};
+use fivex_engine::lang::parse_file;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions};
+use fivex_engine::Dialect;
+use std::collections::BTreeMap;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+#[derive(Parser, Debug)]
+#[command(name = "fivex", version, about = "Virtual 5-axis CNC controllers (FANUC 30i-A5 and Syntec dialects)")]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a program on a virtual machine and print a JSON summary.
+    Run(RunArgs),
+    /// Interpret a program and print its canonical commands, one JSON object per line.
+    Interp(InterpArgs),
+    /// Check a program without running it; one line per diagnostic.
+    Check(CheckArgs),
+    /// Start the HTTP service.
+    Serve(ServeArgs),
+}
+
+#[derive(Args, Debug)]
+struct MachineArgs {
+    /// Built-in machine preset (mill3, head-bc, table-ac, table-bc, mixed-bc).
+    #[arg(long, conflicts_with = "machine")]
+    preset: Option<String>,
+    /// Machine configuration file (JSON, see docs/machine-config.md).
+    #[arg(long)]
+    machine: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+struct InterpreterArgs {
+    #[command(flatten)]
+    machine: MachineArgs,
+    /// Dialect: fanuc or syntec.
+    #[arg(long, default_value = "fanuc")]
+    dialect: Dialect,
+    /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}.
+    #[arg(long)]
+    tools: Option<PathBuf>,
+    /// Turn the block delete switch on (skip blocks starting with '/').
+    #[arg(long)]
+    block_delete: bool,
+    /// Turn the optional stop switch on (M01 stops).
+    #[arg(long)]
+    optional_stop: bool,
+    /// Stop with alarm FX0001 after this many executed blocks (endless loops, recursion).
+    #[arg(long, default_value_t = 50_000_000)]
+    max_blocks: u64,
+}
+
+#[derive(Args, Debug)]
+struct RunArgs {
+    program: PathBuf,
+    #[command(flatten)]
+    interp: InterpreterArgs,
+    /// Write one JSON object per interpolation period to this file.
+    #[arg(long)]
+    trace: Option<PathBuf>,
+    /// Interpolation period in milliseconds.
+    #[arg(long, default_value_t = 1.0)]
+    period_ms: f64,
+    /// Stop with alarm FX0002 after this many simulated seconds.
+    #[arg(long, default_value_t = 1.0e6)]
+    max_time_s: f64,
+}
+
+#[derive(Args, Debug)]
+struct InterpArgs {
+    program: PathBuf,
+    #[command(flatten)]
+    interp: InterpreterArgs,
+}
+
+#[derive(Args, Debug)]
+struct CheckArgs {
+    program: PathBuf,
+    #[arg(long, default_value = "fanuc")]
+    dialect: Dialect,
+}
+
+#[derive(Args, Debug)]
+struct ServeArgs {
+    /// SQLite database file (created and migrated on start).
+    #[arg(long, default_value = "fivex.db")]
+    db: PathBuf,
+    /// Address to listen on.
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    addr: String,
+}
+
+/// A usage or IO error: exit status 2.
+struct Fail(String);
+
+impl<E: std::fmt::Display> From<E> for Fail {
+    fn from(e: E) -> Self {
+        Fail(e.to_string())
+    }
+}
+
+/// Parse the process arguments and run; returns the exit status.
+pub fn main() -> i32 {
+    let cli = Cli::parse();
+    match dispatch(cli) {
+        Ok(code) => code,
+        Err(Fail(message)) => {
+            eprintln!("fivex: {message}");
+            2
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> Result<i32, Fail> {
+    match cli.command {
+        Command::Run(a) => cmd_run(a),
+        Command::Interp(a) => cmd_interp(a),
+        Command::Check(a) => cmd_check(a),
+        Command::Serve(a) => {
+            crate::serve::run_blocking(&a.db, &a.addr).map_err(Fail)?;
+            Ok(0)
+        }
+    }
+}
+
+fn read_program(path: &Path) -> Result<String, Fail> {
+    let bytes = std::fs::read(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    // NC files are ASCII; anything else is kept (and alarms where it matters) rather than refused.
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
+}
+
+fn load_machine(args: &MachineArgs) -> Result<MachineConfig, Fail> {
+    if let Some(path) = &args.machine {
+        let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        let m: MachineConfig = serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        m.validate().map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        return Ok(m);
+    }
+    let name = args.preset.as_deref().unwrap_or("mill3");
+    MachineConfig::preset(name)
+        .ok_or_else(|| Fail(format!("unknown preset '{name}' (presets: {})", MachineConfig::PRESETS.join(", "))))
+}
+
+#[derive(serde::Deserialize)]
+struct ToolEntry {
+    length: f64,
+    radius: f64,
+}
+
+/// Build the interpreter for a program file with the CLI's settings.
+fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> {
+    let machine = load_machine(&args.machine)?;
+    let mut cfg = Config::new(machine, args.dialect);
+    cfg.block_delete = args.block_delete;
+    cfg.optional_stop = args.optional_stop;
+    cfg.max_blocks = args.max_blocks;
+    let mut interp = Interpreter::new(parse_file(text), cfg);
+    let tools: BTreeMap<u32, ToolEntry> = match &args.tools {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+            serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?
+        }
+        None => (1..=99).map(|n| (n, ToolEntry { length: 100.0, radius: 5.0 })).collect(),
+    };
+    for (n, t) in tools {
+        let slot = interp.state.offsets.tool_mut(n).ok_or_else(|| Fail(format!("tool offset number {n} is out of range 1–999")))?;
+        slot.h_geometry = t.length;
+        slot.d_geometry = t.radius;
+    }
+    Ok(interp)
+}
+
+fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
+    let text = read_program(&a.program)?;
+    let mut interp = interpreter(&text, &a.interp)?;
+    if !(a.period_ms > 0.0 && a.period_ms.is_finite()) {
+        return Err(Fail("--period-ms must be a positive number".into()));
+    }
+    let opts = RunOptions { period_s: if a.trace.is_some() { a.period_ms / 1000.0 } else { 0.0 }, max_time_s: a.max_time_s };
+    let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
+    let mut trace = match &a.trace {
+        Some(path) => Some(BufWriter::new(std::fs::File::create(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?)),
+        None => None,
+    };
+    let mut trace_error = None;
+    let result = run(&mut interp, &opts, |s| {
+        if let Some(w) = trace.as_mut() {
+            if let Err(e) = json::write_sample(w, s, &axes) {
+                trace_error.get_or_insert(e);
+            }
+        }
+    });
+    if let Some(mut w) = trace {
+        w.flush()?;
+    }
+    if let Some(e) = trace_error {
+        return Err(Fail(format!("trace: {e}")));
+    }
+    let summary = json::summary(&result, &axes);
+    println!("{}", serde_json::to_string_pretty(&summary)?);
+    Ok(if result.completed() { 0 } else { 1 })
+}
+
+fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
+    let text = read_program(&a.program)?;
+    let mut interp = interpreter(&text, &a.interp)?;
+    let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
+    let stdout = std::io::stdout();
+    let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+    let mut write_error = None;
+    let result = interp.run(|c| {
+        if write_error.is_none() {
+            if let Err(e) = json::write_canon(&mut out, c, &axes) {
+                write_error = Some(e);
+            }
+        }
+    });
+    out.flush()?;
+    if let Some(e) = write_error {
+        return Err(Fail(format!("stdout: {e}")));
+    }
+    match result {
+        Ok(()) => Ok(0),
+        Err(alarm) => {
+            eprintln!("{}:{}: {} {}", a.program.display(), alarm.line, alarm.code, alarm.message);
+            Ok(1)
+        }
+    }
+}
+
+fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
+    let text = read_program(&a.program)?;
+    let diags = fivex_engine::check::check(&parse_file(&text), a.dialect);
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    for d in &diags {
+        let (code, message) = a.dialect.describe(&d.id);
+        writeln!(out, "{}:{}:{}: {code} {message}: {}", a.program.display(), d.line, d.col, d.detail)?;
+    }
+    Ok(if diags.is_empty() { 0 } else { 1 })
+}
