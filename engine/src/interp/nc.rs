@@ -298,10 +298,10 @@ impl State {
             }
             self.modes[group] = code;
         }
-        if self.modes[7] != 400 {
-            if let Some(d) = w.integer(b'D') {
-                self.d = offset_number(d)?;
-            }
+        // D is modal whether or not cutter compensation is on (#4107 shows it, a later G41
+        // without D uses it).
+        if let Some(d) = w.integer(b'D') {
+            self.d = offset_number(d)?;
         }
         if wcs_changed {
             self.pos = self.from_machine(&machine_before);

@@ -28,6 +28,8 @@ impl Loaded {
         let mut loop_error = HashMap::new();
         // Open DOs: (id, block index).
         let mut open: Vec<(u8, u32)> = Vec::new();
+        // DOs whose END came while the listed inner DOs were still open.
+        let mut crossed: Vec<(u32, Vec<u32>)> = Vec::new();
         for (i, block) in program.blocks.iter().enumerate() {
             let i = i as u32;
             if let Some(n) = block.n {
@@ -50,6 +52,13 @@ impl Loaded {
                     }
                     _ => {
                         loop_error.insert(i, AlarmId::IllegalLoopNumber);
+                        // An END of an outer DO while an inner DO is open: if the inner one is
+                        // closed later, the ranges cross (decided after the scan).
+                        if let Some(k) = open.iter().rposition(|&(o, _)| o == *id) {
+                            let inner: Vec<u32> = open[k + 1..].iter().map(|&(_, d)| d).collect();
+                            let (_, d) = open.remove(k);
+                            crossed.push((d, inner));
+                        }
                     }
                 },
                 _ => {}
@@ -57,6 +66,11 @@ impl Loaded {
         }
         for (_, d) in open {
             loop_error.entry(d).or_insert(AlarmId::MissingEnd);
+        }
+        for (d, inner) in crossed {
+            if inner.iter().any(|&i| pair[i as usize] != NONE) {
+                loop_error.insert(d, AlarmId::IllegalLoopNumber);
+            }
         }
         Loaded { program, labels, pair, enclosing, loop_error }
     }
