@@ -1,0 +1,243 @@
+//! Data-driven end-to-end tests: every `tests/fixtures/*.nc` is run through the real `fivex`
+//! binary with `run`, `interp` and `check`; each output is an insta snapshot
+//! (`tests/tests/snapshots/fixtures__{run,interp,check}@NAME.nc.snap`).
+//!
+//! A fixture's first line may select options: `(fivex: --preset table-ac --dialect syntec)`.
+//! `run` gets all of them; `interp` all but the trace/timing ones; `check` only `--dialect`.
+//!
+//! Fixtures also carry hand-computed expectations, checked before the snapshots so that a wrong
+//! snapshot cannot be accepted silently: `(expect: key=value …)` comments anywhere in the file
+//! (put them after the program end so they are not executed). Keys:
+//!
+//! | key | meaning (for `fivex run` unless said) |
+//! |---|---|
+//! | `exit=N` | exit status of `run` (and of `interp`, unless `interp_exit=N` says otherwise) |
+//! | `status=completed\|alarm` | the summary's status |
+//! | `alarm=CODE`, `alarm_line=N`, `alarm_n=N\|null` | the first alarm |
+//! | `blocks=N` | executed blocks |
+//! | `time=S` | `cycle_time_s` (±1e-6) |
+//! | `#N=V` / `#N=vacant` | a common variable at the end (±1e-6) |
+//! | `mX=V` / `wX=V` | machine / workpiece position of axis X (±1e-6) |
+//! | `msg="TEXT"` | the `messages` list, in order (all of them when any is given) |
+//! | `canon=N` | number of `interp` lines |
+//! | `diag=LINE:CODE` | `check` diagnostics, all of them in order (none given = none expected) |
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Options that take a value, and which commands accept them.
+const VALUE_OPTS: &[(&str, &[&str])] = &[
+    ("--preset", &["run", "interp"]),
+    ("--machine", &["run", "interp"]),
+    ("--dialect", &["run", "interp", "check"]),
+    ("--tools", &["run", "interp"]),
+    ("--max-blocks", &["run", "interp"]),
+    ("--trace", &["run"]),
+    ("--period-ms", &["run"]),
+    ("--max-time-s", &["run"]),
+];
+const FLAG_OPTS: &[(&str, &[&str])] = &[("--block-delete", &["run", "interp"]), ("--optional-stop", &["run", "interp"])];
+
+/// The options of the first line's `(fivex: …)` comment that `command` accepts.
+fn options_for(text: &str, command: &str) -> Vec<String> {
+    let first = text.lines().next().unwrap_or("");
+    let Some(opts) = tagged_comments(first, "fivex").into_iter().next() else { return vec![] };
+    let words = split_words(opts);
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < words.len() {
+        let w = words[i].as_str();
+        if let Some((_, cmds)) = VALUE_OPTS.iter().find(|(o, _)| *o == w) {
+            let v = words.get(i + 1).unwrap_or_else(|| panic!("option {w} needs a value"));
+            if cmds.contains(&command) {
+                out.push(w.to_string());
+                out.push(v.clone());
+            }
+            i += 2;
+        } else if let Some((_, cmds)) = FLAG_OPTS.iter().find(|(o, _)| *o == w) {
+            if cmds.contains(&command) {
+                out.push(w.to_string());
+            }
+            i += 1;
+        } else {
+            panic!("unknown fixture option {w:?}");
+        }
+    }
+    out
+}
+
+struct Ran {
+    exit: i32,
+    stdout: String,
+    stderr: String,
+    /// The snapshot text.
+    snapshot: String,
+}
+
+fn run_cmd(dir: &Path, command: &str, file: &str, opts: &[String]) -> Ran {
+    let mut args: Vec<&str> = vec![command, file];
+    args.extend(opts.iter().map(String::as_str));
+    let out = fivex_in(dir, &args);
+    let exit = out.status.code().expect("fivex was killed by a signal");
+    let (stdout, stderr) = (stdout(&out), stderr(&out));
+    let mut snapshot = format!("$ fivex {}\nexit: {exit}\n--- stdout\n{stdout}", args.join(" "));
+    if !stdout.is_empty() && !stdout.ends_with('\n') {
+        snapshot.push('\n');
+    }
+    if !stderr.is_empty() {
+        let _ = write!(snapshot, "--- stderr\n{stderr}");
+    }
+    Ran { exit, stdout, stderr, snapshot }
+}
+
+fn close(got: f64, want: f64) -> bool {
+    (got - want).abs() <= 1e-6
+}
+
+fn parse_num(v: &str) -> f64 {
+    v.parse().unwrap_or_else(|_| panic!("expectation value {v:?} is not a number"))
+}
+
+/// Check the `(expect: …)` comments; returns the list of mismatches.
+fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<String> {
+    let mut errs = Vec::new();
+    let summary: Value = match serde_json::from_str(&run.stdout) {
+        Ok(v) => v,
+        Err(e) => return vec![format!("run stdout is not one JSON object ({e}): {}", run.stdout)],
+    };
+    let mut run_exit = None;
+    let mut interp_exit = None;
+    let mut msgs: Option<Vec<String>> = None;
+    let mut diags: Vec<String> = Vec::new();
+    for body in tagged_comments(text, "expect") {
+        for item in split_words(body) {
+            let (k, v) = item.split_once('=').unwrap_or_else(|| panic!("expectation {item:?} is not key=value"));
+            let num = |path: &[&str]| -> Option<f64> {
+                let mut x = &summary;
+                for p in path {
+                    x = x.get(p)?;
+                }
+                x.as_f64()
+            };
+            let mut want_num = |what: String, got: Option<f64>| match got {
+                Some(g) if close(g, parse_num(v)) => {}
+                other => errs.push(format!("{what}: expected {v}, got {other:?}")),
+            };
+            match k {
+                "exit" => run_exit = Some(parse_num(v) as i32),
+                "interp_exit" => interp_exit = Some(parse_num(v) as i32),
+                "status" => {
+                    if summary["status"] != v {
+                        errs.push(format!("status: expected {v}, got {}", summary["status"]));
+                    }
+                }
+                "alarm" => {
+                    let got = &summary["alarms"][0]["code"];
+                    if got != v {
+                        errs.push(format!("alarm: expected {v}, got {got} ({})", summary["alarms"]));
+                    }
+                }
+                "alarm_line" => want_num("alarm line".into(), summary["alarms"][0]["line"].as_f64()),
+                "alarm_n" => {
+                    let got = &summary["alarms"][0]["n"];
+                    let ok = if v == "null" { got.is_null() } else { got.as_f64().is_some_and(|g| close(g, parse_num(v))) };
+                    if !ok {
+                        errs.push(format!("alarm n: expected {v}, got {got}"));
+                    }
+                }
+                "blocks" => want_num("blocks".into(), num(&["blocks"])),
+                "time" => want_num("cycle_time_s".into(), num(&["cycle_time_s"])),
+                "canon" => {
+                    let n = interp.stdout.lines().count() as f64;
+                    want_num("interp lines".into(), Some(n));
+                }
+                "msg" => msgs.get_or_insert_with(Vec::new).push(v.to_string()),
+                "diag" => diags.push(v.to_string()),
+                k if k.starts_with('#') => {
+                    let got = &summary["variables"][k];
+                    if v == "vacant" {
+                        if !got.is_null() {
+                            errs.push(format!("{k}: expected vacant, got {got}"));
+                        }
+                    } else {
+                        want_num(k.to_string(), got.as_f64());
+                    }
+                }
+                k if k.len() == 2 && (k.starts_with('m') || k.starts_with('w')) => {
+                    let frame = if k.starts_with('m') { "machine" } else { "workpiece" };
+                    want_num(format!("{frame} {}", &k[1..]), num(&["position", frame, &k[1..]]));
+                }
+                _ => panic!("unknown expectation key {k:?}"),
+            }
+        }
+    }
+    let run_exit = run_exit.unwrap_or(0);
+    if run.exit != run_exit {
+        errs.push(format!("run exit: expected {run_exit}, got {} (stderr: {})", run.exit, run.stderr.trim()));
+    }
+    let interp_exit = interp_exit.unwrap_or(run_exit);
+    if interp.exit != interp_exit {
+        errs.push(format!("interp exit: expected {interp_exit}, got {} (stderr: {})", interp.exit, interp.stderr.trim()));
+    }
+    for (i, line) in interp.stdout.lines().enumerate() {
+        match serde_json::from_str::<Value>(line) {
+            Ok(v) if v.is_object() && v.get("type").is_some() => {}
+            _ => errs.push(format!("interp stdout line {} is not a JSON object with a type: {line}", i + 1)),
+        }
+    }
+    if let Some(want) = msgs {
+        let got: Vec<String> =
+            summary["messages"].as_array().map(|a| a.iter().map(|m| m.as_str().unwrap_or("").to_string()).collect()).unwrap_or_default();
+        if got != want {
+            errs.push(format!("messages: expected {want:?}, got {got:?}"));
+        }
+    }
+    // check: `FILE:LINE:COL: CODE message` lines.
+    let got_diags: Vec<String> = check
+        .stdout
+        .lines()
+        .map(|l| {
+            let mut parts = l.splitn(4, ':');
+            let (_file, line, _col, rest) = (parts.next(), parts.next(), parts.next(), parts.next().unwrap_or(""));
+            let code = rest.split_whitespace().next().unwrap_or("");
+            format!("{}:{code}", line.unwrap_or("?"))
+        })
+        .collect();
+    if got_diags != diags {
+        errs.push(format!("check diagnostics: expected {diags:?}, got {got_diags:?}\n{}", check.stdout));
+    }
+    let check_exit = if diags.is_empty() { 0 } else { 1 };
+    if check.exit != check_exit {
+        errs.push(format!("check exit: expected {check_exit}, got {}", check.exit));
+    }
+    errs
+}
+
+#[test]
+fn fixtures() {
+    let dir = fixtures_dir();
+    let mut failures = Vec::new();
+    let mut count = 0;
+    insta::glob!("../fixtures", "*.nc", |path| {
+        count += 1;
+        let file = path.file_name().unwrap().to_str().unwrap();
+        let text = std::fs::read_to_string(path).unwrap();
+        let run = run_cmd(&dir, "run", file, &options_for(&text, "run"));
+        let interp = run_cmd(&dir, "interp", file, &options_for(&text, "interp"));
+        let check = run_cmd(&dir, "check", file, &options_for(&text, "check"));
+        for e in check_expectations(&text, &run, &interp, &check) {
+            // Printed at once too: a snapshot failure below ends the test before the summary.
+            eprintln!("EXPECTATION FAILED {file}: {e}");
+            failures.push(format!("{file}: {e}"));
+        }
+        insta::assert_snapshot!("run", run.snapshot);
+        insta::assert_snapshot!("interp", interp.snapshot);
+        insta::assert_snapshot!("check", check.snapshot);
+    });
+    assert!(count >= 30, "expected at least 30 fixtures, found {count}");
+    assert!(failures.is_empty(), "{} hand-computed expectation(s) failed:\n{}", failures.len(), failures.join("\n"));
+}
