@@ -89,7 +89,8 @@ pub enum WordValue {
     /// A literal number and whether it was written with a decimal point.
     Number { value: f64, decimal_point: bool },
     /// `#i`, `-#i`, `[expr]`: evaluated when the block runs; a vacant result omits the word.
-    Expr(Expr),
+    /// Boxed: most words are plain numbers, and this keeps every `Word` small.
+    Expr(Box<Expr>),
 }
 
 /// Expressions. Variables are read when the expression is evaluated.

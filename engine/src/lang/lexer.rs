@@ -92,17 +92,34 @@ const KEYWORDS: &[(&[u8], Kw)] = &[
     (b"LN", Kw::Func(Func::Ln)),
 ];
 
+/// Lexes one block: from the start of `text` up to a `;` or the end. Comments `( … )` are
+/// skipped like spaces (the first one is remembered) and letters are read case-insensitively,
+/// so the source line is never copied.
 pub(super) struct Lexer<'a> {
     text: &'a [u8],
     pos: usize,
     /// Column of `text[0]` in the source line (1-based).
     col0: u32,
     peeked: Option<(Tok, u32)>,
+    /// Byte range of the block's first comment (inside the parentheses).
+    first_comment: Option<(usize, usize)>,
+    /// Offset just after the `;` that ended the block, if one did.
+    semicolon: Option<usize>,
 }
 
 impl<'a> Lexer<'a> {
     pub fn new(text: &'a [u8], col0: u32) -> Self {
-        Lexer { text, pos: 0, col0, peeked: None }
+        Lexer { text, pos: 0, col0, peeked: None, first_comment: None, semicolon: None }
+    }
+
+    /// The text of the block's first comment, trimmed.
+    pub fn first_comment(&self) -> Option<String> {
+        self.first_comment.map(|(a, b)| String::from_utf8_lossy(&self.text[a..b]).trim().to_string())
+    }
+
+    /// Where the next block of the same line starts, if a `;` ended this one.
+    pub fn after_semicolon(&self) -> Option<usize> {
+        self.semicolon
     }
 
     /// The raw bytes not yet consumed (used by DPRNT, whose argument is text).
@@ -116,6 +133,17 @@ impl<'a> Lexer<'a> {
     pub fn advance_raw(&mut self, n: usize) {
         debug_assert!(self.peeked.is_none());
         self.pos += n;
+    }
+
+    /// After an error: skip the rest of the block; where the next block starts, if any.
+    pub fn skip_to_semicolon(&mut self) -> Option<usize> {
+        self.peeked = None;
+        loop {
+            match self.lex().0 {
+                Tok::Eof => return self.semicolon,
+                _ => continue,
+            }
+        }
     }
 
     /// The column of the next token.
@@ -137,17 +165,40 @@ impl<'a> Lexer<'a> {
         t
     }
 
-    fn lex(&mut self) -> (Tok, u32) {
+    fn skip_blanks(&mut self) {
         let t = self.text;
-        while self.pos < t.len() && (t[self.pos] == b' ' || t[self.pos] == b'\t' || t[self.pos] == b'\r') {
-            self.pos += 1;
+        while let Some(&c) = t.get(self.pos) {
+            match c {
+                b' ' | b'\t' | b'\r' => self.pos += 1,
+                b'(' => {
+                    // A comment runs to ')' or, unclosed, to the end of the line.
+                    let start = self.pos + 1;
+                    let end = t[start..].iter().position(|&b| b == b')').map_or(t.len(), |i| start + i);
+                    self.first_comment.get_or_insert((start, end));
+                    self.pos = (end + 1).min(t.len());
+                }
+                _ => return,
+            }
         }
+    }
+
+    fn lex(&mut self) -> (Tok, u32) {
+        self.skip_blanks();
+        let t = self.text;
         let col = self.col0 + self.pos as u32;
+        if self.semicolon.is_some() {
+            return (Tok::Eof, col);
+        }
         let Some(&c) = t.get(self.pos) else {
             return (Tok::Eof, col);
         };
         let tok = match c {
-            b'A'..=b'Z' => return (self.letters(), col),
+            b';' => {
+                self.pos += 1;
+                self.semicolon = Some(self.pos);
+                return (Tok::Eof, col);
+            }
+            b'A'..=b'Z' | b'a'..=b'z' => return (self.letters(), col),
             b'0'..=b'9' | b'.' => return (self.number(), col),
             b'#' => Tok::Hash,
             b'[' => Tok::LBracket,
@@ -167,40 +218,47 @@ impl<'a> Lexer<'a> {
     fn letters(&mut self) -> Tok {
         let t = self.text;
         let start = self.pos;
-        let mut end = start;
-        while end < t.len() && t[end].is_ascii_uppercase() {
-            end += 1;
-        }
-        if end - start >= 2 {
+        let first = t[start].to_ascii_uppercase();
+        if t.get(start + 1).is_some_and(|c| c.is_ascii_alphabetic()) {
+            let end = t[start..].iter().position(|c| !c.is_ascii_alphabetic()).map_or(t.len(), |i| start + i);
             let run = &t[start..end];
             for (word, kw) in KEYWORDS {
-                if run.starts_with(word) {
+                if run.len() >= word.len() && run[..word.len()].eq_ignore_ascii_case(word) {
                     self.pos += word.len();
                     return Tok::Kw(*kw);
                 }
             }
         }
         self.pos += 1;
-        Tok::Letter(t[start])
+        Tok::Letter(first)
     }
 
     fn number(&mut self) -> Tok {
+        const POW10: [f64; 19] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18];
         let t = self.text;
         let start = self.pos;
-        let mut points = 0;
-        while self.pos < t.len() && (t[self.pos].is_ascii_digit() || t[self.pos] == b'.') {
-            if t[self.pos] == b'.' {
-                points += 1;
+        let (mut mantissa, mut digits, mut frac, mut point) = (0u64, 0u32, 0usize, false);
+        while let Some(&c) = t.get(self.pos) {
+            match c {
+                b'0'..=b'9' => {
+                    mantissa = mantissa.wrapping_mul(10).wrapping_add((c - b'0') as u64);
+                    digits += 1;
+                    frac += point as usize;
+                }
+                b'.' if point => return Tok::BadNumber,
+                b'.' => point = true,
+                _ => break,
             }
             self.pos += 1;
         }
-        if points > 1 {
-            return Tok::BadNumber;
-        }
-        let s = std::str::from_utf8(&t[start..self.pos]).unwrap_or("0");
+        // Both operands exact, so one division is correctly rounded, like `str::parse`.
+        let value = if digits <= 15 {
+            mantissa as f64 / POW10[frac]
+        } else {
+            std::str::from_utf8(&t[start..self.pos]).ok().and_then(|s| s.parse::<f64>().ok()).unwrap_or(f64::MAX)
+        };
         // "." alone is zero with a decimal point, as FANUC reads `X.`.
-        let value = if s == "." { 0.0 } else { s.parse::<f64>().unwrap_or(0.0) };
-        Tok::Num { value, point: points == 1 }
+        Tok::Num { value, point }
     }
 }
 

@@ -14,39 +14,37 @@ const MAX_BRACKET_DEPTH: u32 = 5;
 pub fn parse_file(text: &str) -> File {
     let mut file = File::default();
     let mut current: Option<Program> = None;
-    for (idx, raw_line) in text.lines().enumerate() {
+    for (idx, line) in text.lines().enumerate() {
         let line_no = idx as u32 + 1;
-        let (cleaned, first_comment) = blank_comments(raw_line);
-        let trimmed = cleaned.trim();
-        if trimmed.is_empty() && first_comment.is_none() {
+        let trimmed = line.trim_start();
+        if trimmed.is_empty() || trimmed.starts_with('%') {
             continue;
         }
-        if trimmed.starts_with('%') {
-            continue;
-        }
-        // `;` ends a block; text after it on the same line is another block.
-        let mut col0 = 1u32;
-        for segment in cleaned.split(';') {
-            let seg_col = col0;
-            col0 += segment.len() as u32 + 1;
-            if segment.trim().is_empty() && (first_comment.is_none() || seg_col != 1) {
-                continue;
-            }
-            if let Some((number, rest_col)) = program_number(segment) {
+        // A `;` ends a block; text after it on the same line is another block.
+        let mut start = 0usize;
+        while start < line.len() {
+            let segment = &line[start..];
+            let mut col0 = start as u32 + 1;
+            let mut rest = segment;
+            if let Some((number, after)) = program_number(segment) {
                 if let Some(p) = current.take() {
                     file.programs.push(p);
                 }
                 current = Some(Program { number: Some(number), line: line_no, blocks: vec![] });
-                let rest = &segment[rest_col..];
-                if rest.trim().is_empty() {
-                    continue;
-                }
-                let block = parse_block(rest, seg_col + rest_col as u32, line_no, first_comment.clone());
-                push_block(&mut file, &mut current, block, line_no);
-                continue;
+                rest = &segment[after..];
+                col0 += after as u32;
             }
-            let block = parse_block(segment, seg_col, line_no, first_comment.clone());
-            push_block(&mut file, &mut current, block, line_no);
+            let (block, next) = parse_block(rest, col0, line_no);
+            if !is_blank(&block) {
+                if let BlockKind::Error(d) = &block.kind {
+                    file.diagnostics.push(d.clone());
+                }
+                current.get_or_insert_with(|| Program { number: None, line: line_no, blocks: vec![] }).blocks.push(block);
+            }
+            match next {
+                Some(n) => start = col0 as usize - 1 + n,
+                None => break,
+            }
         }
     }
     if let Some(p) = current.take() {
@@ -55,11 +53,9 @@ pub fn parse_file(text: &str) -> File {
     file
 }
 
-fn push_block(file: &mut File, current: &mut Option<Program>, block: Block, line: u32) {
-    if let BlockKind::Error(d) = &block.kind {
-        file.diagnostics.push(d.clone());
-    }
-    current.get_or_insert_with(|| Program { number: None, line, blocks: vec![] }).blocks.push(block);
+/// A block with nothing in it at all (not even a comment) is not a block.
+fn is_blank(b: &Block) -> bool {
+    b.kind == BlockKind::Empty && b.n.is_none() && b.block_delete.is_none() && b.comment.is_none()
 }
 
 /// `O1234` at the start of a segment: the number and the byte offset after it.
@@ -70,38 +66,12 @@ fn program_number(segment: &str) -> Option<(u32, usize)> {
         return None;
     }
     let digits = bytes[lead + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
-    if digits == 0 {
+    if digits == 0 || digits > 8 {
         return None;
     }
     let end = lead + 1 + digits;
     let number = segment[lead + 1..end].parse::<u32>().ok()?;
     Some((number, end))
-}
-
-/// Replace comments by spaces (keeping columns) and upper-case the rest. Returns the first
-/// comment's text. An unclosed `(` runs to the end of the line.
-fn blank_comments(line: &str) -> (String, Option<String>) {
-    if !line.contains('(') {
-        return (line.to_ascii_uppercase(), None);
-    }
-    let mut out = String::with_capacity(line.len());
-    let mut first = None;
-    let mut rest = line;
-    while let Some(open) = rest.find('(') {
-        out.push_str(&rest[..open].to_ascii_uppercase());
-        let after = &rest[open + 1..];
-        let (body, consumed) = match after.find(')') {
-            Some(close) => (&after[..close], close + 2),
-            None => (after, after.len() + 1),
-        };
-        if first.is_none() {
-            first = Some(body.trim().to_string());
-        }
-        out.extend(std::iter::repeat_n(' ', consumed));
-        rest = &rest[(open + consumed).min(rest.len())..];
-    }
-    out.push_str(&rest.to_ascii_uppercase());
-    (out, first)
 }
 
 struct BlockParser<'a> {
@@ -112,15 +82,23 @@ struct BlockParser<'a> {
 
 type PResult<T> = Result<T, Diagnostic>;
 
-fn parse_block(text: &str, col0: u32, line: u32, comment: Option<String>) -> Block {
+/// Parse one block from the start of `text`; also returns where the next block of the line
+/// starts (after a `;`), relative to `text`.
+fn parse_block(text: &str, col0: u32, line: u32) -> (Block, Option<usize>) {
     let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), col0), line, depth: 0 };
     let col = col0 + (text.len() - text.trim_start().len()) as u32;
-    let mut block = Block { line, col, block_delete: None, n: None, kind: BlockKind::Empty, comment };
+    let mut block = Block { line, col, block_delete: None, n: None, kind: BlockKind::Empty, comment: None };
     match p.block(&mut block) {
         Ok(kind) => block.kind = kind,
         Err(d) => block.kind = BlockKind::Error(d),
     }
-    block
+    // After an error the rest of the block is skipped, up to a `;` outside comments.
+    let next = match p.lx.after_semicolon() {
+        Some(n) => Some(n),
+        None => p.lx.skip_to_semicolon(),
+    };
+    block.comment = p.lx.first_comment();
+    (block, next)
 }
 
 impl BlockParser<'_> {
@@ -276,10 +254,10 @@ impl BlockParser<'_> {
         let sign = |e: Expr| if negative { Expr::Neg(Box::new(e)) } else { e };
         match tok {
             Tok::Num { value, point } => Ok(WordValue::Number { value: if negative { -value } else { value }, decimal_point: point }),
-            Tok::Hash => Ok(WordValue::Expr(sign(self.variable_after_hash(col)?))),
+            Tok::Hash => Ok(WordValue::Expr(Box::new(sign(self.variable_after_hash(col)?)))),
             Tok::LBracket => {
                 let inner = self.bracketed(col, false)?;
-                Ok(WordValue::Expr(sign(Expr::Bracket(Box::new(inner)))))
+                Ok(WordValue::Expr(Box::new(sign(Expr::Bracket(Box::new(inner))))))
             }
             Tok::BadNumber => self.err(col, AlarmId::Syntax, "more than one decimal point in a number"),
             _ => self.err(letter_col, AlarmId::NoDataAfterAddress, format!("address {} has no value", letter as char)),
@@ -466,7 +444,7 @@ impl BlockParser<'_> {
                 }
                 b' ' | b'\t' => i += 1,
                 c => {
-                    text.push(c as char);
+                    text.push(c.to_ascii_uppercase() as char);
                     i += 1;
                 }
             }

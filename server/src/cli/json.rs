@@ -1,30 +1,82 @@
 //! JSON forms of the CLI's outputs (`CONTRACTS.md`). Canonical commands and trace samples are
 //! written by hand into a buffered writer: they are the hot path of `fivex interp`/`run --trace`.
 
-use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionKind, Pos, SpindleState};
+use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
 use fivex_engine::interp::gcode::display;
 use fivex_engine::run::{RunResult, Sample};
 use serde_json::{json, Map, Value};
 use std::io::{self, Write};
 
+/// A number in its shortest form that reads back to the same f64 (`-0` prints as `0.0`).
 fn num(w: &mut impl Write, x: f64) -> io::Result<()> {
-    if x.is_finite() {
-        // Shortest representation that reads back to the same f64.
-        let mut buf = ryu_like(x);
-        if buf.ends_with(".0") {
-            buf.truncate(buf.len() - 2);
-            buf.push_str(".0");
-        }
-        w.write_all(buf.as_bytes())
-    } else {
-        w.write_all(b"null")
+    if !x.is_finite() {
+        return w.write_all(b"null");
+    }
+    let x = if x == 0.0 { 0.0 } else { x };
+    match short_decimal(x) {
+        Some((buf, len)) => w.write_all(&buf[..len]),
+        None => w.write_all(ryu::Buffer::new().format_finite(x).as_bytes()),
     }
 }
 
-fn ryu_like(x: f64) -> String {
-    // `{:?}` is Rust's shortest round-trip form and always has a point or exponent.
-    let x = if x == 0.0 { 0.0 } else { x };
-    format!("{x:?}")
+/// Fast path for the numbers NC programs are made of: at most four decimals. When `x` equals
+/// `r / 10⁴` for an integer `r`, that decimal is the shortest round-trip form, so the text is the
+/// same `ryu` would print ("12.345", "5.0", "-0.5"), made with integer arithmetic only.
+fn short_decimal(x: f64) -> Option<([u8; 24], usize)> {
+    let a = x.abs();
+    if !(a == 0.0 || (1e-3..1e11).contains(&a)) {
+        return None;
+    }
+    let r = (a * 1e4).round();
+    if r / 1e4 != a {
+        return None;
+    }
+    let r = r as u64;
+    let (int, mut frac) = (r / 10_000, r % 10_000);
+    let mut buf = [0u8; 24];
+    let mut len = 0;
+    if x < 0.0 {
+        buf[0] = b'-';
+        len = 1;
+    }
+    let mut digits = itoa_u64(int);
+    let n = digits.1;
+    buf[len..len + n].copy_from_slice(&digits.0[..n]);
+    len += n;
+    buf[len] = b'.';
+    len += 1;
+    if frac == 0 {
+        buf[len] = b'0';
+        return Some((buf, len + 1));
+    }
+    let mut width = 4;
+    while frac % 10 == 0 {
+        frac /= 10;
+        width -= 1;
+    }
+    digits = itoa_u64(frac);
+    for _ in digits.1..width {
+        buf[len] = b'0';
+        len += 1;
+    }
+    buf[len..len + digits.1].copy_from_slice(&digits.0[..digits.1]);
+    Some((buf, len + digits.1))
+}
+
+fn itoa_u64(mut v: u64) -> ([u8; 20], usize) {
+    let mut tmp = [0u8; 20];
+    let mut i = 20;
+    loop {
+        i -= 1;
+        tmp[i] = b'0' + (v % 10) as u8;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    let mut out = [0u8; 20];
+    out[..20 - i].copy_from_slice(&tmp[i..]);
+    (out, 20 - i)
 }
 
 fn axes_map(w: &mut impl Write, p: &Pos, axes: &[char]) -> io::Result<()> {
@@ -133,19 +185,40 @@ fn motion(w: &mut impl Write, m: &Motion, axes: &[char]) -> io::Result<()> {
         num(w, arc.sweep_deg)?;
         w.write_all(b"}")?;
     }
-    let c = &m.context;
-    let wcs = if c.wcs == 541 { format!("G54.1 P{}", c.wcs_p) } else { display(c.wcs) };
-    write!(
-        w,
-        ",\"context\":{{\"plane\":\"{}\",\"wcs\":\"{wcs}\",\"length_comp\":\"{}\",\"h\":{},\"tool_length\":",
-        display(c.plane),
-        display(c.length_comp),
-        c.h
-    )?;
-    num(w, c.tool_length)?;
-    write!(w, ",\"cutter_comp\":\"{}\",\"d\":{},\"cutter_radius\":", display(c.cutter_comp), c.d)?;
-    num(w, c.cutter_radius)?;
-    write!(w, ",\"path_mode\":\"{}\",\"rotation\":\"{}\"}}", display(c.path_mode), display(c.rotation))
+    write_context(w, &m.context)
+}
+
+thread_local! {
+    /// The last context and its JSON: consecutive motions almost always share their context.
+    static CONTEXT: std::cell::RefCell<Option<(MotionContext, String)>> = const { std::cell::RefCell::new(None) };
+}
+
+fn write_context(w: &mut impl Write, c: &MotionContext) -> io::Result<()> {
+    CONTEXT.with(|cell| {
+        let mut cache = cell.borrow_mut();
+        if let Some((last, text)) = cache.as_ref() {
+            if last == c {
+                return w.write_all(text.as_bytes());
+            }
+        }
+        let mut v = Vec::with_capacity(200);
+        let wcs = if c.wcs == 541 { format!("G54.1 P{}", c.wcs_p) } else { display(c.wcs) };
+        let _ = write!(
+            v,
+            ",\"context\":{{\"plane\":\"{}\",\"wcs\":\"{wcs}\",\"length_comp\":\"{}\",\"h\":{},\"tool_length\":",
+            display(c.plane),
+            display(c.length_comp),
+            c.h
+        );
+        let _ = num(&mut v, c.tool_length);
+        let _ = write!(v, ",\"cutter_comp\":\"{}\",\"d\":{},\"cutter_radius\":", display(c.cutter_comp), c.d);
+        let _ = num(&mut v, c.cutter_radius);
+        let _ = write!(v, ",\"path_mode\":\"{}\",\"rotation\":\"{}\"}}", display(c.path_mode), display(c.rotation));
+        let text = String::from_utf8(v).unwrap_or_default();
+        w.write_all(text.as_bytes())?;
+        *cache = Some((*c, text));
+        Ok(())
+    })
 }
 
 /// One trace sample as one JSON line.
@@ -194,4 +267,25 @@ pub fn summary(r: &RunResult, axes: &[char]) -> Value {
         "variables": Value::Object(variables),
         "messages": r.messages,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn text(x: f64) -> String {
+        let mut v = Vec::new();
+        num(&mut v, x).unwrap();
+        String::from_utf8(v).unwrap()
+    }
+
+    #[test]
+    fn fast_numbers_print_exactly_as_ryu() {
+        for x in [0.0, -0.0, 5.0, -0.5, 12.345, 0.001, 0.0015, 1234567.125, 99999.9999, 1e10, 3.0001, -7.05] {
+            let expected = ryu::Buffer::new().format_finite(if x == 0.0 { 0.0 } else { x }).to_string();
+            assert_eq!(text(x), expected, "{x}");
+        }
+        assert_eq!(text(0.1 + 0.2), "0.30000000000000004");
+        assert_eq!(text(f64::NAN), "null");
+    }
 }
