@@ -1,0 +1,14 @@
+//! The NC parser must accept any bytes without panicking (CONTRACTS: bad input never panics).
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    // The CLI reads files the same way: lossy UTF-8.
+    let text = String::from_utf8_lossy(data);
+    let file = fivex_engine::lang::parse_file(&text);
+    // The static checks walk the same tree: exercise them too.
+    for dialect in [fivex_engine::Dialect::Fanuc, fivex_engine::Dialect::Syntec] {
+        let _ = fivex_engine::check::check(&file, dialect);
+    }
+});
