@@ -1,0 +1,494 @@
+//! The `fivex` command line contract (`CONTRACTS.md`, "CLI"): exit statuses, the `run` summary,
+//! `--tools`, `--trace`, `check` and `interp` output formats. Everything goes through the real
+//! binary, as a user or a script would drive it.
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+/// A scratch directory holding `files`; returned with the paths of the files.
+fn scratch(files: &[(&str, &str)]) -> (tempfile::TempDir, Vec<PathBuf>) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let paths = files
+        .iter()
+        .map(|(name, text)| {
+            let p = dir.path().join(name);
+            std::fs::write(&p, text).expect("write");
+            p
+        })
+        .collect();
+    (dir, paths)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// `fivex run …`: exit status and the parsed summary; asserts stdout is exactly one object.
+fn run_json(args: &[&str]) -> (i32, Value) {
+    let out = fivex(&[&["run"], args].concat());
+    let text = stdout(&out);
+    let v: Value = serde_json::from_str(&text)
+        .unwrap_or_else(|e| panic!("run stdout is not exactly one JSON value ({e}):\n{text}\nstderr: {}", stderr(&out)));
+    assert!(v.is_object(), "run stdout is not an object: {text}");
+    (out.status.code().expect("exit code"), v)
+}
+
+fn num(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+const SQUARE: &str = "G90 G54 G00 X0. Y0. Z10.\nG01 Z0. F600.\nX10.\nY10.\nX0.\nY0.\nG00 Z10.\nM30\n";
+
+// --- exit statuses --------------------------------------------------------------------------
+
+#[test]
+fn exit_0_when_completed() {
+    let (_d, p) = scratch(&[("ok.nc", SQUARE)]);
+    let (code, v) = run_json(&[s(&p[0])]);
+    assert_eq!(code, 0);
+    assert_eq!(v["status"], "completed");
+    assert_eq!(v["alarms"], serde_json::json!([]));
+}
+
+#[test]
+fn exit_1_when_alarm() {
+    let (_d, p) = scratch(&[("alarm.nc", "G90 G00 X1.\nN70 #3000=1(STOP HERE)\nM30\n")]);
+    let (code, v) = run_json(&[s(&p[0])]);
+    assert_eq!(code, 1);
+    assert_eq!(v["status"], "alarm");
+    let a = &v["alarms"][0];
+    assert_eq!(a["code"], "MC3001");
+    assert_eq!(a["message"], "STOP HERE");
+    assert_eq!(a["line"], 2);
+    assert_eq!(a["n"], 70);
+    // interp: the same alarm is exit 1 too.
+    let out = fivex(&["interp", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(1), "interp stderr: {}", stderr(&out));
+}
+
+#[test]
+fn alarm_n_is_null_without_sequence_number() {
+    let (_d, p) = scratch(&[("alarm.nc", "#1=0\n#2=1/#1\nM30\n")]);
+    let (code, v) = run_json(&[s(&p[0])]);
+    assert_eq!(code, 1);
+    assert_eq!(v["alarms"][0]["code"], "PS0112");
+    assert_eq!(v["alarms"][0]["line"], 2);
+    assert!(v["alarms"][0]["n"].is_null());
+}
+
+#[test]
+fn exit_2_for_a_missing_file() {
+    for cmd in ["run", "interp", "check"] {
+        let out = fivex(&[cmd, "/nonexistent/dir/no-such-program.nc"]);
+        assert_eq!(out.status.code(), Some(2), "{cmd}: stderr {}", stderr(&out));
+        assert!(out.stdout.is_empty(), "{cmd} printed on stdout for a missing file: {}", stdout(&out));
+        assert!(stderr(&out).contains("no-such-program.nc"), "{cmd}: the error names the file: {}", stderr(&out));
+    }
+}
+
+#[test]
+fn exit_2_for_a_bad_preset() {
+    let (_d, p) = scratch(&[("ok.nc", SQUARE)]);
+    for cmd in ["run", "interp"] {
+        let out = fivex(&[cmd, s(&p[0]), "--preset", "no-such-machine"]);
+        assert_eq!(out.status.code(), Some(2), "{cmd}");
+        assert!(out.stdout.is_empty());
+        assert!(stderr(&out).contains("no-such-machine"), "{}", stderr(&out));
+    }
+}
+
+#[test]
+fn exit_2_for_usage_errors() {
+    let (_d, p) = scratch(&[("ok.nc", SQUARE), ("bad.json", "{not json"), ("neg.json", "{\"1\": {\"length\": 1.0}}")]);
+    let cases: Vec<Vec<&str>> = vec![
+        vec![],
+        vec!["frobnicate"],
+        vec!["run"],
+        vec!["run", s(&p[0]), "--dialect", "heidenhain"],
+        vec!["check", s(&p[0]), "--dialect", "heidenhain"],
+        vec!["run", s(&p[0]), "--tools", s(&p[1])],
+        vec!["run", s(&p[0]), "--tools", s(&p[2])],
+        vec!["run", s(&p[0]), "--tools", "/nonexistent/tools.json"],
+        vec!["run", s(&p[0]), "--machine", s(&p[1])],
+        vec!["run", s(&p[0]), "--preset", "mill3", "--machine", s(&p[1])],
+        vec!["run", s(&p[0]), "--period-ms", "0"],
+        vec!["run", s(&p[0]), "--period-ms", "-1"],
+        vec!["run", s(&p[0]), "--trace", "/nonexistent/dir/trace.jsonl"],
+    ];
+    for args in cases {
+        let out = fivex(&args);
+        assert_eq!(out.status.code(), Some(2), "fivex {args:?}: stdout {} stderr {}", stdout(&out), stderr(&out));
+    }
+}
+
+// --- the run summary ------------------------------------------------------------------------
+
+fn keys(v: &Value) -> Vec<String> {
+    let mut k: Vec<String> = v.as_object().expect("object").keys().cloned().collect();
+    k.sort();
+    k
+}
+
+#[test]
+fn run_summary_has_the_contract_fields() {
+    let (_d, p) = scratch(&[("p.nc", "G10 L2 P1 X100.\nG90 G54 G00 X5. Y6. Z7.\n#100=1.5\n#500=6\n#1=3\n#199=2\n#999=-1\nM30\n")]);
+    let (code, v) = run_json(&[s(&p[0])]);
+    assert_eq!(code, 0);
+    for field in ["status", "alarms", "blocks", "cycle_time_s", "position", "variables"] {
+        assert!(v.get(field).is_some(), "missing field {field} in {v}");
+    }
+    assert!(v["status"].is_string());
+    assert!(v["alarms"].is_array());
+    assert!(v["blocks"].is_u64(), "blocks is an integer: {}", v["blocks"]);
+    assert_eq!(v["blocks"], 8);
+    assert!(num(&v["cycle_time_s"]) > 0.0);
+    let pos = &v["position"];
+    assert_eq!(keys(&pos["machine"]), ["X", "Y", "Z"]);
+    assert_eq!(keys(&pos["workpiece"]), ["X", "Y", "Z"]);
+    assert_eq!(num(&pos["machine"]["X"]), 105.0);
+    assert_eq!(num(&pos["workpiece"]["X"]), 5.0);
+    assert_eq!(num(&pos["workpiece"]["Z"]), 7.0);
+    // Every common variable that is not vacant, keyed "#n"; locals are not listed.
+    let vars = &v["variables"];
+    assert_eq!(keys(vars), ["#100", "#199", "#500", "#999"]);
+    assert_eq!(num(&vars["#100"]), 1.5);
+    assert_eq!(num(&vars["#500"]), 6.0);
+    assert_eq!(num(&vars["#999"]), -1.0);
+}
+
+#[test]
+fn position_is_keyed_by_the_machine_axis_letters() {
+    let (_d, p) = scratch(&[("p.nc", "G90 G00 X1. Y2. Z3.\nM30\n")]);
+    for (preset, axes) in [
+        ("mill3", vec!["X", "Y", "Z"]),
+        ("head-bc", vec!["B", "C", "X", "Y", "Z"]),
+        ("table-ac", vec!["A", "C", "X", "Y", "Z"]),
+        ("table-bc", vec!["B", "C", "X", "Y", "Z"]),
+        ("mixed-bc", vec!["B", "C", "X", "Y", "Z"]),
+    ] {
+        let (code, v) = run_json(&[s(&p[0]), "--preset", preset]);
+        assert_eq!(code, 0, "{preset}: {v}");
+        assert_eq!(keys(&v["position"]["machine"]), axes, "{preset}");
+        assert_eq!(keys(&v["position"]["workpiece"]), axes, "{preset}");
+    }
+}
+
+#[test]
+fn cycle_time_is_simulated_length_over_feed() {
+    // 10 mm at F600 = 1 s, then a 2.5 s dwell: 3.5 s however fast the machine running the test.
+    let (_d, p) = scratch(&[("p.nc", "G90 G01 X10. F600.\nG04 X2.5\nM30\n")]);
+    let (_, v) = run_json(&[s(&p[0])]);
+    assert!((num(&v["cycle_time_s"]) - 3.5).abs() < 1e-9, "{}", v["cycle_time_s"]);
+}
+
+#[test]
+fn dialect_changes_alarm_codes() {
+    let (_d, p) = scratch(&[("p.nc", "#1=0\n#2=1/#1\nM30\n")]);
+    let (_, f) = run_json(&[s(&p[0]), "--dialect", "fanuc"]);
+    let (_, sy) = run_json(&[s(&p[0]), "--dialect", "syntec"]);
+    assert_eq!(f["alarms"][0]["code"], "PS0112");
+    assert_eq!(sy["alarms"][0]["code"], "COR-023");
+}
+
+#[test]
+fn machine_file_is_accepted() {
+    let machine = r#"{"name": "xyzb", "axes": [
+        {"name": "X", "kind": "linear", "rapid": 6000.0},
+        {"name": "Y", "kind": "linear", "rapid": 6000.0},
+        {"name": "Z", "kind": "linear", "rapid": 6000.0},
+        {"name": "B", "kind": "rotary", "rapid": 3600.0}]}"#;
+    let (_d, p) = scratch(&[("p.nc", "G90 G00 X60. B90.\nM30\n"), ("m.json", machine)]);
+    let (code, v) = run_json(&[s(&p[0]), "--machine", s(&p[1])]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(keys(&v["position"]["machine"]), ["B", "X", "Y", "Z"]);
+    // X60 at 6000 mm/min = 0.6 s; B90 at 3600 deg/min = 1.5 s: the slower axis decides.
+    assert!((num(&v["cycle_time_s"]) - 1.5).abs() < 1e-9, "{}", v["cycle_time_s"]);
+}
+
+// --- --tools --------------------------------------------------------------------------------
+
+#[test]
+fn tools_file_changes_tool_length() {
+    let prog = "G90 G00 G43 H1 Z0.\n#100=#5023\nG43 H2 Z0.\n#101=#5023\nM30\n";
+    let (_d, p) = scratch(&[("p.nc", prog), ("tools.json", r#"{"1": {"length": 123.4, "radius": 3.0}, "2": {"length": 50.0, "radius": 2.0}}"#)]);
+    // Default: every offset 1-99 is 100 mm.
+    let (_, v) = run_json(&[s(&p[0])]);
+    assert_eq!(num(&v["variables"]["#100"]), 100.0);
+    assert_eq!(num(&v["variables"]["#101"]), 100.0);
+    let (code, v) = run_json(&[s(&p[0]), "--tools", s(&p[1])]);
+    assert_eq!(code, 0);
+    assert_eq!(num(&v["variables"]["#100"]), 123.4);
+    assert_eq!(num(&v["variables"]["#101"]), 50.0);
+    assert_eq!(num(&v["position"]["machine"]["Z"]), 50.0);
+    assert_eq!(num(&v["position"]["workpiece"]["Z"]), 0.0);
+}
+
+#[test]
+fn tools_file_sets_radius_too() {
+    let (_d, p) = scratch(&[("p.nc", "#100=#13007\n#101=#11007\nM30\n"), ("t.json", r#"{"7": {"length": 90.0, "radius": 4.5}}"#)]);
+    let (_, v) = run_json(&[s(&p[0]), "--tools", s(&p[1])]);
+    assert_eq!(num(&v["variables"]["#100"]), 4.5, "D geometry #13007");
+    assert_eq!(num(&v["variables"]["#101"]), 90.0, "H geometry #11007");
+}
+
+// --- --trace --------------------------------------------------------------------------------
+
+fn read_trace(path: &Path) -> Vec<Value> {
+    let text = std::fs::read_to_string(path).expect("trace file written");
+    assert!(text.ends_with('\n'), "trace ends with a newline");
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let v: Value = serde_json::from_str(l).unwrap_or_else(|e| panic!("trace line {} is not JSON ({e}): {l}", i + 1));
+            assert!(v.is_object(), "trace line {} is not an object", i + 1);
+            v
+        })
+        .collect()
+}
+
+#[test]
+fn trace_writes_one_object_per_period() {
+    // 1 s of feed, 0.5 s of dwell, 10/30000 min = 0.02 s of rapid: 1.52 s.
+    let prog = "G90 G01 X10. F600.\nN20 G04 X0.5\nG00 X0.\nM30\n";
+    let (d, p) = scratch(&[("p.nc", prog)]);
+    for (period_ms, expected) in [(1.0, 1520.0), (10.0, 152.0), (4.0, 380.0)] {
+        let trace = d.path().join(format!("t{period_ms}.jsonl"));
+        let mut args = vec![s(&p[0]), "--trace", s(&trace)];
+        let period_arg = period_ms.to_string();
+        args.extend(["--period-ms", period_arg.as_str()]);
+        let (code, v) = run_json(&args);
+        assert_eq!(code, 0);
+        let cycle = num(&v["cycle_time_s"]);
+        assert!((cycle - 1.52).abs() < 1e-9, "{cycle}");
+        let samples = read_trace(&trace);
+        let n = samples.len() as f64;
+        assert!((n - expected).abs() <= 2.0, "period {period_ms} ms: {n} samples for {cycle} s (expected about {expected})");
+        let period = period_ms / 1000.0;
+        let mut last_t = -1.0;
+        for (i, smp) in samples.iter().enumerate() {
+            assert_eq!(keys(smp), ["feed", "line", "machine", "n", "t", "tip", "tool"], "sample {i}: {smp}");
+            let t = num(&smp["t"]);
+            assert!(t > last_t, "t increases: {last_t} then {t}");
+            assert!((t - (i as f64 + if num(&samples[0]["t"]) > 0.0 { 1.0 } else { 0.0 }) * period).abs() < 1e-9, "sample {i} at {t}");
+            last_t = t;
+            assert!(smp["line"].is_u64());
+            assert!(smp["n"].is_null() || smp["n"].is_u64());
+            assert_eq!(keys(&smp["machine"]), ["X", "Y", "Z"]);
+            let tip = smp["tip"].as_array().expect("tip array");
+            let tool = smp["tool"].as_array().expect("tool array");
+            assert_eq!((tip.len(), tool.len()), (3, 3));
+            let norm: f64 = tool.iter().map(|x| num(x) * num(x)).sum::<f64>().sqrt();
+            assert!((norm - 1.0).abs() < 1e-9, "tool is a unit vector: {tool:?}");
+            assert!(num(&smp["feed"]) >= 0.0);
+        }
+        // Inside the G01: feed 600 mm/min, the tip moves along X at 10 mm/s.
+        let mid = samples.iter().find(|s| (num(&s["t"]) - 0.5).abs() < 1e-9).expect("a sample at t=0.5");
+        assert_eq!(mid["line"], 1);
+        assert!((num(&mid["feed"]) - 600.0).abs() < 1e-6, "{mid}");
+        assert!((num(&mid["tip"][0]) - 5.0).abs() < 1e-6, "{mid}");
+        // Inside the dwell: feed 0, line 2, N20.
+        let dwell = samples.iter().find(|s| (num(&s["t"]) - 1.26).abs() < 1e-9).expect("a sample at t=1.26");
+        assert_eq!(dwell["line"], 2);
+        assert_eq!(dwell["n"], 20);
+        assert_eq!(num(&dwell["feed"]), 0.0);
+        assert!((num(&dwell["tip"][0]) - 10.0).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn trace_tip_is_in_the_workpiece_system() {
+    // The dwell at the end gives samples at the final point (samples are at multiples of the period).
+    let prog = "G10 L2 P1 X100. Y50.\nG90 G54 G01 X10. Y0. F6000.\nG43 H1 Z5.\nG04 X0.1\nM30\n";
+    let (d, p) = scratch(&[("p.nc", prog)]);
+    let trace = d.path().join("t.jsonl");
+    let (code, v) = run_json(&[s(&p[0]), "--trace", s(&trace)]);
+    assert_eq!(code, 0, "{v}");
+    let samples = read_trace(&trace);
+    let last = samples.last().expect("samples");
+    // Machine: work offset and tool length added; tip: the programmed point.
+    assert!((num(&last["machine"]["X"]) - 110.0).abs() < 1e-9, "{last}");
+    assert!((num(&last["machine"]["Z"]) - 105.0).abs() < 1e-9, "{last}");
+    assert!((num(&last["tip"][0]) - 10.0).abs() < 1e-9, "{last}");
+    assert!((num(&last["tip"][1]) - 0.0).abs() < 1e-9, "{last}");
+    assert!((num(&last["tip"][2]) - 5.0).abs() < 1e-9, "{last}");
+    assert_eq!(last["tool"], serde_json::json!([0.0, 0.0, 1.0]));
+}
+
+#[test]
+fn trace_follows_the_arc() {
+    // A half circle of radius 10 about (0,0) from (10,0) to (-10,0), CCW: every sample is on it.
+    let prog = "G90 G00 X10. Y0.\nG03 X-10. Y0. R10. F1000.\nM30\n";
+    let (d, p) = scratch(&[("p.nc", prog)]);
+    let trace = d.path().join("t.jsonl");
+    let (_, v) = run_json(&[s(&p[0]), "--trace", s(&trace)]);
+    let t_arc = 10.0 * std::f64::consts::PI / 1000.0 * 60.0;
+    assert!((num(&v["cycle_time_s"]) - (0.02 + t_arc)).abs() < 1e-9, "{}", v["cycle_time_s"]);
+    let samples = read_trace(&trace);
+    let on_arc: Vec<&Value> = samples.iter().filter(|s| s["line"] == 2).collect();
+    assert!(on_arc.len() > 1000);
+    for smp in on_arc {
+        let (x, y) = (num(&smp["tip"][0]), num(&smp["tip"][1]));
+        assert!(((x * x + y * y).sqrt() - 10.0).abs() < 1e-6, "off the arc: {smp}");
+        assert!(y >= -1e-9, "CCW from +X to -X stays in y >= 0: {smp}");
+        assert!((num(&smp["feed"]) - 1000.0).abs() < 1e-6, "{smp}");
+    }
+}
+
+// --- check ----------------------------------------------------------------------------------
+
+/// `PROGRAM:LINE:COL: CODE message` → (line, col, code).
+fn parse_diag<'a>(line: &'a str, program: &str) -> (u32, u32, &'a str) {
+    let rest = line.strip_prefix(program).unwrap_or_else(|| panic!("diagnostic does not start with the program path {program}: {line}"));
+    let rest = rest.strip_prefix(':').unwrap_or_else(|| panic!("no ':' after the program: {line}"));
+    let mut parts = rest.splitn(3, ':');
+    let l: u32 = parts.next().and_then(|x| x.parse().ok()).unwrap_or_else(|| panic!("no LINE: {line}"));
+    let c: u32 = parts.next().and_then(|x| x.parse().ok()).unwrap_or_else(|| panic!("no COL: {line}"));
+    let tail = parts.next().unwrap_or_else(|| panic!("no message: {line}"));
+    let tail = tail.strip_prefix(' ').unwrap_or_else(|| panic!("no space after COL: {line}"));
+    let (code, message) = tail.split_once(' ').unwrap_or_else(|| panic!("no message after the code: {line}"));
+    assert!(code.chars().all(|ch| ch.is_ascii_uppercase() || ch.is_ascii_digit() || ch == '-'), "code {code:?}: {line}");
+    assert!(code.chars().any(|ch| ch.is_ascii_digit()), "code {code:?}: {line}");
+    assert!(!message.trim().is_empty(), "empty message: {line}");
+    assert!(l >= 1 && c >= 1, "1-based: {line}");
+    (l, c, code)
+}
+
+#[test]
+fn check_is_silent_and_exit_0_on_a_clean_program() {
+    let (_d, p) = scratch(&[("ok.nc", SQUARE)]);
+    let out = fivex(&["check", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(stdout(&out), "");
+}
+
+#[test]
+fn check_collects_every_diagnostic() {
+    let prog = "\
+O0001
+G90 G00 X0 Y0
+G12.3 X1
+#1=[1+
+GOTO 999
+M98 P4242
+G01 X1 Y2 F100 $
+WHILE[#1LT3]DO1
+G77.7
+M30
+";
+    let (_d, p) = scratch(&[("many.nc", prog)]);
+    let program = s(&p[0]);
+    let out = fivex(&["check", program]);
+    assert_eq!(out.status.code(), Some(1), "stderr: {}", stderr(&out));
+    let text = stdout(&out);
+    let diags: Vec<(u32, u32, &str)> = text.lines().map(|l| parse_diag(l, program)).collect();
+    let lines: Vec<u32> = diags.iter().map(|d| d.0).collect();
+    assert_eq!(lines, [3, 4, 5, 6, 7, 8, 9], "one diagnostic per bad line, in order:\n{text}");
+    let codes: Vec<&str> = diags.iter().map(|d| d.2).collect();
+    assert_eq!(codes[0], "PS0010", "{text}");
+    assert_eq!(codes[2], "PS0128", "{text}");
+    assert_eq!(codes[3], "PS0078", "{text}");
+    assert_eq!(codes[6], "PS0010", "{text}");
+    // The column points at the culprit: G12.3 at column 1, '$' at column 16.
+    assert_eq!(diags[0].1, 1);
+    assert_eq!(diags[4].1, 16, "{text}");
+}
+
+#[test]
+fn check_uses_the_dialect_codes() {
+    let (_d, p) = scratch(&[("p.nc", "G12.3\nG53.3\nM30\n")]);
+    let fanuc = stdout(&fivex(&["check", s(&p[0])]));
+    let syntec = stdout(&fivex(&["check", s(&p[0]), "--dialect", "syntec"]));
+    let codes = |t: &str| t.lines().map(|l| parse_diag(l, s(&p[0])).2.to_string()).collect::<Vec<_>>();
+    assert_eq!(codes(&fanuc), ["PS0010", "PS0010"], "{fanuc}");
+    // G53.3 is a Syntec code: only G12.3 is wrong there.
+    assert_eq!(codes(&syntec), ["COR-070"], "{syntec}");
+}
+
+// --- interp ---------------------------------------------------------------------------------
+
+fn json_lines(text: &str) -> Vec<Value> {
+    assert!(text.is_empty() || text.ends_with('\n'), "output ends with a newline");
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let v: Value = serde_json::from_str(l).unwrap_or_else(|e| panic!("line {} is not one JSON value ({e}): {l:?}", i + 1));
+            assert!(v.is_object(), "line {} is not an object: {l}", i + 1);
+            assert!(v["type"].is_string(), "line {} has no type: {l}", i + 1);
+            v
+        })
+        .collect()
+}
+
+#[test]
+fn interp_prints_one_json_object_per_line_and_nothing_else() {
+    let prog = "\
+O0001
+G90 G54 G00 X0. Y0. Z10. S1000 M03
+T1 M06
+G43 H1 Z5.
+G01 Z-1. F100.
+G02 X10. Y0. R5.
+G04 P500
+#100=1
+DPRNT[DONE#100[10]]
+#3006=1(LOOK)
+M08
+M09
+M05
+M30
+";
+    let (_d, p) = scratch(&[("p.nc", prog)]);
+    let out = fivex(&["interp", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let canon = json_lines(&stdout(&out));
+    let types: Vec<&str> = canon.iter().map(|c| c["type"].as_str().unwrap()).collect();
+    for t in ["motion", "spindle", "tool_change", "dwell", "coolant", "print", "stop", "program_end"] {
+        assert!(types.contains(&t), "no {t} in {types:?}");
+    }
+    assert_eq!(*types.last().unwrap(), "program_end");
+    // Program order: lines never go backwards in a program without jumps.
+    let lines: Vec<u64> = canon.iter().map(|c| c["line"].as_u64().expect("line")).collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "{lines:?}");
+}
+
+#[test]
+fn interp_stdout_stays_json_when_the_program_alarms() {
+    let (_d, p) = scratch(&[("p.nc", "G90 G00 X1.\nG01 X2.\nM30\n")]);
+    let out = fivex(&["interp", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(1));
+    let canon = json_lines(&stdout(&out));
+    assert_eq!(canon.len(), 1, "the rapid before the alarm");
+    assert!(stderr(&out).contains("PS0011"), "feed zero alarm reported on stderr: {}", stderr(&out));
+}
+
+#[test]
+fn odd_bytes_do_not_break_the_cli() {
+    let (_d, _) = scratch(&[]);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bin.nc");
+    std::fs::write(&path, b"G90 G00 X1.\xff\xfe(\xc3\x28)\nG01 X\x00 F100\n\x1b[2J#100=1\nM30\n").unwrap();
+    for cmd in ["run", "interp", "check"] {
+        let out = fivex(&[cmd, s(&path)]);
+        let code = out.status.code().expect("not killed by a signal");
+        assert!(code == 0 || code == 1, "{cmd}: exit {code}, stderr {}", stderr(&out));
+        assert!(!stderr(&out).contains("panicked"), "{cmd} panicked: {}", stderr(&out));
+    }
+    let (code, v) = run_json(&[s(&path)]);
+    assert!(code == 0 || code == 1, "{v}");
+}
+
+#[test]
+fn time_budget_alarm_names_a_program_line() {
+    // 1000 mm at F100 = 600 s of simulated time, past a 10 s budget: FX0002. The contract says
+    // every alarm's `line` is a 1-based line of PROGRAM: here the block that ran past the budget.
+    let (_d, p) = scratch(&[("p.nc", "G90 G00 X0.\nN20 G01 X1000. F100.\nM30\n")]);
+    let (code, v) = run_json(&[s(&p[0]), "--max-time-s", "10"]);
+    assert_eq!(code, 1, "{v}");
+    let a = &v["alarms"][0];
+    assert_eq!(a["code"], "FX0002", "{v}");
+    assert_eq!(a["line"], 2, "the alarm points at the block that used up the budget: {a}");
+    assert_eq!(a["n"], 20, "{a}");
+}
