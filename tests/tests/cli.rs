@@ -492,3 +492,48 @@ fn time_budget_alarm_names_a_program_line() {
     assert_eq!(a["line"], 2, "the alarm points at the block that used up the budget: {a}");
     assert_eq!(a["n"], 20, "{a}");
 }
+
+/// Run with a wall-clock limit; `None` if it had to be killed.
+fn fivex_with_timeout(args: &[&str], limit: std::time::Duration) -> Option<std::process::Output> {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(fivex_bin()).args(args).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn");
+    let start = std::time::Instant::now();
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return Some(child.wait_with_output().expect("output"));
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn deep_expressions_do_not_crash() {
+    // Long but legal-looking expressions: the parser and the evaluator recurse once per operator,
+    // so these overflowed the stack (SIGABRT, exit 134) instead of giving a result or an alarm.
+    // On the server the same text arrives by `PUT /programs/{n}` and would take down the process.
+    let cases = [
+        ("minus.nc", format!("#1={}1\n#100=#1\nM30\n", "-".repeat(100_000))),
+        ("sum.nc", format!("#100=1{}\nM30\n", "+1".repeat(100_000))),
+        ("product.nc", format!("#100=1{}\nM30\n", "*1".repeat(100_000))),
+        ("word.nc", format!("G90 G00 X[1{}]\nM30\n", "+0".repeat(100_000))),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let mut crashes = Vec::new();
+    for (name, text) in &cases {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        for cmd in ["check", "run"] {
+            let out = fivex_with_timeout(&[cmd, s(&path)], std::time::Duration::from_secs(60)).unwrap_or_else(|| panic!("{cmd} {name} hung"));
+            let code = out.status.code();
+            if !matches!(code, Some(0) | Some(1)) {
+                crashes.push(format!("fivex {cmd} {name}: exit {code:?}, stderr: {}", stderr(&out).trim()));
+            }
+        }
+    }
+    assert!(crashes.is_empty(), "crashes:\n{}", crashes.join("\n"));
+}
