@@ -66,7 +66,8 @@ pub struct Motion {
     pub kind: MotionKind,
     pub target: Pos,
     pub machine: Pos,
-    pub arc: Option<Arc>,
+    /// Boxed: most motions are straight, and a small `Motion` is cheap to move.
+    pub arc: Option<Box<Arc>>,
     /// F in the unit of `feed_mode` (converted to mm).
     pub feed: f64,
     pub feed_mode: FeedMode,

@@ -181,9 +181,24 @@ pub const TABLE: &[GDef] = &[
     g(1610, 20),  // G161 in-feed control
 ];
 
+/// Highest code in the table, ×10.
+const MAX_CODE: usize = 1610;
+
+/// `TABLE` index + 1 by code (0 = no such code): one array access per G word.
+static INDEX: [u8; MAX_CODE + 1] = {
+    let mut index = [0u8; MAX_CODE + 1];
+    let mut i = 0;
+    while i < TABLE.len() {
+        index[TABLE[i].code as usize] = i as u8 + 1;
+        i += 1;
+    }
+    index
+};
+
 /// The definition of a G code, if the dialect has it.
 pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
-    let def = TABLE.binary_search_by_key(&code, |d| d.code).ok().map(|i| &TABLE[i])?;
+    let i = *INDEX.get(code as usize)?;
+    let def = TABLE.get((i as usize).checked_sub(1)?)?;
     if def.syntec_only && dialect != Dialect::Syntec {
         return None;
     }
@@ -250,8 +265,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn table_is_sorted_and_unique() {
+    fn table_is_sorted_unique_and_indexed() {
         assert!(TABLE.windows(2).all(|w| w[0].code < w[1].code));
+        assert!(TABLE.len() < u8::MAX as usize);
+        assert_eq!(TABLE.last().map(|d| d.code as usize), Some(MAX_CODE));
+        for d in TABLE {
+            assert_eq!(lookup(d.code, Dialect::Syntec), Some(d));
+        }
     }
 
     #[test]

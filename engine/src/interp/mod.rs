@@ -30,6 +30,8 @@ pub const PERSISTENT: usize = 500;
 /// `#100`–`#199`.
 pub const COMMON: usize = 100;
 
+const NO_AXIS: u8 = u8::MAX;
+
 /// Macro call levels (G65/G66) that may nest, and calls of any kind in total.
 pub const MAX_MACRO_LEVELS: usize = 5;
 pub const MAX_NESTED_CALLS: usize = 15;
@@ -176,6 +178,8 @@ pub struct State {
     parts_required: f64,
     blocks: u64,
     ended: bool,
+    /// Axis index per address letter A..Z (`NO_AXIS` when the machine has no such axis).
+    axis_by_letter: [u8; 26],
     /// Line and N of the block being executed, for alarms.
     line: u32,
     n: Option<u32>,
@@ -255,7 +259,14 @@ impl Interpreter {
 impl State {
     fn new(cfg: Config) -> State {
         let expr = ExprSettings { nat: cfg.nat, increment: 0.001 };
+        let mut axis_by_letter = [NO_AXIS; 26];
+        for (i, axis) in cfg.machine.axes.iter().enumerate() {
+            if axis.name.is_ascii_uppercase() {
+                axis_by_letter[(axis.name as u8 - b'A') as usize] = i as u8;
+            }
+        }
         State {
+            axis_by_letter,
             expr,
             frames: Vec::new(),
             locals: vec![Box::new([None; LOCALS])],
@@ -294,6 +305,12 @@ impl State {
             n: None,
             cfg,
         }
+    }
+
+    /// The index of the axis an address letter names, if the machine has it.
+    pub(super) fn axis_of(&self, letter: u8) -> Option<usize> {
+        let i = *self.axis_by_letter.get(letter.wrapping_sub(b'A') as usize)?;
+        (i != NO_AXIS).then_some(i as usize)
     }
 
     /// Advance simulated time (the executor calls this as motion takes time).

@@ -10,6 +10,7 @@ use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
 use crate::lang::{Block, Word, WordValue};
 use crate::machine::{AxisKind, MAX_AXES};
+use arrayvec::ArrayVec;
 use std::collections::HashMap;
 
 /// Most words one block may hold (G65 with ten I/J/K sets needs 35).
@@ -17,8 +18,8 @@ const MAX_WORDS: usize = 48;
 
 /// A block's words after evaluation: vacant words are gone, values are raw numbers.
 pub(super) struct Words {
-    list: [(u8, f64, bool); MAX_WORDS],
-    len: usize,
+    /// (letter, value, written without a decimal point), in block order.
+    list: ArrayVec<(u8, f64, bool), MAX_WORDS>,
     /// Index into `list` of the last word per letter, +1 (0 = absent).
     last: [u8; 26],
     g: [u16; 12],
@@ -51,7 +52,7 @@ impl Words {
 
 impl State {
     fn collect(&self, words: &[Word]) -> Result<Words, AlarmId> {
-        let mut w = Words { list: [(0, 0.0, false); MAX_WORDS], len: 0, last: [0; 26], g: [0; 12], ng: 0, m: [0; 4], nm: 0 };
+        let mut w = Words { list: ArrayVec::new(), last: [0; 26], g: [0; 12], ng: 0, m: [0; 4], nm: 0 };
         for word in words {
             let (v, no_point) = match &word.value {
                 WordValue::Number { value, decimal_point } => (*value, !decimal_point),
@@ -82,12 +83,8 @@ impl State {
                 }
                 _ => {}
             }
-            if w.len == MAX_WORDS {
-                return Err(AlarmId::ImproperAddress);
-            }
-            w.list[w.len] = (word.letter, v, no_point);
-            w.len += 1;
-            w.last[(word.letter - b'A') as usize] = w.len as u8;
+            w.list.try_push((word.letter, v, no_point)).map_err(|_| AlarmId::ImproperAddress)?;
+            w.last[(word.letter - b'A') as usize] = w.list.len() as u8;
         }
         Ok(w)
     }
@@ -106,14 +103,14 @@ impl State {
 
     /// Whether a number without a decimal point at this address counts least increments.
     fn counts_increments(&self, letter: u8) -> bool {
-        !self.cfg.pocket_calculator && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') || self.cfg.machine.axis_index(letter).is_some())
+        !self.cfg.pocket_calculator && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') || self.axis_of(letter).is_some())
     }
 
     /// A distance/angle word in mm or degrees.
     pub(super) fn value(&self, w: &Words, letter: u8) -> Option<f64> {
         let (v, no_point) = w.raw(letter)?;
         let v = if no_point && self.counts_increments(letter) { v * self.increment() } else { v };
-        let linear = match self.cfg.machine.axis_index(letter) {
+        let linear = match self.axis_of(letter) {
             Some(i) => self.cfg.machine.axes[i].kind == AxisKind::Linear,
             None => matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q'),
         };
@@ -124,7 +121,7 @@ impl State {
     fn macro_args(&self, w: &Words) -> Result<Box<[Value; LOCALS]>, AlarmId> {
         let mut args = State::empty_locals();
         let (mut set, mut last_ijk) = (0usize, 0u8);
-        for &(letter, v, no_point) in &w.list[..w.len] {
+        for &(letter, v, no_point) in &w.list {
             let v = if no_point && self.counts_increments(letter) { v * self.increment() } else { v };
             let var = match letter {
                 b'G' | b'L' | b'N' | b'O' | b'P' => continue,
@@ -223,7 +220,7 @@ impl State {
             self.modes[12] = 670;
             self.modal_call = None;
         } else if let Some(mc) = &self.modal_call {
-            if mc.every_block && mc.level == self.level() && w.len > 0 {
+            if mc.every_block && mc.level == self.level() && !w.list.is_empty() {
                 if w.ng > 0 {
                     return Err(AlarmId::GAsArgument);
                 }
@@ -234,9 +231,9 @@ impl State {
         }
 
         // --- addresses this machine does not have ------------------------------------------
-        for &(letter, _, _) in &w.list[..w.len] {
+        for &(letter, _, _) in &w.list {
             let known = matches!(letter, b'D' | b'E' | b'F' | b'G' | b'H' | b'I' | b'J' | b'K' | b'L' | b'M' | b'N' | b'P' | b'Q' | b'R' | b'S' | b'T')
-                || self.cfg.machine.axis_index(letter).is_some();
+                || self.axis_of(letter).is_some();
             if !known {
                 return Err(AlarmId::ImproperAddress);
             }
@@ -443,7 +440,7 @@ impl State {
     /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A).
     pub(super) fn refresh_tool_length(&mut self) {
         let mut v = [0.0; MAX_AXES];
-        if let Some(z) = self.cfg.machine.axis_index(b'Z') {
+        if let Some(z) = self.axis_of(b'Z') {
             let length = self.offsets.length(self.h);
             v[z] = match self.modes[8] {
                 490 | 491 => 0.0,
@@ -481,7 +478,7 @@ impl State {
     }
 
     /// Emit a motion to `target` (programming coordinates) and make it the current point.
-    pub(super) fn emit_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Arc>, out: &mut Vec<Canon>) {
+    pub(super) fn emit_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
         let machine = self.to_machine(&target);
         let motion = Motion {
             kind,
@@ -572,7 +569,7 @@ impl State {
 
     /// Circle geometry of a G02/G03 block from I/J/K or R. `None` for an R arc whose end point
     /// equals its start (no movement in the plane).
-    fn arc(&self, w: &Words, target: &Pos) -> Result<Option<Arc>, AlarmId> {
+    fn arc(&self, w: &Words, target: &Pos) -> Result<Option<Box<Arc>>, AlarmId> {
         let (a, b, c) = self.plane_axes()?;
         let cw = self.modes[1] == 20;
         let (sx, sy) = (self.pos[a], self.pos[b]);
@@ -626,7 +623,7 @@ impl State {
         let mut center = self.pos;
         center[a] = cx;
         center[b] = cy;
-        Ok(Some(Arc { center, plane_axes: (a, b, c), radius: r0, sweep_deg: sweep.to_degrees() }))
+        Ok(Some(Box::new(Arc { center, plane_axes: (a, b, c), radius: r0, sweep_deg: sweep.to_degrees() })))
     }
 
     /// A group 00 code. Returns whether it moved the tool.

@@ -14,6 +14,12 @@ const MAX_BRACKET_DEPTH: u32 = 5;
 pub fn parse_file(text: &str) -> File {
     let mut file = File::default();
     let mut current: Option<Program> = None;
+    // Most files are one program: size its block list once instead of growing it.
+    let mut reserve = text.as_bytes().iter().filter(|&&b| b == b'\n').count() + 1;
+    let mut new_program = |number: Option<u32>, line: u32| {
+        let blocks = Vec::with_capacity(std::mem::take(&mut reserve));
+        Program { number, line, blocks }
+    };
     for (idx, line) in text.lines().enumerate() {
         let line_no = idx as u32 + 1;
         let trimmed = line.trim_start();
@@ -30,7 +36,7 @@ pub fn parse_file(text: &str) -> File {
                 if let Some(p) = current.take() {
                     file.programs.push(p);
                 }
-                current = Some(Program { number: Some(number), line: line_no, blocks: vec![] });
+                current = Some(new_program(Some(number), line_no));
                 rest = &segment[after..];
                 col0 += after as u32;
             }
@@ -39,7 +45,7 @@ pub fn parse_file(text: &str) -> File {
                 if let BlockKind::Error(d) = &block.kind {
                     file.diagnostics.push(d.clone());
                 }
-                current.get_or_insert_with(|| Program { number: None, line: line_no, blocks: vec![] }).blocks.push(block);
+                current.get_or_insert_with(|| new_program(None, line_no)).blocks.push(block);
             }
             match next {
                 Some(n) => start = col0 as usize - 1 + n,

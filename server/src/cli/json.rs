@@ -13,8 +13,9 @@ fn num(w: &mut impl Write, x: f64) -> io::Result<()> {
         return w.write_all(b"null");
     }
     let x = if x == 0.0 { 0.0 } else { x };
-    match short_decimal(x) {
-        Some((buf, len)) => w.write_all(&buf[..len]),
+    let mut buf = [0u8; 32];
+    match short_decimal(x, &mut buf) {
+        Some(text) => w.write_all(text),
         None => w.write_all(ryu::Buffer::new().format_finite(x).as_bytes()),
     }
 }
@@ -22,7 +23,7 @@ fn num(w: &mut impl Write, x: f64) -> io::Result<()> {
 /// Fast path for the numbers NC programs are made of: at most four decimals. When `x` equals
 /// `r / 10⁴` for an integer `r`, that decimal is the shortest round-trip form, so the text is the
 /// same `ryu` would print ("12.345", "5.0", "-0.5"), made with integer arithmetic only.
-fn short_decimal(x: f64) -> Option<([u8; 24], usize)> {
+fn short_decimal(x: f64, buf: &mut [u8; 32]) -> Option<&[u8]> {
     let a = x.abs();
     if !(a == 0.0 || (1e-3..1e11).contains(&a)) {
         return None;
@@ -32,51 +33,52 @@ fn short_decimal(x: f64) -> Option<([u8; 24], usize)> {
         return None;
     }
     let r = r as u64;
-    let (int, mut frac) = (r / 10_000, r % 10_000);
-    let mut buf = [0u8; 24];
-    let mut len = 0;
-    if x < 0.0 {
-        buf[0] = b'-';
-        len = 1;
-    }
-    let mut digits = itoa_u64(int);
-    let n = digits.1;
-    buf[len..len + n].copy_from_slice(&digits.0[..n]);
-    len += n;
-    buf[len] = b'.';
-    len += 1;
+    let (mut int, mut frac) = (r / 10_000, r % 10_000);
+    // Written backwards from the end of the buffer.
+    let mut i = buf.len();
+    let mut put = |i: &mut usize, c: u8| {
+        *i -= 1;
+        buf[*i] = c;
+    };
     if frac == 0 {
-        buf[len] = b'0';
-        return Some((buf, len + 1));
+        put(&mut i, b'0');
+    } else {
+        let mut width = 4;
+        while frac % 10 == 0 {
+            frac /= 10;
+            width -= 1;
+        }
+        for _ in 0..width {
+            put(&mut i, b'0' + (frac % 10) as u8);
+            frac /= 10;
+        }
     }
-    let mut width = 4;
-    while frac % 10 == 0 {
-        frac /= 10;
-        width -= 1;
+    put(&mut i, b'.');
+    loop {
+        put(&mut i, b'0' + (int % 10) as u8);
+        int /= 10;
+        if int == 0 {
+            break;
+        }
     }
-    digits = itoa_u64(frac);
-    for _ in digits.1..width {
-        buf[len] = b'0';
-        len += 1;
+    if x < 0.0 {
+        put(&mut i, b'-');
     }
-    buf[len..len + digits.1].copy_from_slice(&digits.0[..digits.1]);
-    Some((buf, len + digits.1))
+    Some(&buf[i..])
 }
 
-fn itoa_u64(mut v: u64) -> ([u8; 20], usize) {
-    let mut tmp = [0u8; 20];
-    let mut i = 20;
+fn uint(w: &mut impl Write, mut v: u64) -> io::Result<()> {
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
     loop {
         i -= 1;
-        tmp[i] = b'0' + (v % 10) as u8;
+        buf[i] = b'0' + (v % 10) as u8;
         v /= 10;
         if v == 0 {
             break;
         }
     }
-    let mut out = [0u8; 20];
-    out[..20 - i].copy_from_slice(&tmp[i..]);
-    (out, 20 - i)
+    w.write_all(&buf[i..])
 }
 
 fn axes_map(w: &mut impl Write, p: &Pos, axes: &[char]) -> io::Result<()> {
@@ -85,7 +87,7 @@ fn axes_map(w: &mut impl Write, p: &Pos, axes: &[char]) -> io::Result<()> {
         if i > 0 {
             w.write_all(b",")?;
         }
-        write!(w, "\"{a}\":")?;
+        w.write_all(&[b'"', *a as u8, b'"', b':'])?;
         num(w, p[i])?;
     }
     w.write_all(b"}")
@@ -93,7 +95,7 @@ fn axes_map(w: &mut impl Write, p: &Pos, axes: &[char]) -> io::Result<()> {
 
 fn opt_u32(w: &mut impl Write, n: Option<u32>) -> io::Result<()> {
     match n {
-        Some(n) => write!(w, "{n}"),
+        Some(n) => uint(w, n as u64),
         None => w.write_all(b"null"),
     }
 }
@@ -116,7 +118,11 @@ pub fn write_canon(w: &mut impl Write, c: &Canon, axes: &[char]) -> io::Result<(
         CanonKind::Print { .. } => "print",
         CanonKind::ProgramEnd { .. } => "program_end",
     };
-    write!(w, "{{\"type\":\"{kind}\",\"line\":{},\"n\":", c.line)?;
+    w.write_all(b"{\"type\":\"")?;
+    w.write_all(kind.as_bytes())?;
+    w.write_all(b"\",\"line\":")?;
+    uint(w, c.line as u64)?;
+    w.write_all(b",\"n\":")?;
     opt_u32(w, c.n)?;
     match &c.kind {
         CanonKind::Motion(m) => motion(w, m, axes)?,
@@ -169,13 +175,17 @@ fn motion(w: &mut impl Write, m: &Motion, axes: &[char]) -> io::Result<()> {
         FeedMode::PerMinute => "G94",
         FeedMode::PerRevolution => "G95",
     };
-    write!(w, ",\"motion\":\"{kind}\",\"target\":")?;
+    w.write_all(b",\"motion\":\"")?;
+    w.write_all(kind.as_bytes())?;
+    w.write_all(b"\",\"target\":")?;
     axes_map(w, &m.target, axes)?;
     w.write_all(b",\"machine\":")?;
     axes_map(w, &m.machine, axes)?;
     w.write_all(b",\"feed\":")?;
     num(w, m.feed)?;
-    write!(w, ",\"feed_mode\":\"{feed_mode}\"")?;
+    w.write_all(b",\"feed_mode\":\"")?;
+    w.write_all(feed_mode.as_bytes())?;
+    w.write_all(b"\"")?;
     if let Some(arc) = &m.arc {
         w.write_all(b",\"arc\":{\"center\":")?;
         axes_map(w, &arc.center, axes)?;
@@ -225,7 +235,9 @@ fn write_context(w: &mut impl Write, c: &MotionContext) -> io::Result<()> {
 pub fn write_sample(w: &mut impl Write, s: &Sample, axes: &[char]) -> io::Result<()> {
     w.write_all(b"{\"t\":")?;
     num(w, s.t)?;
-    write!(w, ",\"line\":{},\"n\":", s.line)?;
+    w.write_all(b",\"line\":")?;
+    uint(w, s.line as u64)?;
+    w.write_all(b",\"n\":")?;
     opt_u32(w, s.n)?;
     w.write_all(b",\"machine\":")?;
     axes_map(w, &s.machine, axes)?;

@@ -140,7 +140,7 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
 fn read_program(path: &Path) -> Result<String, Fail> {
     let bytes = std::fs::read(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     // NC files are ASCII; anything else is kept (and alarms where it matters) rather than refused.
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+    Ok(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
 }
 
 fn load_machine(args: &MachineArgs) -> Result<MachineConfig, Fail> {
