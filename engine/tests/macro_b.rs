@@ -254,7 +254,7 @@ fn pocket_calculator_input() {
 fn arc_center_words_without_point_are_increments() {
     // I5000 = 5 mm: a half circle of radius 5 from X0 to X10.
     let m = motions("G90 G17 G02 X10. Y0 I5000 J0 F100\nM30\n");
-    let arc = m[0].arc.expect("an arc");
+    let arc = m[0].arc.as_deref().expect("an arc");
     assert_eq!(arc.radius, 5.0);
     assert_eq!((arc.center[0], arc.center[1]), (5.0, 0.0));
 }
