@@ -93,21 +93,39 @@ pub enum Coolant {
 #[derive(Debug, Clone, PartialEq)]
 pub enum CanonKind {
     Motion(Motion),
-    Dwell { seconds: f64 },
+    Dwell {
+        seconds: f64,
+    },
     /// T word: the tool is prepared.
-    ToolSelect { tool: u32 },
+    ToolSelect {
+        tool: u32,
+    },
     /// M06
-    ToolChange { tool: u32 },
-    Spindle { state: SpindleState, speed: f64 },
+    ToolChange {
+        tool: u32,
+    },
+    Spindle {
+        state: SpindleState,
+        speed: f64,
+    },
     Coolant(Coolant),
     /// Any other M code, for the machine's PLC.
-    Aux { m: u32 },
+    Aux {
+        m: u32,
+    },
     /// M00, M01 (optional) or `#3006`.
-    Stop { optional: bool, message: Option<String> },
+    Stop {
+        optional: bool,
+        message: Option<String>,
+    },
     /// DPRNT/BPRNT text.
-    Print { text: String },
+    Print {
+        text: String,
+    },
     /// M02 or M30.
-    ProgramEnd { m: u32 },
+    ProgramEnd {
+        m: u32,
+    },
 }
 
 /// One canonical command with the block it came from.

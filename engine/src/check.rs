@@ -19,13 +19,17 @@ pub fn check(file: &File, dialect: Dialect) -> Vec<Diagnostic> {
         for (i, block) in program.blocks.iter().enumerate() {
             let at = |col: u32, id: AlarmId, detail: String| Diagnostic { line: block.line, col, id, detail };
             if let Some(id) = loaded.loop_error.get(&(i as u32)) {
-                diags.push(at(block.col, id.clone(), "DO/END: unmatched, crossing, or a loop number other than 1–3".into()));
+                diags.push(at(
+                    block.col,
+                    id.clone(),
+                    "DO/END: unmatched, crossing, or a loop number other than 1–3".into(),
+                ));
             }
             match &block.kind {
-                BlockKind::Goto(Expr::Num(n)) | BlockKind::IfGoto { target: Expr::Num(n), .. } => {
-                    if loaded.find_label(*n as u32, i).is_none() {
-                        diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
-                    }
+                BlockKind::Goto(Expr::Num(n)) | BlockKind::IfGoto { target: Expr::Num(n), .. }
+                    if loaded.find_label(*n as u32, i).is_none() =>
+                {
+                    diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
                 }
                 BlockKind::Words(words) => {
                     let mut calls = false;
@@ -33,7 +37,11 @@ pub fn check(file: &File, dialect: Dialect) -> Vec<Diagnostic> {
                         let WordValue::Number { value, .. } = w.value else { continue };
                         match w.letter {
                             b'G' => match gcode::code_of(value).and_then(|c| gcode::lookup(c, dialect)) {
-                                None => diags.push(at(w.col, AlarmId::ImproperGCode, format!("G{value} is not a G code of the {} dialect", dialect.name()))),
+                                None => diags.push(at(
+                                    w.col,
+                                    AlarmId::ImproperGCode,
+                                    format!("G{value} is not a G code of the {} dialect", dialect.name()),
+                                )),
                                 Some(d) => calls |= matches!(d.code, 650 | 660 | 661),
                             },
                             b'M' => calls |= matches!(value as u32, 98 | 198),
@@ -50,7 +58,11 @@ pub fn check(file: &File, dialect: Dialect) -> Vec<Diagnostic> {
                             let has_l = words.iter().any(|w| w.letter == b'L');
                             let number = if m98 && !has_l && p >= 10_000.0 { p % 10_000.0 } else { p };
                             if !numbers.contains(&(number as u32)) {
-                                diags.push(at(col, AlarmId::ProgramNotFound, format!("no program O{:04} in this file", number as u32)));
+                                diags.push(at(
+                                    col,
+                                    AlarmId::ProgramNotFound,
+                                    format!("no program O{:04} in this file", number as u32),
+                                ));
                             }
                         }
                     }

@@ -71,17 +71,26 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         FeedZero => (("PS0011", "FEED ZERO ( COMMAND )"), ("COR-010", "Feedrate is zero")),
         IllegalOffsetNumber => (("PS0030", "ILLEGAL OFFSET NUMBER"), ("COR-011", "Illegal offset number")),
         ArcRadiusTolerance => (("PS0020", "OVER TOLERANCE OF RADIUS"), ("COR-012", "Arc end point not on the arc")),
-        PlaneChangeInCompensation => (("PS0037", "CAN NOT CHANGE PLANE IN G41/G42"), ("COR-013", "Plane change in cutter compensation")),
+        PlaneChangeInCompensation => {
+            (("PS0037", "CAN NOT CHANGE PLANE IN G41/G42"), ("COR-013", "Plane change in cutter compensation"))
+        }
         DataSettingFormat => (("PS1144", "G10 FORMAT ERROR"), ("COR-014", "G10 format error")),
         MissingQ => (("PS0045", "ADDRESS Q NOT FOUND (G73/G83)"), ("COR-015", "Peck depth Q missing")),
-        ReferenceReturnInCycle => (("PS0044", "G27-G30 NOT ALLOWED IN FIXED CYC"), ("COR-016", "Reference return in canned cycle")),
-        IllegalCommandInMode => (("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"), ("COR-100", "Unsupported G code command or option software is not activated")),
+        ReferenceReturnInCycle => {
+            (("PS0044", "G27-G30 NOT ALLOWED IN FIXED CYC"), ("COR-016", "Reference return in canned cycle"))
+        }
+        IllegalCommandInMode => (
+            ("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"),
+            ("COR-100", "Unsupported G code command or option software is not activated"),
+        ),
         MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),
         VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-021", "Variable number out of range")),
         WriteProtectedVariable => (("PS0116", "WRITE PROTECTED VARIABLE"), ("COR-022", "Variable is read-only")),
         ZeroDivide => (("PS0112", "ZERO DIVIDE"), ("COR-023", "Division by zero")),
         BracketNesting => (("PS0118", "PARENTHESIS NESTING LEVEL"), ("COR-024", "Too many nested brackets")),
-        ArgumentOutOfRange => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-025", "Function argument out of range")),
+        ArgumentOutOfRange => {
+            (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-025", "Function argument out of range"))
+        }
         FloatOverflow => (("PS0111", "OVERFLOW :FLOAT"), ("COR-026", "Calculation overflow")),
         MissingEnd => (("PS0124", "MISSING END STATEMENT"), ("COR-027", "DO without END")),
         IllegalLoopNumber => (("PS0126", "ILLEGAL LOOP NUMBER"), ("COR-028", "Illegal loop number")),
@@ -89,7 +98,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         ProgramNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
         NestingTooDeep => (("PS0077", "TOO MANY SUB,MACRO NESTING"), ("COR-031", "Too many nested calls")),
         GAsArgument => (("PS0129", "USE 'G' AS ARGUMENT"), ("COR-032", "G used as macro argument")),
-        MixedStatements => (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block")),
+        MixedStatements => {
+            (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block"))
+        }
         MacroAlarm { .. } | BlockBudgetExceeded { .. } | TimeBudgetExceeded { .. } => {
             unreachable!("alarms with data are described in Dialect::describe")
         }

@@ -145,7 +145,14 @@ impl Executor {
         }
     }
 
-    fn sample_until(&mut self, t1: f64, c: &Canon, on_sample: &mut impl FnMut(&Sample), at: impl Fn(f64) -> (Pos, Pos), feed: f64) {
+    fn sample_until(
+        &mut self,
+        t1: f64,
+        c: &Canon,
+        on_sample: &mut impl FnMut(&Sample),
+        at: impl Fn(f64) -> (Pos, Pos),
+        feed: f64,
+    ) {
         let t0 = self.t;
         loop {
             let ts = self.next_sample as f64 * self.opts.period_s;
@@ -154,7 +161,15 @@ impl Executor {
             }
             let u = if t1 > t0 { ((ts - t0) / (t1 - t0)).clamp(0.0, 1.0) } else { 1.0 };
             let (machine, work) = at(u);
-            on_sample(&Sample { t: ts, line: c.line, n: c.n, machine, tip: [work[0], work[1], work[2]], tool: [0.0, 0.0, 1.0], feed });
+            on_sample(&Sample {
+                t: ts,
+                line: c.line,
+                n: c.n,
+                machine,
+                tip: [work[0], work[1], work[2]],
+                tool: [0.0, 0.0, 1.0],
+                feed,
+            });
             self.next_sample += 1;
         }
     }

@@ -404,7 +404,9 @@ fn persistent_variables_survive_a_new_run() {
 
 #[test]
 fn undefined_variable_numbers_ps0115() {
-    for src in ["#100=#34\nM30\n", "#100=#200\nM30\n", "#34=1\nM30\n", "#200=1\nM30\n", "#100=#499\nM30\n", "#1000=1\nM30\n"] {
+    for src in
+        ["#100=#34\nM30\n", "#100=#200\nM30\n", "#34=1\nM30\n", "#200=1\nM30\n", "#100=#499\nM30\n", "#1000=1\nM30\n"]
+    {
         alarms(src, "PS0115", "COR-021");
     }
     // The bounds themselves exist.
@@ -655,7 +657,16 @@ fn asin_acos_domain_ps0119() {
 
 #[test]
 fn atan_two_argument_forms_quadrants_nat0() {
-    for (a, b, deg) in [(1.0, 1.0, 45.0), (1.0, -1.0, 135.0), (-1.0, -1.0, 225.0), (-1.0, 1.0, 315.0), (0.0, 1.0, 0.0), (1.0, 0.0, 90.0), (0.0, -1.0, 180.0), (-1.0, 0.0, 270.0)] {
+    for (a, b, deg) in [
+        (1.0, 1.0, 45.0),
+        (1.0, -1.0, 135.0),
+        (-1.0, -1.0, 225.0),
+        (-1.0, 1.0, 315.0),
+        (0.0, 1.0, 0.0),
+        (1.0, 0.0, 90.0),
+        (0.0, -1.0, 180.0),
+        (-1.0, 0.0, 270.0),
+    ] {
         close(ev_nat(&format!("ATAN[{a}]/[{b}]"), false), deg);
         close(ev_nat(&format!("ATAN[{a},{b}]"), false), deg);
     }
@@ -664,7 +675,16 @@ fn atan_two_argument_forms_quadrants_nat0() {
 
 #[test]
 fn atan_two_argument_forms_quadrants_nat1() {
-    for (a, b, deg) in [(1.0, 1.0, 45.0), (1.0, -1.0, 135.0), (-1.0, -1.0, -135.0), (-1.0, 1.0, -45.0), (0.0, 1.0, 0.0), (1.0, 0.0, 90.0), (0.0, -1.0, 180.0), (-1.0, 0.0, -90.0)] {
+    for (a, b, deg) in [
+        (1.0, 1.0, 45.0),
+        (1.0, -1.0, 135.0),
+        (-1.0, -1.0, -135.0),
+        (-1.0, 1.0, -45.0),
+        (0.0, 1.0, 0.0),
+        (1.0, 0.0, 90.0),
+        (0.0, -1.0, 180.0),
+        (-1.0, 0.0, -90.0),
+    ] {
         close(ev_nat(&format!("ATAN[{a}]/[{b}]"), true), deg);
         close(ev_nat(&format!("ATAN[{a},{b}]"), true), deg);
     }
@@ -1145,7 +1165,10 @@ fn g65_argument_specification_1() {
     );
     let r = run_src(&src);
     assert!(r.completed(), "{:?}", r.alarms);
-    let expected: Vec<(u32, f64)> = [1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26].iter().map(|&k| (100 + k, k as f64)).collect();
+    let expected: Vec<(u32, f64)> = [1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26]
+        .iter()
+        .map(|&k| (100 + k, k as f64))
+        .collect();
     assert_eq!(r.variables, expected);
     // #10 #12 #14 #15 #16 (no letter: G L N O P) are vacant.
 }
@@ -1331,7 +1354,9 @@ fn six_macro_levels_ps0077() {
 fn g66_opens_a_macro_level_too() {
     // Four G65 levels plus the G66 call = five: fine; five G65 levels plus G66 = six: alarm.
     let inner = "O9600\nG66 P9601\nG00 X1.\nG67\nM99\nO9601\n#102=1\nM99\n";
-    let src = format!("#101=4\nG65 P9500\nM30\nO9500\n#100=#100+1\nIF[#100GE#101]GOTO 9\nG65 P9500\nM99\nN9 M98 P9600\nM99\n{inner}");
+    let src = format!(
+        "#101=4\nG65 P9500\nM30\nO9500\n#100=#100+1\nIF[#100GE#101]GOTO 9\nG65 P9500\nM99\nN9 M98 P9600\nM99\n{inner}"
+    );
     assert_eq!(var(&src, 102), Some(1.0));
     let src = src.replacen("#101=4", "#101=5", 1);
     alarms(&src, "PS0077", "COR-031");
@@ -1484,7 +1509,22 @@ fn parts_counters_3901_3902() {
 
 #[test]
 fn modal_g_codes_at_power_on() {
-    let groups = [(1, 0.0), (2, 17.0), (3, 90.0), (5, 94.0), (6, 21.0), (7, 40.0), (8, 49.0), (9, 80.0), (10, 98.0), (12, 67.0), (13, 97.0), (14, 54.0), (15, 64.0), (16, 69.0)];
+    let groups = [
+        (1, 0.0),
+        (2, 17.0),
+        (3, 90.0),
+        (5, 94.0),
+        (6, 21.0),
+        (7, 40.0),
+        (8, 49.0),
+        (9, 80.0),
+        (10, 98.0),
+        (12, 67.0),
+        (13, 97.0),
+        (14, 54.0),
+        (15, 64.0),
+        (16, 69.0),
+    ];
     for (g, value) in groups {
         let src = format!("#100=#{}\nM30\n", 4000 + g);
         assert_eq!(var(&src, 100), Some(value), "#{}", 4000 + g);
@@ -1517,7 +1557,17 @@ M30
     assert!(r.completed(), "{:?}", r.alarms);
     assert_eq!(
         r.variables,
-        vec![(101, 1.0), (102, 18.0), (103, 91.0), (105, 95.0), (106, 20.0), (108, 43.4), (110, 99.0), (114, 54.1), (130, 2.0)]
+        vec![
+            (101, 1.0),
+            (102, 18.0),
+            (103, 91.0),
+            (105, 95.0),
+            (106, 20.0),
+            (108, 43.4),
+            (110, 99.0),
+            (114, 54.1),
+            (130, 2.0)
+        ]
     );
 }
 
@@ -1670,7 +1720,8 @@ M30
 
 #[test]
 fn g54_1_offsets_7001() {
-    let src = "#7001=3.\n#7021=4.\n#7023=-1.\nG90 G54.1 P1 G00 X0\n#100=#5021\nG54.1 P2 X0 Z0\n#101=#5021\n#102=#5023\nM30\n";
+    let src =
+        "#7001=3.\n#7021=4.\n#7023=-1.\nG90 G54.1 P1 G00 X0\n#100=#5021\nG54.1 P2 X0 Z0\n#101=#5021\n#102=#5023\nM30\n";
     let r = run_src(src);
     assert!(r.completed(), "{:?}", r.alarms);
     assert_eq!(r.variables, vec![(100, 3.0), (101, 4.0), (102, -1.0)]);
@@ -1723,7 +1774,10 @@ M30
 ";
     let r = run_src(src);
     assert!(r.completed(), "{:?}", r.alarms);
-    assert_eq!(r.variables, vec![(100, 50.0), (101, 0.2), (102, 4.0), (103, -0.1), (104, 50.0), (105, 0.2), (106, 51.0)]);
+    assert_eq!(
+        r.variables,
+        vec![(100, 50.0), (101, 0.2), (102, 4.0), (103, -0.1), (104, 50.0), (105, 0.2), (106, 51.0)]
+    );
 }
 
 #[test]
@@ -1746,7 +1800,10 @@ M30
     let r = run_src(src);
     assert!(r.completed(), "{:?}", r.alarms);
     // Tool 1 starts with length 100 and radius 5 (the test setup).
-    assert_eq!(r.variables, vec![(100, 100.0), (101, 5.0), (102, 1.5), (103, 80.0), (104, -0.25), (105, 3.0), (106, 9.0)]);
+    assert_eq!(
+        r.variables,
+        vec![(100, 100.0), (101, 5.0), (102, 1.5), (103, 80.0), (104, -0.25), (105, 3.0), (106, 9.0)]
+    );
 }
 
 #[test]

@@ -48,17 +48,8 @@ pub async fn open(path: &Path) -> Result<SqlitePool, OpenError> {
         .max_connections(4)
         .connect_with(options)
         .await
-        .map_err(|source| OpenError::Connect {
-            path: shown.clone(),
-            source,
-        })?;
-    MIGRATOR
-        .run(&pool)
-        .await
-        .map_err(|source| OpenError::Migrate {
-            path: shown,
-            source,
-        })?;
+        .map_err(|source| OpenError::Connect { path: shown.clone(), source })?;
+    MIGRATOR.run(&pool).await.map_err(|source| OpenError::Migrate { path: shown, source })?;
     Ok(pool)
 }
 

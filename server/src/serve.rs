@@ -97,9 +97,7 @@ impl IntoResponse for ApiError {
         if let ApiError::Database(source) = &self {
             tracing::error!(error = %source, "database error");
         }
-        let body = ErrorBody {
-            error: self.to_string(),
-        };
+        let body = ErrorBody { error: self.to_string() };
         (status, Json(body)).into_response()
     }
 }
@@ -140,12 +138,7 @@ pub struct ControllerSummary {
 
 impl From<db::ControllerRow> for ControllerSummary {
     fn from(row: db::ControllerRow) -> Self {
-        Self {
-            id: row.id,
-            name: row.name,
-            dialect: row.dialect,
-            created_at: row.created_at,
-        }
+        Self { id: row.id, name: row.name, dialect: row.dialect, created_at: row.created_at }
     }
 }
 
@@ -168,16 +161,11 @@ async fn index() -> Html<&'static str> {
     )
 )]
 async fn healthz(State(state): State<AppState>) -> Result<Json<Health>, ApiError> {
-    sqlx::query("SELECT 1")
-        .execute(&state.db)
-        .await
-        .map_err(|e| {
-            tracing::warn!(error = %e, "health check: database does not answer");
-            ApiError::Unavailable("database does not answer".into())
-        })?;
-    Ok(Json(Health {
-        status: "ok".into(),
-    }))
+    sqlx::query("SELECT 1").execute(&state.db).await.map_err(|e| {
+        tracing::warn!(error = %e, "health check: database does not answer");
+        ApiError::Unavailable("database does not answer".into())
+    })?;
+    Ok(Json(Health { status: "ok".into() }))
 }
 
 /// Lists the controllers, oldest first.
@@ -190,9 +178,7 @@ async fn healthz(State(state): State<AppState>) -> Result<Json<Health>, ApiError
         (status = 500, description = "Database error", body = ErrorBody),
     )
 )]
-async fn list_controllers(
-    State(state): State<AppState>,
-) -> Result<Json<Vec<ControllerSummary>>, ApiError> {
+async fn list_controllers(State(state): State<AppState>) -> Result<Json<Vec<ControllerSummary>>, ApiError> {
     let rows = db::list_controllers(&state.db).await?;
     Ok(Json(rows.into_iter().map(Into::into).collect()))
 }
@@ -202,10 +188,7 @@ async fn not_found(method: Method, uri: Uri) -> ApiError {
 }
 
 async fn method_not_allowed(method: Method, uri: Uri) -> ApiError {
-    ApiError::MethodNotAllowed {
-        method,
-        path: uri.path().to_owned(),
-    }
+    ApiError::MethodNotAllowed { method, path: uri.path().to_owned() }
 }
 
 /// One log line per request: method, path, status, latency.
@@ -252,9 +235,7 @@ pub fn openapi() -> utoipa::openapi::OpenApi {
 /// The OpenAPI document exactly as checked in at `openapi/openapi.json`: pretty-printed JSON
 /// with a trailing newline.
 pub fn openapi_json() -> String {
-    let mut text = openapi()
-        .to_pretty_json()
-        .expect("the OpenAPI document serializes");
+    let mut text = openapi().to_pretty_json().expect("the OpenAPI document serializes");
     text.push('\n');
     text
 }
@@ -362,21 +343,14 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
     runtime.block_on(async {
         let state = AppState::open(db).await.map_err(|e| e.to_string())?;
         tracing::info!(db = %db.display(), "database ready");
-        let listener = TcpListener::bind(addr)
-            .await
-            .map_err(|e| format!("cannot listen on {addr}: {e}"))?;
-        let local = listener
-            .local_addr()
-            .map_err(|e| format!("cannot listen on {addr}: {e}"))?;
+        let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;
+        let local = listener.local_addr().map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         // Installed before announcing the address: once the line below is logged, SIGINT and
         // SIGTERM shut the server down gracefully instead of killing it.
-        let shutdown =
-            shutdown_signal().map_err(|e| format!("cannot install signal handlers: {e}"))?;
+        let shutdown = shutdown_signal().map_err(|e| format!("cannot install signal handlers: {e}"))?;
         tracing::info!("fivex listening on http://{local}");
         let pool = state.db.clone();
-        serve(listener, state, shutdown)
-            .await
-            .map_err(|e| format!("server error: {e}"))?;
+        serve(listener, state, shutdown).await.map_err(|e| format!("server error: {e}"))?;
         pool.close().await;
         tracing::info!("fivex stopped");
         Ok(())

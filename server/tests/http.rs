@@ -35,12 +35,8 @@ struct Reply {
 
 impl Reply {
     fn json(&self) -> Value {
-        serde_json::from_slice(&self.body).unwrap_or_else(|e| {
-            panic!(
-                "response body is not JSON ({e}): {:?}",
-                String::from_utf8_lossy(&self.body)
-            )
-        })
+        serde_json::from_slice(&self.body)
+            .unwrap_or_else(|e| panic!("response body is not JSON ({e}): {:?}", String::from_utf8_lossy(&self.body)))
     }
 
     fn text(&self) -> String {
@@ -52,11 +48,7 @@ async fn spawn_app() -> TestApp {
     let dir = tempfile::tempdir().expect("temporary directory");
     let db_path = dir.path().join("fivex.db");
     let state = AppState::open(&db_path).await.expect("open the database");
-    TestApp {
-        state,
-        db_path,
-        _dir: dir,
-    }
+    TestApp { state, db_path, _dir: dir }
 }
 
 impl TestApp {
@@ -67,30 +59,14 @@ impl TestApp {
     async fn send(&self, request: Request<Body>) -> Reply {
         let response = self.router().oneshot(request).await.expect("infallible");
         let status = response.status();
-        let content_type = response
-            .headers()
-            .get(header::CONTENT_TYPE)
-            .map(|v| v.to_str().unwrap().to_owned())
-            .unwrap_or_default();
-        let body = response
-            .into_body()
-            .collect()
-            .await
-            .expect("body")
-            .to_bytes();
-        Reply {
-            status,
-            content_type,
-            body,
-        }
+        let content_type =
+            response.headers().get(header::CONTENT_TYPE).map(|v| v.to_str().unwrap().to_owned()).unwrap_or_default();
+        let body = response.into_body().collect().await.expect("body").to_bytes();
+        Reply { status, content_type, body }
     }
 
     async fn request(&self, method: Method, uri: &str) -> Reply {
-        let request = Request::builder()
-            .method(method)
-            .uri(uri)
-            .body(Body::empty())
-            .unwrap();
+        let request = Request::builder().method(method).uri(uri).body(Body::empty()).unwrap();
         self.send(request).await
     }
 
@@ -110,9 +86,7 @@ fn controller(id: &str, name: &str, created_at: &str) -> ControllerRow {
 }
 
 fn workspace_file(relative: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(relative)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(relative)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -150,11 +124,7 @@ async fn index_serves_the_dashboard_page() {
     let app = spawn_app().await;
     let reply = app.get("/").await;
     assert_eq!(reply.status, StatusCode::OK);
-    assert!(
-        reply.content_type.starts_with("text/html"),
-        "{}",
-        reply.content_type
-    );
+    assert!(reply.content_type.starts_with("text/html"), "{}", reply.content_type);
     let page = reply.text();
     assert!(page.contains("<title>fivex</title>"));
     assert!(page.contains(r#"fetch("/healthz")"#));
@@ -173,18 +143,8 @@ async fn controllers_list_is_empty_on_a_fresh_database() {
 #[tokio::test]
 async fn controllers_list_reads_the_controllers_table_oldest_first() {
     let app = spawn_app().await;
-    db::insert_controller(
-        &app.state.db,
-        &controller("b", "second", "2025-01-02T00:00:00Z"),
-    )
-    .await
-    .unwrap();
-    db::insert_controller(
-        &app.state.db,
-        &controller("a", "first", "2025-01-01T00:00:00Z"),
-    )
-    .await
-    .unwrap();
+    db::insert_controller(&app.state.db, &controller("b", "second", "2025-01-02T00:00:00Z")).await.unwrap();
+    db::insert_controller(&app.state.db, &controller("a", "first", "2025-01-01T00:00:00Z")).await.unwrap();
     let reply = app.get("/api/v1/controllers").await;
     assert_eq!(reply.status, StatusCode::OK);
     assert_eq!(
@@ -203,11 +163,7 @@ async fn unknown_routes_are_404_json() {
         let reply = app.get(uri).await;
         assert_eq!(reply.status, StatusCode::NOT_FOUND, "{uri}");
         assert_eq!(reply.content_type, "application/json", "{uri}");
-        assert_eq!(
-            reply.json(),
-            json!({"error": format!("no route for GET {uri}")}),
-            "{uri}"
-        );
+        assert_eq!(reply.json(), json!({"error": format!("no route for GET {uri}")}), "{uri}");
     }
 }
 
@@ -217,10 +173,7 @@ async fn wrong_methods_are_405_json() {
     for uri in ["/healthz", "/api/v1/controllers"] {
         let reply = app.request(Method::PATCH, uri).await;
         assert_eq!(reply.status, StatusCode::METHOD_NOT_ALLOWED, "{uri}");
-        assert_eq!(
-            reply.json(),
-            json!({"error": format!("method PATCH is not allowed on {uri}")})
-        );
+        assert_eq!(reply.json(), json!({"error": format!("method PATCH is not allowed on {uri}")}));
     }
 }
 
@@ -231,11 +184,7 @@ async fn api_errors_render_as_json_with_their_status() {
         (ApiError::NotFound("gone".into()), 404, "gone"),
         (ApiError::Conflict("taken".into()), 409, "taken"),
         // The database's own message is logged, not sent to the client.
-        (
-            ApiError::Database(sqlx::Error::RowNotFound),
-            500,
-            "internal database error",
-        ),
+        (ApiError::Database(sqlx::Error::RowNotFound), 500, "internal database error"),
     ];
     for (error, status, message) in cases {
         let response = error.into_response();
@@ -266,11 +215,7 @@ async fn swagger_ui_is_served() {
     let app = spawn_app().await;
     let reply = app.get("/swagger-ui/").await;
     assert_eq!(reply.status, StatusCode::OK);
-    assert!(
-        reply.content_type.starts_with("text/html"),
-        "{}",
-        reply.content_type
-    );
+    assert!(reply.content_type.starts_with("text/html"), "{}", reply.content_type);
     assert!(reply.text().to_lowercase().contains("swagger"));
 
     let config = app.get("/swagger-ui/swagger-initializer.js").await;
@@ -296,12 +241,7 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
     .await
     .unwrap();
     assert_eq!(tables, ["controllers", "programs", "variables"]);
-    db::insert_controller(
-        &app.state.db,
-        &controller("c1", "kept", "2025-01-01T00:00:00Z"),
-    )
-    .await
-    .unwrap();
+    db::insert_controller(&app.state.db, &controller("c1", "kept", "2025-01-01T00:00:00Z")).await.unwrap();
     app.state.db.close().await;
 
     // Opening again runs no migration twice and keeps the data.
@@ -314,35 +254,23 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
 async fn deleting_a_controller_cascades_to_programs_and_variables() {
     let app = spawn_app().await;
     let pool = &app.state.db;
-    db::insert_controller(pool, &controller("c1", "m", "2025-01-01T00:00:00Z"))
+    db::insert_controller(pool, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();
+    sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('c1', 1, 'O0001\nM30\n')")
+        .execute(pool)
         .await
         .unwrap();
-    sqlx::query(
-        "INSERT INTO programs (controller_id, number, text) VALUES ('c1', 1, 'O0001\nM30\n')",
-    )
-    .execute(pool)
-    .await
-    .unwrap();
     sqlx::query("INSERT INTO variables (controller_id, number, value) VALUES ('c1', 500, 1.5), ('c1', 501, NULL)")
         .execute(pool)
         .await
         .unwrap();
     // Foreign keys are enforced: no program for an unknown controller.
     let orphan =
-        sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('zz', 1, '')")
-            .execute(pool)
-            .await;
+        sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('zz', 1, '')").execute(pool).await;
     assert!(orphan.is_err());
 
-    sqlx::query("DELETE FROM controllers WHERE id = 'c1'")
-        .execute(pool)
-        .await
-        .unwrap();
+    sqlx::query("DELETE FROM controllers WHERE id = 'c1'").execute(pool).await.unwrap();
     for table in ["programs", "variables"] {
-        let count: i64 = sqlx::query_scalar(&format!("SELECT COUNT(*) FROM {table}"))
-            .fetch_one(pool)
-            .await
-            .unwrap();
+        let count: i64 = sqlx::query_scalar(&format!("SELECT COUNT(*) FROM {table}")).fetch_one(pool).await.unwrap();
         assert_eq!(count, 0, "{table}");
     }
 }
@@ -363,8 +291,7 @@ async fn real_server_on_port_0_serves_and_shuts_down_gracefully() {
         let _ = stopped.await;
     }));
 
-    let client: Client<_, http_body_util::Empty<Bytes>> =
-        Client::builder(TokioExecutor::new()).build_http();
+    let client: Client<_, http_body_util::Empty<Bytes>> = Client::builder(TokioExecutor::new()).build_http();
     let get = |path: &str| {
         let uri = format!("http://{addr}{path}").parse().unwrap();
         let client = client.clone();
@@ -376,14 +303,8 @@ async fn real_server_on_port_0_serves_and_shuts_down_gracefully() {
         }
     };
 
-    assert_eq!(
-        get("/healthz").await,
-        (StatusCode::OK, json!({"status": "ok"}))
-    );
-    assert_eq!(
-        get("/api/v1/controllers").await,
-        (StatusCode::OK, json!([]))
-    );
+    assert_eq!(get("/healthz").await, (StatusCode::OK, json!({"status": "ok"})));
+    assert_eq!(get("/api/v1/controllers").await, (StatusCode::OK, json!([])));
     let (status, body) = get("/missing").await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     assert_eq!(body, json!({"error": "no route for GET /missing"}));
@@ -406,10 +327,7 @@ fn run_blocking_creates_the_database_and_reports_an_address_in_use() {
     let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let addr = taken.local_addr().unwrap().to_string();
     let error = serve::run_blocking(&db_path, &addr).unwrap_err();
-    assert!(
-        error.contains(&format!("cannot listen on {addr}")),
-        "{error}"
-    );
+    assert!(error.contains(&format!("cannot listen on {addr}")), "{error}");
     // The database was created and migrated before binding.
     assert!(db_path.is_file());
 }
@@ -479,22 +397,15 @@ fn fivex_serve_binary_answers_and_stops_gracefully_on_sigterm() {
     };
 
     let mut stream = std::net::TcpStream::connect(&addr).unwrap();
-    stream
-        .set_read_timeout(Some(Duration::from_secs(10)))
-        .unwrap();
-    stream
-        .write_all(b"GET /healthz HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n")
-        .unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").unwrap();
     let mut response = String::new();
     stream.read_to_string(&mut response).unwrap();
     assert!(response.starts_with("HTTP/1.1 200"), "{response}");
     assert!(response.ends_with(r#"{"status":"ok"}"#), "{response}");
     assert!(db_path.is_file());
 
-    let kill = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
+    let kill = Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap();
     assert!(kill.success());
     let deadline = Instant::now() + Duration::from_secs(20);
     let status = loop {
@@ -536,11 +447,7 @@ fn checked_in_openapi_json_matches_the_code() {
             .enumerate()
             .find(|(_, (a, b))| a != b)
             .map(|(i, (a, b))| (i + 1, a.to_owned(), b.to_owned()))
-            .unwrap_or((
-                checked_in.lines().count() + 1,
-                "<more lines>".into(),
-                String::new(),
-            ));
+            .unwrap_or((checked_in.lines().count() + 1, "<more lines>".into(), String::new()));
         panic!(
             "openapi/openapi.json is out of date with the code (first difference at line {line}):\n  \
              checked in: {ours}\n  generated:  {theirs}\n\
@@ -562,10 +469,7 @@ fn docker_compose_runs_fivex_serve_with_a_data_volume() {
         Value::String(line) => line.split_whitespace().collect(),
         other => panic!("command: {other}"),
     };
-    assert_eq!(
-        command,
-        ["serve", "--db", "/data/fivex.db", "--addr", "0.0.0.0:8080"]
-    );
+    assert_eq!(command, ["serve", "--db", "/data/fivex.db", "--addr", "0.0.0.0:8080"]);
 
     let ports: Vec<&str> = fivex["ports"]
         .as_array()
@@ -573,36 +477,23 @@ fn docker_compose_runs_fivex_serve_with_a_data_volume() {
         .iter()
         .map(|p| p.as_str().expect("port mapping as a string"))
         .collect();
-    assert!(
-        ports.iter().any(|p| p.ends_with(":8080")),
-        "no host port maps to container port 8080: {ports:?}"
-    );
+    assert!(ports.iter().any(|p| p.ends_with(":8080")), "no host port maps to container port 8080: {ports:?}");
 
-    let volumes: Vec<&str> = fivex["volumes"]
-        .as_array()
-        .expect("volumes")
-        .iter()
-        .map(|v| v.as_str().unwrap())
-        .collect();
+    let volumes: Vec<&str> =
+        fivex["volumes"].as_array().expect("volumes").iter().map(|v| v.as_str().unwrap()).collect();
     let data = volumes
         .iter()
         .find(|v| v.split(':').nth(1) == Some("/data"))
         .unwrap_or_else(|| panic!("no volume mounted at /data: {volumes:?}"));
     let volume_name = data.split(':').next().unwrap();
-    assert!(
-        compose["volumes"].get(volume_name).is_some(),
-        "named volume {volume_name} is not declared"
-    );
+    assert!(compose["volumes"].get(volume_name).is_some(), "named volume {volume_name} is not declared");
 
     // It builds this repository with the Dockerfile next to it, whose entry point is `fivex`.
     let build = &fivex["build"];
     let context = build.as_str().or(build["context"].as_str()).expect("build");
     assert_eq!(context, ".");
     let dockerfile = std::fs::read_to_string(workspace_file("Dockerfile")).unwrap();
-    assert!(
-        dockerfile.contains("--bin fivex"),
-        "Dockerfile builds the fivex binary"
-    );
+    assert!(dockerfile.contains("--bin fivex"), "Dockerfile builds the fivex binary");
     assert!(dockerfile.contains(r#"ENTRYPOINT ["/usr/local/bin/fivex"]"#));
     assert!(dockerfile.contains("EXPOSE 8080"));
 }

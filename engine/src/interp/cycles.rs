@@ -126,8 +126,11 @@ impl State {
                 self.move_drill_axis(d, ret, Rapid, out);
             }
             740 | 840 | 842 | 843 => {
-                let (forward, reverse) =
-                    if matches!(code, 740 | 843) { (SpindleState::Ccw, SpindleState::Cw) } else { (SpindleState::Cw, SpindleState::Ccw) };
+                let (forward, reverse) = if matches!(code, 740 | 843) {
+                    (SpindleState::Ccw, SpindleState::Cw)
+                } else {
+                    (SpindleState::Cw, SpindleState::Ccw)
+                };
                 self.move_drill_axis(d, c.z, Linear, out);
                 dwell(self, out);
                 self.spindle(reverse, out);

@@ -4,9 +4,9 @@
 //! a block can change). Splitting them lets a block be borrowed from the programs while the state
 //! is mutated, with no copying on the hot path.
 
+mod cycles;
 pub mod expr;
 pub mod gcode;
-mod cycles;
 mod nc;
 mod offsets;
 pub(crate) mod program;
@@ -137,7 +137,7 @@ pub struct State {
     cfg: Config,
     expr: ExprSettings,
     frames: Vec<Frame>,
-    locals: Vec<Box<[Value; LOCALS]>>,
+    locals: Vec<[Value; LOCALS]>,
     common: Box<[Value; COMMON]>,
     persistent: Box<[Value; PERSISTENT]>,
     /// Modal G codes per group, ×10.
@@ -269,7 +269,7 @@ impl State {
             axis_by_letter,
             expr,
             frames: Vec::new(),
-            locals: vec![Box::new([None; LOCALS])],
+            locals: vec![[None; LOCALS]],
             common: Box::new([None; COMMON]),
             persistent: Box::new([None; PERSISTENT]),
             modes: gcode::initial_modes(),
@@ -341,14 +341,19 @@ impl State {
 
     /// Current position in machine coordinates.
     pub fn machine_position(&self) -> Pos {
-        self.to_machine(&self.pos)
+        self.program_to_machine(&self.pos)
     }
 
     pub fn modal(&self, group: usize) -> u16 {
         self.modes[group]
     }
 
-    fn step(&mut self, progs: &[Loaded], by_number: &HashMap<u32, usize>, out: &mut Vec<Canon>) -> Result<Step, AlarmId> {
+    fn step(
+        &mut self,
+        progs: &[Loaded],
+        by_number: &HashMap<u32, usize>,
+        out: &mut Vec<Canon>,
+    ) -> Result<Step, AlarmId> {
         let frame = self.frames.last_mut().expect("a running interpreter has a frame");
         let prog = &progs[frame.prog];
         if frame.pc >= prog.len() {
@@ -499,8 +504,15 @@ impl State {
                 if self.locals.len() > MAX_MACRO_LEVELS {
                     return Err(AlarmId::NestingTooDeep);
                 }
-                self.locals.push(args.clone());
-                self.frames.push(Frame { prog, pc: 0, kind: FrameKind::Macro, repeats: count - 1, args: Some(args), number: 0 });
+                self.locals.push(*args);
+                self.frames.push(Frame {
+                    prog,
+                    pc: 0,
+                    kind: FrameKind::Macro,
+                    repeats: count - 1,
+                    args: Some(args),
+                    number: 0,
+                });
                 return Ok(());
             }
             None => FrameKind::Sub,
@@ -525,8 +537,7 @@ impl State {
             frame.repeats -= 1;
             frame.pc = 0;
             if let Some(args) = &frame.args {
-                let fresh = args.clone();
-                *self.locals.last_mut().expect("macro level") = fresh;
+                *self.locals.last_mut().expect("macro level") = **args;
             }
             return Ok(());
         }
@@ -547,7 +558,7 @@ impl State {
     }
 
     /// Programming → machine coordinates (work offset, local, G92 shift, tool length).
-    fn to_machine(&self, p: &Pos) -> Pos {
+    fn program_to_machine(&self, p: &Pos) -> Pos {
         let w = self.offsets.work(self.work_index());
         let ext = self.offsets.work(0);
         let mut m = [0.0; MAX_AXES];
@@ -557,7 +568,7 @@ impl State {
         m
     }
 
-    fn from_machine(&self, m: &Pos) -> Pos {
+    fn machine_to_program(&self, m: &Pos) -> Pos {
         let w = self.offsets.work(self.work_index());
         let ext = self.offsets.work(0);
         let mut p = [0.0; MAX_AXES];
@@ -580,7 +591,8 @@ impl State {
 fn format_dprnt(v: f64, int_digits: u8, frac_digits: u8) -> String {
     let s = format!("{:.*}", frac_digits as usize, v.abs());
     let (int_part, frac_part) = s.split_once('.').unwrap_or((&s, ""));
-    let int_part = if int_part.len() > int_digits as usize { &int_part[int_part.len() - int_digits as usize..] } else { int_part };
+    let int_part =
+        if int_part.len() > int_digits as usize { &int_part[int_part.len() - int_digits as usize..] } else { int_part };
     let sign = if v < 0.0 { "-" } else { "" };
     if frac_digits == 0 {
         format!("{sign}{int_part}")

@@ -103,7 +103,8 @@ impl State {
 
     /// Whether a number without a decimal point at this address counts least increments.
     fn counts_increments(&self, letter: u8) -> bool {
-        !self.cfg.pocket_calculator && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') || self.axis_of(letter).is_some())
+        !self.cfg.pocket_calculator
+            && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') || self.axis_of(letter).is_some())
     }
 
     /// A distance/angle word in mm or degrees.
@@ -177,7 +178,13 @@ impl State {
         }
     }
 
-    fn push_frame(&mut self, progs: &[Loaded], prog: usize, count: u32, args: Option<Box<[Value; LOCALS]>>) -> Result<(), AlarmId> {
+    fn push_frame(
+        &mut self,
+        progs: &[Loaded],
+        prog: usize,
+        count: u32,
+        args: Option<Box<[Value; LOCALS]>>,
+    ) -> Result<(), AlarmId> {
         self.call(prog, count, args)?;
         if let Some(f) = self.frames.last_mut() {
             f.number = progs[f.prog].number().unwrap_or(0);
@@ -232,8 +239,24 @@ impl State {
 
         // --- addresses this machine does not have ------------------------------------------
         for &(letter, _, _) in &w.list {
-            let known = matches!(letter, b'D' | b'E' | b'F' | b'G' | b'H' | b'I' | b'J' | b'K' | b'L' | b'M' | b'N' | b'P' | b'Q' | b'R' | b'S' | b'T')
-                || self.axis_of(letter).is_some();
+            let known = matches!(
+                letter,
+                b'D' | b'E'
+                    | b'F'
+                    | b'G'
+                    | b'H'
+                    | b'I'
+                    | b'J'
+                    | b'K'
+                    | b'L'
+                    | b'M'
+                    | b'N'
+                    | b'P'
+                    | b'Q'
+                    | b'R'
+                    | b'S'
+                    | b'T'
+            ) || self.axis_of(letter).is_some();
             if !known {
                 return Err(AlarmId::ImproperAddress);
             }
@@ -301,7 +324,7 @@ impl State {
             self.d = offset_number(d)?;
         }
         if wcs_changed {
-            self.pos = self.from_machine(&machine_before);
+            self.pos = self.machine_to_program(&machine_before);
         }
 
         // --- F S T, and the M codes that act before motion ----------------------------------
@@ -479,7 +502,7 @@ impl State {
 
     /// Emit a motion to `target` (programming coordinates) and make it the current point.
     pub(super) fn emit_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
-        let machine = self.to_machine(&target);
+        let machine = self.program_to_machine(&target);
         let motion = Motion {
             kind,
             target,
@@ -496,7 +519,7 @@ impl State {
 
     /// A motion in machine coordinates (G53, reference returns).
     fn emit_machine_motion(&mut self, machine: Pos, out: &mut Vec<Canon>) {
-        let target = self.from_machine(&machine);
+        let target = self.machine_to_program(&machine);
         let motion = Motion {
             kind: MotionKind::MachineRapid,
             target,
@@ -655,7 +678,7 @@ impl State {
                         self.local[i] = if incremental { self.local[i] + v } else { v };
                     }
                 }
-                self.pos = self.from_machine(&machine_before);
+                self.pos = self.machine_to_program(&machine_before);
             }
             530 => {
                 let mut m = machine_before;
@@ -684,7 +707,7 @@ impl State {
                         self.local[i] = 0.0;
                     }
                 }
-                self.pos = self.from_machine(&machine_before);
+                self.pos = self.machine_to_program(&machine_before);
             }
             280 | 300 => {
                 if self.modes[9] != 800 {
@@ -756,7 +779,7 @@ impl State {
                         *slot = if incremental { *slot + v } else { v };
                     }
                 }
-                self.pos = self.from_machine(&machine_before);
+                self.pos = self.machine_to_program(&machine_before);
             }
             1 | 10..=13 => {
                 let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;

@@ -13,9 +13,15 @@ enum Slot {
     Local(usize),
     Common(usize),
     Persistent(usize),
-    Tool { number: u32, field: ToolField },
+    Tool {
+        number: u32,
+        field: ToolField,
+    },
     /// Work offset memory index and axis.
-    Work { index: usize, axis: usize },
+    Work {
+        index: usize,
+        axis: usize,
+    },
     System(u32),
 }
 
@@ -60,7 +66,9 @@ fn slot(n: u32, axes: usize) -> Slot {
         11001..=11999 => Slot::Tool { number: n - 11000, field: ToolField::HGeometry },
         12001..=12999 => Slot::Tool { number: n - 12000, field: ToolField::DWear },
         13001..=13999 => Slot::Tool { number: n - 13000, field: ToolField::DGeometry },
-        5201..=5340 if axis_ok((n - 5201) % 20) => Slot::Work { index: ((n - 5201) / 20) as usize, axis: ((n - 5201) % 20) as usize },
+        5201..=5340 if axis_ok((n - 5201) % 20) => {
+            Slot::Work { index: ((n - 5201) / 20) as usize, axis: ((n - 5201) % 20) as usize }
+        }
         7001..=7960 if axis_ok((n - 7001) % 20) => {
             Slot::Work { index: g54_1_index(((n - 7001) / 20) as usize + 1), axis: ((n - 7001) % 20) as usize }
         }
@@ -78,7 +86,9 @@ impl Variables for State {
             Slot::Local(i) => self.locals[self.level()][i],
             Slot::Common(i) => self.common[i],
             Slot::Persistent(i) => self.persistent[i],
-            Slot::Tool { number, field } => Some(field.get(self.offsets.tool(number).ok_or(AlarmId::VariableOutOfRange)?)),
+            Slot::Tool { number, field } => {
+                Some(field.get(self.offsets.tool(number).ok_or(AlarmId::VariableOutOfRange)?))
+            }
             Slot::Work { index, axis } => Some(self.offsets.work(index)[axis]),
             Slot::System(n) => Some(self.read_system(n)?),
         })

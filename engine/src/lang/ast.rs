@@ -72,7 +72,11 @@ pub enum Output {
 pub enum PrintItem {
     Text(String),
     /// `#i[ab]`: a digits before and b digits after the point.
-    Var { var: Expr, int_digits: u8, frac_digits: u8 },
+    Var {
+        var: Expr,
+        int_digits: u8,
+        frac_digits: u8,
+    },
 }
 
 /// One address word: a letter and its value.

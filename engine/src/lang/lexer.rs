@@ -6,7 +6,10 @@ use super::ast::Func;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Tok {
     Letter(u8),
-    Num { value: f64, point: bool },
+    Num {
+        value: f64,
+        point: bool,
+    },
     Hash,
     LBracket,
     RBracket,
@@ -234,7 +237,8 @@ impl<'a> Lexer<'a> {
     }
 
     fn number(&mut self) -> Tok {
-        const POW10: [f64; 19] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18];
+        const POW10: [f64; 19] =
+            [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18];
         let t = self.text;
         let start = self.pos;
         let (mut mantissa, mut digits, mut frac, mut point) = (0u64, 0u32, 0usize, false);

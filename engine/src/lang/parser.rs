@@ -128,7 +128,9 @@ impl BlockParser<'_> {
             self.lx.next_tok();
             match self.lx.next_tok() {
                 (Tok::Num { value, point: false }, _) if value <= 99_999_999.0 => block.n = Some(value as u32),
-                (_, c) => return self.err(c.max(col), AlarmId::NoDataAfterAddress, "N needs an integer sequence number"),
+                (_, c) => {
+                    return self.err(c.max(col), AlarmId::NoDataAfterAddress, "N needs an integer sequence number")
+                }
             }
         }
         let (tok, col) = self.lx.peek();
@@ -149,14 +151,20 @@ impl BlockParser<'_> {
                     (Tok::Kw(Kw::Then), _) => {
                         let (t, c) = self.lx.next_tok();
                         if t != Tok::Hash {
-                            return self.err(c, AlarmId::MacroFormat, "THEN must be followed by an assignment '#i = …'");
+                            return self.err(
+                                c,
+                                AlarmId::MacroFormat,
+                                "THEN must be followed by an assignment '#i = …'",
+                            );
                         }
                         let var = self.variable_after_hash(c)?;
                         self.expect(Tok::Assign, "expected '=' after the variable")?;
                         let value = self.expr(false)?;
                         BlockKind::IfThen { cond, var, value }
                     }
-                    (_, c) => return self.err(c, AlarmId::MacroFormat, "IF [condition] must be followed by GOTO or THEN"),
+                    (_, c) => {
+                        return self.err(c, AlarmId::MacroFormat, "IF [condition] must be followed by GOTO or THEN")
+                    }
                 }
             }
             Tok::Kw(Kw::Goto) => {
@@ -259,7 +267,9 @@ impl BlockParser<'_> {
         };
         let sign = |e: Expr| if negative { Expr::Neg(Box::new(e)) } else { e };
         match tok {
-            Tok::Num { value, point } => Ok(WordValue::Number { value: if negative { -value } else { value }, decimal_point: point }),
+            Tok::Num { value, point } => {
+                Ok(WordValue::Number { value: if negative { -value } else { value }, decimal_point: point })
+            }
             Tok::Hash => Ok(WordValue::Expr(Box::new(sign(self.variable_after_hash(col)?)))),
             Tok::LBracket => {
                 let inner = self.bracketed(col, false)?;
@@ -432,12 +442,23 @@ impl BlockParser<'_> {
                     }
                     let digits = raw[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
                     if digits == 0 {
-                        return self.err(start_col + i as u32, AlarmId::MacroFormat, "DPRNT variables are written #number[ab]");
+                        return self.err(
+                            start_col + i as u32,
+                            AlarmId::MacroFormat,
+                            "DPRNT variables are written #number[ab]",
+                        );
                     }
-                    let number: u32 = std::str::from_utf8(&raw[i + 1..i + 1 + digits]).ok().and_then(|s| s.parse().ok()).unwrap_or(u32::MAX);
+                    let number: u32 = std::str::from_utf8(&raw[i + 1..i + 1 + digits])
+                        .ok()
+                        .and_then(|s| s.parse().ok())
+                        .unwrap_or(u32::MAX);
                     i += 1 + digits;
                     let (mut int_digits, mut frac_digits) = (8u8, 0u8);
-                    if raw.get(i) == Some(&b'[') && raw.get(i + 3) == Some(&b']') && raw[i + 1].is_ascii_digit() && raw[i + 2].is_ascii_digit() {
+                    if raw.get(i) == Some(&b'[')
+                        && raw.get(i + 3) == Some(&b']')
+                        && raw[i + 1].is_ascii_digit()
+                        && raw[i + 2].is_ascii_digit()
+                    {
                         int_digits = raw[i + 1] - b'0';
                         frac_digits = raw[i + 2] - b'0';
                         i += 4;

@@ -177,7 +177,11 @@ fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> 
         None => (1..=99).map(|n| (n, ToolEntry { length: 100.0, radius: 5.0 })).collect(),
     };
     for (n, t) in tools {
-        let slot = interp.state.offsets.tool_mut(n).ok_or_else(|| Fail(format!("tool offset number {n} is out of range 1–999")))?;
+        let slot = interp
+            .state
+            .offsets
+            .tool_mut(n)
+            .ok_or_else(|| Fail(format!("tool offset number {n} is out of range 1–999")))?;
         slot.h_geometry = t.length;
         slot.d_geometry = t.radius;
     }
@@ -190,10 +194,13 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     if !(a.period_ms > 0.0 && a.period_ms.is_finite()) {
         return Err(Fail("--period-ms must be a positive number".into()));
     }
-    let opts = RunOptions { period_s: if a.trace.is_some() { a.period_ms / 1000.0 } else { 0.0 }, max_time_s: a.max_time_s };
+    let opts =
+        RunOptions { period_s: if a.trace.is_some() { a.period_ms / 1000.0 } else { 0.0 }, max_time_s: a.max_time_s };
     let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
     let mut trace = match &a.trace {
-        Some(path) => Some(BufWriter::new(std::fs::File::create(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?)),
+        Some(path) => {
+            Some(BufWriter::new(std::fs::File::create(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?))
+        }
         None => None,
     };
     let mut trace_error = None;
