@@ -30,8 +30,9 @@ fn s(p: &Path) -> &str {
 fn run_json(args: &[&str]) -> (i32, Value) {
     let out = fivex(&[&["run"], args].concat());
     let text = stdout(&out);
-    let v: Value = serde_json::from_str(&text)
-        .unwrap_or_else(|e| panic!("run stdout is not exactly one JSON value ({e}):\n{text}\nstderr: {}", stderr(&out)));
+    let v: Value = serde_json::from_str(&text).unwrap_or_else(|e| {
+        panic!("run stdout is not exactly one JSON value ({e}):\n{text}\nstderr: {}", stderr(&out))
+    });
     assert!(v.is_object(), "run stdout is not an object: {text}");
     (out.status.code().expect("exit code"), v)
 }
@@ -134,7 +135,10 @@ fn keys(v: &Value) -> Vec<String> {
 
 #[test]
 fn run_summary_has_the_contract_fields() {
-    let (_d, p) = scratch(&[("p.nc", "G10 L2 P1 X100.\nG90 G54 G00 X5. Y6. Z7.\n#100=1.5\n#500=6\n#1=3\n#199=2\n#999=-1\nM30\n")]);
+    let (_d, p) = scratch(&[(
+        "p.nc",
+        "G10 L2 P1 X100.\nG90 G54 G00 X5. Y6. Z7.\n#100=1.5\n#500=6\n#1=3\n#199=2\n#999=-1\nM30\n",
+    )]);
     let (code, v) = run_json(&[s(&p[0])]);
     assert_eq!(code, 0);
     for field in ["status", "alarms", "blocks", "cycle_time_s", "position", "variables"] {
@@ -213,7 +217,10 @@ fn machine_file_is_accepted() {
 #[test]
 fn tools_file_changes_tool_length() {
     let prog = "G90 G00 G43 H1 Z0.\n#100=#5023\nG43 H2 Z0.\n#101=#5023\nM30\n";
-    let (_d, p) = scratch(&[("p.nc", prog), ("tools.json", r#"{"1": {"length": 123.4, "radius": 3.0}, "2": {"length": 50.0, "radius": 2.0}}"#)]);
+    let (_d, p) = scratch(&[
+        ("p.nc", prog),
+        ("tools.json", r#"{"1": {"length": 123.4, "radius": 3.0}, "2": {"length": 50.0, "radius": 2.0}}"#),
+    ]);
     // Default: every offset 1-99 is 100 mm.
     let (_, v) = run_json(&[s(&p[0])]);
     assert_eq!(num(&v["variables"]["#100"]), 100.0);
@@ -228,7 +235,10 @@ fn tools_file_changes_tool_length() {
 
 #[test]
 fn tools_file_sets_radius_too() {
-    let (_d, p) = scratch(&[("p.nc", "#100=#13007\n#101=#11007\nM30\n"), ("t.json", r#"{"7": {"length": 90.0, "radius": 4.5}}"#)]);
+    let (_d, p) = scratch(&[
+        ("p.nc", "#100=#13007\n#101=#11007\nM30\n"),
+        ("t.json", r#"{"7": {"length": 90.0, "radius": 4.5}}"#),
+    ]);
     let (_, v) = run_json(&[s(&p[0]), "--tools", s(&p[1])]);
     assert_eq!(num(&v["variables"]["#100"]), 4.5, "D geometry #13007");
     assert_eq!(num(&v["variables"]["#101"]), 90.0, "H geometry #11007");
@@ -242,7 +252,8 @@ fn read_trace(path: &Path) -> Vec<Value> {
     text.lines()
         .enumerate()
         .map(|(i, l)| {
-            let v: Value = serde_json::from_str(l).unwrap_or_else(|e| panic!("trace line {} is not JSON ({e}): {l}", i + 1));
+            let v: Value =
+                serde_json::from_str(l).unwrap_or_else(|e| panic!("trace line {} is not JSON ({e}): {l}", i + 1));
             assert!(v.is_object(), "trace line {} is not an object", i + 1);
             v
         })
@@ -265,14 +276,20 @@ fn trace_writes_one_object_per_period() {
         assert!((cycle - 1.52).abs() < 1e-9, "{cycle}");
         let samples = read_trace(&trace);
         let n = samples.len() as f64;
-        assert!((n - expected).abs() <= 2.0, "period {period_ms} ms: {n} samples for {cycle} s (expected about {expected})");
+        assert!(
+            (n - expected).abs() <= 2.0,
+            "period {period_ms} ms: {n} samples for {cycle} s (expected about {expected})"
+        );
         let period = period_ms / 1000.0;
         let mut last_t = -1.0;
         for (i, smp) in samples.iter().enumerate() {
             assert_eq!(keys(smp), ["feed", "line", "machine", "n", "t", "tip", "tool"], "sample {i}: {smp}");
             let t = num(&smp["t"]);
             assert!(t > last_t, "t increases: {last_t} then {t}");
-            assert!((t - (i as f64 + if num(&samples[0]["t"]) > 0.0 { 1.0 } else { 0.0 }) * period).abs() < 1e-9, "sample {i} at {t}");
+            assert!(
+                (t - (i as f64 + if num(&samples[0]["t"]) > 0.0 { 1.0 } else { 0.0 }) * period).abs() < 1e-9,
+                "sample {i} at {t}"
+            );
             last_t = t;
             assert!(smp["line"].is_u64());
             assert!(smp["n"].is_null() || smp["n"].is_u64());
@@ -341,7 +358,9 @@ fn trace_follows_the_arc() {
 
 /// `PROGRAM:LINE:COL: CODE message` → (line, col, code).
 fn parse_diag<'a>(line: &'a str, program: &str) -> (u32, u32, &'a str) {
-    let rest = line.strip_prefix(program).unwrap_or_else(|| panic!("diagnostic does not start with the program path {program}: {line}"));
+    let rest = line
+        .strip_prefix(program)
+        .unwrap_or_else(|| panic!("diagnostic does not start with the program path {program}: {line}"));
     let rest = rest.strip_prefix(':').unwrap_or_else(|| panic!("no ':' after the program: {line}"));
     let mut parts = rest.splitn(3, ':');
     let l: u32 = parts.next().and_then(|x| x.parse().ok()).unwrap_or_else(|| panic!("no LINE: {line}"));
@@ -349,7 +368,10 @@ fn parse_diag<'a>(line: &'a str, program: &str) -> (u32, u32, &'a str) {
     let tail = parts.next().unwrap_or_else(|| panic!("no message: {line}"));
     let tail = tail.strip_prefix(' ').unwrap_or_else(|| panic!("no space after COL: {line}"));
     let (code, message) = tail.split_once(' ').unwrap_or_else(|| panic!("no message after the code: {line}"));
-    assert!(code.chars().all(|ch| ch.is_ascii_uppercase() || ch.is_ascii_digit() || ch == '-'), "code {code:?}: {line}");
+    assert!(
+        code.chars().all(|ch| ch.is_ascii_uppercase() || ch.is_ascii_digit() || ch == '-'),
+        "code {code:?}: {line}"
+    );
     assert!(code.chars().any(|ch| ch.is_ascii_digit()), "code {code:?}: {line}");
     assert!(!message.trim().is_empty(), "empty message: {line}");
     assert!(l >= 1 && c >= 1, "1-based: {line}");
@@ -414,7 +436,8 @@ fn json_lines(text: &str) -> Vec<Value> {
     text.lines()
         .enumerate()
         .map(|(i, l)| {
-            let v: Value = serde_json::from_str(l).unwrap_or_else(|e| panic!("line {} is not one JSON value ({e}): {l:?}", i + 1));
+            let v: Value =
+                serde_json::from_str(l).unwrap_or_else(|e| panic!("line {} is not one JSON value ({e}): {l:?}", i + 1));
             assert!(v.is_object(), "line {} is not an object: {l}", i + 1);
             assert!(v["type"].is_string(), "line {} has no type: {l}", i + 1);
             v
@@ -496,7 +519,13 @@ fn time_budget_alarm_names_a_program_line() {
 /// Run with a wall-clock limit; `None` if it had to be killed.
 fn fivex_with_timeout(args: &[&str], limit: std::time::Duration) -> Option<std::process::Output> {
     use std::process::{Command, Stdio};
-    let mut child = Command::new(fivex_bin()).args(args).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("spawn");
+    let mut child = Command::new(fivex_bin())
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
     let start = std::time::Instant::now();
     loop {
         if child.try_wait().expect("wait").is_some() {
@@ -528,7 +557,8 @@ fn deep_expressions_do_not_crash() {
         let path = dir.path().join(name);
         std::fs::write(&path, text).unwrap();
         for cmd in ["check", "run"] {
-            let out = fivex_with_timeout(&[cmd, s(&path)], std::time::Duration::from_secs(60)).unwrap_or_else(|| panic!("{cmd} {name} hung"));
+            let out = fivex_with_timeout(&[cmd, s(&path)], std::time::Duration::from_secs(60))
+                .unwrap_or_else(|| panic!("{cmd} {name} hung"));
             let code = out.status.code();
             if !matches!(code, Some(0) | Some(1)) {
                 crashes.push(format!("fivex {cmd} {name}: exit {code:?}, stderr: {}", stderr(&out).trim()));

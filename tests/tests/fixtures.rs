@@ -40,7 +40,8 @@ const VALUE_OPTS: &[(&str, &[&str])] = &[
     ("--period-ms", &["run"]),
     ("--max-time-s", &["run"]),
 ];
-const FLAG_OPTS: &[(&str, &[&str])] = &[("--block-delete", &["run", "interp"]), ("--optional-stop", &["run", "interp"])];
+const FLAG_OPTS: &[(&str, &[&str])] =
+    &[("--block-delete", &["run", "interp"]), ("--optional-stop", &["run", "interp"])];
 
 /// The options of the first line's `(fivex: …)` comment that `command` accepts.
 fn options_for(text: &str, command: &str) -> Vec<String> {
@@ -144,7 +145,8 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<S
                 "alarm_line" => want_num("alarm line".into(), summary["alarms"][0]["line"].as_f64()),
                 "alarm_n" => {
                     let got = &summary["alarms"][0]["n"];
-                    let ok = if v == "null" { got.is_null() } else { got.as_f64().is_some_and(|g| close(g, parse_num(v))) };
+                    let ok =
+                        if v == "null" { got.is_null() } else { got.as_f64().is_some_and(|g| close(g, parse_num(v))) };
                     if !ok {
                         errs.push(format!("alarm n: expected {v}, got {got}"));
                     }
@@ -181,7 +183,11 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<S
     }
     let interp_exit = interp_exit.unwrap_or(run_exit);
     if interp.exit != interp_exit {
-        errs.push(format!("interp exit: expected {interp_exit}, got {} (stderr: {})", interp.exit, interp.stderr.trim()));
+        errs.push(format!(
+            "interp exit: expected {interp_exit}, got {} (stderr: {})",
+            interp.exit,
+            interp.stderr.trim()
+        ));
     }
     for (i, line) in interp.stdout.lines().enumerate() {
         match serde_json::from_str::<Value>(line) {
@@ -190,8 +196,10 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<S
         }
     }
     if let Some(want) = msgs {
-        let got: Vec<String> =
-            summary["messages"].as_array().map(|a| a.iter().map(|m| m.as_str().unwrap_or("").to_string()).collect()).unwrap_or_default();
+        let got: Vec<String> = summary["messages"]
+            .as_array()
+            .map(|a| a.iter().map(|m| m.as_str().unwrap_or("").to_string()).collect())
+            .unwrap_or_default();
         if got != want {
             errs.push(format!("messages: expected {want:?}, got {got:?}"));
         }
