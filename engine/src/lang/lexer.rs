@@ -24,6 +24,8 @@ pub(super) enum Tok {
     Bad(u8),
     /// Two decimal points in one number.
     BadNumber,
+    /// More than 15 digits in one number.
+    TooManyDigits,
     Eof,
 }
 
@@ -237,33 +239,39 @@ impl<'a> Lexer<'a> {
     }
 
     fn number(&mut self) -> Tok {
-        const POW10: [f64; 19] =
-            [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18];
-        let t = self.text;
-        let start = self.pos;
-        let (mut mantissa, mut digits, mut frac, mut point) = (0u64, 0u32, 0usize, false);
-        while let Some(&c) = t.get(self.pos) {
-            match c {
-                b'0'..=b'9' => {
-                    mantissa = mantissa.wrapping_mul(10).wrapping_add((c - b'0') as u64);
-                    digits += 1;
-                    frac += point as usize;
-                }
-                b'.' if point => return Tok::BadNumber,
-                b'.' => point = true,
-                _ => break,
-            }
-            self.pos += 1;
-        }
-        // Both operands exact, so one division is correctly rounded, like `str::parse`.
-        let value = if digits <= 15 {
-            mantissa as f64 / POW10[frac]
-        } else {
-            std::str::from_utf8(&t[start..self.pos]).ok().and_then(|s| s.parse::<f64>().ok()).unwrap_or(f64::MAX)
-        };
-        // "." alone is zero with a decimal point, as FANUC reads `X.`.
-        Tok::Num { value, point }
+        let (tok, end) = number_at(self.text, self.pos);
+        self.pos = end;
+        tok
     }
+}
+
+/// The number starting at `pos` (digits and at most one point) and the offset after it.
+pub(super) fn number_at(t: &[u8], start: usize) -> (Tok, usize) {
+    const POW10: [f64; 19] =
+        [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18];
+    let mut pos = start;
+    let (mut mantissa, mut digits, mut frac, mut point) = (0u64, 0u32, 0usize, false);
+    while let Some(&c) = t.get(pos) {
+        match c {
+            b'0'..=b'9' => {
+                mantissa = mantissa.wrapping_mul(10).wrapping_add((c - b'0') as u64);
+                digits += 1;
+                frac += point as usize;
+            }
+            b'.' if point => return (Tok::BadNumber, pos),
+            b'.' => point = true,
+            _ => break,
+        }
+        pos += 1;
+    }
+    // More digits than an f64 holds exactly: FANUC's "too many digits".
+    if digits > 15 {
+        return (Tok::TooManyDigits, pos);
+    }
+    // Both operands are exact, so one division is correctly rounded, like `str::parse`.
+    let value = mantissa as f64 / POW10[frac];
+    // "." alone is zero with a decimal point, as FANUC reads `X.`.
+    (Tok::Num { value, point }, pos)
 }
 
 #[cfg(test)]

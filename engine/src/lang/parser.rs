@@ -91,6 +91,9 @@ type PResult<T> = Result<T, Diagnostic>;
 /// Parse one block from the start of `text`; also returns where the next block of the line
 /// starts (after a `;`), relative to `text`.
 fn parse_block(text: &str, col0: u32, line: u32) -> (Block, Option<usize>) {
+    if let Some(block) = plain_words(text.as_bytes(), col0, line) {
+        return (block, None);
+    }
     let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), col0), line, depth: 0 };
     let col = col0 + (text.len() - text.trim_start().len()) as u32;
     let mut block = Block { line, col, block_delete: None, n: None, kind: BlockKind::Empty, comment: None };
@@ -105,6 +108,62 @@ fn parse_block(text: &str, col0: u32, line: u32) -> (Block, Option<usize>) {
     };
     block.comment = p.lx.first_comment();
     (block, next)
+}
+
+/// The fast path for the common block: `[N…] Letter Number …` with nothing else (no macro
+/// syntax, comments, `;` or `/`). Returns `None` for anything else, which the general parser then
+/// reads; both give the same block (`plain_words_agrees_with_the_general_parser`).
+fn plain_words(t: &[u8], col0: u32, line: u32) -> Option<Block> {
+    let blank = |c: u8| c == b' ' || c == b'\t' || c == b'\r';
+    let mut i = 0;
+    while i < t.len() && blank(t[i]) {
+        i += 1;
+    }
+    let col = col0 + i as u32;
+    let mut words = Vec::with_capacity(4);
+    let mut n = None;
+    while i < t.len() {
+        let letter = t[i].to_ascii_uppercase();
+        if !letter.is_ascii_uppercase() || t.get(i + 1).is_some_and(|c| c.is_ascii_alphabetic()) {
+            return None;
+        }
+        let letter_col = col0 + i as u32;
+        i += 1;
+        while i < t.len() && blank(t[i]) {
+            i += 1;
+        }
+        let negative = match t.get(i) {
+            Some(b'-') => true,
+            Some(b'+') => false,
+            Some(b'0'..=b'9' | b'.') => {
+                i -= 1;
+                false
+            }
+            _ => return None,
+        };
+        i += 1;
+        if !t.get(i).is_some_and(|c| c.is_ascii_digit() || *c == b'.') {
+            return None;
+        }
+        let (Tok::Num { value, point }, end) = super::lexer::number_at(t, i) else { return None };
+        i = end;
+        if letter == b'N' && words.is_empty() && n.is_none() {
+            if negative || point || t[letter_col as usize - col0 as usize + 1] == b'+' || value > 99_999_999.0 {
+                return None;
+            }
+            n = Some(value as u32);
+        } else {
+            let value = if negative { -value } else { value };
+            words.push(Word { letter, value: WordValue::Number { value, decimal_point: point }, col: letter_col });
+        }
+        while i < t.len() && blank(t[i]) {
+            i += 1;
+        }
+    }
+    if words.is_empty() {
+        return None;
+    }
+    Some(Block { line, col, block_delete: None, n, kind: BlockKind::Words(words), comment: None })
 }
 
 impl BlockParser<'_> {
@@ -219,6 +278,7 @@ impl BlockParser<'_> {
         match tok {
             Tok::Bad(c) => self.err(col, AlarmId::Syntax, format!("unexpected character '{}'", c as char)),
             Tok::BadNumber => self.err(col, AlarmId::Syntax, "more than one decimal point in a number"),
+            Tok::TooManyDigits => self.err(col, AlarmId::TooManyDigits, "more than 15 digits in a number"),
             Tok::Assign => self.err(col, AlarmId::MixedStatements, "an assignment after NC words"),
             Tok::Kw(_) => self.err(col, AlarmId::MacroFormat, "a macro keyword out of place"),
             Tok::Eof => self.err(col, AlarmId::MacroFormat, "unexpected end of block"),
@@ -275,7 +335,7 @@ impl BlockParser<'_> {
                 let inner = self.bracketed(col, false)?;
                 Ok(WordValue::Expr(Box::new(sign(Expr::Bracket(Box::new(inner))))))
             }
-            Tok::BadNumber => self.err(col, AlarmId::Syntax, "more than one decimal point in a number"),
+            Tok::BadNumber | Tok::TooManyDigits => self.unexpected(tok, col),
             _ => self.err(letter_col, AlarmId::NoDataAfterAddress, format!("address {} has no value", letter as char)),
         }
     }
@@ -515,7 +575,44 @@ fn describe(tok: Tok) -> String {
         Tok::Slash => "'/'".into(),
         Tok::Kw(k) => format!("keyword {k:?}"),
         Tok::Bad(c) => format!("character '{}'", c as char),
-        Tok::BadNumber => "malformed number".into(),
+        Tok::BadNumber | Tok::TooManyDigits => "malformed number".into(),
         Tok::Eof => "end of block".into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn general(text: &str) -> Block {
+        let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), 1), line: 1, depth: 0 };
+        let col = 1 + (text.len() - text.trim_start().len()) as u32;
+        let mut block = Block { line: 1, col, block_delete: None, n: None, kind: BlockKind::Empty, comment: None };
+        block.kind = match p.block(&mut block) {
+            Ok(kind) => kind,
+            Err(d) => BlockKind::Error(d),
+        };
+        block
+    }
+
+    #[test]
+    fn plain_words_examples() {
+        for text in ["G01 X12.345 Y-3.21 Z-0.5", "N10 G0 X1", "n5 g1 x.5 y-.5", "X 1", "G43.4 H1", "N1 N2"] {
+            assert_eq!(plain_words(text.as_bytes(), 1, 1).as_ref(), Some(&general(text)), "{text}");
+        }
+        for text in ["#1=2", "X[1]", "X#1", "GOTO1", "N1.5 X1", "X1 (c)", "/X1", "X1;Y2", "N-1 X1", "X", "X- 1"] {
+            assert!(plain_words(text.as_bytes(), 1, 1).is_none(), "{text}");
+        }
+    }
+
+    proptest! {
+        /// Whenever the fast path accepts a block, the general parser reads the same block.
+        #[test]
+        fn plain_words_agrees_with_the_general_parser(text in "[NGXYZABFgxn ]{0,3}([NGXYZFHM] ?[-+]? ?[0-9.]{1,6} ?){0,5}[ \t]{0,2}") {
+            if let Some(fast) = plain_words(text.as_bytes(), 1, 1) {
+                prop_assert_eq!(fast, general(&text));
+            }
+        }
     }
 }

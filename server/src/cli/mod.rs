@@ -5,6 +5,7 @@
 mod json;
 
 use clap::{Args, Parser, Subcommand};
+use fivex_engine::canon::Canon;
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
@@ -225,21 +226,43 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
 fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
     let mut interp = interpreter(&text, &a.interp)?;
+    drop(text);
     let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
-    let stdout = std::io::stdout();
-    let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
-    let mut write_error = None;
-    let result = interp.run(|c| {
-        if write_error.is_none() {
-            if let Err(e) = json::write_canon(&mut out, c, &axes) {
-                write_error = Some(e);
+    // Interpretation and JSON formatting run side by side: the interpreter hands batches of
+    // canonical commands to a writer thread (bounded, so memory stays flat on long programs).
+    const BATCH: usize = 4096;
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Vec<Canon>>(4);
+    let (recycle_tx, recycle_rx) = std::sync::mpsc::channel::<Vec<Canon>>();
+    let writer = std::thread::spawn(move || -> std::io::Result<()> {
+        let stdout = std::io::stdout();
+        let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+        for mut batch in rx {
+            for c in &batch {
+                json::write_canon(&mut out, c, &axes)?;
             }
+            batch.clear();
+            let _ = recycle_tx.send(batch);
+        }
+        out.flush()
+    });
+    let mut batch = Vec::with_capacity(BATCH);
+    let mut send_failed = false;
+    let result = interp.run(|c| {
+        if send_failed {
+            return;
+        }
+        batch.push(c.clone());
+        if batch.len() == BATCH {
+            let next = recycle_rx.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
+            send_failed = tx.send(std::mem::replace(&mut batch, next)).is_err();
         }
     });
-    out.flush()?;
-    if let Some(e) = write_error {
-        return Err(Fail(format!("stdout: {e}")));
+    if !batch.is_empty() && !send_failed {
+        let _ = tx.send(batch);
     }
+    drop(tx);
+    let written = writer.join().map_err(|_| Fail("the output thread failed".into()))?;
+    written.map_err(|e| Fail(format!("stdout: {e}")))?;
     match result {
         Ok(()) => Ok(0),
         Err(alarm) => {
