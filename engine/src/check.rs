@@ -11,12 +11,12 @@ use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
 use std::collections::HashSet;
 
 /// Every diagnostic of `file`, sorted by line and column.
-pub fn check(file: &File, dialect: Dialect) -> Vec<Diagnostic> {
-    let mut diags = file.diagnostics.clone();
+pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
+    let mut diags = file.diagnostics;
     let numbers: HashSet<u32> = file.programs.iter().filter_map(|p| p.number).collect();
-    for program in &file.programs {
-        let loaded = Loaded::new(program.clone());
-        for (i, block) in program.blocks.iter().enumerate() {
+    for program in file.programs {
+        let loaded = Loaded::new(program);
+        for (i, block) in loaded.program.blocks.iter().enumerate() {
             let at = |col: u32, id: AlarmId, detail: String| Diagnostic { line: block.line, col, id, detail };
             if let Some(id) = loaded.loop_error.get(&(i as u32)) {
                 diags.push(at(

@@ -267,7 +267,8 @@ impl BlockParser<'_> {
         };
         match self.lx.peek() {
             (Tok::Eof, _) => Ok(kind),
-            (Tok::Letter(_), col) | (Tok::Hash, col) if !matches!(kind, BlockKind::Words(_)) => {
+            (Tok::Hash, col) => self.err(col, AlarmId::MixedStatements, "a macro statement and NC words in one block"),
+            (Tok::Letter(_), col) if !matches!(kind, BlockKind::Words(_)) => {
                 self.err(col, AlarmId::MixedStatements, "a macro statement and NC words in one block")
             }
             (tok, col) => self.unexpected(tok, col),

@@ -79,6 +79,10 @@ struct RunArgs {
     /// Stop with alarm FX0002 after this many simulated seconds.
     #[arg(long, default_value_t = 1.0e6)]
     max_time_s: f64,
+    /// Retained variables #500–#999: read from this JSON file if it exists ({"#500": 1.5, …})
+    /// and written back after the run, like a control's battery-backed memory.
+    #[arg(long)]
+    variables: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -197,6 +201,12 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     }
     let opts =
         RunOptions { period_s: if a.trace.is_some() { a.period_ms / 1000.0 } else { 0.0 }, max_time_s: a.max_time_s };
+    if let Some(path) = &a.variables {
+        if path.exists() {
+            let values = load_retained(path)?;
+            interp.state.load_persistent(&values);
+        }
+    }
     let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
     let mut trace = match &a.trace {
         Some(path) => {
@@ -218,9 +228,35 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     if let Some(e) = trace_error {
         return Err(Fail(format!("trace: {e}")));
     }
+    if let Some(path) = &a.variables {
+        let retained: BTreeMap<String, f64> = interp
+            .state
+            .persistent()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, v)| v.map(|x| (format!("#{}", 500 + i), x)))
+            .collect();
+        std::fs::write(path, serde_json::to_string_pretty(&retained)?).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    }
     let summary = json::summary(&result, &axes);
     println!("{}", serde_json::to_string_pretty(&summary)?);
     Ok(if result.completed() { 0 } else { 1 })
+}
+
+/// `{"#500": 1.5, …}` → the retained variable array (keys outside #500–#999 are refused).
+fn load_retained(path: &Path) -> Result<[Option<f64>; fivex_engine::interp::PERSISTENT], Fail> {
+    let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    let map: BTreeMap<String, Option<f64>> =
+        serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    let mut values = [None; fivex_engine::interp::PERSISTENT];
+    for (key, value) in map {
+        let n: usize = key.strip_prefix('#').and_then(|k| k.parse().ok()).unwrap_or(0);
+        if !(500..=999).contains(&n) {
+            return Err(Fail(format!("{}: '{key}' is not a retained variable (#500–#999)", path.display())));
+        }
+        values[n - 500] = value;
+    }
+    Ok(values)
 }
 
 fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
@@ -274,7 +310,7 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
 
 fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
-    let diags = fivex_engine::check::check(&parse_file(&text), a.dialect);
+    let diags = fivex_engine::check::check(parse_file(&text), a.dialect);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for d in &diags {
