@@ -1,14 +1,39 @@
 //! The NC parser must accept any bytes without panicking (CONTRACTS: bad input never panics).
 #![no_main]
 
+use fivex_engine::lang::{Diagnostic, File};
+use fivex_engine::Dialect;
 use libfuzzer_sys::fuzz_target;
+
+/// `check::check` takes the file by reference or by value depending on the engine version.
+trait CallCheck<Marker> {
+    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic>;
+}
+
+struct ByRef;
+struct ByValue;
+
+impl<F: Fn(&File, Dialect) -> Vec<Diagnostic>> CallCheck<ByRef> for F {
+    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic> {
+        self(file, dialect)
+    }
+}
+
+impl<F: Fn(File, Dialect) -> Vec<Diagnostic>> CallCheck<ByValue> for F {
+    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic> {
+        self(file.clone(), dialect)
+    }
+}
 
 fuzz_target!(|data: &[u8]| {
     // The CLI reads files the same way: lossy UTF-8.
     let text = String::from_utf8_lossy(data);
     let file = fivex_engine::lang::parse_file(&text);
+    for d in &file.diagnostics {
+        assert!(d.line >= 1, "diagnostic lines are 1-based: {d:?}");
+    }
     // The static checks walk the same tree: exercise them too.
-    for dialect in [fivex_engine::Dialect::Fanuc, fivex_engine::Dialect::Syntec] {
-        let _ = fivex_engine::check::check(&file, dialect);
+    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+        let _ = fivex_engine::check::check.check_file(&file, dialect);
     }
 });
