@@ -567,3 +567,33 @@ fn deep_expressions_do_not_crash() {
     }
     assert!(crashes.is_empty(), "crashes:\n{}", crashes.join("\n"));
 }
+
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    // `fivex interp big.nc | head -1`: once the reader has gone, writing fails with EPIPE. The
+    // CLI must stop quietly (any exit status), not panic with "failed printing to stdout".
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.nc");
+    let mut prog = String::from("#1=0\nWHILE[#1LT20000]DO1\nG91 G01 X0.001 F1000.\n#1=#1+1\nEND1\nM30\n");
+    prog.push('\n');
+    std::fs::write(&path, prog).unwrap();
+    let mut panics = Vec::new();
+    for cmd in ["interp", "run"] {
+        let mut child = Command::new(fivex_bin())
+            .args([cmd, s(&path)])
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("spawn");
+        // Close the read end at once, like `| head -0`.
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("wait");
+        let err = stderr(&out);
+        if err.contains("panicked") {
+            panics.push(format!("fivex {cmd}: {}", err.lines().take(2).collect::<Vec<_>>().join(" / ")));
+        }
+    }
+    assert!(panics.is_empty(), "panics on a closed stdout:\n{}", panics.join("\n"));
+}
