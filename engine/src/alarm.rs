@@ -35,6 +35,47 @@ pub enum AlarmId {
     ReferenceReturnInCycle,
     /// A G code that is not allowed in the current 5-axis mode (FANUC PS5460 family).
     IllegalCommandInMode,
+    // --- 5-axis mode interlocks (`interp::modes`) ------------------------------------------
+    /// A G code or modal state not allowed with tool centre point control (G43.4/G43.5).
+    IllegalCommandInTcp,
+    /// A rotary axis word in tool centre point control type 2 (G43.5).
+    RotaryCommandInTcpType2,
+    /// I = J = K = 0 as the tool vector of a G43.5 block.
+    ZeroToolVector,
+    /// Incremental programming (G91) with G43.5.
+    IncrementalInTcpType2,
+    /// G53 in tool centre point control (or polar coordinate interpolation).
+    MachineCoordinatesInTcp,
+    /// G05 P10000 (high-speed machining) in tool centre point control.
+    HpccInTcp,
+    /// An axis outside the 5-axis set commanded in tool centre point control.
+    AxisNotInTcp,
+    /// The machine cannot do the 5-axis function (too few rotary axes).
+    MachineParameter,
+    /// G20/G21 in a mode that freezes the units.
+    UnitChangeInMode,
+    /// A circular command in the start-up or cancel block of cutter compensation.
+    ArcInCompStartCancel,
+    /// A malformed tilted working plane command (G68.2/G68.3/G68.4).
+    TwpFormat,
+    /// A G code or modal state not allowed with the tilted working plane.
+    TwpIllegalCommand,
+    /// G53.1 in workpiece setting error compensation without tool direction compensation.
+    AlignmentInWse,
+    /// A malformed G54.4, or a G code not allowed in its mode.
+    WseCommand,
+    /// G54.4 in a modal state that does not allow it.
+    WseModalState,
+    /// P of a tool alignment (G53.1/G53.3/G53.6) outside 0, 1, 2.
+    AlignmentP,
+    /// G53.6 while cutter compensation is on.
+    AlignmentInCompensation,
+    /// G53.6 with tool number 0.
+    AlignmentToolZero,
+    /// G10 L5000 with a Q other than an integer 0..4.
+    ChainQ,
+    /// G10 L5000 while a 5-axis function is on.
+    ChainSwitchInMode,
     // --- custom macro ---------------------------------------------------------------------
     /// A macro statement that does not follow the grammar.
     MacroFormat,

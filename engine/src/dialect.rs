@@ -58,8 +58,60 @@ impl Dialect {
 
 type Text = (&'static str, &'static str);
 
+const PS5421: Text = ("PS5421", "ILLEGAL COMMAND IN G43.4/G43.5");
+const COR100: Text = ("COR-100", "Unsupported G code command or option software is not activated");
+
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
-pub const PLAIN_ALARMS: &[AlarmId] = &[AlarmId::Syntax, AlarmId::ImproperAddress, AlarmId::NoDataAfterAddress, AlarmId::TooManyDigits, AlarmId::ImproperGCode, AlarmId::IllegalGCodeCombination, AlarmId::FeedZero, AlarmId::IllegalOffsetNumber, AlarmId::ArcRadiusTolerance, AlarmId::PlaneChangeInCompensation, AlarmId::DataSettingFormat, AlarmId::MissingQ, AlarmId::ReferenceReturnInCycle, AlarmId::IllegalCommandInMode, AlarmId::MacroFormat, AlarmId::VariableOutOfRange, AlarmId::WriteProtectedVariable, AlarmId::ZeroDivide, AlarmId::BracketNesting, AlarmId::ArgumentOutOfRange, AlarmId::FloatOverflow, AlarmId::MissingEnd, AlarmId::IllegalLoopNumber, AlarmId::IllegalSequenceNumber, AlarmId::ProgramNotFound, AlarmId::NestingTooDeep, AlarmId::GAsArgument, AlarmId::MixedStatements];
+pub const PLAIN_ALARMS: &[AlarmId] = &[
+    AlarmId::Syntax,
+    AlarmId::ImproperAddress,
+    AlarmId::NoDataAfterAddress,
+    AlarmId::TooManyDigits,
+    AlarmId::ImproperGCode,
+    AlarmId::IllegalGCodeCombination,
+    AlarmId::FeedZero,
+    AlarmId::IllegalOffsetNumber,
+    AlarmId::ArcRadiusTolerance,
+    AlarmId::PlaneChangeInCompensation,
+    AlarmId::DataSettingFormat,
+    AlarmId::MissingQ,
+    AlarmId::ReferenceReturnInCycle,
+    AlarmId::IllegalCommandInMode,
+    AlarmId::IllegalCommandInTcp,
+    AlarmId::RotaryCommandInTcpType2,
+    AlarmId::ZeroToolVector,
+    AlarmId::IncrementalInTcpType2,
+    AlarmId::MachineCoordinatesInTcp,
+    AlarmId::HpccInTcp,
+    AlarmId::AxisNotInTcp,
+    AlarmId::MachineParameter,
+    AlarmId::UnitChangeInMode,
+    AlarmId::ArcInCompStartCancel,
+    AlarmId::TwpFormat,
+    AlarmId::TwpIllegalCommand,
+    AlarmId::AlignmentInWse,
+    AlarmId::WseCommand,
+    AlarmId::WseModalState,
+    AlarmId::AlignmentP,
+    AlarmId::AlignmentInCompensation,
+    AlarmId::AlignmentToolZero,
+    AlarmId::ChainQ,
+    AlarmId::ChainSwitchInMode,
+    AlarmId::MacroFormat,
+    AlarmId::VariableOutOfRange,
+    AlarmId::WriteProtectedVariable,
+    AlarmId::ZeroDivide,
+    AlarmId::BracketNesting,
+    AlarmId::ArgumentOutOfRange,
+    AlarmId::FloatOverflow,
+    AlarmId::MissingEnd,
+    AlarmId::IllegalLoopNumber,
+    AlarmId::IllegalSequenceNumber,
+    AlarmId::ProgramNotFound,
+    AlarmId::NestingTooDeep,
+    AlarmId::GAsArgument,
+    AlarmId::MixedStatements,
+];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
 fn codes(id: &AlarmId) -> (Text, Text) {
@@ -85,6 +137,37 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         IllegalCommandInMode => (
             ("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"),
             ("COR-100", "Unsupported G code command or option software is not activated"),
+        ),
+        IllegalCommandInTcp => (PS5421, COR100),
+        RotaryCommandInTcpType2 => {
+            (PS5421, ("COR-158", "Prohibit the 1st and 2nd rotary axis commands in the G43.5 mode"))
+        }
+        ZeroToolVector => (PS5421, ("COR-159", "Illegal tool vector")),
+        IncrementalInTcpType2 => (PS5421, ("COR-305", "Relative position input method is forbidden in current mode")),
+        MachineCoordinatesInTcp => (PS5421, ("COR-118", "Prohibit G53 commands in tool tip control mode")),
+        HpccInTcp => (PS5421, ("COR-140", "Prohibit G05 in tool tip control mode")),
+        AxisNotInTcp => (PS5421, ("COR-107", "G5.1/G05 command format error")),
+        MachineParameter => (("PS5459", "MACHINE PARAMETER INCORRECT"), ("COR-154", "No 5-axis function")),
+        UnitChangeInMode => (("PS5000", "G20/G21 NOT ALLOWED IN 5-AXIS MODE"), COR100),
+        ArcInCompStartCancel => (("PS0034", "NO CIRC ALLOWED IN ST-UP/EXT BLK"), COR100),
+        TwpFormat => (("PS5457", "G68.2/G68.3 FORMAT ERROR"), ("COR-141", "G68.3 command format error")),
+        TwpIllegalCommand => (("PS5462", "ILLEGAL COMMAND (G68.2/G69)"), COR100),
+        AlignmentInWse => (("PS5458", "G53.1 NOT ALLOWED IN G54.4 MODE"), COR100),
+        WseCommand => (("PS0437", "ILLEGAL COMMAND IN G54.4"), COR100),
+        WseModalState => (("PS0439", "G54.4 NOT ALLOWED IN THIS MODAL STATE"), COR100),
+        AlignmentP => (("PS5457", "G68.2/G68.3 FORMAT ERROR"), ("COR-149", "G53.1/G53.6 P Argument over range")),
+        AlignmentInCompensation => {
+            (("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"), ("MAR-406", "G53.6 must be enabled in G40 mode"))
+        }
+        AlignmentToolZero => {
+            (("PS0030", "ILLEGAL OFFSET NUMBER"), ("MAR-407", "Tool number can not be 0 while using G53.6"))
+        }
+        ChainQ => {
+            (("PS1144", "G10 FORMAT ERROR"), ("COR-163", "Multi-kinematic chain command Q argument setting error"))
+        }
+        ChainSwitchInMode => (
+            ("PS1144", "G10 FORMAT ERROR"),
+            ("COR-160", "5-axis mechanism chain switched when the 5-axis function is ON"),
         ),
         MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),
         VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-021", "Variable number out of range")),

@@ -7,6 +7,7 @@
 mod cycles;
 pub mod expr;
 pub mod gcode;
+mod modes;
 mod nc;
 mod offsets;
 pub(crate) mod program;
@@ -167,6 +168,8 @@ pub struct State {
     /// The intermediate point of the last G28, for G29.
     last_g28_mid: Pos,
     modal_call: Option<ModalCall>,
+    /// What the modal groups do not hold about the 5-axis modes (nesting, definition sequences).
+    five: modes::FiveAxisModes,
     /// Simulated time, seconds, advanced by the executor.
     clock_s: f64,
     /// #3001 / #3002 are the clock minus these (they are writable).
@@ -292,6 +295,7 @@ impl State {
             cycle: CycleData::default(),
             last_g28_mid: [0.0; MAX_AXES],
             modal_call: None,
+            five: modes::FiveAxisModes::default(),
             clock_s: 0.0,
             timer_ms_base: 0.0,
             timer_h_base: 0.0,

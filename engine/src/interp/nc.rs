@@ -3,11 +3,13 @@
 
 use super::expr::{eval, Value};
 use super::gcode::{self, GDef};
+use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
 use super::{Frame, FrameKind, ModalCall, State, LOCALS};
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
+use crate::dialect::Dialect;
 use crate::lang::{Block, Word, WordValue};
 use crate::machine::{AxisKind, MAX_AXES};
 use arrayvec::ArrayVec;
@@ -37,8 +39,18 @@ impl Words {
         })
     }
 
-    fn has(&self, letter: u8) -> bool {
+    pub(super) fn has(&self, letter: u8) -> bool {
         self.last[(letter - b'A') as usize] != 0
+    }
+
+    /// The block's G codes (×10), in block order.
+    pub(super) fn gcodes(&self) -> &[u16] {
+        &self.g[..self.ng]
+    }
+
+    /// The address letters of the block's words, in block order.
+    pub(super) fn letters(&self) -> impl Iterator<Item = u8> + '_ {
+        self.list.iter().map(|&(letter, _, _)| letter)
     }
 
     fn has_g(&self, code: u16) -> bool {
@@ -223,10 +235,7 @@ impl State {
             }
             return Ok(());
         }
-        if w.has_g(670) {
-            self.modes[12] = 670;
-            self.modal_call = None;
-        } else if let Some(mc) = &self.modal_call {
+        if let (false, Some(mc)) = (w.has_g(670), &self.modal_call) {
             if mc.every_block && mc.level == self.level() && !w.list.is_empty() {
                 if w.ng > 0 {
                     return Err(AlarmId::GAsArgument);
@@ -260,6 +269,13 @@ impl State {
             if !known {
                 return Err(AlarmId::ImproperAddress);
             }
+        }
+
+        // --- mode interlocks: a forbidden block changes nothing -----------------------------
+        self.five = modes::check(self, &w)?;
+        if w.has_g(670) {
+            self.modes[12] = 670;
+            self.modal_call = None;
         }
 
         // --- G codes: units first, then the modal groups in block order ---------------------
@@ -792,6 +808,9 @@ impl State {
                 };
                 *slot = if incremental { *slot + r } else { r };
             }
+            // Syntec: select the mechanism chain (its Q and its modes are checked in `modes`;
+            // the chains themselves come with the kinematic model).
+            5000 if self.cfg.dialect == Dialect::Syntec => {}
             _ => return Err(AlarmId::DataSettingFormat),
         }
         Ok(())
@@ -806,7 +825,7 @@ fn offset_number(v: f64) -> Result<u32, AlarmId> {
 }
 
 fn is_cycle(code: u16) -> bool {
-    matches!(gcode::lookup(code, crate::dialect::Dialect::Fanuc), Some(d) if d.group == 9 && code != 800)
+    matches!(gcode::lookup(code, Dialect::Fanuc), Some(d) if d.group == 9 && code != 800)
 }
 
 impl Frame {

@@ -1,0 +1,892 @@
+//! Mode interlocks of the 5-axis functions: which G codes and words a block may give in each
+//! mode — 5-axis cutter compensation (group 07), tool centre point control (group 08), tilted
+//! working plane (group 16), workpiece setting error compensation (G54.4) — in FANUC's and in
+//! Syntec's rules. Geometry (frames, tool vectors, rotary solutions) is not checked here.
+//!
+//! [`check`] runs on every NC block after its words are evaluated and before any of its G codes
+//! is applied, so a forbidden block changes nothing. It sees the modes before the block and the
+//! modes the block's G codes would leave, and returns the bookkeeping that the modal groups do not
+//! hold ([`FiveAxisModes`]: nesting order, definition sequences), which the caller stores.
+//!
+//! The rules are one table, [`RULES`], tried in order; the first that holds gives the alarm. Each
+//! row names the spec row it implements (`crc` = `shared/spec/fanuc-cutter-comp.md`, `tcp` =
+//! `fanuc-tcp.md`, `twp` = `fanuc-twp-wsec-manual-params.md`, `syn` = `syntec.md`) and the
+//! dialect it belongs to: a rule one vendor states and the other does not is not applied to the
+//! other. Decisions where the extracts leave a choice are in `docs/conventions.md` ("Mode
+//! interlocks"). Order: block formats, then rules naming one combination, then the lists of G
+//! codes allowed in a mode, then the lists of modal states a mode may start in.
+
+use super::gcode::{self, GROUPS};
+use super::nc::Words;
+use super::State;
+use crate::alarm::AlarmId;
+use crate::dialect::Dialect;
+use crate::machine::{AxisKind, MachineConfig};
+
+/// What the modal groups do not hold about the 5-axis modes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(super) struct FiveAxisModes {
+    /// The set of the active G54.4 (1–7); 0 = workpiece setting error compensation off.
+    wse: u8,
+    /// Tool centre point control was started inside 5-axis cutter compensation (it must end
+    /// first), or the other way round.
+    tcp_inside_crc: bool,
+    crc_inside_tcp: bool,
+    /// The last block was G41.3: this one must move.
+    g41_3_move_due: bool,
+    /// A G68.2 P2/P3 definition in progress: 20 = P2 after Q0, 21/22 = P2 after Q1/Q2,
+    /// 31 = P3 after Q1; 0 = none.
+    twp_seq: u8,
+    /// Syntec: a tool alignment (G53.1/G53.3/G53.6) was done in the tilted plane.
+    aligned: bool,
+    /// Syntec STCP (`G43.4 … L1`).
+    stcp: bool,
+    /// FANUC tool posture control (`G43.4/G43.5 … P1`).
+    posture: bool,
+    /// FANUC 5-axis nano smoothing (G05.1 Q3) started inside tool centre point control.
+    nano_in_tcp: bool,
+}
+
+/// FANUC parameter values the rules depend on, at their defaults until machine parameters exist
+/// (issue 3): RCM (No.11200#0) tool direction compensation of G54.4, MTW (No.11221#0) multiple
+/// tilted working planes, SPG (No.19607) G41.4/G41.5 code set.
+const RCM: bool = false;
+const MTW: bool = false;
+const SPG: bool = false;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum On {
+    Both,
+    Fanuc,
+    Syntec,
+}
+
+struct Rule {
+    on: On,
+    /// The spec row, for the reader (and the failure message of a rule's test).
+    #[cfg_attr(not(test), allow(dead_code))]
+    src: &'static str,
+    when: fn(&Ctx) -> bool,
+    alarm: AlarmId,
+}
+
+const fn rule(on: On, src: &'static str, alarm: AlarmId, when: fn(&Ctx) -> bool) -> Rule {
+    Rule { on, src, when, alarm }
+}
+
+use AlarmId as A;
+use On::{Both, Fanuc, Syntec};
+
+/// The rules, tried in order.
+static RULES: &[Rule] = &[
+    // --- block formats -----------------------------------------------------------------------
+    rule(Fanuc, "twp WSE-01: G54.4 needs P0..P7", A::WseCommand, |c| {
+        c.has(544) && !c.word(b'P').is_some_and(|p| int_in(p, 0, 7))
+    }),
+    rule(Fanuc, "twp WSE-01: G54.4 alone (no other G code, no axis word)", A::WseCommand, |c| {
+        c.has(544) && (c.g.len() > 1 || c.any_axis())
+    }),
+    rule(Fanuc, "twp WSE-01: no G54.4 Pn (n≠0) while G54.4 is on", A::WseCommand, |c| {
+        c.has(544) && c.five.wse != 0 && c.word(b'P') != Some(0.0)
+    }),
+    rule(Fanuc, "twp TWP-02: G68.2/G68.4 P1 Q in {123,132,213,321,231,312}", A::TwpFormat, |c| {
+        c.twp_def() == Some(1) && c.word(b'Q').is_some_and(|q| ![123.0, 132.0, 213.0, 321.0, 231.0, 312.0].contains(&q))
+    }),
+    rule(Fanuc, "twp TWP-03: G68.2/G68.4 P2 needs Q0..Q3", A::TwpFormat, |c| {
+        c.twp_def() == Some(2) && !c.word(b'Q').is_some_and(|q| int_in(q, 0, 3))
+    }),
+    rule(Fanuc, "twp TWP-04: G68.2/G68.4 P3 needs Q1/Q2", A::TwpFormat, |c| {
+        c.twp_def() == Some(3) && !c.word(b'Q').is_some_and(|q| int_in(q, 1, 2))
+    }),
+    rule(Fanuc, "twp TWP-01..05: G68.2/G68.4 P is 0..4", A::TwpFormat, |c| c.twp_def().is_some_and(|p| p > 4)),
+    rule(Fanuc, "twp TWP-03/04: P2 (Q1,Q2,Q3) and P3 (Q1,Q2) blocks consecutive", A::TwpFormat, |c| {
+        twp_sequence(c).is_err()
+    }),
+    rule(Both, "twp TWP-06, syn SYN-23: G68.3 X Y Z all or none", A::TwpFormat, |c| {
+        c.has(683) && !matches!(c.count_letters(b"XYZ"), 0 | 3)
+    }),
+    rule(Syntec, "syn SYN-24: G68.3 P is 1", A::TwpFormat, |c| c.has(683) && c.word(b'P').is_some_and(|p| p != 1.0)),
+    rule(Syntec, "syn SYN-22: P of G53.1/G53.3/G53.6 is 0, 1 or 2", A::AlignmentP, |c| {
+        c.any(&[531, 533, 536]) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
+    }),
+    rule(Syntec, "syn SYN-26: G10 L5000 Q is an integer 0..4", A::ChainQ, |c| {
+        c.chain_switch() && c.word(b'Q').is_some_and(|q| !int_in(q, 0, 4))
+    }),
+    rule(Syntec, "syn SYN-26: no G10 L5000 in RTCP or after a tool alignment", A::ChainSwitchInMode, |c| {
+        c.chain_switch() && (c.tcp(c.before[8]) || c.five.aligned && c.twp(c.before[16]))
+    }),
+    // --- workpiece setting error compensation: combinations -----------------------------
+    rule(Fanuc, "twp TWP-07, WSE-11: G53.1 in G54.4 mode needs RCM=1", A::AlignmentInWse, |c| {
+        !RCM && c.has(531) && c.wse_during()
+    }),
+    rule(Fanuc, "twp WSE-11: G43.4/G43.5 in G54.4 mode needs RCM=1", A::IllegalCommandInTcp, |c| {
+        !RCM && c.wse_during() && c.starts(8, |c, m| c.tcp(m))
+    }),
+    // --- 5-axis cutter compensation ----------------------------------------------------
+    rule(Fanuc, "crc CRC-31: G41.4/G42.4 on a table machine with SPG=0", A::ImproperGCode, |c| {
+        !SPG && c.mech() == Mech::Table && c.any(&[414, 424])
+    }),
+    rule(Fanuc, "crc CRC-32: G41.5/G42.5 on a mixed machine with SPG=0", A::ImproperGCode, |c| {
+        !SPG && c.mech() == Mech::Mixed && c.any(&[415, 425])
+    }),
+    rule(Fanuc, "crc CRC-02, TV-18: G41.6/G42.6 needs two rotary axes", A::IllegalCommandInMode, |c| {
+        c.any(&[416, 426]) && c.rotary_axes() < 2
+    }),
+    rule(
+        Fanuc,
+        "crc CRC-35/37, §6.3: no G02/G03/G02.2/G03.2 in the start-up or cancel block (table/mixed)",
+        A::ArcInCompStartCancel,
+        |c| {
+            c.table_or_mixed()
+                && (c.starts(7, |c, m| c.crc5(m)) || c.crc_cancels())
+                && matches!(c.after[1], 20 | 30 | 22 | 32)
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-36, §6.3: only G00/G01 in 5-axis cutter compensation (table/mixed)",
+        A::IllegalCommandInMode,
+        |c| c.table_or_mixed() && c.crc5(c.after[7]) && !matches!(c.after[1], 0 | 10),
+    ),
+    rule(Fanuc, "crc CRC-34, §6.3: no leading edge offset G41.3 (table/mixed)", A::IllegalCommandInMode, |c| {
+        c.table_or_mixed() && c.has(413)
+    }),
+    rule(Fanuc, "crc CRC-33, §6.3: no I/J/K with G41.6/G42.6 (table)", A::IllegalCommandInMode, |c| {
+        c.mech() == Mech::Table && matches!(c.after[7], 416 | 426) && c.count_letters(b"IJK") > 0
+    }),
+    rule(
+        Fanuc,
+        "crc CRC-21, §6.2: G41.3 only in G00/G01 mode, and only G00/G01 in G41.3 mode",
+        A::IllegalCommandInMode,
+        |c| c.crc5(413) && c.after[7] == 413 && !matches!(c.after[1], 0 | 10),
+    ),
+    rule(Fanuc, "crc CRC-21, §6.2: the G41.3 block and its G40 hold only D, O, N", A::IllegalCommandInMode, |c| {
+        let g41_3 = c.crc5(413) && (c.has(413) || c.before[7] == 413 && c.has(400));
+        g41_3 && c.w.letters().any(|l| !matches!(l, b'G' | b'D' | b'N' | b'O'))
+    }),
+    rule(Fanuc, "crc CRC-21, TV-31: the block after G41.3 moves", A::IllegalCommandInMode, |c| {
+        c.five.g41_3_move_due && !c.any_axis()
+    }),
+    rule(
+        Fanuc,
+        "crc CRC-48, TV-18: TCP type 1 with CRC type 1 only, type 2 with type 2",
+        A::IllegalCommandInMode,
+        |c| {
+            let (crc, tcp) = (c.after[7], c.after[8]);
+            c.crc5(crc) && c.tcp(tcp) && (tcp == 434 && matches!(crc, 416 | 426) || tcp == 435 && is_crc_type1(crc))
+        },
+    ),
+    rule(Fanuc, "crc CRC-48, TV-22: G40 before G49 when TCP started inside CRC", A::IllegalCommandInMode, |c| {
+        c.five.tcp_inside_crc && c.crc_cancels() && c.tcp(c.after[8])
+    }),
+    rule(Fanuc, "crc CRC-48, TV-22: G49 before G40 when CRC started inside TCP", A::IllegalCommandInMode, |c| {
+        c.five.crc_inside_tcp && c.tcp_cancels() && c.crc5(c.after[7])
+    }),
+    rule(Fanuc, "crc CRC-46, TV-29: no G20/G21 in 5-axis cutter compensation", A::UnitChangeInMode, |c| {
+        c.during(7, |c, m| c.crc5(m)) && c.any(&[200, 210])
+    }),
+    rule(Fanuc, "crc CRC-02, TV-18: no rotary axis word in G41.6/G42.6", A::IllegalCommandInMode, |c| {
+        c.crc5(c.after[7]) && matches!(c.after[7], 416 | 426) && c.any_rotary()
+    }),
+    // --- tool centre point control -------------------------------------------------------
+    rule(Fanuc, "tcp TCP-08, TV-61: G43.5 needs two rotary axes", A::MachineParameter, |c| {
+        c.has(435) && c.rotary_axes() < 2
+    }),
+    rule(Fanuc, "tcp TCP-08, TV-58: no I/J/K in the G43.5 block (table/mixed)", A::IllegalCommandInTcp, |c| {
+        c.table_or_mixed() && c.has(435) && c.count_letters(b"IJK") > 0
+    }),
+    rule(
+        Both,
+        "tcp TCP-09/20, TV-62; syn SYN-08, TV-15: no rotary axis word in G43.5",
+        A::RotaryCommandInTcpType2,
+        |c| c.tcp(c.after[8]) && c.after[8] == 435 && c.any_rotary(),
+    ),
+    rule(Syntec, "syn SYN-08, TV-12: I=J=K=0 in G43.5", A::ZeroToolVector, |c| {
+        c.tcp(c.after[8]) && c.after[8] == 435 && {
+            let ijk = [c.word(b'I'), c.word(b'J'), c.word(b'K')];
+            ijk.iter().any(Option::is_some) && ijk.iter().all(|v| v.unwrap_or(0.0) == 0.0)
+        }
+    }),
+    rule(Syntec, "syn SYN-08, TV-14: no G91 with G43.5 (either order)", A::IncrementalInTcpType2, |c| {
+        c.tcp(c.after[8]) && c.after[8] == 435 && c.after[3] == 910
+    }),
+    rule(Syntec, "syn SYN-07/33, TV-17: no G53 in G43.4/G43.5 or G12.1", A::MachineCoordinatesInTcp, |c| {
+        c.has(530) && (c.during(8, |c, m| c.tcp(m)) || c.during(21, |_, m| m == 121))
+    }),
+    rule(Syntec, "syn SYN-07/08/09, TV-16: no G05 P10000 in RTCP/STCP", A::HpccInTcp, |c| {
+        c.has(50) && c.word(b'P') == Some(10000.0) && c.during(8, |c, m| c.tcp(m))
+    }),
+    rule(Syntec, "syn SYN-09, TV-25: STCP moves only the five RTCP axes", A::AxisNotInTcp, |c| {
+        c.five.stcp && c.during(8, |c, m| c.tcp(m)) && c.other_axes() > 0
+    }),
+    rule(Fanuc, "tcp TCP-05, TV-57: at most 2 axes outside the 5-axis set in TCP", A::AxisNotInTcp, |c| {
+        c.during(8, |c, m| c.tcp(m)) && c.other_axes() > 2
+    }),
+    rule(Syntec, "syn SYN-07/23/33: no G68.3 in RTCP", A::IllegalCommandInMode, |c| {
+        c.has(683) && c.during(8, |c, m| c.tcp(m))
+    }),
+    rule(Syntec, "syn SYN-07/08: RTCP not with G41/G42", A::IllegalCommandInMode, |c| {
+        c.during(8, |c, m| c.tcp(m)) && matches!(c.after[7], 410 | 420)
+    }),
+    rule(Syntec, "syn SYN-07/08: RTCP not with G43/G44 or the other RTCP type", A::IllegalCommandInMode, |c| {
+        c.any(&[434, 435]) && c.tcp(c.after[8]) && !matches!(c.before[8], 490 | 491) && c.before[8] != c.after[8]
+    }),
+    rule(Fanuc, "tcp TCP-17, §2.2.6: G49 in G00/G01 mode", A::IllegalCommandInTcp, |c| {
+        c.tcp_cancels() && !matches!(c.after[1], 0 | 10)
+    }),
+    rule(Fanuc, "crc NSM-05, TV-38: G05.1 Q3 not with G43.5 or tool posture control", A::IllegalCommandInTcp, |c| {
+        c.has(51) && c.word(b'Q') == Some(3.0) && c.during(8, |c, m| c.tcp(m)) && (c.after[8] != 434 || c.posture())
+    }),
+    rule(Fanuc, "crc NRB-04: G06.2 not with G43.5 or tool posture control", A::IllegalCommandInTcp, |c| {
+        c.after[1] == 62 && c.during(8, |c, m| c.tcp(m)) && (c.after[8] != 434 || c.posture())
+    }),
+    rule(Fanuc, "crc §6.7, OQ-29: G05.1 Q0 before G49", A::IllegalCommandInTcp, |c| {
+        c.five.nano_in_tcp && c.tcp_cancels() && !(c.has(51) && c.word(b'Q') == Some(0.0))
+    }),
+    rule(Fanuc, "tcp TCP-10/M-4: G02/G03 in G43.5 by R", A::IllegalCommandInTcp, |c| {
+        c.tcp(c.after[8])
+            && c.after[8] == 435
+            && matches!(c.after[1], 20 | 30)
+            && c.any_axis()
+            && c.word(b'R').is_none()
+    }),
+    rule(Fanuc, "tcp TCP-06/07/10: rotary-only moves in G00/G01 in TCP", A::IllegalCommandInTcp, |c| {
+        c.during(8, |c, m| c.tcp(m)) && matches!(c.after[1], 20 | 30) && c.any_rotary() && !c.any_linear()
+    }),
+    rule(Fanuc, "tcp TCP-41: cutting point control in G00/G01 only", A::IllegalCommandInTcp, |c| {
+        c.tcp(c.after[8]) && matches!(c.after[8], 438 | 439) && !matches!(c.after[1], 0 | 10)
+    }),
+    // --- tilted working plane --------------------------------------------------------------
+    rule(
+        Both,
+        "twp TWP-16, TV-TWP-21; syn SYN-18: tool length compensation off at G68.2/G68.3",
+        A::TwpIllegalCommand,
+        |c| c.any(&[682, 683, 684]) && !matches!(c.after[8], 490 | 491),
+    ),
+    rule(Syntec, "syn SYN-21, TV-20: G53.6 in G40 mode", A::AlignmentInCompensation, |c| {
+        c.has(536) && c.after[7] != 400
+    }),
+    rule(Syntec, "syn SYN-21, TV-19: G53.6 needs a tool (H, or the last H) other than 0", A::AlignmentToolZero, |c| {
+        c.has(536) && c.word(b'H').map_or(c.st.h == 0, |h| h == 0.0)
+    }),
+    // --- lists of G codes allowed in a mode (the mode before the block, or started by it) -------
+    rule(Fanuc, "twp §6.4: G codes allowed in G54.4 mode", A::WseCommand, |c| {
+        c.wse_during()
+            && c.g.iter().any(|&g| !wse_allows(g) || g == 51 && !c.word(b'Q').is_some_and(|q| q == 0.0 || q == 1.0))
+    }),
+    rule(Fanuc, "twp TWP-12, §6.2: G codes allowed in the tilted working plane", A::TwpIllegalCommand, |c| {
+        c.foreign(16, |c, m| c.twp(m), |c, g| twp_allows(g) || matches!(g, 682 | 684) && (MTW || c.five.twp_seq != 0))
+    }),
+    rule(
+        Fanuc,
+        "crc §6.1, CRC-47, TV-34: G codes forbidden in 5-axis cutter compensation",
+        A::IllegalCommandInMode,
+        |c| c.foreign(7, |c, m| c.crc5(m), |_, g| !crc5_forbids(g)),
+    ),
+    rule(Fanuc, "tcp TCP-16; crc CRC-48, NSM-05, NRB-03: G codes allowed in TCP", A::IllegalCommandInTcp, |c| {
+        c.foreign(8, |c, m| c.tcp(m), |c, g| tcp_allows(g) || matches!(g, 51 | 62) && c.after[8] == 434 && !c.posture())
+    }),
+    // --- lists of modal states a mode may start in ----------------------------------------
+    rule(Fanuc, "twp §6.3, TV-WSE-16: modal states G54.4 may start in", A::WseModalState, |c| {
+        c.has(544) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && c.state_outside(33, wse_state_allows)
+    }),
+    rule(Fanuc, "twp TWP-11, TWP-16, §6.1: modal states G68.2/G68.3 may start in", A::TwpIllegalCommand, |c| {
+        c.starts(16, |c, m| c.twp(m)) && c.state_outside(16, twp_state_allows)
+    }),
+    rule(Fanuc, "tcp TCP-15, §2.3.2: modal states TCP may start in", A::IllegalCommandInTcp, |c| {
+        c.starts(8, |c, m| c.tcp(m)) && c.state_outside(8, tcp_state_allows)
+    }),
+];
+
+/// Check a block against the rules; on success, the bookkeeping after the block.
+pub(super) fn check(st: &State, w: &Words) -> Result<FiveAxisModes, AlarmId> {
+    let g = w.gcodes();
+    let before = &st.modes;
+    // Nothing applies to a block without G codes while no 5-axis mode is on.
+    if g.is_empty() && st.five == FiveAxisModes::default() && !any_mode(before) {
+        return Ok(st.five);
+    }
+    let dialect = st.cfg.dialect;
+    let mut after = *before;
+    for &code in g {
+        if let Some(def) = gcode::lookup(code, dialect) {
+            if def.group != gcode::ONE_SHOT {
+                after[def.group as usize] = code;
+            }
+        }
+    }
+    let mech = mechanism(&st.cfg.machine);
+    let c = Ctx { st, w, g, before, after, five: st.five, dialect, mech };
+    for r in RULES {
+        let applies = match r.on {
+            Both => true,
+            Fanuc => dialect == Dialect::Fanuc,
+            Syntec => dialect == Dialect::Syntec,
+        };
+        if applies && (r.when)(&c) {
+            return Err(r.alarm.clone());
+        }
+    }
+    Ok(next(&c))
+}
+
+/// The bookkeeping after an accepted block.
+fn next(c: &Ctx) -> FiveAxisModes {
+    let mut n = c.five;
+    if c.has(544) {
+        n.wse = c.word(b'P').map_or(0, |p| p as u8);
+    }
+    let (crc, tcp) = (c.crc5(c.after[7]), c.tcp(c.after[8]));
+    if crc && tcp {
+        n.tcp_inside_crc |= c.starts(8, |c, m| c.tcp(m)) && c.crc5(c.before[7]);
+        n.crc_inside_tcp |= c.starts(7, |c, m| c.crc5(m)) && c.tcp(c.before[8]);
+    } else {
+        n.tcp_inside_crc = false;
+        n.crc_inside_tcp = false;
+    }
+    n.g41_3_move_due = c.crc5(413) && c.after[7] == 413 && c.before[7] != 413;
+    n.twp_seq = twp_sequence(c).unwrap_or(0);
+    if c.twp(c.after[16]) {
+        n.aligned |= c.any(&[531, 533, 536]);
+    } else {
+        n.aligned = false;
+    }
+    if c.starts(8, |c, m| c.tcp(m)) {
+        n.stcp = c.has(434) && c.word(b'L') == Some(1.0);
+        n.posture = c.word(b'P') == Some(1.0);
+    }
+    if !tcp {
+        n.stcp = false;
+        n.posture = false;
+        n.nano_in_tcp = false;
+    } else if c.has(434) && c.word(b'L').is_some() {
+        n.stcp = c.word(b'L') == Some(1.0);
+    }
+    if c.has(51) {
+        if c.word(b'Q') == Some(3.0) {
+            n.nano_in_tcp = tcp;
+        } else if c.word(b'Q') == Some(0.0) {
+            n.nano_in_tcp = false;
+        }
+    }
+    n
+}
+
+/// The G68.2/G68.4 P2/P3 sequence state after this block, or Err if the block breaks one.
+fn twp_sequence(c: &Ctx) -> Result<u8, ()> {
+    let prev = c.five.twp_seq;
+    let q = c.word(b'Q').filter(|q| q.fract() == 0.0).map_or(-1, |q| q as i64);
+    match (c.twp_def(), q) {
+        (Some(2), 0) if prev != 31 => Ok(if matches!(prev, 21 | 22) { prev } else { 20 }),
+        (Some(2), 1) if matches!(prev, 0 | 20) => Ok(21),
+        (Some(2), 2) if prev == 21 => Ok(22),
+        (Some(2), 3) if prev == 22 => Ok(0),
+        (Some(3), 1) if prev == 0 => Ok(31),
+        (Some(3), 2) if prev == 31 => Ok(0),
+        (Some(2 | 3), _) => Err(()),
+        _ if prev != 0 => Err(()),
+        _ => Ok(0),
+    }
+}
+
+/// The block and the modes around it, as the rules see them.
+struct Ctx<'a> {
+    st: &'a State,
+    w: &'a Words,
+    /// The block's G codes (×10).
+    g: &'a [u16],
+    before: &'a [u16; GROUPS],
+    /// The modes the block's G codes leave.
+    after: [u16; GROUPS],
+    five: FiveAxisModes,
+    dialect: Dialect,
+    mech: Mech,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mech {
+    /// No rotary axis.
+    None,
+    /// Tool rotation (FANUC No.19680 = 2).
+    Head,
+    /// Table rotation (12).
+    Table,
+    /// One tool and one table axis (21).
+    Mixed,
+}
+
+/// The mechanism type, read from the preset names until machines carry it (issue 3); any other
+/// machine with a rotary axis counts as tool rotation type.
+fn mechanism(m: &MachineConfig) -> Mech {
+    match m.name.as_str() {
+        "table-bc" | "table-ac" => Mech::Table,
+        "mixed-bc" => Mech::Mixed,
+        _ if m.axes.iter().any(|a| a.kind == AxisKind::Rotary) => Mech::Head,
+        _ => Mech::None,
+    }
+}
+
+impl Ctx<'_> {
+    fn has(&self, code: u16) -> bool {
+        self.g.contains(&code)
+    }
+
+    fn any(&self, codes: &[u16]) -> bool {
+        self.g.iter().any(|g| codes.contains(g))
+    }
+
+    fn word(&self, letter: u8) -> Option<f64> {
+        self.w.integer(letter)
+    }
+
+    fn count_letters(&self, letters: &[u8]) -> usize {
+        letters.iter().filter(|&&l| self.w.has(l)).count()
+    }
+
+    fn mech(&self) -> Mech {
+        self.mech
+    }
+
+    fn table_or_mixed(&self) -> bool {
+        matches!(self.mech(), Mech::Table | Mech::Mixed)
+    }
+
+    fn rotary_axes(&self) -> usize {
+        self.st.cfg.machine.axes.iter().filter(|a| a.kind == AxisKind::Rotary).count()
+    }
+
+    fn axis_words(&self, kind: Option<AxisKind>) -> bool {
+        self.st.cfg.machine.axes.iter().any(|a| kind.is_none_or(|k| a.kind == k) && self.w.has(a.name as u8))
+    }
+
+    fn any_axis(&self) -> bool {
+        self.axis_words(None)
+    }
+
+    fn any_rotary(&self) -> bool {
+        self.axis_words(Some(AxisKind::Rotary))
+    }
+
+    fn any_linear(&self) -> bool {
+        self.axis_words(Some(AxisKind::Linear))
+    }
+
+    /// Axis words outside the 5-axis set (X, Y, Z and the first two rotary axes).
+    fn other_axes(&self) -> usize {
+        let mut rotary = 0;
+        let mut n = 0;
+        for a in &self.st.cfg.machine.axes {
+            let five = match a.kind {
+                AxisKind::Linear => matches!(a.name, 'X' | 'Y' | 'Z'),
+                AxisKind::Rotary => {
+                    rotary += 1;
+                    rotary <= 2
+                }
+            };
+            if !five && self.w.has(a.name as u8) {
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// The 5-axis modes exist only on a machine with a rotary axis: on a 3-axis machine G43.4 and
+    /// G41.2 are tool length and cutter compensation (`docs/conventions.md`).
+    fn five_axis(&self) -> bool {
+        self.mech() != Mech::None
+    }
+
+    fn crc5(&self, m: u16) -> bool {
+        matches!(m, 412 | 413 | 414 | 415 | 416 | 422 | 424 | 425 | 426) && self.five_axis()
+    }
+
+    fn tcp(&self, m: u16) -> bool {
+        matches!(m, 434 | 435 | 438 | 439) && self.five_axis()
+    }
+
+    fn twp(&self, m: u16) -> bool {
+        matches!(m, 682..=684)
+    }
+
+    fn posture(&self) -> bool {
+        self.five.posture || self.starts(8, |c, m| c.tcp(m)) && self.word(b'P') == Some(1.0)
+    }
+
+    /// The mode of `group` is on during the block: on after it, or on before it and not
+    /// cancelled by it (switching to another code of the group is a command in the mode).
+    fn during(&self, group: usize, mode: fn(&Ctx, u16) -> bool) -> bool {
+        let cancelled = match group {
+            7 => self.after[7] == 400,
+            8 => matches!(self.after[8], 490 | 491),
+            16 => matches!(self.after[16], 690 | 691),
+            _ => self.after[group] == gcode::initial_modes()[group],
+        };
+        mode(self, self.after[group]) || mode(self, self.before[group]) && !cancelled
+    }
+
+    fn starts(&self, group: usize, mode: fn(&Ctx, u16) -> bool) -> bool {
+        mode(self, self.after[group]) && !mode(self, self.before[group])
+    }
+
+    fn crc_cancels(&self) -> bool {
+        self.crc5(self.before[7]) && (self.after[7] == 400 || self.word(b'D') == Some(0.0))
+    }
+
+    fn tcp_cancels(&self) -> bool {
+        self.tcp(self.before[8]) && matches!(self.after[8], 490 | 491)
+    }
+
+    fn wse_during(&self) -> bool {
+        self.five.wse != 0 && !(self.has(544) && self.word(b'P') == Some(0.0))
+    }
+
+    /// P of a G68.2/G68.4 block (0 when omitted).
+    fn twp_def(&self) -> Option<i64> {
+        if !self.any(&[682, 684]) {
+            return None;
+        }
+        let p = self.word(b'P').unwrap_or(0.0);
+        Some(if p.fract() == 0.0 && (0.0..=4.0).contains(&p) { p as i64 } else { 5 })
+    }
+
+    fn chain_switch(&self) -> bool {
+        self.has(100) && self.word(b'L') == Some(5000.0)
+    }
+
+    /// A G code of the block that `allowed` refuses while the mode of `group` is on. The code that
+    /// starts the mode is the start's business, not the list's.
+    fn foreign(&self, group: usize, mode: fn(&Ctx, u16) -> bool, allowed: fn(&Ctx, u16) -> bool) -> bool {
+        if !self.during(group, mode) {
+            return false;
+        }
+        let starting = !mode(self, self.before[group]);
+        self.g.iter().any(|&g| {
+            let own = starting && gcode::lookup(g, self.dialect).is_some_and(|d| d.group as usize == group);
+            !own && !allowed(self, g)
+        })
+    }
+
+    /// A modal state (after the block, other than `group`'s) outside a start list. The power-on
+    /// code of every group counts as allowed (`docs/conventions.md`).
+    fn state_outside(&self, group: usize, allowed: fn(usize, u16) -> bool) -> bool {
+        let initial = gcode::initial_modes();
+        (1..GROUPS).any(|g| g != group && self.after[g] != initial[g] && !allowed(g, self.after[g]))
+    }
+}
+
+fn any_mode(m: &[u16; GROUPS]) -> bool {
+    matches!(m[7], 412..=426) || matches!(m[8], 434..=439) || matches!(m[16], 682..=684) || m[21] == 121
+}
+
+fn int_in(v: f64, lo: i64, hi: i64) -> bool {
+    v.fract() == 0.0 && v >= lo as f64 && v <= hi as f64
+}
+
+fn is_crc_type1(m: u16) -> bool {
+    matches!(m, 412 | 422 | 414 | 424 | 415 | 425)
+}
+
+/// crc §6.1: G codes that may not be given in any 5-axis cutter compensation mode.
+fn crc5_forbids(g: u16) -> bool {
+    matches!(
+        g,
+        70 | 71 // G07, G07.1
+            | 121 | 131 // G12.1/G13.1
+            | 150 | 160 // G15/G16
+            | 270 | 280 | 282 | 290 | 300 | 301 // G27-G30
+            | 310 | 318 | 319 // G31
+            | 330 // G33
+            | 370 // G37
+            | 401 | 411 | 421 // G40.1/G41.1/G42.1
+            | 390 | 410 | 420 // G39, G41/G42
+            | 450 | 460 | 470 | 480 // G45-G48
+            | 501 | 511 // G50.1/G51.1
+            | 520 | 530 // G52, G53
+            | 540 | 541 | 550 | 560 | 570 | 580 | 590 // G54-G59, G54.1
+            | 542 // G54.2
+            | 600 | 620 | 630 // G60, G62, G63
+            | 680 | 682 | 683 | 684 | 690 | 691 // G68/G68.2/G69
+            | 721 | 722 // G72.1/G72.2
+            | 730
+            ..=890 // canned cycles, G80, G80.5/G81.5 EGB, G81.1 chopping
+            | 980 | 990 // G98/G99
+            | 920 | 921 // G92/G92.1
+            | 950 | 960 | 970 // G95, G96/G97
+            | 62 // G06.2 (crc NRB-04)
+    )
+}
+
+/// tcp TCP-16: G codes allowed in tool centre point control (with crc CRC-48: the 5-axis cutter
+/// compensation of either type, a type mismatch being its own rule; and G94, without which G93
+/// could not be left, tcp Q-19).
+fn tcp_allows(g: u16) -> bool {
+    matches!(
+        g,
+        0 | 10
+            | 20
+            | 30
+            | 40
+            | 90
+            | 100
+            | 110
+            | 170
+            | 180
+            | 190
+            | 220
+            | 230
+            | 380
+            | 390
+            | 400
+            | 410
+            | 420
+            | 412
+            | 422
+            | 414
+            | 424
+            | 415
+            | 425
+            | 416
+            | 426
+            | 450
+            | 460
+            | 470
+            | 480
+            | 490
+            | 491
+            | 500
+            | 510
+            | 501
+            | 511
+            | 610
+            | 620
+            | 630
+            | 640
+            | 650
+            | 660
+            | 661
+            | 670
+            | 721
+            | 722
+            | 900
+            | 910
+            | 930
+            | 940
+    )
+}
+
+/// tcp TCP-15: modal states TCP may start in (besides the codes of [`tcp_allows`]).
+fn tcp_state_allows(_group: usize, g: u16) -> bool {
+    tcp_allows(g)
+        || matches!(g, 131 | 150 | 200 | 210 | 540 | 550 | 560 | 570 | 580 | 590 | 800 | 970 | 980 | 990 | 690 | 940)
+}
+
+/// twp §6.2 (TWP-12): G codes allowed in the tilted working plane (MTW=0).
+fn twp_allows(g: u16) -> bool {
+    matches!(
+        g,
+        0 | 10
+            | 20
+            | 30
+            | 40
+            | 100
+            | 110
+            | 170
+            | 180
+            | 190
+            | 280
+            | 290
+            | 300
+            | 400
+            | 410
+            | 420
+            | 430
+            | 440
+            | 490
+            | 491
+            | 530
+            | 531
+            | 650
+            | 660
+            | 661
+            | 670
+            | 900
+            | 910
+            | 730
+            | 740
+            | 760
+            | 800
+            | 810
+            | 820
+            | 830
+            | 840
+            | 842
+            | 843
+            | 850
+            | 860
+            | 870
+            | 880
+            | 890
+            | 980
+            | 990
+            | 450
+            | 460
+            | 470
+            | 480
+            | 501
+            | 511
+            | 690
+            | 691
+            | 940
+            | 950
+    )
+}
+
+/// twp §6.1 (TWP-11) with TWP-16: modal states G68.2/G68.3 may start in. G41/G42, G43/G44,
+/// G51.1 and canned cycles must be off (they nest inside); G54.4 may be on (OQ-21).
+fn twp_state_allows(group: usize, g: u16) -> bool {
+    match group {
+        7 => g == 400,
+        8 => matches!(g, 490 | 491),
+        9 => g == 800,
+        22 => g == 501,
+        33 => true,
+        _ => {
+            twp_allows(g)
+                || matches!(g, 131 | 150 | 200 | 210 | 220 | 230 | 500 | 540 | 550 | 560 | 570 | 580 | 590)
+                || matches!(g, 610 | 620 | 630 | 640 | 930 | 970)
+        }
+    }
+}
+
+/// twp §6.4: G codes allowed in G54.4 mode (G05.1 only with Q0/Q1, checked by the rule).
+fn wse_allows(g: u16) -> bool {
+    matches!(
+        g,
+        0 | 10
+            | 20
+            | 30
+            | 40
+            | 51
+            | 62
+            | 100
+            | 110
+            | 170
+            | 180
+            | 190
+            | 280
+            | 290
+            | 300
+            | 400
+            | 410
+            | 412
+            | 413
+            | 414
+            | 415
+            | 416
+            | 420
+            | 422
+            | 424
+            | 425
+            | 426
+            | 430
+            | 431
+            | 434
+            | 435
+            | 440
+            | 490
+            | 491
+            | 500
+            | 510
+            | 530
+            | 531
+            | 544
+            | 650
+            | 660
+            | 670
+            | 680
+            | 682
+            | 730
+            | 740
+            | 760
+            | 800
+            | 810
+            | 820
+            | 830
+            | 840
+            | 842
+            | 843
+            | 850
+            | 860
+            | 870
+            | 880
+            | 890
+            | 450
+            | 460
+            | 470
+            | 480
+            | 501
+            | 511
+            | 690
+            | 900
+            | 910
+            | 940
+            | 950
+            | 980
+            | 990
+    )
+}
+
+/// twp §6.3: modal states G54.4 Pn may start in.
+fn wse_state_allows(_group: usize, g: u16) -> bool {
+    matches!(
+        g,
+        0 | 10
+            | 131
+            | 150
+            | 170
+            | 180
+            | 190
+            | 200
+            | 210
+            | 230
+            | 250
+            | 400
+            | 401
+            | 490
+            | 491
+            | 500
+            | 501
+            | 540
+            | 541
+            | 550
+            | 560
+            | 570
+            | 580
+            | 590
+            | 640
+            | 670
+            | 690
+            | 800
+            | 805
+            | 900
+            | 910
+            | 940
+            | 950
+            | 970
+            | 980
+            | 990
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_rule_names_its_spec_row() {
+        for r in RULES {
+            let known = ["crc ", "tcp ", "twp ", "syn "].iter().any(|p| r.src.starts_with(p));
+            assert!(known && r.src.contains(':'), "rule without a spec row: {}", r.src);
+        }
+    }
+}
