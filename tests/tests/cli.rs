@@ -597,3 +597,24 @@ fn a_closed_stdout_is_not_a_panic() {
     }
     assert!(panics.is_empty(), "panics on a closed stdout:\n{}", panics.join("\n"));
 }
+
+#[test]
+fn trace_tool_vector_follows_the_rotary_axes() {
+    // CONTRACTS: `tool` is the unit tool vector (tip toward holder) in the active workpiece
+    // system. Whatever the rotation senses, a head B axis at 90 degrees lays the tool flat
+    // (no Z component, along X), and a table A axis at 90 degrees stands the part up so the
+    // tool, seen from the part, lies along its Y axis.
+    let (d, p) = scratch(&[("p.nc", "G90 G00 B90.\nG04 X0.1\nM30\n"), ("a.nc", "G90 G00 A90.\nG04 X0.1\nM30\n")]);
+    let mut wrong = Vec::new();
+    for (preset, file, axis) in [("head-bc", &p[0], 0usize), ("table-ac", &p[1], 1usize)] {
+        let trace = d.path().join(format!("{preset}.jsonl"));
+        let (code, v) = run_json(&[s(file), "--preset", preset, "--trace", s(&trace)]);
+        assert_eq!(code, 0, "{v}");
+        let last = read_trace(&trace).pop().expect("samples");
+        let tool: Vec<f64> = last["tool"].as_array().expect("tool").iter().map(num).collect();
+        if tool[2].abs() > 1e-9 || (tool[axis].abs() - 1.0).abs() > 1e-9 {
+            wrong.push(format!("{preset}: tool {tool:?} at {}", last["machine"]));
+        }
+    }
+    assert!(wrong.is_empty(), "tool vector ignores the rotary axes:\n{}", wrong.join("\n"));
+}
