@@ -112,6 +112,9 @@ pub enum AlarmId {
     BlockBudgetExceeded { budget: u64 },
     /// The simulated-time budget was used up.
     TimeBudgetExceeded { budget_s: f64 },
+    /// One block expanded into more canonical commands than a block may (a canned cycle with a
+    /// tiny peck depth, say): stopped before it exhausts memory.
+    BlockOutputExceeded { limit: usize },
 }
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.

@@ -48,6 +48,9 @@ impl Dialect {
         if let AlarmId::TimeBudgetExceeded { budget_s } = id {
             return ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"));
         }
+        if let AlarmId::BlockOutputExceeded { limit } = id {
+            return ("FX0003".into(), format!("BLOCK EXPANDS TO MORE THAN {limit} COMMANDS"));
+        }
         let (fanuc, syntec) = codes(id);
         match self {
             Dialect::Fanuc => (fanuc.0.into(), fanuc.1.into()),
@@ -187,7 +190,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         MixedStatements => {
             (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block"))
         }
-        MacroAlarm { .. } | BlockBudgetExceeded { .. } | TimeBudgetExceeded { .. } => {
+        MacroAlarm { .. } | BlockBudgetExceeded { .. } | TimeBudgetExceeded { .. } | BlockOutputExceeded { .. } => {
             unreachable!("alarms with data are described in Dialect::describe")
         }
     }

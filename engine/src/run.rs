@@ -91,7 +91,8 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
         if exec.t > opts.max_time_s {
             let id = AlarmId::TimeBudgetExceeded { budget_s: opts.max_time_s };
             let (code, message) = interp.config().dialect.describe(&id);
-            alarms.push(Alarm { code, message, line: 0, n: None });
+            let (line, n) = interp.state.current_block();
+            alarms.push(Alarm { code, message, line, n });
             break;
         }
     }

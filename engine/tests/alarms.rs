@@ -112,3 +112,47 @@ fn the_alarm_names_the_sequence_number() {
     let r = run_src("N10 G00 X1.\nN20 G01 X2.\n");
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line, r.alarms[0].n), ("PS0011", 2, Some(20)));
 }
+
+#[test]
+fn a_block_that_would_expand_without_bound_alarms() {
+    // One million pecks: stopped at the expansion limit, not after exhausting memory.
+    both("G00 Z1.\nG83 X0 Y0 Z-1000. R0 Q0.001 F1000.\n", "FX0003", "FX0003", 2);
+}
+
+#[test]
+fn g80_forgets_the_cycle_data() {
+    // The dwell P of G82 must not survive G80 into a later G81.
+    let src = "G00 Z10.\nG82 X0 Y0 Z-1. R1. P500 F600\nG80\nG81 X1. Y0 Z-1. R1.\nM30\n";
+    let dwells = canon(src).iter().filter(|c| matches!(c.kind, fivex_engine::canon::CanonKind::Dwell { .. })).count();
+    assert_eq!(dwells, 1);
+}
+
+#[test]
+fn positions_read_in_inch_under_g20() {
+    let r = run_src("G20 G00 X1. Y1\n#100=#5001\n#101=#5002\n#102=#5021\nM30\n");
+    let v = |n| r.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v).unwrap();
+    assert!(approx(v(100), 1.0) && approx(v(101), 0.0001) && approx(v(102), 1.0), "{:?}", r.variables);
+}
+
+#[test]
+fn g49_in_g49_mode_does_not_move() {
+    assert!(motions("G21 G17 G40 G49 G80 G90 G94\nM30\n").is_empty());
+}
+
+#[test]
+fn runaway_expressions_are_refused_not_crashing() {
+    let long_sum = format!("#100=1{}\nM30\n", "+1".repeat(100_000));
+    both(&long_sum, "PS0125", "COR-020", 1);
+    let minus = format!("#100={}1\nM30\n", "-".repeat(100_000));
+    both(&minus, "PS0125", "COR-020", 1);
+    // Within the bound, fine.
+    assert_eq!(var(&format!("#100=1{}\nM30\n", "+1".repeat(400)), 100), Some(401.0));
+}
+
+#[test]
+fn a_time_budget_alarm_names_the_block() {
+    let mut interp = interpreter("N10 G00 X0\nN20 G01 X1000. F100.\nM30\n", "mill3", Fanuc);
+    let r =
+        fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions { period_s: 0.0, max_time_s: 10.0 }, |_| {});
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line, r.alarms[0].n), ("FX0002", 2, Some(20)));
+}

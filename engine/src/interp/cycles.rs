@@ -13,6 +13,17 @@ use crate::canon::{Canon, CanonKind, MotionKind, SpindleState};
 const G73_RETRACT: f64 = 0.5;
 const G83_CLEARANCE: f64 = 0.5;
 
+/// Canonical commands one cycle block may expand into (pecks × holes), so that a tiny Q or a
+/// huge L ends in alarm FX0003 instead of exhausting memory.
+pub const MAX_COMMANDS_PER_BLOCK: usize = 200_000;
+
+fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
+    if out.len() > MAX_COMMANDS_PER_BLOCK {
+        return Err(AlarmId::BlockOutputExceeded { limit: MAX_COMMANDS_PER_BLOCK });
+    }
+    Ok(())
+}
+
 impl State {
     /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
     pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
@@ -56,6 +67,7 @@ impl State {
             }
             self.emit_motion(MotionKind::Rapid, hole, None, out);
             self.hole(code, d, (pa, pb), out)?;
+            check_output(out)?;
         }
         Ok(repeats > 0)
     }
@@ -111,6 +123,7 @@ impl State {
                 loop {
                     let next = if (c.z - depth) * dir <= c.q { c.z } else { depth + dir * c.q };
                     self.move_drill_axis(d, next, Linear, out);
+                    check_output(out)?;
                     depth = next;
                     if depth == c.z {
                         break;

@@ -120,7 +120,7 @@ struct ModalCall {
 
 /// Data of the active canned cycle (group 09), kept between blocks.
 #[derive(Debug, Clone, Copy, Default)]
-struct CycleData {
+pub(super) struct CycleData {
     /// R point and hole bottom on the drilling axis, absolute programming coordinates.
     r: f64,
     z: f64,
@@ -315,6 +315,11 @@ impl State {
     pub(super) fn axis_of(&self, letter: u8) -> Option<usize> {
         let i = *self.axis_by_letter.get(letter.wrapping_sub(b'A') as usize)?;
         (i != NO_AXIS).then_some(i as usize)
+    }
+
+    /// Line and sequence number of the block executed last.
+    pub fn current_block(&self) -> (u32, Option<u32>) {
+        (self.line, self.n)
     }
 
     /// Advance simulated time (the executor calls this as motion takes time).

@@ -6,7 +6,7 @@ use super::gcode::{self, GDef};
 use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
-use super::{Frame, FrameKind, ModalCall, State, LOCALS};
+use super::{CycleData, Frame, FrameKind, ModalCall, State, LOCALS};
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
 use crate::dialect::Dialect;
@@ -306,7 +306,12 @@ impl State {
             }
             let group = def.group as usize;
             match group {
-                1 => self.modes[9] = 800,
+                1 => {
+                    // A group-01 code cancels the canned cycle and forgets its data.
+                    self.modes[9] = 800;
+                    self.cycle = CycleData::default();
+                }
+                9 if code == 800 => self.cycle = CycleData::default(),
                 2 if self.modes[7] != 400 && self.modes[2] != code => return Err(AlarmId::PlaneChangeInCompensation),
                 7 => {
                     if let Some(d) = w.integer(b'D') {
@@ -396,7 +401,10 @@ impl State {
             }
         }
         if tool_length_changed {
+            let before = self.tool_vec;
             self.refresh_tool_length();
+            // Only a different offset moves the tool (G49 in G49 mode does nothing).
+            tool_length_changed = self.tool_vec != before;
         }
 
         // --- one-shot G codes ---------------------------------------------------------------

@@ -120,17 +120,27 @@ impl State {
             4201..=4230 => gcode::as_number(self.modes[(n - 4200) as usize]),
             4101..=4130 => self.modal_address(n - 4100),
             4301..=4330 => self.modal_address(n - 4300),
-            5001..=5020 => self.pos[axis(5001)?],
-            5021..=5040 => self.machine_position()[axis(5021)?],
-            5041..=5060 => self.pos[axis(5041)?],
-            5061..=5080 => self.pos[axis(5061)?],
-            5081..=5100 => self.tool_vec[axis(5081)?],
+            5001..=5020 => self.in_input_unit(axis(5001)?, self.pos),
+            5021..=5040 => self.in_input_unit(axis(5021)?, self.machine_position()),
+            5041..=5060 => self.in_input_unit(axis(5041)?, self.pos),
+            5061..=5080 => self.in_input_unit(axis(5061)?, self.pos),
+            5081..=5100 => self.in_input_unit(axis(5081)?, self.tool_vec),
             5101..=5120 => {
                 axis(5101)?;
                 0.0
             }
             _ => return Err(AlarmId::VariableOutOfRange),
         })
+    }
+
+    /// Position variables read in the input unit: inch under G20 for linear axes.
+    fn in_input_unit(&self, axis: usize, p: crate::canon::Pos) -> f64 {
+        let linear = self.cfg.machine.axes[axis].kind == crate::machine::AxisKind::Linear;
+        if linear && self.modes[6] == 200 {
+            p[axis] / 25.4
+        } else {
+            p[axis]
+        }
     }
 
     /// `#4101`… : modal address values by letter position (A=1 … Z=26, P=30 for G54.1).

@@ -34,7 +34,12 @@ pub fn parse_file(text: &str) -> File {
             let mut rest = segment;
             if let Some((number, after)) = program_number(segment) {
                 if let Some(p) = current.take() {
-                    file.programs.push(p);
+                    // Comments before the first O number are a file header, not a program.
+                    let header =
+                        p.number.is_none() && p.blocks.iter().all(|b| b.kind == BlockKind::Empty && b.n.is_none());
+                    if !header {
+                        file.programs.push(p);
+                    }
                 }
                 current = Some(new_program(Some(number), line_no));
                 rest = &segment[after..];
@@ -80,10 +85,16 @@ fn program_number(segment: &str) -> Option<(u32, usize)> {
     Some((number, end))
 }
 
+/// Operators and functions one block may hold. A real control bounds a block's length; this
+/// bound keeps evaluation and dropping of the tree shallow whatever the input.
+const MAX_EXPR_NODES: u32 = 500;
+
 struct BlockParser<'a> {
     lx: Lexer<'a>,
     line: u32,
     depth: u32,
+    /// Operators and functions parsed so far in this block.
+    nodes: u32,
 }
 
 type PResult<T> = Result<T, Diagnostic>;
@@ -94,7 +105,7 @@ fn parse_block(text: &str, col0: u32, line: u32) -> (Block, Option<usize>) {
     if let Some(block) = plain_words(text.as_bytes(), col0, line) {
         return (block, None);
     }
-    let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), col0), line, depth: 0 };
+    let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), col0), line, depth: 0, nodes: 0 };
     let col = col0 + (text.len() - text.trim_start().len()) as u32;
     let mut block = Block { line, col, block_delete: None, n: None, kind: BlockKind::Empty, comment: None };
     match p.block(&mut block) {
@@ -377,6 +388,15 @@ impl BlockParser<'_> {
         self.binary(if allow_cmp { 1 } else { 2 }, allow_cmp)
     }
 
+    /// Count one operator or function against the block's budget.
+    fn node(&mut self, col: u32) -> PResult<()> {
+        self.nodes += 1;
+        if self.nodes > MAX_EXPR_NODES {
+            return self.err(col, AlarmId::MacroFormat, format!("more than {MAX_EXPR_NODES} operators in one block"));
+        }
+        Ok(())
+    }
+
     fn binary(&mut self, min_prec: u8, allow_cmp: bool) -> PResult<Expr> {
         let mut lhs = self.unary(allow_cmp)?;
         loop {
@@ -384,6 +404,8 @@ impl BlockParser<'_> {
             if op.precedence() < min_prec {
                 return Ok(lhs);
             }
+            let col = self.lx.col();
+            self.node(col)?;
             self.lx.next_tok();
             let rhs = self.binary(op.precedence() + 1, allow_cmp)?;
             lhs = Expr::Binary(op, Box::new(lhs), Box::new(rhs));
@@ -391,12 +413,14 @@ impl BlockParser<'_> {
     }
 
     fn unary(&mut self, allow_cmp: bool) -> PResult<Expr> {
-        match self.lx.peek().0 {
-            Tok::Minus => {
+        match self.lx.peek() {
+            (Tok::Minus, col) => {
+                self.node(col)?;
                 self.lx.next_tok();
                 Ok(Expr::Neg(Box::new(self.unary(allow_cmp)?)))
             }
-            Tok::Plus => {
+            (Tok::Plus, col) => {
+                self.node(col)?;
                 self.lx.next_tok();
                 self.unary(allow_cmp)
             }
@@ -411,10 +435,12 @@ impl BlockParser<'_> {
             Tok::Hash => self.variable_after_hash(col),
             Tok::LBracket => Ok(Expr::Bracket(Box::new(self.bracketed(col, allow_cmp)?))),
             Tok::Kw(Kw::Func(f)) => {
+                self.node(col)?;
                 let arg = self.func_arg()?;
                 Ok(Expr::Func(f, Box::new(arg)))
             }
             Tok::Kw(Kw::Atan) => {
+                self.node(col)?;
                 let open = self.lx.col();
                 self.expect(Tok::LBracket, "ATAN needs '['")?;
                 let a = self.expr(false)?;
@@ -444,6 +470,7 @@ impl BlockParser<'_> {
                 }
             }
             Tok::Kw(Kw::Pow) => {
+                self.node(col)?;
                 let open = self.lx.col();
                 self.expect(Tok::LBracket, "POW needs '['")?;
                 let a = self.expr(false)?;
@@ -587,7 +614,7 @@ mod tests {
     use proptest::prelude::*;
 
     fn general(text: &str) -> Block {
-        let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), 1), line: 1, depth: 0 };
+        let mut p = BlockParser { lx: Lexer::new(text.as_bytes(), 1), line: 1, depth: 0, nodes: 0 };
         let col = 1 + (text.len() - text.trim_start().len()) as u32;
         let mut block = Block { line: 1, col, block_delete: None, n: None, kind: BlockKind::Empty, comment: None };
         block.kind = match p.block(&mut block) {

@@ -236,11 +236,16 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
             .enumerate()
             .filter_map(|(i, v)| v.map(|x| (format!("#{}", 500 + i), x)))
             .collect();
-        std::fs::write(path, serde_json::to_string_pretty(&retained)?).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        std::fs::write(path, serde_json::to_string_pretty(&retained)?)
+            .map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     }
     let summary = json::summary(&result, &axes);
-    println!("{}", serde_json::to_string_pretty(&summary)?);
-    Ok(if result.completed() { 0 } else { 1 })
+    let status = if result.completed() { 0 } else { 1 };
+    // A reader that went away (`| head`) is not an error of ours.
+    match writeln!(std::io::stdout().lock(), "{}", serde_json::to_string_pretty(&summary)?) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Fail(format!("stdout: {e}"))),
+        _ => Ok(status),
+    }
 }
 
 /// `{"#500": 1.5, …}` → the retained variable array (keys outside #500–#999 are refused).
@@ -315,7 +320,10 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     let mut out = stdout.lock();
     for d in &diags {
         let (code, message) = a.dialect.describe(&d.id);
-        writeln!(out, "{}:{}:{}: {code} {message}: {}", a.program.display(), d.line, d.col, d.detail)?;
+        match writeln!(out, "{}:{}:{}: {code} {message}: {}", a.program.display(), d.line, d.col, d.detail) {
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => break,
+            other => other?,
+        }
     }
     Ok(if diags.is_empty() { 0 } else { 1 })
 }
