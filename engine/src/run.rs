@@ -30,7 +30,7 @@ pub struct Sample {
     pub machine: Pos,
     /// Tool tip in the active workpiece system (the programmed point: ideal compensation).
     pub tip: [f64; 3],
-    /// Unit tool vector, tip toward holder.
+    /// Unit tool vector, tip toward holder, in the workpiece system (from the rotary axes).
     pub tool: [f64; 3],
     /// Tool tip speed relative to the workpiece, mm/min.
     pub feed: f64,
@@ -62,6 +62,7 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
         *r = axis.rapid;
     }
     let mut exec = Executor {
+        machine_config: interp.config().machine.clone(),
         rapid,
         t: 0.0,
         next_sample: 0,
@@ -108,6 +109,7 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
 }
 
 struct Executor {
+    machine_config: crate::machine::MachineConfig,
     /// Rapid rate per axis, mm/min or deg/min.
     rapid: Pos,
     t: f64,
