@@ -302,10 +302,72 @@ static RULES: &[Rule] = &[
 pub(super) fn check(st: &State, w: &Words) -> Result<FiveAxisModes, AlarmId> {
     let g = w.gcodes();
     let before = &st.modes;
-    // Nothing applies to a block without G codes while no 5-axis mode is on.
-    if g.is_empty() && st.five == FiveAxisModes::default() && !any_mode(before) {
+    // Nothing applies while no 5-axis mode is on to a block whose G codes are all plain
+    // 3-axis codes (the hot path of ordinary programs; `plain_blocks_need_no_rule` checks it).
+    if st.five == FiveAxisModes::default() && !any_mode(before) && g.iter().all(|&c| is_plain(c)) {
         return Ok(st.five);
     }
+    check_rules(st, w)
+}
+
+/// G codes no rule concerns while no 5-axis mode is active: motion, planes, units, distance and
+/// feed modes, work systems, path modes, canned cycles, dwell, exact stop, plain length and
+/// radius compensation.
+fn is_plain(code: u16) -> bool {
+    matches!(
+        code,
+        0 | 10
+            | 20
+            | 30
+            | 40
+            | 90
+            | 170
+            | 180
+            | 190
+            | 200
+            | 210
+            | 400
+            | 410
+            | 420
+            | 430
+            | 440
+            | 490
+            | 540
+            | 550
+            | 560
+            | 570
+            | 580
+            | 590
+            | 610
+            | 620
+            | 630
+            | 640
+            | 730
+            | 740
+            | 760
+            | 800
+            | 810
+            | 820
+            | 830
+            | 840
+            | 850
+            | 860
+            | 870
+            | 880
+            | 890
+            | 900
+            | 910
+            | 940
+            | 950
+            | 980
+            | 990
+    )
+}
+
+/// Every rule, in order (no fast path).
+fn check_rules(st: &State, w: &Words) -> Result<FiveAxisModes, AlarmId> {
+    let g = w.gcodes();
+    let before = &st.modes;
     let dialect = st.cfg.dialect;
     let mut after = *before;
     for &code in g {
@@ -887,6 +949,32 @@ mod tests {
         for r in RULES {
             let known = ["crc ", "tcp ", "twp ", "syn "].iter().any(|p| r.src.starts_with(p));
             assert!(known && r.src.contains(':'), "rule without a spec row: {}", r.src);
+        }
+    }
+
+    /// The fast path of `check` gives what the rules give, for every plain code with any common
+    /// words, in both dialects, on every preset, from power-on modes.
+    #[test]
+    fn plain_blocks_need_no_rule() {
+        use crate::interp::{Config, Interpreter};
+        use crate::lang::{parse_file, BlockKind};
+        use crate::machine::MachineConfig;
+        let plain: Vec<u16> = gcode::TABLE.iter().map(|d| d.code).filter(|&c| is_plain(c)).collect();
+        for preset in MachineConfig::PRESETS {
+            for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+                let cfg = Config::new(MachineConfig::preset(preset).unwrap(), dialect);
+                let interp = Interpreter::new(parse_file("M30\n"), cfg);
+                let st = &interp.state;
+                for &code in &plain {
+                    for words in ["", " X1. Y2. Z3.", " X1. R5. F100", " P1 Q2. L3 H1 D1", " I1. J1. K1. B30. C40."] {
+                        let text = format!("{}{words}", gcode::display(code));
+                        let file = parse_file(&text);
+                        let BlockKind::Words(ws) = &file.programs[0].blocks[0].kind else { panic!("{text}") };
+                        let Ok(w) = st.collect(ws) else { continue };
+                        assert_eq!(check(st, &w), check_rules(st, &w), "{preset} {dialect:?}: {text}");
+                    }
+                }
+            }
         }
     }
 }

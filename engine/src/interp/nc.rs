@@ -63,7 +63,7 @@ impl Words {
 }
 
 impl State {
-    fn collect(&self, words: &[Word]) -> Result<Words, AlarmId> {
+    pub(super) fn collect(&self, words: &[Word]) -> Result<Words, AlarmId> {
         let mut w = Words { list: ArrayVec::new(), last: [0; 26], g: [0; 12], ng: 0, m: [0; 4], nm: 0 };
         for word in words {
             let (v, no_point) = match &word.value {
