@@ -3,6 +3,11 @@
 //! FANUC conventions: the drilling axis is the plane normal; in G91 the R word is the distance
 //! from the initial level and the drilling-axis word the distance from the R point; G98 returns
 //! to the initial level, G99 to the R point; L repeats the cycle (L0 only stores its data).
+//!
+//! Every point of a cycle is computed in programmed coordinates and goes through the programming
+//! transforms (`frames`) like any other: hole positions and R/Z levels are rotated, scaled and
+//! mirrored. Peck depths Q, the G73/G83 retract and the G76/G87 shift are lengths scaling does
+//! not change (FANUC), so they are divided by the axis's magnification here.
 
 use super::nc::Words;
 use super::State;
@@ -44,7 +49,7 @@ impl State {
             self.cycle.p = p / 1000.0;
         }
         if !self.cycle.r_set {
-            self.cycle.r = self.pos[d];
+            self.cycle.r = self.xf.programmed[d];
         }
         let repeats = Self::count(w)?;
         let code = self.modes[9];
@@ -56,16 +61,8 @@ impl State {
         }
         for _ in 0..repeats {
             // Position over the hole: every axis but the drilling axis.
-            let mut hole = self.pos;
-            for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
-                if i == d {
-                    continue;
-                }
-                if let Some(v) = self.value(w, axis.name as u8) {
-                    hole[i] = if incremental { self.pos[i] + v } else { v };
-                }
-            }
-            self.emit_motion(MotionKind::Rapid, hole, None, out);
+            let hole = self.programmed_target(w, Some(d));
+            self.move_to(MotionKind::Rapid, hole, out);
             self.hole(code, d, (pa, pb), out)?;
             check_output(out)?;
         }
@@ -73,15 +70,16 @@ impl State {
     }
 
     fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) {
-        let mut t = self.pos;
+        let mut t = self.xf.programmed;
         t[d] = level;
-        self.emit_motion(kind, t, None, out);
+        self.move_to(kind, t, out);
     }
 
+    /// A shift along `axis` by `by` mm after the transforms (scaling does not change it).
     fn shift(&mut self, axis: usize, by: f64, out: &mut Vec<Canon>) {
-        let mut t = self.pos;
-        t[axis] += by;
-        self.emit_motion(MotionKind::Rapid, t, None, out);
+        let mut t = self.xf.programmed;
+        t[axis] += by / self.xf.length_factor(axis);
+        self.move_to(MotionKind::Rapid, t, out);
     }
 
     fn spindle(&mut self, state: SpindleState, out: &mut Vec<Canon>) {
@@ -92,6 +90,9 @@ impl State {
         use MotionKind::{Linear, Rapid};
         let c = self.cycle;
         let ret = if self.modes[10] == 990 { c.r } else { c.initial };
+        // Peck depth and retract in programmed units along the drilling axis.
+        let unit = self.xf.length_factor(d);
+        let (q, retract, clearance) = (c.q / unit, G73_RETRACT / unit, G83_CLEARANCE / unit);
         let dir = if c.z < c.r { -1.0 } else { 1.0 };
         let dwell = |st: &mut State, out: &mut Vec<Canon>| {
             if c.p > 0.0 {
@@ -114,14 +115,14 @@ impl State {
             self.spindle(SpindleState::Cw, out);
             return Ok(());
         }
-        if self.pos[d] != c.r {
+        if self.xf.programmed[d] != c.r {
             self.move_drill_axis(d, c.r, Rapid, out);
         }
         match code {
             730 | 830 => {
                 let mut depth = c.r;
                 loop {
-                    let next = if (c.z - depth) * dir <= c.q { c.z } else { depth + dir * c.q };
+                    let next = if (c.z - depth) * dir <= q { c.z } else { depth + dir * q };
                     self.move_drill_axis(d, next, Linear, out);
                     check_output(out)?;
                     depth = next;
@@ -129,10 +130,10 @@ impl State {
                         break;
                     }
                     if code == 730 {
-                        self.move_drill_axis(d, depth - dir * G73_RETRACT, Rapid, out);
+                        self.move_drill_axis(d, depth - dir * retract, Rapid, out);
                     } else {
                         self.move_drill_axis(d, c.r, Rapid, out);
-                        self.move_drill_axis(d, depth - dir * G83_CLEARANCE, Rapid, out);
+                        self.move_drill_axis(d, depth - dir * clearance, Rapid, out);
                     }
                 }
                 dwell(self, out);

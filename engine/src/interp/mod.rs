@@ -6,6 +6,7 @@
 
 mod cycles;
 pub mod expr;
+mod frames;
 pub mod gcode;
 mod modes;
 mod nc;
@@ -56,6 +57,9 @@ pub struct Config {
     pub time: f64,
     /// Arc end-point radius tolerance, mm (FANUC No.3410).
     pub arc_tolerance: f64,
+    /// FANUC No.5400#0 RIN: the G68 angle R follows G90/G91 (a G91 R is added to the active
+    /// rotation) when true; R is always absolute when false.
+    pub rotation_angle_incremental: bool,
 }
 
 impl Config {
@@ -71,6 +75,7 @@ impl Config {
             date: 0.0,
             time: 0.0,
             arc_tolerance: 0.02,
+            rotation_angle_incremental: true,
         }
     }
 }
@@ -157,8 +162,11 @@ pub struct State {
     last_n: u32,
     spindle: crate::canon::SpindleState,
     pub offsets: Offsets,
-    /// Programming coordinates of the current point (the last block's end point).
+    /// Programming coordinates of the current point (the last block's end point), after the
+    /// programming transforms (G51.1, G51, G68): the workpiece coordinates of the tool.
     pos: Pos,
+    /// Programming transforms and the programmed (untransformed) current point.
+    xf: frames::Transforms,
     /// G52 local offset and G92 shift, added to the work offset.
     local: Pos,
     shift: Pos,
@@ -289,6 +297,7 @@ impl State {
             spindle: crate::canon::SpindleState::Stop,
             offsets: Offsets::default(),
             pos: [0.0; MAX_AXES],
+            xf: frames::Transforms::default(),
             local: [0.0; MAX_AXES],
             shift: [0.0; MAX_AXES],
             tool_vec: [0.0; MAX_AXES],

@@ -31,7 +31,7 @@ pub(super) struct Words {
 }
 
 impl Words {
-    fn raw(&self, letter: u8) -> Option<(f64, bool)> {
+    pub(super) fn raw(&self, letter: u8) -> Option<(f64, bool)> {
         let i = self.last[(letter - b'A') as usize];
         (i != 0).then(|| {
             let (_, v, no_point) = self.list[i as usize - 1];
@@ -321,7 +321,7 @@ impl State {
                 8 => tool_length_changed = true,
                 9 if code != 800 && self.modes[9] == 800 => {
                     let axis = self.drill_axis();
-                    self.cycle.initial = axis.map_or(0.0, |a| self.pos[a]);
+                    self.cycle.initial = axis.map_or(0.0, |a| self.xf.programmed[a]);
                 }
                 14 => {
                     wcs_changed = true;
@@ -346,6 +346,12 @@ impl State {
         }
         if wcs_changed {
             self.pos = self.machine_to_program(&machine_before);
+            self.sync_programmed();
+        }
+        // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
+        let transform_axes = self.apply_transforms(&w)?;
+        if transform_axes && axes_owner.is_some() {
+            return Err(AlarmId::IllegalGCodeCombination);
         }
 
         // --- F S T, and the M codes that act before motion ----------------------------------
@@ -415,7 +421,7 @@ impl State {
 
         // --- motion -------------------------------------------------------------------------
         let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
-        if axes_owner.is_none() {
+        if axes_owner.is_none() && !transform_axes {
             if self.modes[9] != 800 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c))) {
                 if has_axes || w.has(b'R') || w.has(b'Z') {
                     moved |= self.canned_cycle(&w, out)?;
@@ -427,7 +433,7 @@ impl State {
                 // The offset takes effect at once: the tool moves, the programmed point stays.
                 let target = self.pos;
                 let kind = if self.modes[1] == 0 { MotionKind::Rapid } else { MotionKind::Linear };
-                self.emit_motion(kind, target, None, out);
+                self.push_motion(kind, target, None, out);
             }
         }
 
@@ -524,8 +530,17 @@ impl State {
         }
     }
 
-    /// Emit a motion to `target` (programming coordinates) and make it the current point.
-    pub(super) fn emit_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
+    /// Move to a point in programmed coordinates: it goes through the programming transforms
+    /// (`frames`) and becomes the current point.
+    pub(super) fn move_to(&mut self, kind: MotionKind, programmed: Pos, out: &mut Vec<Canon>) {
+        let target = self.xf.forward(&programmed);
+        self.push_motion(kind, target, None, out);
+        self.xf.programmed = programmed;
+    }
+
+    /// Emit a motion to `target` (workpiece coordinates, after the programming transforms) and
+    /// make it the current point; the caller keeps the programmed point.
+    fn push_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
         let machine = self.program_to_machine(&target);
         let motion = Motion {
             kind,
@@ -556,18 +571,13 @@ impl State {
         };
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
+        self.sync_programmed();
     }
 
-    /// The end point of the block's axis words (absolute or incremental).
+    /// The end point of the block's axis words (absolute or incremental, polar under G16) in
+    /// programmed coordinates, before the programming transforms.
     pub(super) fn target(&self, w: &Words) -> Pos {
-        let mut t = self.pos;
-        let incremental = self.modes[3] == 910;
-        for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
-            if let Some(v) = self.value(w, axis.name as u8) {
-                t[i] = if incremental { self.pos[i] + v } else { v };
-            }
-        }
-        t
+        self.programmed_target(w, None)
     }
 
     fn check_feed(&self) -> Result<(), AlarmId> {
@@ -578,18 +588,20 @@ impl State {
     }
 
     fn group01_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
-        let target = self.target(w);
+        let programmed = self.target(w);
         match self.modes[1] {
-            0 => self.emit_motion(MotionKind::Rapid, target, None, out),
+            0 => self.move_to(MotionKind::Rapid, programmed, out),
             20 | 30 => {
                 self.check_feed()?;
-                let arc = self.arc(w, &target)?;
-                let kind = if self.modes[1] == 20 { MotionKind::ArcCw } else { MotionKind::ArcCcw };
-                self.emit_motion(kind, target, arc, out);
+                let target = self.xf.forward(&programmed);
+                let (cw, arc) = self.arc(w, &target)?;
+                let kind = if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw };
+                self.push_motion(kind, target, arc, out);
+                self.xf.programmed = programmed;
             }
             _ => {
                 self.check_feed()?;
-                self.emit_motion(MotionKind::Linear, target, None, out);
+                self.move_to(MotionKind::Linear, programmed, out);
             }
         }
         Ok(())
@@ -614,11 +626,12 @@ impl State {
         self.plane_axes().ok().map(|(_, _, c)| c)
     }
 
-    /// Circle geometry of a G02/G03 block from I/J/K or R. `None` for an R arc whose end point
-    /// equals its start (no movement in the plane).
-    fn arc(&self, w: &Words, target: &Pos) -> Result<Option<Box<Arc>>, AlarmId> {
+    /// Circle geometry of a G02/G03 block from I/J/K or R, in workpiece coordinates (`target`
+    /// is the end point after the programming transforms), and whether it turns clockwise there
+    /// (a mirror image swaps G02 and G03). No geometry for an R arc whose end point equals its
+    /// start (no movement in the plane).
+    fn arc(&self, w: &Words, target: &Pos) -> Result<(bool, Option<Box<Arc>>), AlarmId> {
         let (a, b, c) = self.plane_axes()?;
-        let cw = self.modes[1] == 20;
         let (sx, sy) = (self.pos[a], self.pos[b]);
         let (ex, ey) = (target[a], target[b]);
         let ijk = |axis: usize| -> Option<f64> {
@@ -629,11 +642,14 @@ impl State {
             };
             self.value(w, letter)
         };
-        let (cx, cy) = if let Some(r) = self.value(w, b'R') {
+        let offset = (ijk(a).unwrap_or(0.0), ijk(b).unwrap_or(0.0));
+        let words = super::frames::ArcWords { r: self.value(w, b'R'), offset, cw: self.modes[1] == 20 };
+        let super::frames::ArcWords { r: radius, offset, cw } = self.arc_words((a, b), words)?;
+        let (cx, cy) = if let Some(r) = radius {
             let (dx, dy) = (ex - sx, ey - sy);
             let d = (dx * dx + dy * dy).sqrt();
             if d < 1e-9 {
-                return Ok(None);
+                return Ok((cw, None));
             }
             let half = d / 2.0;
             if half - r.abs() > self.cfg.arc_tolerance {
@@ -645,7 +661,7 @@ impl State {
             let side = if cw { -1.0 } else { 1.0 } * if r < 0.0 { -1.0 } else { 1.0 };
             (sx + dx / 2.0 - side * h * uy, sy + dy / 2.0 + side * h * ux)
         } else {
-            (sx + ijk(a).unwrap_or(0.0), sy + ijk(b).unwrap_or(0.0))
+            (sx + offset.0, sy + offset.1)
         };
         let r0 = ((sx - cx).powi(2) + (sy - cy).powi(2)).sqrt();
         let r1 = ((ex - cx).powi(2) + (ey - cy).powi(2)).sqrt();
@@ -670,7 +686,7 @@ impl State {
         let mut center = self.pos;
         center[a] = cx;
         center[b] = cy;
-        Ok(Some(Box::new(Arc { center, plane_axes: (a, b, c), radius: r0, sweep_deg: sweep.to_degrees() })))
+        Ok((cw, Some(Box::new(Arc { center, plane_axes: (a, b, c), radius: r0, sweep_deg: sweep.to_degrees() }))))
     }
 
     /// A group 00 code. Returns whether it moved the tool.
@@ -703,6 +719,7 @@ impl State {
                     }
                 }
                 self.pos = self.machine_to_program(&machine_before);
+                self.sync_programmed();
             }
             530 => {
                 let mut m = machine_before;
@@ -723,6 +740,7 @@ impl State {
                         self.pos[i] = v;
                     }
                 }
+                self.sync_programmed();
             }
             921 => {
                 for i in 0..axes {
@@ -732,6 +750,7 @@ impl State {
                     }
                 }
                 self.pos = self.machine_to_program(&machine_before);
+                self.sync_programmed();
             }
             280 | 300 => {
                 if self.modes[9] != 800 {
@@ -739,8 +758,8 @@ impl State {
                 }
                 // Through the intermediate point, then to the reference position (machine 0).
                 let mid = self.target(w);
-                self.emit_motion(MotionKind::Rapid, mid, None, out);
-                self.last_g28_mid = mid;
+                self.move_to(MotionKind::Rapid, mid, out);
+                self.last_g28_mid = self.pos;
                 let mut m = self.machine_position();
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if w.has(axis.name as u8) {
@@ -757,20 +776,21 @@ impl State {
                         mid[i] = self.last_g28_mid[i];
                     }
                 }
-                self.emit_motion(MotionKind::Rapid, mid, None, out);
+                self.push_motion(MotionKind::Rapid, mid, None, out);
+                self.sync_programmed();
                 let target = self.target(w);
-                self.emit_motion(MotionKind::Rapid, target, None, out);
+                self.move_to(MotionKind::Rapid, target, out);
                 return Ok(true);
             }
             270 | 282 | 301 | 600 => {
                 let target = self.target(w);
-                self.emit_motion(MotionKind::Rapid, target, None, out);
+                self.move_to(MotionKind::Rapid, target, out);
                 return Ok(true);
             }
             310 | 318 | 319 | 370 | 450 | 460 | 470 | 480 => {
                 self.check_feed()?;
                 let target = self.target(w);
-                self.emit_motion(MotionKind::Linear, target, None, out);
+                self.move_to(MotionKind::Linear, target, out);
                 return Ok(true);
             }
             220 => {}
@@ -804,6 +824,7 @@ impl State {
                     }
                 }
                 self.pos = self.machine_to_program(&machine_before);
+                self.sync_programmed();
             }
             1 | 10..=13 => {
                 let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;

@@ -143,6 +143,7 @@ fn plain_words(t: &[u8], col0: u32, line: u32) -> Option<Block> {
         while i < t.len() && blank(t[i]) {
             i += 1;
         }
+        let signed = matches!(t.get(i), Some(b'-' | b'+'));
         let negative = match t.get(i) {
             Some(b'-') => true,
             Some(b'+') => false,
@@ -159,7 +160,7 @@ fn plain_words(t: &[u8], col0: u32, line: u32) -> Option<Block> {
         let (Tok::Num { value, point }, end) = super::lexer::number_at(t, i) else { return None };
         i = end;
         if letter == b'N' && words.is_empty() && n.is_none() {
-            if negative || point || t[letter_col as usize - col0 as usize + 1] == b'+' || value > 99_999_999.0 {
+            if signed || point || value > 99_999_999.0 {
                 return None;
             }
             n = Some(value as u32);

@@ -1,0 +1,400 @@
+//! Programming transforms of the FANUC M series: polar coordinate command (G15/G16, group 17),
+//! programmable mirror image (G50.1/G51.1, group 22), scaling (G50/G51, group 11) and coordinate
+//! system rotation (G68/G69, group 16). The decisions are in `docs/conventions.md`, "Programming
+//! transforms"; `engine/tests/frames.rs` pins them.
+//!
+//! A block's axis words give a point in *programmed* coordinates (G16 words already turned into
+//! Cartesian ones). The point goes through the mirror image, then scaling, then rotation (FANUC's
+//! processing order) and comes out as the end point in the workpiece coordinate system: what
+//! `State::pos`, a motion's `target` and `#5001` hold. The programmed coordinates of the current
+//! point are kept in [`Transforms::programmed`], exactly as programmed, so that incremental words
+//! and omitted axes work in the programmed space. Whatever changes the relation between the two
+//! without a programmed move (a transform starts, changes or ends; an offset changes; a move in
+//! machine coordinates) keeps the tool where it is and derives its programmed coordinates again
+//! from `pos`, as a work offset change does.
+
+use super::nc::Words;
+use super::State;
+use crate::alarm::AlarmId;
+use crate::canon::Pos;
+use crate::machine::{AxisKind, MAX_AXES};
+
+/// Largest magnification of G51 (FANUC: 999999 in units of 0.001).
+const MAX_MAGNIFICATION: f64 = 999.999;
+
+/// The circle words of a G02/G03 block in its plane: R, the centre offset (I/J/K of the plane's
+/// two axes) and the direction.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ArcWords {
+    pub(super) r: Option<f64>,
+    pub(super) offset: (f64, f64),
+    pub(super) cw: bool,
+}
+
+/// The active programming transforms and the programmed current point.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Transforms {
+    /// The current point in programmed coordinates (before the transforms).
+    pub(super) programmed: Pos,
+    /// Per axis, the position of the mirror axis (G51.1); `None` = not mirrored.
+    mirror: [Option<f64>; MAX_AXES],
+    scale: Option<Scale>,
+    rotation: Option<Rotation>,
+    /// Whether any of the three is on (the usual case, off, costs one test per motion).
+    active: bool,
+}
+
+/// G51: `x' = center + factor · (x − center)` per axis; a negative factor mirrors.
+#[derive(Debug, Clone, Copy)]
+struct Scale {
+    center: Pos,
+    /// 1 on the axes scaling does not act on.
+    factor: Pos,
+}
+
+/// G68 in the plane of `axes`, about `center` (workpiece coordinates of that plane).
+#[derive(Debug, Clone, Copy)]
+struct Rotation {
+    axes: (usize, usize),
+    center: (f64, f64),
+    /// R as programmed (summed under G91), degrees: what a following G91 R adds to.
+    angle: f64,
+    /// Of the angle applied: R, or −R when the mirror image and scaling active when G68 was
+    /// commanded mirror the plane (the whole rotation is mirrored with the program).
+    cos: f64,
+    sin: f64,
+}
+
+/// Sine and cosine of an angle in degrees, exact at multiples of 90° (so a G68 R90 maps X10 to
+/// X0 Y10 and not to X6e-16).
+pub(super) fn sin_cos_deg(deg: f64) -> (f64, f64) {
+    let r = deg.rem_euclid(360.0);
+    if r == 0.0 {
+        (0.0, 1.0)
+    } else if r == 90.0 {
+        (1.0, 0.0)
+    } else if r == 180.0 {
+        (0.0, -1.0)
+    } else if r == 270.0 {
+        (-1.0, 0.0)
+    } else {
+        deg.to_radians().sin_cos()
+    }
+}
+
+impl Transforms {
+    fn refresh(&mut self) {
+        self.active = self.scale.is_some() || self.rotation.is_some() || self.mirror.iter().any(Option::is_some);
+    }
+
+    /// Whether an axis is mirrored by G51.1.
+    pub(super) fn mirrored(&self) -> bool {
+        self.mirror.iter().any(Option::is_some)
+    }
+
+    /// Mirror image then scaling: the input of the rotation.
+    fn before_rotation(&self, p: &Pos) -> Pos {
+        let mut q = *p;
+        for (x, m) in q.iter_mut().zip(&self.mirror) {
+            if let Some(c) = m {
+                *x = 2.0 * c - *x;
+            }
+        }
+        if let Some(s) = &self.scale {
+            for ((x, c), f) in q.iter_mut().zip(&s.center).zip(&s.factor) {
+                if *f != 1.0 {
+                    *x = c + f * (*x - c);
+                }
+            }
+        }
+        q
+    }
+
+    /// Undo the rotation stage only.
+    fn unrotate(&self, w: &Pos) -> Pos {
+        let mut q = *w;
+        if let Some(r) = &self.rotation {
+            let (a, b) = r.axes;
+            let (dx, dy) = (q[a] - r.center.0, q[b] - r.center.1);
+            q[a] = r.center.0 + dx * r.cos + dy * r.sin;
+            q[b] = r.center.1 - dx * r.sin + dy * r.cos;
+        }
+        q
+    }
+
+    /// Programmed → workpiece coordinates.
+    pub(super) fn forward(&self, p: &Pos) -> Pos {
+        if !self.active {
+            return *p;
+        }
+        let mut q = self.before_rotation(p);
+        if let Some(r) = &self.rotation {
+            let (a, b) = r.axes;
+            let (dx, dy) = (q[a] - r.center.0, q[b] - r.center.1);
+            q[a] = r.center.0 + dx * r.cos - dy * r.sin;
+            q[b] = r.center.1 + dx * r.sin + dy * r.cos;
+        }
+        q
+    }
+
+    /// Workpiece → programmed coordinates (every factor is non-zero, so this always exists).
+    pub(super) fn inverse(&self, w: &Pos) -> Pos {
+        if !self.active {
+            return *w;
+        }
+        let mut q = self.unrotate(w);
+        if let Some(s) = &self.scale {
+            for ((x, c), f) in q.iter_mut().zip(&s.center).zip(&s.factor) {
+                if *f != 1.0 {
+                    *x = c + (*x - c) / f;
+                }
+            }
+        }
+        for (x, m) in q.iter_mut().zip(&self.mirror) {
+            if let Some(c) = m {
+                *x = 2.0 * c - *x;
+            }
+        }
+        q
+    }
+
+    /// Signed factor of mirror and scaling on one axis.
+    fn axis_factor(&self, i: usize) -> f64 {
+        let m = if self.mirror[i].is_some() { -1.0 } else { 1.0 };
+        m * self.scale.map_or(1.0, |s| s.factor[i])
+    }
+
+    /// How much a programmed length along axis `i` grows (rotation and mirror keep lengths): the
+    /// peck depths and shifts of canned cycles, which scaling does not change, are divided by it.
+    pub(super) fn length_factor(&self, i: usize) -> f64 {
+        self.scale.map_or(1.0, |s| s.factor[i].abs())
+    }
+
+    /// Whether the transforms mirror the plane of axes `a`, `b` (an odd number of its axes
+    /// mirrored by G51.1 or a negative magnification): G02 and G03 swap, as do G41 and G42.
+    pub(super) fn flips(&self, a: usize, b: usize) -> bool {
+        self.axis_factor(a) * self.axis_factor(b) < 0.0
+    }
+}
+
+impl State {
+    /// The block's end point in programmed coordinates: the programmed current point with the
+    /// block's axis words (G90/G91, G16 polar words) applied, except on axis `skip` (the drilling
+    /// axis of a canned cycle).
+    pub(super) fn programmed_target(&self, w: &Words, skip: Option<usize>) -> Pos {
+        let here = self.xf.programmed;
+        let mut t = here;
+        let incremental = self.modes[3] == 910;
+        let polar = if self.modes[17] == 160 { self.plane_axes().ok() } else { None };
+        for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+            if Some(i) == skip || polar.is_some_and(|(a, b, _)| i == a || i == b) {
+                continue;
+            }
+            if let Some(v) = self.value(w, axis.name as u8) {
+                t[i] = if incremental { here[i] + v } else { v };
+            }
+        }
+        if let Some((a, b, _)) = polar {
+            self.polar(w, a, b, &mut t);
+        }
+        t
+    }
+
+    /// G16: the plane's first axis word is the radius, the second the angle (degrees, CCW from
+    /// the first axis). The origin is the workpiece zero, or the current point when the radius
+    /// is incremental (G91). An omitted radius is the current point's distance from the zero; an
+    /// incremental or omitted angle counts from the current point's angle about the zero.
+    fn polar(&self, w: &Words, a: usize, b: usize, t: &mut Pos) {
+        let axes = &self.cfg.machine.axes;
+        let radius = self.value(w, axes[a].name as u8);
+        let angle = self.angle_word(w, axes[b].name as u8);
+        if radius.is_none() && angle.is_none() {
+            return;
+        }
+        let incremental = self.modes[3] == 910;
+        let (x, y) = (self.xf.programmed[a], self.xf.programmed[b]);
+        let (origin, r) = match radius {
+            Some(r) if incremental => ((x, y), r),
+            Some(r) => ((0.0, 0.0), r),
+            None => ((0.0, 0.0), x.hypot(y)),
+        };
+        let current = if x == 0.0 && y == 0.0 { 0.0 } else { y.atan2(x).to_degrees() };
+        let theta = match angle {
+            Some(v) if incremental => current + v,
+            Some(v) => v,
+            None => current,
+        };
+        let (s, c) = sin_cos_deg(theta);
+        t[a] = origin.0 + r * c;
+        t[b] = origin.1 + r * s;
+    }
+
+    /// An angle word in degrees: without a decimal point it counts 0.001° (IS-B), in mm and
+    /// inch alike.
+    fn angle_word(&self, w: &Words, letter: u8) -> Option<f64> {
+        let (v, no_point) = w.raw(letter)?;
+        Some(if no_point && !self.cfg.pocket_calculator { v * 0.001 } else { v })
+    }
+
+    /// A magnification of G51 (P, I, J, K): without a decimal point in units of 0.001 (FANUC
+    /// No.5400#7 SCR = 0), with one as written.
+    fn magnification(&self, w: &Words, letter: u8) -> Result<Option<f64>, AlarmId> {
+        let Some((v, no_point)) = w.raw(letter) else { return Ok(None) };
+        let m = if no_point && !self.cfg.pocket_calculator { v * 0.001 } else { v };
+        // FANUC PS0142 (ILLEGAL SCALE RATE); P must be positive, I/J/K may be negative (mirror).
+        if m == 0.0 || m.abs() > MAX_MAGNIFICATION || (letter == b'P' && m < 0.0) {
+            return Err(AlarmId::TooManyDigits);
+        }
+        Ok(Some(m))
+    }
+
+    /// Derive the programmed current point from the workpiece one (after a transform or an
+    /// offset changed without a programmed move).
+    pub(super) fn sync_programmed(&mut self) {
+        self.xf.programmed = self.xf.inverse(&self.pos);
+    }
+
+    /// The transform codes of a block (G50/G51, G50.1/G51.1, G68/G69), after the modal groups
+    /// were updated. Returns whether the block's axis words were theirs (no motion then).
+    pub(super) fn apply_transforms(&mut self, w: &Words) -> Result<bool, AlarmId> {
+        let mut owns_axes = false;
+        for &code in w.gcodes() {
+            match code {
+                511 => {
+                    for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+                        if let Some(v) = self.value(w, axis.name as u8) {
+                            self.xf.mirror[i] = Some(v);
+                        }
+                    }
+                    owns_axes = true;
+                }
+                501 => {
+                    // The named axes; without axis words, all of them.
+                    let axes = &self.cfg.machine.axes;
+                    let all = !axes.iter().any(|a| w.has(a.name as u8));
+                    for (i, axis) in axes.iter().enumerate() {
+                        if all || w.has(axis.name as u8) {
+                            self.xf.mirror[i] = None;
+                        }
+                    }
+                    owns_axes = true;
+                }
+                510 => {
+                    self.start_scaling(w)?;
+                    owns_axes = true;
+                }
+                500 => {
+                    if self.xf.scale.take().is_none() {
+                        continue;
+                    }
+                }
+                680 => {
+                    self.start_rotation(w)?;
+                    owns_axes = true;
+                }
+                690 => {
+                    if self.xf.rotation.take().is_none() {
+                        continue;
+                    }
+                }
+                _ => continue,
+            }
+            self.xf.refresh();
+            self.sync_programmed();
+        }
+        // G68.2… took group 16: the plane rotation of G68 is over.
+        if self.modes[16] != 680 && self.xf.rotation.is_some() {
+            self.xf.rotation = None;
+            self.xf.refresh();
+            self.sync_programmed();
+        }
+        self.modes[22] = if self.xf.mirrored() { 511 } else { 501 };
+        Ok(owns_axes)
+    }
+
+    /// `G51 X_ Y_ Z_ P_` or `G51 X_ Y_ Z_ I_ J_ K_`: the center is absolute (also under G91),
+    /// omitted coordinates are the current point's; P scales every linear axis, I/J/K the X, Y
+    /// and Z axes (they override P); without either the magnification is 1.
+    fn start_scaling(&mut self, w: &Words) -> Result<(), AlarmId> {
+        let p = self.magnification(w, b'P')?;
+        let mut factor = [1.0; MAX_AXES];
+        for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+            if axis.kind == AxisKind::Linear {
+                factor[i] = p.unwrap_or(1.0);
+            }
+        }
+        for (letter, axis) in [(b'I', b'X'), (b'J', b'Y'), (b'K', b'Z')] {
+            if let (Some(m), Some(i)) = (self.magnification(w, letter)?, self.axis_of(axis)) {
+                factor[i] = m;
+            }
+        }
+        // The center is a fixed point of the scaling: given coordinates are programmed ones
+        // (through the mirror image), omitted ones the tool's position before the rotation.
+        let mut center = self.xf.unrotate(&self.pos);
+        for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+            if let Some(v) = self.value(w, axis.name as u8) {
+                center[i] = match self.xf.mirror[i] {
+                    Some(c) => 2.0 * c - v,
+                    None => v,
+                };
+            }
+        }
+        self.xf.scale = Some(Scale { center, factor });
+        Ok(())
+    }
+
+    /// `G68 α_ β_ R_` in the selected plane: the center is absolute (also under G91) and goes
+    /// through the mirror image and scaling; omitted coordinates are the tool's position. R is
+    /// degrees CCW (0 when omitted); under G91 it is added to the active rotation's angle when
+    /// `Config::rotation_angle_incremental` (FANUC No.5400#0 RIN) is set.
+    fn start_rotation(&mut self, w: &Words) -> Result<(), AlarmId> {
+        let (a, b, _) = self.plane_axes()?;
+        let mut center = (self.pos[a], self.pos[b]);
+        let given = self.xf.before_rotation(&{
+            let mut c = self.xf.programmed;
+            for i in [a, b] {
+                if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
+                    c[i] = v;
+                }
+            }
+            c
+        });
+        if w.has(self.cfg.machine.axes[a].name as u8) {
+            center.0 = given[a];
+        }
+        if w.has(self.cfg.machine.axes[b].name as u8) {
+            center.1 = given[b];
+        }
+        let r = self.angle_word(w, b'R').unwrap_or(0.0);
+        let angle = match self.xf.rotation {
+            Some(prev) if self.modes[3] == 910 && self.cfg.rotation_angle_incremental => prev.angle + r,
+            _ => r,
+        };
+        let applied = if self.xf.flips(a, b) { -angle } else { angle };
+        let (sin, cos) = sin_cos_deg(applied);
+        self.xf.rotation = Some(Rotation { axes: (a, b), center, angle, cos, sin });
+        Ok(())
+    }
+
+    /// The circle words of a G02/G03 block in the plane (`a`, `b`) carried into workpiece
+    /// coordinates: R grows by the larger magnification of the two axes (FANUC), the centre
+    /// offset I/J/K goes through mirror, scaling and rotation, and the direction turns over when
+    /// the transforms mirror the plane.
+    pub(super) fn arc_words(&self, (a, b): (usize, usize), words: ArcWords) -> Result<ArcWords, AlarmId> {
+        let ArcWords { r, offset, cw } = words;
+        if !self.xf.active {
+            return Ok(words);
+        }
+        let (fa, fb) = (self.xf.axis_factor(a), self.xf.axis_factor(b));
+        let mut v = (offset.0 * fa, offset.1 * fb);
+        if let Some(rot) = &self.xf.rotation {
+            if rot.axes != (a, b) {
+                // FANUC PS0144 (ILLEGAL PLANE SELECTED): the arc must be in the rotation plane.
+                return Err(AlarmId::ImproperGCode);
+            }
+            v = (v.0 * rot.cos - v.1 * rot.sin, v.0 * rot.sin + v.1 * rot.cos);
+        }
+        let r = r.map(|r| r * self.xf.length_factor(a).max(self.xf.length_factor(b)));
+        Ok(ArcWords { r, offset: v, cw: cw != self.xf.flips(a, b) })
+    }
+}
