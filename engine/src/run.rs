@@ -165,15 +165,7 @@ impl Executor {
             let u = if t1 > t0 { ((ts - t0) / (t1 - t0)).clamp(0.0, 1.0) } else { 1.0 };
             let (machine, work) = at(u);
             let tool = self.machine_config.tool_direction(&machine);
-            on_sample(&Sample {
-                t: ts,
-                line: c.line,
-                n: c.n,
-                machine,
-                tip: [work[0], work[1], work[2]],
-                tool,
-                feed,
-            });
+            on_sample(&Sample { t: ts, line: c.line, n: c.n, machine, tip: [work[0], work[1], work[2]], tool, feed });
             self.next_sample += 1;
         }
     }

@@ -61,7 +61,7 @@ fn val(src: &str, n: u32) -> f64 {
 fn canon_cfg(src: &str, preset: &str, tweak: impl FnOnce(&mut Config)) -> Vec<Canon> {
     let mut interp = interp_cfg(src, preset, Dialect::Fanuc, tweak);
     let mut v = Vec::new();
-    interp.run(|c| v.push(c.clone())).expect("no alarm");
+    interp.run(|c| v.push(c)).expect("no alarm");
     v
 }
 

@@ -244,12 +244,12 @@ impl Interpreter {
     }
 
     /// Run to the end, handing every canonical command to `sink`.
-    pub fn run(&mut self, mut sink: impl FnMut(&Canon)) -> Result<(), Alarm> {
+    pub fn run(&mut self, mut sink: impl FnMut(Canon)) -> Result<(), Alarm> {
         let mut out = Vec::with_capacity(16);
         loop {
             let step = self.step(&mut out);
             for c in out.drain(..) {
-                sink(&c);
+                sink(c);
             }
             if step? == Step::Ended {
                 return Ok(());

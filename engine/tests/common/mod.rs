@@ -52,7 +52,7 @@ pub fn alarm_with(src: &str, dialect: Dialect) -> String {
 pub fn canon(src: &str) -> Vec<Canon> {
     let mut interp = interpreter(src, "mill3", Dialect::Fanuc);
     let mut v = Vec::new();
-    interp.run(|c| v.push(c.clone())).expect("no alarm");
+    interp.run(|c| v.push(c)).expect("no alarm");
     v
 }
 

@@ -178,9 +178,19 @@ fn motion(w: &mut impl Write, m: &Motion, axes: &[char]) -> io::Result<()> {
     w.write_all(b",\"motion\":\"")?;
     w.write_all(kind.as_bytes())?;
     w.write_all(b"\",\"target\":")?;
-    axes_map(w, &m.target, axes)?;
+    // Without offsets the machine point is the target: format it once (on the stack).
+    let mut buf = [0u8; 512];
+    let mut cursor = io::Cursor::new(&mut buf[..]);
+    axes_map(&mut cursor, &m.target, axes)?;
+    let len = cursor.position() as usize;
+    let target = &buf[..len];
+    w.write_all(target)?;
     w.write_all(b",\"machine\":")?;
-    axes_map(w, &m.machine, axes)?;
+    if m.machine == m.target {
+        w.write_all(target)?;
+    } else {
+        axes_map(w, &m.machine, axes)?;
+    }
     w.write_all(b",\"feed\":")?;
     num(w, m.feed)?;
     w.write_all(b",\"feed_mode\":\"")?;

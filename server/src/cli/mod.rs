@@ -292,7 +292,7 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
         if send_failed {
             return;
         }
-        batch.push(c.clone());
+        batch.push(c);
         if batch.len() == BATCH {
             let next = recycle_rx.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
             send_failed = tx.send(std::mem::replace(&mut batch, next)).is_err();
@@ -304,6 +304,9 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     drop(tx);
     let written = writer.join().map_err(|_| Fail("the output thread failed".into()))?;
     written.map_err(|e| Fail(format!("stdout: {e}")))?;
+    // The process ends here: leave the programs' memory to the OS instead of freeing it block
+    // by block.
+    std::mem::forget(interp);
     match result {
         Ok(()) => Ok(0),
         Err(alarm) => {
