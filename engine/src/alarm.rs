@@ -107,6 +107,10 @@ pub enum AlarmId {
     MixedStatements,
     /// `#3000 = n (MSG)`: the program's own alarm.
     MacroAlarm { number: u32, message: String },
+    /// G51 with a magnification of zero, or a negative common one.
+    IllegalScaleRate,
+    /// A circle outside the plane of the active coordinate rotation (G68).
+    IllegalPlaneInRotation,
     // --- fivex's own guards ---------------------------------------------------------------
     /// The block budget was used up: an endless loop or endless recursion.
     BlockBudgetExceeded { budget: u64 },

@@ -66,6 +66,8 @@ const COR100: Text = ("COR-100", "Unsupported G code command or option software 
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
+    AlarmId::IllegalScaleRate,
+    AlarmId::IllegalPlaneInRotation,
     AlarmId::Syntax,
     AlarmId::ImproperAddress,
     AlarmId::NoDataAfterAddress,
@@ -172,6 +174,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             ("PS1144", "G10 FORMAT ERROR"),
             ("COR-160", "5-axis mechanism chain switched when the 5-axis function is ON"),
         ),
+        IllegalScaleRate => (("PS0142", "ILLEGAL SCALE RATE"), ("COR-034", "Illegal scaling magnification")),
+        IllegalPlaneInRotation => (("PS0144", "ILLEGAL PLANE SELECTED"), ("COR-035", "Arc outside the rotation plane")),
         MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),
         VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-021", "Variable number out of range")),
         WriteProtectedVariable => (("PS0116", "WRITE PROTECTED VARIABLE"), ("COR-022", "Variable is read-only")),

@@ -6,6 +6,7 @@
 
 mod common;
 use common::*;
+use fivex_engine::Dialect::Syntec;
 
 use fivex_engine::canon::{Motion, MotionKind};
 use fivex_engine::interp::{Config, Interpreter};
@@ -202,9 +203,8 @@ fn g68_moves_the_machine_through_the_work_offset() {
 
 #[test]
 fn an_arc_outside_the_rotation_plane_is_an_alarm() {
-    // FANUC PS0144 ILLEGAL PLANE SELECTED; this engine has no such alarm id yet and raises
-    // PS0010 (a G code not allowed in the current mode).
-    assert_eq!(alarm("G17 G68 X0 Y0 R30.\nG18 G02 X10. Z0 R5. F100.\nM30\n"), "PS0010");
+    assert_eq!(alarm("G17 G68 X0 Y0 R30.\nG18 G02 X10. Z0 R5. F100.\nM30\n"), "PS0144");
+    assert_eq!(alarm_with("G17 G68 X0 Y0 R30.\nG18 G02 X10. Z0 R5. F100.\nM30\n", Syntec), "COR-035");
     // In the rotation plane it is fine.
     let m = motions("G17 G68 X0 Y0 R90.\nG02 X10. Y0 R5. F100.\nM30\n");
     at(&m[0], 0.0, 10.0);
@@ -306,11 +306,10 @@ fn g83_peck_depth_and_clearance_are_not_scaled() {
 
 #[test]
 fn g51_magnification_zero_is_an_alarm() {
-    // FANUC PS0142 ILLEGAL SCALE RATE; until the engine has that alarm id, PS0003 (a value out of
-    // the address's range).
-    assert_eq!(alarm("G51 X0 Y0 P0\nM30\n"), "PS0003");
-    assert_eq!(alarm("G51 X0 Y0 P-1000\nM30\n"), "PS0003");
-    assert_eq!(alarm("G51 X0 Y0 I0 J1000\nM30\n"), "PS0003");
+    assert_eq!(alarm("G51 X0 Y0 P0\nM30\n"), "PS0142");
+    assert_eq!(alarm("G51 X0 Y0 P-1000\nM30\n"), "PS0142");
+    assert_eq!(alarm("G51 X0 Y0 I0 J1000\nM30\n"), "PS0142");
+    assert_eq!(alarm_with("G51 X0 Y0 P0\nM30\n", Syntec), "COR-034");
 }
 
 #[test]

@@ -243,7 +243,7 @@ impl State {
         let m = if no_point && !self.cfg.pocket_calculator { v * 0.001 } else { v };
         // FANUC PS0142 (ILLEGAL SCALE RATE); P must be positive, I/J/K may be negative (mirror).
         if m == 0.0 || m.abs() > MAX_MAGNIFICATION || (letter == b'P' && m < 0.0) {
-            return Err(AlarmId::TooManyDigits);
+            return Err(AlarmId::IllegalScaleRate);
         }
         Ok(Some(m))
     }
@@ -390,7 +390,7 @@ impl State {
         if let Some(rot) = &self.xf.rotation {
             if rot.axes != (a, b) {
                 // FANUC PS0144 (ILLEGAL PLANE SELECTED): the arc must be in the rotation plane.
-                return Err(AlarmId::ImproperGCode);
+                return Err(AlarmId::IllegalPlaneInRotation);
             }
             v = (v.0 * rot.cos - v.1 * rot.sin, v.0 * rot.sin + v.1 * rot.cos);
         }
