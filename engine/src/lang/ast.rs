@@ -3,14 +3,14 @@
 use super::diag::Diagnostic;
 
 /// A whole file: one or more programs. The first is the main program.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct File {
     pub programs: Vec<Program>,
     /// Every diagnostic of the file, in source order.
     pub diagnostics: Vec<Diagnostic>,
 }
 
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Program {
     /// The `O` number; `None` for a file's single anonymous program.
     pub number: Option<u32>,
