@@ -12,8 +12,6 @@ use fivex_engine::alarm::Alarm;
 use fivex_engine::canon::{Canon, CanonKind, Motion, MotionKind};
 use fivex_engine::interp::expr::Variables;
 use fivex_engine::interp::{Config, Interpreter};
-use fivex_engine::lang::parse_file;
-use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions, RunResult};
 use fivex_engine::Dialect;
 
@@ -24,16 +22,7 @@ use fivex_engine::Dialect;
 /// An interpreter on `preset`/`dialect` with `tweak` applied to its configuration (tool offsets
 /// 1–99: length 100, radius 5, as in `common::interpreter`).
 fn interp_cfg(src: &str, preset: &str, dialect: Dialect, tweak: impl FnOnce(&mut Config)) -> Interpreter {
-    let mut cfg = Config::new(MachineConfig::preset(preset).expect("preset"), dialect);
-    cfg.max_blocks = 1_000_000;
-    tweak(&mut cfg);
-    let mut interp = Interpreter::new(parse_file(src), cfg);
-    for n in 1..=99 {
-        let t = interp.state.offsets.tool_mut(n).unwrap();
-        t.h_geometry = 100.0;
-        t.d_geometry = 5.0;
-    }
-    interp
+    interpreter_with(src, preset, dialect, tweak)
 }
 
 fn run_interp(interp: &mut Interpreter) -> RunResult {

@@ -542,6 +542,18 @@ impl State {
     /// make it the current point; the caller keeps the programmed point.
     fn push_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
         let machine = self.program_to_machine(&target);
+        self.emit_motion_at(kind, target, machine, arc, out);
+    }
+
+    /// Emit a motion whose end point is known in both systems and make it the current point.
+    fn emit_motion_at(
+        &mut self,
+        kind: MotionKind,
+        target: Pos,
+        machine: Pos,
+        arc: Option<Box<Arc>>,
+        out: &mut Vec<Canon>,
+    ) {
         let motion = Motion {
             kind,
             target,
@@ -559,18 +571,7 @@ impl State {
     /// A motion in machine coordinates (G53, reference returns).
     fn emit_machine_motion(&mut self, machine: Pos, out: &mut Vec<Canon>) {
         let target = self.machine_to_program(&machine);
-        let motion = Motion {
-            kind: MotionKind::MachineRapid,
-            target,
-            machine,
-            arc: None,
-            feed: self.f,
-            feed_mode: self.feed_mode(),
-            spindle: self.s,
-            context: self.context(),
-        };
-        self.emit(out, CanonKind::Motion(motion));
-        self.pos = target;
+        self.emit_motion_at(MotionKind::MachineRapid, target, machine, None, out);
         self.sync_programmed();
     }
 

@@ -9,8 +9,15 @@ use fivex_engine::run::{run, RunOptions, RunResult};
 use fivex_engine::Dialect;
 
 pub fn interpreter(src: &str, preset: &str, dialect: Dialect) -> Interpreter {
+    interpreter_with(src, preset, dialect, |_| {})
+}
+
+/// An interpreter whose configuration `tweak` adjusts; tool offsets 1–99 have length 100 and
+/// radius 5.
+pub fn interpreter_with(src: &str, preset: &str, dialect: Dialect, tweak: impl FnOnce(&mut Config)) -> Interpreter {
     let mut cfg = Config::new(MachineConfig::preset(preset).expect("preset"), dialect);
     cfg.max_blocks = 1_000_000;
+    tweak(&mut cfg);
     let mut interp = Interpreter::new(parse_file(src), cfg);
     for n in 1..=99 {
         let t = interp.state.offsets.tool_mut(n).unwrap();
