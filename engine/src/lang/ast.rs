@@ -38,8 +38,9 @@ pub struct Block {
 pub enum BlockKind {
     /// Nothing but a sequence number and/or comments.
     Empty,
-    /// An NC statement: address words in source order.
-    Words(Vec<Word>),
+    /// An NC statement: address words in source order (up to four stored inline: most blocks
+    /// need no allocation of their own).
+    Words(Words),
     /// `#i = expr`
     Assign { var: Expr, value: Expr },
     /// `IF [cond] GOTO n`
@@ -78,6 +79,9 @@ pub enum PrintItem {
         frac_digits: u8,
     },
 }
+
+/// The words of an NC statement.
+pub type Words = smallvec::SmallVec<[Word; 4]>;
 
 /// One address word: a letter and its value.
 #[derive(Debug, Clone, PartialEq)]

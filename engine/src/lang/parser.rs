@@ -161,7 +161,7 @@ fn plain_words(t: &[u8], col0: u32, line: u32) -> Option<Block> {
         i += 1;
     }
     let col = col0 + i as u32;
-    let mut words = Vec::with_capacity(4);
+    let mut words = Words::new();
     let mut n = None;
     while i < t.len() {
         let letter = t[i].to_ascii_uppercase();
@@ -345,8 +345,8 @@ impl BlockParser<'_> {
         }
     }
 
-    fn words(&mut self) -> PResult<Vec<Word>> {
-        let mut words = Vec::with_capacity(4);
+    fn words(&mut self) -> PResult<Words> {
+        let mut words = Words::new();
         while let (Tok::Letter(letter), col) = self.lx.peek() {
             self.lx.next_tok();
             let value = self.word_value(letter, col)?;
