@@ -11,4 +11,4 @@ mod parser;
 
 pub use ast::*;
 pub use diag::Diagnostic;
-pub use parser::{join, parse_file, parse_part};
+pub use parser::parse_file;

@@ -12,13 +12,6 @@ const MAX_BRACKET_DEPTH: u32 = 5;
 /// Parse a whole NC file. Never fails: problems are collected in `File::diagnostics` and the
 /// offending blocks become [`BlockKind::Error`].
 pub fn parse_file(text: &str) -> File {
-    parse_part(text, 1, false)
-}
-
-/// Parse a part of a file that starts at line `first_line`. A part that `continues` another
-/// starts inside that part's last program; [`join`] puts the parts back together, so a caller
-/// may parse the parts of a large file at the same time (`join_equals_parse_file`).
-pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
     let mut file = File::default();
     let mut current: Option<Program> = None;
     // Most files are one program: size its block list once instead of growing it.
@@ -28,7 +21,7 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
         Program { number, line, blocks }
     };
     for (idx, line) in text.lines().enumerate() {
-        let line_no = first_line + idx as u32;
+        let line_no = idx as u32 + 1;
         let trimmed = line.trim_start();
         if trimmed.is_empty() || trimmed.starts_with('%') {
             continue;
@@ -42,7 +35,7 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
             if let Some((number, after)) = program_number(segment) {
                 if let Some(p) = current.take() {
                     // Comments before the first O number are a file header, not a program.
-                    if continues || !is_header(&p) {
+                    if !is_header(&p) {
                         file.programs.push(p);
                     }
                 }
@@ -72,26 +65,6 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
 /// Comments before the first O number are a file header, not a program.
 fn is_header(p: &Program) -> bool {
     p.number.is_none() && p.blocks.iter().all(|b| b.kind == BlockKind::Empty && b.n.is_none())
-}
-
-/// The file whose parts, in order, [`parse_part`] gave.
-pub fn join(parts: Vec<File>) -> File {
-    let mut file = File::default();
-    for part in parts {
-        file.diagnostics.extend(part.diagnostics);
-        let mut programs = part.programs.into_iter().peekable();
-        if let Some(first) = programs.next_if(|p| p.number.is_none()) {
-            match file.programs.last_mut() {
-                Some(last) => last.blocks.extend(first.blocks),
-                None => file.programs.push(first),
-            }
-        }
-        if programs.peek().is_some() && file.programs.len() == 1 && is_header(&file.programs[0]) {
-            file.programs.clear();
-        }
-        file.programs.extend(programs);
-    }
-    file
 }
 
 /// A block with nothing in it at all (not even a comment) is not a block.
@@ -666,17 +639,6 @@ mod tests {
     }
 
     proptest! {
-        /// Parsing a file in two parts split at any line and joining them gives the whole file.
-        #[test]
-        fn join_equals_parse_file(lines in proptest::collection::vec("(\\(HEAD\\)|O[0-9]{1,3}|%|G01 X[0-9]|N[0-9] #1=2|IF\\[1\\]GOTO5|X1;Y2|)", 0..12), cut in 0usize..13) {
-            let text = lines.join("\n");
-            let cut = cut.min(lines.len());
-            let head: String = lines[..cut].iter().map(|l| format!("{l}\n")).collect();
-            let tail = &text[head.len().min(text.len())..];
-            let parts = vec![parse_part(&head, 1, false), parse_part(tail, cut as u32 + 1, true)];
-            prop_assert_eq!(join(parts), parse_file(&text));
-        }
-
         /// Whenever the fast path accepts a block, the general parser reads the same block.
         #[test]
         fn plain_words_agrees_with_the_general_parser(text in "[NGXYZABFgxn ]{0,3}([NGXYZFHM] ?[-+]? ?[0-9.]{1,6} ?){0,5}[ \t]{0,2}") {

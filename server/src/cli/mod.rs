@@ -6,7 +6,7 @@ mod json;
 
 use clap::{Args, Parser, Subcommand};
 use fivex_engine::canon::Canon;
-use fivex_engine::interp::{Config, Interpreter};
+use fivex_engine::interp::{Config, Interpreter, Step};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions};
@@ -166,26 +166,6 @@ struct ToolEntry {
     radius: f64,
 }
 
-/// Parse a large file in two halves on two threads (the engine itself never spawns threads).
-fn parse_parallel(text: &str) -> fivex_engine::lang::File {
-    use fivex_engine::lang::{join, parse_part};
-    const PARALLEL_FROM: usize = 1 << 20;
-    let split = match text.len() {
-        n if n < PARALLEL_FROM => return parse_file(text),
-        n => text[n / 2..].find('\n').map_or(n, |i| n / 2 + i + 1),
-    };
-    let (head, tail) = text.split_at(split);
-    let tail_line = head.bytes().filter(|&b| b == b'\n').count() as u32 + 1;
-    std::thread::scope(|s| {
-        let tail_part = s.spawn(|| parse_part(tail, tail_line, true));
-        let head_part = parse_part(head, 1, false);
-        match tail_part.join() {
-            Ok(tail_part) => join(vec![head_part, tail_part]),
-            Err(_) => parse_file(text),
-        }
-    })
-}
-
 /// Build the interpreter for a program file with the CLI's settings.
 fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> {
     let machine = load_machine(&args.machine)?;
@@ -193,7 +173,7 @@ fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> 
     cfg.block_delete = args.block_delete;
     cfg.optional_stop = args.optional_stop;
     cfg.max_blocks = args.max_blocks;
-    let mut interp = Interpreter::new(parse_parallel(text), cfg);
+    let mut interp = Interpreter::new(parse_file(text), cfg);
     let tools: BTreeMap<u32, ToolEntry> = match &args.tools {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
@@ -306,19 +286,24 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
         }
         out.flush()
     });
-    let mut batch = Vec::with_capacity(BATCH);
-    let mut send_failed = false;
-    let result = interp.run(|c| {
-        if send_failed {
-            return;
+    // The interpreter appends straight into the batch that goes to the writer.
+    let mut batch = Vec::with_capacity(BATCH + 64);
+    let result = loop {
+        match interp.step(&mut batch) {
+            Ok(Step::Continue) => {}
+            Ok(Step::Ended) => break Ok(()),
+            Err(alarm) => break Err(alarm),
         }
-        batch.push(c);
-        if batch.len() == BATCH {
-            let next = recycle_rx.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH));
-            send_failed = tx.send(std::mem::replace(&mut batch, next)).is_err();
+        if batch.len() >= BATCH {
+            let next = recycle_rx.try_recv().unwrap_or_else(|_| Vec::with_capacity(BATCH + 64));
+            if tx.send(std::mem::replace(&mut batch, next)).is_err() {
+                // The writer stopped (stdout closed): its error is reported below.
+                batch.clear();
+                break Ok(());
+            }
         }
-    });
-    if !batch.is_empty() && !send_failed {
+    };
+    if !batch.is_empty() {
         let _ = tx.send(batch);
     }
     drop(tx);
