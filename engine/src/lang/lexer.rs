@@ -269,7 +269,7 @@ pub(super) fn number_at(t: &[u8], start: usize) -> (Tok, usize) {
         return (Tok::TooManyDigits, pos);
     }
     // Both operands are exact, so one division is correctly rounded, like `str::parse`.
-    let value = mantissa as f64 / POW10[frac];
+    let value = if frac == 0 { mantissa as f64 } else { mantissa as f64 / POW10[frac] };
     // "." alone is zero with a decimal point, as FANUC reads `X.`.
     (Tok::Num { value, point }, pos)
 }

@@ -5,18 +5,26 @@ use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionCon
 use fivex_engine::interp::gcode::display;
 use fivex_engine::run::{RunResult, Sample};
 use serde_json::{json, Map, Value};
-use std::io::{self, Write};
+use std::io::Write;
+
+/// Appending bytes to a line under construction. Formatting into a `Vec` (rather than through
+/// `io::Write`) lets the many small constant copies inline; a whole batch is written at once.
+type Out = Vec<u8>;
+
+fn put(w: &mut Out, bytes: &[u8]) {
+    w.extend_from_slice(bytes);
+}
 
 /// A number in its shortest form that reads back to the same f64 (`-0` prints as `0.0`).
-fn num(w: &mut impl Write, x: f64) -> io::Result<()> {
+fn num(w: &mut Out, x: f64) {
     if !x.is_finite() {
-        return w.write_all(b"null");
+        return put(w, b"null");
     }
     let x = if x == 0.0 { 0.0 } else { x };
     let mut buf = [0u8; 32];
     match short_decimal(x, &mut buf) {
-        Some(text) => w.write_all(text),
-        None => w.write_all(ryu::Buffer::new().format_finite(x).as_bytes()),
+        Some(text) => put(w, text),
+        None => put(w, ryu::Buffer::new().format_finite(x).as_bytes()),
     }
 }
 
@@ -67,7 +75,7 @@ fn short_decimal(x: f64, buf: &mut [u8; 32]) -> Option<&[u8]> {
     Some(&buf[i..])
 }
 
-fn uint(w: &mut impl Write, mut v: u64) -> io::Result<()> {
+fn uint(w: &mut Out, mut v: u64) {
     let mut buf = [0u8; 20];
     let mut i = buf.len();
     loop {
@@ -78,34 +86,34 @@ fn uint(w: &mut impl Write, mut v: u64) -> io::Result<()> {
             break;
         }
     }
-    w.write_all(&buf[i..])
+    put(w, &buf[i..]);
 }
 
-fn axes_map(w: &mut impl Write, p: &Pos, axes: &[char]) -> io::Result<()> {
-    w.write_all(b"{")?;
+fn axes_map(w: &mut Out, p: &Pos, axes: &[char]) {
+    put(w, b"{");
     for (i, a) in axes.iter().enumerate() {
         if i > 0 {
-            w.write_all(b",")?;
+            put(w, b",");
         }
-        w.write_all(&[b'"', *a as u8, b'"', b':'])?;
-        num(w, p[i])?;
+        put(w, &[b'"', *a as u8, b'"', b':']);
+        num(w, p[i]);
     }
-    w.write_all(b"}")
+    put(w, b"}");
 }
 
-fn opt_u32(w: &mut impl Write, n: Option<u32>) -> io::Result<()> {
+fn opt_u32(w: &mut Out, n: Option<u32>) {
     match n {
         Some(n) => uint(w, n as u64),
-        None => w.write_all(b"null"),
+        None => put(w, b"null"),
     }
 }
 
-fn json_string(s: &str) -> String {
-    serde_json::to_string(s).unwrap_or_else(|_| "\"\"".into())
+fn json_string(w: &mut Out, s: &str) {
+    put(w, serde_json::to_string(s).unwrap_or_else(|_| "\"\"".into()).as_bytes());
 }
 
-/// One canonical command as one JSON line.
-pub fn write_canon(w: &mut impl Write, c: &Canon, axes: &[char]) -> io::Result<()> {
+/// One canonical command as one JSON line, appended to `w`.
+pub fn write_canon(w: &mut Out, c: &Canon, axes: &[char]) {
     let kind = match &c.kind {
         CanonKind::Motion(_) => "motion",
         CanonKind::Dwell { .. } => "dwell",
@@ -118,107 +126,116 @@ pub fn write_canon(w: &mut impl Write, c: &Canon, axes: &[char]) -> io::Result<(
         CanonKind::Print { .. } => "print",
         CanonKind::ProgramEnd { .. } => "program_end",
     };
-    w.write_all(b"{\"type\":\"")?;
-    w.write_all(kind.as_bytes())?;
-    w.write_all(b"\",\"line\":")?;
-    uint(w, c.line as u64)?;
-    w.write_all(b",\"n\":")?;
-    opt_u32(w, c.n)?;
+    put(w, b"{\"type\":\"");
+    put(w, kind.as_bytes());
+    put(w, b"\",\"line\":");
+    uint(w, c.line as u64);
+    put(w, b",\"n\":");
+    opt_u32(w, c.n);
     match &c.kind {
-        CanonKind::Motion(m) => motion(w, m, axes)?,
+        CanonKind::Motion(m) => motion(w, m, axes),
         CanonKind::Dwell { seconds } => {
-            w.write_all(b",\"seconds\":")?;
-            num(w, *seconds)?;
+            put(w, b",\"seconds\":");
+            num(w, *seconds);
         }
-        CanonKind::ToolSelect { tool } | CanonKind::ToolChange { tool } => write!(w, ",\"tool\":{tool}")?,
+        CanonKind::ToolSelect { tool } | CanonKind::ToolChange { tool } => {
+            put(w, b",\"tool\":");
+            uint(w, *tool as u64);
+        }
         CanonKind::Spindle { state, speed } => {
-            let state = match state {
-                SpindleState::Cw => "cw",
-                SpindleState::Ccw => "ccw",
-                SpindleState::Stop => "stop",
+            let state: &[u8] = match state {
+                SpindleState::Cw => b"cw",
+                SpindleState::Ccw => b"ccw",
+                SpindleState::Stop => b"stop",
             };
-            write!(w, ",\"state\":\"{state}\",\"speed\":")?;
-            num(w, *speed)?;
+            put(w, b",\"state\":\"");
+            put(w, state);
+            put(w, b"\",\"speed\":");
+            num(w, *speed);
         }
         CanonKind::Coolant(c) => {
-            let state = match c {
-                Coolant::Mist => "mist",
-                Coolant::Flood => "flood",
-                Coolant::Off => "off",
+            let state: &[u8] = match c {
+                Coolant::Mist => b"mist",
+                Coolant::Flood => b"flood",
+                Coolant::Off => b"off",
             };
-            write!(w, ",\"state\":\"{state}\"")?;
+            put(w, b",\"state\":\"");
+            put(w, state);
+            put(w, b"\"");
         }
-        CanonKind::Aux { m } => write!(w, ",\"m\":{m}")?,
+        CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => {
+            put(w, b",\"m\":");
+            uint(w, *m as u64);
+        }
         CanonKind::Stop { optional, message } => {
-            write!(w, ",\"optional\":{optional},\"message\":")?;
+            put(w, if *optional { b",\"optional\":true,\"message\":" } else { b",\"optional\":false,\"message\":" });
             match message {
-                Some(m) => w.write_all(json_string(m).as_bytes())?,
-                None => w.write_all(b"null")?,
+                Some(m) => json_string(w, m),
+                None => put(w, b"null"),
             }
         }
-        CanonKind::Print { text } => write!(w, ",\"text\":{}", json_string(text))?,
-        CanonKind::ProgramEnd { m } => write!(w, ",\"m\":{m}")?,
+        CanonKind::Print { text } => {
+            put(w, b",\"text\":");
+            json_string(w, text);
+        }
     }
-    w.write_all(b"}\n")
+    put(w, b"}\n");
 }
 
-fn motion(w: &mut impl Write, m: &Motion, axes: &[char]) -> io::Result<()> {
-    let kind = match m.kind {
-        MotionKind::Rapid => "rapid",
-        MotionKind::Linear => "linear",
-        MotionKind::ArcCw => "arc_cw",
-        MotionKind::ArcCcw => "arc_ccw",
-        MotionKind::MachineRapid => "machine_rapid",
+fn motion(w: &mut Out, m: &Motion, axes: &[char]) {
+    let kind: &[u8] = match m.kind {
+        MotionKind::Rapid => b"rapid",
+        MotionKind::Linear => b"linear",
+        MotionKind::ArcCw => b"arc_cw",
+        MotionKind::ArcCcw => b"arc_ccw",
+        MotionKind::MachineRapid => b"machine_rapid",
     };
-    let feed_mode = match m.feed_mode {
-        FeedMode::InverseTime => "G93",
-        FeedMode::PerMinute => "G94",
-        FeedMode::PerRevolution => "G95",
+    let feed_mode: &[u8] = match m.feed_mode {
+        FeedMode::InverseTime => b"G93",
+        FeedMode::PerMinute => b"G94",
+        FeedMode::PerRevolution => b"G95",
     };
-    w.write_all(b",\"motion\":\"")?;
-    w.write_all(kind.as_bytes())?;
-    w.write_all(b"\",\"target\":")?;
-    // Without offsets the machine point is the target: format it once (on the stack).
-    let mut buf = [0u8; 512];
-    let mut cursor = io::Cursor::new(&mut buf[..]);
-    axes_map(&mut cursor, &m.target, axes)?;
-    let len = cursor.position() as usize;
-    let target = &buf[..len];
-    w.write_all(target)?;
-    w.write_all(b",\"machine\":")?;
+    put(w, b",\"motion\":\"");
+    put(w, kind);
+    put(w, b"\",\"target\":");
+    // Without offsets the machine point is the target: format it once and copy it.
+    let start = w.len();
+    axes_map(w, &m.target, axes);
+    put(w, b",\"machine\":");
     if m.machine == m.target {
-        w.write_all(target)?;
+        let end = w.len() - b",\"machine\":".len();
+        w.extend_from_within(start..end);
     } else {
-        axes_map(w, &m.machine, axes)?;
+        axes_map(w, &m.machine, axes);
     }
-    w.write_all(b",\"feed\":")?;
-    num(w, m.feed)?;
-    w.write_all(b",\"feed_mode\":\"")?;
-    w.write_all(feed_mode.as_bytes())?;
-    w.write_all(b"\"")?;
+    put(w, b",\"feed\":");
+    num(w, m.feed);
+    put(w, b",\"feed_mode\":\"");
+    put(w, feed_mode);
+    put(w, b"\"");
     if let Some(arc) = &m.arc {
-        w.write_all(b",\"arc\":{\"center\":")?;
-        axes_map(w, &arc.center, axes)?;
-        w.write_all(b",\"radius\":")?;
-        num(w, arc.radius)?;
-        w.write_all(b",\"sweep_deg\":")?;
-        num(w, arc.sweep_deg)?;
-        w.write_all(b"}")?;
+        put(w, b",\"arc\":{\"center\":");
+        axes_map(w, &arc.center, axes);
+        put(w, b",\"radius\":");
+        num(w, arc.radius);
+        put(w, b",\"sweep_deg\":");
+        num(w, arc.sweep_deg);
+        put(w, b"}");
     }
-    write_context(w, &m.context)
+    write_context(w, &m.context);
 }
 
 thread_local! {
     /// The last context and its JSON: consecutive motions almost always share their context.
-    static CONTEXT: std::cell::RefCell<Option<(MotionContext, String)>> = const { std::cell::RefCell::new(None) };
+    static CONTEXT: std::cell::RefCell<Option<(MotionContext, Vec<u8>)>> = const { std::cell::RefCell::new(None) };
 }
 
-fn write_context(w: &mut impl Write, c: &MotionContext) -> io::Result<()> {
+fn write_context(w: &mut Out, c: &MotionContext) {
     CONTEXT.with(|cell| {
         let mut cache = cell.borrow_mut();
         if let Some((last, text)) = cache.as_ref() {
             if last == c {
-                return w.write_all(text.as_bytes());
+                return put(w, text);
             }
         }
         let mut v = Vec::with_capacity(200);
@@ -230,44 +247,42 @@ fn write_context(w: &mut impl Write, c: &MotionContext) -> io::Result<()> {
             display(c.length_comp),
             c.h
         );
-        let _ = num(&mut v, c.tool_length);
+        num(&mut v, c.tool_length);
         let _ = write!(v, ",\"cutter_comp\":\"{}\",\"d\":{},\"cutter_radius\":", display(c.cutter_comp), c.d);
-        let _ = num(&mut v, c.cutter_radius);
+        num(&mut v, c.cutter_radius);
         let _ = write!(v, ",\"path_mode\":\"{}\",\"rotation\":\"{}\"}}", display(c.path_mode), display(c.rotation));
-        let text = String::from_utf8(v).unwrap_or_default();
-        w.write_all(text.as_bytes())?;
-        *cache = Some((*c, text));
-        Ok(())
+        put(w, &v);
+        *cache = Some((*c, v));
     })
 }
 
-/// One trace sample as one JSON line.
-pub fn write_sample(w: &mut impl Write, s: &Sample, axes: &[char]) -> io::Result<()> {
-    w.write_all(b"{\"t\":")?;
-    num(w, s.t)?;
-    w.write_all(b",\"line\":")?;
-    uint(w, s.line as u64)?;
-    w.write_all(b",\"n\":")?;
-    opt_u32(w, s.n)?;
-    w.write_all(b",\"machine\":")?;
-    axes_map(w, &s.machine, axes)?;
-    w.write_all(b",\"tip\":[")?;
+/// One trace sample as one JSON line, appended to `w`.
+pub fn write_sample(w: &mut Out, s: &Sample, axes: &[char]) {
+    put(w, b"{\"t\":");
+    num(w, s.t);
+    put(w, b",\"line\":");
+    uint(w, s.line as u64);
+    put(w, b",\"n\":");
+    opt_u32(w, s.n);
+    put(w, b",\"machine\":");
+    axes_map(w, &s.machine, axes);
+    put(w, b",\"tip\":[");
     for (i, x) in s.tip.iter().enumerate() {
         if i > 0 {
-            w.write_all(b",")?;
+            put(w, b",");
         }
-        num(w, *x)?;
+        num(w, *x);
     }
-    w.write_all(b"],\"tool\":[")?;
+    put(w, b"],\"tool\":[");
     for (i, x) in s.tool.iter().enumerate() {
         if i > 0 {
-            w.write_all(b",")?;
+            put(w, b",");
         }
-        num(w, *x)?;
+        num(w, *x);
     }
-    w.write_all(b"],\"feed\":")?;
-    num(w, s.feed)?;
-    w.write_all(b"}\n")
+    put(w, b"],\"feed\":");
+    num(w, s.feed);
+    put(w, b"}\n");
 }
 
 fn position(p: &Pos, axes: &[char]) -> Value {
@@ -297,7 +312,7 @@ mod tests {
 
     fn text(x: f64) -> String {
         let mut v = Vec::new();
-        num(&mut v, x).unwrap();
+        num(&mut v, x);
         String::from_utf8(v).unwrap()
     }
 

@@ -215,10 +215,13 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
         None => None,
     };
     let mut trace_error = None;
+    let mut line = Vec::with_capacity(256);
     let result = run(&mut interp, &opts, |s| {
-        if let Some(w) = trace.as_mut() {
-            if let Err(e) = json::write_sample(w, s, &axes) {
-                trace_error.get_or_insert(e);
+        if let (Some(w), None) = (trace.as_mut(), &trace_error) {
+            line.clear();
+            json::write_sample(&mut line, s, &axes);
+            if let Err(e) = w.write_all(&line) {
+                trace_error = Some(e);
             }
         }
     });
@@ -276,11 +279,14 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     let (recycle_tx, recycle_rx) = std::sync::mpsc::channel::<Vec<Canon>>();
     let writer = std::thread::spawn(move || -> std::io::Result<()> {
         let stdout = std::io::stdout();
-        let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+        let mut out = stdout.lock();
+        let mut text = Vec::with_capacity(BATCH * 400);
         for mut batch in rx {
+            text.clear();
             for c in &batch {
-                json::write_canon(&mut out, c, &axes)?;
+                json::write_canon(&mut text, c, &axes);
             }
+            out.write_all(&text)?;
             batch.clear();
             let _ = recycle_tx.send(batch);
         }
