@@ -26,6 +26,8 @@ pub(super) struct Words {
     last: [u8; 26],
     g: [u16; 12],
     ng: usize,
+    /// Bit `code % 64` set for every G code of the block: most `has_g` questions end here.
+    g_bits: u64,
     m: [u32; 4],
     nm: usize,
 }
@@ -54,7 +56,7 @@ impl Words {
     }
 
     fn has_g(&self, code: u16) -> bool {
-        self.g[..self.ng].contains(&code)
+        self.g_bits & (1 << (code % 64)) != 0 && self.g[..self.ng].contains(&code)
     }
 
     pub(super) fn integer(&self, letter: u8) -> Option<f64> {
@@ -64,7 +66,7 @@ impl Words {
 
 impl State {
     pub(super) fn collect(&self, words: &[Word]) -> Result<Words, AlarmId> {
-        let mut w = Words { list: ArrayVec::new(), last: [0; 26], g: [0; 12], ng: 0, m: [0; 4], nm: 0 };
+        let mut w = Words { list: ArrayVec::new(), last: [0; 26], g: [0; 12], ng: 0, g_bits: 0, m: [0; 4], nm: 0 };
         for word in words {
             let (v, no_point) = match &word.value {
                 WordValue::Number { value, decimal_point } => (*value, !decimal_point),
@@ -82,6 +84,7 @@ impl State {
                     }
                     w.g[w.ng] = code;
                     w.ng += 1;
+                    w.g_bits |= 1 << (code % 64);
                 }
                 b'M' => {
                     if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
