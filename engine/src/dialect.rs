@@ -36,25 +36,25 @@ impl Dialect {
 
     /// The vendor's code and message for an alarm.
     pub fn describe(self, id: &AlarmId) -> (String, String) {
-        if let AlarmId::MacroAlarm { number, message } = id {
-            return match self {
+        match id {
+            AlarmId::MacroAlarm { number, message } => match self {
                 Dialect::Fanuc => (format!("MC{}", 3000 + number), message.clone()),
                 Dialect::Syntec => (format!("MAR-{number:03}"), message.clone()),
-            };
-        }
-        if let AlarmId::BlockBudgetExceeded { budget } = id {
-            return ("FX0001".into(), format!("BLOCK BUDGET EXCEEDED ({budget} BLOCKS)"));
-        }
-        if let AlarmId::TimeBudgetExceeded { budget_s } = id {
-            return ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"));
-        }
-        if let AlarmId::BlockOutputExceeded { limit } = id {
-            return ("FX0003".into(), format!("BLOCK EXPANDS TO MORE THAN {limit} COMMANDS"));
-        }
-        let (fanuc, syntec) = codes(id);
-        match self {
-            Dialect::Fanuc => (fanuc.0.into(), fanuc.1.into()),
-            Dialect::Syntec => (syntec.0.into(), syntec.1.into()),
+            },
+            AlarmId::BlockBudgetExceeded { budget } => {
+                ("FX0001".into(), format!("BLOCK BUDGET EXCEEDED ({budget} BLOCKS)"))
+            }
+            AlarmId::TimeBudgetExceeded { budget_s } => {
+                ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"))
+            }
+            AlarmId::BlockOutputExceeded { limit } => {
+                ("FX0003".into(), format!("BLOCK EXPANDS TO MORE THAN {limit} COMMANDS"))
+            }
+            plain => {
+                let (fanuc, syntec) = codes(plain);
+                let (code, message) = if self == Dialect::Fanuc { fanuc } else { syntec };
+                (code.into(), message.into())
+            }
         }
     }
 }
@@ -194,8 +194,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         MixedStatements => {
             (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block"))
         }
+        // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. } | BlockBudgetExceeded { .. } | TimeBudgetExceeded { .. } | BlockOutputExceeded { .. } => {
-            unreachable!("alarms with data are described in Dialect::describe")
+            (("FX0000", "ALARM"), ("FX0000", "ALARM"))
         }
     }
 }
