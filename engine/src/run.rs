@@ -83,6 +83,8 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
         interp.state.advance_time(exec.t - before);
         match step {
             Ok(Step::Continue) => {}
+            // A caller that streams parts handles this itself; here every part has arrived.
+            Ok(Step::NeedInput) => interp.finish(),
             Ok(Step::Ended) => break,
             Err(alarm) => {
                 alarms.push(alarm);

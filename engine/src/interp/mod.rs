@@ -87,6 +87,10 @@ pub enum Step {
     Continue,
     /// The program ended (M02/M30, or the end of the main program).
     Ended,
+    /// Only while programs are still arriving ([`Interpreter::new_incremental`]): the next
+    /// block needs blocks that have not arrived yet. Nothing was executed; push a part (or
+    /// finish) and step again.
+    NeedInput,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -202,6 +206,8 @@ pub struct Interpreter {
     progs: Vec<Loaded>,
     by_number: HashMap<u32, usize>,
     pub state: State,
+    /// Every program has arrived (always, unless built with `new_incremental`).
+    complete: bool,
 }
 
 impl Interpreter {
@@ -215,15 +221,78 @@ impl Interpreter {
             }
         }
         let state = State::new(cfg);
-        let mut interp = Interpreter { progs, by_number, state };
-        if !interp.progs.is_empty() {
-            let mut main = Frame::main();
-            main.number = interp.progs[0].number().unwrap_or(0);
-            interp.state.frames.push(main);
-        } else {
+        let mut interp = Interpreter { progs, by_number, state, complete: true };
+        interp.start_main();
+        if interp.progs.is_empty() {
             interp.state.ended = true;
         }
         interp
+    }
+
+    /// An interpreter whose file arrives in parts (`lang::parse_part`, in order, then
+    /// [`Interpreter::finish`]), so that running can start before the whole file is parsed. It
+    /// runs plain blocks as they arrive and answers [`Step::NeedInput`] before any block whose
+    /// jump, loop or call target may lie in a part that has not arrived; the outcome is the same
+    /// as with [`Interpreter::new`] on the whole file (`engine/tests/incremental.rs`).
+    pub fn new_incremental(cfg: Config) -> Interpreter {
+        Interpreter { progs: Vec::new(), by_number: HashMap::new(), state: State::new(cfg), complete: false }
+    }
+
+    /// The next part of the file.
+    pub fn push_part(&mut self, part: crate::lang::File) {
+        let mut programs = part.programs.into_iter().peekable();
+        // A part starts inside the previous part's last program.
+        if let Some(first) = programs.next_if(|p| p.number.is_none()) {
+            match self.progs.last_mut() {
+                Some(last) if !last.finished => last.extend(first.blocks),
+                _ => self.progs.push(Loaded::new_open(first)),
+            }
+        }
+        if programs.peek().is_some() {
+            // Comments before the first O number were a header, not a program.
+            if self.progs.len() == 1 && self.state.frames.is_empty() && crate::lang::is_header(&self.progs[0].program) {
+                self.progs.clear();
+            }
+            if let Some(last) = self.progs.last_mut() {
+                last.finish();
+            }
+        }
+        for p in programs {
+            if let Some(last) = self.progs.last_mut() {
+                last.finish();
+            }
+            if let Some(n) = p.number {
+                self.by_number.entry(n).or_insert(self.progs.len());
+            }
+            self.progs.push(Loaded::new_open(p));
+        }
+        // A first program of comments only may still turn out to be a header: wait.
+        let maybe_header = self.progs.len() == 1 && crate::lang::is_header(&self.progs[0].program);
+        if self.state.frames.is_empty() && !self.progs.is_empty() && !maybe_header {
+            self.start_main();
+        }
+    }
+
+    /// The whole file has arrived.
+    pub fn finish(&mut self) {
+        self.complete = true;
+        for p in &mut self.progs {
+            p.finish();
+        }
+        if self.state.frames.is_empty() {
+            self.start_main();
+        }
+        if self.progs.is_empty() {
+            self.state.ended = true;
+        }
+    }
+
+    fn start_main(&mut self) {
+        if let Some(first) = self.progs.first() {
+            let mut main = Frame::main();
+            main.number = first.number().unwrap_or(0);
+            self.state.frames.push(main);
+        }
     }
 
     /// Execute the next block; its canonical commands are appended to `out`.
@@ -231,6 +300,9 @@ impl Interpreter {
         let st = &mut self.state;
         if st.ended {
             return Ok(Step::Ended);
+        }
+        if !self.complete && st.needs_input(&self.progs) {
+            return Ok(Step::NeedInput);
         }
         let result = st.step(&self.progs, &self.by_number, out);
         match result {
@@ -251,8 +323,10 @@ impl Interpreter {
             for c in out.drain(..) {
                 sink(c);
             }
-            if step? == Step::Ended {
-                return Ok(());
+            match step? {
+                Step::Ended => return Ok(()),
+                Step::NeedInput => self.finish(),
+                Step::Continue => {}
             }
         }
     }
@@ -364,6 +438,32 @@ impl State {
 
     pub fn modal(&self, group: usize) -> u16 {
         self.modes[group]
+    }
+
+    /// Whether the next block may need blocks that have not arrived: the end of the text of a
+    /// program still growing, any jump, loop, call or return, a modal call, or an M/G code given
+    /// by an expression (it could be one of those).
+    fn needs_input(&self, progs: &[Loaded]) -> bool {
+        use crate::lang::{Expr, WordValue};
+        let Some(frame) = self.frames.last() else { return true };
+        let prog = &progs[frame.prog];
+        let Some(block) = prog.program.blocks.get(frame.pc) else { return !prog.finished };
+        match &block.kind {
+            BlockKind::Empty | BlockKind::Error(_) | BlockKind::Assign { .. } | BlockKind::IfThen { .. } => false,
+            BlockKind::Output(_) => false,
+            BlockKind::Goto(_) | BlockKind::IfGoto { .. } | BlockKind::Do { .. } | BlockKind::End { .. } => true,
+            BlockKind::Words(words) => {
+                self.modal_call.is_some()
+                    || words.iter().any(|w| match (&w.letter, &w.value) {
+                        (b'M', WordValue::Number { value, .. }) => matches!(*value as u32, 98 | 99 | 198),
+                        (b'G', WordValue::Number { value, .. }) => {
+                            matches!(gcode::code_of(*value), Some(650 | 660 | 661))
+                        }
+                        (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num(_)),
+                        _ => false,
+                    })
+            }
+        }
     }
 
     fn step(

@@ -17,62 +17,101 @@ pub struct Loaded {
     enclosing: Vec<u32>,
     /// A loop-structure alarm a block raises when executed.
     pub loop_error: HashMap<u32, AlarmId>,
+    /// Open DOs while blocks are still being added: (id, block index).
+    open: Vec<(u8, u32)>,
+    /// DOs whose END came while the listed inner DOs were still open.
+    crossed: Vec<(u32, Vec<u32>)>,
+    /// No more blocks will come: the loop structure is final.
+    pub finished: bool,
 }
 
 impl Loaded {
     pub fn new(program: Program) -> Loaded {
-        let len = program.blocks.len();
-        let mut labels: HashMap<u32, Vec<u32>> = HashMap::new();
-        let mut pair = vec![NONE; len];
-        let mut enclosing = vec![NONE; len];
-        let mut loop_error = HashMap::new();
-        // Open DOs: (id, block index).
-        let mut open: Vec<(u8, u32)> = Vec::new();
-        // DOs whose END came while the listed inner DOs were still open.
-        let mut crossed: Vec<(u32, Vec<u32>)> = Vec::new();
-        for (i, block) in program.blocks.iter().enumerate() {
-            let i = i as u32;
+        let mut loaded = Loaded::open(program.clone_header());
+        loaded.extend(program.blocks);
+        loaded.finish();
+        loaded
+    }
+
+    /// A program that more blocks may follow ([`Loaded::extend`], then [`Loaded::finish`]).
+    pub fn new_open(program: Program) -> Loaded {
+        let mut loaded = Loaded::open(program.clone_header());
+        loaded.extend(program.blocks);
+        loaded
+    }
+
+    /// A program whose blocks arrive later ([`Loaded::extend`], then [`Loaded::finish`]).
+    pub fn open(header: Program) -> Loaded {
+        Loaded {
+            program: header,
+            labels: HashMap::new(),
+            pair: Vec::new(),
+            enclosing: Vec::new(),
+            loop_error: HashMap::new(),
+            open: Vec::new(),
+            crossed: Vec::new(),
+            finished: false,
+        }
+    }
+
+    /// Add blocks at the end, indexing their sequence numbers and DO/END structure.
+    pub fn extend(&mut self, blocks: Vec<crate::lang::Block>) {
+        self.program.blocks.reserve(blocks.len());
+        self.pair.reserve(blocks.len());
+        self.enclosing.reserve(blocks.len());
+        for block in blocks {
+            let i = self.program.blocks.len() as u32;
             if let Some(n) = block.n {
-                labels.entry(n).or_default().push(i);
+                self.labels.entry(n).or_default().push(i);
             }
-            enclosing[i as usize] = open.last().map_or(NONE, |&(_, d)| d);
+            self.pair.push(NONE);
+            self.enclosing.push(self.open.last().map_or(NONE, |&(_, d)| d));
             match &block.kind {
                 BlockKind::Do { id, .. } => {
+                    let open = &self.open;
                     let bad_id = !(1..=3).contains(id) || open.iter().any(|&(o, _)| o == *id) || open.len() >= 3;
                     if bad_id {
-                        loop_error.insert(i, AlarmId::IllegalLoopNumber);
+                        self.loop_error.insert(i, AlarmId::IllegalLoopNumber);
                     }
-                    open.push((*id, i));
+                    self.open.push((*id, i));
                 }
-                BlockKind::End { id } => match open.last() {
+                BlockKind::End { id } => match self.open.last() {
                     Some(&(top, d)) if top == *id => {
-                        open.pop();
-                        pair[d as usize] = i;
-                        pair[i as usize] = d;
+                        self.open.pop();
+                        self.pair[d as usize] = i;
+                        self.pair[i as usize] = d;
                     }
                     _ => {
-                        loop_error.insert(i, AlarmId::IllegalLoopNumber);
+                        self.loop_error.insert(i, AlarmId::IllegalLoopNumber);
                         // An END of an outer DO while an inner DO is open: if the inner one is
-                        // closed later, the ranges cross (decided after the scan).
-                        if let Some(k) = open.iter().rposition(|&(o, _)| o == *id) {
-                            let inner: Vec<u32> = open[k + 1..].iter().map(|&(_, d)| d).collect();
-                            let (_, d) = open.remove(k);
-                            crossed.push((d, inner));
+                        // closed later, the ranges cross (decided when the program is finished).
+                        if let Some(k) = self.open.iter().rposition(|&(o, _)| o == *id) {
+                            let inner: Vec<u32> = self.open[k + 1..].iter().map(|&(_, d)| d).collect();
+                            let (_, d) = self.open.remove(k);
+                            self.crossed.push((d, inner));
                         }
                     }
                 },
                 _ => {}
             }
+            self.program.blocks.push(block);
         }
-        for (_, d) in open {
-            loop_error.entry(d).or_insert(AlarmId::MissingEnd);
+    }
+
+    /// No more blocks: DOs still open miss their END, crossed ranges are known.
+    pub fn finish(&mut self) {
+        if self.finished {
+            return;
         }
-        for (d, inner) in crossed {
-            if inner.iter().any(|&i| pair[i as usize] != NONE) {
-                loop_error.insert(d, AlarmId::IllegalLoopNumber);
+        self.finished = true;
+        for (_, d) in self.open.drain(..) {
+            self.loop_error.entry(d).or_insert(AlarmId::MissingEnd);
+        }
+        for (d, inner) in self.crossed.drain(..) {
+            if inner.iter().any(|&i| self.pair[i as usize] != NONE) {
+                self.loop_error.insert(d, AlarmId::IllegalLoopNumber);
             }
         }
-        Loaded { program, labels, pair, enclosing, loop_error }
     }
 
     pub fn number(&self) -> Option<u32> {

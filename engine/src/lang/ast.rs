@@ -19,6 +19,13 @@ pub struct Program {
     pub blocks: Vec<Block>,
 }
 
+impl Program {
+    /// The program without its blocks.
+    pub fn clone_header(&self) -> Program {
+        Program { number: self.number, line: self.line, blocks: Vec::new() }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Block {
     /// 1-based line in the file.

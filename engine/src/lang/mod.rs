@@ -11,4 +11,4 @@ mod parser;
 
 pub use ast::*;
 pub use diag::Diagnostic;
-pub use parser::parse_file;
+pub use parser::{is_header, parse_file, parse_part};

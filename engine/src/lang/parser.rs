@@ -12,6 +12,13 @@ const MAX_BRACKET_DEPTH: u32 = 5;
 /// Parse a whole NC file. Never fails: problems are collected in `File::diagnostics` and the
 /// offending blocks become [`BlockKind::Error`].
 pub fn parse_file(text: &str) -> File {
+    parse_part(text, 1, false)
+}
+
+/// Parse the lines of a file from line `first_line` on. A part that `continues` an earlier one
+/// starts inside that part's last program: its leading blocks form an anonymous program that
+/// belongs there (`Interpreter::push_part` puts it back), and no header rule applies.
+pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
     let mut file = File::default();
     let mut current: Option<Program> = None;
     // Most files are one program: size its block list once (NC lines are rarely shorter than
@@ -22,7 +29,7 @@ pub fn parse_file(text: &str) -> File {
         Program { number, line, blocks }
     };
     for (idx, line) in text.lines().enumerate() {
-        let line_no = idx as u32 + 1;
+        let line_no = first_line + idx as u32;
         let trimmed = line.trim_start();
         if trimmed.is_empty() || trimmed.starts_with('%') {
             continue;
@@ -36,7 +43,7 @@ pub fn parse_file(text: &str) -> File {
             if let Some((number, after)) = program_number(segment) {
                 if let Some(p) = current.take() {
                     // Comments before the first O number are a file header, not a program.
-                    if !is_header(&p) {
+                    if continues || !is_header(&p) {
                         file.programs.push(p);
                     }
                 }
@@ -64,7 +71,7 @@ pub fn parse_file(text: &str) -> File {
 }
 
 /// Comments before the first O number are a file header, not a program.
-fn is_header(p: &Program) -> bool {
+pub fn is_header(p: &Program) -> bool {
     p.number.is_none() && p.blocks.iter().all(|b| b.kind == BlockKind::Empty && b.n.is_none())
 }
 

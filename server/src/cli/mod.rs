@@ -168,12 +168,21 @@ struct ToolEntry {
 
 /// Build the interpreter for a program file with the CLI's settings.
 fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> {
+    let cfg = config(args)?;
+    equip(Interpreter::new(parse_file(text), cfg), args)
+}
+
+fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
     let machine = load_machine(&args.machine)?;
     let mut cfg = Config::new(machine, args.dialect);
     cfg.block_delete = args.block_delete;
     cfg.optional_stop = args.optional_stop;
     cfg.max_blocks = args.max_blocks;
-    let mut interp = Interpreter::new(parse_file(text), cfg);
+    Ok(cfg)
+}
+
+/// Load the tool offsets (`--tools`, or the default 1–99: length 100, radius 5).
+fn equip(mut interp: Interpreter, args: &InterpreterArgs) -> Result<Interpreter, Fail> {
     let tools: BTreeMap<u32, ToolEntry> = match &args.tools {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
@@ -251,6 +260,18 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     }
 }
 
+/// The byte offset just after the `n`-th line end of `text` (or its end).
+fn nth_line_end(text: &str, n: usize) -> usize {
+    let mut end = 0;
+    for _ in 0..n {
+        match text[end..].find('\n') {
+            Some(i) => end += i + 1,
+            None => return text.len(),
+        }
+    }
+    end
+}
+
 /// `{"#500": 1.5, …}` → the retained variable array (keys outside #500–#999 are refused).
 fn load_retained(path: &Path) -> Result<[Option<f64>; fivex_engine::interp::PERSISTENT], Fail> {
     let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
@@ -269,9 +290,28 @@ fn load_retained(path: &Path) -> Result<[Option<f64>; fivex_engine::interp::PERS
 
 fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
-    let mut interp = interpreter(&text, &a.interp)?;
-    drop(text);
+    let mut interp = equip(Interpreter::new_incremental(config(&a.interp)?), &a.interp)?;
     let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
+    // Three stages side by side: a parser thread hands the file over in parts (the first one
+    // small, so interpretation starts at once), the interpreter runs on this thread, and a
+    // writer thread formats the JSON.
+    let (part_tx, part_rx) = std::sync::mpsc::sync_channel(8);
+    let parser = std::thread::spawn(move || {
+        let mut first_line = 1u32;
+        let mut rest = text.as_str();
+        let mut lines_per_part = 1024;
+        while !rest.is_empty() {
+            let end = nth_line_end(rest, lines_per_part);
+            let (chunk, tail) = rest.split_at(end);
+            let part = fivex_engine::lang::parse_part(chunk, first_line, first_line > 1);
+            if part_tx.send(part).is_err() {
+                return;
+            }
+            first_line += lines_per_part as u32;
+            rest = tail;
+            lines_per_part = 16 * 1024;
+        }
+    });
     // Interpretation and JSON formatting run side by side: the interpreter hands batches of
     // canonical commands to a writer thread (bounded, so memory stays flat on long programs).
     const BATCH: usize = 4096;
@@ -297,6 +337,10 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     let result = loop {
         match interp.step(&mut batch) {
             Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => match part_rx.recv() {
+                Ok(part) => interp.push_part(part),
+                Err(_) => interp.finish(),
+            },
             Ok(Step::Ended) => break Ok(()),
             Err(alarm) => break Err(alarm),
         }
@@ -313,6 +357,8 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
         let _ = tx.send(batch);
     }
     drop(tx);
+    drop(part_rx);
+    parser.join().map_err(|_| Fail("the parser thread failed".into()))?;
     let written = writer.join().map_err(|_| Fail("the output thread failed".into()))?;
     written.map_err(|e| Fail(format!("stdout: {e}")))?;
     // The process ends here: leave the programs' memory to the OS instead of freeing it block
