@@ -441,28 +441,14 @@ impl State {
     }
 
     /// Whether the next block may need blocks that have not arrived: the end of the text of a
-    /// program still growing, any jump, loop, call or return, a modal call, or an M/G code given
-    /// by an expression (it could be one of those).
+    /// program still growing, a block that may reach beyond itself (`Loaded::reaches_beyond`),
+    /// or any block while a modal call is active.
     fn needs_input(&self, progs: &[Loaded]) -> bool {
-        use crate::lang::{Expr, WordValue};
         let Some(frame) = self.frames.last() else { return true };
         let prog = &progs[frame.prog];
-        let Some(block) = prog.program.blocks.get(frame.pc) else { return !prog.finished };
-        match &block.kind {
-            BlockKind::Empty | BlockKind::Error(_) | BlockKind::Assign { .. } | BlockKind::IfThen { .. } => false,
-            BlockKind::Output(_) => false,
-            BlockKind::Goto(_) | BlockKind::IfGoto { .. } | BlockKind::Do { .. } | BlockKind::End { .. } => true,
-            BlockKind::Words(words) => {
-                self.modal_call.is_some()
-                    || words.iter().any(|w| match (&w.letter, &w.value) {
-                        (b'M', WordValue::Number { value, .. }) => matches!(*value as u32, 98 | 99 | 198),
-                        (b'G', WordValue::Number { value, .. }) => {
-                            matches!(gcode::code_of(*value), Some(650 | 660 | 661))
-                        }
-                        (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num(_)),
-                        _ => false,
-                    })
-            }
+        match prog.reaches_beyond.get(frame.pc) {
+            Some(&beyond) => beyond || self.modal_call.is_some(),
+            None => !prog.finished,
         }
     }
 

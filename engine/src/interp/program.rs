@@ -23,6 +23,27 @@ pub struct Loaded {
     crossed: Vec<(u32, Vec<u32>)>,
     /// No more blocks will come: the loop structure is final.
     pub finished: bool,
+    /// Per block: it may jump, loop, call or return, so while blocks are still arriving it must
+    /// wait for the whole file (an M or G code given by an expression could be one of those).
+    pub reaches_beyond: Vec<bool>,
+}
+
+/// Whether a block may jump, loop, call or return (see `Loaded::reaches_beyond`).
+fn reaches_beyond(block: &crate::lang::Block) -> bool {
+    use crate::lang::{Expr, WordValue};
+    match &block.kind {
+        BlockKind::Empty | BlockKind::Error(_) | BlockKind::Assign { .. } | BlockKind::IfThen { .. } => false,
+        BlockKind::Output(_) => false,
+        BlockKind::Goto(_) | BlockKind::IfGoto { .. } | BlockKind::Do { .. } | BlockKind::End { .. } => true,
+        BlockKind::Words(words) => words.iter().any(|w| match (&w.letter, &w.value) {
+            (b'M', WordValue::Number { value, .. }) => matches!(*value as u32, 98 | 99 | 198),
+            (b'G', WordValue::Number { value, .. }) => {
+                matches!(super::gcode::code_of(*value), Some(650 | 660 | 661))
+            }
+            (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num(_)),
+            _ => false,
+        }),
+    }
 }
 
 impl Loaded {
@@ -51,12 +72,14 @@ impl Loaded {
             open: Vec::new(),
             crossed: Vec::new(),
             finished: false,
+            reaches_beyond: Vec::new(),
         }
     }
 
     /// Add blocks at the end, indexing their sequence numbers and DO/END structure.
     pub fn extend(&mut self, blocks: Vec<crate::lang::Block>) {
         self.program.blocks.reserve(blocks.len());
+        self.reaches_beyond.reserve(blocks.len());
         self.pair.reserve(blocks.len());
         self.enclosing.reserve(blocks.len());
         for block in blocks {
@@ -94,6 +117,7 @@ impl Loaded {
                 },
                 _ => {}
             }
+            self.reaches_beyond.push(reaches_beyond(&block));
             self.program.blocks.push(block);
         }
     }

@@ -8,6 +8,8 @@ pub struct File {
     pub programs: Vec<Program>,
     /// Every diagnostic of the file, in source order.
     pub diagnostics: Vec<Diagnostic>,
+    /// Number of lines read (the next part of a file starts at `first_line + lines`).
+    pub lines: u32,
 }
 
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -30,6 +30,7 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
     };
     for (idx, line) in text.lines().enumerate() {
         let line_no = first_line + idx as u32;
+        file.lines = idx as u32 + 1;
         let trimmed = line.trim_start();
         if trimmed.is_empty() || trimmed.starts_with('%') {
             continue;

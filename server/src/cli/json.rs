@@ -36,11 +36,11 @@ fn short_decimal(x: f64, buf: &mut [u8; 32]) -> Option<&[u8]> {
     if !(a == 0.0 || (1e-3..1e11).contains(&a)) {
         return None;
     }
-    let r = (a * 1e4).round();
-    if r / 1e4 != a {
+    // Rounded by adding ½ and truncating (a is positive): `f64::round` is a library call here.
+    let r = (a * 1e4 + 0.5) as u64;
+    if r as f64 / 1e4 != a {
         return None;
     }
-    let r = r as u64;
     let (mut int, mut frac) = (r / 10_000, r % 10_000);
     // Written backwards from the end of the buffer.
     let mut i = buf.len();

@@ -260,18 +260,6 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     }
 }
 
-/// The byte offset just after the `n`-th line end of `text` (or its end).
-fn nth_line_end(text: &str, n: usize) -> usize {
-    let mut end = 0;
-    for _ in 0..n {
-        match text[end..].find('\n') {
-            Some(i) => end += i + 1,
-            None => return text.len(),
-        }
-    }
-    end
-}
-
 /// `{"#500": 1.5, …}` → the retained variable array (keys outside #500–#999 are refused).
 fn load_retained(path: &Path) -> Result<[Option<f64>; fivex_engine::interp::PERSISTENT], Fail> {
     let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
@@ -299,17 +287,18 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     let parser = std::thread::spawn(move || {
         let mut first_line = 1u32;
         let mut rest = text.as_str();
-        let mut lines_per_part = 1024;
+        // Parts end at a line end near these sizes: small first, so interpretation starts at once.
+        let mut part_bytes = 32 * 1024;
         while !rest.is_empty() {
-            let end = nth_line_end(rest, lines_per_part);
+            let end = rest.get(part_bytes..).and_then(|t| t.find('\n')).map_or(rest.len(), |i| part_bytes + i + 1);
             let (chunk, tail) = rest.split_at(end);
             let part = fivex_engine::lang::parse_part(chunk, first_line, first_line > 1);
+            first_line += part.lines;
             if part_tx.send(part).is_err() {
                 return;
             }
-            first_line += lines_per_part as u32;
             rest = tail;
-            lines_per_part = 16 * 1024;
+            part_bytes = 512 * 1024;
         }
     });
     // Interpretation and JSON formatting run side by side: the interpreter hands batches of
