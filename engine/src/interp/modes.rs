@@ -640,6 +640,11 @@ fn any_mode(m: &[u16; GROUPS]) -> bool {
     matches!(m[7], 412..=426) || matches!(m[8], 434..=439) || matches!(m[16], 682..=684) || m[21] == 121
 }
 
+/// G80 and the canned cycles (group 09).
+fn in_group_09(g: u16) -> bool {
+    gcode::lookup(g, Dialect::Fanuc).is_some_and(|d| d.group == 9)
+}
+
 fn int_in(v: f64, lo: i64, hi: i64) -> bool {
     v.fract() == 0.0 && v >= lo as f64 && v <= hi as f64
 }
@@ -773,21 +778,6 @@ fn twp_allows(g: u16) -> bool {
             | 670
             | 900
             | 910
-            | 730
-            | 740
-            | 760
-            | 800
-            | 810
-            | 820
-            | 830
-            | 840
-            | 842
-            | 843
-            | 850
-            | 860
-            | 870
-            | 880
-            | 890
             | 980
             | 990
             | 450
@@ -800,7 +790,7 @@ fn twp_allows(g: u16) -> bool {
             | 691
             | 940
             | 950
-    )
+    ) || in_group_09(g)
 }
 
 /// twp §6.1 (TWP-11) with TWP-16: modal states G68.2/G68.3 may start in. G41/G42, G43/G44,
@@ -867,21 +857,6 @@ fn wse_allows(g: u16) -> bool {
             | 670
             | 680
             | 682
-            | 730
-            | 740
-            | 760
-            | 800
-            | 810
-            | 820
-            | 830
-            | 840
-            | 842
-            | 843
-            | 850
-            | 860
-            | 870
-            | 880
-            | 890
             | 450
             | 460
             | 470
@@ -895,7 +870,7 @@ fn wse_allows(g: u16) -> bool {
             | 950
             | 980
             | 990
-    )
+    ) || in_group_09(g)
 }
 
 /// twp §6.3: modal states G54.4 Pn may start in.
