@@ -16,7 +16,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
     let numbers: HashSet<u32> = file.programs.iter().filter_map(|p| p.number).collect();
     for program in file.programs {
         let loaded = Loaded::new(program);
-        for (i, block) in loaded.program.blocks.iter().enumerate() {
+        for (i, block) in loaded.blocks().enumerate() {
             let at = |col: u32, id: AlarmId, detail: String| Diagnostic { line: block.line, col, id, detail };
             if let Some(id) = loaded.loop_error.get(&(i as u32)) {
                 diags.push(at(

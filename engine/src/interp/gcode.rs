@@ -208,11 +208,16 @@ pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
 /// The G code value of a word as ×10, if it is an exact tenth (`G43.4` yes, `G43.45` no).
 pub fn code_of(value: f64) -> Option<u16> {
     let x = value * 10.0;
-    let r = x.round();
-    if (x - r).abs() > 1e-6 || !(0.0..=9999.0).contains(&r) {
+    if !(-0.5..=9999.5).contains(&x) {
         return None;
     }
-    Some(r as u16)
+    // Rounded by adding ½ and truncating (x + ½ is not negative): `f64::round` is a library
+    // call, and this runs for every G word.
+    let r = (x + 0.5) as u16;
+    if (x - r as f64).abs() > 1e-6 || r > 9999 {
+        return None;
+    }
+    Some(r)
 }
 
 /// Power-on modal state (FANUC defaults with the usual parameter settings).
@@ -296,5 +301,22 @@ mod tests {
         assert_eq!(code_of(-1.0), None);
         assert_eq!(display(434), "G43.4");
         assert_eq!(display(10), "G01");
+    }
+
+    #[test]
+    fn codes_round_like_f64_round() {
+        let reference = |value: f64| {
+            let x = value * 10.0;
+            let r = x.round();
+            ((x - r).abs() <= 1e-6 && (0.0..=9999.0).contains(&r)).then_some(r as u16)
+        };
+        for k in -2_000..1_100_000 {
+            for v in [k as f64 / 1000.0, k as f64 / 10.0 + 1e-7, k as f64 / 10.0 - 1e-7, k as f64 / 10.0 + 0.05] {
+                assert_eq!(code_of(v), reference(v), "{v}");
+            }
+        }
+        for v in [f64::NAN, f64::INFINITY, -0.0, 999.9, 999.95, 1000.0, -0.04] {
+            assert_eq!(code_of(v), reference(v), "{v}");
+        }
     }
 }

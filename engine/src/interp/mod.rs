@@ -11,6 +11,7 @@ pub mod gcode;
 mod modes;
 mod nc;
 mod offsets;
+mod plain;
 pub(crate) mod program;
 mod vars;
 
@@ -60,6 +61,9 @@ pub struct Config {
     /// FANUC No.5400#0 RIN: the G68 angle R follows G90/G91 (a G91 R is added to the active
     /// rotation) when true; R is always absolute when false.
     pub rotation_angle_incremental: bool,
+    /// Run plain motion blocks through their fast path (`interp/plain.rs`). Off only to check
+    /// that both paths agree.
+    pub fast_paths: bool,
 }
 
 impl Config {
@@ -76,6 +80,7 @@ impl Config {
             time: 0.0,
             arc_tolerance: 0.02,
             rotation_angle_incremental: true,
+            fast_paths: true,
         }
     }
 }
@@ -250,7 +255,7 @@ impl Interpreter {
         }
         if programs.peek().is_some() {
             // Comments before the first O number were a header, not a program.
-            if self.progs.len() == 1 && self.state.frames.is_empty() && crate::lang::is_header(&self.progs[0].program) {
+            if self.progs.len() == 1 && self.state.frames.is_empty() && self.progs[0].is_header() {
                 self.progs.clear();
             }
             if let Some(last) = self.progs.last_mut() {
@@ -267,7 +272,7 @@ impl Interpreter {
             self.progs.push(Loaded::new_open(p));
         }
         // A first program of comments only may still turn out to be a header: wait.
-        let maybe_header = self.progs.len() == 1 && crate::lang::is_header(&self.progs[0].program);
+        let maybe_header = self.progs.len() == 1 && self.progs[0].is_header();
         if self.state.frames.is_empty() && !self.progs.is_empty() && !maybe_header {
             self.start_main();
         }
@@ -472,7 +477,7 @@ impl State {
         let idx = frame.pc;
         frame.pc += 1;
         let prog_idx = frame.prog;
-        let block = &prog.program.blocks[idx];
+        let block = prog.block(idx);
         self.line = block.line;
         self.n = block.n;
         if block.block_delete.is_some() && self.cfg.block_delete {

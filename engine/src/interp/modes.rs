@@ -300,14 +300,16 @@ static RULES: &[Rule] = &[
 
 /// Check a block against the rules; on success, the bookkeeping after the block.
 pub(super) fn check(st: &State, w: &Words) -> Result<FiveAxisModes, AlarmId> {
-    let g = w.gcodes();
-    let before = &st.modes;
-    // Nothing applies while no 5-axis mode is on to a block whose G codes are all plain
-    // 3-axis codes (the hot path of ordinary programs; `plain_blocks_need_no_rule` checks it).
-    if st.five == FiveAxisModes::default() && !any_mode(before) && g.iter().all(|&c| is_plain(c)) {
+    if no_rule_applies(st, w.gcodes()) {
         return Ok(st.five);
     }
     check_rules(st, w)
+}
+
+/// Nothing applies while no 5-axis mode is on to a block whose G codes are all plain 3-axis
+/// codes (the hot path of ordinary programs; `plain_blocks_need_no_rule` checks it).
+pub(super) fn no_rule_applies(st: &State, g: &[u16]) -> bool {
+    st.five == FiveAxisModes::default() && !any_mode(&st.modes) && g.iter().all(|&c| is_plain(c))
 }
 
 /// G codes no rule concerns while no 5-axis mode is active: motion, planes, units, distance and

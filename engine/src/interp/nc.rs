@@ -50,6 +50,11 @@ impl Words {
         &self.g[..self.ng]
     }
 
+    /// The block's M codes, in block order.
+    pub(super) fn mcodes(&self) -> &[u32] {
+        &self.m[..self.nm]
+    }
+
     /// The address letters of the block's words, in block order.
     pub(super) fn letters(&self) -> impl Iterator<Item = u8> + '_ {
         self.list.iter().map(|&(letter, _, _)| letter)
@@ -64,9 +69,23 @@ impl Words {
     }
 }
 
+impl Words {
+    pub(super) fn new() -> Words {
+        Words { list: ArrayVec::new(), last: [0; 26], g: [0; 12], ng: 0, g_bits: 0, m: [0; 4], nm: 0 }
+    }
+}
+
 impl State {
+    #[cfg(test)]
     pub(super) fn collect(&self, words: &[Word]) -> Result<Words, AlarmId> {
-        let mut w = Words { list: ArrayVec::new(), last: [0; 26], g: [0; 12], ng: 0, g_bits: 0, m: [0; 4], nm: 0 };
+        let mut w = Words::new();
+        self.collect_into(words, &mut w)?;
+        Ok(w)
+    }
+
+    /// Evaluate a block's words into `w` (a fresh [`Words::new`]). Filled in place: returning
+    /// the large `Words` through a `Result` would copy it once per block.
+    pub(super) fn collect_into(&self, words: &[Word], w: &mut Words) -> Result<(), AlarmId> {
         for word in words {
             let (v, no_point) = match &word.value {
                 WordValue::Number { value, decimal_point } => (*value, !decimal_point),
@@ -101,7 +120,7 @@ impl State {
             w.list.try_push((word.letter, v, no_point)).map_err(|_| AlarmId::ImproperAddress)?;
             w.last[(word.letter - b'A') as usize] = w.list.len() as u8;
         }
-        Ok(w)
+        Ok(())
     }
 
     fn inch(&self) -> bool {
@@ -215,7 +234,11 @@ impl State {
         block: &Block,
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
-        let w = self.collect(words)?;
+        let mut w = Words::new();
+        self.collect_into(words, &mut w)?;
+        if self.cfg.fast_paths && self.is_plain_motion(&w) {
+            return self.plain_motion(&w, out);
+        }
 
         // --- macro calls: the block's words are arguments, nothing else runs ----------------
         if w.has_g(650) {
@@ -358,12 +381,7 @@ impl State {
         }
 
         // --- F S T, and the M codes that act before motion ----------------------------------
-        if let Some(f) = w.integer(b'F') {
-            if f < 0.0 {
-                return Err(AlarmId::ImproperAddress);
-            }
-            self.f = if self.inch() && self.modes[5] != 930 { f * 25.4 } else { f };
-        }
+        self.set_feed(&w)?;
         if let Some(e) = w.integer(b'E') {
             self.e = e;
         }
@@ -482,6 +500,17 @@ impl State {
         Ok(())
     }
 
+    /// F: mm/min (inch/min is converted), or 1/min under G93.
+    pub(super) fn set_feed(&mut self, w: &Words) -> Result<(), AlarmId> {
+        if let Some(f) = w.integer(b'F') {
+            if f < 0.0 {
+                return Err(AlarmId::ImproperAddress);
+            }
+            self.f = if self.inch() && self.modes[5] != 930 { f * 25.4 } else { f };
+        }
+        Ok(())
+    }
+
     /// M98 P… L…, or P with the count in front of a four-digit number (`P30010` = O0010 ×3).
     fn subprogram_target(&self, by_number: &HashMap<u32, usize>, w: &Words) -> Result<(usize, u32), AlarmId> {
         let p = w.integer(b'P').ok_or(AlarmId::ProgramNotFound)?;
@@ -591,7 +620,7 @@ impl State {
         Ok(())
     }
 
-    fn group01_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+    pub(super) fn group01_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let programmed = self.target(w);
         match self.modes[1] {
             0 => self.move_to(MotionKind::Rapid, programmed, out),

@@ -1,14 +1,21 @@
 //! A parsed program prepared for execution: its sequence-number index and the DO/END pairing.
 
 use crate::alarm::AlarmId;
-use crate::lang::{BlockKind, Program};
+use crate::lang::{Block, BlockKind, Program};
 use std::collections::HashMap;
 
 const NONE: u32 = u32::MAX;
 
 #[derive(Debug, Clone)]
 pub struct Loaded {
+    /// The `O` number and line; the blocks are in `chunks`.
     pub program: Program,
+    /// The blocks, in the parts they arrived in (kept as they came: appending a part to one
+    /// vector would copy every block once more).
+    chunks: Vec<Vec<Block>>,
+    /// Index of the first block of each chunk.
+    starts: Vec<u32>,
+    len: usize,
     /// Sequence number → block indices, in order.
     labels: HashMap<u32, Vec<u32>>,
     /// For a DO block its END, for an END block its DO; NONE otherwise.
@@ -29,7 +36,7 @@ pub struct Loaded {
 }
 
 /// Whether a block may jump, loop, call or return (see `Loaded::reaches_beyond`).
-fn reaches_beyond(block: &crate::lang::Block) -> bool {
+fn reaches_beyond(block: &Block) -> bool {
     use crate::lang::{Expr, WordValue};
     match &block.kind {
         BlockKind::Empty | BlockKind::Error(_) | BlockKind::Assign { .. } | BlockKind::IfThen { .. } => false,
@@ -65,6 +72,9 @@ impl Loaded {
     pub fn open(header: Program) -> Loaded {
         Loaded {
             program: header,
+            chunks: Vec::new(),
+            starts: Vec::new(),
+            len: 0,
             labels: HashMap::new(),
             pair: Vec::new(),
             enclosing: Vec::new(),
@@ -77,13 +87,14 @@ impl Loaded {
     }
 
     /// Add blocks at the end, indexing their sequence numbers and DO/END structure.
-    pub fn extend(&mut self, blocks: Vec<crate::lang::Block>) {
-        self.program.blocks.reserve(blocks.len());
+    pub fn extend(&mut self, blocks: Vec<Block>) {
+        if blocks.is_empty() {
+            return;
+        }
         self.reaches_beyond.reserve(blocks.len());
         self.pair.reserve(blocks.len());
         self.enclosing.reserve(blocks.len());
-        for block in blocks {
-            let i = self.program.blocks.len() as u32;
+        for (i, block) in (self.len as u32..).zip(&blocks) {
             if let Some(n) = block.n {
                 self.labels.entry(n).or_default().push(i);
             }
@@ -117,9 +128,11 @@ impl Loaded {
                 },
                 _ => {}
             }
-            self.reaches_beyond.push(reaches_beyond(&block));
-            self.program.blocks.push(block);
+            self.reaches_beyond.push(reaches_beyond(block));
         }
+        self.starts.push(self.len as u32);
+        self.len += blocks.len();
+        self.chunks.push(blocks);
     }
 
     /// No more blocks: DOs still open miss their END, crossed ranges are known.
@@ -143,7 +156,25 @@ impl Loaded {
     }
 
     pub fn len(&self) -> usize {
-        self.program.blocks.len()
+        self.len
+    }
+
+    /// Block `i` (`i < len()`).
+    pub fn block(&self, i: usize) -> &Block {
+        // Few chunks (one per part of a few hundred kilobytes), and the interpreter mostly runs
+        // in one of the last, which arrived most recently: search from the end.
+        let c = self.starts.iter().rposition(|&s| s as usize <= i).expect("block index in range");
+        &self.chunks[c][i - self.starts[c] as usize]
+    }
+
+    /// Comments before the first O number are a file header, not a program.
+    pub fn is_header(&self) -> bool {
+        self.program.number.is_none() && self.blocks().all(crate::lang::is_header_block)
+    }
+
+    /// The blocks in order.
+    pub fn blocks(&self) -> impl Iterator<Item = &Block> {
+        self.chunks.iter().flatten()
     }
 
     /// The block with sequence number `n`: the first after `from`, else the first from the top.

@@ -11,4 +11,4 @@ mod parser;
 
 pub use ast::*;
 pub use diag::Diagnostic;
-pub use parser::{is_header, parse_file, parse_part};
+pub use parser::{is_header, is_header_block, parse_file, parse_part};

@@ -73,7 +73,12 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
 
 /// Comments before the first O number are a file header, not a program.
 pub fn is_header(p: &Program) -> bool {
-    p.number.is_none() && p.blocks.iter().all(|b| b.kind == BlockKind::Empty && b.n.is_none())
+    p.number.is_none() && p.blocks.iter().all(is_header_block)
+}
+
+/// A block a file header may hold: comments only.
+pub fn is_header_block(b: &Block) -> bool {
+    b.kind == BlockKind::Empty && b.n.is_none()
 }
 
 /// A block with nothing in it at all (not even a comment) is not a block.

@@ -21,72 +21,92 @@ fn num(w: &mut Out, x: f64) {
         return put(w, b"null");
     }
     let x = if x == 0.0 { 0.0 } else { x };
-    let mut buf = [0u8; 32];
-    match short_decimal(x, &mut buf) {
-        Some(text) => put(w, text),
-        None => put(w, ryu::Buffer::new().format_finite(x).as_bytes()),
+    if !short_decimal(w, x) {
+        put(w, ryu::Buffer::new().format_finite(x).as_bytes());
     }
 }
 
-/// Fast path for the numbers NC programs are made of: at most four decimals. When `x` equals
-/// `r / 10⁴` for an integer `r`, that decimal is the shortest round-trip form, so the text is the
-/// same `ryu` would print ("12.345", "5.0", "-0.5"), made with integer arithmetic only.
-fn short_decimal(x: f64, buf: &mut [u8; 32]) -> Option<&[u8]> {
-    let a = x.abs();
-    if !(a == 0.0 || (1e-3..1e11).contains(&a)) {
-        return None;
+/// Two decimal digits of every number below 100.
+const DIGIT_PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
+/// Append `len` bytes of `buf` from `start` (`len ≤ 16`, `start + 16 ≤ N`) with a copy of fixed
+/// size: short numbers then cost no `memcpy` call.
+fn put_short<const N: usize>(w: &mut Out, buf: &[u8; N], start: usize, len: usize) {
+    let at = w.len();
+    let chunk: &[u8; 16] = buf[start..start + 16].try_into().expect("16 bytes");
+    w.extend_from_slice(chunk);
+    w.truncate(at + len);
+}
+
+/// Write `v` (< 10⁸) in decimal so that it ends just before `buf[end]`; returns where it starts.
+fn digits_before(buf: &mut [u8; 32], end: usize, v: usize) -> usize {
+    let (mut i, mut rest) = (end, v);
+    while rest >= 100 {
+        let pair = rest % 100;
+        rest /= 100;
+        i -= 2;
+        buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * pair..2 * pair + 2]);
     }
-    // Rounded by adding ½ and truncating (a is positive): `f64::round` is a library call here.
-    let r = (a * 1e4 + 0.5) as u64;
-    if r as f64 / 1e4 != a {
-        return None;
-    }
-    let (mut int, mut frac) = (r / 10_000, r % 10_000);
-    // Written backwards from the end of the buffer.
-    let mut i = buf.len();
-    let mut put = |i: &mut usize, c: u8| {
-        *i -= 1;
-        buf[*i] = c;
-    };
-    if frac == 0 {
-        put(&mut i, b'0');
+    if rest >= 10 {
+        i -= 2;
+        buf[i..i + 2].copy_from_slice(&DIGIT_PAIRS[2 * rest..2 * rest + 2]);
     } else {
-        let mut width = 4;
-        while frac % 10 == 0 {
-            frac /= 10;
-            width -= 1;
-        }
-        for _ in 0..width {
-            put(&mut i, b'0' + (frac % 10) as u8);
-            frac /= 10;
-        }
+        i -= 1;
+        buf[i] = b'0' + rest as u8;
     }
-    put(&mut i, b'.');
-    loop {
-        put(&mut i, b'0' + (int % 10) as u8);
-        int /= 10;
-        if int == 0 {
-            break;
-        }
-    }
-    if x < 0.0 {
-        put(&mut i, b'-');
-    }
-    Some(&buf[i..])
+    i
 }
 
-fn uint(w: &mut Out, mut v: u64) {
-    let mut buf = [0u8; 20];
-    let mut i = buf.len();
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (v % 10) as u8;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
+/// Fast path for the numbers NC programs are made of: at most four decimals and below 10⁷.
+/// When `x` equals `r / 10⁴` for an integer `r`, that decimal is the shortest round-trip form,
+/// so the text is the same `ryu` would print ("12.345", "5.0", "-0.5"); it is made with integer
+/// arithmetic only. Returns false (and appends nothing) for other numbers.
+fn short_decimal(w: &mut Out, x: f64) -> bool {
+    let a = x.abs();
+    if !(a == 0.0 || (1e-3..1e7).contains(&a)) {
+        return false;
     }
-    put(w, &buf[i..]);
+    // Rounded by adding ½ and truncating (a is positive): `f64::round` is a library call here,
+    // and a conversion to i64 is one instruction where one to u64 is a dozen.
+    let r = (a * 1e4 + 0.5) as i64;
+    if r as f64 / 1e4 != a {
+        return false;
+    }
+    let (int, frac) = ((r / 10_000) as usize, (r % 10_000) as usize);
+    // The integer part ends at POINT, the fraction follows it.
+    const POINT: usize = 16;
+    let mut buf = [0u8; 32];
+    let mut start = digits_before(&mut buf, POINT, int);
+    if x < 0.0 {
+        start -= 1;
+        buf[start] = b'-';
+    }
+    buf[POINT] = b'.';
+    // Four fraction digits from two pairs, trailing zeros dropped (one zero stays).
+    let (hi, lo) = (frac / 100, frac % 100);
+    buf[POINT + 1..POINT + 3].copy_from_slice(&DIGIT_PAIRS[2 * hi..2 * hi + 2]);
+    buf[POINT + 3..POINT + 5].copy_from_slice(&DIGIT_PAIRS[2 * lo..2 * lo + 2]);
+    let decimals = match (hi, lo) {
+        (_, 0) if hi % 10 == 0 => 1,
+        (_, 0) => 2,
+        _ if lo % 10 == 0 => 3,
+        _ => 4,
+    };
+    put_short(w, &buf, start, POINT + 1 + decimals - start);
+    true
+}
+
+fn uint(w: &mut Out, v: u64) {
+    if v < 100_000_000 {
+        let mut buf = [0u8; 32];
+        let start = digits_before(&mut buf, 16, v as usize);
+        return put_short(w, &buf, start, 16 - start);
+    }
+    put(w, v.to_string().as_bytes());
 }
 
 fn axes_map(w: &mut Out, p: &Pos, axes: &[char]) {
@@ -317,12 +337,28 @@ mod tests {
     }
 
     #[test]
+    fn integers_print_in_decimal() {
+        for v in [0u64, 7, 10, 99, 100, 123_456, 9_999_999, 10_000_000, 99_999_999, 100_000_000, u64::MAX] {
+            let mut out = Vec::new();
+            uint(&mut out, v);
+            assert_eq!(String::from_utf8(out).unwrap(), v.to_string());
+        }
+    }
+
+    #[test]
     fn fast_numbers_print_exactly_as_ryu() {
         for x in [0.0, -0.0, 5.0, -0.5, 12.345, 0.001, 0.0015, 1234567.125, 99999.9999, 1e10, 3.0001, -7.05] {
             let expected = ryu::Buffer::new().format_finite(if x == 0.0 { 0.0 } else { x }).to_string();
             assert_eq!(text(x), expected, "{x}");
         }
         assert_eq!(text(0.1 + 0.2), "0.30000000000000004");
+        // Every four-decimal number over a wide range, and the ends of the fast path.
+        for r in (0..2_000_000u64).chain((0..100_000).map(|k| 99_000_000_000 + k * 7)) {
+            for x in [r as f64 / 1e4, -(r as f64) / 1e4, r as f64 / 1e3 + 0.5] {
+                let expected = ryu::Buffer::new().format_finite(if x == 0.0 { 0.0 } else { x }).to_string();
+                assert_eq!(text(x), expected, "{x}");
+            }
+        }
         assert_eq!(text(f64::NAN), "null");
     }
 }

@@ -283,7 +283,7 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     // Three stages side by side: a parser thread hands the file over in parts (the first one
     // small, so interpretation starts at once), the interpreter runs on this thread, and a
     // writer thread formats the JSON.
-    let (part_tx, part_rx) = std::sync::mpsc::sync_channel(8);
+    let (part_tx, part_rx) = std::sync::mpsc::sync_channel(2);
     let parser = std::thread::spawn(move || {
         let mut first_line = 1u32;
         let mut rest = text.as_str();

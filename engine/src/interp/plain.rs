@@ -1,0 +1,43 @@
+//! The fast path for the block CAM output is made of: `[G00|G01] axis words [F]`.
+//!
+//! Such a block, while no canned cycle, modal macro call or 5-axis mode is active, only sets
+//! the motion mode and the feed and moves; the general path (`nc::exec_words`) would ask and
+//! answer "no" to a few dozen questions about it first. The fast path does exactly what the
+//! general one does for these blocks, and nothing else: `engine/tests/fast_path.rs` runs every
+//! fixture and random programs both ways and compares commands and final state.
+
+use super::nc::Words;
+use super::{modes, State};
+use crate::alarm::AlarmId;
+use crate::canon::Canon;
+
+impl State {
+    /// Whether the block (already evaluated) is a plain linear or rapid motion block here.
+    pub(super) fn is_plain_motion(&self, w: &Words) -> bool {
+        let g = w.gcodes();
+        let motion = match g {
+            [] => self.modes[1],
+            [code] => *code,
+            _ => return false,
+        };
+        matches!(motion, 0 | 10)
+            && w.mcodes().is_empty()
+            && self.modes[9] == 800
+            && self.modal_call.is_none()
+            && modes::no_rule_applies(self, g)
+            && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some())
+    }
+
+    /// Execute a block for which [`State::is_plain_motion`] holds.
+    pub(super) fn plain_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        // (A group-01 code also clears the canned cycle data, which G80 has already cleared.)
+        if let [code] = w.gcodes() {
+            self.modes[1] = *code;
+        }
+        self.set_feed(w)?;
+        if w.letters().any(|l| l != b'G' && l != b'F') {
+            self.group01_motion(w, out)?;
+        }
+        Ok(())
+    }
+}
