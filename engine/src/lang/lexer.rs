@@ -247,29 +247,35 @@ impl<'a> Lexer<'a> {
 
 /// The number starting at `pos` (digits and at most one point) and the offset after it.
 pub(super) fn number_at(t: &[u8], start: usize) -> (Tok, usize) {
-    const POW10: [f64; 19] =
-        [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18];
-    let mut pos = start;
-    let (mut mantissa, mut digits, mut frac, mut point) = (0u64, 0u32, 0usize, false);
-    while let Some(&c) = t.get(pos) {
-        match c {
-            b'0'..=b'9' => {
-                mantissa = mantissa.wrapping_mul(10).wrapping_add((c - b'0') as u64);
-                digits += 1;
-                frac += point as usize;
-            }
-            b'.' if point => return (Tok::BadNumber, pos),
-            b'.' => point = true,
-            _ => break,
+    const POW10: [f64; 16] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15];
+    // The digits from `pos` on, added to `mantissa`; returns the offset after them.
+    let digits_from = |mut pos: usize, mantissa: &mut u64| {
+        while let Some(d) = t.get(pos).map(|c| c.wrapping_sub(b'0')).filter(|&d| d < 10) {
+            *mantissa = mantissa.wrapping_mul(10).wrapping_add(d as u64);
+            pos += 1;
         }
-        pos += 1;
-    }
+        pos
+    };
+    let mut mantissa = 0u64;
+    let int_end = digits_from(start, &mut mantissa);
+    let point = t.get(int_end) == Some(&b'.');
+    let (pos, frac) = if point {
+        let end = digits_from(int_end + 1, &mut mantissa);
+        if t.get(end) == Some(&b'.') {
+            return (Tok::BadNumber, end);
+        }
+        (end, end - int_end - 1)
+    } else {
+        (int_end, 0)
+    };
     // More digits than an f64 holds exactly: FANUC's "too many digits".
-    if digits > 15 {
+    if int_end - start + frac > 15 {
         return (Tok::TooManyDigits, pos);
     }
-    // Both operands are exact, so one division is correctly rounded, like `str::parse`.
-    let value = if frac == 0 { mantissa as f64 } else { mantissa as f64 / POW10[frac] };
+    // Both operands are exact, so one division is correctly rounded, like `str::parse`. (Via
+    // i64: converting a u64 to f64 takes a dozen instructions, an i64 one.)
+    let m = mantissa as i64 as f64;
+    let value = if frac == 0 { m } else { m / POW10[frac] };
     // "." alone is zero with a decimal point, as FANUC reads `X.`.
     (Tok::Num { value, point }, pos)
 }
@@ -309,5 +315,27 @@ mod tests {
         assert_eq!(toks("G43.4")[1], Tok::Num { value: 43.4, point: true });
         assert_eq!(toks("X.")[1], Tok::Num { value: 0.0, point: true });
         assert_eq!(toks("X1.2.3")[1], Tok::BadNumber);
+    }
+
+    proptest::proptest! {
+        /// Numbers read exactly as `str::parse` reads them, up to 15 digits; more is an error.
+        #[test]
+        fn numbers_read_as_str_parse_does(text in "[0-9]{0,17}(\\.[0-9]{0,17})?[.X]?") {
+            let (tok, end) = number_at(text.as_bytes(), 0);
+            let number = &text[..end];
+            let digits = number.bytes().filter(u8::is_ascii_digit).count();
+            match tok {
+                Tok::Num { value, point } => {
+                    proptest::prop_assert!(digits <= 15);
+                    proptest::prop_assert_eq!(point, number.contains('.'));
+                    let expected = if number == "." || number.is_empty() { 0.0 } else { number.parse::<f64>().unwrap() };
+                    proptest::prop_assert_eq!(value, expected);
+                    proptest::prop_assert!(!text[end..].starts_with(|c: char| c.is_ascii_digit()));
+                }
+                Tok::TooManyDigits => proptest::prop_assert!(digits > 15),
+                Tok::BadNumber => proptest::prop_assert!(text[end..].starts_with('.') && number.contains('.')),
+                other => proptest::prop_assert!(false, "{:?}", other),
+            }
+        }
     }
 }

@@ -132,128 +132,137 @@ fn json_string(w: &mut Out, s: &str) {
     put(w, serde_json::to_string(s).unwrap_or_else(|_| "\"\"".into()).as_bytes());
 }
 
-/// One canonical command as one JSON line, appended to `w`.
-pub fn write_canon(w: &mut Out, c: &Canon, axes: &[char]) {
-    let kind = match &c.kind {
-        CanonKind::Motion(_) => "motion",
-        CanonKind::Dwell { .. } => "dwell",
-        CanonKind::ToolSelect { .. } => "tool_select",
-        CanonKind::ToolChange { .. } => "tool_change",
-        CanonKind::Spindle { .. } => "spindle",
-        CanonKind::Coolant(_) => "coolant",
-        CanonKind::Aux { .. } => "aux",
-        CanonKind::Stop { .. } => "stop",
-        CanonKind::Print { .. } => "print",
-        CanonKind::ProgramEnd { .. } => "program_end",
-    };
-    put(w, b"{\"type\":\"");
-    put(w, kind.as_bytes());
-    put(w, b"\",\"line\":");
-    uint(w, c.line as u64);
-    put(w, b",\"n\":");
-    opt_u32(w, c.n);
-    match &c.kind {
-        CanonKind::Motion(m) => motion(w, m, axes),
-        CanonKind::Dwell { seconds } => {
-            put(w, b",\"seconds\":");
-            num(w, *seconds);
-        }
-        CanonKind::ToolSelect { tool } | CanonKind::ToolChange { tool } => {
-            put(w, b",\"tool\":");
-            uint(w, *tool as u64);
-        }
-        CanonKind::Spindle { state, speed } => {
-            let state: &[u8] = match state {
-                SpindleState::Cw => b"cw",
-                SpindleState::Ccw => b"ccw",
-                SpindleState::Stop => b"stop",
-            };
-            put(w, b",\"state\":\"");
-            put(w, state);
-            put(w, b"\",\"speed\":");
-            num(w, *speed);
-        }
-        CanonKind::Coolant(c) => {
-            let state: &[u8] = match c {
-                Coolant::Mist => b"mist",
-                Coolant::Flood => b"flood",
-                Coolant::Off => b"off",
-            };
-            put(w, b",\"state\":\"");
-            put(w, state);
-            put(w, b"\"");
-        }
-        CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => {
-            put(w, b",\"m\":");
-            uint(w, *m as u64);
-        }
-        CanonKind::Stop { optional, message } => {
-            put(w, if *optional { b",\"optional\":true,\"message\":" } else { b",\"optional\":false,\"message\":" });
-            match message {
-                Some(m) => json_string(w, m),
-                None => put(w, b"null"),
+/// Writes canonical commands as JSON lines (`fivex interp`). It remembers the last motion
+/// context and its text: consecutive motions almost always share their context.
+pub struct CanonWriter {
+    axes: Vec<char>,
+    context: Option<(MotionContext, Vec<u8>)>,
+}
+
+impl CanonWriter {
+    pub fn new(axes: Vec<char>) -> CanonWriter {
+        CanonWriter { axes, context: None }
+    }
+
+    /// One canonical command as one JSON line, appended to `w`.
+    pub fn write(&mut self, w: &mut Out, c: &Canon) {
+        let kind = match &c.kind {
+            CanonKind::Motion(_) => "motion",
+            CanonKind::Dwell { .. } => "dwell",
+            CanonKind::ToolSelect { .. } => "tool_select",
+            CanonKind::ToolChange { .. } => "tool_change",
+            CanonKind::Spindle { .. } => "spindle",
+            CanonKind::Coolant(_) => "coolant",
+            CanonKind::Aux { .. } => "aux",
+            CanonKind::Stop { .. } => "stop",
+            CanonKind::Print { .. } => "print",
+            CanonKind::ProgramEnd { .. } => "program_end",
+        };
+        put(w, b"{\"type\":\"");
+        put(w, kind.as_bytes());
+        put(w, b"\",\"line\":");
+        uint(w, c.line as u64);
+        put(w, b",\"n\":");
+        opt_u32(w, c.n);
+        match &c.kind {
+            CanonKind::Motion(m) => self.motion(w, m),
+            CanonKind::Dwell { seconds } => {
+                put(w, b",\"seconds\":");
+                num(w, *seconds);
+            }
+            CanonKind::ToolSelect { tool } | CanonKind::ToolChange { tool } => {
+                put(w, b",\"tool\":");
+                uint(w, *tool as u64);
+            }
+            CanonKind::Spindle { state, speed } => {
+                let state: &[u8] = match state {
+                    SpindleState::Cw => b"cw",
+                    SpindleState::Ccw => b"ccw",
+                    SpindleState::Stop => b"stop",
+                };
+                put(w, b",\"state\":\"");
+                put(w, state);
+                put(w, b"\",\"speed\":");
+                num(w, *speed);
+            }
+            CanonKind::Coolant(c) => {
+                let state: &[u8] = match c {
+                    Coolant::Mist => b"mist",
+                    Coolant::Flood => b"flood",
+                    Coolant::Off => b"off",
+                };
+                put(w, b",\"state\":\"");
+                put(w, state);
+                put(w, b"\"");
+            }
+            CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => {
+                put(w, b",\"m\":");
+                uint(w, *m as u64);
+            }
+            CanonKind::Stop { optional, message } => {
+                put(
+                    w,
+                    if *optional { b",\"optional\":true,\"message\":" } else { b",\"optional\":false,\"message\":" },
+                );
+                match message {
+                    Some(m) => json_string(w, m),
+                    None => put(w, b"null"),
+                }
+            }
+            CanonKind::Print { text } => {
+                put(w, b",\"text\":");
+                json_string(w, text);
             }
         }
-        CanonKind::Print { text } => {
-            put(w, b",\"text\":");
-            json_string(w, text);
+        put(w, b"}\n");
+    }
+
+    fn motion(&mut self, w: &mut Out, m: &Motion) {
+        let axes = &self.axes[..];
+        let kind: &[u8] = match m.kind {
+            MotionKind::Rapid => b"rapid",
+            MotionKind::Linear => b"linear",
+            MotionKind::ArcCw => b"arc_cw",
+            MotionKind::ArcCcw => b"arc_ccw",
+            MotionKind::MachineRapid => b"machine_rapid",
+        };
+        let feed_mode: &[u8] = match m.feed_mode {
+            FeedMode::InverseTime => b"G93",
+            FeedMode::PerMinute => b"G94",
+            FeedMode::PerRevolution => b"G95",
+        };
+        put(w, b",\"motion\":\"");
+        put(w, kind);
+        put(w, b"\",\"target\":");
+        // Without offsets the machine point is the target: format it once and copy it.
+        let start = w.len();
+        axes_map(w, &m.target, axes);
+        put(w, b",\"machine\":");
+        if m.machine == m.target {
+            let end = w.len() - b",\"machine\":".len();
+            w.extend_from_within(start..end);
+        } else {
+            axes_map(w, &m.machine, axes);
         }
+        put(w, b",\"feed\":");
+        num(w, m.feed);
+        put(w, b",\"feed_mode\":\"");
+        put(w, feed_mode);
+        put(w, b"\"");
+        if let Some(arc) = &m.arc {
+            put(w, b",\"arc\":{\"center\":");
+            axes_map(w, &arc.center, axes);
+            put(w, b",\"radius\":");
+            num(w, arc.radius);
+            put(w, b",\"sweep_deg\":");
+            num(w, arc.sweep_deg);
+            put(w, b"}");
+        }
+        self.write_context(w, &m.context);
     }
-    put(w, b"}\n");
-}
 
-fn motion(w: &mut Out, m: &Motion, axes: &[char]) {
-    let kind: &[u8] = match m.kind {
-        MotionKind::Rapid => b"rapid",
-        MotionKind::Linear => b"linear",
-        MotionKind::ArcCw => b"arc_cw",
-        MotionKind::ArcCcw => b"arc_ccw",
-        MotionKind::MachineRapid => b"machine_rapid",
-    };
-    let feed_mode: &[u8] = match m.feed_mode {
-        FeedMode::InverseTime => b"G93",
-        FeedMode::PerMinute => b"G94",
-        FeedMode::PerRevolution => b"G95",
-    };
-    put(w, b",\"motion\":\"");
-    put(w, kind);
-    put(w, b"\",\"target\":");
-    // Without offsets the machine point is the target: format it once and copy it.
-    let start = w.len();
-    axes_map(w, &m.target, axes);
-    put(w, b",\"machine\":");
-    if m.machine == m.target {
-        let end = w.len() - b",\"machine\":".len();
-        w.extend_from_within(start..end);
-    } else {
-        axes_map(w, &m.machine, axes);
-    }
-    put(w, b",\"feed\":");
-    num(w, m.feed);
-    put(w, b",\"feed_mode\":\"");
-    put(w, feed_mode);
-    put(w, b"\"");
-    if let Some(arc) = &m.arc {
-        put(w, b",\"arc\":{\"center\":");
-        axes_map(w, &arc.center, axes);
-        put(w, b",\"radius\":");
-        num(w, arc.radius);
-        put(w, b",\"sweep_deg\":");
-        num(w, arc.sweep_deg);
-        put(w, b"}");
-    }
-    write_context(w, &m.context);
-}
-
-thread_local! {
-    /// The last context and its JSON: consecutive motions almost always share their context.
-    static CONTEXT: std::cell::RefCell<Option<(MotionContext, Vec<u8>)>> = const { std::cell::RefCell::new(None) };
-}
-
-fn write_context(w: &mut Out, c: &MotionContext) {
-    CONTEXT.with(|cell| {
-        let mut cache = cell.borrow_mut();
-        if let Some((last, text)) = cache.as_ref() {
+    fn write_context(&mut self, w: &mut Out, c: &MotionContext) {
+        if let Some((last, text)) = &self.context {
             if last == c {
                 return put(w, text);
             }
@@ -272,8 +281,8 @@ fn write_context(w: &mut Out, c: &MotionContext) {
         num(&mut v, c.cutter_radius);
         let _ = write!(v, ",\"path_mode\":\"{}\",\"rotation\":\"{}\"}}", display(c.path_mode), display(c.rotation));
         put(w, &v);
-        *cache = Some((*c, v));
-    })
+        self.context = Some((*c, v));
+    }
 }
 
 /// One trace sample as one JSON line, appended to `w`.

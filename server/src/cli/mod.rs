@@ -310,10 +310,11 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
         let stdout = std::io::stdout();
         let mut out = stdout.lock();
         let mut text = Vec::with_capacity(BATCH * 400);
+        let mut json = json::CanonWriter::new(axes);
         for mut batch in rx {
             text.clear();
             for c in &batch {
-                json::write_canon(&mut text, c, &axes);
+                json.write(&mut text, c);
             }
             out.write_all(&text)?;
             batch.clear();
