@@ -52,6 +52,8 @@ pub enum AlarmId {
     AxisNotInTcp,
     /// The machine cannot do the 5-axis function (too few rotary axes).
     MachineParameter,
+    /// No rotary axis solution for a tool direction fits the movement ranges.
+    NoRotarySolution,
     /// G20/G21 in a mode that freezes the units.
     UnitChangeInMode,
     /// A circular command in the start-up or cancel block of cutter compensation.

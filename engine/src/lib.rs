@@ -8,6 +8,7 @@ pub mod canon;
 pub mod check;
 pub mod dialect;
 pub mod interp;
+pub mod kin;
 pub mod lang;
 pub mod machine;
 pub mod run;

@@ -51,6 +51,19 @@ pub struct RotaryLink {
     /// Direction the axis turns about, machine coordinates at zero angles (normalised on use).
     pub direction: [f64; 3],
     pub hand: Hand,
+    /// A point on the axis line at zero angles, mm: relative to the carriage reference point
+    /// (the X/Y/Z position) for a head axis, in machine coordinates for a table axis.
+    #[serde(default)]
+    pub point: [f64; 3],
+    /// Added to the commanded angle (the axis's zero-point error), degrees.
+    #[serde(default)]
+    pub zero_offset: f64,
+    /// The angle of a hypothetical axis (one the machine does not have as a controlled axis).
+    #[serde(default)]
+    pub fixed: Option<f64>,
+    /// Movement range `[low, high]` of commanded angles, degrees.
+    #[serde(default)]
+    pub range: Option<[f64; 2]>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -61,6 +74,17 @@ pub struct MachineConfig {
     /// table links from the bed to the table top (so the master axis comes first on each side).
     #[serde(default)]
     pub rotary: Vec<RotaryLink>,
+    /// Tool direction (tip → holder) with every head axis at zero, machine coordinates.
+    #[serde(default = "plus_z")]
+    pub tool_axis: [f64; 3],
+    /// The spindle nose (gauge point) relative to the carriage reference point at zero angles,
+    /// mm (e.g. `-pivot · tool_axis` when X/Y/Z locate the head's pivot).
+    #[serde(default)]
+    pub nose: [f64; 3],
+}
+
+fn plus_z() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
 }
 
 impl MachineConfig {
@@ -90,7 +114,7 @@ impl MachineConfig {
                 _ => [0.0, 0.0, 1.0],
             };
             let hand = if side == Side::Head { Hand::Right } else { Hand::Left };
-            RotaryLink { axis, side, direction, hand }
+            RotaryLink { axis, side, direction, hand, point: [0.0; 3], zero_offset: 0.0, fixed: None, range: None }
         };
         let rotary = match name {
             "head-bc" => vec![link('C', Side::Head), link('B', Side::Head)],
@@ -99,7 +123,7 @@ impl MachineConfig {
             "mixed-bc" => vec![link('B', Side::Head), link('C', Side::Table)],
             _ => vec![],
         };
-        Some(MachineConfig { name: name.to_string(), axes, rotary })
+        Some(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: plus_z(), nose: [0.0; 3] })
     }
 
     /// The unit tool vector (tip toward holder) in workpiece coordinates for machine axis
@@ -152,7 +176,7 @@ impl MachineConfig {
         }
         for (i, link) in self.rotary.iter().enumerate() {
             let is_rotary = self.axes.iter().any(|a| a.name == link.axis && a.kind == AxisKind::Rotary);
-            if !is_rotary {
+            if !is_rotary && link.fixed.is_none() {
                 return Err(format!("rotary link '{}' is not a rotary axis of the machine", link.axis));
             }
             if self.rotary[..i].iter().any(|l| l.axis == link.axis) {

@@ -43,7 +43,10 @@ fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
             Axis { name, kind, rapid: 10_000.0 }
         })
         .collect();
-    let mut cfg = Config::new(MachineConfig { name: "custom".into(), axes, rotary: vec![] }, dialect);
+    let mut cfg = Config::new(
+        MachineConfig { name: "custom".into(), axes, rotary: vec![], tool_axis: [0.0, 0.0, 1.0], nose: [0.0; 3] },
+        dialect,
+    );
     cfg.max_blocks = 10_000;
     let mut interp = Interpreter::new(parse_file(src), cfg);
     for n in 1..=9 {

@@ -1,0 +1,183 @@
+//! Inverse kinematics: the axis positions that put the tool tip at a point with a direction.
+//!
+//! The orientation is solved first. Every machine kind reduces to at most two rotations about
+//! fixed unit vectors, `Rot(a, x)·Rot(b, y)·p = q` (a head chain turns the reference tool
+//! direction into the wanted one; a table chain turns the wanted one, seen from the table, back
+//! into the reference), which has zero, one or two solutions in closed form. The linear axes
+//! follow from the tip.
+
+use super::{Joint, Kinematics, MachineKind, Vec3};
+
+/// Below this, a vector counts as parallel to an axis (the angle about it is free).
+const PARALLEL: f64 = 1e-9;
+
+/// One inverse solution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// Every axis position in axis order: X, Y, Z of the carriage reference, the rotary axes at
+    /// their basic angle in [0, 360) (a free one at its current angle), other axes unchanged.
+    pub pos: Vec<f64>,
+    /// For each joint (in [`Kinematics::joints`] order): its angle is free in this posture
+    /// (a singular posture), so it was left where it was.
+    pub free: Vec<bool>,
+}
+
+/// The angle (degrees) that turns `u` into `w` about the unit vector `k`; `None` when `u` is
+/// parallel to `k` (any angle does).
+fn angle_about(k: &Vec3, u: &Vec3, w: &Vec3) -> Option<f64> {
+    let u = u - k * k.dot(u);
+    let w = w - k * k.dot(w);
+    if u.norm() < PARALLEL || w.norm() < PARALLEL {
+        return None;
+    }
+    Some(k.dot(&u.cross(&w)).atan2(u.dot(&w)).to_degrees())
+}
+
+/// `Rot(k, x)·p = q`: the angle x, `Some(None)` when any angle does, `None` when there is no
+/// solution (p and q differ along k).
+fn one_axis(k: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> Option<Option<f64>> {
+    if (k.dot(p) - k.dot(q)).abs() > tol {
+        return None;
+    }
+    Some(angle_about(k, p, q))
+}
+
+/// `Rot(a, x)·Rot(b, y)·p = q` for unit vectors, `a` not parallel to `b`: every (x, y), an angle
+/// being `None` where it is free.
+fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> Vec<(Option<f64>, Option<f64>)> {
+    // c = Rot(b, y)·p = Rot(a, −x)·q keeps p's component along b and q's along a.
+    let s = a.dot(b);
+    let n = a.cross(b);
+    let denom = 1.0 - s * s;
+    let (pa, pb) = (a.dot(q), b.dot(p));
+    let alpha = (pa - s * pb) / denom;
+    let beta = (pb - s * pa) / denom;
+    let g2 = (p.norm_squared() - alpha * alpha - beta * beta - 2.0 * alpha * beta * s) / n.norm_squared();
+    if g2 < -tol {
+        return Vec::new();
+    }
+    let g = g2.max(0.0).sqrt();
+    let gammas: &[f64] = if g < 1e-12 { &[0.0] } else { &[g, -g] };
+    gammas
+        .iter()
+        .map(|&gamma| {
+            let c = a * alpha + b * beta + n * gamma;
+            (angle_about(a, &c, q), angle_about(b, p, &c))
+        })
+        .collect()
+}
+
+fn basic(angle: f64) -> f64 {
+    let a = angle.rem_euclid(360.0);
+    if a >= 360.0 - 1e-12 {
+        0.0
+    } else {
+        a
+    }
+}
+
+impl Kinematics {
+    /// Every candidate for tool tip `tip` and direction `tool` (table frame; `tool` need not be
+    /// unit) with tool length `tool_length`; free angles and other axes are taken from `from`.
+    pub fn inverse(&self, tip: Vec3, tool: Vec3, tool_length: f64, from: &[f64]) -> Vec<Candidate> {
+        let Some(v) = tool.try_normalize(1e-12) else { return Vec::new() };
+        let joints = self.joints();
+        let t0 = self.tool_axis;
+        // Each entry: the rotation amounts φ about the joints' directions, in joints() order.
+        let current = |j: &Joint| j.sign * (j.index.map_or(j.fixed, |i| from[i]) + j.zero_offset);
+        let tol = 1e-7;
+        let mut orientations: Vec<Vec<Option<f64>>> = Vec::new();
+        match self.kind {
+            MachineKind::ThreeAxis => {
+                if (v - t0).norm() < tol {
+                    orientations.push(vec![]);
+                }
+            }
+            MachineKind::Head => orientations.extend(one_axis(&joints[0].direction, &t0, &v, tol).map(|x| vec![x])),
+            MachineKind::Table => orientations.extend(one_axis(&joints[0].direction, &v, &t0, tol).map(|x| vec![x])),
+            MachineKind::HeadHead => {
+                let (a, b) = (joints[0].direction, joints[1].direction);
+                orientations.extend(two_axes(&a, &b, &t0, &v, tol).into_iter().map(|(x, y)| vec![x, y]));
+            }
+            MachineKind::TableTable => {
+                let (a, b) = (joints[0].direction, joints[1].direction);
+                orientations.extend(two_axes(&a, &b, &v, &t0, tol).into_iter().map(|(x, y)| vec![x, y]));
+            }
+            MachineKind::HeadTable => {
+                // Table⁻¹·Head·t0 = v, i.e. Rot(−table axis, φt)·Rot(head axis, φh)·t0 = v.
+                let (h, t) = (joints[0].direction, joints[1].direction);
+                orientations.extend(two_axes(&-t, &h, &t0, &v, tol).into_iter().map(|(x, y)| vec![y, x]));
+            }
+        }
+        let mut out: Vec<Candidate> = Vec::new();
+        for phis in orientations {
+            let free: Vec<bool> = phis.iter().map(Option::is_none).collect();
+            // A free angle stays where it is; the other one is then solved again with it.
+            let phis = match self.fix_free(&joints, &phis, &current, &v) {
+                Some(p) => p,
+                None => continue,
+            };
+            let mut pos = from.to_vec();
+            for (j, phi) in joints.iter().zip(&phis) {
+                if let Some(i) = j.index {
+                    pos[i] = basic(j.command(*phi));
+                }
+            }
+            for (j, f) in joints.iter().zip(&free) {
+                if let (Some(i), true) = (j.index, f) {
+                    pos[i] = from[i];
+                }
+            }
+            let head: Vec<f64> = self.head.iter().map(|j| self.angle(j, &pos)).collect();
+            let table: Vec<f64> = self.table.iter().map(|j| self.angle(j, &pos)).collect();
+            let tip_machine = self.table_forward(&table, tip);
+            let (_, head_point) = self.head_motion(&head);
+            let carriage = tip_machine - head_point(self.nose - tool_length * t0);
+            pos[..3].copy_from_slice(carriage.as_slice());
+            // Keep only true solutions, once each.
+            if (self.forward(&pos, tool_length).tool - v).norm() > 1e-6 {
+                continue;
+            }
+            if !out.iter().any(|c| c.pos.iter().zip(&pos).all(|(a, b)| (a - b).abs() < 1e-9)) {
+                out.push(Candidate { pos, free });
+            }
+        }
+        out
+    }
+
+    /// Fill in free angles (at the joint's current rotation) and solve the other joint again.
+    fn fix_free(
+        &self,
+        joints: &[&Joint],
+        phis: &[Option<f64>],
+        current: &dyn Fn(&Joint) -> f64,
+        v: &Vec3,
+    ) -> Option<Vec<f64>> {
+        if phis.iter().all(Option::is_some) {
+            return Some(phis.iter().map(|p| p.unwrap_or(0.0)).collect());
+        }
+        let t0 = self.tool_axis;
+        let rot = |j: &Joint, phi: f64| {
+            nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_unchecked(j.direction), phi.to_radians())
+        };
+        match (self.kind, phis) {
+            (_, [None]) => Some(vec![current(joints[0])]),
+            (MachineKind::HeadHead, [x, y]) => {
+                let x = x.unwrap_or_else(|| current(joints[0]));
+                let y = y.or_else(|| angle_about(&joints[1].direction, &t0, &(rot(joints[0], x).inverse() * v)));
+                Some(vec![x, y.unwrap_or_else(|| current(joints[1]))])
+            }
+            (MachineKind::TableTable, [x, y]) => {
+                let x = x.unwrap_or_else(|| current(joints[0]));
+                let y = y.or_else(|| angle_about(&joints[1].direction, v, &(rot(joints[0], x).inverse() * t0)));
+                Some(vec![x, y.unwrap_or_else(|| current(joints[1]))])
+            }
+            (MachineKind::HeadTable, [h, t]) => {
+                let t = t.unwrap_or_else(|| current(joints[1]));
+                let h = h.or_else(|| angle_about(&joints[0].direction, &t0, &(rot(joints[1], t) * v)));
+                Some(vec![h.unwrap_or_else(|| current(joints[0])), t])
+            }
+            _ => None,
+        }
+    }
+}

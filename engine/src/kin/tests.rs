@@ -1,0 +1,213 @@
+use super::*;
+use crate::dialect::Dialect;
+use crate::machine::{Axis, Hand, RotaryLink};
+use proptest::prelude::*;
+
+fn kin(preset: &str) -> Kinematics {
+    Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap()
+}
+
+fn close(a: Vec3, b: [f64; 3], tol: f64) -> bool {
+    (a - vec3(b)).norm() < tol
+}
+
+const FANUC: Selection = Selection { dialect: Dialect::Fanuc, pri: false, p: 0 };
+
+/// The rotary angles (B, C on head-bc) FANUC chooses for a tool direction from a position.
+fn chosen(k: &Kinematics, tool: [f64; 3], from: &[f64], how: Selection) -> Result<Vec<f64>, AlarmId> {
+    let candidates = k.inverse(Vec3::zeros(), vec3(tool), 0.0, from);
+    k.select(&candidates, from, how).map(|c| c.pos[3..].to_vec())
+}
+
+use crate::alarm::AlarmId;
+
+#[test]
+fn forward_by_hand_on_the_presets() {
+    // head-bc, tool 100 long: B90 lays the tool along +X, so the tip is 100 toward −X.
+    let p = kin("head-bc").forward(&[10.0, 20.0, 30.0, 90.0, 0.0], 100.0);
+    assert!(close(p.tool, [1.0, 0.0, 0.0], 1e-12));
+    assert!(close(p.tip, [-90.0, 20.0, 30.0], 1e-12));
+    // Then C90 turns it about Z to +Y.
+    let p = kin("head-bc").forward(&[0.0, 0.0, 0.0, 90.0, 90.0], 100.0);
+    assert!(close(p.tool, [0.0, 1.0, 0.0], 1e-12));
+    assert!(close(p.tip, [0.0, -100.0, 0.0], 1e-12));
+    // table-ac: A90 (left hand about X) carries the table's −Y to the machine's +Z: a tool tip
+    // at machine (0, 0, 50) is at table (0, −50, 0), and seen from the table the tool points −Y.
+    let p = kin("table-ac").forward(&[0.0, 0.0, 50.0, 90.0, 0.0], 0.0);
+    assert!(close(p.tip_machine, [0.0, 0.0, 50.0], 1e-12));
+    assert!(close(p.tool, [0.0, -1.0, 0.0], 1e-12));
+    assert!(close(p.tip, [0.0, -50.0, 0.0], 1e-12));
+}
+
+/// fanuc-tcp.md §3.1 (TV-01 … TV-05): BC machine, tool axis Z, C master about Z, B slave about
+/// Y. The extract's pairs (B90, C180) and (B270, C0) point the tool along −X with right-hand
+/// axes (`v = Rz(C)·Ry(B)·ẑ`, the convention of the O100 example; spec Q-3): the tests command −X.
+#[test]
+fn fanuc_type2_selection_tv01_to_tv05() {
+    let k = kin("head-bc");
+    // Axis order X Y Z B C.
+    let cands = k.inverse(Vec3::zeros(), Vec3::new(-1.0, 0.0, 0.0), 0.0, &[0.0; 5]);
+    let mut pairs: Vec<(f64, f64)> = cands.iter().map(|c| (c.pos[3].round(), c.pos[4].round())).collect();
+    pairs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(pairs, vec![(90.0, 180.0), (270.0, 0.0)]);
+    let bc = |b: f64, c: f64| [0.0, 0.0, 0.0, b, c];
+    let run = |from: [f64; 5]| chosen(&k, [-1.0, 0.0, 0.0], &from, FANUC).unwrap();
+    let round = |v: Vec<f64>| v.iter().map(|x| (x * 1e9).round() / 1e9).collect::<Vec<_>>();
+    assert_eq!(round(run(bc(-70.0, 30.0))), vec![-90.0, 0.0], "TV-01");
+    assert_eq!(round(run(bc(80.0, 500.0))), vec![90.0, 540.0], "TV-02");
+    assert_eq!(round(run(bc(60.0, 90.0))), vec![90.0, 180.0], "TV-03");
+    assert_eq!(round(run(bc(180.0, 90.0))), vec![270.0, 0.0], "TV-04");
+    // TV-05: +Z is the singular posture (B0): C stays.
+    assert_eq!(round(chosen(&k, [0.0, 0.0, 1.0], &bc(45.0, 90.0), FANUC).unwrap()), vec![0.0, 90.0], "TV-05");
+    // TV-18/TV-19: PRI judges the slave first.
+    let pri = Selection { pri: true, ..FANUC };
+    assert_eq!(round(chosen(&k, [-1.0, 0.0, 0.0], &bc(60.0, 90.0), pri).unwrap()), vec![90.0, 180.0], "TV-18");
+    assert_eq!(round(chosen(&k, [-1.0, 0.0, 0.0], &bc(-70.0, 30.0), pri).unwrap()), vec![-90.0, 0.0], "TV-19");
+}
+
+/// TV-13 … TV-17 (constructed in the extract from §2.3.19): a master with the two basic angles
+/// 10° and 190° for one direction — here the C master of head-bc, whose solutions are (C, B) and
+/// (C + 180, −B); the extract's "A" is this master.
+#[test]
+fn fanuc_movement_ranges_tv13_to_tv17() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let k = Kinematics::new(&m).unwrap();
+    let v = k.forward(&[0.0, 0.0, 0.0, 30.0, 10.0], 0.0).tool;
+    // (B, C) chosen from C = 350, B = 0.
+    let pick = |k: &Kinematics| {
+        let from = [0.0, 0.0, 0.0, 0.0, 350.0];
+        let cands = k.inverse(Vec3::zeros(), v, 0.0, &from);
+        k.select(&cands, &from, FANUC).map(|c| ((c.pos[3] * 1e6).round() / 1e6, (c.pos[4] * 1e6).round() / 1e6))
+    };
+    assert_eq!(pick(&k), Ok((30.0, 370.0)), "TV-13: 10 + 360 is 20 away");
+    m.rotary[0].range = Some([0.0, 360.0]);
+    assert_eq!(pick(&Kinematics::new(&m).unwrap()), Ok((-30.0, 190.0)), "TV-14: 370 is out of range");
+    m.rotary[0].range = Some([360.0, 0.0]);
+    assert_eq!(pick(&Kinematics::new(&m).unwrap()), Err(AlarmId::NoRotarySolution), "TV-15: lower > upper");
+    m.rotary[0].range = Some([20.0, 30.0]);
+    assert_eq!(pick(&Kinematics::new(&m).unwrap()), Err(AlarmId::NoRotarySolution), "TV-16: nothing fits");
+    m.rotary[0].range = Some([0.0, 0.0]);
+    assert_eq!(pick(&Kinematics::new(&m).unwrap()), Ok((30.0, 370.0)), "TV-17: 0/0 is no range");
+}
+
+/// syntec.md TV-33: spindle C–B (right hand), the Zc of TV-32 (C −60, B 15 or C 120, B −15):
+/// P0 takes the master's shortest path from 0.
+#[test]
+fn syntec_p0_p1_p2_tv33() {
+    let k = kin("head-bc");
+    let v = k.forward(&[0.0, 0.0, 0.0, 15.0, -60.0], 0.0).tool;
+    let run = |p: u8| {
+        let how = Selection { dialect: Dialect::Syntec, pri: false, p };
+        chosen(&k, [v.x, v.y, v.z], &[0.0; 5], how)
+            .map(|x| x.iter().map(|a| (a * 1e9).round() / 1e9).collect::<Vec<_>>())
+    };
+    assert_eq!(run(0), Ok(vec![15.0, -60.0]));
+    assert_eq!(run(1), Ok(vec![-15.0, 120.0]));
+    assert_eq!(run(2), Ok(vec![15.0, -60.0]));
+    assert_eq!(run(3), Err(AlarmId::AlignmentP));
+}
+
+#[test]
+fn syntec_ranges_fall_back_and_then_fail() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    // Master C allowed only from 90° to 180°: the shortest-path C −60 is out, C 120 fits.
+    m.rotary[0].range = Some([90.0, 180.0]);
+    let k = Kinematics::new(&m).unwrap();
+    let v = k.forward(&[0.0, 0.0, 0.0, 15.0, -60.0], 0.0).tool;
+    let from = [0.0, 0.0, 0.0, 0.0, 100.0];
+    let how = Selection { dialect: Dialect::Syntec, pri: false, p: 0 };
+    let c = k.select(&k.inverse(Vec3::zeros(), v, 0.0, &from), &from, how).unwrap();
+    assert!((c.pos[4] - 120.0).abs() < 1e-9 && (c.pos[3] + 15.0).abs() < 1e-9, "{:?}", c.pos);
+    // P1 from C100 turns +20° to 120 — inside; P2 would turn −40° to 60 — outside: COR-153.
+    let p2 = Selection { p: 2, ..how };
+    assert_eq!(k.select(&k.inverse(Vec3::zeros(), v, 0.0, &from), &from, p2), Err(AlarmId::NoRotarySolution));
+}
+
+#[test]
+fn unreachable_directions_have_no_candidate() {
+    // A single table C axis cannot tilt the tool.
+    let m = MachineConfig {
+        name: "c-table".into(),
+        axes: "XYZC"
+            .chars()
+            .map(|n| Axis { name: n, kind: if n == 'C' { AxisKind::Rotary } else { AxisKind::Linear }, rapid: 1.0 })
+            .collect(),
+        rotary: vec![RotaryLink {
+            axis: 'C',
+            side: Side::Table,
+            direction: [0.0, 0.0, 1.0],
+            hand: Hand::Left,
+            point: [0.0; 3],
+            zero_offset: 0.0,
+            fixed: None,
+            range: None,
+        }],
+        tool_axis: [0.0, 0.0, 1.0],
+        nose: [0.0; 3],
+    };
+    let k = Kinematics::new(&m).unwrap();
+    assert_eq!(k.kind, MachineKind::Table);
+    assert!(k.inverse(Vec3::zeros(), Vec3::new(1.0, 0.0, 0.0), 0.0, &[0.0; 4]).is_empty());
+    assert_eq!(k.inverse(Vec3::zeros(), Vec3::new(0.0, 0.0, 1.0), 0.0, &[0.0; 4]).len(), 1);
+    assert!(kin("mill3").inverse(Vec3::zeros(), Vec3::new(0.0, 1.0, 0.0), 0.0, &[0.0; 3]).is_empty());
+}
+
+/// A random machine of every kind: inclined axes, both hands, offsets, zero errors.
+fn machine() -> impl Strategy<Value = MachineConfig> {
+    let unit = (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)
+        .prop_filter("a direction", |(x, y, z)| (x * x + y * y + z * z).sqrt() > 0.3)
+        .prop_map(|(x, y, z)| [x, y, z]);
+    let point = (-300.0f64..300.0, -300.0f64..300.0, -300.0f64..300.0).prop_map(|(x, y, z)| [x, y, z]);
+    let link = (unit.clone(), point.clone(), any::<bool>(), -5.0f64..5.0);
+    (0usize..6, link.clone(), link, unit, point).prop_map(|(kind, l1, l2, tool_axis, nose)| {
+        let sides: &[Side] = match kind {
+            0 => &[],
+            1 => &[Side::Head, Side::Head],
+            2 => &[Side::Table, Side::Table],
+            3 => &[Side::Head, Side::Table],
+            4 => &[Side::Head],
+            _ => &[Side::Table],
+        };
+        let names = ['B', 'C'];
+        let mut axes: Vec<Axis> =
+            ['X', 'Y', 'Z'].iter().map(|&name| Axis { name, kind: AxisKind::Linear, rapid: 1.0 }).collect();
+        let mut rotary = Vec::new();
+        for (i, (side, l)) in sides.iter().zip([l1, l2]).enumerate() {
+            axes.push(Axis { name: names[i], kind: AxisKind::Rotary, rapid: 1.0 });
+            rotary.push(RotaryLink {
+                axis: names[i],
+                side: *side,
+                direction: l.0,
+                hand: if l.2 { Hand::Right } else { Hand::Left },
+                point: l.1,
+                zero_offset: l.3,
+                fixed: None,
+                range: None,
+            });
+        }
+        MachineConfig { name: "random".into(), axes, rotary, tool_axis, nose }
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    /// ik(fk(q)) contains q (rotary angles modulo 360), and every candidate's fk reproduces the
+    /// tip and the direction.
+    #[test]
+    fn inverse_of_forward(m in machine(), q in prop::collection::vec(-400.0f64..400.0, 5), length in 0.0f64..200.0) {
+        let Ok(k) = Kinematics::new(&m) else { return Ok(()) };
+        let q = &q[..k.axes];
+        let pose = k.forward(q, length);
+        let cands = k.inverse(pose.tip, pose.tool, length, q);
+        let same = |a: &[f64]| a.iter().zip(q).enumerate().all(|(i, (x, y))| {
+            if i < 3 { (x - y).abs() < 1e-6 } else { ((x - y).rem_euclid(360.0) + 1e-7).rem_euclid(360.0) < 1e-6 }
+        });
+        prop_assert!(cands.iter().any(|c| same(&c.pos)), "{:?} not among {:?}", q, cands);
+        for c in &cands {
+            let p = k.forward(&c.pos, length);
+            prop_assert!((p.tip - pose.tip).norm() < 1e-9 * (1.0 + pose.tip.norm()), "tip {:?} vs {:?}", p.tip, pose.tip);
+            prop_assert!((p.tool - pose.tool).norm() < 1e-9, "tool {:?} vs {:?}", p.tool, pose.tool);
+        }
+    }
+}
