@@ -4,6 +4,7 @@
 //! caller says so, and the same inputs give the same outputs bit for bit. See `ARCHITECTURE.md`.
 
 pub mod alarm;
+pub mod angle;
 pub mod canon;
 pub mod check;
 pub mod dialect;

@@ -16,6 +16,7 @@
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
+use crate::angle::sin_cos_deg;
 use crate::canon::Pos;
 use crate::machine::{AxisKind, MAX_AXES};
 
@@ -63,23 +64,6 @@ struct Rotation {
     /// commanded mirror the plane (the whole rotation is mirrored with the program).
     cos: f64,
     sin: f64,
-}
-
-/// Sine and cosine of an angle in degrees, exact at multiples of 90° (so a G68 R90 maps X10 to
-/// X0 Y10 and not to X6e-16).
-pub(super) fn sin_cos_deg(deg: f64) -> (f64, f64) {
-    let r = deg.rem_euclid(360.0);
-    if r == 0.0 {
-        (0.0, 1.0)
-    } else if r == 90.0 {
-        (1.0, 0.0)
-    } else if r == 180.0 {
-        (0.0, -1.0)
-    } else if r == 270.0 {
-        (-1.0, 0.0)
-    } else {
-        deg.to_radians().sin_cos()
-    }
 }
 
 impl Transforms {

@@ -157,9 +157,7 @@ impl Kinematics {
             return Some(phis.iter().map(|p| p.unwrap_or(0.0)).collect());
         }
         let t0 = self.tool_axis;
-        let rot = |j: &Joint, phi: f64| {
-            nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_unchecked(j.direction), phi.to_radians())
-        };
+        let rot = |j: &Joint, phi: f64| super::rotation_deg(&j.direction, phi);
         match (self.kind, phis) {
             (_, [None]) => Some(vec![current(joints[0])]),
             (MachineKind::HeadHead, [x, y]) => {

@@ -17,7 +17,7 @@ pub use ik::Candidate;
 pub use select::{Choice, Selection};
 
 use crate::machine::{AxisKind, MachineConfig, Side};
-use nalgebra::{Rotation3, Unit, Vector3};
+use nalgebra::{Rotation3, Vector3};
 
 pub type Vec3 = Vector3<f64>;
 
@@ -62,14 +62,21 @@ pub struct Joint {
 impl Joint {
     /// The rotation at commanded angle `theta` (degrees).
     fn rotation(&self, theta: f64) -> Rotation3<f64> {
-        let angle = (self.sign * (theta + self.zero_offset)).to_radians();
-        Rotation3::from_axis_angle(&Unit::new_unchecked(self.direction), angle)
+        rotation_deg(&self.direction, self.sign * (theta + self.zero_offset))
     }
 
     /// The commanded angle that turns the axis by `phi` degrees about `direction`.
     fn command(&self, phi: f64) -> f64 {
         self.sign * phi - self.zero_offset
     }
+}
+
+/// Rotation by `deg` degrees about the unit vector `u` (right hand; Rodrigues), exact at quarter
+/// turns about a coordinate axis.
+pub fn rotation_deg(u: &Vec3, deg: f64) -> Rotation3<f64> {
+    let (s, c) = crate::angle::sin_cos_deg(deg);
+    let k = u.cross_matrix();
+    Rotation3::from_matrix_unchecked(nalgebra::Matrix3::identity() + k * s + k * k * (1.0 - c))
 }
 
 /// The kinematic model of one machine.

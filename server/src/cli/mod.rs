@@ -3,6 +3,7 @@
 //! Exit status: 0 completed, 1 ended in an alarm (or diagnostics for `check`), 2 usage or IO.
 
 mod json;
+mod kin;
 
 use clap::{Args, Parser, Subcommand};
 use fivex_engine::canon::Canon;
@@ -30,6 +31,9 @@ enum Command {
     Interp(InterpArgs),
     /// Check a program without running it; one line per diagnostic.
     Check(CheckArgs),
+    /// Kinematics of a machine: `kin fk` and `kin ik`.
+    #[command(subcommand)]
+    Kin(kin::KinCommand),
     /// Start the HTTP service.
     Serve(ServeArgs),
 }
@@ -134,6 +138,7 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
     match cli.command {
         Command::Run(a) => cmd_run(a),
         Command::Interp(a) => cmd_interp(a),
+        Command::Kin(c) => kin::run(c),
         Command::Check(a) => cmd_check(a),
         Command::Serve(a) => {
             crate::serve::run_blocking(&a.db, &a.addr).map_err(Fail)?;

@@ -1,0 +1,151 @@
+//! `fivex kin fk` / `fivex kin ik` (CONTRACTS.md): the machine's kinematics by hand.
+
+use super::{load_machine, Fail, MachineArgs};
+use clap::{Args, Subcommand};
+use fivex_engine::kin::{Kinematics, Selection, Vec3};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::Dialect;
+use serde_json::{json, Map, Value};
+
+#[derive(Subcommand, Debug)]
+pub enum KinCommand {
+    /// Forward kinematics: axis positions → tool tip and direction.
+    Fk(FkArgs),
+    /// Inverse kinematics: tool tip and direction → every axis solution and the chosen one.
+    Ik(IkArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct FkArgs {
+    #[command(flatten)]
+    machine: MachineArgs,
+    /// Axis positions, e.g. X=0,Y=0,Z=0,B=0,C=0 (missing axes are 0).
+    #[arg(long, default_value = "", allow_hyphen_values = true)]
+    axes: String,
+    /// Tool length, mm.
+    #[arg(long, default_value_t = 0.0)]
+    tool_length: f64,
+}
+
+#[derive(Args, Debug)]
+pub struct IkArgs {
+    #[command(flatten)]
+    machine: MachineArgs,
+    /// Tool tip X,Y,Z in the table frame.
+    #[arg(long, allow_hyphen_values = true)]
+    tip: String,
+    /// Tool direction I,J,K (tip → holder) in the table frame.
+    #[arg(long, allow_hyphen_values = true)]
+    tool: String,
+    /// Current axis positions the choice starts from, e.g. B=-70,C=30 (missing axes are 0).
+    #[arg(long, default_value = "", allow_hyphen_values = true)]
+    from: String,
+    /// Tool length, mm.
+    #[arg(long, default_value_t = 0.0)]
+    tool_length: f64,
+    /// Syntec G53.1 P: 0 shortest master path, 1 master positive, 2 master negative.
+    #[arg(long, default_value_t = 0)]
+    p: u8,
+    /// FANUC No.19608#5 PRI: judge the second rotary axis's movement first.
+    #[arg(long)]
+    pri: bool,
+    /// Whose selection rules: fanuc or syntec.
+    #[arg(long, default_value = "fanuc")]
+    dialect: Dialect,
+}
+
+pub fn run(command: KinCommand) -> Result<i32, Fail> {
+    match command {
+        KinCommand::Fk(a) => fk(a),
+        KinCommand::Ik(a) => ik(a),
+    }
+}
+
+fn model(args: &MachineArgs) -> Result<(MachineConfig, Kinematics), Fail> {
+    let m = load_machine(args)?;
+    let k = Kinematics::new(&m).map_err(Fail)?;
+    Ok((m, k))
+}
+
+/// `X=1,B=-70` → positions in axis order (others 0).
+fn positions(m: &MachineConfig, text: &str) -> Result<Vec<f64>, Fail> {
+    let mut pos = vec![0.0; m.axes.len()];
+    for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (name, value) = item.split_once('=').ok_or_else(|| Fail(format!("'{item}': expected AXIS=VALUE")))?;
+        let i = m
+            .axes
+            .iter()
+            .position(|a| a.name.to_string().eq_ignore_ascii_case(name.trim()))
+            .ok_or_else(|| Fail(format!("'{name}': the machine has no such axis")))?;
+        pos[i] = number(value)?;
+    }
+    Ok(pos)
+}
+
+fn number(text: &str) -> Result<f64, Fail> {
+    let v: f64 = text.trim().parse().map_err(|_| Fail(format!("'{text}': not a number")))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Fail(format!("'{text}': not a finite number")))
+    }
+}
+
+fn triple(text: &str) -> Result<Vec3, Fail> {
+    let v: Vec<f64> = text.split(',').map(number).collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y, z] => Ok(Vec3::new(x, y, z)),
+        _ => Err(Fail(format!("'{text}': expected three numbers X,Y,Z"))),
+    }
+}
+
+fn array(v: Vec3) -> Value {
+    json!([v.x, v.y, v.z])
+}
+
+fn axes_object(m: &MachineConfig, pos: &[f64]) -> Value {
+    Value::Object(m.axes.iter().zip(pos).map(|(a, v)| (a.name.to_string(), json!(v))).collect::<Map<_, _>>())
+}
+
+fn print(value: Value) -> Result<(), Fail> {
+    println!("{}", serde_json::to_string(&value)?);
+    Ok(())
+}
+
+fn fk(a: FkArgs) -> Result<i32, Fail> {
+    let (m, k) = model(&a.machine)?;
+    let pos = positions(&m, &a.axes)?;
+    let p = k.forward(&pos, a.tool_length);
+    print(json!({
+        "tip": array(p.tip),
+        "tool": array(p.tool),
+        "tip_machine": array(p.tip_machine),
+        "tool_machine": array(p.tool_machine),
+    }))?;
+    Ok(0)
+}
+
+fn ik(a: IkArgs) -> Result<i32, Fail> {
+    let (m, k) = model(&a.machine)?;
+    let from = positions(&m, &a.from)?;
+    let tool = triple(&a.tool)?;
+    if tool.norm() < 1e-12 {
+        return Err(Fail("--tool: the direction must not be zero".into()));
+    }
+    let candidates = k.inverse(triple(&a.tip)?, tool, a.tool_length, &from);
+    let how = Selection { dialect: a.dialect, pri: a.pri, p: a.p };
+    let choice = k.select(&candidates, &from, how);
+    let (chosen, alarm) = match &choice {
+        Ok(c) => (axes_object(&m, &c.pos), Value::Null),
+        Err(id) => {
+            let (code, message) = a.dialect.describe(id);
+            (Value::Null, json!({"code": code, "message": message}))
+        }
+    };
+    print(json!({
+        "candidates": candidates.iter().map(|c| axes_object(&m, &c.pos)).collect::<Vec<_>>(),
+        "chosen": chosen,
+        "alarm": alarm,
+    }))?;
+    Ok(if choice.is_ok() { 0 } else { 1 })
+}

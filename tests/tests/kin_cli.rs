@@ -1,0 +1,84 @@
+//! `fivex kin fk` / `fivex kin ik` (`CONTRACTS.md`): output shapes, the spec's selection example
+//! through the real binary, machine files, and usage errors.
+
+mod common;
+
+use common::*;
+use serde_json::{json, Value};
+
+fn kin(args: &[&str]) -> (i32, Value) {
+    let out = fivex(&[&["kin"], args].concat());
+    let text = stdout(&out);
+    let v: Value = serde_json::from_str(&text)
+        .unwrap_or_else(|e| panic!("kin stdout is not one JSON value ({e}):\n{text}\nstderr: {}", stderr(&out)));
+    (out.status.code().expect("exit code"), v)
+}
+
+#[test]
+fn fk_by_hand() {
+    let (code, v) = kin(&["fk", "--preset", "head-bc", "--axes", "X=10,Y=20,Z=30,B=90,C=0", "--tool-length", "100"]);
+    assert_eq!(code, 0);
+    assert_eq!(v["tip"], json!([-90.0, 20.0, 30.0]));
+    assert_eq!(v["tool"], json!([1.0, 0.0, 0.0]));
+    let (_, v) = kin(&["fk", "--preset", "table-ac", "--axes", "Z=50,A=90"]);
+    assert_eq!(v["tip"], json!([0.0, -50.0, 0.0]));
+    assert_eq!(v["tip_machine"], json!([0.0, 0.0, 50.0]));
+    assert_eq!(v["tool"], json!([0.0, -1.0, 0.0]));
+}
+
+/// fanuc-tcp.md TV-01: from B−70 C30 the candidates (B90, C180) and (B270, C0) give B−90 C0
+/// (the direction is −X with right-hand head axes, spec Q-3).
+#[test]
+fn ik_chooses_as_fanuc_does() {
+    let (code, v) = kin(&["ik", "--preset", "head-bc", "--tip", "0,0,0", "--tool", "-1,0,0", "--from", "B=-70,C=30"]);
+    assert_eq!(code, 0);
+    assert_eq!(v["candidates"].as_array().unwrap().len(), 2);
+    assert_eq!(v["chosen"], json!({"X": 0.0, "Y": 0.0, "Z": 0.0, "B": -90.0, "C": 0.0}));
+    assert_eq!(v["alarm"], Value::Null);
+}
+
+#[test]
+fn ik_without_a_solution_reports_the_dialects_alarm() {
+    let (code, v) = kin(&["ik", "--preset", "mill3", "--tip", "1,2,3", "--tool", "1,0,0"]);
+    assert_eq!(code, 1);
+    assert_eq!(v["candidates"], json!([]));
+    assert_eq!(v["chosen"], Value::Null);
+    assert_eq!(v["alarm"]["code"], "PS5459");
+    let (_, v) = kin(&["ik", "--preset", "mill3", "--tip", "1,2,3", "--tool", "1,0,0", "--dialect", "syntec"]);
+    assert_eq!(v["alarm"]["code"], "COR-153");
+}
+
+#[test]
+fn a_machine_file_with_offsets() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.json");
+    // A head B about Y whose pivot is 150 mm above the spindle nose.
+    let machine = json!({
+        "name": "pivot", "tool_axis": [0, 0, 1], "nose": [0, 0, -150],
+        "axes": [{"name": "X", "kind": "linear", "rapid": 1}, {"name": "Y", "kind": "linear", "rapid": 1},
+                 {"name": "Z", "kind": "linear", "rapid": 1}, {"name": "B", "kind": "rotary", "rapid": 1}],
+        "rotary": [{"axis": "B", "side": "head", "direction": [0, 1, 0], "hand": "right"}]
+    });
+    std::fs::write(&path, machine.to_string()).unwrap();
+    let p = path.to_str().unwrap();
+    let (_, v) = kin(&["fk", "--machine", p, "--axes", "B=90", "--tool-length", "50"]);
+    // Pivot at 0; tool along +X; the tip 200 mm from the pivot toward −X.
+    assert_eq!(v["tip"], json!([-200.0, 0.0, 0.0]));
+    let (_, v) = kin(&["ik", "--machine", p, "--tip", "-200,0,0", "--tool", "1,0,0", "--tool-length", "50"]);
+    assert_eq!(v["chosen"], json!({"X": 0.0, "Y": 0.0, "Z": 0.0, "B": 90.0}));
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    for args in [
+        &["kin", "fk", "--preset", "head-bc", "--axes", "Q=1"][..],
+        &["kin", "fk", "--preset", "head-bc", "--axes", "B=abc"],
+        &["kin", "ik", "--preset", "head-bc", "--tip", "1,2", "--tool", "0,0,1"],
+        &["kin", "ik", "--preset", "head-bc", "--tip", "0,0,0", "--tool", "0,0,0"],
+        &["kin", "fk", "--preset", "nope"],
+    ] {
+        let out = fivex(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(stdout(&out).is_empty(), "{args:?}");
+    }
+}
