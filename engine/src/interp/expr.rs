@@ -238,7 +238,6 @@ fn binary_to_bcd(x: f64) -> Result<f64, AlarmId> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::angle::sin_cos_deg;
 
     #[test]
     fn bcd_round_trip() {
