@@ -128,11 +128,7 @@ impl Kinematics {
                     pos[i] = from[i];
                 }
             }
-            let head: Vec<f64> = self.head.iter().map(|j| self.angle(j, &pos)).collect();
-            let table: Vec<f64> = self.table.iter().map(|j| self.angle(j, &pos)).collect();
-            let tip_machine = self.table_forward(&table, tip);
-            let (_, head_point) = self.head_motion(&head);
-            let carriage = tip_machine - head_point(self.nose - tool_length * t0);
+            let carriage = self.carriage_for(&pos, tip, tool_length);
             pos[..3].copy_from_slice(carriage.as_slice());
             // Keep only true solutions, once each.
             if (self.forward(&pos, tool_length).tool - v).norm() > 1e-6 {

@@ -95,6 +95,34 @@ pub struct Kinematics {
     pub axes: usize,
 }
 
+/// The rigid motion of one side's chain: each joint's axis point and rotation, master first.
+struct ChainMotion {
+    links: arrayvec::ArrayVec<(Vec3, Rotation3<f64>), 2>,
+}
+
+impl ChainMotion {
+    /// Where a point carried by the chain (at zero angles) goes: the joint nearest the end of
+    /// the chain (the slave) acts first.
+    fn apply(&self, mut x: Vec3) -> Vec3 {
+        for (point, r) in self.links.iter().rev() {
+            x = point + r * (x - point);
+        }
+        x
+    }
+
+    /// The inverse of [`ChainMotion::apply`].
+    fn undo(&self, mut x: Vec3) -> Vec3 {
+        for (point, r) in &self.links {
+            x = point + r.inverse() * (x - point);
+        }
+        x
+    }
+
+    fn rotation(&self) -> Rotation3<f64> {
+        self.links.iter().fold(Rotation3::identity(), |acc, (_, r)| acc * r)
+    }
+}
+
 /// Tool tip and direction for given axis positions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose {
@@ -175,63 +203,31 @@ impl Kinematics {
         j.index.map_or(j.fixed, |i| pos[i])
     }
 
-    /// The head's rigid motion: rotation and where a spindle point `x` (relative to the
-    /// carriage reference, at zero angles) goes, relative to the carriage reference.
-    fn head_motion(&self, angles: &[f64]) -> (Rotation3<f64>, impl Fn(Vec3) -> Vec3 + '_) {
-        let rotations: Vec<Rotation3<f64>> = self.head.iter().zip(angles).map(|(j, &a)| j.rotation(a)).collect();
-        let total = rotations.iter().fold(Rotation3::identity(), |acc, r| acc * r);
-        let apply = move |mut x: Vec3| {
-            // The joint nearest the tool acts first.
-            for (j, r) in self.head.iter().zip(&rotations).rev() {
-                x = j.point + r * (x - j.point);
-            }
-            x
-        };
-        (total, apply)
-    }
-
-    /// The table's rigid motion: rotation and where a table point `w` (machine coordinates at
-    /// zero angles) goes.
-    fn table_motion(&self, angles: &[f64]) -> (Rotation3<f64>, impl Fn(Vec3) -> Vec3 + '_) {
-        let rotations: Vec<Rotation3<f64>> = self.table.iter().zip(angles).map(|(j, &a)| j.rotation(a)).collect();
-        let total = rotations.iter().fold(Rotation3::identity(), |acc, r| acc * r);
-        let apply = move |mut w: Vec3| {
-            for (j, r) in self.table.iter().zip(&rotations).rev() {
-                w = j.point + r * (w - j.point);
-            }
-            w
-        };
-        (total, apply)
+    /// The rigid motion of the head (`Side::Head`) or the table at the axis positions `pos`.
+    fn motion(&self, side: Side, pos: &[f64]) -> ChainMotion {
+        let joints = if side == Side::Head { &self.head } else { &self.table };
+        ChainMotion { links: joints.iter().map(|j| (j.point, j.rotation(self.angle(j, pos)))).collect() }
     }
 
     /// Forward kinematics: axis positions (axis order; X, Y, Z are the carriage reference in
     /// machine coordinates) and tool length → tool tip and direction.
     pub fn forward(&self, pos: &[f64], tool_length: f64) -> Pose {
-        let head_angles: Vec<f64> = self.head.iter().map(|j| self.angle(j, pos)).collect();
-        let table_angles: Vec<f64> = self.table.iter().map(|j| self.angle(j, pos)).collect();
         let carriage = Vec3::new(pos[0], pos[1], pos[2]);
-        let (head_rot, head_point) = self.head_motion(&head_angles);
-        let tip_machine = carriage + head_point(self.nose - tool_length * self.tool_axis);
-        let tool_machine = head_rot * self.tool_axis;
-        let (table_rot, _) = self.table_motion(&table_angles);
+        let head = self.motion(Side::Head, pos);
+        let tip_machine = carriage + head.apply(self.nose - tool_length * self.tool_axis);
+        let tool_machine = head.rotation() * self.tool_axis;
         // Table frame: undo the table's motion.
-        let tip = self.table_inverse(&table_angles, tip_machine);
-        let tool = table_rot.inverse() * tool_machine;
+        let table = self.motion(Side::Table, pos);
+        let tip = table.undo(tip_machine);
+        let tool = table.rotation().inverse() * tool_machine;
         Pose { tip, tool, tip_machine, tool_machine }
     }
 
-    /// Table frame → machine coordinates at the given table angles.
-    pub fn table_forward(&self, table_angles: &[f64], w: Vec3) -> Vec3 {
-        let (_, apply) = self.table_motion(table_angles);
-        apply(w)
-    }
-
-    /// Machine coordinates → table frame at the given table angles.
-    pub fn table_inverse(&self, table_angles: &[f64], mut p: Vec3) -> Vec3 {
-        for (j, &a) in self.table.iter().zip(table_angles) {
-            p = j.point + j.rotation(a).inverse() * (p - j.point);
-        }
-        p
+    /// The carriage position (X, Y, Z) that puts the tool tip at `tip` (table frame) with the
+    /// rotary axes of `pos`.
+    pub fn carriage_for(&self, pos: &[f64], tip: Vec3, tool_length: f64) -> Vec3 {
+        let tip_machine = self.motion(Side::Table, pos).apply(tip);
+        tip_machine - self.motion(Side::Head, pos).apply(self.nose - tool_length * self.tool_axis)
     }
 
     /// The joints in FANUC's order θ1, θ2 (No.19680): master, slave on a head-head or
