@@ -54,6 +54,17 @@ pub enum AlarmId {
     MachineParameter,
     /// No rotary axis solution for a tool direction fits the movement ranges.
     NoRotarySolution,
+    // --- Machine configuration (`crate::kin`, `crate::vendor`) -----------------------------
+    /// Rotary axis settings that do not make a mechanism: missing or parallel axes, an axis
+    /// name that does not match its direction.
+    AxisSetting,
+    /// The tool direction setting does not work with the rotary axes (the axis next to the tool
+    /// on the head, or the table master, parallel to it).
+    ToolDirectionSetting,
+    /// The head axis of a mixed machine parallel to the tool direction.
+    ToolAxisParallel,
+    /// A 5-axis mechanism set on a path that cannot have one.
+    MechanismConflict,
     /// G20/G21 in a mode that freezes the units.
     UnitChangeInMode,
     /// A circular command in the start-up or cancel block of cutter compensation.

@@ -61,6 +61,7 @@ impl Dialect {
 
 type Text = (&'static str, &'static str);
 
+const PS5459: Text = ("PS5459", "MACHINE PARAMETER INCORRECT");
 const PS5421: Text = ("PS5421", "ILLEGAL COMMAND IN G43.4/G43.5");
 const COR100: Text = ("COR-100", "Unsupported G code command or option software is not activated");
 
@@ -91,6 +92,10 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::AxisNotInTcp,
     AlarmId::MachineParameter,
     AlarmId::NoRotarySolution,
+    AlarmId::AxisSetting,
+    AlarmId::ToolDirectionSetting,
+    AlarmId::ToolAxisParallel,
+    AlarmId::MechanismConflict,
     AlarmId::UnitChangeInMode,
     AlarmId::ArcInCompStartCancel,
     AlarmId::TwpFormat,
@@ -153,8 +158,14 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         MachineCoordinatesInTcp => (PS5421, ("COR-118", "Prohibit G53 commands in tool tip control mode")),
         HpccInTcp => (PS5421, ("COR-140", "Prohibit G05 in tool tip control mode")),
         AxisNotInTcp => (PS5421, ("COR-107", "G5.1/G05 command format error")),
-        MachineParameter => (("PS5459", "MACHINE PARAMETER INCORRECT"), ("COR-154", "No 5-axis function")),
-        NoRotarySolution => (("PS5459", "MACHINE PARAMETER INCORRECT"), ("COR-153", "Tool direction unknown")),
+        MachineParameter => (PS5459, ("COR-154", "No 5-axis function")),
+        NoRotarySolution => (PS5459, ("COR-153", "Tool direction unknown")),
+        AxisSetting => (PS5459, ("COR-156", "5-axis axial direction error")),
+        ToolDirectionSetting => (PS5459, ("COR-155", "5-axis tool direction error")),
+        ToolAxisParallel => {
+            (PS5459, ("COR-157", "Incompatible direction of 5-axis tool direction and this of rotation axis"))
+        }
+        MechanismConflict => (PS5459, ("OP-032", "Mechanism type configuration conflicted")),
         UnitChangeInMode => (("PS5000", "G20/G21 NOT ALLOWED IN 5-AXIS MODE"), COR100),
         ArcInCompStartCancel => (("PS0034", "NO CIRC ALLOWED IN ST-UP/EXT BLK"), COR100),
         TwpFormat => (("PS5457", "G68.2/G68.3 FORMAT ERROR"), ("COR-141", "G68.3 command format error")),

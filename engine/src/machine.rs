@@ -1,8 +1,10 @@
-//! The machine as the interpreter needs it: its axes, their kinds, limits of speed.
+//! The vendor-neutral machine description: its axes (kinds, strokes, speed, acceleration and jerk
+//! limits, rollover) and its 5-axis mechanism (rotary axes, tool direction, offsets).
 //!
-//! This is the minimal model of issue 2 (axis names and rapid rates for ideal motion). The
-//! kinematic model of the 5-axis mechanism extends it (issue 3).
+//! `crate::kin` builds the kinematic model from it; `crate::vendor` maps FANUC and Syntec
+//! parameter lists onto it and back. `docs/machine-config.md` documents every field.
 
+use crate::alarm::AlarmId;
 use serde::{Deserialize, Serialize};
 
 /// At most this many controlled axes per machine.
@@ -20,8 +22,82 @@ pub struct Axis {
     /// Address letter: X Y Z U V W (linear) or A B C (rotary).
     pub name: char,
     pub kind: AxisKind,
-    /// Rapid traverse rate, mm/min or deg/min.
+    /// Rapid traverse rate, the axis's highest speed: mm/min or deg/min.
     pub rapid: f64,
+    /// Highest acceleration, mm/s² or deg/s²; `None`: [`Axis::max_accel`]'s default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accel: Option<f64>,
+    /// Highest jerk, mm/s³ or deg/s³; `None`: [`Axis::max_jerk`]'s default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub jerk: Option<f64>,
+    /// Stored stroke limit `[negative, positive]` in machine coordinates, mm or deg; `None`: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stroke: Option<[f64; 2]>,
+    /// Rotary axes: positions roll over at 360° (shown and kept in [0, 360)).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub rollover: bool,
+    /// Rollover axes: an absolute command takes the shorter way round; otherwise the sign of the
+    /// command gives the direction.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub shortest: bool,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+impl Axis {
+    /// An axis with the default limits.
+    pub fn new(name: char, kind: AxisKind, rapid: f64) -> Axis {
+        Axis { name, kind, rapid, accel: None, jerk: None, stroke: None, rollover: false, shortest: false }
+    }
+
+    /// Highest acceleration: the configured one, else 0.2 s from standstill to rapid.
+    pub fn max_accel(&self) -> f64 {
+        self.accel.unwrap_or(self.rapid / 60.0 / 0.2)
+    }
+
+    /// Highest jerk: the configured one, else the acceleration reached in 50 ms.
+    pub fn max_jerk(&self) -> f64 {
+        self.jerk.unwrap_or(self.max_accel() / 0.05)
+    }
+}
+
+/// A machine description that cannot work: the alarm the vendor's control raises for it (if
+/// it is a mechanism error) and what exactly is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConfigError {
+    pub alarm: Option<AlarmId>,
+    pub detail: String,
+}
+
+impl ConfigError {
+    /// An error of the file or parameter values themselves (refused at input).
+    pub fn invalid(detail: impl Into<String>) -> ConfigError {
+        ConfigError { alarm: None, detail: detail.into() }
+    }
+
+    /// A mechanism the control refuses with an alarm.
+    pub fn alarm(alarm: AlarmId, detail: impl Into<String>) -> ConfigError {
+        ConfigError { alarm: Some(alarm), detail: detail.into() }
+    }
+
+    /// The message for a given dialect: the vendor's code and text, then the detail.
+    pub fn describe(&self, dialect: crate::Dialect) -> String {
+        match &self.alarm {
+            Some(id) => {
+                let (code, message) = dialect.describe(id);
+                format!("{code} {message}: {}", self.detail)
+            }
+            None => self.detail.clone(),
+        }
+    }
+}
+
+impl std::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.detail)
+    }
 }
 
 /// Which part of the machine a rotary axis turns.
@@ -81,10 +157,30 @@ pub struct MachineConfig {
     /// mm (e.g. `-pivot · tool_axis` when X/Y/Z locate the head's pivot).
     #[serde(default)]
     pub nose: [f64; 3],
+    /// Tool holder offset, mm: from the spindle nose along the tool direction to the head's
+    /// controlled point (FANUC No.19666, Syntec Pr3013). The mechanism's geometry is all in
+    /// `nose` and the axis points; this records how the vendor's parameters split it.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub holder: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 fn plus_z() -> [f64; 3] {
     [0.0, 0.0, 1.0]
+}
+
+/// A preset's rotary axis along a coordinate axis through `point`.
+fn link(axis: char, side: Side, point: [f64; 3], range: Option<[f64; 2]>) -> RotaryLink {
+    let direction = match axis {
+        'A' => [1.0, 0.0, 0.0],
+        'B' => [0.0, 1.0, 0.0],
+        _ => [0.0, 0.0, 1.0],
+    };
+    let hand = if side == Side::Head { Hand::Right } else { Hand::Left };
+    RotaryLink { axis, side, direction, hand, point, zero_offset: 0.0, fixed: None, range }
 }
 
 impl MachineConfig {
@@ -93,63 +189,69 @@ impl MachineConfig {
         self.axes.iter().position(|a| a.name as u32 == letter as u32)
     }
 
-    /// A built-in preset (see `docs/machine-config.md`).
+    /// A built-in preset (see `docs/machine-config.md` for the machines and their dimensions).
     pub fn preset(name: &str) -> Option<MachineConfig> {
-        let rotary: &[char] = match name {
-            "mill3" => &[],
-            "head-bc" | "table-bc" | "mixed-bc" => &['B', 'C'],
-            "table-ac" => &['A', 'C'],
-            _ => return None,
-        };
-        let mut axes: Vec<Axis> =
-            ['X', 'Y', 'Z'].iter().map(|&name| Axis { name, kind: AxisKind::Linear, rapid: 30_000.0 }).collect();
-        axes.extend(rotary.iter().map(|&name| Axis { name, kind: AxisKind::Rotary, rapid: 10_800.0 }));
         // CONTRACTS.md: head-bc has C master about Z and B slave about Y; table-ac A master about
         // X and C slave; table-bc B master about Y and C slave; mixed-bc B on the head, C on the
         // table. Head axes turn right-hand, table axes left-hand (ISO 841, both manuals).
-        let link = |axis: char, side: Side| {
-            let direction = match axis {
-                'A' => [1.0, 0.0, 0.0],
-                'B' => [0.0, 1.0, 0.0],
-                _ => [0.0, 0.0, 1.0],
-            };
-            let hand = if side == Side::Head { Hand::Right } else { Hand::Left };
-            RotaryLink { axis, side, direction, hand, point: [0.0; 3], zero_offset: 0.0, fixed: None, range: None }
+        // Machine X/Y/Z locate the spindle nose at zero angles; the table frame's origin (machine
+        // zero) is on the table top at the C axis.
+        let (rotary, holder): (Vec<RotaryLink>, f64) = match name {
+            "mill3" => (vec![], 0.0),
+            // A fork head: the B pivot 150 mm above the nose, on the C axis.
+            "head-bc" => (
+                vec![
+                    link('C', Side::Head, [0.0, 0.0, 150.0], None),
+                    link('B', Side::Head, [0.0, 0.0, 150.0], Some([-110.0, 110.0])),
+                ],
+                150.0,
+            ),
+            // A trunnion: the A axis 120 mm below the table top, C turning about the table centre.
+            "table-ac" => (
+                vec![
+                    link('A', Side::Table, [0.0, 0.0, -120.0], Some([-120.0, 120.0])),
+                    link('C', Side::Table, [0.0, 0.0, 0.0], None),
+                ],
+                0.0,
+            ),
+            // A swivelling cradle: B 150 mm below the table top.
+            "table-bc" => (
+                vec![
+                    link('B', Side::Table, [0.0, 0.0, -150.0], Some([-30.0, 110.0])),
+                    link('C', Side::Table, [0.0, 0.0, 0.0], None),
+                ],
+                0.0,
+            ),
+            // A B head pivoting 200 mm above the nose, over a C rotary table.
+            "mixed-bc" => (
+                vec![
+                    link('B', Side::Head, [0.0, 0.0, 200.0], Some([-100.0, 100.0])),
+                    link('C', Side::Table, [0.0, 0.0, 0.0], None),
+                ],
+                200.0,
+            ),
+            _ => return None,
         };
-        let rotary = match name {
-            "head-bc" => vec![link('C', Side::Head), link('B', Side::Head)],
-            "table-ac" => vec![link('A', Side::Table), link('C', Side::Table)],
-            "table-bc" => vec![link('B', Side::Table), link('C', Side::Table)],
-            "mixed-bc" => vec![link('B', Side::Head), link('C', Side::Table)],
-            _ => vec![],
+        let linear = |name: char, stroke: [f64; 2]| Axis {
+            accel: Some(4_000.0),
+            jerk: Some(80_000.0),
+            stroke: Some(stroke),
+            ..Axis::new(name, AxisKind::Linear, 30_000.0)
         };
-        Some(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: plus_z(), nose: [0.0; 3] })
-    }
-
-    /// The unit tool vector (tip toward holder) in workpiece coordinates for machine axis
-    /// positions `pos` (in axis order): head rotations turn +Z, the inverse of the table
-    /// rotations brings it into the part's frame.
-    pub fn tool_direction(&self, pos: &[f64]) -> [f64; 3] {
-        use nalgebra::{Rotation3, Unit, Vector3};
-        let rotation = |link: &RotaryLink| -> Rotation3<f64> {
-            let angle = self.axis_index(link.axis as u8).map_or(0.0, |i| pos[i]).to_radians();
-            let angle = if link.hand == Hand::Right { angle } else { -angle };
-            let d = Vector3::from(link.direction);
-            match Unit::try_new(d, 1e-12) {
-                Some(axis) => Rotation3::from_axis_angle(&axis, angle),
-                None => Rotation3::identity(),
-            }
-        };
-        let mut head = Rotation3::identity();
-        let mut table = Rotation3::identity();
-        for link in &self.rotary {
-            match link.side {
-                Side::Head => head *= rotation(link),
-                Side::Table => table *= rotation(link),
-            }
+        let mut axes = vec![linear('X', [-600.0, 600.0]), linear('Y', [-450.0, 450.0]), linear('Z', [-500.0, 300.0])];
+        // Rotary axes in address order (A, B, C), whatever their place in the chain.
+        let mut by_name: Vec<&RotaryLink> = rotary.iter().collect();
+        by_name.sort_by_key(|l| l.axis);
+        for l in by_name {
+            axes.push(Axis {
+                accel: Some(1_800.0),
+                jerk: Some(36_000.0),
+                rollover: l.range.is_none(),
+                shortest: l.range.is_none(),
+                ..Axis::new(l.axis, AxisKind::Rotary, 10_800.0)
+            });
         }
-        let tool = table.inverse() * (head * Vector3::z());
-        [tool.x, tool.y, tool.z]
+        Some(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: plus_z(), nose: [0.0; 3], holder })
     }
 
     pub const PRESETS: &'static [&'static str] = &["mill3", "head-bc", "table-ac", "table-bc", "mixed-bc"];
@@ -170,9 +272,23 @@ impl MachineConfig {
             if self.axes[..i].iter().any(|b| b.name == a.name) {
                 return Err(format!("axis '{}' appears twice", a.name));
             }
-            if !(a.rapid.is_finite() && a.rapid > 0.0) {
-                return Err(format!("axis '{}' needs a positive rapid rate", a.name));
+            let positive = |x: Option<f64>| x.is_none_or(|x| x.is_finite() && x > 0.0);
+            if !(a.rapid.is_finite() && a.rapid > 0.0) || !positive(a.accel) || !positive(a.jerk) {
+                return Err(format!("axis '{}' needs positive rapid rate, acceleration and jerk", a.name));
             }
+            if a.stroke.is_some_and(|[lo, hi]| !(lo.is_finite() && hi.is_finite() && lo <= hi)) {
+                return Err(format!("axis '{}': the stroke is [negative, positive] with negative <= positive", a.name));
+            }
+            if (a.rollover && a.kind != AxisKind::Rotary) || (a.shortest && !a.rollover) {
+                return Err(format!("axis '{}': rollover is for rotary axes, shortest path for rollover axes", a.name));
+            }
+        }
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !finite(&self.nose) || !self.holder.is_finite() || !finite(&self.tool_axis) {
+            return Err("nose, holder and tool_axis must be finite numbers".into());
+        }
+        if self.tool_axis.iter().map(|x| x * x).sum::<f64>().sqrt() < 1e-9 {
+            return Err("tool_axis needs a non-zero direction".into());
         }
         for (i, link) in self.rotary.iter().enumerate() {
             let is_rotary = self.axes.iter().any(|a| a.name == link.axis && a.kind == AxisKind::Rotary);
@@ -185,6 +301,10 @@ impl MachineConfig {
             let norm = link.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
             if !(norm.is_finite() && norm > 1e-9) {
                 return Err(format!("rotary link '{}' needs a non-zero direction", link.axis));
+            }
+            let numbers = [link.zero_offset, link.fixed.unwrap_or(0.0)].into_iter().chain(link.point);
+            if !numbers.chain(link.range.into_iter().flatten()).all(f64::is_finite) {
+                return Err(format!("rotary link '{}' has a number that is not finite", link.axis));
             }
         }
         Ok(())
@@ -202,29 +322,9 @@ mod tests {
             m.validate().unwrap();
         }
         assert_eq!(MachineConfig::preset("table-ac").unwrap().axis_index(b'A'), Some(3));
+        // Axes in address order, whatever the chain order.
+        assert_eq!(MachineConfig::preset("head-bc").unwrap().axis_index(b'C'), Some(4));
         assert!(MachineConfig::preset("nope").is_none());
-    }
-
-    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
-        a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-12)
-    }
-
-    #[test]
-    fn tool_direction_of_the_presets() {
-        let at = |preset: &str, pos: &[f64]| MachineConfig::preset(preset).unwrap().tool_direction(pos);
-        assert!(close(at("mill3", &[1.0, 2.0, 3.0]), [0.0, 0.0, 1.0]));
-        // Head B (right hand about +Y) at +90 lays the tool along +X; C then turns it about Z.
-        assert!(close(at("head-bc", &[0.0, 0.0, 0.0, 90.0, 0.0]), [1.0, 0.0, 0.0]));
-        assert!(close(at("head-bc", &[0.0, 0.0, 0.0, 90.0, 90.0]), [0.0, 1.0, 0.0]));
-        // C alone never tilts the tool.
-        assert!(close(at("head-bc", &[0.0, 0.0, 0.0, 0.0, 37.0]), [0.0, 0.0, 1.0]));
-        // Table A (left hand about +X) at +90 turns the part's +Z toward the machine's +Y, so the
-        // machine's +Z tool points along the part's -Y.
-        assert!(close(at("table-ac", &[0.0, 0.0, 0.0, 90.0, 0.0]), [0.0, -1.0, 0.0]));
-        // Table B at +90 (left hand about +Y): the tool lies along the part's +X.
-        assert!(close(at("table-bc", &[0.0, 0.0, 0.0, 90.0, 0.0]), [1.0, 0.0, 0.0]));
-        // Mixed: head B +90 gives machine +X; table C +90 (left hand) shows it as part +Y.
-        assert!(close(at("mixed-bc", &[0.0, 0.0, 0.0, 90.0, 90.0]), [0.0, 1.0, 0.0]));
     }
 
     #[test]
@@ -234,6 +334,15 @@ mod tests {
         assert!(m.validate().is_err());
         let mut m = MachineConfig::preset("head-bc").unwrap();
         m.rotary[1].direction = [0.0; 3];
+        assert!(m.validate().is_err());
+        let mut m = MachineConfig::preset("head-bc").unwrap();
+        m.rotary[1].point[2] = f64::NAN;
+        assert!(m.validate().is_err());
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        m.axes[0].rollover = true;
+        assert!(m.validate().is_err());
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        m.axes[1].stroke = Some([10.0, -10.0]);
         assert!(m.validate().is_err());
     }
 }

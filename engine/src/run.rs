@@ -62,7 +62,9 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
         *r = axis.rapid;
     }
     let mut exec = Executor {
-        machine_config: interp.config().machine.clone(),
+        // A mechanism the kinematics refuses still runs (issue-2 ideal motion); its trace shows
+        // the tool along +Z.
+        kinematics: crate::kin::Kinematics::new(&interp.config().machine).ok(),
         rapid,
         t: 0.0,
         next_sample: 0,
@@ -111,7 +113,7 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
 }
 
 struct Executor {
-    machine_config: crate::machine::MachineConfig,
+    kinematics: Option<crate::kin::Kinematics>,
     /// Rapid rate per axis, mm/min or deg/min.
     rapid: Pos,
     t: f64,
@@ -166,7 +168,7 @@ impl Executor {
             }
             let u = if t1 > t0 { ((ts - t0) / (t1 - t0)).clamp(0.0, 1.0) } else { 1.0 };
             let (machine, work) = at(u);
-            let tool = self.machine_config.tool_direction(&machine);
+            let tool = self.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&machine, 0.0).tool.into());
             on_sample(&Sample { t: ts, line: c.line, n: c.n, machine, tip: [work[0], work[1], work[2]], tool, feed });
             self.next_sample += 1;
         }

@@ -40,11 +40,18 @@ fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
         .chars()
         .map(|name| {
             let kind = if "ABC".contains(name) { AxisKind::Rotary } else { AxisKind::Linear };
-            Axis { name, kind, rapid: 10_000.0 }
+            Axis::new(name, kind, 10_000.0)
         })
         .collect();
     let mut cfg = Config::new(
-        MachineConfig { name: "custom".into(), axes, rotary: vec![], tool_axis: [0.0, 0.0, 1.0], nose: [0.0; 3] },
+        MachineConfig {
+            name: "custom".into(),
+            axes,
+            rotary: vec![],
+            tool_axis: [0.0, 0.0, 1.0],
+            nose: [0.0; 3],
+            holder: 0.0,
+        },
         dialect,
     );
     cfg.max_blocks = 10_000;

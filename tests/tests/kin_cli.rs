@@ -18,10 +18,11 @@ fn kin(args: &[&str]) -> (i32, Value) {
 fn fk_by_hand() {
     let (code, v) = kin(&["fk", "--preset", "head-bc", "--axes", "X=10,Y=20,Z=30,B=90,C=0", "--tool-length", "100"]);
     assert_eq!(code, 0);
-    assert_eq!(v["tip"], json!([-90.0, 20.0, 30.0]));
+    // The B pivot 150 above the nose (docs/machine-config.md, "By hand").
+    assert_eq!(v["tip"], json!([-240.0, 20.0, 180.0]));
     assert_eq!(v["tool"], json!([1.0, 0.0, 0.0]));
     let (_, v) = kin(&["fk", "--preset", "table-ac", "--axes", "Z=50,A=90"]);
-    assert_eq!(v["tip"], json!([0.0, -50.0, 0.0]));
+    assert_eq!(v["tip"], json!([0.0, -170.0, -120.0]));
     assert_eq!(v["tip_machine"], json!([0.0, 0.0, 50.0]));
     assert_eq!(v["tool"], json!([0.0, -1.0, 0.0]));
 }
@@ -33,7 +34,9 @@ fn ik_chooses_as_fanuc_does() {
     let (code, v) = kin(&["ik", "--preset", "head-bc", "--tip", "0,0,0", "--tool", "-1,0,0", "--from", "B=-70,C=30"]);
     assert_eq!(code, 0);
     assert_eq!(v["candidates"].as_array().unwrap().len(), 2);
-    assert_eq!(v["chosen"], json!({"X": 0.0, "Y": 0.0, "Z": 0.0, "B": -90.0, "C": 0.0}));
+    // B−90 points the tool along −X: the pivot, 150 above the tip along the tool, is at
+    // (150, 0, 150) from the carriage, so the carriage is at (−150, 0, −150).
+    assert_eq!(v["chosen"], json!({"X": -150.0, "Y": 0.0, "Z": -150.0, "B": -90.0, "C": 0.0}));
     assert_eq!(v["alarm"], Value::Null);
 }
 

@@ -129,7 +129,11 @@ impl Kinematics {
                 }
             }
             let carriage = self.carriage_for(&pos, tip, tool_length);
-            pos[..3].copy_from_slice(carriage.as_slice());
+            for (axis, value) in self.linear.iter().zip(carriage.iter()) {
+                if let Some(i) = axis {
+                    pos[*i] = *value;
+                }
+            }
             // Keep only true solutions, once each.
             if (self.forward(&pos, tool_length).tool - v).norm() > 1e-6 {
                 continue;

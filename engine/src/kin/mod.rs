@@ -16,7 +16,8 @@ mod select;
 pub use ik::Candidate;
 pub use select::{Choice, Selection};
 
-use crate::machine::{AxisKind, MachineConfig, Side};
+use crate::alarm::AlarmId;
+use crate::machine::{AxisKind, ConfigError, MachineConfig, Side};
 use nalgebra::{Rotation3, Vector3};
 
 pub type Vec3 = Vector3<f64>;
@@ -93,6 +94,8 @@ pub struct Kinematics {
     pub nose: Vec3,
     /// Number of machine axes (positions are given in axis order).
     pub axes: usize,
+    /// Indices of the X, Y and Z axes (the carriage); a missing one stays at 0.
+    pub linear: [Option<usize>; 3],
 }
 
 /// The rigid motion of one side's chain: each joint's axis point and rotation, master first.
@@ -141,9 +144,10 @@ fn vec3(a: [f64; 3]) -> Vec3 {
 }
 
 impl Kinematics {
-    /// The model of a machine (which `MachineConfig::validate` has accepted).
-    pub fn new(m: &MachineConfig) -> Result<Kinematics, String> {
-        m.validate()?;
+    /// The model of a machine; refuses what `MachineConfig::validate` refuses and mechanisms that
+    /// cannot work (with the alarm the vendors raise for them).
+    pub fn new(m: &MachineConfig) -> Result<Kinematics, ConfigError> {
+        m.validate().map_err(ConfigError::invalid)?;
         let joint = |link: &crate::machine::RotaryLink| {
             let index = m.axes.iter().position(|a| a.name == link.axis && a.kind == AxisKind::Rotary);
             Joint {
@@ -167,35 +171,54 @@ impl Kinematics {
             (1, 1) => MachineKind::HeadTable,
             (1, 0) => MachineKind::Head,
             (0, 1) => MachineKind::Table,
-            _ => return Err("a machine has at most two rotary axes in its mechanism chain".into()),
+            _ => {
+                let detail = "a machine has at most two rotary axes in its mechanism chain";
+                return Err(ConfigError::alarm(AlarmId::AxisSetting, detail));
+            }
         };
         let tool_axis = vec3(m.tool_axis).normalize();
-        let kin = Kinematics { kind, head, table, tool_axis, nose: vec3(m.nose), axes: m.axes.len() };
+        let linear = [b'X', b'Y', b'Z'].map(|c| m.axis_index(c).filter(|&i| m.axes[i].kind == AxisKind::Linear));
+        let kin = Kinematics { kind, head, table, tool_axis, nose: vec3(m.nose), axes: m.axes.len(), linear };
         kin.check()?;
         Ok(kin)
     }
 
     /// A chain whose two axes are parallel, or whose orientation cannot leave a plane because
-    /// an axis is parallel to what it must turn, has no use: refused.
-    fn check(&self) -> Result<(), String> {
+    /// an axis is parallel to what it must turn, has no use: refused (Syntec COR-155/156/157,
+    /// FANUC PS5459).
+    fn check(&self) -> Result<(), ConfigError> {
         let parallel = |a: &Vec3, b: &Vec3| a.cross(b).norm() < 1e-9;
         let joints: Vec<&Joint> = self.head.iter().chain(&self.table).collect();
         if let [a, b] = joints[..] {
             if parallel(&a.direction, &b.direction) {
-                return Err(format!("rotary axes {} and {} are parallel", a.name, b.name));
+                let detail = format!("rotary axes {} and {} are parallel", a.name, b.name);
+                return Err(ConfigError::alarm(AlarmId::AxisSetting, detail));
             }
         }
         // The axis next to the tool (head slave, head axis of a mixed machine) must be able to
-        // tilt it (Syntec COR-155/157).
+        // tilt it.
         if let Some(last) = self.head.last() {
             if parallel(&last.direction, &self.tool_axis) {
-                return Err(format!("rotary axis {} is parallel to the tool direction", last.name));
+                let detail = format!("rotary axis {} is parallel to the tool direction", last.name);
+                let id = if self.kind == MachineKind::HeadTable {
+                    AlarmId::ToolAxisParallel
+                } else {
+                    AlarmId::ToolDirectionSetting
+                };
+                return Err(ConfigError::alarm(id, detail));
             }
         }
         if self.kind == MachineKind::TableTable && parallel(&self.table[0].direction, &self.tool_axis) {
-            return Err(format!("table master axis {} is parallel to the tool direction", self.table[0].name));
+            let detail = format!("table master axis {} is parallel to the tool direction", self.table[0].name);
+            return Err(ConfigError::alarm(AlarmId::ToolDirectionSetting, detail));
         }
         Ok(())
+    }
+
+    /// The carriage reference point (machine X, Y, Z) in `pos`.
+    fn carriage(&self, pos: &[f64]) -> Vec3 {
+        let at = |i: Option<usize>| i.map_or(0.0, |i| pos[i]);
+        Vec3::new(at(self.linear[0]), at(self.linear[1]), at(self.linear[2]))
     }
 
     /// The commanded angle of a joint in `pos` (axis order).
@@ -212,7 +235,7 @@ impl Kinematics {
     /// Forward kinematics: axis positions (axis order; X, Y, Z are the carriage reference in
     /// machine coordinates) and tool length → tool tip and direction.
     pub fn forward(&self, pos: &[f64], tool_length: f64) -> Pose {
-        let carriage = Vec3::new(pos[0], pos[1], pos[2]);
+        let carriage = self.carriage(pos);
         let head = self.motion(Side::Head, pos);
         let tip_machine = carriage + head.apply(self.nose - tool_length * self.tool_axis);
         let tool_machine = head.rotation() * self.tool_axis;

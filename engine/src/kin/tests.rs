@@ -7,6 +7,16 @@ fn kin(preset: &str) -> Kinematics {
     Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap()
 }
 
+/// The spec examples' machine: the preset's mechanism without movement ranges (the examples
+/// turn B to 270°, beyond the preset's ±110°).
+fn spec_machine(preset: &str) -> MachineConfig {
+    let mut m = MachineConfig::preset(preset).unwrap();
+    for l in &mut m.rotary {
+        l.range = None;
+    }
+    m
+}
+
 fn close(a: Vec3, b: [f64; 3], tol: f64) -> bool {
     (a - vec3(b)).norm() < tol
 }
@@ -21,22 +31,38 @@ fn chosen(k: &Kinematics, tool: [f64; 3], from: &[f64], how: Selection) -> Resul
 
 use crate::alarm::AlarmId;
 
+/// The hand calculations of `docs/machine-config.md` ("By hand").
 #[test]
 fn forward_by_hand_on_the_presets() {
-    // head-bc, tool 100 long: B90 lays the tool along +X, so the tip is 100 toward −X.
+    // head-bc (pivot 150 above the nose), tool 100 long, X10 Y20 Z30 B90: the pivot is at
+    // (10, 20, 180); B90 lays the tool along +X, so the nose is 150 and the tip 250 toward −X.
     let p = kin("head-bc").forward(&[10.0, 20.0, 30.0, 90.0, 0.0], 100.0);
     assert!(close(p.tool, [1.0, 0.0, 0.0], 1e-12));
-    assert!(close(p.tip, [-90.0, 20.0, 30.0], 1e-12));
+    assert!(close(p.tip, [-240.0, 20.0, 180.0], 1e-12));
     // Then C90 turns it about Z to +Y.
     let p = kin("head-bc").forward(&[0.0, 0.0, 0.0, 90.0, 90.0], 100.0);
     assert!(close(p.tool, [0.0, 1.0, 0.0], 1e-12));
-    assert!(close(p.tip, [0.0, -100.0, 0.0], 1e-12));
-    // table-ac: A90 (left hand about X) carries the table's −Y to the machine's +Z: a tool tip
-    // at machine (0, 0, 50) is at table (0, −50, 0), and seen from the table the tool points −Y.
+    assert!(close(p.tip, [0.0, -250.0, 150.0], 1e-12));
+    // table-ac (A line 120 below the table top): A90 (left hand about X) turns the table by −90°
+    // about that line: the tip at machine (0, 0, 50), 170 above the line, is at table
+    // (0, −170, −120), and seen from the table the tool points −Y.
     let p = kin("table-ac").forward(&[0.0, 0.0, 50.0, 90.0, 0.0], 0.0);
     assert!(close(p.tip_machine, [0.0, 0.0, 50.0], 1e-12));
     assert!(close(p.tool, [0.0, -1.0, 0.0], 1e-12));
-    assert!(close(p.tip, [0.0, -50.0, 0.0], 1e-12));
+    assert!(close(p.tip, [0.0, -170.0, -120.0], 1e-12));
+    // Every preset points the tool along the table's +Z at zero angles, the tip at the nose.
+    for name in MachineConfig::PRESETS {
+        let k = kin(name);
+        let p = k.forward(&vec![0.0; k.axes], 50.0);
+        assert!(close(p.tool, [0.0, 0.0, 1.0], 1e-12) && close(p.tip, [0.0, 0.0, -50.0], 1e-12), "{name}");
+    }
+    // Tool directions (table frame) of the presets' rotary axes.
+    let tool = |name: &str, pos: &[f64]| kin(name).forward(pos, 0.0).tool;
+    assert!(close(tool("head-bc", &[0.0, 0.0, 0.0, 0.0, 37.0]), [0.0, 0.0, 1.0], 1e-12), "C alone never tilts");
+    // Table B at +90 (left hand about +Y): the tool lies along the part's +X.
+    assert!(close(tool("table-bc", &[0.0, 0.0, 0.0, 90.0, 0.0]), [1.0, 0.0, 0.0], 1e-12));
+    // Mixed: head B +90 gives machine +X; table C +90 (left hand) shows it as part +Y.
+    assert!(close(tool("mixed-bc", &[0.0, 0.0, 0.0, 90.0, 90.0]), [0.0, 1.0, 0.0], 1e-12));
 }
 
 /// fanuc-tcp.md §3.1 (TV-01 … TV-05): BC machine, tool axis Z, C master about Z, B slave about
@@ -44,7 +70,7 @@ fn forward_by_hand_on_the_presets() {
 /// axes (`v = Rz(C)·Ry(B)·ẑ`, the convention of the O100 example; spec Q-3): the tests command −X.
 #[test]
 fn fanuc_type2_selection_tv01_to_tv05() {
-    let k = kin("head-bc");
+    let k = Kinematics::new(&spec_machine("head-bc")).unwrap();
     // Axis order X Y Z B C.
     let cands = k.inverse(Vec3::zeros(), Vec3::new(-1.0, 0.0, 0.0), 0.0, &[0.0; 5]);
     let mut pairs: Vec<(f64, f64)> = cands.iter().map(|c| (c.pos[3].round(), c.pos[4].round())).collect();
@@ -70,7 +96,7 @@ fn fanuc_type2_selection_tv01_to_tv05() {
 /// (C + 180, −B); the extract's "A" is this master.
 #[test]
 fn fanuc_movement_ranges_tv13_to_tv17() {
-    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let mut m = spec_machine("head-bc");
     let k = Kinematics::new(&m).unwrap();
     let v = k.forward(&[0.0, 0.0, 0.0, 30.0, 10.0], 0.0).tool;
     // (B, C) chosen from C = 350, B = 0.
@@ -94,7 +120,7 @@ fn fanuc_movement_ranges_tv13_to_tv17() {
 /// P0 takes the master's shortest path from 0.
 #[test]
 fn syntec_p0_p1_p2_tv33() {
-    let k = kin("head-bc");
+    let k = Kinematics::new(&spec_machine("head-bc")).unwrap();
     let v = k.forward(&[0.0, 0.0, 0.0, 15.0, -60.0], 0.0).tool;
     let run = |p: u8| {
         let how = Selection { dialect: Dialect::Syntec, pri: false, p };
@@ -109,7 +135,7 @@ fn syntec_p0_p1_p2_tv33() {
 
 #[test]
 fn syntec_ranges_fall_back_and_then_fail() {
-    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let mut m = spec_machine("head-bc");
     // Master C allowed only from 90° to 180°: the shortest-path C −60 is out, C 120 fits.
     m.rotary[0].range = Some([90.0, 180.0]);
     let k = Kinematics::new(&m).unwrap();
@@ -130,7 +156,7 @@ fn unreachable_directions_have_no_candidate() {
         name: "c-table".into(),
         axes: "XYZC"
             .chars()
-            .map(|n| Axis { name: n, kind: if n == 'C' { AxisKind::Rotary } else { AxisKind::Linear }, rapid: 1.0 })
+            .map(|n| Axis::new(n, if n == 'C' { AxisKind::Rotary } else { AxisKind::Linear }, 1.0))
             .collect(),
         rotary: vec![RotaryLink {
             axis: 'C',
@@ -144,6 +170,7 @@ fn unreachable_directions_have_no_candidate() {
         }],
         tool_axis: [0.0, 0.0, 1.0],
         nose: [0.0; 3],
+        holder: 0.0,
     };
     let k = Kinematics::new(&m).unwrap();
     assert_eq!(k.kind, MachineKind::Table);
@@ -169,11 +196,10 @@ fn machine() -> impl Strategy<Value = MachineConfig> {
             _ => &[Side::Table],
         };
         let names = ['B', 'C'];
-        let mut axes: Vec<Axis> =
-            ['X', 'Y', 'Z'].iter().map(|&name| Axis { name, kind: AxisKind::Linear, rapid: 1.0 }).collect();
+        let mut axes: Vec<Axis> = ['X', 'Y', 'Z'].iter().map(|&name| Axis::new(name, AxisKind::Linear, 1.0)).collect();
         let mut rotary = Vec::new();
         for (i, (side, l)) in sides.iter().zip([l1, l2]).enumerate() {
-            axes.push(Axis { name: names[i], kind: AxisKind::Rotary, rapid: 1.0 });
+            axes.push(Axis::new(names[i], AxisKind::Rotary, 1.0));
             rotary.push(RotaryLink {
                 axis: names[i],
                 side: *side,
@@ -185,7 +211,7 @@ fn machine() -> impl Strategy<Value = MachineConfig> {
                 range: None,
             });
         }
-        MachineConfig { name: "random".into(), axes, rotary, tool_axis, nose }
+        MachineConfig { name: "random".into(), axes, rotary, tool_axis, nose, holder: 0.0 }
     })
 }
 

@@ -25,6 +25,9 @@ pub struct FkArgs {
     /// Tool length, mm.
     #[arg(long, default_value_t = 0.0)]
     tool_length: f64,
+    /// Whose alarm a machine that cannot work raises: fanuc or syntec.
+    #[arg(long, default_value = "fanuc")]
+    dialect: Dialect,
 }
 
 #[derive(Args, Debug)]
@@ -61,9 +64,10 @@ pub fn run(command: KinCommand) -> Result<i32, Fail> {
     }
 }
 
-fn model(args: &MachineArgs) -> Result<(MachineConfig, Kinematics), Fail> {
+/// The machine and its kinematics; a mechanism that cannot work fails with the dialect's alarm.
+fn model(args: &MachineArgs, dialect: Dialect) -> Result<(MachineConfig, Kinematics), Fail> {
     let m = load_machine(args)?;
-    let k = Kinematics::new(&m).map_err(Fail)?;
+    let k = Kinematics::new(&m).map_err(|e| Fail(e.describe(dialect)))?;
     Ok((m, k))
 }
 
@@ -113,7 +117,7 @@ fn print(value: Value) -> Result<(), Fail> {
 }
 
 fn fk(a: FkArgs) -> Result<i32, Fail> {
-    let (m, k) = model(&a.machine)?;
+    let (m, k) = model(&a.machine, a.dialect)?;
     let pos = positions(&m, &a.axes)?;
     let p = k.forward(&pos, a.tool_length);
     print(json!({
@@ -126,7 +130,7 @@ fn fk(a: FkArgs) -> Result<i32, Fail> {
 }
 
 fn ik(a: IkArgs) -> Result<i32, Fail> {
-    let (m, k) = model(&a.machine)?;
+    let (m, k) = model(&a.machine, a.dialect)?;
     let from = positions(&m, &a.from)?;
     let tool = triple(&a.tool)?;
     if tool.norm() < 1e-12 {
