@@ -273,7 +273,7 @@ impl MachineConfig {
                 return Err(format!("axis '{}' appears twice", a.name));
             }
             let positive = |x: Option<f64>| x.is_none_or(|x| x.is_finite() && x > 0.0);
-            if !(a.rapid.is_finite() && a.rapid > 0.0) || !positive(a.accel) || !positive(a.jerk) {
+            if ![Some(a.rapid), a.accel, a.jerk].into_iter().all(positive) {
                 return Err(format!("axis '{}' needs positive rapid rate, acceleration and jerk", a.name));
             }
             if a.stroke.is_some_and(|[lo, hi]| !(lo.is_finite() && hi.is_finite() && lo <= hi)) {
