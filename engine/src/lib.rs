@@ -13,6 +13,7 @@ pub mod kin;
 pub mod lang;
 pub mod machine;
 pub mod run;
+pub mod vendor;
 
 pub use alarm::{Alarm, AlarmId};
 pub use dialect::Dialect;

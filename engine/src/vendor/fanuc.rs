@@ -1,0 +1,283 @@
+//! FANUC 30i-A5 parameters (fanuc-twp-wsec-manual-params.md §2.9, §5; fanuc-tcp.md §5).
+//!
+//! Axis parameters hold one value per axis: No.1020 name (ASCII), 1022 basic axis, 1006#0 ROT,
+//! 1008#0 ROA / #1 RAB, 1260 per revolution, 1320/1321 stroke, 1420 rapid, 1660 acceleration,
+//! 1672 bell-shaped time. The mechanism: 19680 type, 19681–19690 the two rotary axes, 19696#0/#1
+//! hypothetical axes, 19697–19699 reference tool direction, 19700–19705 table positions, 19666
+//! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
+
+use super::{add, chain, half_turn, reference_angles, reference_direction, scale, sub, unit, unrepresentable};
+use super::{Params, Value};
+use crate::alarm::AlarmId;
+use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, RotaryLink, Side};
+
+const NAMES: &str = "XYZUVWABC";
+
+/// No.1022 basic axis attribute of an axis name (X, Y, Z are 1–3, U, V, W parallel to them 5–7).
+fn basic(name: char) -> f64 {
+    match name {
+        'X' => 1.0,
+        'Y' => 2.0,
+        'Z' => 3.0,
+        'U' => 5.0,
+        'V' => 6.0,
+        'W' => 7.0,
+        _ => 0.0,
+    }
+}
+
+/// FANUC real parameters carry at most nine decimals; rounding there makes the written set the
+/// canonical one whatever floating-point noise the conversion left.
+fn real(x: f64) -> f64 {
+    let r = (x * 1e9).round() / 1e9;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+fn bad(detail: String) -> ConfigError {
+    ConfigError::alarm(AlarmId::AxisSetting, detail)
+}
+
+pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
+    let names = match p.0.get(&1020) {
+        Some(Value::PerAxis(v)) if !v.is_empty() => v.clone(),
+        _ => return Err(ConfigError::invalid("No.1020 (axis names, ASCII codes, one per axis) is needed")),
+    };
+    let n = names.len();
+    let (rot, roll, per_rev, basics) = (p.axes(1006, n)?, p.axes(1008, n)?, p.axes(1260, n)?, p.axes(1022, n)?);
+    let (plus, minus, rapid, accel, bell) =
+        (p.axes(1320, n)?, p.axes(1321, n)?, p.axes(1420, n)?, p.axes(1660, n)?, p.axes(1672, n)?);
+    let mut axes = Vec::with_capacity(n);
+    for i in 0..n {
+        let code = super::params::whole(1020, names[i], 0, 127)? as u8;
+        let letter = code as char;
+        if !NAMES.contains(letter) || code == 0 {
+            return Err(ConfigError::invalid(format!("No.1020 axis {}: {} is not one of {NAMES}", i + 1, names[i])));
+        }
+        let rotary = super::params::whole(1006, rot[i], 0, 255)? & 1 == 1;
+        let bits = super::params::whole(1008, roll[i], 0, 255)?;
+        if basics[i] != 0.0 && basics[i] != basic(letter) {
+            return Err(ConfigError::invalid(format!(
+                "No.1022 of axis {letter} is {}, not {}",
+                basics[i],
+                basic(letter)
+            )));
+        }
+        let rollover = rotary && bits & 1 == 1;
+        if rollover && per_rev[i] != 360.0 && per_rev[i] != 0.0 {
+            return Err(ConfigError::invalid(format!("No.1260 of axis {letter}: fivex rolls over at 360 only")));
+        }
+        let stroke = (plus[i] != 0.0 || minus[i] != 0.0).then_some([minus[i], plus[i]]);
+        let a = (accel[i] > 0.0).then_some(accel[i]);
+        let jerk = (bell[i] > 0.0).then(|| a.unwrap_or(0.0) / (bell[i] / 1000.0)).filter(|j| *j > 0.0);
+        axes.push(Axis {
+            accel: a,
+            jerk,
+            stroke,
+            rollover,
+            shortest: rollover && bits & 2 == 0,
+            ..Axis::new(letter, if rotary { AxisKind::Rotary } else { AxisKind::Linear }, rapid[i])
+        });
+    }
+    let kind = p.code(19680, 0, 21)?;
+    let tool_code = p.code(19697, 0, 3)?;
+    if kind != 0 && tool_code == 0 {
+        let detail = "No.19697 (reference tool direction) must be 1, 2 or 3";
+        return Err(ConfigError::alarm(AlarmId::ToolDirectionSetting, detail));
+    }
+    let tool_axis = if tool_code == 0 { unit(3) } else { reference_direction(tool_code, p.get(19698)?, p.get(19699)?) };
+    let sides = match kind {
+        0 => vec![],
+        2 => vec![Side::Head, Side::Head],
+        12 => vec![Side::Table, Side::Table],
+        21 => vec![Side::Head, Side::Table],
+        _ => return Err(ConfigError::invalid(format!("No.19680 = {kind}: the type is 0, 2, 12 or 21"))),
+    };
+    let mut rotary = Vec::new();
+    for (j, side) in sides.iter().enumerate() {
+        let base = 19681 + 5 * j as u32;
+        let hypothetical = p.bit(19696, j as u32)?;
+        let number = p.code(base, 0, n as i64)?;
+        let code = p.code(base + 1, 1, 6)?;
+        let tilt = p.get(base + 2)?;
+        if code <= 3 && tilt != 0.0 {
+            return Err(bad(format!("No.{} must be 0 when No.{} is {code} (TV-KIN-08)", base + 2, base + 1)));
+        }
+        let (s, c) = crate::angle::sin_cos_deg(tilt);
+        let direction = match code {
+            1..=3 => unit(code),
+            4 => [c, s, 0.0],
+            5 => [0.0, c, s],
+            _ => [s, 0.0, c],
+        };
+        let hand = if p.code(base + 3, 0, 1)? == 0 { Hand::Right } else { Hand::Left };
+        let axis = if hypothetical {
+            if number != 0 {
+                return Err(bad(format!("No.{base} must be 0 for a hypothetical axis (No.19696#{j})")));
+            }
+            // A name for the model only: a letter no axis or other link uses ('H' when A, B and C
+            // are all taken).
+            let taken = |c: char| axes.iter().any(|a| a.name == c) || rotary.iter().any(|l: &RotaryLink| l.axis == c);
+            "ABCH".chars().find(|&c| !taken(c)).unwrap_or('G')
+        } else {
+            let i = number as usize;
+            if i == 0 || axes[i - 1].kind != AxisKind::Rotary {
+                return Err(bad(format!("No.{base} = {number} is not a rotary axis (No.1006#0, TV-KIN-16)")));
+            }
+            axes[i - 1].name
+        };
+        let (upper, lower) = (p.get(19741 + 2 * j as u32)?, p.get(19742 + 2 * j as u32)?);
+        rotary.push(RotaryLink {
+            axis,
+            side: *side,
+            direction,
+            hand,
+            point: [0.0; 3],
+            zero_offset: 0.0,
+            fixed: hypothetical.then(|| p.get(base + 4)).transpose()?,
+            range: (upper != 0.0 || lower != 0.0).then_some([lower, upper]),
+        });
+    }
+    // Positions. The head's controlled point — where machine X/Y/Z are at zero angles — lies on
+    // the tool axis, No.19666 above the spindle nose; No.19709 leads from it to the tool-side
+    // axis next to the tool, No.19712 from there to the other head axis. The table's first axis
+    // passes through No.19700, the second through No.19700 + No.19703.
+    let holder = if sides.first() == Some(&Side::Head) { p.get(19666)? } else { 0.0 };
+    let (v1, v2) = (p.get3(19709)?, p.get3(19712)?);
+    let (a, d) = (p.get3(19700)?, p.get3(19703)?);
+    match kind {
+        2 => {
+            rotary[1].point = v1;
+            rotary[0].point = add(v1, v2);
+        }
+        12 => {
+            rotary[0].point = a;
+            rotary[1].point = add(a, d);
+        }
+        21 => {
+            rotary[0].point = v1;
+            rotary[1].point = a;
+        }
+        _ => {}
+    }
+    let nose = scale(tool_axis, -holder);
+    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis, nose, holder })
+}
+
+pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
+    let mut p = Params::default();
+    let each = |f: &dyn Fn(&Axis) -> f64| m.axes.iter().map(|a| real(f(a))).collect::<Vec<f64>>();
+    p.set_axes(1020, each(&|a| a.name as u32 as f64));
+    p.set_axes(1022, each(&|a| basic(a.name)));
+    p.set_axes(1006, each(&|a| (a.kind == AxisKind::Rotary) as u8 as f64));
+    p.set_axes(1008, each(&|a| if a.rollover { 1.0 + if a.shortest { 0.0 } else { 2.0 } } else { 0.0 }));
+    p.set_axes(1260, each(&|a| if a.kind == AxisKind::Rotary { 360.0 } else { 0.0 }));
+    p.set_axes(1320, each(&|a| a.stroke.map_or(0.0, |s| s[1])));
+    p.set_axes(1321, each(&|a| a.stroke.map_or(0.0, |s| s[0])));
+    p.set_axes(1420, each(&|a| a.rapid));
+    p.set_axes(1660, each(&|a| a.max_accel()));
+    p.set_axes(1672, each(&|a| 1000.0 * a.max_accel() / a.max_jerk()));
+
+    let (code, ra, rb) = reference_angles(super::normalize(m.tool_axis));
+    p.set(19697, code as f64);
+    p.set(19698, real(ra));
+    p.set(19699, real(rb));
+    let t0 = reference_direction(code, ra, rb);
+    let mut links: Vec<RotaryLink> = chain(m).into_iter().cloned().collect();
+    if links.len() == 1 {
+        links.insert(0, hypothetical_master(&links[0], t0));
+    }
+    let kind = match links.iter().map(|l| l.side).collect::<Vec<_>>()[..] {
+        [] => 0,
+        [Side::Head, Side::Head] => 2,
+        [Side::Table, Side::Table] => 12,
+        _ => 21,
+    };
+    p.set(19680, kind as f64);
+    // The head's controlled point must be on the tool axis through the nose (No.19666).
+    let holder = -(m.nose[0] * t0[0] + m.nose[1] * t0[1] + m.nose[2] * t0[2]);
+    let on_axis = sub(m.nose, scale(t0, -holder)).iter().all(|x| x.abs() < 1e-9);
+    if !on_axis || (holder.abs() > 1e-9 && !matches!(kind, 2 | 21)) {
+        return Err(unrepresentable("FANUC", "the spindle nose must lie on the tool axis through X/Y/Z, and only a head can have a holder offset (No.19666)"));
+    }
+    let mut ia = 0;
+    for (j, l) in links.iter().enumerate() {
+        let base = 19681 + 5 * j as u32;
+        if l.zero_offset != 0.0 {
+            return Err(unrepresentable("FANUC", format!("axis {} has a zero offset", l.axis)));
+        }
+        let (code, tilt, flip) = direction_code(super::normalize(l.direction)).ok_or_else(|| {
+            unrepresentable("FANUC", format!("axis {} is not in a coordinate plane (No.19682)", l.axis))
+        })?;
+        let number = match l.fixed {
+            Some(_) => {
+                ia |= 1 << j;
+                0
+            }
+            None => m.axis_index(l.axis as u8).map_or(0, |i| i + 1),
+        };
+        let left = (l.hand == Hand::Left) != flip;
+        p.set(base, number as f64);
+        p.set(base + 1, code as f64);
+        p.set(base + 2, real(tilt));
+        p.set(base + 3, left as u8 as f64);
+        p.set(base + 4, real(l.fixed.unwrap_or(0.0)));
+        let [lower, upper] = l.range.unwrap_or([0.0, 0.0]);
+        p.set(19741 + 2 * j as u32, real(upper));
+        p.set(19742 + 2 * j as u32, real(lower));
+    }
+    p.set(19696, ia as f64);
+    let zero = [0.0; 3];
+    let (v1, v2, a, d) = match kind {
+        2 => (links[1].point, sub(links[0].point, links[1].point), zero, zero),
+        12 => (zero, zero, links[0].point, sub(links[1].point, links[0].point)),
+        21 => (links[0].point, zero, links[1].point, zero),
+        _ => (zero, zero, zero, zero),
+    };
+    p.set(19666, real(holder));
+    for (first, v) in [(19700, a), (19703, d), (19709, v1), (19712, v2)] {
+        for (i, x) in v.iter().enumerate() {
+            p.set(first + i as u32, real(*x));
+        }
+    }
+    Ok(p)
+}
+
+/// No.19682 code and inclination of a unit direction, and whether it points the other way
+/// (then the hand flips): coordinate axes 1–3; 4 in the XY plane at φ from +X toward +Y, 5 in
+/// YZ from +Y toward +Z, 6 in ZX from +Z toward +X.
+fn direction_code(u: [f64; 3]) -> Option<(i64, f64, bool)> {
+    const EPS: f64 = 1e-12;
+    if let Some(k) = u.iter().position(|x| (x.abs() - 1.0).abs() < EPS) {
+        return Some((k as i64 + 1, 0.0, u[k] < 0.0));
+    }
+    let plane = |zero: usize, cos: usize, sin: usize, code: i64| {
+        (u[zero].abs() < EPS).then(|| (code, half_turn(u[sin].atan2(u[cos]).to_degrees()), false))
+    };
+    plane(2, 0, 1, 4).or_else(|| plane(0, 1, 2, 5)).or_else(|| plane(1, 2, 0, 6))
+}
+
+/// The hypothetical first axis that lets FANUC describe a single rotary axis (fixed at 0°): a
+/// coordinate axis neither parallel to the real one nor, on a table, to the tool.
+fn hypothetical_master(real: &RotaryLink, t0: [f64; 3]) -> RotaryLink {
+    let parallel = |a: [f64; 3], b: [f64; 3]| {
+        let c = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+        c.iter().map(|x| x * x).sum::<f64>() < 1e-18
+    };
+    let d = super::normalize(real.direction);
+    let code = (1..=3).find(|&c| !parallel(unit(c), d) && (real.side == Side::Head || !parallel(unit(c), t0)));
+    let code = code.unwrap_or(1);
+    let axis = ['A', 'B', 'C'].into_iter().find(|&c| c != real.axis).unwrap_or('A');
+    RotaryLink {
+        axis,
+        direction: unit(code),
+        hand: if real.side == Side::Head { Hand::Right } else { Hand::Left },
+        zero_offset: 0.0,
+        fixed: Some(0.0),
+        range: None,
+        ..*real
+    }
+}

@@ -1,0 +1,81 @@
+//! A vendor parameter list as numbers and values, with the reading helpers both vendors use.
+
+use crate::machine::ConfigError;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// One parameter's value: a number, or one number per axis (FANUC's axis-type parameters;
+/// Syntec numbers its per-axis parameters consecutively, so all its values are single).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Value {
+    One(f64),
+    PerAxis(Vec<f64>),
+}
+
+/// A parameter list in the vendor's numbering (`{"19680": 2, "1020": [88, 89, 90, 66, 67]}`).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Params(pub BTreeMap<u32, Value>);
+
+impl Params {
+    pub fn set(&mut self, number: u32, value: f64) {
+        self.0.insert(number, Value::One(value));
+    }
+
+    pub fn set_axes(&mut self, number: u32, values: Vec<f64>) {
+        self.0.insert(number, Value::PerAxis(values));
+    }
+
+    /// A single value; a missing parameter is 0, as on a control whose parameters were cleared.
+    pub fn get(&self, number: u32) -> Result<f64, ConfigError> {
+        match self.0.get(&number) {
+            None => Ok(0.0),
+            Some(Value::One(x)) if x.is_finite() => Ok(*x),
+            Some(_) => Err(ConfigError::invalid(format!("parameter {number} needs one finite number"))),
+        }
+    }
+
+    /// Three consecutive single values as a vector.
+    pub fn get3(&self, first: u32) -> Result<[f64; 3], ConfigError> {
+        Ok([self.get(first)?, self.get(first + 1)?, self.get(first + 2)?])
+    }
+
+    /// A whole number in `lo..=hi`.
+    pub fn code(&self, number: u32, lo: i64, hi: i64) -> Result<i64, ConfigError> {
+        whole(number, self.get(number)?, lo, hi)
+    }
+
+    /// Bit `bit` of a bit parameter (stored as its byte value).
+    pub fn bit(&self, number: u32, bit: u32) -> Result<bool, ConfigError> {
+        Ok(self.code(number, 0, 255)? >> bit & 1 == 1)
+    }
+
+    /// A per-axis parameter's values for `axes` axes; missing: all 0.
+    pub fn axes(&self, number: u32, axes: usize) -> Result<Vec<f64>, ConfigError> {
+        match self.0.get(&number) {
+            None => Ok(vec![0.0; axes]),
+            Some(Value::PerAxis(v)) if v.len() == axes && v.iter().all(|x| x.is_finite()) => Ok(v.clone()),
+            Some(_) => {
+                Err(ConfigError::invalid(format!("parameter {number} needs {axes} finite numbers, one per axis")))
+            }
+        }
+    }
+}
+
+/// `x` as a whole number in `lo..=hi`, or an error naming the parameter.
+pub fn whole(number: u32, x: f64, lo: i64, hi: i64) -> Result<i64, ConfigError> {
+    if x.fract() == 0.0 && x >= lo as f64 && x <= hi as f64 {
+        Ok(x as i64)
+    } else {
+        Err(ConfigError::invalid(format!("parameter {number} = {x} is not a whole number in {lo}..{hi}")))
+    }
+}
+
+/// A machine described by its vendor parameter list: the other form of `--machine FILE.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParamFile {
+    pub name: String,
+    pub dialect: crate::Dialect,
+    pub parameters: Params,
+}
