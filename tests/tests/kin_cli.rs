@@ -85,3 +85,55 @@ fn usage_errors_exit_2() {
         assert!(stdout(&out).is_empty(), "{args:?}");
     }
 }
+
+/// `fivex machine --params D` prints a parameter list that `--machine` reads back as the same
+/// machine: the same tip in both dialects as from the preset.
+#[test]
+fn parameter_lists_as_machine_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, want) = kin(&["fk", "--preset", "mixed-bc", "--axes", "X=5,Y=-7,Z=20,B=-35,C=250", "--tool-length", "80"]);
+    for dialect in ["fanuc", "syntec"] {
+        let out = fivex(&["machine", "--preset", "mixed-bc", "--params", dialect]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let file: Value = serde_json::from_str(&stdout(&out)).unwrap();
+        assert_eq!(file["dialect"], dialect);
+        let path = dir.path().join(format!("{dialect}.json"));
+        std::fs::write(&path, stdout(&out)).unwrap();
+        let args =
+            ["fk", "--machine", path.to_str().unwrap(), "--axes", "X=5,Y=-7,Z=20,B=-35,C=250", "--tool-length", "80"];
+        let (code, got) = kin(&args);
+        assert_eq!(code, 0);
+        for key in ["tip", "tool"] {
+            let (a, b) = (got[key].as_array().unwrap(), want[key].as_array().unwrap());
+            let close = a.iter().zip(b).all(|(x, y)| (x.as_f64().unwrap() - y.as_f64().unwrap()).abs() < 1e-9);
+            assert!(close, "{dialect} {key}: {a:?} vs {b:?}");
+        }
+    }
+    // An inconsistent Syntec list: the spindle type's slave C parallel to the +Z tool.
+    let bad = json!({"name": "bad", "dialect": "syntec", "parameters": {
+        "21": 1, "22": 2, "23": 3, "24": 4, "25": 5, "201": 0, "202": 0, "203": 0, "204": 1, "205": 1,
+        "321": 1, "322": 2, "323": 3, "324": 5, "325": 6, "461": 1000, "462": 1000, "463": 1000, "464": 1000, "465": 1000,
+        "3001": 1, "3002": 3, "3005": 2, "3006": 3, "3007": 1, "3008": 1}});
+    let path = dir.path().join("bad.json");
+    std::fs::write(&path, bad.to_string()).unwrap();
+    let out = fivex(&["kin", "fk", "--machine", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("COR-155"), "{}", stderr(&out));
+    // A machine Syntec cannot describe (X/Y/Z at the pivot, not at the spindle nose): exit 1
+    // with the reason; FANUC can (No.19666 = 150).
+    let pivot = json!({
+        "name": "pivot", "nose": [0, 0, -150],
+        "axes": [{"name": "X", "kind": "linear", "rapid": 1}, {"name": "Y", "kind": "linear", "rapid": 1},
+                 {"name": "Z", "kind": "linear", "rapid": 1}, {"name": "B", "kind": "rotary", "rapid": 1}],
+        "rotary": [{"axis": "B", "side": "head", "direction": [0, 1, 0], "hand": "right"}]
+    });
+    let path = dir.path().join("pivot.json");
+    std::fs::write(&path, pivot.to_string()).unwrap();
+    let out = fivex(&["machine", "--machine", path.to_str().unwrap(), "--params", "syntec"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("spindle nose"), "{}", stderr(&out));
+    let out = fivex(&["machine", "--machine", path.to_str().unwrap(), "--params", "fanuc"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let file: Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(file["parameters"]["19666"], json!(150));
+}

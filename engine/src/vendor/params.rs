@@ -6,11 +6,36 @@ use std::collections::BTreeMap;
 
 /// One parameter's value: a number, or one number per axis (FANUC's axis-type parameters;
 /// Syntec numbers its per-axis parameters consecutively, so all its values are single).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(untagged)]
 pub enum Value {
     One(f64),
     PerAxis(Vec<f64>),
+}
+
+/// Whole numbers are written without a fraction (`3001: 1`, as on the control's screen).
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Number {
+    Whole(i64),
+    Real(f64),
+}
+
+fn number(x: f64) -> Number {
+    if x.fract() == 0.0 && x.abs() < 9e15 {
+        Number::Whole(x as i64)
+    } else {
+        Number::Real(x)
+    }
+}
+
+impl Serialize for Value {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Value::One(x) => number(*x).serialize(s),
+            Value::PerAxis(v) => s.collect_seq(v.iter().map(|x| number(*x))),
+        }
+    }
 }
 
 /// A parameter list in the vendor's numbering (`{"19680": 2, "1020": [88, 89, 90, 66, 67]}`).

@@ -136,7 +136,12 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             point: [0.0; 3],
             zero_offset,
             fixed: None,
-            range: (start != end).then(|| [from_blu(start as f64), from_blu(end as f64)]),
+            // [start, end] read in the positive sense, as low ≤ high: Area 1 (290° → 70°) is
+            // [290, 430].
+            range: (start != end).then(|| {
+                let (start, end) = (from_blu(start as f64), from_blu(end as f64));
+                [start, start + (end - start).rem_euclid(360.0)]
+            }),
         });
     }
     // Mechanism-chain vectors (§1.6, §1.7): X/Y/Z are the spindle nose at zero angles; the tool

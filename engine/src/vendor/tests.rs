@@ -261,7 +261,7 @@ fn syntec_area_ranges_read_in_the_positive_sense() {
     p.set(3010, 70_000.0);
     let m = machine_from(Dialect::Syntec, "m", &p).unwrap();
     let a = m.rotary.iter().find(|l| l.axis == 'A').unwrap();
-    assert_eq!(a.range, Some([290.0, 70.0]));
+    assert_eq!(a.range, Some([290.0, 430.0]));
     // A tool direction with the master A at 30° or −30° (= 330°): both inside Area 1, neither
     // inside Area 2 (70° → 290°), where G53.1 raises COR-153.
     let k = Kinematics::new(&m).unwrap();

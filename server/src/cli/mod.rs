@@ -1,9 +1,11 @@
-//! The `fivex` command line (see `CONTRACTS.md`): `run`, `interp`, `check` and `serve`.
+//! The `fivex` command line (see `CONTRACTS.md`): `run`, `interp`, `check`, `kin`, `machine`
+//! and `serve`.
 //!
 //! Exit status: 0 completed, 1 ended in an alarm (or diagnostics for `check`), 2 usage or IO.
 
 mod json;
 mod kin;
+mod machine;
 
 use clap::{Args, Parser, Subcommand};
 use fivex_engine::canon::Canon;
@@ -34,6 +36,8 @@ enum Command {
     /// Kinematics of a machine: `kin fk` and `kin ik`.
     #[command(subcommand)]
     Kin(kin::KinCommand),
+    /// Print a machine as a model file or as a FANUC / Syntec parameter list.
+    Machine(machine::MachineShowArgs),
     /// Start the HTTP service.
     Serve(ServeArgs),
 }
@@ -139,6 +143,7 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
         Command::Run(a) => cmd_run(a),
         Command::Interp(a) => cmd_interp(a),
         Command::Kin(c) => kin::run(c),
+        Command::Machine(a) => machine::run(a),
         Command::Check(a) => cmd_check(a),
         Command::Serve(a) => {
             crate::serve::run_blocking(&a.db, &a.addr).map_err(Fail)?;
@@ -156,9 +161,7 @@ fn read_program(path: &Path) -> Result<String, Fail> {
 fn load_machine(args: &MachineArgs) -> Result<MachineConfig, Fail> {
     if let Some(path) = &args.machine {
         let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-        let m: MachineConfig = serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-        m.validate().map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-        return Ok(m);
+        return crate::machine_file::parse(&text).map_err(|e| Fail(format!("{}: {e}", path.display())));
     }
     let name = args.preset.as_deref().unwrap_or("mill3");
     MachineConfig::preset(name)
