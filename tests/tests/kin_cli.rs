@@ -21,6 +21,8 @@ fn fk_by_hand() {
     // The B pivot 150 above the nose (docs/machine-config.md, "By hand").
     assert_eq!(v["tip"], json!([-240.0, 20.0, 180.0]));
     assert_eq!(v["tool"], json!([1.0, 0.0, 0.0]));
+    // 90° away from the singular posture (tool along the C master).
+    assert_eq!(v["singularity"], json!({"axis": "C", "angle": 90.0}));
     let (_, v) = kin(&["fk", "--preset", "table-ac", "--axes", "Z=50,A=90"]);
     assert_eq!(v["tip"], json!([0.0, -170.0, -120.0]));
     assert_eq!(v["tip_machine"], json!([0.0, 0.0, 50.0]));
@@ -38,6 +40,11 @@ fn ik_chooses_as_fanuc_does() {
     // (150, 0, 150) from the carriage, so the carriage is at (−150, 0, −150).
     assert_eq!(v["chosen"], json!({"X": -150.0, "Y": 0.0, "Z": -150.0, "B": -90.0, "C": 0.0}));
     assert_eq!(v["alarm"], Value::Null);
+    assert_eq!(v["singular"], json!([]));
+    // TV-05: the tool along +Z is singular; C stays at its current 90.
+    let (_, v) = kin(&["ik", "--preset", "head-bc", "--tip", "0,0,0", "--tool", "0,0,1", "--from", "B=45,C=90"]);
+    assert_eq!(v["singular"], json!(["C"]));
+    assert_eq!(v["chosen"]["C"], json!(90.0));
 }
 
 #[test]

@@ -126,6 +126,17 @@ impl ChainMotion {
     }
 }
 
+/// How near a posture is to the singular one (FANUC No.11204 / No.19738 compare this angle).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Singularity {
+    /// The axis at the workpiece end of the chain (head-head: the master; table-table: the
+    /// slave; mixed: the table axis): with the tool along it, turning it does not change the
+    /// tool direction, so the inverse leaves it free.
+    pub axis: char,
+    /// Angle between the tool direction and that axis's line, degrees in [0, 90]; 0 is singular.
+    pub angle: f64,
+}
+
 /// Tool tip and direction for given axis positions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose {
@@ -251,6 +262,20 @@ impl Kinematics {
     pub fn carriage_for(&self, pos: &[f64], tip: Vec3, tool_length: f64) -> Vec3 {
         let tip_machine = self.motion(Side::Table, pos).apply(tip);
         tip_machine - self.motion(Side::Head, pos).apply(self.nose - tool_length * self.tool_axis)
+    }
+
+    /// How near the posture at `pos` is to singular; `None` on machines with fewer than two
+    /// rotary axes (one axis never has a free angle).
+    pub fn singularity(&self, pos: &[f64]) -> Option<Singularity> {
+        let joint = match self.kind {
+            MachineKind::HeadHead => &self.head[0],
+            MachineKind::TableTable => &self.table[1],
+            MachineKind::HeadTable => &self.table[0],
+            _ => return None,
+        };
+        // That axis keeps its direction in the table frame, whatever the angles.
+        let cos = self.forward(pos, 0.0).tool.dot(&joint.direction).abs().min(1.0);
+        Some(Singularity { axis: joint.name, angle: cos.acos().to_degrees() })
     }
 
     /// The joints in FANUC's order θ1, θ2 (No.19680): master, slave on a head-head or

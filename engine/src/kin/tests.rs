@@ -149,6 +149,26 @@ fn syntec_ranges_fall_back_and_then_fail() {
     assert_eq!(k.select(&k.inverse(Vec3::zeros(), v, 0.0, &from), &from, p2), Err(AlarmId::NoRotarySolution));
 }
 
+/// The singular posture of each kind: the tool along the axis at the workpiece end of the chain,
+/// where the inverse leaves that axis free (and keeps it where it is).
+#[test]
+fn singular_postures_are_detected() {
+    let angle =
+        |preset: &str, pos: &[f64]| kin(preset).singularity(pos).map(|s| (s.axis, (s.angle * 1e9).round() / 1e9));
+    assert_eq!(angle("head-bc", &[0.0, 0.0, 0.0, 0.0, 77.0]), Some(('C', 0.0)));
+    assert_eq!(angle("head-bc", &[0.0, 0.0, 0.0, 30.0, 77.0]), Some(('C', 30.0)));
+    assert_eq!(angle("head-bc", &[0.0, 0.0, 0.0, -180.0, 77.0]), Some(('C', 0.0)), "pointing down the axis");
+    assert_eq!(angle("table-ac", &[0.0, 0.0, 0.0, 0.0, 10.0]), Some(('C', 0.0)));
+    assert_eq!(angle("table-ac", &[0.0, 0.0, 0.0, 90.0, 10.0]), Some(('C', 90.0)));
+    assert_eq!(angle("mixed-bc", &[0.0, 0.0, 0.0, -45.0, 10.0]), Some(('C', 45.0)));
+    assert_eq!(angle("mill3", &[0.0; 3]), None);
+    // At the singular posture the inverse marks the axis free and keeps its current angle.
+    let k = kin("table-ac");
+    let from = [0.0, 0.0, 0.0, 0.0, 123.0];
+    let c = k.inverse(Vec3::zeros(), Vec3::new(0.0, 0.0, 1.0), 0.0, &from);
+    assert!(c.iter().all(|c| c.free == vec![false, true] && c.pos[4] == 123.0), "{c:?}");
+}
+
 #[test]
 fn unreachable_directions_have_no_candidate() {
     // A single table C axis cannot tilt the tool.

@@ -120,11 +120,13 @@ fn fk(a: FkArgs) -> Result<i32, Fail> {
     let (m, k) = model(&a.machine, a.dialect)?;
     let pos = positions(&m, &a.axes)?;
     let p = k.forward(&pos, a.tool_length);
+    let singularity = k.singularity(&pos).map(|s| json!({"axis": s.axis.to_string(), "angle": s.angle}));
     print(json!({
         "tip": array(p.tip),
         "tool": array(p.tool),
         "tip_machine": array(p.tip_machine),
         "tool_machine": array(p.tool_machine),
+        "singularity": singularity,
     }))?;
     Ok(0)
 }
@@ -146,10 +148,17 @@ fn ik(a: IkArgs) -> Result<i32, Fail> {
             (Value::Null, json!({"code": code, "message": message}))
         }
     };
+    // Axes a singular posture leaves free (kept at their --from angle).
+    let joints = k.joints();
+    let free: Vec<String> = candidates
+        .first()
+        .map(|c| joints.iter().zip(&c.free).filter(|(_, f)| **f).map(|(j, _)| j.name.to_string()).collect())
+        .unwrap_or_default();
     print(json!({
         "candidates": candidates.iter().map(|c| axes_object(&m, &c.pos)).collect::<Vec<_>>(),
         "chosen": chosen,
         "alarm": alarm,
+        "singular": free,
     }))?;
     Ok(if choice.is_ok() { 0 } else { 1 })
 }
