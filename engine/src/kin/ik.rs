@@ -6,7 +6,15 @@
 //! into the reference), which has zero, one or two solutions in closed form. The linear axes
 //! follow from the tip.
 
-use super::{Joint, Kinematics, MachineKind, Vec3};
+use super::{Joint, Kinematics, MachineKind, Side, Vec3};
+use crate::machine::MAX_AXES;
+use arrayvec::ArrayVec;
+
+/// Per-joint values in [`Kinematics::joints`] order (at most two joints).
+pub type PerJoint<T> = ArrayVec<T, 2>;
+
+/// The inverse solutions: at most two.
+pub type Candidates = ArrayVec<Candidate, 2>;
 
 /// Below this, a vector counts as parallel to an axis (the angle about it is free).
 const PARALLEL: f64 = 1e-9;
@@ -16,10 +24,10 @@ const PARALLEL: f64 = 1e-9;
 pub struct Candidate {
     /// Every axis position in axis order: X, Y, Z of the carriage reference, the rotary axes at
     /// their basic angle in [0, 360) (a free one at its current angle), other axes unchanged.
-    pub pos: Vec<f64>,
+    pub pos: ArrayVec<f64, MAX_AXES>,
     /// For each joint (in [`Kinematics::joints`] order): its angle is free in this posture
     /// (a singular posture), so it was left where it was.
-    pub free: Vec<bool>,
+    pub free: PerJoint<bool>,
 }
 
 /// The angle (degrees) that turns `u` into `w` about the unit vector `k`; `None` when `u` is
@@ -44,7 +52,7 @@ fn one_axis(k: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> Option<Option<f64>> {
 
 /// `Rot(a, x)·Rot(b, y)·p = q` for unit vectors, `a` not parallel to `b`: every (x, y), an angle
 /// being `None` where it is free.
-fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> Vec<(Option<f64>, Option<f64>)> {
+fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> PerJoint<(Option<f64>, Option<f64>)> {
     // c = Rot(b, y)·p = Rot(a, −x)·q keeps p's component along b and q's along a.
     let s = a.dot(b);
     let n = a.cross(b);
@@ -54,7 +62,7 @@ fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> Vec<(Option<f64
     let beta = (pb - s * pa) / denom;
     let g2 = (p.norm_squared() - alpha * alpha - beta * beta - 2.0 * alpha * beta * s) / n.norm_squared();
     if g2 < -tol {
-        return Vec::new();
+        return PerJoint::new();
     }
     let g = g2.max(0.0).sqrt();
     let gammas: &[f64] = if g < 1e-12 { &[0.0] } else { &[g, -g] };
@@ -79,45 +87,50 @@ fn basic(angle: f64) -> f64 {
 impl Kinematics {
     /// Every candidate for tool tip `tip` and direction `tool` (table frame; `tool` need not be
     /// unit) with tool length `tool_length`; free angles and other axes are taken from `from`.
-    pub fn inverse(&self, tip: Vec3, tool: Vec3, tool_length: f64, from: &[f64]) -> Vec<Candidate> {
-        let Some(v) = tool.try_normalize(1e-12) else { return Vec::new() };
+    pub fn inverse(&self, tip: Vec3, tool: Vec3, tool_length: f64, from: &[f64]) -> Candidates {
+        let mut out = Candidates::new();
+        let Some(v) = tool.try_normalize(1e-12) else { return out };
         let joints = self.joints();
         let t0 = self.tool_axis;
         // Each entry: the rotation amounts φ about the joints' directions, in joints() order.
         let current = |j: &Joint| j.sign * (j.index.map_or(j.fixed, |i| from[i]) + j.zero_offset);
         let tol = 1e-7;
-        let mut orientations: Vec<Vec<Option<f64>>> = Vec::new();
+        let mut orientations: PerJoint<PerJoint<Option<f64>>> = PerJoint::new();
+        let pair = |x, y| PerJoint::from_iter([x, y]);
         match self.kind {
             MachineKind::ThreeAxis => {
                 if (v - t0).norm() < tol {
-                    orientations.push(vec![]);
+                    orientations.push(PerJoint::new());
                 }
             }
-            MachineKind::Head => orientations.extend(one_axis(&joints[0].direction, &t0, &v, tol).map(|x| vec![x])),
-            MachineKind::Table => orientations.extend(one_axis(&joints[0].direction, &v, &t0, tol).map(|x| vec![x])),
+            MachineKind::Head => {
+                orientations.extend(one_axis(&joints[0].direction, &t0, &v, tol).map(|x| PerJoint::from_iter([x])))
+            }
+            MachineKind::Table => {
+                orientations.extend(one_axis(&joints[0].direction, &v, &t0, tol).map(|x| PerJoint::from_iter([x])))
+            }
             MachineKind::HeadHead => {
                 let (a, b) = (joints[0].direction, joints[1].direction);
-                orientations.extend(two_axes(&a, &b, &t0, &v, tol).into_iter().map(|(x, y)| vec![x, y]));
+                orientations.extend(two_axes(&a, &b, &t0, &v, tol).into_iter().map(|(x, y)| pair(x, y)));
             }
             MachineKind::TableTable => {
                 let (a, b) = (joints[0].direction, joints[1].direction);
-                orientations.extend(two_axes(&a, &b, &v, &t0, tol).into_iter().map(|(x, y)| vec![x, y]));
+                orientations.extend(two_axes(&a, &b, &v, &t0, tol).into_iter().map(|(x, y)| pair(x, y)));
             }
             MachineKind::HeadTable => {
                 // Table⁻¹·Head·t0 = v, i.e. Rot(−table axis, φt)·Rot(head axis, φh)·t0 = v.
                 let (h, t) = (joints[0].direction, joints[1].direction);
-                orientations.extend(two_axes(&-t, &h, &t0, &v, tol).into_iter().map(|(x, y)| vec![y, x]));
+                orientations.extend(two_axes(&-t, &h, &t0, &v, tol).into_iter().map(|(x, y)| pair(y, x)));
             }
         }
-        let mut out: Vec<Candidate> = Vec::new();
         for phis in orientations {
-            let free: Vec<bool> = phis.iter().map(Option::is_none).collect();
+            let free: PerJoint<bool> = phis.iter().map(Option::is_none).collect();
             // A free angle stays where it is; the other one is then solved again with it.
             let phis = match self.fix_free(&joints, &phis, &current, &v) {
                 Some(p) => p,
                 None => continue,
             };
-            let mut pos = from.to_vec();
+            let mut pos: ArrayVec<f64, MAX_AXES> = from.iter().copied().take(MAX_AXES).collect();
             for (j, phi) in joints.iter().zip(&phis) {
                 if let Some(i) = j.index {
                     pos[i] = basic(j.command(*phi));
@@ -128,14 +141,16 @@ impl Kinematics {
                     pos[i] = from[i];
                 }
             }
-            let carriage = self.carriage_for(&pos, tip, tool_length);
+            // The carriage from the tip, with the rotary axes' motions computed once.
+            let (head, table) = (self.motion(Side::Head, &pos), self.motion(Side::Table, &pos));
+            let carriage = table.apply(tip) - head.apply(self.nose - tool_length * self.tool_axis);
             for (axis, value) in self.linear.iter().zip(carriage.iter()) {
                 if let Some(i) = axis {
                     pos[*i] = *value;
                 }
             }
             // Keep only true solutions, once each.
-            if (self.forward(&pos, tool_length).tool - v).norm() > 1e-6 {
+            if (table.unturn(head.turn(self.tool_axis)) - v).norm() > 1e-6 {
                 continue;
             }
             if !out.iter().any(|c| c.pos.iter().zip(&pos).all(|(a, b)| (a - b).abs() < 1e-9)) {
@@ -152,28 +167,29 @@ impl Kinematics {
         phis: &[Option<f64>],
         current: &dyn Fn(&Joint) -> f64,
         v: &Vec3,
-    ) -> Option<Vec<f64>> {
+    ) -> Option<PerJoint<f64>> {
         if phis.iter().all(Option::is_some) {
             return Some(phis.iter().map(|p| p.unwrap_or(0.0)).collect());
         }
+        let pair = |x, y| Some(PerJoint::from_iter([x, y]));
         let t0 = self.tool_axis;
         let rot = |j: &Joint, phi: f64| super::rotation_deg(&j.direction, phi);
         match (self.kind, phis) {
-            (_, [None]) => Some(vec![current(joints[0])]),
+            (_, [None]) => Some(PerJoint::from_iter([current(joints[0])])),
             (MachineKind::HeadHead, [x, y]) => {
                 let x = x.unwrap_or_else(|| current(joints[0]));
                 let y = y.or_else(|| angle_about(&joints[1].direction, &t0, &(rot(joints[0], x).inverse() * v)));
-                Some(vec![x, y.unwrap_or_else(|| current(joints[1]))])
+                pair(x, y.unwrap_or_else(|| current(joints[1])))
             }
             (MachineKind::TableTable, [x, y]) => {
                 let x = x.unwrap_or_else(|| current(joints[0]));
                 let y = y.or_else(|| angle_about(&joints[1].direction, v, &(rot(joints[0], x).inverse() * t0)));
-                Some(vec![x, y.unwrap_or_else(|| current(joints[1]))])
+                pair(x, y.unwrap_or_else(|| current(joints[1])))
             }
             (MachineKind::HeadTable, [h, t]) => {
                 let t = t.unwrap_or_else(|| current(joints[1]));
                 let h = h.or_else(|| angle_about(&joints[0].direction, &t0, &(rot(joints[1], t) * v)));
-                Some(vec![h.unwrap_or_else(|| current(joints[0])), t])
+                pair(h.unwrap_or_else(|| current(joints[0])), t)
             }
             _ => None,
         }

@@ -13,7 +13,7 @@
 mod ik;
 mod select;
 
-pub use ik::Candidate;
+pub use ik::{Candidate, Candidates, PerJoint};
 pub use select::{Choice, Selection};
 
 use crate::alarm::AlarmId;
@@ -61,11 +61,6 @@ pub struct Joint {
 }
 
 impl Joint {
-    /// The rotation at commanded angle `theta` (degrees).
-    fn rotation(&self, theta: f64) -> Rotation3<f64> {
-        rotation_deg(&self.direction, self.sign * (theta + self.zero_offset))
-    }
-
     /// The commanded angle that turns the axis by `phi` degrees about `direction`.
     fn command(&self, phi: f64) -> f64 {
         self.sign * phi - self.zero_offset
@@ -98,31 +93,72 @@ pub struct Kinematics {
     pub linear: [Option<usize>; 3],
 }
 
-/// The rigid motion of one side's chain: each joint's axis point and rotation, master first.
+/// One joint turned: a rotation by an angle with sine `s` and cosine `c` about the line through
+/// `point` with unit direction `dir` (Rodrigues' formula on vectors, no matrix).
+#[derive(Clone, Copy)]
+struct Turn {
+    point: Vec3,
+    dir: Vec3,
+    s: f64,
+    c: f64,
+}
+
+impl Turn {
+    #[inline(always)]
+    fn vector(&self, v: Vec3, s: f64) -> Vec3 {
+        let u = &self.dir;
+        v * self.c + u.cross(&v) * s + u * (u.dot(&v) * (1.0 - self.c))
+    }
+}
+
+/// The rigid motion of one side's chain, master first (a plain array: collecting into an
+/// `ArrayVec` cost as much as the trigonometry).
 struct ChainMotion {
-    links: arrayvec::ArrayVec<(Vec3, Rotation3<f64>), 2>,
+    turns: [Turn; 2],
+    len: usize,
 }
 
 impl ChainMotion {
+    #[inline(always)]
+    fn links(&self) -> &[Turn] {
+        &self.turns[..self.len]
+    }
+
     /// Where a point carried by the chain (at zero angles) goes: the joint nearest the end of
     /// the chain (the slave) acts first.
+    #[inline(always)]
     fn apply(&self, mut x: Vec3) -> Vec3 {
-        for (point, r) in self.links.iter().rev() {
-            x = point + r * (x - point);
+        for t in self.links().iter().rev() {
+            x = t.point + t.vector(x - t.point, t.s);
         }
         x
     }
 
     /// The inverse of [`ChainMotion::apply`].
+    #[inline(always)]
     fn undo(&self, mut x: Vec3) -> Vec3 {
-        for (point, r) in &self.links {
-            x = point + r.inverse() * (x - point);
+        for t in self.links() {
+            x = t.point + t.vector(x - t.point, -t.s);
         }
         x
     }
 
-    fn rotation(&self) -> Rotation3<f64> {
-        self.links.iter().fold(Rotation3::identity(), |acc, (_, r)| acc * r)
+    /// A direction carried by the chain.
+    #[inline(always)]
+    fn turn(&self, mut v: Vec3) -> Vec3 {
+        for t in self.links().iter().rev() {
+            v = t.vector(v, t.s);
+        }
+        v
+    }
+
+    /// The inverse of [`ChainMotion::turn`].
+    #[inline(always)]
+    fn unturn(&self, mut v: Vec3) -> Vec3 {
+        for t in self.links() {
+            v = t.vector(v, -t.s);
+        }
+        v
     }
 }
 
@@ -238,9 +274,16 @@ impl Kinematics {
     }
 
     /// The rigid motion of the head (`Side::Head`) or the table at the axis positions `pos`.
+    #[inline(always)]
     fn motion(&self, side: Side, pos: &[f64]) -> ChainMotion {
         let joints = if side == Side::Head { &self.head } else { &self.table };
-        ChainMotion { links: joints.iter().map(|j| (j.point, j.rotation(self.angle(j, pos)))).collect() }
+        let still = Turn { point: Vec3::zeros(), dir: Vec3::z(), s: 0.0, c: 1.0 };
+        let mut motion = ChainMotion { turns: [still; 2], len: joints.len() };
+        for (t, j) in motion.turns.iter_mut().zip(joints) {
+            let (s, c) = crate::angle::sin_cos_deg(j.sign * (self.angle(j, pos) + j.zero_offset));
+            *t = Turn { point: j.point, dir: j.direction, s, c };
+        }
+        motion
     }
 
     /// Forward kinematics: axis positions (axis order; X, Y, Z are the carriage reference in
@@ -249,11 +292,11 @@ impl Kinematics {
         let carriage = self.carriage(pos);
         let head = self.motion(Side::Head, pos);
         let tip_machine = carriage + head.apply(self.nose - tool_length * self.tool_axis);
-        let tool_machine = head.rotation() * self.tool_axis;
+        let tool_machine = head.turn(self.tool_axis);
         // Table frame: undo the table's motion.
         let table = self.motion(Side::Table, pos);
         let tip = table.undo(tip_machine);
-        let tool = table.rotation().inverse() * tool_machine;
+        let tool = table.unturn(tool_machine);
         Pose { tip, tool, tip_machine, tool_machine }
     }
 
@@ -280,7 +323,7 @@ impl Kinematics {
 
     /// The joints in FANUC's order θ1, θ2 (No.19680): master, slave on a head-head or
     /// table-table machine; head, table on a mixed one.
-    pub fn joints(&self) -> Vec<&Joint> {
+    pub fn joints(&self) -> PerJoint<&Joint> {
         self.head.iter().chain(&self.table).collect()
     }
 }

@@ -5,6 +5,8 @@
 use super::{Candidate, Kinematics, MachineKind};
 use crate::alarm::AlarmId;
 use crate::dialect::Dialect;
+use crate::machine::MAX_AXES;
+use arrayvec::ArrayVec;
 
 /// How to choose.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,7 +22,7 @@ pub struct Selection {
 /// The chosen axis positions (rotary axes at the angle they go to, not reduced to 0–360).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Choice {
-    pub pos: Vec<f64>,
+    pub pos: ArrayVec<f64, MAX_AXES>,
     /// Index of the candidate it came from.
     pub candidate: usize,
 }
@@ -32,30 +34,31 @@ const TIE: f64 = 1e-9;
 /// limits 0 is no range). Of two equally near members the one nearer 0 wins, then the larger
 /// (spec Q-32 leaves this open).
 fn nearest_member(basic: f64, current: f64, range: Option<[f64; 2]>) -> Option<f64> {
-    let k = ((current - basic) / 360.0).round();
-    let mut members = [basic + 360.0 * (k - 1.0), basic + 360.0 * k, basic + 360.0 * (k + 1.0)];
-    let range = range.filter(|r| r[0] != 0.0 || r[1] != 0.0);
-    if let Some([lo, hi]) = range {
-        // Within a range the nearest member may lie further than one turn away.
-        let first = basic + 360.0 * ((lo - basic) / 360.0).ceil();
-        let in_range: Vec<f64> = (0..).map(|i| first + 360.0 * i as f64).take_while(|m| *m <= hi + TIE).collect();
-        return in_range.into_iter().min_by(|a, b| rank(*a, current).partial_cmp(&rank(*b, current)).unwrap());
+    let k = crate::angle::round((current - basic) * (1.0 / 360.0)) as f64;
+    // The members around the current angle; within a range, the ones around the current angle
+    // clamped into it (the nearest member may then lie more than a turn away).
+    let (lo, hi) = match range.filter(|r| r[0] != 0.0 || r[1] != 0.0) {
+        Some([lo, hi]) => (lo - TIE, hi + TIE),
+        None => (f64::NEG_INFINITY, f64::INFINITY),
+    };
+    let (first, last) = (((lo - basic) / 360.0).ceil(), ((hi - basic) / 360.0).floor());
+    if first > last {
+        return None;
     }
-    members.sort_by(|a, b| rank(*a, current).partial_cmp(&rank(*b, current)).unwrap());
-    Some(members[0])
+    [k - 1.0, k, k + 1.0].into_iter().map(|n| basic + 360.0 * n.clamp(first, last)).min_by_key(|m| rank(*m, current))
+}
+
+/// `x` in units of the tie tolerance: equal keys are ties.
+fn quantum(x: f64) -> i64 {
+    crate::angle::round(x * (1.0 / TIE))
 }
 
 /// Sort key for family members: distance to the current angle, then to 0, then the larger.
 fn rank(m: f64, current: f64) -> (i64, i64, i64) {
-    let q = |x: f64| (x / TIE).round() as i64;
-    (q((m - current).abs()), q(zero_distance(m)), -q(m))
+    (quantum((m - current).abs()), quantum(zero_distance(m)), -quantum(m))
 }
 
-/// Distance to the nearest multiple of 360.
-fn zero_distance(x: f64) -> f64 {
-    let r = x.rem_euclid(360.0);
-    r.min(360.0 - r)
-}
+use crate::angle::distance_to_zero as zero_distance;
 
 impl Kinematics {
     /// Choose among `candidates` (from [`Kinematics::inverse`]) starting from `from`.
@@ -82,7 +85,7 @@ impl Kinematics {
         // Judgment order over joints() indices.
         let first_second: [usize; 2] = if self.kind == MachineKind::HeadTable { [1, 0] } else { [0, 1] };
         let movement = if pri { [first_second[1], first_second[0]] } else { first_second };
-        let mut best: Option<(Vec<i64>, Choice)> = None;
+        let mut best: Option<([i64; 4], Choice)> = None;
         'candidates: for (ci, c) in candidates.iter().enumerate() {
             let mut pos = c.pos.clone();
             let mut moved = [0.0; 2];
@@ -101,13 +104,10 @@ impl Kinematics {
                 moved[k] = (target - from[i]).abs();
                 zero[k] = zero_distance(target);
             }
-            let q = |x: f64| (x / TIE).round() as i64;
-            let key: Vec<i64> = movement
-                .iter()
-                .filter(|&&k| k < joints.len())
-                .map(|&k| q(moved[k]))
-                .chain(first_second.iter().filter(|&&k| k < joints.len()).map(|&k| q(zero[k])))
-                .collect();
+            // Judged in order: movements, then distances to 0° (absent joints count 0).
+            let q = quantum;
+            let key =
+                [q(moved[movement[0]]), q(moved[movement[1]]), q(zero[first_second[0]]), q(zero[first_second[1]])];
             if best.as_ref().is_none_or(|(b, _)| key < *b) {
                 best = Some((key, Choice { pos, candidate: ci }));
             }
@@ -124,7 +124,7 @@ impl Kinematics {
         }
         let joints = self.joints();
         // (master travel, candidate, positions) for every candidate whose paths stay in range.
-        let mut options: Vec<(f64, Choice)> = Vec::new();
+        let mut options: ArrayVec<(f64, Choice), 2> = ArrayVec::new();
         for (ci, c) in candidates.iter().enumerate() {
             let mut pos = c.pos.clone();
             let mut master_travel = 0.0;
@@ -160,15 +160,19 @@ impl Kinematics {
 }
 
 /// Syntec range: the angles `{φ : (φ − start) mod 360 ≤ (end − start) mod 360}`; start = end is
-/// no restriction. The swept arc from `from` over `delta` must stay inside.
+/// no restriction. The swept arc from `from` over `delta` must stay inside: measured from
+/// `start`, the allowed angles are the intervals [360k, 360k + width], so the arc must lie in
+/// the one that holds its start.
 fn syntec_path_in_range(from: f64, delta: f64, range: Option<[f64; 2]>) -> bool {
     let Some([start, end]) = range else { return true };
     if (start - end).rem_euclid(360.0) < TIE {
         return true;
     }
     let width = (end - start).rem_euclid(360.0);
-    let inside = |phi: f64| (phi - start).rem_euclid(360.0) <= width + TIE;
-    // Every whole degree of the path and its end point.
-    let steps = delta.abs().ceil().max(1.0) as usize;
-    (0..=steps).all(|s| inside(from + delta * s as f64 / steps as f64))
+    let mut x = (from - start).rem_euclid(360.0);
+    if x > 360.0 - TIE {
+        x -= 360.0;
+    }
+    let (lo, hi) = if delta < 0.0 { (x + delta, x) } else { (x, x + delta) };
+    lo >= -TIE && hi <= width + TIE
 }

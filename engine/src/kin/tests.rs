@@ -166,7 +166,7 @@ fn singular_postures_are_detected() {
     let k = kin("table-ac");
     let from = [0.0, 0.0, 0.0, 0.0, 123.0];
     let c = k.inverse(Vec3::zeros(), Vec3::new(0.0, 0.0, 1.0), 0.0, &from);
-    assert!(c.iter().all(|c| c.free == vec![false, true] && c.pos[4] == 123.0), "{c:?}");
+    assert!(c.iter().all(|c| c.free[..] == [false, true] && c.pos[4] == 123.0), "{c:?}");
 }
 
 #[test]
