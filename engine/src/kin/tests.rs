@@ -256,4 +256,51 @@ proptest! {
             prop_assert!((p.tool - pose.tool).norm() < 1e-9, "tool {:?} vs {:?}", p.tool, pose.tool);
         }
     }
+
+    /// With movement ranges (FANUC No.19741–19744): whenever the posture of `q`, which lies in
+    /// the ranges, is asked for, a choice exists, every chosen rotary angle lies in its range,
+    /// and it reproduces the tip and direction. Syntec P0 likewise with cyclic ranges around q.
+    #[test]
+    fn choices_respect_movement_ranges(
+        m in machine(),
+        q in prop::collection::vec(-170.0f64..170.0, 5),
+        from in prop::collection::vec(-400.0f64..400.0, 5),
+        widths in (5.0f64..200.0, 5.0f64..200.0),
+        length in 0.0f64..200.0,
+    ) {
+        let mut m = m;
+        let spans = [widths.0, widths.1];
+        let mut k = 0;
+        for l in &mut m.rotary {
+            let i = m.axes.iter().position(|a| a.name == l.axis).unwrap();
+            l.range = Some([q[i] - spans[k] / 2.0, q[i] + spans[k] / 2.0]);
+            k += 1;
+        }
+        let Ok(kin) = Kinematics::new(&m) else { return Ok(()) };
+        let n = kin.axes;
+        let (q, from) = (&q[..n], &from[..n]);
+        let pose = kin.forward(q, length);
+        let cands = kin.inverse(pose.tip, pose.tool, length, from);
+        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+            let how = Selection { dialect, pri: false, p: 0 };
+            let choice = kin.select(&cands, from, how);
+            if dialect == Dialect::Syntec && choice.is_err() {
+                // Syntec also needs the swept path inside the range, which `from` may not allow.
+                continue;
+            }
+            let choice = choice.map_err(|e| TestCaseError::fail(format!("{dialect:?}: {e:?} for {q:?} from {from:?}")))?;
+            for j in kin.joints() {
+                let (i, [lo, hi]) = (j.index.unwrap(), j.range.unwrap());
+                let a = choice.pos[i];
+                let inside = match dialect {
+                    Dialect::Fanuc => a >= lo - 1e-6 && a <= hi + 1e-6,
+                    Dialect::Syntec => (a - lo).rem_euclid(360.0) <= hi - lo + 1e-6,
+                };
+                prop_assert!(inside, "{dialect:?} axis {} at {a} outside [{lo}, {hi}]", j.name);
+            }
+            let p = kin.forward(&choice.pos, length);
+            prop_assert!((p.tip - pose.tip).norm() < 1e-9 * (1.0 + pose.tip.norm()));
+            prop_assert!((p.tool - pose.tool).norm() < 1e-9);
+        }
+    }
 }
