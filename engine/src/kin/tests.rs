@@ -270,11 +270,9 @@ proptest! {
     ) {
         let mut m = m;
         let spans = [widths.0, widths.1];
-        let mut k = 0;
-        for l in &mut m.rotary {
+        for (k, l) in m.rotary.iter_mut().enumerate() {
             let i = m.axes.iter().position(|a| a.name == l.axis).unwrap();
             l.range = Some([q[i] - spans[k] / 2.0, q[i] + spans[k] / 2.0]);
-            k += 1;
         }
         let Ok(kin) = Kinematics::new(&m) else { return Ok(()) };
         let n = kin.axes;
