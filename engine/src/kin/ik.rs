@@ -143,7 +143,7 @@ impl Kinematics {
             }
             // The carriage from the tip, with the rotary axes' motions computed once.
             let (head, table) = (self.motion(Side::Head, &pos), self.motion(Side::Table, &pos));
-            let carriage = table.apply(tip) - head.apply(self.nose - tool_length * self.tool_axis);
+            let carriage = self.carriage_with(&head, &table, tip, tool_length);
             for (axis, value) in self.linear.iter().zip(carriage.iter()) {
                 if let Some(i) = axis {
                     pos[*i] = *value;

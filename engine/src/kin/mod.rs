@@ -93,43 +93,47 @@ pub struct Kinematics {
     pub linear: [Option<usize>; 3],
 }
 
-/// One joint turned: a rotation by an angle with sine `s` and cosine `c` about the line through
-/// `point` with unit direction `dir` (Rodrigues' formula on vectors, no matrix).
+/// One joint turned: a rotation by an angle with sine `s` and cosine `c` about the joint's line
+/// (Rodrigues' formula on vectors, no matrix).
 #[derive(Clone, Copy)]
-struct Turn {
-    point: Vec3,
-    dir: Vec3,
+struct Turn<'a> {
+    joint: &'a Joint,
     s: f64,
     c: f64,
 }
 
-impl Turn {
+impl Turn<'_> {
     #[inline(always)]
     fn vector(&self, v: Vec3, s: f64) -> Vec3 {
-        let u = &self.dir;
+        let u = &self.joint.direction;
         v * self.c + u.cross(&v) * s + u * (u.dot(&v) * (1.0 - self.c))
+    }
+
+    #[inline(always)]
+    fn point(&self, x: Vec3, s: f64) -> Vec3 {
+        let p = self.joint.point;
+        p + self.vector(x - p, s)
     }
 }
 
-/// The rigid motion of one side's chain, master first (a plain array: collecting into an
-/// `ArrayVec` cost as much as the trigonometry).
-struct ChainMotion {
-    turns: [Turn; 2],
-    len: usize,
+/// The rigid motion of one side's chain, master first (a small plain array: collecting into an
+/// `ArrayVec` of copied joint data cost as much as the trigonometry).
+struct ChainMotion<'a> {
+    turns: [Option<Turn<'a>>; 2],
 }
 
-impl ChainMotion {
+impl ChainMotion<'_> {
     #[inline(always)]
-    fn links(&self) -> &[Turn] {
-        &self.turns[..self.len]
+    fn links(&self) -> impl DoubleEndedIterator<Item = &Turn<'_>> {
+        self.turns.iter().flatten()
     }
 
     /// Where a point carried by the chain (at zero angles) goes: the joint nearest the end of
     /// the chain (the slave) acts first.
     #[inline(always)]
     fn apply(&self, mut x: Vec3) -> Vec3 {
-        for t in self.links().iter().rev() {
-            x = t.point + t.vector(x - t.point, t.s);
+        for t in self.links().rev() {
+            x = t.point(x, t.s);
         }
         x
     }
@@ -138,7 +142,7 @@ impl ChainMotion {
     #[inline(always)]
     fn undo(&self, mut x: Vec3) -> Vec3 {
         for t in self.links() {
-            x = t.point + t.vector(x - t.point, -t.s);
+            x = t.point(x, -t.s);
         }
         x
     }
@@ -146,7 +150,7 @@ impl ChainMotion {
     /// A direction carried by the chain.
     #[inline(always)]
     fn turn(&self, mut v: Vec3) -> Vec3 {
-        for t in self.links().iter().rev() {
+        for t in self.links().rev() {
             v = t.vector(v, t.s);
         }
         v
@@ -275,13 +279,12 @@ impl Kinematics {
 
     /// The rigid motion of the head (`Side::Head`) or the table at the axis positions `pos`.
     #[inline(always)]
-    fn motion(&self, side: Side, pos: &[f64]) -> ChainMotion {
+    fn motion(&self, side: Side, pos: &[f64]) -> ChainMotion<'_> {
         let joints = if side == Side::Head { &self.head } else { &self.table };
-        let still = Turn { point: Vec3::zeros(), dir: Vec3::z(), s: 0.0, c: 1.0 };
-        let mut motion = ChainMotion { turns: [still; 2], len: joints.len() };
+        let mut motion = ChainMotion { turns: [None; 2] };
         for (t, j) in motion.turns.iter_mut().zip(joints) {
             let (s, c) = crate::angle::sin_cos_deg(j.sign * (self.angle(j, pos) + j.zero_offset));
-            *t = Turn { point: j.point, dir: j.direction, s, c };
+            *t = Some(Turn { joint: j, s, c });
         }
         motion
     }
@@ -303,8 +306,12 @@ impl Kinematics {
     /// The carriage position (X, Y, Z) that puts the tool tip at `tip` (table frame) with the
     /// rotary axes of `pos`.
     pub fn carriage_for(&self, pos: &[f64], tip: Vec3, tool_length: f64) -> Vec3 {
-        let tip_machine = self.motion(Side::Table, pos).apply(tip);
-        tip_machine - self.motion(Side::Head, pos).apply(self.nose - tool_length * self.tool_axis)
+        self.carriage_with(&self.motion(Side::Head, pos), &self.motion(Side::Table, pos), tip, tool_length)
+    }
+
+    /// [`Kinematics::carriage_for`] with the chain motions already computed.
+    fn carriage_with(&self, head: &ChainMotion, table: &ChainMotion, tip: Vec3, tool_length: f64) -> Vec3 {
+        table.apply(tip) - head.apply(self.nose - tool_length * self.tool_axis)
     }
 
     /// How near the posture at `pos` is to singular; `None` on machines with fewer than two
