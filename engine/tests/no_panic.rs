@@ -12,7 +12,7 @@
 
 use fivex_engine::check::check;
 use fivex_engine::interp::{Config, Interpreter};
-use fivex_engine::lang::{parse_file, Diagnostic, File};
+use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions};
 use fivex_engine::Dialect;
@@ -20,27 +20,6 @@ use proptest::prelude::*;
 use proptest::test_runner::Config as PtConfig;
 
 const MAX_BLOCKS: u64 = 10_000;
-
-/// `check::check` takes the file by reference or by value depending on the engine version (it
-/// was changing while these tests were written); this calls either form.
-trait CallCheck<Marker> {
-    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic>;
-}
-
-struct ByRef;
-struct ByValue;
-
-impl<F: Fn(&File, Dialect) -> Vec<Diagnostic>> CallCheck<ByRef> for F {
-    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic> {
-        self(file, dialect)
-    }
-}
-
-impl<F: Fn(File, Dialect) -> Vec<Diagnostic>> CallCheck<ByValue> for F {
-    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic> {
-        self(file.clone(), dialect)
-    }
-}
 
 fn interpreter(text: &str, preset: &str, dialect: Dialect) -> Interpreter {
     let mut cfg = Config::new(MachineConfig::preset(preset).expect("preset"), dialect);
@@ -61,7 +40,7 @@ fn exercise(text: &str) {
         assert!(d.line >= 1, "diagnostic lines are 1-based: {d:?}");
     }
     for dialect in [Dialect::Fanuc, Dialect::Syntec] {
-        let _ = check.check_file(&file, dialect);
+        let _ = check(file.clone(), dialect);
     }
     // `fivex run` on mill3 (FANUC) and on head-bc (Syntec).
     for (preset, dialect) in [("mill3", Dialect::Fanuc), ("head-bc", Dialect::Syntec)] {

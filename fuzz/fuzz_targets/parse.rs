@@ -1,29 +1,8 @@
 //! The NC parser must accept any bytes without panicking (CONTRACTS: bad input never panics).
 #![no_main]
 
-use fivex_engine::lang::{Diagnostic, File};
 use fivex_engine::Dialect;
 use libfuzzer_sys::fuzz_target;
-
-/// `check::check` takes the file by reference or by value depending on the engine version.
-trait CallCheck<Marker> {
-    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic>;
-}
-
-struct ByRef;
-struct ByValue;
-
-impl<F: Fn(&File, Dialect) -> Vec<Diagnostic>> CallCheck<ByRef> for F {
-    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic> {
-        self(file, dialect)
-    }
-}
-
-impl<F: Fn(File, Dialect) -> Vec<Diagnostic>> CallCheck<ByValue> for F {
-    fn check_file(&self, file: &File, dialect: Dialect) -> Vec<Diagnostic> {
-        self(file.clone(), dialect)
-    }
-}
 
 fuzz_target!(|data: &[u8]| {
     // The CLI reads files the same way: lossy UTF-8.
@@ -34,6 +13,6 @@ fuzz_target!(|data: &[u8]| {
     }
     // The static checks walk the same tree: exercise them too.
     for dialect in [Dialect::Fanuc, Dialect::Syntec] {
-        let _ = fivex_engine::check::check.check_file(&file, dialect);
+        let _ = fivex_engine::check::check(file.clone(), dialect);
     }
 });

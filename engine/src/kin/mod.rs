@@ -190,7 +190,8 @@ pub struct Pose {
     pub tool_machine: Vec3,
 }
 
-fn vec3(a: [f64; 3]) -> Vec3 {
+/// A machine-file vector as a `Vec3`.
+pub(crate) fn vec3(a: [f64; 3]) -> Vec3 {
     Vec3::new(a[0], a[1], a[2])
 }
 

@@ -4,6 +4,7 @@
 
 use super::{Candidate, Kinematics, MachineKind};
 use crate::alarm::AlarmId;
+use crate::angle::distance_to_zero as zero_distance;
 use crate::dialect::Dialect;
 use crate::machine::MAX_AXES;
 use arrayvec::ArrayVec;
@@ -57,8 +58,6 @@ fn quantum(x: f64) -> i64 {
 fn rank(m: f64, current: f64) -> (i64, i64, i64) {
     (quantum((m - current).abs()), quantum(zero_distance(m)), -quantum(m))
 }
-
-use crate::angle::distance_to_zero as zero_distance;
 
 impl Kinematics {
     /// Choose among `candidates` (from [`Kinematics::inverse`]) starting from `from`.

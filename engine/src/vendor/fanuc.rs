@@ -6,9 +6,10 @@
 //! hypothetical axes, 19697–19699 reference tool direction, 19700–19705 table positions, 19666
 //! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
 
-use super::{add, chain, half_turn, reference_angles, reference_direction, scale, sub, unit, unrepresentable};
+use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
 use super::{Params, Value};
 use crate::alarm::AlarmId;
+use crate::kin::{vec3, Vec3};
 use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, RotaryLink, Side};
 
 const NAMES: &str = "XYZUVWABC";
@@ -72,7 +73,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         }
         let stroke = (plus[i] != 0.0 || minus[i] != 0.0).then_some([minus[i], plus[i]]);
         let a = (accel[i] > 0.0).then_some(accel[i]);
-        let jerk = (bell[i] > 0.0).then(|| a.unwrap_or(0.0) / (bell[i] / 1000.0)).filter(|j| *j > 0.0);
+        let jerk = a.filter(|_| bell[i] > 0.0).map(|a| a / (bell[i] / 1000.0));
         axes.push(Axis {
             accel: a,
             jerk,
@@ -109,9 +110,9 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         let (s, c) = crate::angle::sin_cos_deg(tilt);
         let direction = match code {
             1..=3 => unit(code),
-            4 => [c, s, 0.0],
-            5 => [0.0, c, s],
-            _ => [s, 0.0, c],
+            4 => Vec3::new(c, s, 0.0),
+            5 => Vec3::new(0.0, c, s),
+            _ => Vec3::new(s, 0.0, c),
         };
         let hand = if p.code(base + 3, 0, 1)? == 0 { Hand::Right } else { Hand::Left };
         let axis = if hypothetical {
@@ -133,7 +134,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         rotary.push(RotaryLink {
             axis,
             side: *side,
-            direction,
+            direction: direction.into(),
             hand,
             point: [0.0; 3],
             zero_offset: 0.0,
@@ -146,25 +147,19 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     // axis next to the tool, No.19712 from there to the other head axis. The table's first axis
     // passes through No.19700, the second through No.19700 + No.19703.
     let holder = if sides.first() == Some(&Side::Head) { p.get(19666)? } else { 0.0 };
-    let (v1, v2) = (p.get3(19709)?, p.get3(19712)?);
-    let (a, d) = (p.get3(19700)?, p.get3(19703)?);
-    match kind {
-        2 => {
-            rotary[1].point = v1;
-            rotary[0].point = add(v1, v2);
-        }
-        12 => {
-            rotary[0].point = a;
-            rotary[1].point = add(a, d);
-        }
-        21 => {
-            rotary[0].point = v1;
-            rotary[1].point = a;
-        }
-        _ => {}
+    let (v1, v2) = (vec3(p.get3(19709)?), vec3(p.get3(19712)?));
+    let (a, d) = (vec3(p.get3(19700)?), vec3(p.get3(19703)?));
+    let points = match kind {
+        2 => [v1 + v2, v1],
+        12 => [a, a + d],
+        21 => [v1, a],
+        _ => [Vec3::zeros(); 2],
+    };
+    for (link, point) in rotary.iter_mut().zip(points) {
+        link.point = point.into();
     }
-    let nose = scale(tool_axis, -holder);
-    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis, nose, holder })
+    let nose = (tool_axis * -holder).into();
+    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose, holder })
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
@@ -181,7 +176,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     p.set_axes(1660, each(&|a| a.max_accel()));
     p.set_axes(1672, each(&|a| 1000.0 * a.max_accel() / a.max_jerk()));
 
-    let (code, ra, rb) = reference_angles(super::normalize(m.tool_axis));
+    let (code, ra, rb) = reference_angles(direction(m.tool_axis));
     p.set(19697, code as f64);
     p.set(19698, real(ra));
     p.set(19699, real(rb));
@@ -198,8 +193,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     };
     p.set(19680, kind as f64);
     // The head's controlled point must be on the tool axis through the nose (No.19666).
-    let holder = -(m.nose[0] * t0[0] + m.nose[1] * t0[1] + m.nose[2] * t0[2]);
-    let on_axis = sub(m.nose, scale(t0, -holder)).iter().all(|x| x.abs() < 1e-9);
+    let nose = vec3(m.nose);
+    let holder = -nose.dot(&t0);
+    let on_axis = (nose + t0 * holder).iter().all(|x| x.abs() < 1e-9);
     if !on_axis || (holder.abs() > 1e-9 && !matches!(kind, 2 | 21)) {
         return Err(unrepresentable("FANUC", "the spindle nose must lie on the tool axis through X/Y/Z, and only a head can have a holder offset (No.19666)"));
     }
@@ -209,7 +205,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         if l.zero_offset != 0.0 {
             return Err(unrepresentable("FANUC", format!("axis {} has a zero offset", l.axis)));
         }
-        let (code, tilt, flip) = direction_code(super::normalize(l.direction)).ok_or_else(|| {
+        let (code, tilt, flip) = direction_code(direction(l.direction)).ok_or_else(|| {
             unrepresentable("FANUC", format!("axis {} is not in a coordinate plane (No.19682)", l.axis))
         })?;
         let number = match l.fixed {
@@ -230,11 +226,12 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         p.set(19742 + 2 * j as u32, real(lower));
     }
     p.set(19696, ia as f64);
-    let zero = [0.0; 3];
+    let zero = Vec3::zeros();
+    let point = |k: usize| vec3(links[k].point);
     let (v1, v2, a, d) = match kind {
-        2 => (links[1].point, sub(links[0].point, links[1].point), zero, zero),
-        12 => (zero, zero, links[0].point, sub(links[1].point, links[0].point)),
-        21 => (links[0].point, zero, links[1].point, zero),
+        2 => (point(1), point(0) - point(1), zero, zero),
+        12 => (zero, zero, point(0), point(1) - point(0)),
+        21 => (point(0), zero, point(1), zero),
         _ => (zero, zero, zero, zero),
     };
     p.set(19666, real(holder));
@@ -249,7 +246,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
 /// No.19682 code and inclination of a unit direction, and whether it points the other way
 /// (then the hand flips): coordinate axes 1–3; 4 in the XY plane at φ from +X toward +Y, 5 in
 /// YZ from +Y toward +Z, 6 in ZX from +Z toward +X.
-fn direction_code(u: [f64; 3]) -> Option<(i64, f64, bool)> {
+fn direction_code(u: Vec3) -> Option<(i64, f64, bool)> {
     const EPS: f64 = 1e-12;
     if let Some(k) = u.iter().position(|x| (x.abs() - 1.0).abs() < EPS) {
         return Some((k as i64 + 1, 0.0, u[k] < 0.0));
@@ -262,18 +259,15 @@ fn direction_code(u: [f64; 3]) -> Option<(i64, f64, bool)> {
 
 /// The hypothetical first axis that lets FANUC describe a single rotary axis (fixed at 0°): a
 /// coordinate axis neither parallel to the real one nor, on a table, to the tool.
-fn hypothetical_master(real: &RotaryLink, t0: [f64; 3]) -> RotaryLink {
-    let parallel = |a: [f64; 3], b: [f64; 3]| {
-        let c = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-        c.iter().map(|x| x * x).sum::<f64>() < 1e-18
-    };
-    let d = super::normalize(real.direction);
+fn hypothetical_master(real: &RotaryLink, t0: Vec3) -> RotaryLink {
+    let parallel = |a: Vec3, b: Vec3| a.cross(&b).norm() < 1e-9;
+    let d = direction(real.direction);
     let code = (1..=3).find(|&c| !parallel(unit(c), d) && (real.side == Side::Head || !parallel(unit(c), t0)));
     let code = code.unwrap_or(1);
     let axis = ['A', 'B', 'C'].into_iter().find(|&c| c != real.axis).unwrap_or('A');
     RotaryLink {
         axis,
-        direction: unit(code),
+        direction: unit(code).into(),
         hand: if real.side == Side::Head { Hand::Right } else { Hand::Left },
         zero_offset: 0.0,
         fixed: Some(0.0),

@@ -14,6 +14,7 @@ mod syntec;
 
 pub use params::{ParamFile, Params, Value};
 
+use crate::kin::{vec3, Vec3};
 use crate::machine::{ConfigError, MachineConfig, RotaryLink, Side};
 use crate::Dialect;
 
@@ -38,8 +39,8 @@ pub fn params_of(dialect: Dialect, m: &MachineConfig) -> Result<Params, ConfigEr
 }
 
 /// The unit vector of coordinate axis `code` (1 X, 2 Y, 3 Z).
-fn unit(code: i64) -> [f64; 3] {
-    let mut u = [0.0; 3];
+fn unit(code: i64) -> Vec3 {
+    let mut u = Vec3::zeros();
     u[(code - 1) as usize] = 1.0;
     u
 }
@@ -48,20 +49,20 @@ fn unit(code: i64) -> [f64; 3] {
 /// describe the same construction): the tool along coordinate axis `code` is tilted by RA, then
 /// by RB, about fixed axes with the right-hand rule —
 /// 3: `Rz(RB)·Ry(RA)·ẑ`, 1: `Rx(RB)·Rz(RA)·x̂`, 2: `Ry(RB)·Rx(RA)·ŷ`.
-fn reference_direction(code: i64, ra: f64, rb: f64) -> [f64; 3] {
+fn reference_direction(code: i64, ra: f64, rb: f64) -> Vec3 {
     let (sa, ca) = crate::angle::sin_cos_deg(ra);
     let (sb, cb) = crate::angle::sin_cos_deg(rb);
     match code {
-        1 => [ca, sa * cb, sa * sb],
-        2 => [sa * sb, ca, sa * cb],
-        _ => [sa * cb, sa * sb, ca],
+        1 => Vec3::new(ca, sa * cb, sa * sb),
+        2 => Vec3::new(sa * sb, ca, sa * cb),
+        _ => Vec3::new(sa * cb, sa * sb, ca),
     }
 }
 
 /// The canonical (code, RA, RB) of a unit tool direction: the coordinate axis with the largest
 /// component (the nearest one, as the manuals ask), RA in [0°, 180°], RB in (−180°, 180°] and 0
 /// when RA is 0° or 180°.
-fn reference_angles(t: [f64; 3]) -> (i64, f64, f64) {
+fn reference_angles(t: Vec3) -> (i64, f64, f64) {
     let k = if t[0] > t[1] && t[0] > t[2] {
         0
     } else if t[1] > t[2] {
@@ -87,21 +88,9 @@ fn chain(m: &MachineConfig) -> Vec<&RotaryLink> {
     on(Side::Head).chain(on(Side::Table)).collect()
 }
 
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn scale(a: [f64; 3], k: f64) -> [f64; 3] {
-    [a[0] * k, a[1] * k, a[2] * k]
-}
-
-fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    scale(a, 1.0 / n)
+/// A machine-file direction as a unit vector.
+fn direction(a: [f64; 3]) -> Vec3 {
+    vec3(a).normalize()
 }
 
 /// Angle `x` (degrees) in (−180°, 180°].

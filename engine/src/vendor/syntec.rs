@@ -10,8 +10,9 @@
 //! the value codes and Pr401/421/461/2401/2421 are fivex's reading (`docs/machine-config.md`).
 
 use super::Params;
-use super::{add, chain, reference_angles, reference_direction, scale, sub, unit, unrepresentable};
+use super::{chain, direction, reference_angles, reference_direction, unit, unrepresentable};
 use crate::alarm::AlarmId;
+use crate::kin::{vec3, Vec3};
 use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, RotaryLink, Side};
 
 /// Pr321~ name codes 1…9.
@@ -122,7 +123,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
                 Ok(deg.to_radians().tan())
             }
         };
-        let (direction, zero_offset) = match code {
+        let (tilted, zero_offset) = match code {
             1 => ([1.0, tan(c)?, -tan(b)?], a),
             2 => ([-tan(c)?, 1.0, tan(a)?], b),
             _ => ([tan(b)?, -tan(a)?, 1.0], c),
@@ -131,7 +132,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         rotary.push(RotaryLink {
             axis: letter,
             side: *side,
-            direction: super::normalize(direction),
+            direction: direction(tilted).into(),
             hand: if hand == 1 { Hand::Right } else { Hand::Left },
             point: [0.0; 3],
             zero_offset,
@@ -148,35 +149,34 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     // holder point is Pr3013 above it, a (Pr3021) leads from there to the slave, d (Pr3024) on to
     // the master; e (Pr3041) from the holder to a single head axis. m (Pr3034) is a point on the
     // table master, b (Pr3031) leads to the slave; f (Pr3044) is a point on a mixed table axis.
-    let vector = |first: u32| -> Result<[f64; 3], ConfigError> {
+    let vector = |first: u32| -> Result<Vec3, ConfigError> {
         let v = p.get3(first)?;
         for (k, x) in v.iter().enumerate() {
             super::params::whole(first + k as u32, *x, -999_999_999, 999_999_999)?;
         }
-        Ok(v.map(from_blu))
+        Ok(vec3(v.map(from_blu)))
     };
     let holder = if matches!(kind, 1 | 3 | 4) { from_blu(p.code(3013, 0, 999_999_999)? as f64) } else { 0.0 };
-    let grip = scale(tool_axis, holder);
-    match kind {
+    let grip = tool_axis * holder;
+    // Master point first.
+    let points = match kind {
         1 => {
-            let a = add(vector(3021)?, grip);
-            rotary[1].point = a;
-            rotary[0].point = add(a, vector(3024)?);
+            let a = vector(3021)? + grip;
+            vec![a + vector(3024)?, a]
         }
         2 => {
             let m = vector(3034)?;
-            rotary[0].point = m;
-            rotary[1].point = add(m, vector(3031)?);
+            vec![m, m + vector(3031)?]
         }
-        3 => {
-            rotary[0].point = add(vector(3041)?, grip);
-            rotary[1].point = vector(3044)?;
-        }
-        4 => rotary[0].point = add(vector(3041)?, grip),
-        5 => rotary[0].point = vector(3034)?,
-        _ => {}
+        3 => vec![vector(3041)? + grip, vector(3044)?],
+        4 => vec![vector(3041)? + grip],
+        5 => vec![vector(3034)?],
+        _ => vec![],
+    };
+    for (link, point) in rotary.iter_mut().zip(points) {
+        link.point = point.into();
     }
-    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis, nose: [0.0; 3], holder })
+    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose: [0.0; 3], holder })
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
@@ -203,7 +203,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         p.set(2401 + i, blu(plus));
         p.set(2421 + i, blu(minus));
     }
-    let (code, ra, rb) = reference_angles(super::normalize(m.tool_axis));
+    let (code, ra, rb) = reference_angles(direction(m.tool_axis));
     p.set(3002, code as f64);
     p.set(3003, blu(ra));
     p.set(3004, blu(rb.rem_euclid(360.0)) % 360_000.0);
@@ -237,7 +237,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         };
         // Point the axis along its coordinate axis (flipping the hand if it points the other way),
         // then read the tilts back as the §1.5 error angles.
-        let mut u = super::normalize(l.direction);
+        let mut u = direction(l.direction);
         let mut hand = l.hand;
         let along = u[code - 1];
         if along.abs() < 1e-9 {
@@ -247,7 +247,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
             ));
         }
         if along < 0.0 {
-            u = scale(u, -1.0);
+            u = -u;
             hand = if hand == Hand::Right { Hand::Left } else { Hand::Right };
         }
         let deg = |x: f64| x.atan().to_degrees();
@@ -273,18 +273,18 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         return Err(unrepresentable("Syntec", "a negative tool holder offset (Pr3013)"));
     }
     p.set(3013, blu(holder));
-    let grip = scale(t0, from_blu(p.get(3013)?));
-    let point = |k: usize| links[k].point;
+    let grip = t0 * from_blu(p.get(3013)?);
+    let point = |k: usize| vec3(links[k].point);
     let vectors = match kind {
-        1 => vec![(3021, sub(point(1), grip)), (3024, sub(point(0), point(1)))],
-        2 => vec![(3034, point(0)), (3031, sub(point(1), point(0)))],
-        3 => vec![(3041, sub(point(0), grip)), (3044, point(1))],
-        4 => vec![(3041, sub(point(0), grip))],
+        1 => vec![(3021, point(1) - grip), (3024, point(0) - point(1))],
+        2 => vec![(3034, point(0)), (3031, point(1) - point(0))],
+        3 => vec![(3041, point(0) - grip), (3044, point(1))],
+        4 => vec![(3041, point(0) - grip)],
         5 => vec![(3034, point(0))],
         _ => vec![],
     };
     for first in [3021, 3024, 3031, 3034, 3041, 3044] {
-        let v = vectors.iter().find(|(f, _)| *f == first).map_or([0.0; 3], |(_, v)| *v);
+        let v = vectors.iter().find(|(f, _)| *f == first).map_or(Vec3::zeros(), |(_, v)| *v);
         for (k, x) in v.iter().enumerate() {
             p.set(first + k as u32, blu(*x));
         }

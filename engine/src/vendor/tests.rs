@@ -36,7 +36,7 @@ fn alarm_of(r: Result<MachineConfig, ConfigError>) -> Option<AlarmId> {
 /// TV-KIN-01 … 06: No.19697 with RA/RB.
 #[test]
 fn fanuc_reference_tool_direction_tv_kin_01_to_06() {
-    let t = |code, ra, rb| reference_direction(code, ra, rb);
+    let t = |code, ra, rb| -> [f64; 3] { reference_direction(code, ra, rb).into() };
     let h = 0.866025;
     assert!(close(t(3, 0.0, 0.0), [0.0, 0.0, 1.0], 1e-15), "TV-KIN-01");
     assert!(close(t(3, 30.0, 0.0), [0.5, 0.0, h], 1e-6), "TV-KIN-02");
@@ -46,7 +46,7 @@ fn fanuc_reference_tool_direction_tv_kin_01_to_06() {
     assert!(close(t(2, 30.0, 0.0), [0.0, h, 0.5], 1e-6) && close(t(2, 30.0, 90.0), [0.5, h, 0.0], 1e-6), "TV-KIN-06");
     // And back: the canonical angles of each.
     for (code, ra, rb) in [(3, 0.0, 0.0), (3, 30.0, 90.0), (1, 30.0, 0.0), (2, 30.0, 90.0), (3, 44.0, -170.0)] {
-        let (c, a, b) = reference_angles(t(code, ra, rb));
+        let (c, a, b) = reference_angles(vec3(t(code, ra, rb)));
         assert!(c == code && (a - ra).abs() < 1e-12 && (b - rb).abs() < 1e-12, "{code} {ra} {rb} → {c} {a} {b}");
     }
 }
@@ -248,7 +248,7 @@ fn syntec_orientation_errors_tilt_the_axis() {
     let m = machine_from(Dialect::Syntec, "m", &p).unwrap();
     let c = m.rotary.iter().find(|l| l.axis == 'C').unwrap();
     let (t, a) = (1f64.to_radians().tan(), (-2f64).to_radians().tan());
-    let want = normalize([t, -a, 1.0]);
+    let want: [f64; 3] = direction([t, -a, 1.0]).into();
     assert!(close(c.direction, want, 1e-15), "{:?}", c.direction);
 }
 
