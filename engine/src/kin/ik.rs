@@ -75,8 +75,9 @@ fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> PerJoint<(Optio
         .collect()
 }
 
+/// The angle in [0, 360), a hair below a whole turn counting as 0.
 fn basic(angle: f64) -> f64 {
-    let a = angle.rem_euclid(360.0);
+    let a = crate::angle::basic(angle);
     if a >= 360.0 - 1e-12 {
         0.0
     } else {
@@ -92,53 +93,47 @@ impl Kinematics {
         let Some(v) = tool.try_normalize(1e-12) else { return out };
         let joints = self.joints();
         let t0 = self.tool_axis;
-        // Each entry: the rotation amounts φ about the joints' directions, in joints() order.
-        let current = |j: &Joint| j.sign * (j.index.map_or(j.fixed, |i| from[i]) + j.zero_offset);
+        // Each entry: the rotation amounts φ about the joints' directions, in joints() order
+        // (`None`: free; plain arrays, because collecting into `ArrayVec`s cost more than the
+        // arithmetic).
+        let mut orientations: ArrayVec<[Option<f64>; 2], 2> = ArrayVec::new();
         let tol = 1e-7;
-        let mut orientations: PerJoint<PerJoint<Option<f64>>> = PerJoint::new();
-        let pair = |x, y| PerJoint::from_iter([x, y]);
         match self.kind {
             MachineKind::ThreeAxis => {
                 if (v - t0).norm() < tol {
-                    orientations.push(PerJoint::new());
+                    orientations.push([None; 2]);
                 }
             }
-            MachineKind::Head => {
-                orientations.extend(one_axis(&joints[0].direction, &t0, &v, tol).map(|x| PerJoint::from_iter([x])))
-            }
-            MachineKind::Table => {
-                orientations.extend(one_axis(&joints[0].direction, &v, &t0, tol).map(|x| PerJoint::from_iter([x])))
-            }
+            MachineKind::Head => orientations.extend(one_axis(&joints[0].direction, &t0, &v, tol).map(|x| [x, None])),
+            MachineKind::Table => orientations.extend(one_axis(&joints[0].direction, &v, &t0, tol).map(|x| [x, None])),
             MachineKind::HeadHead => {
                 let (a, b) = (joints[0].direction, joints[1].direction);
-                orientations.extend(two_axes(&a, &b, &t0, &v, tol).into_iter().map(|(x, y)| pair(x, y)));
+                orientations.extend(two_axes(&a, &b, &t0, &v, tol).into_iter().map(|(x, y)| [x, y]));
             }
             MachineKind::TableTable => {
                 let (a, b) = (joints[0].direction, joints[1].direction);
-                orientations.extend(two_axes(&a, &b, &v, &t0, tol).into_iter().map(|(x, y)| pair(x, y)));
+                orientations.extend(two_axes(&a, &b, &v, &t0, tol).into_iter().map(|(x, y)| [x, y]));
             }
             MachineKind::HeadTable => {
                 // Table⁻¹·Head·t0 = v, i.e. Rot(−table axis, φt)·Rot(head axis, φh)·t0 = v.
                 let (h, t) = (joints[0].direction, joints[1].direction);
-                orientations.extend(two_axes(&-t, &h, &t0, &v, tol).into_iter().map(|(x, y)| pair(y, x)));
+                orientations.extend(two_axes(&-t, &h, &t0, &v, tol).into_iter().map(|(x, y)| [y, x]));
             }
         }
+        let n = joints.len();
+        let axes = from.len().min(MAX_AXES);
         for phis in orientations {
-            let free: PerJoint<bool> = phis.iter().map(Option::is_none).collect();
-            // A free angle stays where it is; the other one is then solved again with it.
-            let phis = match self.fix_free(&joints, &phis, &current, &v) {
-                Some(p) => p,
-                None => continue,
-            };
-            let mut pos: ArrayVec<f64, MAX_AXES> = from.iter().copied().take(MAX_AXES).collect();
-            for (j, phi) in joints.iter().zip(&phis) {
-                if let Some(i) = j.index {
-                    pos[i] = basic(j.command(*phi));
-                }
+            let mut free = PerJoint::new();
+            for phi in &phis[..n] {
+                free.push(phi.is_none());
             }
-            for (j, f) in joints.iter().zip(&free) {
-                if let (Some(i), true) = (j.index, f) {
-                    pos[i] = from[i];
+            // A free angle stays where it is; the other one is then solved again with it.
+            let Some(phis) = self.fix_free(&joints, &phis[..n], from, &v) else { continue };
+            let mut pos = ArrayVec::<f64, MAX_AXES>::new();
+            pos.try_extend_from_slice(&from[..axes]).expect("at most MAX_AXES");
+            for ((j, phi), free) in joints.iter().zip(phis).zip(&free) {
+                if let Some(i) = j.index {
+                    pos[i] = if *free { from[i] } else { basic(j.command(phi)) };
                 }
             }
             // The carriage from the tip, with the rotary axes' motions computed once.
@@ -160,36 +155,32 @@ impl Kinematics {
         out
     }
 
-    /// Fill in free angles (at the joint's current rotation) and solve the other joint again.
-    fn fix_free(
-        &self,
-        joints: &[&Joint],
-        phis: &[Option<f64>],
-        current: &dyn Fn(&Joint) -> f64,
-        v: &Vec3,
-    ) -> Option<PerJoint<f64>> {
-        if phis.iter().all(Option::is_some) {
-            return Some(phis.iter().map(|p| p.unwrap_or(0.0)).collect());
+    /// Fill in free angles (at the joint's current rotation in `from`) and solve the other
+    /// joint again: the rotations φ in joints() order (unused entries 0).
+    fn fix_free(&self, joints: &[&Joint], phis: &[Option<f64>], from: &[f64], v: &Vec3) -> Option<[f64; 2]> {
+        if let [Some(x), Some(y)] = *phis {
+            return Some([x, y]);
         }
-        let pair = |x, y| Some(PerJoint::from_iter([x, y]));
+        let current = |j: &Joint| j.sign * (j.index.map_or(j.fixed, |i| from[i]) + j.zero_offset);
         let t0 = self.tool_axis;
         let rot = |j: &Joint, phi: f64| super::rotation_deg(&j.direction, phi);
         match (self.kind, phis) {
-            (_, [None]) => Some(PerJoint::from_iter([current(joints[0])])),
+            (_, []) => Some([0.0; 2]),
+            (_, [x]) => Some([x.unwrap_or_else(|| current(joints[0])), 0.0]),
             (MachineKind::HeadHead, [x, y]) => {
                 let x = x.unwrap_or_else(|| current(joints[0]));
                 let y = y.or_else(|| angle_about(&joints[1].direction, &t0, &(rot(joints[0], x).inverse() * v)));
-                pair(x, y.unwrap_or_else(|| current(joints[1])))
+                Some([x, y.unwrap_or_else(|| current(joints[1]))])
             }
             (MachineKind::TableTable, [x, y]) => {
                 let x = x.unwrap_or_else(|| current(joints[0]));
                 let y = y.or_else(|| angle_about(&joints[1].direction, v, &(rot(joints[0], x).inverse() * t0)));
-                pair(x, y.unwrap_or_else(|| current(joints[1])))
+                Some([x, y.unwrap_or_else(|| current(joints[1]))])
             }
             (MachineKind::HeadTable, [h, t]) => {
                 let t = t.unwrap_or_else(|| current(joints[1]));
                 let h = h.or_else(|| angle_about(&joints[0].direction, &t0, &(rot(joints[1], t) * v)));
-                pair(h.unwrap_or_else(|| current(joints[0])), t)
+                Some([h.unwrap_or_else(|| current(joints[0])), t])
             }
             _ => None,
         }

@@ -105,8 +105,14 @@ struct Turn<'a> {
 impl Turn<'_> {
     #[inline(always)]
     fn vector(&self, v: Vec3, s: f64) -> Vec3 {
-        let u = &self.joint.direction;
-        v * self.c + u.cross(&v) * s + u * (u.dot(&v) * (1.0 - self.c))
+        // Written out in scalars: nalgebra's vector code shuffles lanes for the cross product.
+        let (u, c) = (&self.joint.direction, self.c);
+        let d = (u.x * v.x + u.y * v.y + u.z * v.z) * (1.0 - c);
+        Vec3::new(
+            v.x * c + (u.y * v.z - u.z * v.y) * s + u.x * d,
+            v.y * c + (u.z * v.x - u.x * v.z) * s + u.y * d,
+            v.z * c + (u.x * v.y - u.y * v.x) * s + u.z * d,
+        )
     }
 
     #[inline(always)]

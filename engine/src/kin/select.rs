@@ -4,7 +4,7 @@
 
 use super::{Candidate, Kinematics, MachineKind};
 use crate::alarm::AlarmId;
-use crate::angle::distance_to_zero as zero_distance;
+use crate::angle::{basic as modulo_turn, ceil, distance_to_zero as zero_distance, floor};
 use crate::dialect::Dialect;
 use crate::machine::MAX_AXES;
 use arrayvec::ArrayVec;
@@ -35,18 +35,25 @@ const TIE: f64 = 1e-9;
 /// limits 0 is no range). Of two equally near members the one nearer 0 wins, then the larger
 /// (spec Q-32 leaves this open).
 fn nearest_member(basic: f64, current: f64, range: Option<[f64; 2]>) -> Option<f64> {
-    let k = crate::angle::round((current - basic) * (1.0 / 360.0)) as f64;
-    // The members around the current angle; within a range, the ones around the current angle
-    // clamped into it (the nearest member may then lie more than a turn away).
-    let (lo, hi) = match range.filter(|r| r[0] != 0.0 || r[1] != 0.0) {
-        Some([lo, hi]) => (lo - TIE, hi + TIE),
-        None => (f64::NEG_INFINITY, f64::INFINITY),
+    // In turns from `basic`: the nearest member is n turns away. Within a range it is the
+    // allowed member nearest n (the distance grows on both sides of the current angle), which
+    // may lie more than a turn away.
+    let x = (current - basic) * (1.0 / 360.0);
+    let n = crate::angle::round(x) as f64;
+    let (first, last) = match range.filter(|r| r[0] != 0.0 || r[1] != 0.0) {
+        Some([lo, hi]) => (ceil((lo - TIE - basic) * (1.0 / 360.0)), floor((hi + TIE - basic) * (1.0 / 360.0))),
+        None => (n - 1.0, n + 1.0),
     };
-    let (first, last) = (((lo - basic) / 360.0).ceil(), ((hi - basic) / 360.0).floor());
     if first > last {
         return None;
     }
-    [k - 1.0, k, k + 1.0].into_iter().map(|n| basic + 360.0 * n.clamp(first, last)).min_by_key(|m| rank(*m, current))
+    let nearest = basic + 360.0 * n.clamp(first, last);
+    // Only at half a turn from the current angle is the neighbour on the other side as near.
+    let neighbour = basic + 360.0 * (n + (x - n).signum()).clamp(first, last);
+    if quantum((neighbour - current).abs()) == quantum((nearest - current).abs()) {
+        return [nearest, neighbour].into_iter().min_by_key(|m| rank(*m, current));
+    }
+    Some(nearest)
 }
 
 /// `x` in units of the tie tolerance: equal keys are ties.
@@ -133,7 +140,7 @@ impl Kinematics {
                 let delta = if c.free[k] {
                     0.0
                 } else {
-                    let d = (c.pos[i] - from[i]).rem_euclid(360.0);
+                    let d = modulo_turn(c.pos[i] - from[i]);
                     match (k, p) {
                         (0, 1) => d,
                         (0, 2) if d > 0.0 => d - 360.0,
@@ -164,14 +171,56 @@ impl Kinematics {
 /// the one that holds its start.
 fn syntec_path_in_range(from: f64, delta: f64, range: Option<[f64; 2]>) -> bool {
     let Some([start, end]) = range else { return true };
-    if (start - end).rem_euclid(360.0) < TIE {
+    if modulo_turn(start - end) < TIE {
         return true;
     }
-    let width = (end - start).rem_euclid(360.0);
-    let mut x = (from - start).rem_euclid(360.0);
+    let width = modulo_turn(end - start);
+    let mut x = modulo_turn(from - start);
     if x > 360.0 - TIE {
         x -= 360.0;
     }
     let (lo, hi) = if delta < 0.0 { (x + delta, x) } else { (x, x + delta) };
     lo >= -TIE && hi <= width + TIE
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Every member within ±4 turns of the current angle, ranked.
+    fn nearest_by_search(basic: f64, current: f64, range: Option<[f64; 2]>) -> Option<f64> {
+        let k = (current / 360.0).round();
+        let allowed = |m: f64| match range.filter(|r| r[0] != 0.0 || r[1] != 0.0) {
+            Some([lo, hi]) => m >= lo - TIE && m <= hi + TIE,
+            None => true,
+        };
+        (-6..=6).map(|n| basic + 360.0 * (k + n as f64)).filter(|&m| allowed(m)).min_by_key(|m| rank(*m, current))
+    }
+
+    #[test]
+    fn nearest_member_examples() {
+        assert_eq!(nearest_member(10.0, 200.0, None), Some(370.0));
+        // Half a turn away both neighbours are as near: the larger wins.
+        assert_eq!(nearest_member(90.0, 270.0, None), Some(450.0));
+        assert_eq!(nearest_member(0.0, -180.0, None), Some(0.0));
+        assert_eq!(nearest_member(10.0, 0.0, Some([100.0, 500.0])), Some(370.0));
+        assert_eq!(nearest_member(10.0, 0.0, Some([-400.0, -300.0])), Some(-350.0));
+        assert_eq!(nearest_member(10.0, 0.0, Some([20.0, 300.0])), None);
+        assert_eq!(nearest_member(350.0, 0.0, Some([0.0, 0.0])), Some(-10.0), "0, 0 is no range");
+    }
+
+    proptest! {
+        #[test]
+        fn nearest_member_is_the_nearest_allowed(
+            basic in 0.0..360.0f64,
+            current in -700.0..700.0f64,
+            half_turn in any::<bool>(),
+            range in proptest::option::of((-700.0..700.0f64, 0.0..900.0f64)),
+        ) {
+            let current = if half_turn { basic + 180.0 + 360.0 * (current / 360.0).round() } else { current };
+            let range = range.map(|(lo, width)| [lo, lo + width]);
+            prop_assert_eq!(nearest_member(basic, current, range), nearest_by_search(basic, current, range));
+        }
+    }
 }
