@@ -124,6 +124,9 @@ pub enum AlarmId {
     IllegalScaleRate,
     /// A circle outside the plane of the active coordinate rotation (G68).
     IllegalPlaneInRotation,
+    // --- motion (`crate::motion`) ----------------------------------------------------------
+    /// The block would take `axis` beyond its stored stroke limit (checked before it moves).
+    OverTravel { axis: char, positive: bool },
     // --- fivex's own guards ---------------------------------------------------------------
     /// The block budget was used up: an endless loop or endless recursion.
     BlockBudgetExceeded { budget: u64 },

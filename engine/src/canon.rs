@@ -58,6 +58,8 @@ pub struct MotionContext {
     pub d: u32,
     pub cutter_radius: f64,
     pub path_mode: u16,
+    /// The motion ends in an exact stop (G09 in its block, or G61).
+    pub exact_stop: bool,
     pub rotation: u16,
 }
 

@@ -47,6 +47,20 @@ impl Dialect {
             AlarmId::TimeBudgetExceeded { budget_s } => {
                 ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"))
             }
+            // FANUC's stroke limit check before movement; Syntec's code is constructed (MOT-).
+            AlarmId::OverTravel { axis, positive } => {
+                let sign = if *positive { '+' } else { '-' };
+                match (self, positive) {
+                    (Dialect::Fanuc, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    (Dialect::Fanuc, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    (Dialect::Syntec, true) => {
+                        ("MOT-001".into(), format!("{axis} axis exceeds positive software limit"))
+                    }
+                    (Dialect::Syntec, false) => {
+                        ("MOT-002".into(), format!("{axis} axis exceeds negative software limit"))
+                    }
+                }
+            }
             AlarmId::BlockOutputExceeded { limit } => {
                 ("FX0003".into(), format!("BLOCK EXPANDS TO MORE THAN {limit} COMMANDS"))
             }
@@ -208,9 +222,11 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block"))
         }
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
-        MacroAlarm { .. } | BlockBudgetExceeded { .. } | TimeBudgetExceeded { .. } | BlockOutputExceeded { .. } => {
-            (("FX0000", "ALARM"), ("FX0000", "ALARM"))
-        }
+        MacroAlarm { .. }
+        | BlockBudgetExceeded { .. }
+        | TimeBudgetExceeded { .. }
+        | BlockOutputExceeded { .. }
+        | OverTravel { .. } => (("FX0000", "ALARM"), ("FX0000", "ALARM")),
     }
 }
 

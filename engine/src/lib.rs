@@ -12,6 +12,7 @@ pub mod interp;
 pub mod kin;
 pub mod lang;
 pub mod machine;
+pub mod motion;
 pub mod run;
 pub mod vendor;
 

@@ -1,11 +1,13 @@
-//! Ideal execution: motion goes straight to each end point (arcs along their circle) at the
-//! programmed feed, so cycle time is path length / feed. The motion issues replace this with
-//! look-ahead and jerk-limited interpolation; positions and system variables are already exact.
+//! Running a program to its end: the interpreter's canonical commands go through the motion
+//! planner (`crate::motion`: look-ahead, jerk-limited speed profiles, axis limits, stroke
+//! check) and are sampled every interpolation period into the trace; the cycle time is the
+//! simulated time including every acceleration.
 
 use crate::alarm::{Alarm, AlarmId};
-use crate::canon::{Canon, CanonKind, FeedMode, Motion, MotionKind, Pos};
+use crate::canon::{Canon, CanonKind, Pos};
 use crate::interp::{Interpreter, Step};
-use crate::machine::MAX_AXES;
+use crate::machine::MachineConfig;
+use crate::motion::{self, AxisLimits, FeedContext, Planned, Planner, Segment};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunOptions {
@@ -13,11 +15,14 @@ pub struct RunOptions {
     pub period_s: f64,
     /// Simulated seconds after which the run stops with an alarm.
     pub max_time_s: f64,
+    /// Feed and rapid override, fractions (1.0 = 100%).
+    pub feed_override: f64,
+    pub rapid_override: f64,
 }
 
 impl Default for RunOptions {
     fn default() -> Self {
-        RunOptions { period_s: 0.001, max_time_s: 1.0e6 }
+        RunOptions { period_s: 0.001, max_time_s: 1.0e6, feed_override: 1.0, rapid_override: 1.0 }
     }
 }
 
@@ -57,30 +62,40 @@ impl RunResult {
 
 /// Run the program to its end, calling `on_sample` for every interpolation period.
 pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMut(&Sample)) -> RunResult {
-    let mut rapid = [0.0; MAX_AXES];
-    for (r, axis) in rapid.iter_mut().zip(&interp.config().machine.axes) {
-        *r = axis.rapid;
-    }
+    let machine = interp.config().machine.clone();
     let mut exec = Executor {
-        // A mechanism the kinematics refuses still runs (issue-2 ideal motion); its trace shows
-        // the tool along +Z.
-        kinematics: crate::kin::Kinematics::new(&interp.config().machine).ok(),
-        rapid,
+        // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
+        kinematics: crate::kin::Kinematics::new(&machine).ok(),
+        axes: AxisLimits::of(&machine),
+        planner: Planner::new(motion::LOOKAHEAD, motion::corner_steps(&machine)),
+        machine_config: machine,
         t: 0.0,
         next_sample: 0,
         machine: interp.state.machine_position(),
         workpiece: interp.state.position(),
+        queued_machine: interp.state.machine_position(),
+        queued_work: interp.state.position(),
         opts: *opts,
         messages: Vec::new(),
+        over_budget: None,
     };
     let tracing = opts.period_s > 0.0;
     let mut out = Vec::with_capacity(16);
     let mut alarms = Vec::new();
+    let mut motion_alarm = false;
     loop {
         let step = interp.step(&mut out);
         let before = exec.t;
         for c in out.drain(..) {
-            exec.apply(&c, tracing, &mut on_sample);
+            if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
+                let (code, message) = interp.config().dialect.describe(&id);
+                alarms.push(Alarm { code, message, line: c.line, n: c.n });
+                motion_alarm = true;
+                break;
+            }
+        }
+        if motion_alarm || exec.over_budget.is_some() {
+            break;
         }
         interp.state.advance_time(exec.t - before);
         match step {
@@ -93,20 +108,26 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
                 break;
             }
         }
-        if exec.t > opts.max_time_s {
-            let id = AlarmId::TimeBudgetExceeded { budget_s: opts.max_time_s };
-            let (code, message) = interp.config().dialect.describe(&id);
-            let (line, n) = interp.state.current_block();
-            alarms.push(Alarm { code, message, line, n });
-            break;
-        }
     }
+    // Whatever was read before the end or the alarm is carried out, and the machine stops.
+    exec.drain(true, tracing, &mut on_sample);
+    if let Some((line, n)) = exec.over_budget {
+        let id = AlarmId::TimeBudgetExceeded { budget_s: opts.max_time_s };
+        let (code, message) = interp.config().dialect.describe(&id);
+        alarms.push(Alarm { code, message, line, n });
+        motion_alarm = true;
+    }
+    let (machine, workpiece) = if motion_alarm {
+        (exec.machine, exec.workpiece)
+    } else {
+        (interp.state.machine_position(), interp.state.position())
+    };
     RunResult {
         alarms,
         blocks: interp.blocks(),
         cycle_time_s: exec.t,
-        machine: interp.state.machine_position(),
-        workpiece: interp.state.position(),
+        machine,
+        workpiece,
         variables: interp.state.common_variables(),
         messages: exec.messages,
     }
@@ -114,51 +135,107 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
 
 struct Executor {
     kinematics: Option<crate::kin::Kinematics>,
-    /// Rapid rate per axis, mm/min or deg/min.
-    rapid: Pos,
+    machine_config: MachineConfig,
+    axes: AxisLimits,
+    planner: Planner,
     t: f64,
     /// Index of the next sample: sample k is at k × period.
     next_sample: u64,
+    /// Where the machine is (the end of the last executed segment).
     machine: Pos,
     workpiece: Pos,
+    /// Where the last queued segment ends.
+    queued_machine: Pos,
+    queued_work: Pos,
     opts: RunOptions,
     messages: Vec<String>,
+    /// The block during which simulated time ran past `max_time_s`; nothing runs after it.
+    over_budget: Option<(u32, Option<u32>)>,
 }
 
 impl Executor {
-    fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
+    fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
-                let (duration, length) = duration(m, &self.machine, &self.rapid);
-                let feed = if duration > 0.0 { length / duration * 60.0 } else { 0.0 };
-                if tracing {
-                    let (m0, w0) = (self.machine, self.workpiece);
-                    self.sample_until(self.t + duration, c, on_sample, |u| interpolate(m, &m0, &w0, u), feed);
+                let ctx = FeedContext {
+                    feed_override: self.opts.feed_override,
+                    rapid_override: self.opts.rapid_override,
+                    exact_stop: m.context.exact_stop,
+                };
+                let mut seg = Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx);
+                (seg.line, seg.n) = (c.line, c.n);
+                if let Err(id) = motion::stroke_check(&seg, &self.machine_config) {
+                    // The machine stops at the end of the block before; the offending one never moves.
+                    self.drain(true, tracing, on_sample);
+                    return Err(id);
                 }
-                self.t += duration;
-                self.machine = m.machine;
-                self.workpiece = m.target;
+                (self.queued_machine, self.queued_work) = (m.machine, m.target);
+                self.planner.push(seg);
+                self.drain(false, tracing, on_sample);
             }
-            CanonKind::Dwell { seconds } => {
-                if tracing {
-                    let (m0, w0) = (self.machine, self.workpiece);
-                    self.sample_until(self.t + seconds, c, on_sample, |_| (m0, w0), 0.0);
+            other => {
+                // Every other command waits for the motion before it to end.
+                self.drain(true, tracing, on_sample);
+                match other {
+                    _ if self.over_budget.is_some() => {}
+                    CanonKind::Dwell { seconds } => {
+                        if tracing {
+                            let (m0, w0) = (self.machine, self.workpiece);
+                            self.sample_until(self.t + seconds, c.line, c.n, on_sample, |_| (m0, w0, 0.0));
+                        }
+                        self.t += seconds;
+                        self.check_budget(c.line, c.n);
+                    }
+                    CanonKind::Print { text } => self.messages.push(text.clone()),
+                    CanonKind::Stop { message: Some(m), .. } => self.messages.push(m.clone()),
+                    _ => {}
                 }
-                self.t += seconds;
             }
-            CanonKind::Print { text } => self.messages.push(text.clone()),
-            CanonKind::Stop { message: Some(m), .. } => self.messages.push(m.clone()),
-            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Execute the segments whose speeds are final (`stop`: all, ending at rest).
+    fn drain(&mut self, stop: bool, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
+        while let Some(p) = self.planner.pop(stop) {
+            if self.over_budget.is_none() {
+                self.execute(&p, tracing, on_sample);
+            }
         }
     }
 
+    fn execute(&mut self, p: &Planned, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
+        let (seg, profile) = (&p.segment, &p.profile);
+        let t0 = self.t;
+        let t1 = t0 + profile.duration();
+        if tracing {
+            self.sample_until(t1, seg.line, seg.n, on_sample, |dt| {
+                let state = profile.at(dt);
+                let (machine, work) = seg.at(state.s);
+                (machine, work, state.v * seg.tip_rate * 60.0)
+            });
+        }
+        self.t = t1;
+        self.machine = seg.to;
+        self.workpiece = seg.work_to;
+        self.check_budget(seg.line, seg.n);
+    }
+
+    fn check_budget(&mut self, line: u32, n: Option<u32>) {
+        if self.t > self.opts.max_time_s && self.over_budget.is_none() {
+            self.over_budget = Some((line, n));
+        }
+    }
+
+    /// Samples from the current time to `t1`; `at(dt)` gives machine and programming position
+    /// and tip feed (mm/min) `dt` seconds after the current time.
     fn sample_until(
         &mut self,
         t1: f64,
-        c: &Canon,
+        line: u32,
+        n: Option<u32>,
         on_sample: &mut impl FnMut(&Sample),
-        at: impl Fn(f64) -> (Pos, Pos),
-        feed: f64,
+        at: impl Fn(f64) -> (Pos, Pos, f64),
     ) {
         let t0 = self.t;
         loop {
@@ -166,69 +243,10 @@ impl Executor {
             if ts > t1 || (ts > t0 && t1 == t0) {
                 return;
             }
-            let u = if t1 > t0 { ((ts - t0) / (t1 - t0)).clamp(0.0, 1.0) } else { 1.0 };
-            let (machine, work) = at(u);
+            let (machine, work, feed) = at((ts - t0).max(0.0));
             let tool = self.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&machine, 0.0).tool.into());
-            on_sample(&Sample { t: ts, line: c.line, n: c.n, machine, tip: [work[0], work[1], work[2]], tool, feed });
+            on_sample(&Sample { t: ts, line, n, machine, tip: [work[0], work[1], work[2]], tool, feed });
             self.next_sample += 1;
         }
     }
-}
-
-/// Duration (s) and tool path length (mm, degrees counted as mm) of a motion.
-fn duration(m: &Motion, from: &Pos, rapid: &Pos) -> (f64, f64) {
-    let mut delta = [0.0; MAX_AXES];
-    for (i, d) in delta.iter_mut().enumerate() {
-        *d = m.machine[i] - from[i];
-    }
-    let straight = delta.iter().map(|d| d * d).sum::<f64>().sqrt();
-    let length = match &m.arc {
-        Some(arc) => {
-            let arc_len = arc.radius * arc.sweep_deg.abs().to_radians();
-            let (a, b, _) = arc.plane_axes;
-            let helix: f64 = (0..MAX_AXES).filter(|&i| i != a && i != b).map(|i| delta[i] * delta[i]).sum();
-            (arc_len * arc_len + helix).sqrt()
-        }
-        None => straight,
-    };
-    let minutes = match m.kind {
-        MotionKind::Rapid | MotionKind::MachineRapid => {
-            // Every axis at its own rapid rate; the slowest decides.
-            rapid.iter().zip(&delta).map(|(r, d)| if *r > 0.0 { d.abs() / r } else { 0.0 }).fold(0.0, f64::max)
-        }
-        _ => match m.feed_mode {
-            FeedMode::InverseTime => {
-                if m.feed > 0.0 {
-                    1.0 / m.feed
-                } else {
-                    0.0
-                }
-            }
-            FeedMode::PerMinute => length / m.feed.max(f64::MIN_POSITIVE),
-            FeedMode::PerRevolution => length / (m.feed * m.spindle).max(f64::MIN_POSITIVE),
-        },
-    };
-    (minutes * 60.0, length)
-}
-
-/// Machine and workpiece position at fraction `u` of a motion.
-fn interpolate(m: &Motion, m0: &Pos, w0: &Pos, u: f64) -> (Pos, Pos) {
-    let mut machine = [0.0; MAX_AXES];
-    let mut work = [0.0; MAX_AXES];
-    for i in 0..MAX_AXES {
-        machine[i] = m0[i] + (m.machine[i] - m0[i]) * u;
-        work[i] = w0[i] + (m.target[i] - w0[i]) * u;
-    }
-    if let Some(arc) = &m.arc {
-        let (a, b, _) = arc.plane_axes;
-        let start = (w0[b] - arc.center[b]).atan2(w0[a] - arc.center[a]);
-        let angle = start + arc.sweep_deg.to_radians() * u;
-        let (x, y) = (arc.center[a] + arc.radius * angle.cos(), arc.center[b] + arc.radius * angle.sin());
-        // Offsets are constant along an arc: machine = work + (end offset).
-        machine[a] = x + (m.machine[a] - m.target[a]);
-        machine[b] = y + (m.machine[b] - m.target[b]);
-        work[a] = x;
-        work[b] = y;
-    }
-    (machine, work)
 }

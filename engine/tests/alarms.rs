@@ -151,8 +151,11 @@ fn runaway_expressions_are_refused_not_crashing() {
 
 #[test]
 fn a_time_budget_alarm_names_the_block() {
-    let mut interp = interpreter("N10 G00 X0\nN20 G01 X1000. F100.\nM30\n", "mill3", Fanuc);
-    let r =
-        fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions { period_s: 0.0, max_time_s: 10.0 }, |_| {});
+    let mut interp = interpreter("N10 G00 X0\nN20 G01 X500. F100.\nM30\n", "mill3", Fanuc);
+    let r = fivex_engine::run::run(
+        &mut interp,
+        &fivex_engine::run::RunOptions { period_s: 0.0, max_time_s: 10.0, ..Default::default() },
+        |_| {},
+    );
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line, r.alarms[0].n), ("FX0002", 2, Some(20)));
 }

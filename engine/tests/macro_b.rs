@@ -1461,9 +1461,14 @@ fn timer_3001_counts_simulated_milliseconds() {
     // Writable: counts on from the value written.
     let src = "G04 X1.\n#3001=100\nG04 P1000\n#100=#3001\nM30\n";
     close(val(src, 100), 1100.0);
-    // Motion time too: 100 mm at 6000 mm/min = 1 s.
+    // Motion time too, once the motion has been carried out: macro statements are read ahead
+    // of the motion (look-ahead), and a non-motion command such as G04 waits for it. 100 mm at
+    // 6000 mm/min = 1 s, plus the jerk-limited start and stop (100 mm/s with 80000 mm/s³ of
+    // jerk and 4000 mm/s² of acceleration: two jerk phases of √(v/J) = 35.36 ms).
+    let src = "#3001=0\nG90 G01 X100. F6000\nG04 P0\n#100=#3001\nM30\n";
+    close(val(src, 100), 1000.0 + 2000.0 * (100.0f64 / 80000.0).sqrt());
     let src = "#3001=0\nG90 G01 X100. F6000\n#100=#3001\nM30\n";
-    close(val(src, 100), 1000.0);
+    close(val(src, 100), 0.0);
 }
 
 #[test]

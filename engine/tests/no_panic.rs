@@ -45,7 +45,7 @@ fn exercise(text: &str) {
     // `fivex run` on mill3 (FANUC) and on head-bc (Syntec).
     for (preset, dialect) in [("mill3", Dialect::Fanuc), ("head-bc", Dialect::Syntec)] {
         let mut interp = interpreter(text, preset, dialect);
-        let r = run(&mut interp, &RunOptions { period_s: 0.0, max_time_s: 1.0e6 }, |_| {});
+        let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
         assert!(r.blocks <= MAX_BLOCKS + 1, "block budget not enforced: {} blocks", r.blocks);
         assert!(r.cycle_time_s >= 0.0 || r.cycle_time_s.is_nan(), "negative cycle time {}", r.cycle_time_s);
         for a in &r.alarms {
@@ -287,7 +287,7 @@ fn the_valid_program_is_valid() {
     let file = parse_file(VALID);
     assert!(file.diagnostics.is_empty(), "{:?}", file.diagnostics);
     let mut interp = interpreter(VALID, "mill3", Dialect::Fanuc);
-    let r = run(&mut interp, &RunOptions { period_s: 0.0, max_time_s: 1.0e6 }, |_| {});
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
     assert!(r.completed(), "{:?}", r.alarms);
     assert!(r.variables.iter().any(|&(n, v)| n == 100 && v == 4.0), "{:?}", r.variables);
 }

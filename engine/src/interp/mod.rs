@@ -168,6 +168,8 @@ pub struct State {
     d: u32,
     e: f64,
     last_m: u32,
+    /// G09 in the block being executed: its motions stop at their end.
+    exact_stop: bool,
     last_n: u32,
     spindle: crate::canon::SpindleState,
     pub offsets: Offsets,
@@ -372,6 +374,7 @@ impl State {
             d: 0,
             e: 0.0,
             last_m: 0,
+            exact_stop: false,
             last_n: 0,
             spindle: crate::canon::SpindleState::Stop,
             offsets: Offsets::default(),

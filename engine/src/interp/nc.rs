@@ -236,6 +236,7 @@ impl State {
     ) -> Result<(), AlarmId> {
         let mut w = Words::new();
         self.collect_into(words, &mut w)?;
+        self.exact_stop = false;
         if self.cfg.fast_paths && self.is_plain_motion(&w) {
             return self.plain_motion(&w, out);
         }
@@ -365,6 +366,7 @@ impl State {
             }
             self.modes[group] = code;
         }
+        self.exact_stop = one_shots[..n_one_shots].contains(&90);
         // D is modal whether or not cutter compensation is on (#4107 shows it, a later G41
         // without D uses it).
         if let Some(d) = w.integer(b'D') {
@@ -550,6 +552,7 @@ impl State {
             d: self.d,
             cutter_radius: if comp_on { self.offsets.radius(self.d) } else { 0.0 },
             path_mode: self.modes[15],
+            exact_stop: self.exact_stop || self.modes[15] == 610,
             rotation: self.modes[16],
         }
     }

@@ -216,8 +216,11 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     if !(a.period_ms > 0.0 && a.period_ms.is_finite()) {
         return Err(Fail("--period-ms must be a positive number".into()));
     }
-    let opts =
-        RunOptions { period_s: if a.trace.is_some() { a.period_ms / 1000.0 } else { 0.0 }, max_time_s: a.max_time_s };
+    let opts = RunOptions {
+        period_s: if a.trace.is_some() { a.period_ms / 1000.0 } else { 0.0 },
+        max_time_s: a.max_time_s,
+        ..RunOptions::default()
+    };
     if let Some(path) = &a.variables {
         if path.exists() {
             let values = load_retained(path)?;

@@ -1,0 +1,242 @@
+//! The geometry of one motion: where the axes are at each distance along it, and the speed,
+//! acceleration and jerk the path may have so that no axis exceeds its own limits.
+//!
+//! The path parameter `s` is the FANUC feed length: the Euclidean length over every moving
+//! axis, millimetres and degrees alike (a simultaneous linear and rotary move is fed at F in
+//! that combined length, FANUC "feedrate for simultaneous rotary and linear axis"). Straight
+//! moves are straight in axis space; arcs are circles (or spirals, when the end radius differs
+//! within the tolerance) in the plane's two axes with every other axis moving in proportion.
+
+use super::profile::Limits;
+use crate::canon::{Arc, FeedMode, Motion, MotionKind, Pos};
+use crate::machine::{MachineConfig, MAX_AXES};
+
+/// Per-axis limits in the units of the axis (mm or deg) per second.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisLimits {
+    pub count: usize,
+    pub v: Pos,
+    pub a: Pos,
+    pub j: Pos,
+}
+
+impl AxisLimits {
+    pub fn of(m: &MachineConfig) -> AxisLimits {
+        let mut l = AxisLimits { count: m.axes.len(), v: [0.0; MAX_AXES], a: [0.0; MAX_AXES], j: [0.0; MAX_AXES] };
+        for (i, axis) in m.axes.iter().enumerate() {
+            l.v[i] = axis.rapid / 60.0;
+            l.a[i] = axis.max_accel();
+            l.j[i] = axis.max_jerk();
+        }
+        l
+    }
+
+    /// The path limits of a motion whose axis rates per unit of `s` are at most `rate[i]`:
+    /// axis i moves `rate[i]` times as fast, as much accelerated and as much jerked as the path.
+    fn along(&self, rate: &Pos) -> Limits {
+        let mut lim = Limits { v: f64::INFINITY, a: f64::INFINITY, j: f64::INFINITY };
+        for (i, &rate) in rate.iter().enumerate().take(self.count) {
+            if rate > 1e-12 {
+                lim.v = lim.v.min(self.v[i] / rate);
+                lim.a = lim.a.min(self.a[i] / rate);
+                lim.j = lim.j.min(self.j[i] / rate);
+            }
+        }
+        lim
+    }
+}
+
+/// A circle (or spiral) in the plane of axes `a`, `b`, in programming coordinates.
+#[derive(Debug, Clone, PartialEq)]
+struct Circle {
+    a: usize,
+    b: usize,
+    center: (f64, f64),
+    r0: f64,
+    r1: f64,
+    start: f64,
+    /// Signed swept angle, radians.
+    sweep: f64,
+}
+
+/// One motion ready for planning.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segment {
+    pub line: u32,
+    pub n: Option<u32>,
+    pub rapid: bool,
+    /// Machine and programming positions at the start and the end.
+    pub from: Pos,
+    pub to: Pos,
+    pub work_from: Pos,
+    pub work_to: Pos,
+    circle: Option<Circle>,
+    /// Length of the path parameter (mm and degrees).
+    pub len: f64,
+    /// The speed the program asks for (override applied) and what the axes allow, per second.
+    pub limits: Limits,
+    /// Axis rates d(axis)/ds at the start and at the end (the tangents, for corners).
+    pub start_dir: Pos,
+    pub end_dir: Pos,
+    /// Tool tip (X, Y, Z of the programming system) distance per unit of `s`.
+    pub tip_rate: f64,
+    /// The motion must come to a stop at its end (G09, G61, rapids).
+    pub stop_after: bool,
+}
+
+/// What the planner needs beyond the motion itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FeedContext {
+    /// Feed and rapid override, fractions (1.0 = 100%).
+    pub feed_override: f64,
+    pub rapid_override: f64,
+    /// G09 on this block, or G61 modal.
+    pub exact_stop: bool,
+}
+
+impl Segment {
+    /// The segment of `m` starting at machine `from` / programming `work_from`.
+    pub fn new(m: &Motion, from: &Pos, work_from: &Pos, axes: &AxisLimits, ctx: FeedContext) -> Segment {
+        let delta: Pos = std::array::from_fn(|i| m.machine[i] - from[i]);
+        let circle = m.arc.as_deref().map(|arc| circle(arc, work_from, &m.target));
+        let (len, start_dir, end_dir, tip_rate) = match &circle {
+            None => {
+                let len = norm(&delta);
+                let dir: Pos = std::array::from_fn(|i| if len > 0.0 { delta[i] / len } else { 0.0 });
+                let tip = (delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2]).sqrt();
+                (len, dir, dir, if len > 0.0 { tip / len } else { 0.0 })
+            }
+            Some(c) => {
+                // Arc length of the plane part (the spiral's mean radius), the rest straight.
+                let planar = 0.5 * (c.r0 + c.r1) * c.sweep.abs();
+                let other: f64 = (0..MAX_AXES).filter(|&i| i != c.a && i != c.b).map(|i| delta[i] * delta[i]).sum();
+                let len = (planar * planar + other).sqrt();
+                let dir_at = |angle: f64| -> Pos {
+                    let k = if len > 0.0 { planar / len } else { 0.0 };
+                    let (sin, cos) = angle.sin_cos();
+                    let turn = c.sweep.signum();
+                    std::array::from_fn(|i| match i {
+                        _ if i == c.a => -sin * turn * k,
+                        _ if i == c.b => cos * turn * k,
+                        _ if len > 0.0 => delta[i] / len,
+                        _ => 0.0,
+                    })
+                };
+                let tip = (planar * planar
+                    + (0..3).filter(|&i| i != c.a && i != c.b).map(|i| delta[i] * delta[i]).sum::<f64>())
+                .sqrt();
+                (len, dir_at(c.start), dir_at(c.start + c.sweep), if len > 0.0 { tip / len } else { 0.0 })
+            }
+        };
+        let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
+        // Per-axis rate bound over the whole segment (an arc axis reaches its full share).
+        let rate: Pos = match &circle {
+            None => start_dir.map(f64::abs),
+            Some(c) => std::array::from_fn(|i| {
+                if i == c.a || i == c.b {
+                    start_dir[c.a].hypot(start_dir[c.b])
+                } else {
+                    start_dir[i].abs()
+                }
+            }),
+        };
+        let mut limits = axes.along(&rate);
+        if let Some(c) = &circle {
+            arc_limits(&mut limits, c, &rate, axes);
+        }
+        let programmed = if rapid {
+            limits.v * ctx.rapid_override
+        } else {
+            let per_minute = match m.feed_mode {
+                FeedMode::PerMinute => m.feed,
+                FeedMode::PerRevolution => m.feed * m.spindle,
+                FeedMode::InverseTime => m.feed * len,
+            };
+            per_minute / 60.0 * ctx.feed_override
+        };
+        limits.v = limits.v.min(programmed);
+        Segment {
+            line: 0,
+            n: None,
+            rapid,
+            from: *from,
+            to: m.machine,
+            work_from: *work_from,
+            work_to: m.target,
+            circle,
+            len,
+            limits,
+            start_dir,
+            end_dir,
+            tip_rate,
+            stop_after: rapid || ctx.exact_stop,
+        }
+    }
+
+    /// Machine and programming positions at distance `s` along the segment.
+    pub fn at(&self, s: f64) -> (Pos, Pos) {
+        if s >= self.len {
+            return (self.to, self.work_to);
+        }
+        let u = if self.len > 0.0 { s / self.len } else { 1.0 };
+        let mut machine: Pos = std::array::from_fn(|i| self.from[i] + (self.to[i] - self.from[i]) * u);
+        let mut work: Pos = std::array::from_fn(|i| self.work_from[i] + (self.work_to[i] - self.work_from[i]) * u);
+        if let Some(c) = &self.circle {
+            let angle = c.start + c.sweep * u;
+            let r = c.r0 + (c.r1 - c.r0) * u;
+            let (sin, cos) = angle.sin_cos();
+            let (x, y) = (c.center.0 + r * cos, c.center.1 + r * sin);
+            // The offsets are constant along an arc: machine = programming + (end offset).
+            machine[c.a] = x + (self.to[c.a] - self.work_to[c.a]);
+            machine[c.b] = y + (self.to[c.b] - self.work_to[c.b]);
+            work[c.a] = x;
+            work[c.b] = y;
+        }
+        (machine, work)
+    }
+
+    /// The axis-space extremes an arc reaches between its end points (for the stroke check):
+    /// the quadrant points it sweeps over.
+    pub fn arc_extremes(&self) -> impl Iterator<Item = Pos> + '_ {
+        let quarter = std::f64::consts::FRAC_PI_2;
+        self.circle.iter().flat_map(move |c| {
+            let (lo, hi) = if c.sweep < 0.0 { (c.start + c.sweep, c.start) } else { (c.start, c.start + c.sweep) };
+            let first = (lo / quarter).ceil() as i64;
+            let last = (hi / quarter).floor() as i64;
+            (first..=last.min(first + 4)).map(move |k| self.at(self.len * ((k as f64 * quarter - c.start) / c.sweep)).0)
+        })
+    }
+}
+
+fn norm(v: &Pos) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn circle(arc: &Arc, start: &Pos, end: &Pos) -> Circle {
+    let (a, b, _) = arc.plane_axes;
+    let (cx, cy) = (arc.center[a], arc.center[b]);
+    Circle {
+        a,
+        b,
+        center: (cx, cy),
+        r0: arc.radius,
+        r1: (end[a] - cx).hypot(end[b] - cy),
+        start: (start[b] - cy).atan2(start[a] - cx),
+        sweep: arc.sweep_deg.to_radians(),
+    }
+}
+
+/// On an arc the plane's axes also accelerate toward the centre (v²/r) and that acceleration
+/// turns (v³/r² of jerk): half of each axis's acceleration and a third of its jerk go to the
+/// turning, the rest to speed changes along the path.
+fn arc_limits(lim: &mut Limits, c: &Circle, rate: &Pos, axes: &AxisLimits) {
+    let r = c.r0.min(c.r1).max(1e-9);
+    let k = rate[c.a].max(1e-12);
+    let (amax, jmax) = (axes.a[c.a].min(axes.a[c.b]), axes.j[c.a].min(axes.j[c.b]));
+    // Plane speed w = k·v: w²/r ≤ amax/2, w³/r² ≤ jmax/3, and the cross term 3·w·a_t·k/r ≤ jmax/3
+    // with a_t ≤ amax/(2k).
+    let w = (0.5 * amax * r).sqrt().min((jmax / 3.0 * r * r).cbrt()).min(jmax * r / (4.5 * amax));
+    lim.v = lim.v.min(w / k);
+    lim.a = lim.a.min(0.5 * amax / k);
+    lim.j = lim.j.min(jmax / 3.0 / k);
+}

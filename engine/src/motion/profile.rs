@@ -1,0 +1,215 @@
+//! Jerk-limited speed profiles along a path parameter.
+//!
+//! A profile takes a segment of length `len` from speed `vs` to speed `ve`, never faster than
+//! `limits.v`, with |acceleration| ≤ `limits.a` and |jerk| ≤ `limits.j`, and with zero
+//! acceleration at both ends: consecutive segments then join with continuous speed and
+//! acceleration. Each speed change is the classic S-curve (jerk up, constant acceleration,
+//! jerk down — or only the two jerk phases for a small change); every phase has constant jerk,
+//! so time, distance and speed are exact polynomials and the cycle time is analytic.
+
+use arrayvec::ArrayVec;
+
+/// The limits along the path: speed (units/s), acceleration (units/s²), jerk (units/s³).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    pub v: f64,
+    pub a: f64,
+    pub j: f64,
+}
+
+/// Time and distance to change speed between `v0` and `v1` (either way; the two are
+/// symmetric) starting and ending with zero acceleration.
+pub fn change(v0: f64, v1: f64, lim: &Limits) -> (f64, f64) {
+    let dv = (v1 - v0).abs();
+    let t = if dv * lim.j <= lim.a * lim.a { 2.0 * (dv / lim.j).sqrt() } else { dv / lim.a + lim.a / lim.j };
+    (t, 0.5 * (v0 + v1) * t)
+}
+
+/// The highest speed, at most `cap`, that can be reached from (or brought down to) `v0` within
+/// `len`: the distance of a speed change grows with the target speed, so it is found by
+/// bisection.
+pub fn reachable(v0: f64, len: f64, cap: f64, lim: &Limits) -> f64 {
+    if cap <= v0 || change(v0, cap, lim).1 <= len {
+        return cap;
+    }
+    bisect(v0, cap, |v| change(v0, v, lim).1 <= len)
+}
+
+/// The largest `x` in `[lo, hi]` with `fits(x)`, for `fits` true at `lo` and monotone.
+fn bisect(mut lo: f64, mut hi: f64, fits: impl Fn(f64) -> bool) -> f64 {
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// One constant-jerk phase with the state it starts from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Phase {
+    duration: f64,
+    jerk: f64,
+    s: f64,
+    v: f64,
+    a: f64,
+}
+
+/// Position, speed and acceleration along the path at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathState {
+    pub s: f64,
+    pub v: f64,
+    pub a: f64,
+}
+
+impl Phase {
+    fn at(&self, t: f64) -> PathState {
+        let j = self.jerk;
+        PathState {
+            s: self.s + t * (self.v + t * (0.5 * self.a + t * j / 6.0)),
+            v: self.v + t * (self.a + 0.5 * t * j),
+            a: self.a + t * j,
+        }
+    }
+}
+
+/// A planned segment: at most seven phases (two S-curves and a cruise).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profile {
+    phases: ArrayVec<Phase, 7>,
+    len: f64,
+    duration: f64,
+}
+
+impl Profile {
+    /// From `vs` to `ve` over `len`; `vs` and `ve` must be reachable from each other within
+    /// `len` (the planner guarantees it; otherwise the profile runs at the nearer speed).
+    pub fn plan(vs: f64, ve: f64, len: f64, lim: &Limits) -> Profile {
+        let mut p = Profile { phases: ArrayVec::new(), len: len.max(0.0), duration: 0.0 };
+        if len <= 0.0 {
+            return p;
+        }
+        let floor = vs.max(ve);
+        let cap = lim.v.max(floor);
+        let total = |vp: f64| change(vs, vp, lim).1 + change(vp, ve, lim).1;
+        let peak = if total(cap) <= len { cap } else { bisect(floor, cap, |vp| total(vp) <= len) };
+        let mut state = PathState { s: 0.0, v: vs, a: 0.0 };
+        p.ramp(&mut state, peak, lim);
+        let cruise = len - total(peak);
+        if cruise > 0.0 && peak > 0.0 {
+            p.push(&mut state, cruise / peak, 0.0);
+        }
+        p.ramp(&mut state, ve, lim);
+        p
+    }
+
+    fn push(&mut self, state: &mut PathState, duration: f64, jerk: f64) {
+        if duration <= 0.0 {
+            return;
+        }
+        let phase = Phase { duration, jerk, s: state.s, v: state.v, a: state.a };
+        *state = phase.at(duration);
+        // A ramp ends with zero acceleration; rounding leaves a trace of it.
+        if jerk != 0.0 && state.a.abs() < 1e-9 * (1.0 + state.v) {
+            state.a = 0.0;
+        }
+        self.phases.push(phase);
+        self.duration += duration;
+    }
+
+    /// An S-curve from the current speed to `v1`.
+    fn ramp(&mut self, state: &mut PathState, v1: f64, lim: &Limits) {
+        let dv = v1 - state.v;
+        let j = lim.j.copysign(dv);
+        if dv.abs() * lim.j <= lim.a * lim.a {
+            let t = (dv.abs() / lim.j).sqrt();
+            self.push(state, t, j);
+            self.push(state, t, -j);
+        } else {
+            let t = lim.a / lim.j;
+            self.push(state, t, j);
+            self.push(state, dv.abs() / lim.a - t, 0.0);
+            self.push(state, t, -j);
+        }
+        state.v = v1;
+    }
+
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// The state `t` seconds into the segment (clamped to the segment).
+    pub fn at(&self, t: f64) -> PathState {
+        let mut rest = t.max(0.0);
+        for phase in &self.phases {
+            if rest <= phase.duration {
+                let mut state = phase.at(rest);
+                state.s = state.s.clamp(0.0, self.len);
+                return state;
+            }
+            rest -= phase.duration;
+        }
+        let end = self.phases.last().map_or(0.0, |p| p.at(p.duration).v);
+        PathState { s: self.len, v: end.max(0.0), a: 0.0 }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const LIM: Limits = Limits { v: 100.0, a: 1000.0, j: 20000.0 };
+
+    #[test]
+    fn rest_to_rest_time_is_analytic() {
+        // Long enough to cruise: accelerating takes v/a + a/j over (v/2)(v/a + a/j).
+        let p = Profile::plan(0.0, 0.0, 500.0, &LIM);
+        let ramp = 100.0 / 1000.0 + 1000.0 / 20000.0;
+        assert!((p.duration() - (500.0 / 100.0 + ramp)).abs() < 1e-12, "{}", p.duration());
+        let end = p.at(p.duration());
+        assert_eq!((end.s, end.v), (500.0, 0.0));
+        // Short: a pure jerk S-curve (dv·j ≤ a²) to a peak and back; distance 2·vp·√(vp/j).
+        let p = Profile::plan(0.0, 0.0, 1.0, &LIM);
+        let vp = (0.5f64.powi(2) * 20000.0).powf(1.0 / 3.0);
+        assert!((p.duration() - 4.0 * (vp / 20000.0).sqrt()).abs() < 1e-9, "{}", p.duration());
+    }
+
+    #[test]
+    fn change_matches_the_profile() {
+        let (t, d) = change(10.0, 90.0, &LIM);
+        let p = Profile::plan(10.0, 90.0, d, &LIM);
+        assert!((p.duration() - t).abs() < 1e-9 && (p.at(t).v - 90.0).abs() < 1e-6);
+    }
+
+    proptest! {
+        #[test]
+        fn profiles_respect_limits_and_reach_the_end(
+            vs in 0.0..100.0f64, ve in 0.0..100.0f64, len in 0.001..300.0f64,
+        ) {
+            // Speeds the planner would allow: each reachable from the other within len.
+            let ve = ve.min(reachable(vs, len, 100.0, &LIM));
+            let vs = vs.min(reachable(ve, len, 100.0, &LIM));
+            let p = Profile::plan(vs, ve, len, &LIM);
+            let n = 2000;
+            let mut last = p.at(0.0);
+            prop_assert!((last.v - vs).abs() < 1e-9);
+            for i in 1..=n {
+                let s = p.at(p.duration() * i as f64 / n as f64);
+                prop_assert!(s.v <= LIM.v + 1e-9 && s.v >= -1e-9, "speed {}", s.v);
+                prop_assert!(s.a.abs() <= LIM.a + 1e-6, "acceleration {}", s.a);
+                prop_assert!(s.s >= last.s - 1e-12, "moves forward");
+                last = s;
+            }
+            prop_assert!((last.s - len).abs() < 1e-6 * (1.0 + len), "ends at {} of {}", last.s, len);
+            prop_assert!((last.v - ve).abs() < 1e-6, "end speed {} for {}", last.v, ve);
+        }
+    }
+}
