@@ -181,7 +181,8 @@ impl Executor {
                     CanonKind::Dwell { seconds } => {
                         if tracing {
                             let (m0, w0) = (self.machine, self.workpiece);
-                            self.sample_until(self.t + seconds, c.line, c.n, on_sample, |_| (m0, w0, 0.0));
+                            let (line, n) = (c.line, c.n);
+                            self.sample_until(self.t + seconds, &mut |_| (m0, w0, 0.0, line, n), on_sample);
                         }
                         self.t += seconds;
                         self.check_budget(c.line, c.n);
@@ -205,20 +206,32 @@ impl Executor {
     }
 
     fn execute(&mut self, p: &Planned, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
-        let (seg, profile) = (&p.segment, &p.profile);
+        let Some(last) = p.segments.last() else { return };
         let t0 = self.t;
-        let t1 = t0 + profile.duration();
+        let t1 = t0 + p.profile.duration();
         if tracing {
-            self.sample_until(t1, seg.line, seg.n, on_sample, |dt| {
-                let state = profile.at(dt);
-                let (machine, work) = seg.at(state.s);
-                (machine, work, state.v * seg.tip_rate * 60.0)
-            });
+            // Samples come in time order, so the segment holding each one only moves forward.
+            let mut k = 0;
+            let mut start = 0.0;
+            self.sample_until(
+                t1,
+                &mut |dt| {
+                    let state = p.profile.at(dt);
+                    while k + 1 < p.segments.len() && state.s > start + p.segments[k].len {
+                        start += p.segments[k].len;
+                        k += 1;
+                    }
+                    let seg = &p.segments[k];
+                    let (machine, work) = seg.at(state.s - start);
+                    (machine, work, state.v * seg.tip_rate * 60.0, seg.line, seg.n)
+                },
+                on_sample,
+            );
         }
         self.t = t1;
-        self.machine = seg.to;
-        self.workpiece = seg.work_to;
-        self.check_budget(seg.line, seg.n);
+        self.machine = last.to;
+        self.workpiece = last.work_to;
+        self.check_budget(last.line, last.n);
     }
 
     fn check_budget(&mut self, line: u32, n: Option<u32>) {
@@ -227,15 +240,13 @@ impl Executor {
         }
     }
 
-    /// Samples from the current time to `t1`; `at(dt)` gives machine and programming position
-    /// and tip feed (mm/min) `dt` seconds after the current time.
+    /// Samples from the current time to `t1`; `at(dt)` gives machine and programming position,
+    /// tip feed (mm/min), line and sequence number `dt` seconds after the current time.
     fn sample_until(
         &mut self,
         t1: f64,
-        line: u32,
-        n: Option<u32>,
+        at: &mut impl FnMut(f64) -> (Pos, Pos, f64, u32, Option<u32>),
         on_sample: &mut impl FnMut(&Sample),
-        at: impl Fn(f64) -> (Pos, Pos, f64),
     ) {
         let t0 = self.t;
         loop {
@@ -243,7 +254,7 @@ impl Executor {
             if ts > t1 || (ts > t0 && t1 == t0) {
                 return;
             }
-            let (machine, work, feed) = at((ts - t0).max(0.0));
+            let (machine, work, feed, line, n) = at((ts - t0).max(0.0));
             let tool = self.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&machine, 0.0).tool.into());
             on_sample(&Sample { t: ts, line, n, machine, tip: [work[0], work[1], work[2]], tool, feed });
             self.next_sample += 1;

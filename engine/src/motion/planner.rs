@@ -2,22 +2,27 @@
 //! stop by the end of what it has read, never exceeds a segment's limits, and slows down at
 //! corners only as much as each axis's allowed speed step requires.
 //!
-//! Segments are queued as the interpreter produces them. A segment is released only when at
-//! least [`Planner::lookahead`] segments follow it (or the queue ends in a stop: a non-motion
-//! command, an exact stop, the program end): its end speed is then final, because the speeds
-//! are planned as if the machine had to stop at the end of the queue. Planning runs once per
-//! `lookahead` released segments over the whole queue (a backward pass from the stop, then a
-//! forward pass from the current speed), so it costs two passes per segment.
+//! Segments are queued as the interpreter produces them and grouped into *runs*: consecutive
+//! segments with the same speed limit, similar acceleration and jerk limits and no binding
+//! corner between them. A run gets one jerk-limited profile over its whole length (zero
+//! acceleration only at its ends), so that a program of many short segments accelerates as
+//! one smooth move instead of pulsing at every block.
+//!
+//! A run is released only when at least [`Planner::lookahead`] segments follow it (or the
+//! queue ends in a stop: a non-motion command, an exact stop, the program end): its speeds are
+//! then final, because they are planned as if the machine had to stop at the end of the queue.
+//! Planning runs once per `lookahead` queued segments over the whole queue (a backward pass
+//! from the stop, then a forward pass from the current speed): two passes per segment.
 
 use super::path::Segment;
-use super::profile::{reachable, Profile};
+use super::profile::{reachable, Limits, Profile};
 use crate::canon::Pos;
 use std::collections::VecDeque;
 
-/// A segment with its planned profile, ready to execute.
+/// A run of segments with its planned profile, ready to execute.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Planned {
-    pub segment: Segment,
+    pub segments: Vec<Segment>,
     pub profile: Profile,
 }
 
@@ -25,15 +30,22 @@ struct Queued {
     segment: Segment,
     /// Highest speed at the end of this segment (the junction with the next one).
     junction: f64,
-    /// Planned speed at the end.
+}
+
+/// Consecutive queued segments planned as one move.
+struct Run {
+    end: usize,
+    len: f64,
+    limits: Limits,
+    /// Highest speed at its end, then the planned one.
+    cap: f64,
     v_end: f64,
 }
 
 pub struct Planner {
     queue: VecDeque<Queued>,
-    /// Segments at the head of the queue whose end speed is final.
-    settled: usize,
-    /// Speed at the end of the last released segment.
+    ready: VecDeque<Planned>,
+    /// Speed at the end of the last released run.
     v_now: f64,
     pub lookahead: usize,
     /// Highest speed step each axis may take at a corner, units/s (FANUC No.1783).
@@ -42,11 +54,12 @@ pub struct Planner {
 
 impl Planner {
     pub fn new(lookahead: usize, corner_step: Pos) -> Planner {
-        Planner { queue: VecDeque::new(), settled: 0, v_now: 0.0, lookahead: lookahead.max(1), corner_step }
+        let lookahead = lookahead.max(1);
+        Planner { queue: VecDeque::new(), ready: VecDeque::new(), v_now: 0.0, lookahead, corner_step }
     }
 
     pub fn is_empty(&self) -> bool {
-        self.queue.is_empty()
+        self.queue.is_empty() && self.ready.is_empty()
     }
 
     /// Queue a segment (zero-length segments are dropped: they take no time).
@@ -61,43 +74,91 @@ impl Planner {
                 corner_speed(&last.segment, &segment, &self.corner_step)
             };
         }
-        self.queue.push_back(Queued { segment, junction: 0.0, v_end: 0.0 });
+        self.queue.push_back(Queued { segment, junction: 0.0 });
     }
 
-    /// The next segment whose speeds are final, if any; with `stop`, every queued segment is
+    /// The next run whose speeds are final, if any; with `stop`, every queued segment is
     /// released (the machine stops at the end of the queue).
     pub fn pop(&mut self, stop: bool) -> Option<Planned> {
-        if self.settled == 0 {
+        if self.ready.is_empty() {
             let n = self.queue.len();
             // Planning passes over the whole queue, so they run once `lookahead` segments can
             // be released: two passes per segment whatever the look-ahead.
             if n == 0 || (!stop && n < 2 * self.lookahead) {
                 return None;
             }
-            self.plan();
-            self.settled = if stop { n } else { n - self.lookahead };
+            self.plan(if stop { n } else { n - self.lookahead });
         }
-        let q = self.queue.pop_front()?;
-        self.settled -= 1;
-        let profile = Profile::plan(self.v_now, q.v_end, q.segment.len, &q.segment.limits);
-        self.v_now = q.v_end;
-        Some(Planned { segment: q.segment, profile })
+        self.ready.pop_front()
     }
 
-    fn plan(&mut self) {
+    /// Plan the queue and release the runs that end within its first `release` segments.
+    fn plan(&mut self, release: usize) {
+        let mut runs = self.runs();
         // Backward: the machine must be able to stop at the end of the queue.
         let mut v_next_start = 0.0;
-        for q in self.queue.iter_mut().rev() {
-            q.v_end = q.junction.min(v_next_start);
-            v_next_start = reachable(q.v_end, q.segment.len, q.segment.limits.v, &q.segment.limits);
+        for r in runs.iter_mut().rev() {
+            r.v_end = r.cap.min(v_next_start);
+            v_next_start = reachable(r.v_end, r.len, r.limits.v, &r.limits);
         }
         // Forward: from the current speed, no faster than acceleration allows.
         let mut v_start = self.v_now;
-        for q in self.queue.iter_mut() {
-            q.v_end = q.v_end.min(reachable(v_start, q.segment.len, q.segment.limits.v, &q.segment.limits));
-            v_start = q.v_end;
+        for r in runs.iter_mut() {
+            r.v_end = r.v_end.min(reachable(v_start, r.len, r.limits.v, &r.limits));
+            v_start = r.v_end;
+        }
+        let mut taken = 0;
+        for r in runs.iter().take_while(|r| r.end <= release) {
+            let segments = self.queue.drain(..r.end - taken).map(|q| q.segment).collect();
+            taken = r.end;
+            let profile = Profile::plan(self.v_now, r.v_end, r.len, &r.limits);
+            self.v_now = r.v_end;
+            self.ready.push_back(Planned { segments, profile });
         }
     }
+
+    /// The queue grouped into runs (at most `lookahead` segments each, so that a run is
+    /// released while its look-ahead still follows it).
+    fn runs(&self) -> Vec<Run> {
+        let mut runs: Vec<Run> = Vec::new();
+        let mut open: Option<Run> = None;
+        for (k, q) in self.queue.iter().enumerate() {
+            let lim = q.segment.limits;
+            let run = match open.take() {
+                Some(mut r) => {
+                    r.len += q.segment.len;
+                    r.limits = Limits { v: r.limits.v.min(lim.v), a: r.limits.a.min(lim.a), j: r.limits.j.min(lim.j) };
+                    r
+                }
+                None => Run { end: 0, len: q.segment.len, limits: lim, cap: 0.0, v_end: 0.0 },
+            };
+            let run = Run { end: k + 1, cap: q.junction, ..run };
+            let next = self.queue.get(k + 1).map(|n| n.segment.limits);
+            let count = runs.last().map_or(k + 1, |last| k + 1 - last.end);
+            let ends = match next {
+                None => true,
+                Some(next) => {
+                    // A corner that may have to slow the machine, a different speed, limits
+                    // too different to share (the run takes the lowest), or a full run.
+                    q.junction < run.limits.v.min(next.v)
+                        || (next.v - run.limits.v).abs() > 1e-9 * run.limits.v
+                        || !within_twice(next.a, run.limits.a)
+                        || !within_twice(next.j, run.limits.j)
+                        || count >= self.lookahead
+                }
+            };
+            if ends {
+                runs.push(run);
+            } else {
+                open = Some(run);
+            }
+        }
+        runs
+    }
+}
+
+fn within_twice(x: f64, of: f64) -> bool {
+    x >= 0.5 * of && x <= 2.0 * of
 }
 
 /// The highest speed through the junction of `a` into `b`: neither segment's speed, and at

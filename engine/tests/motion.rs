@@ -1,0 +1,253 @@
+//! Motion (`fivex_engine::motion` through `run::run`): cycle times against closed-form S-curve
+//! times, sampled axis motion within every velocity / acceleration / jerk limit, the tool tip on
+//! the programmed path, look-ahead depth, exact stops and stroke limits.
+//!
+//! Preset linear axes (mill3, `docs/machine-config.md`): rapid 30000 mm/min (500 mm/s),
+//! acceleration A = 4000 mm/s², jerk J = 80000 mm/s³, X stroke ±600.
+
+mod common;
+
+use common::interpreter;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions, RunResult, Sample};
+use fivex_engine::Dialect;
+use proptest::prelude::*;
+
+const A: f64 = 4000.0;
+const J: f64 = 80000.0;
+const PERIOD: f64 = 0.001;
+
+fn traced(src: &str, preset: &str) -> (RunResult, Vec<Sample>) {
+    let mut interp = interpreter(src, preset, Dialect::Fanuc);
+    let mut samples = Vec::new();
+    let opts = RunOptions { period_s: PERIOD, ..RunOptions::default() };
+    let r = run(&mut interp, &opts, |s| samples.push(*s));
+    (r, samples)
+}
+
+/// Time of a speed change 0 → v with zero acceleration at both ends, written out independently
+/// of the engine: two jerk phases of √(v/J) when v·J ≤ A², else v/A + A/J.
+fn ramp_time(v: f64, a: f64, j: f64) -> f64 {
+    if v * j <= a * a {
+        2.0 * (v / j).sqrt()
+    } else {
+        v / a + a / j
+    }
+}
+
+/// Rest-to-rest time over `len` at cruise speed `v` (long enough to reach it): the ramps are
+/// symmetric, so the move lags the ideal one by exactly one ramp time.
+fn move_time(len: f64, v: f64, a: f64, j: f64) -> f64 {
+    len / v + ramp_time(v, a, j)
+}
+
+fn close(got: f64, want: f64) {
+    assert!((got - want).abs() < 1e-9, "got {got}, want {want}");
+}
+
+#[test]
+fn a_single_move_takes_its_closed_form_time() {
+    // 100 mm/s: v·J = 8e6 ≤ A² = 16e6, the short ramp.
+    let (r, _) = traced("G90 G01 X200. F6000.\nM30\n", "mill3");
+    close(r.cycle_time_s, move_time(200.0, 100.0, A, J));
+    // A diagonal rapid: each axis at 1/√2 of the path, so the path may go √2 times as fast,
+    // accelerate and jerk √2 times as much; 500·√2 mm/s is reached (the ramp covers 100 mm).
+    let (r, _) = traced("G90 G00 X400. Y400.\nM30\n", "mill3");
+    let k = 2f64.sqrt();
+    close(r.cycle_time_s, move_time(400.0 * k, 500.0 * k, A * k, J * k));
+}
+
+#[test]
+fn exact_stop_modes_stop_at_every_block_and_g64_does_not_on_a_straight_line() {
+    // Two collinear blocks: in G64 one continuous move, in G61 (or with G09) two.
+    let straight = |mode: &str| format!("G90 {mode} G01 X100. F6000.\nX200.\nM30\n");
+    let single = move_time(200.0, 100.0, A, J);
+    let twice = 2.0 * move_time(100.0, 100.0, A, J);
+    close(traced(&straight("G64"), "mill3").0.cycle_time_s, single);
+    close(traced(&straight("G61"), "mill3").0.cycle_time_s, twice);
+    close(traced("G90 G09 G01 X100. F6000.\nX200.\nM30\n", "mill3").0.cycle_time_s, twice);
+    // A square in G61: four rest-to-rest moves.
+    let square = "G90 G61 G01 X50. F3000.\nY50.\nX0.\nY0.\nM30\n";
+    close(traced(square, "mill3").0.cycle_time_s, 4.0 * move_time(50.0, 50.0, A, J));
+}
+
+#[test]
+fn look_ahead_spans_more_than_200_blocks() {
+    // 1000 collinear blocks of 0.02 mm at 6000 mm/min: stopping from 100 mm/s takes
+    // 100·√(100/J) = 3.54 mm = 177 blocks, so full feed needs a look-ahead of 177 blocks or more.
+    let mut src = String::from("G90 G01 F6000.\n");
+    for i in 1..=1000 {
+        src.push_str(&format!("X{:.2}\n", i as f64 * 0.02));
+    }
+    src.push_str("M30\n");
+    let (r, samples) = traced(&src, "mill3");
+    assert!(r.completed());
+    let top = samples.iter().map(|s| s.feed).fold(0.0, f64::max);
+    assert!((top - 6000.0).abs() < 1e-6, "top feed {top}");
+    close(r.cycle_time_s, move_time(20.0, 100.0, A, J));
+}
+
+#[test]
+fn a_move_beyond_the_stroke_alarms_before_it_starts() {
+    let (r, samples) = traced("G90 G01 X500. F6000.\nN20 X700.\nM30\n", "mill3");
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line, r.alarms[0].n), ("OT0510", 2, Some(20)));
+    assert_eq!(r.alarms[0].message, "+ OVERTRAVEL ( PRE-CHECK ) X");
+    // The machine stopped at the end of the block before, at rest.
+    assert_eq!(r.machine[0], 500.0);
+    close(r.cycle_time_s, move_time(500.0, 100.0, A, J));
+    assert!(samples.iter().all(|s| s.machine[0] <= 500.0 && s.line == 1));
+    // An arc whose ends are inside but whose bulge is not: Y stroke ±450.
+    let arc = "G90 G00 X-100. Y400.\nN20 G02 X100. Y400. R100. F1000.\nM30\n";
+    let (r, _) = traced(arc, "mill3");
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("OT0510", 2));
+    let neg = traced("G90 G01 Z-600. F1000.\nM30\n", "mill3").0;
+    assert_eq!(neg.alarms[0].code, "OT0511");
+    let mut interp = interpreter("G90 G01 Z-600. F1000.\nM30\n", "mill3", Dialect::Syntec);
+    let syntec = run(&mut interp, &RunOptions::default(), |_| {});
+    assert_eq!(syntec.alarms[0].code, "MOT-002");
+}
+
+/// Per-axis limits of a preset.
+fn limits(preset: &str) -> Vec<(f64, f64, f64)> {
+    let m = MachineConfig::preset(preset).unwrap();
+    m.axes.iter().map(|a| (a.rapid / 60.0, a.max_accel(), a.max_jerk())).collect()
+}
+
+/// Finite differences of the sampled axis positions stay within the axis limits: speed
+/// everywhere; acceleration and jerk inside blocks, and at block junctions too when every
+/// block ends at rest (a corner may change an axis's speed by the allowed step at once, as
+/// FANUC's No.1783 allows).
+fn check_limits(samples: &[Sample], preset: &str, junctions_too: bool) -> Result<(), TestCaseError> {
+    let lim = limits(preset);
+    let slack = 1.0 + 1e-6;
+    for w in samples.windows(4) {
+        let same_block = w.iter().all(|s| s.line == w[0].line);
+        for (i, &(v, a, j)) in lim.iter().enumerate() {
+            let x: Vec<f64> = w.iter().map(|s| s.machine[i]).collect();
+            let vel = (x[1] - x[0]) / PERIOD;
+            prop_assert!(vel.abs() <= v * slack + 1e-6, "axis {i} speed {vel} > {v} at t={}", w[0].t);
+            if same_block || junctions_too {
+                let acc = (x[2] - 2.0 * x[1] + x[0]) / (PERIOD * PERIOD);
+                let jerk = (x[3] - 3.0 * x[2] + 3.0 * x[1] - x[0]) / PERIOD.powi(3);
+                prop_assert!(acc.abs() <= a * slack + 1e-3, "axis {i} acceleration {acc} > {a} at t={}", w[0].t);
+                prop_assert!(jerk.abs() <= j * slack + 1.0, "axis {i} jerk {jerk} > {j} at t={}", w[0].t);
+            } else {
+                // Across a junction: at most the corner step (A × 1 ms) plus what the two
+                // periods' acceleration adds.
+                let dv = ((x[2] - x[1]) - (x[1] - x[0])) / PERIOD;
+                prop_assert!(dv.abs() <= 3.0 * a * PERIOD * slack, "axis {i} speed step {dv} at t={}", w[0].t);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Distance of `p` from the segment `a`–`b` (in X, Y, Z).
+fn off_line(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d: Vec<f64> = (0..3).map(|i| b[i] - a[i]).collect();
+    let len2: f64 = d.iter().map(|x| x * x).sum();
+    let u = if len2 > 0.0 { ((0..3).map(|i| (p[i] - a[i]) * d[i]).sum::<f64>() / len2).clamp(0.0, 1.0) } else { 0.0 };
+    (0..3).map(|i| (p[i] - a[i] - u * d[i]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// A random 3-axis program: straight moves and half circles (G02/G03 with I) in XY, each block
+/// one element, with the programmed geometry to compare the trace against.
+#[derive(Debug, Clone)]
+enum Element {
+    Line([f64; 3]),
+    /// Half circle in XY about the current point + (r, 0): ends at current + (2r, 0).
+    Arc {
+        r: f64,
+        ccw: bool,
+    },
+}
+
+fn program(elements: &[Element], feed: f64, mode: &str) -> (String, Vec<(u32, Element, [f64; 3])>) {
+    let mut src = format!("G90 G17 {mode} G00 X0. Y0. Z0.\nF{feed:.0}\n");
+    let mut at = [0.0; 3];
+    let mut blocks = Vec::new();
+    for (k, e) in elements.iter().enumerate() {
+        let line = k as u32 + 3;
+        match e {
+            Element::Line(p) => src.push_str(&format!("G01 X{:.3} Y{:.3} Z{:.3}\n", p[0], p[1], p[2])),
+            Element::Arc { r, ccw } => {
+                let g = if *ccw { "G03" } else { "G02" };
+                src.push_str(&format!("{g} X{:.3} Y{:.3} I{:.3} J0.\n", at[0] + 2.0 * r, at[1], r));
+            }
+        }
+        blocks.push((line, e.clone(), at));
+        at = match e {
+            Element::Line(p) => p.map(|x| (x * 1000.0).round() / 1000.0),
+            Element::Arc { r, .. } => [at[0] + (2.0 * r * 1000.0).round() / 1000.0, at[1], at[2]],
+        };
+    }
+    src.push_str("M30\n");
+    (src, blocks)
+}
+
+fn element() -> impl Strategy<Value = Element> {
+    prop_oneof![
+        prop::array::uniform3(-100.0..100.0f64).prop_map(Element::Line),
+        (-20.0..20.0f64, any::<bool>())
+            .prop_filter("a real radius", |(r, _)| r.abs() > 0.5)
+            .prop_map(|(r, ccw)| Element::Arc { r, ccw }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    #[test]
+    fn sampled_axes_stay_within_their_limits_and_the_tip_on_the_path(
+        elements in prop::collection::vec(element(), 1..8),
+        feed in 200u32..20000,
+        exact in any::<bool>(),
+    ) {
+        let feed = feed as f64;
+        let mode = if exact { "G61" } else { "G64" };
+        let (src, blocks) = program(&elements, feed, mode);
+        let (r, samples) = traced(&src, "mill3");
+        prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
+        check_limits(&samples, "mill3", exact)?;
+        for s in &samples {
+            prop_assert!(s.feed <= feed + 1e-6, "feed {} above F{feed}", s.feed);
+            let Some((_, e, from)) = blocks.iter().find(|b| b.0 == s.line) else { continue };
+            let off = match e {
+                Element::Line(p) => off_line(s.tip, *from, p.map(|x| (x * 1000.0).round() / 1000.0)),
+                Element::Arc { r, .. } => {
+                    let r = (r * 1000.0).round() / 1000.0;
+                    let (cx, cy) = (from[0] + r, from[1]);
+                    ((s.tip[0] - cx).hypot(s.tip[1] - cy) - r.abs()).abs() + (s.tip[2] - from[2]).abs()
+                }
+            };
+            prop_assert!(off < 1e-3, "tip {:?} is {off} mm off block {} of\n{src}", s.tip, s.line);
+        }
+    }
+
+    #[test]
+    fn rest_to_rest_moves_take_their_closed_form_time(len in 1.0..500.0f64, feed in 60.0..30000.0f64) {
+        let v = feed / 60.0;
+        // Only when the cruise speed is reached (the ramps' distance, v·ramp, fits).
+        prop_assume!(v * ramp_time(v, A, J) <= len);
+        let (r, _) = traced(&format!("G90 G01 X{len:.4} F{feed:.4}\nM30\n", ), "mill3");
+        let len = (len * 10000.0).round() / 10000.0;
+        let v = (feed * 10000.0).round() / 10000.0 / 60.0;
+        prop_assert!((r.cycle_time_s - move_time(len, v, A, J)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn rotary_moves_stay_within_the_rotary_limits(
+        moves in prop::collection::vec((-80.0..80.0f64, 0.0..360.0f64, -100.0..100.0f64), 1..5),
+        feed in 500u32..20000,
+    ) {
+        // head-bc: B ±100 of range, C unlimited; simultaneous linear + rotary G01 moves.
+        let mut src = format!("G90 G61 G01 F{feed:.0}\n");
+        for (b, c, x) in &moves {
+            src.push_str(&format!("X{x:.3} B{b:.3} C{c:.3}\n"));
+        }
+        src.push_str("M30\n");
+        let (r, samples) = traced(&src, "head-bc");
+        prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
+        check_limits(&samples, "head-bc", true)?;
+    }
+}
