@@ -8,6 +8,9 @@ Writes into OUT_DIR (default: bench/out/ next to this script's parent):
   linear-200k.ngc  the very same moves for LinuxCNC rs274, M2
   macro-200k.nc    FANUC custom macro B WHILE/DO/END loop, 200,000 iterations
   macro-200k.ngc   the equivalent LinuxCNC o-word while loop, ends (debug,#2)
+  indexed-5x.nc    FANUC 3+2 shop program for `fivex run` on head-bc: per face an
+                   indexing rapid of B/C, a work offset, a pocket of lines and corner
+                   arcs, a G81/G83 drilling pattern, tool changes
 and prints the expected final value of #2 for the macro programs.
 
 Coordinates are computed with integer arithmetic only (micrometres), so the
@@ -98,6 +101,55 @@ def write_macro_ngc(path, iters):
         f.write("M2\n")
 
 
+def write_indexed(path, faces):
+    """A long indexed (3+2) program: `faces` faces, each a rectangular pocket with corner
+    arcs in 8 passes and a 5x4 hole pattern (G81 spot, G83 peck). Integer micrometres."""
+    with open(path, "w", newline="\n") as f:
+        f.write("O0003 (INDEXED 3+2)\n")
+        f.write("G21 G17 G40 G49 G80 G90 G94\n")
+        for w, (x, y) in enumerate([(0, 0), (5_000, 0), (0, 5_000), (-5_000, 0), (0, -5_000), (5_000, 5_000)]):
+            f.write("G10 L2 P%d X%s Y%s Z0.\n" % (w + 1, fmt(x), fmt(y)))
+        for face in range(faces):
+            tool = face % 3 + 1
+            b = [-30_000, 0, 30_000, 45_000, -45_000, 15_000][face % 6]
+            c = (face * 37_000) % 360_000
+            f.write("N%d T%d M06\n" % (face % 9000 + 1, tool))
+            f.write("G%d G43 H%d S8000 M03\n" % (54 + face % 6, tool))
+            f.write("G00 B%s C%s\n" % (fmt(b), fmt(c)))
+            f.write("G00 X0. Y0. Z50.\n")
+            # Pocket: concentric rounded rectangles, 2 mm deep steps.
+            for depth in range(1, 3):
+                f.write("G00 X0. Y0. Z2.\n")
+                f.write("G01 Z-%d. F400.\n" % (2 * depth))
+                for k in range(1, 9):
+                    hx, hy, r = 5_000 * k, 3_500 * k, 1_000 * k
+                    f.write("G01 X%s Y%s F2400.\n" % (fmt(hx - r), fmt(-hy)))
+                    f.write("G03 X%s Y%s R%s\n" % (fmt(hx), fmt(-hy + r), fmt(r)))
+                    f.write("G01 Y%s\n" % fmt(hy - r))
+                    f.write("G03 X%s Y%s R%s\n" % (fmt(hx - r), fmt(hy), fmt(r)))
+                    f.write("G01 X%s\n" % fmt(-hx + r))
+                    f.write("G03 X%s Y%s R%s\n" % (fmt(-hx), fmt(hy - r), fmt(r)))
+                    f.write("G01 Y%s\n" % fmt(-hy + r))
+                    f.write("G03 X%s Y%s R%s\n" % (fmt(-hx + r), fmt(-hy), fmt(r)))
+                    f.write("G01 X0.\n")
+                f.write("G00 Z50.\n")
+            # Holes: spot then peck, G99 between holes, G98 at the last.
+            for cycle in ("G81 G99 R2. Z-3. F300.", "G83 G99 R2. Z-20. Q4. F250."):
+                first = True
+                for i in range(5):
+                    for j in range(4):
+                        x, y = -48_000 + 24_000 * i, -36_000 + 24_000 * j
+                        if first:
+                            f.write("%s X%s Y%s\n" % (cycle, fmt(x), fmt(y)))
+                            first = False
+                        else:
+                            f.write("X%s Y%s\n" % (fmt(x), fmt(y)))
+                f.write("G80\n")
+            f.write("G00 Z50. M05\n")
+        f.write("G49 G00 B0. C0.\n")
+        f.write("M30\n")
+
+
 def expected_macro(iters):
     acc = 0.0
     for i in range(iters):
@@ -111,6 +163,7 @@ def main():
     ap.add_argument("out", nargs="?", default=DEFAULT_OUT)
     ap.add_argument("--moves", type=int, default=200_000)
     ap.add_argument("--iters", type=int, default=200_000)
+    ap.add_argument("--faces", type=int, default=300)
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     files = {
@@ -118,6 +171,7 @@ def main():
         "linear-200k.ngc": lambda p: write_linear(p, a.moves, False),
         "macro-200k.nc": lambda p: write_macro_fanuc(p, a.iters),
         "macro-200k.ngc": lambda p: write_macro_ngc(p, a.iters),
+        "indexed-5x.nc": lambda p: write_indexed(p, a.faces),
     }
     for name, writer in files.items():
         path = os.path.join(a.out, name)
