@@ -40,6 +40,29 @@ pub fn basic(deg: f64) -> f64 {
     }
 }
 
+/// The travel of a rollover rotary axis at `from` (any number of turns) commanded to the
+/// absolute angle `command`: the end angle is `command` modulo 360; with `shortest` the axis
+/// takes the shorter way round (half a turn goes positive), otherwise the command's sign gives
+/// the direction (FANUC No.1008 ROA with RAB = 0 / 1; Syntec Pr201~ types 1 / 2, spec SYN-30).
+pub fn rollover_travel(from: f64, command: f64, shortest: bool) -> f64 {
+    let ahead = basic(basic(command) - basic(from));
+    if shortest {
+        if ahead > 180.0 {
+            ahead - 360.0
+        } else {
+            ahead
+        }
+    } else if command.is_sign_negative() {
+        if ahead > 0.0 {
+            ahead - 360.0
+        } else {
+            0.0
+        }
+    } else {
+        ahead
+    }
+}
+
 /// sin and cos of an angle in degrees, exact at multiples of 90° (so that a quarter turn maps
 /// axes onto axes without rounding noise), and the same on every platform.
 ///
@@ -114,6 +137,24 @@ mod tests {
             let r = deg.to_radians();
             assert!((s - r.sin()).abs() < 1e-14 && (c - r.cos()).abs() < 1e-14, "{deg}");
         }
+    }
+
+    #[test]
+    fn rollover_travel_follows_syntec_tv_40_and_fanuc_tv_13() {
+        // Syntec TV-40, type 1 (shortest): C350 → C10 moves +20; C0 → C−90 moves −90.
+        assert_eq!(rollover_travel(350.0, 10.0, true), 20.0);
+        assert_eq!(rollover_travel(0.0, -90.0, true), -90.0);
+        // Type 2 (sign is the direction): C0 → C90 +90; C0 → C−90 turns negative to 270.
+        assert_eq!(rollover_travel(0.0, 90.0, false), 90.0);
+        assert_eq!(rollover_travel(0.0, -90.0, false), -90.0);
+        assert_eq!(rollover_travel(10.0, -90.0, false), -100.0);
+        assert_eq!(rollover_travel(10.0, 20.0, false), 10.0);
+        assert_eq!(rollover_travel(20.0, 10.0, false), 350.0);
+        // FANUC TV-13: from A350 the member 10 is 20 ahead; many turns wound up count as none.
+        assert_eq!(rollover_travel(350.0 + 720.0, 10.0, true), 20.0);
+        // Half a turn goes positive; already there is no travel either way.
+        assert_eq!(rollover_travel(0.0, 180.0, true), 180.0);
+        assert_eq!((rollover_travel(90.0, 450.0, true), rollover_travel(90.0, -270.0, false)), (0.0, 0.0));
     }
 
     #[test]

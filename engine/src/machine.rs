@@ -184,6 +184,18 @@ fn link(axis: char, side: Side, point: [f64; 3], range: Option<[f64; 2]>) -> Rot
 }
 
 impl MachineConfig {
+    /// Positions as a control shows them: rollover axes modulo 360, in [0, 360) (the engine
+    /// keeps them unwound so that travels stay plain differences).
+    pub fn shown(&self, pos: &[f64; MAX_AXES]) -> [f64; MAX_AXES] {
+        let mut out = *pos;
+        for (p, axis) in out.iter_mut().zip(&self.axes) {
+            if axis.rollover {
+                *p = crate::angle::basic(*p);
+            }
+        }
+        out
+    }
+
     /// The axis index of an address letter, if the machine has that axis.
     pub fn axis_index(&self, letter: u8) -> Option<usize> {
         self.axes.iter().position(|a| a.name as u32 == letter as u32)

@@ -122,6 +122,8 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
     } else {
         (interp.state.machine_position(), interp.state.position())
     };
+    let shown = &exec.machine_config;
+    let (machine, workpiece) = (shown.shown(&machine), shown.shown(&workpiece));
     RunResult {
         alarms,
         blocks: interp.blocks(),
@@ -256,6 +258,7 @@ impl Executor {
             }
             let (machine, work, feed, line, n) = at((ts - t0).max(0.0));
             let tool = self.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&machine, 0.0).tool.into());
+            let machine = self.machine_config.shown(&machine);
             on_sample(&Sample { t: ts, line, n, machine, tip: [work[0], work[1], work[2]], tool, feed });
             self.next_sample += 1;
         }

@@ -175,7 +175,13 @@ impl State {
                 continue;
             }
             if let Some(v) = self.value(w, axis.name as u8) {
-                t[i] = if incremental { here[i] + v } else { v };
+                t[i] = match (incremental, axis.rollover) {
+                    (true, _) => here[i] + v,
+                    // Positions of a rollover axis stay unwound here (the travel is what
+                    // matters); they are shown modulo 360 (`MachineConfig::shown`).
+                    (false, true) => here[i] + crate::angle::rollover_travel(here[i], v, axis.shortest),
+                    (false, false) => v,
+                };
             }
         }
         if let Some((a, b, _)) = polar {

@@ -134,10 +134,13 @@ impl State {
     }
 
     /// Position variables read in the input unit: inch under G20 for linear axes.
+    /// A position as the control shows it: inch under G20, rollover axes modulo 360.
     fn in_input_unit(&self, axis: usize, p: crate::canon::Pos) -> f64 {
-        let linear = self.cfg.machine.axes[axis].kind == crate::machine::AxisKind::Linear;
-        if linear && self.modes[6] == 200 {
+        let a = &self.cfg.machine.axes[axis];
+        if a.kind == crate::machine::AxisKind::Linear && self.modes[6] == 200 {
             p[axis] / 25.4
+        } else if a.rollover {
+            crate::angle::basic(p[axis])
         } else {
             p[axis]
         }
