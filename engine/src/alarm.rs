@@ -135,6 +135,8 @@ pub enum AlarmId {
     /// One block expanded into more canonical commands than a block may (a canned cycle with a
     /// tiny peck depth, say): stopped before it exhausts memory.
     BlockOutputExceeded { limit: usize },
+    /// The emergency stop button was pressed (fivex's own code: FANUC shows it as a status).
+    EmergencyStop,
 }
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.

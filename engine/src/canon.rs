@@ -45,7 +45,7 @@ pub struct Arc {
 }
 
 /// The modal context a motion is executed in, as G-code numbers ×10 (G43.4 → 434).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MotionContext {
     pub plane: u16,
     pub wcs: u16,

@@ -136,6 +136,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::NestingTooDeep,
     AlarmId::GAsArgument,
     AlarmId::MixedStatements,
+    AlarmId::EmergencyStop,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -221,6 +222,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         MixedStatements => {
             (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block"))
         }
+        EmergencyStop => (("FX0004", "EMERGENCY STOP"), ("FX0004", "EMERGENCY STOP")),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }

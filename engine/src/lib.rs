@@ -7,6 +7,7 @@ pub mod alarm;
 pub mod angle;
 pub mod canon;
 pub mod check;
+pub mod controller;
 pub mod dialect;
 pub mod interp;
 pub mod kin;

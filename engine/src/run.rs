@@ -212,20 +212,12 @@ impl Executor {
         let t0 = self.t;
         let t1 = t0 + p.profile.duration();
         if tracing {
-            // Samples come in time order, so the segment holding each one only moves forward.
-            let mut k = 0;
-            let mut start = 0.0;
+            let mut cursor = motion::Cursor::default();
             self.sample_until(
                 t1,
                 &mut |dt| {
-                    let state = p.profile.at(dt);
-                    while k + 1 < p.segments.len() && state.s > start + p.segments[k].len {
-                        start += p.segments[k].len;
-                        k += 1;
-                    }
-                    let seg = &p.segments[k];
-                    let (machine, work) = seg.at(state.s - start);
-                    (machine, work, state.v * seg.tip_rate * 60.0, seg.line, seg.n)
+                    let p = p.point(dt, &mut cursor);
+                    (p.machine, p.work, p.feed, p.line, p.n)
                 },
                 on_sample,
             );

@@ -302,6 +302,44 @@ impl Interpreter {
         }
     }
 
+    /// Load a new file to run from its first program, keeping the state (modal codes,
+    /// offsets, variables, position): what cycle start of a newly selected program does.
+    pub fn load(&mut self, file: crate::lang::File) {
+        let fresh = Interpreter::new(file, self.state.cfg.clone());
+        self.progs = fresh.progs;
+        self.by_number = fresh.by_number;
+        self.complete = true;
+        self.reset();
+        self.state.ended = self.progs.is_empty();
+        self.start_main();
+    }
+
+    /// Reset: the program stops where it is and cannot continue; local variables, call
+    /// frames and the modal macro call are dropped (modal G codes, offsets, common variables
+    /// and the position stay, FANUC No.3402 CLR = 0).
+    pub fn reset(&mut self) {
+        let st = &mut self.state;
+        st.frames.clear();
+        st.locals.truncate(1);
+        st.locals[0] = [None; LOCALS];
+        st.modal_call = None;
+        st.ended = true;
+    }
+
+    /// The machine was moved outside the program (jog, handle, reference return): the
+    /// current point follows it (FANUC manual absolute on).
+    pub fn moved_to(&mut self, machine: &Pos) {
+        let st = &mut self.state;
+        st.pos = st.machine_to_program(machine);
+        st.sync_programmed();
+    }
+
+    /// The panel's block delete (`/` blocks skipped) and optional stop (M01 stops) switches.
+    pub fn set_switches(&mut self, block_delete: bool, optional_stop: bool) {
+        self.state.cfg.block_delete = block_delete;
+        self.state.cfg.optional_stop = optional_stop;
+    }
+
     /// Execute the next block; its canonical commands are appended to `out`.
     pub fn step(&mut self, out: &mut Vec<Canon>) -> Result<Step, Alarm> {
         let st = &mut self.state;

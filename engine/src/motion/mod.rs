@@ -8,7 +8,7 @@ pub mod planner;
 pub mod profile;
 
 pub use path::{AxisLimits, FeedContext, Segment};
-pub use planner::{Planned, Planner};
+pub use planner::{Cursor, Planned, Planner, Point};
 pub use profile::{Limits, PathState, Profile};
 
 use crate::alarm::AlarmId;

@@ -195,6 +195,25 @@ impl Segment {
         (machine, work)
     }
 
+    /// What is left of the segment from distance `s` on (a feed hold resumes from there).
+    pub fn tail(&self, s: f64) -> Segment {
+        let s = s.clamp(0.0, self.len);
+        let u = if self.len > 0.0 { s / self.len } else { 1.0 };
+        let (from, work_from) = self.at(s);
+        let mut tail = Segment { from, work_from, len: self.len - s, ..self.clone() };
+        if let Some(c) = &mut tail.circle {
+            c.start += c.sweep * u;
+            c.r0 += (c.r1 - c.r0) * u;
+            c.sweep *= 1.0 - u;
+            let (sin, cos) = c.start.sin_cos();
+            let k = self.start_dir[c.a].hypot(self.start_dir[c.b]);
+            let turn = c.sweep.signum();
+            tail.start_dir[c.a] = -sin * turn * k;
+            tail.start_dir[c.b] = cos * turn * k;
+        }
+        tail
+    }
+
     /// The axis-space extremes an arc reaches between its end points (for the stroke check):
     /// the quadrant points it sweeps over.
     pub fn arc_extremes(&self) -> impl Iterator<Item = Pos> + '_ {

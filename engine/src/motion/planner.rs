@@ -26,6 +26,57 @@ pub struct Planned {
     pub profile: Profile,
 }
 
+/// Where the machine is at one instant of a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Point {
+    pub machine: Pos,
+    pub work: Pos,
+    /// Tool tip speed, mm/min.
+    pub feed: f64,
+    pub line: u32,
+    pub n: Option<u32>,
+    /// Distance along the run.
+    pub s: f64,
+}
+
+/// The segment a run's samples are in, remembered between samples taken in time order.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Cursor {
+    k: usize,
+    start: f64,
+}
+
+impl Planned {
+    /// The point `t` seconds into the run (`cursor` starts at default and only moves forward,
+    /// so `t` must not decrease between calls with the same cursor).
+    pub fn point(&self, t: f64, cursor: &mut Cursor) -> Point {
+        let state = self.profile.at(t);
+        let segments = &self.segments;
+        while cursor.k + 1 < segments.len() && state.s > cursor.start + segments[cursor.k].len {
+            cursor.start += segments[cursor.k].len;
+            cursor.k += 1;
+        }
+        let seg = &segments[cursor.k];
+        let (machine, work) = seg.at(state.s - cursor.start);
+        Point { machine, work, feed: state.v * seg.tip_rate * 60.0, line: seg.line, n: seg.n, s: state.s }
+    }
+
+    /// The path not yet covered at distance `s`: the rest of the segment holding it and every
+    /// later one.
+    pub fn rest(&self, s: f64) -> Vec<Segment> {
+        let mut start = 0.0;
+        let mut out = Vec::new();
+        for seg in &self.segments {
+            let end = start + seg.len;
+            if end > s + 1e-12 {
+                out.push(if s > start { seg.tail(s - start) } else { seg.clone() });
+            }
+            start = end;
+        }
+        out
+    }
+}
+
 struct Queued {
     segment: Segment,
     /// Highest speed at the end of this segment (the junction with the next one).
@@ -75,6 +126,32 @@ impl Planner {
             };
         }
         self.queue.push_back(Queued { segment, junction: 0.0 });
+    }
+
+    /// Every segment not yet executed, in order, and the planner emptied (for a replan from
+    /// rest after a feed hold).
+    pub fn take_all(&mut self) -> Vec<Segment> {
+        let mut out: Vec<Segment> = self.ready.drain(..).flat_map(|p| p.segments).collect();
+        out.extend(self.queue.drain(..).map(|q| q.segment));
+        self.v_now = 0.0;
+        out
+    }
+
+    /// The limits of the slowest of the next segments covering `distance` (a stop must keep to
+    /// all of them).
+    pub fn limits_ahead(&self, distance: f64) -> Option<Limits> {
+        let segments = self.ready.iter().flat_map(|p| p.segments.iter()).chain(self.queue.iter().map(|q| &q.segment));
+        let mut covered = 0.0;
+        let mut lim: Option<Limits> = None;
+        for seg in segments {
+            if covered >= distance {
+                break;
+            }
+            let l = seg.limits;
+            lim = Some(lim.map_or(l, |m| Limits { v: m.v.min(l.v), a: m.a.min(l.a), j: m.j.min(l.j) }));
+            covered += seg.len;
+        }
+        lim
     }
 
     /// The next run whose speeds are final, if any; with `stop`, every queued segment is

@@ -141,6 +141,29 @@ impl Profile {
         state.v = v1;
     }
 
+    /// The quickest stop from speed `v` and acceleration `a` (a feed hold): jerk −J down to a
+    /// deceleration `ap`, hold it, jerk +J back to zero, ending at rest. The speed lost is
+    /// `(a² − 2ap²)/2J − ap·t₂ = −v`, so `ap = √(J·v + a²/2)` when that is within A, else A with
+    /// a constant phase. Its length is the stopping distance.
+    pub fn stop(v: f64, a: f64, lim: &Limits) -> Profile {
+        let j = lim.j;
+        let need = v + a * a / (2.0 * j);
+        let ideal = (j * v + 0.5 * a * a).max(0.0).sqrt();
+        let (ap, hold) = if ideal <= lim.a { (ideal, 0.0) } else { (lim.a, (need - lim.a * lim.a / j) / lim.a) };
+        let mut p = Profile { phases: ArrayVec::new(), len: 0.0, duration: 0.0 };
+        let mut state = PathState { s: 0.0, v, a };
+        p.push(&mut state, (a + ap) / j, -j);
+        p.push(&mut state, hold, 0.0);
+        p.push(&mut state, ap / j, j);
+        p.len = state.s;
+        p
+    }
+
+    /// The distance the profile covers.
+    pub fn len(&self) -> f64 {
+        self.len
+    }
+
     pub fn duration(&self) -> f64 {
         self.duration
     }
@@ -190,6 +213,22 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn a_stop_from_anywhere_ends_at_rest_within_limits(vs in 0.0..100.0f64, ve in 0.0..100.0f64, f in 0.0..1.0f64) {
+            // Any instant of a planned profile: stop from its speed and acceleration.
+            let len = change(vs, ve, &LIM).1 + 10.0;
+            let p = Profile::plan(vs, ve, len, &LIM);
+            let at = p.at(p.duration() * f);
+            let stop = Profile::stop(at.v, at.a, &LIM);
+            let n = 500;
+            for i in 0..=n {
+                let s = stop.at(stop.duration() * i as f64 / n as f64);
+                prop_assert!(s.v >= -1e-9 && s.a.abs() <= LIM.a + 1e-6, "{s:?}");
+            }
+            let end = stop.at(stop.duration());
+            prop_assert!(end.v.abs() < 1e-6 && stop.phases.last().is_none_or(|ph| ph.at(ph.duration).a.abs() < 1e-6));
+        }
+
         #[test]
         fn profiles_respect_limits_and_reach_the_end(
             vs in 0.0..100.0f64, ve in 0.0..100.0f64, len in 0.001..300.0f64,

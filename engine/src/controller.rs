@@ -1,0 +1,673 @@
+//! One virtual controller: operator panel, modes and the program cycle around the interpreter
+//! and the motion planner, advanced by [`Controller::tick`] so that a host (the server's
+//! worker threads, a test) decides how fast simulated time runs.
+//!
+//! What the buttons do follows the FANUC panel: cycle start runs the selected program (AUTO) or
+//! the MDI text (MDI), or resumes after a feed hold, M00/M01 or a single-block stop; feed hold
+//! decelerates along the path within every axis limit and waits; reset decelerates the same way,
+//! then abandons the program and clears the alarms; emergency stop stops at once and raises an
+//! alarm that only a reset clears. JOG moves one axis while the jog key is held, HANDLE moves it
+//! by the amount a hand wheel gives, REF returns every axis to the reference position. Those
+//! manual moves stop at the stroke limits and the program's current point follows them.
+
+use crate::alarm::{Alarm, AlarmId};
+use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos};
+use crate::interp::{Config, Interpreter, Step};
+use crate::machine::MachineConfig;
+use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
+use std::collections::VecDeque;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    Auto,
+    Mdi,
+    Jog,
+    Handle,
+    Ref,
+}
+
+/// CONTRACTS.md's `run_state`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunState {
+    Idle,
+    Running,
+    Hold,
+    Alarm,
+}
+
+/// The operator panel's switches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Panel {
+    pub single_block: bool,
+    pub optional_stop: bool,
+    pub block_delete: bool,
+    /// Fractions, 1.0 = 100% (FANUC: feed 0–200%, rapid F0/25/50/100%).
+    pub feed_override: f64,
+    pub rapid_override: f64,
+    /// JOG and HANDLE feed, mm/min or deg/min (FANUC No.1423).
+    pub jog_feed: f64,
+}
+
+impl Default for Panel {
+    fn default() -> Panel {
+        Panel {
+            single_block: false,
+            optional_stop: false,
+            block_delete: false,
+            feed_override: 1.0,
+            rapid_override: 1.0,
+            jog_feed: 1000.0,
+        }
+    }
+}
+
+/// Something a client should hear about, in the order it happened.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    State(RunState),
+    Alarm(Alarm),
+    AlarmsCleared,
+    Message(String),
+}
+
+/// Refused operator actions (the panel would ignore them; a service answers 409).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refusal {
+    /// The action needs another mode.
+    WrongMode,
+    /// The machine is busy (running) or in alarm.
+    Busy,
+    /// There is nothing to run.
+    NoProgram,
+    /// The axis does not exist.
+    NoAxis,
+}
+
+/// What happens when a deceleration to rest has ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum AfterStop {
+    /// Feed hold: the rest of the path waits for cycle start.
+    Hold,
+    /// Reset, end of a jog: the rest of the path is dropped.
+    Drop,
+}
+
+/// What the program cycle waits for besides motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Wait {
+    None,
+    /// A dwell ends at this time.
+    Until(f64),
+    /// M00/M01 or a single-block stop: cycle start continues.
+    Operator,
+}
+
+pub struct Controller {
+    interp: Interpreter,
+    machine: MachineConfig,
+    axes: AxisLimits,
+    program: Option<String>,
+    mdi: Option<String>,
+    mode: Mode,
+    run_state: RunState,
+    pub panel: Panel,
+    alarms: Vec<Alarm>,
+    events: Vec<Event>,
+    estop: bool,
+    /// Simulated seconds since the controller was made.
+    t: f64,
+    planner: Planner,
+    /// The run being executed, time into it, and where its samples are.
+    current: Option<(Planned, f64, Cursor)>,
+    /// A deceleration to rest in progress, and what follows it.
+    stopping: Option<AfterStop>,
+    /// Where the last queued segment ends.
+    queued_machine: Pos,
+    queued_work: Pos,
+    here: Point,
+    /// Canonical commands read but not yet carried out.
+    pending: VecDeque<Item>,
+    /// The interpreter has more blocks to run.
+    program_active: bool,
+    wait: Wait,
+}
+
+/// A pending canonical command, or a single-block stop point.
+enum Item {
+    Canon(Canon),
+    BlockEnd,
+    Alarm(Alarm),
+}
+
+/// Blocks the interpreter may run in one tick without motion before the tick ends (an endless
+/// macro loop must not freeze the host; the block budget alarm ends it eventually).
+const BLOCKS_PER_TICK: usize = 100_000;
+
+impl Controller {
+    pub fn new(cfg: Config) -> Controller {
+        let machine = cfg.machine.clone();
+        let interp = Interpreter::new(crate::lang::parse_file(""), cfg);
+        let start = interp.state.machine_position();
+        let work = interp.state.position();
+        Controller {
+            axes: AxisLimits::of(&machine),
+            planner: Planner::new(motion::LOOKAHEAD, motion::corner_steps(&machine)),
+            machine,
+            interp,
+            program: None,
+            mdi: None,
+            mode: Mode::Auto,
+            run_state: RunState::Idle,
+            panel: Panel::default(),
+            alarms: Vec::new(),
+            events: Vec::new(),
+            estop: false,
+            t: 0.0,
+            current: None,
+            stopping: None,
+            queued_machine: start,
+            queued_work: work,
+            here: Point { machine: start, work, feed: 0.0, line: 0, n: None, s: 0.0 },
+            pending: VecDeque::new(),
+            program_active: false,
+            wait: Wait::None,
+        }
+    }
+
+    // --- what a client reads ------------------------------------------------------------
+
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    pub fn run_state(&self) -> RunState {
+        self.run_state
+    }
+
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    pub fn alarms(&self) -> &[Alarm] {
+        &self.alarms
+    }
+
+    /// Where the machine is now (rollover axes shown modulo 360).
+    pub fn point(&self) -> Point {
+        Point {
+            machine: self.machine.shown(&self.here.machine),
+            work: self.machine.shown(&self.here.work),
+            ..self.here
+        }
+    }
+
+    pub fn interpreter(&self) -> &Interpreter {
+        &self.interp
+    }
+
+    pub fn interpreter_mut(&mut self) -> &mut Interpreter {
+        &mut self.interp
+    }
+
+    /// The events since the last call.
+    pub fn take_events(&mut self) -> Vec<Event> {
+        std::mem::take(&mut self.events)
+    }
+
+    // --- operator actions ---------------------------------------------------------------
+
+    pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
+        if self.run_state == RunState::Running {
+            return Err(Refusal::Busy);
+        }
+        self.mode = mode;
+        Ok(())
+    }
+
+    /// The program AUTO runs (NC text).
+    pub fn select_program(&mut self, text: &str) -> Result<(), Refusal> {
+        if self.busy() {
+            return Err(Refusal::Busy);
+        }
+        self.program = Some(text.to_string());
+        Ok(())
+    }
+
+    /// The text MDI runs.
+    pub fn set_mdi(&mut self, text: &str) -> Result<(), Refusal> {
+        if self.mode != Mode::Mdi {
+            return Err(Refusal::WrongMode);
+        }
+        if self.busy() {
+            return Err(Refusal::Busy);
+        }
+        self.mdi = Some(text.to_string());
+        Ok(())
+    }
+
+    fn busy(&self) -> bool {
+        self.run_state == RunState::Running || self.program_active || self.current.is_some()
+    }
+
+    pub fn cycle_start(&mut self) -> Result<(), Refusal> {
+        if self.estop || self.run_state == RunState::Alarm {
+            return Err(Refusal::Busy);
+        }
+        match self.run_state {
+            RunState::Running => return Ok(()),
+            RunState::Hold => {
+                self.wait = if matches!(self.wait, Wait::Operator) { Wait::None } else { self.wait };
+                self.set_state(RunState::Running);
+                return Ok(());
+            }
+            _ => {}
+        }
+        if self.wait == Wait::Operator && (self.program_active || !self.pending.is_empty()) {
+            self.wait = Wait::None;
+            self.set_state(RunState::Running);
+            return Ok(());
+        }
+        let text = match self.mode {
+            Mode::Auto => self.program.clone(),
+            Mode::Mdi => self.mdi.clone(),
+            _ => return Err(Refusal::WrongMode),
+        };
+        let text = text.ok_or(Refusal::NoProgram)?;
+        self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
+        self.interp.load(crate::lang::parse_file(&text));
+        self.program_active = true;
+        self.wait = Wait::None;
+        self.set_state(RunState::Running);
+        Ok(())
+    }
+
+    pub fn feed_hold(&mut self) {
+        if self.run_state == RunState::Running {
+            self.decelerate(AfterStop::Hold);
+            self.set_state(RunState::Hold);
+        }
+    }
+
+    /// Reset: decelerate, abandon the program, clear the alarms (not an emergency stop that is
+    /// still pressed).
+    pub fn reset(&mut self) {
+        if self.current.is_some() {
+            self.decelerate(AfterStop::Drop);
+        } else {
+            self.planner.take_all();
+            self.stand_here();
+        }
+        self.pending.clear();
+        self.interp.reset();
+        self.program_active = false;
+        self.wait = Wait::None;
+        if !self.estop && !self.alarms.is_empty() {
+            self.alarms.clear();
+            self.events.push(Event::AlarmsCleared);
+        }
+        if !self.estop {
+            self.set_state(RunState::Idle);
+        }
+    }
+
+    /// Emergency stop pressed (`true`) or released: pressing stops every axis at once.
+    pub fn emergency_stop(&mut self, pressed: bool) {
+        self.estop = pressed;
+        if pressed {
+            self.current = None;
+            self.stopping = None;
+            self.planner.take_all();
+            self.pending.clear();
+            self.interp.reset();
+            self.program_active = false;
+            self.wait = Wait::None;
+            self.here.feed = 0.0;
+            self.stand_here();
+            self.raise(AlarmId::EmergencyStop, self.here.line, self.here.n);
+        }
+    }
+
+    /// JOG: start moving `axis` in the direction of `positive` at the jog feed (with override)
+    /// until [`Controller::jog_stop`] or the stroke limit.
+    pub fn jog_start(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
+        if self.mode != Mode::Jog {
+            return Err(Refusal::WrongMode);
+        }
+        let i = self.axis(axis)?;
+        let limit = self.machine.axes[i].stroke.map(|[lo, hi]| if positive { hi } else { lo });
+        let far = if positive { 1.0e6 } else { -1.0e6 };
+        let target = limit.unwrap_or(self.here.machine[i] + far);
+        self.manual_move(i, target, self.panel.jog_feed * self.panel.feed_override)
+    }
+
+    pub fn jog_stop(&mut self) {
+        if self.mode == Mode::Jog && self.current.is_some() {
+            self.decelerate(AfterStop::Drop);
+        }
+    }
+
+    /// HANDLE: move `axis` by `amount` (mm or deg; the hand wheel's pulses × increment),
+    /// stopping at the stroke limit.
+    pub fn handle(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
+        if self.mode != Mode::Handle {
+            return Err(Refusal::WrongMode);
+        }
+        let i = self.axis(axis)?;
+        let mut target = self.here.machine[i] + amount;
+        if let Some([lo, hi]) = self.machine.axes[i].stroke {
+            target = target.clamp(lo, hi);
+        }
+        self.manual_move(i, target, self.panel.jog_feed)
+    }
+
+    /// REF: every axis back to the reference position (machine zero) at rapid.
+    pub fn reference_return(&mut self) -> Result<(), Refusal> {
+        if self.mode != Mode::Ref {
+            return Err(Refusal::WrongMode);
+        }
+        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+            return Err(Refusal::Busy);
+        }
+        let zero = [0.0; crate::machine::MAX_AXES];
+        self.push_manual(MotionKind::MachineRapid, zero, 0.0);
+        Ok(())
+    }
+
+    fn axis(&self, name: char) -> Result<usize, Refusal> {
+        self.machine.axes.iter().position(|a| a.name == name).ok_or(Refusal::NoAxis)
+    }
+
+    fn manual_move(&mut self, axis: usize, target: f64, feed: f64) -> Result<(), Refusal> {
+        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+            return Err(Refusal::Busy);
+        }
+        let mut to = self.here.machine;
+        to[axis] = target;
+        self.push_manual(MotionKind::Linear, to, feed);
+        Ok(())
+    }
+
+    /// A motion outside the program, in machine coordinates.
+    fn push_manual(&mut self, kind: MotionKind, machine: Pos, feed: f64) {
+        let offset: Pos = std::array::from_fn(|i| self.here.work[i] - self.here.machine[i]);
+        let target: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
+        let m = Motion {
+            kind,
+            target,
+            machine,
+            arc: None,
+            feed,
+            feed_mode: crate::canon::FeedMode::PerMinute,
+            spindle: 0.0,
+            context: MotionContext::default(),
+        };
+        let mut seg = self.segment(&m);
+        seg.stop_after = true;
+        (self.queued_machine, self.queued_work) = (machine, target);
+        self.planner.push(seg);
+        self.set_state(RunState::Running);
+    }
+
+    // --- time ---------------------------------------------------------------------------
+
+    /// Advance simulated time by `dt` seconds.
+    pub fn tick(&mut self, dt: f64) {
+        let end = self.t + dt.max(0.0);
+        let mut blocks = 0;
+        while self.t < end {
+            if let Some((p, elapsed, mut cursor)) = self.current.take() {
+                let step = (p.profile.duration() - elapsed).min(end - self.t).max(0.0);
+                let elapsed = elapsed + step;
+                self.t += step;
+                self.here = p.point(elapsed, &mut cursor);
+                if elapsed < p.profile.duration() {
+                    self.current = Some((p, elapsed, cursor));
+                } else {
+                    self.finish_run(&p);
+                }
+                continue;
+            }
+            if self.run_state != RunState::Running || self.estop {
+                self.t = end;
+                break;
+            }
+            if let Wait::Until(until) = self.wait {
+                self.t = until.min(end);
+                if self.t >= until {
+                    self.wait = Wait::None;
+                }
+                continue;
+            }
+            if self.wait == Wait::Operator {
+                self.t = end;
+                break;
+            }
+            if let Some(p) = self.planner.pop(false) {
+                self.current = Some((p, 0.0, Cursor::default()));
+                continue;
+            }
+            if blocks >= BLOCKS_PER_TICK {
+                break;
+            }
+            blocks += 1;
+            if !self.advance_program() {
+                // Nothing more to read: carry out the rest and stop.
+                if let Some(p) = self.planner.pop(true) {
+                    self.current = Some((p, 0.0, Cursor::default()));
+                    continue;
+                }
+                self.here.feed = 0.0;
+                if self.run_state == RunState::Running {
+                    self.set_state(RunState::Idle);
+                }
+                self.t = end;
+            }
+        }
+        self.interp.state.advance_time(dt.max(0.0));
+    }
+
+    /// A run ended: after a deceleration to rest, keep or drop the rest of the path.
+    fn finish_run(&mut self, p: &Planned) {
+        if p.profile.at(p.profile.duration()).v.abs() < 1e-9 {
+            self.here.feed = 0.0;
+        }
+        let Some(after) = self.stopping.take() else {
+            // A whole run ends exactly on its last point.
+            if let Some(last) = p.segments.last() {
+                (self.here.machine, self.here.work) = (last.to, last.work_to);
+            }
+            return;
+        };
+        let rest = p.rest(p.profile.len());
+        match after {
+            AfterStop::Hold => {
+                for seg in rest {
+                    self.planner.push(seg);
+                }
+            }
+            AfterStop::Drop => {
+                self.stand_here();
+                if self.run_state == RunState::Running {
+                    self.set_state(RunState::Idle);
+                }
+            }
+        }
+    }
+
+    /// Whatever was planned is gone: the next motion starts where the machine stands, and so
+    /// does the program's current point (it had read ahead).
+    fn stand_here(&mut self) {
+        (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+        self.interp.moved_to(&self.here.machine);
+        self.here.work = self.interp.state.position();
+        self.queued_work = self.here.work;
+    }
+
+    /// Decelerate to rest along the path, within the limits of every segment the stop covers;
+    /// the path after the stop point is kept for `after`.
+    fn decelerate(&mut self, after: AfterStop) {
+        let Some((p, elapsed, _)) = self.current.take() else {
+            if after == AfterStop::Drop {
+                self.planner.take_all();
+            }
+            return;
+        };
+        let state = p.profile.at(elapsed);
+        let mut rest = p.rest(state.s);
+        let own = rest.iter().map(|s| s.limits).reduce(min_limits);
+        let mut lim = own.unwrap_or(Limits { v: 1.0, a: 1.0, j: 1.0 });
+        // The stop may run into segments not yet released: keep to their limits too.
+        let first = Profile::stop(state.v, state.a, &lim);
+        let left: f64 = rest.iter().map(|s| s.len).sum();
+        if first.len() > left {
+            if let Some(ahead) = self.planner.limits_ahead(first.len() - left) {
+                lim = min_limits(lim, ahead);
+            }
+        }
+        rest.extend(self.planner.take_all());
+        let profile = Profile::stop(state.v, state.a, &lim);
+        self.stopping = Some(after);
+        self.current = Some((Planned { segments: rest, profile }, 0.0, Cursor::default()));
+        if after == AfterStop::Drop {
+            self.pending.clear();
+        }
+    }
+
+    /// Read the program on: hand the next pending command to the planner (or carry it out),
+    /// or run the next block. Returns false when there is nothing more to read.
+    fn advance_program(&mut self) -> bool {
+        let Some(item) = self.pending.pop_front() else {
+            if !self.program_active {
+                return false;
+            }
+            self.run_block();
+            return true;
+        };
+        let motion_pending = self.current.is_some() || !self.planner.is_empty();
+        match item {
+            Item::Canon(c) => match &c.kind {
+                CanonKind::Motion(m) => {
+                    let mut seg = self.segment(m);
+                    (seg.line, seg.n) = (c.line, c.n);
+                    if let Err(id) = motion::stroke_check(&seg, &self.machine) {
+                        if motion_pending {
+                            // The alarm comes when the machine has stopped before the block.
+                            self.pending.push_front(Item::Canon(c));
+                            self.flush();
+                        } else {
+                            self.raise(id, c.line, c.n);
+                        }
+                        return true;
+                    }
+                    (self.queued_machine, self.queued_work) = (m.machine, m.target);
+                    self.planner.push(seg);
+                }
+                _ if motion_pending => {
+                    // Every other command waits for the motion before it.
+                    self.pending.push_front(Item::Canon(c));
+                    self.flush();
+                }
+                kind => self.carry_out(kind),
+            },
+            Item::BlockEnd if !self.panel.single_block => {}
+            Item::BlockEnd if motion_pending => {
+                self.pending.push_front(Item::BlockEnd);
+                self.flush();
+            }
+            Item::BlockEnd => {
+                if self.panel.single_block && (self.program_active || !self.pending.is_empty()) {
+                    self.wait = Wait::Operator;
+                    self.set_state(RunState::Idle);
+                }
+            }
+            Item::Alarm(a) if motion_pending => {
+                self.pending.push_front(Item::Alarm(a));
+                self.flush();
+            }
+            Item::Alarm(a) => {
+                self.alarms.push(a.clone());
+                self.events.push(Event::Alarm(a));
+                self.set_state(RunState::Alarm);
+            }
+        }
+        true
+    }
+
+    /// Release everything queued, ending at rest.
+    fn flush(&mut self) {
+        if self.current.is_none() {
+            if let Some(p) = self.planner.pop(true) {
+                self.current = Some((p, 0.0, Cursor::default()));
+            }
+        }
+    }
+
+    fn run_block(&mut self) {
+        let mut out = Vec::new();
+        let step = self.interp.step(&mut out);
+        let produced = !out.is_empty();
+        self.pending.extend(out.into_iter().map(Item::Canon));
+        match step {
+            Ok(Step::Continue) => {
+                if produced {
+                    self.pending.push_back(Item::BlockEnd);
+                }
+            }
+            Ok(Step::NeedInput) => self.interp.finish(),
+            Ok(Step::Ended) => self.program_active = false,
+            Err(alarm) => {
+                self.program_active = false;
+                self.pending.push_back(Item::Alarm(alarm));
+            }
+        }
+    }
+
+    fn carry_out(&mut self, kind: &CanonKind) {
+        match kind {
+            CanonKind::Dwell { seconds } => self.wait = Wait::Until(self.t + seconds),
+            CanonKind::Stop { optional, message } => {
+                if let Some(m) = message {
+                    self.events.push(Event::Message(m.clone()));
+                }
+                // The interpreter emits M01 only with the optional stop switch on.
+                let _ = optional;
+                self.wait = Wait::Operator;
+                self.set_state(RunState::Idle);
+            }
+            CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
+            _ => {}
+        }
+    }
+
+    fn segment(&self, m: &Motion) -> Segment {
+        let ctx = FeedContext {
+            feed_override: self.panel.feed_override,
+            rapid_override: self.panel.rapid_override,
+            exact_stop: m.context.exact_stop || self.panel.single_block,
+        };
+        Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx)
+    }
+
+    fn raise(&mut self, id: AlarmId, line: u32, n: Option<u32>) {
+        let (code, message) = self.interp.config().dialect.describe(&id);
+        let alarm = Alarm { code, message, line, n };
+        self.alarms.push(alarm.clone());
+        self.events.push(Event::Alarm(alarm));
+        self.program_active = false;
+        self.pending.clear();
+        self.set_state(RunState::Alarm);
+    }
+
+    fn set_state(&mut self, s: RunState) {
+        if self.run_state != s {
+            self.run_state = s;
+            self.events.push(Event::State(s));
+        }
+    }
+}
+
+fn min_limits(a: Limits, b: Limits) -> Limits {
+    Limits { v: a.v.min(b.v), a: a.a.min(b.a), j: a.j.min(b.j) }
+}

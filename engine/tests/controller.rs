@@ -1,0 +1,237 @@
+//! The controller state machine (`fivex_engine::controller`) driven by ticks: it moves exactly as
+//! `run::run` does, and the panel's actions (feed hold, reset, single block, M00/M01, emergency
+//! stop, overrides, JOG/HANDLE/REF) do what a FANUC panel does, decelerating within the limits.
+
+use fivex_engine::controller::{Controller, Mode, Refusal, RunState};
+use fivex_engine::interp::{Config, Interpreter};
+use fivex_engine::lang::parse_file;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions};
+use fivex_engine::Dialect;
+
+const TICK: f64 = 0.001;
+
+fn controller() -> Controller {
+    Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc))
+}
+
+/// Tick until the controller is no longer running (or `limit` seconds), recording X, Y, Z.
+fn run_until_stopped(c: &mut Controller, limit: f64) -> Vec<[f64; 3]> {
+    let mut xs = Vec::new();
+    let start = c.time();
+    while c.run_state() == RunState::Running && c.time() - start < limit {
+        c.tick(TICK);
+        let m = c.point().machine;
+        xs.push([m[0], m[1], m[2]]);
+    }
+    xs
+}
+
+/// Finite differences within mill3's limits (500 mm/s, 4000 mm/s², 80000 mm/s³).
+fn assert_within_limits(xs: &[[f64; 3]]) {
+    for w in xs.windows(4) {
+        for axis in 0..3 {
+            let x: Vec<f64> = w.iter().map(|p| p[axis]).collect();
+            let v = (x[1] - x[0]) / TICK;
+            let a = (x[2] - 2.0 * x[1] + x[0]) / (TICK * TICK);
+            let j = (x[3] - 3.0 * x[2] + 3.0 * x[1] - x[0]) / TICK.powi(3);
+            assert!(v.abs() <= 500.0 * (1.0 + 1e-6), "speed {v}");
+            assert!(a.abs() <= 4000.0 * (1.0 + 1e-6) + 1e-3, "acceleration {a}");
+            assert!(j.abs() <= 80000.0 * (1.0 + 1e-6) + 1.0, "jerk {j}");
+        }
+    }
+}
+
+#[test]
+fn ticks_move_the_machine_exactly_as_run_does() {
+    let src = "G90 G00 X50. Y20.\nG01 X100. F3000.\nG03 X120. Y40. R20.\nG04 X0.2\nG01 Y-10. Z-5.\nM30\n";
+    let mut interp =
+        Interpreter::new(parse_file(src), Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions { period_s: TICK, ..RunOptions::default() }, |s| samples.push(*s));
+    let mut c = controller();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    let mut k = 1;
+    while c.run_state() == RunState::Running {
+        c.tick(TICK);
+        if let Some(s) = samples.get(k) {
+            for i in 0..3 {
+                assert!((c.point().machine[i] - s.machine[i]).abs() < 1e-9, "t={} axis {i}", s.t);
+            }
+        }
+        k += 1;
+    }
+    assert_eq!(c.point().machine[..3], r.machine[..3]);
+    assert!((c.time() - r.cycle_time_s).abs() <= TICK, "{} vs {}", c.time(), r.cycle_time_s);
+}
+
+#[test]
+fn feed_hold_decelerates_within_limits_and_cycle_start_finishes_the_path() {
+    let mut c = controller();
+    c.select_program("G90 G01 X300. Y100. F12000.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    let mut xs = Vec::new();
+    for _ in 0..500 {
+        c.tick(TICK);
+        let m = c.point().machine;
+        xs.push([m[0], m[1], m[2]]);
+    }
+    c.feed_hold();
+    assert_eq!(c.run_state(), RunState::Hold);
+    for _ in 0..400 {
+        c.tick(TICK);
+        let m = c.point().machine;
+        xs.push([m[0], m[1], m[2]]);
+    }
+    let held = c.point().machine;
+    assert_eq!(c.point().feed, 0.0);
+    c.tick(1.0);
+    assert_eq!(c.point().machine, held, "held means still");
+    assert!(held[0] > 0.0 && held[0] < 300.0);
+    c.cycle_start().unwrap();
+    xs.extend(run_until_stopped(&mut c, 60.0));
+    assert_within_limits(&xs);
+    assert_eq!(c.run_state(), RunState::Idle);
+    // On the line from (0, 0) to (300, 100) all along, and at its end.
+    for p in &xs {
+        assert!((p[0] / 3.0 - p[1]).abs() < 1e-6, "off the line: {p:?}");
+    }
+    assert_eq!(c.point().machine[..2], [300.0, 100.0]);
+}
+
+#[test]
+fn reset_stops_the_program_and_cycle_start_runs_it_again_from_the_top() {
+    let mut c = controller();
+    c.select_program("G91 G01 X100. F6000.\nX100.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    c.tick(0.5);
+    c.reset();
+    c.tick(0.5);
+    assert_eq!(c.run_state(), RunState::Idle);
+    let stopped = c.point().machine[0];
+    assert!(stopped > 0.0 && stopped < 100.0, "{stopped}");
+    c.tick(1.0);
+    assert_eq!(c.point().machine[0], stopped);
+    // From the top: two incremental moves of 100 from where it stopped.
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 60.0);
+    assert!((c.point().machine[0] - (stopped + 200.0)).abs() < 1e-9);
+}
+
+#[test]
+fn single_block_and_program_stops_wait_for_cycle_start() {
+    let mut c = controller();
+    c.panel.single_block = true;
+    c.select_program("G90 G01 X10. F6000.\nX20.\nX30.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[0], 10.0);
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[0], 20.0);
+    c.panel.single_block = false;
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[0], 30.0);
+
+    // M00 stops; M01 only with the optional stop switch on.
+    let prog = "G90 G01 X10. F6000.\nM00\nX20.\nM01\nX30.\nM30\n";
+    for (optional, stops) in [(false, vec![10.0, 30.0]), (true, vec![10.0, 20.0, 30.0])] {
+        let mut c = controller();
+        c.panel.optional_stop = optional;
+        c.select_program(prog).unwrap();
+        c.cycle_start().unwrap();
+        let mut at = Vec::new();
+        for _ in 0..5 {
+            run_until_stopped(&mut c, 10.0);
+            at.push(c.point().machine[0]);
+            if c.cycle_start().is_err() || at.last() == Some(&30.0) {
+                break;
+            }
+        }
+        assert_eq!(at, stops, "optional stop {optional}");
+    }
+}
+
+#[test]
+fn emergency_stop_halts_at_once_and_only_reset_clears_it() {
+    let mut c = controller();
+    c.select_program("G90 G01 X100. F6000.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    c.tick(0.3);
+    let at = c.point().machine[0];
+    c.emergency_stop(true);
+    c.tick(0.5);
+    assert_eq!(c.point().machine[0], at);
+    assert_eq!(c.run_state(), RunState::Alarm);
+    assert_eq!(c.alarms()[0].code, "FX0004");
+    assert_eq!(c.cycle_start(), Err(Refusal::Busy));
+    c.reset();
+    assert_eq!(c.run_state(), RunState::Alarm, "still pressed");
+    c.emergency_stop(false);
+    c.reset();
+    assert_eq!((c.run_state(), c.alarms().len()), (RunState::Idle, 0));
+}
+
+#[test]
+fn feed_override_scales_the_programmed_feed() {
+    let time = |override_: f64| {
+        let mut c = controller();
+        c.panel.feed_override = override_;
+        c.select_program("G90 G01 X100. F3000.\nM30\n").unwrap();
+        c.cycle_start().unwrap();
+        run_until_stopped(&mut c, 60.0);
+        c.time()
+    };
+    // 100 mm at 50 and 25 mm/s, each with the short ramp 2·√(v/J).
+    let expect = |v: f64| 100.0 / v + 2.0 * (v / 80000.0f64).sqrt();
+    assert!((time(1.0) - expect(50.0)).abs() <= TICK);
+    assert!((time(0.5) - expect(25.0)).abs() <= TICK);
+}
+
+#[test]
+fn jog_handle_and_reference_return() {
+    let mut c = controller();
+    assert_eq!(c.jog_start('X', true), Err(Refusal::WrongMode));
+    c.set_mode(Mode::Jog).unwrap();
+    c.panel.jog_feed = 6000.0;
+    c.jog_start('X', true).unwrap();
+    let mut xs = run_until_stopped(&mut c, 1.0);
+    c.jog_stop();
+    xs.extend(run_until_stopped(&mut c, 1.0));
+    assert_within_limits(&xs);
+    assert_eq!(c.run_state(), RunState::Idle);
+    let x = c.point().machine[0];
+    assert!(x > 90.0 && x < 110.0, "about 1 s at 100 mm/s: {x}");
+    // The program's current point followed the jog: G91 X10 goes on from there.
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('Y', -2.5).unwrap();
+    run_until_stopped(&mut c, 5.0);
+    assert_eq!(c.point().machine[1], -2.5);
+    assert_eq!(c.handle('Q', 1.0), Err(Refusal::NoAxis));
+    // A hand wheel turned past the stroke stops at the limit (Z −500…300).
+    c.handle('Z', 1000.0).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[2], 300.0);
+    c.set_mode(Mode::Mdi).unwrap();
+    c.set_mdi("G91 G01 X10. F6000.").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 5.0);
+    assert!((c.point().machine[0] - (x + 10.0)).abs() < 1e-9);
+    c.set_mode(Mode::Ref).unwrap();
+    c.reference_return().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[..3], [0.0, 0.0, 0.0]);
+}
+
+#[test]
+fn an_over_travel_stops_the_machine_before_the_block() {
+    let mut c = controller();
+    c.select_program("G90 G01 X500. F12000.\nN20 X700.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 60.0);
+    assert_eq!(c.run_state(), RunState::Alarm);
+    assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].n), ("OT0510", Some(20)));
+    assert_eq!(c.point().machine[0], 500.0);
+}
