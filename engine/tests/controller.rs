@@ -235,3 +235,114 @@ fn an_over_travel_stops_the_machine_before_the_block() {
     assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].n), ("OT0510", Some(20)));
     assert_eq!(c.point().machine[0], 500.0);
 }
+
+mod random_panel {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[derive(Debug, Clone)]
+    enum Action {
+        Tick(f64),
+        CycleStart,
+        FeedHold,
+        Reset,
+        EmergencyStop(bool),
+        Mode(Mode),
+        Jog(char, bool),
+        JogStop,
+        Handle(char, f64),
+        Reference,
+        Mdi(usize),
+        Override(f64),
+        SingleBlock(bool),
+    }
+
+    const MDI: [&str; 3] = ["G91 G01 X5. Y-3. F2000.", "G90 G00 Z20.", "G91 G02 X10. R5. F1000."];
+    const PROGRAM: &str = "G90 G00 X10. Y10. Z10.\nG01 X60. F3000.\nG03 X80. Y30. R20.\nG04 X0.1\nM00\n\
+                           G01 Z-5. F500.\nM01\nG02 X60. Y50. R20. F2000.\nG00 Z50.\nM30\n";
+
+    fn action() -> impl Strategy<Value = Action> {
+        let axis = prop::sample::select(vec!['X', 'Y', 'Z', 'Q']);
+        prop_oneof![
+            4 => (0.0..0.4f64).prop_map(Action::Tick),
+            2 => Just(Action::CycleStart),
+            1 => Just(Action::FeedHold),
+            1 => Just(Action::Reset),
+            1 => any::<bool>().prop_map(Action::EmergencyStop),
+            1 => prop::sample::select(vec![Mode::Auto, Mode::Mdi, Mode::Jog, Mode::Handle, Mode::Ref]).prop_map(Action::Mode),
+            1 => (axis.clone(), any::<bool>()).prop_map(|(a, p)| Action::Jog(a, p)),
+            1 => Just(Action::JogStop),
+            1 => (axis, -2000.0..2000.0f64).prop_map(|(a, d)| Action::Handle(a, d)),
+            1 => Just(Action::Reference),
+            1 => (0..MDI.len()).prop_map(Action::Mdi),
+            1 => (0.0..2.0f64).prop_map(Action::Override),
+            1 => any::<bool>().prop_map(Action::SingleBlock),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        /// Whatever the operator does, nothing panics, no axis leaves its stroke, and a machine
+        /// that is not running stands still.
+        #[test]
+        fn any_sequence_of_panel_actions_is_safe(actions in prop::collection::vec(action(), 1..40)) {
+            let mut c = controller();
+            c.select_program(PROGRAM).unwrap();
+            let strokes: Vec<[f64; 2]> =
+                MachineConfig::preset("mill3").unwrap().axes.iter().map(|a| a.stroke.unwrap()).collect();
+            for a in actions {
+                let _ = match a {
+                    Action::Tick(dt) => {
+                        c.tick(dt);
+                        Ok(())
+                    }
+                    Action::CycleStart => c.cycle_start(),
+                    Action::FeedHold => {
+                        c.feed_hold();
+                        Ok(())
+                    }
+                    Action::Reset => {
+                        c.reset();
+                        Ok(())
+                    }
+                    Action::EmergencyStop(p) => {
+                        c.emergency_stop(p);
+                        Ok(())
+                    }
+                    Action::Mode(m) => c.set_mode(m),
+                    Action::Jog(axis, p) => c.jog_start(axis, p),
+                    Action::JogStop => {
+                        c.jog_stop();
+                        Ok(())
+                    }
+                    Action::Handle(axis, d) => c.handle(axis, d),
+                    Action::Reference => c.reference_return(),
+                    Action::Mdi(i) => c.set_mdi(MDI[i]),
+                    Action::Override(f) => {
+                        c.panel.feed_override = f;
+                        Ok(())
+                    }
+                    Action::SingleBlock(on) => {
+                        c.panel.single_block = on;
+                        Ok(())
+                    }
+                };
+                let m = c.point().machine;
+                for (i, [lo, hi]) in strokes.iter().enumerate() {
+                    prop_assert!(m[i] >= lo - 1e-6 && m[i] <= hi + 1e-6, "axis {i} at {}", m[i]);
+                }
+                if c.run_state() != RunState::Running {
+                    // Holding or idle: once any stop has run out (2 s is plenty), nothing moves.
+                    c.tick(2.0);
+                    let settled = c.point().machine;
+                    if c.run_state() != RunState::Running {
+                        c.tick(0.5);
+                        prop_assert_eq!(c.point().machine, settled);
+                        prop_assert_eq!(c.point().feed, 0.0);
+                    }
+                }
+            }
+        }
+    }
+}
