@@ -646,6 +646,7 @@ impl Controller {
             feed_override: self.panel.feed_override,
             rapid_override: self.panel.rapid_override,
             exact_stop: m.context.exact_stop || self.panel.single_block,
+            helical_feed_on_path: self.machine.motion.helical_feed_on_path,
         };
         Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx)
     }

@@ -162,6 +162,25 @@ pub struct MachineConfig {
     /// `nose` and the axis points; this records how the vendor's parameters split it.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub holder: f64,
+    /// How the control interpolates (`docs/motion.md`).
+    #[serde(default, skip_serializing_if = "MotionOptions::is_default")]
+    pub motion: MotionOptions,
+}
+
+/// Interpolation choices the vendors make by parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionOptions {
+    /// Helical interpolation: F is the speed along the whole tool path, the linear axes
+    /// included (FANUC No.1403#5 HTG = 1), instead of along the arc (HTG = 0, the default).
+    #[serde(default)]
+    pub helical_feed_on_path: bool,
+}
+
+impl MotionOptions {
+    fn is_default(&self) -> bool {
+        *self == MotionOptions::default()
+    }
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -263,7 +282,15 @@ impl MachineConfig {
                 ..Axis::new(l.axis, AxisKind::Rotary, 10_800.0)
             });
         }
-        Some(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: plus_z(), nose: [0.0; 3], holder })
+        Some(MachineConfig {
+            name: name.to_string(),
+            axes,
+            rotary,
+            tool_axis: plus_z(),
+            nose: [0.0; 3],
+            holder,
+            motion: MotionOptions::default(),
+        })
     }
 
     pub const PRESETS: &'static [&'static str] = &["mill3", "head-bc", "table-ac", "table-bc", "mixed-bc"];

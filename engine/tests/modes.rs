@@ -51,6 +51,7 @@ fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
             tool_axis: [0.0, 0.0, 1.0],
             nose: [0.0; 3],
             holder: 0.0,
+            motion: Default::default(),
         },
         dialect,
     );

@@ -72,6 +72,27 @@ fn exact_stop_modes_stop_at_every_block_and_g64_does_not_on_a_straight_line() {
 }
 
 #[test]
+fn helical_feed_is_along_the_arc_unless_htg_is_set() {
+    // A full turn of radius 50 (arc 100π) going 30 down, at F600 (10 mm/s along the arc): the
+    // path, √((100π)² + 30²), is travelled at 10·path/arc mm/s with HTG = 0 (arc time 10π s),
+    // at 10 mm/s with HTG = 1. On an arc the plane's axes give the path a third of their jerk.
+    let src = "G90 G17 G92 X50. Y0. Z0.\nG03 I-50. Z-30. F600.\nM30\n";
+    let arc = 100.0 * std::f64::consts::PI;
+    let path = (arc * arc + 900.0f64).sqrt();
+    for (htg, v) in [(false, 10.0 * path / arc), (true, 10.0)] {
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        m.motion.helical_feed_on_path = htg;
+        let mut cfg = fivex_engine::interp::Config::new(m, Dialect::Fanuc);
+        cfg.max_blocks = 1000;
+        let mut interp = fivex_engine::interp::Interpreter::new(fivex_engine::lang::parse_file(src), cfg);
+        let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+        // The plane axes move arc/path per unit of path (Z only 30/path, looser), so the path
+        // may jerk J/3 · path/arc.
+        close(r.cycle_time_s, move_time(path, v, A, J / 3.0 * path / arc));
+    }
+}
+
+#[test]
 fn look_ahead_spans_more_than_200_blocks() {
     // 1000 collinear blocks of 0.02 mm at 6000 mm/min: stopping from 100 mm/s takes
     // 100·√(100/J) = 3.54 mm = 177 blocks, so full feed needs a look-ahead of 177 blocks or more.

@@ -191,6 +191,7 @@ fn unreachable_directions_have_no_candidate() {
         tool_axis: [0.0, 0.0, 1.0],
         nose: [0.0; 3],
         holder: 0.0,
+        motion: Default::default(),
     };
     let k = Kinematics::new(&m).unwrap();
     assert_eq!(k.kind, MachineKind::Table);
@@ -231,7 +232,7 @@ fn machine() -> impl Strategy<Value = MachineConfig> {
                 range: None,
             });
         }
-        MachineConfig { name: "random".into(), axes, rotary, tool_axis, nose, holder: 0.0 }
+        MachineConfig { name: "random".into(), axes, rotary, tool_axis, nose, holder: 0.0, motion: Default::default() }
     })
 }
 

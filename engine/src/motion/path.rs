@@ -92,6 +92,8 @@ pub struct FeedContext {
     pub rapid_override: f64,
     /// G09 on this block, or G61 modal.
     pub exact_stop: bool,
+    /// Helical F along the whole path (FANUC HTG = 1) instead of along the arc.
+    pub helical_feed_on_path: bool,
 }
 
 impl Segment {
@@ -99,6 +101,9 @@ impl Segment {
     pub fn new(m: &Motion, from: &Pos, work_from: &Pos, axes: &AxisLimits, ctx: FeedContext) -> Segment {
         let delta: Pos = std::array::from_fn(|i| m.machine[i] - from[i]);
         let circle = m.arc.as_deref().map(|arc| circle(arc, work_from, &m.target));
+        // Path length per unit of F's length: 1, or for a helix fed along its arc (HTG = 0)
+        // the path's length over the arc's.
+        let mut feed_scale = 1.0;
         let (len, start_dir, end_dir, tip_rate) = match &circle {
             None => {
                 let len = norm(&delta);
@@ -122,6 +127,9 @@ impl Segment {
                         _ => 0.0,
                     })
                 };
+                if !ctx.helical_feed_on_path && planar > 0.0 {
+                    feed_scale = len / planar;
+                }
                 let tip = (planar * planar
                     + (0..3).filter(|&i| i != c.a && i != c.b).map(|i| delta[i] * delta[i]).sum::<f64>())
                 .sqrt();
@@ -152,7 +160,7 @@ impl Segment {
                 FeedMode::PerRevolution => m.feed * m.spindle,
                 FeedMode::InverseTime => m.feed * len,
             };
-            per_minute / 60.0 * ctx.feed_override
+            per_minute / 60.0 * feed_scale * ctx.feed_override
         };
         limits.v = limits.v.min(programmed);
         Segment {

@@ -1,7 +1,7 @@
 //! FANUC 30i-A5 parameters (fanuc-twp-wsec-manual-params.md §2.9, §5; fanuc-tcp.md §5).
 //!
 //! Axis parameters hold one value per axis: No.1020 name (ASCII), 1022 basic axis, 1006#0 ROT,
-//! 1008#0 ROA / #1 RAB, 1260 per revolution, 1320/1321 stroke, 1420 rapid, 1660 acceleration,
+//! 1008#0 ROA / #1 RAB, 1260 per revolution, 1320/1321 stroke, 1403#5 HTG, 1420 rapid, 1660 acceleration,
 //! 1672 bell-shaped time. The mechanism: 19680 type, 19681–19690 the two rotary axes, 19696#0/#1
 //! hypothetical axes, 19697–19699 reference tool direction, 19700–19705 table positions, 19666
 //! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
@@ -10,7 +10,7 @@ use super::{chain, direction, half_turn, reference_angles, reference_direction, 
 use super::{Params, Value};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
-use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, RotaryLink, Side};
+use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, MotionOptions, RotaryLink, Side};
 
 const NAMES: &str = "XYZUVWABC";
 
@@ -159,7 +159,10 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         link.point = point.into();
     }
     let nose = (tool_axis * -holder).into();
-    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose, holder })
+    // No.1403#5 HTG: helical feed along the whole path (absent: 0, along the arc).
+    let helical_feed_on_path = p.0.contains_key(&1403) && p.bit(1403, 5)?;
+    let motion = MotionOptions { helical_feed_on_path };
+    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose, holder, motion })
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
@@ -175,6 +178,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     p.set_axes(1420, each(&|a| a.rapid));
     p.set_axes(1660, each(&|a| a.max_accel()));
     p.set_axes(1672, each(&|a| 1000.0 * a.max_accel() / a.max_jerk()));
+    if m.motion.helical_feed_on_path {
+        p.set(1403, 32.0);
+    }
 
     let (code, ra, rb) = reference_angles(direction(m.tool_axis));
     p.set(19697, code as f64);

@@ -176,7 +176,15 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     for (link, point) in rotary.iter_mut().zip(points) {
         link.point = point.into();
     }
-    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose: [0.0; 3], holder })
+    Ok(MachineConfig {
+        name: name.to_string(),
+        axes,
+        rotary,
+        tool_axis: tool_axis.into(),
+        nose: [0.0; 3],
+        holder,
+        motion: Default::default(),
+    })
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {

@@ -610,3 +610,17 @@ proptest! {
         prop_assert_eq!(kinds(&syntec), kinds(&fanuc));
     }
 }
+
+#[test]
+fn fanuc_htg_bit_sets_the_helical_feed() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    assert!(!params_of(Dialect::Fanuc, &m).unwrap().0.contains_key(&1403), "HTG = 0 is not written");
+    m.motion.helical_feed_on_path = true;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(1403, 5).unwrap());
+    assert!(machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.helical_feed_on_path);
+    // Other bits of No.1403 do not set it.
+    let mut p = p;
+    p.set(1403, 1.0);
+    assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.helical_feed_on_path);
+}
