@@ -1,6 +1,7 @@
 //! Data-driven end-to-end tests: every `tests/fixtures/*.nc` is run through the real `fivex`
-//! binary with `run`, `interp` and `check`; each output is an insta snapshot
-//! (`tests/tests/snapshots/fixtures__{run,interp,check}@NAME.nc.snap`).
+//! binary with `run`, `interp` and `check`, and once more with `--trace`; each output is an
+//! insta snapshot (`tests/tests/snapshots/fixtures__{run,interp,check,trace}@NAME.nc.snap`; the
+//! trace decimated to 40 samples, rounded to 0.1 µm).
 //!
 //! A fixture's first line may select options: `(fivex: --preset table-ac --dialect syntec)`.
 //! `run` gets all of them; `interp` all but the trace/timing ones; `check` only `--dialect`.
@@ -15,6 +16,7 @@
 //! | `status=completed\|alarm` | the summary's status |
 //! | `alarm=CODE`, `alarm_line=N`, `alarm_n=N\|null` | the first alarm |
 //! | `blocks=N` | executed blocks |
+//! | `time=S` | `cycle_time_s` exactly (±1e-6), worked out by hand with the S-curve times of `docs/motion.md` |
 //! | `ideal=S` | the cycle time without acceleration (path length / feed, rapids at the slowest axis's rate, dwells): `cycle_time_s` is at least that and at most 0.4 s more per motion (`interp` motion lines; the presets' slowest full speed change takes 0.175 s, and a motion has two) — the exact times are pinned by the snapshot and by the analytic tests of `cli.rs` and `engine::motion` |
 //! | `#N=V` / `#N=vacant` | a common variable at the end (±1e-6) |
 //! | `mX=V` / `wX=V` | machine / workpiece position of axis X (±1e-6) |
@@ -152,6 +154,7 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<S
                     }
                 }
                 "blocks" => want_num("blocks".into(), num(&["blocks"])),
+                "time" => want_num("cycle_time_s".into(), num(&["cycle_time_s"])),
                 "ideal" => {
                     let ideal = parse_num(v);
                     let motions = interp.stdout.lines().filter(|l| l.starts_with("{\"type\":\"motion\"")).count();
@@ -235,9 +238,53 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<S
     errs
 }
 
+/// Samples kept in a trace snapshot (evenly spread, the last one always).
+const TRACE_SAMPLES: usize = 40;
+
+/// `fivex run --trace` decimated to [`TRACE_SAMPLES`] lines, numbers rounded to 0.1 µm so that
+/// the snapshot pins the motion, not the last bits of a libm.
+fn trace_snapshot(dir: &Path, file: &str, opts: &[String], scratch: &Path) -> String {
+    let trace = scratch.join(format!("{file}.jsonl"));
+    let mut opts = opts.to_vec();
+    opts.extend(["--trace".to_string(), trace.display().to_string()]);
+    let ran = run_cmd(dir, "run", file, &opts);
+    let text = std::fs::read_to_string(&trace).unwrap_or_default();
+    let lines: Vec<&str> = text.lines().collect();
+    let n = lines.len();
+    let mut picks: Vec<usize> = (0..TRACE_SAMPLES.min(n)).map(|k| k * (n - 1) / (TRACE_SAMPLES - 1).max(1)).collect();
+    picks.dedup();
+    let round = |v: &Value| {
+        let x = (v.as_f64().unwrap_or(f64::NAN) * 1e4).round() / 1e4;
+        format!("{}", if x == 0.0 { 0.0 } else { x })
+    };
+    let mut out = format!("exit {} · {n} samples · showing {}\n", ran.exit, picks.len());
+    for i in picks {
+        let s: Value = serde_json::from_str(lines[i]).expect("trace line is JSON");
+        let axes: Vec<String> = s["machine"]
+            .as_object()
+            .map(|m| m.iter().map(|(k, v)| format!("{k}{}", round(v))).collect())
+            .unwrap_or_default();
+        let vec3 =
+            |v: &Value| v.as_array().map(|a| a.iter().map(round).collect::<Vec<_>>().join(",")).unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "t{} L{} N{} | {} | tip {} | tool {} | F{}",
+            round(&s["t"]),
+            s["line"],
+            s["n"],
+            axes.join(" "),
+            vec3(&s["tip"]),
+            vec3(&s["tool"]),
+            round(&s["feed"]),
+        );
+    }
+    out
+}
+
 #[test]
 fn fixtures() {
     let dir = fixtures_dir();
+    let scratch = tempfile::tempdir().expect("a scratch directory");
     let mut failures = Vec::new();
     let mut count = 0;
     insta::glob!("../fixtures", "*.nc", |path| {
@@ -255,6 +302,7 @@ fn fixtures() {
         insta::assert_snapshot!("run", run.snapshot);
         insta::assert_snapshot!("interp", interp.snapshot);
         insta::assert_snapshot!("check", check.snapshot);
+        insta::assert_snapshot!("trace", trace_snapshot(&dir, file, &options_for(&text, "run"), scratch.path()));
     });
     assert!(count >= 30, "expected at least 30 fixtures, found {count}");
     assert!(failures.is_empty(), "{} hand-computed expectation(s) failed:\n{}", failures.len(), failures.join("\n"));
