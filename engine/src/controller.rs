@@ -85,13 +85,15 @@ pub enum Refusal {
     NoAxis,
 }
 
-/// What happens when a deceleration to rest has ended.
+/// What happens when a deceleration (to rest, or to a new override's speed) has ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum AfterStop {
     /// Feed hold: the rest of the path waits for cycle start.
     Hold,
     /// Reset, end of a jog: the rest of the path is dropped.
     Drop,
+    /// An override changed: the rest of the path is planned on from the speed reached.
+    Continue,
 }
 
 /// What the program cycle waits for besides motion.
@@ -153,7 +155,7 @@ impl Controller {
         let work = interp.state.position();
         Controller {
             axes: AxisLimits::of(&machine),
-            planner: Planner::new(motion::LOOKAHEAD, motion::corner_steps(&machine)),
+            planner: motion::planner_for(&machine),
             machine,
             interp,
             program: None,
@@ -218,8 +220,9 @@ impl Controller {
 
     // --- operator actions ---------------------------------------------------------------
 
+    /// Change the mode: only while no program or motion is under way (held or not).
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
-        if self.run_state == RunState::Running {
+        if self.busy() || self.run_state == RunState::Hold || !self.planner.is_empty() {
             return Err(Refusal::Busy);
         }
         self.mode = mode;
@@ -281,6 +284,50 @@ impl Controller {
         self.wait = Wait::None;
         self.set_state(RunState::Running);
         Ok(())
+    }
+
+    /// Feed and rapid override (fractions; FANUC: feed 0–200%, rapid F0–100%): the motion
+    /// under way changes speed at once, within the limits (acceleration jerked to zero, then
+    /// an S-curve down to the new speed, or on up by the look-ahead).
+    pub fn set_overrides(&mut self, feed: f64, rapid: f64) {
+        let (feed, rapid) = (feed.clamp(0.0, 2.0), rapid.clamp(0.0, 1.0));
+        self.panel.feed_override = feed;
+        self.panel.rapid_override = rapid;
+        if self.stopping.is_some() {
+            return;
+        }
+        let Some((p, elapsed, cursor)) = self.current.take() else {
+            for mut seg in self.planner.take_all() {
+                seg.set_override(feed, rapid);
+                self.planner.push(seg);
+            }
+            return;
+        };
+        let state = p.profile.at(elapsed);
+        let mut rest = p.rest(state.s);
+        let in_run = rest.len();
+        rest.extend(self.planner.take_all());
+        for seg in &mut rest {
+            seg.set_override(feed, rapid);
+        }
+        let Some(first) = rest.first() else {
+            self.current = Some((p, elapsed, cursor));
+            return;
+        };
+        let (lim, room) = to_next_stop(&rest);
+        let transition = Profile::transition(state.v, state.a, first.limits.v, &lim);
+        let stop_after = motion::profile::change(transition.end_speed(), 0.0, &lim).1;
+        if state.a < 0.0 || transition.len() + stop_after >= room {
+            // Braking already, or too near the end of what is planned to be sure of stopping
+            // after the change: the run under way ends as planned, the rest takes the override.
+            for seg in rest.split_off(in_run) {
+                self.planner.push(seg);
+            }
+            self.current = Some((p, elapsed, cursor));
+            return;
+        }
+        self.stopping = Some(AfterStop::Continue);
+        self.current = Some((Planned { segments: rest, profile: transition }, 0.0, Cursor::default()));
     }
 
     pub fn feed_hold(&mut self) {
@@ -470,7 +517,7 @@ impl Controller {
 
     /// A run ended: after a deceleration to rest, keep or drop the rest of the path.
     fn finish_run(&mut self, p: &Planned) {
-        if p.profile.at(p.profile.duration()).v.abs() < 1e-9 {
+        if p.profile.end_speed().abs() < 1e-9 {
             self.here.feed = 0.0;
         }
         let Some(after) = self.stopping.take() else {
@@ -480,9 +527,19 @@ impl Controller {
             }
             return;
         };
-        let rest = p.rest(p.profile.len());
+        self.after_stop(after, p.rest(p.profile.len()), p.profile.end_speed());
+    }
+
+    /// Carry on after a deceleration that ended at `speed` with `rest` of the path ahead.
+    fn after_stop(&mut self, after: AfterStop, rest: Vec<Segment>, speed: f64) {
         match after {
             AfterStop::Hold => {
+                for seg in rest {
+                    self.planner.push(seg);
+                }
+            }
+            AfterStop::Continue => {
+                self.planner.continue_at(speed);
                 for seg in rest {
                     self.planner.push(seg);
                 }
@@ -508,6 +565,18 @@ impl Controller {
     /// Decelerate to rest along the path, within the limits of every segment the stop covers;
     /// the path after the stop point is kept for `after`.
     fn decelerate(&mut self, after: AfterStop) {
+        if let Some(already @ (AfterStop::Hold | AfterStop::Drop)) = self.stopping {
+            // Already stopping: only what follows may change (dropping wins over holding).
+            if already == AfterStop::Hold {
+                self.stopping = Some(after);
+            }
+            if after == AfterStop::Drop {
+                self.pending.clear();
+            }
+            return;
+        }
+        // A speed change under way is a motion like any other: stop from where it is.
+        self.stopping = None;
         let Some((p, elapsed, _)) = self.current.take() else {
             if after == AfterStop::Drop {
                 self.planner.take_all();
@@ -516,17 +585,14 @@ impl Controller {
         };
         let state = p.profile.at(elapsed);
         let mut rest = p.rest(state.s);
-        let own = rest.iter().map(|s| s.limits).reduce(min_limits);
-        let mut lim = own.unwrap_or(Limits { v: 1.0, a: 1.0, j: 1.0 });
-        // The stop may run into segments not yet released: keep to their limits too.
-        let first = Profile::stop(state.v, state.a, &lim);
-        let left: f64 = rest.iter().map(|s| s.len).sum();
-        if first.len() > left {
-            if let Some(ahead) = self.planner.limits_ahead(first.len() - left) {
-                lim = min_limits(lim, ahead);
-            }
-        }
         rest.extend(self.planner.take_all());
+        if rest.is_empty() {
+            // At the very end of the path: already there.
+            self.here.feed = 0.0;
+            self.after_stop(after, rest, 0.0);
+            return;
+        }
+        let lim = stop_limits(&rest, state.v, state.a);
         let profile = Profile::stop(state.v, state.a, &lim);
         self.stopping = Some(after);
         self.current = Some((Planned { segments: rest, profile }, 0.0, Cursor::default()));
@@ -667,6 +733,43 @@ impl Controller {
             self.events.push(Event::State(s));
         }
     }
+}
+
+/// The lowest limits of the segments up to the next place the machine must stop at (an exact
+/// stop, or the end of the path), and the distance to it.
+fn to_next_stop(path: &[Segment]) -> (Limits, f64) {
+    let mut lim = path[0].limits;
+    let mut room = 0.0;
+    for seg in path {
+        lim = min_limits(lim, seg.limits);
+        room += seg.len;
+        if seg.stop_after {
+            break;
+        }
+    }
+    (lim, room)
+}
+
+/// The limits for the quickest stop from speed `v` and acceleration `a` along `path`: those
+/// of every segment the stop covers, as long as it still ends before the next exact stop and
+/// the braking under way can end at rest with their jerk (the motion was planned to stop there
+/// with the limits of the segments before it, so those always do).
+fn stop_limits(path: &[Segment], v: f64, a: f64) -> Limits {
+    let (_, boundary) = to_next_stop(path);
+    let mut lim = path[0].limits;
+    let mut covered = path[0].len;
+    for seg in &path[1..] {
+        if Profile::stop(v, a, &lim).len() <= covered || covered >= boundary {
+            break;
+        }
+        let next = min_limits(lim, seg.limits);
+        if (a < 0.0 && a * a > 2.0 * next.j * v) || Profile::stop(v, a, &next).len() > boundary {
+            break;
+        }
+        lim = next;
+        covered += seg.len;
+    }
+    lim
 }
 
 fn min_limits(a: Limits, b: Limits) -> Limits {

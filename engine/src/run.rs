@@ -67,7 +67,7 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
         // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
         kinematics: crate::kin::Kinematics::new(&machine).ok(),
         axes: AxisLimits::of(&machine),
-        planner: Planner::new(motion::LOOKAHEAD, motion::corner_steps(&machine)),
+        planner: motion::planner_for(&machine),
         machine_config: machine,
         t: 0.0,
         next_sample: 0,

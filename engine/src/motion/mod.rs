@@ -18,14 +18,22 @@ use crate::machine::{MachineConfig, MAX_AXES};
 /// Segments of look-ahead (the issue asks for at least 200).
 pub const LOOKAHEAD: usize = 256;
 
-/// The speed step each axis may take at a corner, units/s: what its acceleration gives in one
-/// millisecond (the role of FANUC No.1783, allowable speed difference for corner deceleration).
-pub fn corner_steps(m: &MachineConfig) -> Pos {
-    let mut step = [0.0; MAX_AXES];
-    for (s, axis) in step.iter_mut().zip(&m.axes) {
-        *s = axis.max_accel() * 0.001;
+/// What each axis may change at once at a junction (the role of FANUC No.1783, allowable speed
+/// difference for corner deceleration): its speed by what its acceleration gives in 1 ms, and
+/// its acceleration (a line meeting an arc, arcs of other radii) by what its jerk gives in 1 ms.
+pub fn junction_steps(m: &MachineConfig) -> (Pos, Pos) {
+    let (mut speed, mut accel) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
+    for ((v, a), axis) in speed.iter_mut().zip(accel.iter_mut()).zip(&m.axes) {
+        *v = axis.max_accel() * 0.001;
+        *a = axis.max_jerk() * 0.001;
     }
-    step
+    (speed, accel)
+}
+
+/// The planner for a machine, with [`LOOKAHEAD`] and its [`junction_steps`].
+pub fn planner_for(m: &MachineConfig) -> Planner {
+    let (speed, accel) = junction_steps(m);
+    Planner::new(LOOKAHEAD, speed, accel)
 }
 
 /// The first stored stroke limit the segment would cross (end point, and the quadrant points

@@ -75,9 +75,15 @@ pub struct Segment {
     pub len: f64,
     /// The speed the program asks for (override applied) and what the axes allow, per second.
     pub limits: Limits,
+    /// The programmed speed before the override, and the highest the axes allow.
+    programmed: f64,
+    axis_speed: f64,
     /// Axis rates d(axis)/ds at the start and at the end (the tangents, for corners).
     pub start_dir: Pos,
     pub end_dir: Pos,
+    /// d²(axis)/ds² at the start and at the end (zero on a line; toward the centre on an arc).
+    pub start_curvature: Pos,
+    pub end_curvature: Pos,
     /// Tool tip (X, Y, Z of the programming system) distance per unit of `s`.
     pub tip_rate: f64,
     /// The motion must come to a stop at its end (G09, G61, rapids).
@@ -136,6 +142,23 @@ impl Segment {
                 (len, dir_at(c.start), dir_at(c.start + c.sweep), if len > 0.0 { tip / len } else { 0.0 })
             }
         };
+        let curvature_at = |angle: f64, r: f64| -> Pos {
+            let mut k = [0.0; MAX_AXES];
+            if let Some(c) = &circle {
+                // Plane speed is (planar / len) of the path speed; the centripetal part is
+                // (that)² / r, toward the centre.
+                let share = if len > 0.0 { 0.5 * (c.r0 + c.r1) * c.sweep.abs() / len } else { 0.0 };
+                let (sin, cos) = angle.sin_cos();
+                let scale = share * share / r.max(1e-12);
+                k[c.a] = -cos * scale;
+                k[c.b] = -sin * scale;
+            }
+            k
+        };
+        let (start_curvature, end_curvature) = match &circle {
+            Some(c) => (curvature_at(c.start, c.r0), curvature_at(c.start + c.sweep, c.r1)),
+            None => ([0.0; MAX_AXES], [0.0; MAX_AXES]),
+        };
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         // Per-axis rate bound over the whole segment (an arc axis reaches its full share).
         let rate: Pos = match &circle {
@@ -152,18 +175,18 @@ impl Segment {
         if let Some(c) = &circle {
             arc_limits(&mut limits, c, &rate, axes);
         }
+        let axis_speed = limits.v;
         let programmed = if rapid {
-            limits.v * ctx.rapid_override
+            axis_speed
         } else {
             let per_minute = match m.feed_mode {
                 FeedMode::PerMinute => m.feed,
                 FeedMode::PerRevolution => m.feed * m.spindle,
                 FeedMode::InverseTime => m.feed * len,
             };
-            per_minute / 60.0 * feed_scale * ctx.feed_override
+            per_minute / 60.0 * feed_scale
         };
-        limits.v = limits.v.min(programmed);
-        Segment {
+        let mut seg = Segment {
             line: 0,
             n: None,
             rapid,
@@ -176,9 +199,21 @@ impl Segment {
             limits,
             start_dir,
             end_dir,
+            start_curvature,
+            end_curvature,
             tip_rate,
             stop_after: rapid || ctx.exact_stop,
-        }
+            programmed,
+            axis_speed,
+        };
+        seg.set_override(ctx.feed_override, ctx.rapid_override);
+        seg
+    }
+
+    /// Apply the feed or rapid override (fractions) to the programmed speed.
+    pub fn set_override(&mut self, feed: f64, rapid: f64) {
+        let k = if self.rapid { rapid } else { feed };
+        self.limits.v = self.axis_speed.min(self.programmed * k.max(0.0));
     }
 
     /// Machine and programming positions at distance `s` along the segment.
@@ -218,6 +253,9 @@ impl Segment {
             let turn = c.sweep.signum();
             tail.start_dir[c.a] = -sin * turn * k;
             tail.start_dir[c.b] = cos * turn * k;
+            let bend = k * k / c.r0.max(1e-12);
+            tail.start_curvature[c.a] = -cos * bend;
+            tail.start_curvature[c.b] = -sin * bend;
         }
         tail
     }

@@ -99,14 +99,16 @@ pub struct Planner {
     /// Speed at the end of the last released run.
     v_now: f64,
     pub lookahead: usize,
-    /// Highest speed step each axis may take at a corner, units/s (FANUC No.1783).
-    corner_step: Pos,
+    /// Highest speed step each axis may take at a corner, units/s (FANUC No.1783), and
+    /// highest acceleration step where the curvature changes, units/s².
+    speed_step: Pos,
+    accel_step: Pos,
 }
 
 impl Planner {
-    pub fn new(lookahead: usize, corner_step: Pos) -> Planner {
+    pub fn new(lookahead: usize, speed_step: Pos, accel_step: Pos) -> Planner {
         let lookahead = lookahead.max(1);
-        Planner { queue: VecDeque::new(), ready: VecDeque::new(), v_now: 0.0, lookahead, corner_step }
+        Planner { queue: VecDeque::new(), ready: VecDeque::new(), v_now: 0.0, lookahead, speed_step, accel_step }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -122,7 +124,7 @@ impl Planner {
             last.junction = if last.segment.stop_after || segment.rapid {
                 0.0
             } else {
-                corner_speed(&last.segment, &segment, &self.corner_step)
+                junction_speed(&last.segment, &segment, &self.speed_step, &self.accel_step)
             };
         }
         self.queue.push_back(Queued { segment, junction: 0.0 });
@@ -137,21 +139,9 @@ impl Planner {
         out
     }
 
-    /// The limits of the slowest of the next segments covering `distance` (a stop must keep to
-    /// all of them).
-    pub fn limits_ahead(&self, distance: f64) -> Option<Limits> {
-        let segments = self.ready.iter().flat_map(|p| p.segments.iter()).chain(self.queue.iter().map(|q| &q.segment));
-        let mut covered = 0.0;
-        let mut lim: Option<Limits> = None;
-        for seg in segments {
-            if covered >= distance {
-                break;
-            }
-            let l = seg.limits;
-            lim = Some(lim.map_or(l, |m| Limits { v: m.v.min(l.v), a: m.a.min(l.a), j: m.j.min(l.j) }));
-            covered += seg.len;
-        }
-        lim
+    /// The machine moves on at speed `v` (with zero acceleration) into what is pushed next.
+    pub fn continue_at(&mut self, v: f64) {
+        self.v_now = v;
     }
 
     /// The next run whose speeds are final, if any; with `stop`, every queued segment is
@@ -238,14 +228,20 @@ fn within_twice(x: f64, of: f64) -> bool {
     x >= 0.5 * of && x <= 2.0 * of
 }
 
-/// The highest speed through the junction of `a` into `b`: neither segment's speed, and at
-/// most `step[i]` of sudden speed change on any axis (tangent junctions need no slowing).
-fn corner_speed(a: &Segment, b: &Segment, step: &Pos) -> f64 {
+/// The highest speed through the junction of `a` into `b`: neither segment's speed, at most
+/// `speed_step[i]` of sudden speed change on any axis (a corner; tangent junctions need no
+/// slowing), and at most `accel_step[i]` of sudden acceleration change (where the curvature
+/// changes: the acceleration toward an arc's centre is v² times its curvature vector).
+fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
     let mut v = a.limits.v.min(b.limits.v);
-    for ((step, from), to) in step.iter().zip(&a.end_dir).zip(&b.start_dir) {
-        let jump = (to - from).abs();
-        if jump > 1e-12 {
-            v = v.min(step / jump);
+    for i in 0..speed_step.len() {
+        let turn = (b.start_dir[i] - a.end_dir[i]).abs();
+        if turn > 1e-12 {
+            v = v.min(speed_step[i] / turn);
+        }
+        let bend = (b.start_curvature[i] - a.end_curvature[i]).abs();
+        if bend > 1e-12 {
+            v = v.min((accel_step[i] / bend).sqrt());
         }
     }
     v

@@ -80,33 +80,50 @@ impl Phase {
     }
 }
 
-/// A planned segment: at most seven phases (two S-curves and a cruise).
+/// A planned run: at most ten phases (an S-curve down to the limit when it enters too fast, two
+/// S-curves and a cruise).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Profile {
-    phases: ArrayVec<Phase, 7>,
+    phases: ArrayVec<Phase, 10>,
     len: f64,
     duration: f64,
+    /// Speed at the end (also when there is no phase at all).
+    end_speed: f64,
 }
 
 impl Profile {
     /// From `vs` to `ve` over `len`; `vs` and `ve` must be reachable from each other within
     /// `len` (the planner guarantees it; otherwise the profile runs at the nearer speed).
     pub fn plan(vs: f64, ve: f64, len: f64, lim: &Limits) -> Profile {
-        let mut p = Profile { phases: ArrayVec::new(), len: len.max(0.0), duration: 0.0 };
+        let mut p = Profile { phases: ArrayVec::new(), len: len.max(0.0), duration: 0.0, end_speed: vs };
         if len <= 0.0 {
+            return p;
+        }
+        let mut state = PathState { s: 0.0, v: vs, a: 0.0 };
+        // Entering faster than the segment allows (the override was just lowered): slow down
+        // first, as far as the segment lets.
+        let top = lim.v.max(ve);
+        if vs > top && change(vs, top, lim).1 <= len {
+            p.ramp(&mut state, top, lim);
+        }
+        let (vs, len) = (state.v, len - state.s);
+        if vs <= 0.0 && lim.v <= 0.0 {
+            // No speed allowed (a 0% override): the machine waits here until replanned.
+            p.phases.push(Phase { duration: f64::INFINITY, jerk: 0.0, s: state.s, v: 0.0, a: 0.0 });
+            p.duration = f64::INFINITY;
             return p;
         }
         let floor = vs.max(ve);
         let cap = lim.v.max(floor);
         let total = |vp: f64| change(vs, vp, lim).1 + change(vp, ve, lim).1;
         let peak = if total(cap) <= len { cap } else { bisect(floor, cap, |vp| total(vp) <= len) };
-        let mut state = PathState { s: 0.0, v: vs, a: 0.0 };
         p.ramp(&mut state, peak, lim);
         let cruise = len - total(peak);
         if cruise > 0.0 && peak > 0.0 {
             p.push(&mut state, cruise / peak, 0.0);
         }
         p.ramp(&mut state, ve, lim);
+        p.end_speed = ve;
         p
     }
 
@@ -141,21 +158,44 @@ impl Profile {
         state.v = v1;
     }
 
+    /// From speed `v` and acceleration `a` to a steady speed: the acceleration jerked back to
+    /// zero, then, if that is faster than `target`, an S-curve down to it (an override lowered
+    /// while moving). Its length is the distance it needs.
+    pub fn transition(v: f64, a: f64, target: f64, lim: &Limits) -> Profile {
+        let mut p = Profile { phases: ArrayVec::new(), len: 0.0, duration: 0.0, end_speed: v };
+        let mut state = PathState { s: 0.0, v, a };
+        p.push(&mut state, a.abs() / lim.j, -lim.j.copysign(a));
+        state.a = 0.0;
+        if state.v > target {
+            p.ramp(&mut state, target, lim);
+        }
+        p.end_speed = state.v;
+        p.len = state.s.max(0.0);
+        p
+    }
+
     /// The quickest stop from speed `v` and acceleration `a` (a feed hold): jerk −J down to a
     /// deceleration `ap`, hold it, jerk +J back to zero, ending at rest. The speed lost is
     /// `(a² − 2ap²)/2J − ap·t₂ = −v`, so `ap = √(J·v + a²/2)` when that is within A, else A with
     /// a constant phase. Its length is the stopping distance.
     pub fn stop(v: f64, a: f64, lim: &Limits) -> Profile {
-        let j = lim.j;
+        let mut p = Profile { phases: ArrayVec::new(), len: 0.0, duration: 0.0, end_speed: 0.0 };
+        let mut j = lim.j;
+        if a < 0.0 && v > 0.0 && a * a > 2.0 * j * v {
+            // Already braking harder than this jerk can end without reversing (only when the
+            // limits are lower than the ones the motion was planned with, or by rounding):
+            // end the braking exactly at rest.
+            j = a * a / (2.0 * v);
+        }
         let need = v + a * a / (2.0 * j);
         let ideal = (j * v + 0.5 * a * a).max(0.0).sqrt();
         let (ap, hold) = if ideal <= lim.a { (ideal, 0.0) } else { (lim.a, (need - lim.a * lim.a / j) / lim.a) };
-        let mut p = Profile { phases: ArrayVec::new(), len: 0.0, duration: 0.0 };
         let mut state = PathState { s: 0.0, v, a };
         p.push(&mut state, (a + ap) / j, -j);
         p.push(&mut state, hold, 0.0);
         p.push(&mut state, ap / j, j);
-        p.len = state.s;
+        // Rounding at a standstill must not give a stop that runs backwards.
+        p.len = state.s.max(0.0);
         p
     }
 
@@ -179,8 +219,12 @@ impl Profile {
             }
             rest -= phase.duration;
         }
-        let end = self.phases.last().map_or(0.0, |p| p.at(p.duration).v);
-        PathState { s: self.len, v: end.max(0.0), a: 0.0 }
+        PathState { s: self.len, v: self.end_speed, a: 0.0 }
+    }
+
+    /// The speed the profile ends at.
+    pub fn end_speed(&self) -> f64 {
+        self.end_speed
     }
 }
 
