@@ -297,7 +297,11 @@ impl Controller {
             return;
         }
         let Some((p, elapsed, cursor)) = self.current.take() else {
-            for mut seg in self.planner.take_all() {
+            // Between runs (or at rest): what is queued takes the new speed from here.
+            let v = self.planner.speed();
+            let queued = self.planner.take_all();
+            self.planner.continue_at(v);
+            for mut seg in queued {
                 seg.set_override(feed, rapid);
                 self.planner.push(seg);
             }
@@ -314,12 +318,17 @@ impl Controller {
             self.current = Some((p, elapsed, cursor));
             return;
         };
-        let (lim, room) = to_next_stop(&rest);
+        let (lim, _) = to_next_stop(&rest);
         let transition = Profile::transition(state.v, state.a, first.limits.v, &lim);
-        let stop_after = motion::profile::change(transition.end_speed(), 0.0, &lim).1;
-        if state.a < 0.0 || transition.len() + stop_after >= room {
-            // Braking already, or too near the end of what is planned to be sure of stopping
-            // after the change: the run under way ends as planned, the rest takes the override.
+        // Where the transition ends, the machine must still be able to keep to every junction
+        // and exact stop ahead.
+        let after = Planned { segments: rest.clone(), profile: transition.clone() }.rest(transition.len());
+        let fits = transition.end_speed() <= self.planner.entry_speed(&after) + 1e-9;
+        if state.a < 0.0 || !fits || p.segments[0].is_independent() {
+            // Braking already, too near a junction or stop to be sure of keeping to it after
+            // the change, or a non-linear rapid: the run under way ends as planned, the rest
+            // takes the override.
+            self.planner.continue_at(p.profile.end_speed());
             for seg in rest.split_off(in_run) {
                 self.planner.push(seg);
             }
@@ -583,6 +592,17 @@ impl Controller {
             }
             return;
         };
+        if p.segments.first().is_some_and(Segment::is_independent) {
+            // A non-linear rapid cannot be slowed along a path: its axes finish their own
+            // profiles (the block ends at rest), then what follows waits or is dropped.
+            self.stopping = Some(after);
+            if after == AfterStop::Drop {
+                self.planner.take_all();
+                self.pending.clear();
+            }
+            self.current = Some((p, elapsed, Cursor::default()));
+            return;
+        }
         let state = p.profile.at(elapsed);
         let mut rest = p.rest(state.s);
         rest.extend(self.planner.take_all());
@@ -713,6 +733,7 @@ impl Controller {
             rapid_override: self.panel.rapid_override,
             exact_stop: m.context.exact_stop || self.panel.single_block,
             helical_feed_on_path: self.machine.motion.helical_feed_on_path,
+            nonlinear_rapid: self.machine.motion.nonlinear_rapid,
         };
         Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx)
     }

@@ -175,6 +175,11 @@ pub struct MotionOptions {
     /// included (FANUC No.1403#5 HTG = 1), instead of along the arc (HTG = 0, the default).
     #[serde(default)]
     pub helical_feed_on_path: bool,
+    /// Rapids move every axis at its own rapid rate, each starting and stopping on its own
+    /// (FANUC No.1401#1 LRP = 0: non-linear type); by default the rapid is a straight line in
+    /// axis space (LRP = 1, which the 5-axis functions require).
+    #[serde(default)]
+    pub nonlinear_rapid: bool,
 }
 
 impl MotionOptions {

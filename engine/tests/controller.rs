@@ -228,6 +228,23 @@ fn an_override_change_acts_on_the_motion_under_way_within_limits() {
 }
 
 #[test]
+fn feed_hold_in_a_non_linear_rapid_ends_the_block_first() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.motion.nonlinear_rapid = true;
+    let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
+    c.select_program("G90 G00 X100. Y10.\nG01 X0. F3000.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    c.tick(0.1);
+    c.feed_hold();
+    assert_eq!(c.run_state(), RunState::Hold);
+    c.tick(2.0);
+    assert_eq!(c.point().machine[..2], [100.0, 10.0], "the rapid's axes finished their own profiles");
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[..2], [0.0, 10.0]);
+}
+
+#[test]
 fn jog_handle_and_reference_return() {
     let mut c = controller();
     assert_eq!(c.jog_start('X', true), Err(Refusal::WrongMode));

@@ -93,6 +93,37 @@ fn helical_feed_is_along_the_arc_unless_htg_is_set() {
 }
 
 #[test]
+fn non_linear_rapids_move_each_axis_on_its_own() {
+    // G00 X100 Y10: X alone takes 100/500 + 500/A + A/J = 0.375 s (it reaches 500 mm/s);
+    // Y alone 10 mm, two S-curves to vp with vp·√(vp/J) = 5: 4·√(vp/J) = 0.159 s.
+    let x_time = 100.0 / 500.0 + 500.0 / A + A / J;
+    let vp = (5.0 * J.sqrt()).powf(2.0 / 3.0);
+    let y_time = 4.0 * (vp / J).sqrt();
+    let src = "G90 G00 X100. Y10.\nM30\n";
+    for nonlinear in [false, true] {
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        m.motion.nonlinear_rapid = nonlinear;
+        let mut interp = fivex_engine::interp::Interpreter::new(
+            fivex_engine::lang::parse_file(src),
+            fivex_engine::interp::Config::new(m, Dialect::Fanuc),
+        );
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: PERIOD, ..RunOptions::default() }, |s| samples.push(*s));
+        // Either way the block lasts as long as its slowest axis alone (X dominates the line).
+        close(r.cycle_time_s, x_time);
+        let at = samples.iter().find(|s| (s.t - 0.2).abs() < 1e-9).unwrap();
+        if nonlinear {
+            // Y has arrived (after y_time) while X still moves: a dog-leg, not a line.
+            assert!(y_time < 0.2);
+            assert_eq!(at.machine[1], 10.0);
+            assert!(at.machine[0] < 100.0);
+        } else {
+            assert!((at.machine[1] - at.machine[0] / 10.0).abs() < 1e-9, "on the line");
+        }
+    }
+}
+
+#[test]
 fn look_ahead_spans_more_than_200_blocks() {
     // 1000 collinear blocks of 0.02 mm at 6000 mm/min: stopping from 100 mm/s takes
     // 100·√(100/J) = 3.54 mm = 177 blocks, so full feed needs a look-ahead of 177 blocks or more.

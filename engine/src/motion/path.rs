@@ -7,7 +7,7 @@
 //! moves are straight in axis space; arcs are circles (or spirals, when the end radius differs
 //! within the tolerance) in the plane's two axes with every other axis moving in proportion.
 
-use super::profile::Limits;
+use super::profile::{Limits, Profile};
 use crate::canon::{Arc, FeedMode, Motion, MotionKind, Pos};
 use crate::machine::{MachineConfig, MAX_AXES};
 
@@ -71,6 +71,9 @@ pub struct Segment {
     pub work_from: Pos,
     pub work_to: Pos,
     circle: Option<Circle>,
+    /// A non-linear rapid: each axis's own rest-to-rest profile (`None` for axes that stay);
+    /// the path parameter is then the time.
+    independent: Option<Box<[Option<Profile>; MAX_AXES]>>,
     /// Length of the path parameter (mm and degrees).
     pub len: f64,
     /// The speed the program asks for (override applied) and what the axes allow, per second.
@@ -100,6 +103,8 @@ pub struct FeedContext {
     pub exact_stop: bool,
     /// Helical F along the whole path (FANUC HTG = 1) instead of along the arc.
     pub helical_feed_on_path: bool,
+    /// Rapids as FANUC's non-linear type (No.1401#1 LRP = 0).
+    pub nonlinear_rapid: bool,
 }
 
 impl Segment {
@@ -195,6 +200,7 @@ impl Segment {
             work_from: *work_from,
             work_to: m.target,
             circle,
+            independent: None,
             len,
             limits,
             start_dir,
@@ -207,11 +213,60 @@ impl Segment {
             axis_speed,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
+        if rapid && ctx.nonlinear_rapid {
+            seg.make_independent(axes, ctx.rapid_override);
+        }
         seg
+    }
+
+    /// Turn a rapid into the non-linear type: every axis its own S-curve at its own rapid rate
+    /// (× override), all starting together; the block lasts as long as the slowest axis. The
+    /// path parameter becomes the time, run at speed 1 with no limit on its acceleration.
+    fn make_independent(&mut self, axes: &AxisLimits, rapid_override: f64) {
+        let mut profiles: [Option<Profile>; MAX_AXES] = Default::default();
+        let mut duration: f64 = 0.0;
+        for (i, profile) in profiles.iter_mut().enumerate().take(axes.count) {
+            let travel = (self.to[i] - self.from[i]).abs();
+            if travel > 0.0 {
+                let lim = Limits { v: axes.v[i] * rapid_override.max(0.0), a: axes.a[i], j: axes.j[i] };
+                let p = Profile::plan(0.0, 0.0, travel, &lim);
+                duration = duration.max(p.duration());
+                *profile = Some(p);
+            }
+        }
+        if !duration.is_finite() || duration <= 0.0 {
+            return;
+        }
+        self.len = duration;
+        self.limits = Limits { v: 1.0, a: f64::INFINITY, j: f64::INFINITY };
+        self.axis_speed = 1.0;
+        self.programmed = 1.0;
+        self.tip_rate = 0.0;
+        self.independent = Some(Box::new(profiles));
+    }
+
+    /// Whether this is a non-linear rapid (its path parameter is the time).
+    pub fn is_independent(&self) -> bool {
+        self.independent.is_some()
+    }
+
+    /// Tool tip speed (mm/s) at distance `s` when the path parameter moves at `v`.
+    pub fn tip_speed(&self, s: f64, v: f64) -> f64 {
+        match &self.independent {
+            None => v * self.tip_rate,
+            Some(profiles) => {
+                let speed = |i: usize| profiles[i].as_ref().map_or(0.0, |p| p.at(s).v);
+                (speed(0).powi(2) + speed(1).powi(2) + speed(2).powi(2)).sqrt()
+            }
+        }
     }
 
     /// Apply the feed or rapid override (fractions) to the programmed speed.
     pub fn set_override(&mut self, feed: f64, rapid: f64) {
+        if self.independent.is_some() {
+            // Its axes' profiles were planned with the override of the time.
+            return;
+        }
         let k = if self.rapid { rapid } else { feed };
         self.limits.v = self.axis_speed.min(self.programmed * k.max(0.0));
     }
@@ -220,6 +275,15 @@ impl Segment {
     pub fn at(&self, s: f64) -> (Pos, Pos) {
         if s >= self.len {
             return (self.to, self.work_to);
+        }
+        if let Some(profiles) = &self.independent {
+            // Each axis on its own profile, `s` seconds in; the offsets are constant.
+            let machine: Pos = std::array::from_fn(|i| match &profiles[i] {
+                Some(p) => self.from[i] + p.at(s).s.copysign(self.to[i] - self.from[i]),
+                None => self.from[i],
+            });
+            let work = std::array::from_fn(|i| machine[i] + (self.work_to[i] - self.to[i]));
+            return (machine, work);
         }
         let u = if self.len > 0.0 { s / self.len } else { 1.0 };
         let mut machine: Pos = std::array::from_fn(|i| self.from[i] + (self.to[i] - self.from[i]) * u);

@@ -58,7 +58,8 @@ impl Planned {
         }
         let seg = &segments[cursor.k];
         let (machine, work) = seg.at(state.s - cursor.start);
-        Point { machine, work, feed: state.v * seg.tip_rate * 60.0, line: seg.line, n: seg.n, s: state.s }
+        let feed = seg.tip_speed(state.s - cursor.start, state.v) * 60.0;
+        Point { machine, work, feed, line: seg.line, n: seg.n, s: state.s }
     }
 
     /// The path not yet covered at distance `s`: the rest of the segment holding it and every
@@ -137,6 +138,33 @@ impl Planner {
         out.extend(self.queue.drain(..).map(|q| q.segment));
         self.v_now = 0.0;
         out
+    }
+
+    /// The highest speed at which the machine may enter `path` and still keep to every
+    /// junction speed and stop at its next exact stop (or its end): the backward pass over
+    /// it, with the lowest limits of all its segments.
+    pub fn entry_speed(&self, path: &[Segment]) -> f64 {
+        let Some(lim) =
+            path.iter().map(|s| s.limits).reduce(|a, b| Limits { v: a.v.min(b.v), a: a.a.min(b.a), j: a.j.min(b.j) })
+        else {
+            return 0.0;
+        };
+        let end = path.iter().position(|s| s.stop_after).map_or(path.len(), |k| k + 1);
+        let mut v_next_start = 0.0;
+        for k in (0..end).rev() {
+            let junction = match path.get(k + 1) {
+                Some(next) if k + 1 < end => junction_speed(&path[k], next, &self.speed_step, &self.accel_step),
+                _ => 0.0,
+            };
+            let v_end = junction.min(v_next_start);
+            v_next_start = reachable(v_end, path[k].len, path[k].limits.v, &lim);
+        }
+        v_next_start
+    }
+
+    /// The speed the next released run starts at.
+    pub fn speed(&self) -> f64 {
+        self.v_now
     }
 
     /// The machine moves on at speed `v` (with zero acceleration) into what is pushed next.

@@ -1,7 +1,7 @@
 //! FANUC 30i-A5 parameters (fanuc-twp-wsec-manual-params.md §2.9, §5; fanuc-tcp.md §5).
 //!
 //! Axis parameters hold one value per axis: No.1020 name (ASCII), 1022 basic axis, 1006#0 ROT,
-//! 1008#0 ROA / #1 RAB, 1260 per revolution, 1320/1321 stroke, 1403#5 HTG, 1420 rapid, 1660 acceleration,
+//! 1008#0 ROA / #1 RAB, 1260 per revolution, 1320/1321 stroke, 1401#1 LRP, 1403#5 HTG, 1420 rapid, 1660 acceleration,
 //! 1672 bell-shaped time. The mechanism: 19680 type, 19681–19690 the two rotary axes, 19696#0/#1
 //! hypothetical axes, 19697–19699 reference tool direction, 19700–19705 table positions, 19666
 //! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
@@ -161,7 +161,10 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let nose = (tool_axis * -holder).into();
     // No.1403#5 HTG: helical feed along the whole path (absent: 0, along the arc).
     let helical_feed_on_path = p.0.contains_key(&1403) && p.bit(1403, 5)?;
-    let motion = MotionOptions { helical_feed_on_path };
+    // No.1401#1 LRP: written only when 0 (non-linear rapids); absent means fivex's default,
+    // linear-type rapids.
+    let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
+    let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid };
     Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose, holder, motion })
 }
 
@@ -180,6 +183,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     p.set_axes(1672, each(&|a| 1000.0 * a.max_accel() / a.max_jerk()));
     if m.motion.helical_feed_on_path {
         p.set(1403, 32.0);
+    }
+    if m.motion.nonlinear_rapid {
+        p.set(1401, 0.0);
     }
 
     let (code, ra, rb) = reference_angles(direction(m.tool_axis));

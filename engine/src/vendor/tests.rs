@@ -624,3 +624,16 @@ fn fanuc_htg_bit_sets_the_helical_feed() {
     p.set(1403, 1.0);
     assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.helical_feed_on_path);
 }
+
+#[test]
+fn fanuc_lrp_bit_sets_the_rapid_type() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    assert!(!params_of(Dialect::Fanuc, &m).unwrap().0.contains_key(&1401), "LRP = 1 is not written");
+    m.motion.nonlinear_rapid = true;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(!p.bit(1401, 1).unwrap());
+    assert!(machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.nonlinear_rapid);
+    let mut p = p;
+    p.set(1401, 2.0);
+    assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.nonlinear_rapid);
+}
