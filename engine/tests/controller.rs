@@ -15,6 +15,23 @@ fn controller() -> Controller {
     Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc))
 }
 
+/// A mill3 controller running `src` in AUTO.
+fn started(src: &str) -> Controller {
+    let mut c = controller();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    c
+}
+
+/// `n` ticks, X/Y/Z after each appended to `xs`.
+fn record(c: &mut Controller, n: usize, xs: &mut Vec<[f64; 3]>) {
+    for _ in 0..n {
+        c.tick(TICK);
+        let m = c.point().machine;
+        xs.push([m[0], m[1], m[2]]);
+    }
+}
+
 /// Tick until the controller is no longer running (or `limit` seconds), recording X, Y, Z.
 fn run_until_stopped(c: &mut Controller, limit: f64) -> Vec<[f64; 3]> {
     let mut xs = Vec::new();
@@ -76,22 +93,12 @@ fn ticks_move_the_machine_exactly_as_run_does() {
 
 #[test]
 fn feed_hold_decelerates_within_limits_and_cycle_start_finishes_the_path() {
-    let mut c = controller();
-    c.select_program("G90 G01 X300. Y100. F12000.\nM30\n").unwrap();
-    c.cycle_start().unwrap();
+    let mut c = started("G90 G01 X300. Y100. F12000.\nM30\n");
     let mut xs = Vec::new();
-    for _ in 0..500 {
-        c.tick(TICK);
-        let m = c.point().machine;
-        xs.push([m[0], m[1], m[2]]);
-    }
+    record(&mut c, 500, &mut xs);
     c.feed_hold();
     assert_eq!(c.run_state(), RunState::Hold);
-    for _ in 0..400 {
-        c.tick(TICK);
-        let m = c.point().machine;
-        xs.push([m[0], m[1], m[2]]);
-    }
+    record(&mut c, 400, &mut xs);
     let held = c.point().machine;
     assert_eq!(c.point().feed, 0.0);
     c.tick(1.0);
@@ -110,9 +117,7 @@ fn feed_hold_decelerates_within_limits_and_cycle_start_finishes_the_path() {
 
 #[test]
 fn reset_stops_the_program_and_cycle_start_runs_it_again_from_the_top() {
-    let mut c = controller();
-    c.select_program("G91 G01 X100. F6000.\nX100.\nM30\n").unwrap();
-    c.cycle_start().unwrap();
+    let mut c = started("G91 G01 X100. F6000.\nX100.\nM30\n");
     c.tick(0.5);
     c.reset();
     c.tick(0.5);
@@ -164,9 +169,7 @@ fn single_block_and_program_stops_wait_for_cycle_start() {
 
 #[test]
 fn emergency_stop_halts_at_once_and_only_reset_clears_it() {
-    let mut c = controller();
-    c.select_program("G90 G01 X100. F6000.\nM30\n").unwrap();
-    c.cycle_start().unwrap();
+    let mut c = started("G90 G01 X100. F6000.\nM30\n");
     c.tick(0.3);
     let at = c.point().machine[0];
     c.emergency_stop(true);
@@ -200,9 +203,7 @@ fn feed_override_scales_the_programmed_feed() {
 
 #[test]
 fn an_override_change_acts_on_the_motion_under_way_within_limits() {
-    let mut c = controller();
-    c.select_program("G90 G01 X400. F3000.\nM30\n").unwrap();
-    c.cycle_start().unwrap();
+    let mut c = started("G90 G01 X400. F3000.\nM30\n");
     let mut xs = Vec::new();
     let mut feeds = Vec::new();
     let mut step = |c: &mut Controller, n: usize| {
@@ -281,9 +282,7 @@ fn jog_handle_and_reference_return() {
 
 #[test]
 fn an_over_travel_stops_the_machine_before_the_block() {
-    let mut c = controller();
-    c.select_program("G90 G01 X500. F12000.\nN20 X700.\nM30\n").unwrap();
-    c.cycle_start().unwrap();
+    let mut c = started("G90 G01 X500. F12000.\nN20 X700.\nM30\n");
     run_until_stopped(&mut c, 60.0);
     assert_eq!(c.run_state(), RunState::Alarm);
     assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].n), ("OT0510", Some(20)));
