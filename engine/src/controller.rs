@@ -505,6 +505,8 @@ impl Controller {
                 continue;
             }
             if blocks >= BLOCKS_PER_TICK {
+                // A long stretch of blocks without motion: the rest next tick, time goes on.
+                self.t = end;
                 break;
             }
             blocks += 1;
@@ -713,12 +715,11 @@ impl Controller {
     fn carry_out(&mut self, kind: &CanonKind) {
         match kind {
             CanonKind::Dwell { seconds } => self.wait = Wait::Until(self.t + seconds),
-            CanonKind::Stop { optional, message } => {
+            // M00, and M01 (the interpreter emits it only with the optional stop switch on).
+            CanonKind::Stop { message, .. } => {
                 if let Some(m) = message {
                     self.events.push(Event::Message(m.clone()));
                 }
-                // The interpreter emits M01 only with the optional stop switch on.
-                let _ = optional;
                 self.wait = Wait::Operator;
                 self.set_state(RunState::Idle);
             }
