@@ -60,6 +60,8 @@ pub struct MotionContext {
     pub path_mode: u16,
     /// The motion ends in an exact stop (G09 in its block, or G61).
     pub exact_stop: bool,
+    /// The feed override does not act (G63 tapping mode, the tapping cycles G74/G84).
+    pub fixed_feed: bool,
     pub rotation: u16,
 }
 

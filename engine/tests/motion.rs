@@ -124,6 +124,22 @@ fn non_linear_rapids_move_each_axis_on_its_own() {
 }
 
 #[test]
+fn the_feed_override_does_not_act_in_g63_or_tapping_cycles() {
+    let timed = |src: &str, feed_override: f64| {
+        let mut interp = interpreter(src, "mill3", Dialect::Fanuc);
+        let opts = RunOptions { period_s: 0.0, feed_override, ..RunOptions::default() };
+        run(&mut interp, &opts, |_| {}).cycle_time_s
+    };
+    // 100 mm at F3000: at 50% 25 mm/s in G64, the programmed 50 mm/s in G63.
+    close(timed("G90 G64 G01 X100. F3000.\nM30\n", 0.5), move_time(100.0, 25.0, A, J));
+    close(timed("G90 G63 G01 X100. F3000.\nM30\n", 0.5), move_time(100.0, 50.0, A, J));
+    // A G84 tapping cycle takes as long at 50% as at 100%; a G81 drilling cycle does not.
+    let cycle = |code: &str| format!("G90 G00 X0. Y0. Z10.\nS1000 M03\nG99 {code} R2. Z-20. F600.\nG80\nM30\n");
+    close(timed(&cycle("G84"), 0.5), timed(&cycle("G84"), 1.0));
+    assert!(timed(&cycle("G81"), 0.5) > timed(&cycle("G81"), 1.0) + 1.0);
+}
+
+#[test]
 fn look_ahead_spans_more_than_200_blocks() {
     // 1000 collinear blocks of 0.02 mm at 6000 mm/min: stopping from 100 mm/s takes
     // 100·√(100/J) = 3.54 mm = 177 blocks, so full feed needs a look-ahead of 177 blocks or more.

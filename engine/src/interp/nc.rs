@@ -553,6 +553,7 @@ impl State {
             cutter_radius: if comp_on { self.offsets.radius(self.d) } else { 0.0 },
             path_mode: self.modes[15],
             exact_stop: self.exact_stop || self.modes[15] == 610,
+            fixed_feed: self.modes[15] == 630 || matches!(self.modes[9], 740 | 840),
             rotation: self.modes[16],
         }
     }

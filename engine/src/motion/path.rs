@@ -91,6 +91,8 @@ pub struct Segment {
     pub tip_rate: f64,
     /// The motion must come to a stop at its end (G09, G61, rapids).
     pub stop_after: bool,
+    /// The feed override does not act (G63, tapping cycles).
+    fixed_feed: bool,
 }
 
 /// What the planner needs beyond the motion itself.
@@ -209,6 +211,7 @@ impl Segment {
             end_curvature,
             tip_rate,
             stop_after: rapid || ctx.exact_stop,
+            fixed_feed: m.context.fixed_feed,
             programmed,
             axis_speed,
         };
@@ -267,7 +270,11 @@ impl Segment {
             // Its axes' profiles were planned with the override of the time.
             return;
         }
-        let k = if self.rapid { rapid } else { feed };
+        let k = match (self.rapid, self.fixed_feed) {
+            (true, _) => rapid,
+            (false, true) => 1.0,
+            (false, false) => feed,
+        };
         self.limits.v = self.axis_speed.min(self.programmed * k.max(0.0));
     }
 
