@@ -715,6 +715,7 @@ impl Controller {
     fn carry_out(&mut self, kind: &CanonKind) {
         match kind {
             CanonKind::Dwell { seconds } => self.wait = Wait::Until(self.t + seconds),
+            CanonKind::ToolChange { .. } => self.wait = Wait::Until(self.t + self.machine.motion.tool_change_s),
             // M00, and M01 (the interpreter emits it only with the optional stop switch on).
             CanonKind::Stop { message, .. } => {
                 if let Some(m) = message {

@@ -168,7 +168,7 @@ pub struct MachineConfig {
 }
 
 /// Interpolation choices the vendors make by parameter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotionOptions {
     /// Helical interpolation: F is the speed along the whole tool path, the linear axes
@@ -180,6 +180,10 @@ pub struct MotionOptions {
     /// axis space (LRP = 1, which the 5-axis functions require).
     #[serde(default)]
     pub nonlinear_rapid: bool,
+    /// Seconds an M06 tool change takes (the machine's changer and PMC, not a CNC parameter;
+    /// neither vendor's parameter list carries it).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub tool_change_s: f64,
 }
 
 impl MotionOptions {
@@ -294,7 +298,8 @@ impl MachineConfig {
             tool_axis: plus_z(),
             nose: [0.0; 3],
             holder,
-            motion: MotionOptions::default(),
+            // A typical arm-type changer, chip to chip.
+            motion: MotionOptions { tool_change_s: 3.0, ..MotionOptions::default() },
         })
     }
 

@@ -182,14 +182,9 @@ impl Executor {
                 self.drain(true, tracing, on_sample);
                 match other {
                     _ if self.over_budget.is_some() => {}
-                    CanonKind::Dwell { seconds } => {
-                        if tracing {
-                            let (m0, w0) = (self.machine, self.workpiece);
-                            let (line, n) = (c.line, c.n);
-                            self.sample_until(self.t + seconds, &mut |_| (m0, w0, 0.0, line, n), on_sample);
-                        }
-                        self.t += seconds;
-                        self.check_budget(c.line, c.n);
+                    CanonKind::Dwell { seconds } => self.wait(*seconds, c, tracing, on_sample),
+                    CanonKind::ToolChange { .. } => {
+                        self.wait(self.machine_config.motion.tool_change_s, c, tracing, on_sample)
                     }
                     CanonKind::Print { text } => self.messages.push(text.clone()),
                     CanonKind::Stop { message: Some(m), .. } => self.messages.push(m.clone()),
@@ -198,6 +193,17 @@ impl Executor {
             }
         }
         Ok(())
+    }
+
+    /// Stand still for `seconds` (a dwell, a tool change), sampling the trace.
+    fn wait(&mut self, seconds: f64, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
+        if tracing {
+            let (m0, w0) = (self.machine, self.workpiece);
+            let (line, n) = (c.line, c.n);
+            self.sample_until(self.t + seconds, &mut |_| (m0, w0, 0.0, line, n), on_sample);
+        }
+        self.t += seconds;
+        self.check_budget(c.line, c.n);
     }
 
     /// Execute the segments whose speeds are final (`stop`: all, ending at rest).

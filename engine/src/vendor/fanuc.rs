@@ -164,7 +164,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     // No.1401#1 LRP: written only when 0 (non-linear rapids); absent means fivex's default,
     // linear-type rapids.
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
-    let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid };
+    let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid, ..MotionOptions::default() };
     Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose, holder, motion })
 }
 
