@@ -225,16 +225,23 @@ fn off_line(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|i| (p[i] - a[i] - u * d[i]).powi(2)).sum::<f64>().sqrt()
 }
 
-/// A random 3-axis program: straight moves and half circles (G02/G03 with I) in XY, each block
-/// one element, with the programmed geometry to compare the trace against.
+/// A random 3-axis program: straight moves and half circles or half helices (G02/G03 with I
+/// and Z) in XY, each block one element, with the programmed geometry to compare the trace
+/// against.
 #[derive(Debug, Clone)]
 enum Element {
     Line([f64; 3]),
-    /// Half circle in XY about the current point + (r, 0): ends at current + (2r, 0).
+    /// Half circle in XY about the current point + (r, 0): ends at current + (2r, 0), and `dz`
+    /// lower or higher (a helix).
     Arc {
         r: f64,
         ccw: bool,
+        dz: f64,
     },
+}
+
+fn mm(x: f64) -> f64 {
+    (x * 1000.0).round() / 1000.0
 }
 
 fn program(elements: &[Element], feed: f64, mode: &str) -> (String, Vec<(u32, Element, [f64; 3])>) {
@@ -245,15 +252,16 @@ fn program(elements: &[Element], feed: f64, mode: &str) -> (String, Vec<(u32, El
         let line = k as u32 + 3;
         match e {
             Element::Line(p) => src.push_str(&format!("G01 X{:.3} Y{:.3} Z{:.3}\n", p[0], p[1], p[2])),
-            Element::Arc { r, ccw } => {
+            Element::Arc { r, ccw, dz } => {
                 let g = if *ccw { "G03" } else { "G02" };
-                src.push_str(&format!("{g} X{:.3} Y{:.3} I{:.3} J0.\n", at[0] + 2.0 * r, at[1], r));
+                let (x, z) = (at[0] + 2.0 * r, at[2] + dz);
+                src.push_str(&format!("{g} X{x:.3} Y{:.3} Z{z:.3} I{:.3} J0.\n", at[1], r));
             }
         }
         blocks.push((line, e.clone(), at));
         at = match e {
-            Element::Line(p) => p.map(|x| (x * 1000.0).round() / 1000.0),
-            Element::Arc { r, .. } => [at[0] + (2.0 * r * 1000.0).round() / 1000.0, at[1], at[2]],
+            Element::Line(p) => p.map(mm),
+            Element::Arc { r, dz, .. } => [mm(at[0] + 2.0 * r), at[1], mm(at[2] + dz)],
         };
     }
     src.push_str("M30\n");
@@ -263,9 +271,10 @@ fn program(elements: &[Element], feed: f64, mode: &str) -> (String, Vec<(u32, El
 fn element() -> impl Strategy<Value = Element> {
     prop_oneof![
         prop::array::uniform3(-100.0..100.0f64).prop_map(Element::Line),
-        (-20.0..20.0f64, any::<bool>())
-            .prop_filter("a real radius", |(r, _)| r.abs() > 0.5)
-            .prop_map(|(r, ccw)| Element::Arc { r, ccw }),
+        (-20.0..20.0f64, any::<bool>(), prop_oneof![Just(0.0), -30.0..30.0f64])
+            .prop_filter("a real radius", |(r, _, _)| r.abs() > 0.5)
+            // Radii in whole micrometres, so that the end point is exactly 2r away.
+            .prop_map(|(r, ccw, dz)| Element::Arc { r: mm(r), ccw, dz }),
     ]
 }
 
@@ -285,14 +294,24 @@ proptest! {
         prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
         check_limits(&samples, "mill3", exact)?;
         for s in &samples {
-            prop_assert!(s.feed <= feed + 1e-6, "feed {} above F{feed}", s.feed);
             let Some((_, e, from)) = blocks.iter().find(|b| b.0 == s.line) else { continue };
+            // F is the speed along the arc of a helix (HTG = 0): the tip goes faster.
+            let helix = match e {
+                Element::Arc { r, dz, .. } => (std::f64::consts::PI * r).hypot(*dz) / (std::f64::consts::PI * r.abs()),
+                Element::Line(_) => 1.0,
+            };
+            prop_assert!(s.feed <= feed * helix * (1.0 + 1e-4), "feed {} above F{feed}", s.feed);
             let off = match e {
-                Element::Line(p) => off_line(s.tip, *from, p.map(|x| (x * 1000.0).round() / 1000.0)),
-                Element::Arc { r, .. } => {
-                    let r = (r * 1000.0).round() / 1000.0;
-                    let (cx, cy) = (from[0] + r, from[1]);
-                    ((s.tip[0] - cx).hypot(s.tip[1] - cy) - r.abs()).abs() + (s.tip[2] - from[2]).abs()
+                Element::Line(p) => off_line(s.tip, *from, p.map(mm)),
+                Element::Arc { r, dz, .. } => {
+                    // On the cylinder, and Z in proportion to the angle swept from the start
+                    // (half a turn: the angle is acos of the radial directions' dot product).
+                    let (cx, cy) = (from[0] + mm(*r), from[1]);
+                    let (dx, dy) = (s.tip[0] - cx, s.tip[1] - cy);
+                    let radial = (dx.hypot(dy) - mm(*r).abs()).abs();
+                    let swept = ((dx * (from[0] - cx) + dy * (from[1] - cy)) / (dx.hypot(dy) * mm(*r).abs())).clamp(-1.0, 1.0).acos();
+                    let z = from[2] + (mm(from[2] + dz) - from[2]) * swept / std::f64::consts::PI;
+                    radial + (s.tip[2] - z).abs()
                 }
             };
             prop_assert!(off < 1e-3, "tip {:?} is {off} mm off block {} of\n{src}", s.tip, s.line);
