@@ -33,6 +33,7 @@ pub enum AlarmId {
     MissingQ,
     /// Reference return commands not allowed in a canned cycle.
     ReferenceReturnInCycle,
+    IllegalReferenceReturn,
     /// A G code that is not allowed in the current 5-axis mode (FANUC PS5460 family).
     IllegalCommandInMode,
     // --- 5-axis mode interlocks (`interp::modes`) ------------------------------------------
@@ -119,22 +120,34 @@ pub enum AlarmId {
     /// A macro statement and an NC statement in one block.
     MixedStatements,
     /// `#3000 = n (MSG)`: the program's own alarm.
-    MacroAlarm { number: u32, message: String },
+    MacroAlarm {
+        number: u32,
+        message: String,
+    },
     /// G51 with a magnification of zero, or a negative common one.
     IllegalScaleRate,
     /// A circle outside the plane of the active coordinate rotation (G68).
     IllegalPlaneInRotation,
     // --- motion (`crate::motion`) ----------------------------------------------------------
     /// The block would take `axis` beyond its stored stroke limit (checked before it moves).
-    OverTravel { axis: char, positive: bool },
+    OverTravel {
+        axis: char,
+        positive: bool,
+    },
     // --- fivex's own guards ---------------------------------------------------------------
     /// The block budget was used up: an endless loop or endless recursion.
-    BlockBudgetExceeded { budget: u64 },
+    BlockBudgetExceeded {
+        budget: u64,
+    },
     /// The simulated-time budget was used up.
-    TimeBudgetExceeded { budget_s: f64 },
+    TimeBudgetExceeded {
+        budget_s: f64,
+    },
     /// One block expanded into more canonical commands than a block may (a canned cycle with a
     /// tiny peck depth, say): stopped before it exhausts memory.
-    BlockOutputExceeded { limit: usize },
+    BlockOutputExceeded {
+        limit: usize,
+    },
     /// The emergency stop button was pressed (fivex's own code: FANUC shows it as a status).
     EmergencyStop,
 }

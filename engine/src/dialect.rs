@@ -96,6 +96,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::DataSettingFormat,
     AlarmId::MissingQ,
     AlarmId::ReferenceReturnInCycle,
+    AlarmId::IllegalReferenceReturn,
     AlarmId::IllegalCommandInMode,
     AlarmId::IllegalCommandInTcp,
     AlarmId::RotaryCommandInTcpType2,
@@ -202,6 +203,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             ("PS1144", "G10 FORMAT ERROR"),
             ("COR-160", "5-axis mechanism chain switched when the 5-axis function is ON"),
         ),
+        IllegalReferenceReturn => {
+            (("PS0046", "ILLEGAL REFERENCE RETURN COMMAND"), ("COR-036", "Illegal reference position number"))
+        }
         IllegalScaleRate => (("PS0142", "ILLEGAL SCALE RATE"), ("COR-034", "Illegal scaling magnification")),
         IllegalPlaneInRotation => (("PS0144", "ILLEGAL PLANE SELECTED"), ("COR-035", "Arc outside the rotation plane")),
         MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),

@@ -40,6 +40,14 @@ pub struct Axis {
     /// command gives the direction.
     #[serde(default, skip_serializing_if = "is_false")]
     pub shortest: bool,
+    /// The 2nd, 3rd and 4th reference positions in machine coordinates (G30 P2/P3/P4; FANUC
+    /// No.1241–1243); the 1st (G28) is machine zero.
+    #[serde(default, skip_serializing_if = "no_references")]
+    pub references: [f64; 3],
+}
+
+fn no_references(r: &[f64; 3]) -> bool {
+    *r == [0.0; 3]
 }
 
 fn is_false(b: &bool) -> bool {
@@ -49,7 +57,17 @@ fn is_false(b: &bool) -> bool {
 impl Axis {
     /// An axis with the default limits.
     pub fn new(name: char, kind: AxisKind, rapid: f64) -> Axis {
-        Axis { name, kind, rapid, accel: None, jerk: None, stroke: None, rollover: false, shortest: false }
+        Axis {
+            name,
+            kind,
+            rapid,
+            accel: None,
+            jerk: None,
+            stroke: None,
+            rollover: false,
+            shortest: false,
+            references: [0.0; 3],
+        }
     }
 
     /// Highest acceleration: the configured one, else 0.2 s from standstill to rapid.

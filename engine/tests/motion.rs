@@ -345,3 +345,24 @@ proptest! {
         check_limits(&samples, "head-bc", true)?;
     }
 }
+
+#[test]
+fn g30_goes_to_the_second_to_fourth_reference_position() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.axes[2].references = [250.0, 100.0, 0.0];
+    m.axes[0].references = [-300.0, 0.0, 0.0];
+    let end = |src: &str| {
+        let mut interp = fivex_engine::interp::Interpreter::new(
+            fivex_engine::lang::parse_file(src),
+            fivex_engine::interp::Config::new(m.clone(), Dialect::Fanuc),
+        );
+        let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+        (r.machine[0], r.machine[2], r.alarms.first().map(|a| a.code.clone()))
+    };
+    // Only the named axes go, through the intermediate point.
+    assert_eq!(end("G90 G00 X10. Z-20.\nG91 G30 Z0.\nM30\n"), (10.0, 250.0, None));
+    assert_eq!(end("G90 G00 X10. Z-20.\nG91 G30 P3 X0. Z0.\nM30\n"), (0.0, 100.0, None));
+    assert_eq!(end("G90 G00 X10. Z-20.\nG30 P2 X10. Z-20.\nM30\n"), (-300.0, 250.0, None));
+    assert_eq!(end("G90 G00 X10. Z-20.\nG91 G28 Z0.\nM30\n"), (10.0, 0.0, None));
+    assert_eq!(end("G91 G30 P5 Z0.\nM30\n").2.as_deref(), Some("PS0046"));
+}

@@ -793,14 +793,21 @@ impl State {
                 if self.modes[9] != 800 {
                     return Err(AlarmId::ReferenceReturnInCycle);
                 }
-                // Through the intermediate point, then to the reference position (machine 0).
+                // G28: the 1st reference position (machine zero); G30 P2 (default), P3, P4.
+                let which = match (code, w.integer(b'P')) {
+                    (280, _) => 1,
+                    (_, None) => 2,
+                    (_, Some(p)) if (2.0..=4.0).contains(&p) && p.fract() == 0.0 => p as usize,
+                    _ => return Err(AlarmId::IllegalReferenceReturn),
+                };
+                // Through the intermediate point, then to the reference position.
                 let mid = self.target(w);
                 self.move_to(MotionKind::Rapid, mid, out);
                 self.last_g28_mid = self.pos;
                 let mut m = self.machine_position();
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if w.has(axis.name as u8) {
-                        m[i] = 0.0;
+                        m[i] = if which == 1 { 0.0 } else { axis.references[which - 2] };
                     }
                 }
                 self.emit_machine_motion(m, out);

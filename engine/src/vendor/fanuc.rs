@@ -49,6 +49,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     };
     let n = names.len();
     let (rot, roll, per_rev, basics) = (p.axes(1006, n)?, p.axes(1008, n)?, p.axes(1260, n)?, p.axes(1022, n)?);
+    let references = [p.axes(1241, n)?, p.axes(1242, n)?, p.axes(1243, n)?];
     let (plus, minus, rapid, accel, bell) =
         (p.axes(1320, n)?, p.axes(1321, n)?, p.axes(1420, n)?, p.axes(1660, n)?, p.axes(1672, n)?);
     let mut axes = Vec::with_capacity(n);
@@ -80,6 +81,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             stroke,
             rollover,
             shortest: rollover && bits & 2 == 0,
+            references: [references[0][i], references[1][i], references[2][i]],
             ..Axis::new(letter, if rotary { AxisKind::Rotary } else { AxisKind::Linear }, rapid[i])
         });
     }
@@ -179,6 +181,11 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     p.set_axes(1320, each(&|a| a.stroke.map_or(0.0, |s| s[1])));
     p.set_axes(1321, each(&|a| a.stroke.map_or(0.0, |s| s[0])));
     p.set_axes(1420, each(&|a| a.rapid));
+    for (k, number) in [1241, 1242, 1243].into_iter().enumerate() {
+        if m.axes.iter().any(|a| a.references[k] != 0.0) {
+            p.set_axes(number, each(&|a| a.references[k]));
+        }
+    }
     p.set_axes(1660, each(&|a| a.max_accel()));
     p.set_axes(1672, each(&|a| 1000.0 * a.max_accel() / a.max_jerk()));
     if m.motion.helical_feed_on_path {

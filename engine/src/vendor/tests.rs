@@ -637,3 +637,13 @@ fn fanuc_lrp_bit_sets_the_rapid_type() {
     p.set(1401, 2.0);
     assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.nonlinear_rapid);
 }
+
+#[test]
+fn fanuc_reference_positions_are_1241_to_1243() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    assert!(!params_of(Dialect::Fanuc, &m).unwrap().0.contains_key(&1241), "all zero: not written");
+    m.axes[2].references = [250.0, 0.0, -10.0];
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.0.contains_key(&1241) && !p.0.contains_key(&1242) && p.0.contains_key(&1243));
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().axes[2].references, [250.0, 0.0, -10.0]);
+}
