@@ -304,6 +304,8 @@ impl MachineConfig {
             axes.push(Axis {
                 accel: Some(1_800.0),
                 jerk: Some(36_000.0),
+                // A tilting axis stops at its movement range (stored stroke check).
+                stroke: l.range,
                 rollover: l.range.is_none(),
                 shortest: l.range.is_none(),
                 ..Axis::new(l.axis, AxisKind::Rotary, 10_800.0)

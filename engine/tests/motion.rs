@@ -366,3 +366,12 @@ fn g30_goes_to_the_second_to_fourth_reference_position() {
     assert_eq!(end("G90 G00 X10. Z-20.\nG91 G28 Z0.\nM30\n"), (10.0, 0.0, None));
     assert_eq!(end("G91 G30 P5 Z0.\nM30\n").2.as_deref(), Some("PS0046"));
 }
+
+#[test]
+fn a_tilting_axis_stops_at_its_range() {
+    // head-bc: B turns -110..110 (its stroke); C rolls over without limit.
+    let mut interp = interpreter("G90 G00 B100. C720.\nN30 G00 B-120.\nM30\n", "head-bc", Dialect::Fanuc);
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].message.as_str()), ("OT0511", "- OVERTRAVEL ( PRE-CHECK ) B"));
+    assert_eq!((r.machine[3], r.machine[4]), (100.0, 0.0));
+}
