@@ -112,9 +112,10 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
     // Whatever was read before the end or the alarm is carried out, and the machine stops.
     exec.drain(true, tracing, &mut on_sample);
     if let Some((line, n)) = exec.over_budget {
+        // The run stopped there: a program error read ahead in a later block was never reached.
         let id = AlarmId::TimeBudgetExceeded { budget_s: opts.max_time_s };
         let (code, message) = interp.config().dialect.describe(&id);
-        alarms.push(Alarm { code, message, line, n });
+        alarms = vec![Alarm { code, message, line, n }];
         motion_alarm = true;
     }
     let (machine, workpiece) = if motion_alarm {
@@ -197,12 +198,18 @@ impl Executor {
 
     /// Stand still for `seconds` (a dwell, a tool change), sampling the trace.
     fn wait(&mut self, seconds: f64, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
+        let end = (self.t + seconds).min(self.opts.max_time_s.max(self.t));
         if tracing {
             let (m0, w0) = (self.machine, self.workpiece);
             let (line, n) = (c.line, c.n);
-            self.sample_until(self.t + seconds, &mut |_| (m0, w0, 0.0, line, n), on_sample);
+            self.sample_until(end, &mut |_| (m0, w0, 0.0, line, n), on_sample);
         }
-        self.t += seconds;
+        if end < self.t + seconds {
+            self.t = end;
+            self.over_budget = Some((c.line, c.n));
+            return;
+        }
+        self.t = end;
         self.check_budget(c.line, c.n);
     }
 
@@ -218,9 +225,10 @@ impl Executor {
     fn execute(&mut self, p: &Planned, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
         let Some(last) = p.segments.last() else { return };
         let t0 = self.t;
-        let t1 = t0 + p.profile.duration();
+        // The run stops where the time budget runs out, even inside a segment.
+        let t1 = (t0 + p.profile.duration()).min(self.opts.max_time_s.max(t0));
+        let mut cursor = motion::Cursor::default();
         if tracing {
-            let mut cursor = motion::Cursor::default();
             self.sample_until(
                 t1,
                 &mut |dt| {
@@ -229,6 +237,12 @@ impl Executor {
                 },
                 on_sample,
             );
+        }
+        if t1 < t0 + p.profile.duration() {
+            let at = p.point(t1 - t0, &mut motion::Cursor::default());
+            (self.t, self.machine, self.workpiece) = (t1, at.machine, at.work);
+            self.over_budget = Some((at.line, at.n));
+            return;
         }
         self.t = t1;
         self.machine = last.to;
