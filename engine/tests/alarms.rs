@@ -158,4 +158,8 @@ fn a_time_budget_alarm_names_the_block() {
         |_| {},
     );
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line, r.alarms[0].n), ("FX0002", 2, Some(20)));
+    // The run stops where the budget runs out, inside the block: 10 s at 100 mm/min is about
+    // 16.6 mm (less the speed-up).
+    assert_eq!(r.cycle_time_s, 10.0);
+    assert!(r.machine[0] > 16.0 && r.machine[0] < 16.7, "{}", r.machine[0]);
 }
