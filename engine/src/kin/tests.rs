@@ -303,3 +303,22 @@ proptest! {
         }
     }
 }
+
+/// G53.1 after the tilted planes of TV-TWP-01 and -03 (spec `fanuc-twp-wsec-manual-params.md`):
+/// the tool must lie along the frame's Z (`twp::euler`), chosen by FANUC's cascade.
+#[test]
+fn tool_axis_control_tv_twp_05_and_06() {
+    let k = Kinematics::new(&spec_machine("head-bc")).unwrap();
+    // TV-TWP-06: T = (1, 0, 0) from (B90, C−90): masters both move 90 → the slave's smaller
+    // move decides, (B90, C0).
+    let z = crate::twp::euler(Vec3::zeros(), 90.0, 90.0, 0.0).z();
+    assert!((z - Vec3::x()).norm() < 1e-12);
+    let got = chosen(&k, z.into(), &[0.0, 0.0, 0.0, 90.0, -90.0], FANUC).unwrap();
+    assert!((got[0] - 90.0).abs() < 1e-9 && got[1].abs() < 1e-9, "{got:?}");
+    // TV-TWP-05: T = (0, −1, 0): the candidates are (B90, C270≡−90) and (B270≡−90, C90).
+    let z = crate::twp::euler(Vec3::zeros(), 0.0, 90.0, 0.0).z();
+    let mut pairs: Vec<(f64, f64)> =
+        k.inverse(Vec3::zeros(), z, 0.0, &[0.0; 5]).iter().map(|c| (c.pos[3].round(), c.pos[4].round())).collect();
+    pairs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(pairs, vec![(90.0, 270.0), (270.0, 90.0)]);
+}
