@@ -13,6 +13,7 @@
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos};
 use crate::interp::{Config, Interpreter, Step};
+use crate::kin::{Kinematics, ManualFeed};
 use crate::machine::MachineConfig;
 use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
 use std::collections::VecDeque;
@@ -109,6 +110,8 @@ enum Wait {
 pub struct Controller {
     interp: Interpreter,
     machine: MachineConfig,
+    /// The mechanism (for the 5-axis manual feeds); `None` when the machine's is refused.
+    kinematics: Option<Kinematics>,
     axes: AxisLimits,
     program: Option<String>,
     mdi: Option<String>,
@@ -156,6 +159,7 @@ impl Controller {
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
+            kinematics: Kinematics::new(&machine).ok(),
             machine,
             interp,
             program: None,
@@ -416,6 +420,56 @@ impl Controller {
             target = target.clamp(lo, hi);
         }
         self.manual_move(i, target, self.panel.jog_feed)
+    }
+
+    /// JOG along a 5-axis manual feed direction (tool axis, its right angles, table vertical
+    /// or horizontal; `kin::ManualDirections`), at the jog feed, until jog stop or the strokes.
+    pub fn jog_direction(&mut self, feed: ManualFeed, positive: bool) -> Result<(), Refusal> {
+        if self.mode != Mode::Jog {
+            return Err(Refusal::WrongMode);
+        }
+        self.move_along(feed, if positive { f64::INFINITY } else { f64::NEG_INFINITY })
+    }
+
+    /// HANDLE along a 5-axis manual feed direction by `amount` mm (stopping at the strokes).
+    pub fn handle_direction(&mut self, feed: ManualFeed, amount: f64) -> Result<(), Refusal> {
+        if self.mode != Mode::Handle {
+            return Err(Refusal::WrongMode);
+        }
+        self.move_along(feed, amount)
+    }
+
+    /// Move X, Y, Z by `distance` along a manual feed direction, clamped to the strokes.
+    fn move_along(&mut self, feed: ManualFeed, distance: f64) -> Result<(), Refusal> {
+        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        let mut d = kin.manual_directions(&self.here.machine).of(feed);
+        if distance < 0.0 {
+            d = -d;
+        }
+        // The longest move along d that stays inside every stroke.
+        let mut reach = distance.abs();
+        for (axis, &index) in kin.linear.iter().enumerate() {
+            let Some(i) = index else { continue };
+            let (x, di) = (self.here.machine[i], d[axis]);
+            if let (Some([lo, hi]), true) = (self.machine.axes[i].stroke, di.abs() > 1e-12) {
+                let bound = if di > 0.0 { hi } else { lo };
+                reach = reach.min(((bound - x) / di).max(0.0));
+            }
+        }
+        if !reach.is_finite() {
+            reach = 1.0e6;
+        }
+        let mut to = self.here.machine;
+        for (axis, &index) in kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                to[i] += d[axis] * reach;
+            }
+        }
+        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+            return Err(Refusal::Busy);
+        }
+        self.push_manual(MotionKind::Linear, to, self.panel.jog_feed * self.panel.feed_override);
+        Ok(())
     }
 
     /// REF: every axis back to the reference position (machine zero) at rapid.

@@ -246,6 +246,32 @@ fn feed_hold_in_a_non_linear_rapid_ends_the_block_first() {
 }
 
 #[test]
+fn five_axis_manual_feeds_move_along_the_tool_axis_and_its_right_angles() {
+    use fivex_engine::kin::ManualFeed;
+    let mut c = Controller::new(Config::new(MachineConfig::preset("head-bc").unwrap(), Dialect::Fanuc));
+    // B30: the tool leans toward +X (TV-MAN-04: T = (0.5, 0, 0.866)).
+    c.set_mode(Mode::Mdi).unwrap();
+    c.set_mdi("G90 G00 X0. Y0. Z0. B30. C0.").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle_direction(ManualFeed::ToolAxis, 10.0).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    let m = c.point().machine;
+    assert!((m[0] - 5.0).abs() < 1e-9 && m[1].abs() < 1e-9 && (m[2] - 8.660254).abs() < 1e-6, "{m:?}");
+    c.handle_direction(ManualFeed::RightAngle1, -2.0).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    let m = c.point().machine;
+    assert!((m[0] - (5.0 - 2.0 * 0.866025)).abs() < 1e-6 && (m[2] - (8.660254 + 1.0)).abs() < 1e-6, "{m:?}");
+    // JOG along the tool axis stops at the first stroke it meets (Z at +300).
+    c.set_mode(Mode::Jog).unwrap();
+    c.jog_direction(ManualFeed::ToolAxis, true).unwrap();
+    run_until_stopped(&mut c, 60.0);
+    assert!((c.point().machine[2] - 300.0).abs() < 1e-9, "{:?}", c.point().machine);
+    assert_eq!(c.handle_direction(ManualFeed::ToolAxis, 1.0), Err(Refusal::WrongMode));
+}
+
+#[test]
 fn jog_handle_and_reference_return() {
     let mut c = controller();
     assert_eq!(c.jog_start('X', true), Err(Refusal::WrongMode));
@@ -309,12 +335,26 @@ mod random_panel {
         Mdi(usize),
         Override(f64),
         SingleBlock(bool),
+        JogAlong(fivex_engine::kin::ManualFeed, bool),
+        HandleAlong(fivex_engine::kin::ManualFeed, f64),
     }
 
     const MDI: [&str; 3] = ["G91 G01 X5. Y-3. F2000.", "G90 G00 Z20.", "G91 G02 X10. R5. F1000."];
     /// No corners: every junction is tangent or a stop.
     const PROGRAM: &str = "G90 G00 X10. Y10. Z10.\nG01 X60. F3000.\nG03 X80. Y30. R20.\nG04 X0.1\nM00\n\
                            G01 Z-5. F500.\nM01\nG02 X60. Y50. R20. F2000.\nG00 Z50.\nM30\n";
+
+    fn feed() -> impl Strategy<Value = fivex_engine::kin::ManualFeed> {
+        use fivex_engine::kin::ManualFeed::*;
+        prop::sample::select(vec![
+            ToolAxis,
+            RightAngle1,
+            RightAngle2,
+            TableVertical,
+            TableHorizontal1,
+            TableHorizontal2,
+        ])
+    }
 
     fn action() -> impl Strategy<Value = Action> {
         let axis = prop::sample::select(vec!['X', 'Y', 'Z', 'Q']);
@@ -332,6 +372,8 @@ mod random_panel {
             1 => (0..MDI.len()).prop_map(Action::Mdi),
             1 => (0.0..2.0f64).prop_map(Action::Override),
             1 => any::<bool>().prop_map(Action::SingleBlock),
+            1 => (feed(), any::<bool>()).prop_map(|(f, p)| Action::JogAlong(f, p)),
+            1 => (feed(), -500.0..500.0f64).prop_map(|(f, d)| Action::HandleAlong(f, d)),
         ]
     }
 
@@ -393,6 +435,8 @@ mod random_panel {
                         c.panel.single_block = on;
                         Ok(())
                     }
+                    Action::JogAlong(f, p) => c.jog_direction(f, p),
+                    Action::HandleAlong(f, d) => c.handle_direction(f, d),
                 };
                 let m = c.point().machine;
                 for (i, [lo, hi]) in strokes.iter().enumerate() {

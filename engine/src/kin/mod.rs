@@ -11,9 +11,11 @@
 //! the two are the same). The tool tip and direction a program commands are in the table frame.
 
 mod ik;
+mod manual;
 mod select;
 
 pub use ik::{Candidate, Candidates, PerJoint};
+pub use manual::{ManualDirections, ManualFeed};
 pub use select::{Choice, Selection};
 
 use crate::alarm::AlarmId;

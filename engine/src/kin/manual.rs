@@ -1,0 +1,155 @@
+//! The directions of the 5-axis manual feeds (spec `fanuc-twp-wsec-manual-params.md` §2.15,
+//! MAN-05…MAN-17), in machine coordinates, for the axis positions of the moment.
+
+use super::{Kinematics, Side, Vec3};
+use crate::angle::sin_cos_deg;
+use nalgebra::Matrix3;
+
+/// Where the 5-axis manual feeds move the tool.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ManualDirections {
+    /// Tool axis direction T (tip → holder): the reference tool direction turned by the
+    /// tool-side axes (MAN-05/06).
+    pub tool: Vec3,
+    /// Tool axis right-angle directions 1 and 2 (MAN-07/08): with every axis at zero and no
+    /// tilt, +Y and +Z for a reference tool direction along X, +Z and +X for Y, +X and +Y for
+    /// Z; tilted like the reference direction (RA/RB) and turned by the tool-side axes.
+    pub right_angle: [Vec3; 2],
+    /// Table vertical V (MAN-14/15): the coordinate axis of the reference tool direction,
+    /// turned with the table.
+    pub table_vertical: Vec3,
+    /// Table horizontal directions 1 and 2 (MAN-16/17): the right-angle pair at zero, turned
+    /// with the table.
+    pub table_horizontal: [Vec3; 2],
+}
+
+/// Which feed a manual move follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ManualFeed {
+    ToolAxis,
+    RightAngle1,
+    RightAngle2,
+    TableVertical,
+    TableHorizontal1,
+    TableHorizontal2,
+}
+
+impl ManualDirections {
+    pub fn of(&self, feed: ManualFeed) -> Vec3 {
+        match feed {
+            ManualFeed::ToolAxis => self.tool,
+            ManualFeed::RightAngle1 => self.right_angle[0],
+            ManualFeed::RightAngle2 => self.right_angle[1],
+            ManualFeed::TableVertical => self.table_vertical,
+            ManualFeed::TableHorizontal1 => self.table_horizontal[0],
+            ManualFeed::TableHorizontal2 => self.table_horizontal[1],
+        }
+    }
+}
+
+fn rot(axis: usize, deg: f64) -> Matrix3<f64> {
+    let (s, c) = sin_cos_deg(deg);
+    match axis {
+        0 => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
+        1 => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
+        _ => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+    }
+}
+
+impl Kinematics {
+    /// The manual feed directions at the axis positions `pos`.
+    pub fn manual_directions(&self, pos: &[f64]) -> ManualDirections {
+        // The reference tool direction as FANUC No.19697–19699 give it: the coordinate axis k
+        // nearest to it, tilted by RA then RB. Its tilt matrix, cyclic in X → Y → Z (§2.9):
+        // k = Z: Rz(RB)·Ry(RA), k = X: Rx(RB)·Rz(RA), k = Y: Ry(RB)·Rx(RA).
+        let t0 = self.tool_axis;
+        let k = if t0.x > t0.y && t0.x > t0.z {
+            0
+        } else if t0.y > t0.z {
+            1
+        } else {
+            2
+        };
+        let (c, s) = (t0[(k + 1) % 3], t0[(k + 2) % 3]);
+        let ra = c.hypot(s).atan2(t0[k]).to_degrees();
+        let rb = if c == 0.0 && s == 0.0 { 0.0 } else { s.atan2(c).to_degrees() };
+        // RA turns axis k toward the next axis (about the one after it), RB about axis k.
+        let tilt = rot(k, rb) * rot((k + 2) % 3, ra);
+        let unit = |i: usize| Vec3::ith(i, 1.0);
+        let (d1, d2) = (unit((k + 1) % 3), unit((k + 2) % 3));
+        let head = self.motion(Side::Head, pos);
+        let table = self.motion(Side::Table, pos);
+        ManualDirections {
+            tool: head.turn(t0),
+            right_angle: [head.turn(tilt * d1), head.turn(tilt * d2)],
+            table_vertical: table.turn(unit(k)),
+            table_horizontal: [table.turn(d1), table.turn(d2)],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::MachineConfig;
+
+    fn close(a: Vec3, b: [f64; 3]) -> bool {
+        (a - Vec3::new(b[0], b[1], b[2])).norm() < 1e-6
+    }
+
+    #[test]
+    fn right_angle_directions_at_zero_tv_man_01() {
+        for (tool, d1, d2) in [
+            ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+            ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+            ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ] {
+            let mut m = MachineConfig::preset("mill3").unwrap();
+            m.tool_axis = tool;
+            let d = Kinematics::new(&m).unwrap().manual_directions(&[0.0; 3]);
+            assert!(close(d.right_angle[0], d1) && close(d.right_angle[1], d2), "{tool:?}: {d:?}");
+            assert!(close(d.table_horizontal[0], d1) && close(d.table_horizontal[1], d2), "{tool:?}");
+            assert!(close(d.tool, tool) && close(d.table_vertical, tool));
+        }
+    }
+
+    #[test]
+    fn bc_head_tv_man_04() {
+        let k = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+        let d = k.manual_directions(&[0.0, 0.0, 0.0, 30.0, 0.0]);
+        assert!(close(d.tool, [0.5, 0.0, 0.866025]), "{d:?}");
+        assert!(close(d.right_angle[0], [0.866025, 0.0, -0.5]) && close(d.right_angle[1], [0.0, 1.0, 0.0]), "{d:?}");
+        let d = k.manual_directions(&[0.0, 0.0, 0.0, 30.0, 90.0]);
+        assert!(close(d.tool, [0.0, 0.5, 0.866025]), "{d:?}");
+        assert!(close(d.right_angle[0], [0.0, 0.866025, -0.5]) && close(d.right_angle[1], [-1.0, 0.0, 0.0]), "{d:?}");
+    }
+
+    #[test]
+    fn tilted_reference_directions_stay_perpendicular() {
+        // A reference tool direction tilted by RA/RB: the pair is tilted with it.
+        for tool in [[0.3, 0.2, 0.93], [0.9, 0.3, -0.2], [0.1, 0.95, 0.25], [-0.2, 0.3, 0.9]] {
+            let mut m = MachineConfig::preset("mill3").unwrap();
+            m.tool_axis = tool;
+            let k = Kinematics::new(&m).unwrap();
+            let d = k.manual_directions(&[0.0; 3]);
+            let t = Vec3::new(tool[0], tool[1], tool[2]).normalize();
+            assert!((d.tool - t).norm() < 1e-12);
+            let [a, b] = d.right_angle;
+            assert!(a.dot(&t).abs() < 1e-12 && b.dot(&t).abs() < 1e-12 && a.dot(&b).abs() < 1e-12, "{tool:?}");
+            assert!((a.cross(&b) - t).norm() < 1e-12, "right-handed: dir1 × dir2 = T ({tool:?})");
+        }
+    }
+
+    #[test]
+    fn table_vertical_turns_with_the_table() {
+        // table-ac: A (left-hand about X) at 30°: the table's vertical leans with it.
+        let k = Kinematics::new(&MachineConfig::preset("table-ac").unwrap()).unwrap();
+        let d = k.manual_directions(&[0.0, 0.0, 0.0, 30.0, 0.0]);
+        assert!((d.table_vertical.norm() - 1.0).abs() < 1e-12 && (d.table_vertical.z - 0.866025).abs() < 1e-6);
+        assert!(close(d.tool, [0.0, 0.0, 1.0]), "a table machine's tool does not tilt");
+        // The tool seen from the table is the vertical seen from the machine, turned back.
+        let pose = k.forward(&[0.0, 0.0, 0.0, 30.0, 0.0], 0.0);
+        assert!((pose.tool.dot(&Vec3::z()) - d.table_vertical.dot(&Vec3::z())).abs() < 1e-12);
+    }
+}
