@@ -345,15 +345,7 @@ mod random_panel {
                            G01 Z-5. F500.\nM01\nG02 X60. Y50. R20. F2000.\nG00 Z50.\nM30\n";
 
     fn feed() -> impl Strategy<Value = fivex_engine::kin::ManualFeed> {
-        use fivex_engine::kin::ManualFeed::*;
-        prop::sample::select(vec![
-            ToolAxis,
-            RightAngle1,
-            RightAngle2,
-            TableVertical,
-            TableHorizontal1,
-            TableHorizontal2,
-        ])
+        prop::sample::select(fivex_engine::kin::ManualFeed::ALL.to_vec())
     }
 
     fn action() -> impl Strategy<Value = Action> {

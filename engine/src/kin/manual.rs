@@ -35,6 +35,18 @@ pub enum ManualFeed {
     TableHorizontal2,
 }
 
+impl ManualFeed {
+    /// Every feed, for lists and pickers.
+    pub const ALL: [ManualFeed; 6] = [
+        ManualFeed::ToolAxis,
+        ManualFeed::RightAngle1,
+        ManualFeed::RightAngle2,
+        ManualFeed::TableVertical,
+        ManualFeed::TableHorizontal1,
+        ManualFeed::TableHorizontal2,
+    ];
+}
+
 impl ManualDirections {
     pub fn of(&self, feed: ManualFeed) -> Vec3 {
         match feed {
