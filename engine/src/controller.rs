@@ -49,6 +49,8 @@ pub struct Panel {
     pub rapid_override: f64,
     /// JOG and HANDLE feed, mm/min or deg/min (FANUC No.1423).
     pub jog_feed: f64,
+    /// Tool length the 5-axis manual feeds turn the tool about, mm (FANUC No.12318).
+    pub manual_tool_length: f64,
 }
 
 impl Default for Panel {
@@ -60,6 +62,7 @@ impl Default for Panel {
             feed_override: 1.0,
             rapid_override: 1.0,
             jog_feed: 1000.0,
+            manual_tool_length: 0.0,
         }
     }
 }
@@ -111,7 +114,7 @@ pub struct Controller {
     interp: Interpreter,
     machine: MachineConfig,
     /// The mechanism (for the 5-axis manual feeds); `None` when the machine's is refused.
-    kinematics: Option<Kinematics>,
+    kinematics: Option<std::sync::Arc<Kinematics>>,
     axes: AxisLimits,
     program: Option<String>,
     mdi: Option<String>,
@@ -159,7 +162,7 @@ impl Controller {
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
-            kinematics: Kinematics::new(&machine).ok(),
+            kinematics: Kinematics::new(&machine).ok().map(std::sync::Arc::new),
             machine,
             interp,
             program: None,
@@ -437,6 +440,70 @@ impl Controller {
             return Err(Refusal::WrongMode);
         }
         self.move_along(feed, amount)
+    }
+
+    /// JOG tool tip centre rotation (FANUC MAN-12): turn rotary `axis` at the jog feed (deg/min)
+    /// while X/Y/Z keep the tool tip (`panel.manual_tool_length` long) where it is on the table,
+    /// until jog stop or a stroke.
+    pub fn jog_tip_rotation(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
+        if self.mode != Mode::Jog {
+            return Err(Refusal::WrongMode);
+        }
+        self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 })
+    }
+
+    /// HANDLE tool tip centre rotation (FANUC MAN-11): turn rotary `axis` by `amount` degrees
+    /// about the tool tip, stopping before a stroke.
+    pub fn handle_tip_rotation(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
+        if self.mode != Mode::Handle {
+            return Err(Refusal::WrongMode);
+        }
+        self.turn_about_tip(axis, amount)
+    }
+
+    fn turn_about_tip(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
+        let kin = self.kinematics.clone().ok_or(Refusal::NoAxis)?;
+        let i = self.axis(axis)?;
+        if kin.linear.contains(&Some(i)) {
+            return Err(Refusal::NoAxis);
+        }
+        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+            return Err(Refusal::Busy);
+        }
+        let (from, length) = (self.here.machine, self.panel.manual_tool_length);
+        let segment = |amount: f64| {
+            let mut to = from;
+            to[i] += amount;
+            Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, self.panel.jog_feed, &self.axes)
+        };
+        // The largest part of the turn whose path (sampled) stays inside every stroke.
+        let inside = |seg: &Segment| {
+            (0..=64).all(|k| {
+                let p = seg.at(seg.len * k as f64 / 64.0).0;
+                self.machine
+                    .axes
+                    .iter()
+                    .enumerate()
+                    .all(|(a, ax)| ax.stroke.is_none_or(|[lo, hi]| p[a] >= lo && p[a] <= hi))
+            })
+        };
+        let mut seg = segment(amount);
+        if !inside(&seg) {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..30 {
+                let mid = 0.5 * (lo + hi);
+                if inside(&segment(amount * mid)) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            seg = segment(amount * lo);
+        }
+        (self.queued_machine, self.queued_work) = (seg.to, seg.work_to);
+        self.planner.push(seg);
+        self.set_state(RunState::Running);
+        Ok(())
     }
 
     /// Move X, Y, Z by `distance` along a manual feed direction, clamped to the strokes.

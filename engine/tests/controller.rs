@@ -450,3 +450,59 @@ mod random_panel {
         }
     }
 }
+
+#[test]
+fn tool_tip_centre_rotation_keeps_the_tip_on_the_table() {
+    use fivex_engine::kin::Kinematics;
+    for (preset, axis, index, amount) in
+        [("head-bc", 'B', 3, 30.0), ("table-ac", 'A', 3, -20.0), ("mixed-bc", 'B', 3, 25.0)]
+    {
+        let m = MachineConfig::preset(preset).unwrap();
+        let kin = Kinematics::new(&m).unwrap();
+        let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
+        c.panel.manual_tool_length = 100.0;
+        c.set_mode(Mode::Mdi).unwrap();
+        c.set_mdi("G90 G00 X10. Y-20. Z-30.").unwrap();
+        c.cycle_start().unwrap();
+        run_until_stopped(&mut c, 10.0);
+        let tip = kin.forward(&c.point().machine, 100.0).tip;
+        c.set_mode(Mode::Handle).unwrap();
+        c.handle_tip_rotation(axis, amount).unwrap();
+        let mut xs = Vec::new();
+        while c.run_state() == RunState::Running {
+            c.tick(TICK);
+            let p = c.point().machine;
+            xs.push([p[0], p[1], p[2]]);
+            let off = (kin.forward(&p, 100.0).tip - tip).norm();
+            assert!(off < 1e-6, "{preset}: tip moved {off} mm at {p:?}");
+        }
+        assert!((c.point().machine[index] - amount).abs() < 1e-9, "{preset}: {:?}", c.point().machine);
+        assert_within_limits(&xs);
+        assert_eq!(c.handle_tip_rotation('X', 1.0), Err(Refusal::NoAxis), "a linear axis cannot turn");
+    }
+}
+
+#[test]
+fn jog_tip_rotation_stops_on_jog_stop_with_the_tip_in_place() {
+    use fivex_engine::kin::Kinematics;
+    let m = MachineConfig::preset("head-bc").unwrap();
+    let kin = Kinematics::new(&m).unwrap();
+    let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
+    c.panel.manual_tool_length = 50.0;
+    c.panel.jog_feed = 3600.0;
+    c.set_mode(Mode::Jog).unwrap();
+    let tip = kin.forward(&c.point().machine, 50.0).tip;
+    c.jog_tip_rotation('B', false).unwrap();
+    c.tick(0.3);
+    c.jog_stop();
+    let mut xs = Vec::new();
+    while c.run_state() == RunState::Running {
+        c.tick(TICK);
+        let p = c.point().machine;
+        xs.push([p[0], p[1], p[2]]);
+        assert!((kin.forward(&p, 50.0).tip - tip).norm() < 1e-6);
+    }
+    let b = c.point().machine[3];
+    assert!(b < -5.0 && b > -20.0, "about 0.3 s at 60 deg/s, then the stop: B{b}");
+    assert_within_limits(&xs);
+}

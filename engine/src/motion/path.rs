@@ -9,6 +9,7 @@
 
 use super::profile::{Limits, Profile};
 use crate::canon::{Arc, FeedMode, Motion, MotionKind, Pos};
+use crate::kin::{Kinematics, Vec3};
 use crate::machine::{MachineConfig, MAX_AXES};
 
 /// Per-axis limits in the units of the axis (mm or deg) per second.
@@ -74,6 +75,8 @@ pub struct Segment {
     /// A non-linear rapid: each axis's own rest-to-rest profile (`None` for axes that stay);
     /// the path parameter is then the time.
     independent: Option<Box<[Option<Profile>; MAX_AXES]>>,
+    /// Tool tip centre rotation: the rotary axes move, X/Y/Z keep the tip on one point.
+    pivot: Option<Box<Pivot>>,
     /// Length of the path parameter (mm and degrees).
     pub len: f64,
     /// The speed the program asks for (override applied) and what the axes allow, per second.
@@ -93,6 +96,29 @@ pub struct Segment {
     pub stop_after: bool,
     /// The feed override does not act (G63, tapping cycles).
     fixed_feed: bool,
+}
+
+/// The mechanism and the point a tool tip centre rotation keeps the tip on.
+#[derive(Debug, Clone, PartialEq)]
+struct Pivot {
+    kin: std::sync::Arc<Kinematics>,
+    /// Tool tip in the table frame, and the tool length.
+    tip: Vec3,
+    tool_length: f64,
+}
+
+impl Pivot {
+    /// Every axis at `u` of the way from `from` to `to`, X/Y/Z then put so that the tip stays.
+    fn at(&self, from: &Pos, to: &Pos, u: f64) -> Pos {
+        let mut q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+        let carriage = self.kin.carriage_for(&q, self.tip, self.tool_length);
+        for (axis, index) in self.kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                q[*i] = carriage[axis];
+            }
+        }
+        q
+    }
 }
 
 /// What the planner needs beyond the motion itself.
@@ -203,6 +229,7 @@ impl Segment {
             work_to: m.target,
             circle,
             independent: None,
+            pivot: None,
             len,
             limits,
             start_dir,
@@ -219,6 +246,95 @@ impl Segment {
         if rapid && ctx.nonlinear_rapid {
             seg.make_independent(axes, ctx.rapid_override);
         }
+        seg
+    }
+
+    /// Tool tip centre rotation (FANUC MAN-11/12): the rotary axes go from `from` to the
+    /// rotary values of `to` in proportion (the path parameter is their angle, fed at
+    /// `feed_deg_min`), X/Y/Z keep the tool tip (`tool_length` long) where it is relative to
+    /// the table. The axes' rates along the way are sampled to bound the path's speed,
+    /// acceleration and jerk.
+    pub fn tip_rotation(
+        kin: std::sync::Arc<Kinematics>,
+        from: &Pos,
+        work_from: &Pos,
+        to: &Pos,
+        tool_length: f64,
+        feed_deg_min: f64,
+        axes: &AxisLimits,
+    ) -> Segment {
+        let tip = kin.forward(from, tool_length).tip;
+        let pivot = Pivot { kin, tip, tool_length };
+        let rotary: Vec<usize> = (0..axes.count).filter(|i| !pivot.kin.linear.contains(&Some(*i))).collect();
+        let len = rotary.iter().map(|&i| (to[i] - from[i]).powi(2)).sum::<f64>().sqrt();
+        let end = pivot.at(from, to, 1.0);
+        let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
+        // The first three derivatives of every axis by s, by differences at 33 points.
+        const N: usize = 32;
+        let h = 1.0 / (4.0 * N as f64);
+        let q = |u: f64| pivot.at(from, to, u);
+        let (mut rate, mut bend, mut twist) = ([0.0f64; MAX_AXES], [0.0f64; MAX_AXES], [0.0f64; MAX_AXES]);
+        let (mut start_dir, mut end_dir) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
+        let (mut start_curvature, mut end_curvature) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
+        if len > 0.0 {
+            for k in 0..=N {
+                let u = k as f64 / N as f64;
+                let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
+                let ds = h * len;
+                for i in 0..axes.count {
+                    let d1 = (c[i] - b[i]) / ds;
+                    let d2 = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
+                    let d3 = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
+                    rate[i] = rate[i].max(d1.abs());
+                    bend[i] = bend[i].max(d2.abs());
+                    twist[i] = twist[i].max(d3.abs());
+                    if k == 0 {
+                        (start_dir[i], start_curvature[i]) = (d1, d2);
+                    }
+                    if k == N {
+                        (end_dir[i], end_curvature[i]) = (d1, d2);
+                    }
+                }
+            }
+        }
+        // Axis i moves at v*q1, accelerates a*q1 + v^2*q2 and jerks j*q1 + 3*v*a*q2 + v^3*q3
+        // (q1..q3 its derivatives by s): half the acceleration and a third of the jerk for each
+        // of the terms.
+        let mut limits = axes.along(&rate.map(|r| 2.0 * r));
+        limits.j = limits.j.min(axes.along(&rate.map(|r| 3.0 * r)).j);
+        for i in 0..axes.count {
+            if bend[i] > 1e-12 {
+                limits.v = limits.v.min((0.5 * axes.a[i] / bend[i]).sqrt());
+                limits.v = limits.v.min(axes.j[i] / (9.0 * axes.a[i] * bend[i]).max(1e-12));
+            }
+            if twist[i] > 1e-12 {
+                limits.v = limits.v.min((axes.j[i] / (3.0 * twist[i])).cbrt());
+            }
+        }
+        let mut seg = Segment {
+            line: 0,
+            n: None,
+            rapid: false,
+            from: *from,
+            to: end,
+            work_from: *work_from,
+            work_to: std::array::from_fn(|i| end[i] + offset[i]),
+            circle: None,
+            independent: None,
+            pivot: Some(Box::new(pivot)),
+            len,
+            limits,
+            programmed: feed_deg_min / 60.0,
+            axis_speed: limits.v,
+            start_dir,
+            end_dir,
+            start_curvature,
+            end_curvature,
+            tip_rate: 0.0,
+            stop_after: true,
+            fixed_feed: false,
+        };
+        seg.set_override(1.0, 1.0);
         seg
     }
 
@@ -282,6 +398,12 @@ impl Segment {
     pub fn at(&self, s: f64) -> (Pos, Pos) {
         if s >= self.len {
             return (self.to, self.work_to);
+        }
+        if let Some(p) = &self.pivot {
+            let u = if self.len > 0.0 { s / self.len } else { 1.0 };
+            let machine = p.at(&self.from, &self.to, u);
+            let work = std::array::from_fn(|i| machine[i] + (self.work_to[i] - self.to[i]));
+            return (machine, work);
         }
         if let Some(profiles) = &self.independent {
             // Each axis on its own profile, `s` seconds in; the offsets are constant.
