@@ -13,7 +13,7 @@
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos};
 use crate::interp::{Config, Interpreter, Step};
-use crate::kin::{Kinematics, ManualFeed};
+use crate::kin::{latitude_longitude, Kinematics, ManualFeed, Vec3};
 use crate::machine::MachineConfig;
 use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
 use std::collections::VecDeque;
@@ -51,6 +51,9 @@ pub struct Panel {
     pub jog_feed: f64,
     /// Tool length the 5-axis manual feeds turn the tool about, mm (FANUC No.12318).
     pub manual_tool_length: f64,
+    /// The right-angle feeds as longitude/latitude about this vertical axis ('X', 'Y' or 'Z';
+    /// FANUC FLL = 1 with No.12321); `None`: the right-angle directions (FLL = 0).
+    pub latitude_longitude: Option<char>,
 }
 
 impl Default for Panel {
@@ -63,6 +66,7 @@ impl Default for Panel {
             rapid_override: 1.0,
             jog_feed: 1000.0,
             manual_tool_length: 0.0,
+            latitude_longitude: None,
         }
     }
 }
@@ -509,7 +513,17 @@ impl Controller {
     /// Move X, Y, Z by `distance` along a manual feed direction, clamped to the strokes.
     fn move_along(&mut self, feed: ManualFeed, distance: f64) -> Result<(), Refusal> {
         let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
-        let mut d = kin.manual_directions(&self.here.machine).of(feed);
+        let directions = kin.manual_directions(&self.here.machine);
+        let mut d = directions.of(feed);
+        if let (Some(axis), ManualFeed::RightAngle1 | ManualFeed::RightAngle2) = (self.panel.latitude_longitude, feed) {
+            let vertical = match axis {
+                'X' => Vec3::x(),
+                'Y' => Vec3::y(),
+                _ => Vec3::z(),
+            };
+            let [r1, r2] = latitude_longitude(directions.tool, vertical, 1.0);
+            d = if feed == ManualFeed::RightAngle1 { r1 } else { r2 };
+        }
         if distance < 0.0 {
             d = -d;
         }

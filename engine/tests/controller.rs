@@ -263,6 +263,14 @@ fn five_axis_manual_feeds_move_along_the_tool_axis_and_its_right_angles() {
     run_until_stopped(&mut c, 10.0);
     let m = c.point().machine;
     assert!((m[0] - (5.0 - 2.0 * 0.866025)).abs() < 1e-6 && (m[2] - (8.660254 + 1.0)).abs() < 1e-6, "{m:?}");
+    // Longitude about the vertical Z (FLL = 1): R1 = Z × T = +Y here.
+    c.panel.latitude_longitude = Some('Z');
+    let before = c.point().machine;
+    c.handle_direction(ManualFeed::RightAngle1, 3.0).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    let m = c.point().machine;
+    assert!((m[1] - (before[1] + 3.0)).abs() < 1e-9 && (m[0] - before[0]).abs() < 1e-9, "{m:?}");
+    c.panel.latitude_longitude = None;
     // JOG along the tool axis stops at the first stroke it meets (Z at +300).
     c.set_mode(Mode::Jog).unwrap();
     c.jog_direction(ManualFeed::ToolAxis, true).unwrap();

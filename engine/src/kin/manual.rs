@@ -35,6 +35,20 @@ pub enum ManualFeed {
     TableHorizontal2,
 }
 
+/// FANUC's latitude/longitude right-angle directions (FLL = 1, MAN-09): longitude R1 = P × T,
+/// latitude R2 = T × R1 (normalised), with P the vertical axis (No.12321). When T is within
+/// `parallel_deg` (No.12322) of P, the fixed pair of the table instead: P = +X: +Y, +Z;
+/// P = +Y: +Z, +X; P = +Z: +X, +Y.
+pub fn latitude_longitude(tool: Vec3, vertical: Vec3, parallel_deg: f64) -> [Vec3; 2] {
+    let (t, p) = (tool.normalize(), vertical.normalize());
+    if t.dot(&p).abs().min(1.0).acos().to_degrees() <= parallel_deg {
+        let k = p.iamax();
+        return [Vec3::ith((k + 1) % 3, 1.0), Vec3::ith((k + 2) % 3, 1.0)];
+    }
+    let r1 = p.cross(&t).normalize();
+    [r1, t.cross(&r1).normalize()]
+}
+
 impl ManualFeed {
     /// Every feed, for lists and pickers.
     pub const ALL: [ManualFeed; 6] = [
@@ -124,6 +138,21 @@ mod tests {
             assert!(close(d.table_horizontal[0], d1) && close(d.table_horizontal[1], d2), "{tool:?}");
             assert!(close(d.tool, tool) && close(d.table_vertical, tool));
         }
+    }
+
+    #[test]
+    fn latitude_and_longitude_tv_man_04c_to_04e() {
+        let (s, c) = (0.5, 3f64.sqrt() / 2.0);
+        let [r1, r2] = latitude_longitude(Vec3::new(s, 0.0, c), Vec3::z(), 1.0);
+        assert!(close(r1, [0.0, 1.0, 0.0]) && close(r2, [-0.866025, 0.0, 0.5]), "{r1:?} {r2:?}");
+        let h = 0.5f64.sqrt();
+        let [r1, r2] = latitude_longitude(Vec3::new(0.0, h, h), Vec3::z(), 1.0);
+        assert!(close(r1, [-1.0, 0.0, 0.0]) && close(r2, [0.0, -0.707107, 0.707107]), "{r1:?} {r2:?}");
+        let [r1, r2] = latitude_longitude(Vec3::new(s, 0.0, c), Vec3::x(), 1.0);
+        assert!(close(r1, [0.0, -1.0, 0.0]) && close(r2, [0.866025, 0.0, -0.5]), "{r1:?} {r2:?}");
+        // The tool along the vertical axis: the fixed pair of the table (P = +Z: +X, +Y).
+        let [r1, r2] = latitude_longitude(Vec3::z(), Vec3::z(), 1.0);
+        assert!(close(r1, [1.0, 0.0, 0.0]) && close(r2, [0.0, 1.0, 0.0]), "{r1:?} {r2:?}");
     }
 
     #[test]

@@ -15,7 +15,7 @@ mod manual;
 mod select;
 
 pub use ik::{Candidate, Candidates, PerJoint};
-pub use manual::{ManualDirections, ManualFeed};
+pub use manual::{latitude_longitude, ManualDirections, ManualFeed};
 pub use select::{Choice, Selection};
 
 use crate::alarm::AlarmId;
