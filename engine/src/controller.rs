@@ -366,10 +366,7 @@ impl Controller {
             self.planner.take_all();
             self.stand_here();
         }
-        self.pending.clear();
-        self.interp.reset();
-        self.program_active = false;
-        self.wait = Wait::None;
+        self.abandon_program();
         if !self.estop && !self.alarms.is_empty() {
             self.alarms.clear();
             self.events.push(Event::AlarmsCleared);
@@ -379,6 +376,14 @@ impl Controller {
         }
     }
 
+    /// The program stops for good: nothing read ahead is carried out.
+    fn abandon_program(&mut self) {
+        self.pending.clear();
+        self.interp.reset();
+        self.program_active = false;
+        self.wait = Wait::None;
+    }
+
     /// Emergency stop pressed (`true`) or released: pressing stops every axis at once.
     pub fn emergency_stop(&mut self, pressed: bool) {
         self.estop = pressed;
@@ -386,10 +391,7 @@ impl Controller {
             self.current = None;
             self.stopping = None;
             self.planner.take_all();
-            self.pending.clear();
-            self.interp.reset();
-            self.program_active = false;
-            self.wait = Wait::None;
+            self.abandon_program();
             self.here.feed = 0.0;
             self.stand_here();
             self.raise(AlarmId::EmergencyStop, self.here.line, self.here.n);
@@ -869,8 +871,7 @@ impl Controller {
             feed_override: self.panel.feed_override,
             rapid_override: self.panel.rapid_override,
             exact_stop: m.context.exact_stop || self.panel.single_block,
-            helical_feed_on_path: self.machine.motion.helical_feed_on_path,
-            nonlinear_rapid: self.machine.motion.nonlinear_rapid,
+            options: self.machine.motion,
         };
         Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx)
     }
@@ -899,7 +900,7 @@ fn to_next_stop(path: &[Segment]) -> (Limits, f64) {
     let mut lim = path[0].limits;
     let mut room = 0.0;
     for seg in path {
-        lim = min_limits(lim, seg.limits);
+        lim = lim.min(seg.limits);
         room += seg.len;
         if seg.stop_after {
             break;
@@ -920,7 +921,7 @@ fn stop_limits(path: &[Segment], v: f64, a: f64) -> Limits {
         if Profile::stop(v, a, &lim).len() <= covered || covered >= boundary {
             break;
         }
-        let next = min_limits(lim, seg.limits);
+        let next = lim.min(seg.limits);
         if (a < 0.0 && a * a > 2.0 * next.j * v) || Profile::stop(v, a, &next).len() > boundary {
             break;
         }
@@ -928,8 +929,4 @@ fn stop_limits(path: &[Segment], v: f64, a: f64) -> Limits {
         covered += seg.len;
     }
     lim
-}
-
-fn min_limits(a: Limits, b: Limits) -> Limits {
-    Limits { v: a.v.min(b.v), a: a.a.min(b.a), j: a.j.min(b.j) }
 }

@@ -164,8 +164,7 @@ impl Executor {
                     feed_override: self.opts.feed_override,
                     rapid_override: self.opts.rapid_override,
                     exact_stop: m.context.exact_stop,
-                    helical_feed_on_path: self.machine_config.motion.helical_feed_on_path,
-                    nonlinear_rapid: self.machine_config.motion.nonlinear_rapid,
+                    options: self.machine_config.motion,
                 };
                 let mut seg = Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx);
                 (seg.line, seg.n) = (c.line, c.n);

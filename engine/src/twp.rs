@@ -7,8 +7,7 @@
 //! refused, OQ-06) and are tested as such.
 
 use crate::alarm::AlarmId;
-use crate::angle::sin_cos_deg;
-use crate::kin::Vec3;
+use crate::kin::{axis_rotation, Vec3};
 use nalgebra::Matrix3;
 
 /// A frame inside its parent: the columns of `r` are its X, Y, Z axes, `o` its origin, both in
@@ -71,18 +70,15 @@ impl Frame {
 }
 
 fn rx(deg: f64) -> Matrix3<f64> {
-    let (s, c) = sin_cos_deg(deg);
-    Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c)
+    axis_rotation(0, deg)
 }
 
 fn ry(deg: f64) -> Matrix3<f64> {
-    let (s, c) = sin_cos_deg(deg);
-    Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
+    axis_rotation(1, deg)
 }
 
 fn rz(deg: f64) -> Matrix3<f64> {
-    let (s, c) = sin_cos_deg(deg);
-    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+    axis_rotation(2, deg)
 }
 
 /// G68.2 (no P): Euler angles Z–X–Z, intrinsic: R = Rz(I)·Rx(J)·Rz(K) (§2.3).

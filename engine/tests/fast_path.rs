@@ -2,6 +2,8 @@
 //! canonical commands, alarm and final state as the general path, on every fixture program and
 //! on random programs that mix plain blocks with everything that changes their meaning.
 
+mod common;
+
 use fivex_engine::canon::Canon;
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
@@ -35,16 +37,9 @@ fn both_paths_agree(name: &str, text: &str) -> Result<(), TestCaseError> {
 
 #[test]
 fn every_fixture_runs_alike_on_both_paths() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/fixtures");
-    let mut n = 0;
-    for entry in std::fs::read_dir(dir).expect("tests/fixtures") {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "nc") {
-            both_paths_agree(&path.display().to_string(), &std::fs::read_to_string(&path).unwrap()).unwrap();
-            n += 1;
-        }
+    for (path, text) in common::fixture_programs() {
+        both_paths_agree(&path, &text).unwrap();
     }
-    assert!(n >= 40, "expected the fixture programs, found {n}");
 }
 
 /// A block: mostly plain motion, and the modes, transforms, cycles and calls around it.

@@ -2,6 +2,8 @@
 //! same canonical commands, alarm and final state as interpreting the whole file at once, for
 //! every fixture program cut into parts of any size.
 
+mod common;
+
 use fivex_engine::canon::Canon;
 use fivex_engine::interp::{Config, Interpreter, Step};
 use fivex_engine::lang::{parse_file, parse_part};
@@ -67,16 +69,9 @@ fn check(name: &str, text: &str) {
 
 #[test]
 fn every_fixture_streams_like_a_whole_file() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/fixtures");
-    let mut n = 0;
-    for entry in std::fs::read_dir(dir).expect("tests/fixtures") {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "nc") {
-            check(&path.display().to_string(), &std::fs::read_to_string(&path).unwrap());
-            n += 1;
-        }
+    for (path, text) in common::fixture_programs() {
+        check(&path, &text);
     }
-    assert!(n >= 40, "expected the fixture programs, found {n}");
 }
 
 #[test]

@@ -1,9 +1,7 @@
 //! The directions of the 5-axis manual feeds (spec `fanuc-twp-wsec-manual-params.md` §2.15,
 //! MAN-05…MAN-17), in machine coordinates, for the axis positions of the moment.
 
-use super::{Kinematics, Side, Vec3};
-use crate::angle::sin_cos_deg;
-use nalgebra::Matrix3;
+use super::{axis_rotation, Kinematics, Side, Vec3};
 
 /// Where the 5-axis manual feeds move the tool.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,34 +72,14 @@ impl ManualDirections {
     }
 }
 
-fn rot(axis: usize, deg: f64) -> Matrix3<f64> {
-    let (s, c) = sin_cos_deg(deg);
-    match axis {
-        0 => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
-        1 => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
-        _ => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
-    }
-}
-
 impl Kinematics {
     /// The manual feed directions at the axis positions `pos`.
     pub fn manual_directions(&self, pos: &[f64]) -> ManualDirections {
-        // The reference tool direction as FANUC No.19697–19699 give it: the coordinate axis k
-        // nearest to it, tilted by RA then RB. Its tilt matrix, cyclic in X → Y → Z (§2.9):
-        // k = Z: Rz(RB)·Ry(RA), k = X: Rx(RB)·Rz(RA), k = Y: Ry(RB)·Rx(RA).
+        // The reference direction's tilt (§2.9): RB about axis k after RA about the axis
+        // after next, cyclic in X → Y → Z.
         let t0 = self.tool_axis;
-        let k = if t0.x > t0.y && t0.x > t0.z {
-            0
-        } else if t0.y > t0.z {
-            1
-        } else {
-            2
-        };
-        let (c, s) = (t0[(k + 1) % 3], t0[(k + 2) % 3]);
-        let ra = c.hypot(s).atan2(t0[k]).to_degrees();
-        let rb = if c == 0.0 && s == 0.0 { 0.0 } else { s.atan2(c).to_degrees() };
-        // RA turns axis k toward the next axis (about the one after it), RB about axis k.
-        let tilt = rot(k, rb) * rot((k + 2) % 3, ra);
+        let (k, ra, rb) = super::reference_angles(t0);
+        let tilt = axis_rotation(k, rb) * axis_rotation((k + 2) % 3, ra);
         let unit = |i: usize| Vec3::ith(i, 1.0);
         let (d1, d2) = (unit((k + 1) % 3), unit((k + 2) % 3));
         let head = self.motion(Side::Head, pos);

@@ -77,6 +77,35 @@ pub fn rotation_deg(u: &Vec3, deg: f64) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(nalgebra::Matrix3::identity() + k * s + k * k * (1.0 - c))
 }
 
+/// Rotation by `deg` degrees about coordinate axis `axis` (0 X, 1 Y, 2 Z), right hand, exact
+/// at quarter turns.
+pub fn axis_rotation(axis: usize, deg: f64) -> nalgebra::Matrix3<f64> {
+    let (s, c) = crate::angle::sin_cos_deg(deg);
+    match axis {
+        0 => nalgebra::Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
+        1 => nalgebra::Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
+        _ => nalgebra::Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+    }
+}
+
+/// A reference tool direction as FANUC No.19697–19699 give it: the coordinate axis `k` (0 X,
+/// 1 Y, 2 Z) with the largest component, tilted by RA in [0°, 180°] toward the next axis and
+/// RB in (−180°, 180°] about axis `k` (RB 0 when RA is 0° or 180°).
+pub(crate) fn reference_angles(t: Vec3) -> (usize, f64, f64) {
+    let k = if t[0] > t[1] && t[0] > t[2] {
+        0
+    } else if t[1] > t[2] {
+        1
+    } else {
+        2
+    };
+    // The two other components in the order of the closed form: (cos RB, sin RB)·sin RA.
+    let (c, s) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+    let ra = c.hypot(s).atan2(t[k]).to_degrees();
+    let rb = if c == 0.0 && s == 0.0 { 0.0 } else { s.atan2(c).to_degrees() };
+    (k, ra, rb)
+}
+
 /// The kinematic model of one machine.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Kinematics {

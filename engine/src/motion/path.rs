@@ -10,7 +10,7 @@
 use super::profile::{Limits, Profile};
 use crate::canon::{Arc, FeedMode, Motion, MotionKind, Pos};
 use crate::kin::{Kinematics, Vec3};
-use crate::machine::{MachineConfig, MAX_AXES};
+use crate::machine::{MachineConfig, MotionOptions, MAX_AXES};
 
 /// Per-axis limits in the units of the axis (mm or deg) per second.
 #[derive(Debug, Clone, PartialEq)]
@@ -129,10 +129,8 @@ pub struct FeedContext {
     pub rapid_override: f64,
     /// G09 on this block, or G61 modal.
     pub exact_stop: bool,
-    /// Helical F along the whole path (FANUC HTG = 1) instead of along the arc.
-    pub helical_feed_on_path: bool,
-    /// Rapids as FANUC's non-linear type (No.1401#1 LRP = 0).
-    pub nonlinear_rapid: bool,
+    /// The machine's interpolation choices (helical feed, rapid type).
+    pub options: MotionOptions,
 }
 
 impl Segment {
@@ -155,18 +153,13 @@ impl Segment {
                 let planar = 0.5 * (c.r0 + c.r1) * c.sweep.abs();
                 let other: f64 = (0..MAX_AXES).filter(|&i| i != c.a && i != c.b).map(|i| delta[i] * delta[i]).sum();
                 let len = (planar * planar + other).sqrt();
+                let share = if len > 0.0 { planar / len } else { 0.0 };
                 let dir_at = |angle: f64| -> Pos {
-                    let k = if len > 0.0 { planar / len } else { 0.0 };
-                    let (sin, cos) = angle.sin_cos();
-                    let turn = c.sweep.signum();
-                    std::array::from_fn(|i| match i {
-                        _ if i == c.a => -sin * turn * k,
-                        _ if i == c.b => cos * turn * k,
-                        _ if len > 0.0 => delta[i] / len,
-                        _ => 0.0,
-                    })
+                    let mut dir = std::array::from_fn(|i| if len > 0.0 { delta[i] / len } else { 0.0 });
+                    c.set_tangent(&mut dir, angle, share);
+                    dir
                 };
-                if !ctx.helical_feed_on_path && planar > 0.0 {
+                if !ctx.options.helical_feed_on_path && planar > 0.0 {
                     feed_scale = len / planar;
                 }
                 let tip = (planar * planar
@@ -175,23 +168,12 @@ impl Segment {
                 (len, dir_at(c.start), dir_at(c.start + c.sweep), if len > 0.0 { tip / len } else { 0.0 })
             }
         };
-        let curvature_at = |angle: f64, r: f64| -> Pos {
-            let mut k = [0.0; MAX_AXES];
-            if let Some(c) = &circle {
-                // Plane speed is (planar / len) of the path speed; the centripetal part is
-                // (that)² / r, toward the centre.
-                let share = if len > 0.0 { 0.5 * (c.r0 + c.r1) * c.sweep.abs() / len } else { 0.0 };
-                let (sin, cos) = angle.sin_cos();
-                let scale = share * share / r.max(1e-12);
-                k[c.a] = -cos * scale;
-                k[c.b] = -sin * scale;
-            }
-            k
-        };
-        let (start_curvature, end_curvature) = match &circle {
-            Some(c) => (curvature_at(c.start, c.r0), curvature_at(c.start + c.sweep, c.r1)),
-            None => ([0.0; MAX_AXES], [0.0; MAX_AXES]),
-        };
+        let (mut start_curvature, mut end_curvature) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
+        if let Some(c) = &circle {
+            let share = if len > 0.0 { 0.5 * (c.r0 + c.r1) * c.sweep.abs() / len } else { 0.0 };
+            c.set_curvature(&mut start_curvature, c.start, c.r0, share);
+            c.set_curvature(&mut end_curvature, c.start + c.sweep, c.r1, share);
+        }
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         // Per-axis rate bound over the whole segment (an arc axis reaches its full share).
         let rate: Pos = match &circle {
@@ -243,7 +225,7 @@ impl Segment {
             axis_speed,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
-        if rapid && ctx.nonlinear_rapid {
+        if rapid && ctx.options.nonlinear_rapid {
             seg.make_independent(axes, ctx.rapid_override);
         }
         seg
@@ -441,14 +423,9 @@ impl Segment {
             c.start += c.sweep * u;
             c.r0 += (c.r1 - c.r0) * u;
             c.sweep *= 1.0 - u;
-            let (sin, cos) = c.start.sin_cos();
-            let k = self.start_dir[c.a].hypot(self.start_dir[c.b]);
-            let turn = c.sweep.signum();
-            tail.start_dir[c.a] = -sin * turn * k;
-            tail.start_dir[c.b] = cos * turn * k;
-            let bend = k * k / c.r0.max(1e-12);
-            tail.start_curvature[c.a] = -cos * bend;
-            tail.start_curvature[c.b] = -sin * bend;
+            let share = self.start_dir[c.a].hypot(self.start_dir[c.b]);
+            c.set_tangent(&mut tail.start_dir, c.start, share);
+            c.set_curvature(&mut tail.start_curvature, c.start, c.r0, share);
         }
         tail
     }
@@ -468,6 +445,24 @@ impl Segment {
 
 fn norm(v: &Pos) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+impl Circle {
+    /// The plane axes' d/ds at `angle`, the plane part being `share` of the path.
+    fn set_tangent(&self, dir: &mut Pos, angle: f64, share: f64) {
+        let (sin, cos) = angle.sin_cos();
+        let turn = self.sweep.signum();
+        dir[self.a] = -sin * turn * share;
+        dir[self.b] = cos * turn * share;
+    }
+
+    /// The plane axes' d²/ds² at `angle`, radius `r`: share² / r toward the centre.
+    fn set_curvature(&self, k: &mut Pos, angle: f64, r: f64, share: f64) {
+        let (sin, cos) = angle.sin_cos();
+        let scale = share * share / r.max(1e-12);
+        k[self.a] = -cos * scale;
+        k[self.b] = -sin * scale;
+    }
 }
 
 fn circle(arc: &Arc, start: &Pos, end: &Pos) -> Circle {

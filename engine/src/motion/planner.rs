@@ -144,9 +144,7 @@ impl Planner {
     /// junction speed and stop at its next exact stop (or its end): the backward pass over
     /// it, with the lowest limits of all its segments.
     pub fn entry_speed(&self, path: &[Segment]) -> f64 {
-        let Some(lim) =
-            path.iter().map(|s| s.limits).reduce(|a, b| Limits { v: a.v.min(b.v), a: a.a.min(b.a), j: a.j.min(b.j) })
-        else {
+        let Some(lim) = path.iter().map(|s| s.limits).reduce(Limits::min) else {
             return 0.0;
         };
         let end = path.iter().position(|s| s.stop_after).map_or(path.len(), |k| k + 1);
@@ -222,7 +220,7 @@ impl Planner {
             let run = match open.take() {
                 Some(mut r) => {
                     r.len += q.segment.len;
-                    r.limits = Limits { v: r.limits.v.min(lim.v), a: r.limits.a.min(lim.a), j: r.limits.j.min(lim.j) };
+                    r.limits = r.limits.min(lim);
                     r
                 }
                 None => Run { end: 0, len: q.segment.len, limits: lim, cap: 0.0, v_end: 0.0 },

@@ -17,6 +17,13 @@ pub struct Limits {
     pub j: f64,
 }
 
+impl Limits {
+    /// The lower of each limit: what two stretches of path run at together.
+    pub fn min(self, other: Limits) -> Limits {
+        Limits { v: self.v.min(other.v), a: self.a.min(other.a), j: self.j.min(other.j) }
+    }
+}
+
 /// Time and distance to change speed between `v0` and `v1` (either way; the two are
 /// symmetric) starting and ending with zero acceleration.
 pub fn change(v0: f64, v1: f64, lim: &Limits) -> (f64, f64) {

@@ -59,25 +59,10 @@ fn reference_direction(code: i64, ra: f64, rb: f64) -> Vec3 {
     }
 }
 
-/// The canonical (code, RA, RB) of a unit tool direction: the coordinate axis with the largest
-/// component (the nearest one, as the manuals ask), RA in [0°, 180°], RB in (−180°, 180°] and 0
-/// when RA is 0° or 180°.
+/// The canonical (code, RA, RB) of a unit tool direction (`kin::reference_angles`, the code
+/// counting the axes from 1).
 fn reference_angles(t: Vec3) -> (i64, f64, f64) {
-    let k = if t[0] > t[1] && t[0] > t[2] {
-        0
-    } else if t[1] > t[2] {
-        1
-    } else {
-        2
-    };
-    // The two other components in the order of the closed form: (cos RB, sin RB)·sin RA.
-    let (c, s) = match k {
-        0 => (t[1], t[2]),
-        1 => (t[2], t[0]),
-        _ => (t[0], t[1]),
-    };
-    let ra = c.hypot(s).atan2(t[k]).to_degrees();
-    let rb = if c == 0.0 && s == 0.0 { 0.0 } else { s.atan2(c).to_degrees() };
+    let (k, ra, rb) = crate::kin::reference_angles(t);
     (k as i64 + 1, ra, rb)
 }
 

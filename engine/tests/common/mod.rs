@@ -76,3 +76,17 @@ pub fn motions(src: &str) -> Vec<fivex_engine::canon::Motion> {
 pub fn approx(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-9
 }
+
+/// Every program of `tests/fixtures/*.nc` as (path, text); there are at least 40.
+pub fn fixture_programs() -> Vec<(String, String)> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/fixtures");
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).expect("tests/fixtures") {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "nc") {
+            out.push((path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
+        }
+    }
+    assert!(out.len() >= 40, "expected the fixture programs, found {}", out.len());
+    out
+}

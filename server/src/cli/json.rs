@@ -15,6 +15,13 @@ fn put(w: &mut Out, bytes: &[u8]) {
     w.extend_from_slice(bytes);
 }
 
+/// `,"state":"NAME"`.
+fn state_field(w: &mut Out, name: &[u8]) {
+    put(w, b",\"state\":\"");
+    put(w, name);
+    put(w, b"\"");
+}
+
 /// A number in its shortest form that reads back to the same f64 (`-0` prints as `0.0`).
 fn num(w: &mut Out, x: f64) {
     if !x.is_finite() {
@@ -180,9 +187,8 @@ impl CanonWriter {
                     SpindleState::Ccw => b"ccw",
                     SpindleState::Stop => b"stop",
                 };
-                put(w, b",\"state\":\"");
-                put(w, state);
-                put(w, b"\",\"speed\":");
+                state_field(w, state);
+                put(w, b",\"speed\":");
                 num(w, *speed);
             }
             CanonKind::Coolant(c) => {
@@ -191,9 +197,7 @@ impl CanonWriter {
                     Coolant::Flood => b"flood",
                     Coolant::Off => b"off",
                 };
-                put(w, b",\"state\":\"");
-                put(w, state);
-                put(w, b"\"");
+                state_field(w, state);
             }
             CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => {
                 put(w, b",\"m\":");
