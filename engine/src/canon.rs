@@ -4,7 +4,9 @@
 //! zero). `target` is in programming coordinates (the active workpiece system after G52/G92);
 //! `machine` is the same point in machine coordinates with work and tool length offsets applied.
 
+use crate::kin::Vec3;
 use crate::machine::MAX_AXES;
+use crate::twp::Frame;
 
 pub type Pos = [f64; MAX_AXES];
 
@@ -72,12 +74,49 @@ pub struct Motion {
     pub machine: Pos,
     /// Boxed: most motions are straight, and a small `Motion` is cheap to move.
     pub arc: Option<Box<Arc>>,
+    /// Under tool centre point control or in a tilted working plane: the tool tip's path
+    /// relative to the table, which the axes follow through the kinematics (`arc` is then
+    /// `None`; the tip path carries its own circle).
+    pub tip: Option<Box<TipMove>>,
     /// F in the unit of `feed_mode` (converted to mm).
     pub feed: f64,
     pub feed_mode: FeedMode,
     /// Spindle speed at the time (for G95).
     pub spindle: f64,
     pub context: MotionContext,
+}
+
+/// A motion whose axes follow a tool tip path (FANUC G43.4/G43.5, Syntec RTCP, G68.2 planes):
+/// at each point of the path X/Y/Z are where the kinematics put the tip (`Kinematics::
+/// carriage_for`), the rotary axes turn as `posture` says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TipMove {
+    /// Tool tip at the start and at the end, table frame (`kin` module docs), mm.
+    pub from: Vec3,
+    pub to: Vec3,
+    /// A circular or helical tip path; `None`: a straight line.
+    pub arc: Option<TipArc>,
+    pub tool_length: f64,
+    /// Tool posture control (FANUC P1): the tool direction (table frame) turns on the great
+    /// circle from the first to the second in proportion to the tip's travel. `None`: the rotary
+    /// axes move in proportion to it (conventional control).
+    pub posture: Option<(Vec3, Vec3)>,
+    /// The programming coordinate system as a frame in the table frame: the tip's coordinates
+    /// in it are what the position display shows.
+    pub frame: Frame,
+    /// The rotary axes move at F when the tip does not move (FANUC RFC = 1); otherwise at their
+    /// highest speed.
+    pub rotary_feed: bool,
+}
+
+/// A circle (spiral within the arc tolerance, helix along `normal`) in the table frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TipArc {
+    pub center: Vec3,
+    /// Unit normal of the plane; the sweep turns right-handed about it.
+    pub normal: Vec3,
+    /// Signed swept angle, degrees.
+    pub sweep_deg: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -591,6 +591,7 @@ impl Controller {
             target,
             machine,
             arc: None,
+            tip: None,
             feed,
             feed_mode: crate::canon::FeedMode::PerMinute,
             spindle: 0.0,
@@ -873,7 +874,7 @@ impl Controller {
             exact_stop: m.context.exact_stop || self.panel.single_block,
             options: self.machine.motion,
         };
-        Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx)
+        Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx, self.kinematics.as_ref())
     }
 
     fn raise(&mut self, id: AlarmId, line: u32, n: Option<u32>) {

@@ -183,6 +183,50 @@ pub struct MachineConfig {
     /// How the control interpolates (`docs/motion.md`).
     #[serde(default, skip_serializing_if = "MotionOptions::is_default")]
     pub motion: MotionOptions,
+    /// How the 5-axis functions behave (`docs/five-axis.md`).
+    #[serde(default, skip_serializing_if = "FiveAxisOptions::is_default")]
+    pub five_axis: FiveAxisOptions,
+}
+
+/// Which coordinate system the X/Y/Z of a tool centre point control program are in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TcpCoordinates {
+    /// Fixed on the table as it stands when G43.4/G43.5 starts (FANUC WKP = 0, INZ = 0;
+    /// Syntec Pr3055 = 0).
+    #[default]
+    TableAtStart,
+    /// Fixed on the table as it stands with the table axes at program zero (FANUC INZ = 1;
+    /// Syntec Pr3055 = 1, the rotary axes' work offsets).
+    TableAtZero,
+    /// The workpiece coordinate system, not turning with the table (FANUC WKP = 1).
+    Workpiece,
+}
+
+/// 5-axis function settings of the control (vendor bits, `docs/five-axis.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FiveAxisOptions {
+    /// The programming coordinate system of tool centre point control.
+    #[serde(default)]
+    pub tcp_coordinates: TcpCoordinates,
+    /// Tool posture control when G43.4/G43.5 has no P (FANUC No.19604#0 TPC; Syntec Pr3054 = 1
+    /// tool-vector interpolation).
+    #[serde(default)]
+    pub posture_control: bool,
+    /// Judge the second rotary axis's movement first when choosing angles (FANUC No.19608#5 PRI).
+    #[serde(default)]
+    pub second_axis_first: bool,
+    /// Rotary-only moves under tool centre point control run at F (FANUC No.19696#6 RFC = 1);
+    /// otherwise as fast as the axes go.
+    #[serde(default)]
+    pub rotary_feed: bool,
+}
+
+impl FiveAxisOptions {
+    fn is_default(&self) -> bool {
+        *self == FiveAxisOptions::default()
+    }
 }
 
 /// Interpolation choices the vendors make by parameter.
@@ -320,6 +364,7 @@ impl MachineConfig {
             holder,
             // A typical arm-type changer, chip to chip.
             motion: MotionOptions { tool_change_s: 3.0, ..MotionOptions::default() },
+            five_axis: FiveAxisOptions::default(),
         })
     }
 

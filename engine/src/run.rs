@@ -65,7 +65,7 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
     let machine = interp.config().machine.clone();
     let mut exec = Executor {
         // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
-        kinematics: crate::kin::Kinematics::new(&machine).ok(),
+        kinematics: crate::kin::Kinematics::new(&machine).ok().map(std::sync::Arc::new),
         axes: AxisLimits::of(&machine),
         planner: motion::planner_for(&machine),
         machine_config: machine,
@@ -137,7 +137,7 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
 }
 
 struct Executor {
-    kinematics: Option<crate::kin::Kinematics>,
+    kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     machine_config: MachineConfig,
     axes: AxisLimits,
     planner: Planner,
@@ -166,7 +166,8 @@ impl Executor {
                     exact_stop: m.context.exact_stop,
                     options: self.machine_config.motion,
                 };
-                let mut seg = Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx);
+                let mut seg =
+                    Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx, self.kinematics.as_ref());
                 (seg.line, seg.n) = (c.line, c.n);
                 if let Err(id) = motion::stroke_check(&seg, &self.machine_config) {
                     // The machine stops at the end of the block before; the offending one never moves.

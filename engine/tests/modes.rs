@@ -52,6 +52,7 @@ fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
             nose: [0.0; 3],
             holder: 0.0,
             motion: Default::default(),
+            five_axis: Default::default(),
         },
         dialect,
     );
@@ -485,10 +486,12 @@ fn nurbs_only_with_g43_4_without_posture_control() {
 
 #[test]
 fn type_2_arcs_are_given_by_r() {
-    // tcp TCP-10, M-4 (alarm not named: PS5421, decision; FANUC only)
+    // tcp TCP-10, M-4 (alarm not named: PS5421, decision). Syntec says nothing of arcs under
+    // G43.5; its I/J/K are the tool vector there too, so the circle needs R (COR-100).
     let src = "G43.5 H1\nG02 X10. Y10. I5. J5. F100";
     assert_eq!(fanuc(HEAD, src), "PS5421");
-    assert_eq!(syntec(HEAD, &format!("{src}\nG01\nG49")), "ok");
+    assert_eq!(syntec(HEAD, &format!("{src}\nG01\nG49")), "COR-100");
+    assert_eq!(syntec(HEAD, "G43.5 H1\nG02 X10. Y10. R10. K1. F100\nG01\nG49"), "ok");
     assert_eq!(fanuc(HEAD, "G43.5 H1\nG02 X10. Y10. R10. F100\nG01\nG49"), "ok");
 }
 

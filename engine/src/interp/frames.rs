@@ -221,7 +221,7 @@ impl State {
 
     /// An angle word in degrees: without a decimal point it counts 0.001° (IS-B), in mm and
     /// inch alike.
-    fn angle_word(&self, w: &Words, letter: u8) -> Option<f64> {
+    pub(super) fn angle_word(&self, w: &Words, letter: u8) -> Option<f64> {
         let (v, no_point) = w.raw(letter)?;
         Some(if no_point && !self.cfg.pocket_calculator { v * 0.001 } else { v })
     }

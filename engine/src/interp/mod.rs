@@ -13,6 +13,7 @@ mod nc;
 mod offsets;
 mod plain;
 pub(crate) mod program;
+mod tcp;
 mod vars;
 
 use crate::alarm::{Alarm, AlarmId};
@@ -189,6 +190,10 @@ pub struct State {
     modal_call: Option<ModalCall>,
     /// What the modal groups do not hold about the 5-axis modes (nesting, definition sequences).
     five: modes::FiveAxisModes,
+    /// The machine's mechanism (`None` when the kinematics refuses it: no 5-axis function).
+    kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
+    /// Tool centre point control in force.
+    tcp: Option<tcp::Tcp>,
     /// Simulated time, seconds, advanced by the executor.
     clock_s: f64,
     /// #3001 / #3002 are the clock minus these (they are writable).
@@ -425,6 +430,8 @@ impl State {
             last_g28_mid: [0.0; MAX_AXES],
             modal_call: None,
             five: modes::FiveAxisModes::default(),
+            kinematics: crate::kin::Kinematics::new(&cfg.machine).ok().map(std::sync::Arc::new),
+            tcp: None,
             clock_s: 0.0,
             timer_ms_base: 0.0,
             timer_h_base: 0.0,
@@ -479,7 +486,10 @@ impl State {
 
     /// Current position in machine coordinates.
     pub fn machine_position(&self) -> Pos {
-        self.program_to_machine(&self.pos)
+        match &self.tcp {
+            Some(t) => t.machine,
+            None => self.program_to_machine(&self.pos),
+        }
     }
 
     pub fn modal(&self, group: usize) -> u16 {
@@ -709,21 +719,19 @@ impl State {
 
     /// Programming → machine coordinates (work offset, local, G92 shift, tool length).
     fn program_to_machine(&self, p: &Pos) -> Pos {
-        let w = self.offsets.work(self.work_index());
-        let ext = self.offsets.work(0);
+        let off = self.offset_vector();
         let mut m = [0.0; MAX_AXES];
         for i in 0..self.cfg.machine.axes.len() {
-            m[i] = p[i] + w[i] + ext[i] + self.local[i] + self.shift[i] + self.tool_vec[i];
+            m[i] = p[i] + off[i] + self.tool_vec[i];
         }
         m
     }
 
     fn machine_to_program(&self, m: &Pos) -> Pos {
-        let w = self.offsets.work(self.work_index());
-        let ext = self.offsets.work(0);
+        let off = self.offset_vector();
         let mut p = [0.0; MAX_AXES];
         for i in 0..self.cfg.machine.axes.len() {
-            p[i] = m[i] - w[i] - ext[i] - self.local[i] - self.shift[i] - self.tool_vec[i];
+            p[i] = m[i] - off[i] - self.tool_vec[i];
         }
         p
     }

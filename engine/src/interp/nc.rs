@@ -435,6 +435,16 @@ impl State {
             // Only a different offset moves the tool (G49 in G49 mode does nothing).
             tool_length_changed = self.tool_vec != before;
         }
+        // Tool centre point control starts or ends here (its start and end blocks move by the
+        // tool length, computed at their end only).
+        let tcp_mode = matches!(self.modes[8], 434 | 435);
+        if tcp_mode && w.gcodes().iter().any(|&g| matches!(g, 434 | 435)) {
+            self.tcp_begin(&w)?;
+            tool_length_changed = true;
+        } else if !tcp_mode && self.tcp_active() {
+            self.tcp_end();
+        }
+        self.tcp_words(&w)?;
 
         // --- one-shot G codes ---------------------------------------------------------------
         let mut moved = false;
@@ -456,7 +466,11 @@ impl State {
                 // The offset takes effect at once: the tool moves, the programmed point stays.
                 let target = self.pos;
                 let kind = if self.modes[1] == 0 { MotionKind::Rapid } else { MotionKind::Linear };
-                self.push_motion(kind, target, None, out);
+                if self.tcp_active() {
+                    self.tcp_motion(kind, target, None, out)?;
+                } else {
+                    self.push_motion(kind, target, None, out);
+                }
             }
         }
 
@@ -538,7 +552,7 @@ impl State {
         self.tool_vec = v;
     }
 
-    fn context(&self) -> MotionContext {
+    pub(super) fn context(&self) -> MotionContext {
         let length_on = !matches!(self.modes[8], 490 | 491);
         let comp_on = self.modes[7] != 400;
         MotionContext {
@@ -558,7 +572,7 @@ impl State {
         }
     }
 
-    fn feed_mode(&self) -> FeedMode {
+    pub(super) fn feed_mode(&self) -> FeedMode {
         match self.modes[5] {
             930 => FeedMode::InverseTime,
             950 => FeedMode::PerRevolution,
@@ -595,6 +609,7 @@ impl State {
             target,
             machine,
             arc,
+            tip: None,
             feed: self.f,
             feed_mode: self.feed_mode(),
             spindle: self.s,
@@ -626,6 +641,24 @@ impl State {
 
     pub(super) fn group01_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let programmed = self.target(w);
+        if self.tcp_active() {
+            let target = self.xf.forward(&programmed);
+            let (kind, arc) = match self.modes[1] {
+                0 => (MotionKind::Rapid, None),
+                20 | 30 => {
+                    self.check_feed()?;
+                    let (cw, arc) = self.arc(w, &target)?;
+                    (if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw }, arc)
+                }
+                _ => {
+                    self.check_feed()?;
+                    (MotionKind::Linear, None)
+                }
+            };
+            self.tcp_motion(kind, target, arc, out)?;
+            self.xf.programmed = programmed;
+            return Ok(());
+        }
         match self.modes[1] {
             0 => self.move_to(MotionKind::Rapid, programmed, out),
             20 | 30 => {
@@ -679,7 +712,13 @@ impl State {
             };
             self.value(w, letter)
         };
-        let offset = (ijk(a).unwrap_or(0.0), ijk(b).unwrap_or(0.0));
+        // Under TCP type 2, I/J/K are the tool direction: the circle is given by R only, and a
+        // full circle cannot be (TCP-10; the manual names no alarm, PS5421 is its family's).
+        let by_radius = self.ijk_is_direction();
+        if by_radius && (!w.has(b'R') || (target[a] - sx).hypot(target[b] - sy) < 1e-9) {
+            return Err(AlarmId::IllegalCommandInTcp);
+        }
+        let offset = if by_radius { (0.0, 0.0) } else { (ijk(a).unwrap_or(0.0), ijk(b).unwrap_or(0.0)) };
         let words = super::frames::ArcWords { r: self.value(w, b'R'), offset, cw: self.modes[1] == 20 };
         let super::frames::ArcWords { r: radius, offset, cw } = self.arc_words((a, b), words)?;
         let (cx, cy) = if let Some(r) = radius {

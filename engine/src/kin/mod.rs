@@ -352,6 +352,14 @@ impl Kinematics {
         table.apply(tip) - head.apply(self.nose - tool_length * self.tool_axis)
     }
 
+    /// The table's rigid motion at `pos`: a point of the table frame (its coordinates) → the
+    /// same point in machine coordinates (`to_parent`).
+    pub fn table_frame(&self, pos: &[f64]) -> crate::twp::Frame {
+        let t = self.motion(Side::Table, pos);
+        let r = nalgebra::Matrix3::from_columns(&[t.turn(Vec3::x()), t.turn(Vec3::y()), t.turn(Vec3::z())]);
+        crate::twp::Frame { r, o: t.apply(Vec3::zeros()) }
+    }
+
     /// How near the posture at `pos` is to singular; `None` on machines with fewer than two
     /// rotary axes (one axis never has a free angle).
     pub fn singularity(&self, pos: &[f64]) -> Option<Singularity> {

@@ -75,6 +75,29 @@ impl Kinematics {
         }
     }
 
+    /// The inverse solution for tool direction `tool` (table frame) whose rotary angles are
+    /// nearest `near`, each axis at its family member nearest it, a free axis staying: how a
+    /// tool posture control path turns the axes continuously. `None`: no solution.
+    pub fn angles_near(&self, tool: super::Vec3, near: &[f64; MAX_AXES]) -> Option<[f64; MAX_AXES]> {
+        let candidates = self.inverse(super::Vec3::zeros(), tool, 0.0, &near[..self.axes]);
+        let joints = self.joints();
+        let mut best: Option<(f64, [f64; MAX_AXES])> = None;
+        for c in &candidates {
+            let mut q = *near;
+            let mut distance = 0.0;
+            for (k, j) in joints.iter().enumerate() {
+                let Some(i) = j.index.filter(|_| !c.free[k]) else { continue };
+                let step = crate::angle::basic(c.pos[i] - near[i] + 180.0) - 180.0;
+                q[i] = near[i] + step;
+                distance += step * step;
+            }
+            if best.as_ref().is_none_or(|(d, _)| distance < *d) {
+                best = Some((distance, q));
+            }
+        }
+        best.map(|(_, q)| q)
+    }
+
     /// FANUC M-10: per candidate every rotary axis goes to its nearest allowed family member;
     /// then the least movement of the first axis, of the second, the nearest to 0° of the
     /// first, of the second (first = master, or the table axis on a mixed machine; PRI swaps

@@ -192,6 +192,7 @@ fn unreachable_directions_have_no_candidate() {
         nose: [0.0; 3],
         holder: 0.0,
         motion: Default::default(),
+        five_axis: Default::default(),
     };
     let k = Kinematics::new(&m).unwrap();
     assert_eq!(k.kind, MachineKind::Table);
@@ -232,7 +233,16 @@ fn machine() -> impl Strategy<Value = MachineConfig> {
                 range: None,
             });
         }
-        MachineConfig { name: "random".into(), axes, rotary, tool_axis, nose, holder: 0.0, motion: Default::default() }
+        MachineConfig {
+            name: "random".into(),
+            axes,
+            rotary,
+            tool_axis,
+            nose,
+            holder: 0.0,
+            motion: Default::default(),
+            five_axis: Default::default(),
+        }
     })
 }
 

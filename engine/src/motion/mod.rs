@@ -37,9 +37,10 @@ pub fn planner_for(m: &MachineConfig) -> Planner {
 }
 
 /// The first stored stroke limit the segment would cross (end point, and the quadrant points
-/// of an arc; a straight move in axis space stays inside a box when its ends do).
+/// of an arc, points along a kinematic path; a straight move in axis space stays inside a box
+/// when its ends do).
 pub fn stroke_check(seg: &Segment, m: &MachineConfig) -> Result<(), AlarmId> {
-    for p in std::iter::once(seg.to).chain(seg.arc_extremes()) {
+    for p in std::iter::once(seg.to).chain(seg.arc_extremes()).chain(seg.follow_points()) {
         for (i, axis) in m.axes.iter().enumerate() {
             let Some([lo, hi]) = axis.stroke else { continue };
             // A hair of rounding at the limit itself is not an over-travel.

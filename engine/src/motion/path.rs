@@ -8,9 +8,10 @@
 //! within the tolerance) in the plane's two axes with every other axis moving in proportion.
 
 use super::profile::{Limits, Profile};
-use crate::canon::{Arc, FeedMode, Motion, MotionKind, Pos};
+use crate::canon::{Arc, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::{MachineConfig, MotionOptions, MAX_AXES};
+use crate::twp::Frame;
 
 /// Per-axis limits in the units of the axis (mm or deg) per second.
 #[derive(Debug, Clone, PartialEq)]
@@ -75,8 +76,9 @@ pub struct Segment {
     /// A non-linear rapid: each axis's own rest-to-rest profile (`None` for axes that stay);
     /// the path parameter is then the time.
     independent: Option<Box<[Option<Profile>; MAX_AXES]>>,
-    /// Tool tip centre rotation: the rotary axes move, X/Y/Z keep the tip on one point.
-    pivot: Option<Box<Pivot>>,
+    /// A path the axes follow through the kinematics: tool centre point control, tilted
+    /// working planes, tool tip centre rotation.
+    follow: Option<Box<Follow>>,
     /// Length of the path parameter (mm and degrees).
     pub len: f64,
     /// The speed the program asks for (override applied) and what the axes allow, per second.
@@ -98,20 +100,106 @@ pub struct Segment {
     fixed_feed: bool,
 }
 
-/// The mechanism and the point a tool tip centre rotation keeps the tip on.
+/// A tool tip path in the table frame and how the tool turns along it; the machine axes at each
+/// point come from the kinematics (`Kinematics::carriage_for`).
 #[derive(Debug, Clone, PartialEq)]
-struct Pivot {
+struct Follow {
     kin: std::sync::Arc<Kinematics>,
-    /// Tool tip in the table frame, and the tool length.
-    tip: Vec3,
     tool_length: f64,
+    from: Vec3,
+    to: Vec3,
+    circle: Option<Circle3>,
+    posture: Option<Posture>,
+    /// The programming coordinate system in the table frame; `None`: the programming
+    /// coordinates keep their offset from the machine's (a manual tip rotation outside tool
+    /// centre point control).
+    work_frame: Option<Frame>,
 }
 
-impl Pivot {
-    /// Every axis at `u` of the way from `from` to `to`, X/Y/Z then put so that the tip stays.
+/// A circle (or spiral, or helix) in space: at `u` of the way, `center + r(u)·(cos φ·e1 +
+/// sin φ·e2) + u·rise` with φ = `u·sweep`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Circle3 {
+    center: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+    r0: f64,
+    r1: f64,
+    sweep: f64,
+    rise: Vec3,
+}
+
+impl Circle3 {
+    fn new(arc: &TipArc, from: &Vec3, to: &Vec3) -> Circle3 {
+        let n = arc.normal.normalize();
+        let along = |p: &Vec3| n * n.dot(&(p - arc.center));
+        let start = from - arc.center - along(from);
+        let end = to - arc.center - along(to);
+        let e1 = start.try_normalize(1e-12).unwrap_or_else(|| n.cross(&Vec3::x()).normalize());
+        Circle3 {
+            center: arc.center + along(from),
+            e1,
+            e2: n.cross(&e1),
+            r0: start.norm(),
+            r1: end.norm(),
+            sweep: arc.sweep_deg.to_radians(),
+            rise: along(to) - along(from),
+        }
+    }
+
+    fn at(&self, u: f64) -> Vec3 {
+        let (sin, cos) = (self.sweep * u).sin_cos();
+        let r = self.r0 + (self.r1 - self.r0) * u;
+        self.center + (self.e1 * cos + self.e2 * sin) * r + self.rise * u
+    }
+
+    /// Length in the plane (mean radius) and along the normal.
+    fn lengths(&self) -> (f64, f64) {
+        (0.5 * (self.r0 + self.r1) * self.sweep.abs(), self.rise.norm())
+    }
+}
+
+/// Tool posture control: the great circle from `v0` to `v1`, `angle` apart.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Posture {
+    v0: Vec3,
+    v1: Vec3,
+    angle: f64,
+}
+
+impl Posture {
+    /// `None` when the two are equal or opposite (FANUC: conventional control in that block).
+    fn new(v0: Vec3, v1: Vec3) -> Option<Posture> {
+        let (v0, v1) = (v0.try_normalize(1e-12)?, v1.try_normalize(1e-12)?);
+        let angle = v0.dot(&v1).clamp(-1.0, 1.0).acos();
+        (angle > 1e-9 && angle < std::f64::consts::PI - 1e-9).then_some(Posture { v0, v1, angle })
+    }
+
+    /// The direction `u` of the way (spec M-7: `[sin((1−u)Ω)·v0 + sin(uΩ)·v1] / sin Ω`).
+    fn at(&self, u: f64) -> Vec3 {
+        ((self.v0 * ((1.0 - u) * self.angle).sin() + self.v1 * (u * self.angle).sin()) / self.angle.sin()).normalize()
+    }
+}
+
+impl Follow {
+    fn tip(&self, u: f64) -> Vec3 {
+        match &self.circle {
+            Some(c) => c.at(u),
+            None => self.from + (self.to - self.from) * u,
+        }
+    }
+
+    /// Every axis at `u` of the way from `from` to `to`: the rotary (and other) axes in
+    /// proportion, or for the posture's direction the inverse solution nearest that, then X/Y/Z
+    /// so that the tip is on the path.
     fn at(&self, from: &Pos, to: &Pos, u: f64) -> Pos {
         let mut q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
-        let carriage = self.kin.carriage_for(&q, self.tip, self.tool_length);
+        if let Some(p) = &self.posture {
+            if let Some(angles) = self.kin.angles_near(p.at(u), &q) {
+                q = angles;
+            }
+        }
+        let carriage = self.kin.carriage_for(&q, self.tip(u), self.tool_length);
         for (axis, index) in self.kin.linear.iter().enumerate() {
             if let Some(i) = index {
                 q[*i] = carriage[axis];
@@ -119,6 +207,106 @@ impl Pivot {
         }
         q
     }
+
+    /// Keep what is left after `u` of the way.
+    fn cut(&mut self, u: f64) {
+        self.from = self.tip(u);
+        if let Some(c) = &mut self.circle {
+            let (sin, cos) = (c.sweep * u).sin_cos();
+            (c.e1, c.e2) = (c.e1 * cos + c.e2 * sin, c.e2 * cos - c.e1 * sin);
+            c.center += c.rise * u;
+            c.r0 += (c.r1 - c.r0) * u;
+            c.sweep *= 1.0 - u;
+            c.rise *= 1.0 - u;
+        }
+        if let Some(p) = &mut self.posture {
+            p.v0 = p.at(u);
+            p.angle *= 1.0 - u;
+            if p.angle <= 1e-12 {
+                self.posture = None;
+            }
+        }
+    }
+
+    /// Programming coordinates at `u` for machine position `machine`.
+    fn work(&self, machine: &Pos, u: f64, offset: &Pos) -> Pos {
+        let mut work: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
+        if let Some(f) = &self.work_frame {
+            let p = f.from_parent(&self.tip(u));
+            for (axis, index) in self.kin.linear.iter().enumerate() {
+                if let Some(i) = index {
+                    work[*i] = p[axis];
+                }
+            }
+        }
+        work
+    }
+}
+
+/// Bounds on a kinematic path's axis derivatives, sampled at `n + 1` points.
+struct Sampled {
+    limits: Limits,
+    start_dir: Pos,
+    end_dir: Pos,
+    start_curvature: Pos,
+    end_curvature: Pos,
+}
+
+/// The first three derivatives of every axis by s (`q` gives the axes at `u` = s / `len`), by
+/// differences around `n + 1` points, and the path limits they allow.
+fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sampled {
+    let h = 1.0 / (4.0 * n as f64);
+    let (mut rate, mut bend, mut twist) = ([0.0f64; MAX_AXES], [0.0f64; MAX_AXES], [0.0f64; MAX_AXES]);
+    let mut out = Sampled {
+        limits: Limits { v: f64::INFINITY, a: f64::INFINITY, j: f64::INFINITY },
+        start_dir: [0.0; MAX_AXES],
+        end_dir: [0.0; MAX_AXES],
+        start_curvature: [0.0; MAX_AXES],
+        end_curvature: [0.0; MAX_AXES],
+    };
+    if len <= 0.0 {
+        return out;
+    }
+    for k in 0..=n {
+        let u = k as f64 / n as f64;
+        let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
+        let ds = h * len;
+        for i in 0..axes.count {
+            let d1 = (c[i] - b[i]) / ds;
+            let d2 = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
+            let d3 = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
+            rate[i] = rate[i].max(d1.abs());
+            bend[i] = bend[i].max(d2.abs());
+            twist[i] = twist[i].max(d3.abs());
+            if k == 0 {
+                (out.start_dir[i], out.start_curvature[i]) = (d1, d2);
+            }
+            if k == n {
+                (out.end_dir[i], out.end_curvature[i]) = (d1, d2);
+            }
+        }
+    }
+    // Axis i moves at v*q1, accelerates a*q1 + v^2*q2 and jerks j*q1 + 3*v*a*q2 + v^3*q3
+    // (q1..q3 its derivatives by s): half the acceleration and a third of the jerk for each
+    // of the terms.
+    let mut limits = axes.along(&rate.map(|r| 2.0 * r));
+    limits.j = limits.j.min(axes.along(&rate.map(|r| 3.0 * r)).j);
+    for i in 0..axes.count {
+        if bend[i] > 1e-12 {
+            limits.v = limits.v.min((0.5 * axes.a[i] / bend[i]).sqrt());
+            limits.v = limits.v.min(axes.j[i] / (9.0 * axes.a[i] * bend[i]).max(1e-12));
+        }
+        if twist[i] > 1e-12 {
+            limits.v = limits.v.min((axes.j[i] / (3.0 * twist[i])).cbrt());
+        }
+    }
+    out.limits = limits;
+    out
+}
+
+/// Sample points for a kinematic path: more where the rotary axes turn more.
+fn sample_count(turn_deg: f64, sweep_deg: f64) -> usize {
+    (4 + (turn_deg / 3.0) as usize + (sweep_deg.abs() / 10.0) as usize).min(32)
 }
 
 /// What the planner needs beyond the motion itself.
@@ -135,7 +323,18 @@ pub struct FeedContext {
 
 impl Segment {
     /// The segment of `m` starting at machine `from` / programming `work_from`.
-    pub fn new(m: &Motion, from: &Pos, work_from: &Pos, axes: &AxisLimits, ctx: FeedContext) -> Segment {
+    /// `kin` is needed by motions along a tool tip path (`Motion::tip`).
+    pub fn new(
+        m: &Motion,
+        from: &Pos,
+        work_from: &Pos,
+        axes: &AxisLimits,
+        ctx: FeedContext,
+        kin: Option<&std::sync::Arc<Kinematics>>,
+    ) -> Segment {
+        if let (Some(tip), Some(kin)) = (m.tip.as_deref(), kin) {
+            return Segment::along_tip(m, tip, kin.clone(), from, work_from, axes, ctx);
+        }
         let delta: Pos = std::array::from_fn(|i| m.machine[i] - from[i]);
         let circle = m.arc.as_deref().map(|arc| circle(arc, work_from, &m.target));
         // Path length per unit of F's length: 1, or for a helix fed along its arc (HTG = 0)
@@ -211,7 +410,7 @@ impl Segment {
             work_to: m.target,
             circle,
             independent: None,
-            pivot: None,
+            follow: None,
             len,
             limits,
             start_dir,
@@ -231,11 +430,94 @@ impl Segment {
         seg
     }
 
+    /// A motion along a tool tip path (tool centre point control, tilted working plane): the
+    /// path parameter is the tip's travel relative to the table (F is the tip's speed, FANUC
+    /// TCP-18), or the rotary axes' combined angle when the tip stays (TCP-20: fed at F with
+    /// RFC = 1, else as fast as the axes go). The axes' rates along the way are sampled to bound
+    /// the path's speed, acceleration and jerk.
+    fn along_tip(
+        m: &Motion,
+        tip: &TipMove,
+        kin: std::sync::Arc<Kinematics>,
+        from: &Pos,
+        work_from: &Pos,
+        axes: &AxisLimits,
+        ctx: FeedContext,
+    ) -> Segment {
+        let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
+        let mut feed_scale = 1.0;
+        let (tip_len, sweep_deg) = match &circle {
+            Some(c) => {
+                let (planar, rise) = c.lengths();
+                let len = planar.hypot(rise);
+                if !ctx.options.helical_feed_on_path && planar > 0.0 {
+                    feed_scale = len / planar;
+                }
+                (len, c.sweep.to_degrees())
+            }
+            None => ((tip.to - tip.from).norm(), 0.0),
+        };
+        let turn = rotary_travel(&kin, from, &m.machine);
+        let follow = Follow {
+            kin,
+            tool_length: tip.tool_length,
+            from: tip.from,
+            to: tip.to,
+            circle,
+            posture: tip.posture.and_then(|(a, b)| Posture::new(a, b)),
+            work_frame: Some(tip.frame),
+        };
+        let rotary_only = tip_len < 1e-9;
+        let len = if rotary_only { turn } else { tip_len };
+        let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
+        let to = m.machine;
+        let n = sample_count(turn, sweep_deg);
+        let found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        let axis_speed = found.limits.v;
+        let programmed = if rapid || (rotary_only && !tip.rotary_feed) {
+            axis_speed
+        } else {
+            match m.feed_mode {
+                FeedMode::PerMinute => m.feed,
+                FeedMode::PerRevolution => m.feed * m.spindle,
+                FeedMode::InverseTime => m.feed * len,
+            }
+            .min(f64::MAX)
+                / 60.0
+                * feed_scale
+        };
+        let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
+        let mut seg = Segment {
+            line: 0,
+            n: None,
+            rapid,
+            from: *from,
+            to,
+            work_from: *work_from,
+            work_to,
+            circle: None,
+            independent: None,
+            follow: Some(Box::new(follow)),
+            len,
+            limits: found.limits,
+            programmed,
+            axis_speed,
+            start_dir: found.start_dir,
+            end_dir: found.end_dir,
+            start_curvature: found.start_curvature,
+            end_curvature: found.end_curvature,
+            tip_rate: if rotary_only { 0.0 } else { 1.0 },
+            stop_after: rapid || ctx.exact_stop,
+            fixed_feed: m.context.fixed_feed,
+        };
+        seg.set_override(ctx.feed_override, ctx.rapid_override);
+        seg
+    }
+
     /// Tool tip centre rotation (FANUC MAN-11/12): the rotary axes go from `from` to the
     /// rotary values of `to` in proportion (the path parameter is their angle, fed at
     /// `feed_deg_min`), X/Y/Z keep the tool tip (`tool_length` long) where it is relative to
-    /// the table. The axes' rates along the way are sampled to bound the path's speed,
-    /// acceleration and jerk.
+    /// the table.
     pub fn tip_rotation(
         kin: std::sync::Arc<Kinematics>,
         from: &Pos,
@@ -246,53 +528,11 @@ impl Segment {
         axes: &AxisLimits,
     ) -> Segment {
         let tip = kin.forward(from, tool_length).tip;
-        let pivot = Pivot { kin, tip, tool_length };
-        let rotary: Vec<usize> = (0..axes.count).filter(|i| !pivot.kin.linear.contains(&Some(*i))).collect();
-        let len = rotary.iter().map(|&i| (to[i] - from[i]).powi(2)).sum::<f64>().sqrt();
-        let end = pivot.at(from, to, 1.0);
+        let len = rotary_travel(&kin, from, to);
+        let follow = Follow { kin, tool_length, from: tip, to: tip, circle: None, posture: None, work_frame: None };
+        let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
-        // The first three derivatives of every axis by s, by differences at 33 points.
-        const N: usize = 32;
-        let h = 1.0 / (4.0 * N as f64);
-        let q = |u: f64| pivot.at(from, to, u);
-        let (mut rate, mut bend, mut twist) = ([0.0f64; MAX_AXES], [0.0f64; MAX_AXES], [0.0f64; MAX_AXES]);
-        let (mut start_dir, mut end_dir) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
-        let (mut start_curvature, mut end_curvature) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
-        if len > 0.0 {
-            for k in 0..=N {
-                let u = k as f64 / N as f64;
-                let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
-                let ds = h * len;
-                for i in 0..axes.count {
-                    let d1 = (c[i] - b[i]) / ds;
-                    let d2 = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
-                    let d3 = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
-                    rate[i] = rate[i].max(d1.abs());
-                    bend[i] = bend[i].max(d2.abs());
-                    twist[i] = twist[i].max(d3.abs());
-                    if k == 0 {
-                        (start_dir[i], start_curvature[i]) = (d1, d2);
-                    }
-                    if k == N {
-                        (end_dir[i], end_curvature[i]) = (d1, d2);
-                    }
-                }
-            }
-        }
-        // Axis i moves at v*q1, accelerates a*q1 + v^2*q2 and jerks j*q1 + 3*v*a*q2 + v^3*q3
-        // (q1..q3 its derivatives by s): half the acceleration and a third of the jerk for each
-        // of the terms.
-        let mut limits = axes.along(&rate.map(|r| 2.0 * r));
-        limits.j = limits.j.min(axes.along(&rate.map(|r| 3.0 * r)).j);
-        for i in 0..axes.count {
-            if bend[i] > 1e-12 {
-                limits.v = limits.v.min((0.5 * axes.a[i] / bend[i]).sqrt());
-                limits.v = limits.v.min(axes.j[i] / (9.0 * axes.a[i] * bend[i]).max(1e-12));
-            }
-            if twist[i] > 1e-12 {
-                limits.v = limits.v.min((axes.j[i] / (3.0 * twist[i])).cbrt());
-            }
-        }
+        let found = sampled(|u| follow.at(from, to, u), len, 32, axes);
         let mut seg = Segment {
             line: 0,
             n: None,
@@ -303,15 +543,15 @@ impl Segment {
             work_to: std::array::from_fn(|i| end[i] + offset[i]),
             circle: None,
             independent: None,
-            pivot: Some(Box::new(pivot)),
+            follow: Some(Box::new(follow)),
             len,
-            limits,
+            limits: found.limits,
             programmed: feed_deg_min / 60.0,
-            axis_speed: limits.v,
-            start_dir,
-            end_dir,
-            start_curvature,
-            end_curvature,
+            axis_speed: found.limits.v,
+            start_dir: found.start_dir,
+            end_dir: found.end_dir,
+            start_curvature: found.start_curvature,
+            end_curvature: found.end_curvature,
             tip_rate: 0.0,
             stop_after: true,
             fixed_feed: false,
@@ -381,10 +621,10 @@ impl Segment {
         if s >= self.len {
             return (self.to, self.work_to);
         }
-        if let Some(p) = &self.pivot {
+        if let Some(f) = &self.follow {
             let u = if self.len > 0.0 { s / self.len } else { 1.0 };
-            let machine = p.at(&self.from, &self.to, u);
-            let work = std::array::from_fn(|i| machine[i] + (self.work_to[i] - self.to[i]));
+            let machine = f.at(&self.from, &self.to, u);
+            let work = f.work(&machine, u, &std::array::from_fn(|i| self.work_to[i] - self.to[i]));
             return (machine, work);
         }
         if let Some(profiles) = &self.independent {
@@ -427,7 +667,18 @@ impl Segment {
             c.set_tangent(&mut tail.start_dir, c.start, share);
             c.set_curvature(&mut tail.start_curvature, c.start, c.r0, share);
         }
+        if let Some(f) = &mut tail.follow {
+            f.cut(u);
+        }
         tail
+    }
+
+    /// Points inside a path the axes follow through the kinematics (for the stroke check: its
+    /// axes may bulge out between the ends), 16 to a segment.
+    pub fn follow_points(&self) -> impl Iterator<Item = Pos> + '_ {
+        const N: usize = 16;
+        let n = if self.follow.is_some() { N } else { 0 };
+        (1..n).map(move |k| self.at(self.len * k as f64 / N as f64).0)
     }
 
     /// The axis-space extremes an arc reaches between its end points (for the stroke check):
@@ -441,6 +692,11 @@ impl Segment {
             (first..=last.min(first + 4)).map(move |k| self.at(self.len * ((k as f64 * quarter - c.start) / c.sweep)).0)
         })
     }
+}
+
+/// The rotary axes' combined travel (degrees) from `from` to `to`.
+fn rotary_travel(kin: &Kinematics, from: &Pos, to: &Pos) -> f64 {
+    (0..kin.axes).filter(|i| !kin.linear.contains(&Some(*i))).map(|i| (to[i] - from[i]).powi(2)).sum::<f64>().sqrt()
 }
 
 fn norm(v: &Pos) -> f64 {

@@ -10,7 +10,9 @@ use super::{chain, direction, half_turn, reference_angles, reference_direction, 
 use super::{Params, Value};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
-use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, MotionOptions, RotaryLink, Side};
+use crate::machine::{
+    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, MotionOptions, RotaryLink, Side, TcpCoordinates,
+};
 
 const NAMES: &str = "XYZUVWABC";
 
@@ -167,7 +169,35 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     // linear-type rapids.
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
     let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid, ..MotionOptions::default() };
-    Ok(MachineConfig { name: name.to_string(), axes, rotary, tool_axis: tool_axis.into(), nose, holder, motion })
+    let five_axis = five_axis_options(p)?;
+    Ok(MachineConfig {
+        name: name.to_string(),
+        axes,
+        rotary,
+        tool_axis: tool_axis.into(),
+        nose,
+        holder,
+        motion,
+        five_axis,
+    })
+}
+
+/// The 5-axis function bits: No.19696#5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
+/// No.19608#5 PRI (absent: 0).
+fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
+    let bit =
+        |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
+    let tcp_coordinates = match (bit(19696, 5)?, bit(19754, 5)?) {
+        (true, _) => TcpCoordinates::Workpiece,
+        (false, true) => TcpCoordinates::TableAtZero,
+        (false, false) => TcpCoordinates::TableAtStart,
+    };
+    Ok(FiveAxisOptions {
+        tcp_coordinates,
+        posture_control: bit(19604, 0)?,
+        second_axis_first: bit(19608, 5)?,
+        rotary_feed: bit(19696, 6)?,
+    })
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
@@ -244,7 +274,18 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         p.set(19741 + 2 * j as u32, real(upper));
         p.set(19742 + 2 * j as u32, real(lower));
     }
-    p.set(19696, ia as f64);
+    let f = &m.five_axis;
+    let wkp = f.tcp_coordinates == TcpCoordinates::Workpiece;
+    p.set(19696, (ia | (wkp as u32) << 5 | (f.rotary_feed as u32) << 6) as f64);
+    for (number, value) in [
+        (19754, ((f.tcp_coordinates == TcpCoordinates::TableAtZero) as u32) << 5),
+        (19604, f.posture_control as u32),
+        (19608, (f.second_axis_first as u32) << 5),
+    ] {
+        if value != 0 {
+            p.set(number, value as f64);
+        }
+    }
     let zero = Vec3::zeros();
     let point = |k: usize| vec3(links[k].point);
     let (v1, v2, a, d) = match kind {

@@ -13,7 +13,9 @@ use super::Params;
 use super::{chain, direction, reference_angles, reference_direction, unit, unrepresentable};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
-use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, RotaryLink, Side};
+use crate::machine::{
+    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, RotaryLink, Side, TcpCoordinates,
+};
 
 /// Pr321~ name codes 1…9.
 const NAMES: [char; 9] = ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'];
@@ -184,6 +186,17 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         nose: [0.0; 3],
         holder,
         motion: Default::default(),
+        five_axis: FiveAxisOptions {
+            // Pr3054 = 1 tool-vector interpolation, Pr3055 = 1 table coordinates at the rotary
+            // axes' work zero.
+            posture_control: p.get(3054)? == 1.0,
+            tcp_coordinates: if p.get(3055)? == 1.0 {
+                TcpCoordinates::TableAtZero
+            } else {
+                TcpCoordinates::TableAtStart
+            },
+            ..FiveAxisOptions::default()
+        },
     })
 }
 
@@ -281,6 +294,16 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         return Err(unrepresentable("Syntec", "a negative tool holder offset (Pr3013)"));
     }
     p.set(3013, blu(holder));
+    let f = &m.five_axis;
+    if f.tcp_coordinates == TcpCoordinates::Workpiece || f.rotary_feed || f.second_axis_first {
+        return Err(unrepresentable("Syntec", "workpiece TCP coordinates, RFC and PRI are FANUC settings"));
+    }
+    if f.posture_control {
+        p.set(3054, 1.0);
+    }
+    if f.tcp_coordinates == TcpCoordinates::TableAtZero {
+        p.set(3055, 1.0);
+    }
     let grip = t0 * from_blu(p.get(3013)?);
     let point = |k: usize| vec3(links[k].point);
     let vectors = match kind {

@@ -5,8 +5,9 @@ use fivex_engine::canon::{Canon, CanonKind};
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::run::{run, RunOptions, RunResult};
+use fivex_engine::run::{run, RunOptions, RunResult, Sample};
 use fivex_engine::Dialect;
+use proptest::prelude::{prop_assert, TestCaseError};
 
 pub fn interpreter(src: &str, preset: &str, dialect: Dialect) -> Interpreter {
     interpreter_with(src, preset, dialect, |_| {})
@@ -89,4 +90,47 @@ pub fn fixture_programs() -> Vec<(String, String)> {
     }
     assert!(out.len() >= 40, "expected the fixture programs, found {}", out.len());
     out
+}
+
+/// Per-axis limits of a preset, and whether the axis rolls over (its samples are shown
+/// modulo 360).
+pub fn limits(preset: &str) -> Vec<(f64, f64, f64, bool)> {
+    let m = MachineConfig::preset(preset).unwrap();
+    m.axes.iter().map(|a| (a.rapid / 60.0, a.max_accel(), a.max_jerk(), a.rollover)).collect()
+}
+
+/// Finite differences of the sampled axis positions stay within the axis limits: speed
+/// everywhere; acceleration and jerk inside blocks, and at block junctions too when every
+/// block ends at rest, sampled every millisecond (a corner may change an axis's speed by the allowed step at once, as
+/// FANUC's No.1783 allows).
+pub fn check_limits(samples: &[Sample], preset: &str, junctions_too: bool) -> Result<(), TestCaseError> {
+    let lim = limits(preset);
+    const PERIOD: f64 = 0.001;
+    let slack = 1.0 + 1e-6;
+    for w in samples.windows(4) {
+        let same_block = w.iter().all(|s| s.line == w[0].line);
+        for (i, &(v, a, j, rollover)) in lim.iter().enumerate() {
+            // Unwind a rollover axis across 0/360 (a sample moves far less than half a turn).
+            let mut x: Vec<f64> = w.iter().map(|s| s.machine[i]).collect();
+            for k in 1..x.len() {
+                if rollover {
+                    x[k] = x[k - 1] + ((x[k] - x[k - 1] + 180.0).rem_euclid(360.0) - 180.0);
+                }
+            }
+            let vel = (x[1] - x[0]) / PERIOD;
+            prop_assert!(vel.abs() <= v * slack + 1e-6, "axis {i} speed {vel} > {v} at t={}", w[0].t);
+            if same_block || junctions_too {
+                let acc = (x[2] - 2.0 * x[1] + x[0]) / (PERIOD * PERIOD);
+                let jerk = (x[3] - 3.0 * x[2] + 3.0 * x[1] - x[0]) / PERIOD.powi(3);
+                prop_assert!(acc.abs() <= a * slack + 1e-3, "axis {i} acceleration {acc} > {a} at t={}", w[0].t);
+                prop_assert!(jerk.abs() <= j * slack + 1.0, "axis {i} jerk {jerk} > {j} at t={}", w[0].t);
+            } else {
+                // Across a junction: at most the corner step (A × 1 ms) plus what the two
+                // periods' acceleration adds.
+                let dv = ((x[2] - x[1]) - (x[1] - x[0])) / PERIOD;
+                prop_assert!(dv.abs() <= 3.0 * a * PERIOD * slack, "axis {i} speed step {dv} at t={}", w[0].t);
+            }
+        }
+    }
+    Ok(())
 }

@@ -1,0 +1,303 @@
+//! Tool centre point control: FANUC G43.4 (type 1, the tool direction by rotary angles) and
+//! G43.5 (type 2, by a vector I, J, K), Syntec RTCP (spec `fanuc-tcp.md` TCP-03…TCP-35,
+//! `syntec.md` SYN-07…SYN-11). The choices the manuals leave open are in `docs/five-axis.md`.
+//!
+//! A block's X/Y/Z are the tool tip in the programming coordinate system Π (FANUC M-2), which
+//! is fixed on the table: its frame in the table frame is taken when TCP starts (or with the
+//! table axes at their program zero, or, for the workpiece system, at each block's end angles).
+//! The block's motion carries the tip path relative to the table (`canon::TipMove`); the axes
+//! follow it through the kinematics, so the tip moves on the programmed line or arc while the
+//! rotary axes turn. The start block and the G49 block are ordinary moves that apply or remove
+//! the tool length at their end only (TCP-03, TCP-17).
+
+use super::nc::Words;
+use super::State;
+use crate::alarm::AlarmId;
+use crate::canon::{Arc, CanonKind, Motion, MotionKind, Pos, TipArc, TipMove};
+use crate::kin::{Kinematics, Selection, Vec3};
+use crate::machine::TcpCoordinates;
+use crate::twp::Frame;
+use std::sync::Arc as Shared;
+
+/// Tool centre point control in force.
+#[derive(Debug, Clone)]
+pub(super) struct Tcp {
+    /// 434 (type 1) or 435 (type 2).
+    code: u16,
+    kin: Shared<Kinematics>,
+    /// Π in the table frame; `None`: Π is the workpiece system (FANUC WKP = 1), placed on the
+    /// table at each block's end angles.
+    frame: Option<Frame>,
+    /// Tool posture control (FANUC P1 / TPC, Syntec Pr3054 = 1).
+    posture: bool,
+    tool_length: f64,
+    /// Type 2: the tool direction last commanded, in Π (unit), and the inclination Q (degrees).
+    direction: Vec3,
+    inclination: f64,
+    /// Type 2: this block's I/J/K (omitted ones 0), if it has any.
+    commanded: Option<Vec3>,
+    /// The start block is being executed: its move is an ordinary one.
+    starting: bool,
+    /// Machine position at the end of the last block (under TCP, X/Y/Z are not the programmed
+    /// point plus offsets).
+    pub(super) machine: Pos,
+}
+
+impl State {
+    pub(super) fn tcp_active(&self) -> bool {
+        self.tcp.is_some()
+    }
+
+    /// The work offsets (G54…, external, G52, G92) of every axis: programming + this = machine,
+    /// without tool length.
+    pub(super) fn offset_vector(&self) -> Pos {
+        let w = self.offsets.work(self.work_index());
+        let ext = self.offsets.work(0);
+        std::array::from_fn(|i| w[i] + ext[i] + self.local[i] + self.shift[i])
+    }
+
+    /// A frame that puts programming coordinates on the table as it stands at `machine`:
+    /// the point `p` is at `p + offsets + nose` in machine coordinates there (the same tip a
+    /// plain G43 gives at zero angles).
+    fn frame_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
+        let table = kin.table_frame(machine);
+        let off = self.offset_vector();
+        let shift = Vec3::new(off[0], off[1], off[2]) + kin.nose;
+        let r = table.r.transpose();
+        Frame { r, o: r * (shift - table.o) }
+    }
+
+    /// The block starts (or restarts with new data) tool centre point control (group 08 is
+    /// G43.4/G43.5 and the block commands it).
+    pub(super) fn tcp_begin(&mut self, w: &Words) -> Result<(), AlarmId> {
+        let Some(kin) = self.kinematics.clone() else {
+            return Err(AlarmId::IllegalCommandInTcp);
+        };
+        let machine = match &self.tcp {
+            Some(t) => t.machine,
+            None => self.machine_position(),
+        };
+        // The start block is read in the workpiece system on the table as it stands (TCP-22:
+        // also with INZ = 1); the frame for later blocks is set at its end (`tcp_started`).
+        let frame = Some(self.frame_on_table(&kin, &machine));
+        let posture = match w.integer(b'P') {
+            Some(p) => p == 1.0,
+            None => self.cfg.machine.five_axis.posture_control,
+        };
+        let tool_length = self.offsets.length(self.h);
+        let tool = kin.forward(&machine, tool_length).tool;
+        let inclination = if self.modes[8] == 435 { self.angle_word(w, b'Q').unwrap_or(0.0) } else { 0.0 };
+        self.tcp = Some(Tcp {
+            code: self.modes[8],
+            kin,
+            frame,
+            posture,
+            tool_length,
+            direction: tool,
+            inclination,
+            commanded: None,
+            starting: true,
+            machine,
+        });
+        Ok(())
+    }
+
+    /// After the start block: Π as the machine's setting says, and the tool direction in it.
+    fn tcp_started(&mut self) {
+        let Some(t) = &self.tcp else { return };
+        let (kin, machine) = (t.kin.clone(), t.machine);
+        let frame = match self.cfg.machine.five_axis.tcp_coordinates {
+            TcpCoordinates::TableAtStart => Some(self.frame_on_table(&kin, &machine)),
+            TcpCoordinates::TableAtZero => {
+                // The table axes at their program zero: machine angle = work offset.
+                let off = self.offset_vector();
+                let mut zero = machine;
+                for j in &kin.table {
+                    if let Some(i) = j.index {
+                        zero[i] = off[i];
+                    }
+                }
+                Some(self.frame_on_table(&kin, &zero))
+            }
+            TcpCoordinates::Workpiece => None,
+        };
+        let t = self.tcp.as_mut().expect("checked above");
+        let pose = kin.forward(&machine, t.tool_length);
+        // In Π, or for the workpiece system in machine directions.
+        t.direction = frame.map_or(pose.tool_machine, |f| f.r.transpose() * pose.tool);
+        t.frame = frame;
+        t.starting = false;
+        if let Some(f) = &frame {
+            // The current point in Π.
+            let p = f.from_parent(&kin.forward(&machine, t.tool_length).tip);
+            for (axis, index) in kin.linear.iter().enumerate() {
+                if let Some(i) = index {
+                    self.pos[*i] = p[axis];
+                }
+            }
+            self.sync_programmed();
+        }
+    }
+
+    /// The block cancels tool centre point control (G49): the current point becomes the tool
+    /// tip in the workpiece system; the block's move then removes the tool length at its end.
+    pub(super) fn tcp_end(&mut self) {
+        let Some(t) = self.tcp.take() else { return };
+        let tip = t.kin.forward(&t.machine, t.tool_length).tip_machine - t.kin.nose;
+        let off = self.offset_vector();
+        let axes = self.cfg.machine.axes.len();
+        for ((p, m), o) in self.pos.iter_mut().zip(&t.machine).zip(&off).take(axes) {
+            *p = m - o;
+        }
+        for (axis, index) in t.kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                self.pos[*i] = tip[axis] - off[*i];
+            }
+        }
+        self.sync_programmed();
+    }
+
+    /// Type 2: the block's I/J/K (a tool direction, not an arc centre) and Q.
+    pub(super) fn tcp_words(&mut self, w: &Words) -> Result<(), AlarmId> {
+        let Some(t) = &self.tcp else { return Ok(()) };
+        if t.code != 435 || t.starting {
+            return Ok(());
+        }
+        let [i, j, k] = [b'I', b'J', b'K'].map(|l| self.value(w, l));
+        let commanded = if i.is_none() && j.is_none() && k.is_none() {
+            None
+        } else {
+            // A zero vector: Syntec COR-159; FANUC names no alarm, the direction stays.
+            let v = Vec3::new(i.unwrap_or(0.0), j.unwrap_or(0.0), k.unwrap_or(0.0)).try_normalize(1e-12);
+            if v.is_none() && self.cfg.dialect == crate::Dialect::Syntec {
+                return Err(AlarmId::ZeroToolVector);
+            }
+            v
+        };
+        self.tcp.as_mut().expect("checked above").commanded = commanded;
+        Ok(())
+    }
+
+    /// Whether group 01's I/J/K are a tool direction here (type 2), not an arc centre.
+    pub(super) fn ijk_is_direction(&self) -> bool {
+        self.tcp.as_ref().is_some_and(|t| t.code == 435 && !t.starting)
+    }
+
+    /// A motion under tool centre point control to `target` (Π; rotary axes as programmed),
+    /// with the circle `arc` (in Π) for G02/G03.
+    pub(super) fn tcp_motion(
+        &mut self,
+        kind: MotionKind,
+        mut target: Pos,
+        arc: Option<Box<Arc>>,
+        out: &mut Vec<crate::canon::Canon>,
+    ) -> Result<(), AlarmId> {
+        let t = self.tcp.as_ref().expect("tcp_motion under TCP");
+        let kin = t.kin.clone();
+        let (from_machine, tool_length) = (t.machine, t.tool_length);
+        let off = self.offset_vector();
+        let mut machine: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        let linear = kin.linear;
+        let in_pi = |p: &Pos| -> Vec3 {
+            let mut v = Vec3::zeros();
+            for (axis, index) in linear.iter().enumerate() {
+                v[axis] = index.map_or(0.0, |i| p[i]);
+            }
+            v
+        };
+        // The frame of the end point: Π, or the workpiece system on the table at the end angles.
+        if t.code == 435 && !t.starting {
+            let mut v = t.commanded.unwrap_or(t.direction);
+            let travel = in_pi(&target) - in_pi(&self.pos);
+            if t.inclination != 0.0 {
+                v = incline(v, travel, t.inclination);
+            }
+            let frame = t.frame.unwrap_or_else(|| self.frame_on_table(&kin, &from_machine));
+            let tool = frame.r * v;
+            let tip = frame.to_parent(&in_pi(&target));
+            let candidates = kin.inverse(tip, tool, tool_length, &from_machine[..kin.axes]);
+            let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
+            let choice = kin.select(&candidates, &from_machine[..kin.axes], how)?;
+            for j in kin.joints() {
+                if let Some(i) = j.index {
+                    machine[i] = choice.pos[i];
+                    target[i] = machine[i] - off[i];
+                }
+            }
+            if let Some(c) = t.commanded {
+                self.tcp.as_mut().expect("under TCP").direction = c;
+            }
+        }
+        let t = self.tcp.as_ref().expect("under TCP");
+        let frame = match (t.starting, t.frame) {
+            (false, Some(f)) => f,
+            _ => self.frame_on_table(&kin, &machine),
+        };
+        let tip_to = frame.to_parent(&in_pi(&target));
+        let carriage = kin.carriage_for(&machine, tip_to, tool_length);
+        for (axis, index) in linear.iter().enumerate() {
+            if let Some(i) = index {
+                machine[*i] = carriage[axis];
+            }
+        }
+        let tip = if t.starting {
+            None
+        } else {
+            let from = kin.forward(&from_machine, tool_length);
+            let end_tool = kin.forward(&machine, tool_length).tool;
+            // FANUC tool posture control acts on lines (G00 of the linear type, G01); Syntec's
+            // tool-vector interpolation on cutting moves (G01, G02, G03). FANUC's arc rule (M-8)
+            // is not modelled: arcs run with conventional control there.
+            let posture = t.posture
+                && match self.cfg.dialect {
+                    crate::Dialect::Fanuc => matches!(kind, MotionKind::Rapid | MotionKind::Linear),
+                    crate::Dialect::Syntec => kind != MotionKind::Rapid,
+                };
+            let tip_arc = arc.as_deref().map(|a| {
+                let (_, _, n) = a.plane_axes;
+                let mut normal = Vec3::zeros();
+                if let Some(axis) = linear.iter().position(|&i| i == Some(n)) {
+                    normal[axis] = 1.0;
+                }
+                TipArc { center: frame.to_parent(&in_pi(&a.center)), normal: frame.r * normal, sweep_deg: a.sweep_deg }
+            });
+            Some(Box::new(TipMove {
+                from: from.tip,
+                to: tip_to,
+                arc: tip_arc,
+                tool_length,
+                posture: posture.then_some((from.tool, end_tool)),
+                frame,
+                rotary_feed: self.cfg.machine.five_axis.rotary_feed,
+            }))
+        };
+        let motion = Motion {
+            kind,
+            target,
+            machine,
+            arc: None,
+            tip,
+            feed: self.f,
+            feed_mode: self.feed_mode(),
+            spindle: self.s,
+            context: self.context(),
+        };
+        self.emit(out, CanonKind::Motion(motion));
+        self.pos = target;
+        let starting = t.starting;
+        self.tcp.as_mut().expect("under TCP").machine = machine;
+        if starting {
+            self.tcp_started();
+        }
+        Ok(())
+    }
+}
+
+/// Type 2 inclination Q (TCP-13, M-6): `v` leans by `deg` toward the direction of travel, in
+/// the plane of the two (unchanged when the tip does not move or moves along `v`).
+fn incline(v: Vec3, travel: Vec3, deg: f64) -> Vec3 {
+    let Some(d) = travel.try_normalize(1e-12) else { return v };
+    let Some(perp) = (d - v * d.dot(&v)).try_normalize(1e-9) else { return v };
+    let (s, c) = crate::angle::sin_cos_deg(deg);
+    v * c + perp * s
+}
