@@ -194,6 +194,9 @@ pub struct State {
     kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     /// Tool centre point control in force.
     tcp: Option<tcp::Tcp>,
+    /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
+    /// programmed point plus offsets then.
+    follow_machine: Option<Pos>,
     /// Simulated time, seconds, advanced by the executor.
     clock_s: f64,
     /// #3001 / #3002 are the clock minus these (they are writable).
@@ -432,6 +435,7 @@ impl State {
             five: modes::FiveAxisModes::default(),
             kinematics: crate::kin::Kinematics::new(&cfg.machine).ok().map(std::sync::Arc::new),
             tcp: None,
+            follow_machine: None,
             clock_s: 0.0,
             timer_ms_base: 0.0,
             timer_h_base: 0.0,
@@ -486,8 +490,8 @@ impl State {
 
     /// Current position in machine coordinates.
     pub fn machine_position(&self) -> Pos {
-        match &self.tcp {
-            Some(t) => t.machine,
+        match self.follow_machine {
+            Some(m) => m,
             None => self.program_to_machine(&self.pos),
         }
     }

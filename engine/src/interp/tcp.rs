@@ -38,9 +38,6 @@ pub(super) struct Tcp {
     commanded: Option<Vec3>,
     /// The start block is being executed: its move is an ordinary one.
     starting: bool,
-    /// Machine position at the end of the last block (under TCP, X/Y/Z are not the programmed
-    /// point plus offsets).
-    pub(super) machine: Pos,
 }
 
 impl State {
@@ -59,7 +56,7 @@ impl State {
     /// A frame that puts programming coordinates on the table as it stands at `machine`:
     /// the point `p` is at `p + offsets + nose` in machine coordinates there (the same tip a
     /// plain G43 gives at zero angles).
-    fn frame_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
+    pub(super) fn frame_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
         let table = kin.table_frame(machine);
         let off = self.offset_vector();
         let shift = Vec3::new(off[0], off[1], off[2]) + kin.nose;
@@ -73,10 +70,7 @@ impl State {
         let Some(kin) = self.kinematics.clone() else {
             return Err(AlarmId::IllegalCommandInTcp);
         };
-        let machine = match &self.tcp {
-            Some(t) => t.machine,
-            None => self.machine_position(),
-        };
+        let machine = self.machine_position();
         // The start block is read in the workpiece system on the table as it stands (TCP-22:
         // also with INZ = 1); the frame for later blocks is set at its end (`tcp_started`).
         let frame = Some(self.frame_on_table(&kin, &machine));
@@ -97,15 +91,15 @@ impl State {
             inclination,
             commanded: None,
             starting: true,
-            machine,
         });
+        self.follow_machine = Some(machine);
         Ok(())
     }
 
     /// After the start block: Π as the machine's setting says, and the tool direction in it.
     fn tcp_started(&mut self) {
-        let Some(t) = &self.tcp else { return };
-        let (kin, machine) = (t.kin.clone(), t.machine);
+        let (Some(t), Some(machine)) = (&self.tcp, self.follow_machine) else { return };
+        let kin = t.kin.clone();
         let frame = match self.cfg.machine.five_axis.tcp_coordinates {
             TcpCoordinates::TableAtStart => Some(self.frame_on_table(&kin, &machine)),
             TcpCoordinates::TableAtZero => {
@@ -142,11 +136,11 @@ impl State {
     /// The block cancels tool centre point control (G49): the current point becomes the tool
     /// tip in the workpiece system; the block's move then removes the tool length at its end.
     pub(super) fn tcp_end(&mut self) {
-        let Some(t) = self.tcp.take() else { return };
-        let tip = t.kin.forward(&t.machine, t.tool_length).tip_machine - t.kin.nose;
+        let (Some(t), Some(machine)) = (self.tcp.take(), self.follow_machine.take()) else { return };
+        let tip = t.kin.forward(&machine, t.tool_length).tip_machine - t.kin.nose;
         let off = self.offset_vector();
         let axes = self.cfg.machine.axes.len();
-        for ((p, m), o) in self.pos.iter_mut().zip(&t.machine).zip(&off).take(axes) {
+        for ((p, m), o) in self.pos.iter_mut().zip(&machine).zip(&off).take(axes) {
             *p = m - o;
         }
         for (axis, index) in t.kin.linear.iter().enumerate() {
@@ -194,34 +188,22 @@ impl State {
     ) -> Result<(), AlarmId> {
         let t = self.tcp.as_ref().expect("tcp_motion under TCP");
         let kin = t.kin.clone();
-        let (from_machine, tool_length) = (t.machine, t.tool_length);
+        let from_machine = self.machine_position();
         let off = self.offset_vector();
-        let mut machine: Pos = std::array::from_fn(|i| target[i] + off[i]);
-        let linear = kin.linear;
-        let in_pi = |p: &Pos| -> Vec3 {
-            let mut v = Vec3::zeros();
-            for (axis, index) in linear.iter().enumerate() {
-                v[axis] = index.map_or(0.0, |i| p[i]);
-            }
-            v
-        };
-        // The frame of the end point: Π, or the workpiece system on the table at the end angles.
         if t.code == 435 && !t.starting {
+            // Type 2: the rotary angles that give the commanded direction (TCP-09, M-10).
             let mut v = t.commanded.unwrap_or(t.direction);
-            let travel = in_pi(&target) - in_pi(&self.pos);
             if t.inclination != 0.0 {
-                v = incline(v, travel, t.inclination);
+                v = incline(v, xyz(&kin, &target) - xyz(&kin, &self.pos), t.inclination);
             }
             let frame = t.frame.unwrap_or_else(|| self.frame_on_table(&kin, &from_machine));
-            let tool = frame.r * v;
-            let tip = frame.to_parent(&in_pi(&target));
-            let candidates = kin.inverse(tip, tool, tool_length, &from_machine[..kin.axes]);
+            let tip = frame.to_parent(&xyz(&kin, &target));
+            let candidates = kin.inverse(tip, frame.r * v, t.tool_length, &from_machine[..kin.axes]);
             let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
             let choice = kin.select(&candidates, &from_machine[..kin.axes], how)?;
             for j in kin.joints() {
                 if let Some(i) = j.index {
-                    machine[i] = choice.pos[i];
-                    target[i] = machine[i] - off[i];
+                    target[i] = choice.pos[i] - off[i];
                 }
             }
             if let Some(c) = t.commanded {
@@ -229,39 +211,63 @@ impl State {
             }
         }
         let t = self.tcp.as_ref().expect("under TCP");
+        let machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        // The start block is placed in the workpiece system on the table as it will stand;
+        // later blocks in Π (or the workpiece system at the block's end angles, WKP = 1).
         let frame = match (t.starting, t.frame) {
             (false, Some(f)) => f,
-            _ => self.frame_on_table(&kin, &machine),
+            _ => self.frame_on_table(&kin, &machine_end),
         };
-        let tip_to = frame.to_parent(&in_pi(&target));
+        // FANUC tool posture control acts on lines (G00 of the linear type, G01); Syntec's
+        // tool-vector interpolation on cutting moves (G01, G02, G03). FANUC's arc rule (M-8) is
+        // not modelled: arcs run with conventional control there.
+        let posture = t.posture
+            && match self.cfg.dialect {
+                crate::Dialect::Fanuc => matches!(kind, MotionKind::Rapid | MotionKind::Linear),
+                crate::Dialect::Syntec => kind != MotionKind::Rapid,
+            };
+        let path = FollowPath { frame, tool_length: t.tool_length, posture, along: !t.starting };
+        let starting = t.starting;
+        self.follow_motion(&kin, kind, target, arc, path, out);
+        if starting {
+            self.tcp_started();
+        }
+        Ok(())
+    }
+
+    /// Emit a motion to `target` (programming coordinates) whose X/Y/Z are the tool tip placed
+    /// on the table by `path.frame`; the other axes go to `target` plus the work offsets.
+    pub(super) fn follow_motion(
+        &mut self,
+        kin: &Shared<Kinematics>,
+        kind: MotionKind,
+        target: Pos,
+        arc: Option<Box<Arc>>,
+        path: FollowPath,
+        out: &mut Vec<crate::canon::Canon>,
+    ) {
+        let from_machine = self.machine_position();
+        let off = self.offset_vector();
+        let FollowPath { frame, tool_length, posture, along } = path;
+        let mut machine: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        let tip_to = frame.to_parent(&xyz(kin, &target));
         let carriage = kin.carriage_for(&machine, tip_to, tool_length);
-        for (axis, index) in linear.iter().enumerate() {
+        for (axis, index) in kin.linear.iter().enumerate() {
             if let Some(i) = index {
                 machine[*i] = carriage[axis];
             }
         }
-        let tip = if t.starting {
-            None
-        } else {
+        let tip = along.then(|| {
             let from = kin.forward(&from_machine, tool_length);
             let end_tool = kin.forward(&machine, tool_length).tool;
-            // FANUC tool posture control acts on lines (G00 of the linear type, G01); Syntec's
-            // tool-vector interpolation on cutting moves (G01, G02, G03). FANUC's arc rule (M-8)
-            // is not modelled: arcs run with conventional control there.
-            let posture = t.posture
-                && match self.cfg.dialect {
-                    crate::Dialect::Fanuc => matches!(kind, MotionKind::Rapid | MotionKind::Linear),
-                    crate::Dialect::Syntec => kind != MotionKind::Rapid,
-                };
             let tip_arc = arc.as_deref().map(|a| {
-                let (_, _, n) = a.plane_axes;
                 let mut normal = Vec3::zeros();
-                if let Some(axis) = linear.iter().position(|&i| i == Some(n)) {
+                if let Some(axis) = kin.linear.iter().position(|&i| i == Some(a.plane_axes.2)) {
                     normal[axis] = 1.0;
                 }
-                TipArc { center: frame.to_parent(&in_pi(&a.center)), normal: frame.r * normal, sweep_deg: a.sweep_deg }
+                TipArc { center: frame.to_parent(&xyz(kin, &a.center)), normal: frame.r * normal, sweep_deg: a.sweep_deg }
             });
-            Some(Box::new(TipMove {
+            Box::new(TipMove {
                 from: from.tip,
                 to: tip_to,
                 arc: tip_arc,
@@ -269,8 +275,8 @@ impl State {
                 posture: posture.then_some((from.tool, end_tool)),
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
-            }))
-        };
+            })
+        });
         let motion = Motion {
             kind,
             target,
@@ -284,13 +290,29 @@ impl State {
         };
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
-        let starting = t.starting;
-        self.tcp.as_mut().expect("under TCP").machine = machine;
-        if starting {
-            self.tcp_started();
-        }
-        Ok(())
+        self.follow_machine = Some(machine);
     }
+}
+
+/// How a motion follows a tool tip path.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct FollowPath {
+    /// Programming coordinates → table frame.
+    pub(super) frame: Frame,
+    pub(super) tool_length: f64,
+    /// Tool posture control (great-circle tool direction).
+    pub(super) posture: bool,
+    /// The tip follows the path; `false`: an ordinary move to the end point (TCP start block).
+    pub(super) along: bool,
+}
+
+/// X, Y, Z of a position (the machine's linear axes; a missing one 0).
+pub(super) fn xyz(kin: &Kinematics, p: &Pos) -> Vec3 {
+    let mut v = Vec3::zeros();
+    for (axis, index) in kin.linear.iter().enumerate() {
+        v[axis] = index.map_or(0.0, |i| p[i]);
+    }
+    v
 }
 
 /// Type 2 inclination Q (TCP-13, M-6): `v` leans by `deg` toward the direction of travel, in
