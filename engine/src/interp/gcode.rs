@@ -25,8 +25,8 @@ const fn g(code: u16, group: u8) -> GDef {
 const fn gx(code: u16, group: u8) -> GDef {
     GDef { code, group, takes_axes: true, syntec_only: false }
 }
-const fn gs(code: u16, group: u8) -> GDef {
-    GDef { code, group, takes_axes: false, syntec_only: true }
+const fn gsx(code: u16, group: u8) -> GDef {
+    GDef { code, group, takes_axes: true, syntec_only: true }
 }
 
 /// Sorted by code, for binary search.
@@ -120,7 +120,7 @@ pub const TABLE: &[GDef] = &[
     gx(520, 0),  // G52 local coordinate system
     gx(530, 0),  // G53 machine coordinate system
     g(531, 0),   // G53.1 tool axis direction control
-    gs(533, 0),  // G53.3 alignment plus positioning (Syntec)
+    gsx(533, 0), // G53.3 alignment plus positioning (Syntec)
     g(536, 0),   // G53.6 tool center point retention type tool axis direction control
     g(540, 14),  // G54
     g(541, 14),  // G54.1 additional workpiece coordinate systems

@@ -12,6 +12,7 @@ mod modes;
 mod nc;
 mod offsets;
 mod plain;
+mod plane;
 pub(crate) mod program;
 mod tcp;
 mod vars;
@@ -197,6 +198,10 @@ pub struct State {
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
+    /// The tilted working plane's feature coordinate system in the workpiece system.
+    plane: Option<crate::twp::Frame>,
+    /// A G68.2 P2/P3 definition in progress.
+    definition: plane::Definition,
     /// Simulated time, seconds, advanced by the executor.
     clock_s: f64,
     /// #3001 / #3002 are the clock minus these (they are writable).
@@ -338,8 +343,14 @@ impl Interpreter {
     /// current point follows it (FANUC manual absolute on).
     pub fn moved_to(&mut self, machine: &Pos) {
         let st = &mut self.state;
-        st.pos = st.machine_to_program(machine);
-        st.sync_programmed();
+        if st.plane_active() {
+            st.plane_moved_to(*machine);
+        } else if st.tcp_active() {
+            st.tcp_moved_to(*machine);
+        } else {
+            st.pos = st.machine_to_program(machine);
+            st.sync_programmed();
+        }
     }
 
     /// The panel's block delete (`/` blocks skipped) and optional stop (M01 stops) switches.
@@ -436,6 +447,8 @@ impl State {
             kinematics: crate::kin::Kinematics::new(&cfg.machine).ok().map(std::sync::Arc::new),
             tcp: None,
             follow_machine: None,
+            plane: None,
+            definition: plane::Definition::default(),
             clock_s: 0.0,
             timer_ms_base: 0.0,
             timer_h_base: 0.0,

@@ -377,7 +377,7 @@ impl State {
             self.sync_programmed();
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
-        let transform_axes = self.apply_transforms(&w)?;
+        let transform_axes = self.apply_transforms(&w)? | self.apply_plane(&w)?;
         if transform_axes && axes_owner.is_some() {
             return Err(AlarmId::IllegalGCodeCombination);
         }
@@ -468,6 +468,8 @@ impl State {
                 let kind = if self.modes[1] == 0 { MotionKind::Rapid } else { MotionKind::Linear };
                 if self.tcp_active() {
                     self.tcp_motion(kind, target, None, out)?;
+                } else if self.plane_active() {
+                    self.plane_motion(kind, target, None, out)?;
                 } else {
                     self.push_motion(kind, target, None, out);
                 }
@@ -623,6 +625,8 @@ impl State {
     fn emit_machine_motion(&mut self, machine: Pos, out: &mut Vec<Canon>) {
         let target = self.machine_to_program(&machine);
         self.emit_motion_at(MotionKind::MachineRapid, target, machine, None, out);
+        // In a tilted plane the current point is the tip in the FCS (TWP-13).
+        self.plane_moved_to(machine);
         self.sync_programmed();
     }
 
@@ -656,6 +660,24 @@ impl State {
                 }
             };
             self.tcp_motion(kind, target, arc, out)?;
+            self.xf.programmed = programmed;
+            return Ok(());
+        }
+        if self.plane_active() {
+            let target = self.xf.forward(&programmed);
+            let (kind, arc) = match self.modes[1] {
+                0 => (MotionKind::Rapid, None),
+                20 | 30 => {
+                    self.check_feed()?;
+                    let (cw, arc) = self.arc(w, &target)?;
+                    (if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw }, arc)
+                }
+                _ => {
+                    self.check_feed()?;
+                    (MotionKind::Linear, None)
+                }
+            };
+            self.plane_motion(kind, target, arc, out)?;
             self.xf.programmed = programmed;
             return Ok(());
         }
@@ -797,6 +819,7 @@ impl State {
                 self.pos = self.machine_to_program(&machine_before);
                 self.sync_programmed();
             }
+            531 | 533 | 536 => return self.align(code, w, out),
             530 => {
                 let mut m = machine_before;
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {

@@ -151,6 +151,27 @@ impl State {
         self.sync_programmed();
     }
 
+    /// The machine was moved outside the program (manual intervention during TCP): the current
+    /// point becomes the tool tip there, in Π.
+    pub(super) fn tcp_moved_to(&mut self, machine: Pos) {
+        let Some(t) = &self.tcp else { return };
+        let pose = t.kin.forward(&machine, t.tool_length);
+        let frame = t.frame.unwrap_or_else(|| self.frame_on_table(&t.kin, &machine));
+        let p = frame.from_parent(&pose.tip);
+        let off = self.offset_vector();
+        let axes = self.cfg.machine.axes.len();
+        for ((q, m), o) in self.pos.iter_mut().zip(&machine).zip(&off).take(axes) {
+            *q = m - o;
+        }
+        for (axis, index) in t.kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                self.pos[*i] = p[axis];
+            }
+        }
+        self.follow_machine = Some(machine);
+        self.sync_programmed();
+    }
+
     /// Type 2: the block's I/J/K (a tool direction, not an arc centre) and Q.
     pub(super) fn tcp_words(&mut self, w: &Words) -> Result<(), AlarmId> {
         let Some(t) = &self.tcp else { return Ok(()) };
@@ -265,7 +286,11 @@ impl State {
                 if let Some(axis) = kin.linear.iter().position(|&i| i == Some(a.plane_axes.2)) {
                     normal[axis] = 1.0;
                 }
-                TipArc { center: frame.to_parent(&xyz(kin, &a.center)), normal: frame.r * normal, sweep_deg: a.sweep_deg }
+                TipArc {
+                    center: frame.to_parent(&xyz(kin, &a.center)),
+                    normal: frame.r * normal,
+                    sweep_deg: a.sweep_deg,
+                }
             });
             Box::new(TipMove {
                 from: from.tip,

@@ -1,0 +1,307 @@
+//! Tilted working plane: G68.2 / G68.3 / G68.4 define the feature coordinate system (FCS) in
+//! the workpiece system, G69 ends it, and the tool axis direction controls G53.1, G53.3
+//! (Syntec) and G53.6 turn the rotary axes so that the tool is along the FCS +Z (spec
+//! `fanuc-twp-wsec-manual-params.md` TWP-01…TWP-13, `syntec.md` SYN-18…SYN-22).
+//!
+//! In the plane a block's X/Y/Z are FCS coordinates of the tool tip (of the spindle nose under
+//! G49). The FCS is fixed to the workpiece, so to the table: its frame in the table frame is the
+//! workpiece system placed on the table at the rotary axes' program zero (Syntec §7.2: the G54
+//! rotary offsets), composed with the FCS. Every move goes through `follow_motion`: X/Y/Z come
+//! from the kinematics with the tool length along the actual tool direction, which after a
+//! G53.1 is the FCS Z.
+
+use super::nc::Words;
+use super::tcp::{xyz, FollowPath};
+use super::State;
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, CanonKind, Motion, MotionKind, Pos};
+use crate::kin::{Kinematics, Selection, Vec3};
+use crate::twp::{self, Frame};
+use std::sync::Arc as Shared;
+
+/// A G68.2 P2 (three points) or P3 (two vectors) definition in progress.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Definition {
+    points: [Option<Vec3>; 3],
+    shift: Vec3,
+    r: f64,
+    /// P3 Q1: origin and the FCS +X vector.
+    origin: Vec3,
+    x: Option<Vec3>,
+}
+
+/// FANUC No.11220: the least distance of the third point from the line of the other two.
+const UNSTABLE_PLANE_MM: f64 = 0.001;
+/// FANUC No.12321 (vertical axis for G68.3: Z) and No.12322 (parallel tolerance, degrees).
+const G68_3_VERTICAL: usize = 2;
+const G68_3_PARALLEL_DEG: f64 = 0.0;
+
+impl State {
+    pub(super) fn plane_active(&self) -> bool {
+        self.plane.is_some()
+    }
+
+    fn kin(&self) -> Result<Shared<Kinematics>, AlarmId> {
+        self.kinematics.clone().ok_or(AlarmId::TwpFormat)
+    }
+
+    /// Tool length of group 08 as it acts now (G43 +H, G44 −H, otherwise 0).
+    pub(super) fn active_tool_length(&self) -> f64 {
+        match self.modes[8] {
+            430 => self.offsets.length(self.h),
+            440 => -self.offsets.length(self.h),
+            _ => 0.0,
+        }
+    }
+
+    /// FCS → table frame: the workpiece system on the table at the rotary axes' program zero,
+    /// then the FCS in it.
+    fn plane_frame(&self, kin: &Kinematics, fcs: &Frame) -> Frame {
+        let off = self.offset_vector();
+        let mut zero = self.machine_position();
+        for j in kin.head.iter().chain(&kin.table) {
+            if let Some(i) = j.index {
+                zero[i] = off[i];
+            }
+        }
+        self.frame_on_table(kin, &zero).then(fcs)
+    }
+
+    /// The FCS point of the tool tip at machine position `machine`.
+    fn tip_in_plane(&self, kin: &Kinematics, frame: &Frame, machine: &Pos) -> Pos {
+        let p = frame.from_parent(&kin.forward(machine, self.active_tool_length()).tip);
+        let off = self.offset_vector();
+        let mut pos: Pos = std::array::from_fn(|i| machine[i] - off[i]);
+        for (axis, index) in kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                pos[*i] = p[axis];
+            }
+        }
+        pos
+    }
+
+    /// The machine is at `machine` while the plane is active (after a move in machine
+    /// coordinates, a manual move): the current point follows.
+    pub(super) fn plane_moved_to(&mut self, machine: Pos) {
+        let (Some(fcs), Ok(kin)) = (self.plane, self.kin()) else { return };
+        self.follow_machine = Some(machine);
+        let frame = self.plane_frame(&kin, &fcs);
+        self.pos = self.tip_in_plane(&kin, &frame, &machine);
+        self.sync_programmed();
+    }
+
+    /// The block's G68.2/G68.3/G68.4/G69, after the modal groups were updated. Returns whether
+    /// the block's axis words were the definition's (no motion then).
+    pub(super) fn apply_plane(&mut self, w: &Words) -> Result<bool, AlarmId> {
+        let mut owns_axes = false;
+        for &code in w.gcodes() {
+            let defined = match code {
+                682 | 684 => {
+                    owns_axes = true;
+                    self.define(w, code == 684)?
+                }
+                683 => {
+                    owns_axes = true;
+                    Some(self.tool_axis_plane(w)?)
+                }
+                690 if self.plane.is_some() => {
+                    let machine = self.machine_position();
+                    self.plane = None;
+                    self.follow_machine = None;
+                    self.pos = self.machine_to_program(&machine);
+                    self.sync_programmed();
+                    None
+                }
+                _ => None,
+            };
+            if let Some(fcs) = defined {
+                let machine = self.machine_position();
+                self.plane = Some(fcs);
+                self.plane_moved_to(machine);
+            }
+        }
+        Ok(owns_axes)
+    }
+
+    /// A G68.2/G68.4 block: the new FCS (in the workpiece system), or `None` while a P2/P3
+    /// definition is still incomplete.
+    fn define(&mut self, w: &Words, relative: bool) -> Result<Option<Frame>, AlarmId> {
+        let word = |s: &State, l: u8| s.value(w, l);
+        let point = |s: &State| {
+            Vec3::new(word(s, b'X').unwrap_or(0.0), word(s, b'Y').unwrap_or(0.0), word(s, b'Z').unwrap_or(0.0))
+        };
+        let angles = |s: &State| [b'I', b'J', b'K'].map(|l| s.angle_word(w, l).unwrap_or(0.0));
+        let vector = |s: &State| {
+            Vec3::new(word(s, b'I').unwrap_or(0.0), word(s, b'J').unwrap_or(0.0), word(s, b'K').unwrap_or(0.0))
+        };
+        let q = w.integer(b'Q').map(|q| q as u32);
+        // Syntec's G68.2 has the Euler form only (SYN-18): its P and Q mean nothing.
+        let form = match self.cfg.dialect {
+            crate::Dialect::Fanuc => w.integer(b'P').unwrap_or(0.0) as u32,
+            crate::Dialect::Syntec => 0,
+        };
+        let local = match form {
+            0 => {
+                let [i, j, k] = angles(self);
+                twp::euler(point(self), i, j, k)
+            }
+            1 => {
+                let [i, j, k] = angles(self);
+                twp::roll_pitch_yaw(point(self), q, i, j, k)?
+            }
+            2 => {
+                if let Some(r) = self.angle_word(w, b'R') {
+                    self.definition.r = r;
+                }
+                let p = point(self);
+                match q {
+                    Some(0) => self.definition.shift = p,
+                    Some(n @ 1..=3) => self.definition.points[n as usize - 1] = Some(p),
+                    _ => return Err(AlarmId::TwpFormat),
+                }
+                let Definition { points: [Some(a), Some(b), Some(c)], shift, r, .. } = self.definition else {
+                    return Ok(None);
+                };
+                self.definition = Definition::default();
+                twp::three_points([a, b, c], shift, r, UNSTABLE_PLANE_MM)?
+            }
+            3 => match q {
+                Some(1) => {
+                    self.definition =
+                        Definition { origin: point(self), x: Some(vector(self)), ..Definition::default() };
+                    return Ok(None);
+                }
+                Some(2) => {
+                    let d = std::mem::take(&mut self.definition);
+                    let x = d.x.ok_or(AlarmId::TwpFormat)?;
+                    twp::two_vectors(d.origin, x, vector(self))?
+                }
+                _ => return Err(AlarmId::TwpFormat),
+            },
+            4 => {
+                let [i, j, k] = angles(self);
+                twp::projection(point(self), i, j, k)?
+            }
+            _ => return Err(AlarmId::TwpFormat),
+        };
+        Ok(Some(match (relative, &self.plane) {
+            (true, Some(old)) => old.then(&local),
+            _ => local,
+        }))
+    }
+
+    /// G68.3 X_ Y_ Z_ R_: the FCS +Z along the tool as it stands; the origin absolute (all
+    /// omitted: the current point).
+    fn tool_axis_plane(&mut self, w: &Words) -> Result<Frame, AlarmId> {
+        let kin = self.kin()?;
+        let machine = self.machine_position();
+        // The tool direction in the workpiece system (the table frame at the rotary zero).
+        let base = self.plane_frame(&kin, &Frame::identity());
+        let tool = base.r.transpose() * kin.forward(&machine, 0.0).tool;
+        let here = match self.plane {
+            Some(fcs) => fcs.to_parent(&xyz(&kin, &self.pos)),
+            None => xyz(&kin, &self.pos),
+        };
+        let mut origin = here;
+        for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+            if let Some(v) = self.value(w, letter) {
+                origin[axis] = v;
+            }
+        }
+        let mut vertical = Vec3::zeros();
+        vertical[G68_3_VERTICAL] = 1.0;
+        let r = self.angle_word(w, b'R').unwrap_or(0.0);
+        twp::tool_axis(origin, tool, vertical, r, G68_3_PARALLEL_DEG)
+    }
+
+    /// A move in the plane to `target` (FCS), with the circle `arc` (FCS) for G02/G03.
+    pub(super) fn plane_motion(
+        &mut self,
+        kind: MotionKind,
+        target: Pos,
+        arc: Option<Box<crate::canon::Arc>>,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
+        let kin = self.kin()?;
+        let fcs = self.plane.expect("plane_motion in the plane");
+        let path = FollowPath {
+            frame: self.plane_frame(&kin, &fcs),
+            tool_length: self.active_tool_length(),
+            posture: false,
+            along: true,
+        };
+        self.follow_motion(&kin, kind, target, arc, path, out);
+        Ok(())
+    }
+
+    /// G53.1 / G53.3 / G53.6: turn the rotary axes so that the tool is along the FCS +Z (P: the
+    /// Syntec solution choice). G53.1 moves the rotary axes only (the tip moves with them);
+    /// G53.6 keeps the tip where it is (tool length on with H); G53.3 switches the tool length on
+    /// with H and puts the tip on X/Y/Z in the same rapid.
+    pub(super) fn align(&mut self, code: u16, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+        let Some(fcs) = self.plane else { return Ok(false) };
+        let kin = self.kin()?;
+        if code != 531 {
+            if let Some(h) = w.integer(b'H') {
+                self.h = h as u32;
+            }
+            self.modes[8] = 430;
+            self.refresh_tool_length();
+        }
+        let frame = self.plane_frame(&kin, &fcs);
+        let machine = self.machine_position();
+        let length = self.active_tool_length();
+        let tool = frame.r * Vec3::z();
+        let tip = kin.forward(&machine, length).tip;
+        let candidates = kin.inverse(tip, tool, length, &machine[..kin.axes]);
+        let how = Selection {
+            dialect: self.cfg.dialect,
+            pri: self.cfg.machine.five_axis.second_axis_first,
+            p: w.integer(b'P').unwrap_or(0.0) as u8,
+        };
+        let choice = kin.select(&candidates, &machine[..kin.axes], how)?;
+        let off = self.offset_vector();
+        let mut target = self.pos;
+        for j in kin.joints() {
+            if let Some(i) = j.index {
+                target[i] = choice.pos[i] - off[i];
+            }
+        }
+        match code {
+            531 => {
+                let mut end = machine;
+                for j in kin.joints() {
+                    if let Some(i) = j.index {
+                        end[i] = choice.pos[i];
+                    }
+                }
+                let motion = Motion {
+                    kind: MotionKind::Rapid,
+                    target: self.tip_in_plane(&kin, &frame, &end),
+                    machine: end,
+                    arc: None,
+                    tip: None,
+                    feed: self.f,
+                    feed_mode: self.feed_mode(),
+                    spindle: self.s,
+                    context: self.context(),
+                };
+                self.emit(out, CanonKind::Motion(motion));
+                self.plane_moved_to(end);
+            }
+            _ => {
+                if code == 533 {
+                    for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+                        if let (Some(v), Some(i)) = (self.value(w, letter), kin.linear[axis]) {
+                            target[i] = v;
+                        }
+                    }
+                }
+                let path = FollowPath { frame, tool_length: length, posture: false, along: code == 536 };
+                self.follow_motion(&kin, MotionKind::Rapid, target, None, path, out);
+                self.sync_programmed();
+            }
+        }
+        Ok(true)
+    }
+}
