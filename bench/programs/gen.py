@@ -11,6 +11,8 @@ Writes into OUT_DIR (default: bench/out/ next to this script's parent):
   indexed-5x.nc    FANUC 3+2 shop program for `fivex run` on head-bc: per face an
                    indexing rapid of B/C, a work offset, a pocket of lines and corner
                    arcs, a G81/G83 drilling pattern, tool changes
+  tcp-5x.nc        20,000 G43.5 blocks (tip point and tool vector I J K) for `fivex run`
+                   on table-ac: a finishing raster over a dome, the tool along its normal
 and prints the expected final value of #2 for the macro programs.
 
 Coordinates are computed with integer arithmetic only (micrometres), so the
@@ -150,6 +152,31 @@ def write_indexed(path, faces):
         f.write("M30\n")
 
 
+def write_tcp5x(path, blocks):
+    """A 5-axis finishing pass for `fivex run` on table-ac: G43.5 with the tool along the
+    normal of a paraboloid dome z = -(x^2 + y^2) / 2R (R = 100 mm), raster rows of 0.5 mm moves
+    along X, the vector I J K = (x, y, R) unnormalised (the control normalises it)."""
+    r_um = 100_000
+    step_um, half_um, pitch_um = 500, 60_000, 1_000
+    per_row = 2 * half_um // step_um
+    rows = (blocks + per_row - 1) // per_row
+    with open(path, "w", newline="\n") as f:
+        f.write("O0005\nG90 G54 G00 A0 C0\nG43.5 H1\n")
+        n = 0
+        for row in range(rows):
+            y = (row - rows // 2) * pitch_um
+            for k in range(per_row + 1):
+                if n == blocks:
+                    break
+                x = -half_um + k * step_um if row % 2 == 0 else half_um - k * step_um
+                z = -(x * x + y * y) // (2 * r_um)
+                head = "G01 " if n == 0 else ""
+                feed = " F2000." if n == 0 else ""
+                f.write("%sX%s Y%s Z%s I%s J%s K%s%s\n" % (head, fmt(x), fmt(y), fmt(z), fmt(x), fmt(y), fmt(r_um), feed))
+                n += 1
+        f.write("G49\nM30\n")
+
+
 def expected_macro(iters):
     acc = 0.0
     for i in range(iters):
@@ -172,6 +199,7 @@ def main():
         "macro-200k.nc": lambda p: write_macro_fanuc(p, a.iters),
         "macro-200k.ngc": lambda p: write_macro_ngc(p, a.iters),
         "indexed-5x.nc": lambda p: write_indexed(p, a.faces),
+        "tcp-5x.nc": lambda p: write_tcp5x(p, 20_000),
     }
     for name, writer in files.items():
         path = os.path.join(a.out, name)

@@ -320,3 +320,83 @@ proptest! {
         common::check_limits(&samples, name, false)?;
     }
 }
+
+/// Samples of `line`.
+fn of_line(samples: &[Sample], line: u32) -> Vec<Sample> {
+    samples.iter().filter(|s| s.line == line).copied().collect()
+}
+
+#[test]
+fn tv51_tv52_helical_feed_under_tcp_follows_htg() {
+    // R10 over 90° (arc 15.708) with 5 mm of Z at F1000: HTG = 0 → the arc at 1000, the whole
+    // path at 1000·16.4845/15.708 = 1049.4; HTG = 1 → the whole path at 1000 (arc 952.89).
+    let src = "G90 G17 G00 B0 C0\nG43.4 H1\nX10. Y0 Z0\nG03 X0 Y10. Z5. R10. F1000.\nG01\nG49\nM30\n";
+    for (htg, want) in [(false, 1000.0 * 16.4845 / 15.708), (true, 1000.0)] {
+        let mut m = preset("head-bc");
+        m.motion.helical_feed_on_path = htg;
+        let (r, samples) = run_on(m, Dialect::Fanuc, src);
+        assert!(r.completed(), "{:?}", r.alarms);
+        let top = of_line(&samples, 4).iter().map(|s| s.feed).fold(0.0, f64::max);
+        assert!((top - want).abs() < 0.5, "HTG {htg}: {top} mm/min, want {want}");
+    }
+}
+
+#[test]
+fn tv53_tv54_inverse_time_under_tcp() {
+    // TV-53: 50 mm at F2 (1/min) takes 0.5 min: 100 mm/min. TV-54: 90° of B alone at F4 takes
+    // 0.25 min (360°/min). The axes start and stop within each block's time.
+    let src = "G90 G00 B0 C0\nG43.4 H1\nX0 Y0 Z0\nG93 G01 X50. F2.\nB90. F4.\nG94 F1000.\nG49\nM30\n";
+    let (r, samples) = run_on(preset("head-bc"), Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let (a, b) = (of_line(&samples, 4), of_line(&samples, 5));
+    let top = a.iter().map(|s| s.feed).fold(0.0, f64::max);
+    assert!((top - 100.0).abs() < 1e-6, "{top}");
+    let secs = |v: &[Sample]| v.last().unwrap().t - v[0].t;
+    assert!((secs(&a) - 30.0).abs() < 0.2, "{}", secs(&a));
+    assert!((secs(&b) - 15.0).abs() < 0.2, "{}", secs(&b));
+}
+
+#[test]
+fn tv55_tv56_rotary_only_moves_run_at_f_only_with_rfc() {
+    // The tip stays on the C axis of table-ac while C turns 90°: at F3000 (3000°/min) with
+    // RFC = 1, as fast as C goes (10800°/min rapid) otherwise.
+    let src = "G90 G00 A0 C0\nG43.4 H1\nX0 Y0 Z0\nG01 C90. F3000.\nG49\nM30\n";
+    for (rfc, want) in [(true, 3000.0), (false, 10_800.0)] {
+        let mut m = preset("table-ac");
+        m.five_axis.rotary_feed = rfc;
+        let (r, samples) = run_on(m, Dialect::Fanuc, src);
+        assert!(r.completed(), "{:?}", r.alarms);
+        let c = of_line(&samples, 4);
+        let top =
+            c.windows(2).map(|w| (w[1].machine[4] - w[0].machine[4]) / (w[1].t - w[0].t) * 60.0).fold(0.0, f64::max);
+        assert!((top - want).abs() < 1.0, "RFC {rfc}: {top}°/min, want {want}");
+    }
+}
+
+#[test]
+fn tv43_tv44_tool_posture_control_turns_on_the_great_circle() {
+    // v from (0,0,1) (B0, C30) to (1,0,0) (B90, C0) over a 100 mm line: at 50 mm the tool is
+    // (0.70711, 0, 0.70711), at 25 mm (sin 22.5°, 0, cos 22.5°). Conventional control (P0)
+    // turns C too and leaves that plane.
+    let src = |p: u8| format!("G90 G00 B0 C30.\nG43.4 H1 P{p}\nX0 Y0 Z0\nG01 X100. B90. C0 F600.\nG49\nM30\n");
+    let m = preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    let tool_at = |samples: &[Sample], x: f64| {
+        let s = of_line(samples, 4)
+            .into_iter()
+            .min_by(|a, b| {
+                let d = |s: &Sample| (kin.forward(&s.machine, 100.0).tip.x - x).abs();
+                d(a).total_cmp(&d(b))
+            })
+            .unwrap();
+        kin.forward(&s.machine, 100.0).tool
+    };
+    let (r, posture) = run_on(m.clone(), Dialect::Fanuc, &src(1));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    assert!(close(tool_at(&posture, 50.0), Vec3::new(s, 0.0, s), 1e-3), "{:?}", tool_at(&posture, 50.0));
+    let q = 22.5f64.to_radians();
+    assert!(close(tool_at(&posture, 25.0), Vec3::new(q.sin(), 0.0, q.cos()), 1e-3));
+    let (_, conventional) = run_on(m, Dialect::Fanuc, &src(0));
+    assert!(tool_at(&conventional, 50.0).y.abs() > 0.05, "P0 leaves the XZ plane");
+}

@@ -289,8 +289,9 @@ fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sam
     // Axis i moves at v*q1, accelerates a*q1 + v^2*q2 and jerks j*q1 + 3*v*a*q2 + v^3*q3
     // (q1..q3 its derivatives by s): half the acceleration and a third of the jerk for each
     // of the terms.
-    let mut limits = axes.along(&rate.map(|r| 2.0 * r));
-    limits.j = limits.j.min(axes.along(&rate.map(|r| 3.0 * r)).j);
+    let mut limits = axes.along(&rate);
+    limits.a = axes.along(&rate.map(|r| 2.0 * r)).a;
+    limits.j = axes.along(&rate.map(|r| 3.0 * r)).j;
     for i in 0..axes.count {
         if bend[i] > 1e-12 {
             limits.v = limits.v.min((0.5 * axes.a[i] / bend[i]).sqrt());
@@ -474,7 +475,9 @@ impl Segment {
         let n = sample_count(turn, sweep_deg);
         let found = sampled(|u| follow.at(from, &to, u), len, n, axes);
         let axis_speed = found.limits.v;
-        let programmed = if rapid || (rotary_only && !tip.rotary_feed) {
+        // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
+        let fixed_time = m.feed_mode == FeedMode::InverseTime;
+        let programmed = if rapid || (rotary_only && !tip.rotary_feed && !fixed_time) {
             axis_speed
         } else {
             match m.feed_mode {
