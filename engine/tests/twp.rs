@@ -83,3 +83,32 @@ fn tv_twp_02_moves_in_the_feature_system_reach_their_workpiece_point() {
         assert!(close(n5.tool, Vec3::new(0.0, -1.0, 0.0), 1e-9), "{preset}: {:?}", n5.tool);
     }
 }
+
+#[test]
+fn tv32_g53_6_and_g53_3_variants_end_with_the_tip_at_the_origin() {
+    // SYN TV-32: `N3 G53.6 H1; N4 G01 X0 Y0 Z0` and `N4 G53.3 X0 Y0 Z0 H1` end where N4–N6 do.
+    let g53_6 = "N1 G90 G54 G01 X0 Y0 Z50. F1000\nN2 G68.2 X100. Y100. Z50. I30. J15. K20.\n\
+                 N3 G53.6 H1\nN4 G01 X0 Y0 Z0\nN98 G49\nN99 G69\nM30\n";
+    let g53_3 = "N1 G90 G54 G01 X0 Y0 Z50. F1000\nN2 G68.2 X100. Y100. Z50. I30. J15. K20.\n\
+                 N3 G01 X0 Y0 Z50.\nN4 G53.3 X0 Y0 Z0 H1\nN98 G49\nN99 G69\nM30\n";
+    for preset in ["head-bc", "table-ac", "mixed-bc"] {
+        let m = MachineConfig::preset(preset).unwrap();
+        let kin = Kinematics::new(&m).unwrap();
+        for (src, line) in [(g53_6, 4), (g53_3, 4)] {
+            let end = kin.forward(&end_of(&ends(preset, Dialect::Syntec, src), line), 100.0);
+            assert!(close(end.tip, Vec3::new(100.0, 100.0, 50.0), 1e-9), "{preset}: {:?}\n{src}", end.tip);
+            assert!(close(end.tool, zc(), 1e-6), "{preset}: {:?}", end.tool);
+        }
+        // G53.6 keeps the tip (of the 100 mm tool) in place while the axes turn.
+        let mut interp = interpreter_with(g53_6, preset, Dialect::Syntec, |_| {});
+        let mut tips = Vec::new();
+        fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |s| {
+            if s.line == 3 {
+                tips.push(kin.forward(&s.machine, 100.0).tip);
+            }
+        });
+        assert!(tips.len() > 10, "{preset}: G53.6 moved");
+        let spread = tips.iter().map(|t| (t - tips[0]).norm()).fold(0.0, f64::max);
+        assert!(spread < 1e-6, "{preset}: the tip moved {spread} mm during G53.6");
+    }
+}

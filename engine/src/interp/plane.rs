@@ -261,7 +261,8 @@ impl State {
         };
         let choice = kin.select(&candidates, &machine[..kin.axes], how)?;
         let off = self.offset_vector();
-        let mut target = self.pos;
+        // The tip (of the tool whose length now acts) where it is, the rotary axes aligned.
+        let mut target = self.tip_in_plane(&kin, &frame, &machine);
         for j in kin.joints() {
             if let Some(i) = j.index {
                 target[i] = choice.pos[i] - off[i];
