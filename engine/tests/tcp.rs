@@ -7,8 +7,8 @@
 
 mod common;
 
-use common::interpreter_with;
-use fivex_engine::canon::{CanonKind, Pos};
+use common::{end_of, interpreter_with, motion_ends};
+use fivex_engine::canon::Pos;
 use fivex_engine::kin::{Kinematics, Vec3};
 use fivex_engine::machine::{Axis, AxisKind, Hand, MachineConfig, RotaryLink, Side, TcpCoordinates};
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
@@ -25,20 +25,7 @@ fn run_on(machine: MachineConfig, dialect: Dialect, src: &str) -> (RunResult, Ve
 
 /// The machine position each motion block of `src` ends at, by line.
 fn ends(machine: MachineConfig, dialect: Dialect, src: &str) -> Vec<(u32, Pos)> {
-    let mut interp = interpreter_with(src, "mill3", dialect, |c| c.machine = machine);
-    let mut v = Vec::new();
-    interp
-        .run(|c| {
-            if let CanonKind::Motion(m) = c.kind {
-                v.push((c.line, m.machine))
-            }
-        })
-        .expect("no alarm");
-    v
-}
-
-fn end_of(ends: &[(u32, Pos)], line: u32) -> Pos {
-    ends.iter().rev().find(|(l, _)| *l == line).expect("a motion on that line").1
+    motion_ends(interpreter_with(src, "mill3", dialect, |c| c.machine = machine))
 }
 
 fn preset(name: &str) -> MachineConfig {

@@ -4,28 +4,15 @@
 
 mod common;
 
-use common::interpreter_with;
-use fivex_engine::canon::{CanonKind, Pos};
+use common::{end_of, interpreter_with, motion_ends};
+use fivex_engine::canon::Pos;
 use fivex_engine::kin::{Kinematics, Vec3};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::Dialect;
 
 /// The machine position at the end of each motion, by line; tool lengths 100.
 fn ends(preset: &str, dialect: Dialect, src: &str) -> Vec<(u32, Pos)> {
-    let mut interp = interpreter_with(src, preset, dialect, |_| {});
-    let mut v = Vec::new();
-    interp
-        .run(|c| {
-            if let CanonKind::Motion(m) = c.kind {
-                v.push((c.line, m.machine))
-            }
-        })
-        .expect("no alarm");
-    v
-}
-
-fn end_of(ends: &[(u32, Pos)], line: u32) -> Pos {
-    ends.iter().rev().find(|(l, _)| *l == line).expect("a motion on that line").1
+    motion_ends(interpreter_with(src, preset, dialect, |_| {}))
 }
 
 fn close(a: Vec3, b: Vec3, tol: f64) -> bool {

@@ -466,10 +466,8 @@ impl State {
                 // The offset takes effect at once: the tool moves, the programmed point stays.
                 let target = self.pos;
                 let kind = if self.modes[1] == 0 { MotionKind::Rapid } else { MotionKind::Linear };
-                if self.tcp_active() {
-                    self.tcp_motion(kind, target, None, out)?;
-                } else if self.plane_active() {
-                    self.plane_motion(kind, target, None, out)?;
+                if self.follows_tip() {
+                    self.tip_motion(kind, target, None, out)?;
                 } else {
                     self.push_motion(kind, target, None, out);
                 }
@@ -606,19 +604,31 @@ impl State {
         arc: Option<Box<Arc>>,
         out: &mut Vec<Canon>,
     ) {
-        let motion = Motion {
+        let motion = self.motion(kind, target, machine, arc, None);
+        self.emit(out, CanonKind::Motion(motion));
+        self.pos = target;
+    }
+
+    /// A motion with the block's feed, spindle speed and modal context.
+    pub(super) fn motion(
+        &self,
+        kind: MotionKind,
+        target: Pos,
+        machine: Pos,
+        arc: Option<Box<Arc>>,
+        tip: Option<Box<crate::canon::TipMove>>,
+    ) -> Motion {
+        Motion {
             kind,
             target,
             machine,
             arc,
-            tip: None,
+            tip,
             feed: self.f,
             feed_mode: self.feed_mode(),
             spindle: self.s,
             context: self.context(),
-        };
-        self.emit(out, CanonKind::Motion(motion));
-        self.pos = target;
+        }
     }
 
     /// A motion in machine coordinates (G53, reference returns).
@@ -645,7 +655,7 @@ impl State {
 
     pub(super) fn group01_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let programmed = self.target(w);
-        if self.tcp_active() {
+        if self.follows_tip() {
             let target = self.xf.forward(&programmed);
             let (kind, arc) = match self.modes[1] {
                 0 => (MotionKind::Rapid, None),
@@ -659,25 +669,7 @@ impl State {
                     (MotionKind::Linear, None)
                 }
             };
-            self.tcp_motion(kind, target, arc, out)?;
-            self.xf.programmed = programmed;
-            return Ok(());
-        }
-        if self.plane_active() {
-            let target = self.xf.forward(&programmed);
-            let (kind, arc) = match self.modes[1] {
-                0 => (MotionKind::Rapid, None),
-                20 | 30 => {
-                    self.check_feed()?;
-                    let (cw, arc) = self.arc(w, &target)?;
-                    (if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw }, arc)
-                }
-                _ => {
-                    self.check_feed()?;
-                    (MotionKind::Linear, None)
-                }
-            };
-            self.plane_motion(kind, target, arc, out)?;
+            self.tip_motion(kind, target, arc, out)?;
             self.xf.programmed = programmed;
             return Ok(());
         }

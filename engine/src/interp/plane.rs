@@ -14,7 +14,7 @@ use super::nc::Words;
 use super::tcp::{xyz, FollowPath};
 use super::State;
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, Motion, MotionKind, Pos};
+use crate::canon::{Canon, CanonKind, MotionKind, Pos};
 use crate::kin::{Kinematics, Selection, Vec3};
 use crate::twp::{self, Frame};
 use std::sync::Arc as Shared;
@@ -276,17 +276,8 @@ impl State {
                         end[i] = choice.pos[i];
                     }
                 }
-                let motion = Motion {
-                    kind: MotionKind::Rapid,
-                    target: self.tip_in_plane(&kin, &frame, &end),
-                    machine: end,
-                    arc: None,
-                    tip: None,
-                    feed: self.f,
-                    feed_mode: self.feed_mode(),
-                    spindle: self.s,
-                    context: self.context(),
-                };
+                let target = self.tip_in_plane(&kin, &frame, &end);
+                let motion = self.motion(MotionKind::Rapid, target, end, None, None);
                 self.emit(out, CanonKind::Motion(motion));
                 self.plane_moved_to(end);
             }

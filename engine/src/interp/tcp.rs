@@ -13,7 +13,7 @@
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
-use crate::canon::{Arc, CanonKind, Motion, MotionKind, Pos, TipArc, TipMove};
+use crate::canon::{Arc, CanonKind, MotionKind, Pos, TipArc, TipMove};
 use crate::kin::{Kinematics, Selection, Vec3};
 use crate::machine::TcpCoordinates;
 use crate::twp::Frame;
@@ -43,6 +43,26 @@ pub(super) struct Tcp {
 impl State {
     pub(super) fn tcp_active(&self) -> bool {
         self.tcp.is_some()
+    }
+
+    /// Whether moves follow the tool tip through the kinematics (TCP or a tilted plane).
+    pub(super) fn follows_tip(&self) -> bool {
+        self.tcp.is_some() || self.plane_active()
+    }
+
+    /// A move under TCP or in the tilted plane (`follows_tip`).
+    pub(super) fn tip_motion(
+        &mut self,
+        kind: MotionKind,
+        target: Pos,
+        arc: Option<Box<Arc>>,
+        out: &mut Vec<crate::canon::Canon>,
+    ) -> Result<(), AlarmId> {
+        if self.tcp_active() {
+            self.tcp_motion(kind, target, arc, out)
+        } else {
+            self.plane_motion(kind, target, arc, out)
+        }
     }
 
     /// The work offsets (G54…, external, G52, G92) of every axis: programming + this = machine,
@@ -302,17 +322,7 @@ impl State {
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
             })
         });
-        let motion = Motion {
-            kind,
-            target,
-            machine,
-            arc: None,
-            tip,
-            feed: self.f,
-            feed_mode: self.feed_mode(),
-            spindle: self.s,
-            context: self.context(),
-        };
+        let motion = self.motion(kind, target, machine, None, tip);
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
         self.follow_machine = Some(machine);

@@ -74,6 +74,24 @@ pub fn motions(src: &str) -> Vec<fivex_engine::canon::Motion> {
         .collect()
 }
 
+/// The machine position at the end of each motion of a program, with its line.
+pub fn motion_ends(mut interp: Interpreter) -> Vec<(u32, fivex_engine::canon::Pos)> {
+    let mut v = Vec::new();
+    interp
+        .run(|c| {
+            if let CanonKind::Motion(m) = c.kind {
+                v.push((c.line, m.machine))
+            }
+        })
+        .expect("no alarm");
+    v
+}
+
+/// The end of the last motion of `line` among `ends`.
+pub fn end_of(ends: &[(u32, fivex_engine::canon::Pos)], line: u32) -> fivex_engine::canon::Pos {
+    ends.iter().rev().find(|(l, _)| *l == line).expect("a motion on that line").1
+}
+
 pub fn approx(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-9
 }
