@@ -57,27 +57,13 @@ impl State {
     /// FCS → table frame: the workpiece system on the table at the rotary axes' program zero,
     /// then the FCS in it.
     fn plane_frame(&self, kin: &Kinematics, fcs: &Frame) -> Frame {
-        let off = self.offset_vector();
-        let mut zero = self.machine_position();
-        for j in kin.head.iter().chain(&kin.table) {
-            if let Some(i) = j.index {
-                zero[i] = off[i];
-            }
-        }
+        let zero = self.at_rotary_zero(kin, &self.machine_position());
         self.frame_on_table(kin, &zero).then(fcs)
     }
 
     /// The FCS point of the tool tip at machine position `machine`.
     fn tip_in_plane(&self, kin: &Kinematics, frame: &Frame, machine: &Pos) -> Pos {
-        let p = frame.from_parent(&kin.forward(machine, self.active_tool_length()).tip);
-        let off = self.offset_vector();
-        let mut pos: Pos = std::array::from_fn(|i| machine[i] - off[i]);
-        for (axis, index) in kin.linear.iter().enumerate() {
-            if let Some(i) = index {
-                pos[*i] = p[axis];
-            }
-        }
-        pos
+        self.tip_position(kin, frame, machine, self.active_tool_length())
     }
 
     /// The machine is at `machine` while the plane is active (after a move in machine

@@ -122,17 +122,7 @@ impl State {
         let kin = t.kin.clone();
         let frame = match self.cfg.machine.five_axis.tcp_coordinates {
             TcpCoordinates::TableAtStart => Some(self.frame_on_table(&kin, &machine)),
-            TcpCoordinates::TableAtZero => {
-                // The table axes at their program zero: machine angle = work offset.
-                let off = self.offset_vector();
-                let mut zero = machine;
-                for j in &kin.table {
-                    if let Some(i) = j.index {
-                        zero[i] = off[i];
-                    }
-                }
-                Some(self.frame_on_table(&kin, &zero))
-            }
+            TcpCoordinates::TableAtZero => Some(self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine))),
             TcpCoordinates::Workpiece => None,
         };
         let t = self.tcp.as_mut().expect("checked above");
@@ -141,53 +131,50 @@ impl State {
         t.direction = frame.map_or(pose.tool_machine, |f| f.r.transpose() * pose.tool);
         t.frame = frame;
         t.starting = false;
-        if let Some(f) = &frame {
-            // The current point in Π.
-            let p = f.from_parent(&kin.forward(&machine, t.tool_length).tip);
-            for (axis, index) in kin.linear.iter().enumerate() {
-                if let Some(i) = index {
-                    self.pos[*i] = p[axis];
-                }
+        self.tcp_moved_to(machine);
+    }
+
+    /// `machine` with every rotary axis at its program zero (machine angle = work offset).
+    pub(super) fn at_rotary_zero(&self, kin: &Kinematics, machine: &Pos) -> Pos {
+        let off = self.offset_vector();
+        let mut zero = *machine;
+        for j in kin.joints() {
+            if let Some(i) = j.index {
+                zero[i] = off[i];
             }
-            self.sync_programmed();
         }
+        zero
+    }
+
+    /// Programming coordinates at `machine`: X/Y/Z the tool tip (`tool_length` long) in `frame`
+    /// (programming coordinates → table frame), the other axes the machine's minus the offsets.
+    pub(super) fn tip_position(&self, kin: &Kinematics, frame: &Frame, machine: &Pos, tool_length: f64) -> Pos {
+        let p = frame.from_parent(&kin.forward(machine, tool_length).tip);
+        let off = self.offset_vector();
+        let mut pos: Pos = std::array::from_fn(|i| machine[i] - off[i]);
+        for (axis, index) in kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                pos[*i] = p[axis];
+            }
+        }
+        pos
     }
 
     /// The block cancels tool centre point control (G49): the current point becomes the tool
     /// tip in the workpiece system; the block's move then removes the tool length at its end.
     pub(super) fn tcp_end(&mut self) {
         let (Some(t), Some(machine)) = (self.tcp.take(), self.follow_machine.take()) else { return };
-        let tip = t.kin.forward(&machine, t.tool_length).tip_machine - t.kin.nose;
-        let off = self.offset_vector();
-        let axes = self.cfg.machine.axes.len();
-        for ((p, m), o) in self.pos.iter_mut().zip(&machine).zip(&off).take(axes) {
-            *p = m - o;
-        }
-        for (axis, index) in t.kin.linear.iter().enumerate() {
-            if let Some(i) = index {
-                self.pos[*i] = tip[axis] - off[*i];
-            }
-        }
+        let frame = self.frame_on_table(&t.kin, &machine);
+        self.pos = self.tip_position(&t.kin, &frame, &machine, t.tool_length);
         self.sync_programmed();
     }
 
-    /// The machine was moved outside the program (manual intervention during TCP): the current
-    /// point becomes the tool tip there, in Π.
+    /// The machine was moved outside the program (manual intervention during TCP), or the
+    /// start block ended: the current point becomes the tool tip there, in Π.
     pub(super) fn tcp_moved_to(&mut self, machine: Pos) {
         let Some(t) = &self.tcp else { return };
-        let pose = t.kin.forward(&machine, t.tool_length);
         let frame = t.frame.unwrap_or_else(|| self.frame_on_table(&t.kin, &machine));
-        let p = frame.from_parent(&pose.tip);
-        let off = self.offset_vector();
-        let axes = self.cfg.machine.axes.len();
-        for ((q, m), o) in self.pos.iter_mut().zip(&machine).zip(&off).take(axes) {
-            *q = m - o;
-        }
-        for (axis, index) in t.kin.linear.iter().enumerate() {
-            if let Some(i) = index {
-                self.pos[*i] = p[axis];
-            }
-        }
+        self.pos = self.tip_position(&t.kin, &frame, &machine, t.tool_length);
         self.follow_machine = Some(machine);
         self.sync_programmed();
     }

@@ -391,16 +391,7 @@ impl Segment {
             arc_limits(&mut limits, c, &rate, axes);
         }
         let axis_speed = limits.v;
-        let programmed = if rapid {
-            axis_speed
-        } else {
-            let per_minute = match m.feed_mode {
-                FeedMode::PerMinute => m.feed,
-                FeedMode::PerRevolution => m.feed * m.spindle,
-                FeedMode::InverseTime => m.feed * len,
-            };
-            per_minute / 60.0 * feed_scale
-        };
+        let programmed = if rapid { axis_speed } else { programmed_speed(m, len) * feed_scale };
         let mut seg = Segment {
             line: 0,
             n: None,
@@ -480,14 +471,7 @@ impl Segment {
         let programmed = if rapid || (rotary_only && !tip.rotary_feed && !fixed_time) {
             axis_speed
         } else {
-            match m.feed_mode {
-                FeedMode::PerMinute => m.feed,
-                FeedMode::PerRevolution => m.feed * m.spindle,
-                FeedMode::InverseTime => m.feed * len,
-            }
-            .min(f64::MAX)
-                / 60.0
-                * feed_scale
+            programmed_speed(m, len) * feed_scale
         };
         let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
         let mut seg = Segment {
@@ -695,6 +679,16 @@ impl Segment {
             (first..=last.min(first + 4)).map(move |k| self.at(self.len * ((k as f64 * quarter - c.start) / c.sweep)).0)
         })
     }
+}
+
+/// The speed F asks for along a path `len` long, per second (G93: the block takes 1/F min).
+fn programmed_speed(m: &Motion, len: f64) -> f64 {
+    let per_minute = match m.feed_mode {
+        FeedMode::PerMinute => m.feed,
+        FeedMode::PerRevolution => m.feed * m.spindle,
+        FeedMode::InverseTime => m.feed * len,
+    };
+    per_minute / 60.0
 }
 
 /// The rotary axes' combined travel (degrees) from `from` to `to`.
