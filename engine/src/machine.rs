@@ -221,6 +221,30 @@ pub struct FiveAxisOptions {
     /// otherwise as fast as the axes go.
     #[serde(default)]
     pub rotary_feed: bool,
+    /// G68.2 and G68.4 may be given while a tilted working plane is active (FANUC No.11221#0
+    /// MTW: multiple tilted working planes); otherwise they raise the mode alarm there.
+    #[serde(default)]
+    pub multiple_planes: bool,
+    /// The least distance, mm, of each of the three points of G68.2 P2 from the line through
+    /// the other two (FANUC No.11220, "unstable plane"); 0: only points on one line are refused.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub plane_min_distance: f64,
+    /// What a reset does to a tilted working plane.
+    #[serde(default)]
+    pub plane_after_reset: PlaneAfterReset,
+}
+
+/// What a reset (and a restart of the controller) does to the tilted working plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlaneAfterReset {
+    /// Reset cancels it as G69 does (FANUC No.5400#2 D3R = 0; Syntec Pr3014 = 0).
+    #[default]
+    Cancelled,
+    /// It stays through reset; only G69 ends it (D3R = 1; Pr3014 = 1).
+    Kept,
+    /// It stays through reset and through a restart of the controller (Syntec Pr3014 = 2).
+    KeptOverRestart,
 }
 
 impl FiveAxisOptions {

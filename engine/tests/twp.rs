@@ -99,3 +99,107 @@ fn tv32_g53_6_and_g53_3_variants_end_with_the_tip_at_the_origin() {
         assert!(spread < 1e-6, "{preset}: the tip moved {spread} mm during G53.6");
     }
 }
+
+/// SYN-21, TV-45: `G53.6 H1 R50.` keeps the point 50 mm up the tool from the tip in place while
+/// the axes turn; afterwards the program point is the tip again. (G53.6 is Syntec's; FANUC's
+/// tilted plane does not allow it: PS5462.)
+#[test]
+fn g53_6_r_keeps_the_point_r_up_the_tool() {
+    let src = "N1 G90 G54 G01 X0 Y0 Z50. F1000\nN2 G68.2 X100. Y100. Z50. I30. J15. K20.\n\
+               N3 G53.6 H1 R50.\nN4 G01 X0 Y0 Z0\nN98 G49\nN99 G69\nM30\n";
+    let dialect = Dialect::Syntec;
+    for preset in ["head-bc", "table-ac", "mixed-bc"] {
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let mut interp = interpreter_with(src, preset, dialect, |_| {});
+        let (mut pivots, mut tips) = (Vec::new(), Vec::new());
+        fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |s| {
+            if s.line == 3 {
+                pivots.push(kin.forward(&s.machine, 50.0).tip);
+                tips.push(kin.forward(&s.machine, 100.0).tip);
+            }
+        });
+        assert!(pivots.len() > 10, "{preset}: G53.6 moved");
+        let spread = |v: &[Vec3]| v.iter().map(|t| (t - v[0]).norm()).fold(0.0, f64::max);
+        assert!(spread(&pivots) < 1e-6, "{preset}: the pivot moved {} mm", spread(&pivots));
+        assert!(spread(&tips) > 1.0, "{preset}: the tip should swing about the pivot");
+        let e = ends(preset, dialect, src);
+        let n3 = kin.forward(&end_of(&e, 3), 100.0);
+        assert!(close(n3.tool, zc(), 1e-6), "{preset}: {:?}", n3.tool);
+        let n4 = kin.forward(&end_of(&e, 4), 100.0);
+        assert!(close(n4.tip, Vec3::new(100.0, 100.0, 50.0), 1e-9), "{preset}: N4 tip {:?}", n4.tip);
+    }
+}
+
+/// TV-TWP-03/04 (MTW = No.11221#0 = 1): G68.2 in the plane replaces it (origin in the WCS),
+/// G68.4 composes with it; both put the tool along the WCS +X after G53.1, with X/Y turned 180°
+/// about Z from each other. With MTW = 0 both are PS5462 (tested in modes.rs).
+#[test]
+fn tv_twp_03_04_multiple_planes_with_mtw() {
+    let base = "N1 G55\nN2 G90 G01 X20.0 Y5.0 Z0 F1000\nN3 G68.2 X20.0 Y5.0 Z0 I0 J90.0 K0\nN4 G53.1\n\
+                N5 X-15.0 Y0 Z-15.0\n";
+    let tv03 =
+        format!("{base}N6 G68.2 X5.0 Y20.0 Z0 I90.0 J90.0 K0\nN7 G53.1\nN8 G01 X0 Y0 Z0\nN9 X10.\nN10 G69\nM30\n");
+    let tv04 = format!(
+        "{base}N6 G68.4 X-15.0 Y0 Z-15.0 I90.0 J90.0 K90.0\nN7 G53.1\nN8 G01 X0 Y0 Z0\nN9 X10.\nN10 G69\nM30\n"
+    );
+    for preset in ["head-bc", "table-ac"] {
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let run = |src: &str| {
+            motion_ends(interpreter_with(src, preset, Dialect::Fanuc, |c| c.machine.five_axis.multiple_planes = true))
+        };
+        for (src, n9) in [(&tv03, Vec3::new(5.0, 30.0, 0.0)), (&tv04, Vec3::new(5.0, 10.0, 0.0))] {
+            let e = run(src);
+            let n8 = kin.forward(&end_of(&e, 8), 0.0);
+            assert!(close(n8.tool, Vec3::x(), 1e-9), "{preset}: tool {:?}\n{src}", n8.tool);
+            assert!(close(n8.tip, Vec3::new(5.0, 20.0, 0.0), 1e-9), "{preset}: N8 {:?}\n{src}", n8.tip);
+            let n9_tip = kin.forward(&end_of(&e, 9), 0.0).tip;
+            assert!(close(n9_tip, n9, 1e-9), "{preset}: N9 {n9_tip:?}\n{src}");
+        }
+        let refused = fivex_engine::run::run(
+            &mut interpreter_with(&tv03, preset, Dialect::Fanuc, |_| {}),
+            &fivex_engine::run::RunOptions::default(),
+            |_| {},
+        );
+        assert_eq!(refused.alarms.first().map(|a| a.code.as_str()), Some("PS5462"), "{preset}: MTW = 0");
+    }
+}
+
+/// TV-TWP-11c: No.11220 = 0.001 refuses three points whose third is 0.0005 off the line of the
+/// other two ("unstable plane"); with No.11220 = 0 only points on one line are refused.
+#[test]
+fn tv_twp_11c_unstable_plane_distance_is_no_11220() {
+    let src = "G68.2 P2 Q1 X0 Y0 Z0\nG68.2 P2 Q2 X100. Y0 Z0\nG68.2 P2 Q3 X50. Y0.0005 Z0\nG69\nM30\n";
+    let result = |min: f64| {
+        let mut interp =
+            interpreter_with(src, "head-bc", Dialect::Fanuc, |c| c.machine.five_axis.plane_min_distance = min);
+        fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |_| {})
+    };
+    assert_eq!(result(0.001).alarms[0].code, "PS5457");
+    assert!(result(0.0).completed(), "{:?}", result(0.0).alarms);
+    assert_eq!(result(0.0).alarms.len(), 0);
+}
+
+/// Reset and the tilted plane (FANUC No.5400#2 D3R, Syntec Pr3014): cancelled by default, kept
+/// when the machine says so; after a cancelling reset X/Y/Z are workpiece coordinates again.
+#[test]
+fn reset_cancels_or_keeps_the_plane() {
+    use fivex_engine::machine::PlaneAfterReset;
+    let src = "G90 G01 X0 Y0 Z0 F1000\nG68.2 X10. Y0 Z0 I0 J0 K90.\nM00\n";
+    for (rule, kept) in
+        [(PlaneAfterReset::Cancelled, false), (PlaneAfterReset::Kept, true), (PlaneAfterReset::KeptOverRestart, true)]
+    {
+        let mut interp =
+            interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine.five_axis.plane_after_reset = rule);
+        fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |_| {});
+        assert_eq!(interp.state.modal(16), 682, "{rule:?}: the plane is on before the reset");
+        interp.reset();
+        assert_eq!(interp.state.modal(16), if kept { 682 } else { 690 }, "{rule:?}");
+        interp.load(fivex_engine::lang::parse_file("G01 X5.\nM30\n"));
+        let e = motion_ends(interp);
+        // In the plane (FCS X along the WCS +Y, Y along −X, origin X10) the tip at WCS 0 is FCS
+        // (0, 10, 0), so X5 is the WCS point (0, 5, 0).
+        let tip = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap().forward(&e[0].1, 0.0).tip;
+        let want = if kept { Vec3::new(0.0, 5.0, 0.0) } else { Vec3::new(5.0, 0.0, 0.0) };
+        assert!(close(tip, want, 1e-9), "{rule:?}: {tip:?}");
+    }
+}

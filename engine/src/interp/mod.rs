@@ -337,6 +337,11 @@ impl Interpreter {
         st.locals[0] = [None; LOCALS];
         st.modal_call = None;
         st.ended = true;
+        let after_reset = st.cfg.machine.five_axis.plane_after_reset;
+        if st.plane_active() && after_reset == crate::machine::PlaneAfterReset::Cancelled {
+            st.end_plane();
+            st.five.plane_ended();
+        }
     }
 
     /// The machine was moved outside the program (jog, handle, reference return): the

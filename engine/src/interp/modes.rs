@@ -47,11 +47,19 @@ pub(super) struct FiveAxisModes {
     nano_in_tcp: bool,
 }
 
+impl FiveAxisModes {
+    /// The tilted working plane was cancelled outside a block (reset): no definition sequence
+    /// or alignment is pending.
+    pub(super) fn plane_ended(&mut self) {
+        self.twp_seq = 0;
+        self.aligned = false;
+    }
+}
+
 /// FANUC parameter values the rules depend on, at their defaults until machine parameters exist
-/// (issue 3): RCM (No.11200#0) tool direction compensation of G54.4, MTW (No.11221#0) multiple
-/// tilted working planes, SPG (No.19607) G41.4/G41.5 code set.
+/// (issue 3): RCM (No.11200#0) tool direction compensation of G54.4, SPG (No.19607) G41.4/G41.5
+/// code set.
 const RCM: bool = false;
-const MTW: bool = false;
 const SPG: bool = false;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -275,7 +283,14 @@ static RULES: &[Rule] = &[
             && c.g.iter().any(|&g| !wse_allows(g) || g == 51 && !c.word(b'Q').is_some_and(|q| q == 0.0 || q == 1.0))
     }),
     rule(Fanuc, "twp TWP-12, §6.2: G codes allowed in the tilted working plane", A::TwpIllegalCommand, |c| {
-        c.foreign(16, |c, m| c.twp(m), |c, g| twp_allows(g) || matches!(g, 682 | 684) && (MTW || c.five.twp_seq != 0))
+        c.foreign(
+            16,
+            |c, m| c.twp(m),
+            |c, g| {
+                twp_allows(g)
+                    || matches!(g, 682 | 684) && (c.st.cfg.machine.five_axis.multiple_planes || c.five.twp_seq != 0)
+            },
+        )
     }),
     rule(
         Fanuc,

@@ -30,8 +30,6 @@ pub(super) struct Definition {
     x: Option<Vec3>,
 }
 
-/// FANUC No.11220: the least distance of the third point from the line of the other two.
-const UNSTABLE_PLANE_MM: f64 = 0.001;
 /// FANUC No.12321 (vertical axis for G68.3: Z) and No.12322 (parallel tolerance, degrees).
 const G68_3_VERTICAL: usize = 2;
 const G68_3_PARALLEL_DEG: f64 = 0.0;
@@ -59,6 +57,18 @@ impl State {
     fn plane_frame(&self, kin: &Kinematics, fcs: &Frame) -> Frame {
         let zero = self.at_rotary_zero(kin, &self.machine_position());
         self.frame_on_table(kin, &zero).then(fcs)
+    }
+
+    /// G69, or a reset that cancels the plane: programming coordinates are the workpiece
+    /// system again, the machine stays where it is.
+    pub(super) fn end_plane(&mut self) {
+        let machine = self.machine_position();
+        self.plane = None;
+        self.definition = Definition::default();
+        self.modes[16] = 690;
+        self.follow_machine = None;
+        self.pos = self.machine_to_program(&machine);
+        self.sync_programmed();
     }
 
     /// The FCS point of the tool tip at machine position `machine`.
@@ -91,11 +101,7 @@ impl State {
                     Some(self.tool_axis_plane(w)?)
                 }
                 690 if self.plane.is_some() => {
-                    let machine = self.machine_position();
-                    self.plane = None;
-                    self.follow_machine = None;
-                    self.pos = self.machine_to_program(&machine);
-                    self.sync_programmed();
+                    self.end_plane();
                     None
                 }
                 _ => None,
@@ -149,7 +155,7 @@ impl State {
                     return Ok(None);
                 };
                 self.definition = Definition::default();
-                twp::three_points([a, b, c], shift, r, UNSTABLE_PLANE_MM)?
+                twp::three_points([a, b, c], shift, r, self.cfg.machine.five_axis.plane_min_distance)?
             }
             3 => match q {
                 Some(1) => {
@@ -222,8 +228,9 @@ impl State {
 
     /// G53.1 / G53.3 / G53.6: turn the rotary axes so that the tool is along the FCS +Z (P: the
     /// Syntec solution choice). G53.1 moves the rotary axes only (the tip moves with them);
-    /// G53.6 keeps the tip where it is (tool length on with H); G53.3 switches the tool length on
-    /// with H and puts the tip on X/Y/Z in the same rapid.
+    /// G53.6 keeps the tip where it is (tool length on with H), or with R the point R up the
+    /// tool from the tip; G53.3 switches the tool length on with H and puts the tip on X/Y/Z in
+    /// the same rapid.
     pub(super) fn align(&mut self, code: u16, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
         let Some(fcs) = self.plane else { return Ok(false) };
         let kin = self.kin()?;
@@ -247,8 +254,10 @@ impl State {
         };
         let choice = kin.select(&candidates, &machine[..kin.axes], how)?;
         let off = self.offset_vector();
-        // The tip (of the tool whose length now acts) where it is, the rotary axes aligned.
-        let mut target = self.tip_in_plane(&kin, &frame, &machine);
+        // The point that stays: the tip of the tool whose length now acts, or with G53.6 R the
+        // point R from the tip toward the holder (SYN-21, TV-45).
+        let pivot = if code == 536 { self.value(w, b'R').unwrap_or(0.0) } else { 0.0 };
+        let mut target = self.tip_position(&kin, &frame, &machine, length - pivot);
         for j in kin.joints() {
             if let Some(i) = j.index {
                 target[i] = choice.pos[i] - off[i];
@@ -275,9 +284,13 @@ impl State {
                         }
                     }
                 }
-                let path = FollowPath { frame, tool_length: length, posture: false, along: code == 536 };
+                let path = FollowPath { frame, tool_length: length - pivot, posture: false, along: code == 536 };
                 self.follow_motion(&kin, MotionKind::Rapid, target, None, path, out);
-                self.sync_programmed();
+                match self.follow_machine {
+                    // The current point is the tip again, wherever the pivot put it.
+                    Some(end) if pivot != 0.0 => self.plane_moved_to(end),
+                    _ => self.sync_programmed(),
+                }
             }
         }
         Ok(true)

@@ -11,7 +11,8 @@ use super::{Params, Value};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
 use crate::machine::{
-    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, MotionOptions, RotaryLink, Side, TcpCoordinates,
+    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, MotionOptions, PlaneAfterReset, RotaryLink,
+    Side, TcpCoordinates,
 };
 
 const NAMES: &str = "XYZUVWABC";
@@ -183,7 +184,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 }
 
 /// The 5-axis function bits: No.19696#5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#5 PRI (absent: 0).
+/// No.19608#5 PRI, No.11221#0 MTW, No.5400#2 D3R, and No.11220 (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -197,6 +198,9 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         posture_control: bit(19604, 0)?,
         second_axis_first: bit(19608, 5)?,
         rotary_feed: bit(19696, 6)?,
+        multiple_planes: bit(11221, 0)?,
+        plane_min_distance: p.get(11220)?,
+        plane_after_reset: if bit(5400, 2)? { PlaneAfterReset::Kept } else { PlaneAfterReset::Cancelled },
     })
 }
 
@@ -281,10 +285,18 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (19754, ((f.tcp_coordinates == TcpCoordinates::TableAtZero) as u32) << 5),
         (19604, f.posture_control as u32),
         (19608, (f.second_axis_first as u32) << 5),
+        (11221, f.multiple_planes as u32),
+        (5400, ((f.plane_after_reset == PlaneAfterReset::Kept) as u32) << 2),
     ] {
         if value != 0 {
             p.set(number, value as f64);
         }
+    }
+    if f.plane_after_reset == PlaneAfterReset::KeptOverRestart {
+        return Err(unrepresentable("FANUC", "a tilted working plane kept over a restart (Syntec Pr3014 = 2)"));
+    }
+    if f.plane_min_distance != 0.0 {
+        p.set(11220, real(f.plane_min_distance));
     }
     let zero = Vec3::zeros();
     let point = |k: usize| vec3(links[k].point);

@@ -14,7 +14,8 @@ use super::{chain, direction, reference_angles, reference_direction, unit, unrep
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
 use crate::machine::{
-    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, RotaryLink, Side, TcpCoordinates,
+    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, PlaneAfterReset, RotaryLink, Side,
+    TcpCoordinates,
 };
 
 /// Pr321~ name codes 1…9.
@@ -195,6 +196,12 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             } else {
                 TcpCoordinates::TableAtStart
             },
+            // Pr3014: 0 the plane ends at reset, 1 kept through reset, 2 also through a restart.
+            plane_after_reset: match p.code(3014, 0, 2)? {
+                0 => PlaneAfterReset::Cancelled,
+                1 => PlaneAfterReset::Kept,
+                _ => PlaneAfterReset::KeptOverRestart,
+            },
             ..FiveAxisOptions::default()
         },
     })
@@ -295,8 +302,24 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     p.set(3013, blu(holder));
     let f = &m.five_axis;
-    if f.tcp_coordinates == TcpCoordinates::Workpiece || f.rotary_feed || f.second_axis_first {
-        return Err(unrepresentable("Syntec", "workpiece TCP coordinates, RFC and PRI are FANUC settings"));
+    if f.tcp_coordinates == TcpCoordinates::Workpiece
+        || f.rotary_feed
+        || f.second_axis_first
+        || f.multiple_planes
+        || f.plane_min_distance != 0.0
+    {
+        return Err(unrepresentable(
+            "Syntec",
+            "workpiece TCP coordinates, RFC, PRI, MTW and No.11220 are FANUC settings",
+        ));
+    }
+    let persistence = match f.plane_after_reset {
+        PlaneAfterReset::Cancelled => 0.0,
+        PlaneAfterReset::Kept => 1.0,
+        PlaneAfterReset::KeptOverRestart => 2.0,
+    };
+    if persistence != 0.0 {
+        p.set(3014, persistence);
     }
     if f.posture_control {
         p.set(3054, 1.0);

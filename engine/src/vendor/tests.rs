@@ -353,6 +353,37 @@ fn presets_through_both_vendors() {
     }
 }
 
+/// The tilted-plane settings: FANUC No.11221#0 MTW, No.11220, No.5400#2 D3R; Syntec Pr3014 —
+/// through each vendor's parameters and back, and refused where the vendor has no such setting.
+#[test]
+fn tilted_plane_settings_through_the_vendors() {
+    use crate::machine::PlaneAfterReset::*;
+    let base = MachineConfig::preset("head-bc").unwrap();
+    let through = |dialect: Dialect, m: &MachineConfig| {
+        params_of(dialect, m).and_then(|p| machine_from(dialect, "m", &p)).map(|m| m.five_axis)
+    };
+    for (multiple, min, reset) in [(true, 0.001, Kept), (false, 0.0, Cancelled), (true, 0.25, Cancelled)] {
+        let mut m = base.clone();
+        (m.five_axis.multiple_planes, m.five_axis.plane_min_distance, m.five_axis.plane_after_reset) =
+            (multiple, min, reset);
+        assert_eq!(through(Dialect::Fanuc, &m).unwrap(), m.five_axis);
+    }
+    let p = |reset| {
+        let mut m = base.clone();
+        m.five_axis.plane_after_reset = reset;
+        m
+    };
+    assert_eq!(params_of(Dialect::Fanuc, &p(Kept)).unwrap().get(5400).unwrap(), 4.0, "D3R is bit 2");
+    assert!(params_of(Dialect::Fanuc, &p(KeptOverRestart)).is_err(), "FANUC keeps no plane over a restart");
+    for (reset, pr3014) in [(Cancelled, 0.0), (Kept, 1.0), (KeptOverRestart, 2.0)] {
+        assert_eq!(params_of(Dialect::Syntec, &p(reset)).unwrap().get(3014).unwrap(), pr3014);
+        assert_eq!(through(Dialect::Syntec, &p(reset)).unwrap().plane_after_reset, reset);
+    }
+    let mut m = base.clone();
+    m.five_axis.multiple_planes = true;
+    assert!(params_of(Dialect::Syntec, &m).is_err(), "MTW is FANUC's");
+}
+
 #[test]
 fn a_machine_a_vendor_cannot_describe_is_refused() {
     let mut m = MachineConfig::preset("head-bc").unwrap();
