@@ -203,3 +203,76 @@ fn reset_cancels_or_keeps_the_plane() {
         assert!(close(tip, want, 1e-9), "{rule:?}: {tip:?}");
     }
 }
+
+/// The head-bc preset with its C axis turning left-handed (Syntec Pr3007 = 2).
+fn head_bc_c_left() -> MachineConfig {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    for l in m.rotary.iter_mut().filter(|l| l.axis == 'C') {
+        l.hand = fivex_engine::machine::Hand::Left;
+    }
+    m
+}
+
+/// A spindle C–A head: the head-bc preset with its B axis turning about X as A.
+fn head_ca() -> MachineConfig {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.axes.iter_mut().filter(|a| a.name == 'B').for_each(|a| a.name = 'A');
+    for l in m.rotary.iter_mut().filter(|l| l.axis == 'B') {
+        (l.axis, l.direction) = ('A', [1.0, 0.0, 0.0]);
+    }
+    m
+}
+
+/// Syntec TV-08 (G68.3 P1, SYN-24): the FCS is turned as the rotary axes turn the tool. After
+/// C45 and B90 the FCS point Y10 is G54 (7.071, 7.071, 0) — the printed value, which this
+/// convention gives on a head whose C turns left-handed (Q-15: the figure is missing; with a
+/// right-handed C the same rule gives (−7.071, 7.071, 0), also pinned here). R is ignored.
+#[test]
+fn syntec_tv08_g68_3_p1_takes_the_frame_from_the_rotary_axes() {
+    let src = "N1 G54 G90 G00 B0. C0.\nN2 C45.\nN3 B90.\nN4 G68.3 P1 X0. Y0. Z0. R30.\nN5 G01 X0 Y10. Z0 F1000\n\
+               N6 G69\nN7 G00 X0. Y0. Z0. B0. C0.\nN8 M30\n";
+    let h = std::f64::consts::FRAC_1_SQRT_2 * 10.0;
+    for (m, want) in
+        [(head_bc_c_left(), Vec3::new(h, h, 0.0)), (MachineConfig::preset("head-bc").unwrap(), Vec3::new(-h, h, 0.0))]
+    {
+        let kin = Kinematics::new(&m).unwrap();
+        let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine = m.clone()));
+        let n5 = kin.forward(&end_of(&e, 5), 0.0);
+        assert!(close(n5.tip, want, 1e-9), "{:?}: {:?}", m.rotary[0].hand, n5.tip);
+    }
+}
+
+/// Syntec TV-37 (G68.3 type 1): the origin is the current point, Zc the tool as it stands;
+/// after G43 H1 and X0 Y0 Z0 the tip (100 mm tool) is at that point. The current point is the
+/// programmed one, the nose at zero angles (Syntec's 1.7 normalisation, Q-16), so the carriage
+/// moves by ΔM = (h + L)·t − h·ẑ with the head-bc pivot h = 150 above the nose.
+#[test]
+fn syntec_tv37_g68_3_origin_at_the_current_point() {
+    let src = "N1 G90 G01 X0. Y0. Z0. F1000.\nN2 B-45.\nN3 G68.3\nN4 G43 H1\nN5 X0. Y0. Z0.\nN6 G69 G49\nM30\n";
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let e = ends("head-bc", Dialect::Syntec, src);
+    let (n2, n5) = (end_of(&e, 2), end_of(&e, 5));
+    let t = Vec3::new(-1.0, 0.0, 1.0).normalize();
+    assert!(close(kin.forward(&n2, 0.0).tool, t, 1e-12));
+    assert!(close(kin.forward(&n5, 100.0).tip, Vec3::zeros(), 1e-9));
+    let shift = Vec3::new(n5[0] - n2[0], n5[1] - n2[1], n5[2] - n2[2]);
+    assert!(close(shift, 250.0 * t - 150.0 * Vec3::z(), 1e-9), "{shift:?}");
+}
+
+/// Syntec TV-38 (G68.3 repeated, each relative to the work system, X from P × Zc with P = +Z):
+/// on a C–A head, frame 1 after A90 (t = −Y) has Xc = +X, Yc = +Z; frame 2 after C90 (t = +X)
+/// has Xc = +Y, Yc = +Z and origin G55 (10, 0, 0); N4 and N7 both reach G55 (10, 0, 0).
+#[test]
+fn syntec_tv38_g68_3_twice_relative_to_the_work_system() {
+    let src = "N1 G55\nN2 G01 A90. F1000.\nN3 G68.3 X0 Y0 Z0 R0\nN4 X10. Y0. Z0.\nN5 C90.\n\
+               N6 G68.3 X10. Y0. Z0. R0\nN7 X0. Y0. Z0.\nN8 G69\nM30\n";
+    let m = head_ca();
+    let kin = Kinematics::new(&m).unwrap();
+    let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine = m.clone()));
+    assert!(close(kin.forward(&end_of(&e, 2), 0.0).tool, -Vec3::y(), 1e-12));
+    assert!(close(kin.forward(&end_of(&e, 5), 0.0).tool, Vec3::x(), 1e-12));
+    for line in [4, 7] {
+        let tip = kin.forward(&end_of(&e, line), 0.0).tip;
+        assert!(close(tip, Vec3::new(10.0, 0.0, 0.0), 1e-9), "N{line}: {tip:?}");
+    }
+}

@@ -182,12 +182,13 @@ impl State {
         }))
     }
 
-    /// G68.3 X_ Y_ Z_ R_: the FCS +Z along the tool as it stands; the origin absolute (all
-    /// omitted: the current point).
+    /// G68.3 X_ Y_ Z_ R_: the FCS +Z along the tool as it stands, X and Y from the vertical
+    /// axis (SYN-23, TWP-06); Syntec's G68.3 P1: the FCS turned as the rotary axes turn the tool
+    /// (SYN-24, R ignored). The origin is absolute (all omitted: the current point).
     fn tool_axis_plane(&mut self, w: &Words) -> Result<Frame, AlarmId> {
         let kin = self.kin()?;
         let machine = self.machine_position();
-        // The tool direction in the workpiece system (the table frame at the rotary zero).
+        // The workpiece system is the table frame at the rotary zero.
         let base = self.plane_frame(&kin, &Frame::identity());
         let tool = base.r.transpose() * kin.forward(&machine, 0.0).tool;
         let here = match self.plane {
@@ -199,6 +200,9 @@ impl State {
             if let Some(v) = self.value(w, letter) {
                 origin[axis] = v;
             }
+        }
+        if self.cfg.dialect == crate::Dialect::Syntec && w.integer(b'P') == Some(1.0) {
+            return Ok(Frame { r: base.r.transpose() * kin.tool_rotation(&machine), o: origin });
         }
         let mut vertical = Vec3::zeros();
         vertical[G68_3_VERTICAL] = 1.0;

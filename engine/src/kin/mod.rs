@@ -360,6 +360,14 @@ impl Kinematics {
         crate::twp::Frame { r, o: t.apply(Vec3::zeros()) }
     }
 
+    /// The rotation the rotary axes at `pos` give the tool relative to the table frame: the
+    /// head's turn, seen from the turned table (Syntec G68.3 P1 takes its frame from it).
+    pub fn tool_rotation(&self, pos: &[f64]) -> nalgebra::Matrix3<f64> {
+        let (head, table) = (self.motion(Side::Head, pos), self.motion(Side::Table, pos));
+        let axis = |e: Vec3| table.unturn(head.turn(e));
+        nalgebra::Matrix3::from_columns(&[axis(Vec3::x()), axis(Vec3::y()), axis(Vec3::z())])
+    }
+
     /// How near the posture at `pos` is to singular; `None` on machines with fewer than two
     /// rotary axes (one axis never has a free angle).
     pub fn singularity(&self, pos: &[f64]) -> Option<Singularity> {
