@@ -30,6 +30,12 @@ pub enum OpenError {
         #[source]
         source: sqlx::migrate::MigrateError,
     },
+    #[error("cannot read the controllers of {path}: {source}")]
+    Load {
+        path: String,
+        #[source]
+        source: sqlx::Error,
+    },
 }
 
 /// Opens the SQLite database at `path`, creating the file if it is missing, and brings its schema
@@ -101,4 +107,257 @@ pub async fn insert_controller(pool: &SqlitePool, row: &ControllerRow) -> Result
     .execute(pool)
     .await?;
     Ok(())
+}
+
+/// Removes a controller and (by the foreign keys) everything stored for it; false if there was
+/// none.
+pub async fn delete_controller(pool: &SqlitePool, id: &str) -> Result<bool, sqlx::Error> {
+    let done = sqlx::query("DELETE FROM controllers WHERE id = ?").bind(id).execute(pool).await?;
+    Ok(done.rows_affected() > 0)
+}
+
+/// Sets a controller's name and speed factor.
+pub async fn update_controller(pool: &SqlitePool, id: &str, name: &str, speed: f64) -> Result<(), sqlx::Error> {
+    sqlx::query("UPDATE controllers SET name = ?, speed = ? WHERE id = ?")
+        .bind(name)
+        .bind(speed)
+        .bind(id)
+        .execute(pool)
+        .await?;
+    Ok(())
+}
+
+/// The speed factor stored for each controller.
+pub async fn controller_speeds(pool: &SqlitePool) -> Result<std::collections::HashMap<String, f64>, sqlx::Error> {
+    let rows = sqlx::query("SELECT id, speed FROM controllers").fetch_all(pool).await?;
+    rows.iter().map(|r| Ok((r.try_get("id")?, r.try_get("speed")?))).collect()
+}
+
+/// Inserts a controller row with its speed factor.
+pub async fn insert_controller_with_speed(
+    pool: &SqlitePool,
+    row: &ControllerRow,
+    speed: f64,
+) -> Result<(), sqlx::Error> {
+    sqlx::query(
+        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed) \
+         VALUES (?, ?, ?, ?, ?, ?)",
+    )
+    .bind(&row.id)
+    .bind(&row.name)
+    .bind(&row.dialect)
+    .bind(&row.machine_json)
+    .bind(&row.created_at)
+    .bind(speed)
+    .execute(pool)
+    .await?;
+    Ok(())
+}
+
+// --- programs -----------------------------------------------------------------------------
+
+/// The O-numbers and sizes of a controller's stored programs, ascending.
+pub async fn list_programs(pool: &SqlitePool, controller: &str) -> Result<Vec<(u32, usize)>, sqlx::Error> {
+    let rows = sqlx::query("SELECT number, length(text) AS size FROM programs WHERE controller_id = ? ORDER BY number")
+        .bind(controller)
+        .fetch_all(pool)
+        .await?;
+    rows.iter().map(|r| Ok((r.try_get::<i64, _>("number")? as u32, r.try_get::<i64, _>("size")? as usize))).collect()
+}
+
+/// Every stored program of a controller, ascending: (number, text).
+pub async fn programs(pool: &SqlitePool, controller: &str) -> Result<Vec<(u32, String)>, sqlx::Error> {
+    let rows = sqlx::query("SELECT number, text FROM programs WHERE controller_id = ? ORDER BY number")
+        .bind(controller)
+        .fetch_all(pool)
+        .await?;
+    rows.iter().map(|r| Ok((r.try_get::<i64, _>("number")? as u32, r.try_get("text")?))).collect()
+}
+
+pub async fn program(pool: &SqlitePool, controller: &str, number: u32) -> Result<Option<String>, sqlx::Error> {
+    let row = sqlx::query("SELECT text FROM programs WHERE controller_id = ? AND number = ?")
+        .bind(controller)
+        .bind(number as i64)
+        .fetch_optional(pool)
+        .await?;
+    row.map(|r| r.try_get("text")).transpose()
+}
+
+/// Stores (or replaces) a program; true if it was new.
+pub async fn put_program(pool: &SqlitePool, controller: &str, number: u32, text: &str) -> Result<bool, sqlx::Error> {
+    let mut tx = pool.begin().await?;
+    let existed = sqlx::query("SELECT 1 FROM programs WHERE controller_id = ? AND number = ?")
+        .bind(controller)
+        .bind(number as i64)
+        .fetch_optional(&mut *tx)
+        .await?
+        .is_some();
+    sqlx::query(
+        "INSERT INTO programs (controller_id, number, text) VALUES (?, ?, ?) \
+         ON CONFLICT (controller_id, number) DO UPDATE SET text = excluded.text",
+    )
+    .bind(controller)
+    .bind(number as i64)
+    .bind(text)
+    .execute(&mut *tx)
+    .await?;
+    tx.commit().await?;
+    Ok(!existed)
+}
+
+pub async fn delete_program(pool: &SqlitePool, controller: &str, number: u32) -> Result<bool, sqlx::Error> {
+    let done = sqlx::query("DELETE FROM programs WHERE controller_id = ? AND number = ?")
+        .bind(controller)
+        .bind(number as i64)
+        .execute(pool)
+        .await?;
+    Ok(done.rows_affected() > 0)
+}
+
+// --- retained variables ---------------------------------------------------------------------
+
+/// A controller's retained variables #500–#999 (vacant where no row or NULL).
+pub async fn retained_variables(pool: &SqlitePool, controller: &str) -> Result<[Option<f64>; 500], sqlx::Error> {
+    let rows = sqlx::query("SELECT number, value FROM variables WHERE controller_id = ?")
+        .bind(controller)
+        .fetch_all(pool)
+        .await?;
+    let mut values = [None; 500];
+    for r in rows {
+        let number: i64 = r.try_get("number")?;
+        if (500..1000).contains(&number) {
+            values[number as usize - 500] = r.try_get("value")?;
+        }
+    }
+    Ok(values)
+}
+
+/// Saves retained variables (`None`: vacant) in one transaction.
+pub async fn save_variables(
+    pool: &SqlitePool,
+    controller: &str,
+    values: &[(u32, Option<f64>)],
+) -> Result<(), sqlx::Error> {
+    let mut tx = pool.begin().await?;
+    for (number, value) in values {
+        sqlx::query(
+            "INSERT INTO variables (controller_id, number, value) VALUES (?, ?, ?) \
+             ON CONFLICT (controller_id, number) DO UPDATE SET value = excluded.value",
+        )
+        .bind(controller)
+        .bind(*number as i64)
+        .bind(*value)
+        .execute(&mut *tx)
+        .await?;
+    }
+    tx.commit().await
+}
+
+// --- history ------------------------------------------------------------------------------
+
+/// One row of `alarm_history`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AlarmRow {
+    pub raised_at: String,
+    pub code: String,
+    pub message: String,
+    pub line: u32,
+    pub n: Option<u32>,
+}
+
+/// A controller's alarm history, newest first, at most `limit` rows.
+pub async fn alarm_history(pool: &SqlitePool, controller: &str, limit: u32) -> Result<Vec<AlarmRow>, sqlx::Error> {
+    let rows = sqlx::query(
+        "SELECT raised_at, code, message, line, n FROM alarm_history WHERE controller_id = ? \
+         ORDER BY id DESC LIMIT ?",
+    )
+    .bind(controller)
+    .bind(limit as i64)
+    .fetch_all(pool)
+    .await?;
+    rows.iter()
+        .map(|r| {
+            Ok(AlarmRow {
+                raised_at: r.try_get("raised_at")?,
+                code: r.try_get("code")?,
+                message: r.try_get("message")?,
+                line: r.try_get::<i64, _>("line")? as u32,
+                n: r.try_get::<Option<i64>, _>("n")?.map(|n| n as u32),
+            })
+        })
+        .collect()
+}
+
+/// One row of `run_history`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunRow {
+    pub program: Option<u32>,
+    pub started_at: String,
+    pub ended_at: String,
+    pub cycle_time_s: f64,
+    pub result: String,
+}
+
+/// A controller's run history, newest first, at most `limit` rows.
+pub async fn run_history(pool: &SqlitePool, controller: &str, limit: u32) -> Result<Vec<RunRow>, sqlx::Error> {
+    let rows = sqlx::query(
+        "SELECT program, started_at, ended_at, cycle_time_s, result FROM run_history \
+         WHERE controller_id = ? ORDER BY id DESC LIMIT ?",
+    )
+    .bind(controller)
+    .bind(limit as i64)
+    .fetch_all(pool)
+    .await?;
+    rows.iter()
+        .map(|r| {
+            Ok(RunRow {
+                program: r.try_get::<Option<i64>, _>("program")?.map(|n| n as u32),
+                started_at: r.try_get("started_at")?,
+                ended_at: r.try_get("ended_at")?,
+                cycle_time_s: r.try_get("cycle_time_s")?,
+                result: r.try_get("result")?,
+            })
+        })
+        .collect()
+}
+
+/// Writes what the workers produce ([`crate::host::Record`]) until every sender is gone. A
+/// failed write is logged and the writer goes on (a deleted controller's late records fail on
+/// the foreign key, harmlessly).
+pub async fn write_records(pool: SqlitePool, mut records: tokio::sync::mpsc::UnboundedReceiver<crate::host::Record>) {
+    use crate::host::Record;
+    while let Some(record) = records.recv().await {
+        let result = match &record {
+            Record::Variables { controller, values } => save_variables(&pool, controller, values).await,
+            Record::Alarm { controller, at, alarm } => sqlx::query(
+                "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
+                 VALUES (?, ?, ?, ?, ?, ?)",
+            )
+            .bind(controller)
+            .bind(at)
+            .bind(&alarm.code)
+            .bind(&alarm.message)
+            .bind(alarm.line as i64)
+            .bind(alarm.n.map(|n| n as i64))
+            .execute(&pool)
+            .await
+            .map(|_| ()),
+            Record::Run { controller, program, started_at, ended_at, cycle_time_s, result } => sqlx::query(
+                "INSERT INTO run_history (controller_id, program, started_at, ended_at, cycle_time_s, result) \
+                 VALUES (?, ?, ?, ?, ?, ?)",
+            )
+            .bind(controller)
+            .bind(program.map(|n| n as i64))
+            .bind(started_at)
+            .bind(ended_at)
+            .bind(cycle_time_s)
+            .bind(*result)
+            .execute(&pool)
+            .await
+            .map(|_| ()),
+        };
+        if let Err(e) = result {
+            tracing::warn!(error = %e, ?record, "cannot store a record");
+        }
+    }
 }

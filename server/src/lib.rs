@@ -1,5 +1,8 @@
 //! The fivex service and command line.
+pub mod api;
 pub mod cli;
 pub mod db;
+pub mod host;
 pub mod machine_file;
 pub mod serve;
+pub mod tools;

@@ -12,7 +12,9 @@ use std::future::Future;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use axum::extract::{Request, State};
+use std::sync::Arc;
+
+use axum::extract::{DefaultBodyLimit, Request, State};
 use axum::http::{Method, StatusCode, Uri};
 use axum::middleware::{self, Next};
 use axum::response::{Html, IntoResponse, Response};
@@ -21,10 +23,12 @@ use axum::{Json, Router};
 use serde::{Deserialize, Serialize};
 use sqlx::SqlitePool;
 use tokio::net::TcpListener;
+use tokio::sync::watch;
 use utoipa::{OpenApi, ToSchema};
 use utoipa_swagger_ui::SwaggerUi;
 
-use crate::db;
+use crate::host::{Host, Hosted, Spec};
+use crate::{api, db};
 
 /// The dashboard page served at `/` (`web/index.html`, embedded at compile time).
 pub const INDEX_HTML: &str = include_str!("../../web/index.html");
@@ -39,21 +43,74 @@ pub const API_PREFIX: &str = "/api/v1";
 /// stops anyway.
 pub const SHUTDOWN_GRACE: Duration = Duration::from_secs(10);
 
-/// Everything a handler can reach. Cheap to clone (the pool is a handle over shared state).
+/// The largest request body accepted, bytes (a program text is the largest thing a client
+/// sends).
+pub const MAX_BODY_BYTES: usize = api::programs::MAX_PROGRAM_BYTES + 64 * 1024;
+
+/// Everything a handler can reach. Cheap to clone (the pool and the host are handles over
+/// shared state).
 #[derive(Clone, Debug)]
 pub struct AppState {
     pub db: SqlitePool,
+    /// The hosted controllers and their workers.
+    pub host: Host,
+    /// Set when the service shuts down, so websockets close cleanly.
+    closing: Arc<watch::Sender<bool>>,
 }
 
 impl AppState {
-    /// State over an already opened and migrated pool.
-    pub fn new(db: SqlitePool) -> Self {
-        Self { db }
+    /// Opens (creating if missing) and migrates the SQLite database at `path`, and brings back
+    /// every stored controller in reset state.
+    pub async fn open(path: &Path) -> Result<Self, db::OpenError> {
+        let pool = db::open(path).await?;
+        Self::restore(pool).await.map_err(|source| db::OpenError::Load { path: path.display().to_string(), source })
     }
 
-    /// Opens (creating if missing) and migrates the SQLite database at `path`.
-    pub async fn open(path: &Path) -> Result<Self, db::OpenError> {
-        Ok(Self::new(db::open(path).await?))
+    /// State over an already opened and migrated pool: the controllers it stores are hosted
+    /// again (one that cannot be, a machine document this version refuses, is logged and left
+    /// in the database untouched).
+    pub async fn restore(db: SqlitePool) -> Result<Self, sqlx::Error> {
+        let (records, writer) = tokio::sync::mpsc::unbounded_channel();
+        tokio::spawn(db::write_records(db.clone(), writer));
+        let host = Host::new(Host::default_workers(), records);
+        let speeds = db::controller_speeds(&db).await?;
+        for row in db::list_controllers(&db).await? {
+            let machine = match crate::machine_file::parse(&row.machine_json) {
+                Ok(m) => m,
+                Err(e) => {
+                    tracing::warn!(id = %row.id, error = %e, "stored controller not hosted: its machine is refused");
+                    continue;
+                }
+            };
+            let Ok(dialect) = row.dialect.parse() else {
+                tracing::warn!(id = %row.id, dialect = %row.dialect, "stored controller not hosted: unknown dialect");
+                continue;
+            };
+            let retained = db::retained_variables(&db, &row.id).await?;
+            let hosted = Hosted::new(Spec {
+                speed: speeds.get(&row.id).copied().unwrap_or(1.0),
+                id: row.id,
+                name: row.name,
+                dialect,
+                machine,
+                created_at: row.created_at,
+            });
+            hosted.station().load_retained(&retained);
+            host.add(Arc::new(hosted));
+        }
+        tracing::info!(controllers = host.len(), "controllers restored");
+        let (closing, _) = watch::channel(false);
+        Ok(Self { db, host, closing: Arc::new(closing) })
+    }
+
+    /// A receiver that changes when the service starts shutting down.
+    pub fn closing(&self) -> watch::Receiver<bool> {
+        self.closing.subscribe()
+    }
+
+    /// Tell every websocket to close (the start of a graceful shutdown).
+    pub fn close(&self) {
+        self.closing.send_replace(true);
     }
 }
 
@@ -72,6 +129,13 @@ pub enum ApiError {
     MethodNotAllowed { method: Method, path: String },
     #[error("{0}")]
     Conflict(String),
+    /// The request is well-formed but its content is not acceptable; `details` (for example
+    /// the diagnostics of a program) go into the body.
+    #[error("{0}")]
+    Unprocessable(String, Option<serde_json::Value>),
+    /// An extractor refused the request (bad JSON, wrong content type, bad path or query).
+    #[error("{1}")]
+    Rejected(StatusCode, String),
     #[error("service unavailable: {0}")]
     Unavailable(String),
     #[error("internal database error")]
@@ -85,6 +149,8 @@ impl ApiError {
             ApiError::NotFound(_) => StatusCode::NOT_FOUND,
             ApiError::MethodNotAllowed { .. } => StatusCode::METHOD_NOT_ALLOWED,
             ApiError::Conflict(_) => StatusCode::CONFLICT,
+            ApiError::Unprocessable(..) => StatusCode::UNPROCESSABLE_ENTITY,
+            ApiError::Rejected(status, _) => *status,
             ApiError::Unavailable(_) => StatusCode::SERVICE_UNAVAILABLE,
             ApiError::Database(_) => StatusCode::INTERNAL_SERVER_ERROR,
         }
@@ -97,7 +163,11 @@ impl IntoResponse for ApiError {
         if let ApiError::Database(source) = &self {
             tracing::error!(error = %source, "database error");
         }
-        let body = ErrorBody { error: self.to_string() };
+        let details = match &self {
+            ApiError::Unprocessable(_, details) => details.clone(),
+            _ => None,
+        };
+        let body = ErrorBody { error: self.to_string(), details };
         (status, Json(body)).into_response()
     }
 }
@@ -108,6 +178,10 @@ pub struct ErrorBody {
     /// What went wrong, for a person to read.
     #[schema(example = "no route for GET /api/v1/nope")]
     pub error: String,
+    /// More about it, where there is more (the diagnostics of a refused program).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<Object>)]
+    pub details: Option<serde_json::Value>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -119,27 +193,6 @@ pub struct Health {
     /// Always `"ok"` when the service answers 200.
     #[schema(example = "ok")]
     pub status: String,
-}
-
-/// One controller in a list.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
-pub struct ControllerSummary {
-    /// Stable identifier used in `/api/v1/controllers/{id}/…` paths.
-    pub id: String,
-    /// Display name given at creation.
-    pub name: String,
-    /// `fanuc` or `syntec`.
-    #[schema(example = "fanuc")]
-    pub dialect: String,
-    /// Creation time, RFC 3339 UTC.
-    #[schema(example = "2025-01-01T00:00:00Z")]
-    pub created_at: String,
-}
-
-impl From<db::ControllerRow> for ControllerSummary {
-    fn from(row: db::ControllerRow) -> Self {
-        Self { id: row.id, name: row.name, dialect: row.dialect, created_at: row.created_at }
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -166,21 +219,6 @@ async fn healthz(State(state): State<AppState>) -> Result<Json<Health>, ApiError
         ApiError::Unavailable("database does not answer".into())
     })?;
     Ok(Json(Health { status: "ok".into() }))
-}
-
-/// Lists the controllers, oldest first.
-#[utoipa::path(
-    get,
-    path = "/api/v1/controllers",
-    tag = "controllers",
-    responses(
-        (status = 200, description = "Every controller", body = [ControllerSummary]),
-        (status = 500, description = "Database error", body = ErrorBody),
-    )
-)]
-async fn list_controllers(State(state): State<AppState>) -> Result<Json<Vec<ControllerSummary>>, ApiError> {
-    let rows = db::list_controllers(&state.db).await?;
-    Ok(Json(rows.into_iter().map(Into::into).collect()))
 }
 
 async fn not_found(method: Method, uri: Uri) -> ApiError {
@@ -218,11 +256,50 @@ async fn log_request(req: Request, next: Next) -> Response {
         description = "A service hosting virtual 5-axis CNC controllers (FANUC 30i-A5 and Syntec \
                        dialects). Errors are JSON `{\"error\": \"…\"}` bodies with a 4xx/5xx status."
     ),
-    paths(healthz, list_controllers),
-    components(schemas(Health, ControllerSummary, ErrorBody)),
+    paths(
+        healthz,
+        api::controllers::create,
+        api::controllers::list,
+        api::controllers::status,
+        api::controllers::update,
+        api::controllers::remove,
+        api::programs::list,
+        api::programs::store,
+        api::programs::text,
+        api::programs::remove,
+        api::panel::cycle_start,
+        api::panel::feed_hold,
+        api::panel::reset,
+        api::panel::mdi,
+        api::panel::set_mode,
+        api::panel::set_overrides,
+        api::panel::set_switches,
+        api::panel::emergency_stop,
+        api::variables::list,
+        api::variables::read,
+        api::variables::write,
+        api::history::alarms,
+        api::history::runs,
+        api::stream::stream,
+    ),
+    components(schemas(
+        Health,
+        ErrorBody,
+        api::ControllerStatus,
+        api::Position,
+        crate::host::stream::AlarmInfo,
+        crate::host::stream::Frame,
+        crate::host::stream::Message,
+        api::stream::Snapshot,
+    )),
     tags(
         (name = "service", description = "Service health and documentation"),
         (name = "controllers", description = "Virtual CNC controllers"),
+        (name = "programs", description = "Stored NC programs"),
+        (name = "panel", description = "The operator panel"),
+        (name = "variables", description = "Custom macro variables"),
+        (name = "history", description = "Alarm and run history"),
+        (name = "stream", description = "Live websocket stream"),
     )
 )]
 pub struct ApiDoc;
@@ -245,14 +322,14 @@ pub fn openapi_json() -> String {
 
 /// The whole HTTP application. Separate from serving so tests can call it directly.
 pub fn app(state: AppState) -> Router {
-    let api = Router::new().route("/controllers", get(list_controllers));
     Router::new()
         .route("/", get(index))
         .route("/healthz", get(healthz))
-        .nest(API_PREFIX, api)
+        .nest(API_PREFIX, api::router())
         .merge(SwaggerUi::new("/swagger-ui").url(OPENAPI_PATH, openapi()))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
+        .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .layer(middleware::from_fn(log_request))
         .with_state(state)
 }
@@ -264,9 +341,11 @@ where
     F: Future<Output = ()> + Send + 'static,
 {
     let (tx, rx) = tokio::sync::oneshot::channel::<()>();
+    let closing = state.clone();
     let signal = async move {
         shutdown.await;
         tracing::info!("shutting down: no new connections, finishing in-flight requests");
+        closing.close();
         let _ = tx.send(());
     };
     let server = axum::serve(listener, app(state)).with_graceful_shutdown(signal);
@@ -349,8 +428,9 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
         // SIGTERM shut the server down gracefully instead of killing it.
         let shutdown = shutdown_signal().map_err(|e| format!("cannot install signal handlers: {e}"))?;
         tracing::info!("fivex listening on http://{local}");
-        let pool = state.db.clone();
+        let (pool, host) = (state.db.clone(), state.host.clone());
         serve(listener, state, shutdown).await.map_err(|e| format!("server error: {e}"))?;
+        host.shutdown();
         pool.close().await;
         tracing::info!("fivex stopped");
         Ok(())

@@ -5,75 +5,19 @@
 //! a loopback port-0 listener and talks to it with a plain HTTP client. The checked-in
 //! `openapi/openapi.json` and `docker-compose.yml` are checked here too.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use axum::body::{Body, Bytes};
-use axum::http::{header, Method, Request, StatusCode};
+use axum::http::{Method, Request, StatusCode};
 use axum::response::IntoResponse;
-use axum::Router;
+use common::spawn_app;
 use fivex_server::db::{self, ControllerRow};
 use fivex_server::serve::{self, ApiError, AppState};
 use http_body_util::BodyExt;
 use serde_json::{json, Value};
-use tempfile::TempDir;
 use tower::ServiceExt;
-
-/// One test's application: its state over a fresh database in a temporary directory that lives
-/// as long as the value.
-struct TestApp {
-    state: AppState,
-    db_path: PathBuf,
-    _dir: TempDir,
-}
-
-/// Everything a test reads back from a response.
-struct Reply {
-    status: StatusCode,
-    content_type: String,
-    body: Bytes,
-}
-
-impl Reply {
-    fn json(&self) -> Value {
-        serde_json::from_slice(&self.body)
-            .unwrap_or_else(|e| panic!("response body is not JSON ({e}): {:?}", String::from_utf8_lossy(&self.body)))
-    }
-
-    fn text(&self) -> String {
-        String::from_utf8(self.body.to_vec()).expect("UTF-8 body")
-    }
-}
-
-async fn spawn_app() -> TestApp {
-    let dir = tempfile::tempdir().expect("temporary directory");
-    let db_path = dir.path().join("fivex.db");
-    let state = AppState::open(&db_path).await.expect("open the database");
-    TestApp { state, db_path, _dir: dir }
-}
-
-impl TestApp {
-    fn router(&self) -> Router {
-        serve::app(self.state.clone())
-    }
-
-    async fn send(&self, request: Request<Body>) -> Reply {
-        let response = self.router().oneshot(request).await.expect("infallible");
-        let status = response.status();
-        let content_type =
-            response.headers().get(header::CONTENT_TYPE).map(|v| v.to_str().unwrap().to_owned()).unwrap_or_default();
-        let body = response.into_body().collect().await.expect("body").to_bytes();
-        Reply { status, content_type, body }
-    }
-
-    async fn request(&self, method: Method, uri: &str) -> Reply {
-        let request = Request::builder().method(method).uri(uri).body(Body::empty()).unwrap();
-        self.send(request).await
-    }
-
-    async fn get(&self, uri: &str) -> Reply {
-        self.request(Method::GET, uri).await
-    }
-}
 
 fn controller(id: &str, name: &str, created_at: &str) -> ControllerRow {
     ControllerRow {
@@ -141,19 +85,37 @@ async fn controllers_list_is_empty_on_a_fresh_database() {
 }
 
 #[tokio::test]
-async fn controllers_list_reads_the_controllers_table_oldest_first() {
+async fn stored_controllers_are_hosted_again_oldest_first_and_bad_rows_are_kept() {
     let app = spawn_app().await;
-    db::insert_controller(&app.state.db, &controller("b", "second", "2025-01-02T00:00:00Z")).await.unwrap();
-    db::insert_controller(&app.state.db, &controller("a", "first", "2025-01-01T00:00:00Z")).await.unwrap();
-    let reply = app.get("/api/v1/controllers").await;
-    assert_eq!(reply.status, StatusCode::OK);
-    assert_eq!(
-        reply.json(),
-        json!([
-            {"id": "a", "name": "first", "dialect": "fanuc", "created_at": "2025-01-01T00:00:00Z"},
-            {"id": "b", "name": "second", "dialect": "fanuc", "created_at": "2025-01-02T00:00:00Z"},
-        ])
-    );
+    let machine = serde_json::to_string(&fivex_engine::machine::MachineConfig::preset("table-ac").unwrap()).unwrap();
+    let mut second = controller("b", "second", "2025-01-02T00:00:00Z");
+    let mut first = controller("a", "first", "2025-01-01T00:00:00Z");
+    (second.machine_json, first.machine_json) = (machine.clone(), machine);
+    db::insert_controller(&app.state.db, &second).await.unwrap();
+    db::insert_controller(&app.state.db, &first).await.unwrap();
+    // A row whose machine this version refuses stays in the database, unhosted.
+    db::insert_controller(&app.state.db, &controller("z", "odd", "2025-01-03T00:00:00Z")).await.unwrap();
+    let again = AppState::open(&app.db_path).await.expect("reopen");
+    let reply = serve::app(again.clone())
+        .oneshot(Request::get("/api/v1/controllers").body(Body::empty()).unwrap())
+        .await
+        .unwrap();
+    assert_eq!(reply.status(), StatusCode::OK);
+    let list: Value = serde_json::from_slice(&reply.into_body().collect().await.unwrap().to_bytes()).unwrap();
+    let summary: Vec<(String, String, String, String, String, String)> = list
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let s = |k: &str| c[k].as_str().unwrap().to_string();
+            (s("id"), s("name"), s("dialect"), s("created_at"), s("mode"), s("run_state"))
+        })
+        .collect();
+    let row = |id: &str, name: &str, at: &str| {
+        (id.into(), name.into(), "fanuc".into(), at.into(), "auto".into(), "idle".into())
+    };
+    assert_eq!(summary, [row("a", "first", "2025-01-01T00:00:00Z"), row("b", "second", "2025-01-02T00:00:00Z")]);
+    assert_eq!(db::list_controllers(&again.db).await.unwrap().len(), 3);
 }
 
 #[tokio::test]
@@ -240,7 +202,10 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
     .fetch_all(&app.state.db)
     .await
     .unwrap();
-    assert_eq!(tables, ["controllers", "programs", "variables"]);
+    assert_eq!(
+        tables,
+        ["alarm_history", "controllers", "programs", "run_history", "tool_offsets", "variables", "work_offsets"]
+    );
     db::insert_controller(&app.state.db, &controller("c1", "kept", "2025-01-01T00:00:00Z")).await.unwrap();
     app.state.db.close().await;
 

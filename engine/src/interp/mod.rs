@@ -501,6 +501,17 @@ impl State {
         c.chain(p).collect()
     }
 
+    /// Set common variable `n` (#100–#199 or #500–#999) from outside a program (a host, an
+    /// operator); other numbers are not the host's to write: `WriteProtectedVariable`.
+    pub fn set_common_variable(&mut self, n: u32, value: Value) -> Result<(), AlarmId> {
+        match n {
+            100..=199 => self.common[n as usize - 100] = value,
+            500..=999 => self.persistent[n as usize - 500] = value,
+            _ => return Err(AlarmId::WriteProtectedVariable),
+        }
+        Ok(())
+    }
+
     /// Current position in programming (workpiece) coordinates.
     pub fn position(&self) -> Pos {
         self.pos

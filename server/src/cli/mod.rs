@@ -196,7 +196,9 @@ fn equip(mut interp: Interpreter, args: &InterpreterArgs) -> Result<Interpreter,
             let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
             serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?
         }
-        None => (1..=99).map(|n| (n, ToolEntry { length: 100.0, radius: 5.0 })).collect(),
+        None => crate::tools::DEFAULT_NUMBERS
+            .map(|n| (n, ToolEntry { length: crate::tools::DEFAULT_LENGTH, radius: crate::tools::DEFAULT_RADIUS }))
+            .collect(),
     };
     for (n, t) in tools {
         let slot = interp

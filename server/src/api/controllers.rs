@@ -1,0 +1,201 @@
+//! Creating, listing, configuring and removing controllers.
+
+use std::sync::Arc;
+
+use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::{Json, Path, State};
+use axum::http::StatusCode;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::Dialect;
+use serde::Deserialize;
+use utoipa::ToSchema;
+
+use super::{body, hosted, path, ControllerStatus};
+use crate::db::{self, ControllerRow};
+use crate::host::{now_rfc3339, Hosted, Spec, MAX_SPEED};
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// `POST /controllers`: a name, and the machine as a preset name or a machine document (a model
+/// or a vendor parameter list, as `--machine FILE.json` takes).
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CreateController {
+    #[schema(example = "cell 1")]
+    pub name: String,
+    /// A built-in preset (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
+    #[schema(example = "table-ac")]
+    pub preset: Option<String>,
+    /// A machine document instead of a preset (`docs/machine-config.md`).
+    #[schema(value_type = Option<Object>)]
+    pub machine: Option<serde_json::Value>,
+    /// `fanuc` (default) or `syntec`.
+    #[schema(example = "fanuc")]
+    pub dialect: Option<String>,
+    /// Simulated seconds per real second (default 1; up to 1000).
+    pub speed: Option<f64>,
+}
+
+/// `PATCH /controllers/{id}`: what may change on a controller that exists.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct UpdateController {
+    pub name: Option<String>,
+    pub speed: Option<f64>,
+}
+
+fn check_name(name: &str) -> Result<String, ApiError> {
+    let name = name.trim();
+    if name.is_empty() || name.chars().count() > 200 {
+        return Err(ApiError::Unprocessable("name must have 1 to 200 characters".into(), None));
+    }
+    Ok(name.to_string())
+}
+
+fn check_speed(speed: f64) -> Result<f64, ApiError> {
+    if !(speed.is_finite() && speed > 0.0 && speed <= MAX_SPEED) {
+        return Err(ApiError::Unprocessable(format!("speed must be above 0 and at most {MAX_SPEED}"), None));
+    }
+    Ok(speed)
+}
+
+fn machine_of(request: &CreateController) -> Result<MachineConfig, ApiError> {
+    let bad = |why: String| ApiError::Unprocessable(why, None);
+    match (&request.preset, &request.machine) {
+        (Some(preset), None) => MachineConfig::preset(preset)
+            .ok_or_else(|| bad(format!("unknown preset '{preset}' ({})", MachineConfig::PRESETS.join(", ")))),
+        (None, Some(machine)) => crate::machine_file::parse(&machine.to_string()).map_err(bad),
+        _ => Err(bad("give exactly one of preset and machine".into())),
+    }
+}
+
+/// Creates a controller in reset state (AUTO, idle) and keeps it in the database.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers",
+    tag = "controllers",
+    request_body = CreateController,
+    responses(
+        (status = 201, description = "Created", body = ControllerStatus),
+        (status = 400, description = "Not JSON", body = ErrorBody),
+        (status = 422, description = "Not a valid controller (name, preset, machine, dialect, speed)", body = ErrorBody),
+    )
+)]
+pub async fn create(
+    State(state): State<AppState>,
+    request: Result<Json<CreateController>, JsonRejection>,
+) -> Result<(StatusCode, Json<ControllerStatus>), ApiError> {
+    let request = body(request)?;
+    let name = check_name(&request.name)?;
+    let machine = machine_of(&request)?;
+    let dialect: Dialect = match &request.dialect {
+        Some(d) => d.parse().map_err(|e: String| ApiError::Unprocessable(e, None))?,
+        None => Dialect::Fanuc,
+    };
+    let speed = check_speed(request.speed.unwrap_or(1.0))?;
+    let row = ControllerRow {
+        id: uuid::Uuid::new_v4().simple().to_string(),
+        name: name.clone(),
+        dialect: dialect.name().to_string(),
+        machine_json: serde_json::to_string(&machine).map_err(|e| ApiError::Unprocessable(e.to_string(), None))?,
+        created_at: now_rfc3339(),
+    };
+    db::insert_controller_with_speed(&state.db, &row, speed).await?;
+    let hosted = Arc::new(Hosted::new(Spec {
+        id: row.id.clone(),
+        name,
+        dialect,
+        machine,
+        created_at: row.created_at.clone(),
+        speed,
+    }));
+    state.host.add(hosted.clone());
+    tracing::info!(id = %row.id, name = %row.name, machine = %hosted.machine.name, "controller created");
+    Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))
+}
+
+/// Every controller with its status, oldest first.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers",
+    tag = "controllers",
+    responses((status = 200, description = "Every controller", body = [ControllerStatus]))
+)]
+pub async fn list(State(state): State<AppState>) -> Json<Vec<ControllerStatus>> {
+    Json(state.host.list().iter().map(|h| ControllerStatus::now(h)).collect())
+}
+
+/// One controller's status: mode, run state, position, alarms, program and line.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}",
+    tag = "controllers",
+    params(("id" = String, Path, description = "Controller id")),
+    responses(
+        (status = 200, description = "The controller", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
+)]
+pub async fn status(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    Ok(Json(ControllerStatus::now(&hosted)))
+}
+
+/// Renames a controller or changes its speed factor.
+#[utoipa::path(
+    patch,
+    path = "/api/v1/controllers/{id}",
+    tag = "controllers",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = UpdateController,
+    responses(
+        (status = 200, description = "Changed", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 422, description = "Invalid name or speed", body = ErrorBody),
+    )
+)]
+pub async fn update(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<UpdateController>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    let name = match &request.name {
+        Some(n) => check_name(n)?,
+        None => hosted.name(),
+    };
+    let speed = match request.speed {
+        Some(s) => check_speed(s)?,
+        None => hosted.speed(),
+    };
+    db::update_controller(&state.db, &hosted.id, &name, speed).await?;
+    hosted.rename(name);
+    hosted.set_speed(speed);
+    Ok(Json(ControllerStatus::now(&hosted)))
+}
+
+/// Removes a controller with its programs, variables and history.
+#[utoipa::path(
+    delete,
+    path = "/api/v1/controllers/{id}",
+    tag = "controllers",
+    params(("id" = String, Path, description = "Controller id")),
+    responses(
+        (status = 204, description = "Removed"),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
+)]
+pub async fn remove(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<StatusCode, ApiError> {
+    let id = path(id)?;
+    let hosted = hosted(&state, &id)?;
+    db::delete_controller(&state.db, &hosted.id).await?;
+    state.host.remove(&id);
+    tracing::info!(%id, "controller removed");
+    Ok(StatusCode::NO_CONTENT)
+}

@@ -1,0 +1,150 @@
+//! The REST API under `/api/v1` (CONTRACTS.md): one module per concept — the controllers
+//! themselves, their stored programs, the operator panel, macro variables, history, and the
+//! websocket stream. Handlers lock a hosted controller only for as long as a button press takes
+//! and never across an `.await`.
+
+pub mod controllers;
+pub mod history;
+pub mod panel;
+pub mod programs;
+pub mod stream;
+pub mod variables;
+
+use std::sync::Arc;
+
+use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::{Json, Path};
+use axum::routing::{get, post, put};
+use axum::Router;
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use utoipa::ToSchema;
+
+use crate::host::stream::{axes, AlarmInfo};
+use crate::host::{Hosted, Station};
+use crate::serve::{ApiError, AppState};
+
+/// The `/api/v1` routes.
+pub fn router() -> Router<AppState> {
+    Router::new()
+        .route("/controllers", get(controllers::list).post(controllers::create))
+        .route("/controllers/{id}", get(controllers::status).patch(controllers::update).delete(controllers::remove))
+        .route("/controllers/{id}/programs", get(programs::list))
+        .route("/controllers/{id}/programs/{number}", put(programs::store).get(programs::text).delete(programs::remove))
+        .route("/controllers/{id}/cycle-start", post(panel::cycle_start))
+        .route("/controllers/{id}/feed-hold", post(panel::feed_hold))
+        .route("/controllers/{id}/reset", post(panel::reset))
+        .route("/controllers/{id}/mdi", post(panel::mdi))
+        .route("/controllers/{id}/mode", put(panel::set_mode))
+        .route("/controllers/{id}/overrides", put(panel::set_overrides))
+        .route("/controllers/{id}/switches", put(panel::set_switches))
+        .route("/controllers/{id}/emergency-stop", put(panel::emergency_stop))
+        .route("/controllers/{id}/variables", get(variables::list))
+        .route("/controllers/{id}/variables/{number}", get(variables::read).put(variables::write))
+        .route("/controllers/{id}/alarms", get(history::alarms))
+        .route("/controllers/{id}/runs", get(history::runs))
+        .route("/controllers/{id}/stream", get(stream::stream))
+}
+
+/// A controller as `GET /controllers/{id}` shows it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct ControllerStatus {
+    /// Stable identifier used in `/api/v1/controllers/{id}/…` paths.
+    pub id: String,
+    /// Display name.
+    pub name: String,
+    /// `fanuc` or `syntec`.
+    #[schema(example = "fanuc")]
+    pub dialect: String,
+    /// The machine configuration's name (a preset name for a preset).
+    #[schema(example = "table-ac")]
+    pub machine: String,
+    /// Creation time, RFC 3339 UTC.
+    #[schema(example = "2025-01-01T00:00:00Z")]
+    pub created_at: String,
+    /// Simulated seconds per real second (1 = real time).
+    pub speed: f64,
+    /// `auto`, `mdi`, `jog`, `handle` or `ref`.
+    #[schema(example = "auto")]
+    pub mode: String,
+    /// `idle`, `running`, `hold` or `alarm`.
+    #[schema(example = "idle")]
+    pub run_state: String,
+    /// The stored program AUTO runs (O number), once one was started.
+    pub program: Option<u32>,
+    /// 1-based line of the block moving now (0 before any) and its sequence number.
+    pub line: u32,
+    pub n: Option<u32>,
+    pub position: Position,
+    /// Tool tip speed relative to the workpiece, mm/min.
+    pub feed: f64,
+    /// Simulated seconds since the controller was created (or the service started).
+    pub time_s: f64,
+    /// Alarms in force.
+    pub alarms: Vec<AlarmInfo>,
+}
+
+/// Machine and workpiece coordinates per axis letter, in axis order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct Position {
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub machine: Map<String, Value>,
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub workpiece: Map<String, Value>,
+}
+
+impl ControllerStatus {
+    pub fn of(hosted: &Hosted, station: &Station) -> ControllerStatus {
+        let c = &station.controller;
+        let p = c.point();
+        ControllerStatus {
+            id: hosted.id.clone(),
+            name: hosted.name(),
+            dialect: hosted.dialect.name().to_string(),
+            machine: hosted.machine.name.clone(),
+            created_at: hosted.created_at.clone(),
+            speed: hosted.speed(),
+            mode: word(&c.mode()),
+            run_state: word(&c.run_state()),
+            program: station.program,
+            line: p.line,
+            n: p.n,
+            position: Position {
+                machine: axes(&hosted.machine, &p.machine),
+                workpiece: axes(&hosted.machine, &p.work),
+            },
+            feed: p.feed,
+            time_s: c.time(),
+            alarms: c.alarms().iter().map(AlarmInfo::from).collect(),
+        }
+    }
+
+    /// The status of `hosted` now.
+    pub fn now(hosted: &Hosted) -> ControllerStatus {
+        let station = hosted.station();
+        ControllerStatus::of(hosted, &station)
+    }
+}
+
+/// The engine's serde name of a unit enum value (a mode, a run state) as a plain word.
+pub fn word<T: Serialize>(value: &T) -> String {
+    match serde_json::to_value(value) {
+        Ok(Value::String(s)) => s,
+        _ => String::new(),
+    }
+}
+
+/// The hosted controller `id`, or 404.
+pub fn hosted(state: &AppState, id: &str) -> Result<Arc<Hosted>, ApiError> {
+    state.host.get(id).ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))
+}
+
+/// A JSON body, or the reason it is not one as a JSON error.
+pub fn body<T>(json: Result<Json<T>, JsonRejection>) -> Result<T, ApiError> {
+    json.map(|Json(v)| v).map_err(|e| ApiError::Rejected(e.status(), e.body_text()))
+}
+
+/// Path parameters, or the reason they do not parse as a JSON error.
+pub fn path<T>(path: Result<Path<T>, PathRejection>) -> Result<T, ApiError> {
+    path.map(|Path(v)| v).map_err(|e| ApiError::Rejected(e.status(), e.body_text()))
+}

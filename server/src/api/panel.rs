@@ -1,0 +1,385 @@
+//! The operator panel: cycle start, feed hold, reset, MDI, mode, overrides, switches and the
+//! emergency stop. Each answers the controller's status after the action; an action the panel
+//! would ignore in this state is 409 with the reason.
+
+use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::{Json, Path, State};
+use fivex_engine::controller::{Mode, Refusal};
+use serde::Deserialize;
+use utoipa::ToSchema;
+
+use super::{body, hosted, path, ControllerStatus};
+use crate::db;
+use crate::host::{Hosted, Station};
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// Why the panel ignored an action, for a person.
+fn refused(r: Refusal) -> ApiError {
+    ApiError::Conflict(
+        match r {
+            Refusal::WrongMode => "not possible in this mode",
+            Refusal::Busy => "not possible while the controller runs, holds or is in alarm",
+            Refusal::NoProgram => "there is no program to run",
+            Refusal::NoAxis => "no such axis",
+        }
+        .into(),
+    )
+}
+
+/// Apply `action` to the station, send out what it caused, and answer the status.
+fn act(
+    state: &AppState,
+    hosted: &Hosted,
+    action: impl FnOnce(&mut Station) -> Result<(), ApiError>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let (result, messages, records, status) = {
+        let mut station = hosted.station();
+        let result = action(&mut station);
+        let (messages, records) = station.collect(&hosted.id, 0.0, true);
+        (result, messages, records, ControllerStatus::of(hosted, &station))
+    };
+    for r in records {
+        state.host.record(r);
+    }
+    hosted.publish(messages);
+    result.map(|()| Json(status))
+}
+
+/// `POST /cycle-start`: optionally the stored program to run.
+#[derive(Debug, Clone, Default, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CycleStart {
+    /// O number of a stored program: selected and started in AUTO. Omitted: resume after a
+    /// feed hold or stop, or run the program already selected.
+    pub program: Option<u32>,
+}
+
+/// The text AUTO runs for stored program `number`: that program first (its lines keep their
+/// numbers in alarms), then every other stored program, each under its O number, for M98/G65.
+fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
+    let main = programs.iter().find(|(n, _)| *n == number)?;
+    let mut text = main.1.clone();
+    for (n, t) in programs.iter().filter(|(n, _)| *n != number) {
+        text.push('\n');
+        if !starts_with_o_number(t) {
+            text.push_str(&format!("O{n:04}\n"));
+        }
+        text.push_str(t);
+    }
+    Some(text)
+}
+
+/// Whether a program text opens with its own O number (after `%` lines and blanks).
+fn starts_with_o_number(text: &str) -> bool {
+    text.lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('%'))
+        .is_some_and(|l| l.len() > 1 && l.as_bytes()[0].eq_ignore_ascii_case(&b'O') && l.as_bytes()[1].is_ascii_digit())
+}
+
+/// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume
+/// (feed hold, M00/M01, single block) or run what is selected.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/cycle-start",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body(content = CycleStart, description = "Optional; an empty body resumes"),
+    responses(
+        (status = 200, description = "Started", body = ControllerStatus),
+        (status = 404, description = "No such controller or program", body = ErrorBody),
+        (status = 409, description = "Not possible now (running another program, alarm, wrong mode)", body = ErrorBody),
+    )
+)]
+pub async fn cycle_start(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Option<Json<CycleStart>>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = request.map(|Json(r)| r).unwrap_or_default();
+    let text = match request.program {
+        Some(n) => {
+            let programs = db::programs(&state.db, &hosted.id).await?;
+            Some((n, compose(n, &programs).ok_or_else(|| ApiError::NotFound(format!("no program O{n}")))?))
+        }
+        None => None,
+    };
+    act(&state, &hosted, |station| {
+        let c = &mut station.controller;
+        let fresh = c.run_state() == fivex_engine::controller::RunState::Idle;
+        if let Some((n, text)) = &text {
+            if c.mode() != Mode::Auto {
+                c.set_mode(Mode::Auto).map_err(refused)?;
+            }
+            c.select_program(text).map_err(refused)?;
+            c.cycle_start().map_err(refused)?;
+            station.begin_run(Some(*n));
+        } else {
+            c.cycle_start().map_err(refused)?;
+            if fresh {
+                let program = if c.mode() == Mode::Auto { station.program } else { None };
+                station.begin_run(program);
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Feed hold: decelerate along the path and wait for cycle start.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/feed-hold",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    responses((status = 200, description = "Holding (or nothing was running)", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn feed_hold(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    act(&state, &hosted, |station| {
+        station.controller.feed_hold();
+        Ok(())
+    })
+}
+
+/// Reset: stop, abandon the program, clear the alarms.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/reset",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    responses((status = 200, description = "Reset", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn reset(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    act(&state, &hosted, |station| {
+        if let Some(record) = station.end_run(&hosted.id, "reset") {
+            state.host.record(record);
+        }
+        station.controller.reset();
+        Ok(())
+    })
+}
+
+/// `POST /mdi`.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Mdi {
+    /// NC blocks to run.
+    #[schema(example = "G91 G01 X10. F100")]
+    pub text: String,
+}
+
+/// MDI: switch to MDI mode (when idle) and run the blocks.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/mdi",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = Mdi,
+    responses(
+        (status = 200, description = "Running", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Busy or in alarm", body = ErrorBody),
+        (status = 422, description = "Not an MDI request", body = ErrorBody),
+    )
+)]
+pub async fn mdi(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<Mdi>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    if request.text.len() > super::programs::MAX_PROGRAM_BYTES {
+        return Err(ApiError::Unprocessable("MDI text too long".into(), None));
+    }
+    act(&state, &hosted, |station| {
+        let c = &mut station.controller;
+        if c.mode() != Mode::Mdi {
+            c.set_mode(Mode::Mdi).map_err(refused)?;
+        }
+        c.set_mdi(&request.text).map_err(refused)?;
+        c.cycle_start().map_err(refused)?;
+        station.begin_run(None);
+        Ok(())
+    })
+}
+
+/// `PUT /mode`.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetMode {
+    /// `auto`, `mdi`, `jog`, `handle` or `ref`.
+    #[schema(example = "jog")]
+    pub mode: String,
+}
+
+/// Select the mode (only while nothing runs or holds).
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/mode",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = SetMode,
+    responses(
+        (status = 200, description = "Mode selected", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Busy", body = ErrorBody),
+        (status = 422, description = "Unknown mode", body = ErrorBody),
+    )
+)]
+pub async fn set_mode(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<SetMode>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let mode = match body(request)?.mode.to_ascii_lowercase().as_str() {
+        "auto" => Mode::Auto,
+        "mdi" => Mode::Mdi,
+        "jog" => Mode::Jog,
+        "handle" => Mode::Handle,
+        "ref" => Mode::Ref,
+        other => {
+            return Err(ApiError::Unprocessable(format!("unknown mode '{other}' (auto, mdi, jog, handle, ref)"), None))
+        }
+    };
+    act(&state, &hosted, |station| station.controller.set_mode(mode).map_err(refused))
+}
+
+/// `PUT /overrides`, percent.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Overrides {
+    /// Feed override, 0–200 %.
+    pub feed: Option<f64>,
+    /// Rapid override, 0–100 %.
+    pub rapid: Option<f64>,
+}
+
+/// Feed and rapid override; the motion under way changes speed at once within the limits.
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/overrides",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = Overrides,
+    responses(
+        (status = 200, description = "Set", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 422, description = "Out of range", body = ErrorBody),
+    )
+)]
+pub async fn set_overrides(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<Overrides>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    let within = |v: Option<f64>, max: f64, what: &str| match v {
+        Some(p) if !(p.is_finite() && (0.0..=max).contains(&p)) => {
+            Err(ApiError::Unprocessable(format!("{what} override must be 0–{max} %"), None))
+        }
+        other => Ok(other.map(|p| p / 100.0)),
+    };
+    let (feed, rapid) = (within(request.feed, 200.0, "feed")?, within(request.rapid, 100.0, "rapid")?);
+    act(&state, &hosted, |station| {
+        let c = &mut station.controller;
+        let (f, r) = (feed.unwrap_or(c.panel.feed_override), rapid.unwrap_or(c.panel.rapid_override));
+        c.set_overrides(f, r);
+        Ok(())
+    })
+}
+
+/// `PUT /switches`.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Switches {
+    pub single_block: Option<bool>,
+    pub optional_stop: Option<bool>,
+    pub block_delete: Option<bool>,
+}
+
+/// Single block, optional stop (M01) and block delete (`/`).
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/switches",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = Switches,
+    responses((status = 200, description = "Set", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn set_switches(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<Switches>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    act(&state, &hosted, |station| {
+        let p = &mut station.controller.panel;
+        p.single_block = request.single_block.unwrap_or(p.single_block);
+        p.optional_stop = request.optional_stop.unwrap_or(p.optional_stop);
+        p.block_delete = request.block_delete.unwrap_or(p.block_delete);
+        Ok(())
+    })
+}
+
+/// `PUT /emergency-stop`.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EmergencyStop {
+    /// Pressed (stop every axis at once, alarm) or released.
+    pub pressed: bool,
+}
+
+/// The emergency stop button; after releasing it a reset clears the alarm.
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/emergency-stop",
+    tag = "panel",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = EmergencyStop,
+    responses((status = 200, description = "Set", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn emergency_stop(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<EmergencyStop>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let pressed = body(request)?.pressed;
+    act(&state, &hosted, |station| {
+        if pressed {
+            if let Some(record) = station.end_run(&hosted.id, "alarm") {
+                state.host.record(record);
+            }
+        }
+        station.controller.emergency_stop(pressed);
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_selected_program_comes_first_and_the_others_under_their_numbers() {
+        let programs =
+            vec![(1, "G01 X1.\nM98 P2\nM30\n".to_string()), (2, "O0002\nX2.\nM99\n".into()), (3, "X3.\nM99".into())];
+        let text = compose(1, &programs).unwrap();
+        assert!(text.starts_with("G01 X1.\n"), "{text}");
+        assert!(text.contains("\nO0002\nX2.") && text.contains("\nO0003\nX3."), "{text}");
+        assert!(compose(4, &programs).is_none());
+        assert!(starts_with_o_number("%\n\nO12 (x)\n") && !starts_with_o_number("(O1)\nG01"));
+    }
+}

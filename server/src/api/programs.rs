@@ -1,0 +1,205 @@
+//! A controller's stored programs (O numbers) and their NC text.
+
+use axum::body::Bytes;
+use axum::extract::rejection::{PathRejection, QueryRejection};
+use axum::extract::{Path, Query, State};
+use axum::http::{header, HeaderMap, StatusCode};
+use axum::response::IntoResponse;
+use axum::Json;
+use fivex_engine::lang::parse_file;
+use fivex_engine::Dialect;
+use serde::{Deserialize, Serialize};
+use utoipa::{IntoParams, ToSchema};
+
+use super::{hosted, path};
+use crate::db;
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// The largest program text accepted, bytes.
+pub const MAX_PROGRAM_BYTES: usize = 8 * 1024 * 1024;
+
+/// A stored program in a list.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct ProgramSummary {
+    /// The O number.
+    pub number: u32,
+    /// Size of the NC text, bytes.
+    pub size: usize,
+}
+
+/// What `fivex check` finds in a program, one problem per entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct Diagnostic {
+    pub line: u32,
+    pub col: u32,
+    /// The dialect's alarm code.
+    #[schema(example = "PS0010")]
+    pub code: String,
+    pub message: String,
+    /// What exactly is wrong.
+    pub detail: String,
+}
+
+/// The answer to storing a program.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct StoredProgram {
+    pub number: u32,
+    pub size: usize,
+    /// Problems `check` found (stored anyway because the client asked with `force=true`).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+#[derive(Debug, Clone, Deserialize, IntoParams)]
+pub struct StoreOptions {
+    /// Store the text even if `check` finds problems.
+    #[serde(default)]
+    pub force: bool,
+}
+
+/// The problems `check` finds in `text`.
+pub fn diagnostics(text: &str, dialect: Dialect) -> Vec<Diagnostic> {
+    fivex_engine::check::check(parse_file(text), dialect)
+        .into_iter()
+        .map(|d| {
+            let (code, message) = dialect.describe(&d.id);
+            Diagnostic {
+                line: d.line,
+                col: d.col,
+                code: code.to_string(),
+                message: message.to_string(),
+                detail: d.detail,
+            }
+        })
+        .collect()
+}
+
+/// A program number in the dialect's range (O1–O9999).
+fn number(n: u32) -> Result<u32, ApiError> {
+    if (1..=9999).contains(&n) {
+        Ok(n)
+    } else {
+        Err(ApiError::Unprocessable(format!("program number {n} is outside 1–9999"), None))
+    }
+}
+
+/// The stored programs, ascending.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/programs",
+    tag = "programs",
+    params(("id" = String, Path, description = "Controller id")),
+    responses(
+        (status = 200, description = "Stored programs", body = [ProgramSummary]),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
+)]
+pub async fn list(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<ProgramSummary>>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let rows = db::list_programs(&state.db, &hosted.id).await?;
+    Ok(Json(rows.into_iter().map(|(number, size)| ProgramSummary { number, size }).collect()))
+}
+
+/// Stores a program's NC text (`text/plain`, UTF-8). A text `check` finds problems in is
+/// refused with the diagnostics (422) unless `force=true`.
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/programs/{number}",
+    tag = "programs",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number, 1–9999"), StoreOptions),
+    request_body(content = String, content_type = "text/plain", description = "NC text"),
+    responses(
+        (status = 201, description = "Stored (new)", body = StoredProgram),
+        (status = 200, description = "Stored (replaced)", body = StoredProgram),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 413, description = "Too large", body = ErrorBody),
+        (status = 415, description = "Not text/plain", body = ErrorBody),
+        (status = 422, description = "Not UTF-8 NC text, or `check` found problems (in `details`)", body = ErrorBody),
+    )
+)]
+pub async fn store(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+    options: Result<Query<StoreOptions>, QueryRejection>,
+    headers: HeaderMap,
+    text: Bytes,
+) -> Result<(StatusCode, Json<StoredProgram>), ApiError> {
+    let (id, n) = path(params)?;
+    let force = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.force;
+    let hosted = hosted(&state, &id)?;
+    let n = number(n)?;
+    let media = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).unwrap_or("text/plain");
+    if !media.trim_start().to_ascii_lowercase().starts_with("text/plain") {
+        return Err(ApiError::Rejected(StatusCode::UNSUPPORTED_MEDIA_TYPE, "programs are text/plain".into()));
+    }
+    if text.len() > MAX_PROGRAM_BYTES {
+        return Err(ApiError::Rejected(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            format!("a program may have at most {MAX_PROGRAM_BYTES} bytes"),
+        ));
+    }
+    let text = std::str::from_utf8(&text)
+        .map_err(|e| ApiError::Unprocessable(format!("the program is not UTF-8 text: {e}"), None))?;
+    if text.contains('\0') {
+        return Err(ApiError::Unprocessable("the program contains NUL bytes (binary data?)".into(), None));
+    }
+    let found = diagnostics(text, hosted.dialect);
+    if !found.is_empty() && !force {
+        let details = serde_json::to_value(&found).ok();
+        return Err(ApiError::Unprocessable(
+            format!("check found {} problem(s); store anyway with ?force=true", found.len()),
+            details,
+        ));
+    }
+    let new = db::put_program(&state.db, &hosted.id, n, text).await?;
+    let stored = StoredProgram { number: n, size: text.len(), diagnostics: found };
+    Ok((if new { StatusCode::CREATED } else { StatusCode::OK }, Json(stored)))
+}
+
+/// A stored program's NC text.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/programs/{number}",
+    tag = "programs",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number")),
+    responses(
+        (status = 200, description = "NC text", body = String, content_type = "text/plain"),
+        (status = 404, description = "No such controller or program", body = ErrorBody),
+    )
+)]
+pub async fn text(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+) -> Result<impl IntoResponse, ApiError> {
+    let (id, n) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    let text =
+        db::program(&state.db, &hosted.id, n).await?.ok_or_else(|| ApiError::NotFound(format!("no program O{n}")))?;
+    Ok(([(header::CONTENT_TYPE, "text/plain; charset=utf-8")], text))
+}
+
+/// Removes a stored program.
+#[utoipa::path(
+    delete,
+    path = "/api/v1/controllers/{id}/programs/{number}",
+    tag = "programs",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number")),
+    responses(
+        (status = 204, description = "Removed"),
+        (status = 404, description = "No such controller or program", body = ErrorBody),
+    )
+)]
+pub async fn remove(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+) -> Result<StatusCode, ApiError> {
+    let (id, n) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    if db::delete_program(&state.db, &hosted.id, n).await? {
+        Ok(StatusCode::NO_CONTENT)
+    } else {
+        Err(ApiError::NotFound(format!("no program O{n}")))
+    }
+}

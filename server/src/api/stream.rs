@@ -1,0 +1,143 @@
+//! `GET /controllers/{id}/stream`: a websocket with the controller's live state. The first
+//! message is a snapshot (`{"type": "snapshot", "controller": status, "variables": {…}}`); then
+//! position frames at the requested rate (only when the position changed; the newest wins, so
+//! a slow client sees fewer frames, never old ones) and every event message. A client that fell
+//! so far behind that events were dropped gets a fresh snapshot instead. Nothing a client does
+//! or fails to do slows a controller or another client.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::extract::rejection::{PathRejection, QueryRejection};
+use axum::extract::ws::{CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
+use axum::extract::{Path, Query, State};
+use axum::response::Response;
+use futures_util::{SinkExt, StreamExt};
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use tokio::sync::broadcast::error::RecvError;
+use tokio::sync::watch;
+use utoipa::{IntoParams, ToSchema};
+
+use super::{hosted, path, ControllerStatus};
+use crate::host::Hosted;
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// Position frames per second by default, and the range a client may ask for.
+pub const DEFAULT_RATE_HZ: f64 = 30.0;
+const MAX_RATE_HZ: f64 = 1000.0;
+const MIN_RATE_HZ: f64 = 0.1;
+
+/// A client that cannot take a message within this time is dropped.
+const SEND_TIMEOUT: Duration = Duration::from_secs(10);
+
+#[derive(Debug, Clone, Deserialize, IntoParams)]
+pub struct StreamOptions {
+    /// Position frames per second (0.1–1000, default 30).
+    pub rate: Option<f64>,
+}
+
+/// The first message of a stream, and the one after a client fell behind.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct Snapshot {
+    /// Always `"snapshot"`.
+    #[serde(rename = "type")]
+    #[schema(example = "snapshot")]
+    pub kind: &'static str,
+    pub controller: ControllerStatus,
+    /// Non-vacant common variables, `{"#500": 1.5}`.
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub variables: Map<String, Value>,
+}
+
+impl Snapshot {
+    fn of(hosted: &Hosted) -> Snapshot {
+        let station = hosted.station();
+        let variables = station
+            .controller
+            .interpreter()
+            .state
+            .common_variables()
+            .into_iter()
+            .filter_map(|(n, v)| Some((format!("#{n}"), Value::Number(serde_json::Number::from_f64(v)?))))
+            .collect();
+        Snapshot { kind: "snapshot", controller: ControllerStatus::of(hosted, &station), variables }
+    }
+}
+
+/// Live positions, state changes, alarms and variables over a websocket.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/stream",
+    tag = "stream",
+    params(("id" = String, Path, description = "Controller id"), StreamOptions),
+    responses(
+        (status = 101, description = "Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects", body = Snapshot),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 422, description = "Bad rate", body = ErrorBody),
+    )
+)]
+pub async fn stream(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    options: Result<Query<StreamOptions>, QueryRejection>,
+    upgrade: WebSocketUpgrade,
+) -> Result<Response, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let rate = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.rate.unwrap_or(DEFAULT_RATE_HZ);
+    if !(rate.is_finite() && (MIN_RATE_HZ..=MAX_RATE_HZ).contains(&rate)) {
+        return Err(ApiError::Unprocessable(
+            format!("rate must be {MIN_RATE_HZ}–{MAX_RATE_HZ} frames per second"),
+            None,
+        ));
+    }
+    let closing = state.closing();
+    Ok(upgrade.on_upgrade(move |socket| session(socket, hosted, rate, closing)))
+}
+
+async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing: watch::Receiver<bool>) {
+    let (mut tx, mut rx) = socket.split();
+    let mut positions = hosted.positions();
+    let mut events = hosted.events();
+    if !send(&mut tx, json(&Snapshot::of(&hosted))).await {
+        return;
+    }
+    let mut every = tokio::time::interval(Duration::from_secs_f64(1.0 / rate));
+    every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    loop {
+        let ok = tokio::select! {
+            _ = every.tick() => {
+                let frame = if positions.has_changed().unwrap_or(false) { positions.borrow_and_update().clone() } else { None };
+                match frame {
+                    Some(frame) => send(&mut tx, json(&*frame)).await,
+                    None => true,
+                }
+            }
+            event = events.recv() => match event {
+                Ok(message) => send(&mut tx, json(&*message)).await,
+                Err(RecvError::Lagged(_)) => send(&mut tx, json(&Snapshot::of(&hosted))).await,
+                Err(RecvError::Closed) => false,
+            },
+            incoming = rx.next() => !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_)))),
+            _ = closing.changed() => {
+                let bye = CloseFrame { code: axum::extract::ws::close_code::AWAY, reason: Utf8Bytes::from_static("server shutting down") };
+                let _ = tokio::time::timeout(Duration::from_secs(1), tx.send(Ws::Close(Some(bye)))).await;
+                false
+            }
+        };
+        if !ok {
+            break;
+        }
+    }
+}
+
+type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
+
+/// Send one text message; false if the client is gone or does not take it in time.
+async fn send(tx: &mut Sink, text: String) -> bool {
+    matches!(tokio::time::timeout(SEND_TIMEOUT, tx.send(Ws::Text(Utf8Bytes::from(text)))).await, Ok(Ok(())))
+}
+
+fn json<T: Serialize>(value: &T) -> String {
+    serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"type\":\"error\",\"error\":\"{e}\"}}"))
+}

@@ -1,0 +1,117 @@
+//! Macro variables: read any a program may read; write the common ones (#100–#199) and the
+//! retained ones (#500–#999, saved in the database before the answer).
+
+use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::{Json, Path, State};
+use fivex_engine::interp::expr::Variables;
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use super::{body, hosted, path};
+use crate::db;
+use crate::host::Message;
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// A variable and its value (`null`: vacant).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct Variable {
+    #[schema(example = 500)]
+    pub number: u32,
+    pub value: Option<f64>,
+}
+
+/// `PUT /variables/{number}`.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetVariable {
+    /// The new value, or `null` to make it vacant.
+    pub value: Option<f64>,
+}
+
+/// Every common variable that is not vacant (#100–#199, #500–#999).
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/variables",
+    tag = "variables",
+    params(("id" = String, Path, description = "Controller id")),
+    responses((status = 200, description = "Non-vacant common variables", body = [Variable]), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn list(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<Variable>>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let values = hosted.station().controller.interpreter().state.common_variables();
+    Ok(Json(values.into_iter().map(|(number, v)| Variable { number, value: Some(v) }).collect()))
+}
+
+/// One variable as a program would read it (system variables included).
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/variables/{number}",
+    tag = "variables",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "Variable number")),
+    responses(
+        (status = 200, description = "The value", body = Variable),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 422, description = "No such variable", body = ErrorBody),
+    )
+)]
+pub async fn read(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+) -> Result<Json<Variable>, ApiError> {
+    let (id, number) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    let value = hosted.station().controller.interpreter().state.read(number);
+    let value = value.map_err(|e| {
+        let (code, message) = hosted.dialect.describe(&e);
+        ApiError::Unprocessable(format!("#{number}: {code} {message}"), None)
+    })?;
+    Ok(Json(Variable { number, value }))
+}
+
+/// Set a common (#100–#199) or retained (#500–#999) variable; retained ones are in the database
+/// when this answers.
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/variables/{number}",
+    tag = "variables",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "Variable number")),
+    request_body = SetVariable,
+    responses(
+        (status = 200, description = "Set", body = Variable),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 422, description = "Not a writable variable or not a finite number", body = ErrorBody),
+    )
+)]
+pub async fn write(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+    request: Result<Json<SetVariable>, JsonRejection>,
+) -> Result<Json<Variable>, ApiError> {
+    let (id, number) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    let value = body(request)?.value;
+    if !matches!(number, 100..=199 | 500..=999) {
+        return Err(ApiError::Unprocessable(format!("#{number} is not writable here (#100–#199, #500–#999)"), None));
+    }
+    if value.is_some_and(|v| !v.is_finite()) {
+        return Err(ApiError::Unprocessable("the value must be a finite number or null".into(), None));
+    }
+    if number >= 500 {
+        db::save_variables(&state.db, &hosted.id, &[(number, value)]).await?;
+    }
+    {
+        let mut station = hosted.station();
+        station
+            .controller
+            .interpreter_mut()
+            .state
+            .set_common_variable(number, value)
+            .map_err(|_| ApiError::Unprocessable(format!("#{number} is not writable"), None))?;
+        station.variable_saved(number, value);
+    }
+    hosted.publish(vec![Message::variables(&[(number, value)])]);
+    Ok(Json(Variable { number, value }))
+}

@@ -1,0 +1,279 @@
+//! The controllers the service hosts: a registry of engine [`Controller`]s, each behind a mutex,
+//! ticked by a pool of worker threads (not the async runtime) paced to real time.
+//!
+//! A handler locks a controller briefly to press a button or read its state; a worker locks it
+//! once per tick. What clients watch leaves through channels that never block a worker: the
+//! latest position in a `watch` (a slow reader skips frames, the newest wins) and the events in a
+//! `broadcast` (a reader that falls too far behind is told it lagged and resynchronises from a
+//! fresh snapshot). What must outlive the process and comes from the workers (variables a program
+//! wrote, alarms, finished runs) goes to the database writer as [`Record`]s.
+
+mod station;
+pub mod stream;
+mod worker;
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, RwLock};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use fivex_engine::controller::Controller;
+use fivex_engine::interp::Config;
+use fivex_engine::kin::Kinematics;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::{Alarm, Dialect};
+use tokio::sync::{broadcast, mpsc, watch};
+
+pub use station::Station;
+pub use stream::{Frame, Message};
+
+/// How often the workers tick every controller (and so the finest position a stream can show).
+pub const TICK: Duration = Duration::from_millis(10);
+
+/// Events a stream subscriber may fall behind by before it is told to resynchronise.
+const EVENT_BUFFER: usize = 1024;
+
+/// The fastest simulated time may run, as a multiple of real time.
+pub const MAX_SPEED: f64 = 1000.0;
+
+/// What the database writer must keep, produced by the workers.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Record {
+    /// Retained variables (#500–#999) a program changed; `None` is vacant.
+    Variables { controller: String, values: Vec<(u32, Option<f64>)> },
+    /// An alarm was raised.
+    Alarm { controller: String, at: String, alarm: Alarm },
+    /// A program run ended (`completed`, `alarm` or `reset`).
+    Run {
+        controller: String,
+        program: Option<u32>,
+        started_at: String,
+        ended_at: String,
+        cycle_time_s: f64,
+        result: &'static str,
+    },
+}
+
+/// A cheap handle on the registry and its workers. The workers stop when the last handle is
+/// dropped or [`Host::shutdown`] is called.
+#[derive(Clone)]
+pub struct Host {
+    inner: Arc<Inner>,
+}
+
+struct Inner {
+    /// In creation order.
+    controllers: RwLock<Vec<Arc<Hosted>>>,
+    /// Bumped on every change of `controllers`, so workers re-read their share only then.
+    generation: AtomicU64,
+    stop: AtomicBool,
+    workers: Mutex<Vec<JoinHandle<()>>>,
+    records: mpsc::UnboundedSender<Record>,
+}
+
+impl std::fmt::Debug for Host {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Host").field("controllers", &self.len()).finish()
+    }
+}
+
+impl Host {
+    /// An empty registry with `workers` worker threads (at least one); what they produce for
+    /// the database goes to `records`.
+    pub fn new(workers: usize, records: mpsc::UnboundedSender<Record>) -> Host {
+        let inner = Arc::new(Inner {
+            controllers: RwLock::new(Vec::new()),
+            generation: AtomicU64::new(0),
+            stop: AtomicBool::new(false),
+            workers: Mutex::new(Vec::new()),
+            records,
+        });
+        let count = workers.max(1);
+        let handles = (0..count)
+            .map(|index| {
+                let weak = Arc::downgrade(&inner);
+                std::thread::Builder::new()
+                    .name(format!("fivex-worker-{index}"))
+                    .spawn(move || worker::run(weak, index, count))
+                    .expect("spawn a worker thread")
+            })
+            .collect();
+        *lock(&inner.workers) = handles;
+        Host { inner }
+    }
+
+    /// The number of worker threads that suits this machine: one per core.
+    pub fn default_workers() -> usize {
+        std::thread::available_parallelism().map_or(2, |n| n.get())
+    }
+
+    /// Stop the workers and wait for them (the controllers stay registered, frozen).
+    pub fn shutdown(&self) {
+        self.inner.stop.store(true, Ordering::SeqCst);
+        for handle in std::mem::take(&mut *lock(&self.inner.workers)) {
+            let _ = handle.join();
+        }
+    }
+
+    pub fn add(&self, hosted: Arc<Hosted>) {
+        self.inner.controllers.write().unwrap_or_else(|e| e.into_inner()).push(hosted);
+        self.inner.generation.fetch_add(1, Ordering::SeqCst);
+    }
+
+    /// Remove a controller; `None` if there is none with that id.
+    pub fn remove(&self, id: &str) -> Option<Arc<Hosted>> {
+        let mut list = self.inner.controllers.write().unwrap_or_else(|e| e.into_inner());
+        let index = list.iter().position(|h| h.id == id)?;
+        let removed = list.remove(index);
+        self.inner.generation.fetch_add(1, Ordering::SeqCst);
+        Some(removed)
+    }
+
+    pub fn get(&self, id: &str) -> Option<Arc<Hosted>> {
+        self.inner.controllers.read().unwrap_or_else(|e| e.into_inner()).iter().find(|h| h.id == id).cloned()
+    }
+
+    /// Every controller, in creation order.
+    pub fn list(&self) -> Vec<Arc<Hosted>> {
+        self.inner.controllers.read().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    pub fn len(&self) -> usize {
+        self.inner.controllers.read().unwrap_or_else(|e| e.into_inner()).len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Hand a record to the database writer (dropped silently once the writer is gone, at
+    /// shutdown).
+    pub fn record(&self, record: Record) {
+        let _ = self.inner.records.send(record);
+    }
+}
+
+/// One hosted controller: what never changes, and the [`Station`] behind its mutex.
+pub struct Hosted {
+    pub id: String,
+    pub dialect: Dialect,
+    pub machine: MachineConfig,
+    pub created_at: String,
+    kinematics: Option<Kinematics>,
+    name: RwLock<String>,
+    /// Simulated seconds per real second, as f64 bits.
+    speed: AtomicU64,
+    station: Mutex<Station>,
+    position: watch::Sender<Option<Arc<Frame>>>,
+    events: broadcast::Sender<Arc<Message>>,
+}
+
+impl std::fmt::Debug for Hosted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Hosted").field("id", &self.id).field("name", &self.name()).finish()
+    }
+}
+
+/// Everything needed to host a controller.
+pub struct Spec {
+    pub id: String,
+    pub name: String,
+    pub dialect: Dialect,
+    pub machine: MachineConfig,
+    pub created_at: String,
+    pub speed: f64,
+}
+
+impl Hosted {
+    /// A controller in reset state (AUTO, idle) on `spec`'s machine.
+    pub fn new(spec: Spec) -> Hosted {
+        let config = Config::new(spec.machine.clone(), spec.dialect);
+        let mut controller = Controller::new(config);
+        crate::tools::equip_defaults(&mut controller.interpreter_mut().state.offsets);
+        let (position, _) = watch::channel(None);
+        let (events, _) = broadcast::channel(EVENT_BUFFER);
+        Hosted {
+            kinematics: Kinematics::new(&spec.machine).ok(),
+            id: spec.id,
+            dialect: spec.dialect,
+            machine: spec.machine,
+            created_at: spec.created_at,
+            name: RwLock::new(spec.name),
+            speed: AtomicU64::new(clamp_speed(spec.speed).to_bits()),
+            station: Mutex::new(Station::new(controller)),
+            position,
+            events,
+        }
+    }
+
+    pub fn name(&self) -> String {
+        self.name.read().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    pub fn rename(&self, name: String) {
+        *self.name.write().unwrap_or_else(|e| e.into_inner()) = name;
+    }
+
+    pub fn speed(&self) -> f64 {
+        f64::from_bits(self.speed.load(Ordering::Relaxed))
+    }
+
+    pub fn set_speed(&self, speed: f64) {
+        self.speed.store(clamp_speed(speed).to_bits(), Ordering::Relaxed);
+    }
+
+    /// The controller and what the service keeps beside it, locked.
+    pub fn station(&self) -> MutexGuard<'_, Station> {
+        lock(&self.station)
+    }
+
+    /// Positions, latest first (`None` until a worker has produced one for a subscriber).
+    pub fn positions(&self) -> watch::Receiver<Option<Arc<Frame>>> {
+        self.position.subscribe()
+    }
+
+    pub fn events(&self) -> broadcast::Receiver<Arc<Message>> {
+        self.events.subscribe()
+    }
+
+    /// Tell subscribers (events produced outside a worker tick: an operator action).
+    pub fn publish(&self, messages: Vec<Message>) {
+        for m in messages {
+            let _ = self.events.send(Arc::new(m));
+        }
+    }
+
+    /// The position frame of the station as it is now.
+    pub fn frame(&self, station: &Station) -> Frame {
+        Frame::of(self, station)
+    }
+
+    fn kinematics(&self) -> Option<&Kinematics> {
+        self.kinematics.as_ref()
+    }
+}
+
+fn clamp_speed(speed: f64) -> f64 {
+    if speed.is_finite() {
+        speed.clamp(0.0, MAX_SPEED)
+    } else {
+        1.0
+    }
+}
+
+/// Lock a mutex; a panic elsewhere (which the engine must never do) does not poison the service.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The wall clock as RFC 3339 UTC with milliseconds.
+pub fn now_rfc3339() -> String {
+    let now = time::OffsetDateTime::now_utc();
+    let now = now.replace_nanosecond(now.millisecond() as u32 * 1_000_000).unwrap_or(now);
+    now.format(&time::format_description::well_known::Rfc3339).unwrap_or_default()
+}
+
+/// The wall clock in Unix milliseconds (stream frames carry it so a client can measure lag).
+pub fn now_unix_ms() -> f64 {
+    (time::OffsetDateTime::now_utc().unix_timestamp_nanos() / 1000) as f64 / 1000.0
+}

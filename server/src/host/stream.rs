@@ -1,0 +1,132 @@
+//! What a controller's websocket stream carries (besides the snapshot the API sends first):
+//! position frames and event messages, each a JSON object with a `"type"`.
+
+use serde::Serialize;
+use serde_json::{Map, Value};
+use utoipa::ToSchema;
+
+use fivex_engine::canon::Pos;
+use fivex_engine::controller::{Mode, RunState};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::Alarm;
+
+use super::{now_unix_ms, Hosted, Station};
+
+/// `{"type": "position", …}`: where the machine is.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct Frame {
+    /// Always `"position"`.
+    #[serde(rename = "type")]
+    #[schema(example = "position")]
+    pub kind: &'static str,
+    /// Simulated seconds since the controller was created (or the service started).
+    pub t: f64,
+    /// The server's wall clock when the frame was made, Unix milliseconds (to measure lag).
+    pub wall_ms: f64,
+    /// Machine coordinates per axis letter, in axis order.
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub machine: Map<String, Value>,
+    /// Workpiece (programming) coordinates per axis letter.
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub workpiece: Map<String, Value>,
+    /// Tool tip in the active workpiece system.
+    pub tip: [f64; 3],
+    /// Unit tool vector, tip toward holder, in the workpiece system.
+    pub tool: [f64; 3],
+    /// 1-based program line of the block moving now (0 before any).
+    pub line: u32,
+    /// Its sequence number.
+    pub n: Option<u32>,
+    /// Tool tip speed relative to the workpiece, mm/min.
+    pub feed: f64,
+}
+
+impl Frame {
+    pub fn of(hosted: &Hosted, station: &Station) -> Frame {
+        let c = &station.controller;
+        let p = c.point();
+        let tool = hosted.kinematics().map_or([0.0, 0.0, 1.0], |k| k.forward(&p.machine, 0.0).tool.into());
+        Frame {
+            kind: "position",
+            t: c.time(),
+            wall_ms: now_unix_ms(),
+            machine: axes(&hosted.machine, &p.machine),
+            workpiece: axes(&hosted.machine, &p.work),
+            tip: [p.work[0], p.work[1], p.work[2]],
+            tool,
+            line: p.line,
+            n: p.n,
+            feed: p.feed,
+        }
+    }
+}
+
+/// Axis values keyed by axis letter, in the machine's axis order.
+pub fn axes(machine: &MachineConfig, pos: &Pos) -> Map<String, Value> {
+    machine.axes.iter().zip(pos).map(|(a, v)| (a.name.to_string(), finite(*v))).collect()
+}
+
+fn finite(v: f64) -> Value {
+    serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
+}
+
+/// An alarm as clients see it.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, ToSchema)]
+pub struct AlarmInfo {
+    /// The dialect's code, e.g. `PS5421` or `COR-153`.
+    #[schema(example = "PS5421")]
+    pub code: String,
+    pub message: String,
+    /// 1-based line in the program.
+    pub line: u32,
+    /// Sequence number of the block, if it has one.
+    pub n: Option<u32>,
+}
+
+impl From<&Alarm> for AlarmInfo {
+    fn from(a: &Alarm) -> Self {
+        AlarmInfo { code: a.code.clone(), message: a.message.clone(), line: a.line, n: a.n }
+    }
+}
+
+/// An event message of the stream.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum Message {
+    /// The run state changed (`idle`, `running`, `hold`, `alarm`).
+    State {
+        #[schema(value_type = String, example = "running")]
+        run_state: RunState,
+        #[schema(value_type = String, example = "auto")]
+        mode: Mode,
+        /// The stored program AUTO runs, if one was started.
+        program: Option<u32>,
+    },
+    /// An alarm was raised (`event: "raised"`, with the alarm) or every alarm was cleared
+    /// (`event: "cleared"`); `active` lists the alarms in force after the change.
+    Alarm {
+        #[schema(example = "raised")]
+        event: &'static str,
+        raised: Option<AlarmInfo>,
+        active: Vec<AlarmInfo>,
+    },
+    /// Macro variables changed: `{"#500": 1.5, "#101": null}` (null: vacant).
+    Variables {
+        #[schema(value_type = std::collections::HashMap<String, Option<f64>>)]
+        changes: Map<String, Value>,
+    },
+    /// An operator message (`#3006`, `(MSG…)`).
+    Message { text: String },
+}
+
+impl Message {
+    pub fn state(station: &Station) -> Message {
+        let c = &station.controller;
+        Message::State { run_state: c.run_state(), mode: c.mode(), program: station.program }
+    }
+
+    pub fn variables(changes: &[(u32, Option<f64>)]) -> Message {
+        let changes = changes.iter().map(|(n, v)| (format!("#{n}"), v.map_or(Value::Null, finite))).collect();
+        Message::Variables { changes }
+    }
+}

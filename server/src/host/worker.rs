@@ -1,0 +1,63 @@
+//! A worker thread: every [`TICK`] it advances each controller of its share by the real time
+//! that passed (times the controller's speed factor), so simulated time keeps pace with real
+//! time however long a round takes — a slow round makes coarser steps, never a backlog.
+
+use std::sync::atomic::Ordering;
+use std::sync::{Arc, Weak};
+use std::time::Instant;
+
+use super::{Frame, Hosted, Inner, TICK};
+
+/// The longest real time one step covers: after a stall (a suspended process) the controllers
+/// jump at most this far instead of replaying the whole gap.
+const MAX_STEP_S: f64 = 1.0;
+
+pub(super) fn run(inner: Weak<Inner>, index: usize, count: usize) {
+    let mut mine: Vec<Arc<Hosted>> = Vec::new();
+    let mut generation = u64::MAX;
+    let mut last = Instant::now();
+    loop {
+        let Some(inner) = inner.upgrade() else { return };
+        if inner.stop.load(Ordering::SeqCst) {
+            return;
+        }
+        let now = Instant::now();
+        let real_dt = now.duration_since(last).as_secs_f64().min(MAX_STEP_S);
+        last = now;
+        let current = inner.generation.load(Ordering::SeqCst);
+        if current != generation {
+            generation = current;
+            let all = inner.controllers.read().unwrap_or_else(|e| e.into_inner());
+            mine = all.iter().skip(index).step_by(count).cloned().collect();
+        }
+        for hosted in &mine {
+            step(&inner, hosted, real_dt);
+        }
+        drop(inner);
+        // Sleep to the next tick boundary of this worker's own schedule.
+        let spent = now.elapsed();
+        if spent < TICK {
+            std::thread::sleep(TICK - spent);
+        }
+    }
+}
+
+/// Advance one controller and send out what it produced.
+fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
+    let watching = hosted.events.receiver_count() > 0;
+    let positions = hosted.position.receiver_count() > 0;
+    let (messages, records, frame) = {
+        let mut station = hosted.station();
+        station.controller.tick(real_dt * hosted.speed());
+        let (messages, records) = station.collect(&hosted.id, real_dt, watching);
+        let frame = positions.then(|| Frame::of(hosted, &station));
+        (messages, records, frame)
+    };
+    for record in records {
+        let _ = inner.records.send(record);
+    }
+    hosted.publish(messages);
+    if let Some(frame) = frame {
+        hosted.position.send_replace(Some(Arc::new(frame)));
+    }
+}
