@@ -56,6 +56,8 @@ pub struct AppState {
     pub host: Host,
     /// Set when the service shuts down, so websockets close cleanly.
     closing: Arc<watch::Sender<bool>>,
+    /// The database writer of the workers' records, awaited at shutdown.
+    writer: Arc<std::sync::Mutex<Option<tokio::task::JoinHandle<()>>>>,
 }
 
 impl AppState {
@@ -70,8 +72,8 @@ impl AppState {
     /// again (one that cannot be, a machine document this version refuses, is logged and left
     /// in the database untouched).
     pub async fn restore(db: SqlitePool) -> Result<Self, sqlx::Error> {
-        let (records, writer) = tokio::sync::mpsc::unbounded_channel();
-        tokio::spawn(db::write_records(db.clone(), writer));
+        let (records, incoming) = tokio::sync::mpsc::unbounded_channel();
+        let writer = tokio::spawn(db::write_records(db.clone(), incoming));
         let host = Host::new(Host::default_workers(), records);
         let speeds = db::controller_speeds(&db).await?;
         for row in db::list_controllers(&db).await? {
@@ -100,7 +102,7 @@ impl AppState {
         }
         tracing::info!(controllers = host.len(), "controllers restored");
         let (closing, _) = watch::channel(false);
-        Ok(Self { db, host, closing: Arc::new(closing) })
+        Ok(Self { db, host, closing: Arc::new(closing), writer: Arc::new(std::sync::Mutex::new(Some(writer))) })
     }
 
     /// A receiver that changes when the service starts shutting down.
@@ -111,6 +113,18 @@ impl AppState {
     /// Tell every websocket to close (the start of a graceful shutdown).
     pub fn close(&self) {
         self.closing.send_replace(true);
+    }
+
+    /// The end of a graceful shutdown: websockets told to close, the workers stopped, and
+    /// everything they produced written to the database.
+    pub async fn shutdown(&self) {
+        self.close();
+        let host = self.host.clone();
+        let _ = tokio::task::spawn_blocking(move || host.shutdown()).await;
+        let writer = self.writer.lock().unwrap_or_else(|e| e.into_inner()).take();
+        if let Some(writer) = writer {
+            let _ = writer.await;
+        }
     }
 }
 
@@ -428,10 +442,10 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
         // SIGTERM shut the server down gracefully instead of killing it.
         let shutdown = shutdown_signal().map_err(|e| format!("cannot install signal handlers: {e}"))?;
         tracing::info!("fivex listening on http://{local}");
-        let (pool, host) = (state.db.clone(), state.host.clone());
+        let after = state.clone();
         serve(listener, state, shutdown).await.map_err(|e| format!("server error: {e}"))?;
-        host.shutdown();
-        pool.close().await;
+        after.shutdown().await;
+        after.db.close().await;
         tracing::info!("fivex stopped");
         Ok(())
     })

@@ -109,6 +109,11 @@ pub async fn cycle_start(
         let c = &mut station.controller;
         let fresh = c.run_state() == fivex_engine::controller::RunState::Idle;
         if let Some((n, text)) = &text {
+            if !fresh {
+                return Err(ApiError::Conflict(
+                    "a program is under way: resume it with an empty cycle start, or reset first".into(),
+                ));
+            }
             if c.mode() != Mode::Auto {
                 c.set_mode(Mode::Auto).map_err(refused)?;
             }

@@ -7,7 +7,7 @@ use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::IntoResponse;
 use axum::Json;
 use fivex_engine::lang::parse_file;
-use fivex_engine::Dialect;
+use fivex_engine::{AlarmId, Dialect};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -56,10 +56,13 @@ pub struct StoreOptions {
     pub force: bool,
 }
 
-/// The problems `check` finds in `text`.
+/// The problems `check` finds in `text` as a stored program. A call of another program
+/// (M98/M198/G65/G66 P) is not one: the others are stored separately and found at cycle start
+/// (a missing one still alarms then).
 pub fn diagnostics(text: &str, dialect: Dialect) -> Vec<Diagnostic> {
     fivex_engine::check::check(parse_file(text), dialect)
         .into_iter()
+        .filter(|d| d.id != AlarmId::ProgramNotFound)
         .map(|d| {
             let (code, message) = dialect.describe(&d.id);
             Diagnostic {

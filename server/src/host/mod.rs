@@ -68,7 +68,16 @@ struct Inner {
     generation: AtomicU64,
     stop: AtomicBool,
     workers: Mutex<Vec<JoinHandle<()>>>,
-    records: mpsc::UnboundedSender<Record>,
+    /// Taken at shutdown, so the database writer sees the end of its channel.
+    records: Mutex<Option<mpsc::UnboundedSender<Record>>>,
+}
+
+impl Inner {
+    fn record(&self, record: Record) {
+        if let Some(records) = lock(&self.records).as_ref() {
+            let _ = records.send(record);
+        }
+    }
 }
 
 impl std::fmt::Debug for Host {
@@ -86,7 +95,7 @@ impl Host {
             generation: AtomicU64::new(0),
             stop: AtomicBool::new(false),
             workers: Mutex::new(Vec::new()),
-            records,
+            records: Mutex::new(Some(records)),
         });
         let count = workers.max(1);
         let handles = (0..count)
@@ -107,12 +116,14 @@ impl Host {
         std::thread::available_parallelism().map_or(2, |n| n.get())
     }
 
-    /// Stop the workers and wait for them (the controllers stay registered, frozen).
+    /// Stop the workers and wait for them (the controllers stay registered, frozen); then close
+    /// the channel to the database writer, which ends once it has written what it holds.
     pub fn shutdown(&self) {
         self.inner.stop.store(true, Ordering::SeqCst);
         for handle in std::mem::take(&mut *lock(&self.inner.workers)) {
             let _ = handle.join();
         }
+        lock(&self.inner.records).take();
     }
 
     pub fn add(&self, hosted: Arc<Hosted>) {
@@ -149,7 +160,7 @@ impl Host {
     /// Hand a record to the database writer (dropped silently once the writer is gone, at
     /// shutdown).
     pub fn record(&self, record: Record) {
-        let _ = self.inner.records.send(record);
+        self.inner.record(record);
     }
 }
 

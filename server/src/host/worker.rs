@@ -54,7 +54,7 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         (messages, records, frame)
     };
     for record in records {
-        let _ = inner.records.send(record);
+        inner.record(record);
     }
     hosted.publish(messages);
     if let Some(frame) = frame {

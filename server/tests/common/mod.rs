@@ -101,8 +101,9 @@ impl TestApp {
         self.send(request).await
     }
 
-    /// The same database opened again, as after a restart.
+    /// The service stopped gracefully and started again on the same database.
     pub async fn restart(&self) -> AppState {
+        self.state.shutdown().await;
         AppState::open(&self.db_path).await.expect("reopen")
     }
 }

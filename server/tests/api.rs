@@ -1,0 +1,356 @@
+//! The controller API through `oneshot` on a fresh database per test: creating controllers,
+//! storing programs, running them, variables, history, restart, and requests that must be
+//! refused with a JSON reason.
+
+mod common;
+
+use std::time::Duration;
+
+use axum::http::{Method, StatusCode};
+use common::{spawn_app, Reply, TestApp};
+use serde_json::{json, Value};
+
+const C: &str = "/api/v1/controllers";
+
+async fn create(app: &TestApp, body: Value) -> String {
+    let reply = app.post(C, &body).await;
+    assert_eq!(reply.status, StatusCode::CREATED, "{}", reply.text());
+    reply.json()["id"].as_str().unwrap().to_string()
+}
+
+async fn store(app: &TestApp, id: &str, number: u32, text: &str) -> Reply {
+    app.raw(Method::PUT, &format!("{C}/{id}/programs/{number}"), "text/plain", text.to_string()).await
+}
+
+/// Poll the status until `run_state` is `want` (the workers run in real time).
+async fn wait_for(app: &TestApp, id: &str, want: &str) -> Value {
+    for _ in 0..500 {
+        let status = app.get(&format!("{C}/{id}")).await.json();
+        if status["run_state"] == want {
+            return status;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    panic!("{id} never became {want}: {}", app.get(&format!("{C}/{id}")).await.text());
+}
+
+/// GET `uri` until `done` holds for its JSON (what the background writer stores lands within
+/// milliseconds, not before the answer that caused it).
+async fn eventually(app: &TestApp, uri: &str, done: impl Fn(&Value) -> bool) -> Value {
+    for _ in 0..250 {
+        let value = app.get(uri).await.json();
+        if done(&value) {
+            return value;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    panic!("{uri} never got there: {}", app.get(uri).await.text());
+}
+
+fn error_of(reply: &Reply) -> String {
+    assert_eq!(reply.content_type, "application/json", "{}", reply.text());
+    reply.json()["error"].as_str().unwrap_or_else(|| panic!("no error field: {}", reply.text())).to_string()
+}
+
+#[tokio::test]
+async fn a_controller_is_created_from_a_preset_or_a_machine_document() {
+    let app = spawn_app().await;
+    let reply = app.post(C, &json!({"name": "cell 1", "preset": "table-ac", "dialect": "syntec"})).await;
+    assert_eq!(reply.status, StatusCode::CREATED);
+    let c = reply.json();
+    assert_eq!(
+        (c["name"].as_str(), c["dialect"].as_str(), c["machine"].as_str()),
+        (Some("cell 1"), Some("syntec"), Some("table-ac"))
+    );
+    assert_eq!((c["mode"].as_str(), c["run_state"].as_str()), (Some("auto"), Some("idle")));
+    let axes: Vec<&String> = c["position"]["machine"].as_object().unwrap().keys().collect();
+    assert_eq!(axes, ["X", "Y", "Z", "A", "C"]);
+
+    let machine = serde_json::to_value(fivex_engine::machine::MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let id = create(&app, json!({"name": "from a document", "machine": machine})).await;
+    let params = fivex_engine::vendor::params_of(
+        fivex_engine::Dialect::Fanuc,
+        &fivex_engine::machine::MachineConfig::preset("mixed-bc").unwrap(),
+    )
+    .unwrap();
+    let list = json!({"name": "p", "dialect": "fanuc", "parameters": params});
+    create(&app, json!({"name": "from parameters", "machine": list})).await;
+
+    let all = app.get(C).await.json();
+    let names: Vec<&str> = all.as_array().unwrap().iter().map(|c| c["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["cell 1", "from a document", "from parameters"]);
+    assert_eq!(app.get(&format!("{C}/{id}")).await.json()["machine"], "head-bc");
+}
+
+#[tokio::test]
+async fn invalid_creations_are_refused_with_a_reason() {
+    let app = spawn_app().await;
+    let cases = [
+        (json!({"name": "x", "preset": "nope"}), StatusCode::UNPROCESSABLE_ENTITY, "unknown preset"),
+        (json!({"name": "x"}), StatusCode::UNPROCESSABLE_ENTITY, "exactly one"),
+        (json!({"name": "x", "preset": "mill3", "machine": {}}), StatusCode::UNPROCESSABLE_ENTITY, "exactly one"),
+        (json!({"name": " ", "preset": "mill3"}), StatusCode::UNPROCESSABLE_ENTITY, "name"),
+        (json!({"name": "x", "preset": "mill3", "dialect": "heidenhain"}), StatusCode::UNPROCESSABLE_ENTITY, "dialect"),
+        (json!({"name": "x", "preset": "mill3", "speed": 0}), StatusCode::UNPROCESSABLE_ENTITY, "speed"),
+        (json!({"name": "x", "preset": "mill3", "colour": "red"}), StatusCode::UNPROCESSABLE_ENTITY, "colour"),
+        (json!({"preset": "mill3"}), StatusCode::UNPROCESSABLE_ENTITY, "name"),
+        (json!({"name": "x", "machine": {"name": "m", "axes": []}}), StatusCode::UNPROCESSABLE_ENTITY, "axes"),
+    ];
+    for (body, status, why) in cases {
+        let reply = app.post(C, &body).await;
+        assert_eq!(reply.status, status, "{body}: {}", reply.text());
+        assert!(error_of(&reply).contains(why), "{body}: {}", reply.text());
+    }
+    let malformed = app.raw(Method::POST, C, "application/json", "{\"name\": ").await;
+    assert_eq!(malformed.status, StatusCode::BAD_REQUEST);
+    error_of(&malformed);
+    let not_json = app.raw(Method::POST, C, "text/plain", "name=x").await;
+    assert_eq!(not_json.status, StatusCode::UNSUPPORTED_MEDIA_TYPE);
+    error_of(&not_json);
+    assert_eq!(app.get(C).await.json(), json!([]), "nothing was created");
+}
+
+#[tokio::test]
+async fn unknown_ids_and_numbers_are_404_json() {
+    let app = spawn_app().await;
+    for uri in [
+        format!("{C}/nope"),
+        format!("{C}/nope/programs"),
+        format!("{C}/nope/variables/500"),
+        format!("{C}/nope/alarms"),
+    ] {
+        let reply = app.get(&uri).await;
+        assert_eq!(reply.status, StatusCode::NOT_FOUND, "{uri}");
+        error_of(&reply);
+    }
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    let reply = app.get(&format!("{C}/{id}/programs/12")).await;
+    assert_eq!(reply.status, StatusCode::NOT_FOUND);
+    let reply = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 12})).await;
+    assert_eq!(reply.status, StatusCode::NOT_FOUND);
+    let reply = app.get(&format!("{C}/{id}/programs/abc")).await;
+    assert_eq!(reply.status, StatusCode::BAD_REQUEST);
+    error_of(&reply);
+    assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}")).await.status, StatusCode::NO_CONTENT);
+    assert_eq!(app.get(&format!("{C}/{id}")).await.status, StatusCode::NOT_FOUND);
+    assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}")).await.status, StatusCode::NOT_FOUND);
+}
+
+#[tokio::test]
+async fn programs_are_checked_and_stored_only_if_clean_or_forced() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    let reply = store(&app, &id, 1, "G01 X10. F100\nM30\n").await;
+    assert_eq!(reply.status, StatusCode::CREATED, "{}", reply.text());
+    assert_eq!(store(&app, &id, 1, "G00 X0\nM30\n").await.status, StatusCode::OK, "replaced");
+    assert_eq!(app.get(&format!("{C}/{id}/programs/1")).await.text(), "G00 X0\nM30\n");
+
+    let bad = "G01 X10. F100\nG01 X[1+\nM30\n";
+    let reply = store(&app, &id, 2, bad).await;
+    assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY);
+    let body = reply.json();
+    assert!(body["error"].as_str().unwrap().contains("force"), "{body}");
+    assert_eq!(body["details"][0]["line"], 2, "{body}");
+    assert_eq!(app.get(&format!("{C}/{id}/programs/2")).await.status, StatusCode::NOT_FOUND, "not stored");
+    let forced = app.raw(Method::PUT, &format!("{C}/{id}/programs/2?force=true"), "text/plain", bad).await;
+    assert_eq!(forced.status, StatusCode::CREATED);
+    assert_eq!(forced.json()["diagnostics"][0]["line"], 2);
+
+    let binary =
+        app.raw(Method::PUT, &format!("{C}/{id}/programs/3"), "text/plain", vec![0xffu8, 0xfe, 0x00, 0x41]).await;
+    assert_eq!(binary.status, StatusCode::UNPROCESSABLE_ENTITY);
+    error_of(&binary);
+    let nul = store(&app, &id, 3, "G00 X0\0\n").await;
+    assert_eq!(nul.status, StatusCode::UNPROCESSABLE_ENTITY);
+    let octets = app.raw(Method::PUT, &format!("{C}/{id}/programs/3"), "application/octet-stream", "G00 X0").await;
+    assert_eq!(octets.status, StatusCode::UNSUPPORTED_MEDIA_TYPE);
+    assert_eq!(store(&app, &id, 0, "M30").await.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(store(&app, &id, 10000, "M30").await.status, StatusCode::UNPROCESSABLE_ENTITY);
+    let huge = "G00 X0\n".repeat(1_300_000);
+    let reply = store(&app, &id, 4, &huge).await;
+    assert_eq!(reply.status, StatusCode::PAYLOAD_TOO_LARGE, "{}", reply.text());
+
+    let list = app.get(&format!("{C}/{id}/programs")).await.json();
+    assert_eq!(list, json!([{"number": 1, "size": 11}, {"number": 2, "size": bad.len()}]));
+    assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}/programs/2")).await.status, StatusCode::NO_CONTENT);
+    assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}/programs/2")).await.status, StatusCode::NOT_FOUND);
+}
+
+#[tokio::test]
+async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "fast", "preset": "head-bc", "speed": 50})).await;
+    let program = "#500=7.5\n#101=2\nM98 P2\nG01 X10. F6000\nM30\n";
+    assert_eq!(store(&app, &id, 1, program).await.status, StatusCode::CREATED);
+    assert_eq!(store(&app, &id, 2, "#501=#500*2\nM99\n").await.status, StatusCode::CREATED);
+    let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+    assert_eq!(started.json()["program"], 1);
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(done["position"]["workpiece"]["X"], 10.0, "{done}");
+    let var = |n: u32| {
+        let app = &app;
+        let id = id.clone();
+        async move { app.get(&format!("{C}/{id}/variables/{n}")).await.json()["value"].clone() }
+    };
+    assert_eq!((var(500).await, var(501).await, var(101).await), (json!(7.5), json!(15.0), json!(2.0)));
+    // The finished run is in the history.
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    assert_eq!((runs[0]["program"].clone(), runs[0]["result"].clone()), (json!(1), json!("completed")), "{runs}");
+    assert!(runs[0]["cycle_time_s"].as_f64().unwrap() > 0.0);
+
+    // An API write of a retained variable is in the database when it answers.
+    let set = app.put(&format!("{C}/{id}/variables/502"), &json!({"value": -3.25})).await;
+    assert_eq!(set.status, StatusCode::OK);
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    let c = again.get(&format!("{C}/{id}")).await.json();
+    assert_eq!(
+        (c["name"].as_str(), c["run_state"].as_str(), c["speed"].as_f64()),
+        (Some("fast"), Some("idle"), Some(50.0))
+    );
+    for (n, v) in [(500, json!(7.5)), (501, json!(15.0)), (502, json!(-3.25)), (101, Value::Null)] {
+        assert_eq!(again.get(&format!("{C}/{id}/variables/{n}")).await.json()["value"], v, "#{n} after the restart");
+    }
+    assert_eq!(again.get(&format!("{C}/{id}/programs/1")).await.text(), program);
+    assert_eq!(again.get(&format!("{C}/{id}/runs")).await.json().as_array().unwrap().len(), 1);
+}
+
+#[tokio::test]
+async fn an_alarm_is_active_then_in_the_history_and_reset_clears_it() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
+    store(&app, &id, 1, "G01 X5. F3000\n#3000=12 (TOO DEEP)\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    let status = wait_for(&app, &id, "alarm").await;
+    assert_eq!(status["alarms"][0]["line"], 2, "{status}");
+    let alarms = app.get(&format!("{C}/{id}/alarms")).await.json();
+    assert_eq!(alarms["active"].as_array().unwrap().len(), 1, "{alarms}");
+    // The history is written by the background writer: give it a moment.
+    let alarms =
+        eventually(&app, &format!("{C}/{id}/alarms"), |a| a["history"].as_array().is_some_and(|h| !h.is_empty())).await;
+    let history = &alarms["history"];
+    assert!(history[0]["message"].as_str().unwrap().contains("TOO DEEP"), "{history}");
+    assert!(history[0]["raised_at"].as_str().unwrap().ends_with('Z'));
+    let refused = app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await;
+    assert_eq!(refused.status, StatusCode::CONFLICT);
+    error_of(&refused);
+    let reset = app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    assert_eq!(reset.json()["alarms"], json!([]));
+    wait_for(&app, &id, "idle").await;
+}
+
+#[tokio::test]
+async fn feed_hold_waits_and_cycle_start_resumes() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    store(&app, &id, 1, "G01 X100. F600\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&app, &id, "running").await;
+    let held = app.post(&format!("{C}/{id}/feed-hold"), &json!({})).await;
+    assert_eq!(held.json()["run_state"], "hold");
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let x1 = app.get(&format!("{C}/{id}")).await.json()["position"]["machine"]["X"].as_f64().unwrap();
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let x2 = app.get(&format!("{C}/{id}")).await.json()["position"]["machine"]["X"].as_f64().unwrap();
+    assert_eq!(x1, x2, "held still");
+    assert!(x1 > 0.0 && x1 < 100.0);
+    // A new program cannot be selected while one holds; the mode cannot change either.
+    assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await.status, StatusCode::CONFLICT);
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "jog"})).await.status, StatusCode::CONFLICT);
+    assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await.json()["run_state"], "running");
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    wait_for(&app, &id, "idle").await;
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    assert_eq!(runs[0]["result"], "reset", "{runs}");
+}
+
+#[tokio::test]
+async fn mdi_runs_blocks_and_panel_settings_are_checked() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
+    let reply = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G91 G01 X10. F3000\nX5."})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    assert_eq!(reply.json()["mode"], "mdi");
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(done["position"]["machine"]["X"], 15.0);
+    let reply = app.put(&format!("{C}/{id}/overrides"), &json!({"feed": 250})).await;
+    assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(app.put(&format!("{C}/{id}/overrides"), &json!({"feed": 50, "rapid": 25})).await.status, StatusCode::OK);
+    assert_eq!(
+        app.put(&format!("{C}/{id}/mode"), &json!({"mode": "warp"})).await.status,
+        StatusCode::UNPROCESSABLE_ENTITY
+    );
+    assert_eq!(app.put(&format!("{C}/{id}/switches"), &json!({"single_block": true})).await.status, StatusCode::OK);
+    let estop = app.put(&format!("{C}/{id}/emergency-stop"), &json!({"pressed": true})).await;
+    assert_eq!(estop.json()["run_state"], "alarm");
+    app.put(&format!("{C}/{id}/emergency-stop"), &json!({"pressed": false})).await;
+    assert_eq!(app.post(&format!("{C}/{id}/reset"), &json!({})).await.json()["run_state"], "idle");
+}
+
+#[tokio::test]
+async fn only_common_variables_are_writable_and_values_must_be_numbers() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    let v = |n: u32| format!("{C}/{id}/variables/{n}");
+    assert_eq!(app.put(&v(100), &json!({"value": 1.5})).await.json(), json!({"number": 100, "value": 1.5}));
+    assert_eq!(app.put(&v(100), &json!({"value": null})).await.json()["value"], Value::Null);
+    for n in [1, 3000, 5001, 2001, 200] {
+        let reply = app.put(&v(n), &json!({"value": 1})).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "#{n}");
+    }
+    assert_eq!(app.put(&v(500), &json!({"value": "high"})).await.status, StatusCode::UNPROCESSABLE_ENTITY);
+    // System variables read as a program reads them.
+    assert_eq!(app.get(&v(4001)).await.json()["value"], 0.0, "G00 modal");
+    assert_eq!(app.get(&v(2201)).await.json()["value"], 100.0, "H1 geometry: the default tools");
+    assert_eq!(app.get(&v(99999)).await.status, StatusCode::UNPROCESSABLE_ENTITY);
+    app.put(&v(150), &json!({"value": 4})).await;
+    assert_eq!(app.get(&format!("{C}/{id}/variables")).await.json(), json!([{"number": 150, "value": 4.0}]));
+}
+
+#[tokio::test]
+async fn concurrent_commands_on_one_controller_leave_it_consistent() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    store(&app, &id, 1, "G01 X200. F600\nM30\n").await;
+    let mut tasks = Vec::new();
+    for k in 0..24 {
+        let (router, id) = (app.router(), id.clone());
+        tasks.push(tokio::spawn(async move {
+            use tower::ServiceExt;
+            let (uri, body) = match k % 3 {
+                0 => (format!("{C}/{id}/cycle-start"), json!({"program": 1})),
+                1 => (format!("{C}/{id}/feed-hold"), json!({})),
+                _ => (format!("{C}/{id}/cycle-start"), json!({})),
+            };
+            let request = axum::http::Request::post(uri)
+                .header("content-type", "application/json")
+                .body(axum::body::Body::from(body.to_string()))
+                .unwrap();
+            router.oneshot(request).await.unwrap().status()
+        }));
+    }
+    for t in tasks {
+        let status = t.await.unwrap();
+        assert!(matches!(status, StatusCode::OK | StatusCode::CONFLICT), "{status}");
+    }
+    let status = app.get(&format!("{C}/{id}")).await.json();
+    assert!(["running", "hold", "idle"].contains(&status["run_state"].as_str().unwrap()), "{status}");
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    wait_for(&app, &id, "idle").await;
+}
+
+#[tokio::test]
+async fn renaming_and_speed_are_kept() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "old", "preset": "mill3"})).await;
+    let reply = app.json(Method::PATCH, &format!("{C}/{id}"), &json!({"name": "new", "speed": 10})).await;
+    assert_eq!((reply.json()["name"].clone(), reply.json()["speed"].clone()), (json!("new"), json!(10.0)));
+    assert_eq!(
+        app.json(Method::PATCH, &format!("{C}/{id}"), &json!({"speed": -1})).await.status,
+        StatusCode::UNPROCESSABLE_ENTITY
+    );
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    assert_eq!(again.get(&format!("{C}/{id}")).await.json()["name"], "new");
+}
