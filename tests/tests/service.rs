@@ -1,0 +1,268 @@
+//! `fivex serve` as a user runs it: the real binary on a loopback port, driven over HTTP and a
+//! websocket. A program runs and its positions, state changes and variables arrive on the
+//! stream; the service stops gracefully (closing the stream) or is killed, and after a restart
+//! everything that was acknowledged is still there.
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::fivex_bin;
+use serde_json::{json, Value};
+use tungstenite::stream::MaybeTlsStream;
+use tungstenite::{Message, WebSocket};
+
+/// A running `fivex serve`, stopped (SIGKILL) when dropped.
+struct Server {
+    child: Child,
+    base: String,
+    addr: String,
+}
+
+impl Server {
+    /// Start on `db`, port 0; wait for the address it announces.
+    fn start(db: &Path) -> Server {
+        let mut child = Command::new(fivex_bin())
+            .args(["serve", "--db"])
+            .arg(db)
+            .args(["--addr", "127.0.0.1:0"])
+            .env("RUST_LOG", "info")
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start fivex serve");
+        let stderr = child.stderr.take().unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut sent = false;
+            for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+                if !sent {
+                    if let Some(at) = line.find("listening on http://") {
+                        let _ = tx.send(line[at + "listening on http://".len()..].trim().to_string());
+                        sent = true;
+                    }
+                }
+            }
+        });
+        let addr = rx.recv_timeout(Duration::from_secs(30)).expect("the server announces its address");
+        Server { child, base: format!("http://{addr}/api/v1"), addr }
+    }
+
+    fn signal(&mut self, signal: i32) {
+        unsafe {
+            libc::kill(self.child.id() as i32, signal);
+        }
+    }
+
+    /// SIGTERM, and the exit status.
+    fn stop(mut self) -> std::process::ExitStatus {
+        self.signal(libc::SIGTERM);
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return status;
+            }
+            assert!(Instant::now() < deadline, "the server did not stop after SIGTERM");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn kill(mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
+    fn get(&self, path: &str) -> Value {
+        let mut reply = ureq::get(&format!("{}{path}", self.base)).call().unwrap_or_else(|e| panic!("GET {path}: {e}"));
+        reply.body_mut().read_json().unwrap()
+    }
+
+    fn send(&self, method: &str, path: &str, body: &Value) -> Value {
+        let url = format!("{}{path}", self.base);
+        let agent = ureq::Agent::new_with_defaults();
+        let request = match method {
+            "POST" => agent.post(&url),
+            "PUT" => agent.put(&url),
+            other => panic!("{other}"),
+        };
+        let mut reply = request.send_json(body).unwrap_or_else(|e| panic!("{method} {path}: {e}"));
+        reply.body_mut().read_json().unwrap()
+    }
+
+    fn put_text(&self, path: &str, text: &str) {
+        ureq::put(&format!("{}{path}", self.base))
+            .header("content-type", "text/plain")
+            .send(text)
+            .unwrap_or_else(|e| panic!("PUT {path}: {e}"));
+    }
+
+    fn stream(&self, id: &str) -> WebSocket<MaybeTlsStream<TcpStream>> {
+        let (socket, _) = tungstenite::connect(format!("ws://{}/api/v1/controllers/{id}/stream?rate=50", self.addr))
+            .expect("websocket");
+        if let MaybeTlsStream::Plain(s) = socket.get_ref() {
+            s.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+        }
+        socket
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn next_json(ws: &mut WebSocket<MaybeTlsStream<TcpStream>>) -> Option<Value> {
+    loop {
+        match ws.read() {
+            Ok(Message::Text(t)) => return Some(serde_json::from_str(t.as_str()).unwrap()),
+            Ok(Message::Close(_)) | Err(_) => return None,
+            Ok(_) => {}
+        }
+    }
+}
+
+#[test]
+fn a_program_runs_over_the_api_the_stream_shows_it_and_a_restart_keeps_everything() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("fivex.db");
+    let server = Server::start(&db);
+    let created = server.send("POST", "/controllers", &json!({"name": "cell", "preset": "table-ac", "speed": 4}));
+    let id = created["id"].as_str().unwrap().to_string();
+    let program = "G90 G01 X50. Y20. Z10. A10. C30. F3000\n#500=42\n#101=#500+1\nG01 X0 Y0 Z0 A0 C0\nM30\n";
+    server.put_text(&format!("/controllers/{id}/programs/1"), program);
+
+    let mut ws = server.stream(&id);
+    let snapshot = next_json(&mut ws).expect("snapshot");
+    assert_eq!(snapshot["type"], "snapshot");
+    assert_eq!(snapshot["controller"]["run_state"], "idle");
+    let started = server.send("POST", &format!("/controllers/{id}/cycle-start"), &json!({"program": 1}));
+    assert_eq!(started["run_state"], "running");
+
+    let (mut positions, mut states, mut variables) = (Vec::new(), Vec::new(), json!({}));
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < deadline {
+        let Some(m) = next_json(&mut ws) else { break };
+        match m["type"].as_str().unwrap() {
+            "position" => positions.push(m),
+            "state" => {
+                let done = m["run_state"] == "idle";
+                states.push(m["run_state"].as_str().unwrap().to_string());
+                if done {
+                    break;
+                }
+            }
+            "variables" => {
+                for (k, v) in m["changes"].as_object().unwrap() {
+                    variables[k] = v.clone();
+                }
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(states, ["running", "idle"], "state messages");
+    assert!(positions.len() > 20, "{} position frames", positions.len());
+    let moved = positions.iter().any(|p| p["machine"]["A"].as_f64().unwrap() > 5.0);
+    assert!(moved, "the frames show A turning");
+    let times: Vec<f64> = positions.iter().map(|p| p["t"].as_f64().unwrap()).collect();
+    assert!(times.windows(2).all(|w| w[1] > w[0]), "frames in time order");
+    assert_eq!(variables, json!({"#500": 42.0, "#101": 43.0}), "variables streamed");
+    assert_eq!(server.get(&format!("/controllers/{id}/variables/101"))["value"], 43.0);
+
+    // A graceful stop closes the stream with a close frame and exits 0.
+    let status = server.stop();
+    assert!(status.success(), "{status:?}");
+    assert_eq!(close_code(&mut ws), Some(1001), "the stream ends with 'going away'");
+
+    // A restart finds the controller (reset state), its program and its retained variable.
+    let server = Server::start(&db);
+    let c = server.get(&format!("/controllers/{id}"));
+    assert_eq!(
+        (c["name"].as_str(), c["run_state"].as_str(), c["mode"].as_str()),
+        (Some("cell"), Some("idle"), Some("auto"))
+    );
+    assert_eq!(server.get(&format!("/controllers/{id}/variables/500"))["value"], 42.0);
+    assert_eq!(server.get(&format!("/controllers/{id}/variables/101"))["value"], Value::Null, "#101 is not retained");
+    let text = ureq::get(&format!("{}/controllers/{id}/programs/1", server.base))
+        .call()
+        .unwrap()
+        .body_mut()
+        .read_to_string()
+        .unwrap();
+    assert_eq!(text, program);
+    server.stop();
+}
+
+#[test]
+fn what_was_acknowledged_survives_kill_9() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("fivex.db");
+    let server = Server::start(&db);
+    let id = server.send("POST", "/controllers", &json!({"name": "k", "preset": "mill3"}))["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    server.put_text(&format!("/controllers/{id}/programs/7"), "G01 X1. F100\nM30\n");
+    server.send("PUT", &format!("/controllers/{id}/variables/999"), &json!({"value": 3.5}));
+    server.kill();
+    let server = Server::start(&db);
+    assert_eq!(server.get(&format!("/controllers/{id}/variables/999"))["value"], 3.5);
+    assert_eq!(server.get(&format!("/controllers/{id}/programs")), json!([{"number": 7, "size": 17}]));
+    server.stop();
+}
+
+#[test]
+fn a_client_that_never_reads_does_not_slow_anyone() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&dir.path().join("fivex.db"));
+    let id = server.send("POST", "/controllers", &json!({"name": "s", "preset": "mill3"}))["id"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    server.put_text(&format!("/controllers/{id}/programs/1"), "G01 X300. F600\nM30\n");
+    // A client that subscribes at the highest rate and never reads.
+    let (stalled, _) =
+        tungstenite::connect(format!("ws://{}/api/v1/controllers/{id}/stream?rate=1000", server.addr)).unwrap();
+    server.send("POST", &format!("/controllers/{id}/cycle-start"), &json!({"program": 1}));
+    let mut reader = server.stream(&id);
+    next_json(&mut reader).expect("snapshot");
+    // The reading client keeps getting fresh frames, and the controller keeps real time.
+    let start = Instant::now();
+    let mut last_t = 0.0;
+    let mut frames = 0;
+    while start.elapsed() < Duration::from_secs(3) {
+        let m = next_json(&mut reader).expect("a message");
+        if m["type"] == "position" {
+            frames += 1;
+            last_t = m["t"].as_f64().unwrap();
+            let lag_ms = now_ms() - m["wall_ms"].as_f64().unwrap();
+            assert!(lag_ms < 2000.0, "frame {lag_ms} ms old");
+        }
+    }
+    assert!(frames > 50, "{frames} frames in 3 s at 50 Hz");
+    let status = server.get(&format!("/controllers/{id}"));
+    assert!(status["time_s"].as_f64().unwrap() >= last_t);
+    drop(stalled);
+    server.stop();
+}
+
+/// Read what is left on the stream; the close frame's code (None: the connection just broke).
+fn close_code(ws: &mut WebSocket<MaybeTlsStream<TcpStream>>) -> Option<u16> {
+    for _ in 0..100_000 {
+        match ws.read() {
+            Ok(Message::Close(frame)) => return frame.map(|f| f.code.into()),
+            Ok(_) => {}
+            Err(_) => return None,
+        }
+    }
+    None
+}
+
+fn now_ms() -> f64 {
+    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_secs_f64() * 1000.0
+}
