@@ -231,6 +231,15 @@ impl Controller {
 
     // --- operator actions ---------------------------------------------------------------
 
+    /// Offsets were changed from outside (an operator, a host): while nothing runs, the
+    /// program's current point is derived again from where the machine stands, as a real
+    /// control's position display follows an offset edit.
+    pub fn offsets_changed(&mut self) {
+        if !self.busy() && self.planner.is_empty() {
+            self.stand_here();
+        }
+    }
+
     /// Change the mode: only while no program or motion is under way (held or not).
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
         if self.busy() || self.run_state == RunState::Hold || !self.planner.is_empty() {

@@ -329,6 +329,8 @@ pub async fn write_records(pool: SqlitePool, mut records: tokio::sync::mpsc::Unb
     while let Some(record) = records.recv().await {
         let result = match &record {
             Record::Variables { controller, values } => save_variables(&pool, controller, values).await,
+            Record::ToolOffsets { controller, rows } => save_tool_offsets(&pool, controller, rows).await,
+            Record::WorkOffsets { controller, rows } => save_work_offsets(&pool, controller, rows).await,
             Record::Alarm { controller, at, alarm } => sqlx::query(
                 "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
                  VALUES (?, ?, ?, ?, ?, ?)",
@@ -360,4 +362,99 @@ pub async fn write_records(pool: SqlitePool, mut records: tokio::sync::mpsc::Unb
             tracing::warn!(error = %e, ?record, "cannot store a record");
         }
     }
+}
+
+// --- offsets --------------------------------------------------------------------------------
+
+/// One tool offset number's four values.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ToolRow {
+    pub number: u32,
+    pub length: f64,
+    pub length_wear: f64,
+    pub radius: f64,
+    pub radius_wear: f64,
+}
+
+pub async fn tool_offsets(pool: &SqlitePool, controller: &str) -> Result<Vec<ToolRow>, sqlx::Error> {
+    let rows = sqlx::query(
+        "SELECT number, length, length_wear, radius, radius_wear FROM tool_offsets WHERE controller_id = ? \
+         ORDER BY number",
+    )
+    .bind(controller)
+    .fetch_all(pool)
+    .await?;
+    rows.iter()
+        .map(|r| {
+            Ok(ToolRow {
+                number: r.try_get::<i64, _>("number")? as u32,
+                length: r.try_get("length")?,
+                length_wear: r.try_get("length_wear")?,
+                radius: r.try_get("radius")?,
+                radius_wear: r.try_get("radius_wear")?,
+            })
+        })
+        .collect()
+}
+
+/// Saves tool offsets in one transaction.
+pub async fn save_tool_offsets(pool: &SqlitePool, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
+    let mut tx = pool.begin().await?;
+    for t in rows {
+        sqlx::query(
+            "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear) \
+             VALUES (?, ?, ?, ?, ?, ?) ON CONFLICT (controller_id, number) DO UPDATE SET \
+             length = excluded.length, length_wear = excluded.length_wear, radius = excluded.radius, \
+             radius_wear = excluded.radius_wear",
+        )
+        .bind(controller)
+        .bind(t.number as i64)
+        .bind(t.length)
+        .bind(t.length_wear)
+        .bind(t.radius)
+        .bind(t.radius_wear)
+        .execute(&mut *tx)
+        .await?;
+    }
+    tx.commit().await
+}
+
+/// A controller's stored work offsets: (slot, value per axis).
+pub async fn work_offsets(pool: &SqlitePool, controller: &str) -> Result<Vec<(usize, Vec<f64>)>, sqlx::Error> {
+    let rows = sqlx::query("SELECT slot, axes FROM work_offsets WHERE controller_id = ? ORDER BY slot")
+        .bind(controller)
+        .fetch_all(pool)
+        .await?;
+    let mut out = Vec::new();
+    for r in rows {
+        let slot = r.try_get::<i64, _>("slot")? as usize;
+        let axes: String = r.try_get("axes")?;
+        match serde_json::from_str::<Vec<f64>>(&axes) {
+            Ok(v) => out.push((slot, v)),
+            Err(e) => tracing::warn!(controller, slot, error = %e, "a stored work offset is not a list of numbers"),
+        }
+    }
+    Ok(out)
+}
+
+/// Saves work offsets (slot, value per axis) in one transaction.
+pub async fn save_work_offsets(
+    pool: &SqlitePool,
+    controller: &str,
+    rows: &[(usize, Vec<f64>)],
+) -> Result<(), sqlx::Error> {
+    let mut tx = pool.begin().await?;
+    for (slot, axes) in rows {
+        let axes = serde_json::to_string(axes).unwrap_or_else(|_| "[]".into());
+        sqlx::query(
+            "INSERT INTO work_offsets (controller_id, slot, axes) VALUES (?, ?, ?) \
+             ON CONFLICT (controller_id, slot) DO UPDATE SET axes = excluded.axes",
+        )
+        .bind(controller)
+        .bind(*slot as i64)
+        .bind(axes)
+        .execute(&mut *tx)
+        .await?;
+    }
+    tx.commit().await
 }

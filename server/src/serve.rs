@@ -89,6 +89,7 @@ impl AppState {
                 continue;
             };
             let retained = db::retained_variables(&db, &row.id).await?;
+            let row_id = row.id.clone();
             let hosted = Hosted::new(Spec {
                 speed: speeds.get(&row.id).copied().unwrap_or(1.0),
                 id: row.id,
@@ -97,7 +98,12 @@ impl AppState {
                 machine,
                 created_at: row.created_at,
             });
-            hosted.station().load_retained(&retained);
+            let (tools, work) = (db::tool_offsets(&db, &row_id).await?, db::work_offsets(&db, &row_id).await?);
+            {
+                let mut station = hosted.station();
+                station.load_retained(&retained);
+                station.load_offsets(&tools, &work);
+            }
             host.add(Arc::new(hosted));
         }
         tracing::info!(controllers = host.len(), "controllers restored");
@@ -292,6 +298,10 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::variables::list,
         api::variables::read,
         api::variables::write,
+        api::offsets::tools,
+        api::offsets::set_tool,
+        api::offsets::works,
+        api::offsets::set_work,
         api::history::alarms,
         api::history::runs,
         api::stream::stream,
@@ -312,6 +322,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         (name = "programs", description = "Stored NC programs"),
         (name = "panel", description = "The operator panel"),
         (name = "variables", description = "Custom macro variables"),
+        (name = "offsets", description = "Tool and work offsets"),
         (name = "history", description = "Alarm and run history"),
         (name = "stream", description = "Live websocket stream"),
     )

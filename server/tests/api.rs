@@ -354,3 +354,46 @@ async fn renaming_and_speed_are_kept() {
     let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
     assert_eq!(again.get(&format!("{C}/{id}")).await.json()["name"], "new");
 }
+
+#[tokio::test]
+async fn tool_and_work_offsets_are_set_used_and_kept() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
+    let t = app.put(&format!("{C}/{id}/tool-offsets/5"), &json!({"length": 80.0, "radius_wear": -0.1})).await;
+    assert_eq!(t.json(), json!({"number": 5, "length": 80.0, "length_wear": 0.0, "radius": 5.0, "radius_wear": -0.1}));
+    assert_eq!(
+        app.put(&format!("{C}/{id}/tool-offsets/0"), &json!({"length": 1})).await.status,
+        StatusCode::UNPROCESSABLE_ENTITY
+    );
+    assert_eq!(
+        app.put(&format!("{C}/{id}/tool-offsets/1000"), &json!({"length": 1})).await.status,
+        StatusCode::UNPROCESSABLE_ENTITY
+    );
+    let w = app.put(&format!("{C}/{id}/work-offsets/G54"), &json!({"axes": {"X": 100.0, "z": -50}})).await;
+    assert_eq!(w.json(), json!({"name": "G54", "axes": {"X": 100.0, "Y": 0.0, "Z": -50.0}}));
+    // The display follows the edit: the machine stands at 0, so the workpiece X is -100.
+    let status = app.get(&format!("{C}/{id}")).await.json();
+    assert_eq!(
+        (status["position"]["workpiece"]["X"].clone(), status["position"]["workpiece"]["Z"].clone()),
+        (json!(-100.0), json!(50.0))
+    );
+    for (name, body) in
+        [("G53", json!({"axes": {"X": 1}})), ("G54", json!({"axes": {"B": 1}})), ("G54", json!({"axes": {"X": "a"}}))]
+    {
+        let reply = app.put(&format!("{C}/{id}/work-offsets/{name}"), &body).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{name} {body}");
+    }
+    // A program's G10 is saved when it ends, and the H5 length acts.
+    store(&app, &id, 1, "G10 L2 P2 X7.5\nG90 G55 G43 H5 G01 Z0 F3000\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(done["position"]["machine"]["Z"], 80.0, "H5 = 80 above the G55 zero");
+    let works = eventually(&app, &format!("{C}/{id}/work-offsets"), |w| w[2]["axes"]["X"] == 7.5).await;
+    assert_eq!(works.as_array().unwrap().len(), 7, "EXT and G54–G59");
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    let tools = again.get(&format!("{C}/{id}/tool-offsets")).await.json();
+    assert_eq!(tools[4], json!({"number": 5, "length": 80.0, "length_wear": 0.0, "radius": 5.0, "radius_wear": -0.1}));
+    let works = again.get(&format!("{C}/{id}/work-offsets")).await.json();
+    assert_eq!((works[1]["axes"]["X"].clone(), works[2]["axes"]["X"].clone()), (json!(100.0), json!(7.5)));
+}

@@ -24,7 +24,7 @@ use crate::lang::{Block, BlockKind, Output, PrintItem};
 use crate::machine::{MachineConfig, MAX_AXES};
 use expr::{eval, truth, ExprSettings, Value};
 use gcode::GROUPS;
-pub use offsets::{Offsets, ToolOffset};
+pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
 pub(crate) use program::Loaded;
 use std::collections::HashMap;
 

@@ -5,6 +5,7 @@
 
 pub mod controllers;
 pub mod history;
+pub mod offsets;
 pub mod panel;
 pub mod programs;
 pub mod stream;
@@ -41,6 +42,10 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/emergency-stop", put(panel::emergency_stop))
         .route("/controllers/{id}/variables", get(variables::list))
         .route("/controllers/{id}/variables/{number}", get(variables::read).put(variables::write))
+        .route("/controllers/{id}/tool-offsets", get(offsets::tools))
+        .route("/controllers/{id}/tool-offsets/{number}", put(offsets::set_tool))
+        .route("/controllers/{id}/work-offsets", get(offsets::works))
+        .route("/controllers/{id}/work-offsets/{name}", put(offsets::set_work))
         .route("/controllers/{id}/alarms", get(history::alarms))
         .route("/controllers/{id}/runs", get(history::runs))
         .route("/controllers/{id}/stream", get(stream::stream))

@@ -8,7 +8,7 @@
 //! fresh snapshot). What must outlive the process and comes from the workers (variables a program
 //! wrote, alarms, finished runs) goes to the database writer as [`Record`]s.
 
-mod station;
+pub mod station;
 pub mod stream;
 mod worker;
 
@@ -41,6 +41,10 @@ pub const MAX_SPEED: f64 = 1000.0;
 pub enum Record {
     /// Retained variables (#500–#999) a program changed; `None` is vacant.
     Variables { controller: String, values: Vec<(u32, Option<f64>)> },
+    /// Tool offsets a program changed (G10, #2001…).
+    ToolOffsets { controller: String, rows: Vec<crate::db::ToolRow> },
+    /// Work offsets a program changed (G10 L2/L20, #5201…): (slot, value per axis).
+    WorkOffsets { controller: String, rows: Vec<(usize, Vec<f64>)> },
     /// An alarm was raised.
     Alarm { controller: String, at: String, alarm: Alarm },
     /// A program run ended (`completed`, `alarm` or `reset`).

@@ -5,6 +5,10 @@
 use std::collections::BTreeMap;
 
 use fivex_engine::controller::{Controller, Event, RunState};
+use fivex_engine::interp::Offsets;
+use fivex_engine::interp::{MAX_G54_1, MAX_TOOL_OFFSETS};
+
+use crate::db::ToolRow;
 
 use super::stream::{AlarmInfo, Message};
 use super::{now_rfc3339, Record};
@@ -24,6 +28,8 @@ pub struct Station {
     run: Option<RunStart>,
     /// #500–#999 as last saved.
     saved: Box<[Option<f64>; RETAINED]>,
+    /// Offsets as last saved.
+    saved_offsets: Offsets,
     /// Common variables as last streamed.
     streamed: BTreeMap<u32, f64>,
     since_streamed: f64,
@@ -41,7 +47,17 @@ impl Station {
     pub fn new(controller: Controller) -> Station {
         let saved = Box::new(*controller.interpreter().state.persistent());
         let streamed = controller.interpreter().state.common_variables().into_iter().collect();
-        Station { controller, program: None, run: None, saved, streamed, since_streamed: 0.0, since_saved: 0.0 }
+        let saved_offsets = controller.interpreter().state.offsets.clone();
+        Station {
+            controller,
+            program: None,
+            run: None,
+            saved,
+            saved_offsets,
+            streamed,
+            since_streamed: 0.0,
+            since_saved: 0.0,
+        }
     }
 
     /// Retained values read from the database: they count as saved.
@@ -49,6 +65,31 @@ impl Station {
         self.controller.interpreter_mut().state.load_persistent(values);
         *self.saved = *values;
         self.streamed = self.controller.interpreter().state.common_variables().into_iter().collect();
+    }
+
+    /// Offsets read from the database (over the defaults): they count as saved.
+    pub fn load_offsets(&mut self, tools: &[ToolRow], work: &[(usize, Vec<f64>)]) {
+        let offsets = &mut self.controller.interpreter_mut().state.offsets;
+        for t in tools {
+            if let Some(slot) = offsets.tool_mut(t.number) {
+                (slot.h_geometry, slot.h_wear, slot.d_geometry, slot.d_wear) =
+                    (t.length, t.length_wear, t.radius, t.radius_wear);
+            }
+        }
+        for (index, axes) in work {
+            if *index < WORK_SLOTS {
+                for (k, v) in axes.iter().enumerate().take(fivex_engine::machine::MAX_AXES) {
+                    offsets.work_mut(*index)[k] = *v;
+                }
+            }
+        }
+        self.offsets_saved();
+        self.controller.offsets_changed();
+    }
+
+    /// The offsets as they are now were written to the database (by the API).
+    pub fn offsets_saved(&mut self) {
+        self.saved_offsets = self.controller.interpreter().state.offsets.clone();
     }
 
     /// A variable was set from outside (the API wrote it to the database already).
@@ -130,6 +171,9 @@ impl Station {
                 records.push(record);
             }
         }
+        if changed {
+            records.extend(self.offset_changes(controller));
+        }
         (messages, records)
     }
 
@@ -147,6 +191,31 @@ impl Station {
         changes
     }
 
+    /// Tool and work offsets that differ from what was saved last (a program's G10), as records.
+    fn offset_changes(&mut self, controller: &str) -> Vec<Record> {
+        let axes = self.controller.interpreter().config().machine.axes.len();
+        let now = &self.controller.interpreter().state.offsets;
+        let tools: Vec<ToolRow> = (1..=MAX_TOOL_OFFSETS as u32)
+            .filter(|&n| now.tool(n) != self.saved_offsets.tool(n))
+            .filter_map(|n| now.tool(n).map(|t| tool_row(n, t)))
+            .collect();
+        let work: Vec<(usize, Vec<f64>)> = (0..WORK_SLOTS)
+            .filter(|&i| now.work(i) != self.saved_offsets.work(i))
+            .map(|i| (i, now.work(i)[..axes].to_vec()))
+            .collect();
+        let mut records = Vec::new();
+        if !tools.is_empty() {
+            records.push(Record::ToolOffsets { controller: controller.to_string(), rows: tools });
+        }
+        if !work.is_empty() {
+            records.push(Record::WorkOffsets { controller: controller.to_string(), rows: work });
+        }
+        if !records.is_empty() {
+            self.offsets_saved();
+        }
+        records
+    }
+
     /// Retained variables that differ from what was saved last, as a record for the database.
     fn save_changes(&mut self, controller: &str) -> Option<Record> {
         let now = *self.controller.interpreter().state.persistent();
@@ -160,4 +229,12 @@ impl Station {
         *self.saved = now;
         Some(Record::Variables { controller: controller.to_string(), values })
     }
+}
+
+/// Work offset slots: the external offset, G54–G59, G54.1 P1–P300.
+pub const WORK_SLOTS: usize = 7 + MAX_G54_1;
+
+/// A tool offset as a database row.
+pub fn tool_row(number: u32, t: &fivex_engine::interp::ToolOffset) -> ToolRow {
+    ToolRow { number, length: t.h_geometry, length_wear: t.h_wear, radius: t.d_geometry, radius_wear: t.d_wear }
 }

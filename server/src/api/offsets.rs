@@ -1,0 +1,255 @@
+//! Tool offset memory (H/D, geometry and wear) and work offsets (external, G54–G59, G54.1 P1–
+//! P300). Changes are in the database when the answer comes; a program's own changes (G10,
+//! system variables) are saved when its run state changes.
+
+use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::{Json, Path, State};
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use utoipa::ToSchema;
+
+use super::{body, hosted, path};
+use crate::db::{self, ToolRow};
+use crate::host::station::{tool_row, WORK_SLOTS};
+use crate::host::stream::axes;
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// One tool offset number (mm).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct ToolOffsetDto {
+    pub number: u32,
+    /// H geometry and wear.
+    pub length: f64,
+    pub length_wear: f64,
+    /// D geometry and wear.
+    pub radius: f64,
+    pub radius_wear: f64,
+}
+
+impl From<ToolRow> for ToolOffsetDto {
+    fn from(t: ToolRow) -> Self {
+        ToolOffsetDto {
+            number: t.number,
+            length: t.length,
+            length_wear: t.length_wear,
+            radius: t.radius,
+            radius_wear: t.radius_wear,
+        }
+    }
+}
+
+/// `PUT /tool-offsets/{number}`: the values to change.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetToolOffset {
+    pub length: Option<f64>,
+    pub length_wear: Option<f64>,
+    pub radius: Option<f64>,
+    pub radius_wear: Option<f64>,
+}
+
+/// A work offset by name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct WorkOffsetDto {
+    /// `EXT`, `G54`…`G59`, `G54.1P1`…`G54.1P300`.
+    #[schema(example = "G54")]
+    pub name: String,
+    /// Value per axis letter.
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub axes: Map<String, Value>,
+}
+
+/// `PUT /work-offsets/{name}`: the axes to change.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetWorkOffset {
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub axes: Map<String, Value>,
+}
+
+/// The slot of a work offset name.
+fn slot_of(name: &str) -> Option<usize> {
+    let upper = name.to_ascii_uppercase().replace(' ', "");
+    match upper.as_str() {
+        "EXT" => Some(0),
+        _ => {
+            if let Some(p) = upper.strip_prefix("G54.1P") {
+                let p: usize = p.parse().ok()?;
+                (1..=WORK_SLOTS - 7).contains(&p).then_some(6 + p)
+            } else {
+                let g: usize = upper.strip_prefix('G')?.parse().ok()?;
+                (54..=59).contains(&g).then_some(g - 53)
+            }
+        }
+    }
+}
+
+fn name_of(slot: usize) -> String {
+    match slot {
+        0 => "EXT".into(),
+        1..=6 => format!("G{}", 53 + slot),
+        p => format!("G54.1P{}", p - 6),
+    }
+}
+
+fn finite(v: f64, what: &str) -> Result<f64, ApiError> {
+    if v.is_finite() && v.abs() < 1.0e6 {
+        Ok(v)
+    } else {
+        Err(ApiError::Unprocessable(format!("{what} must be a finite number below 1e6 in size"), None))
+    }
+}
+
+/// Tool offsets that are not all zero, by number.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/tool-offsets",
+    tag = "offsets",
+    params(("id" = String, Path, description = "Controller id")),
+    responses((status = 200, description = "Tool offsets", body = [ToolOffsetDto]), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn tools(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<ToolOffsetDto>>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let station = hosted.station();
+    let offsets = &station.controller.interpreter().state.offsets;
+    let list = (1..=fivex_engine::interp::MAX_TOOL_OFFSETS as u32)
+        .filter_map(|n| offsets.tool(n).filter(|t| **t != Default::default()).map(|t| tool_row(n, t).into()))
+        .collect();
+    Ok(Json(list))
+}
+
+/// Change a tool offset (it acts at the next H/D selection, as G10 does).
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/tool-offsets/{number}",
+    tag = "offsets",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "Offset number 1–999")),
+    request_body = SetToolOffset,
+    responses(
+        (status = 200, description = "Changed", body = ToolOffsetDto),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 422, description = "No such offset number or not a finite value", body = ErrorBody),
+    )
+)]
+pub async fn set_tool(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+    request: Result<Json<SetToolOffset>, JsonRejection>,
+) -> Result<Json<ToolOffsetDto>, ApiError> {
+    let (id, number) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    let request = body(request)?;
+    let current = hosted
+        .station()
+        .controller
+        .interpreter()
+        .state
+        .offsets
+        .tool(number)
+        .filter(|_| number >= 1)
+        .map(|t| tool_row(number, t))
+        .ok_or_else(|| ApiError::Unprocessable(format!("tool offset number {number} is outside 1–999"), None))?;
+    let row = ToolRow {
+        number,
+        length: finite(request.length.unwrap_or(current.length), "length")?,
+        length_wear: finite(request.length_wear.unwrap_or(current.length_wear), "length_wear")?,
+        radius: finite(request.radius.unwrap_or(current.radius), "radius")?,
+        radius_wear: finite(request.radius_wear.unwrap_or(current.radius_wear), "radius_wear")?,
+    };
+    db::save_tool_offsets(&state.db, &hosted.id, &[row]).await?;
+    let mut station = hosted.station();
+    if let Some(t) = station.controller.interpreter_mut().state.offsets.tool_mut(number) {
+        (t.h_geometry, t.h_wear, t.d_geometry, t.d_wear) = (row.length, row.length_wear, row.radius, row.radius_wear);
+    }
+    station.offsets_saved();
+    Ok(Json(row.into()))
+}
+
+/// The external offset, G54–G59, and the G54.1 offsets that are not zero.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/work-offsets",
+    tag = "offsets",
+    params(("id" = String, Path, description = "Controller id")),
+    responses((status = 200, description = "Work offsets", body = [WorkOffsetDto]), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn works(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<Vec<WorkOffsetDto>>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let station = hosted.station();
+    let offsets = &station.controller.interpreter().state.offsets;
+    let list = (0..WORK_SLOTS)
+        .filter(|&i| i <= 6 || offsets.work(i).iter().any(|v| *v != 0.0))
+        .map(|i| WorkOffsetDto { name: name_of(i), axes: axes(&hosted.machine, offsets.work(i)) })
+        .collect();
+    Ok(Json(list))
+}
+
+/// Change a work offset (only while nothing runs: the current position is derived again).
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/work-offsets/{name}",
+    tag = "offsets",
+    params(("id" = String, Path, description = "Controller id"), ("name" = String, Path, description = "EXT, G54…G59, G54.1P1…G54.1P300")),
+    request_body = SetWorkOffset,
+    responses(
+        (status = 200, description = "Changed", body = WorkOffsetDto),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "A program runs or holds", body = ErrorBody),
+        (status = 422, description = "No such offset or axis, or not a finite value", body = ErrorBody),
+    )
+)]
+pub async fn set_work(
+    State(state): State<AppState>,
+    params: Result<Path<(String, String)>, PathRejection>,
+    request: Result<Json<SetWorkOffset>, JsonRejection>,
+) -> Result<Json<WorkOffsetDto>, ApiError> {
+    let (id, name) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    let request = body(request)?;
+    let slot = slot_of(&name).ok_or_else(|| ApiError::Unprocessable(format!("no work offset {name}"), None))?;
+    let mut values =
+        hosted.station().controller.interpreter().state.offsets.work(slot)[..hosted.machine.axes.len()].to_vec();
+    for (letter, value) in &request.axes {
+        let index = hosted
+            .machine
+            .axes
+            .iter()
+            .position(|a| a.name.to_string().eq_ignore_ascii_case(letter))
+            .ok_or_else(|| ApiError::Unprocessable(format!("the machine has no axis {letter}"), None))?;
+        let v = value.as_f64().ok_or_else(|| ApiError::Unprocessable(format!("{letter} must be a number"), None))?;
+        values[index] = finite(v, letter)?;
+    }
+    if hosted.station().controller.run_state() != fivex_engine::controller::RunState::Idle {
+        return Err(ApiError::Conflict("work offsets change only while nothing runs".into()));
+    }
+    db::save_work_offsets(&state.db, &hosted.id, &[(slot, values.clone())]).await?;
+    let mut station = hosted.station();
+    let work = station.controller.interpreter_mut().state.offsets.work_mut(slot);
+    work[..values.len()].copy_from_slice(&values);
+    let shown = axes(&hosted.machine, work);
+    station.offsets_saved();
+    station.controller.offsets_changed();
+    Ok(Json(WorkOffsetDto { name: name_of(slot), axes: shown }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn work_offset_names_and_slots() {
+        for (name, slot) in [("EXT", 0), ("G54", 1), ("g59", 6), ("G54.1P1", 7), ("G54.1 P300", 306)] {
+            assert_eq!(slot_of(name), Some(slot), "{name}");
+        }
+        for bad in ["G53", "G60", "G54.1P0", "G54.1P301", "X", ""] {
+            assert_eq!(slot_of(bad), None, "{bad}");
+        }
+        assert_eq!(name_of(306), "G54.1P300");
+    }
+}
