@@ -221,6 +221,17 @@ pub struct FiveAxisOptions {
     /// otherwise as fast as the axes go.
     #[serde(default)]
     pub rotary_feed: bool,
+    /// G54.4 tool direction compensation: the rotary axes keep the programmed tool direction
+    /// relative to the displaced workpiece (FANUC No.11200#0 RCM).
+    #[serde(default)]
+    pub tool_direction_compensation: bool,
+    /// Angle to the singular posture within which G54.4 takes the tool as singular, degrees
+    /// (FANUC No.11204; 0: exact test).
+    #[serde(default)]
+    pub singular_tolerance_deg: f64,
+    /// G54.4 stays on through a reset; only G54.4 P0 ends it (FANUC No.5400#2 D3R).
+    #[serde(default)]
+    pub wse_kept_on_reset: bool,
 }
 
 impl FiveAxisOptions {

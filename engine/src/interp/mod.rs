@@ -16,6 +16,7 @@ mod plane;
 pub(crate) mod program;
 mod tcp;
 mod vars;
+mod wse;
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Pos};
@@ -175,6 +176,10 @@ pub struct State {
     last_n: u32,
     spindle: crate::canon::SpindleState,
     pub offsets: Offsets,
+    /// Workpiece setting error data (G54.4), No.00 COMMON and No.01…07.
+    pub setting_errors: crate::wse::SettingErrors,
+    /// The G54.4 set in effect.
+    wse: Option<wse::Active>,
     /// Programming coordinates of the current point (the last block's end point), after the
     /// programming transforms (G51.1, G51, G68): the workpiece coordinates of the tool.
     pos: Pos,
@@ -337,6 +342,7 @@ impl Interpreter {
         st.locals[0] = [None; LOCALS];
         st.modal_call = None;
         st.ended = true;
+        st.wse_reset();
     }
 
     /// The machine was moved outside the program (jog, handle, reference return): the
@@ -435,6 +441,8 @@ impl State {
             last_n: 0,
             spindle: crate::canon::SpindleState::Stop,
             offsets: Offsets::default(),
+            setting_errors: crate::wse::SettingErrors::default(),
+            wse: None,
             pos: [0.0; MAX_AXES],
             xf: frames::Transforms::default(),
             local: [0.0; MAX_AXES],
@@ -734,10 +742,12 @@ impl State {
         self.locals.len() - 1
     }
 
-    /// Programming → machine coordinates (work offset, local, G92 shift, tool length).
+    /// Programming → machine coordinates (G54.4 error, work offset, local, G92 shift, tool length).
     fn program_to_machine(&self, p: &Pos) -> Pos {
         let off = self.offset_vector();
         let mut m = [0.0; MAX_AXES];
+        let mut p = *p;
+        self.wse_to_wcs(&mut p);
         for i in 0..self.cfg.machine.axes.len() {
             m[i] = p[i] + off[i] + self.tool_vec[i];
         }
@@ -750,6 +760,7 @@ impl State {
         for i in 0..self.cfg.machine.axes.len() {
             p[i] = m[i] - off[i] - self.tool_vec[i];
         }
+        self.wse_from_wcs(&mut p);
         p
     }
 

@@ -47,10 +47,16 @@ pub(super) struct FiveAxisModes {
     nano_in_tcp: bool,
 }
 
+impl FiveAxisModes {
+    /// A reset ended G54.4 (WSE-21).
+    pub(super) fn clear_wse(&mut self) {
+        self.wse = 0;
+    }
+}
+
 /// FANUC parameter values the rules depend on, at their defaults until machine parameters exist
-/// (issue 3): RCM (No.11200#0) tool direction compensation of G54.4, MTW (No.11221#0) multiple
-/// tilted working planes, SPG (No.19607) G41.4/G41.5 code set.
-const RCM: bool = false;
+/// (issue 3): MTW (No.11221#0) multiple tilted working planes, SPG (No.19607) G41.4/G41.5 code
+/// set. (RCM, No.11200#0, is `FiveAxisOptions::tool_direction_compensation`.)
 const MTW: bool = false;
 const SPG: bool = false;
 
@@ -89,6 +95,9 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "twp WSE-01: no G54.4 Pn (n≠0) while G54.4 is on", A::WseCommand, |c| {
         c.has(544) && c.five.wse != 0 && c.word(b'P') != Some(0.0)
     }),
+    rule(Fanuc, "twp WSE-26, §6.6: G54.4 P0 only after the modes nested inside it ended", A::WseCommand, |c| {
+        c.has(544) && c.five.wse != 0 && c.word(b'P') == Some(0.0) && c.wse_nests_a_mode()
+    }),
     rule(Fanuc, "twp TWP-02: G68.2/G68.4 P1 Q in {123,132,213,321,231,312}", A::TwpFormat, |c| {
         c.twp_def() == Some(1) && c.word(b'Q').is_some_and(|q| ![123.0, 132.0, 213.0, 321.0, 231.0, 312.0].contains(&q))
     }),
@@ -117,10 +126,10 @@ static RULES: &[Rule] = &[
     }),
     // --- workpiece setting error compensation: combinations -----------------------------
     rule(Fanuc, "twp TWP-07, WSE-11: G53.1 in G54.4 mode needs RCM=1", A::AlignmentInWse, |c| {
-        !RCM && c.has(531) && c.wse_during()
+        !c.rcm() && c.has(531) && c.wse_during()
     }),
     rule(Fanuc, "twp WSE-11: G43.4/G43.5 in G54.4 mode needs RCM=1", A::IllegalCommandInTcp, |c| {
-        !RCM && c.wse_during() && c.starts(8, |c, m| c.tcp(m))
+        !c.rcm() && c.wse_during() && c.starts(8, |c, m| c.tcp(m))
     }),
     // --- 5-axis cutter compensation ----------------------------------------------------
     rule(Fanuc, "crc CRC-31: G41.4/G42.4 on a table machine with SPG=0", A::ImproperGCode, |c| {
@@ -598,6 +607,18 @@ impl Ctx<'_> {
 
     fn tcp_cancels(&self) -> bool {
         self.tcp(self.before[8]) && matches!(self.after[8], 490 | 491)
+    }
+
+    /// G54.4 tool direction compensation (FANUC No.11200#0 RCM).
+    fn rcm(&self) -> bool {
+        self.st.cfg.machine.five_axis.tool_direction_compensation
+    }
+
+    /// A mode that must open and close inside G54.4 is on (§6.6: cutter and tool length
+    /// compensation, scaling, rotation and tilted planes, mirror image, canned cycles).
+    fn wse_nests_a_mode(&self) -> bool {
+        let off = gcode::initial_modes();
+        [7, 8, 9, 11, 16, 22].iter().any(|&g| self.before[g] != off[g] && !(g == 8 && self.before[8] == 491))
     }
 
     fn wse_during(&self) -> bool {

@@ -377,6 +377,7 @@ impl State {
             self.sync_programmed();
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
+        self.apply_wse(&w)?;
         let transform_axes = self.apply_transforms(&w)? | self.apply_plane(&w)?;
         if transform_axes && axes_owner.is_some() {
             return Err(AlarmId::IllegalGCodeCombination);
@@ -680,7 +681,10 @@ impl State {
                 let target = self.xf.forward(&programmed);
                 let (cw, arc) = self.arc(w, &target)?;
                 let kind = if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw };
-                self.push_motion(kind, target, arc, out);
+                match arc {
+                    Some(arc) if self.wse_arc() => self.wse_arc_motion(kind, target, arc, out),
+                    arc => self.push_motion(kind, target, arc, out),
+                }
                 self.xf.programmed = programmed;
             }
             _ => {

@@ -77,6 +77,13 @@ impl State {
     /// the point `p` is at `p + offsets + nose` in machine coordinates there (the same tip a
     /// plain G43 gives at zero angles).
     pub(super) fn frame_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
+        let wcs = self.wcs_on_table(kin, machine);
+        // Under G54.4 programming coordinates are in the workpiece setting system.
+        self.active_setting_error().map_or(wcs, |(_, e)| wcs.then(&e))
+    }
+
+    /// As `frame_on_table` for workpiece coordinates (without a G54.4 error).
+    pub(super) fn wcs_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
         let table = kin.table_frame(machine);
         let off = self.offset_vector();
         let shift = Vec3::new(off[0], off[1], off[2]) + kin.nose;

@@ -183,7 +183,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 }
 
 /// The 5-axis function bits: No.19696#5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#5 PRI (absent: 0).
+/// No.19608#5 PRI; G54.4: No.11200#0 RCM, No.11204 singular tolerance (degrees), No.5400#2 D3R
+/// (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -197,6 +198,9 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         posture_control: bit(19604, 0)?,
         second_axis_first: bit(19608, 5)?,
         rotary_feed: bit(19696, 6)?,
+        tool_direction_compensation: bit(11200, 0)?,
+        singular_tolerance_deg: if p.0.contains_key(&11204) { p.get(11204)? } else { 0.0 },
+        wse_kept_on_reset: bit(5400, 2)?,
     })
 }
 
@@ -281,10 +285,15 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (19754, ((f.tcp_coordinates == TcpCoordinates::TableAtZero) as u32) << 5),
         (19604, f.posture_control as u32),
         (19608, (f.second_axis_first as u32) << 5),
+        (11200, f.tool_direction_compensation as u32),
+        (5400, (f.wse_kept_on_reset as u32) << 2),
     ] {
         if value != 0 {
             p.set(number, value as f64);
         }
+    }
+    if f.singular_tolerance_deg != 0.0 {
+        p.set(11204, real(f.singular_tolerance_deg));
     }
     let zero = Vec3::zeros();
     let point = |k: usize| vec3(links[k].point);

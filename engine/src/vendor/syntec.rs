@@ -298,6 +298,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if f.tcp_coordinates == TcpCoordinates::Workpiece || f.rotary_feed || f.second_axis_first {
         return Err(unrepresentable("Syntec", "workpiece TCP coordinates, RFC and PRI are FANUC settings"));
     }
+    if f.tool_direction_compensation || f.singular_tolerance_deg != 0.0 || f.wse_kept_on_reset {
+        return Err(unrepresentable("Syntec", "G54.4 settings (RCM, No.11204, D3R) are FANUC settings"));
+    }
     if f.posture_control {
         p.set(3054, 1.0);
     }

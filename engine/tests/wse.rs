@@ -1,0 +1,317 @@
+//! Workpiece setting error compensation, FANUC G54.4 (spec `fanuc-twp-wsec-manual-params.md`
+//! WSE-01…WSE-26, §2.13, TV-WSE-01…TV-WSE-28): error data and macro variables, the effective
+//! error with the table-position conversion, the start block's recomputation, the program in the
+//! displaced system (Example 1), circles in space, reset, machine-coordinate moves and the mode
+//! alarms. Decisions: `docs/five-axis.md`, "Workpiece setting error compensation (G54.4)".
+
+mod common;
+
+use common::{end_of, interpreter_with, motion_ends};
+use fivex_engine::canon::{CanonKind, Pos};
+use fivex_engine::interp::{Config, Interpreter};
+use fivex_engine::lang::parse_file;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions};
+use fivex_engine::wse;
+use fivex_engine::Dialect;
+
+fn fanuc(src: &str, preset: &str) -> Interpreter {
+    interpreter_with(src, preset, Dialect::Fanuc, |_| {})
+}
+
+fn fanuc_with(src: &str, preset: &str, tweak: impl FnOnce(&mut Config)) -> Interpreter {
+    interpreter_with(src, preset, Dialect::Fanuc, tweak)
+}
+
+/// Run to the end (no alarm expected) and hand back the interpreter.
+fn ran(mut interp: Interpreter) -> Interpreter {
+    interp.run(|_| {}).expect("no alarm");
+    interp
+}
+
+/// The alarm code a program ends in.
+fn alarm_of(mut interp: Interpreter) -> String {
+    interp.run(|_| {}).expect_err("an alarm").code
+}
+
+fn close3(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() < tol)
+}
+
+fn xyz(p: &Pos) -> [f64; 3] {
+    [p[0], p[1], p[2]]
+}
+
+/// TV-WSE-01/02: COMMON X 10; No.01 x 0.5 a 1.5; No.02 x 0.8 a 1.8, set by macro variables.
+const DATA_01: &str = "#26000=10.\n#26010=0.5\n#26013=1.5\n#26020=0.8\n#26023=1.8\n";
+
+#[test]
+fn tv_wse_01_02_effective_error_adds_common_translations_and_takes_the_sets_rotation() {
+    for (n, dx, da) in [(1, 10.5, 1.5), (2, 10.8, 1.8)] {
+        let interp = ran(fanuc(&format!("{DATA_01}G54.4 P{n}\nM30\n"), "mill3"));
+        let (set, e) = interp.state.active_setting_error().expect("G54.4 on");
+        assert_eq!(set, n as u8);
+        assert!(close3(e.o.into(), [dx, 0.0, 0.0], 1e-12), "P{n}: Δ {:?}", e.o);
+        assert!(close3(wse::angles(&e.r), [da, 0.0, 0.0], 1e-9), "P{n}: angles {:?}", wse::angles(&e.r));
+    }
+}
+
+#[test]
+fn tv_wse_03_sets_measured_with_the_table_turned_are_converted_to_table_position_0() {
+    // mixed-bc: C on the table (left hand, FANUC No.19689 = 1); G54 X/Y 0 puts the WCS origin
+    // on the C axis. No.00: Y 10 at C −90; No.01: x 5, c 2 at C 90.
+    let src = "#26001=10.\n#26006=-90.\n#26010=5.\n#26015=2.\n#26016=90.\nG54.4 P1\nM30\n";
+    let interp = ran(fanuc(src, "mixed-bc"));
+    let (_, e) = interp.state.active_setting_error().unwrap();
+    assert!(close3(e.o.into(), [10.0, 5.0, 0.0], 1e-9), "Δ {:?}", e.o);
+    assert!(close3(wse::angles(&e.r), [0.0, 0.0, 2.0], 1e-9), "{:?}", wse::angles(&e.r));
+    // Each set on its own, as the seed's intermediate values.
+    let st = &interp.state;
+    let mut common_only = st.clone();
+    common_only.setting_errors.sets[1] = Default::default();
+    assert!(close3(common_only.effective_setting_error(1).o.into(), [10.0, 0.0, 0.0], 1e-9));
+    // Without a table nothing is converted.
+    let interp = ran(fanuc(src, "head-bc"));
+    let (_, e) = interp.state.active_setting_error().unwrap();
+    assert!(close3(e.o.into(), [5.0, 10.0, 0.0], 1e-9), "head-bc Δ {:?}", e.o);
+}
+
+#[test]
+fn tv_wse_04_macro_variables_read_and_write_the_sets() {
+    let src = "#26013=1.25\n#26075=-3.5\n#26076=45.\n#26077=-30.\n#26000=1.\n#26001=2.\n#26002=3.\n\
+               #26006=4.\n#26007=5.\n#100=#26013\n#101=#26075\n#102=#26076\n#103=#26077\n\
+               #104=#26000+#26001+#26002+#26006+#26007\nM30\n";
+    let interp = ran(fanuc(src, "mill3"));
+    let s = &interp.state.setting_errors.sets;
+    assert_eq!((s[1].rotation[0], s[7].rotation[2], s[7].table), (1.25, -3.5, [45.0, -30.0]));
+    assert_eq!((s[0].shift, s[0].table), ([1.0, 2.0, 3.0], [4.0, 5.0]));
+    let vars = interp.state.common_variables();
+    let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+    assert_eq!((v(100), v(101), v(102), v(103), v(104)), (1.25, -3.5, 45.0, -30.0, 15.0));
+    // A host writes the sets directly.
+    let mut interp = fanuc("#100=#26012\nM30\n", "mill3");
+    interp.state.setting_errors.sets[1].shift[2] = -7.0;
+    let interp = ran(interp);
+    assert_eq!(interp.state.common_variables(), vec![(100, -7.0)]);
+}
+
+#[test]
+fn tv_wse_04d_common_has_no_rotation_variables() {
+    for src in
+        ["#100=#26003\nM30\n", "#26004=1.\nM30\n", "#100=#26005\nM30\n", "#100=#26008\nM30\n", "#26080=1.\nM30\n"]
+    {
+        assert_eq!(alarm_of(fanuc(src, "mill3")), "PS0115", "{src}");
+    }
+}
+
+/// Example 1 (TV-WSE-17): No.01 x 10, y 20, c −20; G55 at machine (100, 50, −400).
+fn example_1(preset: &str) -> Interpreter {
+    let src = "N10 G55\nN15 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0 B0 C0\nN30 G01 G43 H01 Z40.0 F500.\n\
+               N40 X50.0 Y50.0 Z20.0\nN50 X150.0\nN60 Y150.0\nN70 X50.0\nN80 Y50.0\nN90 X0 Y0 Z40.0\n\
+               N100 G49 Z300.0\nN115 G54.4 P0\nN120 G00 X0 Y0\nM30\n";
+    let mut interp = fanuc(src, preset);
+    let g55 = interp.state.offsets.work_mut(2);
+    g55[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    interp
+}
+
+#[test]
+fn tv_wse_17_example_1_cuts_the_displaced_square() {
+    // Right-hand Δc (OQ-11): p_w = Rz(−20°)·p_s + (10, 20, 0). Tool tip in G55 = machine −
+    // G55 − tool length along Z (B0 C0).
+    let expected = [
+        (3, [10.0, 20.0, 300.0], 0.0),
+        (4, [10.0, 20.0, 40.0], 100.0),
+        (5, [74.085638, 49.883624, 20.0], 100.0),
+        (6, [168.054900, 15.681610, 20.0], 100.0),
+        (7, [202.256915, 109.650872, 20.0], 100.0),
+        (8, [108.287653, 143.852886, 20.0], 100.0),
+        (9, [74.085638, 49.883624, 20.0], 100.0),
+        (10, [10.0, 20.0, 40.0], 100.0),
+        (11, [10.0, 20.0, 300.0], 0.0),
+        // After G54.4 P0, X0 Y0 is the G55 origin again.
+        (13, [0.0, 0.0, 300.0], 0.0),
+    ];
+    for preset in ["head-bc", "mill3"] {
+        let src_preset = preset;
+        let mut interp = example_1(src_preset);
+        if preset == "mill3" {
+            // mill3 has no B/C: the same program without them.
+            let text = "N10 G55\nN15 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0\nN30 G01 G43 H01 Z40.0 F500.\n\
+                        N40 X50.0 Y50.0 Z20.0\nN50 X150.0\nN60 Y150.0\nN70 X50.0\nN80 Y50.0\nN90 X0 Y0 Z40.0\n\
+                        N100 G49 Z300.0\nN115 G54.4 P0\nN120 G00 X0 Y0\nM30\n";
+            let offsets = interp.state.offsets.clone();
+            let errors = interp.state.setting_errors;
+            interp = fanuc(text, preset);
+            interp.state.offsets = offsets;
+            interp.state.setting_errors = errors;
+        }
+        let ends = motion_ends(interp);
+        for (line, tip, length) in expected {
+            let m = end_of(&ends, line);
+            let got = [m[0] - 100.0, m[1] - 50.0, m[2] + 400.0 - length];
+            assert!(close3(got, tip, 1e-6), "{preset} line {line}: {got:?} vs {tip:?}");
+        }
+    }
+}
+
+#[test]
+fn tv_wse_17_sides_are_straight_lines_in_the_wcs() {
+    // Every sample of N50 (a side of the square) lies on the displaced side.
+    let mut interp = example_1("head-bc");
+    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+        if s.line == 6 {
+            let p = [s.machine[0] - 100.0 - 10.0, s.machine[1] - 50.0 - 20.0];
+            // Back into the WSCS (Rz(+20°)): the side is y = 50, x from 50 to 150.
+            let (sn, cs) = (20f64.to_radians().sin(), 20f64.to_radians().cos());
+            let ps = [cs * p[0] - sn * p[1], sn * p[0] + cs * p[1]];
+            assert!((ps[1] - 50.0).abs() < 1e-6, "off the side: WSCS {ps:?}");
+            assert!((50.0 - 1e-6..=150.0 + 1e-6).contains(&ps[0]), "{ps:?}");
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+}
+
+#[test]
+fn tv_wse_18_the_start_block_recomputes_the_absolute_position_without_moving() {
+    let src = "G90 G00 X0 Y0 Z300.\nG54.4 P1\n#100=#5001\n#101=#5002\n#102=#5003\n#103=#5041\n#104=#5042\n\
+               G54.4 P0\n#105=#5001\n#106=#5002\nM30\n";
+    let mut interp = fanuc(src, "mill3");
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    let mut motions = 0;
+    interp
+        .run(|c| {
+            if matches!(c.kind, CanonKind::Motion(_)) {
+                motions += 1
+            }
+        })
+        .unwrap();
+    assert_eq!(motions, 1, "G54.4 P1 / P0 do not move");
+    let vars = interp.state.common_variables();
+    let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+    assert!(close3([v(100), v(101), v(102)], [-2.556523, -22.214054, 300.0], 1e-6));
+    // #5041… are WCS coordinates (WSE-20).
+    assert!(close3([v(103), v(104), 0.0], [0.0, 0.0, 0.0], 1e-9));
+    // P0 recomputes back.
+    assert!(close3([v(105), v(106), 0.0], [0.0, 0.0, 0.0], 1e-9));
+}
+
+#[test]
+fn tv_wse_18_wcs_points_map_to_their_wscs_coordinates() {
+    let e = wse::frame([10.0, 20.0, 0.0], [0.0, 0.0, -20.0]);
+    for (w, s) in [([10.0, 20.0, 40.0], [0.0, 0.0, 40.0]), ([74.085638, 49.883624, 20.0], [50.0, 50.0, 20.0])] {
+        let got = e.from_parent(&w.into());
+        assert!(close3(got.into(), s, 1e-6), "{got:?}");
+    }
+}
+
+#[test]
+fn circles_under_g54_4_stay_circles_when_the_error_tilts_their_plane() {
+    // Δa 10°, Δb −5°: the G17 circle is a circle in space; every sample is on it (WSCS).
+    let src = "G90 G00 X0 Y0 Z10.\nG54.4 P1\nG00 X20. Y0 Z10.\nG17 G03 X-20. Y0 I-20. J0 F2000.\nG02 X20. Y0 R20.\n\
+               G54.4 P0\nM30\n";
+    let mut interp = fanuc(src, "mill3");
+    let set = wse::ErrorSet { shift: [5.0, -3.0, 2.0], rotation: [10.0, -5.0, 30.0], table: [0.0; 2] };
+    interp.state.setting_errors.sets[1] = set;
+    let e = wse::frame(set.shift, set.rotation);
+    let mut seen = 0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+        if s.line == 4 || s.line == 5 {
+            let p = e.from_parent(&xyz(&s.machine).into());
+            assert!((p[0].hypot(p[1]) - 20.0).abs() < 1e-6 && (p[2] - 10.0).abs() < 1e-6, "line {}: {p:?}", s.line);
+            // G03 from +X to −X and G02 back both pass over +Y (seen from the WSCS +Z).
+            assert!(p[1] >= -1e-6, "line {}: {p:?}", s.line);
+            seen += 1;
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(seen > 20);
+    // Back at the start after the two half circles, in the WCS.
+    let w = e.to_parent(&[20.0, 0.0, 10.0].into());
+    assert!(close3(xyz(&r.machine), w.into(), 1e-9), "{:?}", r.machine);
+}
+
+#[test]
+fn g53_and_g28_bypass_the_error() {
+    let src =
+        "G90 G00 X0 Y0 Z50.\nG54.4 P1\nG53 X100. Y10. Z-5.\n#100=#5001\n#101=#5002\nG28 X0 Y0 Z0\nG54.4 P0\nM30\n";
+    let mut interp = fanuc(src, "mill3");
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    let ends = motion_ends(interp.clone());
+    assert_eq!(xyz(&end_of(&ends, 3)), [100.0, 10.0, -5.0], "G53 in machine coordinates");
+    // G28's intermediate point is a program point (through the error), the return is machine 0.
+    let g28: Vec<_> = ends.iter().filter(|(l, _)| *l == 6).collect();
+    assert!(close3(xyz(&g28[0].1), [10.0, 20.0, 0.0], 1e-9), "{:?}", g28[0].1);
+    assert_eq!(xyz(&g28[1].1), [0.0, 0.0, 0.0]);
+    let interp = ran(interp);
+    let vars = interp.state.common_variables();
+    let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+    // The machine point (100, 10) in the WSCS.
+    let s = wse::frame([10.0, 20.0, 0.0], [0.0, 0.0, -20.0]).from_parent(&[100.0, 10.0, -5.0].into());
+    assert!((v(100) - s[0]).abs() < 1e-9 && (v(101) - s[1]).abs() < 1e-9);
+}
+
+#[test]
+fn wse_21_reset_cancels_unless_d3r() {
+    for keep in [false, true] {
+        let mut interp = fanuc_with("G54.4 P1\nM30\n", "mill3", |c| c.machine.five_axis.wse_kept_on_reset = keep);
+        interp.state.setting_errors.sets[1].shift = [1.0, 2.0, 3.0];
+        let mut interp = ran(interp);
+        let before = interp.state.machine_position();
+        interp.reset();
+        assert_eq!(interp.state.active_setting_error().is_some(), keep, "D3R = {keep}");
+        assert_eq!(interp.state.machine_position(), before, "a reset does not move");
+        // After the reset a new G54.4 P1 is refused only while the old one is still on.
+        interp.load(parse_file("G54.4 P2\nM30\n"));
+        let r = interp.run(|_| {});
+        assert_eq!(r.is_err(), keep, "D3R = {keep}: {r:?}");
+    }
+}
+
+// --- mode rules ---------------------------------------------------------------------------
+
+fn alarm_on(src: &str, preset: &str) -> String {
+    alarm_of(fanuc(src, preset))
+}
+
+#[test]
+fn tv_wse_10_to_12_block_format() {
+    for src in ["G54.4\n", "G54.4 P8\n", "G54.4 P-1\n", "G54.4 P1 G01 X10.\n", "G54.4 P1 G90\n", "G54.4 P1\nG54.4 P2\n"]
+    {
+        assert_eq!(alarm_on(src, "mill3"), "PS0437", "{src}");
+    }
+    // TV-WSE-13: P0 cancels.
+    let interp = ran(fanuc("G54.4 P1\nG54.4 P0\nG54.4 P2\nM30\n", "mill3"));
+    assert_eq!(interp.state.active_setting_error().map(|a| a.0), Some(2));
+}
+
+#[test]
+fn tv_wse_14_basic_axes_missing() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.axes.retain(|a| a.name != 'Y');
+    let mut interp = Interpreter::new(parse_file("G54.4 P1\nM30\n"), Config::new(m, Dialect::Fanuc));
+    assert_eq!(interp.run(|_| {}).unwrap_err().code, "PS0436");
+}
+
+#[test]
+fn tv_wse_15_16_mode_lists() {
+    for g in ["G61", "G92 X0", "G52 X1.", "G68.3", "G55", "G20"] {
+        assert_eq!(alarm_on(&format!("G54.4 P1\n{g}\n"), "head-bc"), "PS0437", "{g}");
+    }
+    assert_eq!(alarm_on("G41 D1 G01 X10. Y10. F100.\nG54.4 P1\n", "mill3"), "PS0439");
+    // §6.6: the modes opened inside must close before G54.4 P0 [A: PS0437].
+    assert_eq!(alarm_on("G54.4 P1\nG43 H1 G01 Z10. F100.\nG54.4 P0\n", "mill3"), "PS0437");
+    assert_eq!(alarm_on("G54.4 P1\nG68.2 X0 Y0 Z0 I0 J30. K0\nG54.4 P0\n", "head-bc"), "PS0437");
+    let interp = ran(fanuc("G54.4 P1\nG43 H1 G01 Z10. F100.\nG49 G00 Z200.\nG54.4 P0\nM30\n", "mill3"));
+    assert!(interp.state.active_setting_error().is_none());
+}
+
+#[test]
+fn tv_wse_19b_19c_tcp_and_g53_1_need_tool_direction_compensation() {
+    assert_eq!(alarm_on("G54.4 P1\nG43.4 H1\n", "head-bc"), "PS5421");
+    assert_eq!(alarm_on("G54.4 P1\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\n", "head-bc"), "PS5458");
+}
