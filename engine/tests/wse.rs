@@ -4,6 +4,8 @@
 //! displaced system (Example 1), circles in space, reset, machine-coordinate moves and the mode
 //! alarms. Decisions: `docs/five-axis.md`, "Workpiece setting error compensation (G54.4)".
 
+#![allow(clippy::approx_constant)]
+
 mod common;
 
 use common::{end_of, interpreter_with, motion_ends};
@@ -314,4 +316,74 @@ fn tv_wse_15_16_mode_lists() {
 fn tv_wse_19b_19c_tcp_and_g53_1_need_tool_direction_compensation() {
     assert_eq!(alarm_on("G54.4 P1\nG43.4 H1\n", "head-bc"), "PS5421");
     assert_eq!(alarm_on("G54.4 P1\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\n", "head-bc"), "PS5458");
+}
+
+// --- tool direction compensation (RCM = 1) -------------------------------------------------
+
+fn rcm(c: &mut Config) {
+    c.machine.five_axis.tool_direction_compensation = true;
+}
+
+/// Example 2 (TV-WSE-19) on the BC head with RCM = 1, No.01 as Example 1, G55 (100, 50, −400).
+const EXAMPLE_2: &str = "N15 G05.1 Q1\nN10 G55\nN16 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0 B0 C0\n\
+    N30 G01 G43.4 H01 Z40.0 F500.\nN40 X50.0 Y50.0 Z20.0 B45.0 C-90.0\nN50 X150.0\nN60 C0.0\nN70 Y150.0\n\
+    N80 C90.0\nN90 X50.0\nN100 C180.0\nN110 Y50.0\nN120 X0 Y0 Z40.0 B0.0 C0.0\nN130 G49 Z300.0\nN135 G54.4 P0\n\
+    N136 G05.1 Q0\nM30\n";
+
+fn example_2(src: &str, tweak: impl FnOnce(&mut Config)) -> Interpreter {
+    let mut interp = fanuc_with(src, "head-bc", tweak);
+    interp.state.offsets.work_mut(2)[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    interp
+}
+
+#[test]
+fn tv_wse_19_example_2_keeps_the_tool_direction_relative_to_the_displaced_workpiece() {
+    use fivex_engine::kin::Kinematics;
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let ends = motion_ends(example_2(EXAMPLE_2, rcm));
+    // (line, B, C, tip in G55, tool length); B index 3, C index 4.
+    let expected = [
+        (4, 0.0, 0.0, [10.0, 20.0, 300.0], 0.0),
+        (5, 0.0, 0.0, [10.0, 20.0, 40.0], 100.0),
+        (6, 45.0, -110.0, [74.085638, 49.883624, 20.0], 100.0),
+        (7, 45.0, -110.0, [168.054900, 15.681610, 20.0], 100.0),
+        (8, 45.0, -20.0, [168.054900, 15.681610, 20.0], 100.0),
+        (9, 45.0, -20.0, [202.256915, 109.650872, 20.0], 100.0),
+        (10, 45.0, 70.0, [202.256915, 109.650872, 20.0], 100.0),
+        (11, 45.0, 70.0, [108.287653, 143.852886, 20.0], 100.0),
+        (12, 45.0, 160.0, [108.287653, 143.852886, 20.0], 100.0),
+        (13, 45.0, 160.0, [74.085638, 49.883624, 20.0], 100.0),
+        // Singular target from a posture that is not: C stays (§2.14 rule 2).
+        (14, 0.0, 160.0, [10.0, 20.0, 40.0], 100.0),
+    ];
+    let dirs = [
+        (6, [-0.241845, -0.664463, 0.707107]),
+        (8, [0.664463, -0.241845, 0.707107]),
+        (10, [0.241845, 0.664463, 0.707107]),
+        (12, [-0.664463, 0.241845, 0.707107]),
+    ];
+    for (line, b, c, tip, length) in expected {
+        let m = end_of(&ends, line);
+        assert!((m[3] - b).abs() < 1e-6 && (m[4] - c).abs() < 1e-6, "line {line}: B {} C {}", m[3], m[4]);
+        let pose = kin.forward(&m, length);
+        let got =
+            [pose.tip[0] - 100.0 - kin.nose[0], pose.tip[1] - 50.0 - kin.nose[1], pose.tip[2] + 400.0 - kin.nose[2]];
+        assert!(close3(got, tip, 1e-6), "line {line}: tip {got:?} vs {tip:?}");
+    }
+    for (line, d) in dirs {
+        let t = kin.forward(&end_of(&ends, line), 100.0).tool;
+        assert!(close3(t.into(), d, 1e-6), "line {line}: tool {t:?}");
+    }
+}
+
+#[test]
+fn tv_wse_19_without_rcm_tcp_is_refused_and_the_rotary_axes_are_untouched() {
+    assert_eq!(alarm_of(example_2(EXAMPLE_2, |_| {})), "PS5421");
+    // RCM = 0 and no TCP: the rotary axes go where programmed (OQ-13).
+    let src = "G55\nG54.4 P1\nG90 G00 X0 Y0 Z300. B0 C0\nG01 X50. Y50. Z20. B45. C-90. F500.\nG54.4 P0\nM30\n";
+    let ends = motion_ends(example_2(src, |_| {}));
+    let m = end_of(&ends, 4);
+    assert!((m[3] - 45.0).abs() < 1e-9 && (m[4] + 90.0).abs() < 1e-9);
 }

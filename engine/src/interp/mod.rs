@@ -353,6 +353,8 @@ impl Interpreter {
             st.plane_moved_to(*machine);
         } else if st.tcp_active() {
             st.tcp_moved_to(*machine);
+        } else if st.wse_follows() {
+            st.wse_moved_to(*machine);
         } else {
             st.pos = st.machine_to_program(machine);
             st.sync_programmed();

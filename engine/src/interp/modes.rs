@@ -765,8 +765,10 @@ fn tcp_allows(g: u16) -> bool {
 }
 
 /// tcp TCP-15: modal states TCP may start in (besides the codes of [`tcp_allows`]).
-fn tcp_state_allows(_group: usize, g: u16) -> bool {
-    tcp_allows(g)
+fn tcp_state_allows(group: usize, g: u16) -> bool {
+    // G54.4 (group 33): TCP nests inside it; its RCM=0 refusal is the WSE-11 row.
+    group == 33
+        || tcp_allows(g)
         || matches!(g, 131 | 150 | 200 | 210 | 540 | 550 | 560 | 570 | 580 | 590 | 800 | 970 | 980 | 990 | 690 | 940)
 }
 

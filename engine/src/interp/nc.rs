@@ -638,6 +638,7 @@ impl State {
         self.emit_motion_at(MotionKind::MachineRapid, target, machine, None, out);
         // In a tilted plane the current point is the tip in the FCS (TWP-13).
         self.plane_moved_to(machine);
+        self.wse_moved_to(machine);
         self.sync_programmed();
     }
 

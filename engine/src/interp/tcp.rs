@@ -47,7 +47,7 @@ impl State {
 
     /// Whether moves follow the tool tip through the kinematics (TCP or a tilted plane).
     pub(super) fn follows_tip(&self) -> bool {
-        self.tcp.is_some() || self.plane_active()
+        self.tcp.is_some() || self.plane_active() || self.wse_follows()
     }
 
     /// A move under TCP or in the tilted plane (`follows_tip`).
@@ -60,8 +60,10 @@ impl State {
     ) -> Result<(), AlarmId> {
         if self.tcp_active() {
             self.tcp_motion(kind, target, arc, out)
-        } else {
+        } else if self.plane_active() {
             self.plane_motion(kind, target, arc, out)
+        } else {
+            self.wse_motion(kind, target, arc, out)
         }
     }
 
@@ -244,6 +246,10 @@ impl State {
             if let Some(c) = t.commanded {
                 self.tcp.as_mut().expect("under TCP").direction = c;
             }
+        }
+        if self.tcp.as_ref().is_some_and(|t| t.code == 434) {
+            // Type 1 under G54.4 with RCM = 1: the programmed angles seen from the WSCS.
+            self.wse_compensate(&kin, &mut target)?;
         }
         let t = self.tcp.as_ref().expect("under TCP");
         let machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);

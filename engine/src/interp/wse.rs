@@ -17,10 +17,12 @@ use super::tcp::FollowPath;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, MotionKind, Pos};
-use crate::kin::{Kinematics, Vec3};
+use crate::kin::{Kinematics, MachineKind, Selection, Vec3};
 use crate::machine::{AxisKind, Side, MAX_AXES};
 use crate::twp::Frame;
 use crate::wse::{self, ErrorSet};
+use nalgebra::Matrix3;
+use std::sync::Arc as Shared;
 
 /// The set in effect.
 #[derive(Debug, Clone, Copy)]
@@ -97,8 +99,41 @@ impl State {
             let [Some(x), Some(y), Some(z)] = basic else { return Err(AlarmId::WseBasicAxes) };
             let frame = self.effective_setting_error(n);
             self.wse = Some(Active { set: n as u8, frame, xyz: [x, y, z] });
+            if self.wse_follows() {
+                return self.wse_start(machine);
+            }
+        }
+        if !self.tcp_active() && !self.plane_active() {
+            self.follow_machine = None;
         }
         self.pos = self.machine_to_program(&machine);
+        self.sync_programmed();
+        Ok(())
+    }
+
+    /// The start block with tool direction compensation (§2.13.4): the tip in the WSCS, the
+    /// rotary coordinates the angles whose error-free tool direction is the actual one seen
+    /// from the WSCS (PS0438 when there are none). When the tool is singular both as it stands
+    /// and as the error turns it, the absolute coordinates stay (WSE-09, TV-WSE-27).
+    fn wse_start(&mut self, machine: Pos) -> Result<(), AlarmId> {
+        let kin = self.kinematics.clone().ok_or(AlarmId::WseToolDirection)?;
+        let turn = self.wse_turn(&kin, &machine);
+        let tool = kin.forward(&machine, 0.0).tool;
+        let seen = turn.transpose() * tool;
+        if self.wse_singular(&kin, &tool) && self.wse_singular(&kin, &seen) {
+            self.follow_machine = Some(machine);
+            return Ok(());
+        }
+        let candidates = kin.inverse(Vec3::zeros(), seen, 0.0, &machine[..kin.axes]);
+        let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
+        let angles = kin.select(&candidates, &machine[..kin.axes], how).map_err(|_| AlarmId::WseToolDirection)?;
+        self.wse_moved_to(machine);
+        let off = self.offset_vector();
+        for j in kin.joints() {
+            if let Some(i) = j.index {
+                self.pos[i] = angles.pos[i] - off[i];
+            }
+        }
         self.sync_programmed();
         Ok(())
     }
@@ -112,6 +147,9 @@ impl State {
         let machine = self.machine_position();
         self.wse = None;
         self.five.clear_wse();
+        if !self.tcp_active() && !self.plane_active() {
+            self.follow_machine = None;
+        }
         self.pos = self.machine_to_program(&machine);
         self.sync_programmed();
     }
@@ -165,4 +203,190 @@ impl State {
         // Not a mode that follows the tip: the machine position is the programmed point's.
         self.follow_machine = None;
     }
+}
+
+/// Steps along the programmed interpolation at which a start in the singular posture looks for
+/// the first posture that is not (rule 3 of §2.14 decides there, as it would in the first
+/// interpolation period that leaves the singular cone).
+const LEAVING: [f64; 8] = [1e-3, 1e-2, 0.05, 0.1, 0.25, 0.5, 0.75, 1.0];
+
+impl State {
+    /// Tool direction compensation is in effect (G54.4 with RCM = 1): X/Y/Z follow the tool
+    /// tip through the kinematics, the rotary axes are corrected (WSE-11, WSE-12).
+    pub(super) fn wse_follows(&self) -> bool {
+        self.wse.is_some() && self.cfg.machine.five_axis.tool_direction_compensation
+    }
+
+    /// The error's rotation in the table frame (the WCS placed on the table at the rotary
+    /// program zero): a tool direction relative to the ideal workpiece → relative to the
+    /// displaced one.
+    fn wse_turn(&self, kin: &Kinematics, machine: &Pos) -> Matrix3<f64> {
+        let Some(a) = &self.wse else { return Matrix3::identity() };
+        let w = self.wcs_on_table(kin, &self.at_rotary_zero(kin, machine));
+        w.r * a.frame.r * w.r.transpose()
+    }
+
+    /// The machine stands at `machine` under tool direction compensation (start block, a move
+    /// in machine coordinates, manual intervention): the current point is the tip in the WSCS.
+    pub(super) fn wse_moved_to(&mut self, machine: Pos) {
+        if !self.wse_follows() || self.tcp_active() || self.plane_active() {
+            return;
+        }
+        let Some(kin) = self.kinematics.clone() else { return };
+        let frame = self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine));
+        self.pos = self.tip_position(&kin, &frame, &machine, self.active_tool_length());
+        self.follow_machine = Some(machine);
+        self.sync_programmed();
+    }
+
+    /// A move under tool direction compensation without TCP or a tilted plane: the tip on the
+    /// WSCS line or circle relative to the table (TCP-like, WSE-12), the rotary axes at the
+    /// compensated angles.
+    pub(super) fn wse_motion(
+        &mut self,
+        kind: MotionKind,
+        mut target: Pos,
+        arc: Option<Box<Arc>>,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
+        let kin = self.kinematics.clone().ok_or(AlarmId::WseToolDirection)?;
+        self.wse_compensate(&kin, &mut target)?;
+        let from = self.machine_position();
+        let frame = self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &from));
+        let path = FollowPath { frame, tool_length: self.active_tool_length(), posture: false, along: true };
+        self.follow_motion(&kin, kind, target, arc, path, out);
+        Ok(())
+    }
+
+    /// RCM = 1: the rotary coordinates of `target` (programmed angles) become the machine
+    /// angles, less the work offsets, that give relative to the displaced workpiece the tool
+    /// direction the programmed angles give relative to the ideal one (§2.13.5), chosen by the
+    /// singular-posture rules of §2.14. Exact at the block's end points; between them the
+    /// rotary axes move in proportion (not recomputed every interpolation period).
+    pub(super) fn wse_compensate(&self, kin: &Shared<Kinematics>, target: &mut Pos) -> Result<(), AlarmId> {
+        if !self.wse_follows() || kin.joints().is_empty() {
+            return Ok(());
+        }
+        let off = self.offset_vector();
+        let from = self.machine_position();
+        let programmed = |p: &Pos| -> Pos {
+            let mut m = from;
+            for j in kin.joints() {
+                if let Some(i) = j.index {
+                    m[i] = p[i] + off[i];
+                }
+            }
+            m
+        };
+        let (start, end) = (programmed(&self.xf.programmed), programmed(target));
+        let angles = self.wse_angles(kin, &from, &start, &end)?;
+        for j in kin.joints() {
+            if let Some(i) = j.index {
+                target[i] = angles[i] - off[i];
+            }
+        }
+        Ok(())
+    }
+
+    /// Within the singular tolerance (No.11204; 0 = exact) of the singular posture: the tool
+    /// direction `tool` (table frame) along the workpiece-side axis.
+    fn wse_singular(&self, kin: &Kinematics, tool: &Vec3) -> bool {
+        let Some((_, wp)) = sides(kin) else { return false };
+        let axis = kin.joints()[wp].direction;
+        let angle = tool.dot(&axis).abs().min(1.0).acos().to_degrees();
+        angle <= self.cfg.machine.five_axis.singular_tolerance_deg.max(1e-6)
+    }
+
+    /// The compensated machine angles for a block from machine `from` whose programmed angles
+    /// go from `start` to `end` (machine-like positions), by §2.14:
+    /// 1. current and target singular: the workpiece-side axis stays (1) or, when the
+    ///    programmed posture is singular too, goes to its programmed angle (2);
+    /// 2. target singular only: the workpiece-side axis stays;
+    /// 3. current singular only: the pair with the smaller workpiece-side motion, judged where
+    ///    the programmed interpolation first leaves the singular posture;
+    /// 4. neither: the pair that keeps the tool-side axis on its side of the singular angle.
+    fn wse_angles(&self, kin: &Shared<Kinematics>, from: &Pos, start: &Pos, end: &Pos) -> Result<Pos, AlarmId> {
+        let turn = self.wse_turn(kin, from);
+        let wanted = |p: &Pos| turn * kin.forward(p, 0.0).tool;
+        let options = |tool: Vec3| -> Vec<Pos> {
+            let joints = kin.joints();
+            kin.inverse(Vec3::zeros(), tool, 0.0, &from[..kin.axes])
+                .iter()
+                .map(|c| {
+                    let mut p = *from;
+                    for (k, j) in joints.iter().enumerate() {
+                        if let Some(i) = j.index {
+                            p[i] = if c.free[k] { from[i] } else { nearest(c.pos[i], from[i]) };
+                        }
+                    }
+                    p
+                })
+                .collect()
+        };
+        let target = wanted(end);
+        let found = options(target);
+        if found.is_empty() {
+            return Err(AlarmId::WseUnreachable);
+        }
+        let Some((ts, ws)) = sides(kin) else { return Ok(found[0]) };
+        let joints = kin.joints();
+        let (ti, wi) = (joints[ts].index, joints[ws].index);
+        let moved = |p: &Pos, i: Option<usize>| i.map_or(0.0, |i| (p[i] - from[i]).abs());
+        let least = |ps: &[Pos], i: Option<usize>| -> Pos {
+            *ps.iter().min_by(|a, b| moved(a, i).total_cmp(&moved(b, i))).expect("not empty")
+        };
+        let current_singular = self.wse_singular(kin, &kin.forward(from, 0.0).tool);
+        if self.wse_singular(kin, &target) {
+            // Rules 1 and 2: the tool-side axis moves least; the workpiece side as the rules say.
+            let mut p = least(&found, ti);
+            if let Some(i) = wi {
+                let programmed_singular = self.wse_singular(kin, &kin.forward(end, 0.0).tool);
+                p[i] = if current_singular && programmed_singular { end[i] } else { from[i] };
+            }
+            return Ok(p);
+        }
+        let Some(singular_angle) = singular_tool_angle(kin, ts, from) else { return Ok(least(&found, ti)) };
+        let side = |p: &Pos| ti.map_or(0.0, |i| (crate::angle::basic(p[i] - singular_angle + 180.0) - 180.0).signum());
+        let keep = if current_singular {
+            // Rule 3 where the programmed interpolation first leaves the singular posture.
+            let leaving = LEAVING.iter().find_map(|&u| {
+                let p: Pos = std::array::from_fn(|i| start[i] + u * (end[i] - start[i]));
+                let tool = wanted(&p);
+                (!self.wse_singular(kin, &tool)).then(|| options(tool)).filter(|o| !o.is_empty())
+            });
+            side(&least(leaving.as_deref().unwrap_or(&found), wi))
+        } else {
+            side(from)
+        };
+        // Rule 4 (and the side rule 3 chose): no passing through the singular posture.
+        let same: Vec<Pos> = found.iter().copied().filter(|p| side(p) == keep).collect();
+        Ok(if same.is_empty() { least(&found, wi) } else { least(&same, ti) })
+    }
+}
+
+/// Indices in `Kinematics::joints` of the tool-side and the workpiece-side axis (WSE-13):
+/// head-head slave / master, table-table master / slave, mixed head / table.
+fn sides(kin: &Kinematics) -> Option<(usize, usize)> {
+    match kin.kind {
+        MachineKind::HeadHead => Some((1, 0)),
+        MachineKind::TableTable | MachineKind::HeadTable => Some((0, 1)),
+        _ => None,
+    }
+}
+
+/// The tool-side angle at which the tool is along the workpiece-side axis (the singular
+/// angle, WSE-14), if the machine has one.
+fn singular_tool_angle(kin: &Kinematics, tool_side: usize, from: &Pos) -> Option<f64> {
+    let joints = kin.joints();
+    let i = joints[tool_side].index?;
+    let axis = joints[1 - tool_side].direction;
+    [axis, -axis]
+        .into_iter()
+        .find_map(|d| kin.inverse(Vec3::zeros(), d, 0.0, &from[..kin.axes]).first().map(|c| c.pos[i]))
+}
+
+/// The member of `basic + 360k` nearest `current` (no movement range: WSE-23 applies the
+/// compensation after the range limitation).
+fn nearest(basic: f64, current: f64) -> f64 {
+    current + (crate::angle::basic(basic - current + 180.0) - 180.0)
 }
