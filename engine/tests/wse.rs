@@ -387,3 +387,147 @@ fn tv_wse_19_without_rcm_tcp_is_refused_and_the_rotary_axes_are_untouched() {
     let m = end_of(&ends, 4);
     assert!((m[3] - 45.0).abs() < 1e-9 && (m[4] + 90.0).abs() < 1e-9);
 }
+
+#[test]
+fn tv_wse_20_table_machines_with_rcm_refuse_machine_coordinates_and_g95() {
+    let on = |src: &str| alarm_of(fanuc_with(src, "table-ac", rcm));
+    for g in ["G28 X0", "G29 X0", "G30 X0", "G43.1 H1", "G53 X0", "G06.2 P3 X0 R1. K0", "G95"] {
+        assert_eq!(on(&format!("G54.4 P1\n{g}\n")), "PS0439", "{g}");
+    }
+    // TV-WSE-20b: G54.4 in G95.
+    assert_eq!(on("G95\nG54.4 P1\n"), "PS0439");
+    // Without RCM, or on a head machine, these rows do not apply.
+    assert!(fanuc_with("G95\nG54.4 P1\nG54.4 P0\nG94\nM30\n", "head-bc", rcm).run(|_| {}).is_ok());
+    assert!(fanuc("G95\nG54.4 P1\nG54.4 P0\nG94\nM30\n", "table-ac").run(|_| {}).is_ok());
+}
+
+#[test]
+fn tv_wse_20c_tcp_and_g68_2_need_the_table_at_absolute_0() {
+    let on = |src: &str| fanuc_with(src, "table-ac", rcm).run(|_| {}).map_err(|a| a.code);
+    for start in ["G43.4 H1", "G68.2 X0 Y0 Z0 I0 J0 K0"] {
+        let turned = format!("G90 G00 X0 Y0 Z100. A0 C15.\nG54.4 P1\n{start}\n");
+        assert_eq!(on(&turned), Err("PS0439".into()), "{start}");
+    }
+    assert_eq!(on("G90 G00 X0 Y0 Z100. A0 C0\nG54.4 P1\nG43.4 H1\nG01 X10. F500.\nG49\nG54.4 P0\nM30\n"), Ok(()));
+}
+
+#[test]
+fn tv_wse_20d_axes_outside_5_axis_machining() {
+    let mut m = MachineConfig::preset("table-ac").unwrap();
+    let mut u = m.axes[0].clone();
+    u.name = 'U';
+    m.axes.push(u);
+    let mut cfg = Config::new(m, Dialect::Fanuc);
+    rcm(&mut cfg);
+    let run = |cfg: Config, src: &str| Interpreter::new(parse_file(src), cfg).run(|_| {}).map_err(|a| a.code);
+    assert_eq!(run(cfg.clone(), "G54.4 P1\nG01 X1. U5. F100.\n"), Err("PS0439".into()));
+    assert_eq!(run(cfg, "G01 U5. F100.\nG54.4 P1\nG01 X1. F100.\nG54.4 P0\nM30\n"), Ok(()));
+}
+
+/// TV-WSE-22…25: a C–B head (head-bc), error Δb = −2°, tolerance `tol`, start at B `b0`.
+fn singular_run(b0: f64, error: bool, tol: f64) -> Pos {
+    let src = format!(
+        "N10 G05.1 Q1\nN20 G90 G01 B{b0:.1} C0 F1000.\n{}N30 G43.4 H1\nN40 X0 Y0 Z0\nN50 B90.0 C90.0\nM30\n",
+        if error { "N25 G54.4 P1\n" } else { "" }
+    );
+    let mut interp = fanuc_with(&src, "head-bc", |c| {
+        rcm(c);
+        c.machine.five_axis.singular_tolerance_deg = tol;
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    let ends = motion_ends(interp);
+    ends.last().unwrap().1
+}
+
+#[test]
+fn tv_wse_22_to_25_the_side_of_the_singular_angle() {
+    let bc = |p: Pos| (p[3], p[4]);
+    let near = |(b, c): (f64, f64), (eb, ec): (f64, f64)| (b - eb).abs() < 1e-6 && (c - ec).abs() < 1e-6;
+    // TV-WSE-22: no error.
+    assert!(near(bc(singular_run(-1.0, false, 0.0)), (90.0, 90.0)));
+    // TV-WSE-23: from B −1 the tool never reaches the singular posture: B stays negative and
+    // runs past the −45° lower limit of the seed's machine (no clamping, WSE-23).
+    assert!(near(bc(singular_run(-1.0, true, 0.0)), (-90.0, -90.0)), "{:?}", bc(singular_run(-1.0, true, 0.0)));
+    // TV-WSE-24: from B +1 it stays positive.
+    assert!(near(bc(singular_run(1.0, true, 0.0)), (90.0, 90.0)), "{:?}", bc(singular_run(1.0, true, 0.0)));
+    // TV-WSE-25: with No.11204 = 0.1 the path passes within 0.1° of the singular posture
+    // (0.035° at programmed B ≈ 2.0): treated as singular, B crosses 0.
+    let got = bc(singular_run(-1.0, true, 0.1));
+    assert!(near(got, (90.0, 90.0)), "{got:?}");
+}
+
+#[test]
+fn tv_wse_18_rcm_start_block_turns_the_absolute_rotary_coordinates() {
+    // TV-WSE-23's start: machine B −1 C0, Δb −2°: the tool seen from the WSCS is at B +1 C0.
+    let src = "G90 G01 B-1. C0 F1000.\nG54.4 P1\n#100=#5004\n#101=#5005\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", rcm);
+    interp.state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    let interp = ran(interp);
+    let vars = interp.state.common_variables();
+    assert!((vars[0].1 - 1.0).abs() < 1e-9 && vars[1].1.abs() < 1e-9, "{vars:?}");
+}
+
+#[test]
+fn tv_wse_27_singular_start_keeps_the_absolute_coordinates() {
+    // B 0.05 with Δb −0.03 and No.11204 = 0.1: both postures singular.
+    let src = "G90 G00 X1. Y2. Z3. B0.05 C30.\nG54.4 P1\n#100=#5001\n#101=#5004\n#102=#5005\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", |c| {
+        rcm(c);
+        c.machine.five_axis.singular_tolerance_deg = 0.1;
+    });
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [5.0, 0.0, 0.0], rotation: [0.0, -0.03, 0.0], table: [0.0; 2] };
+    let interp = ran(interp);
+    let v: Vec<f64> = interp.state.common_variables().iter().map(|x| x.1).collect();
+    assert!((v[0] - 1.0).abs() < 1e-9 && (v[1] - 0.05).abs() < 1e-9 && (v[2] - 30.0).abs() < 1e-9, "{v:?}");
+}
+
+/// One block on head-bc with RCM = 1 and error Δc = `dc`, from machine B `b0` C `c0` to
+/// programmed B `b` C `c`; the machine's end (B, C).
+fn one_block(b0: f64, c0: f64, b: f64, c: f64, dc: f64, tol: f64) -> (f64, f64) {
+    let src = format!("G90 G00 B{b0:.3} C{c0:.3}\nG54.4 P1\nG00 B{b:.3} C{c:.3}\nM30\n");
+    let mut interp = fanuc_with(&src, "head-bc", |cfg| {
+        rcm(cfg);
+        cfg.machine.five_axis.singular_tolerance_deg = tol;
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, dc];
+    let end = motion_ends(interp).last().unwrap().1;
+    (end[3], end[4])
+}
+
+#[test]
+fn tv_wse_28_the_four_cases_of_the_singular_rules() {
+    // TV-WSE-28, No.11204 = 0.1, Δb −0.45: from machine B0 C10 (singular) to programmed B0.5
+    // C0 (not singular), which the error turns to 0.05° off the singular posture.
+    let src = "G90 G00 B0 C10.\nG54.4 P1\nG00 B0.5 C0\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", |c| {
+        rcm(c);
+        c.machine.five_axis.singular_tolerance_deg = 0.1;
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, -0.45, 0.0];
+    let end = motion_ends(interp).last().unwrap().1;
+    // C (workpiece side) does not move, only B.
+    assert!((end[4] - 10.0).abs() < 1e-9, "C {}", end[4]);
+    // TV-WSE-28b: current B0, programmed target B0 (singular): C moves as commanded.
+    let (b, c) = one_block(0.0, 10.0, 0.0, 40.0, 5.0, 0.0);
+    assert!(b.abs() < 1e-9 && (c - 40.0).abs() < 1e-9, "{b} {c}");
+    // TV-WSE-28c: current B20, compensated target singular: C does not move.
+    let (b, c) = one_block(20.0, 10.0, 0.0, 40.0, 5.0, 0.0);
+    assert!(b.abs() < 1e-9 && (c - 10.0).abs() < 1e-9, "{b} {c}");
+    // TV-WSE-28d: current B0 (singular), target not: the pair with the smaller C motion, judged
+    // (as TV-WSE-19 derives) in the first interpolation period that leaves the singular
+    // posture, not at the block's end. Programmed B30 C170, Δc 5: the end pairs are (B30,
+    // C175) and (B−30, C−5), and C−5 is nearer C0; but the first step (programmed B0.03 C0.17)
+    // needs C 5.17 with B > 0 or C −174.83 with B < 0, so B stays positive.
+    let (b, c) = one_block(0.0, 0.0, 30.0, 170.0, 5.0, 0.0);
+    assert!((b - 30.0).abs() < 1e-6 && (c - 175.0).abs() < 1e-6, "{b} {c}");
+    let (b, c) = one_block(0.0, 0.0, -30.0, -10.0, 5.0, 0.0);
+    assert!((b + 30.0).abs() < 1e-6 && (c + 5.0).abs() < 1e-6, "{b} {c}");
+    // TV-WSE-28e: current B20, target not singular: B stays positive although the other pair
+    // (B−30, C−5) would move C far less than (B30, C175).
+    let (b, c) = one_block(20.0, 0.0, 30.0, 170.0, 5.0, 0.0);
+    assert!((b - 30.0).abs() < 1e-6 && (c - 175.0).abs() < 1e-6, "{b} {c}");
+    // And from B −20 it stays negative.
+    let (b, c) = one_block(-20.0, 0.0, 30.0, 170.0, 5.0, 0.0);
+    assert!((b + 30.0).abs() < 1e-6 && (c + 5.0).abs() < 1e-6, "{b} {c}");
+}

@@ -131,6 +131,32 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "twp WSE-11: G43.4/G43.5 in G54.4 mode needs RCM=1", A::IllegalCommandInTcp, |c| {
         !c.rcm() && c.wse_during() && c.starts(8, |c, m| c.tcp(m))
     }),
+    rule(
+        Fanuc,
+        "twp WSE-25, §6.5, TV-WSE-20: G06.2/G28/G29/G30/G43.1/G53/G95 in G54.4 (RCM=1, table)",
+        A::WseModalState,
+        |c| c.wse_rcm_table() && c.wse_during() && c.any(&[62, 280, 290, 300, 431, 530, 950]),
+    ),
+    rule(Fanuc, "twp WSE-25, §6.3, TV-WSE-20b: G54.4 Pn in G95 (RCM=1, table)", A::WseModalState, |c| {
+        c.wse_rcm_table() && c.has(544) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && c.before[5] == 950
+    }),
+    rule(
+        Fanuc,
+        "twp WSE-25, TV-WSE-20c: TCP or G68.2 in G54.4 with the table axes at 0 (RCM=1)",
+        A::WseModalState,
+        |c| {
+            c.wse_rcm_table()
+                && c.wse_during()
+                && (c.starts(8, |c, m| c.tcp(m)) || c.any(&[682, 683, 684]))
+                && c.table_axes_turned()
+        },
+    ),
+    rule(
+        Fanuc,
+        "twp WSE-25, TV-WSE-20d: axes outside 5-axis machining in G54.4 (RCM=1, table)",
+        A::WseModalState,
+        |c| c.wse_rcm_table() && c.wse_during() && c.foreign_axis(),
+    ),
     // --- 5-axis cutter compensation ----------------------------------------------------
     rule(Fanuc, "crc CRC-31: G41.4/G42.4 on a table machine with SPG=0", A::ImproperGCode, |c| {
         !SPG && c.mech() == Mech::Table && c.any(&[414, 424])
@@ -619,6 +645,29 @@ impl Ctx<'_> {
     fn wse_nests_a_mode(&self) -> bool {
         let off = gcode::initial_modes();
         [7, 8, 9, 11, 16, 22].iter().any(|&g| self.before[g] != off[g] && !(g == 8 && self.before[8] == 491))
+    }
+
+    /// Tool direction compensation on a table-rotation or mixed machine (§6.5's rows).
+    fn wse_rcm_table(&self) -> bool {
+        self.rcm() && self.table_or_mixed()
+    }
+
+    /// A table rotary axis is off its absolute 0.
+    fn table_axes_turned(&self) -> bool {
+        let Some(kin) = &self.st.kinematics else { return false };
+        kin.joints()
+            .iter()
+            .any(|j| j.side == crate::machine::Side::Table && j.index.is_some_and(|i| self.st.pos[i].abs() > 1e-9))
+    }
+
+    /// The block names an axis that is neither X/Y/Z nor a rotary axis of the mechanism.
+    fn foreign_axis(&self) -> bool {
+        let Some(kin) = &self.st.kinematics else { return false };
+        self.st.cfg.machine.axes.iter().enumerate().any(|(i, a)| {
+            self.w.has(a.name as u8)
+                && !kin.linear.contains(&Some(i))
+                && !kin.joints().iter().any(|j| j.index == Some(i))
+        })
     }
 
     fn wse_during(&self) -> bool {

@@ -247,6 +247,7 @@ impl State {
                 self.tcp.as_mut().expect("under TCP").direction = c;
             }
         }
+        let programmed = target;
         if self.tcp.as_ref().is_some_and(|t| t.code == 434) {
             // Type 1 under G54.4 with RCM = 1: the programmed angles seen from the WSCS.
             self.wse_compensate(&kin, &mut target)?;
@@ -273,6 +274,7 @@ impl State {
         if starting {
             self.tcp_started();
         }
+        self.wse_keep_programmed_angles(&programmed);
         Ok(())
     }
 

@@ -124,18 +124,26 @@ impl State {
             self.follow_machine = Some(machine);
             return Ok(());
         }
+        self.wse_programmed_angles(&kin, &machine).ok_or(AlarmId::WseToolDirection)?;
+        self.wse_moved_to(machine);
+        Ok(())
+    }
+
+    /// The angles (less the work offsets) whose error-free tool direction is the actual one at
+    /// `machine` seen from the WSCS (§2.13.4), chosen as FANUC chooses rotary solutions.
+    fn wse_programmed_angles(&self, kin: &Kinematics, machine: &Pos) -> Option<Pos> {
+        let seen = self.wse_turn(kin, machine).transpose() * kin.forward(machine, 0.0).tool;
         let candidates = kin.inverse(Vec3::zeros(), seen, 0.0, &machine[..kin.axes]);
         let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
-        let angles = kin.select(&candidates, &machine[..kin.axes], how).map_err(|_| AlarmId::WseToolDirection)?;
-        self.wse_moved_to(machine);
+        let angles = kin.select(&candidates, &machine[..kin.axes], how).ok()?;
         let off = self.offset_vector();
+        let mut p = self.pos;
         for j in kin.joints() {
             if let Some(i) = j.index {
-                self.pos[i] = angles.pos[i] - off[i];
+                p[i] = angles.pos[i] - off[i];
             }
         }
-        self.sync_programmed();
-        Ok(())
+        Some(p)
     }
 
     /// Reset: workpiece setting error compensation ends unless FANUC D3R (No.5400#2) keeps it
@@ -236,6 +244,9 @@ impl State {
         let frame = self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine));
         self.pos = self.tip_position(&kin, &frame, &machine, self.active_tool_length());
         self.follow_machine = Some(machine);
+        if let Some(angles) = self.wse_programmed_angles(&kin, &machine) {
+            self.wse_keep_programmed_angles(&angles);
+        }
         self.sync_programmed();
     }
 
@@ -250,12 +261,27 @@ impl State {
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
         let kin = self.kinematics.clone().ok_or(AlarmId::WseToolDirection)?;
+        let programmed = target;
         self.wse_compensate(&kin, &mut target)?;
         let from = self.machine_position();
         let frame = self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &from));
         let path = FollowPath { frame, tool_length: self.active_tool_length(), posture: false, along: true };
         self.follow_motion(&kin, kind, target, arc, path, out);
+        self.wse_keep_programmed_angles(&programmed);
         Ok(())
+    }
+
+    /// Under tool direction compensation the rotary coordinates of the current point are the
+    /// programmed (WSCS) angles, not the machine's compensated ones: the next block
+    /// interpolates from them and #5001… show them.
+    pub(super) fn wse_keep_programmed_angles(&mut self, programmed: &Pos) {
+        let Some(kin) = self.kinematics.clone().filter(|_| self.wse_follows()) else { return };
+        for j in kin.joints() {
+            if let Some(i) = j.index {
+                self.pos[i] = programmed[i];
+            }
+        }
+        self.sync_programmed();
     }
 
     /// RCM = 1: the rotary coordinates of `target` (programmed angles) become the machine
@@ -355,12 +381,75 @@ impl State {
                 (!self.wse_singular(kin, &tool)).then(|| options(tool)).filter(|o| !o.is_empty())
             });
             side(&least(leaving.as_deref().unwrap_or(&found), wi))
+        } else if let Some(leaving) = self.wse_passing(kin, start, end, &wanted) {
+            // Rule 4 per interpolation period: where the path passes within the tolerance of
+            // the singular posture, rule 2 holds the workpiece-side axis at its angle on
+            // entering, and rule 3 on leaving takes the pair that moves it least.
+            let (entering, leaving) = (options(wanted(&leaving.0)), options(wanted(&leaving.1)));
+            let held = entering.iter().find(|p| side(p) == side(from)).or(entering.first()).copied();
+            match (held, wi) {
+                (Some(h), Some(w)) if !leaving.is_empty() => side(
+                    leaving
+                        .iter()
+                        .min_by(|a, b| (a[w] - h[w]).abs().total_cmp(&(b[w] - h[w]).abs()))
+                        .expect("not empty"),
+                ),
+                _ => side(from),
+            }
         } else {
             side(from)
         };
         // Rule 4 (and the side rule 3 chose): no passing through the singular posture.
         let same: Vec<Pos> = found.iter().copied().filter(|p| side(p) == keep).collect();
         Ok(if same.is_empty() { least(&found, wi) } else { least(&same, ti) })
+    }
+}
+
+impl State {
+    /// Whether the programmed interpolation from `start` to `end` (neither end singular)
+    /// passes within the singular tolerance: the programmed positions just before entering and
+    /// just after leaving the singular cone around the closest approach. A coarse scan finds the
+    /// closest sample, a ternary search refines it.
+    fn wse_passing(
+        &self,
+        kin: &Kinematics,
+        start: &Pos,
+        end: &Pos,
+        wanted: &dyn Fn(&Pos) -> Vec3,
+    ) -> Option<(Pos, Pos)> {
+        if self.cfg.machine.five_axis.singular_tolerance_deg <= 0.0 {
+            return None;
+        }
+        let (_, wp) = sides(kin)?;
+        let axis = kin.joints()[wp].direction;
+        let at = |u: f64| -> Pos { std::array::from_fn(|i| start[i] + u * (end[i] - start[i])) };
+        let off_axis = |u: f64| 1.0 - wanted(&at(u)).dot(&axis).abs();
+        const N: usize = 64;
+        let best = (0..=N).map(|k| k as f64 / N as f64).min_by(|a, b| off_axis(*a).total_cmp(&off_axis(*b)))?;
+        let (mut lo, mut hi) = ((best - 1.0 / N as f64).max(0.0), (best + 1.0 / N as f64).min(1.0));
+        for _ in 0..60 {
+            let (a, b) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+            if off_axis(a) < off_axis(b) {
+                hi = b;
+            } else {
+                lo = a;
+            }
+        }
+        let closest = 0.5 * (lo + hi);
+        if !self.wse_singular(kin, &wanted(&at(closest))) {
+            return None;
+        }
+        // Step out of the cone on both sides.
+        let step = 1e-4;
+        let mut enter = closest;
+        while enter > 0.0 && self.wse_singular(kin, &wanted(&at(enter))) {
+            enter -= step;
+        }
+        let mut leave = closest;
+        while leave < 1.0 && self.wse_singular(kin, &wanted(&at(leave))) {
+            leave += step;
+        }
+        Some((at(enter.max(0.0)), at(leave.min(1.0))))
     }
 }
 
