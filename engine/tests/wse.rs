@@ -531,3 +531,43 @@ fn tv_wse_28_the_four_cases_of_the_singular_rules() {
     let (b, c) = one_block(-20.0, 0.0, 30.0, 170.0, 5.0, 0.0);
     assert!((b + 30.0).abs() < 1e-6 && (c + 5.0).abs() < 1e-6, "{b} {c}");
 }
+
+#[test]
+fn tv_wse_21_on_a_table_machine_the_line_is_straight_seen_from_the_workpiece() {
+    // table-ac, G55 X50 Y0 Z0; N30 G01 X−50 Y150 C−90 with Δc 5 (RCM = 1): every sample of the
+    // tip in the WSCS is on the programmed line, while the table turns.
+    let src = "N10 G55\nN15 G05.1 Q1\nN16 G54.4 P1\nN20 G90 G00 X0 Y0 Z0 A0 C0\nN30 G01 X-50.0 Y150.0 C-90.0 F100.0\n\
+               N40 G54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "table-ac", rcm);
+    interp.state.offsets.work_mut(2)[..3].copy_from_slice(&[50.0, 0.0, 0.0]);
+    interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 5.0];
+    let c_end = end_of(&motion_ends(interp.clone()), 5)[4];
+    let mut seen = 0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.01, ..RunOptions::default() }, |s| {
+        if s.line == 5 {
+            let [x, y, z] = s.tip;
+            // On the line from (0, 0, 0) to (−50, 150, 0): 3x + y = 0, z = 0, x in [−50, 0].
+            assert!((3.0 * x + y).abs() < 1e-6 && z.abs() < 1e-6 && (-50.0 - 1e-6..=1e-6).contains(&x), "{:?}", s.tip);
+            seen += 1;
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(seen > 100);
+    // The tool is along the C axis (singular): C goes where programmed (§2.14 rule 1 (2)).
+    assert!((c_end + 90.0).abs() < 1e-6, "C {c_end}");
+}
+
+#[test]
+fn oq_21_a_tilted_plane_inside_g54_4_is_defined_in_the_wscs() {
+    // Example 1's error; G68.2 with Euler angles 0 and origin (50, 50, 20) in the WSCS, then
+    // X0 Y0 Z0 (no tool length): the nose at the displaced (50, 50, 20), i.e. WCS (74.09, 49.88).
+    let src =
+        "G55\nG54.4 P1\nG90 G00 X0 Y0 Z100.\nG68.2 X50. Y50. Z20. I0 J0 K0\nG01 X0 Y0 Z0 F500.\nG69\nG54.4 P0\nM30\n";
+    let mut interp = fanuc(src, "head-bc");
+    interp.state.offsets.work_mut(2)[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    let m = end_of(&motion_ends(interp), 5);
+    let got = [m[0] - 100.0, m[1] - 50.0, m[2] + 400.0];
+    assert!(close3(got, [74.085638, 49.883624, 20.0], 1e-6), "{got:?}");
+}
