@@ -571,3 +571,75 @@ fn oq_21_a_tilted_plane_inside_g54_4_is_defined_in_the_wscs() {
     let got = [m[0] - 100.0, m[1] - 50.0, m[2] + 400.0];
     assert!(close3(got, [74.085638, 49.883624, 20.0], 1e-6), "{got:?}");
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 64, ..proptest::prelude::ProptestConfig::default() })]
+
+    /// Any error: G54.4 Pn and P0 do not move; a programmed point lands at `R_e·p + Δ` plus the
+    /// work offset; after P0 the current point is that WCS point.
+    #[test]
+    fn programmed_points_land_on_the_displaced_workpiece(
+        shift in proptest::array::uniform3(-100.0f64..100.0),
+        rot in proptest::array::uniform3(-30.0f64..30.0),
+        p in proptest::array::uniform3(-200.0f64..200.0),
+    ) {
+        let src = format!(
+            "G90 G00 X10. Y20. Z30.\nG54.4 P3\nG01 X{:.4} Y{:.4} Z{:.4} F1000.\nG54.4 P0\n#100=#5001\n#101=#5002\n#102=#5003\nM30\n",
+            p[0], p[1], p[2]
+        );
+        let mut interp = fanuc(&src, "mill3");
+        interp.state.offsets.work_mut(1)[..3].copy_from_slice(&[7.0, -8.0, 9.0]);
+        interp.state.setting_errors.sets[3] = wse::ErrorSet { shift, rotation: rot, table: [0.0; 2] };
+        let mut motions = Vec::new();
+        interp.run(|c| if let CanonKind::Motion(m) = c.kind { motions.push(m.machine) }).unwrap();
+        proptest::prop_assert_eq!(motions.len(), 2);
+        let q = [(p[0] * 1e4).round() / 1e4, (p[1] * 1e4).round() / 1e4, (p[2] * 1e4).round() / 1e4];
+        let w = wse::frame(shift, rot).to_parent(&q.into());
+        let m = motions[1];
+        proptest::prop_assert!(close3([m[0] - 7.0, m[1] + 8.0, m[2] - 9.0], w.into(), 1e-9), "{:?} vs {:?}", m, w);
+        let vars = interp.state.common_variables();
+        let v: Vec<f64> = vars.iter().map(|x| x.1).collect();
+        proptest::prop_assert!(close3([v[0], v[1], v[2]], w.into(), 1e-9));
+        // The rotation angles come back from the matrix.
+        proptest::prop_assert!(close3(wse::angles(&wse::rotation(rot)), rot, 1e-9));
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 24, ..proptest::prelude::ProptestConfig::default() })]
+
+    /// RCM = 1 on every 5-axis machine kind: at a block's end the tip is at `R_e·p + Δ` and the
+    /// tool, relative to the workpiece, is `R_e` times the direction the programmed angles give.
+    #[test]
+    fn compensation_keeps_tip_and_tool_relative_to_the_displaced_workpiece(
+        shift in proptest::array::uniform3(-20.0f64..20.0),
+        rot in proptest::array::uniform3(-3.0f64..3.0),
+        p in proptest::array::uniform3(-50.0f64..50.0),
+        angles in proptest::array::uniform2(15.0f64..75.0),
+    ) {
+        use fivex_engine::kin::Kinematics;
+        for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+            let machine = MachineConfig::preset(preset).unwrap();
+            let kin = Kinematics::new(&machine).unwrap();
+            let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
+            let src = format!(
+                "G90 G00 X0 Y0 Z100.\nG54.4 P1\nG43 H1\nG01 X{:.3} Y{:.3} Z{:.3} {}{:.3} {}{:.3} F1000.\nM30\n",
+                p[0], p[1], p[2], names[0], angles[0], names[1], angles[1]
+            );
+            let mut interp = fanuc_with(&src, preset, rcm);
+            interp.state.setting_errors.sets[1] = wse::ErrorSet { shift, rotation: rot, table: [0.0; 2] };
+            let end = motion_ends(interp).last().unwrap().1;
+            let e = wse::frame(shift, rot);
+            let q = [p[0], p[1], p[2]].map(|x| (x * 1e3).round() / 1e3);
+            let want_tip = e.to_parent(&q.into()) + kin.nose;
+            let pose = kin.forward(&end, 100.0);
+            proptest::prop_assert!((pose.tip - want_tip).norm() < 1e-6, "{preset}: tip {:?} vs {:?}", pose.tip, want_tip);
+            let mut programmed = [0.0; fivex_engine::machine::MAX_AXES];
+            for (j, a) in kin.joints().iter().zip(angles) {
+                programmed[j.index.unwrap()] = (a * 1e3).round() / 1e3;
+            }
+            let want_tool = e.r * kin.forward(&programmed, 0.0).tool;
+            proptest::prop_assert!((pose.tool - want_tool).norm() < 1e-9, "{preset}: tool {:?} vs {:?}", pose.tool, want_tool);
+        }
+    }
+}
