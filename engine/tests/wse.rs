@@ -643,3 +643,23 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn ps0438_and_ds0030_when_the_direction_cannot_be_reached() {
+    // A head with B only (C removed): a tool tilted in XZ turned by Δc 30° has no B angle.
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.rotary.retain(|l| l.axis == 'B');
+    m.axes.retain(|a| a.name != 'C');
+    let mut cfg = Config::new(m, Dialect::Fanuc);
+    rcm(&mut cfg);
+    let run = |src: &str| {
+        let mut interp = Interpreter::new(parse_file(src), cfg.clone());
+        interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 30.0];
+        interp.run(|_| {}).map_err(|a| a.code)
+    };
+    // The start block: the tool at B30 seen from the WSCS needs a C.
+    assert_eq!(run("G90 G00 B30.\nG54.4 P1\n"), Err("PS0438".into()));
+    // Started with the tool along Z (reachable), then B30 in the WSCS cannot be reached.
+    assert_eq!(run("G90 G00 B0\nG54.4 P1\nG00 X10.\nG00 B30.\n"), Err("DS0030".into()));
+    assert_eq!(run("G90 G00 B0\nG54.4 P1\nG00 X10.\nG54.4 P0\nM30\n"), Ok(()));
+}
