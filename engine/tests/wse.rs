@@ -663,3 +663,22 @@ fn ps0438_and_ds0030_when_the_direction_cannot_be_reached() {
     assert_eq!(run("G90 G00 B0\nG54.4 P1\nG00 X10.\nG00 B30.\n"), Err("DS0030".into()));
     assert_eq!(run("G90 G00 B0\nG54.4 P1\nG00 X10.\nG54.4 P0\nM30\n"), Ok(()));
 }
+
+#[test]
+fn canned_cycles_under_rcm_keep_the_machine_position() {
+    // head-bc, RCM = 1, tool vertical: a drilling cycle's moves are plain ones; the block after
+    // the cycle starts where the cycle ended (no jump).
+    let src = "G90 G00 X0 Y0 Z50. B0 C0\nG54.4 P1\nG81 X10. Y5. Z-5. R2. F200.\nG80\nG01 X20. F500.\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", rcm);
+    interp.state.setting_errors.sets[1].shift = [3.0, 4.0, 0.0];
+    let ends = motion_ends(interp.clone());
+    let last_cycle = end_of(&ends, 3);
+    assert!(close3(xyz(&last_cycle), [13.0, 9.0, 50.0], 1e-9), "{last_cycle:?}");
+    let r = run(&mut interp, &RunOptions { period_s: 0.01, ..RunOptions::default() }, |s| {
+        if s.line == 5 {
+            assert!((s.machine[1] - 9.0).abs() < 1e-9 && (s.machine[2] - 50.0).abs() < 1e-9, "{:?}", s.machine);
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(close3(xyz(&r.machine), [23.0, 9.0, 50.0], 1e-9), "{:?}", r.machine);
+}

@@ -594,6 +594,9 @@ impl State {
     fn push_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
         let machine = self.program_to_machine(&target);
         self.emit_motion_at(kind, target, machine, arc, out);
+        // A plain move (canned cycle, G28 intermediate point) under G54.4 tool direction
+        // compensation: the machine position kept beside the tip is this one now.
+        self.wse_plain_move_done(machine);
     }
 
     /// Emit a motion whose end point is known in both systems and make it the current point.

@@ -271,6 +271,16 @@ impl State {
         Ok(())
     }
 
+    /// A plain move (`push_motion`: canned cycles, the G28/G30 intermediate point) ended at
+    /// `machine` under tool direction compensation, which keeps the machine position beside
+    /// the tip: these moves are not compensated (the tool length along Z, the rotary axes as
+    /// programmed), but the machine position must follow them.
+    pub(super) fn wse_plain_move_done(&mut self, machine: Pos) {
+        if self.wse_follows() && !self.tcp_active() && !self.plane_active() {
+            self.follow_machine = Some(machine);
+        }
+    }
+
     /// Under tool direction compensation the rotary coordinates of the current point are the
     /// programmed (WSCS) angles, not the machine's compensated ones: the next block
     /// interpolates from them and #5001… show them.
