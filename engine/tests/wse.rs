@@ -682,3 +682,16 @@ fn canned_cycles_under_rcm_keep_the_machine_position() {
     assert!(r.completed(), "{:?}", r.alarms);
     assert!(close3(xyz(&r.machine), [23.0, 9.0, 50.0], 1e-9), "{:?}", r.machine);
 }
+
+#[test]
+fn extreme_error_data_end_in_alarms_not_panics() {
+    for (preset, rcm_on) in [("mill3", false), ("head-bc", true), ("table-ac", true), ("mixed-bc", false)] {
+        for data in
+            ["#26010=99999999.\n#26015=99999999.\n", "#26013=1.E30\n#26014=-1.E30\n#26016=1.E20\n", "#26000=-1.E30\n"]
+        {
+            let src = format!("{data}G54.4 P1\nG00 X1. Y1. Z1.\nG02 X2. Y2. R5. F100.\nG54.4 P0\nM30\n");
+            let mut interp = fanuc_with(&src, preset, |c| c.machine.five_axis.tool_direction_compensation = rcm_on);
+            let _ = run(&mut interp, &RunOptions::default(), |_| {});
+        }
+    }
+}
