@@ -80,6 +80,13 @@ pub enum AlarmId {
     WseCommand,
     /// G54.4 in a modal state that does not allow it.
     WseModalState,
+    /// G54.4 on a machine without the basic axes X, Y and Z.
+    WseBasicAxes,
+    /// Tool direction compensation of G54.4 cannot start (no rotary solution in the start block,
+    /// or a setting it needs is missing).
+    WseToolDirection,
+    /// Tool direction compensation of G54.4 asks for a posture the machine cannot reach.
+    WseUnreachable,
     /// P of a tool alignment (G53.1/G53.3/G53.6) outside 0, 1, 2.
     AlignmentP,
     /// G53.6 while cutter compensation is on.

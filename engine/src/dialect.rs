@@ -118,6 +118,9 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::AlignmentInWse,
     AlarmId::WseCommand,
     AlarmId::WseModalState,
+    AlarmId::WseBasicAxes,
+    AlarmId::WseToolDirection,
+    AlarmId::WseUnreachable,
     AlarmId::AlignmentP,
     AlarmId::AlignmentInCompensation,
     AlarmId::AlignmentToolZero,
@@ -189,6 +192,10 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         AlignmentInWse => (("PS5458", "G53.1 NOT ALLOWED IN G54.4 MODE"), COR100),
         WseCommand => (("PS0437", "ILLEGAL COMMAND IN G54.4"), COR100),
         WseModalState => (("PS0439", "G54.4 NOT ALLOWED IN THIS MODAL STATE"), COR100),
+        // The extract gives the numbers of these three, not FANUC's texts.
+        WseBasicAxes => (("PS0436", "BASIC AXES X, Y, Z NOT SET (G54.4)"), COR100),
+        WseToolDirection => (("PS0438", "ILLEGAL COMMAND IN G54.4 (TOOL DIRECTION)"), COR100),
+        WseUnreachable => (("DS0030", "G54.4 TOOL DIRECTION NOT REACHABLE"), COR100),
         AlignmentP => (("PS5457", "G68.2/G68.3 FORMAT ERROR"), ("COR-149", "G53.1/G53.6 P Argument over range")),
         AlignmentInCompensation => {
             (("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"), ("MAR-406", "G53.6 must be enabled in G40 mode"))

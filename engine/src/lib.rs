@@ -17,6 +17,7 @@ pub mod motion;
 pub mod run;
 pub mod twp;
 pub mod vendor;
+pub mod wse;
 
 pub use alarm::{Alarm, AlarmId};
 pub use dialect::Dialect;

@@ -232,6 +232,14 @@ pub struct FiveAxisOptions {
     /// What a reset does to a tilted working plane.
     #[serde(default)]
     pub plane_after_reset: PlaneAfterReset,
+    /// G54.4 tool direction compensation: the rotary axes keep the programmed tool direction
+    /// relative to the displaced workpiece (FANUC No.11200#0 RCM).
+    #[serde(default)]
+    pub tool_direction_compensation: bool,
+    /// Angle to the singular posture within which G54.4 takes the tool as singular, degrees
+    /// (FANUC No.11204; 0: exact test).
+    #[serde(default)]
+    pub singular_tolerance_deg: f64,
 }
 
 /// What a reset (and a restart of the controller) does to the tilted working plane.

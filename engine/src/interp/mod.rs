@@ -16,6 +16,7 @@ mod plane;
 pub(crate) mod program;
 mod tcp;
 mod vars;
+mod wse;
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Pos};
@@ -175,6 +176,10 @@ pub struct State {
     last_n: u32,
     spindle: crate::canon::SpindleState,
     pub offsets: Offsets,
+    /// Workpiece setting error data (G54.4), No.00 COMMON and No.01…07.
+    pub setting_errors: crate::wse::SettingErrors,
+    /// The G54.4 set in effect.
+    wse: Option<wse::Active>,
     /// Programming coordinates of the current point (the last block's end point), after the
     /// programming transforms (G51.1, G51, G68): the workpiece coordinates of the tool.
     pos: Pos,
@@ -342,6 +347,7 @@ impl Interpreter {
             st.end_plane();
             st.five.plane_ended();
         }
+        st.wse_reset();
     }
 
     /// The machine was moved outside the program (jog, handle, reference return): the
@@ -352,6 +358,8 @@ impl Interpreter {
             st.plane_moved_to(*machine);
         } else if st.tcp_active() {
             st.tcp_moved_to(*machine);
+        } else if st.wse_follows() {
+            st.wse_moved_to(*machine);
         } else {
             st.pos = st.machine_to_program(machine);
             st.sync_programmed();
@@ -440,6 +448,8 @@ impl State {
             last_n: 0,
             spindle: crate::canon::SpindleState::Stop,
             offsets: Offsets::default(),
+            setting_errors: crate::wse::SettingErrors::default(),
+            wse: None,
             pos: [0.0; MAX_AXES],
             xf: frames::Transforms::default(),
             local: [0.0; MAX_AXES],
@@ -750,10 +760,12 @@ impl State {
         self.locals.len() - 1
     }
 
-    /// Programming → machine coordinates (work offset, local, G92 shift, tool length).
+    /// Programming → machine coordinates (G54.4 error, work offset, local, G92 shift, tool length).
     fn program_to_machine(&self, p: &Pos) -> Pos {
         let off = self.offset_vector();
         let mut m = [0.0; MAX_AXES];
+        let mut p = *p;
+        self.wse_to_wcs(&mut p);
         for i in 0..self.cfg.machine.axes.len() {
             m[i] = p[i] + off[i] + self.tool_vec[i];
         }
@@ -766,6 +778,7 @@ impl State {
         for i in 0..self.cfg.machine.axes.len() {
             p[i] = m[i] - off[i] - self.tool_vec[i];
         }
+        self.wse_from_wcs(&mut p);
         p
     }
 

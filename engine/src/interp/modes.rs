@@ -54,12 +54,17 @@ impl FiveAxisModes {
         self.twp_seq = 0;
         self.aligned = false;
     }
+
+    /// A reset ended G54.4 (WSE-21).
+    pub(super) fn clear_wse(&mut self) {
+        self.wse = 0;
+    }
 }
 
 /// FANUC parameter values the rules depend on, at their defaults until machine parameters exist
-/// (issue 3): RCM (No.11200#0) tool direction compensation of G54.4, SPG (No.19607) G41.4/G41.5
-/// code set.
-const RCM: bool = false;
+/// (issue 3): SPG (No.19607) G41.4/G41.5 code set. (RCM, No.11200#0, is
+/// `FiveAxisOptions::tool_direction_compensation`; MTW, No.11221#0, is
+/// `FiveAxisOptions::multiple_planes`.)
 const SPG: bool = false;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -97,6 +102,9 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "twp WSE-01: no G54.4 Pn (n≠0) while G54.4 is on", A::WseCommand, |c| {
         c.has(544) && c.five.wse != 0 && c.word(b'P') != Some(0.0)
     }),
+    rule(Fanuc, "twp WSE-26, §6.6: G54.4 P0 only after the modes nested inside it ended", A::WseCommand, |c| {
+        c.has(544) && c.five.wse != 0 && c.word(b'P') == Some(0.0) && c.wse_nests_a_mode()
+    }),
     rule(Fanuc, "twp TWP-02: G68.2/G68.4 P1 Q in {123,132,213,321,231,312}", A::TwpFormat, |c| {
         c.twp_def() == Some(1) && c.word(b'Q').is_some_and(|q| ![123.0, 132.0, 213.0, 321.0, 231.0, 312.0].contains(&q))
     }),
@@ -125,11 +133,37 @@ static RULES: &[Rule] = &[
     }),
     // --- workpiece setting error compensation: combinations -----------------------------
     rule(Fanuc, "twp TWP-07, WSE-11: G53.1 in G54.4 mode needs RCM=1", A::AlignmentInWse, |c| {
-        !RCM && c.has(531) && c.wse_during()
+        !c.rcm() && c.has(531) && c.wse_during()
     }),
     rule(Fanuc, "twp WSE-11: G43.4/G43.5 in G54.4 mode needs RCM=1", A::IllegalCommandInTcp, |c| {
-        !RCM && c.wse_during() && c.starts(8, |c, m| c.tcp(m))
+        !c.rcm() && c.wse_during() && c.starts(8, |c, m| c.tcp(m))
     }),
+    rule(
+        Fanuc,
+        "twp WSE-25, §6.5, TV-WSE-20: G06.2/G28/G29/G30/G43.1/G53/G95 in G54.4 (RCM=1, table)",
+        A::WseModalState,
+        |c| c.wse_rcm_table() && c.wse_during() && c.any(&[62, 280, 290, 300, 431, 530, 950]),
+    ),
+    rule(Fanuc, "twp WSE-25, §6.3, TV-WSE-20b: G54.4 Pn in G95 (RCM=1, table)", A::WseModalState, |c| {
+        c.wse_rcm_table() && c.has(544) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && c.before[5] == 950
+    }),
+    rule(
+        Fanuc,
+        "twp WSE-25, TV-WSE-20c: TCP or G68.2 in G54.4 with the table axes at 0 (RCM=1)",
+        A::WseModalState,
+        |c| {
+            c.wse_rcm_table()
+                && c.wse_during()
+                && (c.starts(8, |c, m| c.tcp(m)) || c.any(&[682, 683, 684]))
+                && c.table_axes_turned()
+        },
+    ),
+    rule(
+        Fanuc,
+        "twp WSE-25, TV-WSE-20d: axes outside 5-axis machining in G54.4 (RCM=1, table)",
+        A::WseModalState,
+        |c| c.wse_rcm_table() && c.wse_during() && c.foreign_axis(),
+    ),
     // --- 5-axis cutter compensation ----------------------------------------------------
     rule(Fanuc, "crc CRC-31: G41.4/G42.4 on a table machine with SPG=0", A::ImproperGCode, |c| {
         !SPG && c.mech() == Mech::Table && c.any(&[414, 424])
@@ -615,6 +649,41 @@ impl Ctx<'_> {
         self.tcp(self.before[8]) && matches!(self.after[8], 490 | 491)
     }
 
+    /// G54.4 tool direction compensation (FANUC No.11200#0 RCM).
+    fn rcm(&self) -> bool {
+        self.st.cfg.machine.five_axis.tool_direction_compensation
+    }
+
+    /// A mode that must open and close inside G54.4 is on (§6.6: cutter and tool length
+    /// compensation, scaling, rotation and tilted planes, mirror image, canned cycles).
+    fn wse_nests_a_mode(&self) -> bool {
+        let off = gcode::initial_modes();
+        [7, 8, 9, 11, 16, 22].iter().any(|&g| self.before[g] != off[g] && !(g == 8 && self.before[8] == 491))
+    }
+
+    /// Tool direction compensation on a table-rotation or mixed machine (§6.5's rows).
+    fn wse_rcm_table(&self) -> bool {
+        self.rcm() && self.table_or_mixed()
+    }
+
+    /// A table rotary axis is off its absolute 0.
+    fn table_axes_turned(&self) -> bool {
+        let Some(kin) = &self.st.kinematics else { return false };
+        kin.joints()
+            .iter()
+            .any(|j| j.side == crate::machine::Side::Table && j.index.is_some_and(|i| self.st.pos[i].abs() > 1e-9))
+    }
+
+    /// The block names an axis that is neither X/Y/Z nor a rotary axis of the mechanism.
+    fn foreign_axis(&self) -> bool {
+        let Some(kin) = &self.st.kinematics else { return false };
+        self.st.cfg.machine.axes.iter().enumerate().any(|(i, a)| {
+            self.w.has(a.name as u8)
+                && !kin.linear.contains(&Some(i))
+                && !kin.joints().iter().any(|j| j.index == Some(i))
+        })
+    }
+
     fn wse_during(&self) -> bool {
         self.five.wse != 0 && !(self.has(544) && self.word(b'P') == Some(0.0))
     }
@@ -759,8 +828,10 @@ fn tcp_allows(g: u16) -> bool {
 }
 
 /// tcp TCP-15: modal states TCP may start in (besides the codes of [`tcp_allows`]).
-fn tcp_state_allows(_group: usize, g: u16) -> bool {
-    tcp_allows(g)
+fn tcp_state_allows(group: usize, g: u16) -> bool {
+    // G54.4 (group 33): TCP nests inside it; its RCM=0 refusal is the WSE-11 row.
+    group == 33
+        || tcp_allows(g)
         || matches!(g, 131 | 150 | 200 | 210 | 540 | 550 | 560 | 570 | 580 | 590 | 800 | 970 | 980 | 990 | 690 | 940)
 }
 

@@ -377,6 +377,7 @@ impl State {
             self.sync_programmed();
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
+        self.apply_wse(&w)?;
         let transform_axes = self.apply_transforms(&w)? | self.apply_plane(&w)?;
         if transform_axes && axes_owner.is_some() {
             return Err(AlarmId::IllegalGCodeCombination);
@@ -593,6 +594,9 @@ impl State {
     fn push_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
         let machine = self.program_to_machine(&target);
         self.emit_motion_at(kind, target, machine, arc, out);
+        // A plain move (canned cycle, G28 intermediate point) under G54.4 tool direction
+        // compensation: the machine position kept beside the tip is this one now.
+        self.wse_plain_move_done(machine);
     }
 
     /// Emit a motion whose end point is known in both systems and make it the current point.
@@ -637,6 +641,7 @@ impl State {
         self.emit_motion_at(MotionKind::MachineRapid, target, machine, None, out);
         // In a tilted plane the current point is the tip in the FCS (TWP-13).
         self.plane_moved_to(machine);
+        self.wse_moved_to(machine);
         self.sync_programmed();
     }
 
@@ -680,7 +685,10 @@ impl State {
                 let target = self.xf.forward(&programmed);
                 let (cw, arc) = self.arc(w, &target)?;
                 let kind = if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw };
-                self.push_motion(kind, target, arc, out);
+                match arc {
+                    Some(arc) if self.wse_arc() => self.wse_arc_motion(kind, target, arc, out),
+                    arc => self.push_motion(kind, target, arc, out),
+                }
                 self.xf.programmed = programmed;
             }
             _ => {

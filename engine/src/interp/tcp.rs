@@ -47,7 +47,7 @@ impl State {
 
     /// Whether moves follow the tool tip through the kinematics (TCP or a tilted plane).
     pub(super) fn follows_tip(&self) -> bool {
-        self.tcp.is_some() || self.plane_active()
+        self.tcp.is_some() || self.plane_active() || self.wse_follows()
     }
 
     /// A move under TCP or in the tilted plane (`follows_tip`).
@@ -60,8 +60,10 @@ impl State {
     ) -> Result<(), AlarmId> {
         if self.tcp_active() {
             self.tcp_motion(kind, target, arc, out)
-        } else {
+        } else if self.plane_active() {
             self.plane_motion(kind, target, arc, out)
+        } else {
+            self.wse_motion(kind, target, arc, out)
         }
     }
 
@@ -77,6 +79,13 @@ impl State {
     /// the point `p` is at `p + offsets + nose` in machine coordinates there (the same tip a
     /// plain G43 gives at zero angles).
     pub(super) fn frame_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
+        let wcs = self.wcs_on_table(kin, machine);
+        // Under G54.4 programming coordinates are in the workpiece setting system.
+        self.active_setting_error().map_or(wcs, |(_, e)| wcs.then(&e))
+    }
+
+    /// As `frame_on_table` for workpiece coordinates (without a G54.4 error).
+    pub(super) fn wcs_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
         let table = kin.table_frame(machine);
         let off = self.offset_vector();
         let shift = Vec3::new(off[0], off[1], off[2]) + kin.nose;
@@ -238,6 +247,11 @@ impl State {
                 self.tcp.as_mut().expect("under TCP").direction = c;
             }
         }
+        let programmed = target;
+        if self.tcp.as_ref().is_some_and(|t| t.code == 434) {
+            // Type 1 under G54.4 with RCM = 1: the programmed angles seen from the WSCS.
+            self.wse_compensate(&kin, &mut target)?;
+        }
         let t = self.tcp.as_ref().expect("under TCP");
         let machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);
         // The start block is placed in the workpiece system on the table as it will stand;
@@ -260,6 +274,7 @@ impl State {
         if starting {
             self.tcp_started();
         }
+        self.wse_keep_programmed_angles(&programmed);
         Ok(())
     }
 

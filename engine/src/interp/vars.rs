@@ -122,7 +122,9 @@ impl State {
             4301..=4330 => self.modal_address(n - 4300),
             5001..=5020 => self.in_input_unit(axis(5001)?, self.pos),
             5021..=5040 => self.in_input_unit(axis(5021)?, self.machine_position()),
-            5041..=5060 => self.in_input_unit(axis(5041)?, self.pos),
+            // The current point in the WCS, also under G54.4 (WSE-20).
+            5041..=5060 => self.in_input_unit(axis(5041)?, self.wcs_position()),
+            26000..=26099 => self.setting_errors.variable(n).ok_or(AlarmId::VariableOutOfRange)?,
             5061..=5080 => self.in_input_unit(axis(5061)?, self.pos),
             5081..=5100 => self.in_input_unit(axis(5081)?, self.tool_vec),
             5101..=5120 => {
@@ -196,6 +198,8 @@ impl State {
                         self.emit(out, CanonKind::Stop { optional: false, message });
                     }
                     3901 => self.parts_done = v,
+                    // G54.4 error data (WSE-08); COMMON has no Δa/Δb/Δc (#26003–#26005).
+                    26000..=26099 => *self.setting_errors.variable_mut(n).ok_or(AlarmId::VariableOutOfRange)? = v,
                     3902 => self.parts_required = v,
                     3011 | 3012 | 4001..=4030 | 4101..=4130 | 4201..=4230 | 4301..=4330 | 5001..=5120 => {
                         return Err(AlarmId::WriteProtectedVariable)

@@ -184,7 +184,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 }
 
 /// The 5-axis function bits: No.19696#5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#5 PRI, No.11221#0 MTW, No.5400#2 D3R, and No.11220 (absent: 0).
+/// No.19608#5 PRI, No.11221#0 MTW, No.5400#2 D3R, No.11220; G54.4: No.11200#0 RCM, No.11204
+/// singular tolerance (degrees) (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -201,6 +202,8 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         multiple_planes: bit(11221, 0)?,
         plane_min_distance: p.get(11220)?,
         plane_after_reset: if bit(5400, 2)? { PlaneAfterReset::Kept } else { PlaneAfterReset::Cancelled },
+        tool_direction_compensation: bit(11200, 0)?,
+        singular_tolerance_deg: if p.0.contains_key(&11204) { p.get(11204)? } else { 0.0 },
     })
 }
 
@@ -287,6 +290,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (19608, (f.second_axis_first as u32) << 5),
         (11221, f.multiple_planes as u32),
         (5400, ((f.plane_after_reset == PlaneAfterReset::Kept) as u32) << 2),
+        (11200, f.tool_direction_compensation as u32),
     ] {
         if value != 0 {
             p.set(number, value as f64);
@@ -297,6 +301,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if f.plane_min_distance != 0.0 {
         p.set(11220, real(f.plane_min_distance));
+    }
+    if f.singular_tolerance_deg != 0.0 {
+        p.set(11204, real(f.singular_tolerance_deg));
     }
     let zero = Vec3::zeros();
     let point = |k: usize| vec3(links[k].point);

@@ -321,6 +321,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if persistence != 0.0 {
         p.set(3014, persistence);
     }
+    if f.tool_direction_compensation || f.singular_tolerance_deg != 0.0 {
+        return Err(unrepresentable("Syntec", "G54.4 settings (RCM, No.11204) are FANUC settings"));
+    }
     if f.posture_control {
         p.set(3054, 1.0);
     }

@@ -678,3 +678,29 @@ fn fanuc_reference_positions_are_1241_to_1243() {
     assert!(p.0.contains_key(&1241) && !p.0.contains_key(&1242) && p.0.contains_key(&1243));
     assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().axes[2].references, [250.0, 0.0, -10.0]);
 }
+
+#[test]
+fn fanuc_g54_4_settings_rcm_11204_d3r_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(![11200, 11204, 5400].iter().any(|n| p.0.contains_key(n)), "defaults are not written");
+    m.five_axis.tool_direction_compensation = true;
+    m.five_axis.singular_tolerance_deg = 0.1;
+    m.five_axis.plane_after_reset = crate::machine::PlaneAfterReset::Kept;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(11200, 0).unwrap() && p.bit(5400, 2).unwrap());
+    assert_eq!(p.get(11204).unwrap(), 0.1);
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert_eq!(back.five_axis, m.five_axis);
+    assert!(diff(&p, &params_of(Dialect::Fanuc, &back).unwrap()).is_empty());
+    // Other bits of No.11200 / No.5400 (RIN #0, SCR #7) do not set them.
+    let mut q = p.clone();
+    q.set(11200, 2.0);
+    q.set(5400, 129.0);
+    let other = machine_from(Dialect::Fanuc, "m", &q).unwrap();
+    assert!(!other.five_axis.tool_direction_compensation);
+    assert_eq!(other.five_axis.plane_after_reset, crate::machine::PlaneAfterReset::Cancelled);
+    // Syntec has no G54.4: refused, not dropped.
+    m.five_axis.plane_after_reset = crate::machine::PlaneAfterReset::Cancelled;
+    assert!(params_of(Dialect::Syntec, &m).is_err());
+}

@@ -1,0 +1,700 @@
+//! Workpiece setting error compensation, FANUC G54.4 (spec `fanuc-twp-wsec-manual-params.md`
+//! WSE-01…WSE-26, §2.13, TV-WSE-01…TV-WSE-28): error data and macro variables, the effective
+//! error with the table-position conversion, the start block's recomputation, the program in the
+//! displaced system (Example 1), circles in space, reset, machine-coordinate moves and the mode
+//! alarms. Decisions: `docs/five-axis.md`, "Workpiece setting error compensation (G54.4)".
+
+#![allow(clippy::approx_constant)]
+
+mod common;
+
+use common::{end_of, interpreter_with, motion_ends};
+use fivex_engine::canon::{CanonKind, Pos};
+use fivex_engine::interp::{Config, Interpreter};
+use fivex_engine::lang::parse_file;
+use fivex_engine::machine::{MachineConfig, PlaneAfterReset};
+use fivex_engine::run::{run, RunOptions};
+use fivex_engine::wse;
+use fivex_engine::Dialect;
+
+fn fanuc(src: &str, preset: &str) -> Interpreter {
+    interpreter_with(src, preset, Dialect::Fanuc, |_| {})
+}
+
+fn fanuc_with(src: &str, preset: &str, tweak: impl FnOnce(&mut Config)) -> Interpreter {
+    interpreter_with(src, preset, Dialect::Fanuc, tweak)
+}
+
+/// Run to the end (no alarm expected) and hand back the interpreter.
+fn ran(mut interp: Interpreter) -> Interpreter {
+    interp.run(|_| {}).expect("no alarm");
+    interp
+}
+
+/// The alarm code a program ends in.
+fn alarm_of(mut interp: Interpreter) -> String {
+    interp.run(|_| {}).expect_err("an alarm").code
+}
+
+fn close3(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() < tol)
+}
+
+fn xyz(p: &Pos) -> [f64; 3] {
+    [p[0], p[1], p[2]]
+}
+
+/// TV-WSE-01/02: COMMON X 10; No.01 x 0.5 a 1.5; No.02 x 0.8 a 1.8, set by macro variables.
+const DATA_01: &str = "#26000=10.\n#26010=0.5\n#26013=1.5\n#26020=0.8\n#26023=1.8\n";
+
+#[test]
+fn tv_wse_01_02_effective_error_adds_common_translations_and_takes_the_sets_rotation() {
+    for (n, dx, da) in [(1, 10.5, 1.5), (2, 10.8, 1.8)] {
+        let interp = ran(fanuc(&format!("{DATA_01}G54.4 P{n}\nM30\n"), "mill3"));
+        let (set, e) = interp.state.active_setting_error().expect("G54.4 on");
+        assert_eq!(set, n as u8);
+        assert!(close3(e.o.into(), [dx, 0.0, 0.0], 1e-12), "P{n}: Δ {:?}", e.o);
+        assert!(close3(wse::angles(&e.r), [da, 0.0, 0.0], 1e-9), "P{n}: angles {:?}", wse::angles(&e.r));
+    }
+}
+
+#[test]
+fn tv_wse_03_sets_measured_with_the_table_turned_are_converted_to_table_position_0() {
+    // mixed-bc: C on the table (left hand, FANUC No.19689 = 1); G54 X/Y 0 puts the WCS origin
+    // on the C axis. No.00: Y 10 at C −90; No.01: x 5, c 2 at C 90.
+    let src = "#26001=10.\n#26006=-90.\n#26010=5.\n#26015=2.\n#26016=90.\nG54.4 P1\nM30\n";
+    let interp = ran(fanuc(src, "mixed-bc"));
+    let (_, e) = interp.state.active_setting_error().unwrap();
+    assert!(close3(e.o.into(), [10.0, 5.0, 0.0], 1e-9), "Δ {:?}", e.o);
+    assert!(close3(wse::angles(&e.r), [0.0, 0.0, 2.0], 1e-9), "{:?}", wse::angles(&e.r));
+    // Each set on its own, as the seed's intermediate values.
+    let st = &interp.state;
+    let mut common_only = st.clone();
+    common_only.setting_errors.sets[1] = Default::default();
+    assert!(close3(common_only.effective_setting_error(1).o.into(), [10.0, 0.0, 0.0], 1e-9));
+    // Without a table nothing is converted.
+    let interp = ran(fanuc(src, "head-bc"));
+    let (_, e) = interp.state.active_setting_error().unwrap();
+    assert!(close3(e.o.into(), [5.0, 10.0, 0.0], 1e-9), "head-bc Δ {:?}", e.o);
+}
+
+#[test]
+fn tv_wse_04_macro_variables_read_and_write_the_sets() {
+    let src = "#26013=1.25\n#26075=-3.5\n#26076=45.\n#26077=-30.\n#26000=1.\n#26001=2.\n#26002=3.\n\
+               #26006=4.\n#26007=5.\n#100=#26013\n#101=#26075\n#102=#26076\n#103=#26077\n\
+               #104=#26000+#26001+#26002+#26006+#26007\nM30\n";
+    let interp = ran(fanuc(src, "mill3"));
+    let s = &interp.state.setting_errors.sets;
+    assert_eq!((s[1].rotation[0], s[7].rotation[2], s[7].table), (1.25, -3.5, [45.0, -30.0]));
+    assert_eq!((s[0].shift, s[0].table), ([1.0, 2.0, 3.0], [4.0, 5.0]));
+    let vars = interp.state.common_variables();
+    let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+    assert_eq!((v(100), v(101), v(102), v(103), v(104)), (1.25, -3.5, 45.0, -30.0, 15.0));
+    // A host writes the sets directly.
+    let mut interp = fanuc("#100=#26012\nM30\n", "mill3");
+    interp.state.setting_errors.sets[1].shift[2] = -7.0;
+    let interp = ran(interp);
+    assert_eq!(interp.state.common_variables(), vec![(100, -7.0)]);
+}
+
+#[test]
+fn tv_wse_04d_common_has_no_rotation_variables() {
+    for src in
+        ["#100=#26003\nM30\n", "#26004=1.\nM30\n", "#100=#26005\nM30\n", "#100=#26008\nM30\n", "#26080=1.\nM30\n"]
+    {
+        assert_eq!(alarm_of(fanuc(src, "mill3")), "PS0115", "{src}");
+    }
+}
+
+/// Example 1 (TV-WSE-17): No.01 x 10, y 20, c −20; G55 at machine (100, 50, −400).
+fn example_1(preset: &str) -> Interpreter {
+    let src = "N10 G55\nN15 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0 B0 C0\nN30 G01 G43 H01 Z40.0 F500.\n\
+               N40 X50.0 Y50.0 Z20.0\nN50 X150.0\nN60 Y150.0\nN70 X50.0\nN80 Y50.0\nN90 X0 Y0 Z40.0\n\
+               N100 G49 Z300.0\nN115 G54.4 P0\nN120 G00 X0 Y0\nM30\n";
+    let mut interp = fanuc(src, preset);
+    let g55 = interp.state.offsets.work_mut(2);
+    g55[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    interp
+}
+
+#[test]
+fn tv_wse_17_example_1_cuts_the_displaced_square() {
+    // Right-hand Δc (OQ-11): p_w = Rz(−20°)·p_s + (10, 20, 0). Tool tip in G55 = machine −
+    // G55 − tool length along Z (B0 C0).
+    let expected = [
+        (3, [10.0, 20.0, 300.0], 0.0),
+        (4, [10.0, 20.0, 40.0], 100.0),
+        (5, [74.085638, 49.883624, 20.0], 100.0),
+        (6, [168.054900, 15.681610, 20.0], 100.0),
+        (7, [202.256915, 109.650872, 20.0], 100.0),
+        (8, [108.287653, 143.852886, 20.0], 100.0),
+        (9, [74.085638, 49.883624, 20.0], 100.0),
+        (10, [10.0, 20.0, 40.0], 100.0),
+        (11, [10.0, 20.0, 300.0], 0.0),
+        // After G54.4 P0, X0 Y0 is the G55 origin again.
+        (13, [0.0, 0.0, 300.0], 0.0),
+    ];
+    for preset in ["head-bc", "mill3"] {
+        let src_preset = preset;
+        let mut interp = example_1(src_preset);
+        if preset == "mill3" {
+            // mill3 has no B/C: the same program without them.
+            let text = "N10 G55\nN15 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0\nN30 G01 G43 H01 Z40.0 F500.\n\
+                        N40 X50.0 Y50.0 Z20.0\nN50 X150.0\nN60 Y150.0\nN70 X50.0\nN80 Y50.0\nN90 X0 Y0 Z40.0\n\
+                        N100 G49 Z300.0\nN115 G54.4 P0\nN120 G00 X0 Y0\nM30\n";
+            let offsets = interp.state.offsets.clone();
+            let errors = interp.state.setting_errors;
+            interp = fanuc(text, preset);
+            interp.state.offsets = offsets;
+            interp.state.setting_errors = errors;
+        }
+        let ends = motion_ends(interp);
+        for (line, tip, length) in expected {
+            let m = end_of(&ends, line);
+            let got = [m[0] - 100.0, m[1] - 50.0, m[2] + 400.0 - length];
+            assert!(close3(got, tip, 1e-6), "{preset} line {line}: {got:?} vs {tip:?}");
+        }
+    }
+}
+
+#[test]
+fn tv_wse_17_sides_are_straight_lines_in_the_wcs() {
+    // Every sample of N50 (a side of the square) lies on the displaced side.
+    let mut interp = example_1("head-bc");
+    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+        if s.line == 6 {
+            let p = [s.machine[0] - 100.0 - 10.0, s.machine[1] - 50.0 - 20.0];
+            // Back into the WSCS (Rz(+20°)): the side is y = 50, x from 50 to 150.
+            let (sn, cs) = (20f64.to_radians().sin(), 20f64.to_radians().cos());
+            let ps = [cs * p[0] - sn * p[1], sn * p[0] + cs * p[1]];
+            assert!((ps[1] - 50.0).abs() < 1e-6, "off the side: WSCS {ps:?}");
+            assert!((50.0 - 1e-6..=150.0 + 1e-6).contains(&ps[0]), "{ps:?}");
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+}
+
+#[test]
+fn tv_wse_18_the_start_block_recomputes_the_absolute_position_without_moving() {
+    let src = "G90 G00 X0 Y0 Z300.\nG54.4 P1\n#100=#5001\n#101=#5002\n#102=#5003\n#103=#5041\n#104=#5042\n\
+               G54.4 P0\n#105=#5001\n#106=#5002\nM30\n";
+    let mut interp = fanuc(src, "mill3");
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    let mut motions = 0;
+    interp
+        .run(|c| {
+            if matches!(c.kind, CanonKind::Motion(_)) {
+                motions += 1
+            }
+        })
+        .unwrap();
+    assert_eq!(motions, 1, "G54.4 P1 / P0 do not move");
+    let vars = interp.state.common_variables();
+    let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+    assert!(close3([v(100), v(101), v(102)], [-2.556523, -22.214054, 300.0], 1e-6));
+    // #5041… are WCS coordinates (WSE-20).
+    assert!(close3([v(103), v(104), 0.0], [0.0, 0.0, 0.0], 1e-9));
+    // P0 recomputes back.
+    assert!(close3([v(105), v(106), 0.0], [0.0, 0.0, 0.0], 1e-9));
+}
+
+#[test]
+fn tv_wse_18_wcs_points_map_to_their_wscs_coordinates() {
+    let e = wse::frame([10.0, 20.0, 0.0], [0.0, 0.0, -20.0]);
+    for (w, s) in [([10.0, 20.0, 40.0], [0.0, 0.0, 40.0]), ([74.085638, 49.883624, 20.0], [50.0, 50.0, 20.0])] {
+        let got = e.from_parent(&w.into());
+        assert!(close3(got.into(), s, 1e-6), "{got:?}");
+    }
+}
+
+#[test]
+fn circles_under_g54_4_stay_circles_when_the_error_tilts_their_plane() {
+    // Δa 10°, Δb −5°: the G17 circle is a circle in space; every sample is on it (WSCS).
+    let src = "G90 G00 X0 Y0 Z10.\nG54.4 P1\nG00 X20. Y0 Z10.\nG17 G03 X-20. Y0 I-20. J0 F2000.\nG02 X20. Y0 R20.\n\
+               G54.4 P0\nM30\n";
+    let mut interp = fanuc(src, "mill3");
+    let set = wse::ErrorSet { shift: [5.0, -3.0, 2.0], rotation: [10.0, -5.0, 30.0], table: [0.0; 2] };
+    interp.state.setting_errors.sets[1] = set;
+    let e = wse::frame(set.shift, set.rotation);
+    let mut seen = 0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+        if s.line == 4 || s.line == 5 {
+            let p = e.from_parent(&xyz(&s.machine).into());
+            assert!((p[0].hypot(p[1]) - 20.0).abs() < 1e-6 && (p[2] - 10.0).abs() < 1e-6, "line {}: {p:?}", s.line);
+            // G03 from +X to −X and G02 back both pass over +Y (seen from the WSCS +Z).
+            assert!(p[1] >= -1e-6, "line {}: {p:?}", s.line);
+            seen += 1;
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(seen > 20);
+    // Back at the start after the two half circles, in the WCS.
+    let w = e.to_parent(&[20.0, 0.0, 10.0].into());
+    assert!(close3(xyz(&r.machine), w.into(), 1e-9), "{:?}", r.machine);
+}
+
+#[test]
+fn g53_and_g28_bypass_the_error() {
+    let src =
+        "G90 G00 X0 Y0 Z50.\nG54.4 P1\nG53 X100. Y10. Z-5.\n#100=#5001\n#101=#5002\nG28 X0 Y0 Z0\nG54.4 P0\nM30\n";
+    let mut interp = fanuc(src, "mill3");
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    let ends = motion_ends(interp.clone());
+    assert_eq!(xyz(&end_of(&ends, 3)), [100.0, 10.0, -5.0], "G53 in machine coordinates");
+    // G28's intermediate point is a program point (through the error), the return is machine 0.
+    let g28: Vec<_> = ends.iter().filter(|(l, _)| *l == 6).collect();
+    assert!(close3(xyz(&g28[0].1), [10.0, 20.0, 0.0], 1e-9), "{:?}", g28[0].1);
+    assert_eq!(xyz(&g28[1].1), [0.0, 0.0, 0.0]);
+    let interp = ran(interp);
+    let vars = interp.state.common_variables();
+    let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+    // The machine point (100, 10) in the WSCS.
+    let s = wse::frame([10.0, 20.0, 0.0], [0.0, 0.0, -20.0]).from_parent(&[100.0, 10.0, -5.0].into());
+    assert!((v(100) - s[0]).abs() < 1e-9 && (v(101) - s[1]).abs() < 1e-9);
+}
+
+#[test]
+fn wse_21_reset_cancels_unless_d3r() {
+    for keep in [false, true] {
+        let mut interp = fanuc_with("G54.4 P1\nM30\n", "mill3", |c| {
+            c.machine.five_axis.plane_after_reset =
+                if keep { PlaneAfterReset::Kept } else { PlaneAfterReset::Cancelled }
+        });
+        interp.state.setting_errors.sets[1].shift = [1.0, 2.0, 3.0];
+        let mut interp = ran(interp);
+        let before = interp.state.machine_position();
+        interp.reset();
+        assert_eq!(interp.state.active_setting_error().is_some(), keep, "D3R = {keep}");
+        assert_eq!(interp.state.machine_position(), before, "a reset does not move");
+        // After the reset a new G54.4 P1 is refused only while the old one is still on.
+        interp.load(parse_file("G54.4 P2\nM30\n"));
+        let r = interp.run(|_| {});
+        assert_eq!(r.is_err(), keep, "D3R = {keep}: {r:?}");
+    }
+}
+
+// --- mode rules ---------------------------------------------------------------------------
+
+fn alarm_on(src: &str, preset: &str) -> String {
+    alarm_of(fanuc(src, preset))
+}
+
+#[test]
+fn tv_wse_10_to_12_block_format() {
+    for src in ["G54.4\n", "G54.4 P8\n", "G54.4 P-1\n", "G54.4 P1 G01 X10.\n", "G54.4 P1 G90\n", "G54.4 P1\nG54.4 P2\n"]
+    {
+        assert_eq!(alarm_on(src, "mill3"), "PS0437", "{src}");
+    }
+    // TV-WSE-13: P0 cancels.
+    let interp = ran(fanuc("G54.4 P1\nG54.4 P0\nG54.4 P2\nM30\n", "mill3"));
+    assert_eq!(interp.state.active_setting_error().map(|a| a.0), Some(2));
+}
+
+#[test]
+fn tv_wse_14_basic_axes_missing() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.axes.retain(|a| a.name != 'Y');
+    let mut interp = Interpreter::new(parse_file("G54.4 P1\nM30\n"), Config::new(m, Dialect::Fanuc));
+    assert_eq!(interp.run(|_| {}).unwrap_err().code, "PS0436");
+}
+
+#[test]
+fn tv_wse_15_16_mode_lists() {
+    for g in ["G61", "G92 X0", "G52 X1.", "G68.3", "G55", "G20"] {
+        assert_eq!(alarm_on(&format!("G54.4 P1\n{g}\n"), "head-bc"), "PS0437", "{g}");
+    }
+    assert_eq!(alarm_on("G41 D1 G01 X10. Y10. F100.\nG54.4 P1\n", "mill3"), "PS0439");
+    // §6.6: the modes opened inside must close before G54.4 P0 [A: PS0437].
+    assert_eq!(alarm_on("G54.4 P1\nG43 H1 G01 Z10. F100.\nG54.4 P0\n", "mill3"), "PS0437");
+    assert_eq!(alarm_on("G54.4 P1\nG68.2 X0 Y0 Z0 I0 J30. K0\nG54.4 P0\n", "head-bc"), "PS0437");
+    let interp = ran(fanuc("G54.4 P1\nG43 H1 G01 Z10. F100.\nG49 G00 Z200.\nG54.4 P0\nM30\n", "mill3"));
+    assert!(interp.state.active_setting_error().is_none());
+}
+
+#[test]
+fn tv_wse_19b_19c_tcp_and_g53_1_need_tool_direction_compensation() {
+    assert_eq!(alarm_on("G54.4 P1\nG43.4 H1\n", "head-bc"), "PS5421");
+    assert_eq!(alarm_on("G54.4 P1\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\n", "head-bc"), "PS5458");
+}
+
+// --- tool direction compensation (RCM = 1) -------------------------------------------------
+
+fn rcm(c: &mut Config) {
+    c.machine.five_axis.tool_direction_compensation = true;
+}
+
+/// Example 2 (TV-WSE-19) on the BC head with RCM = 1, No.01 as Example 1, G55 (100, 50, −400).
+const EXAMPLE_2: &str = "N15 G05.1 Q1\nN10 G55\nN16 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0 B0 C0\n\
+    N30 G01 G43.4 H01 Z40.0 F500.\nN40 X50.0 Y50.0 Z20.0 B45.0 C-90.0\nN50 X150.0\nN60 C0.0\nN70 Y150.0\n\
+    N80 C90.0\nN90 X50.0\nN100 C180.0\nN110 Y50.0\nN120 X0 Y0 Z40.0 B0.0 C0.0\nN130 G49 Z300.0\nN135 G54.4 P0\n\
+    N136 G05.1 Q0\nM30\n";
+
+fn example_2(src: &str, tweak: impl FnOnce(&mut Config)) -> Interpreter {
+    let mut interp = fanuc_with(src, "head-bc", tweak);
+    interp.state.offsets.work_mut(2)[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    interp
+}
+
+#[test]
+fn tv_wse_19_example_2_keeps_the_tool_direction_relative_to_the_displaced_workpiece() {
+    use fivex_engine::kin::Kinematics;
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let ends = motion_ends(example_2(EXAMPLE_2, rcm));
+    // (line, B, C, tip in G55, tool length); B index 3, C index 4.
+    let expected = [
+        (4, 0.0, 0.0, [10.0, 20.0, 300.0], 0.0),
+        (5, 0.0, 0.0, [10.0, 20.0, 40.0], 100.0),
+        (6, 45.0, -110.0, [74.085638, 49.883624, 20.0], 100.0),
+        (7, 45.0, -110.0, [168.054900, 15.681610, 20.0], 100.0),
+        (8, 45.0, -20.0, [168.054900, 15.681610, 20.0], 100.0),
+        (9, 45.0, -20.0, [202.256915, 109.650872, 20.0], 100.0),
+        (10, 45.0, 70.0, [202.256915, 109.650872, 20.0], 100.0),
+        (11, 45.0, 70.0, [108.287653, 143.852886, 20.0], 100.0),
+        (12, 45.0, 160.0, [108.287653, 143.852886, 20.0], 100.0),
+        (13, 45.0, 160.0, [74.085638, 49.883624, 20.0], 100.0),
+        // Singular target from a posture that is not: C stays (§2.14 rule 2).
+        (14, 0.0, 160.0, [10.0, 20.0, 40.0], 100.0),
+    ];
+    let dirs = [
+        (6, [-0.241845, -0.664463, 0.707107]),
+        (8, [0.664463, -0.241845, 0.707107]),
+        (10, [0.241845, 0.664463, 0.707107]),
+        (12, [-0.664463, 0.241845, 0.707107]),
+    ];
+    for (line, b, c, tip, length) in expected {
+        let m = end_of(&ends, line);
+        assert!((m[3] - b).abs() < 1e-6 && (m[4] - c).abs() < 1e-6, "line {line}: B {} C {}", m[3], m[4]);
+        let pose = kin.forward(&m, length);
+        let got =
+            [pose.tip[0] - 100.0 - kin.nose[0], pose.tip[1] - 50.0 - kin.nose[1], pose.tip[2] + 400.0 - kin.nose[2]];
+        assert!(close3(got, tip, 1e-6), "line {line}: tip {got:?} vs {tip:?}");
+    }
+    for (line, d) in dirs {
+        let t = kin.forward(&end_of(&ends, line), 100.0).tool;
+        assert!(close3(t.into(), d, 1e-6), "line {line}: tool {t:?}");
+    }
+}
+
+#[test]
+fn tv_wse_19_without_rcm_tcp_is_refused_and_the_rotary_axes_are_untouched() {
+    assert_eq!(alarm_of(example_2(EXAMPLE_2, |_| {})), "PS5421");
+    // RCM = 0 and no TCP: the rotary axes go where programmed (OQ-13).
+    let src = "G55\nG54.4 P1\nG90 G00 X0 Y0 Z300. B0 C0\nG01 X50. Y50. Z20. B45. C-90. F500.\nG54.4 P0\nM30\n";
+    let ends = motion_ends(example_2(src, |_| {}));
+    let m = end_of(&ends, 4);
+    assert!((m[3] - 45.0).abs() < 1e-9 && (m[4] + 90.0).abs() < 1e-9);
+}
+
+#[test]
+fn tv_wse_20_table_machines_with_rcm_refuse_machine_coordinates_and_g95() {
+    let on = |src: &str| alarm_of(fanuc_with(src, "table-ac", rcm));
+    for g in ["G28 X0", "G29 X0", "G30 X0", "G43.1 H1", "G53 X0", "G06.2 P3 X0 R1. K0", "G95"] {
+        assert_eq!(on(&format!("G54.4 P1\n{g}\n")), "PS0439", "{g}");
+    }
+    // TV-WSE-20b: G54.4 in G95.
+    assert_eq!(on("G95\nG54.4 P1\n"), "PS0439");
+    // Without RCM, or on a head machine, these rows do not apply.
+    assert!(fanuc_with("G95\nG54.4 P1\nG54.4 P0\nG94\nM30\n", "head-bc", rcm).run(|_| {}).is_ok());
+    assert!(fanuc("G95\nG54.4 P1\nG54.4 P0\nG94\nM30\n", "table-ac").run(|_| {}).is_ok());
+}
+
+#[test]
+fn tv_wse_20c_tcp_and_g68_2_need_the_table_at_absolute_0() {
+    let on = |src: &str| fanuc_with(src, "table-ac", rcm).run(|_| {}).map_err(|a| a.code);
+    for start in ["G43.4 H1", "G68.2 X0 Y0 Z0 I0 J0 K0"] {
+        let turned = format!("G90 G00 X0 Y0 Z100. A0 C15.\nG54.4 P1\n{start}\n");
+        assert_eq!(on(&turned), Err("PS0439".into()), "{start}");
+    }
+    assert_eq!(on("G90 G00 X0 Y0 Z100. A0 C0\nG54.4 P1\nG43.4 H1\nG01 X10. F500.\nG49\nG54.4 P0\nM30\n"), Ok(()));
+}
+
+#[test]
+fn tv_wse_20d_axes_outside_5_axis_machining() {
+    let mut m = MachineConfig::preset("table-ac").unwrap();
+    let mut u = m.axes[0].clone();
+    u.name = 'U';
+    m.axes.push(u);
+    let mut cfg = Config::new(m, Dialect::Fanuc);
+    rcm(&mut cfg);
+    let run = |cfg: Config, src: &str| Interpreter::new(parse_file(src), cfg).run(|_| {}).map_err(|a| a.code);
+    assert_eq!(run(cfg.clone(), "G54.4 P1\nG01 X1. U5. F100.\n"), Err("PS0439".into()));
+    assert_eq!(run(cfg, "G01 U5. F100.\nG54.4 P1\nG01 X1. F100.\nG54.4 P0\nM30\n"), Ok(()));
+}
+
+/// TV-WSE-22…25: a C–B head (head-bc), error Δb = −2°, tolerance `tol`, start at B `b0`.
+fn singular_run(b0: f64, error: bool, tol: f64) -> Pos {
+    let src = format!(
+        "N10 G05.1 Q1\nN20 G90 G01 B{b0:.1} C0 F1000.\n{}N30 G43.4 H1\nN40 X0 Y0 Z0\nN50 B90.0 C90.0\nM30\n",
+        if error { "N25 G54.4 P1\n" } else { "" }
+    );
+    let mut interp = fanuc_with(&src, "head-bc", |c| {
+        rcm(c);
+        c.machine.five_axis.singular_tolerance_deg = tol;
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    let ends = motion_ends(interp);
+    ends.last().unwrap().1
+}
+
+#[test]
+fn tv_wse_22_to_25_the_side_of_the_singular_angle() {
+    let bc = |p: Pos| (p[3], p[4]);
+    let near = |(b, c): (f64, f64), (eb, ec): (f64, f64)| (b - eb).abs() < 1e-6 && (c - ec).abs() < 1e-6;
+    // TV-WSE-22: no error.
+    assert!(near(bc(singular_run(-1.0, false, 0.0)), (90.0, 90.0)));
+    // TV-WSE-23: from B −1 the tool never reaches the singular posture: B stays negative and
+    // runs past the −45° lower limit of the seed's machine (no clamping, WSE-23).
+    assert!(near(bc(singular_run(-1.0, true, 0.0)), (-90.0, -90.0)), "{:?}", bc(singular_run(-1.0, true, 0.0)));
+    // TV-WSE-24: from B +1 it stays positive.
+    assert!(near(bc(singular_run(1.0, true, 0.0)), (90.0, 90.0)), "{:?}", bc(singular_run(1.0, true, 0.0)));
+    // TV-WSE-25: with No.11204 = 0.1 the path passes within 0.1° of the singular posture
+    // (0.035° at programmed B ≈ 2.0): treated as singular, B crosses 0.
+    let got = bc(singular_run(-1.0, true, 0.1));
+    assert!(near(got, (90.0, 90.0)), "{got:?}");
+}
+
+#[test]
+fn tv_wse_18_rcm_start_block_turns_the_absolute_rotary_coordinates() {
+    // TV-WSE-23's start: machine B −1 C0, Δb −2°: the tool seen from the WSCS is at B +1 C0.
+    let src = "G90 G01 B-1. C0 F1000.\nG54.4 P1\n#100=#5004\n#101=#5005\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", rcm);
+    interp.state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    let interp = ran(interp);
+    let vars = interp.state.common_variables();
+    assert!((vars[0].1 - 1.0).abs() < 1e-9 && vars[1].1.abs() < 1e-9, "{vars:?}");
+}
+
+#[test]
+fn tv_wse_27_singular_start_keeps_the_absolute_coordinates() {
+    // B 0.05 with Δb −0.03 and No.11204 = 0.1: both postures singular.
+    let src = "G90 G00 X1. Y2. Z3. B0.05 C30.\nG54.4 P1\n#100=#5001\n#101=#5004\n#102=#5005\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", |c| {
+        rcm(c);
+        c.machine.five_axis.singular_tolerance_deg = 0.1;
+    });
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [5.0, 0.0, 0.0], rotation: [0.0, -0.03, 0.0], table: [0.0; 2] };
+    let interp = ran(interp);
+    let v: Vec<f64> = interp.state.common_variables().iter().map(|x| x.1).collect();
+    assert!((v[0] - 1.0).abs() < 1e-9 && (v[1] - 0.05).abs() < 1e-9 && (v[2] - 30.0).abs() < 1e-9, "{v:?}");
+}
+
+/// One block on head-bc with RCM = 1 and error Δc = `dc`, from machine B `b0` C `c0` to
+/// programmed B `b` C `c`; the machine's end (B, C).
+fn one_block(b0: f64, c0: f64, b: f64, c: f64, dc: f64, tol: f64) -> (f64, f64) {
+    let src = format!("G90 G00 B{b0:.3} C{c0:.3}\nG54.4 P1\nG00 B{b:.3} C{c:.3}\nM30\n");
+    let mut interp = fanuc_with(&src, "head-bc", |cfg| {
+        rcm(cfg);
+        cfg.machine.five_axis.singular_tolerance_deg = tol;
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, dc];
+    let end = motion_ends(interp).last().unwrap().1;
+    (end[3], end[4])
+}
+
+#[test]
+fn tv_wse_28_the_four_cases_of_the_singular_rules() {
+    // TV-WSE-28, No.11204 = 0.1, Δb −0.45: from machine B0 C10 (singular) to programmed B0.5
+    // C0 (not singular), which the error turns to 0.05° off the singular posture.
+    let src = "G90 G00 B0 C10.\nG54.4 P1\nG00 B0.5 C0\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", |c| {
+        rcm(c);
+        c.machine.five_axis.singular_tolerance_deg = 0.1;
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, -0.45, 0.0];
+    let end = motion_ends(interp).last().unwrap().1;
+    // C (workpiece side) does not move, only B.
+    assert!((end[4] - 10.0).abs() < 1e-9, "C {}", end[4]);
+    // TV-WSE-28b: current B0, programmed target B0 (singular): C moves as commanded.
+    let (b, c) = one_block(0.0, 10.0, 0.0, 40.0, 5.0, 0.0);
+    assert!(b.abs() < 1e-9 && (c - 40.0).abs() < 1e-9, "{b} {c}");
+    // TV-WSE-28c: current B20, compensated target singular: C does not move.
+    let (b, c) = one_block(20.0, 10.0, 0.0, 40.0, 5.0, 0.0);
+    assert!(b.abs() < 1e-9 && (c - 10.0).abs() < 1e-9, "{b} {c}");
+    // TV-WSE-28d: current B0 (singular), target not: the pair with the smaller C motion, judged
+    // (as TV-WSE-19 derives) in the first interpolation period that leaves the singular
+    // posture, not at the block's end. Programmed B30 C170, Δc 5: the end pairs are (B30,
+    // C175) and (B−30, C−5), and C−5 is nearer C0; but the first step (programmed B0.03 C0.17)
+    // needs C 5.17 with B > 0 or C −174.83 with B < 0, so B stays positive.
+    let (b, c) = one_block(0.0, 0.0, 30.0, 170.0, 5.0, 0.0);
+    assert!((b - 30.0).abs() < 1e-6 && (c - 175.0).abs() < 1e-6, "{b} {c}");
+    let (b, c) = one_block(0.0, 0.0, -30.0, -10.0, 5.0, 0.0);
+    assert!((b + 30.0).abs() < 1e-6 && (c + 5.0).abs() < 1e-6, "{b} {c}");
+    // TV-WSE-28e: current B20, target not singular: B stays positive although the other pair
+    // (B−30, C−5) would move C far less than (B30, C175).
+    let (b, c) = one_block(20.0, 0.0, 30.0, 170.0, 5.0, 0.0);
+    assert!((b - 30.0).abs() < 1e-6 && (c - 175.0).abs() < 1e-6, "{b} {c}");
+    // And from B −20 it stays negative.
+    let (b, c) = one_block(-20.0, 0.0, 30.0, 170.0, 5.0, 0.0);
+    assert!((b + 30.0).abs() < 1e-6 && (c + 5.0).abs() < 1e-6, "{b} {c}");
+}
+
+#[test]
+fn tv_wse_21_on_a_table_machine_the_line_is_straight_seen_from_the_workpiece() {
+    // table-ac, G55 X50 Y0 Z0; N30 G01 X−50 Y150 C−90 with Δc 5 (RCM = 1): every sample of the
+    // tip in the WSCS is on the programmed line, while the table turns.
+    let src = "N10 G55\nN15 G05.1 Q1\nN16 G54.4 P1\nN20 G90 G00 X0 Y0 Z0 A0 C0\nN30 G01 X-50.0 Y150.0 C-90.0 F100.0\n\
+               N40 G54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "table-ac", rcm);
+    interp.state.offsets.work_mut(2)[..3].copy_from_slice(&[50.0, 0.0, 0.0]);
+    interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 5.0];
+    let c_end = end_of(&motion_ends(interp.clone()), 5)[4];
+    let mut seen = 0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.01, ..RunOptions::default() }, |s| {
+        if s.line == 5 {
+            let [x, y, z] = s.tip;
+            // On the line from (0, 0, 0) to (−50, 150, 0): 3x + y = 0, z = 0, x in [−50, 0].
+            assert!((3.0 * x + y).abs() < 1e-6 && z.abs() < 1e-6 && (-50.0 - 1e-6..=1e-6).contains(&x), "{:?}", s.tip);
+            seen += 1;
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(seen > 100);
+    // The tool is along the C axis (singular): C goes where programmed (§2.14 rule 1 (2)).
+    assert!((c_end + 90.0).abs() < 1e-6, "C {c_end}");
+}
+
+#[test]
+fn oq_21_a_tilted_plane_inside_g54_4_is_defined_in_the_wscs() {
+    // Example 1's error; G68.2 with Euler angles 0 and origin (50, 50, 20) in the WSCS, then
+    // X0 Y0 Z0 (no tool length): the nose at the displaced (50, 50, 20), i.e. WCS (74.09, 49.88).
+    let src =
+        "G55\nG54.4 P1\nG90 G00 X0 Y0 Z100.\nG68.2 X50. Y50. Z20. I0 J0 K0\nG01 X0 Y0 Z0 F500.\nG69\nG54.4 P0\nM30\n";
+    let mut interp = fanuc(src, "head-bc");
+    interp.state.offsets.work_mut(2)[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    let m = end_of(&motion_ends(interp), 5);
+    let got = [m[0] - 100.0, m[1] - 50.0, m[2] + 400.0];
+    assert!(close3(got, [74.085638, 49.883624, 20.0], 1e-6), "{got:?}");
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 64, ..proptest::prelude::ProptestConfig::default() })]
+
+    /// Any error: G54.4 Pn and P0 do not move; a programmed point lands at `R_e·p + Δ` plus the
+    /// work offset; after P0 the current point is that WCS point.
+    #[test]
+    fn programmed_points_land_on_the_displaced_workpiece(
+        shift in proptest::array::uniform3(-100.0f64..100.0),
+        rot in proptest::array::uniform3(-30.0f64..30.0),
+        p in proptest::array::uniform3(-200.0f64..200.0),
+    ) {
+        let src = format!(
+            "G90 G00 X10. Y20. Z30.\nG54.4 P3\nG01 X{:.4} Y{:.4} Z{:.4} F1000.\nG54.4 P0\n#100=#5001\n#101=#5002\n#102=#5003\nM30\n",
+            p[0], p[1], p[2]
+        );
+        let mut interp = fanuc(&src, "mill3");
+        interp.state.offsets.work_mut(1)[..3].copy_from_slice(&[7.0, -8.0, 9.0]);
+        interp.state.setting_errors.sets[3] = wse::ErrorSet { shift, rotation: rot, table: [0.0; 2] };
+        let mut motions = Vec::new();
+        interp.run(|c| if let CanonKind::Motion(m) = c.kind { motions.push(m.machine) }).unwrap();
+        proptest::prop_assert_eq!(motions.len(), 2);
+        let q = [(p[0] * 1e4).round() / 1e4, (p[1] * 1e4).round() / 1e4, (p[2] * 1e4).round() / 1e4];
+        let w = wse::frame(shift, rot).to_parent(&q.into());
+        let m = motions[1];
+        proptest::prop_assert!(close3([m[0] - 7.0, m[1] + 8.0, m[2] - 9.0], w.into(), 1e-9), "{:?} vs {:?}", m, w);
+        let vars = interp.state.common_variables();
+        let v: Vec<f64> = vars.iter().map(|x| x.1).collect();
+        proptest::prop_assert!(close3([v[0], v[1], v[2]], w.into(), 1e-9));
+        // The rotation angles come back from the matrix.
+        proptest::prop_assert!(close3(wse::angles(&wse::rotation(rot)), rot, 1e-9));
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 24, ..proptest::prelude::ProptestConfig::default() })]
+
+    /// RCM = 1 on every 5-axis machine kind: at a block's end the tip is at `R_e·p + Δ` and the
+    /// tool, relative to the workpiece, is `R_e` times the direction the programmed angles give.
+    #[test]
+    fn compensation_keeps_tip_and_tool_relative_to_the_displaced_workpiece(
+        shift in proptest::array::uniform3(-20.0f64..20.0),
+        rot in proptest::array::uniform3(-3.0f64..3.0),
+        p in proptest::array::uniform3(-50.0f64..50.0),
+        angles in proptest::array::uniform2(15.0f64..75.0),
+    ) {
+        use fivex_engine::kin::Kinematics;
+        for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+            let machine = MachineConfig::preset(preset).unwrap();
+            let kin = Kinematics::new(&machine).unwrap();
+            let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
+            let src = format!(
+                "G90 G00 X0 Y0 Z100.\nG54.4 P1\nG43 H1\nG01 X{:.3} Y{:.3} Z{:.3} {}{:.3} {}{:.3} F1000.\nM30\n",
+                p[0], p[1], p[2], names[0], angles[0], names[1], angles[1]
+            );
+            let mut interp = fanuc_with(&src, preset, rcm);
+            interp.state.setting_errors.sets[1] = wse::ErrorSet { shift, rotation: rot, table: [0.0; 2] };
+            let end = motion_ends(interp).last().unwrap().1;
+            let e = wse::frame(shift, rot);
+            let q = [p[0], p[1], p[2]].map(|x| (x * 1e3).round() / 1e3);
+            let want_tip = e.to_parent(&q.into()) + kin.nose;
+            let pose = kin.forward(&end, 100.0);
+            proptest::prop_assert!((pose.tip - want_tip).norm() < 1e-6, "{preset}: tip {:?} vs {:?}", pose.tip, want_tip);
+            let mut programmed = [0.0; fivex_engine::machine::MAX_AXES];
+            for (j, a) in kin.joints().iter().zip(angles) {
+                programmed[j.index.unwrap()] = (a * 1e3).round() / 1e3;
+            }
+            let want_tool = e.r * kin.forward(&programmed, 0.0).tool;
+            proptest::prop_assert!((pose.tool - want_tool).norm() < 1e-9, "{preset}: tool {:?} vs {:?}", pose.tool, want_tool);
+        }
+    }
+}
+
+#[test]
+fn ps0438_and_ds0030_when_the_direction_cannot_be_reached() {
+    // A head with B only (C removed): a tool tilted in XZ turned by Δc 30° has no B angle.
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.rotary.retain(|l| l.axis == 'B');
+    m.axes.retain(|a| a.name != 'C');
+    let mut cfg = Config::new(m, Dialect::Fanuc);
+    rcm(&mut cfg);
+    let run = |src: &str| {
+        let mut interp = Interpreter::new(parse_file(src), cfg.clone());
+        interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 30.0];
+        interp.run(|_| {}).map_err(|a| a.code)
+    };
+    // The start block: the tool at B30 seen from the WSCS needs a C.
+    assert_eq!(run("G90 G00 B30.\nG54.4 P1\n"), Err("PS0438".into()));
+    // Started with the tool along Z (reachable), then B30 in the WSCS cannot be reached.
+    assert_eq!(run("G90 G00 B0\nG54.4 P1\nG00 X10.\nG00 B30.\n"), Err("DS0030".into()));
+    assert_eq!(run("G90 G00 B0\nG54.4 P1\nG00 X10.\nG54.4 P0\nM30\n"), Ok(()));
+}
+
+#[test]
+fn canned_cycles_under_rcm_keep_the_machine_position() {
+    // head-bc, RCM = 1, tool vertical: a drilling cycle's moves are plain ones; the block after
+    // the cycle starts where the cycle ended (no jump).
+    let src = "G90 G00 X0 Y0 Z50. B0 C0\nG54.4 P1\nG81 X10. Y5. Z-5. R2. F200.\nG80\nG01 X20. F500.\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "head-bc", rcm);
+    interp.state.setting_errors.sets[1].shift = [3.0, 4.0, 0.0];
+    let ends = motion_ends(interp.clone());
+    let last_cycle = end_of(&ends, 3);
+    assert!(close3(xyz(&last_cycle), [13.0, 9.0, 50.0], 1e-9), "{last_cycle:?}");
+    let r = run(&mut interp, &RunOptions { period_s: 0.01, ..RunOptions::default() }, |s| {
+        if s.line == 5 {
+            assert!((s.machine[1] - 9.0).abs() < 1e-9 && (s.machine[2] - 50.0).abs() < 1e-9, "{:?}", s.machine);
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(close3(xyz(&r.machine), [23.0, 9.0, 50.0], 1e-9), "{:?}", r.machine);
+}
+
+#[test]
+fn extreme_error_data_end_in_alarms_not_panics() {
+    for (preset, rcm_on) in [("mill3", false), ("head-bc", true), ("table-ac", true), ("mixed-bc", false)] {
+        for data in
+            ["#26010=99999999.\n#26015=99999999.\n", "#26013=1.E30\n#26014=-1.E30\n#26016=1.E20\n", "#26000=-1.E30\n"]
+        {
+            let src = format!("{data}G54.4 P1\nG00 X1. Y1. Z1.\nG02 X2. Y2. R5. F100.\nG54.4 P0\nM30\n");
+            let mut interp = fanuc_with(&src, preset, |c| c.machine.five_axis.tool_direction_compensation = rcm_on);
+            let _ = run(&mut interp, &RunOptions::default(), |_| {});
+        }
+    }
+}
