@@ -458,3 +458,13 @@ pub async fn save_work_offsets(
     }
     tx.commit().await
 }
+
+/// Replaces a controller's machine document.
+pub async fn update_machine(pool: &SqlitePool, id: &str, machine_json: &str) -> Result<(), sqlx::Error> {
+    sqlx::query("UPDATE controllers SET machine_json = ? WHERE id = ?")
+        .bind(machine_json)
+        .bind(id)
+        .execute(pool)
+        .await?;
+    Ok(())
+}

@@ -302,6 +302,8 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::offsets::set_tool,
         api::offsets::works,
         api::offsets::set_work,
+        api::parameters::get_all,
+        api::parameters::set,
         api::history::alarms,
         api::history::runs,
         api::stream::stream,
@@ -323,6 +325,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         (name = "panel", description = "The operator panel"),
         (name = "variables", description = "Custom macro variables"),
         (name = "offsets", description = "Tool and work offsets"),
+        (name = "parameters", description = "Vendor parameters"),
         (name = "history", description = "Alarm and run history"),
         (name = "stream", description = "Live websocket stream"),
     )

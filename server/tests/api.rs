@@ -397,3 +397,37 @@ async fn tool_and_work_offsets_are_set_used_and_kept() {
     let works = again.get(&format!("{C}/{id}/work-offsets")).await.json();
     assert_eq!((works[1]["axes"]["X"].clone(), works[2]["axes"]["X"].clone()), (json!(100.0), json!(7.5)));
 }
+
+#[tokio::test]
+async fn parameters_in_the_dialects_numbering_change_the_machine() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "table-ac"})).await;
+    let list = app.get(&format!("{C}/{id}/parameters")).await.json();
+    assert_eq!((list["dialect"].clone(), list["parameters"]["19680"].clone()), (json!("fanuc"), json!(12)));
+    let strokes = list["parameters"]["1320"].as_array().unwrap().clone();
+    // A smaller X stroke: accepted, the controller restarts on it.
+    let mut upper: Vec<f64> = strokes.iter().map(|v| v.as_f64().unwrap()).collect();
+    upper[0] = 123.0;
+    let reply = app.put(&format!("{C}/{id}/parameters/1320"), &json!({"value": upper})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    assert_eq!(reply.json()["parameters"]["1320"][0], 123.0);
+    // The new stroke acts: a move beyond it is an over-travel alarm.
+    let moved = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G90 G01 X200. F5000"})).await;
+    assert_eq!(moved.status, StatusCode::OK);
+    let alarm = wait_for(&app, &id, "alarm").await;
+    assert!(!alarm["alarms"].as_array().unwrap().is_empty(), "{alarm}");
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    // A set that describes no working machine is refused with the vendor's alarm.
+    let bad = app.put(&format!("{C}/{id}/parameters/19680"), &json!({"value": 7})).await;
+    assert_eq!(bad.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_of(&bad).contains("19680"), "{}", bad.text());
+    let linear = app.put(&format!("{C}/{id}/parameters/19681"), &json!({"value": 1})).await;
+    assert_eq!(linear.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_of(&linear).contains("PS5459"), "TV-KIN-16: {}", linear.text());
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    assert_eq!(again.get(&format!("{C}/{id}/parameters")).await.json()["parameters"]["1320"][0], 123.0);
+    // Syntec numbering for a Syntec controller.
+    let syntec = create(&app, json!({"name": "s", "preset": "head-bc", "dialect": "syntec"})).await;
+    assert_eq!(app.get(&format!("{C}/{syntec}/parameters")).await.json()["parameters"]["3001"], 1);
+}

@@ -100,6 +100,7 @@ pub async fn create(
         created_at: now_rfc3339(),
     };
     db::insert_controller_with_speed(&state.db, &row, speed).await?;
+    let machine_name = machine.name.clone();
     let hosted = Arc::new(Hosted::new(Spec {
         id: row.id.clone(),
         name,
@@ -109,7 +110,7 @@ pub async fn create(
         speed,
     }));
     state.host.add(hosted.clone());
-    tracing::info!(id = %row.id, name = %row.name, machine = %hosted.machine.name, "controller created");
+    tracing::info!(id = %row.id, name = %row.name, machine = %machine_name, "controller created");
     Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))
 }
 

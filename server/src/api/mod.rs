@@ -7,6 +7,7 @@ pub mod controllers;
 pub mod history;
 pub mod offsets;
 pub mod panel;
+pub mod parameters;
 pub mod programs;
 pub mod stream;
 pub mod variables;
@@ -46,6 +47,8 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/tool-offsets/{number}", put(offsets::set_tool))
         .route("/controllers/{id}/work-offsets", get(offsets::works))
         .route("/controllers/{id}/work-offsets/{name}", put(offsets::set_work))
+        .route("/controllers/{id}/parameters", get(parameters::get_all))
+        .route("/controllers/{id}/parameters/{number}", put(parameters::set))
         .route("/controllers/{id}/alarms", get(history::alarms))
         .route("/controllers/{id}/runs", get(history::runs))
         .route("/controllers/{id}/stream", get(stream::stream))
@@ -106,7 +109,7 @@ impl ControllerStatus {
             id: hosted.id.clone(),
             name: hosted.name(),
             dialect: hosted.dialect.name().to_string(),
-            machine: hosted.machine.name.clone(),
+            machine: station.machine.name.clone(),
             created_at: hosted.created_at.clone(),
             speed: hosted.speed(),
             mode: word(&c.mode()),
@@ -115,8 +118,8 @@ impl ControllerStatus {
             line: p.line,
             n: p.n,
             position: Position {
-                machine: axes(&hosted.machine, &p.machine),
-                workpiece: axes(&hosted.machine, &p.work),
+                machine: axes(&station.machine, &p.machine),
+                workpiece: axes(&station.machine, &p.work),
             },
             feed: p.feed,
             time_s: c.time(),

@@ -185,7 +185,7 @@ pub async fn works(
     let offsets = &station.controller.interpreter().state.offsets;
     let list = (0..WORK_SLOTS)
         .filter(|&i| i <= 6 || offsets.work(i).iter().any(|v| *v != 0.0))
-        .map(|i| WorkOffsetDto { name: name_of(i), axes: axes(&hosted.machine, offsets.work(i)) })
+        .map(|i| WorkOffsetDto { name: name_of(i), axes: axes(&station.machine, offsets.work(i)) })
         .collect();
     Ok(Json(list))
 }
@@ -213,11 +213,10 @@ pub async fn set_work(
     let hosted = hosted(&state, &id)?;
     let request = body(request)?;
     let slot = slot_of(&name).ok_or_else(|| ApiError::Unprocessable(format!("no work offset {name}"), None))?;
-    let mut values =
-        hosted.station().controller.interpreter().state.offsets.work(slot)[..hosted.machine.axes.len()].to_vec();
+    let machine = hosted.station().machine.clone();
+    let mut values = hosted.station().controller.interpreter().state.offsets.work(slot)[..machine.axes.len()].to_vec();
     for (letter, value) in &request.axes {
-        let index = hosted
-            .machine
+        let index = machine
             .axes
             .iter()
             .position(|a| a.name.to_string().eq_ignore_ascii_case(letter))
@@ -232,7 +231,7 @@ pub async fn set_work(
     let mut station = hosted.station();
     let work = station.controller.interpreter_mut().state.offsets.work_mut(slot);
     work[..values.len()].copy_from_slice(&values);
-    let shown = axes(&hosted.machine, work);
+    let shown = axes(&machine, work);
     station.offsets_saved();
     station.controller.offsets_changed();
     Ok(Json(WorkOffsetDto { name: name_of(slot), axes: shown }))

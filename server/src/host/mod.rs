@@ -19,7 +19,6 @@ use std::time::Duration;
 
 use fivex_engine::controller::Controller;
 use fivex_engine::interp::Config;
-use fivex_engine::kin::Kinematics;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::{Alarm, Dialect};
 use tokio::sync::{broadcast, mpsc, watch};
@@ -172,9 +171,7 @@ impl Host {
 pub struct Hosted {
     pub id: String,
     pub dialect: Dialect,
-    pub machine: MachineConfig,
     pub created_at: String,
-    kinematics: Option<Kinematics>,
     name: RwLock<String>,
     /// Simulated seconds per real second, as f64 bits.
     speed: AtomicU64,
@@ -202,20 +199,17 @@ pub struct Spec {
 impl Hosted {
     /// A controller in reset state (AUTO, idle) on `spec`'s machine.
     pub fn new(spec: Spec) -> Hosted {
-        let config = Config::new(spec.machine.clone(), spec.dialect);
-        let mut controller = Controller::new(config);
+        let mut controller = Controller::new(Config::new(spec.machine.clone(), spec.dialect));
         crate::tools::equip_defaults(&mut controller.interpreter_mut().state.offsets);
         let (position, _) = watch::channel(None);
         let (events, _) = broadcast::channel(EVENT_BUFFER);
         Hosted {
-            kinematics: Kinematics::new(&spec.machine).ok(),
             id: spec.id,
             dialect: spec.dialect,
-            machine: spec.machine,
             created_at: spec.created_at,
             name: RwLock::new(spec.name),
             speed: AtomicU64::new(clamp_speed(spec.speed).to_bits()),
-            station: Mutex::new(Station::new(controller)),
+            station: Mutex::new(Station::new(controller, spec.machine)),
             position,
             events,
         }
@@ -256,15 +250,6 @@ impl Hosted {
         for m in messages {
             let _ = self.events.send(Arc::new(m));
         }
-    }
-
-    /// The position frame of the station as it is now.
-    pub fn frame(&self, station: &Station) -> Frame {
-        Frame::of(self, station)
-    }
-
-    fn kinematics(&self) -> Option<&Kinematics> {
-        self.kinematics.as_ref()
     }
 }
 

@@ -3,10 +3,13 @@
 //! and the translation of the controller's events into stream messages and database records.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use fivex_engine::controller::{Controller, Event, RunState};
 use fivex_engine::interp::Offsets;
 use fivex_engine::interp::{MAX_G54_1, MAX_TOOL_OFFSETS};
+use fivex_engine::kin::Kinematics;
+use fivex_engine::machine::MachineConfig;
 
 use crate::db::ToolRow;
 
@@ -23,6 +26,10 @@ const SAVE_VARIABLES_EVERY: f64 = 1.0;
 
 pub struct Station {
     pub controller: Controller,
+    /// The machine the controller runs (replaced, with the controller, by a parameter change).
+    pub machine: Arc<MachineConfig>,
+    /// Its mechanism (`None` when the kinematics refuses it; positions show the tool along +Z).
+    pub kinematics: Option<Kinematics>,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
     run: Option<RunStart>,
@@ -44,11 +51,13 @@ struct RunStart {
 }
 
 impl Station {
-    pub fn new(controller: Controller) -> Station {
+    pub fn new(controller: Controller, machine: MachineConfig) -> Station {
         let saved = Box::new(*controller.interpreter().state.persistent());
         let streamed = controller.interpreter().state.common_variables().into_iter().collect();
         let saved_offsets = controller.interpreter().state.offsets.clone();
         Station {
+            kinematics: Kinematics::new(&machine).ok(),
+            machine: Arc::new(machine),
             controller,
             program: None,
             run: None,
@@ -58,6 +67,23 @@ impl Station {
             since_streamed: 0.0,
             since_saved: 0.0,
         }
+    }
+
+    /// Put a new machine under the controller (a parameter change): a fresh controller in reset
+    /// state that keeps the offsets, the retained variables and the panel settings.
+    pub fn replace_machine(&mut self, machine: MachineConfig, dialect: fivex_engine::Dialect) {
+        let old = &self.controller;
+        let (offsets, retained, panel) =
+            (old.interpreter().state.offsets.clone(), *old.interpreter().state.persistent(), old.panel);
+        let mut controller = Controller::new(fivex_engine::interp::Config::new(machine.clone(), dialect));
+        controller.interpreter_mut().state.offsets = offsets;
+        controller.interpreter_mut().state.load_persistent(&retained);
+        controller.panel = panel;
+        self.kinematics = Kinematics::new(&machine).ok();
+        self.machine = Arc::new(machine);
+        self.controller = controller;
+        self.program = None;
+        self.run = None;
     }
 
     /// Retained values read from the database: they count as saved.

@@ -10,7 +10,7 @@ use fivex_engine::controller::{Mode, RunState};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::Alarm;
 
-use super::{now_unix_ms, Hosted, Station};
+use super::{now_unix_ms, Station};
 
 /// `{"type": "position", …}`: where the machine is.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
@@ -42,16 +42,16 @@ pub struct Frame {
 }
 
 impl Frame {
-    pub fn of(hosted: &Hosted, station: &Station) -> Frame {
+    pub fn of(station: &Station) -> Frame {
         let c = &station.controller;
         let p = c.point();
-        let tool = hosted.kinematics().map_or([0.0, 0.0, 1.0], |k| k.forward(&p.machine, 0.0).tool.into());
+        let tool = station.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&p.machine, 0.0).tool.into());
         Frame {
             kind: "position",
             t: c.time(),
             wall_ms: now_unix_ms(),
-            machine: axes(&hosted.machine, &p.machine),
-            workpiece: axes(&hosted.machine, &p.work),
+            machine: axes(&station.machine, &p.machine),
+            workpiece: axes(&station.machine, &p.work),
             tip: [p.work[0], p.work[1], p.work[2]],
             tool,
             line: p.line,

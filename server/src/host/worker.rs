@@ -50,7 +50,7 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         let mut station = hosted.station();
         station.controller.tick(real_dt * hosted.speed());
         let (messages, records) = station.collect(&hosted.id, real_dt, watching);
-        let frame = positions.then(|| Frame::of(hosted, &station));
+        let frame = positions.then(|| Frame::of(&station));
         (messages, records, frame)
     };
     for record in records {

@@ -1,0 +1,111 @@
+//! The machine as a parameter list in the controller's dialect (FANUC No.1020…, Syntec Pr21…),
+//! and changing one parameter, which puts a new machine under the controller as a power cycle
+//! would.
+
+use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::{Json, Path, State};
+use fivex_engine::controller::RunState;
+use fivex_engine::vendor::{self, Params, Value as ParamValue};
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use super::{body, hosted, path};
+use crate::db;
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// A controller's parameters.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct ParameterList {
+    /// `fanuc` or `syntec`: whose numbering.
+    pub dialect: String,
+    /// `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis.
+    #[schema(value_type = std::collections::HashMap<String, Object>)]
+    pub parameters: Params,
+}
+
+/// `PUT /parameters/{number}`.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetParameter {
+    /// A number, or one number per axis for an axis-type parameter.
+    #[schema(value_type = Object)]
+    pub value: ParamValue,
+}
+
+fn list(
+    dialect: fivex_engine::Dialect,
+    machine: &fivex_engine::machine::MachineConfig,
+) -> Result<ParameterList, ApiError> {
+    let parameters = vendor::params_of(dialect, machine).map_err(|e| {
+        ApiError::Conflict(format!("this machine has no {} parameter form: {}", dialect.name(), e.describe(dialect)))
+    })?;
+    Ok(ParameterList { dialect: dialect.name().to_string(), parameters })
+}
+
+/// The machine as the dialect's parameter list (canonical form).
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/parameters",
+    tag = "parameters",
+    params(("id" = String, Path, description = "Controller id")),
+    responses(
+        (status = 200, description = "Parameters", body = ParameterList),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "The machine cannot be written in this dialect's parameters", body = ErrorBody),
+    )
+)]
+pub async fn get_all(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<ParameterList>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let machine = hosted.station().machine.clone();
+    Ok(Json(list(hosted.dialect, &machine)?))
+}
+
+/// Change one parameter. The new set must describe a machine that works (else 422 with the
+/// vendor's alarm); the controller then restarts on it in reset state (offsets and retained
+/// variables kept). Only while nothing runs.
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/parameters/{number}",
+    tag = "parameters",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "Parameter number")),
+    request_body = SetParameter,
+    responses(
+        (status = 200, description = "Changed; the whole list after the change", body = ParameterList),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "A program runs or holds, or the machine has no parameter form", body = ErrorBody),
+        (status = 422, description = "The set does not describe a working machine (the vendor's alarm)", body = ErrorBody),
+    )
+)]
+pub async fn set(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+    request: Result<Json<SetParameter>, JsonRejection>,
+) -> Result<Json<ParameterList>, ApiError> {
+    let (id, number) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    let value = body(request)?.value;
+    let finite = match &value {
+        ParamValue::One(x) => x.is_finite(),
+        ParamValue::PerAxis(v) => v.iter().all(|x| x.is_finite()),
+    };
+    if !finite {
+        return Err(ApiError::Unprocessable("parameter values must be finite numbers".into(), None));
+    }
+    let current = hosted.station().machine.clone();
+    let mut parameters = list(hosted.dialect, &current)?.parameters;
+    parameters.0.insert(number, value);
+    let machine = vendor::machine_from(hosted.dialect, &current.name, &parameters)
+        .map_err(|e| ApiError::Unprocessable(e.describe(hosted.dialect), None))?;
+    let json = serde_json::to_string(&machine).map_err(|e| ApiError::Unprocessable(e.to_string(), None))?;
+    if hosted.station().controller.run_state() != RunState::Idle {
+        return Err(ApiError::Conflict("parameters change only while nothing runs".into()));
+    }
+    db::update_machine(&state.db, &hosted.id, &json).await?;
+    let answer = list(hosted.dialect, &machine)?;
+    hosted.station().replace_machine(machine, hosted.dialect);
+    tracing::info!(id = %hosted.id, number, "parameter changed; controller restarted on the new machine");
+    Ok(Json(answer))
+}
