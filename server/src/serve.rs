@@ -58,6 +58,8 @@ pub struct AppState {
     closing: Arc<watch::Sender<bool>>,
     /// The database writer of the workers' records, awaited at shutdown.
     writer: Arc<std::sync::Mutex<Option<tokio::task::JoinHandle<()>>>>,
+    /// The bearer token the API requires, if any.
+    token: Option<Arc<str>>,
 }
 
 impl AppState {
@@ -72,9 +74,14 @@ impl AppState {
     /// again (one that cannot be, a machine document this version refuses, is logged and left
     /// in the database untouched).
     pub async fn restore(db: SqlitePool) -> Result<Self, sqlx::Error> {
+        Self::restore_with(db, Host::default_workers()).await
+    }
+
+    /// [`AppState::restore`] with `workers` worker threads.
+    pub async fn restore_with(db: SqlitePool, workers: usize) -> Result<Self, sqlx::Error> {
         let (records, incoming) = tokio::sync::mpsc::unbounded_channel();
         let writer = tokio::spawn(db::write_records(db.clone(), incoming));
-        let host = Host::new(Host::default_workers(), records);
+        let host = Host::new(workers, records);
         let speeds = db::controller_speeds(&db).await?;
         for row in db::list_controllers(&db).await? {
             let machine = match crate::machine_file::parse(&row.machine_json) {
@@ -108,7 +115,19 @@ impl AppState {
         }
         tracing::info!(controllers = host.len(), "controllers restored");
         let (closing, _) = watch::channel(false);
-        Ok(Self { db, host, closing: Arc::new(closing), writer: Arc::new(std::sync::Mutex::new(Some(writer))) })
+        Ok(Self {
+            db,
+            host,
+            closing: Arc::new(closing),
+            writer: Arc::new(std::sync::Mutex::new(Some(writer))),
+            token: None,
+        })
+    }
+
+    /// Require `Authorization: Bearer token` on the API (an empty token requires nothing).
+    pub fn with_token(mut self, token: Option<String>) -> Self {
+        self.token = token.filter(|t| !t.is_empty()).map(Arc::from);
+        self
     }
 
     /// A receiver that changes when the service starts shutting down.
@@ -158,6 +177,8 @@ pub enum ApiError {
     Rejected(StatusCode, String),
     #[error("service unavailable: {0}")]
     Unavailable(String),
+    #[error("a bearer token is required (Authorization: Bearer TOKEN)")]
+    Unauthorized,
     #[error("internal database error")]
     Database(#[from] sqlx::Error),
 }
@@ -172,6 +193,7 @@ impl ApiError {
             ApiError::Unprocessable(..) => StatusCode::UNPROCESSABLE_ENTITY,
             ApiError::Rejected(status, _) => *status,
             ApiError::Unavailable(_) => StatusCode::SERVICE_UNAVAILABLE,
+            ApiError::Unauthorized => StatusCode::UNAUTHORIZED,
             ApiError::Database(_) => StatusCode::INTERNAL_SERVER_ERROR,
         }
     }
@@ -241,6 +263,37 @@ async fn healthz(State(state): State<AppState>) -> Result<Json<Health>, ApiError
     Ok(Json(Health { status: "ok".into() }))
 }
 
+/// With a token configured, every `/api/` request must carry it: `Authorization: Bearer TOKEN`,
+/// or `?token=TOKEN` (browsers cannot set headers on a websocket). The dashboard, health check
+/// and API documentation stay open.
+async fn require_token(State(state): State<AppState>, req: Request, next: Next) -> Response {
+    let Some(token) = &state.token else { return next.run(req).await };
+    if !req.uri().path().starts_with("/api/") {
+        return next.run(req).await;
+    }
+    let header = req
+        .headers()
+        .get(axum::http::header::AUTHORIZATION)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.strip_prefix("Bearer "));
+    let query = req.uri().query().and_then(|q| q.split('&').find_map(|kv| kv.strip_prefix("token=")));
+    let given = header.or(query).unwrap_or("");
+    if constant_time_eq(given.as_bytes(), token.as_bytes()) {
+        next.run(req).await
+    } else {
+        let mut response = ApiError::Unauthorized.into_response();
+        response
+            .headers_mut()
+            .insert(axum::http::header::WWW_AUTHENTICATE, axum::http::HeaderValue::from_static("Bearer"));
+        response
+    }
+}
+
+/// Equal without an early exit, so the time taken does not tell how much of a guess was right.
+fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
 async fn not_found(method: Method, uri: Uri) -> ApiError {
     ApiError::NotFound(format!("no route for {method} {}", uri.path()))
 }
@@ -307,6 +360,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::history::alarms,
         api::history::runs,
         api::stream::stream,
+        api::stream::fleet,
     ),
     components(schemas(
         Health,
@@ -317,6 +371,8 @@ async fn log_request(req: Request, next: Next) -> Response {
         crate::host::stream::Frame,
         crate::host::stream::Message,
         api::stream::Snapshot,
+        api::stream::Fleet,
+        api::stream::FleetEntry,
     )),
     tags(
         (name = "service", description = "Service health and documentation"),
@@ -358,6 +414,7 @@ pub fn app(state: AppState) -> Router {
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .layer(middleware::from_fn_with_state(state.clone(), require_token))
         .layer(middleware::from_fn(log_request))
         .with_state(state)
 }
@@ -437,10 +494,25 @@ fn init_tracing() {
         .try_init();
 }
 
-/// `fivex serve`: opens (creating and migrating) the database at `db`, listens on `addr` and
-/// serves until Ctrl-C or SIGTERM, then shuts down gracefully. Returns a message for the user on
-/// any failure (database, address in use, …).
+/// How `fivex serve` runs (flags or `FIVEX_DB`, `FIVEX_ADDR`, `FIVEX_TOKEN`, `FIVEX_WORKERS`).
+#[derive(Debug, Clone)]
+pub struct ServeOptions {
+    pub db: std::path::PathBuf,
+    pub addr: String,
+    pub token: Option<String>,
+    pub workers: Option<usize>,
+}
+
+/// `fivex serve` with the database and address only.
 pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
+    run_with(ServeOptions { db: db.to_path_buf(), addr: addr.to_string(), token: None, workers: None })
+}
+
+/// `fivex serve`: opens (creating and migrating) the database, brings the stored controllers
+/// back, listens on the address and serves until Ctrl-C or SIGTERM, then shuts down gracefully
+/// (websockets closed, workers stopped, their records written). Returns a message for the user
+/// on any failure (database, address in use, …).
+pub fn run_with(options: ServeOptions) -> Result<(), String> {
     init_tracing();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -448,8 +520,14 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
         .build()
         .map_err(|e| format!("cannot start the async runtime: {e}"))?;
     runtime.block_on(async {
-        let state = AppState::open(db).await.map_err(|e| e.to_string())?;
-        tracing::info!(db = %db.display(), "database ready");
+        let (db, addr) = (&options.db, &options.addr);
+        let pool = db::open(db).await.map_err(|e| e.to_string())?;
+        let workers = options.workers.unwrap_or_else(Host::default_workers);
+        let state = AppState::restore_with(pool, workers)
+            .await
+            .map_err(|e| format!("cannot read the controllers of {}: {e}", db.display()))?
+            .with_token(options.token.clone());
+        tracing::info!(db = %db.display(), workers, token = state.token.is_some(), "database ready");
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         let local = listener.local_addr().map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         // Installed before announcing the address: once the line below is logged, SIGINT and

@@ -431,3 +431,22 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
     let syntec = create(&app, json!({"name": "s", "preset": "head-bc", "dialect": "syntec"})).await;
     assert_eq!(app.get(&format!("{C}/{syntec}/parameters")).await.json()["parameters"]["3001"], 1);
 }
+
+#[tokio::test]
+async fn with_a_token_the_api_needs_it_and_the_rest_stays_open() {
+    let mut app = spawn_app().await;
+    app.state = app.state.clone().with_token(Some("s3cret".into()));
+    let reply = app.get(C).await;
+    assert_eq!(reply.status, StatusCode::UNAUTHORIZED);
+    assert!(error_of(&reply).contains("Bearer"));
+    let with = |auth: &str| {
+        axum::http::Request::get(C).header("authorization", auth.to_string()).body(axum::body::Body::empty()).unwrap()
+    };
+    assert_eq!(app.send(with("Bearer s3cret")).await.status, StatusCode::OK);
+    assert_eq!(app.send(with("Bearer s3cre")).await.status, StatusCode::UNAUTHORIZED);
+    assert_eq!(app.send(with("s3cret")).await.status, StatusCode::UNAUTHORIZED);
+    assert_eq!(app.get(&format!("{C}?token=s3cret")).await.status, StatusCode::OK);
+    for open in ["/healthz", "/", "/api-docs/openapi.json"] {
+        assert_eq!(app.get(open).await.status, StatusCode::OK, "{open}");
+    }
+}

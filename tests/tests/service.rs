@@ -137,6 +137,10 @@ fn a_program_runs_over_the_api_the_stream_shows_it_and_a_restart_keeps_everythin
     let program = "G90 G01 X50. Y20. Z10. A10. C30. F3000\n#500=42\n#101=#500+1\nG01 X0 Y0 Z0 A0 C0\nM30\n";
     server.put_text(&format!("/controllers/{id}/programs/1"), program);
 
+    let (mut fleet, _) = tungstenite::connect(format!("ws://{}/api/v1/stream?rate=10", server.addr)).unwrap();
+    let first = next_json(&mut fleet).expect("fleet message");
+    assert_eq!((first["type"].as_str(), first["controllers"][0]["name"].as_str()), (Some("fleet"), Some("cell")));
+    assert_eq!(first["controllers"][0]["run_state"], "idle");
     let mut ws = server.stream(&id);
     let snapshot = next_json(&mut ws).expect("snapshot");
     assert_eq!(snapshot["type"], "snapshot");
@@ -166,6 +170,17 @@ fn a_program_runs_over_the_api_the_stream_shows_it_and_a_restart_keeps_everythin
         }
     }
     assert_eq!(states, ["running", "idle"], "state messages");
+    // The fleet stream saw it run.
+    let mut fleet_states = Vec::new();
+    while let Some(m) = next_json(&mut fleet) {
+        let state = m["controllers"][0]["run_state"].as_str().unwrap().to_string();
+        let done = state == "idle";
+        fleet_states.push(state);
+        if done {
+            break;
+        }
+    }
+    assert!(fleet_states.contains(&"running".to_string()), "{fleet_states:?}");
     assert!(positions.len() > 20, "{} position frames", positions.len());
     let moved = positions.iter().any(|p| p["machine"]["A"].as_f64().unwrap() > 5.0);
     assert!(moved, "the frames show A turning");

@@ -52,6 +52,7 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/alarms", get(history::alarms))
         .route("/controllers/{id}/runs", get(history::runs))
         .route("/controllers/{id}/stream", get(stream::stream))
+        .route("/stream", get(stream::fleet))
 }
 
 /// A controller as `GET /controllers/{id}` shows it.

@@ -141,3 +141,111 @@ async fn send(tx: &mut Sink, text: String) -> bool {
 fn json<T: Serialize>(value: &T) -> String {
     serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"type\":\"error\",\"error\":\"{e}\"}}"))
 }
+
+/// One controller in the fleet stream.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct FleetEntry {
+    pub id: String,
+    pub name: String,
+    pub machine: String,
+    pub dialect: String,
+    pub mode: String,
+    pub run_state: String,
+    pub program: Option<u32>,
+    pub line: u32,
+    /// The first alarm in force, if any.
+    pub alarm: Option<crate::host::stream::AlarmInfo>,
+}
+
+/// `{"type": "fleet", "controllers": […]}`.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct Fleet {
+    /// Always `"fleet"`.
+    #[serde(rename = "type")]
+    #[schema(example = "fleet")]
+    pub kind: &'static str,
+    pub controllers: Vec<FleetEntry>,
+}
+
+fn fleet_now(state: &AppState) -> Fleet {
+    let controllers = state
+        .host
+        .list()
+        .iter()
+        .map(|h| {
+            let s = ControllerStatus::now(h);
+            FleetEntry {
+                id: s.id,
+                name: s.name,
+                machine: s.machine,
+                dialect: s.dialect,
+                mode: s.mode,
+                run_state: s.run_state,
+                program: s.program,
+                line: s.line,
+                alarm: s.alarms.into_iter().next(),
+            }
+        })
+        .collect();
+    Fleet { kind: "fleet", controllers }
+}
+
+#[derive(Debug, Clone, Deserialize, IntoParams)]
+pub struct FleetOptions {
+    /// Fleet messages per second (0.1–30, default 2); one is sent only when something changed.
+    pub rate: Option<f64>,
+}
+
+/// The status of every controller over a websocket: `{"type": "fleet", "controllers": […]}`
+/// at once and whenever it changes (checked at the requested rate).
+#[utoipa::path(
+    get,
+    path = "/api/v1/stream",
+    tag = "stream",
+    params(FleetOptions),
+    responses(
+        (status = 101, description = "Websocket of fleet messages", body = Fleet),
+        (status = 422, description = "Bad rate", body = ErrorBody),
+    )
+)]
+pub async fn fleet(
+    State(state): State<AppState>,
+    options: Result<Query<FleetOptions>, QueryRejection>,
+    upgrade: WebSocketUpgrade,
+) -> Result<Response, ApiError> {
+    let rate = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.rate.unwrap_or(2.0);
+    if !(rate.is_finite() && (0.1..=30.0).contains(&rate)) {
+        return Err(ApiError::Unprocessable("rate must be 0.1–30 messages per second".into(), None));
+    }
+    Ok(upgrade.on_upgrade(move |socket| fleet_session(socket, state, rate)))
+}
+
+async fn fleet_session(socket: WebSocket, state: AppState, rate: f64) {
+    let (mut tx, mut rx) = socket.split();
+    let mut closing = state.closing();
+    let mut every = tokio::time::interval(Duration::from_secs_f64(1.0 / rate));
+    every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    let mut last = String::new();
+    loop {
+        let ok = tokio::select! {
+            _ = every.tick() => {
+                let text = json(&fleet_now(&state));
+                if text == last {
+                    true
+                } else {
+                    last = text.clone();
+                    send(&mut tx, text).await
+                }
+            }
+            incoming = rx.next() => !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_)))),
+            _ = closing.changed() => {
+                let bye = CloseFrame { code: axum::extract::ws::close_code::AWAY, reason: Utf8Bytes::from_static("server shutting down") };
+                let _ = tokio::time::timeout(Duration::from_secs(1), tx.send(Ws::Close(Some(bye)))).await;
+                false
+            }
+        };
+        if !ok {
+            break;
+        }
+    }
+}

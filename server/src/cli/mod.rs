@@ -110,11 +110,17 @@ struct CheckArgs {
 #[derive(Args, Debug)]
 struct ServeArgs {
     /// SQLite database file (created and migrated on start).
-    #[arg(long, default_value = "fivex.db")]
+    #[arg(long, env = "FIVEX_DB", default_value = "fivex.db")]
     db: PathBuf,
     /// Address to listen on.
-    #[arg(long, default_value = "127.0.0.1:8080")]
+    #[arg(long, env = "FIVEX_ADDR", default_value = "127.0.0.1:8080")]
     addr: String,
+    /// Require `Authorization: Bearer TOKEN` on the API (websockets may pass `?token=TOKEN`).
+    #[arg(long, env = "FIVEX_TOKEN", hide_env_values = true)]
+    token: Option<String>,
+    /// Worker threads that run the controllers (default: one per core).
+    #[arg(long, env = "FIVEX_WORKERS")]
+    workers: Option<usize>,
 }
 
 /// A usage or IO error: exit status 2.
@@ -146,7 +152,8 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
         Command::Machine(a) => machine::run(a),
         Command::Check(a) => cmd_check(a),
         Command::Serve(a) => {
-            crate::serve::run_blocking(&a.db, &a.addr).map_err(Fail)?;
+            let options = crate::serve::ServeOptions { db: a.db, addr: a.addr, token: a.token, workers: a.workers };
+            crate::serve::run_with(options).map_err(Fail)?;
             Ok(0)
         }
     }
