@@ -14,7 +14,7 @@ use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos};
 use crate::interp::{Config, Interpreter, Step};
 use crate::kin::{latitude_longitude, Kinematics, ManualFeed, Vec3};
-use crate::machine::MachineConfig;
+use crate::machine::{MachineConfig, ManualOptions, ManualVertical};
 use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
 use std::collections::VecDeque;
 
@@ -49,11 +49,29 @@ pub struct Panel {
     pub rapid_override: f64,
     /// JOG and HANDLE feed, mm/min or deg/min (FANUC No.1423).
     pub jog_feed: f64,
-    /// Tool length the 5-axis manual feeds turn the tool about, mm (FANUC No.12318).
-    pub manual_tool_length: f64,
-    /// The right-angle feeds as longitude/latitude about this vertical axis ('X', 'Y' or 'Z';
-    /// FANUC FLL = 1 with No.12321); `None`: the right-angle directions (FLL = 0).
-    pub latitude_longitude: Option<char>,
+    /// Manual absolute (FANUC signal *ABSM = 0): after a manual intervention in a held program,
+    /// cycle start goes on to the programmed end point; off (*ABSM = 1): the current and every
+    /// later end point are shifted by the intervention.
+    pub manual_absolute: bool,
+    /// Syntec R518: the coordinate system X/Y/Z JOG and HANDLE move in.
+    pub manual_coordinates: ManualCoordinates,
+    /// Syntec R519 manual RTCP: under tool centre point control, jogging a rotary axis keeps
+    /// the tool tip where it is (tool tip centre rotation).
+    pub manual_rtcp: bool,
+}
+
+/// Syntec R518: the coordinate system of manual X/Y/Z moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ManualCoordinates {
+    /// R518 = 0: each axis on its own.
+    #[default]
+    Machine,
+    /// R518 = 1: the programming coordinate system (turning with the table under tool centre
+    /// point control, the tilted working plane's axes in one).
+    Program,
+    /// R518 = 2: the tool's (X, Y: right-angle directions 1 and 2, Z: the tool axis).
+    Tool,
 }
 
 impl Default for Panel {
@@ -65,8 +83,9 @@ impl Default for Panel {
             feed_override: 1.0,
             rapid_override: 1.0,
             jog_feed: 1000.0,
-            manual_tool_length: 0.0,
-            latitude_longitude: None,
+            manual_absolute: true,
+            manual_coordinates: ManualCoordinates::Machine,
+            manual_rtcp: false,
         }
     }
 }
@@ -144,6 +163,31 @@ pub struct Controller {
     /// The interpreter has more blocks to run.
     program_active: bool,
     wait: Wait,
+    /// A manual intervention in a held program (JOG/HANDLE between feed hold or a single-block
+    /// stop and cycle start).
+    intervention: Option<Intervention>,
+    /// Manual absolute off: what the interventions moved, added to every later motion.
+    shift: Option<Shift>,
+}
+
+/// A held program while the operator moves the machine by hand.
+struct Intervention {
+    /// The mode to come back to, and whether the program was held (or at a block stop).
+    mode: Mode,
+    held: bool,
+    /// Where the machine stood.
+    start: Pos,
+    /// The rest of the path, and where it ends.
+    path: Vec<Segment>,
+    queued: (Pos, Pos),
+}
+
+/// The shift of manual absolute off (FANUC MAN-02/03): every axis by `machine`; a tool tip path
+/// (TCP, tilted working plane) by `tip` in the table frame.
+#[derive(Debug, Clone, Copy)]
+struct Shift {
+    machine: Pos,
+    tip: Vec3,
 }
 
 /// A pending canonical command, or a single-block stop point.
@@ -186,6 +230,8 @@ impl Controller {
             pending: VecDeque::new(),
             program_active: false,
             wait: Wait::None,
+            intervention: None,
+            shift: None,
         }
     }
 
@@ -231,18 +277,130 @@ impl Controller {
 
     // --- operator actions ---------------------------------------------------------------
 
-    /// Change the mode: only while no program or motion is under way (held or not).
+    /// Change the mode: only while no program or motion is under way, or, for a manual
+    /// intervention, from AUTO/MDI held (feed hold, single-block stop) to JOG/HANDLE and back.
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
-        if self.busy() || self.run_state == RunState::Hold || !self.planner.is_empty() {
+        if self.current.is_some() || self.stopping.is_some() || self.run_state == RunState::Running {
+            return Err(Refusal::Busy);
+        }
+        if let Some(i) = &self.intervention {
+            return match mode {
+                Mode::Jog | Mode::Handle => {
+                    self.mode = mode;
+                    Ok(())
+                }
+                m if m == i.mode => {
+                    self.end_intervention();
+                    Ok(())
+                }
+                _ => Err(Refusal::Busy),
+            };
+        }
+        let held = self.run_state == RunState::Hold;
+        let at_block_stop = self.wait == Wait::Operator && (self.program_active || !self.pending.is_empty());
+        if (held || at_block_stop) && matches!(self.mode, Mode::Auto | Mode::Mdi) {
+            if !matches!(mode, Mode::Jog | Mode::Handle) || self.estop {
+                return Err(Refusal::Busy);
+            }
+            self.intervention = Some(Intervention {
+                mode: self.mode,
+                held,
+                start: self.here.machine,
+                path: self.planner.take_all(),
+                queued: (self.queued_machine, self.queued_work),
+            });
+            (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+            self.mode = mode;
+            return Ok(());
+        }
+        if self.busy() || held || !self.planner.is_empty() {
             return Err(Refusal::Busy);
         }
         self.mode = mode;
         Ok(())
     }
 
+    /// Back from a manual intervention: the held path goes on from where the machine stands,
+    /// to the programmed end point (manual absolute on) or shifted by the intervention (off).
+    fn end_intervention(&mut self) {
+        let Some(i) = self.intervention.take() else { return };
+        self.mode = i.mode;
+        let here = self.here.machine;
+        let moved: Pos = std::array::from_fn(|k| here[k] - i.start[k]);
+        let mut path = i.path;
+        (self.queued_machine, self.queued_work) = i.queued;
+        if moved.iter().any(|d| d.abs() > 1e-9) {
+            if !self.panel.manual_absolute {
+                let shift = self.intervention_shift(&i.start, &moved);
+                path = path.iter().map(|seg| seg.shifted(&shift.machine, shift.tip)).collect();
+                if let Some(last) = path.last() {
+                    (self.queued_machine, self.queued_work) = (last.to, last.work_to);
+                } else {
+                    (self.queued_machine, self.queued_work) = (here, self.here.work);
+                }
+                self.shift = Some(match self.shift {
+                    Some(s) => Shift {
+                        machine: std::array::from_fn(|k| s.machine[k] + shift.machine[k]),
+                        tip: s.tip + shift.tip,
+                    },
+                    None => shift,
+                });
+            } else if path.is_empty() {
+                // At a block stop: the next block starts where the machine is.
+                (self.queued_machine, self.queued_work) = (here, self.here.work);
+            }
+            let continues =
+                path.first().is_some_and(|seg| seg.from.iter().zip(&here).all(|(a, b)| (a - b).abs() < 1e-9));
+            if !path.is_empty() && !continues {
+                // The rest of the block under way becomes one straight move to its end.
+                let line = path[0].line;
+                let block = path.iter().take_while(|seg| seg.line == line).count();
+                let end = &path[block - 1];
+                let m = Motion {
+                    kind: if end.rapid { MotionKind::Rapid } else { MotionKind::Linear },
+                    target: end.work_to,
+                    machine: end.to,
+                    arc: None,
+                    tip: None,
+                    feed: end.programmed_feed(),
+                    feed_mode: crate::canon::FeedMode::PerMinute,
+                    spindle: 0.0,
+                    context: MotionContext::default(),
+                };
+                let (queued_machine, queued_work) = (self.queued_machine, self.queued_work);
+                (self.queued_machine, self.queued_work) = (here, self.here.work);
+                let mut seg = self.segment(&m);
+                (seg.line, seg.n) = (end.line, end.n);
+                path.splice(0..block, [seg]);
+                (self.queued_machine, self.queued_work) = (queued_machine, queued_work);
+            }
+        }
+        for seg in path {
+            self.planner.push(seg);
+        }
+        if i.held {
+            self.set_state(RunState::Hold);
+        }
+    }
+
+    /// What a manual intervention from `start` that moved the axes by `moved` shifts: every
+    /// axis of plain motions by `moved`; a tool tip path by the tip's displacement seen from
+    /// the table (a rotary axis moved by hand shifts the tool centre point, MAN-02; on table
+    /// machines the shift turns with the table, MAN-03).
+    fn intervention_shift(&self, start: &Pos, moved: &Pos) -> Shift {
+        let tip = match &self.kinematics {
+            Some(kin) => {
+                let length = self.interp.active_length_offset().unwrap_or(0.0);
+                kin.forward(&self.here.machine, length).tip - kin.forward(start, length).tip
+            }
+            None => Vec3::zeros(),
+        };
+        Shift { machine: *moved, tip }
+    }
+
     /// The program AUTO runs (NC text).
     pub fn select_program(&mut self, text: &str) -> Result<(), Refusal> {
-        if self.busy() {
+        if self.busy() || self.intervention.is_some() {
             return Err(Refusal::Busy);
         }
         self.program = Some(text.to_string());
@@ -261,8 +419,12 @@ impl Controller {
         Ok(())
     }
 
+    /// A program or a motion is under way (a program held for a manual intervention lets
+    /// the manual commands through).
     fn busy(&self) -> bool {
-        self.run_state == RunState::Running || self.program_active || self.current.is_some()
+        self.run_state == RunState::Running
+            || (self.program_active && self.intervention.is_none())
+            || self.current.is_some()
     }
 
     pub fn cycle_start(&mut self) -> Result<(), Refusal> {
@@ -360,6 +522,7 @@ impl Controller {
     /// Reset: decelerate, abandon the program, clear the alarms (not an emergency stop that is
     /// still pressed).
     pub fn reset(&mut self) {
+        self.intervention = None;
         if self.current.is_some() {
             self.decelerate(AfterStop::Drop);
         } else {
@@ -378,6 +541,7 @@ impl Controller {
 
     /// The program stops for good: nothing read ahead is carried out.
     fn abandon_program(&mut self) {
+        self.shift = None;
         self.pending.clear();
         self.interp.reset();
         self.program_active = false;
@@ -388,6 +552,7 @@ impl Controller {
     pub fn emergency_stop(&mut self, pressed: bool) {
         self.estop = pressed;
         if pressed {
+            self.intervention = None;
             self.current = None;
             self.stopping = None;
             self.planner.take_all();
@@ -408,7 +573,7 @@ impl Controller {
         let limit = self.machine.axes[i].stroke.map(|[lo, hi]| if positive { hi } else { lo });
         let far = if positive { 1.0e6 } else { -1.0e6 };
         let target = limit.unwrap_or(self.here.machine[i] + far);
-        self.manual_move(i, target, self.panel.jog_feed * self.panel.feed_override)
+        self.manual_move(i, target, self.panel.jog_feed)
     }
 
     pub fn jog_stop(&mut self) {
@@ -432,12 +597,14 @@ impl Controller {
     }
 
     /// JOG along a 5-axis manual feed direction (tool axis, its right angles, table vertical
-    /// or horizontal; `kin::ManualDirections`), at the jog feed, until jog stop or the strokes.
+    /// or horizontal; `kin::ManualDirections`, `ManualOptions`), at the 5-axis jog feed
+    /// ([`Controller::manual_jog_feed`]), until jog stop or the strokes.
     pub fn jog_direction(&mut self, feed: ManualFeed, positive: bool) -> Result<(), Refusal> {
         if self.mode != Mode::Jog {
             return Err(Refusal::WrongMode);
         }
-        self.move_along(feed, if positive { f64::INFINITY } else { f64::NEG_INFINITY })
+        let d = self.manual_direction(feed)?;
+        self.move_along(if positive { d } else { -d }, f64::INFINITY, self.manual_jog_feed())
     }
 
     /// HANDLE along a 5-axis manual feed direction by `amount` mm (stopping at the strokes).
@@ -445,17 +612,25 @@ impl Controller {
         if self.mode != Mode::Handle {
             return Err(Refusal::WrongMode);
         }
-        self.move_along(feed, amount)
+        if !amount.is_finite() {
+            return Err(Refusal::NoAxis);
+        }
+        let d = self.manual_direction(feed)?;
+        self.move_along(if amount < 0.0 { -d } else { d }, amount.abs(), self.panel.jog_feed)
     }
 
-    /// JOG tool tip centre rotation (FANUC MAN-12): turn rotary `axis` at the jog feed (deg/min)
-    /// while X/Y/Z keep the tool tip (`panel.manual_tool_length` long) where it is on the table,
-    /// until jog stop or a stroke.
+    /// JOG tool tip centre rotation (FANUC MAN-12): turn rotary `axis` while X/Y/Z keep the
+    /// tool tip (MAN-13's length) where it is on the table, until jog stop or a stroke. JFR:
+    /// the rotary axis at the jog feed, deg/min; otherwise the linear axes' resultant at the
+    /// dry run rate (with the override).
     pub fn jog_tip_rotation(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
         if self.mode != Mode::Jog {
             return Err(Refusal::WrongMode);
         }
-        self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 })
+        let o = &self.machine.manual;
+        let linear = (!o.jog_feedrate && o.dry_run_feed > 0.0).then_some(o.dry_run_feed * self.panel.feed_override);
+        let feed = self.panel.jog_feed * self.panel.feed_override;
+        self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, self.manual_tool_length(), feed, linear)
     }
 
     /// HANDLE tool tip centre rotation (FANUC MAN-11): turn rotary `axis` by `amount` degrees
@@ -464,10 +639,111 @@ impl Controller {
         if self.mode != Mode::Handle {
             return Err(Refusal::WrongMode);
         }
-        self.turn_about_tip(axis, amount)
+        if !amount.is_finite() {
+            return Err(Refusal::NoAxis);
+        }
+        self.turn_about_tip(axis, amount, self.manual_tool_length(), self.panel.jog_feed, None)
     }
 
-    fn turn_about_tip(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
+    /// Syntec R518: the coordinate system manual X/Y/Z moves use.
+    pub fn set_manual_coordinates(&mut self, choice: ManualCoordinates) -> Result<(), Refusal> {
+        if self.current.is_some() {
+            return Err(Refusal::Busy);
+        }
+        self.panel.manual_coordinates = choice;
+        Ok(())
+    }
+
+    /// Syntec R519: manual RTCP on or off (rotary JOG/HANDLE keep the tool tip under tool
+    /// centre point control).
+    pub fn set_manual_rtcp(&mut self, on: bool) -> Result<(), Refusal> {
+        if self.current.is_some() {
+            return Err(Refusal::Busy);
+        }
+        self.panel.manual_rtcp = on;
+        Ok(())
+    }
+
+    /// The 5-axis manual feed settings (FANUC No.12310–12322, 19746#2/#3, 1410, 1424), to
+    /// change as a parameter screen would.
+    pub fn manual_options(&self) -> &ManualOptions {
+        &self.machine.manual
+    }
+
+    pub fn manual_options_mut(&mut self) -> &mut ManualOptions {
+        &mut self.machine.manual
+    }
+
+    /// The tool length of the 5-axis manual feeds (FANUC MAN-13): No.12318, or with LOD the
+    /// offset data while an offset is active, else No.12318 (LOZ = 0) or 0 (LOZ = 1).
+    pub fn manual_tool_length(&self) -> f64 {
+        let o = &self.machine.manual;
+        if !o.length_from_offset {
+            return o.tool_length;
+        }
+        match self.interp.active_length_offset() {
+            Some(length) => length,
+            None if o.zero_length_without_offset => 0.0,
+            None => o.tool_length,
+        }
+    }
+
+    /// The feed of the 5-axis JOG feeds (FANUC MAN-06, TV-MAN-08): the dry run rate (No.1410),
+    /// or the jog feedrate with JFR (or when no dry run rate is set); the feed override acts
+    /// on it as on every JOG feed.
+    pub fn manual_jog_feed(&self) -> f64 {
+        let o = &self.machine.manual;
+        if o.jog_feedrate || o.dry_run_feed <= 0.0 {
+            self.panel.jog_feed
+        } else {
+            o.dry_run_feed
+        }
+    }
+
+    /// Where a 5-axis manual feed moves the tool now, machine coordinates (FANUC §2.15,
+    /// TV-MAN-05): in a tilted working plane with TWD the plane's axes; otherwise the
+    /// conventional directions, or with FLL longitude and latitude.
+    pub fn manual_direction(&self, feed: ManualFeed) -> Result<Vec3, Refusal> {
+        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        let o = &self.machine.manual;
+        if o.plane_directions {
+            if let Some([x, y, z]) = self.interp.plane_axes(&self.here.machine) {
+                return Ok(match feed {
+                    ManualFeed::ToolAxis | ManualFeed::TableVertical => z,
+                    ManualFeed::RightAngle1 | ManualFeed::TableHorizontal1 => x,
+                    ManualFeed::RightAngle2 | ManualFeed::TableHorizontal2 => y,
+                });
+            }
+        }
+        let d = kin.manual_directions(&self.here.machine);
+        let first = matches!(feed, ManualFeed::RightAngle1 | ManualFeed::TableHorizontal1);
+        let table = matches!(feed, ManualFeed::TableHorizontal1 | ManualFeed::TableHorizontal2);
+        if !o.latitude_longitude || matches!(feed, ManualFeed::ToolAxis | ManualFeed::TableVertical) {
+            return Ok(d.of(feed));
+        }
+        // Longitude and latitude of the tool direction, or for the table feeds of the table
+        // vertical (§2.15 [A]); No.12321 = 0: the reference tool direction for the tool feeds,
+        // the tool direction for the table feeds (OQ-28, each section literally).
+        let vertical = match o.vertical {
+            ManualVertical::Tool if table => d.tool,
+            ManualVertical::Tool => kin.tool_axis,
+            ManualVertical::X => Vec3::x(),
+            ManualVertical::Y => Vec3::y(),
+            ManualVertical::Z => Vec3::z(),
+        };
+        let normal = if table { d.table_vertical } else { d.tool };
+        let [r1, r2] = latitude_longitude(normal, vertical, o.parallel_deg);
+        Ok(if first { r1 } else { r2 })
+    }
+
+    fn turn_about_tip(
+        &mut self,
+        axis: char,
+        amount: f64,
+        length: f64,
+        feed_deg_min: f64,
+        linear_feed: Option<f64>,
+    ) -> Result<(), Refusal> {
         let kin = self.kinematics.clone().ok_or(Refusal::NoAxis)?;
         let i = self.axis(axis)?;
         if kin.linear.contains(&Some(i)) {
@@ -476,11 +752,29 @@ impl Controller {
         if self.busy() || self.estop || self.run_state == RunState::Alarm {
             return Err(Refusal::Busy);
         }
-        let (from, length) = (self.here.machine, self.panel.manual_tool_length);
+        let from = self.here.machine;
+        // The dry run rate is the linear axes' resultant: the rotary rate that gives it (the
+        // carriage turns on a circle about the rotary axis).
+        let feed = match linear_feed {
+            Some(f) => {
+                let mut step = from;
+                step[i] += 1e-3;
+                let tip = kin.forward(&from, length).tip;
+                let per_deg =
+                    (kin.carriage_for(&step, tip, length) - kin.carriage_for(&from, tip, length)).norm() / 1e-3;
+                if per_deg > 1e-9 {
+                    f / per_deg
+                } else {
+                    feed_deg_min
+                }
+            }
+            None => feed_deg_min,
+        };
+        let axes = self.manual_limits();
         let segment = |amount: f64| {
             let mut to = from;
             to[i] += amount;
-            Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, self.panel.jog_feed, &self.axes)
+            Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, feed, &axes)
         };
         // The largest part of the turn whose path (sampled) stays inside every stroke.
         let inside = |seg: &Segment| {
@@ -512,25 +806,27 @@ impl Controller {
         Ok(())
     }
 
-    /// Move X, Y, Z by `distance` along a manual feed direction, clamped to the strokes.
-    fn move_along(&mut self, feed: ManualFeed, distance: f64) -> Result<(), Refusal> {
-        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
-        let directions = kin.manual_directions(&self.here.machine);
-        let mut d = directions.of(feed);
-        if let (Some(axis), ManualFeed::RightAngle1 | ManualFeed::RightAngle2) = (self.panel.latitude_longitude, feed) {
-            let vertical = match axis {
-                'X' => Vec3::x(),
-                'Y' => Vec3::y(),
-                _ => Vec3::z(),
-            };
-            let [r1, r2] = latitude_longitude(directions.tool, vertical, 1.0);
-            d = if feed == ManualFeed::RightAngle1 { r1 } else { r2 };
+    /// The axis limits of manual moves: no axis faster than its manual rapid rate (FANUC
+    /// No.1424, TV-MAN-09; 0: the rapid rate).
+    fn manual_limits(&self) -> AxisLimits {
+        let mut axes = self.axes.clone();
+        for (i, &rapid) in self.machine.manual.rapid.iter().enumerate().take(axes.count) {
+            if rapid > 0.0 {
+                axes.v[i] = axes.v[i].min(rapid / 60.0);
+            }
         }
-        if distance < 0.0 {
-            d = -d;
+        axes
+    }
+
+    /// Move X, Y, Z up to `distance` along the unit direction `d` (machine coordinates),
+    /// clamped to the strokes.
+    fn move_along(&mut self, d: Vec3, distance: f64, feed: f64) -> Result<(), Refusal> {
+        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+            return Err(Refusal::Busy);
         }
         // The longest move along d that stays inside every stroke.
-        let mut reach = distance.abs();
+        let mut reach = distance;
         for (axis, &index) in kin.linear.iter().enumerate() {
             let Some(i) = index else { continue };
             let (x, di) = (self.here.machine[i], d[axis]);
@@ -548,11 +844,35 @@ impl Controller {
                 to[i] += d[axis] * reach;
             }
         }
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
-            return Err(Refusal::Busy);
-        }
-        self.push_manual(MotionKind::Linear, to, self.panel.jog_feed * self.panel.feed_override);
+        self.push_manual(MotionKind::Linear, to, feed);
         Ok(())
+    }
+
+    /// A motion under tool centre point control seen as the program's with manual absolute off:
+    /// moved by the interventions so far.
+    fn shifted_motion(&self, m: &Motion, shift: &Shift) -> Motion {
+        let mut m = m.clone();
+        match (&mut m.tip, &self.kinematics) {
+            (Some(tip), Some(kin)) => {
+                tip.from += shift.tip;
+                tip.to += shift.tip;
+                if let Some(arc) = &mut tip.arc {
+                    arc.center += shift.tip;
+                }
+                let carriage = kin.carriage_for(&m.machine, tip.to, tip.tool_length);
+                for (axis, index) in kin.linear.iter().enumerate() {
+                    if let Some(i) = index {
+                        m.machine[*i] = carriage[axis];
+                    }
+                }
+            }
+            _ => {
+                for (x, d) in m.machine.iter_mut().zip(&shift.machine) {
+                    *x += d;
+                }
+            }
+        }
+        m
     }
 
     /// REF: every axis back to the reference position (machine zero) at rapid.
@@ -597,7 +917,14 @@ impl Controller {
             spindle: 0.0,
             context: MotionContext::default(),
         };
-        let mut seg = self.segment(&m);
+        let ctx = FeedContext {
+            feed_override: self.panel.feed_override,
+            rapid_override: self.panel.rapid_override,
+            exact_stop: true,
+            options: self.machine.motion,
+        };
+        let axes = self.manual_limits();
+        let mut seg = Segment::new(&m, &self.queued_machine, &self.queued_work, &axes, ctx, self.kinematics.as_ref());
         seg.stop_after = true;
         (self.queued_machine, self.queued_work) = (machine, target);
         self.planner.push(seg);
@@ -633,6 +960,17 @@ impl Controller {
                     self.wait = Wait::None;
                 }
                 continue;
+            }
+            if self.intervention.is_some() {
+                // Only the manual moves run; the program waits for the return to its mode.
+                if let Some(p) = self.planner.pop(true) {
+                    self.current = Some((p, 0.0, Cursor::default()));
+                    continue;
+                }
+                self.here.feed = 0.0;
+                self.set_state(RunState::Idle);
+                self.t = end;
+                break;
             }
             if self.wait == Wait::Operator {
                 self.t = end;
@@ -706,6 +1044,10 @@ impl Controller {
     /// does the program's current point (it had read ahead).
     fn stand_here(&mut self) {
         (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+        if self.intervention.is_some() {
+            // The held program's current point stays where the program put it.
+            return;
+        }
         self.interp.moved_to(&self.here.machine);
         self.here.work = self.interp.state.position();
         self.queued_work = self.here.work;
@@ -720,7 +1062,7 @@ impl Controller {
                 self.stopping = Some(after);
             }
             if after == AfterStop::Drop {
-                self.pending.clear();
+                self.drop_pending();
             }
             return;
         }
@@ -738,7 +1080,7 @@ impl Controller {
             self.stopping = Some(after);
             if after == AfterStop::Drop {
                 self.planner.take_all();
-                self.pending.clear();
+                self.drop_pending();
             }
             self.current = Some((p, elapsed, Cursor::default()));
             return;
@@ -757,6 +1099,14 @@ impl Controller {
         self.stopping = Some(after);
         self.current = Some((Planned { segments: rest, profile }, 0.0, Cursor::default()));
         if after == AfterStop::Drop {
+            self.drop_pending();
+        }
+    }
+
+    /// A stop that drops the path also drops what the program read ahead, unless the path
+    /// was a manual intervention's (the held program keeps its blocks).
+    fn drop_pending(&mut self) {
+        if self.intervention.is_none() {
             self.pending.clear();
         }
     }
@@ -775,6 +1125,14 @@ impl Controller {
         match item {
             Item::Canon(c) => match &c.kind {
                 CanonKind::Motion(m) => {
+                    let shifted;
+                    let m = match self.shift {
+                        Some(shift) => {
+                            shifted = self.shifted_motion(m, &shift);
+                            &shifted
+                        }
+                        None => m,
+                    };
                     let mut seg = self.segment(m);
                     (seg.line, seg.n) = (c.line, c.n);
                     if let Err(id) = motion::stroke_check(&seg, &self.machine) {

@@ -573,6 +573,34 @@ impl Segment {
         self.independent = Some(Box::new(profiles));
     }
 
+    /// The programmed feed before the override, per minute of the path parameter.
+    pub fn programmed_feed(&self) -> f64 {
+        self.programmed * 60.0
+    }
+
+    /// The same motion moved by a manual intervention with manual absolute off (FANUC MAN-02,
+    /// MAN-03): every axis by `machine`; a path the axes follow through the kinematics instead
+    /// has its tool tip moved by `tip` in the table frame (so the shift turns with the table).
+    pub fn shifted(&self, machine: &Pos, tip: Vec3) -> Segment {
+        let mut seg = self.clone();
+        match &mut seg.follow {
+            Some(f) => {
+                (f.from, f.to) = (f.from + tip, f.to + tip);
+                if let Some(c) = &mut f.circle {
+                    c.center += tip;
+                }
+                (seg.from, seg.to) = (f.at(&self.from, &self.to, 0.0), f.at(&self.from, &self.to, 1.0));
+            }
+            None => {
+                for i in 0..MAX_AXES {
+                    seg.from[i] += machine[i];
+                    seg.to[i] += machine[i];
+                }
+            }
+        }
+        seg
+    }
+
     /// Whether this is a non-linear rapid (its path parameter is the time).
     pub fn is_independent(&self) -> bool {
         self.independent.is_some()
