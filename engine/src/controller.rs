@@ -108,8 +108,11 @@ pub enum Refusal {
     Busy,
     /// There is nothing to run.
     NoProgram,
-    /// The axis does not exist.
+    /// The axis does not exist (or cannot do that: a linear axis cannot turn about the tip,
+    /// a machine without 5-axis kinematics has no 5-axis feeds).
     NoAxis,
+    /// The amount is not a finite number.
+    BadValue,
 }
 
 /// What happens when a deceleration (to rest, or to a new override's speed) has ended.
@@ -419,6 +422,11 @@ impl Controller {
         Ok(())
     }
 
+    /// A motion is under way or about to start.
+    fn moving(&self) -> bool {
+        self.run_state == RunState::Running || self.current.is_some()
+    }
+
     /// A program or a motion is under way (a program held for a manual intervention lets
     /// the manual commands through).
     fn busy(&self) -> bool {
@@ -428,6 +436,10 @@ impl Controller {
     }
 
     pub fn cycle_start(&mut self) -> Result<(), Refusal> {
+        if self.intervention.is_some() {
+            // JOG/HANDLE of a manual intervention: back to the program's mode first.
+            return Err(Refusal::WrongMode);
+        }
         if self.estop || self.run_state == RunState::Alarm {
             return Err(Refusal::Busy);
         }
@@ -564,12 +576,21 @@ impl Controller {
     }
 
     /// JOG: start moving `axis` in the direction of `positive` at the jog feed (with override)
-    /// until [`Controller::jog_stop`] or the stroke limit.
+    /// until [`Controller::jog_stop`] or the stroke limit. X/Y/Z move in the coordinate system
+    /// of `panel.manual_coordinates` (Syntec R518); a rotary axis with `panel.manual_rtcp`
+    /// under tool centre point control turns about the tool tip (R519).
     pub fn jog_start(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
         if self.mode != Mode::Jog {
             return Err(Refusal::WrongMode);
         }
         let i = self.axis(axis)?;
+        if let Some(d) = self.coordinate_direction(i) {
+            return self.move_along(if positive { d } else { -d }, f64::INFINITY, self.panel.jog_feed);
+        }
+        if let Some(length) = self.rtcp_length(i) {
+            let feed = self.panel.jog_feed * self.panel.feed_override;
+            return self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, length, feed, None);
+        }
         let limit = self.machine.axes[i].stroke.map(|[lo, hi]| if positive { hi } else { lo });
         let far = if positive { 1.0e6 } else { -1.0e6 };
         let target = limit.unwrap_or(self.here.machine[i] + far);
@@ -589,11 +610,56 @@ impl Controller {
             return Err(Refusal::WrongMode);
         }
         let i = self.axis(axis)?;
+        if !amount.is_finite() {
+            return Err(Refusal::BadValue);
+        }
+        if let Some(d) = self.coordinate_direction(i) {
+            return self.move_along(if amount < 0.0 { -d } else { d }, amount.abs(), self.panel.jog_feed);
+        }
+        if let Some(length) = self.rtcp_length(i) {
+            return self.turn_about_tip(axis, amount, length, self.panel.jog_feed, None);
+        }
         let mut target = self.here.machine[i] + amount;
         if let Some([lo, hi]) = self.machine.axes[i].stroke {
             target = target.clamp(lo, hi);
         }
         self.manual_move(i, target, self.panel.jog_feed)
+    }
+
+    /// Syntec R518: the direction (machine coordinates) manual moves of axis `i` follow when it
+    /// is X, Y or Z and the choice is not the machine's. Program coordinates: the tilted working
+    /// plane's axes, or under tool centre point control the table's (they turn with it),
+    /// otherwise the machine's; tool coordinates: right-angle directions 1, 2 and the tool axis.
+    fn coordinate_direction(&self, i: usize) -> Option<Vec3> {
+        let kin = self.kinematics.as_ref()?;
+        let k = kin.linear.iter().position(|&index| index == Some(i))?;
+        match self.panel.manual_coordinates {
+            ManualCoordinates::Machine => None,
+            ManualCoordinates::Program => {
+                if let Some(axes) = self.interp.plane_axes(&self.here.machine) {
+                    return Some(axes[k]);
+                }
+                let r = if self.interp.tcp_on() {
+                    kin.table_frame(&self.here.machine).r
+                } else {
+                    nalgebra::Matrix3::identity()
+                };
+                Some(r.column(k).into())
+            }
+            ManualCoordinates::Tool => {
+                let d = kin.manual_directions(&self.here.machine);
+                Some([d.right_angle[0], d.right_angle[1], d.tool][k])
+            }
+        }
+    }
+
+    /// Syntec R519: the tool length rotary axis `i` turns about when manual RTCP is on under
+    /// tool centre point control (the active offset; none: the spindle nose stays).
+    fn rtcp_length(&self, i: usize) -> Option<f64> {
+        let kin = self.kinematics.as_ref()?;
+        let rotary = kin.head.iter().chain(&kin.table).any(|j| j.index == Some(i));
+        (self.panel.manual_rtcp && rotary && self.interp.tcp_on())
+            .then(|| self.interp.active_length_offset().unwrap_or(0.0))
     }
 
     /// JOG along a 5-axis manual feed direction (tool axis, its right angles, table vertical
@@ -613,7 +679,7 @@ impl Controller {
             return Err(Refusal::WrongMode);
         }
         if !amount.is_finite() {
-            return Err(Refusal::NoAxis);
+            return Err(Refusal::BadValue);
         }
         let d = self.manual_direction(feed)?;
         self.move_along(if amount < 0.0 { -d } else { d }, amount.abs(), self.panel.jog_feed)
@@ -640,14 +706,14 @@ impl Controller {
             return Err(Refusal::WrongMode);
         }
         if !amount.is_finite() {
-            return Err(Refusal::NoAxis);
+            return Err(Refusal::BadValue);
         }
         self.turn_about_tip(axis, amount, self.manual_tool_length(), self.panel.jog_feed, None)
     }
 
     /// Syntec R518: the coordinate system manual X/Y/Z moves use.
     pub fn set_manual_coordinates(&mut self, choice: ManualCoordinates) -> Result<(), Refusal> {
-        if self.current.is_some() {
+        if self.moving() {
             return Err(Refusal::Busy);
         }
         self.panel.manual_coordinates = choice;
@@ -657,7 +723,7 @@ impl Controller {
     /// Syntec R519: manual RTCP on or off (rotary JOG/HANDLE keep the tool tip under tool
     /// centre point control).
     pub fn set_manual_rtcp(&mut self, on: bool) -> Result<(), Refusal> {
-        if self.current.is_some() {
+        if self.moving() {
             return Err(Refusal::Busy);
         }
         self.panel.manual_rtcp = on;

@@ -592,9 +592,8 @@ impl Segment {
                 (seg.from, seg.to) = (f.at(&self.from, &self.to, 0.0), f.at(&self.from, &self.to, 1.0));
             }
             None => {
-                for i in 0..MAX_AXES {
-                    seg.from[i] += machine[i];
-                    seg.to[i] += machine[i];
+                for ((from, to), d) in seg.from.iter_mut().zip(seg.to.iter_mut()).zip(machine) {
+                    (*from, *to) = (*from + d, *to + d);
                 }
             }
         }

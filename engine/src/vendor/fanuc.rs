@@ -192,12 +192,13 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 fn manual_options(p: &Params, axes: usize) -> Result<ManualOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
-    let vertical = match p.get(12321)? {
-        x if x == 0.0 => ManualVertical::Tool,
-        x if x == 1.0 => ManualVertical::X,
-        x if x == 2.0 => ManualVertical::Y,
-        x if x == 3.0 => ManualVertical::Z,
-        x => return Err(ConfigError::alarm(AlarmId::MachineParameter, format!("No.12321 = {x} is not 0…3"))),
+    let code = p.get(12321)?;
+    let vertical = match [0.0, 1.0, 2.0, 3.0].iter().position(|&c| c == code) {
+        Some(0) => ManualVertical::Tool,
+        Some(1) => ManualVertical::X,
+        Some(2) => ManualVertical::Y,
+        Some(3) => ManualVertical::Z,
+        _ => return Err(ConfigError::alarm(AlarmId::MachineParameter, format!("No.12321 = {code} is not 0…3"))),
     };
     let rapid = p.axes(1424, axes)?;
     Ok(ManualOptions {
