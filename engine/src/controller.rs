@@ -171,6 +171,9 @@ pub struct Controller {
     intervention: Option<Intervention>,
     /// Manual absolute off: what the interventions moved, added to every later motion.
     shift: Option<Shift>,
+    /// Manual absolute on after an intervention at a block stop: the next tool tip path starts
+    /// where the tip is, not where the program left it.
+    reposition: bool,
 }
 
 /// A held program while the operator moves the machine by hand.
@@ -235,6 +238,7 @@ impl Controller {
             wait: Wait::None,
             intervention: None,
             shift: None,
+            reposition: false,
         }
     }
 
@@ -287,6 +291,10 @@ impl Controller {
             return Err(Refusal::Busy);
         }
         if let Some(i) = &self.intervention {
+            if !self.planner.is_empty() {
+                // A held hand move: cycle start finishes it first.
+                return Err(Refusal::Busy);
+            }
             return match mode {
                 Mode::Jog | Mode::Handle => {
                     self.mode = mode;
@@ -351,6 +359,7 @@ impl Controller {
             } else if path.is_empty() {
                 // At a block stop: the next block starts where the machine is.
                 (self.queued_machine, self.queued_work) = (here, self.here.work);
+                self.reposition = true;
             }
             let continues =
                 path.first().is_some_and(|seg| seg.from.iter().zip(&here).all(|(a, b)| (a - b).abs() < 1e-9));
@@ -422,6 +431,12 @@ impl Controller {
         Ok(())
     }
 
+    /// A manual move cannot start: a program or motion is under way, something is queued (a
+    /// held manual move: cycle start finishes it), the emergency stop or an alarm.
+    fn manual_blocked(&self) -> bool {
+        self.busy() || !self.planner.is_empty() || self.estop || self.run_state == RunState::Alarm
+    }
+
     /// A motion is under way or about to start.
     fn moving(&self) -> bool {
         self.run_state == RunState::Running || self.current.is_some()
@@ -437,7 +452,12 @@ impl Controller {
 
     pub fn cycle_start(&mut self) -> Result<(), Refusal> {
         if self.intervention.is_some() {
-            // JOG/HANDLE of a manual intervention: back to the program's mode first.
+            // JOG/HANDLE of a manual intervention: cycle start only finishes a held hand move;
+            // the program goes on after the return to its mode.
+            if self.run_state == RunState::Hold && !self.planner.is_empty() && !self.estop {
+                self.set_state(RunState::Running);
+                return Ok(());
+            }
             return Err(Refusal::WrongMode);
         }
         if self.estop || self.run_state == RunState::Alarm {
@@ -554,6 +574,7 @@ impl Controller {
     /// The program stops for good: nothing read ahead is carried out.
     fn abandon_program(&mut self) {
         self.shift = None;
+        self.reposition = false;
         self.pending.clear();
         self.interp.reset();
         self.program_active = false;
@@ -815,7 +836,7 @@ impl Controller {
         if kin.linear.contains(&Some(i)) {
             return Err(Refusal::NoAxis);
         }
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+        if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
         let from = self.here.machine;
@@ -888,7 +909,7 @@ impl Controller {
     /// clamped to the strokes.
     fn move_along(&mut self, d: Vec3, distance: f64, feed: f64) -> Result<(), Refusal> {
         let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+        if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
         // The longest move along d that stays inside every stroke.
@@ -914,10 +935,15 @@ impl Controller {
         Ok(())
     }
 
-    /// A motion under tool centre point control seen as the program's with manual absolute off:
-    /// moved by the interventions so far.
-    fn shifted_motion(&self, m: &Motion, shift: &Shift) -> Motion {
+    /// A motion of the program after a manual intervention: with manual absolute off moved by
+    /// the interventions so far (`shift`); the first after one at a block stop with manual
+    /// absolute on starts its tool tip path where the tip is (`reposition`).
+    fn moved_motion(&self, m: &Motion, shift: Option<&Shift>) -> Motion {
         let mut m = m.clone();
+        if let (true, Some(tip), Some(kin)) = (self.reposition, &mut m.tip, &self.kinematics) {
+            tip.from = kin.forward(&self.queued_machine, tip.tool_length).tip;
+        }
+        let Some(shift) = shift else { return m };
         match (&mut m.tip, &self.kinematics) {
             (Some(tip), Some(kin)) => {
                 tip.from += shift.tip;
@@ -946,7 +972,7 @@ impl Controller {
         if self.mode != Mode::Ref {
             return Err(Refusal::WrongMode);
         }
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+        if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
         let zero = [0.0; crate::machine::MAX_AXES];
@@ -959,7 +985,7 @@ impl Controller {
     }
 
     fn manual_move(&mut self, axis: usize, target: f64, feed: f64) -> Result<(), Refusal> {
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+        if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
         let mut to = self.here.machine;
@@ -1192,12 +1218,13 @@ impl Controller {
             Item::Canon(c) => match &c.kind {
                 CanonKind::Motion(m) => {
                     let shifted;
-                    let m = match self.shift {
-                        Some(shift) => {
-                            shifted = self.shifted_motion(m, &shift);
+                    let m = match (self.shift, self.reposition) {
+                        (None, false) => m,
+                        (shift, _) => {
+                            shifted = self.moved_motion(m, shift.as_ref());
+                            self.reposition = false;
                             &shifted
                         }
-                        None => m,
                     };
                     let mut seg = self.segment(m);
                     (seg.line, seg.n) = (c.line, c.n);

@@ -346,6 +346,8 @@ mod random_panel {
         SingleBlock(bool),
         JogAlong(fivex_engine::kin::ManualFeed, bool),
         HandleAlong(fivex_engine::kin::ManualFeed, f64),
+        ManualAbsolute(bool),
+        Coordinates(fivex_engine::controller::ManualCoordinates),
     }
 
     const MDI: [&str; 3] = ["G91 G01 X5. Y-3. F2000.", "G90 G00 Z20.", "G91 G02 X10. R5. F1000."];
@@ -375,6 +377,13 @@ mod random_panel {
             1 => any::<bool>().prop_map(Action::SingleBlock),
             1 => (feed(), any::<bool>()).prop_map(|(f, p)| Action::JogAlong(f, p)),
             1 => (feed(), -500.0..500.0f64).prop_map(|(f, d)| Action::HandleAlong(f, d)),
+            1 => any::<bool>().prop_map(Action::ManualAbsolute),
+            1 => prop::sample::select(vec![
+                fivex_engine::controller::ManualCoordinates::Machine,
+                fivex_engine::controller::ManualCoordinates::Program,
+                fivex_engine::controller::ManualCoordinates::Tool,
+            ])
+            .prop_map(Action::Coordinates),
         ]
     }
 
@@ -438,6 +447,11 @@ mod random_panel {
                     }
                     Action::JogAlong(f, p) => c.jog_direction(f, p),
                     Action::HandleAlong(f, d) => c.handle_direction(f, d),
+                    Action::ManualAbsolute(on) => {
+                        c.panel.manual_absolute = on;
+                        Ok(())
+                    }
+                    Action::Coordinates(choice) => c.set_manual_coordinates(choice),
                 };
                 let m = c.point().machine;
                 for (i, [lo, hi]) in strokes.iter().enumerate() {

@@ -367,6 +367,38 @@ fn intervention_at_a_single_block_stop() {
     }
 }
 
+/// Manual absolute on at a block stop under tool centre point control: the next block's tip
+/// path starts where the tip is (no jump) and ends at the programmed point.
+#[test]
+fn intervention_at_a_block_stop_under_tcp() {
+    let kin = Kinematics::new(&preset("head-bc")).unwrap();
+    for absolute in [false, true] {
+        let mut c = controller(preset("head-bc"), Dialect::Fanuc);
+        c.panel.manual_absolute = absolute;
+        c.panel.single_block = true;
+        c.select_program("G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG01 X50. F3000.\nX50. Y20. B10.\n").unwrap();
+        c.cycle_start().unwrap();
+        settle(&mut c, 10.0);
+        while (kin.forward(&c.point().machine, 50.0).tip - Vec3::new(50.0, 0.0, 0.0)).norm() > 1e-9 {
+            c.cycle_start().unwrap();
+            settle(&mut c, 10.0);
+            assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+        }
+        c.set_mode(Mode::Handle).unwrap();
+        c.handle('X', 2.0).unwrap();
+        settle(&mut c, 5.0);
+        c.set_mode(Mode::Auto).unwrap();
+        c.cycle_start().unwrap();
+        let mut xs = vec![c.point().machine];
+        xs.extend(settle(&mut c, 10.0));
+        let step = xs.windows(2).map(|w| (xyz(&w[1]) - xyz(&w[0])).norm()).fold(0.0, f64::max);
+        assert!(step < 0.5, "absolute {absolute}: a jump of {step} mm (the hand move was 2)");
+        let tip = kin.forward(&c.point().machine, 50.0).tip;
+        let x = if absolute { 50.0 } else { 52.0 };
+        assert!(close(tip, [x, 20.0, 0.0], 1e-6), "absolute {absolute}: {tip:?}");
+    }
+}
+
 /// MAN-01/02 under tool centre point control on a BC head: B turned by hand during a block;
 /// manual absolute off shifts the tool tip by what the turn moved it, on goes to the
 /// programmed tip.
@@ -536,4 +568,142 @@ fn r519_manual_rtcp_keeps_the_tip_tv_27b() {
     c.handle('B', -5.0).unwrap();
     settle(&mut c, 5.0);
     assert!(close(xyz(&c.point().machine) - xyz(&before), [0.0; 3], 1e-9));
+}
+
+// --- any sequence of 5-axis manual actions -----------------------------------------------------
+
+mod sequences {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[derive(Debug, Clone)]
+    enum Action {
+        Ticks(usize),
+        CycleStart,
+        FeedHold,
+        Reset,
+        Mode(Mode),
+        Handle(char, f64),
+        Jog(char, bool),
+        JogStop,
+        Along(ManualFeed, f64),
+        Tip(char, f64),
+        JogTip(char, bool),
+        Absolute(bool),
+        Rtcp(bool),
+        Coordinates(ManualCoordinates),
+        SingleBlock(bool),
+    }
+
+    const PROGRAM: &str = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG01 X40. F3000.\nX40. Y30. B20.\nX0 C45.\nG49\nM30\n";
+
+    fn action() -> impl Strategy<Value = Action> {
+        let axis = prop::sample::select(vec!['X', 'Y', 'Z', 'B', 'C']);
+        let rotary = prop::sample::select(vec!['B', 'C', 'X']);
+        prop_oneof![
+            4 => (1usize..400).prop_map(Action::Ticks),
+            2 => Just(Action::CycleStart),
+            1 => Just(Action::FeedHold),
+            1 => Just(Action::Reset),
+            2 => prop::sample::select(vec![Mode::Auto, Mode::Jog, Mode::Handle, Mode::Ref]).prop_map(Action::Mode),
+            1 => (axis.clone(), -50.0..50.0f64).prop_map(|(a, d)| Action::Handle(a, d)),
+            1 => (axis, any::<bool>()).prop_map(|(a, p)| Action::Jog(a, p)),
+            1 => Just(Action::JogStop),
+            1 => (prop::sample::select(ManualFeed::ALL.to_vec()), -50.0..50.0f64).prop_map(|(f, d)| Action::Along(f, d)),
+            1 => (rotary.clone(), -40.0..40.0f64).prop_map(|(a, d)| Action::Tip(a, d)),
+            1 => (rotary, any::<bool>()).prop_map(|(a, p)| Action::JogTip(a, p)),
+            1 => any::<bool>().prop_map(Action::Absolute),
+            1 => any::<bool>().prop_map(Action::Rtcp),
+            1 => prop::sample::select(vec![ManualCoordinates::Machine, ManualCoordinates::Program, ManualCoordinates::Tool])
+                .prop_map(Action::Coordinates),
+            1 => any::<bool>().prop_map(Action::SingleBlock),
+        ]
+    }
+
+    /// `n` ticks; no axis may move more than its rapid rate allows between two samples.
+    fn ticks(c: &mut Controller, last: &mut Pos, rapid: &[f64], n: usize) -> Result<(), TestCaseError> {
+        for _ in 0..n {
+            c.tick(TICK);
+            let p = c.point().machine;
+            for i in 0..5 {
+                let mut d = (p[i] - last[i]).abs();
+                if i == 4 {
+                    d = d.min(360.0 - d); // C rolls over
+                }
+                prop_assert!(d <= rapid[i], "axis {} jumped {} at {:?}", i, d, p);
+            }
+            *last = p;
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+        /// Whatever the operator does with the 5-axis manual functions on a BC head running a
+        /// TCP program (interventions included), nothing panics, no axis leaves its stroke or
+        /// jumps (no axis moves faster than its rapid rate between two samples), and a machine
+        /// that is not running stands still.
+        #[test]
+        fn any_sequence_of_manual_actions_is_safe(actions in prop::collection::vec(action(), 1..40)) {
+            let m = preset("head-bc");
+            let rapid: Vec<f64> = m.axes.iter().map(|a| a.rapid / 60.0 * TICK * (1.0 + 1e-6) + 1e-9).collect();
+            let strokes: Vec<Option<[f64; 2]>> = m.axes.iter().map(|a| a.stroke).collect();
+            let mut c = controller(m, Dialect::Syntec);
+            c.manual_options_mut().tool_length = 60.0;
+            c.select_program(PROGRAM).unwrap();
+            let mut last = c.point().machine;
+            for a in actions {
+                let _ = match a {
+                    Action::Ticks(n) => {
+                        ticks(&mut c, &mut last, &rapid, n)?;
+                        Ok(())
+                    }
+                    Action::CycleStart => c.cycle_start(),
+                    Action::FeedHold => {
+                        c.feed_hold();
+                        Ok(())
+                    }
+                    Action::Reset => {
+                        c.reset();
+                        Ok(())
+                    }
+                    Action::Mode(m) => c.set_mode(m),
+                    Action::Handle(a, d) => c.handle(a, d),
+                    Action::Jog(a, p) => c.jog_start(a, p),
+                    Action::JogStop => {
+                        c.jog_stop();
+                        Ok(())
+                    }
+                    Action::Along(f, d) => c.handle_direction(f, d),
+                    Action::Tip(a, d) => c.handle_tip_rotation(a, d),
+                    Action::JogTip(a, p) => c.jog_tip_rotation(a, p),
+                    Action::Absolute(on) => {
+                        c.panel.manual_absolute = on;
+                        Ok(())
+                    }
+                    Action::Rtcp(on) => c.set_manual_rtcp(on),
+                    Action::Coordinates(choice) => c.set_manual_coordinates(choice),
+                    Action::SingleBlock(on) => {
+                        c.panel.single_block = on;
+                        Ok(())
+                    }
+                };
+                let p = c.point().machine;
+                for (i, s) in strokes.iter().enumerate() {
+                    if let Some([lo, hi]) = s {
+                        prop_assert!(p[i] >= lo - 1e-6 && p[i] <= hi + 1e-6, "axis {} at {}", i, p[i]);
+                    }
+                }
+                if c.run_state() != RunState::Running {
+                    ticks(&mut c, &mut last, &rapid, 1000)?;
+                    let settled = c.point().machine;
+                    if c.run_state() != RunState::Running {
+                        ticks(&mut c, &mut last, &rapid, 100)?;
+                        prop_assert_eq!(c.point().machine, settled);
+                    }
+                }
+            }
+        }
+    }
 }
