@@ -909,6 +909,9 @@ impl Controller {
     /// clamped to the strokes.
     fn move_along(&mut self, d: Vec3, distance: f64, feed: f64) -> Result<(), Refusal> {
         let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        if !d.iter().all(|x| x.is_finite()) || (d.norm() - 1.0).abs() > 1e-6 {
+            return Err(Refusal::NoAxis);
+        }
         if self.manual_blocked() {
             return Err(Refusal::Busy);
         }

@@ -77,6 +77,40 @@ fn tip_rotation_on_a_bc_head_tv_man_07() {
     assert!(close(xyz(&p), [50.0, 0.0, 86.602540], 1e-6) && (p[3] - 30.0).abs() < 1e-9, "{p:?}");
 }
 
+/// MAN-12: 5-axis JOG tip rotation: without JFR the linear axes' resultant runs at the dry run
+/// rate (B head with the control point L = 100 above the tip: 600 mm/min is 6 / (100 π / 180)
+/// deg/s of B); with JFR the rotary axis at the jog feed.
+#[test]
+fn jog_tip_rotation_feeds_man_12() {
+    for (jfr, b_rate) in [(false, 10.0 / (100.0 * std::f64::consts::PI / 180.0)), (true, 6.0)] {
+        let mut m = preset("head-bc");
+        for link in &mut m.rotary {
+            link.point = [0.0; 3];
+        }
+        m.holder = 0.0;
+        let mut c = controller(m, Dialect::Fanuc);
+        let o = c.manual_options_mut();
+        (o.tool_length, o.dry_run_feed, o.jog_feedrate) = (100.0, 600.0, jfr);
+        c.panel.jog_feed = 360.0;
+        mdi(&mut c, "G90 G00 X0 Y0 Z100. B0 C0");
+        c.set_mode(Mode::Jog).unwrap();
+        c.jog_tip_rotation('B', true).unwrap();
+        let mut xs = Vec::new();
+        for _ in 0..1000 {
+            c.tick(TICK);
+            xs.push(c.point().machine);
+        }
+        let (a, b) = (xs[xs.len() - 2], xs[xs.len() - 1]);
+        let rate = (b[3] - a[3]) / TICK;
+        assert!((rate - b_rate).abs() < 1e-6, "JFR {jfr}: B at {rate} deg/s");
+        if !jfr {
+            assert!((speed(&xs) - 10.0).abs() < 1e-3, "resultant {} mm/s", speed(&xs));
+        }
+        c.jog_stop();
+        settle(&mut c, 5.0);
+    }
+}
+
 /// TV-MAN-04/04b through the controller (BC head, FLL = 0), and TV-MAN-05: the FLL/TWD truth
 /// table with and without a tilted working plane (G68.2 I0 J45 K0: FCS X = +X, Y = (0, cos 45,
 /// sin 45), Z = (0, −sin 45, cos 45)).

@@ -39,11 +39,15 @@ pub enum ManualFeed {
 /// P = +Y: +Z, +X; P = +Z: +X, +Y.
 pub fn latitude_longitude(tool: Vec3, vertical: Vec3, parallel_deg: f64) -> [Vec3; 2] {
     let (t, p) = (tool.normalize(), vertical.normalize());
-    if t.dot(&p).abs().min(1.0).acos().to_degrees() <= parallel_deg {
+    let across = p.cross(&t);
+    // The angle by atan2 (acos is ill-conditioned near parallel); a cross product too short
+    // to give a direction counts as parallel whatever No.12322 says.
+    let angle = across.norm().atan2(t.dot(&p).abs()).to_degrees();
+    if angle <= parallel_deg || across.norm() < 1e-9 {
         let k = p.iamax();
         return [Vec3::ith((k + 1) % 3, 1.0), Vec3::ith((k + 2) % 3, 1.0)];
     }
-    let r1 = p.cross(&t).normalize();
+    let r1 = across.normalize();
     [r1, t.cross(&r1).normalize()]
 }
 
@@ -169,6 +173,9 @@ mod tests {
             let [r1, r2] = latitude_longitude(p, p, 0.0);
             assert!(close(r1, d1) && close(r2, d2), "{p:?}: {r1:?} {r2:?}");
         }
+        // Numerically almost parallel with No.12322 = 0: still the fixed pair, never NaN.
+        let [r1, r2] = latitude_longitude(Vec3::new(1e-17, 0.0, 1.0), Vec3::z(), 0.0);
+        assert!(close(r1, [1.0, 0.0, 0.0]) && close(r2, [0.0, 1.0, 0.0]), "{r1:?} {r2:?}");
         // Within No.12322 of P counts as parallel; just outside it does not.
         let t = Vec3::new(2f64.to_radians().sin(), 0.0, 2f64.to_radians().cos());
         let [r1, _] = latitude_longitude(t, Vec3::z(), 3.0);
