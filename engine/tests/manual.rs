@@ -373,6 +373,33 @@ fn intervention_during_a_block_tv_man_11_12() {
     }
 }
 
+/// Manual absolute off shifts the program's points, not machine coordinates: G53 after the
+/// intervention goes to the machine position it names.
+#[test]
+fn the_shift_leaves_machine_coordinates_alone() {
+    let mut c = controller(preset("mill3"), Dialect::Fanuc);
+    c.panel.manual_absolute = false;
+    held(&mut c, "G90 G01 X100. F600.\nY50.\nG53 X10. Y20.\nG00 X30.\n", 2.0);
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('Y', -4.0).unwrap();
+    settle(&mut c, 5.0);
+    let mut corners = Vec::new();
+    let mut xs = resume(&mut c);
+    let step = xs.windows(2).flat_map(|w| (0..3).map(move |i| (w[1][i] - w[0][i]).abs())).fold(0.0, f64::max);
+    assert!(step <= 500.0 * TICK + 1e-9, "no jump where shifted and unshifted blocks meet: {step}");
+    xs.dedup_by(|a, b| (xyz(a) - xyz(b)).norm() < 1e-12);
+    for w in xs.windows(3) {
+        let (d1, d2) = (xyz(&w[1]) - xyz(&w[0]), xyz(&w[2]) - xyz(&w[1]));
+        if d1.norm() > 1e-9 && d2.norm() > 1e-9 && d1.normalize().dot(&d2.normalize()) < 0.99 {
+            corners.push(xyz(&w[1]));
+        }
+    }
+    let end = c.point().machine;
+    assert!(close(xyz(&end), [30.0, 20.0 - 4.0, 0.0], 1e-9), "G00 X30. shifted in Y only: {end:?}");
+    assert!(corners.iter().any(|p| close(*p, [10.0, 20.0, 0.0], 1e-4)), "G53 X10. Y20. not shifted: {corners:?}");
+    assert!(corners.iter().any(|p| close(*p, [100.0, 46.0, 0.0], 1e-4)), "N2 shifted: {corners:?}");
+}
+
 /// The same at a single-block stop, moved by JOG.
 #[test]
 fn intervention_at_a_single_block_stop() {
@@ -629,7 +656,8 @@ mod sequences {
         SingleBlock(bool),
     }
 
-    const PROGRAM: &str = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG01 X40. F3000.\nX40. Y30. B20.\nX0 C45.\nG49\nM30\n";
+    const PROGRAM: &str =
+        "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG01 X40. F3000.\nX40. Y30. B20.\nX0 C45.\nG49\nG53 Z50.\nG00 X10. B0\nM30\n";
 
     fn action() -> impl Strategy<Value = Action> {
         let axis = prop::sample::select(vec!['X', 'Y', 'Z', 'B', 'C']);

@@ -80,24 +80,16 @@ impl Controller {
                 // The rest of the block under way becomes one straight move to its end.
                 let line = path[0].line;
                 let block = path.iter().take_while(|seg| seg.line == line).count();
-                let end = &path[block - 1];
-                let m = Motion {
-                    kind: if end.rapid { MotionKind::Rapid } else { MotionKind::Linear },
-                    target: end.work_to,
-                    machine: end.to,
-                    arc: None,
-                    tip: None,
-                    feed: end.programmed_feed(),
-                    feed_mode: crate::canon::FeedMode::PerMinute,
-                    spindle: 0.0,
-                    context: MotionContext::default(),
-                };
-                let (queued_machine, queued_work) = (self.queued_machine, self.queued_work);
-                (self.queued_machine, self.queued_work) = (here, self.here.work);
-                let mut seg = self.segment(&m);
-                (seg.line, seg.n) = (end.line, end.n);
+                let seg = self.straight(here, self.here.work, &path[block - 1]);
                 path.splice(0..block, [seg]);
-                (self.queued_machine, self.queued_work) = (queued_machine, queued_work);
+            }
+            // Where a shifted path meets one that was not (a move in machine coordinates), the
+            // later block goes straight from where the earlier one ends.
+            for k in 1..path.len() {
+                let (to, work_to) = (path[k - 1].to, path[k - 1].work_to);
+                if path[k].from.iter().zip(&to).any(|(a, b)| (a - b).abs() > 1e-9) {
+                    path[k] = self.straight(to, work_to, &path[k]);
+                }
             }
         }
         for seg in path {
@@ -106,6 +98,28 @@ impl Controller {
         if i.held {
             self.set_state(RunState::Hold);
         }
+    }
+
+    /// A straight move (all axes linear) from `from` to the end of `end`, at its programmed feed
+    /// (its rapid if it is one), standing in for it.
+    fn straight(&mut self, from: Pos, from_work: Pos, end: &Segment) -> Segment {
+        let m = Motion {
+            kind: if end.rapid { MotionKind::Rapid } else { MotionKind::Linear },
+            target: end.work_to,
+            machine: end.to,
+            arc: None,
+            tip: None,
+            feed: end.programmed_feed(),
+            feed_mode: crate::canon::FeedMode::PerMinute,
+            spindle: 0.0,
+            context: MotionContext::default(),
+        };
+        let queued = (self.queued_machine, self.queued_work);
+        (self.queued_machine, self.queued_work) = (from, from_work);
+        let mut seg = self.segment(&m);
+        (seg.line, seg.n, seg.stop_after) = (end.line, end.n, end.stop_after);
+        (self.queued_machine, self.queued_work) = queued;
+        seg
     }
 
     /// What a manual intervention from `start` that moved the axes by `moved` shifts: every
@@ -422,7 +436,8 @@ impl Controller {
         if let (true, Some(tip), Some(kin)) = (self.reposition, &mut m.tip, &self.kinematics) {
             tip.from = kin.forward(&self.queued_machine, tip.tool_length).tip;
         }
-        let Some(shift) = shift else { return m };
+        // Machine-coordinate moves (G53, reference returns) go where they say.
+        let Some(shift) = shift.filter(|_| m.kind != MotionKind::MachineRapid) else { return m };
         match (&mut m.tip, &self.kinematics) {
             (Some(tip), Some(kin)) => {
                 tip.from += shift.tip;
