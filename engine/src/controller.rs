@@ -791,13 +791,13 @@ impl Controller {
             Item::Canon(c) => match &c.kind {
                 CanonKind::Motion(m) => {
                     let shifted;
-                    let m = match (self.shift, self.reposition) {
-                        (None, false) => m,
-                        (shift, _) => {
-                            shifted = self.moved_motion(m, shift.as_ref());
-                            self.reposition = false;
-                            &shifted
-                        }
+                    // After a manual intervention only (a plain run pays one test).
+                    let m = if self.shift.is_none() && !self.reposition {
+                        m
+                    } else {
+                        shifted = self.moved_motion(m, self.shift.as_ref());
+                        self.reposition = false;
+                        &shifted
                     };
                     let mut seg = self.segment(m);
                     (seg.line, seg.n) = (c.line, c.n);
