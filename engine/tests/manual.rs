@@ -714,6 +714,8 @@ mod sequences {
             let mut c = controller(m, Dialect::Syntec);
             c.manual_options_mut().tool_length = 60.0;
             c.select_program(PROGRAM).unwrap();
+            // Running from the start: feed holds and interventions come early and often.
+            c.cycle_start().unwrap();
             let mut last = c.point().machine;
             for a in actions {
                 let _ = match a {

@@ -241,7 +241,7 @@ impl Controller {
         Ok(())
     }
 
-    /// The 5-axis manual feed settings (FANUC No.12310–12322, 19746#2/#3, 1410, 1424), to
+    /// The 5-axis manual feed settings (FANUC No.12318, 12320–12322, 19746#2/#3, 1410, 1424), to
     /// change as a parameter screen would.
     pub fn manual_options(&self) -> &ManualOptions {
         &self.machine.manual
