@@ -8,15 +8,21 @@
 //! then abandons the program and clears the alarms; emergency stop stops at once and raises an
 //! alarm that only a reset clears. JOG moves one axis while the jog key is held, HANDLE moves it
 //! by the amount a hand wheel gives, REF returns every axis to the reference position. Those
-//! manual moves stop at the stroke limits and the program's current point follows them.
+//! manual moves stop at the stroke limits and the program's current point follows them. The
+//! 5-axis manual operation (feeds along the tool, manual intervention in a held program, Syntec's
+//! manual RTCP) is in `manual.rs`.
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos};
 use crate::interp::{Config, Interpreter, Step};
-use crate::kin::{latitude_longitude, Kinematics, ManualFeed, Vec3};
+use crate::kin::Kinematics;
 use crate::machine::MachineConfig;
 use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
 use std::collections::VecDeque;
+
+mod manual;
+pub use manual::ManualCoordinates;
+use manual::{Intervention, Shift};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -49,11 +55,15 @@ pub struct Panel {
     pub rapid_override: f64,
     /// JOG and HANDLE feed, mm/min or deg/min (FANUC No.1423).
     pub jog_feed: f64,
-    /// Tool length the 5-axis manual feeds turn the tool about, mm (FANUC No.12318).
-    pub manual_tool_length: f64,
-    /// The right-angle feeds as longitude/latitude about this vertical axis ('X', 'Y' or 'Z';
-    /// FANUC FLL = 1 with No.12321); `None`: the right-angle directions (FLL = 0).
-    pub latitude_longitude: Option<char>,
+    /// Manual absolute (FANUC signal *ABSM = 0): after a manual intervention in a held program,
+    /// cycle start goes on to the programmed end point; off (*ABSM = 1): the current and every
+    /// later end point are shifted by the intervention.
+    pub manual_absolute: bool,
+    /// Syntec R518: the coordinate system X/Y/Z JOG and HANDLE move in.
+    pub manual_coordinates: ManualCoordinates,
+    /// Syntec R519 manual RTCP: under tool centre point control, jogging a rotary axis keeps
+    /// the tool tip where it is (tool tip centre rotation).
+    pub manual_rtcp: bool,
 }
 
 impl Default for Panel {
@@ -65,8 +75,9 @@ impl Default for Panel {
             feed_override: 1.0,
             rapid_override: 1.0,
             jog_feed: 1000.0,
-            manual_tool_length: 0.0,
-            latitude_longitude: None,
+            manual_absolute: true,
+            manual_coordinates: ManualCoordinates::Machine,
+            manual_rtcp: false,
         }
     }
 }
@@ -89,8 +100,11 @@ pub enum Refusal {
     Busy,
     /// There is nothing to run.
     NoProgram,
-    /// The axis does not exist.
+    /// The axis does not exist (or cannot do that: a linear axis cannot turn about the tip,
+    /// a machine without 5-axis kinematics has no 5-axis feeds).
     NoAxis,
+    /// The amount is not a finite number.
+    BadValue,
 }
 
 /// What happens when a deceleration (to rest, or to a new override's speed) has ended.
@@ -144,6 +158,14 @@ pub struct Controller {
     /// The interpreter has more blocks to run.
     program_active: bool,
     wait: Wait,
+    /// A manual intervention in a held program (JOG/HANDLE between feed hold or a single-block
+    /// stop and cycle start).
+    intervention: Option<Intervention>,
+    /// Manual absolute off: what the interventions moved, added to every later motion.
+    shift: Option<Shift>,
+    /// Manual absolute on after an intervention at a block stop: the next tool tip path starts
+    /// where the tip is, not where the program left it.
+    reposition: bool,
 }
 
 /// A pending canonical command, or a single-block stop point.
@@ -186,6 +208,9 @@ impl Controller {
             pending: VecDeque::new(),
             program_active: false,
             wait: Wait::None,
+            intervention: None,
+            shift: None,
+            reposition: false,
         }
     }
 
@@ -240,9 +265,47 @@ impl Controller {
         }
     }
 
-    /// Change the mode: only while no program or motion is under way (held or not).
+    /// Change the mode: only while no program or motion is under way, or, for a manual
+    /// intervention, from AUTO/MDI held (feed hold, single-block stop) to JOG/HANDLE and back.
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
-        if self.busy() || self.run_state == RunState::Hold || !self.planner.is_empty() {
+        if self.current.is_some() || self.stopping.is_some() || self.run_state == RunState::Running {
+            return Err(Refusal::Busy);
+        }
+        if let Some(i) = &self.intervention {
+            if !self.planner.is_empty() {
+                // A held hand move: cycle start finishes it first.
+                return Err(Refusal::Busy);
+            }
+            return match mode {
+                Mode::Jog | Mode::Handle => {
+                    self.mode = mode;
+                    Ok(())
+                }
+                m if m == i.mode => {
+                    self.end_intervention();
+                    Ok(())
+                }
+                _ => Err(Refusal::Busy),
+            };
+        }
+        let held = self.run_state == RunState::Hold;
+        let at_block_stop = self.wait == Wait::Operator && (self.program_active || !self.pending.is_empty());
+        if (held || at_block_stop) && matches!(self.mode, Mode::Auto | Mode::Mdi) {
+            if !matches!(mode, Mode::Jog | Mode::Handle) || self.estop {
+                return Err(Refusal::Busy);
+            }
+            self.intervention = Some(Intervention {
+                mode: self.mode,
+                held,
+                start: self.here.machine,
+                path: self.planner.take_all(),
+                queued: (self.queued_machine, self.queued_work),
+            });
+            (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+            self.mode = mode;
+            return Ok(());
+        }
+        if self.busy() || held || !self.planner.is_empty() {
             return Err(Refusal::Busy);
         }
         self.mode = mode;
@@ -251,7 +314,7 @@ impl Controller {
 
     /// The program AUTO runs (NC text).
     pub fn select_program(&mut self, text: &str) -> Result<(), Refusal> {
-        if self.busy() {
+        if self.busy() || self.intervention.is_some() {
             return Err(Refusal::Busy);
         }
         self.program = Some(text.to_string());
@@ -270,11 +333,35 @@ impl Controller {
         Ok(())
     }
 
+    /// A manual move cannot start: a program or motion is under way, something is queued (a
+    /// held manual move: cycle start finishes it), the emergency stop or an alarm.
+    fn manual_blocked(&self) -> bool {
+        self.busy() || !self.planner.is_empty() || self.estop || self.run_state == RunState::Alarm
+    }
+
+    /// A motion is under way or about to start.
+    fn moving(&self) -> bool {
+        self.run_state == RunState::Running || self.current.is_some()
+    }
+
+    /// A program or a motion is under way (a program held for a manual intervention lets
+    /// the manual commands through).
     fn busy(&self) -> bool {
-        self.run_state == RunState::Running || self.program_active || self.current.is_some()
+        self.run_state == RunState::Running
+            || (self.program_active && self.intervention.is_none())
+            || self.current.is_some()
     }
 
     pub fn cycle_start(&mut self) -> Result<(), Refusal> {
+        if self.intervention.is_some() {
+            // JOG/HANDLE of a manual intervention: cycle start only finishes a held hand move;
+            // the program goes on after the return to its mode.
+            if self.run_state == RunState::Hold && !self.planner.is_empty() && !self.estop {
+                self.set_state(RunState::Running);
+                return Ok(());
+            }
+            return Err(Refusal::WrongMode);
+        }
         if self.estop || self.run_state == RunState::Alarm {
             return Err(Refusal::Busy);
         }
@@ -369,6 +456,7 @@ impl Controller {
     /// Reset: decelerate, abandon the program, clear the alarms (not an emergency stop that is
     /// still pressed).
     pub fn reset(&mut self) {
+        self.intervention = None;
         if self.current.is_some() {
             self.decelerate(AfterStop::Drop);
         } else {
@@ -387,6 +475,8 @@ impl Controller {
 
     /// The program stops for good: nothing read ahead is carried out.
     fn abandon_program(&mut self) {
+        self.shift = None;
+        self.reposition = false;
         self.pending.clear();
         self.interp.reset();
         self.program_active = false;
@@ -397,6 +487,7 @@ impl Controller {
     pub fn emergency_stop(&mut self, pressed: bool) {
         self.estop = pressed;
         if pressed {
+            self.intervention = None;
             self.current = None;
             self.stopping = None;
             self.planner.take_all();
@@ -408,16 +499,25 @@ impl Controller {
     }
 
     /// JOG: start moving `axis` in the direction of `positive` at the jog feed (with override)
-    /// until [`Controller::jog_stop`] or the stroke limit.
+    /// until [`Controller::jog_stop`] or the stroke limit. X/Y/Z move in the coordinate system
+    /// of `panel.manual_coordinates` (Syntec R518); a rotary axis with `panel.manual_rtcp`
+    /// under tool centre point control turns about the tool tip (R519).
     pub fn jog_start(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
         if self.mode != Mode::Jog {
             return Err(Refusal::WrongMode);
         }
         let i = self.axis(axis)?;
+        if let Some(d) = self.coordinate_direction(i) {
+            return self.move_along(if positive { d } else { -d }, f64::INFINITY, self.panel.jog_feed);
+        }
+        if let Some(length) = self.rtcp_length(i) {
+            let feed = self.panel.jog_feed * self.panel.feed_override;
+            return self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, length, feed, None);
+        }
         let limit = self.machine.axes[i].stroke.map(|[lo, hi]| if positive { hi } else { lo });
         let far = if positive { 1.0e6 } else { -1.0e6 };
         let target = limit.unwrap_or(self.here.machine[i] + far);
-        self.manual_move(i, target, self.panel.jog_feed * self.panel.feed_override)
+        self.manual_move(i, target, self.panel.jog_feed)
     }
 
     pub fn jog_stop(&mut self) {
@@ -433,6 +533,15 @@ impl Controller {
             return Err(Refusal::WrongMode);
         }
         let i = self.axis(axis)?;
+        if !amount.is_finite() {
+            return Err(Refusal::BadValue);
+        }
+        if let Some(d) = self.coordinate_direction(i) {
+            return self.move_along(if amount < 0.0 { -d } else { d }, amount.abs(), self.panel.jog_feed);
+        }
+        if let Some(length) = self.rtcp_length(i) {
+            return self.turn_about_tip(axis, amount, length, self.panel.jog_feed, None);
+        }
         let mut target = self.here.machine[i] + amount;
         if let Some([lo, hi]) = self.machine.axes[i].stroke {
             target = target.clamp(lo, hi);
@@ -440,136 +549,12 @@ impl Controller {
         self.manual_move(i, target, self.panel.jog_feed)
     }
 
-    /// JOG along a 5-axis manual feed direction (tool axis, its right angles, table vertical
-    /// or horizontal; `kin::ManualDirections`), at the jog feed, until jog stop or the strokes.
-    pub fn jog_direction(&mut self, feed: ManualFeed, positive: bool) -> Result<(), Refusal> {
-        if self.mode != Mode::Jog {
-            return Err(Refusal::WrongMode);
-        }
-        self.move_along(feed, if positive { f64::INFINITY } else { f64::NEG_INFINITY })
-    }
-
-    /// HANDLE along a 5-axis manual feed direction by `amount` mm (stopping at the strokes).
-    pub fn handle_direction(&mut self, feed: ManualFeed, amount: f64) -> Result<(), Refusal> {
-        if self.mode != Mode::Handle {
-            return Err(Refusal::WrongMode);
-        }
-        self.move_along(feed, amount)
-    }
-
-    /// JOG tool tip centre rotation (FANUC MAN-12): turn rotary `axis` at the jog feed (deg/min)
-    /// while X/Y/Z keep the tool tip (`panel.manual_tool_length` long) where it is on the table,
-    /// until jog stop or a stroke.
-    pub fn jog_tip_rotation(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
-        if self.mode != Mode::Jog {
-            return Err(Refusal::WrongMode);
-        }
-        self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 })
-    }
-
-    /// HANDLE tool tip centre rotation (FANUC MAN-11): turn rotary `axis` by `amount` degrees
-    /// about the tool tip, stopping before a stroke.
-    pub fn handle_tip_rotation(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
-        if self.mode != Mode::Handle {
-            return Err(Refusal::WrongMode);
-        }
-        self.turn_about_tip(axis, amount)
-    }
-
-    fn turn_about_tip(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
-        let kin = self.kinematics.clone().ok_or(Refusal::NoAxis)?;
-        let i = self.axis(axis)?;
-        if kin.linear.contains(&Some(i)) {
-            return Err(Refusal::NoAxis);
-        }
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
-            return Err(Refusal::Busy);
-        }
-        let (from, length) = (self.here.machine, self.panel.manual_tool_length);
-        let segment = |amount: f64| {
-            let mut to = from;
-            to[i] += amount;
-            Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, self.panel.jog_feed, &self.axes)
-        };
-        // The largest part of the turn whose path (sampled) stays inside every stroke.
-        let inside = |seg: &Segment| {
-            (0..=64).all(|k| {
-                let p = seg.at(seg.len * k as f64 / 64.0).0;
-                self.machine
-                    .axes
-                    .iter()
-                    .enumerate()
-                    .all(|(a, ax)| ax.stroke.is_none_or(|[lo, hi]| p[a] >= lo && p[a] <= hi))
-            })
-        };
-        let mut seg = segment(amount);
-        if !inside(&seg) {
-            let (mut lo, mut hi) = (0.0, 1.0);
-            for _ in 0..30 {
-                let mid = 0.5 * (lo + hi);
-                if inside(&segment(amount * mid)) {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            seg = segment(amount * lo);
-        }
-        (self.queued_machine, self.queued_work) = (seg.to, seg.work_to);
-        self.planner.push(seg);
-        self.set_state(RunState::Running);
-        Ok(())
-    }
-
-    /// Move X, Y, Z by `distance` along a manual feed direction, clamped to the strokes.
-    fn move_along(&mut self, feed: ManualFeed, distance: f64) -> Result<(), Refusal> {
-        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
-        let directions = kin.manual_directions(&self.here.machine);
-        let mut d = directions.of(feed);
-        if let (Some(axis), ManualFeed::RightAngle1 | ManualFeed::RightAngle2) = (self.panel.latitude_longitude, feed) {
-            let vertical = match axis {
-                'X' => Vec3::x(),
-                'Y' => Vec3::y(),
-                _ => Vec3::z(),
-            };
-            let [r1, r2] = latitude_longitude(directions.tool, vertical, 1.0);
-            d = if feed == ManualFeed::RightAngle1 { r1 } else { r2 };
-        }
-        if distance < 0.0 {
-            d = -d;
-        }
-        // The longest move along d that stays inside every stroke.
-        let mut reach = distance.abs();
-        for (axis, &index) in kin.linear.iter().enumerate() {
-            let Some(i) = index else { continue };
-            let (x, di) = (self.here.machine[i], d[axis]);
-            if let (Some([lo, hi]), true) = (self.machine.axes[i].stroke, di.abs() > 1e-12) {
-                let bound = if di > 0.0 { hi } else { lo };
-                reach = reach.min(((bound - x) / di).max(0.0));
-            }
-        }
-        if !reach.is_finite() {
-            reach = 1.0e6;
-        }
-        let mut to = self.here.machine;
-        for (axis, &index) in kin.linear.iter().enumerate() {
-            if let Some(i) = index {
-                to[i] += d[axis] * reach;
-            }
-        }
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
-            return Err(Refusal::Busy);
-        }
-        self.push_manual(MotionKind::Linear, to, self.panel.jog_feed * self.panel.feed_override);
-        Ok(())
-    }
-
     /// REF: every axis back to the reference position (machine zero) at rapid.
     pub fn reference_return(&mut self) -> Result<(), Refusal> {
         if self.mode != Mode::Ref {
             return Err(Refusal::WrongMode);
         }
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+        if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
         let zero = [0.0; crate::machine::MAX_AXES];
@@ -582,7 +567,7 @@ impl Controller {
     }
 
     fn manual_move(&mut self, axis: usize, target: f64, feed: f64) -> Result<(), Refusal> {
-        if self.busy() || self.estop || self.run_state == RunState::Alarm {
+        if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
         let mut to = self.here.machine;
@@ -606,7 +591,14 @@ impl Controller {
             spindle: 0.0,
             context: MotionContext::default(),
         };
-        let mut seg = self.segment(&m);
+        let ctx = FeedContext {
+            feed_override: self.panel.feed_override,
+            rapid_override: self.panel.rapid_override,
+            exact_stop: true,
+            options: self.machine.motion,
+        };
+        let axes = self.manual_limits();
+        let mut seg = Segment::new(&m, &self.queued_machine, &self.queued_work, &axes, ctx, self.kinematics.as_ref());
         seg.stop_after = true;
         (self.queued_machine, self.queued_work) = (machine, target);
         self.planner.push(seg);
@@ -642,6 +634,17 @@ impl Controller {
                     self.wait = Wait::None;
                 }
                 continue;
+            }
+            if self.intervention.is_some() {
+                // Only the manual moves run; the program waits for the return to its mode.
+                if let Some(p) = self.planner.pop(true) {
+                    self.current = Some((p, 0.0, Cursor::default()));
+                    continue;
+                }
+                self.here.feed = 0.0;
+                self.set_state(RunState::Idle);
+                self.t = end;
+                break;
             }
             if self.wait == Wait::Operator {
                 self.t = end;
@@ -715,6 +718,10 @@ impl Controller {
     /// does the program's current point (it had read ahead).
     fn stand_here(&mut self) {
         (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+        if self.intervention.is_some() {
+            // The held program's current point stays where the program put it.
+            return;
+        }
         self.interp.moved_to(&self.here.machine);
         self.here.work = self.interp.state.position();
         self.queued_work = self.here.work;
@@ -729,7 +736,7 @@ impl Controller {
                 self.stopping = Some(after);
             }
             if after == AfterStop::Drop {
-                self.pending.clear();
+                self.drop_pending();
             }
             return;
         }
@@ -747,7 +754,7 @@ impl Controller {
             self.stopping = Some(after);
             if after == AfterStop::Drop {
                 self.planner.take_all();
-                self.pending.clear();
+                self.drop_pending();
             }
             self.current = Some((p, elapsed, Cursor::default()));
             return;
@@ -766,6 +773,14 @@ impl Controller {
         self.stopping = Some(after);
         self.current = Some((Planned { segments: rest, profile }, 0.0, Cursor::default()));
         if after == AfterStop::Drop {
+            self.drop_pending();
+        }
+    }
+
+    /// A stop that drops the path also drops what the program read ahead, unless the path
+    /// was a manual intervention's (the held program keeps its blocks).
+    fn drop_pending(&mut self) {
+        if self.intervention.is_none() {
             self.pending.clear();
         }
     }
@@ -784,6 +799,15 @@ impl Controller {
         match item {
             Item::Canon(c) => match &c.kind {
                 CanonKind::Motion(m) => {
+                    let shifted;
+                    // After a manual intervention only (a plain run pays one test).
+                    let m = if self.shift.is_none() && !self.reposition {
+                        m
+                    } else {
+                        shifted = self.moved_motion(m, self.shift.as_ref());
+                        self.reposition = false;
+                        &shifted
+                    };
                     let mut seg = self.segment(m);
                     (seg.line, seg.n) = (c.line, c.n);
                     if let Err(id) = motion::stroke_check(&seg, &self.machine) {

@@ -186,6 +186,9 @@ pub struct MachineConfig {
     /// How the 5-axis functions behave (`docs/five-axis.md`).
     #[serde(default, skip_serializing_if = "FiveAxisOptions::is_default")]
     pub five_axis: FiveAxisOptions,
+    /// How the 5-axis manual feeds behave (`docs/five-axis.md`, 5-axis manual operation).
+    #[serde(default, skip_serializing_if = "ManualOptions::is_default")]
+    pub manual: ManualOptions,
 }
 
 /// Which coordinate system the X/Y/Z of a tool centre point control program are in.
@@ -283,6 +286,66 @@ pub struct MotionOptions {
 impl MotionOptions {
     fn is_default(&self) -> bool {
         *self == MotionOptions::default()
+    }
+}
+
+/// Settings of the 5-axis manual feeds (tool axis, right-angle, table directions, tool tip
+/// centre rotation; FANUC S000-IV, `fanuc-twp-wsec-manual-params.md` MAN-05…MAN-17).
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ManualOptions {
+    /// Tool length the manual feeds use, mm (FANUC No.12318).
+    #[serde(default)]
+    pub tool_length: f64,
+    /// Use the tool length offset data while an offset is active (FANUC No.19746#2 LOD).
+    #[serde(default)]
+    pub length_from_offset: bool,
+    /// With `length_from_offset` and no offset active: length 0 instead of `tool_length`
+    /// (FANUC No.19746#3 LOZ).
+    #[serde(default)]
+    pub zero_length_without_offset: bool,
+    /// In a tilted working plane the feeds move along the feature coordinate system's axes
+    /// (FANUC No.12320#0 TWD).
+    #[serde(default)]
+    pub plane_directions: bool,
+    /// The right-angle and table horizontal feeds are longitude and latitude about `vertical`
+    /// (FANUC No.12320#1 FLL).
+    #[serde(default)]
+    pub latitude_longitude: bool,
+    /// The vertical (normal) axis of longitude/latitude (FANUC No.12321).
+    #[serde(default)]
+    pub vertical: ManualVertical,
+    /// Within this angle of `vertical`, degrees, the tool counts as parallel to it and the
+    /// fixed pair of directions is used (FANUC No.12322).
+    #[serde(default)]
+    pub parallel_deg: f64,
+    /// JOG feeds at the jog feedrate instead of the dry run rate (FANUC No.12320#2 JFR).
+    #[serde(default)]
+    pub jog_feedrate: bool,
+    /// Dry run rate, mm/min (FANUC No.1410); 0: not set, the jog feedrate is used.
+    #[serde(default)]
+    pub dry_run_feed: f64,
+    /// Manual rapid traverse rate per axis (axis order), mm/min or deg/min: no axis of a manual
+    /// feed moves faster (FANUC No.1424); a missing or 0 entry: the axis's rapid rate.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rapid: Vec<f64>,
+}
+
+/// FANUC No.12321: the vertical axis of the longitude/latitude feeds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ManualVertical {
+    /// The reference tool direction (tool axis feeds) / the tool direction (table feeds).
+    #[default]
+    Tool,
+    X,
+    Y,
+    Z,
+}
+
+impl ManualOptions {
+    fn is_default(&self) -> bool {
+        *self == ManualOptions::default()
     }
 }
 
@@ -397,6 +460,7 @@ impl MachineConfig {
             // A typical arm-type changer, chip to chip.
             motion: MotionOptions { tool_change_s: 3.0, ..MotionOptions::default() },
             five_axis: FiveAxisOptions::default(),
+            manual: ManualOptions::default(),
         })
     }
 

@@ -264,13 +264,14 @@ fn five_axis_manual_feeds_move_along_the_tool_axis_and_its_right_angles() {
     let m = c.point().machine;
     assert!((m[0] - (5.0 - 2.0 * 0.866025)).abs() < 1e-6 && (m[2] - (8.660254 + 1.0)).abs() < 1e-6, "{m:?}");
     // Longitude about the vertical Z (FLL = 1): R1 = Z × T = +Y here.
-    c.panel.latitude_longitude = Some('Z');
+    c.manual_options_mut().latitude_longitude = true;
+    c.manual_options_mut().vertical = fivex_engine::machine::ManualVertical::Z;
     let before = c.point().machine;
     c.handle_direction(ManualFeed::RightAngle1, 3.0).unwrap();
     run_until_stopped(&mut c, 10.0);
     let m = c.point().machine;
     assert!((m[1] - (before[1] + 3.0)).abs() < 1e-9 && (m[0] - before[0]).abs() < 1e-9, "{m:?}");
-    c.panel.latitude_longitude = None;
+    c.manual_options_mut().latitude_longitude = false;
     // JOG along the tool axis stops at the first stroke it meets (Z at +300).
     c.set_mode(Mode::Jog).unwrap();
     c.jog_direction(ManualFeed::ToolAxis, true).unwrap();
@@ -345,6 +346,8 @@ mod random_panel {
         SingleBlock(bool),
         JogAlong(fivex_engine::kin::ManualFeed, bool),
         HandleAlong(fivex_engine::kin::ManualFeed, f64),
+        ManualAbsolute(bool),
+        Coordinates(fivex_engine::controller::ManualCoordinates),
     }
 
     const MDI: [&str; 3] = ["G91 G01 X5. Y-3. F2000.", "G90 G00 Z20.", "G91 G02 X10. R5. F1000."];
@@ -374,6 +377,13 @@ mod random_panel {
             1 => any::<bool>().prop_map(Action::SingleBlock),
             1 => (feed(), any::<bool>()).prop_map(|(f, p)| Action::JogAlong(f, p)),
             1 => (feed(), -500.0..500.0f64).prop_map(|(f, d)| Action::HandleAlong(f, d)),
+            1 => any::<bool>().prop_map(Action::ManualAbsolute),
+            1 => prop::sample::select(vec![
+                fivex_engine::controller::ManualCoordinates::Machine,
+                fivex_engine::controller::ManualCoordinates::Program,
+                fivex_engine::controller::ManualCoordinates::Tool,
+            ])
+            .prop_map(Action::Coordinates),
         ]
     }
 
@@ -437,6 +447,11 @@ mod random_panel {
                     }
                     Action::JogAlong(f, p) => c.jog_direction(f, p),
                     Action::HandleAlong(f, d) => c.handle_direction(f, d),
+                    Action::ManualAbsolute(on) => {
+                        c.panel.manual_absolute = on;
+                        Ok(())
+                    }
+                    Action::Coordinates(choice) => c.set_manual_coordinates(choice),
                 };
                 let m = c.point().machine;
                 for (i, [lo, hi]) in strokes.iter().enumerate() {
@@ -468,7 +483,7 @@ fn tool_tip_centre_rotation_keeps_the_tip_on_the_table() {
         let m = MachineConfig::preset(preset).unwrap();
         let kin = Kinematics::new(&m).unwrap();
         let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
-        c.panel.manual_tool_length = 100.0;
+        c.manual_options_mut().tool_length = 100.0;
         c.set_mode(Mode::Mdi).unwrap();
         c.set_mdi("G90 G00 X10. Y-20. Z-30.").unwrap();
         c.cycle_start().unwrap();
@@ -496,7 +511,7 @@ fn jog_tip_rotation_stops_on_jog_stop_with_the_tip_in_place() {
     let m = MachineConfig::preset("head-bc").unwrap();
     let kin = Kinematics::new(&m).unwrap();
     let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
-    c.panel.manual_tool_length = 50.0;
+    c.manual_options_mut().tool_length = 50.0;
     c.panel.jog_feed = 3600.0;
     c.set_mode(Mode::Jog).unwrap();
     let tip = kin.forward(&c.point().machine, 50.0).tip;

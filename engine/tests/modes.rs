@@ -53,6 +53,7 @@ fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
             holder: 0.0,
             motion: Default::default(),
             five_axis: Default::default(),
+            manual: Default::default(),
         },
         dialect,
     );

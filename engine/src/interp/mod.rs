@@ -8,6 +8,7 @@ mod cycles;
 pub mod expr;
 mod frames;
 pub mod gcode;
+mod manual;
 mod modes;
 mod nc;
 mod offsets;

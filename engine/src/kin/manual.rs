@@ -39,11 +39,15 @@ pub enum ManualFeed {
 /// P = +Y: +Z, +X; P = +Z: +X, +Y.
 pub fn latitude_longitude(tool: Vec3, vertical: Vec3, parallel_deg: f64) -> [Vec3; 2] {
     let (t, p) = (tool.normalize(), vertical.normalize());
-    if t.dot(&p).abs().min(1.0).acos().to_degrees() <= parallel_deg {
+    let across = p.cross(&t);
+    // The angle by atan2 (acos is ill-conditioned near parallel); a cross product too short
+    // to give a direction counts as parallel whatever No.12322 says.
+    let angle = across.norm().atan2(t.dot(&p).abs()).to_degrees();
+    if angle <= parallel_deg || across.norm() < 1e-9 {
         let k = p.iamax();
         return [Vec3::ith((k + 1) % 3, 1.0), Vec3::ith((k + 2) % 3, 1.0)];
     }
-    let r1 = p.cross(&t).normalize();
+    let r1 = across.normalize();
     [r1, t.cross(&r1).normalize()]
 }
 
@@ -73,6 +77,20 @@ impl ManualDirections {
 }
 
 impl Kinematics {
+    /// The feed the ±J signal of linear axis `axis` (0 X, 1 Y, 2 Z) selects in 5-axis JOG
+    /// (FANUC MAN-06/08/15/17, §6.7): the axis of the reference tool direction's code
+    /// (No.19697, whatever RA/RB tilt it, TV-MAN-03e) the tool axis or table vertical feed,
+    /// the next axis direction 1, the one after direction 2 (OQ-26: 19697 = 1: Y, Z; 2: Z, X).
+    pub fn manual_feed_of_axis(&self, axis: usize, table_based: bool) -> Option<ManualFeed> {
+        let (k, _, _) = super::reference_angles(self.tool_axis);
+        let feeds = if table_based {
+            [ManualFeed::TableVertical, ManualFeed::TableHorizontal1, ManualFeed::TableHorizontal2]
+        } else {
+            [ManualFeed::ToolAxis, ManualFeed::RightAngle1, ManualFeed::RightAngle2]
+        };
+        (axis < 3).then(|| feeds[(axis + 3 - k) % 3])
+    }
+
     /// The manual feed directions at the axis positions `pos`.
     pub fn manual_directions(&self, pos: &[f64]) -> ManualDirections {
         // The reference direction's tilt (§2.9): RB about axis k after RA about the axis
@@ -142,6 +160,53 @@ mod tests {
         let d = k.manual_directions(&[0.0, 0.0, 0.0, 30.0, 90.0]);
         assert!(close(d.tool, [0.0, 0.5, 0.866025]), "{d:?}");
         assert!(close(d.right_angle[0], [0.0, 0.866025, -0.5]) && close(d.right_angle[1], [-1.0, 0.0, 0.0]), "{d:?}");
+    }
+
+    #[test]
+    fn parallel_fallback_tv_man_04f_04g() {
+        // The tool along the vertical axis (angle 0 <= No.12322 even at 0): the fixed pair.
+        for (p, d1, d2) in [
+            (Vec3::x(), [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+            (Vec3::y(), [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+            (Vec3::z(), [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ] {
+            let [r1, r2] = latitude_longitude(p, p, 0.0);
+            assert!(close(r1, d1) && close(r2, d2), "{p:?}: {r1:?} {r2:?}");
+        }
+        // Numerically almost parallel with No.12322 = 0: still the fixed pair, never NaN.
+        let [r1, r2] = latitude_longitude(Vec3::new(1e-17, 0.0, 1.0), Vec3::z(), 0.0);
+        assert!(close(r1, [1.0, 0.0, 0.0]) && close(r2, [0.0, 1.0, 0.0]), "{r1:?} {r2:?}");
+        // Within No.12322 of P counts as parallel; just outside it does not.
+        let t = Vec3::new(2f64.to_radians().sin(), 0.0, 2f64.to_radians().cos());
+        let [r1, _] = latitude_longitude(t, Vec3::z(), 3.0);
+        assert!(close(r1, [1.0, 0.0, 0.0]), "{r1:?}");
+        let [r1, _] = latitude_longitude(t, Vec3::z(), 1.0);
+        assert!(close(r1, [0.0, 1.0, 0.0]), "longitude Z × T: {r1:?}");
+    }
+
+    #[test]
+    fn jog_signals_select_the_feeds_tv_man_02_03_03e() {
+        use ManualFeed::*;
+        for (tool, expect) in [
+            // 19697 = 3, RA = RB = 0: +J3 tool axis, J1 direction 1, J2 direction 2.
+            ([0.0, 0.0, 1.0], [RightAngle1, RightAngle2, ToolAxis]),
+            // 19697 = 3 tilted by RA = 30: still J3 (TV-MAN-03e).
+            ([0.5, 0.0, 0.866_025_403_784_438_6], [RightAngle1, RightAngle2, ToolAxis]),
+            // OQ-26: 19697 = 1: J2 direction 1, J3 direction 2; 19697 = 2: J3 direction 1, J1 direction 2.
+            ([1.0, 0.0, 0.0], [ToolAxis, RightAngle1, RightAngle2]),
+            ([0.0, 1.0, 0.0], [RightAngle2, ToolAxis, RightAngle1]),
+        ] {
+            let mut m = MachineConfig::preset("mill3").unwrap();
+            m.tool_axis = tool;
+            let k = Kinematics::new(&m).unwrap();
+            let got: Vec<_> = (0..3).map(|a| k.manual_feed_of_axis(a, false).unwrap()).collect();
+            assert_eq!(got, expect, "{tool:?}");
+        }
+        // TB_BASE = 1 (TV-MAN-03b/03c): the table feeds on the same signals.
+        let k = Kinematics::new(&MachineConfig::preset("table-ac").unwrap()).unwrap();
+        let got: Vec<_> = (0..3).map(|a| k.manual_feed_of_axis(a, true).unwrap()).collect();
+        assert_eq!(got, [TableHorizontal1, TableHorizontal2, TableVertical]);
+        assert_eq!(k.manual_feed_of_axis(3, true), None);
     }
 
     #[test]

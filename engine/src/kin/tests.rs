@@ -193,6 +193,7 @@ fn unreachable_directions_have_no_candidate() {
         holder: 0.0,
         motion: Default::default(),
         five_axis: Default::default(),
+        manual: Default::default(),
     };
     let k = Kinematics::new(&m).unwrap();
     assert_eq!(k.kind, MachineKind::Table);
@@ -242,6 +243,7 @@ fn machine() -> impl Strategy<Value = MachineConfig> {
             holder: 0.0,
             motion: Default::default(),
             five_axis: Default::default(),
+            manual: Default::default(),
         }
     })
 }

@@ -98,6 +98,9 @@ pub struct Segment {
     pub stop_after: bool,
     /// The feed override does not act (G63, tapping cycles).
     fixed_feed: bool,
+    /// A move in machine coordinates (G53, reference returns): a manual intervention's shift
+    /// does not move it.
+    machine_coordinates: bool,
 }
 
 /// A tool tip path in the table frame and how the tool turns along it; the machine axes at each
@@ -412,6 +415,7 @@ impl Segment {
             tip_rate,
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
+            machine_coordinates: m.kind == MotionKind::MachineRapid,
             programmed,
             axis_speed,
         };
@@ -496,6 +500,7 @@ impl Segment {
             tip_rate: if rotary_only { 0.0 } else { 1.0 },
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
+            machine_coordinates: m.kind == MotionKind::MachineRapid,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg
@@ -542,6 +547,7 @@ impl Segment {
             tip_rate: 0.0,
             stop_after: true,
             fixed_feed: false,
+            machine_coordinates: false,
         };
         seg.set_override(1.0, 1.0);
         seg
@@ -571,6 +577,37 @@ impl Segment {
         self.programmed = 1.0;
         self.tip_rate = 0.0;
         self.independent = Some(Box::new(profiles));
+    }
+
+    /// The programmed feed before the override, per minute of the path parameter.
+    pub fn programmed_feed(&self) -> f64 {
+        self.programmed * 60.0
+    }
+
+    /// The same motion moved by a manual intervention with manual absolute off (FANUC MAN-02,
+    /// MAN-03): every axis by `machine`; a path the axes follow through the kinematics instead
+    /// has its tool tip moved by `tip` in the table frame (so the shift turns with the table); a
+    /// move in machine coordinates stays.
+    pub fn shifted(&self, machine: &Pos, tip: Vec3) -> Segment {
+        let mut seg = self.clone();
+        if self.machine_coordinates {
+            return seg;
+        }
+        match &mut seg.follow {
+            Some(f) => {
+                (f.from, f.to) = (f.from + tip, f.to + tip);
+                if let Some(c) = &mut f.circle {
+                    c.center += tip;
+                }
+                (seg.from, seg.to) = (f.at(&self.from, &self.to, 0.0), f.at(&self.from, &self.to, 1.0));
+            }
+            None => {
+                for ((from, to), d) in seg.from.iter_mut().zip(seg.to.iter_mut()).zip(machine) {
+                    (*from, *to) = (*from + d, *to + d);
+                }
+            }
+        }
+        seg
     }
 
     /// Whether this is a non-linear rapid (its path parameter is the time).

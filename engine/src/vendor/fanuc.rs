@@ -11,8 +11,8 @@ use super::{Params, Value};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
 use crate::machine::{
-    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, MotionOptions, PlaneAfterReset, RotaryLink,
-    Side, TcpCoordinates,
+    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, ManualOptions, ManualVertical, MotionOptions,
+    PlaneAfterReset, RotaryLink, Side, TcpCoordinates,
 };
 
 const NAMES: &str = "XYZUVWABC";
@@ -171,6 +171,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
     let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid, ..MotionOptions::default() };
     let five_axis = five_axis_options(p)?;
+    let manual = manual_options(p, n)?;
     Ok(MachineConfig {
         name: name.to_string(),
         axes,
@@ -180,7 +181,65 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         holder,
         motion,
         five_axis,
+        manual,
     })
+}
+
+/// The 5-axis manual feed settings: No.12318 tool length, 12320#0 TWD / #1 FLL / #2 JFR, 12321
+/// vertical axis (outside 0…3: PS5459, as S002 lists 12321 among the machine configuration
+/// parameters), 12322 parallel angle, 19746#2 LOD / #3 LOZ, 1410 dry run rate, 1424 manual
+/// rapid per axis (absent: 0).
+fn manual_options(p: &Params, axes: usize) -> Result<ManualOptions, ConfigError> {
+    let bit =
+        |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
+    let code = p.get(12321)?;
+    let vertical = match [0.0, 1.0, 2.0, 3.0].iter().position(|&c| c == code) {
+        Some(0) => ManualVertical::Tool,
+        Some(1) => ManualVertical::X,
+        Some(2) => ManualVertical::Y,
+        Some(3) => ManualVertical::Z,
+        _ => return Err(ConfigError::alarm(AlarmId::MachineParameter, format!("No.12321 = {code} is not 0…3"))),
+    };
+    let rapid = p.axes(1424, axes)?;
+    Ok(ManualOptions {
+        tool_length: p.get(12318)?,
+        length_from_offset: bit(19746, 2)?,
+        zero_length_without_offset: bit(19746, 3)?,
+        plane_directions: bit(12320, 0)?,
+        latitude_longitude: bit(12320, 1)?,
+        jog_feedrate: bit(12320, 2)?,
+        vertical,
+        parallel_deg: p.get(12322)?,
+        dry_run_feed: p.get(1410)?,
+        rapid: if rapid.iter().all(|x| *x == 0.0) { Vec::new() } else { rapid },
+    })
+}
+
+/// [`manual_options`] the other way; only what differs from 0 is written.
+fn manual_params(p: &mut Params, m: &MachineConfig) {
+    let o = &m.manual;
+    let bits = |b: &[bool]| b.iter().enumerate().fold(0u32, |acc, (i, &on)| acc | (on as u32) << i) as f64;
+    let vertical = match o.vertical {
+        ManualVertical::Tool => 0.0,
+        ManualVertical::X => 1.0,
+        ManualVertical::Y => 2.0,
+        ManualVertical::Z => 3.0,
+    };
+    for (number, value) in [
+        (12318, real(o.tool_length)),
+        (12320, bits(&[o.plane_directions, o.latitude_longitude, o.jog_feedrate])),
+        (12321, vertical),
+        (12322, real(o.parallel_deg)),
+        (19746, bits(&[false, false, o.length_from_offset, o.zero_length_without_offset])),
+        (1410, real(o.dry_run_feed)),
+    ] {
+        if value != 0.0 {
+            p.set(number, value);
+        }
+    }
+    if o.rapid.iter().any(|x| *x != 0.0) {
+        p.set_axes(1424, (0..m.axes.len()).map(|i| real(o.rapid.get(i).copied().unwrap_or(0.0))).collect());
+    }
 }
 
 /// The 5-axis function bits: No.19696#5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
@@ -313,6 +372,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         21 => (point(0), zero, point(1), zero),
         _ => (zero, zero, zero, zero),
     };
+    manual_params(&mut p, m);
     p.set(19666, real(holder));
     for (first, v) in [(19700, a), (19703, d), (19709, v1), (19712, v2)] {
         for (i, x) in v.iter().enumerate() {

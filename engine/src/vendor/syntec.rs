@@ -204,6 +204,9 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             },
             ..FiveAxisOptions::default()
         },
+        // Syntec has no parameters for the 5-axis manual feeds (its manual RTCP is the PLC
+        // registers R518/R519, the controller's panel): they are not carried.
+        manual: Default::default(),
     })
 }
 

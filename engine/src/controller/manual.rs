@@ -1,0 +1,463 @@
+//! 5-axis manual operation of a [`Controller`] (`docs/five-axis.md`, 5-axis manual operation):
+//! FANUC's 5-axis JOG/HANDLE feeds with their settings (`MachineConfig.manual`), manual
+//! intervention in a held program with manual absolute on or off, Syntec's manual RTCP
+//! registers R518/R519.
+
+use super::{Controller, Mode, Refusal, RunState};
+use crate::canon::{Motion, MotionContext, MotionKind, Pos};
+use crate::kin::{latitude_longitude, ManualFeed, Vec3};
+use crate::machine::{ManualOptions, ManualVertical};
+use crate::motion::{AxisLimits, Segment};
+
+/// Syntec R518: the coordinate system of manual X/Y/Z moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ManualCoordinates {
+    /// R518 = 0: each axis on its own.
+    #[default]
+    Machine,
+    /// R518 = 1: the programming coordinate system (turning with the table under tool centre
+    /// point control, the tilted working plane's axes in one).
+    Program,
+    /// R518 = 2: the tool's (X, Y: right-angle directions 1 and 2, Z: the tool axis).
+    Tool,
+}
+
+/// A held program while the operator moves the machine by hand.
+pub(super) struct Intervention {
+    /// The mode to come back to, and whether the program was held (or at a block stop).
+    pub(super) mode: Mode,
+    pub(super) held: bool,
+    /// Where the machine stood.
+    pub(super) start: Pos,
+    /// The rest of the path, and where it ends.
+    pub(super) path: Vec<Segment>,
+    pub(super) queued: (Pos, Pos),
+}
+
+/// The shift of manual absolute off (FANUC MAN-02/03): every axis by `machine`; a tool tip path
+/// (TCP, tilted working plane) by `tip` in the table frame.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Shift {
+    pub(super) machine: Pos,
+    pub(super) tip: Vec3,
+}
+
+impl Controller {
+    /// Back from a manual intervention: the held path goes on from where the machine stands,
+    /// to the programmed end point (manual absolute on) or shifted by the intervention (off).
+    pub(super) fn end_intervention(&mut self) {
+        let Some(i) = self.intervention.take() else { return };
+        self.mode = i.mode;
+        let here = self.here.machine;
+        let moved: Pos = std::array::from_fn(|k| here[k] - i.start[k]);
+        let mut path = i.path;
+        (self.queued_machine, self.queued_work) = i.queued;
+        if moved.iter().any(|d| d.abs() > 1e-9) {
+            if !self.panel.manual_absolute {
+                let shift = self.intervention_shift(&i.start, &moved);
+                path = path.iter().map(|seg| seg.shifted(&shift.machine, shift.tip)).collect();
+                if let Some(last) = path.last() {
+                    (self.queued_machine, self.queued_work) = (last.to, last.work_to);
+                } else {
+                    (self.queued_machine, self.queued_work) = (here, self.here.work);
+                }
+                self.shift = Some(match self.shift {
+                    Some(s) => Shift {
+                        machine: std::array::from_fn(|k| s.machine[k] + shift.machine[k]),
+                        tip: s.tip + shift.tip,
+                    },
+                    None => shift,
+                });
+            } else if path.is_empty() {
+                // At a block stop: the next block starts where the machine is.
+                (self.queued_machine, self.queued_work) = (here, self.here.work);
+                self.reposition = true;
+            }
+            let continues =
+                path.first().is_some_and(|seg| seg.from.iter().zip(&here).all(|(a, b)| (a - b).abs() < 1e-9));
+            if !path.is_empty() && !continues {
+                // The rest of the block under way becomes one straight move to its end.
+                let line = path[0].line;
+                let block = path.iter().take_while(|seg| seg.line == line).count();
+                let seg = self.straight(here, self.here.work, &path[block - 1]);
+                path.splice(0..block, [seg]);
+            }
+            // Where a shifted path meets one that was not (a move in machine coordinates), the
+            // later block goes straight from where the earlier one ends.
+            for k in 1..path.len() {
+                let (to, work_to) = (path[k - 1].to, path[k - 1].work_to);
+                if path[k].from.iter().zip(&to).any(|(a, b)| (a - b).abs() > 1e-9) {
+                    path[k] = self.straight(to, work_to, &path[k]);
+                }
+            }
+        }
+        for seg in path {
+            self.planner.push(seg);
+        }
+        if i.held {
+            self.set_state(RunState::Hold);
+        }
+    }
+
+    /// A straight move (all axes linear) from `from` to the end of `end`, at its programmed feed
+    /// (its rapid if it is one), standing in for it.
+    fn straight(&mut self, from: Pos, from_work: Pos, end: &Segment) -> Segment {
+        let m = Motion {
+            kind: if end.rapid { MotionKind::Rapid } else { MotionKind::Linear },
+            target: end.work_to,
+            machine: end.to,
+            arc: None,
+            tip: None,
+            feed: end.programmed_feed(),
+            feed_mode: crate::canon::FeedMode::PerMinute,
+            spindle: 0.0,
+            context: MotionContext::default(),
+        };
+        let queued = (self.queued_machine, self.queued_work);
+        (self.queued_machine, self.queued_work) = (from, from_work);
+        let mut seg = self.segment(&m);
+        (seg.line, seg.n, seg.stop_after) = (end.line, end.n, end.stop_after);
+        (self.queued_machine, self.queued_work) = queued;
+        seg
+    }
+
+    /// What a manual intervention from `start` that moved the axes by `moved` shifts: every
+    /// axis of plain motions by `moved`; a tool tip path by the tip's displacement seen from
+    /// the table (a rotary axis moved by hand shifts the tool centre point, MAN-02; on table
+    /// machines the shift turns with the table, MAN-03).
+    pub(super) fn intervention_shift(&self, start: &Pos, moved: &Pos) -> Shift {
+        let tip = match &self.kinematics {
+            Some(kin) => {
+                let length = self.interp.active_length_offset().unwrap_or(0.0);
+                kin.forward(&self.here.machine, length).tip - kin.forward(start, length).tip
+            }
+            None => Vec3::zeros(),
+        };
+        Shift { machine: *moved, tip }
+    }
+
+    /// Syntec R518: the direction (machine coordinates) manual moves of axis `i` follow when it
+    /// is X, Y or Z and the choice is not the machine's. Program coordinates: the tilted working
+    /// plane's axes, or under tool centre point control the table's (they turn with it),
+    /// otherwise the machine's; tool coordinates: right-angle directions 1, 2 and the tool axis.
+    pub(super) fn coordinate_direction(&self, i: usize) -> Option<Vec3> {
+        let kin = self.kinematics.as_ref()?;
+        let k = kin.linear.iter().position(|&index| index == Some(i))?;
+        match self.panel.manual_coordinates {
+            ManualCoordinates::Machine => None,
+            ManualCoordinates::Program => {
+                if let Some(axes) = self.interp.plane_axes(&self.here.machine) {
+                    return Some(axes[k]);
+                }
+                let r = if self.interp.tcp_on() {
+                    kin.table_frame(&self.here.machine).r
+                } else {
+                    nalgebra::Matrix3::identity()
+                };
+                Some(r.column(k).into())
+            }
+            ManualCoordinates::Tool => {
+                let d = kin.manual_directions(&self.here.machine);
+                Some([d.right_angle[0], d.right_angle[1], d.tool][k])
+            }
+        }
+    }
+
+    /// Syntec R519: the tool length rotary axis `i` turns about when manual RTCP is on under
+    /// tool centre point control (the active offset; none: the spindle nose stays).
+    pub(super) fn rtcp_length(&self, i: usize) -> Option<f64> {
+        let kin = self.kinematics.as_ref()?;
+        let rotary = kin.head.iter().chain(&kin.table).any(|j| j.index == Some(i));
+        (self.panel.manual_rtcp && rotary && self.interp.tcp_on())
+            .then(|| self.interp.active_length_offset().unwrap_or(0.0))
+    }
+
+    /// JOG along a 5-axis manual feed direction (tool axis, its right angles, table vertical
+    /// or horizontal; `kin::ManualDirections`, `ManualOptions`), at the 5-axis jog feed
+    /// ([`Controller::manual_jog_feed`]), until jog stop or the strokes.
+    pub fn jog_direction(&mut self, feed: ManualFeed, positive: bool) -> Result<(), Refusal> {
+        if self.mode != Mode::Jog {
+            return Err(Refusal::WrongMode);
+        }
+        let d = self.manual_direction(feed)?;
+        self.move_along(if positive { d } else { -d }, f64::INFINITY, self.manual_jog_feed())
+    }
+
+    /// HANDLE along a 5-axis manual feed direction by `amount` mm (stopping at the strokes).
+    pub fn handle_direction(&mut self, feed: ManualFeed, amount: f64) -> Result<(), Refusal> {
+        if self.mode != Mode::Handle {
+            return Err(Refusal::WrongMode);
+        }
+        if !amount.is_finite() {
+            return Err(Refusal::BadValue);
+        }
+        let d = self.manual_direction(feed)?;
+        self.move_along(if amount < 0.0 { -d } else { d }, amount.abs(), self.panel.jog_feed)
+    }
+
+    /// JOG tool tip centre rotation (FANUC MAN-12): turn rotary `axis` while X/Y/Z keep the
+    /// tool tip (MAN-13's length) where it is on the table, until jog stop or a stroke. JFR:
+    /// the rotary axis at the jog feed, deg/min; otherwise the linear axes' resultant at the
+    /// dry run rate (with the override).
+    pub fn jog_tip_rotation(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
+        if self.mode != Mode::Jog {
+            return Err(Refusal::WrongMode);
+        }
+        let o = &self.machine.manual;
+        let linear = (!o.jog_feedrate && o.dry_run_feed > 0.0).then_some(o.dry_run_feed * self.panel.feed_override);
+        let feed = self.panel.jog_feed * self.panel.feed_override;
+        self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, self.manual_tool_length(), feed, linear)
+    }
+
+    /// HANDLE tool tip centre rotation (FANUC MAN-11): turn rotary `axis` by `amount` degrees
+    /// about the tool tip, stopping before a stroke.
+    pub fn handle_tip_rotation(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
+        if self.mode != Mode::Handle {
+            return Err(Refusal::WrongMode);
+        }
+        if !amount.is_finite() {
+            return Err(Refusal::BadValue);
+        }
+        self.turn_about_tip(axis, amount, self.manual_tool_length(), self.panel.jog_feed, None)
+    }
+
+    /// Syntec R518: the coordinate system manual X/Y/Z moves use.
+    pub fn set_manual_coordinates(&mut self, choice: ManualCoordinates) -> Result<(), Refusal> {
+        if self.moving() {
+            return Err(Refusal::Busy);
+        }
+        self.panel.manual_coordinates = choice;
+        Ok(())
+    }
+
+    /// Syntec R519: manual RTCP on or off (rotary JOG/HANDLE keep the tool tip under tool
+    /// centre point control).
+    pub fn set_manual_rtcp(&mut self, on: bool) -> Result<(), Refusal> {
+        if self.moving() {
+            return Err(Refusal::Busy);
+        }
+        self.panel.manual_rtcp = on;
+        Ok(())
+    }
+
+    /// The 5-axis manual feed settings (FANUC No.12318, 12320–12322, 19746#2/#3, 1410, 1424), to
+    /// change as a parameter screen would.
+    pub fn manual_options(&self) -> &ManualOptions {
+        &self.machine.manual
+    }
+
+    pub fn manual_options_mut(&mut self) -> &mut ManualOptions {
+        &mut self.machine.manual
+    }
+
+    /// The tool length of the 5-axis manual feeds (FANUC MAN-13): No.12318, or with LOD the
+    /// offset data while an offset is active, else No.12318 (LOZ = 0) or 0 (LOZ = 1).
+    pub fn manual_tool_length(&self) -> f64 {
+        let o = &self.machine.manual;
+        if !o.length_from_offset {
+            return o.tool_length;
+        }
+        match self.interp.active_length_offset() {
+            Some(length) => length,
+            None if o.zero_length_without_offset => 0.0,
+            None => o.tool_length,
+        }
+    }
+
+    /// The feed of the 5-axis JOG feeds (FANUC MAN-06, TV-MAN-08): the dry run rate (No.1410),
+    /// or the jog feedrate with JFR (or when no dry run rate is set); the feed override acts
+    /// on it as on every JOG feed.
+    pub fn manual_jog_feed(&self) -> f64 {
+        let o = &self.machine.manual;
+        if o.jog_feedrate || o.dry_run_feed <= 0.0 {
+            self.panel.jog_feed
+        } else {
+            o.dry_run_feed
+        }
+    }
+
+    /// Where a 5-axis manual feed moves the tool now, machine coordinates (FANUC §2.15,
+    /// TV-MAN-05): in a tilted working plane with TWD the plane's axes; otherwise the
+    /// conventional directions, or with FLL longitude and latitude.
+    pub fn manual_direction(&self, feed: ManualFeed) -> Result<Vec3, Refusal> {
+        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        let o = &self.machine.manual;
+        if o.plane_directions {
+            if let Some([x, y, z]) = self.interp.plane_axes(&self.here.machine) {
+                return Ok(match feed {
+                    ManualFeed::ToolAxis | ManualFeed::TableVertical => z,
+                    ManualFeed::RightAngle1 | ManualFeed::TableHorizontal1 => x,
+                    ManualFeed::RightAngle2 | ManualFeed::TableHorizontal2 => y,
+                });
+            }
+        }
+        let d = kin.manual_directions(&self.here.machine);
+        let first = matches!(feed, ManualFeed::RightAngle1 | ManualFeed::TableHorizontal1);
+        let table = matches!(feed, ManualFeed::TableHorizontal1 | ManualFeed::TableHorizontal2);
+        if !o.latitude_longitude || matches!(feed, ManualFeed::ToolAxis | ManualFeed::TableVertical) {
+            return Ok(d.of(feed));
+        }
+        // Longitude and latitude of the tool direction, or for the table feeds of the table
+        // vertical (§2.15 [A]); No.12321 = 0: the reference tool direction for the tool feeds,
+        // the tool direction for the table feeds (OQ-28, each section literally).
+        let vertical = match o.vertical {
+            ManualVertical::Tool if table => d.tool,
+            ManualVertical::Tool => kin.tool_axis,
+            ManualVertical::X => Vec3::x(),
+            ManualVertical::Y => Vec3::y(),
+            ManualVertical::Z => Vec3::z(),
+        };
+        let normal = if table { d.table_vertical } else { d.tool };
+        let [r1, r2] = latitude_longitude(normal, vertical, o.parallel_deg);
+        Ok(if first { r1 } else { r2 })
+    }
+
+    pub(super) fn turn_about_tip(
+        &mut self,
+        axis: char,
+        amount: f64,
+        length: f64,
+        feed_deg_min: f64,
+        linear_feed: Option<f64>,
+    ) -> Result<(), Refusal> {
+        let kin = self.kinematics.clone().ok_or(Refusal::NoAxis)?;
+        let i = self.axis(axis)?;
+        if kin.linear.contains(&Some(i)) {
+            return Err(Refusal::NoAxis);
+        }
+        if self.manual_blocked() {
+            return Err(Refusal::Busy);
+        }
+        let from = self.here.machine;
+        // The dry run rate is the linear axes' resultant: the rotary rate that gives it (the
+        // carriage turns on a circle about the rotary axis).
+        let feed = match linear_feed {
+            Some(f) => {
+                let mut step = from;
+                step[i] += 1e-3;
+                let tip = kin.forward(&from, length).tip;
+                let per_deg =
+                    (kin.carriage_for(&step, tip, length) - kin.carriage_for(&from, tip, length)).norm() / 1e-3;
+                if per_deg > 1e-9 {
+                    f / per_deg
+                } else {
+                    feed_deg_min
+                }
+            }
+            None => feed_deg_min,
+        };
+        let axes = self.manual_limits();
+        let segment = |amount: f64| {
+            let mut to = from;
+            to[i] += amount;
+            Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, feed, &axes)
+        };
+        // The largest part of the turn whose path (sampled) stays inside every stroke.
+        let inside = |seg: &Segment| {
+            (0..=64).all(|k| {
+                let p = seg.at(seg.len * k as f64 / 64.0).0;
+                self.machine
+                    .axes
+                    .iter()
+                    .enumerate()
+                    .all(|(a, ax)| ax.stroke.is_none_or(|[lo, hi]| p[a] >= lo && p[a] <= hi))
+            })
+        };
+        let mut seg = segment(amount);
+        if !inside(&seg) {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..30 {
+                let mid = 0.5 * (lo + hi);
+                if inside(&segment(amount * mid)) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            seg = segment(amount * lo);
+        }
+        (self.queued_machine, self.queued_work) = (seg.to, seg.work_to);
+        self.planner.push(seg);
+        self.set_state(RunState::Running);
+        Ok(())
+    }
+
+    /// The axis limits of manual moves: no axis faster than its manual rapid rate (FANUC
+    /// No.1424, TV-MAN-09; 0: the rapid rate).
+    pub(super) fn manual_limits(&self) -> AxisLimits {
+        let mut axes = self.axes.clone();
+        for (i, &rapid) in self.machine.manual.rapid.iter().enumerate().take(axes.count) {
+            if rapid > 0.0 {
+                axes.v[i] = axes.v[i].min(rapid / 60.0);
+            }
+        }
+        axes
+    }
+
+    /// Move X, Y, Z up to `distance` along the unit direction `d` (machine coordinates),
+    /// clamped to the strokes.
+    pub(super) fn move_along(&mut self, d: Vec3, distance: f64, feed: f64) -> Result<(), Refusal> {
+        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        if !d.iter().all(|x| x.is_finite()) || (d.norm() - 1.0).abs() > 1e-6 {
+            return Err(Refusal::NoAxis);
+        }
+        if self.manual_blocked() {
+            return Err(Refusal::Busy);
+        }
+        // The longest move along d that stays inside every stroke.
+        let mut reach = distance;
+        for (axis, &index) in kin.linear.iter().enumerate() {
+            let Some(i) = index else { continue };
+            let (x, di) = (self.here.machine[i], d[axis]);
+            if let (Some([lo, hi]), true) = (self.machine.axes[i].stroke, di.abs() > 1e-12) {
+                let bound = if di > 0.0 { hi } else { lo };
+                reach = reach.min(((bound - x) / di).max(0.0));
+            }
+        }
+        if !reach.is_finite() {
+            reach = 1.0e6;
+        }
+        let mut to = self.here.machine;
+        for (axis, &index) in kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                to[i] += d[axis] * reach;
+            }
+        }
+        self.push_manual(MotionKind::Linear, to, feed);
+        Ok(())
+    }
+
+    /// A motion of the program after a manual intervention: with manual absolute off moved by
+    /// the interventions so far (`shift`); the first after one at a block stop with manual
+    /// absolute on starts its tool tip path where the tip is (`reposition`).
+    pub(super) fn moved_motion(&self, m: &Motion, shift: Option<&Shift>) -> Motion {
+        let mut m = m.clone();
+        if let (true, Some(tip), Some(kin)) = (self.reposition, &mut m.tip, &self.kinematics) {
+            tip.from = kin.forward(&self.queued_machine, tip.tool_length).tip;
+        }
+        // Machine-coordinate moves (G53, reference returns) go where they say.
+        let Some(shift) = shift.filter(|_| m.kind != MotionKind::MachineRapid) else { return m };
+        match (&mut m.tip, &self.kinematics) {
+            (Some(tip), Some(kin)) => {
+                tip.from += shift.tip;
+                tip.to += shift.tip;
+                if let Some(arc) = &mut tip.arc {
+                    arc.center += shift.tip;
+                }
+                let carriage = kin.carriage_for(&m.machine, tip.to, tip.tool_length);
+                for (axis, index) in kin.linear.iter().enumerate() {
+                    if let Some(i) = index {
+                        m.machine[*i] = carriage[axis];
+                    }
+                }
+            }
+            _ => {
+                for (x, d) in m.machine.iter_mut().zip(&shift.machine) {
+                    *x += d;
+                }
+            }
+        }
+        m
+    }
+}
