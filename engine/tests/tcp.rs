@@ -387,3 +387,84 @@ fn tv43_tv44_tool_posture_control_turns_on_the_great_circle() {
     let (_, conventional) = run_on(m, Dialect::Fanuc, &src(0));
     assert!(tool_at(&conventional, 50.0).y.abs() > 0.05, "P0 leaves the XZ plane");
 }
+
+/// A preset without stroke limits, with Π the workpiece system (WKP = 1).
+fn workpiece_preset(name: &str) -> MachineConfig {
+    let mut m = with_coordinates(preset(name), TcpCoordinates::Workpiece);
+    for a in &mut m.axes {
+        a.stroke = None;
+    }
+    m
+}
+
+/// Runs `before` (axis moves before TCP), G43.4, `inside` (moves in TCP, may be empty), then
+/// the circle of `plane` (G17/G18/G19, a quarter circle of R10 from the point the program
+/// moves to) with the extra words `rotary`: the alarm code, or `None` when it runs.
+fn workpiece_arc(machine: &str, before: &str, inside: &str, plane: u8, rotary: &str) -> Option<String> {
+    let arc = match plane {
+        17 => format!("G00 X10. Y0 Z10.\nG17 G02 X0 Y-10. R10. {rotary} F500."),
+        18 => format!("G00 X10. Y0 Z10.\nG18 G02 X0 Z0 R10. {rotary} F500."),
+        _ => format!("G00 X10. Y0 Z10.\nG19 G02 Y10. Z0 R10. {rotary} F500."),
+    };
+    let src = format!("G90 G00 X0 Y0 Z100.\n{before}\nG43.4 H1\n{inside}\n{arc}\nG01 F500.\nG49\nM30\n");
+    let (r, _) = run_on(workpiece_preset(machine), Dialect::Fanuc, &src);
+    r.alarms.first().map(|a| a.code.clone())
+}
+
+#[test]
+fn tv30_to_tv33_workpiece_arcs_on_a_mixed_machine() {
+    let ps = Some("PS5421".to_string());
+    // TV-30: C (table) is normal to XY and may turn; B is a tool axis.
+    assert_eq!(workpiece_arc("mixed-bc", "G01 C90. F1000.", "", 17, "B10. C20."), None);
+    assert_eq!(workpiece_arc("mixed-bc", "", "", 17, "B10. C20."), None);
+    // TV-31: in ZX or YZ with C unmoved since G43.4 (also after C moved before G43.4).
+    for plane in [18, 19] {
+        assert_eq!(workpiece_arc("mixed-bc", "", "", plane, ""), None, "G{plane}");
+        assert_eq!(workpiece_arc("mixed-bc", "G01 C90. F1000.", "", plane, ""), None, "G{plane}");
+        assert_eq!(workpiece_arc("mixed-bc", "", "", plane, "B10."), None, "tool axis, G{plane}");
+        // TV-32: C turns in the circle.
+        assert_eq!(workpiece_arc("mixed-bc", "", "", plane, "C20."), ps, "TV-32 G{plane}");
+        // TV-33: C turned since G43.4.
+        assert_eq!(workpiece_arc("mixed-bc", "", "G01 C10. F1000.", plane, ""), ps, "TV-33 G{plane}");
+    }
+}
+
+#[test]
+fn tv34_to_tv42_workpiece_arcs_on_a_table_machine() {
+    // table-ac: A (about X) carries C (about Z).
+    let ps = Some("PS5421".to_string());
+    let a90 = "G01 A90. F1000.";
+    // TV-34: neither axis turns nor has turned since G43.4.
+    assert_eq!(workpiece_arc("table-ac", a90, "", 17, ""), None, "TV-34");
+    assert_eq!(workpiece_arc("table-ac", "G01 A90. C10. F1000.", "", 17, ""), None, "TV-34 with C10");
+    // TV-35: C (along Y at A90) turned since G43.4.
+    assert_eq!(workpiece_arc("table-ac", a90, "G01 C10. F1000.", 17, ""), ps, "TV-35");
+    // TV-36: C turns in the circle.
+    assert_eq!(workpiece_arc("table-ac", a90, "", 17, "C10."), ps, "TV-36");
+    // TV-37: A (not normal to XY) turned since G43.4.
+    assert_eq!(workpiece_arc("table-ac", "", "G01 A10. F1000.", 17, "C10."), ps, "TV-37");
+    // TV-38: A is normal to YZ and may turn.
+    assert_eq!(workpiece_arc("table-ac", a90, "", 19, "A10."), None, "TV-38");
+    // TV-39: C (along Z at A0) turned since G43.4, not normal to YZ.
+    assert_eq!(workpiece_arc("table-ac", "", "G01 C10. F1000.", 19, ""), ps, "TV-39");
+    // TV-40: at A90 C is along Y, normal to ZX; A unmoved.
+    assert_eq!(workpiece_arc("table-ac", "G01 A90. C10. F1000.", "", 18, ""), None, "TV-40");
+    // TV-41: A turned since G43.4 (with or without C).
+    assert_eq!(workpiece_arc("table-ac", "", "G01 A10. F1000.", 18, ""), ps, "TV-41");
+    assert_eq!(workpiece_arc("table-ac", "", "G01 A10. C10. F1000.", 18, ""), ps, "TV-41 with C");
+    // TV-42: at A0 C is normal to XY and may turn.
+    assert_eq!(workpiece_arc("table-ac", "", "", 17, "C10."), None, "TV-42");
+}
+
+#[test]
+fn workpiece_arc_rule_is_only_for_wkp_1() {
+    // Decision: with Π on the table (WKP = 0) the circle is on the table and the table
+    // axes may turn in it (TV-32's program runs).
+    let src = "G90 G00 X0 Y0 Z100.\nG43.4 H1\nG00 X10. Y0 Z10.\nG18 G02 X0 Z0 R10. C20. F500.\nG01\nG49\nM30\n";
+    let mut m = preset("mixed-bc");
+    for a in &mut m.axes {
+        a.stroke = None;
+    }
+    let (r, _) = run_on(m, Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+}

@@ -38,6 +38,9 @@ pub(super) struct Tcp {
     commanded: Option<Vec3>,
     /// The start block is being executed: its move is an ordinary one.
     starting: bool,
+    /// The machine position at the end of the start block (the table angles WKP = 1 arcs are
+    /// checked against, M-13).
+    start_machine: Pos,
 }
 
 impl State {
@@ -111,6 +114,7 @@ impl State {
             inclination,
             commanded: None,
             starting: true,
+            start_machine: machine,
         });
         self.follow_machine = Some(machine);
         Ok(())
@@ -131,6 +135,7 @@ impl State {
         t.direction = frame.map_or(pose.tool_machine, |f| f.r.transpose() * pose.tool);
         t.frame = frame;
         t.starting = false;
+        t.start_machine = machine;
         self.tcp_moved_to(machine);
     }
 
@@ -240,6 +245,9 @@ impl State {
         }
         let t = self.tcp.as_ref().expect("under TCP");
         let machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        if let (Some(a), None, false) = (&arc, t.frame, t.starting) {
+            workpiece_arc_allowed(&kin, a, &t.start_machine, &from_machine, &machine_end)?;
+        }
         // The start block is placed in the workpiece system on the table as it will stand;
         // later blocks in Π (or the workpiece system at the block's end angles, WKP = 1).
         let frame = match (t.starting, t.frame) {
@@ -326,6 +334,28 @@ pub(super) struct FollowPath {
     pub(super) posture: bool,
     /// The tip follows the path; `false`: an ordinary move to the end point (TCP start block).
     pub(super) along: bool,
+}
+
+/// FANUC M-13 (§2.3.7, TV-30…42): a circle under TCP in the workpiece system (WKP = 1) is
+/// refused (PS5421) when a table rotary axis whose line is not normal to the plane turns in the
+/// block, or stands at another angle than at the end of the TCP start block. The line is taken
+/// in machine directions (those of W) at the block start, tilted by any table axis carrying it;
+/// tool rotary axes are free.
+fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos, to: &Pos) -> Result<(), AlarmId> {
+    let Some(normal_axis) = kin.linear.iter().position(|&i| i == Some(arc.plane_axes.2)) else {
+        return Ok(());
+    };
+    for (k, j) in kin.table.iter().enumerate() {
+        let Some(i) = j.index else { continue };
+        let line = kin.table_axis_direction(k, from);
+        let normal = line.cross(&Vec3::ith(normal_axis, 1.0)).norm() < 1e-9;
+        let turns = (to[i] - from[i]).abs() > 1e-9;
+        let moved = (from[i] - at_start[i]).abs() > 1e-9;
+        if !normal && (turns || moved) {
+            return Err(AlarmId::IllegalCommandInTcp);
+        }
+    }
+    Ok(())
 }
 
 /// X, Y, Z of a position (the machine's linear axes; a missing one 0).
