@@ -101,6 +101,9 @@ pub struct TipMove {
     /// circle from the first to the second in proportion to the tip's travel. `None`: the rotary
     /// axes move in proportion to it (conventional control).
     pub posture: Option<(Vec3, Vec3)>,
+    /// On a circle, tool posture control keeps the tool's angles to the centre and to the
+    /// travel direction interpolated instead (FANUC M-8; Syntec uses the great circle).
+    pub posture_on_arc: bool,
     /// The programming coordinate system as a frame in the table frame: the tip's coordinates
     /// in it are what the position display shows.
     pub frame: Frame,

@@ -468,3 +468,125 @@ fn workpiece_arc_rule_is_only_for_wkp_1() {
     let (r, _) = run_on(m, Dialect::Fanuc, src);
     assert!(r.completed(), "{:?}", r.alarms);
 }
+
+/// A preset without stroke limits.
+fn free_preset(name: &str) -> MachineConfig {
+    let mut m = preset(name);
+    for a in &mut m.axes {
+        a.stroke = None;
+    }
+    m
+}
+
+/// The tool direction (table frame) and tip (relative to Π's origin) at every sample of `line`.
+fn tools_and_tips(kin: &Kinematics, samples: &[Sample], line: u32) -> Vec<(Vec3, Vec3)> {
+    of_line(samples, line)
+        .iter()
+        .map(|s| {
+            let pose = kin.forward(&s.machine, 100.0);
+            (pose.tool, pose.tip - kin.nose)
+        })
+        .collect()
+}
+
+#[test]
+fn tv46_posture_control_on_an_arc_keeps_the_angle_to_the_centre() {
+    // G19 quarter circle about Y0 Z0 from Y20 to Z-20 (clockwise seen from +X): the tool is 60°
+    // from the centre direction and square to the travel at both ends (B90 C-30 → B60 C0), so
+    // it sweeps a cone: at every point v·c = cos 60° and v·X = sin 60°.
+    let src = |p: u8| {
+        format!(
+            "G90 G00 B90. C-30.\nG43.4 H1 P{p}\nG00 X0 Y20. Z0\nG19 G02 Y0 Z-20. R20. B60. C0 F600.\nG01\nG49\nM30\n"
+        )
+    };
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m.clone(), Dialect::Fanuc, &src(1));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let points = tools_and_tips(&kin, &samples, 4);
+    assert!(points.len() > 50);
+    let s60 = 3f64.sqrt() / 2.0;
+    for (v, tip) in &points {
+        let c = Vec3::new(0.0, -tip.y, -tip.z).normalize();
+        assert!((v.dot(&c) - 0.5).abs() < 1e-6 && (v.x - s60).abs() < 1e-6, "v {v:?} at {tip:?}");
+        let travel = Vec3::x().cross(&c);
+        assert!(v.dot(&travel).abs() < 1e-6);
+    }
+    // Conventional control (P0) moves B and C in proportion and leaves the cone.
+    let (_, samples) = run_on(m, Dialect::Fanuc, &src(0));
+    let worst = tools_and_tips(&kin, &samples, 4)
+        .iter()
+        .map(|(v, tip)| (v.dot(&Vec3::new(0.0, -tip.y, -tip.z).normalize()) - 0.5).abs())
+        .fold(0.0, f64::max);
+    assert!(worst > 0.01, "P0 stays on the cone ({worst})");
+}
+
+#[test]
+fn tv47_posture_on_an_arc_interpolates_alpha_through_the_normal() {
+    // G17 quarter circle about the origin from X20 to Y20: α from 60° to 120°, β = 90°: the
+    // tool is cos α_t·c + sin α_t·Z at each point, straight up (σ·n) half-way.
+    let src = "G90 G00 B-30. C0\nG43.4 H1 P1\nG00 X20. Y0 Z0\nG17 G03 X0 Y20. R20. B30. C90. F600.\nG01\nG49\nM30\n";
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m, Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let mut nearest_half = (f64::INFINITY, Vec3::zeros());
+    for (v, tip) in tools_and_tips(&kin, &samples, 4) {
+        let phi = tip.y.atan2(tip.x);
+        let t = phi / std::f64::consts::FRAC_PI_2;
+        let alpha = (60.0 + 60.0 * t).to_radians();
+        let c = -Vec3::new(tip.x, tip.y, 0.0).normalize();
+        let want = c * alpha.cos() + Vec3::z() * alpha.sin();
+        assert!(close(v, want, 1e-6), "at t {t}: {v:?}, want {want:?}");
+        if (t - 0.5).abs() < nearest_half.0 {
+            nearest_half = ((t - 0.5).abs(), v);
+        }
+    }
+    assert!(nearest_half.0 < 0.01 && close(nearest_half.1, Vec3::z(), 0.02), "{nearest_half:?}");
+}
+
+#[test]
+fn tv48_posture_control_refuses_an_arc_that_turns_the_tool_across_the_plane() {
+    // B30 → B100: the tool starts above the XY plane (cos 30° > 0) and would end below it.
+    let src = |p: u8| {
+        format!(
+            "G90 G00 B30. C0\nG43.4 H1 P{p}\nG00 X20. Y0 Z0\nG17 G03 X0 Y20. R20. B100. C90. F600.\nG01\nG49\nM30\n"
+        )
+    };
+    let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src(1));
+    assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS0432"), "{:?}", r.alarms);
+    assert_eq!(r.alarms[0].message, "UNAVAILABLE POSTURE IN TPC");
+    // Conventional control has no such rule.
+    let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src(0));
+    assert!(r.completed(), "{:?}", r.alarms);
+    // In G18 (normal Y) both ends are in the plane (v·Y = 0): allowed, and (decision, Q-7) the
+    // tool turns on the great circle in that plane as on a line.
+    let g18 = "G90 G00 B30. C0\nG43.4 H1 P1\nG00 X20. Y0 Z0\nG18 G02 X0 Z20. R20. B60. F600.\nG01\nG49\nM30\n";
+    let (r, samples) = run_on(free_preset("head-bc"), Dialect::Fanuc, g18);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let kin = Kinematics::new(&free_preset("head-bc")).unwrap();
+    for (v, tip) in tools_and_tips(&kin, &samples, 4) {
+        assert!(v.y.abs() < 1e-9, "{v:?} at {tip:?}");
+    }
+}
+
+#[test]
+fn tv45_equal_or_opposite_directions_run_with_conventional_control() {
+    // B30 C0 and B-30 C180 are the same direction; B90 C0 (+X) and B90 C180 (−X) opposite.
+    // Tool posture control cannot choose a plane: B and C move in proportion, as with P0, so
+    // the tool half-way is B0 (straight up) and B90 C90 (+Y).
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    for (start, end, half) in [("B30. C0", "B-30. C180.", Vec3::z()), ("B90. C0", "B90. C180.", Vec3::y())] {
+        for p in [0, 1] {
+            let src = format!("G90 G00 {start}\nG43.4 H1 P{p}\nG00 X0 Y0 Z0\nG01 X100. {end} F600.\nG49\nM30\n");
+            let (r, samples) = run_on(m.clone(), Dialect::Fanuc, &src);
+            assert!(r.completed(), "{:?}", r.alarms);
+            let (v, _) = tools_and_tips(&kin, &samples, 4)
+                .into_iter()
+                .min_by(|a, b| (a.1.x - 50.0).abs().total_cmp(&(b.1.x - 50.0).abs()))
+                .unwrap();
+            assert!(close(v, half, 2e-3), "{start} → {end} P{p}: {v:?}");
+        }
+    }
+}

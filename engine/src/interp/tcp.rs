@@ -254,14 +254,17 @@ impl State {
             (false, Some(f)) => f,
             _ => self.frame_on_table(&kin, &machine_end),
         };
-        // FANUC tool posture control acts on lines (G00 of the linear type, G01); Syntec's
-        // tool-vector interpolation on cutting moves (G01, G02, G03). FANUC's arc rule (M-8) is
-        // not modelled: arcs run with conventional control there.
+        // FANUC tool posture control acts on lines (G00 of the linear type, G01) and circles
+        // (its own arc rule, M-8); Syntec's tool-vector interpolation on cutting moves (G01,
+        // G02, G03).
         let posture = t.posture
             && match self.cfg.dialect {
-                crate::Dialect::Fanuc => matches!(kind, MotionKind::Rapid | MotionKind::Linear),
+                crate::Dialect::Fanuc => true,
                 crate::Dialect::Syntec => kind != MotionKind::Rapid,
             };
+        if let (true, Some(a), crate::Dialect::Fanuc, false) = (posture, &arc, self.cfg.dialect, t.starting) {
+            posture_stays_on_one_side(&kin, a, &frame, &from_machine, &machine_end, t.tool_length)?;
+        }
         let path = FollowPath { frame, tool_length: t.tool_length, posture, along: !t.starting };
         let starting = t.starting;
         self.follow_motion(&kin, kind, target, arc, path, out);
@@ -313,6 +316,7 @@ impl State {
                 arc: tip_arc,
                 tool_length,
                 posture: posture.then_some((from.tool, end_tool)),
+                posture_on_arc: self.cfg.dialect == crate::Dialect::Fanuc,
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
             })
@@ -354,6 +358,27 @@ fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos
         if !normal && (turns || moved) {
             return Err(AlarmId::IllegalCommandInTcp);
         }
+    }
+    Ok(())
+}
+
+/// FANUC tool posture control on a circle (M-8, TCP-29): the tool keeps to one side of the
+/// plane; a start and end direction on opposite sides are refused (P/S0432). A direction in the
+/// plane (within 1e-6) is on either side (and the block turns on the great circle, `motion::path`).
+fn posture_stays_on_one_side(
+    kin: &Kinematics,
+    arc: &Arc,
+    frame: &Frame,
+    from: &Pos,
+    to: &Pos,
+    tool_length: f64,
+) -> Result<(), AlarmId> {
+    let Some(axis) = kin.linear.iter().position(|&i| i == Some(arc.plane_axes.2)) else { return Ok(()) };
+    let normal = frame.r * Vec3::ith(axis, 1.0);
+    let side = |p: &Pos| kin.forward(p, tool_length).tool.dot(&normal);
+    let (s, e) = (side(from), side(to));
+    if (s > 1e-6 && e < -1e-6) || (s < -1e-6 && e > 1e-6) {
+        return Err(AlarmId::PostureCrossesPlane);
     }
     Ok(())
 }
