@@ -221,6 +221,17 @@ pub struct FiveAxisOptions {
     /// otherwise as fast as the axes go.
     #[serde(default)]
     pub rotary_feed: bool,
+    /// Type 2 with tool posture control: a line whose posture passes nearer the singular
+    /// posture than this angle (degrees) ends through it instead (FANUC No.19738; 0: never).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub singular_angle: f64,
+    /// The largest workpiece-side deviation (degrees) that change may make (FANUC No.19739).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub singular_tolerance: f64,
+    /// A refused change raises an alarm instead of running the block unchanged (FANUC
+    /// No.19696#3 NPC).
+    #[serde(default)]
+    pub singular_alarm: bool,
 }
 
 impl FiveAxisOptions {

@@ -590,3 +590,74 @@ fn tv45_equal_or_opposite_directions_run_with_conventional_control() {
         }
     }
 }
+
+/// head-bc with PRI = 1 (the tool-side B judged first, so type 2 keeps B on its side and
+/// swings C round the singular posture B0) and the singular-posture settings.
+fn singular_head(angle: f64, tolerance: f64, alarm: bool) -> MachineConfig {
+    let mut m = free_preset("head-bc");
+    m.five_axis.second_axis_first = true;
+    (m.five_axis.singular_angle, m.five_axis.singular_tolerance, m.five_axis.singular_alarm) =
+        (angle, tolerance, alarm);
+    m
+}
+
+fn singular_src(ijk: &str) -> String {
+    format!("G90 G00 B10. C0\nG43.5 H1 P1\nG00 X0 Y0 Z0\nG01 X10. {ijk} F600.\nG49\nM30\n")
+}
+
+/// From B10 C0 along X to the direction `ijk` under G43.5 P1: the alarm or the end (B, C) of
+/// the line (interpreted only: a line that swings C round the singular posture runs slowly).
+fn singular_line(m: MachineConfig, ijk: &str) -> (Option<String>, (f64, f64)) {
+    let mut interp = interpreter_with(&singular_src(ijk), "mill3", Dialect::Fanuc, |c| c.machine = m);
+    let mut end = (f64::NAN, f64::NAN);
+    let r = interp.run(|c| {
+        if let fivex_engine::canon::CanonKind::Motion(m) = c.kind {
+            if c.line == 4 {
+                end = (m.machine[3], m.machine[4]);
+            }
+        }
+    });
+    (r.err().map(|a| a.code), end)
+}
+
+#[test]
+fn tv06_to_tv11_singular_posture_end_point_change_on_a_bc_head() {
+    // The target is B10 C175.01 (I-0.1730 J0.0151 K0.9848): the great circle from B10 C0
+    // passes 0.44° from +Z. With No.19738 = 10° the block ends instead at B −10 (mirrored about
+    // the singular B0, TV-06) and C 0 (its start, TV-07): the deviation |175.01 − 180| = 4.99
+    // is within No.19739 = 5 (TV-08). B passes through 0 while C stays.
+    let near = "I-0.1730 J0.0151 K0.9848";
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 5.0, false), near);
+    assert_eq!(alarm, None);
+    assert!((b + 10.0).abs() < 0.01 && c.abs() < 1e-9, "B {b} C {c}");
+    let (r, samples) = run_on(singular_head(10.0, 5.0, false), Dialect::Fanuc, &singular_src(near));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let line = of_line(&samples, 4);
+    assert!(line.len() > 100 && line.iter().all(|s| s.machine[4].abs() < 1e-9));
+    assert!(line.iter().map(|s| s.machine[3].abs()).fold(f64::INFINITY, f64::min) < 0.1);
+    // TV-09: No.19739 = 4 < 4.99 with NPC = 0: the block ends as selected, C swings to 175.
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 4.0, false), near);
+    assert_eq!(alarm, None);
+    assert!((b - 10.0).abs() < 0.01 && (c - 175.01).abs() < 0.01, "B {b} C {c}");
+    // TV-10: the same with NPC = 1: PS5421.
+    let (alarm, _) = singular_line(singular_head(10.0, 4.0, true), near);
+    assert_eq!(alarm.as_deref(), Some("PS5421"));
+    // TV-11: No.19738 = 0: never.
+    let (_, (b, c)) = singular_line(singular_head(0.0, 5.0, true), near);
+    assert!((b - 10.0).abs() < 0.01 && (c - 175.01).abs() < 0.01, "B {b} C {c}");
+    // Farther than No.19738 (0.3° < 0.44°): unchanged.
+    let (_, (b, _)) = singular_line(singular_head(0.3, 5.0, true), near);
+    assert!((b - 10.0).abs() < 0.01, "B {b}");
+}
+
+#[test]
+fn tv12_no_change_when_the_posture_is_exactly_singular() {
+    // Through +Z exactly on the way (B10 C0 → B10 C180, both in the XZ plane): unchanged.
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 5.0, true), "I-0.1736 J0 K0.9848");
+    assert_eq!(alarm, None);
+    assert!((b - 10.0).abs() < 0.01 && (c.abs() - 180.0).abs() < 1e-6, "B {b} C {c}");
+    // Ending exactly singular (+Z): B0 with C where it was (TV-05), no change either.
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 5.0, true), "I0 J0 K1.");
+    assert_eq!(alarm, None);
+    assert!(b.abs() < 1e-9 && c.abs() < 1e-9, "B {b} C {c}");
+}

@@ -223,6 +223,7 @@ impl State {
         let kin = t.kin.clone();
         let from_machine = self.machine_position();
         let off = self.offset_vector();
+        let mut through_singular = false;
         if t.code == 435 && !t.starting {
             // Type 2: the rotary angles that give the commanded direction (TCP-09, M-10).
             let mut v = t.commanded.unwrap_or(t.direction);
@@ -233,7 +234,16 @@ impl State {
             let tip = frame.to_parent(&xyz(&kin, &target));
             let candidates = kin.inverse(tip, frame.r * v, t.tool_length, &from_machine[..kin.axes]);
             let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
-            let choice = kin.select(&candidates, &from_machine[..kin.axes], how)?;
+            let mut choice = kin.select(&candidates, &from_machine[..kin.axes], how)?;
+            // Near a singular posture a FANUC TPC line may end through it instead (M-9).
+            if t.posture
+                && self.cfg.dialect == crate::Dialect::Fanuc
+                && matches!(kind, MotionKind::Rapid | MotionKind::Linear)
+            {
+                let five = self.cfg.machine.five_axis;
+                through_singular =
+                    super::singular::change_end(&kin, &five, &from_machine[..kin.axes], &mut choice.pos)?;
+            }
             for j in kin.joints() {
                 if let Some(i) = j.index {
                     target[i] = choice.pos[i] - off[i];
@@ -258,6 +268,7 @@ impl State {
         // (its own arc rule, M-8); Syntec's tool-vector interpolation on cutting moves (G01,
         // G02, G03).
         let posture = t.posture
+            && !through_singular
             && match self.cfg.dialect {
                 crate::Dialect::Fanuc => true,
                 crate::Dialect::Syntec => kind != MotionKind::Rapid,

@@ -182,8 +182,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     })
 }
 
-/// The 5-axis function bits: No.19696#5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#5 PRI (absent: 0).
+/// The 5-axis function bits: No.19696#3 NPC, #5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
+/// No.19608#5 PRI, and No.19738/19739 (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -197,6 +197,9 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         posture_control: bit(19604, 0)?,
         second_axis_first: bit(19608, 5)?,
         rotary_feed: bit(19696, 6)?,
+        singular_angle: if p.0.contains_key(&19738) { p.get(19738)? } else { 0.0 },
+        singular_tolerance: if p.0.contains_key(&19739) { p.get(19739)? } else { 0.0 },
+        singular_alarm: bit(19696, 3)?,
     })
 }
 
@@ -276,7 +279,13 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     let f = &m.five_axis;
     let wkp = f.tcp_coordinates == TcpCoordinates::Workpiece;
-    p.set(19696, (ia | (wkp as u32) << 5 | (f.rotary_feed as u32) << 6) as f64);
+    let npc = (f.singular_alarm as u32) << 3;
+    p.set(19696, (ia | npc | (wkp as u32) << 5 | (f.rotary_feed as u32) << 6) as f64);
+    for (number, value) in [(19738, f.singular_angle), (19739, f.singular_tolerance)] {
+        if value != 0.0 {
+            p.set(number, real(value));
+        }
+    }
     for (number, value) in [
         (19754, ((f.tcp_coordinates == TcpCoordinates::TableAtZero) as u32) << 5),
         (19604, f.posture_control as u32),

@@ -647,3 +647,24 @@ fn fanuc_reference_positions_are_1241_to_1243() {
     assert!(p.0.contains_key(&1241) && !p.0.contains_key(&1242) && p.0.contains_key(&1243));
     assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().axes[2].references, [250.0, 0.0, -10.0]);
 }
+
+/// The 5-axis function settings go through FANUC's parameters and back (TCP-31: No.19738,
+/// No.19739, No.19696#3 NPC next to the other bits of No.19696).
+#[test]
+fn fanuc_five_axis_options_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let f = &mut m.five_axis;
+    (f.rotary_feed, f.posture_control, f.second_axis_first) = (true, true, true);
+    (f.singular_angle, f.singular_tolerance, f.singular_alarm) = (2.5, 10.0, true);
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!((p.get(19738).unwrap(), p.get(19739).unwrap()), (2.5, 10.0));
+    assert!(p.bit(19696, 3).unwrap() && p.bit(19696, 6).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert_eq!(back.five_axis, m.five_axis);
+    assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
+    // Absent: 0, never changed.
+    let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("head-bc").unwrap()).unwrap();
+    assert!(!plain.0.contains_key(&19738));
+    let back = machine_from(Dialect::Fanuc, "m", &plain).unwrap();
+    assert_eq!((back.five_axis.singular_angle, back.five_axis.singular_alarm), (0.0, false));
+}
