@@ -232,6 +232,10 @@ pub struct FiveAxisOptions {
     /// No.19696#3 NPC).
     #[serde(default)]
     pub singular_alarm: bool,
+    /// Type 2: the programmable mirror image of the linear axes mirrors I, J, K too (FANUC
+    /// No.19608#6 MIR).
+    #[serde(default)]
+    pub mirror_direction: bool,
 }
 
 impl FiveAxisOptions {

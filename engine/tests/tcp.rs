@@ -661,3 +661,34 @@ fn tv12_no_change_when_the_posture_is_exactly_singular() {
     assert_eq!(alarm, None);
     assert!(b.abs() < 1e-9 && c.abs() < 1e-9, "B {b} C {c}");
 }
+
+/// The tool tip (Π, zero offsets) and direction at the end of `line` of `src` on `m`.
+fn pose_at_end(m: &MachineConfig, src: &str, line: u32) -> (Vec3, Vec3) {
+    let end = end_of(&ends(m.clone(), Dialect::Fanuc, src), line);
+    let kin = Kinematics::new(m).unwrap();
+    let pose = kin.forward(&end, 100.0);
+    (pose.tip - kin.nose, pose.tool)
+}
+
+#[test]
+fn tcp46_type1_mirror_image_mirrors_the_linear_axes_only() {
+    // G51.1 X0: the tip goes to X-20; B30 stays B30, so the tool still leans to +X.
+    let src = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG51.1 X0\nG01 X20. Y10. B30. C0 F600.\nG50.1\nG49\nM30\n";
+    let m = free_preset("head-bc");
+    let (tip, tool) = pose_at_end(&m, src, 5);
+    assert!(close(tip, Vec3::new(-20.0, 10.0, 0.0), 1e-9), "{tip:?}");
+    assert!(close(tool, Vec3::new(0.5, 0.0, 3f64.sqrt() / 2.0), 1e-9), "{tool:?}");
+}
+
+#[test]
+fn tcp46_type2_mirror_image_mirrors_ijk_only_with_mir() {
+    let src = "G90 G00 B0 C0\nG43.5 H1\nG00 X0 Y0 Z0\nG51.1 X0\nG01 X20. Y10. I1. J0 K1. F600.\nG50.1\nG49\nM30\n";
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    for (mir, lean) in [(false, s), (true, -s)] {
+        let mut m = free_preset("head-bc");
+        m.five_axis.mirror_direction = mir;
+        let (tip, tool) = pose_at_end(&m, src, 5);
+        assert!(close(tip, Vec3::new(-20.0, 10.0, 0.0), 1e-9), "MIR {mir}: {tip:?}");
+        assert!(close(tool, Vec3::new(lean, 0.0, s), 1e-9), "MIR {mir}: {tool:?}");
+    }
+}

@@ -195,7 +195,17 @@ impl State {
             None
         } else {
             // A zero vector: Syntec COR-159; FANUC names no alarm, the direction stays.
-            let v = Vec3::new(i.unwrap_or(0.0), j.unwrap_or(0.0), k.unwrap_or(0.0)).try_normalize(1e-12);
+            let mut v = Vec3::new(i.unwrap_or(0.0), j.unwrap_or(0.0), k.unwrap_or(0.0));
+            // FANUC MIR (TCP-46): the mirror image of X/Y/Z mirrors I/J/K too; without it the
+            // direction stays as programmed.
+            if self.cfg.machine.five_axis.mirror_direction {
+                for (axis, index) in t.kin.linear.iter().enumerate() {
+                    if index.is_some_and(|i| self.xf.mirrors(i)) {
+                        v[axis] = -v[axis];
+                    }
+                }
+            }
+            let v = v.try_normalize(1e-12);
             if v.is_none() && self.cfg.dialect == crate::Dialect::Syntec {
                 return Err(AlarmId::ZeroToolVector);
             }
