@@ -107,6 +107,9 @@ pub struct TipMove {
     /// The programming coordinate system as a frame in the table frame: the tip's coordinates
     /// in it are what the position display shows.
     pub frame: Frame,
+    /// The position display shows the tip in machine directions minus this (the workpiece
+    /// system, FANUC DET = 1) instead of in `frame`.
+    pub display_shift: Option<Vec3>,
     /// The rotary axes move at F when the tip does not move (FANUC RFC = 1); otherwise at their
     /// highest speed.
     pub rotary_feed: bool,

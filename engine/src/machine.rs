@@ -236,6 +236,10 @@ pub struct FiveAxisOptions {
     /// No.19608#6 MIR).
     #[serde(default)]
     pub mirror_direction: bool,
+    /// With Π fixed on the table, the absolute position shows the tool tip in the workpiece
+    /// system instead of in Π (FANUC No.19608#2 DET).
+    #[serde(default)]
+    pub display_workpiece: bool,
 }
 
 impl FiveAxisOptions {

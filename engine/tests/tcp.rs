@@ -692,3 +692,27 @@ fn tcp46_type2_mirror_image_mirrors_ijk_only_with_mir() {
         assert!(close(tool, Vec3::new(lean, 0.0, s), 1e-9), "MIR {mir}: {tool:?}");
     }
 }
+
+#[test]
+fn tv22_det_shows_the_tip_in_the_workpiece_system() {
+    // O200 on the §2.4.2 table machine (WKP = 0): at the end of N5 the tip is Π (10, 20, 30);
+    // DET = 1 shows it in W, (7.574, 47.247, 83.052). Mid-block too the display is the tip's
+    // machine position less the offsets (zero here).
+    let src = "N1 G00 G90 A0 B0\nN2 G55\nN3 G43.4 H01\nN4 G00 X20.0 Y100.0 Z0\n\
+               N5 G01 X10.0 Y20.0 Z30.0 A60.0 B45.0 F500\nN6 G49\nN7 M30\n";
+    for (det, want) in [(false, Vec3::new(10.0, 20.0, 30.0)), (true, Vec3::new(7.5736, 47.2474, 83.0518))] {
+        let mut m = table_ab();
+        m.five_axis.display_workpiece = det;
+        let kin = Kinematics::new(&m).unwrap();
+        let (r, samples) = run_on(m, Dialect::Fanuc, src);
+        assert!(r.completed(), "{:?}", r.alarms);
+        let n5 = of_line(&samples, 5);
+        let end = n5.last().unwrap();
+        // The last 1 ms sample is within a few µm of the end.
+        assert!(close(Vec3::from(end.tip), want, 2e-3), "DET {det}: {:?}", end.tip);
+        let mid = &n5[n5.len() / 2];
+        let pose = kin.forward(&mid.machine, 100.0);
+        let shown = if det { pose.tip_machine - kin.nose } else { pose.tip - kin.nose };
+        assert!(close(Vec3::from(mid.tip), shown, 1e-6), "DET {det}: {:?} vs {shown:?}", mid.tip);
+    }
+}

@@ -338,6 +338,7 @@ impl State {
                 tool_length,
                 posture: posture.then_some((from.tool, end_tool)),
                 posture_on_arc: self.cfg.dialect == crate::Dialect::Fanuc,
+                display_shift: display_shift(self, kin),
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
             })
@@ -347,6 +348,17 @@ impl State {
         self.pos = target;
         self.follow_machine = Some(machine);
     }
+}
+
+/// FANUC DET (TCP-26): under TCP with Π fixed on the table (WKP = 0), the absolute position
+/// shows the tip in the workpiece system: machine coordinates minus the work offsets and the
+/// nose (where a plain G43 puts the programmed point).
+fn display_shift(state: &State, kin: &Kinematics) -> Option<Vec3> {
+    let on_table = state.tcp.as_ref().is_some_and(|t| t.frame.is_some());
+    (on_table && state.cfg.machine.five_axis.display_workpiece).then(|| {
+        let off = state.offset_vector();
+        Vec3::new(off[0], off[1], off[2]) + kin.nose
+    })
 }
 
 /// How a motion follows a tool tip path.

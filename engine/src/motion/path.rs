@@ -114,6 +114,8 @@ struct Follow {
     /// coordinates keep their offset from the machine's (a manual tip rotation outside tool
     /// centre point control).
     work_frame: Option<Frame>,
+    /// The display shows the tip in machine directions minus this instead (FANUC DET = 1).
+    display_shift: Option<Vec3>,
 }
 
 /// A circle (or spiral, or helix) in space: at `u` of the way, `center + r(u)·(cos φ·e1 +
@@ -294,7 +296,10 @@ impl Follow {
     fn work(&self, machine: &Pos, u: f64, offset: &Pos) -> Pos {
         let mut work: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
         if let Some(f) = &self.work_frame {
-            let p = f.from_parent(&self.tip(u));
+            let p = match self.display_shift {
+                Some(shift) => self.kin.table_frame(machine).to_parent(&self.tip(u)) - shift,
+                None => f.from_parent(&self.tip(u)),
+            };
             for (axis, index) in self.kin.linear.iter().enumerate() {
                 if let Some(i) = index {
                     work[*i] = p[axis];
@@ -524,6 +529,7 @@ impl Segment {
             circle,
             posture,
             work_frame: Some(tip.frame),
+            display_shift: tip.display_shift,
         };
         let rotary_only = tip_len < 1e-9;
         let len = if rotary_only { turn } else { tip_len };
@@ -582,7 +588,16 @@ impl Segment {
     ) -> Segment {
         let tip = kin.forward(from, tool_length).tip;
         let len = rotary_travel(&kin, from, to);
-        let follow = Follow { kin, tool_length, from: tip, to: tip, circle: None, posture: None, work_frame: None };
+        let follow = Follow {
+            kin,
+            tool_length,
+            from: tip,
+            to: tip,
+            circle: None,
+            posture: None,
+            work_frame: None,
+            display_shift: None,
+        };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
         let found = sampled(|u| follow.at(from, to, u), len, 32, axes);

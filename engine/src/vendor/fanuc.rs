@@ -183,7 +183,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 }
 
 /// The 5-axis function bits: No.19696#3 NPC, #5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#5 PRI, #6 MIR, and No.19738/19739 (absent: 0).
+/// No.19608#2 DET, #5 PRI, #6 MIR, and No.19738/19739 (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -201,6 +201,7 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         singular_tolerance: if p.0.contains_key(&19739) { p.get(19739)? } else { 0.0 },
         singular_alarm: bit(19696, 3)?,
         mirror_direction: bit(19608, 6)?,
+        display_workpiece: bit(19608, 2)?,
     })
 }
 
@@ -290,7 +291,10 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     for (number, value) in [
         (19754, ((f.tcp_coordinates == TcpCoordinates::TableAtZero) as u32) << 5),
         (19604, f.posture_control as u32),
-        (19608, (f.second_axis_first as u32) << 5 | (f.mirror_direction as u32) << 6),
+        (
+            19608,
+            (f.display_workpiece as u32) << 2 | (f.second_axis_first as u32) << 5 | (f.mirror_direction as u32) << 6,
+        ),
     ] {
         if value != 0 {
             p.set(number, value as f64);
