@@ -110,6 +110,9 @@ pub struct TipMove {
     /// The position display shows the tip in machine directions minus this (the workpiece
     /// system, FANUC DET = 1) instead of in `frame`.
     pub display_shift: Option<Vec3>,
+    /// FANUC CRS: the largest path deviation (mm) of the tip between interpolation points the
+    /// speed must keep to; `None`: no clamp.
+    pub deviation: Option<f64>,
     /// The rotary axes move at F when the tip does not move (FANUC RFC = 1); otherwise at their
     /// highest speed.
     pub rotary_feed: bool,

@@ -240,6 +240,16 @@ pub struct FiveAxisOptions {
     /// system instead of in Π (FANUC No.19608#2 DET).
     #[serde(default)]
     pub display_workpiece: bool,
+    /// Lower the speed of tool centre point moves so that the tip's path deviation stays within
+    /// `rapid_deviation` / `cutting_deviation` (FANUC No.19746#6 CRS; `docs/five-axis.md`).
+    #[serde(default)]
+    pub deviation_clamp: bool,
+    /// mm; 0: the least input increment (0.001 mm); negative: no clamp (FANUC No.19751).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rapid_deviation: f64,
+    /// The same for cutting feed (FANUC No.19752).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cutting_deviation: f64,
 }
 
 impl FiveAxisOptions {

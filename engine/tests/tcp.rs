@@ -716,3 +716,55 @@ fn tv22_det_shows_the_tip_in_the_workpiece_system() {
         assert!(close(Vec3::from(mid.tip), shown, 1e-6), "DET {det}: {:?} vs {shown:?}", mid.tip);
     }
 }
+
+/// head-bc with axes ten times as fast (so that the rotary axes can turn far between two
+/// interpolation points) and the CRS settings.
+fn fast_head(clamp: bool, cutting: f64) -> MachineConfig {
+    let mut m = free_preset("head-bc");
+    for a in &mut m.axes {
+        a.rapid *= 10.0;
+        (a.accel, a.jerk) = (Some(a.max_accel() * 100.0), Some(a.max_jerk() * 10_000.0));
+    }
+    (m.five_axis.deviation_clamp, m.five_axis.cutting_deviation) = (clamp, cutting);
+    m
+}
+
+/// Over consecutive 1 ms samples of `line`: the largest distance from the X axis of the tip
+/// the axes give half-way when they move straight between the two samples, and the top feed.
+fn chord_deviation(m: MachineConfig, src: &str, line: u32) -> (f64, f64) {
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m, Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let s = of_line(&samples, line);
+    let worst = s
+        .windows(2)
+        .map(|w| {
+            let middle: Pos = std::array::from_fn(|i| 0.5 * (w[0].machine[i] + w[1].machine[i]));
+            let tip = kin.forward(&middle, 100.0).tip - kin.nose;
+            tip.y.hypot(tip.z)
+        })
+        .fold(0.0, f64::max);
+    (worst, s.iter().map(|s| s.feed).fold(0.0, f64::max))
+}
+
+#[test]
+fn tcp25_crs_lowers_the_speed_to_keep_the_chord_deviation() {
+    // 20 mm along X while B turns 60° (the tip 250 mm from the pivot) at F10000. Without CRS
+    // the axes' straight steps between 1 ms points take the tip µm off the line; CRS with
+    // No.19752 = 0 (the least increment, 0.001 mm) slows the block until they stay within it.
+    let src = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG01 X20. B60. F10000.\nG49\nM30\n";
+    let (free, top_free) = chord_deviation(fast_head(false, 0.0), src, 4);
+    assert!(free > 0.0015, "no clamp: {free} mm at {top_free}");
+    let (clamped, top) = chord_deviation(fast_head(true, 0.0), src, 4);
+    assert!(clamped <= 0.0011, "CRS: {clamped} mm");
+    assert!(top < 0.9 * top_free, "CRS {top} vs {top_free} mm/min");
+    // A looser limit (No.19752 = 0.01 mm) or a negative one (no clamp) leaves it alone.
+    let (_, loose) = chord_deviation(fast_head(true, 0.01), src, 4);
+    assert!((loose - top_free).abs() < 1.0, "{loose} vs {top_free}");
+    let (_, off) = chord_deviation(fast_head(true, -1.0), src, 4);
+    assert!((off - top_free).abs() < 1e-6);
+    // Without rotary motion there is nothing to clamp.
+    let line = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG01 X100. F10000.\nG49\nM30\n";
+    let (_, plain) = chord_deviation(fast_head(true, 0.0), line, 4);
+    assert!((plain - 10_000.0).abs() < 1e-6, "{plain}");
+}

@@ -339,6 +339,7 @@ impl State {
                 posture: posture.then_some((from.tool, end_tool)),
                 posture_on_arc: self.cfg.dialect == crate::Dialect::Fanuc,
                 display_shift: display_shift(self, kin),
+                deviation: deviation_limit(self, kind),
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
             })
@@ -359,6 +360,21 @@ fn display_shift(state: &State, kin: &Kinematics) -> Option<Vec3> {
         let off = state.offset_vector();
         Vec3::new(off[0], off[1], off[2]) + kin.nose
     })
+}
+
+/// FANUC CRS (TCP-25, M-12): the path deviation a TCP move's speed must keep to: No.19751 for
+/// rapids, No.19752 for cutting; 0 is the least input increment, a negative value no clamp.
+fn deviation_limit(state: &State, kind: MotionKind) -> Option<f64> {
+    let f = &state.cfg.machine.five_axis;
+    if !f.deviation_clamp || !state.tcp_active() {
+        return None;
+    }
+    let limit = if kind == MotionKind::Rapid { f.rapid_deviation } else { f.cutting_deviation };
+    match limit {
+        x if x < 0.0 => None,
+        0.0 => Some(0.001),
+        x => Some(x),
+    }
 }
 
 /// How a motion follows a tool tip path.

@@ -372,6 +372,35 @@ fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sam
     out
 }
 
+/// The interpolation period of the FANUC CRS clamp (the control's 1 ms), seconds.
+const INTERPOLATION_PERIOD: f64 = 0.001;
+
+/// FANUC CRS (M-12; the metric is open, Q-31, *decision* in `docs/five-axis.md`): the control
+/// moves the axes in straight lines between interpolation points, so between two points a
+/// period apart the tip leaves the path by about the sagitta of the axis-space chord, which
+/// grows with the square of the step. Measured for a 1 mm (or 1°) step at `n + 1` places along
+/// the path, it gives the highest speed (path units per second) whose step keeps the deviation
+/// within `tolerance` mm.
+fn deviation_speed(follow: &Follow, from: &Pos, to: &Pos, len: f64, n: usize, tolerance: f64) -> f64 {
+    if len <= 0.0 {
+        return f64::INFINITY;
+    }
+    let step = len.min(1.0);
+    let du = step / len;
+    let mut worst: f64 = 0.0;
+    for k in 0..=n {
+        let u0 = k as f64 / n as f64 * (1.0 - du);
+        let (a, b) = (follow.at(from, to, u0), follow.at(from, to, u0 + du));
+        let middle: Pos = std::array::from_fn(|i| 0.5 * (a[i] + b[i]));
+        let tip = follow.kin.forward(&middle, follow.tool_length).tip;
+        worst = worst.max((tip - follow.tip(u0 + 0.5 * du)).norm());
+    }
+    if worst <= 1e-12 {
+        return f64::INFINITY;
+    }
+    step * (tolerance / worst).sqrt() / INTERPOLATION_PERIOD
+}
+
 /// Sample points for a kinematic path: more where the rotary axes turn more.
 fn sample_count(turn_deg: f64, sweep_deg: f64) -> usize {
     (4 + (turn_deg / 3.0) as usize + (sweep_deg.abs() / 10.0) as usize).min(32)
@@ -536,7 +565,10 @@ impl Segment {
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);
-        let found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        let mut found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        if let Some(tolerance) = tip.deviation {
+            found.limits.v = found.limits.v.min(deviation_speed(&follow, from, &to, len, n, tolerance));
+        }
         let axis_speed = found.limits.v;
         // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
         let fixed_time = m.feed_mode == FeedMode::InverseTime;

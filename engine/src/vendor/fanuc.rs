@@ -183,7 +183,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 }
 
 /// The 5-axis function bits: No.19696#3 NPC, #5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#2 DET, #5 PRI, #6 MIR, and No.19738/19739 (absent: 0).
+/// No.19608#2 DET, #5 PRI, #6 MIR, No.19746#6 CRS, and No.19738/19739/19751/19752 (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -202,6 +202,9 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         singular_alarm: bit(19696, 3)?,
         mirror_direction: bit(19608, 6)?,
         display_workpiece: bit(19608, 2)?,
+        deviation_clamp: bit(19746, 6)?,
+        rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
+        cutting_deviation: if p.0.contains_key(&19752) { p.get(19752)? } else { 0.0 },
     })
 }
 
@@ -283,7 +286,12 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     let wkp = f.tcp_coordinates == TcpCoordinates::Workpiece;
     let npc = (f.singular_alarm as u32) << 3;
     p.set(19696, (ia | npc | (wkp as u32) << 5 | (f.rotary_feed as u32) << 6) as f64);
-    for (number, value) in [(19738, f.singular_angle), (19739, f.singular_tolerance)] {
+    for (number, value) in [
+        (19738, f.singular_angle),
+        (19739, f.singular_tolerance),
+        (19751, f.rapid_deviation),
+        (19752, f.cutting_deviation),
+    ] {
         if value != 0.0 {
             p.set(number, real(value));
         }

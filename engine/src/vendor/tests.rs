@@ -657,8 +657,10 @@ fn fanuc_five_axis_options_round_trip() {
     (f.rotary_feed, f.posture_control, f.second_axis_first) = (true, true, true);
     (f.singular_angle, f.singular_tolerance, f.singular_alarm) = (2.5, 10.0, true);
     (f.mirror_direction, f.display_workpiece) = (true, true);
+    (f.deviation_clamp, f.rapid_deviation, f.cutting_deviation) = (true, -1.0, 0.005);
     let p = params_of(Dialect::Fanuc, &m).unwrap();
     assert!(p.bit(19608, 2).unwrap() && p.bit(19608, 5).unwrap() && p.bit(19608, 6).unwrap());
+    assert!(p.bit(19746, 6).unwrap() && p.get(19751).unwrap() == -1.0 && p.get(19752).unwrap() == 0.005);
     assert_eq!((p.get(19738).unwrap(), p.get(19739).unwrap()), (2.5, 10.0));
     assert!(p.bit(19696, 3).unwrap() && p.bit(19696, 6).unwrap());
     let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
