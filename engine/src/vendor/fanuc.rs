@@ -299,6 +299,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     for (number, value) in [
         (19754, ((f.tcp_coordinates == TcpCoordinates::TableAtZero) as u32) << 5),
         (19604, f.posture_control as u32),
+        (19746, (f.deviation_clamp as u32) << 6),
         (
             19608,
             (f.display_workpiece as u32) << 2 | (f.second_axis_first as u32) << 5 | (f.mirror_direction as u32) << 6,
