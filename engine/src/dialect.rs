@@ -108,6 +108,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::MachineParameter,
     AlarmId::NoRotarySolution,
     AlarmId::PostureCrossesPlane,
+    AlarmId::TcpParameter,
     AlarmId::AxisSetting,
     AlarmId::ToolDirectionSetting,
     AlarmId::ToolAxisParallel,
@@ -179,6 +180,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         NoRotarySolution => (PS5459, ("COR-153", "Tool direction unknown")),
         // FANUC only (Syntec turns the tool on the great circle on arcs too).
         PostureCrossesPlane => (("PS0432", "UNAVAILABLE POSTURE IN TPC"), COR100),
+        TcpParameter => (("PS5420", "ILLEGAL PARAMETER IN G43.4/G43.5"), COR100),
         AxisSetting => (PS5459, ("COR-156", "5-axis axial direction error")),
         ToolDirectionSetting => (PS5459, ("COR-155", "5-axis tool direction error")),
         ToolAxisParallel => {

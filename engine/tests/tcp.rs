@@ -768,3 +768,47 @@ fn tcp25_crs_lowers_the_speed_to_keep_the_chord_deviation() {
     let (_, plain) = chord_deviation(fast_head(true, 0.0), line, 4);
     assert!((plain - 10_000.0).abs() < 1e-6, "{plain}");
 }
+
+/// The alarm code of `src` on `m` (FANUC), or "ok".
+fn outcome(m: MachineConfig, src: &str) -> String {
+    let (r, _) = run_on(m, Dialect::Fanuc, src);
+    r.alarms.first().map_or("ok".into(), |a| a.code.clone())
+}
+
+#[test]
+fn tv60_g43_5_refused_in_the_workpiece_system() {
+    for name in ["head-bc", "table-ac", "mixed-bc"] {
+        assert_eq!(outcome(workpiece_preset(name), "G43.5 H1\nG49\nM30\n"), "PS5459", "{name}");
+        assert_eq!(outcome(workpiece_preset(name), "G43.4 H1\nG49\nM30\n"), "ok", "{name}");
+        assert_eq!(outcome(free_preset(name), "G43.5 H1\nG49\nM30\n"), "ok", "{name}");
+    }
+}
+
+#[test]
+fn tv61_g43_5_refused_with_a_hypothetical_axis() {
+    // head-bc with C fixed at 0 (a hypothetical master): one real rotary axis.
+    let mut m = free_preset("head-bc");
+    m.rotary[0].fixed = Some(0.0);
+    m.axes.retain(|a| a.name != 'C');
+    assert_eq!(outcome(m.clone(), "G43.5 H1\nG49\nM30\n"), "PS5459");
+    assert_eq!(outcome(m, "G43.4 H1\nG01 X10. B20. F500.\nG49\nM30\n"), "ok");
+}
+
+#[test]
+fn tv65_tcp_needs_linear_type_rapids() {
+    let mut m = free_preset("head-bc");
+    m.motion.nonlinear_rapid = true;
+    assert_eq!(outcome(m.clone(), "G43.4 H1\nG49\nM30\n"), "PS5420");
+    assert_eq!(outcome(m.clone(), "G43.5 H1\nG49\nM30\n"), "PS5420");
+    let (r, _) = run_on(m.clone(), Dialect::Syntec, "G43.4 H1\nG49\nM30\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+    m.motion.nonlinear_rapid = false;
+    assert_eq!(outcome(m, "G43.4 H1\nG49\nM30\n"), "ok");
+}
+
+#[test]
+fn tv69_cutter_compensation_nested_with_tcp_in_the_workpiece_system() {
+    for src in ["G41.2 D1\nG43.4 H1\nG49\nG40\nM30\n", "G43.4 H1\nG41.2 D1\nG40\nG49\nM30\n"] {
+        assert_eq!(outcome(workpiece_preset("mixed-bc"), src), "ok", "{src}");
+    }
+}

@@ -93,6 +93,19 @@ impl State {
         let Some(kin) = self.kinematics.clone() else {
             return Err(AlarmId::IllegalCommandInTcp);
         };
+        if self.cfg.dialect == crate::Dialect::Fanuc {
+            let five = &self.cfg.machine.five_axis;
+            // TCP-14, TV-65: TCP needs linear-type rapids (LRP = 1); the look-ahead settings
+            // (FRP, No.1660/1671/1672) always exist in the model.
+            if self.cfg.machine.motion.nonlinear_rapid {
+                return Err(AlarmId::TcpParameter);
+            }
+            // TCP-08/23, TV-60: type 2 cannot work in the workpiece system (WKP = 1); on every
+            // kind of machine (Q-23, decision: the parameter check does not look at the type).
+            if self.modes[8] == 435 && five.tcp_coordinates == TcpCoordinates::Workpiece {
+                return Err(AlarmId::MachineParameter);
+            }
+        }
         let machine = self.machine_position();
         // The start block is read in the workpiece system on the table as it stands (TCP-22:
         // also with INZ = 1); the frame for later blocks is set at its end (`tcp_started`).
