@@ -666,6 +666,8 @@ fn fanuc_five_axis_options_round_trip() {
     let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
     assert_eq!(back.five_axis, m.five_axis);
     assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
+    // Syntec has none of these settings.
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("FANUC settings"));
     // Absent: 0, never changed.
     let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("head-bc").unwrap()).unwrap();
     assert!(!plain.0.contains_key(&19738));
