@@ -556,8 +556,14 @@ fn tv48_posture_control_refuses_an_arc_that_turns_the_tool_across_the_plane() {
     let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src(1));
     assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS0432"), "{:?}", r.alarms);
     assert_eq!(r.alarms[0].message, "UNAVAILABLE POSTURE IN TPC");
-    // Conventional control has no such rule.
+    // Conventional control has no such rule, nor has Syntec's tool-vector interpolation (the
+    // great circle on arcs too).
     let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src(0));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let mut m = free_preset("head-bc");
+    m.five_axis.posture_control = true;
+    let syntec = "G90 G00 B30. C0\nG43.4 H1\nG00 X20. Y0 Z0\nG17 G03 X0 Y20. R20. B100. C90. F600.\nG01\nG49\nM30\n";
+    let (r, _) = run_on(m, Dialect::Syntec, syntec);
     assert!(r.completed(), "{:?}", r.alarms);
     // In G18 (normal Y) both ends are in the plane (v·Y = 0): allowed, and (decision, Q-7) the
     // tool turns on the great circle in that plane as on a line.
