@@ -818,3 +818,18 @@ fn tv69_cutter_compensation_nested_with_tcp_in_the_workpiece_system() {
         assert_eq!(outcome(workpiece_preset("mixed-bc"), src), "ok", "{src}");
     }
 }
+
+#[test]
+fn tcp25_crs_uses_no_19751_for_rapids() {
+    // The CRS test's block as a rapid: No.19751 (rapid_deviation) decides, No.19752 does not.
+    let src = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG00 X20. B60.\nG49\nM30\n";
+    let rapid = |limit: f64| {
+        let mut m = fast_head(true, -1.0);
+        m.five_axis.rapid_deviation = limit;
+        chord_deviation(m, src, 4)
+    };
+    let (free, top_free) = rapid(-1.0);
+    let (clamped, top) = rapid(0.0);
+    assert!(free > 0.0015 && clamped <= 0.0011, "{free} / {clamped} mm");
+    assert!(top < 0.9 * top_free, "{top} vs {top_free}");
+}
