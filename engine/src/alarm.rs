@@ -55,6 +55,12 @@ pub enum AlarmId {
     MachineParameter,
     /// No rotary axis solution for a tool direction fits the movement ranges.
     NoRotarySolution,
+    /// Tool centre point control with machine settings it cannot work with (FANUC: rapids not
+    /// of the linear type).
+    TcpParameter,
+    /// Tool posture control on a circle would turn the tool to the other side of the plane
+    /// (FANUC M-8).
+    PostureCrossesPlane,
     // --- Machine configuration (`crate::kin`, `crate::vendor`) -----------------------------
     /// Rotary axis settings that do not make a mechanism: missing or parallel axes, an axis
     /// name that does not match its direction.

@@ -101,9 +101,18 @@ pub struct TipMove {
     /// circle from the first to the second in proportion to the tip's travel. `None`: the rotary
     /// axes move in proportion to it (conventional control).
     pub posture: Option<(Vec3, Vec3)>,
+    /// On a circle, tool posture control keeps the tool's angles to the centre and to the
+    /// travel direction interpolated instead (FANUC M-8; Syntec uses the great circle).
+    pub posture_on_arc: bool,
     /// The programming coordinate system as a frame in the table frame: the tip's coordinates
     /// in it are what the position display shows.
     pub frame: Frame,
+    /// The position display shows the tip in machine directions minus this (the workpiece
+    /// system, FANUC DET = 1) instead of in `frame`.
+    pub display_shift: Option<Vec3>,
+    /// FANUC CRS: the largest path deviation (mm) of the tip between interpolation points the
+    /// speed must keep to; `None`: no clamp.
+    pub deviation: Option<f64>,
     /// The rotary axes move at F when the tip does not move (FANUC RFC = 1); otherwise at their
     /// highest speed.
     pub rotary_feed: bool,

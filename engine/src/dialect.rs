@@ -107,6 +107,8 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::AxisNotInTcp,
     AlarmId::MachineParameter,
     AlarmId::NoRotarySolution,
+    AlarmId::PostureCrossesPlane,
+    AlarmId::TcpParameter,
     AlarmId::AxisSetting,
     AlarmId::ToolDirectionSetting,
     AlarmId::ToolAxisParallel,
@@ -179,6 +181,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         AxisNotInTcp => (PS5421, ("COR-107", "G5.1/G05 command format error")),
         MachineParameter => (PS5459, ("COR-154", "No 5-axis function")),
         NoRotarySolution => (PS5459, ("COR-153", "Tool direction unknown")),
+        // FANUC only (Syntec turns the tool on the great circle on arcs too).
+        PostureCrossesPlane => (("PS0432", "UNAVAILABLE POSTURE IN TPC"), COR100),
+        TcpParameter => (("PS5420", "ILLEGAL PARAMETER IN G43.4/G43.5"), COR100),
         AxisSetting => (PS5459, ("COR-156", "5-axis axial direction error")),
         ToolDirectionSetting => (PS5459, ("COR-155", "5-axis tool direction error")),
         ToolAxisParallel => {

@@ -243,6 +243,35 @@ pub struct FiveAxisOptions {
     /// (FANUC No.11204; 0: exact test).
     #[serde(default)]
     pub singular_tolerance_deg: f64,
+    /// Type 2 with tool posture control: a line whose posture passes nearer the singular
+    /// posture than this angle (degrees) ends through it instead (FANUC No.19738; 0: never).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub singular_angle: f64,
+    /// The largest workpiece-side deviation (degrees) that change may make (FANUC No.19739).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub singular_tolerance: f64,
+    /// A refused change raises an alarm instead of running the block unchanged (FANUC
+    /// No.19696#3 NPC).
+    #[serde(default)]
+    pub singular_alarm: bool,
+    /// Type 2: the programmable mirror image of the linear axes mirrors I, J, K too (FANUC
+    /// No.19608#6 MIR).
+    #[serde(default)]
+    pub mirror_direction: bool,
+    /// With Π fixed on the table, the absolute position shows the tool tip in the workpiece
+    /// system instead of in Π (FANUC No.19608#2 DET).
+    #[serde(default)]
+    pub display_workpiece: bool,
+    /// Lower the speed of tool centre point moves so that the tip's path deviation stays within
+    /// `rapid_deviation` / `cutting_deviation` (FANUC No.19746#6 CRS; `docs/five-axis.md`).
+    #[serde(default)]
+    pub deviation_clamp: bool,
+    /// mm; 0: the least input increment (0.001 mm); negative: no clamp (FANUC No.19751).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rapid_deviation: f64,
+    /// The same for cutting feed (FANUC No.19752).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cutting_deviation: f64,
 }
 
 /// What a reset (and a restart of the controller) does to the tilted working plane.

@@ -387,3 +387,449 @@ fn tv43_tv44_tool_posture_control_turns_on_the_great_circle() {
     let (_, conventional) = run_on(m, Dialect::Fanuc, &src(0));
     assert!(tool_at(&conventional, 50.0).y.abs() > 0.05, "P0 leaves the XZ plane");
 }
+
+/// A preset without stroke limits, with Π the workpiece system (WKP = 1).
+fn workpiece_preset(name: &str) -> MachineConfig {
+    let mut m = with_coordinates(preset(name), TcpCoordinates::Workpiece);
+    for a in &mut m.axes {
+        a.stroke = None;
+    }
+    m
+}
+
+/// Runs `before` (axis moves before TCP), G43.4, `inside` (moves in TCP, may be empty), then
+/// the circle of `plane` (G17/G18/G19, a quarter circle of R10 from the point the program
+/// moves to) with the extra words `rotary`: the alarm code, or `None` when it runs.
+fn workpiece_arc(machine: &str, before: &str, inside: &str, plane: u8, rotary: &str) -> Option<String> {
+    let arc = match plane {
+        17 => format!("G00 X10. Y0 Z10.\nG17 G02 X0 Y-10. R10. {rotary} F500."),
+        18 => format!("G00 X10. Y0 Z10.\nG18 G02 X0 Z0 R10. {rotary} F500."),
+        _ => format!("G00 X10. Y0 Z10.\nG19 G02 Y10. Z0 R10. {rotary} F500."),
+    };
+    let src = format!("G90 G00 X0 Y0 Z100.\n{before}\nG43.4 H1\n{inside}\n{arc}\nG01 F500.\nG49\nM30\n");
+    let (r, _) = run_on(workpiece_preset(machine), Dialect::Fanuc, &src);
+    r.alarms.first().map(|a| a.code.clone())
+}
+
+#[test]
+fn tv30_to_tv33_workpiece_arcs_on_a_mixed_machine() {
+    let ps = Some("PS5421".to_string());
+    // TV-30: C (table) is normal to XY and may turn; B is a tool axis.
+    assert_eq!(workpiece_arc("mixed-bc", "G01 C90. F1000.", "", 17, "B10. C20."), None);
+    assert_eq!(workpiece_arc("mixed-bc", "", "", 17, "B10. C20."), None);
+    // TV-31: in ZX or YZ with C unmoved since G43.4 (also after C moved before G43.4).
+    for plane in [18, 19] {
+        assert_eq!(workpiece_arc("mixed-bc", "", "", plane, ""), None, "G{plane}");
+        assert_eq!(workpiece_arc("mixed-bc", "G01 C90. F1000.", "", plane, ""), None, "G{plane}");
+        assert_eq!(workpiece_arc("mixed-bc", "", "", plane, "B10."), None, "tool axis, G{plane}");
+        // TV-32: C turns in the circle.
+        assert_eq!(workpiece_arc("mixed-bc", "", "", plane, "C20."), ps, "TV-32 G{plane}");
+        // TV-33: C turned since G43.4.
+        assert_eq!(workpiece_arc("mixed-bc", "", "G01 C10. F1000.", plane, ""), ps, "TV-33 G{plane}");
+    }
+}
+
+#[test]
+fn tv34_to_tv42_workpiece_arcs_on_a_table_machine() {
+    // table-ac: A (about X) carries C (about Z).
+    let ps = Some("PS5421".to_string());
+    let a90 = "G01 A90. F1000.";
+    // TV-34: neither axis turns nor has turned since G43.4.
+    assert_eq!(workpiece_arc("table-ac", a90, "", 17, ""), None, "TV-34");
+    assert_eq!(workpiece_arc("table-ac", "G01 A90. C10. F1000.", "", 17, ""), None, "TV-34 with C10");
+    // TV-35: C (along Y at A90) turned since G43.4.
+    assert_eq!(workpiece_arc("table-ac", a90, "G01 C10. F1000.", 17, ""), ps, "TV-35");
+    // TV-36: C turns in the circle.
+    assert_eq!(workpiece_arc("table-ac", a90, "", 17, "C10."), ps, "TV-36");
+    // TV-37: A (not normal to XY) turned since G43.4.
+    assert_eq!(workpiece_arc("table-ac", "", "G01 A10. F1000.", 17, "C10."), ps, "TV-37");
+    // TV-38: A is normal to YZ and may turn.
+    assert_eq!(workpiece_arc("table-ac", a90, "", 19, "A10."), None, "TV-38");
+    // TV-39: C (along Z at A0) turned since G43.4, not normal to YZ.
+    assert_eq!(workpiece_arc("table-ac", "", "G01 C10. F1000.", 19, ""), ps, "TV-39");
+    // TV-40: at A90 C is along Y, normal to ZX; A unmoved.
+    assert_eq!(workpiece_arc("table-ac", "G01 A90. C10. F1000.", "", 18, ""), None, "TV-40");
+    // TV-41: A turned since G43.4 (with or without C).
+    assert_eq!(workpiece_arc("table-ac", "", "G01 A10. F1000.", 18, ""), ps, "TV-41");
+    assert_eq!(workpiece_arc("table-ac", "", "G01 A10. C10. F1000.", 18, ""), ps, "TV-41 with C");
+    // TV-42: at A0 C is normal to XY and may turn.
+    assert_eq!(workpiece_arc("table-ac", "", "", 17, "C10."), None, "TV-42");
+}
+
+#[test]
+fn workpiece_arc_rule_is_only_for_wkp_1() {
+    // Decision (Q-21): with Π on the table (WKP = 0) the circle is on the table and the table
+    // axes may turn in it (TV-32's program runs).
+    let src = "G90 G00 X0 Y0 Z100.\nG43.4 H1\nG00 X10. Y0 Z10.\nG18 G02 X0 Z0 R10. C20. F500.\nG01\nG49\nM30\n";
+    let mut m = preset("mixed-bc");
+    for a in &mut m.axes {
+        a.stroke = None;
+    }
+    let (r, _) = run_on(m, Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+}
+
+/// A preset without stroke limits.
+fn free_preset(name: &str) -> MachineConfig {
+    let mut m = preset(name);
+    for a in &mut m.axes {
+        a.stroke = None;
+    }
+    m
+}
+
+/// The tool direction (table frame) and tip (relative to Π's origin) at every sample of `line`.
+fn tools_and_tips(kin: &Kinematics, samples: &[Sample], line: u32) -> Vec<(Vec3, Vec3)> {
+    of_line(samples, line)
+        .iter()
+        .map(|s| {
+            let pose = kin.forward(&s.machine, 100.0);
+            (pose.tool, pose.tip - kin.nose)
+        })
+        .collect()
+}
+
+#[test]
+fn tv46_posture_control_on_an_arc_keeps_the_angle_to_the_centre() {
+    // G19 quarter circle about Y0 Z0 from Y20 to Z-20 (clockwise seen from +X): the tool is 60°
+    // from the centre direction and square to the travel at both ends (B90 C-30 → B60 C0), so
+    // it sweeps a cone: at every point v·c = cos 60° and v·X = sin 60°.
+    let src = |p: u8| {
+        format!(
+            "G90 G00 B90. C-30.\nG43.4 H1 P{p}\nG00 X0 Y20. Z0\nG19 G02 Y0 Z-20. R20. B60. C0 F600.\nG01\nG49\nM30\n"
+        )
+    };
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m.clone(), Dialect::Fanuc, &src(1));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let points = tools_and_tips(&kin, &samples, 4);
+    assert!(points.len() > 50);
+    let s60 = 3f64.sqrt() / 2.0;
+    for (v, tip) in &points {
+        let c = Vec3::new(0.0, -tip.y, -tip.z).normalize();
+        assert!((v.dot(&c) - 0.5).abs() < 1e-6 && (v.x - s60).abs() < 1e-6, "v {v:?} at {tip:?}");
+        let travel = Vec3::x().cross(&c);
+        assert!(v.dot(&travel).abs() < 1e-6);
+    }
+    // Conventional control (P0) moves B and C in proportion and leaves the cone.
+    let (_, samples) = run_on(m, Dialect::Fanuc, &src(0));
+    let worst = tools_and_tips(&kin, &samples, 4)
+        .iter()
+        .map(|(v, tip)| (v.dot(&Vec3::new(0.0, -tip.y, -tip.z).normalize()) - 0.5).abs())
+        .fold(0.0, f64::max);
+    assert!(worst > 0.01, "P0 stays on the cone ({worst})");
+}
+
+#[test]
+fn tv47_posture_on_an_arc_interpolates_alpha_through_the_normal() {
+    // G17 quarter circle about the origin from X20 to Y20: α from 60° to 120°, β = 90°: the
+    // tool is cos α_t·c + sin α_t·Z at each point, straight up (σ·n) half-way.
+    let src = "G90 G00 B-30. C0\nG43.4 H1 P1\nG00 X20. Y0 Z0\nG17 G03 X0 Y20. R20. B30. C90. F600.\nG01\nG49\nM30\n";
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m, Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let mut nearest_half = (f64::INFINITY, Vec3::zeros());
+    for (v, tip) in tools_and_tips(&kin, &samples, 4) {
+        let phi = tip.y.atan2(tip.x);
+        let t = phi / std::f64::consts::FRAC_PI_2;
+        let alpha = (60.0 + 60.0 * t).to_radians();
+        let c = -Vec3::new(tip.x, tip.y, 0.0).normalize();
+        let want = c * alpha.cos() + Vec3::z() * alpha.sin();
+        assert!(close(v, want, 1e-6), "at t {t}: {v:?}, want {want:?}");
+        if (t - 0.5).abs() < nearest_half.0 {
+            nearest_half = ((t - 0.5).abs(), v);
+        }
+    }
+    assert!(nearest_half.0 < 0.01 && close(nearest_half.1, Vec3::z(), 0.02), "{nearest_half:?}");
+}
+
+#[test]
+fn tv48_posture_control_refuses_an_arc_that_turns_the_tool_across_the_plane() {
+    // B30 → B100: the tool starts above the XY plane (cos 30° > 0) and would end below it.
+    let src = |p: u8| {
+        format!(
+            "G90 G00 B30. C0\nG43.4 H1 P{p}\nG00 X20. Y0 Z0\nG17 G03 X0 Y20. R20. B100. C90. F600.\nG01\nG49\nM30\n"
+        )
+    };
+    let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src(1));
+    assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS0432"), "{:?}", r.alarms);
+    assert_eq!(r.alarms[0].message, "UNAVAILABLE POSTURE IN TPC");
+    // Conventional control has no such rule, nor has Syntec's tool-vector interpolation (the
+    // great circle on arcs too).
+    let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src(0));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let mut m = free_preset("head-bc");
+    m.five_axis.posture_control = true;
+    let syntec = "G90 G00 B30. C0\nG43.4 H1\nG00 X20. Y0 Z0\nG17 G03 X0 Y20. R20. B100. C90. F600.\nG01\nG49\nM30\n";
+    let (r, _) = run_on(m, Dialect::Syntec, syntec);
+    assert!(r.completed(), "{:?}", r.alarms);
+    // In G18 (normal Y) both ends are in the plane (v·Y = 0): allowed, and (decision, Q-7) the
+    // tool turns on the great circle in that plane as on a line.
+    let g18 = "G90 G00 B30. C0\nG43.4 H1 P1\nG00 X20. Y0 Z0\nG18 G02 X0 Z20. R20. B60. F600.\nG01\nG49\nM30\n";
+    let (r, samples) = run_on(free_preset("head-bc"), Dialect::Fanuc, g18);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let kin = Kinematics::new(&free_preset("head-bc")).unwrap();
+    for (v, tip) in tools_and_tips(&kin, &samples, 4) {
+        assert!(v.y.abs() < 1e-9, "{v:?} at {tip:?}");
+    }
+}
+
+#[test]
+fn tv45_equal_or_opposite_directions_run_with_conventional_control() {
+    // B30 C0 and B-30 C180 are the same direction; B90 C0 (+X) and B90 C180 (−X) opposite.
+    // Tool posture control cannot choose a plane: B and C move in proportion, as with P0, so
+    // the tool half-way is B0 (straight up) and B90 C90 (+Y).
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    for (start, end, half) in [("B30. C0", "B-30. C180.", Vec3::z()), ("B90. C0", "B90. C180.", Vec3::y())] {
+        for p in [0, 1] {
+            let src = format!("G90 G00 {start}\nG43.4 H1 P{p}\nG00 X0 Y0 Z0\nG01 X100. {end} F600.\nG49\nM30\n");
+            let (r, samples) = run_on(m.clone(), Dialect::Fanuc, &src);
+            assert!(r.completed(), "{:?}", r.alarms);
+            let (v, _) = tools_and_tips(&kin, &samples, 4)
+                .into_iter()
+                .min_by(|a, b| (a.1.x - 50.0).abs().total_cmp(&(b.1.x - 50.0).abs()))
+                .unwrap();
+            assert!(close(v, half, 2e-3), "{start} → {end} P{p}: {v:?}");
+        }
+    }
+}
+
+/// head-bc with PRI = 1 (the tool-side B judged first, so type 2 keeps B on its side and
+/// swings C round the singular posture B0) and the singular-posture settings.
+fn singular_head(angle: f64, tolerance: f64, alarm: bool) -> MachineConfig {
+    let mut m = free_preset("head-bc");
+    m.five_axis.second_axis_first = true;
+    (m.five_axis.singular_angle, m.five_axis.singular_tolerance, m.five_axis.singular_alarm) =
+        (angle, tolerance, alarm);
+    m
+}
+
+fn singular_src(ijk: &str) -> String {
+    format!("G90 G00 B10. C0\nG43.5 H1 P1\nG00 X0 Y0 Z0\nG01 X10. {ijk} F600.\nG49\nM30\n")
+}
+
+/// From B10 C0 along X to the direction `ijk` under G43.5 P1: the alarm or the end (B, C) of
+/// the line (interpreted only: a line that swings C round the singular posture runs slowly).
+fn singular_line(m: MachineConfig, ijk: &str) -> (Option<String>, (f64, f64)) {
+    let mut interp = interpreter_with(&singular_src(ijk), "mill3", Dialect::Fanuc, |c| c.machine = m);
+    let mut end = (f64::NAN, f64::NAN);
+    let r = interp.run(|c| {
+        if let fivex_engine::canon::CanonKind::Motion(m) = c.kind {
+            if c.line == 4 {
+                end = (m.machine[3], m.machine[4]);
+            }
+        }
+    });
+    (r.err().map(|a| a.code), end)
+}
+
+#[test]
+fn tv06_to_tv11_singular_posture_end_point_change_on_a_bc_head() {
+    // The target is B10 C175.01 (I-0.1730 J0.0151 K0.9848): the great circle from B10 C0
+    // passes 0.44° from +Z. With No.19738 = 10° the block ends instead at B −10 (mirrored about
+    // the singular B0, TV-06) and C 0 (its start, TV-07): the deviation |175.01 − 180| = 4.99
+    // is within No.19739 = 5 (TV-08). B passes through 0 while C stays.
+    let near = "I-0.1730 J0.0151 K0.9848";
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 5.0, false), near);
+    assert_eq!(alarm, None);
+    assert!((b + 10.0).abs() < 0.01 && c.abs() < 1e-9, "B {b} C {c}");
+    let (r, samples) = run_on(singular_head(10.0, 5.0, false), Dialect::Fanuc, &singular_src(near));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let line = of_line(&samples, 4);
+    assert!(line.len() > 100 && line.iter().all(|s| s.machine[4].abs() < 1e-9));
+    assert!(line.iter().map(|s| s.machine[3].abs()).fold(f64::INFINITY, f64::min) < 0.1);
+    // TV-09: No.19739 = 4 < 4.99 with NPC = 0: the block ends as selected, C swings to 175.
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 4.0, false), near);
+    assert_eq!(alarm, None);
+    assert!((b - 10.0).abs() < 0.01 && (c - 175.01).abs() < 0.01, "B {b} C {c}");
+    // TV-10: the same with NPC = 1: PS5421.
+    let (alarm, _) = singular_line(singular_head(10.0, 4.0, true), near);
+    assert_eq!(alarm.as_deref(), Some("PS5421"));
+    // TV-11: No.19738 = 0: never.
+    let (_, (b, c)) = singular_line(singular_head(0.0, 5.0, true), near);
+    assert!((b - 10.0).abs() < 0.01 && (c - 175.01).abs() < 0.01, "B {b} C {c}");
+    // Farther than No.19738 (0.3° < 0.44°): unchanged.
+    let (_, (b, _)) = singular_line(singular_head(0.3, 5.0, true), near);
+    assert!((b - 10.0).abs() < 0.01, "B {b}");
+}
+
+#[test]
+fn tv12_no_change_when_the_posture_is_exactly_singular() {
+    // Through +Z exactly on the way (B10 C0 → B10 C180, both in the XZ plane): unchanged.
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 5.0, true), "I-0.1736 J0 K0.9848");
+    assert_eq!(alarm, None);
+    assert!((b - 10.0).abs() < 0.01 && (c.abs() - 180.0).abs() < 1e-6, "B {b} C {c}");
+    // Ending exactly singular (+Z): B0 with C where it was (TV-05), no change either.
+    let (alarm, (b, c)) = singular_line(singular_head(10.0, 5.0, true), "I0 J0 K1.");
+    assert_eq!(alarm, None);
+    assert!(b.abs() < 1e-9 && c.abs() < 1e-9, "B {b} C {c}");
+}
+
+/// The tool tip (Π, zero offsets) and direction at the end of `line` of `src` on `m`.
+fn pose_at_end(m: &MachineConfig, src: &str, line: u32) -> (Vec3, Vec3) {
+    let end = end_of(&ends(m.clone(), Dialect::Fanuc, src), line);
+    let kin = Kinematics::new(m).unwrap();
+    let pose = kin.forward(&end, 100.0);
+    (pose.tip - kin.nose, pose.tool)
+}
+
+#[test]
+fn tcp46_type1_mirror_image_mirrors_the_linear_axes_only() {
+    // G51.1 X0: the tip goes to X-20; B30 stays B30, so the tool still leans to +X.
+    let src = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG51.1 X0\nG01 X20. Y10. B30. C0 F600.\nG50.1\nG49\nM30\n";
+    let m = free_preset("head-bc");
+    let (tip, tool) = pose_at_end(&m, src, 5);
+    assert!(close(tip, Vec3::new(-20.0, 10.0, 0.0), 1e-9), "{tip:?}");
+    assert!(close(tool, Vec3::new(0.5, 0.0, 3f64.sqrt() / 2.0), 1e-9), "{tool:?}");
+}
+
+#[test]
+fn tcp46_type2_mirror_image_mirrors_ijk_only_with_mir() {
+    let src = "G90 G00 B0 C0\nG43.5 H1\nG00 X0 Y0 Z0\nG51.1 X0\nG01 X20. Y10. I1. J0 K1. F600.\nG50.1\nG49\nM30\n";
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    for (mir, lean) in [(false, s), (true, -s)] {
+        let mut m = free_preset("head-bc");
+        m.five_axis.mirror_direction = mir;
+        let (tip, tool) = pose_at_end(&m, src, 5);
+        assert!(close(tip, Vec3::new(-20.0, 10.0, 0.0), 1e-9), "MIR {mir}: {tip:?}");
+        assert!(close(tool, Vec3::new(lean, 0.0, s), 1e-9), "MIR {mir}: {tool:?}");
+    }
+}
+
+#[test]
+fn tv22_det_shows_the_tip_in_the_workpiece_system() {
+    // O200 on the §2.4.2 table machine (WKP = 0): at the end of N5 the tip is Π (10, 20, 30);
+    // DET = 1 shows it in W, (7.574, 47.247, 83.052). Mid-block too the display is the tip's
+    // machine position less the offsets (zero here).
+    let src = "N1 G00 G90 A0 B0\nN2 G55\nN3 G43.4 H01\nN4 G00 X20.0 Y100.0 Z0\n\
+               N5 G01 X10.0 Y20.0 Z30.0 A60.0 B45.0 F500\nN6 G49\nN7 M30\n";
+    for (det, want) in [(false, Vec3::new(10.0, 20.0, 30.0)), (true, Vec3::new(7.5736, 47.2474, 83.0518))] {
+        let mut m = table_ab();
+        m.five_axis.display_workpiece = det;
+        let kin = Kinematics::new(&m).unwrap();
+        let (r, samples) = run_on(m, Dialect::Fanuc, src);
+        assert!(r.completed(), "{:?}", r.alarms);
+        let n5 = of_line(&samples, 5);
+        let end = n5.last().unwrap();
+        // The last 1 ms sample is within a few µm of the end.
+        assert!(close(Vec3::from(end.tip), want, 2e-3), "DET {det}: {:?}", end.tip);
+        let mid = &n5[n5.len() / 2];
+        let pose = kin.forward(&mid.machine, 100.0);
+        let shown = if det { pose.tip_machine - kin.nose } else { pose.tip - kin.nose };
+        assert!(close(Vec3::from(mid.tip), shown, 1e-6), "DET {det}: {:?} vs {shown:?}", mid.tip);
+    }
+}
+
+/// head-bc with axes ten times as fast (so that the rotary axes can turn far between two
+/// interpolation points) and the CRS settings.
+fn fast_head(clamp: bool, cutting: f64) -> MachineConfig {
+    let mut m = free_preset("head-bc");
+    for a in &mut m.axes {
+        a.rapid *= 10.0;
+        (a.accel, a.jerk) = (Some(a.max_accel() * 100.0), Some(a.max_jerk() * 10_000.0));
+    }
+    (m.five_axis.deviation_clamp, m.five_axis.cutting_deviation) = (clamp, cutting);
+    m
+}
+
+/// Over consecutive 1 ms samples of `line`: the largest distance from the X axis of the tip
+/// the axes give half-way when they move straight between the two samples, and the top feed.
+fn chord_deviation(m: MachineConfig, src: &str, line: u32) -> (f64, f64) {
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m, Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let s = of_line(&samples, line);
+    let worst = s
+        .windows(2)
+        .map(|w| {
+            let middle: Pos = std::array::from_fn(|i| 0.5 * (w[0].machine[i] + w[1].machine[i]));
+            let tip = kin.forward(&middle, 100.0).tip - kin.nose;
+            tip.y.hypot(tip.z)
+        })
+        .fold(0.0, f64::max);
+    (worst, s.iter().map(|s| s.feed).fold(0.0, f64::max))
+}
+
+#[test]
+fn tcp25_crs_lowers_the_speed_to_keep_the_chord_deviation() {
+    // 20 mm along X while B turns 60° (the tip 250 mm from the pivot) at F10000. Without CRS
+    // the axes' straight steps between 1 ms points take the tip µm off the line; CRS with
+    // No.19752 = 0 (the least increment, 0.001 mm) slows the block until they stay within it.
+    let src = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG01 X20. B60. F10000.\nG49\nM30\n";
+    let (free, top_free) = chord_deviation(fast_head(false, 0.0), src, 4);
+    assert!(free > 0.0015, "no clamp: {free} mm at {top_free}");
+    let (clamped, top) = chord_deviation(fast_head(true, 0.0), src, 4);
+    assert!(clamped <= 0.0011, "CRS: {clamped} mm");
+    assert!(top < 0.9 * top_free, "CRS {top} vs {top_free} mm/min");
+    // A looser limit (No.19752 = 0.01 mm) or a negative one (no clamp) leaves it alone.
+    let (_, loose) = chord_deviation(fast_head(true, 0.01), src, 4);
+    assert!((loose - top_free).abs() < 1.0, "{loose} vs {top_free}");
+    let (_, off) = chord_deviation(fast_head(true, -1.0), src, 4);
+    assert!((off - top_free).abs() < 1e-6);
+    // Without rotary motion there is nothing to clamp.
+    let line = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG01 X100. F10000.\nG49\nM30\n";
+    let (_, plain) = chord_deviation(fast_head(true, 0.0), line, 4);
+    assert!((plain - 10_000.0).abs() < 1e-6, "{plain}");
+}
+
+/// The alarm code of `src` on `m` (FANUC), or "ok".
+fn outcome(m: MachineConfig, src: &str) -> String {
+    let (r, _) = run_on(m, Dialect::Fanuc, src);
+    r.alarms.first().map_or("ok".into(), |a| a.code.clone())
+}
+
+#[test]
+fn tv60_g43_5_refused_in_the_workpiece_system() {
+    for name in ["head-bc", "table-ac", "mixed-bc"] {
+        assert_eq!(outcome(workpiece_preset(name), "G43.5 H1\nG49\nM30\n"), "PS5459", "{name}");
+        assert_eq!(outcome(workpiece_preset(name), "G43.4 H1\nG49\nM30\n"), "ok", "{name}");
+        assert_eq!(outcome(free_preset(name), "G43.5 H1\nG49\nM30\n"), "ok", "{name}");
+    }
+}
+
+#[test]
+fn tv61_g43_5_refused_with_a_hypothetical_axis() {
+    // head-bc with C fixed at 0 (a hypothetical master): one real rotary axis.
+    let mut m = free_preset("head-bc");
+    m.rotary[0].fixed = Some(0.0);
+    m.axes.retain(|a| a.name != 'C');
+    assert_eq!(outcome(m.clone(), "G43.5 H1\nG49\nM30\n"), "PS5459");
+    assert_eq!(outcome(m, "G43.4 H1\nG01 X10. B20. F500.\nG49\nM30\n"), "ok");
+}
+
+#[test]
+fn tv65_tcp_needs_linear_type_rapids() {
+    let mut m = free_preset("head-bc");
+    m.motion.nonlinear_rapid = true;
+    assert_eq!(outcome(m.clone(), "G43.4 H1\nG49\nM30\n"), "PS5420");
+    assert_eq!(outcome(m.clone(), "G43.5 H1\nG49\nM30\n"), "PS5420");
+    let (r, _) = run_on(m.clone(), Dialect::Syntec, "G43.4 H1\nG49\nM30\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+    m.motion.nonlinear_rapid = false;
+    assert_eq!(outcome(m, "G43.4 H1\nG49\nM30\n"), "ok");
+}
+
+#[test]
+fn tv69_cutter_compensation_nested_with_tcp_in_the_workpiece_system() {
+    for src in ["G41.2 D1\nG43.4 H1\nG49\nG40\nM30\n", "G43.4 H1\nG41.2 D1\nG40\nG49\nM30\n"] {
+        assert_eq!(outcome(workpiece_preset("mixed-bc"), src), "ok", "{src}");
+    }
+}
+
+#[test]
+fn tcp25_crs_uses_no_19751_for_rapids() {
+    // The CRS test's block as a rapid: No.19751 (rapid_deviation) decides, No.19752 does not.
+    let src = "G90 G00 B0 C0\nG43.4 H1\nG00 X0 Y0 Z0\nG00 X20. B60.\nG49\nM30\n";
+    let rapid = |limit: f64| {
+        let mut m = fast_head(true, -1.0);
+        m.five_axis.rapid_deviation = limit;
+        chord_deviation(m, src, 4)
+    };
+    let (free, top_free) = rapid(-1.0);
+    let (clamped, top) = rapid(0.0);
+    assert!(free > 0.0015 && clamped <= 0.0011, "{free} / {clamped} mm");
+    assert!(top < 0.9 * top_free, "{top} vs {top_free}");
+}

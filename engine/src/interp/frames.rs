@@ -76,6 +76,11 @@ impl Transforms {
         self.mirror.iter().any(Option::is_some)
     }
 
+    /// Whether G51.1 mirrors axis `i`.
+    pub(super) fn mirrors(&self, i: usize) -> bool {
+        self.mirror[i].is_some()
+    }
+
     /// Mirror image then scaling: the input of the rotation.
     fn before_rotation(&self, p: &Pos) -> Pos {
         let mut q = *p;

@@ -15,6 +15,7 @@ mod offsets;
 mod plain;
 mod plane;
 pub(crate) mod program;
+mod singular;
 mod tcp;
 mod vars;
 mod wse;

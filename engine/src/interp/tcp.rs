@@ -38,6 +38,9 @@ pub(super) struct Tcp {
     commanded: Option<Vec3>,
     /// The start block is being executed: its move is an ordinary one.
     starting: bool,
+    /// The machine position at the end of the start block (the table angles WKP = 1 arcs are
+    /// checked against, M-13).
+    start_machine: Pos,
 }
 
 impl State {
@@ -99,6 +102,19 @@ impl State {
         let Some(kin) = self.kinematics.clone() else {
             return Err(AlarmId::IllegalCommandInTcp);
         };
+        if self.cfg.dialect == crate::Dialect::Fanuc {
+            let five = &self.cfg.machine.five_axis;
+            // TCP-14, TV-65: TCP needs linear-type rapids (LRP = 1); the look-ahead settings
+            // (FRP, No.1660/1671/1672) always exist in the model.
+            if self.cfg.machine.motion.nonlinear_rapid {
+                return Err(AlarmId::TcpParameter);
+            }
+            // TCP-08/23, TV-60: type 2 cannot work in the workpiece system (WKP = 1); on every
+            // kind of machine (Q-23, decision: the parameter check does not look at the type).
+            if self.modes[8] == 435 && five.tcp_coordinates == TcpCoordinates::Workpiece {
+                return Err(AlarmId::MachineParameter);
+            }
+        }
         let machine = self.machine_position();
         // The start block is read in the workpiece system on the table as it stands (TCP-22:
         // also with INZ = 1); the frame for later blocks is set at its end (`tcp_started`).
@@ -120,6 +136,7 @@ impl State {
             inclination,
             commanded: None,
             starting: true,
+            start_machine: machine,
         });
         self.follow_machine = Some(machine);
         Ok(())
@@ -140,6 +157,7 @@ impl State {
         t.direction = frame.map_or(pose.tool_machine, |f| f.r.transpose() * pose.tool);
         t.frame = frame;
         t.starting = false;
+        t.start_machine = machine;
         self.tcp_moved_to(machine);
     }
 
@@ -199,7 +217,17 @@ impl State {
             None
         } else {
             // A zero vector: Syntec COR-159; FANUC names no alarm, the direction stays.
-            let v = Vec3::new(i.unwrap_or(0.0), j.unwrap_or(0.0), k.unwrap_or(0.0)).try_normalize(1e-12);
+            let mut v = Vec3::new(i.unwrap_or(0.0), j.unwrap_or(0.0), k.unwrap_or(0.0));
+            // FANUC MIR (TCP-46): the mirror image of X/Y/Z mirrors I/J/K too; without it the
+            // direction stays as programmed.
+            if self.cfg.machine.five_axis.mirror_direction {
+                for (axis, index) in t.kin.linear.iter().enumerate() {
+                    if index.is_some_and(|i| self.xf.mirrors(i)) {
+                        v[axis] = -v[axis];
+                    }
+                }
+            }
+            let v = v.try_normalize(1e-12);
             if v.is_none() && self.cfg.dialect == crate::Dialect::Syntec {
                 return Err(AlarmId::ZeroToolVector);
             }
@@ -227,6 +255,7 @@ impl State {
         let kin = t.kin.clone();
         let from_machine = self.machine_position();
         let off = self.offset_vector();
+        let mut through_singular = false;
         if t.code == 435 && !t.starting {
             // Type 2: the rotary angles that give the commanded direction (TCP-09, M-10).
             let mut v = t.commanded.unwrap_or(t.direction);
@@ -237,7 +266,16 @@ impl State {
             let tip = frame.to_parent(&xyz(&kin, &target));
             let candidates = kin.inverse(tip, frame.r * v, t.tool_length, &from_machine[..kin.axes]);
             let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
-            let choice = kin.select(&candidates, &from_machine[..kin.axes], how)?;
+            let mut choice = kin.select(&candidates, &from_machine[..kin.axes], how)?;
+            // Near a singular posture a FANUC TPC line may end through it instead (M-9).
+            if t.posture
+                && self.cfg.dialect == crate::Dialect::Fanuc
+                && matches!(kind, MotionKind::Rapid | MotionKind::Linear)
+            {
+                let five = self.cfg.machine.five_axis;
+                through_singular =
+                    super::singular::change_end(&kin, &five, &from_machine[..kin.axes], &mut choice.pos)?;
+            }
             for j in kin.joints() {
                 if let Some(i) = j.index {
                     target[i] = choice.pos[i] - off[i];
@@ -254,20 +292,27 @@ impl State {
         }
         let t = self.tcp.as_ref().expect("under TCP");
         let machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        if let (Some(a), None, false) = (&arc, t.frame, t.starting) {
+            workpiece_arc_allowed(&kin, a, &t.start_machine, &from_machine, &machine_end)?;
+        }
         // The start block is placed in the workpiece system on the table as it will stand;
         // later blocks in Π (or the workpiece system at the block's end angles, WKP = 1).
         let frame = match (t.starting, t.frame) {
             (false, Some(f)) => f,
             _ => self.frame_on_table(&kin, &machine_end),
         };
-        // FANUC tool posture control acts on lines (G00 of the linear type, G01); Syntec's
-        // tool-vector interpolation on cutting moves (G01, G02, G03). FANUC's arc rule (M-8) is
-        // not modelled: arcs run with conventional control there.
+        // FANUC tool posture control acts on lines (G00 of the linear type, G01) and circles
+        // (its own arc rule, M-8); Syntec's tool-vector interpolation on cutting moves (G01,
+        // G02, G03).
         let posture = t.posture
+            && !through_singular
             && match self.cfg.dialect {
-                crate::Dialect::Fanuc => matches!(kind, MotionKind::Rapid | MotionKind::Linear),
+                crate::Dialect::Fanuc => true,
                 crate::Dialect::Syntec => kind != MotionKind::Rapid,
             };
+        if let (true, Some(a), crate::Dialect::Fanuc, false) = (posture, &arc, self.cfg.dialect, t.starting) {
+            posture_stays_on_one_side(&kin, a, &frame, &from_machine, &machine_end, t.tool_length)?;
+        }
         let path = FollowPath { frame, tool_length: t.tool_length, posture, along: !t.starting };
         let starting = t.starting;
         self.follow_motion(&kin, kind, target, arc, path, out);
@@ -320,6 +365,9 @@ impl State {
                 arc: tip_arc,
                 tool_length,
                 posture: posture.then_some((from.tool, end_tool)),
+                posture_on_arc: self.cfg.dialect == crate::Dialect::Fanuc,
+                display_shift: display_shift(self, kin),
+                deviation: deviation_limit(self, kind),
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
             })
@@ -328,6 +376,32 @@ impl State {
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
         self.follow_machine = Some(machine);
+    }
+}
+
+/// FANUC DET (TCP-26): under TCP with Π fixed on the table (WKP = 0), the absolute position
+/// shows the tip in the workpiece system: machine coordinates minus the work offsets and the
+/// nose (where a plain G43 puts the programmed point).
+fn display_shift(state: &State, kin: &Kinematics) -> Option<Vec3> {
+    let on_table = state.tcp.as_ref().is_some_and(|t| t.frame.is_some());
+    (on_table && state.cfg.machine.five_axis.display_workpiece).then(|| {
+        let off = state.offset_vector();
+        Vec3::new(off[0], off[1], off[2]) + kin.nose
+    })
+}
+
+/// FANUC CRS (TCP-25, M-12): the path deviation a TCP move's speed must keep to: No.19751 for
+/// rapids, No.19752 for cutting; 0 is the least input increment, a negative value no clamp.
+fn deviation_limit(state: &State, kind: MotionKind) -> Option<f64> {
+    let f = &state.cfg.machine.five_axis;
+    if !f.deviation_clamp || !state.tcp_active() {
+        return None;
+    }
+    let limit = if kind == MotionKind::Rapid { f.rapid_deviation } else { f.cutting_deviation };
+    match limit {
+        x if x < 0.0 => None,
+        0.0 => Some(0.001),
+        x => Some(x),
     }
 }
 
@@ -341,6 +415,49 @@ pub(super) struct FollowPath {
     pub(super) posture: bool,
     /// The tip follows the path; `false`: an ordinary move to the end point (TCP start block).
     pub(super) along: bool,
+}
+
+/// FANUC M-13 (§2.3.7, TV-30…42): a circle under TCP in the workpiece system (WKP = 1) is
+/// refused (PS5421) when a table rotary axis whose line is not normal to the plane turns in the
+/// block, or stands at another angle than at the end of the TCP start block. The line is taken
+/// in machine directions (those of W) at the block start, tilted by any table axis carrying it;
+/// tool rotary axes are free.
+fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos, to: &Pos) -> Result<(), AlarmId> {
+    let Some(normal_axis) = kin.linear.iter().position(|&i| i == Some(arc.plane_axes.2)) else {
+        return Ok(());
+    };
+    for (k, j) in kin.table.iter().enumerate() {
+        let Some(i) = j.index else { continue };
+        let line = kin.table_axis_direction(k, from);
+        let normal = line.cross(&Vec3::ith(normal_axis, 1.0)).norm() < 1e-9;
+        let turns = (to[i] - from[i]).abs() > 1e-9;
+        let moved = (from[i] - at_start[i]).abs() > 1e-9;
+        if !normal && (turns || moved) {
+            return Err(AlarmId::IllegalCommandInTcp);
+        }
+    }
+    Ok(())
+}
+
+/// FANUC tool posture control on a circle (M-8, TCP-29): the tool keeps to one side of the
+/// plane; a start and end direction on opposite sides are refused (P/S0432). A direction in the
+/// plane (within 1e-6) is on either side (and the block turns on the great circle, `motion::path`).
+fn posture_stays_on_one_side(
+    kin: &Kinematics,
+    arc: &Arc,
+    frame: &Frame,
+    from: &Pos,
+    to: &Pos,
+    tool_length: f64,
+) -> Result<(), AlarmId> {
+    let Some(axis) = kin.linear.iter().position(|&i| i == Some(arc.plane_axes.2)) else { return Ok(()) };
+    let normal = frame.r * Vec3::ith(axis, 1.0);
+    let side = |p: &Pos| kin.forward(p, tool_length).tool.dot(&normal);
+    let (s, e) = (side(from), side(to));
+    if (s > 1e-6 && e < -1e-6) || (s < -1e-6 && e > 1e-6) {
+        return Err(AlarmId::PostureCrossesPlane);
+    }
+    Ok(())
 }
 
 /// X, Y, Z of a position (the machine's linear axes; a missing one 0).

@@ -368,6 +368,17 @@ impl Kinematics {
         nalgebra::Matrix3::from_columns(&[axis(Vec3::x()), axis(Vec3::y()), axis(Vec3::z())])
     }
 
+    /// The line direction of table joint `k` (master first) in machine coordinates at `pos`: a
+    /// slave's line is turned by its master.
+    pub fn table_axis_direction(&self, k: usize, pos: &[f64]) -> Vec3 {
+        let m = self.motion(Side::Table, pos);
+        let mut v = self.table[k].direction;
+        for t in m.links().take(k).collect::<Vec<_>>().into_iter().rev() {
+            v = t.vector(v, t.s);
+        }
+        v
+    }
+
     /// How near the posture at `pos` is to singular; `None` on machines with fewer than two
     /// rotary axes (one axis never has a free angle).
     pub fn singularity(&self, pos: &[f64]) -> Option<Singularity> {

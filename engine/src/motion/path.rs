@@ -117,6 +117,8 @@ struct Follow {
     /// coordinates keep their offset from the machine's (a manual tip rotation outside tool
     /// centre point control).
     work_frame: Option<Frame>,
+    /// The display shows the tip in machine directions minus this instead (FANUC DET = 1).
+    display_shift: Option<Vec3>,
 }
 
 /// A circle (or spiral, or helix) in space: at `u` of the way, `center + r(u)·(cos φ·e1 +
@@ -156,18 +158,30 @@ impl Circle3 {
         self.center + (self.e1 * cos + self.e2 * sin) * r + self.rise * u
     }
 
+    /// At `u` of the way: the unit direction from the point toward the centre, the unit travel
+    /// direction in the plane (perpendicular to it, along the sweep) and the plane's normal.
+    fn axes_at(&self, u: f64) -> (Vec3, Vec3, Vec3) {
+        let (sin, cos) = (self.sweep * u).sin_cos();
+        let radial = self.e1 * cos + self.e2 * sin;
+        let travel = (self.e2 * cos - self.e1 * sin) * self.sweep.signum();
+        (-radial, travel, self.e1.cross(&self.e2))
+    }
+
     /// Length in the plane (mean radius) and along the normal.
     fn lengths(&self) -> (f64, f64) {
         (0.5 * (self.r0 + self.r1) * self.sweep.abs(), self.rise.norm())
     }
 }
 
-/// Tool posture control: the great circle from `v0` to `v1`, `angle` apart.
+/// Tool posture control: how the tool direction turns along the path.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Posture {
-    v0: Vec3,
-    v1: Vec3,
-    angle: f64,
+enum Posture {
+    /// The great circle from `v0` to `v1`, `angle` apart (spec M-7).
+    Great { v0: Vec3, v1: Vec3, angle: f64 },
+    /// FANUC on a circle (M-8): the angles of the tool to the centre direction (`alpha`) and to
+    /// the travel direction (`beta`), radians, go linearly from start to end; the tool stays on
+    /// the `sigma` side of the plane.
+    Arc { alpha: [f64; 2], beta: [f64; 2], sigma: f64 },
 }
 
 impl Posture {
@@ -175,12 +189,64 @@ impl Posture {
     fn new(v0: Vec3, v1: Vec3) -> Option<Posture> {
         let (v0, v1) = (v0.try_normalize(1e-12)?, v1.try_normalize(1e-12)?);
         let angle = v0.dot(&v1).clamp(-1.0, 1.0).acos();
-        (angle > 1e-9 && angle < std::f64::consts::PI - 1e-9).then_some(Posture { v0, v1, angle })
+        (angle > 1e-9 && angle < std::f64::consts::PI - 1e-9).then_some(Posture::Great { v0, v1, angle })
     }
 
-    /// The direction `u` of the way (spec M-7: `[sin((1−u)Ω)·v0 + sin(uΩ)·v1] / sin Ω`).
-    fn at(&self, u: f64) -> Vec3 {
-        ((self.v0 * ((1.0 - u) * self.angle).sin() + self.v1 * (u * self.angle).sin()) / self.angle.sin()).normalize()
+    /// The arc rule on `circle` (also `None` for equal or opposite directions, TCP-27). The
+    /// tool stays on the side of the plane it starts on (the interpreter has refused directions
+    /// on both sides, P/S0432). *Decision* (Q-7): a start or end direction in the plane has no
+    /// side; the formula's out-of-plane part `√(1 − cos²α − cos²β)` would then change at an
+    /// infinite rate there (no feed could follow it), so such a block turns on the great
+    /// circle as a line does.
+    fn on_arc(v0: Vec3, v1: Vec3, circle: &Circle3) -> Option<Posture> {
+        let great = Posture::new(v0, v1)?;
+        let (v0, v1) = (v0.normalize(), v1.normalize());
+        let n = circle.e1.cross(&circle.e2);
+        if v0.dot(&n).abs() < 1e-6 || v1.dot(&n).abs() < 1e-6 {
+            return Some(great);
+        }
+        let angles = |v: Vec3, u: f64| {
+            let (centre, travel, _) = circle.axes_at(u);
+            (v.dot(&centre).clamp(-1.0, 1.0).acos(), v.dot(&travel).clamp(-1.0, 1.0).acos())
+        };
+        let ((a0, b0), (a1, b1)) = (angles(v0, 0.0), angles(v1, 1.0));
+        Some(Posture::Arc { alpha: [a0, a1], beta: [b0, b1], sigma: v0.dot(&n).signum() })
+    }
+
+    /// The direction `u` of the way (M-7: `[sin((1−u)Ω)·v0 + sin(uΩ)·v1] / sin Ω`; M-8:
+    /// `cos α·c + cos β·τ + σ·√(1 − cos²α − cos²β)·n` on `circle`).
+    fn at(&self, u: f64, circle: Option<&Circle3>) -> Vec3 {
+        match (self, circle) {
+            (Posture::Great { v0, v1, angle }, _) => {
+                ((v0 * ((1.0 - u) * angle).sin() + v1 * (u * angle).sin()) / angle.sin()).normalize()
+            }
+            (Posture::Arc { alpha, beta, sigma }, Some(c)) => {
+                let (centre, travel, n) = c.axes_at(u);
+                let ca = (alpha[0] + (alpha[1] - alpha[0]) * u).cos();
+                let cb = (beta[0] + (beta[1] - beta[0]) * u).cos();
+                let up = (1.0 - ca * ca - cb * cb).max(0.0).sqrt();
+                (centre * ca + travel * cb + n * (sigma * up)).normalize()
+            }
+            // An arc rule always comes with its circle.
+            (Posture::Arc { .. }, None) => Vec3::z(),
+        }
+    }
+
+    /// Keep what is left after `u` of the way; `false`: nothing left to turn.
+    fn cut(&mut self, u: f64, circle: Option<&Circle3>) -> bool {
+        let v = self.at(u, circle);
+        match self {
+            Posture::Great { v0, angle, .. } => {
+                *v0 = v;
+                *angle *= 1.0 - u;
+                *angle > 1e-12
+            }
+            Posture::Arc { alpha, beta, .. } => {
+                alpha[0] += (alpha[1] - alpha[0]) * u;
+                beta[0] += (beta[1] - beta[0]) * u;
+                true
+            }
+        }
     }
 }
 
@@ -198,7 +264,7 @@ impl Follow {
     fn at(&self, from: &Pos, to: &Pos, u: f64) -> Pos {
         let mut q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
         if let Some(p) = &self.posture {
-            if let Some(angles) = self.kin.angles_near(p.at(u), &q) {
+            if let Some(angles) = self.kin.angles_near(p.at(u, self.circle.as_ref()), &q) {
                 q = angles;
             }
         }
@@ -214,6 +280,11 @@ impl Follow {
     /// Keep what is left after `u` of the way.
     fn cut(&mut self, u: f64) {
         self.from = self.tip(u);
+        if let Some(p) = &mut self.posture {
+            if !p.cut(u, self.circle.as_ref()) {
+                self.posture = None;
+            }
+        }
         if let Some(c) = &mut self.circle {
             let (sin, cos) = (c.sweep * u).sin_cos();
             (c.e1, c.e2) = (c.e1 * cos + c.e2 * sin, c.e2 * cos - c.e1 * sin);
@@ -222,20 +293,16 @@ impl Follow {
             c.sweep *= 1.0 - u;
             c.rise *= 1.0 - u;
         }
-        if let Some(p) = &mut self.posture {
-            p.v0 = p.at(u);
-            p.angle *= 1.0 - u;
-            if p.angle <= 1e-12 {
-                self.posture = None;
-            }
-        }
     }
 
     /// Programming coordinates at `u` for machine position `machine`.
     fn work(&self, machine: &Pos, u: f64, offset: &Pos) -> Pos {
         let mut work: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
         if let Some(f) = &self.work_frame {
-            let p = f.from_parent(&self.tip(u));
+            let p = match self.display_shift {
+                Some(shift) => self.kin.table_frame(machine).to_parent(&self.tip(u)) - shift,
+                None => f.from_parent(&self.tip(u)),
+            };
             for (axis, index) in self.kin.linear.iter().enumerate() {
                 if let Some(i) = index {
                     work[*i] = p[axis];
@@ -306,6 +373,35 @@ fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sam
     }
     out.limits = limits;
     out
+}
+
+/// The interpolation period of the FANUC CRS clamp (the control's 1 ms), seconds.
+const INTERPOLATION_PERIOD: f64 = 0.001;
+
+/// FANUC CRS (M-12; the metric is open, Q-31, *decision* in `docs/five-axis.md`): the control
+/// moves the axes in straight lines between interpolation points, so between two points a
+/// period apart the tip leaves the path by about the sagitta of the axis-space chord, which
+/// grows with the square of the step. Measured for a 1 mm (or 1°) step at `n + 1` places along
+/// the path, it gives the highest speed (path units per second) whose step keeps the deviation
+/// within `tolerance` mm.
+fn deviation_speed(follow: &Follow, from: &Pos, to: &Pos, len: f64, n: usize, tolerance: f64) -> f64 {
+    if len <= 0.0 {
+        return f64::INFINITY;
+    }
+    let step = len.min(1.0);
+    let du = step / len;
+    let mut worst: f64 = 0.0;
+    for k in 0..=n {
+        let u0 = k as f64 / n as f64 * (1.0 - du);
+        let (a, b) = (follow.at(from, to, u0), follow.at(from, to, u0 + du));
+        let middle: Pos = std::array::from_fn(|i| 0.5 * (a[i] + b[i]));
+        let tip = follow.kin.forward(&middle, follow.tool_length).tip;
+        worst = worst.max((tip - follow.tip(u0 + 0.5 * du)).norm());
+    }
+    if worst <= 1e-12 {
+        return f64::INFINITY;
+    }
+    step * (tolerance / worst).sqrt() / INTERPOLATION_PERIOD
 }
 
 /// Sample points for a kinematic path: more where the rotary axes turn more.
@@ -454,21 +550,29 @@ impl Segment {
             None => ((tip.to - tip.from).norm(), 0.0),
         };
         let turn = rotary_travel(&kin, from, &m.machine);
+        let posture = tip.posture.and_then(|(a, b)| match &circle {
+            Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
+            _ => Posture::new(a, b),
+        });
         let follow = Follow {
             kin,
             tool_length: tip.tool_length,
             from: tip.from,
             to: tip.to,
             circle,
-            posture: tip.posture.and_then(|(a, b)| Posture::new(a, b)),
+            posture,
             work_frame: Some(tip.frame),
+            display_shift: tip.display_shift,
         };
         let rotary_only = tip_len < 1e-9;
         let len = if rotary_only { turn } else { tip_len };
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);
-        let found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        let mut found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        if let Some(tolerance) = tip.deviation {
+            found.limits.v = found.limits.v.min(deviation_speed(&follow, from, &to, len, n, tolerance));
+        }
         let axis_speed = found.limits.v;
         // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
         let fixed_time = m.feed_mode == FeedMode::InverseTime;
@@ -521,7 +625,16 @@ impl Segment {
     ) -> Segment {
         let tip = kin.forward(from, tool_length).tip;
         let len = rotary_travel(&kin, from, to);
-        let follow = Follow { kin, tool_length, from: tip, to: tip, circle: None, posture: None, work_frame: None };
+        let follow = Follow {
+            kin,
+            tool_length,
+            from: tip,
+            to: tip,
+            circle: None,
+            posture: None,
+            work_frame: None,
+            display_shift: None,
+        };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
         let found = sampled(|u| follow.at(from, to, u), len, 32, axes);

@@ -230,21 +230,25 @@ fn manual_params(p: &mut Params, m: &MachineConfig) {
         (12320, bits(&[o.plane_directions, o.latitude_longitude, o.jog_feedrate])),
         (12321, vertical),
         (12322, real(o.parallel_deg)),
-        (19746, bits(&[false, false, o.length_from_offset, o.zero_length_without_offset])),
         (1410, real(o.dry_run_feed)),
     ] {
         if value != 0.0 {
             p.set(number, value);
         }
     }
+    let lod_loz = bits(&[false, false, o.length_from_offset, o.zero_length_without_offset]) as u32;
+    if lod_loz != 0 {
+        p.set_bits(19746, lod_loz);
+    }
     if o.rapid.iter().any(|x| *x != 0.0) {
         p.set_axes(1424, (0..m.axes.len()).map(|i| real(o.rapid.get(i).copied().unwrap_or(0.0))).collect());
     }
 }
 
-/// The 5-axis function bits: No.19696#5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#5 PRI, No.11221#0 MTW, No.5400#2 D3R, No.11220; G54.4: No.11200#0 RCM, No.11204
-/// singular tolerance (degrees) (absent: 0).
+/// The 5-axis function bits: No.19696#3 NPC, #5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
+/// No.19608#2 DET, #5 PRI, #6 MIR, No.19746#6 CRS, No.11221#0 MTW, No.5400#2 D3R, and
+/// No.19738/19739/19751/19752/11220; G54.4: No.11200#0 RCM, No.11204 singular tolerance (degrees)
+/// (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -263,6 +267,14 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         plane_after_reset: if bit(5400, 2)? { PlaneAfterReset::Kept } else { PlaneAfterReset::Cancelled },
         tool_direction_compensation: bit(11200, 0)?,
         singular_tolerance_deg: if p.0.contains_key(&11204) { p.get(11204)? } else { 0.0 },
+        singular_angle: if p.0.contains_key(&19738) { p.get(19738)? } else { 0.0 },
+        singular_tolerance: if p.0.contains_key(&19739) { p.get(19739)? } else { 0.0 },
+        singular_alarm: bit(19696, 3)?,
+        mirror_direction: bit(19608, 6)?,
+        display_workpiece: bit(19608, 2)?,
+        deviation_clamp: bit(19746, 6)?,
+        rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
+        cutting_deviation: if p.0.contains_key(&19752) { p.get(19752)? } else { 0.0 },
     })
 }
 
@@ -342,18 +354,35 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     let f = &m.five_axis;
     let wkp = f.tcp_coordinates == TcpCoordinates::Workpiece;
-    p.set(19696, (ia | (wkp as u32) << 5 | (f.rotary_feed as u32) << 6) as f64);
+    let npc = (f.singular_alarm as u32) << 3;
+    p.set(19696, (ia | npc | (wkp as u32) << 5 | (f.rotary_feed as u32) << 6) as f64);
+    for (number, value) in [
+        (19738, f.singular_angle),
+        (19739, f.singular_tolerance),
+        (19751, f.rapid_deviation),
+        (19752, f.cutting_deviation),
+    ] {
+        if value != 0.0 {
+            p.set(number, real(value));
+        }
+    }
     for (number, value) in [
         (19754, ((f.tcp_coordinates == TcpCoordinates::TableAtZero) as u32) << 5),
         (19604, f.posture_control as u32),
-        (19608, (f.second_axis_first as u32) << 5),
         (11221, f.multiple_planes as u32),
         (5400, ((f.plane_after_reset == PlaneAfterReset::Kept) as u32) << 2),
         (11200, f.tool_direction_compensation as u32),
+        (
+            19608,
+            (f.display_workpiece as u32) << 2 | (f.second_axis_first as u32) << 5 | (f.mirror_direction as u32) << 6,
+        ),
     ] {
         if value != 0 {
             p.set(number, value as f64);
         }
+    }
+    if f.deviation_clamp {
+        p.set_bits(19746, 1 << 6);
     }
     if f.plane_after_reset == PlaneAfterReset::KeptOverRestart {
         return Err(unrepresentable("FANUC", "a tilted working plane kept over a restart (Syntec Pr3014 = 2)"));

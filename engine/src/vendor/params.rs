@@ -48,6 +48,16 @@ impl Params {
         self.0.insert(number, Value::One(value));
     }
 
+    /// Set bits of a bit parameter that several settings share (FANUC No.19746 holds LOD, LOZ
+    /// and CRS), keeping the bits already set.
+    pub fn set_bits(&mut self, number: u32, bits: u32) {
+        let old = match self.0.get(&number) {
+            Some(Value::One(x)) => *x as u32,
+            _ => 0,
+        };
+        self.set(number, (old | bits) as f64);
+    }
+
     pub fn set_axes(&mut self, number: u32, values: Vec<f64>) {
         self.0.insert(number, Value::PerAxis(values));
     }

@@ -704,3 +704,43 @@ fn fanuc_g54_4_settings_rcm_11204_d3r_round_trip() {
     m.five_axis.plane_after_reset = crate::machine::PlaneAfterReset::Cancelled;
     assert!(params_of(Dialect::Syntec, &m).is_err());
 }
+
+/// The 5-axis function settings go through FANUC's parameters and back (TCP-31: No.19738,
+/// No.19739, No.19696#3 NPC next to the other bits of No.19696).
+#[test]
+fn fanuc_five_axis_options_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let f = &mut m.five_axis;
+    (f.rotary_feed, f.posture_control, f.second_axis_first) = (true, true, true);
+    (f.singular_angle, f.singular_tolerance, f.singular_alarm) = (2.5, 10.0, true);
+    (f.mirror_direction, f.display_workpiece) = (true, true);
+    (f.deviation_clamp, f.rapid_deviation, f.cutting_deviation) = (true, -1.0, 0.005);
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(19608, 2).unwrap() && p.bit(19608, 5).unwrap() && p.bit(19608, 6).unwrap());
+    assert!(p.bit(19746, 6).unwrap() && p.get(19751).unwrap() == -1.0 && p.get(19752).unwrap() == 0.005);
+    assert_eq!((p.get(19738).unwrap(), p.get(19739).unwrap()), (2.5, 10.0));
+    assert!(p.bit(19696, 3).unwrap() && p.bit(19696, 6).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert_eq!(back.five_axis, m.five_axis);
+    assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
+    // Syntec has none of these settings.
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("FANUC settings"));
+    // Absent: 0, never changed.
+    let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("head-bc").unwrap()).unwrap();
+    assert!(!plain.0.contains_key(&19738));
+    let back = machine_from(Dialect::Fanuc, "m", &plain).unwrap();
+    assert_eq!((back.five_axis.singular_angle, back.five_axis.singular_alarm), (0.0, false));
+}
+
+/// No.19746 holds LOD, LOZ (manual feeds) and CRS (TCP): all three survive a round trip.
+#[test]
+fn fanuc_19746_shared_bits_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.manual.length_from_offset = true;
+    m.manual.zero_length_without_offset = true;
+    m.five_axis.deviation_clamp = true;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!(p.get(19746).unwrap(), 4.0 + 8.0 + 64.0);
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert_eq!((back.manual.clone(), back.five_axis), (m.manual.clone(), m.five_axis));
+}

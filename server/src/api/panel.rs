@@ -20,7 +20,8 @@ fn refused(r: Refusal) -> ApiError {
             Refusal::WrongMode => "not possible in this mode",
             Refusal::Busy => "not possible while the controller runs, holds or is in alarm",
             Refusal::NoProgram => "there is no program to run",
-            Refusal::NoAxis => "no such axis",
+            Refusal::NoAxis => "no such axis (or no 5-axis mechanism for this feed)",
+            Refusal::BadValue => "the value is not a finite number in range",
         }
         .into(),
     )
