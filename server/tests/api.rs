@@ -450,3 +450,55 @@ async fn with_a_token_the_api_needs_it_and_the_rest_stays_open() {
         assert_eq!(app.get(open).await.status, StatusCode::OK, "{open}");
     }
 }
+
+#[tokio::test]
+async fn manual_moves_one_axis_along_the_tool_and_about_the_tip() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "head-bc", "speed": 20})).await;
+    let at = |s: &Value, a: &str| s["position"]["machine"][a].as_f64().unwrap();
+    // HANDLE needs HANDLE mode.
+    let refused = app.post(&format!("{C}/{id}/handle"), &json!({"axis": "X", "amount": 10.0})).await;
+    assert_eq!(refused.status, StatusCode::CONFLICT);
+    app.put(&format!("{C}/{id}/mode"), &json!({"mode": "handle"})).await;
+    app.post(&format!("{C}/{id}/handle"), &json!({"axis": "x", "amount": 10.0})).await;
+    let s = wait_for(&app, &id, "idle").await;
+    assert!((at(&s, "X") - 10.0).abs() < 1e-9, "{s}");
+    // Along the tool (+Z at B0), then the tip stays while B turns.
+    app.post(&format!("{C}/{id}/handle"), &json!({"feed": "tool-axis", "amount": 5.0})).await;
+    let s = wait_for(&app, &id, "idle").await;
+    assert!((at(&s, "Z") - 5.0).abs() < 1e-9, "{s}");
+    let put = app.put(&format!("{C}/{id}/manual"), &json!({"jog_feed": 3000.0, "manual_absolute": false})).await;
+    assert_eq!(put.status, StatusCode::OK, "{}", put.text());
+    let turned = app.post(&format!("{C}/{id}/handle"), &json!({"tip_rotation": "B", "amount": 30.0})).await;
+    assert_eq!(turned.status, StatusCode::OK, "{}", turned.text());
+    let s = wait_for(&app, &id, "idle").await;
+    assert!((at(&s, "B") - 30.0).abs() < 1e-9, "{s}");
+    for bad in [
+        json!({"axis": "X"}),
+        json!({"axis": "X", "feed": "tool-axis", "amount": 1}),
+        json!({"axis": "XY", "amount": 1}),
+        json!({"feed": "sideways", "amount": 1}),
+    ] {
+        let reply = app.post(&format!("{C}/{id}/handle"), &bad).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad}: {}", reply.text());
+    }
+    assert_eq!(
+        app.post(&format!("{C}/{id}/handle"), &json!({"axis": "W", "amount": 1})).await.status,
+        StatusCode::CONFLICT
+    );
+    // JOG until stopped.
+    app.put(&format!("{C}/{id}/mode"), &json!({"mode": "jog"})).await;
+    let jog = app.post(&format!("{C}/{id}/jog"), &json!({"axis": "Y", "positive": true})).await;
+    assert_eq!(jog.json()["run_state"], "running", "{}", jog.text());
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    app.post(&format!("{C}/{id}/jog-stop"), &json!({})).await;
+    let s = wait_for(&app, &id, "idle").await;
+    assert!(at(&s, "Y") > 0.0, "{s}");
+    // REF brings every axis home.
+    app.put(&format!("{C}/{id}/mode"), &json!({"mode": "ref"})).await;
+    app.post(&format!("{C}/{id}/reference-return"), &json!({})).await;
+    let s = wait_for(&app, &id, "idle").await;
+    for a in ["X", "Y", "Z", "B", "C"] {
+        assert!(at(&s, a).abs() < 1e-9, "{a}: {s}");
+    }
+}

@@ -5,6 +5,7 @@
 
 pub mod controllers;
 pub mod history;
+pub mod manual;
 pub mod offsets;
 pub mod panel;
 pub mod parameters;
@@ -41,6 +42,11 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/overrides", put(panel::set_overrides))
         .route("/controllers/{id}/switches", put(panel::set_switches))
         .route("/controllers/{id}/emergency-stop", put(panel::emergency_stop))
+        .route("/controllers/{id}/jog", post(manual::jog))
+        .route("/controllers/{id}/jog-stop", post(manual::jog_stop))
+        .route("/controllers/{id}/handle", post(manual::handle))
+        .route("/controllers/{id}/reference-return", post(manual::reference_return))
+        .route("/controllers/{id}/manual", put(manual::settings))
         .route("/controllers/{id}/variables", get(variables::list))
         .route("/controllers/{id}/variables/{number}", get(variables::read).put(variables::write))
         .route("/controllers/{id}/tool-offsets", get(offsets::tools))

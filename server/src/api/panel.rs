@@ -14,7 +14,7 @@ use crate::host::{Hosted, Station};
 use crate::serve::{ApiError, AppState, ErrorBody};
 
 /// Why the panel ignored an action, for a person.
-fn refused(r: Refusal) -> ApiError {
+pub(super) fn refused(r: Refusal) -> ApiError {
     ApiError::Conflict(
         match r {
             Refusal::WrongMode => "not possible in this mode",
@@ -28,7 +28,7 @@ fn refused(r: Refusal) -> ApiError {
 }
 
 /// Apply `action` to the station, send out what it caused, and answer the status.
-fn act(
+pub(super) fn act(
     state: &AppState,
     hosted: &Hosted,
     action: impl FnOnce(&mut Station) -> Result<(), ApiError>,

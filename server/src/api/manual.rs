@@ -1,0 +1,226 @@
+//! Manual operation: JOG and HANDLE of one axis or along a 5-axis manual feed (tool axis, its
+//! right angles, table vertical and horizontal), tool tip centre rotation, reference return,
+//! and the manual settings (jog feed, manual absolute, Syntec R518/R519).
+
+use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::{Json, Path, State};
+use fivex_engine::controller::{Controller, ManualCoordinates};
+use fivex_engine::kin::ManualFeed;
+use serde::Deserialize;
+use utoipa::ToSchema;
+
+use super::panel::{act, refused};
+use super::{body, hosted, path, ControllerStatus};
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ManualMove {
+    /// One axis by its letter.
+    #[schema(example = "X")]
+    pub axis: Option<String>,
+    /// A 5-axis manual feed: `tool-axis`, `right-angle1`, `right-angle2`, `table-vertical`,
+    /// `table-horizontal1`, `table-horizontal2`.
+    #[schema(value_type = Option<String>, example = "tool-axis")]
+    pub feed: Option<ManualFeed>,
+    /// Tool tip centre rotation: the rotary axis to turn while X/Y/Z keep the tip in place.
+    #[schema(example = "B")]
+    pub tip_rotation: Option<String>,
+    /// JOG: the direction (`true`: +).
+    pub positive: Option<bool>,
+    /// HANDLE: the distance, mm or degrees (the hand wheel's pulses times its increment).
+    pub amount: Option<f64>,
+}
+
+enum Target {
+    Axis(char),
+    Feed(ManualFeed),
+    TipRotation(char),
+}
+
+fn letter(s: &str) -> Result<char, ApiError> {
+    let mut chars = s.trim().chars();
+    match (chars.next(), chars.next()) {
+        (Some(c), None) if c.is_ascii_alphabetic() => Ok(c.to_ascii_uppercase()),
+        _ => Err(ApiError::Unprocessable(format!("'{s}' is not an axis letter"), None)),
+    }
+}
+
+fn target(m: &ManualMove) -> Result<Target, ApiError> {
+    match (&m.axis, m.feed, &m.tip_rotation) {
+        (Some(a), None, None) => Ok(Target::Axis(letter(a)?)),
+        (None, Some(f), None) => Ok(Target::Feed(f)),
+        (None, None, Some(a)) => Ok(Target::TipRotation(letter(a)?)),
+        _ => Err(ApiError::Unprocessable("give exactly one of axis, feed and tip_rotation".into(), None)),
+    }
+}
+
+/// JOG: move until `jog-stop` (or a stroke limit) at the jog feed, in JOG mode.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/jog",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = ManualMove,
+    responses(
+        (status = 200, description = "Moving", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Not in JOG mode, busy, or no such axis or feed on this machine", body = ErrorBody),
+        (status = 422, description = "Not a JOG request", body = ErrorBody),
+    )
+)]
+pub async fn jog(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<ManualMove>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    let target = target(&request)?;
+    let positive =
+        request.positive.ok_or_else(|| ApiError::Unprocessable("JOG needs positive: true or false".into(), None))?;
+    act(&state, &hosted, |station| {
+        let c: &mut Controller = &mut station.controller;
+        match target {
+            Target::Axis(a) => c.jog_start(a, positive),
+            Target::Feed(f) => c.jog_direction(f, positive),
+            Target::TipRotation(a) => c.jog_tip_rotation(a, positive),
+        }
+        .map_err(refused)
+    })
+}
+
+/// Stop a JOG move (decelerating along its path).
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/jog-stop",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    responses((status = 200, description = "Stopping", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn jog_stop(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    act(&state, &hosted, |station| {
+        station.controller.jog_stop();
+        Ok(())
+    })
+}
+
+/// HANDLE: move by `amount` (stopping at the strokes), in HANDLE mode.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/handle",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = ManualMove,
+    responses(
+        (status = 200, description = "Moving", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Not in HANDLE mode, busy, or no such axis or feed on this machine", body = ErrorBody),
+        (status = 422, description = "Not a HANDLE request", body = ErrorBody),
+    )
+)]
+pub async fn handle(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<ManualMove>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    let target = target(&request)?;
+    let amount = request
+        .amount
+        .filter(|a| a.is_finite() && a.abs() <= 1.0e5)
+        .ok_or_else(|| ApiError::Unprocessable("HANDLE needs a finite amount (at most 1e5)".into(), None))?;
+    act(&state, &hosted, |station| {
+        let c: &mut Controller = &mut station.controller;
+        match target {
+            Target::Axis(a) => c.handle(a, amount),
+            Target::Feed(f) => c.handle_direction(f, amount),
+            Target::TipRotation(a) => c.handle_tip_rotation(a, amount),
+        }
+        .map_err(refused)
+    })
+}
+
+/// Every axis back to the reference position, in REF mode.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/reference-return",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    responses(
+        (status = 200, description = "Returning", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Not in REF mode or busy", body = ErrorBody),
+    )
+)]
+pub async fn reference_return(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    act(&state, &hosted, |station| station.controller.reference_return().map_err(refused))
+}
+
+/// `PUT /manual`: the manual settings to change.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ManualSettings {
+    /// JOG and HANDLE feed, mm/min (or °/min).
+    pub jog_feed: Option<f64>,
+    /// Manual absolute (FANUC *ABSM = 0): after an intervention the program goes back to its
+    /// programmed points; off: later points shift by the intervention.
+    pub manual_absolute: Option<bool>,
+    /// Syntec R518: `machine`, `program` or `tool` coordinates for manual X/Y/Z.
+    #[schema(value_type = Option<String>, example = "program")]
+    pub coordinates: Option<ManualCoordinates>,
+    /// Syntec R519: manual rotary moves under TCP keep the tool tip.
+    pub rtcp: Option<bool>,
+}
+
+/// Jog feed, manual absolute, and Syntec's manual RTCP settings (R518, R519).
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/manual",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = ManualSettings,
+    responses(
+        (status = 200, description = "Set", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Something moves", body = ErrorBody),
+        (status = 422, description = "Out of range", body = ErrorBody),
+    )
+)]
+pub async fn settings(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<ManualSettings>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    if request.jog_feed.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e6)) {
+        return Err(ApiError::Unprocessable("jog_feed must be above 0 and at most 1e6".into(), None));
+    }
+    act(&state, &hosted, |station| {
+        let c = &mut station.controller;
+        if let Some(choice) = request.coordinates {
+            c.set_manual_coordinates(choice).map_err(refused)?;
+        }
+        if let Some(on) = request.rtcp {
+            c.set_manual_rtcp(on).map_err(refused)?;
+        }
+        if let Some(feed) = request.jog_feed {
+            c.panel.jog_feed = feed;
+        }
+        if let Some(on) = request.manual_absolute {
+            c.panel.manual_absolute = on;
+        }
+        Ok(())
+    })
+}
