@@ -255,9 +255,13 @@ async fn feed_hold_waits_and_cycle_start_resumes() {
     let x2 = app.get(&format!("{C}/{id}")).await.json()["position"]["machine"]["X"].as_f64().unwrap();
     assert_eq!(x1, x2, "held still");
     assert!(x1 > 0.0 && x1 < 100.0);
-    // A new program cannot be selected while one holds; the mode cannot change either.
+    // A new program cannot be selected while one holds, nor MDI entered; JOG may be, for a
+    // manual intervention, and back to AUTO resumes.
     assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await.status, StatusCode::CONFLICT);
-    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "jog"})).await.status, StatusCode::CONFLICT);
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "mdi"})).await.status, StatusCode::CONFLICT);
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "jog"})).await.status, StatusCode::OK);
+    assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await.status, StatusCode::CONFLICT, "not in JOG");
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "auto"})).await.status, StatusCode::OK);
     assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await.json()["run_state"], "running");
     app.post(&format!("{C}/{id}/reset"), &json!({})).await;
     wait_for(&app, &id, "idle").await;

@@ -109,7 +109,7 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
             _ = every.tick() => {
                 let frame = if positions.has_changed().unwrap_or(false) { positions.borrow_and_update().clone() } else { None };
                 match frame {
-                    Some(frame) => send(&mut tx, json(&*frame)).await,
+                    Some(sample) => send(&mut tx, json(&sample.frame())).await,
                     None => true,
                 }
             }

@@ -24,7 +24,7 @@ use fivex_engine::{Alarm, Dialect};
 use tokio::sync::{broadcast, mpsc, watch};
 
 pub use station::Station;
-pub use stream::{Frame, Message};
+pub use stream::{Frame, Message, Sample};
 
 /// How often the workers tick every controller (and so the finest position a stream can show).
 pub const TICK: Duration = Duration::from_millis(10);
@@ -176,7 +176,7 @@ pub struct Hosted {
     /// Simulated seconds per real second, as f64 bits.
     speed: AtomicU64,
     station: Mutex<Station>,
-    position: watch::Sender<Option<Arc<Frame>>>,
+    position: watch::Sender<Option<Sample>>,
     events: broadcast::Sender<Arc<Message>>,
 }
 
@@ -237,7 +237,7 @@ impl Hosted {
     }
 
     /// Positions, latest first (`None` until a worker has produced one for a subscriber).
-    pub fn positions(&self) -> watch::Receiver<Option<Arc<Frame>>> {
+    pub fn positions(&self) -> watch::Receiver<Option<Sample>> {
         self.position.subscribe()
     }
 

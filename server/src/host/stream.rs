@@ -1,6 +1,8 @@
 //! What a controller's websocket stream carries (besides the snapshot the API sends first):
 //! position frames and event messages, each a JSON object with a `"type"`.
 
+use std::sync::Arc;
+
 use serde::Serialize;
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
@@ -41,22 +43,51 @@ pub struct Frame {
     pub feed: f64,
 }
 
-impl Frame {
-    pub fn of(station: &Station) -> Frame {
+/// What a worker publishes every tick for a watched controller: plain numbers, no allocation;
+/// each subscriber makes its [`Frame`] from it at its own rate.
+#[derive(Debug, Clone)]
+pub struct Sample {
+    machine_config: Arc<MachineConfig>,
+    t: f64,
+    wall_ms: f64,
+    machine: Pos,
+    work: Pos,
+    tool: [f64; 3],
+    line: u32,
+    n: Option<u32>,
+    feed: f64,
+}
+
+impl Sample {
+    pub fn of(station: &Station) -> Sample {
         let c = &station.controller;
         let p = c.point();
         let tool = station.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&p.machine, 0.0).tool.into());
-        Frame {
-            kind: "position",
+        Sample {
+            machine_config: station.machine.clone(),
             t: c.time(),
             wall_ms: now_unix_ms(),
-            machine: axes(&station.machine, &p.machine),
-            workpiece: axes(&station.machine, &p.work),
-            tip: [p.work[0], p.work[1], p.work[2]],
+            machine: p.machine,
+            work: p.work,
             tool,
             line: p.line,
             n: p.n,
             feed: p.feed,
+        }
+    }
+
+    pub fn frame(&self) -> Frame {
+        Frame {
+            kind: "position",
+            t: self.t,
+            wall_ms: self.wall_ms,
+            machine: axes(&self.machine_config, &self.machine),
+            workpiece: axes(&self.machine_config, &self.work),
+            tip: [self.work[0], self.work[1], self.work[2]],
+            tool: self.tool,
+            line: self.line,
+            n: self.n,
+            feed: self.feed,
         }
     }
 }

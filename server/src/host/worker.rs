@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 use std::sync::{Arc, Weak};
 use std::time::Instant;
 
-use super::{Frame, Hosted, Inner, TICK};
+use super::{Hosted, Inner, Sample, TICK};
 
 /// The longest real time one step covers: after a stall (a suspended process) the controllers
 /// jump at most this far instead of replaying the whole gap.
@@ -50,7 +50,7 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         let mut station = hosted.station();
         station.controller.tick(real_dt * hosted.speed());
         let (messages, records) = station.collect(&hosted.id, real_dt, watching);
-        let frame = positions.then(|| Frame::of(&station));
+        let frame = positions.then(|| Sample::of(&station));
         (messages, records, frame)
     };
     for record in records {
@@ -58,6 +58,6 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
     }
     hosted.publish(messages);
     if let Some(frame) = frame {
-        hosted.position.send_replace(Some(Arc::new(frame)));
+        hosted.position.send_replace(Some(frame));
     }
 }
