@@ -54,6 +54,15 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         (messages, records, frame)
     };
     for record in records {
+        match &record {
+            super::Record::Alarm { alarm, .. } => {
+                tracing::info!(controller = %hosted.id, code = %alarm.code, line = alarm.line, "alarm: {}", alarm.message)
+            }
+            super::Record::Run { program, result, cycle_time_s, .. } => {
+                tracing::info!(controller = %hosted.id, ?program, result, cycle_time_s, "run ended")
+            }
+            _ => {}
+        }
         inner.record(record);
     }
     hosted.publish(messages);
