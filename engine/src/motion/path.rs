@@ -175,6 +175,29 @@ impl Posture {
         (angle > 1e-9 && angle < std::f64::consts::PI - 1e-9).then_some(Posture { v0, v1, angle })
     }
 
+    /// Whether the axes can follow the great circle from `from` to `to` as `Follow::at` turns
+    /// them (the inverse solution nearest the proportional angles) without a jump: not when the
+    /// end angles lie on the other branch of the inverse than the start's, or the circle
+    /// leaves the directions the machine reaches; such a block runs with conventional control,
+    /// as for equal or opposite directions (`docs/five-axis.md`).
+    fn continuous(&self, kin: &Kinematics, from: &Pos, to: &Pos) -> bool {
+        const STEPS: usize = 64;
+        /// More than this in 1/64 of the block is a jump to the other branch.
+        const JUMP_DEG: f64 = 30.0;
+        let mut prev = *from;
+        for k in 1..=STEPS {
+            let u = k as f64 / STEPS as f64;
+            let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+            let Some(a) = kin.angles_near(self.at(u), &q) else { return false };
+            let jump = kin.joints().iter().filter_map(|j| j.index).any(|i| (a[i] - prev[i]).abs() > JUMP_DEG);
+            if jump {
+                return false;
+            }
+            prev = a;
+        }
+        true
+    }
+
     /// The direction `u` of the way (spec M-7: `[sin((1−u)Ω)·v0 + sin(uΩ)·v1] / sin Ω`).
     fn at(&self, u: f64) -> Vec3 {
         ((self.v0 * ((1.0 - u) * self.angle).sin() + self.v1 * (u * self.angle).sin()) / self.angle.sin()).normalize()
@@ -451,12 +474,12 @@ impl Segment {
         };
         let turn = rotary_travel(&kin, from, &m.machine);
         let follow = Follow {
-            kin,
+            kin: kin.clone(),
             tool_length: tip.tool_length,
             from: tip.from,
             to: tip.to,
             circle,
-            posture: tip.posture.and_then(|(a, b)| Posture::new(a, b)),
+            posture: tip.posture.and_then(|(a, b)| Posture::new(a, b)).filter(|p| p.continuous(&kin, from, &m.machine)),
             work_frame: Some(tip.frame),
         };
         let rotary_only = tip_len < 1e-9;

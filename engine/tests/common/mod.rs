@@ -157,7 +157,13 @@ pub fn check_limits_of(samples: &[Sample], m: &MachineConfig, junctions_too: boo
                 // Across a junction: at most the corner step (A × 1 ms) plus what the two
                 // periods' acceleration adds.
                 let dv = ((x[2] - x[1]) - (x[1] - x[0])) / PERIOD;
-                prop_assert!(dv.abs() <= 3.0 * a * PERIOD * slack, "axis {i} speed step {dv} at t={}", w[0].t);
+                prop_assert!(
+                    dv.abs() <= 3.0 * a * PERIOD * slack,
+                    "axis {i} speed step {dv} at t={} (lines {} to {})",
+                    w[0].t,
+                    w[0].line,
+                    w[3].line
+                );
             }
         }
     }
@@ -170,7 +176,12 @@ pub fn check_strokes(samples: &[Sample], m: &MachineConfig) -> Result<(), TestCa
         for (i, a) in m.axes.iter().enumerate() {
             if let Some([lo, hi]) = a.stroke {
                 let x = s.machine[i];
-                prop_assert!(x >= lo - 1e-6 && x <= hi + 1e-6, "axis {} at {x} outside [{lo}, {hi}] at t={}", a.name, s.t);
+                prop_assert!(
+                    x >= lo - 1e-6 && x <= hi + 1e-6,
+                    "axis {} at {x} outside [{lo}, {hi}] at t={}",
+                    a.name,
+                    s.t
+                );
             }
         }
     }

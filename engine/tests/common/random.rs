@@ -61,23 +61,30 @@ fn link_spec() -> impl Strategy<Value = LinkSpec> {
         (prop_oneof![2 => Just(0u8), 2 => Just(1u8), 1 => Just(2u8)], -150.0f64..-60.0, 60.0f64..150.0, any::<bool>()),
         (3_600.0f64..14_400.0, 500.0f64..2_500.0, 10_000.0f64..60_000.0),
     )
-        .prop_map(|((base_pick, negative, tilt, lean, right), (point, zero_offset), (travel, lo, hi, shortest), (rapid, accel, jerk))| {
-            LinkSpec {
-                base_pick,
-                negative,
-                tilt,
-                lean,
-                right,
-                point,
-                zero_offset,
-                travel,
-                range: [lo, hi],
-                shortest,
-                rapid,
-                accel,
-                jerk,
-            }
-        })
+        .prop_map(
+            |(
+                (base_pick, negative, tilt, lean, right),
+                (point, zero_offset),
+                (travel, lo, hi, shortest),
+                (rapid, accel, jerk),
+            )| {
+                LinkSpec {
+                    base_pick,
+                    negative,
+                    tilt,
+                    lean,
+                    right,
+                    point,
+                    zero_offset,
+                    travel,
+                    range: [lo, hi],
+                    shortest,
+                    rapid,
+                    accel,
+                    jerk,
+                }
+            },
+        )
 }
 
 fn unit(k: usize) -> Vec3 {
@@ -143,7 +150,11 @@ pub fn random_machine() -> impl Strategy<Value = MachineConfig> {
 /// A valid machine of `kind` with random geometry.
 pub fn random_machine_of(kind: MachineKind) -> impl Strategy<Value = MachineConfig> {
     let letters = Just(vec!['A', 'B', 'C']).prop_shuffle();
-    let tool = (prop_oneof![1 => Just(0usize), 1 => Just(1usize), 4 => Just(2usize)], prop_oneof![1 => Just(0.0), 1 => 0.0f64..30.0], -180.0f64..180.0);
+    let tool = (
+        prop_oneof![1 => Just(0usize), 1 => Just(1usize), 4 => Just(2usize)],
+        prop_oneof![1 => Just(0.0), 1 => 0.0f64..30.0],
+        -180.0f64..180.0,
+    );
     let linear = (10_000.0f64..40_000.0, 1_000.0f64..6_000.0, 20_000.0f64..120_000.0);
     (letters, tool, prop::array::uniform3(-40.0f64..40.0), link_spec(), link_spec(), any::<bool>(), linear)
         .prop_map(move |(letters, (tk, ra, rb), nose, l1, l2, swap_order, (rapid, accel, jerk))| {
