@@ -139,7 +139,7 @@ pub fn well_formed(m: &MachineConfig) -> bool {
             return false;
         }
     }
-    !(kin.kind == MachineKind::TableTable && !apart(&kin.table[0].direction, &kin.tool_axis))
+    kin.kind != MachineKind::TableTable || apart(&kin.table[0].direction, &kin.tool_axis)
 }
 
 /// A valid machine of a random kind.
