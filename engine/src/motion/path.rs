@@ -248,6 +248,29 @@ impl Posture {
             }
         }
     }
+
+    /// Whether the axes can follow the posture from `from` to `to` as `Follow::at` turns
+    /// them (the inverse solution nearest the proportional angles) without a jump: not when the
+    /// end angles lie on the other branch of the inverse than the start's, or the way
+    /// leaves the directions the machine reaches; such a block runs with conventional control,
+    /// as for equal or opposite directions (`docs/five-axis.md`).
+    fn continuous(&self, kin: &Kinematics, from: &Pos, to: &Pos, circle: Option<&Circle3>) -> bool {
+        const STEPS: usize = 64;
+        /// More than this in 1/64 of the block is a jump to the other branch.
+        const JUMP_DEG: f64 = 30.0;
+        let mut prev = *from;
+        for k in 1..=STEPS {
+            let u = k as f64 / STEPS as f64;
+            let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+            let Some(a) = kin.angles_near(self.at(u, circle), &q) else { return false };
+            let jump = kin.joints().iter().filter_map(|j| j.index).any(|i| (a[i] - prev[i]).abs() > JUMP_DEG);
+            if jump {
+                return false;
+            }
+            prev = a;
+        }
+        true
+    }
 }
 
 impl Follow {
@@ -550,12 +573,15 @@ impl Segment {
             None => ((tip.to - tip.from).norm(), 0.0),
         };
         let turn = rotary_travel(&kin, from, &m.machine);
-        let posture = tip.posture.and_then(|(a, b)| match &circle {
-            Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
-            _ => Posture::new(a, b),
-        });
+        let posture = tip
+            .posture
+            .and_then(|(a, b)| match &circle {
+                Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
+                _ => Posture::new(a, b),
+            })
+            .filter(|p| p.continuous(&kin, from, &m.machine, circle.as_ref()));
         let follow = Follow {
-            kin,
+            kin: kin.clone(),
             tool_length: tip.tool_length,
             from: tip.from,
             to: tip.to,

@@ -9,6 +9,8 @@ use fivex_engine::run::{run, RunOptions, RunResult, Sample};
 use fivex_engine::Dialect;
 use proptest::prelude::{prop_assert, TestCaseError};
 
+pub mod random;
+
 pub fn interpreter(src: &str, preset: &str, dialect: Dialect) -> Interpreter {
     interpreter_with(src, preset, dialect, |_| {})
 }
@@ -113,7 +115,11 @@ pub fn fixture_programs() -> Vec<(String, String)> {
 /// Per-axis limits of a preset, and whether the axis rolls over (its samples are shown
 /// modulo 360).
 pub fn limits(preset: &str) -> Vec<(f64, f64, f64, bool)> {
-    let m = MachineConfig::preset(preset).unwrap();
+    limits_of(&MachineConfig::preset(preset).unwrap())
+}
+
+/// [`limits`] of any machine.
+pub fn limits_of(m: &MachineConfig) -> Vec<(f64, f64, f64, bool)> {
     m.axes.iter().map(|a| (a.rapid / 60.0, a.max_accel(), a.max_jerk(), a.rollover)).collect()
 }
 
@@ -122,7 +128,12 @@ pub fn limits(preset: &str) -> Vec<(f64, f64, f64, bool)> {
 /// block ends at rest, sampled every millisecond (a corner may change an axis's speed by the allowed step at once, as
 /// FANUC's No.1783 allows).
 pub fn check_limits(samples: &[Sample], preset: &str, junctions_too: bool) -> Result<(), TestCaseError> {
-    let lim = limits(preset);
+    check_limits_of(samples, &MachineConfig::preset(preset).unwrap(), junctions_too)
+}
+
+/// [`check_limits`] on any machine.
+pub fn check_limits_of(samples: &[Sample], m: &MachineConfig, junctions_too: bool) -> Result<(), TestCaseError> {
+    let lim = limits_of(m);
     const PERIOD: f64 = 0.001;
     let slack = 1.0 + 1e-6;
     for w in samples.windows(4) {
@@ -146,9 +157,39 @@ pub fn check_limits(samples: &[Sample], preset: &str, junctions_too: bool) -> Re
                 // Across a junction: at most the corner step (A × 1 ms) plus what the two
                 // periods' acceleration adds.
                 let dv = ((x[2] - x[1]) - (x[1] - x[0])) / PERIOD;
-                prop_assert!(dv.abs() <= 3.0 * a * PERIOD * slack, "axis {i} speed step {dv} at t={}", w[0].t);
+                prop_assert!(
+                    dv.abs() <= 3.0 * a * PERIOD * slack,
+                    "axis {i} speed step {dv} at t={} (lines {} to {})",
+                    w[0].t,
+                    w[0].line,
+                    w[3].line
+                );
             }
         }
     }
     Ok(())
+}
+
+/// Every sampled axis position lies within its stored stroke.
+pub fn check_strokes(samples: &[Sample], m: &MachineConfig) -> Result<(), TestCaseError> {
+    for s in samples {
+        for (i, a) in m.axes.iter().enumerate() {
+            if let Some([lo, hi]) = a.stroke {
+                let x = s.machine[i];
+                prop_assert!(
+                    x >= lo - 1e-6 && x <= hi + 1e-6,
+                    "axis {} at {x} outside [{lo}, {hi}] at t={}",
+                    a.name,
+                    s.t
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A proptest case count: `default`, or PROPTEST_CASES when set (a count written into a
+/// `ProptestConfig` would override the variable).
+pub fn cases(default: u32) -> u32 {
+    std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(default)
 }
