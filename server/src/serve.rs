@@ -336,6 +336,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::controllers::status,
         api::controllers::update,
         api::controllers::remove,
+        api::modal::modal,
         api::programs::list,
         api::programs::store,
         api::programs::text,

@@ -506,3 +506,23 @@ async fn manual_moves_one_axis_along_the_tool_and_about_the_tip() {
         assert!(at(&s, a).abs() < 1e-9, "{a}: {s}");
     }
 }
+
+#[tokio::test]
+async fn the_modal_state_shows_g_codes_and_words() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "table-ac", "speed": 20})).await;
+    let m = app.get(&format!("{C}/{id}/modal")).await.json();
+    assert_eq!(
+        (m["groups"]["1"].clone(), m["groups"]["3"].clone(), m["groups"]["8"].clone()),
+        (json!("G00"), json!("G90"), json!("G49"))
+    );
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G91 G01 X1. F1234 S800 T5\nG43.4 H7\nG49"})).await;
+    wait_for(&app, &id, "idle").await;
+    let m = app.get(&format!("{C}/{id}/modal")).await.json();
+    assert_eq!((m["groups"]["1"].clone(), m["groups"]["3"].clone()), (json!("G01"), json!("G91")), "{m}");
+    assert_eq!(
+        (m["f"].clone(), m["s"].clone(), m["t"].clone(), m["h"].clone()),
+        (json!(1234.0), json!(800.0), json!(5), json!(7)),
+        "{m}"
+    );
+}

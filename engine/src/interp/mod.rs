@@ -28,6 +28,20 @@ use crate::machine::{MachineConfig, MAX_AXES};
 use expr::{eval, truth, ExprSettings, Value};
 use gcode::GROUPS;
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
+
+/// F, S, T, the tool in the spindle, H and D as they stand.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModalWords {
+    /// Feed, mm/min (1/min under G93).
+    pub f: f64,
+    pub s: f64,
+    /// The tool prepared (last T word) and the tool in the spindle.
+    pub t: u32,
+    pub spindle_tool: u32,
+    /// Tool length and cutter radius offset numbers in force.
+    pub h: u32,
+    pub d: u32,
+}
 pub(crate) use program::Loaded;
 use std::collections::HashMap;
 
@@ -539,6 +553,11 @@ impl State {
 
     pub fn modal(&self, group: usize) -> u16 {
         self.modes[group]
+    }
+
+    /// The modal words a panel shows beside the G codes.
+    pub fn modal_words(&self) -> ModalWords {
+        ModalWords { f: self.f, s: self.s, t: self.t, spindle_tool: self.tool_in_spindle, h: self.h, d: self.d }
     }
 
     /// Whether the next block may need blocks that have not arrived: the end of the text of a

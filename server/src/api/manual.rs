@@ -75,19 +75,10 @@ pub async fn jog(
     id: Result<Path<String>, PathRejection>,
     request: Result<Json<ManualMove>, JsonRejection>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
-    let request = body(request)?;
-    let target = target(&request)?;
-    let positive =
-        request.positive.ok_or_else(|| ApiError::Unprocessable("JOG needs positive: true or false".into(), None))?;
-    act(&state, &hosted, |station| {
-        let c: &mut Controller = &mut station.controller;
-        match target {
-            Target::Axis(a) => c.jog_start(a, positive),
-            Target::Feed(f) => c.jog_direction(f, positive),
-            Target::TipRotation(a) => c.jog_tip_rotation(a, positive),
-        }
-        .map_err(refused)
+    manual_move(state, id, request, |r| {
+        r.positive
+            .map(How::Jog)
+            .ok_or_else(|| ApiError::Unprocessable("JOG needs positive: true or false".into(), None))
     })
 }
 
@@ -129,19 +120,39 @@ pub async fn handle(
     id: Result<Path<String>, PathRejection>,
     request: Result<Json<ManualMove>, JsonRejection>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
+    manual_move(state, id, request, |r| {
+        r.amount
+            .filter(|a| a.is_finite() && a.abs() <= 1.0e5)
+            .map(How::Handle)
+            .ok_or_else(|| ApiError::Unprocessable("HANDLE needs a finite amount (at most 1e5)".into(), None))
+    })
+}
+
+/// How a manual move goes: JOG in a direction until stopped, or HANDLE by an amount.
+enum How {
+    Jog(bool),
+    Handle(f64),
+}
+
+/// A JOG or HANDLE request: its target and how, then the controller's command.
+fn manual_move(
+    state: AppState,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<ManualMove>, JsonRejection>,
+    how: impl FnOnce(&ManualMove) -> Result<How, ApiError>,
+) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
-    let target = target(&request)?;
-    let amount = request
-        .amount
-        .filter(|a| a.is_finite() && a.abs() <= 1.0e5)
-        .ok_or_else(|| ApiError::Unprocessable("HANDLE needs a finite amount (at most 1e5)".into(), None))?;
+    let (target, how) = (target(&request)?, how(&request)?);
     act(&state, &hosted, |station| {
         let c: &mut Controller = &mut station.controller;
-        match target {
-            Target::Axis(a) => c.handle(a, amount),
-            Target::Feed(f) => c.handle_direction(f, amount),
-            Target::TipRotation(a) => c.handle_tip_rotation(a, amount),
+        match (target, how) {
+            (Target::Axis(a), How::Jog(p)) => c.jog_start(a, p),
+            (Target::Feed(f), How::Jog(p)) => c.jog_direction(f, p),
+            (Target::TipRotation(a), How::Jog(p)) => c.jog_tip_rotation(a, p),
+            (Target::Axis(a), How::Handle(x)) => c.handle(a, x),
+            (Target::Feed(f), How::Handle(x)) => c.handle_direction(f, x),
+            (Target::TipRotation(a), How::Handle(x)) => c.handle_tip_rotation(a, x),
         }
         .map_err(refused)
     })

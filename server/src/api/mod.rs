@@ -6,6 +6,7 @@
 pub mod controllers;
 pub mod history;
 pub mod manual;
+pub mod modal;
 pub mod offsets;
 pub mod panel;
 pub mod parameters;
@@ -32,6 +33,7 @@ pub fn router() -> Router<AppState> {
     Router::new()
         .route("/controllers", get(controllers::list).post(controllers::create))
         .route("/controllers/{id}", get(controllers::status).patch(controllers::update).delete(controllers::remove))
+        .route("/controllers/{id}/modal", get(modal::modal))
         .route("/controllers/{id}/programs", get(programs::list))
         .route("/controllers/{id}/programs/{number}", put(programs::store).get(programs::text).delete(programs::remove))
         .route("/controllers/{id}/cycle-start", post(panel::cycle_start))

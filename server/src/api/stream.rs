@@ -120,8 +120,7 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
             },
             incoming = rx.next() => !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_)))),
             _ = closing.changed() => {
-                let bye = CloseFrame { code: axum::extract::ws::close_code::AWAY, reason: Utf8Bytes::from_static("server shutting down") };
-                let _ = tokio::time::timeout(Duration::from_secs(1), tx.send(Ws::Close(Some(bye)))).await;
+                goodbye(&mut tx).await;
                 false
             }
         };
@@ -132,6 +131,15 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
 }
 
 type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
+
+/// The service shuts down: close with 1001 "going away" (not waiting long for a slow client).
+async fn goodbye(tx: &mut Sink) {
+    let bye = CloseFrame {
+        code: axum::extract::ws::close_code::AWAY,
+        reason: Utf8Bytes::from_static("server shutting down"),
+    };
+    let _ = tokio::time::timeout(Duration::from_secs(1), tx.send(Ws::Close(Some(bye)))).await;
+}
 
 /// Send one text message; false if the client is gone or does not take it in time.
 async fn send(tx: &mut Sink, text: String) -> bool {
@@ -239,8 +247,7 @@ async fn fleet_session(socket: WebSocket, state: AppState, rate: f64) {
             }
             incoming = rx.next() => !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_)))),
             _ = closing.changed() => {
-                let bye = CloseFrame { code: axum::extract::ws::close_code::AWAY, reason: Utf8Bytes::from_static("server shutting down") };
-                let _ = tokio::time::timeout(Duration::from_secs(1), tx.send(Ws::Close(Some(bye)))).await;
+                goodbye(&mut tx).await;
                 false
             }
         };

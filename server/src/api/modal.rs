@@ -1,0 +1,51 @@
+//! The modal state as a panel shows it: the G code of each modal group and F, S, T, H, D.
+
+use std::collections::BTreeMap;
+
+use axum::extract::rejection::PathRejection;
+use axum::extract::{Json, Path, State};
+use fivex_engine::interp::gcode;
+use serde::Serialize;
+use utoipa::ToSchema;
+
+use super::{hosted, path};
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// `GET /modal`.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ModalState {
+    /// The G code in force per modal group number (`{"1": "G01", "8": "G43.4", "16": "G68.2"}`).
+    pub groups: BTreeMap<u8, String>,
+    /// Feed (mm/min; 1/min under G93), spindle speed, tool prepared, tool in the spindle, H and D.
+    pub f: f64,
+    pub s: f64,
+    pub t: u32,
+    pub spindle_tool: u32,
+    pub h: u32,
+    pub d: u32,
+}
+
+/// The modal G codes and words of the program state.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/modal",
+    tag = "controllers",
+    params(("id" = String, Path, description = "Controller id")),
+    responses((status = 200, description = "Modal state", body = ModalState), (status = 404, description = "No such controller", body = ErrorBody))
+)]
+pub async fn modal(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<ModalState>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let station = hosted.station();
+    let interp = &station.controller.interpreter().state;
+    let initial = gcode::initial_modes();
+    // The groups the dialects use (group 1's G00 is code 0; the others start non-zero).
+    let groups = (1..gcode::GROUPS)
+        .filter(|&g| g == 1 || initial[g] != 0)
+        .map(|g| (g as u8, gcode::display(interp.modal(g))))
+        .collect();
+    let w = interp.modal_words();
+    Ok(Json(ModalState { groups, f: w.f, s: w.s, t: w.t, spindle_tool: w.spindle_tool, h: w.h, d: w.d }))
+}
