@@ -127,21 +127,24 @@ pub async fn update_controller(pool: &SqlitePool, id: &str, name: &str, speed: f
     Ok(())
 }
 
-/// The speed factor stored for each controller.
-pub async fn controller_speeds(pool: &SqlitePool) -> Result<std::collections::HashMap<String, f64>, sqlx::Error> {
-    let rows = sqlx::query("SELECT id, speed FROM controllers").fetch_all(pool).await?;
-    rows.iter().map(|r| Ok((r.try_get("id")?, r.try_get("speed")?))).collect()
+/// The speed factor and the extra parameters (JSON) stored for each controller.
+pub async fn controller_settings(
+    pool: &SqlitePool,
+) -> Result<std::collections::HashMap<String, (f64, String)>, sqlx::Error> {
+    let rows = sqlx::query("SELECT id, speed, extra_parameters FROM controllers").fetch_all(pool).await?;
+    rows.iter().map(|r| Ok((r.try_get("id")?, (r.try_get("speed")?, r.try_get("extra_parameters")?)))).collect()
 }
 
-/// Inserts a controller row with its speed factor.
-pub async fn insert_controller_with_speed(
+/// Inserts a controller row with its speed factor and the parameters its model does not read.
+pub async fn insert_controller_with(
     pool: &SqlitePool,
     row: &ControllerRow,
     speed: f64,
+    extra_json: &str,
 ) -> Result<(), sqlx::Error> {
     sqlx::query(
-        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed) \
-         VALUES (?, ?, ?, ?, ?, ?)",
+        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters) \
+         VALUES (?, ?, ?, ?, ?, ?, ?)",
     )
     .bind(&row.id)
     .bind(&row.name)
@@ -149,6 +152,7 @@ pub async fn insert_controller_with_speed(
     .bind(&row.machine_json)
     .bind(&row.created_at)
     .bind(speed)
+    .bind(extra_json)
     .execute(pool)
     .await?;
     Ok(())
@@ -459,10 +463,16 @@ pub async fn save_work_offsets(
     tx.commit().await
 }
 
-/// Replaces a controller's machine document.
-pub async fn update_machine(pool: &SqlitePool, id: &str, machine_json: &str) -> Result<(), sqlx::Error> {
-    sqlx::query("UPDATE controllers SET machine_json = ? WHERE id = ?")
+/// Replaces a controller's machine document and the parameters its model does not read.
+pub async fn update_machine(
+    pool: &SqlitePool,
+    id: &str,
+    machine_json: &str,
+    extra_json: &str,
+) -> Result<(), sqlx::Error> {
+    sqlx::query("UPDATE controllers SET machine_json = ?, extra_parameters = ? WHERE id = ?")
         .bind(machine_json)
+        .bind(extra_json)
         .bind(id)
         .execute(pool)
         .await?;

@@ -82,7 +82,7 @@ impl AppState {
         let (records, incoming) = tokio::sync::mpsc::unbounded_channel();
         let writer = tokio::spawn(db::write_records(db.clone(), incoming));
         let host = Host::new(workers, records);
-        let speeds = db::controller_speeds(&db).await?;
+        let settings = db::controller_settings(&db).await?;
         for row in db::list_controllers(&db).await? {
             let machine = match crate::machine_file::parse(&row.machine_json) {
                 Ok(m) => m,
@@ -98,7 +98,7 @@ impl AppState {
             let retained = db::retained_variables(&db, &row.id).await?;
             let row_id = row.id.clone();
             let hosted = Hosted::new(Spec {
-                speed: speeds.get(&row.id).copied().unwrap_or(1.0),
+                speed: settings.get(&row.id).map_or(1.0, |s| s.0),
                 id: row.id,
                 name: row.name,
                 dialect,
@@ -110,6 +110,11 @@ impl AppState {
                 let mut station = hosted.station();
                 station.load_retained(&retained);
                 station.load_offsets(&tools, &work);
+                let extra = settings.get(&row_id).map_or("{}", |s| s.1.as_str());
+                station.extra_parameters = serde_json::from_str(extra).unwrap_or_else(|e| {
+                    tracing::warn!(id = %row_id, error = %e, "stored extra parameters are not a parameter list");
+                    Default::default()
+                });
             }
             host.add(Arc::new(hosted));
         }

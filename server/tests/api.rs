@@ -428,9 +428,22 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
     let linear = app.put(&format!("{C}/{id}/parameters/19681"), &json!({"value": 1})).await;
     assert_eq!(linear.status, StatusCode::UNPROCESSABLE_ENTITY);
     assert!(error_of(&linear).contains("PS5459"), "TV-KIN-16: {}", linear.text());
+    // A parameter the model does not read is kept as given (a control keeps them all).
+    let kept = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 5})).await;
+    assert_eq!((kept.status, kept.json()["parameters"]["8130"].clone()), (StatusCode::OK, json!(5)));
     let state = app.restart().await;
     let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
-    assert_eq!(again.get(&format!("{C}/{id}/parameters")).await.json()["parameters"]["1320"][0], 123.0);
+    let after = again.get(&format!("{C}/{id}/parameters")).await.json();
+    assert_eq!(
+        (after["parameters"]["1320"][0].as_f64(), after["parameters"]["8130"].as_f64()),
+        (Some(123.0), Some(5.0))
+    );
+    // So is one in a parameter list a controller is created from, in the list's dialect.
+    let mut params = after["parameters"].clone();
+    params["8131"] = json!(7);
+    let from_list =
+        create(&again, json!({"name": "p", "machine": {"name": "p", "dialect": "fanuc", "parameters": params}})).await;
+    assert_eq!(again.get(&format!("{C}/{from_list}/parameters")).await.json()["parameters"]["8131"], 7);
     // Syntec numbering for a Syntec controller.
     let syntec = create(&app, json!({"name": "s", "preset": "head-bc", "dialect": "syntec"})).await;
     assert_eq!(app.get(&format!("{C}/{syntec}/parameters")).await.json()["parameters"]["3001"], 1);

@@ -87,9 +87,20 @@ pub async fn create(
     let request = body(request)?;
     let name = check_name(&request.name)?;
     let machine = machine_of(&request)?;
-    let dialect: Dialect = match &request.dialect {
-        Some(d) => d.parse().map_err(|e: String| ApiError::Unprocessable(e, None))?,
-        None => Dialect::Fanuc,
+    // A parameter list gives its own dialect unless the request names one.
+    let given: Option<fivex_engine::vendor::ParamFile> = request
+        .machine
+        .as_ref()
+        .filter(|m| m.get("parameters").is_some())
+        .and_then(|m| serde_json::from_value(m.clone()).ok());
+    let dialect: Dialect = match (&request.dialect, &given) {
+        (Some(d), _) => d.parse().map_err(|e: String| ApiError::Unprocessable(e, None))?,
+        (None, Some(file)) => file.dialect,
+        (None, None) => Dialect::Fanuc,
+    };
+    let extra = match &given {
+        Some(file) if file.dialect == dialect => super::parameters::extras(dialect, &machine, &file.parameters),
+        _ => Default::default(),
     };
     let speed = check_speed(request.speed.unwrap_or(1.0))?;
     let row = ControllerRow {
@@ -99,7 +110,8 @@ pub async fn create(
         machine_json: serde_json::to_string(&machine).map_err(|e| ApiError::Unprocessable(e.to_string(), None))?,
         created_at: now_rfc3339(),
     };
-    db::insert_controller_with_speed(&state.db, &row, speed).await?;
+    let extra_json = serde_json::to_string(&extra).unwrap_or_else(|_| "{}".into());
+    db::insert_controller_with(&state.db, &row, speed, &extra_json).await?;
     let machine_name = machine.name.clone();
     let hosted = Arc::new(Hosted::new(Spec {
         id: row.id.clone(),
@@ -109,6 +121,7 @@ pub async fn create(
         created_at: row.created_at.clone(),
         speed,
     }));
+    hosted.station().extra_parameters = extra;
     state.host.add(hosted.clone());
     tracing::info!(id = %row.id, name = %row.name, machine = %machine_name, "controller created");
     Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))

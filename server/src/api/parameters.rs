@@ -32,14 +32,31 @@ pub struct SetParameter {
     pub value: ParamValue,
 }
 
+/// The dialect's list: the model's canonical parameters and, for the numbers the model does not
+/// write, the extra ones kept as given.
 fn list(
     dialect: fivex_engine::Dialect,
     machine: &fivex_engine::machine::MachineConfig,
+    extra: &Params,
 ) -> Result<ParameterList, ApiError> {
-    let parameters = vendor::params_of(dialect, machine).map_err(|e| {
+    let mut parameters = vendor::params_of(dialect, machine).map_err(|e| {
         ApiError::Conflict(format!("this machine has no {} parameter form: {}", dialect.name(), e.describe(dialect)))
     })?;
+    for (number, value) in &extra.0 {
+        parameters.0.entry(*number).or_insert_with(|| value.clone());
+    }
     Ok(ParameterList { dialect: dialect.name().to_string(), parameters })
+}
+
+/// What of `given` the model of `machine` does not write back: a control keeps every parameter it
+/// is given, so these are stored beside the machine and shown with it.
+pub fn extras(
+    dialect: fivex_engine::Dialect,
+    machine: &fivex_engine::machine::MachineConfig,
+    given: &Params,
+) -> Params {
+    let canonical = vendor::params_of(dialect, machine).unwrap_or_default();
+    Params(given.0.iter().filter(|(n, _)| !canonical.0.contains_key(n)).map(|(n, v)| (*n, v.clone())).collect())
 }
 
 /// The machine as the dialect's parameter list (canonical form).
@@ -59,8 +76,8 @@ pub async fn get_all(
     id: Result<Path<String>, PathRejection>,
 ) -> Result<Json<ParameterList>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
-    let machine = hosted.station().machine.clone();
-    Ok(Json(list(hosted.dialect, &machine)?))
+    let station = hosted.station();
+    Ok(Json(list(hosted.dialect, &station.machine, &station.extra_parameters)?))
 }
 
 /// Change one parameter. The new set must describe a machine that works (else 422 with the
@@ -94,8 +111,11 @@ pub async fn set(
     if !finite {
         return Err(ApiError::Unprocessable("parameter values must be finite numbers".into(), None));
     }
-    let current = hosted.station().machine.clone();
-    let mut parameters = list(hosted.dialect, &current)?.parameters;
+    let (current, extra) = {
+        let station = hosted.station();
+        (station.machine.clone(), station.extra_parameters.clone())
+    };
+    let mut parameters = list(hosted.dialect, &current, &extra)?.parameters;
     parameters.0.insert(number, value);
     let machine = vendor::machine_from(hosted.dialect, &current.name, &parameters)
         .map_err(|e| ApiError::Unprocessable(e.describe(hosted.dialect), None))?;
@@ -103,9 +123,13 @@ pub async fn set(
     if hosted.station().controller.run_state() != RunState::Idle {
         return Err(ApiError::Conflict("parameters change only while nothing runs".into()));
     }
-    db::update_machine(&state.db, &hosted.id, &json).await?;
-    let answer = list(hosted.dialect, &machine)?;
-    hosted.station().replace_machine(machine, hosted.dialect);
+    let extra = extras(hosted.dialect, &machine, &parameters);
+    let extra_json = serde_json::to_string(&extra).unwrap_or_else(|_| "{}".into());
+    db::update_machine(&state.db, &hosted.id, &json, &extra_json).await?;
+    let answer = list(hosted.dialect, &machine, &extra)?;
+    let mut station = hosted.station();
+    station.replace_machine(machine, hosted.dialect);
+    station.extra_parameters = extra;
     tracing::info!(id = %hosted.id, number, "parameter changed; controller restarted on the new machine");
     Ok(Json(answer))
 }

@@ -30,6 +30,8 @@ pub struct Station {
     pub machine: Arc<MachineConfig>,
     /// Its mechanism (`None` when the kinematics refuses it; positions show the tool along +Z).
     pub kinematics: Option<Kinematics>,
+    /// Vendor parameters the machine model does not read, kept as given.
+    pub extra_parameters: fivex_engine::vendor::Params,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
     run: Option<RunStart>,
@@ -57,6 +59,7 @@ impl Station {
         let saved_offsets = controller.interpreter().state.offsets.clone();
         Station {
             kinematics: Kinematics::new(&machine).ok(),
+            extra_parameters: Default::default(),
             machine: Arc::new(machine),
             controller,
             program: None,
