@@ -834,3 +834,22 @@ fn tcp25_crs_uses_no_19751_for_rapids() {
     assert!(free > 0.0015 && clamped <= 0.0011, "{free} / {clamped} mm");
     assert!(top < 0.9 * top_free, "{top} vs {top_free}");
 }
+
+#[test]
+fn wse_24_no_singular_change_while_g54_4_is_on() {
+    // TV-06's line with G54.4 P1 on (RCM = 1, a zero error): the end-point change is not made
+    // (FANUC WSE-24), the block ends as selected.
+    let mut m = singular_head(10.0, 5.0, false);
+    m.five_axis.tool_direction_compensation = true;
+    let src =
+        format!("G54.4 P1\n{}", singular_src("I-0.1730 J0.0151 K0.9848")).replace("G49\nM30", "G49\nG54.4 P0\nM30");
+    let mut interp = interpreter_with(&src, "mill3", Dialect::Fanuc, |c| c.machine = m);
+    let mut end = (f64::NAN, f64::NAN);
+    let r = interp.run(|c| {
+        if let (fivex_engine::canon::CanonKind::Motion(m), 5) = (c.kind, c.line) {
+            end = (m.machine[3], m.machine[4]);
+        }
+    });
+    assert!(r.is_ok(), "{r:?}");
+    assert!((end.0 - 10.0).abs() < 0.01 && (end.1 - 175.01).abs() < 0.01, "B {} C {}", end.0, end.1);
+}

@@ -276,3 +276,25 @@ fn syntec_tv38_g68_3_twice_relative_to_the_work_system() {
         assert!(close(tip, Vec3::new(10.0, 0.0, 0.0), 1e-9), "N{line}: {tip:?}");
     }
 }
+
+/// G68.3's X axis is P × Zc with P the vertical axis of No.12321 (`manual.vertical`; 0: the
+/// reference tool direction's axis, Z on head-bc): with the tool along (0, −0.707, 0.707) feature X
+/// is +X for P = Z and (0, −0.707, −0.707) for P = X.
+#[test]
+fn g68_3_x_axis_from_no_12321() {
+    use fivex_engine::machine::ManualVertical;
+    let src = "N1 G90 G01 X0 Y0 Z0 F1000\nN2 B-45. C90.\nN3 G68.3 X0 Y0 Z0\nN4 G01 X10. Y0 Z0\nN5 G69\nM30\n";
+    let h = 10.0 * std::f64::consts::FRAC_1_SQRT_2;
+    for (vertical, want) in [
+        (ManualVertical::Tool, Vec3::new(10.0, 0.0, 0.0)),
+        (ManualVertical::Z, Vec3::new(10.0, 0.0, 0.0)),
+        (ManualVertical::X, Vec3::new(0.0, -h, -h)),
+    ] {
+        let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+        let e =
+            motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine.manual.vertical = vertical));
+        // The origin is the programmed point (the nose at zero angles); N4 is 10 along X_c from it.
+        let (n3_origin, n4) = (Vec3::zeros(), kin.forward(&end_of(&e, 4), 0.0).tip);
+        assert!(close(n4 - n3_origin, want, 1e-9), "{vertical:?}: {n4:?}");
+    }
+}

@@ -16,6 +16,7 @@ use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, MotionKind, Pos};
 use crate::kin::{Kinematics, Selection, Vec3};
+use crate::machine::ManualVertical;
 use crate::twp::{self, Frame};
 use std::sync::Arc as Shared;
 
@@ -29,10 +30,6 @@ pub(super) struct Definition {
     origin: Vec3,
     x: Option<Vec3>,
 }
-
-/// FANUC No.12321 (vertical axis for G68.3: Z) and No.12322 (parallel tolerance, degrees).
-const G68_3_VERTICAL: usize = 2;
-const G68_3_PARALLEL_DEG: f64 = 0.0;
 
 impl State {
     pub(super) fn plane_active(&self) -> bool {
@@ -204,10 +201,17 @@ impl State {
         if self.cfg.dialect == crate::Dialect::Syntec && w.integer(b'P') == Some(1.0) {
             return Ok(Frame { r: base.r.transpose() * kin.tool_rotation(&machine), o: origin });
         }
-        let mut vertical = Vec3::zeros();
-        vertical[G68_3_VERTICAL] = 1.0;
+        // FANUC No.12321 (the machine's `manual.vertical`, shared with the manual feeds): X, Y or
+        // Z; 0 (*decision*, OQ-07 leaves it open) the coordinate axis of the reference tool
+        // direction (No.19697). No.12322 is the parallel tolerance.
+        let vertical = match self.cfg.machine.manual.vertical {
+            ManualVertical::X => Vec3::x(),
+            ManualVertical::Y => Vec3::y(),
+            ManualVertical::Z => Vec3::z(),
+            ManualVertical::Tool => Vec3::ith(kin.tool_axis.iamax(), 1.0),
+        };
         let r = self.angle_word(w, b'R').unwrap_or(0.0);
-        twp::tool_axis(origin, tool, vertical, r, G68_3_PARALLEL_DEG)
+        twp::tool_axis(origin, tool, vertical, r, self.cfg.machine.manual.parallel_deg)
     }
 
     /// A move in the plane to `target` (FCS), with the circle `arc` (FCS) for G02/G03.

@@ -267,8 +267,10 @@ impl State {
             let candidates = kin.inverse(tip, frame.r * v, t.tool_length, &from_machine[..kin.axes]);
             let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
             let mut choice = kin.select(&candidates, &from_machine[..kin.axes], how)?;
-            // Near a singular posture a FANUC TPC line may end through it instead (M-9).
+            // Near a singular posture a FANUC TPC line may end through it instead (M-9), but
+            // not while workpiece setting error compensation is on (WSE-24).
             if t.posture
+                && self.wse.is_none()
                 && self.cfg.dialect == crate::Dialect::Fanuc
                 && matches!(kind, MotionKind::Rapid | MotionKind::Linear)
             {
