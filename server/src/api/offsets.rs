@@ -213,8 +213,11 @@ pub async fn set_work(
     let hosted = hosted(&state, &id)?;
     let request = body(request)?;
     let slot = slot_of(&name).ok_or_else(|| ApiError::Unprocessable(format!("no work offset {name}"), None))?;
-    let machine = hosted.station().machine.clone();
-    let mut values = hosted.station().controller.interpreter().state.offsets.work(slot)[..machine.axes.len()].to_vec();
+    let (machine, mut values) = {
+        let station = hosted.station();
+        let values = station.controller.interpreter().state.offsets.work(slot)[..station.machine.axes.len()].to_vec();
+        (station.machine.clone(), values)
+    };
     for (letter, value) in &request.axes {
         let index = machine
             .axes

@@ -118,7 +118,7 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
                 Err(RecvError::Lagged(_)) => send(&mut tx, json(&Snapshot::of(&hosted))).await,
                 Err(RecvError::Closed) => false,
             },
-            incoming = rx.next() => !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_)))),
+            incoming = rx.next() => still_there(&incoming),
             _ = closing.changed() => {
                 goodbye(&mut tx).await;
                 false
@@ -131,6 +131,11 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
 }
 
 type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
+
+/// What the client sent, as whether it is still there (a close, an error or the end: gone).
+fn still_there(incoming: &Option<Result<Ws, axum::Error>>) -> bool {
+    !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_))))
+}
 
 /// The service shuts down: close with 1001 "going away" (not waiting long for a slow client).
 async fn goodbye(tx: &mut Sink) {
@@ -245,7 +250,7 @@ async fn fleet_session(socket: WebSocket, state: AppState, rate: f64) {
                     send(&mut tx, text).await
                 }
             }
-            incoming = rx.next() => !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_)))),
+            incoming = rx.next() => still_there(&incoming),
             _ = closing.changed() => {
                 goodbye(&mut tx).await;
                 false
