@@ -31,7 +31,7 @@ use crate::host::{Host, Hosted, Spec};
 use crate::{api, db};
 
 /// The dashboard page served at `/` (`web/index.html`, embedded at compile time).
-pub const INDEX_HTML: &str = include_str!("../../web/index.html");
+pub const INDEX_HTML: &str = include_str!("fallback.html");
 
 /// Where the OpenAPI document is served.
 pub const OPENAPI_PATH: &str = "/api-docs/openapi.json";
