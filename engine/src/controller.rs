@@ -13,7 +13,7 @@
 //! manual RTCP) is in `manual.rs`.
 
 use crate::alarm::{Alarm, AlarmId};
-use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos};
+use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState};
 use crate::interp::{Config, Interpreter, Step};
 use crate::kin::Kinematics;
 use crate::machine::MachineConfig;
@@ -153,6 +153,10 @@ pub struct Controller {
     queued_machine: Pos,
     queued_work: Pos,
     here: Point,
+    /// The tool length offset of the last run's last segment.
+    last_tool_length: f64,
+    /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04).
+    spindle: f64,
     /// Canonical commands read but not yet carried out.
     pending: VecDeque<Item>,
     /// The interpreter has more blocks to run.
@@ -205,6 +209,8 @@ impl Controller {
             queued_machine: start,
             queued_work: work,
             here: Point { machine: start, work, feed: 0.0, line: 0, n: None, s: 0.0 },
+            last_tool_length: 0.0,
+            spindle: 0.0,
             pending: VecDeque::new(),
             program_active: false,
             wait: Wait::None,
@@ -238,6 +244,36 @@ impl Controller {
             machine: self.machine.shown(&self.here.machine),
             work: self.machine.shown(&self.here.work),
             ..self.here
+        }
+    }
+
+    /// Distance to go: from here to the end of the block moving now, in workpiece coordinates
+    /// per axis (zero when nothing moves). The end is that of the block's last segment in the
+    /// run being executed.
+    pub fn to_go(&self) -> Pos {
+        let mut out = [0.0; crate::machine::MAX_AXES];
+        if let Some((p, _, cursor)) = &self.current {
+            let line = self.here.line;
+            let end = p.segments[cursor.index()..].iter().take_while(|seg| seg.line == line).last();
+            if let Some(seg) = end {
+                for (o, (to, here)) in out.iter_mut().zip(seg.work_to.iter().zip(&self.here.work)) {
+                    *o = to - here;
+                }
+            }
+        }
+        out
+    }
+
+    /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04), 0 stopped.
+    pub fn spindle(&self) -> f64 {
+        self.spindle
+    }
+
+    /// The tool length offset of the block moving now (of the last one when nothing moves).
+    pub fn tool_length(&self) -> f64 {
+        match &self.current {
+            Some((p, _, cursor)) => p.segments[cursor.index()].tool_length,
+            None => self.last_tool_length,
         }
     }
 
@@ -456,6 +492,8 @@ impl Controller {
     /// Reset: decelerate, abandon the program, clear the alarms (not an emergency stop that is
     /// still pressed).
     pub fn reset(&mut self) {
+        // The machine's reset stops the spindle (as the usual machine ladder does).
+        self.spindle = 0.0;
         self.intervention = None;
         if self.current.is_some() {
             self.decelerate(AfterStop::Drop);
@@ -487,6 +525,7 @@ impl Controller {
     pub fn emergency_stop(&mut self, pressed: bool) {
         self.estop = pressed;
         if pressed {
+            self.spindle = 0.0;
             self.intervention = None;
             self.current = None;
             self.stopping = None;
@@ -678,6 +717,9 @@ impl Controller {
 
     /// A run ended: after a deceleration to rest, keep or drop the rest of the path.
     fn finish_run(&mut self, p: &Planned) {
+        if let Some(last) = p.segments.last() {
+            self.last_tool_length = last.tool_length;
+        }
         if p.profile.end_speed().abs() < 1e-9 {
             self.here.feed = 0.0;
         }
@@ -896,6 +938,13 @@ impl Controller {
                 self.set_state(RunState::Idle);
             }
             CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
+            CanonKind::Spindle { state, speed } => {
+                self.spindle = match state {
+                    SpindleState::Cw => *speed,
+                    SpindleState::Ccw => -*speed,
+                    SpindleState::Stop => 0.0,
+                }
+            }
             _ => {}
         }
     }

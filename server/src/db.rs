@@ -158,6 +158,48 @@ pub async fn insert_controller_with(
     Ok(())
 }
 
+/// Copies a controller with everything it keeps but its history (machine, dialect, speed,
+/// parameters, programs, retained variables, tool and work offsets) to a new id and name, in
+/// one transaction. False if there is no controller `from`.
+pub async fn clone_controller(
+    pool: &SqlitePool,
+    from: &str,
+    id: &str,
+    name: &str,
+    created_at: &str,
+) -> Result<bool, sqlx::Error> {
+    let mut tx = pool.begin().await?;
+    let copied = sqlx::query(
+        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters) \
+         SELECT ?, ?, dialect, machine_json, ?, speed, extra_parameters FROM controllers WHERE id = ?",
+    )
+    .bind(id)
+    .bind(name)
+    .bind(created_at)
+    .bind(from)
+    .execute(&mut *tx)
+    .await?;
+    if copied.rows_affected() == 0 {
+        return Ok(false);
+    }
+    for copy in [
+        "INSERT INTO programs (controller_id, number, text) SELECT ?, number, text FROM programs WHERE controller_id = ?",
+        "INSERT INTO variables (controller_id, number, value) SELECT ?, number, value FROM variables WHERE controller_id = ?",
+        "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear) \
+         SELECT ?, number, length, length_wear, radius, radius_wear FROM tool_offsets WHERE controller_id = ?",
+        "INSERT INTO work_offsets (controller_id, slot, axes) SELECT ?, slot, axes FROM work_offsets WHERE controller_id = ?",
+    ] {
+        sqlx::query(copy).bind(id).bind(from).execute(&mut *tx).await?;
+    }
+    tx.commit().await?;
+    Ok(true)
+}
+
+/// One stored controller row.
+pub async fn controller(pool: &SqlitePool, id: &str) -> Result<Option<ControllerRow>, sqlx::Error> {
+    Ok(list_controllers(pool).await?.into_iter().find(|row| row.id == id))
+}
+
 // --- programs -----------------------------------------------------------------------------
 
 /// The O-numbers and sizes of a controller's stored programs, ascending.

@@ -1,5 +1,6 @@
 //! The fivex service and command line.
 pub mod api;
+pub mod assets;
 pub mod cli;
 pub mod db;
 pub mod host;

@@ -17,7 +17,7 @@ use std::sync::Arc;
 use axum::extract::{DefaultBodyLimit, Request, State};
 use axum::http::{Method, StatusCode, Uri};
 use axum::middleware::{self, Next};
-use axum::response::{Html, IntoResponse, Response};
+use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::{Json, Router};
 use serde::{Deserialize, Serialize};
@@ -28,10 +28,7 @@ use utoipa::{OpenApi, ToSchema};
 use utoipa_swagger_ui::SwaggerUi;
 
 use crate::host::{Host, Hosted, Spec};
-use crate::{api, db};
-
-/// The dashboard page served at `/` (`web/index.html`, embedded at compile time).
-pub const INDEX_HTML: &str = include_str!("fallback.html");
+use crate::{api, assets, db};
 
 /// Where the OpenAPI document is served.
 pub const OPENAPI_PATH: &str = "/api-docs/openapi.json";
@@ -62,6 +59,48 @@ pub struct AppState {
     token: Option<Arc<str>>,
 }
 
+/// A stored controller as the host runs it, in reset state with what it keeps (`None`, logged,
+/// when this version refuses its machine or dialect).
+pub async fn load_controller(
+    db: &SqlitePool,
+    row: db::ControllerRow,
+    settings: &std::collections::HashMap<String, (f64, String)>,
+) -> Result<Option<Hosted>, sqlx::Error> {
+    let machine = match crate::machine_file::parse(&row.machine_json) {
+        Ok(m) => m,
+        Err(e) => {
+            tracing::warn!(id = %row.id, error = %e, "stored controller not hosted: its machine is refused");
+            return Ok(None);
+        }
+    };
+    let Ok(dialect) = row.dialect.parse() else {
+        tracing::warn!(id = %row.id, dialect = %row.dialect, "stored controller not hosted: unknown dialect");
+        return Ok(None);
+    };
+    let retained = db::retained_variables(db, &row.id).await?;
+    let row_id = row.id.clone();
+    let hosted = Hosted::new(Spec {
+        speed: settings.get(&row.id).map_or(1.0, |s| s.0),
+        id: row.id,
+        name: row.name,
+        dialect,
+        machine,
+        created_at: row.created_at,
+    });
+    let (tools, work) = (db::tool_offsets(db, &row_id).await?, db::work_offsets(db, &row_id).await?);
+    {
+        let mut station = hosted.station();
+        station.load_retained(&retained);
+        station.load_offsets(&tools, &work);
+        let extra = settings.get(&row_id).map_or("{}", |s| s.1.as_str());
+        station.extra_parameters = serde_json::from_str(extra).unwrap_or_else(|e| {
+            tracing::warn!(id = %row_id, error = %e, "stored extra parameters are not a parameter list");
+            Default::default()
+        });
+    }
+    Ok(Some(hosted))
+}
+
 impl AppState {
     /// Opens (creating if missing) and migrates the SQLite database at `path`, and brings back
     /// every stored controller in reset state.
@@ -84,39 +123,9 @@ impl AppState {
         let host = Host::new(workers, records);
         let settings = db::controller_settings(&db).await?;
         for row in db::list_controllers(&db).await? {
-            let machine = match crate::machine_file::parse(&row.machine_json) {
-                Ok(m) => m,
-                Err(e) => {
-                    tracing::warn!(id = %row.id, error = %e, "stored controller not hosted: its machine is refused");
-                    continue;
-                }
-            };
-            let Ok(dialect) = row.dialect.parse() else {
-                tracing::warn!(id = %row.id, dialect = %row.dialect, "stored controller not hosted: unknown dialect");
-                continue;
-            };
-            let retained = db::retained_variables(&db, &row.id).await?;
-            let row_id = row.id.clone();
-            let hosted = Hosted::new(Spec {
-                speed: settings.get(&row.id).map_or(1.0, |s| s.0),
-                id: row.id,
-                name: row.name,
-                dialect,
-                machine,
-                created_at: row.created_at,
-            });
-            let (tools, work) = (db::tool_offsets(&db, &row_id).await?, db::work_offsets(&db, &row_id).await?);
-            {
-                let mut station = hosted.station();
-                station.load_retained(&retained);
-                station.load_offsets(&tools, &work);
-                let extra = settings.get(&row_id).map_or("{}", |s| s.1.as_str());
-                station.extra_parameters = serde_json::from_str(extra).unwrap_or_else(|e| {
-                    tracing::warn!(id = %row_id, error = %e, "stored extra parameters are not a parameter list");
-                    Default::default()
-                });
+            if let Some(hosted) = load_controller(&db, row, &settings).await? {
+                host.add(Arc::new(hosted));
             }
-            host.add(Arc::new(hosted));
         }
         tracing::info!(controllers = host.len(), "controllers restored");
         let (closing, _) = watch::channel(false);
@@ -245,11 +254,6 @@ pub struct Health {
 // ---------------------------------------------------------------------------------------------
 // Handlers
 
-/// The dashboard.
-async fn index() -> Html<&'static str> {
-    Html(INDEX_HTML)
-}
-
 /// Liveness and readiness: 200 when the service is up and its database answers.
 #[utoipa::path(
     get,
@@ -341,6 +345,10 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::controllers::status,
         api::controllers::update,
         api::controllers::remove,
+        api::controllers::clone,
+        api::controllers::machine,
+        api::controllers::presets,
+        api::programs::tool_path,
         api::modal::modal,
         api::programs::list,
         api::programs::store,
@@ -378,6 +386,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         ErrorBody,
         api::ControllerStatus,
         api::Position,
+        api::PanelState,
         crate::host::stream::AlarmInfo,
         crate::host::stream::Frame,
         crate::host::stream::Message,
@@ -419,7 +428,8 @@ pub fn openapi_json() -> String {
 /// The whole HTTP application. Separate from serving so tests can call it directly.
 pub fn app(state: AppState) -> Router {
     Router::new()
-        .route("/", get(index))
+        .route("/", get(assets::index))
+        .route("/assets/{*file}", get(assets::asset))
         .route("/healthz", get(healthz))
         .nest(API_PREFIX, api::router())
         .merge(SwaggerUi::new("/swagger-ui").url(OPENAPI_PATH, openapi()))

@@ -539,3 +539,75 @@ async fn the_modal_state_shows_g_codes_and_words() {
         "{m}"
     );
 }
+
+#[tokio::test]
+async fn a_clone_has_the_machine_programs_offsets_and_variables_but_not_the_history() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "cell 1", "preset": "table-ac", "dialect": "syntec", "speed": 5.0})).await;
+    assert_eq!(store(&app, &id, 7, "G00 X10.\nM30\n").await.status, StatusCode::CREATED);
+    assert_eq!(app.put(&format!("{C}/{id}/variables/500"), &json!({"value": 2.5})).await.status, StatusCode::OK);
+    let tool = app.put(&format!("{C}/{id}/tool-offsets/3"), &json!({"length": 123.0})).await;
+    assert_eq!(tool.status, StatusCode::OK, "{}", tool.text());
+    let reply = app.post(&format!("{C}/{id}/clone"), &json!({"name": "cell 2"})).await;
+    assert_eq!(reply.status, StatusCode::CREATED, "{}", reply.text());
+    let copy = reply.json();
+    let copy_id = copy["id"].as_str().unwrap();
+    assert_ne!(copy_id, id);
+    assert_eq!((copy["name"].as_str(), copy["machine"].as_str(), copy["dialect"].as_str()), (Some("cell 2"), Some("table-ac"), Some("syntec")));
+    assert_eq!((copy["speed"].as_f64(), copy["kind"].as_str()), (Some(5.0), Some("table-table")));
+    assert_eq!(app.get(&format!("{C}/{copy_id}/programs/7")).await.text(), "G00 X10.\nM30\n");
+    assert_eq!(app.get(&format!("{C}/{copy_id}/variables/500")).await.json()["value"], json!(2.5));
+    let tools = app.get(&format!("{C}/{copy_id}/tool-offsets")).await.json();
+    assert!(tools.as_array().unwrap().iter().any(|t| t["number"] == 3 && t["length"] == 123.0), "{tools}");
+    assert_eq!(app.get(C).await.json().as_array().unwrap().len(), 2);
+    // The copy is its own controller: removing the original leaves it.
+    assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}")).await.status, StatusCode::NO_CONTENT);
+    assert_eq!(app.get(&format!("{C}/{copy_id}/programs/7")).await.status, StatusCode::OK);
+    let missing = app.post(&format!("{C}/nothing/clone"), &json!({"name": "x"})).await;
+    assert_eq!(missing.status, StatusCode::NOT_FOUND);
+    let unnamed = app.post(&format!("{C}/{copy_id}/clone"), &json!({"name": " "})).await;
+    assert_eq!(unnamed.status, StatusCode::UNPROCESSABLE_ENTITY);
+}
+
+#[tokio::test]
+async fn the_machine_model_and_the_presets_are_there_for_the_dashboard() {
+    let app = spawn_app().await;
+    let presets = app.get("/api/v1/presets").await.json();
+    let kinds: Vec<(String, String)> = presets
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["name"].as_str().unwrap().to_string(), p["kind"].as_str().unwrap().to_string()))
+        .collect();
+    for (name, kind) in [("mill3", "three-axis"), ("head-bc", "head-head"), ("table-ac", "table-table"), ("mixed-bc", "head-table")] {
+        assert!(kinds.contains(&(name.to_string(), kind.to_string())), "{kinds:?}");
+    }
+    let id = create(&app, json!({"name": "m", "preset": "head-bc"})).await;
+    let machine = app.get(&format!("{C}/{id}/machine")).await.json();
+    assert_eq!(machine["name"], "head-bc");
+    let rotary: Vec<&str> = machine["rotary"].as_array().unwrap().iter().map(|r| r["axis"].as_str().unwrap()).collect();
+    assert_eq!(rotary, ["C", "B"]);
+    assert_eq!(app.get(&format!("{C}/nothing/machine")).await.status, StatusCode::NOT_FOUND);
+}
+
+#[tokio::test]
+async fn a_program_path_is_the_tip_in_the_table_frame_and_says_where_it_stops() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    store(&app, &id, 1, "G90 G00 X10. Y20. Z30.\nG01 X50. F100.\nM30\n").await;
+    let path = app.get(&format!("{C}/{id}/programs/1/path")).await.json();
+    let xyz: Vec<f64> = path["xyz"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(xyz.len(), 9, "{path}");
+    assert_eq!(path["lines"], json!([0, 1, 2]));
+    assert_eq!(path["rapid"], json!([true, true, false]));
+    assert_eq!((xyz[6] - xyz[3], xyz[7] - xyz[4]), (40.0, 0.0));
+    assert_eq!((path["alarm"].clone(), path["truncated"].clone()), (Value::Null, json!(false)));
+    let force = app.raw(Method::PUT, &format!("{C}/{id}/programs/2?force=true"), "text/plain", "G01 X10. F100.\nG65 P\n".to_string()).await;
+    assert!(force.status.is_success(), "{}", force.text());
+    let broken = app.get(&format!("{C}/{id}/programs/2/path?max_points=1")).await.json();
+    assert_eq!((broken["truncated"].clone(), broken["xyz"].as_array().unwrap().len()), (json!(true), 3));
+    let broken = app.get(&format!("{C}/{id}/programs/2/path")).await.json();
+    assert!(broken["alarm"]["code"].is_string(), "{broken}");
+    assert_eq!(app.get(&format!("{C}/{id}/programs/9/path")).await.status, StatusCode::NOT_FOUND);
+    assert_eq!(app.get(&format!("{C}/{id}/programs/1/path?max_points=0")).await.status, StatusCode::UNPROCESSABLE_ENTITY);
+}

@@ -71,8 +71,17 @@ async fn index_serves_the_dashboard_page() {
     assert!(reply.content_type.starts_with("text/html"), "{}", reply.content_type);
     let page = reply.text();
     assert!(page.contains("<title>fivex</title>"));
-    assert!(page.contains(r#"fetch("/healthz")"#));
-    assert_eq!(page, serve::INDEX_HTML);
+    if fivex_server::assets::dashboard_built() {
+        // The built dashboard: its script is served too.
+        assert!(page.contains(r#"<div id="app">"#), "{page}");
+        let script = page.split("src=\"").nth(1).and_then(|s| s.split('"').next()).expect("a script tag");
+        let reply = app.get(script).await;
+        assert_eq!(reply.status, StatusCode::OK, "{script}");
+        assert!(reply.content_type.starts_with("text/javascript"), "{}", reply.content_type);
+    } else {
+        assert_eq!(page, fivex_server::assets::FALLBACK_HTML);
+    }
+    assert_eq!(app.get("/assets/nothing.js").await.status, StatusCode::NOT_FOUND);
 }
 
 #[tokio::test]
@@ -461,4 +470,26 @@ fn docker_compose_runs_fivex_serve_with_a_data_volume() {
     assert!(dockerfile.contains("--bin fivex"), "Dockerfile builds the fivex binary");
     assert!(dockerfile.contains(r#"ENTRYPOINT ["/usr/local/bin/fivex"]"#));
     assert!(dockerfile.contains("EXPOSE 8080"));
+}
+
+#[test]
+fn every_operation_has_its_own_id_and_query_options_are_query_parameters() {
+    // Generated clients (the dashboard's among them) name their calls by operationId and put
+    // parameters where the document says.
+    let doc: serde_json::Value = serde_json::from_str(&serve::openapi_json()).unwrap();
+    let mut seen = std::collections::HashMap::new();
+    for (path, ops) in doc["paths"].as_object().unwrap() {
+        for (method, op) in ops.as_object().unwrap() {
+            let Some(id) = op.get("operationId").and_then(|v| v.as_str()) else { continue };
+            if let Some(other) = seen.insert(id.to_string(), format!("{method} {path}")) {
+                panic!("operationId {id} of {method} {path} is also {other}");
+            }
+            for param in op.get("parameters").and_then(|p| p.as_array()).into_iter().flatten() {
+                if param["in"] == "path" {
+                    let name = param["name"].as_str().unwrap();
+                    assert!(path.contains(&format!("{{{name}}}")), "{method} {path}: path parameter {name} is not in the path");
+                }
+            }
+        }
+    }
 }

@@ -101,6 +101,8 @@ pub struct Segment {
     /// A move in machine coordinates (G53, reference returns): a manual intervention's shift
     /// does not move it.
     machine_coordinates: bool,
+    /// The tool length offset in force (what a display needs to place the tip from the axes).
+    pub tool_length: f64,
 }
 
 /// A tool tip path in the table frame and how the tool turns along it; the machine axes at each
@@ -544,6 +546,7 @@ impl Segment {
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
+            tool_length: m.context.tool_length,
             programmed,
             axis_speed,
         };
@@ -640,6 +643,7 @@ impl Segment {
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
+            tool_length: m.context.tool_length,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg
@@ -696,6 +700,7 @@ impl Segment {
             stop_after: true,
             fixed_feed: false,
             machine_coordinates: false,
+            tool_length,
         };
         seg.set_override(1.0, 1.0);
         seg

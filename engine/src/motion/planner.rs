@@ -46,6 +46,13 @@ pub struct Cursor {
     start: f64,
 }
 
+impl Cursor {
+    /// Index of the segment the last sample was in.
+    pub fn index(&self) -> usize {
+        self.k
+    }
+}
+
 impl Planned {
     /// The point `t` seconds into the run (`cursor` starts at default and only moves forward,
     /// so `t` must not decrease between calls with the same cursor).

@@ -213,3 +213,103 @@ pub async fn remove(
     tracing::info!(%id, "controller removed");
     Ok(StatusCode::NO_CONTENT)
 }
+
+/// `POST /controllers/{id}/clone`: the new controller's name.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CloneController {
+    #[schema(example = "cell 1 (copy)")]
+    pub name: String,
+}
+
+/// A new controller with the same machine, dialect, speed, parameters, stored programs,
+/// retained variables and tool and work offsets as this one (as stored; not its history), in
+/// reset state.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/clone",
+    tag = "controllers",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = CloneController,
+    responses(
+        (status = 201, description = "Created", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 422, description = "Invalid name", body = ErrorBody),
+    )
+)]
+pub async fn clone(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<CloneController>, JsonRejection>,
+) -> Result<(StatusCode, Json<ControllerStatus>), ApiError> {
+    let source = hosted(&state, &path(id)?)?;
+    let name = check_name(&body(request)?.name)?;
+    let id = uuid::Uuid::new_v4().simple().to_string();
+    if !db::clone_controller(&state.db, &source.id, &id, &name, &now_rfc3339()).await? {
+        return Err(ApiError::NotFound(format!("no controller {}", source.id)));
+    }
+    let row = db::controller(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))?;
+    let settings = db::controller_settings(&state.db).await?;
+    let Some(hosted) = crate::serve::load_controller(&state.db, row, &settings).await? else {
+        db::delete_controller(&state.db, &id).await?;
+        return Err(ApiError::Unprocessable("the source controller's machine cannot be loaded".into(), None));
+    };
+    let hosted = Arc::new(hosted);
+    state.host.add(hosted.clone());
+    tracing::info!(%id, from = %source.id, "controller cloned");
+    Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))
+}
+
+/// The controller's machine as a model document (`docs/machine-config.md`): axes, strokes and
+/// the kinematic chain, as the dashboard draws it.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/machine",
+    tag = "controllers",
+    params(("id" = String, Path, description = "Controller id")),
+    responses(
+        (status = 200, description = "The machine model", body = Object),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
+)]
+pub async fn machine(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<serde_json::Value>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let machine = hosted.station().machine.clone();
+    serde_json::to_value(&*machine).map(Json).map_err(|e| ApiError::Unprocessable(e.to_string(), None))
+}
+
+/// A built-in machine preset.
+#[derive(Debug, Clone, serde::Serialize, ToSchema)]
+pub struct Preset {
+    #[schema(example = "head-bc")]
+    pub name: String,
+    /// The mechanism, as [`ControllerStatus::kind`] names it.
+    #[schema(example = "head-head")]
+    pub kind: String,
+    /// The axis letters in order.
+    pub axes: Vec<String>,
+}
+
+/// The machine presets `POST /controllers` takes by name.
+#[utoipa::path(
+    get,
+    path = "/api/v1/presets",
+    tag = "controllers",
+    responses((status = 200, description = "Every preset", body = [Preset]))
+)]
+pub async fn presets() -> Json<Vec<Preset>> {
+    Json(
+        MachineConfig::PRESETS
+            .iter()
+            .filter_map(|name| MachineConfig::preset(name))
+            .map(|m| Preset {
+                kind: super::machine_kind(&m),
+                axes: m.axes.iter().map(|a| a.name.to_string()).collect(),
+                name: m.name,
+            })
+            .collect(),
+    )
+}

@@ -61,6 +61,10 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/runs", get(history::runs))
         .route("/controllers/{id}/stream", get(stream::stream))
         .route("/stream", get(stream::fleet))
+        .route("/presets", get(controllers::presets))
+        .route("/controllers/{id}/clone", post(controllers::clone))
+        .route("/controllers/{id}/machine", get(controllers::machine))
+        .route("/controllers/{id}/programs/{number}/path", get(programs::tool_path))
 }
 
 /// A controller as `GET /controllers/{id}` shows it.
@@ -76,6 +80,10 @@ pub struct ControllerStatus {
     /// The machine configuration's name (a preset name for a preset).
     #[schema(example = "table-ac")]
     pub machine: String,
+    /// The mechanism: `three-axis`, `head-head`, `table-table`, `head-table`, `head`, `table`
+    /// (`unknown` when the kinematics refuses the machine).
+    #[schema(example = "table-table")]
+    pub kind: String,
     /// Creation time, RFC 3339 UTC.
     #[schema(example = "2025-01-01T00:00:00Z")]
     pub created_at: String,
@@ -99,6 +107,44 @@ pub struct ControllerStatus {
     pub time_s: f64,
     /// Alarms in force.
     pub alarms: Vec<AlarmInfo>,
+    /// The operator panel's switches and overrides.
+    pub panel: PanelState,
+}
+
+/// The switches and overrides of the operator panel, as `PUT /switches`, `/overrides` and
+/// `/manual` set them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct PanelState {
+    pub single_block: bool,
+    pub optional_stop: bool,
+    pub block_delete: bool,
+    /// Percent.
+    pub feed_override: f64,
+    pub rapid_override: f64,
+    /// JOG and HANDLE feed, mm/min or deg/min.
+    pub jog_feed: f64,
+    pub manual_absolute: bool,
+    /// Syntec R518: `machine`, `program` or `tool`.
+    #[schema(example = "machine")]
+    pub coordinates: String,
+    /// Syntec R519 manual RTCP.
+    pub rtcp: bool,
+}
+
+impl PanelState {
+    fn of(panel: &fivex_engine::controller::Panel) -> PanelState {
+        PanelState {
+            single_block: panel.single_block,
+            optional_stop: panel.optional_stop,
+            block_delete: panel.block_delete,
+            feed_override: (panel.feed_override * 100.0).round(),
+            rapid_override: (panel.rapid_override * 100.0).round(),
+            jog_feed: panel.jog_feed,
+            manual_absolute: panel.manual_absolute,
+            coordinates: word(&panel.manual_coordinates),
+            rtcp: panel.manual_rtcp,
+        }
+    }
 }
 
 /// Machine and workpiece coordinates per axis letter, in axis order.
@@ -110,6 +156,18 @@ pub struct Position {
     pub workpiece: Map<String, Value>,
 }
 
+/// The kebab-case name of a mechanism kind (`unknown` for none).
+fn kind_name(kind: Option<fivex_engine::kin::MachineKind>) -> String {
+    kind.and_then(|k| serde_json::to_value(k).ok())
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// The mechanism kind of a machine, as [`ControllerStatus::kind`] names it.
+pub fn machine_kind(machine: &fivex_engine::machine::MachineConfig) -> String {
+    kind_name(fivex_engine::kin::Kinematics::new(machine).ok().map(|k| k.kind))
+}
+
 impl ControllerStatus {
     pub fn of(hosted: &Hosted, station: &Station) -> ControllerStatus {
         let c = &station.controller;
@@ -119,6 +177,7 @@ impl ControllerStatus {
             name: hosted.name(),
             dialect: hosted.dialect.name().to_string(),
             machine: station.machine.name.clone(),
+            kind: kind_name(station.kinematics.as_ref().map(|k| k.kind)),
             created_at: hosted.created_at.clone(),
             speed: hosted.speed(),
             mode: word(&c.mode()),
@@ -133,6 +192,7 @@ impl ControllerStatus {
             feed: p.feed,
             time_s: c.time(),
             alarms: c.alarms().iter().map(AlarmInfo::from).collect(),
+            panel: PanelState::of(&c.panel),
         }
     }
 

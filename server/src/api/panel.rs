@@ -57,7 +57,7 @@ pub struct CycleStart {
 
 /// The text AUTO runs for stored program `number`: that program first (its lines keep their
 /// numbers in alarms), then every other stored program, each under its O number, for M98/G65.
-fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
+pub(crate) fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
     let main = programs.iter().find(|(n, _)| *n == number)?;
     let mut text = main.1.clone();
     for (n, t) in programs.iter().filter(|(n, _)| *n != number) {

@@ -50,6 +50,7 @@ pub struct StoredProgram {
 }
 
 #[derive(Debug, Clone, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct StoreOptions {
     /// Store the text even if `check` finds problems.
     #[serde(default)]
@@ -88,6 +89,7 @@ fn number(n: u32) -> Result<u32, ApiError> {
 /// The stored programs, ascending.
 #[utoipa::path(
     get,
+    operation_id = "list_programs",
     path = "/api/v1/controllers/{id}/programs",
     tag = "programs",
     params(("id" = String, Path, description = "Controller id")),
@@ -186,6 +188,7 @@ pub async fn text(
 /// Removes a stored program.
 #[utoipa::path(
     delete,
+    operation_id = "remove_program",
     path = "/api/v1/controllers/{id}/programs/{number}",
     tag = "programs",
     params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number")),
@@ -205,4 +208,74 @@ pub async fn remove(
     } else {
         Err(ApiError::NotFound(format!("no program O{n}")))
     }
+}
+
+/// `GET /programs/{number}/path` options.
+#[derive(Debug, Clone, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct PathOptions {
+    /// Most points returned (1–1,000,000, default 200,000); `truncated` says when the path was
+    /// longer.
+    pub max_points: Option<usize>,
+}
+
+/// The tool tip path a stored program asks for, as the 3D view draws it.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ToolPathBody {
+    /// Tip positions in the table frame (`docs/machine-config.md`), x y z of each point in
+    /// turn; the first point is where the machine is now.
+    pub xyz: Vec<f64>,
+    /// Per point: the 1-based program line that moves to it (0 for the start).
+    pub lines: Vec<u32>,
+    /// Per point: the move to it is a rapid.
+    pub rapid: Vec<bool>,
+    /// The alarm the program would stop with, if it does before its end.
+    pub alarm: Option<crate::host::stream::AlarmInfo>,
+    /// The path has more points than `max_points`.
+    pub truncated: bool,
+}
+
+/// The programmed tool tip path of a stored program, run from where the machine is now with
+/// the controller's offsets and variables, without moving anything (the interpreter only).
+/// Straight moves are their ends; arcs, rotary moves and tool-tip-path moves are sampled at
+/// least every mm or degree.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/programs/{number}/path",
+    tag = "programs",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number"), PathOptions),
+    responses(
+        (status = 200, description = "The path", body = ToolPathBody),
+        (status = 404, description = "No such controller or program", body = ErrorBody),
+        (status = 422, description = "max_points out of range", body = ErrorBody),
+    )
+)]
+pub async fn tool_path(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+    options: Result<Query<PathOptions>, QueryRejection>,
+) -> Result<Json<ToolPathBody>, ApiError> {
+    let (id, n) = path(params)?;
+    let max_points = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.0.max_points.unwrap_or(200_000);
+    if !(1..=1_000_000).contains(&max_points) {
+        return Err(ApiError::Unprocessable("max_points must be 1 to 1000000".into(), None));
+    }
+    let hosted = hosted(&state, &id)?;
+    let programs = db::programs(&state.db, &hosted.id).await?;
+    let text = super::panel::compose(n, &programs).ok_or_else(|| ApiError::NotFound(format!("no program O{n}")))?;
+    let mut interp = hosted.station().controller.interpreter().clone();
+    let body = tokio::task::spawn_blocking(move || {
+        interp.load(parse_file(&text));
+        let path = fivex_engine::preview::tool_path(&mut interp, max_points);
+        ToolPathBody {
+            xyz: path.points.iter().flatten().copied().collect(),
+            lines: path.lines,
+            rapid: path.rapid,
+            alarm: path.alarm.as_ref().map(crate::host::stream::AlarmInfo::from),
+            truncated: path.truncated,
+        }
+    })
+    .await
+    .map_err(|e| ApiError::Unprocessable(format!("the path could not be made: {e}"), None))?;
+    Ok(Json(body))
 }

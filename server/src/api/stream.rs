@@ -32,6 +32,7 @@ const MIN_RATE_HZ: f64 = 0.1;
 const SEND_TIMEOUT: Duration = Duration::from_secs(10);
 
 #[derive(Debug, Clone, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct StreamOptions {
     /// Position frames per second (0.1–1000, default 30).
     pub rate: Option<f64>,
@@ -161,6 +162,8 @@ pub struct FleetEntry {
     pub id: String,
     pub name: String,
     pub machine: String,
+    /// The mechanism kind, as in the status.
+    pub kind: String,
     pub dialect: String,
     pub mode: String,
     pub run_state: String,
@@ -191,6 +194,7 @@ fn fleet_now(state: &AppState) -> Fleet {
                 id: s.id,
                 name: s.name,
                 machine: s.machine,
+                kind: s.kind,
                 dialect: s.dialect,
                 mode: s.mode,
                 run_state: s.run_state,
@@ -204,6 +208,7 @@ fn fleet_now(state: &AppState) -> Fleet {
 }
 
 #[derive(Debug, Clone, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct FleetOptions {
     /// Fleet messages per second (0.1–30, default 2); one is sent only when something changed.
     pub rate: Option<f64>,

@@ -31,6 +31,7 @@ pub struct SetVariable {
 /// Every common variable that is not vacant (#100–#199, #500–#999).
 #[utoipa::path(
     get,
+    operation_id = "list_variables",
     path = "/api/v1/controllers/{id}/variables",
     tag = "variables",
     params(("id" = String, Path, description = "Controller id")),

@@ -41,6 +41,17 @@ pub struct Frame {
     pub n: Option<u32>,
     /// Tool tip speed relative to the workpiece, mm/min.
     pub feed: f64,
+    /// Distance to go to the end of the block moving now, workpiece coordinates per axis letter.
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub to_go: Map<String, Value>,
+    /// Spindle speed, 1/min (negative: M04; 0: stopped).
+    pub spindle: f64,
+    /// The tool length offset in force, mm.
+    pub tool_length: f64,
+    /// Tool tip in the table frame (`docs/machine-config.md`): where the tip is relative to
+    /// the part on its table, from the machine axes, the mechanism and `tool_length` (for a
+    /// machine without table axes, machine coordinates). The 3D view draws the trace with it.
+    pub tip_table: [f64; 3],
 }
 
 /// What a worker publishes every tick for a watched controller: plain numbers, no allocation;
@@ -56,13 +67,24 @@ pub struct Sample {
     line: u32,
     n: Option<u32>,
     feed: f64,
+    to_go: Pos,
+    spindle: f64,
+    tool_length: f64,
+    tip_table: [f64; 3],
 }
 
 impl Sample {
     pub fn of(station: &Station) -> Sample {
         let c = &station.controller;
         let p = c.point();
-        let tool = station.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&p.machine, 0.0).tool.into());
+        let tool_length = c.tool_length();
+        let (tool, tip_table) = match station.kinematics.as_ref() {
+            Some(k) => {
+                let pose = k.forward(&p.machine, tool_length);
+                (pose.tool.into(), pose.tip.into())
+            }
+            None => ([0.0, 0.0, 1.0], [p.machine[0], p.machine[1], p.machine[2] - tool_length]),
+        };
         Sample {
             machine_config: station.machine.clone(),
             t: c.time(),
@@ -73,6 +95,10 @@ impl Sample {
             line: p.line,
             n: p.n,
             feed: p.feed,
+            to_go: c.to_go(),
+            spindle: c.spindle(),
+            tool_length,
+            tip_table,
         }
     }
 
@@ -88,6 +114,10 @@ impl Sample {
             line: self.line,
             n: self.n,
             feed: self.feed,
+            to_go: axes(&self.machine_config, &self.to_go),
+            spindle: self.spindle,
+            tool_length: self.tool_length,
+            tip_table: self.tip_table,
         }
     }
 }

@@ -58,6 +58,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/controllers/{id}/clone": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * A new controller with the same machine, dialect, speed, parameters, stored programs,
+         *     retained variables and tool and work offsets as this one (as stored; not its history), in
+         *     reset state.
+         */
+        post: operations["clone"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/controllers/{id}/cycle-start": {
         parameters: {
             query?: never;
@@ -157,6 +178,26 @@ export interface paths {
         put?: never;
         /** Stop a JOG move (decelerating along its path). */
         post: operations["jog_stop"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/machine": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The controller's machine as a model document (`docs/machine-config.md`): axes, strokes and
+         *     the kinematic chain, as the dashboard draws it.
+         */
+        get: operations["machine"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -294,7 +335,7 @@ export interface paths {
             cookie?: never;
         };
         /** The stored programs, ascending. */
-        get: operations["list"];
+        get: operations["list_programs"];
         put?: never;
         post?: never;
         delete?: never;
@@ -319,7 +360,29 @@ export interface paths {
         put: operations["store"];
         post?: never;
         /** Removes a stored program. */
-        delete: operations["remove"];
+        delete: operations["remove_program"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/programs/{number}/path": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The programmed tool tip path of a stored program, run from where the machine is now with
+         *     the controller's offsets and variables, without moving anything (the interpreter only).
+         *     Straight moves are their ends; arcs, rotary moves and tool-tip-path moves are sampled at
+         *     least every mm or degree.
+         */
+        get: operations["tool_path"];
+        put?: never;
+        post?: never;
+        delete?: never;
         options?: never;
         head?: never;
         patch?: never;
@@ -452,7 +515,7 @@ export interface paths {
             cookie?: never;
         };
         /** Every common variable that is not vacant (#100–#199, #500–#999). */
-        get: operations["list"];
+        get: operations["list_variables"];
         put?: never;
         post?: never;
         delete?: never;
@@ -509,6 +572,23 @@ export interface paths {
         get?: never;
         /** Change a work offset (only while nothing runs: the current position is derived again). */
         put: operations["set_work"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/presets": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The machine presets `POST /controllers` takes by name. */
+        get: operations["presets"];
+        put?: never;
         post?: never;
         delete?: never;
         options?: never;
@@ -583,6 +663,11 @@ export interface components {
             /** @description Raised before, newest first. */
             history: components["schemas"]["PastAlarm"][];
         };
+        /** @description `POST /controllers/{id}/clone`: the new controller's name. */
+        CloneController: {
+            /** @example cell 1 (copy) */
+            name: string;
+        };
         /** @description A controller as `GET /controllers/{id}` shows it. */
         ControllerStatus: {
             /** @description Alarms in force. */
@@ -605,6 +690,12 @@ export interface components {
             /** @description Stable identifier used in `/api/v1/controllers/{id}/…` paths. */
             id: string;
             /**
+             * @description The mechanism: `three-axis`, `head-head`, `table-table`, `head-table`, `head`, `table`
+             *     (`unknown` when the kinematics refuses the machine).
+             * @example table-table
+             */
+            kind: string;
+            /**
              * Format: int32
              * @description 1-based line of the block moving now (0 before any) and its sequence number.
              */
@@ -623,6 +714,8 @@ export interface components {
             n?: number | null;
             /** @description Display name. */
             name: string;
+            /** @description The operator panel's switches and overrides. */
+            panel: components["schemas"]["PanelState"];
             position: components["schemas"]["Position"];
             /**
              * Format: int32
@@ -723,6 +816,8 @@ export interface components {
             alarm?: null | components["schemas"]["AlarmInfo"];
             dialect: string;
             id: string;
+            /** @description The mechanism kind, as in the status. */
+            kind: string;
             /** Format: int32 */
             line: number;
             machine: string;
@@ -755,13 +850,33 @@ export interface components {
             n?: number | null;
             /**
              * Format: double
+             * @description Spindle speed, 1/min (negative: M04; 0: stopped).
+             */
+            spindle: number;
+            /**
+             * Format: double
              * @description Simulated seconds since the controller was created (or the service started).
              */
             t: number;
             /** @description Tool tip in the active workpiece system. */
             tip: number[];
+            /**
+             * @description Tool tip in the table frame (`docs/machine-config.md`): where the tip is relative to
+             *     the part on its table, from the machine axes, the mechanism and `tool_length` (for a
+             *     machine without table axes, machine coordinates). The 3D view draws the trace with it.
+             */
+            tip_table: number[];
+            /** @description Distance to go to the end of the block moving now, workpiece coordinates per axis letter. */
+            to_go: {
+                [key: string]: number;
+            };
             /** @description Unit tool vector, tip toward holder, in the workpiece system. */
             tool: number[];
+            /**
+             * Format: double
+             * @description The tool length offset in force, mm.
+             */
+            tool_length: number;
             /**
              * @description Always `"position"`.
              * @example position
@@ -905,6 +1020,35 @@ export interface components {
              */
             rapid?: number | null;
         };
+        /**
+         * @description The switches and overrides of the operator panel, as `PUT /switches`, `/overrides` and
+         *     `/manual` set them.
+         */
+        PanelState: {
+            block_delete: boolean;
+            /**
+             * @description Syntec R518: `machine`, `program` or `tool`.
+             * @example machine
+             */
+            coordinates: string;
+            /**
+             * Format: double
+             * @description Percent.
+             */
+            feed_override: number;
+            /**
+             * Format: double
+             * @description JOG and HANDLE feed, mm/min or deg/min.
+             */
+            jog_feed: number;
+            manual_absolute: boolean;
+            optional_stop: boolean;
+            /** Format: double */
+            rapid_override: number;
+            /** @description Syntec R519 manual RTCP. */
+            rtcp: boolean;
+            single_block: boolean;
+        };
         /** @description A controller's parameters. */
         ParameterList: {
             /** @description `fanuc` or `syntec`: whose numbering. */
@@ -927,6 +1071,18 @@ export interface components {
             workpiece: {
                 [key: string]: number;
             };
+        };
+        /** @description A built-in machine preset. */
+        Preset: {
+            /** @description The axis letters in order. */
+            axes: string[];
+            /**
+             * @description The mechanism, as [`ControllerStatus::kind`] names it.
+             * @example head-head
+             */
+            kind: string;
+            /** @example head-bc */
+            name: string;
         };
         /** @description A stored program in a list. */
         ProgramSummary: {
@@ -1038,6 +1194,21 @@ export interface components {
             radius: number;
             /** Format: double */
             radius_wear: number;
+        };
+        /** @description The tool tip path a stored program asks for, as the 3D view draws it. */
+        ToolPathBody: {
+            alarm?: null | components["schemas"]["AlarmInfo"];
+            /** @description Per point: the 1-based program line that moves to it (0 for the start). */
+            lines: number[];
+            /** @description Per point: the move to it is a rapid. */
+            rapid: boolean[];
+            /** @description The path has more points than `max_points`. */
+            truncated: boolean;
+            /**
+             * @description Tip positions in the table frame (`docs/machine-config.md`), x y z of each point in
+             *     turn; the first point is where the machine is now.
+             */
+            xyz: number[];
         };
         /** @description `PATCH /controllers/{id}`: what may change on a controller that exists. */
         UpdateController: {
@@ -1247,13 +1418,14 @@ export interface operations {
     };
     alarms: {
         parameters: {
-            query?: never;
+            query?: {
+                /** @description At most this many rows, newest first (default 100, at most 10000). */
+                limit?: number;
+            };
             header?: never;
             path: {
                 /** @description Controller id */
                 id: string;
-                /** @description At most this many rows, newest first (default 100, at most 10000). */
-                limit: number | null;
             };
             cookie?: never;
         };
@@ -1270,6 +1442,51 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    clone: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CloneController"];
+            };
+        };
+        responses: {
+            /** @description Created */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Invalid name */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -1520,6 +1737,38 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    machine: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The machine model */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": Record<string, never>;
                 };
             };
             /** @description No such controller */
@@ -1869,7 +2118,7 @@ export interface operations {
             };
         };
     };
-    list: {
+    list_programs: {
         parameters: {
             query?: never;
             header?: never;
@@ -1937,15 +2186,16 @@ export interface operations {
     };
     store: {
         parameters: {
-            query?: never;
+            query?: {
+                /** @description Store the text even if `check` finds problems. */
+                force?: boolean;
+            };
             header?: never;
             path: {
                 /** @description Controller id */
                 id: string;
                 /** @description O number, 1–9999 */
                 number: number;
-                /** @description Store the text even if `check` finds problems. */
-                force: boolean;
             };
             cookie?: never;
         };
@@ -2012,7 +2262,7 @@ export interface operations {
             };
         };
     };
-    remove: {
+    remove_program: {
         parameters: {
             query?: never;
             header?: never;
@@ -2035,6 +2285,55 @@ export interface operations {
             };
             /** @description No such controller or program */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    tool_path: {
+        parameters: {
+            query?: {
+                /**
+                 * @description Most points returned (1–1,000,000, default 200,000); `truncated` says when the path was
+                 *     longer.
+                 */
+                max_points?: number;
+            };
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+                /** @description O number */
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The path */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ToolPathBody"];
+                };
+            };
+            /** @description No such controller or program */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description max_points out of range */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2119,13 +2418,14 @@ export interface operations {
     };
     runs: {
         parameters: {
-            query?: never;
+            query?: {
+                /** @description At most this many rows, newest first (default 100, at most 10000). */
+                limit?: number;
+            };
             header?: never;
             path: {
                 /** @description Controller id */
                 id: string;
-                /** @description At most this many rows, newest first (default 100, at most 10000). */
-                limit: number | null;
             };
             cookie?: never;
         };
@@ -2153,13 +2453,14 @@ export interface operations {
     };
     stream: {
         parameters: {
-            query?: never;
+            query?: {
+                /** @description Position frames per second (0.1–1000, default 30). */
+                rate?: number;
+            };
             header?: never;
             path: {
                 /** @description Controller id */
                 id: string;
-                /** @description Position frames per second (0.1–1000, default 30). */
-                rate: number | null;
             };
             cookie?: never;
         };
@@ -2309,7 +2610,7 @@ export interface operations {
             };
         };
     };
-    list: {
+    list_variables: {
         parameters: {
             query?: never;
             header?: never;
@@ -2519,14 +2820,34 @@ export interface operations {
             };
         };
     };
-    fleet: {
+    presets: {
         parameters: {
             query?: never;
             header?: never;
-            path: {
-                /** @description Fleet messages per second (0.1–30, default 2); one is sent only when something changed. */
-                rate: number | null;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Every preset */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Preset"][];
+                };
             };
+        };
+    };
+    fleet: {
+        parameters: {
+            query?: {
+                /** @description Fleet messages per second (0.1–30, default 2); one is sent only when something changed. */
+                rate?: number;
+            };
+            header?: never;
+            path?: never;
             cookie?: never;
         };
         requestBody?: never;

@@ -1,0 +1,118 @@
+//! The programmed tool path (`fivex_engine::preview`) the dashboard draws, and the display
+//! values the controller reports beside its position (distance to go, spindle, tool length).
+
+mod common;
+
+use common::interpreter;
+use fivex_engine::controller::{Controller, RunState};
+use fivex_engine::interp::Config;
+use fivex_engine::kin::Kinematics;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::preview::tool_path;
+use fivex_engine::Dialect;
+
+fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() < 1e-6)
+}
+
+#[test]
+fn a_three_axis_path_is_the_programmed_points_and_arcs_are_sampled_on_their_circle() {
+    let src = "G90 G17 G00 X10. Y20. Z30.\nG01 X50. F100.\nG02 X70. Y20. R10.\nM30\n";
+    let path = tool_path(&mut interpreter(src, "mill3", Dialect::Fanuc), 10_000);
+    assert!(path.alarm.is_none() && !path.truncated);
+    let nose = MachineConfig::preset("mill3").unwrap().nose;
+    let at = |x: f64, y: f64, z: f64| [x + nose[0], y + nose[1], z + nose[2]];
+    assert!(close(path.points[1], at(10.0, 20.0, 30.0)), "{:?}", path.points[1]);
+    assert!(close(path.points[2], at(50.0, 20.0, 30.0)), "{:?}", path.points[2]);
+    assert_eq!((path.lines[1], path.rapid[1], path.lines[2], path.rapid[2]), (1, true, 2, false));
+    let arc: Vec<_> = path.points[3..].to_vec();
+    assert!(arc.len() >= 31, "a half circle of radius 10 sampled every mm: {}", arc.len());
+    for p in &arc {
+        let r = ((p[0] - at(60.0, 0.0, 0.0)[0]).powi(2) + (p[1] - at(0.0, 20.0, 0.0)[1]).powi(2)).sqrt();
+        assert!((r - 10.0).abs() < 1e-6, "{p:?} is {r} from the centre");
+        assert!(p[1] >= at(0.0, 20.0, 0.0)[1] - 1e-9, "G02 from X50 to X70 passes above the centre: {p:?}");
+    }
+    assert!(close(*arc.last().unwrap(), at(70.0, 20.0, 30.0)));
+    assert!(path.lines[3..].iter().all(|&l| l == 3));
+}
+
+#[test]
+fn a_tcp_line_on_a_table_machine_stays_a_line_on_the_table_while_the_table_turns() {
+    // G43.4 on table-ac: the tip moves on a straight line relative to the part while A and C
+    // turn, so every sampled point of the move lies on that line in the table frame.
+    let src = "G90 G00 X0 Y0 Z100. A0 C0\nG43.4 H1\nG01 X50. Y20. Z10. A30. C45. F500.\nG49\nM30\n";
+    let path = tool_path(&mut interpreter(src, "table-ac", Dialect::Fanuc), 10_000);
+    assert!(path.alarm.is_none(), "{:?}", path.alarm);
+    let moved: Vec<[f64; 3]> = path.points.iter().zip(&path.lines).filter(|(_, &l)| l == 3).map(|(p, _)| *p).collect();
+    assert!(moved.len() > 10, "the move is sampled: {}", moved.len());
+    let start = path.points[path.lines.iter().position(|&l| l == 3).unwrap() - 1];
+    let end = *moved.last().unwrap();
+    let d = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    assert!(len > 40.0, "the tip travels: {len}");
+    for p in &moved {
+        let v = [p[0] - start[0], p[1] - start[1], p[2] - start[2]];
+        let cross = [v[1] * d[2] - v[2] * d[1], v[2] * d[0] - v[0] * d[2], v[0] * d[1] - v[1] * d[0]];
+        let off = (cross[0].powi(2) + cross[1].powi(2) + cross[2].powi(2)).sqrt() / len;
+        assert!(off < 1e-3, "{p:?} is {off} mm off the line");
+    }
+}
+
+#[test]
+fn a_rotary_move_without_tcp_draws_the_curve_the_tip_makes() {
+    // Without TCP, turning B on head-bc swings the tip (here the spindle nose: no length offset)
+    // round the pivot: the points are not on the chord.
+    let src = "G90 G00 X0 Y0 Z0 B0 C0\nG49\nG01 B60. F1000.\nM30\n";
+    let path = tool_path(&mut interpreter(src, "head-bc", Dialect::Fanuc), 10_000);
+    let swing: Vec<_> = path.points.iter().zip(&path.lines).filter(|(_, &l)| l == 3).map(|(p, _)| *p).collect();
+    assert!(swing.len() >= 60, "{}", swing.len());
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let mid = kin.forward(&[0.0, 0.0, 0.0, 30.0, 0.0], 0.0).tip;
+    assert!(swing.iter().any(|p| close(*p, mid.into())), "the tip at B30 is on the path");
+}
+
+#[test]
+fn the_path_ends_at_an_alarm_and_at_the_point_budget() {
+    let path = tool_path(&mut interpreter("G00 X10.\nG01 X20. F100.\nG04 X-1.\nG65 P\n", "mill3", Dialect::Fanuc), 100);
+    assert!(path.alarm.is_some(), "{path:?}");
+    assert_eq!(path.points.len(), 3);
+    let many: String = (1..=50).map(|i| format!("G01 X{i}. F100.\n")).collect();
+    let path = tool_path(&mut interpreter(&many, "mill3", Dialect::Fanuc), 10);
+    assert!(path.truncated);
+    assert_eq!(path.points.len(), 10);
+}
+
+fn run_until(c: &mut Controller, mut done: impl FnMut(&Controller) -> bool) {
+    for _ in 0..100_000 {
+        if done(c) {
+            return;
+        }
+        c.tick(0.001);
+    }
+    panic!("never happened");
+}
+
+#[test]
+fn the_controller_reports_distance_to_go_spindle_and_tool_length() {
+    let mut cfg = Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc);
+    cfg.max_blocks = 1000;
+    let mut c = Controller::new(cfg);
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().h_geometry = 80.0;
+    c.select_program("G43 H1 Z0\nM03 S1200\nG01 X100. F600.\nM04 S500\nG01 X0\nM05\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    // Halfway along X100 at 600 mm/min: 50 mm to go on X, nothing on Y and Z.
+    run_until(&mut c, |c| c.point().line == 3 && c.point().work[0] > 50.0);
+    let to_go = c.to_go();
+    assert!((to_go[0] - (100.0 - c.point().work[0])).abs() < 1e-9, "{to_go:?}");
+    assert_eq!((to_go[1], to_go[2]), (0.0, 0.0));
+    assert_eq!(c.spindle(), 1200.0);
+    assert_eq!(c.tool_length(), 80.0);
+    run_until(&mut c, |c| c.point().line == 5);
+    assert_eq!(c.spindle(), -500.0);
+    run_until(&mut c, |c| c.run_state() == RunState::Idle);
+    assert_eq!(c.spindle(), 0.0);
+    assert_eq!(c.to_go(), [0.0; fivex_engine::machine::MAX_AXES]);
+    assert_eq!(c.tool_length(), 80.0, "the last block's length offset while nothing moves");
+    c.reset();
+    assert_eq!(c.spindle(), 0.0);
+}

@@ -1,0 +1,104 @@
+// One controller: what a control's screen shows (position, modal state, program, alarms,
+// variables, parameters, offsets), its operator panel, and the live 3D machine.
+import { useEffect, useState } from "preact/hooks";
+import { api, must } from "../api/client";
+import { useController } from "./useController";
+import { Position } from "./Position";
+import { Modal } from "./Modal";
+import { Panel } from "./Panel";
+import { Programs } from "./Programs";
+import { Mdi } from "./Mdi";
+import { Alarms } from "./Alarms";
+import { Variables } from "./Variables";
+import { Parameters } from "./Parameters";
+import { Offsets } from "./Offsets";
+import { Machine3D } from "./Machine3D";
+
+const TABS: [string, string][] = [
+  ["program", "Program"],
+  ["mdi", "MDI"],
+  ["alarms", "Alarms"],
+  ["variables", "Macro variables"],
+  ["offsets", "Offsets"],
+  ["parameters", "Parameters"],
+];
+
+export function ControllerView({ id, tab }: { id: string; tab: string }) {
+  const live = useController(id);
+  const [error, setError] = useState<string | null>(null);
+  const [program, setProgram] = useState<number | null>(null);
+  const [path, setPath] = useState<Float32Array | null>(null);
+  const status = live.status;
+
+  // The programmed path of the selected program, for the 3D view (again when it starts, since
+  // it is computed from where the machine is).
+  useEffect(() => {
+    if (program == null) return setPath(null);
+    must(api.GET("/api/v1/controllers/{id}/programs/{number}/path", { params: { path: { id, number: program } } })).then(
+      (p) => setPath(new Float32Array(p.xyz)),
+      () => setPath(null),
+    );
+  }, [id, program, status?.run_state === "running" && status.program === program]);
+
+  if (live.error && !status) return <p class="error">{live.error}</p>;
+  if (!status) return <p>Loading…</p>;
+  const axes = Object.keys(status.position.machine);
+  const alarmed = live.alarms.length > 0;
+  return (
+    <section class="controller">
+      <div class="ctl-head">
+        <h1>{status.name}</h1>
+        <span class="meta">
+          {status.machine} · {status.kind} · {status.dialect.toUpperCase()}
+        </span>
+        <span class="mode-pill">{status.mode.toUpperCase()}</span>
+        <span class={`state ${status.run_state}`} data-run-state={status.run_state}>
+          {status.run_state}
+        </span>
+        <span class="prog">
+          {status.program != null ? `O${String(status.program).padStart(4, "0")}` : ""} {live.frame?.line ? `line ${live.frame.line}` : ""}
+          {live.frame?.n != null ? ` N${live.frame.n}` : ""}
+        </span>
+        <span class={`pill ${live.connected ? "live" : "stale"}`}>{live.connected ? "live" : "reconnecting"}</span>
+      </div>
+      {alarmed && (
+        <div class="alarm-banner" role="alert">
+          {live.alarms.map((a) => (
+            <div>
+              <strong>{a.code}</strong> {a.message} (line {a.line})
+            </div>
+          ))}
+        </div>
+      )}
+      {error && (
+        <p class="error" role="alert" onClick={() => setError(null)}>
+          {error}
+        </p>
+      )}
+      <div class="ctl-grid">
+        <div class="left">
+          <Position status={status} frame={live.frame} />
+          <Modal id={id} tick={`${status.run_state}:${live.frame?.line ?? 0}`} />
+        </div>
+        <div class="center">{live.machine && <Machine3D machine={live.machine} frame={live.frame} path={path} onFrame={live.onFrame} />}</div>
+      </div>
+      <Panel status={status} axes={axes} onStatus={live.setStatus} onError={setError} />
+      <nav class="tabs">
+        {TABS.map(([t, label]) => (
+          <a key={t} href={`#/c/${id}/${t}`} class={tab === t ? "active" : ""}>
+            {label}
+            {t === "alarms" && alarmed ? " ●" : ""}
+          </a>
+        ))}
+      </nav>
+      <div class="tab-body">
+        {tab === "program" && <Programs status={status} line={live.frame?.line ?? status.line} selected={program} onSelect={setProgram} onStatus={live.setStatus} onError={setError} />}
+        {tab === "mdi" && <Mdi status={status} onStatus={live.setStatus} onError={setError} />}
+        {tab === "alarms" && <Alarms id={id} active={live.alarms} messages={live.messages} />}
+        {tab === "variables" && <Variables id={id} values={live.variables} onError={setError} />}
+        {tab === "offsets" && <Offsets id={id} axes={axes} onError={setError} />}
+        {tab === "parameters" && <Parameters status={status} onError={setError} />}
+      </div>
+    </section>
+  );
+}

@@ -1,0 +1,44 @@
+// The modal state: the G code of each group, F S T H D, and the 5-axis functions in force.
+import { useEffect, useState } from "preact/hooks";
+import { api, must, type Schemas } from "../api/client";
+
+const FIVE_AXIS: Record<string, string> = {
+  "G43.4": "TCP type 1",
+  "G43.5": "TCP type 2",
+  "G68.2": "tilted plane",
+  "G68.3": "tilted plane (tool axis)",
+  "G68.4": "tilted plane (incremental)",
+  "G54.4": "setting error comp.",
+};
+
+export function Modal({ id, tick }: { id: string; tick: unknown }) {
+  const [modal, setModal] = useState<Schemas["ModalState"] | null>(null);
+  useEffect(() => {
+    let gone = false;
+    must(api.GET("/api/v1/controllers/{id}/modal", { params: { path: { id } } })).then((m) => !gone && setModal(m), () => {});
+    return () => {
+      gone = true;
+    };
+  }, [id, tick]);
+  if (!modal) return <div class="panel-box modal">…</div>;
+  const codes = Object.values(modal.groups);
+  const active = codes.filter((c) => FIVE_AXIS[c]);
+  return (
+    <div class="panel-box modal">
+      <div class="gcodes">
+        {Object.entries(modal.groups).map(([g, code]) => (
+          <span key={g} class={`g ${FIVE_AXIS[code] ? "hot" : ""}`} title={`group ${g}`}>
+            {code}
+          </span>
+        ))}
+      </div>
+      <div class="words">
+        <span>F {modal.f}</span> <span>S {modal.s}</span> <span>T {modal.t}</span> <span>spindle T {modal.spindle_tool}</span>{" "}
+        <span>H {modal.h}</span> <span>D {modal.d}</span>
+      </div>
+      <div class="five">
+        {active.length ? active.map((c) => <span class="badge on">{`${c} ${FIVE_AXIS[c]}`}</span>) : <span class="badge">no 5-axis function active</span>}
+      </div>
+    </div>
+  );
+}

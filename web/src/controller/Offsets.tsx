@@ -1,0 +1,107 @@
+// Tool offset memory (H length and D radius, geometry and wear) and the work offsets.
+import { useEffect, useState } from "preact/hooks";
+import { api, must, type Schemas } from "../api/client";
+
+const TOOL_FIELDS = ["length", "length_wear", "radius", "radius_wear"] as const;
+
+export function Offsets({ id, axes, onError }: { id: string; axes: string[]; onError: (e: string | null) => void }) {
+  const [tools, setTools] = useState<Schemas["ToolOffsetDto"][]>([]);
+  const [works, setWorks] = useState<Schemas["WorkOffsetDto"][]>([]);
+  const [more, setMore] = useState("");
+  const p = { params: { path: { id } } };
+  const load = () => {
+    must(api.GET("/api/v1/controllers/{id}/tool-offsets", p)).then(setTools, (e) => onError(e.message));
+    must(api.GET("/api/v1/controllers/{id}/work-offsets", p)).then(setWorks, (e) => onError(e.message));
+  };
+  useEffect(load, [id]);
+  const setTool = async (number: number, field: string, value: number) => {
+    onError(null);
+    try {
+      await must(api.PUT("/api/v1/controllers/{id}/tool-offsets/{number}", { params: { path: { id, number } }, body: { [field]: value } }));
+    } catch (e: any) {
+      onError(e.message);
+    }
+    load();
+  };
+  const setWork = async (name: string, axis: string, value: number) => {
+    onError(null);
+    try {
+      await must(api.PUT("/api/v1/controllers/{id}/work-offsets/{name}", { params: { path: { id, name } }, body: { axes: { [axis]: value } } }));
+    } catch (e: any) {
+      onError(e.message);
+    }
+    load();
+  };
+  const numberInput = (value: number, on: (v: number) => void) => (
+    <input
+      class="num"
+      key={value}
+      value={String(value)}
+      onChange={(e) => {
+        const v = Number(e.currentTarget.value);
+        if (Number.isFinite(v)) on(v);
+      }}
+      onKeyDown={(e) => e.key === "Enter" && e.currentTarget.blur()}
+    />
+  );
+  return (
+    <div class="offsets">
+      <h3>Tool offsets</h3>
+      <table class="grid">
+        <thead>
+          <tr>
+            <th>no.</th>
+            <th>length (H)</th>
+            <th>wear</th>
+            <th>radius (D)</th>
+            <th>wear</th>
+          </tr>
+        </thead>
+        <tbody>
+          {tools.map((t) => (
+            <tr key={t.number}>
+              <th>{t.number}</th>
+              {TOOL_FIELDS.map((f) => (
+                <td>{numberInput(t[f], (v) => setTool(t.number, f, v))}</td>
+              ))}
+            </tr>
+          ))}
+        </tbody>
+      </table>
+      <div class="row">
+        <input class="short" placeholder="offset no." value={more} onInput={(e) => setMore(e.currentTarget.value)} />
+        <button
+          onClick={() => {
+            const n = Number(more);
+            // A new row to fill in; the service lists only the offsets that are not all zero.
+            if (n >= 1 && n <= 999 && !tools.some((t) => t.number === n))
+              setTools([...tools, { number: n, length: 0, length_wear: 0, radius: 0, radius_wear: 0 }].sort((a, b) => a.number - b.number));
+          }}
+        >
+          add
+        </button>
+      </div>
+      <h3>Work offsets</h3>
+      <table class="grid">
+        <thead>
+          <tr>
+            <th />
+            {axes.map((a) => (
+              <th>{a}</th>
+            ))}
+          </tr>
+        </thead>
+        <tbody>
+          {works.map((w) => (
+            <tr key={w.name}>
+              <th>{w.name}</th>
+              {axes.map((a) => (
+                <td>{numberInput(w.axes[a] ?? 0, (v) => setWork(w.name, a, v))}</td>
+              ))}
+            </tr>
+          ))}
+        </tbody>
+      </table>
+    </div>
+  );
+}

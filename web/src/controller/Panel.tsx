@@ -1,0 +1,232 @@
+// The operator panel: mode keys, cycle start / feed hold / reset / emergency stop, the single
+// block, optional stop and block delete switches, feed and rapid override, and the manual
+// feeds (JOG with hold-to-move keys, HANDLE with increments, the 5-axis manual feeds).
+import { useState } from "preact/hooks";
+import { api, must, type Status } from "../api/client";
+
+const MODES: [string, string][] = [
+  ["auto", "MEM"],
+  ["mdi", "MDI"],
+  ["jog", "JOG"],
+  ["handle", "HANDLE"],
+  ["ref", "REF"],
+];
+const FEED_STEPS = [0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120, 130, 140, 150, 160, 170, 180, 190, 200];
+const RAPID_STEPS = [0, 25, 50, 100];
+/// The 5-axis manual feeds (`POST /jog` `feed`).
+const FIVE_AXIS_FEEDS: [string, string][] = [
+  ["tool-axis", "tool axis"],
+  ["right-angle1", "right angle 1"],
+  ["right-angle2", "right angle 2"],
+  ["table-vertical", "table vertical"],
+  ["table-horizontal1", "table horizontal 1"],
+  ["table-horizontal2", "table horizontal 2"],
+];
+
+type Target = { axis: string } | { feed: string } | { tip_rotation: string };
+
+export function Panel({ status, axes, onStatus, onError }: { status: Status; axes: string[]; onStatus: (s: Status) => void; onError: (e: string | null) => void }) {
+  const id = status.id;
+  const p = { params: { path: { id } } };
+  const [target, setTarget] = useState<Target>({ axis: axes[0] ?? "X" });
+  const [increment, setIncrement] = useState(0.1);
+  const rotaries = axes.filter((a) => "ABC".includes(a));
+  const panel = status.panel;
+
+  const act = async (call: () => Promise<{ data?: Status; error?: unknown; response: Response }>) => {
+    onError(null);
+    try {
+      onStatus(await must(call()));
+    } catch (e: any) {
+      onError(e.message ?? String(e));
+    }
+  };
+  const key = (t: Target) => JSON.stringify(t);
+  const selected = (t: Target) => key(t) === key(target);
+
+  return (
+    <div class="op-panel panel-box">
+      <div class="row modes" role="group" aria-label="mode">
+        {MODES.map(([m, label]) => (
+          <button key={m} class={`key ${status.mode === m ? "lit" : ""}`} data-mode={m} onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/mode", { ...p, body: { mode: m } }))}>
+            {label}
+          </button>
+        ))}
+      </div>
+      <div class="row cycle">
+        <button class="key start" title="cycle start" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/cycle-start", { ...p, body: {} }))}>
+          CYCLE START
+        </button>
+        <button class="key hold" title="feed hold" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/feed-hold", p))}>
+          FEED HOLD
+        </button>
+        <button class="key" title="reset" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/reset", p))}>
+          RESET
+        </button>
+        <EStop status={status} act={act} />
+      </div>
+      <div class="row switches">
+        {(
+          [
+            ["single_block", "SINGLE BLOCK"],
+            ["optional_stop", "OPT STOP"],
+            ["block_delete", "BLOCK DELETE"],
+          ] as const
+        ).map(([k, label]) => (
+          <button
+            key={k}
+            class={`key toggle ${panel[k] ? "lit" : ""}`}
+            data-switch={k}
+            aria-pressed={panel[k]}
+            onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/switches", { ...p, body: { [k]: !panel[k] } }))}
+          >
+            {label}
+          </button>
+        ))}
+      </div>
+      <div class="row overrides">
+        <label>
+          feed {panel.feed_override}%
+          <input
+            type="range"
+            min={0}
+            max={200}
+            step={10}
+            list="feed-steps"
+            value={panel.feed_override}
+            onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/overrides", { ...p, body: { feed: Number(e.currentTarget.value) } }))}
+          />
+          <datalist id="feed-steps">
+            {FEED_STEPS.map((v) => (
+              <option value={v} />
+            ))}
+          </datalist>
+        </label>
+        <span class="rapid" role="group" aria-label="rapid override">
+          rapid
+          {RAPID_STEPS.map((r) => (
+            <button key={r} class={`key small ${panel.rapid_override === r ? "lit" : ""}`} onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/overrides", { ...p, body: { rapid: r } }))}>
+              {r === 0 ? "F0" : `${r}%`}
+            </button>
+          ))}
+        </span>
+      </div>
+      <div class="row manual">
+        <span class="targets" role="group" aria-label="axis or 5-axis feed">
+          {axes.map((a) => (
+            <button key={a} class={`key small ${selected({ axis: a }) ? "lit" : ""}`} onClick={() => setTarget({ axis: a })}>
+              {a}
+            </button>
+          ))}
+          {rotaries.length > 0 && (
+            <select
+              title="5-axis manual feed"
+              value={"feed" in target ? target.feed : "tip_rotation" in target ? `tip:${target.tip_rotation}` : ""}
+              onChange={(e) => {
+                const v = e.currentTarget.value;
+                if (v.startsWith("tip:")) setTarget({ tip_rotation: v.slice(4) });
+                else if (v) setTarget({ feed: v });
+                else setTarget({ axis: axes[0] });
+              }}
+            >
+              <option value="">5-axis feed…</option>
+              {FIVE_AXIS_FEEDS.map(([f, label]) => (
+                <option value={f}>{label}</option>
+              ))}
+              {rotaries.map((r) => (
+                <option value={`tip:${r}`}>tool tip rotation {r}</option>
+              ))}
+            </select>
+          )}
+        </span>
+        {status.mode === "handle" ? (
+          <span class="handle">
+            {[0.001, 0.01, 0.1, 1].map((inc) => (
+              <button key={inc} class={`key small ${increment === inc ? "lit" : ""}`} onClick={() => setIncrement(inc)}>
+                ×{Math.round(inc * 1000)}
+              </button>
+            ))}
+            <button class="key small" title="handle −" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/handle", { ...p, body: { ...target, amount: -increment } }))}>
+              −
+            </button>
+            <button class="key small" title="handle +" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/handle", { ...p, body: { ...target, amount: increment } }))}>
+              +
+            </button>
+          </span>
+        ) : (
+          <span class="jog">
+            {[false, true].map((positive) => (
+              <button
+                key={String(positive)}
+                class="key small"
+                title={`jog ${positive ? "+" : "−"} (hold)`}
+                disabled={status.mode !== "jog"}
+                onPointerDown={() => act(() => api.POST("/api/v1/controllers/{id}/jog", { ...p, body: { ...target, positive } }))}
+                onPointerUp={() => act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
+                onPointerLeave={(e) => e.buttons && act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
+              >
+                {positive ? "+" : "−"}
+              </button>
+            ))}
+            <label>
+              jog feed
+              <input
+                type="number"
+                class="short"
+                value={panel.jog_feed}
+                min={1}
+                onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { jog_feed: Number(e.currentTarget.value) } }))}
+              />
+            </label>
+          </span>
+        )}
+        {status.mode === "ref" && (
+          <button class="key small" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/reference-return", p))}>
+            home all
+          </button>
+        )}
+        <button
+          class={`key small toggle ${panel.manual_absolute ? "lit" : ""}`}
+          title="manual absolute"
+          onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { manual_absolute: !panel.manual_absolute } }))}
+        >
+          MANUAL ABS
+        </button>
+        {status.dialect === "syntec" && (
+          <>
+            <select
+              title="R518: coordinates of manual X/Y/Z"
+              value={panel.coordinates}
+              onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { coordinates: e.currentTarget.value } }))}
+            >
+              <option value="machine">R518 machine</option>
+              <option value="program">R518 program</option>
+              <option value="tool">R518 tool</option>
+            </select>
+            <button class={`key small toggle ${panel.rtcp ? "lit" : ""}`} title="R519 manual RTCP" onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { rtcp: !panel.rtcp } }))}>
+              R519 RTCP
+            </button>
+          </>
+        )}
+      </div>
+    </div>
+  );
+}
+
+function EStop({ status, act }: { status: Status; act: (c: () => Promise<any>) => void }) {
+  const [pressed, setPressed] = useState(false);
+  return (
+    <button
+      class={`key estop ${pressed ? "lit" : ""}`}
+      title="emergency stop"
+      aria-pressed={pressed}
+      onClick={() => {
+        const now = !pressed;
+        setPressed(now);
+        act(() => api.PUT("/api/v1/controllers/{id}/emergency-stop", { params: { path: { id: status.id } }, body: { pressed: now } }));
+      }}
+    >
+      E-STOP
+    </button>
+  );
+}

@@ -1,0 +1,64 @@
+// The parameter editor in the dialect's numbering (FANUC No.…, Syntec Pr…): the whole list,
+// filterable, each value editable (per-axis values as comma-separated lists).
+import { useEffect, useState } from "preact/hooks";
+import { api, must, type Status } from "../api/client";
+
+export function Parameters({ status, onError }: { status: Status; onError: (e: string | null) => void }) {
+  const id = status.id;
+  const [params, setParams] = useState<Record<string, unknown>>({});
+  const [filter, setFilter] = useState("");
+  const load = () =>
+    must(api.GET("/api/v1/controllers/{id}/parameters", { params: { path: { id } } })).then((l) => setParams(l.parameters as Record<string, unknown>), (e) => onError(e.message));
+  useEffect(() => {
+    load();
+  }, [id]);
+  const set = async (number: string, text: string) => {
+    onError(null);
+    const parts = text.split(",").map((s) => s.trim());
+    const parse = (s: string) => (s === "" ? null : Number(s));
+    const value = parts.length > 1 ? parts.map(parse) : parse(parts[0]);
+    try {
+      await must(api.PUT("/api/v1/controllers/{id}/parameters/{number}", { params: { path: { id, number: Number(number) } }, body: { value: value as any } }));
+    } catch (e: any) {
+      onError(e.message);
+    }
+    load();
+  };
+  const prefix = status.dialect === "syntec" ? "Pr" : "No.";
+  const rows = Object.entries(params).filter(([n]) => !filter || n.includes(filter.replace(/\D/g, "")));
+  return (
+    <div class="parameters">
+      <div class="row">
+        <input placeholder={`${prefix} filter`} value={filter} onInput={(e) => setFilter(e.currentTarget.value)} />
+        <span class="quiet">{status.run_state === "idle" ? "a change restarts the controller on the new machine" : "parameters change only while idle"}</span>
+      </div>
+      <table class="grid">
+        <thead>
+          <tr>
+            <th>number</th>
+            <th>value</th>
+          </tr>
+        </thead>
+        <tbody>
+          {rows.map(([n, v]) => (
+            <tr key={n}>
+              <th>
+                {prefix}
+                {n}
+              </th>
+              <td>
+                <input
+                  class="wide num"
+                  key={`${n}:${JSON.stringify(v)}`}
+                  value={Array.isArray(v) ? v.join(", ") : String(v)}
+                  onChange={(e) => set(n, e.currentTarget.value)}
+                  onKeyDown={(e) => e.key === "Enter" && e.currentTarget.blur()}
+                />
+              </td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+    </div>
+  );
+}

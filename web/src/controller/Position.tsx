@@ -1,0 +1,70 @@
+// The position display of a control's "all" screen: absolute (workpiece), relative, machine and
+// distance to go for every axis, the tool tip and tool vector, actual feed and spindle speed.
+import { useState } from "preact/hooks";
+import { fmt, type Frame, type Status } from "../api/client";
+
+/// The relative counter's origin per controller, kept in the browser (like the panel's ORIGIN
+/// soft key: an operator's own reference, not a part of the program state).
+function useOrigin(id: string) {
+  const key = `fivex.origin.${id}`;
+  const [origin, setOrigin] = useState<Record<string, number>>(() => JSON.parse(localStorage.getItem(key) ?? "{}"));
+  const set = (o: Record<string, number>) => {
+    localStorage.setItem(key, JSON.stringify(o));
+    setOrigin(o);
+  };
+  return [origin, set] as const;
+}
+
+export function Position({ status, frame }: { status: Status; frame: Frame | null }) {
+  const [origin, setOrigin] = useOrigin(status.id);
+  const machine = frame?.machine ?? status.position.machine;
+  const work = frame?.workpiece ?? status.position.workpiece;
+  const toGo = frame?.to_go ?? {};
+  const axes = Object.keys(machine);
+  const rotary = (a: string) => "ABC".includes(a);
+  return (
+    <div class="position panel-box">
+      <table class="pos">
+        <thead>
+          <tr>
+            <th />
+            <th>absolute</th>
+            <th>
+              relative{" "}
+              <button class="tiny" title="ORIGIN: set every relative axis to 0 here" onClick={() => setOrigin({ ...work })}>
+                origin
+              </button>
+            </th>
+            <th>machine</th>
+            <th>distance to go</th>
+          </tr>
+        </thead>
+        <tbody>
+          {axes.map((a) => (
+            <tr key={a} data-axis={a}>
+              <th class="axis">{a}</th>
+              <td class="num abs">{fmt(work[a], rotary(a) ? 3 : 3)}</td>
+              <td class="num rel">{fmt((work[a] ?? 0) - (origin[a] ?? 0))}</td>
+              <td class="num mach">{fmt(machine[a])}</td>
+              <td class="num dtg">{fmt(toGo[a] ?? 0)}</td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+      <dl class="readouts">
+        <dt>tool tip</dt>
+        <dd class="num tip">{frame ? frame.tip.map((v) => fmt(v)).join("  ") : "—"}</dd>
+        <dt>tool vector</dt>
+        <dd class="num">{frame ? frame.tool.map((v) => fmt(v, 4)).join("  ") : "—"}</dd>
+        <dt>act. F</dt>
+        <dd class="num feed">{fmt(frame?.feed ?? status.feed, 0)} mm/min</dd>
+        <dt>act. S</dt>
+        <dd class="num">{fmt(frame?.spindle ?? 0, 0)} /min</dd>
+        <dt>tool length</dt>
+        <dd class="num">{fmt(frame?.tool_length ?? 0)}</dd>
+        <dt>run time</dt>
+        <dd class="num">{fmt(frame?.t ?? status.time_s, 1)} s</dd>
+      </dl>
+    </div>
+  );
+}

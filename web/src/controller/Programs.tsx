@@ -1,0 +1,188 @@
+// Stored programs: the list, the text with the executing block highlighted, an editor that
+// stores through the service's check (diagnostics shown on their lines), upload, and start.
+import { useEffect, useState } from "preact/hooks";
+import { api, ApiError, must, type Schemas, type Status } from "../api/client";
+import { CodeView, type Mark } from "./CodeView";
+
+export function Programs({
+  status,
+  line,
+  selected,
+  onSelect,
+  onStatus,
+  onError,
+}: {
+  status: Status;
+  /// The line moving now (from the position stream).
+  line: number;
+  selected: number | null;
+  onSelect: (n: number | null) => void;
+  onStatus: (s: Status) => void;
+  onError: (e: string | null) => void;
+}) {
+  const id = status.id;
+  const [list, setList] = useState<Schemas["ProgramSummary"][]>([]);
+  const [text, setText] = useState("");
+  const [draft, setDraft] = useState<string | null>(null);
+  const [marks, setMarks] = useState<Mark[]>([]);
+  const [newNumber, setNewNumber] = useState("");
+  const refresh = () => must(api.GET("/api/v1/controllers/{id}/programs", { params: { path: { id } } })).then(setList, () => {});
+
+  useEffect(() => {
+    refresh();
+  }, [id]);
+  useEffect(() => {
+    if (selected == null && list.length) onSelect(status.program ?? list[0].number);
+  }, [list]);
+  useEffect(() => {
+    // The running program shows as it runs.
+    if (status.program != null && status.run_state !== "idle") onSelect(status.program);
+  }, [status.program, status.run_state]);
+  useEffect(() => {
+    setDraft(null);
+    setMarks([]);
+    if (selected == null) return setText("");
+    fetch(`/api/v1/controllers/${id}/programs/${selected}`, { headers: authHeaders() })
+      .then((r) => (r.ok ? r.text() : ""))
+      .then(setText);
+  }, [selected, id]);
+
+  const store = async (number: number, body: string, force = false) => {
+    onError(null);
+    setMarks([]);
+    const res = await fetch(`/api/v1/controllers/${id}/programs/${number}${force ? "?force=true" : ""}`, {
+      method: "PUT",
+      headers: { "content-type": "text/plain", ...authHeaders() },
+      body,
+    });
+    const answer = await res.json().catch(() => ({}));
+    if (!res.ok) {
+      const diags = (answer.details ?? []) as Schemas["Diagnostic"][];
+      setMarks(diags.map((d) => ({ line: d.line, text: `${d.code} ${d.message}${d.detail ? `: ${d.detail}` : ""}` })));
+      onError(answer.error ?? `${res.status}`);
+      return false;
+    }
+    const stored = answer as Schemas["StoredProgram"];
+    setMarks(stored.diagnostics.map((d) => ({ line: d.line, text: `${d.code} ${d.message}` })));
+    await refresh();
+    if (selected === number) setText(body);
+    else onSelect(number);
+    setDraft(null);
+    return true;
+  };
+
+  const upload = async (input: HTMLInputElement) => {
+    const file = input.files?.[0];
+    if (!file) return;
+    const body = await file.text();
+    const m = /O(\d{1,4})/i.exec(body) ?? /(\d{1,4})/.exec(file.name);
+    const number = Number(prompt("Store as program number", m ? String(Number(m[1])) : "1"));
+    input.value = "";
+    if (number >= 1 && number <= 9999) await store(number, body);
+  };
+
+  const running = status.program === selected && status.run_state !== "idle";
+  return (
+    <div class="programs">
+      <aside class="prog-list">
+        <ul>
+          {list.map((p) => (
+            <li key={p.number} class={p.number === selected ? "sel" : ""}>
+              <a onClick={() => onSelect(p.number)} data-program={p.number}>
+                O{String(p.number).padStart(4, "0")}
+              </a>
+              <span class="size">{p.size} B</span>
+            </li>
+          ))}
+        </ul>
+        <div class="new">
+          <input class="short" placeholder="O no." value={newNumber} onInput={(e) => setNewNumber(e.currentTarget.value)} />
+          <button
+            onClick={() => {
+              const n = Number(newNumber);
+              if (n >= 1 && n <= 9999) {
+                onSelect(n);
+                setText("");
+                setDraft(`O${String(n).padStart(4, "0")}\n\nM30\n`);
+              }
+            }}
+          >
+            new
+          </button>
+        </div>
+        <label class="upload">
+          upload <input type="file" accept=".nc,.txt,.tap,text/plain" onChange={(e) => upload(e.currentTarget)} />
+        </label>
+      </aside>
+      <div class="prog-main">
+        <div class="prog-bar">
+          <strong>{selected != null ? `O${String(selected).padStart(4, "0")}` : "no program"}</strong>
+          {selected != null && draft == null && (
+            <>
+              <button
+                class="primary"
+                data-action="run"
+                onClick={async () => {
+                  onError(null);
+                  try {
+                    onStatus(await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id } }, body: { program: selected } })));
+                  } catch (e: any) {
+                    onError(e instanceof ApiError ? e.message : String(e));
+                  }
+                }}
+              >
+                cycle start O{selected}
+              </button>
+              <button onClick={() => setDraft(text)} disabled={running}>
+                edit
+              </button>
+              <button
+                class="danger"
+                onClick={async () => {
+                  if (!confirm(`Delete O${selected}?`)) return;
+                  await fetch(`/api/v1/controllers/${id}/programs/${selected}`, { method: "DELETE", headers: authHeaders() });
+                  onSelect(null);
+                  refresh();
+                }}
+              >
+                delete
+              </button>
+            </>
+          )}
+          {draft != null && selected != null && (
+            <>
+              <button class="primary" data-action="save" onClick={() => store(selected, draft)}>
+                check &amp; save
+              </button>
+              <button title="store even with diagnostics" onClick={() => store(selected, draft, true)}>
+                save anyway
+              </button>
+              <button onClick={() => setDraft(null)}>cancel</button>
+            </>
+          )}
+        </div>
+        {draft != null ? (
+          <div class="editor">
+            <textarea class="nc" spellcheck={false} value={draft} onInput={(e) => setDraft(e.currentTarget.value)} />
+            {marks.length > 0 && (
+              <ul class="diags">
+                {marks.map((m) => (
+                  <li>
+                    line {m.line}: {m.text}
+                  </li>
+                ))}
+              </ul>
+            )}
+          </div>
+        ) : (
+          <CodeView text={text} active={status.program === selected ? line : undefined} marks={marks} />
+        )}
+      </div>
+    </div>
+  );
+}
+
+export function authHeaders(): Record<string, string> {
+  const t = localStorage.getItem("fivex.token");
+  return t ? { Authorization: `Bearer ${t}` } : {};
+}

@@ -1,0 +1,105 @@
+// One controller as the page sees it: its status, machine, the latest position frame, alarms,
+// variables and operator messages, kept current by the controller's websocket.
+import { useEffect, useRef, useState } from "preact/hooks";
+import { api, liveSocket, must, wsUrl, type AlarmInfo, type Frame, type Schemas, type Status } from "../api/client";
+
+export type Live = {
+  status: Status | null;
+  machine: any | null;
+  frame: Frame | null;
+  alarms: AlarmInfo[];
+  variables: Record<string, number | null>;
+  messages: string[];
+  connected: boolean;
+  error: string | null;
+  /// Called with every position frame as it arrives (the 3D trace), not throttled.
+  onFrame: (f: (frame: Frame) => void) => () => void;
+  /// Take a status an action answered.
+  setStatus: (s: Status) => void;
+};
+
+export function useController(id: string): Live {
+  const [status, setStatus] = useState<Status | null>(null);
+  const [machine, setMachine] = useState<any | null>(null);
+  const [frame, setFrame] = useState<Frame | null>(null);
+  const [alarms, setAlarms] = useState<AlarmInfo[]>([]);
+  const [variables, setVariables] = useState<Record<string, number | null>>({});
+  const [messages, setMessages] = useState<string[]>([]);
+  const [connected, setConnected] = useState(false);
+  const [error, setError] = useState<string | null>(null);
+  const listeners = useRef(new Set<(f: Frame) => void>());
+
+  useEffect(() => {
+    let latest: Frame | null = null;
+    let scheduled = false;
+    must(api.GET("/api/v1/controllers/{id}/machine", { params: { path: { id } } })).then(setMachine, (e) => setError(e.message));
+    must(api.GET("/api/v1/controllers/{id}", { params: { path: { id } } })).then(
+      (s) => {
+        setStatus(s);
+        setAlarms(s.alarms);
+      },
+      (e) => setError(e.message),
+    );
+    const socket = liveSocket(
+      () => wsUrl(`/api/v1/controllers/${encodeURIComponent(id)}/stream`, { rate: 30 }),
+      (msg) => {
+        switch (msg.type) {
+          case "snapshot": {
+            const snap = msg as Schemas["Snapshot"];
+            setStatus(snap.controller);
+            setAlarms(snap.controller.alarms);
+            setVariables(snap.variables);
+            break;
+          }
+          case "position": {
+            latest = msg as Frame;
+            for (const f of listeners.current) f(latest);
+            // The panel repaints once per animation frame at most.
+            if (!scheduled) {
+              scheduled = true;
+              requestAnimationFrame(() => {
+                scheduled = false;
+                setFrame(latest);
+              });
+            }
+            break;
+          }
+          case "state":
+            setStatus((s) => (s ? { ...s, run_state: msg.run_state, mode: msg.mode, program: msg.program } : s));
+            break;
+          case "alarm":
+            setAlarms(msg.active);
+            setStatus((s) => (s ? { ...s, alarms: msg.active } : s));
+            break;
+          case "variables":
+            setVariables((v) => ({ ...v, ...msg.changes }));
+            break;
+          case "message":
+            setMessages((m) => [...m.slice(-19), msg.text]);
+            break;
+        }
+      },
+      setConnected,
+    );
+    return () => socket.close();
+  }, [id]);
+
+  return {
+    status,
+    machine,
+    frame,
+    alarms,
+    variables,
+    messages,
+    connected,
+    error,
+    onFrame: (f) => {
+      listeners.current.add(f);
+      return () => listeners.current.delete(f);
+    },
+    setStatus: (s) => {
+      setStatus(s);
+      setAlarms(s.alarms);
+    },
+  };
+}
