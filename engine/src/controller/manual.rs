@@ -329,8 +329,9 @@ impl Controller {
 
     /// Pulses of the first handle, `amount` mm (deg) in all: they drive what the select code and
     /// the signals choose ([`super::ManualSignals::handle_target`]) as fast as the manual rapid
-    /// rates allow (No.1424, the clamp of MAN-05/07/11/14/16). Answers the amount taken:
-    /// 0 when the pulses are discarded — the select code chooses nothing, or the machine is
+    /// rates allow (No.1424, the clamp of MAN-05/07/11/14/16), stopping at the strokes as the
+    /// other manual moves do. Answers the amount taken (for one axis what the strokes leave of
+    /// it): 0 when the pulses are discarded — the select code chooses nothing, or the machine is
     /// still moving the earlier pulses (the handle turned faster than the clamp lets it
     /// follow: "handle pulses generated while the clamp feedrate is exceeded are ignored").
     pub fn handle_pulses(&mut self, amount: f64) -> Result<f64, Refusal> {
@@ -362,12 +363,13 @@ impl Controller {
                 amount
             }
             ManualTarget::Axis(i) => {
-                let mut to = self.here.machine[i] + amount;
+                let from = self.here.machine[i];
+                let mut to = from + amount;
                 if let Some([lo, hi]) = self.machine.axes[i].stroke {
                     to = to.clamp(lo, hi);
                 }
                 self.manual_move(i, to, AT_CLAMP)?;
-                amount
+                to - from
             }
         };
         Ok(taken)
