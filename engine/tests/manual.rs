@@ -664,6 +664,9 @@ mod sequences {
         Rtcp(bool),
         Coordinates(ManualCoordinates),
         SingleBlock(bool),
+        Signals(ManualSignals),
+        JogSignal(char, bool),
+        Pulses(f64),
     }
 
     const PROGRAM: &str =
@@ -689,6 +692,9 @@ mod sequences {
             1 => prop::sample::select(vec![ManualCoordinates::Machine, ManualCoordinates::Program, ManualCoordinates::Tool])
                 .prop_map(Action::Coordinates),
             1 => any::<bool>().prop_map(Action::SingleBlock),
+            1 => (any::<[bool; 4]>(), 0u8..12).prop_map(|([a, r, n, t], code)| Action::Signals(super::signals(a, r, n, t, code))),
+            1 => (prop::sample::select(vec!['X', 'Y', 'Z', 'B', 'C']), any::<bool>()).prop_map(|(a, p)| Action::JogSignal(a, p)),
+            1 => (-50.0..50.0f64).prop_map(Action::Pulses),
         ]
     }
 
@@ -713,12 +719,13 @@ mod sequences {
         #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
 
         /// Whatever the operator does with the 5-axis manual functions on a BC head running a
-        /// TCP program (interventions included), nothing panics, no axis leaves its stroke or
+        /// TCP program (interventions and FANUC's panel signals included), nothing panics, no axis leaves its stroke or
         /// jumps (no axis moves faster than its rapid rate between two samples), and a machine
         /// that is not running stands still.
         #[test]
         fn any_sequence_of_manual_actions_is_safe(actions in prop::collection::vec(action(), 1..40)) {
-            let m = preset("head-bc");
+            let mut m = preset("head-bc");
+            m.manual.handle_codes = [6, 7, 8, 9, 10];
             let rapid: Vec<f64> = m.axes.iter().map(|a| a.rapid / 60.0 * TICK * (1.0 + 1e-6) + 1e-9).collect();
             let strokes: Vec<Option<[f64; 2]>> = m.axes.iter().map(|a| a.stroke).collect();
             let mut c = controller(m, Dialect::Syntec);
@@ -762,6 +769,11 @@ mod sequences {
                         c.panel.single_block = on;
                         Ok(())
                     }
+                    Action::Signals(s) => c.set_manual_signals(s),
+                    Action::JogSignal(a, p) => c.jog_signal(a, p),
+                    Action::Pulses(d) => c.handle_pulses(d).map(|taken| {
+                        assert!(taken == 0.0 || taken.abs() <= d.abs() + 1e-12, "took {taken} of {d}");
+                    }),
                 };
                 let p = c.point().machine;
                 for (i, s) in strokes.iter().enumerate() {
