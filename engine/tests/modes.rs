@@ -41,6 +41,11 @@ fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
 
 /// As [`custom`], with the interpreter's configuration changed by `f`.
 fn custom_with(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Config)) -> String {
+    outcome(custom_run(axes, dialect, src, f))
+}
+
+/// As [`custom_with`], the whole result.
+fn custom_run(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Config)) -> fivex_engine::run::RunResult {
     let axes = axes
         .chars()
         .map(|name| {
@@ -68,7 +73,7 @@ fn custom_with(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Conf
     for n in 1..=9 {
         interp.state.offsets.tool_mut(n).unwrap().h_geometry = 100.0;
     }
-    outcome(run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {}))
+    run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {})
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -431,6 +436,8 @@ fn five_axes_per_block_on_the_31i_a5() {
     let i31 = |c: &mut Config| c.five_axes_per_block = true;
     let six = "G43.4 H1\nG01 X1. Y1. Z1. B1. C1. U1. F100\nG49";
     assert_eq!(custom_with("XYZBCU", Dialect::Fanuc, six, i31), "PS5421");
+    let r = custom_run("XYZBCU", Dialect::Fanuc, six, i31);
+    assert_eq!((r.alarms[0].message.as_str(), r.alarms[0].line), ("ILLEGAL COMMAND IN G43.4/G43.5", 2));
     assert_eq!(custom("XYZBCU", Dialect::Fanuc, six), "ok", "the 30i-A5 has no such limit");
     assert_eq!(custom_with("XYZBCU", Dialect::Syntec, six, i31), "ok", "a FANUC rule");
     let five = "G43.4 H1\nG01 X1. Y1. Z1. B1. C1. F100\nG01 X2. Y2. U1. V1. F100\nG49";
