@@ -21,8 +21,10 @@ use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Plan
 use std::collections::VecDeque;
 
 mod manual;
+mod signals;
 pub use manual::ManualCoordinates;
 use manual::{Intervention, Shift};
+pub use signals::{ManualSignals, ManualTarget};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -64,6 +66,9 @@ pub struct Panel {
     /// Syntec R519 manual RTCP: under tool centre point control, jogging a rotary axis keeps
     /// the tool tip where it is (tool tip centre rotation).
     pub manual_rtcp: bool,
+    /// FANUC's 5-axis manual feed signals (ALNGH, RGHTH, RNDH, TB_BASE) and the handle's axis
+    /// select code, read by [`Controller::jog_signal`] and [`Controller::handle_pulses`].
+    pub manual_signals: ManualSignals,
 }
 
 impl Default for Panel {
@@ -78,6 +83,7 @@ impl Default for Panel {
             manual_absolute: true,
             manual_coordinates: ManualCoordinates::Machine,
             manual_rtcp: false,
+            manual_signals: ManualSignals::default(),
         }
     }
 }
@@ -537,8 +543,8 @@ impl Controller {
         }
     }
 
-    /// JOG: start moving `axis` in the direction of `positive` at the jog feed (with override)
-    /// until [`Controller::jog_stop`] or the stroke limit. X/Y/Z move in the coordinate system
+    /// JOG: start moving `axis` in the direction of `positive` at its jog feed (FANUC No.1423,
+    /// else the panel's; with override) until [`Controller::jog_stop`] or the stroke limit. X/Y/Z move in the coordinate system
     /// of `panel.manual_coordinates` (Syntec R518); a rotary axis with `panel.manual_rtcp`
     /// under tool centre point control turns about the tool tip (R519).
     pub fn jog_start(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
@@ -546,17 +552,18 @@ impl Controller {
             return Err(Refusal::WrongMode);
         }
         let i = self.axis(axis)?;
+        let jog_feed = self.jog_feed_of(i);
         if let Some(d) = self.coordinate_direction(i) {
-            return self.move_along(if positive { d } else { -d }, f64::INFINITY, self.panel.jog_feed);
+            return self.move_along(if positive { d } else { -d }, f64::INFINITY, jog_feed);
         }
         if let Some(length) = self.rtcp_length(i) {
-            let feed = self.panel.jog_feed * self.panel.feed_override;
+            let feed = jog_feed * self.panel.feed_override;
             return self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, length, feed, None);
         }
         let limit = self.machine.axes[i].stroke.map(|[lo, hi]| if positive { hi } else { lo });
         let far = if positive { 1.0e6 } else { -1.0e6 };
         let target = limit.unwrap_or(self.here.machine[i] + far);
-        self.manual_move(i, target, self.panel.jog_feed)
+        self.manual_move(i, target, jog_feed)
     }
 
     pub fn jog_stop(&mut self) {
@@ -628,7 +635,8 @@ impl Controller {
             feed,
             feed_mode: crate::canon::FeedMode::PerMinute,
             spindle: 0.0,
-            context: MotionContext::default(),
+            // Handle pulses go at the clamp, whatever the override.
+            context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
         };
         let ctx = FeedContext {
             feed_override: self.panel.feed_override,

@@ -358,6 +358,21 @@ pub struct ManualOptions {
     /// feed moves faster (FANUC No.1424); a missing or 0 entry: the axis's rapid rate.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rapid: Vec<f64>,
+    /// Jog feedrate per axis (axis order), mm/min or deg/min (FANUC No.1423): ordinary JOG of
+    /// the axis, and with `jog_feedrate` the 5-axis JOG feeds its ±J signal drives; a missing or
+    /// 0 entry: the panel's jog feed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub jog_feed: Vec<f64>,
+    /// The first handle's axis select codes (HS1A–HS1E) that choose the 5-axis handle feeds
+    /// (FANUC No.12310–12314): tool axis / table vertical, right-angle / table horizontal
+    /// direction 1, direction 2, tool tip centre rotation of the first and of the second rotary
+    /// axis (OQ-25); 0: none (`controller::ManualSignals`).
+    #[serde(default, skip_serializing_if = "no_codes")]
+    pub handle_codes: [u8; 5],
+}
+
+fn no_codes(codes: &[u8; 5]) -> bool {
+    codes.iter().all(|&c| c == 0)
 }
 
 /// FANUC No.12321: the vertical axis of the longitude/latitude feeds.

@@ -5,7 +5,7 @@
 #![allow(clippy::approx_constant)]
 
 use fivex_engine::canon::Pos;
-use fivex_engine::controller::{Controller, ManualCoordinates, Mode, Refusal, RunState};
+use fivex_engine::controller::{Controller, ManualCoordinates, ManualSignals, ManualTarget, Mode, Refusal, RunState};
 use fivex_engine::interp::Config;
 use fivex_engine::kin::{Kinematics, ManualFeed, Vec3};
 use fivex_engine::machine::{MachineConfig, ManualOptions, ManualVertical};
@@ -292,6 +292,8 @@ fn manual_settings_in_fanuc_parameters_tv_man_04h() {
         jog_feedrate: true,
         dry_run_feed: 2500.0,
         rapid: vec![6000.0, 6000.0, 3000.0, 0.0, 1800.0],
+        jog_feed: vec![1000.0, 0.0, 2000.0, 720.0, 0.0],
+        handle_codes: [10, 11, 12, 0, 31],
     };
     let p = params_of(Dialect::Fanuc, &m).unwrap();
     assert_eq!(p.get(12320).unwrap(), 7.0);
@@ -302,7 +304,9 @@ fn manual_settings_in_fanuc_parameters_tv_man_04h() {
     assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
     // The defaults write nothing and read back as defaults.
     let plain = params_of(Dialect::Fanuc, &preset("head-bc")).unwrap();
-    for n in [12318, 12320, 12321, 12322, 19746, 1410, 1424] {
+    assert_eq!((p.get(12310).unwrap(), p.get(12314).unwrap()), (10.0, 31.0));
+    assert!(!p.0.contains_key(&12313));
+    for n in [12318, 12320, 12321, 12322, 19746, 1410, 1423, 1424, 12310, 12311, 12312, 12313, 12314] {
         assert!(!plain.0.contains_key(&n), "No.{n}");
     }
     // JSON: absent means the defaults.
@@ -315,6 +319,12 @@ fn manual_settings_in_fanuc_parameters_tv_man_04h() {
         let e = machine_from(Dialect::Fanuc, "m", &q).unwrap_err();
         assert_eq!(e.alarm, Some(AlarmId::MachineParameter), "12321 = {bad}");
         assert!(e.describe(Dialect::Fanuc).contains("PS5459"), "{}", e.describe(Dialect::Fanuc));
+    }
+    // HS1A–HS1E are five bits: a code outside 0…31 is refused.
+    for bad in [32.0, -1.0, 1.5] {
+        let mut q = p.clone();
+        q.set(12312, bad);
+        assert!(machine_from(Dialect::Fanuc, "m", &q).is_err(), "12312 = {bad}");
     }
     // Syntec has no such parameters: its list does not carry them.
     let s = params_of(Dialect::Syntec, &m).unwrap();
@@ -654,6 +664,9 @@ mod sequences {
         Rtcp(bool),
         Coordinates(ManualCoordinates),
         SingleBlock(bool),
+        Signals(ManualSignals),
+        JogSignal(char, bool),
+        Pulses(f64),
     }
 
     const PROGRAM: &str =
@@ -679,6 +692,9 @@ mod sequences {
             1 => prop::sample::select(vec![ManualCoordinates::Machine, ManualCoordinates::Program, ManualCoordinates::Tool])
                 .prop_map(Action::Coordinates),
             1 => any::<bool>().prop_map(Action::SingleBlock),
+            1 => (any::<[bool; 4]>(), 0u8..12).prop_map(|([a, r, n, t], code)| Action::Signals(super::signals(a, r, n, t, code))),
+            1 => (prop::sample::select(vec!['X', 'Y', 'Z', 'B', 'C']), any::<bool>()).prop_map(|(a, p)| Action::JogSignal(a, p)),
+            1 => (-50.0..50.0f64).prop_map(Action::Pulses),
         ]
     }
 
@@ -703,12 +719,13 @@ mod sequences {
         #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
 
         /// Whatever the operator does with the 5-axis manual functions on a BC head running a
-        /// TCP program (interventions included), nothing panics, no axis leaves its stroke or
+        /// TCP program (interventions and FANUC's panel signals included), nothing panics, no axis leaves its stroke or
         /// jumps (no axis moves faster than its rapid rate between two samples), and a machine
         /// that is not running stands still.
         #[test]
         fn any_sequence_of_manual_actions_is_safe(actions in prop::collection::vec(action(), 1..40)) {
-            let m = preset("head-bc");
+            let mut m = preset("head-bc");
+            m.manual.handle_codes = [6, 7, 8, 9, 10];
             let rapid: Vec<f64> = m.axes.iter().map(|a| a.rapid / 60.0 * TICK * (1.0 + 1e-6) + 1e-9).collect();
             let strokes: Vec<Option<[f64; 2]>> = m.axes.iter().map(|a| a.stroke).collect();
             let mut c = controller(m, Dialect::Syntec);
@@ -752,6 +769,11 @@ mod sequences {
                         c.panel.single_block = on;
                         Ok(())
                     }
+                    Action::Signals(s) => c.set_manual_signals(s),
+                    Action::JogSignal(a, p) => c.jog_signal(a, p),
+                    Action::Pulses(d) => c.handle_pulses(d).map(|taken| {
+                        assert!(taken == 0.0 || taken.abs() <= d.abs() + 1e-12, "took {taken} of {d}");
+                    }),
                 };
                 let p = c.point().machine;
                 for (i, s) in strokes.iter().enumerate() {
@@ -769,5 +791,219 @@ mod sequences {
                 }
             }
         }
+    }
+}
+
+// --- FANUC's panel signals (MAN-05…17, §6.7) -------------------------------------------------
+
+fn signals(alngh: bool, rghth: bool, rndh: bool, tb_base: bool, handle_select: u8) -> ManualSignals {
+    ManualSignals { alngh, rghth, rndh, tb_base, handle_select }
+}
+
+/// TV-MAN-02, 03, 03b, 03c, 03d, 03e and OQ-27: which JOG signal drives which feed (head-bc:
+/// X, Y, Z, B, C are axes 1…5, No.19697 = 3).
+#[test]
+fn jog_signals_choose_the_feed_tv_man_02_03() {
+    use ManualFeed::*;
+    use ManualTarget::{Axis, Feed, TipRotation};
+    let kin = Kinematics::new(&preset("head-bc")).unwrap();
+    let k = Some(&kin);
+    // TV-MAN-02: ALNGH, TB_BASE 0: ±J3 the tool axis; the others their own axis.
+    let along = signals(true, false, false, false, 0);
+    assert_eq!(along.jog_target(k, 2), Feed(ToolAxis));
+    assert_eq!(along.jog_target(k, 0), Axis(0));
+    assert_eq!(along.jog_target(k, 3), Axis(3));
+    // TV-MAN-03: RGHTH: ±J1 direction 1, ±J2 direction 2; ±J3 plain Z.
+    let right = signals(false, true, false, false, 0);
+    assert_eq!([right.jog_target(k, 0), right.jog_target(k, 1)], [Feed(RightAngle1), Feed(RightAngle2)]);
+    assert_eq!(right.jog_target(k, 2), Axis(2));
+    // TV-MAN-03b/03c: TB_BASE 1: the table feeds on the same signals.
+    let table = signals(false, true, false, true, 0);
+    assert_eq!([table.jog_target(k, 0), table.jog_target(k, 1)], [Feed(TableHorizontal1), Feed(TableHorizontal2)]);
+    assert_eq!(signals(true, false, false, true, 0).jog_target(k, 2), Feed(TableVertical));
+    // TV-MAN-03d: RNDH: ±J4 (B) turns B about the tip; a linear axis jogs alone.
+    let round = signals(false, false, true, false, 0);
+    assert_eq!([round.jog_target(k, 3), round.jog_target(k, 4)], [TipRotation(3), TipRotation(4)]);
+    assert_eq!(round.jog_target(k, 1), Axis(1));
+    // TV-MAN-03e: the reference direction tilted by RA = 30: still ±J3 (No.19697 alone).
+    let mut tilted = preset("head-bc");
+    tilted.tool_axis = [0.5, 0.0, 0.866_025_403_784_438_6];
+    let kin_tilted = Kinematics::new(&tilted).unwrap();
+    assert_eq!(along.jog_target(Some(&kin_tilted), 2), Feed(ToolAxis));
+    assert_eq!(right.jog_target(Some(&kin_tilted), 0), Feed(RightAngle1));
+    // OQ-27 (decision): two mode signals at once, or none, or no kinematics: the axis alone.
+    for s in [signals(true, true, false, false, 0), signals(true, false, true, false, 0), ManualSignals::default()] {
+        assert_eq!(s.jog_target(k, 2), Axis(2), "{s:?}");
+    }
+    assert_eq!(along.jog_target(None, 2), Axis(2));
+    // 19697 = 1 (OQ-26): ±J1 the tool axis, ±J2 direction 1 (+Y), ±J3 direction 2 (+Z).
+    let mut x_tool = preset("head-bc");
+    x_tool.tool_axis = [1.0, 0.0, 0.0];
+    let kin_x = Kinematics::new(&x_tool).unwrap();
+    assert_eq!(along.jog_target(Some(&kin_x), 0), Feed(ToolAxis));
+    assert_eq!(
+        [right.jog_target(Some(&kin_x), 1), right.jog_target(Some(&kin_x), 2)],
+        [Feed(RightAngle1), Feed(RightAngle2)]
+    );
+}
+
+/// MAN-05/07/11/14/16: the handle select code against No.12310–12314 (OQ-25: 12311 direction
+/// 1, 12312 direction 2, 12313 the first rotary axis — C on head-bc —, 12314 the second, B);
+/// a code that is no 5-axis feed is an axis number.
+#[test]
+fn handle_select_codes_choose_the_feed_no_12310_12314() {
+    use ManualFeed::*;
+    use ManualTarget::{Axis, Feed, Nothing, TipRotation};
+    let mut m = preset("head-bc");
+    m.manual.handle_codes = [10, 11, 12, 13, 14];
+    let kin = Kinematics::new(&m).unwrap();
+    let k = Some(&kin);
+    let t = |a, r, n, tb, code| signals(a, r, n, tb, code).handle_target(k, &m);
+    assert_eq!(t(true, false, false, false, 10), Feed(ToolAxis));
+    assert_eq!(t(true, false, false, true, 10), Feed(TableVertical));
+    assert_eq!(t(false, true, false, false, 11), Feed(RightAngle1));
+    assert_eq!(t(false, true, false, false, 12), Feed(RightAngle2));
+    assert_eq!(t(false, true, false, true, 12), Feed(TableHorizontal2));
+    assert_eq!(t(false, false, true, false, 13), TipRotation(4));
+    assert_eq!(t(false, false, true, true, 14), TipRotation(3));
+    // The code of another family, or no mode signal: an axis number, else nothing.
+    assert_eq!(t(false, true, false, false, 10), Nothing, "10 is no axis of five");
+    assert_eq!(t(true, false, false, false, 3), Axis(2));
+    assert_eq!(t(false, false, false, false, 10), Nothing);
+    assert_eq!(t(true, true, false, false, 10), Nothing, "OQ-27: conflicting signals");
+    assert_eq!(t(true, false, false, false, 0), Nothing);
+    assert_eq!(signals(true, false, false, false, 10).handle_target(None, &m), Nothing);
+    // Unset codes (0) select no 5-axis feed.
+    let plain = preset("head-bc");
+    assert_eq!(signals(true, false, false, false, 1).handle_target(k, &plain), Axis(0));
+}
+
+/// The signal entry points move the machine: JOG along the tool with ALNGH (B30: the tool is
+/// (0.5, 0, 0.866)), a plain axis otherwise; the handle by its select code.
+#[test]
+fn signal_entry_points_move_the_machine() {
+    let mut m = preset("head-bc");
+    m.manual.handle_codes = [10, 11, 12, 13, 14];
+    let mut c = controller(m, Dialect::Fanuc);
+    mdi(&mut c, "G90 G00 X0 Y0 Z0 B30. C0");
+    c.set_mode(Mode::Jog).unwrap();
+    c.set_manual_signals(signals(true, false, false, false, 0)).unwrap();
+    c.jog_signal('Z', true).unwrap();
+    for _ in 0..200 {
+        c.tick(TICK);
+    }
+    c.jog_stop();
+    settle(&mut c, 5.0);
+    let p = xyz(&c.point().machine);
+    assert!(p.norm() > 1.0 && close(p.normalize(), [0.5, 0.0, 0.866_025_403_784_438_6], 1e-9), "{p:?}");
+    c.jog_signal('X', false).unwrap();
+    for _ in 0..100 {
+        c.tick(TICK);
+    }
+    c.jog_stop();
+    settle(&mut c, 5.0);
+    let q = xyz(&c.point().machine);
+    assert!(q.x < p.x - 0.1 && (q.y - p.y).abs() < 1e-12 && (q.z - p.z).abs() < 1e-12, "X alone: {q:?}");
+    // HANDLE: code 11 with RGHTH is direction 1 = (0.866, 0, −0.5) at B30 C0; code 13 with RNDH
+    // turns C (the first rotary axis) about the tip; code 0 discards.
+    c.set_mode(Mode::Handle).unwrap();
+    c.set_manual_signals(signals(false, true, false, false, 11)).unwrap();
+    assert_eq!(c.handle_pulses(2.0), Ok(2.0));
+    settle(&mut c, 5.0);
+    let r = xyz(&c.point().machine);
+    assert!(close(r - q, [1.732_050_807_568_877_2, 0.0, -1.0], 1e-9), "{:?}", r - q);
+    c.set_manual_signals(signals(false, false, true, false, 13)).unwrap();
+    let tip = |c: &Controller| {
+        let kin = Kinematics::new(&preset("head-bc")).unwrap();
+        kin.forward(&c.point().machine, c.manual_tool_length()).tip
+    };
+    let before = tip(&c);
+    assert_eq!(c.handle_pulses(-45.0), Ok(-45.0));
+    settle(&mut c, 5.0);
+    // C rolls over: −45 is shown as 315.
+    let cc = c.point().machine[4];
+    assert!((cc.rem_euclid(360.0) - 315.0).abs() < 1e-9 && (tip(&c) - before).norm() < 1e-6, "C {cc}");
+    c.set_manual_signals(signals(false, false, true, false, 0)).unwrap();
+    let here = c.point().machine;
+    assert_eq!(c.handle_pulses(5.0), Ok(0.0), "nothing selected: discarded");
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert_eq!(c.point().machine, here);
+    // Refusals: the mode, the amount, and the signals while moving.
+    assert_eq!(c.handle_pulses(f64::NAN), Err(Refusal::BadValue));
+    c.set_mode(Mode::Jog).unwrap();
+    assert_eq!(c.handle_pulses(1.0), Err(Refusal::WrongMode));
+    c.set_mode(Mode::Handle).unwrap();
+    assert_eq!(c.jog_signal('X', true), Err(Refusal::WrongMode));
+    c.set_manual_signals(signals(false, false, false, false, 1)).unwrap();
+    assert_eq!(c.handle_pulses(5.0), Ok(5.0));
+    assert_eq!(c.set_manual_signals(ManualSignals::default()), Err(Refusal::Busy));
+    settle(&mut c, 5.0);
+}
+
+/// TV-MAN-09 with the signals: the handle moves as fast as No.1424 lets every axis go (the
+/// override does not act on it), and pulses that arrive while it is still following the
+/// earlier ones are discarded ("handle pulses generated while the clamp feedrate is exceeded
+/// are ignored").
+#[test]
+fn handle_pulses_beyond_the_clamp_are_discarded_tv_man_09() {
+    let mut m = preset("head-bc");
+    m.manual.handle_codes = [10, 0, 0, 0, 0];
+    m.manual.rapid = vec![0.0, 0.0, 600.0];
+    let mut c = controller(m, Dialect::Fanuc);
+    mdi(&mut c, "G90 G00 X0 Y0 Z0 B30. C0");
+    c.set_overrides(0.5, 1.0);
+    c.set_mode(Mode::Handle).unwrap();
+    c.set_manual_signals(signals(true, false, false, false, 10)).unwrap();
+    assert_eq!(c.handle_pulses(20.0), Ok(20.0));
+    let mut xs = Vec::new();
+    for _ in 0..100 {
+        c.tick(TICK);
+        xs.push(c.point().machine);
+    }
+    assert_eq!(c.handle_pulses(5.0), Ok(0.0), "still following: discarded");
+    xs.extend(settle(&mut c, 10.0));
+    let top = xs.windows(2).map(|w| (w[1][2] - w[0][2]).abs() / TICK).fold(0.0, f64::max);
+    assert!(top <= 10.0 + 1e-6 && top > 9.99, "Z at its No.1424, 10 mm/s, whatever the override: {top}");
+    assert!(close(xyz(&c.point().machine), [10.0, 0.0, 17.320508], 1e-6), "20 mm along the tool only");
+    assert_eq!(c.handle_pulses(5.0), Ok(5.0), "at rest the pulses move again");
+    settle(&mut c, 10.0);
+    assert!(close(xyz(&c.point().machine), [12.5, 0.0, 21.650635], 1e-6));
+}
+
+/// TV-MAN-08 with No.1423 per axis: JFR = 1 runs the 5-axis JOG at the jog feedrate of the axis
+/// whose signal drives it (Z for the tool axis, X for direction 1), JFR = 0 at the dry run
+/// rate; the override acts in both; an ordinary JOG runs at its axis's No.1423.
+#[test]
+fn jog_feed_per_axis_no_1423_tv_man_08() {
+    let run = |c: &mut Controller, f: &dyn Fn(&mut Controller)| {
+        f(c);
+        let mut xs = Vec::new();
+        for _ in 0..600 {
+            c.tick(TICK);
+            xs.push(c.point().machine);
+        }
+        c.jog_stop();
+        settle(c, 5.0);
+        speed(&xs) * 60.0
+    };
+    for (jfr, tool, dir1) in [(true, 2400.0 * 0.5, 1800.0 * 0.5), (false, 1200.0 * 0.5, 1200.0 * 0.5)] {
+        let mut m = preset("head-bc");
+        (m.manual.jog_feedrate, m.manual.dry_run_feed) = (jfr, 1200.0);
+        m.manual.jog_feed = vec![1800.0, 0.0, 2400.0];
+        let mut c = controller(m, Dialect::Fanuc);
+        c.panel.jog_feed = 3000.0;
+        c.set_overrides(0.5, 1.0);
+        c.set_mode(Mode::Jog).unwrap();
+        let v = run(&mut c, &|c| c.jog_direction(ManualFeed::ToolAxis, true).unwrap());
+        assert!((v - tool).abs() < 1e-6, "JFR {jfr}: tool axis at {v}");
+        c.set_manual_signals(signals(false, true, false, false, 0)).unwrap();
+        let v = run(&mut c, &|c| c.jog_signal('X', true).unwrap());
+        assert!((v - dir1).abs() < 1e-6, "JFR {jfr}: direction 1 at {v}");
+        // Y has no No.1423: the panel's jog feed; X its own.
+        c.set_manual_signals(ManualSignals::default()).unwrap();
+        let v = run(&mut c, &|c| c.jog_start('Y', true).unwrap());
+        assert!((v - 1500.0).abs() < 1e-6, "plain Y at {v}");
+        let v = run(&mut c, &|c| c.jog_signal('X', false).unwrap());
+        assert!((v - 900.0).abs() < 1e-6, "plain X at {v}");
     }
 }

@@ -36,6 +36,16 @@ fn syntec(preset: &str, src: &str) -> String {
 
 /// A machine with the given axes (linear X Y Z U V W, rotary A B C), in this order.
 fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
+    custom_with(axes, dialect, src, |_| {})
+}
+
+/// As [`custom`], with the interpreter's configuration changed by `f`.
+fn custom_with(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Config)) -> String {
+    outcome(custom_run(axes, dialect, src, f))
+}
+
+/// As [`custom_with`], the whole result.
+fn custom_run(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Config)) -> fivex_engine::run::RunResult {
     let axes = axes
         .chars()
         .map(|name| {
@@ -58,11 +68,12 @@ fn custom(axes: &str, dialect: Dialect, src: &str) -> String {
         dialect,
     );
     cfg.max_blocks = 10_000;
+    f(&mut cfg);
     let mut interp = Interpreter::new(parse_file(src), cfg);
     for n in 1..=9 {
         interp.state.offsets.tool_mut(n).unwrap().h_geometry = 100.0;
     }
-    outcome(run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {}))
+    run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {})
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -419,6 +430,27 @@ fn at_most_two_other_axes_in_tcp() {
 }
 
 #[test]
+fn five_axes_per_block_on_the_31i_a5() {
+    // tcp TCP-05, Q-20 (alarm not named: PS5421, decision; the FANUC 31i-A5 only, a control
+    // model setting `Config::five_axes_per_block`, off for the 30i-A5)
+    let i31 = |c: &mut Config| c.five_axes_per_block = true;
+    let six = "G43.4 H1\nG01 X1. Y1. Z1. B1. C1. U1. F100\nG49";
+    assert_eq!(custom_with("XYZBCU", Dialect::Fanuc, six, i31), "PS5421");
+    let r = custom_run("XYZBCU", Dialect::Fanuc, six, i31);
+    assert_eq!((r.alarms[0].message.as_str(), r.alarms[0].line), ("ILLEGAL COMMAND IN G43.4/G43.5", 2));
+    assert_eq!(custom("XYZBCU", Dialect::Fanuc, six), "ok", "the 30i-A5 has no such limit");
+    assert_eq!(custom_with("XYZBCU", Dialect::Syntec, six, i31), "ok", "a FANUC rule");
+    let five = "G43.4 H1\nG01 X1. Y1. Z1. B1. C1. F100\nG01 X2. Y2. U1. V1. F100\nG49";
+    assert_eq!(custom_with("XYZBCUV", Dialect::Fanuc, five, i31), "ok");
+    // Type 2: I/J/K are not axes; the start block counts too; outside TCP six axes are fine.
+    let type2 = "G43.5 H1\nG01 X1. Y1. Z1. U1. V1. I0 J0 K1. F100\nG49";
+    assert_eq!(custom_with("XYZBCUV", Dialect::Fanuc, type2, i31), "ok");
+    let start = "G43.4 H1 X1. Y1. Z1. B1. C1. U1.\nG49";
+    assert_eq!(custom_with("XYZBCU", Dialect::Fanuc, start, i31), "PS5421");
+    assert_eq!(custom_with("XYZBCU", Dialect::Fanuc, "G01 X1. Y1. Z1. B1. C1. U1. F100", i31), "ok");
+}
+
+#[test]
 fn no_g68_3_in_rtcp() {
     // syn SYN-07/23/33 (alarm not named: COR-100, decision); FANUC: twp TWP-16 (PS5462)
     assert_eq!(syntec(HEAD, "G43.4 H1\nG68.3"), "COR-100");
@@ -494,6 +526,13 @@ fn type_2_arcs_are_given_by_r() {
     assert_eq!(syntec(HEAD, &format!("{src}\nG01\nG49")), "COR-100");
     assert_eq!(syntec(HEAD, "G43.5 H1\nG02 X10. Y10. R10. K1. F100\nG01\nG49"), "ok");
     assert_eq!(fanuc(HEAD, "G43.5 H1\nG02 X10. Y10. R10. F100\nG01\nG49"), "ok");
+    // tcp TCP-10/11, Q-20: no full circle in type 2 (start = end in the plane; alarm not named:
+    // PS5421, decision), also as a helix; type 1 may (its centre by I/J/K).
+    let full = "G43.5 H1\nG00 X10. Y0 Z0\nG02 X10. Y0 R10. F100\nG01\nG49";
+    assert_eq!(fanuc(HEAD, full), "PS5421");
+    assert_eq!(fanuc(HEAD, &full.replace("Y0 R10.", "Y0 Z5. R10.")), "PS5421");
+    assert_eq!(syntec(HEAD, full), "COR-100");
+    assert_eq!(fanuc(HEAD, "G43.4 H1\nG00 X10. Y0 Z0\nG02 X10. Y0 I-10. F100\nG01\nG49"), "ok");
 }
 
 #[test]

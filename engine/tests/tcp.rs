@@ -853,3 +853,59 @@ fn wse_24_no_singular_change_while_g54_4_is_on() {
     assert!(r.is_ok(), "{r:?}");
     assert!((end.0 - 10.0).abs() < 0.01 && (end.1 - 175.01).abs() < 0.01, "B {} C {}", end.0, end.1);
 }
+
+#[test]
+fn q6_posture_control_on_a_rotary_only_block_turns_on_the_great_circle() {
+    // Q-6 (decision): the tip stays, so the distance ratio of M-7 is undefined; the tool turns
+    // on the great circle from the start to the end direction (TCP-28's plane, as Syntec's
+    // Pr3054 example 1 shows for `G01 C-90.` from B30 C0: B dips and returns), its angle in
+    // proportion to the block's progress (the rotary path parameter, fed at F with RFC = 1 as in
+    // TCP-20), so the tool's angular speed is Ω·F/90° in the constant-speed part.
+    let src = |p: u8| format!("G90 G00 X0 Y0 Z0 B30. C0\nG43.4 H1 P{p}\nX0 Y0 Z0\nG01 C-90. F3000.\nG49\nM30\n");
+    let mut m = free_preset("head-bc");
+    m.five_axis.rotary_feed = true;
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m.clone(), Dialect::Fanuc, &src(1));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let line = of_line(&samples, 4);
+    assert!(line.len() > 1000, "{} samples", line.len());
+    let v0 = kin.forward(&line[0].machine, 100.0).tool;
+    let last = line.last().unwrap().machine;
+    let v1 = kin.forward(&last, 100.0).tool;
+    // C rolls over (−90 is shown as 270); the last sample is within 1 ms of the end.
+    assert!((last[3] - 30.0).abs() < 1e-3 && (last[4] - 270.0).abs() < 1e-3, "ends at B30 C-90: {last:?}");
+    let n = v0.cross(&v1).normalize();
+    let omega = v0.dot(&v1).acos().to_degrees();
+    let tip0 = kin.forward(&line[0].machine, 100.0).tip;
+    let mut lowest_b = f64::INFINITY;
+    for s in &line {
+        let pose = kin.forward(&s.machine, 100.0);
+        assert!((pose.tip - tip0).norm() < 1e-6, "the tip stays: {:?}", pose.tip);
+        assert!(pose.tool.dot(&n).abs() < 1e-9, "the tool on the plane of v0, v1: {:?}", pose.tool);
+        lowest_b = lowest_b.min(s.machine[3]);
+    }
+    // Half-way the tool is (v0 + v1)/|v0 + v1|: B = acos(0.9258) = 22.21°.
+    let half = (v0 + v1).normalize();
+    assert!((lowest_b - half.z.acos().to_degrees()).abs() < 0.01, "B dips to {lowest_b}");
+    // The constant-speed middle: Ω/90 · 3000°/min.
+    let angle = |s: &Sample| v0.dot(&kin.forward(&s.machine, 100.0).tool).clamp(-1.0, 1.0).acos().to_degrees();
+    let mid = line.len() / 2;
+    let rate = (angle(&line[mid + 1]) - angle(&line[mid])) / (line[mid + 1].t - line[mid].t) * 60.0;
+    assert!((rate - omega / 90.0 * 3000.0).abs() < 1.0, "{rate}°/min of the tool, Ω {omega}");
+    // Conventional control (P0) keeps B at 30 and leaves the plane.
+    let (_, conventional) = run_on(m.clone(), Dialect::Fanuc, &src(0));
+    assert!(of_line(&conventional, 4).iter().all(|s| (s.machine[3] - 30.0).abs() < 1e-9));
+    // Syntec's tool-vector interpolation (Pr3054 = 1) does the same on this block.
+    let mut syntec = m.clone();
+    syntec.five_axis.posture_control = true;
+    let (r, samples) = run_on(syntec, Dialect::Syntec, &src(1).replace(" P1", ""));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let low = of_line(&samples, 4).iter().map(|s| s.machine[3]).fold(f64::INFINITY, f64::min);
+    assert!((low - lowest_b).abs() < 1e-6, "Syntec B dips to {low}");
+    // G93: the block time is 1/F min also under posture control (TCP-19: the rotary amount).
+    let g93 = src(1).replace("G01 C-90. F3000.", "G93 G01 C-90. F4.\nG94 F1000.");
+    let (r, samples) = run_on(m, Dialect::Fanuc, &g93);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let b = of_line(&samples, 4);
+    assert!((b.last().unwrap().t - b[0].t - 15.0).abs() < 0.2, "{}", b.last().unwrap().t - b[0].t);
+}

@@ -3,11 +3,16 @@
 //! intervention in a held program with manual absolute on or off, Syntec's manual RTCP
 //! registers R518/R519.
 
+use super::signals::{signal_axis, ManualTarget};
 use super::{Controller, Mode, Refusal, RunState};
 use crate::canon::{Motion, MotionContext, MotionKind, Pos};
 use crate::kin::{latitude_longitude, ManualFeed, Vec3};
 use crate::machine::{ManualOptions, ManualVertical};
 use crate::motion::{AxisLimits, Segment};
+
+/// The feed of handle pulses: higher than any axis goes, so the manual rapid rates (No.1424)
+/// set the speed; the feed override does not act on it (`Controller::push_manual`).
+pub(super) const AT_CLAMP: f64 = 1.0e9;
 
 /// Syntec R518: the coordinate system of manual X/Y/Z moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -181,7 +186,8 @@ impl Controller {
             return Err(Refusal::WrongMode);
         }
         let d = self.manual_direction(feed)?;
-        self.move_along(if positive { d } else { -d }, f64::INFINITY, self.manual_jog_feed())
+        let axis = self.kinematics.as_ref().and_then(|k| signal_axis(k, feed));
+        self.move_along(if positive { d } else { -d }, f64::INFINITY, self.manual_jog_feed_of(axis))
     }
 
     /// HANDLE along a 5-axis manual feed direction by `amount` mm (stopping at the strokes).
@@ -206,7 +212,7 @@ impl Controller {
         }
         let o = &self.machine.manual;
         let linear = (!o.jog_feedrate && o.dry_run_feed > 0.0).then_some(o.dry_run_feed * self.panel.feed_override);
-        let feed = self.panel.jog_feed * self.panel.feed_override;
+        let feed = self.jog_feed_of(self.axis(axis)?) * self.panel.feed_override;
         self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, self.manual_tool_length(), feed, linear)
     }
 
@@ -265,16 +271,108 @@ impl Controller {
         }
     }
 
-    /// The feed of the 5-axis JOG feeds (FANUC MAN-06, TV-MAN-08): the dry run rate (No.1410),
-    /// or the jog feedrate with JFR (or when no dry run rate is set); the feed override acts
-    /// on it as on every JOG feed.
+    /// The feed of the 5-axis JOG feeds (FANUC MAN-06, TV-MAN-08) without a driving axis: the
+    /// dry run rate (No.1410), or the panel's jog feed with JFR (or when no dry run rate is set);
+    /// the feed override acts on it as on every JOG feed.
     pub fn manual_jog_feed(&self) -> f64 {
+        self.manual_jog_feed_of(None)
+    }
+
+    /// As [`Controller::manual_jog_feed`] for the feed the ±J signal of `axis` (index) drives:
+    /// with JFR that axis's jog feedrate (No.1423, MAN-08/17 "of the driven signal's axis").
+    pub fn manual_jog_feed_of(&self, axis: Option<usize>) -> f64 {
         let o = &self.machine.manual;
         if o.jog_feedrate || o.dry_run_feed <= 0.0 {
-            self.panel.jog_feed
+            axis.map_or(self.panel.jog_feed, |i| self.jog_feed_of(i))
         } else {
             o.dry_run_feed
         }
+    }
+
+    /// The jog feedrate of axis `i` (FANUC No.1423), or the panel's where it is not set.
+    pub fn jog_feed_of(&self, i: usize) -> f64 {
+        match self.machine.manual.jog_feed.get(i) {
+            Some(&f) if f > 0.0 => f,
+            _ => self.panel.jog_feed,
+        }
+    }
+
+    // --- FANUC's panel signals (`signals.rs`) ---------------------------------------------
+
+    /// The 5-axis feed signals ALNGH, RGHTH, RNDH, TB_BASE and the handle select code; refused
+    /// (`Busy`) while something moves, as a real panel's change would not act mid-move.
+    pub fn set_manual_signals(&mut self, signals: super::ManualSignals) -> Result<(), Refusal> {
+        if self.moving() {
+            return Err(Refusal::Busy);
+        }
+        self.panel.manual_signals = signals;
+        Ok(())
+    }
+
+    /// JOG signal ±J of `axis` (FANUC MAN-06/08/12/15/17): the 5-axis feed the panel signals
+    /// select for it ([`super::ManualSignals::jog_target`]) at the 5-axis JOG feed, or the
+    /// ordinary JOG of the axis.
+    pub fn jog_signal(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
+        if self.mode != Mode::Jog {
+            return Err(Refusal::WrongMode);
+        }
+        let i = self.axis(axis)?;
+        match self.panel.manual_signals.jog_target(self.kinematics.as_deref(), i) {
+            ManualTarget::Feed(feed) => {
+                let d = self.manual_direction(feed)?;
+                self.move_along(if positive { d } else { -d }, f64::INFINITY, self.manual_jog_feed_of(Some(i)))
+            }
+            ManualTarget::TipRotation(_) => self.jog_tip_rotation(axis, positive),
+            ManualTarget::Axis(_) | ManualTarget::Nothing => self.jog_start(axis, positive),
+        }
+    }
+
+    /// Pulses of the first handle, `amount` mm (deg) in all: they drive what the select code and
+    /// the signals choose ([`super::ManualSignals::handle_target`]) as fast as the manual rapid
+    /// rates allow (No.1424, the clamp of MAN-05/07/11/14/16), stopping at the strokes as the
+    /// other manual moves do. Answers the amount taken (for one axis what the strokes leave of
+    /// it): 0 when the pulses are discarded — the select code chooses nothing, or the machine is
+    /// still moving the earlier pulses (the handle turned faster than the clamp lets it
+    /// follow: "handle pulses generated while the clamp feedrate is exceeded are ignored").
+    pub fn handle_pulses(&mut self, amount: f64) -> Result<f64, Refusal> {
+        if self.mode != Mode::Handle {
+            return Err(Refusal::WrongMode);
+        }
+        if !amount.is_finite() {
+            return Err(Refusal::BadValue);
+        }
+        // A program under way (not held for an intervention): the handle interrupt is not
+        // modelled.
+        if self.estop || self.run_state == RunState::Alarm || (self.program_active && self.intervention.is_none()) {
+            return Err(Refusal::Busy);
+        }
+        if self.moving() || !self.planner.is_empty() {
+            return Ok(0.0);
+        }
+        let target = self.panel.manual_signals.handle_target(self.kinematics.as_deref(), &self.machine);
+        let taken = match target {
+            ManualTarget::Nothing => return Ok(0.0),
+            ManualTarget::Feed(feed) => {
+                let d = self.manual_direction(feed)?;
+                self.move_along(if amount < 0.0 { -d } else { d }, amount.abs(), AT_CLAMP)?;
+                amount
+            }
+            ManualTarget::TipRotation(i) => {
+                let name = self.machine.axes[i].name;
+                self.turn_about_tip(name, amount, self.manual_tool_length(), AT_CLAMP, None)?;
+                amount
+            }
+            ManualTarget::Axis(i) => {
+                let from = self.here.machine[i];
+                let mut to = from + amount;
+                if let Some([lo, hi]) = self.machine.axes[i].stroke {
+                    to = to.clamp(lo, hi);
+                }
+                self.manual_move(i, to, AT_CLAMP)?;
+                to - from
+            }
+        };
+        Ok(taken)
     }
 
     /// Where a 5-axis manual feed moves the tool now, machine coordinates (FANUC §2.15,

@@ -83,6 +83,10 @@ pub struct Config {
     /// Run plain motion blocks through their fast path (`interp/plain.rs`). Off only to check
     /// that both paths agree.
     pub fast_paths: bool,
+    /// The control is a FANUC 31i-A5 (not the 30i-A5): under tool centre point control a block
+    /// may command at most five axes (TCP-05; PS5421, `docs/five-axis.md`). The model of the
+    /// control, not a machine parameter.
+    pub five_axes_per_block: bool,
 }
 
 impl Config {
@@ -100,6 +104,7 @@ impl Config {
             arc_tolerance: 0.02,
             rotation_angle_incremental: true,
             fast_paths: true,
+            five_axes_per_block: false,
         }
     }
 }

@@ -264,6 +264,12 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "tcp TCP-05, TV-57: at most 2 axes outside the 5-axis set in TCP", A::AxisNotInTcp, |c| {
         c.during(8, |c, m| c.tcp(m)) && c.other_axes() > 2
     }),
+    rule(
+        Fanuc,
+        "tcp TCP-05, Q-20: the 31i-A5 commands at most 5 axes in a block in TCP",
+        A::IllegalCommandInTcp,
+        |c| c.st.cfg.five_axes_per_block && c.during(8, |c, m| c.tcp(m)) && c.axis_count() > 5,
+    ),
     rule(Syntec, "syn SYN-07/23/33: no G68.3 in RTCP", A::IllegalCommandInMode, |c| {
         c.has(683) && c.during(8, |c, m| c.tcp(m))
     }),
@@ -586,6 +592,11 @@ impl Ctx<'_> {
 
     fn any_linear(&self) -> bool {
         self.axis_words(Some(AxisKind::Linear))
+    }
+
+    /// Axis words in the block.
+    fn axis_count(&self) -> usize {
+        self.st.cfg.machine.axes.iter().filter(|a| self.w.has(a.name as u8)).count()
     }
 
     /// Axis words outside the 5-axis set (X, Y, Z and the first two rotary axes).

@@ -187,8 +187,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 
 /// The 5-axis manual feed settings: No.12318 tool length, 12320#0 TWD / #1 FLL / #2 JFR, 12321
 /// vertical axis (outside 0…3: PS5459, as S002 lists 12321 among the machine configuration
-/// parameters), 12322 parallel angle, 19746#2 LOD / #3 LOZ, 1410 dry run rate, 1424 manual
-/// rapid per axis (absent: 0).
+/// parameters), 12322 parallel angle, 19746#2 LOD / #3 LOZ, 1410 dry run rate, 1423 jog feed
+/// and 1424 manual rapid per axis (absent: 0), 12310–12314 handle select codes (0…31).
 fn manual_options(p: &Params, axes: usize) -> Result<ManualOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -201,6 +201,12 @@ fn manual_options(p: &Params, axes: usize) -> Result<ManualOptions, ConfigError>
         _ => return Err(ConfigError::alarm(AlarmId::MachineParameter, format!("No.12321 = {code} is not 0…3"))),
     };
     let rapid = p.axes(1424, axes)?;
+    let jog = p.axes(1423, axes)?;
+    let mut handle_codes = [0u8; 5];
+    for (k, code) in handle_codes.iter_mut().enumerate() {
+        // HS1A–HS1E: five signal bits.
+        *code = p.code(12310 + k as u32, 0, 31)? as u8;
+    }
     Ok(ManualOptions {
         tool_length: p.get(12318)?,
         length_from_offset: bit(19746, 2)?,
@@ -212,6 +218,8 @@ fn manual_options(p: &Params, axes: usize) -> Result<ManualOptions, ConfigError>
         parallel_deg: p.get(12322)?,
         dry_run_feed: p.get(1410)?,
         rapid: if rapid.iter().all(|x| *x == 0.0) { Vec::new() } else { rapid },
+        jog_feed: if jog.iter().all(|x| *x == 0.0) { Vec::new() } else { jog },
+        handle_codes,
     })
 }
 
@@ -240,8 +248,15 @@ fn manual_params(p: &mut Params, m: &MachineConfig) {
     if lod_loz != 0 {
         p.set_bits(19746, lod_loz);
     }
-    if o.rapid.iter().any(|x| *x != 0.0) {
-        p.set_axes(1424, (0..m.axes.len()).map(|i| real(o.rapid.get(i).copied().unwrap_or(0.0))).collect());
+    for (number, values) in [(1424, &o.rapid), (1423, &o.jog_feed)] {
+        if values.iter().any(|x| *x != 0.0) {
+            p.set_axes(number, (0..m.axes.len()).map(|i| real(values.get(i).copied().unwrap_or(0.0))).collect());
+        }
+    }
+    for (k, &code) in o.handle_codes.iter().enumerate() {
+        if code != 0 {
+            p.set(12310 + k as u32, code as f64);
+        }
     }
 }
 
