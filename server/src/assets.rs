@@ -13,7 +13,7 @@ use rust_embed::Embed;
 pub const FALLBACK_HTML: &str = include_str!("fallback.html");
 
 #[derive(Embed)]
-#[folder = "$CARGO_MANIFEST_DIR/../web/dist/"]
+#[folder = "../web/dist/"]
 #[allow_missing = true]
 struct Dashboard;
 

@@ -1,8 +1,9 @@
 // Alarms in force (live) and the alarm and run history.
+import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, fmt, type AlarmInfo, type Schemas } from "../api/client";
 
-export function Alarms({ id, active, messages }: { id: string; active: AlarmInfo[]; messages: string[] }) {
+function AlarmsView({ id, active, messages }: { id: string; active: AlarmInfo[]; messages: string[] }) {
   const [history, setHistory] = useState<Schemas["Alarms"]["history"]>([]);
   const [runs, setRuns] = useState<Schemas["Run"][]>([]);
   useEffect(() => {
@@ -79,3 +80,6 @@ export function Alarms({ id, active, messages }: { id: string; active: AlarmInfo
     </div>
   );
 }
+
+/// Re-rendered only when its own props change, not with every position frame.
+export const Alarms = memo(AlarmsView);

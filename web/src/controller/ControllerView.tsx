@@ -27,7 +27,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
   const live = useController(id);
   const [error, setError] = useState<string | null>(null);
   const [program, setProgram] = useState<number | null>(null);
-  const [path, setPath] = useState<Float32Array | null>(null);
+  const [path, setPath] = useState<{ xyz: Float32Array; rapid: boolean[] } | null>(null);
   const status = live.status;
 
   // The programmed path of the selected program, for the 3D view (again when it starts, since
@@ -35,7 +35,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
   useEffect(() => {
     if (program == null) return setPath(null);
     must(api.GET("/api/v1/controllers/{id}/programs/{number}/path", { params: { path: { id, number: program } } })).then(
-      (p) => setPath(new Float32Array(p.xyz)),
+      (p) => setPath({ xyz: new Float32Array(p.xyz), rapid: p.rapid }),
       () => setPath(null),
     );
   }, [id, program, status?.run_state === "running" && status.program === program]);

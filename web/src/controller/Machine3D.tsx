@@ -1,6 +1,39 @@
-// Placeholder until the 3D module lands: the tool tip in the table frame as numbers.
+// The live 3D machine of a controller: the kinematic chain moved by the streamed axis values,
+// the programmed path of the selected program and the executed tool tip trace.
+import { useEffect, useRef } from "preact/hooks";
 import type { Frame } from "../api/client";
+import { View3D, type View3DHandle } from "../three/View3D";
 
-export function Machine3D({ frame }: { machine: any; frame: Frame | null; path: Float32Array | null; onFrame: (f: (frame: Frame) => void) => () => void }) {
-  return <div class="view3d">{frame ? frame.tip_table.join(" ") : ""}</div>;
+export function Machine3D({
+  machine,
+  frame,
+  path,
+  onFrame,
+}: {
+  machine: any;
+  frame: Frame | null;
+  path: { xyz: Float32Array; rapid: boolean[] } | null;
+  onFrame: (f: (frame: Frame) => void) => () => void;
+}) {
+  const view = useRef<View3DHandle | null>(null);
+  // Every frame's tip goes to the trace as it arrives (the panel repaints at most once per
+  // animation frame; the trace must not lose points in between).
+  useEffect(() => onFrame((f) => view.current?.addTrace(f.tip_table[0], f.tip_table[1], f.tip_table[2])), [onFrame]);
+  return (
+    <div class="view3d">
+      <View3D
+        machine={machine}
+        axes={frame?.machine}
+        toolLength={frame?.tool_length ?? 0}
+        path={path?.xyz}
+        pathRapid={path?.rapid}
+        onReady={(h) => {
+          view.current = h;
+          // The browser tests reach the view through this.
+          (window as any).__fivexView = h;
+        }}
+        style={{ position: "absolute", inset: "0" }}
+      />
+    </div>
+  );
 }

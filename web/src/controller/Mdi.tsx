@@ -1,8 +1,9 @@
 // MDI: type blocks and run them (the service switches to MDI mode).
+import { memo } from "preact/compat";
 import { useState } from "preact/hooks";
 import { api, must, type Status } from "../api/client";
 
-export function Mdi({ status, onStatus, onError }: { status: Status; onStatus: (s: Status) => void; onError: (e: string | null) => void }) {
+function MdiView({ status, onStatus, onError }: { status: Status; onStatus: (s: Status) => void; onError: (e: string | null) => void }) {
   const [text, setText] = useState("");
   const [history, setHistory] = useState<string[]>([]);
   const run = async (e: Event) => {
@@ -46,3 +47,6 @@ export function Mdi({ status, onStatus, onError }: { status: Status; onStatus: (
     </form>
   );
 }
+
+/// Re-rendered only when its own props change, not with every position frame.
+export const Mdi = memo(MdiView);

@@ -1,10 +1,11 @@
 // Tool offset memory (H length and D radius, geometry and wear) and the work offsets.
+import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, type Schemas } from "../api/client";
 
 const TOOL_FIELDS = ["length", "length_wear", "radius", "radius_wear"] as const;
 
-export function Offsets({ id, axes, onError }: { id: string; axes: string[]; onError: (e: string | null) => void }) {
+function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onError: (e: string | null) => void }) {
   const [tools, setTools] = useState<Schemas["ToolOffsetDto"][]>([]);
   const [works, setWorks] = useState<Schemas["WorkOffsetDto"][]>([]);
   const [more, setMore] = useState("");
@@ -36,7 +37,7 @@ export function Offsets({ id, axes, onError }: { id: string; axes: string[]; onE
     <input
       class="num"
       key={value}
-      value={String(value)}
+      defaultValue={String(value)}
       onChange={(e) => {
         const v = Number(e.currentTarget.value);
         if (Number.isFinite(v)) on(v);
@@ -105,3 +106,6 @@ export function Offsets({ id, axes, onError }: { id: string; axes: string[]; onE
     </div>
   );
 }
+
+/// Re-rendered only when its own props change, not with every position frame.
+export const Offsets = memo(OffsetsView);

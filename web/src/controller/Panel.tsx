@@ -173,7 +173,8 @@ export function Panel({ status, axes, onStatus, onError }: { status: Status; axe
               <input
                 type="number"
                 class="short"
-                value={panel.jog_feed}
+                key={panel.jog_feed}
+                defaultValue={String(panel.jog_feed)}
                 min={1}
                 onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { jog_feed: Number(e.currentTarget.value) } }))}
               />

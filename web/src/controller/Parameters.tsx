@@ -1,9 +1,10 @@
 // The parameter editor in the dialect's numbering (FANUC No.…, Syntec Pr…): the whole list,
 // filterable, each value editable (per-axis values as comma-separated lists).
+import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, type Status } from "../api/client";
 
-export function Parameters({ status, onError }: { status: Status; onError: (e: string | null) => void }) {
+function ParametersView({ status, onError }: { status: Status; onError: (e: string | null) => void }) {
   const id = status.id;
   const [params, setParams] = useState<Record<string, unknown>>({});
   const [filter, setFilter] = useState("");
@@ -50,7 +51,7 @@ export function Parameters({ status, onError }: { status: Status; onError: (e: s
                 <input
                   class="wide num"
                   key={`${n}:${JSON.stringify(v)}`}
-                  value={Array.isArray(v) ? v.join(", ") : String(v)}
+                  defaultValue={Array.isArray(v) ? v.join(", ") : String(v)}
                   onChange={(e) => set(n, e.currentTarget.value)}
                   onKeyDown={(e) => e.key === "Enter" && e.currentTarget.blur()}
                 />
@@ -62,3 +63,6 @@ export function Parameters({ status, onError }: { status: Status; onError: (e: s
     </div>
   );
 }
+
+/// Re-rendered only when its own props change, not with every position frame.
+export const Parameters = memo(ParametersView);

@@ -1,6 +1,6 @@
 // Stored programs: the list, the text with the executing block highlighted, an editor that
 // stores through the service's check (diagnostics shown on their lines), upload, and start.
-import { useEffect, useState } from "preact/hooks";
+import { useEffect, useRef, useState } from "preact/hooks";
 import { api, ApiError, must, type Schemas, type Status } from "../api/client";
 import { CodeView, type Mark } from "./CodeView";
 
@@ -26,6 +26,8 @@ export function Programs({
   const [draft, setDraft] = useState<string | null>(null);
   const [marks, setMarks] = useState<Mark[]>([]);
   const [newNumber, setNewNumber] = useState("");
+  /// The template of a program being created, shown in the editor once it is selected.
+  const fresh = useRef<string | null>(null);
   const refresh = () => must(api.GET("/api/v1/controllers/{id}/programs", { params: { path: { id } } })).then(setList, () => {});
 
   useEffect(() => {
@@ -39,8 +41,12 @@ export function Programs({
     if (status.program != null && status.run_state !== "idle") onSelect(status.program);
   }, [status.program, status.run_state]);
   useEffect(() => {
-    setDraft(null);
     setMarks([]);
+    setDraft(fresh.current);
+    if (fresh.current != null) {
+      fresh.current = null;
+      return setText("");
+    }
     if (selected == null) return setText("");
     fetch(`/api/v1/controllers/${id}/programs/${selected}`, { headers: authHeaders() })
       .then((r) => (r.ok ? r.text() : ""))
@@ -101,9 +107,12 @@ export function Programs({
             onClick={() => {
               const n = Number(newNumber);
               if (n >= 1 && n <= 9999) {
-                onSelect(n);
-                setText("");
-                setDraft(`O${String(n).padStart(4, "0")}\n\nM30\n`);
+                const template = `O${String(n).padStart(4, "0")}\n\nM30\n`;
+                if (n === selected) setDraft(template);
+                else {
+                  fresh.current = template;
+                  onSelect(n);
+                }
               }
             }}
           >

@@ -1,9 +1,10 @@
 // The macro variable table: the common variables that are set (live), editable in place, and
 // any variable (system variables too) read by number.
+import { memo } from "preact/compat";
 import { useState } from "preact/hooks";
 import { api, must } from "../api/client";
 
-export function Variables({ id, values, onError }: { id: string; values: Record<string, number | null>; onError: (e: string | null) => void }) {
+function VariablesView({ id, values, onError }: { id: string; values: Record<string, number | null>; onError: (e: string | null) => void }) {
   const [number, setNumber] = useState("");
   const [read, setRead] = useState<string | null>(null);
   const set = async (n: number, text: string) => {
@@ -70,7 +71,7 @@ export function Variables({ id, values, onError }: { id: string; values: Record<
               <td>
                 <input
                   class="num"
-                  value={String(v)}
+                  defaultValue={String(v)}
                   key={`${n}:${v}`}
                   onChange={(e) => set(n, e.currentTarget.value)}
                   onKeyDown={(e) => e.key === "Enter" && e.currentTarget.blur()}
@@ -83,3 +84,6 @@ export function Variables({ id, values, onError }: { id: string; values: Record<
     </div>
   );
 }
+
+/// Re-rendered only when its own props change, not with every position frame.
+export const Variables = memo(VariablesView);

@@ -1,6 +1,6 @@
 // One controller as the page sees it: its status, machine, the latest position frame, alarms,
 // variables and operator messages, kept current by the controller's websocket.
-import { useEffect, useRef, useState } from "preact/hooks";
+import { useCallback, useEffect, useRef, useState } from "preact/hooks";
 import { api, liveSocket, must, wsUrl, type AlarmInfo, type Frame, type Schemas, type Status } from "../api/client";
 
 export type Live = {
@@ -28,6 +28,16 @@ export function useController(id: string): Live {
   const [connected, setConnected] = useState(false);
   const [error, setError] = useState<string | null>(null);
   const listeners = useRef(new Set<(f: Frame) => void>());
+  const onFrame = useCallback((f: (frame: Frame) => void) => {
+    listeners.current.add(f);
+    return () => {
+      listeners.current.delete(f);
+    };
+  }, []);
+  const takeStatus = useCallback((s: Status) => {
+    setStatus(s);
+    setAlarms(s.alarms);
+  }, []);
 
   useEffect(() => {
     let latest: Frame | null = null;
@@ -93,13 +103,7 @@ export function useController(id: string): Live {
     messages,
     connected,
     error,
-    onFrame: (f) => {
-      listeners.current.add(f);
-      return () => listeners.current.delete(f);
-    },
-    setStatus: (s) => {
-      setStatus(s);
-      setAlarms(s.alarms);
-    },
+    onFrame,
+    setStatus: takeStatus,
   };
 }

@@ -1,0 +1,279 @@
+// Browser tests of the dashboard: Debian's Chromium driven by playwright-core against a real
+// `fivex serve` on loopback with a fresh database. Run by `.ci/run` (after `npm run build`);
+// alone: `npm run build && node tests/e2e.mjs` (FIVEX_BIN picks the binary, default
+// ../target/debug/fivex; CHROMIUM the browser, default /usr/bin/chromium).
+//
+// It saves screenshots in web/test-results/ and prints the page's responsiveness figures
+// (measured, never asserted: no timing assertions in tests).
+import { chromium } from "playwright-core";
+import { spawn } from "node:child_process";
+import { mkdtempSync, mkdirSync, rmSync } from "node:fs";
+import { createServer } from "node:net";
+import { tmpdir } from "node:os";
+import { dirname, join, resolve } from "node:path";
+import { fileURLToPath } from "node:url";
+import assert from "node:assert/strict";
+
+const here = dirname(fileURLToPath(import.meta.url));
+const bin = resolve(process.env.FIVEX_BIN ?? join(here, "../../target/debug/fivex"));
+const browserPath = process.env.CHROMIUM ?? "/usr/bin/chromium";
+const shots = join(here, "../test-results");
+mkdirSync(shots, { recursive: true });
+
+const freePort = () =>
+  new Promise((ok) => {
+    const s = createServer().listen(0, "127.0.0.1", () => {
+      const { port } = s.address();
+      s.close(() => ok(port));
+    });
+  });
+
+const port = await freePort();
+const base = `http://127.0.0.1:${port}`;
+const dir = mkdtempSync(join(tmpdir(), "fivex-e2e-"));
+const server = spawn(bin, ["serve", "--db", join(dir, "e2e.db"), "--addr", `127.0.0.1:${port}`], { stdio: ["ignore", "ignore", "pipe"] });
+let serverLog = "";
+server.stderr.on("data", (d) => (serverLog += d));
+const stop = () => {
+  server.kill("SIGTERM");
+  rmSync(dir, { recursive: true, force: true });
+};
+
+async function http(method, path, body, type = "application/json") {
+  const res = await fetch(base + path, { method, headers: body != null ? { "content-type": type } : {}, body: body == null ? undefined : type === "application/json" ? JSON.stringify(body) : body });
+  const text = await res.text();
+  return { status: res.status, body: text ? (res.headers.get("content-type")?.includes("json") ? JSON.parse(text) : text) : null };
+}
+
+for (let i = 0; ; i++) {
+  try {
+    if ((await fetch(base + "/healthz")).ok) break;
+  } catch {}
+  if (i > 200) throw new Error(`the server did not start:\n${serverLog}`);
+  await new Promise((r) => setTimeout(r, 50));
+}
+
+const browser = await chromium.launch({
+  executablePath: browserPath,
+  headless: true,
+  args: ["--no-sandbox", "--disable-gpu", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync"],
+});
+const page = await browser.newPage({ viewport: { width: 1500, height: 1100 } });
+const problems = [];
+page.on("pageerror", (e) => problems.push(`page error: ${e.message}`));
+page.on("console", (m) => m.type() === "error" && !/status of 4\d\d/.test(m.text()) && problems.push(`console: ${m.text()}`));
+page.on("dialog", (d) => d.accept(dialogAnswers.shift() ?? undefined));
+const dialogAnswers = [];
+
+const tests = [];
+const test = (name, fn) => tests.push([name, fn]);
+const poll = async (what, fn, ms = 15000) => {
+  const until = Date.now() + ms;
+  for (;;) {
+    const v = await fn();
+    if (v) return v;
+    if (Date.now() > until) throw new Error(`timed out waiting for ${what}`);
+    await page.waitForTimeout(50);
+  }
+};
+
+/// Whether an element's picture has more than a few colours (a drawn 3D scene, not a blank box).
+async function colours(selector) {
+  const png = (await page.locator(selector).screenshot()).toString("base64");
+  return page.evaluate(async (data) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${data}`;
+    await img.decode();
+    const c = document.createElement("canvas");
+    [c.width, c.height] = [img.width, img.height];
+    const g = c.getContext("2d");
+    g.drawImage(img, 0, 0);
+    const px = g.getImageData(0, 0, c.width, c.height).data;
+    const seen = new Set();
+    for (let i = 0; i < px.length; i += 16) seen.add((px[i] << 16) | (px[i + 1] << 8) | px[i + 2]);
+    return seen.size;
+  }, png);
+}
+
+let id = null;
+const PROGRAM = [
+  "O0001 (E2E)",
+  "G90 G54 G00 X0 Y0 Z50. A0 C0",
+  "G01 X40. F3000.",
+  "Y40.",
+  "X0",
+  "Y0",
+  "G01 X40. Y40. F3000.",
+  "X0 Y0",
+  "M30",
+].join("\n");
+
+test("the fleet view is empty, then a controller is created from a preset", async () => {
+  await page.goto(base + "/");
+  await page.getByText("No controllers yet").waitFor();
+  await page.fill("form.create input[name=name]", "cell 1");
+  await page.selectOption("form.create select[name=preset]", "table-ac");
+  await page.click("form.create button[type=submit]");
+  await page.waitForURL(/#\/c\//);
+  id = decodeURIComponent(page.url().split("#/c/")[1].split("/")[0]);
+  await page.locator(".ctl-head h1", { hasText: "cell 1" }).waitFor();
+  assert.equal((await http("GET", `/api/v1/controllers/${id}`)).body.machine, "table-ac");
+});
+
+test("the 3D view draws the machine", async () => {
+  const canvas = page.locator(".view3d canvas");
+  await canvas.waitFor({ timeout: 10000 });
+  const n = await poll("a drawn canvas", async () => {
+    const k = await colours(".view3d canvas");
+    return k > 20 ? k : 0;
+  });
+  assert.ok(n > 20, `the canvas has ${n} colours`);
+});
+
+test("a program with a check problem shows its diagnostic in place, then stores and runs", async () => {
+  await page.fill(".prog-list .new input", "1");
+  await page.click(".prog-list .new button");
+  await page.fill("textarea.nc", "G01 X10. F100.\nG65 P\nM30\n");
+  await page.click("button[data-action=save]");
+  await page.locator("ul.diags li", { hasText: "line 2" }).waitFor();
+  await page.fill("textarea.nc", PROGRAM);
+  await page.click("button[data-action=save]");
+  await page.locator(".code .line[data-line='3']").waitFor();
+  assert.equal((await http("GET", `/api/v1/controllers/${id}/programs/1`)).body, PROGRAM);
+
+  const x0 = await page.locator(".pos tr[data-axis=X] td.abs").textContent();
+  await page.click("button[data-action=run]");
+  await page.locator("[data-run-state=running]").waitFor();
+  // The block moving now is highlighted, and it changes as the program runs.
+  const first = await poll("a highlighted block", () => page.locator(".code .line.active").getAttribute("data-line", { timeout: 200 }).catch(() => null));
+  const later = await poll("the next highlighted block", async () => {
+    const l = await page.locator(".code .line.active").getAttribute("data-line", { timeout: 200 }).catch(() => null);
+    return l && l !== first ? l : null;
+  });
+  assert.notEqual(first, later);
+  const x1 = await poll("a moving X", async () => {
+    const x = await page.locator(".pos tr[data-axis=X] td.abs").textContent();
+    return x !== x0 ? x : null;
+  });
+  assert.notEqual(x0, x1);
+  await page.screenshot({ path: join(shots, "controller-running.png") });
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+});
+
+test("an alarm shows in the banner and in the alarms tab", async () => {
+  await page.click("nav.tabs a[href$='/mdi']");
+  await page.fill("textarea[name=mdi]", "M98 P9999"); // no such program
+  await page.click(".mdi button[type=submit]");
+  const banner = page.locator(".alarm-banner");
+  await banner.waitFor();
+  const code = (await http("GET", `/api/v1/controllers/${id}`)).body.alarms[0].code;
+  assert.match(await banner.textContent(), new RegExp(code));
+  await page.click("nav.tabs a[href$='/alarms']");
+  await page.locator(".active-alarms li", { hasText: code }).waitFor();
+  await page.screenshot({ path: join(shots, "controller-alarm.png") });
+  await page.click(".op-panel button[title=reset]");
+  await banner.waitFor({ state: "detached" });
+});
+
+test("a macro variable is edited in the table", async () => {
+  await page.click("nav.tabs a[href$='/variables']");
+  await page.fill("input[name=var-number]", "#500");
+  dialogAnswers.push("12.5");
+  await page.click(".variables button:has-text('set')");
+  const cell = page.locator("tr[data-var='500'] input");
+  await poll("#500 in the table", async () => (await cell.count()) && (await cell.inputValue()) === "12.5");
+  await cell.fill("7.25");
+  await cell.press("Enter");
+  await poll("#500 = 7.25 in the service", async () => (await http("GET", `/api/v1/controllers/${id}/variables/500`)).body.value === 7.25);
+});
+
+test("the fleet view shows the controllers live, with clone and delete", async () => {
+  await http("POST", "/api/v1/controllers", { name: "head 1", preset: "head-bc" });
+  await http("POST", "/api/v1/controllers", { name: "mixed 1", preset: "mixed-bc", dialect: "syntec" });
+  await page.goto(base + "/#/");
+  await page.locator(`tr[data-id='${id}']`).waitFor();
+  dialogAnswers.push("cell 1 copy");
+  await page.click(`tr[data-id='${id}'] button[title=clone]`);
+  await page.locator(".fleet-table a.name", { hasText: "cell 1 copy" }).waitFor();
+  // A state change elsewhere shows without reloading.
+  const other = (await http("GET", "/api/v1/controllers")).body.find((c) => c.name === "head 1");
+  await http("POST", `/api/v1/controllers/${other.id}/mdi`, { text: "G01 X1." });
+  await page.locator(`tr[data-id='${other.id}'] .state.alarm`).waitFor();
+  await page.screenshot({ path: join(shots, "fleet.png") });
+  const copy = (await http("GET", "/api/v1/controllers")).body.find((c) => c.name === "cell 1 copy");
+  await page.click(`tr[data-id='${copy.id}'] button[title=delete]`);
+  await page.locator(`tr[data-id='${copy.id}']`).waitFor({ state: "detached" });
+  assert.equal((await http("GET", `/api/v1/controllers/${copy.id}`)).status, 404);
+});
+
+test("every preset kind draws in the 3D view", async () => {
+  for (const preset of ["mill3", "head-bc", "table-bc", "mixed-bc"]) {
+    const c = (await http("POST", "/api/v1/controllers", { name: `view ${preset}`, preset })).body;
+    await page.goto(`${base}/#/c/${c.id}`);
+    await page.locator(".view3d canvas").waitFor();
+    const n = await poll(`a drawn ${preset}`, async () => {
+      const k = await colours(".view3d canvas");
+      return k > 20 ? k : 0;
+    });
+    assert.ok(n > 20);
+    await page.screenshot({ path: join(shots, `machine-${preset}.png`) });
+  }
+});
+
+test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
+  const have = (await http("GET", "/api/v1/controllers")).body.length;
+  for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });
+  const started = Date.now();
+  await page.goto(base + "/#/");
+  await poll("200 rows", async () => (await page.locator(".fleet-table tbody tr").count()) >= 200);
+  const fleetMs = Date.now() - started;
+  // The longest gap between animation frames over two seconds of live updates.
+  const gap = () =>
+    page.evaluate(
+      () =>
+        new Promise((ok) => {
+          let last = performance.now(),
+            worst = 0;
+          const end = last + 2000;
+          const step = (t) => {
+            worst = Math.max(worst, t - last);
+            last = t;
+            t < end ? requestAnimationFrame(step) : ok(worst);
+          };
+          requestAnimationFrame(step);
+        }),
+    );
+  const fleetGap = await gap();
+  const c = (await http("GET", "/api/v1/controllers")).body.find((c) => c.name === "cell 1");
+  await page.goto(`${base}/#/c/${c.id}`);
+  await page.locator(".view3d canvas").waitFor();
+  const traceMs = await page.evaluate(() => {
+    const view = window.__fivexView;
+    const t0 = performance.now();
+    for (let i = 0; i < 100000; i++) view.addTrace(Math.cos(i / 500) * 80, Math.sin(i / 500) * 80, (i / 100000) * 50);
+    return performance.now() - t0;
+  });
+  const traceGap = await gap();
+  await page.screenshot({ path: join(shots, "trace-100k.png") });
+  console.log(`  fleet of 200: rows shown in ${fleetMs} ms, longest frame gap ${fleetGap.toFixed(0)} ms; 100,000 trace points added in ${traceMs.toFixed(0)} ms, longest frame gap after ${traceGap.toFixed(0)} ms`);
+});
+
+let failed = 0;
+for (const [name, fn] of tests) {
+  try {
+    await fn();
+    console.log(`ok - ${name}`);
+  } catch (e) {
+    failed++;
+    console.log(`FAILED - ${name}\n  ${e.stack ?? e}`);
+    await page.screenshot({ path: join(shots, `failed-${tests.findIndex((t) => t[0] === name)}.png`) }).catch(() => {});
+  }
+}
+if (problems.length) {
+  failed++;
+  console.log(`FAILED - the page reported errors:\n  ${problems.join("\n  ")}`);
+}
+await browser.close();
+stop();
+console.log(failed ? `${failed} failed` : `all ${tests.length} passed`);
+process.exit(failed ? 1 : 0);
