@@ -54,6 +54,8 @@ const aligned = (u: Vec3, toward: Vec3): Vec3 => (dot(u, toward) < 0 ? mul(u, -1
 export interface RigMaterials {
   bed: THREE.Material;
   frame: THREE.Material;
+  /** The gantry's static frame (rails, legs, beam): see-through so it never hides the work zone. */
+  gantry: THREE.Material;
   table: THREE.Material;
   tableTop: THREE.Material;
   head: THREE.Material;
@@ -68,6 +70,7 @@ function makeMaterials(): RigMaterials {
   return {
     bed: m(0x4a5058),
     frame: m(0xb8bec6),
+    gantry: new THREE.MeshStandardMaterial({ color: 0xb8bec6, transparent: true, opacity: 0.22, depthWrite: false }),
     table: m(0x6f8fb0),
     tableTop: m(0x9fb4c8),
     head: m(0xe0a040),
@@ -153,6 +156,8 @@ export interface MachineRig {
   tip: THREE.Object3D;
   /** Joint groups by axis letter. */
   joints: Map<string, THREE.Group>;
+  /** The working zone's bodies (table chain, head chain, tool): what `fit` frames. */
+  focus: THREE.Object3D[];
   /** A characteristic size, mm (for the camera). */
   size: number;
   /** Pose the machine: axis values by address (missing: 0), tool length. Updates world matrices. */
@@ -181,12 +186,12 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
   const spanX = Math.max(xMax - xMin, 100);
   const spanY = Math.max(yMax - yMin, 100);
   const size = Math.max(spanX, spanY, zMax - zMin, 300);
-  const tableR = clamp(0.22 * Math.min(spanX, spanY), 60, 400);
+  const tableR = clamp(0.28 * Math.min(spanX, spanY), 60, 450);
   const t0 = kin.toolAxis;
   const nose = kin.nose;
   // Head size: from the distance of the head axes from the nose (the pivot length).
   const pivot = kin.head.length ? Math.max(...kin.head.map((j) => len(sub(onLine(nose, j.point, j.direction), nose)) || len(sub(j.point, nose)))) : 150;
-  const headR = clamp(0.3 * pivot, 25, 110);
+  const headR = clamp(0.4 * pivot, 30, 120);
   const toolR = clamp(0.12 * headR, 2, 10);
 
   // ---- table chain ----
@@ -302,7 +307,7 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
     const lineZ = Math.min(master.point[2], onLine([0, 0, 0], master.point, master.direction)[2]);
     bedTop = Math.min(bedTop, (Math.abs(master.direction[2]) >= 0.5 ? lowest : lineZ - swing) - 40);
   }
-  const margin = 350;
+  const margin = 200;
   const bed = block([xMin - margin, yMin - margin, bedTop - 150], [xMax + margin, yMax + margin, bedTop], mat.bed);
   bed.name = "bed";
   root.add(bed);
@@ -416,6 +421,7 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
   hp.add(tip);
   bodies.push(toolMesh);
 
+  const focus = bodies.filter((b) => b !== bed);
   // Ram: from the head top straight up (+Z) through the saddle.
   const ramW = 2 * headR + 60;
   const ramLen = zMax - zMin + 300;
@@ -441,17 +447,18 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
   bridge.name = "bridge";
   const beamX0 = xMin - margin + 60;
   const beamX1 = xMax + margin - 60;
-  const beamY = ramBase[1] - ramW / 2 - 40 - 90;
-  const beam = block([beamX0, beamY - 90, zSaddle - 110], [beamX1, beamY + 90, zSaddle + 110], mat.frame);
+  // Behind the ram (+Y), so the operator's view (from −Y) sees the head.
+  const beamY = ramBase[1] + ramW / 2 + 40 + 90;
+  const beam = block([beamX0, beamY - 90, zSaddle - 110], [beamX1, beamY + 90, zSaddle + 110], mat.gantry);
   bridge.add(beam);
   root.add(bridge);
   bodies.push(beam);
   for (const x of [beamX0 + 60, beamX1 - 60]) {
-    const rail = block([x - 60, yMin - margin + 30, zSaddle - 230], [x + 60, yMax + margin - 30, zSaddle - 110], mat.frame);
+    const rail = block([x - 60, yMin - margin + 30, zSaddle - 230], [x + 60, yMax + margin - 30, zSaddle - 110], mat.gantry);
     root.add(rail);
     bodies.push(rail);
     for (const y of [yMin - margin + 90, yMax + margin - 90]) {
-      const leg = block([x - 60, y - 60, bedTop], [x + 60, y + 60, zSaddle - 230], mat.frame);
+      const leg = block([x - 60, y - 60, bedTop], [x + 60, y + 60, zSaddle - 230], mat.gantry);
       root.add(leg);
       bodies.push(leg);
     }
@@ -489,5 +496,5 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
     for (const m of Object.values(mat)) m.dispose();
   };
 
-  return { kinematics: kin, model, root, bodies, tableFrame, tip, joints, size, update, dispose };
+  return { kinematics: kin, model, root, bodies, focus, tableFrame, tip, joints, size, update, dispose };
 }

@@ -93,10 +93,10 @@ export class MachineScene {
     this.onChange();
   }
 
-  /** World (machine) bounds of the machine bodies and the path, at the current pose. */
-  bounds(): THREE.Box3 {
+  /** World (machine) bounds of the working zone (table and head chains, tool) and the path, at the current pose; `all`: the whole machine. */
+  bounds(all = false): THREE.Box3 {
     const box = new THREE.Box3();
-    for (const b of this.rig.bodies) box.expandByObject(b);
+    for (const b of all ? this.rig.bodies : this.rig.focus) box.expandByObject(b);
     const pb = this.path.bounds;
     if (pb && !pb.isEmpty()) box.union(pb.clone().applyMatrix4(this.rig.tableFrame.matrixWorld));
     return box;
@@ -228,7 +228,7 @@ export class MachineView {
     const sphere = box.isEmpty() ? new THREE.Sphere(new THREE.Vector3(), 500) : box.getBoundingSphere(new THREE.Sphere());
     const vfov = THREE.MathUtils.degToRad(this.camera.fov) / 2;
     const hfov = Math.atan(Math.tan(vfov) * Math.max(this.camera.aspect, 1e-3));
-    const dist = (sphere.radius / Math.sin(Math.min(vfov, hfov))) * 1.05;
+    const dist = (sphere.radius / Math.sin(Math.min(vfov, hfov))) * 1.15;
     this.controls.target.copy(sphere.center);
     this.camera.position.copy(sphere.center).add(direction.normalize().multiplyScalar(dist));
     this.camera.near = Math.max(dist / 500, 0.1);
