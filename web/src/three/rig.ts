@@ -416,7 +416,7 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
   toolMesh.position.set(...nose);
   toolMesh.quaternion.setFromUnitVectors(Y, new THREE.Vector3(...mul(t0, -1)));
   hp.add(toolMesh);
-  const tip = new THREE.Mesh(new THREE.SphereGeometry(toolR * 1.1, 16, 12), mat.tip);
+  const tip = new THREE.Mesh(new THREE.SphereGeometry(toolR * 1.6, 16, 12), mat.tip);
   tip.name = "tool-tip";
   hp.add(tip);
   bodies.push(toolMesh);

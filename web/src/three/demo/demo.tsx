@@ -32,6 +32,17 @@ function Demo() {
     }
     handle.addTracePoints(pts);
     if (q.get("view")) handle.setView(q.get("view") as "iso");
+    const zoom = Number(q.get("zoom") ?? 1);
+    if (zoom !== 1) {
+      // Dolly toward the tool tip.
+      const v = handle.view;
+      const tip = v.machineScene.rig.tip.getWorldPosition(v.controls.target.clone());
+      v.controls.target.copy(tip);
+      v.camera.position.sub(tip).multiplyScalar(1 / zoom).add(tip);
+      v.controls.update();
+      v.requestRender();
+    }
+    (window as unknown as { demoHandle: View3DHandle }).demoHandle = handle;
     (window as unknown as { demoReady: boolean }).demoReady = true;
   }, [handle]);
   useEffect(() => {

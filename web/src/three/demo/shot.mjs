@@ -39,4 +39,35 @@ for (const s of shots) {
   await page.screenshot({ path: file });
   console.log(file, Date.now() - t0, "ms");
 }
+if (process.env.PERF) {
+  // 100,000+ trace points streamed while the machine moves: JS time per frame.
+  await page.goto(`${base}?machine=table-ac`);
+  await page.waitForFunction(() => window.demoReady === true, null, { timeout: 20000 });
+  const r = await page.evaluate(async (PERF_POINTS) => {
+    const h = window.demoHandle;
+    window.perfPoints = PERF_POINTS;
+    h.clearTrace();
+    const js = [];
+    const frames = [];
+    let last = performance.now();
+    for (let f = 0; f < 200; f++) {
+      await new Promise((res) => requestAnimationFrame(res));
+      const now = performance.now();
+      frames.push(now - last);
+      last = now;
+      const t0 = performance.now();
+      for (let i = 0; i < (window.perfPoints ?? 1000); i++) {
+        const k = f * 1000 + i;
+        h.addTrace(Math.cos(k / 5000) * 150, Math.sin(k / 3000) * 150, (k % 1000) / 20);
+      }
+      h.view.setAxes({ A: Math.sin(f / 20) * 60, C: f * 2, X: f, Z: 20 });
+      js.push(performance.now() - t0);
+    }
+    const s = (a) => [...a].sort((x, y) => x - y);
+    const js2 = s(js), fr = s(frames);
+    return { points: h.view.machineScene.trace.length, jsMedianMs: js2[100], jsMaxMs: js2[199], frameMedianMs: fr[100], frameP95Ms: fr[190] };
+  }, Number(process.env.PERF_POINTS ?? 1000));
+  console.log("perf", JSON.stringify(r));
+  await page.screenshot({ path: `${out}/perf-trace.png` });
+}
 await browser.close();
