@@ -489,8 +489,10 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
     root.traverse((o) => {
       const mesh = o as THREE.Mesh;
       if (mesh.geometry) mesh.geometry.dispose();
-      if (mesh.material && !Object.values(mat).includes(mesh.material as THREE.Material)) {
-        (mesh.material as THREE.Material).dispose();
+      const material = mesh.material as THREE.MeshBasicMaterial | undefined;
+      if (material && !Object.values(mat).includes(material)) {
+        material.map?.dispose();
+        material.dispose();
       }
     });
     for (const m of Object.values(mat)) m.dispose();

@@ -9,7 +9,7 @@
 
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
-import { buildMachine } from "./rig";
+import { axisColor, buildMachine } from "./rig";
 import type { MachineRig } from "./rig";
 import type { AxisValues } from "./kinematics";
 import type { MachineModel, MachineModelInput } from "./model";
@@ -133,6 +133,39 @@ export interface MachineViewOptions {
   createRenderer?: () => RendererLike;
   /** Trace capacity, points (default TRACE_CAP). */
   traceCap?: number;
+  /** Letters at the rotary axis lines (default true; needs a DOM canvas). */
+  labels?: boolean;
+}
+
+/** A text sprite (canvas texture) for the end of each rotary axis line. */
+function addAxisLabels(rig: MachineRig): void {
+  for (const link of rig.model.rotary) {
+    const line = rig.root.getObjectByName(`axis-line-${link.axis}`) as THREE.Line | undefined;
+    if (!line?.parent) continue;
+    const text = link.fixed !== null ? `${link.axis} ${link.fixed}°` : link.axis;
+    const canvas = document.createElement("canvas");
+    canvas.width = 128;
+    canvas.height = 64;
+    const ctx = canvas.getContext("2d");
+    if (!ctx) continue;
+    ctx.font = "bold 40px sans-serif";
+    ctx.textAlign = "center";
+    ctx.textBaseline = "middle";
+    ctx.lineWidth = 6;
+    ctx.strokeStyle = "rgba(0, 0, 0, 0.8)";
+    ctx.strokeText(text, 64, 32);
+    ctx.fillStyle = `#${axisColor(link.axis).toString(16).padStart(6, "0")}`;
+    ctx.fillText(text, 64, 32);
+    const material = new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(canvas), depthTest: false });
+    const sprite = new THREE.Sprite(material);
+    const end = new THREE.Vector3().fromBufferAttribute(line.geometry.getAttribute("position") as THREE.BufferAttribute, 1);
+    sprite.position.copy(end);
+    const h = rig.size / 22;
+    sprite.scale.set(2 * h, h, 1);
+    sprite.renderOrder = 12;
+    sprite.name = `axis-label-${link.axis}`;
+    line.parent.add(sprite);
+  }
 }
 
 const VIEW_DIRECTIONS: Record<ViewPreset, [number, number, number]> = {
@@ -177,6 +210,8 @@ export class MachineView {
     this.controls.screenSpacePanning = true;
     this.controls.addEventListener("change", () => this.requestRender());
     this.machineScene.onChange = () => this.requestRender();
+
+    if (options.labels !== false && typeof document !== "undefined") addAxisLabels(this.machineScene.rig);
 
     this.resize();
     this.resizeObserver = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => this.resize());
