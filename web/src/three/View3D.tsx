@@ -8,7 +8,7 @@
 // applied as they change. Trace points are pushed through the handle given to `onReady`
 // (pushing them through props would re-render per point).
 
-import { useEffect, useRef } from "preact/hooks";
+import { useEffect, useRef, useState } from "preact/hooks";
 import type { CSSProperties } from "preact";
 import { MachineView } from "./scene";
 import type { MachineViewOptions, ViewPreset } from "./scene";
@@ -19,6 +19,8 @@ export interface View3DHandle {
   addTrace(x: number, y: number, z: number): void;
   /** Many positions at once (xyz triples, table frame). */
   addTracePoints(xyz: ArrayLike<number>): void;
+  /** Add the current tool tip (forward kinematics of the axes and tool length last given) to the trace. */
+  addTraceAtTip(): void;
   clearTrace(): void;
   fit(): void;
   setView(view: ViewPreset): void;
@@ -69,12 +71,22 @@ export function View3D(props: View3DProps) {
   const latest = useRef(props);
   latest.current = props;
   const machineKey = JSON.stringify(props.machine);
+  const [error, setError] = useState<string | null>(null);
 
   useEffect(() => {
     const el = host.current;
     if (!el) return;
     const p = latest.current;
-    const v = new MachineView(el, p.machine, p.options);
+    let v: MachineView;
+    try {
+      v = new MachineView(el, p.machine, p.options);
+      setError(null);
+    } catch (e) {
+      // A model the view cannot draw (more than two rotary axes on a side, no WebGL…).
+      setError(e instanceof Error ? e.message : String(e));
+      p.onReady?.(null);
+      return;
+    }
     view.current = v;
     if (p.axes) v.setAxes(p.axes);
     if (p.toolLength !== undefined) v.setToolLength(p.toolLength);
@@ -83,6 +95,7 @@ export function View3D(props: View3DProps) {
     const handle: View3DHandle = {
       addTrace: (x, y, z) => v.addTrace(x, y, z),
       addTracePoints: (xyz) => v.addTracePoints(xyz),
+      addTraceAtTip: () => v.addTraceAtTip(),
       clearTrace: () => v.clearTrace(),
       fit: () => v.fit(),
       setView: (name) => v.setView(name),
@@ -119,7 +132,12 @@ export function View3D(props: View3DProps) {
       data-testid="view3d"
     >
       <div ref={host} style={{ position: "absolute", inset: "0" }} />
-      {!props.noToolbar && (
+      {error && (
+        <div style={{ position: "absolute", inset: "0", display: "flex", alignItems: "center", justifyContent: "center", color: "#e88", font: "13px sans-serif", padding: "1em", textAlign: "center" }}>
+          3D view unavailable: {error}
+        </div>
+      )}
+      {!props.noToolbar && !error && (
         <div style={toolbar}>
           <button type="button" style={button} title="Frame the machine" onClick={act((v) => v.fit())}>
             fit

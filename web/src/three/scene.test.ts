@@ -56,6 +56,10 @@ describe("the scene graph is the kinematic chain", () => {
         const world = new THREE.Vector3(...s.trace.point(s.trace.length - 1)).applyMatrix4(s.trace.object.matrixWorld);
         expect(diff(world, p.tip_machine)).toBeLessThanOrEqual(1e-3);
       }
+      // addTraceAtTip: the FK tip of the current pose, drawn on the tip marker.
+      s.addTraceAtTip();
+      const at = new THREE.Vector3(...s.trace.point(s.trace.length - 1)).applyMatrix4(s.trace.object.matrixWorld);
+      expect(at.distanceTo(s.rig.tip.getWorldPosition(new THREE.Vector3()))).toBeLessThanOrEqual(1e-3);
       expect(s.trace.object.parent).toBe(s.rig.tableFrame);
       expect(s.path.object.parent).toBe(s.rig.tableFrame);
       s.dispose();

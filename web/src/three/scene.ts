@@ -82,6 +82,13 @@ export class MachineScene {
     this.onChange();
   }
 
+  /** Add the current tool tip (the forward kinematics of the current axes and tool length, in the table frame) to the trace; returns it. */
+  addTraceAtTip(): [number, number, number] {
+    const tip = this.rig.kinematics.forward(this.axes, this.toolLength).tip;
+    this.addTrace(tip[0], tip[1], tip[2]);
+    return tip;
+  }
+
   /** Many tip positions at once, xyz triples in the table frame. */
   addTracePoints(xyz: ArrayLike<number>): void {
     this.trace.addMany(xyz);
@@ -235,6 +242,11 @@ export class MachineView {
   /** One executed tool-tip position in the TABLE frame. */
   addTrace(x: number, y: number, z: number): void {
     this.machineScene.addTrace(x, y, z);
+  }
+
+  /** Add where the tool tip is now (from the axes and tool length: needs no work offsets). */
+  addTraceAtTip(): void {
+    this.machineScene.addTraceAtTip();
   }
 
   /** Many executed positions at once (xyz triples, table frame). */
