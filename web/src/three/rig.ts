@@ -56,6 +56,8 @@ export interface RigMaterials {
   frame: THREE.Material;
   /** The gantry's static frame (rails, legs, beam): see-through so it never hides the work zone. */
   gantry: THREE.Material;
+  /** Ram and saddle: half see-through, so a top view shows the tool and the part. */
+  ram: THREE.Material;
   table: THREE.Material;
   tableTop: THREE.Material;
   head: THREE.Material;
@@ -71,6 +73,7 @@ function makeMaterials(): RigMaterials {
     bed: m(0x4a5058),
     frame: m(0xb8bec6),
     gantry: new THREE.MeshStandardMaterial({ color: 0xb8bec6, transparent: true, opacity: 0.22, depthWrite: false }),
+    ram: new THREE.MeshStandardMaterial({ color: 0xb8bec6, transparent: true, opacity: 0.5, depthWrite: false }),
     table: m(0x6f8fb0),
     tableTop: m(0x9fb4c8),
     head: m(0xe0a040),
@@ -429,7 +432,7 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
   const ram = block(
     [ramBase[0] - ramW / 2, ramBase[1] - ramW / 2, ramBase[2]],
     [ramBase[0] + ramW / 2, ramBase[1] + ramW / 2, ramBase[2] + ramLen],
-    mat.frame,
+    mat.ram,
   );
   ram.name = "ram";
   carriage.add(ram);
@@ -439,7 +442,7 @@ export function buildMachine(input: MachineModelInput | MachineModel, materials:
   const zSaddle = ramBase[2] + zMax + 120;
   const saddle = new THREE.Group();
   saddle.name = "saddle";
-  const saddleBox = block([ramBase[0] - ramW / 2 - 40, ramBase[1] - ramW / 2 - 40, zSaddle - 120], [ramBase[0] + ramW / 2 + 40, ramBase[1] + ramW / 2 + 40, zSaddle + 120], mat.head);
+  const saddleBox = block([ramBase[0] - ramW / 2 - 40, ramBase[1] - ramW / 2 - 40, zSaddle - 120], [ramBase[0] + ramW / 2 + 40, ramBase[1] + ramW / 2 + 40, zSaddle + 120], mat.ram);
   saddle.add(saddleBox);
   root.add(saddle);
   bodies.push(saddleBox);
