@@ -34,8 +34,10 @@ export interface View3DProps {
   axes?: Record<string, number>;
   /** Active tool length, mm (0: the nose). */
   toolLength?: number;
-  /** The programmed path, xyz triples in the table frame. */
+  /** The programmed path, xyz triples in the table frame (`GET …/programs/{n}/path` `xyz`). */
   path?: Float32Array;
+  /** Per path point: the move to it is a rapid (the same response's `rapid`); drawn dim. */
+  pathRapid?: ArrayLike<boolean>;
   /** Receives the handle once the view exists, and null when it goes away. */
   onReady?: (handle: View3DHandle | null) => void;
   /** Hide the toolbar. */
@@ -90,7 +92,7 @@ export function View3D(props: View3DProps) {
     view.current = v;
     if (p.axes) v.setAxes(p.axes);
     if (p.toolLength !== undefined) v.setToolLength(p.toolLength);
-    if (p.path) v.setPath(p.path);
+    if (p.path) v.setPath(p.path, p.pathRapid);
     v.setView("iso");
     const handle: View3DHandle = {
       addTrace: (x, y, z) => v.addTrace(x, y, z),
@@ -118,8 +120,8 @@ export function View3D(props: View3DProps) {
   }, [props.toolLength]);
 
   useEffect(() => {
-    view.current?.setPath(props.path ?? new Float32Array(0));
-  }, [props.path]);
+    view.current?.setPath(props.path ?? new Float32Array(0), props.pathRapid);
+  }, [props.path, props.pathRapid]);
 
   const act = (f: (v: MachineView) => void) => () => {
     if (view.current) f(view.current);

@@ -2,7 +2,7 @@ import * as THREE from "three";
 import { describe, expect, it } from "vitest";
 import { fixture } from "./fixtures/fixture";
 import { MachineScene } from "./scene";
-import { TraceLine } from "./trace";
+import { PathLine, TraceLine } from "./trace";
 import type { Vec3 } from "./model";
 
 const diff = (a: THREE.Vector3, b: readonly number[]) =>
@@ -77,6 +77,25 @@ describe("the scene graph is the kinematic chain", () => {
       expect(b.isEmpty()).toBe(false);
       s.dispose();
     }
+  });
+});
+
+describe("path", () => {
+  it("is one geometry of segments, rapids coloured apart, riding with the table", () => {
+    const m = fixture.machines.find((x) => x.source === "table-ac")!;
+    const s = new MachineScene(m.model);
+    s.setPath(new Float32Array([0, 0, 0, 10, 0, 0, 10, 10, 0]), [false, true, false]);
+    const g = s.path.object.geometry;
+    expect(g.getAttribute("position").count).toBe(4);
+    const col = g.getAttribute("color") as THREE.BufferAttribute;
+    expect(col.getX(0)).toBeCloseTo(PathLine.RAPID.r, 6); // the move to point 1 is a rapid
+    expect(col.getX(2)).toBeCloseTo(PathLine.FEED.r, 6);
+    s.setAxes({ A: 90, C: 30 });
+    const world = new THREE.Vector3().fromBufferAttribute(g.getAttribute("position") as THREE.BufferAttribute, 1).applyMatrix4(s.path.object.matrixWorld);
+    const want = s.rig.kinematics.tableToMachine([10, 0, 0], { A: 90, C: 30 });
+    expect(diff(world, want)).toBeLessThanOrEqual(1e-9);
+    expect(s.bounds().isEmpty()).toBe(false);
+    s.dispose();
   });
 });
 

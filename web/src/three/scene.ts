@@ -70,9 +70,9 @@ export class MachineScene {
     return this.toolLength;
   }
 
-  /** The programmed path: xyz triples in the table frame (replaces the previous path). */
-  setPath(points: Float32Array | null | undefined): void {
-    this.path.set(points);
+  /** The programmed path: xyz triples in the table frame (replaces the previous path); `rapid[i]`: the move to point i is a rapid. */
+  setPath(points: ArrayLike<number> | null | undefined, rapid?: ArrayLike<boolean> | null): void {
+    this.path.set(points, rapid);
     this.onChange();
   }
 
@@ -234,9 +234,9 @@ export class MachineView {
     this.machineScene.setToolLength(L);
   }
 
-  /** The programmed path, xyz triples in the TABLE frame. */
-  setPath(points: Float32Array): void {
-    this.machineScene.setPath(points);
+  /** The programmed path, xyz triples in the TABLE frame; `rapid[i]`: the move to point i is a rapid (drawn dim). */
+  setPath(points: Float32Array, rapid?: ArrayLike<boolean>): void {
+    this.machineScene.setPath(points, rapid);
   }
 
   /** One executed tool-tip position in the TABLE frame. */

@@ -127,22 +127,43 @@ export class TraceLine {
   }
 }
 
-/** The programmed path: one BufferGeometry, replaced as a whole by `set`. */
+/**
+ * The programmed path: one BufferGeometry of line segments (point i → i + 1), replaced as a
+ * whole by `set`. With per-point `rapid` flags (`GET …/programs/{n}/path` gives them), a rapid move
+ * to a point is drawn dim orange and a cutting move cyan.
+ */
 export class PathLine {
-  readonly object: THREE.Line;
+  readonly object: THREE.LineSegments;
+  static readonly FEED = new THREE.Color(0x30d0ff);
+  static readonly RAPID = new THREE.Color(0xd08030);
 
-  constructor(color = 0x30d0ff) {
-    this.object = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color, transparent: true, opacity: 0.8 }));
+  constructor() {
+    this.object = new THREE.LineSegments(
+      new THREE.BufferGeometry(),
+      new THREE.LineBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.85 }),
+    );
     this.object.name = "path";
     this.object.frustumCulled = false;
   }
 
-  set(points: Float32Array | null | undefined): void {
+  /** xyz triples in the table frame; `rapid[i]`: the move to point i is a rapid. */
+  set(points: ArrayLike<number> | null | undefined, rapid?: ArrayLike<boolean> | null): void {
     const old = this.object.geometry;
     const geometry = new THREE.BufferGeometry();
-    if (points && points.length >= 3) {
-      const n = Math.floor(points.length / 3) * 3;
-      geometry.setAttribute("position", new THREE.BufferAttribute(n === points.length ? points : points.slice(0, n), 3));
+    const n = points ? Math.floor(points.length / 3) : 0;
+    if (points && n >= 2) {
+      const pos = new Float32Array((n - 1) * 6);
+      const col = new Float32Array((n - 1) * 6);
+      for (let i = 0; i + 1 < n; i++) {
+        for (let k = 0; k < 3; k++) {
+          pos[6 * i + k] = points[3 * i + k];
+          pos[6 * i + 3 + k] = points[3 * (i + 1) + k];
+        }
+        const c = rapid && rapid[i + 1] ? PathLine.RAPID : PathLine.FEED;
+        col.set([c.r, c.g, c.b, c.r, c.g, c.b], 6 * i);
+      }
+      geometry.setAttribute("position", new THREE.BufferAttribute(pos, 3));
+      geometry.setAttribute("color", new THREE.BufferAttribute(col, 3));
       geometry.computeBoundingBox();
     }
     this.object.geometry = geometry;

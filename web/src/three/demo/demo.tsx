@@ -20,6 +20,9 @@ for (let i = 0; i < 400; i++) {
   path.set([Math.cos(t) * (20 + 8 * t), Math.sin(t) * (20 + 8 * t), 10 + i * 0.1], 3 * i);
 }
 
+// The first 20 moves are rapids (drawn dim orange).
+const rapid = Array.from({ length: 400 }, (_, i) => i < 20);
+
 function Demo() {
   const [handle, setHandle] = useState<View3DHandle | null>(null);
   const [a, setA] = useState(axes);
@@ -58,7 +61,7 @@ function Demo() {
   }, []);
   return (
     <div style={{ height: "100%" }}>
-      <View3D machine={machine} axes={a} toolLength={L} path={path} onReady={setHandle} />
+      <View3D machine={machine} axes={a} toolLength={L} path={path} pathRapid={rapid} onReady={setHandle} />
     </div>
   );
 }
