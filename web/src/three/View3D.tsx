@@ -1,0 +1,163 @@
+// The 3D machine view as a Preact component.
+//
+//   <View3D machine={model} axes={position.machine} toolLength={L} path={points}
+//           onReady={(h) => (trace = h)} />
+//   trace?.addTrace(tip[0], tip[1], tip[2]);       // table frame, e.g. from the position stream
+//
+// `machine` (re)builds the view when its content changes; `axes`, `toolLength` and `path` are
+// applied as they change. Trace points are pushed through the handle given to `onReady`
+// (pushing them through props would re-render per point).
+
+import { useEffect, useRef, useState } from "preact/hooks";
+import type { CSSProperties } from "preact";
+import { MachineView } from "./scene";
+import type { MachineViewOptions, ViewPreset } from "./scene";
+import type { MachineModel, MachineModelInput } from "./model";
+
+export interface View3DHandle {
+  /** One executed tool-tip position, table frame. */
+  addTrace(x: number, y: number, z: number): void;
+  /** Many positions at once (xyz triples, table frame). */
+  addTracePoints(xyz: ArrayLike<number>): void;
+  /** Add the current tool tip (forward kinematics of the axes and tool length last given) to the trace. */
+  addTraceAtTip(): void;
+  clearTrace(): void;
+  fit(): void;
+  setView(view: ViewPreset): void;
+  /** The underlying view (camera, controls, scene) for anything else. */
+  view: MachineView;
+}
+
+export interface View3DProps {
+  machine: MachineModel | MachineModelInput;
+  /** Machine axis values by address (as the position stream's `machine`). */
+  axes?: Record<string, number>;
+  /** Active tool length, mm (0: the nose). */
+  toolLength?: number;
+  /** The programmed path, xyz triples in the table frame (`GET …/programs/{n}/path` `xyz`). */
+  path?: Float32Array;
+  /** Per path point: the move to it is a rapid (the same response's `rapid`); drawn dim. */
+  pathRapid?: ArrayLike<boolean>;
+  /** Receives the handle once the view exists, and null when it goes away. */
+  onReady?: (handle: View3DHandle | null) => void;
+  /** Hide the toolbar. */
+  noToolbar?: boolean;
+  class?: string;
+  style?: CSSProperties;
+  /** Passed to MachineView (renderer injection, trace cap). */
+  options?: MachineViewOptions;
+}
+
+const toolbar: CSSProperties = {
+  position: "absolute",
+  top: "6px",
+  left: "6px",
+  display: "flex",
+  gap: "4px",
+  zIndex: 1,
+};
+
+const button: CSSProperties = {
+  font: "12px sans-serif",
+  padding: "2px 8px",
+  background: "rgba(40, 44, 50, 0.85)",
+  color: "#e8e8e8",
+  border: "1px solid #60666e",
+  borderRadius: "3px",
+  cursor: "pointer",
+};
+
+export function View3D(props: View3DProps) {
+  const host = useRef<HTMLDivElement>(null);
+  const view = useRef<MachineView | null>(null);
+  const latest = useRef(props);
+  latest.current = props;
+  const machineKey = JSON.stringify(props.machine);
+  const [error, setError] = useState<string | null>(null);
+
+  useEffect(() => {
+    const el = host.current;
+    if (!el) return;
+    const p = latest.current;
+    let v: MachineView;
+    try {
+      v = new MachineView(el, p.machine, p.options);
+      setError(null);
+    } catch (e) {
+      // A model the view cannot draw (more than two rotary axes on a side, no WebGL…).
+      setError(e instanceof Error ? e.message : String(e));
+      p.onReady?.(null);
+      return;
+    }
+    view.current = v;
+    if (p.axes) v.setAxes(p.axes);
+    if (p.toolLength !== undefined) v.setToolLength(p.toolLength);
+    if (p.path) v.setPath(p.path, p.pathRapid);
+    v.setView("iso");
+    const handle: View3DHandle = {
+      addTrace: (x, y, z) => v.addTrace(x, y, z),
+      addTracePoints: (xyz) => v.addTracePoints(xyz),
+      addTraceAtTip: () => v.addTraceAtTip(),
+      clearTrace: () => v.clearTrace(),
+      fit: () => v.fit(),
+      setView: (name) => v.setView(name),
+      view: v,
+    };
+    p.onReady?.(handle);
+    return () => {
+      latest.current.onReady?.(null);
+      view.current = null;
+      v.dispose();
+    };
+  }, [machineKey]);
+
+  useEffect(() => {
+    if (props.axes) view.current?.setAxes(props.axes);
+  }, [props.axes]);
+
+  useEffect(() => {
+    if (props.toolLength !== undefined) view.current?.setToolLength(props.toolLength);
+  }, [props.toolLength]);
+
+  useEffect(() => {
+    view.current?.setPath(props.path ?? new Float32Array(0), props.pathRapid);
+  }, [props.path, props.pathRapid]);
+
+  const act = (f: (v: MachineView) => void) => () => {
+    if (view.current) f(view.current);
+  };
+
+  return (
+    <div
+      class={props.class}
+      style={{ position: "relative", width: "100%", height: "100%", minHeight: "200px", overflow: "hidden", ...props.style }}
+      data-testid="view3d"
+    >
+      <div ref={host} style={{ position: "absolute", inset: "0" }} />
+      {error && (
+        <div style={{ position: "absolute", inset: "0", display: "flex", alignItems: "center", justifyContent: "center", color: "#e88", font: "13px sans-serif", padding: "1em", textAlign: "center" }}>
+          3D view unavailable: {error}
+        </div>
+      )}
+      {!props.noToolbar && !error && (
+        <div style={toolbar}>
+          <button type="button" style={button} title="Frame the machine" onClick={act((v) => v.fit())}>
+            fit
+          </button>
+          <button type="button" style={button} title="Isometric view" onClick={act((v) => v.setView("iso"))}>
+            iso
+          </button>
+          <button type="button" style={button} title="Front view (from −Y)" onClick={act((v) => v.setView("front"))}>
+            front
+          </button>
+          <button type="button" style={button} title="Top view (from +Z)" onClick={act((v) => v.setView("top"))}>
+            top
+          </button>
+          <button type="button" style={button} title="Clear the tool-tip trace" onClick={act((v) => v.clearTrace())}>
+            clear trace
+          </button>
+        </div>
+      )}
+    </div>
+  );
+}

@@ -1,0 +1,156 @@
+// The machine model file (`docs/machine-config.md`), as `fivex machine --preset NAME` prints it
+// and `--machine FILE.json` / `POST /controllers {"machine": …}` take it.
+//
+// `MachineModelInput` is the file as written (optional fields may be missing);
+// `MachineModel` is the same with every default applied (`normalizeModel`). The 3D view and the
+// kinematics only read the mechanism (axes, rotary, tool_axis, nose, holder); the option blocks
+// (`motion`, `five_axis`, `manual`) are carried through untouched for callers that want them.
+
+export type Vec3 = [number, number, number];
+
+export type AxisKind = "linear" | "rotary";
+export type Side = "head" | "table";
+export type Hand = "right" | "left";
+
+export interface AxisInput {
+  /** The address: X Y Z U V W (linear), A B C (rotary). */
+  name: string;
+  kind: AxisKind;
+  /** mm/min or °/min. */
+  rapid: number;
+  /** mm/s² or °/s²; default: rapid reached in 0.2 s. */
+  accel?: number | null;
+  /** mm/s³ or °/s³; default: acceleration reached in 50 ms. */
+  jerk?: number | null;
+  /** Stored stroke [negative, positive], machine coordinates; absent: none. */
+  stroke?: [number, number] | null;
+  /** 2nd, 3rd, 4th reference positions; default all 0. */
+  references?: Vec3;
+  rollover?: boolean;
+  shortest?: boolean;
+}
+
+export interface RotaryLinkInput {
+  /** A rotary axis letter of `axes`, or any letter with `fixed` (hypothetical axis). */
+  axis: string;
+  side: Side;
+  /** Unit direction at zero angles, machine coordinates (normalised by the engine). */
+  direction: Vec3;
+  hand: Hand;
+  /** A point on the line at zero angles: head — relative to the carriage (X/Y/Z); table — machine coordinates. */
+  point?: Vec3;
+  /** Degrees added to the commanded angle. */
+  zero_offset?: number;
+  /** Hypothetical axis: always at this angle. */
+  fixed?: number | null;
+  /** Commanded angles the inverse may use. */
+  range?: [number, number] | null;
+}
+
+export interface MachineModelInput {
+  name: string;
+  axes: AxisInput[];
+  /** Master first on each side (head: column → spindle; table: bed → table top). */
+  rotary?: RotaryLinkInput[];
+  /** Tool direction tip → holder at zero head angles; default [0, 0, 1]. */
+  tool_axis?: Vec3;
+  /** Spindle nose relative to the carriage reference at zero angles; default 0. */
+  nose?: Vec3;
+  /** Tool holder offset, mm (bookkeeping only); default 0. */
+  holder?: number;
+  motion?: Record<string, unknown>;
+  five_axis?: Record<string, unknown>;
+  manual?: Record<string, unknown>;
+}
+
+export interface Axis {
+  name: string;
+  kind: AxisKind;
+  rapid: number;
+  accel: number;
+  jerk: number;
+  stroke: [number, number] | null;
+  references: Vec3;
+  rollover: boolean;
+  shortest: boolean;
+}
+
+export interface RotaryLink {
+  axis: string;
+  side: Side;
+  direction: Vec3;
+  hand: Hand;
+  point: Vec3;
+  zero_offset: number;
+  fixed: number | null;
+  range: [number, number] | null;
+}
+
+export interface MachineModel {
+  name: string;
+  axes: Axis[];
+  rotary: RotaryLink[];
+  tool_axis: Vec3;
+  nose: Vec3;
+  holder: number;
+  motion: Record<string, unknown>;
+  five_axis: Record<string, unknown>;
+  manual: Record<string, unknown>;
+}
+
+const vec = (v: readonly number[] | undefined | null, d: Vec3): Vec3 =>
+  v && v.length === 3 ? [Number(v[0]), Number(v[1]), Number(v[2])] : [d[0], d[1], d[2]];
+
+/** The model with every default of `docs/machine-config.md` applied (also accepts an already normalised model). */
+export function normalizeModel(m: MachineModelInput | MachineModel): MachineModel {
+  const axes: Axis[] = m.axes.map((a) => {
+    const accel = a.accel ?? a.rapid / 60 / 0.2;
+    return {
+      name: a.name,
+      kind: a.kind,
+      rapid: a.rapid,
+      accel,
+      jerk: a.jerk ?? accel / 0.05,
+      stroke: a.stroke ? [a.stroke[0], a.stroke[1]] : null,
+      references: vec(a.references, [0, 0, 0]),
+      rollover: a.rollover ?? false,
+      shortest: a.shortest ?? false,
+    };
+  });
+  const rotary: RotaryLink[] = (m.rotary ?? []).map((r) => ({
+    axis: r.axis,
+    side: r.side,
+    direction: vec(r.direction, [0, 0, 1]),
+    hand: r.hand,
+    point: vec(r.point, [0, 0, 0]),
+    zero_offset: r.zero_offset ?? 0,
+    fixed: r.fixed ?? null,
+    range: r.range && !(r.range[0] === 0 && r.range[1] === 0) ? [r.range[0], r.range[1]] : null,
+  }));
+  return {
+    name: m.name,
+    axes,
+    rotary,
+    tool_axis: vec(m.tool_axis, [0, 0, 1]),
+    nose: vec(m.nose, [0, 0, 0]),
+    holder: m.holder ?? 0,
+    motion: { ...(m.motion ?? {}) },
+    five_axis: { ...(m.five_axis ?? {}) },
+    manual: { ...(m.manual ?? {}) },
+  };
+}
+
+/** The machine's kind, as the engine's `MachineKind` names it (kebab-case). */
+export type MachineKind = "three-axis" | "head-head" | "table-table" | "head-table" | "head" | "table";
+
+export function machineKind(m: MachineModel): MachineKind {
+  const h = m.rotary.filter((r) => r.side === "head").length;
+  const t = m.rotary.filter((r) => r.side === "table").length;
+  if (h === 0 && t === 0) return "three-axis";
+  if (h === 2 && t === 0) return "head-head";
+  if (h === 0 && t === 2) return "table-table";
+  if (h === 1 && t === 1) return "head-table";
+  if (h === 1 && t === 0) return "head";
+  if (h === 0 && t === 1) return "table";
+  throw new Error(`${m.name}: a machine has at most two rotary axes in its mechanism chain`);
+}

@@ -1,0 +1,325 @@
+// The live 3D machine view.
+//
+// `MachineScene` is everything but the renderer: the machine rig (rig.ts), lights, the
+// programmed path and the executed trace (children of the innermost table group, so they ride
+// with the part). It needs no DOM or WebGL, so tests build and check it in node.
+// `MachineView` puts a `MachineScene` in a container: a WebGL renderer (injectable), a
+// perspective camera with Z up, OrbitControls, a ResizeObserver, and on-demand rendering (a
+// frame is drawn only after something changed: axes, tool, path, trace, camera, size).
+
+import * as THREE from "three";
+import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
+import { axisColor, buildMachine } from "./rig";
+import type { MachineRig } from "./rig";
+import type { AxisValues } from "./kinematics";
+import type { MachineModel, MachineModelInput } from "./model";
+import { PathLine, TraceLine } from "./trace";
+
+export type ViewPreset = "iso" | "front" | "top" | "side";
+
+export class MachineScene {
+  readonly scene = new THREE.Scene();
+  readonly rig: MachineRig;
+  readonly trace: TraceLine;
+  readonly path: PathLine;
+  private axes: AxisValues = {};
+  private toolLength = 0;
+  /** Called whenever something visible changed (MachineView schedules a frame). */
+  onChange: () => void = () => {};
+
+  constructor(machine: MachineModelInput | MachineModel, options: { traceCap?: number } = {}) {
+    this.rig = buildMachine(machine);
+    this.scene.add(this.rig.root);
+    this.scene.background = new THREE.Color(0x1d2126);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404850, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+    sun.position.set(0.6, -1, 1.4).multiplyScalar(this.rig.size * 2);
+    this.scene.add(sun);
+    const fill = new THREE.DirectionalLight(0xffffff, 0.5);
+    fill.position.set(-1, 0.8, 0.4).multiplyScalar(this.rig.size * 2);
+    this.scene.add(fill);
+    this.trace = new TraceLine(0xffd000, options.traceCap);
+    this.path = new PathLine();
+    this.rig.tableFrame.add(this.path.object, this.trace.object);
+  }
+
+  /** Axis values by address; missing ones keep their last value (initially 0). */
+  setAxes(values: AxisValues): void {
+    let changed = false;
+    for (const [k, v] of Object.entries(values)) {
+      if (typeof v === "number" && Number.isFinite(v) && this.axes[k] !== v) {
+        this.axes[k] = v;
+        changed = true;
+      }
+    }
+    if (changed) this.pose();
+  }
+
+  getAxes(): AxisValues {
+    return { ...this.axes };
+  }
+
+  setToolLength(L: number): void {
+    if (Number.isFinite(L) && L !== this.toolLength) {
+      this.toolLength = L;
+      this.pose();
+    }
+  }
+
+  getToolLength(): number {
+    return this.toolLength;
+  }
+
+  /** The programmed path: xyz triples in the table frame (replaces the previous path); `rapid[i]`: the move to point i is a rapid. */
+  setPath(points: ArrayLike<number> | null | undefined, rapid?: ArrayLike<boolean> | null): void {
+    this.path.set(points, rapid);
+    this.onChange();
+  }
+
+  /** One executed tip position, table frame. */
+  addTrace(x: number, y: number, z: number): void {
+    this.trace.add(x, y, z);
+    this.onChange();
+  }
+
+  /** Add the current tool tip (the forward kinematics of the current axes and tool length, in the table frame) to the trace; returns it. */
+  addTraceAtTip(): [number, number, number] {
+    const tip = this.rig.kinematics.forward(this.axes, this.toolLength).tip;
+    this.addTrace(tip[0], tip[1], tip[2]);
+    return tip;
+  }
+
+  /** Many tip positions at once, xyz triples in the table frame. */
+  addTracePoints(xyz: ArrayLike<number>): void {
+    this.trace.addMany(xyz);
+    this.onChange();
+  }
+
+  clearTrace(): void {
+    this.trace.clear();
+    this.onChange();
+  }
+
+  /** World (machine) bounds of the working zone (table and head chains, tool) and the path, at the current pose; `all`: the whole machine. */
+  bounds(all = false): THREE.Box3 {
+    const box = new THREE.Box3();
+    for (const b of all ? this.rig.bodies : this.rig.focus) box.expandByObject(b);
+    const pb = this.path.bounds;
+    if (pb && !pb.isEmpty()) box.union(pb.clone().applyMatrix4(this.rig.tableFrame.matrixWorld));
+    return box;
+  }
+
+  /** Upload pending trace points (before each render). */
+  flush(): void {
+    this.trace.flush();
+  }
+
+  private pose(): void {
+    this.rig.update(this.axes, this.toolLength);
+    this.onChange();
+  }
+
+  dispose(): void {
+    this.trace.dispose();
+    this.path.dispose();
+    this.rig.dispose();
+  }
+}
+
+/** What MachineView needs of a renderer (a WebGLRenderer, or a stand-in in tests). */
+export interface RendererLike {
+  domElement: HTMLCanvasElement;
+  setPixelRatio(r: number): void;
+  setSize(w: number, h: number, updateStyle?: boolean): void;
+  render(scene: THREE.Object3D, camera: THREE.Camera): void;
+  dispose(): void;
+}
+
+export interface MachineViewOptions {
+  /** Make the renderer (default: a WebGLRenderer, antialiased, drawing buffer preserved so tests can read the canvas). */
+  createRenderer?: () => RendererLike;
+  /** Trace capacity, points (default TRACE_CAP). */
+  traceCap?: number;
+  /** Letters at the rotary axis lines (default true; needs a DOM canvas). */
+  labels?: boolean;
+}
+
+/** A text sprite (canvas texture) for the end of each rotary axis line. */
+function addAxisLabels(rig: MachineRig): void {
+  for (const link of rig.model.rotary) {
+    const line = rig.root.getObjectByName(`axis-line-${link.axis}`) as THREE.Line | undefined;
+    if (!line?.parent) continue;
+    const text = link.fixed !== null ? `${link.axis} ${link.fixed}°` : link.axis;
+    const canvas = document.createElement("canvas");
+    canvas.width = 128;
+    canvas.height = 64;
+    const ctx = canvas.getContext("2d");
+    if (!ctx) continue;
+    ctx.font = "bold 40px sans-serif";
+    ctx.textAlign = "center";
+    ctx.textBaseline = "middle";
+    ctx.lineWidth = 6;
+    ctx.strokeStyle = "rgba(0, 0, 0, 0.8)";
+    ctx.strokeText(text, 64, 32);
+    ctx.fillStyle = `#${axisColor(link.axis).toString(16).padStart(6, "0")}`;
+    ctx.fillText(text, 64, 32);
+    const material = new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(canvas), depthTest: false });
+    const sprite = new THREE.Sprite(material);
+    const end = new THREE.Vector3().fromBufferAttribute(line.geometry.getAttribute("position") as THREE.BufferAttribute, 1);
+    sprite.position.copy(end);
+    const h = rig.size / 22;
+    sprite.scale.set(2 * h, h, 1);
+    sprite.renderOrder = 12;
+    sprite.name = `axis-label-${link.axis}`;
+    line.parent.add(sprite);
+  }
+}
+
+const VIEW_DIRECTIONS: Record<ViewPreset, [number, number, number]> = {
+  // From the operator's side (−Y), right and above.
+  iso: [1, -1.2, 0.9],
+  front: [0, -1, 0],
+  side: [1, 0, 0],
+  // Straight down; a hair toward −Y keeps OrbitControls' Z-up orbit defined.
+  top: [0, -1e-4, 1],
+};
+
+export class MachineView {
+  readonly machineScene: MachineScene;
+  readonly camera: THREE.PerspectiveCamera;
+  readonly controls: OrbitControls;
+  readonly renderer: RendererLike;
+  private readonly container: HTMLElement;
+  private readonly resizeObserver: ResizeObserver | null;
+  private frame = 0;
+  private disposed = false;
+  /** Frames drawn so far (for tests and diagnostics). */
+  frames = 0;
+
+  constructor(container: HTMLElement, machine: MachineModelInput | MachineModel, options: MachineViewOptions = {}) {
+    this.container = container;
+    this.machineScene = new MachineScene(machine, { traceCap: options.traceCap });
+    this.renderer =
+      options.createRenderer?.() ??
+      new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(globalThis.devicePixelRatio ?? 1, 2));
+    const canvas = this.renderer.domElement;
+    canvas.style.display = "block";
+    canvas.style.width = "100%";
+    canvas.style.height = "100%";
+    canvas.style.touchAction = "none";
+    container.appendChild(canvas);
+
+    const size = this.machineScene.rig.size;
+    this.camera = new THREE.PerspectiveCamera(35, 1, size / 200, size * 40);
+    this.camera.up.set(0, 0, 1);
+    this.controls = new OrbitControls(this.camera, canvas);
+    this.controls.screenSpacePanning = true;
+    this.controls.addEventListener("change", () => this.requestRender());
+    this.machineScene.onChange = () => this.requestRender();
+
+    if (options.labels !== false && typeof document !== "undefined") addAxisLabels(this.machineScene.rig);
+
+    this.resize();
+    this.resizeObserver = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => this.resize());
+    this.resizeObserver?.observe(container);
+    this.setView("iso");
+  }
+
+  setAxes(values: Record<string, number>): void {
+    this.machineScene.setAxes(values);
+  }
+
+  setToolLength(L: number): void {
+    this.machineScene.setToolLength(L);
+  }
+
+  /** The programmed path, xyz triples in the TABLE frame; `rapid[i]`: the move to point i is a rapid (drawn dim). */
+  setPath(points: Float32Array, rapid?: ArrayLike<boolean>): void {
+    this.machineScene.setPath(points, rapid);
+  }
+
+  /** One executed tool-tip position in the TABLE frame. */
+  addTrace(x: number, y: number, z: number): void {
+    this.machineScene.addTrace(x, y, z);
+  }
+
+  /** Add where the tool tip is now (from the axes and tool length: needs no work offsets). */
+  addTraceAtTip(): void {
+    this.machineScene.addTraceAtTip();
+  }
+
+  /** Many executed positions at once (xyz triples, table frame). */
+  addTracePoints(xyz: ArrayLike<number>): void {
+    this.machineScene.addTracePoints(xyz);
+  }
+
+  clearTrace(): void {
+    this.machineScene.clearTrace();
+  }
+
+  /** Frame the machine (and path) from the current viewing direction. */
+  fit(): void {
+    const dir = this.camera.position.clone().sub(this.controls.target);
+    if (dir.lengthSq() === 0) dir.set(...VIEW_DIRECTIONS.iso);
+    this.frameFrom(dir);
+  }
+
+  /** Look from a preset direction and frame the machine. */
+  setView(view: ViewPreset): void {
+    this.frameFrom(new THREE.Vector3(...VIEW_DIRECTIONS[view]));
+  }
+
+  private frameFrom(direction: THREE.Vector3): void {
+    const box = this.machineScene.bounds();
+    const sphere = box.isEmpty() ? new THREE.Sphere(new THREE.Vector3(), 500) : box.getBoundingSphere(new THREE.Sphere());
+    const vfov = THREE.MathUtils.degToRad(this.camera.fov) / 2;
+    const hfov = Math.atan(Math.tan(vfov) * Math.max(this.camera.aspect, 1e-3));
+    const dist = (sphere.radius / Math.sin(Math.min(vfov, hfov))) * 1.15;
+    this.controls.target.copy(sphere.center);
+    this.camera.position.copy(sphere.center).add(direction.normalize().multiplyScalar(dist));
+    this.camera.near = Math.max(dist / 500, 0.1);
+    this.camera.far = dist * 20;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.requestRender();
+  }
+
+  /** Draw a frame at the next animation frame (coalesced). */
+  requestRender(): void {
+    if (this.frame || this.disposed) return;
+    const raf = globalThis.requestAnimationFrame ?? ((f: FrameRequestCallback) => setTimeout(() => f(performance.now()), 16) as unknown as number);
+    this.frame = raf(() => {
+      this.frame = 0;
+      this.render();
+    });
+  }
+
+  /** Draw now. */
+  render(): void {
+    if (this.disposed) return;
+    this.machineScene.flush();
+    this.renderer.render(this.machineScene.scene, this.camera);
+    this.frames++;
+  }
+
+  private resize(): void {
+    const w = Math.max(1, this.container.clientWidth);
+    const h = Math.max(1, this.container.clientHeight);
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  dispose(): void {
+    if (this.disposed) return;
+    this.disposed = true;
+    if (this.frame) (globalThis.cancelAnimationFrame ?? clearTimeout)(this.frame);
+    this.resizeObserver?.disconnect();
+    this.controls.dispose();
+    this.machineScene.dispose();
+    this.renderer.dispose();
+    this.renderer.domElement.remove();
+  }
+}

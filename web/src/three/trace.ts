@@ -1,0 +1,182 @@
+// The executed tool-tip trace and the programmed path, as lines in the table frame.
+//
+// Trace: one preallocated Float32 BufferGeometry drawn as a line strip. Capacity starts at
+// TRACE_INITIAL points and doubles (a new geometry, the old one disposed: log₂ times in all)
+// up to TRACE_CAP points; when full, the oldest half is dropped (one copy and one full upload
+// every TRACE_CAP / 2 points, amortised O(1) per point). Between frames only the new range is
+// uploaded: `flush()` (called before each render) adds one update range covering the points
+// added since the last flush and moves the draw range. Nothing is rebuilt per point.
+
+import * as THREE from "three";
+
+export const TRACE_INITIAL = 16_384;
+/** The most points the trace keeps (the newest ones); 1,048,576 points = 12 MiB of positions. */
+export const TRACE_CAP = 1 << 20;
+
+export class TraceLine {
+  readonly object: THREE.Line;
+  private positions: Float32Array;
+  private attribute: THREE.BufferAttribute;
+  private n = 0;
+  /** First point not yet uploaded; −1: the whole buffer must be uploaded. */
+  private dirtyFrom = 0;
+  readonly cap: number;
+
+  constructor(color = 0xffd000, cap = TRACE_CAP, initial = TRACE_INITIAL) {
+    this.cap = cap;
+    this.positions = new Float32Array(Math.min(initial, cap) * 3);
+    this.attribute = new THREE.BufferAttribute(this.positions, 3);
+    this.attribute.setUsage(THREE.DynamicDrawUsage);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute("position", this.attribute);
+    geometry.setDrawRange(0, 0);
+    this.object = new THREE.Line(geometry, new THREE.LineBasicMaterial({ color }));
+    this.object.name = "trace";
+    // The bounding sphere would have to be recomputed over the whole buffer; the trace is small
+    // next to the machine, so it is never culled.
+    this.object.frustumCulled = false;
+  }
+
+  /** Number of points held. */
+  get length(): number {
+    return this.n;
+  }
+
+  /** Capacity of the current buffer, points. */
+  get capacity(): number {
+    return this.positions.length / 3;
+  }
+
+  /** Point i (table frame) as stored (Float32). */
+  point(i: number): [number, number, number] {
+    const p = this.positions;
+    return [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
+  }
+
+  add(x: number, y: number, z: number): void {
+    if (this.n === this.capacity) this.makeRoom();
+    const i = 3 * this.n;
+    this.positions[i] = x;
+    this.positions[i + 1] = y;
+    this.positions[i + 2] = z;
+    this.n++;
+  }
+
+  /** Add many points at once (xyz triples). */
+  addMany(xyz: ArrayLike<number>): void {
+    for (let k = 0; k + 2 < xyz.length; k += 3) this.add(xyz[k], xyz[k + 1], xyz[k + 2]);
+  }
+
+  clear(): void {
+    this.n = 0;
+    this.dirtyFrom = 0;
+    this.object.geometry.setDrawRange(0, 0);
+  }
+
+  /** Whether points were added since the last flush. */
+  get dirty(): boolean {
+    return this.dirtyFrom < 0 || this.dirtyFrom < this.n;
+  }
+
+  /** Upload what changed and draw every point (call before rendering). */
+  flush(): void {
+    const geometry = this.object.geometry;
+    if (this.dirtyFrom < 0) {
+      this.attribute.clearUpdateRanges();
+      this.attribute.needsUpdate = true;
+    } else if (this.dirtyFrom < this.n) {
+      this.attribute.addUpdateRange(3 * this.dirtyFrom, 3 * (this.n - this.dirtyFrom));
+      this.attribute.needsUpdate = true;
+    }
+    this.dirtyFrom = this.n;
+    geometry.setDrawRange(0, this.n);
+  }
+
+  private makeRoom(): void {
+    const cap = this.capacity;
+    if (cap < this.cap) {
+      // Double: a new geometry (a buffer's size is fixed once uploaded), the old one disposed.
+      const positions = new Float32Array(Math.min(cap * 2, this.cap) * 3);
+      positions.set(this.positions);
+      this.replace(positions);
+      this.dirtyFrom = 0;
+    } else {
+      // Full: keep the newest half.
+      const half = Math.floor(cap / 2);
+      this.positions.copyWithin(0, 3 * (cap - half), 3 * cap);
+      this.n = half;
+      this.dirtyFrom = -1;
+    }
+  }
+
+  private replace(positions: Float32Array): void {
+    const old = this.object.geometry;
+    this.positions = positions;
+    this.attribute = new THREE.BufferAttribute(positions, 3);
+    this.attribute.setUsage(THREE.DynamicDrawUsage);
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute("position", this.attribute);
+    geometry.setDrawRange(0, this.n);
+    this.object.geometry = geometry;
+    old.dispose();
+  }
+
+  dispose(): void {
+    this.object.geometry.dispose();
+    (this.object.material as THREE.Material).dispose();
+  }
+}
+
+/**
+ * The programmed path: one BufferGeometry of line segments (point i → i + 1), replaced as a
+ * whole by `set`. With per-point `rapid` flags (`GET …/programs/{n}/path` gives them), a rapid move
+ * to a point is drawn dim orange and a cutting move cyan.
+ */
+export class PathLine {
+  readonly object: THREE.LineSegments;
+  static readonly FEED = new THREE.Color(0x30d0ff);
+  static readonly RAPID = new THREE.Color(0xd08030);
+
+  constructor() {
+    this.object = new THREE.LineSegments(
+      new THREE.BufferGeometry(),
+      new THREE.LineBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.85 }),
+    );
+    this.object.name = "path";
+    this.object.frustumCulled = false;
+  }
+
+  /** xyz triples in the table frame; `rapid[i]`: the move to point i is a rapid. */
+  set(points: ArrayLike<number> | null | undefined, rapid?: ArrayLike<boolean> | null): void {
+    const old = this.object.geometry;
+    const geometry = new THREE.BufferGeometry();
+    const n = points ? Math.floor(points.length / 3) : 0;
+    if (points && n >= 2) {
+      const pos = new Float32Array((n - 1) * 6);
+      const col = new Float32Array((n - 1) * 6);
+      for (let i = 0; i + 1 < n; i++) {
+        for (let k = 0; k < 3; k++) {
+          pos[6 * i + k] = points[3 * i + k];
+          pos[6 * i + 3 + k] = points[3 * (i + 1) + k];
+        }
+        const c = rapid && rapid[i + 1] ? PathLine.RAPID : PathLine.FEED;
+        col.set([c.r, c.g, c.b, c.r, c.g, c.b], 6 * i);
+      }
+      geometry.setAttribute("position", new THREE.BufferAttribute(pos, 3));
+      geometry.setAttribute("color", new THREE.BufferAttribute(col, 3));
+      geometry.computeBoundingBox();
+    }
+    this.object.geometry = geometry;
+    old.dispose();
+  }
+
+  /** Bounds in the path's own (table-frame) coordinates, or null when empty. */
+  get bounds(): THREE.Box3 | null {
+    return this.object.geometry.boundingBox;
+  }
+
+  dispose(): void {
+    this.object.geometry.dispose();
+    (this.object.material as THREE.Material).dispose();
+  }
+}
