@@ -82,7 +82,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
         </div>
         <div class="center">{live.machine && <Machine3D machine={live.machine} frame={live.frame} path={path} onFrame={live.onFrame} />}</div>
       </div>
-      <Panel status={status} axes={axes} onStatus={live.setStatus} onError={setError} />
+      <Panel status={status} axes={axes} run={live.act} onError={setError} />
       <nav class="tabs">
         {TABS.map(([t, label]) => (
           <a key={t} href={`#/c/${id}/${t}`} class={tab === t ? "active" : ""}>
@@ -92,8 +92,8 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
         ))}
       </nav>
       <div class="tab-body">
-        {tab === "program" && <Programs status={status} line={live.frame?.line ?? status.line} selected={program} onSelect={setProgram} onStatus={live.setStatus} onError={setError} />}
-        {tab === "mdi" && <Mdi status={status} onStatus={live.setStatus} onError={setError} />}
+        {tab === "program" && <Programs status={status} line={live.frame?.line ?? status.line} selected={program} onSelect={setProgram} run={live.act} onError={setError} />}
+        {tab === "mdi" && <Mdi status={status} run={live.act} onError={setError} />}
         {tab === "alarms" && <Alarms id={id} active={live.alarms} messages={live.messages} />}
         {tab === "variables" && <Variables id={id} values={live.variables} onError={setError} />}
         {tab === "offsets" && <Offsets id={id} axes={axes} onError={setError} />}

@@ -1,9 +1,10 @@
 // MDI: type blocks and run them (the service switches to MDI mode).
 import { memo } from "preact/compat";
 import { useState } from "preact/hooks";
-import { api, must, type Status } from "../api/client";
+import { api, type Status } from "../api/client";
+import type { Act } from "./useController";
 
-function MdiView({ status, onStatus, onError }: { status: Status; onStatus: (s: Status) => void; onError: (e: string | null) => void }) {
+function MdiView({ status, run: act, onError }: { status: Status; run: Act; onError: (e: string | null) => void }) {
   const [text, setText] = useState("");
   const [history, setHistory] = useState<string[]>([]);
   const run = async (e: Event) => {
@@ -11,7 +12,7 @@ function MdiView({ status, onStatus, onError }: { status: Status; onStatus: (s: 
     if (!text.trim()) return;
     onError(null);
     try {
-      onStatus(await must(api.POST("/api/v1/controllers/{id}/mdi", { params: { path: { id: status.id } }, body: { text } })));
+      await act(() => api.POST("/api/v1/controllers/{id}/mdi", { params: { path: { id: status.id } }, body: { text } }));
       setHistory((h) => [text, ...h.filter((x) => x !== text)].slice(0, 20));
     } catch (err: any) {
       onError(err.message ?? String(err));

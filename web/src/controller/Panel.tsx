@@ -2,7 +2,8 @@
 // block, optional stop and block delete switches, feed and rapid override, and the manual
 // feeds (JOG with hold-to-move keys, HANDLE with increments, the 5-axis manual feeds).
 import { useState } from "preact/hooks";
-import { api, must, type Status } from "../api/client";
+import { api, type Status } from "../api/client";
+import type { Act } from "./useController";
 
 const MODES: [string, string][] = [
   ["auto", "MEM"],
@@ -25,7 +26,7 @@ const FIVE_AXIS_FEEDS: [string, string][] = [
 
 type Target = { axis: string } | { feed: string } | { tip_rotation: string };
 
-export function Panel({ status, axes, onStatus, onError }: { status: Status; axes: string[]; onStatus: (s: Status) => void; onError: (e: string | null) => void }) {
+export function Panel({ status, axes, run, onError }: { status: Status; axes: string[]; run: Act; onError: (e: string | null) => void }) {
   const id = status.id;
   const p = { params: { path: { id } } };
   const [target, setTarget] = useState<Target>({ axis: axes[0] ?? "X" });
@@ -33,10 +34,10 @@ export function Panel({ status, axes, onStatus, onError }: { status: Status; axe
   const rotaries = axes.filter((a) => "ABC".includes(a));
   const panel = status.panel;
 
-  const act = async (call: () => Promise<{ data?: Status; error?: unknown; response: Response }>) => {
+  const act = async (call: Parameters<Act>[0]) => {
     onError(null);
     try {
-      onStatus(await must(call()));
+      await run(call);
     } catch (e: any) {
       onError(e.message ?? String(e));
     }

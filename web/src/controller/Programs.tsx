@@ -2,6 +2,7 @@
 // stores through the service's check (diagnostics shown on their lines), upload, and start.
 import { useEffect, useRef, useState } from "preact/hooks";
 import { api, ApiError, must, type Schemas, type Status } from "../api/client";
+import type { Act } from "./useController";
 import { CodeView, type Mark } from "./CodeView";
 
 export function Programs({
@@ -9,7 +10,7 @@ export function Programs({
   line,
   selected,
   onSelect,
-  onStatus,
+  run,
   onError,
 }: {
   status: Status;
@@ -17,7 +18,7 @@ export function Programs({
   line: number;
   selected: number | null;
   onSelect: (n: number | null) => void;
-  onStatus: (s: Status) => void;
+  run: Act;
   onError: (e: string | null) => void;
 }) {
   const id = status.id;
@@ -134,7 +135,7 @@ export function Programs({
                 onClick={async () => {
                   onError(null);
                   try {
-                    onStatus(await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id } }, body: { program: selected } })));
+                    await run(() => api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id } }, body: { program: selected } }));
                   } catch (e: any) {
                     onError(e instanceof ApiError ? e.message : String(e));
                   }

@@ -14,9 +14,12 @@ export type Live = {
   error: string | null;
   /// Called with every position frame as it arrives (the 3D trace), not throttled.
   onFrame: (f: (frame: Frame) => void) => () => void;
-  /// Take a status an action answered.
-  setStatus: (s: Status) => void;
+  /// Carry out an operator action and take the status it answers (throws `ApiError`).
+  act: Act;
 };
+
+/// An operator action: a call whose answer is the controller's status.
+export type Act = (call: () => Promise<{ data?: Status; error?: unknown; response: Response }>) => Promise<void>;
 
 export function useController(id: string): Live {
   const [status, setStatus] = useState<Status | null>(null);
@@ -34,9 +37,19 @@ export function useController(id: string): Live {
       listeners.current.delete(f);
     };
   }, []);
-  const takeStatus = useCallback((s: Status) => {
-    setStatus(s);
-    setAlarms(s.alarms);
+  /// Stream events (snapshot, state, alarm) seen so far: an action's answer must not undo one
+  /// that arrived while the request was under way.
+  const events = useRef(0);
+  const act = useCallback<Act>(async (call) => {
+    const seen = events.current;
+    const s = await must(call());
+    if (events.current === seen) {
+      setStatus(s);
+      setAlarms(s.alarms);
+    } else {
+      // The stream already told something newer about the run state, mode and alarms.
+      setStatus((now) => (now ? { ...s, run_state: now.run_state, mode: now.mode, program: now.program, alarms: now.alarms } : s));
+    }
   }, []);
 
   useEffect(() => {
@@ -55,6 +68,7 @@ export function useController(id: string): Live {
       (msg) => {
         switch (msg.type) {
           case "snapshot": {
+            events.current++;
             const snap = msg as Schemas["Snapshot"];
             setStatus(snap.controller);
             setAlarms(snap.controller.alarms);
@@ -75,9 +89,11 @@ export function useController(id: string): Live {
             break;
           }
           case "state":
+            events.current++;
             setStatus((s) => (s ? { ...s, run_state: msg.run_state, mode: msg.mode, program: msg.program } : s));
             break;
           case "alarm":
+            events.current++;
             setAlarms(msg.active);
             setStatus((s) => (s ? { ...s, alarms: msg.active } : s));
             break;
@@ -104,6 +120,6 @@ export function useController(id: string): Live {
     connected,
     error,
     onFrame,
-    setStatus: takeStatus,
+    act,
   };
 }
