@@ -78,8 +78,7 @@ export class MachineScene {
 
   /** One executed tip position, table frame. */
   addTrace(x: number, y: number, z: number): void {
-    this.trace.add(x, y, z);
-    this.onChange();
+    if (this.trace.add(x, y, z)) this.onChange();
   }
 
   /** Add the current tool tip (the forward kinematics of the current axes and tool length, in the table frame) to the trace; returns it. */
@@ -91,8 +90,7 @@ export class MachineScene {
 
   /** Many tip positions at once, xyz triples in the table frame. */
   addTracePoints(xyz: ArrayLike<number>): void {
-    this.trace.addMany(xyz);
-    this.onChange();
+    if (this.trace.addMany(xyz) > 0) this.onChange();
   }
 
   clearTrace(): void {
