@@ -111,13 +111,21 @@ describe("trace buffer", () => {
     expect(t.capacity).toBe(262_144);
     const attr = t.object.geometry.getAttribute("position") as THREE.BufferAttribute;
     attr.clearUpdateRanges(); // what the renderer does after uploading
-    for (let i = 0; i < 10; i++) t.add(1, 2, 3);
+    for (let i = 0; i < 10; i++) t.add(1, 2, i);
     t.flush();
     expect(attr.updateRanges).toEqual([{ start: 3 * 150_000, count: 30 }]);
-    expect(t.point(150_005)).toEqual([1, 2, 3]);
+    expect(t.point(150_005)).toEqual([1, 2, 5]);
     t.clear();
     expect(t.length).toBe(0);
     t.dispose();
+  });
+
+  it("skips a repeat of the last point (a machine standing still draws nothing new)", () => {
+    const t = new TraceLine();
+    expect(t.add(1, 2, 3)).toBe(true);
+    expect(t.add(1, 2, 3)).toBe(false);
+    expect(t.add(1, 2, 3.5)).toBe(true);
+    expect(t.length).toBe(2);
   });
 
   it("keeps the newest half when the cap is reached", () => {

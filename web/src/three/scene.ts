@@ -29,6 +29,7 @@ export class MachineScene {
 
   constructor(machine: MachineModelInput | MachineModel, options: { traceCap?: number } = {}) {
     this.rig = buildMachine(machine);
+    for (const a of this.rig.model.axes) this.axes[a.name] = 0; // the rig is built at zero
     this.scene.add(this.rig.root);
     this.scene.background = new THREE.Color(0x1d2126);
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404850, 1.6));
@@ -41,6 +42,7 @@ export class MachineScene {
     this.trace = new TraceLine(0xffd000, options.traceCap);
     this.path = new PathLine();
     this.rig.tableFrame.add(this.path.object, this.trace.object);
+    this.rig.root.updateMatrixWorld(true);
   }
 
   /** Axis values by address; missing ones keep their last value (initially 0). */
@@ -78,8 +80,7 @@ export class MachineScene {
 
   /** One executed tip position, table frame. */
   addTrace(x: number, y: number, z: number): void {
-    this.trace.add(x, y, z);
-    this.onChange();
+    if (this.trace.add(x, y, z)) this.onChange();
   }
 
   /** Add the current tool tip (the forward kinematics of the current axes and tool length, in the table frame) to the trace; returns it. */
@@ -91,8 +92,7 @@ export class MachineScene {
 
   /** Many tip positions at once, xyz triples in the table frame. */
   addTracePoints(xyz: ArrayLike<number>): void {
-    this.trace.addMany(xyz);
-    this.onChange();
+    if (this.trace.addMany(xyz) > 0) this.onChange();
   }
 
   clearTrace(): void {

@@ -53,18 +53,27 @@ export class TraceLine {
     return [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
   }
 
-  add(x: number, y: number, z: number): void {
+  /** Append a point; a repeat of the last point (a machine standing still) is skipped: returns false. */
+  add(x: number, y: number, z: number): boolean {
+    const p = this.positions;
+    if (this.n > 0) {
+      const j = 3 * (this.n - 1);
+      if (p[j] === Math.fround(x) && p[j + 1] === Math.fround(y) && p[j + 2] === Math.fround(z)) return false;
+    }
     if (this.n === this.capacity) this.makeRoom();
     const i = 3 * this.n;
     this.positions[i] = x;
     this.positions[i + 1] = y;
     this.positions[i + 2] = z;
     this.n++;
+    return true;
   }
 
-  /** Add many points at once (xyz triples). */
-  addMany(xyz: ArrayLike<number>): void {
-    for (let k = 0; k + 2 < xyz.length; k += 3) this.add(xyz[k], xyz[k + 1], xyz[k + 2]);
+  /** Add many points at once (xyz triples); returns how many were added. */
+  addMany(xyz: ArrayLike<number>): number {
+    let added = 0;
+    for (let k = 0; k + 2 < xyz.length; k += 3) if (this.add(xyz[k], xyz[k + 1], xyz[k + 2])) added++;
+    return added;
   }
 
   clear(): void {
