@@ -144,3 +144,31 @@ fn parameter_lists_as_machine_files() {
     let file: Value = serde_json::from_str(&stdout(&out)).unwrap();
     assert_eq!(file["parameters"]["19666"], json!(150));
 }
+
+#[test]
+fn the_dashboards_kinematics_fixture_is_what_the_engine_computes() {
+    // web/src/three checks its forward kinematics against this fixture; this keeps the fixture
+    // true to the engine (regenerate it with web/src/three/fixtures/generate.mjs after a change).
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../web/src/three/fixtures/kinematics.json");
+    let fixture: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let mut checked = 0;
+    for machine in fixture["machines"].as_array().unwrap() {
+        let file = dir.path().join("machine.json");
+        std::fs::write(&file, machine["model"].to_string()).unwrap();
+        for pose in machine["poses"].as_array().unwrap() {
+            let axes: Vec<String> = pose["axes"].as_object().unwrap().iter().map(|(a, v)| format!("{a}={v}")).collect();
+            let length = pose["tool_length"].to_string();
+            let (code, v) = kin(&["fk", "--machine", file.to_str().unwrap(), "--axes", &axes.join(","), "--tool-length", &length]);
+            assert_eq!(code, 0, "{}", machine["source"]);
+            for key in ["tip", "tool", "tip_machine", "tool_machine"] {
+                for i in 0..3 {
+                    let (want, got) = (pose[key][i].as_f64().unwrap(), v[key][i].as_f64().unwrap());
+                    assert!((want - got).abs() <= 1e-12, "{} {pose}: {key} is {} now", machine["source"], v[key]);
+                }
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 100, "{checked} poses");
+}
