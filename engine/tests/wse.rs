@@ -698,3 +698,107 @@ fn extreme_error_data_end_in_alarms_not_panics() {
         }
     }
 }
+
+// --- PS0438: the settings tool direction compensation needs (TV-WSE-19d/e) -----------------
+
+/// head-bc with RCM = 1 read from FANUC parameters after `edit` changed them.
+fn machine_from_fanuc(preset: &str, edit: impl FnOnce(&mut fivex_engine::vendor::Params)) -> MachineConfig {
+    use fivex_engine::vendor::{machine_from, params_of};
+    let mut m = MachineConfig::preset(preset).unwrap();
+    m.five_axis.tool_direction_compensation = true;
+    let mut p = params_of(Dialect::Fanuc, &m).unwrap();
+    edit(&mut p);
+    machine_from(Dialect::Fanuc, preset, &p).unwrap()
+}
+
+fn run_on(m: &MachineConfig, src: &str) -> Result<(), (String, u32)> {
+    let mut interp = Interpreter::new(parse_file(src), Config::new(m.clone(), Dialect::Fanuc));
+    for n in 1..=9 {
+        interp.state.offsets.tool_mut(n).unwrap().h_geometry = 100.0;
+    }
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    interp.run(|_| {}).map_err(|a| (a.code, a.line))
+}
+
+#[test]
+fn tv_wse_19d_look_ahead_must_be_on_when_g54_4_starts_with_rcm() {
+    let start = "G90 G00 X0 Y0 Z100. B0 C0\nG54.4 P1\nG01 X10. F500.\nG54.4 P0\nM30\n";
+    let q1 = "G05.1 Q1\nG90 G00 X0 Y0 Z100. B0 C0\nG54.4 P1\nG01 X10. F500.\nG54.4 P0\nG05.1 Q0\nM30\n";
+    // SHP = 1 (fivex's default: absent No.1604): on from power-on.
+    let shp1 = machine_from_fanuc("head-bc", |_| {});
+    assert!(shp1.motion.look_ahead_set_up() && !shp1.motion.look_ahead_by_command);
+    assert_eq!(run_on(&shp1, start), Ok(()));
+    // SHP = 0: G54.4 P1 needs G05.1 Q1 first.
+    let shp0 = machine_from_fanuc("head-bc", |p| p.set(1604, 0.0));
+    assert!(shp0.motion.look_ahead_by_command);
+    assert_eq!(run_on(&shp0, start), Err(("PS0438".into(), 2)));
+    assert_eq!(run_on(&shp0, q1), Ok(()));
+    // Switched off again before G54.4.
+    let off_again = "G05.1 Q1\nG05.1 Q0\nG54.4 P1\n";
+    assert_eq!(run_on(&shp0, off_again), Err(("PS0438".into(), 3)));
+    assert_eq!(run_on(&shp1, "G05.1 Q0\nG54.4 P1\n"), Err(("PS0438".into(), 2)));
+    // [A] and not inside: G05.1 Q0 while compensating.
+    assert_eq!(run_on(&shp1, "G54.4 P1\nG05.1 Q0\n"), Err(("PS0438".into(), 2)));
+    // Without RCM none of this matters.
+    let mut plain = shp0.clone();
+    plain.five_axis.tool_direction_compensation = false;
+    assert_eq!(run_on(&plain, start), Ok(()));
+    assert_eq!(run_on(&plain, "G54.4 P1\nG05.1 Q0\nG54.4 P0\nM30\n"), Ok(()));
+    // A reset keeps G05.1 Q1 as it keeps the modal G codes (CLR = 0).
+    let mut interp = Interpreter::new(parse_file("G05.1 Q1\nM30\n"), Config::new(shp0.clone(), Dialect::Fanuc));
+    interp.run(|_| {}).unwrap();
+    interp.reset();
+    interp.load(parse_file("G54.4 P1\nG54.4 P0\nM30\n"));
+    assert!(interp.run(|_| {}).is_ok());
+}
+
+#[test]
+fn tv_wse_19d_lrp_frp_and_the_acceleration_parameters() {
+    let src = "G05.1 Q1\nG54.4 P1\nG54.4 P0\nM30\n";
+    let axes = |m: &MachineConfig| m.axes.len();
+    for (what, edit) in [
+        ("LRP = 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set(1401, 0.0)) as Box<dyn Fn(&mut _)>),
+        ("FRP = 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set(19501, 0.0))),
+        ("No.1671 all 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set_axes(1671, vec![0.0; 5]))),
+        ("No.1660 all 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set_axes(1660, vec![0.0; 5]))),
+    ] {
+        let m = machine_from_fanuc("head-bc", |p| edit(p));
+        assert_eq!(axes(&m), 5);
+        assert_eq!(run_on(&m, src), Err(("PS0438".into(), 2)), "{what}");
+        let mut plain = m.clone();
+        plain.five_axis.tool_direction_compensation = false;
+        assert_eq!(run_on(&plain, src), Ok(()), "{what} without RCM");
+    }
+    // Set, they pass: FRP = 1, No.1671 on one axis, No.1660 on one axis.
+    let m = machine_from_fanuc("head-bc", |p| {
+        p.set(19501, 32.0);
+        p.set_axes(1671, vec![0.0, 0.0, 1000.0, 0.0, 0.0]);
+        p.set_axes(1660, vec![0.0, 0.0, 0.0, 0.0, 900.0]);
+    });
+    assert_eq!(run_on(&m, src), Ok(()));
+}
+
+#[test]
+fn tv_wse_19e_tool_length_offset_in_g54_4_needs_tos_1() {
+    let tos0 = machine_from_fanuc("head-bc", |p| p.set(5006, 0.0));
+    assert!(tos0.five_axis.length_offset_by_motion);
+    for (src, line) in [
+        ("G54.4 P1\nG43 H1\n", 2),
+        ("G54.4 P1\nG00 X0 Y0 Z100. B0 C0\nG43.4 H1\n", 3),
+        ("G54.4 P1\nG01 G44 H1 Z10. F100.\n", 2),
+        ("G54.4 P1\nG43.5 H1\n", 2),
+    ] {
+        assert_eq!(run_on(&tos0, src), Err(("PS0438".into(), line)), "{src}");
+    }
+    // TOS = 0 outside G54.4, and TOS = 1 (fivex's default) inside: accepted.
+    assert_eq!(run_on(&tos0, "G43 H1 G01 Z10. F100.\nG49 G00 Z100.\nM30\n"), Ok(()));
+    let tos1 = machine_from_fanuc("head-bc", |p| p.set(5006, 64.0));
+    assert!(!tos1.five_axis.length_offset_by_motion);
+    let inside = "G54.4 P1\nG00 X0 Y0 Z100. B0 C0\nG43.4 H1\nG01 Z50. F500.\nG49\nG54.4 P0\nM30\n";
+    assert_eq!(run_on(&tos1, inside), Ok(()));
+    // RCM = 0: G43 with TOS = 0 is refused too (WSE-24 is a general restriction).
+    let mut plain = tos0.clone();
+    plain.five_axis.tool_direction_compensation = false;
+    assert_eq!(run_on(&plain, "G54.4 P1\nG43 H1\n"), Err(("PS0438".into(), 2)));
+}

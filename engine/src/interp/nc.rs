@@ -900,6 +900,11 @@ impl State {
                 return Ok(true);
             }
             220 => {}
+            // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off.
+            51 => match w.integer(b'Q') {
+                Some(q) if q == 1.0 || q == 0.0 => self.look_ahead = q == 1.0,
+                _ => {}
+            },
             // Codes whose effect belongs to later stages (look-ahead, 5-axis alignment…):
             // accepted and visible in the modal context, nothing to do for positions here.
             _ => {}

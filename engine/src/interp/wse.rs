@@ -146,6 +146,14 @@ impl State {
         Some(p)
     }
 
+    /// What tool direction compensation needs when G54.4 Pn starts it (WSE-11, TV-WSE-19d;
+    /// PS0438 otherwise): look-ahead on (G05.1 Q1, or on from power-on), linear-type rapids
+    /// (LRP), look-ahead set up for rapids (FRP, No.1671) and cutting feed (No.1660).
+    pub(super) fn wse_settings_ready(&self) -> bool {
+        let m = &self.cfg.machine.motion;
+        self.look_ahead && !m.nonlinear_rapid && m.look_ahead_set_up()
+    }
+
     /// Reset: workpiece setting error compensation ends unless FANUC D3R (No.5400#2) keeps it
     /// (WSE-21; `five_axis.plane_after_reset`, the same bit that keeps the tilted plane). The machine stays; the current point is recomputed in the WCS.
     pub(super) fn wse_reset(&mut self) {
