@@ -116,6 +116,9 @@ pub struct TipMove {
     /// The rotary axes move at F when the tip does not move (FANUC RFC = 1); otherwise at their
     /// highest speed.
     pub rotary_feed: bool,
+    /// The rotary axes turn at most this fraction of their rate (FANUC No.11202/11203 under
+    /// G54.4 tool direction compensation); `None`: their own limit.
+    pub rotary_clamp: Option<f64>,
 }
 
 /// A circle (spiral within the arc tolerance, helix along `normal`) in the table frame.

@@ -802,3 +802,56 @@ fn tv_wse_19e_tool_length_offset_in_g54_4_needs_tos_1() {
     plain.five_axis.tool_direction_compensation = false;
     assert_eq!(run_on(&plain, "G54.4 P1\nG43 H1\n"), Err(("PS0438".into(), 2)));
 }
+
+// --- No.11202 / No.11203: the compensating rotary motion's speed (WSE-24) -------------------
+
+/// The highest C speed (deg/s) on `line`, sampled every millisecond.
+fn top_c_speed(mut interp: Interpreter, line: u32) -> f64 {
+    let mut last: Option<(f64, f64)> = None;
+    let mut top: f64 = 0.0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| {
+        if s.line == line {
+            if let Some((t, c)) = last {
+                if s.t > t {
+                    top = top.max((s.machine[4] - c).abs() / (s.t - t));
+                }
+            }
+            last = Some((s.t, s.machine[4]));
+        } else {
+            last = None;
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    top
+}
+
+#[test]
+fn wse_24_no_11202_11203_clamp_the_compensating_rotary_motion() {
+    // head-bc, RCM = 1, Δc 90°: from machine B30 C0 the start block makes the programmed C −90;
+    // programmed C0 then needs machine C 90 — a quarter turn of compensation in a 10 mm move.
+    let src = |g: &str| format!("G90 G00 X0 Y0 Z100. B30. C0\nG54.4 P1\n{g} X10. C0\nG54.4 P0\nM30\n");
+    let interp = |g: &str, feed_pct: f64, rapid_pct: f64| {
+        let mut interp = fanuc_with(&src(g), "head-bc", |c| {
+            rcm(c);
+            (c.machine.five_axis.wse_feed_clamp_pct, c.machine.five_axis.wse_rapid_clamp_pct) = (feed_pct, rapid_pct);
+        });
+        interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 90.0];
+        interp
+    };
+    let c_rate = 10_800.0 / 60.0;
+    let end = end_of(&motion_ends(interp("G00", 0.0, 0.0)), 3);
+    assert!((end[4] - 90.0).abs() < 1e-6, "C {}", end[4]);
+    // No.11203 = 2 on a rapid, No.11202 = 1 on a cutting move (F far above what the axes
+    // allow): C within that share of its rate, and near it (the clamp is what holds C back:
+    // without it C turns faster, as fast as the carriage circling the C axis allows).
+    for (g, feed_pct, rapid_pct, share) in [("G00", 50.0, 2.0, 0.02), ("G01 F100000.", 1.0, 50.0, 0.01)] {
+        let free = top_c_speed(interp(g, 0.0, 0.0), 3);
+        let top = top_c_speed(interp(g, feed_pct, rapid_pct), 3);
+        assert!(top <= share * c_rate * (1.0 + 1e-6) && top > 0.9 * share * c_rate, "{g}: {top}");
+        assert!(free > 1.5 * share * c_rate, "{g}: free {free}");
+    }
+    // Without G54.4 no clamp applies.
+    let src = "G90 G00 X0 Y0 Z100. B30. C0\nG01 X10. C90. F100000.\nM30\n";
+    let top = top_c_speed(fanuc_with(src, "head-bc", |c| c.machine.five_axis.wse_feed_clamp_pct = 1.0), 2);
+    assert!(top > 1.5 * 0.01 * c_rate, "{top}");
+}

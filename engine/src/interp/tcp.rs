@@ -372,6 +372,7 @@ impl State {
                 deviation: deviation_limit(self, kind),
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
+                rotary_clamp: self.wse_rotary_clamp(kind),
             })
         });
         let motion = self.motion(kind, target, machine, None, tip);

@@ -281,6 +281,19 @@ impl State {
         Ok(())
     }
 
+    /// FANUC No.11202 (cutting) / No.11203 (rapid), WSE-24: under tool direction compensation
+    /// the rotary axes turn at most that percentage of their rate (the seed's "maximum cutting
+    /// feedrate / rapid traverse rate"; the model's one rate per axis stands for both); 0: no
+    /// clamp.
+    pub(super) fn wse_rotary_clamp(&self, kind: MotionKind) -> Option<f64> {
+        if !self.wse_follows() {
+            return None;
+        }
+        let f = &self.cfg.machine.five_axis;
+        let pct = if kind == MotionKind::Rapid { f.wse_rapid_clamp_pct } else { f.wse_feed_clamp_pct };
+        (pct > 0.0 && pct < 100.0).then_some(pct / 100.0)
+    }
+
     /// A plain move (`push_motion`: canned cycles, the G28/G30 intermediate point) ended at
     /// `machine` under tool direction compensation, which keeps the machine position beside
     /// the tip: these moves are not compensated (the tool length along Z, the rotary axes as

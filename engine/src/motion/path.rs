@@ -599,6 +599,20 @@ impl Segment {
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
         };
+        // FANUC No.11202/11203: the rotary axes of a G54.4-compensated move within a share of
+        // their rate.
+        let clamped;
+        let axes = match tip.rotary_clamp {
+            Some(share) => {
+                let mut a = axes.clone();
+                for i in kin.joints().iter().filter_map(|j| j.index) {
+                    a.v[i] *= share;
+                }
+                clamped = a;
+                &clamped
+            }
+            None => axes,
+        };
         let rotary_only = tip_len < 1e-9;
         let len = if rotary_only { turn } else { tip_len };
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
