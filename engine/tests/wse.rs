@@ -9,7 +9,7 @@
 mod common;
 
 use common::{end_of, interpreter_with, motion_ends};
-use fivex_engine::canon::{CanonKind, Pos};
+use fivex_engine::canon::{CanonKind, FeedMode, MotionKind, Pos};
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::{MachineConfig, PlaneAfterReset};
@@ -854,4 +854,57 @@ fn wse_24_no_11202_11203_clamp_the_compensating_rotary_motion() {
     let src = "G90 G00 X0 Y0 Z100. B30. C0\nG01 X10. C90. F100000.\nM30\n";
     let top = top_c_speed(fanuc_with(src, "head-bc", |c| c.machine.five_axis.wse_feed_clamp_pct = 1.0), 2);
     assert!(top > 1.5 * 0.01 * c_rate, "{top}");
+}
+
+// --- WSE-19 / No.5412: canned-cycle rapids in G54.4 -----------------------------------------
+
+/// The (kind, feed, feed mode, machine end) of every motion of line 3.
+fn cycle_motions(src: &str, tweak: impl FnOnce(&mut Config)) -> Vec<(MotionKind, f64, FeedMode, [f64; 3])> {
+    let mut interp = fanuc_with(src, "mill3", tweak);
+    interp.state.setting_errors.sets[1].shift = [3.0, 4.0, 0.0];
+    let mut v = Vec::new();
+    interp
+        .run(|c| {
+            if let (3, CanonKind::Motion(m)) = (c.line, c.kind) {
+                v.push((m.kind, m.feed, m.feed_mode, xyz(&m.machine)))
+            }
+        })
+        .expect("no alarm");
+    v
+}
+
+#[test]
+fn wse_19_canned_cycle_rapids_run_at_no_5412_in_g54_4() {
+    use MotionKind::{Linear, Rapid};
+    let g81 = "G90 G00 X0 Y0 Z50.\nG54.4 P1\nG98 G81 X10. Y5. Z-5. R2. F200.\nG80\nG54.4 P0\nM30\n";
+    let ends = [[13.0, 9.0, 50.0], [13.0, 9.0, 2.0], [13.0, 9.0, -5.0], [13.0, 9.0, 50.0]];
+    let with = |cycle_feed: f64, dry_run: f64| {
+        move |c: &mut Config| {
+            c.machine.five_axis.wse_cycle_feed = cycle_feed;
+            c.machine.manual.dry_run_feed = dry_run;
+        }
+    };
+    let pm = FeedMode::PerMinute;
+    // No.5412 = 3000: positioning, to R and the return run at 3000 mm/min; the hole at F.
+    let got = cycle_motions(g81, with(3000.0, 1500.0));
+    let kinds: Vec<_> = got.iter().map(|m| (m.0, m.1, m.2)).collect();
+    assert_eq!(kinds, [(Linear, 3000.0, pm), (Linear, 3000.0, pm), (Linear, 200.0, pm), (Linear, 3000.0, pm)]);
+    for (m, end) in got.iter().zip(ends) {
+        assert!(close3(m.3, end, 1e-9), "{:?} vs {end:?}", m.3);
+    }
+    // No.5412 = 0: the dry run rate No.1410.
+    let got = cycle_motions(g81, with(0.0, 1500.0));
+    assert!(got.iter().enumerate().all(|(k, m)| m.0 == Linear && m.1 == if k == 2 { 200.0 } else { 1500.0 }));
+    // Both 0: rapids stay rapids; and outside G54.4 No.5412 does nothing.
+    let got = cycle_motions(g81, with(0.0, 0.0));
+    assert_eq!(got.iter().map(|m| m.0).collect::<Vec<_>>(), [Rapid, Rapid, Linear, Rapid]);
+    let outside = "G90 G00 X0 Y0 Z50.\nG04 P0\nG98 G81 X10. Y5. Z-5. R2. F200.\nG80\nM30\n";
+    let got = cycle_motions(outside, with(3000.0, 1500.0));
+    assert_eq!(got.iter().map(|m| m.0).collect::<Vec<_>>(), [Rapid, Rapid, Linear, Rapid]);
+    // In G95 the hole is fed per revolution, the former rapids still per minute.
+    let g95 = "G95 G90 G00 X0 Y0 Z50.\nG54.4 P1\nG99 G81 X10. Y5. Z-5. R2. F0.1\nG80\nG54.4 P0\nM30\n";
+    let got = cycle_motions(g95, with(3000.0, 0.0));
+    let kinds: Vec<_> = got.iter().map(|m| (m.0, m.1, m.2)).collect();
+    let rev = FeedMode::PerRevolution;
+    assert_eq!(kinds, [(Linear, 3000.0, pm), (Linear, 3000.0, pm), (Linear, 0.1, rev), (Linear, 3000.0, pm)]);
 }

@@ -281,6 +281,18 @@ impl State {
         Ok(())
     }
 
+    /// WSE-19: under G54.4 the rapids of hole-machining canned cycles run at this feed, mm/min:
+    /// FANUC No.5412, or when that is 0 the dry run rate (No.1410); `None` outside G54.4 or
+    /// when both are 0 (then they stay rapids).
+    pub(super) fn wse_cycle_feed(&self) -> Option<f64> {
+        self.wse?;
+        let feed = match self.cfg.machine.five_axis.wse_cycle_feed {
+            0.0 => self.cfg.machine.manual.dry_run_feed,
+            f => f,
+        };
+        (feed > 0.0).then_some(feed)
+    }
+
     /// FANUC No.11202 (cutting) / No.11203 (rapid), WSE-24: under tool direction compensation
     /// the rotary axes turn at most that percentage of their rate (the seed's "maximum cutting
     /// feedrate / rapid traverse rate"; the model's one rate per axis stands for both); 0: no
