@@ -908,3 +908,71 @@ fn wse_19_canned_cycle_rapids_run_at_no_5412_in_g54_4() {
     let rev = FeedMode::PerRevolution;
     assert_eq!(kinds, [(Linear, 3000.0, pm), (Linear, 3000.0, pm), (Linear, 0.1, rev), (Linear, 3000.0, pm)]);
 }
+
+// --- WSE-25: manual intervention on a table or mixed machine with RCM = 1 --------------------
+
+/// AUTO run of Example-1-like moves on `preset`, held in the first cutting move (line 3).
+fn held_in_g54_4(preset: &str, rcm_on: bool) -> fivex_engine::controller::Controller {
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    let mut cfg = Config::new(MachineConfig::preset(preset).unwrap(), Dialect::Fanuc);
+    cfg.machine.five_axis.tool_direction_compensation = rcm_on;
+    let mut c = Controller::new(cfg);
+    c.interpreter_mut().state.setting_errors.sets[1].shift = [3.0, 4.0, 0.0];
+    c.set_mode(Mode::Auto).unwrap();
+    let names: String = c.interpreter().config().machine.rotary.iter().map(|l| format!(" {}0", l.axis)).collect();
+    let src = format!("G90 G00 X0 Y0 Z100.{names}\nG54.4 P1\nG01 X100. F600.\nY50.\nG54.4 P0\nM30\n");
+    c.select_program(&src).unwrap();
+    c.cycle_start().unwrap();
+    while c.point().line != 3 && c.time() < 60.0 {
+        c.tick(0.01);
+    }
+    for _ in 0..100 {
+        c.tick(0.01);
+    }
+    c.feed_hold();
+    for _ in 0..300 {
+        c.tick(0.01);
+    }
+    assert_eq!(c.run_state(), RunState::Hold, "{:?}", c.alarms());
+    c
+}
+
+#[test]
+fn wse_25_manual_intervention_with_rcm_on_a_table_machine_raises_ps0439() {
+    use fivex_engine::controller::{Mode, RunState};
+    use fivex_engine::kin::ManualFeed;
+    type Action = fn(&mut fivex_engine::controller::Controller) -> Result<(), fivex_engine::controller::Refusal>;
+    let actions: [(Mode, Action); 4] = [
+        (Mode::Handle, |c| c.handle('X', 1.0)),
+        (Mode::Jog, |c| c.jog_start('C', true)),
+        (Mode::Handle, |c| c.handle_direction(ManualFeed::ToolAxis, 1.0)),
+        (Mode::Handle, |c| c.handle_tip_rotation('C', 5.0)),
+    ];
+    for preset in ["table-ac", "mixed-bc"] {
+        for (k, (mode, act)) in actions.iter().enumerate() {
+            let mut c = held_in_g54_4(preset, true);
+            let before = c.point().machine;
+            c.set_mode(*mode).unwrap();
+            assert_eq!(act(&mut c), Ok(()), "{preset} action {k}");
+            assert_eq!(c.run_state(), RunState::Alarm, "{preset} action {k}");
+            let a = &c.alarms()[0];
+            assert_eq!((a.code.as_str(), a.line), ("PS0439", 3), "{preset} action {k}: {a:?}");
+            for _ in 0..50 {
+                c.tick(0.01);
+            }
+            assert_eq!(c.point().machine, before, "{preset} action {k}: nothing moves");
+        }
+    }
+    // A head machine with RCM = 1, or a table machine without it: the intervention moves.
+    for (preset, rcm_on) in [("head-bc", true), ("table-ac", false)] {
+        let mut c = held_in_g54_4(preset, rcm_on);
+        let before = c.point().machine;
+        c.set_mode(Mode::Handle).unwrap();
+        c.handle('X', 1.0).unwrap();
+        for _ in 0..200 {
+            c.tick(0.01);
+        }
+        assert!(c.alarms().is_empty(), "{preset}: {:?}", c.alarms());
+        assert!((c.point().machine[0] - before[0] - 1.0).abs() < 1e-9, "{preset}");
+    }
+}

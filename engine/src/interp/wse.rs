@@ -223,6 +223,15 @@ impl State {
     }
 }
 
+impl super::Interpreter {
+    /// WSE-25: G54.4 compensates the tool direction on a machine with a table rotary axis (table
+    /// or mixed type, hypothetical axes included): manual moves raise an alarm there.
+    pub fn wse_forbids_manual(&self) -> bool {
+        let st = &self.state;
+        st.wse_follows() && st.cfg.machine.rotary.iter().any(|l| l.side == Side::Table)
+    }
+}
+
 /// Steps along the programmed interpolation at which a start in the singular posture looks for
 /// the first posture that is not (rule 3 of §2.14 decides there, as it would in the first
 /// interpolation period that leaves the singular cone).
