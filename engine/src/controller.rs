@@ -190,7 +190,7 @@ impl Controller {
         let machine = cfg.machine.clone();
         let interp = Interpreter::new(crate::lang::parse_file(""), cfg);
         let start = interp.state.machine_position();
-        let work = interp.state.position();
+        let work = interp.state.shown_position();
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
@@ -749,7 +749,7 @@ impl Controller {
             return;
         }
         self.interp.moved_to(&self.here.machine);
-        self.here.work = self.interp.state.position();
+        self.here.work = self.interp.state.shown_position();
         self.queued_work = self.here.work;
     }
 

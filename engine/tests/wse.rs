@@ -976,3 +976,77 @@ fn wse_25_manual_intervention_with_rcm_on_a_table_machine_raises_ps0439() {
         assert!((c.point().machine[0] - before[0] - 1.0).abs() < 1e-9, "{preset}");
     }
 }
+
+// --- WSE-18 / DAK (No.3106#6): the absolute position in the WCS or the WSCS -----------------
+
+/// The last sampled tip of every line, and the run's final workpiece position.
+fn shown_tips(mut interp: Interpreter) -> (std::collections::BTreeMap<u32, [f64; 3]>, Pos) {
+    let mut tips = std::collections::BTreeMap::new();
+    let r = run(&mut interp, &RunOptions { period_s: 0.005, ..RunOptions::default() }, |s| {
+        tips.insert(s.line, s.tip);
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    (tips, r.workpiece)
+}
+
+#[test]
+fn wse_18_dak_shows_the_absolute_position_in_the_wcs() {
+    // Example 1 on head-bc, ending inside G54.4 after N60: DAK = 0 shows the WSCS (the
+    // programmed points), DAK = 1 the WCS (TV-WSE-17's numbers).
+    let src = "N10 G55\nN15 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0 B0 C0\nN30 G01 G43 H01 Z40.0 F500.\n\
+               N40 X50.0 Y50.0 Z20.0\nN50 X150.0\nN60 Y150.0\nM30\n";
+    let interp = |dak: bool, rcm_on: bool| {
+        let mut i = fanuc_with(src, "head-bc", |c| {
+            c.machine.five_axis.wse_display_wcs = dak;
+            c.machine.five_axis.tool_direction_compensation = rcm_on;
+        });
+        i.state.offsets.work_mut(2)[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+        i.state.setting_errors.sets[1] =
+            wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+        i
+    };
+    let wscs = [(5, [50.0, 50.0, 20.0]), (6, [150.0, 50.0, 20.0]), (7, [150.0, 150.0, 20.0])];
+    let wcs =
+        [(5, [74.085638, 49.883624, 20.0]), (6, [168.054900, 15.681610, 20.0]), (7, [202.256915, 109.650872, 20.0])];
+    // Plain moves (RCM = 0) and tip paths (RCM = 1) alike.
+    for rcm_on in [false, true] {
+        for (dak, want) in [(false, wscs), (true, wcs)] {
+            let (tips, end) = shown_tips(interp(dak, rcm_on));
+            // The last sample of a line is within a period (0.04 mm at F500) of its end.
+            for (line, p) in want {
+                assert!(close3(tips[&line], p, 0.1), "DAK {dak} RCM {rcm_on} line {line}: {:?}", tips[&line]);
+            }
+            assert!(close3(xyz(&end), want[2].1, 1e-6), "DAK {dak} RCM {rcm_on}: end {end:?}");
+        }
+    }
+    // The controller's position display the same way, at rest after the program.
+    for (dak, want) in [(false, wscs[2].1), (true, wcs[2].1)] {
+        use fivex_engine::controller::{Controller, Mode, RunState};
+        let i = interp(dak, true);
+        let mut c = Controller::new(i.config().clone());
+        c.interpreter_mut().state.offsets = i.state.offsets.clone();
+        c.interpreter_mut().state.setting_errors = i.state.setting_errors;
+        c.set_mode(Mode::Auto).unwrap();
+        c.select_program(src).unwrap();
+        c.cycle_start().unwrap();
+        while c.run_state() == RunState::Running && c.time() < 300.0 {
+            c.tick(0.05);
+        }
+        assert!(close3(xyz(&c.point().work), want, 1e-6), "DAK {dak}: {:?}", c.point().work);
+    }
+    // Every sample of N50 with DAK = 1 lies on the displaced side in the WCS.
+    let mut i = interp(true, false);
+    let (sn, cs) = (20f64.to_radians().sin(), 20f64.to_radians().cos());
+    let r = run(&mut i, &RunOptions { period_s: 0.01, ..RunOptions::default() }, |s| {
+        if s.line == 6 {
+            let p = [s.tip[0] - 10.0, s.tip[1] - 20.0];
+            assert!((sn * p[0] + cs * p[1] - 50.0).abs() < 1e-6, "{:?}", s.tip);
+        }
+    });
+    assert!(r.completed());
+    // The FANUC bit.
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.five_axis.wse_display_wcs = true;
+    let p = fivex_engine::vendor::params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(3106, 6).unwrap());
+}

@@ -608,7 +608,10 @@ impl State {
         arc: Option<Box<Arc>>,
         out: &mut Vec<Canon>,
     ) {
-        let motion = self.motion(kind, target, machine, arc, None);
+        let mut motion = self.motion(kind, target, machine, arc, None);
+        if self.wse.is_some() {
+            self.wse_display(&mut motion);
+        }
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
     }

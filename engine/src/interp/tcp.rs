@@ -375,7 +375,8 @@ impl State {
                 rotary_clamp: self.wse_rotary_clamp(kind),
             })
         });
-        let motion = self.motion(kind, target, machine, None, tip);
+        let mut motion = self.motion(kind, target, machine, None, tip);
+        self.wse_display(&mut motion);
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
         self.follow_machine = Some(machine);

@@ -192,6 +192,32 @@ impl State {
         }
     }
 
+    /// WSE-18, FANUC DAK (No.3106#6) = 1: under G54.4 the absolute position shows X/Y/Z in the
+    /// WCS instead of the WSCS (the rotary axes as programmed, as #5041… do). Only where G54.4's
+    /// circles follow the tip (a kinematic model), so that no plain circle is given in the WCS.
+    fn wse_shows_wcs(&self) -> bool {
+        self.wse.is_some() && self.kinematics.is_some() && self.cfg.machine.five_axis.wse_display_wcs
+    }
+
+    /// A motion's display coordinates (its `target`, a tip path's frame) as WSE-18 chooses.
+    pub(super) fn wse_display(&self, m: &mut crate::canon::Motion) {
+        let Some(a) = self.wse.filter(|_| self.wse_shows_wcs()) else { return };
+        self.wse_to_wcs(&mut m.target);
+        if let Some(tip) = &mut m.tip {
+            tip.frame = tip.frame.then(&wse::inverse(&a.frame));
+        }
+    }
+
+    /// The current point as the absolute position display shows it (WSE-18: in the WCS with
+    /// DAK = 1 under G54.4; otherwise the programming coordinates, [`State::position`]).
+    pub fn shown_position(&self) -> Pos {
+        if self.wse_shows_wcs() {
+            self.wcs_position()
+        } else {
+            self.pos
+        }
+    }
+
     /// The current point in the WCS (#5041…, WSE-20): the WSCS point carried by the error.
     pub(super) fn wcs_position(&self) -> Pos {
         let mut p = self.pos;
