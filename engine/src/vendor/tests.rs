@@ -773,7 +773,9 @@ fn fanuc_look_ahead_and_g54_4_settings_round_trip() {
     assert!(diff(&p, &params_of(Dialect::Fanuc, &back).unwrap()).is_empty());
     // The bits set: SHP = 1, FRP = 1, TOS = 1 are the defaults; other bits do not matter.
     let mut q = p.clone();
-    (q.set(1604, 1.0), q.set(19501, 32.0), q.set(5006, 64.0), q.set(3106, 63.0));
+    for (n, v) in [(1604, 1.0), (19501, 32.0), (5006, 64.0), (3106, 63.0)] {
+        q.set(n, v);
+    }
     let other = machine_from(Dialect::Fanuc, "m", &q).unwrap();
     assert!(!other.motion.look_ahead_by_command && !other.motion.no_rapid_look_ahead);
     assert!(!other.five_axis.length_offset_by_motion && !other.five_axis.wse_display_wcs);
