@@ -756,15 +756,15 @@ fn tv_wse_19d_look_ahead_must_be_on_when_g54_4_starts_with_rcm() {
 #[test]
 fn tv_wse_19d_lrp_frp_and_the_acceleration_parameters() {
     let src = "G05.1 Q1\nG54.4 P1\nG54.4 P0\nM30\n";
-    let axes = |m: &MachineConfig| m.axes.len();
-    for (what, edit) in [
-        ("LRP = 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set(1401, 0.0)) as Box<dyn Fn(&mut _)>),
-        ("FRP = 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set(19501, 0.0))),
-        ("No.1671 all 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set_axes(1671, vec![0.0; 5]))),
-        ("No.1660 all 0", Box::new(|p: &mut fivex_engine::vendor::Params| p.set_axes(1660, vec![0.0; 5]))),
-    ] {
-        let m = machine_from_fanuc("head-bc", |p| edit(p));
-        assert_eq!(axes(&m), 5);
+    type Edit = fn(&mut fivex_engine::vendor::Params);
+    let edits: [(&str, Edit); 4] = [
+        ("LRP = 0", |p| p.set(1401, 0.0)),
+        ("FRP = 0", |p| p.set(19501, 0.0)),
+        ("No.1671 all 0", |p| p.set_axes(1671, vec![0.0; 5])),
+        ("No.1660 all 0", |p| p.set_axes(1660, vec![0.0; 5])),
+    ];
+    for (what, edit) in edits {
+        let m = machine_from_fanuc("head-bc", edit);
         assert_eq!(run_on(&m, src), Err(("PS0438".into(), 2)), "{what}");
         let mut plain = m.clone();
         plain.five_axis.tool_direction_compensation = false;
@@ -1049,4 +1049,19 @@ fn wse_18_dak_shows_the_absolute_position_in_the_wcs() {
     m.five_axis.wse_display_wcs = true;
     let p = fivex_engine::vendor::params_of(Dialect::Fanuc, &m).unwrap();
     assert!(p.bit(3106, 6).unwrap());
+}
+
+/// TV-65 (fanuc-tcp.md TCP-14): TCP refuses the same look-ahead settings with PS5420.
+#[test]
+fn tv_65_tcp_refuses_missing_look_ahead_with_ps5420() {
+    let tcp = "G43.4 H1\nG49\nM30\n";
+    type Edit = fn(&mut fivex_engine::vendor::Params);
+    let edits: [Edit; 3] =
+        [|p| p.set(19501, 0.0), |p| p.set_axes(1671, vec![0.0; 5]), |p| p.set_axes(1660, vec![0.0; 5])];
+    for edit in edits {
+        let m = machine_from_fanuc("head-bc", edit);
+        assert_eq!(run_on(&m, tcp), Err(("PS5420".into(), 1)));
+    }
+    // SHP = 0 without G05.1 Q1: TCP-14 names the option, not the mode.
+    assert_eq!(run_on(&machine_from_fanuc("head-bc", |p| p.set(1604, 0.0)), tcp), Ok(()));
 }

@@ -104,9 +104,10 @@ impl State {
         };
         if self.cfg.dialect == crate::Dialect::Fanuc {
             let five = &self.cfg.machine.five_axis;
-            // TCP-14, TV-65: TCP needs linear-type rapids (LRP = 1); the look-ahead settings
-            // (FRP, No.1660/1671/1672) always exist in the model.
-            if self.cfg.machine.motion.nonlinear_rapid {
+            // TCP-14, TV-65: TCP needs linear-type rapids (LRP = 1) and look-ahead set up for
+            // rapids and cutting feed (FRP, No.1671, No.1660; No.1672 always exists in the model).
+            let motion = &self.cfg.machine.motion;
+            if motion.nonlinear_rapid || !motion.look_ahead_set_up() {
                 return Err(AlarmId::TcpParameter);
             }
             // TCP-08/23, TV-60: type 2 cannot work in the workpiece system (WKP = 1); on every
