@@ -6,11 +6,14 @@
 //!
 //! While a set is in effect, programmed points are in the workpiece setting coordinate system
 //! (WSCS): `State::pos` holds WSCS coordinates and X/Y/Z go to the WCS as `R_e·p + Δ` before the
-//! work offsets are added (`State::program_to_machine`), so lines stay lines. The rotary axes
-//! are left as programmed (tool direction compensation, RCM = 1, is not modelled yet). A circle
+//! work offsets are added (`State::program_to_machine`), so lines stay lines. Without tool
+//! direction compensation (RCM = 0) the rotary axes are left as programmed; with it (second
+//! half of this file) moves follow the tool tip and the rotary axes are corrected. A circle
 //! whose plane the error tilts is a circle in space: every G02/G03 under G54.4 therefore runs as
 //! a tool tip path (`canon::TipMove`) with the tool length as a plain G43 applies it (along Z).
 //! G54.4 Pn and P0 do not move the machine: the current point is recomputed in the new system.
+//! Also here: the settings RCM needs (PS0438), the canned-cycle feed (No.5412), the rotary
+//! clamp (No.11202/11203), the display choice (DAK) and the manual-move ban (WSE-25).
 
 use super::nc::Words;
 use super::tcp::FollowPath;
