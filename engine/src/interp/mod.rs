@@ -196,6 +196,8 @@ pub struct State {
     pub setting_errors: crate::wse::SettingErrors,
     /// The G54.4 set in effect.
     wse: Option<wse::Active>,
+    /// The compensation of the tip move being made, from `wse_compensate` to `follow_motion`.
+    wse_between: Option<crate::canon::Compensation>,
     /// Look-ahead (FANUC AI contour control) is on: from power-on unless it needs G05.1 Q1
     /// (`motion.look_ahead_by_command`), then G05.1 Q1 / Q0. A reset keeps it, as it keeps
     /// the modal G codes (CLR = 0).
@@ -470,6 +472,7 @@ impl State {
             offsets: Offsets::default(),
             setting_errors: crate::wse::SettingErrors::default(),
             wse: None,
+            wse_between: None,
             look_ahead: !cfg.machine.motion.look_ahead_by_command,
             pos: [0.0; MAX_AXES],
             xf: frames::Transforms::default(),

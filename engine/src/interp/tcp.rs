@@ -340,6 +340,8 @@ impl State {
         let from_machine = self.machine_position();
         let off = self.offset_vector();
         let FollowPath { frame, tool_length, posture, along } = path;
+        // G54.4's compensation along the way, as the block's `wse_compensate` left it.
+        let compensation = self.wse_between.take();
         let mut machine: Pos = std::array::from_fn(|i| target[i] + off[i]);
         let tip_to = frame.to_parent(&xyz(kin, &target));
         let carriage = kin.carriage_for(&machine, tip_to, tool_length);
@@ -374,6 +376,7 @@ impl State {
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
                 rotary_clamp: self.wse_rotary_clamp(kind),
+                compensation,
             })
         });
         let mut motion = self.motion(kind, target, machine, None, tip);

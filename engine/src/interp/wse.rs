@@ -370,9 +370,10 @@ impl State {
     /// RCM = 1: the rotary coordinates of `target` (programmed angles) become the machine
     /// angles, less the work offsets, that give relative to the displaced workpiece the tool
     /// direction the programmed angles give relative to the ideal one (§2.13.5), chosen by the
-    /// singular-posture rules of §2.14. Exact at the block's end points; between them the
-    /// rotary axes move in proportion (not recomputed every interpolation period).
-    pub(super) fn wse_compensate(&self, kin: &Shared<Kinematics>, target: &mut Pos) -> Result<(), AlarmId> {
+    /// singular-posture rules of §2.14, at the block's end points; between them the motion
+    /// recomputes the direction (`canon::Compensation`, handed to `follow_motion`).
+    pub(super) fn wse_compensate(&mut self, kin: &Shared<Kinematics>, target: &mut Pos) -> Result<(), AlarmId> {
+        self.wse_between = None;
         if !self.wse_follows() || kin.joints().is_empty() {
             return Ok(());
         }
@@ -389,6 +390,8 @@ impl State {
         };
         let (start, end) = (programmed(&self.xf.programmed), programmed(target));
         let angles = self.wse_angles(kin, &from, &start, &end)?;
+        let turn = self.wse_turn(kin, &from);
+        self.wse_between = Some(crate::canon::Compensation { turn, from: start, to: end });
         for j in kin.joints() {
             if let Some(i) = j.index {
                 target[i] = angles[i] - off[i];
