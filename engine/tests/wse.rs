@@ -1071,41 +1071,46 @@ fn tv_65_tcp_refuses_missing_look_ahead_with_ps5420() {
 #[test]
 fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
     use fivex_engine::kin::{Kinematics, Vec3};
-    // head-bc, RCM = 1, Δa 3° (not about the workpiece-side C axis: proportional rotary motion
-    // between exact end points would leave the programmed direction inside the block).
-    let src = "G90 G00 X0 Y0 Z100. B30. C0\nG54.4 P1\n#100=#5004\n#101=#5005\nG43 H1\n\
-               G01 X20. B45. C60. F1000.\nG49\nG54.4 P0\nM30\n";
-    let mut interp = fanuc_with(src, "head-bc", rcm);
-    interp.state.setting_errors.sets[1].rotation = [3.0, 0.0, 0.0];
-    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
-    let re = wse::rotation([3.0, 0.0, 0.0]);
-    let mut samples = Vec::new();
-    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
-        if s.line == 6 {
-            samples.push((s.tip, s.machine));
+    // RCM = 1, Δa 3°, Δb −2° (not about the workpiece-side C axis: proportional rotary motion
+    // between exact end points would leave the programmed direction inside the block). The
+    // first rotary axis (B of head-bc, A of table-ac) is index 3, C index 4.
+    for (preset, first_axis) in [("head-bc", 'B'), ("table-ac", 'A')] {
+        let src = format!(
+            "G90 G00 X0 Y0 Z100. {first_axis}30. C0\nG54.4 P1\n#100=#5004\n#101=#5005\nG43 H1\n\
+             G01 X20. {first_axis}45. C60. F1000.\nG49\nG54.4 P0\nM30\n"
+        );
+        let mut interp = fanuc_with(&src, preset, rcm);
+        interp.state.setting_errors.sets[1].rotation = [3.0, -2.0, 0.0];
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let re = wse::rotation([3.0, -2.0, 0.0]);
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+            if s.line == 6 {
+                samples.push((s.tip, s.machine));
+            }
+        });
+        assert!(r.completed(), "{preset}: {:?}", r.alarms);
+        let vars = r.variables.clone();
+        let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+        let (a0, c0) = (v(100), v(101));
+        let (x0, first, last) = (samples[0].0[0], samples[0].1, samples.last().unwrap().1);
+        let direction = |a: f64, c: f64| {
+            let mut q = [0.0; fivex_engine::machine::MAX_AXES];
+            (q[3], q[4]) = (a, c);
+            kin.forward(&q, 0.0).tool
+        };
+        let angle = |a: Vec3, b: Vec3| a.dot(&b).clamp(-1.0, 1.0).acos();
+        let (mut worst, mut proportional) = (0.0f64, 0.0f64);
+        for (tip, m) in &samples {
+            let u = (tip[0] - x0) / (20.0 - x0);
+            let want = re * direction(a0 + u * (45.0 - a0), c0 + u * (60.0 - c0));
+            worst = worst.max(angle(kin.forward(m, 0.0).tool, want));
+            // What turning the axes in proportion between the end points would give.
+            let lerp = |k: usize| first[k] + u * (last[k] - first[k]);
+            proportional = proportional.max(angle(direction(lerp(3), lerp(4)), want));
         }
-    });
-    assert!(r.completed(), "{:?}", r.alarms);
-    let vars = r.variables.clone();
-    let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
-    let (b0, c0) = (v(100), v(101));
-    let (x0, first, last) = (samples[0].0[0], samples[0].1, samples.last().unwrap().1);
-    let direction = |b: f64, c: f64| {
-        let mut q = [0.0; fivex_engine::machine::MAX_AXES];
-        (q[3], q[4]) = (b, c);
-        kin.forward(&q, 0.0).tool
-    };
-    let angle = |a: Vec3, b: Vec3| a.dot(&b).clamp(-1.0, 1.0).acos();
-    let (mut worst, mut proportional) = (0.0f64, 0.0f64);
-    for (tip, m) in &samples {
-        let u = (tip[0] - x0) / (20.0 - x0);
-        let want = re * direction(b0 + u * (45.0 - b0), c0 + u * (60.0 - c0));
-        worst = worst.max(angle(kin.forward(m, 0.0).tool, want));
-        // What moving B and C in proportion between the end points would give.
-        let lerp = |k: usize| first[k] + u * (last[k] - first[k]);
-        proportional = proportional.max(angle(direction(lerp(3), lerp(4)), want));
+        assert!(samples.len() > 50, "{preset}");
+        assert!(worst < 1e-7, "{preset}: the tool leaves the compensated direction by {worst} rad");
+        assert!(proportional > 1e-4, "{preset}: the block does not tell the two apart: {proportional}");
     }
-    assert!(samples.len() > 50);
-    assert!(worst < 1e-7, "the tool leaves the compensated direction by {worst} rad");
-    assert!(proportional > 1e-4, "the block does not tell the two apart: {proportional}");
 }
