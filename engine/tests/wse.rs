@@ -1114,3 +1114,51 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
         assert!(proportional > 1e-4, "{preset}: the block does not tell the two apart: {proportional}");
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: common::cases(6), ..proptest::prelude::ProptestConfig::default() })]
+
+    /// RCM = 1 on every 5-axis machine kind, any small error: the compensated block (its axes
+    /// turned to the compensated direction along the way or in proportion) keeps the tip on the
+    /// programmed line relative to the displaced workpiece at every 1 ms sample, and every axis
+    /// within its speed, acceleration and jerk.
+    #[test]
+    fn compensated_blocks_keep_the_tip_on_the_line_within_the_axis_limits(
+        rot in proptest::array::uniform3(-4.0f64..4.0),
+        p in proptest::array::uniform3(-40.0f64..40.0),
+        angles in proptest::array::uniform2(20.0f64..60.0),
+        start in proptest::array::uniform2(20.0f64..60.0),
+    ) {
+        use fivex_engine::kin::Kinematics;
+        for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+            let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+            let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
+            let src = format!(
+                "G90 G00 X0 Y0 Z100. {a}{:.3} {b}{:.3}\nG54.4 P1\nG43 H1\nG01 X{:.3} Y{:.3} Z{:.3} {a}{:.3} {b}{:.3} F3000.\nG49\nM30\n",
+                start[0], start[1], p[0], p[1], p[2], angles[0], angles[1], a = names[0], b = names[1]
+            );
+            let mut interp = fanuc_with(&src, preset, rcm);
+            interp.state.setting_errors.sets[1] = wse::ErrorSet { shift: [1.0, -2.0, 0.5], rotation: rot, table: [0.0; 2] };
+            let mut samples = Vec::new();
+            let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
+            proptest::prop_assert!(r.completed(), "{preset}: {:?}", r.alarms);
+            // The tip where the axes put it (table frame, the work offsets 0), in the WSCS.
+            let e = wse::frame([1.0, -2.0, 0.5], rot);
+            let tip = |m: &Pos| -> [f64; 3] { e.from_parent(&(kin.forward(m, 100.0).tip - kin.nose)).into() };
+            let line: Vec<_> = samples.iter().filter(|s| s.line == 4).map(|s| tip(&s.machine)).collect();
+            let target = [p[0], p[1], p[2]].map(|x| (x * 1e3).round() / 1e3);
+            let from = line[0];
+            let d: [f64; 3] = std::array::from_fn(|k| target[k] - from[k]);
+            let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            // The last sample is within a period (0.05 mm at F3000) of the end.
+            proptest::prop_assert!(close3(*line.last().unwrap(), target, 0.06), "{preset}: ends at {:?}", line.last());
+            for t in &line {
+                let w: [f64; 3] = std::array::from_fn(|k| t[k] - from[k]);
+                let along = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / len;
+                let off: f64 = (0..3).map(|k| (w[k] - along * d[k] / len).powi(2)).sum::<f64>().sqrt();
+                proptest::prop_assert!(off < 1e-6, "{preset}: tip {t:?} {off} off the line");
+            }
+            common::check_limits(&samples, preset, false)?;
+        }
+    }
+}
