@@ -363,6 +363,7 @@ impl Interpreter {
         st.locals.truncate(1);
         st.locals[0] = [None; LOCALS];
         st.modal_call = None;
+        st.wse_between = None;
         st.ended = true;
         let after_reset = st.cfg.machine.five_axis.plane_after_reset;
         if st.plane_active() && after_reset == crate::machine::PlaneAfterReset::Cancelled {
