@@ -565,6 +565,14 @@ impl MachineConfig {
             }
         }
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let f = &self.five_axis;
+        let percent = |x: f64| (0.0..=100.0).contains(&x);
+        if !(f.wse_cycle_feed.is_finite() && f.wse_cycle_feed >= 0.0)
+            || !percent(f.wse_feed_clamp_pct)
+            || !percent(f.wse_rapid_clamp_pct)
+        {
+            return Err("five_axis: wse_cycle_feed is 0 or more, the wse clamps percentages 0 to 100".into());
+        }
         if !finite(&self.nose) || !self.holder.is_finite() || !finite(&self.tool_axis) {
             return Err("nose, holder and tool_axis must be finite numbers".into());
         }
@@ -625,5 +633,10 @@ mod tests {
         let mut m = MachineConfig::preset("mill3").unwrap();
         m.axes[1].stroke = Some([10.0, -10.0]);
         assert!(m.validate().is_err());
+        for (feed, pct) in [(-1.0, 0.0), (f64::INFINITY, 0.0), (0.0, 101.0), (0.0, f64::NAN)] {
+            let mut m = MachineConfig::preset("table-ac").unwrap();
+            (m.five_axis.wse_cycle_feed, m.five_axis.wse_rapid_clamp_pct) = (feed, pct);
+            assert!(m.validate().is_err(), "{feed} {pct}");
+        }
     }
 }
