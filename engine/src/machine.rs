@@ -567,10 +567,8 @@ impl MachineConfig {
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         let f = &self.five_axis;
         let percent = |x: f64| (0.0..=100.0).contains(&x);
-        if !(f.wse_cycle_feed.is_finite() && f.wse_cycle_feed >= 0.0)
-            || !percent(f.wse_feed_clamp_pct)
-            || !percent(f.wse_rapid_clamp_pct)
-        {
+        let cycle_feed = f.wse_cycle_feed.is_finite() && f.wse_cycle_feed >= 0.0;
+        if !(cycle_feed && percent(f.wse_feed_clamp_pct) && percent(f.wse_rapid_clamp_pct)) {
             return Err("five_axis: wse_cycle_feed is 0 or more, the wse clamps percentages 0 to 100".into());
         }
         if !finite(&self.nose) || !self.holder.is_finite() || !finite(&self.tool_axis) {
