@@ -116,6 +116,23 @@ pub struct TipMove {
     /// The rotary axes move at F when the tip does not move (FANUC RFC = 1); otherwise at their
     /// highest speed.
     pub rotary_feed: bool,
+    /// The rotary axes turn at most this fraction of their rate (FANUC No.11202/11203 under
+    /// G54.4 tool direction compensation); `None`: their own limit.
+    pub rotary_clamp: Option<f64>,
+    /// G54.4 tool direction compensation recomputed all along the block; `None`: the rotary
+    /// axes move in proportion between the end points (or as `posture` says).
+    pub compensation: Option<Compensation>,
+}
+
+/// G54.4 tool direction compensation between a block's ends (FANUC §2.13.5: every
+/// interpolation period): `u` of the way, the tool direction (table frame) is
+/// `turn · t(from + u·(to − from))`, `t` the error-free tool direction of the programmed angles
+/// (machine-like positions: the work offsets added), interpolated as programmed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Compensation {
+    pub turn: nalgebra::Matrix3<f64>,
+    pub from: Pos,
+    pub to: Pos,
 }
 
 /// A circle (spiral within the arc tolerance, helix along `normal`) in the table frame.

@@ -176,6 +176,9 @@ pub struct Controller {
     /// Manual absolute on after an intervention at a block stop: the next tool tip path starts
     /// where the tip is, not where the program left it.
     reposition: bool,
+    /// G54.4 with tool direction compensation on a table machine is in effect where the
+    /// machine is (not where the interpreter has read to): manual moves raise an alarm (WSE-25).
+    wse_no_manual: bool,
 }
 
 /// A pending canonical command, or a single-block stop point.
@@ -183,6 +186,9 @@ enum Item {
     Canon(Canon),
     BlockEnd,
     Alarm(Alarm),
+    /// A G54.4 block turned the manual-move ban of WSE-25 on or off; it takes effect when the
+    /// machine gets there (the motion before it ends first: G54.4 suppresses buffering, WSE-01).
+    WseNoManual(bool),
 }
 
 /// Blocks the interpreter may run in one tick without motion before the tick ends (an endless
@@ -194,7 +200,7 @@ impl Controller {
         let machine = cfg.machine.clone();
         let interp = Interpreter::new(crate::lang::parse_file(""), cfg);
         let start = interp.state.machine_position();
-        let work = interp.state.position();
+        let work = interp.state.shown_position();
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
@@ -223,6 +229,7 @@ impl Controller {
             intervention: None,
             shift: None,
             reposition: false,
+            wse_no_manual: false,
         }
     }
 
@@ -381,6 +388,17 @@ impl Controller {
         self.busy() || !self.planner.is_empty() || self.estop || self.run_state == RunState::Alarm
     }
 
+    /// WSE-25: G54.4 with tool direction compensation on a machine that turns its table
+    /// refuses manual moves with an alarm (the seed gives no number: PS0439, the alarm of the
+    /// other table-machine restrictions, `docs/five-axis.md`). True when it did.
+    fn manual_refused_in_wse(&mut self) -> bool {
+        if !self.wse_no_manual {
+            return false;
+        }
+        self.raise(AlarmId::WseModalState, self.here.line, self.here.n);
+        true
+    }
+
     /// A motion is under way or about to start.
     fn moving(&self) -> bool {
         self.run_state == RunState::Running || self.current.is_some()
@@ -429,6 +447,7 @@ impl Controller {
         let text = text.ok_or(Refusal::NoProgram)?;
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
+        self.wse_no_manual = self.interp.wse_forbids_manual();
         self.program_active = true;
         self.wait = Wait::None;
         self.set_state(RunState::Running);
@@ -523,6 +542,7 @@ impl Controller {
         self.reposition = false;
         self.pending.clear();
         self.interp.reset();
+        self.wse_no_manual = self.interp.wse_forbids_manual();
         self.program_active = false;
         self.wait = Wait::None;
     }
@@ -603,6 +623,9 @@ impl Controller {
         if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
+        if self.manual_refused_in_wse() {
+            return Ok(());
+        }
         let zero = [0.0; crate::machine::MAX_AXES];
         self.push_manual(MotionKind::MachineRapid, zero, 0.0);
         Ok(())
@@ -615,6 +638,9 @@ impl Controller {
     fn manual_move(&mut self, axis: usize, target: f64, feed: f64) -> Result<(), Refusal> {
         if self.manual_blocked() {
             return Err(Refusal::Busy);
+        }
+        if self.manual_refused_in_wse() {
+            return Ok(());
         }
         let mut to = self.here.machine;
         to[axis] = target;
@@ -773,7 +799,7 @@ impl Controller {
             return;
         }
         self.interp.moved_to(&self.here.machine);
-        self.here.work = self.interp.state.position();
+        self.here.work = self.interp.state.shown_position();
         self.queued_work = self.here.work;
     }
 
@@ -891,6 +917,11 @@ impl Controller {
                     self.set_state(RunState::Idle);
                 }
             }
+            Item::WseNoManual(on) if motion_pending => {
+                self.pending.push_front(Item::WseNoManual(on));
+                self.flush();
+            }
+            Item::WseNoManual(on) => self.wse_no_manual = on,
             Item::Alarm(a) if motion_pending => {
                 self.pending.push_front(Item::Alarm(a));
                 self.flush();
@@ -915,9 +946,13 @@ impl Controller {
 
     fn run_block(&mut self) {
         let mut out = Vec::new();
+        let banned = self.interp.wse_forbids_manual();
         let step = self.interp.step(&mut out);
         let produced = !out.is_empty();
         self.pending.extend(out.into_iter().map(Item::Canon));
+        if self.interp.wse_forbids_manual() != banned {
+            self.pending.push_back(Item::WseNoManual(!banned));
+        }
         match step {
             Ok(Step::Continue) => {
                 if produced {

@@ -272,6 +272,28 @@ pub struct FiveAxisOptions {
     /// The same for cutting feed (FANUC No.19752).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub cutting_deviation: f64,
+    // --- G54.4 (workpiece setting error compensation), `docs/five-axis.md` ----------------
+    /// Tool length offsets move the axes instead of shifting the coordinate system (FANUC
+    /// No.5006#6 TOS = 0). The engine applies an offset the same way either way; G54.4 refuses
+    /// a tool length offset or TCP started inside it with this setting (PS0438, WSE-24).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub length_offset_by_motion: bool,
+    /// G54.4: the rapid portions of hole-machining canned cycles run as cutting moves at this
+    /// feed, mm/min (FANUC No.5412, WSE-19); 0: at the dry run rate (`manual.dry_run_feed`,
+    /// No.1410); both 0: they stay rapids.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub wse_cycle_feed: f64,
+    /// G54.4 with tool direction compensation: the rotary axes of a compensated cutting move
+    /// (rapid) turn at most this percentage of their rate (FANUC No.11202 / No.11203, WSE-24;
+    /// 0: not clamped).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub wse_feed_clamp_pct: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub wse_rapid_clamp_pct: f64,
+    /// G54.4: the absolute position shows the workpiece coordinate system instead of the
+    /// workpiece setting coordinate system (FANUC No.3106#6 DAK = 1, WSE-18).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub wse_display_wcs: bool,
 }
 
 /// What a reset (and a restart of the controller) does to the tilted working plane.
@@ -310,11 +332,31 @@ pub struct MotionOptions {
     /// neither vendor's parameter list carries it).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub tool_change_s: f64,
+    // --- acceleration/deceleration before interpolation (look-ahead) ----------------------
+    // The engine plans every motion with look-ahead whatever these say: they describe a
+    // control set up otherwise, which the functions needing look-ahead refuse (G54.4 with tool
+    // direction compensation: PS0438, `docs/five-axis.md`).
+    /// Look-ahead is on only between G05.1 Q1 and G05.1 Q0 (FANUC AI contour control with
+    /// No.1604#0 SHP = 0); by default it is on from power-on (SHP = 1).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub look_ahead_by_command: bool,
+    /// Cutting feed has no acceleration/deceleration before interpolation (FANUC No.1660 = 0
+    /// on every axis).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub no_feed_look_ahead: bool,
+    /// Rapid traverse has none (FANUC No.19501#5 FRP = 0, or No.1671 = 0 on every axis).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub no_rapid_look_ahead: bool,
 }
 
 impl MotionOptions {
     fn is_default(&self) -> bool {
         *self == MotionOptions::default()
+    }
+
+    /// Acceleration/deceleration before interpolation is set up for cutting feed and rapids.
+    pub fn look_ahead_set_up(&self) -> bool {
+        !self.no_feed_look_ahead && !self.no_rapid_look_ahead
     }
 }
 
@@ -538,6 +580,12 @@ impl MachineConfig {
             }
         }
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let f = &self.five_axis;
+        let percent = |x: f64| (0.0..=100.0).contains(&x);
+        let cycle_feed = f.wse_cycle_feed.is_finite() && f.wse_cycle_feed >= 0.0;
+        if !(cycle_feed && percent(f.wse_feed_clamp_pct) && percent(f.wse_rapid_clamp_pct)) {
+            return Err("five_axis: wse_cycle_feed is 0 or more, the wse clamps percentages 0 to 100".into());
+        }
         if !finite(&self.nose) || !self.holder.is_finite() || !finite(&self.tool_axis) {
             return Err("nose, holder and tool_axis must be finite numbers".into());
         }
@@ -598,5 +646,10 @@ mod tests {
         let mut m = MachineConfig::preset("mill3").unwrap();
         m.axes[1].stroke = Some([10.0, -10.0]);
         assert!(m.validate().is_err());
+        for (feed, pct) in [(-1.0, 0.0), (f64::INFINITY, 0.0), (0.0, 101.0), (0.0, f64::NAN)] {
+            let mut m = MachineConfig::preset("table-ac").unwrap();
+            (m.five_axis.wse_cycle_feed, m.five_axis.wse_rapid_clamp_pct) = (feed, pct);
+            assert!(m.validate().is_err(), "{feed} {pct}");
+        }
     }
 }

@@ -72,9 +72,9 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
         t: 0.0,
         next_sample: 0,
         machine: interp.state.machine_position(),
-        workpiece: interp.state.position(),
+        workpiece: interp.state.shown_position(),
         queued_machine: interp.state.machine_position(),
-        queued_work: interp.state.position(),
+        queued_work: interp.state.shown_position(),
         opts: *opts,
         messages: Vec::new(),
         over_budget: None,
@@ -121,7 +121,7 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
     let (machine, workpiece) = if motion_alarm {
         (exec.machine, exec.workpiece)
     } else {
-        (interp.state.machine_position(), interp.state.position())
+        (interp.state.machine_position(), interp.state.shown_position())
     };
     let shown = &exec.machine_config;
     let (machine, workpiece) = (shown.shown(&machine), shown.shown(&workpiece));

@@ -9,7 +9,7 @@
 mod common;
 
 use common::{end_of, interpreter_with, motion_ends};
-use fivex_engine::canon::{CanonKind, Pos};
+use fivex_engine::canon::{CanonKind, FeedMode, MotionKind, Pos};
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::{MachineConfig, PlaneAfterReset};
@@ -695,6 +695,470 @@ fn extreme_error_data_end_in_alarms_not_panics() {
             let src = format!("{data}G54.4 P1\nG00 X1. Y1. Z1.\nG02 X2. Y2. R5. F100.\nG54.4 P0\nM30\n");
             let mut interp = fanuc_with(&src, preset, |c| c.machine.five_axis.tool_direction_compensation = rcm_on);
             let _ = run(&mut interp, &RunOptions::default(), |_| {});
+        }
+    }
+}
+
+// --- PS0438: the settings tool direction compensation needs (TV-WSE-19d/e) -----------------
+
+/// head-bc with RCM = 1 read from FANUC parameters after `edit` changed them.
+fn machine_from_fanuc(preset: &str, edit: impl FnOnce(&mut fivex_engine::vendor::Params)) -> MachineConfig {
+    use fivex_engine::vendor::{machine_from, params_of};
+    let mut m = MachineConfig::preset(preset).unwrap();
+    m.five_axis.tool_direction_compensation = true;
+    let mut p = params_of(Dialect::Fanuc, &m).unwrap();
+    edit(&mut p);
+    machine_from(Dialect::Fanuc, preset, &p).unwrap()
+}
+
+fn run_on(m: &MachineConfig, src: &str) -> Result<(), (String, u32)> {
+    let mut interp = Interpreter::new(parse_file(src), Config::new(m.clone(), Dialect::Fanuc));
+    for n in 1..=9 {
+        interp.state.offsets.tool_mut(n).unwrap().h_geometry = 100.0;
+    }
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    interp.run(|_| {}).map_err(|a| (a.code, a.line))
+}
+
+#[test]
+fn tv_wse_19d_look_ahead_must_be_on_when_g54_4_starts_with_rcm() {
+    let start = "G90 G00 X0 Y0 Z100. B0 C0\nG54.4 P1\nG01 X10. F500.\nG54.4 P0\nM30\n";
+    let q1 = "G05.1 Q1\nG90 G00 X0 Y0 Z100. B0 C0\nG54.4 P1\nG01 X10. F500.\nG54.4 P0\nG05.1 Q0\nM30\n";
+    // SHP = 1 (fivex's default: absent No.1604): on from power-on.
+    let shp1 = machine_from_fanuc("head-bc", |_| {});
+    assert!(shp1.motion.look_ahead_set_up() && !shp1.motion.look_ahead_by_command);
+    assert_eq!(run_on(&shp1, start), Ok(()));
+    // SHP = 0: G54.4 P1 needs G05.1 Q1 first.
+    let shp0 = machine_from_fanuc("head-bc", |p| p.set(1604, 0.0));
+    assert!(shp0.motion.look_ahead_by_command);
+    assert_eq!(run_on(&shp0, start), Err(("PS0438".into(), 2)));
+    assert_eq!(run_on(&shp0, q1), Ok(()));
+    // Switched off again before G54.4.
+    let off_again = "G05.1 Q1\nG05.1 Q0\nG54.4 P1\n";
+    assert_eq!(run_on(&shp0, off_again), Err(("PS0438".into(), 3)));
+    assert_eq!(run_on(&shp1, "G05.1 Q0\nG54.4 P1\n"), Err(("PS0438".into(), 2)));
+    // [A] and not inside: G05.1 Q0 while compensating.
+    assert_eq!(run_on(&shp1, "G54.4 P1\nG05.1 Q0\n"), Err(("PS0438".into(), 2)));
+    // Without RCM none of this matters.
+    let mut plain = shp0.clone();
+    plain.five_axis.tool_direction_compensation = false;
+    assert_eq!(run_on(&plain, start), Ok(()));
+    assert_eq!(run_on(&plain, "G54.4 P1\nG05.1 Q0\nG54.4 P0\nM30\n"), Ok(()));
+    // A reset keeps G05.1 Q1 as it keeps the modal G codes (CLR = 0).
+    let mut interp = Interpreter::new(parse_file("G05.1 Q1\nM30\n"), Config::new(shp0.clone(), Dialect::Fanuc));
+    interp.run(|_| {}).unwrap();
+    interp.reset();
+    interp.load(parse_file("G54.4 P1\nG54.4 P0\nM30\n"));
+    assert!(interp.run(|_| {}).is_ok());
+}
+
+#[test]
+fn tv_wse_19d_lrp_frp_and_the_acceleration_parameters() {
+    let src = "G05.1 Q1\nG54.4 P1\nG54.4 P0\nM30\n";
+    type Edit = fn(&mut fivex_engine::vendor::Params);
+    let edits: [(&str, Edit); 4] = [
+        ("LRP = 0", |p| p.set(1401, 0.0)),
+        ("FRP = 0", |p| p.set(19501, 0.0)),
+        ("No.1671 all 0", |p| p.set_axes(1671, vec![0.0; 5])),
+        ("No.1660 all 0", |p| p.set_axes(1660, vec![0.0; 5])),
+    ];
+    for (what, edit) in edits {
+        let m = machine_from_fanuc("head-bc", edit);
+        assert_eq!(run_on(&m, src), Err(("PS0438".into(), 2)), "{what}");
+        let mut plain = m.clone();
+        plain.five_axis.tool_direction_compensation = false;
+        assert_eq!(run_on(&plain, src), Ok(()), "{what} without RCM");
+    }
+    // Set, they pass: FRP = 1, No.1671 on one axis, No.1660 on one axis.
+    let m = machine_from_fanuc("head-bc", |p| {
+        p.set(19501, 32.0);
+        p.set_axes(1671, vec![0.0, 0.0, 1000.0, 0.0, 0.0]);
+        p.set_axes(1660, vec![0.0, 0.0, 0.0, 0.0, 900.0]);
+    });
+    assert_eq!(run_on(&m, src), Ok(()));
+}
+
+#[test]
+fn tv_wse_19e_tool_length_offset_in_g54_4_needs_tos_1() {
+    let tos0 = machine_from_fanuc("head-bc", |p| p.set(5006, 0.0));
+    assert!(tos0.five_axis.length_offset_by_motion);
+    for (src, line) in [
+        ("G54.4 P1\nG43 H1\n", 2),
+        ("G54.4 P1\nG00 X0 Y0 Z100. B0 C0\nG43.4 H1\n", 3),
+        ("G54.4 P1\nG01 G44 H1 Z10. F100.\n", 2),
+        ("G54.4 P1\nG43.5 H1\n", 2),
+    ] {
+        assert_eq!(run_on(&tos0, src), Err(("PS0438".into(), line)), "{src}");
+    }
+    // TOS = 0 outside G54.4, and TOS = 1 (fivex's default) inside: accepted.
+    assert_eq!(run_on(&tos0, "G43 H1 G01 Z10. F100.\nG49 G00 Z100.\nM30\n"), Ok(()));
+    let tos1 = machine_from_fanuc("head-bc", |p| p.set(5006, 64.0));
+    assert!(!tos1.five_axis.length_offset_by_motion);
+    let inside = "G54.4 P1\nG00 X0 Y0 Z100. B0 C0\nG43.4 H1\nG01 Z50. F500.\nG49\nG54.4 P0\nM30\n";
+    assert_eq!(run_on(&tos1, inside), Ok(()));
+    // RCM = 0: G43 with TOS = 0 is refused too (WSE-24 is a general restriction).
+    let mut plain = tos0.clone();
+    plain.five_axis.tool_direction_compensation = false;
+    assert_eq!(run_on(&plain, "G54.4 P1\nG43 H1\n"), Err(("PS0438".into(), 2)));
+}
+
+// --- No.11202 / No.11203: the compensating rotary motion's speed (WSE-24) -------------------
+
+/// The highest C speed (deg/s) on `line`, sampled every millisecond.
+fn top_c_speed(mut interp: Interpreter, line: u32) -> f64 {
+    let mut last: Option<(f64, f64)> = None;
+    let mut top: f64 = 0.0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| {
+        if s.line == line {
+            if let Some((t, c)) = last {
+                if s.t > t {
+                    top = top.max((s.machine[4] - c).abs() / (s.t - t));
+                }
+            }
+            last = Some((s.t, s.machine[4]));
+        } else {
+            last = None;
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    top
+}
+
+#[test]
+fn wse_24_no_11202_11203_clamp_the_compensating_rotary_motion() {
+    // head-bc, RCM = 1, Δc 90°: from machine B30 C0 the start block makes the programmed C −90;
+    // programmed C0 then needs machine C 90 — a quarter turn of compensation in a 10 mm move.
+    let src = |g: &str| format!("G90 G00 X0 Y0 Z100. B30. C0\nG54.4 P1\n{g} X10. C0\nG54.4 P0\nM30\n");
+    let interp = |g: &str, feed_pct: f64, rapid_pct: f64| {
+        let mut interp = fanuc_with(&src(g), "head-bc", |c| {
+            rcm(c);
+            (c.machine.five_axis.wse_feed_clamp_pct, c.machine.five_axis.wse_rapid_clamp_pct) = (feed_pct, rapid_pct);
+        });
+        interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 90.0];
+        interp
+    };
+    let c_rate = 10_800.0 / 60.0;
+    let end = end_of(&motion_ends(interp("G00", 0.0, 0.0)), 3);
+    assert!((end[4] - 90.0).abs() < 1e-6, "C {}", end[4]);
+    // No.11203 = 2 on a rapid, No.11202 = 1 on a cutting move (F far above what the axes
+    // allow): C within that share of its rate, and near it (the clamp is what holds C back:
+    // without it C turns faster, as fast as the carriage circling the C axis allows).
+    for (g, feed_pct, rapid_pct, share) in [("G00", 50.0, 2.0, 0.02), ("G01 F100000.", 1.0, 50.0, 0.01)] {
+        let free = top_c_speed(interp(g, 0.0, 0.0), 3);
+        let top = top_c_speed(interp(g, feed_pct, rapid_pct), 3);
+        assert!(top <= share * c_rate * (1.0 + 1e-6) && top > 0.9 * share * c_rate, "{g}: {top}");
+        assert!(free > 1.5 * share * c_rate, "{g}: free {free}");
+    }
+    // Without G54.4 no clamp applies.
+    let src = "G90 G00 X0 Y0 Z100. B30. C0\nG01 X10. C90. F100000.\nM30\n";
+    let top = top_c_speed(fanuc_with(src, "head-bc", |c| c.machine.five_axis.wse_feed_clamp_pct = 1.0), 2);
+    assert!(top > 1.5 * 0.01 * c_rate, "{top}");
+}
+
+// --- WSE-19 / No.5412: canned-cycle rapids in G54.4 -----------------------------------------
+
+/// The (kind, feed, feed mode, machine end) of every motion of line 3.
+fn cycle_motions(src: &str, tweak: impl FnOnce(&mut Config)) -> Vec<(MotionKind, f64, FeedMode, [f64; 3])> {
+    let mut interp = fanuc_with(src, "mill3", tweak);
+    interp.state.setting_errors.sets[1].shift = [3.0, 4.0, 0.0];
+    let mut v = Vec::new();
+    interp
+        .run(|c| {
+            if let (3, CanonKind::Motion(m)) = (c.line, c.kind) {
+                v.push((m.kind, m.feed, m.feed_mode, xyz(&m.machine)))
+            }
+        })
+        .expect("no alarm");
+    v
+}
+
+#[test]
+fn wse_19_canned_cycle_rapids_run_at_no_5412_in_g54_4() {
+    use MotionKind::{Linear, Rapid};
+    let g81 = "G90 G00 X0 Y0 Z50.\nG54.4 P1\nG98 G81 X10. Y5. Z-5. R2. F200.\nG80\nG54.4 P0\nM30\n";
+    let ends = [[13.0, 9.0, 50.0], [13.0, 9.0, 2.0], [13.0, 9.0, -5.0], [13.0, 9.0, 50.0]];
+    let with = |cycle_feed: f64, dry_run: f64| {
+        move |c: &mut Config| {
+            c.machine.five_axis.wse_cycle_feed = cycle_feed;
+            c.machine.manual.dry_run_feed = dry_run;
+        }
+    };
+    let pm = FeedMode::PerMinute;
+    // No.5412 = 3000: positioning, to R and the return run at 3000 mm/min; the hole at F.
+    let got = cycle_motions(g81, with(3000.0, 1500.0));
+    let kinds: Vec<_> = got.iter().map(|m| (m.0, m.1, m.2)).collect();
+    assert_eq!(kinds, [(Linear, 3000.0, pm), (Linear, 3000.0, pm), (Linear, 200.0, pm), (Linear, 3000.0, pm)]);
+    for (m, end) in got.iter().zip(ends) {
+        assert!(close3(m.3, end, 1e-9), "{:?} vs {end:?}", m.3);
+    }
+    // No.5412 = 0: the dry run rate No.1410.
+    let got = cycle_motions(g81, with(0.0, 1500.0));
+    assert!(got.iter().enumerate().all(|(k, m)| m.0 == Linear && m.1 == if k == 2 { 200.0 } else { 1500.0 }));
+    // Both 0: rapids stay rapids; and outside G54.4 No.5412 does nothing.
+    let got = cycle_motions(g81, with(0.0, 0.0));
+    assert_eq!(got.iter().map(|m| m.0).collect::<Vec<_>>(), [Rapid, Rapid, Linear, Rapid]);
+    let outside = "G90 G00 X0 Y0 Z50.\nG04 P0\nG98 G81 X10. Y5. Z-5. R2. F200.\nG80\nM30\n";
+    let got = cycle_motions(outside, with(3000.0, 1500.0));
+    assert_eq!(got.iter().map(|m| m.0).collect::<Vec<_>>(), [Rapid, Rapid, Linear, Rapid]);
+    // In G95 the hole is fed per revolution, the former rapids still per minute.
+    let g95 = "G95 G90 G00 X0 Y0 Z50.\nG54.4 P1\nG99 G81 X10. Y5. Z-5. R2. F0.1\nG80\nG54.4 P0\nM30\n";
+    let got = cycle_motions(g95, with(3000.0, 0.0));
+    let kinds: Vec<_> = got.iter().map(|m| (m.0, m.1, m.2)).collect();
+    let rev = FeedMode::PerRevolution;
+    assert_eq!(kinds, [(Linear, 3000.0, pm), (Linear, 3000.0, pm), (Linear, 0.1, rev), (Linear, 3000.0, pm)]);
+}
+
+// --- WSE-25: manual intervention on a table or mixed machine with RCM = 1 --------------------
+
+/// AUTO run of Example-1-like moves on `preset`, held in the first cutting move (line 3).
+fn held_in_g54_4(preset: &str, rcm_on: bool) -> fivex_engine::controller::Controller {
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    let mut cfg = Config::new(MachineConfig::preset(preset).unwrap(), Dialect::Fanuc);
+    cfg.machine.five_axis.tool_direction_compensation = rcm_on;
+    let mut c = Controller::new(cfg);
+    c.interpreter_mut().state.setting_errors.sets[1].shift = [3.0, 4.0, 0.0];
+    c.set_mode(Mode::Auto).unwrap();
+    let names: String = c.interpreter().config().machine.rotary.iter().map(|l| format!(" {}0", l.axis)).collect();
+    let src = format!("G90 G00 X0 Y0 Z100.{names}\nG54.4 P1\nG01 X100. F600.\nY50.\nG54.4 P0\nM30\n");
+    c.select_program(&src).unwrap();
+    c.cycle_start().unwrap();
+    while c.point().line != 3 && c.time() < 60.0 {
+        c.tick(0.01);
+    }
+    for _ in 0..100 {
+        c.tick(0.01);
+    }
+    c.feed_hold();
+    for _ in 0..300 {
+        c.tick(0.01);
+    }
+    assert_eq!(c.run_state(), RunState::Hold, "{:?}", c.alarms());
+    c
+}
+
+#[test]
+fn wse_25_manual_intervention_with_rcm_on_a_table_machine_raises_ps0439() {
+    use fivex_engine::controller::{Mode, RunState};
+    use fivex_engine::kin::ManualFeed;
+    type Action = fn(&mut fivex_engine::controller::Controller) -> Result<(), fivex_engine::controller::Refusal>;
+    let actions: [(Mode, Action); 4] = [
+        (Mode::Handle, |c| c.handle('X', 1.0)),
+        (Mode::Jog, |c| c.jog_start('C', true)),
+        (Mode::Handle, |c| c.handle_direction(ManualFeed::ToolAxis, 1.0)),
+        (Mode::Handle, |c| c.handle_tip_rotation('C', 5.0)),
+    ];
+    for preset in ["table-ac", "mixed-bc"] {
+        for (k, (mode, act)) in actions.iter().enumerate() {
+            let mut c = held_in_g54_4(preset, true);
+            let before = c.point().machine;
+            c.set_mode(*mode).unwrap();
+            assert_eq!(act(&mut c), Ok(()), "{preset} action {k}");
+            assert_eq!(c.run_state(), RunState::Alarm, "{preset} action {k}");
+            let a = &c.alarms()[0];
+            assert_eq!((a.code.as_str(), a.line), ("PS0439", 3), "{preset} action {k}: {a:?}");
+            for _ in 0..50 {
+                c.tick(0.01);
+            }
+            assert_eq!(c.point().machine, before, "{preset} action {k}: nothing moves");
+        }
+    }
+    // A head machine with RCM = 1, or a table machine without it: the intervention moves.
+    for (preset, rcm_on) in [("head-bc", true), ("table-ac", false)] {
+        let mut c = held_in_g54_4(preset, rcm_on);
+        let before = c.point().machine;
+        c.set_mode(Mode::Handle).unwrap();
+        c.handle('X', 1.0).unwrap();
+        for _ in 0..200 {
+            c.tick(0.01);
+        }
+        assert!(c.alarms().is_empty(), "{preset}: {:?}", c.alarms());
+        assert!((c.point().machine[0] - before[0] - 1.0).abs() < 1e-9, "{preset}");
+    }
+}
+
+// --- WSE-18 / DAK (No.3106#6): the absolute position in the WCS or the WSCS -----------------
+
+/// The last sampled tip of every line, and the run's final workpiece position.
+fn shown_tips(mut interp: Interpreter) -> (std::collections::BTreeMap<u32, [f64; 3]>, Pos) {
+    let mut tips = std::collections::BTreeMap::new();
+    let r = run(&mut interp, &RunOptions { period_s: 0.005, ..RunOptions::default() }, |s| {
+        tips.insert(s.line, s.tip);
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    (tips, r.workpiece)
+}
+
+#[test]
+fn wse_18_dak_shows_the_absolute_position_in_the_wcs() {
+    // Example 1 on head-bc, ending inside G54.4 after N60: DAK = 0 shows the WSCS (the
+    // programmed points), DAK = 1 the WCS (TV-WSE-17's numbers).
+    let src = "N10 G55\nN15 G54.4 P1\nN20 G90 G00 X0 Y0 Z300.0 B0 C0\nN30 G01 G43 H01 Z40.0 F500.\n\
+               N40 X50.0 Y50.0 Z20.0\nN50 X150.0\nN60 Y150.0\nM30\n";
+    let interp = |dak: bool, rcm_on: bool| {
+        let mut i = fanuc_with(src, "head-bc", |c| {
+            c.machine.five_axis.wse_display_wcs = dak;
+            c.machine.five_axis.tool_direction_compensation = rcm_on;
+        });
+        i.state.offsets.work_mut(2)[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
+        i.state.setting_errors.sets[1] =
+            wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+        i
+    };
+    let wscs = [(5, [50.0, 50.0, 20.0]), (6, [150.0, 50.0, 20.0]), (7, [150.0, 150.0, 20.0])];
+    let wcs =
+        [(5, [74.085638, 49.883624, 20.0]), (6, [168.054900, 15.681610, 20.0]), (7, [202.256915, 109.650872, 20.0])];
+    // Plain moves (RCM = 0) and tip paths (RCM = 1) alike.
+    for rcm_on in [false, true] {
+        for (dak, want) in [(false, wscs), (true, wcs)] {
+            let (tips, end) = shown_tips(interp(dak, rcm_on));
+            // The last sample of a line is within a period (0.04 mm at F500) of its end.
+            for (line, p) in want {
+                assert!(close3(tips[&line], p, 0.1), "DAK {dak} RCM {rcm_on} line {line}: {:?}", tips[&line]);
+            }
+            assert!(close3(xyz(&end), want[2].1, 1e-6), "DAK {dak} RCM {rcm_on}: end {end:?}");
+        }
+    }
+    // The controller's position display the same way, at rest after the program.
+    for (dak, want) in [(false, wscs[2].1), (true, wcs[2].1)] {
+        use fivex_engine::controller::{Controller, Mode, RunState};
+        let i = interp(dak, true);
+        let mut c = Controller::new(i.config().clone());
+        c.interpreter_mut().state.offsets = i.state.offsets.clone();
+        c.interpreter_mut().state.setting_errors = i.state.setting_errors;
+        c.set_mode(Mode::Auto).unwrap();
+        c.select_program(src).unwrap();
+        c.cycle_start().unwrap();
+        while c.run_state() == RunState::Running && c.time() < 300.0 {
+            c.tick(0.05);
+        }
+        assert!(close3(xyz(&c.point().work), want, 1e-6), "DAK {dak}: {:?}", c.point().work);
+    }
+    // Every sample of N50 with DAK = 1 lies on the displaced side in the WCS.
+    let mut i = interp(true, false);
+    let (sn, cs) = (20f64.to_radians().sin(), 20f64.to_radians().cos());
+    let r = run(&mut i, &RunOptions { period_s: 0.01, ..RunOptions::default() }, |s| {
+        if s.line == 6 {
+            let p = [s.tip[0] - 10.0, s.tip[1] - 20.0];
+            assert!((sn * p[0] + cs * p[1] - 50.0).abs() < 1e-6, "{:?}", s.tip);
+        }
+    });
+    assert!(r.completed());
+    // The FANUC bit.
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.five_axis.wse_display_wcs = true;
+    let p = fivex_engine::vendor::params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(3106, 6).unwrap());
+}
+
+/// TV-65 (fanuc-tcp.md TCP-14): TCP refuses the same look-ahead settings with PS5420.
+#[test]
+fn tv_65_tcp_refuses_missing_look_ahead_with_ps5420() {
+    let tcp = "G43.4 H1\nG49\nM30\n";
+    type Edit = fn(&mut fivex_engine::vendor::Params);
+    let edits: [Edit; 3] =
+        [|p| p.set(19501, 0.0), |p| p.set_axes(1671, vec![0.0; 5]), |p| p.set_axes(1660, vec![0.0; 5])];
+    for edit in edits {
+        let m = machine_from_fanuc("head-bc", edit);
+        assert_eq!(run_on(&m, tcp), Err(("PS5420".into(), 1)));
+    }
+    // SHP = 0 without G05.1 Q1: TCP-14 names the option, not the mode.
+    assert_eq!(run_on(&machine_from_fanuc("head-bc", |p| p.set(1604, 0.0)), tcp), Ok(()));
+}
+
+// --- §2.13.5: the compensation recomputed all along a block ---------------------------------
+
+#[test]
+fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
+    use fivex_engine::kin::{Kinematics, Vec3};
+    // RCM = 1, Δa 3°, Δb −2° (not about the workpiece-side C axis: proportional rotary motion
+    // between exact end points would leave the programmed direction inside the block). The
+    // first rotary axis (B of head-bc, A of table-ac) is index 3, C index 4.
+    for (preset, first_axis) in [("head-bc", 'B'), ("table-ac", 'A')] {
+        let src = format!(
+            "G90 G00 X0 Y0 Z100. {first_axis}30. C0\nG54.4 P1\n#100=#5004\n#101=#5005\nG43 H1\n\
+             G01 X20. {first_axis}45. C60. F1000.\nG49\nG54.4 P0\nM30\n"
+        );
+        let mut interp = fanuc_with(&src, preset, rcm);
+        interp.state.setting_errors.sets[1].rotation = [3.0, -2.0, 0.0];
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let re = wse::rotation([3.0, -2.0, 0.0]);
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+            if s.line == 6 {
+                samples.push((s.tip, s.machine));
+            }
+        });
+        assert!(r.completed(), "{preset}: {:?}", r.alarms);
+        let vars = r.variables.clone();
+        let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
+        let (a0, c0) = (v(100), v(101));
+        let (x0, first, last) = (samples[0].0[0], samples[0].1, samples.last().unwrap().1);
+        let direction = |a: f64, c: f64| {
+            let mut q = [0.0; fivex_engine::machine::MAX_AXES];
+            (q[3], q[4]) = (a, c);
+            kin.forward(&q, 0.0).tool
+        };
+        let angle = |a: Vec3, b: Vec3| a.dot(&b).clamp(-1.0, 1.0).acos();
+        let (mut worst, mut proportional) = (0.0f64, 0.0f64);
+        for (tip, m) in &samples {
+            let u = (tip[0] - x0) / (20.0 - x0);
+            let want = re * direction(a0 + u * (45.0 - a0), c0 + u * (60.0 - c0));
+            worst = worst.max(angle(kin.forward(m, 0.0).tool, want));
+            // What turning the axes in proportion between the end points would give.
+            let lerp = |k: usize| first[k] + u * (last[k] - first[k]);
+            proportional = proportional.max(angle(direction(lerp(3), lerp(4)), want));
+        }
+        assert!(samples.len() > 50, "{preset}");
+        assert!(worst < 1e-7, "{preset}: the tool leaves the compensated direction by {worst} rad");
+        assert!(proportional > 1e-4, "{preset}: the block does not tell the two apart: {proportional}");
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: common::cases(6), ..proptest::prelude::ProptestConfig::default() })]
+
+    /// RCM = 1 on every 5-axis machine kind, any small error: the compensated block (its axes
+    /// turned to the compensated direction along the way or in proportion) keeps the tip on the
+    /// programmed line relative to the displaced workpiece at every 1 ms sample, and every axis
+    /// within its speed, acceleration and jerk.
+    #[test]
+    fn compensated_blocks_keep_the_tip_on_the_line_within_the_axis_limits(
+        rot in proptest::array::uniform3(-4.0f64..4.0),
+        p in proptest::array::uniform3(-40.0f64..40.0),
+        angles in proptest::array::uniform2(20.0f64..60.0),
+        start in proptest::array::uniform2(20.0f64..60.0),
+    ) {
+        use fivex_engine::kin::Kinematics;
+        for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+            let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+            let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
+            let src = format!(
+                "G90 G00 X0 Y0 Z100. {a}{:.3} {b}{:.3}\nG54.4 P1\nG43 H1\nG01 X{:.3} Y{:.3} Z{:.3} {a}{:.3} {b}{:.3} F3000.\nG49\nM30\n",
+                start[0], start[1], p[0], p[1], p[2], angles[0], angles[1], a = names[0], b = names[1]
+            );
+            let mut interp = fanuc_with(&src, preset, rcm);
+            interp.state.setting_errors.sets[1] = wse::ErrorSet { shift: [1.0, -2.0, 0.5], rotation: rot, table: [0.0; 2] };
+            let mut samples = Vec::new();
+            let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
+            proptest::prop_assert!(r.completed(), "{preset}: {:?}", r.alarms);
+            // The tip where the axes put it (table frame, the work offsets 0), in the WSCS.
+            let e = wse::frame([1.0, -2.0, 0.5], rot);
+            let tip = |m: &Pos| -> [f64; 3] { e.from_parent(&(kin.forward(m, 100.0).tip - kin.nose)).into() };
+            let line: Vec<_> = samples.iter().filter(|s| s.line == 4).map(|s| tip(&s.machine)).collect();
+            let target = [p[0], p[1], p[2]].map(|x| (x * 1e3).round() / 1e3);
+            let from = line[0];
+            let d: [f64; 3] = std::array::from_fn(|k| target[k] - from[k]);
+            let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            // The last sample is within a period (0.05 mm at F3000) of the end.
+            proptest::prop_assert!(close3(*line.last().unwrap(), target, 0.06), "{preset}: ends at {:?}", line.last());
+            for t in &line {
+                let w: [f64; 3] = std::array::from_fn(|k| t[k] - from[k]);
+                let along = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]) / len;
+                let off: f64 = (0..3).map(|k| (w[k] - along * d[k] / len).powi(2)).sum::<f64>().sqrt();
+                proptest::prop_assert!(off < 1e-6, "{preset}: tip {t:?} {off} off the line");
+            }
+            common::check_limits(&samples, preset, false)?;
         }
     }
 }

@@ -427,6 +427,9 @@ impl Controller {
         if self.manual_blocked() {
             return Err(Refusal::Busy);
         }
+        if self.manual_refused_in_wse() {
+            return Ok(());
+        }
         let from = self.here.machine;
         // The dry run rate is the linear axes' resultant: the rotary rate that gives it (the
         // carriage turns on a circle about the rotary axis).
@@ -496,12 +499,15 @@ impl Controller {
     /// Move X, Y, Z up to `distance` along the unit direction `d` (machine coordinates),
     /// clamped to the strokes.
     pub(super) fn move_along(&mut self, d: Vec3, distance: f64, feed: f64) -> Result<(), Refusal> {
-        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        let kin = self.kinematics.clone().ok_or(Refusal::NoAxis)?;
         if !d.iter().all(|x| x.is_finite()) || (d.norm() - 1.0).abs() > 1e-6 {
             return Err(Refusal::NoAxis);
         }
         if self.manual_blocked() {
             return Err(Refusal::Busy);
+        }
+        if self.manual_refused_in_wse() {
+            return Ok(());
         }
         // The longest move along d that stays inside every stroke.
         let mut reach = distance;

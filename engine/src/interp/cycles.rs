@@ -12,7 +12,7 @@
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, MotionKind, SpindleState};
+use crate::canon::{Canon, CanonKind, FeedMode, MotionKind, Pos, SpindleState};
 
 /// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm.
 const G73_RETRACT: f64 = 0.5;
@@ -62,7 +62,7 @@ impl State {
         for _ in 0..repeats {
             // Position over the hole: every axis but the drilling axis.
             let hole = self.programmed_target(w, Some(d));
-            self.move_to(MotionKind::Rapid, hole, out);
+            self.cycle_move(MotionKind::Rapid, hole, out);
             self.hole(code, d, (pa, pb), out)?;
             check_output(out)?;
         }
@@ -72,14 +72,29 @@ impl State {
     fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) {
         let mut t = self.xf.programmed;
         t[d] = level;
-        self.move_to(kind, t, out);
+        self.cycle_move(kind, t, out);
     }
 
     /// A shift along `axis` by `by` mm after the transforms (scaling does not change it).
     fn shift(&mut self, axis: usize, by: f64, out: &mut Vec<Canon>) {
         let mut t = self.xf.programmed;
         t[axis] += by / self.xf.length_factor(axis);
-        self.move_to(MotionKind::Rapid, t, out);
+        self.cycle_move(MotionKind::Rapid, t, out);
+    }
+
+    /// A move of the cycle. Under G54.4 every rapid of the cycle (positioning, to R, the
+    /// retracts) is a cutting move at No.5412's feed (WSE-19, [`State::wse_cycle_feed`]).
+    fn cycle_move(&mut self, kind: MotionKind, t: Pos, out: &mut Vec<Canon>) {
+        let Some(feed) = self.wse_cycle_feed().filter(|_| kind == MotionKind::Rapid) else {
+            return self.move_to(kind, t, out);
+        };
+        let first = out.len();
+        self.move_to(MotionKind::Linear, t, out);
+        for c in &mut out[first..] {
+            if let CanonKind::Motion(m) = &mut c.kind {
+                (m.feed, m.feed_mode) = (feed, FeedMode::PerMinute);
+            }
+        }
     }
 
     fn spindle(&mut self, state: SpindleState, out: &mut Vec<Canon>) {

@@ -201,6 +201,12 @@ pub struct State {
     pub setting_errors: crate::wse::SettingErrors,
     /// The G54.4 set in effect.
     wse: Option<wse::Active>,
+    /// The compensation of the tip move being made, from `wse_compensate` to `follow_motion`.
+    wse_between: Option<crate::canon::Compensation>,
+    /// Look-ahead (FANUC AI contour control) is on: from power-on unless it needs G05.1 Q1
+    /// (`motion.look_ahead_by_command`), then G05.1 Q1 / Q0. A reset keeps it, as it keeps
+    /// the modal G codes (CLR = 0).
+    look_ahead: bool,
     /// Programming coordinates of the current point (the last block's end point), after the
     /// programming transforms (G51.1, G51, G68): the workpiece coordinates of the tool.
     pos: Pos,
@@ -362,6 +368,7 @@ impl Interpreter {
         st.locals.truncate(1);
         st.locals[0] = [None; LOCALS];
         st.modal_call = None;
+        st.wse_between = None;
         st.ended = true;
         let after_reset = st.cfg.machine.five_axis.plane_after_reset;
         if st.plane_active() && after_reset == crate::machine::PlaneAfterReset::Cancelled {
@@ -471,6 +478,8 @@ impl State {
             offsets: Offsets::default(),
             setting_errors: crate::wse::SettingErrors::default(),
             wse: None,
+            wse_between: None,
+            look_ahead: !cfg.machine.motion.look_ahead_by_command,
             pos: [0.0; MAX_AXES],
             xf: frames::Transforms::default(),
             local: [0.0; MAX_AXES],

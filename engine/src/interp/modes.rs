@@ -164,6 +164,18 @@ static RULES: &[Rule] = &[
         A::WseModalState,
         |c| c.wse_rcm_table() && c.wse_during() && c.foreign_axis(),
     ),
+    rule(
+        Fanuc,
+        "twp WSE-11, TV-WSE-19d: G54.4 Pn with RCM=1 needs look-ahead on (G05.1 Q1 / SHP), LRP, FRP, No.1660/1671",
+        A::WseToolDirection,
+        |c| c.rcm() && c.has(544) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && !c.st.wse_settings_ready(),
+    ),
+    rule(Fanuc, "twp WSE-11 [A]: look-ahead stays on in G54.4 with RCM=1 (no G05.1 Q0)", A::WseToolDirection, |c| {
+        c.rcm() && c.wse_during() && c.has(51) && c.word(b'Q') == Some(0.0)
+    }),
+    rule(Fanuc, "twp WSE-24, TV-WSE-19e: tool length offset or TCP in G54.4 needs TOS=1", A::WseToolDirection, |c| {
+        c.st.cfg.machine.five_axis.length_offset_by_motion && c.wse_during() && c.any(&[430, 431, 440, 434, 435])
+    }),
     // --- 5-axis cutter compensation ----------------------------------------------------
     rule(Fanuc, "crc CRC-31: G41.4/G42.4 on a table machine with SPG=0", A::ImproperGCode, |c| {
         !SPG && c.mech() == Mech::Table && c.any(&[414, 424])

@@ -608,7 +608,10 @@ impl State {
         arc: Option<Box<Arc>>,
         out: &mut Vec<Canon>,
     ) {
-        let motion = self.motion(kind, target, machine, arc, None);
+        let mut motion = self.motion(kind, target, machine, arc, None);
+        if self.wse.is_some() {
+            self.wse_display(&mut motion);
+        }
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
     }
@@ -900,6 +903,11 @@ impl State {
                 return Ok(true);
             }
             220 => {}
+            // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off.
+            51 => match w.integer(b'Q') {
+                Some(q) if q == 1.0 || q == 0.0 => self.look_ahead = q == 1.0,
+                _ => {}
+            },
             // Codes whose effect belongs to later stages (look-ahead, 5-axis alignment…):
             // accepted and visible in the modal context, nothing to do for positions here.
             _ => {}

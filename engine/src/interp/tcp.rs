@@ -104,9 +104,10 @@ impl State {
         };
         if self.cfg.dialect == crate::Dialect::Fanuc {
             let five = &self.cfg.machine.five_axis;
-            // TCP-14, TV-65: TCP needs linear-type rapids (LRP = 1); the look-ahead settings
-            // (FRP, No.1660/1671/1672) always exist in the model.
-            if self.cfg.machine.motion.nonlinear_rapid {
+            // TCP-14, TV-65: TCP needs linear-type rapids (LRP = 1) and look-ahead set up for
+            // rapids and cutting feed (FRP, No.1671, No.1660; No.1672 always exists in the model).
+            let motion = &self.cfg.machine.motion;
+            if motion.nonlinear_rapid || !motion.look_ahead_set_up() {
                 return Err(AlarmId::TcpParameter);
             }
             // TCP-08/23, TV-60: type 2 cannot work in the workpiece system (WKP = 1); on every
@@ -339,6 +340,8 @@ impl State {
         let from_machine = self.machine_position();
         let off = self.offset_vector();
         let FollowPath { frame, tool_length, posture, along } = path;
+        // G54.4's compensation along the way, as the block's `wse_compensate` left it.
+        let compensation = self.wse_between.take();
         let mut machine: Pos = std::array::from_fn(|i| target[i] + off[i]);
         let tip_to = frame.to_parent(&xyz(kin, &target));
         let carriage = kin.carriage_for(&machine, tip_to, tool_length);
@@ -372,9 +375,12 @@ impl State {
                 deviation: deviation_limit(self, kind),
                 frame,
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
+                rotary_clamp: self.wse_rotary_clamp(kind),
+                compensation,
             })
         });
-        let motion = self.motion(kind, target, machine, None, tip);
+        let mut motion = self.motion(kind, target, machine, None, tip);
+        self.wse_display(&mut motion);
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
         self.follow_machine = Some(machine);

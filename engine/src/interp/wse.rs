@@ -6,11 +6,14 @@
 //!
 //! While a set is in effect, programmed points are in the workpiece setting coordinate system
 //! (WSCS): `State::pos` holds WSCS coordinates and X/Y/Z go to the WCS as `R_e·p + Δ` before the
-//! work offsets are added (`State::program_to_machine`), so lines stay lines. The rotary axes
-//! are left as programmed (tool direction compensation, RCM = 1, is not modelled yet). A circle
+//! work offsets are added (`State::program_to_machine`), so lines stay lines. Without tool
+//! direction compensation (RCM = 0) the rotary axes are left as programmed; with it (second
+//! half of this file) moves follow the tool tip and the rotary axes are corrected. A circle
 //! whose plane the error tilts is a circle in space: every G02/G03 under G54.4 therefore runs as
 //! a tool tip path (`canon::TipMove`) with the tool length as a plain G43 applies it (along Z).
 //! G54.4 Pn and P0 do not move the machine: the current point is recomputed in the new system.
+//! Also here: the settings RCM needs (PS0438), the canned-cycle feed (No.5412), the rotary
+//! clamp (No.11202/11203), the display choice (DAK) and the manual-move ban (WSE-25).
 
 use super::nc::Words;
 use super::tcp::FollowPath;
@@ -146,6 +149,14 @@ impl State {
         Some(p)
     }
 
+    /// What tool direction compensation needs when G54.4 Pn starts it (WSE-11, TV-WSE-19d;
+    /// PS0438 otherwise): look-ahead on (G05.1 Q1, or on from power-on), linear-type rapids
+    /// (LRP), look-ahead set up for rapids (FRP, No.1671) and cutting feed (No.1660).
+    pub(super) fn wse_settings_ready(&self) -> bool {
+        let m = &self.cfg.machine.motion;
+        self.look_ahead && !m.nonlinear_rapid && m.look_ahead_set_up()
+    }
+
     /// Reset: workpiece setting error compensation ends unless FANUC D3R (No.5400#2) keeps it
     /// (WSE-21; `five_axis.plane_after_reset`, the same bit that keeps the tilted plane). The machine stays; the current point is recomputed in the WCS.
     pub(super) fn wse_reset(&mut self) {
@@ -184,6 +195,32 @@ impl State {
         }
     }
 
+    /// WSE-18, FANUC DAK (No.3106#6) = 1: under G54.4 the absolute position shows X/Y/Z in the
+    /// WCS instead of the WSCS (the rotary axes as programmed, as #5041… do). Only where G54.4's
+    /// circles follow the tip (a kinematic model), so that no plain circle is given in the WCS.
+    fn wse_shows_wcs(&self) -> bool {
+        self.wse.is_some() && self.kinematics.is_some() && self.cfg.machine.five_axis.wse_display_wcs
+    }
+
+    /// A motion's display coordinates (its `target`, a tip path's frame) as WSE-18 chooses.
+    pub(super) fn wse_display(&self, m: &mut crate::canon::Motion) {
+        let Some(a) = self.wse.filter(|_| self.wse_shows_wcs()) else { return };
+        self.wse_to_wcs(&mut m.target);
+        if let Some(tip) = &mut m.tip {
+            tip.frame = tip.frame.then(&wse::inverse(&a.frame));
+        }
+    }
+
+    /// The current point as the absolute position display shows it (WSE-18: in the WCS with
+    /// DAK = 1 under G54.4; otherwise the programming coordinates, [`State::position`]).
+    pub fn shown_position(&self) -> Pos {
+        if self.wse_shows_wcs() {
+            self.wcs_position()
+        } else {
+            self.pos
+        }
+    }
+
     /// The current point in the WCS (#5041…, WSE-20): the WSCS point carried by the error.
     pub(super) fn wcs_position(&self) -> Pos {
         let mut p = self.pos;
@@ -212,6 +249,15 @@ impl State {
         self.follow_motion(&kin, kind, target, Some(arc), path, out);
         // Not a mode that follows the tip: the machine position is the programmed point's.
         self.follow_machine = None;
+    }
+}
+
+impl super::Interpreter {
+    /// WSE-25: G54.4 compensates the tool direction on a machine with a table rotary axis (table
+    /// or mixed type, hypothetical axes included): manual moves raise an alarm there.
+    pub fn wse_forbids_manual(&self) -> bool {
+        let st = &self.state;
+        st.wse_follows() && st.cfg.machine.rotary.iter().any(|l| l.side == Side::Table)
     }
 }
 
@@ -273,6 +319,31 @@ impl State {
         Ok(())
     }
 
+    /// WSE-19: under G54.4 the rapids of hole-machining canned cycles run at this feed, mm/min:
+    /// FANUC No.5412, or when that is 0 the dry run rate (No.1410); `None` outside G54.4 or
+    /// when both are 0 (then they stay rapids).
+    pub(super) fn wse_cycle_feed(&self) -> Option<f64> {
+        self.wse?;
+        let feed = match self.cfg.machine.five_axis.wse_cycle_feed {
+            0.0 => self.cfg.machine.manual.dry_run_feed,
+            f => f,
+        };
+        (feed > 0.0).then_some(feed)
+    }
+
+    /// FANUC No.11202 (cutting) / No.11203 (rapid), WSE-24: under tool direction compensation
+    /// the rotary axes turn at most that percentage of their rate (the seed's "maximum cutting
+    /// feedrate / rapid traverse rate"; the model's one rate per axis stands for both); 0: no
+    /// clamp.
+    pub(super) fn wse_rotary_clamp(&self, kind: MotionKind) -> Option<f64> {
+        if !self.wse_follows() {
+            return None;
+        }
+        let f = &self.cfg.machine.five_axis;
+        let pct = if kind == MotionKind::Rapid { f.wse_rapid_clamp_pct } else { f.wse_feed_clamp_pct };
+        (pct > 0.0 && pct < 100.0).then_some(pct / 100.0)
+    }
+
     /// A plain move (`push_motion`: canned cycles, the G28/G30 intermediate point) ended at
     /// `machine` under tool direction compensation, which keeps the machine position beside
     /// the tip: these moves are not compensated (the tool length along Z, the rotary axes as
@@ -299,9 +370,10 @@ impl State {
     /// RCM = 1: the rotary coordinates of `target` (programmed angles) become the machine
     /// angles, less the work offsets, that give relative to the displaced workpiece the tool
     /// direction the programmed angles give relative to the ideal one (§2.13.5), chosen by the
-    /// singular-posture rules of §2.14. Exact at the block's end points; between them the
-    /// rotary axes move in proportion (not recomputed every interpolation period).
-    pub(super) fn wse_compensate(&self, kin: &Shared<Kinematics>, target: &mut Pos) -> Result<(), AlarmId> {
+    /// singular-posture rules of §2.14, at the block's end points; between them the motion
+    /// recomputes the direction (`canon::Compensation`, handed to `follow_motion`).
+    pub(super) fn wse_compensate(&mut self, kin: &Shared<Kinematics>, target: &mut Pos) -> Result<(), AlarmId> {
+        self.wse_between = None;
         if !self.wse_follows() || kin.joints().is_empty() {
             return Ok(());
         }
@@ -318,6 +390,8 @@ impl State {
         };
         let (start, end) = (programmed(&self.xf.programmed), programmed(target));
         let angles = self.wse_angles(kin, &from, &start, &end)?;
+        let turn = self.wse_turn(kin, &from);
+        self.wse_between = Some(crate::canon::Compensation { turn, from: start, to: end });
         for j in kin.joints() {
             if let Some(i) = j.index {
                 target[i] = angles[i] - off[i];

@@ -8,7 +8,7 @@
 //! within the tolerance) in the plane's two axes with every other axis moving in proportion.
 
 use super::profile::{Limits, Profile};
-use crate::canon::{Arc, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
+use crate::canon::{Arc, Compensation, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::{MachineConfig, MotionOptions, MAX_AXES};
 use crate::twp::Frame;
@@ -115,6 +115,8 @@ struct Follow {
     to: Vec3,
     circle: Option<Circle3>,
     posture: Option<Posture>,
+    /// G54.4 tool direction compensation along the way (when there is no posture).
+    compensation: Option<Compensation>,
     /// The programming coordinate system in the table frame; `None`: the programming
     /// coordinates keep their offset from the machine's (a manual tip rotation outside tool
     /// centre point control).
@@ -257,22 +259,35 @@ impl Posture {
     /// leaves the directions the machine reaches; such a block runs with conventional control,
     /// as for equal or opposite directions (`docs/five-axis.md`).
     fn continuous(&self, kin: &Kinematics, from: &Pos, to: &Pos, circle: Option<&Circle3>) -> bool {
-        const STEPS: usize = 64;
-        /// More than this in 1/64 of the block is a jump to the other branch.
-        const JUMP_DEG: f64 = 30.0;
-        let mut prev = *from;
-        for k in 1..=STEPS {
-            let u = k as f64 / STEPS as f64;
-            let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
-            let Some(a) = kin.angles_near(self.at(u, circle), &q) else { return false };
-            let jump = kin.joints().iter().filter_map(|j| j.index).any(|i| (a[i] - prev[i]).abs() > JUMP_DEG);
-            if jump {
-                return false;
-            }
-            prev = a;
-        }
-        true
+        continuous(kin, from, to, |u| self.at(u, circle))
     }
+}
+
+/// Whether the axes can follow the tool direction `direction(u)` from `from` to `to` as
+/// `Follow::at` turns them (the inverse solution nearest the proportional angles) without a
+/// jump to another branch of the inverse or leaving the directions the machine reaches.
+fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
+    const STEPS: usize = 64;
+    /// More than this in 1/64 of the block is a jump to the other branch.
+    const JUMP_DEG: f64 = 30.0;
+    let mut prev = *from;
+    for k in 1..=STEPS {
+        let u = k as f64 / STEPS as f64;
+        let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+        let Some(a) = kin.angles_near(direction(u), &q) else { return false };
+        let jump = kin.joints().iter().filter_map(|j| j.index).any(|i| (a[i] - prev[i]).abs() > JUMP_DEG);
+        if jump {
+            return false;
+        }
+        prev = a;
+    }
+    true
+}
+
+/// The tool direction of G54.4's compensation `u` of the way.
+fn compensated(kin: &Kinematics, c: &Compensation, u: f64) -> Vec3 {
+    let q: Pos = std::array::from_fn(|i| c.from[i] + (c.to[i] - c.from[i]) * u);
+    c.turn * kin.forward(&q, 0.0).tool
 }
 
 impl Follow {
@@ -288,10 +303,13 @@ impl Follow {
     /// so that the tip is on the path.
     fn at(&self, from: &Pos, to: &Pos, u: f64) -> Pos {
         let mut q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
-        if let Some(p) = &self.posture {
-            if let Some(angles) = self.kin.angles_near(p.at(u, self.circle.as_ref()), &q) {
-                q = angles;
-            }
+        let direction = match (&self.posture, &self.compensation) {
+            (Some(p), _) => Some(p.at(u, self.circle.as_ref())),
+            (None, Some(c)) => Some(compensated(&self.kin, c, u)),
+            (None, None) => None,
+        };
+        if let Some(angles) = direction.and_then(|d| self.kin.angles_near(d, &q)) {
+            q = angles;
         }
         let carriage = self.kin.carriage_for(&q, self.tip(u), self.tool_length);
         for (axis, index) in self.kin.linear.iter().enumerate() {
@@ -309,6 +327,9 @@ impl Follow {
             if !p.cut(u, self.circle.as_ref()) {
                 self.posture = None;
             }
+        }
+        if let Some(c) = &mut self.compensation {
+            c.from = std::array::from_fn(|i| c.from[i] + (c.to[i] - c.from[i]) * u);
         }
         if let Some(c) = &mut self.circle {
             let (sin, cos) = (c.sweep * u).sin_cos();
@@ -592,6 +613,21 @@ impl Segment {
                 _ => Posture::new(a, b),
             })
             .filter(|p| p.continuous(&kin, from, &m.machine, circle.as_ref()));
+        // G54.4's compensation all along the way, where it starts and ends on the block's end
+        // points (not so when a singular-posture rule held an axis within No.11204), differs
+        // from turning the axes in proportion (it does not for an error about the
+        // workpiece-side axis, or rotary axes that stay: then the cheaper way) and the axes can
+        // follow it without a jump; otherwise in proportion between the end points.
+        let on = |c: &Compensation, u: f64| {
+            let q: Pos = std::array::from_fn(|i| from[i] + (m.machine[i] - from[i]) * u);
+            kin.angles_near(compensated(&kin, c, u), &q)
+                .is_some_and(|a| kin.joints().iter().filter_map(|j| j.index).all(|i| (a[i] - q[i]).abs() < 1e-9))
+        };
+        let compensation = tip
+            .compensation
+            .filter(|c| posture.is_none() && on(c, 0.0) && on(c, 1.0))
+            .filter(|c| ![0.25, 0.5, 0.75].iter().all(|&u| on(c, u)))
+            .filter(|c| continuous(&kin, from, &m.machine, |u| compensated(&kin, c, u)));
         let follow = Follow {
             kin: kin.clone(),
             tool_length: tip.tool_length,
@@ -599,8 +635,23 @@ impl Segment {
             to: tip.to,
             circle,
             posture,
+            compensation,
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
+        };
+        // FANUC No.11202/11203: the rotary axes of a G54.4-compensated move within a share of
+        // their rate.
+        let clamped;
+        let axes = match tip.rotary_clamp {
+            Some(share) => {
+                let mut a = axes.clone();
+                for i in kin.joints().iter().filter_map(|j| j.index) {
+                    a.v[i] *= share;
+                }
+                clamped = a;
+                &clamped
+            }
+            None => axes,
         };
         let rotary_only = tip_len < 1e-9;
         let len = if rotary_only { turn } else { tip_len };
@@ -671,6 +722,7 @@ impl Segment {
             to: tip,
             circle: None,
             posture: None,
+            compensation: None,
             work_frame: None,
             display_shift: None,
         };

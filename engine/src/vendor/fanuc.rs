@@ -5,6 +5,8 @@
 //! 1672 bell-shaped time. The mechanism: 19680 type, 19681–19690 the two rotary axes, 19696#0/#1
 //! hypothetical axes, 19697–19699 reference tool direction, 19700–19705 table positions, 19666
 //! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
+//! Look-ahead: 1604#0 SHP, 19501#5 FRP, 1660 / 1671 all 0. G54.4: 11200#0 RCM, 11202/11203
+//! rotary clamp, 11204, 3106#6 DAK, 5006#6 TOS, 5412 cycle feed, 5400#2 D3R.
 
 use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
 use super::{Params, Value};
@@ -169,7 +171,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     // No.1401#1 LRP: written only when 0 (non-linear rapids); absent means fivex's default,
     // linear-type rapids.
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
-    let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid, ..MotionOptions::default() };
+    let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid, ..look_ahead_options(p, n, &accel)? };
     let five_axis = five_axis_options(p)?;
     let manual = manual_options(p, n)?;
     Ok(MachineConfig {
@@ -183,6 +185,45 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         five_axis,
         manual,
     })
+}
+
+/// Look-ahead (acceleration/deceleration before interpolation): No.1604#0 SHP, No.19501#5 FRP
+/// (written only when 0, absent: fivex's default, on), No.1660 / No.1671 all 0 (read only when
+/// present). `accel` is No.1660.
+fn look_ahead_options(p: &Params, axes: usize, accel: &[f64]) -> Result<MotionOptions, ConfigError> {
+    let cleared =
+        |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && !p.bit(number, bit)?) };
+    let all_zero = |number: u32, values: &[f64]| p.0.contains_key(&number) && values.iter().all(|x| *x == 0.0);
+    Ok(MotionOptions {
+        look_ahead_by_command: cleared(1604, 0)?,
+        no_feed_look_ahead: all_zero(1660, accel),
+        no_rapid_look_ahead: cleared(19501, 5)? || all_zero(1671, &p.axes(1671, axes)?),
+        ..MotionOptions::default()
+    })
+}
+
+/// [`look_ahead_options`] the other way: SHP = 0 and FRP = 0 as `1604: 0`, `19501: 0`; no
+/// cutting-feed look-ahead as No.1660 (and its bell-shaped time No.1672) 0 on every axis, which
+/// leaves no room for the axes' own accelerations.
+fn look_ahead_params(p: &mut Params, m: &MachineConfig) -> Result<(), ConfigError> {
+    let o = &m.motion;
+    if o.look_ahead_by_command {
+        p.set(1604, 0.0);
+    }
+    if o.no_rapid_look_ahead {
+        p.set(19501, 0.0);
+    }
+    if o.no_feed_look_ahead {
+        if m.axes.iter().any(|a| a.accel.is_some() || a.jerk.is_some()) {
+            return Err(unrepresentable(
+                "FANUC",
+                "axis accelerations without look-ahead for cutting feed (No.1660 = 0)",
+            ));
+        }
+        p.set_axes(1660, vec![0.0; m.axes.len()]);
+        p.set_axes(1672, vec![0.0; m.axes.len()]);
+    }
+    Ok(())
 }
 
 /// The 5-axis manual feed settings: No.12318 tool length, 12320#0 TWD / #1 FLL / #2 JFR, 12321
@@ -262,8 +303,8 @@ fn manual_params(p: &mut Params, m: &MachineConfig) {
 
 /// The 5-axis function bits: No.19696#3 NPC, #5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
 /// No.19608#2 DET, #5 PRI, #6 MIR, No.19746#6 CRS, No.11221#0 MTW, No.5400#2 D3R, and
-/// No.19738/19739/19751/19752/11220; G54.4: No.11200#0 RCM, No.11204 singular tolerance (degrees)
-/// (absent: 0).
+/// No.19738/19739/19751/19752/11220; G54.4: No.11200#0 RCM, No.11204 singular tolerance (degrees),
+/// No.5006#6 TOS (absent: 1), No.5412, No.11202/11203 (percent), No.3106#6 DAK (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
     let bit =
         |number: u32, bit: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&number) && p.bit(number, bit)?) };
@@ -290,7 +331,28 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         deviation_clamp: bit(19746, 6)?,
         rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
         cutting_deviation: if p.0.contains_key(&19752) { p.get(19752)? } else { 0.0 },
+        length_offset_by_motion: p.0.contains_key(&5006) && !p.bit(5006, 6)?,
+        wse_cycle_feed: non_negative(p, 5412)?,
+        wse_feed_clamp_pct: percent(p, 11202)?,
+        wse_rapid_clamp_pct: percent(p, 11203)?,
+        wse_display_wcs: bit(3106, 6)?,
     })
+}
+
+/// A parameter that cannot be negative (absent: 0).
+fn non_negative(p: &Params, number: u32) -> Result<f64, ConfigError> {
+    match p.get(number)? {
+        x if x >= 0.0 => Ok(x),
+        x => Err(ConfigError::invalid(format!("No.{number} = {x} cannot be negative"))),
+    }
+}
+
+/// An override percentage 0…100 (absent: 0).
+fn percent(p: &Params, number: u32) -> Result<f64, ConfigError> {
+    match p.get(number)? {
+        x if (0.0..=100.0).contains(&x) => Ok(x),
+        x => Err(ConfigError::invalid(format!("No.{number} = {x} is not a percentage 0…100"))),
+    }
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
@@ -317,6 +379,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if m.motion.nonlinear_rapid {
         p.set(1401, 0.0);
     }
+    look_ahead_params(&mut p, m)?;
 
     let (code, ra, rb) = reference_angles(direction(m.tool_axis));
     p.set(19697, code as f64);
@@ -407,6 +470,19 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if f.singular_tolerance_deg != 0.0 {
         p.set(11204, real(f.singular_tolerance_deg));
+    }
+    // G54.4: TOS = 0 written as `5006: 0` (absent: fivex's default, TOS = 1); the rest only
+    // when not 0.
+    if f.length_offset_by_motion {
+        p.set(5006, 0.0);
+    }
+    for (number, value) in [(5412, f.wse_cycle_feed), (11202, f.wse_feed_clamp_pct), (11203, f.wse_rapid_clamp_pct)] {
+        if value != 0.0 {
+            p.set(number, real(value));
+        }
+    }
+    if f.wse_display_wcs {
+        p.set(3106, 64.0);
     }
     let zero = Vec3::zeros();
     let point = |k: usize| vec3(links[k].point);

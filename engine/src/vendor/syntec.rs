@@ -324,8 +324,16 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if persistence != 0.0 {
         p.set(3014, persistence);
     }
-    if f.tool_direction_compensation || f.singular_tolerance_deg != 0.0 {
-        return Err(unrepresentable("Syntec", "G54.4 settings (RCM, No.11204) are FANUC settings"));
+    let wse = f.length_offset_by_motion
+        || f.wse_cycle_feed != 0.0
+        || f.wse_feed_clamp_pct != 0.0
+        || f.wse_rapid_clamp_pct != 0.0
+        || f.wse_display_wcs;
+    if f.tool_direction_compensation || f.singular_tolerance_deg != 0.0 || wse {
+        return Err(unrepresentable(
+            "Syntec",
+            "G54.4 settings (RCM, No.11202–11204, TOS, No.5412, DAK) are FANUC settings",
+        ));
     }
     let singular = f.singular_angle != 0.0 || f.singular_tolerance != 0.0 || f.singular_alarm;
     let clamp = f.deviation_clamp || f.rapid_deviation != 0.0 || f.cutting_deviation != 0.0;

@@ -744,3 +744,66 @@ fn fanuc_19746_shared_bits_round_trip() {
     let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
     assert_eq!((back.manual.clone(), back.five_axis), (m.manual.clone(), m.five_axis));
 }
+
+/// Look-ahead (No.1604#0 SHP, No.19501#5 FRP, No.1660/1671) and the G54.4 settings (No.5006#6
+/// TOS, No.5412, No.11202/11203, No.3106#6 DAK): model → FANUC → model is the identity, the
+/// defaults are not written, and the vendor spellings read as documented.
+#[test]
+fn fanuc_look_ahead_and_g54_4_settings_round_trip() {
+    let mut base = MachineConfig::preset("table-ac").unwrap();
+    base.motion.tool_change_s = 0.0; // not a CNC parameter
+    let plain = params_of(Dialect::Fanuc, &base).unwrap();
+    for n in [1604, 19501, 1671, 5006, 5412, 11202, 11203, 3106] {
+        assert!(!plain.0.contains_key(&n), "No.{n}: defaults are not written");
+    }
+    let back = machine_from(Dialect::Fanuc, "m", &plain).unwrap();
+    assert_eq!((back.motion, back.five_axis), (base.motion, base.five_axis));
+
+    let mut m = base.clone();
+    (m.motion.look_ahead_by_command, m.motion.no_rapid_look_ahead) = (true, true);
+    let f = &mut m.five_axis;
+    (f.length_offset_by_motion, f.wse_cycle_feed, f.wse_display_wcs) = (true, 1500.0, true);
+    (f.wse_feed_clamp_pct, f.wse_rapid_clamp_pct) = (20.0, 50.0);
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!((p.get(1604).unwrap(), p.get(19501).unwrap(), p.get(5006).unwrap()), (0.0, 0.0, 0.0));
+    assert_eq!((p.get(5412).unwrap(), p.get(11202).unwrap(), p.get(11203).unwrap()), (1500.0, 20.0, 50.0));
+    assert!(p.bit(3106, 6).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert_eq!((back.motion, back.five_axis), (m.motion, m.five_axis));
+    assert!(diff(&p, &params_of(Dialect::Fanuc, &back).unwrap()).is_empty());
+    // The bits set: SHP = 1, FRP = 1, TOS = 1 are the defaults; other bits do not matter.
+    let mut q = p.clone();
+    for (n, v) in [(1604, 1.0), (19501, 32.0), (5006, 64.0), (3106, 63.0)] {
+        q.set(n, v);
+    }
+    let other = machine_from(Dialect::Fanuc, "m", &q).unwrap();
+    assert!(!other.motion.look_ahead_by_command && !other.motion.no_rapid_look_ahead);
+    assert!(!other.five_axis.length_offset_by_motion && !other.five_axis.wse_display_wcs);
+    // No.1671 all 0 is the other spelling of no rapid look-ahead; canonical is FRP = 0.
+    let mut q = plain.clone();
+    q.set_axes(1671, vec![0.0; 5]);
+    let other = machine_from(Dialect::Fanuc, "m", &q).unwrap();
+    assert!(other.motion.no_rapid_look_ahead);
+    assert_eq!(params_of(Dialect::Fanuc, &other).unwrap().get(19501).unwrap(), 0.0);
+    // Out of range.
+    for (n, v) in [(11202, 101.0), (11203, -1.0), (5412, -5.0)] {
+        let mut q = plain.clone();
+        q.set(n, v);
+        assert!(machine_from(Dialect::Fanuc, "m", &q).is_err(), "No.{n} = {v}");
+    }
+    // No cutting-feed look-ahead: No.1660 (and No.1672) 0 on every axis; the axes' own
+    // accelerations cannot be written then.
+    let mut q = plain.clone();
+    q.set_axes(1660, vec![0.0; 5]);
+    q.set_axes(1672, vec![0.0; 5]);
+    let none = machine_from(Dialect::Fanuc, "m", &q).unwrap();
+    assert!(none.motion.no_feed_look_ahead && none.axes.iter().all(|a| a.accel.is_none() && a.jerk.is_none()));
+    assert!(diff(&q, &params_of(Dialect::Fanuc, &none).unwrap()).is_empty());
+    let mut m = base.clone();
+    m.motion.no_feed_look_ahead = true;
+    assert!(params_of(Dialect::Fanuc, &m).unwrap_err().detail.contains("No.1660"));
+    // Syntec has no G54.4: its settings are refused, not dropped.
+    let mut m = base.clone();
+    m.five_axis.wse_cycle_feed = 100.0;
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("No.5412"));
+}
