@@ -611,3 +611,39 @@ async fn a_program_path_is_the_tip_in_the_table_frame_and_says_where_it_stops() 
     assert_eq!(app.get(&format!("{C}/{id}/programs/9/path")).await.status, StatusCode::NOT_FOUND);
     assert_eq!(app.get(&format!("{C}/{id}/programs/1/path?max_points=0")).await.status, StatusCode::UNPROCESSABLE_ENTITY);
 }
+
+#[tokio::test]
+async fn the_panel_signals_choose_what_the_jog_keys_and_the_handle_move() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "h", "preset": "head-bc", "speed": 20.0})).await;
+    let c = format!("{C}/{id}");
+    assert_eq!(app.post(&format!("{c}/mdi"), &json!({"text": "G90 G00 B90."})).await.status, StatusCode::OK);
+    wait_for(&app, &id, "idle").await;
+    let before = app.get(&c).await.json()["position"]["machine"].clone();
+    app.put(&format!("{c}/mode"), &json!({"mode": "jog"})).await;
+    let set = app.put(&format!("{c}/manual-signals"), &json!({"alngh": true})).await;
+    assert_eq!(set.status, StatusCode::OK, "{}", set.text());
+    assert_eq!(set.json()["panel"]["signals"]["alngh"], json!(true));
+    // ALNGH: the +J3 (Z) key feeds along the tool, which points along +X at B90.
+    assert_eq!(app.post(&format!("{c}/jog-signal"), &json!({"axis": "Z", "positive": true})).await.status, StatusCode::OK);
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    app.post(&format!("{c}/jog-stop"), &json!({})).await;
+    wait_for(&app, &id, "idle").await;
+    let after = app.get(&c).await.json()["position"]["machine"].clone();
+    let moved = |a: &str| after[a].as_f64().unwrap() - before[a].as_f64().unwrap();
+    assert!(moved("X") > 1.0, "{before} → {after}");
+    assert!(moved("Z").abs() < 1e-6 && moved("Y").abs() < 1e-6, "{before} → {after}");
+    // The handle with select code 2 (the second axis, Y) outside HANDLE mode is refused; in it,
+    // it moves Y by what the machine takes.
+    assert_eq!(app.post(&format!("{c}/handle-pulses"), &json!({"amount": 0.5})).await.status, StatusCode::CONFLICT);
+    app.put(&format!("{c}/mode"), &json!({"mode": "handle"})).await;
+    app.put(&format!("{c}/manual-signals"), &json!({"alngh": false, "handle_select": 2})).await;
+    let reply = app.post(&format!("{c}/handle-pulses"), &json!({"amount": 0.5})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    assert_eq!(reply.json()["taken"], json!(0.5));
+    wait_for(&app, &id, "idle").await;
+    let y = app.get(&c).await.json()["position"]["machine"]["Y"].as_f64().unwrap();
+    assert!((y - before["Y"].as_f64().unwrap() - 0.5).abs() < 1e-9, "{y}");
+    let bad = app.put(&format!("{c}/manual-signals"), &json!({"handle_select": 40})).await;
+    assert_eq!(bad.status, StatusCode::UNPROCESSABLE_ENTITY);
+}

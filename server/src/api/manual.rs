@@ -235,3 +235,144 @@ pub async fn settings(
         Ok(())
     })
 }
+
+/// FANUC's 5-axis manual feed signals (`PUT /manual-signals`): the feed mode signals and the
+/// first handle's axis select code (`docs/five-axis.md`, 5-axis manual operation). Omitted
+/// fields keep their value.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, serde::Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PanelSignals {
+    /// Tool axis direction feed mode (ALNGH).
+    pub alngh: Option<bool>,
+    /// Tool axis right-angle direction feed mode (RGHTH).
+    pub rghth: Option<bool>,
+    /// Tool tip centre rotation feed mode (RNDH).
+    pub rndh: Option<bool>,
+    /// Table base (TB_BASE): ALNGH / RGHTH choose the table vertical / horizontal feeds.
+    pub tb_base: Option<bool>,
+    /// The handle's axis select code HS1A–HS1E (0–31): an axis number (1 = first axis) or one
+    /// of the codes in No.12310–12314; 0 selects nothing.
+    pub handle_select: Option<u8>,
+}
+
+/// Sets the panel signals that choose what the JOG keys and the handle move (FANUC MAN-05…17).
+#[utoipa::path(
+    put,
+    path = "/api/v1/controllers/{id}/manual-signals",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = PanelSignals,
+    responses(
+        (status = 200, description = "Set", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Something moves", body = ErrorBody),
+        (status = 422, description = "A select code above 31", body = ErrorBody),
+    )
+)]
+pub async fn set_signals(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<PanelSignals>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    if request.handle_select.is_some_and(|code| code > 31) {
+        return Err(ApiError::Unprocessable("handle_select is a 5-bit code (0–31)".into(), None));
+    }
+    act(&state, &hosted, |station| {
+        let c = &mut station.controller;
+        let mut s = c.panel.manual_signals;
+        s.alngh = request.alngh.unwrap_or(s.alngh);
+        s.rghth = request.rghth.unwrap_or(s.rghth);
+        s.rndh = request.rndh.unwrap_or(s.rndh);
+        s.tb_base = request.tb_base.unwrap_or(s.tb_base);
+        s.handle_select = request.handle_select.unwrap_or(s.handle_select);
+        c.set_manual_signals(s).map_err(refused)
+    })
+}
+
+/// `POST /jog-signal`: a ±J key of the panel.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct JogSignal {
+    /// The axis whose key is pressed (`Z` is ±J3 on an X Y Z … machine).
+    #[schema(example = "Z")]
+    pub axis: String,
+    pub positive: bool,
+}
+
+/// JOG by the panel's ±J key: the 5-axis feed the signals select for that key (FANUC No.19697
+/// decides which key drives the tool-axis feed), or the axis alone; moves until `jog-stop`.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/jog-signal",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = JogSignal,
+    responses(
+        (status = 200, description = "Moving", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Not in JOG mode, busy, or no such axis", body = ErrorBody),
+        (status = 422, description = "Not an axis letter", body = ErrorBody),
+    )
+)]
+pub async fn jog_signal(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<JogSignal>, JsonRejection>,
+) -> Result<Json<ControllerStatus>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    let axis = letter(&request.axis)?;
+    act(&state, &hosted, |station| station.controller.jog_signal(axis, request.positive).map_err(refused))
+}
+
+/// `POST /handle-pulses`: what the hand wheel turned.
+#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct HandlePulses {
+    /// Pulses times the increment, mm or degrees (signed).
+    pub amount: f64,
+}
+
+/// The answer to handle pulses: how much of them the machine takes, and the status.
+#[derive(Debug, Clone, serde::Serialize, ToSchema)]
+pub struct HandleTaken {
+    /// The amount taken: 0 when the pulses are discarded (the select code chooses nothing, or
+    /// the earlier pulses are still moving: the handle turned faster than the clamp allows).
+    pub taken: f64,
+    pub status: ControllerStatus,
+}
+
+/// HANDLE by the panel: the handle's select code and the signals choose what moves (FANUC
+/// MAN-05/07/11/14/16), clamped by the manual rapid rates.
+#[utoipa::path(
+    post,
+    path = "/api/v1/controllers/{id}/handle-pulses",
+    tag = "manual",
+    params(("id" = String, Path, description = "Controller id")),
+    request_body = HandlePulses,
+    responses(
+        (status = 200, description = "Taken (maybe 0)", body = HandleTaken),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Not in HANDLE mode", body = ErrorBody),
+        (status = 422, description = "Not a finite amount (at most 1e5)", body = ErrorBody),
+    )
+)]
+pub async fn handle_pulses(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    request: Result<Json<HandlePulses>, JsonRejection>,
+) -> Result<Json<HandleTaken>, ApiError> {
+    let hosted = hosted(&state, &path(id)?)?;
+    let amount = body(request)?.amount;
+    if !(amount.is_finite() && amount.abs() <= 1.0e5) {
+        return Err(ApiError::Unprocessable("amount must be finite and at most 1e5".into(), None));
+    }
+    let mut taken = 0.0;
+    let Json(status) = act(&state, &hosted, |station| {
+        taken = station.controller.handle_pulses(amount).map_err(refused)?;
+        Ok(())
+    })?;
+    Ok(Json(HandleTaken { taken, status }))
+}

@@ -49,6 +49,9 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/handle", post(manual::handle))
         .route("/controllers/{id}/reference-return", post(manual::reference_return))
         .route("/controllers/{id}/manual", put(manual::settings))
+        .route("/controllers/{id}/manual-signals", put(manual::set_signals))
+        .route("/controllers/{id}/jog-signal", post(manual::jog_signal))
+        .route("/controllers/{id}/handle-pulses", post(manual::handle_pulses))
         .route("/controllers/{id}/variables", get(variables::list))
         .route("/controllers/{id}/variables/{number}", get(variables::read).put(variables::write))
         .route("/controllers/{id}/tool-offsets", get(offsets::tools))
@@ -129,6 +132,8 @@ pub struct PanelState {
     pub coordinates: String,
     /// Syntec R519 manual RTCP.
     pub rtcp: bool,
+    /// FANUC's 5-axis manual feed signals (`PUT /manual-signals`).
+    pub signals: manual::PanelSignals,
 }
 
 impl PanelState {
@@ -143,6 +148,13 @@ impl PanelState {
             manual_absolute: panel.manual_absolute,
             coordinates: word(&panel.manual_coordinates),
             rtcp: panel.manual_rtcp,
+            signals: manual::PanelSignals {
+                alngh: Some(panel.manual_signals.alngh),
+                rghth: Some(panel.manual_signals.rghth),
+                rndh: Some(panel.manual_signals.rndh),
+                tb_base: Some(panel.manual_signals.tb_base),
+                handle_select: Some(panel.manual_signals.handle_select),
+            },
         }
     }
 }

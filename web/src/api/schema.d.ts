@@ -150,6 +150,26 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/controllers/{id}/handle-pulses": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * HANDLE by the panel: the handle's select code and the signals choose what moves (FANUC
+         *     MAN-05/07/11/14/16), clamped by the manual rapid rates.
+         */
+        post: operations["handle_pulses"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/controllers/{id}/jog": {
         parameters: {
             query?: never;
@@ -161,6 +181,26 @@ export interface paths {
         put?: never;
         /** JOG: move until `jog-stop` (or a stroke limit) at the jog feed, in JOG mode. */
         post: operations["jog"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/jog-signal": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * JOG by the panel's ±J key: the 5-axis feed the signals select for that key (FANUC No.19697
+         *     decides which key drives the tool-axis feed), or the axis alone; moves until `jog-stop`.
+         */
+        post: operations["jog_signal"];
         delete?: never;
         options?: never;
         head?: never;
@@ -214,6 +254,23 @@ export interface paths {
         get?: never;
         /** Jog feed, manual absolute, and Syntec's manual RTCP settings (R518, R519). */
         put: operations["settings"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/manual-signals": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /** Sets the panel signals that choose what the JOG keys and the handle move (FANUC MAN-05…17). */
+        put: operations["set_signals"];
         post?: never;
         delete?: never;
         options?: never;
@@ -892,6 +949,24 @@ export interface components {
                 [key: string]: number;
             };
         };
+        /** @description `POST /handle-pulses`: what the hand wheel turned. */
+        HandlePulses: {
+            /**
+             * Format: double
+             * @description Pulses times the increment, mm or degrees (signed).
+             */
+            amount: number;
+        };
+        /** @description The answer to handle pulses: how much of them the machine takes, and the status. */
+        HandleTaken: {
+            status: components["schemas"]["ControllerStatus"];
+            /**
+             * Format: double
+             * @description The amount taken: 0 when the pulses are discarded (the select code chooses nothing, or
+             *     the earlier pulses are still moving: the handle turned faster than the clamp allows).
+             */
+            taken: number;
+        };
         /** @description `GET /healthz` body. */
         Health: {
             /**
@@ -899,6 +974,15 @@ export interface components {
              * @example ok
              */
             status: string;
+        };
+        /** @description `POST /jog-signal`: a ±J key of the panel. */
+        JogSignal: {
+            /**
+             * @description The axis whose key is pressed (`Z` is ±J3 on an X Y Z … machine).
+             * @example Z
+             */
+            axis: string;
+            positive: boolean;
         };
         /** @description What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`. */
         ManualMove: {
@@ -1021,6 +1105,27 @@ export interface components {
             rapid?: number | null;
         };
         /**
+         * @description FANUC's 5-axis manual feed signals (`PUT /manual-signals`): the feed mode signals and the
+         *     first handle's axis select code (`docs/five-axis.md`, 5-axis manual operation). Omitted
+         *     fields keep their value.
+         */
+        PanelSignals: {
+            /** @description Tool axis direction feed mode (ALNGH). */
+            alngh?: boolean | null;
+            /**
+             * Format: int32
+             * @description The handle's axis select code HS1A–HS1E (0–31): an axis number (1 = first axis) or one
+             *     of the codes in No.12310–12314; 0 selects nothing.
+             */
+            handle_select?: number | null;
+            /** @description Tool axis right-angle direction feed mode (RGHTH). */
+            rghth?: boolean | null;
+            /** @description Tool tip centre rotation feed mode (RNDH). */
+            rndh?: boolean | null;
+            /** @description Table base (TB_BASE): ALNGH / RGHTH choose the table vertical / horizontal feeds. */
+            tb_base?: boolean | null;
+        };
+        /**
          * @description The switches and overrides of the operator panel, as `PUT /switches`, `/overrides` and
          *     `/manual` set them.
          */
@@ -1047,6 +1152,8 @@ export interface components {
             rapid_override: number;
             /** @description Syntec R519 manual RTCP. */
             rtcp: boolean;
+            /** @description FANUC's 5-axis manual feed signals (`PUT /manual-signals`). */
+            signals: components["schemas"]["PanelSignals"];
             single_block: boolean;
         };
         /** @description A controller's parameters. */
@@ -1664,6 +1771,60 @@ export interface operations {
             };
         };
     };
+    handle_pulses: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["HandlePulses"];
+            };
+        };
+        responses: {
+            /** @description Taken (maybe 0) */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HandleTaken"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not in HANDLE mode */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a finite amount (at most 1e5) */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
     jog: {
         parameters: {
             query?: never;
@@ -1708,6 +1869,60 @@ export interface operations {
                 };
             };
             /** @description Not a JOG request */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    jog_signal: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["JogSignal"];
+            };
+        };
+        responses: {
+            /** @description Moving */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not in JOG mode, busy, or no such axis */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not an axis letter */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -1826,6 +2041,60 @@ export interface operations {
                 };
             };
             /** @description Out of range */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    set_signals: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PanelSignals"];
+            };
+        };
+        responses: {
+            /** @description Set */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Something moves */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A select code above 31 */
             422: {
                 headers: {
                     [name: string]: unknown;

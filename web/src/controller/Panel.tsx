@@ -33,6 +33,9 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
   const [increment, setIncrement] = useState(0.1);
   const rotaries = axes.filter((a) => "ABC".includes(a));
   const panel = status.panel;
+  const signals = panel.signals;
+  /// With a feed mode signal on, an axis key is a ±J key: the signals choose what it moves.
+  const bySignals = !!(signals.alngh || signals.rghth || signals.rndh) && "axis" in target;
 
   const act = async (call: Parameters<Act>[0]) => {
     onError(null);
@@ -162,7 +165,13 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
                 class="key small"
                 title={`jog ${positive ? "+" : "−"} (hold)`}
                 disabled={status.mode !== "jog"}
-                onPointerDown={() => act(() => api.POST("/api/v1/controllers/{id}/jog", { ...p, body: { ...target, positive } }))}
+                onPointerDown={() =>
+                  act(() =>
+                    bySignals && "axis" in target
+                      ? api.POST("/api/v1/controllers/{id}/jog-signal", { ...p, body: { axis: target.axis, positive } })
+                      : api.POST("/api/v1/controllers/{id}/jog", { ...p, body: { ...target, positive } }),
+                  )
+                }
                 onPointerUp={() => act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
                 onPointerLeave={(e) => e.buttons && act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
               >
@@ -211,6 +220,29 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
           </>
         )}
       </div>
+      {status.dialect === "fanuc" && rotaries.length > 0 && (
+        <div class="row signals" role="group" aria-label="5-axis feed signals">
+          <span class="quiet">feed mode signals</span>
+          {(
+            [
+              ["alngh", "ALNGH"],
+              ["rghth", "RGHTH"],
+              ["rndh", "RNDH"],
+              ["tb_base", "TB_BASE"],
+            ] as const
+          ).map(([k, label]) => (
+            <button
+              key={k}
+              class={`key small toggle ${signals[k] ? "lit" : ""}`}
+              aria-pressed={!!signals[k]}
+              title="with a signal on, the ±J keys of the axis letters move the 5-axis feed it selects"
+              onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/manual-signals", { ...p, body: { [k]: !signals[k] } }))}
+            >
+              {label}
+            </button>
+          ))}
+        </div>
+      )}
     </div>
   );
 }
