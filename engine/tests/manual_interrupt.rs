@@ -156,7 +156,9 @@ fn five_axis_interruption_refused_during_a_rotary_block() {
     assert_eq!(c.interrupt_shift(), [0.0; fivex_engine::machine::MAX_AXES]);
     assert!(c.alarms().is_empty());
     // Tip rotation (RNDH, code 13) is a 5-axis feed too.
-    assert_eq!(c.set_manual_signals(signals(false, false, true, 13)), Err(Refusal::Busy), "the panel mid-move");
+    c.set_manual_signals(signals(false, false, true, 13)).unwrap();
+    assert_eq!(c.handle_pulses(5.0), Ok(0.0), "tip rotation during a rotary block");
+    assert_eq!(c.interrupt_shift(), [0.0; fivex_engine::machine::MAX_AXES]);
     // An ordinary axis: Y by 1.
     let mut c2 = controller("head-bc");
     c2.set_manual_signals(signals(false, false, false, 2)).unwrap();
@@ -198,8 +200,15 @@ fn interruption_refusals() {
     assert_eq!(c.handle_pulses(5.0), Ok(5.0));
     c.tick(TICK);
     assert_eq!(c.handle_pulses(5.0), Ok(0.0), "still following the earlier pulses");
+    assert_eq!(c.set_manual_signals(signals(false, false, false, 2)), Err(Refusal::Busy), "pulses moving");
     settle(&mut c, 60.0);
     assert!(near(&c.point().machine[..1], &[105.0], 1e-9));
+    // During a program the select code may change (the pulses at rest).
+    start(&mut c, "G90 G01 X0 F600\nM30\n", 0.5);
+    c.set_manual_signals(signals(false, false, false, 2)).unwrap();
+    assert_eq!(c.handle_pulses(-1.0), Ok(-1.0));
+    settle(&mut c, 60.0);
+    assert!(near(&c.point().machine[..2], &[5.0, -1.0], 1e-9), "{:?}", c.point().machine);
     c.set_mode(Mode::Jog).unwrap();
     assert_eq!(c.handle_pulses(1.0), Err(Refusal::WrongMode), "JOG: no handle");
     c.set_mode(Mode::Inc).unwrap();
@@ -357,4 +366,81 @@ fn inc_intervention_with_an_interrupt_shift() {
     assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
     // Manual absolute on: the programmed end points, plus the interrupt's Y.
     assert!(near(&c.point().machine[..3], &[60.0, 3.0, 0.0], 1e-9), "{:?}", c.point().machine);
+}
+
+// --- properties ------------------------------------------------------------------------------
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    const PROGRAMS: &[&str] = &[
+        "G90 G00 X0 Y0 Z0 B0 C0\nG01 X50. Y20. F1200\nG00 X-40. Z-20.\nG01 B20. C30. F3000\nG01 X10. Y-30. Z10. F900\nM30\n",
+        "G90 G00 X10. Y10. Z0 B30. C0\nG02 X30. Y10. R10. F800\nG01 Z-30. F2000\nG00 B-20. C90.\nG01 X-20. F1500\nM30\n",
+    ];
+
+    /// Run program `k`, with `pulses` (tick, select code, signals family, amount) as handle
+    /// interrupts; the samples (machine, work, shift) at every tick.
+    fn run(k: usize, pulses: &[(usize, u8, u8, f64)]) -> (Vec<(Pos, Pos, Pos)>, Controller) {
+        let mut c = controller("head-bc");
+        c.select_program(PROGRAMS[k]).unwrap();
+        c.cycle_start().unwrap();
+        let mut out = Vec::new();
+        for n in 0..6000 {
+            for &(at, code, family, amount) in pulses {
+                if at == n {
+                    let s = signals(family == 1, family == 2, family == 3, code);
+                    if c.set_manual_signals(s).is_ok() {
+                        let taken = c.handle_pulses(amount).unwrap();
+                        assert!(
+                            taken == 0.0 || (taken.signum() == amount.signum() && taken.abs() <= amount.abs() + 1e-12)
+                        );
+                    }
+                }
+            }
+            c.tick(TICK);
+            let p = c.point();
+            out.push((p.machine, p.work, c.interrupt_shift()));
+        }
+        (out, c)
+    }
+
+    fn pulse() -> impl Strategy<Value = (usize, u8, u8, f64)> {
+        // Codes 1…5 the axes, 10…14 the 5-axis feeds (ALNGH, RGHTH, RNDH as `family`).
+        (0usize..3000, prop::sample::select(vec![0u8, 1, 2, 3, 4, 5, 10, 11, 12, 13, 14]), 0u8..4, -5.0..5.0f64)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+        /// Handle interrupts at random times never change the program: at every sample the
+        /// machine position minus the shift and the absolute position are those of the run
+        /// without them; the machine stays inside every stroke, and no axis moves faster than
+        /// its rapid rate plus the handle's clamp (the two motions superimpose).
+        #[test]
+        fn interrupts_leave_the_program_alone(k in 0usize..2, pulses in prop::collection::vec(pulse(), 0..6)) {
+            let (plain, c0) = run(k, &[]);
+            prop_assert!(c0.alarms().is_empty(), "{:?}", c0.alarms());
+            prop_assert_eq!(c0.run_state(), RunState::Idle, "the whole program compared");
+            let (shifted, c) = run(k, &pulses);
+            prop_assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+            let m = MachineConfig::preset("head-bc").unwrap();
+            let rolled = |d: f64, i: usize| if m.axes[i].rollover { let d = d.rem_euclid(360.0); d.min(360.0 - d) } else { d.abs() };
+            for (n, ((pm, pw, _), (sm, sw, s))) in plain.iter().zip(&shifted).enumerate() {
+                for i in 0..5 {
+                    prop_assert!(rolled(sm[i] - s[i] - pm[i], i) < 1e-9, "tick {} axis {}: {} - {} vs {}", n, i, sm[i], s[i], pm[i]);
+                    prop_assert!((sw[i] - pw[i]).abs() < 1e-9, "absolute, tick {} axis {}", n, i);
+                    if let Some([lo, hi]) = m.axes[i].stroke {
+                        prop_assert!(sm[i] >= lo - 1e-6 && sm[i] <= hi + 1e-6);
+                    }
+                }
+            }
+            for w in shifted.windows(2) {
+                for i in 0..5 {
+                    let top = 2.0 * m.axes[i].rapid / 60.0 * TICK * (1.0 + 1e-6) + 1e-9;
+                    prop_assert!(rolled(w[1].0[i] - w[0].0[i], i) <= top, "axis {} jumped", i);
+                }
+            }
+        }
+    }
 }

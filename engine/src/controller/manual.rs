@@ -300,9 +300,12 @@ impl Controller {
     // --- FANUC's panel signals (`signals.rs`) ---------------------------------------------
 
     /// The 5-axis feed signals ALNGH, RGHTH, RNDH, TB_BASE and the handle select code; refused
-    /// (`Busy`) while something moves, as a real panel's change would not act mid-move.
+    /// (`Busy`) while a manual move is under way, as a real panel's change would not act
+    /// mid-move. While a program runs they may change (the handle interrupt's select code)
+    /// unless the handle's pulses are still moving.
     pub fn set_manual_signals(&mut self, signals: super::ManualSignals) -> Result<(), Refusal> {
-        if self.moving() {
+        let manual_moving = if self.interrupt.applied { self.interrupt.moving.is_some() } else { self.moving() };
+        if manual_moving {
             return Err(Refusal::Busy);
         }
         self.panel.manual_signals = signals;
