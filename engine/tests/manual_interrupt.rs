@@ -444,3 +444,45 @@ mod properties {
         }
     }
 }
+
+/// Tool tip centre rotation as a handle interrupt (RNDH, code No.12313: the first rotary axis
+/// of the mechanism, C on head-bc): C turns by the amount and X/Y/Z by what keeps the tool tip;
+/// on a head machine that displacement depends on the angles only, so the block ends with the
+/// tip where the program puts it. An emergency stop keeps the shift (the machine does not move
+/// back); a single-block stop takes interrupts like a running block.
+#[test]
+fn tip_rotation_interruption_keeps_the_tip() {
+    let mut c = controller("head-bc");
+    c.set_manual_signals(signals(false, false, true, 13)).unwrap();
+    c.panel.single_block = true;
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program("G90 G00 X0 Y0 Z0 B30. C0\nG01 X50. F600\nG01 Y20.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    settle(&mut c, 30.0);
+    assert_eq!(c.run_state(), RunState::Idle, "at the single-block stop after N1");
+    assert_eq!(c.handle_pulses(10.0), Ok(10.0), "a block stop is automatic operation");
+    settle(&mut c, 30.0);
+    let s = c.interrupt_shift();
+    assert!((s[4] - 10.0).abs() < 1e-9 && s[3] == 0.0 && s[0].abs() > 0.1, "{s:?}");
+    c.cycle_start().unwrap();
+    settle(&mut c, 30.0);
+    let m = MachineConfig::preset("head-bc").unwrap();
+    let kin = Kinematics::new(&m).unwrap();
+    let length = c.manual_tool_length();
+    let mut planned = [0.0; fivex_engine::machine::MAX_AXES];
+    (planned[0], planned[3]) = (50.0, 30.0);
+    let real = c.point().machine;
+    assert!((real[4] - 10.0).abs() < 1e-9, "{real:?}");
+    let (a, b) = (kin.forward(&real, length).tip, kin.forward(&planned, length).tip);
+    assert!((a - b).norm() < 1e-6, "the tip where the program puts it: {a:?} vs {b:?}");
+    // N3 under way: an emergency stop keeps the shift.
+    c.cycle_start().unwrap();
+    for _ in 0..300 {
+        c.tick(TICK);
+    }
+    c.emergency_stop(true);
+    c.tick(TICK);
+    assert!((c.interrupt_shift()[4] - 10.0).abs() < 1e-9);
+    let p = c.point();
+    assert!((p.machine[4] - 10.0).abs() < 1e-9 && p.work[4].abs() < 1e-9, "{p:?}");
+}
