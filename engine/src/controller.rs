@@ -329,6 +329,8 @@ impl Controller {
     /// Change the mode: only while no program or motion is under way, or, for a manual
     /// intervention, from AUTO/MDI held (feed hold, single-block stop) to JOG/HANDLE and back.
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
+        // A program that is over hands its coordinates back before a manual mode uses them.
+        self.settle_interrupt();
         if self.current.is_some()
             || self.stopping.is_some()
             || self.run_state == RunState::Running
@@ -553,6 +555,7 @@ impl Controller {
         if !self.estop {
             self.set_state(RunState::Idle);
         }
+        self.settle_interrupt();
     }
 
     /// The program stops for good: nothing read ahead is carried out.
@@ -580,6 +583,7 @@ impl Controller {
             self.here.feed = 0.0;
             self.stand_here();
             self.raise(AlarmId::EmergencyStop, self.here.line, self.here.n);
+            self.settle_interrupt();
         }
     }
 

@@ -100,9 +100,8 @@ fn interruption_mid_block_on_mill3() {
     settle(&mut c, 60.0);
     assert!(near(&c.point().machine[..3], &[0.0, 2.0, 0.0], 1e-9), "{:?}", c.point().machine);
     assert!(near(&c.point().work[..3], &[0.0, 0.0, 0.0], 1e-9));
-    // Reset keeps it.
+    // Reset keeps it (and INC right after it moves from where the machine stands).
     c.reset();
-    c.tick(TICK);
     assert!((c.interrupt_shift()[1] - 2.0).abs() < 1e-12 && (c.point().work[1]).abs() < 1e-9);
     // JOG in between moves machine and absolute alike.
     c.set_mode(Mode::Inc).unwrap();
@@ -485,4 +484,31 @@ fn tip_rotation_interruption_keeps_the_tip() {
     assert!((c.interrupt_shift()[4] - 10.0).abs() < 1e-9);
     let p = c.point();
     assert!((p.machine[4] - 10.0).abs() < 1e-9 && p.work[4].abs() < 1e-9, "{p:?}");
+}
+
+/// A reset in a held program with a shift: at once (no tick in between) the manual modes move
+/// from where the machine stands, and the absolute position stays without the shift.
+#[test]
+fn reset_hands_the_machine_position_back_at_once() {
+    let mut c = controller("mill3");
+    c.set_manual_signals(signals(false, false, false, 2)).unwrap();
+    start(&mut c, "G90 G01 X50. F600\nM30\n", 1.0);
+    assert_eq!(c.handle_pulses(4.0), Ok(4.0));
+    for _ in 0..300 {
+        c.tick(TICK);
+    }
+    c.feed_hold();
+    for _ in 0..500 {
+        c.tick(TICK);
+    }
+    let held = c.point();
+    assert!((held.machine[1] - 4.0).abs() < 1e-9 && held.work[1].abs() < 1e-9);
+    c.reset();
+    c.set_mode(Mode::Inc).unwrap();
+    c.set_increment(0.5).unwrap();
+    c.jog_start('Y', true).unwrap();
+    settle(&mut c, 5.0);
+    let p = c.point();
+    assert!(near(&p.machine[..2], &[held.machine[0], 4.5], 1e-9), "{:?}", p.machine);
+    assert!(near(&p.work[..2], &[held.work[0], 0.5], 1e-9), "{:?}", p.work);
 }
