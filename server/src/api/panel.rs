@@ -222,7 +222,7 @@ pub async fn mdi(
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetMode {
-    /// `auto`, `mdi`, `jog`, `handle` or `ref`.
+    /// `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
     #[schema(example = "jog")]
     pub mode: String,
 }

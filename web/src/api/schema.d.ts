@@ -706,7 +706,7 @@ export interface components {
              */
             machine: string;
             /**
-             * @description `auto`, `mdi`, `jog`, `handle` or `ref`.
+             * @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
              * @example auto
              */
             mode: string;
@@ -1114,7 +1114,7 @@ export interface components {
         /** @description `PUT /mode`. */
         SetMode: {
             /**
-             * @description `auto`, `mdi`, `jog`, `handle` or `ref`.
+             * @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
              * @example jog
              */
             mode: string;
