@@ -20,8 +20,10 @@ use crate::machine::MachineConfig;
 use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
 use std::collections::VecDeque;
 
+mod interrupt;
 mod manual;
 mod signals;
+use interrupt::Interrupt;
 pub use manual::ManualCoordinates;
 use manual::{Intervention, Shift};
 pub use signals::{ManualSignals, ManualTarget};
@@ -34,6 +36,8 @@ pub enum Mode {
     Jog,
     Handle,
     Ref,
+    /// Incremental feed (FANUC INC): each JOG key press moves by `Panel::increment`.
+    Inc,
 }
 
 /// CONTRACTS.md's `run_state`.
@@ -69,6 +73,9 @@ pub struct Panel {
     /// FANUC's 5-axis manual feed signals (ALNGH, RGHTH, RNDH, TB_BASE) and the handle's axis
     /// select code, read by [`Controller::jog_signal`] and [`Controller::handle_pulses`].
     pub manual_signals: ManualSignals,
+    /// The increment of INC mode, mm (deg for a rotary axis): one JOG key press moves this far
+    /// (FANUC's ×1/×10/×100/×1000 of the least increment: 0.001, 0.01, 0.1, 1).
+    pub increment: f64,
 }
 
 impl Default for Panel {
@@ -84,6 +91,7 @@ impl Default for Panel {
             manual_coordinates: ManualCoordinates::Machine,
             manual_rtcp: false,
             manual_signals: ManualSignals::default(),
+            increment: 0.001,
         }
     }
 }
@@ -179,6 +187,8 @@ pub struct Controller {
     /// G54.4 with tool direction compensation on a table machine is in effect where the
     /// machine is (not where the interpreter has read to): manual moves raise an alarm (WSE-25).
     wse_no_manual: bool,
+    /// Manual handle interruption: the shift laid over the program (`interrupt.rs`).
+    interrupt: Interrupt,
 }
 
 /// A pending canonical command, or a single-block stop point.
@@ -230,6 +240,7 @@ impl Controller {
             shift: None,
             reposition: false,
             wse_no_manual: false,
+            interrupt: Interrupt::default(),
         }
     }
 
@@ -251,10 +262,11 @@ impl Controller {
         &self.alarms
     }
 
-    /// Where the machine is now (rollover axes shown modulo 360).
+    /// Where the machine is now (rollover axes shown modulo 360). The machine position includes
+    /// a manual handle interruption's shift, the program's (absolute) position does not.
     pub fn point(&self) -> Point {
         Point {
-            machine: self.machine.shown(&self.here.machine),
+            machine: self.machine.shown(&self.machine_now()),
             work: self.machine.shown(&self.here.work),
             ..self.here
         }
@@ -317,7 +329,13 @@ impl Controller {
     /// Change the mode: only while no program or motion is under way, or, for a manual
     /// intervention, from AUTO/MDI held (feed hold, single-block stop) to JOG/HANDLE and back.
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
-        if self.current.is_some() || self.stopping.is_some() || self.run_state == RunState::Running {
+        // A program that is over hands its coordinates back before a manual mode uses them.
+        self.settle_interrupt();
+        if self.current.is_some()
+            || self.stopping.is_some()
+            || self.run_state == RunState::Running
+            || self.interrupt.moving.is_some()
+        {
             return Err(Refusal::Busy);
         }
         if let Some(i) = &self.intervention {
@@ -326,7 +344,7 @@ impl Controller {
                 return Err(Refusal::Busy);
             }
             return match mode {
-                Mode::Jog | Mode::Handle => {
+                Mode::Jog | Mode::Handle | Mode::Inc => {
                     self.mode = mode;
                     Ok(())
                 }
@@ -340,7 +358,7 @@ impl Controller {
         let held = self.run_state == RunState::Hold;
         let at_block_stop = self.wait == Wait::Operator && (self.program_active || !self.pending.is_empty());
         if (held || at_block_stop) && matches!(self.mode, Mode::Auto | Mode::Mdi) {
-            if !matches!(mode, Mode::Jog | Mode::Handle) || self.estop {
+            if !matches!(mode, Mode::Jog | Mode::Handle | Mode::Inc) || self.estop {
                 return Err(Refusal::Busy);
             }
             self.intervention = Some(Intervention {
@@ -351,6 +369,8 @@ impl Controller {
                 queued: (self.queued_machine, self.queued_work),
             });
             (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+            // The hand moves go where the machine stands (a handle interruption's shift in it).
+            self.release_interrupt();
             self.mode = mode;
             return Ok(());
         }
@@ -448,6 +468,7 @@ impl Controller {
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
         self.wse_no_manual = self.interp.wse_forbids_manual();
+        self.apply_interrupt();
         self.program_active = true;
         self.wait = Wait::None;
         self.set_state(RunState::Running);
@@ -534,6 +555,7 @@ impl Controller {
         if !self.estop {
             self.set_state(RunState::Idle);
         }
+        self.settle_interrupt();
     }
 
     /// The program stops for good: nothing read ahead is carried out.
@@ -551,6 +573,7 @@ impl Controller {
     pub fn emergency_stop(&mut self, pressed: bool) {
         self.estop = pressed;
         if pressed {
+            self.end_interrupt_move();
             self.spindle = 0.0;
             self.intervention = None;
             self.current = None;
@@ -560,6 +583,7 @@ impl Controller {
             self.here.feed = 0.0;
             self.stand_here();
             self.raise(AlarmId::EmergencyStop, self.here.line, self.here.n);
+            self.settle_interrupt();
         }
     }
 
@@ -567,23 +591,49 @@ impl Controller {
     /// else the panel's; with override) until [`Controller::jog_stop`] or the stroke limit. X/Y/Z move in the coordinate system
     /// of `panel.manual_coordinates` (Syntec R518); a rotary axis with `panel.manual_rtcp`
     /// under tool centre point control turns about the tool tip (R519).
+    ///
+    /// In INC mode the key press moves by the panel's increment instead (stopping at the
+    /// stroke limit), the same feeds and the same choices.
     pub fn jog_start(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
-        if self.mode != Mode::Jog {
-            return Err(Refusal::WrongMode);
-        }
+        let reach = self.jog_reach()?;
         let i = self.axis(axis)?;
         let jog_feed = self.jog_feed_of(i);
         if let Some(d) = self.coordinate_direction(i) {
-            return self.move_along(if positive { d } else { -d }, f64::INFINITY, jog_feed);
+            return self.move_along(if positive { d } else { -d }, reach, jog_feed);
         }
         if let Some(length) = self.rtcp_length(i) {
             let feed = jog_feed * self.panel.feed_override;
-            return self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, length, feed, None);
+            let turn = reach.min(360.0);
+            return self.turn_about_tip(axis, if positive { turn } else { -turn }, length, feed, None);
         }
-        let limit = self.machine.axes[i].stroke.map(|[lo, hi]| if positive { hi } else { lo });
-        let far = if positive { 1.0e6 } else { -1.0e6 };
-        let target = limit.unwrap_or(self.here.machine[i] + far);
+        let far = if positive { reach.min(1.0e6) } else { -reach.min(1.0e6) };
+        let mut target = self.here.machine[i] + far;
+        if let Some([lo, hi]) = self.machine.axes[i].stroke {
+            target = target.clamp(lo, hi);
+        }
         self.manual_move(i, target, jog_feed)
+    }
+
+    /// How far a JOG key press moves: until jog stop (JOG mode), or the panel's increment (INC
+    /// mode, FANUC incremental feed).
+    fn jog_reach(&self) -> Result<f64, Refusal> {
+        match self.mode {
+            Mode::Jog => Ok(f64::INFINITY),
+            Mode::Inc => Ok(self.panel.increment),
+            _ => Err(Refusal::WrongMode),
+        }
+    }
+
+    /// The increment of INC mode, mm (deg): positive and finite, changed while nothing moves.
+    pub fn set_increment(&mut self, increment: f64) -> Result<(), Refusal> {
+        if !increment.is_finite() || increment <= 0.0 {
+            return Err(Refusal::BadValue);
+        }
+        if self.moving() {
+            return Err(Refusal::Busy);
+        }
+        self.panel.increment = increment;
+        Ok(())
     }
 
     pub fn jog_stop(&mut self) {
@@ -626,6 +676,7 @@ impl Controller {
         if self.manual_refused_in_wse() {
             return Ok(());
         }
+        self.clear_interrupt();
         let zero = [0.0; crate::machine::MAX_AXES];
         self.push_manual(MotionKind::MachineRapid, zero, 0.0);
         Ok(())
@@ -747,6 +798,7 @@ impl Controller {
             }
         }
         self.interp.state.advance_time(dt.max(0.0));
+        self.settle_interrupt();
     }
 
     /// A run ended: after a deceleration to rest, keep or drop the rest of the path.
@@ -798,7 +850,7 @@ impl Controller {
             // The held program's current point stays where the program put it.
             return;
         }
-        self.interp.moved_to(&self.here.machine);
+        self.interp.moved_to(&self.program_machine());
         self.here.work = self.interp.state.shown_position();
         self.queued_work = self.here.work;
     }
@@ -886,7 +938,12 @@ impl Controller {
                     };
                     let mut seg = self.segment(m);
                     (seg.line, seg.n) = (c.line, c.n);
-                    if let Err(id) = motion::stroke_check(&seg, &self.machine) {
+                    let stroke = if self.interrupt.is_zero() {
+                        motion::stroke_check(&seg, &self.machine)
+                    } else {
+                        motion::stroke_check_shifted(&seg, &self.machine, &self.interrupt.last())
+                    };
+                    if let Err(id) = stroke {
                         if motion_pending {
                             // The alarm comes when the machine has stopped before the block.
                             self.pending.push_front(Item::Canon(c));

@@ -53,6 +53,8 @@ impl Controller {
     /// to the programmed end point (manual absolute on) or shifted by the intervention (off).
     pub(super) fn end_intervention(&mut self) {
         let Some(i) = self.intervention.take() else { return };
+        // Back to the program's coordinates (a handle interruption's shift stays over them).
+        self.apply_interrupt();
         self.mode = i.mode;
         let here = self.here.machine;
         let moved: Pos = std::array::from_fn(|k| here[k] - i.start[k]);
@@ -181,13 +183,12 @@ impl Controller {
     /// JOG along a 5-axis manual feed direction (tool axis, its right angles, table vertical
     /// or horizontal; `kin::ManualDirections`, `ManualOptions`), at the 5-axis jog feed
     /// ([`Controller::manual_jog_feed`]), until jog stop or the strokes.
+    /// In INC mode by the panel's increment (FANUC's incremental feed of the same families).
     pub fn jog_direction(&mut self, feed: ManualFeed, positive: bool) -> Result<(), Refusal> {
-        if self.mode != Mode::Jog {
-            return Err(Refusal::WrongMode);
-        }
+        let reach = self.jog_reach()?;
         let d = self.manual_direction(feed)?;
         let axis = self.kinematics.as_ref().and_then(|k| signal_axis(k, feed));
-        self.move_along(if positive { d } else { -d }, f64::INFINITY, self.manual_jog_feed_of(axis))
+        self.move_along(if positive { d } else { -d }, reach, self.manual_jog_feed_of(axis))
     }
 
     /// HANDLE along a 5-axis manual feed direction by `amount` mm (stopping at the strokes).
@@ -206,14 +207,13 @@ impl Controller {
     /// tool tip (MAN-13's length) where it is on the table, until jog stop or a stroke. JFR:
     /// the rotary axis at the jog feed, deg/min; otherwise the linear axes' resultant at the
     /// dry run rate (with the override).
+    /// In INC mode the rotary axis turns by the panel's increment, degrees.
     pub fn jog_tip_rotation(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
-        if self.mode != Mode::Jog {
-            return Err(Refusal::WrongMode);
-        }
+        let turn = self.jog_reach()?.min(360.0);
         let o = &self.machine.manual;
         let linear = (!o.jog_feedrate && o.dry_run_feed > 0.0).then_some(o.dry_run_feed * self.panel.feed_override);
         let feed = self.jog_feed_of(self.axis(axis)?) * self.panel.feed_override;
-        self.turn_about_tip(axis, if positive { 360.0 } else { -360.0 }, self.manual_tool_length(), feed, linear)
+        self.turn_about_tip(axis, if positive { turn } else { -turn }, self.manual_tool_length(), feed, linear)
     }
 
     /// HANDLE tool tip centre rotation (FANUC MAN-11): turn rotary `axis` by `amount` degrees
@@ -300,9 +300,12 @@ impl Controller {
     // --- FANUC's panel signals (`signals.rs`) ---------------------------------------------
 
     /// The 5-axis feed signals ALNGH, RGHTH, RNDH, TB_BASE and the handle select code; refused
-    /// (`Busy`) while something moves, as a real panel's change would not act mid-move.
+    /// (`Busy`) while a manual move is under way, as a real panel's change would not act
+    /// mid-move. While a program runs they may change (the handle interrupt's select code)
+    /// unless the handle's pulses are still moving.
     pub fn set_manual_signals(&mut self, signals: super::ManualSignals) -> Result<(), Refusal> {
-        if self.moving() {
+        let manual_moving = if self.interrupt.applied { self.interrupt.moving.is_some() } else { self.moving() };
+        if manual_moving {
             return Err(Refusal::Busy);
         }
         self.panel.manual_signals = signals;
@@ -312,15 +315,14 @@ impl Controller {
     /// JOG signal ±J of `axis` (FANUC MAN-06/08/12/15/17): the 5-axis feed the panel signals
     /// select for it ([`super::ManualSignals::jog_target`]) at the 5-axis JOG feed, or the
     /// ordinary JOG of the axis.
+    /// In INC mode each press moves by the panel's increment (MAN-06/08/12/15/17 "JOG / INC").
     pub fn jog_signal(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
-        if self.mode != Mode::Jog {
-            return Err(Refusal::WrongMode);
-        }
+        let reach = self.jog_reach()?;
         let i = self.axis(axis)?;
         match self.panel.manual_signals.jog_target(self.kinematics.as_deref(), i) {
             ManualTarget::Feed(feed) => {
                 let d = self.manual_direction(feed)?;
-                self.move_along(if positive { d } else { -d }, f64::INFINITY, self.manual_jog_feed_of(Some(i)))
+                self.move_along(if positive { d } else { -d }, reach, self.manual_jog_feed_of(Some(i)))
             }
             ManualTarget::TipRotation(_) => self.jog_tip_rotation(axis, positive),
             ManualTarget::Axis(_) | ManualTarget::Nothing => self.jog_start(axis, positive),
@@ -334,15 +336,19 @@ impl Controller {
     /// it): 0 when the pulses are discarded — the select code chooses nothing, or the machine is
     /// still moving the earlier pulses (the handle turned faster than the clamp lets it
     /// follow: "handle pulses generated while the clamp feedrate is exceeded are ignored").
+    ///
+    /// In AUTO or MDI while a program is under way the pulses are a manual handle interruption
+    /// (`interrupt.rs`): a shift over the program instead of a move of their own.
     pub fn handle_pulses(&mut self, amount: f64) -> Result<f64, Refusal> {
-        if self.mode != Mode::Handle {
-            return Err(Refusal::WrongMode);
-        }
         if !amount.is_finite() {
             return Err(Refusal::BadValue);
         }
-        // A program under way (not held for an intervention): the handle interrupt is not
-        // modelled.
+        if self.interrupting() {
+            return self.handle_interrupt(amount);
+        }
+        if self.mode != Mode::Handle {
+            return Err(Refusal::WrongMode);
+        }
         if self.estop || self.run_state == RunState::Alarm || (self.program_active && self.intervention.is_none()) {
             return Err(Refusal::Busy);
         }

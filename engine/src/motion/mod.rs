@@ -40,7 +40,18 @@ pub fn planner_for(m: &MachineConfig) -> Planner {
 /// of an arc, points along a kinematic path; a straight move in axis space stays inside a box
 /// when its ends do).
 pub fn stroke_check(seg: &Segment, m: &MachineConfig) -> Result<(), AlarmId> {
-    for p in std::iter::once(seg.to).chain(seg.arc_extremes()).chain(seg.follow_points()) {
+    check_points(std::iter::once(seg.to).chain(seg.arc_extremes()).chain(seg.follow_points()), m)
+}
+
+/// [`stroke_check`] of the segment moved by `shift` (a manual handle interruption's, added to
+/// every planned point on the way to the axes).
+pub fn stroke_check_shifted(seg: &Segment, m: &MachineConfig, shift: &Pos) -> Result<(), AlarmId> {
+    let points = std::iter::once(seg.to).chain(seg.arc_extremes()).chain(seg.follow_points());
+    check_points(points.map(|p| std::array::from_fn(|i| p[i] + shift[i])), m)
+}
+
+fn check_points(points: impl Iterator<Item = Pos>, m: &MachineConfig) -> Result<(), AlarmId> {
+    for p in points {
         for (i, axis) in m.axes.iter().enumerate() {
             let Some([lo, hi]) = axis.stroke else { continue };
             // A hair of rounding at the limit itself is not an over-travel.

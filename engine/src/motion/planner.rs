@@ -138,6 +138,11 @@ impl Planner {
         self.queue.push_back(Queued { segment, junction: 0.0 });
     }
 
+    /// Every segment not yet executed, in order (the planner unchanged).
+    pub fn segments(&self) -> impl Iterator<Item = &Segment> {
+        self.ready.iter().flat_map(|p| &p.segments).chain(self.queue.iter().map(|q| &q.segment))
+    }
+
     /// Every segment not yet executed, in order, and the planner emptied (for a replan from
     /// rest after a feed hold).
     pub fn take_all(&mut self) -> Vec<Segment> {

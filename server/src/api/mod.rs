@@ -92,7 +92,7 @@ pub struct ControllerStatus {
     pub created_at: String,
     /// Simulated seconds per real second (1 = real time).
     pub speed: f64,
-    /// `auto`, `mdi`, `jog`, `handle` or `ref`.
+    /// `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
     #[schema(example = "auto")]
     pub mode: String,
     /// `idle`, `running`, `hold` or `alarm`.

@@ -222,7 +222,7 @@ pub async fn mdi(
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetMode {
-    /// `auto`, `mdi`, `jog`, `handle` or `ref`.
+    /// `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
     #[schema(example = "jog")]
     pub mode: String,
 }
@@ -253,8 +253,12 @@ pub async fn set_mode(
         "jog" => Mode::Jog,
         "handle" => Mode::Handle,
         "ref" => Mode::Ref,
+        "inc" => Mode::Inc,
         other => {
-            return Err(ApiError::Unprocessable(format!("unknown mode '{other}' (auto, mdi, jog, handle, ref)"), None))
+            return Err(ApiError::Unprocessable(
+                format!("unknown mode '{other}' (auto, mdi, jog, handle, ref, inc)"),
+                None,
+            ))
         }
     };
     act(&state, &hosted, |station| station.controller.set_mode(mode).map_err(refused))

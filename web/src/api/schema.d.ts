@@ -763,7 +763,7 @@ export interface components {
              */
             machine: string;
             /**
-             * @description `auto`, `mdi`, `jog`, `handle` or `ref`.
+             * @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
              * @example auto
              */
             mode: string;
@@ -1221,7 +1221,7 @@ export interface components {
         /** @description `PUT /mode`. */
         SetMode: {
             /**
-             * @description `auto`, `mdi`, `jog`, `handle` or `ref`.
+             * @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
              * @example jog
              */
             mode: string;
