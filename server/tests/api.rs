@@ -665,3 +665,32 @@ async fn the_panel_signals_choose_what_the_jog_keys_and_the_handle_move() {
     let bad = app.put(&format!("{c}/manual-signals"), &json!({"handle_select": 40})).await;
     assert_eq!(bad.status, StatusCode::UNPROCESSABLE_ENTITY);
 }
+
+#[tokio::test]
+async fn inc_mode_moves_one_increment_and_a_handle_interrupt_shows_its_shift() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "i", "preset": "mill3"})).await;
+    let c = format!("{C}/{id}");
+    assert_eq!(app.put(&format!("{c}/mode"), &json!({"mode": "inc"})).await.status, StatusCode::OK);
+    let set = app.put(&format!("{c}/manual"), &json!({"increment": 0.1})).await;
+    assert_eq!(set.json()["panel"]["increment"], json!(0.1));
+    assert_eq!(
+        app.put(&format!("{c}/manual"), &json!({"increment": -1.0})).await.status,
+        StatusCode::UNPROCESSABLE_ENTITY
+    );
+    app.post(&format!("{c}/jog"), &json!({"axis": "X", "positive": true})).await;
+    let x =
+        eventually(&app, &c, |s| s["position"]["machine"]["X"].as_f64().is_some_and(|x| (x - 0.1).abs() < 1e-9)).await;
+    assert_eq!(x["mode"], "inc");
+    // A program runs; handle pulses on Y shift the machine, not the program's coordinates.
+    store(&app, &id, 1, "G90 G01 X50. F100.\nM30\n").await;
+    app.post(&format!("{c}/cycle-start"), &json!({"program": 1})).await;
+    app.put(&format!("{c}/manual-signals"), &json!({"handle_select": 2})).await;
+    let reply = app.post(&format!("{c}/handle-pulses"), &json!({"amount": 2.0})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    assert_eq!(reply.json()["taken"], json!(2.0));
+    let s = eventually(&app, &c, |s| s["interrupt_shift"]["Y"].as_f64().is_some_and(|y| (y - 2.0).abs() < 1e-9)).await;
+    assert!((s["position"]["machine"]["Y"].as_f64().unwrap() - 2.0).abs() < 1e-9, "{s}");
+    assert_eq!(s["position"]["workpiece"]["Y"], json!(0.0));
+    app.post(&format!("{c}/reset"), &json!({})).await;
+}

@@ -192,9 +192,12 @@ pub struct ManualSettings {
     pub coordinates: Option<ManualCoordinates>,
     /// Syntec R519: manual rotary moves under TCP keep the tool tip.
     pub rtcp: Option<bool>,
+    /// INC mode: the distance of one key press, mm or degrees (FANUC ×1/×10/×100/×1000:
+    /// 0.001/0.01/0.1/1).
+    pub increment: Option<f64>,
 }
 
-/// Jog feed, manual absolute, and Syntec's manual RTCP settings (R518, R519).
+/// Jog feed, INC increment, manual absolute, and Syntec's manual RTCP settings (R518, R519).
 #[utoipa::path(
     put,
     path = "/api/v1/controllers/{id}/manual",
@@ -218,6 +221,9 @@ pub async fn settings(
     if request.jog_feed.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e6)) {
         return Err(ApiError::Unprocessable("jog_feed must be above 0 and at most 1e6".into(), None));
     }
+    if request.increment.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e3)) {
+        return Err(ApiError::Unprocessable("increment must be above 0 and at most 1000".into(), None));
+    }
     act(&state, &hosted, |station| {
         let c = &mut station.controller;
         if let Some(choice) = request.coordinates {
@@ -231,6 +237,9 @@ pub async fn settings(
         }
         if let Some(on) = request.manual_absolute {
             c.panel.manual_absolute = on;
+        }
+        if let Some(step) = request.increment {
+            c.set_increment(step).map_err(refused)?;
         }
         Ok(())
     })

@@ -112,6 +112,10 @@ pub struct ControllerStatus {
     pub alarms: Vec<AlarmInfo>,
     /// The operator panel's switches and overrides.
     pub panel: PanelState,
+    /// The manual handle interruption's shift per axis (machine = absolute + shift; cleared by
+    /// the reference return).
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub interrupt_shift: Map<String, Value>,
 }
 
 /// The switches and overrides of the operator panel, as `PUT /switches`, `/overrides` and
@@ -126,6 +130,8 @@ pub struct PanelState {
     pub rapid_override: f64,
     /// JOG and HANDLE feed, mm/min or deg/min.
     pub jog_feed: f64,
+    /// INC mode: the distance of one key press.
+    pub increment: f64,
     pub manual_absolute: bool,
     /// Syntec R518: `machine`, `program` or `tool`.
     #[schema(example = "machine")]
@@ -145,6 +151,7 @@ impl PanelState {
             feed_override: (panel.feed_override * 100.0).round(),
             rapid_override: (panel.rapid_override * 100.0).round(),
             jog_feed: panel.jog_feed,
+            increment: panel.increment,
             manual_absolute: panel.manual_absolute,
             coordinates: word(&panel.manual_coordinates),
             rtcp: panel.manual_rtcp,
@@ -205,6 +212,7 @@ impl ControllerStatus {
             time_s: c.time(),
             alarms: c.alarms().iter().map(AlarmInfo::from).collect(),
             panel: PanelState::of(&c.panel),
+            interrupt_shift: axes(&station.machine, &c.interrupt_shift()),
         }
     }
 

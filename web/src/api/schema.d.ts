@@ -252,7 +252,7 @@ export interface paths {
             cookie?: never;
         };
         get?: never;
-        /** Jog feed, manual absolute, and Syntec's manual RTCP settings (R518, R519). */
+        /** Jog feed, INC increment, manual absolute, and Syntec's manual RTCP settings (R518, R519). */
         put: operations["settings"];
         post?: never;
         delete?: never;
@@ -747,6 +747,13 @@ export interface components {
             /** @description Stable identifier used in `/api/v1/controllers/{id}/…` paths. */
             id: string;
             /**
+             * @description The manual handle interruption's shift per axis (machine = absolute + shift; cleared by
+             *     the reference return).
+             */
+            interrupt_shift: {
+                [key: string]: number;
+            };
+            /**
              * @description The mechanism: `three-axis`, `head-head`, `table-table`, `head-table`, `head`, `table`
              *     (`unknown` when the kinematics refuses the machine).
              * @example table-table
@@ -1019,6 +1026,12 @@ export interface components {
             coordinates?: string | null;
             /**
              * Format: double
+             * @description INC mode: the distance of one key press, mm or degrees (FANUC ×1/×10/×100/×1000:
+             *     0.001/0.01/0.1/1).
+             */
+            increment?: number | null;
+            /**
+             * Format: double
              * @description JOG and HANDLE feed, mm/min (or °/min).
              */
             jog_feed?: number | null;
@@ -1141,6 +1154,11 @@ export interface components {
              * @description Percent.
              */
             feed_override: number;
+            /**
+             * Format: double
+             * @description INC mode: the distance of one key press.
+             */
+            increment: number;
             /**
              * Format: double
              * @description JOG and HANDLE feed, mm/min or deg/min.

@@ -10,6 +10,7 @@ const MODES: [string, string][] = [
   ["mdi", "MDI"],
   ["jog", "JOG"],
   ["handle", "HANDLE"],
+  ["inc", "INC"],
   ["ref", "REF"],
 ];
 const FEED_STEPS = [0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120, 130, 140, 150, 160, 170, 180, 190, 200];
@@ -44,6 +45,18 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
     } catch (e: any) {
       onError(e.message ?? String(e));
     }
+  };
+  /// The hand wheel: in HANDLE mode a move of the selected target; during a program (a manual
+  /// handle interruption) pulses through the handle's axis select code.
+  const turnHandle = (amount: number) => {
+    if (status.mode === "handle") return act(() => api.POST("/api/v1/controllers/{id}/handle", { ...p, body: { ...target, amount } }));
+    if (!("axis" in target)) return;
+    const code = axes.indexOf(target.axis) + 1;
+    act(async () => {
+      if (signals.handle_select !== code) await api.PUT("/api/v1/controllers/{id}/manual-signals", { ...p, body: { handle_select: code } });
+      const r = await api.POST("/api/v1/controllers/{id}/handle-pulses", { ...p, body: { amount } });
+      return { ...r, data: r.data?.status } as any;
+    });
   };
   const key = (t: Target) => JSON.stringify(t);
   const selected = (t: Target) => key(t) === key(target);
@@ -143,19 +156,27 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
             </select>
           )}
         </span>
-        {status.mode === "handle" ? (
-          <span class="handle">
+        {(status.mode === "handle" || status.mode === "inc") && (
+          <span class="increments" role="group" aria-label="increment">
             {[0.001, 0.01, 0.1, 1].map((inc) => (
-              <button key={inc} class={`key small ${increment === inc ? "lit" : ""}`} onClick={() => setIncrement(inc)}>
+              <button
+                key={inc}
+                class={`key small ${(status.mode === "inc" ? panel.increment : increment) === inc ? "lit" : ""}`}
+                onClick={() => (status.mode === "inc" ? act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { increment: inc } })) : setIncrement(inc))}
+              >
                 ×{Math.round(inc * 1000)}
               </button>
             ))}
-            <button class="key small" title="handle −" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/handle", { ...p, body: { ...target, amount: -increment } }))}>
-              −
-            </button>
-            <button class="key small" title="handle +" onClick={() => act(() => api.POST("/api/v1/controllers/{id}/handle", { ...p, body: { ...target, amount: increment } }))}>
-              +
-            </button>
+          </span>
+        )}
+        {status.mode === "handle" || ((status.mode === "auto" || status.mode === "mdi") && status.run_state !== "idle" && "axis" in target) ? (
+          <span class="handle">
+            {status.mode !== "handle" && <span class="quiet">handle interrupt</span>}
+            {[-1, 1].map((sign) => (
+              <button key={sign} class="key small" title={`handle ${sign < 0 ? "−" : "+"}`} onClick={() => turnHandle(sign * increment)}>
+                {sign < 0 ? "−" : "+"}
+              </button>
+            ))}
           </span>
         ) : (
           <span class="jog">
@@ -163,8 +184,8 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
               <button
                 key={String(positive)}
                 class="key small"
-                title={`jog ${positive ? "+" : "−"} (hold)`}
-                disabled={status.mode !== "jog"}
+                title={status.mode === "inc" ? `one increment ${positive ? "+" : "−"}` : `jog ${positive ? "+" : "−"} (hold)`}
+                disabled={status.mode !== "jog" && status.mode !== "inc"}
                 onPointerDown={() =>
                   act(() =>
                     bySignals && "axis" in target
@@ -172,8 +193,8 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
                       : api.POST("/api/v1/controllers/{id}/jog", { ...p, body: { ...target, positive } }),
                   )
                 }
-                onPointerUp={() => act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
-                onPointerLeave={(e) => e.buttons && act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
+                onPointerUp={() => status.mode === "jog" && act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
+                onPointerLeave={(e) => status.mode === "jog" && e.buttons && act(() => api.POST("/api/v1/controllers/{id}/jog-stop", p))}
               >
                 {positive ? "+" : "−"}
               </button>

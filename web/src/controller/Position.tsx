@@ -51,6 +51,15 @@ export function Position({ status, frame }: { status: Status; frame: Frame | nul
           ))}
         </tbody>
       </table>
+      {Object.values(status.interrupt_shift ?? {}).some((v) => Math.abs(v as number) > 1e-9) && (
+        <p class="shift">
+          handle interrupt shift:{" "}
+          {Object.entries(status.interrupt_shift)
+            .filter(([, v]) => Math.abs(v as number) > 1e-9)
+            .map(([a, v]) => `${a} ${fmt(v as number)}`)
+            .join("  ")}
+        </p>
+      )}
       <dl class="readouts">
         <dt>tool tip</dt>
         <dd class="num tip">{frame ? frame.tip.map((v) => fmt(v)).join("  ") : "—"}</dd>
