@@ -2,6 +2,7 @@ import { useEffect, useState } from "preact/hooks";
 import { useRoute } from "./route";
 import { FleetView } from "./fleet/FleetView";
 import { ControllerView } from "./controller/ControllerView";
+import { RunsView } from "./runs/RunsView";
 
 function Health() {
   const [ok, setOk] = useState<boolean | null>(null);
@@ -33,13 +34,20 @@ export function App() {
           <a href="#/" class={route.page === "fleet" ? "active" : ""}>
             Fleet
           </a>
+          <a href="#/runs" class={route.page === "runs" ? "active" : ""}>
+            Fleet runs
+          </a>
           <a href="/swagger-ui/" target="_blank">
             API
           </a>
         </nav>
         <Health />
       </header>
-      <main>{route.page === "fleet" ? <FleetView /> : <ControllerView key={route.id} id={route.id} tab={route.tab} />}</main>
+      <main>
+        {route.page === "fleet" && <FleetView />}
+        {route.page === "controller" && <ControllerView key={route.id} id={route.id} tab={route.tab} />}
+        {route.page === "runs" && <RunsView key={route.id ?? ""} id={route.id} />}
+      </main>
     </div>
   );
 }

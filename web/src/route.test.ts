@@ -8,5 +8,7 @@ describe("hash routes", () => {
     expect(parse("#/c/abc")).toEqual({ page: "controller", id: "abc", tab: "program" });
     expect(parse("#/c/a%20b/alarms")).toEqual({ page: "controller", id: "a b", tab: "alarms" });
     expect(parse("#/nothing")).toEqual({ page: "fleet" });
+    expect(parse("#/runs")).toEqual({ page: "runs" });
+    expect(parse("#/runs/r1")).toEqual({ page: "runs", id: "r1" });
   });
 });
