@@ -134,7 +134,7 @@ impl State {
 
     /// The angles (less the work offsets) whose error-free tool direction is the actual one at
     /// `machine` seen from the WSCS (§2.13.4), chosen as FANUC chooses rotary solutions.
-    fn wse_programmed_angles(&self, kin: &Kinematics, machine: &Pos) -> Option<Pos> {
+    pub(super) fn wse_programmed_angles(&self, kin: &Kinematics, machine: &Pos) -> Option<Pos> {
         let seen = self.wse_turn(kin, machine).transpose() * kin.forward(machine, 0.0).tool;
         let candidates = kin.inverse(Vec3::zeros(), seen, 0.0, &machine[..kin.axes]);
         let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
