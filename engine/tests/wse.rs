@@ -1357,3 +1357,79 @@ proptest::proptest! {
         }
     }
 }
+
+// --- WSE-25: a hypothetical table axis is at 0° in the compensation --------------------------
+
+#[test]
+fn wse_25_a_hypothetical_table_axis_counts_0_in_the_compensation() {
+    use fivex_engine::kin::{Kinematics, Vec3};
+    // table-ac with A hypothetical at 20°: a C table tilted 20° about X (FANUC No.19685 = 20,
+    // IA1 = 1). Taken at 0° the C line is along Z and so is the tool: the tool is always in the
+    // singular posture, so a Δc error leaves C where the program puts it (§2.14 rule 1-(2)) and
+    // only X/Y/Z take the error. At its 20° the tool would be 20° off the C line, and the
+    // error's turn (about the WCS Z, not the C line) could not be met by C: the G01 would find
+    // no angles (DS0030).
+    let mut m = MachineConfig::preset("table-ac").unwrap();
+    m.axes.retain(|a| a.name != 'A');
+    m.rotary.iter_mut().find(|l| l.axis == 'A').unwrap().fixed = Some(20.0);
+    let kin = Kinematics::new(&m).unwrap();
+    let c = m.axis_index(b'C').unwrap();
+    let src = "G90 G00 X0 Y0 Z100. C0\nG54.4 P1\nG43 H1\nG01 X10. Y5. Z20. C30. F1000.\nG49\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "table-ac", |c| {
+        c.machine = m.clone();
+        rcm(c);
+    });
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [1.0, 2.0, 0.0], rotation: [0.0, 0.0, 5.0], table: [0.0; 2] };
+    let ends = motion_ends(interp);
+    let end = end_of(&ends, 4);
+    assert!((end[c] - 30.0).abs() < 1e-9, "C {}", end[c]);
+    // The tip on the table (placed as every move places it: the table at its 20°).
+    let want = wse::frame([1.0, 2.0, 0.0], [0.0, 0.0, 5.0]).to_parent(&Vec3::new(10.0, 5.0, 20.0));
+    let mut zero = [0.0; fivex_engine::machine::MAX_AXES];
+    zero[c] = 0.0;
+    let tf = kin.table_frame(&zero);
+    let want = tf.r.transpose() * (want + kin.nose - tf.o);
+    let got = kin.forward(&end, 100.0).tip;
+    assert!((got - want).norm() < 1e-6, "tip {got:?} vs {want:?}");
+    // With the fixed angle at 0 in the machine itself the same block ends alike on C.
+    let mut flat = m.clone();
+    flat.rotary.iter_mut().find(|l| l.axis == 'A').unwrap().fixed = Some(0.0);
+    let mut interp = fanuc_with(src, "table-ac", |c| {
+        c.machine = flat;
+        rcm(c);
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 5.0];
+    assert!((end_of(&motion_ends(interp), 4)[c] - 30.0).abs() < 1e-9);
+}
+
+#[test]
+fn wse_25_a_hypothetical_table_slave_at_an_angle_compensates_as_at_0() {
+    use fivex_engine::kin::Kinematics;
+    // mixed-bc with its table C hypothetical at 30°: the only table axis, so the frames at 0°
+    // and at 30° differ by one fixed turn and the compensated tool direction is the same
+    // either way: relative to the workpiece, R_e times the programmed direction (machine
+    // directions, as the table does not move).
+    let mut m = MachineConfig::preset("mixed-bc").unwrap();
+    m.axes.retain(|a| a.name != 'C');
+    m.rotary.iter_mut().find(|l| l.axis == 'C').unwrap().fixed = Some(30.0);
+    let kin = Kinematics::new(&m).unwrap();
+    let b = m.axis_index(b'B').unwrap();
+    let src = "G90 G00 X0 Y0 Z100. B10.\nG54.4 P1\nG43 H1\nG01 X10. B40. F1000.\nG49\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "mixed-bc", |c| {
+        c.machine = m;
+        rcm(c);
+    });
+    let rot = [0.0, 3.0, 0.0];
+    interp.state.setting_errors.sets[1].rotation = rot;
+    let end = end_of(&motion_ends(interp), 4);
+    let mut programmed = [0.0; fivex_engine::machine::MAX_AXES];
+    programmed[b] = 40.0;
+    let machine_dir = |p: &Pos| {
+        let pose = kin.forward(p, 0.0);
+        kin.table_frame(p).r * pose.tool
+    };
+    let want = wse::rotation(rot) * machine_dir(&programmed);
+    assert!((machine_dir(&end) - want).norm() < 1e-9, "{:?} vs {want:?}", machine_dir(&end));
+    assert!((end[b] - 43.0).abs() < 1e-9, "B {}", end[b]);
+}

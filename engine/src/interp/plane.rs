@@ -85,7 +85,7 @@ impl State {
         self.pos = self.tip_in_plane(&kin, &frame, &machine);
         // Under G54.4 with tool direction compensation the rotary coordinates are the angles
         // whose error-free tool direction is the actual one seen from the WSCS (§2.13.4).
-        if let Some(angles) = self.wse_follows().then(|| self.wse_programmed_angles(&kin, &machine)).flatten() {
+        if let Some(angles) = self.wse_follows().then(|| self.wse_programmed_angles(&machine)).flatten() {
             self.pos = angles;
         }
         self.sync_programmed();
