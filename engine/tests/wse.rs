@@ -1158,10 +1158,7 @@ proptest::proptest! {
                 let off: f64 = (0..3).map(|k| (w[k] - along * d[k] / len).powi(2)).sum::<f64>().sqrt();
                 proptest::prop_assert!(off < 1e-6, "{preset}: tip {t:?} {off} off the line");
             }
-            // From G53.1 on (the compensated G00 from the singular posture before it is
-            // another matter: see docs/five-axis.md, G54.4 "still missing").
-            let planed: Vec<_> = samples.iter().filter(|s| s.line >= 5).copied().collect();
-            common::check_limits(&planed, preset, false)?;
+            common::check_limits(&samples, preset, false)?;
         }
     }
 }
@@ -1350,10 +1347,7 @@ proptest::proptest! {
                 let off = (w - d * (w.dot(&d) / d.norm_squared())).norm();
                 proptest::prop_assert!(off < 1e-6, "{preset}: tip {off} off the line");
             }
-            // From G53.1 on (the compensated G00 from the singular posture before it is
-            // another matter: see docs/five-axis.md, G54.4 "still missing").
-            let planed: Vec<_> = samples.iter().filter(|s| s.line >= 5).copied().collect();
-            common::check_limits(&planed, preset, false)?;
+            common::check_limits(&samples, preset, false)?;
         }
     }
 }
@@ -1432,4 +1426,30 @@ fn wse_25_a_hypothetical_table_slave_at_an_angle_compensates_as_at_0() {
     let want = wse::rotation(rot) * machine_dir(&programmed);
     assert!((machine_dir(&end) - want).norm() < 1e-9, "{:?} vs {want:?}", machine_dir(&end));
     assert!((end[b] - 43.0).abs() < 1e-9, "B {}", end[b]);
+}
+
+#[test]
+fn leaving_the_exact_singular_posture_keeps_the_axis_limits() {
+    // B0 C0 is the singular posture; Δa/Δb tilt the direction the compensation needs, so at
+    // the first bit of the move the workpiece-side C would have to stand at the new direction's
+    // azimuth at once (2.54° here). The block turns its axes in proportion between the exact
+    // end points instead, within every axis limit; the end points keep the rules (rule 3: C
+    // moves the shorter way, −2.54°).
+    use fivex_engine::kin::Kinematics;
+    let rotation = [0.0, -1.5865938540159266, -2.5368967295580447];
+    for preset in ["head-bc", "table-bc", "mixed-bc"] {
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
+        let src = format!("G90 G00 X0 Y0 Z100. {a}0 {b}0\nG54.4 P1\nG00 {a}0 {b}0\nM30\n", a = names[0], b = names[1]);
+        let mut interp = fanuc_with(&src, preset, rcm);
+        interp.state.setting_errors.sets[1] = wse::ErrorSet { shift: [0.0; 3], rotation, table: [0.0; 2] };
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
+        assert!(r.completed(), "{preset}: {:?}", r.alarms);
+        let c = samples.iter().rev().find(|s| s.line == 3).unwrap().machine[4];
+        assert!((c.rem_euclid(360.0) - (360.0 + rotation[2])).abs() < 1e-6, "{preset}: C {c}");
+        if let Err(e) = common::check_limits(&samples, preset, false) {
+            panic!("{preset}: {e}");
+        }
+    }
 }
