@@ -1453,3 +1453,32 @@ fn leaving_the_exact_singular_posture_keeps_the_axis_limits() {
         }
     }
 }
+
+#[test]
+fn g49_in_g54_4_with_rcm_compensates_the_programmed_angles_once() {
+    use fivex_engine::kin::Kinematics;
+    // Example 2's N30/N40 (TCP type 1 to B45 C−90: machine B45 C−110), then G49 Z300 under
+    // G54.4: the rotary coordinates after G49 are still the programmed B45 C−90, so the G49
+    // block leaves the machine at B45 C−110 (it turned C to −130 when the current point took
+    // the machine angles as programmed ones); the nose at WSCS (50, 50, 300) = G55 (74.085638,
+    // 49.883624, 300).
+    let src = "N1 G05.1 Q1\nN2 G55\nN3 G54.4 P1\nN4 G90 G00 X0 Y0 Z300. B0 C0\nN5 G01 G43.4 H01 Z40. F500.\n\
+               N6 X50. Y50. Z20. B45. C-90.\nN7 G49 Z300.\n#100=#5005\nN9 G54.4 P0\nM30\n";
+    let mut interp = example_2(src, rcm);
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let mut ends = Vec::new();
+    interp
+        .run(|c| {
+            if let CanonKind::Motion(m) = c.kind {
+                ends.push((c.line, m.machine))
+            }
+        })
+        .expect("no alarm");
+    let (n6, n7) = (end_of(&ends, 6), end_of(&ends, 7));
+    assert!((n6[3] - 45.0).abs() < 1e-9 && (n6[4] + 110.0).abs() < 1e-9, "N6 {n6:?}");
+    assert!((n7[3] - 45.0).abs() < 1e-9 && (n7[4] + 110.0).abs() < 1e-9, "N7 {n7:?}");
+    assert!((variable(&interp, 100) + 90.0).rem_euclid(360.0) < 1e-9, "#5005 {}", variable(&interp, 100));
+    let nose = kin.forward(&n7, 0.0).tip - kin.nose;
+    let got = [nose[0] - 100.0, nose[1] - 50.0, nose[2] + 400.0];
+    assert!(close3(got, [74.085638, 49.883624, 300.0], 1e-6), "{got:?}");
+}
