@@ -1482,3 +1482,18 @@ fn g49_in_g54_4_with_rcm_compensates_the_programmed_angles_once() {
     let got = [nose[0] - 100.0, nose[1] - 50.0, nose[2] + 400.0];
     assert!(close3(got, [74.085638, 49.883624, 300.0], 1e-6), "{got:?}");
 }
+
+#[test]
+fn g49_after_tcp_type_2_in_g54_4_keeps_the_rotary_axes() {
+    // TCP type 2 inside G54.4 (RCM = 1): I/J/K are directions in Π, which holds the error, so
+    // N6 stands at the machine angles for (0, −0.707107, 0.707107) in the WSCS; G49 Z300 then
+    // moves only X/Y/Z (the current point's rotary coordinates are the angles whose error-free
+    // direction is the actual one, compensated back to where the axes stand).
+    let src = "N1 G05.1 Q1\nN2 G55\nN3 G54.4 P1\nN4 G90 G00 X0 Y0 Z300. B0 C-30.\nN5 G01 G43.5 H01 Z40. F500.\n\
+               N6 X50. Y50. Z20. I0 J-0.707107 K0.707107\nN7 G49 Z300.\nN8 G54.4 P0\nM30\n";
+    let interp = example_2(src, rcm);
+    let ends = motion_ends(interp);
+    let (n6, n7) = (end_of(&ends, 6), end_of(&ends, 7));
+    assert!((n6[3] - 45.0).abs() < 1e-6 && (n6[4] + 110.0).abs() < 1e-6, "N6 {n6:?}");
+    assert!((n7[3] - n6[3]).abs() < 1e-9 && (n7[4] - n6[4]).abs() < 1e-9, "N7 {n7:?}");
+}
