@@ -1497,3 +1497,19 @@ fn g49_after_tcp_type_2_in_g54_4_keeps_the_rotary_axes() {
     assert!((n6[3] - 45.0).abs() < 1e-6 && (n6[4] + 110.0).abs() < 1e-6, "N6 {n6:?}");
     assert!((n7[3] - n6[3]).abs() < 1e-9 && (n7[4] - n6[4]).abs() < 1e-9, "N7 {n7:?}");
 }
+
+#[test]
+fn g68_2_and_g69_in_g54_4_with_rcm_keep_the_programmed_angles() {
+    // table-ac, Δa 2° Δb −1.5°: after G54.4 P1 the program puts A0 C0 (machine angles turned by
+    // the error, the tool along the ideal workpiece's Z, singular: C free). G68.2 and G69 move
+    // nothing, so #5004/#5005 stay 0 (recomputing them from the machine would make C whatever
+    // the machine C is, and a following G68.2 would then raise PS0439).
+    let src = "G90 G00 X0 Y0 Z100. A0 C0\nG54.4 P1\nG00 A0 C0\nG68.2 X0 Y0 Z0 I0 J20. K0\n\
+               #100=#5004\n#101=#5005\nG69\n#102=#5004\n#103=#5005\nG68.2 X0 Y0 Z0 I0 J10. K0\nG69\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "table-ac", rcm);
+    interp.state.setting_errors.sets[1].rotation = [2.0, -1.5, 0.0];
+    let interp = ran(interp);
+    for n in 100..=103 {
+        assert!(variable(&interp, n).abs() < 1e-9, "#{n} = {}", variable(&interp, n));
+    }
+}

@@ -60,6 +60,7 @@ impl State {
     /// system again, the machine stays where it is.
     pub(super) fn end_plane(&mut self) {
         let machine = self.machine_position();
+        let programmed = self.pos;
         self.plane = None;
         self.definition = Definition::default();
         self.modes[16] = 690;
@@ -67,8 +68,9 @@ impl State {
         self.pos = self.machine_to_program(&machine);
         self.sync_programmed();
         // Under G54.4 with tool direction compensation the current point is the tip in the
-        // WSCS again and the rotary coordinates the programmed angles.
+        // WSCS again, and the rotary coordinates stay the programmed angles (nothing moves).
         self.wse_moved_to(machine);
+        self.wse_keep_programmed_angles(&programmed);
     }
 
     /// The FCS point of the tool tip at machine position `machine`.
@@ -113,8 +115,11 @@ impl State {
             };
             if let Some(fcs) = defined {
                 let machine = self.machine_position();
+                let programmed = self.pos;
                 self.plane = Some(fcs);
                 self.plane_moved_to(machine);
+                // Nothing moves: under G54.4 with RCM = 1 the programmed angles stay as they are.
+                self.wse_keep_programmed_angles(&programmed);
             }
         }
         Ok(owns_axes)
