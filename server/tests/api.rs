@@ -553,10 +553,7 @@ async fn a_clone_has_the_machine_programs_offsets_and_variables_but_not_the_hist
     let copy = reply.json();
     let copy_id = copy["id"].as_str().unwrap();
     assert_ne!(copy_id, id);
-    assert_eq!(
-        (copy["name"].as_str(), copy["machine"].as_str(), copy["dialect"].as_str()),
-        (Some("cell 2"), Some("table-ac"), Some("syntec"))
-    );
+    assert_eq!((copy["name"].as_str(), copy["machine"].as_str(), copy["dialect"].as_str()), (Some("cell 2"), Some("table-ac"), Some("syntec")));
     assert_eq!((copy["speed"].as_f64(), copy["kind"].as_str()), (Some(5.0), Some("table-table")));
     assert_eq!(app.get(&format!("{C}/{copy_id}/programs/7")).await.text(), "G00 X10.\nM30\n");
     assert_eq!(app.get(&format!("{C}/{copy_id}/variables/500")).await.json()["value"], json!(2.5));
@@ -582,9 +579,7 @@ async fn the_machine_model_and_the_presets_are_there_for_the_dashboard() {
         .iter()
         .map(|p| (p["name"].as_str().unwrap().to_string(), p["kind"].as_str().unwrap().to_string()))
         .collect();
-    for (name, kind) in
-        [("mill3", "three-axis"), ("head-bc", "head-head"), ("table-ac", "table-table"), ("mixed-bc", "head-table")]
-    {
+    for (name, kind) in [("mill3", "three-axis"), ("head-bc", "head-head"), ("table-ac", "table-table"), ("mixed-bc", "head-table")] {
         assert!(kinds.contains(&(name.to_string(), kind.to_string())), "{kinds:?}");
     }
     let id = create(&app, json!({"name": "m", "preset": "head-bc"})).await;
@@ -607,22 +602,12 @@ async fn a_program_path_is_the_tip_in_the_table_frame_and_says_where_it_stops() 
     assert_eq!(path["rapid"], json!([true, true, false]));
     assert_eq!((xyz[6] - xyz[3], xyz[7] - xyz[4]), (40.0, 0.0));
     assert_eq!((path["alarm"].clone(), path["truncated"].clone()), (Value::Null, json!(false)));
-    let force = app
-        .raw(
-            Method::PUT,
-            &format!("{C}/{id}/programs/2?force=true"),
-            "text/plain",
-            "G01 X10. F100.\nG65 P\n".to_string(),
-        )
-        .await;
+    let force = app.raw(Method::PUT, &format!("{C}/{id}/programs/2?force=true"), "text/plain", "G01 X10. F100.\nG65 P\n".to_string()).await;
     assert!(force.status.is_success(), "{}", force.text());
     let broken = app.get(&format!("{C}/{id}/programs/2/path?max_points=1")).await.json();
     assert_eq!((broken["truncated"].clone(), broken["xyz"].as_array().unwrap().len()), (json!(true), 3));
     let broken = app.get(&format!("{C}/{id}/programs/2/path")).await.json();
     assert!(broken["alarm"]["code"].is_string(), "{broken}");
     assert_eq!(app.get(&format!("{C}/{id}/programs/9/path")).await.status, StatusCode::NOT_FOUND);
-    assert_eq!(
-        app.get(&format!("{C}/{id}/programs/1/path?max_points=0")).await.status,
-        StatusCode::UNPROCESSABLE_ENTITY
-    );
+    assert_eq!(app.get(&format!("{C}/{id}/programs/1/path?max_points=0")).await.status, StatusCode::UNPROCESSABLE_ENTITY);
 }

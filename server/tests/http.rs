@@ -487,10 +487,7 @@ fn every_operation_has_its_own_id_and_query_options_are_query_parameters() {
             for param in op.get("parameters").and_then(|p| p.as_array()).into_iter().flatten() {
                 if param["in"] == "path" {
                     let name = param["name"].as_str().unwrap();
-                    assert!(
-                        path.contains(&format!("{{{name}}}")),
-                        "{method} {path}: path parameter {name} is not in the path"
-                    );
+                    assert!(path.contains(&format!("{{{name}}}")), "{method} {path}: path parameter {name} is not in the path");
                 }
             }
         }

@@ -159,8 +159,7 @@ fn the_dashboards_kinematics_fixture_is_what_the_engine_computes() {
         for pose in machine["poses"].as_array().unwrap() {
             let axes: Vec<String> = pose["axes"].as_object().unwrap().iter().map(|(a, v)| format!("{a}={v}")).collect();
             let length = pose["tool_length"].to_string();
-            let (code, v) =
-                kin(&["fk", "--machine", file.to_str().unwrap(), "--axes", &axes.join(","), "--tool-length", &length]);
+            let (code, v) = kin(&["fk", "--machine", file.to_str().unwrap(), "--axes", &axes.join(","), "--tool-length", &length]);
             assert_eq!(code, 0, "{}", machine["source"]);
             for key in ["tip", "tool", "tip_machine", "tool_machine"] {
                 for i in 0..3 {

@@ -256,8 +256,7 @@ pub async fn tool_path(
     options: Result<Query<PathOptions>, QueryRejection>,
 ) -> Result<Json<ToolPathBody>, ApiError> {
     let (id, n) = path(params)?;
-    let max_points =
-        options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.0.max_points.unwrap_or(200_000);
+    let max_points = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.0.max_points.unwrap_or(200_000);
     if !(1..=1_000_000).contains(&max_points) {
         return Err(ApiError::Unprocessable("max_points must be 1 to 1000000".into(), None));
     }
