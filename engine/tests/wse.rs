@@ -1162,3 +1162,354 @@ proptest::proptest! {
         }
     }
 }
+
+// --- a tilted working plane inside G54.4 with tool direction compensation --------------------
+
+/// The common variables (#100…) a program set, by number.
+fn variable(interp: &Interpreter, n: u32) -> f64 {
+    interp.state.common_variables().into_iter().find(|(k, _)| *k == n).expect("set").1
+}
+
+#[test]
+fn g53_1_in_g54_4_with_rcm_aims_the_tool_along_the_displaced_fcs_z() {
+    use fivex_engine::kin::Kinematics;
+    // Example 2's error (Δc −20°, Δ (10, 20, 0)) on head-bc, G55 (100, 50, −400). The FCS
+    // (Euler I0 J45 K0, origin (50, 50, 20) in the WSCS) has its +Z along Rx(45°)·Z =
+    // (0, −0.707107, 0.707107) seen from the ideal workpiece: programmed angles B45 C−90 (or
+    // B−45 C90). The compensation turns them about the workpiece-side C by Δc: the tool along
+    // Rz(−20°)·(0, −0.707107, 0.707107) = (−0.241845, −0.664463, 0.707107), Example 2's N40
+    // direction, at B45 C−110 (B−45 C70). #5004/#5005 show the programmed angles.
+    let src = "N1 G05.1 Q1\nN2 G55\nN3 G54.4 P1\nN4 G90 G00 X0 Y0 Z300. B0 C-30.\n\
+               N5 G68.2 X50. Y50. Z20. I0 J45. K0\nN6 G53.1\nN7 #100=#5004\n#101=#5005\n\
+               N9 G43 H1\nN10 G01 X0 Y0 Z0 F500.\nN11 X30.\nN12 X30. C-80.\n#102=#5005\n#103=#5004\n\
+               N14 G49\nN15 G69\nN16 G54.4 P0\nM30\n";
+    let mut interp = example_2(src, rcm);
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let mut ends = Vec::new();
+    interp
+        .run(|c| {
+            if let CanonKind::Motion(m) = c.kind {
+                ends.push((c.line, m.machine))
+            }
+        })
+        .expect("no alarm");
+    let g53_1 = end_of(&ends, 6);
+    let (b, c) = (g53_1[3], g53_1[4]);
+    let (pb, pc) = (variable(&interp, 100), variable(&interp, 101));
+    // From C−30 FANUC's cascade takes B45 C−90 (C moves 60°, not 120°) → machine B45 C−110.
+    assert!((b - 45.0).abs() < 1e-9 && (c + 110.0).abs() < 1e-9, "machine B{b} C{c}");
+    // (C rolls over: its programmed coordinate is shown within 0…360.)
+    let same = |a: f64, b: f64| ((a - b).rem_euclid(360.0) + 1e-9) % 360.0 < 2e-9;
+    assert!(same(pb, 45.0) && same(pc, -90.0), "programmed B{pb} C{pc}");
+    // X/Y/Z stay in the G53.1 block.
+    assert!(close3(xyz(&g53_1), xyz(&end_of(&ends, 4)), 1e-9));
+    let tool = kin.forward(&g53_1, 0.0).tool;
+    assert!(close3(tool.into(), [-0.241845, -0.664463, 0.707107], 1e-6), "tool {tool:?}");
+    // The FCS origin is the WSCS point (50, 50, 20): the tip at Example 1's N40 point.
+    let tip_at = |line: u32| {
+        let pose = kin.forward(&end_of(&ends, line), 100.0);
+        [pose.tip[0] - 100.0 - kin.nose[0], pose.tip[1] - 50.0 - kin.nose[1], pose.tip[2] + 400.0 - kin.nose[2]]
+    };
+    assert!(close3(tip_at(10), [74.085638, 49.883624, 20.0], 1e-6), "{:?}", tip_at(10));
+    // X30 in the FCS: along the FCS X, which is the WSCS X (Euler J about X keeps it), turned
+    // by Δc: 30·(cos −20°, sin −20°, 0) = (28.190779, −10.260604, 0) further.
+    let along = [102.276417, 39.623020, 20.0];
+    assert!(close3(tip_at(11), along, 1e-5), "{:?}", tip_at(11));
+    assert!((end_of(&ends, 11)[4] - c).abs() < 1e-9, "X/Y/Z moves keep the rotary axes");
+    // A rotary word in the plane is a programmed angle too: C−80 (from C−90) → machine C−100;
+    // the tip stays.
+    let n12 = end_of(&ends, 12);
+    assert!((n12[4] + 100.0).abs() < 1e-9 && (n12[3] - 45.0).abs() < 1e-9, "B {} C {}", n12[3], n12[4]);
+    assert!(same(variable(&interp, 102), -80.0) && same(variable(&interp, 103), 45.0));
+    assert!(close3(tip_at(12), along, 1e-6), "{:?}", tip_at(12));
+}
+
+#[test]
+fn g69_in_g54_4_with_rcm_gives_back_the_programmed_angles() {
+    // After G69 the current point is the tip in the WSCS and #5005 the programmed C, so a
+    // following move is compensated once, not twice.
+    let src = "N1 G05.1 Q1\nN2 G55\nN3 G54.4 P1\nN4 G90 G00 X0 Y0 Z300. B0 C0\n\
+               N5 G68.2 X0 Y0 Z0 I0 J45. K0\nN6 G53.1\nN7 G69\n#100=#5004\n#101=#5005\n\
+               N10 G01 X10. F500.\nN11 G54.4 P0\nM30\n";
+    let mut interp = example_2(src, rcm);
+    let mut ends = Vec::new();
+    interp
+        .run(|c| {
+            if let CanonKind::Motion(m) = c.kind {
+                ends.push((c.line, m.machine))
+            }
+        })
+        .expect("no alarm");
+    let (n6, n10) = (end_of(&ends, 6), end_of(&ends, 10));
+    assert!((variable(&interp, 101) - (n6[4] + 20.0)).abs() < 1e-9, "#5005 {}", variable(&interp, 101));
+    assert!((n10[3] - n6[3]).abs() < 1e-9 && (n10[4] - n6[4]).abs() < 1e-9, "{n6:?} → {n10:?}");
+}
+
+#[test]
+fn plane_moves_in_g54_4_hold_the_compensated_direction_at_every_sample() {
+    use fivex_engine::kin::{Kinematics, Vec3};
+    // As `compensation_holds_the_tool_direction_at_every_sample_of_a_block`, the block inside a
+    // tilted plane (identity FCS shifted by (5, 0, 0), so programmed angles read alike).
+    for (preset, first_axis) in [("head-bc", 'B'), ("table-ac", 'A')] {
+        let src = format!(
+            "G90 G00 X0 Y0 Z100. {first_axis}0 C0\nG54.4 P1\nG00 {first_axis}0 C0\nG68.2 X5. Y0 Z0 I0 J0 K0\n\
+             G00 {first_axis}30. C0\n#100=#5004\n#101=#5005\nG43 H1\n\
+             G01 X15. Y0 Z50. {first_axis}45. C60. F1000.\nG49\nG69\nG54.4 P0\nM30\n"
+        );
+        let mut interp = fanuc_with(&src, preset, rcm);
+        interp.state.setting_errors.sets[1].rotation = [3.0, -2.0, 0.0];
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let e = wse::frame([0.0; 3], [3.0, -2.0, 0.0]);
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+            if s.line == 9 {
+                samples.push(s.machine);
+            }
+        });
+        assert!(r.completed(), "{preset}: {:?}", r.alarms);
+        let v = |n| r.variables.iter().find(|(k, _)| *k == n).unwrap().1;
+        let (a0, c0) = (v(100), v(101));
+        assert!((a0 - 30.0).abs() < 1e-9 && c0.abs() < 1e-9, "{preset}: programmed {a0} {c0}");
+        let direction = |a: f64, c: f64| {
+            let mut q = [0.0; fivex_engine::machine::MAX_AXES];
+            (q[3], q[4]) = (a, c);
+            kin.forward(&q, 0.0).tool
+        };
+        let angle = |a: Vec3, b: Vec3| a.dot(&b).clamp(-1.0, 1.0).acos();
+        // The tip in the FCS (work offsets 0; the FCS is the WSCS shifted by X5).
+        let tip = |m: &Pos| e.from_parent(&(kin.forward(m, 100.0).tip - kin.nose)) - Vec3::new(5.0, 0.0, 0.0);
+        let (start, end) = (tip(&samples[0]), Vec3::new(15.0, 0.0, 50.0));
+        let mut worst = 0.0f64;
+        for m in &samples {
+            let t = tip(m);
+            let u = ((t - start).dot(&(end - start)) / (end - start).norm_squared()).clamp(0.0, 1.0);
+            let off_line = (t - start - u * (end - start)).norm();
+            assert!(off_line < 1e-6, "{preset}: tip {t:?} {off_line} off the FCS line");
+            let want = e.r * direction(a0 + u * (45.0 - a0), c0 + u * (60.0 - c0));
+            worst = worst.max(angle(kin.forward(m, 0.0).tool, want));
+        }
+        assert!(samples.len() > 50, "{preset}");
+        assert!(worst < 1e-7, "{preset}: the tool leaves the compensated direction by {worst} rad");
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: common::cases(12), ..proptest::prelude::ProptestConfig::default() })]
+
+    /// RCM = 1 on every 5-axis machine kind, any small error and any plane: after G53.1 and a
+    /// move in the FCS the tip is at `E(F(p))` and the tool, relative to the workpiece, along
+    /// `R_e·F·Z` (the FCS +Z of the displaced workpiece) at the block ends and at every 1 ms
+    /// sample of the move, every axis within its limits.
+    #[test]
+    fn g53_1_and_plane_moves_follow_the_displaced_fcs(
+        rot in proptest::array::uniform3(-3.0f64..3.0),
+        shift in proptest::array::uniform3(-10.0f64..10.0),
+        euler in proptest::array::uniform3(-40.0f64..40.0),
+        p in proptest::array::uniform3(-30.0f64..30.0),
+    ) {
+        use fivex_engine::kin::{Kinematics, Vec3};
+        let euler = euler.map(|x| (x * 1e3).round() / 1e3);
+        let p = p.map(|x| (x * 1e3).round() / 1e3);
+        // Tilt J at least 10° away from the singular posture (the tool along Z).
+        let j = if euler[1].abs() < 10.0 { euler[1].signum() * 10.0 + euler[1] } else { euler[1] };
+        for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+            let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+            let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
+            let src = format!(
+                "G90 G00 X0 Y0 Z100. {a}0 {b}0\nG54.4 P1\nG00 {a}0 {b}0\nG68.2 X1. Y2. Z3. I{:.3} J{:.3} K{:.3}\nG53.1\nG43 H1\n\
+                 G01 X{:.3} Y{:.3} Z{:.3} F3000.\nG49\nG69\nG54.4 P0\nM30\n",
+                euler[0], j, euler[2], p[0], p[1], p[2], a = names[0], b = names[1]
+            );
+            let mut interp = fanuc_with(&src, preset, rcm);
+            interp.state.setting_errors.sets[1] = wse::ErrorSet { shift, rotation: rot, table: [0.0; 2] };
+            let mut samples = Vec::new();
+            let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
+            // A plane the rotary strokes cannot reach is refused before the move (OT0511).
+            if r.alarms.iter().any(|a| a.code == "OT0511") {
+                continue;
+            }
+            proptest::prop_assert!(r.completed(), "{preset}: {:?}", r.alarms);
+            let e = wse::frame(shift, rot);
+            let f = fivex_engine::twp::euler(Vec3::new(1.0, 2.0, 3.0), euler[0], j, euler[2]);
+            let want_tool = e.r * f.r * Vec3::z();
+            let on_table = |m: &Pos| kin.forward(m, 100.0);
+            let moves: Vec<_> = samples.iter().filter(|s| s.line == 7).collect();
+            proptest::prop_assert!(!moves.is_empty());
+            let want_end = e.to_parent(&f.to_parent(&p.into())) + kin.nose;
+            let last = on_table(&moves.last().unwrap().machine);
+            proptest::prop_assert!((last.tip - want_end).norm() < 0.06, "{preset}: ends at {:?} vs {:?}", last.tip, want_end);
+            let from = on_table(&moves[0].machine).tip;
+            let d = want_end - from;
+            for s in &moves {
+                let pose = on_table(&s.machine);
+                proptest::prop_assert!((pose.tool - want_tool).norm() < 1e-9, "{preset}: tool {:?} vs {:?}", pose.tool, want_tool);
+                let w = pose.tip - from;
+                let off = (w - d * (w.dot(&d) / d.norm_squared())).norm();
+                proptest::prop_assert!(off < 1e-6, "{preset}: tip {off} off the line");
+            }
+            common::check_limits(&samples, preset, false)?;
+        }
+    }
+}
+
+// --- WSE-25: a hypothetical table axis is at 0° in the compensation --------------------------
+
+#[test]
+fn wse_25_a_hypothetical_table_axis_counts_0_in_the_compensation() {
+    use fivex_engine::kin::{Kinematics, Vec3};
+    // table-ac with A hypothetical at 20°: a C table tilted 20° about X (FANUC No.19685 = 20,
+    // IA1 = 1). Taken at 0° the C line is along Z and so is the tool: the tool is always in the
+    // singular posture, so a Δc error leaves C where the program puts it (§2.14 rule 1-(2)) and
+    // only X/Y/Z take the error. At its 20° the tool would be 20° off the C line, and the
+    // error's turn (about the WCS Z, not the C line) could not be met by C: the G01 would find
+    // no angles (DS0030).
+    let mut m = MachineConfig::preset("table-ac").unwrap();
+    m.axes.retain(|a| a.name != 'A');
+    m.rotary.iter_mut().find(|l| l.axis == 'A').unwrap().fixed = Some(20.0);
+    let kin = Kinematics::new(&m).unwrap();
+    let c = m.axis_index(b'C').unwrap();
+    let src = "G90 G00 X0 Y0 Z100. C0\nG54.4 P1\nG43 H1\nG01 X10. Y5. Z20. C30. F1000.\nG49\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "table-ac", |c| {
+        c.machine = m.clone();
+        rcm(c);
+    });
+    interp.state.setting_errors.sets[1] =
+        wse::ErrorSet { shift: [1.0, 2.0, 0.0], rotation: [0.0, 0.0, 5.0], table: [0.0; 2] };
+    let ends = motion_ends(interp);
+    let end = end_of(&ends, 4);
+    assert!((end[c] - 30.0).abs() < 1e-9, "C {}", end[c]);
+    // The tip on the table (placed as every move places it: the table at its 20°).
+    let want = wse::frame([1.0, 2.0, 0.0], [0.0, 0.0, 5.0]).to_parent(&Vec3::new(10.0, 5.0, 20.0));
+    let mut zero = [0.0; fivex_engine::machine::MAX_AXES];
+    zero[c] = 0.0;
+    let tf = kin.table_frame(&zero);
+    let want = tf.r.transpose() * (want + kin.nose - tf.o);
+    let got = kin.forward(&end, 100.0).tip;
+    assert!((got - want).norm() < 1e-6, "tip {got:?} vs {want:?}");
+    // With the fixed angle at 0 in the machine itself the same block ends alike on C.
+    let mut flat = m.clone();
+    flat.rotary.iter_mut().find(|l| l.axis == 'A').unwrap().fixed = Some(0.0);
+    let mut interp = fanuc_with(src, "table-ac", |c| {
+        c.machine = flat;
+        rcm(c);
+    });
+    interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 5.0];
+    assert!((end_of(&motion_ends(interp), 4)[c] - 30.0).abs() < 1e-9);
+}
+
+#[test]
+fn wse_25_a_hypothetical_table_slave_at_an_angle_compensates_as_at_0() {
+    use fivex_engine::kin::Kinematics;
+    // mixed-bc with its table C hypothetical at 30°: the only table axis, so the frames at 0°
+    // and at 30° differ by one fixed turn and the compensated tool direction is the same
+    // either way: relative to the workpiece, R_e times the programmed direction (machine
+    // directions, as the table does not move).
+    let mut m = MachineConfig::preset("mixed-bc").unwrap();
+    m.axes.retain(|a| a.name != 'C');
+    m.rotary.iter_mut().find(|l| l.axis == 'C').unwrap().fixed = Some(30.0);
+    let kin = Kinematics::new(&m).unwrap();
+    let b = m.axis_index(b'B').unwrap();
+    let src = "G90 G00 X0 Y0 Z100. B10.\nG54.4 P1\nG43 H1\nG01 X10. B40. F1000.\nG49\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "mixed-bc", |c| {
+        c.machine = m;
+        rcm(c);
+    });
+    let rot = [0.0, 3.0, 0.0];
+    interp.state.setting_errors.sets[1].rotation = rot;
+    let end = end_of(&motion_ends(interp), 4);
+    let mut programmed = [0.0; fivex_engine::machine::MAX_AXES];
+    programmed[b] = 40.0;
+    let machine_dir = |p: &Pos| {
+        let pose = kin.forward(p, 0.0);
+        kin.table_frame(p).r * pose.tool
+    };
+    let want = wse::rotation(rot) * machine_dir(&programmed);
+    assert!((machine_dir(&end) - want).norm() < 1e-9, "{:?} vs {want:?}", machine_dir(&end));
+    assert!((end[b] - 43.0).abs() < 1e-9, "B {}", end[b]);
+}
+
+#[test]
+fn leaving_the_exact_singular_posture_keeps_the_axis_limits() {
+    // B0 C0 is the singular posture; Δa/Δb tilt the direction the compensation needs, so at
+    // the first bit of the move the workpiece-side C would have to stand at the new direction's
+    // azimuth at once (2.54° here). The block turns its axes in proportion between the exact
+    // end points instead, within every axis limit; the end points keep the rules (rule 3: C
+    // moves the shorter way, −2.54°).
+    use fivex_engine::kin::Kinematics;
+    let rotation = [0.0, -1.5865938540159266, -2.5368967295580447];
+    for preset in ["head-bc", "table-bc", "mixed-bc"] {
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
+        let src = format!("G90 G00 X0 Y0 Z100. {a}0 {b}0\nG54.4 P1\nG00 {a}0 {b}0\nM30\n", a = names[0], b = names[1]);
+        let mut interp = fanuc_with(&src, preset, rcm);
+        interp.state.setting_errors.sets[1] = wse::ErrorSet { shift: [0.0; 3], rotation, table: [0.0; 2] };
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
+        assert!(r.completed(), "{preset}: {:?}", r.alarms);
+        let c = samples.iter().rev().find(|s| s.line == 3).unwrap().machine[4];
+        assert!((c.rem_euclid(360.0) - (360.0 + rotation[2])).abs() < 1e-6, "{preset}: C {c}");
+        if let Err(e) = common::check_limits(&samples, preset, false) {
+            panic!("{preset}: {e}");
+        }
+    }
+}
+
+#[test]
+fn g49_in_g54_4_with_rcm_compensates_the_programmed_angles_once() {
+    use fivex_engine::kin::Kinematics;
+    // Example 2's N30/N40 (TCP type 1 to B45 C−90: machine B45 C−110), then G49 Z300 under
+    // G54.4: the rotary coordinates after G49 are still the programmed B45 C−90, so the G49
+    // block leaves the machine at B45 C−110 (it turned C to −130 when the current point took
+    // the machine angles as programmed ones); the nose at WSCS (50, 50, 300) = G55 (74.085638,
+    // 49.883624, 300).
+    let src = "N1 G05.1 Q1\nN2 G55\nN3 G54.4 P1\nN4 G90 G00 X0 Y0 Z300. B0 C0\nN5 G01 G43.4 H01 Z40. F500.\n\
+               N6 X50. Y50. Z20. B45. C-90.\nN7 G49 Z300.\n#100=#5005\nN9 G54.4 P0\nM30\n";
+    let mut interp = example_2(src, rcm);
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let mut ends = Vec::new();
+    interp
+        .run(|c| {
+            if let CanonKind::Motion(m) = c.kind {
+                ends.push((c.line, m.machine))
+            }
+        })
+        .expect("no alarm");
+    let (n6, n7) = (end_of(&ends, 6), end_of(&ends, 7));
+    assert!((n6[3] - 45.0).abs() < 1e-9 && (n6[4] + 110.0).abs() < 1e-9, "N6 {n6:?}");
+    assert!((n7[3] - 45.0).abs() < 1e-9 && (n7[4] + 110.0).abs() < 1e-9, "N7 {n7:?}");
+    assert!((variable(&interp, 100) + 90.0).rem_euclid(360.0) < 1e-9, "#5005 {}", variable(&interp, 100));
+    let nose = kin.forward(&n7, 0.0).tip - kin.nose;
+    let got = [nose[0] - 100.0, nose[1] - 50.0, nose[2] + 400.0];
+    assert!(close3(got, [74.085638, 49.883624, 300.0], 1e-6), "{got:?}");
+}
+
+#[test]
+fn g49_after_tcp_type_2_in_g54_4_keeps_the_rotary_axes() {
+    // TCP type 2 inside G54.4 (RCM = 1): I/J/K are directions in Π, which holds the error, so
+    // N6 stands at the machine angles for (0, −0.707107, 0.707107) in the WSCS; G49 Z300 then
+    // moves only X/Y/Z (the current point's rotary coordinates are the angles whose error-free
+    // direction is the actual one, compensated back to where the axes stand).
+    let src = "N1 G05.1 Q1\nN2 G55\nN3 G54.4 P1\nN4 G90 G00 X0 Y0 Z300. B0 C-30.\nN5 G01 G43.5 H01 Z40. F500.\n\
+               N6 X50. Y50. Z20. I0 J-0.707107 K0.707107\nN7 G49 Z300.\nN8 G54.4 P0\nM30\n";
+    let interp = example_2(src, rcm);
+    let ends = motion_ends(interp);
+    let (n6, n7) = (end_of(&ends, 6), end_of(&ends, 7));
+    assert!((n6[3] - 45.0).abs() < 1e-6 && (n6[4] + 110.0).abs() < 1e-6, "N6 {n6:?}");
+    assert!((n7[3] - n6[3]).abs() < 1e-9 && (n7[4] - n6[4]).abs() < 1e-9, "N7 {n7:?}");
+}
+
+#[test]
+fn g68_2_and_g69_in_g54_4_with_rcm_keep_the_programmed_angles() {
+    // table-ac, Δa 2° Δb −1.5°: after G54.4 P1 the program puts A0 C0 (machine angles turned by
+    // the error, the tool along the ideal workpiece's Z, singular: C free). G68.2 and G69 move
+    // nothing, so #5004/#5005 stay 0 (recomputing them from the machine would make C whatever
+    // the machine C is, and a following G68.2 would then raise PS0439).
+    let src = "G90 G00 X0 Y0 Z100. A0 C0\nG54.4 P1\nG00 A0 C0\nG68.2 X0 Y0 Z0 I0 J20. K0\n\
+               #100=#5004\n#101=#5005\nG69\n#102=#5004\n#103=#5005\nG68.2 X0 Y0 Z0 I0 J10. K0\nG69\nG54.4 P0\nM30\n";
+    let mut interp = fanuc_with(src, "table-ac", rcm);
+    interp.state.setting_errors.sets[1].rotation = [2.0, -1.5, 0.0];
+    let interp = ran(interp);
+    for n in 100..=103 {
+        assert!(variable(&interp, n).abs() < 1e-9, "#{n} = {}", variable(&interp, n));
+    }
+}

@@ -225,6 +225,8 @@ pub struct State {
     five: modes::FiveAxisModes,
     /// The machine's mechanism (`None` when the kinematics refuses it: no 5-axis function).
     kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
+    /// The mechanism G54.4's tool direction compensation computes with (`wse::compensation_kinematics`).
+    wse_kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     /// Tool centre point control in force.
     tcp: Option<tcp::Tcp>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
@@ -455,6 +457,8 @@ impl State {
                 axis_by_letter[(axis.name as u8 - b'A') as usize] = i as u8;
             }
         }
+        let kinematics = crate::kin::Kinematics::new(&cfg.machine).ok().map(std::sync::Arc::new);
+        let wse_kinematics = wse::compensation_kinematics(&cfg.machine, kinematics.as_ref());
         State {
             axis_by_letter,
             expr,
@@ -489,7 +493,8 @@ impl State {
             last_g28_mid: [0.0; MAX_AXES],
             modal_call: None,
             five: modes::FiveAxisModes::default(),
-            kinematics: crate::kin::Kinematics::new(&cfg.machine).ok().map(std::sync::Arc::new),
+            kinematics,
+            wse_kinematics,
             tcp: None,
             follow_machine: None,
             plane: None,

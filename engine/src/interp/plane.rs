@@ -60,12 +60,17 @@ impl State {
     /// system again, the machine stays where it is.
     pub(super) fn end_plane(&mut self) {
         let machine = self.machine_position();
+        let programmed = self.pos;
         self.plane = None;
         self.definition = Definition::default();
         self.modes[16] = 690;
         self.follow_machine = None;
         self.pos = self.machine_to_program(&machine);
         self.sync_programmed();
+        // Under G54.4 with tool direction compensation the current point is the tip in the
+        // WSCS again, and the rotary coordinates stay the programmed angles (nothing moves).
+        self.wse_moved_to(machine);
+        self.wse_keep_programmed_angles(&programmed);
     }
 
     /// The FCS point of the tool tip at machine position `machine`.
@@ -80,6 +85,11 @@ impl State {
         self.follow_machine = Some(machine);
         let frame = self.plane_frame(&kin, &fcs);
         self.pos = self.tip_in_plane(&kin, &frame, &machine);
+        // Under G54.4 with tool direction compensation the rotary coordinates are the angles
+        // whose error-free tool direction is the actual one seen from the WSCS (§2.13.4).
+        if let Some(angles) = self.wse_follows().then(|| self.wse_programmed_angles(&machine)).flatten() {
+            self.pos = angles;
+        }
         self.sync_programmed();
     }
 
@@ -105,8 +115,11 @@ impl State {
             };
             if let Some(fcs) = defined {
                 let machine = self.machine_position();
+                let programmed = self.pos;
                 self.plane = Some(fcs);
                 self.plane_moved_to(machine);
+                // Nothing moves: under G54.4 with RCM = 1 the programmed angles stay as they are.
+                self.wse_keep_programmed_angles(&programmed);
             }
         }
         Ok(owns_axes)
@@ -224,6 +237,11 @@ impl State {
     ) -> Result<(), AlarmId> {
         let kin = self.kin()?;
         let fcs = self.plane.expect("plane_motion in the plane");
+        // G54.4 with RCM = 1: the rotary axes at the compensated angles, along the way too; the
+        // current point keeps the programmed ones (as TCP type 1 and plain G54.4 moves).
+        let programmed = target;
+        let mut target = target;
+        self.wse_compensate(&kin, &mut target)?;
         let path = FollowPath {
             frame: self.plane_frame(&kin, &fcs),
             tool_length: self.active_tool_length(),
@@ -231,6 +249,7 @@ impl State {
             along: true,
         };
         self.follow_motion(&kin, kind, target, arc, path, out);
+        self.wse_keep_programmed_angles(&programmed);
         Ok(())
     }
 
@@ -252,6 +271,9 @@ impl State {
         let frame = self.plane_frame(&kin, &fcs);
         let machine = self.machine_position();
         let length = self.active_tool_length();
+        if code == 531 && self.wse_follows() {
+            return self.align_compensated(&kin, &fcs, &frame, out);
+        }
         let tool = frame.r * Vec3::z();
         let tip = kin.forward(&machine, length).tip;
         let candidates = kin.inverse(tip, tool, length, &machine[..kin.axes]);
@@ -301,6 +323,53 @@ impl State {
                 }
             }
         }
+        Ok(true)
+    }
+}
+
+impl State {
+    /// G53.1 inside G54.4 with tool direction compensation (RCM = 1, WSE-11, §2.3.6 note 5):
+    /// the programmed angles put the tool along the FCS +Z as the error-free workpiece carries
+    /// it (the FCS is defined in the WSCS), chosen by FANUC's cascade from the programmed angles
+    /// as they stand; the compensation then turns them as it turns any programmed angles (the
+    /// §2.14 rules at the end point), so the tool ends along the FCS +Z of the displaced
+    /// workpiece. X/Y/Z stay, the rotary axes move at rapid (the tip moves with the tool), and
+    /// the current point keeps the programmed angles.
+    fn align_compensated(
+        &mut self,
+        kin: &Shared<Kinematics>,
+        fcs: &Frame,
+        frame: &Frame,
+        out: &mut Vec<Canon>,
+    ) -> Result<bool, AlarmId> {
+        let machine = self.machine_position();
+        let off = self.offset_vector();
+        let ideal = self.wcs_on_table(kin, &self.at_rotary_zero(kin, &machine)).then(fcs);
+        let programmed_now: Pos = std::array::from_fn(|i| self.pos[i] + off[i]);
+        let candidates = kin.inverse(Vec3::zeros(), ideal.r * Vec3::z(), 0.0, &programmed_now[..kin.axes]);
+        let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
+        let choice = kin.select(&candidates, &programmed_now[..kin.axes], how)?;
+        let mut programmed = self.pos;
+        for j in kin.joints() {
+            if let Some(i) = j.index {
+                programmed[i] = choice.pos[i] - off[i];
+            }
+        }
+        let mut target = programmed;
+        self.wse_compensate(kin, &mut target)?;
+        // A rotary-only rapid in axis space: nothing to recompute along it.
+        self.wse_between = None;
+        let mut end = machine;
+        for j in kin.joints() {
+            if let Some(i) = j.index {
+                end[i] = target[i] + off[i];
+            }
+        }
+        let shown = self.tip_in_plane(kin, frame, &end);
+        let motion = self.motion(MotionKind::Rapid, shown, end, None, None);
+        self.emit(out, CanonKind::Motion(motion));
+        self.plane_moved_to(end);
+        self.wse_keep_programmed_angles(&programmed);
         Ok(true)
     }
 }

@@ -192,8 +192,20 @@ impl State {
     /// tip in the workpiece system; the block's move then removes the tool length at its end.
     pub(super) fn tcp_end(&mut self) {
         let (Some(t), Some(machine)) = (self.tcp.take(), self.follow_machine.take()) else { return };
+        let programmed = self.pos;
         let frame = self.frame_on_table(&t.kin, &machine);
         self.pos = self.tip_position(&t.kin, &frame, &machine, t.tool_length);
+        if self.wse_follows() {
+            // G54.4 with RCM = 1 goes on: the machine position stays beside the tip and the
+            // rotary coordinates are programmed angles, so the G49 block compensates them once:
+            // type 1's as programmed, type 2's (machine angles for a direction in Π, which
+            // holds the error) the angles whose error-free direction is the actual one.
+            self.follow_machine = Some(machine);
+            let angles = if t.code == 434 { Some(programmed) } else { self.wse_programmed_angles(&machine) };
+            if let Some(angles) = angles {
+                self.wse_keep_programmed_angles(&angles);
+            }
+        }
         self.sync_programmed();
     }
 

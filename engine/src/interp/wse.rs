@@ -58,7 +58,7 @@ impl State {
     /// One set's error as a frame, converted to table machine position 0.
     fn at_table_zero(&self, s: &ErrorSet, rotation: [f64; 3]) -> Frame {
         let e = wse::frame(s.shift, rotation);
-        match &self.kinematics {
+        match &self.wse_kinematics {
             Some(kin) if kin.joints().iter().any(|j| j.side == Side::Table && j.index.is_some()) => {
                 wse::at_table_zero(&e, &self.table_motion(kin, s.table))
             }
@@ -69,7 +69,7 @@ impl State {
     /// The table's motion from machine position 0 to `table` (table position 1 = the master
     /// or only table axis, 2 = the slave) as seen in the WCS: an ideal workpiece point's WCS
     /// coordinates at position 0 → its WCS coordinates with the table at `table`. Hypothetical
-    /// table axes count as 0 (WSE-25).
+    /// table axes count as 0 (WSE-25: `kin` is the compensation's mechanism).
     fn table_motion(&self, kin: &Kinematics, table: [f64; 2]) -> Frame {
         let zero: Pos = [0.0; MAX_AXES];
         let mut turned = zero;
@@ -119,7 +119,7 @@ impl State {
     /// from the WSCS (PS0438 when there are none). When the tool is singular both as it stands
     /// and as the error turns it, the absolute coordinates stay (WSE-09, TV-WSE-27).
     fn wse_start(&mut self, machine: Pos) -> Result<(), AlarmId> {
-        let kin = self.kinematics.clone().ok_or(AlarmId::WseToolDirection)?;
+        let kin = self.wse_kinematics.clone().ok_or(AlarmId::WseToolDirection)?;
         let turn = self.wse_turn(&kin, &machine);
         let tool = kin.forward(&machine, 0.0).tool;
         let seen = turn.transpose() * tool;
@@ -127,14 +127,15 @@ impl State {
             self.follow_machine = Some(machine);
             return Ok(());
         }
-        self.wse_programmed_angles(&kin, &machine).ok_or(AlarmId::WseToolDirection)?;
+        self.wse_programmed_angles(&machine).ok_or(AlarmId::WseToolDirection)?;
         self.wse_moved_to(machine);
         Ok(())
     }
 
     /// The angles (less the work offsets) whose error-free tool direction is the actual one at
     /// `machine` seen from the WSCS (§2.13.4), chosen as FANUC chooses rotary solutions.
-    fn wse_programmed_angles(&self, kin: &Kinematics, machine: &Pos) -> Option<Pos> {
+    pub(super) fn wse_programmed_angles(&self, machine: &Pos) -> Option<Pos> {
+        let kin = self.wse_kinematics.as_deref()?;
         let seen = self.wse_turn(kin, machine).transpose() * kin.forward(machine, 0.0).tool;
         let candidates = kin.inverse(Vec3::zeros(), seen, 0.0, &machine[..kin.axes]);
         let how = Selection { dialect: self.cfg.dialect, pri: self.cfg.machine.five_axis.second_axis_first, p: 0 };
@@ -292,7 +293,7 @@ impl State {
         let frame = self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine));
         self.pos = self.tip_position(&kin, &frame, &machine, self.active_tool_length());
         self.follow_machine = Some(machine);
-        if let Some(angles) = self.wse_programmed_angles(&kin, &machine) {
+        if let Some(angles) = self.wse_programmed_angles(&machine) {
             self.wse_keep_programmed_angles(&angles);
         }
         self.sync_programmed();
@@ -389,8 +390,20 @@ impl State {
             m
         };
         let (start, end) = (programmed(&self.xf.programmed), programmed(target));
-        let angles = self.wse_angles(kin, &from, &start, &end)?;
-        let turn = self.wse_turn(kin, &from);
+        // The directions as the compensation sees them (hypothetical table axes at 0°, WSE-25).
+        let seen = self.wse_kinematics.clone().unwrap_or_else(|| kin.clone());
+        let angles = self.wse_angles(&seen, &from, &start, &end)?;
+        let turn = self.wse_turn(&seen, &from);
+        // Along the way the motion works in the machine's table frame: the same turn seen from
+        // there (the motion checks that its path meets these end points, else it turns the axes
+        // in proportion: a hypothetical table master at an angle makes the frames differ by a
+        // rotation that changes with the slave).
+        let turn = if Shared::ptr_eq(&seen, kin) {
+            turn
+        } else {
+            let c = kin.table_frame(&from).r.transpose() * seen.table_frame(&from).r;
+            c * turn * c.transpose()
+        };
         self.wse_between = Some(crate::canon::Compensation { turn, from: start, to: end });
         for j in kin.joints() {
             if let Some(i) = j.index {
@@ -564,4 +577,24 @@ fn singular_tool_angle(kin: &Kinematics, tool_side: usize, from: &Pos) -> Option
 /// compensation after the range limitation).
 fn nearest(basic: f64, current: f64) -> f64 {
     current + (crate::angle::basic(basic - current + 180.0) - 180.0)
+}
+
+/// The mechanism G54.4's tool direction compensation computes with: the machine's, except that
+/// a hypothetical table axis is at 0° whatever its fixed angle (WSE-25, "compensated with that
+/// axis at 0°"). The same `Arc` when no hypothetical table axis has a fixed angle.
+pub(super) fn compensation_kinematics(
+    m: &crate::machine::MachineConfig,
+    kin: Option<&Shared<Kinematics>>,
+) -> Option<Shared<Kinematics>> {
+    let kin = kin?;
+    if !kin.table.iter().any(|j| j.index.is_none() && j.fixed != 0.0) {
+        return Some(kin.clone());
+    }
+    let mut at_zero = m.clone();
+    for link in at_zero.rotary.iter_mut().filter(|l| l.side == Side::Table) {
+        if link.fixed.is_some() && !m.axes.iter().any(|a| a.name == link.axis && a.kind == AxisKind::Rotary) {
+            link.fixed = Some(0.0);
+        }
+    }
+    Kinematics::new(&at_zero).ok().map(Shared::new)
 }

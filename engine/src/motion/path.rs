@@ -267,15 +267,32 @@ impl Posture {
 /// `Follow::at` turns them (the inverse solution nearest the proportional angles) without a
 /// jump to another branch of the inverse or leaving the directions the machine reaches.
 fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
-    const STEPS: usize = 64;
     /// More than this in 1/64 of the block is a jump to the other branch.
     const JUMP_DEG: f64 = 30.0;
+    steps_within(kin, from, to, direction, JUMP_DEG)
+}
+
+/// As `continuous`, and steady enough to plan (G54.4's recomputed direction): no 1/64 of the
+/// block turns an axis more than four even shares of the largest rotary travel. Leaving an
+/// exactly singular posture the workpiece-side axis has to stand at the new direction's azimuth
+/// at once (seed §2.3.11: it "may make a large motion"); a step like that falls between the
+/// segment's limit samples, so such a block turns its axes in proportion instead.
+fn steady(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
+    let travel = kin.joints().iter().filter_map(|j| j.index).map(|i| (to[i] - from[i]).abs()).fold(0.0, f64::max);
+    steps_within(kin, from, to, direction, (4.0 * travel / STEPS as f64 + 1e-6).min(30.0))
+}
+
+const STEPS: usize = 64;
+
+/// Whether the inverse solution nearest the proportional angles for `direction(u)` exists at
+/// every 1/64 of the block and no rotary axis moves more than `limit_deg` between two of them.
+fn steps_within(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3, limit_deg: f64) -> bool {
     let mut prev = *from;
     for k in 1..=STEPS {
         let u = k as f64 / STEPS as f64;
         let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
         let Some(a) = kin.angles_near(direction(u), &q) else { return false };
-        let jump = kin.joints().iter().filter_map(|j| j.index).any(|i| (a[i] - prev[i]).abs() > JUMP_DEG);
+        let jump = kin.joints().iter().filter_map(|j| j.index).any(|i| (a[i] - prev[i]).abs() > limit_deg);
         if jump {
             return false;
         }
@@ -627,7 +644,7 @@ impl Segment {
             .compensation
             .filter(|c| posture.is_none() && on(c, 0.0) && on(c, 1.0))
             .filter(|c| ![0.25, 0.5, 0.75].iter().all(|&u| on(c, u)))
-            .filter(|c| continuous(&kin, from, &m.machine, |u| compensated(&kin, c, u)));
+            .filter(|c| steady(&kin, from, &m.machine, |u| compensated(&kin, c, u)));
         let follow = Follow {
             kin: kin.clone(),
             tool_length: tip.tool_length,
