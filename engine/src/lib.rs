@@ -14,6 +14,7 @@ pub mod kin;
 pub mod lang;
 pub mod machine;
 pub mod motion;
+pub mod report;
 pub mod run;
 pub mod twp;
 pub mod vendor;

@@ -2,6 +2,7 @@
 pub mod api;
 pub mod cli;
 pub mod db;
+pub mod fleet;
 pub mod host;
 pub mod machine_file;
 pub mod serve;

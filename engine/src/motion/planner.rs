@@ -46,6 +46,18 @@ pub struct Cursor {
     start: f64,
 }
 
+impl Cursor {
+    /// The index in the run of the segment the last point was on.
+    pub fn index(&self) -> usize {
+        self.k
+    }
+
+    /// The run's distance at that segment's start.
+    pub fn start(&self) -> f64 {
+        self.start
+    }
+}
+
 impl Planned {
     /// The point `t` seconds into the run (`cursor` starts at default and only moves forward,
     /// so `t` must not decrease between calls with the same cursor).
