@@ -110,6 +110,8 @@ pub struct Recorder {
     tool_lengths: VecDeque<f64>,
     first: u64,
     last: Option<(f64, Pos)>,
+    /// Where the last executed segment ended: the motion after the last sample counts too.
+    last_end: Option<Pos>,
     deviation: TipDeviation,
     /// Chord of the segment being sampled: (segment `from`, `to`) and its tip end points.
     chord: Option<(Pos, Pos, Vec3, Vec3)>,
@@ -170,6 +172,7 @@ impl Recorder {
             tool_lengths: VecDeque::new(),
             first: 0,
             last: None,
+            last_end: None,
             deviation: TipDeviation { max: 0.0, t: None, line: None, n: None, tip: None },
             chord: None,
         }
@@ -183,7 +186,18 @@ impl Recorder {
     }
 
     /// The report, with the run's status and cycle time.
-    pub fn finish(self, result: &RunResult) -> Report {
+    pub fn finish(mut self, result: &RunResult) -> Report {
+        // The way from the last sample to where the machine stopped.
+        if let (Some((t0, p0)), Some(end)) = (self.last, self.last_end) {
+            let dt = (result.cycle_time_s - t0).max(0.0);
+            for (i, a) in self.axes.iter_mut().enumerate() {
+                let d = (end[i] - p0[i]).abs();
+                if d > 0.0 {
+                    a.travel += d;
+                    a.moving_s += dt;
+                }
+            }
+        }
         let axes = self
             .axes
             .iter()
@@ -313,6 +327,7 @@ impl Observer for Recorder {
         }
         self.position(&segment.from);
         self.position(&segment.to);
+        self.last_end = Some(segment.to);
         for (i, a) in self.axes.iter_mut().enumerate() {
             let d = segment.to[i] - segment.from[i];
             if a.rotary && d != 0.0 {
