@@ -60,6 +60,8 @@ pub struct AppState {
     writer: Arc<std::sync::Mutex<Option<tokio::task::JoinHandle<()>>>>,
     /// The bearer token the API requires, if any.
     token: Option<Arc<str>>,
+    /// The fleet runs under way and their progress.
+    pub fleet_runs: api::fleet::Runs,
 }
 
 impl AppState {
@@ -83,6 +85,7 @@ impl AppState {
         let writer = tokio::spawn(db::write_records(db.clone(), incoming));
         let host = Host::new(workers, records);
         let settings = db::controller_settings(&db).await?;
+        db::interrupt_fleet_runs(&db).await?;
         for row in db::list_controllers(&db).await? {
             let machine = match crate::machine_file::parse(&row.machine_json) {
                 Ok(m) => m,
@@ -126,6 +129,7 @@ impl AppState {
             closing: Arc::new(closing),
             writer: Arc::new(std::sync::Mutex::new(Some(writer))),
             token: None,
+            fleet_runs: Default::default(),
         })
     }
 
@@ -372,6 +376,10 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::history::runs,
         api::stream::stream,
         api::stream::fleet,
+        api::fleet::create,
+        api::fleet::list,
+        api::fleet::get,
+        api::fleet::stream,
     ),
     components(schemas(
         Health,
@@ -384,6 +392,11 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::stream::Snapshot,
         api::stream::Fleet,
         api::stream::FleetEntry,
+        api::fleet::FleetRequest,
+        api::fleet::FleetRunInfo,
+        api::fleet::FleetRun,
+        api::fleet::Progress,
+        api::fleet::MachineProgress,
     )),
     tags(
         (name = "service", description = "Service health and documentation"),
@@ -396,6 +409,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         (name = "parameters", description = "Vendor parameters"),
         (name = "history", description = "Alarm and run history"),
         (name = "stream", description = "Live websocket stream"),
+        (name = "fleet", description = "Fleet runs: one program on many machines"),
     )
 )]
 pub struct ApiDoc;

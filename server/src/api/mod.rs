@@ -4,6 +4,7 @@
 //! and never across an `.await`.
 
 pub mod controllers;
+pub mod fleet;
 pub mod history;
 pub mod manual;
 pub mod modal;
@@ -61,6 +62,9 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/runs", get(history::runs))
         .route("/controllers/{id}/stream", get(stream::stream))
         .route("/stream", get(stream::fleet))
+        .route("/fleet/runs", post(fleet::create).get(fleet::list))
+        .route("/fleet/runs/{id}", get(fleet::get))
+        .route("/fleet/runs/{id}/stream", get(fleet::stream))
 }
 
 /// A controller as `GET /controllers/{id}` shows it.
