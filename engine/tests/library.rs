@@ -107,7 +107,7 @@ fn every_library_machine_round_trips_fk_and_ik() {
                         AxisKind::Linear => d.abs() < 1e-6,
                         AxisKind::Rotary => {
                             let r = d.rem_euclid(360.0);
-                            r < 1e-6 || r > 360.0 - 1e-6
+                            !(1e-6..=360.0 - 1e-6).contains(&r)
                         }
                     }
                 });
