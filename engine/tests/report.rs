@@ -28,7 +28,7 @@ fn report_on_machine(src: &str, m: MachineConfig) -> Report {
     run_with_report(&mut interp, &opts()).1
 }
 
-fn axis<'a>(r: &'a Report, name: char) -> &'a fivex_engine::report::AxisReport {
+fn axis(r: &Report, name: char) -> &fivex_engine::report::AxisReport {
     r.axes.iter().find(|a| a.name == name).unwrap()
 }
 
