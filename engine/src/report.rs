@@ -100,6 +100,9 @@ pub fn run_with_report(interp: &mut Interpreter, opts: &RunOptions) -> (RunResul
 /// The observer that builds a [`Report`].
 pub struct Recorder {
     kin: Option<Kinematics>,
+    /// The line of the axis whose posture is singular (`Kinematics::singularity`), fixed in
+    /// the table frame: the angle to it comes from each sample's tool direction.
+    singular_axis: Option<Vec3>,
     axes: Vec<AxisAcc>,
     near_deg: Option<f64>,
     near_s: f64,
@@ -157,7 +160,10 @@ impl Recorder {
                 }
             })
             .collect();
-        let has_singular = kin.as_ref().is_some_and(|k| k.singularity(&[0.0; crate::machine::MAX_AXES]).is_some());
+        let singular_axis = kin.as_ref().and_then(|k| {
+            let axis = k.singularity(&[0.0; crate::machine::MAX_AXES])?.axis;
+            k.joints().iter().find(|j| j.name == axis).map(|j| j.direction)
+        });
         let f = &machine.five_axis;
         // The machine's own singular angles: No.19738 (type 2 end-point change) first, then
         // No.11204 (G54.4); a machine with neither uses the default.
@@ -165,7 +171,8 @@ impl Recorder {
         Recorder {
             kin,
             axes,
-            near_deg: has_singular.then(|| near.unwrap_or(DEFAULT_NEAR_SINGULAR_DEG)),
+            near_deg: singular_axis.map(|_| near.unwrap_or(DEFAULT_NEAR_SINGULAR_DEG)),
+            singular_axis,
             near_s: 0.0,
             min_singular: None,
             period_s,
@@ -242,6 +249,14 @@ impl Recorder {
         }
     }
 
+    /// The angle between the sample's tool direction and the singular axis, degrees (as
+    /// `Kinematics::singularity` computes it).
+    fn singular_angle(&self, sample: &Sample) -> Option<f64> {
+        let axis = self.singular_axis?;
+        let tool = Vec3::new(sample.tool[0], sample.tool[1], sample.tool[2]);
+        Some(tool.dot(&axis).abs().min(1.0).acos().to_degrees())
+    }
+
     /// The tip deviation at a sample on `seg`, `s` along it, with the axes at `machine`.
     fn deviation(&mut self, machine: &Pos, seg: &Segment, s: f64, number: u64) -> Option<(f64, Vec3)> {
         let kin = self.kin.as_ref()?;
@@ -293,16 +308,14 @@ impl Observer for Recorder {
                     }
                 }
             }
-            if let (Some(k), Some(near)) = (&self.kin, self.near_deg) {
-                if let Some(s) = k.singularity(machine) {
-                    self.min_singular = Some(self.min_singular.map_or(s.angle, |m: f64| m.min(s.angle)));
-                    if s.angle <= near {
-                        self.near_s += dt;
-                    }
+            if let (Some(angle), Some(near)) = (self.singular_angle(sample), self.near_deg) {
+                self.min_singular = Some(self.min_singular.map_or(angle, |m: f64| m.min(angle)));
+                if angle <= near {
+                    self.near_s += dt;
                 }
             }
-        } else if let (Some(k), Some(_)) = (&self.kin, self.near_deg) {
-            self.min_singular = k.singularity(machine).map(|s| s.angle);
+        } else {
+            self.min_singular = self.singular_angle(sample);
         }
         self.last = Some((sample.t, *machine));
         self.position(machine);
