@@ -15,6 +15,7 @@ pub mod lang;
 pub mod machine;
 pub mod motion;
 pub mod preview;
+pub mod report;
 pub mod run;
 pub mod twp;
 pub mod vendor;

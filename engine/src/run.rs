@@ -60,8 +60,37 @@ impl RunResult {
     }
 }
 
+/// What a run report (`crate::report`) watches besides the samples: the segment each sample is
+/// on and each segment's motion. `run` passes [`NoObserver`], whose empty methods compile away,
+/// so a plain run pays nothing for it.
+pub trait Observer {
+    /// A motion was queued for planning as `segment` (in execution order).
+    fn queued(&mut self, _motion: &crate::canon::Motion, _segment: &Segment) {}
+    /// One interpolation period: the sample, the machine position before rollover display,
+    /// and the segment it is on with the distance along it and its number in queue order
+    /// (from 0; `None` while standing still).
+    fn sample(&mut self, _sample: &Sample, _machine: &Pos, _on: Option<(&Segment, f64, u64)>) {}
+    /// A segment was executed to its end.
+    fn executed(&mut self, _segment: &Segment) {}
+}
+
+/// The observer that watches nothing.
+pub struct NoObserver;
+
+impl Observer for NoObserver {}
+
 /// Run the program to its end, calling `on_sample` for every interpolation period.
-pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMut(&Sample)) -> RunResult {
+pub fn run(interp: &mut Interpreter, opts: &RunOptions, on_sample: impl FnMut(&Sample)) -> RunResult {
+    run_observed(interp, opts, on_sample, &mut NoObserver)
+}
+
+/// [`run`] with an observer; the result is the same bit for bit whatever the observer does.
+pub fn run_observed(
+    interp: &mut Interpreter,
+    opts: &RunOptions,
+    mut on_sample: impl FnMut(&Sample),
+    observer: &mut impl Observer,
+) -> RunResult {
     let machine = interp.config().machine.clone();
     let mut exec = Executor {
         // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
@@ -78,6 +107,8 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
         opts: *opts,
         messages: Vec::new(),
         over_budget: None,
+        executed: 0,
+        observer,
     };
     let tracing = opts.period_s > 0.0;
     let mut out = Vec::with_capacity(16);
@@ -136,7 +167,10 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, mut on_sample: impl FnMu
     }
 }
 
-struct Executor {
+struct Executor<'o, O: Observer> {
+    observer: &'o mut O,
+    /// Segments executed to their end so far.
+    executed: u64,
     kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     machine_config: MachineConfig,
     axes: AxisLimits,
@@ -156,7 +190,7 @@ struct Executor {
     over_budget: Option<(u32, Option<u32>)>,
 }
 
-impl Executor {
+impl<O: Observer> Executor<'_, O> {
     fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
@@ -175,6 +209,7 @@ impl Executor {
                     return Err(id);
                 }
                 (self.queued_machine, self.queued_work) = (m.machine, m.target);
+                self.observer.queued(m, &seg);
                 self.planner.push(seg);
                 self.drain(false, tracing, on_sample);
             }
@@ -202,7 +237,7 @@ impl Executor {
         if tracing {
             let (m0, w0) = (self.machine, self.workpiece);
             let (line, n) = (c.line, c.n);
-            self.sample_until(end, &mut |_| (m0, w0, 0.0, line, n), on_sample);
+            self.sample_until(end, &mut |_| (m0, w0, 0.0, line, n, None), on_sample);
         }
         if end < self.t + seconds {
             self.t = end;
@@ -228,12 +263,15 @@ impl Executor {
         // The run stops where the time budget runs out, even inside a segment.
         let t1 = (t0 + p.profile.duration()).min(self.opts.max_time_s.max(t0));
         let mut cursor = motion::Cursor::default();
+        let done = self.executed;
         if tracing {
             self.sample_until(
                 t1,
                 &mut |dt| {
-                    let p = p.point(dt, &mut cursor);
-                    (p.machine, p.work, p.feed, p.line, p.n)
+                    let at = p.point(dt, &mut cursor);
+                    let on = &p.segments[cursor.index()];
+                    let number = done + cursor.index() as u64;
+                    (at.machine, at.work, at.feed, at.line, at.n, Some((on, at.s - cursor.start(), number)))
                 },
                 on_sample,
             );
@@ -244,6 +282,10 @@ impl Executor {
             self.over_budget = Some((at.line, at.n));
             return;
         }
+        for seg in &p.segments {
+            self.observer.executed(seg);
+        }
+        self.executed += p.segments.len() as u64;
         self.t = t1;
         self.machine = last.to;
         self.workpiece = last.work_to;
@@ -257,11 +299,12 @@ impl Executor {
     }
 
     /// Samples from the current time to `t1`; `at(dt)` gives machine and programming position,
-    /// tip feed (mm/min), line and sequence number `dt` seconds after the current time.
-    fn sample_until(
+    /// tip feed (mm/min), line and sequence number `dt` seconds after the current time, and the
+    /// segment there with the distance along it.
+    fn sample_until<'s>(
         &mut self,
         t1: f64,
-        at: &mut impl FnMut(f64) -> (Pos, Pos, f64, u32, Option<u32>),
+        at: &mut impl FnMut(f64) -> (Pos, Pos, f64, u32, Option<u32>, Option<(&'s Segment, f64, u64)>),
         on_sample: &mut impl FnMut(&Sample),
     ) {
         let t0 = self.t;
@@ -270,10 +313,12 @@ impl Executor {
             if ts > t1 || (ts > t0 && t1 == t0) {
                 return;
             }
-            let (machine, work, feed, line, n) = at((ts - t0).max(0.0));
-            let tool = self.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&machine, 0.0).tool.into());
-            let machine = self.machine_config.shown(&machine);
-            on_sample(&Sample { t: ts, line, n, machine, tip: [work[0], work[1], work[2]], tool, feed });
+            let (raw, work, feed, line, n, on) = at((ts - t0).max(0.0));
+            let tool = self.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&raw, 0.0).tool.into());
+            let machine = self.machine_config.shown(&raw);
+            let sample = Sample { t: ts, line, n, machine, tip: [work[0], work[1], work[2]], tool, feed };
+            on_sample(&sample);
+            self.observer.sample(&sample, &raw, on);
             self.next_sample += 1;
         }
     }

@@ -520,3 +520,97 @@ pub async fn update_machine(
         .await?;
     Ok(())
 }
+
+/// One row of `fleet_runs` (the program, request and results as stored JSON text).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FleetRunRow {
+    pub id: String,
+    pub created_at: String,
+    pub finished_at: Option<String>,
+    /// `running`, `done` or `interrupted`.
+    pub status: String,
+    pub machines: u32,
+    pub completed: u32,
+    pub alarms: u32,
+    pub program: String,
+    pub request_json: String,
+    pub results_json: Option<String>,
+}
+
+/// A fleet run that has started.
+pub async fn insert_fleet_run(pool: &SqlitePool, row: &FleetRunRow) -> Result<(), sqlx::Error> {
+    sqlx::query(
+        "INSERT INTO fleet_runs (id, created_at, status, machines, program, request_json) VALUES (?, ?, ?, ?, ?, ?)",
+    )
+    .bind(&row.id)
+    .bind(&row.created_at)
+    .bind(&row.status)
+    .bind(row.machines as i64)
+    .bind(&row.program)
+    .bind(&row.request_json)
+    .execute(pool)
+    .await?;
+    Ok(())
+}
+
+/// A fleet run that is done, with its results.
+pub async fn finish_fleet_run(
+    pool: &SqlitePool,
+    id: &str,
+    finished_at: &str,
+    completed: u32,
+    alarms: u32,
+    results_json: &str,
+) -> Result<(), sqlx::Error> {
+    sqlx::query(
+        "UPDATE fleet_runs SET status = 'done', finished_at = ?, completed = ?, alarms = ?, results_json = ? \
+         WHERE id = ?",
+    )
+    .bind(finished_at)
+    .bind(completed as i64)
+    .bind(alarms as i64)
+    .bind(results_json)
+    .bind(id)
+    .execute(pool)
+    .await?;
+    Ok(())
+}
+
+/// Runs left `running` by a service that stopped become `interrupted`.
+pub async fn interrupt_fleet_runs(pool: &SqlitePool) -> Result<(), sqlx::Error> {
+    sqlx::query("UPDATE fleet_runs SET status = 'interrupted' WHERE status = 'running'").execute(pool).await?;
+    Ok(())
+}
+
+fn fleet_run_row(r: &sqlx::sqlite::SqliteRow, full: bool) -> Result<FleetRunRow, sqlx::Error> {
+    Ok(FleetRunRow {
+        id: r.try_get("id")?,
+        created_at: r.try_get("created_at")?,
+        finished_at: r.try_get("finished_at")?,
+        status: r.try_get("status")?,
+        machines: r.try_get::<i64, _>("machines")? as u32,
+        completed: r.try_get::<i64, _>("completed")? as u32,
+        alarms: r.try_get::<i64, _>("alarms")? as u32,
+        program: if full { r.try_get("program")? } else { String::new() },
+        request_json: if full { r.try_get("request_json")? } else { String::new() },
+        results_json: if full { r.try_get("results_json")? } else { None },
+    })
+}
+
+/// Fleet runs, newest first, at most `limit` (without program, request and results).
+pub async fn fleet_runs(pool: &SqlitePool, limit: u32) -> Result<Vec<FleetRunRow>, sqlx::Error> {
+    let rows = sqlx::query(
+        "SELECT id, created_at, finished_at, status, machines, completed, alarms FROM fleet_runs \
+         ORDER BY rowid DESC LIMIT ?",
+    )
+    .bind(limit as i64)
+    .fetch_all(pool)
+    .await?;
+    rows.iter().map(|r| fleet_run_row(r, false)).collect()
+}
+
+/// One fleet run with everything stored.
+pub async fn fleet_run(pool: &SqlitePool, id: &str) -> Result<Option<FleetRunRow>, sqlx::Error> {
+    let row = sqlx::query("SELECT * FROM fleet_runs WHERE id = ?").bind(id).fetch_optional(pool).await?;
+    row.as_ref().map(|r| fleet_run_row(r, true)).transpose()
+}

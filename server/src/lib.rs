@@ -3,6 +3,7 @@ pub mod api;
 pub mod assets;
 pub mod cli;
 pub mod db;
+pub mod fleet;
 pub mod host;
 pub mod machine_file;
 pub mod serve;

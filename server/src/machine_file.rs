@@ -18,6 +18,13 @@ pub fn parse(text: &str) -> Result<MachineConfig, String> {
     Ok(m)
 }
 
+/// The dialect a parameter list is written in (`None` for a model file or bad JSON).
+pub fn dialect_of(text: &str) -> Option<fivex_engine::Dialect> {
+    let value: serde_json::Value = serde_json::from_str(text).ok()?;
+    value.get("parameters")?;
+    serde_json::from_value(value.get("dialect")?.clone()).ok()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

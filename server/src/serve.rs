@@ -57,6 +57,8 @@ pub struct AppState {
     writer: Arc<std::sync::Mutex<Option<tokio::task::JoinHandle<()>>>>,
     /// The bearer token the API requires, if any.
     token: Option<Arc<str>>,
+    /// The fleet runs under way and their progress.
+    pub fleet_runs: api::fleet::Runs,
 }
 
 /// A stored controller as the host runs it, in reset state with what it keeps (`None`, logged,
@@ -122,6 +124,7 @@ impl AppState {
         let writer = tokio::spawn(db::write_records(db.clone(), incoming));
         let host = Host::new(workers, records);
         let settings = db::controller_settings(&db).await?;
+        db::interrupt_fleet_runs(&db).await?;
         for row in db::list_controllers(&db).await? {
             if let Some(hosted) = load_controller(&db, row, &settings).await? {
                 host.add(Arc::new(hosted));
@@ -135,6 +138,7 @@ impl AppState {
             closing: Arc::new(closing),
             writer: Arc::new(std::sync::Mutex::new(Some(writer))),
             token: None,
+            fleet_runs: Default::default(),
         })
     }
 
@@ -383,6 +387,12 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::history::runs,
         api::stream::stream,
         api::stream::fleet,
+        api::fleet::create,
+        api::fleet::list,
+        api::fleet::get,
+        api::fleet::stream,
+        api::fleet::library,
+        api::fleet::library_one,
     ),
     components(schemas(
         Health,
@@ -396,6 +406,11 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::stream::Snapshot,
         api::stream::Fleet,
         api::stream::FleetEntry,
+        api::fleet::FleetRequest,
+        api::fleet::FleetRunInfo,
+        api::fleet::FleetRun,
+        api::fleet::Progress,
+        api::fleet::MachineProgress,
     )),
     tags(
         (name = "service", description = "Service health and documentation"),
@@ -408,6 +423,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         (name = "parameters", description = "Vendor parameters"),
         (name = "history", description = "Alarm and run history"),
         (name = "stream", description = "Live websocket stream"),
+        (name = "fleet", description = "Fleet runs: one program on many machines"),
     )
 )]
 pub struct ApiDoc;

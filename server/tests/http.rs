@@ -213,7 +213,16 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
     .unwrap();
     assert_eq!(
         tables,
-        ["alarm_history", "controllers", "programs", "run_history", "tool_offsets", "variables", "work_offsets"]
+        [
+            "alarm_history",
+            "controllers",
+            "fleet_runs",
+            "programs",
+            "run_history",
+            "tool_offsets",
+            "variables",
+            "work_offsets"
+        ]
     );
     db::insert_controller(&app.state.db, &controller("c1", "kept", "2025-01-01T00:00:00Z")).await.unwrap();
     app.state.db.close().await;

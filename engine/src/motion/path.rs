@@ -899,6 +899,14 @@ impl Segment {
         (machine, work)
     }
 
+    /// The programmed tool tip (table frame) at distance `s` along a path the axes follow
+    /// through the kinematics, with the tool length it is for; `None` on other segments.
+    pub fn programmed_tip(&self, s: f64) -> Option<(crate::kin::Vec3, f64)> {
+        let f = self.follow.as_ref()?;
+        let u = if self.len > 0.0 { (s / self.len).clamp(0.0, 1.0) } else { 1.0 };
+        Some((f.tip(u), f.tool_length))
+    }
+
     /// What is left of the segment from distance `s` on (a feed hold resumes from there).
     pub fn tail(&self, s: f64) -> Segment {
         let s = s.clamp(0.0, self.len);

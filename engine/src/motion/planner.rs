@@ -47,9 +47,14 @@ pub struct Cursor {
 }
 
 impl Cursor {
-    /// Index of the segment the last sample was in.
+    /// The index in the run of the segment the last point was on.
     pub fn index(&self) -> usize {
         self.k
+    }
+
+    /// The run's distance at that segment's start.
+    pub fn start(&self) -> f64 {
+        self.start
     }
 }
 

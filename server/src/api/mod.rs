@@ -4,6 +4,7 @@
 //! and never across an `.await`.
 
 pub mod controllers;
+pub mod fleet;
 pub mod history;
 pub mod manual;
 pub mod modal;
@@ -68,6 +69,11 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/clone", post(controllers::clone))
         .route("/controllers/{id}/machine", get(controllers::machine))
         .route("/controllers/{id}/programs/{number}/path", get(programs::tool_path))
+        .route("/fleet/runs", post(fleet::create).get(fleet::list))
+        .route("/fleet/runs/{id}", get(fleet::get))
+        .route("/fleet/runs/{id}/stream", get(fleet::stream))
+        .route("/fleet/library", get(fleet::library))
+        .route("/fleet/library/{name}", get(fleet::library_one))
 }
 
 /// A controller as `GET /controllers/{id}` shows it.

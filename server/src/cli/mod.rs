@@ -3,7 +3,8 @@
 //!
 //! Exit status: 0 completed, 1 ended in an alarm (or diagnostics for `check`), 2 usage or IO.
 
-mod json;
+mod fleet;
+pub(crate) mod json;
 mod kin;
 mod machine;
 
@@ -33,6 +34,8 @@ enum Command {
     Interp(InterpArgs),
     /// Check a program without running it; one line per diagnostic.
     Check(CheckArgs),
+    /// Run a program on many machines at once; a JSON array of run summaries (docs/fleet.md).
+    Fleet(fleet::FleetArgs),
     /// Kinematics of a machine: `kin fk` and `kin ik`.
     #[command(subcommand)]
     Kin(kin::KinCommand),
@@ -151,6 +154,7 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
         Command::Kin(c) => kin::run(c),
         Command::Machine(a) => machine::run(a),
         Command::Check(a) => cmd_check(a),
+        Command::Fleet(a) => fleet::run(a),
         Command::Serve(a) => {
             let options = crate::serve::ServeOptions { db: a.db, addr: a.addr, token: a.token, workers: a.workers };
             crate::serve::run_with(options).map_err(Fail)?;

@@ -636,6 +636,100 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/fleet/library": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The machine library, in name order: what `"library"` in a fleet run names. */
+        get: operations["library"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/fleet/library/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** One library machine. */
+        get: operations["library_one"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/fleet/runs": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Fleet runs, newest first. */
+        get: operations["list_fleet_runs"];
+        put?: never;
+        /**
+         * Runs a program on many machines at once; with `wait` (the default) the answer is the
+         *     `fivex fleet` array, one `fivex run` summary per machine with `"machine"` and `"dialect"`
+         *     (and `"report"` when asked for).
+         */
+        post: operations["create_fleet_run"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/fleet/runs/{id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** One fleet run: what was asked and, once done, the fleet array. */
+        get: operations["get_fleet_run"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/fleet/runs/{id}/stream": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * A fleet run's progress over a websocket: a `progress` message at once and whenever a
+         *     machine starts or finishes; the last one has `"finished": true`, then the socket closes. A
+         *     run that is already over sends its final state and closes.
+         */
+        get: operations["fleet_run_stream"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/presets": {
         parameters: {
             query?: never;
@@ -891,6 +985,56 @@ export interface components {
             program?: number | null;
             run_state: string;
         };
+        /**
+         * @description `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
+         *     `library`, `controllers`).
+         */
+        FleetRequest: {
+            /** @description Existing controllers by id: their machine, dialect and tool and work offsets. */
+            controllers?: string[];
+            /** @description Dialect of presets, models and library models: `fanuc` (default) or `syntec`. */
+            dialect?: string | null;
+            /** @description Machines of the library by name (`docs/fleet.md`); `["*"]`: all of them. */
+            library?: string[];
+            /** @description Machine documents: models or vendor parameter lists (a list runs in its own dialect). */
+            machines?: Record<string, never>[];
+            /** @description Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`). */
+            presets?: string[];
+            /** @description The NC program text (CONTRACTS.md "NC program files"). */
+            program: string;
+            /** @description Add each machine's run report (`"report"`). */
+            report?: boolean;
+            /**
+             * @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}`; default: 1–99 at 100 / 5 mm
+             *     (a controller keeps its own unless this is given).
+             */
+            tools?: Record<string, never> | null;
+        };
+        /** @description A stored fleet run with its request and results. */
+        FleetRun: components["schemas"]["FleetRunInfo"] & {
+            /** @description The request as it was posted. */
+            request: Record<string, never>;
+            /** @description The fleet array (null while running). */
+            results?: Record<string, never>[] | null;
+        };
+        /** @description A stored fleet run in a list. */
+        FleetRunInfo: {
+            /** Format: int32 */
+            alarms: number;
+            /**
+             * Format: int32
+             * @description Machines that completed the program, and that ended in an alarm.
+             */
+            completed: number;
+            /** @description RFC 3339 UTC. */
+            created_at: string;
+            finished_at?: string | null;
+            id: string;
+            /** Format: int32 */
+            machines: number;
+            /** @description `running`, `done` or `interrupted` (the service stopped during the run). */
+            status: string;
+        };
         /** @description `{"type": "position", …}`: where the machine is. */
         Frame: {
             /**
@@ -990,6 +1134,36 @@ export interface components {
              */
             axis: string;
             positive: boolean;
+        };
+        /** @description A machine of the library (`machines/`, `docs/fleet.md`). */
+        LibraryMachine: {
+            /** @description The axis letters in order. */
+            axes: string[];
+            /**
+             * @description `fanuc` or `syntec` for a vendor parameter list (it runs in that dialect); null for a
+             *     model file (it runs in the fleet's dialect).
+             */
+            dialect?: string | null;
+            /**
+             * @description The mechanism, as a controller's status names it.
+             * @example table-table
+             */
+            kind: string;
+            /** @description The file as it is: what `POST /controllers` takes as `machine`. */
+            machine: Record<string, never>;
+            /** @example trunnion-ac-120 */
+            name: string;
+        };
+        /** @description One machine's state in a progress message. */
+        MachineProgress: {
+            /**
+             * Format: double
+             * @description Simulated seconds, once done.
+             */
+            cycle_time_s?: number | null;
+            machine: string;
+            /** @description `queued`, `running`, `completed` or `alarm`. */
+            state: string;
         };
         /** @description What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`. */
         ManualMove: {
@@ -1218,6 +1392,21 @@ export interface components {
             number: number;
             /** @description Size of the NC text, bytes. */
             size: number;
+        };
+        /** @description `{"type": "progress", …}`: where a fleet run is. */
+        Progress: {
+            /** @description Machines done. */
+            done: number;
+            /** @description The run is over (the last message before the socket closes). */
+            finished: boolean;
+            id: string;
+            machines: components["schemas"]["MachineProgress"][];
+            total: number;
+            /**
+             * @description Always `"progress"`.
+             * @example progress
+             */
+            type: string;
         };
         /** @description A finished program run. */
         Run: {
@@ -3098,6 +3287,202 @@ export interface operations {
             };
             /** @description No such offset or axis, or not a finite value */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    library: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Every library machine */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LibraryMachine"][];
+                };
+            };
+        };
+    };
+    library_one: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Library machine name */
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The machine */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LibraryMachine"];
+                };
+            };
+            /** @description No such library machine */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    list_fleet_runs: {
+        parameters: {
+            query?: {
+                /** @description At most this many runs, newest first (default 100, at most 10000). */
+                limit?: number;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Fleet runs */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["FleetRunInfo"][];
+                };
+            };
+        };
+    };
+    create_fleet_run: {
+        parameters: {
+            query?: {
+                /**
+                 * @description `true` (default): answer with the fleet array when the run is done; `false`: answer 202
+                 *     at once with the run's id (follow it on `/fleet/runs/{id}/stream`).
+                 */
+                wait?: boolean;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["FleetRequest"];
+            };
+        };
+        responses: {
+            /** @description The fleet array (the run's id in `Location` and `X-Fleet-Run`) */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": Record<string, never>[];
+                };
+            };
+            /** @description `wait=false`: started; follow it on the stream */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["FleetRunInfo"];
+                };
+            };
+            /** @description Not JSON */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_fleet_run: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Fleet run id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The run */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["FleetRun"];
+                };
+            };
+            /** @description No such run */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    fleet_run_stream: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Fleet run id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Websocket of progress messages */
+            101: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Progress"];
+                };
+            };
+            /** @description No such run */
+            404: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -1,0 +1,494 @@
+//! Fleet runs (`docs/api.md` "Fleet runs", `docs/fleet.md`): `POST /fleet/runs` runs one program
+//! on many machines — presets, machine documents, library machines, existing controllers — on
+//! a blocking thread with one worker per core, so the service keeps answering; the run is kept
+//! in SQLite (`GET /fleet/runs`, `GET /fleet/runs/{id}`), and its progress goes out over
+//! `GET /fleet/runs/{id}/stream` (a websocket).
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex};
+
+use axum::extract::rejection::{JsonRejection, PathRejection, QueryRejection};
+use axum::extract::ws::{CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
+use axum::extract::{Json, Path, Query, State};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use fivex_engine::Dialect;
+use futures_util::{SinkExt, StreamExt};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use tokio::sync::watch;
+use utoipa::{IntoParams, ToSchema};
+
+use super::{body, path};
+use crate::db::{self, FleetRunRow};
+use crate::fleet::{self, Entry, Event, Options, Tool};
+use crate::host::now_rfc3339;
+use crate::serve::{ApiError, AppState, ErrorBody};
+
+/// The most machines one fleet run may have.
+pub const MAX_MACHINES: usize = 200;
+
+/// The progress of the fleet runs under way, by id (a run leaves when it is stored as done).
+#[derive(Clone, Debug, Default)]
+pub struct Runs(Arc<Mutex<HashMap<String, watch::Receiver<Progress>>>>);
+
+impl Runs {
+    fn get(&self, id: &str) -> Option<watch::Receiver<Progress>> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).get(id).cloned()
+    }
+
+    fn put(&self, id: &str, rx: watch::Receiver<Progress>) {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).insert(id.to_string(), rx);
+    }
+
+    fn remove(&self, id: &str) {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).remove(id);
+    }
+}
+
+/// `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
+/// `library`, `controllers`).
+#[derive(Debug, Clone, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FleetRequest {
+    /// The NC program text (CONTRACTS.md "NC program files").
+    pub program: String,
+    /// Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
+    #[serde(default)]
+    pub presets: Vec<String>,
+    /// Machine documents: models or vendor parameter lists (a list runs in its own dialect).
+    #[serde(default)]
+    #[schema(value_type = Vec<Object>)]
+    pub machines: Vec<Value>,
+    /// Machines of the library by name (`docs/fleet.md`); `["*"]`: all of them.
+    #[serde(default)]
+    pub library: Vec<String>,
+    /// Existing controllers by id: their machine, dialect and tool and work offsets.
+    #[serde(default)]
+    pub controllers: Vec<String>,
+    /// Dialect of presets, models and library models: `fanuc` (default) or `syntec`.
+    pub dialect: Option<String>,
+    /// Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}`; default: 1–99 at 100 / 5 mm
+    /// (a controller keeps its own unless this is given).
+    #[schema(value_type = Option<Object>)]
+    pub tools: Option<BTreeMap<u32, Tool>>,
+    /// Add each machine's run report (`"report"`).
+    #[serde(default)]
+    pub report: bool,
+}
+
+#[derive(Debug, Clone, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct CreateOptions {
+    /// `true` (default): answer with the fleet array when the run is done; `false`: answer 202
+    /// at once with the run's id (follow it on `/fleet/runs/{id}/stream`).
+    pub wait: Option<bool>,
+}
+
+/// One machine's state in a progress message.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct MachineProgress {
+    pub machine: String,
+    /// `queued`, `running`, `completed` or `alarm`.
+    pub state: &'static str,
+    /// Simulated seconds, once done.
+    pub cycle_time_s: Option<f64>,
+}
+
+/// `{"type": "progress", …}`: where a fleet run is.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct Progress {
+    /// Always `"progress"`.
+    #[serde(rename = "type")]
+    #[schema(example = "progress")]
+    pub kind: &'static str,
+    pub id: String,
+    pub total: usize,
+    /// Machines done.
+    pub done: usize,
+    /// The run is over (the last message before the socket closes).
+    pub finished: bool,
+    pub machines: Vec<MachineProgress>,
+}
+
+/// A stored fleet run in a list.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct FleetRunInfo {
+    pub id: String,
+    /// RFC 3339 UTC.
+    pub created_at: String,
+    pub finished_at: Option<String>,
+    /// `running`, `done` or `interrupted` (the service stopped during the run).
+    pub status: String,
+    pub machines: u32,
+    /// Machines that completed the program, and that ended in an alarm.
+    pub completed: u32,
+    pub alarms: u32,
+}
+
+/// A stored fleet run with its request and results.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct FleetRun {
+    #[serde(flatten)]
+    pub info: FleetRunInfo,
+    /// The request as it was posted.
+    #[schema(value_type = Object)]
+    pub request: Value,
+    /// The fleet array (null while running).
+    #[schema(value_type = Option<Vec<Object>>)]
+    pub results: Option<Value>,
+}
+
+impl FleetRunInfo {
+    fn of(r: &FleetRunRow) -> FleetRunInfo {
+        FleetRunInfo {
+            id: r.id.clone(),
+            created_at: r.created_at.clone(),
+            finished_at: r.finished_at.clone(),
+            status: r.status.clone(),
+            machines: r.machines,
+            completed: r.completed,
+            alarms: r.alarms,
+        }
+    }
+}
+
+fn bad(why: impl Into<String>) -> ApiError {
+    ApiError::Unprocessable(why.into(), None)
+}
+
+/// The machines of a request, in order: presets, machine documents, library, controllers.
+fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<Entry>, ApiError> {
+    let mut out = Vec::new();
+    for name in &r.presets {
+        out.push(fleet::preset(name, dialect).map_err(bad)?);
+    }
+    for (i, m) in r.machines.iter().enumerate() {
+        out.push(fleet::machine_file(&m.to_string(), dialect).map_err(|e| bad(format!("machines[{i}]: {e}")))?);
+    }
+    for name in &r.library {
+        if name == "*" {
+            out.extend(fleet::whole_library(dialect).map_err(bad)?);
+        } else {
+            out.push(fleet::library(name, dialect).map_err(bad)?);
+        }
+    }
+    for id in &r.controllers {
+        let hosted = state.host.get(id).ok_or_else(|| bad(format!("no controller {id}")))?;
+        let station = hosted.station();
+        out.push(Entry {
+            name: hosted.name(),
+            machine: (*station.machine).clone(),
+            dialect: hosted.dialect,
+            offsets: Some(Box::new(station.controller.interpreter().state.offsets.clone())),
+        });
+    }
+    Ok(out)
+}
+
+/// Runs a program on many machines at once; with `wait` (the default) the answer is the
+/// `fivex fleet` array, one `fivex run` summary per machine with `"machine"` and `"dialect"`
+/// (and `"report"` when asked for).
+#[utoipa::path(
+    post,
+    operation_id = "create_fleet_run",
+    path = "/api/v1/fleet/runs",
+    tag = "fleet",
+    request_body = FleetRequest,
+    params(CreateOptions),
+    responses(
+        (status = 200, description = "The fleet array (the run's id in `Location` and `X-Fleet-Run`)", body = [Object]),
+        (status = 202, description = "`wait=false`: started; follow it on the stream", body = FleetRunInfo),
+        (status = 400, description = "Not JSON", body = ErrorBody),
+        (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program", body = ErrorBody),
+    )
+)]
+pub async fn create(
+    State(state): State<AppState>,
+    options: Result<Query<CreateOptions>, QueryRejection>,
+    request: Result<Json<FleetRequest>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let wait = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.wait.unwrap_or(true);
+    let request = body(request)?;
+    if request.program.trim().is_empty() {
+        return Err(bad("program is empty"));
+    }
+    let dialect: Dialect = match &request.dialect {
+        Some(d) => d.parse().map_err(|e: String| bad(e))?,
+        None => Dialect::Fanuc,
+    };
+    let entries = entries(&state, &request, dialect)?;
+    if entries.is_empty() {
+        return Err(bad("no machines: give presets, machines, library or controllers"));
+    }
+    if entries.len() > MAX_MACHINES {
+        return Err(bad(format!("{} machines: at most {MAX_MACHINES} in one run", entries.len())));
+    }
+    if let Some(tools) = &request.tools {
+        fleet::check_tools(tools).map_err(bad)?;
+    }
+    let row = FleetRunRow {
+        id: uuid::Uuid::new_v4().simple().to_string(),
+        created_at: now_rfc3339(),
+        finished_at: None,
+        status: "running".into(),
+        machines: entries.len() as u32,
+        completed: 0,
+        alarms: 0,
+        program: request.program.clone(),
+        request_json: serde_json::to_string(&request).unwrap_or_else(|_| "{}".into()),
+        results_json: None,
+    };
+    db::insert_fleet_run(&state.db, &row).await?;
+    let id = row.id.clone();
+    let progress = Progress {
+        kind: "progress",
+        id: id.clone(),
+        total: entries.len(),
+        done: 0,
+        finished: false,
+        machines: entries
+            .iter()
+            .map(|e| MachineProgress { machine: e.name.clone(), state: "queued", cycle_time_s: None })
+            .collect(),
+    };
+    let (tx, rx) = watch::channel(progress);
+    state.fleet_runs.put(&id, rx);
+    let opts = Options { tools: request.tools.clone(), report: request.report, ..Options::default() };
+    let program = request.program;
+    let task_state = state.clone();
+    let task_id = id.clone();
+    let task = tokio::spawn(async move {
+        let tx = Arc::new(tx);
+        let events = tx.clone();
+        let results = tokio::task::spawn_blocking(move || {
+            let on_event = |e: Event| {
+                events.send_modify(|p| match e {
+                    Event::Started { index, .. } => p.machines[index].state = "running",
+                    Event::Finished { index, status, cycle_time_s, .. } => {
+                        p.machines[index].state = status;
+                        p.machines[index].cycle_time_s = Some(cycle_time_s);
+                        p.done += 1;
+                    }
+                })
+            };
+            fleet::run_fleet(&program, &entries, &opts, &on_event)
+        })
+        .await
+        .unwrap_or_default();
+        let completed = results.iter().filter(|r| r["status"] == "completed").count() as u32;
+        let alarms = results.len() as u32 - completed;
+        let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
+        if let Err(e) = db::finish_fleet_run(&task_state.db, &task_id, &now_rfc3339(), completed, alarms, &json).await {
+            tracing::error!(id = %task_id, error = %e, "fleet run not stored");
+        }
+        tx.send_modify(|p| p.finished = true);
+        task_state.fleet_runs.remove(&task_id);
+        tracing::info!(id = %task_id, machines = results.len(), completed, alarms, "fleet run done");
+        results
+    });
+    let location = format!("{}/fleet/runs/{id}", crate::serve::API_PREFIX);
+    let mut headers = HeaderMap::new();
+    if let Ok(v) = HeaderValue::from_str(&location) {
+        headers.insert(header::LOCATION, v);
+    }
+    if let Ok(v) = HeaderValue::from_str(&id) {
+        headers.insert("x-fleet-run", v);
+    }
+    if !wait {
+        let info = FleetRunInfo::of(&row);
+        return Ok((StatusCode::ACCEPTED, headers, Json(info)).into_response());
+    }
+    let results = task.await.map_err(|e| ApiError::Unavailable(format!("fleet run failed: {e}")))?;
+    Ok((StatusCode::OK, headers, Json(results)).into_response())
+}
+
+#[derive(Debug, Clone, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct Limit {
+    /// At most this many runs, newest first (default 100, at most 10000).
+    pub limit: Option<u32>,
+}
+
+/// Fleet runs, newest first.
+#[utoipa::path(
+    get,
+    operation_id = "list_fleet_runs",
+    path = "/api/v1/fleet/runs",
+    tag = "fleet",
+    params(Limit),
+    responses((status = 200, description = "Fleet runs", body = [FleetRunInfo]))
+)]
+pub async fn list(
+    State(state): State<AppState>,
+    q: Result<Query<Limit>, QueryRejection>,
+) -> Result<Json<Vec<FleetRunInfo>>, ApiError> {
+    let q = q.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+    let rows = db::fleet_runs(&state.db, q.limit.unwrap_or(100).clamp(1, 10_000)).await?;
+    Ok(Json(rows.iter().map(FleetRunInfo::of).collect()))
+}
+
+/// One fleet run: what was asked and, once done, the fleet array.
+#[utoipa::path(
+    get,
+    operation_id = "get_fleet_run",
+    path = "/api/v1/fleet/runs/{id}",
+    tag = "fleet",
+    params(("id" = String, Path, description = "Fleet run id")),
+    responses((status = 200, description = "The run", body = FleetRun), (status = 404, description = "No such run", body = ErrorBody))
+)]
+pub async fn get(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<FleetRun>, ApiError> {
+    let id = path(id)?;
+    let row = db::fleet_run(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no fleet run {id}")))?;
+    Ok(Json(FleetRun {
+        info: FleetRunInfo::of(&row),
+        request: serde_json::from_str(&row.request_json).unwrap_or(Value::Null),
+        results: row.results_json.as_deref().and_then(|t| serde_json::from_str(t).ok()),
+    }))
+}
+
+/// A fleet run's progress over a websocket: a `progress` message at once and whenever a
+/// machine starts or finishes; the last one has `"finished": true`, then the socket closes. A
+/// run that is already over sends its final state and closes.
+#[utoipa::path(
+    get,
+    operation_id = "fleet_run_stream",
+    path = "/api/v1/fleet/runs/{id}/stream",
+    tag = "fleet",
+    params(("id" = String, Path, description = "Fleet run id")),
+    responses(
+        (status = 101, description = "Websocket of progress messages", body = Progress),
+        (status = 404, description = "No such run", body = ErrorBody),
+    )
+)]
+pub async fn stream(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+    upgrade: WebSocketUpgrade,
+) -> Result<Response, ApiError> {
+    let id = path(id)?;
+    if let Some(rx) = state.fleet_runs.get(&id) {
+        return Ok(upgrade.on_upgrade(move |socket| session(socket, state, Some(rx), None)));
+    }
+    let row = db::fleet_run(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no fleet run {id}")))?;
+    let last = stored_progress(&row);
+    Ok(upgrade.on_upgrade(move |socket| session(socket, state, None, Some(last))))
+}
+
+/// The final progress of a stored run.
+fn stored_progress(row: &FleetRunRow) -> Progress {
+    let results: Vec<Value> =
+        row.results_json.as_deref().and_then(|t| serde_json::from_str(t).ok()).unwrap_or_default();
+    Progress {
+        kind: "progress",
+        id: row.id.clone(),
+        total: row.machines as usize,
+        done: results.len(),
+        finished: true,
+        machines: results
+            .iter()
+            .map(|r| MachineProgress {
+                machine: r["machine"].as_str().unwrap_or_default().to_string(),
+                state: if r["status"] == "completed" { "completed" } else { "alarm" },
+                cycle_time_s: r["cycle_time_s"].as_f64(),
+            })
+            .collect(),
+    }
+}
+
+async fn session(socket: WebSocket, state: AppState, rx: Option<watch::Receiver<Progress>>, last: Option<Progress>) {
+    let (mut tx, _) = socket.split();
+    let text = |p: &Progress| Ws::Text(Utf8Bytes::from(serde_json::to_string(p).unwrap_or_default()));
+    let mut closing = state.closing();
+    if let Some(mut rx) = rx {
+        loop {
+            let p = rx.borrow_and_update().clone();
+            if tx.send(text(&p)).await.is_err() {
+                return;
+            }
+            if p.finished {
+                break;
+            }
+            tokio::select! {
+                changed = rx.changed() => if changed.is_err() {
+                    // The run's sender is gone: send its final state if not sent yet.
+                    let p = rx.borrow().clone();
+                    if p.finished {
+                        let _ = tx.send(text(&p)).await;
+                    }
+                    break;
+                },
+                _ = closing.changed() => break,
+            }
+        }
+    } else if let Some(p) = last {
+        if tx.send(text(&p)).await.is_err() {
+            return;
+        }
+    }
+    let _ = tx.send(Ws::Close(Some(CloseFrame { code: 1000, reason: Utf8Bytes::from_static("fleet run over") }))).await;
+}
+
+/// A machine of the library (`machines/`, `docs/fleet.md`).
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct LibraryMachine {
+    #[schema(example = "trunnion-ac-120")]
+    pub name: String,
+    /// The mechanism, as a controller's status names it.
+    #[schema(example = "table-table")]
+    pub kind: String,
+    /// `fanuc` or `syntec` for a vendor parameter list (it runs in that dialect); null for a
+    /// model file (it runs in the fleet's dialect).
+    pub dialect: Option<String>,
+    /// The axis letters in order.
+    pub axes: Vec<String>,
+    /// The file as it is: what `POST /controllers` takes as `machine`.
+    #[schema(value_type = Object)]
+    pub machine: Value,
+}
+
+fn library_machine(name: &str, text: &str) -> Option<LibraryMachine> {
+    let machine = crate::machine_file::parse(text).ok()?;
+    Some(LibraryMachine {
+        name: name.to_string(),
+        kind: super::machine_kind(&machine),
+        dialect: crate::machine_file::dialect_of(text).map(|d| d.name().to_string()),
+        axes: machine.axes.iter().map(|a| a.name.to_string()).collect(),
+        machine: serde_json::from_str(text).ok()?,
+    })
+}
+
+/// The machine library, in name order: what `"library"` in a fleet run names.
+#[utoipa::path(
+    get,
+    path = "/api/v1/fleet/library",
+    tag = "fleet",
+    responses((status = 200, description = "Every library machine", body = [LibraryMachine]))
+)]
+pub async fn library() -> Json<Vec<LibraryMachine>> {
+    Json(crate::fleet::LIBRARY.iter().filter_map(|(name, text)| library_machine(name, text)).collect())
+}
+
+/// One library machine.
+#[utoipa::path(
+    get,
+    path = "/api/v1/fleet/library/{name}",
+    tag = "fleet",
+    params(("name" = String, Path, description = "Library machine name")),
+    responses(
+        (status = 200, description = "The machine", body = LibraryMachine),
+        (status = 404, description = "No such library machine", body = ErrorBody),
+    )
+)]
+pub async fn library_one(name: Result<Path<String>, PathRejection>) -> Result<Json<LibraryMachine>, ApiError> {
+    let name = super::path(name)?;
+    crate::fleet::LIBRARY
+        .iter()
+        .find(|(n, _)| *n == name)
+        .and_then(|(n, text)| library_machine(n, text))
+        .map(Json)
+        .ok_or_else(|| ApiError::NotFound(format!("no library machine '{name}'")))
+}

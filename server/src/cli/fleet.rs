@@ -1,0 +1,116 @@
+//! `fivex fleet`: one program on many machines (presets, machine files, the library), all cores
+//! at once; stdout is the JSON array of `fivex run` summaries, each with `"machine"` (and
+//! `"dialect"`, and with `--report` the run report); progress goes to stderr.
+
+use super::{read_program, Fail};
+use crate::fleet::{self, Entry, Event, Options, Tool};
+use clap::Args;
+use fivex_engine::Dialect;
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+#[derive(Args, Debug)]
+pub struct FleetArgs {
+    program: PathBuf,
+    /// A built-in preset (repeat for more machines).
+    #[arg(long = "preset")]
+    presets: Vec<String>,
+    /// A machine file, model or parameter list (repeat for more; a parameter list runs in its
+    /// own dialect).
+    #[arg(long = "machine")]
+    machines: Vec<PathBuf>,
+    /// Machines of the library (`machines/`): `--library` alone for all of them, or
+    /// `--library NAME,NAME`.
+    #[arg(long, num_args = 0.., value_delimiter = ',')]
+    library: Option<Vec<String>>,
+    /// Dialect of presets and model files.
+    #[arg(long, default_value = "fanuc")]
+    dialect: Dialect,
+    /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}.
+    #[arg(long)]
+    tools: Option<PathBuf>,
+    /// Machines simulated at once (default: one per core).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Add each machine's run report ("report": travel, speeds, singular time, limits,
+    /// unwinds, tip deviation).
+    #[arg(long)]
+    report: bool,
+    /// Sampling period of the report, milliseconds.
+    #[arg(long, default_value_t = 1.0)]
+    report_period_ms: f64,
+    /// No progress lines on stderr.
+    #[arg(long, short)]
+    quiet: bool,
+    /// Stop a machine with alarm FX0001 after this many executed blocks.
+    #[arg(long, default_value_t = 50_000_000)]
+    max_blocks: u64,
+    /// Stop a machine with alarm FX0002 after this many simulated seconds.
+    #[arg(long, default_value_t = 1.0e6)]
+    max_time_s: f64,
+}
+
+pub fn run(a: FleetArgs) -> Result<i32, Fail> {
+    let text = read_program(&a.program)?;
+    let mut entries: Vec<Entry> = Vec::new();
+    for name in &a.presets {
+        entries.push(fleet::preset(name, a.dialect).map_err(Fail)?);
+    }
+    for path in &a.machines {
+        let file = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        entries.push(fleet::machine_file(&file, a.dialect).map_err(|e| Fail(format!("{}: {e}", path.display())))?);
+    }
+    match &a.library {
+        Some(names) if names.is_empty() => entries.extend(fleet::whole_library(a.dialect).map_err(Fail)?),
+        Some(names) => {
+            for name in names {
+                entries.push(fleet::library(name, a.dialect).map_err(Fail)?);
+            }
+        }
+        None => {}
+    }
+    if entries.is_empty() {
+        return Err(Fail("no machines: give --preset, --machine or --library".into()));
+    }
+    if !(a.report_period_ms > 0.0 && a.report_period_ms.is_finite()) {
+        return Err(Fail("--report-period-ms must be a positive number".into()));
+    }
+    let tools: Option<BTreeMap<u32, Tool>> = match &a.tools {
+        Some(path) => {
+            let t = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+            let tools = serde_json::from_str(&t).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+            fleet::check_tools(&tools).map_err(Fail)?;
+            Some(tools)
+        }
+        None => None,
+    };
+    let opts = Options {
+        tools,
+        report: a.report,
+        report_period_s: a.report_period_ms / 1000.0,
+        jobs: a.jobs.unwrap_or_else(fleet::default_jobs).max(1),
+        max_blocks: a.max_blocks,
+        max_time_s: a.max_time_s,
+    };
+    let total = entries.len();
+    let done = AtomicUsize::new(0);
+    let quiet = a.quiet;
+    let progress = |e: Event| {
+        if quiet {
+            return;
+        }
+        if let Event::Finished { machine, status, cycle_time_s, .. } = e {
+            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            eprintln!("fleet: [{k}/{total}] {machine}: {status}, {cycle_time_s:.3} s");
+        }
+    };
+    let results = fleet::run_fleet(&text, &entries, &opts, &progress);
+    let status = if results.iter().all(|r| r["status"] == "completed") { 0 } else { 1 };
+    let json = serde_json::to_string_pretty(&results)?;
+    match writeln!(std::io::stdout().lock(), "{json}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Fail(format!("stdout: {e}"))),
+        _ => Ok(status),
+    }
+}

@@ -1,0 +1,193 @@
+//! A fleet run: one NC program on many machines at once (`fivex fleet`, `POST /fleet/runs`,
+//! `docs/fleet.md`). Each machine runs exactly as `fivex run` runs it alone — same interpreter
+//! settings, same tool offsets, same run options — so its summary is the same bit for bit; the
+//! machines are shared out over worker threads, each taking the next machine when it is done.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use fivex_engine::interp::{Config, Interpreter, Offsets};
+use fivex_engine::lang::parse_file;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions};
+use fivex_engine::Dialect;
+use serde_json::{Map, Value};
+
+/// The library of machine files shipped in the repository (`machines/`), embedded at build time
+/// so that the service and the CLI have it wherever they run.
+pub const LIBRARY: &[(&str, &str)] = &include!(concat!(env!("OUT_DIR"), "/library.rs"));
+
+/// One machine of a fleet.
+#[derive(Debug, Clone)]
+pub struct Entry {
+    /// The name in the results (`"machine"`).
+    pub name: String,
+    pub machine: MachineConfig,
+    pub dialect: Dialect,
+    /// The tool and work offsets to start with (an existing controller's); `None`: the run's
+    /// tool table.
+    pub offsets: Option<Box<Offsets>>,
+}
+
+/// One tool offset of a `--tools` table: length and radius geometry.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize)]
+pub struct Tool {
+    pub length: f64,
+    pub radius: f64,
+}
+
+/// How the fleet runs.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Tool offsets by number; `None`: every number 1–99 at 100 mm length and 5 mm radius.
+    pub tools: Option<BTreeMap<u32, Tool>>,
+    /// Add each machine's run report (`"report"`), sampled every `report_period_s`.
+    pub report: bool,
+    pub report_period_s: f64,
+    /// Worker threads (at least 1).
+    pub jobs: usize,
+    pub max_blocks: u64,
+    pub max_time_s: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            tools: None,
+            report: false,
+            report_period_s: 0.001,
+            jobs: default_jobs(),
+            max_blocks: 50_000_000,
+            max_time_s: 1.0e6,
+        }
+    }
+}
+
+/// One worker per core.
+pub fn default_jobs() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// What happens while a fleet runs, in the order it happens on each worker.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    Started { index: usize, machine: String },
+    Finished { index: usize, machine: String, status: &'static str, cycle_time_s: f64 },
+}
+
+/// A machine by preset name, library name, or machine file text.
+pub fn preset(name: &str, dialect: Dialect) -> Result<Entry, String> {
+    let machine = MachineConfig::preset(name)
+        .ok_or_else(|| format!("unknown preset '{name}' (presets: {})", MachineConfig::PRESETS.join(", ")))?;
+    Ok(Entry { name: name.to_string(), machine, dialect, offsets: None })
+}
+
+/// A machine file (model or parameter list; a parameter list runs in its own dialect, a model
+/// in `dialect`).
+pub fn machine_file(text: &str, dialect: Dialect) -> Result<Entry, String> {
+    let machine = crate::machine_file::parse(text)?;
+    let dialect = crate::machine_file::dialect_of(text).unwrap_or(dialect);
+    Ok(Entry { name: machine.name.clone(), machine, dialect, offsets: None })
+}
+
+/// A machine of the library (`machines/NAME.json`).
+pub fn library(name: &str, dialect: Dialect) -> Result<Entry, String> {
+    let text = LIBRARY
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, t)| *t)
+        .ok_or_else(|| format!("no library machine '{name}' (see docs/fleet.md)"))?;
+    machine_file(text, dialect).map_err(|e| format!("library machine {name}: {e}"))
+}
+
+/// Every machine of the library, in name order.
+pub fn whole_library(dialect: Dialect) -> Result<Vec<Entry>, String> {
+    LIBRARY.iter().map(|(name, _)| library(name, dialect)).collect()
+}
+
+/// Set the tool offsets as `fivex run --tools` does (without a table: the defaults).
+pub fn equip(interp: &mut Interpreter, tools: Option<&BTreeMap<u32, Tool>>) -> Result<(), String> {
+    match tools {
+        None => crate::tools::equip_defaults(&mut interp.state.offsets),
+        Some(tools) => {
+            for (n, t) in tools {
+                let slot = interp
+                    .state
+                    .offsets
+                    .tool_mut(*n)
+                    .ok_or_else(|| format!("tool offset number {n} is out of range 1–999"))?;
+                slot.h_geometry = t.length;
+                slot.d_geometry = t.radius;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Check a tool table before a run (so a bad number is a usage error, not a failed machine).
+pub fn check_tools(tools: &BTreeMap<u32, Tool>) -> Result<(), String> {
+    let mut probe = Offsets::default();
+    for n in tools.keys() {
+        probe.tool_mut(*n).ok_or_else(|| format!("tool offset number {n} is out of range 1–999"))?;
+    }
+    Ok(())
+}
+
+/// One machine's result: `{"machine": NAME, "dialect": …, <the fivex run summary>, "report"}`.
+pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> Value {
+    let mut cfg = Config::new(entry.machine.clone(), entry.dialect);
+    cfg.max_blocks = opts.max_blocks;
+    let mut interp = Interpreter::new(parse_file(text), cfg);
+    match &entry.offsets {
+        Some(offsets) if opts.tools.is_none() => interp.state.offsets = (**offsets).clone(),
+        _ => {
+            // Checked before the fleet starts (`check_tools`).
+            let _ = equip(&mut interp, opts.tools.as_ref());
+        }
+    }
+    let axes: Vec<char> = entry.machine.axes.iter().map(|a| a.name).collect();
+    let mut run_opts = RunOptions { period_s: 0.0, max_time_s: opts.max_time_s, ..RunOptions::default() };
+    let (result, report) = if opts.report {
+        run_opts.period_s = opts.report_period_s;
+        let (r, report) = fivex_engine::report::run_with_report(&mut interp, &run_opts);
+        (r, Some(report))
+    } else {
+        (run(&mut interp, &run_opts, |_| {}), None)
+    };
+    let mut out = Map::new();
+    out.insert("machine".into(), Value::String(entry.name.clone()));
+    out.insert("dialect".into(), Value::String(entry.dialect.name().to_string()));
+    if let Value::Object(summary) = crate::cli::json::summary(&result, &axes) {
+        out.extend(summary);
+    }
+    if let Some(report) = report {
+        out.insert("report".into(), serde_json::to_value(&report).unwrap_or(Value::Null));
+    }
+    Value::Object(out)
+}
+
+/// Run the program on every machine, `opts.jobs` at a time; the results in `entries` order.
+pub fn run_fleet(text: &str, entries: &[Entry], opts: &Options, progress: &(dyn Fn(Event) + Sync)) -> Vec<Value> {
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Value>>> = Mutex::new(vec![None; entries.len()]);
+    let jobs = opts.jobs.clamp(1, entries.len().max(1));
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| loop {
+                let index = next.fetch_add(1, Ordering::Relaxed);
+                let Some(entry) = entries.get(index) else { return };
+                progress(Event::Started { index, machine: entry.name.clone() });
+                let value = run_one(text, entry, opts);
+                progress(Event::Finished {
+                    index,
+                    machine: entry.name.clone(),
+                    status: if value["status"] == "completed" { "completed" } else { "alarm" },
+                    cycle_time_s: value["cycle_time_s"].as_f64().unwrap_or(0.0),
+                });
+                results.lock().unwrap_or_else(|e| e.into_inner())[index] = Some(value);
+            });
+        }
+    });
+    results.into_inner().unwrap_or_else(|e| e.into_inner()).into_iter().map(|v| v.unwrap_or(Value::Null)).collect()
+}

@@ -1,0 +1,244 @@
+//! Fleet runs over HTTP (`POST/GET /api/v1/fleet/runs`, `GET /fleet/runs/{id}`, the progress
+//! websocket; `docs/api.md`): the answer is the `fivex fleet` array, equal to `fivex run` per
+//! machine; runs are stored; bad requests are 4xx JSON with the reason.
+
+mod common;
+
+use std::path::PathBuf;
+
+use axum::http::{Method, StatusCode};
+use common::*;
+use fivex_server::db::{self, FleetRunRow};
+use futures_util::StreamExt;
+use serde_json::{json, Value};
+
+fn workspace_file(relative: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join(relative)
+}
+
+fn program(name: &str) -> String {
+    std::fs::read_to_string(workspace_file(&format!("tests/fleet/{name}"))).unwrap()
+}
+
+const PRESETS: [&str; 5] = ["mill3", "head-bc", "table-ac", "table-bc", "mixed-bc"];
+
+/// `fivex run PROGRAM --preset P --dialect D` through the real binary.
+fn run_alone(name: &str, preset: &str, dialect: &str) -> Value {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fivex"))
+        .args(["run", workspace_file(&format!("tests/fleet/{name}")).to_str().unwrap(), "--preset", preset])
+        .args(["--dialect", dialect])
+        .output()
+        .unwrap();
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn without_fleet_fields(v: &Value) -> Value {
+    let mut v = v.clone();
+    for k in ["machine", "dialect", "report"] {
+        v.as_object_mut().unwrap().remove(k);
+    }
+    v
+}
+
+#[tokio::test]
+async fn a_fleet_run_answers_the_fleet_array_equal_to_fivex_run_and_is_stored() {
+    let app = spawn_app().await;
+    let request = json!({"program": program("everywhere.nc"), "presets": PRESETS, "dialect": "syntec"});
+    let reply = app.post("/api/v1/fleet/runs", &request).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let items = reply.json();
+    let items = items.as_array().unwrap();
+    assert_eq!(items.len(), 5);
+    for (item, preset) in items.iter().zip(PRESETS) {
+        assert_eq!(item["machine"], preset);
+        assert_eq!(item["dialect"], "syntec");
+        assert_eq!(item["status"], "completed");
+        assert_eq!(without_fleet_fields(item), run_alone("everywhere.nc", preset, "syntec"), "{preset}");
+    }
+    // The history lists it; the run itself gives the request and the same array back.
+    let list = app.get("/api/v1/fleet/runs").await.json();
+    assert_eq!(list.as_array().unwrap().len(), 1);
+    let info = &list[0];
+    assert_eq!((info["status"].as_str(), info["machines"].as_u64()), (Some("done"), Some(5)));
+    assert_eq!((info["completed"].as_u64(), info["alarms"].as_u64()), (Some(5), Some(0)));
+    let id = info["id"].as_str().unwrap();
+    let run = app.get(&format!("/api/v1/fleet/runs/{id}")).await;
+    assert_eq!(run.status, StatusCode::OK);
+    let run = run.json();
+    assert_eq!(run["results"], Value::Array(items.clone()));
+    assert_eq!(run["request"]["presets"], json!(PRESETS));
+    assert_eq!(run["request"]["program"], request["program"]);
+    assert!(run["finished_at"].is_string());
+    assert_eq!(app.get("/api/v1/fleet/runs/nope").await.status, StatusCode::NOT_FOUND);
+}
+
+#[tokio::test]
+async fn machines_from_documents_the_library_and_controllers_with_reports() {
+    let app = spawn_app().await;
+    let created =
+        app.post("/api/v1/controllers", &json!({"name": "cell 4", "preset": "table-ac", "dialect": "fanuc"})).await;
+    assert_eq!(created.status, StatusCode::CREATED);
+    let controller = created.json()["id"].as_str().unwrap().to_string();
+    let document: Value =
+        serde_json::from_str(&std::fs::read_to_string(workspace_file("machines/cradle-bc-110.json")).unwrap()).unwrap();
+    let reply = app
+        .post(
+            "/api/v1/fleet/runs",
+            &json!({
+                "program": program("tilt.nc"),
+                "presets": ["mill3"],
+                "machines": [document],
+                "library": ["mixed-bc-200"],
+                "controllers": [controller],
+                "report": true,
+            }),
+        )
+        .await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let items = reply.json();
+    let names: Vec<&str> = items.as_array().unwrap().iter().map(|v| v["machine"].as_str().unwrap()).collect();
+    assert_eq!(names, ["mill3", "cradle-bc-110", "mixed-bc-200", "cell 4"]);
+    // No rotary axes for the tool vectors on mill3: no solution (PS5459).
+    assert_eq!(items[0]["status"], "alarm");
+    assert_eq!(items[0]["alarms"][0]["code"], "PS5459");
+    assert_eq!(items[0]["report"]["alarm"]["code"], "PS5459");
+    // A Syntec parameter list runs in Syntec.
+    assert_eq!(items[1]["dialect"], "syntec");
+    for item in &items.as_array().unwrap()[1..] {
+        assert_eq!(item["status"], "completed", "{item}");
+        assert!(item["report"]["tip_deviation"]["max"].as_f64().unwrap() < 1e-6);
+        assert_eq!(item["report"]["cycle_time_s"], item["cycle_time_s"]);
+    }
+    // The whole library.
+    let reply = app.post("/api/v1/fleet/runs", &json!({"program": program("everywhere.nc"), "library": ["*"]})).await;
+    assert_eq!(reply.status, StatusCode::OK);
+    assert!(reply.json().as_array().unwrap().len() >= 20);
+}
+
+#[tokio::test]
+async fn a_malformed_program_is_a_run_whose_machines_alarm() {
+    let app = spawn_app().await;
+    let reply = app.post("/api/v1/fleet/runs", &json!({"program": program("malformed.nc"), "presets": PRESETS})).await;
+    assert_eq!(reply.status, StatusCode::OK);
+    for item in reply.json().as_array().unwrap() {
+        assert_eq!((item["alarms"][0]["code"].as_str(), item["alarms"][0]["line"].as_u64()), (Some("PS0004"), Some(5)));
+    }
+    let info = &app.get("/api/v1/fleet/runs").await.json()[0];
+    assert_eq!((info["completed"].as_u64(), info["alarms"].as_u64()), (Some(0), Some(5)));
+}
+
+#[tokio::test]
+async fn bad_requests_are_4xx_json_with_the_reason() {
+    let app = spawn_app().await;
+    let nc = program("everywhere.nc");
+    for (body, status, reason) in [
+        (json!({"program": "  ", "presets": ["mill3"]}), StatusCode::UNPROCESSABLE_ENTITY, "empty"),
+        (json!({"program": nc}), StatusCode::UNPROCESSABLE_ENTITY, "no machines"),
+        (json!({"program": nc, "presets": ["nope"]}), StatusCode::UNPROCESSABLE_ENTITY, "unknown preset"),
+        (json!({"program": nc, "library": ["nope"]}), StatusCode::UNPROCESSABLE_ENTITY, "no library machine"),
+        (json!({"program": nc, "controllers": ["nope"]}), StatusCode::UNPROCESSABLE_ENTITY, "no controller"),
+        (
+            json!({"program": nc, "machines": [{"name": "x", "axes": []}]}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "machines[0]",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "dialect": "heidenhain"}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "heidenhain",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"0": {"length": 1.0, "radius": 1.0}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "out of range",
+        ),
+        (json!({"program": nc, "presets": ["mill3"], "colour": "red"}), StatusCode::UNPROCESSABLE_ENTITY, "colour"),
+        (json!({"presets": ["mill3"]}), StatusCode::UNPROCESSABLE_ENTITY, "program"),
+    ] {
+        let reply = app.post("/api/v1/fleet/runs", &body).await;
+        assert_eq!(reply.status, status, "{body}: {}", reply.text());
+        let error = reply.json()["error"].as_str().unwrap().to_string();
+        assert!(error.contains(reason), "{body}: {error}");
+    }
+    let reply = app.raw(Method::POST, "/api/v1/fleet/runs", "application/json", "{").await;
+    assert_eq!(reply.status, StatusCode::BAD_REQUEST);
+    assert!(reply.json()["error"].is_string());
+    let too_many: Vec<&str> = std::iter::repeat_n("mill3", 201).collect();
+    let reply = app.post("/api/v1/fleet/runs", &json!({"program": nc, "presets": too_many})).await;
+    assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY);
+    // Nothing was stored for refused requests.
+    assert_eq!(app.get("/api/v1/fleet/runs").await.json(), json!([]));
+}
+
+#[tokio::test]
+async fn progress_over_the_websocket_and_runs_cut_off_by_a_restart() {
+    let app = spawn_app().await;
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(fivex_server::serve::serve(listener, app.state.clone(), async {
+        let _ = stopped.await;
+    }));
+    // wait=false: 202 at once with the id; the stream gives progress up to "finished".
+    let mut presets: Vec<&str> = PRESETS.to_vec();
+    presets.extend(PRESETS);
+    let reply = app
+        .post(
+            "/api/v1/fleet/runs?wait=false",
+            &json!({"program": program("tilt.nc"), "presets": presets, "report": true}),
+        )
+        .await;
+    assert_eq!(reply.status, StatusCode::ACCEPTED, "{}", reply.text());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let (mut ws, _) =
+        tokio_tungstenite::connect_async(format!("ws://{addr}/api/v1/fleet/runs/{id}/stream")).await.unwrap();
+    let mut last = Value::Null;
+    let mut done_seen = Vec::new();
+    while let Some(Ok(message)) = ws.next().await {
+        let tokio_tungstenite::tungstenite::Message::Text(text) = message else { break };
+        let v: Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(
+            (v["type"].as_str(), v["id"].as_str(), v["total"].as_u64()),
+            (Some("progress"), Some(id.as_str()), Some(10))
+        );
+        done_seen.push(v["done"].as_u64().unwrap());
+        last = v;
+    }
+    assert_eq!(last["finished"], true);
+    assert_eq!(last["done"], 10);
+    assert!(done_seen.windows(2).all(|w| w[0] <= w[1]), "{done_seen:?}");
+    let states: Vec<&str> = last["machines"].as_array().unwrap().iter().map(|m| m["state"].as_str().unwrap()).collect();
+    assert_eq!(states.iter().filter(|s| **s == "alarm").count(), 2, "mill3 twice: {states:?}");
+    // The run is stored as done; its stream now sends the final state and closes.
+    let run = app.get(&format!("/api/v1/fleet/runs/{id}")).await.json();
+    assert_eq!(run["status"], "done");
+    assert_eq!(run["results"].as_array().unwrap().len(), 10);
+    let (mut ws, _) =
+        tokio_tungstenite::connect_async(format!("ws://{addr}/api/v1/fleet/runs/{id}/stream")).await.unwrap();
+    let first = ws.next().await.unwrap().unwrap();
+    let v: Value = serde_json::from_str(first.to_text().unwrap()).unwrap();
+    assert_eq!((v["finished"].as_bool(), v["done"].as_u64()), (Some(true), Some(10)));
+    let _ = stop.send(());
+    server.await.unwrap().unwrap();
+    // A run the service stopped in the middle of shows as interrupted after a restart.
+    db::insert_fleet_run(
+        &app.state.db,
+        &FleetRunRow {
+            id: "cut".into(),
+            created_at: "2026-01-01T00:00:00Z".into(),
+            finished_at: None,
+            status: "running".into(),
+            machines: 3,
+            completed: 0,
+            alarms: 0,
+            program: "M30\n".into(),
+            request_json: "{}".into(),
+            results_json: None,
+        },
+    )
+    .await
+    .unwrap();
+    let state = app.restart().await;
+    let row = db::fleet_run(&state.db, "cut").await.unwrap().unwrap();
+    assert_eq!(row.status, "interrupted");
+}
