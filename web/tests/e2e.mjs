@@ -220,6 +220,30 @@ test("every preset kind draws in the 3D view", async () => {
   }
 });
 
+test("a fleet run compares machines, shows why one cannot run it, and opens one in 3D", async () => {
+  await page.goto(base + "/#/runs");
+  await page.fill("textarea[name=program]", ["O1000", "G90 G00 X0 Y0 Z100. B0 C0", "G43.4 H1", "G01 X20. Y10. Z20. B20. C30. F2000.", "X-20. B-10. C60.", "G49", "M30"].join("\n"));
+  for (const key of ["preset:head-bc", "preset:mill3", "preset:mixed-bc", "library:fork-head-bc"]) await page.check(`input[data-pick='${key}']`);
+  await page.click("form.new-run button[type=submit]");
+  await page.waitForURL(/#\/runs\/./);
+  const table = page.locator("table.compare");
+  await table.waitFor({ timeout: 60000 });
+  assert.equal(await table.locator("tbody tr").count(), 4);
+  // mill3 has no B and C: the program's alarm, code and line, is in its row.
+  assert.match(await table.locator("tr[data-machine='mill3'] td").first().textContent(), /PS\d{4}.*line 2/);
+  assert.match(await table.locator("tr[data-machine='head-bc'] td").first().textContent(), /completed/);
+  await page.locator("svg.plot.bars rect").first().waitFor();
+  await page.locator("svg.plot.lines polyline").first().waitFor();
+  await page.screenshot({ path: join(shots, "fleet-run.png"), fullPage: true });
+  await table.locator("tr[data-machine='head-bc'] button").click();
+  await page.waitForURL(/#\/c\//);
+  await page.locator(".view3d canvas").waitFor();
+  await page.locator("[data-run-state=running]").waitFor();
+  const runs = (await http("GET", "/api/v1/fleet/runs")).body;
+  assert.equal(runs[0].machines, 4);
+  assert.equal(runs[0].alarms, 1);
+});
+
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
   const have = (await http("GET", "/api/v1/controllers")).body.length;
   for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });

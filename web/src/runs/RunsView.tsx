@@ -1,0 +1,309 @@
+// Fleet runs: one program on many machines (presets, library machines, existing controllers),
+// progress while it runs, and the comparison across the fleet as a table and plots; any
+// machine's run opens in the 3D view.
+import { useEffect, useMemo, useState } from "preact/hooks";
+import { api, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
+import { authHeaders } from "../controller/Programs";
+import { go } from "../route";
+import { Bars, Lines } from "./Plots";
+
+type Result = any;
+
+export function RunsView({ id }: { id?: string }) {
+  return id ? <RunDetail id={id} /> : <RunsHome />;
+}
+
+function RunsHome() {
+  const [runs, setRuns] = useState<Schemas["FleetRunInfo"][]>([]);
+  useEffect(() => {
+    must(api.GET("/api/v1/fleet/runs", { params: { query: { limit: 50 } } })).then(setRuns, () => {});
+  }, []);
+  return (
+    <section class="runs">
+      <h1>Fleet runs</h1>
+      <p class="quiet">One program on many machines, faster than real time: which machines can run it, how long each takes, and why the others cannot.</p>
+      <NewRun />
+      <h3>Past runs</h3>
+      <table class="grid">
+        <thead>
+          <tr>
+            <th>started</th>
+            <th>status</th>
+            <th>machines</th>
+            <th>completed</th>
+            <th>alarm</th>
+          </tr>
+        </thead>
+        <tbody>
+          {runs.map((r) => (
+            <tr key={r.id}>
+              <td>
+                <a href={`#/runs/${r.id}`}>{r.created_at}</a>
+              </td>
+              <td>{r.status}</td>
+              <td class="num">{r.machines}</td>
+              <td class="num">{r.completed}</td>
+              <td class="num">{r.alarms}</td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+    </section>
+  );
+}
+
+function NewRun() {
+  const [program, setProgram] = useState("");
+  const [presets, setPresets] = useState<Schemas["Preset"][]>([]);
+  const [library, setLibrary] = useState<Schemas["LibraryMachine"][]>([]);
+  const [controllers, setControllers] = useState<Schemas["ControllerStatus"][]>([]);
+  const [picked, setPicked] = useState<Set<string>>(new Set());
+  const [dialect, setDialect] = useState("fanuc");
+  const [error, setError] = useState<string | null>(null);
+  useEffect(() => {
+    must(api.GET("/api/v1/presets")).then(setPresets, () => {});
+    must(api.GET("/api/v1/fleet/library")).then(setLibrary, () => {});
+    must(api.GET("/api/v1/controllers")).then(setControllers, () => {});
+  }, []);
+  const toggle = (key: string) => {
+    const next = new Set(picked);
+    next.has(key) ? next.delete(key) : next.add(key);
+    setPicked(next);
+  };
+  const pick = (keys: string[], on: boolean) => {
+    const next = new Set(picked);
+    for (const k of keys) on ? next.add(k) : next.delete(k);
+    setPicked(next);
+  };
+  const chosen = (prefix: string) => [...picked].filter((k) => k.startsWith(prefix)).map((k) => k.slice(prefix.length));
+  const submit = async (e: Event) => {
+    e.preventDefault();
+    setError(null);
+    try {
+      const body = { program, presets: chosen("preset:"), library: chosen("library:"), controllers: chosen("controller:"), dialect, report: true };
+      const started = await must(api.POST("/api/v1/fleet/runs", { params: { query: { wait: false } }, body: body as any }));
+      go(`#/runs/${(started as any).id}`);
+    } catch (err: any) {
+      setError(err.message ?? String(err));
+    }
+  };
+  const box = (key: string, label: string, title?: string) => (
+    <label key={key} class="pick" title={title}>
+      <input type="checkbox" checked={picked.has(key)} onChange={() => toggle(key)} data-pick={key} /> {label}
+    </label>
+  );
+  return (
+    <form class="new-run panel-box" onSubmit={submit}>
+      <div class="run-program">
+        <textarea class="nc" name="program" placeholder="NC program (O…)" value={program} onInput={(e) => setProgram(e.currentTarget.value)} />
+        <label class="upload">
+          upload{" "}
+          <input
+            type="file"
+            accept=".nc,.txt,.tap,text/plain"
+            onChange={async (e) => {
+              const f = e.currentTarget.files?.[0];
+              if (f) setProgram(await f.text());
+            }}
+          />
+        </label>
+      </div>
+      <div class="run-machines">
+        <h3>
+          Presets{" "}
+          <button type="button" class="tiny" onClick={() => pick(presets.map((p) => `preset:${p.name}`), true)}>
+            all
+          </button>
+        </h3>
+        <div class="picks">{presets.map((p) => box(`preset:${p.name}`, p.name, `${p.kind}, ${p.axes.join("")}`))}</div>
+        <h3>
+          Machine library{" "}
+          <button type="button" class="tiny" onClick={() => pick(library.map((m) => `library:${m.name}`), true)}>
+            all
+          </button>{" "}
+          <button type="button" class="tiny" onClick={() => pick(library.map((m) => `library:${m.name}`), false)}>
+            none
+          </button>
+        </h3>
+        <div class="picks">{library.map((m) => box(`library:${m.name}`, m.name, `${m.kind} · ${m.dialect ?? "model file"} · ${m.axes.join("")}`))}</div>
+        {controllers.length > 0 && (
+          <>
+            <h3>Controllers</h3>
+            <div class="picks">{controllers.slice(0, 200).map((c) => box(`controller:${c.id}`, c.name, `${c.machine} (${c.kind})`))}</div>
+          </>
+        )}
+        <div class="row">
+          <label>
+            dialect{" "}
+            <select value={dialect} onChange={(e) => setDialect(e.currentTarget.value)}>
+              <option value="fanuc">FANUC</option>
+              <option value="syntec">Syntec</option>
+            </select>
+          </label>
+          <button type="submit" class="primary" disabled={!program.trim() || picked.size === 0}>
+            run on {picked.size} machine{picked.size === 1 ? "" : "s"}
+          </button>
+        </div>
+        {error && <p class="error">{error}</p>}
+      </div>
+    </form>
+  );
+}
+
+function RunDetail({ id }: { id: string }) {
+  const [progress, setProgress] = useState<Schemas["Progress"] | null>(null);
+  const [run, setRun] = useState<Schemas["FleetRun"] | null>(null);
+  const [error, setError] = useState<string | null>(null);
+  useEffect(() => {
+    let done = false;
+    const fetchRun = () => must(api.GET("/api/v1/fleet/runs/{id}", { params: { path: { id } } })).then(setRun, (e) => setError(e.message));
+    fetchRun();
+    const socket = liveSocket(
+      () => wsUrl(`/api/v1/fleet/runs/${encodeURIComponent(id)}/stream`),
+      (msg) => {
+        if (msg.type !== "progress") return;
+        setProgress(msg);
+        if (msg.finished && !done) {
+          done = true;
+          socket.close();
+          fetchRun();
+        }
+      },
+    );
+    return () => socket.close();
+  }, [id]);
+  const results: Result[] | null = (run?.results as Result[] | null) ?? null;
+  return (
+    <section class="run">
+      <h1>
+        <a href="#/runs">Fleet runs</a> / {id.slice(0, 8)}
+      </h1>
+      {error && <p class="error">{error}</p>}
+      {progress && !results && (
+        <div class="progress panel-box">
+          <progress max={progress.total} value={progress.done} /> {progress.done} of {progress.total} machines
+          <ul class="machine-progress">
+            {progress.machines.map((m) => (
+              <li class={m.state}>
+                {m.machine}: {m.state}
+                {m.cycle_time_s != null ? ` (${fmt(m.cycle_time_s, 2)} s)` : ""}
+              </li>
+            ))}
+          </ul>
+        </div>
+      )}
+      {results && run && <Comparison results={results} request={run.request as any} />}
+    </section>
+  );
+}
+
+/// Where a result came from: results are in the order presets, machines, library, controllers.
+function sources(request: any): { kind: "preset" | "machine" | "library" | "controller"; value: any }[] {
+  return [
+    ...(request.presets ?? []).map((v: string) => ({ kind: "preset" as const, value: v })),
+    ...(request.machines ?? []).map((v: unknown) => ({ kind: "machine" as const, value: v })),
+    ...(request.library ?? []).map((v: string) => ({ kind: "library" as const, value: v })),
+    ...(request.controllers ?? []).map((v: string) => ({ kind: "controller" as const, value: v })),
+  ];
+}
+
+function Comparison({ results, request }: { results: Result[]; request: any }) {
+  const [axisPlot, setAxisPlot] = useState<number>(0);
+  const [error, setError] = useState<string | null>(null);
+  const from = useMemo(() => sources(request), [request]);
+  const ok = results.filter((r) => r.status === "completed").length;
+  const open = async (i: number) => {
+    setError(null);
+    try {
+      const src = from[i];
+      if (src.kind === "controller") return go(`#/c/${src.value}`);
+      let body: any = { name: `${results[i].machine} (fleet run)`, dialect: results[i].dialect };
+      if (src.kind === "preset") body.preset = src.value;
+      else if (src.kind === "machine") body.machine = src.value;
+      else body.machine = (await must(api.GET("/api/v1/fleet/library/{name}", { params: { path: { name: src.value } } }))).machine;
+      const c = await must(api.POST("/api/v1/controllers", { body }));
+      await fetch(`/api/v1/controllers/${c.id}/programs/1?force=true`, { method: "PUT", headers: { "content-type": "text/plain", ...authHeaders() }, body: request.program });
+      await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id: c.id } }, body: { program: 1 } }));
+      go(`#/c/${c.id}`);
+    } catch (e: any) {
+      setError(e.message ?? String(e));
+    }
+  };
+  const withSpeeds = results.filter((r) => r.report?.speeds);
+  const plotted = withSpeeds[axisPlot] ?? withSpeeds[0];
+  return (
+    <div class="comparison">
+      <p>
+        <strong>{ok}</strong> of {results.length} machines can run the program.
+      </p>
+      {error && <p class="error">{error}</p>}
+      <div class="table-scroll">
+        <table class="grid compare">
+          <thead>
+            <tr>
+              <th>machine</th>
+              <th>result</th>
+              <th>cycle time</th>
+              <th>travel</th>
+              <th>rotary max / mean speed</th>
+              <th>near singular</th>
+              <th>closest to a limit</th>
+              <th>unwinds</th>
+              <th>tip deviation</th>
+              <th />
+            </tr>
+          </thead>
+          <tbody>
+            {results.map((r, i) => {
+              const rep = r.report;
+              const axes: any[] = rep?.axes ?? [];
+              const rot = axes.filter((a) => "ABC".includes(a.name));
+              const tight = axes.filter((a) => a.margin != null).sort((a, b) => a.margin - b.margin)[0];
+              const alarm = r.alarms?.[0];
+              return (
+                <tr key={i} class={r.status === "completed" ? "" : "row-alarm"} data-machine={r.machine}>
+                  <th>
+                    {r.machine}
+                    <div class="quiet small">{r.dialect}</div>
+                  </th>
+                  <td class={r.status === "completed" ? "ok" : "bad"}>{r.status === "completed" ? "completed" : alarm ? `${alarm.code} ${alarm.message} (line ${alarm.line})` : r.status}</td>
+                  <td class="num">{fmt(r.cycle_time_s, 2)} s</td>
+                  <td class="num small">{axes.map((a) => `${a.name} ${fmt(a.travel, 0)}`).join("  ")}</td>
+                  <td class="num small">{rot.map((a) => `${a.name} ${fmt(a.max_speed, 0)} / ${fmt(a.mean_speed, 0)}`).join("  ") || "—"}</td>
+                  <td class="num">{rep?.near_singular_deg == null ? "—" : `${fmt(rep.near_singular_s, 2)} s (min ${fmt(rep.min_singular_angle_deg, 2)}°)`}</td>
+                  <td class="num small">{tight ? `${tight.name} ${fmt(tight.margin, 2)} (${tight.margin_side})` : "—"}</td>
+                  <td class="num">{rot.reduce((n, a) => n + (a.unwinds ?? 0), 0)}</td>
+                  <td class="num">{rep?.tip_deviation ? `${fmt(rep.tip_deviation.max, 4)} mm${rep.tip_deviation.line ? ` (line ${rep.tip_deviation.line})` : ""}` : "—"}</td>
+                  <td>
+                    <button onClick={() => open(i)} title="open this machine with the program in the 3D view and start it">
+                      open in 3D
+                    </button>
+                  </td>
+                </tr>
+              );
+            })}
+          </tbody>
+        </table>
+      </div>
+      <h3>Cycle time per machine</h3>
+      <Bars rows={results.map((r) => ({ label: r.machine, value: r.status === "completed" ? r.cycle_time_s : null, bad: r.status !== "completed" }))} unit="s" />
+      {plotted && (
+        <>
+          <h3>
+            Axis speed over time —{" "}
+            <select value={withSpeeds.indexOf(plotted)} onChange={(e) => setAxisPlot(Number(e.currentTarget.value))}>
+              {withSpeeds.map((r, i) => (
+                <option value={i}>{r.machine}</option>
+              ))}
+            </select>
+          </h3>
+          <Lines
+            series={(plotted.report.speeds.axes as { axis: string; speeds: number[] }[]).map((a) => ({ label: `${a.axis} ${"ABC".includes(a.axis) ? "°/min" : "mm/min"}`, ys: a.speeds }))}
+            dt={plotted.report.speeds.period_s}
+            unit="per min"
+          />
+        </>
+      )}
+    </div>
+  );
+}
