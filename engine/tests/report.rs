@@ -177,7 +177,7 @@ fn a_long_run_keeps_its_speed_profile_to_a_thousand_points() {
     let p = &r.speeds;
     let n = p.axes[0].speeds.len();
     assert!(
-        r.cycle_time_s > 300.0 && n <= fivex_engine::report::SpeedProfile::MAX_POINTS && n >= 100,
+        r.cycle_time_s > 300.0 && (100..=fivex_engine::report::SpeedProfile::MAX_POINTS).contains(&n),
         "{n} points over {} s",
         r.cycle_time_s
     );
