@@ -16,6 +16,12 @@ export function token(): string | null {
   return given ?? localStorage.getItem("fivex.token");
 }
 
+/// The token as a header, for the few calls made with plain `fetch` (NC text is not JSON).
+export function authHeaders(): Record<string, string> {
+  const t = token();
+  return t ? { Authorization: `Bearer ${t}` } : {};
+}
+
 const auth: Middleware = {
   onRequest({ request }) {
     const t = token();

@@ -2,6 +2,7 @@
 import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, type Schemas } from "../api/client";
+import { EditCell } from "./EditCell";
 
 const TOOL_FIELDS = ["length", "length_wear", "radius", "radius_wear"] as const;
 
@@ -34,15 +35,12 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
     load();
   };
   const numberInput = (value: number, on: (v: number) => void) => (
-    <input
-      class="num"
-      key={value}
-      defaultValue={String(value)}
-      onChange={(e) => {
-        const v = Number(e.currentTarget.value);
-        if (Number.isFinite(v)) on(v);
+    <EditCell
+      value={String(value)}
+      onCommit={(text) => {
+        const v = Number(text);
+        if (text.trim() !== "" && Number.isFinite(v)) on(v);
       }}
-      onKeyDown={(e) => e.key === "Enter" && e.currentTarget.blur()}
     />
   );
   return (

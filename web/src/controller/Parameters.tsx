@@ -3,6 +3,7 @@
 import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, type Status } from "../api/client";
+import { EditCell } from "./EditCell";
 
 function ParametersView({ status, onError }: { status: Status; onError: (e: string | null) => void }) {
   const id = status.id;
@@ -48,13 +49,7 @@ function ParametersView({ status, onError }: { status: Status; onError: (e: stri
                 {n}
               </th>
               <td>
-                <input
-                  class="wide num"
-                  key={`${n}:${JSON.stringify(v)}`}
-                  defaultValue={Array.isArray(v) ? v.join(", ") : String(v)}
-                  onChange={(e) => set(n, e.currentTarget.value)}
-                  onKeyDown={(e) => e.key === "Enter" && e.currentTarget.blur()}
-                />
+                <EditCell wide value={Array.isArray(v) ? v.join(", ") : String(v)} onCommit={(text) => set(n, text)} />
               </td>
             </tr>
           ))}

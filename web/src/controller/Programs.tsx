@@ -1,7 +1,7 @@
 // Stored programs: the list, the text with the executing block highlighted, an editor that
 // stores through the service's check (diagnostics shown on their lines), upload, and start.
 import { useEffect, useRef, useState } from "preact/hooks";
-import { api, ApiError, must, type Schemas, type Status } from "../api/client";
+import { api, ApiError, authHeaders, must, type Schemas, type Status } from "../api/client";
 import type { Act } from "./useController";
 import { CodeView, type Mark } from "./CodeView";
 
@@ -190,9 +190,4 @@ export function Programs({
       </div>
     </div>
   );
-}
-
-export function authHeaders(): Record<string, string> {
-  const t = localStorage.getItem("fivex.token");
-  return t ? { Authorization: `Bearer ${t}` } : {};
 }

@@ -3,6 +3,7 @@
 import { memo } from "preact/compat";
 import { useState } from "preact/hooks";
 import { api, must } from "../api/client";
+import { EditCell } from "./EditCell";
 
 function VariablesView({ id, values, onError }: { id: string; values: Record<string, number | null>; onError: (e: string | null) => void }) {
   const [number, setNumber] = useState("");
@@ -69,13 +70,7 @@ function VariablesView({ id, values, onError }: { id: string; values: Record<str
             <tr key={n} data-var={n}>
               <th>#{n}</th>
               <td>
-                <input
-                  class="num"
-                  defaultValue={String(v)}
-                  key={`${n}:${v}`}
-                  onChange={(e) => set(n, e.currentTarget.value)}
-                  onKeyDown={(e) => e.key === "Enter" && e.currentTarget.blur()}
-                />
+                <EditCell value={String(v)} onCommit={(text) => set(n, text)} />
               </td>
             </tr>
           ))}

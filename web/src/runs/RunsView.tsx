@@ -2,8 +2,7 @@
 // progress while it runs, and the comparison across the fleet as a table and plots; any
 // machine's run opens in the 3D view.
 import { useEffect, useMemo, useState } from "preact/hooks";
-import { api, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
-import { authHeaders } from "../controller/Programs";
+import { api, authHeaders, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
 import { go } from "../route";
 import { Bars, Lines } from "./Plots";
 
