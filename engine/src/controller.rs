@@ -465,6 +465,12 @@ impl Controller {
             _ => return Err(Refusal::WrongMode),
         };
         let text = text.ok_or(Refusal::NoProgram)?;
+        if self.current.is_none() && self.planner.is_empty() {
+            // A fresh start begins where the machine stands: a manual move (a HANDLE move that
+            // ran to its end, an INC step) may have moved it since the program's current point
+            // was last set.
+            self.stand_here();
+        }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
         self.wse_no_manual = self.interp.wse_forbids_manual();

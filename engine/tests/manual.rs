@@ -1011,3 +1011,27 @@ fn jog_feed_per_axis_no_1423_tv_man_08() {
         assert!((v - 900.0).abs() < 1e-6, "plain X at {v}");
     }
 }
+
+#[test]
+fn a_program_started_after_manual_moves_begins_where_the_machine_stands() {
+    // A HANDLE move that runs to its end and an INC step leave the machine elsewhere; the next
+    // MDI's incremental move starts from there (not from where the last program left off).
+    let mut c = controller(preset("mill3"), Dialect::Fanuc);
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('X', 10.0).unwrap();
+    for _ in 0..5000 {
+        c.tick(TICK);
+    }
+    assert!((c.point().machine[0] - 10.0).abs() < 1e-9);
+    mdi(&mut c, "G91 G01 X1. F600.");
+    assert!((c.point().machine[0] - 11.0).abs() < 1e-9, "{:?}", c.point().machine);
+    assert!((c.point().work[0] - 11.0).abs() < 1e-9);
+    c.set_mode(Mode::Inc).unwrap();
+    c.set_increment(1.0).unwrap();
+    c.jog_start('Y', true).unwrap();
+    for _ in 0..5000 {
+        c.tick(TICK);
+    }
+    mdi(&mut c, "G91 G01 Y2. F600.");
+    assert!((c.point().machine[1] - 3.0).abs() < 1e-9, "{:?}", c.point().machine);
+}
