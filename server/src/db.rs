@@ -197,7 +197,11 @@ pub async fn clone_controller(
 
 /// One stored controller row.
 pub async fn controller(pool: &SqlitePool, id: &str) -> Result<Option<ControllerRow>, sqlx::Error> {
-    Ok(list_controllers(pool).await?.into_iter().find(|row| row.id == id))
+    let row = sqlx::query("SELECT id, name, dialect, machine_json, created_at FROM controllers WHERE id = ?")
+        .bind(id)
+        .fetch_optional(pool)
+        .await?;
+    row.as_ref().map(ControllerRow::from_row).transpose()
 }
 
 // --- programs -----------------------------------------------------------------------------

@@ -11,11 +11,7 @@ export function FleetView() {
   const [error, setError] = useState<string | null>(null);
 
   useEffect(() => {
-    // The list first (the socket's first message carries it too), then every change.
-    must(api.GET("/api/v1/controllers")).then(
-      (list) => setFleet((now) => now ?? list.map(entryOf)),
-      (e) => setError(String(e.message ?? e)),
-    );
+    // The socket's first message is the whole fleet; then every change.
     const socket = liveSocket(
       () => wsUrl("/api/v1/stream", { rate: 4 }),
       (msg) => msg.type === "fleet" && setFleet(msg.controllers),
@@ -132,21 +128,6 @@ export function FleetView() {
       )}
     </section>
   );
-}
-
-function entryOf(s: Schemas["ControllerStatus"]): FleetEntry {
-  return {
-    id: s.id,
-    name: s.name,
-    machine: s.machine,
-    kind: s.kind,
-    dialect: s.dialect,
-    mode: s.mode,
-    run_state: s.run_state,
-    program: s.program,
-    line: s.line,
-    alarm: s.alarms[0] ?? null,
-  };
 }
 
 function CreateForm({ onError }: { onError: (e: string | null) => void }) {
