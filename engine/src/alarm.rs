@@ -17,6 +17,11 @@ pub enum AlarmId {
     TooManyDigits,
     /// An unknown G code, or a G code not allowed in the current mode.
     ImproperGCode,
+    /// A G code (or the mode an address value selects with it) of a function fivex does not
+    /// carry out (`interp::unbuilt`): refused rather than run with a wrong tool path.
+    GCodeNotBuilt,
+    /// An address fivex reads but no function of it uses (`interp::unbuilt`).
+    AddressNotBuilt,
     /// Two G codes in one block that cannot be combined (for example two group 00 codes).
     IllegalGCodeCombination,
     /// Cutting feed commanded while the feedrate is zero.

@@ -1,13 +1,17 @@
 //! Static checks for `fivex check`: everything that can be known without running the program.
 //!
-//! Beyond the parser's diagnostics: G codes the dialect does not have, DO/END structure, GOTO
-//! targets and called programs given as literal numbers that do not exist.
+//! Beyond the parser's diagnostics: G codes the dialect does not have, G codes and addresses of
+//! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
+//! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
+//! do not exist.
 
 use crate::alarm::AlarmId;
 use crate::dialect::Dialect;
 use crate::interp::gcode;
+use crate::interp::unbuilt::{self, Word};
 use crate::interp::Loaded;
 use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
+use crate::lang::Word as NcWord;
 use std::collections::HashSet;
 
 /// Every diagnostic of `file`, sorted by line and column.
@@ -42,10 +46,28 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     AlarmId::ImproperGCode,
                                     format!("G{value} is not a G code of the {} dialect", dialect.name()),
                                 )),
-                                Some(d) => calls |= matches!(d.code, 650 | 660 | 661),
+                                Some(d) => {
+                                    calls |= matches!(d.code, 650 | 660 | 661);
+                                    let word = |letter| literal(words, letter);
+                                    if let Some(function) = unbuilt::g_code(d.code, dialect, word) {
+                                        diags.push(at(
+                                            w.col,
+                                            AlarmId::GCodeNotBuilt,
+                                            format!("{}: {function} is not built in fivex", gcode::display(d.code)),
+                                        ));
+                                    }
+                                }
                             },
                             b'M' => calls |= matches!(value as u32, 98 | 198),
-                            _ => {}
+                            letter => {
+                                if let Some(function) = unbuilt::address(letter) {
+                                    diags.push(at(
+                                        w.col,
+                                        AlarmId::AddressNotBuilt,
+                                        format!("{function} is not built in fivex"),
+                                    ));
+                                }
+                            }
                         }
                     }
                     if calls {
@@ -73,4 +95,14 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
     }
     diags.sort_by_key(|d| (d.line, d.col));
     diags
+}
+
+/// The last `letter` word of a block (the one that counts), as `unbuilt` asks for it: an
+/// expression's value is not known without running.
+fn literal(words: &[NcWord], letter: u8) -> Word {
+    match words.iter().rev().find(|w| w.letter == letter).map(|w| &w.value) {
+        None => Word::Absent,
+        Some(WordValue::Number { value, .. }) => Word::Value(*value),
+        Some(WordValue::Expr(_)) => Word::Unknown,
+    }
 }

@@ -88,6 +88,8 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::NoDataAfterAddress,
     AlarmId::TooManyDigits,
     AlarmId::ImproperGCode,
+    AlarmId::GCodeNotBuilt,
+    AlarmId::AddressNotBuilt,
     AlarmId::IllegalGCodeCombination,
     AlarmId::FeedZero,
     AlarmId::IllegalOffsetNumber,
@@ -154,6 +156,10 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         NoDataAfterAddress => (("PS0005", "NO DATA AFTER ADDRESS"), ("COR-003", "Missing value after address")),
         TooManyDigits => (("PS0003", "TOO MANY DIGITS"), ("COR-004", "Value out of range")),
         ImproperGCode => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
+        // FANUC's alarms for a G code / an address of a function the control does not have;
+        // Syntec's COR-100 names the option not activated (both from the manuals' alarm lists).
+        GCodeNotBuilt => (("PS0010", "IMPROPER G-CODE"), COR100),
+        AddressNotBuilt => (("PS0009", "IMPROPER NC-ADDRESS"), COR100),
         IllegalGCodeCombination => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
         FeedZero => (("PS0011", "FEED ZERO ( COMMAND )"), ("COR-010", "Feedrate is zero")),
         IllegalOffsetNumber => (("PS0030", "ILLEGAL OFFSET NUMBER"), ("COR-011", "Illegal offset number")),

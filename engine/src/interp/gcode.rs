@@ -1,5 +1,5 @@
 //! The milling G-code set of the FANUC 30i-A5 (M series), grouped exactly as FANUC groups them,
-//! with the Syntec-only codes marked. G codes are held as their number ×10 (`G43.4` → 434).
+//! with the Syntec-only and FANUC-only codes marked. Which of them fivex performs: `unbuilt`. G codes are held as their number ×10 (`G43.4` → 434).
 
 use crate::dialect::Dialect;
 
@@ -17,16 +17,23 @@ pub struct GDef {
     /// (G04, G10, G28, G52, G53, G92 …).
     pub takes_axes: bool,
     pub syntec_only: bool,
+    /// A FANUC code the Syntec manual does not have (COR-070 in the Syntec dialect).
+    pub fanuc_only: bool,
 }
 
 const fn g(code: u16, group: u8) -> GDef {
-    GDef { code, group, takes_axes: false, syntec_only: false }
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false }
 }
 const fn gx(code: u16, group: u8) -> GDef {
-    GDef { code, group, takes_axes: true, syntec_only: false }
+    GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false }
 }
 const fn gsx(code: u16, group: u8) -> GDef {
-    GDef { code, group, takes_axes: true, syntec_only: true }
+    GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false }
+}
+/// FANUC's 5-axis codes that the Syntec 5-axis manual does not list (its 5-axis functions are
+/// RTCP, G68.2/G68.3 and the tool alignments): not codes of the Syntec dialect.
+const fn gf(code: u16, group: u8) -> GDef {
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true }
 }
 
 /// Sorted by code, for binary search.
@@ -88,24 +95,24 @@ pub const TABLE: &[GDef] = &[
     g(401, 19),  // G40.1 normal direction control cancel
     g(410, 7),   // G41 left
     g(411, 19),  // G41.1 normal direction control left
-    g(412, 7),   // G41.2 3-D cutter compensation left, type 1
-    g(413, 7),   // G41.3 leading edge offset
-    g(414, 7),   // G41.4 left, type 1 (FS16i compatible)
-    g(415, 7),   // G41.5 left, type 1 (FS16i compatible)
-    g(416, 7),   // G41.6 left, type 2
+    gf(412, 7),  // G41.2 3-D cutter compensation left, type 1
+    gf(413, 7),  // G41.3 leading edge offset
+    gf(414, 7),  // G41.4 left, type 1 (FS16i compatible)
+    gf(415, 7),  // G41.5 left, type 1 (FS16i compatible)
+    gf(416, 7),  // G41.6 left, type 2
     g(420, 7),   // G42 right
     g(421, 19),  // G42.1 normal direction control right
-    g(422, 7),   // G42.2 right, type 1
-    g(424, 7),   // G42.4 right, type 1 (FS16i compatible)
-    g(425, 7),   // G42.5 right, type 1 (FS16i compatible)
-    g(426, 7),   // G42.6 right, type 2
+    gf(422, 7),  // G42.2 right, type 1
+    gf(424, 7),  // G42.4 right, type 1 (FS16i compatible)
+    gf(425, 7),  // G42.5 right, type 1 (FS16i compatible)
+    gf(426, 7),  // G42.6 right, type 2
     g(430, 8),   // G43 tool length compensation +
     g(431, 8),   // G43.1 tool length compensation in tool axis direction
     g(434, 8),   // G43.4 tool center point control type 1
     g(435, 8),   // G43.5 tool center point control type 2
     g(437, 8),   // G43.7 tool offset
-    g(438, 8),   // G43.8 cutting point command type 1
-    g(439, 8),   // G43.9 cutting point command type 2
+    gf(438, 8),  // G43.8 cutting point command type 1
+    gf(439, 8),  // G43.9 cutting point command type 2
     g(440, 8),   // G44 tool length compensation -
     gx(450, 0),  // G45 tool offset increase
     gx(460, 0),  // G46 decrease
@@ -199,7 +206,7 @@ static INDEX: [u8; MAX_CODE + 1] = {
 pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
     let i = *INDEX.get(code as usize)?;
     let def = TABLE.get((i as usize).checked_sub(1)?)?;
-    if def.syntec_only && dialect != Dialect::Syntec {
+    if def.syntec_only && dialect != Dialect::Syntec || def.fanuc_only && dialect != Dialect::Fanuc {
         return None;
     }
     Some(def)
@@ -275,7 +282,8 @@ mod tests {
         assert!(TABLE.len() < u8::MAX as usize);
         assert_eq!(TABLE.last().map(|d| d.code as usize), Some(MAX_CODE));
         for d in TABLE {
-            assert_eq!(lookup(d.code, Dialect::Syntec), Some(d));
+            let dialect = if d.fanuc_only { Dialect::Fanuc } else { Dialect::Syntec };
+            assert_eq!(lookup(d.code, dialect), Some(d));
         }
     }
 
@@ -291,6 +299,8 @@ mod tests {
         assert!(lookup(533, Dialect::Fanuc).is_none());
         assert!(lookup(533, Dialect::Syntec).is_some());
         assert!(lookup(1000, Dialect::Fanuc).is_none());
+        assert!(lookup(412, Dialect::Syntec).is_none());
+        assert!(lookup(439, Dialect::Syntec).is_none());
     }
 
     #[test]

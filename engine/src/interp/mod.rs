@@ -17,6 +17,7 @@ mod plane;
 pub(crate) mod program;
 mod singular;
 mod tcp;
+pub mod unbuilt;
 mod vars;
 mod wse;
 

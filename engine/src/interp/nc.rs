@@ -4,6 +4,7 @@
 use super::expr::{eval, Value};
 use super::gcode::{self, GDef};
 use super::modes;
+use super::unbuilt;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
 use super::{CycleData, Frame, FrameKind, ModalCall, State, LOCALS};
@@ -296,10 +297,16 @@ impl State {
             if !known {
                 return Err(AlarmId::ImproperAddress);
             }
+            if unbuilt::address(letter).is_some() {
+                return Err(AlarmId::AddressNotBuilt);
+            }
         }
 
-        // --- mode interlocks: a forbidden block changes nothing -----------------------------
-        self.five = modes::check(self, &w)?;
+        // --- mode interlocks, then functions not built: a refused block changes nothing -------
+        // (The interlocks first: their alarm is the more precise one where both apply.)
+        let five = modes::check(self, &w)?;
+        self.refuse_unbuilt(&w)?;
+        self.five = five;
         if w.has_g(670) {
             self.modes[12] = 670;
             self.modal_call = None;
@@ -891,28 +898,23 @@ impl State {
                 self.move_to(MotionKind::Rapid, target, out);
                 return Ok(true);
             }
-            270 | 282 | 301 | 600 => {
-                let target = self.target(w);
-                self.move_to(MotionKind::Rapid, target, out);
-                return Ok(true);
-            }
-            310 | 318 | 319 | 370 | 450 | 460 | 470 | 480 => {
-                self.check_feed()?;
-                let target = self.target(w);
-                self.move_to(MotionKind::Linear, target, out);
-                return Ok(true);
-            }
-            220 => {}
-            // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off.
-            51 => match w.integer(b'Q') {
-                Some(q) if q == 1.0 || q == 0.0 => self.look_ahead = q == 1.0,
-                _ => {}
-            },
-            // Codes whose effect belongs to later stages (look-ahead, 5-axis alignment…):
-            // accepted and visible in the modal context, nothing to do for positions here.
+            // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off (other Q: `unbuilt`).
+            51 => self.look_ahead = w.integer(b'Q') == Some(1.0),
+            // The one-shot codes left are performed by doing nothing here (G04.1, G09, G22
+            // without limits…), or refused before this (`unbuilt`).
             _ => {}
         }
         Ok(false)
+    }
+
+    /// The block's first G code whose function (with the block's addresses) fivex does not
+    /// carry out raises `GCodeNotBuilt` (`unbuilt`).
+    fn refuse_unbuilt(&self, w: &Words) -> Result<(), AlarmId> {
+        let word = |letter: u8| w.integer(letter).map_or(unbuilt::Word::Absent, unbuilt::Word::Value);
+        match w.gcodes().iter().find(|&&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
+            Some(_) => Err(AlarmId::GCodeNotBuilt),
+            None => Ok(()),
+        }
     }
 
     /// G10: programmable data input of work and tool offsets.
@@ -951,9 +953,7 @@ impl State {
                 };
                 *slot = if incremental { *slot + r } else { r };
             }
-            // Syntec: select the mechanism chain (its Q and its modes are checked in `modes`;
-            // the chains themselves come with the kinematic model).
-            5000 if self.cfg.dialect == Dialect::Syntec => {}
+            // (Syntec's L5000, the mechanism chain, is refused by `unbuilt`.)
             _ => return Err(AlarmId::DataSettingFormat),
         }
         Ok(())

@@ -1,0 +1,186 @@
+//! What fivex parses but does not carry out, in one table: a G code (or the address value that
+//! selects a mode of it) listed here raises the dialect's "function not available" alarm at its
+//! block, and `fivex check` reports it without running. Work that builds one of these functions
+//! removes its row (and nothing else). Decisions and the list: `docs/dialects.md`, "Functions
+//! not built".
+
+use crate::dialect::Dialect;
+
+/// An address of the block as the question "is this function performed?" sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Word {
+    Absent,
+    Value(f64),
+    /// Given, but its value is not known without running (`fivex check` of `Q#1`).
+    Unknown,
+}
+
+/// When a code of the table is refused.
+#[derive(Debug, Clone, Copy)]
+enum When {
+    /// Always: fivex does not carry the function out.
+    Always,
+    /// Unless the address has one of these values (the cancel, or the mode fivex performs).
+    Unless(u8, &'static [f64]),
+    /// Only when the address has one of these values.
+    Is(u8, &'static [f64]),
+    /// When any of these addresses is given.
+    WithAny(&'static [u8]),
+}
+
+struct NotBuilt {
+    /// ×10, as in `gcode::TABLE`.
+    code: u16,
+    /// `None`: in both dialects.
+    dialect: Option<Dialect>,
+    when: When,
+    function: &'static str,
+}
+
+const fn row(code: u16, when: When, function: &'static str) -> NotBuilt {
+    NotBuilt { code, dialect: None, when, function }
+}
+
+const CUTTER: &str = "cutter radius compensation";
+const CUTTER_3D: &str = "3-D / 5-axis cutter compensation";
+
+/// Every G code of `gcode::TABLE` that fivex does not perform, or performs only with some
+/// values of an address. A code not listed here is performed (its behaviour has tests).
+const TABLE: &[NotBuilt] = &[
+    row(22, When::Always, "involute interpolation"),
+    row(23, When::Always, "exponential interpolation"),
+    row(24, When::Always, "3-D circular interpolation"),
+    row(32, When::Always, "involute interpolation"),
+    row(33, When::Always, "exponential interpolation"),
+    row(34, When::Always, "3-D circular interpolation"),
+    // G05 P0 is the cancelled state; P10000 (HPCC) and the high-speed cycles are not built.
+    row(50, When::Unless(b'P', &[0.0]), "high-speed machining (G05 P10000 HPCC, high-speed cycle)"),
+    // Q1/Q0: look-ahead on/off (performed); Q2 and Q3 (nano smoothing, smooth interpolation).
+    row(51, When::Unless(b'Q', &[0.0, 1.0]), "smoothing / nano smoothing (G05.1 Q2, Q3)"),
+    row(54, When::Always, "HRV3 servo control (G05.4)"),
+    row(62, When::Always, "NURBS interpolation (G06.2)"),
+    row(70, When::Always, "hypothetical axis interpolation (G07)"),
+    // G07.1 C0 is the cancel.
+    row(71, When::Unless(b'C', &[0.0]), "cylindrical interpolation (G07.1)"),
+    // G10 L5000: Syntec's choice of the mechanism chain; fivex has one chain per machine.
+    NotBuilt {
+        code: 100,
+        dialect: Some(Dialect::Syntec),
+        when: When::Is(b'L', &[5000.0]),
+        function: "multiple kinematic chains (G10 L5000)",
+    },
+    row(106, When::Always, "tool retract and recover (G10.6)"),
+    row(121, When::Always, "polar coordinate interpolation (G12.1)"),
+    row(171, When::Always, "plane conversion (G17.1)"),
+    // G22 alone turns on stored stroke check 2, whose area fivex machines do not have (no
+    // forbidden area: nothing to check); with limits it would define an area fivex ignores.
+    row(220, When::WithAny(b"XYZIJK"), "stored stroke check 2 area (G22 with limits)"),
+    row(260, When::Always, "spindle speed fluctuation detection (G26)"),
+    row(270, When::Always, "reference position return check (G27)"),
+    row(282, When::Always, "G28.2"),
+    row(301, When::Always, "floating reference position return (G30.1)"),
+    row(310, When::Always, "skip function (G31)"),
+    row(318, When::Always, "EGB skip (G31.8)"),
+    row(319, When::Always, "continuous high-speed skip (G31.9)"),
+    row(330, When::Always, "threading (G33)"),
+    row(340, When::Always, "variable lead threading (G34)"),
+    row(350, When::Always, "circular threading (G35)"),
+    row(360, When::Always, "circular threading (G36)"),
+    row(370, When::Always, "automatic tool length measurement (G37)"),
+    row(380, When::Always, CUTTER),
+    row(390, When::Always, CUTTER),
+    row(410, When::Always, CUTTER),
+    row(411, When::Always, "normal direction control (G41.1)"),
+    row(412, When::Always, CUTTER_3D),
+    row(413, When::Always, "leading edge offset (G41.3)"),
+    row(414, When::Always, CUTTER_3D),
+    row(415, When::Always, CUTTER_3D),
+    row(416, When::Always, CUTTER_3D),
+    row(420, When::Always, CUTTER),
+    row(421, When::Always, "normal direction control (G42.1)"),
+    row(422, When::Always, CUTTER_3D),
+    row(424, When::Always, CUTTER_3D),
+    row(425, When::Always, CUTTER_3D),
+    row(426, When::Always, CUTTER_3D),
+    row(431, When::Always, "tool length compensation in tool axis direction (G43.1)"),
+    // Syntec's G43.4 L1 is STCP (smooth tool centre point); L0 is plain RTCP.
+    NotBuilt {
+        code: 434,
+        dialect: Some(Dialect::Syntec),
+        when: When::Is(b'L', &[1.0]),
+        function: "smooth tool centre point control (STCP, G43.4 L1)",
+    },
+    row(437, When::Always, "tool offset (G43.7)"),
+    row(438, When::Always, "cutting point command (G43.8)"),
+    row(439, When::Always, "cutting point command (G43.9)"),
+    row(450, When::Always, "tool position offset (G45)"),
+    row(460, When::Always, "tool position offset (G46)"),
+    row(470, When::Always, "tool position offset (G47)"),
+    row(480, When::Always, "tool position offset (G48)"),
+    // G54.2 P0 is the cancel.
+    row(542, When::Unless(b'P', &[0.0]), "rotary table dynamic fixture offset (G54.2)"),
+    row(600, When::Always, "single direction positioning (G60)"),
+    row(721, When::Always, "figure copy (G72.1)"),
+    row(722, When::Always, "figure copy (G72.2)"),
+    row(811, When::Always, "chopping (G81.1)"),
+    row(815, When::Always, "electronic gear box (G81.5)"),
+    row(960, When::Always, "constant surface speed (G96)"),
+    row(1610, When::Always, "in-feed control (G161)"),
+];
+
+/// The function a G code (×10) selects with its block's addresses, if fivex does not carry it
+/// out in `dialect`.
+pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<&'static str> {
+    let row = TABLE.iter().find(|r| r.code == code && r.dialect.is_none_or(|d| d == dialect))?;
+    let value_in = |letter: u8, values: &[f64]| match word(letter) {
+        Word::Value(v) => Some(values.contains(&v)),
+        Word::Absent => Some(false),
+        Word::Unknown => None,
+    };
+    let refused = match row.when {
+        When::Always => Some(true),
+        When::Unless(letter, values) => value_in(letter, values).map(|ok| !ok),
+        When::Is(letter, values) => value_in(letter, values),
+        When::WithAny(letters) => Some(letters.iter().any(|&l| word(l) != Word::Absent)),
+    };
+    // A value known only when running is not refused statically; the run decides.
+    refused.unwrap_or(false).then_some(row.function)
+}
+
+/// An address letter fivex reads but no function of it uses: E (FANUC M series: the thread
+/// lead of G33, which is not built). Macro call arguments (G65/G66) are not addresses here.
+pub fn address(letter: u8) -> Option<&'static str> {
+    (letter == b'E').then_some("address E (thread lead)")
+}
+
+/// The codes of the table (for documentation checks).
+pub fn codes() -> impl Iterator<Item = (u16, Option<Dialect>, &'static str)> {
+    TABLE.iter().map(|r| (r.code, r.dialect, r.function))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interp::gcode;
+
+    #[test]
+    fn every_row_is_a_code_of_the_table() {
+        for (code, dialect, _) in codes() {
+            let d = dialect.unwrap_or(Dialect::Fanuc);
+            assert!(gcode::lookup(code, d).is_some(), "{}", gcode::display(code));
+        }
+    }
+
+    #[test]
+    fn values_decide() {
+        let q = |v: Word| move |l: u8| if l == b'Q' { v } else { Word::Absent };
+        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(1.0))).is_none());
+        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(3.0))).is_some());
+        assert!(g_code(51, Dialect::Fanuc, q(Word::Absent)).is_some());
+        assert!(g_code(51, Dialect::Fanuc, q(Word::Unknown)).is_none());
+        let l = |v: f64| move |c: u8| if c == b'L' { Word::Value(v) } else { Word::Absent };
+        assert!(g_code(434, Dialect::Syntec, l(1.0)).is_some());
+        assert!(g_code(434, Dialect::Syntec, l(0.0)).is_none());
+        assert!(g_code(434, Dialect::Fanuc, l(1.0)).is_none());
+    }
+}
