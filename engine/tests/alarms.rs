@@ -44,7 +44,7 @@ fn cutting_feed_without_f() {
 fn offset_numbers_out_of_range() {
     both("G43 H1000 Z0\n", "PS0030", "COR-011", 1);
     both("G54.1 P301\n", "PS0030", "COR-011", 1);
-    both("G41 D-1 X1.\n", "PS0030", "COR-011", 1);
+    both("D-1 X1.\n", "PS0030", "COR-011", 1);
     both("G10 L10 P1000 R1.\n", "PS0030", "COR-011", 1);
 }
 
@@ -57,9 +57,19 @@ fn arc_end_point_off_the_circle() {
 
 #[test]
 fn plane_change_during_cutter_compensation() {
-    both("G17 G41 D1 G01 X10. F100\nG18\n", "PS0037", "COR-013", 2);
-    // Re-selecting the same plane is not a change.
-    assert!(run_src("G17 G41 D1 G01 X10. F100\nG17\nG40 X0\nM30\n").completed());
+    // Cutter compensation is not built: its first block is refused (`unbuilt.rs`), so this
+    // interlock of the compensation is checked with the refusal off until it is built.
+    both("G17 G41 D1 G01 X10. F100\nG18\n", "PS0010", "COR-100", 1);
+    let run = |src: &str, dialect| {
+        let mut interp = interpreter_with(src, "mill3", dialect, |c| c.refuse_unbuilt = false);
+        fivex_engine::run::run(&mut interp, &Default::default(), |_| {})
+    };
+    for (dialect, code) in [(Fanuc, "PS0037"), (Syntec, "COR-013")] {
+        let r = run("G17 G41 D1 G01 X10. F100\nG18\n", dialect);
+        assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, 2));
+        // Re-selecting the same plane is not a change.
+        assert!(run("G17 G41 D1 G01 X10. F100\nG17\nG40 X0\nM30\n", dialect).completed());
+    }
 }
 
 #[test]

@@ -1603,11 +1603,12 @@ M30
 
 #[test]
 fn d_is_modal_without_cutter_compensation() {
-    // D given in G40 is kept: #4107 shows it and a later G41 without D uses it.
-    let src = "D7\n#100=#4107\nG41 G01 X10. F100\nM30\n";
+    // D given in G40 is kept: #4107 and the motion context show it (no radius: compensation is
+    // off; G41 itself is not built, `unbuilt.rs`).
+    let src = "D7\n#100=#4107\nG01 X10. F100\nM30\n";
     assert_eq!(var(src, 100), Some(7.0));
     let m = motions(src);
-    assert_eq!((m[0].context.d, m[0].context.cutter_radius), (7, 5.0));
+    assert_eq!((m[0].context.d, m[0].context.cutter_radius), (7, 0.0));
 }
 
 #[test]

@@ -26,12 +26,36 @@ fn outcome(r: fivex_engine::run::RunResult) -> String {
     }
 }
 
+/// A run with the functions fivex does not build yet allowed (`Config::refuse_unbuilt` off):
+/// most interlocks belong to 5-axis cutter compensation, NURBS, smoothing and HPCC, which a
+/// normal run refuses at their first block (`engine/tests/unbuilt.rs`); their rules stay
+/// checked here until those functions are built.
+fn run_interlocks(src: &str, preset: &str, dialect: Dialect) -> fivex_engine::run::RunResult {
+    let mut interp = interpreter_with(src, preset, dialect, |c| c.refuse_unbuilt = false);
+    run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {})
+}
+
 fn fanuc(preset: &str, src: &str) -> String {
-    outcome(run_with(src, preset, Dialect::Fanuc))
+    outcome(run_interlocks(src, preset, Dialect::Fanuc))
 }
 
 fn syntec(preset: &str, src: &str) -> String {
-    outcome(run_with(src, preset, Dialect::Syntec))
+    outcome(run_interlocks(src, preset, Dialect::Syntec))
+}
+
+/// What Syntec answers a program whose rule only FANUC states: nothing ("ok"), or COR-070
+/// when the program uses a FANUC code the Syntec manual does not have (3-D cutter
+/// compensation, cutting point command, G54.4, G68.4).
+fn fanuc_only_in(src: &str) -> &'static str {
+    const FANUC_ONLY: [&str; 13] = [
+        "G41.2", "G41.3", "G41.4", "G41.5", "G41.6", "G42.2", "G42.4", "G42.5", "G42.6", "G43.8", "G43.9", "G54.4",
+        "G68.4",
+    ];
+    if FANUC_ONLY.iter().any(|g| src.contains(g)) {
+        "COR-070"
+    } else {
+        "ok"
+    }
 }
 
 /// A machine with the given axes (linear X Y Z U V W, rotary A B C), in this order.
@@ -68,6 +92,7 @@ fn custom_run(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Confi
         dialect,
     );
     cfg.max_blocks = 10_000;
+    cfg.refuse_unbuilt = false;
     f(&mut cfg);
     let mut interp = Interpreter::new(parse_file(src), cfg);
     for n in 1..=9 {
@@ -83,7 +108,7 @@ fn custom_run(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Confi
 #[test]
 fn a_forbidden_block_changes_nothing() {
     let src = "G41.2 D1\nG55 G91 X10. F100\n";
-    let mut interp = interpreter(src, HEAD, Dialect::Fanuc);
+    let mut interp = interpreter_with(src, HEAD, Dialect::Fanuc, |c| c.refuse_unbuilt = false);
     let mut out = Vec::new();
     interp.step(&mut out).unwrap();
     let alarm = interp.step(&mut out).unwrap_err();
@@ -101,7 +126,7 @@ fn g54_4_needs_p_0_to_7() {
     // twp WSE-01, TV-WSE-10
     for bad in ["G54.4", "G54.4 P8", "G54.4 P-1", "G54.4 P1.5"] {
         assert_eq!(fanuc(MILL, bad), "PS0437", "{bad}");
-        assert_eq!(syntec(MILL, bad), "ok", "{bad}");
+        assert_eq!(syntec(MILL, bad), fanuc_only_in(bad), "{bad}");
     }
     assert_eq!(fanuc(MILL, "G54.4 P7\nG54.4 P0"), "ok");
 }
@@ -111,7 +136,7 @@ fn g54_4_is_alone_in_its_block() {
     // twp WSE-01, TV-WSE-11
     for bad in ["G54.4 P1 G90", "G54.4 P1 X10."] {
         assert_eq!(fanuc(MILL, bad), "PS0437", "{bad}");
-        assert_eq!(syntec(MILL, bad), "ok", "{bad}");
+        assert_eq!(syntec(MILL, bad), fanuc_only_in(bad), "{bad}");
     }
     assert_eq!(fanuc(MILL, "G90\nG54.4 P1\nX10.\nG54.4 P0"), "ok");
 }
@@ -120,7 +145,7 @@ fn g54_4_is_alone_in_its_block() {
 fn g54_4_is_not_specified_twice() {
     // twp WSE-01, TV-WSE-12/13
     assert_eq!(fanuc(MILL, "G54.4 P1\nG54.4 P2"), "PS0437");
-    assert_eq!(syntec(MILL, "G54.4 P1\nG54.4 P2"), "ok");
+    assert_eq!(syntec(MILL, "G54.4 P1\nG54.4 P2"), "COR-070");
     assert_eq!(fanuc(MILL, "G54.4 P1\nG54.4 P0\nG54.4 P2"), "ok");
 }
 
@@ -129,7 +154,7 @@ fn g54_4_starts_only_in_the_listed_modal_states() {
     // twp §6.3, TV-WSE-16; decision: power-on codes (G22 here) count as allowed
     for bad in ["G41 D1\nG54.4 P1", "G68 X0 Y0 R10.\nG54.4 P1", "G61\nG54.4 P1"] {
         assert_eq!(fanuc(MILL, bad), "PS0439", "{bad}");
-        assert_eq!(syntec(MILL, bad), "ok", "{bad}");
+        assert_eq!(syntec(MILL, bad), fanuc_only_in(bad), "{bad}");
     }
     assert_eq!(fanuc(MILL, "G55\nG54.1 P3\nG91\nG95\nG54.4 P1"), "ok");
 }
@@ -140,7 +165,7 @@ fn g54_4_mode_allows_only_its_list() {
     for bad in ["G61", "G92 X0", "G52 X1.", "G68.3", "G55", "G05.1 Q3"] {
         let src = format!("G54.4 P1\n{bad}");
         assert_eq!(fanuc(MILL, &src), "PS0437", "{bad}");
-        assert_eq!(syntec(MILL, &src), "ok", "{bad}");
+        assert_eq!(syntec(MILL, &src), fanuc_only_in(&src), "{bad}");
     }
     let legal = "G54.4 P1\nG01 X10. F100\nG05.1 Q1\nG43 H1\nG49\nG81 X0 Y0 Z-1. R1.\nG80\nG54.4 P0\nG61";
     assert_eq!(fanuc(MILL, legal), "ok");
@@ -151,7 +176,7 @@ fn g53_1_in_g54_4_mode_needs_rcm() {
     // twp TWP-07, WSE-11, TV-WSE-19c (RCM = 0)
     let src = "G54.4 P1\nG68.2 X0 Y0 Z0 I0 J0 K0\nG53.1";
     assert_eq!(fanuc(HEAD, src), "PS5458");
-    assert_eq!(syntec(HEAD, src), "ok");
+    assert_eq!(syntec(HEAD, src), fanuc_only_in(src));
     assert_eq!(fanuc(HEAD, "G68.2 X0 Y0 Z0 I0 J0 K0\nG53.1\nG69"), "ok");
 }
 
@@ -159,7 +184,7 @@ fn g53_1_in_g54_4_mode_needs_rcm() {
 fn tcp_in_g54_4_mode_needs_rcm() {
     // twp WSE-11, TV-WSE-19b (RCM = 0)
     assert_eq!(fanuc(HEAD, "G54.4 P1\nG43.4 H1"), "PS5421");
-    assert_eq!(syntec(HEAD, "G54.4 P1\nG43.4 H1\nG49"), "ok");
+    assert_eq!(syntec(HEAD, "G54.4 P1\nG43.4 H1\nG49"), "COR-070");
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG49\nG54.4 P1\nG54.4 P0"), "ok");
 }
 
@@ -173,8 +198,8 @@ fn spg_0_refuses_g41_4_on_table_and_g41_5_on_mixed() {
     assert_eq!(fanuc(TABLE, "G41.4 D1"), "PS0010");
     assert_eq!(fanuc(TABLE, "G42.4 D1"), "PS0010");
     assert_eq!(fanuc(MIXED, "G41.5 D1"), "PS0010");
-    assert_eq!(syntec(TABLE, "G41.4 D1\nG40"), "ok");
-    assert_eq!(syntec(MIXED, "G41.5 D1\nG40"), "ok");
+    assert_eq!(syntec(TABLE, "G41.4 D1\nG40"), "COR-070");
+    assert_eq!(syntec(MIXED, "G41.5 D1\nG40"), "COR-070");
     assert_eq!(fanuc(TABLE, "G41.2 D1\nG40"), "ok");
     assert_eq!(fanuc(MIXED, "G42.2 D1\nG40"), "ok");
 }
@@ -184,7 +209,7 @@ fn g41_6_needs_two_rotary_axes() {
     // crc CRC-02, TV-18
     assert_eq!(fanuc(MILL, "G41.6 D1"), "PS5460");
     assert_eq!(custom("XYZC", Dialect::Fanuc, "G42.6 D1"), "PS5460");
-    assert_eq!(syntec(MILL, "G41.6 D1\nG40"), "ok");
+    assert_eq!(syntec(MILL, "G41.6 D1\nG40"), "COR-070");
     assert_eq!(fanuc(HEAD, "G41.6 D1\nG40"), "ok");
 }
 
@@ -197,7 +222,7 @@ fn table_and_mixed_refuse_arcs_in_the_start_up_and_cancel_blocks() {
     for preset in [TABLE, MIXED] {
         for src in [start, cancel, d0] {
             assert_eq!(fanuc(preset, src), "PS0034", "{preset}: {src}");
-            assert_eq!(syntec(preset, src), "ok", "{preset}: {src}");
+            assert_eq!(syntec(preset, src), fanuc_only_in(src), "{preset}: {src}");
         }
     }
     assert_eq!(fanuc(HEAD, &format!("{start}\nG40")), "ok");
@@ -210,7 +235,7 @@ fn table_and_mixed_allow_only_g00_g01_in_compensation() {
     let src = "G41.2 D1\nG01 X10. F100\nG02 X20. Y10. R10.";
     assert_eq!(fanuc(TABLE, src), "PS5460");
     assert_eq!(fanuc(MIXED, src), "PS5460");
-    assert_eq!(syntec(TABLE, src), "ok");
+    assert_eq!(syntec(TABLE, src), fanuc_only_in(src));
     assert_eq!(fanuc(HEAD, &format!("{src}\nG01 G40")), "ok");
 }
 
@@ -219,7 +244,7 @@ fn table_and_mixed_have_no_leading_edge_offset() {
     // crc CRC-34, §6.3, TV-31
     assert_eq!(fanuc(TABLE, "G41.3 D1"), "PS5460");
     assert_eq!(fanuc(MIXED, "G41.3 D1"), "PS5460");
-    assert_eq!(syntec(TABLE, "G41.3 D1\nX10.\nG40"), "ok");
+    assert_eq!(syntec(TABLE, "G41.3 D1\nX10.\nG40"), "COR-070");
     assert_eq!(fanuc(HEAD, "G41.3 D1\nX10.\nG40"), "ok");
 }
 
@@ -229,7 +254,7 @@ fn table_type_2_takes_no_ijk() {
     let src = "G41.6 D1 I0 J0 K1.\nG40";
     assert_eq!(fanuc(TABLE, src), "PS5460");
     assert_eq!(fanuc(TABLE, "G41.6 D1\nX10. K1."), "PS5460");
-    assert_eq!(syntec(TABLE, src), "ok");
+    assert_eq!(syntec(TABLE, src), fanuc_only_in(src));
     assert_eq!(fanuc(MIXED, src), "ok");
 }
 
@@ -238,7 +263,7 @@ fn g41_3_only_in_g00_g01_and_only_g00_g01_in_g41_3() {
     // crc CRC-21, §6.2, TV-31
     assert_eq!(fanuc(HEAD, "G02 X10. Y10. R10. F100\nG41.3 D1"), "PS5460");
     assert_eq!(fanuc(HEAD, "G41.3 D1\nG01 X10. F100\nG02 X20. Y10. R10."), "PS5460");
-    assert_eq!(syntec(HEAD, "G02 X10. Y10. R10. F100\nG41.3 D1\nG01 X20.\nG40"), "ok");
+    assert_eq!(syntec(HEAD, "G02 X10. Y10. R10. F100\nG41.3 D1\nG01 X20.\nG40"), "COR-070");
     assert_eq!(fanuc(HEAD, "G01 F100\nG41.3 D1\nX10.\nG00 Y10.\nG40"), "ok");
 }
 
@@ -248,7 +273,7 @@ fn g41_3_and_its_g40_hold_only_d_o_n() {
     assert_eq!(fanuc(HEAD, "G41.3 D1 X10."), "PS5460");
     assert_eq!(fanuc(HEAD, "G41.3 D1 M08"), "PS5460");
     assert_eq!(fanuc(HEAD, "G41.3 D1\nX10.\nG40 X0"), "PS5460");
-    assert_eq!(syntec(HEAD, "G41.3 D1 X10.\nG40 X0"), "ok");
+    assert_eq!(syntec(HEAD, "G41.3 D1 X10.\nG40 X0"), "COR-070");
     assert_eq!(fanuc(HEAD, "N1 G41.3 D1\nX10.\nN3 G40"), "ok");
 }
 
@@ -257,7 +282,7 @@ fn the_block_after_g41_3_moves() {
     // crc CRC-21, TV-31 (the direction, PS5408, needs the tool vector)
     assert_eq!(fanuc(HEAD, "G41.3 D1\nF100\nX10."), "PS5460");
     assert_eq!(fanuc(HEAD, "G41.3 D1\nG40"), "PS5460");
-    assert_eq!(syntec(HEAD, "G41.3 D1\nF100\nX10.\nG40"), "ok");
+    assert_eq!(syntec(HEAD, "G41.3 D1\nF100\nX10.\nG40"), "COR-070");
     assert_eq!(fanuc(HEAD, "G41.3 D1\nX10.\nF100\nG40"), "ok");
 }
 
@@ -266,7 +291,7 @@ fn tcp_and_compensation_types_match() {
     // crc CRC-48, TV-18
     for bad in ["G43.4 H1\nG41.6 D1", "G43.5 H1\nG41.2 D1", "G41.6 D1\nG43.4 H1", "G42.2 D1\nG43.5 H1"] {
         assert_eq!(fanuc(HEAD, bad), "PS5460", "{bad}");
-        assert_eq!(syntec(HEAD, &format!("{bad}\nG49\nG40")), "ok", "{bad}");
+        assert_eq!(syntec(HEAD, &format!("{bad}\nG49\nG40")), fanuc_only_in(&format!("{bad}\nG49\nG40")), "{bad}");
     }
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG41.2 D1\nG40\nG49"), "ok");
     assert_eq!(fanuc(HEAD, "G43.5 H1\nG42.6 D1\nG40\nG49"), "ok");
@@ -277,7 +302,7 @@ fn tcp_and_compensation_nest() {
     // crc CRC-48, TV-22
     for bad in ["G41.2 D1\nG43.4 H1\nG40", "G43.4 H1\nG41.2 D1\nG49"] {
         assert_eq!(fanuc(HEAD, bad), "PS5460", "{bad}");
-        assert_eq!(syntec(HEAD, &format!("{bad}\nG49\nG40")), "ok", "{bad}");
+        assert_eq!(syntec(HEAD, &format!("{bad}\nG49\nG40")), fanuc_only_in(&format!("{bad}\nG49\nG40")), "{bad}");
     }
     assert_eq!(fanuc(HEAD, "G41.2 D1\nG43.4 H1\nG49\nG40"), "ok");
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG41.2 D1\nG40\nG49"), "ok");
@@ -289,7 +314,7 @@ fn no_unit_change_in_5_axis_compensation() {
     // crc CRC-46, §6.1, TV-29
     assert_eq!(fanuc(HEAD, "G41.2 D1\nG20"), "PS5000");
     assert_eq!(fanuc(HEAD, "G41.2 D1\nG21"), "PS5000");
-    assert_eq!(syntec(HEAD, "G41.2 D1\nG21\nG40"), "ok");
+    assert_eq!(syntec(HEAD, "G41.2 D1\nG21\nG40"), "COR-070");
     assert_eq!(fanuc(HEAD, "G21\nG41.2 D1\nG40\nG20"), "ok");
 }
 
@@ -297,7 +322,7 @@ fn no_unit_change_in_5_axis_compensation() {
 fn no_rotary_word_in_type_2_compensation() {
     // crc CRC-02, TV-18
     assert_eq!(fanuc(HEAD, "G41.6 D1\nG01 X10. B10. F100"), "PS5460");
-    assert_eq!(syntec(HEAD, "G41.6 D1\nG01 X10. B10. F100\nG40"), "ok");
+    assert_eq!(syntec(HEAD, "G41.6 D1\nG01 X10. B10. F100\nG40"), "COR-070");
     assert_eq!(fanuc(HEAD, "G41.6 D1\nG01 X10. I0 J0 K1. F100\nG40 B0"), "ok");
 }
 
@@ -326,7 +351,7 @@ fn g_codes_forbidden_in_5_axis_compensation() {
     for b in bad {
         let src = format!("G41.2 D1\n{b}");
         assert_eq!(fanuc(HEAD, &src), "PS5460", "{b}");
-        assert_eq!(syntec(HEAD, &format!("{src}\nG40")), "ok", "{b}");
+        assert_eq!(syntec(HEAD, &format!("{src}\nG40")), fanuc_only_in(&format!("{src}\nG40")), "{b}");
     }
     // 3-axis machines have no 5-axis modes (decision); the cancel block is out of the mode.
     assert_eq!(fanuc(MILL, "G41.2 D1\nG28 Z0\nG40"), "ok");
@@ -548,7 +573,7 @@ fn cutting_point_control_in_g00_g01_only() {
     // tcp TCP-41, TV-67 (alarm not named: PS5421, decision; FANUC only)
     assert_eq!(fanuc(HEAD, "G43.8 H1\nG02 X10. Y10. R10. F100"), "PS5421");
     assert_eq!(fanuc(HEAD, "G02 X10. Y10. R10. F100\nG43.9 H1"), "PS5421");
-    assert_eq!(syntec(HEAD, "G43.8 H1\nG02 X10. Y10. R10. F100\nG01\nG49"), "ok");
+    assert_eq!(syntec(HEAD, "G43.8 H1\nG02 X10. Y10. R10. F100\nG01\nG49"), "COR-070");
     assert_eq!(fanuc(HEAD, "G43.8 H1\nG01 X10. F100\nG49"), "ok");
 }
 
@@ -597,7 +622,7 @@ fn g68_2_p2_p3_q_and_p_ranges() {
     // twp TWP-03/04, TV-TWP-11e; P outside 0..4 (decision)
     for bad in ["G68.2 P2 Q4 X0 Y0 Z0", "G68.2 P2 X0 Y0 Z0", "G68.2 P3 Q3 I1. J0 K0", "G68.2 P5 X0", "G68.4 P1.5 X0"] {
         assert_eq!(fanuc(MILL, bad), "PS5457", "{bad}");
-        assert_eq!(syntec(MILL, &format!("{bad}\nG69")), "ok", "{bad}");
+        assert_eq!(syntec(MILL, &format!("{bad}\nG69")), fanuc_only_in(&format!("{bad}\nG69")), "{bad}");
     }
 }
 
@@ -727,7 +752,7 @@ fn g_codes_allowed_in_the_tilted_plane() {
         let src = format!("G68.2 X0 Y0 Z0 I0 J0 K0\n{b}");
         assert_eq!(fanuc(HEAD, &src), "PS5462", "{b}");
         if !b.starts_with("G43.4") && !b.starts_with("G68.3") {
-            assert_eq!(syntec(HEAD, &format!("{src}\nG50\nG69")), "ok", "{b}");
+            assert_eq!(syntec(HEAD, &format!("{src}\nG50\nG69")), fanuc_only_in(&format!("{src}\nG50\nG69")), "{b}");
         }
     }
     let legal = "G68.2 X0 Y0 Z0 I0 J0 K0\nG43 H1\nG49\nG81 X0 Y0 Z-1. R1. F100\nG80\nG18\nG17\nG53 X0\nG28 Z0\nG69";

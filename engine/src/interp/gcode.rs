@@ -31,7 +31,9 @@ const fn gsx(code: u16, group: u8) -> GDef {
     GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false }
 }
 /// FANUC's 5-axis codes that the Syntec 5-axis manual does not list (its 5-axis functions are
-/// RTCP, G68.2/G68.3 and the tool alignments): not codes of the Syntec dialect.
+/// RTCP/STCP G43.4/G43.5, G68.2/G68.3, the tool alignments G53.1/G53.3/G53.6 and the chains
+/// G10 L5000): 3-D cutter compensation, cutting point command, G54.4, G68.4. Not codes of the
+/// Syntec dialect (COR-070), rather than FANUC's behaviour under a Syntec name.
 const fn gf(code: u16, group: u8) -> GDef {
     GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true }
 }
@@ -132,7 +134,7 @@ pub const TABLE: &[GDef] = &[
     g(540, 14),  // G54
     g(541, 14),  // G54.1 additional workpiece coordinate systems
     g(542, 23),  // G54.2 rotary table dynamic fixture offset
-    g(544, 33),  // G54.4 workpiece setting error compensation
+    gf(544, 33), // G54.4 workpiece setting error compensation
     g(550, 14),  // G55
     g(560, 14),  // G56
     g(570, 14),  // G57
@@ -150,7 +152,7 @@ pub const TABLE: &[GDef] = &[
     g(680, 16),  // G68 coordinate system rotation
     g(682, 16),  // G68.2 tilted working plane
     g(683, 16),  // G68.3 tilted working plane by tool axis
-    g(684, 16),  // G68.4 tilted working plane, incremental
+    gf(684, 16), // G68.4 tilted working plane, incremental
     g(690, 16),  // G69 cancel
     g(691, 16),  // G69.1
     g(721, 0),   // G72.1 figure copy, rotary

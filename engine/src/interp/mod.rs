@@ -88,6 +88,11 @@ pub struct Config {
     /// may command at most five axes (TCP-05; PS5421, `docs/five-axis.md`). The model of the
     /// control, not a machine parameter.
     pub five_axes_per_block: bool,
+    /// Refuse the functions fivex does not carry out (`unbuilt`). Always on in fivex (no
+    /// command line, JSON or HTTP setting turns it off); off only in the tests of the mode
+    /// interlocks that belong to those functions (`engine/tests/modes.rs`), so that their rules
+    /// stay checked until the functions are built.
+    pub refuse_unbuilt: bool,
 }
 
 impl Config {
@@ -106,6 +111,7 @@ impl Config {
             rotation_angle_incremental: true,
             fast_paths: true,
             five_axes_per_block: false,
+            refuse_unbuilt: true,
         }
     }
 }

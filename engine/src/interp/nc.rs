@@ -297,7 +297,7 @@ impl State {
             if !known {
                 return Err(AlarmId::ImproperAddress);
             }
-            if unbuilt::address(letter).is_some() {
+            if self.cfg.refuse_unbuilt && unbuilt::address(letter).is_some() {
                 return Err(AlarmId::AddressNotBuilt);
             }
         }
@@ -898,6 +898,13 @@ impl State {
                 self.move_to(MotionKind::Rapid, target, out);
                 return Ok(true);
             }
+            // G31 without a skip signal (fivex has none): the whole move; #5061… hold its end.
+            310 => {
+                self.check_feed()?;
+                let target = self.target(w);
+                self.move_to(MotionKind::Linear, target, out);
+                return Ok(true);
+            }
             // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off (other Q: `unbuilt`).
             51 => self.look_ahead = w.integer(b'Q') == Some(1.0),
             // The one-shot codes left are performed by doing nothing here (G04.1, G09, G22
@@ -910,6 +917,9 @@ impl State {
     /// The block's first G code whose function (with the block's addresses) fivex does not
     /// carry out raises `GCodeNotBuilt` (`unbuilt`).
     fn refuse_unbuilt(&self, w: &Words) -> Result<(), AlarmId> {
+        if !self.cfg.refuse_unbuilt {
+            return Ok(());
+        }
         let word = |letter: u8| w.integer(letter).map_or(unbuilt::Word::Absent, unbuilt::Word::Value);
         match w.gcodes().iter().find(|&&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),
@@ -953,7 +963,9 @@ impl State {
                 };
                 *slot = if incremental { *slot + r } else { r };
             }
-            // (Syntec's L5000, the mechanism chain, is refused by `unbuilt`.)
+            // Syntec: select the mechanism chain (its Q and its modes are checked in `modes`).
+            // fivex has one chain per machine: refused by `unbuilt` before this.
+            5000 if self.cfg.dialect == Dialect::Syntec => {}
             _ => return Err(AlarmId::DataSettingFormat),
         }
         Ok(())

@@ -79,7 +79,6 @@ const TABLE: &[NotBuilt] = &[
     row(270, When::Always, "reference position return check (G27)"),
     row(282, When::Always, "G28.2"),
     row(301, When::Always, "floating reference position return (G30.1)"),
-    row(310, When::Always, "skip function (G31)"),
     row(318, When::Always, "EGB skip (G31.8)"),
     row(319, When::Always, "continuous high-speed skip (G31.9)"),
     row(330, When::Always, "threading (G33)"),
