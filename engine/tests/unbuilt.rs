@@ -1,0 +1,352 @@
+//! No silent stubs: every G code of the parser's table and every address letter, in both
+//! dialects, is either performed (an example program runs to its end; the function's own
+//! behaviour tests are named beside it) or refused at its block with the dialect's alarm
+//! (`interp::unbuilt`). A code added to the table without a decision fails
+//! `every_g_code_has_a_decision`.
+
+mod common;
+use common::*;
+
+use fivex_engine::canon::CanonKind;
+use fivex_engine::check::check;
+use fivex_engine::interp::gcode;
+use fivex_engine::lang::parse_file;
+use fivex_engine::Dialect::{self, Fanuc, Syntec};
+
+/// The machine of these tests: X Y Z and the rotary axes B C (for G07.1 C and 5-axis codes).
+const PRESET: &str = "head-bc";
+
+/// FANUC codes the Syntec 5-axis manual does not have: COR-070 in the Syntec dialect.
+const FANUC_ONLY: &[&str] =
+    &["G41.2", "G41.3", "G41.4", "G41.5", "G41.6", "G42.2", "G42.4", "G42.5", "G42.6", "G43.8", "G43.9", "G54.4", "G68.4"];
+
+/// Performed: (the code, an example that must run to its end, where its behaviour is tested).
+/// `M30` is appended unless the example has it (to put subprograms after it).
+const PERFORMED: &[(&str, &str, &str)] = &[
+    ("G00", "G00 X1.", "fixture g00_g01_square"),
+    ("G01", "G01 X1. F100", "fixture g00_g01_square"),
+    ("G02", "G02 X2. R1. F100", "fixture arcs_ij, arc_r_word"),
+    ("G03", "G03 X2. R1. F100", "fixture arcs_ij, helix"),
+    ("G04", "G04 P100", "fixture dwell"),
+    ("G04.1", "G04.1", "decision: fivex reads no block ahead that a program could see (docs/dialects.md)"),
+    ("G05", "G05 P0", "G05 P0 is the cancelled state"),
+    ("G05.1", "G05.1 Q1\nG05.1 Q0", "wse.rs (look-ahead on/off)"),
+    ("G08", "G08 P1\nG08 P0", "decision: the planner always looks ahead (docs/dialects.md)"),
+    ("G09", "G09 G01 X1. F100", "fixture exact_stop_g09_g61_g64"),
+    ("G10", "G10 L2 P1 X0\nG10 L10 P1 R100.", "fixture g10_tool_offsets"),
+    ("G11", "G11", "cancel of a data input mode fivex does not have"),
+    ("G13.1", "G13.1", "the cancelled state of G12.1"),
+    ("G15", "G15", "frames.rs"),
+    ("G16", "G16\nG15", "frames.rs"),
+    ("G17", "G17", "fixture arcs_planes"),
+    ("G18", "G18\nG17", "fixture arcs_planes"),
+    ("G19", "G19\nG17", "fixture arcs_planes"),
+    ("G20", "G20\nG21", "fixture g20_inch"),
+    ("G21", "G21", "fixture g20_inch"),
+    ("G22", "G22", "decision: no stored stroke check 2 area is set, nothing to check"),
+    ("G23", "G23\nG22", "stroke check 2 off"),
+    ("G25", "G25", "the cancelled state of G26"),
+    ("G28", "G28 Z0", "fixture g28_g53"),
+    ("G29", "G28 Z0\nG29 Z0", "fixture g28_g53"),
+    ("G30", "G30 Z0", "fixture scaling_g51_g62_g63_g30"),
+    ("G31", "G31 X1. F100", "macro_b.rs decision_skip_position_5061 (no skip signal)"),
+    ("G40", "G40", "the cancelled state of cutter compensation"),
+    ("G40.1", "G40.1", "the cancelled state of normal direction control"),
+    ("G43", "G43 H1 Z0\nG49", "fixture g43_g44_g49_tools_file"),
+    ("G43.4", "G43.4 H1\nG49", "tcp.rs"),
+    ("G43.5", "G43.5 H1\nG49", "tcp.rs"),
+    ("G44", "G44 H1 Z0\nG49", "fixture g43_g44_g49_tools_file"),
+    ("G49", "G49", "fixture g43_g44_g49_tools_file"),
+    ("G49.1", "G49.1", "tool length compensation cancel"),
+    ("G50", "G51 X0 Y0 P2\nG50", "frames.rs"),
+    ("G50.1", "G50.1", "frames.rs"),
+    ("G51", "G51 X0 Y0 P2\nG50", "frames.rs"),
+    ("G51.1", "G51.1 X0\nG50.1", "frames.rs"),
+    ("G52", "G52 X1.\nG52 X0", "fixture g52_local"),
+    ("G53", "G53 Z0", "fixture g28_g53"),
+    ("G53.1", "G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG69", "twp.rs"),
+    ("G53.3", "G68.2 X0 Y0 Z0 I0 J30. K0\nG53.3\nG69", "fixture syntec_only_g_code, twp.rs"),
+    ("G53.6", "T1 M06\nG53.6 H1\nG49", "twp.rs, modes.rs"),
+    ("G54", "G54", "fixture work_offsets_g54_g59"),
+    ("G54.1", "G54.1 P1\nG54", "fixture g54_1_p"),
+    ("G54.4", "G54.4 P1\nG54.4 P0", "wse.rs"),
+    ("G55", "G55\nG54", "fixture work_offsets_g54_g59"),
+    ("G56", "G56\nG54", "fixture work_offsets_g54_g59"),
+    ("G57", "G57\nG54", "fixture work_offsets_g54_g59"),
+    ("G58", "G58\nG54", "fixture work_offsets_g54_g59"),
+    ("G59", "G59\nG54", "fixture work_offsets_g54_g59"),
+    ("G61", "G61\nG64", "fixture exact_stop_g09_g61_g64"),
+    ("G62", "G62\nG64", "decision: its override acts only in cutter compensation, which is refused"),
+    ("G63", "G63\nG64", "fixture scaling_g51_g62_g63_g30"),
+    ("G64", "G64", "fixture exact_stop_g09_g61_g64"),
+    ("G65", "G65 P9000\nM30\nO9000\nM99", "fixture g65_macro_args"),
+    ("G66", "G66 P9000\nG67\nM30\nO9000\nM99", "fixture g66_modal_call"),
+    ("G66.1", "G66.1 P9000\nG67\nM30\nO9000\nM99", "fixture g66_1_every_block"),
+    ("G67", "G67", "fixture g66_modal_call"),
+    ("G68", "G68 X0 Y0 R10.\nG69", "fixture coordinate_transforms"),
+    ("G68.2", "G68.2 X0 Y0 Z0 I0 J30. K0\nG69", "twp.rs"),
+    ("G68.3", "G68.3 X0 Y0 Z0\nG69", "twp.rs"),
+    ("G68.4", "G68.4 X0 Y0 Z0 I0 J30. K0\nG69", "twp.rs"),
+    ("G69", "G69", "twp.rs"),
+    ("G69.1", "G69.1", "cancel of the rotation"),
+    ("G73", "G73 X1. Z-1. R1. Q0.5 F100\nG80", "fixture g82_g83_g73_peck"),
+    ("G74", "M04 S100\nG74 X1. Z-1. R1. F100\nG80", "fixture cycles_g74_g87_g88_g89"),
+    ("G76", "M03 S100\nG76 X1. Z-1. R1. Q0.1 F100\nG80", "fixture g76_fine_boring"),
+    ("G80", "G80", "fixture g81_drill_g98_g99_repeat"),
+    ("G80.5", "G80.5", "the cancelled state of G81.5"),
+    ("G81", "G81 X1. Z-1. R1. F100\nG80", "fixture g81_drill_g98_g99_repeat"),
+    ("G82", "G82 X1. Z-1. R1. P100 F100\nG80", "fixture g82_g83_g73_peck"),
+    ("G83", "G83 X1. Z-1. R1. Q0.5 F100\nG80", "fixture g82_g83_g73_peck"),
+    ("G84", "M03 S100\nG84 X1. Z-1. R1. F100\nG80", "fixture g84_g85_g86_tap_bore"),
+    ("G84.2", "M03 S100\nG84.2 X1. Z-1. R1. F100\nG80", "cycles.rs (as G84)"),
+    ("G84.3", "M04 S100\nG84.3 X1. Z-1. R1. F100\nG80", "cycles.rs (as G74)"),
+    ("G85", "G85 X1. Z-1. R1. F100\nG80", "fixture g84_g85_g86_tap_bore"),
+    ("G86", "M03 S100\nG86 X1. Z-1. R1. F100\nG80", "fixture g84_g85_g86_tap_bore"),
+    ("G87", "M03 S100\nG87 X1. Z1. R-5. Q0.1 F100\nG80", "fixture cycles_g74_g87_g88_g89"),
+    ("G88", "M03 S100\nG88 X1. Z-1. R1. F100\nG80", "fixture cycles_g74_g87_g88_g89"),
+    ("G89", "G89 X1. Z-1. R1. P100 F100\nG80", "fixture cycles_g74_g87_g88_g89"),
+    ("G90", "G90", "fixture g91_incremental"),
+    ("G91", "G91\nG90", "fixture g91_incremental"),
+    ("G92", "G92 X0", "fixture g92_shift"),
+    ("G92.1", "G92.1 X0", "fixture g92_shift"),
+    ("G93", "G93\nG94", "fixture feed_modes_g93_g94_g95"),
+    ("G94", "G94", "fixture feed_modes_g93_g94_g95"),
+    ("G95", "G95\nG94", "fixture feed_modes_g93_g94_g95"),
+    ("G97", "G97", "the cancelled state of G96"),
+    ("G98", "G98", "fixture g81_drill_g98_g99_repeat"),
+    ("G99", "G99\nG98", "fixture g81_drill_g98_g99_repeat"),
+    ("G160", "G160", "the cancelled state of G161"),
+];
+
+/// Refused: (the block, the dialects it is refused in). The block's first G word is the code.
+const REFUSED: &[(&str, &[Dialect])] = &[
+    ("G02.2 X1. Y1. I1. J0 R1. F100", &[Fanuc, Syntec]),
+    ("G02.3 X1. Y1. R1. F100", &[Fanuc, Syntec]),
+    ("G02.4 X1. Y1. Z1. I1. J1. K1. F100", &[Fanuc, Syntec]),
+    ("G03.2 X1. Y1. I1. J0 R1. F100", &[Fanuc, Syntec]),
+    ("G03.3 X1. Y1. R1. F100", &[Fanuc, Syntec]),
+    ("G03.4 X1. Y1. Z1. I1. J1. K1. F100", &[Fanuc, Syntec]),
+    ("G05 P10000", &[Fanuc, Syntec]),
+    ("G05 P1", &[Fanuc, Syntec]),
+    ("G05", &[Fanuc, Syntec]),
+    ("G05.1 Q3", &[Fanuc, Syntec]),
+    ("G05.1 Q2", &[Fanuc, Syntec]),
+    ("G05.1", &[Fanuc, Syntec]),
+    ("G05.4 Q1", &[Fanuc, Syntec]),
+    ("G06.2 P4 X0 Y0 Z0 K0", &[Fanuc, Syntec]),
+    ("G07 C10.", &[Fanuc, Syntec]),
+    ("G07.1 C10.", &[Fanuc, Syntec]),
+    ("G10 L5000 P2", &[Syntec]),
+    ("G10.6 Z10.", &[Fanuc, Syntec]),
+    ("G12.1", &[Fanuc, Syntec]),
+    ("G17.1 P1", &[Fanuc, Syntec]),
+    ("G22 X100. Y100. Z100. I-100. J-100. K-100.", &[Fanuc, Syntec]),
+    ("G26 P1000 Q100 R10", &[Fanuc, Syntec]),
+    ("G27 X0 Y0 Z0", &[Fanuc, Syntec]),
+    ("G28.2 Z0", &[Fanuc, Syntec]),
+    ("G30.1 Z0", &[Fanuc, Syntec]),
+    ("G31.8 X1. F100", &[Fanuc, Syntec]),
+    ("G31.9 X1. F100", &[Fanuc, Syntec]),
+    ("G33 Z-10. F1.", &[Fanuc, Syntec]),
+    ("G34 Z-10. F1. K0.1", &[Fanuc, Syntec]),
+    ("G35 X10. Z0 R5. F1.", &[Fanuc, Syntec]),
+    ("G36 X10. Z0 R5. F1.", &[Fanuc, Syntec]),
+    ("G37 Z-10.", &[Fanuc, Syntec]),
+    ("G38 X1.", &[Fanuc, Syntec]),
+    ("G39 X1.", &[Fanuc, Syntec]),
+    ("G41 D1 G01 X10. F500", &[Fanuc, Syntec]),
+    ("G41 G01 X10. F500", &[Fanuc, Syntec]),
+    ("G41.1", &[Fanuc, Syntec]),
+    ("G41.2 D1", &[Fanuc, Syntec]),
+    ("G41.3 D1", &[Fanuc, Syntec]),
+    ("G41.4 D1", &[Fanuc, Syntec]),
+    ("G41.5 D1", &[Fanuc, Syntec]),
+    ("G41.6 D1", &[Fanuc, Syntec]),
+    ("G42 D1 G01 X10. F500", &[Fanuc, Syntec]),
+    ("G42.1", &[Fanuc, Syntec]),
+    ("G42.2 D1", &[Fanuc, Syntec]),
+    ("G42.4 D1", &[Fanuc, Syntec]),
+    ("G42.5 D1", &[Fanuc, Syntec]),
+    ("G42.6 D1", &[Fanuc, Syntec]),
+    ("G43.1 H1", &[Fanuc, Syntec]),
+    ("G43.4 H1 L1", &[Syntec]),
+    ("G43.7 H1", &[Fanuc, Syntec]),
+    ("G43.8 H1", &[Fanuc, Syntec]),
+    ("G43.9 H1", &[Fanuc, Syntec]),
+    ("G45 X1. D1", &[Fanuc, Syntec]),
+    ("G46 X1. D1", &[Fanuc, Syntec]),
+    ("G47 X1. D1", &[Fanuc, Syntec]),
+    ("G48 X1. D1", &[Fanuc, Syntec]),
+    ("G54.2 P1", &[Fanuc, Syntec]),
+    ("G60 X1.", &[Fanuc, Syntec]),
+    ("G72.1 P10 L2 X0 Y0 R90.", &[Fanuc, Syntec]),
+    ("G72.2 P10 L2 I10. J0", &[Fanuc, Syntec]),
+    ("G81.1 Z10. Q5. R2. F1000", &[Fanuc, Syntec]),
+    ("G81.5 T1 L1", &[Fanuc, Syntec]),
+    ("G96 S100", &[Fanuc, Syntec]),
+    ("G161 R1.", &[Fanuc, Syntec]),
+];
+
+/// Address letters on `PRESET` (axes X Y Z B C): performed, with an example that runs to its
+/// end; E is refused; A U V W are not axes of the machine (PS0009 / COR-002).
+const LETTERS_PERFORMED: &[(u8, &str)] = &[
+    (b'B', "G00 B10."),
+    (b'C', "G00 C10."),
+    (b'D', "D1"),
+    (b'F', "G01 X1. F100"),
+    (b'G', "G00"),
+    (b'H', "G43 H1 Z0\nG49"),
+    (b'I', "G02 X2. I1. F100"),
+    (b'J', "G19 G02 Y2. J1. F100\nG17"),
+    (b'K', "G18 G02 Z2. K1. F100\nG17"),
+    (b'L', "G10 L2 P1 X0"),
+    (b'M', "M05"),
+    (b'N', "N10 G00 X1."),
+    (b'O', "M98 P20\nM30\nO0020\nM99"),
+    (b'P', "G04 P10"),
+    (b'Q', "G83 X1. Z-1. R1. Q0.5 F100\nG80"),
+    (b'R', "G02 X2. R1. F100"),
+    (b'S', "S1000"),
+    (b'T', "T1"),
+    (b'X', "G00 X1."),
+    (b'Y', "G00 Y1."),
+    (b'Z', "G00 Z1."),
+];
+const LETTERS_REFUSED: &[u8] = b"E";
+const LETTERS_NOT_AXES: &[u8] = b"AUVW";
+
+fn program(body: &str) -> String {
+    if body.contains("M30") {
+        format!("#100=1\n{body}\n")
+    } else {
+        format!("#100=1\n{body}\nM30\n")
+    }
+}
+
+fn first_g(block: &str) -> &str {
+    block.split_whitespace().find(|w| w.starts_with('G')).expect("a G word")
+}
+
+fn has_code(dialect: Dialect, name: &str) -> bool {
+    let code = gcode::code_of(name[1..].parse().unwrap()).unwrap();
+    gcode::lookup(code, dialect).is_some()
+}
+
+/// The alarm a refused function gives in `dialect`.
+fn refusal(dialect: Dialect, code: &str) -> &'static str {
+    match dialect {
+        Fanuc => "PS0010",
+        Syntec if FANUC_ONLY.contains(&code) => "COR-070",
+        Syntec => "COR-100",
+    }
+}
+
+#[test]
+fn every_g_code_has_a_decision() {
+    for dialect in [Fanuc, Syntec] {
+        for def in gcode::TABLE.iter().filter(|d| gcode::lookup(d.code, dialect).is_some()) {
+            let name = gcode::display(def.code);
+            let performed = PERFORMED.iter().any(|(g, _, _)| *g == name);
+            let refused = REFUSED.iter().any(|(b, ds)| first_g(b) == name && ds.contains(&dialect));
+            assert!(performed || refused, "{dialect:?}: {name} is neither performed nor refused: decide");
+        }
+    }
+}
+
+#[test]
+fn performed_codes_run_to_their_end() {
+    for dialect in [Fanuc, Syntec] {
+        for (name, body, _) in PERFORMED.iter().filter(|(g, _, _)| has_code(dialect, g)) {
+            // Codes refused with some values are listed on both sides: only this form runs.
+            let r = run_with(&program(body), PRESET, dialect);
+            assert!(r.completed(), "{dialect:?} {name}: {:?}\n{body}", r.alarms);
+        }
+    }
+}
+
+#[test]
+fn refused_codes_alarm_at_their_block_and_change_nothing() {
+    for (block, dialects) in REFUSED {
+        let name = first_g(block);
+        for &dialect in dialects.iter() {
+            let r = run_with(&program(block), PRESET, dialect);
+            let alarm = r.alarms.first().unwrap_or_else(|| panic!("{dialect:?}: {block} ran"));
+            assert_eq!((alarm.code.as_str(), alarm.line), (refusal(dialect, name), 2), "{dialect:?}: {block}");
+            assert_eq!(r.variables, vec![(100, 1.0)], "{block}");
+            assert!(r.machine.iter().all(|&v| v == 0.0), "{dialect:?}: {block} moved");
+        }
+    }
+}
+
+#[test]
+fn refused_codes_are_reported_by_check_at_their_word() {
+    for (block, dialects) in REFUSED {
+        let name = first_g(block);
+        let col = block.find(name).unwrap() as u32 + 1;
+        for &dialect in dialects.iter() {
+            let diags = check(parse_file(&program(block)), dialect);
+            let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, dialect.describe(&d.id).0)).collect();
+            assert_eq!(found, vec![(2, col, refusal(dialect, name).to_string())], "{dialect:?}: {block}");
+        }
+    }
+}
+
+#[test]
+fn every_address_letter_has_a_decision() {
+    for letter in b'A'..=b'Z' {
+        let decided = [
+            LETTERS_PERFORMED.iter().any(|&(l, _)| l == letter),
+            LETTERS_REFUSED.contains(&letter),
+            LETTERS_NOT_AXES.contains(&letter),
+        ];
+        assert_eq!(decided.iter().filter(|&&d| d).count(), 1, "{}", letter as char);
+    }
+    for dialect in [Fanuc, Syntec] {
+        for (letter, body) in LETTERS_PERFORMED {
+            let r = run_with(&program(body), PRESET, dialect);
+            assert!(r.completed(), "{dialect:?} {}: {:?}", *letter as char, r.alarms);
+        }
+        for (letters, code) in [(LETTERS_REFUSED, ["PS0009", "COR-100"]), (LETTERS_NOT_AXES, ["PS0009", "COR-002"])] {
+            for &letter in letters {
+                let r = run_with(&program(&format!("G01 X1. {}2. F100", letter as char)), PRESET, dialect);
+                let expected = if dialect == Fanuc { code[0] } else { code[1] };
+                assert_eq!(r.alarms[0].code, expected, "{dialect:?} {}", letter as char);
+                assert_eq!(r.alarms[0].line, 2);
+            }
+        }
+    }
+}
+
+#[test]
+fn the_refused_forms_of_a_code_are_values_not_the_code() {
+    // Conditional refusals: the performed values of the same code run (the PERFORMED list has
+    // the cancels); here the modes that select a different function.
+    for (src, dialect) in [("G43.4 H1 L0\nG49", Syntec), ("G43.4 H1\nG49", Syntec), ("G10 L2 P1 X0", Syntec)] {
+        assert!(run_with(&program(src), PRESET, dialect).completed(), "{src}");
+    }
+    // G10 L5000 is Syntec's; in FANUC it is a G10 format error, as before.
+    assert_eq!(run_with(&program("G10 L5000 P2"), PRESET, Fanuc).alarms[0].code, "PS1144");
+}
+
+#[test]
+fn g41_square_is_refused_not_run_on_the_programmed_line() {
+    // Issue 17: G41 D1 (radius 5) on a 10 mm square left the tool centre on the programmed
+    // line. Now the G41 block alarms and no motion of it or after it is made.
+    let src = "G90 G00 X0 Y0 Z0\nG41 D1 G01 X10. F500\nY10.\nX0\nY0\nG40 X-5.\nM30\n";
+    for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-100")] {
+        let r = run_with(src, "mill3", dialect);
+        assert_eq!((r.alarms.len(), r.alarms[0].code.as_str(), r.alarms[0].line), (1, code, 2));
+        let mut interp = interpreter(src, "mill3", dialect);
+        let mut lines = Vec::new();
+        let err = interp
+            .run(|c| {
+                if let CanonKind::Motion(_) = c.kind {
+                    lines.push(c.line)
+                }
+            })
+            .unwrap_err();
+        assert_eq!((err.code.as_str(), err.line), (code, 2));
+        assert_eq!(lines, vec![1], "only the G00 block moves");
+        assert_eq!(interp.state.modal(7), 400, "G40 stays in force");
+    }
+}
