@@ -171,6 +171,18 @@ mod tests {
     }
 
     #[test]
+    fn docs_list_every_function_not_built() {
+        let table: String = codes()
+            .map(|(code, dialect, function)| {
+                let dialects = dialect.map_or("both", |d| d.name());
+                format!("| `{}` | {dialects} | {function} |\n", gcode::display(code))
+            })
+            .collect();
+        let docs = include_str!("../../../docs/dialects.md");
+        assert!(docs.contains(&table), "docs/dialects.md must contain this table:\n{table}");
+    }
+
+    #[test]
     fn values_decide() {
         let q = |v: Word| move |l: u8| if l == b'Q' { v } else { Word::Absent };
         assert!(g_code(51, Dialect::Fanuc, q(Word::Value(1.0))).is_none());
