@@ -150,6 +150,36 @@ fn fanuc_example_sets_tv_kin_10_to_12_and_16() {
     assert_eq!(alarm_of(machine_from(Dialect::Fanuc, "m", &p)), Some(AlarmId::AxisSetting), "TV-KIN-16");
 }
 
+/// TV-KIN-11 (S002 page 68, the table rotation example sets No.19666 = 2.0): the tool holder
+/// offset counts on a table-rotation machine too — tool length + No.19666 is the distance from
+/// the tool centre point to the controlled point — and the set writes it back.
+#[test]
+fn fanuc_holder_offset_on_table_machine_tv_kin_11() {
+    let mut table = set(&[
+        (19680, 12.0),
+        (19681, 4.0),
+        (19682, 1.0),
+        (19684, 1.0),
+        (19686, 5.0),
+        (19687, 2.0),
+        (19689, 1.0),
+        (19697, 3.0),
+        (19666, 2.0),
+    ]);
+    fanuc_axes(&mut table, "XYZAB");
+    let m = machine_from(Dialect::Fanuc, "table", &table).unwrap();
+    assert_eq!(m.holder, 2.0);
+    let k = Kinematics::new(&m).unwrap();
+    // Tool length 10: the tip is 10 + 2 below the controlled point X10 Y20 Z30.
+    let tip: [f64; 3] = k.forward(&[10.0, 20.0, 30.0, 0.0, 0.0], 10.0).tip_machine.into();
+    assert!(close(tip, [10.0, 20.0, 18.0], 1e-12), "{tip:?}");
+    // Turned A90 (table, left-hand): the tip 12 below the axis line through the origin, seen
+    // from the table, lies on the table's ±Y axis, 18 from the axis (not 28 as without No.19666).
+    let tip: [f64; 3] = k.forward(&[0.0, 0.0, 30.0, 90.0, 0.0], 10.0).tip.into();
+    assert!((tip[1].abs() - 18.0).abs() < 1e-9 && tip[2].abs() < 1e-9, "{tip:?}");
+    assert_eq!(params_of(Dialect::Fanuc, &m).unwrap().get(19666).unwrap(), 2.0);
+}
+
 /// TV-KIN-13/14 on the decoded BC head; TV-KIN-15 on a decoded left-hand table C.
 #[test]
 fn fanuc_decoded_machines_tv_kin_13_to_15() {
