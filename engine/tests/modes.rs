@@ -533,6 +533,12 @@ fn type_2_arcs_are_given_by_r() {
     assert_eq!(fanuc(HEAD, &full.replace("Y0 R10.", "Y0 Z5. R10.")), "PS5421");
     assert_eq!(syntec(HEAD, full), "COR-100");
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG00 X10. Y0 Z0\nG02 X10. Y0 I-10. F100\nG01\nG49"), "ok");
+    // tcp TCP-16: G04 is allowed in TCP; its X is the dwell time, not an arc end point, so a
+    // dwell right after a type 2 arc (G02 still modal) needs no R, nor does G10 / G51 data.
+    let after_arc = "G43.5 H1\nG02 X10. Y10. R10. F100\n{}\nG01 X0\nG49";
+    assert_eq!(fanuc(HEAD, &after_arc.replace("{}", "G04 X0.5")), "ok");
+    assert_eq!(fanuc(HEAD, &after_arc.replace("{}", "G51 X0 Y0 Z0 P2")), "ok");
+    assert_eq!(syntec(HEAD, &after_arc.replace("{}", "G04 X0.5")), "ok");
 }
 
 #[test]

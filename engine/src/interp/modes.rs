@@ -304,14 +304,10 @@ static RULES: &[Rule] = &[
         c.five.nano_in_tcp && c.tcp_cancels() && !(c.has(51) && c.word(b'Q') == Some(0.0))
     }),
     rule(Fanuc, "tcp TCP-10/M-4: G02/G03 in G43.5 by R", A::IllegalCommandInTcp, |c| {
-        c.tcp(c.after[8])
-            && c.after[8] == 435
-            && matches!(c.after[1], 20 | 30)
-            && c.any_axis()
-            && c.word(b'R').is_none()
+        c.tcp(c.after[8]) && c.after[8] == 435 && c.arc() && c.any_axis() && c.word(b'R').is_none()
     }),
     rule(Fanuc, "tcp TCP-06/07/10: rotary-only moves in G00/G01 in TCP", A::IllegalCommandInTcp, |c| {
-        c.during(8, |c, m| c.tcp(m)) && matches!(c.after[1], 20 | 30) && c.any_rotary() && !c.any_linear()
+        c.during(8, |c, m| c.tcp(m)) && c.arc() && c.any_rotary() && !c.any_linear()
     }),
     rule(Fanuc, "tcp TCP-41: cutting point control in G00/G01 only", A::IllegalCommandInTcp, |c| {
         c.tcp(c.after[8]) && matches!(c.after[8], 438 | 439) && !matches!(c.after[1], 0 | 10)
@@ -596,6 +592,20 @@ impl Ctx<'_> {
 
     fn any_axis(&self) -> bool {
         self.axis_words(None)
+    }
+
+    /// The block's axis words are data of one of its G codes (G04 dwell time, G10, G28 …, or a
+    /// G51/G51.1/G68 transform), not the group-01 motion: such a block is no arc.
+    fn axes_are_data(&self) -> bool {
+        self.g.iter().any(|&g| {
+            matches!(g, 510 | 511 | 680)
+                || gcode::lookup(g, self.st.cfg.dialect).is_some_and(|d| d.takes_axes && d.group == gcode::ONE_SHOT)
+        })
+    }
+
+    /// The block is a G02/G03 arc: the group-01 mode is an arc and its axis words are the end point.
+    fn arc(&self) -> bool {
+        matches!(self.after[1], 20 | 30) && !self.axes_are_data()
     }
 
     fn any_rotary(&self) -> bool {
