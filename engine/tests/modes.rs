@@ -470,11 +470,12 @@ fn rtcp_not_with_g41_g42() {
 
 #[test]
 fn rtcp_not_switched_from_g43_or_the_other_type() {
-    // syn SYN-07/08 (alarm not named: COR-100, decision); FANUC: G43.5 is not in the TCP list
+    // syn SYN-07/08 (alarm not named: COR-100, decision); FANUC: G43.5 is not in the TCP list,
+    // and G43/G44 are not among the modal states TCP may start in (TCP-15)
     assert_eq!(syntec(HEAD, "G43 H1\nG43.4 H1"), "COR-100");
     assert_eq!(syntec(HEAD, "G44 H1\nG43.5 H1"), "COR-100");
     assert_eq!(syntec(HEAD, "G43.4 H1\nG43.5 H1"), "COR-100");
-    assert_eq!(fanuc(HEAD, "G43 H1\nG43.4 H1\nG49"), "ok");
+    assert_eq!(fanuc(HEAD, "G43 H1\nG43.4 H1\nG49"), "PS5421");
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG43.5 H1"), "PS5421");
     assert_eq!(syntec(HEAD, "G43 H1\nG49\nG43.4 H1\nG43.4 H2\nG49"), "ok");
 }
@@ -581,6 +582,14 @@ fn modal_states_tcp_starts_in() {
         assert_eq!(syntec(HEAD, &format!("{src}\nG49")), "ok", "{bad}");
     }
     assert_eq!(fanuc(HEAD, "G20\nG93\nG61\nG59\nG99\nG43.4 H1\nG49"), "ok");
+    // tcp TCP-15 (§2.3.2): G49 is in the list (a TCP-16 code), G43/G44 are not: TCP never
+    // starts over tool length compensation, only after its G49.
+    for tlc in ["G43 H1", "G44 H1"] {
+        for tcp in ["G43.4 H1", "G43.5 H1 I0 J0 K1"] {
+            assert_eq!(fanuc(HEAD, &format!("{tlc}\n{tcp}\nG49")), "PS5421", "{tlc} then {tcp}");
+        }
+        assert_eq!(fanuc(HEAD, &format!("{tlc}\nG49\nG43.4 H1\nG49")), "ok", "{tlc}, G49");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -356,6 +356,12 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "twp TWP-11, TWP-16, §6.1: modal states G68.2/G68.3 may start in", A::TwpIllegalCommand, |c| {
         c.starts(16, |c, m| c.twp(m)) && c.state_outside(16, twp_state_allows)
     }),
+    rule(
+        Fanuc,
+        "tcp TCP-15, §2.3.2: TCP starts from G49 (G43/G44 are not in the list)",
+        A::IllegalCommandInTcp,
+        |c| c.starts(8, |c, m| c.tcp(m)) && c.before[8] != 490,
+    ),
     rule(Fanuc, "tcp TCP-15, §2.3.2: modal states TCP may start in", A::IllegalCommandInTcp, |c| {
         c.starts(8, |c, m| c.tcp(m)) && c.state_outside(8, tcp_state_allows)
     }),
