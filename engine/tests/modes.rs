@@ -284,6 +284,30 @@ fn tcp_and_compensation_nest() {
     assert_eq!(fanuc(HEAD, "G41.2 D1\nG43.4 H1\nG40 G49"), "ok");
 }
 
+/// crc CRC-44, TV-30: a reset in any cutter compensation mode leaves group 07 in G40 (the other
+/// modal codes stay, CLR = 0), and TCP, which stays on, no longer nests with it.
+#[test]
+fn reset_leaves_cutter_compensation_in_g40() {
+    for (src, tcp) in [
+        ("G42.2 D1 X1.\nM00\n", 490),
+        ("G41 D1 X1.\nM00\n", 490),
+        ("G43.4 H1\nG41.2 D1 X1.\nM00\n", 434),
+        ("G41.2 D1\nG43.4 H1 X1.\nM00\n", 434),
+    ] {
+        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+            let mut interp = interpreter(src, HEAD, dialect);
+            run(&mut interp, &RunOptions::default(), |_| {});
+            assert_ne!(interp.state.modal(7), 400, "{src}: compensation is on before the reset");
+            interp.reset();
+            assert_eq!((interp.state.modal(7), interp.state.modal(8)), (400, tcp), "{src} {dialect:?}");
+            // After the reset TCP ends by itself (no G40 is due first).
+            interp.load(parse_file("G49\nM30\n"));
+            let r = run(&mut interp, &RunOptions::default(), |_| {});
+            assert!(r.completed(), "{src} {dialect:?}: {:?}", r.alarms);
+        }
+    }
+}
+
 #[test]
 fn no_unit_change_in_5_axis_compensation() {
     // crc CRC-46, §6.1, TV-29

@@ -55,6 +55,13 @@ impl FiveAxisModes {
         self.aligned = false;
     }
 
+    /// A reset put group 07 back to G40 (CRC-44): no nesting with TCP, no G41.3 move due.
+    pub(super) fn compensation_ended(&mut self) {
+        self.tcp_inside_crc = false;
+        self.crc_inside_tcp = false;
+        self.g41_3_move_due = false;
+    }
+
     /// A reset ended G54.4 (WSE-21).
     pub(super) fn clear_wse(&mut self) {
         self.wse = 0;
