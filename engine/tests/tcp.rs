@@ -724,6 +724,24 @@ fn tv22_det_shows_the_tip_in_the_workpiece_system() {
     }
 }
 
+#[test]
+fn tv22_det_chooses_the_summary_position() {
+    // TCP-26, TV-22: the run summary's workpiece position is what the display shows: with
+    // DET = 1 the tip in W (7.574, 47.247, 83.052), with DET = 0 in Π (10, 20, 30); the program
+    // ends with TCP on so the last point is shown under it.
+    let src = "N1 G00 G90 A0 B0\nN2 G55\nN3 G43.4 H01\nN4 G00 X20.0 Y100.0 Z0\n\
+               N5 G01 X10.0 Y20.0 Z30.0 A60.0 B45.0 F500\nN7 M30\n";
+    for (det, want) in [(false, Vec3::new(10.0, 20.0, 30.0)), (true, Vec3::new(7.5736, 47.2474, 83.0518))] {
+        let mut m = table_ab();
+        m.five_axis.display_workpiece = det;
+        let (r, _) = run_on(m, Dialect::Fanuc, src);
+        assert!(r.completed(), "{:?}", r.alarms);
+        let shown = Vec3::new(r.workpiece[0], r.workpiece[1], r.workpiece[2]);
+        assert!(close(shown, want, 1e-3), "DET {det}: {shown:?}");
+        assert_eq!((r.workpiece[3], r.workpiece[4]), (60.0, 45.0), "DET {det}: the rotary axes as programmed");
+    }
+}
+
 /// head-bc with axes ten times as fast (so that the rotary axes can turn far between two
 /// interpolation points) and the CRS settings.
 fn fast_head(clamp: bool, cutting: f64) -> MachineConfig {

@@ -399,6 +399,25 @@ impl State {
     }
 }
 
+impl State {
+    /// FANUC DET = 1 (TCP-26): the current point as the absolute display shows it under TCP
+    /// with Π fixed on the table — the tip in the workpiece system (as [`display_shift`] gives
+    /// it for every sample); `None` when the display shows the programming coordinates.
+    pub(super) fn tcp_shown(&self) -> Option<Pos> {
+        let t = self.tcp.as_ref()?;
+        let (kin, frame) = (&t.kin, t.frame.as_ref()?);
+        let shift = display_shift(self, kin)?;
+        let tip = kin.table_frame(&self.machine_position()).to_parent(&frame.to_parent(&xyz(kin, &self.pos))) - shift;
+        let mut shown = self.pos;
+        for (axis, index) in kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                shown[*i] = tip[axis];
+            }
+        }
+        Some(shown)
+    }
+}
+
 /// FANUC DET (TCP-26): under TCP with Π fixed on the table (WKP = 0), the absolute position
 /// shows the tip in the workpiece system: machine coordinates minus the work offsets and the
 /// nose (where a plain G43 puts the programmed point).
