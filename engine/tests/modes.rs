@@ -692,6 +692,18 @@ fn tool_alignment_p_is_0_1_2() {
 }
 
 #[test]
+fn no_alignment_or_g68_3_without_a_mechanism() {
+    // syn SYN-24, TV-24, §6.2 alarm 154: Pr3001 = 0 (no mechanism: the mill3 model, which
+    // Pr3001 = 0 reads to) and G53.1 (G53.3, G53.6: the other alignments) or G68.3 is COR-154.
+    for bad in ["G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1", "G68.2 X0 Y0 Z0 I0 J0 K0\nG53.3", "G68.3", "G68.3 P1 X0 Y0 Z0"] {
+        assert_eq!(syntec(MILL, &format!("{bad}\nG69")), "COR-154", "{bad}");
+        assert_eq!(syntec(HEAD, &format!("{bad}\nG49\nG69")), "ok", "{bad}");
+    }
+    // The plane itself needs no mechanism.
+    assert_eq!(syntec(MILL, "G68.2 X0 Y0 Z0 I0 J30. K0\nG69"), "ok");
+}
+
+#[test]
 fn chain_switch_q_is_0_to_4() {
     // syn SYN-26, TV-22 (Syntec only; FANUC has no G10 L5000)
     assert_eq!(syntec(HEAD, "G10 L5000 P1 Q5"), "COR-163");

@@ -129,6 +129,9 @@ static RULES: &[Rule] = &[
         c.has(683) && !matches!(c.count_letters(b"XYZ"), 0 | 3)
     }),
     rule(Syntec, "syn SYN-24: G68.3 P is 1", A::TwpFormat, |c| c.has(683) && c.word(b'P').is_some_and(|p| p != 1.0)),
+    rule(Syntec, "syn SYN-24, TV-24, COR-154: no G53.1/G53.3/G53.6/G68.3 with Pr3001 = 0", A::MachineParameter, |c| {
+        c.any(&[531, 533, 536, 683]) && c.st.cfg.machine.rotary.is_empty()
+    }),
     rule(Syntec, "syn SYN-22: P of G53.1/G53.3/G53.6 is 0, 1 or 2", A::AlignmentP, |c| {
         c.any(&[531, 533, 536]) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
     }),
