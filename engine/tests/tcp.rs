@@ -742,6 +742,27 @@ fn tv22_det_chooses_the_summary_position() {
     }
 }
 
+#[test]
+fn syntec_rtcp_moves_stay_in_the_rotary_ranges() {
+    // syn §1.4 (Pr3009–3012), COR-151/152 (§6.1, §6.2 alarms 151/152): an RTCP move whose
+    // master (C) or slave (B) target or swept path leaves its range is refused; FANUC's ranges
+    // (No.19741–19744) only choose among type 2 solutions.
+    let mut m = free_preset("head-bc");
+    // C: "Area 2", 70 → 290 (Pr3009 = 70000, Pr3010 = 290000); B: −110 … 110 (the preset).
+    m.rotary[0].range = Some([70.0, 290.0]);
+    let run = |dialect, moves: &str| {
+        let src = format!("G90 G00 B0 C180.\nG43.4 H1\nG01 X0 Y0 Z0 F1000\n{moves}\nG49\nM30\n");
+        let (r, _) = run_on(m.clone(), dialect, &src);
+        r.alarms.first().map(|a| (a.code.clone(), a.line))
+    };
+    assert_eq!(run(Dialect::Syntec, "B100.\nB120."), Some(("COR-152".into(), 5)), "slave target");
+    assert_eq!(run(Dialect::Syntec, "C80.\nC60."), Some(("COR-151".into(), 5)), "master target");
+    // 80 → 280: both ends are in the area, the rollover axis's shortest way through 0 is not.
+    assert_eq!(run(Dialect::Syntec, "C80.\nC280."), Some(("COR-151".into(), 5)), "master path");
+    assert_eq!(run(Dialect::Syntec, "C100.\nC260.\nB-100."), None, "100 → 260 through 180 stays in");
+    assert_eq!(run(Dialect::Fanuc, "B100.\nB120.\nC80.\nC280."), None, "FANUC: no such alarm");
+}
+
 /// head-bc with axes ten times as fast (so that the rotary axes can turn far between two
 /// interpolation points) and the CRS settings.
 fn fast_head(clamp: bool, cutting: f64) -> MachineConfig {

@@ -307,6 +307,9 @@ impl State {
         }
         let t = self.tcp.as_ref().expect("under TCP");
         let machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        if self.cfg.dialect == crate::Dialect::Syntec {
+            kin.syntec_move_in_range(&from_machine, &machine_end)?;
+        }
         if let (Some(a), None, false) = (&arc, t.frame, t.starting) {
             workpiece_arc_allowed(&kin, a, &t.start_machine, &from_machine, &machine_end)?;
         }
