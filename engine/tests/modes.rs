@@ -140,7 +140,8 @@ fn g54_4_mode_allows_only_its_list() {
     for bad in ["G61", "G92 X0", "G52 X1.", "G68.3", "G55", "G05.1 Q3"] {
         let src = format!("G54.4 P1\n{bad}");
         assert_eq!(fanuc(MILL, &src), "PS0437", "{bad}");
-        assert_eq!(syntec(MILL, &src), "ok", "{bad}");
+        // (on a Syntec machine with a mechanism: G68.3 needs one, COR-154)
+        assert_eq!(syntec(HEAD, &src), "ok", "{bad}");
     }
     let legal = "G54.4 P1\nG01 X10. F100\nG05.1 Q1\nG43 H1\nG49\nG81 X0 Y0 Z-1. R1.\nG80\nG54.4 P0\nG61";
     assert_eq!(fanuc(MILL, legal), "ok");
@@ -502,6 +503,15 @@ fn rtcp_not_switched_from_g43_or_the_other_type() {
     assert_eq!(fanuc(HEAD, "G43 H1\nG43.4 H1\nG49"), "PS5421");
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG43.5 H1"), "PS5421");
     assert_eq!(syntec(HEAD, "G43 H1\nG49\nG43.4 H1\nG43.4 H2\nG49"), "ok");
+    // SYN-07/08 "do not apply with G43, G44": a G43/G44 inside RTCP does not end it (only G49
+    // does), it is refused like the switch the other way (COR-100); FANUC: not in the TCP list.
+    for tcp in ["G43.4 H1", "G43.5 H1 I0 J0 K1."] {
+        for tlc in ["G43 H1", "G44 H1", "G43 H2 Z10.", "G01 G44 H1 X1. F100"] {
+            let src = format!("{tcp}\n{tlc}\nG49");
+            assert_eq!(syntec(HEAD, &src), "COR-100", "{src}");
+            assert_eq!(fanuc(HEAD, &src), "PS5421", "{src}");
+        }
+    }
 }
 
 #[test]
@@ -694,8 +704,8 @@ fn tool_alignment_p_is_0_1_2() {
 #[test]
 fn no_alignment_or_g68_3_without_a_mechanism() {
     // syn SYN-24, TV-24, §6.2 alarm 154: Pr3001 = 0 (no mechanism: the mill3 model, which
-    // Pr3001 = 0 reads to) and G53.1 (G53.3, G53.6: the other alignments) or G68.3 is COR-154.
-    for bad in ["G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1", "G68.2 X0 Y0 Z0 I0 J0 K0\nG53.3", "G68.3", "G68.3 P1 X0 Y0 Z0"] {
+    // Pr3001 = 0 reads to) and G53.1 or G68.3 is COR-154.
+    for bad in ["G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1", "G68.2 X0 Y0 Z0 I0 J0 K0\nG53.1 P1", "G68.3", "G68.3 P1 X0 Y0 Z0"] {
         assert_eq!(syntec(MILL, &format!("{bad}\nG69")), "COR-154", "{bad}");
         assert_eq!(syntec(HEAD, &format!("{bad}\nG49\nG69")), "ok", "{bad}");
     }

@@ -129,8 +129,8 @@ static RULES: &[Rule] = &[
         c.has(683) && !matches!(c.count_letters(b"XYZ"), 0 | 3)
     }),
     rule(Syntec, "syn SYN-24: G68.3 P is 1", A::TwpFormat, |c| c.has(683) && c.word(b'P').is_some_and(|p| p != 1.0)),
-    rule(Syntec, "syn SYN-24, TV-24, COR-154: no G53.1/G53.3/G53.6/G68.3 with Pr3001 = 0", A::MachineParameter, |c| {
-        c.any(&[531, 533, 536, 683]) && c.st.cfg.machine.rotary.is_empty()
+    rule(Syntec, "syn SYN-24, TV-24, COR-154: no G53.1/G68.3 with Pr3001 = 0", A::MachineParameter, |c| {
+        c.any(&[531, 683]) && c.st.cfg.machine.rotary.is_empty()
     }),
     rule(Syntec, "syn SYN-22: P of G53.1/G53.3/G53.6 is 0, 1 or 2", A::AlignmentP, |c| {
         c.any(&[531, 533, 536]) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
@@ -300,6 +300,9 @@ static RULES: &[Rule] = &[
     }),
     rule(Syntec, "syn SYN-07/08: RTCP not with G43/G44 or the other RTCP type", A::IllegalCommandInMode, |c| {
         c.any(&[434, 435]) && c.tcp(c.after[8]) && !matches!(c.before[8], 490 | 491) && c.before[8] != c.after[8]
+    }),
+    rule(Syntec, "syn SYN-07/08: no G43/G44 in RTCP (not ended by it)", A::IllegalCommandInMode, |c| {
+        c.any(&[430, 440]) && c.tcp(c.before[8])
     }),
     rule(Fanuc, "tcp TCP-17, §2.2.6: G49 in G00/G01 mode", A::IllegalCommandInTcp, |c| {
         c.tcp_cancels() && !matches!(c.after[1], 0 | 10)
