@@ -498,7 +498,8 @@ fn next(c: &Ctx) -> FiveAxisModes {
         n.aligned = false;
     }
     if c.starts(8, |c, m| c.tcp(m)) {
-        n.stcp = c.has(434) && c.word(b'L') == Some(1.0);
+        // Syntec Pr3051 = 1: STCP without L (SYN-09, TV-25b).
+        n.stcp = c.has(434) && c.word(b'L').map_or(c.st.cfg.machine.five_axis.smooth_tcp, |l| l == 1.0);
         n.posture = c.word(b'P') == Some(1.0);
     }
     if !tcp {

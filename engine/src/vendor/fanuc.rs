@@ -340,6 +340,8 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         wse_feed_clamp_pct: percent(p, 11202)?,
         wse_rapid_clamp_pct: percent(p, 11203)?,
         wse_display_wcs: bit(3106, 6)?,
+        // Syntec's STCP: FANUC has none.
+        ..FiveAxisOptions::default()
     })
 }
 
@@ -465,6 +467,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if f.deviation_clamp {
         p.set_bits(19746, 1 << 6);
+    }
+    if f.smooth_tcp || f.smooth_tolerance.is_some() {
+        return Err(unrepresentable("FANUC", "STCP (Syntec Pr3051–3053)"));
     }
     if f.plane_after_reset == PlaneAfterReset::KeptOverRestart {
         return Err(unrepresentable("FANUC", "a tilted working plane kept over a restart (Syntec Pr3014 = 2)"));

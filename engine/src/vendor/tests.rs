@@ -321,6 +321,29 @@ fn syntec_holder_offset_tv36() {
     assert!(close(m45, [106.066017, 0.0, 6.066017], 1e-6), "{m45:?}");
 }
 
+/// SYN-09, TV-05: Pr3051 (STCP without L) and Pr3052/3053 (its rotary tolerances, 0.001°,
+/// default 500) are read and written back, not dropped; FANUC cannot describe them.
+#[test]
+fn syntec_stcp_parameters_round_trip_tv05() {
+    for (given, smooth, tolerance) in [
+        (vec![(3051, 1.0), (3052, 250.0), (3053, 1000.0)], true, Some([0.25, 1.0])),
+        (vec![(3052, 500.0)], false, Some([0.5, 0.5])),
+        (vec![(3051, 1.0)], true, None),
+    ] {
+        let mut p = syntec_cb_spindle();
+        for &(n, v) in &given {
+            p.set(n, v);
+        }
+        let m = machine_from(Dialect::Syntec, "m", &p).unwrap();
+        assert_eq!((m.five_axis.smooth_tcp, m.five_axis.smooth_tolerance), (smooth, tolerance), "{given:?}");
+        let again = params_of(Dialect::Syntec, &m).unwrap();
+        for (n, v) in given {
+            assert_eq!(again.get(n).unwrap(), v, "Pr{n}");
+        }
+        assert!(params_of(Dialect::Fanuc, &m).is_err(), "FANUC has no STCP");
+    }
+}
+
 #[test]
 fn syntec_refuses_inconsistent_sets_with_its_alarms() {
     let code = |p: &Params| machine_from(Dialect::Syntec, "m", p).unwrap_err().describe(Dialect::Syntec);
