@@ -894,6 +894,36 @@ fn wse_24_no_singular_change_while_g54_4_is_on() {
 }
 
 #[test]
+fn syntec_tool_vector_interpolation_takes_the_equivalent_end_pair() {
+    // SYN-10, TV-10, TV-35a: with Pr3054 = 1 a block is read as a tool vector, so `B-30. C90.`
+    // from B30 C0 (the same end vector as TV-35a's B30 C-90, on the other branch of the
+    // inverse) runs on the V1–V2 plane and ends at the equivalent pair B30 C-90 instead of
+    // leaving the plane; u = 0.5 is TV-35a's B 22.207654 C −45.
+    let src = "G90 G00 X0 Y0 Z0 B30. C0\nG43.4 H1\nX0 Y0 Z0\nG01 B-30. C90. F3000.\nG49\nM30\n";
+    let mut m = free_preset("head-bc");
+    m.five_axis.posture_control = true;
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m, Dialect::Syntec, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let line = of_line(&samples, 4);
+    let at = |b: f64, c: f64| kin.forward(&[0.0, 0.0, 0.0, b, c, 0.0, 0.0, 0.0], 0.0).tool;
+    let (v1, v2) = (at(30.0, 0.0), at(30.0, -90.0));
+    assert!(close(v1, Vec3::new(0.5, 0.0, 0.866025), 1e-6) && close(v2, at(-30.0, 90.0), 1e-12));
+    let n = v1.cross(&v2).normalize();
+    let mut lowest_b = f64::INFINITY;
+    for s in &line {
+        let tool = kin.forward(&s.machine, 100.0).tool;
+        assert!(tool.dot(&n).abs() < 1e-6, "the tool on the V1–V2 plane: {tool:?} at {:?}", s.machine);
+        lowest_b = lowest_b.min(s.machine[3]);
+    }
+    assert!((lowest_b - 22.207654).abs() < 0.01, "B dips to {lowest_b} (TV-35a u = 0.5)");
+    let last = line.last().unwrap().machine;
+    assert!((last[3] - 30.0).abs() < 1e-3 && (last[4] - 270.0).abs() < 1e-3, "ends at B30 C-90: {last:?}");
+    let end = kin.forward(&last, 100.0).tool;
+    assert!(close(end, v2, 1e-5), "{end:?}");
+}
+
+#[test]
 fn q6_posture_control_on_a_rotary_only_block_turns_on_the_great_circle() {
     // Q-6 (decision): the tip stays, so the distance ratio of M-7 is undefined; the tool turns
     // on the great circle from the start to the end direction (TCP-28's plane, as Syntec's

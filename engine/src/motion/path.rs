@@ -263,6 +263,14 @@ impl Posture {
     }
 }
 
+/// Whether the tool can turn on the great circle from its direction at `from` to that at `to`
+/// (tool posture control on a line, Syntec's tool-vector interpolation) with the axes following
+/// it continuously; `true` also when there is nothing to turn.
+pub(crate) fn great_circle_continuous(kin: &Kinematics, from: &Pos, to: &Pos) -> bool {
+    let (v0, v1) = (kin.forward(from, 0.0).tool, kin.forward(to, 0.0).tool);
+    Posture::new(v0, v1).is_none_or(|p| p.continuous(kin, from, to, None))
+}
+
 /// Whether the axes can follow the tool direction `direction(u)` from `from` to `to` as
 /// `Follow::at` turns them (the inverse solution nearest the proportional angles) without a
 /// jump to another branch of the inverse or leaving the directions the machine reaches.
