@@ -28,6 +28,7 @@ use crate::machine::{MachineConfig, MAX_AXES};
 use expr::{eval, truth, ExprSettings, Value};
 use gcode::GROUPS;
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
+pub use plane::KeptPlane;
 
 /// F, S, T, the tool in the spindle, H and D as they stand.
 #[derive(Debug, Clone, Copy, PartialEq)]
