@@ -729,6 +729,24 @@ impl Segment {
     /// rotary values of `to` in proportion (the path parameter is their angle, fed at
     /// `feed_deg_min`), X/Y/Z keep the tool tip (`tool_length` long) where it is relative to
     /// the table.
+    /// A [`Segment::tip_rotation`] under tool centre point control: the tip stands still on
+    /// the table, so its program coordinates (X/Y/Z in Π) stay what they were while the rotary
+    /// axes turn (Syntec R519, TV-27b); the other axes still follow the machine.
+    pub fn keeping_program_xyz(mut self) -> Segment {
+        if let Some(f) = self.follow.as_mut() {
+            let mut held = Vec3::zeros();
+            for (axis, index) in f.kin.linear.iter().enumerate() {
+                if let Some(i) = index {
+                    held[axis] = self.work_from[*i];
+                    self.work_to[*i] = self.work_from[*i];
+                }
+            }
+            // The frame that puts the (fixed) tip at those coordinates.
+            f.work_frame = Some(Frame { r: nalgebra::Matrix3::identity(), o: f.from - held });
+        }
+        self
+    }
+
     pub fn tip_rotation(
         kin: std::sync::Arc<Kinematics>,
         from: &Pos,
