@@ -60,6 +60,10 @@ pub enum AlarmId {
     MachineParameter,
     /// No rotary axis solution for a tool direction fits the movement ranges.
     NoRotarySolution,
+    /// A 5-axis move takes the first (master) / second (slave) rotary axis out of its range
+    /// (Syntec Pr3009–3012).
+    MasterOutOfRange,
+    SlaveOutOfRange,
     /// Tool centre point control with machine settings it cannot work with (FANUC: rapids not
     /// of the linear type).
     TcpParameter,

@@ -796,6 +796,11 @@ impl Controller {
                     self.current = Some((p, 0.0, Cursor::default()));
                     continue;
                 }
+                if matches!(self.mode, Mode::Jog | Mode::Handle | Mode::Inc) {
+                    // A manual move ended: the program's current point (#5001…, #5021…) is
+                    // where the machine stands now, not at the next block.
+                    self.stand_here();
+                }
                 self.here.feed = 0.0;
                 if self.run_state == RunState::Running {
                     self.set_state(RunState::Idle);

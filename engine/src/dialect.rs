@@ -109,6 +109,8 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::AxisNotInTcp,
     AlarmId::MachineParameter,
     AlarmId::NoRotarySolution,
+    AlarmId::MasterOutOfRange,
+    AlarmId::SlaveOutOfRange,
     AlarmId::PostureCrossesPlane,
     AlarmId::TcpParameter,
     AlarmId::AxisSetting,
@@ -187,6 +189,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         AxisNotInTcp => (PS5421, ("COR-107", "G5.1/G05 command format error")),
         MachineParameter => (PS5459, ("COR-154", "No 5-axis function")),
         NoRotarySolution => (PS5459, ("COR-153", "Tool direction unknown")),
+        // Syntec only: FANUC's movement ranges only choose among solutions (No.19741–19744).
+        MasterOutOfRange => (PS5459, ("COR-151", "1st rotation axis entering illegal range")),
+        SlaveOutOfRange => (PS5459, ("COR-152", "2nd rotation axis entering illegal range")),
         // FANUC only (Syntec turns the tool on the great circle on arcs too).
         PostureCrossesPlane => (("PS0432", "UNAVAILABLE POSTURE IN TPC"), COR100),
         TcpParameter => (("PS5420", "ILLEGAL PARAMETER IN G43.4/G43.5"), COR100),

@@ -294,6 +294,16 @@ pub struct FiveAxisOptions {
     /// workpiece setting coordinate system (FANUC No.3106#6 DAK = 1, WSE-18).
     #[serde(default, skip_serializing_if = "is_false")]
     pub wse_display_wcs: bool,
+    // --- Syntec STCP (smooth tool centre point control, SYN-09) ---------------------------------
+    /// STCP is on with G43.4 without L (Syntec Pr3051 = 1; `L0` turns it off). Its mode rules
+    /// apply (COR-107); its smoothing is not modelled: the tip follows the programmed path
+    /// exactly (the machine loader reports the setting, `docs/machine-config.md`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub smooth_tcp: bool,
+    /// STCP's rotary axis tolerances, degrees, master / slave (Syntec Pr3052 / Pr3053; absent:
+    /// the control's default 0.5). Kept so that the parameter list reads back; not used.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smooth_tolerance: Option<[f64; 2]>,
 }
 
 /// What a reset (and a restart of the controller) does to the tilted working plane.

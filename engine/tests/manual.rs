@@ -1035,3 +1035,36 @@ fn a_program_started_after_manual_moves_begins_where_the_machine_stands() {
     mdi(&mut c, "G91 G01 Y2. F600.");
     assert!((c.point().machine[1] - 3.0).abs() < 1e-9, "{:?}", c.point().machine);
 }
+
+/// TV-27b (SYN-12): during and after R519 manual RTCP the program X/Y/Z (the tip under G43.4)
+/// stay as they were while B turns; #5001–#5003 read them, #5021–#5023 the machine position,
+/// which changes — without another mode or block in between.
+#[test]
+fn r519_keeps_the_program_xyz_and_the_position_variables_tv_27b() {
+    let mut c = controller(preset("head-bc"), Dialect::Syntec);
+    c.panel.jog_feed = 3600.0;
+    mdi(&mut c, "G90 G00 X10. Y20. Z30. B0 C0\nG43.4 H1");
+    assert!(close(xyz(&c.point().work), [10.0, 20.0, 30.0], 1e-9), "{:?}", c.point().work);
+    c.set_manual_rtcp(true).unwrap();
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('B', 30.0).unwrap();
+    let mut turned = false;
+    while c.run_state() == RunState::Running {
+        c.tick(TICK);
+        let p = c.point();
+        assert!(close(xyz(&p.work), [10.0, 20.0, 30.0], 1e-9), "program X/Y/Z during the turn: {:?}", p.work);
+        turned |= p.machine[3] > 1.0;
+    }
+    assert!(turned);
+    let p = c.point();
+    assert!((p.work[3] - 30.0).abs() < 1e-9 && (p.machine[3] - 30.0).abs() < 1e-9, "{p:?}");
+    assert!(close(xyz(&p.work), [10.0, 20.0, 30.0], 1e-9), "after: {:?}", p.work);
+    // The variables as a program (or the API) reads them right now.
+    let state = &c.interpreter().state;
+    let read = |n: u32| fivex_engine::interp::expr::Variables::read(state, n).unwrap().unwrap();
+    assert!(close(Vec3::new(read(5001), read(5002), read(5003)), [10.0, 20.0, 30.0], 1e-9));
+    assert!((read(5004) - 30.0).abs() < 1e-9, "#5004 {}", read(5004));
+    let m = xyz(&p.machine);
+    assert!((m - Vec3::new(10.0, 20.0, 80.0)).norm() > 10.0, "the machine moved: {m:?}");
+    assert!(close(Vec3::new(read(5021), read(5022), read(5023)), [m.x, m.y, m.z], 1e-9));
+}

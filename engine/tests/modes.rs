@@ -165,7 +165,8 @@ fn g54_4_mode_allows_only_its_list() {
     for bad in ["G61", "G92 X0", "G52 X1.", "G68.3", "G55", "G05.1 Q3"] {
         let src = format!("G54.4 P1\n{bad}");
         assert_eq!(fanuc(MILL, &src), "PS0437", "{bad}");
-        assert_eq!(syntec(MILL, &src), fanuc_only_in(&src), "{bad}");
+        // (on a Syntec machine with a mechanism: G68.3 needs one, COR-154)
+        assert_eq!(syntec(HEAD, &src), fanuc_only_in(&src), "{bad}");
     }
     let legal = "G54.4 P1\nG01 X10. F100\nG05.1 Q1\nG43 H1\nG49\nG81 X0 Y0 Z-1. R1.\nG80\nG54.4 P0\nG61";
     assert_eq!(fanuc(MILL, legal), "ok");
@@ -309,6 +310,30 @@ fn tcp_and_compensation_nest() {
     assert_eq!(fanuc(HEAD, "G41.2 D1\nG43.4 H1\nG40 G49"), "ok");
 }
 
+/// crc CRC-44, TV-30: a reset in any cutter compensation mode leaves group 07 in G40 (the other
+/// modal codes stay, CLR = 0), and TCP, which stays on, no longer nests with it.
+#[test]
+fn reset_leaves_cutter_compensation_in_g40() {
+    for (src, tcp) in [
+        ("G42.2 D1 X1.\nM00\n", 490),
+        ("G41 D1 X1.\nM00\n", 490),
+        ("G43.4 H1\nG41.2 D1 X1.\nM00\n", 434),
+        ("G41.2 D1\nG43.4 H1 X1.\nM00\n", 434),
+    ] {
+        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+            let mut interp = interpreter(src, HEAD, dialect);
+            run(&mut interp, &RunOptions::default(), |_| {});
+            assert_ne!(interp.state.modal(7), 400, "{src}: compensation is on before the reset");
+            interp.reset();
+            assert_eq!((interp.state.modal(7), interp.state.modal(8)), (400, tcp), "{src} {dialect:?}");
+            // After the reset TCP ends by itself (no G40 is due first).
+            interp.load(parse_file("G49\nM30\n"));
+            let r = run(&mut interp, &RunOptions::default(), |_| {});
+            assert!(r.completed(), "{src} {dialect:?}: {:?}", r.alarms);
+        }
+    }
+}
+
 #[test]
 fn no_unit_change_in_5_axis_compensation() {
     // crc CRC-46, §6.1, TV-29
@@ -443,6 +468,10 @@ fn stcp_moves_only_the_rtcp_axes() {
     assert_eq!(custom("XYZBCU", Dialect::Fanuc, src), "ok");
     assert_eq!(custom("XYZBCU", Dialect::Syntec, "G43.4 H1\nG01 U10. F100"), "ok");
     assert_eq!(custom("XYZBCU", Dialect::Syntec, "G43.4 H1 L1\nG43.4 H1 L0\nG01 U10. F100"), "ok");
+    // TV-25b/c/d: Pr3051 = 1 turns STCP on without L; L0 still turns it off.
+    let pr3051 = |c: &mut Config| c.machine.five_axis.smooth_tcp = true;
+    assert_eq!(custom_with("XYZBCU", Dialect::Syntec, "G43.4 H1\nG01 U10. F100", pr3051), "COR-107");
+    assert_eq!(custom_with("XYZBCU", Dialect::Syntec, "G43.4 H1 L0\nG01 U10. F100", pr3051), "ok");
 }
 
 #[test]
@@ -495,13 +524,23 @@ fn rtcp_not_with_g41_g42() {
 
 #[test]
 fn rtcp_not_switched_from_g43_or_the_other_type() {
-    // syn SYN-07/08 (alarm not named: COR-100, decision); FANUC: G43.5 is not in the TCP list
+    // syn SYN-07/08 (alarm not named: COR-100, decision); FANUC: G43.5 is not in the TCP list,
+    // and G43/G44 are not among the modal states TCP may start in (TCP-15)
     assert_eq!(syntec(HEAD, "G43 H1\nG43.4 H1"), "COR-100");
     assert_eq!(syntec(HEAD, "G44 H1\nG43.5 H1"), "COR-100");
     assert_eq!(syntec(HEAD, "G43.4 H1\nG43.5 H1"), "COR-100");
-    assert_eq!(fanuc(HEAD, "G43 H1\nG43.4 H1\nG49"), "ok");
+    assert_eq!(fanuc(HEAD, "G43 H1\nG43.4 H1\nG49"), "PS5421");
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG43.5 H1"), "PS5421");
     assert_eq!(syntec(HEAD, "G43 H1\nG49\nG43.4 H1\nG43.4 H2\nG49"), "ok");
+    // SYN-07/08 "do not apply with G43, G44": a G43/G44 inside RTCP does not end it (only G49
+    // does), it is refused like the switch the other way (COR-100); FANUC: not in the TCP list.
+    for tcp in ["G43.4 H1", "G43.5 H1 I0 J0 K1."] {
+        for tlc in ["G43 H1", "G44 H1", "G43 H2 Z10.", "G01 G44 H1 X1. F100"] {
+            let src = format!("{tcp}\n{tlc}\nG49");
+            assert_eq!(syntec(HEAD, &src), "COR-100", "{src}");
+            assert_eq!(fanuc(HEAD, &src), "PS5421", "{src}");
+        }
+    }
 }
 
 #[test]
@@ -558,6 +597,12 @@ fn type_2_arcs_are_given_by_r() {
     assert_eq!(fanuc(HEAD, &full.replace("Y0 R10.", "Y0 Z5. R10.")), "PS5421");
     assert_eq!(syntec(HEAD, full), "COR-100");
     assert_eq!(fanuc(HEAD, "G43.4 H1\nG00 X10. Y0 Z0\nG02 X10. Y0 I-10. F100\nG01\nG49"), "ok");
+    // tcp TCP-16: G04 is allowed in TCP; its X is the dwell time, not an arc end point, so a
+    // dwell right after a type 2 arc (G02 still modal) needs no R, nor does G10 / G51 data.
+    let after_arc = "G43.5 H1\nG02 X10. Y10. R10. F100\n{}\nG01 X0\nG49";
+    assert_eq!(fanuc(HEAD, &after_arc.replace("{}", "G04 X0.5")), "ok");
+    assert_eq!(fanuc(HEAD, &after_arc.replace("{}", "G51 X0 Y0 Z0 P2")), "ok");
+    assert_eq!(syntec(HEAD, &after_arc.replace("{}", "G04 X0.5")), "ok");
 }
 
 #[test]
@@ -600,6 +645,14 @@ fn modal_states_tcp_starts_in() {
         assert_eq!(syntec(HEAD, &format!("{src}\nG49")), "ok", "{bad}");
     }
     assert_eq!(fanuc(HEAD, "G20\nG93\nG61\nG59\nG99\nG43.4 H1\nG49"), "ok");
+    // tcp TCP-15 (§2.3.2): G49 is in the list (a TCP-16 code), G43/G44 are not: TCP never
+    // starts over tool length compensation, only after its G49.
+    for tlc in ["G43 H1", "G44 H1"] {
+        for tcp in ["G43.4 H1", "G43.5 H1 I0 J0 K1"] {
+            assert_eq!(fanuc(HEAD, &format!("{tlc}\n{tcp}\nG49")), "PS5421", "{tlc} then {tcp}");
+        }
+        assert_eq!(fanuc(HEAD, &format!("{tlc}\nG49\nG43.4 H1\nG49")), "ok", "{tlc}, G49");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -675,6 +728,18 @@ fn tool_alignment_p_is_0_1_2() {
     }
     assert_eq!(fanuc(HEAD, "G68.2 X0 Y0 Z0 I0 J0 K0\nG53.1 P3\nG69"), "ok");
     assert_eq!(syntec(HEAD, "G68.2 X0 Y0 Z0 I0 J0 K0\nG53.1 P2\nG53.3 P0\nG53.6 H1 P1\nG49\nG69"), "ok");
+}
+
+#[test]
+fn no_alignment_or_g68_3_without_a_mechanism() {
+    // syn SYN-24, TV-24, §6.2 alarm 154: Pr3001 = 0 (no mechanism: the mill3 model, which
+    // Pr3001 = 0 reads to) and G53.1 or G68.3 is COR-154.
+    for bad in ["G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1", "G68.2 X0 Y0 Z0 I0 J0 K0\nG53.1 P1", "G68.3", "G68.3 P1 X0 Y0 Z0"] {
+        assert_eq!(syntec(MILL, &format!("{bad}\nG69")), "COR-154", "{bad}");
+        assert_eq!(syntec(HEAD, &format!("{bad}\nG49\nG69")), "ok", "{bad}");
+    }
+    // The plane itself needs no mechanism.
+    assert_eq!(syntec(MILL, "G68.2 X0 Y0 Z0 I0 J30. K0\nG69"), "ok");
 }
 
 #[test]

@@ -724,6 +724,45 @@ fn tv22_det_shows_the_tip_in_the_workpiece_system() {
     }
 }
 
+#[test]
+fn tv22_det_chooses_the_summary_position() {
+    // TCP-26, TV-22: the run summary's workpiece position is what the display shows: with
+    // DET = 1 the tip in W (7.574, 47.247, 83.052), with DET = 0 in Π (10, 20, 30); the program
+    // ends with TCP on so the last point is shown under it.
+    let src = "N1 G00 G90 A0 B0\nN2 G55\nN3 G43.4 H01\nN4 G00 X20.0 Y100.0 Z0\n\
+               N5 G01 X10.0 Y20.0 Z30.0 A60.0 B45.0 F500\nN7 M30\n";
+    for (det, want) in [(false, Vec3::new(10.0, 20.0, 30.0)), (true, Vec3::new(7.5736, 47.2474, 83.0518))] {
+        let mut m = table_ab();
+        m.five_axis.display_workpiece = det;
+        let (r, _) = run_on(m, Dialect::Fanuc, src);
+        assert!(r.completed(), "{:?}", r.alarms);
+        let shown = Vec3::new(r.workpiece[0], r.workpiece[1], r.workpiece[2]);
+        assert!(close(shown, want, 1e-3), "DET {det}: {shown:?}");
+        assert_eq!((r.workpiece[3], r.workpiece[4]), (60.0, 45.0), "DET {det}: the rotary axes as programmed");
+    }
+}
+
+#[test]
+fn syntec_rtcp_moves_stay_in_the_rotary_ranges() {
+    // syn §1.4 (Pr3009–3012), COR-151/152 (§6.1, §6.2 alarms 151/152): an RTCP move whose
+    // master (C) or slave (B) target or swept path leaves its range is refused; FANUC's ranges
+    // (No.19741–19744) only choose among type 2 solutions.
+    let mut m = free_preset("head-bc");
+    // C: "Area 2", 70 → 290 (Pr3009 = 70000, Pr3010 = 290000); B: −110 … 110 (the preset).
+    m.rotary[0].range = Some([70.0, 290.0]);
+    let run = |dialect, moves: &str| {
+        let src = format!("G90 G00 B0 C180.\nG43.4 H1\nG01 X0 Y0 Z0 F1000\n{moves}\nG49\nM30\n");
+        let (r, _) = run_on(m.clone(), dialect, &src);
+        r.alarms.first().map(|a| (a.code.clone(), a.line))
+    };
+    assert_eq!(run(Dialect::Syntec, "B100.\nB120."), Some(("COR-152".into(), 5)), "slave target");
+    assert_eq!(run(Dialect::Syntec, "C80.\nC60."), Some(("COR-151".into(), 5)), "master target");
+    // 80 → 280: both ends are in the area, the rollover axis's shortest way through 0 is not.
+    assert_eq!(run(Dialect::Syntec, "C80.\nC280."), Some(("COR-151".into(), 5)), "master path");
+    assert_eq!(run(Dialect::Syntec, "C100.\nC260.\nB-100."), None, "100 → 260 through 180 stays in");
+    assert_eq!(run(Dialect::Fanuc, "B100.\nB120.\nC80.\nC280."), None, "FANUC: no such alarm");
+}
+
 /// head-bc with axes ten times as fast (so that the rotary axes can turn far between two
 /// interpolation points) and the CRS settings.
 fn fast_head(clamp: bool, cutting: f64) -> MachineConfig {
@@ -854,6 +893,36 @@ fn wse_24_no_singular_change_while_g54_4_is_on() {
     });
     assert!(r.is_ok(), "{r:?}");
     assert!((end.0 - 10.0).abs() < 0.01 && (end.1 - 175.01).abs() < 0.01, "B {} C {}", end.0, end.1);
+}
+
+#[test]
+fn syntec_tool_vector_interpolation_takes_the_equivalent_end_pair() {
+    // SYN-10, TV-10, TV-35a: with Pr3054 = 1 a block is read as a tool vector, so `B-30. C90.`
+    // from B30 C0 (the same end vector as TV-35a's B30 C-90, on the other branch of the
+    // inverse) runs on the V1–V2 plane and ends at the equivalent pair B30 C-90 instead of
+    // leaving the plane; u = 0.5 is TV-35a's B 22.207654 C −45.
+    let src = "G90 G00 X0 Y0 Z0 B30. C0\nG43.4 H1\nX0 Y0 Z0\nG01 B-30. C90. F3000.\nG49\nM30\n";
+    let mut m = free_preset("head-bc");
+    m.five_axis.posture_control = true;
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m, Dialect::Syntec, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let line = of_line(&samples, 4);
+    let at = |b: f64, c: f64| kin.forward(&[0.0, 0.0, 0.0, b, c, 0.0, 0.0, 0.0], 0.0).tool;
+    let (v1, v2) = (at(30.0, 0.0), at(30.0, -90.0));
+    assert!(close(v1, Vec3::new(0.5, 0.0, 0.866025), 1e-6) && close(v2, at(-30.0, 90.0), 1e-12));
+    let n = v1.cross(&v2).normalize();
+    let mut lowest_b = f64::INFINITY;
+    for s in &line {
+        let tool = kin.forward(&s.machine, 100.0).tool;
+        assert!(tool.dot(&n).abs() < 1e-6, "the tool on the V1–V2 plane: {tool:?} at {:?}", s.machine);
+        lowest_b = lowest_b.min(s.machine[3]);
+    }
+    assert!((lowest_b - 22.207654).abs() < 0.01, "B dips to {lowest_b} (TV-35a u = 0.5)");
+    let last = line.last().unwrap().machine;
+    assert!((last[3] - 30.0).abs() < 1e-3 && (last[4] - 270.0).abs() < 1e-3, "ends at B30 C-90: {last:?}");
+    let end = kin.forward(&last, 100.0).tool;
+    assert!(close(end, v2, 1e-5), "{end:?}");
 }
 
 #[test]

@@ -380,6 +380,7 @@ pub async fn write_records(pool: SqlitePool, mut records: tokio::sync::mpsc::Unb
         let result = match &record {
             Record::Variables { controller, values } => save_variables(&pool, controller, values).await,
             Record::ToolOffsets { controller, rows } => save_tool_offsets(&pool, controller, rows).await,
+            Record::KeptPlane { controller, plane } => save_kept_plane(&pool, controller, plane.as_ref()).await,
             Record::WorkOffsets { controller, rows } => save_work_offsets(&pool, controller, rows).await,
             Record::Alarm { controller, at, alarm } => sqlx::query(
                 "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
@@ -522,6 +523,23 @@ pub async fn update_machine(
         .bind(id)
         .execute(pool)
         .await?;
+    Ok(())
+}
+
+/// The tilted working plane a controller keeps over a restart (JSON), if any.
+pub async fn kept_plane(pool: &SqlitePool, id: &str) -> Result<Option<String>, sqlx::Error> {
+    let row = sqlx::query("SELECT kept_plane FROM controllers WHERE id = ?").bind(id).fetch_optional(pool).await?;
+    Ok(row.and_then(|r| r.try_get::<Option<String>, _>("kept_plane").ok().flatten()))
+}
+
+/// Stores (or, `None`, clears) the tilted working plane a controller keeps over a restart.
+pub async fn save_kept_plane(
+    pool: &SqlitePool,
+    id: &str,
+    plane: Option<&fivex_engine::interp::KeptPlane>,
+) -> Result<(), sqlx::Error> {
+    let json = plane.and_then(|p| serde_json::to_string(p).ok());
+    sqlx::query("UPDATE controllers SET kept_plane = ? WHERE id = ?").bind(json).bind(id).execute(pool).await?;
     Ok(())
 }
 

@@ -100,6 +100,13 @@ pub async fn load_controller(
             Default::default()
         });
     }
+    // Syntec Pr3014 = 2: the tilted working plane survives the restart.
+    if let Some(json) = db::kept_plane(db, &row_id).await? {
+        match serde_json::from_str(&json) {
+            Ok(plane) => hosted.station().load_kept_plane(&plane),
+            Err(e) => tracing::warn!(id = %row_id, error = %e, "stored tilted plane is not a plane"),
+        }
+    }
     Ok(Some(hosted))
 }
 

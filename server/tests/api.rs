@@ -541,6 +541,43 @@ async fn the_modal_state_shows_g_codes_and_words() {
 }
 
 #[tokio::test]
+async fn a_tilted_plane_kept_over_a_restart_comes_back_with_the_controller() {
+    // syn SYN-25 (§4.6.3, Pr3014): 2 keeps the feature coordinate state over reset and reboot,
+    // 1 over reset only; a restart of the service is the controller's reboot.
+    let app = spawn_app().await;
+    let mut ids = Vec::new();
+    for persistence in [2, 1] {
+        let id = create(&app, json!({"name": "s", "preset": "head-bc", "dialect": "syntec", "speed": 20})).await;
+        let reply = app.put(&format!("{C}/{id}/parameters/3014"), &json!({"value": persistence})).await;
+        assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+        let text = "G90 G01 X0 Y0 Z0 F3000\nG68.2 X10. Y0 Z0 I0 J0 K90.";
+        let mdi = app.post(&format!("{C}/{id}/mdi"), &json!({ "text": text })).await;
+        assert_eq!(mdi.status, StatusCode::OK, "{}", mdi.text());
+        wait_for(&app, &id, "idle").await;
+        assert_eq!(app.post(&format!("{C}/{id}/reset"), &json!({})).await.status, StatusCode::OK);
+        let m = app.get(&format!("{C}/{id}/modal")).await.json();
+        assert_eq!(m["groups"]["16"], "G68.2", "Pr3014 = {persistence}: kept over the reset");
+        ids.push((id, persistence));
+    }
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    for (id, persistence) in ids {
+        let m = again.get(&format!("{C}/{id}/modal")).await.json();
+        let want = if persistence == 2 { "G68.2" } else { "G69" };
+        assert_eq!(m["groups"]["16"], want, "Pr3014 = {persistence} after the restart");
+        if persistence == 2 {
+            // The same plane: FCS X is the workpiece +Y, its origin X10 — the tip at the
+            // workpiece origin is FCS (0, 10, 0).
+            let status = again.get(&format!("{C}/{id}")).await.json();
+            let work = &status["position"]["workpiece"];
+            let xyz = [&work["X"], &work["Y"], &work["Z"]].map(|v| v.as_f64().unwrap());
+            assert!((xyz[0]).abs() < 1e-6 && (xyz[1] - 10.0).abs() < 1e-6 && xyz[2].abs() < 1e-6, "{status}");
+        }
+    }
+}
+
+#[tokio::test]
 async fn a_clone_has_the_machine_programs_offsets_and_variables_but_not_the_history() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "cell 1", "preset": "table-ac", "dialect": "syntec", "speed": 5.0})).await;

@@ -484,6 +484,9 @@ impl Controller {
             }
             seg = segment(amount * lo);
         }
+        if self.interp.tcp_on() && self.intervention.is_none() {
+            seg = seg.keeping_program_xyz();
+        }
         (self.queued_machine, self.queued_work) = (seg.to, seg.work_to);
         self.planner.push(seg);
         self.set_state(RunState::Running);

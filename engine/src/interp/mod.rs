@@ -29,6 +29,7 @@ use crate::machine::{MachineConfig, MAX_AXES};
 use expr::{eval, truth, ExprSettings, Value};
 use gcode::GROUPS;
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
+pub use plane::KeptPlane;
 
 /// F, S, T, the tool in the spindle, H and D as they stand.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -379,6 +380,11 @@ impl Interpreter {
         st.modal_call = None;
         st.wse_between = None;
         st.ended = true;
+        // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
+        // puts group 07 in G40 (CRC-44, TV-30; the manual lists the 5-axis codes, fivex ends
+        // G41/G42 the same way, as their offset vector does not survive a reset either).
+        st.modes[7] = 400;
+        st.five.compensation_ended();
         let after_reset = st.cfg.machine.five_axis.plane_after_reset;
         if st.plane_active() && after_reset == crate::machine::PlaneAfterReset::Cancelled {
             st.end_plane();

@@ -55,6 +55,13 @@ impl FiveAxisModes {
         self.aligned = false;
     }
 
+    /// A reset put group 07 back to G40 (CRC-44): no nesting with TCP, no G41.3 move due.
+    pub(super) fn compensation_ended(&mut self) {
+        self.tcp_inside_crc = false;
+        self.crc_inside_tcp = false;
+        self.g41_3_move_due = false;
+    }
+
     /// A reset ended G54.4 (WSE-21).
     pub(super) fn clear_wse(&mut self) {
         self.wse = 0;
@@ -122,6 +129,9 @@ static RULES: &[Rule] = &[
         c.has(683) && !matches!(c.count_letters(b"XYZ"), 0 | 3)
     }),
     rule(Syntec, "syn SYN-24: G68.3 P is 1", A::TwpFormat, |c| c.has(683) && c.word(b'P').is_some_and(|p| p != 1.0)),
+    rule(Syntec, "syn SYN-24, TV-24, COR-154: no G53.1/G68.3 with Pr3001 = 0", A::MachineParameter, |c| {
+        c.any(&[531, 683]) && c.st.cfg.machine.rotary.is_empty()
+    }),
     rule(Syntec, "syn SYN-22: P of G53.1/G53.3/G53.6 is 0, 1 or 2", A::AlignmentP, |c| {
         c.any(&[531, 533, 536]) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
     }),
@@ -291,6 +301,9 @@ static RULES: &[Rule] = &[
     rule(Syntec, "syn SYN-07/08: RTCP not with G43/G44 or the other RTCP type", A::IllegalCommandInMode, |c| {
         c.any(&[434, 435]) && c.tcp(c.after[8]) && !matches!(c.before[8], 490 | 491) && c.before[8] != c.after[8]
     }),
+    rule(Syntec, "syn SYN-07/08: no G43/G44 in RTCP (not ended by it)", A::IllegalCommandInMode, |c| {
+        c.any(&[430, 440]) && c.tcp(c.before[8])
+    }),
     rule(Fanuc, "tcp TCP-17, §2.2.6: G49 in G00/G01 mode", A::IllegalCommandInTcp, |c| {
         c.tcp_cancels() && !matches!(c.after[1], 0 | 10)
     }),
@@ -304,14 +317,10 @@ static RULES: &[Rule] = &[
         c.five.nano_in_tcp && c.tcp_cancels() && !(c.has(51) && c.word(b'Q') == Some(0.0))
     }),
     rule(Fanuc, "tcp TCP-10/M-4: G02/G03 in G43.5 by R", A::IllegalCommandInTcp, |c| {
-        c.tcp(c.after[8])
-            && c.after[8] == 435
-            && matches!(c.after[1], 20 | 30)
-            && c.any_axis()
-            && c.word(b'R').is_none()
+        c.tcp(c.after[8]) && c.after[8] == 435 && c.arc() && c.any_axis() && c.word(b'R').is_none()
     }),
     rule(Fanuc, "tcp TCP-06/07/10: rotary-only moves in G00/G01 in TCP", A::IllegalCommandInTcp, |c| {
-        c.during(8, |c, m| c.tcp(m)) && matches!(c.after[1], 20 | 30) && c.any_rotary() && !c.any_linear()
+        c.during(8, |c, m| c.tcp(m)) && c.arc() && c.any_rotary() && !c.any_linear()
     }),
     rule(Fanuc, "tcp TCP-41: cutting point control in G00/G01 only", A::IllegalCommandInTcp, |c| {
         c.tcp(c.after[8]) && matches!(c.after[8], 438 | 439) && !matches!(c.after[1], 0 | 10)
@@ -360,6 +369,12 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "twp TWP-11, TWP-16, §6.1: modal states G68.2/G68.3 may start in", A::TwpIllegalCommand, |c| {
         c.starts(16, |c, m| c.twp(m)) && c.state_outside(16, twp_state_allows)
     }),
+    rule(
+        Fanuc,
+        "tcp TCP-15, §2.3.2: TCP starts from G49 (G43/G44 are not in the list)",
+        A::IllegalCommandInTcp,
+        |c| c.starts(8, |c, m| c.tcp(m)) && c.before[8] != 490,
+    ),
     rule(Fanuc, "tcp TCP-15, §2.3.2: modal states TCP may start in", A::IllegalCommandInTcp, |c| {
         c.starts(8, |c, m| c.tcp(m)) && c.state_outside(8, tcp_state_allows)
     }),
@@ -483,7 +498,8 @@ fn next(c: &Ctx) -> FiveAxisModes {
         n.aligned = false;
     }
     if c.starts(8, |c, m| c.tcp(m)) {
-        n.stcp = c.has(434) && c.word(b'L') == Some(1.0);
+        // Syntec Pr3051 = 1: STCP without L (SYN-09, TV-25b).
+        n.stcp = c.has(434) && c.word(b'L').map_or(c.st.cfg.machine.five_axis.smooth_tcp, |l| l == 1.0);
         n.posture = c.word(b'P') == Some(1.0);
     }
     if !tcp {
@@ -596,6 +612,20 @@ impl Ctx<'_> {
 
     fn any_axis(&self) -> bool {
         self.axis_words(None)
+    }
+
+    /// The block's axis words are data of one of its G codes (G04 dwell time, G10, G28 …, or a
+    /// G51/G51.1/G68 transform), not the group-01 motion: such a block is no arc.
+    fn axes_are_data(&self) -> bool {
+        self.g.iter().any(|&g| {
+            matches!(g, 510 | 511 | 680)
+                || gcode::lookup(g, self.st.cfg.dialect).is_some_and(|d| d.takes_axes && d.group == gcode::ONE_SHOT)
+        })
+    }
+
+    /// The block is a G02/G03 arc: the group-01 mode is an arc and its axis words are the end point.
+    fn arc(&self) -> bool {
+        matches!(self.after[1], 20 | 30) && !self.axes_are_data()
     }
 
     fn any_rotary(&self) -> bool {

@@ -16,7 +16,7 @@ use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, MotionKind, Pos};
 use crate::kin::{Kinematics, Selection, Vec3};
-use crate::machine::ManualVertical;
+use crate::machine::{ManualVertical, PlaneAfterReset};
 use crate::twp::{self, Frame};
 use std::sync::Arc as Shared;
 
@@ -31,7 +31,43 @@ pub(super) struct Definition {
     x: Option<Vec3>,
 }
 
+/// A tilted working plane as a controller keeps it over a restart (Syntec Pr3014 = 2, SYN-25):
+/// the G code of group 16 and the feature coordinate system in the workpiece system.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct KeptPlane {
+    /// 682, 683 or 684 (G68.2, G68.3, G68.4).
+    pub code: u16,
+    /// The FCS origin in the workpiece system.
+    pub origin: [f64; 3],
+    /// The FCS X, Y, Z axes in the workpiece system.
+    pub axes: [[f64; 3]; 3],
+}
+
 impl State {
+    /// The plane to keep over a restart: the active one when the machine keeps it there
+    /// (`PlaneAfterReset::KeptOverRestart`), else none.
+    pub fn kept_plane(&self) -> Option<KeptPlane> {
+        let fcs =
+            self.plane.filter(|_| self.cfg.machine.five_axis.plane_after_reset == PlaneAfterReset::KeptOverRestart)?;
+        let column = |k: usize| [fcs.r[(0, k)], fcs.r[(1, k)], fcs.r[(2, k)]];
+        Some(KeptPlane { code: self.modes[16], origin: fcs.o.into(), axes: [column(0), column(1), column(2)] })
+    }
+
+    /// After a restart: the plane kept over it becomes active again, the machine where it
+    /// stands (nothing when the machine does not keep planes over a restart, or `kept` is no
+    /// plane).
+    pub fn restore_plane(&mut self, kept: &KeptPlane) {
+        let keeps = self.cfg.machine.five_axis.plane_after_reset == PlaneAfterReset::KeptOverRestart;
+        if !keeps || !matches!(kept.code, 682..=684) || self.kinematics.is_none() {
+            return;
+        }
+        let machine = self.machine_position();
+        let r = nalgebra::Matrix3::from_columns(&kept.axes.map(|a| Vec3::from(a)));
+        self.plane = Some(Frame { r, o: Vec3::from(kept.origin) });
+        self.modes[16] = kept.code;
+        self.plane_moved_to(machine);
+    }
+
     pub(super) fn plane_active(&self) -> bool {
         self.plane.is_some()
     }

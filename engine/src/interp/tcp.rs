@@ -306,7 +306,31 @@ impl State {
             self.wse_compensate(&kin, &mut target)?;
         }
         let t = self.tcp.as_ref().expect("under TCP");
-        let machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        let mut machine_end: Pos = std::array::from_fn(|i| target[i] + off[i]);
+        // Syntec Pr3054 = 1 reads a cutting block as a tool vector (SYN-10, TV-10): end angles
+        // on the other branch of the inverse than the start's would make the axes jump off the
+        // V1–V2 plane, so the block ends at the equivalent pair the plane leads to.
+        let tool_vector = t.posture && self.cfg.dialect == crate::Dialect::Syntec && kind != MotionKind::Rapid;
+        if tool_vector
+            && !t.starting
+            && !crate::motion::path::great_circle_continuous(&kin, &from_machine, &machine_end)
+        {
+            let v2 = kin.forward(&machine_end, 0.0).tool;
+            if let Some(end) = kin.angles_near(v2, &from_machine) {
+                let mut equivalent = machine_end;
+                for i in kin.joints().iter().filter_map(|j| j.index) {
+                    equivalent[i] = end[i];
+                }
+                if crate::motion::path::great_circle_continuous(&kin, &from_machine, &equivalent) {
+                    for i in kin.joints().iter().filter_map(|j| j.index) {
+                        (machine_end[i], target[i]) = (equivalent[i], equivalent[i] - off[i]);
+                    }
+                }
+            }
+        }
+        if self.cfg.dialect == crate::Dialect::Syntec {
+            kin.syntec_move_in_range(&from_machine, &machine_end)?;
+        }
         if let (Some(a), None, false) = (&arc, t.frame, t.starting) {
             workpiece_arc_allowed(&kin, a, &t.start_machine, &from_machine, &machine_end)?;
         }
@@ -396,6 +420,25 @@ impl State {
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
         self.follow_machine = Some(machine);
+    }
+}
+
+impl State {
+    /// FANUC DET = 1 (TCP-26): the current point as the absolute display shows it under TCP
+    /// with Π fixed on the table — the tip in the workpiece system (as [`display_shift`] gives
+    /// it for every sample); `None` when the display shows the programming coordinates.
+    pub(super) fn tcp_shown(&self) -> Option<Pos> {
+        let t = self.tcp.as_ref()?;
+        let (kin, frame) = (&t.kin, t.frame.as_ref()?);
+        let shift = display_shift(self, kin)?;
+        let tip = kin.table_frame(&self.machine_position()).to_parent(&frame.to_parent(&xyz(kin, &self.pos))) - shift;
+        let mut shown = self.pos;
+        for (axis, index) in kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                shown[*i] = tip[axis];
+            }
+        }
+        Some(shown)
     }
 }
 

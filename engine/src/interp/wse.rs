@@ -213,12 +213,13 @@ impl State {
     }
 
     /// The current point as the absolute position display shows it (WSE-18: in the WCS with
-    /// DAK = 1 under G54.4; otherwise the programming coordinates, [`State::position`]).
+    /// DAK = 1 under G54.4; TCP-26: the tip in the workpiece system with DET = 1 under TCP;
+    /// otherwise the programming coordinates, [`State::position`]).
     pub fn shown_position(&self) -> Pos {
         if self.wse_shows_wcs() {
             self.wcs_position()
         } else {
-            self.pos
+            self.tcp_shown().unwrap_or(self.pos)
         }
     }
 

@@ -188,6 +188,21 @@ impl Kinematics {
     }
 }
 
+impl Kinematics {
+    /// Syntec §1.4, §6.1 alarms 151/152: the rotary axes of a 5-axis move, target and swept
+    /// path, stay in the ranges Pr3009–3012; COR-151 when the master leaves its range, COR-152
+    /// the slave.
+    pub fn syntec_move_in_range(&self, from: &[f64], to: &[f64]) -> Result<(), AlarmId> {
+        for (k, j) in self.joints().iter().enumerate() {
+            let Some(i) = j.index else { continue };
+            if !syntec_path_in_range(from[i], to[i] - from[i], j.range) {
+                return Err(if k == 0 { AlarmId::MasterOutOfRange } else { AlarmId::SlaveOutOfRange });
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Syntec range: the angles `{φ : (φ − start) mod 360 ≤ (end − start) mod 360}`; start = end is
 /// no restriction. The swept arc from `from` over `delta` must stay inside: measured from
 /// `start`, the allowed angles are the intervals [360k, 360k + width], so the arc must lie in

@@ -263,6 +263,14 @@ impl Posture {
     }
 }
 
+/// Whether the tool can turn on the great circle from its direction at `from` to that at `to`
+/// (tool posture control on a line, Syntec's tool-vector interpolation) with the axes following
+/// it continuously; `true` also when there is nothing to turn.
+pub(crate) fn great_circle_continuous(kin: &Kinematics, from: &Pos, to: &Pos) -> bool {
+    let (v0, v1) = (kin.forward(from, 0.0).tool, kin.forward(to, 0.0).tool);
+    Posture::new(v0, v1).is_none_or(|p| p.continuous(kin, from, to, None))
+}
+
 /// Whether the axes can follow the tool direction `direction(u)` from `from` to `to` as
 /// `Follow::at` turns them (the inverse solution nearest the proportional angles) without a
 /// jump to another branch of the inverse or leaving the directions the machine reaches.
@@ -721,6 +729,24 @@ impl Segment {
     /// rotary values of `to` in proportion (the path parameter is their angle, fed at
     /// `feed_deg_min`), X/Y/Z keep the tool tip (`tool_length` long) where it is relative to
     /// the table.
+    /// A [`Segment::tip_rotation`] under tool centre point control: the tip stands still on
+    /// the table, so its program coordinates (X/Y/Z in Π) stay what they were while the rotary
+    /// axes turn (Syntec R519, TV-27b); the other axes still follow the machine.
+    pub fn keeping_program_xyz(mut self) -> Segment {
+        if let Some(f) = self.follow.as_mut() {
+            let mut held = Vec3::zeros();
+            for (axis, index) in f.kin.linear.iter().enumerate() {
+                if let Some(i) = index {
+                    held[axis] = self.work_from[*i];
+                    self.work_to[*i] = self.work_from[*i];
+                }
+            }
+            // The frame that puts the (fixed) tip at those coordinates.
+            f.work_frame = Some(Frame { r: nalgebra::Matrix3::identity(), o: f.from - held });
+        }
+        self
+    }
+
     pub fn tip_rotation(
         kin: std::sync::Arc<Kinematics>,
         from: &Pos,

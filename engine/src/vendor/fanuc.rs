@@ -149,11 +149,15 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             range: (upper != 0.0 || lower != 0.0).then_some([lower, upper]),
         });
     }
-    // Positions. The head's controlled point — where machine X/Y/Z are at zero angles — lies on
-    // the tool axis, No.19666 above the spindle nose; No.19709 leads from it to the tool-side
-    // axis next to the tool, No.19712 from there to the other head axis. The table's first axis
-    // passes through No.19700, the second through No.19700 + No.19703.
-    let holder = if sides.first() == Some(&Side::Head) { p.get(19666)? } else { 0.0 };
+    // Positions. The controlled point — where machine X/Y/Z are at zero angles — lies on the
+    // tool axis, No.19666 above the spindle nose: the tool length offset plus No.19666 is the
+    // distance from the tool centre point to the controlled point on every mechanism type, a
+    // table-rotation one too (A-79348E, "Tool length offset value and setting in parameter
+    // No. 19666"; the note that type 12 does not shift the controlled point is about No.19665#5).
+    // No.19709 leads from it to the tool-side axis next to the tool, No.19712 from there to the
+    // other head axis. The table's first axis passes through No.19700, the second through
+    // No.19700 + No.19703.
+    let holder = p.get(19666)?;
     let (v1, v2) = (vec3(p.get3(19709)?), vec3(p.get3(19712)?));
     let (a, d) = (vec3(p.get3(19700)?), vec3(p.get3(19703)?));
     let points = match kind {
@@ -336,6 +340,8 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         wse_feed_clamp_pct: percent(p, 11202)?,
         wse_rapid_clamp_pct: percent(p, 11203)?,
         wse_display_wcs: bit(3106, 6)?,
+        // Syntec's STCP: FANUC has none.
+        ..FiveAxisOptions::default()
     })
 }
 
@@ -397,12 +403,12 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         _ => 21,
     };
     p.set(19680, kind as f64);
-    // The head's controlled point must be on the tool axis through the nose (No.19666).
+    // The controlled point must be on the tool axis through the nose (No.19666).
     let nose = vec3(m.nose);
     let holder = -nose.dot(&t0);
     let on_axis = (nose + t0 * holder).iter().all(|x| x.abs() < 1e-9);
-    if !on_axis || (holder.abs() > 1e-9 && !matches!(kind, 2 | 21)) {
-        return Err(unrepresentable("FANUC", "the spindle nose must lie on the tool axis through X/Y/Z, and only a head can have a holder offset (No.19666)"));
+    if !on_axis {
+        return Err(unrepresentable("FANUC", "the spindle nose must lie on the tool axis through X/Y/Z (No.19666)"));
     }
     let mut ia = 0;
     for (j, l) in links.iter().enumerate() {
@@ -461,6 +467,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if f.deviation_clamp {
         p.set_bits(19746, 1 << 6);
+    }
+    if f.smooth_tcp || f.smooth_tolerance.is_some() {
+        return Err(unrepresentable("FANUC", "STCP (Syntec Pr3051–3053)"));
     }
     if f.plane_after_reset == PlaneAfterReset::KeptOverRestart {
         return Err(unrepresentable("FANUC", "a tilted working plane kept over a restart (Syntec Pr3014 = 2)"));

@@ -3,7 +3,7 @@
 //! Per axis i = 0, 1, … (consecutive numbers): Pr21+i servo channel (0: the axis is not set
 //! up), Pr201+i axis type, Pr321+i axis name, Pr401+i acceleration time, Pr421+i jerk time,
 //! Pr461+i rapid rate, Pr2401+i / Pr2421+i stroke. The 5-axis set: Pr3001 type, Pr3002–3004 tool
-//! direction, Pr3005–3008 rotary axes, Pr3009–3012 ranges, Pr3013 holder offset, Pr3015–3020
+//! direction, Pr3005–3008 rotary axes, Pr3009–3012 ranges, Pr3013 holder offset, Pr3051–3053 STCP, Pr3015–3020
 //! orientation and zero errors, Pr3021–3046 mechanism-chain vectors; Pr3201 machine type.
 //!
 //! The seed names Pr21~, Pr201~ and Pr321~ without their value tables, and no rates or strokes:
@@ -202,6 +202,16 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
                 1 => PlaneAfterReset::Kept,
                 _ => PlaneAfterReset::KeptOverRestart,
             },
+            // Pr3051 STCP without L; Pr3052/3053 its rotary tolerances, 0.001° (absent: 500).
+            smooth_tcp: p.code(3051, 0, 1)? == 1,
+            smooth_tolerance: if p.0.contains_key(&3052) || p.0.contains_key(&3053) {
+                let tolerance = |n: u32| -> Result<f64, ConfigError> {
+                    Ok(from_blu(if p.0.contains_key(&n) { p.code(n, 0, 360_000)? as f64 } else { 500.0 }))
+                };
+                Some([tolerance(3052)?, tolerance(3053)?])
+            } else {
+                None
+            },
             ..FiveAxisOptions::default()
         },
         // Syntec has no parameters for the 5-axis manual feeds (its manual RTCP is the PLC
@@ -345,6 +355,13 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if f.tcp_coordinates == TcpCoordinates::TableAtZero {
         p.set(3055, 1.0);
+    }
+    if f.smooth_tcp {
+        p.set(3051, 1.0);
+    }
+    if let Some([master, slave]) = f.smooth_tolerance {
+        p.set(3052, blu(master));
+        p.set(3053, blu(slave));
     }
     let grip = t0 * from_blu(p.get(3013)?);
     let point = |k: usize| vec3(links[k].point);

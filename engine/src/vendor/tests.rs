@@ -150,6 +150,36 @@ fn fanuc_example_sets_tv_kin_10_to_12_and_16() {
     assert_eq!(alarm_of(machine_from(Dialect::Fanuc, "m", &p)), Some(AlarmId::AxisSetting), "TV-KIN-16");
 }
 
+/// TV-KIN-11 (S002 page 68, the table rotation example sets No.19666 = 2.0): the tool holder
+/// offset counts on a table-rotation machine too — tool length + No.19666 is the distance from
+/// the tool centre point to the controlled point — and the set writes it back.
+#[test]
+fn fanuc_holder_offset_on_table_machine_tv_kin_11() {
+    let mut table = set(&[
+        (19680, 12.0),
+        (19681, 4.0),
+        (19682, 1.0),
+        (19684, 1.0),
+        (19686, 5.0),
+        (19687, 2.0),
+        (19689, 1.0),
+        (19697, 3.0),
+        (19666, 2.0),
+    ]);
+    fanuc_axes(&mut table, "XYZAB");
+    let m = machine_from(Dialect::Fanuc, "table", &table).unwrap();
+    assert_eq!(m.holder, 2.0);
+    let k = Kinematics::new(&m).unwrap();
+    // Tool length 10: the tip is 10 + 2 below the controlled point X10 Y20 Z30.
+    let tip: [f64; 3] = k.forward(&[10.0, 20.0, 30.0, 0.0, 0.0], 10.0).tip_machine.into();
+    assert!(close(tip, [10.0, 20.0, 18.0], 1e-12), "{tip:?}");
+    // Turned A90 (table, left-hand): the tip 12 below the axis line through the origin, seen
+    // from the table, lies on the table's ±Y axis, 18 from the axis (not 28 as without No.19666).
+    let tip: [f64; 3] = k.forward(&[0.0, 0.0, 30.0, 90.0, 0.0], 10.0).tip.into();
+    assert!((tip[1].abs() - 18.0).abs() < 1e-9 && tip[2].abs() < 1e-9, "{tip:?}");
+    assert_eq!(params_of(Dialect::Fanuc, &m).unwrap().get(19666).unwrap(), 2.0);
+}
+
 /// TV-KIN-13/14 on the decoded BC head; TV-KIN-15 on a decoded left-hand table C.
 #[test]
 fn fanuc_decoded_machines_tv_kin_13_to_15() {
@@ -289,6 +319,29 @@ fn syntec_holder_offset_tv36() {
     let m45: [f64; 3] = k.carriage_for(&[0.0, 0.0, 0.0, 45.0, 0.0], Vec3::zeros(), 50.0).into();
     assert!(close(m0, [0.0, 0.0, 50.0], 1e-12), "{m0:?}");
     assert!(close(m45, [106.066017, 0.0, 6.066017], 1e-6), "{m45:?}");
+}
+
+/// SYN-09, TV-05: Pr3051 (STCP without L) and Pr3052/3053 (its rotary tolerances, 0.001°,
+/// default 500) are read and written back, not dropped; FANUC cannot describe them.
+#[test]
+fn syntec_stcp_parameters_round_trip_tv05() {
+    for (given, smooth, tolerance) in [
+        (vec![(3051, 1.0), (3052, 250.0), (3053, 1000.0)], true, Some([0.25, 1.0])),
+        (vec![(3052, 500.0)], false, Some([0.5, 0.5])),
+        (vec![(3051, 1.0)], true, None),
+    ] {
+        let mut p = syntec_cb_spindle();
+        for &(n, v) in &given {
+            p.set(n, v);
+        }
+        let m = machine_from(Dialect::Syntec, "m", &p).unwrap();
+        assert_eq!((m.five_axis.smooth_tcp, m.five_axis.smooth_tolerance), (smooth, tolerance), "{given:?}");
+        let again = params_of(Dialect::Syntec, &m).unwrap();
+        for (n, v) in given {
+            assert_eq!(again.get(n).unwrap(), v, "Pr{n}");
+        }
+        assert!(params_of(Dialect::Fanuc, &m).is_err(), "FANUC has no STCP");
+    }
 }
 
 #[test]

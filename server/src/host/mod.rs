@@ -44,6 +44,8 @@ pub enum Record {
     ToolOffsets { controller: String, rows: Vec<crate::db::ToolRow> },
     /// Work offsets a program changed (G10 L2/L20, #5201…): (slot, value per axis).
     WorkOffsets { controller: String, rows: Vec<(usize, Vec<f64>)> },
+    /// The tilted working plane kept over a restart changed (Syntec Pr3014 = 2).
+    KeptPlane { controller: String, plane: Option<fivex_engine::interp::KeptPlane> },
     /// An alarm was raised.
     Alarm { controller: String, at: String, alarm: Alarm },
     /// A program run ended (`completed`, `alarm` or `reset`).

@@ -39,6 +39,8 @@ pub struct Station {
     saved: Box<[Option<f64>; RETAINED]>,
     /// Offsets as last saved.
     saved_offsets: Offsets,
+    /// The tilted working plane kept over a restart, as last saved.
+    saved_plane: Option<fivex_engine::interp::KeptPlane>,
     /// Common variables as last streamed.
     streamed: BTreeMap<u32, f64>,
     since_streamed: f64,
@@ -66,6 +68,7 @@ impl Station {
             run: None,
             saved,
             saved_offsets,
+            saved_plane: None,
             streamed,
             since_streamed: 0.0,
             since_saved: 0.0,
@@ -76,12 +79,21 @@ impl Station {
     /// state that keeps the offsets, the retained variables and the panel settings.
     pub fn replace_machine(&mut self, machine: MachineConfig, dialect: fivex_engine::Dialect) {
         let old = &self.controller;
-        let (offsets, retained, panel) =
-            (old.interpreter().state.offsets.clone(), *old.interpreter().state.persistent(), old.panel);
+        let (offsets, retained, panel, plane) = (
+            old.interpreter().state.offsets.clone(),
+            *old.interpreter().state.persistent(),
+            old.panel,
+            old.interpreter().state.kept_plane(),
+        );
         let mut controller = Controller::new(fivex_engine::interp::Config::new(machine.clone(), dialect));
         controller.interpreter_mut().state.offsets = offsets;
         controller.interpreter_mut().state.load_persistent(&retained);
         controller.panel = panel;
+        // A restart on the new machine keeps the plane as a power cycle would (Pr3014 = 2).
+        if let Some(plane) = &plane {
+            controller.interpreter_mut().state.restore_plane(plane);
+            controller.offsets_changed();
+        }
         self.kinematics = Kinematics::new(&machine).ok();
         self.machine = Arc::new(machine);
         self.controller = controller;
@@ -114,6 +126,13 @@ impl Station {
         }
         self.offsets_saved();
         self.controller.offsets_changed();
+    }
+
+    /// The plane kept over a restart, read from the database: active again, and saved.
+    pub fn load_kept_plane(&mut self, plane: &fivex_engine::interp::KeptPlane) {
+        self.controller.interpreter_mut().state.restore_plane(plane);
+        self.controller.offsets_changed();
+        self.saved_plane = self.controller.interpreter().state.kept_plane();
     }
 
     /// The offsets as they are now were written to the database (by the API).
@@ -202,6 +221,11 @@ impl Station {
         }
         if changed {
             records.extend(self.offset_changes(controller));
+            let plane = self.controller.interpreter().state.kept_plane();
+            if plane != self.saved_plane {
+                self.saved_plane = plane;
+                records.push(Record::KeptPlane { controller: controller.to_string(), plane });
+            }
         }
         (messages, records)
     }
