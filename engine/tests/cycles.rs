@@ -204,3 +204,22 @@ fn fanuc_refuses_g69_with_a_canned_cycle_on() {
     assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS5462", 5)));
     assert!(common::run_with(&ok, "head-bc", Dialect::Fanuc).completed());
 }
+
+#[test]
+fn check_reports_l_in_a_cycle_block() {
+    use fivex_engine::check::check;
+    use fivex_engine::lang::parse_file;
+    let src = "G90 G00 X0 Y0 Z20.\nG91 G81 X10. R-15. Z-7. L3 F300.\nG80\nM98 P1 L2\nM30\nO1\nM99\n";
+    let d = check(parse_file(src), Dialect::Fanuc);
+    let found: Vec<_> = d.iter().map(|d| (d.line, d.col, d.id.clone())).collect();
+    assert_eq!(found, vec![(2, 25, fivex_engine::AlarmId::ImproperAddress)]);
+}
+
+#[test]
+fn syntec_refuses_k_in_a_cycle_block_under_tcp_type_2() {
+    // Under G43.5 I/J/K are the tool direction: `K2` there is not a repeat count.
+    let src = "G90 G00 X0 Y0 Z60. B0 C0\nG43.5 H1\nG00 X5. Y5. Z30.\nG98 G81 X10. Y-5. Z-8. R3. F300.\nX0 K2\nG80\nG49\nM30\n";
+    let r = common::run_with(src, "head-bc", Dialect::Syntec);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("COR-100", 5)));
+    assert!(common::run_with(&src.replace(" K2", ""), "head-bc", Dialect::Syntec).completed());
+}

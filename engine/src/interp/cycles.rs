@@ -36,6 +36,11 @@ fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
 impl State {
     /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
     pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+        // Under TCP type 2 (Syntec G43.5; FANUC refuses cycles in TCP) I/J/K are the tool
+        // direction: a K there cannot also be the repeat count (*decision*, docs/five-axis.md).
+        if self.ijk_is_direction() && [b'I', b'J', b'K'].iter().any(|&l| w.has(l)) {
+            return Err(AlarmId::IllegalCommandInTcp);
+        }
         let (pa, pb, d) = self.plane_axes()?;
         let incremental = self.modes[3] == 910;
         let drill_letter = self.cfg.machine.axes[d].name as u8;
