@@ -3,7 +3,7 @@
 //! Beyond the parser's diagnostics: G codes the dialect does not have, G codes and addresses of
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
-//! do not exist.
+//! do not exist, L in a block that names a canned cycle.
 
 use crate::alarm::AlarmId;
 use crate::dialect::Dialect;
@@ -36,7 +36,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
                 }
                 BlockKind::Words(words) => {
-                    let mut calls = false;
+                    let (mut calls, mut cycle) = (false, false);
                     for w in words {
                         let WordValue::Number { value, .. } = w.value else { continue };
                         match w.letter {
@@ -56,6 +56,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                             format!("{}: {function} is not built in fivex", gcode::display(d.code)),
                                         ));
                                     }
+                                    cycle |= d.group == 9 && d.code != 800;
                                 }
                             },
                             b'M' => calls |= matches!(value as u32, 98 | 198),
@@ -69,6 +70,15 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                 }
                             }
                         }
+                    }
+                    // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).
+                    // Only a block naming the cycle is known to be one without running the program.
+                    if let Some(l) = words.iter().find(|w| w.letter == b'L').filter(|_| cycle) {
+                        diags.push(at(
+                            l.col,
+                            AlarmId::ImproperAddress,
+                            "L in a canned cycle: the repeat count is K".into(),
+                        ));
                     }
                     if calls {
                         let p = words.iter().find_map(|w| match (w.letter, &w.value) {

@@ -1,13 +1,17 @@
 //! Canned cycles G73–G89, expanded into canonical motions.
 //!
 //! FANUC conventions: the drilling axis is the plane normal; in G91 the R word is the distance
-//! from the initial level and the drilling-axis word the distance from the R point; G98 returns
-//! to the initial level, G99 to the R point; L repeats the cycle (L0 only stores its data).
+//! from the initial level and the drilling-axis word the distance from the R point (kept as that
+//! distance when a later G91 block changes R alone); G98 returns to the initial level, G99 to
+//! the R point; K repeats the cycle (K0 only stores its data), L is refused (`repeats`).
 //!
 //! Every point of a cycle is computed in programmed coordinates and goes through the programming
 //! transforms (`frames`) like any other: hole positions and R/Z levels are rotated, scaled and
 //! mirrored. Peck depths Q, the G73/G83 retract and the G76/G87 shift are lengths scaling does
-//! not change (FANUC), so they are divided by the axis's magnification here.
+//! not change (FANUC), so they are divided by the axis's magnification here. In the tilted
+//! working plane (twp §1.3.2 allows the cycles there) the programmed coordinates are the feature
+//! coordinate system's, and every move of the cycle follows the tool tip through the kinematics
+//! like any move in the plane: the hole is drilled at the FCS point along the FCS Z.
 
 use super::nc::Words;
 use super::State;
@@ -32,26 +36,36 @@ fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
 impl State {
     /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
     pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+        // Under TCP type 2 (Syntec G43.5; FANUC refuses cycles in TCP) I/J/K are the tool
+        // direction: a K there cannot also be the repeat count (*decision*, docs/five-axis.md).
+        if self.ijk_is_direction() && [b'I', b'J', b'K'].iter().any(|&l| w.has(l)) {
+            return Err(AlarmId::IllegalCommandInTcp);
+        }
         let (pa, pb, d) = self.plane_axes()?;
         let incremental = self.modes[3] == 910;
         let drill_letter = self.cfg.machine.axes[d].name as u8;
-        if let Some(r) = self.value(w, b'R') {
+        let new_r = self.value(w, b'R');
+        if let Some(r) = new_r {
             self.cycle.r = if incremental { self.cycle.initial + r } else { r };
             self.cycle.r_set = true;
         }
-        if let Some(z) = self.value(w, drill_letter) {
-            self.cycle.z = if incremental { self.cycle.r + z } else { z };
+        if !self.cycle.r_set {
+            self.cycle.r = self.xf.programmed[d];
         }
+        match self.value(w, drill_letter) {
+            Some(z) => self.cycle.z = if incremental { self.cycle.r + z } else { z },
+            // G91: the retained bottom is a distance from R, so it moves with a new R (FANUC).
+            None if incremental && new_r.is_some() => self.cycle.z = self.cycle.r + self.cycle.depth,
+            None => {}
+        }
+        self.cycle.depth = self.cycle.z - self.cycle.r;
         if let Some(q) = self.value(w, b'Q') {
             self.cycle.q = q.abs();
         }
         if let Some(p) = w.integer(b'P') {
             self.cycle.p = p / 1000.0;
         }
-        if !self.cycle.r_set {
-            self.cycle.r = self.xf.programmed[d];
-        }
-        let repeats = Self::count(w)?;
+        let repeats = repeats(w)?;
         let code = self.modes[9];
         if matches!(code, 730 | 830) && self.cycle.q <= 0.0 {
             return Err(AlarmId::MissingQ);
@@ -62,39 +76,50 @@ impl State {
         for _ in 0..repeats {
             // Position over the hole: every axis but the drilling axis.
             let hole = self.programmed_target(w, Some(d));
-            self.cycle_move(MotionKind::Rapid, hole, out);
+            self.cycle_move(MotionKind::Rapid, hole, out)?;
             self.hole(code, d, (pa, pb), out)?;
             check_output(out)?;
         }
         Ok(repeats > 0)
     }
 
-    fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) {
+    fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let mut t = self.xf.programmed;
         t[d] = level;
-        self.cycle_move(kind, t, out);
+        self.cycle_move(kind, t, out)
     }
 
     /// A shift along `axis` by `by` mm after the transforms (scaling does not change it).
-    fn shift(&mut self, axis: usize, by: f64, out: &mut Vec<Canon>) {
+    fn shift(&mut self, axis: usize, by: f64, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let mut t = self.xf.programmed;
         t[axis] += by / self.xf.length_factor(axis);
-        self.cycle_move(MotionKind::Rapid, t, out);
+        self.cycle_move(MotionKind::Rapid, t, out)
     }
 
-    /// A move of the cycle. Under G54.4 every rapid of the cycle (positioning, to R, the
-    /// retracts) is a cutting move at No.5412's feed (WSE-19, [`State::wse_cycle_feed`]).
-    fn cycle_move(&mut self, kind: MotionKind, t: Pos, out: &mut Vec<Canon>) {
-        let Some(feed) = self.wse_cycle_feed().filter(|_| kind == MotionKind::Rapid) else {
-            return self.move_to(kind, t, out);
-        };
+    /// A move of the cycle to the programmed point `t`. In the tilted working plane and under
+    /// tool centre point control (Syntec; FANUC refuses cycles there) it follows the tool tip
+    /// as `group01_motion` does; under G54.4 every rapid of the cycle
+    /// (positioning, to R, the retracts) is a cutting move at No.5412's feed (WSE-19,
+    /// [`State::wse_cycle_feed`]).
+    fn cycle_move(&mut self, kind: MotionKind, t: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let feed = self.wse_cycle_feed().filter(|_| kind == MotionKind::Rapid);
+        let kind = if feed.is_some() { MotionKind::Linear } else { kind };
         let first = out.len();
-        self.move_to(MotionKind::Linear, t, out);
-        for c in &mut out[first..] {
-            if let CanonKind::Motion(m) = &mut c.kind {
-                (m.feed, m.feed_mode) = (feed, FeedMode::PerMinute);
+        if self.plane_active() || self.tcp_active() {
+            let target = self.xf.forward(&t);
+            self.tip_motion(kind, target, None, out)?;
+            self.xf.programmed = t;
+        } else {
+            self.move_to(kind, t, out);
+        }
+        if let Some(feed) = feed {
+            for c in &mut out[first..] {
+                if let CanonKind::Motion(m) = &mut c.kind {
+                    (m.feed, m.feed_mode) = (feed, FeedMode::PerMinute);
+                }
             }
         }
+        Ok(())
     }
 
     fn spindle(&mut self, state: SpindleState, out: &mut Vec<Canon>) {
@@ -117,42 +142,43 @@ impl State {
         if code == 870 {
             // Back boring: orient, shift, go below to R (the hole bottom), bore upward to Z.
             self.emit(out, CanonKind::Aux { m: 19 });
-            self.shift(plane.0, c.q, out);
-            self.move_drill_axis(d, c.r, Rapid, out);
-            self.shift(plane.0, -c.q, out);
+            self.shift(plane.0, c.q, out)?;
+            self.move_drill_axis(d, c.r, Rapid, out)?;
+            self.shift(plane.0, -c.q, out)?;
             self.spindle(SpindleState::Cw, out);
-            self.move_drill_axis(d, c.z, Linear, out);
+            self.move_drill_axis(d, c.z, Linear, out)?;
             dwell(self, out);
             self.emit(out, CanonKind::Aux { m: 19 });
-            self.shift(plane.0, c.q, out);
-            self.move_drill_axis(d, c.initial, Rapid, out);
-            self.shift(plane.0, -c.q, out);
+            self.shift(plane.0, c.q, out)?;
+            self.move_drill_axis(d, c.initial, Rapid, out)?;
+            self.shift(plane.0, -c.q, out)?;
             self.spindle(SpindleState::Cw, out);
             return Ok(());
         }
         if self.xf.programmed[d] != c.r {
-            self.move_drill_axis(d, c.r, Rapid, out);
+            self.move_drill_axis(d, c.r, Rapid, out)?;
         }
         match code {
             730 | 830 => {
                 let mut depth = c.r;
                 loop {
                     let next = if (c.z - depth) * dir <= q { c.z } else { depth + dir * q };
-                    self.move_drill_axis(d, next, Linear, out);
+                    self.move_drill_axis(d, next, Linear, out)?;
                     check_output(out)?;
                     depth = next;
                     if depth == c.z {
                         break;
                     }
                     if code == 730 {
-                        self.move_drill_axis(d, depth - dir * retract, Rapid, out);
+                        self.move_drill_axis(d, depth - dir * retract, Rapid, out)?;
                     } else {
-                        self.move_drill_axis(d, c.r, Rapid, out);
-                        self.move_drill_axis(d, depth - dir * clearance, Rapid, out);
+                        self.move_drill_axis(d, c.r, Rapid, out)?;
+                        self.move_drill_axis(d, depth - dir * clearance, Rapid, out)?;
                     }
                 }
-                dwell(self, out);
-                self.move_drill_axis(d, ret, Rapid, out);
+                // G73/G83 have no dwell (their format has no P): a P left from G82/G89 is
+                // kept for those cycles, not used here.
+                self.move_drill_axis(d, ret, Rapid, out)?;
             }
             740 | 840 | 842 | 843 => {
                 let (forward, reverse) = if matches!(code, 740 | 843) {
@@ -160,52 +186,67 @@ impl State {
                 } else {
                     (SpindleState::Cw, SpindleState::Ccw)
                 };
-                self.move_drill_axis(d, c.z, Linear, out);
+                self.move_drill_axis(d, c.z, Linear, out)?;
                 dwell(self, out);
                 self.spindle(reverse, out);
-                self.move_drill_axis(d, c.r, Linear, out);
+                self.move_drill_axis(d, c.r, Linear, out)?;
                 self.spindle(forward, out);
                 if ret != c.r {
-                    self.move_drill_axis(d, ret, Rapid, out);
+                    self.move_drill_axis(d, ret, Rapid, out)?;
                 }
             }
             760 => {
-                self.move_drill_axis(d, c.z, Linear, out);
+                self.move_drill_axis(d, c.z, Linear, out)?;
                 dwell(self, out);
                 self.emit(out, CanonKind::Aux { m: 19 });
-                self.shift(plane.0, c.q, out);
-                self.move_drill_axis(d, ret, Rapid, out);
-                self.shift(plane.0, -c.q, out);
+                self.shift(plane.0, c.q, out)?;
+                self.move_drill_axis(d, ret, Rapid, out)?;
+                self.shift(plane.0, -c.q, out)?;
                 self.spindle(SpindleState::Cw, out);
             }
             850 | 890 => {
-                self.move_drill_axis(d, c.z, Linear, out);
+                self.move_drill_axis(d, c.z, Linear, out)?;
                 if code == 890 {
                     dwell(self, out);
                 }
-                self.move_drill_axis(d, c.r, Linear, out);
+                self.move_drill_axis(d, c.r, Linear, out)?;
                 if ret != c.r {
-                    self.move_drill_axis(d, ret, Rapid, out);
+                    self.move_drill_axis(d, ret, Rapid, out)?;
                 }
             }
             860 | 880 => {
-                self.move_drill_axis(d, c.z, Linear, out);
+                self.move_drill_axis(d, c.z, Linear, out)?;
                 if code == 880 {
                     dwell(self, out);
                 }
                 self.spindle(SpindleState::Stop, out);
-                self.move_drill_axis(d, ret, Rapid, out);
+                self.move_drill_axis(d, ret, Rapid, out)?;
                 self.spindle(SpindleState::Cw, out);
             }
             // G81, G82
             _ => {
-                self.move_drill_axis(d, c.z, Linear, out);
+                self.move_drill_axis(d, c.z, Linear, out)?;
                 if code == 820 {
                     dwell(self, out);
                 }
-                self.move_drill_axis(d, ret, Rapid, out);
+                self.move_drill_axis(d, ret, Rapid, out)?;
             }
         }
         Ok(())
+    }
+}
+
+/// The repeat count of a cycle block: K, 0–9999 (FANUC 30i and Syntec; K0 stores the cycle's
+/// data without machining), 1 without K. L (the repeat count of older FANUC controls and of
+/// the 30i's FS15 program format, a parameter) is refused rather than read one way or ignored
+/// (*decision*, `docs/dialects.md`).
+fn repeats(w: &Words) -> Result<u32, AlarmId> {
+    if w.has(b'L') {
+        return Err(AlarmId::ImproperAddress);
+    }
+    match w.integer(b'K') {
+        None => Ok(1),
+        Some(k) if (0.0..=9999.0).contains(&k) && k.fract() == 0.0 => Ok(k as u32),
+        Some(_) => Err(AlarmId::ImproperAddress),
     }
 }

@@ -170,6 +170,8 @@ pub(super) struct CycleData {
     /// R point and hole bottom on the drilling axis, absolute programming coordinates.
     r: f64,
     z: f64,
+    /// The bottom's distance from R (`z - r`): a G91 block with a new R and no Z keeps it.
+    depth: f64,
     q: f64,
     p: f64,
     /// Whether an R word was given since the cycle started.

@@ -332,6 +332,12 @@ static RULES: &[Rule] = &[
         A::TwpIllegalCommand,
         |c| c.any(&[682, 683, 684]) && !matches!(c.after[8], 490 | 491),
     ),
+    rule(
+        Fanuc,
+        "twp TWP-16, §1.3.2: a canned cycle ends (G80) inside the plane, before G69",
+        A::TwpIllegalCommand,
+        |c| c.has(690) && c.twp(c.before[16]) && c.after[9] != 800,
+    ),
     rule(Syntec, "syn SYN-21, TV-20: G53.6 in G40 mode", A::AlignmentInCompensation, |c| {
         c.has(536) && c.after[7] != 400
     }),

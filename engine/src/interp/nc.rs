@@ -845,6 +845,8 @@ impl State {
                 let ext = *self.offsets.work(0);
                 for i in 0..axes {
                     if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
+                        // FANUC (local coordinate system): G92 cancels G52 on the axes it names.
+                        self.local[i] = 0.0;
                         self.shift[i] = machine_before[i] - w0[i] - ext[i] - self.local[i] - self.tool_vec[i] - v;
                         self.pos[i] = v;
                     }

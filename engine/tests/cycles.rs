@@ -1,0 +1,225 @@
+//! Canned cycles (issue 17, item 2): the repeat count K, G91 levels, the dwell of peck cycles,
+//! G92 against G52, and hole machining in the tilted working plane (twp §1.3.2: the cycles
+//! are allowed there and drill along the feature coordinate system's Z).
+
+mod common;
+
+use common::{alarm_with, canon, interpreter, motions, var};
+use fivex_engine::canon::{CanonKind, MotionKind};
+use fivex_engine::kin::{Kinematics, Vec3};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions, Sample};
+use fivex_engine::Dialect;
+
+/// The feed moves (the drilling strokes) of a program: their X, Y, Z end points.
+fn strokes(src: &str) -> Vec<(f64, f64, f64)> {
+    motions(src)
+        .iter()
+        .filter(|m| m.kind == MotionKind::Linear)
+        .map(|m| (m.target[0], m.target[1], m.target[2]))
+        .collect()
+}
+
+#[test]
+fn k_repeats_the_cycle_and_g91_steps_each_hole() {
+    // FANUC: `G91 G81 X10. R-15. Z-7. K3` drills three holes 10 mm apart.
+    let src = "G90 G00 X0 Y0 Z20.\nG91 G99 G81 X10. R-15. Z-7. K3 F300.\nG80\nM30\n";
+    assert_eq!(strokes(src), vec![(10.0, 0.0, -2.0), (20.0, 0.0, -2.0), (30.0, 0.0, -2.0)]);
+}
+
+#[test]
+fn k_repeats_in_the_syntec_dialect_too() {
+    let src = "G90 G00 X0 Y0 Z20.\nG91 G98 G81 X10. R-15. Z-7. K2 F300.\nG80\nG90\nM30\n";
+    let r = common::run_with(src, "mill3", Dialect::Syntec);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(r.workpiece[0], 20.0);
+}
+
+#[test]
+fn k0_stores_the_cycle_data_without_drilling() {
+    let src = "G90 G00 X0 Y0 Z20.\nG99 G81 X10. R5. Z-7. K0 F300.\nX30.\nG80\nM30\n";
+    let m = motions(src);
+    assert!(m.iter().all(|m| m.target[0] != 10.0), "K0 moved to its hole");
+    assert_eq!(strokes(src), vec![(30.0, 0.0, -7.0)]);
+}
+
+#[test]
+fn decision_l_in_a_cycle_block_is_refused_on_both_dialects() {
+    // The 30i's repeat count is K; L is older controls' (FS15 format, a parameter): refused
+    // rather than silently read one way (docs/dialects.md).
+    let src = "G90 G00 X0 Y0 Z20.\nG91 G81 X10. R-15. Z-7. L3 F300.\nM30\n";
+    assert_eq!(alarm_with(src, Dialect::Fanuc), "PS0009");
+    assert_eq!(alarm_with(src, Dialect::Syntec), "COR-002");
+}
+
+#[test]
+fn k_must_be_a_whole_count() {
+    let src = "G90 G00 X0 Y0 Z20.\nG81 X10. R5. Z-7. K1.5 F300.\nM30\n";
+    assert_eq!(alarm_with(src, Dialect::Fanuc), "PS0009");
+}
+
+#[test]
+fn g91_new_r_without_z_keeps_z_as_the_distance_from_r() {
+    // Initial level 50; R-45 → R5, Z-15 → bottom -10. Then R-40 → R10: the bottom is -5.
+    let src = "G90 G00 X0 Y0 Z50.\nG91 G99 G81 X10. R-45. Z-15. F300.\nX10. R-40.\nG80\nM30\n";
+    assert_eq!(strokes(src), vec![(10.0, 0.0, -10.0), (20.0, 0.0, -5.0)]);
+}
+
+#[test]
+fn g90_new_r_without_z_keeps_the_absolute_bottom() {
+    let src = "G90 G00 X0 Y0 Z50.\nG99 G81 X10. R5. Z-10. F300.\nX20. R10.\nG80\nM30\n";
+    assert_eq!(strokes(src), vec![(10.0, 0.0, -10.0), (20.0, 0.0, -10.0)]);
+}
+
+fn dwells(src: &str) -> usize {
+    canon(src).iter().filter(|c| matches!(c.kind, CanonKind::Dwell { .. })).count()
+}
+
+#[test]
+fn peck_cycles_do_not_dwell_with_a_p_left_from_g82() {
+    for peck in ["G73", "G83"] {
+        let src = format!("G90 G00 X0 Y0 Z10.\nG82 X0 Y0 Z-5. R2. P500 F600\n{peck} X5. Q2.\nG80\nM30\n");
+        assert_eq!(dwells(&src), 1, "{peck}: only G82's hole dwells");
+    }
+}
+
+#[test]
+fn g92_cancels_the_local_system_on_the_axes_it_names() {
+    // FANUC, local coordinate system: "when G92 is commanded, the local coordinate system is
+    // cancelled" (on the axes G92 names). G52 X0 afterwards has nothing left to cancel on X.
+    let src =
+        "G90 G00 X0 Y0\nG52 X10. Y20.\nG00 X0 Y0\nG92 X0\nG52 X0\n#100=#5041\n#101=#5021\nG00 Y0\n#102=#5022\nM30\n";
+    assert_eq!(var(src, 100), Some(0.0), "X stays 0 in the work system");
+    assert_eq!(var(src, 101), Some(10.0), "the machine did not move");
+    // Y was not named: its local origin (20) stays.
+    assert_eq!(var(src, 102), Some(20.0));
+}
+
+// --- the tilted working plane --------------------------------------------------------------
+
+/// The feature coordinate system of the programs below (Euler Z–X–Z, twp TWP-01).
+fn fcs() -> fivex_engine::twp::Frame {
+    fivex_engine::twp::euler(Vec3::new(20.0, 10.0, 0.0), 30.0, 20.0, 10.0)
+}
+
+const TILTED: &str = "N1 G90 G54 G00 X0 Y0 Z60.\nN2 G68.2 X20. Y10. Z0 I30. J20. K10.\nN3 G53.1\n\
+                      N4 G43 H1\nN5 G00 X5. Y5. Z30.\nN6 G98 G81 X10. Y-5. Z-8. R3. F300.\n\
+                      N7 G99 X-10. Y5.\nN8 G83 X0 Y0 Z-6. R2. Q4.\nN9 G80\nN10 G49\nN11 G69\nM30\n";
+
+/// Every sample of the program with its tool tip and tool direction in `frame` (the FCS, or
+/// the workpiece system as the identity), by forward kinematics of the machine axes (tool
+/// length 100; the presets' table frame is the workpiece system under G54).
+fn sampled(preset: &str, dialect: Dialect, src: &str, frame: &fivex_engine::twp::Frame) -> Vec<(u32, Vec3, Vec3)> {
+    let m = MachineConfig::preset(preset).unwrap();
+    let kin = Kinematics::new(&m).unwrap();
+    let mut interp = interpreter(src, preset, dialect);
+    let mut samples: Vec<Sample> = Vec::new();
+    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| samples.push(*s));
+    assert!(r.completed(), "{preset}: {:?}", r.alarms);
+    let f = frame;
+    samples
+        .iter()
+        .map(|s| {
+            let pose = kin.forward(&s.machine, 100.0);
+            (s.line, f.from_parent(&pose.tip), f.r.transpose() * pose.tool)
+        })
+        .collect()
+}
+
+/// Checks one hole block: the tip is at the initial level (positioning) or on the hole's axis
+/// between the bottom and that level, the bottom and R are reached, it ends at `end_z`.
+fn check_hole(got: &[(u32, Vec3, Vec3)], line: u32, hole: (f64, f64), bottom: f64, top: f64, end_z: f64, what: &str) {
+    check_hole_with(got, line, hole, (bottom, top, end_z), Vec3::z(), what)
+}
+
+fn check_hole_with(
+    got: &[(u32, Vec3, Vec3)],
+    line: u32,
+    hole: (f64, f64),
+    (bottom, top, end_z): (f64, f64, f64),
+    tool_along: Vec3,
+    what: &str,
+) {
+    // The axes follow the tip through the kinematics to a few 0.1 µm (`docs/motion.md`).
+    const TOL: f64 = 1e-4;
+    let s: Vec<_> = got.iter().filter(|(l, _, _)| *l == line).collect();
+    assert!(s.len() > 10, "{what}: samples of N{line}");
+    let mut min_z = f64::INFINITY;
+    for (_, tip, tool) in &s {
+        assert!((tool - tool_along).norm() < 1e-6, "{what} N{line}: tool {tool:?}, expected {tool_along:?}");
+        let on_axis = (tip.x - hole.0).abs() < TOL && (tip.y - hole.1).abs() < TOL;
+        let at_top = (tip.z - top).abs() < TOL;
+        assert!(on_axis || at_top, "{what} N{line}: tip {tip:?} off the hole axis below the initial level");
+        assert!(tip.z > bottom - TOL && tip.z < top + TOL, "{what} N{line}: tip {tip:?} outside the levels");
+        min_z = min_z.min(tip.z);
+    }
+    assert!((min_z - bottom).abs() < TOL, "{what} N{line}: bottom {min_z}, expected {bottom}");
+    let last = s.last().unwrap().1;
+    assert!((last - Vec3::new(hole.0, hole.1, end_z)).norm() < TOL, "{what} N{line}: ends at {last:?}");
+}
+
+#[test]
+fn drilling_cycles_in_the_tilted_plane_drill_at_the_fcs_hole_along_fcs_z() {
+    for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+            let what = format!("{preset} {dialect:?}");
+            let got = sampled(preset, dialect, TILTED, &fcs());
+            // Initial level 30 (N5). N6 G98: back to 30. N7 G99: back to R 3. N8 G83 G99: R 2.
+            check_hole(&got, 6, (10.0, -5.0), -8.0, 30.0, 30.0, &what);
+            check_hole(&got, 7, (-10.0, 5.0), -8.0, 30.0, 3.0, &what);
+            // N8 starts at the R level of N7 (3) and positions there.
+            let n8: Vec<_> = got.iter().filter(|(l, _, _)| *l == 8).collect();
+            for (_, tip, _) in &n8 {
+                let on_axis = tip.x.abs() < 1e-4 && tip.y.abs() < 1e-4;
+                assert!(on_axis || (tip.z - 3.0).abs() < 1e-4, "{what} N8: {tip:?}");
+            }
+            let min = n8.iter().map(|(_, t, _)| t.z).fold(f64::INFINITY, f64::min);
+            assert!((min + 6.0).abs() < 1e-4, "{what} N8 bottom {min}");
+            assert!((n8.last().unwrap().1 - Vec3::new(0.0, 0.0, 2.0)).norm() < 1e-4, "{what} N8 end");
+        }
+    }
+}
+
+#[test]
+fn syntec_cycles_under_rtcp_drill_at_the_workpiece_hole_with_the_tool_tilted() {
+    // FANUC refuses a cycle under TCP (TV-63, PS5421); Syntec's manual names no such rule, and
+    // under RTCP every programmed point is the tool tip in the workpiece: the hole is drilled
+    // along the workpiece Z with the tool as the rotary axes hold it.
+    let src = "N1 G90 G00 X0 Y0 Z60. B0 C0\nN2 G43.4 H1\nN3 G00 X5. Y5. Z30. B30. C0\n\
+               N4 G98 G81 X10. Y-5. Z-8. R3. F300.\nN5 G80\nN6 G49\nM30\n";
+    let identity = fivex_engine::twp::euler(Vec3::zeros(), 0.0, 0.0, 0.0);
+    let m = MachineConfig::preset("head-bc").unwrap();
+    let tool = Kinematics::new(&m).unwrap().forward(&[0.0, 0.0, 0.0, 30.0, 0.0], 100.0).tool;
+    let got = sampled("head-bc", Dialect::Syntec, src, &identity);
+    check_hole_with(&got, 4, (10.0, -5.0), (-8.0, 30.0, 30.0), tool, "head-bc Syntec RTCP");
+}
+
+#[test]
+fn fanuc_refuses_g69_with_a_canned_cycle_on() {
+    // TWP-16: canned cycles nest inside G68.2 … G69. Ending the plane with the cycle on would
+    // carry the FCS levels (R, Z, initial level) into the workpiece system.
+    let src = "G90 G00 X0 Y0 Z50.\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG81 X0 Y0 Z-1. R1. F100\nG69\nG80\nM30\n";
+    let ok = src.replace("G69\nG80\n", "G80\nG69\n");
+    let r = common::run_with(src, "head-bc", Dialect::Fanuc);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS5462", 5)));
+    assert!(common::run_with(&ok, "head-bc", Dialect::Fanuc).completed());
+}
+
+#[test]
+fn check_reports_l_in_a_cycle_block() {
+    use fivex_engine::check::check;
+    use fivex_engine::lang::parse_file;
+    let src = "G90 G00 X0 Y0 Z20.\nG91 G81 X10. R-15. Z-7. L3 F300.\nG80\nM98 P1 L2\nM30\nO1\nM99\n";
+    let d = check(parse_file(src), Dialect::Fanuc);
+    let found: Vec<_> = d.iter().map(|d| (d.line, d.col, d.id.clone())).collect();
+    assert_eq!(found, vec![(2, 25, fivex_engine::AlarmId::ImproperAddress)]);
+}
+
+#[test]
+fn syntec_refuses_k_in_a_cycle_block_under_tcp_type_2() {
+    // Under G43.5 I/J/K are the tool direction: `K2` there is not a repeat count.
+    let src = "G90 G00 X0 Y0 Z60. B0 C0\nG43.5 H1\nG00 X5. Y5. Z30.\nG98 G81 X10. Y-5. Z-8. R3. F300.\nX0 K2\nG80\nG49\nM30\n";
+    let r = common::run_with(src, "head-bc", Dialect::Syntec);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("COR-100", 5)));
+    assert!(common::run_with(&src.replace(" K2", ""), "head-bc", Dialect::Syntec).completed());
+}
