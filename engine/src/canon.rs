@@ -65,6 +65,8 @@ pub struct MotionContext {
     /// The feed override does not act (G63 tapping mode, the tapping cycles G74/G84).
     pub fixed_feed: bool,
     pub rotation: u16,
+    /// How the trace reads the tool tip from the machine axes during this motion.
+    pub tip_basis: crate::tip::Basis,
 }
 
 #[derive(Debug, Clone, PartialEq)]

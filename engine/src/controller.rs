@@ -169,6 +169,8 @@ pub struct Controller {
     here: Point,
     /// The tool length offset of the last run's last segment.
     last_tool_length: f64,
+    /// How the tip was read on the last run's last segment (`crate::tip`).
+    last_tip_basis: crate::tip::Basis,
     /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04).
     spindle: f64,
     /// Canonical commands read but not yet carried out.
@@ -232,6 +234,7 @@ impl Controller {
             queued_work: work,
             here: Point { machine: start, work, feed: 0.0, line: 0, n: None, s: 0.0 },
             last_tool_length: 0.0,
+            last_tip_basis: crate::tip::Basis::default(),
             spindle: 0.0,
             pending: VecDeque::new(),
             program_active: false,
@@ -300,6 +303,24 @@ impl Controller {
             Some((p, _, cursor)) => p.segments[cursor.index()].tool_length,
             None => self.last_tool_length,
         }
+    }
+
+    /// How the tool tip is read from the machine axes now (`crate::tip`): the tool length and
+    /// workpiece system of the segment moving now; standing still, those of the last one while
+    /// a program is under way or held (the interpreter may have read ahead), otherwise the
+    /// interpreter's (an MDI G54 or an offset edit takes effect at once).
+    pub fn tip_basis(&self) -> crate::tip::Basis {
+        match &self.current {
+            Some((p, _, cursor)) => p.segments[cursor.index()].tip_basis,
+            None if self.program_active || !self.planner.is_empty() => self.last_tip_basis,
+            None => self.interp.state.tip_basis(),
+        }
+    }
+
+    /// Where the tool tip is now, from the machine axes (with a handle interruption's shift)
+    /// and [`Controller::tip_basis`].
+    pub fn tip(&self) -> crate::tip::Tip {
+        crate::tip::locate(self.kinematics.as_deref(), &self.machine_now(), &self.tip_basis())
     }
 
     pub fn interpreter(&self) -> &Interpreter {
@@ -719,7 +740,11 @@ impl Controller {
             feed_mode: crate::canon::FeedMode::PerMinute,
             spindle: 0.0,
             // Handle pulses go at the clamp, whatever the override.
-            context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
+            context: MotionContext {
+                fixed_feed: feed >= manual::AT_CLAMP,
+                tip_basis: self.tip_basis(),
+                ..MotionContext::default()
+            },
         };
         let ctx = FeedContext {
             feed_override: self.panel.feed_override,
@@ -816,6 +841,7 @@ impl Controller {
     fn finish_run(&mut self, p: &Planned) {
         if let Some(last) = p.segments.last() {
             self.last_tool_length = last.tool_length;
+            self.last_tip_basis = last.tip_basis;
         }
         if p.profile.end_speed().abs() < 1e-9 {
             self.here.feed = 0.0;

@@ -17,6 +17,7 @@ pub mod motion;
 pub mod preview;
 pub mod report;
 pub mod run;
+pub mod tip;
 pub mod twp;
 pub mod vendor;
 pub mod wse;

@@ -33,10 +33,14 @@ pub struct Sample {
     pub line: u32,
     pub n: Option<u32>,
     pub machine: Pos,
-    /// Tool tip in the active workpiece system (the programmed point: ideal compensation).
+    /// Tool tip in the active workpiece system, from the machine axes and the tool length in
+    /// effect by forward kinematics (`crate::tip`): where the machine puts it.
     pub tip: [f64; 3],
     /// Unit tool vector, tip toward holder, in the workpiece system (from the rotary axes).
     pub tool: [f64; 3],
+    /// The commanded point (X, Y, Z) in the system `programmed_in` names.
+    pub programmed: [f64; 3],
+    pub programmed_in: crate::tip::System,
     /// Tool tip speed relative to the workpiece, mm/min.
     pub feed: f64,
 }
@@ -48,6 +52,11 @@ pub struct RunResult {
     pub cycle_time_s: f64,
     pub machine: Pos,
     pub workpiece: Pos,
+    /// Where the machine ends, read as the trace reads it (`crate::tip`).
+    pub tip: crate::tip::Tip,
+    /// The last commanded point (X, Y, Z of `workpiece`) and the system it is in.
+    pub programmed: [f64; 3],
+    pub programmed_in: crate::tip::System,
     /// Non-vacant common variables (#100–#199, #500–#999).
     pub variables: Vec<(u32, f64)>,
     /// DPRNT output and stop messages, in order.
@@ -104,6 +113,7 @@ pub fn run_observed(
         workpiece: interp.state.shown_position(),
         queued_machine: interp.state.machine_position(),
         queued_work: interp.state.shown_position(),
+        basis: interp.state.tip_basis(),
         opts: *opts,
         messages: Vec::new(),
         over_budget: None,
@@ -118,7 +128,7 @@ pub fn run_observed(
         let step = interp.step(&mut out);
         let before = exec.t;
         for c in out.drain(..) {
-            if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
+            if let Err(id) = exec.apply(&c, &interp.state, tracing, &mut on_sample) {
                 let (code, message) = interp.config().dialect.describe(&id);
                 alarms.push(Alarm { code, message, line: c.line, n: c.n });
                 motion_alarm = true;
@@ -149,11 +159,12 @@ pub fn run_observed(
         alarms = vec![Alarm { code, message, line, n }];
         motion_alarm = true;
     }
-    let (machine, workpiece) = if motion_alarm {
-        (exec.machine, exec.workpiece)
+    let (machine, workpiece, basis) = if motion_alarm {
+        (exec.machine, exec.workpiece, exec.basis)
     } else {
-        (interp.state.machine_position(), interp.state.shown_position())
+        (interp.state.machine_position(), interp.state.shown_position(), interp.state.tip_basis())
     };
+    let tip = crate::tip::locate(exec.kinematics.as_deref(), &machine, &basis);
     let shown = &exec.machine_config;
     let (machine, workpiece) = (shown.shown(&machine), shown.shown(&workpiece));
     RunResult {
@@ -162,6 +173,9 @@ pub fn run_observed(
         cycle_time_s: exec.t,
         machine,
         workpiece,
+        tip,
+        programmed: [workpiece[0], workpiece[1], workpiece[2]],
+        programmed_in: basis.programmed_in,
         variables: interp.state.common_variables(),
         messages: exec.messages,
     }
@@ -184,6 +198,9 @@ struct Executor<'o, O: Observer> {
     /// Where the last queued segment ends.
     queued_machine: Pos,
     queued_work: Pos,
+    /// How the tip is read while the machine stands (after the last executed segment or a
+    /// command that waits).
+    basis: crate::tip::Basis,
     opts: RunOptions,
     messages: Vec<String>,
     /// The block during which simulated time ran past `max_time_s`; nothing runs after it.
@@ -191,7 +208,14 @@ struct Executor<'o, O: Observer> {
 }
 
 impl<O: Observer> Executor<'_, O> {
-    fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) -> Result<(), AlarmId> {
+    /// Carry out `c`; `state` is the interpreter's after the block `c` came from.
+    fn apply(
+        &mut self,
+        c: &Canon,
+        state: &crate::interp::State,
+        tracing: bool,
+        on_sample: &mut impl FnMut(&Sample),
+    ) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
                 let ctx = FeedContext {
@@ -214,8 +238,10 @@ impl<O: Observer> Executor<'_, O> {
                 self.drain(false, tracing, on_sample);
             }
             other => {
-                // Every other command waits for the motion before it to end.
+                // Every other command waits for the motion before it to end; the machine then
+                // stands in the block's workpiece system with its tool length.
                 self.drain(true, tracing, on_sample);
+                self.basis = state.tip_basis();
                 match other {
                     _ if self.over_budget.is_some() => {}
                     CanonKind::Dwell { seconds } => self.wait(*seconds, c, tracing, on_sample),
@@ -277,8 +303,10 @@ impl<O: Observer> Executor<'_, O> {
             );
         }
         if t1 < t0 + p.profile.duration() {
-            let at = p.point(t1 - t0, &mut motion::Cursor::default());
+            let mut cursor = motion::Cursor::default();
+            let at = p.point(t1 - t0, &mut cursor);
             (self.t, self.machine, self.workpiece) = (t1, at.machine, at.work);
+            self.basis = p.segments[cursor.index()].tip_basis;
             self.over_budget = Some((at.line, at.n));
             return;
         }
@@ -289,6 +317,7 @@ impl<O: Observer> Executor<'_, O> {
         self.t = t1;
         self.machine = last.to;
         self.workpiece = last.work_to;
+        self.basis = last.tip_basis;
         self.check_budget(last.line, last.n);
     }
 
@@ -314,9 +343,21 @@ impl<O: Observer> Executor<'_, O> {
                 return;
             }
             let (raw, work, feed, line, n, on) = at((ts - t0).max(0.0));
-            let tool = self.kinematics.as_ref().map_or([0.0, 0.0, 1.0], |k| k.forward(&raw, 0.0).tool.into());
+            // The segment's tool length and workpiece system; standing still, the last ones.
+            let basis = on.map_or(&self.basis, |(seg, _, _)| &seg.tip_basis);
+            let placed = crate::tip::locate(self.kinematics.as_deref(), &raw, basis);
             let machine = self.machine_config.shown(&raw);
-            let sample = Sample { t: ts, line, n, machine, tip: [work[0], work[1], work[2]], tool, feed };
+            let sample = Sample {
+                t: ts,
+                line,
+                n,
+                machine,
+                tip: placed.tip,
+                tool: placed.tool,
+                programmed: [work[0], work[1], work[2]],
+                programmed_in: basis.programmed_in,
+                feed,
+            };
             on_sample(&sample);
             self.observer.sample(&sample, &raw, on);
             self.next_sample += 1;

@@ -455,10 +455,13 @@ impl Controller {
             None => feed_deg_min,
         };
         let axes = self.manual_limits();
+        let basis = crate::tip::Basis { tool_length: length, ..self.tip_basis() };
         let segment = |amount: f64| {
             let mut to = from;
             to[i] += amount;
-            Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, feed, &axes)
+            let mut seg = Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, feed, &axes);
+            seg.tip_basis = basis;
+            seg
         };
         // The largest part of the turn whose path (sampled) stays inside every stroke.
         let inside = |seg: &Segment| {

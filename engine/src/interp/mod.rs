@@ -585,6 +585,25 @@ impl State {
         }
     }
 
+    /// How the tool tip is read from the machine axes now (`crate::tip`): the tool length in
+    /// effect, the active workpiece system's origin in the table frame, and the system the
+    /// programmed point is in.
+    pub fn tip_basis(&self) -> crate::tip::Basis {
+        use crate::tip::System;
+        let off = self.offset_vector();
+        let nose = self.kinematics.as_ref().map_or([0.0; 3], |k| k.nose.into());
+        let origin: [f64; 3] = std::array::from_fn(|k| self.axis_of(b'X' + k as u8).map_or(0.0, |i| off[i]) + nose[k]);
+        let (tool_length, programmed_in) = match &self.tcp {
+            Some(t) => {
+                (t.tool_length, if tcp::shows_workpiece(self) { System::Workpiece } else { System::Programming })
+            }
+            None if self.plane_active() => (self.active_tool_length(), System::Feature),
+            None if self.wse.is_some() && !self.wse_shows_wcs() => (self.signed_tool_length(), System::Wscs),
+            None => (self.signed_tool_length(), System::Workpiece),
+        };
+        crate::tip::Basis { tool_length, origin, programmed_in }
+    }
+
     pub fn modal(&self, group: usize) -> u16 {
         self.modes[group]
     }

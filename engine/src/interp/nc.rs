@@ -550,14 +550,19 @@ impl State {
     pub(super) fn refresh_tool_length(&mut self) {
         let mut v = [0.0; MAX_AXES];
         if let Some(z) = self.axis_of(b'Z') {
-            let length = self.offsets.length(self.h);
-            v[z] = match self.modes[8] {
-                490 | 491 => 0.0,
-                440 => -length,
-                _ => length,
-            };
+            v[z] = self.signed_tool_length();
         }
         self.tool_vec = v;
+    }
+
+    /// The tool length group 08 applies along the tool: +H (G43, G43.4…), −H (G44), 0 (G49).
+    pub(super) fn signed_tool_length(&self) -> f64 {
+        let length = self.offsets.length(self.h);
+        match self.modes[8] {
+            490 | 491 => 0.0,
+            440 => -length,
+            _ => length,
+        }
     }
 
     pub(super) fn context(&self) -> MotionContext {
@@ -577,6 +582,7 @@ impl State {
             exact_stop: self.exact_stop || self.modes[15] == 610,
             fixed_feed: self.modes[15] == 630 || matches!(self.modes[9], 740 | 840),
             rotation: self.modes[16],
+            tip_basis: self.tip_basis(),
         }
     }
 

@@ -30,7 +30,7 @@ pub(super) struct Tcp {
     frame: Option<Frame>,
     /// Tool posture control (FANUC P1 / TPC, Syntec Pr3054 = 1).
     posture: bool,
-    tool_length: f64,
+    pub(super) tool_length: f64,
     /// Type 2: the tool direction last commanded, in Π (unit), and the inclination Q (degrees).
     direction: Vec3,
     inclination: f64,
@@ -446,11 +446,17 @@ impl State {
 /// shows the tip in the workpiece system: machine coordinates minus the work offsets and the
 /// nose (where a plain G43 puts the programmed point).
 fn display_shift(state: &State, kin: &Kinematics) -> Option<Vec3> {
-    let on_table = state.tcp.as_ref().is_some_and(|t| t.frame.is_some());
-    (on_table && state.cfg.machine.five_axis.display_workpiece).then(|| {
+    shows_workpiece(state).then(|| {
         let off = state.offset_vector();
         Vec3::new(off[0], off[1], off[2]) + kin.nose
     })
+}
+
+/// Whether TCP's position display shows the tip in the workpiece system (DET with Π on the
+/// table) instead of in Π.
+pub(super) fn shows_workpiece(state: &State) -> bool {
+    let on_table = state.tcp.as_ref().is_some_and(|t| t.frame.is_some());
+    on_table && state.cfg.machine.five_axis.display_workpiece
 }
 
 /// FANUC CRS (TCP-25, M-12): the path deviation a TCP move's speed must keep to: No.19751 for

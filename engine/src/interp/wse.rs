@@ -199,7 +199,7 @@ impl State {
     /// WSE-18, FANUC DAK (No.3106#6) = 1: under G54.4 the absolute position shows X/Y/Z in the
     /// WCS instead of the WSCS (the rotary axes as programmed, as #5041… do). Only where G54.4's
     /// circles follow the tip (a kinematic model), so that no plain circle is given in the WCS.
-    fn wse_shows_wcs(&self) -> bool {
+    pub(super) fn wse_shows_wcs(&self) -> bool {
         self.wse.is_some() && self.kinematics.is_some() && self.cfg.machine.five_axis.wse_display_wcs
     }
 

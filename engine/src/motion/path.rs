@@ -103,6 +103,8 @@ pub struct Segment {
     machine_coordinates: bool,
     /// The tool length offset in force (what a display needs to place the tip from the axes).
     pub tool_length: f64,
+    /// How the trace reads the tool tip from the axes on this segment (`crate::tip`).
+    pub tip_basis: crate::tip::Basis,
 }
 
 /// A tool tip path in the table frame and how the tool turns along it; the machine axes at each
@@ -593,6 +595,7 @@ impl Segment {
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
+            tip_basis: m.context.tip_basis,
             programmed,
             axis_speed,
         };
@@ -720,6 +723,7 @@ impl Segment {
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
+            tip_basis: m.context.tip_basis,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg
@@ -796,6 +800,8 @@ impl Segment {
             fixed_feed: false,
             machine_coordinates: false,
             tool_length,
+            // The caller places it in the workpiece system it runs in.
+            tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
         };
         seg.set_override(1.0, 1.0);
         seg

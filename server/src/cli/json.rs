@@ -299,23 +299,28 @@ pub fn write_sample(w: &mut Out, s: &Sample, axes: &[char]) {
     opt_u32(w, s.n);
     put(w, b",\"machine\":");
     axes_map(w, &s.machine, axes);
-    put(w, b",\"tip\":[");
-    for (i, x) in s.tip.iter().enumerate() {
-        if i > 0 {
-            put(w, b",");
-        }
-        num(w, *x);
-    }
-    put(w, b"],\"tool\":[");
-    for (i, x) in s.tool.iter().enumerate() {
-        if i > 0 {
-            put(w, b",");
-        }
-        num(w, *x);
-    }
-    put(w, b"],\"feed\":");
+    put(w, b",\"tip\":");
+    triple(w, &s.tip);
+    put(w, b",\"tool\":");
+    triple(w, &s.tool);
+    put(w, b",\"feed\":");
     num(w, s.feed);
-    put(w, b"}\n");
+    put(w, b",\"programmed\":");
+    triple(w, &s.programmed);
+    put(w, b",\"programmed_in\":\"");
+    put(w, s.programmed_in.name().as_bytes());
+    put(w, b"\"}\n");
+}
+
+fn triple(w: &mut Out, v: &[f64; 3]) {
+    put(w, b"[");
+    for (i, x) in v.iter().enumerate() {
+        if i > 0 {
+            put(w, b",");
+        }
+        num(w, *x);
+    }
+    put(w, b"]");
 }
 
 fn position(p: &Pos, axes: &[char]) -> Value {
@@ -333,7 +338,14 @@ pub fn summary(r: &RunResult, axes: &[char]) -> Value {
         "alarms": alarms,
         "blocks": r.blocks,
         "cycle_time_s": r.cycle_time_s,
-        "position": {"machine": position(&r.machine, axes), "workpiece": position(&r.workpiece, axes)},
+        "position": {
+            "machine": position(&r.machine, axes),
+            "workpiece": position(&r.workpiece, axes),
+            "tip": r.tip.tip,
+            "tool": r.tip.tool,
+            "programmed": r.programmed,
+            "programmed_in": r.programmed_in.name(),
+        },
         "variables": Value::Object(variables),
         "messages": r.messages,
     })

@@ -10,6 +10,7 @@ use utoipa::ToSchema;
 use fivex_engine::canon::Pos;
 use fivex_engine::controller::{Mode, RunState};
 use fivex_engine::machine::MachineConfig;
+use fivex_engine::tip::System;
 use fivex_engine::Alarm;
 
 use super::{now_unix_ms, Station};
@@ -31,10 +32,19 @@ pub struct Frame {
     /// Workpiece (programming) coordinates per axis letter.
     #[schema(value_type = std::collections::HashMap<String, f64>)]
     pub workpiece: Map<String, Value>,
-    /// Tool tip in the active workpiece system.
+    /// Tool tip in the active workpiece system (G54…, after G52/G92, before any tilted working
+    /// plane; fixed on the table of a table machine), from the machine axes and the tool length
+    /// in effect by forward kinematics: where the machine puts it.
     pub tip: [f64; 3],
     /// Unit tool vector, tip toward holder, in the workpiece system.
     pub tool: [f64; 3],
+    /// The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
+    /// names.
+    pub programmed: [f64; 3],
+    /// `workpiece`, `programming` (tool centre point control), `feature` (tilted working
+    /// plane) or `wscs` (G54.4).
+    #[schema(example = "workpiece")]
+    pub programmed_in: &'static str,
     /// 1-based program line of the block moving now (0 before any).
     pub line: u32,
     /// Its sequence number.
@@ -49,7 +59,7 @@ pub struct Frame {
     /// The tool length offset in force, mm.
     pub tool_length: f64,
     /// Tool tip in the table frame (`docs/machine-config.md`): where the tip is relative to
-    /// the part on its table, from the machine axes, the mechanism and `tool_length` (for a
+    /// the part on its table, from the machine axes, the mechanism and the tool length in effect (for a
     /// machine without table axes, machine coordinates). The 3D view draws the trace with it.
     pub tip_table: [f64; 3],
 }
@@ -63,7 +73,9 @@ pub struct Sample {
     wall_ms: f64,
     machine: Pos,
     work: Pos,
+    tip: [f64; 3],
     tool: [f64; 3],
+    programmed_in: System,
     line: u32,
     n: Option<u32>,
     feed: f64,
@@ -77,28 +89,23 @@ impl Sample {
     pub fn of(station: &Station) -> Sample {
         let c = &station.controller;
         let p = c.point();
-        let tool_length = c.tool_length();
-        let (tool, tip_table) = match station.kinematics.as_ref() {
-            Some(k) => {
-                let pose = k.forward(&p.machine, tool_length);
-                (pose.tool.into(), pose.tip.into())
-            }
-            None => ([0.0, 0.0, 1.0], [p.machine[0], p.machine[1], p.machine[2] - tool_length]),
-        };
+        let tip = c.tip();
         Sample {
             machine_config: station.machine.clone(),
             t: c.time(),
             wall_ms: now_unix_ms(),
             machine: p.machine,
             work: p.work,
-            tool,
+            tip: tip.tip,
+            tool: tip.tool,
+            programmed_in: c.tip_basis().programmed_in,
             line: p.line,
             n: p.n,
             feed: p.feed,
             to_go: c.to_go(),
             spindle: c.spindle(),
-            tool_length,
-            tip_table,
+            tool_length: c.tool_length(),
+            tip_table: tip.table,
         }
     }
 
@@ -109,8 +116,10 @@ impl Sample {
             wall_ms: self.wall_ms,
             machine: axes(&self.machine_config, &self.machine),
             workpiece: axes(&self.machine_config, &self.work),
-            tip: [self.work[0], self.work[1], self.work[2]],
+            tip: self.tip,
             tool: self.tool,
+            programmed: [self.work[0], self.work[1], self.work[2]],
+            programmed_in: self.programmed_in.name(),
             line: self.line,
             n: self.n,
             feed: self.feed,

@@ -1,0 +1,158 @@
+//! The trace's `tip` is where the machine puts the tool tip (forward kinematics of the sampled
+//! axes with the tool length in effect, in the active workpiece system), never the programmed
+//! point; `programmed` and `programmed_in` carry the commanded point and the name of its system
+//! (`docs/conventions.md`, Positions; CONTRACTS: trace).
+
+mod common;
+
+use common::interpreter;
+use fivex_engine::kin::{Kinematics, Vec3};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions, RunResult, Sample};
+use fivex_engine::tip::System;
+use fivex_engine::Dialect;
+
+fn trace(src: &str, preset: &str, dialect: Dialect) -> (Vec<Sample>, RunResult) {
+    let mut interp = interpreter(src, preset, dialect);
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions::default(), |s| samples.push(*s));
+    assert!(r.completed(), "{:?}", r.alarms);
+    (samples, r)
+}
+
+fn kin(preset: &str) -> Kinematics {
+    Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap()
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    Vec3::from(a).metric_distance(&Vec3::from(b))
+}
+
+/// `tip` of every sample is FK(axes, `length(line)`) − `origin`, computed here independently
+/// of the run; returns how far `tip` and `programmed` are apart at most.
+fn tip_is_fk(samples: &[Sample], kin: &Kinematics, origin: [f64; 3], length: impl Fn(u32) -> f64) -> f64 {
+    let mut apart: f64 = 0.0;
+    for s in samples {
+        let pose = kin.forward(&s.machine, length(s.line));
+        let expected = [pose.tip.x - origin[0], pose.tip.y - origin[1], pose.tip.z - origin[2]];
+        assert!(dist(s.tip, expected) < 1e-9, "line {} t {}: tip {:?}, FK {:?}", s.line, s.t, s.tip, expected);
+        assert!(dist(s.tool, pose.tool.into()) < 1e-12, "line {}: tool {:?}", s.line, s.tool);
+        apart = apart.max(dist(s.tip, s.programmed));
+    }
+    apart
+}
+
+/// 3 axes, G54 = (10, 20, −300), G43 H1 (100 mm): tip = machine − tool length − work offset.
+/// During the G43 block the machine moves by the offset while the program point moves
+/// elsewhere: the tip tells where the tool is (a tool length change mid-program, machine ≠
+/// program), the programmed point does not.
+#[test]
+fn three_axis_g43_tip_is_machine_minus_length_minus_work_offset() {
+    let src = "N1 G10 L2 P1 X10. Y20. Z-300.\nN2 G90 G54 G00 X0 Y0 Z200.\nN3 G43 H1 Z50.\n\
+               N4 G01 X30. F3000\nN5 G49 Z200.\nN6 M30\n";
+    let (samples, r) = trace(src, "mill3", Dialect::Fanuc);
+    for s in &samples {
+        let length = if (3..=4).contains(&s.line) { 100.0 } else { 0.0 };
+        let m = s.machine;
+        let expected = [m[0] - 10.0, m[1] - 20.0, m[2] - length + 300.0];
+        assert!(dist(s.tip, expected) < 1e-9, "line {}: {:?} ≠ {expected:?}", s.line, s.tip);
+        assert_eq!(s.tool, [0.0, 0.0, 1.0]);
+        assert_eq!(s.programmed_in, System::Workpiece);
+    }
+    // The G43 block's first sample: the 100 mm tool hangs 100 mm below where the program
+    // point (Z200, from N2) is; the old trace showed 200.
+    let first = samples.iter().find(|s| s.line == 3).unwrap();
+    assert!((first.tip[2] - 100.0).abs() < 1e-3 && (first.programmed[2] - 200.0).abs() < 1e-3, "{first:?}");
+    // Once the offset is in, the machine is where the program says.
+    for s in samples.iter().filter(|s| s.line == 4) {
+        assert!(dist(s.tip, s.programmed) < 1e-9, "{s:?}");
+    }
+    // The summary reads the end the same way (after G49: the nose).
+    assert!(dist(r.tip.tip, [30.0, 0.0, 200.0]) < 1e-9, "{:?}", r.tip);
+    assert_eq!((r.programmed, r.programmed_in), ([30.0, 0.0, 200.0], System::Workpiece));
+}
+
+/// G44 subtracts the length: the control's tool is −100 long, and the tip says so.
+#[test]
+fn g44_reads_the_tip_with_the_negative_length() {
+    let src = "N1 G90 G54 G00 X0 Y0 Z0\nN2 G44 H1 Z50.\nN3 G49\nN4 M30\n";
+    let (samples, _) = trace(src, "mill3", Dialect::Fanuc);
+    let end = samples.iter().rev().find(|s| s.line == 2).unwrap();
+    assert!((end.machine[2] - (50.0 - 100.0)).abs() < 1e-6, "{:?}", end.machine);
+    assert!((end.tip[2] - 50.0).abs() < 1e-6, "{:?}", end.tip);
+}
+
+/// FANUC G43.4 on head-bc with a work offset: the tip is FK of the axes with the 100 mm tool,
+/// minus the offset; on a head machine Π is the workpiece system, so the programmed tip is
+/// followed to 1 µm, and B/C turning changes nothing of that.
+#[test]
+fn tcp_on_head_bc_tip_is_fk_in_the_workpiece_system() {
+    let src = "N1 G10 L2 P2 X50. Y-40. Z-250.\nN2 G00 G90 B0 C0\nN3 G55\nN4 G43.4 H01\n\
+               N5 G00 X20. Y10. Z30.\nN6 G01 X5. Y5. Z5. B30. C45. F2000\nN7 G49\nN8 M30\n";
+    let (samples, _) = trace(src, "head-bc", Dialect::Fanuc);
+    let length = |line: u32| if (4..=6).contains(&line) { 100.0 } else { 0.0 };
+    let k = kin("head-bc");
+    tip_is_fk(&samples, &k, [50.0, -40.0, -250.0], length);
+    let moving: Vec<_> = samples.iter().filter(|s| s.line == 6).collect();
+    assert!(moving.len() > 10);
+    for s in moving {
+        assert_eq!(s.programmed_in, System::Programming);
+        assert!(dist(s.tip, s.programmed) < 1e-3, "{s:?}");
+    }
+    let end = samples.iter().rev().find(|s| s.line == 6).unwrap();
+    // (The last sample falls within the block's last interpolation period.)
+    assert!(dist(end.tip, [5.0, 5.0, 5.0]) < 1e-3, "{:?}", end.tip);
+    // B30 C45: the tool leans 30° from Z toward +X turned by 45° about Z (right-hand head).
+    let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    let expected = [s * 45f64.to_radians().cos(), s * 45f64.to_radians().sin(), c];
+    assert!(dist(end.tool, expected) < 1e-4, "{:?} vs {expected:?}", end.tool);
+}
+
+/// G43.4 on table-ac started with the table at A30: Π is fixed on the table as it stood (the
+/// programmed point), while `tip` is in the workpiece system fixed on the table at A0 C0
+/// (`fivex kin fk`'s table frame minus the work offset): the two differ, and `tip` is FK.
+#[test]
+fn tcp_on_table_ac_tip_is_fk_in_the_table_fixed_workpiece_system() {
+    let src = "N1 G00 G90 X0 Y0 Z100. A30. C0\nN2 G43.4 H01\nN3 G01 X10. Y10. Z10. A45. C30. F2000\n\
+               N4 G49\nN5 M30\n";
+    let (samples, _) = trace(src, "table-ac", Dialect::Fanuc);
+    let k = kin("table-ac");
+    let apart = tip_is_fk(&samples, &k, [0.0; 3], |line| if (2..=3).contains(&line) { 100.0 } else { 0.0 });
+    assert!(apart > 1.0, "tip and programmed should differ: {apart}");
+    let end = samples.iter().rev().find(|s| s.line == 3).unwrap();
+    assert_eq!(end.programmed_in, System::Programming);
+    assert!(dist(end.programmed, [10.0, 10.0, 10.0]) < 1e-2, "{:?}", end.programmed);
+}
+
+/// TV-32 (Syntec SYN-18…, FANUC G68.2): G68.2 X100 Y100 Z50 I30 J15 K20, G53.1, G43 H1,
+/// G01 X0 Y0 Z0 puts the tip at workpiece (100, 100, 50): `tip` says so, `programmed` is the
+/// feature point (0, 0, 0) in `feature`; the old trace printed (0, 0, 0) as the tip.
+#[test]
+fn tilted_plane_tip_is_in_the_workpiece_system_programmed_in_the_feature_system() {
+    let src = "N1 G90 G54 G01 X0 Y0 Z50. F1000\nN2 G68.2 X100. Y100. Z50. I30. J15. K20.\n\
+               N3 G01 X0 Y0 Z50.\nN4 G53.1\nN5 G43 H1\nN6 G01 X0 Y0 Z0\nN98 G49\nN99 G69\nM30\n";
+    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+        for preset in ["head-bc", "table-ac"] {
+            let (samples, r) = trace(src, preset, dialect);
+            let length = |line: u32| if (5..=6).contains(&line) { 100.0 } else { 0.0 };
+            tip_is_fk(&samples, &kin(preset), [0.0; 3], length);
+            let end = samples.iter().rev().find(|s| s.line == 6).unwrap();
+            // (The last sample falls within the block's last interpolation period.)
+            assert!(dist(end.tip, [100.0, 100.0, 50.0]) < 1e-2, "{preset}: {:?}", end.tip);
+            assert!(dist(end.programmed, [0.0, 0.0, 0.0]) < 1e-2, "{preset}: {:?}", end.programmed);
+            assert_eq!(end.programmed_in, System::Feature);
+            // The summary after G69 (which does not move): the workpiece system again.
+            assert_eq!(r.programmed_in, System::Workpiece, "{preset}: after G69");
+        }
+    }
+}
+
+/// The length the block takes from the offset memory (set by G10 L10 in the program) is the one
+/// the tip is read with.
+#[test]
+fn tool_length_from_the_offset_memory_in_effect() {
+    let src = "N1 G90 G54 G00 X0 Y0 Z0\nN2 G10 L10 P7 R80.\nN3 G43 H7 Z20.\nN4 G49 Z100.\nN5 M30\n";
+    let (samples, _) = trace(src, "mill3", Dialect::Fanuc);
+    let end = samples.iter().rev().find(|s| s.line == 3).unwrap();
+    assert!((end.machine[2] - 100.0).abs() < 1e-6 && (end.tip[2] - 20.0).abs() < 1e-6, "{end:?}");
+}
