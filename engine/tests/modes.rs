@@ -314,14 +314,18 @@ fn tcp_and_compensation_nest() {
 /// modal codes stay, CLR = 0), and TCP, which stays on, no longer nests with it.
 #[test]
 fn reset_leaves_cutter_compensation_in_g40() {
-    for (src, tcp) in [
-        ("G42.2 D1 X1.\nM00\n", 490),
-        ("G41 D1 X1.\nM00\n", 490),
-        ("G43.4 H1\nG41.2 D1 X1.\nM00\n", 434),
-        ("G41.2 D1\nG43.4 H1 X1.\nM00\n", 434),
+    const BOTH: &[Dialect] = &[Dialect::Fanuc, Dialect::Syntec];
+    // 5-axis cutter compensation (G41.2/G42.2) is FANUC-only: COR-070 in Syntec.
+    const FANUC: &[Dialect] = &[Dialect::Fanuc];
+    for (src, tcp, dialects) in [
+        ("G42.2 D1 X1.\nM00\n", 490, FANUC),
+        ("G41 D1 X1.\nM00\n", 490, BOTH),
+        ("G43.4 H1\nG41.2 D1 X1.\nM00\n", 434, FANUC),
+        ("G41.2 D1\nG43.4 H1 X1.\nM00\n", 434, FANUC),
     ] {
-        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
-            let mut interp = interpreter(src, HEAD, dialect);
+        for &dialect in dialects {
+            // Cutter compensation is not built (refused); the reset rule is tested with it allowed.
+            let mut interp = interpreter_with(src, HEAD, dialect, |c| c.refuse_unbuilt = false);
             run(&mut interp, &RunOptions::default(), |_| {});
             assert_ne!(interp.state.modal(7), 400, "{src}: compensation is on before the reset");
             interp.reset();
