@@ -17,8 +17,9 @@ use fivex_engine::Dialect::{self, Fanuc, Syntec};
 const PRESET: &str = "head-bc";
 
 /// FANUC codes the Syntec 5-axis manual does not have: COR-070 in the Syntec dialect.
-const FANUC_ONLY: &[&str] =
-    &["G41.2", "G41.3", "G41.4", "G41.5", "G41.6", "G42.2", "G42.4", "G42.5", "G42.6", "G43.8", "G43.9", "G54.4", "G68.4"];
+const FANUC_ONLY: &[&str] = &[
+    "G41.2", "G41.3", "G41.4", "G41.5", "G41.6", "G42.2", "G42.4", "G42.5", "G42.6", "G43.8", "G43.9", "G54.4", "G68.4",
+];
 
 /// Performed: (the code, an example that must run to its end, where its behaviour is tested).
 /// `M30` is appended unless the example has it (to put subprograms after it).
