@@ -10,8 +10,8 @@ use crate::dialect::Dialect;
 use crate::interp::gcode;
 use crate::interp::unbuilt::{self, Word};
 use crate::interp::Loaded;
-use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
 use crate::lang::Word as NcWord;
+use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
 use std::collections::HashSet;
 
 /// Every diagnostic of `file`, sorted by line and column.

@@ -17,8 +17,9 @@ use fivex_engine::Dialect::{self, Fanuc, Syntec};
 const PRESET: &str = "head-bc";
 
 /// FANUC codes the Syntec 5-axis manual does not have: COR-070 in the Syntec dialect.
-const FANUC_ONLY: &[&str] =
-    &["G41.2", "G41.3", "G41.4", "G41.5", "G41.6", "G42.2", "G42.4", "G42.5", "G42.6", "G43.8", "G43.9", "G54.4", "G68.4"];
+const FANUC_ONLY: &[&str] = &[
+    "G41.2", "G41.3", "G41.4", "G41.5", "G41.6", "G42.2", "G42.4", "G42.5", "G42.6", "G43.8", "G43.9", "G54.4", "G68.4",
+];
 
 /// Performed: (the code, an example that must run to its end, where its behaviour is tested).
 /// `M30` is appended unless the example has it (to put subprograms after it).
@@ -69,6 +70,7 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G53.6", "T1 M06\nG53.6 H1\nG49", "twp.rs, modes.rs"),
     ("G54", "G54", "fixture work_offsets_g54_g59"),
     ("G54.1", "G54.1 P1\nG54", "fixture g54_1_p"),
+    ("G54.2", "G54.2 P0", "the cancelled state (G54.2 P1… is refused)"),
     ("G54.4", "G54.4 P1\nG54.4 P0", "wse.rs"),
     ("G55", "G55\nG54", "fixture work_offsets_g54_g59"),
     ("G56", "G56\nG54", "fixture work_offsets_g54_g59"),
@@ -136,6 +138,7 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G06.2 P4 X0 Y0 Z0 K0", &[Fanuc, Syntec]),
     ("G07 C10.", &[Fanuc, Syntec]),
     ("G07.1 C10.", &[Fanuc, Syntec]),
+    ("G07.1 C0", &[Fanuc, Syntec]),
     ("G10 L5000 P2", &[Syntec]),
     ("G10.6 Z10.", &[Fanuc, Syntec]),
     ("G12.1", &[Fanuc, Syntec]),

@@ -4,9 +4,9 @@
 use super::expr::{eval, Value};
 use super::gcode::{self, GDef};
 use super::modes;
-use super::unbuilt;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
+use super::unbuilt;
 use super::{CycleData, Frame, FrameKind, ModalCall, State, LOCALS};
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};

@@ -60,8 +60,8 @@ const TABLE: &[NotBuilt] = &[
     row(54, When::Always, "HRV3 servo control (G05.4)"),
     row(62, When::Always, "NURBS interpolation (G06.2)"),
     row(70, When::Always, "hypothetical axis interpolation (G07)"),
-    // G07.1 C0 is the cancel.
-    row(71, When::Unless(b'C', &[0.0]), "cylindrical interpolation (G07.1)"),
+    // Also its cancel G07.1 C0: fivex would read C0 as a move of the C axis.
+    row(71, When::Always, "cylindrical interpolation (G07.1)"),
     // G10 L5000: Syntec's choice of the mechanism chain; fivex has one chain per machine.
     NotBuilt {
         code: 100,
