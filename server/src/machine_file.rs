@@ -18,6 +18,69 @@ pub fn parse(text: &str) -> Result<MachineConfig, String> {
     Ok(m)
 }
 
+/// What of the machine a JSON text describes fivex keeps but does not carry out (issue 17,
+/// item 1; `docs/machine-config.md`): unread vendor parameters and bits, model settings kept
+/// without effect. Empty for a text that describes no machine.
+pub fn unmodelled(text: &str) -> Vec<vendor::unmodelled::Unmodelled> {
+    let Ok(value) = serde_json::from_str::<serde_json::Value>(text) else { return Vec::new() };
+    if value.get("parameters").is_some() {
+        match serde_json::from_value::<ParamFile>(value) {
+            Ok(file) => vendor::unmodelled::of_params(file.dialect, &file.parameters),
+            Err(_) => Vec::new(),
+        }
+    } else {
+        let Ok(m) = serde_json::from_value::<MachineConfig>(value.clone()) else { return Vec::new() };
+        let mut out = unknown_fields(&value, &m);
+        out.extend(vendor::unmodelled::of_model(&m));
+        out
+    }
+}
+
+/// Fields of a model document that no model field takes (the model and its axes and rotary
+/// links accept and drop them): a field is unknown when the document without it, and with it
+/// set to a value no field's type takes, reads to the same machine.
+fn unknown_fields(doc: &serde_json::Value, m: &MachineConfig) -> Vec<vendor::unmodelled::Unmodelled> {
+    let same =
+        |changed: &serde_json::Value| serde_json::from_value::<MachineConfig>(changed.clone()).is_ok_and(|c| c == *m);
+    // (path of the object in the document, its JSON pointer)
+    let mut objects = vec![(String::new(), String::new())];
+    for list in ["axes", "rotary"] {
+        let n = doc.get(list).and_then(|v| v.as_array()).map_or(0, Vec::len);
+        objects.extend((0..n).map(|i| (format!("{list}[{i}]."), format!("/{list}/{i}"))));
+    }
+    let mut out = Vec::new();
+    for (path, pointer) in objects {
+        let Some(object) = doc.pointer(&pointer).and_then(|v| v.as_object()) else { continue };
+        for key in object.keys() {
+            let with = |value: Option<serde_json::Value>| {
+                let mut d = doc.clone();
+                if let Some(o) = d.pointer_mut(&pointer).and_then(|v| v.as_object_mut()) {
+                    match value {
+                        Some(v) => o.insert(key.clone(), v),
+                        None => o.remove(key),
+                    };
+                }
+                d
+            };
+            if same(&with(None)) && same(&with(Some(serde_json::json!({"fivex-probe": [null]})))) {
+                out.push(vendor::unmodelled::Unmodelled {
+                    parameter: format!("{path}{key}"),
+                    reason: "no field of the machine model: ignored".into(),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The warnings of [`unmodelled`] for the command line's stderr, one per line, naming `file`.
+pub fn warnings(file: &str, text: &str) -> Vec<String> {
+    unmodelled(text)
+        .into_iter()
+        .map(|u| format!("warning: {file}: {} is not modelled: {}", u.parameter, u.reason))
+        .collect()
+}
+
 /// The dialect a parameter list is written in (`None` for a model file or bad JSON).
 pub fn dialect_of(text: &str) -> Option<fivex_engine::Dialect> {
     let value: serde_json::Value = serde_json::from_str(text).ok()?;

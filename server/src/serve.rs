@@ -99,6 +99,8 @@ pub async fn load_controller(
             tracing::warn!(id = %row_id, error = %e, "stored extra parameters are not a parameter list");
             Default::default()
         });
+        station.unmodelled =
+            crate::api::parameters::unmodelled(dialect, &station.machine.clone(), &station.extra_parameters);
     }
     // Syntec Pr3014 = 2: the tilted working plane survives the restart.
     if let Some(json) = db::kept_plane(db, &row_id).await? {

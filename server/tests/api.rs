@@ -541,6 +541,40 @@ async fn the_modal_state_shows_g_codes_and_words() {
 }
 
 #[tokio::test]
+async fn unmodelled_machine_settings_are_listed_with_the_controller_and_its_parameters() {
+    // Issue 17, item 1: a parameter the model does not read, and an unknown field of a model
+    // document, are named on creation, with the status and with the parameters — after a
+    // restart too (the parameter; the stored model has no unknown field left).
+    let app = spawn_app().await;
+    let names = |v: &Value| -> Vec<String> {
+        v["unmodelled_parameters"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|u| u["parameter"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let preset = create(&app, json!({"name": "p", "preset": "table-ac"})).await;
+    assert_eq!(names(&app.get(&format!("{C}/{preset}")).await.json()), Vec::<String>::new());
+    let mut params = app.get(&format!("{C}/{preset}/parameters")).await.json()["parameters"].clone();
+    params["8130"] = json!(5);
+    let reply =
+        app.post(C, &json!({"name": "l", "machine": {"name": "l", "dialect": "fanuc", "parameters": params}})).await;
+    assert_eq!(reply.status, StatusCode::CREATED, "{}", reply.text());
+    assert_eq!(names(&reply.json()), ["No.8130"]);
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    assert_eq!(names(&app.get(&format!("{C}/{id}/parameters")).await.json()), ["No.8130"]);
+    let mut model = app.get(&format!("{C}/{preset}/machine")).await.json();
+    model["coolant"] = json!(true);
+    let reply = app.post(C, &json!({"name": "m", "machine": model})).await;
+    assert_eq!(reply.status, StatusCode::CREATED, "{}", reply.text());
+    assert_eq!(names(&reply.json()), ["coolant"]);
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    assert_eq!(names(&again.get(&format!("{C}/{id}")).await.json()), ["No.8130"]);
+}
+
+#[tokio::test]
 async fn a_tilted_plane_kept_over_a_restart_comes_back_with_the_controller() {
     // syn SYN-25 (§4.6.3, Pr3014): 2 keeps the feature coordinate state over reset and reboot,
     // 1 over reset only; a restart of the service is the controller's reboot.

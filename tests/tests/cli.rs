@@ -227,6 +227,36 @@ fn machine_file_is_accepted() {
     assert!((num(&v["cycle_time_s"]) - 1.75).abs() < 1e-9, "{}", v["cycle_time_s"]);
 }
 
+/// Issue 17, item 1: what a machine file sets that fivex does not carry out is named on stderr
+/// (a parameter the model does not read, a bit it does not read, a model setting it keeps
+/// without effect); the run itself goes on. A file with nothing of the kind warns nothing.
+#[test]
+fn run_warns_of_unmodelled_machine_settings() {
+    let fanuc = r#"{"name": "f", "dialect": "fanuc", "parameters": {
+        "1020": [88, 89, 90], "1006": [0, 0, 0], "1420": [6000, 6000, 6000],
+        "8130": 3, "19608": 1}}"#;
+    let model = r#"{"name": "m", "axes": [
+        {"name": "X", "kind": "linear", "rapid": 6000.0},
+        {"name": "Y", "kind": "linear", "rapid": 6000.0},
+        {"name": "Z", "kind": "linear", "rapid": 6000.0}],
+        "five_axis": {"smooth_tolerance": [0.5, 0.5]}, "spindle_max_rpm": 12000}"#;
+    let plain = r#"{"name": "p", "dialect": "fanuc", "parameters": {
+        "1020": [88, 89, 90], "1006": [0, 0, 0], "1420": [6000, 6000, 6000]}}"#;
+    let (_d, p) = scratch(&[("p.nc", "G90 G00 X10.\nM30\n"), ("f.json", fanuc), ("m.json", model), ("q.json", plain)]);
+    let warnings = |file: &Path| {
+        let out = fivex(&["run", s(&p[0]), "--machine", s(file)]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        stderr(&out).lines().filter(|l| l.starts_with("warning:")).map(str::to_string).collect::<Vec<_>>()
+    };
+    let f = warnings(&p[1]);
+    assert_eq!(f.len(), 2, "{f:?}");
+    assert!(f[0].contains("No.8130 is not modelled") && f[1].contains("No.19608#0 is not modelled"), "{f:?}");
+    let m = warnings(&p[2]);
+    assert_eq!(m.len(), 2, "{m:?}");
+    assert!(m[0].contains("spindle_max_rpm is not modelled") && m[1].contains("five_axis.smooth_tolerance"), "{m:?}");
+    assert_eq!(warnings(&p[3]), Vec::<String>::new());
+}
+
 // --- --tools --------------------------------------------------------------------------------
 
 #[test]

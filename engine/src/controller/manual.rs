@@ -487,7 +487,9 @@ impl Controller {
             }
             seg = segment(amount * lo);
         }
-        if self.interp.tcp_on() && self.intervention.is_none() {
+        // Under TCP the tip keeps its program coordinates (in Π; FANUC DET = 1 shows the tip in
+        // the workpiece system instead, which the table's turn moves: left to the samples).
+        if self.interp.tcp_on() && self.intervention.is_none() && !self.machine.five_axis.display_workpiece {
             seg = seg.keeping_program_xyz();
         }
         (self.queued_machine, self.queued_work) = (seg.to, seg.work_to);

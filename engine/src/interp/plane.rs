@@ -62,7 +62,7 @@ impl State {
             return;
         }
         let machine = self.machine_position();
-        let r = nalgebra::Matrix3::from_columns(&kept.axes.map(|a| Vec3::from(a)));
+        let r = nalgebra::Matrix3::from_columns(&kept.axes.map(Vec3::from));
         self.plane = Some(Frame { r, o: Vec3::from(kept.origin) });
         self.modes[16] = kept.code;
         self.plane_moved_to(machine);

@@ -74,8 +74,10 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             )));
         }
         let rollover = rotary && bits & 1 == 1;
-        if rollover && per_rev[i] != 360.0 && per_rev[i] != 0.0 {
-            return Err(ConfigError::invalid(format!("No.1260 of axis {letter}: fivex rolls over at 360 only")));
+        // No.1260, the move per revolution: fivex turns a rotary axis 360° per revolution (and
+        // rolls over there), so any other value is refused rather than ignored.
+        if rotary && per_rev[i] != 360.0 && per_rev[i] != 0.0 {
+            return Err(ConfigError::invalid(format!("No.1260 of axis {letter}: fivex turns 360 per revolution only")));
         }
         let stroke = (plus[i] != 0.0 || minus[i] != 0.0).then_some([minus[i], plus[i]]);
         let a = (accel[i] > 0.0).then_some(accel[i]);

@@ -11,6 +11,7 @@
 mod fanuc;
 mod params;
 mod syntec;
+pub mod unmodelled;
 
 pub use params::{ParamFile, Params, Value};
 

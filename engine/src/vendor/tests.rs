@@ -860,3 +860,39 @@ fn fanuc_look_ahead_and_g54_4_settings_round_trip() {
     m.five_axis.wse_cycle_feed = 100.0;
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("No.5412"));
 }
+
+// --- what a list holds that fivex does not carry out ---------------------------------------
+
+/// Item 1 of issue 17: a parameter the model does not read (No.8130), a bit it does not read
+/// (No.19608#0 beside DET #2) are reported; a bit parameter at its default (No.1401 = 2, LRP)
+/// and a display-only one (No.3281) are not; nor is anything of a list fivex wrote itself.
+#[test]
+fn unmodelled_fanuc_parameters_are_reported() {
+    let mut p = fanuc_bc_head();
+    p.set(8130, 5.0);
+    p.set(19608, 5.0);
+    p.set(1401, 2.0);
+    p.set(3281, 1.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &p).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["No.8130", "No.19608#0"]);
+    for preset in MachineConfig::PRESETS {
+        let m = MachineConfig::preset(preset).unwrap();
+        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+            let canonical = params_of(dialect, &m).unwrap();
+            assert_eq!(unmodelled::of_params(dialect, &canonical), vec![], "{preset} {dialect:?}");
+        }
+    }
+}
+
+/// Syntec: an unknown number is reported, and STCP's smoothing settings (SYN-09), which the
+/// model keeps without smoothing, are reported from the model.
+#[test]
+fn unmodelled_syntec_parameters_and_settings_are_reported() {
+    let mut p = syntec_cb_spindle();
+    p.set(9999, 1.0);
+    p.set(3052, 250.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Syntec, &p).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["Pr9999", "five_axis.smooth_tolerance (Syntec Pr3052/3053)"]);
+    let m = machine_from(Dialect::Syntec, "m", &p).unwrap();
+    assert_eq!(unmodelled::of_model(&m).len(), 1);
+}

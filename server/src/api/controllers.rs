@@ -121,7 +121,16 @@ pub async fn create(
         created_at: row.created_at.clone(),
         speed,
     }));
-    hosted.station().extra_parameters = extra;
+    {
+        let mut station = hosted.station();
+        // Everything the request's document sets that fivex does not carry out (its unknown
+        // fields too, which the stored model no longer holds).
+        station.unmodelled = match &request.machine {
+            Some(doc) => crate::machine_file::unmodelled(&doc.to_string()),
+            None => super::parameters::unmodelled(dialect, &station.machine, &extra),
+        };
+        station.extra_parameters = extra;
+    }
     state.host.add(hosted.clone());
     tracing::info!(id = %row.id, name = %row.name, machine = %machine_name, "controller created");
     Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))

@@ -122,6 +122,25 @@ pub struct ControllerStatus {
     /// the reference return).
     #[schema(value_type = std::collections::HashMap<String, f64>)]
     pub interrupt_shift: Map<String, Value>,
+    /// What the controller's machine description sets that fivex keeps but does not carry out
+    /// (`docs/machine-config.md`, "Settings fivex does not model"); empty for most machines.
+    pub unmodelled_parameters: Vec<UnmodelledParameter>,
+}
+
+/// A machine setting fivex does not carry out.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct UnmodelledParameter {
+    /// The vendor's number (`No.8130`, `No.19608#0`, `Pr3052`) or the model field.
+    #[schema(example = "No.8130")]
+    pub parameter: String,
+    /// What fivex does instead.
+    pub reason: String,
+}
+
+impl UnmodelledParameter {
+    pub fn list(of: &[fivex_engine::vendor::unmodelled::Unmodelled]) -> Vec<UnmodelledParameter> {
+        of.iter().map(|u| UnmodelledParameter { parameter: u.parameter.clone(), reason: u.reason.clone() }).collect()
+    }
 }
 
 /// The switches and overrides of the operator panel, as `PUT /switches`, `/overrides` and
@@ -219,6 +238,7 @@ impl ControllerStatus {
             alarms: c.alarms().iter().map(AlarmInfo::from).collect(),
             panel: PanelState::of(&c.panel),
             interrupt_shift: axes(&station.machine, &c.interrupt_shift()),
+            unmodelled_parameters: UnmodelledParameter::list(&station.unmodelled),
         }
     }
 

@@ -21,6 +21,9 @@ pub struct ParameterList {
     /// `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis.
     #[schema(value_type = std::collections::HashMap<String, Object>)]
     pub parameters: Params,
+    /// What of them fivex keeps but does not carry out (unread parameters and bits, settings
+    /// without effect; `docs/machine-config.md`).
+    pub unmodelled_parameters: Vec<super::UnmodelledParameter>,
 }
 
 /// `PUT /parameters/{number}`.
@@ -45,7 +48,21 @@ fn list(
     for (number, value) in &extra.0 {
         parameters.0.entry(*number).or_insert_with(|| value.clone());
     }
-    Ok(ParameterList { dialect: dialect.name().to_string(), parameters })
+    let unmodelled = super::UnmodelledParameter::list(&vendor::unmodelled::of_params(dialect, &parameters));
+    Ok(ParameterList { dialect: dialect.name().to_string(), parameters, unmodelled_parameters: unmodelled })
+}
+
+/// What of the controller's machine (its model and the extra parameters kept beside it) fivex
+/// does not carry out: of the dialect's list when the machine has one, else of the model.
+pub fn unmodelled(
+    dialect: fivex_engine::Dialect,
+    machine: &fivex_engine::machine::MachineConfig,
+    extra: &Params,
+) -> Vec<vendor::unmodelled::Unmodelled> {
+    match list(dialect, machine, extra) {
+        Ok(l) => vendor::unmodelled::of_params(dialect, &l.parameters),
+        Err(_) => vendor::unmodelled::of_model(machine),
+    }
 }
 
 /// What of `given` the model of `machine` does not write back: a control keeps every parameter it
@@ -129,6 +146,11 @@ pub async fn set(
     let answer = list(hosted.dialect, &machine, &extra)?;
     let mut station = hosted.station();
     station.replace_machine(machine, hosted.dialect);
+    station.unmodelled = answer
+        .unmodelled_parameters
+        .iter()
+        .map(|u| vendor::unmodelled::Unmodelled { parameter: u.parameter.clone(), reason: u.reason.clone() })
+        .collect();
     station.extra_parameters = extra;
     tracing::info!(id = %hosted.id, number, "parameter changed; controller restarted on the new machine");
     Ok(Json(answer))

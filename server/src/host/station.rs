@@ -32,6 +32,9 @@ pub struct Station {
     pub kinematics: Option<Kinematics>,
     /// Vendor parameters the machine model does not read, kept as given.
     pub extra_parameters: fivex_engine::vendor::Params,
+    /// What the machine description sets that fivex does not carry out (shown with the status
+    /// and the parameters; `api::parameters::unmodelled`).
+    pub unmodelled: Vec<fivex_engine::vendor::unmodelled::Unmodelled>,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
     run: Option<RunStart>,
@@ -62,6 +65,7 @@ impl Station {
         Station {
             kinematics: Kinematics::new(&machine).ok(),
             extra_parameters: Default::default(),
+            unmodelled: fivex_engine::vendor::unmodelled::of_model(&machine),
             machine: Arc::new(machine),
             controller,
             program: None,

@@ -895,6 +895,11 @@ export interface components {
              * @description Simulated seconds since the controller was created (or the service started).
              */
             time_s: number;
+            /**
+             * @description What the controller's machine description sets that fivex keeps but does not carry out
+             *     (`docs/machine-config.md`, "Settings fivex does not model"); empty for most machines.
+             */
+            unmodelled_parameters: components["schemas"]["UnmodelledParameter"][];
         };
         /**
          * @description `POST /controllers`: a name, and the machine as a preset name or a machine document (a model
@@ -1356,6 +1361,11 @@ export interface components {
             parameters: {
                 [key: string]: Record<string, never>;
             };
+            /**
+             * @description What of them fivex keeps but does not carry out (unread parameters and bits, settings
+             *     without effect; `docs/machine-config.md`).
+             */
+            unmodelled_parameters: components["schemas"]["UnmodelledParameter"][];
         };
         /** @description An alarm that was raised, with when. */
         PastAlarm: components["schemas"]["AlarmInfo"] & {
@@ -1523,6 +1533,16 @@ export interface components {
              *     turn; the first point is where the machine is now.
              */
             xyz: number[];
+        };
+        /** @description A machine setting fivex does not carry out. */
+        UnmodelledParameter: {
+            /**
+             * @description The vendor's number (`No.8130`, `No.19608#0`, `Pr3052`) or the model field.
+             * @example No.8130
+             */
+            parameter: string;
+            /** @description What fivex does instead. */
+            reason: string;
         };
         /** @description `PATCH /controllers/{id}`: what may change on a controller that exists. */
         UpdateController: {

@@ -1,0 +1,125 @@
+//! What of a machine description fivex keeps but does not carry out, reported when a machine
+//! is loaded (`docs/machine-config.md`, "Settings fivex does not model"): a confident answer on a
+//! machine whose parameters fivex silently ignored would be wrong.
+//!
+//! A vendor parameter is *unmodelled* when nothing about it reaches the model: removing it,
+//! changing its value by one, or (FANUC, values 0–255) flipping any of its bits leaves the
+//! machine the list describes unchanged. A FANUC bit that is set while the rest of its parameter
+//! is read is reported alone (`No.19608#0`). Known display-only parameters are not reported.
+//! Settings the model keeps without acting on them (Syntec STCP's smoothing) are reported from
+//! the model, whatever form it was given in.
+
+use super::{machine_from, Params, Value};
+use crate::machine::MachineConfig;
+use crate::Dialect;
+
+/// One setting fivex does not carry out.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct Unmodelled {
+    /// As the vendor numbers it (`No.8130`, `No.19608#0`, `Pr3052`) or the model field
+    /// (`five_axis.smooth_tolerance`).
+    pub parameter: String,
+    /// What fivex does instead.
+    pub reason: String,
+}
+
+/// Parameters that change nothing a program does (display only): accepted without a report.
+const DISPLAY_ONLY: &[(Dialect, u32)] = &[(Dialect::Fanuc, 3281)];
+
+/// The model's settings fivex keeps without carrying them out.
+pub fn of_model(m: &MachineConfig) -> Vec<Unmodelled> {
+    let mut out = Vec::new();
+    let f = &m.five_axis;
+    if f.smooth_tcp {
+        out.push(Unmodelled {
+            parameter: "five_axis.smooth_tcp (Syntec Pr3051)".into(),
+            reason: "STCP is on without L: its mode rules apply, its smoothing is not modelled (the tip follows \
+                     the programmed path exactly)"
+                .into(),
+        });
+    }
+    if f.smooth_tolerance.is_some() {
+        out.push(Unmodelled {
+            parameter: "five_axis.smooth_tolerance (Syntec Pr3052/3053)".into(),
+            reason: "STCP's rotary tolerances are kept, not used: fivex does not smooth".into(),
+        });
+    }
+    out
+}
+
+/// What of the parameter list `given` fivex does not carry out (nothing when the list
+/// describes no machine: loading it fails with the reason instead).
+pub fn of_params(dialect: Dialect, given: &Params) -> Vec<Unmodelled> {
+    let Ok(base) = machine_from(dialect, "m", given) else { return Vec::new() };
+    let name = |n: u32| match dialect {
+        Dialect::Fanuc => format!("No.{n}"),
+        Dialect::Syntec => format!("Pr{n}"),
+    };
+    // Whether the list with `n` set to `value` (`None`: removed) describes another machine (or
+    // none).
+    // What the list with `n` set to `value` (`None`: removed) describes: the same machine
+    // (`Some(true)`), another one (`Some(false)`), or none.
+    let same = |n: u32, value: Option<Value>| {
+        let mut p = given.clone();
+        match value {
+            Some(v) => p.0.insert(n, v),
+            None => p.0.remove(&n),
+        };
+        machine_from(dialect, "m", &p).ok().map(|m| m == base)
+    };
+    let mut out = Vec::new();
+    for (&n, value) in &given.0 {
+        if DISPLAY_ONLY.contains(&(dialect, n)) {
+            continue;
+        }
+        let values: Vec<f64> = match value {
+            Value::One(x) => vec![*x],
+            Value::PerAxis(v) => v.clone(),
+        };
+        // 0 is every parameter's value when not set: a parameter left there changes nothing.
+        if values.iter().all(|x| *x == 0.0) {
+            continue;
+        }
+        let with = |values: Vec<f64>| match value {
+            Value::One(_) => Value::One(values[0]),
+            Value::PerAxis(_) => Value::PerAxis(values),
+        };
+        let shifted = |d: f64| with(values.iter().map(|x| x + d).collect());
+        let read = [None, Some(shifted(1.0)), Some(shifted(-1.0))].into_iter().any(|v| same(n, v) != Some(true));
+        // FANUC bit parameters (element values 0–255): each bit of each element flipped.
+        let bits = dialect == Dialect::Fanuc && values.iter().all(|x| x.fract() == 0.0 && (0.0..=255.0).contains(x));
+        let flips: Vec<(usize, u32, Option<bool>)> = if bits {
+            (0..values.len())
+                .flat_map(|k| (0..8).map(move |b| (k, b)))
+                .map(|(k, b)| {
+                    let mut v = values.clone();
+                    v[k] = ((v[k] as u32) ^ (1 << b)) as f64;
+                    (k, b, same(n, Some(with(v))))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        // A bit parameter at its default is read when flipping one of its bits matters.
+        if !read && flips.iter().all(|f| f.2 == Some(true)) {
+            out.push(Unmodelled {
+                parameter: name(n),
+                reason: "not read by fivex's model: the machine behaves as without it".into(),
+            });
+            continue;
+        }
+        // Bit by bit only where bits are what the model reads: some bit's flip gives another
+        // working machine (No.1022's one legal value, say, has no such bit).
+        if flips.iter().any(|f| f.2 == Some(false)) {
+            for &(k, b, _) in flips.iter().filter(|f| f.2 == Some(true) && (values[f.0] as u32) & (1 << f.1) != 0) {
+                let axis = if values.len() > 1 { format!(" (axis {})", k + 1) } else { String::new() };
+                out.push(Unmodelled {
+                    parameter: format!("No.{n}#{b}{axis}"),
+                    reason: "bit not read by fivex's model: the machine behaves as with it 0".into(),
+                });
+            }
+        }
+    }
+    out.extend(of_model(&base));
+    out
+}
