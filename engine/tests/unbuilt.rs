@@ -353,3 +353,16 @@ fn g41_square_is_refused_not_run_on_the_programmed_line() {
         assert_eq!(interp.state.modal(7), 400, "G40 stays in force");
     }
 }
+
+#[test]
+fn stcp_by_parameter_is_refused_like_g43_4_l1() {
+    // Syntec Pr3051 = 1 makes a G43.4 without L start STCP (SYN-09, TV-25b), which is not built:
+    // refused as `G43.4 L1` is; L0 asks for plain RTCP and runs.
+    use fivex_engine::run::{run, RunOptions};
+    for (body, alarm) in [("G43.4 H1\nG49", Some("COR-100")), ("G43.4 H1 L0\nG49", None)] {
+        let mut interp = interpreter_with(&program(body), PRESET, Syntec, |c| c.machine.five_axis.smooth_tcp = true);
+        let r = run(&mut interp, &RunOptions::default(), |_| {});
+        let got = r.alarms.first().map(|a| (a.code.as_str(), a.line));
+        assert_eq!(got, alarm.map(|code| (code, 2)), "{body}");
+    }
+}

@@ -107,7 +107,7 @@ const TABLE: &[NotBuilt] = &[
         code: 434,
         dialect: Some(Dialect::Syntec),
         when: When::Is(b'L', &[1.0]),
-        function: "smooth tool centre point control (STCP, G43.4 L1)",
+        function: "smooth tool centre point control (STCP, G43.4 L1; without L when Pr3051 = 1)",
     },
     row(437, When::Always, "tool offset (G43.7)"),
     row(438, When::Always, "cutting point command (G43.8)"),
