@@ -195,14 +195,20 @@ fn syntec_cycles_under_rtcp_drill_at_the_workpiece_hole_with_the_tool_tilted() {
 }
 
 #[test]
-fn fanuc_refuses_g69_with_a_canned_cycle_on() {
+fn a_canned_cycle_must_not_span_the_start_or_end_of_the_plane() {
     // TWP-16: canned cycles nest inside G68.2 … G69. Ending the plane with the cycle on would
     // carry the FCS levels (R, Z, initial level) into the workpiece system.
     let src = "G90 G00 X0 Y0 Z50.\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG81 X0 Y0 Z-1. R1. F100\nG69\nG80\nM30\n";
     let ok = src.replace("G69\nG80\n", "G80\nG69\n");
-    let r = common::run_with(src, "head-bc", Dialect::Fanuc);
-    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS5462", 5)));
-    assert!(common::run_with(&ok, "head-bc", Dialect::Fanuc).completed());
+    // FANUC TWP-11 refuses a cycle on at G68.2; Syntec the same, a decision.
+    let before = "G90 G00 X0 Y0 Z50.\nG81 X0 Y0 Z-1. R1. F100\nG68.2 X0 Y0 Z0 I0 J30. K0\nG80\nG69\nM30\n";
+    for (dialect, code) in [(Dialect::Fanuc, "PS5462"), (Dialect::Syntec, "COR-100")] {
+        let r = common::run_with(src, "head-bc", dialect);
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some((code, 5)), "{dialect:?}");
+        assert!(common::run_with(&ok, "head-bc", dialect).completed(), "{dialect:?}");
+        let r = common::run_with(before, "head-bc", dialect);
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some((code, 3)), "{dialect:?}");
+    }
 }
 
 #[test]

@@ -333,11 +333,17 @@ static RULES: &[Rule] = &[
         |c| c.any(&[682, 683, 684]) && !matches!(c.after[8], 490 | 491),
     ),
     rule(
-        Fanuc,
+        Both,
         "twp TWP-16, §1.3.2: a canned cycle ends (G80) inside the plane, before G69",
         A::TwpIllegalCommand,
         |c| c.has(690) && c.twp(c.before[16]) && c.after[9] != 800,
     ),
+    // Syntec names no nesting rule; a cycle spanning the plane's start would read its levels,
+    // taken in the workpiece system, in the FCS (*decision*, docs/five-axis.md). FANUC's row is
+    // the §6.1 list below.
+    rule(Syntec, "decision (twp TWP-16): no canned cycle on at G68.2/G68.3", A::TwpIllegalCommand, |c| {
+        c.starts(16, |c, m| c.twp(m)) && c.after[9] != 800
+    }),
     rule(Syntec, "syn SYN-21, TV-20: G53.6 in G40 mode", A::AlignmentInCompensation, |c| {
         c.has(536) && c.after[7] != 400
     }),
