@@ -114,6 +114,7 @@ pub fn run_observed(
         queued_machine: interp.state.machine_position(),
         queued_work: interp.state.shown_position(),
         basis: interp.state.tip_basis(),
+        queued_basis: interp.state.tip_basis(),
         opts: *opts,
         messages: Vec::new(),
         over_budget: None,
@@ -201,6 +202,8 @@ struct Executor<'o, O: Observer> {
     /// How the tip is read while the machine stands (after the last executed segment or a
     /// command that waits).
     basis: crate::tip::Basis,
+    /// The basis of the last queued motion.
+    queued_basis: crate::tip::Basis,
     opts: RunOptions,
     messages: Vec<String>,
     /// The block during which simulated time ran past `max_time_s`; nothing runs after it.
@@ -218,6 +221,7 @@ impl<O: Observer> Executor<'_, O> {
     ) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
+                self.express_start_in(&m.context.tip_basis);
                 let ctx = FeedContext {
                     feed_override: self.opts.feed_override,
                     rapid_override: self.opts.rapid_override,
@@ -255,6 +259,19 @@ impl<O: Observer> Executor<'_, O> {
             }
         }
         Ok(())
+    }
+
+    /// A motion in another workpiece system (G54…, G10, G52, G92 changed since the last one,
+    /// in its block or before) starts where the machine stands, expressed in the new system, as
+    /// the interpreter's current point is: its programmed start moves by the origin's change.
+    fn express_start_in(&mut self, basis: &crate::tip::Basis) {
+        use crate::tip::System::Workpiece;
+        let before = std::mem::replace(&mut self.queued_basis, *basis);
+        if before.origin != basis.origin && before.programmed_in == Workpiece && basis.programmed_in == Workpiece {
+            for k in 0..3 {
+                self.queued_work[k] += before.origin[k] - basis.origin[k];
+            }
+        }
     }
 
     /// Stand still for `seconds` (a dwell, a tool change), sampling the trace.

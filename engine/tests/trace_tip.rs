@@ -156,3 +156,16 @@ fn tool_length_from_the_offset_memory_in_effect() {
     let end = samples.iter().rev().find(|s| s.line == 3).unwrap();
     assert!((end.machine[2] - 100.0).abs() < 1e-6 && (end.tip[2] - 20.0).abs() < 1e-6, "{end:?}");
 }
+
+/// A block after an offset change without motion (G10 L2) starts where the machine stands,
+/// expressed in the new system: `programmed` runs from −100 (not from the old 0) to 10, with
+/// the tip, along the whole move.
+#[test]
+fn programmed_starts_where_the_machine_stands_after_an_offset_change() {
+    let src = "N1 G10 L2 P1 X100.\nN2 G90 G54 G01 X10. F600\nN3 M30\n";
+    let (samples, _) = trace(src, "mill3", Dialect::Fanuc);
+    assert!(samples[0].programmed[0] == -100.0 && samples[0].tip[0] == -100.0, "{:?}", samples[0]);
+    for s in &samples {
+        assert!(dist(s.tip, s.programmed) < 1e-9, "{s:?}");
+    }
+}

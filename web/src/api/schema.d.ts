@@ -1057,6 +1057,18 @@ export interface components {
              */
             n?: number | null;
             /**
+             * @description The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
+             *     names.
+             */
+            programmed: number[];
+            /**
+             * @description `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
+             *     `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
+             *     (G54.4).
+             * @example workpiece
+             */
+            programmed_in: string;
+            /**
              * Format: double
              * @description Spindle speed, 1/min (negative: M04; 0: stopped).
              */
@@ -1066,11 +1078,15 @@ export interface components {
              * @description Simulated seconds since the controller was created (or the service started).
              */
             t: number;
-            /** @description Tool tip in the active workpiece system. */
+            /**
+             * @description Tool tip in the active workpiece system (G54…, after G52/G92, before any tilted working
+             *     plane; fixed on the table of a table machine), from the machine axes and the tool length
+             *     in effect by forward kinematics: where the machine puts it.
+             */
             tip: number[];
             /**
              * @description Tool tip in the table frame (`docs/machine-config.md`): where the tip is relative to
-             *     the part on its table, from the machine axes, the mechanism and `tool_length` (for a
+             *     the part on its table, from the machine axes, the mechanism and the tool length in effect (for a
              *     machine without table axes, machine coordinates). The 3D view draws the trace with it.
              */
             tip_table: number[];
