@@ -169,3 +169,49 @@ fn programmed_starts_where_the_machine_stands_after_an_offset_change() {
         assert!(dist(s.tip, s.programmed) < 1e-9, "{s:?}");
     }
 }
+
+/// The controller's live position reads the tip the same way, tick by tick: FK of the axes it
+/// is at with the length in effect, less the work offset; with the machine standing after the
+/// program, the interpreter's state (here G55 with a 100 mm tool under G43).
+#[test]
+fn controller_tip_is_fk_of_the_live_axes() {
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    let src = "N1 G10 L2 P2 X50. Y-40. Z-250.\nN2 G00 G90 B0 C0\nN3 G55\nN4 G43.4 H01\n\
+               N5 G00 X20. Y10. Z30.\nN6 G01 X5. Y5. Z5. B30. C45. F2000\nN7 G49\nN8 G43 H1 Z50.\nN9 M30\n";
+    let i = interpreter(src, "head-bc", Dialect::Fanuc);
+    let mut c = Controller::new(i.config().clone());
+    c.interpreter_mut().state.offsets = i.state.offsets.clone();
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    let k = kin("head-bc");
+    let mut seen_tcp = 0;
+    while c.run_state() == RunState::Running && c.time() < 300.0 {
+        c.tick(0.01);
+        let p = c.point();
+        let length = if (4..=6).contains(&p.line) || p.line == 8 { 100.0 } else { 0.0 };
+        let pose = k.forward(&p.machine, length);
+        let origin = if p.line >= 3 { [50.0, -40.0, -250.0] } else { [0.0; 3] };
+        let expected = [pose.tip.x - origin[0], pose.tip.y - origin[1], pose.tip.z - origin[2]];
+        let tip = c.tip();
+        assert!(dist(tip.tip, expected) < 1e-9, "line {}: {:?} vs {expected:?}", p.line, tip.tip);
+        assert!(dist(tip.tool, pose.tool.into()) < 1e-12);
+        if p.line == 6 {
+            seen_tcp += 1;
+            assert_eq!(c.tip_basis().programmed_in, System::Programming);
+            assert!(dist(tip.tip, [p.work[0], p.work[1], p.work[2]]) < 1e-3, "{tip:?} {:?}", p.work);
+        }
+    }
+    assert!(seen_tcp > 5, "{seen_tcp} ticks on the TCP move");
+    assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+    // At rest after G43 H1 Z50 in G55 with the head still at B30 C45: plain G43 adds the
+    // length along machine Z, so the tilted tool's tip is not at the programmed (5, 5, 50);
+    // the tip says where it is (from the interpreter's state now that nothing runs).
+    let (tip, p) = (c.tip(), c.point());
+    let pose = k.forward(&p.machine, 100.0);
+    let expected = [pose.tip.x - 50.0, pose.tip.y + 40.0, pose.tip.z + 250.0];
+    assert!(dist(tip.tip, expected) < 1e-9, "{tip:?} vs {expected:?}");
+    assert!(dist([p.work[0], p.work[1], p.work[2]], [5.0, 5.0, 50.0]) < 1e-9, "{:?}", p.work);
+    assert!(dist(tip.tip, [5.0, 5.0, 50.0]) > 10.0, "{tip:?}");
+    assert_eq!(c.tip_basis().programmed_in, System::Workpiece);
+}
