@@ -740,11 +740,7 @@ impl Controller {
             feed_mode: crate::canon::FeedMode::PerMinute,
             spindle: 0.0,
             // Handle pulses go at the clamp, whatever the override.
-            context: MotionContext {
-                fixed_feed: feed >= manual::AT_CLAMP,
-                tip_basis: self.tip_basis(),
-                ..MotionContext::default()
-            },
+            context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
         };
         let ctx = FeedContext {
             feed_override: self.panel.feed_override,
@@ -754,7 +750,7 @@ impl Controller {
         };
         let axes = self.manual_limits();
         let mut seg = Segment::new(&m, &self.queued_machine, &self.queued_work, &axes, ctx, self.kinematics.as_ref());
-        seg.stop_after = true;
+        (seg.stop_after, seg.tip_basis) = (true, self.tip_basis());
         (self.queued_machine, self.queued_work) = (machine, target);
         self.planner.push(seg);
         self.set_state(RunState::Running);
@@ -969,7 +965,7 @@ impl Controller {
                         &shifted
                     };
                     let mut seg = self.segment(m);
-                    (seg.line, seg.n) = (c.line, c.n);
+                    (seg.line, seg.n, seg.tip_basis) = (c.line, c.n, c.tip_basis);
                     let stroke = if self.interrupt.is_zero() {
                         motion::stroke_check(&seg, &self.machine)
                     } else {

@@ -129,7 +129,7 @@ pub fn run_observed(
         let step = interp.step(&mut out);
         let before = exec.t;
         for c in out.drain(..) {
-            if let Err(id) = exec.apply(&c, &interp.state, tracing, &mut on_sample) {
+            if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
                 let (code, message) = interp.config().dialect.describe(&id);
                 alarms.push(Alarm { code, message, line: c.line, n: c.n });
                 motion_alarm = true;
@@ -211,17 +211,10 @@ struct Executor<'o, O: Observer> {
 }
 
 impl<O: Observer> Executor<'_, O> {
-    /// Carry out `c`; `state` is the interpreter's after the block `c` came from.
-    fn apply(
-        &mut self,
-        c: &Canon,
-        state: &crate::interp::State,
-        tracing: bool,
-        on_sample: &mut impl FnMut(&Sample),
-    ) -> Result<(), AlarmId> {
+    fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
-                self.express_start_in(&m.context.tip_basis);
+                self.express_start_in(&c.tip_basis);
                 let ctx = FeedContext {
                     feed_override: self.opts.feed_override,
                     rapid_override: self.opts.rapid_override,
@@ -230,7 +223,7 @@ impl<O: Observer> Executor<'_, O> {
                 };
                 let mut seg =
                     Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx, self.kinematics.as_ref());
-                (seg.line, seg.n) = (c.line, c.n);
+                (seg.line, seg.n, seg.tip_basis) = (c.line, c.n, c.tip_basis);
                 if let Err(id) = motion::stroke_check(&seg, &self.machine_config) {
                     // The machine stops at the end of the block before; the offending one never moves.
                     self.drain(true, tracing, on_sample);
@@ -245,7 +238,7 @@ impl<O: Observer> Executor<'_, O> {
                 // Every other command waits for the motion before it to end; the machine then
                 // stands in the block's workpiece system with its tool length.
                 self.drain(true, tracing, on_sample);
-                self.basis = state.tip_basis();
+                self.basis = c.tip_basis;
                 match other {
                     _ if self.over_budget.is_some() => {}
                     CanonKind::Dwell { seconds } => self.wait(*seconds, c, tracing, on_sample),

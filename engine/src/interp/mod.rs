@@ -756,7 +756,7 @@ impl State {
     }
 
     fn emit(&self, out: &mut Vec<Canon>, kind: CanonKind) {
-        out.push(Canon { line: self.line, n: self.n, kind });
+        out.push(Canon { line: self.line, n: self.n, kind, tip_basis: self.tip_basis() });
     }
 
     /// Call a program: M98 (`macro_args` None, same local level) or G65/G66 (a new level).
