@@ -213,6 +213,7 @@ impl Controller {
         let interp = Interpreter::new(crate::lang::parse_file(""), cfg);
         let start = interp.state.machine_position();
         let work = interp.state.shown_position();
+        let basis = interp.state.tip_basis();
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
@@ -234,7 +235,7 @@ impl Controller {
             queued_work: work,
             here: Point { machine: start, work, feed: 0.0, line: 0, n: None, s: 0.0 },
             last_tool_length: 0.0,
-            last_tip_basis: crate::tip::Basis::default(),
+            last_tip_basis: basis,
             spindle: 0.0,
             pending: VecDeque::new(),
             program_active: false,
@@ -496,6 +497,8 @@ impl Controller {
         self.interp.load(crate::lang::parse_file(&text));
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();
+        // Until its first motion ends, the program stands in the state it starts from.
+        self.last_tip_basis = self.interp.state.tip_basis();
         self.program_active = true;
         self.wait = Wait::None;
         self.set_state(RunState::Running);
