@@ -1378,11 +1378,24 @@ export interface components {
             /** @description RFC 3339 UTC. */
             raised_at: string;
         };
-        /** @description Machine and workpiece coordinates per axis letter, in axis order. */
+        /**
+         * @description Machine and workpiece coordinates per axis letter, in axis order, and, as in the run
+         *     summary, the tool tip and direction where the machine puts them (forward kinematics of the
+         *     axes with the tool length in effect, in the active workpiece system) and the programmed
+         *     point with the name of its system (`docs/api.md`, Positions).
+         */
         Position: {
             machine: {
                 [key: string]: number;
             };
+            programmed?: number[];
+            /**
+             * @description `workpiece`, `workpiece_machine_axes`, `programming`, `feature` or `wscs`.
+             * @example workpiece
+             */
+            programmed_in?: string;
+            tip?: number[];
+            tool?: number[];
             workpiece: {
                 [key: string]: number;
             };
