@@ -215,3 +215,25 @@ fn controller_tip_is_fk_of_the_live_axes() {
     assert!(dist(tip.tip, [5.0, 5.0, 50.0]) > 10.0, "{tip:?}");
     assert_eq!(c.tip_basis().programmed_in, System::Workpiece);
 }
+
+/// The same block under plain G43 and under G43.4 with the head at B30: the programmed point
+/// is the same, but only TCP puts the tip there. By hand (head-bc, `docs/machine-config.md`):
+/// plain G43 puts the carriage at (10, 0, 10 + 100), the B pivot 150 above it at (10, 0, 260),
+/// the tool along (sin 30°, 0, cos 30°), so the tip is 250 mm down it: (−115, 0, 43.4936).
+#[test]
+fn plain_g43_with_the_head_tilted_shows_the_real_tip_tcp_the_programmed_one() {
+    let tilted = "N1 G90 G54 G00 X0 Y0 Z200. B30. C0\n";
+    let plain = format!("{tilted}N2 G43 H1\nN3 G01 X10. Y0 Z10. F3000\nN4 G04 X0.05\nN5 M30\n");
+    let tcp = format!("{tilted}N2 G43.4 H1\nN3 G01 X10. Y0 Z10. F3000\nN4 G04 X0.05\nN5 M30\n");
+    let at_rest = |src: &str| {
+        let (samples, _) = trace(src, "head-bc", Dialect::Fanuc);
+        *samples.iter().rev().find(|s| s.line == 4).expect("dwell samples")
+    };
+    let (p, t) = (at_rest(&plain), at_rest(&tcp));
+    let (s30, c30) = (0.5, 3f64.sqrt() / 2.0);
+    assert!(dist(p.tip, [10.0 - 250.0 * s30, 0.0, 260.0 - 250.0 * c30]) < 1e-9, "plain G43: {:?}", p.tip);
+    assert!(dist(p.programmed, [10.0, 0.0, 10.0]) < 1e-9, "{:?}", p.programmed);
+    assert!(dist(t.tip, [10.0, 0.0, 10.0]) < 1e-9, "G43.4: {:?}", t.tip);
+    assert!(dist(t.programmed, [10.0, 0.0, 10.0]) < 1e-9, "{:?}", t.programmed);
+    assert!(dist(p.tool, [s30, 0.0, c30]) < 1e-12 && dist(t.tool, [s30, 0.0, c30]) < 1e-12);
+}
