@@ -65,8 +65,6 @@ pub struct MotionContext {
     /// The feed override does not act (G63 tapping mode, the tapping cycles G74/G84).
     pub fixed_feed: bool,
     pub rotation: u16,
-    /// How the trace reads the tool tip from the machine axes during this motion.
-    pub tip_basis: crate::tip::Basis,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -205,4 +203,8 @@ pub struct Canon {
     pub line: u32,
     pub n: Option<u32>,
     pub kind: CanonKind,
+    /// How the tool tip is read from the machine axes while this command is carried out
+    /// (`crate::tip`): the block's tool length and workpiece system. Here rather than in the
+    /// motion so that every command has it (the machine standing at a dwell too).
+    pub tip_basis: crate::tip::Basis,
 }

@@ -213,6 +213,7 @@ impl Controller {
         let interp = Interpreter::new(crate::lang::parse_file(""), cfg);
         let start = interp.state.machine_position();
         let work = interp.state.shown_position();
+        let basis = interp.state.tip_basis();
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
@@ -234,7 +235,7 @@ impl Controller {
             queued_work: work,
             here: Point { machine: start, work, feed: 0.0, line: 0, n: None, s: 0.0 },
             last_tool_length: 0.0,
-            last_tip_basis: crate::tip::Basis::default(),
+            last_tip_basis: basis,
             spindle: 0.0,
             pending: VecDeque::new(),
             program_active: false,
@@ -496,6 +497,8 @@ impl Controller {
         self.interp.load(crate::lang::parse_file(&text));
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();
+        // Until its first motion ends, the program stands in the state it starts from.
+        self.last_tip_basis = self.interp.state.tip_basis();
         self.program_active = true;
         self.wait = Wait::None;
         self.set_state(RunState::Running);
@@ -740,11 +743,7 @@ impl Controller {
             feed_mode: crate::canon::FeedMode::PerMinute,
             spindle: 0.0,
             // Handle pulses go at the clamp, whatever the override.
-            context: MotionContext {
-                fixed_feed: feed >= manual::AT_CLAMP,
-                tip_basis: self.tip_basis(),
-                ..MotionContext::default()
-            },
+            context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
         };
         let ctx = FeedContext {
             feed_override: self.panel.feed_override,
@@ -754,7 +753,7 @@ impl Controller {
         };
         let axes = self.manual_limits();
         let mut seg = Segment::new(&m, &self.queued_machine, &self.queued_work, &axes, ctx, self.kinematics.as_ref());
-        seg.stop_after = true;
+        (seg.stop_after, seg.tip_basis) = (true, self.tip_basis());
         (self.queued_machine, self.queued_work) = (machine, target);
         self.planner.push(seg);
         self.set_state(RunState::Running);
@@ -974,7 +973,7 @@ impl Controller {
                         &shifted
                     };
                     let mut seg = self.segment(m);
-                    (seg.line, seg.n) = (c.line, c.n);
+                    (seg.line, seg.n, seg.tip_basis) = (c.line, c.n, c.tip_basis);
                     let stroke = if self.interrupt.is_zero() {
                         motion::stroke_check(&seg, &self.machine)
                     } else {

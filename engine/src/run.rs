@@ -114,6 +114,7 @@ pub fn run_observed(
         queued_machine: interp.state.machine_position(),
         queued_work: interp.state.shown_position(),
         basis: interp.state.tip_basis(),
+        queued_basis: interp.state.tip_basis(),
         opts: *opts,
         messages: Vec::new(),
         over_budget: None,
@@ -128,7 +129,7 @@ pub fn run_observed(
         let step = interp.step(&mut out);
         let before = exec.t;
         for c in out.drain(..) {
-            if let Err(id) = exec.apply(&c, &interp.state, tracing, &mut on_sample) {
+            if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
                 let (code, message) = interp.config().dialect.describe(&id);
                 alarms.push(Alarm { code, message, line: c.line, n: c.n });
                 motion_alarm = true;
@@ -201,6 +202,8 @@ struct Executor<'o, O: Observer> {
     /// How the tip is read while the machine stands (after the last executed segment or a
     /// command that waits).
     basis: crate::tip::Basis,
+    /// The basis of the last queued motion.
+    queued_basis: crate::tip::Basis,
     opts: RunOptions,
     messages: Vec<String>,
     /// The block during which simulated time ran past `max_time_s`; nothing runs after it.
@@ -208,16 +211,10 @@ struct Executor<'o, O: Observer> {
 }
 
 impl<O: Observer> Executor<'_, O> {
-    /// Carry out `c`; `state` is the interpreter's after the block `c` came from.
-    fn apply(
-        &mut self,
-        c: &Canon,
-        state: &crate::interp::State,
-        tracing: bool,
-        on_sample: &mut impl FnMut(&Sample),
-    ) -> Result<(), AlarmId> {
+    fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
+                self.express_start_in(&c.tip_basis);
                 let ctx = FeedContext {
                     feed_override: self.opts.feed_override,
                     rapid_override: self.opts.rapid_override,
@@ -226,7 +223,7 @@ impl<O: Observer> Executor<'_, O> {
                 };
                 let mut seg =
                     Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx, self.kinematics.as_ref());
-                (seg.line, seg.n) = (c.line, c.n);
+                (seg.line, seg.n, seg.tip_basis) = (c.line, c.n, c.tip_basis);
                 if let Err(id) = motion::stroke_check(&seg, &self.machine_config) {
                     // The machine stops at the end of the block before; the offending one never moves.
                     self.drain(true, tracing, on_sample);
@@ -241,7 +238,7 @@ impl<O: Observer> Executor<'_, O> {
                 // Every other command waits for the motion before it to end; the machine then
                 // stands in the block's workpiece system with its tool length.
                 self.drain(true, tracing, on_sample);
-                self.basis = state.tip_basis();
+                self.basis = c.tip_basis;
                 match other {
                     _ if self.over_budget.is_some() => {}
                     CanonKind::Dwell { seconds } => self.wait(*seconds, c, tracing, on_sample),
@@ -255,6 +252,19 @@ impl<O: Observer> Executor<'_, O> {
             }
         }
         Ok(())
+    }
+
+    /// A motion in another workpiece system (G54…, G10, G52, G92 changed since the last one,
+    /// in its block or before) starts where the machine stands, expressed in the new system, as
+    /// the interpreter's current point is: its programmed start moves by the origin's change.
+    fn express_start_in(&mut self, basis: &crate::tip::Basis) {
+        use crate::tip::System::Workpiece;
+        let before = std::mem::replace(&mut self.queued_basis, *basis);
+        if before.origin != basis.origin && before.programmed_in == Workpiece && basis.programmed_in == Workpiece {
+            for k in 0..3 {
+                self.queued_work[k] += before.origin[k] - basis.origin[k];
+            }
+        }
     }
 
     /// Stand still for `seconds` (a dwell, a tool change), sampling the trace.

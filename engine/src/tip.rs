@@ -17,6 +17,10 @@ pub enum System {
     /// The active workpiece system (G54…, external offset, G52, G92; after G68/G51/G51.1).
     #[default]
     Workpiece,
+    /// The workpiece system's origin with the machine's axis directions, not turned with the
+    /// table: FANUC DET's position display under tool centre point control (the same as
+    /// `Workpiece` on a head machine or with the table axes at zero).
+    WorkpieceMachineAxes,
     /// The programming coordinate system of tool centre point control (FANUC G43.4/G43.5 Π,
     /// Syntec RTCP).
     Programming,
@@ -32,6 +36,7 @@ impl System {
     pub fn name(self) -> &'static str {
         match self {
             System::Workpiece => "workpiece",
+            System::WorkpieceMachineAxes => "workpiece_machine_axes",
             System::Programming => "programming",
             System::Feature => "feature",
             System::Wscs => "wscs",

@@ -12,6 +12,7 @@ use fivex_engine::canon::Pos;
 use fivex_engine::kin::{Kinematics, Vec3};
 use fivex_engine::machine::{Axis, AxisKind, Hand, MachineConfig, RotaryLink, Side, TcpCoordinates};
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
+use fivex_engine::tip::System;
 use fivex_engine::Dialect;
 use proptest::prelude::*;
 
@@ -716,11 +717,16 @@ fn tv22_det_shows_the_tip_in_the_workpiece_system() {
         let end = n5.last().unwrap();
         // The last 1 ms sample is within one sample's travel (F500: 8 µm) of the end; DET on
         // and off differ by tens of mm.
-        assert!(close(Vec3::from(end.tip), want, 1e-2), "DET {det}: {:?}", end.tip);
+        // The display is the trace's `programmed`; its `tip` is the tip in the workpiece
+        // system fixed on the table whatever DET says (`trace_tip.rs`).
+        assert!(close(Vec3::from(end.programmed), want, 1e-2), "DET {det}: {:?}", end.programmed);
+        let system = if det { System::WorkpieceMachineAxes } else { System::Programming };
+        assert_eq!(end.programmed_in, system);
         let mid = &n5[n5.len() / 2];
         let pose = kin.forward(&mid.machine, 100.0);
         let shown = if det { pose.tip_machine - kin.nose } else { pose.tip - kin.nose };
-        assert!(close(Vec3::from(mid.tip), shown, 1e-6), "DET {det}: {:?} vs {shown:?}", mid.tip);
+        assert!(close(Vec3::from(mid.programmed), shown, 1e-6), "DET {det}: {:?} vs {shown:?}", mid.programmed);
+        assert!(close(Vec3::from(mid.tip), pose.tip - kin.nose, 1e-9), "DET {det}: {:?}", mid.tip);
     }
 }
 

@@ -156,3 +156,84 @@ fn tool_length_from_the_offset_memory_in_effect() {
     let end = samples.iter().rev().find(|s| s.line == 3).unwrap();
     assert!((end.machine[2] - 100.0).abs() < 1e-6 && (end.tip[2] - 20.0).abs() < 1e-6, "{end:?}");
 }
+
+/// A block after an offset change without motion (G10 L2) starts where the machine stands,
+/// expressed in the new system: `programmed` runs from −100 (not from the old 0) to 10, with
+/// the tip, along the whole move.
+#[test]
+fn programmed_starts_where_the_machine_stands_after_an_offset_change() {
+    let src = "N1 G10 L2 P1 X100.\nN2 G90 G54 G01 X10. F600\nN3 M30\n";
+    let (samples, _) = trace(src, "mill3", Dialect::Fanuc);
+    assert!(samples[0].programmed[0] == -100.0 && samples[0].tip[0] == -100.0, "{:?}", samples[0]);
+    for s in &samples {
+        assert!(dist(s.tip, s.programmed) < 1e-9, "{s:?}");
+    }
+}
+
+/// The controller's live position reads the tip the same way, tick by tick: FK of the axes it
+/// is at with the length in effect, less the work offset; with the machine standing after the
+/// program, the interpreter's state (here G55 with a 100 mm tool under G43).
+#[test]
+fn controller_tip_is_fk_of_the_live_axes() {
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    let src = "N1 G10 L2 P2 X50. Y-40. Z-250.\nN2 G00 G90 B0 C0\nN3 G55\nN4 G43.4 H01\n\
+               N5 G00 X20. Y10. Z30.\nN6 G01 X5. Y5. Z5. B30. C45. F2000\nN7 G49\nN8 G43 H1 Z50.\nN9 M30\n";
+    let i = interpreter(src, "head-bc", Dialect::Fanuc);
+    let mut c = Controller::new(i.config().clone());
+    c.interpreter_mut().state.offsets = i.state.offsets.clone();
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    let k = kin("head-bc");
+    let mut seen_tcp = 0;
+    while c.run_state() == RunState::Running && c.time() < 300.0 {
+        c.tick(0.01);
+        let p = c.point();
+        let length = if (4..=6).contains(&p.line) || p.line == 8 { 100.0 } else { 0.0 };
+        let pose = k.forward(&p.machine, length);
+        let origin = if p.line >= 3 { [50.0, -40.0, -250.0] } else { [0.0; 3] };
+        let expected = [pose.tip.x - origin[0], pose.tip.y - origin[1], pose.tip.z - origin[2]];
+        let tip = c.tip();
+        assert!(dist(tip.tip, expected) < 1e-9, "line {}: {:?} vs {expected:?}", p.line, tip.tip);
+        assert!(dist(tip.tool, pose.tool.into()) < 1e-12);
+        if p.line == 6 {
+            seen_tcp += 1;
+            assert_eq!(c.tip_basis().programmed_in, System::Programming);
+            assert!(dist(tip.tip, [p.work[0], p.work[1], p.work[2]]) < 1e-3, "{tip:?} {:?}", p.work);
+        }
+    }
+    assert!(seen_tcp > 5, "{seen_tcp} ticks on the TCP move");
+    assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+    // At rest after G43 H1 Z50 in G55 with the head still at B30 C45: plain G43 adds the
+    // length along machine Z, so the tilted tool's tip is not at the programmed (5, 5, 50);
+    // the tip says where it is (from the interpreter's state now that nothing runs).
+    let (tip, p) = (c.tip(), c.point());
+    let pose = k.forward(&p.machine, 100.0);
+    let expected = [pose.tip.x - 50.0, pose.tip.y + 40.0, pose.tip.z + 250.0];
+    assert!(dist(tip.tip, expected) < 1e-9, "{tip:?} vs {expected:?}");
+    assert!(dist([p.work[0], p.work[1], p.work[2]], [5.0, 5.0, 50.0]) < 1e-9, "{:?}", p.work);
+    assert!(dist(tip.tip, [5.0, 5.0, 50.0]) > 10.0, "{tip:?}");
+    assert_eq!(c.tip_basis().programmed_in, System::Workpiece);
+}
+
+/// The same block under plain G43 and under G43.4 with the head at B30: the programmed point
+/// is the same, but only TCP puts the tip there. By hand (head-bc, `docs/machine-config.md`):
+/// plain G43 puts the carriage at (10, 0, 10 + 100), the B pivot 150 above it at (10, 0, 260),
+/// the tool along (sin 30°, 0, cos 30°), so the tip is 250 mm down it: (−115, 0, 43.4936).
+#[test]
+fn plain_g43_with_the_head_tilted_shows_the_real_tip_tcp_the_programmed_one() {
+    let tilted = "N1 G90 G54 G00 X0 Y0 Z200. B30. C0\n";
+    let plain = format!("{tilted}N2 G43 H1\nN3 G01 X10. Y0 Z10. F3000\nN4 G04 X0.05\nN5 M30\n");
+    let tcp = format!("{tilted}N2 G43.4 H1\nN3 G01 X10. Y0 Z10. F3000\nN4 G04 X0.05\nN5 M30\n");
+    let at_rest = |src: &str| {
+        let (samples, _) = trace(src, "head-bc", Dialect::Fanuc);
+        *samples.iter().rev().find(|s| s.line == 4).expect("dwell samples")
+    };
+    let (p, t) = (at_rest(&plain), at_rest(&tcp));
+    let (s30, c30) = (0.5, 3f64.sqrt() / 2.0);
+    assert!(dist(p.tip, [10.0 - 250.0 * s30, 0.0, 260.0 - 250.0 * c30]) < 1e-9, "plain G43: {:?}", p.tip);
+    assert!(dist(p.programmed, [10.0, 0.0, 10.0]) < 1e-9, "{:?}", p.programmed);
+    assert!(dist(t.tip, [10.0, 0.0, 10.0]) < 1e-9, "G43.4: {:?}", t.tip);
+    assert!(dist(t.programmed, [10.0, 0.0, 10.0]) < 1e-9, "{:?}", t.programmed);
+    assert!(dist(p.tool, [s30, 0.0, c30]) < 1e-12 && dist(t.tool, [s30, 0.0, c30]) < 1e-12);
+}

@@ -549,9 +549,16 @@ fn tv_wse_21_on_a_table_machine_the_line_is_straight_seen_from_the_workpiece() {
     let mut seen = 0;
     let r = run(&mut interp, &RunOptions { period_s: 0.01, ..RunOptions::default() }, |s| {
         if s.line == 5 {
-            let [x, y, z] = s.tip;
-            // On the line from (0, 0, 0) to (−50, 150, 0): 3x + y = 0, z = 0, x in [−50, 0].
-            assert!((3.0 * x + y).abs() < 1e-6 && z.abs() < 1e-6 && (-50.0 - 1e-6..=1e-6).contains(&x), "{:?}", s.tip);
+            // The programmed point is in the WSCS; the tip (in the WCS, from the axes) carried
+            // back into it by the 5° error about Z is on the same line.
+            assert_eq!(s.programmed_in, fivex_engine::tip::System::Wscs);
+            let (sn, cs) = 5f64.to_radians().sin_cos();
+            let back = [cs * s.tip[0] + sn * s.tip[1], -sn * s.tip[0] + cs * s.tip[1], s.tip[2]];
+            for [x, y, z] in [s.programmed, back] {
+                // On the line from (0, 0, 0) to (−50, 150, 0): 3x + y = 0, z = 0, x in [−50, 0].
+                let on = (3.0 * x + y).abs() < 1e-6 && z.abs() < 1e-6 && (-50.0 - 1e-6..=1e-6).contains(&x);
+                assert!(on, "{:?} / tip {:?}", [x, y, z], s.tip);
+            }
             seen += 1;
         }
     });
@@ -980,14 +987,18 @@ fn wse_25_manual_intervention_with_rcm_on_a_table_machine_raises_ps0439() {
 
 // --- WSE-18 / DAK (No.3106#6): the absolute position in the WCS or the WSCS -----------------
 
-/// The last sampled tip of every line, and the run's final workpiece position.
-fn shown_tips(mut interp: Interpreter) -> (std::collections::BTreeMap<u32, [f64; 3]>, Pos) {
-    let mut tips = std::collections::BTreeMap::new();
+type ByLine = std::collections::BTreeMap<u32, [f64; 3]>;
+
+/// The last sampled programmed point (what the display shows) and tip (from the axes, in the
+/// WCS) of every line, and the run's final workpiece position.
+fn shown_tips(mut interp: Interpreter) -> (ByLine, ByLine, Pos) {
+    let (mut shown, mut tips) = (ByLine::new(), ByLine::new());
     let r = run(&mut interp, &RunOptions { period_s: 0.005, ..RunOptions::default() }, |s| {
+        shown.insert(s.line, s.programmed);
         tips.insert(s.line, s.tip);
     });
     assert!(r.completed(), "{:?}", r.alarms);
-    (tips, r.workpiece)
+    (shown, tips, r.workpiece)
 }
 
 #[test]
@@ -1012,10 +1023,12 @@ fn wse_18_dak_shows_the_absolute_position_in_the_wcs() {
     // Plain moves (RCM = 0) and tip paths (RCM = 1) alike.
     for rcm_on in [false, true] {
         for (dak, want) in [(false, wscs), (true, wcs)] {
-            let (tips, end) = shown_tips(interp(dak, rcm_on));
-            // The last sample of a line is within a period (0.04 mm at F500) of its end.
-            for (line, p) in want {
-                assert!(close3(tips[&line], p, 0.1), "DAK {dak} RCM {rcm_on} line {line}: {:?}", tips[&line]);
+            let (shown, tips, end) = shown_tips(interp(dak, rcm_on));
+            // The last sample of a line is within a period (0.04 mm at F500) of its end; the
+            // tip, read from the axes, is in the WCS whatever the display shows.
+            for ((line, p), (_, real)) in want.into_iter().zip(wcs) {
+                assert!(close3(shown[&line], p, 0.1), "DAK {dak} RCM {rcm_on} line {line}: {:?}", shown[&line]);
+                assert!(close3(tips[&line], real, 0.1), "DAK {dak} RCM {rcm_on} line {line}: tip {:?}", tips[&line]);
             }
             assert!(close3(xyz(&end), want[2].1, 1e-6), "DAK {dak} RCM {rcm_on}: end {end:?}");
         }
@@ -1087,7 +1100,7 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
         let mut samples = Vec::new();
         let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
             if s.line == 6 {
-                samples.push((s.tip, s.machine));
+                samples.push((s.programmed, s.machine));
             }
         });
         assert!(r.completed(), "{preset}: {:?}", r.alarms);

@@ -381,6 +381,7 @@ async fn tool_and_work_offsets_are_set_used_and_kept() {
         (status["position"]["workpiece"]["X"].clone(), status["position"]["workpiece"]["Z"].clone()),
         (json!(-100.0), json!(50.0))
     );
+    assert_eq!(status["position"]["tip"], json!([-100.0, 0.0, 50.0]), "the tip follows the offset edit too");
     for (name, body) in
         [("G53", json!({"axes": {"X": 1}})), ("G54", json!({"axes": {"B": 1}})), ("G54", json!({"axes": {"X": "a"}}))]
     {
@@ -392,6 +393,10 @@ async fn tool_and_work_offsets_are_set_used_and_kept() {
     app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
     let done = wait_for(&app, &id, "idle").await;
     assert_eq!(done["position"]["machine"]["Z"], 80.0, "H5 = 80 above the G55 zero");
+    // The tip: machine − H5 − the G55 offset (X 7.5); the programmed point in the workpiece system.
+    let pos = &done["position"];
+    assert_eq!((&pos["tip"], &pos["tool"]), (&json!([-7.5, 0.0, 0.0]), &json!([0.0, 0.0, 1.0])), "{pos}");
+    assert_eq!((&pos["programmed"], &pos["programmed_in"]), (&json!([-7.5, 0.0, 0.0]), &json!("workpiece")), "{pos}");
     let works = eventually(&app, &format!("{C}/{id}/work-offsets"), |w| w[2]["axes"]["X"] == 7.5).await;
     assert_eq!(works.as_array().unwrap().len(), 7, "EXT and G54–G59");
     let state = app.restart().await;

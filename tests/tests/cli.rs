@@ -332,7 +332,11 @@ fn trace_writes_one_object_per_period() {
         let period = period_ms / 1000.0;
         let mut last_t = -1.0;
         for (i, smp) in samples.iter().enumerate() {
-            assert_eq!(keys(smp), ["feed", "line", "machine", "n", "t", "tip", "tool"], "sample {i}: {smp}");
+            assert_eq!(
+                keys(smp),
+                ["feed", "line", "machine", "n", "programmed", "programmed_in", "t", "tip", "tool"],
+                "sample {i}: {smp}"
+            );
             let t = num(&smp["t"]);
             assert!(t > last_t, "t increases: {last_t} then {t}");
             assert!(
@@ -376,13 +380,59 @@ fn trace_tip_is_in_the_workpiece_system() {
     assert_eq!(code, 0, "{v}");
     let samples = read_trace(&trace);
     let last = samples.last().expect("samples");
-    // Machine: work offset and tool length added; tip: the programmed point.
+    // Machine: work offset and tool length added; tip: machine − tool length − work offset.
     assert!((num(&last["machine"]["X"]) - 110.0).abs() < 1e-9, "{last}");
     assert!((num(&last["machine"]["Z"]) - 105.0).abs() < 1e-9, "{last}");
     assert!((num(&last["tip"][0]) - 10.0).abs() < 1e-9, "{last}");
     assert!((num(&last["tip"][1]) - 0.0).abs() < 1e-9, "{last}");
     assert!((num(&last["tip"][2]) - 5.0).abs() < 1e-9, "{last}");
     assert_eq!(last["tool"], serde_json::json!([0.0, 0.0, 1.0]));
+    assert_eq!(
+        (&last["programmed"], &last["programmed_in"]),
+        (&serde_json::json!([10.0, 0.0, 5.0]), &"workpiece".into())
+    );
+    let pos = &v["position"];
+    assert_eq!(
+        (&pos["tip"], &pos["tool"]),
+        (&serde_json::json!([10.0, 0.0, 5.0]), &serde_json::json!([0.0, 0.0, 1.0]))
+    );
+    assert_eq!(
+        (&pos["programmed"], &pos["programmed_in"]),
+        (&serde_json::json!([10.0, 0.0, 5.0]), &"workpiece".into())
+    );
+}
+
+/// On a table machine under G43.4 started with the table turned, the trace's `tip` is what
+/// `fivex kin fk` gives for the sampled axes and the 100 mm tool, less the work offset (the
+/// workpiece system fixed on the table), and `programmed` is the point in Π.
+#[test]
+fn trace_tip_is_fivex_kin_fk_of_the_sampled_axes() {
+    let prog = "G10 L2 P1 X20. Y-10. Z-50.\nG90 G54 G00 X0 Y0 Z100. A30. C0\nG43.4 H1\n\
+                G01 X10. Y10. Z10. A45. C30. F3000.\nG49\nM30\n";
+    let (d, p) = scratch(&[("p.nc", prog)]);
+    let trace = d.path().join("t.jsonl");
+    let (code, v) = run_json(&[s(&p[0]), "--preset", "table-ac", "--trace", s(&trace)]);
+    assert_eq!(code, 0, "{v}");
+    let samples = read_trace(&trace);
+    let moving: Vec<&Value> = samples.iter().filter(|x| x["line"] == 4).collect();
+    assert!(moving.len() > 20, "{} samples on the G43.4 move", moving.len());
+    for smp in [moving[0], moving[moving.len() / 2], moving[moving.len() - 1]] {
+        let m = &smp["machine"];
+        let axes =
+            format!("X={},Y={},Z={},A={},C={}", num(&m["X"]), num(&m["Y"]), num(&m["Z"]), num(&m["A"]), num(&m["C"]));
+        let out = fivex(&["kin", "fk", "--preset", "table-ac", "--axes", &axes, "--tool-length", "100"]);
+        let fk: Value = serde_json::from_str(&stdout(&out)).expect("fk JSON");
+        for (k, offset) in [20.0, -10.0, -50.0].into_iter().enumerate() {
+            let expected = num(&fk["tip"][k]) - offset;
+            assert!((num(&smp["tip"][k]) - expected).abs() < 1e-9, "{smp}\nfk {fk}");
+            assert!((num(&smp["tool"][k]) - num(&fk["tool"][k])).abs() < 1e-12, "{smp}\nfk {fk}");
+        }
+        assert_eq!(smp["programmed_in"], "programming");
+    }
+    // Π was fixed on the table at A30: the programmed end (10, 10, 10) is not the tip's.
+    let last = moving[moving.len() - 1];
+    let apart: f64 = (0..3).map(|k| (num(&last["tip"][k]) - num(&last["programmed"][k])).powi(2)).sum::<f64>().sqrt();
+    assert!(apart > 1.0, "{last}");
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Data-driven end-to-end tests: every `tests/fixtures/*.nc` is run through the real `fivex`
 //! binary with `run`, `interp` and `check`, and once more with `--trace`; each output is an
 //! insta snapshot (`tests/tests/snapshots/fixtures__{run,interp,check,trace}@NAME.nc.snap`; the
-//! trace decimated to 40 samples, rounded to 0.1 µm).
+//! trace decimated to 40 samples, rounded to 0.1 µm, with the programmed point and its system).
 //!
 //! A fixture's first line may select options: `(fivex: --preset table-ac --dialect syntec)`.
 //! `run` gets all of them; `interp` all but the trace/timing ones; `check` only `--dialect`.
@@ -268,7 +268,7 @@ fn trace_snapshot(dir: &Path, file: &str, opts: &[String], scratch: &Path) -> St
             |v: &Value| v.as_array().map(|a| a.iter().map(round).collect::<Vec<_>>().join(",")).unwrap_or_default();
         let _ = writeln!(
             out,
-            "t{} L{} N{} | {} | tip {} | tool {} | F{}",
+            "t{} L{} N{} | {} | tip {} | tool {} | F{} | {} {}",
             round(&s["t"]),
             s["line"],
             s["n"],
@@ -276,6 +276,8 @@ fn trace_snapshot(dir: &Path, file: &str, opts: &[String], scratch: &Path) -> St
             vec3(&s["tip"]),
             vec3(&s["tool"]),
             round(&s["feed"]),
+            s["programmed_in"].as_str().unwrap_or("?"),
+            vec3(&s["programmed"]),
         );
     }
     out

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::fivex_bin;
+use common::{fivex, fivex_bin, stdout};
 use serde_json::{json, Value};
 use tungstenite::stream::MaybeTlsStream;
 use tungstenite::{Message, WebSocket};
@@ -184,6 +184,22 @@ fn a_program_runs_over_the_api_the_stream_shows_it_and_a_restart_keeps_everythin
     assert!(positions.len() > 20, "{} position frames", positions.len());
     let moved = positions.iter().any(|p| p["machine"]["A"].as_f64().unwrap() > 5.0);
     assert!(moved, "the frames show A turning");
+    // `tip` is where the machine puts the tip (zero work offset, no tool length: `fivex kin fk`
+    // of the frame's axes); with A turning outside TCP it leaves the programmed point.
+    let turned = positions.iter().find(|p| p["machine"]["A"].as_f64().unwrap() > 5.0).unwrap();
+    let m = &turned["machine"];
+    let axes = ["X", "Y", "Z", "A", "C"].map(|a| format!("{a}={}", m[a].as_f64().unwrap())).join(",");
+    let fk: Value =
+        serde_json::from_str(&stdout(&fivex(&["kin", "fk", "--preset", "table-ac", "--axes", &axes]))).unwrap();
+    for k in 0..3 {
+        let (tip, want) = (turned["tip"][k].as_f64().unwrap(), fk["tip"][k].as_f64().unwrap());
+        assert!((tip - want).abs() < 1e-9, "{turned}\nfk {fk}");
+    }
+    assert_eq!(turned["programmed_in"], "workpiece");
+    let apart = |p: &Value| {
+        (0..3).map(|k| (p["tip"][k].as_f64().unwrap() - p["programmed"][k].as_f64().unwrap()).abs()).fold(0.0, f64::max)
+    };
+    assert!(positions.iter().any(|p| apart(p) > 1.0), "the tip leaves the programmed point while A turns");
     let times: Vec<f64> = positions.iter().map(|p| p["t"].as_f64().unwrap()).collect();
     assert!(times.windows(2).all(|w| w[1] > w[0]), "frames in time order");
     assert_eq!(variables, json!({"#500": 42.0, "#101": 43.0}), "variables streamed");

@@ -124,7 +124,7 @@ impl Controller {
         let queued = (self.queued_machine, self.queued_work);
         (self.queued_machine, self.queued_work) = (from, from_work);
         let mut seg = self.segment(&m);
-        (seg.line, seg.n, seg.stop_after) = (end.line, end.n, end.stop_after);
+        (seg.line, seg.n, seg.stop_after, seg.tip_basis) = (end.line, end.n, end.stop_after, end.tip_basis);
         (self.queued_machine, self.queued_work) = queued;
         seg
     }

@@ -594,12 +594,18 @@ impl State {
         let nose = self.kinematics.as_ref().map_or([0.0; 3], |k| k.nose.into());
         let origin: [f64; 3] = std::array::from_fn(|k| self.axis_of(b'X' + k as u8).map_or(0.0, |i| off[i]) + nose[k]);
         let (tool_length, programmed_in) = match &self.tcp {
-            Some(t) => {
-                (t.tool_length, if tcp::shows_workpiece(self) { System::Workpiece } else { System::Programming })
-            }
+            Some(t) => (
+                t.tool_length,
+                if tcp::shows_workpiece(self) { System::WorkpieceMachineAxes } else { System::Programming },
+            ),
             None if self.plane_active() => (self.active_tool_length(), System::Feature),
-            None if self.wse.is_some() && !self.wse_shows_wcs() => (self.signed_tool_length(), System::Wscs),
-            None => (self.signed_tool_length(), System::Workpiece),
+            None => {
+                // The length applied at the last H selection (a G10 to the offset in use waits
+                // for the next one, as the machine position does).
+                let applied = self.axis_of(b'Z').map_or(0.0, |z| self.tool_vec[z]);
+                let shown = if self.wse.is_some() && !self.wse_shows_wcs() { System::Wscs } else { System::Workpiece };
+                (applied, shown)
+            }
         };
         crate::tip::Basis { tool_length, origin, programmed_in }
     }
@@ -765,7 +771,7 @@ impl State {
     }
 
     fn emit(&self, out: &mut Vec<Canon>, kind: CanonKind) {
-        out.push(Canon { line: self.line, n: self.n, kind });
+        out.push(Canon { line: self.line, n: self.n, kind, tip_basis: self.tip_basis() });
     }
 
     /// Call a program: M98 (`macro_args` None, same local level) or G65/G66 (a new level).

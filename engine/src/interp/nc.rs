@@ -582,7 +582,6 @@ impl State {
             exact_stop: self.exact_stop || self.modes[15] == 610,
             fixed_feed: self.modes[15] == 630 || matches!(self.modes[9], 740 | 840),
             rotation: self.modes[16],
-            tip_basis: self.tip_basis(),
         }
     }
 

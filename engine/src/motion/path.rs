@@ -103,7 +103,8 @@ pub struct Segment {
     machine_coordinates: bool,
     /// The tool length offset in force (what a display needs to place the tip from the axes).
     pub tool_length: f64,
-    /// How the trace reads the tool tip from the axes on this segment (`crate::tip`).
+    /// How the trace reads the tool tip from the axes on this segment (`crate::tip`); the
+    /// maker of the segment sets it (from the canonical command's).
     pub tip_basis: crate::tip::Basis,
 }
 
@@ -595,7 +596,7 @@ impl Segment {
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
-            tip_basis: m.context.tip_basis,
+            tip_basis: crate::tip::Basis::default(),
             programmed,
             axis_speed,
         };
@@ -723,7 +724,7 @@ impl Segment {
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
-            tip_basis: m.context.tip_basis,
+            tip_basis: crate::tip::Basis::default(),
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg

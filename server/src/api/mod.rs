@@ -191,13 +191,26 @@ impl PanelState {
     }
 }
 
-/// Machine and workpiece coordinates per axis letter, in axis order.
+/// Machine and workpiece coordinates per axis letter, in axis order, and, as in the run
+/// summary, the tool tip and direction where the machine puts them (forward kinematics of the
+/// axes with the tool length in effect, in the active workpiece system) and the programmed
+/// point with the name of its system (`docs/api.md`, Positions).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct Position {
     #[schema(value_type = std::collections::HashMap<String, f64>)]
     pub machine: Map<String, Value>,
     #[schema(value_type = std::collections::HashMap<String, f64>)]
     pub workpiece: Map<String, Value>,
+    #[serde(default)]
+    pub tip: [f64; 3],
+    #[serde(default)]
+    pub tool: [f64; 3],
+    #[serde(default)]
+    pub programmed: [f64; 3],
+    /// `workpiece`, `workpiece_machine_axes`, `programming`, `feature` or `wscs`.
+    #[serde(default)]
+    #[schema(example = "workpiece")]
+    pub programmed_in: String,
 }
 
 /// The kebab-case name of a mechanism kind (`unknown` for none).
@@ -216,6 +229,7 @@ impl ControllerStatus {
     pub fn of(hosted: &Hosted, station: &Station) -> ControllerStatus {
         let c = &station.controller;
         let p = c.point();
+        let tip = c.tip();
         ControllerStatus {
             id: hosted.id.clone(),
             name: hosted.name(),
@@ -232,6 +246,10 @@ impl ControllerStatus {
             position: Position {
                 machine: axes(&station.machine, &p.machine),
                 workpiece: axes(&station.machine, &p.work),
+                tip: tip.tip,
+                tool: tip.tool,
+                programmed: [p.work[0], p.work[1], p.work[2]],
+                programmed_in: c.tip_basis().programmed_in.name().to_string(),
             },
             feed: p.feed,
             time_s: c.time(),

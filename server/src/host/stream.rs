@@ -41,8 +41,9 @@ pub struct Frame {
     /// The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
     /// names.
     pub programmed: [f64; 3],
-    /// `workpiece`, `programming` (tool centre point control), `feature` (tilted working
-    /// plane) or `wscs` (G54.4).
+    /// `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
+    /// `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
+    /// (G54.4).
     #[schema(example = "workpiece")]
     pub programmed_in: &'static str,
     /// 1-based program line of the block moving now (0 before any).

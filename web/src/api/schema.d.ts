@@ -1062,6 +1062,18 @@ export interface components {
              */
             n?: number | null;
             /**
+             * @description The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
+             *     names.
+             */
+            programmed: number[];
+            /**
+             * @description `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
+             *     `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
+             *     (G54.4).
+             * @example workpiece
+             */
+            programmed_in: string;
+            /**
              * Format: double
              * @description Spindle speed, 1/min (negative: M04; 0: stopped).
              */
@@ -1071,11 +1083,15 @@ export interface components {
              * @description Simulated seconds since the controller was created (or the service started).
              */
             t: number;
-            /** @description Tool tip in the active workpiece system. */
+            /**
+             * @description Tool tip in the active workpiece system (G54…, after G52/G92, before any tilted working
+             *     plane; fixed on the table of a table machine), from the machine axes and the tool length
+             *     in effect by forward kinematics: where the machine puts it.
+             */
             tip: number[];
             /**
              * @description Tool tip in the table frame (`docs/machine-config.md`): where the tip is relative to
-             *     the part on its table, from the machine axes, the mechanism and `tool_length` (for a
+             *     the part on its table, from the machine axes, the mechanism and the tool length in effect (for a
              *     machine without table axes, machine coordinates). The 3D view draws the trace with it.
              */
             tip_table: number[];
@@ -1372,11 +1388,24 @@ export interface components {
             /** @description RFC 3339 UTC. */
             raised_at: string;
         };
-        /** @description Machine and workpiece coordinates per axis letter, in axis order. */
+        /**
+         * @description Machine and workpiece coordinates per axis letter, in axis order, and, as in the run
+         *     summary, the tool tip and direction where the machine puts them (forward kinematics of the
+         *     axes with the tool length in effect, in the active workpiece system) and the programmed
+         *     point with the name of its system (`docs/api.md`, Positions).
+         */
         Position: {
             machine: {
                 [key: string]: number;
             };
+            programmed?: number[];
+            /**
+             * @description `workpiece`, `workpiece_machine_axes`, `programming`, `feature` or `wscs`.
+             * @example workpiece
+             */
+            programmed_in?: string;
+            tip?: number[];
+            tool?: number[];
             workpiece: {
                 [key: string]: number;
             };

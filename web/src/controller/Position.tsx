@@ -63,6 +63,8 @@ export function Position({ status, frame }: { status: Status; frame: Frame | nul
       <dl class="readouts">
         <dt>tool tip</dt>
         <dd class="num tip">{frame ? frame.tip.map((v) => fmt(v)).join("  ") : "—"}</dd>
+        <dt>programmed{frame ? ` (${frame.programmed_in})` : ""}</dt>
+        <dd class="num">{frame ? frame.programmed.map((v) => fmt(v)).join("  ") : "—"}</dd>
         <dt>tool vector</dt>
         <dd class="num">{frame ? frame.tool.map((v) => fmt(v, 4)).join("  ") : "—"}</dd>
         <dt>act. F</dt>
