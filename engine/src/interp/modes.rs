@@ -341,7 +341,7 @@ static RULES: &[Rule] = &[
     // Syntec names no nesting rule; a cycle spanning the plane's start would read its levels,
     // taken in the workpiece system, in the FCS (*decision*, docs/five-axis.md). FANUC's row is
     // the §6.1 list below.
-    rule(Syntec, "decision (twp TWP-16): no canned cycle on at G68.2/G68.3", A::TwpIllegalCommand, |c| {
+    rule(Syntec, "twp TWP-16 (decision, Syntec): no canned cycle on at G68.2/G68.3", A::TwpIllegalCommand, |c| {
         c.starts(16, |c, m| c.twp(m)) && c.after[9] != 800
     }),
     rule(Syntec, "syn SYN-21, TV-20: G53.6 in G40 mode", A::AlignmentInCompensation, |c| {
