@@ -40,7 +40,7 @@ pub enum Mode {
     Inc,
 }
 
-/// CONTRACTS.md's `run_state`.
+/// docs/contracts.md's `run_state`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RunState {

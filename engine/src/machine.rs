@@ -484,7 +484,7 @@ impl MachineConfig {
 
     /// A built-in preset (see `docs/machine-config.md` for the machines and their dimensions).
     pub fn preset(name: &str) -> Option<MachineConfig> {
-        // CONTRACTS.md: head-bc has C master about Z and B slave about Y; table-ac A master about
+        // docs/contracts.md: head-bc has C master about Z and B slave about Y; table-ac A master about
         // X and C slave; table-bc B master about Y and C slave; mixed-bc B on the head, C on the
         // table. Head axes turn right-hand, table axes left-hand (ISO 841, both manuals).
         // Machine X/Y/Z locate the spindle nose at zero angles; the table frame's origin (machine

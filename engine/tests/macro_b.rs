@@ -1,5 +1,5 @@
-//! Custom macro B as `shared/spec/macro-b.md` fixes it: one or more tests per rule, explicit
-//! expected values, every alarm the spec names in both dialects.
+//! Custom macro B as the FANUC manual fixes it (`docs/references.md`): one or more tests per
+//! rule, explicit expected values, every alarm the manual names in both dialects.
 //!
 //! Sections follow the spec: blocks and words, variables, vacant rules, expressions, control
 //! flow, calls, system variables. Where the spec is silent and the implementation decides, the

@@ -1,7 +1,7 @@
 //! The trace's `tip` is where the machine puts the tool tip (forward kinematics of the sampled
 //! axes with the tool length in effect, in the active workpiece system), never the programmed
 //! point; `programmed` and `programmed_in` carry the commanded point and the name of its system
-//! (`docs/conventions.md`, Positions; CONTRACTS: trace).
+//! (`docs/conventions.md`, Positions; docs/contracts.md: trace).
 
 mod common;
 

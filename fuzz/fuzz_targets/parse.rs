@@ -1,4 +1,4 @@
-//! The NC parser must accept any bytes without panicking (CONTRACTS: bad input never panics).
+//! The NC parser must accept any bytes without panicking (docs/contracts.md: bad input never panics).
 #![no_main]
 
 use fivex_engine::Dialect;

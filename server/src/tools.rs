@@ -1,4 +1,4 @@
-//! The tool offsets a controller starts with when nobody gave any (CONTRACTS.md: without
+//! The tool offsets a controller starts with when nobody gave any (docs/contracts.md: without
 //! `--tools`, every offset number 1–99 has length 100 mm and radius 5 mm), for the CLI and the
 //! service alike.
 

@@ -1,4 +1,4 @@
-//! The `fivex` command line contract (`CONTRACTS.md`, "CLI"): exit statuses, the `run` summary,
+//! The `fivex` command line contract (`docs/contracts.md`, "CLI"): exit statuses, the `run` summary,
 //! `--tools`, `--trace`, `check` and `interp` output formats. Everything goes through the real
 //! binary, as a user or a script would drive it.
 
@@ -708,7 +708,7 @@ fn a_closed_stdout_is_not_a_panic() {
 
 #[test]
 fn trace_tool_vector_follows_the_rotary_axes() {
-    // CONTRACTS: `tool` is the unit tool vector (tip toward holder) in the active workpiece
+    // docs/contracts.md: `tool` is the unit tool vector (tip toward holder) in the active workpiece
     // system. Whatever the rotation senses, a head B axis at 90 degrees lays the tool flat
     // (no Z component, along X), and a table A axis at 90 degrees stands the part up so the
     // tool, seen from the part, lies along its Y axis.

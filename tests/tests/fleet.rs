@@ -1,4 +1,4 @@
-//! `fivex fleet` (CONTRACTS.md "`fivex fleet` stdout", `docs/fleet.md`): one summary per machine
+//! `fivex fleet` (docs/contracts.md "`fivex fleet` stdout", `docs/fleet.md`): one summary per machine
 //! with `"machine"`, each equal to `fivex run` on that machine alone; programs that run
 //! everywhere, that alarm on some machines (rotary range, over-travel, no solution for a tool
 //! direction), and a malformed one; usage errors.

@@ -1,4 +1,4 @@
-//! `fivex kin fk` / `fivex kin ik` (`CONTRACTS.md`): output shapes, the spec's selection example
+//! `fivex kin fk` / `fivex kin ik` (`docs/contracts.md`): output shapes, the spec's selection example
 //! through the real binary, machine files, and usage errors.
 
 mod common;

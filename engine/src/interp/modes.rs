@@ -9,8 +9,8 @@
 //! hold ([`FiveAxisModes`]: nesting order, definition sequences), which the caller stores.
 //!
 //! The rules are one table, [`RULES`], tried in order; the first that holds gives the alarm. Each
-//! row names the spec row it implements (`crc` = `shared/spec/fanuc-cutter-comp.md`, `tcp` =
-//! `fanuc-tcp.md`, `twp` = `fanuc-twp-wsec-manual-params.md`, `syn` = `syntec.md`) and the
+//! row names the rule it implements (`crc` cutter compensation, `tcp` tool centre point control,
+//! `twp` tilted plane / G54.4 / manual, `syn` Syntec; `docs/references.md`) and the
 //! dialect it belongs to: a rule one vendor states and the other does not is not applied to the
 //! other. Decisions where the extracts leave a choice are in `docs/conventions.md` ("Mode
 //! interlocks"). Order: block formats, then rules naming one combination, then the lists of G

@@ -51,7 +51,7 @@ impl Runs {
 #[derive(Debug, Clone, Serialize, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FleetRequest {
-    /// The NC program text (CONTRACTS.md "NC program files").
+    /// The NC program text (docs/contracts.md "NC program files").
     pub program: String,
     /// Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
     #[serde(default)]

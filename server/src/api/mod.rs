@@ -1,4 +1,4 @@
-//! The REST API under `/api/v1` (CONTRACTS.md): one module per concept — the controllers
+//! The REST API under `/api/v1` (docs/contracts.md): one module per concept — the controllers
 //! themselves, their stored programs, the operator panel, macro variables, history, and the
 //! websocket stream. Handlers lock a hosted controller only for as long as a button press takes
 //! and never across an `.await`.

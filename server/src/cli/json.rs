@@ -1,4 +1,4 @@
-//! JSON forms of the CLI's outputs (`CONTRACTS.md`). Canonical commands and trace samples are
+//! JSON forms of the CLI's outputs (`docs/contracts.md`). Canonical commands and trace samples are
 //! written by hand into a buffered writer: they are the hot path of `fivex interp`/`run --trace`.
 
 use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};

@@ -1,4 +1,4 @@
-//! `fivex kin fk` / `fivex kin ik` (CONTRACTS.md): the machine's kinematics by hand.
+//! `fivex kin fk` / `fivex kin ik` (docs/contracts.md): the machine's kinematics by hand.
 
 use super::{load_machine, Fail, MachineArgs};
 use clap::{Args, Subcommand};

@@ -1,4 +1,4 @@
-//! The `fivex` command line (see `CONTRACTS.md`): `run`, `interp`, `check`, `kin`, `machine`
+//! The `fivex` command line (see `docs/contracts.md`): `run`, `interp`, `check`, `kin`, `machine`
 //! and `serve`.
 //!
 //! Exit status: 0 completed, 1 ended in an alarm (or diagnostics for `check`), 2 usage or IO.

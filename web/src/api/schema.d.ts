@@ -1005,7 +1005,7 @@ export interface components {
             machines?: Record<string, never>[];
             /** @description Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`). */
             presets?: string[];
-            /** @description The NC program text (CONTRACTS.md "NC program files"). */
+            /** @description The NC program text (docs/contracts.md "NC program files"). */
             program: string;
             /** @description Add each machine's run report (`"report"`). */
             report?: boolean;
