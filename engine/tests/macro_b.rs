@@ -9,7 +9,7 @@ mod common;
 use common::*;
 
 use fivex_engine::alarm::Alarm;
-use fivex_engine::canon::{Canon, CanonKind, Motion, MotionKind};
+use fivex_engine::canon::{Canon, CanonKind, Motion, MotionKind, SpindleState};
 use fivex_engine::interp::expr::Variables;
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::run::{run, RunOptions, RunResult};
@@ -1812,4 +1812,69 @@ fn tool_offset_variables_reach_the_motion() {
 fn tool_offset_number_zero_does_not_exist() {
     alarms("#10000=1.\nM30\n", "PS0115", "COR-021");
     alarms("#100=#2000\nM30\n", "PS0115", "COR-021");
+}
+
+// --- Values of variables and expressions in NC addresses --------------------------------------
+// FANUC (custom macro, "ROUND" and "real versus integer values"): a variable's or expression's
+// value used at an address is rounded half away from zero to the address's least input
+// increment — 0.001 mm / deg at a distance address (IS-B), a whole number at M, S, T, H, D, P,
+// L …; G codes excepted. ROUND inside an NC address rounds to that increment too.
+
+/// The X of each motion's end, in block order.
+fn x_ends(src: &str) -> Vec<f64> {
+    motions(src).iter().map(|m| m.target[0]).collect()
+}
+
+#[test]
+fn a_variable_at_a_distance_address_is_rounded_to_the_least_increment() {
+    assert_eq!(x_ends("#1=1.2346\nG91 G01 X#1 F100\nM30\n"), vec![1.235]);
+    assert_eq!(x_ends("#1=-1.2345\nG91 G01 X#1 F100\nM30\n"), vec![-1.235], "half away from zero");
+    assert_eq!(x_ends("G90 G01 X[1.00049] F100\nM30\n"), vec![1.0]);
+    // Rotary axes: 0.001 deg; arc centre words too.
+    let m = motions_cfg("#1=10.00051\nG90 G00 B#1\nM30\n", "head-bc", |_| {});
+    assert_eq!(m[0].target[3], 10.001);
+    // Inch (G20): 0.0001 inch, then converted.
+    let m = motions("#1=1.00006\nG20 G91 G01 X#1 F10.\nM30\n");
+    assert!((m[0].target[0] - 1.0001 * 25.4).abs() < 1e-12, "{}", m[0].target[0]);
+}
+
+#[test]
+fn the_manuals_drilling_example_returns_home_only_with_round() {
+    // FANUC operator's manual, custom macro, ROUND: after G91 X-#1 (1.2345 → 1.235) and
+    // X-#2 (2.3456 → 2.346) the return X[#1+#2] (3.5801 → 3.580) ends 0.001 short of the start;
+    // X[ROUND[#1]+ROUND[#2]] (1.235 + 2.346 = 3.581) ends exactly there.
+    let moves = "#1=1.2345\n#2=2.3456\nG00 G91 X-#1\nG01 X-#2 F300\n";
+    let short = x_ends(&format!("{moves}G00 X[#1+#2]\nM30\n"));
+    assert_eq!(short[0], -1.235);
+    assert!((short[1] + 3.581).abs() < 1e-12, "{short:?}");
+    assert!((short[2] + 0.001).abs() < 1e-12, "0.001 short: {short:?}");
+    let home = x_ends(&format!("{moves}G00 X[ROUND[#1]+ROUND[#2]]\nM30\n"));
+    assert!(home[2].abs() < 1e-12, "home: {home:?}");
+}
+
+#[test]
+fn round_in_an_address_rounds_to_its_increment_in_a_statement_to_a_whole_number() {
+    assert_eq!(x_ends("G90 G01 X[ROUND[1.2346]] F100\nM30\n"), vec![1.235]);
+    assert_eq!(val("#1=ROUND[1.2346]\n#100=#1\nM30\n", 100), 1.0);
+    // In a macro call's arguments the value is passed exactly.
+    let src = "G65 P9010 A1.2346 B[ROUND[1.2346]]\nM30\nO9010\n#100=#1\n#101=#2\nM99\n";
+    assert_eq!((val(src, 100), val(src, 101)), (1.2346, 1.0));
+}
+
+#[test]
+fn a_variable_at_a_whole_number_address_is_rounded_not_refused() {
+    let kinds = |src: &str| canon(src).into_iter().map(|c| c.kind).collect::<Vec<_>>();
+    let has = |src: &str, want: CanonKind| kinds(src).contains(&want);
+    assert!(has("#1=3.4999999\nM#1 S1000\nM30\n", CanonKind::Spindle { state: SpindleState::Cw, speed: 1000.0 }));
+    assert!(has("M[3.5] S1000\nM30\n", CanonKind::Spindle { state: SpindleState::Ccw, speed: 1000.0 }));
+    assert!(has("#1=1000.4999\nM03 S#1\nM30\n", CanonKind::Spindle { state: SpindleState::Cw, speed: 1000.0 }));
+    assert!(has("M03 S[1000.5]\nM30\n", CanonKind::Spindle { state: SpindleState::Cw, speed: 1001.0 }));
+    assert!(has("T[5.5]\nM30\n", CanonKind::ToolSelect { tool: 6 }));
+    // H[2.6] selects H3: #4111 (the H in use) reads 3.
+    assert_eq!(val("G43 H[2.6] Z10.\n#100=#4111\nG49\nM30\n", 100), 3.0);
+    // M98 P[9.6] calls O0010.
+    assert_eq!(val("M98 P[9.6]\nM30\nO0010\n#100=10\nM99\n", 100), 10.0);
+    // A number written with a decimal point stays refused at a whole-number address.
+    alarms("M3.5 S1000\n", "PS0009", "COR-002");
+    alarms("T5.5\n", "PS0009", "COR-002");
 }

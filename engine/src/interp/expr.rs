@@ -18,6 +18,20 @@ pub struct ExprSettings {
     pub nat: bool,
     /// Least input increment for ADP, mm (or inch in G20): 0.001 for IS-B metric.
     pub increment: f64,
+    /// Steps per unit that `ROUND` rounds to: 1 (a whole number) in macro statements; in an NC
+    /// address, the address's least input increment (1000 for 0.001 mm), as FANUC's ROUND in
+    /// NC statement addresses does. 0 reads as 1.
+    pub round_steps: f64,
+}
+
+/// `x` rounded half away from zero to a multiple of `1 / steps` (steps 1000: 0.001). A value
+/// that lies within 1e-9 step of a half is a half: a decimal like 1.2345, stored as
+/// 1.23449999…, rounds as written (to 1.235), not as stored.
+pub fn round_to(x: f64, steps: f64) -> f64 {
+    let steps = if steps > 0.0 { steps } else { 1.0 };
+    let y = (x * steps).abs();
+    let k = if (y.fract() - 0.5).abs() < 1e-9 { y.trunc() + 1.0 } else { y.round() };
+    (k / steps).copysign(x)
 }
 
 /// Read access to variables, so evaluation does not depend on where they live.
@@ -158,7 +172,7 @@ fn func(f: Func, x: f64, s: &ExprSettings) -> Result<f64, AlarmId> {
         Func::Abs => x.abs(),
         Func::Bin => bcd_to_binary(x)?,
         Func::Bcd => binary_to_bcd(x)?,
-        Func::Round => x.round(),
+        Func::Round => round_to(x, s.round_steps),
         Func::Fix => x.trunc(),
         Func::Fup => {
             let t = x.trunc();
@@ -238,6 +252,13 @@ fn binary_to_bcd(x: f64) -> Result<f64, AlarmId> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn round_to_rounds_decimals_as_written_half_away_from_zero() {
+        assert_eq!((round_to(1.2345, 1000.0), round_to(-1.2345, 1000.0)), (1.235, -1.235));
+        assert_eq!((round_to(1.2344999, 1000.0), round_to(2.5, 1.0), round_to(-2.5, 1.0)), (1.234, 3.0, -3.0));
+        assert_eq!((round_to(1000.4999, 1.0), round_to(0.00005, 10000.0), round_to(7.0, 0.0)), (1000.0, 0.0001, 7.0));
+    }
 
     #[test]
     fn bcd_round_trip() {

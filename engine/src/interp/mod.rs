@@ -465,7 +465,7 @@ impl Interpreter {
 
 impl State {
     fn new(cfg: Config) -> State {
-        let expr = ExprSettings { nat: cfg.nat, increment: 0.001 };
+        let expr = ExprSettings { nat: cfg.nat, increment: 0.001, round_steps: 1.0 };
         let mut axis_by_letter = [NO_AXIS; 26];
         for (i, axis) in cfg.machine.axes.iter().enumerate() {
             if axis.name.is_ascii_uppercase() {

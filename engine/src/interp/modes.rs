@@ -599,7 +599,7 @@ impl Ctx<'_> {
     }
 
     fn word(&self, letter: u8) -> Option<f64> {
-        self.w.integer(letter)
+        self.w.number(letter)
     }
 
     fn count_letters(&self, letters: &[u8]) -> usize {

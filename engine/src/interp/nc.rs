@@ -1,7 +1,7 @@
 //! Execution of an NC statement (a block of address words): modal updates, data setting,
 //! coordinate systems, motion, M codes and subprogram/macro calls, in FANUC's order.
 
-use super::expr::{eval, Value};
+use super::expr::{eval, round_to, ExprSettings, Value};
 use super::gcode::{self, GDef};
 use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
@@ -19,10 +19,23 @@ use std::collections::HashMap;
 /// Most words one block may hold (G65 with ten I/J/K sets needs 35).
 const MAX_WORDS: usize = 48;
 
-/// A block's words after evaluation: vacant words are gone, values are raw numbers.
+/// How a word's value was written: it decides its unit and its rounding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Form {
+    /// A number without a decimal point (least increments at a distance address).
+    NoPoint,
+    /// A number with a decimal point.
+    Point,
+    /// A variable or expression: FANUC rounds its value to the address's least input
+    /// increment where the address is used (a whole number at M, S, T, H, D, P, L …; G codes
+    /// excepted), while a macro call's argument keeps the exact value.
+    Expr,
+}
+
+/// A block's words after evaluation: vacant words are gone, values are as written.
 pub(super) struct Words {
-    /// (letter, value, written without a decimal point), in block order.
-    list: ArrayVec<(u8, f64, bool), MAX_WORDS>,
+    /// (letter, value, how it was written), in block order.
+    list: ArrayVec<(u8, f64, Form), MAX_WORDS>,
     /// Index into `list` of the last word per letter, +1 (0 = absent).
     last: [u8; 26],
     g: [u16; 12],
@@ -34,11 +47,16 @@ pub(super) struct Words {
 }
 
 impl Words {
+    /// The last word of `letter`: its value as written and whether it had no decimal point.
     pub(super) fn raw(&self, letter: u8) -> Option<(f64, bool)> {
+        self.word(letter).map(|(v, form)| (v, form == Form::NoPoint))
+    }
+
+    fn word(&self, letter: u8) -> Option<(f64, Form)> {
         let i = self.last[(letter - b'A') as usize];
         (i != 0).then(|| {
-            let (_, v, no_point) = self.list[i as usize - 1];
-            (v, no_point)
+            let (_, v, form) = self.list[i as usize - 1];
+            (v, form)
         })
     }
 
@@ -65,8 +83,16 @@ impl Words {
         self.g_bits & (1 << (code % 64)) != 0 && self.g[..self.ng].contains(&code)
     }
 
+    /// An address that takes whole numbers (M S T H D P L K Q …): a variable's or an
+    /// expression's value is rounded half away from zero (`T[5.5]` is T6, `S#1` with 1000.4999
+    /// S1000), a written number stays as written (so `T5.5` is still refused).
     pub(super) fn integer(&self, letter: u8) -> Option<f64> {
-        self.raw(letter).map(|(v, _)| v)
+        self.word(letter).map(|(v, form)| if form == Form::Expr { round_to(v, 1.0) } else { v })
+    }
+
+    /// The value exactly as written or evaluated (F, E, and questions about the block's form).
+    pub(super) fn number(&self, letter: u8) -> Option<f64> {
+        self.word(letter).map(|(v, _)| v)
     }
 }
 
@@ -88,12 +114,17 @@ impl State {
     /// the large `Words` through a `Result` would copy it once per block.
     pub(super) fn collect_into(&self, words: &[Word], w: &mut Words) -> Result<(), AlarmId> {
         for word in words {
-            let (v, no_point) = match &word.value {
-                WordValue::Number { value, decimal_point } => (*value, !decimal_point),
-                WordValue::Expr(e) => match eval(e, self, &self.expr)? {
-                    Some(v) => (v, false),
-                    None => continue,
-                },
+            let (v, form) = match &word.value {
+                WordValue::Number { value, decimal_point: false } => (*value, Form::NoPoint),
+                WordValue::Number { value, decimal_point: true } => (*value, Form::Point),
+                WordValue::Expr(e) => {
+                    // ROUND in an NC address rounds to the address's least input increment.
+                    let settings = ExprSettings { round_steps: self.steps_of(word.letter), ..self.expr };
+                    match eval(e, self, &settings)? {
+                        Some(v) => (v, Form::Expr),
+                        None => continue,
+                    }
+                }
             };
             match word.letter {
                 b'G' => {
@@ -107,6 +138,7 @@ impl State {
                     w.g_bits |= 1 << (code % 64);
                 }
                 b'M' => {
+                    let v = if form == Form::Expr { round_to(v, 1.0) } else { v };
                     if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
                         return Err(AlarmId::ImproperAddress);
                     }
@@ -118,7 +150,7 @@ impl State {
                 }
                 _ => {}
             }
-            w.list.try_push((word.letter, v, no_point)).map_err(|_| AlarmId::ImproperAddress)?;
+            w.list.try_push((word.letter, v, form)).map_err(|_| AlarmId::ImproperAddress)?;
             w.last[(word.letter - b'A') as usize] = w.list.len() as u8;
         }
         Ok(())
@@ -142,10 +174,26 @@ impl State {
             && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') || self.axis_of(letter).is_some())
     }
 
-    /// A distance/angle word in mm or degrees.
+    /// Least input increments per unit of an address: 1000 (0.001 mm or deg) at the axes and
+    /// I J K R Q, 10000 for linear ones in G20 (0.0001 inch), 1 at the other addresses.
+    fn steps_of(&self, letter: u8) -> f64 {
+        match self.axis_of(letter) {
+            Some(i) if self.cfg.machine.axes[i].kind != AxisKind::Linear => 1000.0,
+            Some(_) => 1.0 / self.increment(),
+            None if matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') => 1.0 / self.increment(),
+            None => 1.0,
+        }
+    }
+
+    /// A distance/angle word in mm or degrees. A variable's or expression's value is first
+    /// rounded to the address's least input increment (`#1=1.2346`, `X#1` is X1.235).
     pub(super) fn value(&self, w: &Words, letter: u8) -> Option<f64> {
-        let (v, no_point) = w.raw(letter)?;
-        let v = if no_point && self.counts_increments(letter) { v * self.increment() } else { v };
+        let (v, form) = w.word(letter)?;
+        let v = match form {
+            Form::NoPoint if self.counts_increments(letter) => v * self.increment(),
+            Form::Expr => round_to(v, self.steps_of(letter)),
+            _ => v,
+        };
         let linear = match self.axis_of(letter) {
             Some(i) => self.cfg.machine.axes[i].kind == AxisKind::Linear,
             None => matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q'),
@@ -157,8 +205,9 @@ impl State {
     fn macro_args(&self, w: &Words) -> Result<Box<[Value; LOCALS]>, AlarmId> {
         let mut args = State::empty_locals();
         let (mut set, mut last_ijk) = (0usize, 0u8);
-        for &(letter, v, no_point) in &w.list {
-            let v = if no_point && self.counts_increments(letter) { v * self.increment() } else { v };
+        for &(letter, v, form) in &w.list {
+            // (An argument keeps a variable's exact value: no rounding to the increment.)
+            let v = if form == Form::NoPoint && self.counts_increments(letter) { v * self.increment() } else { v };
             let var = match letter {
                 b'G' | b'L' | b'N' | b'O' | b'P' => continue,
                 b'A' => 1,
@@ -392,7 +441,7 @@ impl State {
 
         // --- F S T, and the M codes that act before motion ----------------------------------
         self.set_feed(&w)?;
-        if let Some(e) = w.integer(b'E') {
+        if let Some(e) = w.number(b'E') {
             self.e = e;
         }
         if let Some(s) = w.integer(b'S') {
@@ -526,7 +575,7 @@ impl State {
 
     /// F: mm/min (inch/min is converted), or 1/min under G93.
     pub(super) fn set_feed(&mut self, w: &Words) -> Result<(), AlarmId> {
-        if let Some(f) = w.integer(b'F') {
+        if let Some(f) = w.number(b'F') {
             if f < 0.0 {
                 return Err(AlarmId::ImproperAddress);
             }
