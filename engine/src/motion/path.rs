@@ -484,20 +484,20 @@ fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Li
         }
     }
     // The jerk each axis has left beside the cruise's own v³·q3.
-    let jerk_left: Pos = std::array::from_fn(|i| axes.j[i] - v.powi(3) * d.twist[i]);
+    let jerk_left = |i: usize| axes.j[i] - v.powi(3) * d.twist[i];
     let mut a = f64::INFINITY;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
             a = a.min((axes.a[i] - v * v * d.bend[i]) / d.rate[i]);
         }
         if d.bend[i] > tiny && v > 0.0 {
-            a = a.min(0.5 * jerk_left[i] / (3.0 * v * d.bend[i]));
+            a = a.min(0.5 * jerk_left(i) / (3.0 * v * d.bend[i]));
         }
     }
     let mut j = f64::INFINITY;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
-            j = j.min((jerk_left[i] - 3.0 * v * a * d.bend[i]) / d.rate[i]);
+            j = j.min((jerk_left(i) - 3.0 * v * a * d.bend[i]) / d.rate[i]);
         }
     }
     Limits { v, a: a.max(0.0), j: j.max(0.0) }
