@@ -1101,7 +1101,7 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
         let mut start = ([0.0; 3], [0.0; fivex_engine::machine::MAX_AXES]);
         let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
             if s.line == 5 {
-                start = (s.tip, s.machine);
+                start = (s.programmed, s.machine);
             }
             if s.line == 6 {
                 samples.push((s.programmed, s.machine));
