@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{check_limits, interpreter};
+use common::{check_limits, interpreter, interpreter_with};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
 use fivex_engine::Dialect;
@@ -173,6 +173,34 @@ fn a_move_beyond_the_stroke_alarms_before_it_starts() {
     let mut interp = interpreter("G90 G01 Z-600. F1000.\nM30\n", "mill3", Dialect::Syntec);
     let syntec = run(&mut interp, &RunOptions::default(), |_| {});
     assert_eq!(syntec.alarms[0].code, "MOT-002");
+}
+
+/// A tool-tip-following move whose axis peaks between the stroke check's 16 points along the
+/// block: on head-bc (a 100 mm tool, the B pivot 150 mm above the nose) the tip stays put while B
+/// swings from -30° to 45°, so the pivot's Z (250 cos B - 150) peaks at B0, 40 % along, between
+/// the 6th and 7th point, 0.05 mm above the highest of them. With the Z limit just under the
+/// peak the block must alarm before it moves, not run past the limit.
+#[test]
+fn a_kinematic_move_whose_axis_bulges_past_the_stroke_between_check_points_alarms() {
+    let src = "G90 G00 B-30. C0\nG43.4 H1\nG00 X0 Y0 Z0\nN40 G01 B45. F2000.\nG49\nM30\n";
+    let peak_of = |m: &MachineConfig| {
+        let mut interp = interpreter_with(src, "head-bc", Dialect::Fanuc, |c| c.machine = m.clone());
+        let mut peak = f64::MIN;
+        let r = run(&mut interp, &RunOptions::default(), |s| {
+            if s.line == 4 {
+                peak = peak.max(s.machine[2]);
+            }
+        });
+        (r, peak)
+    };
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let (free, peak) = peak_of(&m);
+    assert!(free.completed() && (peak - 100.0).abs() < 0.01, "{:?} {peak}", free.alarms);
+    m.axes[2].stroke = Some([-500.0, peak - 0.01]);
+    let (r, peak_tight) = peak_of(&m);
+    let first = r.alarms.first().map(|a| (a.code.as_str(), a.line));
+    assert_eq!(first, Some(("OT0510", 4)));
+    assert_eq!(peak_tight, f64::MIN, "the block does not start");
 }
 
 /// Distance of `p` from the segment `a`–`b` (in X, Y, Z).

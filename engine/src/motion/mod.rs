@@ -40,14 +40,41 @@ pub fn planner_for(m: &MachineConfig) -> Planner {
 /// of an arc, points along a kinematic path; a straight move in axis space stays inside a box
 /// when its ends do).
 pub fn stroke_check(seg: &Segment, m: &MachineConfig) -> Result<(), AlarmId> {
-    check_points(std::iter::once(seg.to).chain(seg.arc_extremes()).chain(seg.follow_points()), m)
+    stroke_check_shifted(seg, m, &[0.0; MAX_AXES])
 }
 
 /// [`stroke_check`] of the segment moved by `shift` (a manual handle interruption's, added to
 /// every planned point on the way to the axes).
 pub fn stroke_check_shifted(seg: &Segment, m: &MachineConfig, shift: &Pos) -> Result<(), AlarmId> {
-    let points = std::iter::once(seg.to).chain(seg.arc_extremes()).chain(seg.follow_points());
-    check_points(points.map(|p| std::array::from_fn(|i| p[i] + shift[i])), m)
+    let shifted = |p: Pos| -> Pos { std::array::from_fn(|i| p[i] + shift[i]) };
+    let points = std::iter::once(seg.to).chain(seg.arc_extremes()).chain(follow_peaks(seg, m, shift));
+    check_points(points.map(shifted), m)
+}
+
+/// The points of a kinematic path to check: 17 along it, and where an axis comes within reach
+/// of a limit, its peak between them found by search (random machines went 0.0014° past a
+/// limit between two of the 17). "Within reach": less than the largest second difference of
+/// its samples away — an axis cannot bulge by more than an eighth of it between two of them.
+fn follow_peaks(seg: &Segment, m: &MachineConfig, shift: &Pos) -> Vec<Pos> {
+    let samples = seg.follow_samples();
+    let mut points: Vec<Pos> = samples.iter().map(|&(_, p)| p).collect();
+    let n = samples.len();
+    for (i, axis) in m.axes.iter().enumerate() {
+        let Some([lo, hi]) = axis.stroke else { continue };
+        if n < 3 {
+            break;
+        }
+        let v = |k: usize| samples[k].1[i] + shift[i];
+        let reach = (1..n - 1).map(|k| (v(k + 1) - 2.0 * v(k) + v(k - 1)).abs()).fold(0.0, f64::max);
+        for (sign, limit) in [(1.0, hi), (-1.0, lo)] {
+            let k = (0..n).max_by(|&a, &b| (sign * v(a)).total_cmp(&(sign * v(b)))).unwrap_or(0);
+            if sign * (limit - v(k)) < reach {
+                let (from, to) = (samples[k.saturating_sub(1)].0, samples[(k + 1).min(n - 1)].0);
+                points.push(seg.peak(i, sign, from, to));
+            }
+        }
+    }
+    points
 }
 
 fn check_points(points: impl Iterator<Item = Pos>, m: &MachineConfig) -> Result<(), AlarmId> {

@@ -1016,12 +1016,38 @@ impl Segment {
         tail
     }
 
-    /// Points inside a path the axes follow through the kinematics (for the stroke check: its
-    /// axes may bulge out between the ends), 16 to a segment.
-    pub fn follow_points(&self) -> impl Iterator<Item = Pos> + '_ {
+    /// Points along a path the axes follow through the kinematics, the ends included, with
+    /// their path distances (for the stroke check: the axes may bulge out between the ends);
+    /// 17 to a segment, none for other segments.
+    pub fn follow_samples(&self) -> Vec<(f64, Pos)> {
         const N: usize = 16;
-        let n = if self.follow.is_some() { N } else { 0 };
-        (1..n).map(move |k| self.at(self.len * k as f64 / N as f64).0)
+        if self.follow.is_none() || self.len <= 0.0 {
+            return Vec::new();
+        }
+        (0..=N).map(|k| self.len * k as f64 / N as f64).map(|s| (s, self.at(s).0)).collect()
+    }
+
+    /// The point in `[lo, hi]` where axis `i` is largest (`sign` 1) or smallest (-1), for a
+    /// single peak there.
+    pub fn peak(&self, i: usize, sign: f64, mut lo: f64, mut hi: f64) -> Pos {
+        const INV_PHI: f64 = 0.618_033_988_749_894_9;
+        let f = |s: f64| sign * self.at(s).0[i];
+        let (mut a, mut b) = (hi - INV_PHI * (hi - lo), lo + INV_PHI * (hi - lo));
+        let (mut fa, mut fb) = (f(a), f(b));
+        for _ in 0..30 {
+            if fa < fb {
+                lo = a;
+                (a, fa) = (b, fb);
+                b = lo + INV_PHI * (hi - lo);
+                fb = f(b);
+            } else {
+                hi = b;
+                (b, fb) = (a, fa);
+                a = hi - INV_PHI * (hi - lo);
+                fa = f(a);
+            }
+        }
+        self.at(0.5 * (lo + hi)).0
     }
 
     /// The axis-space extremes an arc reaches between its end points (for the stroke check):
