@@ -1878,3 +1878,27 @@ fn a_variable_at_a_whole_number_address_is_rounded_not_refused() {
     alarms("M3.5 S1000\n", "PS0009", "COR-002");
     alarms("T5.5\n", "PS0009", "COR-002");
 }
+
+#[test]
+fn macro_call_arguments_take_a_decimal_point_at_every_address() {
+    // Real shop programs pass tolerances through M (#13) and other "integer" addresses:
+    // G65 P9010 M0.070 — an argument, not an M code.
+    let src =
+        "G65 P9010 M0.070 T1.5 S2.25 H-1.5 D0.5\nM30\nO9010\n#100=#13\n#101=#20\n#102=#19\n#103=#11\n#104=#7\nM99\n";
+    let got: Vec<f64> = (100..=104).map(|n| val(src, n)).collect();
+    assert_eq!(got, vec![0.07, 1.5, 2.25, -1.5, 0.5]);
+    // The same in the blocks a G66.1 modal call takes its arguments from.
+    let every = "G66.1 P9011\nM0.5\nG67\nM30\nO9011\n#100=#13\nM99\n";
+    assert_eq!(val(every, 100), 0.5);
+    // Outside a call an M with a fraction is still no M code.
+    alarms("M0.070\n", "PS0009", "COR-002");
+}
+
+#[test]
+fn a_colon_is_the_program_number_address() {
+    // ISO code: `:1234` is O1234 (FANUC program number address in ISO tapes).
+    let src = ":1234\nG65 P5678 A1.\nM30\n:5678\n#100=#1+1\nM99\n";
+    assert_eq!(val(src, 100), 2.0);
+    let file = fivex_engine::lang::parse_file(src);
+    assert!(fivex_engine::check::check(file, Dialect::Fanuc).is_empty());
+}

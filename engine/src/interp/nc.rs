@@ -44,6 +44,9 @@ pub(super) struct Words {
     g_bits: u64,
     m: [u32; 4],
     nm: usize,
+    /// An M word that is no M code (`M3.5`, a negative value): refused where the block's M
+    /// codes run, but a macro call's argument (`G65 P9010 M0.070`, #13).
+    improper_m: bool,
 }
 
 impl Words {
@@ -98,7 +101,16 @@ impl Words {
 
 impl Words {
     pub(super) fn new() -> Words {
-        Words { list: ArrayVec::new(), last: [0; 26], g: [0; 12], ng: 0, g_bits: 0, m: [0; 4], nm: 0 }
+        Words {
+            list: ArrayVec::new(),
+            last: [0; 26],
+            g: [0; 12],
+            ng: 0,
+            g_bits: 0,
+            m: [0; 4],
+            nm: 0,
+            improper_m: false,
+        }
     }
 }
 
@@ -140,13 +152,14 @@ impl State {
                 b'M' => {
                     let v = if form == Form::Expr { round_to(v, 1.0) } else { v };
                     if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
-                        return Err(AlarmId::ImproperAddress);
+                        w.improper_m = true;
+                    } else {
+                        if w.nm == w.m.len() - 1 {
+                            return Err(AlarmId::ImproperAddress);
+                        }
+                        w.m[w.nm] = v as u32;
+                        w.nm += 1;
                     }
-                    if w.nm == w.m.len() - 1 {
-                        return Err(AlarmId::ImproperAddress);
-                    }
-                    w.m[w.nm] = v as u32;
-                    w.nm += 1;
                 }
                 _ => {}
             }
@@ -321,6 +334,10 @@ impl State {
                 let args = self.macro_args(&w)?;
                 return self.push_frame(progs, prog, count, Some(args));
             }
+        }
+
+        if w.improper_m {
+            return Err(AlarmId::ImproperAddress);
         }
 
         // --- addresses this machine does not have ------------------------------------------

@@ -115,11 +115,12 @@ fn trim_start(s: &str) -> &str {
     }
 }
 
-/// `O1234` at the start of a segment: the number and the byte offset after it.
+/// `O1234` (or `:1234`, the ISO code form FANUC reads as O) at the start of a segment: the
+/// number and the byte offset after it.
 fn program_number(segment: &str) -> Option<(u32, usize)> {
     let lead = segment.len() - trim_start(segment).len();
     let bytes = segment.as_bytes();
-    if !matches!(bytes.get(lead), Some(b'O') | Some(b'o')) {
+    if !matches!(bytes.get(lead), Some(b'O') | Some(b'o') | Some(b':')) {
         return None;
     }
     let digits = bytes[lead + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
