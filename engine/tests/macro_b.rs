@@ -1902,3 +1902,34 @@ fn a_colon_is_the_program_number_address() {
     let file = fivex_engine::lang::parse_file(src);
     assert!(fivex_engine::check::check(file, Dialect::Fanuc).is_empty());
 }
+
+#[test]
+fn extended_common_variables_are_common_variables() {
+    // The optional extended common variables #100000–#199999 and #500000–#999999.
+    let r = run_src("#100001=3\n#500002=4\n#199999=1\n#999999=2\n#100=#100001+#500002\nM30\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(r.variables, vec![(100, 7.0), (100001, 3.0), (199999, 1.0), (500002, 4.0), (999999, 2.0)]);
+    // Between and beyond them there is nothing.
+    alarms("#200000=1\n", "PS0115", "COR-021");
+    alarms("#1000000=1\n", "PS0115", "COR-021");
+}
+
+#[test]
+fn retained_variables_come_back_after_a_restart() {
+    // #500–#999, #500000–#999999, the hour timer #3002 and the part counts #3901/#3902 are
+    // kept through power off; #100–#199 and #100000–#199999 are not.
+    let mut before = interpreter("#500=1\n#500000=2\n#100000=3\n#3002=1.25\n#3902=40\nM30\n", "mill3", Dialect::Fanuc);
+    let r = run(&mut before, &RunOptions::default(), |_| {});
+    assert!(r.completed());
+    let kept = before.state.retained_variables();
+    assert_eq!(kept, vec![(500, 1.0), (500000, 2.0), (3002, 1.25), (3901, 1.0), (3902, 40.0)]);
+    let mut after = interpreter("#100=#3002\n#101=#100000\n#102=#500000\nM30\n", "mill3", Dialect::Fanuc);
+    let values: Vec<(u32, Option<f64>)> = kept.iter().map(|&(n, v)| (n, Some(v))).collect();
+    after.state.load_retained(&values).unwrap();
+    let r = run(&mut after, &RunOptions::default(), |_| {});
+    assert_eq!(
+        r.variables.iter().filter(|(n, _)| *n < 200).copied().collect::<Vec<_>>(),
+        vec![(100, 1.25), (102, 2.0)]
+    );
+    assert!(after.state.load_retained(&[(100, Some(1.0))]).is_err(), "#100 is not retained");
+}

@@ -266,17 +266,18 @@ pub async fn delete_program(pool: &SqlitePool, controller: &str, number: u32) ->
 
 // --- retained variables ---------------------------------------------------------------------
 
-/// A controller's retained variables #500–#999 (vacant where no row or NULL).
-pub async fn retained_variables(pool: &SqlitePool, controller: &str) -> Result<[Option<f64>; 500], sqlx::Error> {
-    let rows = sqlx::query("SELECT number, value FROM variables WHERE controller_id = ?")
+/// A controller's retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902): every
+/// row with a value (a NULL row is vacant).
+pub async fn retained_variables(pool: &SqlitePool, controller: &str) -> Result<Vec<(u32, f64)>, sqlx::Error> {
+    let rows = sqlx::query("SELECT number, value FROM variables WHERE controller_id = ? AND value IS NOT NULL")
         .bind(controller)
         .fetch_all(pool)
         .await?;
-    let mut values = [None; 500];
+    let mut values = Vec::with_capacity(rows.len());
     for r in rows {
         let number: i64 = r.try_get("number")?;
-        if (500..1000).contains(&number) {
-            values[number as usize - 500] = r.try_get("value")?;
+        if let Ok(number) = u32::try_from(number) {
+            values.push((number, r.try_get("value")?));
         }
     }
     Ok(values)

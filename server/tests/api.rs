@@ -180,7 +180,9 @@ async fn programs_are_checked_and_stored_only_if_clean_or_forced() {
 async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "fast", "preset": "head-bc", "speed": 50})).await;
-    let program = "#500=7.5\n#101=2\nM98 P2\nG01 X10. F6000\nM30\n";
+    // #500000… (extended, retained), #100000… (extended, not retained), the part count #3901
+    // and the hour timer #3002 (retained through power off).
+    let program = "#500=7.5\n#101=2\n#500001=4.25\n#100001=9\n#3901=17\nM98 P2\nG01 X10. F6000\n#3002=1.5\nM30\n";
     assert_eq!(store(&app, &id, 1, program).await.status, StatusCode::CREATED);
     assert_eq!(store(&app, &id, 2, "#501=#500*2\nM99\n").await.status, StatusCode::CREATED);
     let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
@@ -194,6 +196,7 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
         async move { app.get(&format!("{C}/{id}/variables/{n}")).await.json()["value"].clone() }
     };
     assert_eq!((var(500).await, var(501).await, var(101).await), (json!(7.5), json!(15.0), json!(2.0)));
+    assert_eq!((var(500001).await, var(100001).await), (json!(4.25), json!(9.0)));
     // The finished run is in the history.
     let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
     assert_eq!((runs[0]["program"].clone(), runs[0]["result"].clone()), (json!(1), json!("completed")), "{runs}");
@@ -209,9 +212,19 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
         (c["name"].as_str(), c["run_state"].as_str(), c["speed"].as_f64()),
         (Some("fast"), Some("idle"), Some(50.0))
     );
-    for (n, v) in [(500, json!(7.5)), (501, json!(15.0)), (502, json!(-3.25)), (101, Value::Null)] {
+    for (n, v) in [
+        (500, json!(7.5)),
+        (501, json!(15.0)),
+        (502, json!(-3.25)),
+        (101, Value::Null),
+        (500001, json!(4.25)),
+        (100001, Value::Null),
+        (3901, json!(18.0)), // M30 counted one part
+    ] {
         assert_eq!(again.get(&format!("{C}/{id}/variables/{n}")).await.json()["value"], v, "#{n} after the restart");
     }
+    let hours = again.get(&format!("{C}/{id}/variables/3002")).await.json()["value"].as_f64().unwrap();
+    assert!((hours - 1.5).abs() < 1e-3, "#3002 after the restart: {hours}");
     assert_eq!(again.get(&format!("{C}/{id}/programs/1")).await.text(), program);
     assert_eq!(again.get(&format!("{C}/{id}/runs")).await.json().as_array().unwrap().len(), 1);
 }

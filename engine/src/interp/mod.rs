@@ -45,7 +45,7 @@ pub struct ModalWords {
     pub d: u32,
 }
 pub(crate) use program::Loaded;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// Number of local variables per level (`#1`–`#33`).
 pub const LOCALS: usize = 33;
@@ -189,6 +189,10 @@ pub struct State {
     locals: Vec<[Value; LOCALS]>,
     common: Box<[Value; COMMON]>,
     persistent: Box<[Value; PERSISTENT]>,
+    /// The optional extended common variables, non-vacant ones only: #100000–#199999 (like
+    /// #100–#199) and #500000–#999999 (retained like #500–#999). Few programs use more than a
+    /// handful of the 600,000, so they are kept sparse.
+    extended: BTreeMap<u32, f64>,
     /// Modal G codes per group, ×10.
     modes: [u16; GROUPS],
     /// P of G54.1.
@@ -481,6 +485,7 @@ impl State {
             locals: vec![[None; LOCALS]],
             common: Box::new([None; COMMON]),
             persistent: Box::new([None; PERSISTENT]),
+            extended: BTreeMap::new(),
             modes: gcode::initial_modes(),
             wcs_p: 0,
             f: 0.0,
@@ -554,19 +559,64 @@ impl State {
         *self.persistent = *values;
     }
 
-    /// Every non-vacant common variable (#100–#199, #500–#999) as (number, value).
+    /// Every non-vacant variable a power cycle keeps, as (number, value): #500–#999, the
+    /// extended #500000–#999999, and the retained system values — the hour timer #3002 and
+    /// the part counts #3901/#3902 (FANUC keeps them through power off). A host saves these
+    /// and hands them back with [`State::load_retained`] after a restart.
+    pub fn retained_variables(&self) -> Vec<(u32, f64)> {
+        let p = self.persistent.iter().enumerate().filter_map(|(i, v)| v.map(|x| (500 + i as u32, x)));
+        let e = self.extended.range(500_000..=999_999).map(|(&n, &v)| (n, v));
+        let system = [(3002, self.hour_timer()), (3901, self.parts_done), (3902, self.parts_required)];
+        p.chain(e).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).collect()
+    }
+
+    /// Whether a power cycle keeps variable `n` ([`State::retained_variables`]).
+    pub fn is_retained(n: u32) -> bool {
+        matches!(n, 500..=999 | 500_000..=999_999 | 3002 | 3901 | 3902)
+    }
+
+    /// Restore retained variables saved before a restart (numbers that are not retained are
+    /// refused: `VariableOutOfRange`).
+    pub fn load_retained(&mut self, values: &[(u32, Value)]) -> Result<(), AlarmId> {
+        for &(n, value) in values {
+            match n {
+                500..=999 => self.persistent[n as usize - 500] = value,
+                500_000..=999_999 => self.set_extended(n, value),
+                3002 => self.timer_h_base = self.clock_s / 3600.0 - value.unwrap_or(0.0),
+                3901 => self.parts_done = value.unwrap_or(0.0),
+                3902 => self.parts_required = value.unwrap_or(0.0),
+                _ => return Err(AlarmId::VariableOutOfRange),
+            }
+        }
+        Ok(())
+    }
+
+    fn set_extended(&mut self, n: u32, value: Value) {
+        match value {
+            Some(v) => self.extended.insert(n, v),
+            None => self.extended.remove(&n),
+        };
+    }
+
+    /// Every non-vacant common variable (#100–#199, #500–#999, and the extended
+    /// #100000–#199999, #500000–#999999) as (number, value), in number order.
     pub fn common_variables(&self) -> Vec<(u32, f64)> {
         let c = self.common.iter().enumerate().filter_map(|(i, v)| v.map(|x| (100 + i as u32, x)));
         let p = self.persistent.iter().enumerate().filter_map(|(i, v)| v.map(|x| (500 + i as u32, x)));
-        c.chain(p).collect()
+        let e = self.extended.iter().map(|(&n, &v)| (n, v));
+        let mut all: Vec<(u32, f64)> = c.chain(p).chain(e).collect();
+        all.sort_by_key(|&(n, _)| n);
+        all
     }
 
-    /// Set common variable `n` (#100–#199 or #500–#999) from outside a program (a host, an
-    /// operator); other numbers are not the host's to write: `WriteProtectedVariable`.
+    /// Set common variable `n` (#100–#199, #500–#999 or an extended one) from outside a
+    /// program (a host, an operator); other numbers are not the host's to write:
+    /// `WriteProtectedVariable`.
     pub fn set_common_variable(&mut self, n: u32, value: Value) -> Result<(), AlarmId> {
         match n {
             100..=199 => self.common[n as usize - 100] = value,
             500..=999 => self.persistent[n as usize - 500] = value,
+            100_000..=199_999 | 500_000..=999_999 => self.set_extended(n, value),
             _ => return Err(AlarmId::WriteProtectedVariable),
         }
         Ok(())

@@ -13,6 +13,8 @@ enum Slot {
     Local(usize),
     Common(usize),
     Persistent(usize),
+    /// #100000–#199999, #500000–#999999 (`State::extended`).
+    Extended(u32),
     Tool {
         number: u32,
         field: ToolField,
@@ -60,6 +62,7 @@ fn slot(n: u32, axes: usize) -> Slot {
         1..=33 => Slot::Local(n as usize - 1),
         100..=199 => Slot::Common(n as usize - 100),
         500..=999 => Slot::Persistent(n as usize - 500),
+        100_000..=199_999 | 500_000..=999_999 => Slot::Extended(n),
         2001..=2200 => Slot::Tool { number: n - 2000, field: ToolField::HWear },
         2201..=2400 => Slot::Tool { number: n - 2200, field: ToolField::HGeometry },
         10001..=10999 => Slot::Tool { number: n - 10000, field: ToolField::HWear },
@@ -86,6 +89,7 @@ impl Variables for State {
             Slot::Local(i) => self.locals[self.level()][i],
             Slot::Common(i) => self.common[i],
             Slot::Persistent(i) => self.persistent[i],
+            Slot::Extended(n) => self.extended.get(&n).copied(),
             Slot::Tool { number, field } => {
                 Some(field.get(self.offsets.tool(number).ok_or(AlarmId::VariableOutOfRange)?))
             }
@@ -96,6 +100,11 @@ impl Variables for State {
 }
 
 impl State {
+    /// #3002, the hour timer (retained through power off).
+    pub(super) fn hour_timer(&self) -> f64 {
+        self.clock_s / 3600.0 - self.timer_h_base
+    }
+
     fn read_system(&self, n: u32) -> Result<f64, AlarmId> {
         let axes = self.cfg.machine.axes.len() as u32;
         let axis = |base: u32| -> Result<usize, AlarmId> {
@@ -109,7 +118,7 @@ impl State {
         Ok(match n {
             3000 => 0.0,
             3001 => self.clock_s * 1000.0 - self.timer_ms_base,
-            3002 => self.clock_s / 3600.0 - self.timer_h_base,
+            3002 => self.hour_timer(),
             3003 => self.sys3003,
             3004 => self.sys3004,
             3011 => self.cfg.date,
@@ -175,6 +184,7 @@ impl State {
             }
             Slot::Common(i) => self.common[i] = value,
             Slot::Persistent(i) => self.persistent[i] = value,
+            Slot::Extended(n) => self.set_extended(n, value),
             Slot::Tool { number, field } => {
                 let t = self.offsets.tool_mut(number).ok_or(AlarmId::VariableOutOfRange)?;
                 // Like G10, a new value takes effect at the next H selection.

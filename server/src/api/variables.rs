@@ -72,8 +72,8 @@ pub async fn read(
     Ok(Json(Variable { number, value }))
 }
 
-/// Set a common (#100–#199) or retained (#500–#999) variable; retained ones are in the database
-/// when this answers.
+/// Set a common (#100–#199, #100000–#199999) or retained (#500–#999, #500000–#999999)
+/// variable; retained ones are in the database when this answers.
 #[utoipa::path(
     put,
     path = "/api/v1/controllers/{id}/variables/{number}",
@@ -94,13 +94,16 @@ pub async fn write(
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;
     let value = body(request)?.value;
-    if !matches!(number, 100..=199 | 500..=999) {
-        return Err(ApiError::Unprocessable(format!("#{number} is not writable here (#100–#199, #500–#999)"), None));
+    if !matches!(number, 100..=199 | 500..=999 | 100_000..=199_999 | 500_000..=999_999) {
+        return Err(ApiError::Unprocessable(
+            format!("#{number} is not writable here (#100–#199, #500–#999, #100000–#199999, #500000–#999999)"),
+            None,
+        ));
     }
     if value.is_some_and(|v| !v.is_finite()) {
         return Err(ApiError::Unprocessable("the value must be a finite number or null".into(), None));
     }
-    if number >= 500 {
+    if fivex_engine::interp::State::is_retained(number) {
         db::save_variables(&state.db, &hosted.id, &[(number, value)]).await?;
     }
     {

@@ -90,7 +90,7 @@ struct RunArgs {
     /// Stop with alarm FX0002 after this many simulated seconds.
     #[arg(long, default_value_t = 1.0e6)]
     max_time_s: f64,
-    /// Retained variables #500–#999: read from this JSON file if it exists ({"#500": 1.5, …})
+    /// Retained variables (#500–#999, #500000–#999999, #3002, #3901, #3902): read from this JSON file if it exists ({"#500": 1.5, …})
     /// and written back after the run, like a control's battery-backed memory.
     #[arg(long)]
     variables: Option<PathBuf>,
@@ -242,7 +242,10 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     if let Some(path) = &a.variables {
         if path.exists() {
             let values = load_retained(path)?;
-            interp.state.load_persistent(&values);
+            interp
+                .state
+                .load_retained(&values)
+                .map_err(|_| Fail(format!("{}: not retained variables", path.display())))?;
         }
     }
     let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
@@ -270,13 +273,8 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
         return Err(Fail(format!("trace: {e}")));
     }
     if let Some(path) = &a.variables {
-        let retained: BTreeMap<String, f64> = interp
-            .state
-            .persistent()
-            .iter()
-            .enumerate()
-            .filter_map(|(i, v)| v.map(|x| (format!("#{}", 500 + i), x)))
-            .collect();
+        let retained: BTreeMap<String, f64> =
+            interp.state.retained_variables().into_iter().map(|(n, x)| (format!("#{n}"), x)).collect();
         std::fs::write(path, serde_json::to_string_pretty(&retained)?)
             .map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     }
@@ -290,17 +288,20 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
 }
 
 /// `{"#500": 1.5, …}` → the retained variable array (keys outside #500–#999 are refused).
-fn load_retained(path: &Path) -> Result<[Option<f64>; fivex_engine::interp::PERSISTENT], Fail> {
+fn load_retained(path: &Path) -> Result<Vec<(u32, Option<f64>)>, Fail> {
     let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     let map: BTreeMap<String, Option<f64>> =
         serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-    let mut values = [None; fivex_engine::interp::PERSISTENT];
+    let mut values = Vec::with_capacity(map.len());
     for (key, value) in map {
-        let n: usize = key.strip_prefix('#').and_then(|k| k.parse().ok()).unwrap_or(0);
-        if !(500..=999).contains(&n) {
-            return Err(Fail(format!("{}: '{key}' is not a retained variable (#500–#999)", path.display())));
+        let n: u32 = key.strip_prefix('#').and_then(|k| k.parse().ok()).unwrap_or(0);
+        if !fivex_engine::interp::State::is_retained(n) {
+            return Err(Fail(format!(
+                "{}: '{key}' is not a retained variable (#500–#999, #500000–#999999, #3002, #3901, #3902)",
+                path.display()
+            )));
         }
-        values[n - 500] = value;
+        values.push((n, value));
     }
     Ok(values)
 }

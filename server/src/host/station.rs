@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use fivex_engine::controller::{Controller, Event, RunState};
-use fivex_engine::interp::Offsets;
+use fivex_engine::interp::{Offsets, State};
 use fivex_engine::interp::{MAX_G54_1, MAX_TOOL_OFFSETS};
 use fivex_engine::kin::Kinematics;
 use fivex_engine::machine::MachineConfig;
@@ -15,9 +15,6 @@ use crate::db::ToolRow;
 
 use super::stream::{AlarmInfo, Message};
 use super::{now_rfc3339, Record};
-
-/// Retained variables #500–#999.
-const RETAINED: usize = 500;
 
 /// How often, in real seconds, a running controller's variables are compared with what was
 /// streamed, and its retained variables with what was saved.
@@ -38,8 +35,9 @@ pub struct Station {
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
     run: Option<RunStart>,
-    /// #500–#999 as last saved.
-    saved: Box<[Option<f64>; RETAINED]>,
+    /// The retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902) as last saved,
+    /// non-vacant ones only.
+    saved: BTreeMap<u32, f64>,
     /// Offsets as last saved.
     saved_offsets: Offsets,
     /// The tilted working plane kept over a restart, as last saved.
@@ -59,7 +57,7 @@ struct RunStart {
 
 impl Station {
     pub fn new(controller: Controller, machine: MachineConfig) -> Station {
-        let saved = Box::new(*controller.interpreter().state.persistent());
+        let saved = controller.interpreter().state.retained_variables().into_iter().collect();
         let streamed = controller.interpreter().state.common_variables().into_iter().collect();
         let saved_offsets = controller.interpreter().state.offsets.clone();
         Station {
@@ -85,13 +83,15 @@ impl Station {
         let old = &self.controller;
         let (offsets, retained, panel, plane) = (
             old.interpreter().state.offsets.clone(),
-            *old.interpreter().state.persistent(),
+            old.interpreter().state.retained_variables(),
             old.panel,
             old.interpreter().state.kept_plane(),
         );
         let mut controller = Controller::new(fivex_engine::interp::Config::new(machine.clone(), dialect));
         controller.interpreter_mut().state.offsets = offsets;
-        controller.interpreter_mut().state.load_persistent(&retained);
+        let retained: Vec<(u32, Option<f64>)> = retained.into_iter().map(|(n, v)| (n, Some(v))).collect();
+        // (The numbers come from the same engine's retained list: none is refused.)
+        let _ = controller.interpreter_mut().state.load_retained(&retained);
         controller.panel = panel;
         // A restart on the new machine keeps the plane as a power cycle would (Pr3014 = 2).
         if let Some(plane) = &plane {
@@ -105,10 +105,14 @@ impl Station {
         self.run = None;
     }
 
-    /// Retained values read from the database: they count as saved.
-    pub fn load_retained(&mut self, values: &[Option<f64>; RETAINED]) {
-        self.controller.interpreter_mut().state.load_persistent(values);
-        *self.saved = *values;
+    /// Retained values read from the database: they count as saved. Numbers the engine does
+    /// not retain (rows of an older version) are left out.
+    pub fn load_retained(&mut self, values: &[(u32, f64)]) {
+        let state = &mut self.controller.interpreter_mut().state;
+        let values: Vec<(u32, Option<f64>)> =
+            values.iter().filter(|(n, _)| State::is_retained(*n)).map(|&(n, v)| (n, Some(v))).collect();
+        let _ = state.load_retained(&values);
+        self.saved = state.retained_variables().into_iter().collect();
         self.streamed = self.controller.interpreter().state.common_variables().into_iter().collect();
     }
 
@@ -146,8 +150,11 @@ impl Station {
 
     /// A variable was set from outside (the API wrote it to the database already).
     pub fn variable_saved(&mut self, number: u32, value: Option<f64>) {
-        if (500..1000).contains(&number) {
-            self.saved[number as usize - 500] = value;
+        if State::is_retained(number) {
+            match value {
+                Some(v) => self.saved.insert(number, v),
+                None => self.saved.remove(&number),
+            };
         }
     }
 
@@ -273,17 +280,18 @@ impl Station {
         records
     }
 
-    /// Retained variables that differ from what was saved last, as a record for the database.
+    /// Retained variables that differ from what was saved last, as a record for the database
+    /// (a variable that became vacant is saved as NULL).
     fn save_changes(&mut self, controller: &str) -> Option<Record> {
-        let now = *self.controller.interpreter().state.persistent();
-        let values: Vec<(u32, Option<f64>)> = (0..RETAINED)
-            .filter(|&i| now[i].map(f64::to_bits) != self.saved[i].map(f64::to_bits))
-            .map(|i| (500 + i as u32, now[i]))
-            .collect();
+        let now: BTreeMap<u32, f64> = self.controller.interpreter().state.retained_variables().into_iter().collect();
+        let changed = now.iter().filter(|(n, v)| self.saved.get(n).map(|s| s.to_bits()) != Some(v.to_bits()));
+        let vacated = self.saved.keys().filter(|n| !now.contains_key(n));
+        let values: Vec<(u32, Option<f64>)> =
+            changed.map(|(&n, &v)| (n, Some(v))).chain(vacated.map(|&n| (n, None))).collect();
         if values.is_empty() {
             return None;
         }
-        *self.saved = now;
+        self.saved = now;
         Some(Record::Variables { controller: controller.to_string(), values })
     }
 }

@@ -591,8 +591,8 @@ export interface paths {
         /** One variable as a program would read it (system variables included). */
         get: operations["read"];
         /**
-         * Set a common (#100–#199) or retained (#500–#999) variable; retained ones are in the database
-         *     when this answers.
+         * Set a common (#100–#199, #100000–#199999) or retained (#500–#999, #500000–#999999)
+         *     variable; retained ones are in the database when this answers.
          */
         put: operations["write"];
         post?: never;
