@@ -1933,3 +1933,19 @@ fn retained_variables_come_back_after_a_restart() {
     );
     assert!(after.state.load_retained(&[(100, Some(1.0))]).is_err(), "#100 is not retained");
 }
+
+#[test]
+fn a_second_g66_nests_on_the_first_and_g67_cancels_the_latest() {
+    // FANUC multiple modal calls: a move calls the latest macro; a move inside it calls the
+    // one given before; G67 cancels the latest, so the first is in force again.
+    // The log #121… records the macros in the order they are called (1: O9100, 2: O9200).
+    let src =
+        "#110=0\nG66 P9100\nG66 P9200\nG91 G00 X1.\n#111=#4012\nG67\n#112=#4012\nX1.\nG67\n#113=#4012\nX1.\nM30\n\
+               O9100\n#110=#110+1\n#[120+#110]=1\nG91 G00 Z0.5\nM99\n\
+               O9200\n#110=#110+1\n#[120+#110]=2\nG91 G00 Y1.\nM99\n";
+    let r = run_src(src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let v = |n: u32| r.variables.iter().find(|(k, _)| *k == n).map(|p| p.1);
+    assert_eq!((v(110), v(121), v(122), v(123)), (Some(3.0), Some(2.0), Some(1.0), Some(1.0)));
+    assert_eq!((v(111), v(112), v(113)), (Some(66.0), Some(66.0), Some(67.0)), "group 12 follows the calls in force");
+}

@@ -234,7 +234,9 @@ pub struct State {
     cycle: CycleData,
     /// The intermediate point of the last G28, for G29.
     last_g28_mid: Pos,
-    modal_call: Option<ModalCall>,
+    /// The modal macro calls in force (G66/G66.1), in the order given: they nest, and each
+    /// G67 cancels the latest ([`State::modal_call_here`]).
+    modal_calls: Vec<ModalCall>,
     /// What the modal groups do not hold about the 5-axis modes (nesting, definition sequences).
     five: modes::FiveAxisModes,
     /// The machine's mechanism (`None` when the kinematics refuses it: no 5-axis function).
@@ -383,7 +385,7 @@ impl Interpreter {
         st.frames.clear();
         st.locals.truncate(1);
         st.locals[0] = [None; LOCALS];
-        st.modal_call = None;
+        st.modal_calls.clear();
         st.wse_between = None;
         st.ended = true;
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
@@ -511,7 +513,7 @@ impl State {
             tool_vec: [0.0; MAX_AXES],
             cycle: CycleData::default(),
             last_g28_mid: [0.0; MAX_AXES],
-            modal_call: None,
+            modal_calls: Vec::new(),
             five: modes::FiveAxisModes::default(),
             kinematics,
             wse_kinematics,
@@ -676,7 +678,7 @@ impl State {
         let Some(frame) = self.frames.last() else { return true };
         let prog = &progs[frame.prog];
         match prog.reaches_beyond.get(frame.pc) {
-            Some(&beyond) => beyond || self.modal_call.is_some(),
+            Some(&beyond) => beyond || !self.modal_calls.is_empty(),
             None => !prog.finished,
         }
     }

@@ -16,6 +16,9 @@ use crate::machine::{AxisKind, MAX_AXES};
 use arrayvec::ArrayVec;
 use std::collections::HashMap;
 
+/// Modal macro calls that may nest (FANUC: four macro levels).
+const MAX_MODAL_CALLS: usize = 4;
+
 /// Most words one block may hold (G65 with ten I/J/K sets needs 35).
 const MAX_WORDS: usize = 48;
 
@@ -275,6 +278,14 @@ impl State {
         }
     }
 
+    /// The modal call a block of the current level triggers: the latest from the level it was
+    /// given at, the one before it from one level deeper (inside the latest's macro), and so on
+    /// (FANUC, multiple modal calls: the macros are called in turn from the last specified).
+    fn modal_call_here(&self) -> Option<&ModalCall> {
+        let n = self.modal_calls.len();
+        self.modal_calls.iter().enumerate().find(|(i, mc)| mc.level + (n - 1 - i) == self.level()).map(|(_, mc)| mc)
+    }
+
     fn push_frame(
         &mut self,
         progs: &[Loaded],
@@ -318,15 +329,20 @@ impl State {
             let prog = self.find_program(by_number, w.integer(b'P'))?;
             let args = self.macro_args(&w)?;
             let count = Self::count(&w)?;
+            // Modal calls nest: the latest is called from this level, the one before from inside
+            // it, and so on (four calls deep at most, like any macro nesting).
+            if self.modal_calls.len() == MAX_MODAL_CALLS {
+                return Err(AlarmId::NestingTooDeep);
+            }
             self.modes[12] = if every_block { 661 } else { 660 };
-            self.modal_call = Some(ModalCall { every_block, prog, count, args: args.clone(), level: self.level() });
+            self.modal_calls.push(ModalCall { every_block, prog, count, args: args.clone(), level: self.level() });
             if every_block {
                 return self.push_frame(progs, prog, count, Some(args));
             }
             return Ok(());
         }
-        if let (false, Some(mc)) = (w.has_g(670), &self.modal_call) {
-            if mc.every_block && mc.level == self.level() && !w.list.is_empty() {
+        if let (false, Some(mc)) = (w.has_g(670), self.modal_call_here()) {
+            if mc.every_block && !w.list.is_empty() {
                 if w.ng > 0 {
                     return Err(AlarmId::GAsArgument);
                 }
@@ -374,8 +390,9 @@ impl State {
         self.refuse_unbuilt(&w)?;
         self.five = five;
         if w.has_g(670) {
-            self.modes[12] = 670;
-            self.modal_call = None;
+            // G67 cancels the latest modal call; the one before it is in force again.
+            self.modal_calls.pop();
+            self.modes[12] = self.modal_calls.last().map_or(670, |mc| if mc.every_block { 661 } else { 660 });
         }
 
         // --- G codes: units first, then the modal groups in block order ---------------------
@@ -437,7 +454,10 @@ impl State {
                 }
                 _ => {}
             }
-            self.modes[group] = code;
+            // (Group 12 was set above from the modal calls still in force after G67.)
+            if group != 12 {
+                self.modes[group] = code;
+            }
         }
         self.exact_stop = one_shots[..n_one_shots].contains(&90);
         // D is modal whether or not cutter compensation is on (#4107 shows it, a later G41
@@ -580,8 +600,8 @@ impl State {
             }
         }
         if moved && !self.ended {
-            if let Some(mc) = &self.modal_call {
-                if !mc.every_block && mc.level == self.level() {
+            if let Some(mc) = self.modal_call_here() {
+                if !mc.every_block {
                     let (prog, count, args) = (mc.prog, mc.count, mc.args.clone());
                     self.push_frame(progs, prog, count, Some(args))?;
                 }

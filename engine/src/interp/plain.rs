@@ -23,7 +23,7 @@ impl State {
         matches!(motion, 0 | 10)
             && w.mcodes().is_empty()
             && self.modes[9] == 800
-            && self.modal_call.is_none()
+            && self.modal_calls.is_empty()
             && modes::no_rule_applies(self, g)
             && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some())
     }
