@@ -1949,3 +1949,14 @@ fn a_second_g66_nests_on_the_first_and_g67_cancels_the_latest() {
     assert_eq!((v(110), v(121), v(122), v(123)), (Some(3.0), Some(2.0), Some(1.0), Some(1.0)));
     assert_eq!((v(111), v(112), v(113)), (Some(66.0), Some(66.0), Some(67.0)), "group 12 follows the calls in force");
 }
+
+#[test]
+fn bprnt_takes_its_one_digit_format_and_outputs_binary_words() {
+    // FANUC BPRNT: `#var[c]`, c decimal places; each variable goes out as a 32-bit integer
+    // (vacant: 0). fivex's message shows each word's value in braces.
+    let r = run_src("#100=12.3456\n#101=-0.5\nPOPEN\nBPRNT[C**X#100[3]Y#101[3]M#10[0]]\nPCLOS\nM30\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(r.messages, vec!["C  X{12346}Y{-500}M{0}".to_string()]);
+    let file = fivex_engine::lang::parse_file("BPRNT[X#100[3]]\n");
+    assert!(fivex_engine::check::check(file, Dialect::Fanuc).is_empty());
+}

@@ -804,9 +804,10 @@ impl State {
     }
 
     fn output(&mut self, o: &Output, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
-        let items = match o {
+        let (items, binary) = match o {
             Output::Open | Output::Close => return Ok(()),
-            Output::Print(items) | Output::BinaryPrint(items) => items,
+            Output::Print(items) => (items, false),
+            Output::BinaryPrint(items) => (items, true),
         };
         let mut text = String::new();
         for item in items {
@@ -814,7 +815,15 @@ impl State {
                 PrintItem::Text(t) => text.push_str(t),
                 PrintItem::Var { var, int_digits, frac_digits } => {
                     let v = eval(var, self, &self.expr)?.unwrap_or(0.0);
-                    text.push_str(&format_dprnt(v, *int_digits, *frac_digits));
+                    if binary {
+                        // The control sends the 32-bit integer of `frac_digits` decimals; the
+                        // message shows its value in decimal, in braces (binary, not text).
+                        let word = expr::round_to(v * 10f64.powi(*frac_digits as i32), 1.0);
+                        let word = word.clamp(i32::MIN as f64, i32::MAX as f64) as i32;
+                        text.push_str(&format!("{{{word}}}"));
+                    } else {
+                        text.push_str(&format_dprnt(v, *int_digits, *frac_digits));
+                    }
                 }
             }
         }

@@ -315,11 +315,11 @@ impl BlockParser<'_> {
             }
             Tok::Kw(Kw::Dprnt) => {
                 self.lx.next_tok();
-                BlockKind::Output(Output::Print(self.print_items()?))
+                BlockKind::Output(Output::Print(self.print_items(false)?))
             }
             Tok::Kw(Kw::Bprnt) => {
                 self.lx.next_tok();
-                BlockKind::Output(Output::BinaryPrint(self.print_items()?))
+                BlockKind::Output(Output::BinaryPrint(self.print_items(true)?))
             }
             Tok::Letter(_) => BlockKind::Words(self.words()?),
             _ => return self.unexpected(tok, col),
@@ -553,8 +553,10 @@ impl BlockParser<'_> {
     }
 
     /// DPRNT/BPRNT: `[text #var[ab] text …]`. Text is raw: letters, digits and signs print as
-    /// written, `*` prints a space, spaces are not printed.
-    fn print_items(&mut self) -> PResult<Vec<PrintItem>> {
+    /// written, `*` prints a space, spaces are not printed. A DPRNT variable's format is
+    /// `[ab]` (a integer and b decimal digits); a BPRNT variable's is `[c]`, its c decimal
+    /// places (the value goes out as a 32-bit integer of that many decimals).
+    fn print_items(&mut self, binary: bool) -> PResult<Vec<PrintItem>> {
         let start_col = self.lx.col();
         let raw = self.lx.rest();
         if raw.first() != Some(&b'[') {
@@ -590,7 +592,12 @@ impl BlockParser<'_> {
                         .unwrap_or(u32::MAX);
                     i += 1 + digits;
                     let (mut int_digits, mut frac_digits) = (8u8, 0u8);
-                    if raw.get(i) == Some(&b'[')
+                    if binary {
+                        if raw.get(i) == Some(&b'[') && raw.get(i + 2) == Some(&b']') && raw[i + 1].is_ascii_digit() {
+                            frac_digits = raw[i + 1] - b'0';
+                            i += 3;
+                        }
+                    } else if raw.get(i) == Some(&b'[')
                         && raw.get(i + 3) == Some(&b']')
                         && raw[i + 1].is_ascii_digit()
                         && raw[i + 2].is_ascii_digit()
