@@ -1960,3 +1960,21 @@ fn bprnt_takes_its_one_digit_format_and_outputs_binary_words() {
     let file = fivex_engine::lang::parse_file("BPRNT[X#100[3]]\n");
     assert!(fivex_engine::check::check(file, Dialect::Fanuc).is_empty());
 }
+
+#[test]
+fn interface_signals_read_inputs_and_write_outputs() {
+    // #1100–#1131 are the output bits UO000–UO031, #1132–#1135 the output groups; the inputs
+    // #1000–#1035 are read-only to programs and set by the host (the PLC side).
+    let src = "#1100=1\n#1103=1\n#100=#1132\n#1133=65536\n#101=#1133\n#102=#1000\n#103=#1032\nM30\n";
+    let mut interp = interpreter(src, "mill3", Dialect::Fanuc);
+    interp.state.signals.set_input(1000, 1.0).unwrap();
+    interp.state.signals.set_input(1033, 7.0).unwrap();
+    let r = run(&mut interp, &RunOptions::default(), |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    let v = |n: u32| r.variables.iter().find(|(k, _)| *k == n).map(|p| p.1);
+    assert_eq!((v(100), v(101), v(102), v(103)), (Some(9.0), Some(65536.0), Some(1.0), Some(1.0)));
+    assert_eq!(interp.state.signals.inputs[1], 7);
+    alarms("#1000=1\n", "PS0116", "COR-022");
+    alarms("#1100=2\n", "PS0115", "COR-021");
+    alarms("#1132=-1\n", "PS0115", "COR-021");
+}

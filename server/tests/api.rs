@@ -783,3 +783,24 @@ async fn inc_mode_moves_one_increment_and_a_handle_interrupt_shows_its_shift() {
     assert_eq!(s["position"]["workpiece"]["Y"], json!(0.0));
     app.post(&format!("{c}/reset"), &json!({})).await;
 }
+
+#[tokio::test]
+async fn the_host_sets_interface_input_signals_a_program_reads() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "plc", "preset": "mill3"})).await;
+    let put = |n: u32, v: Value| {
+        let app = &app;
+        let id = id.clone();
+        async move { app.put(&format!("{C}/{id}/variables/{n}"), &json!({ "value": v })).await.status }
+    };
+    assert_eq!(put(1002, json!(1.0)).await, StatusCode::OK);
+    assert_eq!(app.get(&format!("{C}/{id}/variables/1032")).await.json()["value"], json!(4.0));
+    // A bit takes 0 or 1; the outputs are the programs' to write.
+    assert_eq!(put(1002, json!(2.0)).await, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(put(1100, json!(1.0)).await, StatusCode::UNPROCESSABLE_ENTITY);
+    store(&app, &id, 1, "#500=#1002\n#1101=1\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&app, &id, "idle").await;
+    assert_eq!(app.get(&format!("{C}/{id}/variables/500")).await.json()["value"], json!(1.0));
+    assert_eq!(app.get(&format!("{C}/{id}/variables/1132")).await.json()["value"], json!(2.0));
+}

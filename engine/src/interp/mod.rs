@@ -30,6 +30,7 @@ use expr::{eval, truth, ExprSettings, Value};
 use gcode::GROUPS;
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
 pub use plane::KeptPlane;
+pub use vars::InterfaceSignals;
 
 /// F, S, T, the tool in the spindle, H and D as they stand.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -258,6 +259,8 @@ pub struct State {
     timer_ms_base: f64,
     timer_h_base: f64,
     sys3003: f64,
+    /// The custom macro interface signals (#1000–#1035 in, #1100–#1135 out).
+    pub signals: InterfaceSignals,
     sys3004: f64,
     parts_done: f64,
     parts_required: f64,
@@ -525,6 +528,7 @@ impl State {
             timer_ms_base: 0.0,
             timer_h_base: 0.0,
             sys3003: 0.0,
+            signals: InterfaceSignals::default(),
             sys3004: 0.0,
             parts_done: 0.0,
             parts_required: 0.0,

@@ -99,6 +99,54 @@ impl Variables for State {
     }
 }
 
+/// The interface signals between the macro executor and the machine's PLC (FANUC custom
+/// macro "interface signals", 30i numbering): four 32-bit groups each way. Inputs UI000–UI031,
+/// UI100…, UI200…, UI300… are #1000–#1031 (bits of group 0) and #1032–#1035 (the groups as
+/// whole numbers); outputs UO000… likewise #1100–#1131 and #1132–#1135. A virtual machine has
+/// no PLC: the inputs are what its host sets (0 at power on), the outputs what programs write.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct InterfaceSignals {
+    pub inputs: [u32; 4],
+    pub outputs: [u32; 4],
+}
+
+impl InterfaceSignals {
+    /// Variable `n` of the signal ranges, if it is one.
+    pub fn read(&self, n: u32) -> Option<f64> {
+        let (groups, base) = match n {
+            1000..=1035 => (&self.inputs, 1000),
+            1100..=1135 => (&self.outputs, 1100),
+            _ => return None,
+        };
+        let k = n - base;
+        Some(if k < 32 { f64::from((groups[0] >> k) & 1) } else { f64::from(groups[(k - 32) as usize]) })
+    }
+
+    /// Set variable `n` of the signal ranges: a bit takes 0 or 1, a group a whole number
+    /// 0 … 2³²−1. `inputs` chooses which side may be written.
+    fn set(&mut self, n: u32, value: f64, inputs: bool) -> Result<(), AlarmId> {
+        let (groups, base) = if inputs { (&mut self.inputs, 1000) } else { (&mut self.outputs, 1100) };
+        let k = n.checked_sub(base).filter(|&k| k <= 35).ok_or(AlarmId::WriteProtectedVariable)?;
+        if k < 32 {
+            if value != 0.0 && value != 1.0 {
+                return Err(AlarmId::VariableOutOfRange);
+            }
+            groups[0] = groups[0] & !(1 << k) | (value as u32) << k;
+        } else {
+            if !(0.0..=u32::MAX as f64).contains(&value) || value.fract() != 0.0 {
+                return Err(AlarmId::VariableOutOfRange);
+            }
+            groups[(k - 32) as usize] = value as u32;
+        }
+        Ok(())
+    }
+
+    /// The host (the machine's PLC side) sets input `n` (#1000–#1035).
+    pub fn set_input(&mut self, n: u32, value: f64) -> Result<(), AlarmId> {
+        self.set(n, value, true)
+    }
+}
+
 impl State {
     /// #3002, the hour timer (retained through power off).
     pub(super) fn hour_timer(&self) -> f64 {
@@ -115,6 +163,9 @@ impl State {
                 Err(AlarmId::VariableOutOfRange)
             }
         };
+        if let Some(v) = self.signals.read(n) {
+            return Ok(v);
+        }
         Ok(match n {
             3000 => 0.0,
             3001 => self.clock_s * 1000.0 - self.timer_ms_base,
@@ -208,6 +259,8 @@ impl State {
                         self.emit(out, CanonKind::Stop { optional: false, message });
                     }
                     3901 => self.parts_done = v,
+                    1100..=1135 => self.signals.set(n, v, false)?,
+                    1000..=1035 => return Err(AlarmId::WriteProtectedVariable),
                     // G54.4 error data (WSE-08); COMMON has no Δa/Δb/Δc (#26003–#26005).
                     26000..=26099 => *self.setting_errors.variable_mut(n).ok_or(AlarmId::VariableOutOfRange)? = v,
                     3902 => self.parts_required = v,

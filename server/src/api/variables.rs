@@ -73,7 +73,8 @@ pub async fn read(
 }
 
 /// Set a common (#100–#199, #100000–#199999) or retained (#500–#999, #500000–#999999)
-/// variable; retained ones are in the database when this answers.
+/// variable, or an interface input signal (#1000–#1031 bits, #1032–#1035 groups: what the
+/// machine's PLC would set); retained ones are in the database when this answers.
 #[utoipa::path(
     put,
     path = "/api/v1/controllers/{id}/variables/{number}",
@@ -94,9 +95,13 @@ pub async fn write(
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;
     let value = body(request)?.value;
-    if !matches!(number, 100..=199 | 500..=999 | 100_000..=199_999 | 500_000..=999_999) {
+    let signal = (1000..=1035).contains(&number);
+    if !signal && !matches!(number, 100..=199 | 500..=999 | 100_000..=199_999 | 500_000..=999_999) {
         return Err(ApiError::Unprocessable(
-            format!("#{number} is not writable here (#100–#199, #500–#999, #100000–#199999, #500000–#999999)"),
+            format!(
+                "#{number} is not writable here (#100–#199, #500–#999, #100000–#199999, #500000–#999999, \
+                 input signals #1000–#1035)"
+            ),
             None,
         ));
     }
@@ -108,12 +113,13 @@ pub async fn write(
     }
     {
         let mut station = hosted.station();
-        station
-            .controller
-            .interpreter_mut()
-            .state
-            .set_common_variable(number, value)
-            .map_err(|_| ApiError::Unprocessable(format!("#{number} is not writable"), None))?;
+        let state = &mut station.controller.interpreter_mut().state;
+        let set = if signal {
+            state.signals.set_input(number, value.unwrap_or(0.0))
+        } else {
+            state.set_common_variable(number, value)
+        };
+        set.map_err(|_| ApiError::Unprocessable(format!("#{number}: not a value it can take"), None))?;
         station.variable_saved(number, value);
     }
     hosted.publish(vec![Message::variables(&[(number, value)])]);

@@ -592,7 +592,8 @@ export interface paths {
         get: operations["read"];
         /**
          * Set a common (#100–#199, #100000–#199999) or retained (#500–#999, #500000–#999999)
-         *     variable; retained ones are in the database when this answers.
+         *     variable, or an interface input signal (#1000–#1031 bits, #1032–#1035 groups: what the
+         *     machine's PLC would set); retained ones are in the database when this answers.
          */
         put: operations["write"];
         post?: never;
