@@ -393,9 +393,15 @@ fn persistent_variables_survive_a_new_run() {
 
 #[test]
 fn undefined_variable_numbers_ps0115() {
-    for src in
-        ["#100=#34\nM30\n", "#100=#200\nM30\n", "#34=1\nM30\n", "#200=1\nM30\n", "#100=#499\nM30\n", "#1000=1\nM30\n"]
-    {
+    for src in [
+        "#100=#34\nM30\n",
+        "#100=#200\nM30\n",
+        "#34=1\nM30\n",
+        "#200=1\nM30\n",
+        "#100=#499\nM30\n",
+        "#1036=1\nM30\n",
+        "#1136=1\nM30\n",
+    ] {
         alarms(src, "PS0115", "COR-021");
     }
     // The bounds themselves exist.
