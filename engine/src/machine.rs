@@ -357,6 +357,10 @@ pub struct MotionOptions {
     /// Rapid traverse has none (FANUC No.19501#5 FRP = 0, or No.1671 = 0 on every axis).
     #[serde(default, skip_serializing_if = "is_false")]
     pub no_rapid_look_ahead: bool,
+    /// Programs start in inch (G20) at power on and after a restart, instead of mm (G21)
+    /// (FANUC No.0000#2 INI, the setting of the input unit).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub power_on_inch: bool,
 }
 
 impl MotionOptions {

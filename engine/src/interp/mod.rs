@@ -491,7 +491,13 @@ impl State {
             common: Box::new([None; COMMON]),
             persistent: Box::new([None; PERSISTENT]),
             extended: BTreeMap::new(),
-            modes: gcode::initial_modes(),
+            modes: {
+                let mut modes = gcode::initial_modes();
+                if cfg.machine.motion.power_on_inch {
+                    modes[6] = 200;
+                }
+                modes
+            },
             wcs_p: 0,
             f: 0.0,
             s: 0.0,

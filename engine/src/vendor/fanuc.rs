@@ -177,7 +177,10 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     // No.1401#1 LRP: written only when 0 (non-linear rapids); absent means fivex's default,
     // linear-type rapids.
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
-    let motion = MotionOptions { helical_feed_on_path, nonlinear_rapid, ..look_ahead_options(p, n, &accel)? };
+    // No.0000#2 INI: the input unit at power on (absent: 0, mm).
+    let power_on_inch = p.0.contains_key(&0) && p.bit(0, 2)?;
+    let motion =
+        MotionOptions { helical_feed_on_path, nonlinear_rapid, power_on_inch, ..look_ahead_options(p, n, &accel)? };
     let five_axis = five_axis_options(p)?;
     let manual = manual_options(p, n)?;
     Ok(MachineConfig {
@@ -386,6 +389,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if m.motion.nonlinear_rapid {
         p.set(1401, 0.0);
+    }
+    if m.motion.power_on_inch {
+        p.set(0, 4.0);
     }
     look_ahead_params(&mut p, m)?;
 

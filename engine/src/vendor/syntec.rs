@@ -313,6 +313,10 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if holder < 0.0 {
         return Err(unrepresentable("Syntec", "a negative tool holder offset (Pr3013)"));
     }
+    if m.motion.power_on_inch {
+        // (The Syntec seed names no parameter for the input unit.)
+        return Err(unrepresentable("Syntec", "inch at power on (FANUC No.0000#2 INI)"));
+    }
     p.set(3013, blu(holder));
     let f = &m.five_axis;
     if f.tcp_coordinates == TcpCoordinates::Workpiece

@@ -896,3 +896,18 @@ fn unmodelled_syntec_parameters_and_settings_are_reported() {
     let m = machine_from(Dialect::Syntec, "m", &p).unwrap();
     assert_eq!(unmodelled::of_model(&m).len(), 1);
 }
+
+/// No.0000#2 INI: programs start in inch; the model's `motion.power_on_inch` both ways.
+#[test]
+fn fanuc_ini_power_on_inch_round_trip() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.motion.power_on_inch = true;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(0, 2).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert!(back.motion.power_on_inch);
+    assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("INI"));
+    let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("mill3").unwrap()).unwrap();
+    assert!(!plain.0.contains_key(&0));
+}
