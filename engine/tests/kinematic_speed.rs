@@ -15,7 +15,7 @@
 mod common;
 
 use common::random::{angles_inside, random_machine_of};
-use common::{cases, check_limits_of, interpreter_with, limits_of};
+use common::{cases, check_limits_of, derivatives, interpreter_with, limits_of, positions};
 use fivex_engine::kin::MachineKind;
 use fivex_engine::machine::{AxisKind, MachineConfig};
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
@@ -52,21 +52,12 @@ fn rotary_words(m: &MachineConfig, q: &[f64]) -> String {
 /// differences over four samples of the block).
 fn usage(samples: &[Sample], m: &MachineConfig, line: u32) -> (f64, f64) {
     let lim = limits_of(m);
-    const PERIOD: f64 = 0.001;
     let block: Vec<&Sample> = samples.iter().filter(|s| s.line == line).collect();
     let feed = block.iter().map(|s| s.feed).fold(0.0, f64::max);
     let mut most: f64 = 0.0;
     for w in block.windows(4) {
         for (i, &(v, a, j, rollover)) in lim.iter().enumerate() {
-            let mut x: Vec<f64> = w.iter().map(|s| s.machine[i]).collect();
-            for k in 1..x.len() {
-                if rollover {
-                    x[k] = x[k - 1] + ((x[k] - x[k - 1] + 180.0).rem_euclid(360.0) - 180.0);
-                }
-            }
-            let vel = (x[1] - x[0]) / PERIOD;
-            let acc = (x[2] - 2.0 * x[1] + x[0]) / (PERIOD * PERIOD);
-            let jerk = (x[3] - 3.0 * x[2] + 3.0 * x[1] - x[0]) / PERIOD.powi(3);
+            let (vel, acc, jerk) = derivatives(positions([w[0], w[1], w[2], w[3]], i, rollover));
             most = most.max(vel.abs() / v).max(acc.abs() / a).max(jerk.abs() / j);
         }
     }

@@ -131,6 +131,27 @@ pub fn check_limits(samples: &[Sample], preset: &str, junctions_too: bool) -> Re
     check_limits_of(samples, &MachineConfig::preset(preset).unwrap(), junctions_too)
 }
 
+/// Axis `i` of four consecutive samples, a rollover axis unwound across 0/360 (a sample moves
+/// far less than half a turn).
+pub fn positions(w: [&Sample; 4], i: usize, rollover: bool) -> [f64; 4] {
+    let mut x = w.map(|s| s.machine[i]);
+    for k in 1..4 {
+        if rollover {
+            x[k] = x[k - 1] + ((x[k] - x[k - 1] + 180.0).rem_euclid(360.0) - 180.0);
+        }
+    }
+    x
+}
+
+/// Speed, acceleration and jerk by finite differences of four positions 1 ms apart.
+pub fn derivatives(x: [f64; 4]) -> (f64, f64, f64) {
+    const PERIOD: f64 = 0.001;
+    let vel = (x[1] - x[0]) / PERIOD;
+    let acc = (x[2] - 2.0 * x[1] + x[0]) / (PERIOD * PERIOD);
+    let jerk = (x[3] - 3.0 * x[2] + 3.0 * x[1] - x[0]) / PERIOD.powi(3);
+    (vel, acc, jerk)
+}
+
 /// [`check_limits`] on any machine.
 pub fn check_limits_of(samples: &[Sample], m: &MachineConfig, junctions_too: bool) -> Result<(), TestCaseError> {
     let lim = limits_of(m);
@@ -139,18 +160,10 @@ pub fn check_limits_of(samples: &[Sample], m: &MachineConfig, junctions_too: boo
     for w in samples.windows(4) {
         let same_block = w.iter().all(|s| s.line == w[0].line);
         for (i, &(v, a, j, rollover)) in lim.iter().enumerate() {
-            // Unwind a rollover axis across 0/360 (a sample moves far less than half a turn).
-            let mut x: Vec<f64> = w.iter().map(|s| s.machine[i]).collect();
-            for k in 1..x.len() {
-                if rollover {
-                    x[k] = x[k - 1] + ((x[k] - x[k - 1] + 180.0).rem_euclid(360.0) - 180.0);
-                }
-            }
-            let vel = (x[1] - x[0]) / PERIOD;
+            let x = positions([&w[0], &w[1], &w[2], &w[3]], i, rollover);
+            let (vel, acc, jerk) = derivatives(x);
             prop_assert!(vel.abs() <= v * slack + 1e-6, "axis {i} speed {vel} > {v} at t={}", w[0].t);
             if same_block || junctions_too {
-                let acc = (x[2] - 2.0 * x[1] + x[0]) / (PERIOD * PERIOD);
-                let jerk = (x[3] - 3.0 * x[2] + 3.0 * x[1] - x[0]) / PERIOD.powi(3);
                 prop_assert!(acc.abs() <= a * slack + 1e-3, "axis {i} acceleration {acc} > {a} at t={}", w[0].t);
                 prop_assert!(jerk.abs() <= j * slack + 1.0, "axis {i} jerk {jerk} > {j} at t={}", w[0].t);
             } else {
