@@ -313,9 +313,19 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if holder < 0.0 {
         return Err(unrepresentable("Syntec", "a negative tool holder offset (Pr3013)"));
     }
-    if m.motion.power_on_inch {
-        // (The Syntec seed names no parameter for the input unit.)
-        return Err(unrepresentable("Syntec", "inch at power on (FANUC No.0000#2 INI)"));
+    let o = &m.motion;
+    if o.power_on_inch
+        || o.helical_feed_on_path
+        || o.nonlinear_rapid
+        || o.look_ahead_by_command
+        || o.no_feed_look_ahead
+        || o.no_rapid_look_ahead
+    {
+        // (The Syntec seed names no parameter for these: a list without them would drop them.)
+        return Err(unrepresentable(
+            "Syntec",
+            "inch at power on (INI), HTG, LRP and the look-ahead settings are FANUC settings",
+        ));
     }
     p.set(3013, blu(holder));
     let f = &m.five_axis;

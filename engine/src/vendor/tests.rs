@@ -908,6 +908,14 @@ fn fanuc_ini_power_on_inch_round_trip() {
     assert!(back.motion.power_on_inch);
     assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("INI"));
+    // No FANUC motion setting is dropped silently from a Syntec list.
+    let settings: [fn(&mut crate::machine::MotionOptions); 3] =
+        [|o| o.helical_feed_on_path = true, |o| o.nonlinear_rapid = true, |o| o.no_feed_look_ahead = true];
+    for set in settings {
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        set(&mut m.motion);
+        assert!(params_of(Dialect::Syntec, &m).is_err(), "{:?}", m.motion);
+    }
     let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("mill3").unwrap()).unwrap();
     assert!(!plain.0.contains_key(&0));
 }
