@@ -166,6 +166,8 @@ pub struct Controller {
     /// Where the last queued segment ends.
     queued_machine: Pos,
     queued_work: Pos,
+    /// The tip basis `queued_work` is in (the programmed point's system and origin).
+    queued_basis: crate::tip::Basis,
     here: Point,
     /// The tool length offset of the last run's last segment.
     last_tool_length: f64,
@@ -233,6 +235,7 @@ impl Controller {
             stopping: None,
             queued_machine: start,
             queued_work: work,
+            queued_basis: basis,
             here: Point { machine: start, work, feed: 0.0, line: 0, n: None, s: 0.0 },
             last_tool_length: 0.0,
             last_tip_basis: basis,
@@ -391,6 +394,7 @@ impl Controller {
                 queued: (self.queued_machine, self.queued_work),
             });
             (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+            self.queued_basis = self.tip_basis();
             // The hand moves go where the machine stands (a handle interruption's shift in it).
             self.release_interrupt();
             self.mode = mode;
@@ -754,7 +758,7 @@ impl Controller {
         let axes = self.manual_limits();
         let mut seg = Segment::new(&m, &self.queued_machine, &self.queued_work, &axes, ctx, self.kinematics.as_ref());
         (seg.stop_after, seg.tip_basis) = (true, self.tip_basis());
-        (self.queued_machine, self.queued_work) = (machine, target);
+        (self.queued_machine, self.queued_work, self.queued_basis) = (machine, target, seg.tip_basis);
         self.planner.push(seg);
         self.set_state(RunState::Running);
     }
@@ -882,6 +886,7 @@ impl Controller {
     /// does the program's current point (it had read ahead).
     fn stand_here(&mut self) {
         (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
+        self.queued_basis = self.tip_basis();
         if self.intervention.is_some() {
             // The held program's current point stays where the program put it.
             return;
@@ -889,6 +894,7 @@ impl Controller {
         self.interp.moved_to(&self.program_machine());
         self.here.work = self.interp.state.shown_position();
         self.queued_work = self.here.work;
+        self.queued_basis = self.interp.state.tip_basis();
     }
 
     /// Decelerate to rest along the path, within the limits of every segment the stop covers;
@@ -972,6 +978,8 @@ impl Controller {
                         self.reposition = false;
                         &shifted
                     };
+                    let before = std::mem::replace(&mut self.queued_basis, c.tip_basis);
+                    crate::tip::restate_start(&mut self.queued_work, &before, &c.tip_basis);
                     let mut seg = self.segment(m);
                     (seg.line, seg.n, seg.tip_basis) = (c.line, c.n, c.tip_basis);
                     let stroke = if self.interrupt.is_zero() {

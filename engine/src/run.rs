@@ -258,13 +258,8 @@ impl<O: Observer> Executor<'_, O> {
     /// in its block or before) starts where the machine stands, expressed in the new system, as
     /// the interpreter's current point is: its programmed start moves by the origin's change.
     fn express_start_in(&mut self, basis: &crate::tip::Basis) {
-        use crate::tip::System::Workpiece;
         let before = std::mem::replace(&mut self.queued_basis, *basis);
-        if before.origin != basis.origin && before.programmed_in == Workpiece && basis.programmed_in == Workpiece {
-            for k in 0..3 {
-                self.queued_work[k] += before.origin[k] - basis.origin[k];
-            }
-        }
+        crate::tip::restate_start(&mut self.queued_work, &before, basis);
     }
 
     /// Stand still for `seconds` (a dwell, a tool change), sampling the trace.

@@ -56,6 +56,20 @@ pub struct Basis {
     pub programmed_in: System,
 }
 
+/// A motion queued after the workpiece origin changed without motion (G10, G92, a work offset)
+/// starts its programmed point where the machine stands, in the new system: `work` (the
+/// programmed X/Y/Z the next motion starts from, in `before`) is restated in `after`.
+pub fn restate_start(work: &mut crate::canon::Pos, before: &Basis, after: &Basis) {
+    if before.origin != after.origin
+        && before.programmed_in == System::Workpiece
+        && after.programmed_in == System::Workpiece
+    {
+        for k in 0..3 {
+            work[k] += before.origin[k] - after.origin[k];
+        }
+    }
+}
+
 /// The tip as the machine puts it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tip {

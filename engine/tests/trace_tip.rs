@@ -237,3 +237,29 @@ fn plain_g43_with_the_head_tilted_shows_the_real_tip_tcp_the_programmed_one() {
     assert!(dist(t.programmed, [10.0, 0.0, 10.0]) < 1e-9, "{:?}", t.programmed);
     assert!(dist(p.tool, [s30, 0.0, c30]) < 1e-12 && dist(t.tool, [s30, 0.0, c30]) < 1e-12);
 }
+
+/// The controller (the service) applies the same rule as `fivex run`: after G10 L2 without
+/// motion the next move's programmed point starts where the machine stands, in the new system,
+/// and stays on the tip.
+#[test]
+fn controller_programmed_starts_where_the_machine_stands_after_an_offset_change() {
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    let src = "N1 G10 L2 P1 X100.\nN2 G90 G54 G01 X10. F600\nN3 M30\n";
+    let i = interpreter(src, "mill3", Dialect::Fanuc);
+    let mut c = Controller::new(i.config().clone());
+    c.interpreter_mut().state.offsets = i.state.offsets.clone();
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    let mut ticks = 0;
+    while c.run_state() == RunState::Running && c.time() < 60.0 {
+        c.tick(0.01);
+        let (p, tip) = (c.point(), c.tip());
+        if p.line == 2 {
+            ticks += 1;
+            assert!(dist(tip.tip, [p.work[0], p.work[1], p.work[2]]) < 1e-9, "{:?} vs {:?}", tip.tip, p.work);
+        }
+    }
+    assert!(ticks > 10, "{ticks} ticks on the move");
+    assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+}
