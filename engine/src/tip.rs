@@ -64,8 +64,8 @@ pub fn restate_start(work: &mut crate::canon::Pos, before: &Basis, after: &Basis
         && before.programmed_in == System::Workpiece
         && after.programmed_in == System::Workpiece
     {
-        for k in 0..3 {
-            work[k] += before.origin[k] - after.origin[k];
+        for (k, w) in work.iter_mut().take(3).enumerate() {
+            *w += before.origin[k] - after.origin[k];
         }
     }
 }
