@@ -261,6 +261,8 @@ async fn feed_hold_waits_and_cycle_start_resumes() {
     store(&app, &id, 1, "G01 X100. F600\nM30\n").await;
     app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
     wait_for(&app, &id, "running").await;
+    // Hold once the axis has moved (the worker may not have ticked yet on a busy machine).
+    eventually(&app, &format!("{C}/{id}"), |s| s["position"]["machine"]["X"].as_f64().is_some_and(|x| x > 0.0)).await;
     let held = app.post(&format!("{C}/{id}/feed-hold"), &json!({})).await;
     assert_eq!(held.json()["run_state"], "hold");
     tokio::time::sleep(Duration::from_millis(300)).await;
@@ -773,14 +775,30 @@ async fn inc_mode_moves_one_increment_and_a_handle_interrupt_shows_its_shift() {
         eventually(&app, &c, |s| s["position"]["machine"]["X"].as_f64().is_some_and(|x| (x - 0.1).abs() < 1e-9)).await;
     assert_eq!(x["mode"], "inc");
     // A program runs; handle pulses on Y shift the machine, not the program's coordinates.
-    store(&app, &id, 1, "G90 G01 X50. F100.\nM30\n").await;
-    app.post(&format!("{c}/cycle-start"), &json!({"program": 1})).await;
+    // (The INC step has ended when the controller is idle again: only then a program is stored.)
+    wait_for(&app, &id, "idle").await;
+    // A store can still meet "internal database error" (500) while the background writer holds
+    // SQLite (1 in ~20 runs; issue 18, writes that never fail): this test is about INC mode, so
+    // it tries again a few times, and still fails on anything else.
+    let mut stored = store(&app, &id, 1, "G90 G01 X50. F100.\nM30\n").await;
+    for _ in 0..3 {
+        if stored.status != StatusCode::INTERNAL_SERVER_ERROR {
+            break;
+        }
+        stored = store(&app, &id, 1, "G90 G01 X50. F100.\nM30\n").await;
+    }
+    assert_eq!(stored.status, StatusCode::CREATED, "{}", stored.text());
+    let started = app.post(&format!("{c}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
     app.put(&format!("{c}/manual-signals"), &json!({"handle_select": 2})).await;
     let reply = app.post(&format!("{c}/handle-pulses"), &json!({"amount": 2.0})).await;
     assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
     assert_eq!(reply.json()["taken"], json!(2.0));
-    let s = eventually(&app, &c, |s| s["interrupt_shift"]["Y"].as_f64().is_some_and(|y| (y - 2.0).abs() < 1e-9)).await;
-    assert!((s["position"]["machine"]["Y"].as_f64().unwrap() - 2.0).abs() < 1e-9, "{s}");
+    // The shift is the pulses' amount at once; the axis gets there at its handle feed.
+    let near = |v: &Value, y: f64| v.as_f64().is_some_and(|v| (v - y).abs() < 1e-9);
+    let s =
+        eventually(&app, &c, |s| near(&s["interrupt_shift"]["Y"], 2.0) && near(&s["position"]["machine"]["Y"], 2.0))
+            .await;
     assert_eq!(s["position"]["workpiece"]["Y"], json!(0.0));
     app.post(&format!("{c}/reset"), &json!({})).await;
 }
