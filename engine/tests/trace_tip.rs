@@ -175,15 +175,10 @@ fn programmed_starts_where_the_machine_stands_after_an_offset_change() {
 /// program, the interpreter's state (here G55 with a 100 mm tool under G43).
 #[test]
 fn controller_tip_is_fk_of_the_live_axes() {
-    use fivex_engine::controller::{Controller, Mode, RunState};
+    use fivex_engine::controller::RunState;
     let src = "N1 G10 L2 P2 X50. Y-40. Z-250.\nN2 G00 G90 B0 C0\nN3 G55\nN4 G43.4 H01\n\
                N5 G00 X20. Y10. Z30.\nN6 G01 X5. Y5. Z5. B30. C45. F2000\nN7 G49\nN8 G43 H1 Z50.\nN9 M30\n";
-    let i = interpreter(src, "head-bc", Dialect::Fanuc);
-    let mut c = Controller::new(i.config().clone());
-    c.interpreter_mut().state.offsets = i.state.offsets.clone();
-    c.set_mode(Mode::Auto).unwrap();
-    c.select_program(src).unwrap();
-    c.cycle_start().unwrap();
+    let mut c = started(src, "head-bc");
     let k = kin("head-bc");
     let mut seen_tcp = 0;
     while c.run_state() == RunState::Running && c.time() < 300.0 {
@@ -243,14 +238,9 @@ fn plain_g43_with_the_head_tilted_shows_the_real_tip_tcp_the_programmed_one() {
 /// and stays on the tip.
 #[test]
 fn controller_programmed_starts_where_the_machine_stands_after_an_offset_change() {
-    use fivex_engine::controller::{Controller, Mode, RunState};
+    use fivex_engine::controller::RunState;
     let src = "N1 G10 L2 P1 X100.\nN2 G90 G54 G01 X10. F600\nN3 M30\n";
-    let i = interpreter(src, "mill3", Dialect::Fanuc);
-    let mut c = Controller::new(i.config().clone());
-    c.interpreter_mut().state.offsets = i.state.offsets.clone();
-    c.set_mode(Mode::Auto).unwrap();
-    c.select_program(src).unwrap();
-    c.cycle_start().unwrap();
+    let mut c = started(src, "mill3");
     let mut ticks = 0;
     while c.run_state() == RunState::Running && c.time() < 60.0 {
         c.tick(0.01);
@@ -262,4 +252,16 @@ fn controller_programmed_starts_where_the_machine_stands_after_an_offset_change(
     }
     assert!(ticks > 10, "{ticks} ticks on the move");
     assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+}
+
+/// A controller (with the tests' tool offsets) running `src` in AUTO.
+fn started(src: &str, preset: &str) -> fivex_engine::controller::Controller {
+    use fivex_engine::controller::{Controller, Mode};
+    let i = interpreter(src, preset, Dialect::Fanuc);
+    let mut c = Controller::new(i.config().clone());
+    c.interpreter_mut().state.offsets = i.state.offsets.clone();
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    c
 }
