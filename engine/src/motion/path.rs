@@ -1028,10 +1028,19 @@ impl Segment {
     }
 
     /// The point in `[lo, hi]` where axis `i` is largest (`sign` 1) or smallest (-1), for a
-    /// single peak there.
+    /// single peak there, by golden-section search. The best point evaluated is the answer, not
+    /// the last bracket's middle: where the axis jumps (the inverse kinematics changing branch
+    /// mid-block) the search closes in on the jump and its middle can fall on the low side.
     pub fn peak(&self, i: usize, sign: f64, mut lo: f64, mut hi: f64) -> Pos {
         const INV_PHI: f64 = 0.618_033_988_749_894_9;
-        let f = |s: f64| sign * self.at(s).0[i];
+        let mut best = (f64::MIN, self.at(lo).0);
+        let mut f = |s: f64| {
+            let p = self.at(s).0;
+            if sign * p[i] > best.0 {
+                best = (sign * p[i], p);
+            }
+            sign * p[i]
+        };
         let (mut a, mut b) = (hi - INV_PHI * (hi - lo), lo + INV_PHI * (hi - lo));
         let (mut fa, mut fb) = (f(a), f(b));
         for _ in 0..30 {
@@ -1047,7 +1056,8 @@ impl Segment {
                 fa = f(a);
             }
         }
-        self.at(0.5 * (lo + hi)).0
+        f(0.5 * (lo + hi));
+        best.1
     }
 
     /// The axis-space extremes an arc reaches between its end points (for the stroke check):
