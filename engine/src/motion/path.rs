@@ -280,7 +280,7 @@ pub(crate) fn great_circle_continuous(kin: &Kinematics, from: &Pos, to: &Pos) ->
 fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
     /// More than this in 1/64 of the block is a jump to the other branch.
     const JUMP_DEG: f64 = 30.0;
-    steps_within(kin, from, to, direction, JUMP_DEG)
+    steps_within(kin, from, to, &direction, JUMP_DEG) && no_jump(kin, from, to, &direction)
 }
 
 /// As `continuous`, and steady enough to plan (G54.4's recomputed direction): no 1/64 of the
@@ -290,24 +290,65 @@ fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) ->
 /// segment's limit samples, so such a block turns its axes in proportion instead.
 fn steady(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
     let travel = kin.joints().iter().filter_map(|j| j.index).map(|i| (to[i] - from[i]).abs()).fold(0.0, f64::max);
-    steps_within(kin, from, to, direction, (4.0 * travel / STEPS as f64 + 1e-6).min(30.0))
+    steps_within(kin, from, to, &direction, (4.0 * travel / STEPS as f64 + 1e-6).min(30.0))
 }
 
 const STEPS: usize = 64;
 
+/// The axes at `u` of the block as `Follow::at` turns them for `direction(u)`.
+fn angles_at(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> Vec3, u: f64) -> Option<Pos> {
+    let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+    kin.angles_near(direction(u), &q)
+}
+
+/// The largest rotary step between two sets of axes.
+fn largest_step(kin: &Kinematics, a: &Pos, b: &Pos) -> f64 {
+    kin.joints().iter().filter_map(|j| j.index).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max)
+}
+
 /// Whether the inverse solution nearest the proportional angles for `direction(u)` exists at
 /// every 1/64 of the block and no rotary axis moves more than `limit_deg` between two of them.
-fn steps_within(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3, limit_deg: f64) -> bool {
+fn steps_within(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> Vec3, limit_deg: f64) -> bool {
     let mut prev = *from;
     for k in 1..=STEPS {
-        let u = k as f64 / STEPS as f64;
-        let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
-        let Some(a) = kin.angles_near(direction(u), &q) else { return false };
-        let jump = kin.joints().iter().filter_map(|j| j.index).any(|i| (a[i] - prev[i]).abs() > limit_deg);
-        if jump {
+        let Some(a) = angles_at(kin, from, to, direction, k as f64 / STEPS as f64) else { return false };
+        if largest_step(kin, &a, &prev) > limit_deg {
             return false;
         }
         prev = a;
+    }
+    true
+}
+
+/// Whether no step of the block is a jump smaller than `continuous`'s threshold: a 1/64 step of
+/// more than 5° is halved 16 times; a steep but continuous turn shrinks with it, a change of
+/// inverse branch keeps its size (random machines found a 28° jump of A inside a block). At
+/// (within 1° of) the singular posture the free axis may step at once (TV-43/44's start).
+fn no_jump(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> Vec3) -> bool {
+    const STEEP_DEG: f64 = 5.0;
+    let at = |u: f64| angles_at(kin, from, to, direction, u);
+    let singular = |q: &Pos| kin.singularity(q).is_some_and(|s| s.angle < 1.0);
+    let mut prev = (0.0, *from);
+    for k in 1..=STEPS {
+        let u = k as f64 / STEPS as f64;
+        let Some(a) = at(u) else { return false };
+        if largest_step(kin, &a, &prev.1) > STEEP_DEG {
+            let (mut lo, mut hi) = (prev, (u, a));
+            for _ in 0..16 {
+                let mid_u = 0.5 * (lo.0 + hi.0);
+                let Some(mid) = at(mid_u) else { return false };
+                // Keep the half that holds the larger step.
+                if largest_step(kin, &mid, &lo.1) >= largest_step(kin, &hi.1, &mid) {
+                    hi = (mid_u, mid);
+                } else {
+                    lo = (mid_u, mid);
+                }
+            }
+            if largest_step(kin, &hi.1, &lo.1) > 1.0 && !singular(&lo.1) && !singular(&hi.1) {
+                return false;
+            }
+        }
+        prev = (u, a);
     }
     true
 }
