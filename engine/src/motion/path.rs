@@ -280,7 +280,7 @@ pub(crate) fn great_circle_continuous(kin: &Kinematics, from: &Pos, to: &Pos) ->
 fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
     /// More than this in 1/64 of the block is a jump to the other branch.
     const JUMP_DEG: f64 = 30.0;
-    steps_within(kin, from, to, &direction, JUMP_DEG) && no_jump(kin, from, to, &direction)
+    no_jump(kin, from, to, &direction, JUMP_DEG)
 }
 
 /// As `continuous`, and steady enough to plan (G54.4's recomputed direction): no 1/64 of the
@@ -320,11 +320,11 @@ fn steps_within(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64)
     true
 }
 
-/// Whether no step of the block is a jump smaller than `continuous`'s threshold: a 1/64 step of
-/// more than 5° is halved 16 times; a steep but continuous turn shrinks with it, a change of
-/// inverse branch keeps its size (random machines found a 28° jump of A inside a block). At
-/// (within 1° of) the singular posture the free axis may step at once (TV-43/44's start).
-fn no_jump(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> Vec3) -> bool {
+/// As [`steps_within`] with `limit_deg`, and no smaller jump either: a 1/64 step of more than
+/// 5° is halved 16 times; a steep but continuous turn shrinks with it, a change of inverse
+/// branch keeps its size (random machines found a 28° jump of A inside a block). At (within 1°
+/// of) the singular posture the free axis may step at once (TV-43/44's start).
+fn no_jump(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> Vec3, limit_deg: f64) -> bool {
     const STEEP_DEG: f64 = 5.0;
     let at = |u: f64| angles_at(kin, from, to, direction, u);
     let singular = |q: &Pos| kin.singularity(q).is_some_and(|s| s.angle < 1.0);
@@ -332,7 +332,11 @@ fn no_jump(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> V
     for k in 1..=STEPS {
         let u = k as f64 / STEPS as f64;
         let Some(a) = at(u) else { return false };
-        if largest_step(kin, &a, &prev.1) > STEEP_DEG {
+        let step = largest_step(kin, &a, &prev.1);
+        if step > limit_deg {
+            return false;
+        }
+        if step > STEEP_DEG {
             let (mut lo, mut hi) = (prev, (u, a));
             for _ in 0..16 {
                 let mid_u = 0.5 * (lo.0 + hi.0);
