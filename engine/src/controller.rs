@@ -14,15 +14,17 @@
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState};
-use crate::interp::{Config, Interpreter, Step};
+use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::MachineConfig;
 use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
 use std::collections::VecDeque;
 
+mod executing;
 mod interrupt;
 mod manual;
 mod signals;
+use executing::{BlockState, Executing};
 use interrupt::Interrupt;
 pub use manual::ManualCoordinates;
 use manual::{Intervention, Shift};
@@ -193,10 +195,16 @@ pub struct Controller {
     wse_no_manual: bool,
     /// Manual handle interruption: the shift laid over the program (`interrupt.rs`).
     interrupt: Interrupt,
+    /// The block the machine is executing, behind the interpreter's reading (`executing.rs`).
+    executing: Executing,
+    /// Serial of the block whose commands are being handed on (its segments carry it).
+    reading_block: u64,
 }
 
 /// A pending canonical command, or a single-block stop point.
 enum Item {
+    /// The commands of the block with this serial follow (`Executing`).
+    Block(u64),
     Canon(Canon),
     BlockEnd,
     Alarm(Alarm),
@@ -216,6 +224,7 @@ impl Controller {
         let start = interp.state.machine_position();
         let work = interp.state.shown_position();
         let basis = interp.state.tip_basis();
+        let executing = Executing::new(interp.state.modal_state());
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
@@ -248,6 +257,8 @@ impl Controller {
             reposition: false,
             wse_no_manual: false,
             interrupt: Interrupt::default(),
+            executing,
+            reading_block: 0,
         }
     }
 
@@ -325,6 +336,16 @@ impl Controller {
     /// and [`Controller::tip_basis`].
     pub fn tip(&self) -> crate::tip::Tip {
         crate::tip::locate(self.kinematics.as_deref(), &self.machine_now(), &self.tip_basis())
+    }
+
+    /// The modal state of the block the machine is executing. The interpreter's own state is
+    /// the block it has read to; they differ while blocks read ahead are queued or moving.
+    pub fn modal(&self) -> ModalState {
+        if self.pending.is_empty() && self.current.is_none() && self.planner.is_empty() {
+            self.interp.state.modal_state()
+        } else {
+            self.executing.shown().modal
+        }
     }
 
     pub fn interpreter(&self) -> &Interpreter {
@@ -499,6 +520,7 @@ impl Controller {
         }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
+        self.executing.settle(self.interp.state.modal_state());
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();
         // Until its first motion ends, the program stands in the state it starts from.
@@ -598,6 +620,7 @@ impl Controller {
         self.reposition = false;
         self.pending.clear();
         self.interp.reset();
+        self.executing.settle(self.interp.state.modal_state());
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.program_active = false;
         self.wait = Wait::None;
@@ -775,6 +798,9 @@ impl Controller {
                 let elapsed = elapsed + step;
                 self.t += step;
                 self.here = p.point(elapsed, &mut cursor);
+                if let Some(seg) = p.segments.get(cursor.index()) {
+                    self.executing.begin(seg.block);
+                }
                 if elapsed < p.profile.duration() {
                     self.current = Some((p, elapsed, cursor));
                 } else {
@@ -958,6 +984,11 @@ impl Controller {
     /// Read the program on: hand the next pending command to the planner (or carry it out),
     /// or run the next block. Returns false when there is nothing more to read.
     fn advance_program(&mut self) -> bool {
+        if self.current.is_none() && self.planner.is_empty() {
+            if let Some(block) = self.executing.motion_ended() {
+                self.show(block);
+            }
+        }
         let Some(item) = self.pending.pop_front() else {
             if !self.program_active {
                 return false;
@@ -967,6 +998,12 @@ impl Controller {
         };
         let motion_pending = self.current.is_some() || !self.planner.is_empty();
         match item {
+            Item::Block(serial) => {
+                self.reading_block = serial;
+                if let Some(block) = self.executing.reached(serial, motion_pending) {
+                    self.show(block);
+                }
+            }
             Item::Canon(c) => match &c.kind {
                 CanonKind::Motion(m) => {
                     let shifted;
@@ -981,7 +1018,7 @@ impl Controller {
                     let before = std::mem::replace(&mut self.queued_basis, c.tip_basis);
                     crate::tip::restate_start(&mut self.queued_work, &before, &c.tip_basis);
                     let mut seg = self.segment(m);
-                    (seg.line, seg.n, seg.tip_basis) = (c.line, c.n, c.tip_basis);
+                    (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, self.reading_block);
                     let stroke = if self.interrupt.is_zero() {
                         motion::stroke_check(&seg, &self.machine)
                     } else {
@@ -1050,6 +1087,11 @@ impl Controller {
         let banned = self.interp.wse_forbids_manual();
         let step = self.interp.step(&mut out);
         let produced = !out.is_empty();
+        if !matches!(step, Ok(Step::NeedInput)) {
+            let (line, n) = self.interp.state.current_block();
+            let block = BlockState { line, n, modal: self.interp.state.modal_state() };
+            self.pending.push_back(Item::Block(self.executing.read(block, !produced)));
+        }
         self.pending.extend(out.into_iter().map(Item::Canon));
         if self.interp.wse_forbids_manual() != banned {
             self.pending.push_back(Item::WseNoManual(!banned));
@@ -1101,6 +1143,11 @@ impl Controller {
             options: self.machine.motion,
         };
         Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx, self.kinematics.as_ref())
+    }
+
+    /// A block without motion of its own is reached: the panel shows its line.
+    fn show(&mut self, block: BlockState) {
+        (self.here.line, self.here.n) = (block.line, block.n);
     }
 
     fn raise(&mut self, id: AlarmId, line: u32, n: Option<u32>) {

@@ -529,3 +529,52 @@ fn jog_tip_rotation_stops_on_jog_stop_with_the_tip_in_place() {
     assert!(b < -5.0 && b > -20.0, "about 0.3 s at 60 deg/s, then the stop: B{b}");
     assert_within_limits(&xs);
 }
+
+/// The panel's modal state and line are the executing block's: the interpreter reads ahead of
+/// the machine (look-ahead, the read-ahead of a loop), but while the first tool centre point
+/// move runs the panel says G43.4 and G01, not the G49 and G00 read behind it; a dwell shows its
+/// own line while it waits.
+#[test]
+fn the_modal_state_shown_is_the_executing_blocks() {
+    use fivex_engine::interp::gcode::display;
+    let m = MachineConfig::preset("head-bc").unwrap();
+    let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().h_geometry = 100.0;
+    let program = "G90 G54 G00 X0 Y0 Z50.\n\
+                   G43.4 H1\n\
+                   G01 X40. B20. F2000.\n\
+                   G01 X0 B0\n\
+                   G49\n\
+                   G04 X1.\n\
+                   G00 Z80.\n\
+                   M30\n";
+    c.select_program(program).unwrap();
+    c.cycle_start().unwrap();
+    let group = |c: &Controller, g: usize| display(c.modal().modal(g));
+    let mut seen = std::collections::BTreeSet::new();
+    let mut read_ahead_seen = false;
+    while c.run_state() == RunState::Running && c.time() < 60.0 {
+        c.tick(TICK);
+        let line = c.point().line;
+        seen.insert(line);
+        match line {
+            3 | 4 => {
+                assert_eq!(group(&c, 8), "G43.4", "line {line} executes under TCP");
+                assert_eq!(group(&c, 1), "G01", "line {line}");
+                assert_eq!(c.modal().words.h, 1);
+                // The interpreter itself has read on (to the G49/G00 blocks) at some point.
+                read_ahead_seen |= display(c.interpreter().state.modal(8)) == "G49";
+            }
+            6 => {
+                assert_eq!(group(&c, 8), "G49", "the dwell comes after G49");
+                assert_eq!(group(&c, 1), "G01", "the dwell's block has not reached G00");
+            }
+            7 => assert_eq!(group(&c, 1), "G00"),
+            _ => {}
+        }
+    }
+    assert!(seen.is_superset(&[3, 4, 6, 7].into()), "lines shown: {seen:?}");
+    assert!(read_ahead_seen, "the interpreter never read ahead of the machine: the test proves nothing");
+    // Once everything read is done, the shown state is the interpreter's.
+    assert_eq!(c.modal(), c.interpreter().state.modal_state());
+}

@@ -45,6 +45,22 @@ pub struct ModalWords {
     pub h: u32,
     pub d: u32,
 }
+
+/// The modal state a panel shows: the G code of every group and the modal words. The
+/// controller keeps one per block read ahead, so what it shows is the state of the block the
+/// machine is executing, not the interpreter's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModalState {
+    /// The code in force per group (`gcode::display` names it).
+    pub modes: [u16; GROUPS],
+    pub words: ModalWords,
+}
+
+impl ModalState {
+    pub fn modal(&self, group: usize) -> u16 {
+        self.modes[group]
+    }
+}
 pub(crate) use program::Loaded;
 use std::collections::{BTreeMap, HashMap};
 
@@ -679,6 +695,11 @@ impl State {
     /// The modal words a panel shows beside the G codes.
     pub fn modal_words(&self) -> ModalWords {
         ModalWords { f: self.f, s: self.s, t: self.t, spindle_tool: self.tool_in_spindle, h: self.h, d: self.d }
+    }
+
+    /// The G codes and words as the interpreter has read to.
+    pub fn modal_state(&self) -> ModalState {
+        ModalState { modes: self.modes, words: self.modal_words() }
     }
 
     /// Whether the next block may need blocks that have not arrived: the end of the text of a

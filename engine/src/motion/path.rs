@@ -65,6 +65,8 @@ struct Circle {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segment {
     pub line: u32,
+    /// Serial of the block read that made it (the controller's `Executing`; 0 outside it).
+    pub block: u64,
     pub n: Option<u32>,
     pub rapid: bool,
     /// Machine and programming positions at the start and the end.
@@ -677,6 +679,7 @@ impl Segment {
         let programmed = if rapid { axis_speed } else { programmed_speed(m, len) * feed_scale };
         let mut seg = Segment {
             line: 0,
+            block: 0,
             n: None,
             rapid,
             from: *from,
@@ -802,6 +805,7 @@ impl Segment {
         let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
         let mut seg = Segment {
             line: 0,
+            block: 0,
             n: None,
             rapid,
             from: *from,
@@ -880,6 +884,7 @@ impl Segment {
         let limits = kinematic_limits(&found, axes, len, feed_deg_min / 60.0, f64::INFINITY);
         let mut seg = Segment {
             line: 0,
+            block: 0,
             n: None,
             rapid: false,
             from: *from,

@@ -106,7 +106,8 @@ pub struct ControllerStatus {
     pub run_state: String,
     /// The stored program AUTO runs (O number), once one was started.
     pub program: Option<u32>,
-    /// 1-based line of the block moving now (0 before any) and its sequence number.
+    /// 1-based line of the block being executed (0 before any) and its sequence number: the
+    /// moving block's, or a block without motion (a dwell, a modal change) once reached.
     pub line: u32,
     pub n: Option<u32>,
     pub position: Position,

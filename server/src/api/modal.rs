@@ -25,7 +25,7 @@ pub struct ModalState {
     pub d: u32,
 }
 
-/// The modal G codes and words of the program state.
+/// The modal G codes and words of the block being executed (the interpreter reads ahead of it).
 #[utoipa::path(
     get,
     path = "/api/v1/controllers/{id}/modal",
@@ -38,14 +38,14 @@ pub async fn modal(
     id: Result<Path<String>, PathRejection>,
 ) -> Result<Json<ModalState>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
-    let station = hosted.station();
-    let interp = &station.controller.interpreter().state;
+    // The executing block's state, not the read-ahead interpreter's.
+    let modal = hosted.station().controller.modal();
     let initial = gcode::initial_modes();
     // The groups the dialects use (group 1's G00 is code 0; the others start non-zero).
     let groups = (1..gcode::GROUPS)
         .filter(|&g| g == 1 || initial[g] != 0)
-        .map(|g| (g as u8, gcode::display(interp.modal(g))))
+        .map(|g| (g as u8, gcode::display(modal.modal(g))))
         .collect();
-    let w = interp.modal_words();
+    let w = modal.words;
     Ok(Json(ModalState { groups, f: w.f, s: w.s, t: w.t, spindle_tool: w.spindle_tool, h: w.h, d: w.d }))
 }

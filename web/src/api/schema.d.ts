@@ -302,7 +302,7 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** The modal G codes and words of the program state. */
+        /** The modal G codes and words of the block being executed (the interpreter reads ahead of it). */
         get: operations["modal"];
         put?: never;
         post?: never;
@@ -856,7 +856,8 @@ export interface components {
             kind: string;
             /**
              * Format: int32
-             * @description 1-based line of the block moving now (0 before any) and its sequence number.
+             * @description 1-based line of the block being executed (0 before any) and its sequence number: the
+             *     moving block's, or a block without motion (a dwell, a modal change) once reached.
              */
             line: number;
             /**
