@@ -537,6 +537,31 @@ fn check_uses_the_dialect_codes() {
     assert_eq!(codes(&syntec), ["COR-070"], "{syntec}");
 }
 
+#[test]
+fn check_on_a_machine_reports_what_only_that_machine_refuses() {
+    // B is an axis of head-bc, not of mill3; G43.4 is refused on a machine without rotary axes.
+    let prog = "G90 G00 X10. Y5.\nG43.4 H1\nG01 X20. B30. F500.\nM98 P4242\nM30\n";
+    let (_d, p) = scratch(&[("b.nc", prog)]);
+    let program = s(&p[0]);
+    let plain = stdout(&fivex(&["check", program]));
+    let codes = |t: &str| {
+        t.lines().map(|l| (parse_diag(l, program).0, parse_diag(l, program).2.to_string())).collect::<Vec<_>>()
+    };
+    assert_eq!(codes(&plain), [(4, "PS0078".to_string())], "without a machine only the text is checked:\n{plain}");
+    let out = fivex(&["check", program, "--preset", "mill3"]);
+    assert_eq!(out.status.code(), Some(1));
+    let mill3 = stdout(&out);
+    let found = codes(&mill3);
+    assert_eq!(found.len(), 2, "{mill3}");
+    assert!(found[0].0 == 2 || found[0].0 == 3, "the machine's alarm comes first, at its line:\n{mill3}");
+    assert!(found[0].1.starts_with("PS"), "{mill3}");
+    assert!(mill3.lines().next().unwrap().ends_with("when run on mill3"), "{mill3}");
+    assert_eq!(found[1], (4, "PS0078".to_string()), "{mill3}");
+    // On head-bc the program is fine but for the missing subprogram of the static check.
+    let head = stdout(&fivex(&["check", program, "--preset", "head-bc"]));
+    assert_eq!(codes(&head), [(4, "PS0078".to_string())], "{head}");
+}
+
 // --- interp ---------------------------------------------------------------------------------
 
 fn json_lines(text: &str) -> Vec<Value> {

@@ -108,7 +108,15 @@ struct CheckArgs {
     program: PathBuf,
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
+    /// With a machine (`--preset` or `--machine`), the program is also run through the
+    /// interpreter on it (nothing moves): what only that machine refuses is reported too.
+    #[command(flatten)]
+    machine: MachineArgs,
 }
+
+/// Blocks a machine check runs before it gives up (FX0001): a program that runs longer is
+/// reported as a runaway.
+const CHECK_MAX_BLOCKS: u64 = 5_000_000;
 
 #[derive(Args, Debug)]
 struct ServeArgs {
@@ -193,7 +201,7 @@ struct ToolEntry {
 /// Build the interpreter for a program file with the CLI's settings.
 fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> {
     let cfg = config(args)?;
-    equip(Interpreter::new(parse_file(text), cfg), args)
+    equip(Interpreter::new(parse_file(text), cfg), args.tools.as_deref())
 }
 
 fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
@@ -206,8 +214,8 @@ fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
 }
 
 /// Load the tool offsets (`--tools`, or the default 1–99: length 100, radius 5).
-fn equip(mut interp: Interpreter, args: &InterpreterArgs) -> Result<Interpreter, Fail> {
-    let tools: BTreeMap<u32, ToolEntry> = match &args.tools {
+fn equip(mut interp: Interpreter, tools: Option<&Path>) -> Result<Interpreter, Fail> {
+    let tools: BTreeMap<u32, ToolEntry> = match tools {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
             serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?
@@ -308,7 +316,7 @@ fn load_retained(path: &Path) -> Result<Vec<(u32, Option<f64>)>, Fail> {
 
 fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
-    let mut interp = equip(Interpreter::new_incremental(config(&a.interp)?), &a.interp)?;
+    let mut interp = equip(Interpreter::new_incremental(config(&a.interp)?), a.interp.tools.as_deref())?;
     let axes: Vec<char> = interp.config().machine.axes.iter().map(|x| x.name).collect();
     // Three stages side by side: a parser thread hands the file over in parts (the first one
     // small, so interpretation starts at once), the interpreter runs on this thread, and a
@@ -395,15 +403,51 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
 
 fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
-    let diags = fivex_engine::check::check(parse_file(&text), a.dialect);
+    let mut lines: Vec<(u32, u32, String)> = fivex_engine::check::check(parse_file(&text), a.dialect)
+        .into_iter()
+        .map(|d| {
+            let (code, message) = a.dialect.describe(&d.id);
+            (d.line, d.col, format!("{code} {message}: {}", d.detail))
+        })
+        .collect();
+    if a.machine.preset.is_some() || a.machine.machine.is_some() {
+        let machine = load_machine(&a.machine)?;
+        let name = machine.name.clone();
+        let mut cfg = Config::new(machine, a.dialect);
+        cfg.max_blocks = CHECK_MAX_BLOCKS;
+        let interp = equip(Interpreter::new(parse_file(&text), cfg), None)?;
+        // Where the text itself is wrong the static diagnostic says it already.
+        if let Some(alarm) = machine_alarm(interp, a.dialect) {
+            if !lines.iter().any(|(line, ..)| *line == alarm.line) {
+                lines.push((alarm.line, 1, format!("{} {}: when run on {name}", alarm.code, alarm.message)));
+            }
+        }
+    }
+    lines.sort_by_key(|&(line, col, _)| (line, col));
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
-    for d in &diags {
-        let (code, message) = a.dialect.describe(&d.id);
-        match writeln!(out, "{}:{}:{}: {code} {message}: {}", a.program.display(), d.line, d.col, d.detail) {
+    for (line, col, text) in &lines {
+        match writeln!(out, "{}:{line}:{col}: {text}", a.program.display()) {
             Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => break,
             other => other?,
         }
     }
-    Ok(if diags.is_empty() { 0 } else { 1 })
+    Ok(if lines.is_empty() { 0 } else { 1 })
+}
+
+/// The alarm a program stops with when the interpreter runs it on a machine, if any. A call of a
+/// program the file does not hold is not one: a check sees one file, the control has them all.
+fn machine_alarm(mut interp: Interpreter, dialect: Dialect) -> Option<fivex_engine::alarm::Alarm> {
+    let not_found = dialect.describe(&fivex_engine::alarm::AlarmId::ProgramNotFound).0;
+    let mut out = Vec::new();
+    loop {
+        out.clear();
+        match interp.step(&mut out) {
+            Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => interp.finish(),
+            Ok(Step::Ended) => return None,
+            Err(alarm) if alarm.code == not_found => return None,
+            Err(alarm) => return Some(alarm),
+        }
+    }
 }
