@@ -184,7 +184,8 @@ fn controller_tip_is_fk_of_the_live_axes() {
     while c.run_state() == RunState::Running && c.time() < 300.0 {
         c.tick(0.01);
         let p = c.point();
-        let length = if (4..=6).contains(&p.line) || p.line == 8 { 100.0 } else { 0.0 };
+        // Line 9 (M30) is shown once reached: the machine stands where N8 left it, H1 on.
+        let length = if (4..=6).contains(&p.line) || p.line >= 8 { 100.0 } else { 0.0 };
         let pose = k.forward(&p.machine, length);
         let origin = if p.line >= 3 { [50.0, -40.0, -250.0] } else { [0.0; 3] };
         let expected = [pose.tip.x - origin[0], pose.tip.y - origin[1], pose.tip.z - origin[2]];
