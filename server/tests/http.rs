@@ -208,7 +208,7 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
         "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE '\\_%' ESCAPE '\\' \
          AND name NOT LIKE 'sqlite%' ORDER BY name",
     )
-    .fetch_all(&app.state.db)
+    .fetch_all(app.state.db.reads())
     .await
     .unwrap();
     assert_eq!(
@@ -236,8 +236,8 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
 #[tokio::test]
 async fn deleting_a_controller_cascades_to_programs_and_variables() {
     let app = spawn_app().await;
-    let pool = &app.state.db;
-    db::insert_controller(pool, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();
+    db::insert_controller(&app.state.db, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();
+    let pool = app.state.db.writes();
     sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('c1', 1, 'O0001\nM30\n')")
         .execute(pool)
         .await
@@ -256,6 +256,25 @@ async fn deleting_a_controller_cascades_to_programs_and_variables() {
         let count: i64 = sqlx::query_scalar(&format!("SELECT COUNT(*) FROM {table}")).fetch_one(pool).await.unwrap();
         assert_eq!(count, 0, "{table}");
     }
+}
+
+/// The one-writer design (docs/api.md, "The database"): the readers refuse every write, so a
+/// write that went to them would fail here instead of racing the writer for the lock; the
+/// writer is a single connection.
+#[tokio::test]
+async fn only_the_writer_writes() {
+    let app = spawn_app().await;
+    let refused = sqlx::query(
+        "INSERT INTO controllers (id, name, dialect, machine_json, created_at) \
+                               VALUES ('r', 'r', 'fanuc', '{}', '2025-01-01T00:00:00Z')",
+    )
+    .execute(app.state.db.reads())
+    .await
+    .expect_err("a reader refuses to write");
+    assert!(refused.to_string().contains("readonly"), "{refused}");
+    assert_eq!(app.state.db.writes().options().get_max_connections(), 1);
+    db::insert_controller(&app.state.db, &controller("w", "w", "2025-01-01T00:00:00Z")).await.unwrap();
+    assert_eq!(db::list_controllers(&app.state.db).await.unwrap().len(), 1, "a reader sees what the writer wrote");
 }
 
 // ---------------------------------------------------------------------------------------------

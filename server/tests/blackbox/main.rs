@@ -3,6 +3,7 @@
 //! of the service's hardening (docs/api.md).
 
 mod served;
+mod store;
 
 use std::time::Duration;
 
