@@ -74,7 +74,8 @@ impl Snapshot {
     tag = "stream",
     params(("id" = String, Path, description = "Controller id"), StreamOptions),
     responses(
-        (status = 101, description = "Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects", body = Snapshot),
+        (status = 101, description = "Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects; closed with 4404 \"controller deleted\" when the controller is deleted, 1001 when the service stops", body = Snapshot),
+        (status = 400, description = "Not a websocket upgrade request", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Bad rate", body = ErrorBody),
     )
