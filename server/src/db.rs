@@ -8,7 +8,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions};
+use sqlx::sqlite::{SqliteConnectOptions, SqliteConnection, SqliteJournalMode, SqlitePool, SqlitePoolOptions};
 use sqlx::sqlite::{SqliteRow, SqliteSynchronous};
 use sqlx::Row;
 
@@ -349,6 +349,15 @@ pub async fn retained_variables(db: &Db, controller: &str) -> Result<Vec<(u32, f
 /// Saves retained variables (`None`: vacant) in one transaction.
 pub async fn save_variables(db: &Db, controller: &str, values: &[(u32, Option<f64>)]) -> Result<(), sqlx::Error> {
     let mut tx = db.begin_write().await?;
+    variables_on(&mut tx, controller, values).await?;
+    tx.commit().await
+}
+
+async fn variables_on(
+    conn: &mut SqliteConnection,
+    controller: &str,
+    values: &[(u32, Option<f64>)],
+) -> Result<(), sqlx::Error> {
     for (number, value) in values {
         sqlx::query(
             "INSERT INTO variables (controller_id, number, value) VALUES (?, ?, ?) \
@@ -357,10 +366,10 @@ pub async fn save_variables(db: &Db, controller: &str, values: &[(u32, Option<f6
         .bind(controller)
         .bind(*number as i64)
         .bind(*value)
-        .execute(&mut *tx)
+        .execute(&mut *conn)
         .await?;
     }
-    tx.commit().await
+    Ok(())
 }
 
 // --- history ------------------------------------------------------------------------------
@@ -431,47 +440,67 @@ pub async fn run_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<Ru
         .collect()
 }
 
-/// Writes what the workers produce ([`crate::host::Record`]) until every sender is gone. A
-/// failed write is logged and the writer goes on (a deleted controller's late records fail on
-/// the foreign key, harmlessly).
+/// The most records the background writer puts in one transaction.
+const RECORDS_PER_TRANSACTION: usize = 256;
+
+/// Writes what the workers produce ([`crate::host::Record`]) until every sender is gone: what
+/// has arrived, up to [`RECORDS_PER_TRANSACTION`], in one write transaction, so a busy fleet
+/// holds the writer for few commits. A failed record is logged and the others are kept (a
+/// deleted controller's late records fail on the foreign key, harmlessly; SQLite undoes only the
+/// failed statement).
 pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedReceiver<crate::host::Record>) {
-    use crate::host::Record;
-    while let Some(record) = records.recv().await {
-        let result = match &record {
-            Record::Variables { controller, values } => save_variables(&db, controller, values).await,
-            Record::ToolOffsets { controller, rows } => save_tool_offsets(&db, controller, rows).await,
-            Record::KeptPlane { controller, plane } => save_kept_plane(&db, controller, plane.as_ref()).await,
-            Record::WorkOffsets { controller, rows } => save_work_offsets(&db, controller, rows).await,
-            Record::Alarm { controller, at, alarm } => sqlx::query(
-                "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
-                 VALUES (?, ?, ?, ?, ?, ?)",
-            )
-            .bind(controller)
-            .bind(at)
-            .bind(&alarm.code)
-            .bind(&alarm.message)
-            .bind(alarm.line as i64)
-            .bind(alarm.n.map(|n| n as i64))
-            .execute(db.writes())
-            .await
-            .map(|_| ()),
-            Record::Run { controller, program, started_at, ended_at, cycle_time_s, result } => sqlx::query(
-                "INSERT INTO run_history (controller_id, program, started_at, ended_at, cycle_time_s, result) \
-                 VALUES (?, ?, ?, ?, ?, ?)",
-            )
-            .bind(controller)
-            .bind(program.map(|n| n as i64))
-            .bind(started_at)
-            .bind(ended_at)
-            .bind(cycle_time_s)
-            .bind(*result)
-            .execute(db.writes())
-            .await
-            .map(|_| ()),
-        };
-        if let Err(e) = result {
+    let mut batch = Vec::with_capacity(RECORDS_PER_TRANSACTION);
+    while records.recv_many(&mut batch, RECORDS_PER_TRANSACTION).await > 0 {
+        if let Err(e) = write_batch(&db, &batch).await {
+            tracing::warn!(error = %e, records = batch.len(), "cannot store the workers' records");
+        }
+        batch.clear();
+    }
+}
+
+async fn write_batch(db: &Db, batch: &[crate::host::Record]) -> Result<(), sqlx::Error> {
+    let mut tx = db.begin_write().await?;
+    for record in batch {
+        if let Err(e) = record_on(&mut tx, record).await {
             tracing::warn!(error = %e, ?record, "cannot store a record");
         }
+    }
+    tx.commit().await
+}
+
+async fn record_on(conn: &mut SqliteConnection, record: &crate::host::Record) -> Result<(), sqlx::Error> {
+    use crate::host::Record;
+    match record {
+        Record::Variables { controller, values } => variables_on(conn, controller, values).await,
+        Record::ToolOffsets { controller, rows } => tool_offsets_on(conn, controller, rows).await,
+        Record::KeptPlane { controller, plane } => kept_plane_on(conn, controller, plane.as_ref()).await,
+        Record::WorkOffsets { controller, rows } => work_offsets_on(conn, controller, rows).await,
+        Record::Alarm { controller, at, alarm } => sqlx::query(
+            "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
+             VALUES (?, ?, ?, ?, ?, ?)",
+        )
+        .bind(controller)
+        .bind(at)
+        .bind(&alarm.code)
+        .bind(&alarm.message)
+        .bind(alarm.line as i64)
+        .bind(alarm.n.map(|n| n as i64))
+        .execute(conn)
+        .await
+        .map(|_| ()),
+        Record::Run { controller, program, started_at, ended_at, cycle_time_s, result } => sqlx::query(
+            "INSERT INTO run_history (controller_id, program, started_at, ended_at, cycle_time_s, result) \
+             VALUES (?, ?, ?, ?, ?, ?)",
+        )
+        .bind(controller)
+        .bind(program.map(|n| n as i64))
+        .bind(started_at)
+        .bind(ended_at)
+        .bind(cycle_time_s)
+        .bind(*result)
+        .execute(conn)
+        .await
+        .map(|_| ()),
     }
 }
 
@@ -511,6 +540,11 @@ pub async fn tool_offsets(db: &Db, controller: &str) -> Result<Vec<ToolRow>, sql
 /// Saves tool offsets in one transaction.
 pub async fn save_tool_offsets(db: &Db, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
     let mut tx = db.begin_write().await?;
+    tool_offsets_on(&mut tx, controller, rows).await?;
+    tx.commit().await
+}
+
+async fn tool_offsets_on(conn: &mut SqliteConnection, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
     for t in rows {
         sqlx::query(
             "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear) \
@@ -524,10 +558,10 @@ pub async fn save_tool_offsets(db: &Db, controller: &str, rows: &[ToolRow]) -> R
         .bind(t.length_wear)
         .bind(t.radius)
         .bind(t.radius_wear)
-        .execute(&mut *tx)
+        .execute(&mut *conn)
         .await?;
     }
-    tx.commit().await
+    Ok(())
 }
 
 /// A controller's stored work offsets: (slot, value per axis).
@@ -551,6 +585,15 @@ pub async fn work_offsets(db: &Db, controller: &str) -> Result<Vec<(usize, Vec<f
 /// Saves work offsets (slot, value per axis) in one transaction.
 pub async fn save_work_offsets(db: &Db, controller: &str, rows: &[(usize, Vec<f64>)]) -> Result<(), sqlx::Error> {
     let mut tx = db.begin_write().await?;
+    work_offsets_on(&mut tx, controller, rows).await?;
+    tx.commit().await
+}
+
+async fn work_offsets_on(
+    conn: &mut SqliteConnection,
+    controller: &str,
+    rows: &[(usize, Vec<f64>)],
+) -> Result<(), sqlx::Error> {
     for (slot, axes) in rows {
         let axes = serde_json::to_string(axes).unwrap_or_else(|_| "[]".into());
         sqlx::query(
@@ -560,10 +603,10 @@ pub async fn save_work_offsets(db: &Db, controller: &str, rows: &[(usize, Vec<f6
         .bind(controller)
         .bind(*slot as i64)
         .bind(axes)
-        .execute(&mut *tx)
+        .execute(&mut *conn)
         .await?;
     }
-    tx.commit().await
+    Ok(())
 }
 
 /// Replaces a controller's machine document and the parameters its model does not read.
@@ -590,8 +633,16 @@ pub async fn save_kept_plane(
     id: &str,
     plane: Option<&fivex_engine::interp::KeptPlane>,
 ) -> Result<(), sqlx::Error> {
+    kept_plane_on(&mut *db.writes().acquire().await?, id, plane).await
+}
+
+async fn kept_plane_on(
+    conn: &mut SqliteConnection,
+    id: &str,
+    plane: Option<&fivex_engine::interp::KeptPlane>,
+) -> Result<(), sqlx::Error> {
     let json = plane.and_then(|p| serde_json::to_string(p).ok());
-    sqlx::query("UPDATE controllers SET kept_plane = ? WHERE id = ?").bind(json).bind(id).execute(db.writes()).await?;
+    sqlx::query("UPDATE controllers SET kept_plane = ? WHERE id = ?").bind(json).bind(id).execute(conn).await?;
     Ok(())
 }
 

@@ -277,6 +277,40 @@ async fn only_the_writer_writes() {
     assert_eq!(db::list_controllers(&app.state.db).await.unwrap().len(), 1, "a reader sees what the writer wrote");
 }
 
+/// The background writer puts what has arrived in one transaction; a record that fails (a
+/// deleted controller's, on the foreign key) is logged and the others in its batch are kept.
+#[tokio::test]
+async fn a_failed_record_does_not_lose_the_others_in_its_batch() {
+    use fivex_server::host::Record;
+    let app = spawn_app().await;
+    db::insert_controller(&app.state.db, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();
+    let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
+    let run = |controller: &str, program| Record::Run {
+        controller: controller.into(),
+        program: Some(program),
+        started_at: "2025-01-01T00:00:00Z".into(),
+        ended_at: "2025-01-01T00:00:01Z".into(),
+        cycle_time_s: 1.0,
+        result: "completed",
+    };
+    // Sent before the writer starts, so they arrive as one batch.
+    tx.send(run("c1", 1)).unwrap();
+    tx.send(Record::Variables { controller: "gone".into(), values: vec![(500, Some(1.0))] }).unwrap();
+    tx.send(run("gone", 2)).unwrap();
+    tx.send(Record::Variables { controller: "c1".into(), values: vec![(500, Some(2.5)), (501, None)] }).unwrap();
+    tx.send(run("c1", 3)).unwrap();
+    drop(tx);
+    db::write_records(app.state.db.clone(), rx).await;
+    let runs = db::run_history(&app.state.db, "c1", 10).await.unwrap();
+    assert_eq!(runs.iter().map(|r| r.program).collect::<Vec<_>>(), [Some(3), Some(1)]);
+    assert_eq!(db::retained_variables(&app.state.db, "c1").await.unwrap(), [(500, 2.5)]);
+    let orphans: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM run_history WHERE controller_id = 'gone'")
+        .fetch_one(app.state.db.reads())
+        .await
+        .unwrap();
+    assert_eq!(orphans, 0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // A real server on a loopback port
 
