@@ -51,8 +51,10 @@ const CYCLE: &str = "O0001\n#500=#500+1\n#501=#500*2\nG10 L11 P7 R[#500]\nG91 G0
 
 /// Issue 18: uploads failed with 500 "database is locked" while controllers were writing.
 /// 20 controllers cycle a program that writes variables and offsets (each cycle also ends in a
-/// run record) while their clients write variables and tool offsets, and 8 clients upload 40
-/// programs each: every acknowledged write succeeds, and what was written last is what is read.
+/// run record) while their clients write variables and tool offsets, 8 clients upload 40
+/// programs each, and one client creates, renames, configures, clones and deletes controllers
+/// and posts fleet runs: every acknowledged write succeeds, and what was written last is what
+/// is read.
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn writes_succeed_while_controllers_write() {
     let served = Arc::new(Served::start(&[]));
@@ -102,6 +104,53 @@ async fn writes_succeed_while_controllers_write() {
         }));
     }
 
+    // Every other write path: controllers, parameters, work offsets, clones, fleet runs.
+    let kept = create(&served, "kept", 1.0).await;
+    let keeper = {
+        let (served, stop, failures, kept) = (served.clone(), stop.clone(), failures.clone(), kept.clone());
+        tokio::spawn(async move {
+            let mut round = 0u32;
+            while !stop.load(Ordering::Relaxed) || round < 3 {
+                round += 1;
+                let id = create(&served, &format!("passing {round}"), 1.0).await;
+                let clone = served.send_json(Method::POST, &format!("{C}/{id}/clone"), &json!({"name": "copy"})).await;
+                let clone_id = clone.json()["id"].as_str().unwrap_or("none").to_owned();
+                let steps = [
+                    (Method::PATCH, format!("{C}/{id}"), json!({"name": format!("renamed {round}")}), StatusCode::OK),
+                    (Method::PUT, format!("{C}/{kept}/parameters/8130"), json!({"value": round}), StatusCode::OK),
+                    (
+                        Method::PUT,
+                        format!("{C}/{kept}/work-offsets/G54"),
+                        json!({"axes": {"X": round}}),
+                        StatusCode::OK,
+                    ),
+                    (Method::DELETE, format!("{C}/{clone_id}"), Value::Null, StatusCode::NO_CONTENT),
+                    (Method::DELETE, format!("{C}/{id}"), Value::Null, StatusCode::NO_CONTENT),
+                    (
+                        Method::POST,
+                        "/api/v1/fleet/runs".into(),
+                        json!({"program": "G91 G01 X1. F1000\nM30\n", "presets": ["mill3"]}),
+                        StatusCode::OK,
+                    ),
+                ];
+                if clone.status != StatusCode::CREATED {
+                    failures.lock().unwrap().push(format!("clone {}: {:?}", clone.status, clone.body));
+                }
+                for (method, path, body, want) in steps {
+                    let reply = if body.is_null() {
+                        served.request(method.clone(), &path, &[], "").await
+                    } else {
+                        served.send_json(method.clone(), &path, &body).await
+                    };
+                    if reply.status != want {
+                        failures.lock().unwrap().push(format!("{method} {path} {}: {:?}", reply.status, reply.body));
+                    }
+                }
+            }
+            round
+        })
+    };
+
     // 8 uploaders, 40 programs each, over the controllers' slots 2–9.
     let mut uploaders = Vec::new();
     for u in 0..8u32 {
@@ -131,6 +180,7 @@ async fn writes_succeed_while_controllers_write() {
     for cycler in cyclers {
         rounds.push(cycler.await.unwrap());
     }
+    let kept_rounds = keeper.await.unwrap();
 
     let failures = failures.lock().unwrap().clone();
     assert!(failures.is_empty(), "{} failed writes, e.g. {:?}", failures.len(), &failures[..3.min(failures.len())]);
@@ -160,6 +210,15 @@ async fn writes_succeed_while_controllers_write() {
         let nine = tools.as_array().unwrap().iter().find(|t| t["number"] == 9).cloned();
         assert_eq!(nine.map(|t| t["length"].clone()), Some(json!(*round as f64)), "{id}");
     }
+    let parameters = served.get(&format!("{C}/{kept}/parameters")).await.json();
+    assert_eq!(parameters["parameters"]["8130"], json!(kept_rounds), "{parameters}");
+    let work = served.get(&format!("{C}/{kept}/work-offsets")).await.json();
+    let g54 = work.as_array().unwrap().iter().find(|w| w["name"] == "G54").cloned().expect("G54 stored");
+    assert_eq!(g54["axes"]["X"], json!(kept_rounds as f64));
+    let controllers = served.get(C).await.json();
+    assert_eq!(controllers.as_array().unwrap().len(), 21, "the passing controllers and their clones are gone");
+    let fleet_runs = served.get("/api/v1/fleet/runs").await.json();
+    assert_eq!(fleet_runs.as_array().unwrap().len(), kept_rounds as usize);
     let mut recorded = 0;
     for id in ids.iter() {
         recorded += served.get(&format!("{C}/{id}/runs")).await.json().as_array().unwrap().len();
