@@ -71,7 +71,8 @@ async fn writes_succeed_while_controllers_write() {
 
     // The controllers' clients: cycle start, and writes of a variable and a tool offset.
     let mut cyclers = Vec::new();
-    for id in ids.iter().cloned() {
+    for id in ids.iter() {
+        let id = id.clone();
         let (served, stop, cycles, writes, failures) =
             (served.clone(), stop.clone(), cycles.clone(), writes.clone(), failures.clone());
         cyclers.push(tokio::spawn(async move {
@@ -325,7 +326,9 @@ async fn every_error_is_the_documented_json() {
         .await;
     assert_json_error(&huge_json, StatusCode::PAYLOAD_TOO_LARGE);
 
-    let cases: Vec<(Method, String, Vec<(&str, &str)>, &str, StatusCode)> = vec![
+    // Method, path, headers, body, the status.
+    type Case = (Method, String, Vec<(&'static str, &'static str)>, &'static str, StatusCode);
+    let cases: Vec<Case> = vec![
         // JSON syntax.
         (Method::POST, C.into(), vec![("content-type", "application/json")], "{\"name\": ", StatusCode::BAD_REQUEST),
         // Not JSON at all.
