@@ -83,10 +83,11 @@ impl Db {
         self.writes.begin_with("BEGIN IMMEDIATE").await
     }
 
-    /// Closes both pools (waiting for the connections in use).
+    /// Closes both pools (waiting for the connections in use); the writer last, so that it is
+    /// the one that checkpoints the WAL into the file.
     pub async fn close(&self) {
-        self.writes.close().await;
         self.reads.close().await;
+        self.writes.close().await;
     }
 
     pub fn is_closed(&self) -> bool {

@@ -221,6 +221,7 @@ impl ApiError {
             ApiError::Rejected(status, _) => *status,
             ApiError::Unavailable(_) => StatusCode::SERVICE_UNAVAILABLE,
             ApiError::Unauthorized => StatusCode::UNAUTHORIZED,
+            ApiError::Database(e) if owner_gone(e) => StatusCode::NOT_FOUND,
             ApiError::Database(_) => StatusCode::INTERNAL_SERVER_ERROR,
         }
     }
@@ -230,6 +231,10 @@ impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
         let status = self.status();
         if let ApiError::Database(source) = &self {
+            if owner_gone(source) {
+                let body = ErrorBody { error: "no such controller (it was deleted meanwhile)".into(), details: None };
+                return (status, Json(body)).into_response();
+            }
             tracing::error!(error = %source, "database error");
         }
         let details = match &self {
@@ -239,6 +244,12 @@ impl IntoResponse for ApiError {
         let body = ErrorBody { error: self.to_string(), details };
         (status, Json(body)).into_response()
     }
+}
+
+/// A write for a controller that a concurrent request deleted after the handler found it fails on
+/// the foreign key: that is the client's 404, not the service's 500.
+fn owner_gone(e: &sqlx::Error) -> bool {
+    e.as_database_error().is_some_and(|d| d.kind() == sqlx::error::ErrorKind::ForeignKeyViolation)
 }
 
 /// The body of every 4xx/5xx response.

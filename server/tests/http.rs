@@ -246,10 +246,15 @@ async fn deleting_a_controller_cascades_to_programs_and_variables() {
         .execute(pool)
         .await
         .unwrap();
-    // Foreign keys are enforced: no program for an unknown controller.
+    // Foreign keys are enforced: no program for an unknown controller. A handler that meets
+    // this (the controller deleted by another request after it was found) answers 404.
     let orphan =
         sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('zz', 1, '')").execute(pool).await;
-    assert!(orphan.is_err());
+    let response = ApiError::from(orphan.expect_err("refused")).into_response();
+    assert_eq!(response.status(), StatusCode::NOT_FOUND);
+    let body = response.into_body().collect().await.unwrap().to_bytes();
+    let error: Value = serde_json::from_slice(&body).unwrap();
+    assert!(error["error"].as_str().unwrap().contains("deleted"), "{error}");
 
     sqlx::query("DELETE FROM controllers WHERE id = 'c1'").execute(pool).await.unwrap();
     for table in ["programs", "variables"] {
