@@ -8,7 +8,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions};
+use sqlx::sqlite::{SqliteConnectOptions, SqliteConnection, SqliteJournalMode, SqlitePool, SqlitePoolOptions};
 use sqlx::sqlite::{SqliteRow, SqliteSynchronous};
 use sqlx::Row;
 
@@ -38,25 +38,91 @@ pub enum OpenError {
     },
 }
 
+/// The database as the service uses it: one writer connection and a pool of readers.
+///
+/// *Decision* (docs/api.md, "The database"): SQLite lets one connection write at a time. Several
+/// connections that write race for the lock, and a transaction that reads before it writes
+/// cannot wait for it (SQLite answers `SQLITE_BUSY` at once, the busy handler does not run), so
+/// requests failed with "database is locked" whenever the workers' records were being written.
+/// Here every write and every write transaction goes through the one connection of the writer
+/// pool, in turn (a request waits for the connection, never for a lock), and a transaction
+/// that reads before it writes starts with `BEGIN IMMEDIATE`. The readers are `query_only`, so a
+/// write sent to them fails in every test instead of racing the writer; WAL lets them read
+/// while the writer writes. The busy timeout stays as a defence against other processes
+/// (`sqlite3` on the same file).
+#[derive(Clone, Debug)]
+pub struct Db {
+    reads: SqlitePool,
+    writes: SqlitePool,
+}
+
+/// Readers: enough for the handlers that read at once on a small machine.
+const READERS: u32 = 4;
+
+/// How long a request may wait for the writer before it fails (a defence: a write takes
+/// milliseconds, and the queue is fair).
+const WRITER_WAIT: Duration = Duration::from_secs(60);
+
+/// How long a connection waits for a lock another process holds.
+const BUSY_TIMEOUT: Duration = Duration::from_secs(5);
+
+impl Db {
+    /// The pool of read-only (`query_only`) connections.
+    pub fn reads(&self) -> &SqlitePool {
+        &self.reads
+    }
+
+    /// The pool of the one connection that writes.
+    pub fn writes(&self) -> &SqlitePool {
+        &self.writes
+    }
+
+    /// A write transaction that holds the write lock from its start (`BEGIN IMMEDIATE`), for a
+    /// transaction that reads before it writes.
+    async fn begin_write(&self) -> Result<sqlx::Transaction<'static, sqlx::Sqlite>, sqlx::Error> {
+        self.writes.begin_with("BEGIN IMMEDIATE").await
+    }
+
+    /// Closes both pools (waiting for the connections in use); the writer last, so that it is
+    /// the one that checkpoints the WAL into the file.
+    pub async fn close(&self) {
+        self.reads.close().await;
+        self.writes.close().await;
+    }
+
+    pub fn is_closed(&self) -> bool {
+        self.writes.is_closed() || self.reads.is_closed()
+    }
+}
+
 /// Opens the SQLite database at `path`, creating the file if it is missing, and brings its schema
 /// up to date. Foreign keys are enforced (deleting a controller deletes its programs and
 /// variables) and the journal is in WAL mode so readers do not block the writer.
-pub async fn open(path: &Path) -> Result<SqlitePool, OpenError> {
+pub async fn open(path: &Path) -> Result<Db, OpenError> {
     let shown = path.display().to_string();
+    let connect = |source| OpenError::Connect { path: shown.clone(), source };
     let options = SqliteConnectOptions::new()
         .filename(path)
-        .create_if_missing(true)
         .foreign_keys(true)
-        .journal_mode(SqliteJournalMode::Wal)
         .synchronous(SqliteSynchronous::Normal)
-        .busy_timeout(Duration::from_secs(5));
-    let pool = SqlitePoolOptions::new()
-        .max_connections(4)
-        .connect_with(options)
+        .busy_timeout(BUSY_TIMEOUT);
+    // The writer first: it creates the file and turns on WAL, which the readers then find.
+    let writes = SqlitePoolOptions::new()
+        .max_connections(1)
+        .min_connections(1)
+        .acquire_timeout(WRITER_WAIT)
+        .idle_timeout(None)
+        .max_lifetime(None)
+        .connect_with(options.clone().create_if_missing(true).journal_mode(SqliteJournalMode::Wal))
         .await
-        .map_err(|source| OpenError::Connect { path: shown.clone(), source })?;
-    MIGRATOR.run(&pool).await.map_err(|source| OpenError::Migrate { path: shown, source })?;
-    Ok(pool)
+        .map_err(connect)?;
+    MIGRATOR.run(&writes).await.map_err(|source| OpenError::Migrate { path: shown.clone(), source })?;
+    let reads = SqlitePoolOptions::new()
+        .max_connections(READERS)
+        .connect_with(options.pragma("query_only", "ON"))
+        .await
+        .map_err(connect)?;
+    Ok(Db { reads, writes })
 }
 
 /// One row of the `controllers` table.
@@ -82,19 +148,19 @@ impl ControllerRow {
 }
 
 /// Every stored controller, oldest first (ties broken by id, so the order is stable).
-pub async fn list_controllers(pool: &SqlitePool) -> Result<Vec<ControllerRow>, sqlx::Error> {
+pub async fn list_controllers(db: &Db) -> Result<Vec<ControllerRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT id, name, dialect, machine_json, created_at FROM controllers \
          ORDER BY created_at, id",
     )
-    .fetch_all(pool)
+    .fetch_all(db.reads())
     .await?;
     rows.iter().map(ControllerRow::from_row).collect()
 }
 
 /// Inserts a controller row. The controllers API (a later issue) builds on this; tests use it
 /// to check the list endpoint against real rows.
-pub async fn insert_controller(pool: &SqlitePool, row: &ControllerRow) -> Result<(), sqlx::Error> {
+pub async fn insert_controller(db: &Db, row: &ControllerRow) -> Result<(), sqlx::Error> {
     sqlx::query(
         "INSERT INTO controllers (id, name, dialect, machine_json, created_at) \
          VALUES (?, ?, ?, ?, ?)",
@@ -104,40 +170,38 @@ pub async fn insert_controller(pool: &SqlitePool, row: &ControllerRow) -> Result
     .bind(&row.dialect)
     .bind(&row.machine_json)
     .bind(&row.created_at)
-    .execute(pool)
+    .execute(db.writes())
     .await?;
     Ok(())
 }
 
 /// Removes a controller and (by the foreign keys) everything stored for it; false if there was
 /// none.
-pub async fn delete_controller(pool: &SqlitePool, id: &str) -> Result<bool, sqlx::Error> {
-    let done = sqlx::query("DELETE FROM controllers WHERE id = ?").bind(id).execute(pool).await?;
+pub async fn delete_controller(db: &Db, id: &str) -> Result<bool, sqlx::Error> {
+    let done = sqlx::query("DELETE FROM controllers WHERE id = ?").bind(id).execute(db.writes()).await?;
     Ok(done.rows_affected() > 0)
 }
 
 /// Sets a controller's name and speed factor.
-pub async fn update_controller(pool: &SqlitePool, id: &str, name: &str, speed: f64) -> Result<(), sqlx::Error> {
+pub async fn update_controller(db: &Db, id: &str, name: &str, speed: f64) -> Result<(), sqlx::Error> {
     sqlx::query("UPDATE controllers SET name = ?, speed = ? WHERE id = ?")
         .bind(name)
         .bind(speed)
         .bind(id)
-        .execute(pool)
+        .execute(db.writes())
         .await?;
     Ok(())
 }
 
 /// The speed factor and the extra parameters (JSON) stored for each controller.
-pub async fn controller_settings(
-    pool: &SqlitePool,
-) -> Result<std::collections::HashMap<String, (f64, String)>, sqlx::Error> {
-    let rows = sqlx::query("SELECT id, speed, extra_parameters FROM controllers").fetch_all(pool).await?;
+pub async fn controller_settings(db: &Db) -> Result<std::collections::HashMap<String, (f64, String)>, sqlx::Error> {
+    let rows = sqlx::query("SELECT id, speed, extra_parameters FROM controllers").fetch_all(db.reads()).await?;
     rows.iter().map(|r| Ok((r.try_get("id")?, (r.try_get("speed")?, r.try_get("extra_parameters")?)))).collect()
 }
 
 /// Inserts a controller row with its speed factor and the parameters its model does not read.
 pub async fn insert_controller_with(
-    pool: &SqlitePool,
+    db: &Db,
     row: &ControllerRow,
     speed: f64,
     extra_json: &str,
@@ -153,7 +217,7 @@ pub async fn insert_controller_with(
     .bind(&row.created_at)
     .bind(speed)
     .bind(extra_json)
-    .execute(pool)
+    .execute(db.writes())
     .await?;
     Ok(())
 }
@@ -162,13 +226,13 @@ pub async fn insert_controller_with(
 /// parameters, programs, retained variables, tool and work offsets) to a new id and name, in
 /// one transaction. False if there is no controller `from`.
 pub async fn clone_controller(
-    pool: &SqlitePool,
+    db: &Db,
     from: &str,
     id: &str,
     name: &str,
     created_at: &str,
 ) -> Result<bool, sqlx::Error> {
-    let mut tx = pool.begin().await?;
+    let mut tx = db.begin_write().await?;
     let copied = sqlx::query(
         "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters) \
          SELECT ?, ?, dialect, machine_json, ?, speed, extra_parameters FROM controllers WHERE id = ?",
@@ -196,10 +260,10 @@ pub async fn clone_controller(
 }
 
 /// One stored controller row.
-pub async fn controller(pool: &SqlitePool, id: &str) -> Result<Option<ControllerRow>, sqlx::Error> {
+pub async fn controller(db: &Db, id: &str) -> Result<Option<ControllerRow>, sqlx::Error> {
     let row = sqlx::query("SELECT id, name, dialect, machine_json, created_at FROM controllers WHERE id = ?")
         .bind(id)
-        .fetch_optional(pool)
+        .fetch_optional(db.reads())
         .await?;
     row.as_ref().map(ControllerRow::from_row).transpose()
 }
@@ -207,35 +271,35 @@ pub async fn controller(pool: &SqlitePool, id: &str) -> Result<Option<Controller
 // --- programs -----------------------------------------------------------------------------
 
 /// The O-numbers and sizes of a controller's stored programs, ascending.
-pub async fn list_programs(pool: &SqlitePool, controller: &str) -> Result<Vec<(u32, usize)>, sqlx::Error> {
+pub async fn list_programs(db: &Db, controller: &str) -> Result<Vec<(u32, usize)>, sqlx::Error> {
     let rows = sqlx::query("SELECT number, length(text) AS size FROM programs WHERE controller_id = ? ORDER BY number")
         .bind(controller)
-        .fetch_all(pool)
+        .fetch_all(db.reads())
         .await?;
     rows.iter().map(|r| Ok((r.try_get::<i64, _>("number")? as u32, r.try_get::<i64, _>("size")? as usize))).collect()
 }
 
 /// Every stored program of a controller, ascending: (number, text).
-pub async fn programs(pool: &SqlitePool, controller: &str) -> Result<Vec<(u32, String)>, sqlx::Error> {
+pub async fn programs(db: &Db, controller: &str) -> Result<Vec<(u32, String)>, sqlx::Error> {
     let rows = sqlx::query("SELECT number, text FROM programs WHERE controller_id = ? ORDER BY number")
         .bind(controller)
-        .fetch_all(pool)
+        .fetch_all(db.reads())
         .await?;
     rows.iter().map(|r| Ok((r.try_get::<i64, _>("number")? as u32, r.try_get("text")?))).collect()
 }
 
-pub async fn program(pool: &SqlitePool, controller: &str, number: u32) -> Result<Option<String>, sqlx::Error> {
+pub async fn program(db: &Db, controller: &str, number: u32) -> Result<Option<String>, sqlx::Error> {
     let row = sqlx::query("SELECT text FROM programs WHERE controller_id = ? AND number = ?")
         .bind(controller)
         .bind(number as i64)
-        .fetch_optional(pool)
+        .fetch_optional(db.reads())
         .await?;
     row.map(|r| r.try_get("text")).transpose()
 }
 
 /// Stores (or replaces) a program; true if it was new.
-pub async fn put_program(pool: &SqlitePool, controller: &str, number: u32, text: &str) -> Result<bool, sqlx::Error> {
-    let mut tx = pool.begin().await?;
+pub async fn put_program(db: &Db, controller: &str, number: u32, text: &str) -> Result<bool, sqlx::Error> {
+    let mut tx = db.begin_write().await?;
     let existed = sqlx::query("SELECT 1 FROM programs WHERE controller_id = ? AND number = ?")
         .bind(controller)
         .bind(number as i64)
@@ -255,11 +319,11 @@ pub async fn put_program(pool: &SqlitePool, controller: &str, number: u32, text:
     Ok(!existed)
 }
 
-pub async fn delete_program(pool: &SqlitePool, controller: &str, number: u32) -> Result<bool, sqlx::Error> {
+pub async fn delete_program(db: &Db, controller: &str, number: u32) -> Result<bool, sqlx::Error> {
     let done = sqlx::query("DELETE FROM programs WHERE controller_id = ? AND number = ?")
         .bind(controller)
         .bind(number as i64)
-        .execute(pool)
+        .execute(db.writes())
         .await?;
     Ok(done.rows_affected() > 0)
 }
@@ -268,10 +332,10 @@ pub async fn delete_program(pool: &SqlitePool, controller: &str, number: u32) ->
 
 /// A controller's retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902): every
 /// row with a value (a NULL row is vacant).
-pub async fn retained_variables(pool: &SqlitePool, controller: &str) -> Result<Vec<(u32, f64)>, sqlx::Error> {
+pub async fn retained_variables(db: &Db, controller: &str) -> Result<Vec<(u32, f64)>, sqlx::Error> {
     let rows = sqlx::query("SELECT number, value FROM variables WHERE controller_id = ? AND value IS NOT NULL")
         .bind(controller)
-        .fetch_all(pool)
+        .fetch_all(db.reads())
         .await?;
     let mut values = Vec::with_capacity(rows.len());
     for r in rows {
@@ -284,12 +348,17 @@ pub async fn retained_variables(pool: &SqlitePool, controller: &str) -> Result<V
 }
 
 /// Saves retained variables (`None`: vacant) in one transaction.
-pub async fn save_variables(
-    pool: &SqlitePool,
+pub async fn save_variables(db: &Db, controller: &str, values: &[(u32, Option<f64>)]) -> Result<(), sqlx::Error> {
+    let mut tx = db.begin_write().await?;
+    variables_on(&mut tx, controller, values).await?;
+    tx.commit().await
+}
+
+async fn variables_on(
+    conn: &mut SqliteConnection,
     controller: &str,
     values: &[(u32, Option<f64>)],
 ) -> Result<(), sqlx::Error> {
-    let mut tx = pool.begin().await?;
     for (number, value) in values {
         sqlx::query(
             "INSERT INTO variables (controller_id, number, value) VALUES (?, ?, ?) \
@@ -298,10 +367,10 @@ pub async fn save_variables(
         .bind(controller)
         .bind(*number as i64)
         .bind(*value)
-        .execute(&mut *tx)
+        .execute(&mut *conn)
         .await?;
     }
-    tx.commit().await
+    Ok(())
 }
 
 // --- history ------------------------------------------------------------------------------
@@ -317,14 +386,14 @@ pub struct AlarmRow {
 }
 
 /// A controller's alarm history, newest first, at most `limit` rows.
-pub async fn alarm_history(pool: &SqlitePool, controller: &str, limit: u32) -> Result<Vec<AlarmRow>, sqlx::Error> {
+pub async fn alarm_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<AlarmRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT raised_at, code, message, line, n FROM alarm_history WHERE controller_id = ? \
          ORDER BY id DESC LIMIT ?",
     )
     .bind(controller)
     .bind(limit as i64)
-    .fetch_all(pool)
+    .fetch_all(db.reads())
     .await?;
     rows.iter()
         .map(|r| {
@@ -350,14 +419,14 @@ pub struct RunRow {
 }
 
 /// A controller's run history, newest first, at most `limit` rows.
-pub async fn run_history(pool: &SqlitePool, controller: &str, limit: u32) -> Result<Vec<RunRow>, sqlx::Error> {
+pub async fn run_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<RunRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT program, started_at, ended_at, cycle_time_s, result FROM run_history \
          WHERE controller_id = ? ORDER BY id DESC LIMIT ?",
     )
     .bind(controller)
     .bind(limit as i64)
-    .fetch_all(pool)
+    .fetch_all(db.reads())
     .await?;
     rows.iter()
         .map(|r| {
@@ -372,47 +441,67 @@ pub async fn run_history(pool: &SqlitePool, controller: &str, limit: u32) -> Res
         .collect()
 }
 
-/// Writes what the workers produce ([`crate::host::Record`]) until every sender is gone. A
-/// failed write is logged and the writer goes on (a deleted controller's late records fail on
-/// the foreign key, harmlessly).
-pub async fn write_records(pool: SqlitePool, mut records: tokio::sync::mpsc::UnboundedReceiver<crate::host::Record>) {
-    use crate::host::Record;
-    while let Some(record) = records.recv().await {
-        let result = match &record {
-            Record::Variables { controller, values } => save_variables(&pool, controller, values).await,
-            Record::ToolOffsets { controller, rows } => save_tool_offsets(&pool, controller, rows).await,
-            Record::KeptPlane { controller, plane } => save_kept_plane(&pool, controller, plane.as_ref()).await,
-            Record::WorkOffsets { controller, rows } => save_work_offsets(&pool, controller, rows).await,
-            Record::Alarm { controller, at, alarm } => sqlx::query(
-                "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
-                 VALUES (?, ?, ?, ?, ?, ?)",
-            )
-            .bind(controller)
-            .bind(at)
-            .bind(&alarm.code)
-            .bind(&alarm.message)
-            .bind(alarm.line as i64)
-            .bind(alarm.n.map(|n| n as i64))
-            .execute(&pool)
-            .await
-            .map(|_| ()),
-            Record::Run { controller, program, started_at, ended_at, cycle_time_s, result } => sqlx::query(
-                "INSERT INTO run_history (controller_id, program, started_at, ended_at, cycle_time_s, result) \
-                 VALUES (?, ?, ?, ?, ?, ?)",
-            )
-            .bind(controller)
-            .bind(program.map(|n| n as i64))
-            .bind(started_at)
-            .bind(ended_at)
-            .bind(cycle_time_s)
-            .bind(*result)
-            .execute(&pool)
-            .await
-            .map(|_| ()),
-        };
-        if let Err(e) = result {
+/// The most records the background writer puts in one transaction.
+const RECORDS_PER_TRANSACTION: usize = 256;
+
+/// Writes what the workers produce ([`crate::host::Record`]) until every sender is gone: what
+/// has arrived, up to [`RECORDS_PER_TRANSACTION`], in one write transaction, so a busy fleet
+/// holds the writer for few commits. A failed record is logged and the others are kept (a
+/// deleted controller's late records fail on the foreign key, harmlessly; SQLite undoes only the
+/// failed statement).
+pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedReceiver<crate::host::Record>) {
+    let mut batch = Vec::with_capacity(RECORDS_PER_TRANSACTION);
+    while records.recv_many(&mut batch, RECORDS_PER_TRANSACTION).await > 0 {
+        if let Err(e) = write_batch(&db, &batch).await {
+            tracing::warn!(error = %e, records = batch.len(), "cannot store the workers' records");
+        }
+        batch.clear();
+    }
+}
+
+async fn write_batch(db: &Db, batch: &[crate::host::Record]) -> Result<(), sqlx::Error> {
+    let mut tx = db.begin_write().await?;
+    for record in batch {
+        if let Err(e) = record_on(&mut tx, record).await {
             tracing::warn!(error = %e, ?record, "cannot store a record");
         }
+    }
+    tx.commit().await
+}
+
+async fn record_on(conn: &mut SqliteConnection, record: &crate::host::Record) -> Result<(), sqlx::Error> {
+    use crate::host::Record;
+    match record {
+        Record::Variables { controller, values } => variables_on(conn, controller, values).await,
+        Record::ToolOffsets { controller, rows } => tool_offsets_on(conn, controller, rows).await,
+        Record::KeptPlane { controller, plane } => kept_plane_on(conn, controller, plane.as_ref()).await,
+        Record::WorkOffsets { controller, rows } => work_offsets_on(conn, controller, rows).await,
+        Record::Alarm { controller, at, alarm } => sqlx::query(
+            "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
+             VALUES (?, ?, ?, ?, ?, ?)",
+        )
+        .bind(controller)
+        .bind(at)
+        .bind(&alarm.code)
+        .bind(&alarm.message)
+        .bind(alarm.line as i64)
+        .bind(alarm.n.map(|n| n as i64))
+        .execute(conn)
+        .await
+        .map(|_| ()),
+        Record::Run { controller, program, started_at, ended_at, cycle_time_s, result } => sqlx::query(
+            "INSERT INTO run_history (controller_id, program, started_at, ended_at, cycle_time_s, result) \
+             VALUES (?, ?, ?, ?, ?, ?)",
+        )
+        .bind(controller)
+        .bind(program.map(|n| n as i64))
+        .bind(started_at)
+        .bind(ended_at)
+        .bind(cycle_time_s)
+        .bind(*result)
+        .execute(conn)
+        .await
+        .map(|_| ()),
     }
 }
 
@@ -428,13 +517,13 @@ pub struct ToolRow {
     pub radius_wear: f64,
 }
 
-pub async fn tool_offsets(pool: &SqlitePool, controller: &str) -> Result<Vec<ToolRow>, sqlx::Error> {
+pub async fn tool_offsets(db: &Db, controller: &str) -> Result<Vec<ToolRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT number, length, length_wear, radius, radius_wear FROM tool_offsets WHERE controller_id = ? \
          ORDER BY number",
     )
     .bind(controller)
-    .fetch_all(pool)
+    .fetch_all(db.reads())
     .await?;
     rows.iter()
         .map(|r| {
@@ -450,8 +539,13 @@ pub async fn tool_offsets(pool: &SqlitePool, controller: &str) -> Result<Vec<Too
 }
 
 /// Saves tool offsets in one transaction.
-pub async fn save_tool_offsets(pool: &SqlitePool, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
-    let mut tx = pool.begin().await?;
+pub async fn save_tool_offsets(db: &Db, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
+    let mut tx = db.begin_write().await?;
+    tool_offsets_on(&mut tx, controller, rows).await?;
+    tx.commit().await
+}
+
+async fn tool_offsets_on(conn: &mut SqliteConnection, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
     for t in rows {
         sqlx::query(
             "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear) \
@@ -465,17 +559,17 @@ pub async fn save_tool_offsets(pool: &SqlitePool, controller: &str, rows: &[Tool
         .bind(t.length_wear)
         .bind(t.radius)
         .bind(t.radius_wear)
-        .execute(&mut *tx)
+        .execute(&mut *conn)
         .await?;
     }
-    tx.commit().await
+    Ok(())
 }
 
 /// A controller's stored work offsets: (slot, value per axis).
-pub async fn work_offsets(pool: &SqlitePool, controller: &str) -> Result<Vec<(usize, Vec<f64>)>, sqlx::Error> {
+pub async fn work_offsets(db: &Db, controller: &str) -> Result<Vec<(usize, Vec<f64>)>, sqlx::Error> {
     let rows = sqlx::query("SELECT slot, axes FROM work_offsets WHERE controller_id = ? ORDER BY slot")
         .bind(controller)
-        .fetch_all(pool)
+        .fetch_all(db.reads())
         .await?;
     let mut out = Vec::new();
     for r in rows {
@@ -490,12 +584,17 @@ pub async fn work_offsets(pool: &SqlitePool, controller: &str) -> Result<Vec<(us
 }
 
 /// Saves work offsets (slot, value per axis) in one transaction.
-pub async fn save_work_offsets(
-    pool: &SqlitePool,
+pub async fn save_work_offsets(db: &Db, controller: &str, rows: &[(usize, Vec<f64>)]) -> Result<(), sqlx::Error> {
+    let mut tx = db.begin_write().await?;
+    work_offsets_on(&mut tx, controller, rows).await?;
+    tx.commit().await
+}
+
+async fn work_offsets_on(
+    conn: &mut SqliteConnection,
     controller: &str,
     rows: &[(usize, Vec<f64>)],
 ) -> Result<(), sqlx::Error> {
-    let mut tx = pool.begin().await?;
     for (slot, axes) in rows {
         let axes = serde_json::to_string(axes).unwrap_or_else(|_| "[]".into());
         sqlx::query(
@@ -505,42 +604,46 @@ pub async fn save_work_offsets(
         .bind(controller)
         .bind(*slot as i64)
         .bind(axes)
-        .execute(&mut *tx)
+        .execute(&mut *conn)
         .await?;
     }
-    tx.commit().await
+    Ok(())
 }
 
 /// Replaces a controller's machine document and the parameters its model does not read.
-pub async fn update_machine(
-    pool: &SqlitePool,
-    id: &str,
-    machine_json: &str,
-    extra_json: &str,
-) -> Result<(), sqlx::Error> {
+pub async fn update_machine(db: &Db, id: &str, machine_json: &str, extra_json: &str) -> Result<(), sqlx::Error> {
     sqlx::query("UPDATE controllers SET machine_json = ?, extra_parameters = ? WHERE id = ?")
         .bind(machine_json)
         .bind(extra_json)
         .bind(id)
-        .execute(pool)
+        .execute(db.writes())
         .await?;
     Ok(())
 }
 
 /// The tilted working plane a controller keeps over a restart (JSON), if any.
-pub async fn kept_plane(pool: &SqlitePool, id: &str) -> Result<Option<String>, sqlx::Error> {
-    let row = sqlx::query("SELECT kept_plane FROM controllers WHERE id = ?").bind(id).fetch_optional(pool).await?;
+pub async fn kept_plane(db: &Db, id: &str) -> Result<Option<String>, sqlx::Error> {
+    let row =
+        sqlx::query("SELECT kept_plane FROM controllers WHERE id = ?").bind(id).fetch_optional(db.reads()).await?;
     Ok(row.and_then(|r| r.try_get::<Option<String>, _>("kept_plane").ok().flatten()))
 }
 
 /// Stores (or, `None`, clears) the tilted working plane a controller keeps over a restart.
 pub async fn save_kept_plane(
-    pool: &SqlitePool,
+    db: &Db,
+    id: &str,
+    plane: Option<&fivex_engine::interp::KeptPlane>,
+) -> Result<(), sqlx::Error> {
+    kept_plane_on(&mut *db.writes().acquire().await?, id, plane).await
+}
+
+async fn kept_plane_on(
+    conn: &mut SqliteConnection,
     id: &str,
     plane: Option<&fivex_engine::interp::KeptPlane>,
 ) -> Result<(), sqlx::Error> {
     let json = plane.and_then(|p| serde_json::to_string(p).ok());
-    sqlx::query("UPDATE controllers SET kept_plane = ? WHERE id = ?").bind(json).bind(id).execute(pool).await?;
+    sqlx::query("UPDATE controllers SET kept_plane = ? WHERE id = ?").bind(json).bind(id).execute(conn).await?;
     Ok(())
 }
 
@@ -561,7 +664,7 @@ pub struct FleetRunRow {
 }
 
 /// A fleet run that has started.
-pub async fn insert_fleet_run(pool: &SqlitePool, row: &FleetRunRow) -> Result<(), sqlx::Error> {
+pub async fn insert_fleet_run(db: &Db, row: &FleetRunRow) -> Result<(), sqlx::Error> {
     sqlx::query(
         "INSERT INTO fleet_runs (id, created_at, status, machines, program, request_json) VALUES (?, ?, ?, ?, ?, ?)",
     )
@@ -571,14 +674,14 @@ pub async fn insert_fleet_run(pool: &SqlitePool, row: &FleetRunRow) -> Result<()
     .bind(row.machines as i64)
     .bind(&row.program)
     .bind(&row.request_json)
-    .execute(pool)
+    .execute(db.writes())
     .await?;
     Ok(())
 }
 
 /// A fleet run that is done, with its results.
 pub async fn finish_fleet_run(
-    pool: &SqlitePool,
+    db: &Db,
     id: &str,
     finished_at: &str,
     completed: u32,
@@ -594,14 +697,14 @@ pub async fn finish_fleet_run(
     .bind(alarms as i64)
     .bind(results_json)
     .bind(id)
-    .execute(pool)
+    .execute(db.writes())
     .await?;
     Ok(())
 }
 
 /// Runs left `running` by a service that stopped become `interrupted`.
-pub async fn interrupt_fleet_runs(pool: &SqlitePool) -> Result<(), sqlx::Error> {
-    sqlx::query("UPDATE fleet_runs SET status = 'interrupted' WHERE status = 'running'").execute(pool).await?;
+pub async fn interrupt_fleet_runs(db: &Db) -> Result<(), sqlx::Error> {
+    sqlx::query("UPDATE fleet_runs SET status = 'interrupted' WHERE status = 'running'").execute(db.writes()).await?;
     Ok(())
 }
 
@@ -621,19 +724,19 @@ fn fleet_run_row(r: &sqlx::sqlite::SqliteRow, full: bool) -> Result<FleetRunRow,
 }
 
 /// Fleet runs, newest first, at most `limit` (without program, request and results).
-pub async fn fleet_runs(pool: &SqlitePool, limit: u32) -> Result<Vec<FleetRunRow>, sqlx::Error> {
+pub async fn fleet_runs(db: &Db, limit: u32) -> Result<Vec<FleetRunRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT id, created_at, finished_at, status, machines, completed, alarms FROM fleet_runs \
          ORDER BY rowid DESC LIMIT ?",
     )
     .bind(limit as i64)
-    .fetch_all(pool)
+    .fetch_all(db.reads())
     .await?;
     rows.iter().map(|r| fleet_run_row(r, false)).collect()
 }
 
 /// One fleet run with everything stored.
-pub async fn fleet_run(pool: &SqlitePool, id: &str) -> Result<Option<FleetRunRow>, sqlx::Error> {
-    let row = sqlx::query("SELECT * FROM fleet_runs WHERE id = ?").bind(id).fetch_optional(pool).await?;
+pub async fn fleet_run(db: &Db, id: &str) -> Result<Option<FleetRunRow>, sqlx::Error> {
+    let row = sqlx::query("SELECT * FROM fleet_runs WHERE id = ?").bind(id).fetch_optional(db.reads()).await?;
     row.as_ref().map(|r| fleet_run_row(r, true)).transpose()
 }

@@ -21,7 +21,6 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::{Json, Router};
 use serde::{Deserialize, Serialize};
-use sqlx::SqlitePool;
 use tokio::net::TcpListener;
 use tokio::sync::watch;
 use utoipa::{OpenApi, ToSchema};
@@ -48,7 +47,8 @@ pub const MAX_BODY_BYTES: usize = api::programs::MAX_PROGRAM_BYTES + 64 * 1024;
 /// shared state).
 #[derive(Clone, Debug)]
 pub struct AppState {
-    pub db: SqlitePool,
+    /// The database: readers and the one writer (`db::Db`).
+    pub db: db::Db,
     /// The hosted controllers and their workers.
     pub host: Host,
     /// Set when the service shuts down, so websockets close cleanly.
@@ -64,7 +64,7 @@ pub struct AppState {
 /// A stored controller as the host runs it, in reset state with what it keeps (`None`, logged,
 /// when this version refuses its machine or dialect).
 pub async fn load_controller(
-    db: &SqlitePool,
+    db: &db::Db,
     row: db::ControllerRow,
     settings: &std::collections::HashMap<String, (f64, String)>,
 ) -> Result<Option<Hosted>, sqlx::Error> {
@@ -123,12 +123,12 @@ impl AppState {
     /// State over an already opened and migrated pool: the controllers it stores are hosted
     /// again (one that cannot be, a machine document this version refuses, is logged and left
     /// in the database untouched).
-    pub async fn restore(db: SqlitePool) -> Result<Self, sqlx::Error> {
+    pub async fn restore(db: db::Db) -> Result<Self, sqlx::Error> {
         Self::restore_with(db, Host::default_workers()).await
     }
 
     /// [`AppState::restore`] with `workers` worker threads.
-    pub async fn restore_with(db: SqlitePool, workers: usize) -> Result<Self, sqlx::Error> {
+    pub async fn restore_with(db: db::Db, workers: usize) -> Result<Self, sqlx::Error> {
         let (records, incoming) = tokio::sync::mpsc::unbounded_channel();
         let writer = tokio::spawn(db::write_records(db.clone(), incoming));
         let host = Host::new(workers, records);
@@ -221,6 +221,7 @@ impl ApiError {
             ApiError::Rejected(status, _) => *status,
             ApiError::Unavailable(_) => StatusCode::SERVICE_UNAVAILABLE,
             ApiError::Unauthorized => StatusCode::UNAUTHORIZED,
+            ApiError::Database(e) if owner_gone(e) => StatusCode::NOT_FOUND,
             ApiError::Database(_) => StatusCode::INTERNAL_SERVER_ERROR,
         }
     }
@@ -230,6 +231,10 @@ impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
         let status = self.status();
         if let ApiError::Database(source) = &self {
+            if owner_gone(source) {
+                let body = ErrorBody { error: "no such controller (it was deleted meanwhile)".into(), details: None };
+                return (status, Json(body)).into_response();
+            }
             tracing::error!(error = %source, "database error");
         }
         let details = match &self {
@@ -239,6 +244,12 @@ impl IntoResponse for ApiError {
         let body = ErrorBody { error: self.to_string(), details };
         (status, Json(body)).into_response()
     }
+}
+
+/// A write for a controller that a concurrent request deleted after the handler found it fails on
+/// the foreign key: that is the client's 404, not the service's 500.
+fn owner_gone(e: &sqlx::Error) -> bool {
+    e.as_database_error().is_some_and(|d| d.kind() == sqlx::error::ErrorKind::ForeignKeyViolation)
 }
 
 /// The body of every 4xx/5xx response.
@@ -278,7 +289,10 @@ pub struct Health {
     )
 )]
 async fn healthz(State(state): State<AppState>) -> Result<Json<Health>, ApiError> {
-    sqlx::query("SELECT 1").execute(&state.db).await.map_err(|e| {
+    // The readers answer, and the writer is there (a query on it would wait behind the writes).
+    let writer = if state.db.writes().is_closed() { Err(sqlx::Error::PoolClosed) } else { Ok(()) };
+    let reader = sqlx::query("SELECT 1").execute(state.db.reads()).await.map(|_| ());
+    writer.and(reader).map_err(|e| {
         tracing::warn!(error = %e, "health check: database does not answer");
         ApiError::Unavailable("database does not answer".into())
     })?;
@@ -464,6 +478,7 @@ pub fn app(state: AppState) -> Router {
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .layer(middleware::from_fn(crate::json_errors::json_errors))
         .layer(middleware::from_fn_with_state(state.clone(), require_token))
         .layer(middleware::from_fn(log_request))
         .with_state(state)

@@ -208,7 +208,7 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
         "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE '\\_%' ESCAPE '\\' \
          AND name NOT LIKE 'sqlite%' ORDER BY name",
     )
-    .fetch_all(&app.state.db)
+    .fetch_all(app.state.db.reads())
     .await
     .unwrap();
     assert_eq!(
@@ -236,8 +236,8 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
 #[tokio::test]
 async fn deleting_a_controller_cascades_to_programs_and_variables() {
     let app = spawn_app().await;
-    let pool = &app.state.db;
-    db::insert_controller(pool, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();
+    db::insert_controller(&app.state.db, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();
+    let pool = app.state.db.writes();
     sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('c1', 1, 'O0001\nM30\n')")
         .execute(pool)
         .await
@@ -246,16 +246,74 @@ async fn deleting_a_controller_cascades_to_programs_and_variables() {
         .execute(pool)
         .await
         .unwrap();
-    // Foreign keys are enforced: no program for an unknown controller.
+    // Foreign keys are enforced: no program for an unknown controller. A handler that meets
+    // this (the controller deleted by another request after it was found) answers 404.
     let orphan =
         sqlx::query("INSERT INTO programs (controller_id, number, text) VALUES ('zz', 1, '')").execute(pool).await;
-    assert!(orphan.is_err());
+    let response = ApiError::from(orphan.expect_err("refused")).into_response();
+    assert_eq!(response.status(), StatusCode::NOT_FOUND);
+    let body = response.into_body().collect().await.unwrap().to_bytes();
+    let error: Value = serde_json::from_slice(&body).unwrap();
+    assert!(error["error"].as_str().unwrap().contains("deleted"), "{error}");
 
     sqlx::query("DELETE FROM controllers WHERE id = 'c1'").execute(pool).await.unwrap();
     for table in ["programs", "variables"] {
         let count: i64 = sqlx::query_scalar(&format!("SELECT COUNT(*) FROM {table}")).fetch_one(pool).await.unwrap();
         assert_eq!(count, 0, "{table}");
     }
+}
+
+/// The one-writer design (docs/api.md, "The database"): the readers refuse every write, so a
+/// write that went to them would fail here instead of racing the writer for the lock; the
+/// writer is a single connection.
+#[tokio::test]
+async fn only_the_writer_writes() {
+    let app = spawn_app().await;
+    let refused = sqlx::query(
+        "INSERT INTO controllers (id, name, dialect, machine_json, created_at) \
+                               VALUES ('r', 'r', 'fanuc', '{}', '2025-01-01T00:00:00Z')",
+    )
+    .execute(app.state.db.reads())
+    .await
+    .expect_err("a reader refuses to write");
+    assert!(refused.to_string().contains("readonly"), "{refused}");
+    assert_eq!(app.state.db.writes().options().get_max_connections(), 1);
+    db::insert_controller(&app.state.db, &controller("w", "w", "2025-01-01T00:00:00Z")).await.unwrap();
+    assert_eq!(db::list_controllers(&app.state.db).await.unwrap().len(), 1, "a reader sees what the writer wrote");
+}
+
+/// The background writer puts what has arrived in one transaction; a record that fails (a
+/// deleted controller's, on the foreign key) is logged and the others in its batch are kept.
+#[tokio::test]
+async fn a_failed_record_does_not_lose_the_others_in_its_batch() {
+    use fivex_server::host::Record;
+    let app = spawn_app().await;
+    db::insert_controller(&app.state.db, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();
+    let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
+    let run = |controller: &str, program| Record::Run {
+        controller: controller.into(),
+        program: Some(program),
+        started_at: "2025-01-01T00:00:00Z".into(),
+        ended_at: "2025-01-01T00:00:01Z".into(),
+        cycle_time_s: 1.0,
+        result: "completed",
+    };
+    // Sent before the writer starts, so they arrive as one batch.
+    tx.send(run("c1", 1)).unwrap();
+    tx.send(Record::Variables { controller: "gone".into(), values: vec![(500, Some(1.0))] }).unwrap();
+    tx.send(run("gone", 2)).unwrap();
+    tx.send(Record::Variables { controller: "c1".into(), values: vec![(500, Some(2.5)), (501, None)] }).unwrap();
+    tx.send(run("c1", 3)).unwrap();
+    drop(tx);
+    db::write_records(app.state.db.clone(), rx).await;
+    let runs = db::run_history(&app.state.db, "c1", 10).await.unwrap();
+    assert_eq!(runs.iter().map(|r| r.program).collect::<Vec<_>>(), [Some(3), Some(1)]);
+    assert_eq!(db::retained_variables(&app.state.db, "c1").await.unwrap(), [(500, 2.5)]);
+    let orphans: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM run_history WHERE controller_id = 'gone'")
+        .fetch_one(app.state.db.reads())
+        .await
+        .unwrap();
+    assert_eq!(orphans, 0);
 }
 
 // ---------------------------------------------------------------------------------------------

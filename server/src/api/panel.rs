@@ -62,20 +62,14 @@ pub(crate) fn compose(number: u32, programs: &[(u32, String)]) -> Option<String>
     let mut text = main.1.clone();
     for (n, t) in programs.iter().filter(|(n, _)| *n != number) {
         text.push('\n');
-        if !starts_with_o_number(t) {
+        // A text with its own O number (after `%` lines and comments; the store keeps it equal
+        // to the slot) needs no other.
+        if super::programs::first_number(t).is_none() {
             text.push_str(&format!("O{n:04}\n"));
         }
         text.push_str(t);
     }
     Some(text)
-}
-
-/// Whether a program text opens with its own O number (after `%` lines and blanks).
-fn starts_with_o_number(text: &str) -> bool {
-    text.lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty() && !l.starts_with('%'))
-        .is_some_and(|l| l.len() > 1 && l.as_bytes()[0].eq_ignore_ascii_case(&b'O') && l.as_bytes()[1].is_ascii_digit())
 }
 
 /// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume
@@ -390,6 +384,17 @@ mod tests {
         assert!(text.starts_with("G01 X1.\n"), "{text}");
         assert!(text.contains("\nO0002\nX2.") && text.contains("\nO0003\nX3."), "{text}");
         assert!(compose(4, &programs).is_none());
-        assert!(starts_with_o_number("%\n\nO12 (x)\n") && !starts_with_o_number("(O1)\nG01"));
+        // The parser's rules for the text's own number: after `%` lines, blanks and comment
+        // lines, `O` or the ISO `:`; a comment naming a number is not one.
+        use super::super::programs::first_number;
+        assert_eq!(first_number("%\n\nO12 (x)\n"), Some(12));
+        assert_eq!(first_number("(header)\n  :0555\nM99\n"), Some(555));
+        assert_eq!(first_number("(O1)\nG01\nO0002\n"), None);
+        assert_eq!(first_number(""), None);
+        // A text with its own number in the ISO form is not given another (two programs 2).
+        let iso = vec![(1, "M98 P2\nM30\n".to_string()), (2, "(sub)\n:0002\nX2.\nM99\n".into())];
+        let text = compose(1, &iso).unwrap();
+        assert!(!text.contains("O0002"), "{text}");
+        assert_eq!(fivex_engine::lang::parse_file(&text).programs.iter().filter(|p| p.number == Some(2)).count(), 1);
     }
 }

@@ -6,7 +6,7 @@ use axum::extract::{Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::IntoResponse;
 use axum::Json;
-use fivex_engine::lang::parse_file;
+use fivex_engine::lang::{is_header, parse_file};
 use fivex_engine::{AlarmId, Dialect};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
@@ -77,6 +77,35 @@ pub fn diagnostics(text: &str, dialect: Dialect) -> Vec<Diagnostic> {
         .collect()
 }
 
+/// The number the text gives its first program (`O0555`, or `:0555`, the ISO form both
+/// dialects read as O), by the engine's parser; `None` when the text starts without one. Only
+/// the lines up to the first block are parsed (one at a time: a block never spans lines).
+pub(crate) fn first_number(text: &str) -> Option<u32> {
+    for line in text.lines() {
+        // A blank, `%` or comment-only line gives no program or a header: look further.
+        if let Some(program) = parse_file(line).programs.iter().find(|p| !is_header(p)) {
+            return program.number;
+        }
+    }
+    None
+}
+
+/// The text's own O number, if it has one, must be the slot it is stored in: the controller
+/// finds a stored program by its slot (`M98 P102`), so a text that calls itself O0555 in slot
+/// 102 would be stored and then not found.
+fn matches_slot(text: &str, slot: u32) -> Result<(), ApiError> {
+    match first_number(text) {
+        Some(given) if given != slot => Err(ApiError::Unprocessable(
+            format!(
+                "the text is program O{given:04} but would be stored as O{slot:04}: store it under {given}, \
+                 or make its O number {slot} (or leave it out)"
+            ),
+            Some(serde_json::json!({"slot": slot, "text_number": given})),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// A program number in the dialect's range (O1–O9999).
 fn number(n: u32) -> Result<u32, ApiError> {
     if (1..=9999).contains(&n) {
@@ -121,7 +150,8 @@ pub async fn list(
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 413, description = "Too large", body = ErrorBody),
         (status = 415, description = "Not text/plain", body = ErrorBody),
-        (status = 422, description = "Not UTF-8 NC text, or `check` found problems (in `details`)", body = ErrorBody),
+        (status = 400, description = "The number is not a number, or the query is malformed", body = ErrorBody),
+        (status = 422, description = "Not UTF-8 NC text, a number outside 1–9999, an O number in the text other than the slot's (`details`: `slot`, `text_number`; even with `force=true`), or `check` found problems (in `details`)", body = ErrorBody),
     )
 )]
 pub async fn store(
@@ -150,6 +180,7 @@ pub async fn store(
     if text.contains('\0') {
         return Err(ApiError::Unprocessable("the program contains NUL bytes (binary data?)".into(), None));
     }
+    matches_slot(text, n)?;
     let found = diagnostics(text, hosted.dialect);
     if !found.is_empty() && !force {
         let details = serde_json::to_value(&found).ok();

@@ -9,7 +9,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use axum::extract::rejection::{PathRejection, QueryRejection};
-use axum::extract::ws::{CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
+use axum::extract::ws::rejection::WebSocketUpgradeRejection;
+use axum::extract::ws::{close_code, CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
 use axum::extract::{Path, Query, State};
 use axum::response::Response;
 use futures_util::{SinkExt, StreamExt};
@@ -73,7 +74,8 @@ impl Snapshot {
     tag = "stream",
     params(("id" = String, Path, description = "Controller id"), StreamOptions),
     responses(
-        (status = 101, description = "Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects", body = Snapshot),
+        (status = 101, description = "Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects; closed with 4404 \"controller deleted\" when the controller is deleted, 1001 when the service stops", body = Snapshot),
+        (status = 400, description = "Not a websocket upgrade request", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Bad rate", body = ErrorBody),
     )
@@ -82,9 +84,12 @@ pub async fn stream(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
     options: Result<Query<StreamOptions>, QueryRejection>,
-    upgrade: WebSocketUpgrade,
+    upgrade: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Result<Response, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
+    // After the lookup: an unknown (or deleted) controller is 404 whether or not the request
+    // asks for a websocket.
+    let upgrade = upgrade.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
     let rate = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.rate.unwrap_or(DEFAULT_RATE_HZ);
     if !(rate.is_finite() && (MIN_RATE_HZ..=MAX_RATE_HZ).contains(&rate)) {
         return Err(ApiError::Unprocessable(
@@ -100,6 +105,8 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
     let (mut tx, mut rx) = socket.split();
     let mut positions = hosted.positions();
     let mut events = hosted.events();
+    let removed = hosted.removed();
+    tokio::pin!(removed);
     if !send(&mut tx, json(&Snapshot::of(&hosted))).await {
         return;
     }
@@ -121,7 +128,11 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
             },
             incoming = rx.next() => still_there(&incoming),
             _ = closing.changed() => {
-                goodbye(&mut tx).await;
+                goodbye(&mut tx, close_code::AWAY, "server shutting down").await;
+                false
+            }
+            () = &mut removed => {
+                goodbye(&mut tx, CONTROLLER_DELETED, "controller deleted").await;
                 false
             }
         };
@@ -131,6 +142,10 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
     }
 }
 
+/// The close code of a controller's stream when the controller is deleted (4000–4999 are for
+/// applications; 4404 reads as "not found").
+pub const CONTROLLER_DELETED: u16 = 4404;
+
 type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
 
 /// What the client sent, as whether it is still there (a close, an error or the end: gone).
@@ -138,12 +153,10 @@ fn still_there(incoming: &Option<Result<Ws, axum::Error>>) -> bool {
     !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_))))
 }
 
-/// The service shuts down: close with 1001 "going away" (not waiting long for a slow client).
-async fn goodbye(tx: &mut Sink) {
-    let bye = CloseFrame {
-        code: axum::extract::ws::close_code::AWAY,
-        reason: Utf8Bytes::from_static("server shutting down"),
-    };
+/// Close with `code` and `reason` (not waiting long for a slow client): 1001 "going away" when
+/// the service shuts down, [`CONTROLLER_DELETED`] when the controller is deleted.
+async fn goodbye(tx: &mut Sink, code: u16, reason: &'static str) {
+    let bye = CloseFrame { code, reason: Utf8Bytes::from_static(reason) };
     let _ = tokio::time::timeout(Duration::from_secs(1), tx.send(Ws::Close(Some(bye)))).await;
 }
 
@@ -257,7 +270,7 @@ async fn fleet_session(socket: WebSocket, state: AppState, rate: f64) {
             }
             incoming = rx.next() => still_there(&incoming),
             _ = closing.changed() => {
-                goodbye(&mut tx).await;
+                goodbye(&mut tx, close_code::AWAY, "server shutting down").await;
                 false
             }
         };

@@ -142,6 +142,7 @@ impl Host {
         let index = list.iter().position(|h| h.id == id)?;
         let removed = list.remove(index);
         self.inner.generation.fetch_add(1, Ordering::SeqCst);
+        removed.removed.send_replace(true);
         Some(removed)
     }
 
@@ -180,6 +181,9 @@ pub struct Hosted {
     station: Mutex<Station>,
     position: watch::Sender<Option<Sample>>,
     events: broadcast::Sender<Arc<Message>>,
+    /// Set when the controller leaves the registry, so its streams close (a stream holds the
+    /// controller alive, and would otherwise stay open on it forever).
+    removed: watch::Sender<bool>,
 }
 
 impl std::fmt::Debug for Hosted {
@@ -214,6 +218,7 @@ impl Hosted {
             station: Mutex::new(Station::new(controller, spec.machine)),
             position,
             events,
+            removed: watch::channel(false).0,
         }
     }
 
@@ -245,6 +250,15 @@ impl Hosted {
 
     pub fn events(&self) -> broadcast::Receiver<Arc<Message>> {
         self.events.subscribe()
+    }
+
+    /// Resolves once the controller is removed from the registry (at once if it already is).
+    pub fn removed(&self) -> impl std::future::Future<Output = ()> + Send + 'static {
+        let mut removed = self.removed.subscribe();
+        async move {
+            // An error means the controller itself is gone: removed too.
+            let _ = removed.wait_for(|gone| *gone).await;
+        }
     }
 
     /// Tell subscribers (events produced outside a worker tick: an operator action).

@@ -4,6 +4,7 @@
 
 mod modal;
 mod served;
+mod store;
 
 use std::time::Duration;
 

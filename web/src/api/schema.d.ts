@@ -33,7 +33,10 @@ export interface paths {
         get: operations["status"];
         put?: never;
         post?: never;
-        /** Removes a controller with its programs, variables and history. */
+        /**
+         * Removes a controller with its programs, variables and history; its websocket streams close
+         *     at once with code 4404 "controller deleted".
+         */
         delete: operations["remove"];
         options?: never;
         head?: never;
@@ -2751,6 +2754,15 @@ export interface operations {
                     "application/json": components["schemas"]["StoredProgram"];
                 };
             };
+            /** @description The number is not a number, or the query is malformed */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2778,7 +2790,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Not UTF-8 NC text, or `check` found problems (in `details`) */
+            /** @description Not UTF-8 NC text, a number outside 1–9999, an O number in the text other than the slot's (`details`: `slot`, `text_number`; even with `force=true`), or `check` found problems (in `details`) */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -2993,13 +3005,22 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects */
+            /** @description Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects; closed with 4404 "controller deleted" when the controller is deleted, 1001 when the service stops */
             101: {
                 headers: {
                     [name: string]: unknown;
                 };
                 content: {
                     "application/json": components["schemas"]["Snapshot"];
+                };
+            };
+            /** @description Not a websocket upgrade request */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */

@@ -3,6 +3,7 @@
 import { useEffect, useRef, useState } from "preact/hooks";
 import { api, ApiError, authHeaders, must, type Schemas, type Status } from "../api/client";
 import type { Act } from "./useController";
+import { programNumber } from "../api/program";
 import { CodeView, type Mark } from "./CodeView";
 
 export function Programs({
@@ -82,8 +83,10 @@ export function Programs({
     const file = input.files?.[0];
     if (!file) return;
     const body = await file.text();
-    const m = /O(\d{1,4})/i.exec(body) ?? /(\d{1,4})/.exec(file.name);
-    const number = Number(prompt("Store as program number", m ? String(Number(m[1])) : "1"));
+    // A text with its own O number can only go in that slot; otherwise the file name's number.
+    const own = programNumber(body);
+    const m = /(\d{1,4})/.exec(file.name);
+    const number = Number(prompt("Store as program number", String(own ?? (m ? Number(m[1]) : 1))));
     input.value = "";
     if (number >= 1 && number <= 9999) await store(number, body);
   };

@@ -3,6 +3,7 @@
 // machine's run opens in the 3D view.
 import { useEffect, useMemo, useState } from "preact/hooks";
 import { api, authHeaders, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
+import { programNumber } from "../api/program";
 import { go } from "../route";
 import { Bars, Lines } from "./Plots";
 
@@ -221,8 +222,11 @@ function Comparison({ results, request }: { results: Result[]; request: any }) {
       else if (src.kind === "machine") body.machine = src.value;
       else body.machine = (await must(api.GET("/api/v1/fleet/library/{name}", { params: { path: { name: src.value } } }))).machine;
       const c = await must(api.POST("/api/v1/controllers", { body }));
-      await fetch(`/api/v1/controllers/${c.id}/programs/1?force=true`, { method: "PUT", headers: { "content-type": "text/plain", ...authHeaders() }, body: request.program });
-      await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id: c.id } }, body: { program: 1 } }));
+      // The program's own O number is its slot (the service refuses another); 1 without one.
+      const number = programNumber(request.program) ?? 1;
+      const stored = await fetch(`/api/v1/controllers/${c.id}/programs/${number}?force=true`, { method: "PUT", headers: { "content-type": "text/plain", ...authHeaders() }, body: request.program });
+      if (!stored.ok) throw new Error((await stored.json().catch(() => ({}))).error ?? `${stored.status}`);
+      await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id: c.id } }, body: { program: number } }));
       go(`#/c/${c.id}`);
     } catch (e: any) {
       setError(e.message ?? String(e));
