@@ -2,7 +2,7 @@
 // progress while it runs, and the comparison across the fleet as a table and plots; any
 // machine's run opens in the 3D view.
 import { useEffect, useMemo, useState } from "preact/hooks";
-import { api, authHeaders, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
+import { api, authFetch, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
 import { go } from "../route";
 import { Bars, Lines } from "./Plots";
 
@@ -221,7 +221,7 @@ function Comparison({ results, request }: { results: Result[]; request: any }) {
       else if (src.kind === "machine") body.machine = src.value;
       else body.machine = (await must(api.GET("/api/v1/fleet/library/{name}", { params: { path: { name: src.value } } }))).machine;
       const c = await must(api.POST("/api/v1/controllers", { body }));
-      await fetch(`/api/v1/controllers/${c.id}/programs/1?force=true`, { method: "PUT", headers: { "content-type": "text/plain", ...authHeaders() }, body: request.program });
+      await authFetch(`/api/v1/controllers/${c.id}/programs/1?force=true`, { method: "PUT", headers: { "content-type": "text/plain" }, body: request.program });
       await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id: c.id } }, body: { program: 1 } }));
       go(`#/c/${c.id}`);
     } catch (e: any) {
