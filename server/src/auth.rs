@@ -57,7 +57,10 @@ impl utoipa::Modify for BearerDoc {
             "The token of `fivex serve --token`, as `Authorization: Bearer TOKEN` (websockets: \
              `?token=TOKEN`, percent-encoded). A service started without a token needs none.",
         ));
-        openapi.components.get_or_insert_with(Default::default).add_security_scheme("bearer", SecurityScheme::Http(scheme.build()));
+        openapi
+            .components
+            .get_or_insert_with(Default::default)
+            .add_security_scheme("bearer", SecurityScheme::Http(scheme.build()));
         let required = vec![SecurityRequirement::new("bearer", Vec::<String>::new()), SecurityRequirement::default()];
         crate::serve::for_each_api_operation(openapi, |_, _, operation| {
             operation.security = Some(required.clone());
@@ -78,7 +81,8 @@ mod tests {
     #[test]
     fn the_bearer_scheme_is_case_insensitive() {
         let mut headers = HeaderMap::new();
-        for (value, token) in [("Bearer a+b/c=d", Some("a+b/c=d")), ("bearer x", Some("x")), ("BEARER  y ", Some("y"))] {
+        for (value, token) in [("Bearer a+b/c=d", Some("a+b/c=d")), ("bearer x", Some("x")), ("BEARER  y ", Some("y"))]
+        {
             headers.insert(header::AUTHORIZATION, value.parse().unwrap());
             assert_eq!(bearer(&headers), token.map(str::as_bytes), "{value}");
         }

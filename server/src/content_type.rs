@@ -28,20 +28,25 @@ fn has_body(headers: &HeaderMap) -> bool {
     length.is_some_and(|n: u64| n > 0) || headers.contains_key(header::TRANSFER_ENCODING)
 }
 
-/// `None` when the request may go on, else why it is refused.
-pub fn check(method: &Method, route: Option<&str>, headers: &HeaderMap) -> Option<String> {
+/// `Ok` when the request may go on, else why it is refused.
+pub fn check(method: &Method, route: Option<&str>, headers: &HeaderMap) -> Result<(), String> {
     if matches!(*method, Method::GET | Method::HEAD | Method::OPTIONS) {
-        return None;
+        return Ok(());
     }
     if TEXT_ROUTES.iter().any(|(m, r)| m == method && Some(*r) == route) {
-        return None;
+        return Ok(());
     }
     match headers.get(header::CONTENT_TYPE) {
         Some(media) => {
             let media = media.to_str().unwrap_or("(not text)");
-            (!is_json(media)).then(|| format!("this endpoint takes application/json, not {media}"))
+            if is_json(media) {
+                Ok(())
+            } else {
+                Err(format!("this endpoint takes application/json, not {media}"))
+            }
         }
-        None => has_body(headers).then(|| "a request body needs Content-Type: application/json".to_owned()),
+        None if has_body(headers) => Err("a request body needs Content-Type: application/json".to_owned()),
+        None => Ok(()),
     }
 }
 
@@ -49,8 +54,8 @@ pub fn check(method: &Method, route: Option<&str>, headers: &HeaderMap) -> Optio
 pub async fn require_json(req: Request, next: Next) -> Response {
     let route = req.extensions().get::<MatchedPath>().map(MatchedPath::as_str);
     match check(req.method(), route, req.headers()) {
-        None => next.run(req).await,
-        Some(reason) => ApiError::Rejected(StatusCode::UNSUPPORTED_MEDIA_TYPE, reason).into_response(),
+        Ok(()) => next.run(req).await,
+        Err(reason) => ApiError::Rejected(StatusCode::UNSUPPORTED_MEDIA_TYPE, reason).into_response(),
     }
 }
 
@@ -67,7 +72,8 @@ mod tests {
         for yes in ["application/json", "Application/JSON; charset=utf-8", "application/merge-patch+json"] {
             assert!(is_json(yes), "{yes}");
         }
-        for no in ["text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x", "text/json+x"] {
+        for no in ["text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x", "text/json+x"]
+        {
             assert!(!is_json(no), "{no}");
         }
     }
@@ -75,21 +81,21 @@ mod tests {
     #[test]
     fn state_changing_requests_declare_json_or_send_nothing() {
         let post = |pairs| check(&Method::POST, Some("/api/v1/controllers/{id}/reset"), &headers(pairs));
-        assert_eq!(post(&[]), None);
-        assert_eq!(post(&[("content-length", "0")]), None);
-        assert_eq!(post(&[("content-type", "application/json"), ("content-length", "2")]), None);
-        assert!(post(&[("content-type", "text/plain")]).is_some());
-        assert!(post(&[("content-type", "text/plain"), ("content-length", "0")]).is_some());
-        assert!(post(&[("content-length", "12")]).is_some());
-        assert!(post(&[("transfer-encoding", "chunked")]).is_some());
-        assert_eq!(check(&Method::GET, None, &headers(&[("content-type", "text/plain")])), None);
+        assert!(post(&[]).is_ok());
+        assert!(post(&[("content-length", "0")]).is_ok());
+        assert!(post(&[("content-type", "application/json"), ("content-length", "2")]).is_ok());
+        assert!(post(&[("content-type", "text/plain")]).is_err());
+        assert!(post(&[("content-type", "text/plain"), ("content-length", "0")]).is_err());
+        assert!(post(&[("content-length", "12")]).is_err());
+        assert!(post(&[("transfer-encoding", "chunked")]).is_err());
+        assert!(check(&Method::GET, None, &headers(&[("content-type", "text/plain")])).is_ok());
     }
 
     #[test]
     fn program_text_is_left_to_its_handler() {
         let text = headers(&[("content-type", "text/plain"), ("content-length", "5")]);
         let route = Some("/api/v1/controllers/{id}/programs/{number}");
-        assert_eq!(check(&Method::PUT, route, &text), None);
-        assert!(check(&Method::DELETE, route, &text).is_some());
+        assert!(check(&Method::PUT, route, &text).is_ok());
+        assert!(check(&Method::DELETE, route, &text).is_err());
     }
 }

@@ -74,10 +74,6 @@ impl AllowedOrigins {
     fn contains(&self, origin: &str) -> bool {
         self.0.iter().any(|o| o.0.eq_ignore_ascii_case(origin))
     }
-
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
 }
 
 /// Whether a request can change something or open a stream: every method but the safe ones,
@@ -91,42 +87,39 @@ fn guarded(method: &Method, headers: &HeaderMap) -> bool {
     upgrade || !matches!(*method, Method::GET | Method::HEAD | Method::OPTIONS)
 }
 
-/// `None` when the request may go on, else why it is refused.
-pub fn check(method: &Method, headers: &HeaderMap, allowed: &AllowedOrigins) -> Option<String> {
+/// `Ok` when the request may go on, else why it is refused.
+pub fn check(method: &Method, headers: &HeaderMap, allowed: &AllowedOrigins) -> Result<(), String> {
     if !guarded(method, headers) {
-        return None;
+        return Ok(());
     }
     let text = |name| headers.get(name).map(|v| v.to_str().unwrap_or("(not text)"));
     let origin = text(header::ORIGIN);
     let allow_listed = origin.is_some_and(|o| allowed.contains(o));
+    let advice = "allow an origin with --allow-origin";
     match text(header::HeaderName::from_static("sec-fetch-site")) {
-        Some(site) if site.eq_ignore_ascii_case("same-origin") || site.eq_ignore_ascii_case("none") => return None,
-        Some(_) if allow_listed => return None,
+        Some(site) if site.eq_ignore_ascii_case("same-origin") || site.eq_ignore_ascii_case("none") => return Ok(()),
+        Some(_) if allow_listed => return Ok(()),
         Some(site) => {
-            return Some(format!(
-                "cross-origin request refused (Sec-Fetch-Site: {site}, Origin: {}); allow an origin with --allow-origin",
-                origin.unwrap_or("none")
-            ))
+            let origin = origin.unwrap_or("none");
+            return Err(format!("cross-origin request refused (Sec-Fetch-Site: {site}, Origin: {origin}); {advice}"));
         }
         None => {}
     }
-    let Some(origin) = origin else { return None };
+    let Some(origin) = origin else { return Ok(()) };
     let served = headers.get(header::HOST).and_then(|h| h.to_str().ok());
     let host_of_origin = origin.parse::<Uri>().ok().and_then(|u| u.authority().map(|a| a.as_str().to_owned()));
     if allow_listed || host_of_origin.is_some_and(|h| served.is_some_and(|s| s.eq_ignore_ascii_case(&h))) {
-        return None;
+        return Ok(());
     }
-    Some(format!(
-        "cross-origin request refused (Origin: {origin}, served as {}); allow an origin with --allow-origin",
-        served.unwrap_or("no Host")
-    ))
+    let served = served.unwrap_or("no Host");
+    Err(format!("cross-origin request refused (Origin: {origin}, served as {served}); {advice}"))
 }
 
 /// The middleware: refuses a cross-origin request with 403 before anything else sees it.
 pub async fn refuse_cross_origin(State(state): State<AppState>, req: Request, next: Next) -> Response {
     match check(req.method(), req.headers(), state.allowed_origins()) {
-        None => next.run(req).await,
-        Some(reason) => {
+        Ok(()) => next.run(req).await,
+        Err(reason) => {
             tracing::warn!(method = %req.method(), path = %req.uri().path(), %reason, "refused");
             ApiError::Rejected(StatusCode::FORBIDDEN, reason).into_response()
         }
@@ -141,7 +134,11 @@ impl utoipa::Modify for OriginDoc {
     fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
         crate::serve::for_each_api_operation(openapi, |method, path, operation| {
             if method != Method::GET || path.ends_with("/stream") {
-                crate::serve::error_response(operation, 403, "A web page from a foreign origin sent it (Origin, Sec-Fetch-Site)");
+                crate::serve::error_response(
+                    operation,
+                    403,
+                    "A web page from a foreign origin sent it (Origin, Sec-Fetch-Site)",
+                );
             }
         });
     }
@@ -172,38 +169,42 @@ mod tests {
     fn safe_methods_pass_and_websocket_upgrades_are_checked() {
         let none = AllowedOrigins::default();
         let foreign = [("host", "127.0.0.1:8080"), ("origin", "http://evil.example")];
-        assert_eq!(check(&Method::GET, &headers(&foreign), &none), None);
-        assert_eq!(check(&Method::OPTIONS, &headers(&foreign), &none), None);
+        assert!(check(&Method::GET, &headers(&foreign), &none).is_ok());
+        assert!(check(&Method::OPTIONS, &headers(&foreign), &none).is_ok());
         let upgrade = [foreign[0], foreign[1], ("upgrade", "WebSocket")];
-        assert!(check(&Method::GET, &headers(&upgrade), &none).is_some());
-        assert!(check(&Method::DELETE, &headers(&foreign), &none).is_some());
+        assert!(check(&Method::GET, &headers(&upgrade), &none).is_err());
+        assert!(check(&Method::DELETE, &headers(&foreign), &none).is_err());
     }
 
     #[test]
     fn fetch_metadata_decides_before_the_origin() {
         let allowed = AllowedOrigins::new(vec!["http://localhost:5173".parse().unwrap()]);
         let with = |site: &'static str, origin: &'static str| {
-            check(&Method::POST, &headers(&[("host", "127.0.0.1:8080"), ("sec-fetch-site", site), ("origin", origin)]), &allowed)
+            check(
+                &Method::POST,
+                &headers(&[("host", "127.0.0.1:8080"), ("sec-fetch-site", site), ("origin", origin)]),
+                &allowed,
+            )
         };
         // A proxy rewrote Host: the browser still says same-origin.
-        assert_eq!(with("same-origin", "https://fivex.example"), None);
-        assert_eq!(with("cross-site", "http://localhost:5173"), None);
-        assert!(with("same-site", "http://127.0.0.1:9999").is_some());
-        assert!(with("cross-site", "http://127.0.0.1:8080").is_some(), "the browser's word wins over a matching Origin");
+        assert!(with("same-origin", "https://fivex.example").is_ok());
+        assert!(with("cross-site", "http://localhost:5173").is_ok());
+        assert!(with("same-site", "http://127.0.0.1:9999").is_err());
+        assert!(with("cross-site", "http://127.0.0.1:8080").is_err(), "the browser's word wins over a matching Origin");
         let no_origin = headers(&[("host", "127.0.0.1:8080"), ("sec-fetch-site", "cross-site")]);
-        assert!(check(&Method::POST, &no_origin, &allowed).is_some());
+        assert!(check(&Method::POST, &no_origin, &allowed).is_err());
     }
 
     #[test]
     fn without_fetch_metadata_the_origin_must_be_the_host_or_allowed() {
         let allowed = AllowedOrigins::new(vec!["https://ops.example".parse().unwrap()]);
         let post = |pairs: &[(&'static str, &str)]| check(&Method::POST, &headers(pairs), &allowed);
-        assert_eq!(post(&[("host", "127.0.0.1:8080")]), None, "no Origin: not a browser");
-        assert_eq!(post(&[("host", "127.0.0.1:8080"), ("origin", "http://127.0.0.1:8080")]), None);
-        assert_eq!(post(&[("host", "Fivex.Example"), ("origin", "https://fivex.example")]), None);
-        assert_eq!(post(&[("host", "127.0.0.1:8080"), ("origin", "https://OPS.example")]), None);
-        assert!(post(&[("host", "127.0.0.1:8080"), ("origin", "http://127.0.0.1:8081")]).is_some());
-        assert!(post(&[("host", "127.0.0.1:8080"), ("origin", "null")]).is_some());
-        assert!(post(&[("origin", "http://127.0.0.1:8080")]).is_some(), "no Host to compare with");
+        assert!(post(&[("host", "127.0.0.1:8080")]).is_ok(), "no Origin: not a browser");
+        assert!(post(&[("host", "127.0.0.1:8080"), ("origin", "http://127.0.0.1:8080")]).is_ok());
+        assert!(post(&[("host", "Fivex.Example"), ("origin", "https://fivex.example")]).is_ok());
+        assert!(post(&[("host", "127.0.0.1:8080"), ("origin", "https://OPS.example")]).is_ok());
+        assert!(post(&[("host", "127.0.0.1:8080"), ("origin", "http://127.0.0.1:8081")]).is_err());
+        assert!(post(&[("host", "127.0.0.1:8080"), ("origin", "null")]).is_err());
+        assert!(post(&[("origin", "http://127.0.0.1:8080")]).is_err(), "no Host to compare with");
     }
 }

@@ -27,8 +27,8 @@ use tokio::sync::watch;
 use utoipa::{OpenApi, ToSchema};
 use utoipa_swagger_ui::SwaggerUi;
 
-use crate::host::{Host, Hosted, Spec};
 use crate::auth::BearerDoc;
+use crate::host::{Host, Hosted, Spec};
 use crate::origin::{AllowedOrigins, OriginDoc};
 use crate::{api, assets, auth, content_type, db, origin};
 
@@ -485,6 +485,8 @@ pub fn app(state: AppState) -> Router {
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .layer(middleware::from_fn_with_state(state.clone(), auth::require_token))
+        // Added after the token check, so it runs before it: a foreign page's request is
+        // refused (403) before the token is looked at.
         .layer(middleware::from_fn_with_state(state.clone(), origin::refuse_cross_origin))
         .layer(middleware::from_fn(log_request))
         .with_state(state)
@@ -578,7 +580,13 @@ pub struct ServeOptions {
 
 /// `fivex serve` with the database and address only.
 pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
-    run_with(ServeOptions { db: db.to_path_buf(), addr: addr.to_string(), token: None, workers: None, allow_origins: Vec::new() })
+    run_with(ServeOptions {
+        db: db.to_path_buf(),
+        addr: addr.to_string(),
+        token: None,
+        workers: None,
+        allow_origins: Vec::new(),
+    })
 }
 
 /// `fivex serve`: opens (creating and migrating) the database, brings the stored controllers

@@ -36,7 +36,9 @@ async fn websocket(served: &Served, path: &str, headers: &[(&'static str, &str)]
             loop {
                 let next = tokio::time::timeout(Duration::from_secs(30), socket.next()).await;
                 match next.expect("a message within 30 s").expect("socket open").expect("message") {
-                    Message::Text(text) => return Handshake::Opened(serde_json::from_str(&text).expect("JSON message")),
+                    Message::Text(text) => {
+                        return Handshake::Opened(serde_json::from_str(&text).expect("JSON message"))
+                    }
                     _ => continue,
                 }
             }
@@ -77,10 +79,12 @@ async fn running_controller(served: &Served) -> String {
     let created = served.send_json(Method::POST, "/api/v1/controllers", &json!({"name": "c", "preset": "mill3"})).await;
     assert_eq!(created.status, 201, "{:?}", created.body);
     let id = created.json()["id"].as_str().unwrap().to_owned();
-    let stored =
-        served.request(Method::PUT, &format!("/api/v1/controllers/{id}/programs/1"), &[("content-type", "text/plain")], SLOW).await;
+    let stored = served
+        .request(Method::PUT, &format!("/api/v1/controllers/{id}/programs/1"), &[("content-type", "text/plain")], SLOW)
+        .await;
     assert_eq!(stored.status, 201, "{:?}", stored.body);
-    let started = served.send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
+    let started =
+        served.send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
     assert_eq!(started.status, 200, "{:?}", started.body);
     assert_eq!(started.json()["run_state"], "running");
     id
@@ -152,7 +156,9 @@ async fn the_served_origin_an_allowed_origin_and_no_origin_are_accepted() {
     assert_eq!((reply.status.as_u16(), reply.json()["run_state"].clone()), (200, json!("hold")), "served origin");
     let reply = served.request(Method::POST, &start, &[("origin", "http://localhost:5173"), json], "{}").await;
     assert_eq!((reply.status.as_u16(), reply.json()["run_state"].clone()), (200, json!("running")), "allowed origin");
-    let reply = served.request(Method::POST, &hold, &[("origin", "https://ops.example"), ("sec-fetch-site", "cross-site")], "").await;
+    let reply = served
+        .request(Method::POST, &hold, &[("origin", "https://ops.example"), ("sec-fetch-site", "cross-site")], "")
+        .await;
     assert_eq!((reply.status.as_u16(), reply.json()["run_state"].clone()), (200, json!("hold")), "allowed, cross-site");
     // Behind a proxy that rewrites Host the browser still says same-origin.
     let proxied = [("origin", "https://fivex.example"), ("sec-fetch-site", "same-origin")];
@@ -198,9 +204,15 @@ async fn the_allow_list_comes_from_the_environment_and_bad_origins_are_usage_err
 async fn json_endpoints_refuse_other_content_types_with_415_json() {
     let served = Served::start(&[]);
     let create = json!({"name": "c", "preset": "mill3"}).to_string();
-    let as_text = served.request(Method::POST, "/api/v1/controllers", &[("content-type", "text/plain")], create.clone()).await;
+    let as_text =
+        served.request(Method::POST, "/api/v1/controllers", &[("content-type", "text/plain")], create.clone()).await;
     let as_form = served
-        .request(Method::POST, "/api/v1/controllers", &[("content-type", "application/x-www-form-urlencoded")], create.clone())
+        .request(
+            Method::POST,
+            "/api/v1/controllers",
+            &[("content-type", "application/x-www-form-urlencoded")],
+            create.clone(),
+        )
         .await;
     let untyped = served.request(Method::POST, "/api/v1/controllers", &[], create.clone()).await;
     for (what, reply) in [("text/plain", &as_text), ("form", &as_form), ("no content type", &untyped)] {
@@ -209,7 +221,9 @@ async fn json_endpoints_refuse_other_content_types_with_415_json() {
     }
     assert_eq!(served.get("/api/v1/controllers").await.json(), json!([]), "nothing was created");
 
-    let created = served.request(Method::POST, "/api/v1/controllers", &[("content-type", "application/json; charset=utf-8")], create).await;
+    let created = served
+        .request(Method::POST, "/api/v1/controllers", &[("content-type", "application/json; charset=utf-8")], create)
+        .await;
     assert_eq!(created.status, 201);
     let id = created.json()["id"].as_str().unwrap().to_owned();
     // A bodyless action refuses a declared text body too (the reset a form would post).
@@ -246,7 +260,8 @@ async fn a_token_with_plus_slash_and_equals_works_in_any_bearer_case_and_percent
 
     let auth = ("authorization", "bearer a+b/c=d");
     let json = ("content-type", "application/json");
-    let created = served.request(Method::POST, "/api/v1/controllers", &[auth, json], r#"{"name": "c", "preset": "mill3"}"#).await;
+    let created =
+        served.request(Method::POST, "/api/v1/controllers", &[auth, json], r#"{"name": "c", "preset": "mill3"}"#).await;
     assert_eq!(created.status, 201);
     let id = created.json()["id"].as_str().unwrap().to_owned();
     let run = json!({"program": "O1\nG01 X1. F1000.\nM30\n", "presets": ["mill3"]}).to_string();
@@ -290,7 +305,10 @@ async fn the_openapi_document_declares_the_bearer_scheme_on_every_api_operation(
             if path.starts_with("/api/") {
                 api_operations += 1;
                 assert!(security.as_array().unwrap().contains(&json!({"bearer": []})), "{method} {path}: {security}");
-                assert_eq!(operation["responses"]["401"]["content"]["application/json"]["schema"]["$ref"], "#/components/schemas/ErrorBody");
+                assert_eq!(
+                    operation["responses"]["401"]["content"]["application/json"]["schema"]["$ref"],
+                    "#/components/schemas/ErrorBody"
+                );
                 let guarded = method != "get" || path.ends_with("/stream");
                 assert_eq!(operation["responses"].get("403").is_some(), guarded, "{method} {path}");
             } else {
