@@ -254,7 +254,8 @@ test("with --token the page asks for it at the first 401, sends it again, and st
   const seen = [];
   tpage.on("pageerror", (e) => problems.push(`token page error: ${e.message}`));
   // Refused requests and websocket handshakes are what this test makes happen.
-  tpage.on("console", (m) => m.type() === "error" && !/status of 401|401/.test(m.text()) && problems.push(`token page console: ${m.text()}`));
+  const refused = /status of 401|WebSocket connection to .* failed: (.*401|HTTP Authentication failed)/;
+  tpage.on("console", (m) => m.type() === "error" && !refused.test(m.text()) && problems.push(`token page console: ${m.text()}`));
   tpage.on("websocket", (ws) => seen.push(ws.url()));
   try {
     for (let i = 0; !(await fetch(tbase + "/healthz").then((r) => r.ok, () => false)); i++) {
@@ -298,6 +299,14 @@ test("with --token the page asks for it at the first 401, sends it again, and st
     tserver.kill("SIGTERM");
     rmSync(tdir, { recursive: true, force: true });
   }
+});
+
+test("Swagger UI offers Authorize (the document's bearer scheme)", async () => {
+  await page.goto(base + "/swagger-ui/");
+  await page.locator("button.authorize").waitFor();
+  await page.click("button.authorize");
+  await page.locator(".auth-container", { hasText: "bearer" }).waitFor();
+  await page.screenshot({ path: join(shots, "swagger-authorize.png") });
 });
 
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
