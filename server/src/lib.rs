@@ -1,11 +1,14 @@
 //! The fivex service and command line.
 pub mod api;
 pub mod assets;
+pub mod auth;
 pub mod cli;
+pub mod content_type;
 pub mod db;
 pub mod fleet;
 pub mod host;
 pub mod json_errors;
 pub mod machine_file;
+pub mod origin;
 pub mod serve;
 pub mod tools;

@@ -26,8 +26,10 @@ use tokio::sync::watch;
 use utoipa::{OpenApi, ToSchema};
 use utoipa_swagger_ui::SwaggerUi;
 
+use crate::auth::BearerDoc;
 use crate::host::{Host, Hosted, Spec};
-use crate::{api, assets, db};
+use crate::origin::{AllowedOrigins, OriginDoc};
+use crate::{api, assets, auth, content_type, db, origin};
 
 /// Where the OpenAPI document is served.
 pub const OPENAPI_PATH: &str = "/api-docs/openapi.json";
@@ -57,6 +59,8 @@ pub struct AppState {
     writer: Arc<std::sync::Mutex<Option<tokio::task::JoinHandle<()>>>>,
     /// The bearer token the API requires, if any.
     token: Option<Arc<str>>,
+    /// The origins besides the served one whose pages may drive the service.
+    allowed_origins: AllowedOrigins,
     /// The fleet runs under way and their progress.
     pub fleet_runs: api::fleet::Runs,
 }
@@ -147,6 +151,7 @@ impl AppState {
             closing: Arc::new(closing),
             writer: Arc::new(std::sync::Mutex::new(Some(writer))),
             token: None,
+            allowed_origins: AllowedOrigins::default(),
             fleet_runs: Default::default(),
         })
     }
@@ -155,6 +160,21 @@ impl AppState {
     pub fn with_token(mut self, token: Option<String>) -> Self {
         self.token = token.filter(|t| !t.is_empty()).map(Arc::from);
         self
+    }
+
+    /// The bearer token the API requires, if any.
+    pub fn token(&self) -> Option<&str> {
+        self.token.as_deref()
+    }
+
+    /// Let pages from these origins drive the service too (`--allow-origin`, `origin.rs`).
+    pub fn with_allowed_origins(mut self, origins: AllowedOrigins) -> Self {
+        self.allowed_origins = origins;
+        self
+    }
+
+    pub fn allowed_origins(&self) -> &AllowedOrigins {
+        &self.allowed_origins
     }
 
     /// A receiver that changes when the service starts shutting down.
@@ -299,37 +319,6 @@ async fn healthz(State(state): State<AppState>) -> Result<Json<Health>, ApiError
     Ok(Json(Health { status: "ok".into() }))
 }
 
-/// With a token configured, every `/api/` request must carry it: `Authorization: Bearer TOKEN`,
-/// or `?token=TOKEN` (browsers cannot set headers on a websocket). The dashboard, health check
-/// and API documentation stay open.
-async fn require_token(State(state): State<AppState>, req: Request, next: Next) -> Response {
-    let Some(token) = &state.token else { return next.run(req).await };
-    if !req.uri().path().starts_with("/api/") {
-        return next.run(req).await;
-    }
-    let header = req
-        .headers()
-        .get(axum::http::header::AUTHORIZATION)
-        .and_then(|v| v.to_str().ok())
-        .and_then(|v| v.strip_prefix("Bearer "));
-    let query = req.uri().query().and_then(|q| q.split('&').find_map(|kv| kv.strip_prefix("token=")));
-    let given = header.or(query).unwrap_or("");
-    if constant_time_eq(given.as_bytes(), token.as_bytes()) {
-        next.run(req).await
-    } else {
-        let mut response = ApiError::Unauthorized.into_response();
-        response
-            .headers_mut()
-            .insert(axum::http::header::WWW_AUTHENTICATE, axum::http::HeaderValue::from_static("Bearer"));
-        response
-    }
-}
-
-/// Equal without an early exit, so the time taken does not tell how much of a guess was right.
-fn constant_time_eq(a: &[u8], b: &[u8]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
-}
-
 async fn not_found(method: Method, uri: Uri) -> ApiError {
     ApiError::NotFound(format!("no route for {method} {}", uri.path()))
 }
@@ -365,6 +354,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         description = "A service hosting virtual 5-axis CNC controllers (FANUC 30i-A5 and Syntec \
                        dialects). Errors are JSON `{\"error\": \"…\"}` bodies with a 4xx/5xx status."
     ),
+    modifiers(&BearerDoc, &OriginDoc),
     paths(
         healthz,
         api::controllers::create,
@@ -451,6 +441,36 @@ async fn log_request(req: Request, next: Next) -> Response {
 )]
 pub struct ApiDoc;
 
+/// Calls `f` with every operation under `/api/` (for the modifiers that document what a
+/// middleware adds to all of them).
+pub fn for_each_api_operation(
+    openapi: &mut utoipa::openapi::OpenApi,
+    mut f: impl FnMut(Method, &str, &mut utoipa::openapi::path::Operation),
+) {
+    for (path, item) in openapi.paths.paths.iter_mut().filter(|(path, _)| path.starts_with("/api/")) {
+        let operations = [
+            (Method::GET, &mut item.get),
+            (Method::PUT, &mut item.put),
+            (Method::POST, &mut item.post),
+            (Method::DELETE, &mut item.delete),
+            (Method::PATCH, &mut item.patch),
+        ];
+        for (method, operation) in operations {
+            if let Some(operation) = operation {
+                f(method, path, operation);
+            }
+        }
+    }
+}
+
+/// Adds a `status` answer with the JSON error body to an operation.
+pub fn error_response(operation: &mut utoipa::openapi::path::Operation, status: u16, description: &str) {
+    use utoipa::openapi::{ContentBuilder, Ref, ResponseBuilder};
+    let content = ContentBuilder::new().schema(Some(Ref::from_schema_name("ErrorBody"))).build();
+    let response = ResponseBuilder::new().description(description).content("application/json", content).build();
+    operation.responses.responses.insert(status.to_string(), response.into());
+}
+
 /// The OpenAPI document as a value.
 pub fn openapi() -> utoipa::openapi::OpenApi {
     ApiDoc::openapi()
@@ -473,13 +493,17 @@ pub fn app(state: AppState) -> Router {
         .route("/", get(assets::index))
         .route("/assets/{*file}", get(assets::asset))
         .route("/healthz", get(healthz))
-        .nest(API_PREFIX, api::router())
+        .nest(API_PREFIX, api::router().route_layer(middleware::from_fn(content_type::require_json)))
         .merge(SwaggerUi::new("/swagger-ui").url(OPENAPI_PATH, openapi()))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .layer(middleware::from_fn_with_state(state.clone(), auth::require_token))
+        // Added after the token check, so it runs before it: a foreign page's request is
+        // refused (403) before the token is looked at.
+        .layer(middleware::from_fn_with_state(state.clone(), origin::refuse_cross_origin))
+        // Outside every check: whatever error any layer answers leaves as the JSON body.
         .layer(middleware::from_fn(crate::json_errors::json_errors))
-        .layer(middleware::from_fn_with_state(state.clone(), require_token))
         .layer(middleware::from_fn(log_request))
         .with_state(state)
 }
@@ -559,18 +583,26 @@ fn init_tracing() {
         .try_init();
 }
 
-/// How `fivex serve` runs (flags or `FIVEX_DB`, `FIVEX_ADDR`, `FIVEX_TOKEN`, `FIVEX_WORKERS`).
+/// How `fivex serve` runs (flags or `FIVEX_DB`, `FIVEX_ADDR`, `FIVEX_TOKEN`, `FIVEX_WORKERS`,
+/// `FIVEX_ALLOW_ORIGIN`).
 #[derive(Debug, Clone)]
 pub struct ServeOptions {
     pub db: std::path::PathBuf,
     pub addr: String,
     pub token: Option<String>,
     pub workers: Option<usize>,
+    pub allow_origins: Vec<origin::Origin>,
 }
 
 /// `fivex serve` with the database and address only.
 pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
-    run_with(ServeOptions { db: db.to_path_buf(), addr: addr.to_string(), token: None, workers: None })
+    run_with(ServeOptions {
+        db: db.to_path_buf(),
+        addr: addr.to_string(),
+        token: None,
+        workers: None,
+        allow_origins: Vec::new(),
+    })
 }
 
 /// `fivex serve`: opens (creating and migrating) the database, brings the stored controllers
@@ -591,7 +623,8 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         let state = AppState::restore_with(pool, workers)
             .await
             .map_err(|e| format!("cannot read the controllers of {}: {e}", db.display()))?
-            .with_token(options.token.clone());
+            .with_token(options.token.clone())
+            .with_allowed_origins(AllowedOrigins::new(options.allow_origins.clone()));
         tracing::info!(db = %db.display(), workers, token = state.token.is_some(), "database ready");
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         let local = listener.local_addr().map_err(|e| format!("cannot listen on {addr}: {e}"))?;

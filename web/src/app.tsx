@@ -3,6 +3,7 @@ import { useRoute } from "./route";
 import { FleetView } from "./fleet/FleetView";
 import { ControllerView } from "./controller/ControllerView";
 import { RunsView } from "./runs/RunsView";
+import { Login } from "./Login";
 
 function Health() {
   const [ok, setOk] = useState<boolean | null>(null);
@@ -41,6 +42,7 @@ export function App() {
             API
           </a>
         </nav>
+        <Login />
         <Health />
       </header>
       <main>

@@ -244,6 +244,71 @@ test("a fleet run compares machines, shows why one cannot run it, and opens one 
   assert.equal(runs[0].alarms, 1);
 });
 
+test("with --token the page asks for it at the first 401, sends it again, and streams with it percent-encoded", async () => {
+  const TOKEN = "a+b/c=d"; // + / = : what base64 tokens hold
+  const tport = await freePort();
+  const tbase = `http://127.0.0.1:${tport}`;
+  const tdir = mkdtempSync(join(tmpdir(), "fivex-e2e-token-"));
+  const tserver = spawn(bin, ["serve", "--db", join(tdir, "t.db"), "--addr", `127.0.0.1:${tport}`, "--token", TOKEN], { stdio: "ignore" });
+  const tpage = await browser.newPage({ viewport: { width: 1500, height: 1100 } });
+  const seen = [];
+  tpage.on("pageerror", (e) => problems.push(`token page error: ${e.message}`));
+  // Refused requests and websocket handshakes are what this test makes happen.
+  const refused = /status of 401|WebSocket connection to .* failed: (.*401|HTTP Authentication failed)/;
+  tpage.on("console", (m) => m.type() === "error" && !refused.test(m.text()) && problems.push(`token page console: ${m.text()}`));
+  tpage.on("websocket", (ws) => seen.push(ws.url()));
+  try {
+    for (let i = 0; !(await fetch(tbase + "/healthz").then((r) => r.ok, () => false)); i++) {
+      if (i > 200) throw new Error("the server with a token did not start");
+      await new Promise((r) => setTimeout(r, 50));
+    }
+    const auth = { authorization: `Bearer ${TOKEN}`, "content-type": "application/json" };
+    const c = await (await fetch(tbase + "/api/v1/controllers", { method: "POST", headers: auth, body: JSON.stringify({ name: "locked", preset: "mill3" }) })).json();
+
+    await tpage.goto(tbase + "/");
+    const form = tpage.locator("form.login");
+    await form.waitFor();
+    await form.locator("input[name=token]").fill("wrong");
+    await form.locator("button[type=submit]").click();
+    await tpage.locator("form.login", { hasText: "refused that token" }).waitFor();
+    await form.locator("input[name=token]").fill(TOKEN);
+    await tpage.screenshot({ path: join(shots, "login.png") });
+    await form.locator("button[type=submit]").click();
+    await form.waitFor({ state: "detached" });
+    // The fleet websocket works with the token, percent-encoded.
+    await tpage.locator(`tr[data-id='${c.id}']`).waitFor();
+    await tpage.locator(".pill.live").waitFor();
+    assert.ok(seen.some((u) => u.includes("token=a%2Bb%2Fc%3Dd")), seen.join(" "));
+    assert.equal(await tpage.evaluate(() => localStorage.getItem("fivex.token")), TOKEN);
+    // The controller view: its status over REST, its live state over its websocket.
+    await tpage.goto(`${tbase}/#/c/${c.id}`);
+    await tpage.locator(".ctl-head h1", { hasText: "locked" }).waitFor();
+    await tpage.locator("[data-run-state=idle]").waitFor();
+    await fetch(`${tbase}/api/v1/controllers/${c.id}/mdi`, { method: "POST", headers: auth, body: JSON.stringify({ text: "G91 G01 X50. F100." }) });
+    await tpage.locator("[data-run-state=running]").waitFor();
+    // A token the service no longer takes: asked for again, as refused.
+    await tpage.evaluate(() => localStorage.setItem("fivex.token", "stale"));
+    await tpage.reload();
+    await tpage.locator("form.login", { hasText: "refused that token" }).waitFor();
+    await tpage.locator("form.login input[name=token]").fill(TOKEN);
+    await tpage.locator("form.login button[type=submit]").click();
+    await tpage.locator(".ctl-head h1", { hasText: "locked" }).waitFor();
+    await tpage.locator("button[data-action=sign-out]").waitFor();
+  } finally {
+    await tpage.close();
+    tserver.kill("SIGTERM");
+    rmSync(tdir, { recursive: true, force: true });
+  }
+});
+
+test("Swagger UI offers Authorize (the document's bearer scheme)", async () => {
+  await page.goto(base + "/swagger-ui/");
+  await page.locator("button.authorize").waitFor();
+  await page.click("button.authorize");
+  await page.locator(".auth-container", { hasText: "bearer" }).waitFor();
+  await page.screenshot({ path: join(shots, "swagger-authorize.png") });
+});
+
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
   const have = (await http("GET", "/api/v1/controllers")).body.length;
   for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });

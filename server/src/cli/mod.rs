@@ -132,6 +132,10 @@ struct ServeArgs {
     /// Worker threads that run the controllers (default: one per core).
     #[arg(long, env = "FIVEX_WORKERS")]
     workers: Option<usize>,
+    /// Let web pages from this origin (`scheme://host[:port]`) drive the service besides the
+    /// service's own; repeatable (`FIVEX_ALLOW_ORIGIN`: comma-separated).
+    #[arg(long = "allow-origin", value_name = "ORIGIN", env = "FIVEX_ALLOW_ORIGIN", value_delimiter = ',')]
+    allow_origin: Vec<crate::origin::Origin>,
 }
 
 /// A usage or IO error: exit status 2.
@@ -164,7 +168,13 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
         Command::Check(a) => cmd_check(a),
         Command::Fleet(a) => fleet::run(a),
         Command::Serve(a) => {
-            let options = crate::serve::ServeOptions { db: a.db, addr: a.addr, token: a.token, workers: a.workers };
+            let options = crate::serve::ServeOptions {
+                db: a.db,
+                addr: a.addr,
+                token: a.token,
+                workers: a.workers,
+                allow_origins: a.allow_origin,
+            };
             crate::serve::run_with(options).map_err(Fail)?;
             Ok(0)
         }

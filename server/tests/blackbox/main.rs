@@ -3,6 +3,7 @@
 //! of the service's hardening (docs/api.md).
 
 mod modal;
+mod origin;
 mod served;
 mod store;
 

@@ -51,6 +51,11 @@ impl Served {
 
     /// As [`Served::start`], over the database already in `dir` (a restart).
     pub fn start_in(dir: tempfile::TempDir, args: &[&str]) -> Self {
+        Self::start_with_env(dir, args, &[])
+    }
+
+    /// As [`Served::start_in`], with these environment variables set.
+    pub fn start_with_env(dir: tempfile::TempDir, args: &[&str], envs: &[(&str, &str)]) -> Self {
         let mut child = Command::new(env!("CARGO_BIN_EXE_fivex"))
             .arg("serve")
             .arg("--db")
@@ -58,6 +63,7 @@ impl Served {
             .args(["--addr", "127.0.0.1:0"])
             .args(args)
             .env("RUST_LOG", "info")
+            .envs(envs.iter().copied())
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())

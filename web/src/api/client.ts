@@ -1,7 +1,8 @@
 // Typed access to the fivex HTTP API. `schema.d.ts` is generated from openapi/openapi.json
 // (`npm run gen`), so a change of the API that the page does not follow fails `tsc`.
-import createClient, { type Middleware } from "openapi-fetch";
+import createClient from "openapi-fetch";
 import type { components, paths } from "./schema";
+import { authFetch, token, tokenQuery } from "./auth";
 
 export type Schemas = components["schemas"];
 export type Status = Schemas["ControllerStatus"];
@@ -9,29 +10,11 @@ export type Frame = Schemas["Frame"];
 export type AlarmInfo = Schemas["AlarmInfo"];
 export type FleetEntry = Schemas["FleetEntry"];
 
-/// The service's token (`fivex serve --token`), taken once from `?token=` and kept.
-export function token(): string | null {
-  const given = new URLSearchParams(location.search).get("token");
-  if (given) localStorage.setItem("fivex.token", given);
-  return given ?? localStorage.getItem("fivex.token");
-}
+export { authFetch, token } from "./auth";
 
-/// The token as a header, for the few calls made with plain `fetch` (NC text is not JSON).
-export function authHeaders(): Record<string, string> {
-  const t = token();
-  return t ? { Authorization: `Bearer ${t}` } : {};
-}
-
-const auth: Middleware = {
-  onRequest({ request }) {
-    const t = token();
-    if (t) request.headers.set("Authorization", `Bearer ${t}`);
-    return request;
-  },
-};
-
-export const api = createClient<paths>({ baseUrl: location.origin });
-api.use(auth);
+/// Every call goes through `authFetch`: the token as a bearer token, and on 401 the login
+/// prompt and the same call again.
+export const api = createClient<paths>({ baseUrl: location.origin, fetch: (request) => authFetch(request) });
 
 /// An error the service answered, with its JSON reason.
 export class ApiError extends Error {
@@ -63,8 +46,20 @@ export function wsUrl(path: string, query: Record<string, string | number> = {})
   url.protocol = location.protocol === "https:" ? "wss:" : "ws:";
   for (const [k, v] of Object.entries(query)) url.searchParams.set(k, String(v));
   const t = token();
-  if (t) url.searchParams.set("token", t);
+  // Not `searchParams.set`: that writes a space as `+`, which the service reads as a plus.
+  if (t) url.search = url.search ? `${url.search}&${tokenQuery(t)}` : `?${tokenQuery(t)}`;
   return url.toString();
+}
+
+/// A websocket refused for its token shows only as a close; a plain request then finds out
+/// why, and a 401 brings up the login prompt (`authFetch`). One at a time.
+let probing = false;
+function probeToken() {
+  if (probing) return;
+  probing = true;
+  authFetch("/api/v1/presets")
+    .catch(() => undefined)
+    .finally(() => (probing = false));
 }
 
 /// A websocket that reconnects (after 1 s, then up to 10 s) until closed by `close()`.
@@ -74,7 +69,9 @@ export function liveSocket(url: () => string, onMessage: (msg: any) => void, onO
   let delay = 1000;
   const connect = () => {
     ws = new WebSocket(url());
+    let opened = false;
     ws.onopen = () => {
+      opened = true;
       delay = 1000;
       onOpen?.(true);
     };
@@ -87,6 +84,7 @@ export function liveSocket(url: () => string, onMessage: (msg: any) => void, onO
     };
     ws.onclose = () => {
       onOpen?.(false);
+      if (!opened && !closed) probeToken();
       if (!closed) {
         setTimeout(connect, delay);
         delay = Math.min(delay * 2, 10000);

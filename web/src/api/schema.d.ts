@@ -1633,6 +1633,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"][];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     create: {
@@ -1659,6 +1668,24 @@ export interface operations {
             };
             /** @description Not JSON */
             400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -1698,6 +1725,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -1727,6 +1763,24 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content?: never;
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
             };
             /** @description No such controller */
             404: {
@@ -1762,6 +1816,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -1808,6 +1880,15 @@ export interface operations {
                     "application/json": components["schemas"]["Alarms"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -1842,6 +1923,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -1890,6 +1989,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller or program */
             404: {
                 headers: {
@@ -1935,6 +2052,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -1965,6 +2100,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2001,6 +2154,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2057,6 +2228,24 @@ export interface operations {
                     "application/json": components["schemas"]["HandleTaken"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2109,6 +2298,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2165,6 +2372,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2215,6 +2440,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2245,6 +2488,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": Record<string, never>;
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2281,6 +2533,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2337,6 +2607,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2391,6 +2679,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2441,6 +2747,15 @@ export interface operations {
                     "application/json": components["schemas"]["ModalState"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2475,6 +2790,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2531,6 +2864,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2570,6 +2921,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ParameterList"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2617,6 +2977,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ParameterList"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -2669,6 +3047,15 @@ export interface operations {
                     "application/json": components["schemas"]["ProgramSummary"][];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2701,6 +3088,15 @@ export interface operations {
                 };
                 content: {
                     "text/plain": string;
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller or program */
@@ -2756,6 +3152,24 @@ export interface operations {
             };
             /** @description The number is not a number, or the query is malformed */
             400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2822,6 +3236,24 @@ export interface operations {
                 };
                 content?: never;
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller or program */
             404: {
                 headers: {
@@ -2860,6 +3292,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ToolPathBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller or program */
@@ -2903,6 +3344,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2944,6 +3403,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -2977,6 +3454,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Run"][];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -3016,6 +3502,24 @@ export interface operations {
             };
             /** @description Not a websocket upgrade request */
             400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3068,6 +3572,24 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -3098,6 +3620,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ToolOffsetDto"][];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -3136,6 +3667,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ToolOffsetDto"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -3179,6 +3728,15 @@ export interface operations {
                     "application/json": components["schemas"]["Variable"][];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -3211,6 +3769,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Variable"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -3260,6 +3827,24 @@ export interface operations {
                     "application/json": components["schemas"]["Variable"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -3301,6 +3886,15 @@ export interface operations {
                     "application/json": components["schemas"]["WorkOffsetDto"][];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such controller */
             404: {
                 headers: {
@@ -3337,6 +3931,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["WorkOffsetDto"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such controller */
@@ -3386,6 +3998,15 @@ export interface operations {
                     "application/json": components["schemas"]["LibraryMachine"][];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     library_one: {
@@ -3407,6 +4028,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["LibraryMachine"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such library machine */
@@ -3439,6 +4069,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["FleetRunInfo"][];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
         };
@@ -3489,6 +4128,24 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program */
             422: {
                 headers: {
@@ -3519,6 +4176,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["FleetRun"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description No such run */
@@ -3553,6 +4219,24 @@ export interface operations {
                     "application/json": components["schemas"]["Progress"];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No such run */
             404: {
                 headers: {
@@ -3582,6 +4266,15 @@ export interface operations {
                     "application/json": components["schemas"]["Preset"][];
                 };
             };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     fleet: {
@@ -3603,6 +4296,24 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Fleet"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description Bad rate */

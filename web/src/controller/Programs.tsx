@@ -1,7 +1,7 @@
 // Stored programs: the list, the text with the executing block highlighted, an editor that
 // stores through the service's check (diagnostics shown on their lines), upload, and start.
 import { useEffect, useRef, useState } from "preact/hooks";
-import { api, ApiError, authHeaders, must, type Schemas, type Status } from "../api/client";
+import { api, ApiError, authFetch, must, type Schemas, type Status } from "../api/client";
 import type { Act } from "./useController";
 import { programNumber } from "../api/program";
 import { CodeView, type Mark } from "./CodeView";
@@ -50,7 +50,7 @@ export function Programs({
       return setText("");
     }
     if (selected == null) return setText("");
-    fetch(`/api/v1/controllers/${id}/programs/${selected}`, { headers: authHeaders() })
+    authFetch(`/api/v1/controllers/${id}/programs/${selected}`)
       .then((r) => (r.ok ? r.text() : ""))
       .then(setText);
   }, [selected, id]);
@@ -58,9 +58,9 @@ export function Programs({
   const store = async (number: number, body: string, force = false) => {
     onError(null);
     setMarks([]);
-    const res = await fetch(`/api/v1/controllers/${id}/programs/${number}${force ? "?force=true" : ""}`, {
+    const res = await authFetch(`/api/v1/controllers/${id}/programs/${number}${force ? "?force=true" : ""}`, {
       method: "PUT",
-      headers: { "content-type": "text/plain", ...authHeaders() },
+      headers: { "content-type": "text/plain" },
       body,
     });
     const answer = await res.json().catch(() => ({}));
@@ -153,7 +153,7 @@ export function Programs({
                 class="danger"
                 onClick={async () => {
                   if (!confirm(`Delete O${selected}?`)) return;
-                  await fetch(`/api/v1/controllers/${id}/programs/${selected}`, { method: "DELETE", headers: authHeaders() });
+                  await authFetch(`/api/v1/controllers/${id}/programs/${selected}`, { method: "DELETE" });
                   onSelect(null);
                   refresh();
                 }}

@@ -2,7 +2,7 @@
 // progress while it runs, and the comparison across the fleet as a table and plots; any
 // machine's run opens in the 3D view.
 import { useEffect, useMemo, useState } from "preact/hooks";
-import { api, authHeaders, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
+import { api, authFetch, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
 import { programNumber } from "../api/program";
 import { go } from "../route";
 import { Bars, Lines } from "./Plots";
@@ -224,7 +224,7 @@ function Comparison({ results, request }: { results: Result[]; request: any }) {
       const c = await must(api.POST("/api/v1/controllers", { body }));
       // The program's own O number is its slot (the service refuses another); 1 without one.
       const number = programNumber(request.program) ?? 1;
-      const stored = await fetch(`/api/v1/controllers/${c.id}/programs/${number}?force=true`, { method: "PUT", headers: { "content-type": "text/plain", ...authHeaders() }, body: request.program });
+      const stored = await authFetch(`/api/v1/controllers/${c.id}/programs/${number}?force=true`, { method: "PUT", headers: { "content-type": "text/plain" }, body: request.program });
       if (!stored.ok) throw new Error((await stored.json().catch(() => ({}))).error ?? `${stored.status}`);
       await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id: c.id } }, body: { program: number } }));
       go(`#/c/${c.id}`);
