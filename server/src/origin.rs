@@ -16,6 +16,12 @@
 //!    request's `Host` (the served origin) or that is allow-listed is allowed.
 //! 3. Everything else is refused with 403 and the JSON error body.
 //!
+//! Before all that, every request's `Host` must be a name the service answers to: an IP address,
+//! `localhost` (or a name under it), or the host of an allow-listed origin. Otherwise a page
+//! could rebind its own DNS name to the operator's 127.0.0.1 (DNS rebinding) and, being then
+//! "same-origin" to the browser, drive the service and read its answers; it cannot make the
+//! browser send a `Host` other than its own name.
+//!
 //! The allow-list (`--allow-origin`) is for a page served from elsewhere (the dashboard's
 //! development server, a reverse proxy that rewrites `Host` for browsers without
 //! `Sec-Fetch-Site`).
@@ -74,6 +80,35 @@ impl AllowedOrigins {
     fn contains(&self, origin: &str) -> bool {
         self.0.iter().any(|o| o.0.eq_ignore_ascii_case(origin))
     }
+
+    /// Whether `host` (no port) is the host of an allow-listed origin.
+    fn names(&self, host: &str) -> bool {
+        self.0.iter().any(|o| {
+            o.0.parse::<Uri>().ok().and_then(|u| u.host().map(|h| h.eq_ignore_ascii_case(host))).unwrap_or(false)
+        })
+    }
+}
+
+/// `Ok` when the request's `Host` is a name the service answers to (see the module's text).
+pub fn check_host(headers: &HeaderMap, allowed: &AllowedOrigins) -> Result<(), String> {
+    let Some(value) = headers.get(header::HOST) else { return Ok(()) };
+    let text = value.to_str().unwrap_or("");
+    let Some(host) = format!("http://{text}").parse::<Uri>().ok().and_then(|u| u.host().map(str::to_owned)) else {
+        return Err(format!("Host {text:?} is not a host name"));
+    };
+    let bare = host.trim_start_matches('[').trim_end_matches(']');
+    let lower = bare.to_ascii_lowercase();
+    if bare.parse::<std::net::IpAddr>().is_ok()
+        || lower == "localhost"
+        || lower.ends_with(".localhost")
+        || allowed.names(bare)
+    {
+        return Ok(());
+    }
+    Err(format!(
+        "cross-origin request refused: Host {text:?} is not a name this service answers to (IP addresses and localhost are); \
+         serving under a DNS name, allow it with --allow-origin http://{text}"
+    ))
 }
 
 /// Whether a request can change something or open a stream: every method but the safe ones,
@@ -117,7 +152,9 @@ pub fn check(method: &Method, headers: &HeaderMap, allowed: &AllowedOrigins) -> 
 
 /// The middleware: refuses a cross-origin request with 403 before anything else sees it.
 pub async fn refuse_cross_origin(State(state): State<AppState>, req: Request, next: Next) -> Response {
-    match check(req.method(), req.headers(), state.allowed_origins()) {
+    let checked = check_host(req.headers(), state.allowed_origins())
+        .and_then(|()| check(req.method(), req.headers(), state.allowed_origins()));
+    match checked {
         Ok(()) => next.run(req).await,
         Err(reason) => {
             tracing::warn!(method = %req.method(), path = %req.uri().path(), %reason, "refused");
@@ -126,20 +163,19 @@ pub async fn refuse_cross_origin(State(state): State<AppState>, req: Request, ne
     }
 }
 
-/// The 403 in the OpenAPI document, on every operation the check guards (the state-changing
-/// ones and the websockets).
+/// The 403 in the OpenAPI document: every operation checks `Host`; the state-changing ones and
+/// the websockets also the origin.
 pub struct OriginDoc;
 
 impl utoipa::Modify for OriginDoc {
     fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
         crate::serve::for_each_api_operation(openapi, |method, path, operation| {
-            if method != Method::GET || path.ends_with("/stream") {
-                crate::serve::error_response(
-                    operation,
-                    403,
-                    "A web page from a foreign origin sent it (Origin, Sec-Fetch-Site)",
-                );
-            }
+            let why = if method != Method::GET || path.ends_with("/stream") {
+                "A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to"
+            } else {
+                "Host is not a name the service answers to (an IP address, localhost, an allowed origin's host)"
+            };
+            crate::serve::error_response(operation, 403, why);
         });
     }
 }
@@ -193,6 +229,28 @@ mod tests {
         assert!(with("cross-site", "http://127.0.0.1:8080").is_err(), "the browser's word wins over a matching Origin");
         let no_origin = headers(&[("host", "127.0.0.1:8080"), ("sec-fetch-site", "cross-site")]);
         assert!(check(&Method::POST, &no_origin, &allowed).is_err());
+    }
+
+    #[test]
+    fn the_host_must_be_an_address_localhost_or_an_allowed_origins() {
+        let allowed = AllowedOrigins::new(vec!["http://cnc.example:8080".parse().unwrap()]);
+        let host = |h: &'static str| check_host(&headers(&[("host", h)]), &allowed);
+        for ok in [
+            "127.0.0.1:8080",
+            "[::1]:8080",
+            "10.1.2.3",
+            "localhost:8080",
+            "LOCALHOST",
+            "app.localhost:1",
+            "cnc.example:8080",
+            "CNC.example",
+        ] {
+            assert!(host(ok).is_ok(), "{ok} refused");
+        }
+        for bad in ["evil.example:8080", "127.0.0.1.evil.example", "localhost.evil.example", "cnc.example.evil"] {
+            assert!(host(bad).is_err(), "{bad} accepted");
+        }
+        assert!(check_host(&HeaderMap::new(), &allowed).is_ok(), "no Host: not a browser");
     }
 
     #[test]

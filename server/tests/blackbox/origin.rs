@@ -326,3 +326,36 @@ async fn the_openapi_document_declares_the_bearer_scheme_on_every_api_operation(
     }
     assert!(api_operations > 40, "{api_operations} operations under /api/");
 }
+
+/// DNS rebinding: a page whose own name was made to point at the operator's 127.0.0.1 is
+/// "same-origin" to the browser, which sends that name as `Host`. Only IP addresses,
+/// `localhost` and the hosts of allow-listed origins are answered, also for reading, also on a
+/// websocket.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_rebound_dns_name_is_refused_for_reading_and_writing() {
+    let served = Served::start(&["--allow-origin", "http://cnc.example:8080"]);
+    let port = served.addr.rsplit(':').next().unwrap().to_owned();
+    let rebound = format!("evil.example:{port}");
+    let same_origin = format!("http://{rebound}");
+    for (method, path) in
+        [(Method::GET, "/api/v1/controllers"), (Method::GET, "/healthz"), (Method::POST, "/api/v1/controllers")]
+    {
+        let reply = served
+            .request(
+                method.clone(),
+                path,
+                &[("host", &rebound), ("origin", &same_origin), ("sec-fetch-site", "same-origin")],
+                "{}",
+            )
+            .await;
+        assert_forbidden(&reply, &format!("{method} {path} under a rebound name"));
+        assert!(reply.json()["error"].as_str().unwrap().contains("--allow-origin"), "{:?}", reply.json());
+    }
+    let (status, _) =
+        refused(websocket(&served, "/api/v1/stream", &[("host", &rebound)]).await, "fleet stream under a rebound name");
+    assert_eq!(status, 403);
+    for host in [format!("localhost:{port}"), format!("127.0.0.1:{port}"), "cnc.example:8080".to_owned()] {
+        let reply = served.request(Method::GET, "/api/v1/controllers", &[("host", &host)], "").await;
+        assert_eq!(reply.status, 200, "{host}: {:?}", reply.json());
+    }
+}
