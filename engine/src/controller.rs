@@ -609,7 +609,11 @@ impl Controller {
             self.events.push(Event::AlarmsCleared);
         }
         if !self.estop {
-            self.set_state(RunState::Idle);
+            // The axes decelerate to rest first: until they stand the machine is not idle (it
+            // stays running or held); the stop's end makes it idle (`after_stop`).
+            if self.current.is_none() {
+                self.set_state(RunState::Idle);
+            }
         }
         self.settle_interrupt();
     }
@@ -901,7 +905,7 @@ impl Controller {
             }
             AfterStop::Drop => {
                 self.stand_here();
-                if self.run_state == RunState::Running {
+                if matches!(self.run_state, RunState::Running | RunState::Hold) {
                     self.set_state(RunState::Idle);
                 }
             }

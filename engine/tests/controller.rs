@@ -120,6 +120,8 @@ fn reset_stops_the_program_and_cycle_start_runs_it_again_from_the_top() {
     let mut c = started("G91 G01 X100. F6000.\nX100.\nM30\n");
     c.tick(0.5);
     c.reset();
+    // Moving at 100 mm/s, the axes take a while to stand: not idle meanwhile.
+    assert_eq!(c.run_state(), RunState::Running, "the axes still decelerate");
     c.tick(0.5);
     assert_eq!(c.run_state(), RunState::Idle);
     let stopped = c.point().machine[0];
@@ -130,6 +132,22 @@ fn reset_stops_the_program_and_cycle_start_runs_it_again_from_the_top() {
     c.cycle_start().unwrap();
     run_until_stopped(&mut c, 60.0);
     assert!((c.point().machine[0] - (stopped + 200.0)).abs() < 1e-9);
+}
+
+/// A reset during a feed hold's deceleration: held until the axes stand, then idle.
+#[test]
+fn a_reset_while_holding_is_idle_once_the_axes_stand() {
+    let mut c = started("G91 G01 X100. F6000.\nM30\n");
+    c.tick(0.5);
+    c.feed_hold();
+    c.tick(0.01);
+    c.reset();
+    assert_eq!(c.run_state(), RunState::Hold, "the axes still decelerate");
+    c.tick(1.0);
+    assert_eq!(c.run_state(), RunState::Idle);
+    let stopped = c.point().machine[0];
+    c.tick(1.0);
+    assert_eq!(c.point().machine[0], stopped);
 }
 
 #[test]
