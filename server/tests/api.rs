@@ -823,3 +823,19 @@ async fn the_host_sets_interface_input_signals_a_program_reads() {
     assert_eq!(app.get(&format!("{C}/{id}/variables/500")).await.json()["value"], json!(1.0));
     assert_eq!(app.get(&format!("{C}/{id}/variables/1132")).await.json()["value"], json!(2.0));
 }
+
+/// Cycle start's body is optional whatever the content type says: an empty JSON request resumes
+/// (here: nothing to run, 409), malformed JSON is 400 and the wrong shape 422, both JSON errors.
+#[tokio::test]
+async fn cycle_start_takes_an_empty_body_with_a_json_content_type() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "a", "preset": "mill3"})).await;
+    let uri = format!("{C}/{id}/cycle-start");
+    for (body, status) in [("", 409), ("  \n", 409), ("{", 400), (r#"{"program": "one"}"#, 422)] {
+        let reply = app.raw(Method::POST, &uri, "application/json", body).await;
+        assert_eq!(reply.status, status, "{body:?}: {}", reply.text());
+        assert!(reply.content_type.starts_with("application/json"), "{body:?}");
+        assert!(!error_of(&reply).is_empty());
+    }
+    assert_eq!(error_of(&app.raw(Method::POST, &uri, "application/json", "").await), "there is no program to run");
+}

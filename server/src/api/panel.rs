@@ -74,6 +74,22 @@ pub(crate) fn compose(number: u32, programs: &[(u32, String)]) -> Option<String>
 
 /// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume
 /// (feed hold, M00/M01, single block) or run what is selected.
+/// An optional JSON body: none (or only white space, whatever the content type says) is the
+/// default. Malformed JSON is 400, JSON of the wrong shape 422, as for a `Json` body.
+fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Result<T, ApiError> {
+    if body.iter().all(u8::is_ascii_whitespace) {
+        return Ok(T::default());
+    }
+    serde_json::from_slice(body).map_err(|e| {
+        let status = if e.is_data() {
+            axum::http::StatusCode::UNPROCESSABLE_ENTITY
+        } else {
+            axum::http::StatusCode::BAD_REQUEST
+        };
+        ApiError::Rejected(status, format!("the request body: {e}"))
+    })
+}
+
 #[utoipa::path(
     post,
     path = "/api/v1/controllers/{id}/cycle-start",
@@ -89,10 +105,10 @@ pub(crate) fn compose(number: u32, programs: &[(u32, String)]) -> Option<String>
 pub async fn cycle_start(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Option<Json<CycleStart>>,
+    body: axum::body::Bytes,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
-    let request = request.map(|Json(r)| r).unwrap_or_default();
+    let request = optional_json::<CycleStart>(&body)?;
     let text = match request.program {
         Some(n) => {
             let programs = db::programs(&state.db, &hosted.id).await?;
