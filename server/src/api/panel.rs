@@ -72,8 +72,6 @@ pub(crate) fn compose(number: u32, programs: &[(u32, String)]) -> Option<String>
     Some(text)
 }
 
-/// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume
-/// (feed hold, M00/M01, single block) or run what is selected.
 /// An optional JSON body: none (or only white space, whatever the content type says) is the
 /// default. Malformed JSON is 400, JSON of the wrong shape 422, as for a `Json` body.
 fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Result<T, ApiError> {
@@ -90,6 +88,8 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
     })
 }
 
+/// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume
+/// (feed hold, M00/M01, single block) or run what is selected.
 #[utoipa::path(
     post,
     path = "/api/v1/controllers/{id}/cycle-start",
