@@ -5,6 +5,7 @@ pub mod cli;
 pub mod db;
 pub mod fleet;
 pub mod host;
+pub mod listen;
 pub mod machine_file;
 pub mod serve;
 pub mod tools;

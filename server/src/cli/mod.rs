@@ -6,6 +6,7 @@
 mod fleet;
 pub(crate) mod json;
 mod kin;
+mod limits;
 mod machine;
 
 use clap::{Args, Parser, Subcommand};
@@ -124,6 +125,8 @@ struct ServeArgs {
     /// Worker threads that run the controllers (default: one per core).
     #[arg(long, env = "FIVEX_WORKERS")]
     workers: Option<usize>,
+    #[command(flatten)]
+    limits: limits::LimitArgs,
 }
 
 /// A usage or IO error: exit status 2.
@@ -156,7 +159,14 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
         Command::Check(a) => cmd_check(a),
         Command::Fleet(a) => fleet::run(a),
         Command::Serve(a) => {
-            let options = crate::serve::ServeOptions { db: a.db, addr: a.addr, token: a.token, workers: a.workers };
+            let options = crate::serve::ServeOptions {
+                db: a.db,
+                addr: a.addr,
+                token: a.token,
+                workers: a.workers,
+                limits: a.limits.limits(),
+                fleet_jobs: a.limits.fleet_jobs as usize,
+            };
             crate::serve::run_with(options).map_err(Fail)?;
             Ok(0)
         }
