@@ -7,12 +7,12 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
+use fivex_engine::canon::{Motion, Pos};
 use fivex_engine::interp::{Config, Interpreter, Offsets};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::run::{run_observed, NoObserver, Observer, RunOptions, Sample};
 use fivex_engine::motion::Segment;
-use fivex_engine::canon::{Motion, Pos};
+use fivex_engine::run::{run_observed, NoObserver, Observer, RunOptions, Sample};
 use fivex_engine::Dialect;
 use serde_json::{Map, Value};
 
@@ -107,10 +107,21 @@ pub fn default_jobs() -> usize {
 /// What happens while a fleet runs, in the order it happens on each worker.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Event {
-    Started { index: usize, machine: String },
-    Finished { index: usize, machine: String, status: &'static str, cycle_time_s: f64 },
+    Started {
+        index: usize,
+        machine: String,
+    },
+    Finished {
+        index: usize,
+        machine: String,
+        status: &'static str,
+        cycle_time_s: f64,
+    },
     /// The run was cancelled while this machine ran; it has no result.
-    Cancelled { index: usize, machine: String },
+    Cancelled {
+        index: usize,
+        machine: String,
+    },
 }
 
 /// A machine by preset name, library name, or machine file text.

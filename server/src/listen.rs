@@ -25,7 +25,7 @@ use std::future::Future;
 use std::io;
 use std::net::{IpAddr, SocketAddr};
 use std::pin::Pin;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::task::{Context, Poll};
 use std::time::Duration;
@@ -177,7 +177,7 @@ struct Activity {
     /// When the first byte of the next request head arrived (`NONE`: none yet).
     head_since: AtomicU64,
     /// Whether a request has been served (a kept-alive connection gets the idle timeout).
-    served: AtomicU64,
+    served: AtomicBool,
     /// Wakes the watchdog when its deadline may have come nearer.
     changed: Notify,
     /// The websocket place this connection took for its upgrade.
@@ -201,7 +201,7 @@ impl Activity {
             return Some(ms(head, limits.header_timeout));
         }
         let idle = self.idle_since.load(Ordering::SeqCst);
-        let wait = if self.served.load(Ordering::SeqCst) > 0 { limits.idle_timeout } else { limits.header_timeout };
+        let wait = if self.served.load(Ordering::SeqCst) { limits.idle_timeout } else { limits.header_timeout };
         Some(ms(idle, wait))
     }
 }
@@ -221,7 +221,7 @@ impl InFlight {
 impl Drop for InFlight {
     fn drop(&mut self) {
         let a = &self.0;
-        a.served.fetch_add(1, Ordering::SeqCst);
+        a.served.store(true, Ordering::SeqCst);
         a.idle_since.store(a.now(), Ordering::SeqCst);
         a.in_flight.fetch_sub(1, Ordering::SeqCst);
         a.changed.notify_one();
@@ -238,7 +238,10 @@ impl hyper::body::Body for Counted {
     type Data = bytes::Bytes;
     type Error = axum::Error;
 
-    fn poll_frame(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Option<Result<Frame<Self::Data>, Self::Error>>> {
+    fn poll_frame(
+        mut self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+    ) -> Poll<Option<Result<Frame<Self::Data>, Self::Error>>> {
         Pin::new(&mut self.body).poll_frame(cx)
     }
 
@@ -339,7 +342,8 @@ pub async fn serve(
         };
         match open.connections.take(peer.ip()) {
             Ok(ticket) => {
-                let task = connection(stream, peer, ticket, app.clone(), open.clone(), limits.clone(), stopping.clone());
+                let task =
+                    connection(stream, peer, ticket, app.clone(), open.clone(), limits.clone(), stopping.clone());
                 tokio::spawn(task);
             }
             // Dropping the stream closes it. Logged at debug only: a flood must not flood the log.
@@ -350,7 +354,11 @@ pub async fn serve(
     drop(listener);
     let _ = stop.send(true);
     if tokio::time::timeout(grace, open.all_closed()).await.is_err() {
-        tracing::warn!(?grace, open = open.connections(), "connections still open after the grace period; stopping anyway");
+        tracing::warn!(
+            ?grace,
+            open = open.connections(),
+            "connections still open after the grace period; stopping anyway"
+        );
     }
     open
 }
@@ -370,7 +378,7 @@ async fn connection(
         in_flight: AtomicUsize::new(0),
         idle_since: AtomicU64::new(0),
         head_since: AtomicU64::new(NONE),
-        served: AtomicU64::new(0),
+        served: AtomicBool::new(false),
         changed: Notify::new(),
         websocket: Mutex::new(None),
     });
@@ -422,7 +430,13 @@ async fn connection(
 
 /// The application's answer to one request, counted as under way until its body is sent; a
 /// websocket upgrade takes a websocket place first.
-async fn respond(req: Request<Incoming>, peer: SocketAddr, app: Router, open: &Open, activity: Arc<Activity>) -> Response<Counted> {
+async fn respond(
+    req: Request<Incoming>,
+    peer: SocketAddr,
+    app: Router,
+    open: &Open,
+    activity: Arc<Activity>,
+) -> Response<Counted> {
     let in_flight = InFlight::enter(&activity);
     let upgrade = is_websocket(&req);
     let response = if upgrade {

@@ -315,7 +315,8 @@ pub async fn create(
     let cancel = Arc::new(AtomicBool::new(false));
     let stopped = Arc::new(watch::channel(None).0);
     state.fleet_runs.put(&id, Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() });
-    let opts = Options { tools: request.tools.clone(), report: request.report, cancel: Some(cancel), ..Options::default() };
+    let opts =
+        Options { tools: request.tools.clone(), report: request.report, cancel: Some(cancel), ..Options::default() };
     let task = tokio::spawn(execute(state.clone(), id.clone(), request.program, entries, opts, tx, stopped));
     let location = format!("{}/fleet/runs/{id}", crate::serve::API_PREFIX);
     let mut headers = HeaderMap::new();

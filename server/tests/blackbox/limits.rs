@@ -55,7 +55,11 @@ async fn assert_refused(served: &Served, source: &str) {
     // Whether the request is still written or the reset came first does not matter.
     let _ = stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: fivex\r\n\r\n").await;
     let answer = read_or_close(&mut stream, Duration::from_secs(20)).await;
-    assert!(answer.is_none(), "answered beyond the cap: {:?}", answer.map(|a| String::from_utf8_lossy(&a).into_owned()));
+    assert!(
+        answer.is_none(),
+        "answered beyond the cap: {:?}",
+        answer.map(|a| String::from_utf8_lossy(&a).into_owned())
+    );
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -73,7 +77,11 @@ async fn half_open_connections_are_closed_after_the_header_timeout_while_healthz
     for (i, stream) in half_open.iter_mut().enumerate() {
         let left = Duration::from_secs(30).saturating_sub(started.elapsed());
         let answer = read_or_close(stream, left).await;
-        assert!(answer.is_none(), "connection {i} was answered: {:?}", answer.map(|a| String::from_utf8_lossy(&a).into_owned()));
+        assert!(
+            answer.is_none(),
+            "connection {i} was answered: {:?}",
+            answer.map(|a| String::from_utf8_lossy(&a).into_owned())
+        );
     }
     // The bound is generous (a loaded 2-core machine); the header timeout is 2 s.
     assert!(started.elapsed() < Duration::from_secs(30), "{:?}", started.elapsed());
@@ -142,11 +150,11 @@ async fn the_websocket_caps_refuse_with_429_per_client_and_503_in_all() {
     for _ in 0..2 {
         open.push(websocket_from(&served, "127.0.0.1").await.expect("within the caps"));
     }
-    let (status, body) = websocket_from(&served, "127.0.0.1").await.err().expect("refused");
+    let (status, body) = websocket_from(&served, "127.0.0.1").await.expect_err("refused");
     assert_eq!(status, 429);
     assert!(body["error"].as_str().unwrap().contains("websockets"), "{body}");
     open.push(websocket_from(&served, "127.0.0.2").await.expect("another client"));
-    let (status, body) = websocket_from(&served, "127.0.0.3").await.err().expect("refused");
+    let (status, body) = websocket_from(&served, "127.0.0.3").await.expect_err("refused");
     assert_eq!(status, 503);
     assert!(body["error"].is_string(), "{body}");
     // The open ones work: each got the fleet snapshot.
@@ -257,11 +265,17 @@ async fn sigterm_under_load_exits_0_within_seconds_and_records_the_fleet_run_int
         assert_eq!(reply.status, 201, "{:?}", reply.json());
         let id = reply.json()["id"].as_str().unwrap().to_string();
         let stored = served
-            .request(Method::PUT, &format!("/api/v1/controllers/{id}/programs/1"), &[("content-type", "text/plain")], cycling)
+            .request(
+                Method::PUT,
+                &format!("/api/v1/controllers/{id}/programs/1"),
+                &[("content-type", "text/plain")],
+                cycling,
+            )
             .await;
         assert_eq!(stored.status, 201, "{:?}", stored.json());
-        let started =
-            served.send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
+        let started = served
+            .send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({"program": 1}))
+            .await;
         assert_eq!(started.status, 200, "{:?}", started.json());
         assert_eq!(started.json()["run_state"], "running");
         ids.push(id);
@@ -293,7 +307,8 @@ async fn sigterm_under_load_exits_0_within_seconds_and_records_the_fleet_run_int
     let (status, took) = served.terminate(Duration::from_secs(10));
     assert!(status.success(), "{status} after {took:?}; log: {}", served.log());
     // The waiting request was answered (the run it waited for was interrupted) or cut.
-    let waited = tokio::time::timeout(Duration::from_secs(10), waiter).await.expect("the waiting request ended").unwrap();
+    let waited =
+        tokio::time::timeout(Duration::from_secs(10), waiter).await.expect("the waiting request ended").unwrap();
     if let Ok(code) = waited {
         assert_eq!(code, 503);
     }
