@@ -7,7 +7,9 @@
 //! closes it when
 //! - its request head is not complete `header_timeout` after its first byte (or, on a new
 //!   connection, after the accept: saying nothing is not finishing either), or
-//! - it stays idle between requests (keep-alive) for `idle_timeout`.
+//! - it stays idle between requests (keep-alive) for `idle_timeout`, or
+//! - the request body it is sending pauses for longer than `body_timeout` while the handler
+//!   waits for it (the same attack as a head that never ends, one step later).
 //!
 //! hyper's own `header_read_timeout` is not used: its clock starts when the connection begins to
 //! wait for a head, so it would also cut every idle keep-alive connection at the header timeout,
@@ -54,6 +56,8 @@ pub struct Limits {
     pub header_timeout: Duration,
     /// A kept-alive connection with no request under way is closed after this long.
     pub idle_timeout: Duration,
+    /// The longest pause in a request body the handler is reading.
+    pub body_timeout: Duration,
     pub max_connections: usize,
     pub max_connections_per_client: usize,
     pub max_websockets: usize,
@@ -67,6 +71,7 @@ impl Default for Limits {
         Limits {
             header_timeout: Duration::from_secs(10),
             idle_timeout: Duration::from_secs(60),
+            body_timeout: Duration::from_secs(10),
             max_connections: 10_000,
             max_connections_per_client: 2_000,
             max_websockets: 5_000,
@@ -176,6 +181,9 @@ struct Activity {
     idle_since: AtomicU64,
     /// When the first byte of the next request head arrived (`NONE`: none yet).
     head_since: AtomicU64,
+    /// Since when the handler has been waiting for more of the request body (`NONE`: it is
+    /// not).
+    body_since: AtomicU64,
     /// Whether a request has been served (a kept-alive connection gets the idle timeout).
     served: AtomicBool,
     /// Wakes the watchdog when its deadline may have come nearer.
@@ -192,10 +200,11 @@ impl Activity {
     /// When the connection is to be closed if nothing changes; `None` while a request is under
     /// way.
     fn deadline(&self, limits: &Limits) -> Option<Instant> {
-        if self.in_flight.load(Ordering::SeqCst) > 0 {
-            return None;
-        }
         let ms = |at: u64, after: Duration| self.accepted + Duration::from_millis(at) + after;
+        if self.in_flight.load(Ordering::SeqCst) > 0 {
+            let body = self.body_since.load(Ordering::SeqCst);
+            return (body != NONE).then(|| ms(body, limits.body_timeout));
+        }
         let head = self.head_since.load(Ordering::SeqCst);
         if head != NONE {
             return Some(ms(head, limits.header_timeout));
@@ -251,6 +260,49 @@ impl hyper::body::Body for Counted {
 
     fn size_hint(&self) -> SizeHint {
         self.body.size_hint()
+    }
+}
+
+/// A request body that notes when its reader waits for the client (`Activity::body_since`).
+struct WatchedBody {
+    body: Incoming,
+    activity: Arc<Activity>,
+}
+
+impl hyper::body::Body for WatchedBody {
+    type Data = bytes::Bytes;
+    type Error = hyper::Error;
+
+    fn poll_frame(
+        mut self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+    ) -> Poll<Option<Result<Frame<Self::Data>, Self::Error>>> {
+        let polled = Pin::new(&mut self.body).poll_frame(cx);
+        let a = &self.activity;
+        if polled.is_pending() {
+            if a.body_since.load(Ordering::SeqCst) == NONE {
+                a.body_since.store(a.now(), Ordering::SeqCst);
+                a.changed.notify_one();
+            }
+        } else {
+            a.body_since.store(NONE, Ordering::SeqCst);
+        }
+        polled
+    }
+
+    fn is_end_stream(&self) -> bool {
+        self.body.is_end_stream()
+    }
+
+    fn size_hint(&self) -> SizeHint {
+        self.body.size_hint()
+    }
+}
+
+impl Drop for WatchedBody {
+    fn drop(&mut self) {
+        // A handler that stops reading (a body over the limit) is no longer waiting.
+        self.activity.body_since.store(NONE, Ordering::SeqCst);
     }
 }
 
@@ -378,6 +430,7 @@ async fn connection(
         in_flight: AtomicUsize::new(0),
         idle_since: AtomicU64::new(0),
         head_since: AtomicU64::new(NONE),
+        body_since: AtomicU64::new(NONE),
         served: AtomicBool::new(false),
         changed: Notify::new(),
         websocket: Mutex::new(None),
@@ -415,7 +468,7 @@ async fn connection(
             () = expired => {
                 // Looked at again: a request may have started just now.
                 if activity.deadline(&limits).is_some_and(|at| at <= Instant::now()) {
-                    tracing::debug!(%peer, "connection closed: request head or keep-alive timeout");
+                    tracing::debug!(%peer, "connection closed: request head, body or keep-alive timeout");
                     return;
                 }
             }
@@ -454,7 +507,8 @@ async fn respond(
     let response = match response {
         Some(refused) => refused,
         None => {
-            let mut req = req.map(Body::new);
+            let watched = Arc::clone(&activity);
+            let mut req = req.map(|body| Body::new(WatchedBody { body, activity: watched }));
             req.extensions_mut().insert(axum::extract::ConnectInfo(peer));
             let response = app.oneshot(req).await.unwrap_or_else(|never| match never {});
             if upgrade && response.status() != StatusCode::SWITCHING_PROTOCOLS {

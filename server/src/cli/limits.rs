@@ -15,6 +15,9 @@ pub struct LimitArgs {
     /// Seconds a kept-alive connection may wait for its next request.
     #[arg(long, env = "FIVEX_IDLE_TIMEOUT", default_value = "60", value_parser = seconds)]
     idle_timeout: Duration,
+    /// Seconds a request body may pause while the service reads it.
+    #[arg(long, env = "FIVEX_BODY_TIMEOUT", default_value = "10", value_parser = seconds)]
+    body_timeout: Duration,
     /// Open connections in all (websockets included); more are closed at once.
     #[arg(long, env = "FIVEX_MAX_CONNECTIONS", default_value_t = 10_000, value_parser = clap::value_parser!(u32).range(1..))]
     max_connections: u32,
@@ -37,6 +40,7 @@ impl LimitArgs {
         Limits {
             header_timeout: self.header_timeout,
             idle_timeout: self.idle_timeout,
+            body_timeout: self.body_timeout,
             max_connections: self.max_connections as usize,
             max_connections_per_client: self.max_connections_per_client as usize,
             max_websockets: self.max_websockets as usize,

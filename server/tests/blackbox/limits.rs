@@ -97,6 +97,39 @@ async fn a_connection_that_says_nothing_and_a_kept_alive_idle_one_are_closed() {
     assert!(read_or_close(&mut kept, Duration::from_secs(20)).await.is_none());
 }
 
+/// The head of a `POST /api/v1/controllers` whose JSON body is `length` bytes long.
+fn create_head(length: usize) -> String {
+    format!("POST /api/v1/controllers HTTP/1.1\r\nHost: fivex\r\ncontent-type: application/json\r\ncontent-length: {length}\r\n\r\n")
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_request_body_that_stops_coming_is_cut_but_a_slow_steady_one_is_not() {
+    let served = Served::start(&["--body-timeout", "2"]);
+    let body = json!({"name": "slow but steady", "preset": "mill3"}).to_string();
+    // Stalled: a tenth of the body, then nothing.
+    let mut stalled = connect_from(&served, "127.0.0.1").await;
+    stalled.write_all(format!("{}{}", create_head(body.len()), &body[..4]).as_bytes()).await.unwrap();
+    // Steady: a piece every 0.25 s, 5 s in all, far longer than the body timeout.
+    let mut steady = connect_from(&served, "127.0.0.1").await;
+    steady.write_all(create_head(body.len()).as_bytes()).await.unwrap();
+    let pieces: Vec<&[u8]> = body.as_bytes().chunks(body.len().div_ceil(20)).collect();
+    for piece in pieces {
+        tokio::time::sleep(Duration::from_millis(250)).await;
+        steady.write_all(piece).await.unwrap();
+    }
+    let answer = read_or_close(&mut steady, Duration::from_secs(20)).await.expect("the steady body was answered");
+    let text = String::from_utf8_lossy(&answer);
+    assert!(text.starts_with("HTTP/1.1 201"), "{text}");
+    let answer = read_or_close(&mut stalled, Duration::from_secs(20)).await;
+    assert!(
+        answer.is_none(),
+        "the stalled body was answered: {:?}",
+        answer.map(|a| String::from_utf8_lossy(&a).into_owned())
+    );
+    let listed = served.get("/api/v1/controllers").await.json();
+    assert_eq!(listed.as_array().unwrap().len(), 1, "{listed}");
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_connection_caps_refuse_the_excess_per_client_and_in_all() {
     let served = Served::start(&["--max-connections", "6", "--max-connections-per-client", "4"]);
