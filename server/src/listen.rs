@@ -9,7 +9,8 @@
 //!   connection, after the accept: saying nothing is not finishing either), or
 //! - it stays idle between requests (keep-alive) for `idle_timeout`, or
 //! - the request body it is sending pauses for longer than `body_timeout` while the handler
-//!   waits for it (the same attack as a head that never ends, one step later).
+//!   waits for it, or it takes nothing of what is written to it for as long (the same attack
+//!   as a head that never ends, one step later, and the slow reader).
 //!
 //! hyper's own `header_read_timeout` is not used: its clock starts when the connection begins to
 //! wait for a head, so it would also cut every idle keep-alive connection at the header timeout,
@@ -56,7 +57,8 @@ pub struct Limits {
     pub header_timeout: Duration,
     /// A kept-alive connection with no request under way is closed after this long.
     pub idle_timeout: Duration,
-    /// The longest pause in a request body the handler is reading.
+    /// The longest pause in a request body the handler is reading, and the longest a client
+    /// may take nothing of what is written to it.
     pub body_timeout: Duration,
     pub max_connections: usize,
     pub max_connections_per_client: usize,
@@ -168,7 +170,7 @@ impl Open {
     }
 }
 
-/// Milliseconds since the connection was accepted; `NONE`: not set.
+/// The times in [`Activity`] are milliseconds since the accept; `NONE`: not set.
 const NONE: u64 = u64::MAX;
 
 /// What one connection is doing, shared by its socket wrapper, its service and its watchdog.
@@ -184,6 +186,8 @@ struct Activity {
     /// Since when the handler has been waiting for more of the request body (`NONE`: it is
     /// not).
     body_since: AtomicU64,
+    /// Since when a write has been waiting for the client to take what was written.
+    write_since: AtomicU64,
     /// Whether a request has been served (a kept-alive connection gets the idle timeout).
     served: AtomicBool,
     /// Wakes the watchdog when its deadline may have come nearer.
@@ -197,13 +201,19 @@ impl Activity {
         self.accepted.elapsed().as_millis() as u64
     }
 
-    /// When the connection is to be closed if nothing changes; `None` while a request is under
-    /// way.
+    /// When the connection is to be closed if nothing changes: while a request is under way
+    /// only if its body or a write stalls (the handler takes as long as it takes), else when
+    /// the head is late or the idle time is up.
     fn deadline(&self, limits: &Limits) -> Option<Instant> {
         let ms = |at: u64, after: Duration| self.accepted + Duration::from_millis(at) + after;
+        let since = |at: &AtomicU64| Some(at.load(Ordering::SeqCst)).filter(|&t| t != NONE);
+        let stalled = [since(&self.body_since), since(&self.write_since)]
+            .into_iter()
+            .flatten()
+            .min()
+            .map(|t| ms(t, limits.body_timeout));
         if self.in_flight.load(Ordering::SeqCst) > 0 {
-            let body = self.body_since.load(Ordering::SeqCst);
-            return (body != NONE).then(|| ms(body, limits.body_timeout));
+            return stalled;
         }
         let head = self.head_since.load(Ordering::SeqCst);
         if head != NONE {
@@ -211,7 +221,19 @@ impl Activity {
         }
         let idle = self.idle_since.load(Ordering::SeqCst);
         let wait = if self.served.load(Ordering::SeqCst) { limits.idle_timeout } else { limits.header_timeout };
-        Some(ms(idle, wait))
+        Some(ms(idle, wait)).into_iter().chain(stalled).min()
+    }
+
+    /// Notes whether a write had to wait for the client.
+    fn wrote<T>(&self, polled: &Poll<T>) {
+        if polled.is_pending() {
+            if self.write_since.load(Ordering::SeqCst) == NONE {
+                self.write_since.store(self.now(), Ordering::SeqCst);
+                self.changed.notify_one();
+            }
+        } else if self.write_since.load(Ordering::SeqCst) != NONE {
+            self.write_since.store(NONE, Ordering::SeqCst);
+        }
     }
 }
 
@@ -333,11 +355,15 @@ impl AsyncRead for Watched {
 
 impl AsyncWrite for Watched {
     fn poll_write(mut self: Pin<&mut Self>, cx: &mut Context<'_>, buf: &[u8]) -> Poll<io::Result<usize>> {
-        Pin::new(&mut self.stream).poll_write(cx, buf)
+        let polled = Pin::new(&mut self.stream).poll_write(cx, buf);
+        self.activity.wrote(&polled);
+        polled
     }
 
     fn poll_flush(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
-        Pin::new(&mut self.stream).poll_flush(cx)
+        let polled = Pin::new(&mut self.stream).poll_flush(cx);
+        self.activity.wrote(&polled);
+        polled
     }
 
     fn poll_shutdown(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
@@ -349,7 +375,9 @@ impl AsyncWrite for Watched {
         cx: &mut Context<'_>,
         bufs: &[io::IoSlice<'_>],
     ) -> Poll<io::Result<usize>> {
-        Pin::new(&mut self.stream).poll_write_vectored(cx, bufs)
+        let polled = Pin::new(&mut self.stream).poll_write_vectored(cx, bufs);
+        self.activity.wrote(&polled);
+        polled
     }
 
     fn is_write_vectored(&self) -> bool {
@@ -431,6 +459,7 @@ async fn connection(
         idle_since: AtomicU64::new(0),
         head_since: AtomicU64::new(NONE),
         body_since: AtomicU64::new(NONE),
+        write_since: AtomicU64::new(NONE),
         served: AtomicBool::new(false),
         changed: Notify::new(),
         websocket: Mutex::new(None),
@@ -468,7 +497,7 @@ async fn connection(
             () = expired => {
                 // Looked at again: a request may have started just now.
                 if activity.deadline(&limits).is_some_and(|at| at <= Instant::now()) {
-                    tracing::debug!(%peer, "connection closed: request head, body or keep-alive timeout");
+                    tracing::debug!(%peer, "connection closed: request head, body, write or keep-alive timeout");
                     return;
                 }
             }

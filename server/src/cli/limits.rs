@@ -15,7 +15,8 @@ pub struct LimitArgs {
     /// Seconds a kept-alive connection may wait for its next request.
     #[arg(long, env = "FIVEX_IDLE_TIMEOUT", default_value = "60", value_parser = seconds)]
     idle_timeout: Duration,
-    /// Seconds a request body may pause while the service reads it.
+    /// Seconds a request body may pause while the service reads it, and a client may take
+    /// nothing of an answer.
     #[arg(long, env = "FIVEX_BODY_TIMEOUT", default_value = "10", value_parser = seconds)]
     body_timeout: Duration,
     /// Open connections in all (websockets included); more are closed at once.

@@ -131,6 +131,35 @@ async fn a_request_body_that_stops_coming_is_cut_but_a_slow_steady_one_is_not() 
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_that_takes_nothing_of_its_answers_is_cut() {
+    let served = Served::start(&["--body-timeout", "1"]);
+    // 20 pipelined requests for a 1.4 MB file: far more than the socket buffers hold.
+    let path = "/swagger-ui/swagger-ui-bundle.js";
+    let one = served.get(path).await;
+    assert_eq!(one.status, 200);
+    let asked = 20 * one.body.len();
+    let mut stream = connect_from(&served, "127.0.0.1").await;
+    let request = format!("GET {path} HTTP/1.1\r\nHost: fivex\r\n\r\n");
+    stream.write_all(request.repeat(20).as_bytes()).await.unwrap();
+    // Take nothing for a while (the server's writes stall once the buffers are full) …
+    tokio::time::sleep(Duration::from_secs(5)).await;
+    // … then everything there is: what was buffered, then the end.
+    let mut got = 0;
+    let mut buf = vec![0u8; 1 << 16];
+    let read_all = async {
+        loop {
+            match stream.read(&mut buf).await {
+                Ok(0) | Err(_) => break,
+                Ok(n) => got += n,
+            }
+        }
+    };
+    tokio::time::timeout(Duration::from_secs(30), read_all).await.expect("the connection was never closed");
+    assert!(got < asked, "all {got} bytes were sent: the connection was never cut");
+    assert_eq!(served.get("/healthz").await.status, 200);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_connection_caps_refuse_the_excess_per_client_and_in_all() {
     let served = Served::start(&["--max-connections", "6", "--max-connections-per-client", "4"]);
     let mut first = Vec::new();
