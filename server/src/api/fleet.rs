@@ -516,10 +516,29 @@ pub async fn stream(
     Ok(upgrade.on_upgrade(move |socket| session(socket, state, None, Some(last))))
 }
 
+/// The machines' names in the order of a stored request (`entries`' order), for those a
+/// stopped run has no result for; an existing controller by its id (its name then is not
+/// stored).
+fn requested_names(request_json: &str) -> Vec<String> {
+    let Ok(r) = serde_json::from_str::<FleetRequest>(request_json) else { return Vec::new() };
+    let mut names = r.presets;
+    names.extend(r.machines.iter().map(|m| m["name"].as_str().unwrap_or_default().to_string()));
+    for name in r.library {
+        if name == "*" {
+            names.extend(crate::fleet::LIBRARY.iter().map(|(n, _)| n.to_string()));
+        } else {
+            names.push(name);
+        }
+    }
+    names.extend(r.controllers);
+    names
+}
+
 /// The final progress of a stored run.
 fn stored_progress(row: &FleetRunRow) -> Progress {
     let results: Vec<Value> =
         row.results_json.as_deref().and_then(|t| serde_json::from_str(t).ok()).unwrap_or_default();
+    let names = requested_names(&row.request_json);
     Progress {
         kind: "progress",
         id: row.id.clone(),
@@ -533,9 +552,12 @@ fn stored_progress(row: &FleetRunRow) -> Progress {
         finished: true,
         machines: results
             .iter()
-            .map(|r| MachineProgress {
-                // A machine a stopped run did not finish has no result, so no name here.
-                machine: r["machine"].as_str().unwrap_or_default().to_string(),
+            .enumerate()
+            .map(|(i, r)| MachineProgress {
+                machine: match r["machine"].as_str() {
+                    Some(name) => name.to_string(),
+                    None => names.get(i).cloned().unwrap_or_default(),
+                },
                 state: match &r["status"] {
                     Value::Null => "cancelled",
                     s if s == "completed" => "completed",

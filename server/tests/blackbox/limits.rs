@@ -277,6 +277,14 @@ async fn an_endless_fleet_run_is_cancelled_within_seconds() {
     assert_eq!(run["status"], "cancelled");
     assert!(run["finished_at"].is_string(), "{run}");
     assert_eq!(run["results"], json!([null]), "the machine did not finish");
+    // Its stream tells the same, by the machine's name.
+    let url = format!("ws://{}/api/v1/fleet/runs/{id}/stream", served.addr);
+    let (mut socket, _) = tokio_tungstenite::connect_async(url).await.expect("the run's stream");
+    let message = tokio::time::timeout(Duration::from_secs(20), socket.next()).await.unwrap().unwrap().unwrap();
+    let progress: Value = serde_json::from_str(message.to_text().unwrap()).unwrap();
+    assert_eq!(progress["status"], "cancelled", "{progress}");
+    assert_eq!(progress["finished"], true);
+    assert_eq!(progress["machines"], json!([{"machine": "mill3", "state": "cancelled", "cycle_time_s": null}]));
     // Cancelling it again, or a run that does not exist.
     let again = served.request(Method::POST, &format!("/api/v1/fleet/runs/{id}/cancel"), &[], "").await;
     assert_eq!(again.status, 409);
