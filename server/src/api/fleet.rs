@@ -35,7 +35,9 @@ pub const MAX_MACHINES: usize = 200;
 /// places to run in (`--fleet-jobs`).
 #[derive(Clone, Debug)]
 pub struct Runs {
-    runs: Arc<Mutex<HashMap<String, Run>>>,
+    /// The runs, and whether the service stops (then no run is added: every one added before
+    /// was interrupted).
+    runs: Arc<Mutex<(HashMap<String, Run>, bool)>>,
     slots: Arc<Semaphore>,
 }
 
@@ -61,16 +63,26 @@ impl Runs {
         Runs { runs: Default::default(), slots: Arc::new(Semaphore::new(jobs.max(1))) }
     }
 
-    fn get(&self, id: &str) -> Option<Run> {
-        self.runs.lock().unwrap_or_else(|e| e.into_inner()).get(id).cloned()
+    fn lock(&self) -> std::sync::MutexGuard<'_, (HashMap<String, Run>, bool)> {
+        self.runs.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn put(&self, id: &str, run: Run) {
-        self.runs.lock().unwrap_or_else(|e| e.into_inner()).insert(id.to_string(), run);
+    fn get(&self, id: &str) -> Option<Run> {
+        self.lock().0.get(id).cloned()
+    }
+
+    /// Adds a run; `false` once the service stops.
+    fn put(&self, id: &str, run: Run) -> bool {
+        let mut runs = self.lock();
+        if runs.1 {
+            return false;
+        }
+        runs.0.insert(id.to_string(), run);
+        true
     }
 
     fn remove(&self, id: &str) {
-        self.runs.lock().unwrap_or_else(|e| e.into_inner()).remove(id);
+        self.lock().0.remove(id);
     }
 
     /// Stop a run (the first reason given is kept); `None` if it is not queued or running.
@@ -81,9 +93,13 @@ impl Runs {
         Some(run.progress)
     }
 
-    /// Stop every run, recorded as `interrupted` (the service shuts down).
+    /// Stop every run, recorded as `interrupted`, and take no new one (the service shuts down).
     pub fn interrupt_all(&self) {
-        let ids: Vec<String> = self.runs.lock().unwrap_or_else(|e| e.into_inner()).keys().cloned().collect();
+        let ids: Vec<String> = {
+            let mut runs = self.lock();
+            runs.1 = true;
+            runs.0.keys().cloned().collect()
+        };
         for id in ids {
             self.stop(&id, "interrupted");
         }
@@ -91,7 +107,7 @@ impl Runs {
 
     /// Resolves when no run is queued or under way (each has been stored as over).
     pub async fn all_ended(&self) {
-        while !self.runs.lock().unwrap_or_else(|e| e.into_inner()).is_empty() {
+        while !self.lock().0.is_empty() {
             tokio::time::sleep(Duration::from_millis(20)).await;
         }
     }
@@ -258,7 +274,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
         (status = 400, description = "Not JSON", body = ErrorBody),
         (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
         (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program", body = ErrorBody),
-        (status = 503, description = "`wait`: the service stopped before the run finished (`interrupted`)", body = ErrorBody),
+        (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`)", body = ErrorBody),
     )
 )]
 pub async fn create(
@@ -297,7 +313,6 @@ pub async fn create(
         request_json: serde_json::to_string(&request).unwrap_or_else(|_| "{}".into()),
         results_json: None,
     };
-    db::insert_fleet_run(&state.db, &row).await?;
     let id = row.id.clone();
     let progress = Progress {
         kind: "progress",
@@ -314,7 +329,13 @@ pub async fn create(
     let (tx, rx) = watch::channel(progress);
     let cancel = Arc::new(AtomicBool::new(false));
     let stopped = Arc::new(watch::channel(None).0);
-    state.fleet_runs.put(&id, Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() });
+    if !state.fleet_runs.put(&id, Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() }) {
+        return Err(ApiError::Unavailable("the service is stopping: no new fleet runs".into()));
+    }
+    if let Err(e) = db::insert_fleet_run(&state.db, &row).await {
+        state.fleet_runs.remove(&id);
+        return Err(e.into());
+    }
     let opts =
         Options { tools: request.tools.clone(), report: request.report, cancel: Some(cancel), ..Options::default() };
     let task = tokio::spawn(execute(state.clone(), id.clone(), request.program, entries, opts, tx, stopped));

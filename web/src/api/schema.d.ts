@@ -3517,7 +3517,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description `wait`: the service stopped before the run finished (`interrupted`) */
+            /** @description The service is stopping; `wait`: it stopped before the run finished (`interrupted`) */
             503: {
                 headers: {
                     [name: string]: unknown;
