@@ -600,6 +600,7 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
             .with_token(options.token.clone())
             .with_fleet_jobs(options.fleet_jobs);
         tracing::info!(db = %db.display(), workers, token = state.token.is_some(), "database ready");
+        tracing::info!(limits = ?options.limits, fleet_jobs = options.fleet_jobs, "limits");
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         let local = listener.local_addr().map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         // Installed before announcing the address: once the line below is logged, SIGINT and

@@ -409,3 +409,24 @@ async fn sigterm_under_load_exits_0_within_seconds_and_records_the_fleet_run_int
     let statuses: Vec<&str> = listed.as_array().unwrap().iter().map(|r| r["status"].as_str().unwrap()).collect();
     assert_eq!(statuses, ["interrupted", "interrupted"], "{listed}");
 }
+
+#[test]
+fn limits_out_of_range_are_usage_errors() {
+    for args in
+        [["--header-timeout", "0"], ["--body-timeout", "soon"], ["--fleet-jobs", "0"], ["--max-connections", "0"]]
+    {
+        let dir = tempfile::tempdir().unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_fivex"))
+            .arg("serve")
+            .arg("--db")
+            .arg(dir.path().join("fivex.db"))
+            .args(["--addr", "127.0.0.1:0"])
+            .args(args)
+            .output()
+            .expect("run fivex serve");
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(args[0]), "{args:?}: {stderr}");
+        assert!(!dir.path().join("fivex.db").exists(), "{args:?}: nothing is created");
+    }
+}
