@@ -58,3 +58,32 @@ fn seconds(text: &str) -> Result<Duration, String> {
     }
     Ok(Duration::from_secs_f64(s))
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Parser)]
+    struct Flags {
+        #[command(flatten)]
+        limits: LimitArgs,
+    }
+
+    #[test]
+    fn the_flags_defaults_are_the_documented_limits() {
+        let flags = Flags::try_parse_from(["fivex"]).unwrap();
+        assert_eq!(flags.limits.limits(), Limits::default());
+        assert_eq!(flags.limits.fleet_jobs, 1);
+    }
+
+    #[test]
+    fn seconds_take_fractions_and_refuse_nothing_or_forever() {
+        let flags = Flags::try_parse_from(["fivex", "--header-timeout", "0.25"]).unwrap();
+        assert_eq!(flags.limits.limits().header_timeout, Duration::from_millis(250));
+        for bad in ["0", "-1", "NaN", "inf", "86401", "soon"] {
+            assert!(Flags::try_parse_from(["fivex", "--idle-timeout", bad]).is_err(), "{bad}");
+        }
+    }
+}
