@@ -81,6 +81,12 @@ pub trait Observer {
     fn sample(&mut self, _sample: &Sample, _machine: &Pos, _on: Option<(&Segment, f64, u64)>) {}
     /// A segment was executed to its end.
     fn executed(&mut self, _segment: &Segment) {}
+    /// Asked before every block and every sample: `true` ends the run there, as if the program
+    /// had ended (a host cancelling the run; the result is then incomplete and only the host
+    /// knows why). The engine reads no clock and no flag of its own, so stopping is the host's.
+    fn stop(&mut self) -> bool {
+        false
+    }
 }
 
 /// The observer that watches nothing.
@@ -93,7 +99,8 @@ pub fn run(interp: &mut Interpreter, opts: &RunOptions, on_sample: impl FnMut(&S
     run_observed(interp, opts, on_sample, &mut NoObserver)
 }
 
-/// [`run`] with an observer; the result is the same bit for bit whatever the observer does.
+/// [`run`] with an observer; the result is the same bit for bit whatever the observer does,
+/// unless its [`Observer::stop`] ends the run early.
 pub fn run_observed(
     interp: &mut Interpreter,
     opts: &RunOptions,
@@ -126,6 +133,9 @@ pub fn run_observed(
     let mut alarms = Vec::new();
     let mut motion_alarm = false;
     loop {
+        if exec.observer.stop() {
+            break;
+        }
         let step = interp.step(&mut out);
         let before = exec.t;
         for c in out.drain(..) {
@@ -344,7 +354,7 @@ impl<O: Observer> Executor<'_, O> {
         let t0 = self.t;
         loop {
             let ts = self.next_sample as f64 * self.opts.period_s;
-            if ts > t1 || (ts > t0 && t1 == t0) {
+            if ts > t1 || (ts > t0 && t1 == t0) || self.observer.stop() {
                 return;
             }
             let (raw, work, feed, line, n, on) = at((ts - t0).max(0.0));

@@ -653,7 +653,7 @@ pub struct FleetRunRow {
     pub id: String,
     pub created_at: String,
     pub finished_at: Option<String>,
-    /// `running`, `done` or `interrupted`.
+    /// `queued`, `running`, `done`, `cancelled` or `interrupted`.
     pub status: String,
     pub machines: u32,
     pub completed: u32,
@@ -663,7 +663,7 @@ pub struct FleetRunRow {
     pub results_json: Option<String>,
 }
 
-/// A fleet run that has started.
+/// A fleet run that was asked for (`queued`, or `running` at once).
 pub async fn insert_fleet_run(db: &Db, row: &FleetRunRow) -> Result<(), sqlx::Error> {
     sqlx::query(
         "INSERT INTO fleet_runs (id, created_at, status, machines, program, request_json) VALUES (?, ?, ?, ?, ?, ?)",
@@ -679,19 +679,28 @@ pub async fn insert_fleet_run(db: &Db, row: &FleetRunRow) -> Result<(), sqlx::Er
     Ok(())
 }
 
-/// A fleet run that is done, with its results.
+/// A queued fleet run that starts running.
+pub async fn start_fleet_run(db: &Db, id: &str) -> Result<(), sqlx::Error> {
+    sqlx::query("UPDATE fleet_runs SET status = 'running' WHERE id = ?").bind(id).execute(db.writes()).await?;
+    Ok(())
+}
+
+/// A fleet run that is over (`status`: `done`, `cancelled` or `interrupted`), with its results
+/// (`null` for a machine that did not finish).
 pub async fn finish_fleet_run(
     db: &Db,
     id: &str,
+    status: &str,
     finished_at: &str,
     completed: u32,
     alarms: u32,
     results_json: &str,
 ) -> Result<(), sqlx::Error> {
     sqlx::query(
-        "UPDATE fleet_runs SET status = 'done', finished_at = ?, completed = ?, alarms = ?, results_json = ? \
+        "UPDATE fleet_runs SET status = ?, finished_at = ?, completed = ?, alarms = ?, results_json = ? \
          WHERE id = ?",
     )
+    .bind(status)
     .bind(finished_at)
     .bind(completed as i64)
     .bind(alarms as i64)
@@ -702,9 +711,11 @@ pub async fn finish_fleet_run(
     Ok(())
 }
 
-/// Runs left `running` by a service that stopped become `interrupted`.
+/// Runs left `queued` or `running` by a service that stopped become `interrupted`.
 pub async fn interrupt_fleet_runs(db: &Db) -> Result<(), sqlx::Error> {
-    sqlx::query("UPDATE fleet_runs SET status = 'interrupted' WHERE status = 'running'").execute(db.writes()).await?;
+    sqlx::query("UPDATE fleet_runs SET status = 'interrupted' WHERE status IN ('queued', 'running')")
+        .execute(db.writes())
+        .await?;
     Ok(())
 }
 

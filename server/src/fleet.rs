@@ -4,13 +4,15 @@
 //! machines are shared out over worker threads, each taking the next machine when it is done.
 
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 
+use fivex_engine::canon::{Motion, Pos};
 use fivex_engine::interp::{Config, Interpreter, Offsets};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::run::{run, RunOptions};
+use fivex_engine::motion::Segment;
+use fivex_engine::run::{run_observed, NoObserver, Observer, RunOptions, Sample};
 use fivex_engine::Dialect;
 use serde_json::{Map, Value};
 
@@ -49,6 +51,38 @@ pub struct Options {
     pub jobs: usize,
     pub max_blocks: u64,
     pub max_time_s: f64,
+    /// Set by someone else to cancel the run: no machine starts after it, and the machines
+    /// running stop before their next block (or sample). `None`: the run cannot be cancelled.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+impl Options {
+    /// Whether the run was cancelled.
+    pub fn cancelled(&self) -> bool {
+        self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+}
+
+/// An observer that also stops the engine's run when the fleet run is cancelled.
+struct Cancellable<'a, O> {
+    inner: O,
+    cancel: Option<&'a AtomicBool>,
+}
+
+impl<O: Observer> Observer for Cancellable<'_, O> {
+    fn queued(&mut self, motion: &Motion, segment: &Segment) {
+        self.inner.queued(motion, segment)
+    }
+    fn sample(&mut self, sample: &Sample, machine: &Pos, on: Option<(&Segment, f64, u64)>) {
+        self.inner.sample(sample, machine, on)
+    }
+    fn executed(&mut self, segment: &Segment) {
+        self.inner.executed(segment)
+    }
+    fn stop(&mut self) -> bool {
+        // Relaxed: the flag carries no other data, and a block later is soon enough.
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    }
 }
 
 impl Default for Options {
@@ -60,6 +94,7 @@ impl Default for Options {
             jobs: default_jobs(),
             max_blocks: 50_000_000,
             max_time_s: 1.0e6,
+            cancel: None,
         }
     }
 }
@@ -72,8 +107,21 @@ pub fn default_jobs() -> usize {
 /// What happens while a fleet runs, in the order it happens on each worker.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Event {
-    Started { index: usize, machine: String },
-    Finished { index: usize, machine: String, status: &'static str, cycle_time_s: f64 },
+    Started {
+        index: usize,
+        machine: String,
+    },
+    Finished {
+        index: usize,
+        machine: String,
+        status: &'static str,
+        cycle_time_s: f64,
+    },
+    /// The run was cancelled while this machine ran; it has no result.
+    Cancelled {
+        index: usize,
+        machine: String,
+    },
 }
 
 /// A machine by preset name, library name, or machine file text.
@@ -148,12 +196,17 @@ pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> Value {
     }
     let axes: Vec<char> = entry.machine.axes.iter().map(|a| a.name).collect();
     let mut run_opts = RunOptions { period_s: 0.0, max_time_s: opts.max_time_s, ..RunOptions::default() };
+    let cancel = opts.cancel.as_deref();
+    // As `report::run_with_report` and `run::run` do, with the cancel flag looked at.
     let (result, report) = if opts.report {
         run_opts.period_s = opts.report_period_s;
-        let (r, report) = fivex_engine::report::run_with_report(&mut interp, &run_opts);
+        let recorder = fivex_engine::report::Recorder::new(&interp.config().machine, run_opts.period_s);
+        let mut observer = Cancellable { inner: recorder, cancel };
+        let r = run_observed(&mut interp, &run_opts, |_| {}, &mut observer);
+        let report = observer.inner.finish(&r);
         (r, Some(report))
     } else {
-        (run(&mut interp, &run_opts, |_| {}), None)
+        (run_observed(&mut interp, &run_opts, |_| {}, &mut Cancellable { inner: NoObserver, cancel }), None)
     };
     let mut out = Map::new();
     out.insert("machine".into(), Value::String(entry.name.clone()));
@@ -167,7 +220,8 @@ pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> Value {
     Value::Object(out)
 }
 
-/// Run the program on every machine, `opts.jobs` at a time; the results in `entries` order.
+/// Run the program on every machine, `opts.jobs` at a time; the results in `entries` order. A
+/// cancelled run leaves `null` for every machine that had not finished when it was cancelled.
 pub fn run_fleet(text: &str, entries: &[Entry], opts: &Options, progress: &(dyn Fn(Event) + Sync)) -> Vec<Value> {
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<Value>>> = Mutex::new(vec![None; entries.len()]);
@@ -177,8 +231,17 @@ pub fn run_fleet(text: &str, entries: &[Entry], opts: &Options, progress: &(dyn 
             scope.spawn(|| loop {
                 let index = next.fetch_add(1, Ordering::Relaxed);
                 let Some(entry) = entries.get(index) else { return };
+                if opts.cancelled() {
+                    return;
+                }
                 progress(Event::Started { index, machine: entry.name.clone() });
                 let value = run_one(text, entry, opts);
+                if opts.cancelled() {
+                    // Stopped in the middle (or so near the end that it makes no difference):
+                    // its summary is not the program's.
+                    progress(Event::Cancelled { index, machine: entry.name.clone() });
+                    return;
+                }
                 progress(Event::Finished {
                     index,
                     machine: entry.name.clone(),

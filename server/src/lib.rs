@@ -8,6 +8,7 @@ pub mod db;
 pub mod fleet;
 pub mod host;
 pub mod json_errors;
+pub mod listen;
 pub mod machine_file;
 pub mod origin;
 pub mod serve;

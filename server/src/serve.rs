@@ -28,6 +28,7 @@ use utoipa_swagger_ui::SwaggerUi;
 
 use crate::auth::BearerDoc;
 use crate::host::{Host, Hosted, Spec};
+use crate::listen::Limits;
 use crate::origin::{AllowedOrigins, OriginDoc};
 use crate::{api, assets, auth, content_type, db, origin};
 
@@ -187,10 +188,20 @@ impl AppState {
         self.closing.send_replace(true);
     }
 
-    /// The end of a graceful shutdown: websockets told to close, the workers stopped, and
-    /// everything they produced written to the database.
+    /// How many fleet runs run at once (the others wait, `queued`).
+    pub fn with_fleet_jobs(mut self, jobs: usize) -> Self {
+        self.fleet_runs = api::fleet::Runs::new(jobs);
+        self
+    }
+
+    /// The end of a graceful shutdown: websockets told to close, fleet runs interrupted and
+    /// recorded, the workers stopped, and everything they produced written to the database.
     pub async fn shutdown(&self) {
         self.close();
+        self.fleet_runs.interrupt_all();
+        if tokio::time::timeout(SHUTDOWN_GRACE, self.fleet_runs.all_ended()).await.is_err() {
+            tracing::warn!("fleet runs still under way after the grace period");
+        }
         let host = self.host.clone();
         let _ = tokio::task::spawn_blocking(move || host.shutdown()).await;
         let writer = self.writer.lock().unwrap_or_else(|e| e.into_inner()).take();
@@ -403,6 +414,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::fleet::create,
         api::fleet::list,
         api::fleet::get,
+        api::fleet::cancel,
         api::fleet::stream,
         api::fleet::library,
         api::fleet::library_one,
@@ -508,36 +520,33 @@ pub fn app(state: AppState) -> Router {
         .with_state(state)
 }
 
-/// Serves [`app`] on `listener` until `shutdown` resolves, then stops accepting connections and
-/// lets in-flight requests finish, for at most [`SHUTDOWN_GRACE`].
+/// Serves [`app`] on `listener` with the default [`Limits`] until `shutdown` resolves
+/// ([`serve_with`]).
 pub async fn serve<F>(listener: TcpListener, state: AppState, shutdown: F) -> std::io::Result<()>
 where
     F: Future<Output = ()> + Send + 'static,
 {
-    let (tx, rx) = tokio::sync::oneshot::channel::<()>();
+    serve_with(listener, state, Limits::default(), shutdown).await
+}
+
+/// Serves [`app`] on `listener` within `limits` (`crate::listen`) until `shutdown` resolves;
+/// then accepts no more connections, tells every websocket to close, interrupts the fleet runs,
+/// closes the idle connections and lets in-flight requests finish, for at most
+/// [`SHUTDOWN_GRACE`].
+pub async fn serve_with<F>(listener: TcpListener, state: AppState, limits: Limits, shutdown: F) -> std::io::Result<()>
+where
+    F: Future<Output = ()> + Send + 'static,
+{
     let closing = state.clone();
     let signal = async move {
         shutdown.await;
         tracing::info!("shutting down: no new connections, finishing in-flight requests");
         closing.close();
-        let _ = tx.send(());
+        // A fleet run holds its request (`wait`) and a blocking thread until it ends: it ends now.
+        closing.fleet_runs.interrupt_all();
     };
-    let server = axum::serve(listener, app(state)).with_graceful_shutdown(signal);
-    let deadline = async move {
-        if rx.await.is_ok() {
-            tokio::time::sleep(SHUTDOWN_GRACE).await;
-        } else {
-            // The server ended without a shutdown signal; never fire.
-            std::future::pending::<()>().await;
-        }
-    };
-    tokio::select! {
-        result = server => result,
-        () = deadline => {
-            tracing::warn!(grace = ?SHUTDOWN_GRACE, "requests still open after the grace period; stopping anyway");
-            Ok(())
-        }
-    }
+    crate::listen::serve(listener, app(state), limits, SHUTDOWN_GRACE, signal).await;
+    Ok(())
 }
 
 /// A future that resolves on Ctrl-C (SIGINT) or, on Unix, SIGTERM. The handlers are installed
@@ -584,7 +593,7 @@ fn init_tracing() {
 }
 
 /// How `fivex serve` runs (flags or `FIVEX_DB`, `FIVEX_ADDR`, `FIVEX_TOKEN`, `FIVEX_WORKERS`,
-/// `FIVEX_ALLOW_ORIGIN`).
+/// `FIVEX_ALLOW_ORIGIN`, and the limits' `FIVEX_…`, `cli/limits.rs`).
 #[derive(Debug, Clone)]
 pub struct ServeOptions {
     pub db: std::path::PathBuf,
@@ -592,6 +601,10 @@ pub struct ServeOptions {
     pub token: Option<String>,
     pub workers: Option<usize>,
     pub allow_origins: Vec<origin::Origin>,
+    /// Connection timeouts and caps.
+    pub limits: Limits,
+    /// Fleet runs that run at once (at least 1).
+    pub fleet_jobs: usize,
 }
 
 /// `fivex serve` with the database and address only.
@@ -602,6 +615,8 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
         token: None,
         workers: None,
         allow_origins: Vec::new(),
+        limits: Limits::default(),
+        fleet_jobs: 1,
     })
 }
 
@@ -616,7 +631,7 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         .thread_name("fivex-serve")
         .build()
         .map_err(|e| format!("cannot start the async runtime: {e}"))?;
-    runtime.block_on(async {
+    let served = runtime.block_on(async {
         let (db, addr) = (&options.db, &options.addr);
         let pool = db::open(db).await.map_err(|e| e.to_string())?;
         let workers = options.workers.unwrap_or_else(Host::default_workers);
@@ -624,8 +639,10 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
             .await
             .map_err(|e| format!("cannot read the controllers of {}: {e}", db.display()))?
             .with_token(options.token.clone())
-            .with_allowed_origins(AllowedOrigins::new(options.allow_origins.clone()));
+            .with_allowed_origins(AllowedOrigins::new(options.allow_origins.clone()))
+            .with_fleet_jobs(options.fleet_jobs);
         tracing::info!(db = %db.display(), workers, token = state.token.is_some(), "database ready");
+        tracing::info!(limits = ?options.limits, fleet_jobs = options.fleet_jobs, "limits");
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         let local = listener.local_addr().map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         // Installed before announcing the address: once the line below is logged, SIGINT and
@@ -633,10 +650,16 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         let shutdown = shutdown_signal().map_err(|e| format!("cannot install signal handlers: {e}"))?;
         tracing::info!("fivex listening on http://{local}");
         let after = state.clone();
-        serve(listener, state, shutdown).await.map_err(|e| format!("server error: {e}"))?;
+        serve_with(listener, state, options.limits.clone(), shutdown)
+            .await
+            .map_err(|e| format!("server error: {e}"))?;
         after.shutdown().await;
         after.db.close().await;
         tracing::info!("fivex stopped");
         Ok(())
-    })
+    });
+    // Dropping a runtime waits for its blocking threads; whatever is still on one (a request
+    // stuck past the grace period) must not hold the exit.
+    runtime.shutdown_timeout(Duration::from_secs(1));
+    served
 }

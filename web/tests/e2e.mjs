@@ -309,6 +309,20 @@ test("Swagger UI offers Authorize (the document's bearer scheme)", async () => {
   await page.screenshot({ path: join(shots, "swagger-authorize.png") });
 });
 
+test("a fleet run that never ends is cancelled from the dashboard; the one queued behind it then runs", async () => {
+  const endless = ["O1", "#1=0", "WHILE[#1 GE 0]DO1", "#1=#1+1", "END1", "M30"].join("\n");
+  const running = (await http("POST", "/api/v1/fleet/runs?wait=false", { program: endless, presets: ["mill3"] })).body;
+  const queued = (await http("POST", "/api/v1/fleet/runs?wait=false", { program: "O2\nG91 G01 X5. F1000\nM30", presets: ["mill3"] })).body;
+  await page.goto(`${base}/#/runs`);
+  await page.locator(`tr[data-run='${queued.id}'] .run-status.queued`).waitFor();
+  await page.goto(`${base}/#/runs/${running.id}`);
+  await page.locator("[data-run-status=running]").waitFor();
+  await page.click("button.cancel-run");
+  await page.locator("[data-run-status=cancelled]").waitFor({ timeout: 10000 });
+  assert.equal((await http("GET", `/api/v1/fleet/runs/${running.id}`)).body.status, "cancelled");
+  await poll("the queued run done", async () => (await http("GET", `/api/v1/fleet/runs/${queued.id}`)).body.status === "done");
+});
+
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
   const have = (await http("GET", "/api/v1/controllers")).body.length;
   for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });

@@ -1,11 +1,14 @@
 //! Fleet runs (`docs/api.md` "Fleet runs", `docs/fleet.md`): `POST /fleet/runs` runs one program
 //! on many machines — presets, machine documents, library machines, existing controllers — on
-//! a blocking thread with one worker per core, so the service keeps answering; the run is kept
-//! in SQLite (`GET /fleet/runs`, `GET /fleet/runs/{id}`), and its progress goes out over
-//! `GET /fleet/runs/{id}/stream` (a websocket).
+//! a blocking thread with one worker per core, so the service keeps answering; at most
+//! `--fleet-jobs` runs at once, the others wait `queued`; `POST /fleet/runs/{id}/cancel` stops
+//! one. The run is kept in SQLite (`GET /fleet/runs`, `GET /fleet/runs/{id}`), and its progress
+//! goes out over `GET /fleet/runs/{id}/stream` (a websocket).
 
 use std::collections::{BTreeMap, HashMap};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 use axum::extract::rejection::{JsonRejection, PathRejection, QueryRejection};
 use axum::extract::ws::{CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
@@ -16,7 +19,7 @@ use fivex_engine::Dialect;
 use futures_util::{SinkExt, StreamExt};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use tokio::sync::watch;
+use tokio::sync::{watch, Semaphore};
 use utoipa::{IntoParams, ToSchema};
 
 use super::{body, path};
@@ -28,21 +31,85 @@ use crate::serve::{ApiError, AppState, ErrorBody};
 /// The most machines one fleet run may have.
 pub const MAX_MACHINES: usize = 200;
 
-/// The progress of the fleet runs under way, by id (a run leaves when it is stored as done).
-#[derive(Clone, Debug, Default)]
-pub struct Runs(Arc<Mutex<HashMap<String, watch::Receiver<Progress>>>>);
+/// The fleet runs queued or under way, by id (a run leaves when it is stored as over), and the
+/// places to run in (`--fleet-jobs`).
+#[derive(Clone, Debug)]
+pub struct Runs {
+    /// The runs, and whether the service stops (then no run is added: every one added before
+    /// was interrupted).
+    runs: Arc<Mutex<(HashMap<String, Run>, bool)>>,
+    slots: Arc<Semaphore>,
+}
+
+/// One run queued or under way: its progress and how to stop it.
+#[derive(Clone, Debug)]
+struct Run {
+    progress: watch::Receiver<Progress>,
+    /// Read by the engine before every block (`fleet::Options::cancel`).
+    cancel: Arc<AtomicBool>,
+    /// Why it was stopped (`cancelled`, `interrupted`), for the task that waits in the queue.
+    stopped: Arc<watch::Sender<Option<&'static str>>>,
+}
+
+impl Default for Runs {
+    fn default() -> Self {
+        Runs::new(1)
+    }
+}
 
 impl Runs {
-    fn get(&self, id: &str) -> Option<watch::Receiver<Progress>> {
-        self.0.lock().unwrap_or_else(|e| e.into_inner()).get(id).cloned()
+    /// At most `jobs` runs at once (at least 1).
+    pub fn new(jobs: usize) -> Self {
+        Runs { runs: Default::default(), slots: Arc::new(Semaphore::new(jobs.max(1))) }
     }
 
-    fn put(&self, id: &str, rx: watch::Receiver<Progress>) {
-        self.0.lock().unwrap_or_else(|e| e.into_inner()).insert(id.to_string(), rx);
+    fn lock(&self) -> std::sync::MutexGuard<'_, (HashMap<String, Run>, bool)> {
+        self.runs.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn get(&self, id: &str) -> Option<Run> {
+        self.lock().0.get(id).cloned()
+    }
+
+    /// Adds a run; `false` once the service stops.
+    fn put(&self, id: &str, run: Run) -> bool {
+        let mut runs = self.lock();
+        if runs.1 {
+            return false;
+        }
+        runs.0.insert(id.to_string(), run);
+        true
     }
 
     fn remove(&self, id: &str) {
-        self.0.lock().unwrap_or_else(|e| e.into_inner()).remove(id);
+        self.lock().0.remove(id);
+    }
+
+    /// Stop a run (the first reason given is kept); `None` if it is not queued or running.
+    fn stop(&self, id: &str, why: &'static str) -> Option<watch::Receiver<Progress>> {
+        let run = self.get(id)?;
+        run.stopped.send_if_modified(|s| s.is_none() && s.replace(why).is_none());
+        run.cancel.store(true, Ordering::Relaxed);
+        Some(run.progress)
+    }
+
+    /// Stop every run, recorded as `interrupted`, and take no new one (the service shuts down).
+    pub fn interrupt_all(&self) {
+        let ids: Vec<String> = {
+            let mut runs = self.lock();
+            runs.1 = true;
+            runs.0.keys().cloned().collect()
+        };
+        for id in ids {
+            self.stop(&id, "interrupted");
+        }
+    }
+
+    /// Resolves when no run is queued or under way (each has been stored as over).
+    pub async fn all_ended(&self) {
+        while !self.lock().0.is_empty() {
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
     }
 }
 
@@ -89,7 +156,8 @@ pub struct CreateOptions {
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct MachineProgress {
     pub machine: String,
-    /// `queued`, `running`, `completed` or `alarm`.
+    /// `queued`, `running`, `completed`, `alarm` or `cancelled` (the run was stopped before
+    /// it finished).
     pub state: &'static str,
     /// Simulated seconds, once done.
     pub cycle_time_s: Option<f64>,
@@ -103,6 +171,8 @@ pub struct Progress {
     #[schema(example = "progress")]
     pub kind: &'static str,
     pub id: String,
+    /// The run's status: `queued`, `running`, `done`, `cancelled` or `interrupted`.
+    pub status: &'static str,
     pub total: usize,
     /// Machines done.
     pub done: usize,
@@ -118,7 +188,8 @@ pub struct FleetRunInfo {
     /// RFC 3339 UTC.
     pub created_at: String,
     pub finished_at: Option<String>,
-    /// `running`, `done` or `interrupted` (the service stopped during the run).
+    /// `queued` (waiting for a place, `--fleet-jobs`), `running`, `done`, `cancelled`
+    /// (`POST /fleet/runs/{id}/cancel`) or `interrupted` (the service stopped during the run).
     pub status: String,
     pub machines: u32,
     /// Machines that completed the program, and that ended in an alarm.
@@ -134,7 +205,8 @@ pub struct FleetRun {
     /// The request as it was posted.
     #[schema(value_type = Object)]
     pub request: Value,
-    /// The fleet array (null while running).
+    /// The fleet array (null while queued or running; `null` in it for each machine a
+    /// cancelled or interrupted run did not finish).
     #[schema(value_type = Option<Vec<Object>>)]
     pub results: Option<Value>,
 }
@@ -200,7 +272,9 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
         (status = 200, description = "The fleet array (the run's id in `Location` and `X-Fleet-Run`)", body = [Object]),
         (status = 202, description = "`wait=false`: started; follow it on the stream", body = FleetRunInfo),
         (status = 400, description = "Not JSON", body = ErrorBody),
+        (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
         (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program", body = ErrorBody),
+        (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`)", body = ErrorBody),
     )
 )]
 pub async fn create(
@@ -231,7 +305,7 @@ pub async fn create(
         id: uuid::Uuid::new_v4().simple().to_string(),
         created_at: now_rfc3339(),
         finished_at: None,
-        status: "running".into(),
+        status: "queued".into(),
         machines: entries.len() as u32,
         completed: 0,
         alarms: 0,
@@ -239,11 +313,11 @@ pub async fn create(
         request_json: serde_json::to_string(&request).unwrap_or_else(|_| "{}".into()),
         results_json: None,
     };
-    db::insert_fleet_run(&state.db, &row).await?;
     let id = row.id.clone();
     let progress = Progress {
         kind: "progress",
         id: id.clone(),
+        status: "queued",
         total: entries.len(),
         done: 0,
         finished: false,
@@ -253,40 +327,18 @@ pub async fn create(
             .collect(),
     };
     let (tx, rx) = watch::channel(progress);
-    state.fleet_runs.put(&id, rx);
-    let opts = Options { tools: request.tools.clone(), report: request.report, ..Options::default() };
-    let program = request.program;
-    let task_state = state.clone();
-    let task_id = id.clone();
-    let task = tokio::spawn(async move {
-        let tx = Arc::new(tx);
-        let events = tx.clone();
-        let results = tokio::task::spawn_blocking(move || {
-            let on_event = |e: Event| {
-                events.send_modify(|p| match e {
-                    Event::Started { index, .. } => p.machines[index].state = "running",
-                    Event::Finished { index, status, cycle_time_s, .. } => {
-                        p.machines[index].state = status;
-                        p.machines[index].cycle_time_s = Some(cycle_time_s);
-                        p.done += 1;
-                    }
-                })
-            };
-            fleet::run_fleet(&program, &entries, &opts, &on_event)
-        })
-        .await
-        .unwrap_or_default();
-        let completed = results.iter().filter(|r| r["status"] == "completed").count() as u32;
-        let alarms = results.len() as u32 - completed;
-        let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
-        if let Err(e) = db::finish_fleet_run(&task_state.db, &task_id, &now_rfc3339(), completed, alarms, &json).await {
-            tracing::error!(id = %task_id, error = %e, "fleet run not stored");
-        }
-        tx.send_modify(|p| p.finished = true);
-        task_state.fleet_runs.remove(&task_id);
-        tracing::info!(id = %task_id, machines = results.len(), completed, alarms, "fleet run done");
-        results
-    });
+    let cancel = Arc::new(AtomicBool::new(false));
+    let stopped = Arc::new(watch::channel(None).0);
+    if !state.fleet_runs.put(&id, Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() }) {
+        return Err(ApiError::Unavailable("the service is stopping: no new fleet runs".into()));
+    }
+    if let Err(e) = db::insert_fleet_run(&state.db, &row).await {
+        state.fleet_runs.remove(&id);
+        return Err(e.into());
+    }
+    let opts =
+        Options { tools: request.tools.clone(), report: request.report, cancel: Some(cancel), ..Options::default() };
+    let task = tokio::spawn(execute(state.clone(), id.clone(), request.program, entries, opts, tx, stopped));
     let location = format!("{}/fleet/runs/{id}", crate::serve::API_PREFIX);
     let mut headers = HeaderMap::new();
     if let Ok(v) = HeaderValue::from_str(&location) {
@@ -299,8 +351,115 @@ pub async fn create(
         let info = FleetRunInfo::of(&row);
         return Ok((StatusCode::ACCEPTED, headers, Json(info)).into_response());
     }
-    let results = task.await.map_err(|e| ApiError::Unavailable(format!("fleet run failed: {e}")))?;
-    Ok((StatusCode::OK, headers, Json(results)).into_response())
+    let (status, results) = task.await.map_err(|e| ApiError::Unavailable(format!("fleet run failed: {e}")))?;
+    match status {
+        "done" => Ok((StatusCode::OK, headers, Json(results)).into_response()),
+        "cancelled" => Err(ApiError::Conflict(format!("fleet run {id} was cancelled"))),
+        _ => Err(ApiError::Unavailable(format!("fleet run {id} was interrupted: the service is stopping"))),
+    }
+}
+
+/// A fleet run from the queue to its record: waits for a place (`--fleet-jobs`) unless it is
+/// stopped first, runs on a blocking thread, stores the outcome and answers it (`done`,
+/// `cancelled` or `interrupted`, and the fleet array with `null` for each machine that did not
+/// finish).
+async fn execute(
+    state: AppState,
+    id: String,
+    program: String,
+    entries: Vec<Entry>,
+    opts: Options,
+    tx: watch::Sender<Progress>,
+    stopped: Arc<watch::Sender<Option<&'static str>>>,
+) -> (&'static str, Vec<Value>) {
+    let total = entries.len();
+    let mut why = stopped.subscribe();
+    let slot = tokio::select! {
+        slot = state.fleet_runs.slots.clone().acquire_owned() => slot.ok(),
+        _ = why.wait_for(Option::is_some) => None,
+    };
+    let mut results = vec![Value::Null; total];
+    if slot.is_some() && stopped.borrow().is_none() {
+        if let Err(e) = db::start_fleet_run(&state.db, &id).await {
+            tracing::error!(%id, error = %e, "fleet run start not stored");
+        }
+        tx.send_modify(|p| p.status = "running");
+        let tx = Arc::new(tx.clone());
+        let events = tx.clone();
+        results = tokio::task::spawn_blocking(move || {
+            let on_event = |e: Event| {
+                events.send_modify(|p| match e {
+                    Event::Started { index, .. } => p.machines[index].state = "running",
+                    Event::Finished { index, status, cycle_time_s, .. } => {
+                        p.machines[index].state = status;
+                        p.machines[index].cycle_time_s = Some(cycle_time_s);
+                        p.done += 1;
+                    }
+                    Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
+                })
+            };
+            fleet::run_fleet(&program, &entries, &opts, &on_event)
+        })
+        .await
+        .unwrap_or_else(|_| vec![Value::Null; total]);
+    }
+    drop(slot);
+    // A stop that came after every machine finished changes nothing.
+    let status = match *stopped.borrow() {
+        Some(why) if results.iter().any(Value::is_null) => why,
+        _ => "done",
+    };
+    let completed = results.iter().filter(|r| r["status"] == "completed").count() as u32;
+    let alarms = results.iter().filter(|r| !r.is_null()).count() as u32 - completed;
+    let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
+    if let Err(e) = db::finish_fleet_run(&state.db, &id, status, &now_rfc3339(), completed, alarms, &json).await {
+        tracing::error!(%id, error = %e, "fleet run not stored");
+    }
+    tx.send_modify(|p| {
+        p.status = status;
+        p.finished = true;
+        for m in p.machines.iter_mut().filter(|m| matches!(m.state, "queued" | "running")) {
+            m.state = "cancelled";
+        }
+    });
+    state.fleet_runs.remove(&id);
+    tracing::info!(%id, machines = total, completed, alarms, status, "fleet run over");
+    (status, results)
+}
+
+/// Stops a queued or running fleet run: a queued run never starts, a running one stops before
+/// the next block of each machine (an endless program loop too). Answers the run as stored once
+/// it has stopped: `cancelled` (`done` if it ended first).
+#[utoipa::path(
+    post,
+    operation_id = "cancel_fleet_run",
+    path = "/api/v1/fleet/runs/{id}/cancel",
+    tag = "fleet",
+    params(("id" = String, Path, description = "Fleet run id")),
+    responses(
+        (status = 200, description = "The run, stopped", body = FleetRunInfo),
+        (status = 404, description = "No such run", body = ErrorBody),
+        (status = 409, description = "The run is already over (done, cancelled or interrupted)", body = ErrorBody),
+    )
+)]
+pub async fn cancel(
+    State(state): State<AppState>,
+    id: Result<Path<String>, PathRejection>,
+) -> Result<Json<FleetRunInfo>, ApiError> {
+    let id = path(id)?;
+    let stopping = state.fleet_runs.stop(&id, "cancelled");
+    if let Some(mut progress) = stopping.clone() {
+        // The engine stops within a block; storing the outcome takes a moment more.
+        let over = progress.wait_for(|p| p.finished);
+        if tokio::time::timeout(Duration::from_secs(10), over).await.is_err() {
+            tracing::warn!(%id, "fleet run not stopped 10 s after its cancel");
+        }
+    }
+    let row = db::fleet_run(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no fleet run {id}")))?;
+    if stopping.is_none() {
+        return Err(ApiError::Conflict(format!("fleet run {id} is already over ({})", row.status)));
+    }
+    Ok(Json(FleetRunInfo::of(&row)))
 }
 
 #[derive(Debug, Clone, Deserialize, IntoParams)]
@@ -370,29 +529,61 @@ pub async fn stream(
     upgrade: WebSocketUpgrade,
 ) -> Result<Response, ApiError> {
     let id = path(id)?;
-    if let Some(rx) = state.fleet_runs.get(&id) {
-        return Ok(upgrade.on_upgrade(move |socket| session(socket, state, Some(rx), None)));
+    if let Some(run) = state.fleet_runs.get(&id) {
+        return Ok(upgrade.on_upgrade(move |socket| session(socket, state, Some(run.progress), None)));
     }
     let row = db::fleet_run(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no fleet run {id}")))?;
     let last = stored_progress(&row);
     Ok(upgrade.on_upgrade(move |socket| session(socket, state, None, Some(last))))
 }
 
+/// The machines' names in the order of a stored request (`entries`' order), for those a
+/// stopped run has no result for; an existing controller by its id (its name then is not
+/// stored).
+fn requested_names(request_json: &str) -> Vec<String> {
+    let Ok(r) = serde_json::from_str::<FleetRequest>(request_json) else { return Vec::new() };
+    let mut names = r.presets;
+    names.extend(r.machines.iter().map(|m| m["name"].as_str().unwrap_or_default().to_string()));
+    for name in r.library {
+        if name == "*" {
+            names.extend(crate::fleet::LIBRARY.iter().map(|(n, _)| n.to_string()));
+        } else {
+            names.push(name);
+        }
+    }
+    names.extend(r.controllers);
+    names
+}
+
 /// The final progress of a stored run.
 fn stored_progress(row: &FleetRunRow) -> Progress {
     let results: Vec<Value> =
         row.results_json.as_deref().and_then(|t| serde_json::from_str(t).ok()).unwrap_or_default();
+    let names = requested_names(&row.request_json);
     Progress {
         kind: "progress",
         id: row.id.clone(),
+        status: match row.status.as_str() {
+            "done" => "done",
+            "cancelled" => "cancelled",
+            _ => "interrupted",
+        },
         total: row.machines as usize,
-        done: results.len(),
+        done: results.iter().filter(|r| !r.is_null()).count(),
         finished: true,
         machines: results
             .iter()
-            .map(|r| MachineProgress {
-                machine: r["machine"].as_str().unwrap_or_default().to_string(),
-                state: if r["status"] == "completed" { "completed" } else { "alarm" },
+            .enumerate()
+            .map(|(i, r)| MachineProgress {
+                machine: match r["machine"].as_str() {
+                    Some(name) => name.to_string(),
+                    None => names.get(i).cloned().unwrap_or_default(),
+                },
+                state: match &r["status"] {
+                    Value::Null => "cancelled",
+                    s if s == "completed" => "completed",
+                    _ => "alarm",
+                },
                 cycle_time_s: r["cycle_time_s"].as_f64(),
             })
             .collect(),

@@ -71,6 +71,7 @@ pub fn router() -> Router<AppState> {
         .route("/controllers/{id}/programs/{number}/path", get(programs::tool_path))
         .route("/fleet/runs", post(fleet::create).get(fleet::list))
         .route("/fleet/runs/{id}", get(fleet::get))
+        .route("/fleet/runs/{id}/cancel", post(fleet::cancel))
         .route("/fleet/runs/{id}/stream", get(fleet::stream))
         .route("/fleet/library", get(fleet::library))
         .route("/fleet/library/{name}", get(fleet::library_one))

@@ -96,6 +96,7 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
         jobs: a.jobs.unwrap_or_else(fleet::default_jobs).max(1),
         max_blocks: a.max_blocks,
         max_time_s: a.max_time_s,
+        cancel: None,
     };
     let total = entries.len();
     let done = AtomicUsize::new(0);

@@ -6,6 +6,7 @@
 mod fleet;
 pub(crate) mod json;
 mod kin;
+mod limits;
 mod machine;
 
 use clap::{Args, Parser, Subcommand};
@@ -136,6 +137,8 @@ struct ServeArgs {
     /// service's own; repeatable (`FIVEX_ALLOW_ORIGIN`: comma-separated).
     #[arg(long = "allow-origin", value_name = "ORIGIN", env = "FIVEX_ALLOW_ORIGIN", value_delimiter = ',')]
     allow_origin: Vec<crate::origin::Origin>,
+    #[command(flatten)]
+    limits: limits::LimitArgs,
 }
 
 /// A usage or IO error: exit status 2.
@@ -174,6 +177,8 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
                 token: a.token,
                 workers: a.workers,
                 allow_origins: a.allow_origin,
+                limits: a.limits.limits(),
+                fleet_jobs: a.limits.fleet_jobs as usize,
             };
             crate::serve::run_with(options).map_err(Fail)?;
             Ok(0)

@@ -713,6 +713,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/fleet/runs/{id}/cancel": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Stops a queued or running fleet run: a queued run never starts, a running one stops before
+         *     the next block of each machine (an endless program loop too). Answers the run as stored once
+         *     it has stopped: `cancelled` (`done` if it ended first).
+         */
+        post: operations["cancel_fleet_run"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/fleet/runs/{id}/stream": {
         parameters: {
             query?: never;
@@ -1024,7 +1045,10 @@ export interface components {
         FleetRun: components["schemas"]["FleetRunInfo"] & {
             /** @description The request as it was posted. */
             request: Record<string, never>;
-            /** @description The fleet array (null while running). */
+            /**
+             * @description The fleet array (null while queued or running; `null` in it for each machine a
+             *     cancelled or interrupted run did not finish).
+             */
             results?: Record<string, never>[] | null;
         };
         /** @description A stored fleet run in a list. */
@@ -1042,7 +1066,10 @@ export interface components {
             id: string;
             /** Format: int32 */
             machines: number;
-            /** @description `running`, `done` or `interrupted` (the service stopped during the run). */
+            /**
+             * @description `queued` (waiting for a place, `--fleet-jobs`), `running`, `done`, `cancelled`
+             *     (`POST /fleet/runs/{id}/cancel`) or `interrupted` (the service stopped during the run).
+             */
             status: string;
         };
         /** @description `{"type": "position", …}`: where the machine is. */
@@ -1188,7 +1215,10 @@ export interface components {
              */
             cycle_time_s?: number | null;
             machine: string;
-            /** @description `queued`, `running`, `completed` or `alarm`. */
+            /**
+             * @description `queued`, `running`, `completed`, `alarm` or `cancelled` (the run was stopped before
+             *     it finished).
+             */
             state: string;
         };
         /** @description What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`. */
@@ -1445,6 +1475,8 @@ export interface components {
             finished: boolean;
             id: string;
             machines: components["schemas"]["MachineProgress"][];
+            /** @description The run's status: `queued`, `running`, `done`, `cancelled` or `interrupted`. */
+            status: string;
             total: number;
             /**
              * @description Always `"progress"`.
@@ -4299,8 +4331,26 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description `wait`: the run was cancelled before it finished */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service is stopping; `wait`: it stopped before the run finished (`interrupted`) */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4351,6 +4401,65 @@ export interface operations {
             };
             /** @description No such run */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    cancel_fleet_run: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Fleet run id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The run, stopped */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["FleetRunInfo"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such run */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The run is already over (done, cancelled or interrupted) */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -1,6 +1,7 @@
 // Fleet runs: one program on many machines (presets, library machines, existing controllers),
-// progress while it runs, and the comparison across the fleet as a table and plots; any
-// machine's run opens in the 3D view.
+// progress while it runs (or waits, queued behind others), a Cancel button until it is over,
+// and the comparison across the fleet as a table and plots; any machine's run opens in the 3D
+// view.
 import { useEffect, useMemo, useState } from "preact/hooks";
 import { api, authFetch, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
 import { programNumber } from "../api/program";
@@ -13,18 +14,52 @@ export function RunsView({ id }: { id?: string }) {
   return id ? <RunDetail id={id} /> : <RunsHome />;
 }
 
+/// Runs that are not over yet: a cancel stops them.
+const underWay = (status: string) => status === "queued" || status === "running";
+
+/// `POST /fleet/runs/{id}/cancel`: answers once the run has stopped.
+function cancelRun(id: string) {
+  return must(api.POST("/api/v1/fleet/runs/{id}/cancel", { params: { path: { id } } }));
+}
+
+function CancelButton({ id, onDone }: { id: string; onDone: (run: Schemas["FleetRunInfo"] | null, error?: string) => void }) {
+  const [busy, setBusy] = useState(false);
+  return (
+    <button
+      type="button"
+      class="cancel-run"
+      disabled={busy}
+      title="stop this run (a queued run never starts)"
+      onClick={async () => {
+        setBusy(true);
+        try {
+          onDone(await cancelRun(id));
+        } catch (e: any) {
+          onDone(null, e.message ?? String(e));
+        }
+        setBusy(false);
+      }}
+    >
+      cancel
+    </button>
+  );
+}
+
 function RunsHome() {
   const [runs, setRuns] = useState<Schemas["FleetRunInfo"][]>([]);
+  const [error, setError] = useState<string | null>(null);
+  const load = () => must(api.GET("/api/v1/fleet/runs", { params: { query: { limit: 50 } } })).then(setRuns, () => {});
   useEffect(() => {
-    must(api.GET("/api/v1/fleet/runs", { params: { query: { limit: 50 } } })).then(setRuns, () => {});
+    load();
   }, []);
   return (
     <section class="runs">
       <h1>Fleet runs</h1>
       <p class="quiet">One program on many machines, faster than real time: which machines can run it, how long each takes, and why the others cannot.</p>
       <NewRun />
-      <h3>Past runs</h3>
-      <table class="grid">
+      <h3>Runs</h3>
+      {error && <p class="error">{error}</p>}
+      <table class="grid runs-list">
         <thead>
           <tr>
             <th>started</th>
@@ -32,18 +67,30 @@ function RunsHome() {
             <th>machines</th>
             <th>completed</th>
             <th>alarm</th>
+            <th />
           </tr>
         </thead>
         <tbody>
           {runs.map((r) => (
-            <tr key={r.id}>
+            <tr key={r.id} data-run={r.id}>
               <td>
                 <a href={`#/runs/${r.id}`}>{r.created_at}</a>
               </td>
-              <td>{r.status}</td>
+              <td class={`run-status ${r.status}`}>{r.status}</td>
               <td class="num">{r.machines}</td>
               <td class="num">{r.completed}</td>
               <td class="num">{r.alarms}</td>
+              <td>
+                {underWay(r.status) && (
+                  <CancelButton
+                    id={r.id}
+                    onDone={(_, e) => {
+                      setError(e ?? null);
+                      load();
+                    }}
+                  />
+                )}
+              </td>
             </tr>
           ))}
         </tbody>
@@ -172,15 +219,35 @@ function RunDetail({ id }: { id: string }) {
     );
     return () => socket.close();
   }, [id]);
-  const results: Result[] | null = (run?.results as Result[] | null) ?? null;
+  // A cancelled or interrupted run has no result for the machines it did not finish.
+  const results: Result[] | null =
+    (run?.results as Result[] | null)?.map((r, i) => r ?? { machine: progress?.machines[i]?.machine || `machine ${i + 1}`, status: "cancelled" }) ?? null;
+  const status = progress?.status ?? run?.status;
   return (
     <section class="run">
       <h1>
         <a href="#/runs">Fleet runs</a> / {id.slice(0, 8)}
       </h1>
+      {status && (
+        <p>
+          <span class={`run-status ${status}`} data-run-status={status}>
+            {status}
+          </span>{" "}
+          {underWay(status) && (
+            <CancelButton
+              id={id}
+              onDone={(stopped, e) => {
+                if (e) setError(e);
+                if (stopped) must(api.GET("/api/v1/fleet/runs/{id}", { params: { path: { id } } })).then(setRun, () => {});
+              }}
+            />
+          )}
+        </p>
+      )}
       {error && <p class="error">{error}</p>}
       {progress && !results && (
         <div class="progress panel-box">
+          {progress.status === "queued" && <p class="quiet">Waiting for the runs before it (`fivex serve --fleet-jobs`).</p>}
           <progress max={progress.total} value={progress.done} /> {progress.done} of {progress.total} machines
           <ul class="machine-progress">
             {progress.machines.map((m) => (
