@@ -42,7 +42,7 @@ async fn read_or_close(stream: &mut TcpStream, limit: Duration) -> Option<Vec<u8
 /// A kept-alive connection that asked `/healthz` and got its 200: it stays open.
 async fn held_connection(served: &Served, source: &str) -> TcpStream {
     let mut stream = connect_from(served, source).await;
-    stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: fivex\r\n\r\n").await.unwrap();
+    stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: localhost\r\n\r\n").await.unwrap();
     let answer = read_or_close(&mut stream, Duration::from_secs(20)).await.expect("an answer");
     let text = String::from_utf8_lossy(&answer);
     assert!(text.starts_with("HTTP/1.1 200"), "{text}");
@@ -53,7 +53,7 @@ async fn held_connection(served: &Served, source: &str) -> TcpStream {
 async fn assert_refused(served: &Served, source: &str) {
     let mut stream = connect_from(served, source).await;
     // Whether the request is still written or the reset came first does not matter.
-    let _ = stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: fivex\r\n\r\n").await;
+    let _ = stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: localhost\r\n\r\n").await;
     let answer = read_or_close(&mut stream, Duration::from_secs(20)).await;
     assert!(
         answer.is_none(),
@@ -99,7 +99,7 @@ async fn a_connection_that_says_nothing_and_a_kept_alive_idle_one_are_closed() {
 
 /// The head of a `POST /api/v1/controllers` whose JSON body is `length` bytes long.
 fn create_head(length: usize) -> String {
-    format!("POST /api/v1/controllers HTTP/1.1\r\nHost: fivex\r\ncontent-type: application/json\r\ncontent-length: {length}\r\n\r\n")
+    format!("POST /api/v1/controllers HTTP/1.1\r\nHost: localhost\r\ncontent-type: application/json\r\ncontent-length: {length}\r\n\r\n")
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -139,7 +139,7 @@ async fn a_client_that_takes_nothing_of_its_answers_is_cut() {
     assert_eq!(one.status, 200);
     let asked = 20 * one.body.len();
     let mut stream = connect_from(&served, "127.0.0.1").await;
-    let request = format!("GET {path} HTTP/1.1\r\nHost: fivex\r\n\r\n");
+    let request = format!("GET {path} HTTP/1.1\r\nHost: localhost\r\n\r\n");
     stream.write_all(request.repeat(20).as_bytes()).await.unwrap();
     // Take nothing for a while (the server's writes stall once the buffers are full) …
     tokio::time::sleep(Duration::from_secs(5)).await;
@@ -176,7 +176,7 @@ async fn the_connection_caps_refuse_the_excess_per_client_and_in_all() {
     let deadline = Instant::now() + Duration::from_secs(20);
     loop {
         let mut stream = connect_from(&served, "127.0.0.1").await;
-        let _ = stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: fivex\r\n\r\n").await;
+        let _ = stream.write_all(b"GET /healthz HTTP/1.1\r\nHost: localhost\r\n\r\n").await;
         if let Some(answer) = read_or_close(&mut stream, Duration::from_secs(20)).await {
             assert!(String::from_utf8_lossy(&answer).starts_with("HTTP/1.1 200"));
             break;
