@@ -126,6 +126,10 @@ impl Served {
     /// how long it took.
     pub fn terminate(&mut self, limit: Duration) -> (ExitStatus, Duration) {
         let started = Instant::now();
+        if let Some(status) = self.child.try_wait().expect("wait") {
+            // Stopped already (an earlier terminate, or it ended on its own).
+            return (status, Duration::ZERO);
+        }
         let kill = Command::new("kill").args(["-TERM", &self.child.id().to_string()]).status().expect("kill");
         assert!(kill.success());
         loop {
