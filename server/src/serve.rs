@@ -59,6 +59,8 @@ pub struct AppState {
     token: Option<Arc<str>>,
     /// The fleet runs under way and their progress.
     pub fleet_runs: api::fleet::Runs,
+    /// What the fleet stream's subscribers share (`api::fleet_view`).
+    pub fleet_view: api::fleet_view::FleetView,
 }
 
 /// A stored controller as the host runs it, in reset state with what it keeps (`None`, logged,
@@ -148,6 +150,7 @@ impl AppState {
             writer: Arc::new(std::sync::Mutex::new(Some(writer))),
             token: None,
             fleet_runs: Default::default(),
+            fleet_view: Default::default(),
         })
     }
 
@@ -414,6 +417,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         crate::host::stream::Message,
         api::stream::Snapshot,
         api::stream::Fleet,
+        api::stream::FleetDelta,
         api::stream::FleetEntry,
         api::fleet::FleetRequest,
         api::fleet::FleetRunInfo,
