@@ -23,8 +23,8 @@ const REMOVALS_KEPT: usize = 4096;
 pub struct FleetView {
     view: Arc<Mutex<View>>,
     /// When the controllers were last read; held while reading, so one subscriber reads and the
-    /// others use what it read.
-    reading: Arc<Mutex<Option<Instant>>>,
+    /// others wait for what it read (rather than answering from an older view).
+    reading: Arc<tokio::sync::Mutex<Option<Instant>>>,
 }
 
 #[derive(Debug, Default)]
@@ -79,10 +79,10 @@ pub enum Update {
 }
 
 impl FleetView {
-    /// Read every controller of `host` if the last reading is older than [`REFRESH`] (and no
-    /// other subscriber is reading now); changed entries are encoded and get a new version.
-    pub fn refresh(&self, host: &Host) {
-        let Ok(mut last) = self.reading.try_lock() else { return };
+    /// Read every controller of `host` if the last reading is older than [`REFRESH`] (after
+    /// waiting for a reading under way); changed entries are encoded and get a new version.
+    pub async fn refresh(&self, host: &Host) {
+        let mut last = self.reading.lock().await;
         if last.is_some_and(|at| at.elapsed() < REFRESH) {
             return;
         }

@@ -113,29 +113,28 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
     }
     // What this client was sent last: the first publication after a quiet spell may say the same.
     let mut sent = now;
-    // The rate is kept by a pace, armed by a change and reset after each frame: a controller
-    // that does not move costs its subscribers no wake-up at all.
+    // The rate is kept by a pace: after a frame, wait out the period, then send the newest
+    // position if it changed, or else wait for a change and send it at once. One wake-up per
+    // frame while the machine moves; none while it stands.
     let period = Duration::from_secs_f64(1.0 / rate);
     let pace = tokio::time::sleep(period);
     tokio::pin!(pace);
-    let mut waiting = false;
+    let mut pacing = true;
     loop {
         let ok = tokio::select! {
-            changed = positions.changed(), if !waiting => {
-                waiting = true;
-                changed.is_ok()
-            }
-            _ = &mut pace, if waiting => {
-                waiting = false;
-                pace.as_mut().reset(tokio::time::Instant::now() + period);
-                let latest = positions.borrow_and_update().clone();
-                match latest {
-                    Some(published) if !published.sample.same_frame(&sent.sample) => {
-                        sent = published;
-                        send_text(&mut tx, sent.text()).await
-                    }
-                    _ => true,
+            _ = &mut pace, if pacing => {
+                pacing = positions.has_changed().unwrap_or(false);
+                if pacing {
+                    pace.as_mut().reset(tokio::time::Instant::now() + period);
+                    position(&mut tx, &mut positions, &mut sent).await
+                } else {
+                    true
                 }
+            }
+            changed = positions.changed(), if !pacing => {
+                pacing = true;
+                pace.as_mut().reset(tokio::time::Instant::now() + period);
+                changed.is_ok() && position(&mut tx, &mut positions, &mut sent).await
             }
             event = events.recv() => match event {
                 Ok(message) => send(&mut tx, json(&*message)).await,
@@ -155,6 +154,18 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
 }
 
 type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
+
+/// Send the newest position unless it says what `sent`, the one sent last, said.
+async fn position(tx: &mut Sink, positions: &mut watch::Receiver<Option<Arc<Published>>>, sent: &mut Arc<Published>) -> bool {
+    let latest = positions.borrow_and_update().clone();
+    match latest {
+        Some(published) if !published.sample.same_frame(&sent.sample) => {
+            *sent = published;
+            send_text(tx, sent.text()).await
+        }
+        _ => true,
+    }
+}
 
 /// What the client sent, as whether it is still there (a close, an error or the end: gone).
 fn still_there(incoming: &Option<Result<Ws, axum::Error>>) -> bool {
@@ -273,7 +284,7 @@ async fn fleet_session(socket: WebSocket, state: AppState, rate: f64, deltas: bo
     loop {
         let ok = tokio::select! {
             _ = every.tick() => {
-                view.refresh(&state.host);
+                view.refresh(&state.host).await;
                 let (update, version) = view.since(seen, deltas);
                 seen = Some(version);
                 match update {
