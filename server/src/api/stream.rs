@@ -2,8 +2,9 @@
 //! message is a snapshot (`{"type": "snapshot", "controller": status, "variables": {…}}`), the
 //! next the position now; then position frames at most at the requested rate and only when
 //! something in them changed (the newest wins, so a slow client sees fewer frames, never old
-//! ones; each is encoded once and the same bytes go to every subscriber) and every event message. A client that fell
-//! so far behind that events were dropped gets a fresh snapshot instead. Nothing a client does
+//! ones; each is encoded once and the same bytes go to every subscriber) and every event
+//! message. A client that fell so far behind that events were dropped gets a fresh snapshot
+//! instead. Nothing a client does
 //! or fails to do slows a controller or another client.
 
 use std::sync::Arc;
@@ -156,7 +157,11 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
 type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
 
 /// Send the newest position unless it says what `sent`, the one sent last, said.
-async fn position(tx: &mut Sink, positions: &mut watch::Receiver<Option<Arc<Published>>>, sent: &mut Arc<Published>) -> bool {
+async fn position(
+    tx: &mut Sink,
+    positions: &mut watch::Receiver<Option<Arc<Published>>>,
+    sent: &mut Arc<Published>,
+) -> bool {
     let latest = positions.borrow_and_update().clone();
     match latest {
         Some(published) if !published.sample.same_frame(&sent.sample) => {

@@ -196,7 +196,8 @@ async fn main() {
     // Fleet subscribers: messages and bytes while measuring.
     let fleet_seen = Arc::new((AtomicUsize::new(0), AtomicUsize::new(0)));
     for _ in 0..args.fleet_subscribers {
-        let (ws, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/api/v1/stream?rate=2")).await.expect("websocket");
+        let (ws, _) =
+            tokio_tungstenite::connect_async(format!("ws://{addr}/api/v1/stream?rate=2")).await.expect("websocket");
         let (fleet_seen, measuring, errors) = (fleet_seen.clone(), measuring.clone(), errors.clone());
         tokio::spawn(async move {
             let (_, mut rx) = ws.split();
@@ -320,9 +321,7 @@ async fn main() {
     let _ = child.kill().await;
     let _ = std::fs::remove_dir_all(&dir);
     let moving = args.idle || (p99 < args.p99_ms && behind == 0 && silent == 0 && running == args.controllers);
-    let ok = moving
-        && errors == 0
-        && growth < args.max_growth_mb;
+    let ok = moving && errors == 0 && growth < args.max_growth_mb;
     std::process::exit(if ok { 0 } else { 1 });
 }
 

@@ -92,14 +92,16 @@ async fn the_fleet_stream_sends_a_snapshot_then_only_what_changed() {
     let mut ws = connect(&served, "/api/v1/stream?rate=20").await;
     let snapshot = next_json(&mut ws, Duration::from_secs(10)).await.expect("a snapshot");
     assert_eq!(snapshot["type"], "fleet");
-    let listed: Vec<&str> = snapshot["controllers"].as_array().unwrap().iter().map(|c| c["id"].as_str().unwrap()).collect();
+    let listed: Vec<&str> =
+        snapshot["controllers"].as_array().unwrap().iter().map(|c| c["id"].as_str().unwrap()).collect();
     assert_eq!(listed, ids.iter().map(String::as_str).collect::<Vec<_>>());
 
     // Nothing changes: nothing is sent.
     assert_eq!(next_text(&mut ws, Duration::from_millis(600)).await, None);
 
     // One controller changes mode: a delta with that controller only.
-    let reply = served.send_json(Method::PUT, &format!("/api/v1/controllers/{}/mode", ids[1]), &json!({"mode": "mdi"})).await;
+    let reply =
+        served.send_json(Method::PUT, &format!("/api/v1/controllers/{}/mode", ids[1]), &json!({"mode": "mdi"})).await;
     assert_eq!(reply.status, 200, "{:?}", String::from_utf8_lossy(&reply.body));
     let delta = next_json(&mut ws, Duration::from_secs(10)).await.expect("a delta");
     assert_eq!(delta["type"], "fleet_delta", "{delta}");
@@ -125,7 +127,8 @@ async fn the_fleet_stream_sends_a_snapshot_then_only_what_changed() {
     let mut whole = connect(&served, "/api/v1/stream?rate=20&deltas=false").await;
     let first = next_json(&mut whole, Duration::from_secs(10)).await.expect("a snapshot");
     assert_eq!(first["controllers"].as_array().unwrap().len(), 3);
-    let reply = served.send_json(Method::PUT, &format!("/api/v1/controllers/{}/mode", ids[2]), &json!({"mode": "mdi"})).await;
+    let reply =
+        served.send_json(Method::PUT, &format!("/api/v1/controllers/{}/mode", ids[2]), &json!({"mode": "mdi"})).await;
     assert_eq!(reply.status, 200);
     let next = next_json(&mut whole, Duration::from_secs(10)).await.expect("the fleet again");
     assert_eq!(next["type"], "fleet");
@@ -156,7 +159,12 @@ async fn subscribers_of_one_controller_receive_identical_frames() {
     }
     // Frames of the same instant are the same bytes for every subscriber (one encoding).
     let common: Vec<&u64> = seen[0].keys().filter(|t| seen[1..].iter().all(|s| s.contains_key(t))).collect();
-    assert!(common.len() >= 10, "only {} frames in common: {:?}", common.len(), seen.iter().map(HashMap::len).collect::<Vec<_>>());
+    assert!(
+        common.len() >= 10,
+        "only {} frames in common: {:?}",
+        common.len(),
+        seen.iter().map(HashMap::len).collect::<Vec<_>>()
+    );
     for t in common {
         assert_eq!(seen[0][t], seen[1][t]);
         assert_eq!(seen[0][t], seen[2][t]);
