@@ -215,10 +215,11 @@ async fn main() {
     }
     // The writer: variables, as an operator or a cell computer would set them.
     let writes = Arc::new(AtomicUsize::new(0));
+    let mut writer = None;
     if args.writes_per_s > 0.0 {
         let (ids, base, writes, errors) = (ids.clone(), base.clone(), writes.clone(), errors.clone());
         let every = Duration::from_secs_f64(1.0 / args.writes_per_s);
-        tokio::spawn(async move {
+        writer = Some(tokio::spawn(async move {
             let http = Http::new();
             let mut tick = tokio::time::interval(every);
             for k in 0usize.. {
@@ -233,7 +234,7 @@ async fn main() {
                     }
                 };
             }
-        });
+        }));
     }
     tokio::time::sleep(Duration::from_secs_f64(args.warmup)).await;
     let rss_running = rss_mb(pid);
@@ -253,6 +254,10 @@ async fn main() {
     measuring.store(false, Ordering::Relaxed);
     let (cpu1, wall) = (cpu_seconds(pid), t0.elapsed().as_secs_f64());
     let writes_done = writes.load(Ordering::Relaxed) - writes0;
+    // The writer stops with the measurement (its requests would fail once the service is gone).
+    if let Some(writer) = writer {
+        writer.abort();
+    }
 
     // Every controller still running, no alarms.
     let mut running = 0;
