@@ -64,6 +64,8 @@ pub struct AppState {
     allowed_origins: AllowedOrigins,
     /// The fleet runs under way and their progress.
     pub fleet_runs: api::fleet::Runs,
+    /// What the fleet stream's subscribers share (`api::fleet_view`).
+    pub fleet_view: api::fleet_view::FleetView,
 }
 
 /// A stored controller as the host runs it, in reset state with what it keeps (`None`, logged,
@@ -154,6 +156,7 @@ impl AppState {
             token: None,
             allowed_origins: AllowedOrigins::default(),
             fleet_runs: Default::default(),
+            fleet_view: Default::default(),
         })
     }
 
@@ -430,6 +433,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         crate::host::stream::Message,
         api::stream::Snapshot,
         api::stream::Fleet,
+        api::stream::FleetDelta,
         api::stream::FleetEntry,
         api::fleet::FleetRequest,
         api::fleet::FleetRunInfo,

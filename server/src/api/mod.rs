@@ -5,6 +5,7 @@
 
 pub mod controllers;
 pub mod fleet;
+pub mod fleet_view;
 pub mod history;
 pub mod manual;
 pub mod modal;

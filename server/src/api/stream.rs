@@ -1,8 +1,10 @@
 //! `GET /controllers/{id}/stream`: a websocket with the controller's live state. The first
-//! message is a snapshot (`{"type": "snapshot", "controller": status, "variables": {…}}`); then
-//! position frames at the requested rate (only when the position changed; the newest wins, so
-//! a slow client sees fewer frames, never old ones) and every event message. A client that fell
-//! so far behind that events were dropped gets a fresh snapshot instead. Nothing a client does
+//! message is a snapshot (`{"type": "snapshot", "controller": status, "variables": {…}}`), the
+//! next the position now; then position frames at most at the requested rate and only when
+//! something in them changed (the newest wins, so a slow client sees fewer frames, never old
+//! ones; each is encoded once and the same bytes go to every subscriber) and every event
+//! message. A client that fell so far behind that events were dropped gets a fresh snapshot
+//! instead. Nothing a client does
 //! or fails to do slows a controller or another client.
 
 use std::sync::Arc;
@@ -20,8 +22,9 @@ use tokio::sync::broadcast::error::RecvError;
 use tokio::sync::watch;
 use utoipa::{IntoParams, ToSchema};
 
+use super::fleet_view::Update;
 use super::{hosted, path, ControllerStatus};
-use crate::host::Hosted;
+use crate::host::{Hosted, Published, Sample};
 use crate::serve::{ApiError, AppState, ErrorBody};
 
 /// Position frames per second by default, and the range a client may ask for.
@@ -110,16 +113,36 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
     if !send(&mut tx, json(&Snapshot::of(&hosted))).await {
         return;
     }
-    let mut every = tokio::time::interval(Duration::from_secs_f64(1.0 / rate));
-    every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    // Where the machine is now, once: the watch only carries changes, and an idle controller
+    // makes none.
+    let now = Arc::new(Published::new(Sample::of(&hosted.station())));
+    if !send_text(&mut tx, now.text()).await {
+        return;
+    }
+    // What this client was sent last: the first publication after a quiet spell may say the same.
+    let mut sent = now;
+    // The rate is kept by a pace: after a frame, wait out the period, then send the newest
+    // position if it changed, or else wait for a change and send it at once. One wake-up per
+    // frame while the machine moves; none while it stands.
+    let period = Duration::from_secs_f64(1.0 / rate);
+    let pace = tokio::time::sleep(period);
+    tokio::pin!(pace);
+    let mut pacing = true;
     loop {
         let ok = tokio::select! {
-            _ = every.tick() => {
-                let frame = if positions.has_changed().unwrap_or(false) { positions.borrow_and_update().clone() } else { None };
-                match frame {
-                    Some(sample) => send(&mut tx, json(&sample.frame())).await,
-                    None => true,
+            _ = &mut pace, if pacing => {
+                pacing = positions.has_changed().unwrap_or(false);
+                if pacing {
+                    pace.as_mut().reset(tokio::time::Instant::now() + period);
+                    position(&mut tx, &mut positions, &mut sent).await
+                } else {
+                    true
                 }
+            }
+            changed = positions.changed(), if !pacing => {
+                pacing = true;
+                pace.as_mut().reset(tokio::time::Instant::now() + period);
+                changed.is_ok() && position(&mut tx, &mut positions, &mut sent).await
             }
             event = events.recv() => match event {
                 Ok(message) => send(&mut tx, json(&*message)).await,
@@ -148,6 +171,22 @@ pub const CONTROLLER_DELETED: u16 = 4404;
 
 type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
 
+/// Send the newest position unless it says what `sent`, the one sent last, said.
+async fn position(
+    tx: &mut Sink,
+    positions: &mut watch::Receiver<Option<Arc<Published>>>,
+    sent: &mut Arc<Published>,
+) -> bool {
+    let latest = positions.borrow_and_update().clone();
+    match latest {
+        Some(published) if !published.sample.same_frame(&sent.sample) => {
+            *sent = published;
+            send_text(tx, sent.text()).await
+        }
+        _ => true,
+    }
+}
+
 /// What the client sent, as whether it is still there (a close, an error or the end: gone).
 fn still_there(incoming: &Option<Result<Ws, axum::Error>>) -> bool {
     !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_))))
@@ -162,7 +201,12 @@ async fn goodbye(tx: &mut Sink, code: u16, reason: &'static str) {
 
 /// Send one text message; false if the client is gone or does not take it in time.
 async fn send(tx: &mut Sink, text: String) -> bool {
-    matches!(tokio::time::timeout(SEND_TIMEOUT, tx.send(Ws::Text(Utf8Bytes::from(text)))).await, Ok(Ok(())))
+    send_text(tx, Utf8Bytes::from(text)).await
+}
+
+/// [`send`] of text encoded already (shared with other subscribers).
+async fn send_text(tx: &mut Sink, text: Utf8Bytes) -> bool {
+    matches!(tokio::time::timeout(SEND_TIMEOUT, tx.send(Ws::Text(text))).await, Ok(Ok(())))
 }
 
 fn json<T: Serialize>(value: &T) -> String {
@@ -196,28 +240,19 @@ pub struct Fleet {
     pub controllers: Vec<FleetEntry>,
 }
 
-fn fleet_now(state: &AppState) -> Fleet {
-    let controllers = state
-        .host
-        .list()
-        .iter()
-        .map(|h| {
-            let s = ControllerStatus::now(h);
-            FleetEntry {
-                id: s.id,
-                name: s.name,
-                machine: s.machine,
-                kind: s.kind,
-                dialect: s.dialect,
-                mode: s.mode,
-                run_state: s.run_state,
-                program: s.program,
-                line: s.line,
-                alarm: s.alarms.into_iter().next(),
-            }
-        })
-        .collect();
-    Fleet { kind: "fleet", controllers }
+/// `{"type": "fleet_delta", "controllers": […], "removed": […]}`: what changed since the
+/// message before (apply `removed` first, then put each entry in place of the one with its id,
+/// or after the others when it is new).
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct FleetDelta {
+    /// Always `"fleet_delta"`.
+    #[serde(rename = "type")]
+    #[schema(example = "fleet_delta")]
+    pub kind: &'static str,
+    /// The controllers that changed or were added, whole.
+    pub controllers: Vec<FleetEntry>,
+    /// The ids of the controllers removed.
+    pub removed: Vec<String>,
 }
 
 #[derive(Debug, Clone, Deserialize, IntoParams)]
@@ -225,17 +260,21 @@ fn fleet_now(state: &AppState) -> Fleet {
 pub struct FleetOptions {
     /// Fleet messages per second (0.1–30, default 2); one is sent only when something changed.
     pub rate: Option<f64>,
+    /// `false`: every message is the whole fleet (`fleet`), as before deltas (default `true`).
+    pub deltas: Option<bool>,
 }
 
 /// The status of every controller over a websocket: `{"type": "fleet", "controllers": […]}`
-/// at once and whenever it changes (checked at the requested rate).
+/// at once, then `{"type": "fleet_delta", "controllers": [changed], "removed": [ids]}` whenever
+/// something changed (checked at the requested rate); with `deltas=false` the whole fleet each
+/// time.
 #[utoipa::path(
     get,
     path = "/api/v1/stream",
     tag = "stream",
     params(FleetOptions),
     responses(
-        (status = 101, description = "Websocket of fleet messages", body = Fleet),
+        (status = 101, description = "Websocket: a `fleet` message, then `fleet_delta` messages (FleetDelta)", body = Fleet),
         (status = 422, description = "Bad rate", body = ErrorBody),
     )
 )]
@@ -244,28 +283,31 @@ pub async fn fleet(
     options: Result<Query<FleetOptions>, QueryRejection>,
     upgrade: WebSocketUpgrade,
 ) -> Result<Response, ApiError> {
-    let rate = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.rate.unwrap_or(2.0);
+    let options = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+    let rate = options.rate.unwrap_or(2.0);
     if !(rate.is_finite() && (0.1..=30.0).contains(&rate)) {
         return Err(ApiError::Unprocessable("rate must be 0.1–30 messages per second".into(), None));
     }
-    Ok(upgrade.on_upgrade(move |socket| fleet_session(socket, state, rate)))
+    let deltas = options.deltas.unwrap_or(true);
+    Ok(upgrade.on_upgrade(move |socket| fleet_session(socket, state, rate, deltas)))
 }
 
-async fn fleet_session(socket: WebSocket, state: AppState, rate: f64) {
+async fn fleet_session(socket: WebSocket, state: AppState, rate: f64, deltas: bool) {
     let (mut tx, mut rx) = socket.split();
     let mut closing = state.closing();
     let mut every = tokio::time::interval(Duration::from_secs_f64(1.0 / rate));
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
-    let mut last = String::new();
+    let view = state.fleet_view.clone();
+    let mut seen = None;
     loop {
         let ok = tokio::select! {
             _ = every.tick() => {
-                let text = json(&fleet_now(&state));
-                if text == last {
-                    true
-                } else {
-                    last = text.clone();
-                    send(&mut tx, text).await
+                view.refresh(&state.host).await;
+                let (update, version) = view.since(seen, deltas);
+                seen = Some(version);
+                match update {
+                    Update::None => true,
+                    Update::Snapshot(text) | Update::Delta(text) => send(&mut tx, text).await,
                 }
             }
             incoming = rx.next() => still_there(&incoming),

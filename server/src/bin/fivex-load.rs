@@ -7,14 +7,20 @@
 //!   the frame was made (`wall_ms`), p50 / p99 / max over every frame;
 //! - real time: how far each controller's simulated time advanced against the wall clock over
 //!   the measurement (a controller "behind" advanced less than 99 %);
-//! - CPU: the service's user + system time over the measurement, in cores.
+//! - CPU: the service's user + system time over the measurement, in cores;
+//! - memory: the service's resident set (`VmRSS`) empty, with the controllers idle, running,
+//!   and every `--sample-every` seconds while measuring (its growth says whether memory is flat);
+//! - with `--fleet-subscribers`, fleet stream messages and bytes; with `--writes-per-s`, a
+//!   writer of variables (`PUT …/variables/500`) round-robin over the controllers; every
+//!   refused request and every stream that ended counts as an error.
 //!
 //! It prints one JSON object and exits 0 if the goal holds (p99 lag under `--p99-ms`, no
-//! controller behind), 1 otherwise. `docs/performance.md` has the command and the figures.
+//! controller behind, no error, memory growth under `--max-growth-mb`), 1 otherwise.
+//! `docs/performance.md` has the commands and the figures; `scripts/soak.sh` the soak.
 
 use std::path::PathBuf;
 use std::process::Stdio;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -51,6 +57,22 @@ struct Args {
     /// Worker threads of the service (default: its own).
     #[arg(long)]
     workers: Option<usize>,
+    /// Fleet stream subscribers (`GET /stream?rate=2`).
+    #[arg(long, default_value_t = 0)]
+    fleet_subscribers: usize,
+    /// Variable writes per second, round-robin over the controllers.
+    #[arg(long, default_value_t = 0.0)]
+    writes_per_s: f64,
+    /// Seconds between two readings of the service's memory while measuring.
+    #[arg(long, default_value_t = 10.0)]
+    sample_every: f64,
+    /// Leave the controllers idle (no cycle start): what standing machines cost their
+    /// subscribers (the goal is then only no error and flat memory).
+    #[arg(long)]
+    idle: bool,
+    /// The goal: the service's resident set grows less than this many MB while measuring.
+    #[arg(long, default_value_t = 50.0)]
+    max_growth_mb: f64,
 }
 
 /// The program every controller runs: a square with the rotary axes turning, forever.
@@ -77,6 +99,13 @@ fn cpu_seconds(pid: u32) -> Option<f64> {
     let fields: Vec<&str> = rest.split_whitespace().collect();
     let ticks = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
     Some(ticks / 100.0)
+}
+
+/// The resident set of a process in MB (Linux `/proc/PID/status`).
+fn rss_mb(pid: u32) -> Option<f64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? / 1024.0)
 }
 
 /// Per subscriber: lags measured, and the simulated time at the start and end of measuring.
@@ -124,6 +153,9 @@ async fn main() {
     let base = format!("http://{addr}/api/v1");
     let http = Http::new();
 
+    let errors = Arc::new(AtomicUsize::new(0));
+    tokio::time::sleep(Duration::from_secs(1)).await;
+    let rss_empty = rss_mb(pid);
     // Controllers and their program.
     let mut ids = Vec::new();
     for k in 0..args.controllers {
@@ -134,13 +166,15 @@ async fn main() {
         http.put_text(&format!("{base}/controllers/{id}/programs/1"), PROGRAM).await;
         ids.push(id);
     }
+    tokio::time::sleep(Duration::from_secs(2)).await;
+    let rss_idle = rss_mb(pid);
     // A subscriber each, then cycle start.
     let measuring = Arc::new(AtomicBool::new(false));
     let seen: Vec<Arc<Mutex<Seen>>> = ids.iter().map(|_| Arc::new(Mutex::new(Seen::default()))).collect();
     for (id, seen) in ids.iter().zip(&seen) {
         let url = format!("ws://{addr}/api/v1/controllers/{id}/stream?rate={}", args.rate);
         let (ws, _) = tokio_tungstenite::connect_async(url).await.expect("websocket");
-        let (seen, measuring) = (seen.clone(), measuring.clone());
+        let (seen, measuring, errors) = (seen.clone(), measuring.clone(), errors.clone());
         tokio::spawn(async move {
             let (_, mut rx) = ws.split();
             while let Some(Ok(msg)) = rx.next().await {
@@ -155,17 +189,75 @@ async fn main() {
                 s.first_t.get_or_insert((frame.t, now));
                 s.last_t = Some((frame.t, now));
             }
+            // The stream ended while the service runs: an error.
+            errors.fetch_add(1, Ordering::Relaxed);
         });
     }
-    for id in &ids {
+    // Fleet subscribers: messages and bytes while measuring.
+    let fleet_seen = Arc::new((AtomicUsize::new(0), AtomicUsize::new(0)));
+    for _ in 0..args.fleet_subscribers {
+        let (ws, _) =
+            tokio_tungstenite::connect_async(format!("ws://{addr}/api/v1/stream?rate=2")).await.expect("websocket");
+        let (fleet_seen, measuring, errors) = (fleet_seen.clone(), measuring.clone(), errors.clone());
+        tokio::spawn(async move {
+            let (_, mut rx) = ws.split();
+            while let Some(Ok(msg)) = rx.next().await {
+                if measuring.load(Ordering::Relaxed) {
+                    fleet_seen.0.fetch_add(1, Ordering::Relaxed);
+                    fleet_seen.1.fetch_add(msg.len(), Ordering::Relaxed);
+                }
+            }
+            errors.fetch_add(1, Ordering::Relaxed);
+        });
+    }
+    for id in ids.iter().filter(|_| !args.idle) {
         http.post(&format!("{base}/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
     }
+    // The writer: variables, as an operator or a cell computer would set them.
+    let writes = Arc::new(AtomicUsize::new(0));
+    let mut writer = None;
+    if args.writes_per_s > 0.0 {
+        let (ids, base, writes, errors) = (ids.clone(), base.clone(), writes.clone(), errors.clone());
+        let every = Duration::from_secs_f64(1.0 / args.writes_per_s);
+        writer = Some(tokio::spawn(async move {
+            let http = Http::new();
+            let mut tick = tokio::time::interval(every);
+            for k in 0usize.. {
+                tick.tick().await;
+                let id = &ids[k % ids.len()];
+                let url = format!("{base}/controllers/{id}/variables/500");
+                match http.try_send("PUT", &url, "application/json", json!({"value": k as f64}).to_string()).await {
+                    Ok(_) => writes.fetch_add(1, Ordering::Relaxed),
+                    Err(e) => {
+                        eprintln!("write refused: {e}");
+                        errors.fetch_add(1, Ordering::Relaxed)
+                    }
+                };
+            }
+        }));
+    }
     tokio::time::sleep(Duration::from_secs_f64(args.warmup)).await;
+    let rss_running = rss_mb(pid);
     let (cpu0, t0) = (cpu_seconds(pid), Instant::now());
+    let writes0 = writes.load(Ordering::Relaxed);
     measuring.store(true, Ordering::Relaxed);
-    tokio::time::sleep(Duration::from_secs_f64(args.seconds)).await;
+    let mut rss_samples = Vec::new();
+    let end = t0 + Duration::from_secs_f64(args.seconds);
+    loop {
+        rss_samples.push(rss_mb(pid).unwrap_or(f64::NAN));
+        let left = end.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            break;
+        }
+        tokio::time::sleep(left.min(Duration::from_secs_f64(args.sample_every))).await;
+    }
     measuring.store(false, Ordering::Relaxed);
     let (cpu1, wall) = (cpu_seconds(pid), t0.elapsed().as_secs_f64());
+    let writes_done = writes.load(Ordering::Relaxed) - writes0;
+    // The writer stops with the measurement (its requests would fail once the service is gone).
+    if let Some(writer) = writer {
+        writer.abort();
+    }
 
     // Every controller still running, no alarms.
     let mut running = 0;
@@ -196,9 +288,17 @@ async fn main() {
         _ => f64::NAN,
     };
     let p99 = percentile(&lags, 0.99);
+    let per_controller_kb = |a: Option<f64>, b: Option<f64>| match (a, b) {
+        (Some(a), Some(b)) => (b - a) * 1024.0 / args.controllers as f64,
+        _ => f64::NAN,
+    };
+    let growth = rss_samples.last().copied().unwrap_or(f64::NAN) - rss_samples.first().copied().unwrap_or(f64::NAN);
+    let max_rss = rss_samples.iter().copied().fold(f64::NAN, f64::max);
+    let errors = errors.load(Ordering::Relaxed);
     let report = json!({
         "controllers": args.controllers,
         "preset": args.preset,
+        "idle": args.idle,
         "rate_hz": args.rate,
         "measured_s": wall,
         "frames": lags.len(),
@@ -208,12 +308,25 @@ async fn main() {
         "without_frames": silent,
         "slowest_sim_per_wall": worst_ratio,
         "service_cpu_cores": cores,
+        "frames_per_subscriber_per_s": lags.len() as f64 / args.controllers as f64 / wall,
+        "memory_mb": {
+            "empty": rss_empty, "idle": rss_idle, "running": rss_running,
+            "first_sample": rss_samples.first(), "last_sample": rss_samples.last(), "max": max_rss,
+            "growth": growth,
+        },
+        "kb_per_controller": {"idle": per_controller_kb(rss_empty, rss_idle), "running": per_controller_kb(rss_empty, rss_running)},
+        "fleet_subscribers": args.fleet_subscribers,
+        "fleet_messages_per_subscriber_per_s": fleet_seen.0.load(Ordering::Relaxed) as f64 / args.fleet_subscribers.max(1) as f64 / wall,
+        "fleet_bytes_per_subscriber_per_s": fleet_seen.1.load(Ordering::Relaxed) as f64 / args.fleet_subscribers.max(1) as f64 / wall,
+        "writes": writes_done,
+        "errors": errors,
         "cores": std::thread::available_parallelism().map_or(0, |n| n.get()),
     });
     println!("{}", serde_json::to_string_pretty(&report).unwrap());
     let _ = child.kill().await;
     let _ = std::fs::remove_dir_all(&dir);
-    let ok = p99 < args.p99_ms && behind == 0 && silent == 0 && running == args.controllers;
+    let moving = args.idle || (p99 < args.p99_ms && behind == 0 && silent == 0 && running == args.controllers);
+    let ok = moving && errors == 0 && growth < args.max_growth_mb;
     std::process::exit(if ok { 0 } else { 1 });
 }
 
@@ -232,6 +345,11 @@ impl Http {
     }
 
     async fn send(&self, method: &str, url: &str, content_type: &str, body: String) -> Value {
+        self.try_send(method, url, content_type, body).await.unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// A request; the reason when it fails or is refused.
+    async fn try_send(&self, method: &str, url: &str, content_type: &str, body: String) -> Result<Value, String> {
         use http_body_util::BodyExt;
         let request = hyper::Request::builder()
             .method(method)
@@ -239,11 +357,13 @@ impl Http {
             .header("content-type", content_type)
             .body(http_body_util::Full::new(bytes::Bytes::from(body)))
             .unwrap();
-        let response = self.client.request(request).await.unwrap_or_else(|e| panic!("{method} {url}: {e}"));
+        let response = self.client.request(request).await.map_err(|e| format!("{method} {url}: {e}"))?;
         let status = response.status();
-        let bytes = response.into_body().collect().await.unwrap().to_bytes();
-        assert!(status.is_success(), "{method} {url}: {status} {}", String::from_utf8_lossy(&bytes));
-        serde_json::from_slice(&bytes).unwrap_or(Value::Null)
+        let bytes = response.into_body().collect().await.map_err(|e| format!("{method} {url}: {e}"))?.to_bytes();
+        if !status.is_success() {
+            return Err(format!("{method} {url}: {status} {}", String::from_utf8_lossy(&bytes)));
+        }
+        Ok(serde_json::from_slice(&bytes).unwrap_or(Value::Null))
     }
 
     async fn get(&self, url: &str) -> Value {

@@ -3,7 +3,8 @@
 //!
 //! A handler locks a controller briefly to press a button or read its state; a worker locks it
 //! once per tick. What clients watch leaves through channels that never block a worker: the
-//! latest position in a `watch` (a slow reader skips frames, the newest wins) and the events in a
+//! latest position in a `watch` (a slow reader skips frames, the newest wins; a position is
+//! published only when it changed, encoded once for every reader) and the events in a
 //! `broadcast` (a reader that falls too far behind is told it lagged and resynchronises from a
 //! fresh snapshot). What must outlive the process and comes from the workers (variables a program
 //! wrote, alarms, finished runs) goes to the database writer as [`Record`]s.
@@ -24,7 +25,7 @@ use fivex_engine::{Alarm, Dialect};
 use tokio::sync::{broadcast, mpsc, watch};
 
 pub use station::Station;
-pub use stream::{Frame, Message, Sample};
+pub use stream::{Frame, Message, Published, Sample};
 
 /// How often the workers tick every controller (and so the finest position a stream can show).
 pub const TICK: Duration = Duration::from_millis(10);
@@ -179,7 +180,8 @@ pub struct Hosted {
     /// Simulated seconds per real second, as f64 bits.
     speed: AtomicU64,
     station: Mutex<Station>,
-    position: watch::Sender<Option<Sample>>,
+    /// The latest position that differed from the one before (published only on a change).
+    position: watch::Sender<Option<Arc<Published>>>,
     events: broadcast::Sender<Arc<Message>>,
     /// Set when the controller leaves the registry, so its streams close (a stream holds the
     /// controller alive, and would otherwise stay open on it forever).
@@ -243,8 +245,9 @@ impl Hosted {
         lock(&self.station)
     }
 
-    /// Positions, latest first (`None` until a worker has produced one for a subscriber).
-    pub fn positions(&self) -> watch::Receiver<Option<Sample>> {
+    /// Positions, latest first (`None` until a worker has produced one for a subscriber). A new
+    /// one comes only when something in the frame changed, so an idle controller sends none.
+    pub fn positions(&self) -> watch::Receiver<Option<Arc<Published>>> {
         self.position.subscribe()
     }
 

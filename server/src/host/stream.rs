@@ -1,8 +1,9 @@
 //! What a controller's websocket stream carries (besides the snapshot the API sends first):
 //! position frames and event messages, each a JSON object with a `"type"`.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
+use axum::extract::ws::Utf8Bytes;
 use serde::Serialize;
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
@@ -65,8 +66,8 @@ pub struct Frame {
     pub tip_table: [f64; 3],
 }
 
-/// What a worker publishes every tick for a watched controller: plain numbers, no allocation;
-/// each subscriber makes its [`Frame`] from it at its own rate.
+/// What a worker reads every tick for a watched controller: plain numbers, no allocation. It is
+/// published (as a [`Published`]) only when it differs from the last one in more than its clock.
 #[derive(Debug, Clone)]
 pub struct Sample {
     machine_config: Arc<MachineConfig>,
@@ -110,6 +111,26 @@ impl Sample {
         }
     }
 
+    /// Whether a frame of `self` would say the same as one of `other` but for `t` and
+    /// `wall_ms`: then nothing moved and nothing is sent. Bit-wise, so a NaN does not count as
+    /// a change on every tick.
+    pub fn same_frame(&self, other: &Sample) -> bool {
+        fn same(a: &[f64], b: &[f64]) -> bool {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        }
+        Arc::ptr_eq(&self.machine_config, &other.machine_config)
+            && same(&self.machine, &other.machine)
+            && same(&self.work, &other.work)
+            && same(&self.tip, &other.tip)
+            && same(&self.tool, &other.tool)
+            && self.programmed_in == other.programmed_in
+            && self.line == other.line
+            && self.n == other.n
+            && same(&[self.feed, self.spindle, self.tool_length], &[other.feed, other.spindle, other.tool_length])
+            && same(&self.to_go, &other.to_go)
+            && same(&self.tip_table, &other.tip_table)
+    }
+
     pub fn frame(&self) -> Frame {
         Frame {
             kind: "position",
@@ -129,6 +150,27 @@ impl Sample {
             tool_length: self.tool_length,
             tip_table: self.tip_table,
         }
+    }
+}
+
+/// A position as it leaves the controller: the sample, and its frame encoded at most once, by
+/// the first subscriber that sends it, then shared by every other (a cheap clone of the bytes).
+#[derive(Debug)]
+pub struct Published {
+    pub sample: Sample,
+    text: OnceLock<Utf8Bytes>,
+}
+
+impl Published {
+    pub fn new(sample: Sample) -> Published {
+        Published { sample, text: OnceLock::new() }
+    }
+
+    /// The `position` message as JSON text.
+    pub fn text(&self) -> Utf8Bytes {
+        self.text
+            .get_or_init(|| Utf8Bytes::from(serde_json::to_string(&self.sample.frame()).unwrap_or_default()))
+            .clone()
     }
 }
 

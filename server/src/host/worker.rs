@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 use std::sync::{Arc, Weak};
 use std::time::Instant;
 
-use super::{Hosted, Inner, Sample, TICK};
+use super::{Hosted, Inner, Published, Sample, TICK};
 
 /// The longest real time one step covers: after a stall (a suspended process) the controllers
 /// jump at most this far instead of replaying the whole gap.
@@ -66,7 +66,11 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         inner.record(record);
     }
     hosted.publish(messages);
-    if let Some(frame) = frame {
-        hosted.position.send_replace(Some(frame));
+    if let Some(sample) = frame {
+        // Only a change is published: an idle controller's subscribers get nothing.
+        let moved = hosted.position.borrow().as_ref().is_none_or(|last| !last.sample.same_frame(&sample));
+        if moved {
+            hosted.position.send_replace(Some(Arc::new(Published::new(sample))));
+        }
     }
 }

@@ -7,6 +7,7 @@ mod modal;
 mod origin;
 mod served;
 mod store;
+mod streams;
 
 use std::time::Duration;
 

@@ -781,7 +781,9 @@ export interface paths {
         };
         /**
          * The status of every controller over a websocket: `{"type": "fleet", "controllers": […]}`
-         *     at once and whenever it changes (checked at the requested rate).
+         *     at once, then `{"type": "fleet_delta", "controllers": [changed], "removed": [ids]}` whenever
+         *     something changed (checked at the requested rate); with `deltas=false` the whole fleet each
+         *     time.
          */
         get: operations["fleet"];
         put?: never;
@@ -997,6 +999,22 @@ export interface components {
             /**
              * @description Always `"fleet"`.
              * @example fleet
+             */
+            type: string;
+        };
+        /**
+         * @description `{"type": "fleet_delta", "controllers": […], "removed": […]}`: what changed since the
+         *     message before (apply `removed` first, then put each entry in place of the one with its id,
+         *     or after the others when it is new).
+         */
+        FleetDelta: {
+            /** @description The controllers that changed or were added, whole. */
+            controllers: components["schemas"]["FleetEntry"][];
+            /** @description The ids of the controllers removed. */
+            removed: string[];
+            /**
+             * @description Always `"fleet_delta"`.
+             * @example fleet_delta
              */
             type: string;
         };
@@ -4562,6 +4580,8 @@ export interface operations {
             query?: {
                 /** @description Fleet messages per second (0.1–30, default 2); one is sent only when something changed. */
                 rate?: number;
+                /** @description `false`: every message is the whole fleet (`fleet`), as before deltas (default `true`). */
+                deltas?: boolean;
             };
             header?: never;
             path?: never;
@@ -4569,7 +4589,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description Websocket of fleet messages */
+            /** @description Websocket: a `fleet` message, then `fleet_delta` messages (FleetDelta) */
             101: {
                 headers: {
                     [name: string]: unknown;

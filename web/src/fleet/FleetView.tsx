@@ -3,6 +3,7 @@
 import { useEffect, useMemo, useState } from "preact/hooks";
 import { api, liveSocket, must, wsUrl, type FleetEntry, type Schemas } from "../api/client";
 import { go } from "../route";
+import { applyDelta } from "./delta";
 
 export function FleetView() {
   const [fleet, setFleet] = useState<FleetEntry[] | null>(null);
@@ -11,10 +12,14 @@ export function FleetView() {
   const [error, setError] = useState<string | null>(null);
 
   useEffect(() => {
-    // The socket's first message is the whole fleet; then every change.
+    // The socket's first message is the whole fleet (again after a reconnect); then only the
+    // controllers that changed and the ids removed.
     const socket = liveSocket(
       () => wsUrl("/api/v1/stream", { rate: 4 }),
-      (msg) => msg.type === "fleet" && setFleet(msg.controllers),
+      (msg) => {
+        if (msg.type === "fleet") setFleet(msg.controllers);
+        else if (msg.type === "fleet_delta") setFleet((fleet) => applyDelta(fleet ?? [], msg));
+      },
       setLive,
     );
     return () => socket.close();
