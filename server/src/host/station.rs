@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use fivex_engine::controller::{Controller, Event, RunState};
-use fivex_engine::interp::{Offsets, State};
-use fivex_engine::interp::{MAX_G54_1, MAX_TOOL_OFFSETS};
+use fivex_engine::interp::State;
+use fivex_engine::interp::MAX_G54_1;
 use fivex_engine::kin::Kinematics;
 use fivex_engine::machine::MachineConfig;
 
@@ -38,8 +38,6 @@ pub struct Station {
     /// The retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902) as last saved,
     /// non-vacant ones only.
     saved: BTreeMap<u32, f64>,
-    /// Offsets as last saved.
-    saved_offsets: Offsets,
     /// The tilted working plane kept over a restart, as last saved.
     saved_plane: Option<fivex_engine::interp::KeptPlane>,
     /// Common variables as last streamed.
@@ -59,7 +57,9 @@ impl Station {
     pub fn new(controller: Controller, machine: MachineConfig) -> Station {
         let saved = controller.interpreter().state.retained_variables().into_iter().collect();
         let streamed = controller.interpreter().state.common_variables().into_iter().collect();
-        let saved_offsets = controller.interpreter().state.offsets.clone();
+        let mut controller = controller;
+        // What the controller starts with counts as saved (the defaults, or rows just read).
+        controller.interpreter_mut().state.offsets.take_touched();
         Station {
             kinematics: Kinematics::new(&machine).ok(),
             extra_parameters: Default::default(),
@@ -69,7 +69,6 @@ impl Station {
             program: None,
             run: None,
             saved,
-            saved_offsets,
             saved_plane: None,
             streamed,
             since_streamed: 0.0,
@@ -145,7 +144,7 @@ impl Station {
 
     /// The offsets as they are now were written to the database (by the API).
     pub fn offsets_saved(&mut self) {
-        self.saved_offsets = self.controller.interpreter().state.offsets.clone();
+        self.controller.interpreter_mut().state.offsets.take_touched();
     }
 
     /// A variable was set from outside (the API wrote it to the database already).
@@ -258,24 +257,17 @@ impl Station {
     /// Tool and work offsets that differ from what was saved last (a program's G10), as records.
     fn offset_changes(&mut self, controller: &str) -> Vec<Record> {
         let axes = self.controller.interpreter().config().machine.axes.len();
+        let (tools, work) = self.controller.interpreter_mut().state.offsets.take_touched();
         let now = &self.controller.interpreter().state.offsets;
-        let tools: Vec<ToolRow> = (1..=MAX_TOOL_OFFSETS as u32)
-            .filter(|&n| now.tool(n) != self.saved_offsets.tool(n))
-            .filter_map(|n| now.tool(n).map(|t| tool_row(n, t)))
-            .collect();
-        let work: Vec<(usize, Vec<f64>)> = (0..WORK_SLOTS)
-            .filter(|&i| now.work(i) != self.saved_offsets.work(i))
-            .map(|i| (i, now.work(i)[..axes].to_vec()))
-            .collect();
+        let tools: Vec<ToolRow> = tools.into_iter().filter_map(|n| now.tool(n).map(|t| tool_row(n, t))).collect();
+        let work: Vec<(usize, Vec<f64>)> =
+            work.into_iter().filter(|&i| i < WORK_SLOTS).map(|i| (i, now.work(i)[..axes].to_vec())).collect();
         let mut records = Vec::new();
         if !tools.is_empty() {
             records.push(Record::ToolOffsets { controller: controller.to_string(), rows: tools });
         }
         if !work.is_empty() {
             records.push(Record::WorkOffsets { controller: controller.to_string(), rows: work });
-        }
-        if !records.is_empty() {
-            self.offsets_saved();
         }
         records
     }
