@@ -40,9 +40,10 @@ fn close(a: Vec3, b: Vec3, tol: f64) -> bool {
 /// The largest distance of the tip (from the sampled axes) to the segment `a`–`b` over the
 /// samples of `line`.
 fn off_line(kin: &Kinematics, samples: &[Sample], line: u32, a: Vec3, b: Vec3, length: f64) -> f64 {
-    samples
-        .iter()
-        .filter(|s| s.line == line)
+    let of_line: Vec<&Sample> = samples.iter().filter(|s| s.line == line).collect();
+    assert!(!of_line.is_empty(), "no sample of line {line}: nothing to measure");
+    of_line
+        .into_iter()
         .map(|s| {
             let tip = kin.forward(&s.machine, length).tip;
             let d = b - a;
@@ -299,7 +300,9 @@ proptest! {
         prop_assume!(r.completed() || !r.alarms[0].code.starts_with("OT"));
         prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
         for (line, path) in &paths {
-            for s in samples.iter().filter(|s| s.line == *line) {
+            let of_line: Vec<&Sample> = samples.iter().filter(|s| s.line == *line).collect();
+            prop_assert!(!of_line.is_empty(), "no sample of line {line}\n{src}");
+            for s in of_line {
                 let tip = kin.forward(&s.machine, 100.0).tip;
                 let d = path.distance(tip);
                 prop_assert!(d < 1e-3, "line {line}: tip {tip:?} is {d} mm off {path:?}\n{src}");
@@ -311,7 +314,9 @@ proptest! {
 
 /// Samples of `line`.
 fn of_line(samples: &[Sample], line: u32) -> Vec<Sample> {
-    samples.iter().filter(|s| s.line == line).copied().collect()
+    let of_line: Vec<Sample> = samples.iter().filter(|s| s.line == line).copied().collect();
+    assert!(!of_line.is_empty(), "no sample of line {line}: nothing to check");
+    of_line
 }
 
 #[test]

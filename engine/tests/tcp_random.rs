@@ -223,7 +223,9 @@ fn block_words(block: &Block, at: Vec3) -> (String, Path, Vec3) {
 fn worst_off_path(kin: &Kinematics, pi: &Frame, samples: &[Sample], paths: &[(u32, Path)]) -> (f64, u32) {
     let mut worst = (0.0, 0);
     for (line, path) in paths {
-        for s in samples.iter().filter(|s| s.line == *line) {
+        let of_line: Vec<&Sample> = samples.iter().filter(|s| s.line == *line).collect();
+        assert!(!of_line.is_empty(), "no sample of line {line}: nothing to measure");
+        for s in of_line {
             let d = path.distance(in_pi(kin, pi, &s.machine).0);
             if d > worst.0 {
                 worst = (d, *line);
@@ -463,7 +465,9 @@ proptest! {
             // The rotary axes' ends: where the block starts (the start block ends on line 3).
             let (q0, q1) = (end_of(&e, if line == 5 { 3 } else { line - 1 }), end_of(&e, line));
             let (mut circle, mut proportional) = (0.0f64, 0.0f64);
-            for s in samples.iter().filter(|s| s.line == line) {
+            let of_line: Vec<&Sample> = samples.iter().filter(|s| s.line == line).collect();
+            prop_assert!(!of_line.is_empty(), "line {line}: no sample\n{src}");
+            for s in of_line {
                 let (tip, tool) = in_pi(&kin, &pi, &s.machine);
                 let d = path.distance(tip);
                 prop_assert!(d < 1e-3, "line {line}: the tip is {d} mm off the line\n{src}");

@@ -697,12 +697,21 @@ fn canned_cycles_under_rcm_keep_the_machine_position() {
 #[test]
 fn extreme_error_data_end_in_alarms_not_panics() {
     for (preset, rcm_on) in [("mill3", false), ("head-bc", true), ("table-ac", true), ("mixed-bc", false)] {
-        for data in
-            ["#26010=99999999.\n#26015=99999999.\n", "#26013=1.E30\n#26014=-1.E30\n#26016=1.E20\n", "#26000=-1.E30\n"]
-        {
+        for data in [
+            "#26010=99999999.\n#26015=99999999.\n",
+            "#1=10000000000.\n#26013=#1*#1*#1\n#26014=-#1*#1*#1\n#26016=#1*#1\n",
+            "#1=10000000000.\n#26000=-#1*#1*#1\n",
+        ] {
             let src = format!("{data}G54.4 P1\nG00 X1. Y1. Z1.\nG02 X2. Y2. R5. F100.\nG54.4 P0\nM30\n");
             let mut interp = fanuc_with(&src, preset, |c| c.machine.five_axis.tool_direction_compensation = rcm_on);
-            let _ = run(&mut interp, &RunOptions::default(), |_| {});
+            let r = run(&mut interp, &RunOptions::default(), |_| {});
+            // A shift beyond every stroke is an over travel before the move; angles and table
+            // data of 1e20–1e30 make positions that are no numbers: the block alarms (it used
+            // to "complete" in the run-time guard's 10⁶ s with every position null).
+            let code = r.alarms.first().map(|a| a.code.as_str());
+            assert!(!r.completed(), "{preset} {data:?} completed");
+            assert!(matches!(code, Some("OT0510" | "OT0511" | "PS0111")), "{preset} {data:?}: {:?}", r.alarms);
+            assert!(r.alarms[0].line >= 4, "{preset} {data:?}: the data itself is accepted: {:?}", r.alarms);
         }
     }
 }
@@ -1337,6 +1346,7 @@ proptest::proptest! {
         let p = p.map(|x| (x * 1e3).round() / 1e3);
         // Tilt J at least 10° away from the singular posture (the tool along Z).
         let j = if euler[1].abs() < 10.0 { euler[1].signum() * 10.0 + euler[1] } else { euler[1] };
+        let mut checked = Vec::new();
         for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
             let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
             let names: Vec<char> = kin.joints().iter().map(|j| j.name).collect();
@@ -1373,7 +1383,10 @@ proptest::proptest! {
                 proptest::prop_assert!(off < 1e-6, "{preset}: tip {off} off the line");
             }
             common::check_limits(&samples, preset, false)?;
+            checked.push(preset);
         }
+        // The head machine's B (±110°) reaches every plane tilted by at most 50°: never skipped.
+        proptest::prop_assert!(checked.contains(&"head-bc"), "only {checked:?} reached the plane");
     }
 }
 

@@ -451,7 +451,14 @@ impl Interpreter {
         if !self.complete && st.needs_input(&self.progs) {
             return Ok(Step::NeedInput);
         }
-        let result = st.step(&self.progs, &self.by_number, out);
+        let before = out.len();
+        let mut result = st.step(&self.progs, &self.by_number, out);
+        if result.is_ok() && out[before..].iter().any(|c| !finite_motion(c)) {
+            // Offsets or setting data of absurd size (1e30, a NaN of the kinematics) must not
+            // turn into a move to nowhere that "completes": the block alarms instead.
+            out.truncate(before);
+            result = Err(AlarmId::FloatOverflow);
+        }
         match result {
             Ok(step) => Ok(step),
             Err(id) => {
@@ -974,5 +981,13 @@ fn format_dprnt(v: f64, int_digits: u8, frac_digits: u8) -> String {
         format!("{sign}{int_part}")
     } else {
         format!("{sign}{int_part}.{frac_part}")
+    }
+}
+
+/// A canonical command's positions are numbers (motion only: the rest carry no position).
+fn finite_motion(c: &Canon) -> bool {
+    match &c.kind {
+        CanonKind::Motion(m) => m.target.iter().chain(&m.machine).all(|x| x.is_finite()),
+        _ => true,
     }
 }
