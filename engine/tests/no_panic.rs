@@ -47,7 +47,9 @@ fn exercise(text: &str) {
         let mut interp = interpreter(text, preset, dialect);
         let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
         assert!(r.blocks <= MAX_BLOCKS + 1, "block budget not enforced: {} blocks", r.blocks);
-        assert!(r.cycle_time_s >= 0.0 || r.cycle_time_s.is_nan(), "negative cycle time {}", r.cycle_time_s);
+        assert!(r.cycle_time_s >= 0.0 && r.cycle_time_s.is_finite(), "cycle time {}", r.cycle_time_s);
+        // Never a confident wrong answer: where the machine ends is a number.
+        assert!(r.machine.iter().all(|x| x.is_finite()), "the run ends at {:?} ({:?})", r.machine, r.alarms);
         for a in &r.alarms {
             assert!(!a.code.is_empty(), "alarm without a code: {a:?}");
         }
