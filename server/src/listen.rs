@@ -66,6 +66,47 @@ pub struct Limits {
     pub max_websockets_per_client: usize,
 }
 
+/// File descriptors kept for everything but client connections (the database, its WAL, logs,
+/// the runtime).
+const RESERVED_DESCRIPTORS: usize = 64;
+
+impl Limits {
+    /// The caps made to fit `descriptors` open files (the process's limit): a connection cap the
+    /// process cannot reach would let a flood exhaust the descriptors first and stop `accept`
+    /// (and `/healthz`) for everyone. The per-client and websocket caps follow the total.
+    pub fn fitted(mut self, descriptors: u64) -> Limits {
+        let room = usize::try_from(descriptors).unwrap_or(usize::MAX).saturating_sub(RESERVED_DESCRIPTORS).max(1);
+        self.max_connections = self.max_connections.min(room);
+        self.max_connections_per_client = self.max_connections_per_client.min(self.max_connections);
+        self.max_websockets = self.max_websockets.min(self.max_connections);
+        self.max_websockets_per_client = self.max_websockets_per_client.min(self.max_websockets);
+        self
+    }
+
+    /// The open-file limit raised (up to the hard limit) to what the caps need, and the caps
+    /// fitted to what it is then.
+    pub fn fitted_to_process(self) -> Limits {
+        let wanted = (self.max_connections + RESERVED_DESCRIPTORS) as u64;
+        match rlimit::increase_nofile_limit(wanted) {
+            Ok(descriptors) => {
+                let fitted = self.clone().fitted(descriptors);
+                if fitted != self {
+                    tracing::warn!(
+                        descriptors,
+                        max_connections = fitted.max_connections,
+                        "the connection caps are lowered to the open-file limit"
+                    );
+                }
+                fitted
+            }
+            Err(e) => {
+                tracing::warn!(error = %e, "cannot read the open-file limit; the caps stay as given");
+                self
+            }
+        }
+    }
+}
+
 impl Default for Limits {
     /// Generous for a client that behaves (the 1,000-controller load program opens 1,000
     /// websockets from one address), under a file descriptor limit of 20,000.
@@ -553,4 +594,21 @@ fn refused(status: StatusCode, why: &str) -> Response<Body> {
     let mut response = ApiError::Rejected(status, why.to_string()).into_response();
     response.headers_mut().insert(header::RETRY_AFTER, header::HeaderValue::from_static("5"));
     response
+}
+
+#[cfg(test)]
+mod fitting {
+    use super::*;
+
+    #[test]
+    fn the_caps_fit_the_open_file_limit() {
+        let wide = Limits::default();
+        assert_eq!(wide.clone().fitted(1_000_000), wide, "room enough: unchanged");
+        let tight = wide.fitted(1024);
+        assert_eq!(tight.max_connections, 1024 - RESERVED_DESCRIPTORS);
+        assert_eq!(tight.max_connections_per_client, tight.max_connections);
+        assert_eq!(tight.max_websockets, tight.max_connections);
+        assert_eq!(tight.max_websockets_per_client, tight.max_connections);
+        assert_eq!(Limits::default().fitted(10).max_connections, 1, "never zero");
+    }
 }

@@ -654,7 +654,7 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         let shutdown = shutdown_signal().map_err(|e| format!("cannot install signal handlers: {e}"))?;
         tracing::info!("fivex listening on http://{local}");
         let after = state.clone();
-        serve_with(listener, state, options.limits.clone(), shutdown)
+        serve_with(listener, state, options.limits.clone().fitted_to_process(), shutdown)
             .await
             .map_err(|e| format!("server error: {e}"))?;
         after.shutdown().await;
