@@ -586,9 +586,12 @@ proptest! {
         // The three FANUC-forms' planes are one, so FANUC's choice of angles is one too (Syntec's
         // P0 rule may take the other solution).
         let reached: Vec<&Pos> = reached.iter().zip(&forms).filter(|(_, (d, _))| *d == Dialect::Fanuc).map(|(e, _)| e).collect();
+        // The poses agree above (tip 1e-5 mm, tool 1e-6); the angles near a singular posture can
+        // differ by more than the poses do (seed e6fff485: 1.1e-4° on A at 89.2°, both poses
+        // right), while another solution of the inverse is degrees away: 0.01° tells them apart.
         for end in &reached[1..] {
             for i in 0..m.axes.len() {
-                prop_assert!((end[i] - reached[0][i]).abs() < 1e-4, "the forms end apart on axis {i}: {end:?} vs {:?}", reached[0]);
+                prop_assert!((end[i] - reached[0][i]).abs() < 1e-2, "the forms end apart on axis {i}: {end:?} vs {:?}", reached[0]);
             }
         }
     }
