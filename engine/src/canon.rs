@@ -4,9 +4,9 @@
 //! zero). `target` is in programming coordinates (the active workpiece system after G52/G92);
 //! `machine` is the same point in machine coordinates with work and tool length offsets applied.
 
+use crate::geom::Rigid;
 use crate::kin::Vec3;
 use crate::machine::MAX_AXES;
-use crate::twp::Frame;
 
 pub type Pos = [f64; MAX_AXES];
 
@@ -106,7 +106,7 @@ pub struct TipMove {
     pub posture_on_arc: bool,
     /// The programming coordinate system as a frame in the table frame: the tip's coordinates
     /// in it are what the position display shows.
-    pub frame: Frame,
+    pub frame: Rigid,
     /// The position display shows the tip in machine directions minus this (the workpiece
     /// system, FANUC DET = 1) instead of in `frame`.
     pub display_shift: Option<Vec3>,

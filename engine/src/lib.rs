@@ -9,6 +9,7 @@ pub mod canon;
 pub mod check;
 pub mod controller;
 pub mod dialect;
+pub mod geom;
 pub mod interp;
 pub mod kin;
 pub mod lang;

@@ -7,65 +7,20 @@
 //! refused, OQ-06) and are tested as such.
 
 use crate::alarm::AlarmId;
-use crate::kin::{axis_rotation, Vec3};
+use crate::geom::{axis_rotation, Rigid, Vec3};
 use nalgebra::Matrix3;
-
-/// A frame inside its parent: the columns of `r` are its X, Y, Z axes, `o` its origin, both in
-/// the parent's coordinates.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frame {
-    pub r: Matrix3<f64>,
-    pub o: Vec3,
-}
-
 /// PS5457 (FANUC) / COR-141 (Syntec).
 const FORMAT: AlarmId = AlarmId::TwpFormat;
 
-impl Frame {
-    pub fn identity() -> Frame {
-        Frame { r: Matrix3::identity(), o: Vec3::zeros() }
-    }
-
-    fn from_axes(x: Vec3, y: Vec3, z: Vec3, o: Vec3) -> Frame {
-        Frame { r: Matrix3::from_columns(&[x, y, z]), o }
-    }
-
-    /// A point given in this frame, in the parent's coordinates.
-    pub fn to_parent(&self, p: &Vec3) -> Vec3 {
-        self.o + self.r * p
-    }
-
-    /// A point of the parent in this frame's coordinates.
-    pub fn from_parent(&self, p: &Vec3) -> Vec3 {
-        self.r.transpose() * (p - self.o)
-    }
-
-    /// A direction given in this frame, in the parent's coordinates.
-    pub fn direction_to_parent(&self, d: &Vec3) -> Vec3 {
-        self.r * d
-    }
-
-    /// `child`, given inside this frame, as a frame of this frame's parent (G68.4: the new frame
-    /// is the old one composed with the commanded one).
-    pub fn then(&self, child: &Frame) -> Frame {
-        Frame { r: self.r * child.r, o: self.o + self.r * child.o }
+/// What the tilted-plane forms build frames with.
+impl Rigid {
+    fn from_axes(x: Vec3, y: Vec3, z: Vec3, o: Vec3) -> Rigid {
+        Rigid { r: Matrix3::from_columns(&[x, y, z]), o }
     }
 
     /// Turned about its own Z axis by `deg` (the R of three points, K of projection angles).
-    fn turned_about_z(&self, deg: f64) -> Frame {
-        Frame { r: self.r * rz(deg), o: self.o }
-    }
-
-    pub fn x(&self) -> Vec3 {
-        self.r.column(0).into()
-    }
-
-    pub fn y(&self) -> Vec3 {
-        self.r.column(1).into()
-    }
-
-    pub fn z(&self) -> Vec3 {
-        self.r.column(2).into()
+    fn turned_about_z(&self, deg: f64) -> Rigid {
+        Rigid { r: self.r * rz(deg), o: self.o }
     }
 }
 
@@ -82,14 +37,14 @@ fn rz(deg: f64) -> Matrix3<f64> {
 }
 
 /// G68.2 (no P): Euler angles Z–X–Z, intrinsic: R = Rz(I)·Rx(J)·Rz(K) (§2.3).
-pub fn euler(origin: Vec3, i: f64, j: f64, k: f64) -> Frame {
-    Frame { r: rz(i) * rx(j) * rz(k), o: origin }
+pub fn euler(origin: Vec3, i: f64, j: f64, k: f64) -> Rigid {
+    Rigid { r: rz(i) * rx(j) * rz(k), o: origin }
 }
 
 /// G68.2 P1: roll I about X, pitch J about Y, yaw K about Z, in the order Q (digits 1 = X, 2 =
 /// Y, 3 = Z, first rotation first; default 123) about the fixed WCS axes, so each later
 /// rotation multiplies on the left (§2.4).
-pub fn roll_pitch_yaw(origin: Vec3, q: Option<u32>, i: f64, j: f64, k: f64) -> Result<Frame, AlarmId> {
+pub fn roll_pitch_yaw(origin: Vec3, q: Option<u32>, i: f64, j: f64, k: f64) -> Result<Rigid, AlarmId> {
     let about = |digit: u32| match digit {
         1 => rx(i),
         2 => ry(j),
@@ -100,14 +55,14 @@ pub fn roll_pitch_yaw(origin: Vec3, q: Option<u32>, i: f64, j: f64, k: f64) -> R
         return Err(FORMAT);
     }
     let (a, b, c) = (order / 100, order / 10 % 10, order % 10);
-    Ok(Frame { r: about(c) * about(b) * about(a), o: origin })
+    Ok(Rigid { r: about(c) * about(b) * about(a), o: origin })
 }
 
 /// G68.2 P2: three points — P1 the origin, P2 on +X, P3 in the XY plane on the +Y side; the
 /// origin is then shifted by `shift` along the FCS axes and the frame turned by `r` degrees about
 /// its Z (§2.5). Refused when two points coincide, the points are collinear, or a point lies
 /// nearer than `min_distance` (FANUC No.11220) to the line through the other two.
-pub fn three_points(p: [Vec3; 3], shift: Vec3, r: f64, min_distance: f64) -> Result<Frame, AlarmId> {
+pub fn three_points(p: [Vec3; 3], shift: Vec3, r: f64, min_distance: f64) -> Result<Rigid, AlarmId> {
     for (a, b, c) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
         let line = p[b] - p[a];
         if line.norm() == 0.0 {
@@ -120,14 +75,14 @@ pub fn three_points(p: [Vec3; 3], shift: Vec3, r: f64, min_distance: f64) -> Res
     }
     let x = (p[1] - p[0]).normalize();
     let z = (p[1] - p[0]).cross(&(p[2] - p[0])).normalize();
-    let axes = Frame::from_axes(x, z.cross(&x), z, p[0]);
-    let shifted = Frame { o: axes.to_parent(&shift), ..axes };
+    let axes = Rigid::from_axes(x, z.cross(&x), z, p[0]);
+    let shifted = Rigid { o: axes.to_parent(&shift), ..axes };
     Ok(shifted.turned_about_z(r))
 }
 
 /// G68.2 P3: two vectors — `x` the FCS +X, `z` the FCS +Z, at 85°…95° to each other; the frame
 /// keeps Z exactly and makes X perpendicular to it (Z is the tool axis) (§2.6).
-pub fn two_vectors(origin: Vec3, x: Vec3, z: Vec3) -> Result<Frame, AlarmId> {
+pub fn two_vectors(origin: Vec3, x: Vec3, z: Vec3) -> Result<Rigid, AlarmId> {
     if x.norm() == 0.0 || z.norm() == 0.0 {
         return Err(FORMAT);
     }
@@ -137,13 +92,13 @@ pub fn two_vectors(origin: Vec3, x: Vec3, z: Vec3) -> Result<Frame, AlarmId> {
     }
     let zc = z.normalize();
     let xc = (x - zc * x.dot(&zc)).normalize();
-    Ok(Frame::from_axes(xc, zc.cross(&xc), zc, origin))
+    Ok(Rigid::from_axes(xc, zc.cross(&xc), zc, origin))
 }
 
 /// G68.2 P4: projection angles — the WCS X axis turned about Y by `i` gives A, the WCS Y axis
 /// turned about X by `j` gives B; the plane holds A (its X) and B, and is turned by `k` about
 /// its Z (§2.7). Refused when A and B are within 1° of parallel or antiparallel.
-pub fn projection(origin: Vec3, i: f64, j: f64, k: f64) -> Result<Frame, AlarmId> {
+pub fn projection(origin: Vec3, i: f64, j: f64, k: f64) -> Result<Rigid, AlarmId> {
     let a = ry(i) * Vec3::x();
     let b = rx(j) * Vec3::y();
     let angle = a.dot(&b).clamp(-1.0, 1.0).acos().to_degrees();
@@ -152,14 +107,14 @@ pub fn projection(origin: Vec3, i: f64, j: f64, k: f64) -> Result<Frame, AlarmId
     }
     let z = a.cross(&b).normalize();
     let x = a.normalize();
-    Ok(Frame::from_axes(x, z.cross(&x), z, origin).turned_about_z(k))
+    Ok(Rigid::from_axes(x, z.cross(&x), z, origin).turned_about_z(k))
 }
 
 /// G68.3: the FCS +Z is the tool axis `tool` (in the WCS); X is perpendicular to `vertical`
 /// (FANUC No.12321: the WCS axis taken as vertical) and to Z, X = vertical × Z; turned by `r`
 /// about Z (§2.8). When the tool is parallel to the vertical axis (within `parallel_deg`,
 /// No.12322) X is the fallback axis of §2.15: +Y for a vertical X, +Z for Y, +X for Z.
-pub fn tool_axis(origin: Vec3, tool: Vec3, vertical: Vec3, r: f64, parallel_deg: f64) -> Result<Frame, AlarmId> {
+pub fn tool_axis(origin: Vec3, tool: Vec3, vertical: Vec3, r: f64, parallel_deg: f64) -> Result<Rigid, AlarmId> {
     let z = tool.try_normalize(1e-12).ok_or(FORMAT)?;
     let v = vertical.try_normalize(1e-12).ok_or(FORMAT)?;
     let angle = z.dot(&v).abs().min(1.0).acos().to_degrees();
@@ -175,7 +130,7 @@ pub fn tool_axis(origin: Vec3, tool: Vec3, vertical: Vec3, r: f64, parallel_deg:
     } else {
         v.cross(&z).normalize()
     };
-    Ok(Frame::from_axes(x, z.cross(&x), z, origin).turned_about_z(r))
+    Ok(Rigid::from_axes(x, z.cross(&x), z, origin).turned_about_z(r))
 }
 
 #[cfg(test)]

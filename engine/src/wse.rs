@@ -8,8 +8,8 @@
 //! fixed WCS axes X, then Y, then Z, right-handed (OQ-10, OQ-11): `R_e = Rz(Δc)·Ry(Δb)·Rx(Δa)`,
 //! and a WSCS point `p_s` is at `p_w = R_e·p_s + Δ` in the WCS.
 
+use crate::geom::Rigid;
 use crate::kin::{axis_rotation, Vec3};
-use crate::twp::Frame;
 use nalgebra::Matrix3;
 
 /// No.00 (COMMON) and No.01…No.07.
@@ -84,14 +84,14 @@ pub fn angles(r: &Matrix3<f64>) -> [f64; 3] {
 }
 
 /// The WSCS as a frame in the WCS: `p_w = R_e·p_s + Δ`.
-pub fn frame(shift: [f64; 3], rot: [f64; 3]) -> Frame {
-    Frame { r: rotation(rot), o: Vec3::from(shift) }
+pub fn frame(shift: [f64; 3], rot: [f64; 3]) -> Rigid {
+    Rigid { r: rotation(rot), o: Vec3::from(shift) }
 }
 
 /// The inverse rigid motion of `f`.
-pub fn inverse(f: &Frame) -> Frame {
+pub fn inverse(f: &Rigid) -> Rigid {
     let rt = f.r.transpose();
-    Frame { r: rt, o: -(rt * f.o) }
+    Rigid { r: rt, o: -(rt * f.o) }
 }
 
 /// An error `e` measured with the table turned, expressed at table position 0 (§2.13.3):
@@ -99,14 +99,14 @@ pub fn inverse(f: &Frame) -> Frame {
 /// coordinates at table position 0 to its WCS coordinates at the measuring position. The actual
 /// workpiece was the ideal one turned by the table and then displaced by `e`; turning the table
 /// back gives the displacement at position 0.
-pub fn at_table_zero(e: &Frame, table: &Frame) -> Frame {
+pub fn at_table_zero(e: &Rigid, table: &Rigid) -> Rigid {
     inverse(table).then(e).then(table)
 }
 
 /// The error in effect for set n (WSE-03/04, §2.13.2): translations of COMMON and set n added,
 /// the rotation of set n; both already at table position 0.
-pub fn effective(common: &Frame, set: &Frame) -> Frame {
-    Frame { r: set.r, o: common.o + set.o }
+pub fn effective(common: &Rigid, set: &Rigid) -> Rigid {
+    Rigid { r: set.r, o: common.o + set.o }
 }
 
 #[cfg(test)]
@@ -140,7 +140,7 @@ mod tests {
     #[test]
     fn conjugation_by_a_turn_about_z_rotates_the_shift() {
         // M = Rz(−90°) (a left-hand C table at C = 90): Δ_0 = Rz(90°)·Δ_m, Δc unchanged.
-        let m = Frame { r: axis_rotation(2, -90.0), o: Vec3::zeros() };
+        let m = Rigid { r: axis_rotation(2, -90.0), o: Vec3::zeros() };
         let e0 = at_table_zero(&frame([5.0, 0.0, 0.0], [0.0, 0.0, 2.0]), &m);
         assert!((e0.o - Vec3::new(0.0, 5.0, 0.0)).norm() < 1e-12);
         assert!((angles(&e0.r)[2] - 2.0).abs() < 1e-12);

@@ -98,7 +98,7 @@ fn g92_cancels_the_local_system_on_the_axes_it_names() {
 // --- the tilted working plane --------------------------------------------------------------
 
 /// The feature coordinate system of the programs below (Euler Z–X–Z, twp TWP-01).
-fn fcs() -> fivex_engine::twp::Frame {
+fn fcs() -> fivex_engine::geom::Rigid {
     fivex_engine::twp::euler(Vec3::new(20.0, 10.0, 0.0), 30.0, 20.0, 10.0)
 }
 
@@ -109,7 +109,7 @@ const TILTED: &str = "N1 G90 G54 G00 X0 Y0 Z60.\nN2 G68.2 X20. Y10. Z0 I30. J20.
 /// Every sample of the program with its tool tip and tool direction in `frame` (the FCS, or
 /// the workpiece system as the identity), by forward kinematics of the machine axes (tool
 /// length 100; the presets' table frame is the workpiece system under G54).
-fn sampled(preset: &str, dialect: Dialect, src: &str, frame: &fivex_engine::twp::Frame) -> Vec<(u32, Vec3, Vec3)> {
+fn sampled(preset: &str, dialect: Dialect, src: &str, frame: &fivex_engine::geom::Rigid) -> Vec<(u32, Vec3, Vec3)> {
     let m = MachineConfig::preset(preset).unwrap();
     let kin = Kinematics::new(&m).unwrap();
     let mut interp = interpreter(src, preset, dialect);

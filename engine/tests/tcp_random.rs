@@ -13,10 +13,10 @@ mod common;
 use common::random::{angles_inside, random_machine, random_machine_of, KINDS};
 use common::{cases, check_limits_of, check_strokes, end_of, interpreter_with, motion_ends};
 use fivex_engine::canon::Pos;
+use fivex_engine::geom::Rigid;
 use fivex_engine::kin::{Kinematics, MachineKind, Selection, Vec3};
 use fivex_engine::machine::{AxisKind, MachineConfig};
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
-use fivex_engine::twp::Frame;
 use fivex_engine::Dialect;
 use proptest::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -72,19 +72,19 @@ fn zeros(m: &MachineConfig) -> Vec<f64> {
 
 /// Π (TCP with `table-at-start`, started at commanded rotary angles 0 and zero work offsets) in
 /// the table frame: the point `p` is at `p + nose` on the table as it stands there.
-fn pi_frame(kin: &Kinematics, m: &MachineConfig) -> Frame {
+fn pi_frame(kin: &Kinematics, m: &MachineConfig) -> Rigid {
     pi_frame_at(kin, &zeros(m))
 }
 
 /// Π of TCP started with the axes at `start`.
-fn pi_frame_at(kin: &Kinematics, start: &[f64]) -> Frame {
+fn pi_frame_at(kin: &Kinematics, start: &[f64]) -> Rigid {
     let table = kin.table_frame(start);
     let r = table.r.transpose();
-    Frame { r, o: r * (kin.nose - table.o) }
+    Rigid { r, o: r * (kin.nose - table.o) }
 }
 
 /// The tip and the tool of the sampled axes in Π.
-fn in_pi(kin: &Kinematics, pi: &Frame, machine: &[f64]) -> (Vec3, Vec3) {
+fn in_pi(kin: &Kinematics, pi: &Rigid, machine: &[f64]) -> (Vec3, Vec3) {
     let pose = kin.forward(machine, LENGTH);
     (pi.from_parent(&pose.tip), pi.r.transpose() * pose.tool)
 }
@@ -220,7 +220,7 @@ fn block_words(block: &Block, at: Vec3) -> (String, Path, Vec3) {
 }
 
 /// The largest distance of the sampled tip from each motion line's path (Π), with the line.
-fn worst_off_path(kin: &Kinematics, pi: &Frame, samples: &[Sample], paths: &[(u32, Path)]) -> (f64, u32) {
+fn worst_off_path(kin: &Kinematics, pi: &Rigid, samples: &[Sample], paths: &[(u32, Path)]) -> (f64, u32) {
     let mut worst = (0.0, 0);
     for (line, path) in paths {
         let of_line: Vec<&Sample> = samples.iter().filter(|s| s.line == *line).collect();

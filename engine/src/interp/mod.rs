@@ -148,7 +148,7 @@ pub enum Step {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum FrameKind {
+enum CallKind {
     Main,
     /// M98: same local level as the caller.
     Sub,
@@ -157,10 +157,10 @@ enum FrameKind {
 }
 
 #[derive(Debug, Clone)]
-struct Frame {
+struct CallFrame {
     prog: usize,
     pc: usize,
-    kind: FrameKind,
+    kind: CallKind,
     /// Further repetitions after this one (L of M98/G65).
     repeats: u32,
     /// The arguments a G65 repetition starts from again.
@@ -202,7 +202,7 @@ pub(super) struct CycleData {
 pub struct State {
     cfg: Config,
     expr: ExprSettings,
-    frames: Vec<Frame>,
+    frames: Vec<CallFrame>,
     locals: Vec<[Value; LOCALS]>,
     common: Box<[Value; COMMON]>,
     persistent: Box<[Value; PERSISTENT]>,
@@ -266,7 +266,7 @@ pub struct State {
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
     /// The tilted working plane's feature coordinate system in the workpiece system.
-    plane: Option<crate::twp::Frame>,
+    plane: Option<crate::geom::Rigid>,
     /// A G68.2 P2/P3 definition in progress.
     definition: plane::Definition,
     /// Simulated time, seconds, advanced by the executor.
@@ -378,7 +378,7 @@ impl Interpreter {
 
     fn start_main(&mut self) {
         if let Some(first) = self.progs.first() {
-            let mut main = Frame::main();
+            let mut main = CallFrame::main();
             main.number = first.number().unwrap_or(0);
             self.state.frames.push(main);
         }
@@ -815,7 +815,7 @@ impl State {
         Ok(())
     }
 
-    fn frame_mut(&mut self) -> &mut Frame {
+    fn frame_mut(&mut self) -> &mut CallFrame {
         self.frames.last_mut().expect("a running interpreter has a frame")
     }
 
@@ -887,19 +887,19 @@ impl State {
                     return Err(AlarmId::NestingTooDeep);
                 }
                 self.locals.push(*args);
-                self.frames.push(Frame {
+                self.frames.push(CallFrame {
                     prog,
                     pc: 0,
-                    kind: FrameKind::Macro,
+                    kind: CallKind::Macro,
                     repeats: count - 1,
                     args: Some(args),
                     number: 0,
                 });
                 return Ok(());
             }
-            None => FrameKind::Sub,
+            None => CallKind::Sub,
         };
-        self.frames.push(Frame { prog, pc: 0, kind, repeats: count - 1, args: None, number: 0 });
+        self.frames.push(CallFrame { prog, pc: 0, kind, repeats: count - 1, args: None, number: 0 });
         Ok(())
     }
 
@@ -907,7 +907,7 @@ impl State {
     /// to its sequence number `to_n`.
     fn return_from_call(&mut self, progs: &[Loaded], to_n: Option<u32>) -> Result<(), AlarmId> {
         let frame = self.frames.last_mut().expect("frame");
-        if frame.kind == FrameKind::Main {
+        if frame.kind == CallKind::Main {
             // M99 in the main program: start again (at N to_n if given).
             frame.pc = match to_n {
                 Some(n) => progs[frame.prog].find_label(n, 0).ok_or(AlarmId::ProgramNotFound)?,
@@ -924,7 +924,7 @@ impl State {
             return Ok(());
         }
         let frame = self.frames.pop().expect("frame");
-        if frame.kind == FrameKind::Macro {
+        if frame.kind == CallKind::Macro {
             self.locals.pop();
         }
         if let Some(n) = to_n {

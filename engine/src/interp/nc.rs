@@ -7,7 +7,7 @@ use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
 use super::unbuilt;
-use super::{CycleData, Frame, FrameKind, ModalCall, State, LOCALS};
+use super::{CallFrame, CallKind, CycleData, ModalCall, State, LOCALS};
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
 use crate::dialect::Dialect;
@@ -1082,8 +1082,8 @@ fn is_cycle(code: u16) -> bool {
     matches!(gcode::lookup(code, Dialect::Fanuc), Some(d) if d.group == 9 && code != 800)
 }
 
-impl Frame {
-    pub(super) fn main() -> Frame {
-        Frame { prog: 0, pc: 0, kind: FrameKind::Main, repeats: 0, args: None, number: 0 }
+impl CallFrame {
+    pub(super) fn main() -> CallFrame {
+        CallFrame { prog: 0, pc: 0, kind: CallKind::Main, repeats: 0, args: None, number: 0 }
     }
 }

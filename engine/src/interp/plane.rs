@@ -15,9 +15,10 @@ use super::tcp::{xyz, FollowPath};
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, MotionKind, Pos};
+use crate::geom::Rigid;
 use crate::kin::{Kinematics, Selection, Vec3};
 use crate::machine::{ManualVertical, PlaneAfterReset};
-use crate::twp::{self, Frame};
+use crate::twp;
 use std::sync::Arc as Shared;
 
 /// A G68.2 P2 (three points) or P3 (two vectors) definition in progress.
@@ -63,7 +64,7 @@ impl State {
         }
         let machine = self.machine_position();
         let r = nalgebra::Matrix3::from_columns(&kept.axes.map(Vec3::from));
-        self.plane = Some(Frame { r, o: Vec3::from(kept.origin) });
+        self.plane = Some(Rigid { r, o: Vec3::from(kept.origin) });
         self.modes[16] = kept.code;
         self.plane_moved_to(machine);
     }
@@ -87,7 +88,7 @@ impl State {
 
     /// FCS → table frame: the workpiece system on the table at the rotary axes' program zero,
     /// then the FCS in it.
-    fn plane_frame(&self, kin: &Kinematics, fcs: &Frame) -> Frame {
+    fn plane_frame(&self, kin: &Kinematics, fcs: &Rigid) -> Rigid {
         let zero = self.at_rotary_zero(kin, &self.machine_position());
         self.frame_on_table(kin, &zero).then(fcs)
     }
@@ -110,7 +111,7 @@ impl State {
     }
 
     /// The FCS point of the tool tip at machine position `machine`.
-    fn tip_in_plane(&self, kin: &Kinematics, frame: &Frame, machine: &Pos) -> Pos {
+    fn tip_in_plane(&self, kin: &Kinematics, frame: &Rigid, machine: &Pos) -> Pos {
         self.tip_position(kin, frame, machine, self.active_tool_length())
     }
 
@@ -163,7 +164,7 @@ impl State {
 
     /// A G68.2/G68.4 block: the new FCS (in the workpiece system), or `None` while a P2/P3
     /// definition is still incomplete.
-    fn define(&mut self, w: &Words, relative: bool) -> Result<Option<Frame>, AlarmId> {
+    fn define(&mut self, w: &Words, relative: bool) -> Result<Option<Rigid>, AlarmId> {
         let word = |s: &State, l: u8| s.value(w, l);
         let point = |s: &State| {
             Vec3::new(word(s, b'X').unwrap_or(0.0), word(s, b'Y').unwrap_or(0.0), word(s, b'Z').unwrap_or(0.0))
@@ -231,11 +232,11 @@ impl State {
     /// G68.3 X_ Y_ Z_ R_: the FCS +Z along the tool as it stands, X and Y from the vertical
     /// axis (SYN-23, TWP-06); Syntec's G68.3 P1: the FCS turned as the rotary axes turn the tool
     /// (SYN-24, R ignored). The origin is absolute (all omitted: the current point).
-    fn tool_axis_plane(&mut self, w: &Words) -> Result<Frame, AlarmId> {
+    fn tool_axis_plane(&mut self, w: &Words) -> Result<Rigid, AlarmId> {
         let kin = self.kin()?;
         let machine = self.machine_position();
         // The workpiece system is the table frame at the rotary zero.
-        let base = self.plane_frame(&kin, &Frame::identity());
+        let base = self.plane_frame(&kin, &Rigid::identity());
         let tool = base.r.transpose() * kin.forward(&machine, 0.0).tool;
         let here = match self.plane {
             Some(fcs) => fcs.to_parent(&xyz(&kin, &self.pos)),
@@ -248,7 +249,7 @@ impl State {
             }
         }
         if self.cfg.dialect == crate::Dialect::Syntec && w.integer(b'P') == Some(1.0) {
-            return Ok(Frame { r: base.r.transpose() * kin.tool_rotation(&machine), o: origin });
+            return Ok(Rigid { r: base.r.transpose() * kin.tool_rotation(&machine), o: origin });
         }
         // FANUC No.12321 (the machine's `manual.vertical`, shared with the manual feeds): X, Y or
         // Z; 0 (*decision*, OQ-07 leaves it open) the coordinate axis of the reference tool
@@ -374,8 +375,8 @@ impl State {
     fn align_compensated(
         &mut self,
         kin: &Shared<Kinematics>,
-        fcs: &Frame,
-        frame: &Frame,
+        fcs: &Rigid,
+        frame: &Rigid,
         out: &mut Vec<Canon>,
     ) -> Result<bool, AlarmId> {
         let machine = self.machine_position();

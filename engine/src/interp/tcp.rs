@@ -14,9 +14,9 @@ use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, CanonKind, MotionKind, Pos, TipArc, TipMove};
+use crate::geom::Rigid;
 use crate::kin::{Kinematics, Selection, Vec3};
 use crate::machine::TcpCoordinates;
-use crate::twp::Frame;
 use std::sync::Arc as Shared;
 
 /// Tool centre point control in force.
@@ -27,7 +27,7 @@ pub(super) struct Tcp {
     kin: Shared<Kinematics>,
     /// Π in the table frame; `None`: Π is the workpiece system (FANUC WKP = 1), placed on the
     /// table at each block's end angles.
-    frame: Option<Frame>,
+    frame: Option<Rigid>,
     /// Tool posture control (FANUC P1 / TPC, Syntec Pr3054 = 1).
     posture: bool,
     pub(super) tool_length: f64,
@@ -81,19 +81,19 @@ impl State {
     /// A frame that puts programming coordinates on the table as it stands at `machine`:
     /// the point `p` is at `p + offsets + nose` in machine coordinates there (the same tip a
     /// plain G43 gives at zero angles).
-    pub(super) fn frame_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
+    pub(super) fn frame_on_table(&self, kin: &Kinematics, machine: &Pos) -> Rigid {
         let wcs = self.wcs_on_table(kin, machine);
         // Under G54.4 programming coordinates are in the workpiece setting system.
         self.active_setting_error().map_or(wcs, |(_, e)| wcs.then(&e))
     }
 
     /// As `frame_on_table` for workpiece coordinates (without a G54.4 error).
-    pub(super) fn wcs_on_table(&self, kin: &Kinematics, machine: &Pos) -> Frame {
+    pub(super) fn wcs_on_table(&self, kin: &Kinematics, machine: &Pos) -> Rigid {
         let table = kin.table_frame(machine);
         let off = self.offset_vector();
         let shift = Vec3::new(off[0], off[1], off[2]) + kin.nose;
         let r = table.r.transpose();
-        Frame { r, o: r * (shift - table.o) }
+        Rigid { r, o: r * (shift - table.o) }
     }
 
     /// The block starts (or restarts with new data) tool centre point control (group 08 is
@@ -176,7 +176,7 @@ impl State {
 
     /// Programming coordinates at `machine`: X/Y/Z the tool tip (`tool_length` long) in `frame`
     /// (programming coordinates → table frame), the other axes the machine's minus the offsets.
-    pub(super) fn tip_position(&self, kin: &Kinematics, frame: &Frame, machine: &Pos, tool_length: f64) -> Pos {
+    pub(super) fn tip_position(&self, kin: &Kinematics, frame: &Rigid, machine: &Pos, tool_length: f64) -> Pos {
         let p = frame.from_parent(&kin.forward(machine, tool_length).tip);
         let off = self.offset_vector();
         let mut pos: Pos = std::array::from_fn(|i| machine[i] - off[i]);
@@ -478,7 +478,7 @@ fn deviation_limit(state: &State, kind: MotionKind) -> Option<f64> {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct FollowPath {
     /// Programming coordinates → table frame.
-    pub(super) frame: Frame,
+    pub(super) frame: Rigid,
     pub(super) tool_length: f64,
     /// Tool posture control (great-circle tool direction).
     pub(super) posture: bool,
@@ -514,7 +514,7 @@ fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos
 fn posture_stays_on_one_side(
     kin: &Kinematics,
     arc: &Arc,
-    frame: &Frame,
+    frame: &Rigid,
     from: &Pos,
     to: &Pos,
     tool_length: f64,

@@ -20,9 +20,9 @@ use super::tcp::FollowPath;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, MotionKind, Pos};
+use crate::geom::Rigid;
 use crate::kin::{Kinematics, MachineKind, Selection, Vec3};
 use crate::machine::{AxisKind, Side, MAX_AXES};
-use crate::twp::Frame;
 use crate::wse::{self, ErrorSet};
 use nalgebra::Matrix3;
 use std::sync::Arc as Shared;
@@ -33,7 +33,7 @@ pub(super) struct Active {
     /// 1…7.
     pub(super) set: u8,
     /// The effective error (COMMON + set, at table position 0): the WSCS in the WCS.
-    pub(super) frame: Frame,
+    pub(super) frame: Rigid,
     /// The indices of the basic axes X, Y, Z.
     xyz: [usize; 3],
 }
@@ -41,14 +41,14 @@ pub(super) struct Active {
 impl State {
     /// The number of the set in effect and its effective error (the WSCS as a frame in the
     /// WCS), as the "active workpiece setting error" screen shows them (WSE-07).
-    pub fn active_setting_error(&self) -> Option<(u8, Frame)> {
+    pub fn active_setting_error(&self) -> Option<(u8, Rigid)> {
         self.wse.map(|a| (a.set, a.frame))
     }
 
     /// The effective error of set `n` (1…7): COMMON's and the set's translations added, the
     /// set's rotation, each first converted to table machine position 0 when the machine turns
     /// its table (WSE-03, WSE-04, §2.13.3).
-    pub fn effective_setting_error(&self, n: usize) -> Frame {
+    pub fn effective_setting_error(&self, n: usize) -> Rigid {
         let sets = &self.setting_errors.sets;
         let common = self.at_table_zero(&sets[0], [0.0; 3]);
         let set = sets.get(n).copied().unwrap_or_default();
@@ -56,7 +56,7 @@ impl State {
     }
 
     /// One set's error as a frame, converted to table machine position 0.
-    fn at_table_zero(&self, s: &ErrorSet, rotation: [f64; 3]) -> Frame {
+    fn at_table_zero(&self, s: &ErrorSet, rotation: [f64; 3]) -> Rigid {
         let e = wse::frame(s.shift, rotation);
         match &self.wse_kinematics {
             Some(kin) if kin.joints().iter().any(|j| j.side == Side::Table && j.index.is_some()) => {
@@ -70,7 +70,7 @@ impl State {
     /// or only table axis, 2 = the slave) as seen in the WCS: an ideal workpiece point's WCS
     /// coordinates at position 0 → its WCS coordinates with the table at `table`. Hypothetical
     /// table axes count as 0 (WSE-25: `kin` is the compensation's mechanism).
-    fn table_motion(&self, kin: &Kinematics, table: [f64; 2]) -> Frame {
+    fn table_motion(&self, kin: &Kinematics, table: [f64; 2]) -> Rigid {
         let zero: Pos = [0.0; MAX_AXES];
         let mut turned = zero;
         let table_joints = kin.joints().into_iter().filter(|j| j.side == Side::Table);
@@ -242,7 +242,7 @@ impl State {
         let Some((kin, active)) = self.kinematics.clone().zip(self.wse) else { return };
         let end = self.program_to_machine(&target);
         let [x, y, z] = active.xyz;
-        let length = Frame {
+        let length = Rigid {
             r: nalgebra::Matrix3::identity(),
             o: Vec3::new(self.tool_vec[x], self.tool_vec[y], self.tool_vec[z]),
         };

@@ -19,10 +19,9 @@ pub use manual::{latitude_longitude, ManualDirections, ManualFeed};
 pub use select::{Choice, Selection};
 
 use crate::alarm::AlarmId;
+pub use crate::geom::{axis_rotation, Vec3};
 use crate::machine::{AxisKind, ConfigError, MachineConfig, Side};
-use nalgebra::{Rotation3, Vector3};
-
-pub type Vec3 = Vector3<f64>;
+use nalgebra::Rotation3;
 
 /// What kind of mechanism carries the rotary axes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -75,17 +74,6 @@ pub fn rotation_deg(u: &Vec3, deg: f64) -> Rotation3<f64> {
     let (s, c) = crate::angle::sin_cos_deg(deg);
     let k = u.cross_matrix();
     Rotation3::from_matrix_unchecked(nalgebra::Matrix3::identity() + k * s + k * k * (1.0 - c))
-}
-
-/// Rotation by `deg` degrees about coordinate axis `axis` (0 X, 1 Y, 2 Z), right hand, exact
-/// at quarter turns.
-pub fn axis_rotation(axis: usize, deg: f64) -> nalgebra::Matrix3<f64> {
-    let (s, c) = crate::angle::sin_cos_deg(deg);
-    match axis {
-        0 => nalgebra::Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
-        1 => nalgebra::Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
-        _ => nalgebra::Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
-    }
 }
 
 /// A reference tool direction as FANUC No.19697–19699 give it: the coordinate axis `k` (0 X,
@@ -354,10 +342,10 @@ impl Kinematics {
 
     /// The table's rigid motion at `pos`: a point of the table frame (its coordinates) → the
     /// same point in machine coordinates (`to_parent`).
-    pub fn table_frame(&self, pos: &[f64]) -> crate::twp::Frame {
+    pub fn table_frame(&self, pos: &[f64]) -> crate::geom::Rigid {
         let t = self.motion(Side::Table, pos);
         let r = nalgebra::Matrix3::from_columns(&[t.turn(Vec3::x()), t.turn(Vec3::y()), t.turn(Vec3::z())]);
-        crate::twp::Frame { r, o: t.apply(Vec3::zeros()) }
+        crate::geom::Rigid { r, o: t.apply(Vec3::zeros()) }
     }
 
     /// The rotation the rotary axes at `pos` give the tool relative to the table frame: the

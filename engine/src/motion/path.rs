@@ -9,9 +9,9 @@
 
 use super::profile::{Limits, Profile};
 use crate::canon::{Arc, Compensation, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
+use crate::geom::Rigid;
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::{MachineConfig, MotionOptions, MAX_AXES};
-use crate::twp::Frame;
 
 /// Per-axis limits in the units of the axis (mm or deg) per second.
 #[derive(Debug, Clone, PartialEq)]
@@ -125,7 +125,7 @@ struct Follow {
     /// The programming coordinate system in the table frame; `None`: the programming
     /// coordinates keep their offset from the machine's (a manual tip rotation outside tool
     /// centre point control).
-    work_frame: Option<Frame>,
+    work_frame: Option<Rigid>,
     /// The display shows the tip in machine directions minus this instead (FANUC DET = 1).
     display_shift: Option<Vec3>,
 }
@@ -851,7 +851,7 @@ impl Segment {
                 }
             }
             // The frame that puts the (fixed) tip at those coordinates.
-            f.work_frame = Some(Frame { r: nalgebra::Matrix3::identity(), o: f.from - held });
+            f.work_frame = Some(Rigid { r: nalgebra::Matrix3::identity(), o: f.from - held });
         }
         self
     }

@@ -11,7 +11,7 @@ fn v(x: f64, y: f64, z: f64) -> Vec3 {
 }
 
 /// The frame's axes against the extract's (6 decimals).
-fn axes(f: &Frame, x: [f64; 3], y: [f64; 3], z: [f64; 3]) {
+fn axes(f: &Rigid, x: [f64; 3], y: [f64; 3], z: [f64; 3]) {
     for (got, want, name) in [(f.x(), x, "Xc"), (f.y(), y, "Yc"), (f.z(), z, "Zc")] {
         assert!((got - v(want[0], want[1], want[2])).norm() < 2e-6, "{name}: {got:?} vs {want:?}");
     }
