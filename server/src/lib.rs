@@ -10,6 +10,7 @@ pub mod host;
 pub mod json_errors;
 pub mod listen;
 pub mod machine_file;
+pub mod openapi_doc;
 pub mod origin;
 pub mod serve;
 pub mod tools;

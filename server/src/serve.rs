@@ -29,6 +29,7 @@ use utoipa_swagger_ui::SwaggerUi;
 use crate::auth::BearerDoc;
 use crate::host::{Host, Hosted, Spec};
 use crate::listen::Limits;
+use crate::openapi_doc::RejectionDoc;
 use crate::origin::{AllowedOrigins, OriginDoc};
 use crate::{api, assets, auth, content_type, db, origin};
 
@@ -294,7 +295,7 @@ pub struct ErrorBody {
     pub error: String,
     /// More about it, where there is more (the diagnostics of a refused program).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<serde_json::Value>)]
     pub details: Option<serde_json::Value>,
 }
 
@@ -368,7 +369,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         description = "A service hosting virtual 5-axis CNC controllers (FANUC 30i-A5 and Syntec \
                        dialects). Errors are JSON `{\"error\": \"…\"}` bodies with a 4xx/5xx status."
     ),
-    modifiers(&BearerDoc, &OriginDoc),
+    modifiers(&BearerDoc, &OriginDoc, &RejectionDoc),
     paths(
         healthz,
         api::controllers::create,

@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use axum::http::StatusCode;
 use fivex_engine::machine::MachineConfig;
@@ -10,6 +10,7 @@ use fivex_engine::Dialect;
 use serde::Deserialize;
 use utoipa::ToSchema;
 
+use super::json_body::JsonBody;
 use super::{body, hosted, path, ControllerStatus};
 use crate::db::{self, ControllerRow};
 use crate::host::{now_rfc3339, Hosted, Spec, MAX_SPEED};
@@ -20,7 +21,7 @@ use crate::serve::{ApiError, AppState, ErrorBody};
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CreateController {
-    #[schema(example = "cell 1")]
+    #[schema(example = "cell 1", min_length = 1, max_length = 200)]
     pub name: String,
     /// A built-in preset (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
     #[schema(example = "table-ac")]
@@ -32,6 +33,7 @@ pub struct CreateController {
     #[schema(example = "fanuc")]
     pub dialect: Option<String>,
     /// Simulated seconds per real second (default 1; up to 1000).
+    #[schema(exclusive_minimum = 0.0, maximum = 1000.0)]
     pub speed: Option<f64>,
 }
 
@@ -39,7 +41,9 @@ pub struct CreateController {
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UpdateController {
+    #[schema(min_length = 1, max_length = 200)]
     pub name: Option<String>,
+    #[schema(exclusive_minimum = 0.0, maximum = 1000.0)]
     pub speed: Option<f64>,
 }
 
@@ -82,7 +86,7 @@ fn machine_of(request: &CreateController) -> Result<MachineConfig, ApiError> {
 )]
 pub async fn create(
     State(state): State<AppState>,
-    request: Result<Json<CreateController>, JsonRejection>,
+    request: Result<JsonBody<CreateController>, ApiError>,
 ) -> Result<(StatusCode, Json<ControllerStatus>), ApiError> {
     let request = body(request)?;
     let name = check_name(&request.name)?;
@@ -182,7 +186,7 @@ pub async fn status(
 pub async fn update(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<UpdateController>, JsonRejection>,
+    request: Result<JsonBody<UpdateController>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
@@ -228,7 +232,7 @@ pub async fn remove(
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CloneController {
-    #[schema(example = "cell 1 (copy)")]
+    #[schema(example = "cell 1 (copy)", min_length = 1, max_length = 200)]
     pub name: String,
 }
 
@@ -250,7 +254,7 @@ pub struct CloneController {
 pub async fn clone(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<CloneController>, JsonRejection>,
+    request: Result<JsonBody<CloneController>, ApiError>,
 ) -> Result<(StatusCode, Json<ControllerStatus>), ApiError> {
     let source = hosted(&state, &path(id)?)?;
     let name = check_name(&body(request)?.name)?;

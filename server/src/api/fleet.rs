@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use axum::extract::rejection::{JsonRejection, PathRejection, QueryRejection};
+use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::ws::{CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
 use axum::extract::{Json, Path, Query, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
@@ -22,6 +22,7 @@ use serde_json::Value;
 use tokio::sync::{watch, Semaphore};
 use utoipa::{IntoParams, ToSchema};
 
+use super::json_body::JsonBody;
 use super::{body, path};
 use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options, Tool};
@@ -119,6 +120,7 @@ impl Runs {
 #[serde(deny_unknown_fields)]
 pub struct FleetRequest {
     /// The NC program text (docs/contracts.md "NC program files").
+    #[schema(min_length = 1)]
     pub program: String,
     /// Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
     #[serde(default)]
@@ -280,7 +282,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
 pub async fn create(
     State(state): State<AppState>,
     options: Result<Query<CreateOptions>, QueryRejection>,
-    request: Result<Json<FleetRequest>, JsonRejection>,
+    request: Result<JsonBody<FleetRequest>, ApiError>,
 ) -> Result<Response, ApiError> {
     let wait = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.wait.unwrap_or(true);
     let request = body(request)?;
@@ -466,6 +468,7 @@ pub async fn cancel(
 #[into_params(parameter_in = Query)]
 pub struct Limit {
     /// At most this many runs, newest first (default 100, at most 10000).
+    #[param(value_type = Option<u64>, maximum = 4294967295_u64)]
     pub limit: Option<u32>,
 }
 

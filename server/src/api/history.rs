@@ -18,6 +18,7 @@ const MAX_LIMIT: u32 = 10_000;
 #[into_params(parameter_in = Query)]
 pub struct Limit {
     /// At most this many rows, newest first (default 100, at most 10000).
+    #[param(value_type = Option<u64>, maximum = 4294967295_u64)]
     pub limit: Option<u32>,
 }
 

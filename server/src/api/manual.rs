@@ -2,13 +2,14 @@
 //! right angles, table vertical and horizontal), tool tip centre rotation, reference return,
 //! and the manual settings (jog feed, manual absolute, Syntec R518/R519).
 
-use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::controller::{Controller, ManualCoordinates};
 use fivex_engine::kin::ManualFeed;
 use serde::Deserialize;
 use utoipa::ToSchema;
 
+use super::json_body::JsonBody;
 use super::panel::{act, refused};
 use super::{body, hosted, path, ControllerStatus};
 use crate::serve::{ApiError, AppState, ErrorBody};
@@ -73,7 +74,7 @@ fn target(m: &ManualMove) -> Result<Target, ApiError> {
 pub async fn jog(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<ManualMove>, JsonRejection>,
+    request: Result<JsonBody<ManualMove>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     manual_move(state, id, request, |r| {
         r.positive
@@ -118,7 +119,7 @@ pub async fn jog_stop(
 pub async fn handle(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<ManualMove>, JsonRejection>,
+    request: Result<JsonBody<ManualMove>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     manual_move(state, id, request, |r| {
         r.amount
@@ -138,7 +139,7 @@ enum How {
 fn manual_move(
     state: AppState,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<ManualMove>, JsonRejection>,
+    request: Result<JsonBody<ManualMove>, ApiError>,
     how: impl FnOnce(&ManualMove) -> Result<How, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
@@ -178,22 +179,35 @@ pub async fn reference_return(
     act(&state, &hosted, |station| station.controller.reference_return().map_err(refused))
 }
 
+/// The coordinate systems `PUT /manual` takes (the document's enum for the engine's
+/// `ManualCoordinates`, which has no schema of its own).
+#[allow(dead_code)]
+#[derive(ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum CoordinatesName {
+    Machine,
+    Program,
+    Tool,
+}
+
 /// `PUT /manual`: the manual settings to change.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ManualSettings {
     /// JOG and HANDLE feed, mm/min (or °/min).
+    #[schema(exclusive_minimum = 0.0, maximum = 1.0e6)]
     pub jog_feed: Option<f64>,
     /// Manual absolute (FANUC *ABSM = 0): after an intervention the program goes back to its
     /// programmed points; off: later points shift by the intervention.
     pub manual_absolute: Option<bool>,
     /// Syntec R518: `machine`, `program` or `tool` coordinates for manual X/Y/Z.
-    #[schema(value_type = Option<String>, example = "program")]
+    #[schema(value_type = Option<CoordinatesName>, example = "program")]
     pub coordinates: Option<ManualCoordinates>,
     /// Syntec R519: manual rotary moves under TCP keep the tool tip.
     pub rtcp: Option<bool>,
     /// INC mode: the distance of one key press, mm or degrees (FANUC ×1/×10/×100/×1000:
     /// 0.001/0.01/0.1/1).
+    #[schema(exclusive_minimum = 0.0, maximum = 1000.0)]
     pub increment: Option<f64>,
 }
 
@@ -214,7 +228,7 @@ pub struct ManualSettings {
 pub async fn settings(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<ManualSettings>, JsonRejection>,
+    request: Result<JsonBody<ManualSettings>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
@@ -261,6 +275,7 @@ pub struct PanelSignals {
     pub tb_base: Option<bool>,
     /// The handle's axis select code HS1A–HS1E (0–31): an axis number (1 = first axis) or one
     /// of the codes in No.12310–12314; 0 selects nothing.
+    #[schema(maximum = 31)]
     pub handle_select: Option<u8>,
 }
 
@@ -281,7 +296,7 @@ pub struct PanelSignals {
 pub async fn set_signals(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<PanelSignals>, JsonRejection>,
+    request: Result<JsonBody<PanelSignals>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
@@ -305,7 +320,7 @@ pub async fn set_signals(
 #[serde(deny_unknown_fields)]
 pub struct JogSignal {
     /// The axis whose key is pressed (`Z` is ±J3 on an X Y Z … machine).
-    #[schema(example = "Z")]
+    #[schema(example = "Z", pattern = r"^\s*[A-Za-z]\s*$")]
     pub axis: String,
     pub positive: bool,
 }
@@ -328,7 +343,7 @@ pub struct JogSignal {
 pub async fn jog_signal(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<JogSignal>, JsonRejection>,
+    request: Result<JsonBody<JogSignal>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
@@ -341,6 +356,7 @@ pub async fn jog_signal(
 #[serde(deny_unknown_fields)]
 pub struct HandlePulses {
     /// Pulses times the increment, mm or degrees (signed).
+    #[schema(minimum = -1.0e5, maximum = 1.0e5)]
     pub amount: f64,
 }
 
@@ -371,7 +387,7 @@ pub struct HandleTaken {
 pub async fn handle_pulses(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<HandlePulses>, JsonRejection>,
+    request: Result<JsonBody<HandlePulses>, ApiError>,
 ) -> Result<Json<HandleTaken>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let amount = body(request)?.amount;

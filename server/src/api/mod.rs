@@ -7,6 +7,7 @@ pub mod controllers;
 pub mod fleet;
 pub mod fleet_view;
 pub mod history;
+pub mod json_body;
 pub mod manual;
 pub mod modal;
 pub mod offsets;
@@ -18,8 +19,8 @@ pub mod variables;
 
 use std::sync::Arc;
 
-use axum::extract::rejection::{JsonRejection, PathRejection};
-use axum::extract::{Json, Path};
+use axum::extract::rejection::PathRejection;
+use axum::extract::Path;
 use axum::routing::{get, post, put};
 use axum::Router;
 use serde::{Deserialize, Serialize};
@@ -283,9 +284,9 @@ pub fn hosted(state: &AppState, id: &str) -> Result<Arc<Hosted>, ApiError> {
     state.host.get(id).ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))
 }
 
-/// A JSON body, or the reason it is not one as a JSON error.
-pub fn body<T>(json: Result<Json<T>, JsonRejection>) -> Result<T, ApiError> {
-    json.map(|Json(v)| v).map_err(|e| ApiError::Rejected(e.status(), e.body_text()))
+/// A JSON body (an object, `json_body.rs`), or the reason it is not one as a JSON error.
+pub fn body<T>(json: Result<json_body::JsonBody<T>, ApiError>) -> Result<T, ApiError> {
+    json.map(|json_body::JsonBody(v)| v)
 }
 
 /// Path parameters, or the reason they do not parse as a JSON error.

@@ -15,6 +15,7 @@ use crate::serve::{ApiError, AppState, ErrorBody};
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct ModalState {
     /// The G code in force per modal group number (`{"1": "G01", "8": "G43.4", "16": "G68.2"}`).
+    #[schema(value_type = std::collections::HashMap<String, String>)]
     pub groups: BTreeMap<u8, String>,
     /// Feed (mm/min; 1/min under G93), spindle speed, tool prepared, tool in the spindle, H and D.
     pub f: f64,

@@ -2,12 +2,13 @@
 //! P300). Changes are in the database when the answer comes; a program's own changes (G10,
 //! system variables) are saved when its run state changes.
 
-use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
 
+use super::json_body::JsonBody;
 use super::{body, hosted, path};
 use crate::db::{self, ToolRow};
 use crate::host::station::{tool_row, WORK_SLOTS};
@@ -42,9 +43,13 @@ impl From<ToolRow> for ToolOffsetDto {
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetToolOffset {
+    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
     pub length: Option<f64>,
+    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
     pub length_wear: Option<f64>,
+    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
     pub radius: Option<f64>,
+    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
     pub radius_wear: Option<f64>,
 }
 
@@ -126,7 +131,7 @@ pub async fn tools(
     put,
     path = "/api/v1/controllers/{id}/tool-offsets/{number}",
     tag = "offsets",
-    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "Offset number 1–999")),
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, minimum = 1, maximum = 999, description = "Offset number 1–999")),
     request_body = SetToolOffset,
     responses(
         (status = 200, description = "Changed", body = ToolOffsetDto),
@@ -137,7 +142,7 @@ pub async fn tools(
 pub async fn set_tool(
     State(state): State<AppState>,
     params: Result<Path<(String, u32)>, PathRejection>,
-    request: Result<Json<SetToolOffset>, JsonRejection>,
+    request: Result<JsonBody<SetToolOffset>, ApiError>,
 ) -> Result<Json<ToolOffsetDto>, ApiError> {
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;
@@ -207,7 +212,7 @@ pub async fn works(
 pub async fn set_work(
     State(state): State<AppState>,
     params: Result<Path<(String, String)>, PathRejection>,
-    request: Result<Json<SetWorkOffset>, JsonRejection>,
+    request: Result<JsonBody<SetWorkOffset>, ApiError>,
 ) -> Result<Json<WorkOffsetDto>, ApiError> {
     let (id, name) = path(params)?;
     let hosted = hosted(&state, &id)?;

@@ -2,12 +2,13 @@
 //! emergency stop. Each answers the controller's status after the action; an action the panel
 //! would ignore in this state is 409 with the reason.
 
-use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::controller::{Mode, Refusal};
 use serde::Deserialize;
 use utoipa::ToSchema;
 
+use super::json_body::JsonBody;
 use super::{body, hosted, path, ControllerStatus};
 use crate::db;
 use crate::host::{Hosted, Station};
@@ -78,14 +79,13 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
     if body.iter().all(u8::is_ascii_whitespace) {
         return Ok(T::default());
     }
-    serde_json::from_slice(body).map_err(|e| {
-        let status = if e.is_data() {
-            axum::http::StatusCode::UNPROCESSABLE_ENTITY
-        } else {
-            axum::http::StatusCode::BAD_REQUEST
-        };
-        ApiError::Rejected(status, format!("the request body: {e}"))
-    })
+    let value: serde_json::Value = serde_json::from_slice(body)
+        .map_err(|e| ApiError::Rejected(axum::http::StatusCode::BAD_REQUEST, format!("the request body: {e}")))?;
+    // `null` is no body too (the document's optional body).
+    if value.is_null() {
+        return Ok(T::default());
+    }
+    super::json_body::from_object(value)
 }
 
 /// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume
@@ -95,7 +95,7 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
     path = "/api/v1/controllers/{id}/cycle-start",
     tag = "panel",
     params(("id" = String, Path, description = "Controller id")),
-    request_body(content = CycleStart, description = "Optional; an empty body resumes"),
+    request_body(content = Option<CycleStart>, description = "Optional; an empty body resumes"),
     responses(
         (status = 200, description = "Started", body = ControllerStatus),
         (status = 404, description = "No such controller or program", body = ErrorBody),
@@ -209,7 +209,7 @@ pub struct Mdi {
 pub async fn mdi(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<Mdi>, JsonRejection>,
+    request: Result<JsonBody<Mdi>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
@@ -228,12 +228,25 @@ pub async fn mdi(
     })
 }
 
+/// The modes `PUT /mode` takes (the document's enum; the handler reads the word).
+#[allow(dead_code)]
+#[derive(ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ModeName {
+    Auto,
+    Mdi,
+    Jog,
+    Handle,
+    Ref,
+    Inc,
+}
+
 /// `PUT /mode`.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetMode {
     /// `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
-    #[schema(example = "jog")]
+    #[schema(example = "jog", value_type = ModeName)]
     pub mode: String,
 }
 
@@ -254,7 +267,7 @@ pub struct SetMode {
 pub async fn set_mode(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<SetMode>, JsonRejection>,
+    request: Result<JsonBody<SetMode>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let mode = match body(request)?.mode.to_ascii_lowercase().as_str() {
@@ -279,8 +292,10 @@ pub async fn set_mode(
 #[serde(deny_unknown_fields)]
 pub struct Overrides {
     /// Feed override, 0–200 %.
+    #[schema(minimum = 0.0, maximum = 200.0)]
     pub feed: Option<f64>,
     /// Rapid override, 0–100 %.
+    #[schema(minimum = 0.0, maximum = 100.0)]
     pub rapid: Option<f64>,
 }
 
@@ -300,7 +315,7 @@ pub struct Overrides {
 pub async fn set_overrides(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<Overrides>, JsonRejection>,
+    request: Result<JsonBody<Overrides>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
@@ -340,7 +355,7 @@ pub struct Switches {
 pub async fn set_switches(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<Switches>, JsonRejection>,
+    request: Result<JsonBody<Switches>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
@@ -373,7 +388,7 @@ pub struct EmergencyStop {
 pub async fn emergency_stop(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-    request: Result<Json<EmergencyStop>, JsonRejection>,
+    request: Result<JsonBody<EmergencyStop>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let pressed = body(request)?.pressed;

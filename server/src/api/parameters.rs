@@ -2,13 +2,14 @@
 //! and changing one parameter, which puts a new machine under the controller as a power cycle
 //! would.
 
-use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::controller::RunState;
 use fivex_engine::vendor::{self, Params, Value as ParamValue};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
+use super::json_body::JsonBody;
 use super::{body, hosted, path};
 use crate::db;
 use crate::serve::{ApiError, AppState, ErrorBody};
@@ -19,11 +20,21 @@ pub struct ParameterList {
     /// `fanuc` or `syntec`: whose numbering.
     pub dialect: String,
     /// `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis.
-    #[schema(value_type = std::collections::HashMap<String, Object>)]
+    #[schema(value_type = std::collections::HashMap<String, ParameterValue>)]
     pub parameters: Params,
     /// What of them fivex keeps but does not carry out (unread parameters and bits, settings
     /// without effect; `docs/machine-config.md`).
     pub unmodelled_parameters: Vec<super::UnmodelledParameter>,
+}
+
+/// A parameter's value as the document describes it (the engine's `vendor::Value`, which has
+/// no schema of its own).
+#[allow(dead_code)]
+#[derive(ToSchema)]
+#[serde(untagged)]
+pub enum ParameterValue {
+    One(f64),
+    PerAxis(Vec<f64>),
 }
 
 /// `PUT /parameters/{number}`.
@@ -31,7 +42,7 @@ pub struct ParameterList {
 #[serde(deny_unknown_fields)]
 pub struct SetParameter {
     /// A number, or one number per axis for an axis-type parameter.
-    #[schema(value_type = Object)]
+    #[schema(value_type = ParameterValue)]
     pub value: ParamValue,
 }
 
@@ -104,7 +115,7 @@ pub async fn get_all(
     put,
     path = "/api/v1/controllers/{id}/parameters/{number}",
     tag = "parameters",
-    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "Parameter number")),
+    params(("id" = String, Path, description = "Controller id"), ("number" = u64, Path, maximum = 4294967295_u64, description = "Parameter number")),
     request_body = SetParameter,
     responses(
         (status = 200, description = "Changed; the whole list after the change", body = ParameterList),
@@ -116,7 +127,7 @@ pub async fn get_all(
 pub async fn set(
     State(state): State<AppState>,
     params: Result<Path<(String, u32)>, PathRejection>,
-    request: Result<Json<SetParameter>, JsonRejection>,
+    request: Result<JsonBody<SetParameter>, ApiError>,
 ) -> Result<Json<ParameterList>, ApiError> {
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;

@@ -142,8 +142,8 @@ pub async fn list(
     put,
     path = "/api/v1/controllers/{id}/programs/{number}",
     tag = "programs",
-    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number, 1–9999"), StoreOptions),
-    request_body(content = String, content_type = "text/plain", description = "NC text"),
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, minimum = 1, maximum = 9999, description = "O number, 1–9999"), StoreOptions),
+    request_body(content = Option<String>, content_type = "text/plain", description = "NC text (none: an empty program)"),
     responses(
         (status = 201, description = "Stored (new)", body = StoredProgram),
         (status = 200, description = "Stored (replaced)", body = StoredProgram),
@@ -199,7 +199,7 @@ pub async fn store(
     get,
     path = "/api/v1/controllers/{id}/programs/{number}",
     tag = "programs",
-    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number")),
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, minimum = 1, maximum = 9999, description = "O number, 1–9999")),
     responses(
         (status = 200, description = "NC text", body = String, content_type = "text/plain"),
         (status = 404, description = "No such controller or program", body = ErrorBody),
@@ -222,7 +222,7 @@ pub async fn text(
     operation_id = "remove_program",
     path = "/api/v1/controllers/{id}/programs/{number}",
     tag = "programs",
-    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number")),
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, minimum = 1, maximum = 9999, description = "O number, 1–9999")),
     responses(
         (status = 204, description = "Removed"),
         (status = 404, description = "No such controller or program", body = ErrorBody),
@@ -247,6 +247,7 @@ pub async fn remove(
 pub struct PathOptions {
     /// Most points returned (1–1,000,000, default 200,000); `truncated` says when the path was
     /// longer.
+    #[param(minimum = 1, maximum = 1000000)]
     pub max_points: Option<usize>,
 }
 
@@ -274,7 +275,7 @@ pub struct ToolPathBody {
     get,
     path = "/api/v1/controllers/{id}/programs/{number}/path",
     tag = "programs",
-    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, description = "O number"), PathOptions),
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, minimum = 1, maximum = 9999, description = "O number, 1–9999"), PathOptions),
     responses(
         (status = 200, description = "The path", body = ToolPathBody),
         (status = 404, description = "No such controller or program", body = ErrorBody),

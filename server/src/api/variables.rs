@@ -1,12 +1,13 @@
 //! Macro variables: read any a program may read; write the common ones (#100–#199) and the
 //! retained ones (#500–#999, saved in the database before the answer).
 
-use axum::extract::rejection::{JsonRejection, PathRejection};
+use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::interp::expr::Variables;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
+use super::json_body::JsonBody;
 use super::{body, hosted, path};
 use crate::db;
 use crate::host::Message;
@@ -90,7 +91,7 @@ pub async fn read(
 pub async fn write(
     State(state): State<AppState>,
     params: Result<Path<(String, u32)>, PathRejection>,
-    request: Result<Json<SetVariable>, JsonRejection>,
+    request: Result<JsonBody<SetVariable>, ApiError>,
 ) -> Result<Json<Variable>, ApiError> {
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;

@@ -930,6 +930,12 @@ export interface components {
             unmodelled_parameters: components["schemas"]["UnmodelledParameter"][];
         };
         /**
+         * @description The coordinate systems `PUT /manual` takes (the document's enum for the engine's
+         *     `ManualCoordinates`, which has no schema of its own).
+         * @enum {string}
+         */
+        CoordinatesName: "machine" | "program" | "tool";
+        /**
          * @description `POST /controllers`: a name, and the machine as a preset name or a machine document (a model
          *     or a vendor parameter list, as `--machine FILE.json` takes).
          */
@@ -986,7 +992,7 @@ export interface components {
         /** @description The body of every 4xx/5xx response. */
         ErrorBody: {
             /** @description More about it, where there is more (the diagnostics of a refused program). */
-            details?: Record<string, never> | null;
+            details?: unknown;
             /**
              * @description What went wrong, for a person to read.
              * @example no route for GET /api/v1/nope
@@ -1267,11 +1273,7 @@ export interface components {
         };
         /** @description `PUT /manual`: the manual settings to change. */
         ManualSettings: {
-            /**
-             * @description Syntec R518: `machine`, `program` or `tool` coordinates for manual X/Y/Z.
-             * @example program
-             */
-            coordinates?: string | null;
+            coordinates?: null | components["schemas"]["CoordinatesName"];
             /**
              * Format: double
              * @description INC mode: the distance of one key press, mm or degrees (FANUC ×1/×10/×100/×1000:
@@ -1352,6 +1354,11 @@ export interface components {
             /** Format: int32 */
             t: number;
         };
+        /**
+         * @description The modes `PUT /mode` takes (the document's enum; the handler reads the word).
+         * @enum {string}
+         */
+        ModeName: "auto" | "mdi" | "jog" | "handle" | "ref" | "inc";
         /** @description `PUT /overrides`, percent. */
         Overrides: {
             /**
@@ -1428,7 +1435,7 @@ export interface components {
             dialect: string;
             /** @description `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis. */
             parameters: {
-                [key: string]: Record<string, never>;
+                [key: string]: components["schemas"]["ParameterValue"];
             };
             /**
              * @description What of them fivex keeps but does not carry out (unread parameters and bits, settings
@@ -1436,6 +1443,11 @@ export interface components {
              */
             unmodelled_parameters: components["schemas"]["UnmodelledParameter"][];
         };
+        /**
+         * @description A parameter's value as the document describes it (the engine's `vendor::Value`, which has
+         *     no schema of its own).
+         */
+        ParameterValue: number | number[];
         /** @description An alarm that was raised, with when. */
         PastAlarm: components["schemas"]["AlarmInfo"] & {
             /** @description RFC 3339 UTC. */
@@ -1521,16 +1533,13 @@ export interface components {
         };
         /** @description `PUT /mode`. */
         SetMode: {
-            /**
-             * @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
-             * @example jog
-             */
-            mode: string;
+            /** @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`. */
+            mode: components["schemas"]["ModeName"];
         };
         /** @description `PUT /parameters/{number}`. */
         SetParameter: {
             /** @description A number, or one number per axis for an axis-type parameter. */
-            value: Record<string, never>;
+            value: components["schemas"]["ParameterValue"];
         };
         /** @description `PUT /tool-offsets/{number}`: the values to change. */
         SetToolOffset: {
@@ -1752,6 +1761,24 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Not a valid controller (name, preset, machine, dialect, speed) */
             422: {
                 headers: {
@@ -1859,6 +1886,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     update: {
@@ -1886,6 +1922,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -1906,6 +1951,24 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -1946,6 +2009,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Alarms"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -2002,6 +2074,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2022,6 +2103,24 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2051,9 +2150,9 @@ export interface operations {
             cookie?: never;
         };
         /** @description Optional; an empty body resumes */
-        requestBody: {
+        requestBody?: {
             content: {
-                "application/json": components["schemas"]["CycleStart"];
+                "application/json": null | components["schemas"]["CycleStart"];
             };
         };
         responses: {
@@ -2064,6 +2163,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -2102,6 +2210,33 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     emergency_stop: {
@@ -2129,6 +2264,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2149,6 +2293,33 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2206,6 +2377,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     handle: {
@@ -2231,6 +2411,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -2262,6 +2451,24 @@ export interface operations {
             };
             /** @description Not in HANDLE mode, busy, or no such axis or feed on this machine */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2305,6 +2512,15 @@ export interface operations {
                     "application/json": components["schemas"]["HandleTaken"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2334,6 +2550,24 @@ export interface operations {
             };
             /** @description Not in HANDLE mode */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2377,6 +2611,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2406,6 +2649,24 @@ export interface operations {
             };
             /** @description Not in JOG mode, busy, or no such axis or feed on this machine */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2449,6 +2710,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2478,6 +2748,24 @@ export interface operations {
             };
             /** @description Not in JOG mode, busy, or no such axis */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2537,6 +2825,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2621,6 +2918,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2650,6 +2956,24 @@ export interface operations {
             };
             /** @description Something moves */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2693,6 +3017,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2722,6 +3055,24 @@ export interface operations {
             };
             /** @description Something moves */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2765,6 +3116,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2794,6 +3154,24 @@ export interface operations {
             };
             /** @description Busy or in alarm */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2887,6 +3265,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2916,6 +3303,24 @@ export interface operations {
             };
             /** @description Busy */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2959,6 +3364,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -2979,6 +3393,24 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3083,6 +3515,15 @@ export interface operations {
                     "application/json": components["schemas"]["ParameterList"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -3112,6 +3553,24 @@ export interface operations {
             };
             /** @description A program runs or holds, or the machine has no parameter form */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3187,7 +3646,7 @@ export interface operations {
             path: {
                 /** @description Controller id */
                 id: string;
-                /** @description O number */
+                /** @description O number, 1–9999 */
                 number: number;
             };
             cookie?: never;
@@ -3201,6 +3660,15 @@ export interface operations {
                 };
                 content: {
                     "text/plain": string;
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -3247,10 +3715,10 @@ export interface operations {
             };
             cookie?: never;
         };
-        /** @description NC text */
-        requestBody: {
+        /** @description NC text (none: an empty program) */
+        requestBody?: {
             content: {
-                "text/plain": string;
+                "text/plain": string | null;
             };
         };
         responses: {
@@ -3344,7 +3812,7 @@ export interface operations {
             path: {
                 /** @description Controller id */
                 id: string;
-                /** @description O number */
+                /** @description O number, 1–9999 */
                 number: number;
             };
             cookie?: never;
@@ -3357,6 +3825,15 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content?: never;
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
             };
             /** @description The service has a token and the request does not carry it */
             401: {
@@ -3385,6 +3862,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     tool_path: {
@@ -3400,7 +3886,7 @@ export interface operations {
             path: {
                 /** @description Controller id */
                 id: string;
-                /** @description O number */
+                /** @description O number, 1–9999 */
                 number: number;
             };
             cookie?: never;
@@ -3414,6 +3900,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ToolPathBody"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -3511,6 +4006,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     reset: {
@@ -3561,6 +4065,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     runs: {
@@ -3585,6 +4098,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Run"][];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -3622,7 +4144,16 @@ export interface operations {
                 /** @description Position frames per second (0.1–1000, default 30). */
                 rate?: number;
             };
-            header?: never;
+            header: {
+                /** @description The websocket handshake */
+                Upgrade: "websocket";
+                /** @description The websocket handshake */
+                Connection: "Upgrade";
+                /** @description The websocket handshake */
+                "Sec-WebSocket-Version": "13";
+                /** @description 16 random bytes in base64 (RFC 6455) */
+                "Sec-WebSocket-Key": string;
+            };
             path: {
                 /** @description Controller id */
                 id: string;
@@ -3685,6 +4216,24 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description This client has `--max-websockets-per-client` websockets open; `Retry-After: 5` */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has `--max-websockets` websockets open; `Retry-After: 5` */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     set_switches: {
@@ -3712,6 +4261,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -3732,6 +4290,33 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3818,6 +4403,15 @@ export interface operations {
                     "application/json": components["schemas"]["ToolOffsetDto"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -3838,6 +4432,24 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3929,6 +4541,15 @@ export interface operations {
                     "application/json": components["schemas"]["Variable"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -3994,6 +4615,15 @@ export interface operations {
                     "application/json": components["schemas"]["Variable"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -4014,6 +4644,24 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4109,6 +4757,15 @@ export interface operations {
                     "application/json": components["schemas"]["WorkOffsetDto"];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -4138,6 +4795,24 @@ export interface operations {
             };
             /** @description A program runs or holds */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4265,6 +4940,15 @@ export interface operations {
                     "application/json": components["schemas"]["FleetRunInfo"][];
                 };
             };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -4351,6 +5035,24 @@ export interface operations {
             };
             /** @description `wait`: the run was cancelled before it finished */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4485,12 +5187,30 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     fleet_run_stream: {
         parameters: {
             query?: never;
-            header?: never;
+            header: {
+                /** @description The websocket handshake */
+                Upgrade: "websocket";
+                /** @description The websocket handshake */
+                Connection: "Upgrade";
+                /** @description The websocket handshake */
+                "Sec-WebSocket-Version": "13";
+                /** @description 16 random bytes in base64 (RFC 6455) */
+                "Sec-WebSocket-Key": string;
+            };
             path: {
                 /** @description Fleet run id */
                 id: string;
@@ -4506,6 +5226,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Progress"];
+                };
+            };
+            /** @description Not a websocket handshake (a missing or wrong Upgrade, Connection or Sec-WebSocket-… header) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -4528,6 +5257,24 @@ export interface operations {
             };
             /** @description No such run */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description This client has `--max-websockets-per-client` websockets open; `Retry-After: 5` */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has `--max-websockets` websockets open; `Retry-After: 5` */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4583,7 +5330,16 @@ export interface operations {
                 /** @description `false`: every message is the whole fleet (`fleet`), as before deltas (default `true`). */
                 deltas?: boolean;
             };
-            header?: never;
+            header: {
+                /** @description The websocket handshake */
+                Upgrade: "websocket";
+                /** @description The websocket handshake */
+                Connection: "Upgrade";
+                /** @description The websocket handshake */
+                "Sec-WebSocket-Version": "13";
+                /** @description 16 random bytes in base64 (RFC 6455) */
+                "Sec-WebSocket-Key": string;
+            };
             path?: never;
             cookie?: never;
         };
@@ -4596,6 +5352,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Fleet"];
+                };
+            };
+            /** @description Not a websocket handshake (a missing or wrong Upgrade, Connection or Sec-WebSocket-… header) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -4618,6 +5383,24 @@ export interface operations {
             };
             /** @description Bad rate */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description This client has `--max-websockets-per-client` websockets open; `Retry-After: 5` */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has `--max-websockets` websockets open; `Retry-After: 5` */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -3,9 +3,14 @@
 // feeds (JOG with hold-to-move keys, HANDLE with increments, the 5-axis manual feeds).
 import { useState } from "preact/hooks";
 import { api, type Status } from "../api/client";
+import type { components } from "../api/schema";
 import type { Act } from "./useController";
 
-const MODES: [string, string][] = [
+// The words the document lists (its enums), so the typed client takes them.
+type Mode = components["schemas"]["ModeName"];
+type Coordinates = components["schemas"]["CoordinatesName"];
+
+const MODES: [Mode, string][] = [
   ["auto", "MEM"],
   ["mdi", "MDI"],
   ["jog", "JOG"],
@@ -229,7 +234,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
             <select
               title="R518: coordinates of manual X/Y/Z"
               value={panel.coordinates}
-              onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { coordinates: e.currentTarget.value } }))}
+              onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { coordinates: e.currentTarget.value as Coordinates } }))}
             >
               <option value="machine">R518 machine</option>
               <option value="program">R518 program</option>
