@@ -13,6 +13,7 @@
 //! coordinate system's, and every move of the cycle follows the tool tip through the kinematics
 //! like any move in the plane: the hole is drilled at the FCS point along the FCS Z.
 
+use super::gcode::{code, group};
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
@@ -42,7 +43,7 @@ impl State {
             return Err(AlarmId::IllegalCommandInTcp);
         }
         let (pa, pb, d) = self.plane_axes()?;
-        let incremental = self.modes[3] == 910;
+        let incremental = self.modes[group::DISTANCE] == code::G91;
         let drill_letter = self.cfg.machine.axes[d].name as u8;
         let new_r = self.value(w, b'R');
         if let Some(r) = new_r {
@@ -66,7 +67,7 @@ impl State {
             self.cycle.p = p / 1000.0;
         }
         let repeats = repeats(w)?;
-        let code = self.modes[9];
+        let code = self.modes[group::CYCLE];
         if matches!(code, 730 | 830) && self.cycle.q <= 0.0 {
             return Err(AlarmId::MissingQ);
         }
@@ -129,7 +130,7 @@ impl State {
     fn hole(&mut self, code: u16, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         use MotionKind::{Linear, Rapid};
         let c = self.cycle;
-        let ret = if self.modes[10] == 990 { c.r } else { c.initial };
+        let ret = if self.modes[group::RETURN_LEVEL] == code::G99 { c.r } else { c.initial };
         // Peck depth and retract in programmed units along the drilling axis.
         let unit = self.xf.length_factor(d);
         let (q, retract, clearance) = (c.q / unit, G73_RETRACT / unit, G83_CLEARANCE / unit);

@@ -13,6 +13,7 @@
 //! machine coordinates) keeps the tool where it is and derives its programmed coordinates again
 //! from `pos`, as a work offset change does.
 
+use super::gcode::{code, group};
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
@@ -173,8 +174,8 @@ impl State {
     pub(super) fn programmed_target(&self, w: &Words, skip: Option<usize>) -> Pos {
         let here = self.xf.programmed;
         let mut t = here;
-        let incremental = self.modes[3] == 910;
-        let polar = if self.modes[17] == 160 { self.plane_axes().ok() } else { None };
+        let incremental = self.modes[group::DISTANCE] == code::G91;
+        let polar = if self.modes[group::POLAR] == code::G16 { self.plane_axes().ok() } else { None };
         for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
             if Some(i) == skip || polar.is_some_and(|(a, b, _)| i == a || i == b) {
                 continue;
@@ -206,7 +207,7 @@ impl State {
         if radius.is_none() && angle.is_none() {
             return;
         }
-        let incremental = self.modes[3] == 910;
+        let incremental = self.modes[group::DISTANCE] == code::G91;
         let (x, y) = (self.xf.programmed[a], self.xf.programmed[b]);
         let (origin, r) = match radius {
             Some(r) if incremental => ((x, y), r),
@@ -298,12 +299,12 @@ impl State {
             self.sync_programmed();
         }
         // G68.2… took group 16: the plane rotation of G68 is over.
-        if self.modes[16] != 680 && self.xf.rotation.is_some() {
+        if self.modes[group::ROTATION] != code::G68 && self.xf.rotation.is_some() {
             self.xf.rotation = None;
             self.xf.refresh();
             self.sync_programmed();
         }
-        self.modes[22] = if self.xf.mirrored() { 511 } else { 501 };
+        self.modes[group::MIRROR] = if self.xf.mirrored() { code::G51_1 } else { code::G50_1 };
         Ok(owns_axes)
     }
 
@@ -362,7 +363,9 @@ impl State {
         }
         let r = self.angle_word(w, b'R').unwrap_or(0.0);
         let angle = match self.xf.rotation {
-            Some(prev) if self.modes[3] == 910 && self.cfg.rotation_angle_incremental => prev.angle + r,
+            Some(prev) if self.modes[group::DISTANCE] == code::G91 && self.cfg.rotation_angle_incremental => {
+                prev.angle + r
+            }
             _ => r,
         };
         let applied = if self.xf.flips(a, b) { -angle } else { angle };

@@ -9,6 +9,72 @@ pub const GROUPS: usize = 34;
 /// The non-modal (one-shot) group.
 pub const ONE_SHOT: u8 = 0;
 
+/// The modal groups by FANUC's numbers, as `State::modal` and the mode array index them.
+pub mod group {
+    /// G00, G01, G02, G03 … (interpolation).
+    pub const MOTION: usize = 1;
+    /// G17, G18, G19.
+    pub const PLANE: usize = 2;
+    /// G90, G91.
+    pub const DISTANCE: usize = 3;
+    /// G93, G94, G95.
+    pub const FEED_MODE: usize = 5;
+    /// G20, G21.
+    pub const UNITS: usize = 6;
+    /// G40, G41, G42 and the 3-D forms.
+    pub const CUTTER_COMP: usize = 7;
+    /// G43, G44, G43.4, G43.5, G49 …
+    pub const LENGTH_COMP: usize = 8;
+    /// G80 and the canned cycles.
+    pub const CYCLE: usize = 9;
+    /// G98, G99.
+    pub const RETURN_LEVEL: usize = 10;
+    /// G66, G66.1, G67.
+    pub const MODAL_CALL: usize = 12;
+    /// G54–G59, G54.1, G54.4 …
+    pub const WORK_SYSTEM: usize = 14;
+    /// G61, G62, G63, G64.
+    pub const PATH_MODE: usize = 15;
+    /// G68, G69, G68.2, G68.3, G68.4.
+    pub const ROTATION: usize = 16;
+    /// G15, G16.
+    pub const POLAR: usize = 17;
+    /// G50.1, G51.1.
+    pub const MIRROR: usize = 22;
+}
+
+/// The G codes the interpreter names in its rules, held as their number ×10.
+pub mod code {
+    pub const G00: u16 = 0;
+    pub const G02: u16 = 20;
+    pub const G03: u16 = 30;
+    pub const G16: u16 = 160;
+    pub const G20: u16 = 200;
+    pub const G21: u16 = 210;
+    pub const G40: u16 = 400;
+    pub const G43: u16 = 430;
+    pub const G43_4: u16 = 434;
+    pub const G43_5: u16 = 435;
+    pub const G44: u16 = 440;
+    pub const G49: u16 = 490;
+    pub const G49_1: u16 = 491;
+    pub const G50_1: u16 = 501;
+    pub const G51_1: u16 = 511;
+    pub const G61: u16 = 610;
+    pub const G63: u16 = 630;
+    pub const G66: u16 = 660;
+    pub const G66_1: u16 = 661;
+    pub const G67: u16 = 670;
+    pub const G68: u16 = 680;
+    pub const G69: u16 = 690;
+    pub const G74: u16 = 740;
+    pub const G80: u16 = 800;
+    pub const G84: u16 = 840;
+    pub const G91: u16 = 910;
+    pub const G93: u16 = 930;
+    pub const G99: u16 = 990;
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GDef {
     pub code: u16,

@@ -2,6 +2,7 @@
 //! the tool length offset in force (FANUC MAN-13) and the tilted working plane's axes (TWD,
 //! MAN-10), and whether tool centre point control is on (Syntec manual RTCP, R519).
 
+use super::gcode::{code, group};
 use super::{Interpreter, Pos};
 use crate::kin::Vec3;
 
@@ -10,7 +11,8 @@ impl Interpreter {
     /// 08 is G43, G44, G43.4 or G43.5 (not G49) and H is not 0.
     pub fn active_length_offset(&self) -> Option<f64> {
         let st = &self.state;
-        (matches!(st.modes[8], 430 | 440 | 434 | 435) && st.h != 0).then(|| st.offsets.length(st.h))
+        (matches!(st.modes[group::LENGTH_COMP], code::G43 | code::G44 | code::G43_4 | code::G43_5) && st.h != 0)
+            .then(|| st.offsets.length(st.h))
     }
 
     /// The tilted working plane's X, Y, Z axes in machine coordinates with the machine at

@@ -28,6 +28,7 @@ use crate::lang::{Block, BlockKind, Output, PrintItem};
 use crate::machine::{MachineConfig, MAX_AXES};
 use expr::{eval, truth, ExprSettings, Value};
 use gcode::GROUPS;
+use gcode::{code, group};
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
 pub use plane::KeptPlane;
 pub use vars::InterfaceSignals;
@@ -410,7 +411,7 @@ impl Interpreter {
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
         // puts group 07 in G40 (CRC-44, TV-30; the manual lists the 5-axis codes, fivex ends
         // G41/G42 the same way, as their offset vector does not survive a reset either).
-        st.modes[7] = 400;
+        st.modes[group::CUTTER_COMP] = code::G40;
         st.five.compensation_ended();
         let after_reset = st.cfg.machine.five_axis.plane_after_reset;
         if st.plane_active() && after_reset == crate::machine::PlaneAfterReset::Cancelled {
@@ -517,7 +518,7 @@ impl State {
             modes: {
                 let mut modes = gcode::initial_modes();
                 if cfg.machine.motion.power_on_inch {
-                    modes[6] = 200;
+                    modes[group::UNITS] = code::G20;
                 }
                 modes
             },
@@ -963,7 +964,7 @@ impl State {
 
     /// Index in [`Offsets`] of the active work coordinate system.
     fn work_index(&self) -> usize {
-        match self.modes[14] {
+        match self.modes[group::WORK_SYSTEM] {
             541 => offsets::g54_1_index(self.wcs_p as usize),
             code => ((code - 540) / 10) as usize + 1,
         }

@@ -3,6 +3,7 @@
 
 use super::expr::{eval, round_to, ExprSettings, Value};
 use super::gcode::{self, GDef};
+use super::gcode::{code, group};
 use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
@@ -173,7 +174,7 @@ impl State {
     }
 
     fn inch(&self) -> bool {
-        self.modes[6] == 200
+        self.modes[group::UNITS] == code::G20
     }
 
     fn increment(&self) -> f64 {
@@ -334,7 +335,7 @@ impl State {
             if self.modal_calls.len() == MAX_MODAL_CALLS {
                 return Err(AlarmId::NestingTooDeep);
             }
-            self.modes[12] = if every_block { 661 } else { 660 };
+            self.modes[group::MODAL_CALL] = if every_block { code::G66_1 } else { code::G66 };
             self.modal_calls.push(ModalCall { every_block, prog, count, args: args.clone(), level: self.level() });
             if every_block {
                 return self.push_frame(progs, prog, count, Some(args));
@@ -392,15 +393,16 @@ impl State {
         if w.has_g(670) {
             // G67 cancels the latest modal call; the one before it is in force again.
             self.modal_calls.pop();
-            self.modes[12] = self.modal_calls.last().map_or(670, |mc| if mc.every_block { 661 } else { 660 });
+            self.modes[group::MODAL_CALL] =
+                self.modal_calls.last().map_or(code::G67, |mc| if mc.every_block { code::G66_1 } else { code::G66 });
         }
 
         // --- G codes: units first, then the modal groups in block order ---------------------
         if w.has_g(200) {
-            self.modes[6] = 200;
+            self.modes[group::UNITS] = code::G20;
         }
         if w.has_g(210) {
-            self.modes[6] = 210;
+            self.modes[group::UNITS] = code::G21;
         }
         let machine_before = self.machine_position();
         let mut axes_owner: Option<u16> = None;
@@ -425,18 +427,20 @@ impl State {
             match group {
                 1 => {
                     // A group-01 code cancels the canned cycle and forgets its data.
-                    self.modes[9] = 800;
+                    self.modes[group::CYCLE] = code::G80;
                     self.cycle = CycleData::default();
                 }
                 9 if code == 800 => self.cycle = CycleData::default(),
-                2 if self.modes[7] != 400 && self.modes[2] != code => return Err(AlarmId::PlaneChangeInCompensation),
+                2 if self.modes[group::CUTTER_COMP] != code::G40 && self.modes[group::PLANE] != code => {
+                    return Err(AlarmId::PlaneChangeInCompensation)
+                }
                 7 => {
                     if let Some(d) = w.integer(b'D') {
                         self.d = offset_number(d)?;
                     }
                 }
                 8 => tool_length_changed = true,
-                9 if code != 800 && self.modes[9] == 800 => {
+                9 if code != code::G80 && self.modes[group::CYCLE] == code::G80 => {
                     let axis = self.drill_axis();
                     self.cycle.initial = axis.map_or(0.0, |a| self.xf.programmed[a]);
                 }
@@ -520,7 +524,7 @@ impl State {
                 // H is data of G10 there, not an offset selection.
             } else {
                 self.h = offset_number(h)?;
-                tool_length_changed |= self.modes[8] != 490;
+                tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
             }
         }
         if tool_length_changed {
@@ -531,7 +535,7 @@ impl State {
         }
         // Tool centre point control starts or ends here (its start and end blocks move by the
         // tool length, computed at their end only).
-        let tcp_mode = matches!(self.modes[8], 434 | 435);
+        let tcp_mode = matches!(self.modes[group::LENGTH_COMP], code::G43_4 | code::G43_5);
         if tcp_mode && w.gcodes().iter().any(|&g| matches!(g, 434 | 435)) {
             self.tcp_begin(&w)?;
             tool_length_changed = true;
@@ -549,17 +553,22 @@ impl State {
         // --- motion -------------------------------------------------------------------------
         let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
         if axes_owner.is_none() && !transform_axes {
-            if self.modes[9] != 800 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c))) {
+            if self.modes[group::CYCLE] != code::G80
+                && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))
+            {
                 if has_axes || w.has(b'R') || w.has(b'Z') {
                     moved |= self.canned_cycle(&w, out)?;
                 }
-            } else if has_axes || (matches!(self.modes[1], 20 | 30) && (w.has(b'I') || w.has(b'J') || w.has(b'K'))) {
+            } else if has_axes
+                || (matches!(self.modes[group::MOTION], code::G02 | code::G03)
+                    && (w.has(b'I') || w.has(b'J') || w.has(b'K')))
+            {
                 self.group01_motion(&w, out)?;
                 moved = true;
             } else if tool_length_changed {
                 // The offset takes effect at once: the tool moves, the programmed point stays.
                 let target = self.pos;
-                let kind = if self.modes[1] == 0 { MotionKind::Rapid } else { MotionKind::Linear };
+                let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
                 if self.follows_tip() {
                     self.tip_motion(kind, target, None, out)?;
                 } else {
@@ -616,7 +625,7 @@ impl State {
             if f < 0.0 {
                 return Err(AlarmId::ImproperAddress);
             }
-            self.f = if self.inch() && self.modes[5] != 930 { f * 25.4 } else { f };
+            self.f = if self.inch() && self.modes[group::FEED_MODE] != code::G93 { f * 25.4 } else { f };
         }
         Ok(())
     }
@@ -644,7 +653,7 @@ impl State {
     /// The tool length group 08 applies along the tool: +H (G43, G43.4…), −H (G44), 0 (G49).
     pub(super) fn signed_tool_length(&self) -> f64 {
         let length = self.offsets.length(self.h);
-        match self.modes[8] {
+        match self.modes[group::LENGTH_COMP] {
             490 | 491 => 0.0,
             440 => -length,
             _ => length,
@@ -652,27 +661,28 @@ impl State {
     }
 
     pub(super) fn context(&self) -> MotionContext {
-        let length_on = !matches!(self.modes[8], 490 | 491);
-        let comp_on = self.modes[7] != 400;
+        let length_on = !matches!(self.modes[group::LENGTH_COMP], code::G49 | code::G49_1);
+        let comp_on = self.modes[group::CUTTER_COMP] != code::G40;
         MotionContext {
-            plane: self.modes[2],
-            wcs: self.modes[14],
+            plane: self.modes[group::PLANE],
+            wcs: self.modes[group::WORK_SYSTEM],
             wcs_p: self.wcs_p,
-            length_comp: self.modes[8],
+            length_comp: self.modes[group::LENGTH_COMP],
             h: self.h,
             tool_length: if length_on { self.offsets.length(self.h) } else { 0.0 },
-            cutter_comp: self.modes[7],
+            cutter_comp: self.modes[group::CUTTER_COMP],
             d: self.d,
             cutter_radius: if comp_on { self.offsets.radius(self.d) } else { 0.0 },
-            path_mode: self.modes[15],
-            exact_stop: self.exact_stop || self.modes[15] == 610,
-            fixed_feed: self.modes[15] == 630 || matches!(self.modes[9], 740 | 840),
-            rotation: self.modes[16],
+            path_mode: self.modes[group::PATH_MODE],
+            exact_stop: self.exact_stop || self.modes[group::PATH_MODE] == code::G61,
+            fixed_feed: self.modes[group::PATH_MODE] == code::G63
+                || matches!(self.modes[group::CYCLE], code::G74 | code::G84),
+            rotation: self.modes[group::ROTATION],
         }
     }
 
     pub(super) fn feed_mode(&self) -> FeedMode {
-        match self.modes[5] {
+        match self.modes[group::FEED_MODE] {
             930 => FeedMode::InverseTime,
             950 => FeedMode::PerRevolution,
             _ => FeedMode::PerMinute,
@@ -763,7 +773,7 @@ impl State {
         let programmed = self.target(w);
         if self.follows_tip() {
             let target = self.xf.forward(&programmed);
-            let (kind, arc) = match self.modes[1] {
+            let (kind, arc) = match self.modes[group::MOTION] {
                 0 => (MotionKind::Rapid, None),
                 20 | 30 => {
                     self.check_feed()?;
@@ -779,7 +789,7 @@ impl State {
             self.xf.programmed = programmed;
             return Ok(());
         }
-        match self.modes[1] {
+        match self.modes[group::MOTION] {
             0 => self.move_to(MotionKind::Rapid, programmed, out),
             20 | 30 => {
                 self.check_feed()?;
@@ -803,7 +813,7 @@ impl State {
     /// The plane's first, second and normal axis indices.
     pub(super) fn plane_axes(&self) -> Result<(usize, usize, usize), AlarmId> {
         let m = &self.cfg.machine;
-        let (a, b, c) = match self.modes[2] {
+        let (a, b, c) = match self.modes[group::PLANE] {
             180 => (b'Z', b'X', b'Y'),
             190 => (b'Y', b'Z', b'X'),
             _ => (b'X', b'Y', b'Z'),
@@ -842,7 +852,8 @@ impl State {
             return Err(AlarmId::IllegalCommandInTcp);
         }
         let offset = if by_radius { (0.0, 0.0) } else { (ijk(a).unwrap_or(0.0), ijk(b).unwrap_or(0.0)) };
-        let words = super::frames::ArcWords { r: self.value(w, b'R'), offset, cw: self.modes[1] == 20 };
+        let words =
+            super::frames::ArcWords { r: self.value(w, b'R'), offset, cw: self.modes[group::MOTION] == code::G02 };
         let super::frames::ArcWords { r: radius, offset, cw } = self.arc_words((a, b), words)?;
         let (cx, cy) = if let Some(r) = radius {
             let (dx, dy) = (ex - sx, ey - sy);
@@ -911,7 +922,7 @@ impl State {
             }
             100 => self.data_setting(w, machine_before)?,
             520 => {
-                let incremental = self.modes[3] == 910;
+                let incremental = self.modes[group::DISTANCE] == code::G91;
                 for i in 0..axes {
                     if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
                         self.local[i] = if incremental { self.local[i] + v } else { v };
@@ -955,7 +966,7 @@ impl State {
                 self.sync_programmed();
             }
             280 | 300 => {
-                if self.modes[9] != 800 {
+                if self.modes[group::CYCLE] != code::G80 {
                     return Err(AlarmId::ReferenceReturnInCycle);
                 }
                 // G28: the 1st reference position (machine zero); G30 P2 (default), P3, P4.
@@ -1033,7 +1044,7 @@ impl State {
         if p < 0.0 || p.fract() != 0.0 {
             return Err(AlarmId::DataSettingFormat);
         }
-        let incremental = self.modes[3] == 910;
+        let incremental = self.modes[group::DISTANCE] == code::G91;
         let p = p as usize;
         match l as u32 {
             2 | 20 => {

@@ -6,6 +6,7 @@
 //! general one does for these blocks, and nothing else: `engine/tests/fast_path.rs` runs every
 //! fixture and random programs both ways and compares commands and final state.
 
+use super::gcode::{code, group};
 use super::nc::Words;
 use super::{modes, State};
 use crate::alarm::AlarmId;
@@ -16,13 +17,13 @@ impl State {
     pub(super) fn is_plain_motion(&self, w: &Words) -> bool {
         let g = w.gcodes();
         let motion = match g {
-            [] => self.modes[1],
+            [] => self.modes[group::MOTION],
             [code] => *code,
             _ => return false,
         };
         matches!(motion, 0 | 10)
             && w.mcodes().is_empty()
-            && self.modes[9] == 800
+            && self.modes[group::CYCLE] == code::G80
             && self.modal_calls.is_empty()
             && modes::no_rule_applies(self, g)
             && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some())
@@ -32,7 +33,7 @@ impl State {
     pub(super) fn plain_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         // (A group-01 code also clears the canned cycle data, which G80 has already cleared.)
         if let [code] = w.gcodes() {
-            self.modes[1] = *code;
+            self.modes[group::MOTION] = *code;
         }
         self.set_feed(w)?;
         if w.letters().any(|l| l != b'G' && l != b'F') {

@@ -10,6 +10,7 @@
 //! from the kinematics with the tool length along the actual tool direction, which after a
 //! G53.1 is the FCS Z.
 
+use super::gcode::{code, group};
 use super::nc::Words;
 use super::tcp::{xyz, FollowPath};
 use super::State;
@@ -51,7 +52,11 @@ impl State {
         let fcs =
             self.plane.filter(|_| self.cfg.machine.five_axis.plane_after_reset == PlaneAfterReset::KeptOverRestart)?;
         let column = |k: usize| [fcs.r[(0, k)], fcs.r[(1, k)], fcs.r[(2, k)]];
-        Some(KeptPlane { code: self.modes[16], origin: fcs.o.into(), axes: [column(0), column(1), column(2)] })
+        Some(KeptPlane {
+            code: self.modes[group::ROTATION],
+            origin: fcs.o.into(),
+            axes: [column(0), column(1), column(2)],
+        })
     }
 
     /// After a restart: the plane kept over it becomes active again, the machine where it
@@ -65,7 +70,7 @@ impl State {
         let machine = self.machine_position();
         let r = nalgebra::Matrix3::from_columns(&kept.axes.map(Vec3::from));
         self.plane = Some(Rigid { r, o: Vec3::from(kept.origin) });
-        self.modes[16] = kept.code;
+        self.modes[group::ROTATION] = kept.code;
         self.plane_moved_to(machine);
     }
 
@@ -79,7 +84,7 @@ impl State {
 
     /// Tool length of group 08 as it acts now (G43 +H, G44 −H, otherwise 0).
     pub(super) fn active_tool_length(&self) -> f64 {
-        match self.modes[8] {
+        match self.modes[group::LENGTH_COMP] {
             430 => self.offsets.length(self.h),
             440 => -self.offsets.length(self.h),
             _ => 0.0,
@@ -100,7 +105,7 @@ impl State {
         let programmed = self.pos;
         self.plane = None;
         self.definition = Definition::default();
-        self.modes[16] = 690;
+        self.modes[group::ROTATION] = code::G69;
         self.follow_machine = None;
         self.pos = self.machine_to_program(&machine);
         self.sync_programmed();
@@ -302,7 +307,7 @@ impl State {
             if let Some(h) = w.integer(b'H') {
                 self.h = h as u32;
             }
-            self.modes[8] = 430;
+            self.modes[group::LENGTH_COMP] = code::G43;
             self.refresh_tool_length();
         }
         let frame = self.plane_frame(&kin, &fcs);

@@ -10,6 +10,7 @@
 //! rotary axes turn. The start block and the G49 block are ordinary moves that apply or remove
 //! the tool length at their end only (TCP-03, TCP-17).
 
+use super::gcode::{code, group};
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
@@ -112,7 +113,7 @@ impl State {
             }
             // TCP-08/23, TV-60: type 2 cannot work in the workpiece system (WKP = 1); on every
             // kind of machine (Q-23, decision: the parameter check does not look at the type).
-            if self.modes[8] == 435 && five.tcp_coordinates == TcpCoordinates::Workpiece {
+            if self.modes[group::LENGTH_COMP] == code::G43_5 && five.tcp_coordinates == TcpCoordinates::Workpiece {
                 return Err(AlarmId::MachineParameter);
             }
         }
@@ -126,9 +127,10 @@ impl State {
         };
         let tool_length = self.offsets.length(self.h);
         let tool = kin.forward(&machine, tool_length).tool;
-        let inclination = if self.modes[8] == 435 { self.angle_word(w, b'Q').unwrap_or(0.0) } else { 0.0 };
+        let inclination =
+            if self.modes[group::LENGTH_COMP] == code::G43_5 { self.angle_word(w, b'Q').unwrap_or(0.0) } else { 0.0 };
         self.tcp = Some(Tcp {
-            code: self.modes[8],
+            code: self.modes[group::LENGTH_COMP],
             kin,
             frame,
             posture,

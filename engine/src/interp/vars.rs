@@ -1,6 +1,7 @@
 //! Variable numbers: local, common, persistent and the system variables of `macro-b.md`.
 
 use super::expr::{Value, Variables};
+use super::gcode::{code, group};
 use super::offsets::{g54_1_index, ToolOffset, MAX_G54_1};
 use super::{gcode, State, LOCALS};
 use crate::alarm::AlarmId;
@@ -199,7 +200,7 @@ impl State {
     /// A position as the control shows it: inch under G20, rollover axes modulo 360.
     fn in_input_unit(&self, axis: usize, p: crate::canon::Pos) -> f64 {
         let a = &self.cfg.machine.axes[axis];
-        if a.kind == crate::machine::AxisKind::Linear && self.modes[6] == 200 {
+        if a.kind == crate::machine::AxisKind::Linear && self.modes[group::UNITS] == code::G20 {
             p[axis] / 25.4
         } else if a.rollover {
             crate::angle::basic(p[axis])
