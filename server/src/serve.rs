@@ -430,7 +430,7 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::Position,
         api::PanelState,
         crate::host::stream::AlarmInfo,
-        crate::host::stream::Frame,
+        crate::host::stream::PositionFrame,
         crate::host::stream::Message,
         api::stream::Snapshot,
         api::stream::Fleet,

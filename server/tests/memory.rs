@@ -14,7 +14,7 @@ use std::sync::Arc;
 use fivex_engine::controller::RunState;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::Dialect;
-use fivex_server::host::{Hosted, Published, Sample, Spec};
+use fivex_server::host::{Hosted, Published, Reading, Spec};
 
 struct Counting;
 
@@ -90,7 +90,7 @@ fn a_running_controller_holds_under_200_kb() {
             station.controller.tick(0.01);
             let (messages, _records) = station.collect(&h.id, 0.01, true);
             drop(messages);
-            last.push(Arc::new(Published::new(Sample::of(&station))));
+            last.push(Arc::new(Published::new(Reading::of(&station))));
         }
     }
     for h in &hosted {

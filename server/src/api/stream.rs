@@ -24,7 +24,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use super::fleet_view::Update;
 use super::{hosted, path, ControllerStatus};
-use crate::host::{Hosted, Published, Sample};
+use crate::host::{Hosted, Published, Reading};
 use crate::serve::{ApiError, AppState, ErrorBody};
 
 /// Position frames per second by default, and the range a client may ask for.
@@ -115,7 +115,7 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
     }
     // Where the machine is now, once: the watch only carries changes, and an idle controller
     // makes none.
-    let now = Arc::new(Published::new(Sample::of(&hosted.station())));
+    let now = Arc::new(Published::new(Reading::of(&hosted.station())));
     if !send_text(&mut tx, now.text()).await {
         return;
     }
@@ -179,7 +179,7 @@ async fn position(
 ) -> bool {
     let latest = positions.borrow_and_update().clone();
     match latest {
-        Some(published) if !published.sample.same_frame(&sent.sample) => {
+        Some(published) if !published.reading.same_frame(&sent.reading) => {
             *sent = published;
             send_text(tx, sent.text()).await
         }

@@ -25,7 +25,7 @@ use fivex_engine::{Alarm, Dialect};
 use tokio::sync::{broadcast, mpsc, watch};
 
 pub use station::Station;
-pub use stream::{Frame, Message, Published, Sample};
+pub use stream::{Message, PositionFrame, Published, Reading};
 
 /// How often the workers tick every controller (and so the finest position a stream can show).
 pub const TICK: Duration = Duration::from_millis(10);

@@ -18,7 +18,7 @@ use super::{now_unix_ms, Station};
 
 /// `{"type": "position", …}`: where the machine is.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct Frame {
+pub struct PositionFrame {
     /// Always `"position"`.
     #[serde(rename = "type")]
     #[schema(example = "position")]
@@ -69,7 +69,7 @@ pub struct Frame {
 /// What a worker reads every tick for a watched controller: plain numbers, no allocation. It is
 /// published (as a [`Published`]) only when it differs from the last one in more than its clock.
 #[derive(Debug, Clone)]
-pub struct Sample {
+pub struct Reading {
     machine_config: Arc<MachineConfig>,
     t: f64,
     wall_ms: f64,
@@ -87,12 +87,12 @@ pub struct Sample {
     tip_table: [f64; 3],
 }
 
-impl Sample {
-    pub fn of(station: &Station) -> Sample {
+impl Reading {
+    pub fn of(station: &Station) -> Reading {
         let c = &station.controller;
         let p = c.point();
         let tip = c.tip();
-        Sample {
+        Reading {
             machine_config: station.machine.clone(),
             t: c.time(),
             wall_ms: now_unix_ms(),
@@ -114,7 +114,7 @@ impl Sample {
     /// Whether a frame of `self` would say the same as one of `other` but for `t` and
     /// `wall_ms`: then nothing moved and nothing is sent. Bit-wise, so a NaN does not count as
     /// a change on every tick.
-    pub fn same_frame(&self, other: &Sample) -> bool {
+    pub fn same_frame(&self, other: &Reading) -> bool {
         fn same(a: &[f64], b: &[f64]) -> bool {
             a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
         }
@@ -131,8 +131,8 @@ impl Sample {
             && same(&self.tip_table, &other.tip_table)
     }
 
-    pub fn frame(&self) -> Frame {
-        Frame {
+    pub fn frame(&self) -> PositionFrame {
+        PositionFrame {
             kind: "position",
             t: self.t,
             wall_ms: self.wall_ms,
@@ -157,19 +157,19 @@ impl Sample {
 /// the first subscriber that sends it, then shared by every other (a cheap clone of the bytes).
 #[derive(Debug)]
 pub struct Published {
-    pub sample: Sample,
+    pub reading: Reading,
     text: OnceLock<Utf8Bytes>,
 }
 
 impl Published {
-    pub fn new(sample: Sample) -> Published {
-        Published { sample, text: OnceLock::new() }
+    pub fn new(reading: Reading) -> Published {
+        Published { reading, text: OnceLock::new() }
     }
 
     /// The `position` message as JSON text.
     pub fn text(&self) -> Utf8Bytes {
         self.text
-            .get_or_init(|| Utf8Bytes::from(serde_json::to_string(&self.sample.frame()).unwrap_or_default()))
+            .get_or_init(|| Utf8Bytes::from(serde_json::to_string(&self.reading.frame()).unwrap_or_default()))
             .clone()
     }
 }

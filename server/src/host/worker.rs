@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 use std::sync::{Arc, Weak};
 use std::time::Instant;
 
-use super::{Hosted, Inner, Published, Sample, TICK};
+use super::{Hosted, Inner, Published, Reading, TICK};
 
 /// The longest real time one step covers: after a stall (a suspended process) the controllers
 /// jump at most this far instead of replaying the whole gap.
@@ -50,7 +50,7 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         let mut station = hosted.station();
         station.controller.tick(real_dt * hosted.speed());
         let (messages, records) = station.collect(&hosted.id, real_dt, watching);
-        let frame = positions.then(|| Sample::of(&station));
+        let frame = positions.then(|| Reading::of(&station));
         (messages, records, frame)
     };
     for record in records {
@@ -66,11 +66,11 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         inner.record(record);
     }
     hosted.publish(messages);
-    if let Some(sample) = frame {
+    if let Some(reading) = frame {
         // Only a change is published: an idle controller's subscribers get nothing.
-        let moved = hosted.position.borrow().as_ref().is_none_or(|last| !last.sample.same_frame(&sample));
+        let moved = hosted.position.borrow().as_ref().is_none_or(|last| !last.reading.same_frame(&reading));
         if moved {
-            hosted.position.send_replace(Some(Arc::new(Published::new(sample))));
+            hosted.position.send_replace(Some(Arc::new(Published::new(reading))));
         }
     }
 }

@@ -6,7 +6,7 @@ import { authFetch, token, tokenQuery } from "./auth";
 
 export type Schemas = components["schemas"];
 export type Status = Schemas["ControllerStatus"];
-export type Frame = Schemas["Frame"];
+export type Frame = Schemas["PositionFrame"];
 export type AlarmInfo = Schemas["AlarmInfo"];
 export type FleetEntry = Schemas["FleetEntry"];
 

@@ -1096,87 +1096,6 @@ export interface components {
              */
             status: string;
         };
-        /** @description `{"type": "position", …}`: where the machine is. */
-        Frame: {
-            /**
-             * Format: double
-             * @description Tool tip speed relative to the workpiece, mm/min.
-             */
-            feed: number;
-            /**
-             * Format: int32
-             * @description 1-based program line of the block moving now (0 before any).
-             */
-            line: number;
-            /** @description Machine coordinates per axis letter, in axis order. */
-            machine: {
-                [key: string]: number;
-            };
-            /**
-             * Format: int32
-             * @description Its sequence number.
-             */
-            n?: number | null;
-            /**
-             * @description The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
-             *     names.
-             */
-            programmed: number[];
-            /**
-             * @description `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
-             *     `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
-             *     (G54.4).
-             * @example workpiece
-             */
-            programmed_in: string;
-            /**
-             * Format: double
-             * @description Spindle speed, 1/min (negative: M04; 0: stopped).
-             */
-            spindle: number;
-            /**
-             * Format: double
-             * @description Simulated seconds since the controller was created (or the service started).
-             */
-            t: number;
-            /**
-             * @description Tool tip in the active workpiece system (G54…, after G52/G92, before any tilted working
-             *     plane; fixed on the table of a table machine), from the machine axes and the tool length
-             *     in effect by forward kinematics: where the machine puts it.
-             */
-            tip: number[];
-            /**
-             * @description Tool tip in the table frame (`docs/machine-config.md`): where the tip is relative to
-             *     the part on its table, from the machine axes, the mechanism and the tool length in effect (for a
-             *     machine without table axes, machine coordinates). The 3D view draws the trace with it.
-             */
-            tip_table: number[];
-            /** @description Distance to go to the end of the block moving now, workpiece coordinates per axis letter. */
-            to_go: {
-                [key: string]: number;
-            };
-            /** @description Unit tool vector, tip toward holder, in the workpiece system. */
-            tool: number[];
-            /**
-             * Format: double
-             * @description The tool length offset in force, mm.
-             */
-            tool_length: number;
-            /**
-             * @description Always `"position"`.
-             * @example position
-             */
-            type: string;
-            /**
-             * Format: double
-             * @description The server's wall clock when the frame was made, Unix milliseconds (to measure lag).
-             */
-            wall_ms: number;
-            /** @description Workpiece (programming) coordinates per axis letter. */
-            workpiece: {
-                [key: string]: number;
-            };
-        };
         /** @description `POST /handle-pulses`: what the hand wheel turned. */
         HandlePulses: {
             /**
@@ -1471,6 +1390,87 @@ export interface components {
             programmed_in?: string;
             tip?: number[];
             tool?: number[];
+            workpiece: {
+                [key: string]: number;
+            };
+        };
+        /** @description `{"type": "position", …}`: where the machine is. */
+        PositionFrame: {
+            /**
+             * Format: double
+             * @description Tool tip speed relative to the workpiece, mm/min.
+             */
+            feed: number;
+            /**
+             * Format: int32
+             * @description 1-based program line of the block moving now (0 before any).
+             */
+            line: number;
+            /** @description Machine coordinates per axis letter, in axis order. */
+            machine: {
+                [key: string]: number;
+            };
+            /**
+             * Format: int32
+             * @description Its sequence number.
+             */
+            n?: number | null;
+            /**
+             * @description The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
+             *     names.
+             */
+            programmed: number[];
+            /**
+             * @description `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
+             *     `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
+             *     (G54.4).
+             * @example workpiece
+             */
+            programmed_in: string;
+            /**
+             * Format: double
+             * @description Spindle speed, 1/min (negative: M04; 0: stopped).
+             */
+            spindle: number;
+            /**
+             * Format: double
+             * @description Simulated seconds since the controller was created (or the service started).
+             */
+            t: number;
+            /**
+             * @description Tool tip in the active workpiece system (G54…, after G52/G92, before any tilted working
+             *     plane; fixed on the table of a table machine), from the machine axes and the tool length
+             *     in effect by forward kinematics: where the machine puts it.
+             */
+            tip: number[];
+            /**
+             * @description Tool tip in the table frame (`docs/machine-config.md`): where the tip is relative to
+             *     the part on its table, from the machine axes, the mechanism and the tool length in effect (for a
+             *     machine without table axes, machine coordinates). The 3D view draws the trace with it.
+             */
+            tip_table: number[];
+            /** @description Distance to go to the end of the block moving now, workpiece coordinates per axis letter. */
+            to_go: {
+                [key: string]: number;
+            };
+            /** @description Unit tool vector, tip toward holder, in the workpiece system. */
+            tool: number[];
+            /**
+             * Format: double
+             * @description The tool length offset in force, mm.
+             */
+            tool_length: number;
+            /**
+             * @description Always `"position"`.
+             * @example position
+             */
+            type: string;
+            /**
+             * Format: double
+             * @description The server's wall clock when the frame was made, Unix milliseconds (to measure lag).
+             */
+            wall_ms: number;
+            /** @description Workpiece (programming) coordinates per axis letter. */
             workpiece: {
                 [key: string]: number;
             };
