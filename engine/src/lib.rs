@@ -14,6 +14,7 @@ pub mod interp;
 pub mod kin;
 pub mod lang;
 pub mod machine;
+pub mod machine_file;
 pub mod motion;
 pub mod preview;
 pub mod report;

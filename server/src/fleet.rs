@@ -134,8 +134,8 @@ pub fn preset(name: &str, dialect: Dialect) -> Result<Entry, String> {
 /// A machine file (model or parameter list; a parameter list runs in its own dialect, a model
 /// in `dialect`).
 pub fn machine_file(text: &str, dialect: Dialect) -> Result<Entry, String> {
-    let machine = crate::machine_file::parse(text)?;
-    let dialect = crate::machine_file::dialect_of(text).unwrap_or(dialect);
+    let machine = fivex_engine::machine_file::parse(text)?;
+    let dialect = fivex_engine::machine_file::dialect_of(text).unwrap_or(dialect);
     Ok(Entry { name: machine.name.clone(), machine, dialect, offsets: None })
 }
 

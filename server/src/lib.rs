@@ -9,7 +9,6 @@ pub mod fleet;
 pub mod host;
 pub mod json_errors;
 pub mod listen;
-pub mod machine_file;
 pub mod openapi_doc;
 pub mod origin;
 pub mod serve;

@@ -76,7 +76,7 @@ pub async fn load_controller(
     row: db::ControllerRow,
     settings: &std::collections::HashMap<String, (f64, String)>,
 ) -> Result<Option<Hosted>, sqlx::Error> {
-    let machine = match crate::machine_file::parse(&row.machine_json) {
+    let machine = match fivex_engine::machine_file::parse(&row.machine_json) {
         Ok(m) => m,
         Err(e) => {
             tracing::warn!(id = %row.id, error = %e, "stored controller not hosted: its machine is refused");

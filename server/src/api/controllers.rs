@@ -67,7 +67,7 @@ fn machine_of(request: &CreateController) -> Result<MachineConfig, ApiError> {
     match (&request.preset, &request.machine) {
         (Some(preset), None) => MachineConfig::preset(preset)
             .ok_or_else(|| bad(format!("unknown preset '{preset}' ({})", MachineConfig::PRESETS.join(", ")))),
-        (None, Some(machine)) => crate::machine_file::parse(&machine.to_string()).map_err(bad),
+        (None, Some(machine)) => fivex_engine::machine_file::parse(&machine.to_string()).map_err(bad),
         _ => Err(bad("give exactly one of preset and machine".into())),
     }
 }
@@ -130,7 +130,7 @@ pub async fn create(
         // Everything the request's document sets that fivex does not carry out (its unknown
         // fields too, which the stored model no longer holds).
         station.unmodelled = match &request.machine {
-            Some(doc) => crate::machine_file::unmodelled(&doc.to_string()),
+            Some(doc) => fivex_engine::machine_file::unmodelled(&doc.to_string()),
             None => super::parameters::unmodelled(dialect, &station.machine, &extra),
         };
         station.extra_parameters = extra;

@@ -645,11 +645,11 @@ pub struct LibraryMachine {
 }
 
 fn library_machine(name: &str, text: &str) -> Option<LibraryMachine> {
-    let machine = crate::machine_file::parse(text).ok()?;
+    let machine = fivex_engine::machine_file::parse(text).ok()?;
     Some(LibraryMachine {
         name: name.to_string(),
         kind: super::machine_kind(&machine),
-        dialect: crate::machine_file::dialect_of(text).map(|d| d.name().to_string()),
+        dialect: fivex_engine::machine_file::dialect_of(text).map(|d| d.name().to_string()),
         axes: machine.axes.iter().map(|a| a.name.to_string()).collect(),
         machine: serde_json::from_str(text).ok()?,
     })

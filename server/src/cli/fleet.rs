@@ -61,7 +61,7 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
     for path in &a.machines {
         let file = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
         entries.push(fleet::machine_file(&file, a.dialect).map_err(|e| Fail(format!("{}: {e}", path.display())))?);
-        for line in crate::machine_file::warnings(&path.display().to_string(), &file) {
+        for line in fivex_engine::machine_file::warnings(&path.display().to_string(), &file) {
             eprintln!("{line}");
         }
     }

@@ -195,9 +195,9 @@ fn read_program(path: &Path) -> Result<String, Fail> {
 fn load_machine(args: &MachineArgs) -> Result<MachineConfig, Fail> {
     if let Some(path) = &args.machine {
         let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-        let machine = crate::machine_file::parse(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        let machine = fivex_engine::machine_file::parse(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
         // Never dropped silently: what the file sets that fivex does not carry out.
-        for line in crate::machine_file::warnings(&path.display().to_string(), &text) {
+        for line in fivex_engine::machine_file::warnings(&path.display().to_string(), &text) {
             eprintln!("{line}");
         }
         return Ok(machine);

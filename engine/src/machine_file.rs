@@ -1,8 +1,8 @@
 //! `--machine FILE.json` (and the API's machine bodies): a machine model, or a vendor parameter
 //! list `{"name", "dialect", "parameters"}` (`docs/machine-config.md`).
 
-use fivex_engine::machine::MachineConfig;
-use fivex_engine::vendor::{self, ParamFile};
+use crate::machine::MachineConfig;
+use crate::vendor::{self, ParamFile};
 
 /// The machine a JSON text describes, checked; the error says what is wrong (with the vendor's
 /// alarm for a parameter list whose mechanism cannot work).
@@ -82,7 +82,7 @@ pub fn warnings(file: &str, text: &str) -> Vec<String> {
 }
 
 /// The dialect a parameter list is written in (`None` for a model file or bad JSON).
-pub fn dialect_of(text: &str) -> Option<fivex_engine::Dialect> {
+pub fn dialect_of(text: &str) -> Option<crate::Dialect> {
     let value: serde_json::Value = serde_json::from_str(text).ok()?;
     value.get("parameters")?;
     serde_json::from_value(value.get("dialect")?.clone()).ok()
@@ -91,7 +91,7 @@ pub fn dialect_of(text: &str) -> Option<fivex_engine::Dialect> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fivex_engine::Dialect;
+    use crate::Dialect;
 
     #[test]
     fn a_parameter_list_and_a_model_give_the_same_machine() {
