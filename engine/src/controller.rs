@@ -228,7 +228,7 @@ impl Controller {
         Controller {
             axes: AxisLimits::of(&machine),
             planner: motion::planner_for(&machine),
-            kinematics: Kinematics::new(&machine).ok().map(std::sync::Arc::new),
+            kinematics: interp.kinematics().cloned(),
             machine,
             interp,
             program: None,
@@ -346,6 +346,11 @@ impl Controller {
         } else {
             self.executing.shown().modal
         }
+    }
+
+    /// The machine's mechanism (the interpreter's, compiled once).
+    pub fn kinematics(&self) -> Option<&std::sync::Arc<Kinematics>> {
+        self.kinematics.as_ref()
     }
 
     pub fn interpreter(&self) -> &Interpreter {

@@ -9,7 +9,6 @@
 use crate::alarm::Alarm;
 use crate::canon::{CanonKind, MotionKind, Pos};
 use crate::interp::{Interpreter, Step};
-use crate::kin::Kinematics;
 use crate::machine::AxisKind;
 use crate::motion::{AxisLimits, FeedContext, Segment};
 
@@ -36,7 +35,7 @@ pub struct ToolPath {
 /// most `max_points` points.
 pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
     let machine = interp.config().machine.clone();
-    let kin = Kinematics::new(&machine).ok().map(std::sync::Arc::new);
+    let kin = interp.kinematics().cloned();
     let axes = AxisLimits::of(&machine);
     let rotary: Vec<bool> = machine.axes.iter().map(|a| a.kind == AxisKind::Rotary).collect();
     let ctx = FeedContext { feed_override: 1.0, rapid_override: 1.0, exact_stop: false, options: machine.motion };

@@ -110,7 +110,7 @@ pub fn run_observed(
     let machine = interp.config().machine.clone();
     let mut exec = Executor {
         // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
-        kinematics: crate::kin::Kinematics::new(&machine).ok().map(std::sync::Arc::new),
+        kinematics: interp.kinematics().cloned(),
         axes: AxisLimits::of(&machine),
         planner: motion::planner_for(&machine),
         machine_config: machine,

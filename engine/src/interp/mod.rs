@@ -494,6 +494,12 @@ impl Interpreter {
     pub fn config(&self) -> &Config {
         &self.state.cfg
     }
+
+    /// The machine's mechanism, compiled once from the configuration (`None` when the
+    /// kinematics refuses it); the controller, a run and the preview share it.
+    pub fn kinematics(&self) -> Option<&std::sync::Arc<crate::kin::Kinematics>> {
+        self.state.kinematics.as_ref()
+    }
 }
 
 impl State {

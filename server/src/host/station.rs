@@ -26,7 +26,7 @@ pub struct Station {
     /// The machine the controller runs (replaced, with the controller, by a parameter change).
     pub machine: Arc<MachineConfig>,
     /// Its mechanism (`None` when the kinematics refuses it; positions show the tool along +Z).
-    pub kinematics: Option<Kinematics>,
+    pub kinematics: Option<Arc<Kinematics>>,
     /// Vendor parameters the machine model does not read, kept as given.
     pub extra_parameters: fivex_engine::vendor::Params,
     /// What the machine description sets that fivex does not carry out (shown with the status
@@ -61,7 +61,7 @@ impl Station {
         // What the controller starts with counts as saved (the defaults, or rows just read).
         controller.interpreter_mut().state.offsets.take_touched();
         Station {
-            kinematics: Kinematics::new(&machine).ok(),
+            kinematics: controller.kinematics().cloned(),
             extra_parameters: Default::default(),
             unmodelled: fivex_engine::vendor::unmodelled::of_model(&machine),
             machine: Arc::new(machine),
@@ -97,7 +97,7 @@ impl Station {
             controller.interpreter_mut().state.restore_plane(plane);
             controller.offsets_changed();
         }
-        self.kinematics = Kinematics::new(&machine).ok();
+        self.kinematics = controller.kinematics().cloned();
         self.machine = Arc::new(machine);
         self.controller = controller;
         self.program = None;
