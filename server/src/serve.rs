@@ -24,6 +24,8 @@ use serde::{Deserialize, Serialize};
 use tokio::net::TcpListener;
 use tokio::sync::watch;
 use utoipa::{OpenApi, ToSchema};
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
 use utoipa_swagger_ui::SwaggerUi;
 
 use crate::auth::BearerDoc;
@@ -369,60 +371,6 @@ async fn log_request(req: Request, next: Next) -> Response {
         description = "A service hosting virtual 5-axis CNC controllers (FANUC 30i-A5 and Syntec \
                        dialects). Errors are JSON `{\"error\": \"…\"}` bodies with a 4xx/5xx status."
     ),
-    modifiers(&BearerDoc, &OriginDoc, &RejectionDoc),
-    paths(
-        healthz,
-        api::controllers::create,
-        api::controllers::list,
-        api::controllers::status,
-        api::controllers::update,
-        api::controllers::remove,
-        api::controllers::clone,
-        api::controllers::machine,
-        api::controllers::presets,
-        api::programs::tool_path,
-        api::modal::modal,
-        api::programs::list,
-        api::programs::store,
-        api::programs::text,
-        api::programs::remove,
-        api::panel::cycle_start,
-        api::panel::feed_hold,
-        api::panel::reset,
-        api::panel::mdi,
-        api::panel::set_mode,
-        api::panel::set_overrides,
-        api::panel::set_switches,
-        api::panel::emergency_stop,
-        api::manual::jog,
-        api::manual::jog_stop,
-        api::manual::handle,
-        api::manual::reference_return,
-        api::manual::settings,
-        api::manual::set_signals,
-        api::manual::jog_signal,
-        api::manual::handle_pulses,
-        api::variables::list,
-        api::variables::read,
-        api::variables::write,
-        api::offsets::tools,
-        api::offsets::set_tool,
-        api::offsets::works,
-        api::offsets::set_work,
-        api::parameters::get_all,
-        api::parameters::set,
-        api::history::alarms,
-        api::history::runs,
-        api::stream::stream,
-        api::stream::fleet,
-        api::fleet::create,
-        api::fleet::list,
-        api::fleet::get,
-        api::fleet::cancel,
-        api::fleet::stream,
-        api::fleet::library,
-        api::fleet::library_one,
-    ),
     components(schemas(
         Health,
         ErrorBody,
@@ -490,7 +438,18 @@ pub fn error_response(operation: &mut utoipa::openapi::path::Operation, status: 
 
 /// The OpenAPI document as a value.
 pub fn openapi() -> utoipa::openapi::OpenApi {
-    ApiDoc::openapi()
+    let (_, mut doc) = routes().split_for_parts();
+    // The modifiers document what the middleware adds to every operation: they run once the
+    // routes have put their operations in.
+    for modifier in [&BearerDoc as &dyn utoipa::Modify, &OriginDoc, &RejectionDoc] {
+        modifier.modify(&mut doc);
+    }
+    doc
+}
+
+/// Every documented route: `/healthz` and the API, over the document's info, schemas and tags.
+fn routes() -> OpenApiRouter<AppState> {
+    OpenApiRouter::with_openapi(ApiDoc::openapi()).routes(routes!(healthz)).merge(api::routes())
 }
 
 /// The OpenAPI document exactly as checked in at `openapi/openapi.json`: pretty-printed JSON
@@ -509,8 +468,7 @@ pub fn app(state: AppState) -> Router {
     Router::new()
         .route("/", get(assets::index))
         .route("/assets/{*file}", get(assets::asset))
-        .route("/healthz", get(healthz))
-        .nest(API_PREFIX, api::router().route_layer(middleware::from_fn(content_type::require_json)))
+        .merge(routes().split_for_parts().0.route_layer(middleware::from_fn(content_type::require_json)))
         .merge(SwaggerUi::new("/swagger-ui").url(OPENAPI_PATH, openapi()))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)

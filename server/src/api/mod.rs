@@ -21,62 +21,64 @@ use std::sync::Arc;
 
 use axum::extract::rejection::PathRejection;
 use axum::extract::Path;
-use axum::routing::{get, post, put};
-use axum::Router;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
 
 use crate::host::stream::{axes, AlarmInfo};
 use crate::host::{Hosted, Station};
 use crate::serve::{ApiError, AppState};
 
-/// The `/api/v1` routes.
-pub fn router() -> Router<AppState> {
-    Router::new()
-        .route("/controllers", get(controllers::list).post(controllers::create))
-        .route("/controllers/{id}", get(controllers::status).patch(controllers::update).delete(controllers::remove))
-        .route("/controllers/{id}/modal", get(modal::modal))
-        .route("/controllers/{id}/programs", get(programs::list))
-        .route("/controllers/{id}/programs/{number}", put(programs::store).get(programs::text).delete(programs::remove))
-        .route("/controllers/{id}/cycle-start", post(panel::cycle_start))
-        .route("/controllers/{id}/feed-hold", post(panel::feed_hold))
-        .route("/controllers/{id}/reset", post(panel::reset))
-        .route("/controllers/{id}/mdi", post(panel::mdi))
-        .route("/controllers/{id}/mode", put(panel::set_mode))
-        .route("/controllers/{id}/overrides", put(panel::set_overrides))
-        .route("/controllers/{id}/switches", put(panel::set_switches))
-        .route("/controllers/{id}/emergency-stop", put(panel::emergency_stop))
-        .route("/controllers/{id}/jog", post(manual::jog))
-        .route("/controllers/{id}/jog-stop", post(manual::jog_stop))
-        .route("/controllers/{id}/handle", post(manual::handle))
-        .route("/controllers/{id}/reference-return", post(manual::reference_return))
-        .route("/controllers/{id}/manual", put(manual::settings))
-        .route("/controllers/{id}/manual-signals", put(manual::set_signals))
-        .route("/controllers/{id}/jog-signal", post(manual::jog_signal))
-        .route("/controllers/{id}/handle-pulses", post(manual::handle_pulses))
-        .route("/controllers/{id}/variables", get(variables::list))
-        .route("/controllers/{id}/variables/{number}", get(variables::read).put(variables::write))
-        .route("/controllers/{id}/tool-offsets", get(offsets::tools))
-        .route("/controllers/{id}/tool-offsets/{number}", put(offsets::set_tool))
-        .route("/controllers/{id}/work-offsets", get(offsets::works))
-        .route("/controllers/{id}/work-offsets/{name}", put(offsets::set_work))
-        .route("/controllers/{id}/parameters", get(parameters::get_all))
-        .route("/controllers/{id}/parameters/{number}", put(parameters::set))
-        .route("/controllers/{id}/alarms", get(history::alarms))
-        .route("/controllers/{id}/runs", get(history::runs))
-        .route("/controllers/{id}/stream", get(stream::stream))
-        .route("/stream", get(stream::fleet))
-        .route("/presets", get(controllers::presets))
-        .route("/controllers/{id}/clone", post(controllers::clone))
-        .route("/controllers/{id}/machine", get(controllers::machine))
-        .route("/controllers/{id}/programs/{number}/path", get(programs::tool_path))
-        .route("/fleet/runs", post(fleet::create).get(fleet::list))
-        .route("/fleet/runs/{id}", get(fleet::get))
-        .route("/fleet/runs/{id}/cancel", post(fleet::cancel))
-        .route("/fleet/runs/{id}/stream", get(fleet::stream))
-        .route("/fleet/library", get(fleet::library))
-        .route("/fleet/library/{name}", get(fleet::library_one))
+/// The `/api/v1` routes, each listed once: `routes!` takes a handler's path and method from its
+/// `#[utoipa::path]`, so the router and the OpenAPI document come from the same list (handlers
+/// of one path go in one `routes!`).
+pub fn routes() -> OpenApiRouter<AppState> {
+    OpenApiRouter::new()
+        .routes(routes!(controllers::list, controllers::create))
+        .routes(routes!(controllers::status, controllers::update, controllers::remove))
+        .routes(routes!(controllers::clone))
+        .routes(routes!(controllers::machine))
+        .routes(routes!(controllers::presets))
+        .routes(routes!(modal::modal))
+        .routes(routes!(programs::list))
+        .routes(routes!(programs::store, programs::text, programs::remove))
+        .routes(routes!(programs::tool_path))
+        .routes(routes!(panel::cycle_start))
+        .routes(routes!(panel::feed_hold))
+        .routes(routes!(panel::reset))
+        .routes(routes!(panel::mdi))
+        .routes(routes!(panel::set_mode))
+        .routes(routes!(panel::set_overrides))
+        .routes(routes!(panel::set_switches))
+        .routes(routes!(panel::emergency_stop))
+        .routes(routes!(manual::jog))
+        .routes(routes!(manual::jog_stop))
+        .routes(routes!(manual::handle))
+        .routes(routes!(manual::reference_return))
+        .routes(routes!(manual::settings))
+        .routes(routes!(manual::set_signals))
+        .routes(routes!(manual::jog_signal))
+        .routes(routes!(manual::handle_pulses))
+        .routes(routes!(variables::list))
+        .routes(routes!(variables::read, variables::write))
+        .routes(routes!(offsets::tools))
+        .routes(routes!(offsets::set_tool))
+        .routes(routes!(offsets::works))
+        .routes(routes!(offsets::set_work))
+        .routes(routes!(parameters::get_all))
+        .routes(routes!(parameters::set))
+        .routes(routes!(history::alarms))
+        .routes(routes!(history::runs))
+        .routes(routes!(stream::stream))
+        .routes(routes!(stream::fleet))
+        .routes(routes!(fleet::create, fleet::list))
+        .routes(routes!(fleet::get))
+        .routes(routes!(fleet::cancel))
+        .routes(routes!(fleet::stream))
+        .routes(routes!(fleet::library))
+        .routes(routes!(fleet::library_one))
 }
 
 /// A controller as `GET /controllers/{id}` shows it.
