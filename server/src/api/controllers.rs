@@ -1,5 +1,6 @@
 //! Creating, listing, configuring and removing controllers.
 
+use super::Addressed;
 use std::sync::Arc;
 
 use axum::extract::rejection::PathRejection;
@@ -162,11 +163,7 @@ pub async fn list(State(state): State<AppState>) -> Json<Vec<ControllerStatus>> 
         (status = 404, description = "No such controller", body = ErrorBody),
     )
 )]
-pub async fn status(
-    State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
-) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
+pub async fn status(Addressed(hosted): Addressed) -> Result<Json<ControllerStatus>, ApiError> {
     Ok(Json(ControllerStatus::now(&hosted)))
 }
 
@@ -185,10 +182,9 @@ pub async fn status(
 )]
 pub async fn update(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<UpdateController>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
     let name = match &request.name {
         Some(n) => check_name(n)?,

@@ -1,11 +1,11 @@
 //! Alarms (active and history) and the run history of a controller.
 
-use axum::extract::rejection::{PathRejection, QueryRejection};
-use axum::extract::{Json, Path, Query, State};
+use super::Addressed;
+use axum::extract::rejection::QueryRejection;
+use axum::extract::{Json, Query, State};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
-use super::{hosted, path};
 use crate::db;
 use crate::host::stream::AlarmInfo;
 use crate::serve::{ApiError, AppState, ErrorBody};
@@ -68,10 +68,9 @@ pub struct Run {
 )]
 pub async fn alarms(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     q: Result<Query<Limit>, QueryRejection>,
 ) -> Result<Json<Alarms>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let limit = limit(q)?;
     let active = hosted.station().controller.alarms().iter().map(AlarmInfo::from).collect();
     let history = db::alarm_history(&state.db, &hosted.id, limit)
@@ -95,10 +94,9 @@ pub async fn alarms(
 )]
 pub async fn runs(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     q: Result<Query<Limit>, QueryRejection>,
 ) -> Result<Json<Vec<Run>>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let limit = limit(q)?;
     let rows = db::run_history(&state.db, &hosted.id, limit).await?;
     Ok(Json(

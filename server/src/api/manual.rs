@@ -2,6 +2,7 @@
 //! right angles, table vertical and horizontal), tool tip centre rotation, reference return,
 //! and the manual settings (jog feed, manual absolute, Syntec R518/R519).
 
+use super::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::controller::{Controller, ManualCoordinates};
@@ -173,9 +174,8 @@ fn manual_move(
 )]
 pub async fn reference_return(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     act(&state, &hosted, |station| station.controller.reference_return().map_err(refused))
 }
 
@@ -227,10 +227,9 @@ pub struct ManualSettings {
 )]
 pub async fn settings(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<ManualSettings>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
     if request.jog_feed.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e6)) {
         return Err(ApiError::Unprocessable("jog_feed must be above 0 and at most 1e6".into(), None));
@@ -295,10 +294,9 @@ pub struct PanelSignals {
 )]
 pub async fn set_signals(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<PanelSignals>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
     if request.handle_select.is_some_and(|code| code > 31) {
         return Err(ApiError::Unprocessable("handle_select is a 5-bit code (0–31)".into(), None));
@@ -342,10 +340,9 @@ pub struct JogSignal {
 )]
 pub async fn jog_signal(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<JogSignal>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
     let axis = letter(&request.axis)?;
     act(&state, &hosted, |station| station.controller.jog_signal(axis, request.positive).map_err(refused))
@@ -386,10 +383,9 @@ pub struct HandleTaken {
 )]
 pub async fn handle_pulses(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<HandlePulses>, ApiError>,
 ) -> Result<Json<HandleTaken>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let amount = body(request)?.amount;
     if !(amount.is_finite() && amount.abs() <= 1.0e5) {
         return Err(ApiError::Unprocessable("amount must be finite and at most 1e5".into(), None));

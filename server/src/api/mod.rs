@@ -286,6 +286,23 @@ pub fn hosted(state: &AppState, id: &str) -> Result<Arc<Hosted>, ApiError> {
     state.host.get(id).ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))
 }
 
+/// The controller a route's `{id}` names (404 when there is none): the first thing every
+/// `/controllers/{id}/…` handler needs.
+pub struct Addressed(pub Arc<Hosted>);
+
+impl axum::extract::FromRequestParts<AppState> for Addressed {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut axum::http::request::Parts, state: &AppState) -> Result<Self, ApiError> {
+        let params = axum::extract::RawPathParams::from_request_parts(parts, state)
+            .await
+            .map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+        let id = params.iter().find(|(name, _)| *name == "id").map(|(_, value)| value.to_owned());
+        let id = id.ok_or_else(|| ApiError::NotFound("the path names no controller".into()))?;
+        hosted(state, &id).map(Addressed)
+    }
+}
+
 /// A JSON body (an object, `json_body.rs`), or the reason it is not one as a JSON error.
 pub fn body<T>(json: Result<json_body::JsonBody<T>, ApiError>) -> Result<T, ApiError> {
     json.map(|json_body::JsonBody(v)| v)

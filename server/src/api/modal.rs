@@ -1,15 +1,14 @@
 //! The modal state as a panel shows it: the G code of each modal group and F, S, T, H, D.
 
+use super::Addressed;
 use std::collections::BTreeMap;
 
-use axum::extract::rejection::PathRejection;
-use axum::extract::{Json, Path, State};
+use axum::extract::Json;
 use fivex_engine::interp::gcode;
 use serde::Serialize;
 use utoipa::ToSchema;
 
-use super::{hosted, path};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::serve::{ApiError, ErrorBody};
 
 /// `GET /modal`.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
@@ -34,11 +33,7 @@ pub struct ModalState {
     params(("id" = String, Path, description = "Controller id")),
     responses((status = 200, description = "Modal state", body = ModalState), (status = 404, description = "No such controller", body = ErrorBody))
 )]
-pub async fn modal(
-    State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
-) -> Result<Json<ModalState>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
+pub async fn modal(Addressed(hosted): Addressed) -> Result<Json<ModalState>, ApiError> {
     // The executing block's state, not the read-ahead interpreter's.
     let modal = hosted.station().controller.modal();
     let initial = gcode::initial_modes();

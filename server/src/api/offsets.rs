@@ -2,6 +2,7 @@
 //! P300). Changes are in the database when the answer comes; a program's own changes (G10,
 //! system variables) are saved when its run state changes.
 
+use super::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use serde::{Deserialize, Serialize};
@@ -113,11 +114,7 @@ fn finite(v: f64, what: &str) -> Result<f64, ApiError> {
     params(("id" = String, Path, description = "Controller id")),
     responses((status = 200, description = "Tool offsets", body = [ToolOffsetDto]), (status = 404, description = "No such controller", body = ErrorBody))
 )]
-pub async fn tools(
-    State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<ToolOffsetDto>>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
+pub async fn tools(Addressed(hosted): Addressed) -> Result<Json<Vec<ToolOffsetDto>>, ApiError> {
     let station = hosted.station();
     let offsets = &station.controller.interpreter().state.offsets;
     let list = (1..=fivex_engine::interp::MAX_TOOL_OFFSETS as u32)
@@ -181,11 +178,7 @@ pub async fn set_tool(
     params(("id" = String, Path, description = "Controller id")),
     responses((status = 200, description = "Work offsets", body = [WorkOffsetDto]), (status = 404, description = "No such controller", body = ErrorBody))
 )]
-pub async fn works(
-    State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<WorkOffsetDto>>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
+pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDto>>, ApiError> {
     let station = hosted.station();
     let offsets = &station.controller.interpreter().state.offsets;
     let list = (0..WORK_SLOTS)

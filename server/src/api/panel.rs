@@ -2,14 +2,14 @@
 //! emergency stop. Each answers the controller's status after the action; an action the panel
 //! would ignore in this state is 409 with the reason.
 
-use axum::extract::rejection::PathRejection;
-use axum::extract::{Json, Path, State};
+use super::Addressed;
+use axum::extract::{Json, State};
 use fivex_engine::controller::{Mode, Refusal};
 use serde::Deserialize;
 use utoipa::ToSchema;
 
 use super::json_body::JsonBody;
-use super::{body, hosted, path, ControllerStatus};
+use super::{body, ControllerStatus};
 use crate::db;
 use crate::host::{Hosted, Station};
 use crate::serve::{ApiError, AppState, ErrorBody};
@@ -104,10 +104,9 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
 )]
 pub async fn cycle_start(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     body: axum::body::Bytes,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = optional_json::<CycleStart>(&body)?;
     let text = match request.program {
         Some(n) => {
@@ -152,9 +151,8 @@ pub async fn cycle_start(
 )]
 pub async fn feed_hold(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     act(&state, &hosted, |station| {
         station.controller.feed_hold();
         Ok(())
@@ -171,9 +169,8 @@ pub async fn feed_hold(
 )]
 pub async fn reset(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     act(&state, &hosted, |station| {
         if let Some(record) = station.end_run(&hosted.id, "reset") {
             state.host.record(record);
@@ -208,10 +205,9 @@ pub struct Mdi {
 )]
 pub async fn mdi(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<Mdi>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
     if request.text.len() > super::programs::MAX_PROGRAM_BYTES {
         return Err(ApiError::Unprocessable("MDI text too long".into(), None));
@@ -266,10 +262,9 @@ pub struct SetMode {
 )]
 pub async fn set_mode(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<SetMode>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let mode = match body(request)?.mode.to_ascii_lowercase().as_str() {
         "auto" => Mode::Auto,
         "mdi" => Mode::Mdi,
@@ -314,10 +309,9 @@ pub struct Overrides {
 )]
 pub async fn set_overrides(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<Overrides>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
     let within = |v: Option<f64>, max: f64, what: &str| match v {
         Some(p) if !(p.is_finite() && (0.0..=max).contains(&p)) => {
@@ -354,10 +348,9 @@ pub struct Switches {
 )]
 pub async fn set_switches(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<Switches>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
     act(&state, &hosted, |station| {
         let p = &mut station.controller.panel;
@@ -387,10 +380,9 @@ pub struct EmergencyStop {
 )]
 pub async fn emergency_stop(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     request: Result<JsonBody<EmergencyStop>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let pressed = body(request)?.pressed;
     act(&state, &hosted, |station| {
         if pressed {

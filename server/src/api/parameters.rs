@@ -2,6 +2,7 @@
 //! and changing one parameter, which puts a new machine under the controller as a power cycle
 //! would.
 
+use super::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::controller::RunState;
@@ -99,11 +100,7 @@ pub fn extras(
         (status = 409, description = "The machine cannot be written in this dialect's parameters", body = ErrorBody),
     )
 )]
-pub async fn get_all(
-    State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
-) -> Result<Json<ParameterList>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
+pub async fn get_all(Addressed(hosted): Addressed) -> Result<Json<ParameterList>, ApiError> {
     let station = hosted.station();
     Ok(Json(list(hosted.dialect, &station.machine, &station.extra_parameters)?))
 }

@@ -1,5 +1,6 @@
 //! A controller's stored programs (O numbers) and their NC text.
 
+use super::Addressed;
 use axum::body::Bytes;
 use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::{Path, Query, State};
@@ -129,9 +130,8 @@ fn number(n: u32) -> Result<u32, ApiError> {
 )]
 pub async fn list(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
 ) -> Result<Json<Vec<ProgramSummary>>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     let rows = db::list_programs(&state.db, &hosted.id).await?;
     Ok(Json(rows.into_iter().map(|(number, size)| ProgramSummary { number, size }).collect()))
 }

@@ -7,13 +7,14 @@
 //! instead. Nothing a client does
 //! or fails to do slows a controller or another client.
 
+use super::Addressed;
 use std::sync::Arc;
 use std::time::Duration;
 
-use axum::extract::rejection::{PathRejection, QueryRejection};
+use axum::extract::rejection::QueryRejection;
 use axum::extract::ws::rejection::WebSocketUpgradeRejection;
 use axum::extract::ws::{close_code, CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
-use axum::extract::{Path, Query, State};
+use axum::extract::{Query, State};
 use axum::response::Response;
 use futures_util::{SinkExt, StreamExt};
 use serde::{Deserialize, Serialize};
@@ -23,7 +24,7 @@ use tokio::sync::watch;
 use utoipa::{IntoParams, ToSchema};
 
 use super::fleet_view::Update;
-use super::{hosted, path, ControllerStatus};
+use super::ControllerStatus;
 use crate::host::{Hosted, Published, Reading};
 use crate::serve::{ApiError, AppState, ErrorBody};
 
@@ -85,11 +86,10 @@ impl Snapshot {
 )]
 pub async fn stream(
     State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
+    Addressed(hosted): Addressed,
     options: Result<Query<StreamOptions>, QueryRejection>,
     upgrade: Result<WebSocketUpgrade, WebSocketUpgradeRejection>,
 ) -> Result<Response, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
     // After the lookup: an unknown (or deleted) controller is 404 whether or not the request
     // asks for a websocket.
     let upgrade = upgrade.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;

@@ -1,6 +1,7 @@
 //! Macro variables: read any a program may read; write the common ones (#100–#199) and the
 //! retained ones (#500–#999, saved in the database before the answer).
 
+use super::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::interp::expr::Variables;
@@ -38,11 +39,7 @@ pub struct SetVariable {
     params(("id" = String, Path, description = "Controller id")),
     responses((status = 200, description = "Non-vacant common variables", body = [Variable]), (status = 404, description = "No such controller", body = ErrorBody))
 )]
-pub async fn list(
-    State(state): State<AppState>,
-    id: Result<Path<String>, PathRejection>,
-) -> Result<Json<Vec<Variable>>, ApiError> {
-    let hosted = hosted(&state, &path(id)?)?;
+pub async fn list(Addressed(hosted): Addressed) -> Result<Json<Vec<Variable>>, ApiError> {
     let values = hosted.station().controller.interpreter().state.common_variables();
     Ok(Json(values.into_iter().map(|(number, v)| Variable { number, value: Some(v) }).collect()))
 }
