@@ -444,12 +444,36 @@ pub async fn run_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<Ru
 /// The most records the background writer puts in one transaction.
 const RECORDS_PER_TRANSACTION: usize = 256;
 
-/// Writes what the workers produce ([`crate::host::Record`]) until every sender is gone: what
+/// What the database writer must keep, produced by the workers.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Record {
+    /// Retained variables (#500–#999) a program changed; `None` is vacant.
+    Variables { controller: String, values: Vec<(u32, Option<f64>)> },
+    /// Tool offsets a program changed (G10, #2001…).
+    ToolOffsets { controller: String, rows: Vec<ToolRow> },
+    /// Work offsets a program changed (G10 L2/L20, #5201…): (slot, value per axis).
+    WorkOffsets { controller: String, rows: Vec<(usize, Vec<f64>)> },
+    /// The tilted working plane kept over a restart changed (Syntec Pr3014 = 2).
+    KeptPlane { controller: String, plane: Option<fivex_engine::interp::KeptPlane> },
+    /// An alarm was raised.
+    Alarm { controller: String, at: String, alarm: fivex_engine::Alarm },
+    /// A program run ended (`completed`, `alarm` or `reset`).
+    Run {
+        controller: String,
+        program: Option<u32>,
+        started_at: String,
+        ended_at: String,
+        cycle_time_s: f64,
+        result: &'static str,
+    },
+}
+
+/// Writes what the workers produce ([`Record`]) until every sender is gone: what
 /// has arrived, up to [`RECORDS_PER_TRANSACTION`], in one write transaction, so a busy fleet
 /// holds the writer for few commits. A failed record is logged and the others are kept (a
 /// deleted controller's late records fail on the foreign key, harmlessly; SQLite undoes only the
 /// failed statement).
-pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedReceiver<crate::host::Record>) {
+pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedReceiver<Record>) {
     let mut batch = Vec::with_capacity(RECORDS_PER_TRANSACTION);
     while records.recv_many(&mut batch, RECORDS_PER_TRANSACTION).await > 0 {
         if let Err(e) = write_batch(&db, &batch).await {
@@ -459,7 +483,7 @@ pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedRece
     }
 }
 
-async fn write_batch(db: &Db, batch: &[crate::host::Record]) -> Result<(), sqlx::Error> {
+async fn write_batch(db: &Db, batch: &[Record]) -> Result<(), sqlx::Error> {
     let mut tx = db.begin_write().await?;
     for record in batch {
         if let Err(e) = record_on(&mut tx, record).await {
@@ -469,8 +493,7 @@ async fn write_batch(db: &Db, batch: &[crate::host::Record]) -> Result<(), sqlx:
     tx.commit().await
 }
 
-async fn record_on(conn: &mut SqliteConnection, record: &crate::host::Record) -> Result<(), sqlx::Error> {
-    use crate::host::Record;
+async fn record_on(conn: &mut SqliteConnection, record: &Record) -> Result<(), sqlx::Error> {
     match record {
         Record::Variables { controller, values } => variables_on(conn, controller, values).await,
         Record::ToolOffsets { controller, rows } => tool_offsets_on(conn, controller, rows).await,

@@ -21,9 +21,10 @@ use std::time::Duration;
 use fivex_engine::controller::Controller;
 use fivex_engine::interp::Config;
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::{Alarm, Dialect};
+use fivex_engine::Dialect;
 use tokio::sync::{broadcast, mpsc, watch};
 
+pub use crate::db::Record;
 pub use station::Station;
 pub use stream::{Message, PositionFrame, Published, Reading};
 
@@ -35,30 +36,6 @@ const EVENT_BUFFER: usize = 1024;
 
 /// The fastest simulated time may run, as a multiple of real time.
 pub const MAX_SPEED: f64 = 1000.0;
-
-/// What the database writer must keep, produced by the workers.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Record {
-    /// Retained variables (#500–#999) a program changed; `None` is vacant.
-    Variables { controller: String, values: Vec<(u32, Option<f64>)> },
-    /// Tool offsets a program changed (G10, #2001…).
-    ToolOffsets { controller: String, rows: Vec<crate::db::ToolRow> },
-    /// Work offsets a program changed (G10 L2/L20, #5201…): (slot, value per axis).
-    WorkOffsets { controller: String, rows: Vec<(usize, Vec<f64>)> },
-    /// The tilted working plane kept over a restart changed (Syntec Pr3014 = 2).
-    KeptPlane { controller: String, plane: Option<fivex_engine::interp::KeptPlane> },
-    /// An alarm was raised.
-    Alarm { controller: String, at: String, alarm: Alarm },
-    /// A program run ended (`completed`, `alarm` or `reset`).
-    Run {
-        controller: String,
-        program: Option<u32>,
-        started_at: String,
-        ended_at: String,
-        cycle_time_s: f64,
-        result: &'static str,
-    },
-}
 
 /// A cheap handle on the registry and its workers. The workers stop when the last handle is
 /// dropped or [`Host::shutdown`] is called.
