@@ -21,7 +21,7 @@
 use crate::canon::{Motion, Pos};
 use crate::interp::Interpreter;
 use crate::kin::{Kinematics, Vec3};
-use crate::machine::{AxisKind, MachineConfig};
+use crate::machine::AxisKind;
 use crate::motion::Segment;
 use crate::run::{run_observed, Observer, RunOptions, RunResult, Sample};
 use serde::Serialize;
@@ -169,8 +169,7 @@ pub struct TipDeviation {
 
 /// Run the program to its end and measure it; the `RunResult` is the one `run::run` gives.
 pub fn run_with_report(interp: &mut Interpreter, opts: &RunOptions) -> (RunResult, Report) {
-    let machine = interp.config().machine.clone();
-    let mut rec = Recorder::new(&machine, opts.period_s);
+    let mut rec = Recorder::new(interp, opts.period_s);
     let result = run_observed(interp, opts, |_| {}, &mut rec);
     let report = rec.finish(&result);
     (result, report)
@@ -178,7 +177,7 @@ pub fn run_with_report(interp: &mut Interpreter, opts: &RunOptions) -> (RunResul
 
 /// The observer that builds a [`Report`].
 pub struct Recorder {
-    kin: Option<Kinematics>,
+    kin: Option<std::sync::Arc<Kinematics>>,
     /// The line of the axis whose posture is singular (`Kinematics::singularity`), fixed in
     /// the table frame: the angle to it comes from each sample's tool direction.
     singular_axis: Option<Vec3>,
@@ -215,8 +214,10 @@ struct AxisAcc {
 }
 
 impl Recorder {
-    pub fn new(machine: &MachineConfig, period_s: f64) -> Recorder {
-        let kin = Kinematics::new(machine).ok();
+    /// A recorder for a run of `interp` (its machine and its compiled mechanism).
+    pub fn new(interp: &Interpreter, period_s: f64) -> Recorder {
+        let machine = &interp.config().machine;
+        let kin = interp.kinematics().cloned();
         let axes = machine
             .axes
             .iter()

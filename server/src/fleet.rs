@@ -200,7 +200,7 @@ pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> Value {
     // As `report::run_with_report` and `run::run` do, with the cancel flag looked at.
     let (result, report) = if opts.report {
         run_opts.period_s = opts.report_period_s;
-        let recorder = fivex_engine::report::Recorder::new(&interp.config().machine, run_opts.period_s);
+        let recorder = fivex_engine::report::Recorder::new(&interp, run_opts.period_s);
         let mut observer = Cancellable { inner: recorder, cancel };
         let r = run_observed(&mut interp, &run_opts, |_| {}, &mut observer);
         let report = observer.inner.finish(&r);
