@@ -1,7 +1,7 @@
 //! Programming transforms of the FANUC M series: polar coordinate command (G15/G16, group 17),
 //! programmable mirror image (G50.1/G51.1, group 22), scaling (G50/G51, group 11) and coordinate
 //! system rotation (G68/G69, group 16). The decisions are in `docs/conventions.md`, "Programming
-//! transforms"; `engine/tests/frames.rs` pins them.
+//! transforms"; `engine/tests/it/frames.rs` pins them.
 //!
 //! A block's axis words give a point in *programmed* coordinates (G16 words already turned into
 //! Cartesian ones). The point goes through the mirror image, then scaling, then rotation (FANUC's

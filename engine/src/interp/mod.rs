@@ -109,7 +109,7 @@ pub struct Config {
     pub five_axes_per_block: bool,
     /// Refuse the functions fivex does not carry out (`unbuilt`). Always on in fivex (no
     /// command line, JSON or HTTP setting turns it off); off only in the tests of the mode
-    /// interlocks that belong to those functions (`engine/tests/modes.rs`), so that their rules
+    /// interlocks that belong to those functions (`engine/tests/it/modes.rs`), so that their rules
     /// stay checked until the functions are built.
     pub refuse_unbuilt: bool,
 }
@@ -323,7 +323,7 @@ impl Interpreter {
     /// [`Interpreter::finish`]), so that running can start before the whole file is parsed. It
     /// runs plain blocks as they arrive and answers [`Step::NeedInput`] before any block whose
     /// jump, loop or call target may lie in a part that has not arrived; the outcome is the same
-    /// as with [`Interpreter::new`] on the whole file (`engine/tests/incremental.rs`).
+    /// as with [`Interpreter::new`] on the whole file (`engine/tests/it/incremental.rs`).
     pub fn new_incremental(cfg: Config) -> Interpreter {
         Interpreter { progs: Vec::new(), by_number: HashMap::new(), state: State::new(cfg), complete: false }
     }

@@ -3,7 +3,7 @@
 //! Such a block, while no canned cycle, modal macro call or 5-axis mode is active, only sets
 //! the motion mode and the feed and moves; the general path (`nc::exec_words`) would ask and
 //! answer "no" to a few dozen questions about it first. The fast path does exactly what the
-//! general one does for these blocks, and nothing else: `engine/tests/fast_path.rs` runs every
+//! general one does for these blocks, and nothing else: `engine/tests/it/fast_path.rs` runs every
 //! fixture and random programs both ways and compares commands and final state.
 
 use super::gcode::{code, group};

@@ -3,7 +3,7 @@
 //! point; `programmed` and `programmed_in` carry the commanded point and the name of its system
 //! (`docs/conventions.md`, Positions; docs/contracts.md: trace).
 
-mod common;
+use crate::common;
 
 use common::interpreter;
 use fivex_engine::kin::{Kinematics, Vec3};

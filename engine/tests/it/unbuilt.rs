@@ -4,7 +4,7 @@
 //! (`interp::unbuilt`). A code added to the table without a decision fails
 //! `every_g_code_has_a_decision`.
 
-mod common;
+use crate::common;
 use common::*;
 
 use fivex_engine::canon::CanonKind;

@@ -5,7 +5,7 @@
 //! flow, calls, system variables. Where the spec is silent and the implementation decides, the
 //! test says "decision" and pins it.
 
-mod common;
+use crate::common;
 use common::*;
 
 use fivex_engine::alarm::Alarm;

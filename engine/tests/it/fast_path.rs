@@ -2,7 +2,7 @@
 //! canonical commands, alarm and final state as the general path, on every fixture program and
 //! on random programs that mix plain blocks with everything that changes their meaning.
 
-mod common;
+use crate::common;
 
 use fivex_engine::canon::Canon;
 use fivex_engine::interp::{Config, Interpreter};

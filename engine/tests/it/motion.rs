@@ -5,7 +5,7 @@
 //! Preset linear axes (mill3, `docs/machine-config.md`): rapid 30000 mm/min (500 mm/s),
 //! acceleration A = 4000 mm/s², jerk J = 80000 mm/s³, X stroke ±600.
 
-mod common;
+use crate::common;
 
 use common::{check_limits, interpreter, interpreter_with};
 use fivex_engine::machine::MachineConfig;

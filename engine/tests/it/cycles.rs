@@ -2,7 +2,7 @@
 //! G92 against G52, and hole machining in the tilted working plane (twp §1.3.2: the cycles
 //! are allowed there and drill along the feature coordinate system's Z).
 
-mod common;
+use crate::common;
 
 use common::{alarm_with, canon, interpreter, motions, var};
 use fivex_engine::canon::{CanonKind, MotionKind};

@@ -6,9 +6,9 @@
 //! speed, acceleration and jerk) and the tilted working plane (Euler, three-point and two-vector
 //! forms of one frame; G53.1, G43, a move in the feature system).
 //!
-//! Case counts are modest by default; `PROPTEST_CASES=400 cargo test --test tcp_random` runs more.
+//! Case counts are modest by default; `PROPTEST_CASES=400 cargo test -p fivex-engine --test it tcp_random` runs more.
 
-mod common;
+use crate::common;
 
 use common::random::{angles_inside, random_machine, random_machine_of, KINDS};
 use common::{cases, check_limits_of, check_strokes, end_of, interpreter_with, motion_ends};

@@ -9,10 +9,10 @@
 //! pieces of the profile and average a jerk switch over 3 ms, so a measured maximum may read
 //! a little below the true one; the 90 % threshold leaves that room.
 //!
-//! Case counts are modest by default; `PROPTEST_CASES=200 cargo test --test kinematic_speed`
+//! Case counts are modest by default; `PROPTEST_CASES=200 cargo test -p fivex-engine --test it kinematic_speed`
 //! runs more.
 
-mod common;
+use crate::common;
 
 use common::random::{angles_inside, random_machine_of};
 use common::{cases, check_limits_of, derivatives, interpreter_with, limits_of, positions};

@@ -1,6 +1,6 @@
 //! Every NC-level alarm path not covered by `macro_b.rs`, in both dialects.
 
-mod common;
+use crate::common;
 use common::*;
 use fivex_engine::Dialect::{Fanuc, Syntec};
 

@@ -1,7 +1,7 @@
 //! A host stops a run (`run::Observer::stop`, how a cancelled fleet run ends): the run ends
 //! where it is asked to, before the next block or sample, however long the program would go on.
 
-mod common;
+use crate::common;
 
 use common::*;
 use fivex_engine::run::{run, run_observed, Observer, RunOptions, Sample};

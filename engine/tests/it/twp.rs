@@ -2,7 +2,7 @@
 //! `syntec.md` SYN-18…SYN-22): where the tip and the tool are after G68.2, G53.1 and moves in the
 //! feature coordinate system, on every kind of machine.
 
-mod common;
+use crate::common;
 
 use common::{end_of, interpreter_with, motion_ends};
 use fivex_engine::canon::Pos;

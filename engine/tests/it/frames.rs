@@ -4,7 +4,7 @@
 //! coordinates are worked out by hand in the comments (FANUC manual-style examples); where the
 //! manuals leave a choice the test says "decision".
 
-mod common;
+use crate::common;
 use common::*;
 use fivex_engine::Dialect::Syntec;
 

@@ -5,7 +5,7 @@
 // printed.
 #![allow(clippy::approx_constant)]
 
-mod common;
+use crate::common;
 
 use common::{end_of, interpreter_with, motion_ends};
 use fivex_engine::canon::Pos;

@@ -2,7 +2,7 @@
 //! same result as a plain run, bit for bit, and each figure is checked against a value worked
 //! out by hand.
 
-mod common;
+use crate::common;
 
 use common::*;
 use fivex_engine::interp::{Config, Interpreter};

@@ -1,7 +1,7 @@
 //! The programmed tool path (`fivex_engine::preview`) the dashboard draws, and the display
 //! values the controller reports beside its position (distance to go, spindle, tool length).
 
-mod common;
+use crate::common;
 
 use common::interpreter;
 use fivex_engine::controller::{Controller, RunState};

@@ -2,7 +2,7 @@
 //! same canonical commands, alarm and final state as interpreting the whole file at once, for
 //! every fixture program cut into parts of any size.
 
-mod common;
+use crate::common;
 
 use fivex_engine::canon::Canon;
 use fivex_engine::interp::{Config, Interpreter, Step};

@@ -6,7 +6,7 @@
 
 #![allow(clippy::approx_constant)]
 
-mod common;
+use crate::common;
 
 use common::{end_of, interpreter_with, motion_ends};
 use fivex_engine::canon::{CanonKind, FeedMode, MotionKind, Pos};

@@ -4,7 +4,7 @@
 //!
 //! `fanuc(preset, src)` / `syntec(preset, src)` give the first alarm code of a run, or "ok".
 
-mod common;
+use crate::common;
 use common::*;
 
 use fivex_engine::interp::{Config, Interpreter};

@@ -1,0 +1,30 @@
+//! The engine's integration tests, one module per subject, in one test binary (one link
+//! instead of one per file). Shared helpers are `common`; proptest keeps the failing cases it
+//! found under `proptest-regressions/`, one file per module, replayed first on every run.
+
+mod common;
+
+mod alarms;
+mod controller;
+mod cycles;
+mod fast_path;
+mod frames;
+mod incremental;
+mod kinematic_speed;
+mod library;
+mod macro_b;
+mod manual;
+mod manual_interrupt;
+mod modes;
+mod motion;
+mod no_panic;
+mod preview;
+mod report;
+mod smoke;
+mod stop;
+mod tcp;
+mod tcp_random;
+mod trace_tip;
+mod twp;
+mod unbuilt;
+mod wse;
