@@ -52,7 +52,7 @@ echo "fivex serve on $addr (log: kept on failure in target/schemathesis-serve.lo
 # The address is an IP, so Host is one the service answers to (docs/api.md, "Security").
 # The websockets (`…/stream`) are left out: schemathesis speaks HTTP request and answer, and a
 # handshake it completes (101) leaves a websocket on its connection pool. Their handshake
-# refusals are tested by the black-box tests (server/tests/blackbox/limits.rs, streams.rs).
+# refusals are tested by the black-box tests (server/tests/it/blackbox/limits.rs, streams.rs).
 status=0
 "$VENV/bin/schemathesis" --config-file scripts/schemathesis.toml run "http://$addr/api-docs/openapi.json" \
     --checks all \

@@ -2,7 +2,7 @@
 //! websocket; `docs/api.md`): the answer is the `fivex fleet` array, equal to `fivex run` per
 //! machine; runs are stored; bad requests are 4xx JSON with the reason.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

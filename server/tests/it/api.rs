@@ -2,7 +2,7 @@
 //! storing programs, running them, variables, history, restart, and requests that must be
 //! refused with a JSON reason.
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

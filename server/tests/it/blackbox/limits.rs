@@ -13,7 +13,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpSocket, TcpStream};
 use tokio_tungstenite::tungstenite;
 
-use crate::served::Served;
+use super::served::Served;
 
 /// A program that never ends and never moves: one block after another, as fast as the
 /// interpreter goes (without a cancel, only the 50-million-block guard would stop it).

@@ -10,7 +10,7 @@ use serde_json::{json, Value};
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 use tokio_tungstenite::tungstenite::{self, Message};
 
-use crate::served::{Reply, Served};
+use super::served::{Reply, Served};
 
 const FOREIGN: &str = "http://evil.example";
 /// A program that runs for minutes at speed 1 (50 mm at 10 mm/min).

@@ -12,7 +12,7 @@ use serde_json::{json, Value};
 use tokio_tungstenite::tungstenite::protocol::frame::coding::CloseCode;
 use tokio_tungstenite::tungstenite::Message;
 
-use crate::served::{Reply, Served};
+use super::served::{Reply, Served};
 
 const C: &str = "/api/v1/controllers";
 

@@ -7,7 +7,7 @@
 use hyper::Method;
 use serde_json::{json, Value};
 
-use crate::served::{Reply, Served};
+use super::served::{Reply, Served};
 
 /// The statuses the served document lists for `method` on `path` (as the document writes it).
 fn documented(document: &Value, method: &str, path: &str) -> Vec<String> {

@@ -5,7 +5,7 @@
 //! a loopback port-0 listener and talks to it with a plain HTTP client. The checked-in
 //! `openapi/openapi.json` and `docker-compose.yml` are checked here too.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -492,7 +492,7 @@ fn checked_in_openapi_json_matches_the_code() {
         panic!(
             "openapi/openapi.json is out of date with the code (first difference at line {line}):\n  \
              checked in: {ours}\n  generated:  {theirs}\n\
-             Regenerate it with: FIVEX_BLESS=1 cargo test -p fivex-server --test http checked_in_openapi"
+             Regenerate it with: FIVEX_BLESS=1 cargo test -p fivex-server --test it checked_in_openapi"
         );
     }
 }

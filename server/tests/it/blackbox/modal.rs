@@ -5,7 +5,7 @@
 use hyper::Method;
 use serde_json::json;
 
-use crate::served::Served;
+use super::served::Served;
 
 const PROGRAM: &str = "O0001\n\
 G90 G54 G00 X0 Y0 Z50.\n\
