@@ -24,7 +24,7 @@
 //! | `canon=N` | number of `interp` lines |
 //! | `diag=LINE:CODE` | `check` diagnostics, all of them in order (none given = none expected) |
 
-mod common;
+use crate::common;
 
 use common::*;
 use serde_json::Value;
@@ -289,7 +289,7 @@ fn fixtures() {
     let scratch = tempfile::tempdir().expect("a scratch directory");
     let mut failures = Vec::new();
     let mut count = 0;
-    insta::glob!("../fixtures", "*.nc", |path| {
+    insta::glob!("../../fixtures", "*.nc", |path| {
         count += 1;
         let file = path.file_name().unwrap().to_str().unwrap();
         let text = std::fs::read_to_string(path).unwrap();

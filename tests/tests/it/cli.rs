@@ -2,7 +2,7 @@
 //! `--tools`, `--trace`, `check` and `interp` output formats. Everything goes through the real
 //! binary, as a user or a script would drive it.
 
-mod common;
+use crate::common;
 
 use common::*;
 use serde_json::Value;

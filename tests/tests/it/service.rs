@@ -3,7 +3,7 @@
 //! stream; the service stops gracefully (closing the stream) or is killed, and after a restart
 //! everything that was acknowledged is still there.
 
-mod common;
+use crate::common;
 
 use std::io::{BufRead, BufReader};
 use std::net::TcpStream;

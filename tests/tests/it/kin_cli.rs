@@ -1,7 +1,7 @@
 //! `fivex kin fk` / `fivex kin ik` (`docs/contracts.md`): output shapes, the spec's selection example
 //! through the real binary, machine files, and usage errors.
 
-mod common;
+use crate::common;
 
 use common::*;
 use serde_json::{json, Value};

@@ -3,7 +3,7 @@
 //! everywhere, that alarm on some machines (rotary range, over-travel, no solution for a tool
 //! direction), and a malformed one; usage errors.
 
-mod common;
+use crate::common;
 
 use common::*;
 use serde_json::Value;
