@@ -756,8 +756,13 @@ impl Segment {
             kin.angles_near(compensated(&kin, c, u), &q)
                 .is_some_and(|a| kin.joints().iter().filter_map(|j| j.index).all(|i| (a[i] - q[i]).abs() < 1e-9))
         };
+        // At (within 1° of) the singular posture the free axis has no angle of its own: the
+        // compensated direction's azimuth would swing it at once at that end (a seed of the
+        // displaced-FCS property stepped C by 0.12° in 1 ms starting from B0): in proportion.
+        let near_singular = |q: &Pos| kin.singularity(q).is_some_and(|s| s.angle < 1.0);
         let compensation = tip
             .compensation
+            .filter(|_| !near_singular(from) && !near_singular(&m.machine))
             .filter(|c| posture.is_none() && on(c, 0.0) && on(c, 1.0))
             .filter(|c| ![0.25, 0.5, 0.75].iter().all(|&u| on(c, u)))
             .filter(|c| steady(&kin, from, &m.machine, |u| compensated(&kin, c, u)));
