@@ -1,5 +1,6 @@
 //! Parse, then run the interpreter and the ideal executor with a small block budget, on a 3-axis
-//! and a 5-axis preset, in both dialects. Any panic (or a hang past the block budget) is a bug.
+//! and a 5-axis preset, in both dialects. Any panic (or a hang past the block budget), and a
+//! cycle time or end position that is no number, is a bug.
 #![no_main]
 
 use fivex_engine::interp::{Config, Interpreter};
@@ -23,9 +24,11 @@ fuzz_target!(|data: &[u8]| {
                     t.d_geometry = 5.0;
                 }
             }
-            let result = run(&mut interp, &RunOptions { period_s: 0.0, max_time_s: 1.0e6 }, |_| {});
-            // The summary must be printable as the CLI prints it.
-            let _ = result.cycle_time_s.is_finite();
+            let options = RunOptions { period_s: 0.0, max_time_s: 1.0e6, ..RunOptions::default() };
+            let result = run(&mut interp, &options, |_| {});
+            // Never a confident wrong answer: the time and where the machine ends are numbers.
+            assert!(result.cycle_time_s.is_finite(), "cycle time {}", result.cycle_time_s);
+            assert!(result.machine.iter().all(|x| x.is_finite()), "ends at {:?}", result.machine);
         }
     }
 });
