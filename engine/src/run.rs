@@ -6,8 +6,7 @@
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Pos};
 use crate::interp::{Interpreter, Step};
-use crate::machine::MachineConfig;
-use crate::motion::{self, AxisLimits, FeedContext, Planned, Planner, Segment};
+use crate::motion::{Endpoint, Executor, Segment};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunOptions {
@@ -26,24 +25,8 @@ impl Default for RunOptions {
     }
 }
 
-/// One interpolation period of the trace.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    pub t: f64,
-    pub line: u32,
-    pub n: Option<u32>,
-    pub machine: Pos,
-    /// Tool tip in the active workpiece system, from the machine axes and the tool length in
-    /// effect by forward kinematics (`crate::tip`): where the machine puts it.
-    pub tip: [f64; 3],
-    /// Unit tool vector, tip toward holder, in the workpiece system (from the rotary axes).
-    pub tool: [f64; 3],
-    /// The commanded point (X, Y, Z) in the system `programmed_in` names.
-    pub programmed: [f64; 3],
-    pub programmed_in: crate::tip::System,
-    /// Tool tip speed relative to the workpiece, mm/min.
-    pub feed: f64,
-}
+/// One interpolation period of the trace (the executor's sample).
+pub use crate::motion::Sample;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunResult {
@@ -107,25 +90,18 @@ pub fn run_observed(
     mut on_sample: impl FnMut(&Sample),
     observer: &mut impl Observer,
 ) -> RunResult {
-    let machine = interp.config().machine.clone();
-    let mut exec = Executor {
-        // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
-        kinematics: interp.kinematics().cloned(),
-        axes: AxisLimits::of(&machine),
-        planner: motion::planner_for(&machine),
-        machine_config: machine,
-        t: 0.0,
-        next_sample: 0,
+    let start = Endpoint {
         machine: interp.state.machine_position(),
-        workpiece: interp.state.shown_position(),
-        queued_machine: interp.state.machine_position(),
-        queued_work: interp.state.shown_position(),
+        work: interp.state.shown_position(),
         basis: interp.state.tip_basis(),
-        queued_basis: interp.state.tip_basis(),
+    };
+    let mut exec = Driver {
+        // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
+        exec: Executor::new(interp.config().machine.clone(), interp.kinematics().cloned(), start),
+        next_sample: 0,
         opts: *opts,
         messages: Vec::new(),
         over_budget: None,
-        executed: 0,
         observer,
     };
     let tracing = opts.period_s > 0.0;
@@ -137,7 +113,7 @@ pub fn run_observed(
             break;
         }
         let step = interp.step(&mut out);
-        let before = exec.t;
+        let before = exec.exec.time();
         for c in out.drain(..) {
             if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
                 let (code, message) = interp.config().dialect.describe(&id);
@@ -149,7 +125,7 @@ pub fn run_observed(
         if motion_alarm || exec.over_budget.is_some() {
             break;
         }
-        interp.state.advance_time(exec.t - before);
+        interp.state.advance_time(exec.exec.time() - before);
         match step {
             Ok(Step::Continue) => {}
             // A caller that streams parts handles this itself; here every part has arrived.
@@ -170,90 +146,68 @@ pub fn run_observed(
         alarms = vec![Alarm { code, message, line, n }];
         motion_alarm = true;
     }
+    let Driver { exec, messages, .. } = exec;
     let (machine, workpiece, basis) = if motion_alarm {
-        (exec.machine, exec.workpiece, exec.basis)
+        (exec.here.machine, exec.here.work, exec.basis())
     } else {
         (interp.state.machine_position(), interp.state.shown_position(), interp.state.tip_basis())
     };
-    let tip = crate::tip::locate(exec.kinematics.as_deref(), &machine, &basis);
-    let shown = &exec.machine_config;
+    let tip = crate::tip::locate(exec.kinematics().map(|k| &**k), &machine, &basis);
+    let shown = exec.machine();
     let (machine, workpiece) = (shown.shown(&machine), shown.shown(&workpiece));
     RunResult {
         alarms,
         blocks: interp.blocks(),
-        cycle_time_s: exec.t,
+        cycle_time_s: exec.time(),
         machine,
         workpiece,
         tip,
         programmed: [workpiece[0], workpiece[1], workpiece[2]],
         programmed_in: basis.programmed_in,
         variables: interp.state.common_variables(),
-        messages: exec.messages,
+        messages,
     }
 }
 
-struct Executor<'o, O: Observer> {
+/// The run's driver of the executor: the interpolation periods, the time budget, the messages.
+struct Driver<'o, O: Observer> {
+    exec: Executor,
     observer: &'o mut O,
-    /// Segments executed to their end so far.
-    executed: u64,
-    kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
-    machine_config: MachineConfig,
-    axes: AxisLimits,
-    planner: Planner,
-    t: f64,
     /// Index of the next sample: sample k is at k × period.
     next_sample: u64,
-    /// Where the machine is (the end of the last executed segment).
-    machine: Pos,
-    workpiece: Pos,
-    /// Where the last queued segment ends.
-    queued_machine: Pos,
-    queued_work: Pos,
-    /// How the tip is read while the machine stands (after the last executed segment or a
-    /// command that waits).
-    basis: crate::tip::Basis,
-    /// The basis of the last queued motion.
-    queued_basis: crate::tip::Basis,
     opts: RunOptions,
     messages: Vec<String>,
     /// The block during which simulated time ran past `max_time_s`; nothing runs after it.
     over_budget: Option<(u32, Option<u32>)>,
 }
 
-impl<O: Observer> Executor<'_, O> {
+impl<O: Observer> Driver<'_, O> {
     fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
-                self.express_start_in(&c.tip_basis);
-                let ctx = FeedContext {
-                    feed_override: self.opts.feed_override,
-                    rapid_override: self.opts.rapid_override,
-                    exact_stop: m.context.exact_stop,
-                    options: self.machine_config.motion,
-                };
-                let mut seg =
-                    Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx, self.kinematics.as_ref());
-                (seg.line, seg.n, seg.tip_basis) = (c.line, c.n, c.tip_basis);
-                if let Err(id) = motion::stroke_check(&seg, &self.machine_config) {
+                let ctx = self.exec.feed_context(
+                    self.opts.feed_override,
+                    self.opts.rapid_override,
+                    m.context.exact_stop,
+                );
+                let observer = &mut *self.observer;
+                if let Err(id) = self.exec.queue(c, m, ctx, 0, None, |seg| observer.queued(m, seg)) {
                     // The machine stops at the end of the block before; the offending one never moves.
                     self.drain(true, tracing, on_sample);
                     return Err(id);
                 }
-                (self.queued_machine, self.queued_work) = (m.machine, m.target);
-                self.observer.queued(m, &seg);
-                self.planner.push(seg);
                 self.drain(false, tracing, on_sample);
             }
             other => {
                 // Every other command waits for the motion before it to end; the machine then
                 // stands in the block's workpiece system with its tool length.
                 self.drain(true, tracing, on_sample);
-                self.basis = c.tip_basis;
+                self.exec.stand_in(c.tip_basis);
                 match other {
                     _ if self.over_budget.is_some() => {}
                     CanonKind::Dwell { seconds } => self.wait(*seconds, c, tracing, on_sample),
                     CanonKind::ToolChange { .. } => {
-                        self.wait(self.machine_config.motion.tool_change_s, c, tracing, on_sample)
+                        self.wait(self.exec.machine().motion.tool_change_s, c, tracing, on_sample)
                     }
                     CanonKind::Print { text } => self.messages.push(text.clone()),
                     CanonKind::Stop { message: Some(m), .. } => self.messages.push(m.clone()),
@@ -264,117 +218,80 @@ impl<O: Observer> Executor<'_, O> {
         Ok(())
     }
 
-    /// A motion in another workpiece system (G54…, G10, G52, G92 changed since the last one,
-    /// in its block or before) starts where the machine stands, expressed in the new system, as
-    /// the interpreter's current point is: its programmed start moves by the origin's change.
-    fn express_start_in(&mut self, basis: &crate::tip::Basis) {
-        let before = std::mem::replace(&mut self.queued_basis, *basis);
-        crate::tip::restate_start(&mut self.queued_work, &before, basis);
-    }
-
     /// Stand still for `seconds` (a dwell, a tool change), sampling the trace.
     fn wait(&mut self, seconds: f64, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
-        let end = (self.t + seconds).min(self.opts.max_time_s.max(self.t));
+        let t = self.exec.time();
+        let end = (t + seconds).min(self.opts.max_time_s.max(t));
         if tracing {
-            let (m0, w0) = (self.machine, self.workpiece);
-            let (line, n) = (c.line, c.n);
-            self.sample_until(end, &mut |_| (m0, w0, 0.0, line, n, None), on_sample);
+            self.sample_until(end, Some((c.line, c.n)), on_sample);
         }
-        if end < self.t + seconds {
-            self.t = end;
+        self.exec.idle_until(end);
+        if end < t + seconds {
             self.over_budget = Some((c.line, c.n));
             return;
         }
-        self.t = end;
         self.check_budget(c.line, c.n);
     }
 
-    /// Execute the segments whose speeds are final (`stop`: all, ending at rest).
+    /// Execute the runs whose speeds are final (`stop`: all, ending at rest).
     fn drain(&mut self, stop: bool, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
-        while let Some(p) = self.planner.pop(stop) {
-            if self.over_budget.is_none() {
-                self.execute(&p, tracing, on_sample);
-            }
+        while self.over_budget.is_none() && self.exec.release(stop) {
+            self.execute(tracing, on_sample);
         }
     }
 
-    fn execute(&mut self, p: &Planned, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
-        let Some(last) = p.segments.last() else { return };
-        let t0 = self.t;
+    /// Execute the run released, to its end or to the time budget.
+    fn execute(&mut self, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
+        let Some(end) = self.exec.run_end() else { return };
         // The run stops where the time budget runs out, even inside a segment.
-        let t1 = (t0 + p.profile.duration()).min(self.opts.max_time_s.max(t0));
-        let mut cursor = motion::Cursor::default();
-        let done = self.executed;
+        let t1 = end.min(self.opts.max_time_s.max(self.exec.time()));
         if tracing {
-            self.sample_until(
-                t1,
-                &mut |dt| {
-                    let at = p.point(dt, &mut cursor);
-                    let on = &p.segments[cursor.index()];
-                    let number = done + cursor.index() as u64;
-                    (at.machine, at.work, at.feed, at.line, at.n, Some((on, at.s - cursor.start(), number)))
-                },
-                on_sample,
-            );
+            self.sample_until(t1, None, on_sample);
         }
-        if t1 < t0 + p.profile.duration() {
-            let mut cursor = motion::Cursor::default();
-            let at = p.point(t1 - t0, &mut cursor);
-            (self.t, self.machine, self.workpiece) = (t1, at.machine, at.work);
-            self.basis = p.segments[cursor.index()].tip_basis;
-            self.over_budget = Some((at.line, at.n));
+        self.exec.advance_to(t1);
+        let Some(finished) = self.exec.finish() else {
+            self.over_budget = Some((self.exec.here.line, self.exec.here.n));
             return;
-        }
-        for seg in &p.segments {
+        };
+        for seg in &finished.planned.segments {
             self.observer.executed(seg);
         }
-        self.executed += p.segments.len() as u64;
-        self.t = t1;
-        self.machine = last.to;
-        self.workpiece = last.work_to;
-        self.basis = last.tip_basis;
-        self.check_budget(last.line, last.n);
+        self.exec.arrive(&finished);
+        if let Some(last) = finished.planned.segments.last() {
+            self.check_budget(last.line, last.n);
+        }
     }
 
     fn check_budget(&mut self, line: u32, n: Option<u32>) {
-        if self.t > self.opts.max_time_s && self.over_budget.is_none() {
+        if self.exec.time() > self.opts.max_time_s && self.over_budget.is_none() {
             self.over_budget = Some((line, n));
         }
     }
 
-    /// Samples from the current time to `t1`; `at(dt)` gives machine and programming position,
-    /// tip feed (mm/min), line and sequence number `dt` seconds after the current time, and the
-    /// segment there with the distance along it.
-    fn sample_until<'s>(
-        &mut self,
-        t1: f64,
-        at: &mut impl FnMut(f64) -> (Pos, Pos, f64, u32, Option<u32>, Option<(&'s Segment, f64, u64)>),
-        on_sample: &mut impl FnMut(&Sample),
-    ) {
-        let t0 = self.t;
+    /// Samples from the current time to `t1`: along the run under way, or standing still in
+    /// block (`line`, `n`) of `standing`.
+    fn sample_until(&mut self, t1: f64, standing: Option<(u32, Option<u32>)>, on_sample: &mut impl FnMut(&Sample)) {
+        let t0 = self.exec.time();
+        let standing_at = self.exec.here.machine;
         loop {
             let ts = self.next_sample as f64 * self.opts.period_s;
             if ts > t1 || (ts > t0 && t1 == t0) || self.observer.stop() {
                 return;
             }
-            let (raw, work, feed, line, n, on) = at((ts - t0).max(0.0));
-            // The segment's tool length and workpiece system; standing still, the last ones.
-            let basis = on.map_or(&self.basis, |(seg, _, _)| &seg.tip_basis);
-            let placed = crate::tip::locate(self.kinematics.as_deref(), &raw, basis);
-            let machine = self.machine_config.shown(&raw);
-            let sample = Sample {
-                t: ts,
-                line,
-                n,
-                machine,
-                tip: placed.tip,
-                tool: placed.tool,
-                programmed: [work[0], work[1], work[2]],
-                programmed_in: basis.programmed_in,
-                feed,
+            let sample = match standing {
+                None => {
+                    self.exec.advance_to(ts);
+                    let raw = self.exec.here.machine;
+                    self.exec.sample(ts, &raw, &self.exec.basis())
+                }
+                Some((line, n)) => {
+                    let basis = self.exec.basis();
+                    Sample { line, n, feed: 0.0, ..self.exec.sample(ts, &standing_at, &basis) }
+                }
             };
             on_sample(&sample);
-            self.observer.sample(&sample, &raw, on);
+            let raw = self.exec.here.machine;
+            self.observer.sample(&sample, &raw, self.exec.on());
             self.next_sample += 1;
         }
     }

@@ -1,12 +1,15 @@
-//! Motion: canonical motions become timed axis motion. `path` gives each motion its geometry
-//! and the limits its axes impose, `planner` looks ahead and fixes the speed at every junction,
-//! `profile` turns a segment into a jerk-limited speed profile that can be sampled at any time.
+//! Motion: canonical motions become timed axis motion. `executor` is the one place where that
+//! happens (queue, plan, execute, sample); `path` gives each motion its geometry and the limits
+//! its axes impose, `planner` looks ahead and fixes the speed at every junction, `profile` turns
+//! a segment into a jerk-limited speed profile that can be sampled at any time.
 //! Everything is in seconds and machine units (mm, deg).
 
+pub mod executor;
 pub mod path;
 pub mod planner;
 pub mod profile;
 
+pub use executor::{Braking, Endpoint, Executor, Finished, Sample};
 pub use path::{AxisLimits, FeedContext, Segment};
 pub use planner::{Cursor, Planned, Planner, Point};
 pub use profile::{Limits, PathState, Profile};

@@ -1,0 +1,450 @@
+//! The one place where canonical motions become motion: a motion is turned into a [`Segment`]
+//! from where the last one ends (in the workpiece system of its block), checked against the
+//! stored strokes and queued in the look-ahead [`Planner`]; the runs the planner releases are
+//! executed one after the other on the executor's clock, and [`Executor::sample`] reads the
+//! machine where it is (axes, tip by forward kinematics, feed, block).
+//!
+//! Two drivers use it: `crate::run` executes a program to its end and samples it every
+//! interpolation period; `crate::controller` is the operator panel over it (ticks, feed hold,
+//! overrides, manual moves). `crate::preview` uses its segment geometry without planning.
+//! Time advances only by [`Executor::advance_to`] and [`Executor::idle_until`]: the engine reads
+//! no clock.
+
+use super::{AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, Motion, Pos};
+use crate::kin::Kinematics;
+use crate::machine::MachineConfig;
+use crate::tip::{Basis, System};
+use std::sync::Arc;
+
+/// One instant of the machine, as the trace, the controller's stream and the run report read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub t: f64,
+    pub line: u32,
+    pub n: Option<u32>,
+    /// Machine axes, rollover axes shown modulo 360.
+    pub machine: Pos,
+    /// Tool tip in the active workpiece system, from the machine axes and the tool length in
+    /// effect by forward kinematics (`crate::tip`): where the machine puts it.
+    pub tip: [f64; 3],
+    /// Unit tool vector, tip toward holder, in the workpiece system (from the rotary axes).
+    pub tool: [f64; 3],
+    /// The commanded point (X, Y, Z) in the system `programmed_in` names.
+    pub programmed: [f64; 3],
+    pub programmed_in: System,
+    /// Tool tip speed relative to the workpiece, mm/min.
+    pub feed: f64,
+}
+
+/// Where the last queued motion ends: where the next one starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Endpoint {
+    pub machine: Pos,
+    /// The programmed position, in the workpiece system of `basis`.
+    pub work: Pos,
+    pub basis: Basis,
+}
+
+/// The run being executed: its plan, the time it started and where its samples are.
+#[derive(Debug, Clone)]
+struct Current {
+    planned: Planned,
+    start: f64,
+    cursor: Cursor,
+}
+
+/// How a deceleration to rest along the path began ([`Executor::brake`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Braking {
+    /// Nothing was moving.
+    Idle,
+    /// A non-linear rapid cannot be slowed along a path: its axes finish their own profiles.
+    Finishing,
+    /// The machine was at the very end of its path: it stands; `rest` is what was queued.
+    AtEnd { rest: Vec<Segment> },
+    /// A stop profile runs now, over the path ahead (queued segments included).
+    Started,
+}
+
+/// A run executed to its end by [`Executor::advance_to`].
+#[derive(Debug, Clone)]
+pub struct Finished {
+    pub planned: Planned,
+    /// Its segments' numbers in queue order start here.
+    pub first: u64,
+}
+
+pub struct Executor {
+    machine: MachineConfig,
+    /// The mechanism; `None` when the machine's is refused (its tip is read as a 3-axis one's).
+    kinematics: Option<Arc<Kinematics>>,
+    axes: AxisLimits,
+    planner: Planner,
+    /// Simulated seconds.
+    t: f64,
+    current: Option<Current>,
+    /// Where the machine is (machine axes before rollover display, programmed position).
+    pub here: Point,
+    pub queued: Endpoint,
+    /// The tool length and tip basis of the last run's last segment.
+    last_basis: Basis,
+    /// Segments executed to their end so far.
+    executed: u64,
+}
+
+impl Executor {
+    /// An executor standing at `machine` (programmed position `work` in `basis`) at time 0.
+    pub fn new(machine: MachineConfig, kinematics: Option<Arc<Kinematics>>, start: Endpoint) -> Executor {
+        Executor {
+            axes: AxisLimits::of(&machine),
+            planner: super::planner_for(&machine),
+            machine,
+            kinematics,
+            t: 0.0,
+            current: None,
+            here: Point { machine: start.machine, work: start.work, feed: 0.0, line: 0, n: None, s: 0.0 },
+            queued: start,
+            last_basis: start.basis,
+            executed: 0,
+        }
+    }
+
+    pub fn machine(&self) -> &MachineConfig {
+        &self.machine
+    }
+
+    pub fn kinematics(&self) -> Option<&Arc<Kinematics>> {
+        self.kinematics.as_ref()
+    }
+
+    /// The axis limits of program motion.
+    pub fn axes(&self) -> &AxisLimits {
+        &self.axes
+    }
+
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// Segments executed to their end so far.
+    pub fn executed(&self) -> u64 {
+        self.executed
+    }
+
+    /// Nothing is moving and nothing is queued.
+    pub fn is_idle(&self) -> bool {
+        self.current.is_none() && self.planner.is_empty()
+    }
+
+    /// A run is being executed.
+    pub fn is_moving(&self) -> bool {
+        self.current.is_some()
+    }
+
+    /// Segments are queued, not yet released.
+    pub fn has_queued(&self) -> bool {
+        !self.planner.is_empty()
+    }
+
+    /// The segment the machine is on, with the distance along it and its number in queue order.
+    pub fn on(&self) -> Option<(&Segment, f64, u64)> {
+        let c = self.current.as_ref()?;
+        let k = c.cursor.index();
+        Some((&c.planned.segments[k], self.here.s - c.cursor.start(), self.executed + k as u64))
+    }
+
+    /// The segments ahead of the machine in the run being executed (the one it is on first).
+    pub fn run_ahead(&self) -> &[Segment] {
+        self.current.as_ref().map_or(&[], |c| &c.planned.segments[c.cursor.index()..])
+    }
+
+    /// Every segment queued and not yet released, in order.
+    pub fn queued_segments(&self) -> impl Iterator<Item = &Segment> {
+        self.planner.segments()
+    }
+
+    /// The tool length and tip basis of the last finished run's last segment.
+    pub fn last_basis(&self) -> Basis {
+        self.last_basis
+    }
+
+    /// How the tip is read where the machine stands: the segment's under way, else the last run's.
+    pub fn basis(&self) -> Basis {
+        self.on().map_or(self.last_basis, |(seg, _, _)| seg.tip_basis)
+    }
+
+    /// The machine stands in another block's workpiece system and tool length (a command that
+    /// waits for the motion before it).
+    pub fn stand_in(&mut self, basis: Basis) {
+        self.last_basis = basis;
+    }
+
+    /// The feed context of a program motion under these overrides.
+    pub fn feed_context(&self, feed_override: f64, rapid_override: f64, exact_stop: bool) -> FeedContext {
+        FeedContext { feed_override, rapid_override, exact_stop, options: self.machine.motion }
+    }
+
+    /// The segment of motion `m` from the queued endpoint, within `axes`.
+    pub fn segment_within(&self, m: &Motion, ctx: FeedContext, axes: &AxisLimits) -> Segment {
+        Segment::new(m, &self.queued.machine, &self.queued.work, axes, ctx, self.kinematics.as_ref())
+    }
+
+    /// Queue the motion of command `c` (`m`, the command's motion or a shifted copy of it),
+    /// read in block `block`: it starts where the last queued one ends, restated in its block's
+    /// workpiece system. A motion that would cross a stroke limit (moved by `shift`, a handle
+    /// interruption's) is not queued: its alarm is returned and the queue is left as it was,
+    /// but for the start, which stays restated. `queued` sees the segment before it is queued.
+    pub fn queue(
+        &mut self,
+        c: &Canon,
+        m: &Motion,
+        ctx: FeedContext,
+        block: u64,
+        shift: Option<&Pos>,
+        queued: impl FnOnce(&Segment),
+    ) -> Result<(), AlarmId> {
+        let before = std::mem::replace(&mut self.queued.basis, c.tip_basis);
+        crate::tip::restate_start(&mut self.queued.work, &before, &c.tip_basis);
+        let mut seg = self.segment_within(m, ctx, &self.axes);
+        (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
+        match shift {
+            Some(shift) => super::stroke_check_shifted(&seg, &self.machine, shift)?,
+            None => super::stroke_check(&seg, &self.machine)?,
+        }
+        (self.queued.machine, self.queued.work) = (m.machine, m.target);
+        queued(&seg);
+        self.planner.push(seg);
+        Ok(())
+    }
+
+    /// Queue a segment made elsewhere (a manual move) and take its end as the queued endpoint.
+    pub fn push(&mut self, seg: Segment) {
+        (self.queued.machine, self.queued.work, self.queued.basis) = (seg.to, seg.work_to, seg.tip_basis);
+        self.planner.push(seg);
+    }
+
+    /// Queue segments again as they are (the rest of a path after a stop); the queued endpoint
+    /// does not move.
+    pub fn requeue(&mut self, rest: Vec<Segment>) {
+        for seg in rest {
+            self.planner.push(seg);
+        }
+    }
+
+    /// Everything queued and not released, the queue emptied (the next release starts at rest).
+    pub fn take_queued(&mut self) -> Vec<Segment> {
+        self.planner.take_all()
+    }
+
+    /// The next motion starts where the machine stands (programmed position `work` in `basis`).
+    pub fn queue_from_here(&mut self, work: Pos, basis: Basis) {
+        self.queued = Endpoint { machine: self.here.machine, work, basis };
+    }
+
+    /// Start the next run whose speeds are final, if nothing runs (`stop`: release everything
+    /// queued, ending at rest). True when a run is under way after it.
+    pub fn release(&mut self, stop: bool) -> bool {
+        if self.current.is_none() {
+            if let Some(p) = self.planner.pop(stop) {
+                self.start(p);
+            }
+        }
+        self.current.is_some()
+    }
+
+    fn start(&mut self, planned: Planned) {
+        self.current = Some(Current { planned, start: self.t, cursor: Cursor::default() });
+    }
+
+    /// When the run under way ends.
+    pub fn run_end(&self) -> Option<f64> {
+        self.current.as_ref().map(|c| c.start + c.planned.profile.duration())
+    }
+
+    /// Move the clock to `until`, at most to the end of the run under way (standing still,
+    /// to `until`); the machine is then where the run puts it.
+    pub fn advance_to(&mut self, until: f64) {
+        let Some(c) = &mut self.current else {
+            self.t = self.t.max(until);
+            return;
+        };
+        let end = c.start + c.planned.profile.duration();
+        self.t = until.min(end).max(self.t);
+        self.here = c.planned.point(self.t - c.start, &mut c.cursor);
+    }
+
+    /// The run under way, if the clock has reached its end: it is over.
+    pub fn finish(&mut self) -> Option<Finished> {
+        if self.run_end()? > self.t {
+            return None;
+        }
+        let Current { planned, .. } = self.current.take()?;
+        let first = self.executed;
+        self.executed += planned.segments.len() as u64;
+        if let Some(last) = planned.segments.last() {
+            self.last_basis = last.tip_basis;
+        }
+        if planned.profile.end_speed().abs() < 1e-9 {
+            self.here.feed = 0.0;
+        }
+        Some(Finished { planned, first })
+    }
+
+    /// The run ended on its last point exactly (not a stop part-way along it).
+    pub fn arrive(&mut self, finished: &Finished) {
+        if let Some(last) = finished.planned.segments.last() {
+            (self.here.machine, self.here.work) = (last.to, last.work_to);
+        }
+    }
+
+    /// Stand still until `until` (a dwell, a tool change).
+    pub fn idle_until(&mut self, until: f64) {
+        debug_assert!(self.current.is_none());
+        self.t = self.t.max(until);
+    }
+
+    /// Stop at once where the machine is (emergency stop): nothing runs or is queued.
+    pub fn halt(&mut self) {
+        self.current = None;
+        self.planner.take_all();
+        self.here.feed = 0.0;
+    }
+
+    /// Decelerate to rest along the path, within the limits of every segment the stop covers;
+    /// the rest of the path after the stop point comes with the run when it ends.
+    pub fn brake(&mut self) -> Braking {
+        let Some(c) = self.current.take() else { return Braking::Idle };
+        if c.planned.segments.first().is_some_and(Segment::is_independent) {
+            self.current = Some(c);
+            return Braking::Finishing;
+        }
+        let state = c.planned.profile.at(self.t - c.start);
+        let mut rest = c.planned.rest(state.s);
+        rest.extend(self.planner.take_all());
+        if rest.is_empty() {
+            self.here.feed = 0.0;
+            return Braking::AtEnd { rest };
+        }
+        let lim = stop_limits(&rest, state.v, state.a);
+        let profile = Profile::stop(state.v, state.a, &lim);
+        self.start(Planned { segments: rest, profile });
+        Braking::Started
+    }
+
+    /// New overrides: every queued segment takes them; the run under way changes speed at
+    /// once within the limits when it can be sure of keeping to every junction and stop ahead
+    /// after the change (true: a transition runs now, and its end hands the rest of the path
+    /// back with [`Executor::resume`]); otherwise it ends as planned and the rest takes them.
+    pub fn set_overrides(&mut self, feed: f64, rapid: f64) -> bool {
+        let Some(c) = self.current.take() else {
+            // Between runs (or at rest): what is queued takes the new speed from here.
+            let v = self.planner.speed();
+            let queued = self.planner.take_all();
+            self.planner.continue_at(v);
+            for mut seg in queued {
+                seg.set_override(feed, rapid);
+                self.planner.push(seg);
+            }
+            return false;
+        };
+        let state = c.planned.profile.at(self.t - c.start);
+        let mut rest = c.planned.rest(state.s);
+        let in_run = rest.len();
+        rest.extend(self.planner.take_all());
+        for seg in &mut rest {
+            seg.set_override(feed, rapid);
+        }
+        let Some(first) = rest.first() else {
+            self.current = Some(c);
+            return false;
+        };
+        let (lim, _) = to_next_stop(&rest);
+        let transition = Profile::transition(state.v, state.a, first.limits.v, &lim);
+        // Where the transition ends, the machine must still be able to keep to every junction
+        // and exact stop ahead.
+        let after = Planned { segments: rest.clone(), profile: transition.clone() }.rest(transition.len());
+        let fits = transition.end_speed() <= self.planner.entry_speed(&after) + 1e-9;
+        if state.a < 0.0 || !fits || c.planned.segments[0].is_independent() {
+            // Braking already, too near a junction or stop to be sure of keeping to it after
+            // the change, or a non-linear rapid: the run under way ends as planned, the rest
+            // takes the override.
+            self.planner.continue_at(c.planned.profile.end_speed());
+            self.requeue(rest.split_off(in_run));
+            self.current = Some(c);
+            return false;
+        }
+        self.start(Planned { segments: rest, profile: transition });
+        true
+    }
+
+    /// After a stop or a speed change that ended at `speed` with `rest` of the path ahead:
+    /// queue the rest again, moving on at that speed.
+    pub fn resume(&mut self, rest: Vec<Segment>, speed: f64) {
+        self.planner.continue_at(speed);
+        self.requeue(rest);
+    }
+
+    /// The machine where it is now, read as the trace reads it: the sample at time `t`
+    /// (the clock's, or a sample time the run passes through) with the tip by forward
+    /// kinematics of `machine` (the axes as they stand; a handle interruption's shift in them).
+    pub fn sample(&self, t: f64, machine: &Pos, basis: &Basis) -> Sample {
+        let placed = crate::tip::locate(self.kinematics.as_deref(), machine, basis);
+        Sample {
+            t,
+            line: self.here.line,
+            n: self.here.n,
+            machine: self.machine.shown(machine),
+            tip: placed.tip,
+            tool: placed.tool,
+            programmed: [self.here.work[0], self.here.work[1], self.here.work[2]],
+            programmed_in: basis.programmed_in,
+            feed: self.here.feed,
+        }
+    }
+}
+
+/// The plan of one segment on its own, from rest to rest (a handle interruption's pulse move).
+pub fn plan_alone(machine: &MachineConfig, seg: Segment) -> Option<Planned> {
+    let mut planner = super::planner_for(machine);
+    planner.push(seg);
+    planner.pop(true)
+}
+
+/// The lowest limits of the segments up to the next place the machine must stop at (an exact
+/// stop, or the end of the path), and the distance to it.
+fn to_next_stop(path: &[Segment]) -> (Limits, f64) {
+    let mut lim = path[0].limits;
+    let mut room = 0.0;
+    for seg in path {
+        lim = lim.min(seg.limits);
+        room += seg.len;
+        if seg.stop_after {
+            break;
+        }
+    }
+    (lim, room)
+}
+
+/// The limits for the quickest stop from speed `v` and acceleration `a` along `path`: those
+/// of every segment the stop covers, as long as it still ends before the next exact stop and
+/// the braking under way can end at rest with their jerk (the motion was planned to stop there
+/// with the limits of the segments before it, so those always do).
+fn stop_limits(path: &[Segment], v: f64, a: f64) -> Limits {
+    let (_, boundary) = to_next_stop(path);
+    let mut lim = path[0].limits;
+    let mut covered = path[0].len;
+    for seg in &path[1..] {
+        if Profile::stop(v, a, &lim).len() <= covered || covered >= boundary {
+            break;
+        }
+        let next = lim.min(seg.limits);
+        if (a < 0.0 && a * a > 2.0 * next.j * v) || Profile::stop(v, a, &next).len() > boundary {
+            break;
+        }
+        lim = next;
+        covered += seg.len;
+    }
+    lim
+}
