@@ -17,8 +17,9 @@ use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, Spi
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::MachineConfig;
-use crate::motion::{self, AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
+use crate::motion::{Braking, Endpoint, Executor, Finished, Point, Segment};
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 mod executing;
 mod interrupt;
@@ -146,10 +147,12 @@ enum Wait {
 
 pub struct Controller {
     interp: Interpreter,
-    machine: MachineConfig,
+    /// The machine (the executor's, shared).
+    machine: Arc<MachineConfig>,
     /// The mechanism (for the 5-axis manual feeds); `None` when the machine's is refused.
-    kinematics: Option<std::sync::Arc<Kinematics>>,
-    axes: AxisLimits,
+    kinematics: Option<Arc<Kinematics>>,
+    /// Where canonical motions become motion: the planner, the run under way, the clock.
+    exec: Executor,
     program: Option<String>,
     mdi: Option<String>,
     mode: Mode,
@@ -158,23 +161,8 @@ pub struct Controller {
     alarms: Vec<Alarm>,
     events: Vec<Event>,
     estop: bool,
-    /// Simulated seconds since the controller was made.
-    t: f64,
-    planner: Planner,
-    /// The run being executed, time into it, and where its samples are.
-    current: Option<(Planned, f64, Cursor)>,
     /// A deceleration to rest in progress, and what follows it.
     stopping: Option<AfterStop>,
-    /// Where the last queued segment ends.
-    queued_machine: Pos,
-    queued_work: Pos,
-    /// The tip basis `queued_work` is in (the programmed point's system and origin).
-    queued_basis: crate::tip::Basis,
-    here: Point,
-    /// The tool length offset of the last run's last segment.
-    last_tool_length: f64,
-    /// How the tip was read on the last run's last segment (`crate::tip`).
-    last_tip_basis: crate::tip::Basis,
     /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04).
     spindle: f64,
     /// Canonical commands read but not yet carried out.
@@ -219,16 +207,18 @@ const BLOCKS_PER_TICK: usize = 100_000;
 
 impl Controller {
     pub fn new(cfg: Config) -> Controller {
-        let machine = cfg.machine.clone();
+        let machine = Arc::new(cfg.machine.clone());
         let interp = Interpreter::new(crate::lang::parse_file(""), cfg);
-        let start = interp.state.machine_position();
-        let work = interp.state.shown_position();
-        let basis = interp.state.tip_basis();
+        let start = Endpoint {
+            machine: interp.state.machine_position(),
+            work: interp.state.shown_position(),
+            basis: interp.state.tip_basis(),
+        };
         let executing = Executing::new(interp.state.modal_state());
+        let kinematics = interp.kinematics().cloned();
         Controller {
-            axes: AxisLimits::of(&machine),
-            planner: motion::planner_for(&machine),
-            kinematics: interp.kinematics().cloned(),
+            exec: Executor::new(machine.clone(), kinematics.clone(), start),
+            kinematics,
             machine,
             interp,
             program: None,
@@ -239,15 +229,7 @@ impl Controller {
             alarms: Vec::new(),
             events: Vec::new(),
             estop: false,
-            t: 0.0,
-            current: None,
             stopping: None,
-            queued_machine: start,
-            queued_work: work,
-            queued_basis: basis,
-            here: Point { machine: start, work, feed: 0.0, line: 0, n: None, s: 0.0 },
-            last_tool_length: 0.0,
-            last_tip_basis: basis,
             spindle: 0.0,
             pending: VecDeque::new(),
             program_active: false,
@@ -273,7 +255,7 @@ impl Controller {
     }
 
     pub fn time(&self) -> f64 {
-        self.t
+        self.exec.time()
     }
 
     pub fn alarms(&self) -> &[Alarm] {
@@ -285,8 +267,8 @@ impl Controller {
     pub fn point(&self) -> Point {
         Point {
             machine: self.machine.shown(&self.machine_now()),
-            work: self.machine.shown(&self.here.work),
-            ..self.here
+            work: self.machine.shown(&self.exec.here.work),
+            ..self.exec.here
         }
     }
 
@@ -295,11 +277,11 @@ impl Controller {
     /// run being executed.
     pub fn to_go(&self) -> Pos {
         let mut out = [0.0; crate::machine::MAX_AXES];
-        if let Some((p, _, cursor)) = &self.current {
-            let line = self.here.line;
-            let end = p.segments[cursor.index()..].iter().take_while(|seg| seg.line == line).last();
+        {
+            let line = self.exec.here.line;
+            let end = self.exec.run_ahead().iter().take_while(|seg| seg.line == line).last();
             if let Some(seg) = end {
-                for (o, (to, here)) in out.iter_mut().zip(seg.work_to.iter().zip(&self.here.work)) {
+                for (o, (to, here)) in out.iter_mut().zip(seg.work_to.iter().zip(&self.exec.here.work)) {
                     *o = to - here;
                 }
             }
@@ -314,10 +296,7 @@ impl Controller {
 
     /// The tool length offset of the block moving now (of the last one when nothing moves).
     pub fn tool_length(&self) -> f64 {
-        match &self.current {
-            Some((p, _, cursor)) => p.segments[cursor.index()].tool_length,
-            None => self.last_tool_length,
-        }
+        self.exec.tool_length()
     }
 
     /// How the tool tip is read from the machine axes now (`crate::tip`): the tool length and
@@ -325,10 +304,12 @@ impl Controller {
     /// a program is under way or held (the interpreter may have read ahead), otherwise the
     /// interpreter's (an MDI G54 or an offset edit takes effect at once).
     pub fn tip_basis(&self) -> crate::tip::Basis {
-        match &self.current {
-            Some((p, _, cursor)) => p.segments[cursor.index()].tip_basis,
-            None if self.program_active || !self.planner.is_empty() => self.last_tip_basis,
-            None => self.interp.state.tip_basis(),
+        if self.exec.is_moving() {
+            self.exec.basis()
+        } else if self.program_active || self.exec.has_queued() {
+            self.exec.last_basis()
+        } else {
+            self.interp.state.tip_basis()
         }
     }
 
@@ -341,7 +322,7 @@ impl Controller {
     /// The modal state of the block the machine is executing. The interpreter's own state is
     /// the block it has read to; they differ while blocks read ahead are queued or moving.
     pub fn modal(&self) -> ModalState {
-        if self.pending.is_empty() && self.current.is_none() && self.planner.is_empty() {
+        if self.pending.is_empty() && !self.exec.is_moving() && !self.exec.has_queued() {
             self.interp.state.modal_state()
         } else {
             self.executing.shown().modal
@@ -372,7 +353,7 @@ impl Controller {
     /// program's current point is derived again from where the machine stands, as a real
     /// control's position display follows an offset edit.
     pub fn offsets_changed(&mut self) {
-        if !self.busy() && self.planner.is_empty() {
+        if !self.busy() && !self.exec.has_queued() {
             self.stand_here();
         }
     }
@@ -382,7 +363,7 @@ impl Controller {
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {
         // A program that is over hands its coordinates back before a manual mode uses them.
         self.settle_interrupt();
-        if self.current.is_some()
+        if self.exec.is_moving()
             || self.stopping.is_some()
             || self.run_state == RunState::Running
             || self.interrupt.moving.is_some()
@@ -390,7 +371,7 @@ impl Controller {
             return Err(Refusal::Busy);
         }
         if let Some(i) = &self.intervention {
-            if !self.planner.is_empty() {
+            if self.exec.has_queued() {
                 // A held hand move: cycle start finishes it first.
                 return Err(Refusal::Busy);
             }
@@ -415,18 +396,18 @@ impl Controller {
             self.intervention = Some(Intervention {
                 mode: self.mode,
                 held,
-                start: self.here.machine,
-                path: self.planner.take_all(),
-                queued: (self.queued_machine, self.queued_work),
+                start: self.exec.here.machine,
+                path: self.exec.take_queued(),
+                queued: (self.exec.queued.machine, self.exec.queued.work),
             });
-            (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
-            self.queued_basis = self.tip_basis();
+            (self.exec.queued.machine, self.exec.queued.work) = (self.exec.here.machine, self.exec.here.work);
+            self.exec.queued.basis = self.tip_basis();
             // The hand moves go where the machine stands (a handle interruption's shift in it).
             self.release_interrupt();
             self.mode = mode;
             return Ok(());
         }
-        if self.busy() || held || !self.planner.is_empty() {
+        if self.busy() || held || self.exec.has_queued() {
             return Err(Refusal::Busy);
         }
         self.mode = mode;
@@ -457,7 +438,7 @@ impl Controller {
     /// A manual move cannot start: a program or motion is under way, something is queued (a
     /// held manual move: cycle start finishes it), the emergency stop or an alarm.
     fn manual_blocked(&self) -> bool {
-        self.busy() || !self.planner.is_empty() || self.estop || self.run_state == RunState::Alarm
+        self.busy() || self.exec.has_queued() || self.estop || self.run_state == RunState::Alarm
     }
 
     /// WSE-25: G54.4 with tool direction compensation on a machine that turns its table
@@ -467,13 +448,13 @@ impl Controller {
         if !self.wse_no_manual {
             return false;
         }
-        self.raise(AlarmId::WseModalState, self.here.line, self.here.n);
+        self.raise(AlarmId::WseModalState, self.exec.here.line, self.exec.here.n);
         true
     }
 
     /// A motion is under way or about to start.
     fn moving(&self) -> bool {
-        self.run_state == RunState::Running || self.current.is_some()
+        self.run_state == RunState::Running || self.exec.is_moving()
     }
 
     /// A program or a motion is under way (a program held for a manual intervention lets
@@ -481,14 +462,14 @@ impl Controller {
     fn busy(&self) -> bool {
         self.run_state == RunState::Running
             || (self.program_active && self.intervention.is_none())
-            || self.current.is_some()
+            || self.exec.is_moving()
     }
 
     pub fn cycle_start(&mut self) -> Result<(), Refusal> {
         if self.intervention.is_some() {
             // JOG/HANDLE of a manual intervention: cycle start only finishes a held hand move;
             // the program goes on after the return to its mode.
-            if self.run_state == RunState::Hold && !self.planner.is_empty() && !self.estop {
+            if self.run_state == RunState::Hold && self.exec.has_queued() && !self.estop {
                 self.set_state(RunState::Running);
                 return Ok(());
             }
@@ -517,7 +498,7 @@ impl Controller {
             _ => return Err(Refusal::WrongMode),
         };
         let text = text.ok_or(Refusal::NoProgram)?;
-        if self.current.is_none() && self.planner.is_empty() {
+        if !self.exec.is_moving() && !self.exec.has_queued() {
             // A fresh start begins where the machine stands: a manual move (a HANDLE move that
             // ran to its end, an INC step) may have moved it since the program's current point
             // was last set.
@@ -529,7 +510,7 @@ impl Controller {
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();
         // Until its first motion ends, the program stands in the state it starts from.
-        self.last_tip_basis = self.interp.state.tip_basis();
+        self.exec.stand_in(self.interp.state.tip_basis());
         self.program_active = true;
         self.wait = Wait::None;
         self.set_state(RunState::Running);
@@ -546,47 +527,9 @@ impl Controller {
         if self.stopping.is_some() {
             return;
         }
-        let Some((p, elapsed, cursor)) = self.current.take() else {
-            // Between runs (or at rest): what is queued takes the new speed from here.
-            let v = self.planner.speed();
-            let queued = self.planner.take_all();
-            self.planner.continue_at(v);
-            for mut seg in queued {
-                seg.set_override(feed, rapid);
-                self.planner.push(seg);
-            }
-            return;
-        };
-        let state = p.profile.at(elapsed);
-        let mut rest = p.rest(state.s);
-        let in_run = rest.len();
-        rest.extend(self.planner.take_all());
-        for seg in &mut rest {
-            seg.set_override(feed, rapid);
+        if self.exec.set_overrides(feed, rapid) {
+            self.stopping = Some(AfterStop::Continue);
         }
-        let Some(first) = rest.first() else {
-            self.current = Some((p, elapsed, cursor));
-            return;
-        };
-        let (lim, _) = to_next_stop(&rest);
-        let transition = Profile::transition(state.v, state.a, first.limits.v, &lim);
-        // Where the transition ends, the machine must still be able to keep to every junction
-        // and exact stop ahead.
-        let after = Planned { segments: rest.clone(), profile: transition.clone() }.rest(transition.len());
-        let fits = transition.end_speed() <= self.planner.entry_speed(&after) + 1e-9;
-        if state.a < 0.0 || !fits || p.segments[0].is_independent() {
-            // Braking already, too near a junction or stop to be sure of keeping to it after
-            // the change, or a non-linear rapid: the run under way ends as planned, the rest
-            // takes the override.
-            self.planner.continue_at(p.profile.end_speed());
-            for seg in rest.split_off(in_run) {
-                self.planner.push(seg);
-            }
-            self.current = Some((p, elapsed, cursor));
-            return;
-        }
-        self.stopping = Some(AfterStop::Continue);
-        self.current = Some((Planned { segments: rest, profile: transition }, 0.0, Cursor::default()));
     }
 
     pub fn feed_hold(&mut self) {
@@ -602,10 +545,10 @@ impl Controller {
         // The machine's reset stops the spindle (as the usual machine ladder does).
         self.spindle = 0.0;
         self.intervention = None;
-        if self.current.is_some() {
+        if self.exec.is_moving() {
             self.decelerate(AfterStop::Drop);
         } else {
-            self.planner.take_all();
+            self.exec.take_queued();
             self.stand_here();
         }
         self.abandon_program();
@@ -616,7 +559,7 @@ impl Controller {
         if !self.estop {
             // The axes decelerate to rest first: until they stand the machine is not idle (it
             // stays running or held); the stop's end makes it idle (`after_stop`).
-            if self.current.is_none() {
+            if !self.exec.is_moving() {
                 self.set_state(RunState::Idle);
             }
         }
@@ -642,13 +585,11 @@ impl Controller {
             self.end_interrupt_move();
             self.spindle = 0.0;
             self.intervention = None;
-            self.current = None;
+            self.exec.halt();
             self.stopping = None;
-            self.planner.take_all();
             self.abandon_program();
-            self.here.feed = 0.0;
             self.stand_here();
-            self.raise(AlarmId::EmergencyStop, self.here.line, self.here.n);
+            self.raise(AlarmId::EmergencyStop, self.exec.here.line, self.exec.here.n);
             self.settle_interrupt();
         }
     }
@@ -673,7 +614,7 @@ impl Controller {
             return self.turn_about_tip(axis, if positive { turn } else { -turn }, length, feed, None);
         }
         let far = if positive { reach.min(1.0e6) } else { -reach.min(1.0e6) };
-        let mut target = self.here.machine[i] + far;
+        let mut target = self.exec.here.machine[i] + far;
         if let Some([lo, hi]) = self.machine.axes[i].stroke {
             target = target.clamp(lo, hi);
         }
@@ -703,7 +644,7 @@ impl Controller {
     }
 
     pub fn jog_stop(&mut self) {
-        if self.mode == Mode::Jog && self.current.is_some() {
+        if self.mode == Mode::Jog && self.exec.is_moving() {
             self.decelerate(AfterStop::Drop);
         }
     }
@@ -724,7 +665,7 @@ impl Controller {
         if let Some(length) = self.rtcp_length(i) {
             return self.turn_about_tip(axis, amount, length, self.panel.jog_feed, None);
         }
-        let mut target = self.here.machine[i] + amount;
+        let mut target = self.exec.here.machine[i] + amount;
         if let Some([lo, hi]) = self.machine.axes[i].stroke {
             target = target.clamp(lo, hi);
         }
@@ -759,7 +700,7 @@ impl Controller {
         if self.manual_refused_in_wse() {
             return Ok(());
         }
-        let mut to = self.here.machine;
+        let mut to = self.exec.here.machine;
         to[axis] = target;
         self.push_manual(MotionKind::Linear, to, feed);
         Ok(())
@@ -767,7 +708,7 @@ impl Controller {
 
     /// A motion outside the program, in machine coordinates.
     fn push_manual(&mut self, kind: MotionKind, machine: Pos, feed: f64) {
-        let offset: Pos = std::array::from_fn(|i| self.here.work[i] - self.here.machine[i]);
+        let offset: Pos = std::array::from_fn(|i| self.exec.here.work[i] - self.exec.here.machine[i]);
         let target: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
         let m = Motion {
             kind,
@@ -781,17 +722,11 @@ impl Controller {
             // Handle pulses go at the clamp, whatever the override.
             context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
         };
-        let ctx = FeedContext {
-            feed_override: self.panel.feed_override,
-            rapid_override: self.panel.rapid_override,
-            exact_stop: true,
-            options: self.machine.motion,
-        };
-        let axes = self.manual_limits();
-        let mut seg = Segment::new(&m, &self.queued_machine, &self.queued_work, &axes, ctx, self.kinematics.as_ref());
+        let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, true);
+        let mut seg = self.exec.segment_within(&m, ctx, &self.manual_limits());
         (seg.stop_after, seg.tip_basis) = (true, self.tip_basis());
-        (self.queued_machine, self.queued_work, self.queued_basis) = (machine, target, seg.tip_basis);
-        self.planner.push(seg);
+        self.exec.queued.basis = seg.tip_basis;
+        self.exec.push(seg);
         self.set_state(RunState::Running);
     }
 
@@ -799,64 +734,56 @@ impl Controller {
 
     /// Advance simulated time by `dt` seconds.
     pub fn tick(&mut self, dt: f64) {
-        let end = self.t + dt.max(0.0);
+        let end = self.exec.time() + dt.max(0.0);
         let mut blocks = 0;
-        while self.t < end {
-            if let Some((p, elapsed, mut cursor)) = self.current.take() {
-                let step = (p.profile.duration() - elapsed).min(end - self.t).max(0.0);
-                let elapsed = elapsed + step;
-                self.t += step;
-                self.here = p.point(elapsed, &mut cursor);
-                if let Some(seg) = p.segments.get(cursor.index()) {
+        while self.exec.time() < end {
+            if self.exec.is_moving() {
+                self.exec.advance_to(end);
+                if let Some((seg, _, _)) = self.exec.on() {
                     self.executing.begin(seg.block);
                 }
-                if elapsed < p.profile.duration() {
-                    self.current = Some((p, elapsed, cursor));
-                } else {
-                    self.finish_run(&p);
+                if let Some(finished) = self.exec.finish() {
+                    self.finish_run(finished);
                 }
                 continue;
             }
             if self.run_state != RunState::Running || self.estop {
-                self.t = end;
+                self.exec.idle_until(end);
                 break;
             }
             if let Wait::Until(until) = self.wait {
-                self.t = until.min(end);
-                if self.t >= until {
+                self.exec.idle_until(until.min(end));
+                if self.exec.time() >= until {
                     self.wait = Wait::None;
                 }
                 continue;
             }
             if self.intervention.is_some() {
                 // Only the manual moves run; the program waits for the return to its mode.
-                if let Some(p) = self.planner.pop(true) {
-                    self.current = Some((p, 0.0, Cursor::default()));
+                if self.exec.release(true) {
                     continue;
                 }
-                self.here.feed = 0.0;
+                self.exec.here.feed = 0.0;
                 self.set_state(RunState::Idle);
-                self.t = end;
+                self.exec.idle_until(end);
                 break;
             }
             if self.wait == Wait::Operator {
-                self.t = end;
+                self.exec.idle_until(end);
                 break;
             }
-            if let Some(p) = self.planner.pop(false) {
-                self.current = Some((p, 0.0, Cursor::default()));
+            if self.exec.release(false) {
                 continue;
             }
             if blocks >= BLOCKS_PER_TICK {
                 // A long stretch of blocks without motion: the rest next tick, time goes on.
-                self.t = end;
+                self.exec.idle_until(end);
                 break;
             }
             blocks += 1;
             if !self.advance_program() {
                 // Nothing more to read: carry out the rest and stop.
-                if let Some(p) = self.planner.pop(true) {
-                    self.current = Some((p, 0.0, Cursor::default()));
+                if self.exec.release(true) {
                     continue;
                 }
                 if matches!(self.mode, Mode::Jog | Mode::Handle | Mode::Inc) {
@@ -864,50 +791,34 @@ impl Controller {
                     // where the machine stands now, not at the next block.
                     self.stand_here();
                 }
-                self.here.feed = 0.0;
+                self.exec.here.feed = 0.0;
                 if self.run_state == RunState::Running {
                     self.set_state(RunState::Idle);
                 }
-                self.t = end;
+                self.exec.idle_until(end);
             }
         }
         self.interp.state.advance_time(dt.max(0.0));
         self.settle_interrupt();
     }
 
-    /// A run ended: after a deceleration to rest, keep or drop the rest of the path.
-    fn finish_run(&mut self, p: &Planned) {
-        if let Some(last) = p.segments.last() {
-            self.last_tool_length = last.tool_length;
-            self.last_tip_basis = last.tip_basis;
-        }
-        if p.profile.end_speed().abs() < 1e-9 {
-            self.here.feed = 0.0;
-        }
+    /// A run ended: on its last point, or after a deceleration to rest, keep or drop the rest
+    /// of the path.
+    fn finish_run(&mut self, finished: Finished) {
         let Some(after) = self.stopping.take() else {
             // A whole run ends exactly on its last point.
-            if let Some(last) = p.segments.last() {
-                (self.here.machine, self.here.work) = (last.to, last.work_to);
-            }
+            self.exec.arrive(&finished);
             return;
         };
+        let p = &finished.planned;
         self.after_stop(after, p.rest(p.profile.len()), p.profile.end_speed());
     }
 
     /// Carry on after a deceleration that ended at `speed` with `rest` of the path ahead.
     fn after_stop(&mut self, after: AfterStop, rest: Vec<Segment>, speed: f64) {
         match after {
-            AfterStop::Hold => {
-                for seg in rest {
-                    self.planner.push(seg);
-                }
-            }
-            AfterStop::Continue => {
-                self.planner.continue_at(speed);
-                for seg in rest {
-                    self.planner.push(seg);
-                }
-            }
+            AfterStop::Hold => self.exec.requeue(rest),
+            AfterStop::Continue => self.exec.resume(rest, speed),
             AfterStop::Drop => {
                 self.stand_here();
                 if matches!(self.run_state, RunState::Running | RunState::Hold) {
@@ -920,16 +831,16 @@ impl Controller {
     /// Whatever was planned is gone: the next motion starts where the machine stands, and so
     /// does the program's current point (it had read ahead).
     fn stand_here(&mut self) {
-        (self.queued_machine, self.queued_work) = (self.here.machine, self.here.work);
-        self.queued_basis = self.tip_basis();
+        (self.exec.queued.machine, self.exec.queued.work) = (self.exec.here.machine, self.exec.here.work);
+        self.exec.queued.basis = self.tip_basis();
         if self.intervention.is_some() {
             // The held program's current point stays where the program put it.
             return;
         }
         self.interp.moved_to(&self.program_machine());
-        self.here.work = self.interp.state.shown_position();
-        self.queued_work = self.here.work;
-        self.queued_basis = self.interp.state.tip_basis();
+        self.exec.here.work = self.interp.state.shown_position();
+        self.exec.queued.work = self.exec.here.work;
+        self.exec.queued.basis = self.interp.state.tip_basis();
     }
 
     /// Decelerate to rest along the path, within the limits of every segment the stop covers;
@@ -947,38 +858,29 @@ impl Controller {
         }
         // A speed change under way is a motion like any other: stop from where it is.
         self.stopping = None;
-        let Some((p, elapsed, _)) = self.current.take() else {
-            if after == AfterStop::Drop {
-                self.planner.take_all();
+        match self.exec.brake() {
+            Braking::Idle => {
+                if after == AfterStop::Drop {
+                    self.exec.take_queued();
+                }
             }
-            return;
-        };
-        if p.segments.first().is_some_and(Segment::is_independent) {
-            // A non-linear rapid cannot be slowed along a path: its axes finish their own
-            // profiles (the block ends at rest), then what follows waits or is dropped.
-            self.stopping = Some(after);
-            if after == AfterStop::Drop {
-                self.planner.take_all();
-                self.drop_pending();
+            // A non-linear rapid: its axes finish their own profiles (the block ends at rest),
+            // then what follows waits or is dropped.
+            Braking::Finishing => {
+                self.stopping = Some(after);
+                if after == AfterStop::Drop {
+                    self.exec.take_queued();
+                    self.drop_pending();
+                }
             }
-            self.current = Some((p, elapsed, Cursor::default()));
-            return;
-        }
-        let state = p.profile.at(elapsed);
-        let mut rest = p.rest(state.s);
-        rest.extend(self.planner.take_all());
-        if rest.is_empty() {
             // At the very end of the path: already there.
-            self.here.feed = 0.0;
-            self.after_stop(after, rest, 0.0);
-            return;
-        }
-        let lim = stop_limits(&rest, state.v, state.a);
-        let profile = Profile::stop(state.v, state.a, &lim);
-        self.stopping = Some(after);
-        self.current = Some((Planned { segments: rest, profile }, 0.0, Cursor::default()));
-        if after == AfterStop::Drop {
-            self.drop_pending();
+            Braking::AtEnd { rest } => self.after_stop(after, rest, 0.0),
+            Braking::Started => {
+                self.stopping = Some(after);
+                if after == AfterStop::Drop {
+                    self.drop_pending();
+                }
+            }
         }
     }
 
@@ -993,7 +895,7 @@ impl Controller {
     /// Read the program on: hand the next pending command to the planner (or carry it out),
     /// or run the next block. Returns false when there is nothing more to read.
     fn advance_program(&mut self) -> bool {
-        if self.current.is_none() && self.planner.is_empty() {
+        if !self.exec.is_moving() && !self.exec.has_queued() {
             if let Some(block) = self.executing.motion_ended() {
                 self.show(block);
             }
@@ -1005,7 +907,7 @@ impl Controller {
             self.run_block();
             return true;
         };
-        let motion_pending = self.current.is_some() || !self.planner.is_empty();
+        let motion_pending = self.exec.is_moving() || self.exec.has_queued();
         match item {
             Item::Block(serial) => {
                 self.reading_block = serial;
@@ -1024,16 +926,14 @@ impl Controller {
                         self.reposition = false;
                         &shifted
                     };
-                    let before = std::mem::replace(&mut self.queued_basis, c.tip_basis);
-                    crate::tip::restate_start(&mut self.queued_work, &before, &c.tip_basis);
-                    let mut seg = self.segment(m);
-                    (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, self.reading_block);
-                    let stroke = if self.interrupt.is_zero() {
-                        motion::stroke_check(&seg, &self.machine)
-                    } else {
-                        motion::stroke_check_shifted(&seg, &self.machine, &self.interrupt.last())
-                    };
-                    if let Err(id) = stroke {
+                    let ctx = self.exec.feed_context(
+                        self.panel.feed_override,
+                        self.panel.rapid_override,
+                        m.context.exact_stop || self.panel.single_block,
+                    );
+                    let shift = (!self.interrupt.is_zero()).then(|| self.interrupt.last());
+                    let queued = self.exec.queue(&c, m, ctx, self.reading_block, shift.as_ref(), |_| {});
+                    if let Err(id) = queued {
                         if motion_pending {
                             // The alarm comes when the machine has stopped before the block.
                             self.pending.push_front(Item::Canon(c));
@@ -1043,8 +943,6 @@ impl Controller {
                         }
                         return true;
                     }
-                    (self.queued_machine, self.queued_work) = (m.machine, m.target);
-                    self.planner.push(seg);
                 }
                 _ if motion_pending => {
                     // Every other command waits for the motion before it.
@@ -1084,11 +982,7 @@ impl Controller {
 
     /// Release everything queued, ending at rest.
     fn flush(&mut self) {
-        if self.current.is_none() {
-            if let Some(p) = self.planner.pop(true) {
-                self.current = Some((p, 0.0, Cursor::default()));
-            }
-        }
+        self.exec.release(true);
     }
 
     fn run_block(&mut self) {
@@ -1122,8 +1016,10 @@ impl Controller {
 
     fn carry_out(&mut self, kind: &CanonKind) {
         match kind {
-            CanonKind::Dwell { seconds } => self.wait = Wait::Until(self.t + seconds),
-            CanonKind::ToolChange { .. } => self.wait = Wait::Until(self.t + self.machine.motion.tool_change_s),
+            CanonKind::Dwell { seconds } => self.wait = Wait::Until(self.exec.time() + seconds),
+            CanonKind::ToolChange { .. } => {
+                self.wait = Wait::Until(self.exec.time() + self.machine.motion.tool_change_s)
+            }
             // M00, and M01 (the interpreter emits it only with the optional stop switch on).
             CanonKind::Stop { message, .. } => {
                 if let Some(m) = message {
@@ -1144,19 +1040,16 @@ impl Controller {
         }
     }
 
+    /// The segment of a program motion from where the last queued one ends.
     fn segment(&self, m: &Motion) -> Segment {
-        let ctx = FeedContext {
-            feed_override: self.panel.feed_override,
-            rapid_override: self.panel.rapid_override,
-            exact_stop: m.context.exact_stop || self.panel.single_block,
-            options: self.machine.motion,
-        };
-        Segment::new(m, &self.queued_machine, &self.queued_work, &self.axes, ctx, self.kinematics.as_ref())
+        let exact_stop = m.context.exact_stop || self.panel.single_block;
+        let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, exact_stop);
+        self.exec.segment_within(m, ctx, self.exec.axes())
     }
 
     /// A block without motion of its own is reached: the panel shows its line.
     fn show(&mut self, block: BlockState) {
-        (self.here.line, self.here.n) = (block.line, block.n);
+        (self.exec.here.line, self.exec.here.n) = (block.line, block.n);
     }
 
     fn raise(&mut self, id: AlarmId, line: u32, n: Option<u32>) {
@@ -1175,41 +1068,4 @@ impl Controller {
             self.events.push(Event::State(s));
         }
     }
-}
-
-/// The lowest limits of the segments up to the next place the machine must stop at (an exact
-/// stop, or the end of the path), and the distance to it.
-fn to_next_stop(path: &[Segment]) -> (Limits, f64) {
-    let mut lim = path[0].limits;
-    let mut room = 0.0;
-    for seg in path {
-        lim = lim.min(seg.limits);
-        room += seg.len;
-        if seg.stop_after {
-            break;
-        }
-    }
-    (lim, room)
-}
-
-/// The limits for the quickest stop from speed `v` and acceleration `a` along `path`: those
-/// of every segment the stop covers, as long as it still ends before the next exact stop and
-/// the braking under way can end at rest with their jerk (the motion was planned to stop there
-/// with the limits of the segments before it, so those always do).
-fn stop_limits(path: &[Segment], v: f64, a: f64) -> Limits {
-    let (_, boundary) = to_next_stop(path);
-    let mut lim = path[0].limits;
-    let mut covered = path[0].len;
-    for seg in &path[1..] {
-        if Profile::stop(v, a, &lim).len() <= covered || covered >= boundary {
-            break;
-        }
-        let next = lim.min(seg.limits);
-        if (a < 0.0 && a * a > 2.0 * next.j * v) || Profile::stop(v, a, &next).len() > boundary {
-            break;
-        }
-        lim = next;
-        covered += seg.len;
-    }
-    lim
 }

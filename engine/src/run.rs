@@ -97,7 +97,7 @@ pub fn run_observed(
     };
     let mut exec = Driver {
         // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
-        exec: Executor::new(interp.config().machine.clone(), interp.kinematics().cloned(), start),
+        exec: Executor::new(std::sync::Arc::new(interp.config().machine.clone()), interp.kinematics().cloned(), start),
         next_sample: 0,
         opts: *opts,
         messages: Vec::new(),
@@ -185,11 +185,8 @@ impl<O: Observer> Driver<'_, O> {
     fn apply(&mut self, c: &Canon, tracing: bool, on_sample: &mut impl FnMut(&Sample)) -> Result<(), AlarmId> {
         match &c.kind {
             CanonKind::Motion(m) => {
-                let ctx = self.exec.feed_context(
-                    self.opts.feed_override,
-                    self.opts.rapid_override,
-                    m.context.exact_stop,
-                );
+                let ctx =
+                    self.exec.feed_context(self.opts.feed_override, self.opts.rapid_override, m.context.exact_stop);
                 let observer = &mut *self.observer;
                 if let Err(id) = self.exec.queue(c, m, ctx, 0, None, |seg| observer.queued(m, seg)) {
                     // The machine stops at the end of the block before; the offending one never moves.

@@ -56,26 +56,26 @@ impl Controller {
     /// The handle interruption's shift now, machine coordinates per axis (FANUC's handle
     /// interrupt amount; zero when there is none).
     pub fn interrupt_shift(&self) -> Pos {
-        self.interrupt.at(self.t)
+        self.interrupt.at(self.exec.time())
     }
 
     /// Where the machine stands now (the program's point plus the interruption's shift while a
     /// program is under way).
     pub(super) fn machine_now(&self) -> Pos {
         if !self.interrupt.applied || self.interrupt.is_zero() {
-            return self.here.machine;
+            return self.exec.here.machine;
         }
-        let shift = self.interrupt.at(self.t);
-        std::array::from_fn(|i| self.here.machine[i] + shift[i])
+        let shift = self.interrupt.at(self.exec.time());
+        std::array::from_fn(|i| self.exec.here.machine[i] + shift[i])
     }
 
     /// The program's machine position (where the machine stands without the shift).
     pub(super) fn program_machine(&self) -> Pos {
         if self.interrupt.applied {
-            return self.here.machine;
+            return self.exec.here.machine;
         }
         let shift = self.interrupt.done;
-        std::array::from_fn(|i| self.here.machine[i] - shift[i])
+        std::array::from_fn(|i| self.exec.here.machine[i] - shift[i])
     }
 
     /// A program starts (or comes back from a manual intervention): `here` becomes the
@@ -86,10 +86,10 @@ impl Controller {
         }
         self.interrupt.applied = true;
         let shift = self.interrupt.done;
-        for (x, d) in self.here.machine.iter_mut().zip(&shift) {
+        for (x, d) in self.exec.here.machine.iter_mut().zip(&shift) {
             *x -= d;
         }
-        for (x, d) in self.queued_machine.iter_mut().zip(&shift) {
+        for (x, d) in self.exec.queued.machine.iter_mut().zip(&shift) {
             *x -= d;
         }
     }
@@ -103,10 +103,10 @@ impl Controller {
         self.end_interrupt_move();
         self.interrupt.applied = false;
         let shift = self.interrupt.done;
-        for (x, d) in self.here.machine.iter_mut().zip(&shift) {
+        for (x, d) in self.exec.here.machine.iter_mut().zip(&shift) {
             *x += d;
         }
-        for (x, d) in self.queued_machine.iter_mut().zip(&shift) {
+        for (x, d) in self.exec.queued.machine.iter_mut().zip(&shift) {
             *x += d;
         }
     }
@@ -114,7 +114,7 @@ impl Controller {
     /// The pulse's move stops where it is (emergency stop), or has ended.
     pub(super) fn end_interrupt_move(&mut self) {
         if self.interrupt.moving.is_some() {
-            self.interrupt.done = self.interrupt.at(self.t);
+            self.interrupt.done = self.interrupt.at(self.exec.time());
             self.interrupt.moving = None;
         }
     }
@@ -123,14 +123,13 @@ impl Controller {
     /// over hands `here` back to the machine's coordinates.
     pub(super) fn settle_interrupt(&mut self) {
         if let Some((p, t0)) = &self.interrupt.moving {
-            if self.t >= t0 + p.profile.duration() {
+            if self.exec.time() >= t0 + p.profile.duration() {
                 self.interrupt.done = self.interrupt.last();
                 self.interrupt.moving = None;
             }
         }
-        let over = self.current.is_none()
+        let over = self.exec.is_idle()
             && self.stopping.is_none()
-            && self.planner.is_empty()
             && self.pending.is_empty()
             && !self.program_active
             && self.intervention.is_none()
@@ -175,9 +174,9 @@ impl Controller {
         let direction = match target {
             // The direction where the machine really stands (the shift may have turned it).
             ManualTarget::Feed(feed) => {
-                let planned = std::mem::replace(&mut self.here.machine, from);
+                let planned = std::mem::replace(&mut self.exec.here.machine, from);
                 let d = self.manual_direction(feed);
-                self.here.machine = planned;
+                self.exec.here.machine = planned;
                 Some(d?)
             }
             _ => None,
@@ -186,7 +185,7 @@ impl Controller {
         // The largest part of the pulses that keeps the machine and the path ahead inside the
         // strokes with the new shift.
         let ahead: Vec<Pos> = self.path_ahead();
-        let base = self.interrupt.at(self.t);
+        let base = self.interrupt.at(self.exec.time());
         let fits = |seg: &Segment| {
             let end = seg.to;
             let shift: Pos = std::array::from_fn(|i| base[i] + end[i] - seg.from[i]);
@@ -210,10 +209,8 @@ impl Controller {
                 None => return Ok(0.0),
             }
         };
-        let mut planner = motion::planner_for(&self.machine);
-        planner.push(seg);
-        let Some(planned) = planner.pop(true) else { return Ok(0.0) };
-        self.interrupt.moving = Some((planned, self.t));
+        let Some(planned) = motion::executor::plan_alone(&self.machine, seg) else { return Ok(0.0) };
+        self.interrupt.moving = Some((planned, self.exec.time()));
         Ok(amount * fraction)
     }
 
@@ -267,11 +264,9 @@ impl Controller {
     /// The end points of the path still to run (the run under way from where the machine is,
     /// then what is queued), program coordinates.
     fn path_ahead(&self) -> Vec<Pos> {
-        let mut out = vec![self.here.machine];
-        if let Some((p, _, cursor)) = &self.current {
-            out.extend(p.segments[cursor.index()..].iter().map(|seg| seg.to));
-        }
-        out.extend(self.planner.segments().map(|seg| seg.to));
+        let mut out = vec![self.exec.here.machine];
+        out.extend(self.exec.run_ahead().iter().map(|seg| seg.to));
+        out.extend(self.exec.queued_segments().map(|seg| seg.to));
         out
     }
 
@@ -290,9 +285,9 @@ impl Controller {
     /// in (moving, or held in it).
     fn rotary_block_under_way(&self) -> bool {
         let Some(kin) = &self.kinematics else { return false };
-        let seg = match &self.current {
-            Some((p, _, cursor)) => p.segments.get(cursor.index()),
-            None => self.planner.segments().next().filter(|seg| seg.line == self.here.line),
+        let seg = match self.exec.on() {
+            Some((seg, _, _)) => Some(seg),
+            None => self.exec.queued_segments().next().filter(|seg| seg.line == self.exec.here.line),
         };
         let Some(seg) = seg else { return false };
         kin.head.iter().chain(&kin.table).filter_map(|j| j.index).any(|i| (seg.to[i] - seg.from[i]).abs() > 1e-9)

@@ -56,18 +56,18 @@ impl Controller {
         // Back to the program's coordinates (a handle interruption's shift stays over them).
         self.apply_interrupt();
         self.mode = i.mode;
-        let here = self.here.machine;
+        let here = self.exec.here.machine;
         let moved: Pos = std::array::from_fn(|k| here[k] - i.start[k]);
         let mut path = i.path;
-        (self.queued_machine, self.queued_work) = i.queued;
+        (self.exec.queued.machine, self.exec.queued.work) = i.queued;
         if moved.iter().any(|d| d.abs() > 1e-9) {
             if !self.panel.manual_absolute {
                 let shift = self.intervention_shift(&i.start, &moved);
                 path = path.iter().map(|seg| seg.shifted(&shift.machine, shift.tip)).collect();
                 if let Some(last) = path.last() {
-                    (self.queued_machine, self.queued_work) = (last.to, last.work_to);
+                    (self.exec.queued.machine, self.exec.queued.work) = (last.to, last.work_to);
                 } else {
-                    (self.queued_machine, self.queued_work) = (here, self.here.work);
+                    (self.exec.queued.machine, self.exec.queued.work) = (here, self.exec.here.work);
                 }
                 self.shift = Some(match self.shift {
                     Some(s) => Shift {
@@ -78,7 +78,7 @@ impl Controller {
                 });
             } else if path.is_empty() {
                 // At a block stop: the next block starts where the machine is.
-                (self.queued_machine, self.queued_work) = (here, self.here.work);
+                (self.exec.queued.machine, self.exec.queued.work) = (here, self.exec.here.work);
                 self.reposition = true;
             }
             let continues =
@@ -87,7 +87,7 @@ impl Controller {
                 // The rest of the block under way becomes one straight move to its end.
                 let line = path[0].line;
                 let block = path.iter().take_while(|seg| seg.line == line).count();
-                let seg = self.straight(here, self.here.work, &path[block - 1]);
+                let seg = self.straight(here, self.exec.here.work, &path[block - 1]);
                 path.splice(0..block, [seg]);
             }
             // Where a shifted path meets one that was not (a move in machine coordinates), the
@@ -99,9 +99,7 @@ impl Controller {
                 }
             }
         }
-        for seg in path {
-            self.planner.push(seg);
-        }
+        self.exec.requeue(path);
         if i.held {
             self.set_state(RunState::Hold);
         }
@@ -121,11 +119,11 @@ impl Controller {
             spindle: 0.0,
             context: MotionContext::default(),
         };
-        let queued = (self.queued_machine, self.queued_work);
-        (self.queued_machine, self.queued_work) = (from, from_work);
+        let queued = (self.exec.queued.machine, self.exec.queued.work);
+        (self.exec.queued.machine, self.exec.queued.work) = (from, from_work);
         let mut seg = self.segment(&m);
         (seg.line, seg.n, seg.stop_after, seg.tip_basis) = (end.line, end.n, end.stop_after, end.tip_basis);
-        (self.queued_machine, self.queued_work) = queued;
+        (self.exec.queued.machine, self.exec.queued.work) = queued;
         seg
     }
 
@@ -137,7 +135,7 @@ impl Controller {
         let tip = match &self.kinematics {
             Some(kin) => {
                 let length = self.interp.active_length_offset().unwrap_or(0.0);
-                kin.forward(&self.here.machine, length).tip - kin.forward(start, length).tip
+                kin.forward(&self.exec.here.machine, length).tip - kin.forward(start, length).tip
             }
             None => Vec3::zeros(),
         };
@@ -154,18 +152,18 @@ impl Controller {
         match self.panel.manual_coordinates {
             ManualCoordinates::Machine => None,
             ManualCoordinates::Program => {
-                if let Some(axes) = self.interp.plane_axes(&self.here.machine) {
+                if let Some(axes) = self.interp.plane_axes(&self.exec.here.machine) {
                     return Some(axes[k]);
                 }
                 let r = if self.interp.tcp_on() {
-                    kin.table_frame(&self.here.machine).r
+                    kin.table_frame(&self.exec.here.machine).r
                 } else {
                     nalgebra::Matrix3::identity()
                 };
                 Some(r.column(k).into())
             }
             ManualCoordinates::Tool => {
-                let d = kin.manual_directions(&self.here.machine);
+                let d = kin.manual_directions(&self.exec.here.machine);
                 Some([d.right_angle[0], d.right_angle[1], d.tool][k])
             }
         }
@@ -254,7 +252,9 @@ impl Controller {
     }
 
     pub fn manual_options_mut(&mut self) -> &mut ManualOptions {
-        &mut self.machine.manual
+        // The first edit gives the controller a machine of its own; the executor's keeps the
+        // old manual settings, which it never reads (manual moves take their limits from here).
+        &mut std::sync::Arc::make_mut(&mut self.machine).manual
     }
 
     /// The tool length of the 5-axis manual feeds (FANUC MAN-13): No.12318, or with LOD the
@@ -352,7 +352,7 @@ impl Controller {
         if self.estop || self.run_state == RunState::Alarm || (self.program_active && self.intervention.is_none()) {
             return Err(Refusal::Busy);
         }
-        if self.moving() || !self.planner.is_empty() {
+        if self.moving() || self.exec.has_queued() {
             return Ok(0.0);
         }
         let target = self.panel.manual_signals.handle_target(self.kinematics.as_deref(), &self.machine);
@@ -369,7 +369,7 @@ impl Controller {
                 amount
             }
             ManualTarget::Axis(i) => {
-                let from = self.here.machine[i];
+                let from = self.exec.here.machine[i];
                 let mut to = from + amount;
                 if let Some([lo, hi]) = self.machine.axes[i].stroke {
                     to = to.clamp(lo, hi);
@@ -388,7 +388,7 @@ impl Controller {
         let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
         let o = &self.machine.manual;
         if o.plane_directions {
-            if let Some([x, y, z]) = self.interp.plane_axes(&self.here.machine) {
+            if let Some([x, y, z]) = self.interp.plane_axes(&self.exec.here.machine) {
                 return Ok(match feed {
                     ManualFeed::ToolAxis | ManualFeed::TableVertical => z,
                     ManualFeed::RightAngle1 | ManualFeed::TableHorizontal1 => x,
@@ -396,7 +396,7 @@ impl Controller {
                 });
             }
         }
-        let d = kin.manual_directions(&self.here.machine);
+        let d = kin.manual_directions(&self.exec.here.machine);
         let first = matches!(feed, ManualFeed::RightAngle1 | ManualFeed::TableHorizontal1);
         let table = matches!(feed, ManualFeed::TableHorizontal1 | ManualFeed::TableHorizontal2);
         if !o.latitude_longitude || matches!(feed, ManualFeed::ToolAxis | ManualFeed::TableVertical) {
@@ -436,7 +436,7 @@ impl Controller {
         if self.manual_refused_in_wse() {
             return Ok(());
         }
-        let from = self.here.machine;
+        let from = self.exec.here.machine;
         // The dry run rate is the linear axes' resultant: the rotary rate that gives it (the
         // carriage turns on a circle about the rotary axis).
         let feed = match linear_feed {
@@ -459,7 +459,7 @@ impl Controller {
         let segment = |amount: f64| {
             let mut to = from;
             to[i] += amount;
-            let mut seg = Segment::tip_rotation(kin.clone(), &from, &self.here.work, &to, length, feed, &axes);
+            let mut seg = Segment::tip_rotation(kin.clone(), &from, &self.exec.here.work, &to, length, feed, &axes);
             seg.tip_basis = basis;
             seg
         };
@@ -492,8 +492,7 @@ impl Controller {
         if self.interp.tcp_on() && self.intervention.is_none() && !self.machine.five_axis.display_workpiece {
             seg = seg.keeping_program_xyz();
         }
-        (self.queued_machine, self.queued_work) = (seg.to, seg.work_to);
-        self.planner.push(seg);
+        self.exec.push(seg);
         self.set_state(RunState::Running);
         Ok(())
     }
@@ -501,7 +500,7 @@ impl Controller {
     /// The axis limits of manual moves: no axis faster than its manual rapid rate (FANUC
     /// No.1424, TV-MAN-09; 0: the rapid rate).
     pub(super) fn manual_limits(&self) -> AxisLimits {
-        let mut axes = self.axes.clone();
+        let mut axes = self.exec.axes().clone();
         for (i, &rapid) in self.machine.manual.rapid.iter().enumerate().take(axes.count) {
             if rapid > 0.0 {
                 axes.v[i] = axes.v[i].min(rapid / 60.0);
@@ -527,7 +526,7 @@ impl Controller {
         let mut reach = distance;
         for (axis, &index) in kin.linear.iter().enumerate() {
             let Some(i) = index else { continue };
-            let (x, di) = (self.here.machine[i], d[axis]);
+            let (x, di) = (self.exec.here.machine[i], d[axis]);
             if let (Some([lo, hi]), true) = (self.machine.axes[i].stroke, di.abs() > 1e-12) {
                 let bound = if di > 0.0 { hi } else { lo };
                 reach = reach.min(((bound - x) / di).max(0.0));
@@ -536,7 +535,7 @@ impl Controller {
         if !reach.is_finite() {
             reach = 1.0e6;
         }
-        let mut to = self.here.machine;
+        let mut to = self.exec.here.machine;
         for (axis, &index) in kin.linear.iter().enumerate() {
             if let Some(i) = index {
                 to[i] += d[axis] * reach;
@@ -552,7 +551,7 @@ impl Controller {
     pub(super) fn moved_motion(&self, m: &Motion, shift: Option<&Shift>) -> Motion {
         let mut m = m.clone();
         if let (true, Some(tip), Some(kin)) = (self.reposition, &mut m.tip, &self.kinematics) {
-            tip.from = kin.forward(&self.queued_machine, tip.tool_length).tip;
+            tip.from = kin.forward(&self.exec.queued.machine, tip.tool_length).tip;
         }
         // Machine-coordinate moves (G53, reference returns) go where they say.
         let Some(shift) = shift.filter(|_| m.kind != MotionKind::MachineRapid) else { return m };

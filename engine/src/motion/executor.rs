@@ -77,7 +77,7 @@ pub struct Finished {
 }
 
 pub struct Executor {
-    machine: MachineConfig,
+    machine: Arc<MachineConfig>,
     /// The mechanism; `None` when the machine's is refused (its tip is read as a 3-axis one's).
     kinematics: Option<Arc<Kinematics>>,
     axes: AxisLimits,
@@ -88,15 +88,17 @@ pub struct Executor {
     /// Where the machine is (machine axes before rollover display, programmed position).
     pub here: Point,
     pub queued: Endpoint,
-    /// The tool length and tip basis of the last run's last segment.
+    /// The tip basis of the last run's last segment (or of a command the machine stands in).
     last_basis: Basis,
+    /// The tool length offset of the last run's last segment.
+    last_tool_length: f64,
     /// Segments executed to their end so far.
     executed: u64,
 }
 
 impl Executor {
     /// An executor standing at `machine` (programmed position `work` in `basis`) at time 0.
-    pub fn new(machine: MachineConfig, kinematics: Option<Arc<Kinematics>>, start: Endpoint) -> Executor {
+    pub fn new(machine: Arc<MachineConfig>, kinematics: Option<Arc<Kinematics>>, start: Endpoint) -> Executor {
         Executor {
             axes: AxisLimits::of(&machine),
             planner: super::planner_for(&machine),
@@ -107,6 +109,7 @@ impl Executor {
             here: Point { machine: start.machine, work: start.work, feed: 0.0, line: 0, n: None, s: 0.0 },
             queued: start,
             last_basis: start.basis,
+            last_tool_length: 0.0,
             executed: 0,
         }
     }
@@ -175,6 +178,11 @@ impl Executor {
         self.on().map_or(self.last_basis, |(seg, _, _)| seg.tip_basis)
     }
 
+    /// The tool length offset of the segment under way (of the last one when nothing moves).
+    pub fn tool_length(&self) -> f64 {
+        self.on().map_or(self.last_tool_length, |(seg, _, _)| seg.tool_length)
+    }
+
     /// The machine stands in another block's workpiece system and tool length (a command that
     /// waits for the motion before it).
     pub fn stand_in(&mut self, basis: Basis) {
@@ -219,9 +227,10 @@ impl Executor {
         Ok(())
     }
 
-    /// Queue a segment made elsewhere (a manual move) and take its end as the queued endpoint.
+    /// Queue a segment made elsewhere (a manual move) and take its end as the queued endpoint
+    /// (the workpiece system stays).
     pub fn push(&mut self, seg: Segment) {
-        (self.queued.machine, self.queued.work, self.queued.basis) = (seg.to, seg.work_to, seg.tip_basis);
+        (self.queued.machine, self.queued.work) = (seg.to, seg.work_to);
         self.planner.push(seg);
     }
 
@@ -284,7 +293,7 @@ impl Executor {
         let first = self.executed;
         self.executed += planned.segments.len() as u64;
         if let Some(last) = planned.segments.last() {
-            self.last_basis = last.tip_basis;
+            (self.last_basis, self.last_tool_length) = (last.tip_basis, last.tool_length);
         }
         if planned.profile.end_speed().abs() < 1e-9 {
             self.here.feed = 0.0;
