@@ -199,11 +199,28 @@ impl Executor {
         Segment::new(m, &self.queued.machine, &self.queued.work, axes, ctx, self.kinematics.as_ref())
     }
 
-    /// Queue the motion of command `c` (`m`, the command's motion or a shifted copy of it),
-    /// read in block `block`: it starts where the last queued one ends, restated in its block's
-    /// workpiece system. A motion that would cross a stroke limit (moved by `shift`, a handle
-    /// interruption's) is not queued: its alarm is returned and the queue is left as it was,
-    /// but for the start, which stays restated. `queued` sees the segment before it is queued.
+    /// The segment of command `c`'s motion `m` (the command's, or a shifted copy of it) read in
+    /// block `block`: from where the last queued one ends, restated in its block's workpiece
+    /// system (the queued start stays restated; its end is not queued).
+    fn segment_of(&mut self, c: &Canon, m: &Motion, ctx: FeedContext, block: u64) -> Segment {
+        let before = std::mem::replace(&mut self.queued.basis, c.tip_basis);
+        crate::tip::restate_start(&mut self.queued.work, &before, &c.tip_basis);
+        let mut seg = self.segment_within(m, ctx, &self.axes);
+        (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
+        seg
+    }
+
+    /// The geometry of command `c`'s motion `m` as [`Executor::queue`] would queue it, without
+    /// planning (a preview): the next one starts at its end.
+    pub fn geometry(&mut self, c: &Canon, m: &Motion, ctx: FeedContext) -> Segment {
+        let seg = self.segment_of(c, m, ctx, 0);
+        (self.queued.machine, self.queued.work) = (m.machine, m.target);
+        seg
+    }
+
+    /// Queue the motion `m` of command `c` (see [`Executor::segment_of`]). A motion that would
+    /// cross a stroke limit (moved by `shift`, a handle interruption's) is not queued: its
+    /// alarm is returned and the queued end stays. `queued` sees the segment before it is queued.
     pub fn queue(
         &mut self,
         c: &Canon,
@@ -213,10 +230,7 @@ impl Executor {
         shift: Option<&Pos>,
         queued: impl FnOnce(&Segment),
     ) -> Result<(), AlarmId> {
-        let before = std::mem::replace(&mut self.queued.basis, c.tip_basis);
-        crate::tip::restate_start(&mut self.queued.work, &before, &c.tip_basis);
-        let mut seg = self.segment_within(m, ctx, &self.axes);
-        (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
+        let seg = self.segment_of(c, m, ctx, block);
         match shift {
             Some(shift) => super::stroke_check_shifted(&seg, &self.machine, shift)?,
             None => super::stroke_check(&seg, &self.machine)?,
