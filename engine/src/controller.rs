@@ -18,6 +18,7 @@ use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::MachineConfig;
 use crate::motion::{Braking, Endpoint, Executor, Finished, Point, Segment};
+use crate::stage::Pipeline;
 use std::collections::VecDeque;
 use std::sync::Arc;
 
@@ -153,6 +154,8 @@ pub struct Controller {
     kinematics: Option<Arc<Kinematics>>,
     /// Where canonical motions become motion: the planner, the run under way, the clock.
     exec: Executor,
+    /// The path stages between the interpreter and the executor (`crate::stage`).
+    stages: Pipeline,
     program: Option<String>,
     mdi: Option<String>,
     mode: Mode,
@@ -218,6 +221,7 @@ impl Controller {
         let kinematics = interp.kinematics().cloned();
         Controller {
             exec: Executor::new(machine.clone(), kinematics.clone(), start),
+            stages: Pipeline::for_config(interp.config()),
             kinematics,
             machine,
             interp,
@@ -571,6 +575,7 @@ impl Controller {
         self.shift = None;
         self.reposition = false;
         self.pending.clear();
+        self.stages.reset();
         self.interp.reset();
         self.executing.settle(self.interp.state.modal_state());
         self.wse_no_manual = self.interp.wse_forbids_manual();
@@ -989,6 +994,7 @@ impl Controller {
         let mut out = Vec::new();
         let banned = self.interp.wse_forbids_manual();
         let step = self.interp.step(&mut out);
+        self.stages.process(&mut out, crate::run::ends(&step));
         let produced = !out.is_empty();
         if !matches!(step, Ok(Step::NeedInput)) {
             let (line, n) = self.interp.state.current_block();

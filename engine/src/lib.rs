@@ -19,6 +19,7 @@ pub mod motion;
 pub mod preview;
 pub mod report;
 pub mod run;
+pub mod stage;
 pub mod tip;
 pub mod twp;
 pub mod vendor;

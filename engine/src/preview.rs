@@ -43,6 +43,7 @@ pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
         basis: interp.state.tip_basis(),
     };
     let mut exec = Executor::new(machine, interp.kinematics().cloned(), start);
+    let mut stages = crate::stage::Pipeline::for_config(interp.config());
     let ctx = exec.feed_context(1.0, 1.0, false);
     let tip = |exec: &Executor, pos: &Pos, length: f64| -> [f64; 3] {
         match exec.kinematics() {
@@ -65,6 +66,7 @@ pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
     let mut out = Vec::new();
     loop {
         let step = interp.step(&mut out);
+        stages.process(&mut out, crate::run::ends(&step));
         for c in out.drain(..) {
             let CanonKind::Motion(m) = &c.kind else { continue };
             let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);

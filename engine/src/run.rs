@@ -7,6 +7,7 @@ use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Pos};
 use crate::interp::{Interpreter, Step};
 use crate::motion::{Endpoint, Executor, Segment};
+use crate::stage::Pipeline;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunOptions {
@@ -104,6 +105,7 @@ pub fn run_observed(
         over_budget: None,
         observer,
     };
+    let mut stages = Pipeline::for_config(interp.config());
     let tracing = opts.period_s > 0.0;
     let mut out = Vec::with_capacity(16);
     let mut alarms = Vec::new();
@@ -113,6 +115,7 @@ pub fn run_observed(
             break;
         }
         let step = interp.step(&mut out);
+        stages.process(&mut out, ends(&step));
         let before = exec.exec.time();
         for c in out.drain(..) {
             if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
@@ -292,4 +295,9 @@ impl<O: Observer> Driver<'_, O> {
             self.next_sample += 1;
         }
     }
+}
+
+/// The program ends after this step (its end or an alarm): the path stages release everything.
+pub(crate) fn ends(step: &Result<Step, Alarm>) -> bool {
+    !matches!(step, Ok(Step::Continue | Step::NeedInput))
 }

@@ -1,0 +1,132 @@
+//! Path stages: where the program's path is rewritten between the interpreter and the motion
+//! executor (cutter compensation, cutting point control, splines and smoothing, as they are
+//! built). Every driver of the interpreter (`crate::run`, `crate::controller`,
+//! `crate::preview`) passes the canonical commands of each step through its [`Pipeline`]
+//! before the executor sees them, so a stage is written once and acts on every run, every
+//! controller and every preview.
+//!
+//! Adding a stage: write a module under `stage/` with a type that implements [`Stage`], and
+//! register it in [`Pipeline::for_config`], the one place that says which stages a program
+//! goes through and in which order. Until a function's stage exists, the interpreter refuses
+//! the function with the dialect's alarm (`interp::unbuilt`), never passes it on silently.
+//!
+//! A stage may hold commands back to look ahead (cutter compensation C needs the next two
+//! motions to place the corner of the one before). It releases them, in order, when it has
+//! seen enough, and all of them at the end of the program. A command keeps the line, sequence
+//! number and tip basis of the block it came from; the controller counts a released command to
+//! the block being read when it comes out (what its modal display shows while it moves).
+
+use crate::canon::Canon;
+use crate::interp::Config;
+
+/// One stage of the path.
+pub trait Stage: Send {
+    /// Take the next command; hand on, in order, whatever is ready.
+    fn push(&mut self, command: Canon, out: &mut Vec<Canon>);
+    /// The program has ended (or stopped with an alarm): hand on everything held.
+    fn finish(&mut self, out: &mut Vec<Canon>);
+    /// The program was abandoned (reset): drop everything held.
+    fn reset(&mut self);
+}
+
+/// The stages a machine's programs go through, in order.
+#[derive(Default)]
+pub struct Pipeline {
+    stages: Vec<Box<dyn Stage>>,
+    /// What one stage handed on, for the next.
+    between: Vec<Canon>,
+}
+
+impl Pipeline {
+    /// The stages for programs run with `config`. None is built yet (cutter compensation,
+    /// cutting point control and splines are refused by the interpreter until they are).
+    pub fn for_config(_config: &Config) -> Pipeline {
+        Pipeline::default()
+    }
+
+    /// Pass one interpreter step's commands through every stage: `commands` becomes what comes
+    /// out of the last one. `end`: the program has ended, everything held comes out.
+    pub fn process(&mut self, commands: &mut Vec<Canon>, end: bool) {
+        for stage in &mut self.stages {
+            for c in commands.drain(..) {
+                stage.push(c, &mut self.between);
+            }
+            if end {
+                stage.finish(&mut self.between);
+            }
+            std::mem::swap(commands, &mut self.between);
+        }
+    }
+
+    /// Drop everything the stages hold.
+    pub fn reset(&mut self) {
+        for stage in &mut self.stages {
+            stage.reset();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canon::CanonKind;
+
+    /// A stage that holds each command until the next one comes (one command of look-ahead).
+    #[derive(Default)]
+    struct HoldOne(Option<Canon>);
+
+    impl Stage for HoldOne {
+        fn push(&mut self, command: Canon, out: &mut Vec<Canon>) {
+            out.extend(self.0.replace(command));
+        }
+        fn finish(&mut self, out: &mut Vec<Canon>) {
+            out.extend(self.0.take());
+        }
+        fn reset(&mut self) {
+            self.0 = None;
+        }
+    }
+
+    fn dwell(line: u32) -> Canon {
+        Canon { line, n: None, kind: CanonKind::Dwell { seconds: 1.0 }, tip_basis: Default::default() }
+    }
+
+    fn lines(c: &[Canon]) -> Vec<u32> {
+        c.iter().map(|c| c.line).collect()
+    }
+
+    #[test]
+    fn stages_look_ahead_and_release_everything_at_the_end_in_order() {
+        let mut p =
+            Pipeline { stages: vec![Box::new(HoldOne::default()), Box::new(HoldOne::default())], ..Default::default() };
+        let mut step = vec![dwell(1), dwell(2)];
+        p.process(&mut step, false);
+        assert!(step.is_empty(), "two stages of one command each hold both: {:?}", lines(&step));
+        let mut step = vec![dwell(3)];
+        p.process(&mut step, false);
+        assert_eq!(lines(&step), [1]);
+        let mut step = vec![dwell(4)];
+        p.process(&mut step, true);
+        assert_eq!(lines(&step), [2, 3, 4]);
+    }
+
+    #[test]
+    fn reset_drops_what_is_held() {
+        let mut p = Pipeline { stages: vec![Box::new(HoldOne::default())], ..Default::default() };
+        let mut step = vec![dwell(1)];
+        p.process(&mut step, false);
+        p.reset();
+        let mut step = vec![dwell(2)];
+        p.process(&mut step, true);
+        assert_eq!(lines(&step), [2]);
+    }
+
+    #[test]
+    fn no_stage_hands_on_as_it_came() {
+        let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
+        let mut p = Pipeline::for_config(&config);
+        let mut step = vec![dwell(1), dwell(2)];
+        p.process(&mut step, false);
+        assert_eq!(lines(&step), [1, 2]);
+    }
+}
