@@ -17,7 +17,7 @@ use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, Spi
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::MachineConfig;
-use crate::motion::{Braking, Endpoint, Executor, Finished, Point, Segment};
+use crate::motion::{Braking, Endpoint, Executor, Finished, Point, Sample, Segment};
 use crate::stage::Pipeline;
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -321,6 +321,12 @@ impl Controller {
     /// and [`Controller::tip_basis`].
     pub fn tip(&self) -> crate::tip::Tip {
         crate::tip::locate(self.kinematics.as_deref(), &self.machine_now(), &self.tip_basis())
+    }
+
+    /// The machine now, as the trace reads it (`Sample`): axes with a handle interruption's
+    /// shift, tip by forward kinematics with [`Controller::tip_basis`].
+    pub fn sample(&self) -> Sample {
+        self.exec.sample(self.exec.time(), &self.machine_now(), &self.tip_basis())
     }
 
     /// The modal state of the block the machine is executing. The interpreter's own state is

@@ -31,6 +31,8 @@ pub struct Sample {
     pub tip: [f64; 3],
     /// Unit tool vector, tip toward holder, in the workpiece system (from the rotary axes).
     pub tool: [f64; 3],
+    /// The same tip in the table frame (machine coordinates on a machine without table axes).
+    pub tip_table: [f64; 3],
     /// The commanded point (X, Y, Z) in the system `programmed_in` names.
     pub programmed: [f64; 3],
     pub programmed_in: System,
@@ -421,6 +423,7 @@ impl Executor {
             machine: self.machine.shown(machine),
             tip: placed.tip,
             tool: placed.tool,
+            tip_table: placed.table,
             programmed: [self.here.work[0], self.here.work[1], self.here.work[2]],
             programmed_in: basis.programmed_in,
             feed: self.here.feed,

@@ -235,7 +235,7 @@ impl ControllerStatus {
     pub fn of(hosted: &Hosted, station: &Station) -> ControllerStatus {
         let c = &station.controller;
         let p = c.point();
-        let tip = c.tip();
+        let s = c.sample();
         ControllerStatus {
             id: hosted.id.clone(),
             name: hosted.name(),
@@ -252,10 +252,10 @@ impl ControllerStatus {
             position: Position {
                 machine: axes(&station.machine, &p.machine),
                 workpiece: axes(&station.machine, &p.work),
-                tip: tip.tip,
-                tool: tip.tool,
-                programmed: [p.work[0], p.work[1], p.work[2]],
-                programmed_in: c.tip_basis().programmed_in.name().to_string(),
+                tip: s.tip,
+                tool: s.tool,
+                programmed: s.programmed,
+                programmed_in: s.programmed_in.name().to_string(),
             },
             feed: p.feed,
             time_s: c.time(),

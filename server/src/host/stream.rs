@@ -11,7 +11,7 @@ use utoipa::ToSchema;
 use fivex_engine::canon::Pos;
 use fivex_engine::controller::{Mode, RunState};
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::tip::System;
+use fivex_engine::motion::Sample;
 use fivex_engine::Alarm;
 
 use super::{now_unix_ms, Station};
@@ -71,43 +71,26 @@ pub struct PositionFrame {
 #[derive(Debug, Clone)]
 pub struct Reading {
     machine_config: Arc<MachineConfig>,
-    t: f64,
     wall_ms: f64,
-    machine: Pos,
+    sample: Sample,
+    /// The programmed position of every axis (the sample holds X, Y, Z).
     work: Pos,
-    tip: [f64; 3],
-    tool: [f64; 3],
-    programmed_in: System,
-    line: u32,
-    n: Option<u32>,
-    feed: f64,
     to_go: Pos,
     spindle: f64,
     tool_length: f64,
-    tip_table: [f64; 3],
 }
 
 impl Reading {
     pub fn of(station: &Station) -> Reading {
         let c = &station.controller;
-        let p = c.point();
-        let tip = c.tip();
         Reading {
             machine_config: station.machine.clone(),
-            t: c.time(),
             wall_ms: now_unix_ms(),
-            machine: p.machine,
-            work: p.work,
-            tip: tip.tip,
-            tool: tip.tool,
-            programmed_in: c.tip_basis().programmed_in,
-            line: p.line,
-            n: p.n,
-            feed: p.feed,
+            sample: c.sample(),
+            work: c.point().work,
             to_go: c.to_go(),
             spindle: c.spindle(),
             tool_length: c.tool_length(),
-            tip_table: tip.table,
         }
     }
 
@@ -118,37 +101,39 @@ impl Reading {
         fn same(a: &[f64], b: &[f64]) -> bool {
             a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
         }
+        let (a, b) = (&self.sample, &other.sample);
         Arc::ptr_eq(&self.machine_config, &other.machine_config)
-            && same(&self.machine, &other.machine)
+            && same(&a.machine, &b.machine)
             && same(&self.work, &other.work)
-            && same(&self.tip, &other.tip)
-            && same(&self.tool, &other.tool)
-            && self.programmed_in == other.programmed_in
-            && self.line == other.line
-            && self.n == other.n
-            && same(&[self.feed, self.spindle, self.tool_length], &[other.feed, other.spindle, other.tool_length])
+            && same(&a.tip, &b.tip)
+            && same(&a.tool, &b.tool)
+            && a.programmed_in == b.programmed_in
+            && a.line == b.line
+            && a.n == b.n
+            && same(&[a.feed, self.spindle, self.tool_length], &[b.feed, other.spindle, other.tool_length])
             && same(&self.to_go, &other.to_go)
-            && same(&self.tip_table, &other.tip_table)
+            && same(&a.tip_table, &b.tip_table)
     }
 
     pub fn frame(&self) -> PositionFrame {
+        let s = &self.sample;
         PositionFrame {
             kind: "position",
-            t: self.t,
+            t: s.t,
             wall_ms: self.wall_ms,
-            machine: axes(&self.machine_config, &self.machine),
+            machine: axes(&self.machine_config, &s.machine),
             workpiece: axes(&self.machine_config, &self.work),
-            tip: self.tip,
-            tool: self.tool,
-            programmed: [self.work[0], self.work[1], self.work[2]],
-            programmed_in: self.programmed_in.name(),
-            line: self.line,
-            n: self.n,
-            feed: self.feed,
+            tip: s.tip,
+            tool: s.tool,
+            programmed: s.programmed,
+            programmed_in: s.programmed_in.name(),
+            line: s.line,
+            n: s.n,
+            feed: s.feed,
             to_go: axes(&self.machine_config, &self.to_go),
             spindle: self.spindle,
             tool_length: self.tool_length,
-            tip_table: self.tip_table,
+            tip_table: s.tip_table,
         }
     }
 }
