@@ -8,7 +8,7 @@ mod cycles;
 pub mod expr;
 mod frames;
 pub mod gcode;
-mod manual;
+mod manual_view;
 mod modes;
 mod nc;
 mod offsets;

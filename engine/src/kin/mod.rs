@@ -11,11 +11,11 @@
 //! the two are the same). The tool tip and direction a program commands are in the table frame.
 
 mod ik;
-mod manual;
+mod feed_directions;
 mod select;
 
 pub use ik::{Candidate, Candidates, PerJoint};
-pub use manual::{latitude_longitude, ManualDirections, ManualFeed};
+pub use feed_directions::{latitude_longitude, ManualDirections, ManualFeed};
 pub use select::{Choice, Selection};
 
 use crate::alarm::AlarmId;
