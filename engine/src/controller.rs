@@ -17,7 +17,7 @@ use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, Spi
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::MachineConfig;
-use crate::motion::{Braking, Endpoint, Executor, Finished, Point, Sample, Segment};
+use crate::motion::{Braking, Endpoint, Executor, FeedContext, Finished, Point, Sample, Segment};
 use crate::stage::Pipeline;
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -842,16 +842,14 @@ impl Controller {
     /// Whatever was planned is gone: the next motion starts where the machine stands, and so
     /// does the program's current point (it had read ahead).
     fn stand_here(&mut self) {
-        (self.exec.queued.machine, self.exec.queued.work) = (self.exec.here.machine, self.exec.here.work);
-        self.exec.queued.basis = self.tip_basis();
         if self.intervention.is_some() {
             // The held program's current point stays where the program put it.
+            self.exec.queue_from_here(self.exec.here.work, self.tip_basis());
             return;
         }
         self.interp.moved_to(&self.program_machine());
         self.exec.here.work = self.interp.state.shown_position();
-        self.exec.queued.work = self.exec.here.work;
-        self.exec.queued.basis = self.interp.state.tip_basis();
+        self.exec.queue_from_here(self.exec.here.work, self.interp.state.tip_basis());
     }
 
     /// Decelerate to rest along the path, within the limits of every segment the stop covers;
@@ -937,11 +935,7 @@ impl Controller {
                         self.reposition = false;
                         &shifted
                     };
-                    let ctx = self.exec.feed_context(
-                        self.panel.feed_override,
-                        self.panel.rapid_override,
-                        m.context.exact_stop || self.panel.single_block,
-                    );
+                    let ctx = self.program_feed(m);
                     let shift = (!self.interrupt.is_zero()).then(|| self.interrupt.last());
                     let queued = self.exec.queue(&c, m, ctx, self.reading_block, shift.as_ref(), |_| {});
                     if let Err(id) = queued {
@@ -1052,11 +1046,15 @@ impl Controller {
         }
     }
 
+    /// How a program motion is fed: the panel's overrides, and single block stops at every end.
+    fn program_feed(&self, m: &Motion) -> FeedContext {
+        let exact_stop = m.context.exact_stop || self.panel.single_block;
+        self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, exact_stop)
+    }
+
     /// The segment of a program motion from where the last queued one ends.
     fn segment(&self, m: &Motion) -> Segment {
-        let exact_stop = m.context.exact_stop || self.panel.single_block;
-        let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, exact_stop);
-        self.exec.segment_within(m, ctx, self.exec.axes())
+        self.exec.segment_within(m, self.program_feed(m), self.exec.axes())
     }
 
     /// A block without motion of its own is reached: the panel shows its line.

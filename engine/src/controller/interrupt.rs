@@ -16,7 +16,7 @@ use super::{Controller, Mode, Refusal, RunState};
 use crate::canon::{Motion, MotionContext, MotionKind, Pos};
 use crate::kin::Vec3;
 use crate::machine::MAX_AXES;
-use crate::motion::{self, Cursor, FeedContext, Planned, Segment};
+use crate::motion::{self, Cursor, Planned, Segment};
 
 /// The handle interruption's shift.
 #[derive(Default)]
@@ -255,8 +255,8 @@ impl Controller {
             spindle: 0.0,
             context: MotionContext { fixed_feed: true, ..MotionContext::default() },
         };
-        let ctx =
-            FeedContext { feed_override: 1.0, rapid_override: 1.0, exact_stop: true, options: self.machine.motion };
+        // At the handle clamp whatever the overrides.
+        let ctx = self.exec.feed_context(1.0, 1.0, true);
         let seg = Segment::new(&m, from, from, &self.manual_limits(), ctx, self.kinematics.as_ref());
         (seg.len > 0.0).then_some(seg)
     }
