@@ -21,10 +21,14 @@ pub struct ToolOffset {
     pub d_wear: f64,
 }
 
+/// Every slot exists and reads zero until written; only the slots up to the highest one
+/// written are stored (a controller mostly uses a few tools and G54–G59, and a thousand hosted
+/// controllers would otherwise hold 50 kB of zeros each).
 #[derive(Debug, Clone)]
 pub struct Offsets {
+    /// Work offset slots up to the highest written.
     work: Vec<Pos>,
-    /// Index 0 is offset number 0, always zero.
+    /// Tool offsets up to the highest number written; index 0 is offset number 0, always zero.
     tools: Vec<ToolOffset>,
     /// Which entries were handed out for writing since the last [`Offsets::take_touched`]: what
     /// a host has to save, without keeping a second copy of every offset to compare with.
@@ -36,15 +40,13 @@ pub struct Offsets {
 const WORK_SLOTS: usize = 7 + MAX_G54_1;
 const WORK_WORDS: usize = WORK_SLOTS.div_ceil(64);
 const TOOL_WORDS: usize = (MAX_TOOL_OFFSETS + 1).div_ceil(64);
+/// What a slot never written holds.
+const ZERO_WORK: Pos = [0.0; MAX_AXES];
+const ZERO_TOOL: ToolOffset = ToolOffset { h_geometry: 0.0, h_wear: 0.0, d_geometry: 0.0, d_wear: 0.0 };
 
 impl Default for Offsets {
     fn default() -> Self {
-        Offsets {
-            work: vec![[0.0; MAX_AXES]; WORK_SLOTS],
-            tools: vec![ToolOffset::default(); MAX_TOOL_OFFSETS + 1],
-            touched_work: [0; WORK_WORDS],
-            touched_tools: [0; TOOL_WORDS],
-        }
+        Offsets { work: Vec::new(), tools: Vec::new(), touched_work: [0; WORK_WORDS], touched_tools: [0; TOOL_WORDS] }
     }
 }
 
@@ -62,27 +64,38 @@ fn take_bits(words: &mut [u64]) -> Vec<usize> {
 }
 
 impl Offsets {
+    /// Work offset slot `index` (below `g54_1_index(MAX_G54_1) + 1`).
     pub fn work(&self, index: usize) -> &Pos {
-        &self.work[index]
+        assert!(index < WORK_SLOTS, "work offset slot {index} out of range");
+        self.work.get(index).unwrap_or(&ZERO_WORK)
     }
 
     pub fn work_mut(&mut self, index: usize) -> &mut Pos {
+        assert!(index < WORK_SLOTS, "work offset slot {index} out of range");
+        if self.work.len() <= index {
+            self.work.resize(index + 1, ZERO_WORK);
+        }
         self.touched_work[index / 64] |= 1 << (index % 64);
         &mut self.work[index]
     }
 
+    /// Tool offset `number` (0..=MAX_TOOL_OFFSETS; `None` beyond).
     pub fn tool(&self, number: u32) -> Option<&ToolOffset> {
-        self.tools.get(number as usize)
+        let n = number as usize;
+        (n <= MAX_TOOL_OFFSETS).then(|| self.tools.get(n).unwrap_or(&ZERO_TOOL))
     }
 
     /// Offset number 0 cannot be written (it means "no offset").
     pub fn tool_mut(&mut self, number: u32) -> Option<&mut ToolOffset> {
-        if number == 0 {
+        let n = number as usize;
+        if n == 0 || n > MAX_TOOL_OFFSETS {
             return None;
         }
-        let slot = self.tools.get_mut(number as usize)?;
-        self.touched_tools[number as usize / 64] |= 1 << (number % 64);
-        Some(slot)
+        if self.tools.len() <= n {
+            self.tools.resize(n + 1, ZERO_TOOL);
+        }
+        self.touched_tools[n / 64] |= 1 << (n % 64);
+        Some(&mut self.tools[n])
     }
 
     /// The tool offset numbers and work offset slots written (handed out by `tool_mut` /
@@ -120,5 +133,19 @@ mod tests {
         assert_eq!(o.take_touched(), (vec![1, 64, 999], vec![0, WORK_SLOTS - 1]));
         assert_eq!(o.take_touched(), (vec![], vec![]), "cleared");
         assert_eq!(o.length(999), 1.0, "the values stay");
+    }
+
+    #[test]
+    fn slots_never_written_read_zero_and_are_not_stored() {
+        let mut o = Offsets::default();
+        assert_eq!(o.tool(999), Some(&ToolOffset::default()));
+        assert_eq!(o.tool(1000), None);
+        assert_eq!(o.work(WORK_SLOTS - 1), &[0.0; MAX_AXES]);
+        assert!(o.tools.is_empty() && o.work.is_empty());
+        o.tool_mut(3).unwrap().d_geometry = 5.0;
+        o.work_mut(1)[0] = 10.0;
+        assert_eq!((o.tools.len(), o.work.len()), (4, 2), "stored up to the highest written");
+        assert_eq!((o.radius(3), o.radius(2), o.radius(500)), (5.0, 0.0, 0.0));
+        assert_eq!((o.work(1)[0], o.work(0)[0], o.work(200)[0]), (10.0, 0.0, 0.0));
     }
 }
