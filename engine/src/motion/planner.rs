@@ -219,7 +219,10 @@ impl Planner {
         }
         let mut taken = 0;
         for r in runs.iter().take_while(|r| r.end <= release) {
-            let segments = self.queue.drain(..r.end - taken).map(|q| q.segment).collect();
+            // Exactly as many as the run has: a run is often one segment, and a collected
+            // vector would reserve four (2 kB each) for the hundreds of runs waiting.
+            let mut segments = Vec::with_capacity(r.end - taken);
+            segments.extend(self.queue.drain(..r.end - taken).map(|q| q.segment));
             taken = r.end;
             let profile = Profile::plan(self.v_now, r.v_end, r.len, &r.limits);
             self.v_now = r.v_end;
