@@ -10,12 +10,12 @@
 //! table and equals the machine frame when every table axis is at zero (for head-only machines
 //! the two are the same). The tool tip and direction a program commands are in the table frame.
 
-mod ik;
 mod feed_directions;
+mod ik;
 mod select;
 
-pub use ik::{Candidate, Candidates, PerJoint};
 pub use feed_directions::{latitude_longitude, ManualDirections, ManualFeed};
+pub use ik::{Candidate, Candidates, PerJoint};
 pub use select::{Choice, Selection};
 
 use crate::alarm::AlarmId;
