@@ -1,5 +1,6 @@
 //! A parsed program prepared for execution: its sequence-number index and the DO/END pairing.
 
+use super::gcode::code;
 use crate::alarm::AlarmId;
 use crate::lang::{Block, BlockKind, Program};
 use std::collections::HashMap;
@@ -45,7 +46,7 @@ fn reaches_beyond(block: &Block) -> bool {
         BlockKind::Words(words) => words.iter().any(|w| match (&w.letter, &w.value) {
             (b'M', WordValue::Number { value, .. }) => matches!(*value as u32, 98 | 99 | 198),
             (b'G', WordValue::Number { value, .. }) => {
-                matches!(super::gcode::code_of(*value), Some(650 | 660 | 661))
+                super::gcode::code_of(*value).is_some_and(|c| code::MACRO_CALLS.contains(&c))
             }
             (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num(_)),
             _ => false,
