@@ -8,6 +8,7 @@
 use crate::alarm::AlarmId;
 use crate::dialect::Dialect;
 use crate::interp::gcode::{self, code, group};
+use crate::interp::mcode;
 use crate::interp::unbuilt::{self, Word};
 use crate::interp::Loaded;
 use crate::lang::Word as NcWord;
@@ -59,7 +60,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     cycle |= d.group == group::CYCLE && d.code != code::G80;
                                 }
                             },
-                            b'M' => calls |= matches!(value as u32, 98 | 198),
+                            b'M' => calls |= mcode::SUBPROGRAM_CALLS.contains(&(value as u32)),
                             letter => {
                                 if let Some(function) = unbuilt::address(letter) {
                                     diags.push(at(

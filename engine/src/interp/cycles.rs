@@ -14,6 +14,7 @@
 //! like any move in the plane: the hole is drilled at the FCS point along the FCS Z.
 
 use super::gcode::{code, group};
+use super::mcode;
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
@@ -142,14 +143,14 @@ impl State {
         };
         if code == code::G87 {
             // Back boring: orient, shift, go below to R (the hole bottom), bore upward to Z.
-            self.emit(out, CanonKind::Aux { m: 19 });
+            self.emit(out, CanonKind::Aux { m: mcode::M19 });
             self.shift(plane.0, c.q, out)?;
             self.move_drill_axis(d, c.r, Rapid, out)?;
             self.shift(plane.0, -c.q, out)?;
             self.spindle(SpindleState::Cw, out);
             self.move_drill_axis(d, c.z, Linear, out)?;
             dwell(self, out);
-            self.emit(out, CanonKind::Aux { m: 19 });
+            self.emit(out, CanonKind::Aux { m: mcode::M19 });
             self.shift(plane.0, c.q, out)?;
             self.move_drill_axis(d, c.initial, Rapid, out)?;
             self.shift(plane.0, -c.q, out)?;
@@ -199,7 +200,7 @@ impl State {
             code::G76 => {
                 self.move_drill_axis(d, c.z, Linear, out)?;
                 dwell(self, out);
-                self.emit(out, CanonKind::Aux { m: 19 });
+                self.emit(out, CanonKind::Aux { m: mcode::M19 });
                 self.shift(plane.0, c.q, out)?;
                 self.move_drill_axis(d, ret, Rapid, out)?;
                 self.shift(plane.0, -c.q, out)?;

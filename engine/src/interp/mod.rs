@@ -9,6 +9,7 @@ pub mod expr;
 mod frames;
 pub mod gcode;
 mod manual_view;
+pub mod mcode;
 mod modes;
 mod nc;
 mod offsets;

@@ -4,6 +4,7 @@
 use super::expr::{eval, round_to, ExprSettings, Value};
 use super::gcode::{self, GDef};
 use super::gcode::{code, group};
+use super::mcode;
 use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
@@ -490,7 +491,8 @@ impl State {
                 return Err(AlarmId::ImproperAddress);
             }
             self.s = s;
-            if self.spindle != SpindleState::Stop && !w.m[..w.nm].iter().any(|&m| matches!(m, 3..=5)) {
+            if self.spindle != SpindleState::Stop && !w.m[..w.nm].iter().any(|&m| matches!(m, mcode::M03..=mcode::M05))
+            {
                 self.emit(out, CanonKind::Spindle { state: self.spindle, speed: s });
             }
         }
@@ -504,16 +506,16 @@ impl State {
         for &m in &w.m[..w.nm] {
             self.last_m = m;
             match m {
-                3 | 4 => {
-                    self.spindle = if m == 3 { SpindleState::Cw } else { SpindleState::Ccw };
+                mcode::M03 | mcode::M04 => {
+                    self.spindle = if m == mcode::M03 { SpindleState::Cw } else { SpindleState::Ccw };
                     self.emit(out, CanonKind::Spindle { state: self.spindle, speed: self.s });
                 }
-                6 => {
+                mcode::M06 => {
                     self.tool_in_spindle = self.t;
                     self.emit(out, CanonKind::ToolChange { tool: self.t });
                 }
-                7 => self.emit(out, CanonKind::Coolant(Coolant::Mist)),
-                8 => self.emit(out, CanonKind::Coolant(Coolant::Flood)),
+                mcode::M07 => self.emit(out, CanonKind::Coolant(Coolant::Mist)),
+                mcode::M08 => self.emit(out, CanonKind::Coolant(Coolant::Flood)),
                 _ => {}
             }
         }
@@ -580,28 +582,28 @@ impl State {
         // --- M codes after motion, program end, subprogram calls ----------------------------
         for &m in &w.m[..w.nm] {
             match m {
-                0 => self.emit(out, CanonKind::Stop { optional: false, message: block.comment.clone() }),
-                1 => {
+                mcode::M00 => self.emit(out, CanonKind::Stop { optional: false, message: block.comment.clone() }),
+                mcode::M01 => {
                     if self.cfg.optional_stop {
                         self.emit(out, CanonKind::Stop { optional: true, message: block.comment.clone() })
                     }
                 }
-                2 | 30 => {
+                mcode::M02 | mcode::M30 => {
                     self.parts_done += 1.0;
                     self.emit(out, CanonKind::ProgramEnd { m });
                     self.ended = true;
                 }
-                5 => {
+                mcode::M05 => {
                     self.spindle = SpindleState::Stop;
                     self.emit(out, CanonKind::Spindle { state: SpindleState::Stop, speed: self.s });
                 }
-                9 => self.emit(out, CanonKind::Coolant(Coolant::Off)),
-                3 | 4 | 6 | 7 | 8 => {}
-                98 | 198 => {
+                mcode::M09 => self.emit(out, CanonKind::Coolant(Coolant::Off)),
+                mcode::M03 | mcode::M04 | mcode::M06 | mcode::M07 | mcode::M08 => {}
+                mcode::M98 | mcode::M198 => {
                     let (prog, count) = self.subprogram_target(by_number, &w)?;
                     self.push_frame(progs, prog, count, None)?;
                 }
-                99 => {
+                mcode::M99 => {
                     let to_n = w.integer(b'P').map(|p| p as u32);
                     self.return_from_call(progs, to_n)?;
                 }
