@@ -537,8 +537,8 @@ impl State {
         }
         // Tool centre point control starts or ends here (its start and end blocks move by the
         // tool length, computed at their end only).
-        let tcp_mode = matches!(self.modes[group::LENGTH_COMP], code::G43_4 | code::G43_5);
-        if tcp_mode && w.gcodes().iter().any(|&g| matches!(g, code::G43_4 | code::G43_5)) {
+        let tcp_mode = code::TCP.contains(&self.modes[group::LENGTH_COMP]);
+        if tcp_mode && w.gcodes().iter().any(|g| code::TCP.contains(g)) {
             self.tcp_begin(&w)?;
             tool_length_changed = true;
         } else if !tcp_mode && self.tcp_active() {
@@ -663,7 +663,7 @@ impl State {
     }
 
     pub(super) fn context(&self) -> MotionContext {
-        let length_on = !matches!(self.modes[group::LENGTH_COMP], code::G49 | code::G49_1);
+        let length_on = !code::LENGTH_CANCEL.contains(&self.modes[group::LENGTH_COMP]);
         let comp_on = self.modes[group::CUTTER_COMP] != code::G40;
         MotionContext {
             plane: self.modes[group::PLANE],
