@@ -7,7 +7,8 @@
 
 use crate::alarm::AlarmId;
 use crate::dialect::Dialect;
-use crate::interp::gcode;
+use crate::interp::gcode::{self, code, group};
+use crate::interp::mcode;
 use crate::interp::unbuilt::{self, Word};
 use crate::interp::Loaded;
 use crate::lang::Word as NcWord;
@@ -47,7 +48,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     format!("G{value} is not a G code of the {} dialect", dialect.name()),
                                 )),
                                 Some(d) => {
-                                    calls |= matches!(d.code, 650 | 660 | 661);
+                                    calls |= code::MACRO_CALLS.contains(&d.code);
                                     let word = |letter| literal(words, letter);
                                     if let Some(function) = unbuilt::g_code(d.code, dialect, word) {
                                         diags.push(at(
@@ -56,10 +57,10 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                             format!("{}: {function} is not built in fivex", gcode::display(d.code)),
                                         ));
                                     }
-                                    cycle |= d.group == 9 && d.code != 800;
+                                    cycle |= d.group == group::CYCLE && d.code != code::G80;
                                 }
                             },
-                            b'M' => calls |= matches!(value as u32, 98 | 198),
+                            b'M' => calls |= mcode::SUBPROGRAM_CALLS.contains(&(value as u32)),
                             letter => {
                                 if let Some(function) = unbuilt::address(letter) {
                                     diags.push(at(

@@ -14,6 +14,7 @@
 //! like any move in the plane: the hole is drilled at the FCS point along the FCS Z.
 
 use super::gcode::{code, group};
+use super::mcode;
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
@@ -68,7 +69,7 @@ impl State {
         }
         let repeats = repeats(w)?;
         let code = self.modes[group::CYCLE];
-        if matches!(code, 730 | 830) && self.cycle.q <= 0.0 {
+        if matches!(code, code::G73 | code::G83) && self.cycle.q <= 0.0 {
             return Err(AlarmId::MissingQ);
         }
         if self.f <= 0.0 {
@@ -140,16 +141,16 @@ impl State {
                 st.emit(out, CanonKind::Dwell { seconds: c.p });
             }
         };
-        if code == 870 {
+        if code == code::G87 {
             // Back boring: orient, shift, go below to R (the hole bottom), bore upward to Z.
-            self.emit(out, CanonKind::Aux { m: 19 });
+            self.emit(out, CanonKind::Aux { m: mcode::M19 });
             self.shift(plane.0, c.q, out)?;
             self.move_drill_axis(d, c.r, Rapid, out)?;
             self.shift(plane.0, -c.q, out)?;
             self.spindle(SpindleState::Cw, out);
             self.move_drill_axis(d, c.z, Linear, out)?;
             dwell(self, out);
-            self.emit(out, CanonKind::Aux { m: 19 });
+            self.emit(out, CanonKind::Aux { m: mcode::M19 });
             self.shift(plane.0, c.q, out)?;
             self.move_drill_axis(d, c.initial, Rapid, out)?;
             self.shift(plane.0, -c.q, out)?;
@@ -160,7 +161,7 @@ impl State {
             self.move_drill_axis(d, c.r, Rapid, out)?;
         }
         match code {
-            730 | 830 => {
+            code::G73 | code::G83 => {
                 let mut depth = c.r;
                 loop {
                     let next = if (c.z - depth) * dir <= q { c.z } else { depth + dir * q };
@@ -170,7 +171,7 @@ impl State {
                     if depth == c.z {
                         break;
                     }
-                    if code == 730 {
+                    if code == code::G73 {
                         self.move_drill_axis(d, depth - dir * retract, Rapid, out)?;
                     } else {
                         self.move_drill_axis(d, c.r, Rapid, out)?;
@@ -181,8 +182,8 @@ impl State {
                 // kept for those cycles, not used here.
                 self.move_drill_axis(d, ret, Rapid, out)?;
             }
-            740 | 840 | 842 | 843 => {
-                let (forward, reverse) = if matches!(code, 740 | 843) {
+            code::G74 | code::G84 | code::G84_2 | code::G84_3 => {
+                let (forward, reverse) = if matches!(code, code::G74 | code::G84_3) {
                     (SpindleState::Ccw, SpindleState::Cw)
                 } else {
                     (SpindleState::Cw, SpindleState::Ccw)
@@ -196,18 +197,18 @@ impl State {
                     self.move_drill_axis(d, ret, Rapid, out)?;
                 }
             }
-            760 => {
+            code::G76 => {
                 self.move_drill_axis(d, c.z, Linear, out)?;
                 dwell(self, out);
-                self.emit(out, CanonKind::Aux { m: 19 });
+                self.emit(out, CanonKind::Aux { m: mcode::M19 });
                 self.shift(plane.0, c.q, out)?;
                 self.move_drill_axis(d, ret, Rapid, out)?;
                 self.shift(plane.0, -c.q, out)?;
                 self.spindle(SpindleState::Cw, out);
             }
-            850 | 890 => {
+            code::G85 | code::G89 => {
                 self.move_drill_axis(d, c.z, Linear, out)?;
-                if code == 890 {
+                if code == code::G89 {
                     dwell(self, out);
                 }
                 self.move_drill_axis(d, c.r, Linear, out)?;
@@ -215,9 +216,9 @@ impl State {
                     self.move_drill_axis(d, ret, Rapid, out)?;
                 }
             }
-            860 | 880 => {
+            code::G86 | code::G88 => {
                 self.move_drill_axis(d, c.z, Linear, out)?;
-                if code == 880 {
+                if code == code::G88 {
                     dwell(self, out);
                 }
                 self.spindle(SpindleState::Stop, out);
@@ -227,7 +228,7 @@ impl State {
             // G81, G82
             _ => {
                 self.move_drill_axis(d, c.z, Linear, out)?;
-                if code == 820 {
+                if code == code::G82 {
                     dwell(self, out);
                 }
                 self.move_drill_axis(d, ret, Rapid, out)?;

@@ -256,7 +256,7 @@ impl State {
         let mut owns_axes = false;
         for &code in w.gcodes() {
             match code {
-                511 => {
+                code::G51_1 => {
                     for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                         if let Some(v) = self.value(w, axis.name as u8) {
                             self.xf.mirror[i] = Some(v);
@@ -264,7 +264,7 @@ impl State {
                     }
                     owns_axes = true;
                 }
-                501 => {
+                code::G50_1 => {
                     // The named axes; without axis words, all of them.
                     let axes = &self.cfg.machine.axes;
                     let all = !axes.iter().any(|a| w.has(a.name as u8));
@@ -275,20 +275,20 @@ impl State {
                     }
                     owns_axes = true;
                 }
-                510 => {
+                code::G51 => {
                     self.start_scaling(w)?;
                     owns_axes = true;
                 }
-                500 => {
+                code::G50 => {
                     if self.xf.scale.take().is_none() {
                         continue;
                     }
                 }
-                680 => {
+                code::G68 => {
                     self.start_rotation(w)?;
                     owns_axes = true;
                 }
-                690 => {
+                code::G69 => {
                     if self.xf.rotation.take().is_none() {
                         continue;
                     }

@@ -1,22 +1,25 @@
 //! The milling G-code set of the FANUC 30i-A5 (M series), grouped exactly as FANUC groups them,
-//! with the Syntec-only and FANUC-only codes marked. Which of them fivex performs: `unbuilt`. G codes are held as their number ×10 (`G43.4` → 434).
+//! with the Syntec-only and FANUC-only codes marked. Which of them fivex performs: `unbuilt`.
+//! A G code is held as its number ×10 (`G43.4` → 434), and named in code by [`code`]
+//! (`code::G43_4`), a modal group by [`group`] (`group::LENGTH_COMP`).
 
 use crate::dialect::Dialect;
 
 /// Number of modal groups (FANUC numbers them 0..=33 on the 30i M series).
 pub const GROUPS: usize = 34;
 
-/// The non-modal (one-shot) group.
-pub const ONE_SHOT: u8 = 0;
-
-/// The modal groups by FANUC's numbers, as `State::modal` and the mode array index them.
+/// The groups by FANUC's numbers, as `State::modal` and the mode array index them.
 pub mod group {
+    /// The non-modal (one-shot) codes: G04, G10, G28, G53, G65 …
+    pub const ONE_SHOT: usize = 0;
     /// G00, G01, G02, G03 … (interpolation).
     pub const MOTION: usize = 1;
     /// G17, G18, G19.
     pub const PLANE: usize = 2;
     /// G90, G91.
     pub const DISTANCE: usize = 3;
+    /// G22, G23 (stored stroke check).
+    pub const STROKE_CHECK: usize = 4;
     /// G93, G94, G95.
     pub const FEED_MODE: usize = 5;
     /// G20, G21.
@@ -29,9 +32,13 @@ pub mod group {
     pub const CYCLE: usize = 9;
     /// G98, G99.
     pub const RETURN_LEVEL: usize = 10;
+    /// G50, G51.
+    pub const SCALING: usize = 11;
     /// G66, G66.1, G67.
     pub const MODAL_CALL: usize = 12;
-    /// G54–G59, G54.1, G54.4 …
+    /// G96, G97 (constant surface speed).
+    pub const SURFACE_SPEED: usize = 13;
+    /// G54–G59, G54.1 …
     pub const WORK_SYSTEM: usize = 14;
     /// G61, G62, G63, G64.
     pub const PATH_MODE: usize = 15;
@@ -39,46 +46,242 @@ pub mod group {
     pub const ROTATION: usize = 16;
     /// G15, G16.
     pub const POLAR: usize = 17;
+    /// G40.1, G41.1, G42.1 (normal direction control).
+    pub const NORMAL_DIRECTION: usize = 19;
+    /// G160, G161 (in-feed control).
+    pub const IN_FEED: usize = 20;
+    /// G12.1, G13.1 (polar coordinate interpolation).
+    pub const POLAR_INTERPOLATION: usize = 21;
     /// G50.1, G51.1.
     pub const MIRROR: usize = 22;
+    /// G54.2 (rotary table dynamic fixture offset).
+    pub const DYNAMIC_FIXTURE: usize = 23;
+    /// G25, G26 (spindle speed fluctuation detection).
+    pub const SPEED_FLUCTUATION: usize = 24;
+    /// G80.5, G81.5 (electronic gear box synchronisation).
+    pub const EGB: usize = 25;
+    /// G54.4 (workpiece setting error compensation).
+    pub const WSE: usize = 33;
 }
 
-/// The G codes the interpreter names in its rules, held as their number ×10.
+/// Declares the G-code constants, each with the group it claims; the claims are held to
+/// [`TABLE`] by a test, so a constant with a wrong number cannot hide behind its name.
+macro_rules! codes {
+    ($($(#[$doc:meta])* $name:ident = $value:literal in $group:ident;)*) => {
+        $($(#[$doc])* pub const $name: u16 = $value;)*
+
+        /// Every constant above: its name, its code and the group it claims.
+        #[cfg(test)]
+        pub(super) const CLAIMS: &[(&str, u16, usize)] =
+            &[$((stringify!($name), $name, super::group::$group)),*];
+    };
+}
+
+/// The G codes the interpreter names, held as their number ×10 (`G43_4` is G43.4, 434), and the
+/// sets of them that recur.
 pub mod code {
-    pub const G00: u16 = 0;
-    pub const G02: u16 = 20;
-    pub const G03: u16 = 30;
-    pub const G16: u16 = 160;
-    pub const G20: u16 = 200;
-    pub const G21: u16 = 210;
-    pub const G40: u16 = 400;
-    pub const G43: u16 = 430;
-    pub const G43_4: u16 = 434;
-    pub const G43_5: u16 = 435;
-    pub const G44: u16 = 440;
-    pub const G49: u16 = 490;
-    pub const G49_1: u16 = 491;
-    pub const G50_1: u16 = 501;
-    pub const G51_1: u16 = 511;
-    pub const G61: u16 = 610;
-    pub const G63: u16 = 630;
-    pub const G66: u16 = 660;
-    pub const G66_1: u16 = 661;
-    pub const G67: u16 = 670;
-    pub const G68: u16 = 680;
-    pub const G69: u16 = 690;
-    pub const G74: u16 = 740;
-    pub const G80: u16 = 800;
-    pub const G84: u16 = 840;
-    pub const G91: u16 = 910;
-    pub const G93: u16 = 930;
-    pub const G99: u16 = 990;
+    codes! {
+        G00 = 0 in MOTION;
+        G01 = 10 in MOTION;
+        G02 = 20 in MOTION;
+        /// Involute interpolation CW.
+        G02_2 = 22 in MOTION;
+        G03 = 30 in MOTION;
+        /// Involute interpolation CCW.
+        G03_2 = 32 in MOTION;
+        /// Dwell.
+        G04 = 40 in ONE_SHOT;
+        /// High-speed cycle machining (Syntec: G05 P10000 HPCC).
+        G05 = 50 in ONE_SHOT;
+        /// AI contour control / nano smoothing (Q0, Q1, Q3).
+        G05_1 = 51 in ONE_SHOT;
+        /// NURBS interpolation.
+        G06_2 = 62 in MOTION;
+        /// Hypothetical axis interpolation.
+        G07 = 70 in ONE_SHOT;
+        /// Cylindrical interpolation.
+        G07_1 = 71 in ONE_SHOT;
+        /// Exact stop (one block).
+        G09 = 90 in ONE_SHOT;
+        /// Programmable data input.
+        G10 = 100 in ONE_SHOT;
+        G11 = 110 in ONE_SHOT;
+        /// Polar coordinate interpolation.
+        G12_1 = 121 in POLAR_INTERPOLATION;
+        G13_1 = 131 in POLAR_INTERPOLATION;
+        G15 = 150 in POLAR;
+        G16 = 160 in POLAR;
+        G17 = 170 in PLANE;
+        G18 = 180 in PLANE;
+        G19 = 190 in PLANE;
+        G20 = 200 in UNITS;
+        G21 = 210 in UNITS;
+        G22 = 220 in STROKE_CHECK;
+        G23 = 230 in STROKE_CHECK;
+        G25 = 250 in SPEED_FLUCTUATION;
+        G27 = 270 in ONE_SHOT;
+        G28 = 280 in ONE_SHOT;
+        G28_2 = 282 in ONE_SHOT;
+        G29 = 290 in ONE_SHOT;
+        G30 = 300 in ONE_SHOT;
+        G30_1 = 301 in ONE_SHOT;
+        /// Skip.
+        G31 = 310 in ONE_SHOT;
+        G31_8 = 318 in ONE_SHOT;
+        G31_9 = 319 in ONE_SHOT;
+        /// Threading.
+        G33 = 330 in MOTION;
+        G37 = 370 in ONE_SHOT;
+        G38 = 380 in ONE_SHOT;
+        G39 = 390 in ONE_SHOT;
+        G40 = 400 in CUTTER_COMP;
+        G40_1 = 401 in NORMAL_DIRECTION;
+        G41 = 410 in CUTTER_COMP;
+        G41_1 = 411 in NORMAL_DIRECTION;
+        /// 3-D cutter compensation left, type 1.
+        G41_2 = 412 in CUTTER_COMP;
+        /// Leading edge offset.
+        G41_3 = 413 in CUTTER_COMP;
+        /// Left, type 1 (FS16i compatible).
+        G41_4 = 414 in CUTTER_COMP;
+        G41_5 = 415 in CUTTER_COMP;
+        /// Left, type 2.
+        G41_6 = 416 in CUTTER_COMP;
+        G42 = 420 in CUTTER_COMP;
+        G42_1 = 421 in NORMAL_DIRECTION;
+        G42_2 = 422 in CUTTER_COMP;
+        G42_4 = 424 in CUTTER_COMP;
+        G42_5 = 425 in CUTTER_COMP;
+        G42_6 = 426 in CUTTER_COMP;
+        G43 = 430 in LENGTH_COMP;
+        /// Tool length compensation in the tool axis direction.
+        G43_1 = 431 in LENGTH_COMP;
+        /// Tool centre point control type 1 (Syntec RTCP).
+        G43_4 = 434 in LENGTH_COMP;
+        /// Tool centre point control type 2.
+        G43_5 = 435 in LENGTH_COMP;
+        /// Cutting point command type 1.
+        G43_8 = 438 in LENGTH_COMP;
+        /// Cutting point command type 2.
+        G43_9 = 439 in LENGTH_COMP;
+        G44 = 440 in LENGTH_COMP;
+        G45 = 450 in ONE_SHOT;
+        G46 = 460 in ONE_SHOT;
+        G47 = 470 in ONE_SHOT;
+        G48 = 480 in ONE_SHOT;
+        G49 = 490 in LENGTH_COMP;
+        G49_1 = 491 in LENGTH_COMP;
+        /// Scaling cancel.
+        G50 = 500 in SCALING;
+        /// Mirror image cancel.
+        G50_1 = 501 in MIRROR;
+        G51 = 510 in SCALING;
+        G51_1 = 511 in MIRROR;
+        /// Local coordinate system.
+        G52 = 520 in ONE_SHOT;
+        /// Machine coordinate system.
+        G53 = 530 in ONE_SHOT;
+        /// Tool axis direction control.
+        G53_1 = 531 in ONE_SHOT;
+        /// Alignment plus positioning (Syntec).
+        G53_3 = 533 in ONE_SHOT;
+        /// Tool centre point retention type tool axis direction control.
+        G53_6 = 536 in ONE_SHOT;
+        G54 = 540 in WORK_SYSTEM;
+        /// Additional workpiece coordinate systems (P1…).
+        G54_1 = 541 in WORK_SYSTEM;
+        G54_2 = 542 in DYNAMIC_FIXTURE;
+        /// Workpiece setting error compensation.
+        G54_4 = 544 in WSE;
+        G55 = 550 in WORK_SYSTEM;
+        G56 = 560 in WORK_SYSTEM;
+        G57 = 570 in WORK_SYSTEM;
+        G58 = 580 in WORK_SYSTEM;
+        G59 = 590 in WORK_SYSTEM;
+        G60 = 600 in ONE_SHOT;
+        /// Exact stop mode.
+        G61 = 610 in PATH_MODE;
+        G62 = 620 in PATH_MODE;
+        /// Tapping mode.
+        G63 = 630 in PATH_MODE;
+        G64 = 640 in PATH_MODE;
+        /// Macro call.
+        G65 = 650 in ONE_SHOT;
+        /// Macro modal call A (after each move).
+        G66 = 660 in MODAL_CALL;
+        /// Macro modal call B (every block).
+        G66_1 = 661 in MODAL_CALL;
+        G67 = 670 in MODAL_CALL;
+        /// Coordinate system rotation.
+        G68 = 680 in ROTATION;
+        /// Tilted working plane.
+        G68_2 = 682 in ROTATION;
+        /// Tilted working plane by the tool axis.
+        G68_3 = 683 in ROTATION;
+        /// Tilted working plane, incremental.
+        G68_4 = 684 in ROTATION;
+        G69 = 690 in ROTATION;
+        G69_1 = 691 in ROTATION;
+        /// Figure copy, rotary.
+        G72_1 = 721 in ONE_SHOT;
+        /// Figure copy, linear.
+        G72_2 = 722 in ONE_SHOT;
+        /// High-speed peck drilling.
+        G73 = 730 in CYCLE;
+        /// Left-hand tapping.
+        G74 = 740 in CYCLE;
+        /// Fine boring.
+        G76 = 760 in CYCLE;
+        G80 = 800 in CYCLE;
+        /// EGB synchronisation cancel.
+        G80_5 = 805 in EGB;
+        G81 = 810 in CYCLE;
+        G82 = 820 in CYCLE;
+        G83 = 830 in CYCLE;
+        G84 = 840 in CYCLE;
+        /// Rigid tapping (FS10/11 format).
+        G84_2 = 842 in CYCLE;
+        /// Left-hand rigid tapping.
+        G84_3 = 843 in CYCLE;
+        G85 = 850 in CYCLE;
+        G86 = 860 in CYCLE;
+        /// Back boring.
+        G87 = 870 in CYCLE;
+        G88 = 880 in CYCLE;
+        G89 = 890 in CYCLE;
+        G90 = 900 in DISTANCE;
+        G91 = 910 in DISTANCE;
+        /// Workpiece coordinate system setting.
+        G92 = 920 in ONE_SHOT;
+        G92_1 = 921 in ONE_SHOT;
+        /// Inverse time feed.
+        G93 = 930 in FEED_MODE;
+        G94 = 940 in FEED_MODE;
+        G95 = 950 in FEED_MODE;
+        G96 = 960 in SURFACE_SPEED;
+        G97 = 970 in SURFACE_SPEED;
+        G98 = 980 in RETURN_LEVEL;
+        G99 = 990 in RETURN_LEVEL;
+        /// In-feed control cancel.
+        G160 = 1600 in IN_FEED;
+    }
+
+    /// Tool centre point control, type 1 and type 2.
+    pub const TCP: [u16; 2] = [G43_4, G43_5];
+    /// The tool length compensation cancels.
+    pub const LENGTH_CANCEL: [u16; 2] = [G49, G49_1];
+    /// The tool alignments (tool axis direction control).
+    pub const ALIGNMENTS: [u16; 3] = [G53_1, G53_3, G53_6];
+    /// The tilted working plane definitions.
+    pub const TILTED_PLANES: [u16; 3] = [G68_2, G68_3, G68_4];
+    /// The macro calls, single and modal.
+    pub const MACRO_CALLS: [u16; 3] = [G65, G66, G66_1];
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GDef {
     pub code: u16,
-    pub group: u8,
+    pub group: usize,
     /// The block's axis words belong to this code rather than to the group-01 motion
     /// (G04, G10, G28, G52, G53, G92 …).
     pub takes_axes: bool,
@@ -87,20 +290,20 @@ pub struct GDef {
     pub fanuc_only: bool,
 }
 
-const fn g(code: u16, group: u8) -> GDef {
+const fn g(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false }
 }
-const fn gx(code: u16, group: u8) -> GDef {
+const fn gx(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false }
 }
-const fn gsx(code: u16, group: u8) -> GDef {
+const fn gsx(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false }
 }
 /// FANUC's 5-axis codes that the Syntec 5-axis manual does not list (its 5-axis functions are
 /// RTCP/STCP G43.4/G43.5, G68.2/G68.3, the tool alignments G53.1/G53.3/G53.6 and the chains
 /// G10 L5000): 3-D cutter compensation, cutting point command, G54.4, G68.4. Not codes of the
 /// Syntec dialect (COR-070), rather than FANUC's behaviour under a Syntec name.
-const fn gf(code: u16, group: u8) -> GDef {
+const fn gf(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true }
 }
 
@@ -295,34 +498,38 @@ pub fn code_of(value: f64) -> Option<u16> {
     Some(r)
 }
 
-/// Power-on modal state (FANUC defaults with the usual parameter settings).
+/// Power-on modal state (FANUC defaults with the usual parameter settings). Groups 23 (G54.2)
+/// and 33 (G54.4) hold 0 while off: neither has a cancel code.
 pub fn initial_modes() -> [u16; GROUPS] {
+    use code::*;
     let mut m = [0u16; GROUPS];
-    m[1] = 0; // G00
-    m[2] = 170;
-    m[3] = 900;
-    m[4] = 220;
-    m[5] = 940;
-    m[6] = 210;
-    m[7] = 400;
-    m[8] = 490;
-    m[9] = 800;
-    m[10] = 980;
-    m[11] = 500;
-    m[12] = 670;
-    m[13] = 970;
-    m[14] = 540;
-    m[15] = 640;
-    m[16] = 690;
-    m[17] = 150;
-    m[19] = 401;
-    m[20] = 1600;
-    m[21] = 1310;
-    m[22] = 501;
-    m[23] = 0;
-    m[24] = 250;
-    m[25] = 805;
-    m[33] = 0;
+    m[group::MOTION] = G00;
+    m[group::PLANE] = G17;
+    m[group::DISTANCE] = G90;
+    m[group::STROKE_CHECK] = G22;
+    m[group::FEED_MODE] = G94;
+    m[group::UNITS] = G21;
+    m[group::CUTTER_COMP] = G40;
+    m[group::LENGTH_COMP] = G49;
+    m[group::CYCLE] = G80;
+    m[group::RETURN_LEVEL] = G98;
+    m[group::SCALING] = G50;
+    m[group::MODAL_CALL] = G67;
+    m[group::SURFACE_SPEED] = G97;
+    m[group::WORK_SYSTEM] = G54;
+    m[group::PATH_MODE] = G64;
+    m[group::ROTATION] = G69;
+    m[group::POLAR] = G15;
+    m[group::NORMAL_DIRECTION] = G40_1;
+    m[group::IN_FEED] = G160;
+    // Not G13.1 (131), as it has been since the first commit: #4021 and the modal API read it,
+    // so the fix is a change of behaviour of its own.
+    m[group::POLAR_INTERPOLATION] = 1310;
+    m[group::MIRROR] = G50_1;
+    m[group::DYNAMIC_FIXTURE] = 0;
+    m[group::SPEED_FLUCTUATION] = G25;
+    m[group::EGB] = G80_5;
+    m[group::WSE] = 0;
     m
 }
 
@@ -352,6 +559,18 @@ mod tests {
         for d in TABLE {
             let dialect = if d.fanuc_only { Dialect::Fanuc } else { Dialect::Syntec };
             assert_eq!(lookup(d.code, dialect), Some(d));
+        }
+    }
+
+    /// Each `code::` constant is the code its name says (`G43_4` is 434), in the table (of
+    /// either dialect) and in the group it claims, so a mistyped constant cannot hide.
+    #[test]
+    fn code_constants_are_the_table_s() {
+        assert!(code::CLAIMS.len() > 100);
+        for &(name, value, claimed) in code::CLAIMS {
+            assert_eq!(display(value), name.replace('_', "."), "{name} = {value}");
+            let def = lookup(value, Dialect::Fanuc).or_else(|| lookup(value, Dialect::Syntec));
+            assert_eq!(def.map(|d| d.group), Some(claimed), "{name}: not in TABLE, or in another group");
         }
     }
 

@@ -9,6 +9,7 @@ pub mod expr;
 mod frames;
 pub mod gcode;
 mod manual_view;
+pub mod mcode;
 mod modes;
 mod nc;
 mod offsets;
@@ -971,8 +972,8 @@ impl State {
     /// Index in [`Offsets`] of the active work coordinate system.
     fn work_index(&self) -> usize {
         match self.modes[group::WORK_SYSTEM] {
-            541 => offsets::g54_1_index(self.wcs_p as usize),
-            code => ((code - 540) / 10) as usize + 1,
+            code::G54_1 => offsets::g54_1_index(self.wcs_p as usize),
+            g54_to_59 => ((g54_to_59 - code::G54) / 10) as usize + 1,
         }
     }
 }

@@ -16,7 +16,8 @@
 //! interlocks"). Order: block formats, then rules naming one combination, then the lists of G
 //! codes allowed in a mode, then the lists of modal states a mode may start in.
 
-use super::gcode::{self, GROUPS};
+use super::gcode::code::*;
+use super::gcode::{self, group, GROUPS};
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
@@ -101,16 +102,16 @@ use On::{Both, Fanuc, Syntec};
 static RULES: &[Rule] = &[
     // --- block formats -----------------------------------------------------------------------
     rule(Fanuc, "twp WSE-01: G54.4 needs P0..P7", A::WseCommand, |c| {
-        c.has(544) && !c.word(b'P').is_some_and(|p| int_in(p, 0, 7))
+        c.has(G54_4) && !c.word(b'P').is_some_and(|p| int_in(p, 0, 7))
     }),
     rule(Fanuc, "twp WSE-01: G54.4 alone (no other G code, no axis word)", A::WseCommand, |c| {
-        c.has(544) && (c.g.len() > 1 || c.any_axis())
+        c.has(G54_4) && (c.g.len() > 1 || c.any_axis())
     }),
     rule(Fanuc, "twp WSE-01: no G54.4 Pn (n≠0) while G54.4 is on", A::WseCommand, |c| {
-        c.has(544) && c.five.wse != 0 && c.word(b'P') != Some(0.0)
+        c.has(G54_4) && c.five.wse != 0 && c.word(b'P') != Some(0.0)
     }),
     rule(Fanuc, "twp WSE-26, §6.6: G54.4 P0 only after the modes nested inside it ended", A::WseCommand, |c| {
-        c.has(544) && c.five.wse != 0 && c.word(b'P') == Some(0.0) && c.wse_nests_a_mode()
+        c.has(G54_4) && c.five.wse != 0 && c.word(b'P') == Some(0.0) && c.wse_nests_a_mode()
     }),
     rule(Fanuc, "twp TWP-02: G68.2/G68.4 P1 Q in {123,132,213,321,231,312}", A::TwpFormat, |c| {
         c.twp_def() == Some(1) && c.word(b'Q').is_some_and(|q| ![123.0, 132.0, 213.0, 321.0, 231.0, 312.0].contains(&q))
@@ -126,36 +127,40 @@ static RULES: &[Rule] = &[
         twp_sequence(c).is_err()
     }),
     rule(Both, "twp TWP-06, syn SYN-23: G68.3 X Y Z all or none", A::TwpFormat, |c| {
-        c.has(683) && !matches!(c.count_letters(b"XYZ"), 0 | 3)
+        c.has(G68_3) && !matches!(c.count_letters(b"XYZ"), 0 | 3)
     }),
-    rule(Syntec, "syn SYN-24: G68.3 P is 1", A::TwpFormat, |c| c.has(683) && c.word(b'P').is_some_and(|p| p != 1.0)),
+    rule(Syntec, "syn SYN-24: G68.3 P is 1", A::TwpFormat, |c| c.has(G68_3) && c.word(b'P').is_some_and(|p| p != 1.0)),
     rule(Syntec, "syn SYN-24, TV-24, COR-154: no G53.1/G68.3 with Pr3001 = 0", A::MachineParameter, |c| {
-        c.any(&[531, 683]) && c.st.cfg.machine.rotary.is_empty()
+        c.any(&[G53_1, G68_3]) && c.st.cfg.machine.rotary.is_empty()
     }),
     rule(Syntec, "syn SYN-22: P of G53.1/G53.3/G53.6 is 0, 1 or 2", A::AlignmentP, |c| {
-        c.any(&[531, 533, 536]) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
+        c.any(&ALIGNMENTS) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
     }),
     rule(Syntec, "syn SYN-26: G10 L5000 Q is an integer 0..4", A::ChainQ, |c| {
         c.chain_switch() && c.word(b'Q').is_some_and(|q| !int_in(q, 0, 4))
     }),
     rule(Syntec, "syn SYN-26: no G10 L5000 in RTCP or after a tool alignment", A::ChainSwitchInMode, |c| {
-        c.chain_switch() && (c.tcp(c.before[8]) || c.five.aligned && c.twp(c.before[16]))
+        c.chain_switch() && (c.tcp(c.before[group::LENGTH_COMP]) || c.five.aligned && c.twp(c.before[group::ROTATION]))
     }),
     // --- workpiece setting error compensation: combinations -----------------------------
     rule(Fanuc, "twp TWP-07, WSE-11: G53.1 in G54.4 mode needs RCM=1", A::AlignmentInWse, |c| {
-        !c.rcm() && c.has(531) && c.wse_during()
+        !c.rcm() && c.has(G53_1) && c.wse_during()
     }),
     rule(Fanuc, "twp WSE-11: G43.4/G43.5 in G54.4 mode needs RCM=1", A::IllegalCommandInTcp, |c| {
-        !c.rcm() && c.wse_during() && c.starts(8, |c, m| c.tcp(m))
+        !c.rcm() && c.wse_during() && c.starts(group::LENGTH_COMP, |c, m| c.tcp(m))
     }),
     rule(
         Fanuc,
         "twp WSE-25, §6.5, TV-WSE-20: G06.2/G28/G29/G30/G43.1/G53/G95 in G54.4 (RCM=1, table)",
         A::WseModalState,
-        |c| c.wse_rcm_table() && c.wse_during() && c.any(&[62, 280, 290, 300, 431, 530, 950]),
+        |c| c.wse_rcm_table() && c.wse_during() && c.any(&[G06_2, G28, G29, G30, G43_1, G53, G95]),
     ),
     rule(Fanuc, "twp WSE-25, §6.3, TV-WSE-20b: G54.4 Pn in G95 (RCM=1, table)", A::WseModalState, |c| {
-        c.wse_rcm_table() && c.has(544) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && c.before[5] == 950
+        c.wse_rcm_table()
+            && c.has(G54_4)
+            && c.five.wse == 0
+            && c.word(b'P') != Some(0.0)
+            && c.before[group::FEED_MODE] == G95
     }),
     rule(
         Fanuc,
@@ -164,7 +169,7 @@ static RULES: &[Rule] = &[
         |c| {
             c.wse_rcm_table()
                 && c.wse_during()
-                && (c.starts(8, |c, m| c.tcp(m)) || c.any(&[682, 683, 684]))
+                && (c.starts(group::LENGTH_COMP, |c, m| c.tcp(m)) || c.any(&TILTED_PLANES))
                 && c.table_axes_turned()
         },
     ),
@@ -178,23 +183,23 @@ static RULES: &[Rule] = &[
         Fanuc,
         "twp WSE-11, TV-WSE-19d: G54.4 Pn with RCM=1 needs look-ahead on (G05.1 Q1 / SHP), LRP, FRP, No.1660/1671",
         A::WseToolDirection,
-        |c| c.rcm() && c.has(544) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && !c.st.wse_settings_ready(),
+        |c| c.rcm() && c.has(G54_4) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && !c.st.wse_settings_ready(),
     ),
     rule(Fanuc, "twp WSE-11 [A]: look-ahead stays on in G54.4 with RCM=1 (no G05.1 Q0)", A::WseToolDirection, |c| {
-        c.rcm() && c.wse_during() && c.has(51) && c.word(b'Q') == Some(0.0)
+        c.rcm() && c.wse_during() && c.has(G05_1) && c.word(b'Q') == Some(0.0)
     }),
     rule(Fanuc, "twp WSE-24, TV-WSE-19e: tool length offset or TCP in G54.4 needs TOS=1", A::WseToolDirection, |c| {
-        c.st.cfg.machine.five_axis.length_offset_by_motion && c.wse_during() && c.any(&[430, 431, 440, 434, 435])
+        c.st.cfg.machine.five_axis.length_offset_by_motion && c.wse_during() && c.any(&[G43, G43_1, G44, G43_4, G43_5])
     }),
     // --- 5-axis cutter compensation ----------------------------------------------------
     rule(Fanuc, "crc CRC-31: G41.4/G42.4 on a table machine with SPG=0", A::ImproperGCode, |c| {
-        !SPG && c.mech() == Mech::Table && c.any(&[414, 424])
+        !SPG && c.mech() == Mech::Table && c.any(&[G41_4, G42_4])
     }),
     rule(Fanuc, "crc CRC-32: G41.5/G42.5 on a mixed machine with SPG=0", A::ImproperGCode, |c| {
-        !SPG && c.mech() == Mech::Mixed && c.any(&[415, 425])
+        !SPG && c.mech() == Mech::Mixed && c.any(&[G41_5, G42_5])
     }),
     rule(Fanuc, "crc CRC-02, TV-18: G41.6/G42.6 needs two rotary axes", A::IllegalCommandInMode, |c| {
-        c.any(&[416, 426]) && c.rotary_axes() < 2
+        c.any(&[G41_6, G42_6]) && c.rotary_axes() < 2
     }),
     rule(
         Fanuc,
@@ -202,30 +207,30 @@ static RULES: &[Rule] = &[
         A::ArcInCompStartCancel,
         |c| {
             c.table_or_mixed()
-                && (c.starts(7, |c, m| c.crc5(m)) || c.crc_cancels())
-                && matches!(c.after[1], 20 | 30 | 22 | 32)
+                && (c.starts(group::CUTTER_COMP, |c, m| c.crc5(m)) || c.crc_cancels())
+                && matches!(c.after[group::MOTION], G02 | G03 | G02_2 | G03_2)
         },
     ),
     rule(
         Fanuc,
         "crc CRC-36, §6.3: only G00/G01 in 5-axis cutter compensation (table/mixed)",
         A::IllegalCommandInMode,
-        |c| c.table_or_mixed() && c.crc5(c.after[7]) && !matches!(c.after[1], 0 | 10),
+        |c| c.table_or_mixed() && c.crc5(c.after[group::CUTTER_COMP]) && !matches!(c.after[group::MOTION], G00 | G01),
     ),
     rule(Fanuc, "crc CRC-34, §6.3: no leading edge offset G41.3 (table/mixed)", A::IllegalCommandInMode, |c| {
-        c.table_or_mixed() && c.has(413)
+        c.table_or_mixed() && c.has(G41_3)
     }),
     rule(Fanuc, "crc CRC-33, §6.3: no I/J/K with G41.6/G42.6 (table)", A::IllegalCommandInMode, |c| {
-        c.mech() == Mech::Table && matches!(c.after[7], 416 | 426) && c.count_letters(b"IJK") > 0
+        c.mech() == Mech::Table && is_crc_type2(c.after[group::CUTTER_COMP]) && c.count_letters(b"IJK") > 0
     }),
     rule(
         Fanuc,
         "crc CRC-21, §6.2: G41.3 only in G00/G01 mode, and only G00/G01 in G41.3 mode",
         A::IllegalCommandInMode,
-        |c| c.crc5(413) && c.after[7] == 413 && !matches!(c.after[1], 0 | 10),
+        |c| c.crc5(G41_3) && c.after[group::CUTTER_COMP] == G41_3 && !matches!(c.after[group::MOTION], G00 | G01),
     ),
     rule(Fanuc, "crc CRC-21, §6.2: the G41.3 block and its G40 hold only D, O, N", A::IllegalCommandInMode, |c| {
-        let g41_3 = c.crc5(413) && (c.has(413) || c.before[7] == 413 && c.has(400));
+        let g41_3 = c.crc5(G41_3) && (c.has(G41_3) || c.before[group::CUTTER_COMP] == G41_3 && c.has(G40));
         g41_3 && c.w.letters().any(|l| !matches!(l, b'G' | b'D' | b'N' | b'O'))
     }),
     rule(Fanuc, "crc CRC-21, TV-31: the block after G41.3 moves", A::IllegalCommandInMode, |c| {
@@ -236,132 +241,148 @@ static RULES: &[Rule] = &[
         "crc CRC-48, TV-18: TCP type 1 with CRC type 1 only, type 2 with type 2",
         A::IllegalCommandInMode,
         |c| {
-            let (crc, tcp) = (c.after[7], c.after[8]);
-            c.crc5(crc) && c.tcp(tcp) && (tcp == 434 && matches!(crc, 416 | 426) || tcp == 435 && is_crc_type1(crc))
+            let (crc, tcp) = (c.after[group::CUTTER_COMP], c.after[group::LENGTH_COMP]);
+            c.crc5(crc) && c.tcp(tcp) && (tcp == G43_4 && is_crc_type2(crc) || tcp == G43_5 && is_crc_type1(crc))
         },
     ),
     rule(Fanuc, "crc CRC-48, TV-22: G40 before G49 when TCP started inside CRC", A::IllegalCommandInMode, |c| {
-        c.five.tcp_inside_crc && c.crc_cancels() && c.tcp(c.after[8])
+        c.five.tcp_inside_crc && c.crc_cancels() && c.tcp(c.after[group::LENGTH_COMP])
     }),
     rule(Fanuc, "crc CRC-48, TV-22: G49 before G40 when CRC started inside TCP", A::IllegalCommandInMode, |c| {
-        c.five.crc_inside_tcp && c.tcp_cancels() && c.crc5(c.after[7])
+        c.five.crc_inside_tcp && c.tcp_cancels() && c.crc5(c.after[group::CUTTER_COMP])
     }),
     rule(Fanuc, "crc CRC-46, TV-29: no G20/G21 in 5-axis cutter compensation", A::UnitChangeInMode, |c| {
-        c.during(7, |c, m| c.crc5(m)) && c.any(&[200, 210])
+        c.during(group::CUTTER_COMP, |c, m| c.crc5(m)) && c.any(&[G20, G21])
     }),
     rule(Fanuc, "crc CRC-02, TV-18: no rotary axis word in G41.6/G42.6", A::IllegalCommandInMode, |c| {
-        c.crc5(c.after[7]) && matches!(c.after[7], 416 | 426) && c.any_rotary()
+        c.crc5(c.after[group::CUTTER_COMP]) && is_crc_type2(c.after[group::CUTTER_COMP]) && c.any_rotary()
     }),
     // --- tool centre point control -------------------------------------------------------
     rule(Fanuc, "tcp TCP-08, TV-61: G43.5 needs two rotary axes", A::MachineParameter, |c| {
-        c.has(435) && c.rotary_axes() < 2
+        c.has(G43_5) && c.rotary_axes() < 2
     }),
     rule(Fanuc, "tcp TCP-08, TV-58: no I/J/K in the G43.5 block (table/mixed)", A::IllegalCommandInTcp, |c| {
-        c.table_or_mixed() && c.has(435) && c.count_letters(b"IJK") > 0
+        c.table_or_mixed() && c.has(G43_5) && c.count_letters(b"IJK") > 0
     }),
     rule(
         Both,
         "tcp TCP-09/20, TV-62; syn SYN-08, TV-15: no rotary axis word in G43.5",
         A::RotaryCommandInTcpType2,
-        |c| c.tcp(c.after[8]) && c.after[8] == 435 && c.any_rotary(),
+        |c| c.tcp(c.after[group::LENGTH_COMP]) && c.after[group::LENGTH_COMP] == G43_5 && c.any_rotary(),
     ),
     rule(Syntec, "syn SYN-08, TV-12: I=J=K=0 in G43.5", A::ZeroToolVector, |c| {
-        c.tcp(c.after[8]) && c.after[8] == 435 && {
+        c.tcp(c.after[group::LENGTH_COMP]) && c.after[group::LENGTH_COMP] == G43_5 && {
             let ijk = [c.word(b'I'), c.word(b'J'), c.word(b'K')];
             ijk.iter().any(Option::is_some) && ijk.iter().all(|v| v.unwrap_or(0.0) == 0.0)
         }
     }),
     rule(Syntec, "syn SYN-08, TV-14: no G91 with G43.5 (either order)", A::IncrementalInTcpType2, |c| {
-        c.tcp(c.after[8]) && c.after[8] == 435 && c.after[3] == 910
+        c.tcp(c.after[group::LENGTH_COMP]) && c.after[group::LENGTH_COMP] == G43_5 && c.after[group::DISTANCE] == G91
     }),
     rule(Syntec, "syn SYN-07/33, TV-17: no G53 in G43.4/G43.5 or G12.1", A::MachineCoordinatesInTcp, |c| {
-        c.has(530) && (c.during(8, |c, m| c.tcp(m)) || c.during(21, |_, m| m == 121))
+        c.has(G53)
+            && (c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
+                || c.during(group::POLAR_INTERPOLATION, |_, m| m == G12_1))
     }),
     rule(Syntec, "syn SYN-07/08/09, TV-16: no G05 P10000 in RTCP/STCP", A::HpccInTcp, |c| {
-        c.has(50) && c.word(b'P') == Some(10000.0) && c.during(8, |c, m| c.tcp(m))
+        c.has(G05) && c.word(b'P') == Some(10000.0) && c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
     }),
     rule(Syntec, "syn SYN-09, TV-25: STCP moves only the five RTCP axes", A::AxisNotInTcp, |c| {
-        c.five.stcp && c.during(8, |c, m| c.tcp(m)) && c.other_axes() > 0
+        c.five.stcp && c.during(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.other_axes() > 0
     }),
     rule(Fanuc, "tcp TCP-05, TV-57: at most 2 axes outside the 5-axis set in TCP", A::AxisNotInTcp, |c| {
-        c.during(8, |c, m| c.tcp(m)) && c.other_axes() > 2
+        c.during(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.other_axes() > 2
     }),
     rule(
         Fanuc,
         "tcp TCP-05, Q-20: the 31i-A5 commands at most 5 axes in a block in TCP",
         A::IllegalCommandInTcp,
-        |c| c.st.cfg.five_axes_per_block && c.during(8, |c, m| c.tcp(m)) && c.axis_count() > 5,
+        |c| c.st.cfg.five_axes_per_block && c.during(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.axis_count() > 5,
     ),
     rule(Syntec, "syn SYN-07/23/33: no G68.3 in RTCP", A::IllegalCommandInMode, |c| {
-        c.has(683) && c.during(8, |c, m| c.tcp(m))
+        c.has(G68_3) && c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
     }),
     rule(Syntec, "syn SYN-07/08: RTCP not with G41/G42", A::IllegalCommandInMode, |c| {
-        c.during(8, |c, m| c.tcp(m)) && matches!(c.after[7], 410 | 420)
+        c.during(group::LENGTH_COMP, |c, m| c.tcp(m)) && matches!(c.after[group::CUTTER_COMP], G41 | G42)
     }),
     rule(Syntec, "syn SYN-07/08: RTCP not with G43/G44 or the other RTCP type", A::IllegalCommandInMode, |c| {
-        c.any(&[434, 435]) && c.tcp(c.after[8]) && !matches!(c.before[8], 490 | 491) && c.before[8] != c.after[8]
+        c.any(&TCP)
+            && c.tcp(c.after[group::LENGTH_COMP])
+            && !LENGTH_CANCEL.contains(&c.before[group::LENGTH_COMP])
+            && c.before[group::LENGTH_COMP] != c.after[group::LENGTH_COMP]
     }),
     rule(Syntec, "syn SYN-07/08: no G43/G44 in RTCP (not ended by it)", A::IllegalCommandInMode, |c| {
-        c.any(&[430, 440]) && c.tcp(c.before[8])
+        c.any(&[G43, G44]) && c.tcp(c.before[group::LENGTH_COMP])
     }),
     rule(Fanuc, "tcp TCP-17, §2.2.6: G49 in G00/G01 mode", A::IllegalCommandInTcp, |c| {
-        c.tcp_cancels() && !matches!(c.after[1], 0 | 10)
+        c.tcp_cancels() && !matches!(c.after[group::MOTION], G00 | G01)
     }),
     rule(Fanuc, "crc NSM-05, TV-38: G05.1 Q3 not with G43.5 or tool posture control", A::IllegalCommandInTcp, |c| {
-        c.has(51) && c.word(b'Q') == Some(3.0) && c.during(8, |c, m| c.tcp(m)) && (c.after[8] != 434 || c.posture())
+        c.has(G05_1)
+            && c.word(b'Q') == Some(3.0)
+            && c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
+            && (c.after[group::LENGTH_COMP] != G43_4 || c.posture())
     }),
     rule(Fanuc, "crc NRB-04: G06.2 not with G43.5 or tool posture control", A::IllegalCommandInTcp, |c| {
-        c.after[1] == 62 && c.during(8, |c, m| c.tcp(m)) && (c.after[8] != 434 || c.posture())
+        c.after[group::MOTION] == G06_2
+            && c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
+            && (c.after[group::LENGTH_COMP] != G43_4 || c.posture())
     }),
     rule(Fanuc, "crc §6.7, OQ-29: G05.1 Q0 before G49", A::IllegalCommandInTcp, |c| {
-        c.five.nano_in_tcp && c.tcp_cancels() && !(c.has(51) && c.word(b'Q') == Some(0.0))
+        c.five.nano_in_tcp && c.tcp_cancels() && !(c.has(G05_1) && c.word(b'Q') == Some(0.0))
     }),
     rule(Fanuc, "tcp TCP-10/M-4: G02/G03 in G43.5 by R", A::IllegalCommandInTcp, |c| {
-        c.tcp(c.after[8]) && c.after[8] == 435 && c.arc() && c.any_axis() && c.word(b'R').is_none()
+        c.tcp(c.after[group::LENGTH_COMP])
+            && c.after[group::LENGTH_COMP] == G43_5
+            && c.arc()
+            && c.any_axis()
+            && c.word(b'R').is_none()
     }),
     rule(Fanuc, "tcp TCP-06/07/10: rotary-only moves in G00/G01 in TCP", A::IllegalCommandInTcp, |c| {
-        c.during(8, |c, m| c.tcp(m)) && c.arc() && c.any_rotary() && !c.any_linear()
+        c.during(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.arc() && c.any_rotary() && !c.any_linear()
     }),
     rule(Fanuc, "tcp TCP-41: cutting point control in G00/G01 only", A::IllegalCommandInTcp, |c| {
-        c.tcp(c.after[8]) && matches!(c.after[8], 438 | 439) && !matches!(c.after[1], 0 | 10)
+        c.tcp(c.after[group::LENGTH_COMP])
+            && matches!(c.after[group::LENGTH_COMP], G43_8 | G43_9)
+            && !matches!(c.after[group::MOTION], G00 | G01)
     }),
     // --- tilted working plane --------------------------------------------------------------
     rule(
         Both,
         "twp TWP-16, TV-TWP-21; syn SYN-18: tool length compensation off at G68.2/G68.3",
         A::TwpIllegalCommand,
-        |c| c.any(&[682, 683, 684]) && !matches!(c.after[8], 490 | 491),
+        |c| c.any(&TILTED_PLANES) && !LENGTH_CANCEL.contains(&c.after[group::LENGTH_COMP]),
     ),
     rule(
         Both,
         "twp TWP-16, §1.3.2: a canned cycle ends (G80) inside the plane, before G69",
         A::TwpIllegalCommand,
-        |c| c.has(690) && c.twp(c.before[16]) && c.after[9] != 800,
+        |c| c.has(G69) && c.twp(c.before[group::ROTATION]) && c.after[group::CYCLE] != G80,
     ),
     // Syntec names no nesting rule; a cycle spanning the plane's start would read its levels,
     // taken in the workpiece system, in the FCS (*decision*, docs/five-axis.md). FANUC's row is
     // the §6.1 list below.
     rule(Syntec, "twp TWP-16 (decision, Syntec): no canned cycle on at G68.2/G68.3", A::TwpIllegalCommand, |c| {
-        c.starts(16, |c, m| c.twp(m)) && c.after[9] != 800
+        c.starts(group::ROTATION, |c, m| c.twp(m)) && c.after[group::CYCLE] != G80
     }),
     rule(Syntec, "syn SYN-21, TV-20: G53.6 in G40 mode", A::AlignmentInCompensation, |c| {
-        c.has(536) && c.after[7] != 400
+        c.has(G53_6) && c.after[group::CUTTER_COMP] != G40
     }),
     rule(Syntec, "syn SYN-21, TV-19: G53.6 needs a tool (H, or the last H) other than 0", A::AlignmentToolZero, |c| {
-        c.has(536) && c.word(b'H').map_or(c.st.h == 0, |h| h == 0.0)
+        c.has(G53_6) && c.word(b'H').map_or(c.st.h == 0, |h| h == 0.0)
     }),
     // --- lists of G codes allowed in a mode (the mode before the block, or started by it) -------
     rule(Fanuc, "twp §6.4: G codes allowed in G54.4 mode", A::WseCommand, |c| {
         c.wse_during()
-            && c.g.iter().any(|&g| !wse_allows(g) || g == 51 && !c.word(b'Q').is_some_and(|q| q == 0.0 || q == 1.0))
+            && c.g.iter().any(|&g| !wse_allows(g) || g == G05_1 && !c.word(b'Q').is_some_and(|q| q == 0.0 || q == 1.0))
     }),
     rule(Fanuc, "twp TWP-12, §6.2: G codes allowed in the tilted working plane", A::TwpIllegalCommand, |c| {
         c.foreign(
-            16,
+            group::ROTATION,
             |c, m| c.twp(m),
             |c, g| {
                 twp_allows(g)
-                    || matches!(g, 682 | 684) && (c.st.cfg.machine.five_axis.multiple_planes || c.five.twp_seq != 0)
+                    || matches!(g, G68_2 | G68_4) && (c.st.cfg.machine.five_axis.multiple_planes || c.five.twp_seq != 0)
             },
         )
     }),
@@ -369,26 +390,30 @@ static RULES: &[Rule] = &[
         Fanuc,
         "crc §6.1, CRC-47, TV-34: G codes forbidden in 5-axis cutter compensation",
         A::IllegalCommandInMode,
-        |c| c.foreign(7, |c, m| c.crc5(m), |_, g| !crc5_forbids(g)),
+        |c| c.foreign(group::CUTTER_COMP, |c, m| c.crc5(m), |_, g| !crc5_forbids(g)),
     ),
     rule(Fanuc, "tcp TCP-16; crc CRC-48, NSM-05, NRB-03: G codes allowed in TCP", A::IllegalCommandInTcp, |c| {
-        c.foreign(8, |c, m| c.tcp(m), |c, g| tcp_allows(g) || matches!(g, 51 | 62) && c.after[8] == 434 && !c.posture())
+        c.foreign(
+            group::LENGTH_COMP,
+            |c, m| c.tcp(m),
+            |c, g| tcp_allows(g) || matches!(g, G05_1 | G06_2) && c.after[group::LENGTH_COMP] == G43_4 && !c.posture(),
+        )
     }),
     // --- lists of modal states a mode may start in ----------------------------------------
     rule(Fanuc, "twp §6.3, TV-WSE-16: modal states G54.4 may start in", A::WseModalState, |c| {
-        c.has(544) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && c.state_outside(33, wse_state_allows)
+        c.has(G54_4) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && c.state_outside(group::WSE, wse_state_allows)
     }),
     rule(Fanuc, "twp TWP-11, TWP-16, §6.1: modal states G68.2/G68.3 may start in", A::TwpIllegalCommand, |c| {
-        c.starts(16, |c, m| c.twp(m)) && c.state_outside(16, twp_state_allows)
+        c.starts(group::ROTATION, |c, m| c.twp(m)) && c.state_outside(group::ROTATION, twp_state_allows)
     }),
     rule(
         Fanuc,
         "tcp TCP-15, §2.3.2: TCP starts from G49 (G43/G44 are not in the list)",
         A::IllegalCommandInTcp,
-        |c| c.starts(8, |c, m| c.tcp(m)) && c.before[8] != 490,
+        |c| c.starts(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.before[group::LENGTH_COMP] != G49,
     ),
     rule(Fanuc, "tcp TCP-15, §2.3.2: modal states TCP may start in", A::IllegalCommandInTcp, |c| {
-        c.starts(8, |c, m| c.tcp(m)) && c.state_outside(8, tcp_state_allows)
+        c.starts(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.state_outside(group::LENGTH_COMP, tcp_state_allows)
     }),
 ];
 
@@ -412,51 +437,51 @@ pub(super) fn no_rule_applies(st: &State, g: &[u16]) -> bool {
 fn is_plain(code: u16) -> bool {
     matches!(
         code,
-        0 | 10
-            | 20
-            | 30
-            | 40
-            | 90
-            | 170
-            | 180
-            | 190
-            | 200
-            | 210
-            | 400
-            | 410
-            | 420
-            | 430
-            | 440
-            | 490
-            | 540
-            | 550
-            | 560
-            | 570
-            | 580
-            | 590
-            | 610
-            | 620
-            | 630
-            | 640
-            | 730
-            | 740
-            | 760
-            | 800
-            | 810
-            | 820
-            | 830
-            | 840
-            | 850
-            | 860
-            | 870
-            | 880
-            | 890
-            | 900
-            | 910
-            | 940
-            | 950
-            | 980
-            | 990
+        G00 | G01
+            | G02
+            | G03
+            | G04
+            | G09
+            | G17
+            | G18
+            | G19
+            | G20
+            | G21
+            | G40
+            | G41
+            | G42
+            | G43
+            | G44
+            | G49
+            | G54
+            | G55
+            | G56
+            | G57
+            | G58
+            | G59
+            | G61
+            | G62
+            | G63
+            | G64
+            | G73
+            | G74
+            | G76
+            | G80
+            | G81
+            | G82
+            | G83
+            | G84
+            | G85
+            | G86
+            | G87
+            | G88
+            | G89
+            | G90
+            | G91
+            | G94
+            | G95
+            | G98
+            | G99
     )
 }
 
@@ -468,8 +493,8 @@ fn check_rules(st: &State, w: &Words) -> Result<FiveAxisModes, AlarmId> {
     let mut after = *before;
     for &code in g {
         if let Some(def) = gcode::lookup(code, dialect) {
-            if def.group != gcode::ONE_SHOT {
-                after[def.group as usize] = code;
+            if def.group != group::ONE_SHOT {
+                after[def.group] = code;
             }
         }
     }
@@ -491,37 +516,37 @@ fn check_rules(st: &State, w: &Words) -> Result<FiveAxisModes, AlarmId> {
 /// The bookkeeping after an accepted block.
 fn next(c: &Ctx) -> FiveAxisModes {
     let mut n = c.five;
-    if c.has(544) {
+    if c.has(G54_4) {
         n.wse = c.word(b'P').map_or(0, |p| p as u8);
     }
-    let (crc, tcp) = (c.crc5(c.after[7]), c.tcp(c.after[8]));
+    let (crc, tcp) = (c.crc5(c.after[group::CUTTER_COMP]), c.tcp(c.after[group::LENGTH_COMP]));
     if crc && tcp {
-        n.tcp_inside_crc |= c.starts(8, |c, m| c.tcp(m)) && c.crc5(c.before[7]);
-        n.crc_inside_tcp |= c.starts(7, |c, m| c.crc5(m)) && c.tcp(c.before[8]);
+        n.tcp_inside_crc |= c.starts(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.crc5(c.before[group::CUTTER_COMP]);
+        n.crc_inside_tcp |= c.starts(group::CUTTER_COMP, |c, m| c.crc5(m)) && c.tcp(c.before[group::LENGTH_COMP]);
     } else {
         n.tcp_inside_crc = false;
         n.crc_inside_tcp = false;
     }
-    n.g41_3_move_due = c.crc5(413) && c.after[7] == 413 && c.before[7] != 413;
+    n.g41_3_move_due = c.crc5(G41_3) && c.after[group::CUTTER_COMP] == G41_3 && c.before[group::CUTTER_COMP] != G41_3;
     n.twp_seq = twp_sequence(c).unwrap_or(0);
-    if c.twp(c.after[16]) {
-        n.aligned |= c.any(&[531, 533, 536]);
+    if c.twp(c.after[group::ROTATION]) {
+        n.aligned |= c.any(&ALIGNMENTS);
     } else {
         n.aligned = false;
     }
-    if c.starts(8, |c, m| c.tcp(m)) {
+    if c.starts(group::LENGTH_COMP, |c, m| c.tcp(m)) {
         // Syntec Pr3051 = 1: STCP without L (SYN-09, TV-25b).
-        n.stcp = c.has(434) && c.word(b'L').map_or(c.st.cfg.machine.five_axis.smooth_tcp, |l| l == 1.0);
+        n.stcp = c.has(G43_4) && c.word(b'L').map_or(c.st.cfg.machine.five_axis.smooth_tcp, |l| l == 1.0);
         n.posture = c.word(b'P') == Some(1.0);
     }
     if !tcp {
         n.stcp = false;
         n.posture = false;
         n.nano_in_tcp = false;
-    } else if c.has(434) && c.word(b'L').is_some() {
+    } else if c.has(G43_4) && c.word(b'L').is_some() {
         n.stcp = c.word(b'L') == Some(1.0);
     }
-    if c.has(51) {
+    if c.has(G05_1) {
         if c.word(b'Q') == Some(3.0) {
             n.nano_in_tcp = tcp;
         } else if c.word(b'Q') == Some(0.0) {
@@ -630,14 +655,14 @@ impl Ctx<'_> {
     /// G51/G51.1/G68 transform), not the group-01 motion: such a block is no arc.
     fn axes_are_data(&self) -> bool {
         self.g.iter().any(|&g| {
-            matches!(g, 510 | 511 | 680)
-                || gcode::lookup(g, self.st.cfg.dialect).is_some_and(|d| d.takes_axes && d.group == gcode::ONE_SHOT)
+            matches!(g, G51 | G51_1 | G68)
+                || gcode::lookup(g, self.st.cfg.dialect).is_some_and(|d| d.takes_axes && d.group == group::ONE_SHOT)
         })
     }
 
     /// The block is a G02/G03 arc: the group-01 mode is an arc and its axis words are the end point.
     fn arc(&self) -> bool {
-        matches!(self.after[1], 20 | 30) && !self.axes_are_data()
+        matches!(self.after[group::MOTION], G02 | G03) && !self.axes_are_data()
     }
 
     fn any_rotary(&self) -> bool {
@@ -679,28 +704,28 @@ impl Ctx<'_> {
     }
 
     fn crc5(&self, m: u16) -> bool {
-        matches!(m, 412 | 413 | 414 | 415 | 416 | 422 | 424 | 425 | 426) && self.five_axis()
+        (m == G41_3 || is_crc_type1(m) || is_crc_type2(m)) && self.five_axis()
     }
 
     fn tcp(&self, m: u16) -> bool {
-        matches!(m, 434 | 435 | 438 | 439) && self.five_axis()
+        (TCP.contains(&m) || matches!(m, G43_8 | G43_9)) && self.five_axis()
     }
 
     fn twp(&self, m: u16) -> bool {
-        matches!(m, 682..=684)
+        TILTED_PLANES.contains(&m)
     }
 
     fn posture(&self) -> bool {
-        self.five.posture || self.starts(8, |c, m| c.tcp(m)) && self.word(b'P') == Some(1.0)
+        self.five.posture || self.starts(group::LENGTH_COMP, |c, m| c.tcp(m)) && self.word(b'P') == Some(1.0)
     }
 
     /// The mode of `group` is on during the block: on after it, or on before it and not
     /// cancelled by it (switching to another code of the group is a command in the mode).
     fn during(&self, group: usize, mode: fn(&Ctx, u16) -> bool) -> bool {
         let cancelled = match group {
-            7 => self.after[7] == 400,
-            8 => matches!(self.after[8], 490 | 491),
-            16 => matches!(self.after[16], 690 | 691),
+            group::CUTTER_COMP => self.after[group] == G40,
+            group::LENGTH_COMP => LENGTH_CANCEL.contains(&self.after[group]),
+            group::ROTATION => matches!(self.after[group], G69 | G69_1),
             _ => self.after[group] == gcode::initial_modes()[group],
         };
         mode(self, self.after[group]) || mode(self, self.before[group]) && !cancelled
@@ -711,11 +736,12 @@ impl Ctx<'_> {
     }
 
     fn crc_cancels(&self) -> bool {
-        self.crc5(self.before[7]) && (self.after[7] == 400 || self.word(b'D') == Some(0.0))
+        self.crc5(self.before[group::CUTTER_COMP])
+            && (self.after[group::CUTTER_COMP] == G40 || self.word(b'D') == Some(0.0))
     }
 
     fn tcp_cancels(&self) -> bool {
-        self.tcp(self.before[8]) && matches!(self.after[8], 490 | 491)
+        self.tcp(self.before[group::LENGTH_COMP]) && LENGTH_CANCEL.contains(&self.after[group::LENGTH_COMP])
     }
 
     /// G54.4 tool direction compensation (FANUC No.11200#0 RCM).
@@ -727,7 +753,9 @@ impl Ctx<'_> {
     /// compensation, scaling, rotation and tilted planes, mirror image, canned cycles).
     fn wse_nests_a_mode(&self) -> bool {
         let off = gcode::initial_modes();
-        [7, 8, 9, 11, 16, 22].iter().any(|&g| self.before[g] != off[g] && !(g == 8 && self.before[8] == 491))
+        let nested =
+            [group::CUTTER_COMP, group::LENGTH_COMP, group::CYCLE, group::SCALING, group::ROTATION, group::MIRROR];
+        nested.iter().any(|&g| self.before[g] != off[g] && !(g == group::LENGTH_COMP && self.before[g] == G49_1))
     }
 
     /// Tool direction compensation on a table-rotation or mixed machine (§6.5's rows).
@@ -754,12 +782,12 @@ impl Ctx<'_> {
     }
 
     fn wse_during(&self) -> bool {
-        self.five.wse != 0 && !(self.has(544) && self.word(b'P') == Some(0.0))
+        self.five.wse != 0 && !(self.has(G54_4) && self.word(b'P') == Some(0.0))
     }
 
     /// P of a G68.2/G68.4 block (0 when omitted).
     fn twp_def(&self) -> Option<i64> {
-        if !self.any(&[682, 684]) {
+        if !self.any(&[G68_2, G68_4]) {
             return None;
         }
         let p = self.word(b'P').unwrap_or(0.0);
@@ -767,7 +795,7 @@ impl Ctx<'_> {
     }
 
     fn chain_switch(&self) -> bool {
-        self.has(100) && self.word(b'L') == Some(5000.0)
+        self.has(G10) && self.word(b'L') == Some(5000.0)
     }
 
     /// A G code of the block that `allowed` refuses while the mode of `group` is on. The code that
@@ -778,7 +806,7 @@ impl Ctx<'_> {
         }
         let starting = !mode(self, self.before[group]);
         self.g.iter().any(|&g| {
-            let own = starting && gcode::lookup(g, self.dialect).is_some_and(|d| d.group as usize == group);
+            let own = starting && gcode::lookup(g, self.dialect).is_some_and(|d| d.group == group);
             !own && !allowed(self, g)
         })
     }
@@ -792,49 +820,90 @@ impl Ctx<'_> {
 }
 
 fn any_mode(m: &[u16; GROUPS]) -> bool {
-    matches!(m[7], 412..=426) || matches!(m[8], 434..=439) || matches!(m[16], 682..=684) || m[21] == 121
+    matches!(m[group::CUTTER_COMP], G41_2..=G42_6)
+        || matches!(m[group::LENGTH_COMP], G43_4..=G43_9)
+        || TILTED_PLANES.contains(&m[group::ROTATION])
+        || m[group::POLAR_INTERPOLATION] == G12_1
 }
 
 /// G80 and the canned cycles (group 09).
 fn in_group_09(g: u16) -> bool {
-    gcode::lookup(g, Dialect::Fanuc).is_some_and(|d| d.group == 9)
+    gcode::lookup(g, Dialect::Fanuc).is_some_and(|d| d.group == group::CYCLE)
 }
 
 fn int_in(v: f64, lo: i64, hi: i64) -> bool {
     v.fract() == 0.0 && v >= lo as f64 && v <= hi as f64
 }
 
+/// 5-axis cutter compensation type 1 (G41.2/G42.2 and the FS16i-compatible G41.4/G41.5 forms).
 fn is_crc_type1(m: u16) -> bool {
-    matches!(m, 412 | 422 | 414 | 424 | 415 | 425)
+    matches!(m, G41_2 | G42_2 | G41_4 | G42_4 | G41_5 | G42_5)
+}
+
+/// 5-axis cutter compensation type 2.
+fn is_crc_type2(m: u16) -> bool {
+    matches!(m, G41_6 | G42_6)
 }
 
 /// crc §6.1: G codes that may not be given in any 5-axis cutter compensation mode.
 fn crc5_forbids(g: u16) -> bool {
     matches!(
         g,
-        70 | 71 // G07, G07.1
-            | 121 | 131 // G12.1/G13.1
-            | 150 | 160 // G15/G16
-            | 270 | 280 | 282 | 290 | 300 | 301 // G27-G30
-            | 310 | 318 | 319 // G31
-            | 330 // G33
-            | 370 // G37
-            | 401 | 411 | 421 // G40.1/G41.1/G42.1
-            | 390 | 410 | 420 // G39, G41/G42
-            | 450 | 460 | 470 | 480 // G45-G48
-            | 501 | 511 // G50.1/G51.1
-            | 520 | 530 // G52, G53
-            | 540 | 541 | 550 | 560 | 570 | 580 | 590 // G54-G59, G54.1
-            | 542 // G54.2
-            | 600 | 620 | 630 // G60, G62, G63
-            | 680 | 682 | 683 | 684 | 690 | 691 // G68/G68.2/G69
-            | 721 | 722 // G72.1/G72.2
-            | 730
-            ..=890 // canned cycles, G80, G80.5/G81.5 EGB, G81.1 chopping
-            | 980 | 990 // G98/G99
-            | 920 | 921 // G92/G92.1
-            | 950 | 960 | 970 // G95, G96/G97
-            | 62 // G06.2 (crc NRB-04)
+        G07 | G07_1
+            | G12_1
+            | G13_1
+            | G15
+            | G16
+            | G27
+            | G28
+            | G28_2
+            | G29
+            | G30
+            | G30_1
+            | G31
+            | G31_8
+            | G31_9
+            | G33
+            | G37
+            | G40_1
+            | G41_1
+            | G42_1
+            | G39
+            | G41
+            | G42
+            | G45
+            | G46
+            | G47
+            | G48
+            | G50_1
+            | G51_1
+            | G52
+            | G53
+            | G54
+            | G54_1
+            | G55
+            | G56
+            | G57
+            | G58
+            | G59
+            | G54_2
+            | G60
+            | G62
+            | G63
+            | G68
+            | G68_2
+            | G68_3
+            | G68_4
+            | G69
+            | G69_1
+            | G72_1
+            | G72_2
+            | G73
+            ..=G89 // canned cycles, G80, G80.5/G81.5 EGB, G81.1 chopping
+            | G98 | G99
+            | G92 | G92_1
+            | G95 | G96 | G97
+            | G06_2 // crc NRB-04
     )
 }
 
@@ -844,109 +913,109 @@ fn crc5_forbids(g: u16) -> bool {
 fn tcp_allows(g: u16) -> bool {
     matches!(
         g,
-        0 | 10
-            | 20
-            | 30
-            | 40
-            | 90
-            | 100
-            | 110
-            | 170
-            | 180
-            | 190
-            | 220
-            | 230
-            | 380
-            | 390
-            | 400
-            | 410
-            | 420
-            | 412
-            | 422
-            | 414
-            | 424
-            | 415
-            | 425
-            | 416
-            | 426
-            | 450
-            | 460
-            | 470
-            | 480
-            | 490
-            | 491
-            | 500
-            | 510
-            | 501
-            | 511
-            | 610
-            | 620
-            | 630
-            | 640
-            | 650
-            | 660
-            | 661
-            | 670
-            | 721
-            | 722
-            | 900
-            | 910
-            | 930
-            | 940
+        G00 | G01
+            | G02
+            | G03
+            | G04
+            | G09
+            | G10
+            | G11
+            | G17
+            | G18
+            | G19
+            | G22
+            | G23
+            | G38
+            | G39
+            | G40
+            | G41
+            | G42
+            | G41_2
+            | G42_2
+            | G41_4
+            | G42_4
+            | G41_5
+            | G42_5
+            | G41_6
+            | G42_6
+            | G45
+            | G46
+            | G47
+            | G48
+            | G49
+            | G49_1
+            | G50
+            | G51
+            | G50_1
+            | G51_1
+            | G61
+            | G62
+            | G63
+            | G64
+            | G65
+            | G66
+            | G66_1
+            | G67
+            | G72_1
+            | G72_2
+            | G90
+            | G91
+            | G93
+            | G94
     )
 }
 
 /// tcp TCP-15: modal states TCP may start in (besides the codes of [`tcp_allows`]).
 fn tcp_state_allows(group: usize, g: u16) -> bool {
     // G54.4 (group 33): TCP nests inside it; its RCM=0 refusal is the WSE-11 row.
-    group == 33
+    group == group::WSE
         || tcp_allows(g)
-        || matches!(g, 131 | 150 | 200 | 210 | 540 | 550 | 560 | 570 | 580 | 590 | 800 | 970 | 980 | 990 | 690 | 940)
+        || matches!(g, G13_1 | G15 | G20 | G21 | G54 | G55 | G56 | G57 | G58 | G59 | G80 | G97 | G98 | G99 | G69 | G94)
 }
 
 /// twp §6.2 (TWP-12): G codes allowed in the tilted working plane (MTW=0).
 fn twp_allows(g: u16) -> bool {
     matches!(
         g,
-        0 | 10
-            | 20
-            | 30
-            | 40
-            | 100
-            | 110
-            | 170
-            | 180
-            | 190
-            | 280
-            | 290
-            | 300
-            | 400
-            | 410
-            | 420
-            | 430
-            | 440
-            | 490
-            | 491
-            | 530
-            | 531
-            | 650
-            | 660
-            | 661
-            | 670
-            | 900
-            | 910
-            | 980
-            | 990
-            | 450
-            | 460
-            | 470
-            | 480
-            | 501
-            | 511
-            | 690
-            | 691
-            | 940
-            | 950
+        G00 | G01
+            | G02
+            | G03
+            | G04
+            | G10
+            | G11
+            | G17
+            | G18
+            | G19
+            | G28
+            | G29
+            | G30
+            | G40
+            | G41
+            | G42
+            | G43
+            | G44
+            | G49
+            | G49_1
+            | G53
+            | G53_1
+            | G65
+            | G66
+            | G66_1
+            | G67
+            | G90
+            | G91
+            | G98
+            | G99
+            | G45
+            | G46
+            | G47
+            | G48
+            | G50_1
+            | G51_1
+            | G69
+            | G69_1
+            | G94
+            | G95
     ) || in_group_09(g)
 }
 
@@ -954,15 +1023,15 @@ fn twp_allows(g: u16) -> bool {
 /// G51.1 and canned cycles must be off (they nest inside); G54.4 may be on (OQ-21).
 fn twp_state_allows(group: usize, g: u16) -> bool {
     match group {
-        7 => g == 400,
-        8 => matches!(g, 490 | 491),
-        9 => g == 800,
-        22 => g == 501,
-        33 => true,
+        group::CUTTER_COMP => g == G40,
+        group::LENGTH_COMP => LENGTH_CANCEL.contains(&g),
+        group::CYCLE => g == G80,
+        group::MIRROR => g == G50_1,
+        group::WSE => true,
         _ => {
             twp_allows(g)
-                || matches!(g, 131 | 150 | 200 | 210 | 220 | 230 | 500 | 540 | 550 | 560 | 570 | 580 | 590)
-                || matches!(g, 610 | 620 | 630 | 640 | 930 | 970)
+                || matches!(g, G13_1 | G15 | G20 | G21 | G22 | G23 | G50 | G54 | G55 | G56 | G57 | G58 | G59)
+                || matches!(g, G61 | G62 | G63 | G64 | G93 | G97)
         }
     }
 }
@@ -971,62 +1040,62 @@ fn twp_state_allows(group: usize, g: u16) -> bool {
 fn wse_allows(g: u16) -> bool {
     matches!(
         g,
-        0 | 10
-            | 20
-            | 30
-            | 40
-            | 51
-            | 62
-            | 100
-            | 110
-            | 170
-            | 180
-            | 190
-            | 280
-            | 290
-            | 300
-            | 400
-            | 410
-            | 412
-            | 413
-            | 414
-            | 415
-            | 416
-            | 420
-            | 422
-            | 424
-            | 425
-            | 426
-            | 430
-            | 431
-            | 434
-            | 435
-            | 440
-            | 490
-            | 491
-            | 500
-            | 510
-            | 530
-            | 531
-            | 544
-            | 650
-            | 660
-            | 670
-            | 680
-            | 682
-            | 450
-            | 460
-            | 470
-            | 480
-            | 501
-            | 511
-            | 690
-            | 900
-            | 910
-            | 940
-            | 950
-            | 980
-            | 990
+        G00 | G01
+            | G02
+            | G03
+            | G04
+            | G05_1
+            | G06_2
+            | G10
+            | G11
+            | G17
+            | G18
+            | G19
+            | G28
+            | G29
+            | G30
+            | G40
+            | G41
+            | G41_2
+            | G41_3
+            | G41_4
+            | G41_5
+            | G41_6
+            | G42
+            | G42_2
+            | G42_4
+            | G42_5
+            | G42_6
+            | G43
+            | G43_1
+            | G43_4
+            | G43_5
+            | G44
+            | G49
+            | G49_1
+            | G50
+            | G51
+            | G53
+            | G53_1
+            | G54_4
+            | G65
+            | G66
+            | G67
+            | G68
+            | G68_2
+            | G45
+            | G46
+            | G47
+            | G48
+            | G50_1
+            | G51_1
+            | G69
+            | G90
+            | G91
+            | G94
+            | G95
+            | G98
+            | G99
     ) || in_group_09(g)
 }
 
@@ -1034,41 +1103,41 @@ fn wse_allows(g: u16) -> bool {
 fn wse_state_allows(_group: usize, g: u16) -> bool {
     matches!(
         g,
-        0 | 10
-            | 131
-            | 150
-            | 170
-            | 180
-            | 190
-            | 200
-            | 210
-            | 230
-            | 250
-            | 400
-            | 401
-            | 490
-            | 491
-            | 500
-            | 501
-            | 540
-            | 541
-            | 550
-            | 560
-            | 570
-            | 580
-            | 590
-            | 640
-            | 670
-            | 690
-            | 800
-            | 805
-            | 900
-            | 910
-            | 940
-            | 950
-            | 970
-            | 980
-            | 990
+        G00 | G01
+            | G13_1
+            | G15
+            | G17
+            | G18
+            | G19
+            | G20
+            | G21
+            | G23
+            | G25
+            | G40
+            | G40_1
+            | G49
+            | G49_1
+            | G50
+            | G50_1
+            | G54
+            | G54_1
+            | G55
+            | G56
+            | G57
+            | G58
+            | G59
+            | G64
+            | G67
+            | G69
+            | G80
+            | G80_5
+            | G90
+            | G91
+            | G94
+            | G95
+            | G97
+            | G98
+            | G99
     )
 }
 

@@ -4,6 +4,7 @@
 use super::expr::{eval, round_to, ExprSettings, Value};
 use super::gcode::{self, GDef};
 use super::gcode::{code, group};
+use super::mcode;
 use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
 use super::program::Loaded;
@@ -317,7 +318,7 @@ impl State {
         }
 
         // --- macro calls: the block's words are arguments, nothing else runs ----------------
-        if w.has_g(650) {
+        if w.has_g(code::G65) {
             if w.ng > 1 {
                 return Err(AlarmId::GAsArgument);
             }
@@ -325,8 +326,8 @@ impl State {
             let args = self.macro_args(&w)?;
             return self.push_frame(progs, prog, Self::count(&w)?, Some(args));
         }
-        if w.has_g(660) || w.has_g(661) {
-            let every_block = w.has_g(661);
+        if w.has_g(code::G66) || w.has_g(code::G66_1) {
+            let every_block = w.has_g(code::G66_1);
             let prog = self.find_program(by_number, w.integer(b'P'))?;
             let args = self.macro_args(&w)?;
             let count = Self::count(&w)?;
@@ -342,7 +343,7 @@ impl State {
             }
             return Ok(());
         }
-        if let (false, Some(mc)) = (w.has_g(670), self.modal_call_here()) {
+        if let (false, Some(mc)) = (w.has_g(code::G67), self.modal_call_here()) {
             if mc.every_block && !w.list.is_empty() {
                 if w.ng > 0 {
                     return Err(AlarmId::GAsArgument);
@@ -390,7 +391,7 @@ impl State {
         let five = modes::check(self, &w)?;
         self.refuse_unbuilt(&w)?;
         self.five = five;
-        if w.has_g(670) {
+        if w.has_g(code::G67) {
             // G67 cancels the latest modal call; the one before it is in force again.
             self.modal_calls.pop();
             self.modes[group::MODAL_CALL] =
@@ -398,10 +399,10 @@ impl State {
         }
 
         // --- G codes: units first, then the modal groups in block order ---------------------
-        if w.has_g(200) {
+        if w.has_g(code::G20) {
             self.modes[group::UNITS] = code::G20;
         }
-        if w.has_g(210) {
+        if w.has_g(code::G21) {
             self.modes[group::UNITS] = code::G21;
         }
         let machine_before = self.machine_position();
@@ -412,7 +413,7 @@ impl State {
         let mut wcs_changed = false;
         for &code in &w.g[..w.ng] {
             let def: &GDef = gcode::lookup(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
-            if def.group == gcode::ONE_SHOT {
+            if def.group == group::ONE_SHOT {
                 if def.takes_axes {
                     if axes_owner.is_some() {
                         return Err(AlarmId::IllegalGCodeCombination);
@@ -423,30 +424,30 @@ impl State {
                 n_one_shots += 1;
                 continue;
             }
-            let group = def.group as usize;
+            let group = def.group;
             match group {
-                1 => {
+                group::MOTION => {
                     // A group-01 code cancels the canned cycle and forgets its data.
                     self.modes[group::CYCLE] = code::G80;
                     self.cycle = CycleData::default();
                 }
-                9 if code == 800 => self.cycle = CycleData::default(),
-                2 if self.modes[group::CUTTER_COMP] != code::G40 && self.modes[group::PLANE] != code => {
+                group::CYCLE if code == code::G80 => self.cycle = CycleData::default(),
+                group::PLANE if self.modes[group::CUTTER_COMP] != code::G40 && self.modes[group::PLANE] != code => {
                     return Err(AlarmId::PlaneChangeInCompensation)
                 }
-                7 => {
+                group::CUTTER_COMP => {
                     if let Some(d) = w.integer(b'D') {
                         self.d = offset_number(d)?;
                     }
                 }
-                8 => tool_length_changed = true,
-                9 if code != code::G80 && self.modes[group::CYCLE] == code::G80 => {
+                group::LENGTH_COMP => tool_length_changed = true,
+                group::CYCLE if code != code::G80 && self.modes[group::CYCLE] == code::G80 => {
                     let axis = self.drill_axis();
                     self.cycle.initial = axis.map_or(0.0, |a| self.xf.programmed[a]);
                 }
-                14 => {
+                group::WORK_SYSTEM => {
                     wcs_changed = true;
-                    if code == 541 {
+                    if code == code::G54_1 {
                         let p = w.integer(b'P').unwrap_or(1.0);
                         if !(1.0..=MAX_G54_1 as f64).contains(&p) || p.fract() != 0.0 {
                             return Err(AlarmId::IllegalOffsetNumber);
@@ -459,11 +460,11 @@ impl State {
                 _ => {}
             }
             // (Group 12 was set above from the modal calls still in force after G67.)
-            if group != 12 {
+            if group != group::MODAL_CALL {
                 self.modes[group] = code;
             }
         }
-        self.exact_stop = one_shots[..n_one_shots].contains(&90);
+        self.exact_stop = one_shots[..n_one_shots].contains(&code::G09);
         // D is modal whether or not cutter compensation is on (#4107 shows it, a later G41
         // without D uses it).
         if let Some(d) = w.integer(b'D') {
@@ -490,7 +491,8 @@ impl State {
                 return Err(AlarmId::ImproperAddress);
             }
             self.s = s;
-            if self.spindle != SpindleState::Stop && !w.m[..w.nm].iter().any(|&m| matches!(m, 3..=5)) {
+            if self.spindle != SpindleState::Stop && !w.m[..w.nm].iter().any(|&m| matches!(m, mcode::M03..=mcode::M05))
+            {
                 self.emit(out, CanonKind::Spindle { state: self.spindle, speed: s });
             }
         }
@@ -504,23 +506,23 @@ impl State {
         for &m in &w.m[..w.nm] {
             self.last_m = m;
             match m {
-                3 | 4 => {
-                    self.spindle = if m == 3 { SpindleState::Cw } else { SpindleState::Ccw };
+                mcode::M03 | mcode::M04 => {
+                    self.spindle = if m == mcode::M03 { SpindleState::Cw } else { SpindleState::Ccw };
                     self.emit(out, CanonKind::Spindle { state: self.spindle, speed: self.s });
                 }
-                6 => {
+                mcode::M06 => {
                     self.tool_in_spindle = self.t;
                     self.emit(out, CanonKind::ToolChange { tool: self.t });
                 }
-                7 => self.emit(out, CanonKind::Coolant(Coolant::Mist)),
-                8 => self.emit(out, CanonKind::Coolant(Coolant::Flood)),
+                mcode::M07 => self.emit(out, CanonKind::Coolant(Coolant::Mist)),
+                mcode::M08 => self.emit(out, CanonKind::Coolant(Coolant::Flood)),
                 _ => {}
             }
         }
 
         // --- tool length compensation (group 08) --------------------------------------------
         if let Some(h) = w.integer(b'H') {
-            if w.has_g(100) {
+            if w.has_g(code::G10) {
                 // H is data of G10 there, not an offset selection.
             } else {
                 self.h = offset_number(h)?;
@@ -535,8 +537,8 @@ impl State {
         }
         // Tool centre point control starts or ends here (its start and end blocks move by the
         // tool length, computed at their end only).
-        let tcp_mode = matches!(self.modes[group::LENGTH_COMP], code::G43_4 | code::G43_5);
-        if tcp_mode && w.gcodes().iter().any(|&g| matches!(g, 434 | 435)) {
+        let tcp_mode = code::TCP.contains(&self.modes[group::LENGTH_COMP]);
+        if tcp_mode && w.gcodes().iter().any(|g| code::TCP.contains(g)) {
             self.tcp_begin(&w)?;
             tool_length_changed = true;
         } else if !tcp_mode && self.tcp_active() {
@@ -580,28 +582,28 @@ impl State {
         // --- M codes after motion, program end, subprogram calls ----------------------------
         for &m in &w.m[..w.nm] {
             match m {
-                0 => self.emit(out, CanonKind::Stop { optional: false, message: block.comment.clone() }),
-                1 => {
+                mcode::M00 => self.emit(out, CanonKind::Stop { optional: false, message: block.comment.clone() }),
+                mcode::M01 => {
                     if self.cfg.optional_stop {
                         self.emit(out, CanonKind::Stop { optional: true, message: block.comment.clone() })
                     }
                 }
-                2 | 30 => {
+                mcode::M02 | mcode::M30 => {
                     self.parts_done += 1.0;
                     self.emit(out, CanonKind::ProgramEnd { m });
                     self.ended = true;
                 }
-                5 => {
+                mcode::M05 => {
                     self.spindle = SpindleState::Stop;
                     self.emit(out, CanonKind::Spindle { state: SpindleState::Stop, speed: self.s });
                 }
-                9 => self.emit(out, CanonKind::Coolant(Coolant::Off)),
-                3 | 4 | 6 | 7 | 8 => {}
-                98 | 198 => {
+                mcode::M09 => self.emit(out, CanonKind::Coolant(Coolant::Off)),
+                mcode::M03 | mcode::M04 | mcode::M06 | mcode::M07 | mcode::M08 => {}
+                mcode::M98 | mcode::M198 => {
                     let (prog, count) = self.subprogram_target(by_number, &w)?;
                     self.push_frame(progs, prog, count, None)?;
                 }
-                99 => {
+                mcode::M99 => {
                     let to_n = w.integer(b'P').map(|p| p as u32);
                     self.return_from_call(progs, to_n)?;
                 }
@@ -654,14 +656,14 @@ impl State {
     pub(super) fn signed_tool_length(&self) -> f64 {
         let length = self.offsets.length(self.h);
         match self.modes[group::LENGTH_COMP] {
-            490 | 491 => 0.0,
-            440 => -length,
+            code::G49 | code::G49_1 => 0.0,
+            code::G44 => -length,
             _ => length,
         }
     }
 
     pub(super) fn context(&self) -> MotionContext {
-        let length_on = !matches!(self.modes[group::LENGTH_COMP], code::G49 | code::G49_1);
+        let length_on = !code::LENGTH_CANCEL.contains(&self.modes[group::LENGTH_COMP]);
         let comp_on = self.modes[group::CUTTER_COMP] != code::G40;
         MotionContext {
             plane: self.modes[group::PLANE],
@@ -683,8 +685,8 @@ impl State {
 
     pub(super) fn feed_mode(&self) -> FeedMode {
         match self.modes[group::FEED_MODE] {
-            930 => FeedMode::InverseTime,
-            950 => FeedMode::PerRevolution,
+            code::G93 => FeedMode::InverseTime,
+            code::G95 => FeedMode::PerRevolution,
             _ => FeedMode::PerMinute,
         }
     }
@@ -774,8 +776,8 @@ impl State {
         if self.follows_tip() {
             let target = self.xf.forward(&programmed);
             let (kind, arc) = match self.modes[group::MOTION] {
-                0 => (MotionKind::Rapid, None),
-                20 | 30 => {
+                code::G00 => (MotionKind::Rapid, None),
+                code::G02 | code::G03 => {
                     self.check_feed()?;
                     let (cw, arc) = self.arc(w, &target)?;
                     (if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw }, arc)
@@ -790,8 +792,8 @@ impl State {
             return Ok(());
         }
         match self.modes[group::MOTION] {
-            0 => self.move_to(MotionKind::Rapid, programmed, out),
-            20 | 30 => {
+            code::G00 => self.move_to(MotionKind::Rapid, programmed, out),
+            code::G02 | code::G03 => {
                 self.check_feed()?;
                 let target = self.xf.forward(&programmed);
                 let (cw, arc) = self.arc(w, &target)?;
@@ -814,8 +816,8 @@ impl State {
     pub(super) fn plane_axes(&self) -> Result<(usize, usize, usize), AlarmId> {
         let m = &self.cfg.machine;
         let (a, b, c) = match self.modes[group::PLANE] {
-            180 => (b'Z', b'X', b'Y'),
-            190 => (b'Y', b'Z', b'X'),
+            code::G18 => (b'Z', b'X', b'Y'),
+            code::G19 => (b'Y', b'Z', b'X'),
             _ => (b'X', b'Y', b'Z'),
         };
         match (m.axis_index(a), m.axis_index(b), m.axis_index(c)) {
@@ -903,7 +905,7 @@ impl State {
     fn one_shot(&mut self, code: u16, w: &Words, machine_before: Pos, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
         let axes = self.cfg.machine.axes.len();
         match code {
-            40 => {
+            code::G04 => {
                 let seconds = match (w.integer(b'P'), w.raw(b'X')) {
                     (Some(p), _) => p / 1000.0,
                     (None, Some((x, no_point))) => {
@@ -920,8 +922,8 @@ impl State {
                 }
                 self.emit(out, CanonKind::Dwell { seconds });
             }
-            100 => self.data_setting(w, machine_before)?,
-            520 => {
+            code::G10 => self.data_setting(w, machine_before)?,
+            code::G52 => {
                 let incremental = self.modes[group::DISTANCE] == code::G91;
                 for i in 0..axes {
                     if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
@@ -931,8 +933,8 @@ impl State {
                 self.pos = self.machine_to_program(&machine_before);
                 self.sync_programmed();
             }
-            531 | 533 | 536 => return self.align(code, w, out),
-            530 => {
+            code::G53_1 | code::G53_3 | code::G53_6 => return self.align(code, w, out),
+            code::G53 => {
                 let mut m = machine_before;
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if let Some(v) = self.value(w, axis.name as u8) {
@@ -942,7 +944,7 @@ impl State {
                 self.emit_machine_motion(m, out);
                 return Ok(true);
             }
-            920 => {
+            code::G92 => {
                 let w0 = *self.offsets.work(self.work_index());
                 let ext = *self.offsets.work(0);
                 for i in 0..axes {
@@ -955,7 +957,7 @@ impl State {
                 }
                 self.sync_programmed();
             }
-            921 => {
+            code::G92_1 => {
                 for i in 0..axes {
                     if w.has(self.cfg.machine.axes[i].name as u8) {
                         self.shift[i] = 0.0;
@@ -965,13 +967,13 @@ impl State {
                 self.pos = self.machine_to_program(&machine_before);
                 self.sync_programmed();
             }
-            280 | 300 => {
+            code::G28 | code::G30 => {
                 if self.modes[group::CYCLE] != code::G80 {
                     return Err(AlarmId::ReferenceReturnInCycle);
                 }
                 // G28: the 1st reference position (machine zero); G30 P2 (default), P3, P4.
                 let which = match (code, w.integer(b'P')) {
-                    (280, _) => 1,
+                    (code::G28, _) => 1,
                     (_, None) => 2,
                     (_, Some(p)) if (2.0..=4.0).contains(&p) && p.fract() == 0.0 => p as usize,
                     _ => return Err(AlarmId::IllegalReferenceReturn),
@@ -989,7 +991,7 @@ impl State {
                 self.emit_machine_motion(m, out);
                 return Ok(true);
             }
-            290 => {
+            code::G29 => {
                 let mut mid = self.pos;
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if w.has(axis.name as u8) {
@@ -1003,14 +1005,14 @@ impl State {
                 return Ok(true);
             }
             // G31 without a skip signal (fivex has none): the whole move; #5061… hold its end.
-            310 => {
+            code::G31 => {
                 self.check_feed()?;
                 let target = self.target(w);
                 self.move_to(MotionKind::Linear, target, out);
                 return Ok(true);
             }
             // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off (other Q: `unbuilt`).
-            51 => self.look_ahead = w.integer(b'Q') == Some(1.0),
+            code::G05_1 => self.look_ahead = w.integer(b'Q') == Some(1.0),
             // The one-shot codes left are performed by doing nothing here (G04.1, G09, G22
             // without limits…), or refused before this (`unbuilt`).
             _ => {}
@@ -1090,7 +1092,7 @@ fn offset_number(v: f64) -> Result<u32, AlarmId> {
 }
 
 fn is_cycle(code: u16) -> bool {
-    matches!(gcode::lookup(code, Dialect::Fanuc), Some(d) if d.group == 9 && code != 800)
+    matches!(gcode::lookup(code, Dialect::Fanuc), Some(d) if d.group == group::CYCLE && code != code::G80)
 }
 
 impl CallFrame {

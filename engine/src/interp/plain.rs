@@ -21,7 +21,7 @@ impl State {
             [code] => *code,
             _ => return false,
         };
-        matches!(motion, 0 | 10)
+        matches!(motion, code::G00 | code::G01)
             && w.mcodes().is_empty()
             && self.modes[group::CYCLE] == code::G80
             && self.modal_calls.is_empty()

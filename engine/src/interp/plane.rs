@@ -64,7 +64,7 @@ impl State {
     /// plane).
     pub fn restore_plane(&mut self, kept: &KeptPlane) {
         let keeps = self.cfg.machine.five_axis.plane_after_reset == PlaneAfterReset::KeptOverRestart;
-        if !keeps || !matches!(kept.code, 682..=684) || self.kinematics.is_none() {
+        if !keeps || !code::TILTED_PLANES.contains(&kept.code) || self.kinematics.is_none() {
             return;
         }
         let machine = self.machine_position();
@@ -85,8 +85,8 @@ impl State {
     /// Tool length of group 08 as it acts now (G43 +H, G44 −H, otherwise 0).
     pub(super) fn active_tool_length(&self) -> f64 {
         match self.modes[group::LENGTH_COMP] {
-            430 => self.offsets.length(self.h),
-            440 => -self.offsets.length(self.h),
+            code::G43 => self.offsets.length(self.h),
+            code::G44 => -self.offsets.length(self.h),
             _ => 0.0,
         }
     }
@@ -141,15 +141,15 @@ impl State {
         let mut owns_axes = false;
         for &code in w.gcodes() {
             let defined = match code {
-                682 | 684 => {
+                code::G68_2 | code::G68_4 => {
                     owns_axes = true;
-                    self.define(w, code == 684)?
+                    self.define(w, code == code::G68_4)?
                 }
-                683 => {
+                code::G68_3 => {
                     owns_axes = true;
                     Some(self.tool_axis_plane(w)?)
                 }
-                690 if self.plane.is_some() => {
+                code::G69 if self.plane.is_some() => {
                     self.end_plane();
                     None
                 }
@@ -303,7 +303,7 @@ impl State {
     pub(super) fn align(&mut self, code: u16, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
         let Some(fcs) = self.plane else { return Ok(false) };
         let kin = self.kin()?;
-        if code != 531 {
+        if code != code::G53_1 {
             if let Some(h) = w.integer(b'H') {
                 self.h = h as u32;
             }
@@ -313,7 +313,7 @@ impl State {
         let frame = self.plane_frame(&kin, &fcs);
         let machine = self.machine_position();
         let length = self.active_tool_length();
-        if code == 531 && self.wse_follows() {
+        if code == code::G53_1 && self.wse_follows() {
             return self.align_compensated(&kin, &fcs, &frame, out);
         }
         let tool = frame.r * Vec3::z();
@@ -328,7 +328,7 @@ impl State {
         let off = self.offset_vector();
         // The point that stays: the tip of the tool whose length now acts, or with G53.6 R the
         // point R from the tip toward the holder (SYN-21, TV-45).
-        let pivot = if code == 536 { self.value(w, b'R').unwrap_or(0.0) } else { 0.0 };
+        let pivot = if code == code::G53_6 { self.value(w, b'R').unwrap_or(0.0) } else { 0.0 };
         let mut target = self.tip_position(&kin, &frame, &machine, length - pivot);
         for j in kin.joints() {
             if let Some(i) = j.index {
@@ -336,7 +336,7 @@ impl State {
             }
         }
         match code {
-            531 => {
+            code::G53_1 => {
                 let mut end = machine;
                 for j in kin.joints() {
                     if let Some(i) = j.index {
@@ -349,14 +349,15 @@ impl State {
                 self.plane_moved_to(end);
             }
             _ => {
-                if code == 533 {
+                if code == code::G53_3 {
                     for (axis, letter) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
                         if let (Some(v), Some(i)) = (self.value(w, letter), kin.linear[axis]) {
                             target[i] = v;
                         }
                     }
                 }
-                let path = FollowPath { frame, tool_length: length - pivot, posture: false, along: code == 536 };
+                let path =
+                    FollowPath { frame, tool_length: length - pivot, posture: false, along: code == code::G53_6 };
                 self.follow_motion(&kin, MotionKind::Rapid, target, None, path, out);
                 match self.follow_machine {
                     // The current point is the tip again, wherever the pivot put it.

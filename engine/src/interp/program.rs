@@ -1,5 +1,7 @@
 //! A parsed program prepared for execution: its sequence-number index and the DO/END pairing.
 
+use super::gcode::code;
+use super::mcode;
 use crate::alarm::AlarmId;
 use crate::lang::{Block, BlockKind, Program};
 use std::collections::HashMap;
@@ -43,9 +45,9 @@ fn reaches_beyond(block: &Block) -> bool {
         BlockKind::Output(_) => false,
         BlockKind::Goto(_) | BlockKind::IfGoto { .. } | BlockKind::Do { .. } | BlockKind::End { .. } => true,
         BlockKind::Words(words) => words.iter().any(|w| match (&w.letter, &w.value) {
-            (b'M', WordValue::Number { value, .. }) => matches!(*value as u32, 98 | 99 | 198),
+            (b'M', WordValue::Number { value, .. }) => matches!(*value as u32, mcode::M98 | mcode::M99 | mcode::M198),
             (b'G', WordValue::Number { value, .. }) => {
-                matches!(super::gcode::code_of(*value), Some(650 | 660 | 661))
+                super::gcode::code_of(*value).is_some_and(|c| code::MACRO_CALLS.contains(&c))
             }
             (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num(_)),
             _ => false,

@@ -203,7 +203,7 @@ impl State {
             // type 1's as programmed, type 2's (machine angles for a direction in Π, which
             // holds the error) the angles whose error-free direction is the actual one.
             self.follow_machine = Some(machine);
-            let angles = if t.code == 434 { Some(programmed) } else { self.wse_programmed_angles(&machine) };
+            let angles = if t.code == code::G43_4 { Some(programmed) } else { self.wse_programmed_angles(&machine) };
             if let Some(angles) = angles {
                 self.wse_keep_programmed_angles(&angles);
             }
@@ -224,7 +224,7 @@ impl State {
     /// Type 2: the block's I/J/K (a tool direction, not an arc centre) and Q.
     pub(super) fn tcp_words(&mut self, w: &Words) -> Result<(), AlarmId> {
         let Some(t) = &self.tcp else { return Ok(()) };
-        if t.code != 435 || t.starting {
+        if t.code != code::G43_5 || t.starting {
             return Ok(());
         }
         let [i, j, k] = [b'I', b'J', b'K'].map(|l| self.value(w, l));
@@ -254,7 +254,7 @@ impl State {
 
     /// Whether group 01's I/J/K are a tool direction here (type 2), not an arc centre.
     pub(super) fn ijk_is_direction(&self) -> bool {
-        self.tcp.as_ref().is_some_and(|t| t.code == 435 && !t.starting)
+        self.tcp.as_ref().is_some_and(|t| t.code == code::G43_5 && !t.starting)
     }
 
     /// A motion under tool centre point control to `target` (Π; rotary axes as programmed),
@@ -271,7 +271,7 @@ impl State {
         let from_machine = self.machine_position();
         let off = self.offset_vector();
         let mut through_singular = false;
-        if t.code == 435 && !t.starting {
+        if t.code == code::G43_5 && !t.starting {
             // Type 2: the rotary angles that give the commanded direction (TCP-09, M-10).
             let mut v = t.commanded.unwrap_or(t.direction);
             if t.inclination != 0.0 {
@@ -303,7 +303,7 @@ impl State {
             }
         }
         let programmed = target;
-        if self.tcp.as_ref().is_some_and(|t| t.code == 434) {
+        if self.tcp.as_ref().is_some_and(|t| t.code == code::G43_4) {
             // Type 1 under G54.4 with RCM = 1: the programmed angles seen from the WSCS.
             self.wse_compensate(&kin, &mut target)?;
         }

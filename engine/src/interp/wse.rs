@@ -15,6 +15,7 @@
 //! Also here: the settings RCM needs (PS0438), the canned-cycle feed (No.5412), the rotary
 //! clamp (No.11202/11203), the display choice (DAK) and the manual-move ban (WSE-25).
 
+use super::gcode::code;
 use super::nc::Words;
 use super::tcp::FollowPath;
 use super::State;
@@ -87,7 +88,7 @@ impl State {
     /// A G54.4 block (alone in its block, its P checked by the mode rules): start set n or
     /// cancel (P0). The machine does not move; the current point is recomputed (WSE-09).
     pub(super) fn apply_wse(&mut self, w: &Words) -> Result<(), AlarmId> {
-        if !w.gcodes().contains(&544) {
+        if !w.gcodes().contains(&code::G54_4) {
             return Ok(());
         }
         let n = w.integer(b'P').unwrap_or(0.0) as usize;

@@ -39,7 +39,7 @@ pub async fn modal(Addressed(hosted): Addressed) -> Result<Json<ModalState>, Api
     let initial = gcode::initial_modes();
     // The groups the dialects use (group 1's G00 is code 0; the others start non-zero).
     let groups = (1..gcode::GROUPS)
-        .filter(|&g| g == 1 || initial[g] != 0)
+        .filter(|&g| g == gcode::group::MOTION || initial[g] != 0)
         .map(|g| (g as u8, gcode::display(modal.modal(g))))
         .collect();
     let w = modal.words;

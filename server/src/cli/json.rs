@@ -2,7 +2,7 @@
 //! written by hand into a buffered writer: they are the hot path of `fivex interp`/`run --trace`.
 
 use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
-use fivex_engine::interp::gcode::display;
+use fivex_engine::interp::gcode::{code, display};
 use fivex_engine::run::{RunResult, Sample};
 use serde_json::{json, Map, Value};
 use std::io::Write;
@@ -272,7 +272,7 @@ impl CanonWriter {
             }
         }
         let mut v = Vec::with_capacity(200);
-        let wcs = if c.wcs == 541 { format!("G54.1 P{}", c.wcs_p) } else { display(c.wcs) };
+        let wcs = if c.wcs == code::G54_1 { format!("G54.1 P{}", c.wcs_p) } else { display(c.wcs) };
         let _ = write!(
             v,
             ",\"context\":{{\"plane\":\"{}\",\"wcs\":\"{wcs}\",\"length_comp\":\"{}\",\"h\":{},\"tool_length\":",
