@@ -522,9 +522,7 @@ pub fn initial_modes() -> [u16; GROUPS] {
     m[group::POLAR] = G15;
     m[group::NORMAL_DIRECTION] = G40_1;
     m[group::IN_FEED] = G160;
-    // Not G13.1 (131), as it has been since the first commit: #4021 and the modal API read it,
-    // so the fix is a change of behaviour of its own.
-    m[group::POLAR_INTERPOLATION] = 1310;
+    m[group::POLAR_INTERPOLATION] = G13_1;
     m[group::MIRROR] = G50_1;
     m[group::DYNAMIC_FIXTURE] = 0;
     m[group::SPEED_FLUCTUATION] = G25;

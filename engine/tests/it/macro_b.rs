@@ -175,6 +175,12 @@ fn several_g_codes_in_one_block() {
 }
 
 #[test]
+fn polar_interpolation_is_cancelled_at_power_on() {
+    // Group 21 starts in G13.1 (#4021 = 13.1); it read 131 until the G codes got names.
+    assert_eq!(var("#100=#4021\nM30\n", 100), Some(13.1));
+}
+
+#[test]
 fn same_group_g_codes_last_one_wins() {
     // Group 01: G00 then G01 → G01 (a feed move).
     let src = "G00 G01 X1. F100\n#100=#4001\nG01 G00 X2.\n#101=#4001\nM30\n";
