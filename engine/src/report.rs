@@ -35,6 +35,7 @@ pub const UNWIND_DEG: f64 = 180.0;
 
 /// The report of one run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Report {
     /// `completed` or `alarm`.
     pub status: &'static str,
@@ -59,6 +60,7 @@ pub struct Report {
 /// Axis speeds over time: the mean speed of each axis in consecutive intervals of `period_s`
 /// (at most [`SpeedProfile::MAX_POINTS`] of them: the interval doubles as the run grows).
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct SpeedProfile {
     /// The interval, seconds.
     pub period_s: f64,
@@ -68,7 +70,9 @@ pub struct SpeedProfile {
 
 /// One axis's speed in each interval, mm/min or °/min.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct AxisSpeeds {
+    #[cfg_attr(feature = "schema", schema(min_length = 1, max_length = 1))]
     pub axis: char,
     pub speeds: Vec<f64>,
 }
@@ -134,7 +138,9 @@ impl SpeedAcc {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct AxisReport {
+    #[cfg_attr(feature = "schema", schema(min_length = 1, max_length = 1))]
     pub name: char,
     pub rotary: bool,
     /// Sum of the position changes, mm or degrees.
@@ -147,6 +153,7 @@ pub struct AxisReport {
     pub min: f64,
     pub max: f64,
     /// The tighter of the stored stroke and the rotary movement range; `None`: no limit.
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub limits: Option<[f64; 2]>,
     /// Closest approach to the limits (negative: beyond), and on which side.
     pub margin: Option<f64>,
@@ -157,6 +164,7 @@ pub struct AxisReport {
 
 /// The largest tip deviation and where it happened.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct TipDeviation {
     /// mm.
     pub max: f64,
@@ -164,6 +172,7 @@ pub struct TipDeviation {
     pub line: Option<u32>,
     pub n: Option<u32>,
     /// The tool tip there, table frame.
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub tip: Option<[f64; 3]>,
 }
 

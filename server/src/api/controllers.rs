@@ -28,7 +28,7 @@ pub struct CreateController {
     #[schema(example = "table-ac")]
     pub preset: Option<String>,
     /// A machine document instead of a preset (`docs/machine-config.md`).
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<crate::wire::MachineDocument>)]
     pub machine: Option<serde_json::Value>,
     /// `fanuc` (default) or `syntec`.
     #[schema(example = "fanuc")]
@@ -278,17 +278,17 @@ pub async fn clone(
     tag = "controllers",
     params(("id" = String, Path, description = "Controller id")),
     responses(
-        (status = 200, description = "The machine model", body = Object),
+        (status = 200, description = "The machine model", body = MachineConfig),
         (status = 404, description = "No such controller", body = ErrorBody),
     )
 )]
 pub async fn machine(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<serde_json::Value>, ApiError> {
+) -> Result<Json<MachineConfig>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let machine = hosted.station().machine.clone();
-    serde_json::to_value(&*machine).map(Json).map_err(|e| ApiError::Unprocessable(e.to_string(), None))
+    Ok(Json((*machine).clone()))
 }
 
 /// A built-in machine preset.
@@ -297,7 +297,7 @@ pub struct Preset {
     #[schema(example = "head-bc")]
     pub name: String,
     /// The mechanism, as [`ControllerStatus::kind`] names it.
-    #[schema(example = "head-head")]
+    #[schema(value_type = crate::wire::words::MechanismName)]
     pub kind: String,
     /// The axis letters in order.
     pub axes: Vec<String>,

@@ -26,6 +26,7 @@ use super::json_body::JsonBody;
 use super::{body, path};
 use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options, Tool};
+use crate::wire::{FleetResult, MachineDocument};
 use crate::host::now_rfc3339;
 use crate::serve::{ApiError, AppState, ErrorBody};
 
@@ -127,7 +128,7 @@ pub struct FleetRequest {
     pub presets: Vec<String>,
     /// Machine documents: models or vendor parameter lists (a list runs in its own dialect).
     #[serde(default)]
-    #[schema(value_type = Vec<Object>)]
+    #[schema(value_type = Vec<MachineDocument>)]
     pub machines: Vec<Value>,
     /// Machines of the library by name (`docs/fleet.md`); `["*"]`: all of them.
     #[serde(default)]
@@ -139,7 +140,7 @@ pub struct FleetRequest {
     pub dialect: Option<String>,
     /// Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}`; default: 1–99 at 100 / 5 mm
     /// (a controller keeps its own unless this is given).
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<std::collections::HashMap<String, Tool>>)]
     pub tools: Option<BTreeMap<u32, Tool>>,
     /// Add each machine's run report (`"report"`).
     #[serde(default)]
@@ -160,6 +161,7 @@ pub struct MachineProgress {
     pub machine: String,
     /// `queued`, `running`, `completed`, `alarm` or `cancelled` (the run was stopped before
     /// it finished).
+    #[schema(value_type = crate::wire::words::MachineState)]
     pub state: &'static str,
     /// Simulated seconds, once done.
     pub cycle_time_s: Option<f64>,
@@ -170,10 +172,11 @@ pub struct MachineProgress {
 pub struct Progress {
     /// Always `"progress"`.
     #[serde(rename = "type")]
-    #[schema(example = "progress")]
+    #[schema(value_type = crate::wire::words::ProgressType, inline)]
     pub kind: &'static str,
     pub id: String,
     /// The run's status: `queued`, `running`, `done`, `cancelled` or `interrupted`.
+    #[schema(value_type = crate::wire::words::FleetRunStatus)]
     pub status: &'static str,
     pub total: usize,
     /// Machines done.
@@ -192,6 +195,7 @@ pub struct FleetRunInfo {
     pub finished_at: Option<String>,
     /// `queued` (waiting for a place, `--fleet-jobs`), `running`, `done`, `cancelled`
     /// (`POST /fleet/runs/{id}/cancel`) or `interrupted` (the service stopped during the run).
+    #[schema(value_type = crate::wire::words::FleetRunStatus)]
     pub status: String,
     pub machines: u32,
     /// Machines that completed the program, and that ended in an alarm.
@@ -204,12 +208,12 @@ pub struct FleetRunInfo {
 pub struct FleetRun {
     #[serde(flatten)]
     pub info: FleetRunInfo,
-    /// The request as it was posted.
-    #[schema(value_type = Object)]
+    /// The request as it was posted (as stored: written through `FleetRequest`).
+    #[schema(value_type = FleetRequest)]
     pub request: Value,
     /// The fleet array (null while queued or running; `null` in it for each machine a
-    /// cancelled or interrupted run did not finish).
-    #[schema(value_type = Option<Vec<Object>>)]
+    /// cancelled or interrupted run did not finish), as stored: written through `FleetResult`.
+    #[schema(value_type = Option<Vec<Option<FleetResult>>>)]
     pub results: Option<Value>,
 }
 
@@ -271,7 +275,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
     request_body = FleetRequest,
     params(CreateOptions),
     responses(
-        (status = 200, description = "The fleet array (the run's id in `Location` and `X-Fleet-Run`)", body = [Object]),
+        (status = 200, description = "The fleet array (the run's id in `Location` and `X-Fleet-Run`)", body = [FleetResult]),
         (status = 202, description = "`wait=false`: started; follow it on the stream", body = FleetRunInfo),
         (status = 400, description = "Not JSON", body = ErrorBody),
         (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
@@ -373,14 +377,14 @@ async fn execute(
     opts: Options,
     tx: watch::Sender<Progress>,
     stopped: Arc<watch::Sender<Option<&'static str>>>,
-) -> (&'static str, Vec<Value>) {
+) -> (&'static str, Vec<Option<FleetResult>>) {
     let total = entries.len();
     let mut why = stopped.subscribe();
     let slot = tokio::select! {
         slot = state.fleet_runs.slots.clone().acquire_owned() => slot.ok(),
         _ = why.wait_for(Option::is_some) => None,
     };
-    let mut results = vec![Value::Null; total];
+    let mut results: Vec<Option<FleetResult>> = vec![None; total];
     if slot.is_some() && stopped.borrow().is_none() {
         if let Err(e) = db::start_fleet_run(&state.db, &id).await {
             tracing::error!(%id, error = %e, "fleet run start not stored");
@@ -403,16 +407,17 @@ async fn execute(
             fleet::run_fleet(&program, &entries, &opts, &on_event)
         })
         .await
-        .unwrap_or_else(|_| vec![Value::Null; total]);
+        .unwrap_or_else(|_| vec![None; total]);
     }
     drop(slot);
     // A stop that came after every machine finished changes nothing.
     let status = match *stopped.borrow() {
-        Some(why) if results.iter().any(Value::is_null) => why,
+        Some(why) if results.iter().any(Option::is_none) => why,
         _ => "done",
     };
-    let completed = results.iter().filter(|r| r["status"] == "completed").count() as u32;
-    let alarms = results.iter().filter(|r| !r.is_null()).count() as u32 - completed;
+    let completed =
+        results.iter().flatten().filter(|r| r.summary.status == crate::wire::RunStatus::Completed).count() as u32;
+    let alarms = results.iter().flatten().count() as u32 - completed;
     let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
     if let Err(e) = db::finish_fleet_run(&state.db, &id, status, &now_rfc3339(), completed, alarms, &json).await {
         tracing::error!(%id, error = %e, "fleet run not stored");
@@ -632,15 +637,16 @@ pub struct LibraryMachine {
     #[schema(example = "trunnion-ac-120")]
     pub name: String,
     /// The mechanism, as a controller's status names it.
-    #[schema(example = "table-table")]
+    #[schema(value_type = crate::wire::words::MechanismName)]
     pub kind: String,
     /// `fanuc` or `syntec` for a vendor parameter list (it runs in that dialect); null for a
     /// model file (it runs in the fleet's dialect).
+    #[schema(value_type = Option<fivex_engine::Dialect>)]
     pub dialect: Option<String>,
     /// The axis letters in order.
     pub axes: Vec<String>,
     /// The file as it is: what `POST /controllers` takes as `machine`.
-    #[schema(value_type = Object)]
+    #[schema(value_type = MachineDocument)]
     pub machine: Value,
 }
 

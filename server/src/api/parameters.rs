@@ -21,21 +21,10 @@ pub struct ParameterList {
     /// `fanuc` or `syntec`: whose numbering.
     pub dialect: String,
     /// `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis.
-    #[schema(value_type = std::collections::HashMap<String, ParameterValue>)]
     pub parameters: Params,
     /// What of them fivex keeps but does not carry out (unread parameters and bits, settings
     /// without effect; `docs/machine-config.md`).
     pub unmodelled_parameters: Vec<super::UnmodelledParameter>,
-}
-
-/// A parameter's value as the document describes it (the engine's `vendor::Value`, which has
-/// no schema of its own).
-#[allow(dead_code)]
-#[derive(ToSchema)]
-#[serde(untagged)]
-pub enum ParameterValue {
-    One(f64),
-    PerAxis(Vec<f64>),
 }
 
 /// `PUT /parameters/{number}`.
@@ -43,7 +32,6 @@ pub enum ParameterValue {
 #[serde(deny_unknown_fields)]
 pub struct SetParameter {
     /// A number, or one number per axis for an axis-type parameter.
-    #[schema(value_type = ParameterValue)]
     pub value: ParamValue,
 }
 
