@@ -2,7 +2,7 @@
 // block, optional stop and block delete switches, feed and rapid override, and the manual
 // feeds (JOG with hold-to-move keys, HANDLE with increments, the 5-axis manual feeds).
 import { useState } from "preact/hooks";
-import { api, type Status } from "../api/client";
+import { api, type Status, errorText } from "../api/client";
 import type { components } from "../api/schema";
 import type { Act } from "./useController";
 
@@ -47,8 +47,8 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
     onError(null);
     try {
       await run(call);
-    } catch (e: any) {
-      onError(e.message ?? String(e));
+    } catch (e) {
+      onError(errorText(e));
     }
   };
   /// The hand wheel: in HANDLE mode a move of the selected target; during a program (a manual
@@ -60,7 +60,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
     act(async () => {
       if (signals.handle_select !== code) await api.PUT("/api/v1/controllers/{id}/manual-signals", { ...p, body: { handle_select: code } });
       const r = await api.POST("/api/v1/controllers/{id}/handle-pulses", { ...p, body: { amount } });
-      return { ...r, data: r.data?.status } as any;
+      return { data: r.data?.status, error: r.error, response: r.response };
     });
   };
   const key = (t: Target) => JSON.stringify(t);
@@ -273,7 +273,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
   );
 }
 
-function EStop({ status, act }: { status: Status; act: (c: () => Promise<any>) => void }) {
+function EStop({ status, act }: { status: Status; act: (c: Parameters<Act>[0]) => void }) {
   const [pressed, setPressed] = useState(false);
   return (
     <button
