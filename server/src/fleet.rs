@@ -209,12 +209,7 @@ pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> FleetResult {
     } else {
         (run_observed(&mut interp, &run_opts, |_| {}, &mut Cancellable { inner: NoObserver, cancel }), None)
     };
-    FleetResult {
-        machine: entry.name.clone(),
-        dialect: entry.dialect,
-        summary: RunSummary::of(&result, &axes),
-        report,
-    }
+    FleetResult { machine: entry.name.clone(), dialect: entry.dialect, summary: RunSummary::of(&result, &axes), report }
 }
 
 /// Run the program on every machine, `opts.jobs` at a time; the results in `entries` order. A

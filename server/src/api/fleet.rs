@@ -26,9 +26,9 @@ use super::json_body::JsonBody;
 use super::{body, path};
 use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options, Tool};
-use crate::wire::{FleetResult, MachineDocument};
 use crate::host::now_rfc3339;
 use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::wire::{FleetResult, MachineDocument};
 
 /// The most machines one fleet run may have.
 pub const MAX_MACHINES: usize = 200;
