@@ -116,7 +116,7 @@ impl Runs {
 }
 
 /// `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
-/// `library`, `controllers`).
+/// `library`, `controllers`; at most `MAX_MACHINES` in all, so at most that many in each).
 #[derive(Debug, Clone, Serialize, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FleetRequest {
@@ -125,16 +125,19 @@ pub struct FleetRequest {
     pub program: String,
     /// Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
     #[serde(default)]
+    #[schema(max_items = 200)]
     pub presets: Vec<String>,
     /// Machine documents: models or vendor parameter lists (a list runs in its own dialect).
     #[serde(default)]
-    #[schema(value_type = Vec<MachineDocument>)]
+    #[schema(value_type = Vec<MachineDocument>, max_items = 200)]
     pub machines: Vec<Value>,
     /// Machines of the library by name (`docs/fleet.md`); `["*"]`: all of them.
     #[serde(default)]
+    #[schema(max_items = 200)]
     pub library: Vec<String>,
     /// Existing controllers by id: their machine, dialect and tool and work offsets.
     #[serde(default)]
+    #[schema(max_items = 200)]
     pub controllers: Vec<String>,
     /// Dialect of presets, models and library models: `fanuc` (default) or `syntec`.
     pub dialect: Option<String>,
@@ -281,6 +284,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
         (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
         (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program", body = ErrorBody),
         (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn create(
@@ -447,6 +451,7 @@ async fn execute(
         (status = 200, description = "The run, stopped", body = FleetRunInfo),
         (status = 404, description = "No such run", body = ErrorBody),
         (status = 409, description = "The run is already over (done, cancelled or interrupted)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn cancel(
@@ -484,7 +489,10 @@ pub struct Limit {
     path = "/api/v1/fleet/runs",
     tag = "fleet",
     params(Limit),
-    responses((status = 200, description = "Fleet runs", body = [FleetRunInfo]))
+    responses(
+        (status = 200, description = "Fleet runs", body = [FleetRunInfo]),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+    )
 )]
 pub async fn list(
     State(state): State<AppState>,
@@ -502,7 +510,11 @@ pub async fn list(
     path = "/api/v1/fleet/runs/{id}",
     tag = "fleet",
     params(("id" = String, Path, description = "Fleet run id")),
-    responses((status = 200, description = "The run", body = FleetRun), (status = 404, description = "No such run", body = ErrorBody))
+    responses(
+        (status = 200, description = "The run", body = FleetRun),
+        (status = 404, description = "No such run", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+    )
 )]
 pub async fn get(
     State(state): State<AppState>,
@@ -529,6 +541,7 @@ pub async fn get(
     responses(
         (status = 101, description = "Websocket of progress messages", body = Progress),
         (status = 404, description = "No such run", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn stream(
@@ -666,7 +679,9 @@ fn library_machine(name: &str, text: &str) -> Option<LibraryMachine> {
     get,
     path = "/api/v1/fleet/library",
     tag = "fleet",
-    responses((status = 200, description = "Every library machine", body = [LibraryMachine]))
+    responses(
+        (status = 200, description = "Every library machine", body = [LibraryMachine]),
+    )
 )]
 pub async fn library() -> Json<Vec<LibraryMachine>> {
     Json(crate::fleet::LIBRARY.iter().filter_map(|(name, text)| library_machine(name, text)).collect())

@@ -90,7 +90,10 @@ pub async fn jog(
     path = "/api/v1/controllers/{id}/jog-stop",
     tag = "manual",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Stopping", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Stopping", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn jog_stop(
     State(state): State<AppState>,

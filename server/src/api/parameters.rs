@@ -107,6 +107,7 @@ pub async fn get_all(Addressed(hosted): Addressed) -> Result<Json<ParameterList>
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "A program runs or holds, or the machine has no parameter form", body = ErrorBody),
         (status = 422, description = "The set does not describe a working machine (the vendor's alarm)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn set(

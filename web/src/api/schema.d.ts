@@ -1251,7 +1251,7 @@ export interface components {
         FleetMessage: components["schemas"]["Fleet"] | components["schemas"]["FleetDelta"];
         /**
          * @description `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
-         *     `library`, `controllers`).
+         *     `library`, `controllers`; at most `MAX_MACHINES` in all, so at most that many in each).
          */
         FleetRequest: {
             /** @description Existing controllers by id: their machine, dialect and tool and work offsets. */
@@ -2294,6 +2294,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     status: {
@@ -2401,6 +2410,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     update: {
@@ -2491,6 +2509,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     alarms: {
@@ -2546,6 +2573,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2636,6 +2672,15 @@ export interface operations {
             };
             /** @description Invalid name */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2736,6 +2781,15 @@ export interface operations {
             };
             /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4093,6 +4147,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     list_programs: {
@@ -4136,6 +4199,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4197,6 +4269,15 @@ export interface operations {
             };
             /** @description No such controller or program */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4309,6 +4390,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     remove_program: {
@@ -4370,6 +4460,15 @@ export interface operations {
             };
             /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
             415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4446,6 +4545,15 @@ export interface operations {
             };
             /** @description max_points out of range */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4635,6 +4743,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4972,6 +5089,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     list_variables: {
@@ -5184,6 +5310,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     works: {
@@ -5335,6 +5470,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     library: {
@@ -5473,6 +5617,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     create_fleet_run: {
@@ -5575,6 +5728,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service is stopping; `wait`: it stopped before the run finished (`interrupted`) */
             503: {
                 headers: {
@@ -5627,6 +5789,15 @@ export interface operations {
             };
             /** @description No such run */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5695,6 +5866,15 @@ export interface operations {
             };
             /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
             415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5772,6 +5952,15 @@ export interface operations {
             };
             /** @description This client has `--max-websockets-per-client` websockets open; `Retry-After: 5` */
             429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5932,6 +6121,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Health"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The database does not answer */
