@@ -243,6 +243,15 @@ pub mod words {
         Interrupted,
     }
 
+    /// How a run in a controller's history ended.
+    #[derive(ToSchema)]
+    #[serde(rename_all = "snake_case")]
+    pub enum RunEnd {
+        Completed,
+        Alarm,
+        Reset,
+    }
+
     /// One machine's state in a fleet run's progress.
     #[derive(ToSchema)]
     #[serde(rename_all = "snake_case")]

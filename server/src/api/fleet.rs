@@ -116,7 +116,7 @@ impl Runs {
 }
 
 /// `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
-/// `library`, `controllers`; at most `MAX_MACHINES` in all, so at most that many in each).
+/// `library`, `controllers`; at most 200 machines in all, so at most 200 in each list).
 #[derive(Debug, Clone, Serialize, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FleetRequest {

@@ -55,6 +55,7 @@ pub struct Run {
     /// Simulated seconds.
     pub cycle_time_s: f64,
     /// `completed`, `alarm` or `reset`.
+    #[schema(value_type = crate::wire::words::RunEnd)]
     pub result: String,
 }
 

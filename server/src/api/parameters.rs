@@ -19,6 +19,7 @@ use crate::serve::{ApiError, AppState, ErrorBody};
 #[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct ParameterList {
     /// `fanuc` or `syntec`: whose numbering.
+    #[schema(value_type = fivex_engine::Dialect)]
     pub dialect: String,
     /// `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis.
     pub parameters: Params,

@@ -1251,7 +1251,7 @@ export interface components {
         FleetMessage: components["schemas"]["Fleet"] | components["schemas"]["FleetDelta"];
         /**
          * @description `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
-         *     `library`, `controllers`; at most `MAX_MACHINES` in all, so at most that many in each).
+         *     `library`, `controllers`; at most 200 machines in all, so at most 200 in each list).
          */
         FleetRequest: {
             /** @description Existing controllers by id: their machine, dialect and tool and work offsets. */
@@ -1719,7 +1719,7 @@ export interface components {
         /** @description A controller's parameters. */
         ParameterList: {
             /** @description `fanuc` or `syntec`: whose numbering. */
-            dialect: string;
+            dialect: components["schemas"]["Dialect"];
             /** @description `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis. */
             parameters: components["schemas"]["Params"];
             /**
@@ -1949,9 +1949,14 @@ export interface components {
              */
             program?: number | null;
             /** @description `completed`, `alarm` or `reset`. */
-            result: string;
+            result: components["schemas"]["RunEnd"];
             started_at: string;
         };
+        /**
+         * @description How a run in a controller's history ended.
+         * @enum {string}
+         */
+        RunEnd: "completed" | "alarm" | "reset";
         /**
          * @description A controller's run state (docs/contracts.md).
          * @enum {string}
