@@ -1424,6 +1424,11 @@ export interface components {
          * @enum {string}
          */
         MachineState: "queued" | "running" | "completed" | "alarm" | "cancelled";
+        /**
+         * @description Which feed a manual move follows.
+         * @enum {string}
+         */
+        ManualFeed: "tool-axis" | "right-angle1" | "right-angle2" | "table-vertical" | "table-horizontal1" | "table-horizontal2";
         /** @description What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`. */
         ManualMove: {
             /**
@@ -1436,12 +1441,7 @@ export interface components {
              * @example X
              */
             axis?: string | null;
-            /**
-             * @description A 5-axis manual feed: `tool-axis`, `right-angle1`, `right-angle2`, `table-vertical`,
-             *     `table-horizontal1`, `table-horizontal2`.
-             * @example tool-axis
-             */
-            feed?: string | null;
+            feed?: null | components["schemas"]["ManualFeed"];
             /** @description JOG: the direction (`true`: +). */
             positive?: boolean | null;
             /**

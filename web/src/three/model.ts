@@ -96,8 +96,9 @@ export function normalizeModel(m: MachineModelInput | MachineModel): MachineMode
   };
 }
 
-/** The machine's kind, as the engine's `MachineKind` names it (kebab-case). */
-export type MachineKind = "three-axis" | "head-head" | "table-table" | "head-table" | "head" | "table";
+/** The machine's kind, as the engine's `MachineKind` names it (kebab-case; the service says
+ * `unknown` for a machine its kinematics refuses, which never reaches the view). */
+export type MachineKind = Exclude<components["schemas"]["MechanismName"], "unknown">;
 
 export function machineKind(m: MachineModel): MachineKind {
   const h = m.rotary.filter((r) => r.side === "head").length;
