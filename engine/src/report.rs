@@ -27,6 +27,28 @@ use crate::run::{run_observed, Observer, RunOptions, RunResult, Sample};
 use serde::Serialize;
 use std::collections::VecDeque;
 
+/// The words of the report's `&'static str` fields, for the service's document.
+#[cfg(feature = "schema")]
+mod schema {
+    #![allow(dead_code)]
+
+    /// How the run ended.
+    #[derive(utoipa::ToSchema)]
+    #[serde(rename_all = "lowercase")]
+    pub enum ReportStatus {
+        Completed,
+        Alarm,
+    }
+
+    /// Which end of its limits an axis came closest to.
+    #[derive(utoipa::ToSchema)]
+    #[serde(rename_all = "lowercase")]
+    pub enum MarginSide {
+        Negative,
+        Positive,
+    }
+}
+
 /// The singular angle used when the machine sets none (degrees).
 pub const DEFAULT_NEAR_SINGULAR_DEG: f64 = 1.0;
 
@@ -38,6 +60,7 @@ pub const UNWIND_DEG: f64 = 180.0;
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Report {
     /// `completed` or `alarm`.
+    #[cfg_attr(feature = "schema", schema(value_type = schema::ReportStatus))]
     pub status: &'static str,
     /// The first alarm (code, message, line, n) when the run ended in one.
     pub alarm: Option<crate::Alarm>,
@@ -157,6 +180,7 @@ pub struct AxisReport {
     pub limits: Option<[f64; 2]>,
     /// Closest approach to the limits (negative: beyond), and on which side.
     pub margin: Option<f64>,
+    #[cfg_attr(feature = "schema", schema(value_type = Option<schema::MarginSide>))]
     pub margin_side: Option<&'static str>,
     /// Rotary unwinds (see the module docs).
     pub unwinds: u32,

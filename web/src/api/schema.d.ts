@@ -905,7 +905,7 @@ export interface components {
              * @description Closest approach to the limits (negative: beyond), and on which side.
              */
             margin?: number | null;
-            margin_side?: string | null;
+            margin_side?: null | components["schemas"]["MarginSide"];
             /** Format: double */
             max: number;
             /**
@@ -1538,6 +1538,11 @@ export interface components {
          * @enum {string}
          */
         ManualVertical: "tool" | "x" | "y" | "z";
+        /**
+         * @description Which end of its limits an axis came closest to.
+         * @enum {string}
+         */
+        MarginSide: "negative" | "positive";
         /** @description `POST /mdi`. */
         Mdi: {
             /**
@@ -1906,9 +1911,14 @@ export interface components {
             /** @description Each axis's speed over the run, for plots. */
             speeds: components["schemas"]["SpeedProfile"];
             /** @description `completed` or `alarm`. */
-            status: string;
+            status: components["schemas"]["ReportStatus"];
             tip_deviation: components["schemas"]["TipDeviation"];
         };
+        /**
+         * @description How the run ended.
+         * @enum {string}
+         */
+        ReportStatus: "completed" | "alarm";
         /** @description One rotary axis in the mechanism chain. */
         RotaryLink: {
             /** @description The axis letter (must be a rotary axis of `axes`). */
