@@ -176,6 +176,7 @@ pub enum AlarmId {
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Alarm {
     pub code: String,
     pub message: String,

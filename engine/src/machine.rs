@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 pub const MAX_AXES: usize = 8;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum AxisKind {
     Linear,
@@ -18,8 +19,10 @@ pub enum AxisKind {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Axis {
     /// Address letter: X Y Z U V W (linear) or A B C (rotary).
+    #[cfg_attr(feature = "schema", schema(min_length = 1, max_length = 1))]
     pub name: char,
     pub kind: AxisKind,
     /// Rapid traverse rate, the axis's highest speed: mm/min or deg/min.
@@ -32,6 +35,7 @@ pub struct Axis {
     pub jerk: Option<f64>,
     /// Stored stroke limit `[negative, positive]` in machine coordinates, mm or deg; `None`: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub stroke: Option<[f64; 2]>,
     /// Rotary axes: positions roll over at 360° (shown and kept in [0, 360)).
     #[serde(default, skip_serializing_if = "is_false")]
@@ -43,6 +47,7 @@ pub struct Axis {
     /// The 2nd, 3rd and 4th reference positions in machine coordinates (G30 P2/P3/P4; FANUC
     /// No.1241–1243); the 1st (G28) is machine zero.
     #[serde(default, skip_serializing_if = "no_references")]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub references: [f64; 3],
 }
 
@@ -120,6 +125,7 @@ impl std::fmt::Display for ConfigError {
 
 /// Which part of the machine a rotary axis turns.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum Side {
     /// Tool side (head): turns the spindle.
@@ -130,6 +136,7 @@ pub enum Side {
 
 /// Rotation sense about the axis direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum Hand {
     Right,
@@ -138,16 +145,20 @@ pub enum Hand {
 
 /// One rotary axis in the mechanism chain.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct RotaryLink {
     /// The axis letter (must be a rotary axis of `axes`).
+    #[cfg_attr(feature = "schema", schema(min_length = 1, max_length = 1))]
     pub axis: char,
     pub side: Side,
     /// Direction the axis turns about, machine coordinates at zero angles (normalised on use).
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub direction: [f64; 3],
     pub hand: Hand,
     /// A point on the axis line at zero angles, mm: relative to the carriage reference point
     /// (the X/Y/Z position) for a head axis, in machine coordinates for a table axis.
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub point: [f64; 3],
     /// Added to the commanded angle (the axis's zero-point error), degrees.
     #[serde(default)]
@@ -157,10 +168,12 @@ pub struct RotaryLink {
     pub fixed: Option<f64>,
     /// Movement range `[low, high]` of commanded angles, degrees.
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub range: Option<[f64; 2]>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct MachineConfig {
     pub name: String,
     pub axes: Vec<Axis>,
@@ -170,10 +183,12 @@ pub struct MachineConfig {
     pub rotary: Vec<RotaryLink>,
     /// Tool direction (tip → holder) with every head axis at zero, machine coordinates.
     #[serde(default = "plus_z")]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub tool_axis: [f64; 3],
     /// The spindle nose (gauge point) relative to the carriage reference point at zero angles,
     /// mm (e.g. `-pivot · tool_axis` when X/Y/Z locate the head's pivot).
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub nose: [f64; 3],
     /// Tool holder offset, mm: from the spindle nose along the tool direction to the head's
     /// controlled point (FANUC No.19666, Syntec Pr3013). The mechanism's geometry is all in
@@ -193,6 +208,7 @@ pub struct MachineConfig {
 
 /// Which coordinate system the X/Y/Z of a tool centre point control program are in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "kebab-case")]
 pub enum TcpCoordinates {
     /// Fixed on the table as it stands when G43.4/G43.5 starts (FANUC WKP = 0, INZ = 0;
@@ -208,6 +224,7 @@ pub enum TcpCoordinates {
 
 /// 5-axis function settings of the control (vendor bits, `docs/five-axis.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct FiveAxisOptions {
     /// The programming coordinate system of tool centre point control.
@@ -303,11 +320,13 @@ pub struct FiveAxisOptions {
     /// STCP's rotary axis tolerances, degrees, master / slave (Syntec Pr3052 / Pr3053; absent:
     /// the control's default 0.5). Kept so that the parameter list reads back; not used.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub smooth_tolerance: Option<[f64; 2]>,
 }
 
 /// What a reset (and a restart of the controller) does to the tilted working plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "kebab-case")]
 pub enum PlaneAfterReset {
     /// Reset cancels it as G69 does (FANUC No.5400#2 D3R = 0; Syntec Pr3014 = 0).
@@ -327,6 +346,7 @@ impl FiveAxisOptions {
 
 /// Interpolation choices the vendors make by parameter.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct MotionOptions {
     /// Helical interpolation: F is the speed along the whole tool path, the linear axes
@@ -377,6 +397,7 @@ impl MotionOptions {
 /// Settings of the 5-axis manual feeds (tool axis, right-angle, table directions, tool tip
 /// centre rotation; FANUC S000-IV, `fanuc-twp-wsec-manual-params.md` MAN-05…MAN-17).
 #[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct ManualOptions {
     /// Tool length the manual feeds use, mm (FANUC No.12318).
@@ -424,6 +445,7 @@ pub struct ManualOptions {
     /// direction 1, direction 2, tool tip centre rotation of the first and of the second rotary
     /// axis (OQ-25); 0: none (`controller::ManualSignals`).
     #[serde(default, skip_serializing_if = "no_codes")]
+    #[cfg_attr(feature = "schema", schema(min_items = 5, max_items = 5))]
     pub handle_codes: [u8; 5],
 }
 
@@ -433,6 +455,7 @@ fn no_codes(codes: &[u8; 5]) -> bool {
 
 /// FANUC No.12321: the vertical axis of the longitude/latitude feeds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "kebab-case")]
 pub enum ManualVertical {
     /// The reference tool direction (tool axis feeds) / the tool direction (table feeds).

@@ -27,6 +27,28 @@ use crate::run::{run_observed, Observer, RunOptions, RunResult, Sample};
 use serde::Serialize;
 use std::collections::VecDeque;
 
+/// The words of the report's `&'static str` fields, for the service's document.
+#[cfg(feature = "schema")]
+mod schema {
+    #![allow(dead_code)]
+
+    /// How the run ended.
+    #[derive(utoipa::ToSchema)]
+    #[serde(rename_all = "lowercase")]
+    pub enum ReportStatus {
+        Completed,
+        Alarm,
+    }
+
+    /// Which end of its limits an axis came closest to.
+    #[derive(utoipa::ToSchema)]
+    #[serde(rename_all = "lowercase")]
+    pub enum MarginSide {
+        Negative,
+        Positive,
+    }
+}
+
 /// The singular angle used when the machine sets none (degrees).
 pub const DEFAULT_NEAR_SINGULAR_DEG: f64 = 1.0;
 
@@ -35,8 +57,10 @@ pub const UNWIND_DEG: f64 = 180.0;
 
 /// The report of one run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Report {
     /// `completed` or `alarm`.
+    #[cfg_attr(feature = "schema", schema(value_type = schema::ReportStatus))]
     pub status: &'static str,
     /// The first alarm (code, message, line, n) when the run ended in one.
     pub alarm: Option<crate::Alarm>,
@@ -59,6 +83,7 @@ pub struct Report {
 /// Axis speeds over time: the mean speed of each axis in consecutive intervals of `period_s`
 /// (at most [`SpeedProfile::MAX_POINTS`] of them: the interval doubles as the run grows).
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct SpeedProfile {
     /// The interval, seconds.
     pub period_s: f64,
@@ -68,7 +93,9 @@ pub struct SpeedProfile {
 
 /// One axis's speed in each interval, mm/min or °/min.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct AxisSpeeds {
+    #[cfg_attr(feature = "schema", schema(min_length = 1, max_length = 1))]
     pub axis: char,
     pub speeds: Vec<f64>,
 }
@@ -134,7 +161,9 @@ impl SpeedAcc {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct AxisReport {
+    #[cfg_attr(feature = "schema", schema(min_length = 1, max_length = 1))]
     pub name: char,
     pub rotary: bool,
     /// Sum of the position changes, mm or degrees.
@@ -147,9 +176,11 @@ pub struct AxisReport {
     pub min: f64,
     pub max: f64,
     /// The tighter of the stored stroke and the rotary movement range; `None`: no limit.
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub limits: Option<[f64; 2]>,
     /// Closest approach to the limits (negative: beyond), and on which side.
     pub margin: Option<f64>,
+    #[cfg_attr(feature = "schema", schema(value_type = Option<schema::MarginSide>))]
     pub margin_side: Option<&'static str>,
     /// Rotary unwinds (see the module docs).
     pub unwinds: u32,
@@ -157,6 +188,7 @@ pub struct AxisReport {
 
 /// The largest tip deviation and where it happened.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct TipDeviation {
     /// mm.
     pub max: f64,
@@ -164,6 +196,7 @@ pub struct TipDeviation {
     pub line: Option<u32>,
     pub n: Option<u32>,
     /// The tool tip there, table frame.
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub tip: Option<[f64; 3]>,
 }
 

@@ -14,7 +14,8 @@ use fivex_engine::machine::MachineConfig;
 use fivex_engine::motion::Segment;
 use fivex_engine::run::{run_observed, NoObserver, Observer, RunOptions, Sample};
 use fivex_engine::Dialect;
-use serde_json::{Map, Value};
+
+use crate::wire::{FleetResult, RunStatus, RunSummary};
 
 /// The library of machine files shipped in the repository (`machines/`), embedded at build time
 /// so that the service and the CLI have it wherever they run.
@@ -33,7 +34,7 @@ pub struct Entry {
 }
 
 /// One tool offset of a `--tools` table: length and radius geometry.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize, utoipa::ToSchema)]
 pub struct Tool {
     pub length: f64,
     pub radius: f64,
@@ -183,7 +184,7 @@ pub fn check_tools(tools: &BTreeMap<u32, Tool>) -> Result<(), String> {
 }
 
 /// One machine's result: `{"machine": NAME, "dialect": …, <the fivex run summary>, "report"}`.
-pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> Value {
+pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> FleetResult {
     let mut cfg = Config::new(entry.machine.clone(), entry.dialect);
     cfg.max_blocks = opts.max_blocks;
     let mut interp = Interpreter::new(parse_file(text), cfg);
@@ -208,23 +209,20 @@ pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> Value {
     } else {
         (run_observed(&mut interp, &run_opts, |_| {}, &mut Cancellable { inner: NoObserver, cancel }), None)
     };
-    let mut out = Map::new();
-    out.insert("machine".into(), Value::String(entry.name.clone()));
-    out.insert("dialect".into(), Value::String(entry.dialect.name().to_string()));
-    if let Value::Object(summary) = crate::cli::json::summary(&result, &axes) {
-        out.extend(summary);
-    }
-    if let Some(report) = report {
-        out.insert("report".into(), serde_json::to_value(&report).unwrap_or(Value::Null));
-    }
-    Value::Object(out)
+    FleetResult { machine: entry.name.clone(), dialect: entry.dialect, summary: RunSummary::of(&result, &axes), report }
 }
 
 /// Run the program on every machine, `opts.jobs` at a time; the results in `entries` order. A
-/// cancelled run leaves `null` for every machine that had not finished when it was cancelled.
-pub fn run_fleet(text: &str, entries: &[Entry], opts: &Options, progress: &(dyn Fn(Event) + Sync)) -> Vec<Value> {
+/// cancelled run leaves `None` (`null`) for every machine that had not finished when it was
+/// cancelled.
+pub fn run_fleet(
+    text: &str,
+    entries: &[Entry],
+    opts: &Options,
+    progress: &(dyn Fn(Event) + Sync),
+) -> Vec<Option<FleetResult>> {
     let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<Value>>> = Mutex::new(vec![None; entries.len()]);
+    let results: Mutex<Vec<Option<FleetResult>>> = Mutex::new(vec![None; entries.len()]);
     let jobs = opts.jobs.clamp(1, entries.len().max(1));
     std::thread::scope(|scope| {
         for _ in 0..jobs {
@@ -245,12 +243,15 @@ pub fn run_fleet(text: &str, entries: &[Entry], opts: &Options, progress: &(dyn 
                 progress(Event::Finished {
                     index,
                     machine: entry.name.clone(),
-                    status: if value["status"] == "completed" { "completed" } else { "alarm" },
-                    cycle_time_s: value["cycle_time_s"].as_f64().unwrap_or(0.0),
+                    status: match value.summary.status {
+                        RunStatus::Completed => "completed",
+                        RunStatus::Alarm => "alarm",
+                    },
+                    cycle_time_s: value.summary.cycle_time_s,
                 });
                 results.lock().unwrap_or_else(|e| e.into_inner())[index] = Some(value);
             });
         }
     });
-    results.into_inner().unwrap_or_else(|e| e.into_inner()).into_iter().map(|v| v.unwrap_or(Value::Null)).collect()
+    results.into_inner().unwrap_or_else(|e| e.into_inner())
 }

@@ -13,3 +13,4 @@ pub mod openapi_doc;
 pub mod origin;
 pub mod serve;
 pub mod tools;
+pub mod wire;

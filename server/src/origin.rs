@@ -167,16 +167,23 @@ pub async fn refuse_cross_origin(State(state): State<AppState>, req: Request, ne
 /// the websockets also the origin.
 pub struct OriginDoc;
 
+const HOST_REFUSED: &str =
+    "Host is not a name the service answers to (an IP address, localhost, an allowed origin's host)";
+
 impl utoipa::Modify for OriginDoc {
     fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
         crate::serve::for_each_api_operation(openapi, |method, path, operation| {
             let why = if method != Method::GET || path.ends_with("/stream") {
                 "A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to"
             } else {
-                "Host is not a name the service answers to (an IP address, localhost, an allowed origin's host)"
+                HOST_REFUSED
             };
             crate::serve::error_response(operation, 403, why);
         });
+        // The Host check answers every request, `/healthz` too.
+        if let Some(health) = openapi.paths.paths.get_mut("/healthz").and_then(|item| item.get.as_mut()) {
+            crate::serve::error_response(health, 403, HOST_REFUSED);
+        }
     }
 }
 

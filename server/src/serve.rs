@@ -389,6 +389,10 @@ async fn log_request(req: Request, next: Next) -> Response {
         api::fleet::FleetRun,
         api::fleet::Progress,
         api::fleet::MachineProgress,
+        crate::wire::ControllerMessage,
+        crate::wire::FleetMessage,
+        crate::wire::RunSummary,
+        crate::wire::FleetResult,
     )),
     tags(
         (name = "service", description = "Service health and documentation"),

@@ -23,6 +23,7 @@ pub struct ManualDirections {
 
 /// Which feed a manual move follows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "kebab-case")]
 pub enum ManualFeed {
     ToolAxis,

@@ -25,6 +25,7 @@ use nalgebra::Rotation3;
 
 /// What kind of mechanism carries the rotary axes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "kebab-case")]
 pub enum MachineKind {
     ThreeAxis,

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 /// One parameter's value: a number, or one number per axis (FANUC's axis-type parameters;
 /// Syntec numbers its per-axis parameters consecutively, so all its values are single).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = ParameterValue))]
 #[serde(untagged)]
 pub enum Value {
     One(f64),
@@ -38,8 +39,18 @@ impl Serialize for Value {
     }
 }
 
+/// [`Value`] by the name the schema gives it (a type named `Value` would be taken for any JSON).
+#[cfg(feature = "schema")]
+type ParameterValue = Value;
+
 /// A parameter list in the vendor's numbering (`{"19680": 2, "1020": [88, 89, 90, 66, 67]}`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+// (JSON object keys are strings: the numbers as text.)
+#[cfg_attr(
+    feature = "schema",
+    derive(utoipa::ToSchema),
+    schema(value_type = std::collections::HashMap<String, ParameterValue>)
+)]
 #[serde(transparent)]
 pub struct Params(pub BTreeMap<u32, Value>);
 
@@ -109,6 +120,7 @@ pub fn whole(number: u32, x: f64, lo: i64, hi: i64) -> Result<i64, ConfigError> 
 
 /// A machine described by its vendor parameter list: the other form of `--machine FILE.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct ParamFile {
     pub name: String,
     pub dialect: crate::Dialect,

@@ -28,7 +28,7 @@ pub struct CreateController {
     #[schema(example = "table-ac")]
     pub preset: Option<String>,
     /// A machine document instead of a preset (`docs/machine-config.md`).
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<crate::wire::MachineDocument>)]
     pub machine: Option<serde_json::Value>,
     /// `fanuc` (default) or `syntec`.
     #[schema(example = "fanuc")]
@@ -83,6 +83,7 @@ fn machine_of(request: &CreateController) -> Result<MachineConfig, ApiError> {
         (status = 201, description = "Created", body = ControllerStatus),
         (status = 400, description = "Not JSON", body = ErrorBody),
         (status = 422, description = "Not a valid controller (name, preset, machine, dialect, speed)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn create(
@@ -146,7 +147,9 @@ pub async fn create(
     get,
     path = "/api/v1/controllers",
     tag = "controllers",
-    responses((status = 200, description = "Every controller", body = [ControllerStatus]))
+    responses(
+        (status = 200, description = "Every controller", body = [ControllerStatus]),
+    )
 )]
 pub async fn list(State(state): State<AppState>) -> Json<Vec<ControllerStatus>> {
     Json(state.host.list().iter().map(|h| ControllerStatus::now(h)).collect())
@@ -178,6 +181,7 @@ pub async fn status(Addressed(hosted): Addressed) -> Result<Json<ControllerStatu
         (status = 200, description = "Changed", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Invalid name or speed", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn update(
@@ -210,6 +214,7 @@ pub async fn update(
     responses(
         (status = 204, description = "Removed"),
         (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn remove(
@@ -245,6 +250,7 @@ pub struct CloneController {
         (status = 201, description = "Created", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Invalid name", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn clone(
@@ -278,17 +284,17 @@ pub async fn clone(
     tag = "controllers",
     params(("id" = String, Path, description = "Controller id")),
     responses(
-        (status = 200, description = "The machine model", body = Object),
+        (status = 200, description = "The machine model", body = MachineConfig),
         (status = 404, description = "No such controller", body = ErrorBody),
     )
 )]
 pub async fn machine(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
-) -> Result<Json<serde_json::Value>, ApiError> {
+) -> Result<Json<MachineConfig>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let machine = hosted.station().machine.clone();
-    serde_json::to_value(&*machine).map(Json).map_err(|e| ApiError::Unprocessable(e.to_string(), None))
+    Ok(Json((*machine).clone()))
 }
 
 /// A built-in machine preset.
@@ -297,7 +303,7 @@ pub struct Preset {
     #[schema(example = "head-bc")]
     pub name: String,
     /// The mechanism, as [`ControllerStatus::kind`] names it.
-    #[schema(example = "head-head")]
+    #[schema(value_type = crate::wire::words::MechanismName)]
     pub kind: String,
     /// The axis letters in order.
     pub axes: Vec<String>,
@@ -308,7 +314,9 @@ pub struct Preset {
     get,
     path = "/api/v1/presets",
     tag = "controllers",
-    responses((status = 200, description = "Every preset", body = [Preset]))
+    responses(
+        (status = 200, description = "Every preset", body = [Preset]),
+    )
 )]
 pub async fn presets() -> Json<Vec<Preset>> {
     Json(

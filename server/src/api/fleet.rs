@@ -28,6 +28,7 @@ use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options, Tool};
 use crate::host::now_rfc3339;
 use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::wire::{FleetResult, MachineDocument};
 
 /// The most machines one fleet run may have.
 pub const MAX_MACHINES: usize = 200;
@@ -115,7 +116,7 @@ impl Runs {
 }
 
 /// `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
-/// `library`, `controllers`).
+/// `library`, `controllers`; at most 200 machines in all, so at most 200 in each list).
 #[derive(Debug, Clone, Serialize, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FleetRequest {
@@ -124,22 +125,25 @@ pub struct FleetRequest {
     pub program: String,
     /// Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
     #[serde(default)]
+    #[schema(max_items = 200)]
     pub presets: Vec<String>,
     /// Machine documents: models or vendor parameter lists (a list runs in its own dialect).
     #[serde(default)]
-    #[schema(value_type = Vec<Object>)]
+    #[schema(value_type = Vec<MachineDocument>, max_items = 200)]
     pub machines: Vec<Value>,
     /// Machines of the library by name (`docs/fleet.md`); `["*"]`: all of them.
     #[serde(default)]
+    #[schema(max_items = 200)]
     pub library: Vec<String>,
     /// Existing controllers by id: their machine, dialect and tool and work offsets.
     #[serde(default)]
+    #[schema(max_items = 200)]
     pub controllers: Vec<String>,
     /// Dialect of presets, models and library models: `fanuc` (default) or `syntec`.
     pub dialect: Option<String>,
     /// Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}`; default: 1–99 at 100 / 5 mm
     /// (a controller keeps its own unless this is given).
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<std::collections::HashMap<String, Tool>>)]
     pub tools: Option<BTreeMap<u32, Tool>>,
     /// Add each machine's run report (`"report"`).
     #[serde(default)]
@@ -160,6 +164,7 @@ pub struct MachineProgress {
     pub machine: String,
     /// `queued`, `running`, `completed`, `alarm` or `cancelled` (the run was stopped before
     /// it finished).
+    #[schema(value_type = crate::wire::words::MachineState)]
     pub state: &'static str,
     /// Simulated seconds, once done.
     pub cycle_time_s: Option<f64>,
@@ -170,10 +175,11 @@ pub struct MachineProgress {
 pub struct Progress {
     /// Always `"progress"`.
     #[serde(rename = "type")]
-    #[schema(example = "progress")]
+    #[schema(value_type = crate::wire::words::ProgressType, inline)]
     pub kind: &'static str,
     pub id: String,
     /// The run's status: `queued`, `running`, `done`, `cancelled` or `interrupted`.
+    #[schema(value_type = crate::wire::words::FleetRunStatus)]
     pub status: &'static str,
     pub total: usize,
     /// Machines done.
@@ -192,6 +198,7 @@ pub struct FleetRunInfo {
     pub finished_at: Option<String>,
     /// `queued` (waiting for a place, `--fleet-jobs`), `running`, `done`, `cancelled`
     /// (`POST /fleet/runs/{id}/cancel`) or `interrupted` (the service stopped during the run).
+    #[schema(value_type = crate::wire::words::FleetRunStatus)]
     pub status: String,
     pub machines: u32,
     /// Machines that completed the program, and that ended in an alarm.
@@ -204,12 +211,12 @@ pub struct FleetRunInfo {
 pub struct FleetRun {
     #[serde(flatten)]
     pub info: FleetRunInfo,
-    /// The request as it was posted.
-    #[schema(value_type = Object)]
+    /// The request as it was posted (as stored: written through `FleetRequest`).
+    #[schema(value_type = FleetRequest)]
     pub request: Value,
     /// The fleet array (null while queued or running; `null` in it for each machine a
-    /// cancelled or interrupted run did not finish).
-    #[schema(value_type = Option<Vec<Object>>)]
+    /// cancelled or interrupted run did not finish), as stored: written through `FleetResult`.
+    #[schema(value_type = Option<Vec<Option<FleetResult>>>)]
     pub results: Option<Value>,
 }
 
@@ -271,12 +278,13 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
     request_body = FleetRequest,
     params(CreateOptions),
     responses(
-        (status = 200, description = "The fleet array (the run's id in `Location` and `X-Fleet-Run`)", body = [Object]),
+        (status = 200, description = "The fleet array (the run's id in `Location` and `X-Fleet-Run`)", body = [FleetResult]),
         (status = 202, description = "`wait=false`: started; follow it on the stream", body = FleetRunInfo),
         (status = 400, description = "Not JSON", body = ErrorBody),
         (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
         (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program", body = ErrorBody),
         (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn create(
@@ -373,14 +381,14 @@ async fn execute(
     opts: Options,
     tx: watch::Sender<Progress>,
     stopped: Arc<watch::Sender<Option<&'static str>>>,
-) -> (&'static str, Vec<Value>) {
+) -> (&'static str, Vec<Option<FleetResult>>) {
     let total = entries.len();
     let mut why = stopped.subscribe();
     let slot = tokio::select! {
         slot = state.fleet_runs.slots.clone().acquire_owned() => slot.ok(),
         _ = why.wait_for(Option::is_some) => None,
     };
-    let mut results = vec![Value::Null; total];
+    let mut results: Vec<Option<FleetResult>> = vec![None; total];
     if slot.is_some() && stopped.borrow().is_none() {
         if let Err(e) = db::start_fleet_run(&state.db, &id).await {
             tracing::error!(%id, error = %e, "fleet run start not stored");
@@ -403,16 +411,17 @@ async fn execute(
             fleet::run_fleet(&program, &entries, &opts, &on_event)
         })
         .await
-        .unwrap_or_else(|_| vec![Value::Null; total]);
+        .unwrap_or_else(|_| vec![None; total]);
     }
     drop(slot);
     // A stop that came after every machine finished changes nothing.
     let status = match *stopped.borrow() {
-        Some(why) if results.iter().any(Value::is_null) => why,
+        Some(why) if results.iter().any(Option::is_none) => why,
         _ => "done",
     };
-    let completed = results.iter().filter(|r| r["status"] == "completed").count() as u32;
-    let alarms = results.iter().filter(|r| !r.is_null()).count() as u32 - completed;
+    let completed =
+        results.iter().flatten().filter(|r| r.summary.status == crate::wire::RunStatus::Completed).count() as u32;
+    let alarms = results.iter().flatten().count() as u32 - completed;
     let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
     if let Err(e) = db::finish_fleet_run(&state.db, &id, status, &now_rfc3339(), completed, alarms, &json).await {
         tracing::error!(%id, error = %e, "fleet run not stored");
@@ -442,6 +451,7 @@ async fn execute(
         (status = 200, description = "The run, stopped", body = FleetRunInfo),
         (status = 404, description = "No such run", body = ErrorBody),
         (status = 409, description = "The run is already over (done, cancelled or interrupted)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn cancel(
@@ -479,7 +489,10 @@ pub struct Limit {
     path = "/api/v1/fleet/runs",
     tag = "fleet",
     params(Limit),
-    responses((status = 200, description = "Fleet runs", body = [FleetRunInfo]))
+    responses(
+        (status = 200, description = "Fleet runs", body = [FleetRunInfo]),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+    )
 )]
 pub async fn list(
     State(state): State<AppState>,
@@ -497,7 +510,11 @@ pub async fn list(
     path = "/api/v1/fleet/runs/{id}",
     tag = "fleet",
     params(("id" = String, Path, description = "Fleet run id")),
-    responses((status = 200, description = "The run", body = FleetRun), (status = 404, description = "No such run", body = ErrorBody))
+    responses(
+        (status = 200, description = "The run", body = FleetRun),
+        (status = 404, description = "No such run", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+    )
 )]
 pub async fn get(
     State(state): State<AppState>,
@@ -524,6 +541,7 @@ pub async fn get(
     responses(
         (status = 101, description = "Websocket of progress messages", body = Progress),
         (status = 404, description = "No such run", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn stream(
@@ -632,15 +650,16 @@ pub struct LibraryMachine {
     #[schema(example = "trunnion-ac-120")]
     pub name: String,
     /// The mechanism, as a controller's status names it.
-    #[schema(example = "table-table")]
+    #[schema(value_type = crate::wire::words::MechanismName)]
     pub kind: String,
     /// `fanuc` or `syntec` for a vendor parameter list (it runs in that dialect); null for a
     /// model file (it runs in the fleet's dialect).
+    #[schema(value_type = Option<fivex_engine::Dialect>)]
     pub dialect: Option<String>,
     /// The axis letters in order.
     pub axes: Vec<String>,
     /// The file as it is: what `POST /controllers` takes as `machine`.
-    #[schema(value_type = Object)]
+    #[schema(value_type = MachineDocument)]
     pub machine: Value,
 }
 
@@ -660,7 +679,9 @@ fn library_machine(name: &str, text: &str) -> Option<LibraryMachine> {
     get,
     path = "/api/v1/fleet/library",
     tag = "fleet",
-    responses((status = 200, description = "Every library machine", body = [LibraryMachine]))
+    responses(
+        (status = 200, description = "Every library machine", body = [LibraryMachine]),
+    )
 )]
 pub async fn library() -> Json<Vec<LibraryMachine>> {
     Json(crate::fleet::LIBRARY.iter().filter_map(|(name, text)| library_machine(name, text)).collect())

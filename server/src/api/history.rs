@@ -55,6 +55,7 @@ pub struct Run {
     /// Simulated seconds.
     pub cycle_time_s: f64,
     /// `completed`, `alarm` or `reset`.
+    #[schema(value_type = crate::wire::words::RunEnd)]
     pub result: String,
 }
 
@@ -64,7 +65,11 @@ pub struct Run {
     path = "/api/v1/controllers/{id}/alarms",
     tag = "history",
     params(("id" = String, Path, description = "Controller id"), Limit),
-    responses((status = 200, description = "Alarms", body = Alarms), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Alarms", body = Alarms),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+    )
 )]
 pub async fn alarms(
     State(state): State<AppState>,
@@ -90,7 +95,11 @@ pub async fn alarms(
     path = "/api/v1/controllers/{id}/runs",
     tag = "history",
     params(("id" = String, Path, description = "Controller id"), Limit),
-    responses((status = 200, description = "Runs", body = [Run]), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Runs", body = [Run]),
+        (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+    )
 )]
 pub async fn runs(
     State(state): State<AppState>,

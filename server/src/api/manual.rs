@@ -24,7 +24,6 @@ pub struct ManualMove {
     pub axis: Option<String>,
     /// A 5-axis manual feed: `tool-axis`, `right-angle1`, `right-angle2`, `table-vertical`,
     /// `table-horizontal1`, `table-horizontal2`.
-    #[schema(value_type = Option<String>, example = "tool-axis")]
     pub feed: Option<ManualFeed>,
     /// Tool tip centre rotation: the rotary axis to turn while X/Y/Z keep the tip in place.
     #[schema(example = "B")]
@@ -90,7 +89,10 @@ pub async fn jog(
     path = "/api/v1/controllers/{id}/jog-stop",
     tag = "manual",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Stopping", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Stopping", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn jog_stop(
     State(state): State<AppState>,

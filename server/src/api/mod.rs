@@ -89,14 +89,14 @@ pub struct ControllerStatus {
     /// Display name.
     pub name: String,
     /// `fanuc` or `syntec`.
-    #[schema(example = "fanuc")]
+    #[schema(value_type = fivex_engine::Dialect)]
     pub dialect: String,
     /// The machine configuration's name (a preset name for a preset).
     #[schema(example = "table-ac")]
     pub machine: String,
     /// The mechanism: `three-axis`, `head-head`, `table-table`, `head-table`, `head`, `table`
     /// (`unknown` when the kinematics refuses the machine).
-    #[schema(example = "table-table")]
+    #[schema(value_type = crate::wire::words::MechanismName)]
     pub kind: String,
     /// Creation time, RFC 3339 UTC.
     #[schema(example = "2025-01-01T00:00:00Z")]
@@ -104,10 +104,10 @@ pub struct ControllerStatus {
     /// Simulated seconds per real second (1 = real time).
     pub speed: f64,
     /// `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
-    #[schema(example = "auto")]
+    #[schema(value_type = panel::ModeName)]
     pub mode: String,
     /// `idle`, `running`, `hold` or `alarm`.
-    #[schema(example = "idle")]
+    #[schema(value_type = crate::wire::words::RunStateName)]
     pub run_state: String,
     /// The stored program AUTO runs (O number), once one was started.
     pub program: Option<u32>,
@@ -165,7 +165,7 @@ pub struct PanelState {
     pub increment: f64,
     pub manual_absolute: bool,
     /// Syntec R518: `machine`, `program` or `tool`.
-    #[schema(example = "machine")]
+    #[schema(value_type = manual::CoordinatesName)]
     pub coordinates: String,
     /// Syntec R519 manual RTCP.
     pub rtcp: bool,
@@ -215,7 +215,7 @@ pub struct Position {
     pub programmed: [f64; 3],
     /// `workpiece`, `workpiece_machine_axes`, `programming`, `feature` or `wscs`.
     #[serde(default)]
-    #[schema(example = "workpiece")]
+    #[schema(value_type = crate::wire::words::SystemName)]
     pub programmed_in: String,
 }
 

@@ -31,7 +31,10 @@ pub struct ModalState {
     path = "/api/v1/controllers/{id}/modal",
     tag = "controllers",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Modal state", body = ModalState), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Modal state", body = ModalState),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn modal(Addressed(hosted): Addressed) -> Result<Json<ModalState>, ApiError> {
     // The executing block's state, not the read-ahead interpreter's.

@@ -112,7 +112,10 @@ fn finite(v: f64, what: &str) -> Result<f64, ApiError> {
     path = "/api/v1/controllers/{id}/tool-offsets",
     tag = "offsets",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Tool offsets", body = [ToolOffsetDto]), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Tool offsets", body = [ToolOffsetDto]),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn tools(Addressed(hosted): Addressed) -> Result<Json<Vec<ToolOffsetDto>>, ApiError> {
     let station = hosted.station();
@@ -134,6 +137,7 @@ pub async fn tools(Addressed(hosted): Addressed) -> Result<Json<Vec<ToolOffsetDt
         (status = 200, description = "Changed", body = ToolOffsetDto),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "No such offset number or not a finite value", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn set_tool(
@@ -176,7 +180,10 @@ pub async fn set_tool(
     path = "/api/v1/controllers/{id}/work-offsets",
     tag = "offsets",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Work offsets", body = [WorkOffsetDto]), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Work offsets", body = [WorkOffsetDto]),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDto>>, ApiError> {
     let station = hosted.station();
@@ -200,6 +207,7 @@ pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDt
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "A program runs or holds", body = ErrorBody),
         (status = 422, description = "No such offset or axis, or not a finite value", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn set_work(

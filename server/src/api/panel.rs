@@ -100,6 +100,7 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
         (status = 200, description = "Started", body = ControllerStatus),
         (status = 404, description = "No such controller or program", body = ErrorBody),
         (status = 409, description = "Not possible now (running another program, alarm, wrong mode)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn cycle_start(
@@ -147,7 +148,10 @@ pub async fn cycle_start(
     path = "/api/v1/controllers/{id}/feed-hold",
     tag = "panel",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Holding (or nothing was running)", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Holding (or nothing was running)", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn feed_hold(
     State(state): State<AppState>,
@@ -165,7 +169,10 @@ pub async fn feed_hold(
     path = "/api/v1/controllers/{id}/reset",
     tag = "panel",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Reset", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Reset", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn reset(
     State(state): State<AppState>,
@@ -344,7 +351,10 @@ pub struct Switches {
     tag = "panel",
     params(("id" = String, Path, description = "Controller id")),
     request_body = Switches,
-    responses((status = 200, description = "Set", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Set", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn set_switches(
     State(state): State<AppState>,
@@ -376,7 +386,10 @@ pub struct EmergencyStop {
     tag = "panel",
     params(("id" = String, Path, description = "Controller id")),
     request_body = EmergencyStop,
-    responses((status = 200, description = "Set", body = ControllerStatus), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Set", body = ControllerStatus),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn emergency_stop(
     State(state): State<AppState>,

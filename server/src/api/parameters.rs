@@ -19,23 +19,13 @@ use crate::serve::{ApiError, AppState, ErrorBody};
 #[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct ParameterList {
     /// `fanuc` or `syntec`: whose numbering.
+    #[schema(value_type = fivex_engine::Dialect)]
     pub dialect: String,
     /// `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis.
-    #[schema(value_type = std::collections::HashMap<String, ParameterValue>)]
     pub parameters: Params,
     /// What of them fivex keeps but does not carry out (unread parameters and bits, settings
     /// without effect; `docs/machine-config.md`).
     pub unmodelled_parameters: Vec<super::UnmodelledParameter>,
-}
-
-/// A parameter's value as the document describes it (the engine's `vendor::Value`, which has
-/// no schema of its own).
-#[allow(dead_code)]
-#[derive(ToSchema)]
-#[serde(untagged)]
-pub enum ParameterValue {
-    One(f64),
-    PerAxis(Vec<f64>),
 }
 
 /// `PUT /parameters/{number}`.
@@ -43,7 +33,6 @@ pub enum ParameterValue {
 #[serde(deny_unknown_fields)]
 pub struct SetParameter {
     /// A number, or one number per axis for an axis-type parameter.
-    #[schema(value_type = ParameterValue)]
     pub value: ParamValue,
 }
 
@@ -119,6 +108,7 @@ pub async fn get_all(Addressed(hosted): Addressed) -> Result<Json<ParameterList>
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "A program runs or holds, or the machine has no parameter form", body = ErrorBody),
         (status = 422, description = "The set does not describe a working machine (the vendor's alarm)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn set(

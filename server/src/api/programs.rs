@@ -126,6 +126,7 @@ fn number(n: u32) -> Result<u32, ApiError> {
     responses(
         (status = 200, description = "Stored programs", body = [ProgramSummary]),
         (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn list(
@@ -152,6 +153,7 @@ pub async fn list(
         (status = 415, description = "Not text/plain", body = ErrorBody),
         (status = 400, description = "The number is not a number, or the query is malformed", body = ErrorBody),
         (status = 422, description = "Not UTF-8 NC text, a number outside 1–9999, an O number in the text other than the slot's (`details`: `slot`, `text_number`; even with `force=true`), or `check` found problems (in `details`)", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn store(
@@ -203,6 +205,7 @@ pub async fn store(
     responses(
         (status = 200, description = "NC text", body = String, content_type = "text/plain"),
         (status = 404, description = "No such controller or program", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn text(
@@ -226,6 +229,7 @@ pub async fn text(
     responses(
         (status = 204, description = "Removed"),
         (status = 404, description = "No such controller or program", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn remove(
@@ -280,6 +284,7 @@ pub struct ToolPathBody {
         (status = 200, description = "The path", body = ToolPathBody),
         (status = 404, description = "No such controller or program", body = ErrorBody),
         (status = 422, description = "max_points out of range", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn tool_path(

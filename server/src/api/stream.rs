@@ -48,7 +48,7 @@ pub struct StreamOptions {
 pub struct Snapshot {
     /// Always `"snapshot"`.
     #[serde(rename = "type")]
-    #[schema(example = "snapshot")]
+    #[schema(value_type = crate::wire::words::SnapshotType, inline)]
     pub kind: &'static str,
     pub controller: ControllerStatus,
     /// Non-vacant common variables, `{"#500": 1.5}`.
@@ -220,9 +220,13 @@ pub struct FleetEntry {
     pub name: String,
     pub machine: String,
     /// The mechanism kind, as in the status.
+    #[schema(value_type = crate::wire::words::MechanismName)]
     pub kind: String,
+    #[schema(value_type = fivex_engine::Dialect)]
     pub dialect: String,
+    #[schema(value_type = super::panel::ModeName)]
     pub mode: String,
+    #[schema(value_type = crate::wire::words::RunStateName)]
     pub run_state: String,
     pub program: Option<u32>,
     pub line: u32,
@@ -235,7 +239,7 @@ pub struct FleetEntry {
 pub struct Fleet {
     /// Always `"fleet"`.
     #[serde(rename = "type")]
-    #[schema(example = "fleet")]
+    #[schema(value_type = crate::wire::words::FleetType, inline)]
     pub kind: &'static str,
     pub controllers: Vec<FleetEntry>,
 }
@@ -247,7 +251,7 @@ pub struct Fleet {
 pub struct FleetDelta {
     /// Always `"fleet_delta"`.
     #[serde(rename = "type")]
-    #[schema(example = "fleet_delta")]
+    #[schema(value_type = crate::wire::words::FleetDeltaType, inline)]
     pub kind: &'static str,
     /// The controllers that changed or were added, whole.
     pub controllers: Vec<FleetEntry>,

@@ -37,7 +37,10 @@ pub struct SetVariable {
     path = "/api/v1/controllers/{id}/variables",
     tag = "variables",
     params(("id" = String, Path, description = "Controller id")),
-    responses((status = 200, description = "Non-vacant common variables", body = [Variable]), (status = 404, description = "No such controller", body = ErrorBody))
+    responses(
+        (status = 200, description = "Non-vacant common variables", body = [Variable]),
+        (status = 404, description = "No such controller", body = ErrorBody),
+    )
 )]
 pub async fn list(Addressed(hosted): Addressed) -> Result<Json<Vec<Variable>>, ApiError> {
     let values = hosted.station().controller.interpreter().state.common_variables();
@@ -83,6 +86,7 @@ pub async fn read(
         (status = 200, description = "Set", body = Variable),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Not a writable variable or not a finite number", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
 pub async fn write(

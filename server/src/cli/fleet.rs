@@ -111,7 +111,10 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
         }
     };
     let results = fleet::run_fleet(&text, &entries, &opts, &progress);
-    let status = if results.iter().all(|r| r["status"] == "completed") { 0 } else { 1 };
+    let completed = |r: &Option<crate::wire::FleetResult>| {
+        r.as_ref().is_some_and(|r| r.summary.status == crate::wire::RunStatus::Completed)
+    };
+    let status = if results.iter().all(completed) { 0 } else { 1 };
     let json = serde_json::to_string_pretty(&results)?;
     match writeln!(std::io::stdout().lock(), "{json}") {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Fail(format!("stdout: {e}"))),

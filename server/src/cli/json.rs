@@ -1,10 +1,10 @@
-//! JSON forms of the CLI's outputs (`docs/contracts.md`). Canonical commands and trace samples are
-//! written by hand into a buffered writer: they are the hot path of `fivex interp`/`run --trace`.
+//! JSON forms of the CLI's streamed outputs (`docs/contracts.md`): canonical commands and trace
+//! samples, written by hand into a buffered writer, since they are the hot path of `fivex
+//! interp`/`run --trace`. The run summary is a typed wire format (`crate::wire`).
 
 use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
 use fivex_engine::interp::gcode::{code, display};
-use fivex_engine::run::{RunResult, Sample};
-use serde_json::{json, Map, Value};
+use fivex_engine::run::Sample;
 use std::io::Write;
 
 /// Appending bytes to a line under construction. Formatting into a `Vec` (rather than through
@@ -321,34 +321,6 @@ fn triple(w: &mut Out, v: &[f64; 3]) {
         num(w, *x);
     }
     put(w, b"]");
-}
-
-fn position(p: &Pos, axes: &[char]) -> Value {
-    let map: Map<String, Value> = axes.iter().enumerate().map(|(i, a)| (a.to_string(), json!(p[i]))).collect();
-    Value::Object(map)
-}
-
-/// The `fivex run` summary object.
-pub fn summary(r: &RunResult, axes: &[char]) -> Value {
-    let alarms: Vec<Value> =
-        r.alarms.iter().map(|a| json!({"code": a.code, "message": a.message, "line": a.line, "n": a.n})).collect();
-    let variables: Map<String, Value> = r.variables.iter().map(|(n, v)| (format!("#{n}"), json!(v))).collect();
-    json!({
-        "status": if r.completed() { "completed" } else { "alarm" },
-        "alarms": alarms,
-        "blocks": r.blocks,
-        "cycle_time_s": r.cycle_time_s,
-        "position": {
-            "machine": position(&r.machine, axes),
-            "workpiece": position(&r.workpiece, axes),
-            "tip": r.tip.tip,
-            "tool": r.tip.tool,
-            "programmed": r.programmed,
-            "programmed_in": r.programmed_in.name(),
-        },
-        "variables": Value::Object(variables),
-        "messages": r.messages,
-    })
 }
 
 #[cfg(test)]

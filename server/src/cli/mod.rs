@@ -301,7 +301,7 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
         std::fs::write(path, serde_json::to_string_pretty(&retained)?)
             .map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     }
-    let summary = json::summary(&result, &axes);
+    let summary = crate::wire::RunSummary::of(&result, &axes);
     let status = if result.completed() { 0 } else { 1 };
     // A reader that went away (`| head`) is not an error of ours.
     match writeln!(std::io::stdout().lock(), "{}", serde_json::to_string_pretty(&summary)?) {

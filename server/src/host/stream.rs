@@ -21,7 +21,7 @@ use super::{now_unix_ms, Station};
 pub struct PositionFrame {
     /// Always `"position"`.
     #[serde(rename = "type")]
-    #[schema(example = "position")]
+    #[schema(value_type = crate::wire::words::PositionType, inline)]
     pub kind: &'static str,
     /// Simulated seconds since the controller was created (or the service started).
     pub t: f64,
@@ -45,7 +45,7 @@ pub struct PositionFrame {
     /// `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
     /// `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
     /// (G54.4).
-    #[schema(example = "workpiece")]
+    #[schema(value_type = crate::wire::words::SystemName)]
     pub programmed_in: &'static str,
     /// 1-based program line of the block moving now (0 before any).
     pub line: u32,
@@ -193,9 +193,9 @@ impl From<&Alarm> for AlarmInfo {
 pub enum Message {
     /// The run state changed (`idle`, `running`, `hold`, `alarm`).
     State {
-        #[schema(value_type = String, example = "running")]
+        #[schema(value_type = crate::wire::words::RunStateName)]
         run_state: RunState,
-        #[schema(value_type = String, example = "auto")]
+        #[schema(value_type = crate::api::panel::ModeName)]
         mode: Mode,
         /// The stored program AUTO runs, if one was started.
         program: Option<u32>,
@@ -203,7 +203,7 @@ pub enum Message {
     /// An alarm was raised (`event: "raised"`, with the alarm) or every alarm was cleared
     /// (`event: "cleared"`); `active` lists the alarms in force after the change.
     Alarm {
-        #[schema(example = "raised")]
+        #[schema(value_type = crate::wire::words::AlarmEvent)]
         event: &'static str,
         raised: Option<AlarmInfo>,
         active: Vec<AlarmInfo>,

@@ -9,6 +9,14 @@ export type Status = Schemas["ControllerStatus"];
 export type Frame = Schemas["PositionFrame"];
 export type AlarmInfo = Schemas["AlarmInfo"];
 export type FleetEntry = Schemas["FleetEntry"];
+export type Machine = Schemas["MachineConfig"];
+/// A machine document as `POST /controllers` and fleet runs take it: a model or a parameter list.
+export type MachineDocument = Schemas["MachineDocument"];
+/// The messages of the three websockets (the document's `ControllerMessage`, `FleetMessage`
+/// and a fleet run's `Progress`).
+export type ControllerMessage = Schemas["ControllerMessage"];
+export type FleetMessage = Schemas["FleetMessage"];
+export type Progress = Schemas["Progress"];
 
 export { authFetch, token } from "./auth";
 
@@ -25,6 +33,12 @@ export class ApiError extends Error {
   ) {
     super(message);
   }
+}
+
+/// What went wrong, for a person: the message of an `Error` (an `ApiError`: the service's
+/// reason), else the thrown value as text.
+export function errorText(e: unknown): string {
+  return e instanceof Error ? e.message : String(e);
 }
 
 /// The data of an openapi-fetch answer, or an `ApiError` with the service's reason.
@@ -62,8 +76,9 @@ function probeToken() {
     .finally(() => (probing = false));
 }
 
-/// A websocket that reconnects (after 1 s, then up to 10 s) until closed by `close()`.
-export function liveSocket(url: () => string, onMessage: (msg: any) => void, onOpen?: (open: boolean) => void) {
+/// A websocket that reconnects (after 1 s, then up to 10 s) until closed by `close()`. `M` is
+/// the stream's message type from the document (the service writes nothing else).
+export function liveSocket<M>(url: () => string, onMessage: (msg: M) => void, onOpen?: (open: boolean) => void) {
   let ws: WebSocket | null = null;
   let closed = false;
   let delay = 1000;
@@ -77,7 +92,7 @@ export function liveSocket(url: () => string, onMessage: (msg: any) => void, onO
     };
     ws.onmessage = (e) => {
       try {
-        onMessage(JSON.parse(e.data));
+        onMessage(JSON.parse(e.data) as M);
       } catch {
         /* not JSON: ignore */
       }

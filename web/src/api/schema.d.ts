@@ -815,6 +815,26 @@ export interface paths {
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
+        /** @description An alarm as a user sees it: the dialect's code and message, where it happened. */
+        Alarm: {
+            code: string;
+            /**
+             * Format: int32
+             * @description 1-based line in the program file.
+             */
+            line: number;
+            message: string;
+            /**
+             * Format: int32
+             * @description Sequence number of the block, if it has one.
+             */
+            n?: number | null;
+        };
+        /**
+         * @description What an `alarm` message says happened.
+         * @enum {string}
+         */
+        AlarmEvent: "raised" | "cleared";
         /** @description An alarm as clients see it. */
         AlarmInfo: {
             /**
@@ -841,11 +861,93 @@ export interface components {
             /** @description Raised before, newest first. */
             history: components["schemas"]["PastAlarm"][];
         };
+        Axis: {
+            /**
+             * Format: double
+             * @description Highest acceleration, mm/s² or deg/s²; `None`: [`Axis::max_accel`]'s default.
+             */
+            accel?: number | null;
+            /**
+             * Format: double
+             * @description Highest jerk, mm/s³ or deg/s³; `None`: [`Axis::max_jerk`]'s default.
+             */
+            jerk?: number | null;
+            kind: components["schemas"]["AxisKind"];
+            /** @description Address letter: X Y Z U V W (linear) or A B C (rotary). */
+            name: string;
+            /**
+             * Format: double
+             * @description Rapid traverse rate, the axis's highest speed: mm/min or deg/min.
+             */
+            rapid: number;
+            /**
+             * @description The 2nd, 3rd and 4th reference positions in machine coordinates (G30 P2/P3/P4; FANUC
+             *     No.1241–1243); the 1st (G28) is machine zero.
+             */
+            references?: number[];
+            /** @description Rotary axes: positions roll over at 360° (shown and kept in [0, 360)). */
+            rollover?: boolean;
+            /**
+             * @description Rollover axes: an absolute command takes the shorter way round; otherwise the sign of the
+             *     command gives the direction.
+             */
+            shortest?: boolean;
+            /** @description Stored stroke limit `[negative, positive]` in machine coordinates, mm or deg; `None`: none. */
+            stroke?: number[] | null;
+        };
+        /** @enum {string} */
+        AxisKind: "linear" | "rotary";
+        AxisReport: {
+            /** @description The tighter of the stored stroke and the rotary movement range; `None`: no limit. */
+            limits?: number[] | null;
+            /**
+             * Format: double
+             * @description Closest approach to the limits (negative: beyond), and on which side.
+             */
+            margin?: number | null;
+            margin_side?: null | components["schemas"]["MarginSide"];
+            /** Format: double */
+            max: number;
+            /**
+             * Format: double
+             * @description Highest speed, mm/min or deg/min.
+             */
+            max_speed: number;
+            /**
+             * Format: double
+             * @description Mean speed while the axis moves, mm/min or deg/min (0 when it never moves).
+             */
+            mean_speed: number;
+            /**
+             * Format: double
+             * @description Lowest and highest position reached (machine coordinates, unwound).
+             */
+            min: number;
+            name: string;
+            rotary: boolean;
+            /**
+             * Format: double
+             * @description Sum of the position changes, mm or degrees.
+             */
+            travel: number;
+            /**
+             * Format: int32
+             * @description Rotary unwinds (see the module docs).
+             */
+            unwinds: number;
+        };
+        /** @description One axis's speed in each interval, mm/min or °/min. */
+        AxisSpeeds: {
+            axis: string;
+            speeds: number[];
+        };
         /** @description `POST /controllers/{id}/clone`: the new controller's name. */
         CloneController: {
             /** @example cell 1 (copy) */
             name: string;
         };
+        /** @description A message of a controller's stream: `snapshot`, `position`, `state`, `alarm`, `variables` or `message` */
+        ControllerMessage: components["schemas"]["Snapshot"] | components["schemas"]["PositionFrame"] | components["schemas"]["Message"];
         /** @description A controller as `GET /controllers/{id}` shows it. */
         ControllerStatus: {
             /** @description Alarms in force. */
@@ -855,11 +957,8 @@ export interface components {
              * @example 2025-01-01T00:00:00Z
              */
             created_at: string;
-            /**
-             * @description `fanuc` or `syntec`.
-             * @example fanuc
-             */
-            dialect: string;
+            /** @description `fanuc` or `syntec`. */
+            dialect: components["schemas"]["Dialect"];
             /**
              * Format: double
              * @description Tool tip speed relative to the workpiece, mm/min.
@@ -877,9 +976,8 @@ export interface components {
             /**
              * @description The mechanism: `three-axis`, `head-head`, `table-table`, `head-table`, `head`, `table`
              *     (`unknown` when the kinematics refuses the machine).
-             * @example table-table
              */
-            kind: string;
+            kind: components["schemas"]["MechanismName"];
             /**
              * Format: int32
              * @description 1-based line of the block being executed (0 before any) and its sequence number: the
@@ -891,11 +989,8 @@ export interface components {
              * @example table-ac
              */
             machine: string;
-            /**
-             * @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
-             * @example auto
-             */
-            mode: string;
+            /** @description `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`. */
+            mode: components["schemas"]["ModeName"];
             /** Format: int32 */
             n?: number | null;
             /** @description Display name. */
@@ -908,11 +1003,8 @@ export interface components {
              * @description The stored program AUTO runs (O number), once one was started.
              */
             program?: number | null;
-            /**
-             * @description `idle`, `running`, `hold` or `alarm`.
-             * @example idle
-             */
-            run_state: string;
+            /** @description `idle`, `running`, `hold` or `alarm`. */
+            run_state: components["schemas"]["RunStateName"];
             /**
              * Format: double
              * @description Simulated seconds per real second (1 = real time).
@@ -945,8 +1037,7 @@ export interface components {
              * @example fanuc
              */
             dialect?: string | null;
-            /** @description A machine document instead of a preset (`docs/machine-config.md`). */
-            machine?: Record<string, never> | null;
+            machine?: null | components["schemas"]["MachineDocument"];
             /** @example cell 1 */
             name: string;
             /**
@@ -984,6 +1075,8 @@ export interface components {
             line: number;
             message: string;
         };
+        /** @enum {string} */
+        Dialect: "fanuc" | "syntec";
         /** @description `PUT /emergency-stop`. */
         EmergencyStop: {
             /** @description Pressed (stop every axis at once, alarm) or released. */
@@ -999,14 +1092,131 @@ export interface components {
              */
             error: string;
         };
+        /** @description 5-axis function settings of the control (vendor bits, `docs/five-axis.md`). */
+        FiveAxisOptions: {
+            /**
+             * Format: double
+             * @description The same for cutting feed (FANUC No.19752).
+             */
+            cutting_deviation?: number;
+            /**
+             * @description Lower the speed of tool centre point moves so that the tip's path deviation stays within
+             *     `rapid_deviation` / `cutting_deviation` (FANUC No.19746#6 CRS; `docs/five-axis.md`).
+             */
+            deviation_clamp?: boolean;
+            /**
+             * @description With Π fixed on the table, the absolute position shows the tool tip in the workpiece
+             *     system instead of in Π (FANUC No.19608#2 DET).
+             */
+            display_workpiece?: boolean;
+            /**
+             * @description Tool length offsets move the axes instead of shifting the coordinate system (FANUC
+             *     No.5006#6 TOS = 0). The engine applies an offset the same way either way; G54.4 refuses
+             *     a tool length offset or TCP started inside it with this setting (PS0438, WSE-24).
+             */
+            length_offset_by_motion?: boolean;
+            /**
+             * @description Type 2: the programmable mirror image of the linear axes mirrors I, J, K too (FANUC
+             *     No.19608#6 MIR).
+             */
+            mirror_direction?: boolean;
+            /**
+             * @description G68.2 and G68.4 may be given while a tilted working plane is active (FANUC No.11221#0
+             *     MTW: multiple tilted working planes); otherwise they raise the mode alarm there.
+             */
+            multiple_planes?: boolean;
+            /** @description What a reset does to a tilted working plane. */
+            plane_after_reset?: components["schemas"]["PlaneAfterReset"];
+            /**
+             * Format: double
+             * @description The least distance, mm, of each of the three points of G68.2 P2 from the line through
+             *     the other two (FANUC No.11220, "unstable plane"); 0: only points on one line are refused.
+             */
+            plane_min_distance?: number;
+            /**
+             * @description Tool posture control when G43.4/G43.5 has no P (FANUC No.19604#0 TPC; Syntec Pr3054 = 1
+             *     tool-vector interpolation).
+             */
+            posture_control?: boolean;
+            /**
+             * Format: double
+             * @description mm; 0: the least input increment (0.001 mm); negative: no clamp (FANUC No.19751).
+             */
+            rapid_deviation?: number;
+            /**
+             * @description Rotary-only moves under tool centre point control run at F (FANUC No.19696#6 RFC = 1);
+             *     otherwise as fast as the axes go.
+             */
+            rotary_feed?: boolean;
+            /** @description Judge the second rotary axis's movement first when choosing angles (FANUC No.19608#5 PRI). */
+            second_axis_first?: boolean;
+            /**
+             * @description A refused change raises an alarm instead of running the block unchanged (FANUC
+             *     No.19696#3 NPC).
+             */
+            singular_alarm?: boolean;
+            /**
+             * Format: double
+             * @description Type 2 with tool posture control: a line whose posture passes nearer the singular
+             *     posture than this angle (degrees) ends through it instead (FANUC No.19738; 0: never).
+             */
+            singular_angle?: number;
+            /**
+             * Format: double
+             * @description The largest workpiece-side deviation (degrees) that change may make (FANUC No.19739).
+             */
+            singular_tolerance?: number;
+            /**
+             * Format: double
+             * @description Angle to the singular posture within which G54.4 takes the tool as singular, degrees
+             *     (FANUC No.11204; 0: exact test).
+             */
+            singular_tolerance_deg?: number;
+            /**
+             * @description STCP is on with G43.4 without L (Syntec Pr3051 = 1; `L0` turns it off). Its mode rules
+             *     apply (COR-107); its smoothing is not modelled: the tip follows the programmed path
+             *     exactly (the machine loader reports the setting, `docs/machine-config.md`).
+             */
+            smooth_tcp?: boolean;
+            /**
+             * @description STCP's rotary axis tolerances, degrees, master / slave (Syntec Pr3052 / Pr3053; absent:
+             *     the control's default 0.5). Kept so that the parameter list reads back; not used.
+             */
+            smooth_tolerance?: number[] | null;
+            /** @description The programming coordinate system of tool centre point control. */
+            tcp_coordinates?: components["schemas"]["TcpCoordinates"];
+            /**
+             * @description G54.4 tool direction compensation: the rotary axes keep the programmed tool direction
+             *     relative to the displaced workpiece (FANUC No.11200#0 RCM).
+             */
+            tool_direction_compensation?: boolean;
+            /**
+             * Format: double
+             * @description G54.4: the rapid portions of hole-machining canned cycles run as cutting moves at this
+             *     feed, mm/min (FANUC No.5412, WSE-19); 0: at the dry run rate (`manual.dry_run_feed`,
+             *     No.1410); both 0: they stay rapids.
+             */
+            wse_cycle_feed?: number;
+            /**
+             * @description G54.4: the absolute position shows the workpiece coordinate system instead of the
+             *     workpiece setting coordinate system (FANUC No.3106#6 DAK = 1, WSE-18).
+             */
+            wse_display_wcs?: boolean;
+            /**
+             * Format: double
+             * @description G54.4 with tool direction compensation: the rotary axes of a compensated cutting move
+             *     (rapid) turn at most this percentage of their rate (FANUC No.11202 / No.11203, WSE-24;
+             *     0: not clamped).
+             */
+            wse_feed_clamp_pct?: number;
+            /** Format: double */
+            wse_rapid_clamp_pct?: number;
+        };
         /** @description `{"type": "fleet", "controllers": […]}`. */
         Fleet: {
             controllers: components["schemas"]["FleetEntry"][];
-            /**
-             * @description Always `"fleet"`.
-             * @example fleet
-             */
-            type: string;
+            /** @description Always `"fleet"`. */
+            type: "fleet";
         };
         /**
          * @description `{"type": "fleet_delta", "controllers": […], "removed": […]}`: what changed since the
@@ -1018,31 +1228,30 @@ export interface components {
             controllers: components["schemas"]["FleetEntry"][];
             /** @description The ids of the controllers removed. */
             removed: string[];
-            /**
-             * @description Always `"fleet_delta"`.
-             * @example fleet_delta
-             */
-            type: string;
+            /** @description Always `"fleet_delta"`. */
+            type: "fleet_delta";
         };
         /** @description One controller in the fleet stream. */
         FleetEntry: {
             alarm?: null | components["schemas"]["AlarmInfo"];
-            dialect: string;
+            dialect: components["schemas"]["Dialect"];
             id: string;
             /** @description The mechanism kind, as in the status. */
-            kind: string;
+            kind: components["schemas"]["MechanismName"];
             /** Format: int32 */
             line: number;
             machine: string;
-            mode: string;
+            mode: components["schemas"]["ModeName"];
             name: string;
             /** Format: int32 */
             program?: number | null;
-            run_state: string;
+            run_state: components["schemas"]["RunStateName"];
         };
+        /** @description A message of the fleet stream: `fleet` or `fleet_delta` */
+        FleetMessage: components["schemas"]["Fleet"] | components["schemas"]["FleetDelta"];
         /**
          * @description `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
-         *     `library`, `controllers`).
+         *     `library`, `controllers`; at most 200 machines in all, so at most 200 in each list).
          */
         FleetRequest: {
             /** @description Existing controllers by id: their machine, dialect and tool and work offsets. */
@@ -1052,7 +1261,7 @@ export interface components {
             /** @description Machines of the library by name (`docs/fleet.md`); `["*"]`: all of them. */
             library?: string[];
             /** @description Machine documents: models or vendor parameter lists (a list runs in its own dialect). */
-            machines?: Record<string, never>[];
+            machines?: components["schemas"]["MachineDocument"][];
             /** @description Built-in presets (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`). */
             presets?: string[];
             /** @description The NC program text (docs/contracts.md "NC program files"). */
@@ -1063,17 +1272,29 @@ export interface components {
              * @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}`; default: 1–99 at 100 / 5 mm
              *     (a controller keeps its own unless this is given).
              */
-            tools?: Record<string, never> | null;
+            tools?: {
+                [key: string]: components["schemas"]["Tool"];
+            } | null;
+        };
+        /**
+         * @description One machine's result of a fleet run (`fivex fleet`, `POST /fleet/runs`): its name and
+         *     dialect, then the `fivex run` summary, then the run report when asked for.
+         */
+        FleetResult: components["schemas"]["RunSummary"] & {
+            dialect: components["schemas"]["Dialect"];
+            /** @description The preset or library name, the machine document's `name`, or the controller's name. */
+            machine: string;
+            report?: null | components["schemas"]["Report"];
         };
         /** @description A stored fleet run with its request and results. */
         FleetRun: components["schemas"]["FleetRunInfo"] & {
-            /** @description The request as it was posted. */
-            request: Record<string, never>;
+            /** @description The request as it was posted (as stored: written through `FleetRequest`). */
+            request: components["schemas"]["FleetRequest"];
             /**
              * @description The fleet array (null while queued or running; `null` in it for each machine a
-             *     cancelled or interrupted run did not finish).
+             *     cancelled or interrupted run did not finish), as stored: written through `FleetResult`.
              */
-            results?: Record<string, never>[] | null;
+            results?: (null | components["schemas"]["FleetResult"])[] | null;
         };
         /** @description A stored fleet run in a list. */
         FleetRunInfo: {
@@ -1094,8 +1315,18 @@ export interface components {
              * @description `queued` (waiting for a place, `--fleet-jobs`), `running`, `done`, `cancelled`
              *     (`POST /fleet/runs/{id}/cancel`) or `interrupted` (the service stopped during the run).
              */
-            status: string;
+            status: components["schemas"]["FleetRunStatus"];
         };
+        /**
+         * @description A fleet run's status.
+         * @enum {string}
+         */
+        FleetRunStatus: "queued" | "running" | "done" | "cancelled" | "interrupted";
+        /**
+         * @description Rotation sense about the axis direction.
+         * @enum {string}
+         */
+        Hand: "right" | "left";
         /** @description `POST /handle-pulses`: what the hand wheel turned. */
         HandlePulses: {
             /**
@@ -1135,21 +1366,45 @@ export interface components {
         LibraryMachine: {
             /** @description The axis letters in order. */
             axes: string[];
-            /**
-             * @description `fanuc` or `syntec` for a vendor parameter list (it runs in that dialect); null for a
-             *     model file (it runs in the fleet's dialect).
-             */
-            dialect?: string | null;
-            /**
-             * @description The mechanism, as a controller's status names it.
-             * @example table-table
-             */
-            kind: string;
+            dialect?: null | components["schemas"]["Dialect"];
+            /** @description The mechanism, as a controller's status names it. */
+            kind: components["schemas"]["MechanismName"];
             /** @description The file as it is: what `POST /controllers` takes as `machine`. */
-            machine: Record<string, never>;
+            machine: components["schemas"]["MachineDocument"];
             /** @example trunnion-ac-120 */
             name: string;
         };
+        MachineConfig: {
+            axes: components["schemas"]["Axis"][];
+            /** @description How the 5-axis functions behave (`docs/five-axis.md`). */
+            five_axis?: components["schemas"]["FiveAxisOptions"];
+            /**
+             * Format: double
+             * @description Tool holder offset, mm: from the spindle nose along the tool direction to the head's
+             *     controlled point (FANUC No.19666, Syntec Pr3013). The mechanism's geometry is all in
+             *     `nose` and the axis points; this records how the vendor's parameters split it.
+             */
+            holder?: number;
+            /** @description How the 5-axis manual feeds behave (`docs/five-axis.md`, 5-axis manual operation). */
+            manual?: components["schemas"]["ManualOptions"];
+            /** @description How the control interpolates (`docs/motion.md`). */
+            motion?: components["schemas"]["MotionOptions"];
+            name: string;
+            /**
+             * @description The spindle nose (gauge point) relative to the carriage reference point at zero angles,
+             *     mm (e.g. `-pivot · tool_axis` when X/Y/Z locate the head's pivot).
+             */
+            nose?: number[];
+            /**
+             * @description Rotary axes from the machine base outward: head links from the column to the spindle,
+             *     table links from the bed to the table top (so the master axis comes first on each side).
+             */
+            rotary?: components["schemas"]["RotaryLink"][];
+            /** @description Tool direction (tip → holder) with every head axis at zero, machine coordinates. */
+            tool_axis?: number[];
+        };
+        /** @description A machine model or a vendor parameter list (`docs/machine-config.md`) */
+        MachineDocument: components["schemas"]["MachineConfig"] | components["schemas"]["ParamFile"];
         /** @description One machine's state in a progress message. */
         MachineProgress: {
             /**
@@ -1162,8 +1417,18 @@ export interface components {
              * @description `queued`, `running`, `completed`, `alarm` or `cancelled` (the run was stopped before
              *     it finished).
              */
-            state: string;
+            state: components["schemas"]["MachineState"];
         };
+        /**
+         * @description One machine's state in a fleet run's progress.
+         * @enum {string}
+         */
+        MachineState: "queued" | "running" | "completed" | "alarm" | "cancelled";
+        /**
+         * @description Which feed a manual move follows.
+         * @enum {string}
+         */
+        ManualFeed: "tool-axis" | "right-angle1" | "right-angle2" | "table-vertical" | "table-horizontal1" | "table-horizontal2";
         /** @description What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`. */
         ManualMove: {
             /**
@@ -1176,12 +1441,7 @@ export interface components {
              * @example X
              */
             axis?: string | null;
-            /**
-             * @description A 5-axis manual feed: `tool-axis`, `right-angle1`, `right-angle2`, `table-vertical`,
-             *     `table-horizontal1`, `table-horizontal2`.
-             * @example tool-axis
-             */
-            feed?: string | null;
+            feed?: null | components["schemas"]["ManualFeed"];
             /** @description JOG: the direction (`true`: +). */
             positive?: boolean | null;
             /**
@@ -1189,6 +1449,67 @@ export interface components {
              * @example B
              */
             tip_rotation?: string | null;
+        };
+        /**
+         * @description Settings of the 5-axis manual feeds (tool axis, right-angle, table directions, tool tip
+         *     centre rotation; FANUC S000-IV, `fanuc-twp-wsec-manual-params.md` MAN-05…MAN-17).
+         */
+        ManualOptions: {
+            /**
+             * Format: double
+             * @description Dry run rate, mm/min (FANUC No.1410); 0: not set, the jog feedrate is used.
+             */
+            dry_run_feed?: number;
+            /**
+             * @description The first handle's axis select codes (HS1A–HS1E) that choose the 5-axis handle feeds
+             *     (FANUC No.12310–12314): tool axis / table vertical, right-angle / table horizontal
+             *     direction 1, direction 2, tool tip centre rotation of the first and of the second rotary
+             *     axis (OQ-25); 0: none (`controller::ManualSignals`).
+             */
+            handle_codes?: number[];
+            /**
+             * @description Jog feedrate per axis (axis order), mm/min or deg/min (FANUC No.1423): ordinary JOG of
+             *     the axis, and with `jog_feedrate` the 5-axis JOG feeds its ±J signal drives; a missing or
+             *     0 entry: the panel's jog feed.
+             */
+            jog_feed?: number[];
+            /** @description JOG feeds at the jog feedrate instead of the dry run rate (FANUC No.12320#2 JFR). */
+            jog_feedrate?: boolean;
+            /**
+             * @description The right-angle and table horizontal feeds are longitude and latitude about `vertical`
+             *     (FANUC No.12320#1 FLL).
+             */
+            latitude_longitude?: boolean;
+            /** @description Use the tool length offset data while an offset is active (FANUC No.19746#2 LOD). */
+            length_from_offset?: boolean;
+            /**
+             * Format: double
+             * @description Within this angle of `vertical`, degrees, the tool counts as parallel to it and the
+             *     fixed pair of directions is used (FANUC No.12322).
+             */
+            parallel_deg?: number;
+            /**
+             * @description In a tilted working plane the feeds move along the feature coordinate system's axes
+             *     (FANUC No.12320#0 TWD).
+             */
+            plane_directions?: boolean;
+            /**
+             * @description Manual rapid traverse rate per axis (axis order), mm/min or deg/min: no axis of a manual
+             *     feed moves faster (FANUC No.1424); a missing or 0 entry: the axis's rapid rate.
+             */
+            rapid?: number[];
+            /**
+             * Format: double
+             * @description Tool length the manual feeds use, mm (FANUC No.12318).
+             */
+            tool_length?: number;
+            /** @description The vertical (normal) axis of longitude/latitude (FANUC No.12321). */
+            vertical?: components["schemas"]["ManualVertical"];
+            /**
+             * @description With `length_from_offset` and no offset active: length 0 instead of `tool_length`
+             *     (FANUC No.19746#3 LOZ).
+             */
+            zero_length_without_offset?: boolean;
         };
         /** @description `PUT /manual`: the manual settings to change. */
         ManualSettings: {
@@ -1212,6 +1533,16 @@ export interface components {
             /** @description Syntec R519: manual rotary moves under TCP keep the tool tip. */
             rtcp?: boolean | null;
         };
+        /**
+         * @description FANUC No.12321: the vertical axis of the longitude/latitude feeds.
+         * @enum {string}
+         */
+        ManualVertical: "tool" | "x" | "y" | "z";
+        /**
+         * @description Which end of its limits an axis came closest to.
+         * @enum {string}
+         */
+        MarginSide: "negative" | "positive";
         /** @description `POST /mdi`. */
         Mdi: {
             /**
@@ -1220,23 +1551,25 @@ export interface components {
              */
             text: string;
         };
+        /**
+         * @description The mechanism a machine's rotary axes are on (`unknown`: the kinematics refuses it).
+         * @enum {string}
+         */
+        MechanismName: "three-axis" | "head-head" | "table-table" | "head-table" | "head" | "table" | "unknown";
         /** @description An event message of the stream. */
         Message: {
-            /** @example auto */
-            mode: string;
+            mode: components["schemas"]["ModeName"];
             /**
              * Format: int32
              * @description The stored program AUTO runs, if one was started.
              */
             program?: number | null;
-            /** @example running */
-            run_state: string;
+            run_state: components["schemas"]["RunStateName"];
             /** @enum {string} */
             type: "state";
         } | {
             active: components["schemas"]["AlarmInfo"][];
-            /** @example raised */
-            event: string;
+            event: components["schemas"]["AlarmEvent"];
             raised?: null | components["schemas"]["AlarmInfo"];
             /** @enum {string} */
             type: "alarm";
@@ -1278,6 +1611,43 @@ export interface components {
          * @enum {string}
          */
         ModeName: "auto" | "mdi" | "jog" | "handle" | "ref" | "inc";
+        /** @description Interpolation choices the vendors make by parameter. */
+        MotionOptions: {
+            /**
+             * @description Helical interpolation: F is the speed along the whole tool path, the linear axes
+             *     included (FANUC No.1403#5 HTG = 1), instead of along the arc (HTG = 0, the default).
+             */
+            helical_feed_on_path?: boolean;
+            /**
+             * @description Look-ahead is on only between G05.1 Q1 and G05.1 Q0 (FANUC AI contour control with
+             *     No.1604#0 SHP = 0); by default it is on from power-on (SHP = 1).
+             */
+            look_ahead_by_command?: boolean;
+            /**
+             * @description Cutting feed has no acceleration/deceleration before interpolation (FANUC No.1660 = 0
+             *     on every axis).
+             */
+            no_feed_look_ahead?: boolean;
+            /** @description Rapid traverse has none (FANUC No.19501#5 FRP = 0, or No.1671 = 0 on every axis). */
+            no_rapid_look_ahead?: boolean;
+            /**
+             * @description Rapids move every axis at its own rapid rate, each starting and stopping on its own
+             *     (FANUC No.1401#1 LRP = 0: non-linear type); by default the rapid is a straight line in
+             *     axis space (LRP = 1, which the 5-axis functions require).
+             */
+            nonlinear_rapid?: boolean;
+            /**
+             * @description Programs start in inch (G20) at power on and after a restart, instead of mm (G21)
+             *     (FANUC No.0000#2 INI, the setting of the input unit).
+             */
+            power_on_inch?: boolean;
+            /**
+             * Format: double
+             * @description Seconds an M06 tool change takes (the machine's changer and PMC, not a CNC parameter;
+             *     neither vendor's parameter list carries it).
+             */
+            tool_change_s?: number;
+        };
         /** @description `PUT /overrides`, percent. */
         Overrides: {
             /**
@@ -1318,11 +1688,8 @@ export interface components {
          */
         PanelState: {
             block_delete: boolean;
-            /**
-             * @description Syntec R518: `machine`, `program` or `tool`.
-             * @example machine
-             */
-            coordinates: string;
+            /** @description Syntec R518: `machine`, `program` or `tool`. */
+            coordinates: components["schemas"]["CoordinatesName"];
             /**
              * Format: double
              * @description Percent.
@@ -1348,14 +1715,18 @@ export interface components {
             signals: components["schemas"]["PanelSignals"];
             single_block: boolean;
         };
+        /** @description A machine described by its vendor parameter list: the other form of `--machine FILE.json`. */
+        ParamFile: {
+            dialect: components["schemas"]["Dialect"];
+            name: string;
+            parameters: components["schemas"]["Params"];
+        };
         /** @description A controller's parameters. */
         ParameterList: {
             /** @description `fanuc` or `syntec`: whose numbering. */
-            dialect: string;
+            dialect: components["schemas"]["Dialect"];
             /** @description `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis. */
-            parameters: {
-                [key: string]: components["schemas"]["ParameterValue"];
-            };
+            parameters: components["schemas"]["Params"];
             /**
              * @description What of them fivex keeps but does not carry out (unread parameters and bits, settings
              *     without effect; `docs/machine-config.md`).
@@ -1363,15 +1734,24 @@ export interface components {
             unmodelled_parameters: components["schemas"]["UnmodelledParameter"][];
         };
         /**
-         * @description A parameter's value as the document describes it (the engine's `vendor::Value`, which has
-         *     no schema of its own).
+         * @description One parameter's value: a number, or one number per axis (FANUC's axis-type parameters;
+         *     Syntec numbers its per-axis parameters consecutively, so all its values are single).
          */
         ParameterValue: number | number[];
+        /** @description A parameter list in the vendor's numbering (`{"19680": 2, "1020": [88, 89, 90, 66, 67]}`). */
+        Params: {
+            [key: string]: components["schemas"]["ParameterValue"];
+        };
         /** @description An alarm that was raised, with when. */
         PastAlarm: components["schemas"]["AlarmInfo"] & {
             /** @description RFC 3339 UTC. */
             raised_at: string;
         };
+        /**
+         * @description What a reset (and a restart of the controller) does to the tilted working plane.
+         * @enum {string}
+         */
+        PlaneAfterReset: "cancelled" | "kept" | "kept-over-restart";
         /**
          * @description Machine and workpiece coordinates per axis letter, in axis order, and, as in the run
          *     summary, the tool tip and direction where the machine puts them (forward kinematics of the
@@ -1383,11 +1763,8 @@ export interface components {
                 [key: string]: number;
             };
             programmed?: number[];
-            /**
-             * @description `workpiece`, `workpiece_machine_axes`, `programming`, `feature` or `wscs`.
-             * @example workpiece
-             */
-            programmed_in?: string;
+            /** @description `workpiece`, `workpiece_machine_axes`, `programming`, `feature` or `wscs`. */
+            programmed_in?: components["schemas"]["SystemName"];
             tip?: number[];
             tool?: number[];
             workpiece: {
@@ -1424,9 +1801,8 @@ export interface components {
              * @description `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
              *     `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
              *     (G54.4).
-             * @example workpiece
              */
-            programmed_in: string;
+            programmed_in: components["schemas"]["SystemName"];
             /**
              * Format: double
              * @description Spindle speed, 1/min (negative: M04; 0: stopped).
@@ -1460,11 +1836,8 @@ export interface components {
              * @description The tool length offset in force, mm.
              */
             tool_length: number;
-            /**
-             * @description Always `"position"`.
-             * @example position
-             */
-            type: string;
+            /** @description Always `"position"`. */
+            type: "position";
             /**
              * Format: double
              * @description The server's wall clock when the frame was made, Unix milliseconds (to measure lag).
@@ -1479,11 +1852,8 @@ export interface components {
         Preset: {
             /** @description The axis letters in order. */
             axes: string[];
-            /**
-             * @description The mechanism, as [`ControllerStatus::kind`] names it.
-             * @example head-head
-             */
-            kind: string;
+            /** @description The mechanism, as [`ControllerStatus::kind`] names it. */
+            kind: components["schemas"]["MechanismName"];
             /** @example head-bc */
             name: string;
         };
@@ -1506,13 +1876,74 @@ export interface components {
             id: string;
             machines: components["schemas"]["MachineProgress"][];
             /** @description The run's status: `queued`, `running`, `done`, `cancelled` or `interrupted`. */
-            status: string;
+            status: components["schemas"]["FleetRunStatus"];
             total: number;
+            /** @description Always `"progress"`. */
+            type: "progress";
+        };
+        /** @description The report of one run. */
+        Report: {
+            alarm?: null | components["schemas"]["Alarm"];
+            /** @description Per axis, in the machine's axis order. */
+            axes: components["schemas"]["AxisReport"][];
+            /** Format: double */
+            cycle_time_s: number;
             /**
-             * @description Always `"progress"`.
-             * @example progress
+             * Format: double
+             * @description The smallest angle to the singular posture seen, degrees.
              */
-            type: string;
+            min_singular_angle_deg?: number | null;
+            /**
+             * Format: double
+             * @description The angle to the singular posture taken as near (degrees); `None` on machines without one.
+             */
+            near_singular_deg?: number | null;
+            /**
+             * Format: double
+             * @description Seconds spent within that angle.
+             */
+            near_singular_s: number;
+            /**
+             * Format: double
+             * @description The sampling period the report was measured with, seconds.
+             */
+            period_s: number;
+            /** @description Each axis's speed over the run, for plots. */
+            speeds: components["schemas"]["SpeedProfile"];
+            /** @description `completed` or `alarm`. */
+            status: components["schemas"]["ReportStatus"];
+            tip_deviation: components["schemas"]["TipDeviation"];
+        };
+        /**
+         * @description How the run ended.
+         * @enum {string}
+         */
+        ReportStatus: "completed" | "alarm";
+        /** @description One rotary axis in the mechanism chain. */
+        RotaryLink: {
+            /** @description The axis letter (must be a rotary axis of `axes`). */
+            axis: string;
+            /** @description Direction the axis turns about, machine coordinates at zero angles (normalised on use). */
+            direction: number[];
+            /**
+             * Format: double
+             * @description The angle of a hypothetical axis (one the machine does not have as a controlled axis).
+             */
+            fixed?: number | null;
+            hand: components["schemas"]["Hand"];
+            /**
+             * @description A point on the axis line at zero angles, mm: relative to the carriage reference point
+             *     (the X/Y/Z position) for a head axis, in machine coordinates for a table axis.
+             */
+            point?: number[];
+            /** @description Movement range `[low, high]` of commanded angles, degrees. */
+            range?: number[] | null;
+            side: components["schemas"]["Side"];
+            /**
+             * Format: double
+             * @description Added to the commanded angle (the axis's zero-point error), degrees.
+             */
+            zero_offset?: number;
         };
         /** @description A finished program run. */
         Run: {
@@ -1528,8 +1959,50 @@ export interface components {
              */
             program?: number | null;
             /** @description `completed`, `alarm` or `reset`. */
-            result: string;
+            result: components["schemas"]["RunEnd"];
             started_at: string;
+        };
+        /**
+         * @description How a run in a controller's history ended.
+         * @enum {string}
+         */
+        RunEnd: "completed" | "alarm" | "reset";
+        /**
+         * @description A controller's run state (docs/contracts.md).
+         * @enum {string}
+         */
+        RunStateName: "idle" | "running" | "hold" | "alarm";
+        /**
+         * @description How a run ended.
+         * @enum {string}
+         */
+        RunStatus: "completed" | "alarm";
+        /** @description The `fivex run` summary (`docs/contracts.md`): one JSON object. */
+        RunSummary: {
+            /** @description The alarm the run ended in (at most one). */
+            alarms: components["schemas"]["AlarmInfo"][];
+            /**
+             * Format: int64
+             * @description Blocks executed.
+             */
+            blocks: number;
+            /**
+             * Format: double
+             * @description Simulated seconds, not wall time.
+             */
+            cycle_time_s: number;
+            /** @description DPRNT output and stop messages, in order. */
+            messages: string[];
+            /** @description Where the machine ends. */
+            position: components["schemas"]["Position"];
+            status: components["schemas"]["RunStatus"];
+            /**
+             * @description The common variables (#100–#199, #500–#999, #100000–#199999, #500000–#999999) that are not
+             *     vacant at the end: `{"#100": 1.5}`.
+             */
+            variables: {
+                [key: string]: number;
+            };
         };
         /** @description `PUT /mode`. */
         SetMode: {
@@ -1566,18 +2039,33 @@ export interface components {
                 [key: string]: number;
             };
         };
+        /**
+         * @description Which part of the machine a rotary axis turns.
+         * @enum {string}
+         */
+        Side: "head" | "table";
         /** @description The first message of a stream, and the one after a client fell behind. */
         Snapshot: {
             controller: components["schemas"]["ControllerStatus"];
-            /**
-             * @description Always `"snapshot"`.
-             * @example snapshot
-             */
-            type: string;
+            /** @description Always `"snapshot"`. */
+            type: "snapshot";
             /** @description Non-vacant common variables, `{"#500": 1.5}`. */
             variables: {
                 [key: string]: number;
             };
+        };
+        /**
+         * @description Axis speeds over time: the mean speed of each axis in consecutive intervals of `period_s`
+         *     (at most [`SpeedProfile::MAX_POINTS`] of them: the interval doubles as the run grows).
+         */
+        SpeedProfile: {
+            /** @description Per axis, in axis order. */
+            axes: components["schemas"]["AxisSpeeds"][];
+            /**
+             * Format: double
+             * @description The interval, seconds.
+             */
+            period_s: number;
         };
         /** @description The answer to storing a program. */
         StoredProgram: {
@@ -1592,6 +2080,39 @@ export interface components {
             block_delete?: boolean | null;
             optional_stop?: boolean | null;
             single_block?: boolean | null;
+        };
+        /**
+         * @description The coordinate system of a programmed point (`docs/api.md`, Positions).
+         * @enum {string}
+         */
+        SystemName: "workpiece" | "workpiece_machine_axes" | "programming" | "feature" | "wscs";
+        /**
+         * @description Which coordinate system the X/Y/Z of a tool centre point control program are in.
+         * @enum {string}
+         */
+        TcpCoordinates: "table-at-start" | "table-at-zero" | "workpiece";
+        /** @description The largest tip deviation and where it happened. */
+        TipDeviation: {
+            /** Format: int32 */
+            line?: number | null;
+            /**
+             * Format: double
+             * @description mm.
+             */
+            max: number;
+            /** Format: int32 */
+            n?: number | null;
+            /** Format: double */
+            t?: number | null;
+            /** @description The tool tip there, table frame. */
+            tip?: number[] | null;
+        };
+        /** @description One tool offset of a `--tools` table: length and radius geometry. */
+        Tool: {
+            /** Format: double */
+            length: number;
+            /** Format: double */
+            radius: number;
         };
         /** @description One tool offset number (mm). */
         ToolOffsetDto: {
@@ -1788,6 +2309,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     status: {
@@ -1895,6 +2425,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     update: {
@@ -1985,6 +2524,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     alarms: {
@@ -2040,6 +2588,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2130,6 +2687,15 @@ export interface operations {
             };
             /** @description Invalid name */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2230,6 +2796,15 @@ export interface operations {
             };
             /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2861,7 +3436,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": Record<string, never>;
+                    "application/json": components["schemas"]["MachineConfig"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -3587,6 +4162,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     list_programs: {
@@ -3630,6 +4214,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3691,6 +4284,15 @@ export interface operations {
             };
             /** @description No such controller or program */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3803,6 +4405,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     remove_program: {
@@ -3864,6 +4475,15 @@ export interface operations {
             };
             /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
             415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3940,6 +4560,15 @@ export interface operations {
             };
             /** @description max_points out of range */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4129,6 +4758,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4466,6 +5104,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     list_variables: {
@@ -4678,6 +5325,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     works: {
@@ -4829,6 +5485,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     library: {
@@ -4967,6 +5632,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     create_fleet_run: {
@@ -4994,7 +5668,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": Record<string, never>[];
+                    "application/json": components["schemas"]["FleetResult"][];
                 };
             };
             /** @description `wait=false`: started; follow it on the stream */
@@ -5069,6 +5743,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service is stopping; `wait`: it stopped before the run finished (`interrupted`) */
             503: {
                 headers: {
@@ -5121,6 +5804,15 @@ export interface operations {
             };
             /** @description No such run */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5189,6 +5881,15 @@ export interface operations {
             };
             /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
             415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5266,6 +5967,15 @@ export interface operations {
             };
             /** @description This client has `--max-websockets-per-client` websockets open; `Retry-After: 5` */
             429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5426,6 +6136,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["Health"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The database does not answer */

@@ -1,7 +1,7 @@
 // The live 3D machine of a controller: the kinematic chain moved by the streamed axis values,
 // the programmed path of the selected program and the executed tool tip trace.
 import { useEffect, useRef } from "preact/hooks";
-import type { Frame } from "../api/client";
+import type { Frame, Machine } from "../api/client";
 import { View3D, type View3DHandle } from "../three/View3D";
 
 export function Machine3D({
@@ -10,7 +10,7 @@ export function Machine3D({
   path,
   onFrame,
 }: {
-  machine: any;
+  machine: Machine;
   frame: Frame | null;
   path: { xyz: Float32Array; rapid: boolean[] } | null;
   onFrame: (f: (frame: Frame) => void) => () => void;
@@ -30,7 +30,7 @@ export function Machine3D({
         onReady={(h) => {
           view.current = h;
           // The browser tests reach the view through this.
-          (window as any).__fivexView = h;
+          (window as Window & { __fivexView?: View3DHandle | null }).__fivexView = h;
         }}
         style={{ position: "absolute", inset: "0" }}
       />

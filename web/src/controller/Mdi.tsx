@@ -1,7 +1,7 @@
 // MDI: type blocks and run them (the service switches to MDI mode).
 import { memo } from "preact/compat";
 import { useState } from "preact/hooks";
-import { api, type Status } from "../api/client";
+import { api, type Status, errorText } from "../api/client";
 import type { Act } from "./useController";
 
 function MdiView({ status, run: act, onError }: { status: Status; run: Act; onError: (e: string | null) => void }) {
@@ -14,8 +14,8 @@ function MdiView({ status, run: act, onError }: { status: Status; run: Act; onEr
     try {
       await act(() => api.POST("/api/v1/controllers/{id}/mdi", { params: { path: { id: status.id } }, body: { text } }));
       setHistory((h) => [text, ...h.filter((x) => x !== text)].slice(0, 20));
-    } catch (err: any) {
-      onError(err.message ?? String(err));
+    } catch (err) {
+      onError(errorText(err));
     }
   };
   return (

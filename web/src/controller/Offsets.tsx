@@ -1,7 +1,7 @@
 // Tool offset memory (H length and D radius, geometry and wear) and the work offsets.
 import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
-import { api, must, type Schemas } from "../api/client";
+import { api, must, type Schemas, errorText } from "../api/client";
 import { EditCell } from "./EditCell";
 
 const TOOL_FIELDS = ["length", "length_wear", "radius", "radius_wear"] as const;
@@ -12,16 +12,16 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
   const [more, setMore] = useState("");
   const p = { params: { path: { id } } };
   const load = () => {
-    must(api.GET("/api/v1/controllers/{id}/tool-offsets", p)).then(setTools, (e) => onError(e.message));
-    must(api.GET("/api/v1/controllers/{id}/work-offsets", p)).then(setWorks, (e) => onError(e.message));
+    must(api.GET("/api/v1/controllers/{id}/tool-offsets", p)).then(setTools, (e) => onError(errorText(e)));
+    must(api.GET("/api/v1/controllers/{id}/work-offsets", p)).then(setWorks, (e) => onError(errorText(e)));
   };
   useEffect(load, [id]);
   const setTool = async (number: number, field: string, value: number) => {
     onError(null);
     try {
       await must(api.PUT("/api/v1/controllers/{id}/tool-offsets/{number}", { params: { path: { id, number } }, body: { [field]: value } }));
-    } catch (e: any) {
-      onError(e.message);
+    } catch (e) {
+      onError(errorText(e));
     }
     load();
   };
@@ -29,8 +29,8 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
     onError(null);
     try {
       await must(api.PUT("/api/v1/controllers/{id}/work-offsets/{name}", { params: { path: { id, name } }, body: { axes: { [axis]: value } } }));
-    } catch (e: any) {
-      onError(e.message);
+    } catch (e) {
+      onError(errorText(e));
     }
     load();
   };

@@ -2,13 +2,14 @@
 // block, optional stop and block delete switches, feed and rapid override, and the manual
 // feeds (JOG with hold-to-move keys, HANDLE with increments, the 5-axis manual feeds).
 import { useState } from "preact/hooks";
-import { api, type Status } from "../api/client";
+import { api, type Status, errorText } from "../api/client";
 import type { components } from "../api/schema";
 import type { Act } from "./useController";
 
 // The words the document lists (its enums), so the typed client takes them.
 type Mode = components["schemas"]["ModeName"];
 type Coordinates = components["schemas"]["CoordinatesName"];
+type Feed = components["schemas"]["ManualFeed"];
 
 const MODES: [Mode, string][] = [
   ["auto", "MEM"],
@@ -21,7 +22,7 @@ const MODES: [Mode, string][] = [
 const FEED_STEPS = [0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120, 130, 140, 150, 160, 170, 180, 190, 200];
 const RAPID_STEPS = [0, 25, 50, 100];
 /// The 5-axis manual feeds (`POST /jog` `feed`).
-const FIVE_AXIS_FEEDS: [string, string][] = [
+const FIVE_AXIS_FEEDS: [Feed, string][] = [
   ["tool-axis", "tool axis"],
   ["right-angle1", "right angle 1"],
   ["right-angle2", "right angle 2"],
@@ -30,7 +31,7 @@ const FIVE_AXIS_FEEDS: [string, string][] = [
   ["table-horizontal2", "table horizontal 2"],
 ];
 
-type Target = { axis: string } | { feed: string } | { tip_rotation: string };
+type Target = { axis: string } | { feed: Feed } | { tip_rotation: string };
 
 export function Panel({ status, axes, run, onError }: { status: Status; axes: string[]; run: Act; onError: (e: string | null) => void }) {
   const id = status.id;
@@ -47,8 +48,8 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
     onError(null);
     try {
       await run(call);
-    } catch (e: any) {
-      onError(e.message ?? String(e));
+    } catch (e) {
+      onError(errorText(e));
     }
   };
   /// The hand wheel: in HANDLE mode a move of the selected target; during a program (a manual
@@ -60,7 +61,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
     act(async () => {
       if (signals.handle_select !== code) await api.PUT("/api/v1/controllers/{id}/manual-signals", { ...p, body: { handle_select: code } });
       const r = await api.POST("/api/v1/controllers/{id}/handle-pulses", { ...p, body: { amount } });
-      return { ...r, data: r.data?.status } as any;
+      return { data: r.data?.status, error: r.error, response: r.response };
     });
   };
   const key = (t: Target) => JSON.stringify(t);
@@ -147,7 +148,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
               onChange={(e) => {
                 const v = e.currentTarget.value;
                 if (v.startsWith("tip:")) setTarget({ tip_rotation: v.slice(4) });
-                else if (v) setTarget({ feed: v });
+                else if (v) setTarget({ feed: FIVE_AXIS_FEEDS.find(([f]) => f === v)?.[0] ?? "tool-axis" });
                 else setTarget({ axis: axes[0] });
               }}
             >
@@ -273,7 +274,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
   );
 }
 
-function EStop({ status, act }: { status: Status; act: (c: () => Promise<any>) => void }) {
+function EStop({ status, act }: { status: Status; act: (c: Parameters<Act>[0]) => void }) {
   const [pressed, setPressed] = useState(false);
   return (
     <button

@@ -2,27 +2,28 @@
 // filterable, each value editable (per-axis values as comma-separated lists).
 import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
-import { api, must, type Status } from "../api/client";
+import { api, must, type Schemas, type Status, errorText } from "../api/client";
 import { EditCell } from "./EditCell";
 
 function ParametersView({ status, onError }: { status: Status; onError: (e: string | null) => void }) {
   const id = status.id;
-  const [params, setParams] = useState<Record<string, unknown>>({});
+  const [params, setParams] = useState<Schemas["Params"]>({});
   const [filter, setFilter] = useState("");
   const load = () =>
-    must(api.GET("/api/v1/controllers/{id}/parameters", { params: { path: { id } } })).then((l) => setParams(l.parameters as Record<string, unknown>), (e) => onError(e.message));
+    must(api.GET("/api/v1/controllers/{id}/parameters", { params: { path: { id } } })).then((l) => setParams(l.parameters), (e) => onError(errorText(e)));
   useEffect(() => {
     load();
   }, [id]);
   const set = async (number: string, text: string) => {
     onError(null);
     const parts = text.split(",").map((s) => s.trim());
-    const parse = (s: string) => (s === "" ? null : Number(s));
-    const value = parts.length > 1 ? parts.map(parse) : parse(parts[0]);
+    if (parts.includes("")) return onError("a value is missing (per-axis values: one per axis, comma-separated)");
+    // Not a number: NaN, sent as null, which the service refuses with its reason.
+    const value: Schemas["ParameterValue"] = parts.length > 1 ? parts.map(Number) : Number(parts[0]);
     try {
-      await must(api.PUT("/api/v1/controllers/{id}/parameters/{number}", { params: { path: { id, number: Number(number) } }, body: { value: value as any } }));
-    } catch (e: any) {
-      onError(e.message);
+      await must(api.PUT("/api/v1/controllers/{id}/parameters/{number}", { params: { path: { id, number: Number(number) } }, body: { value } }));
+    } catch (e) {
+      onError(errorText(e));
     }
     load();
   };

@@ -1,7 +1,7 @@
 // Stored programs: the list, the text with the executing block highlighted, an editor that
 // stores through the service's check (diagnostics shown on their lines), upload, and start.
 import { useEffect, useRef, useState } from "preact/hooks";
-import { api, ApiError, authFetch, must, type Schemas, type Status } from "../api/client";
+import { api, authFetch, must, type Schemas, type Status, errorText } from "../api/client";
 import type { Act } from "./useController";
 import { programNumber } from "../api/program";
 import { CodeView, type Mark } from "./CodeView";
@@ -139,8 +139,8 @@ export function Programs({
                   onError(null);
                   try {
                     await run(() => api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id } }, body: { program: selected } }));
-                  } catch (e: any) {
-                    onError(e instanceof ApiError ? e.message : String(e));
+                  } catch (e) {
+                    onError(errorText(e));
                   }
                 }}
               >

@@ -2,7 +2,7 @@
 // any variable (system variables too) read by number.
 import { memo } from "preact/compat";
 import { useState } from "preact/hooks";
-import { api, must } from "../api/client";
+import { api, must, errorText } from "../api/client";
 import { EditCell } from "./EditCell";
 
 function VariablesView({ id, values, onError }: { id: string; values: Record<string, number | null>; onError: (e: string | null) => void }) {
@@ -14,8 +14,8 @@ function VariablesView({ id, values, onError }: { id: string; values: Record<str
     if (value !== null && !Number.isFinite(value)) return onError(`${text} is not a number`);
     try {
       await must(api.PUT("/api/v1/controllers/{id}/variables/{number}", { params: { path: { id, number: n } }, body: { value } }));
-    } catch (e: any) {
-      onError(e.message);
+    } catch (e) {
+      onError(errorText(e));
     }
   };
   const rows = Object.entries(values)
@@ -32,8 +32,8 @@ function VariablesView({ id, values, onError }: { id: string; values: Record<str
           try {
             const v = await must(api.GET("/api/v1/controllers/{id}/variables/{number}", { params: { path: { id, number: n } } }));
             setRead(`#${n} = ${v.value ?? "<vacant>"}`);
-          } catch (err: any) {
-            setRead(err.message);
+          } catch (err) {
+            setRead(errorText(err));
           }
         }}
       >

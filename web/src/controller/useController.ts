@@ -1,11 +1,11 @@
 // One controller as the page sees it: its status, machine, the latest position frame, alarms,
 // variables and operator messages, kept current by the controller's websocket.
 import { useCallback, useEffect, useRef, useState } from "preact/hooks";
-import { api, liveSocket, must, wsUrl, type AlarmInfo, type Frame, type Schemas, type Status } from "../api/client";
+import { api, errorText, liveSocket, must, wsUrl, type AlarmInfo, type ControllerMessage, type Frame, type Machine, type Status } from "../api/client";
 
 export type Live = {
   status: Status | null;
-  machine: any | null;
+  machine: Machine | null;
   frame: Frame | null;
   alarms: AlarmInfo[];
   variables: Record<string, number | null>;
@@ -23,7 +23,7 @@ export type Act = (call: () => Promise<{ data?: Status; error?: unknown; respons
 
 export function useController(id: string): Live {
   const [status, setStatus] = useState<Status | null>(null);
-  const [machine, setMachine] = useState<any | null>(null);
+  const [machine, setMachine] = useState<Machine | null>(null);
   const [frame, setFrame] = useState<Frame | null>(null);
   const [alarms, setAlarms] = useState<AlarmInfo[]>([]);
   const [variables, setVariables] = useState<Record<string, number | null>>({});
@@ -55,28 +55,27 @@ export function useController(id: string): Live {
   useEffect(() => {
     let latest: Frame | null = null;
     let scheduled = false;
-    must(api.GET("/api/v1/controllers/{id}/machine", { params: { path: { id } } })).then(setMachine, (e) => setError(e.message));
+    must(api.GET("/api/v1/controllers/{id}/machine", { params: { path: { id } } })).then(setMachine, (e) => setError(errorText(e)));
     must(api.GET("/api/v1/controllers/{id}", { params: { path: { id } } })).then(
       (s) => {
         setStatus(s);
         setAlarms(s.alarms);
       },
-      (e) => setError(e.message),
+      (e) => setError(errorText(e)),
     );
-    const socket = liveSocket(
+    const socket = liveSocket<ControllerMessage>(
       () => wsUrl(`/api/v1/controllers/${encodeURIComponent(id)}/stream`, { rate: 30 }),
       (msg) => {
         switch (msg.type) {
           case "snapshot": {
             events.current++;
-            const snap = msg as Schemas["Snapshot"];
-            setStatus(snap.controller);
-            setAlarms(snap.controller.alarms);
-            setVariables(snap.variables);
+            setStatus(msg.controller);
+            setAlarms(msg.controller.alarms);
+            setVariables(msg.variables);
             break;
           }
           case "position": {
-            latest = msg as Frame;
+            latest = msg;
             for (const f of listeners.current) f(latest);
             // The panel repaints once per animation frame at most.
             if (!scheduled) {

@@ -1,7 +1,7 @@
 // The fleet: every controller with its machine, state, program and alarm, live over the fleet
 // websocket; create (from a preset or a machine file), clone and delete.
 import { useEffect, useMemo, useState } from "preact/hooks";
-import { api, liveSocket, must, wsUrl, type FleetEntry, type Schemas } from "../api/client";
+import { api, liveSocket, must, wsUrl, type FleetEntry, type FleetMessage, type MachineDocument, type Schemas, errorText } from "../api/client";
 import { go } from "../route";
 import { applyDelta } from "./delta";
 
@@ -14,7 +14,7 @@ export function FleetView() {
   useEffect(() => {
     // The socket's first message is the whole fleet (again after a reconnect); then only the
     // controllers that changed and the ids removed.
-    const socket = liveSocket(
+    const socket = liveSocket<FleetMessage>(
       () => wsUrl("/api/v1/stream", { rate: 4 }),
       (msg) => {
         if (msg.type === "fleet") setFleet(msg.controllers);
@@ -41,8 +41,8 @@ export function FleetView() {
     setError(null);
     try {
       await what();
-    } catch (e: any) {
-      setError(e.message ?? String(e));
+    } catch (e) {
+      setError(errorText(e));
     }
   };
 
@@ -140,7 +140,7 @@ function CreateForm({ onError }: { onError: (e: string | null) => void }) {
   const [name, setName] = useState("");
   const [preset, setPreset] = useState("table-ac");
   const [dialect, setDialect] = useState("fanuc");
-  const [machine, setMachine] = useState<{ file: string; doc: unknown } | null>(null);
+  const [machine, setMachine] = useState<{ file: string; doc: MachineDocument } | null>(null);
   const [busy, setBusy] = useState(false);
 
   useEffect(() => {
@@ -153,13 +153,13 @@ function CreateForm({ onError }: { onError: (e: string | null) => void }) {
     setBusy(true);
     try {
       const body: Schemas["CreateController"] = machine
-        ? { name: name || machine.file, machine: machine.doc as any, dialect }
+        ? { name: name || machine.file, machine: machine.doc, dialect }
         : { name: name || preset, preset, dialect };
       const created = await must(api.POST("/api/v1/controllers", { body }));
       setName("");
       go(`#/c/${created.id}`);
-    } catch (err: any) {
-      onError(err.message ?? String(err));
+    } catch (err) {
+      onError(errorText(err));
     } finally {
       setBusy(false);
     }
@@ -169,7 +169,8 @@ function CreateForm({ onError }: { onError: (e: string | null) => void }) {
     const file = input.files?.[0];
     if (!file) return setMachine(null);
     try {
-      setMachine({ file: file.name.replace(/\.json$/, ""), doc: JSON.parse(await file.text()) });
+      // Taken as the document it should be: the service checks it and answers why not (422).
+      setMachine({ file: file.name.replace(/\.json$/, ""), doc: JSON.parse(await file.text()) as MachineDocument });
     } catch {
       onError(`${file.name} is not JSON`);
       input.value = "";

@@ -2,7 +2,7 @@ import { describe, expect, it } from "vitest";
 import type { FleetEntry } from "../api/client";
 import { applyDelta } from "./delta";
 
-const entry = (id: string, run_state = "idle"): FleetEntry => ({
+const entry = (id: string, run_state: FleetEntry["run_state"] = "idle"): FleetEntry => ({
   id,
   name: `cell ${id}`,
   machine: "table-ac",

@@ -3,12 +3,15 @@
 // and the comparison across the fleet as a table and plots; any machine's run opens in the 3D
 // view.
 import { useEffect, useMemo, useState } from "preact/hooks";
-import { api, authFetch, fmt, liveSocket, must, wsUrl, type Schemas } from "../api/client";
+import { api, authFetch, errorText, fmt, liveSocket, must, wsUrl, type MachineDocument, type Progress, type Schemas } from "../api/client";
 import { programNumber } from "../api/program";
 import { go } from "../route";
 import { Bars, Lines } from "./Plots";
 
-type Result = any;
+type FleetResult = Schemas["FleetResult"];
+type FleetRequest = Schemas["FleetRequest"];
+/// A machine of the comparison: its result, or only its name when a stopped run did not finish it.
+type Row = { machine: string; result: FleetResult | null };
 
 export function RunsView({ id }: { id?: string }) {
   return id ? <RunDetail id={id} /> : <RunsHome />;
@@ -34,8 +37,8 @@ function CancelButton({ id, onDone }: { id: string; onDone: (run: Schemas["Fleet
         setBusy(true);
         try {
           onDone(await cancelRun(id));
-        } catch (e: any) {
-          onDone(null, e.message ?? String(e));
+        } catch (e) {
+          onDone(null, errorText(e));
         }
         setBusy(false);
       }}
@@ -127,11 +130,13 @@ function NewRun() {
     e.preventDefault();
     setError(null);
     try {
-      const body = { program, presets: chosen("preset:"), library: chosen("library:"), controllers: chosen("controller:"), dialect, report: true };
-      const started = await must(api.POST("/api/v1/fleet/runs", { params: { query: { wait: false } }, body: body as any }));
-      go(`#/runs/${(started as any).id}`);
-    } catch (err: any) {
-      setError(err.message ?? String(err));
+      const body: FleetRequest = { program, presets: chosen("preset:"), library: chosen("library:"), controllers: chosen("controller:"), dialect, report: true };
+      const started = await must(api.POST("/api/v1/fleet/runs", { params: { query: { wait: false } }, body }));
+      // `wait=false` answers 202 with the run, never the results.
+      if (!("id" in started)) throw new Error("the service answered the results instead of the run");
+      go(`#/runs/${started.id}`);
+    } catch (err) {
+      setError(errorText(err));
     }
   };
   const box = (key: string, label: string, title?: string) => (
@@ -203,9 +208,9 @@ function RunDetail({ id }: { id: string }) {
   const [error, setError] = useState<string | null>(null);
   useEffect(() => {
     let done = false;
-    const fetchRun = () => must(api.GET("/api/v1/fleet/runs/{id}", { params: { path: { id } } })).then(setRun, (e) => setError(e.message));
+    const fetchRun = () => must(api.GET("/api/v1/fleet/runs/{id}", { params: { path: { id } } })).then(setRun, (e) => setError(errorText(e)));
     fetchRun();
-    const socket = liveSocket(
+    const socket = liveSocket<Progress>(
       () => wsUrl(`/api/v1/fleet/runs/${encodeURIComponent(id)}/stream`),
       (msg) => {
         if (msg.type !== "progress") return;
@@ -220,8 +225,8 @@ function RunDetail({ id }: { id: string }) {
     return () => socket.close();
   }, [id]);
   // A cancelled or interrupted run has no result for the machines it did not finish.
-  const results: Result[] | null =
-    (run?.results as Result[] | null)?.map((r, i) => r ?? { machine: progress?.machines[i]?.machine || `machine ${i + 1}`, status: "cancelled" }) ?? null;
+  const results: Row[] | null =
+    run?.results?.map((r, i) => (r ? { machine: r.machine, result: r } : { machine: progress?.machines[i]?.machine || `machine ${i + 1}`, result: null })) ?? null;
   const status = progress?.status ?? run?.status;
   return (
     <section class="run">
@@ -259,32 +264,34 @@ function RunDetail({ id }: { id: string }) {
           </ul>
         </div>
       )}
-      {results && run && <Comparison results={results} request={run.request as any} />}
+      {results && run && <Comparison results={results} request={run.request} />}
     </section>
   );
 }
 
 /// Where a result came from: results are in the order presets, machines, library, controllers.
-function sources(request: any): { kind: "preset" | "machine" | "library" | "controller"; value: any }[] {
+type Source = { kind: "preset" | "library" | "controller"; value: string } | { kind: "machine"; value: MachineDocument };
+
+function sources(request: FleetRequest): Source[] {
   return [
-    ...(request.presets ?? []).map((v: string) => ({ kind: "preset" as const, value: v })),
-    ...(request.machines ?? []).map((v: unknown) => ({ kind: "machine" as const, value: v })),
-    ...(request.library ?? []).map((v: string) => ({ kind: "library" as const, value: v })),
-    ...(request.controllers ?? []).map((v: string) => ({ kind: "controller" as const, value: v })),
+    ...(request.presets ?? []).map((value): Source => ({ kind: "preset", value })),
+    ...(request.machines ?? []).map((value): Source => ({ kind: "machine", value })),
+    ...(request.library ?? []).map((value): Source => ({ kind: "library", value })),
+    ...(request.controllers ?? []).map((value): Source => ({ kind: "controller", value })),
   ];
 }
 
-function Comparison({ results, request }: { results: Result[]; request: any }) {
+function Comparison({ results, request }: { results: Row[]; request: FleetRequest }) {
   const [axisPlot, setAxisPlot] = useState<number>(0);
   const [error, setError] = useState<string | null>(null);
   const from = useMemo(() => sources(request), [request]);
-  const ok = results.filter((r) => r.status === "completed").length;
+  const ok = results.filter((r) => r.result?.status === "completed").length;
   const open = async (i: number) => {
     setError(null);
     try {
       const src = from[i];
       if (src.kind === "controller") return go(`#/c/${src.value}`);
-      let body: any = { name: `${results[i].machine} (fleet run)`, dialect: results[i].dialect };
+      const body: Schemas["CreateController"] = { name: `${results[i].machine} (fleet run)`, dialect: results[i].result?.dialect };
       if (src.kind === "preset") body.preset = src.value;
       else if (src.kind === "machine") body.machine = src.value;
       else body.machine = (await must(api.GET("/api/v1/fleet/library/{name}", { params: { path: { name: src.value } } }))).machine;
@@ -295,11 +302,11 @@ function Comparison({ results, request }: { results: Result[]; request: any }) {
       if (!stored.ok) throw new Error((await stored.json().catch(() => ({}))).error ?? `${stored.status}`);
       await must(api.POST("/api/v1/controllers/{id}/cycle-start", { params: { path: { id: c.id } }, body: { program: number } }));
       go(`#/c/${c.id}`);
-    } catch (e: any) {
-      setError(e.message ?? String(e));
+    } catch (e) {
+      setError(errorText(e));
     }
   };
-  const withSpeeds = results.filter((r) => r.report?.speeds);
+  const withSpeeds = results.flatMap((row) => (row.result?.report ? [{ machine: row.machine, report: row.result.report }] : []));
   const plotted = withSpeeds[axisPlot] ?? withSpeeds[0];
   return (
     <div class="comparison">
@@ -324,20 +331,22 @@ function Comparison({ results, request }: { results: Result[]; request: any }) {
             </tr>
           </thead>
           <tbody>
-            {results.map((r, i) => {
-              const rep = r.report;
-              const axes: any[] = rep?.axes ?? [];
+            {results.map((row, i) => {
+              const r = row.result;
+              const status = r?.status ?? "cancelled";
+              const rep = r?.report;
+              const axes = rep?.axes ?? [];
               const rot = axes.filter((a) => "ABC".includes(a.name));
-              const tight = axes.filter((a) => a.margin != null).sort((a, b) => a.margin - b.margin)[0];
-              const alarm = r.alarms?.[0];
+              const tight = axes.filter((a) => a.margin != null).sort((a, b) => (a.margin ?? 0) - (b.margin ?? 0))[0];
+              const alarm = r?.alarms[0];
               return (
-                <tr key={i} class={r.status === "completed" ? "" : "row-alarm"} data-machine={r.machine}>
+                <tr key={i} class={status === "completed" ? "" : "row-alarm"} data-machine={row.machine}>
                   <th>
-                    {r.machine}
-                    <div class="quiet small">{r.dialect}</div>
+                    {row.machine}
+                    <div class="quiet small">{r?.dialect}</div>
                   </th>
-                  <td class={r.status === "completed" ? "ok" : "bad"}>{r.status === "completed" ? "completed" : alarm ? `${alarm.code} ${alarm.message} (line ${alarm.line})` : r.status}</td>
-                  <td class="num">{fmt(r.cycle_time_s, 2)} s</td>
+                  <td class={status === "completed" ? "ok" : "bad"}>{status === "completed" ? "completed" : alarm ? `${alarm.code} ${alarm.message} (line ${alarm.line})` : status}</td>
+                  <td class="num">{fmt(r?.cycle_time_s, 2)} s</td>
                   <td class="num small">{axes.map((a) => `${a.name} ${fmt(a.travel, 0)}`).join("  ")}</td>
                   <td class="num small">{rot.map((a) => `${a.name} ${fmt(a.max_speed, 0)} / ${fmt(a.mean_speed, 0)}`).join("  ") || "—"}</td>
                   <td class="num">{rep?.near_singular_deg == null ? "—" : `${fmt(rep.near_singular_s, 2)} s (min ${fmt(rep.min_singular_angle_deg, 2)}°)`}</td>
@@ -356,7 +365,7 @@ function Comparison({ results, request }: { results: Result[]; request: any }) {
         </table>
       </div>
       <h3>Cycle time per machine</h3>
-      <Bars rows={results.map((r) => ({ label: r.machine, value: r.status === "completed" ? r.cycle_time_s : null, bad: r.status !== "completed" }))} unit="s" />
+      <Bars rows={results.map(({ machine, result }) => ({ label: machine, value: result?.status === "completed" ? result.cycle_time_s : null, bad: result?.status !== "completed" }))} unit="s" />
       {plotted && (
         <>
           <h3>
@@ -368,7 +377,7 @@ function Comparison({ results, request }: { results: Result[]; request: any }) {
             </select>
           </h3>
           <Lines
-            series={(plotted.report.speeds.axes as { axis: string; speeds: number[] }[]).map((a) => ({ label: `${a.axis} ${"ABC".includes(a.axis) ? "°/min" : "mm/min"}`, ys: a.speeds }))}
+            series={plotted.report.speeds.axes.map((a) => ({ label: `${a.axis} ${"ABC".includes(a.axis) ? "°/min" : "mm/min"}`, ys: a.speeds }))}
             dt={plotted.report.speeds.period_s}
             unit="per min"
           />

@@ -6,62 +6,18 @@
 // kinematics only read the mechanism (axes, rotary, tool_axis, nose, holder); the option blocks
 // (`motion`, `five_axis`, `manual`) are carried through untouched for callers that want them.
 
+import type { components } from "../api/schema";
+
 export type Vec3 = [number, number, number];
 
-export type AxisKind = "linear" | "rotary";
-export type Side = "head" | "table";
-export type Hand = "right" | "left";
-
-export interface AxisInput {
-  /** The address: X Y Z U V W (linear), A B C (rotary). */
-  name: string;
-  kind: AxisKind;
-  /** mm/min or °/min. */
-  rapid: number;
-  /** mm/s² or °/s²; default: rapid reached in 0.2 s. */
-  accel?: number | null;
-  /** mm/s³ or °/s³; default: acceleration reached in 50 ms. */
-  jerk?: number | null;
-  /** Stored stroke [negative, positive], machine coordinates; absent: none. */
-  stroke?: [number, number] | null;
-  /** 2nd, 3rd, 4th reference positions; default all 0. */
-  references?: Vec3;
-  rollover?: boolean;
-  shortest?: boolean;
-}
-
-export interface RotaryLinkInput {
-  /** A rotary axis letter of `axes`, or any letter with `fixed` (hypothetical axis). */
-  axis: string;
-  side: Side;
-  /** Unit direction at zero angles, machine coordinates (normalised by the engine). */
-  direction: Vec3;
-  hand: Hand;
-  /** A point on the line at zero angles: head — relative to the carriage (X/Y/Z); table — machine coordinates. */
-  point?: Vec3;
-  /** Degrees added to the commanded angle. */
-  zero_offset?: number;
-  /** Hypothetical axis: always at this angle. */
-  fixed?: number | null;
-  /** Commanded angles the inverse may use. */
-  range?: [number, number] | null;
-}
-
-export interface MachineModelInput {
-  name: string;
-  axes: AxisInput[];
-  /** Master first on each side (head: column → spindle; table: bed → table top). */
-  rotary?: RotaryLinkInput[];
-  /** Tool direction tip → holder at zero head angles; default [0, 0, 1]. */
-  tool_axis?: Vec3;
-  /** Spindle nose relative to the carriage reference at zero angles; default 0. */
-  nose?: Vec3;
-  /** Tool holder offset, mm (bookkeeping only); default 0. */
-  holder?: number;
-  motion?: Record<string, unknown>;
-  five_axis?: Record<string, unknown>;
-  manual?: Record<string, unknown>;
-}
+/** The file as the service's document describes it (`MachineConfig`, generated from the engine's
+ * types: `npm run gen`): what `GET /controllers/{id}/machine` answers and `--machine` takes. */
+export type MachineModelInput = components["schemas"]["MachineConfig"];
+export type AxisInput = components["schemas"]["Axis"];
+export type RotaryLinkInput = components["schemas"]["RotaryLink"];
+export type AxisKind = components["schemas"]["AxisKind"];
+export type Side = components["schemas"]["Side"];
+export type Hand = components["schemas"]["Hand"];
 
 export interface Axis {
   name: string;
@@ -93,9 +49,9 @@ export interface MachineModel {
   tool_axis: Vec3;
   nose: Vec3;
   holder: number;
-  motion: Record<string, unknown>;
-  five_axis: Record<string, unknown>;
-  manual: Record<string, unknown>;
+  motion: components["schemas"]["MotionOptions"];
+  five_axis: components["schemas"]["FiveAxisOptions"];
+  manual: components["schemas"]["ManualOptions"];
 }
 
 const vec = (v: readonly number[] | undefined | null, d: Vec3): Vec3 =>
@@ -140,8 +96,9 @@ export function normalizeModel(m: MachineModelInput | MachineModel): MachineMode
   };
 }
 
-/** The machine's kind, as the engine's `MachineKind` names it (kebab-case). */
-export type MachineKind = "three-axis" | "head-head" | "table-table" | "head-table" | "head" | "table";
+/** The machine's kind, as the engine's `MachineKind` names it (kebab-case; the service says
+ * `unknown` for a machine its kinematics refuses, which never reaches the view). */
+export type MachineKind = Exclude<components["schemas"]["MechanismName"], "unknown">;
 
 export function machineKind(m: MachineModel): MachineKind {
   const h = m.rotary.filter((r) => r.side === "head").length;

@@ -9,6 +9,7 @@ mod origin;
 mod served;
 mod store;
 mod streams;
+mod wire;
 
 use std::time::Duration;
 

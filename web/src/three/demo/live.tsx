@@ -7,6 +7,7 @@ import { useEffect, useState } from "preact/hooks";
 import { View3D } from "../View3D";
 import type { View3DHandle } from "../View3D";
 import type { MachineModelInput } from "../model";
+import type { ControllerMessage } from "../../api/client";
 
 const q = new URLSearchParams(location.search);
 const PROGRAM = `O0001
@@ -24,12 +25,6 @@ G00 Z100
 M30
 `;
 
-interface Frame {
-  type: string;
-  machine: Record<string, number>;
-  tool_length: number;
-  tip_table: [number, number, number];
-}
 
 function Live() {
   const [machine, setMachine] = useState<MachineModelInput | null>(null);
@@ -66,11 +61,11 @@ function Live() {
     const ws = new WebSocket(`${location.origin.replace(/^http/, "ws")}/api/v1/controllers/${id}/stream?rate=60`);
     let n = 0;
     ws.onmessage = (ev) => {
-      const m = JSON.parse(ev.data) as Frame;
+      const m = JSON.parse(ev.data) as ControllerMessage;
       if (m.type !== "position") return;
       setAxes(m.machine);
       setL(m.tool_length);
-      handle.addTrace(...m.tip_table);
+      handle.addTrace(m.tip_table[0], m.tip_table[1], m.tip_table[2]);
       setFrames(++n);
     };
     ws.onopen = async () => {
