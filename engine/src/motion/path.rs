@@ -108,6 +108,16 @@ pub struct Segment {
     /// How the trace reads the tool tip from the axes on this segment (`crate::tip`); the
     /// maker of the segment sets it (from the canonical command's).
     pub tip_basis: crate::tip::Basis,
+    /// A kinematic path's stretches with limits of their own (empty: one for the whole
+    /// segment); the planner queues each as a segment (`Segment::split`).
+    pieces: Vec<Piece>,
+    /// The next segment is the rest of this motion (a piece of a split kinematic path).
+    continued: bool,
+    /// No feed of its own: it runs as fast as the axes allow (a kinematic rapid, a rotary-only
+    /// move fed by the axes), so each piece at its own speed.
+    unfed: bool,
+    /// The override applied (`set_override`), for the pieces it is split into.
+    factor: f64,
 }
 
 /// A tool tip path in the table frame and how the tool turns along it; the machine axes at each
@@ -253,6 +263,23 @@ impl Posture {
             Posture::Arc { alpha, beta, .. } => {
                 alpha[0] += (alpha[1] - alpha[0]) * u;
                 beta[0] += (beta[1] - beta[0]) * u;
+                true
+            }
+        }
+    }
+
+    /// Keep what comes before `u` of the way; `false`: nothing left to turn.
+    fn keep_to(&mut self, u: f64, circle: Option<&Circle3>) -> bool {
+        let v = self.at(u, circle);
+        match self {
+            Posture::Great { v1, angle, .. } => {
+                *v1 = v;
+                *angle *= u;
+                *angle > 1e-12
+            }
+            Posture::Arc { alpha, beta, .. } => {
+                alpha[1] = alpha[0] + (alpha[1] - alpha[0]) * u;
+                beta[1] = beta[0] + (beta[1] - beta[0]) * u;
                 true
             }
         }
@@ -416,6 +443,24 @@ impl Follow {
         }
     }
 
+    /// Keep what comes before `u` of the way.
+    fn keep_to(&mut self, u: f64) {
+        self.to = self.tip(u);
+        if let Some(p) = &mut self.posture {
+            if !p.keep_to(u, self.circle.as_ref()) {
+                self.posture = None;
+            }
+        }
+        if let Some(c) = &mut self.compensation {
+            c.to = std::array::from_fn(|i| c.from[i] + (c.to[i] - c.from[i]) * u);
+        }
+        if let Some(c) = &mut self.circle {
+            c.r1 = c.r0 + (c.r1 - c.r0) * u;
+            c.sweep *= u;
+            c.rise *= u;
+        }
+    }
+
     /// Programming coordinates at `u` for machine position `machine`.
     fn work(&self, machine: &Pos, u: f64, offset: &Pos) -> Pos {
         let mut work: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
@@ -434,9 +479,9 @@ impl Follow {
     }
 }
 
-/// Bounds on a kinematic path's axis derivatives, sampled at `n + 1` points.
+/// Bounds on a kinematic path's axis derivatives over a stretch of it.
 struct Sampled {
-    /// The largest |d(axis)/ds|, |d²/ds²|, |d³/ds³| of every axis over the path.
+    /// The largest |d(axis)/ds|, |d²/ds²|, |d³/ds³| of every axis over the stretch.
     rate: Pos,
     bend: Pos,
     twist: Pos,
@@ -446,52 +491,76 @@ struct Sampled {
     end_curvature: Pos,
 }
 
-/// The first three derivatives of every axis by s (`q` gives the axes at `u` = s / `len`), by
-/// differences around `n + 1` points.
-fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sampled {
-    let h = 1.0 / (4.0 * n as f64);
-    let mut out = Sampled {
-        rate: [0.0; MAX_AXES],
-        bend: [0.0; MAX_AXES],
-        twist: [0.0; MAX_AXES],
-        start_dir: [0.0; MAX_AXES],
-        end_dir: [0.0; MAX_AXES],
-        start_curvature: [0.0; MAX_AXES],
-        end_curvature: [0.0; MAX_AXES],
-    };
-    if len <= 0.0 {
-        return out;
-    }
-    let (rate, bend, twist) = (&mut out.rate, &mut out.bend, &mut out.twist);
-    for k in 0..=n {
-        let u = k as f64 / n as f64;
-        let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
+/// The first three derivatives by s of every axis at `cells + 1` evenly spaced points of a
+/// kinematic path (`q` gives the axes at u = s / `len`), by differences around each point.
+struct Grid {
+    len: f64,
+    /// `d[k]`: d/ds, d²/ds², d³/ds³ of every axis at u = k / cells.
+    d: Vec<[Pos; 3]>,
+}
+
+impl Grid {
+    fn new(q: impl Fn(f64) -> Pos, len: f64, cells: usize, axes: &AxisLimits) -> Grid {
+        let cells = cells.max(1);
+        let h = 1.0 / (4.0 * cells as f64);
         let ds = h * len;
-        for i in 0..axes.count {
-            let d1 = (c[i] - b[i]) / ds;
-            let d2 = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
-            let d3 = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
-            rate[i] = rate[i].max(d1.abs());
-            bend[i] = bend[i].max(d2.abs());
-            twist[i] = twist[i].max(d3.abs());
-            if k == 0 {
-                (out.start_dir[i], out.start_curvature[i]) = (d1, d2);
-            }
-            if k == n {
-                (out.end_dir[i], out.end_curvature[i]) = (d1, d2);
+        let d = (0..=cells)
+            .map(|k| {
+                let mut out = [[0.0; MAX_AXES]; 3];
+                if len <= 0.0 {
+                    return out;
+                }
+                let u = k as f64 / cells as f64;
+                let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
+                for i in 0..axes.count {
+                    out[0][i] = (c[i] - b[i]) / ds;
+                    out[1][i] = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
+                    out[2][i] = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
+                }
+                out
+            })
+            .collect();
+        Grid { len, d }
+    }
+
+    fn cells(&self) -> usize {
+        self.d.len() - 1
+    }
+
+    /// The bounds over the cells from point `k0` to point `k1`. Between two points (`len /
+    /// cells` apart) a derivative can exceed its sampled maximum by at most the next
+    /// derivative's maximum times half the spacing: the maxima are raised by that, so that a
+    /// peak between points does not let an axis run past its limits (random machines found
+    /// 1e-5 overshoots without it).
+    fn bounds(&self, k0: usize, k1: usize) -> Sampled {
+        let mut out = Sampled {
+            rate: [0.0; MAX_AXES],
+            bend: [0.0; MAX_AXES],
+            twist: [0.0; MAX_AXES],
+            start_dir: self.d[k0][0],
+            end_dir: self.d[k1][0],
+            start_curvature: self.d[k0][1],
+            end_curvature: self.d[k1][1],
+        };
+        for d in &self.d[k0..=k1] {
+            for i in 0..MAX_AXES {
+                out.rate[i] = out.rate[i].max(d[0][i].abs());
+                out.bend[i] = out.bend[i].max(d[1][i].abs());
+                out.twist[i] = out.twist[i].max(d[2][i].abs());
             }
         }
+        let half = 0.5 * self.len / self.cells() as f64;
+        for i in 0..MAX_AXES {
+            out.rate[i] += out.bend[i] * half;
+            out.bend[i] += out.twist[i] * half;
+        }
+        out
     }
-    // Between two samples (len/n apart) a derivative can exceed its sampled maximum by at most
-    // the next derivative's maximum times half the spacing: bound the maxima by that, so that a
-    // peak between samples does not let an axis run past its limits (random machines found
-    // 1e-5 overshoots without it).
-    let half = 0.5 * len / n as f64;
-    for i in 0..axes.count {
-        rate[i] += bend[i] * half;
-        bend[i] += twist[i] * half;
+
+    /// The whole path's bounds.
+    fn whole(&self) -> Sampled {
+        self.bounds(0, self.cells())
     }
-    out
 }
 
 /// The shares of each axis's acceleration and jerk that a kinematic path's cruise may take
@@ -509,8 +578,8 @@ const CRUISE_SHARES: [f64; 4] = [0.9, 0.75, 0.5, 0.25];
 /// A top speed never runs faster than the axes allow at the point that binds; the share is
 /// the one of [`CRUISE_SHARES`] that gives the shortest rest-to-rest time over `len` at
 /// min(v, feed) (a high share cruises fast but accelerates slowly).
-fn kinematic_limits(d: &Sampled, axes: &AxisLimits, len: f64, feed: f64, cap: f64) -> Limits {
-    let mut best: Option<(f64, Limits)> = None;
+fn kinematic_limits(d: &Sampled, axes: &AxisLimits, len: f64, feed: f64, cap: f64) -> (Limits, f64) {
+    let mut best: Option<(f64, Limits, f64)> = None;
     for share in CRUISE_SHARES {
         let lim = limits_with_share(d, axes, share, cap);
         let run = Limits { v: lim.v.min(feed), ..lim };
@@ -519,11 +588,84 @@ fn kinematic_limits(d: &Sampled, axes: &AxisLimits, len: f64, feed: f64, cap: f6
         } else {
             f64::INFINITY
         };
-        if best.as_ref().is_none_or(|(t, _)| time < *t * (1.0 - 1e-9)) {
-            best = Some((time, lim));
+        if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
+            best = Some((time, lim, share));
         }
     }
-    best.map_or(Limits { v: 0.0, a: 0.0, j: 0.0 }, |(_, lim)| lim)
+    best.map_or((Limits { v: 0.0, a: 0.0, j: 0.0 }, CRUISE_SHARES[0]), |(_, lim, share)| (lim, share))
+}
+
+/// A stretch of a kinematic path planned with limits of its own (`Segment::split`).
+#[derive(Debug, Clone, PartialEq)]
+struct Piece {
+    /// Where it ends, as a share of the path.
+    end: f64,
+    /// Its speed (what the axes allow, before the feed), acceleration and jerk limits.
+    limits: Limits,
+    /// d(axis)/ds and d²(axis)/ds² where it ends (the next piece starts with the same: the
+    /// planner sees a smooth junction).
+    end_dir: Pos,
+    end_curvature: Pos,
+}
+
+/// At most this many pieces to a kinematic block: each is a segment in the planner's queue.
+const MAX_PIECES: usize = 16;
+
+/// Cells of a kinematic path share a piece while the piece's limits stay within this share of
+/// each cell's own; with more than [`MAX_PIECES`] pieces the share doubles.
+const PIECE_TOLERANCE: f64 = 0.03;
+
+/// A kinematic path cut where its limits change: the cells of `grid` grouped into stretches
+/// whose own limits (the cruise taking `share`, at most `cap`) are each within a few % of
+/// every cell's in them. Empty when one stretch is the whole path.
+fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
+    let m = grid.cells();
+    let own = |k0: usize, k1: usize| limits_with_share(&grid.bounds(k0, k1), axes, share, cap);
+    let cells: Vec<Limits> = (0..m).map(|c| own(c, c + 1)).collect();
+    let mut tolerance = PIECE_TOLERANCE;
+    let ends = loop {
+        let ends = cuts(&cells, &own, tolerance);
+        if ends.len() <= MAX_PIECES || tolerance >= 1.0 {
+            break ends;
+        }
+        tolerance *= 2.0;
+    };
+    if ends.len() <= 1 {
+        return Vec::new();
+    }
+    let mut k0 = 0;
+    ends.iter()
+        .map(|&k1| {
+            let piece = Piece {
+                end: k1 as f64 / m as f64,
+                limits: own(k0, k1),
+                end_dir: grid.d[k1][0],
+                end_curvature: grid.d[k1][1],
+            };
+            k0 = k1;
+            piece
+        })
+        .collect()
+}
+
+/// The end points (grid indices) of the stretches: a stretch grows cell by cell while its
+/// limits stay within `tolerance` of the highest of its cells' own.
+fn cuts(cells: &[Limits], own: &impl Fn(usize, usize) -> Limits, tolerance: f64) -> Vec<usize> {
+    let close = |x: f64, top: f64| x == top || x >= (1.0 - tolerance) * top;
+    let mut ends = Vec::new();
+    let (mut k0, mut top) = (0, cells[0]);
+    for (c, cell) in cells.iter().enumerate().skip(1) {
+        let up = Limits { v: top.v.max(cell.v), a: top.a.max(cell.a), j: top.j.max(cell.j) };
+        let merged = own(k0, c + 1);
+        if close(merged.v, up.v) && close(merged.a, up.a) && close(merged.j, up.j) {
+            top = up;
+        } else {
+            ends.push(c);
+            (k0, top) = (c, *cell);
+        }
+    }
+    ends.push(cells.len());
+    ends
 }
 
 /// [`kinematic_limits`] with the cruise taking `share` of each axis's acceleration and jerk.
@@ -589,6 +731,10 @@ fn deviation_speed(follow: &Follow, from: &Pos, to: &Pos, len: f64, n: usize, to
     }
     step * (tolerance / worst).sqrt() / INTERPOLATION_PERIOD
 }
+
+/// Cells of a kinematic path's derivative grid per sample point of [`sample_count`]: the
+/// finer grid the pieces are cut from.
+const CELLS_PER_SAMPLE: usize = 2;
 
 /// Sample points for a kinematic path: more where the rotary axes turn more.
 fn sample_count(turn_deg: f64, sweep_deg: f64) -> usize {
@@ -703,6 +849,10 @@ impl Segment {
             tip_basis: crate::tip::Basis::default(),
             programmed,
             axis_speed,
+            pieces: Vec::new(),
+            continued: false,
+            unfed: false,
+            factor: 1.0,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         if rapid && ctx.options.nonlinear_rapid {
@@ -796,7 +946,8 @@ impl Segment {
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);
-        let found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        let grid = Grid::new(|u| follow.at(from, &to, u), len, CELLS_PER_SAMPLE * n, axes);
+        let found = grid.whole();
         let cap =
             tip.deviation.map_or(f64::INFINITY, |tolerance| deviation_speed(&follow, from, &to, len, n, tolerance));
         // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
@@ -804,7 +955,8 @@ impl Segment {
         let as_fast_as_axes = rapid || (rotary_only && !tip.rotary_feed && !fixed_time);
         let feed = if as_fast_as_axes { f64::INFINITY } else { programmed_speed(m, len) * feed_scale };
         let scale = if rapid { ctx.rapid_override } else { ctx.feed_override };
-        let limits = kinematic_limits(&found, axes, len, feed * scale.max(0.0), cap);
+        let (limits, share) = kinematic_limits(&found, axes, len, feed * scale.max(0.0), cap);
+        let pieces = pieces(&grid, axes, share, cap);
         let axis_speed = limits.v;
         let programmed = if as_fast_as_axes { axis_speed } else { feed };
         let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
@@ -834,6 +986,10 @@ impl Segment {
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
             tip_basis: crate::tip::Basis::default(),
+            pieces,
+            continued: false,
+            unfed: as_fast_as_axes,
+            factor: 1.0,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg
@@ -885,8 +1041,10 @@ impl Segment {
         };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
-        let found = sampled(|u| follow.at(from, to, u), len, 32, axes);
-        let limits = kinematic_limits(&found, axes, len, feed_deg_min / 60.0, f64::INFINITY);
+        let grid = Grid::new(|u| follow.at(from, to, u), len, CELLS_PER_SAMPLE * 32, axes);
+        let found = grid.whole();
+        let (limits, share) = kinematic_limits(&found, axes, len, feed_deg_min / 60.0, f64::INFINITY);
+        let pieces = pieces(&grid, axes, share, f64::INFINITY);
         let mut seg = Segment {
             line: 0,
             block: 0,
@@ -914,6 +1072,10 @@ impl Segment {
             tool_length,
             // The caller places it in the workpiece system it runs in.
             tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
+            pieces,
+            continued: false,
+            unfed: false,
+            factor: 1.0,
         };
         seg.set_override(1.0, 1.0);
         seg
@@ -1003,7 +1165,59 @@ impl Segment {
             (false, true) => 1.0,
             (false, false) => feed,
         };
-        self.limits.v = self.axis_speed.min(self.programmed * k.max(0.0));
+        self.factor = k.max(0.0);
+        self.limits.v = self.axis_speed.min(self.programmed * self.factor);
+    }
+
+    /// Whether the next segment is the rest of this motion (a piece of a split kinematic path,
+    /// `split`).
+    pub fn continued(&self) -> bool {
+        self.continued
+    }
+
+    /// The segment as the planner queues it: a kinematic path whose limits change along the
+    /// way becomes its pieces, each with the limits of its own stretch, joined smoothly (equal
+    /// tangents and curvatures) and ending where the next begins; others stay whole.
+    pub fn split(mut self) -> Vec<Segment> {
+        let pieces = std::mem::take(&mut self.pieces);
+        if pieces.is_empty() {
+            return vec![self];
+        }
+        let mut out = Vec::with_capacity(pieces.len());
+        let (mut start, mut dir, mut curvature) = (0.0, self.start_dir, self.start_curvature);
+        for (k, piece) in pieces.iter().enumerate() {
+            let last = k + 1 == pieces.len();
+            let end = if last { self.len } else { piece.end * self.len };
+            let mut seg = self.part(start, end);
+            (seg.start_dir, seg.start_curvature) = (dir, curvature);
+            if !last {
+                (seg.end_dir, seg.end_curvature) = (piece.end_dir, piece.end_curvature);
+            }
+            seg.axis_speed = piece.limits.v;
+            seg.limits = piece.limits;
+            if seg.unfed {
+                seg.programmed = piece.limits.v;
+            }
+            seg.limits.v = seg.axis_speed.min(seg.programmed * seg.factor);
+            seg.stop_after = last && self.stop_after;
+            seg.continued = !last;
+            (start, dir, curvature) = (end, piece.end_dir, piece.end_curvature);
+            out.push(seg);
+        }
+        out
+    }
+
+    /// The stretch from distance `s0` to `s1` (a kinematic path's piece).
+    fn part(&self, s0: f64, s1: f64) -> Segment {
+        let mut p = if s0 > 0.0 { self.tail(s0) } else { self.clone() };
+        if s1 < self.len {
+            (p.to, p.work_to) = self.at(s1);
+            if let Some(f) = &mut p.follow {
+                f.keep_to((s1 - s0) / (self.len - s0));
+            }
+            p.len = s1 - s0;
+        }
+        p
     }
 
     /// Machine and programming positions at distance `s` along the segment.

@@ -128,8 +128,15 @@ impl Planner {
         self.queue.is_empty() && self.ready.is_empty()
     }
 
-    /// Queue a segment (zero-length segments are dropped: they take no time).
+    /// Queue a segment (zero-length segments are dropped: they take no time); a kinematic
+    /// path whose limits change along the way is queued as its pieces (`Segment::split`).
     pub fn push(&mut self, segment: Segment) {
+        for piece in segment.split() {
+            self.push_one(piece);
+        }
+    }
+
+    fn push_one(&mut self, segment: Segment) {
         if segment.len <= 0.0 {
             return;
         }
