@@ -567,32 +567,47 @@ impl Grid {
 /// (`kinematic_limits`), tried in turn; the rest is left to the path's speed changes.
 const CRUISE_SHARES: [f64; 4] = [0.9, 0.75, 0.5, 0.25];
 
-/// The path limits of a kinematic path with the sampled derivative bounds `d`, `len` long, fed
-/// at `feed` (per second; infinite for a rapid), never faster than `cap`.
+/// The path limits of a kinematic path (its derivative grid `grid`) fed at `feed` (per second;
+/// infinite for a rapid), never faster than `cap`, and the pieces it is cut into (none: it
+/// runs whole).
 ///
 /// Axis i moves at v·q1, accelerates a·q1 + v²·q2 and jerks j·q1 + 3·v·a·q2 + v³·q3 (q1..q3
-/// its derivatives by s, bounded by `d`; v, a, j the path's speed, acceleration and jerk). The
-/// path's top speed v comes first: at most the axis's speed, and its own terms v²·q2 and v³·q3
-/// within a share σ of the axis's acceleration and jerk. What is left goes to speed changes:
-/// a ≤ (A − v²·q2)/q1, the cross term 3·v·a·q2 within half of the jerk left, j with the rest.
-/// A top speed never runs faster than the axes allow at the point that binds; the share is
-/// the one of [`CRUISE_SHARES`] that gives the shortest rest-to-rest time over `len` at
-/// min(v, feed) (a high share cruises fast but accelerates slowly).
-fn kinematic_limits(d: &Sampled, axes: &AxisLimits, len: f64, feed: f64, cap: f64) -> (Limits, f64) {
-    let mut best: Option<(f64, Limits, f64)> = None;
+/// its derivatives by s, bounded over a stretch by the grid; v, a, j the path's speed,
+/// acceleration and jerk). A stretch's top speed v comes first: at most the axis's speed, and
+/// its own terms v²·q2 and v³·q3 within a share σ of the axis's acceleration and jerk. What is
+/// left goes to speed changes: a ≤ (A − v²·q2)/q1, the cross term 3·v·a·q2 within half of the
+/// jerk left, j with the rest. The path is cut where these limits change by more than a few %
+/// ([`pieces`]), so that each piece cruises at what its own stretch allows. The share, and
+/// whether to cut at all, is the choice of [`CRUISE_SHARES`] × {cut, whole} whose rest-to-rest
+/// time at min(v, feed) is the shortest as the planner would plan it (`chain_time`): a high
+/// share cruises fast but accelerates slowly, and a chain of short pieces changes speed more
+/// slowly than one profile (its acceleration returns to zero at every junction).
+fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64) -> (Limits, Vec<Piece>) {
+    let fed = |lim: Limits| Limits { v: lim.v.min(feed), ..lim };
+    let mut best: Option<(f64, Limits, Vec<Piece>)> = None;
     for share in CRUISE_SHARES {
-        let lim = limits_with_share(d, axes, share, cap);
-        let run = Limits { v: lim.v.min(feed), ..lim };
-        let time = if run.v > 0.0 && run.a > 0.0 && run.j > 0.0 {
-            Profile::plan(0.0, 0.0, len, &run).duration()
-        } else {
-            f64::INFINITY
-        };
-        if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
-            best = Some((time, lim, share));
+        let whole = limits_with_share(&grid.whole(), axes, share, cap);
+        let cut = pieces(grid, axes, share, cap);
+        let mut start = 0.0;
+        let chain: Vec<(f64, Limits)> = cut
+            .iter()
+            .map(|p| {
+                let len = (p.end - start) * grid.len;
+                start = p.end;
+                (len, fed(p.limits))
+            })
+            .collect();
+        let mut options = vec![(super::planner::chain_time(&[(grid.len, fed(whole))]), Vec::new())];
+        if !cut.is_empty() {
+            options.push((super::planner::chain_time(&chain), cut));
+        }
+        for (time, cut) in options {
+            if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
+                best = Some((time, whole, cut));
+            }
         }
     }
-    best.map_or((Limits { v: 0.0, a: 0.0, j: 0.0 }, CRUISE_SHARES[0]), |(_, lim, share)| (lim, share))
+    best.map_or((Limits { v: 0.0, a: 0.0, j: 0.0 }, Vec::new()), |(_, lim, cut)| (lim, cut))
 }
 
 /// A stretch of a kinematic path planned with limits of its own (`Segment::split`).
@@ -619,6 +634,9 @@ const PIECE_TOLERANCE: f64 = 0.03;
 /// whose own limits (the cruise taking `share`, at most `cap`) are each within a few % of
 /// every cell's in them. Empty when one stretch is the whole path.
 fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
+    if std::env::var("FIVEX_NO_PIECES").is_ok() {
+        return Vec::new();
+    }
     let m = grid.cells();
     let own = |k0: usize, k1: usize| limits_with_share(&grid.bounds(k0, k1), axes, share, cap);
     let cells: Vec<Limits> = (0..m).map(|c| own(c, c + 1)).collect();
@@ -955,8 +973,7 @@ impl Segment {
         let as_fast_as_axes = rapid || (rotary_only && !tip.rotary_feed && !fixed_time);
         let feed = if as_fast_as_axes { f64::INFINITY } else { programmed_speed(m, len) * feed_scale };
         let scale = if rapid { ctx.rapid_override } else { ctx.feed_override };
-        let (limits, share) = kinematic_limits(&found, axes, len, feed * scale.max(0.0), cap);
-        let pieces = pieces(&grid, axes, share, cap);
+        let (limits, pieces) = kinematic_limits(&grid, axes, feed * scale.max(0.0), cap);
         let axis_speed = limits.v;
         let programmed = if as_fast_as_axes { axis_speed } else { feed };
         let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
@@ -1043,8 +1060,7 @@ impl Segment {
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
         let grid = Grid::new(|u| follow.at(from, to, u), len, CELLS_PER_SAMPLE * 32, axes);
         let found = grid.whole();
-        let (limits, share) = kinematic_limits(&found, axes, len, feed_deg_min / 60.0, f64::INFINITY);
-        let pieces = pieces(&grid, axes, share, f64::INFINITY);
+        let (limits, pieces) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, f64::INFINITY);
         let mut seg = Segment {
             line: 0,
             block: 0,
