@@ -634,9 +634,6 @@ const PIECE_TOLERANCE: f64 = 0.03;
 /// whose own limits (the cruise taking `share`, at most `cap`) are each within a few % of
 /// every cell's in them. Empty when one stretch is the whole path.
 fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
-    if std::env::var("FIVEX_NO_PIECES").is_ok() {
-        return Vec::new();
-    }
     let m = grid.cells();
     let own = |k0: usize, k1: usize| limits_with_share(&grid.bounds(k0, k1), axes, share, cap);
     let cells: Vec<Limits> = (0..m).map(|c| own(c, c + 1)).collect();
