@@ -10,8 +10,8 @@
 //!   the singular posture (`near_singular_deg`);
 //! - limits: the lowest and highest position reached and the closest approach (margin) to the
 //!   stored stroke or the rotary movement range, whichever is tighter;
-//! - unwinds: executed segments in which a rotary axis turns 180° or more against the direction
-//!   it last moved in;
+//! - unwinds: executed motions (a split kinematic path's pieces as one) in which a rotary axis
+//!   turns 180° or more against the direction it last moved in;
 //! - tip deviation: the distance, in the table frame, from the tool tip the axes put there to the
 //!   programmed tip path: a tool centre point or tilted-plane move's own tip line or circle; on a
 //!   move whose rotary axes turn without one, the straight line between the tip's start and end
