@@ -581,13 +581,14 @@ const CRUISE_SHARES: [f64; 4] = [0.9, 0.75, 0.5, 0.25];
 /// whether to cut at all, is the choice of [`CRUISE_SHARES`] × {cut, whole} whose rest-to-rest
 /// time at min(v, feed) is the shortest as the planner would plan it (`chain_time`): a high
 /// share cruises fast but accelerates slowly, and a chain of short pieces changes speed more
-/// slowly than one profile (its acceleration returns to zero at every junction).
-fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64) -> (Limits, Vec<Piece>) {
+/// slowly than one profile (its acceleration returns to zero at every junction). Without
+/// `may_cut` the path runs whole.
+fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut: bool) -> (Limits, Vec<Piece>) {
     let fed = |lim: Limits| Limits { v: lim.v.min(feed), ..lim };
     let mut best: Option<(f64, Limits, Vec<Piece>)> = None;
     for share in CRUISE_SHARES {
         let whole = limits_with_share(&grid.whole(), axes, share, cap);
-        let cut = pieces(grid, axes, share, cap);
+        let cut = if may_cut { pieces(grid, axes, share, cap) } else { Vec::new() };
         let mut start = 0.0;
         let chain: Vec<(f64, Limits)> = cut
             .iter()
@@ -970,7 +971,7 @@ impl Segment {
         let as_fast_as_axes = rapid || (rotary_only && !tip.rotary_feed && !fixed_time);
         let feed = if as_fast_as_axes { f64::INFINITY } else { programmed_speed(m, len) * feed_scale };
         let scale = if rapid { ctx.rapid_override } else { ctx.feed_override };
-        let (limits, pieces) = kinematic_limits(&grid, axes, feed * scale.max(0.0), cap);
+        let (limits, pieces) = kinematic_limits(&grid, axes, feed * scale.max(0.0), cap, true);
         let axis_speed = limits.v;
         let programmed = if as_fast_as_axes { axis_speed } else { feed };
         let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
@@ -1057,7 +1058,9 @@ impl Segment {
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
         let grid = Grid::new(|u| follow.at(from, to, u), len, CELLS_PER_SAMPLE * 32, axes);
         let found = grid.whole();
-        let (limits, pieces) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, f64::INFINITY);
+        // Whole: a handle interruption runs its tip rotation as the one run its planner
+        // releases first (`controller/interrupt.rs`), so a manual rotation is never cut.
+        let (limits, pieces) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, f64::INFINITY, false);
         let mut seg = Segment {
             line: 0,
             block: 0,

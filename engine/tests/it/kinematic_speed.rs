@@ -252,7 +252,8 @@ const SURVEY_SHORT: f64 = 0.25;
 /// `docs/motion.md` quotes. Run with `--nocapture` to see them.
 #[test]
 fn kinematic_samples_survey() {
-    let mut runner = TestRunner::new_with_rng(ProptestConfig::default(), TestRng::from_seed(RngAlgorithm::ChaCha, &[17; 32]));
+    let mut runner =
+        TestRunner::new_with_rng(ProptestConfig::default(), TestRng::from_seed(RngAlgorithm::ChaCha, &[17; 32]));
     let mut total = Tally::default();
     let (mut blocks, mut whole_short) = (0, 0);
     let record = |src: &str, m: &MachineConfig, line: u32, feed: f64, total: &mut Tally| {

@@ -5,10 +5,10 @@
 use crate::common;
 
 use common::*;
+use fivex_engine::canon::{Motion, Pos};
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::canon::{Motion, Pos};
 use fivex_engine::motion::Segment;
 use fivex_engine::report::{run_with_report, Recorder, Report};
 use fivex_engine::run::{run, run_observed, Observer, RunOptions, Sample};
