@@ -543,10 +543,10 @@ impl Grid {
             end_curvature: self.d[k1][1],
         };
         for d in &self.d[k0..=k1] {
-            for i in 0..MAX_AXES {
-                out.rate[i] = out.rate[i].max(d[0][i].abs());
-                out.bend[i] = out.bend[i].max(d[1][i].abs());
-                out.twist[i] = out.twist[i].max(d[2][i].abs());
+            for (bound, d) in [&mut out.rate, &mut out.bend, &mut out.twist].into_iter().zip(d) {
+                for (b, x) in bound.iter_mut().zip(d) {
+                    *b = b.max(x.abs());
+                }
             }
         }
         let half = 0.5 * self.len / self.cells() as f64;

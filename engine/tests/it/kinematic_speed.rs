@@ -127,8 +127,8 @@ fn tally(samples: &[Sample], m: &MachineConfig, line: u32, feed: f64) -> Tally {
     let windows: Vec<f64> = (0..n.saturating_sub(3)).map(|w| window_share(&block[w..w + 4], &lim)).collect();
     let window = |w: usize| windows.get(w).copied().unwrap_or(0.0);
     let mut t = Tally { samples: n, peak: windows.iter().copied().fold(0.0, f64::max), ..Tally::default() };
-    for k in 0..n {
-        if block[k].feed >= 0.99 * feed {
+    for (k, sample) in block.iter().enumerate() {
+        if sample.feed >= 0.99 * feed {
             t.feed += 1;
         } else if k >= 1 && window(k - 1) >= AT_LIMIT {
             t.axis += 1;
