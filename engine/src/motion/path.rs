@@ -527,39 +527,54 @@ impl Grid {
         self.d.len() - 1
     }
 
-    /// The bounds over the cells from point `k0` to point `k1`. Between two points (`len /
-    /// cells` apart) a derivative can exceed its sampled maximum by at most the next
-    /// derivative's maximum times half the spacing: the maxima are raised by that, so that a
-    /// peak between points does not let an axis run past its limits (random machines found
-    /// 1e-5 overshoots without it).
-    fn bounds(&self, k0: usize, k1: usize) -> Sampled {
-        let mut out = Sampled {
-            rate: [0.0; MAX_AXES],
-            bend: [0.0; MAX_AXES],
-            twist: [0.0; MAX_AXES],
+    /// The largest |d/ds|, |d²/ds²|, |d³/ds³| of every axis at the points `k0..=k1`.
+    fn maxima(&self, k0: usize, k1: usize) -> [Pos; 3] {
+        let mut out = [[0.0; MAX_AXES]; 3];
+        for d in &self.d[k0..=k1] {
+            widen(&mut out, d);
+        }
+        out
+    }
+
+    /// The bounds over the cells from point `k0` to point `k1`, whose points' largest
+    /// derivatives are `maxima`. Between two points (`len / cells` apart) a derivative can
+    /// exceed its sampled maximum by at most the next derivative's maximum times half the
+    /// spacing: the maxima are raised by that, so that a peak between points does not let an
+    /// axis run past its limits (random machines found 1e-5 overshoots without it).
+    fn bounds_of(&self, maxima: [Pos; 3], k0: usize, k1: usize) -> Sampled {
+        let [mut rate, mut bend, twist] = maxima;
+        let half = 0.5 * self.len / self.cells() as f64;
+        for i in 0..MAX_AXES {
+            rate[i] += bend[i] * half;
+            bend[i] += twist[i] * half;
+        }
+        Sampled {
+            rate,
+            bend,
+            twist,
             start_dir: self.d[k0][0],
             end_dir: self.d[k1][0],
             start_curvature: self.d[k0][1],
             end_curvature: self.d[k1][1],
-        };
-        for d in &self.d[k0..=k1] {
-            for (bound, d) in [&mut out.rate, &mut out.bend, &mut out.twist].into_iter().zip(d) {
-                for (b, x) in bound.iter_mut().zip(d) {
-                    *b = b.max(x.abs());
-                }
-            }
         }
-        let half = 0.5 * self.len / self.cells() as f64;
-        for i in 0..MAX_AXES {
-            out.rate[i] += out.bend[i] * half;
-            out.bend[i] += out.twist[i] * half;
-        }
-        out
+    }
+
+    fn bounds(&self, k0: usize, k1: usize) -> Sampled {
+        self.bounds_of(self.maxima(k0, k1), k0, k1)
     }
 
     /// The whole path's bounds.
     fn whole(&self) -> Sampled {
         self.bounds(0, self.cells())
+    }
+}
+
+/// Raise `maxima` to the magnitudes of the derivatives `d` where they are larger.
+fn widen(maxima: &mut [Pos; 3], d: &[Pos; 3]) {
+    for (bound, d) in maxima.iter_mut().zip(d) {
+        for (b, x) in bound.iter_mut().zip(d) {
+            *b = b.max(x.abs());
+        }
     }
 }
 
@@ -640,7 +655,12 @@ fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
     let cells: Vec<Limits> = (0..m).map(|c| own(c, c + 1)).collect();
     let mut tolerance = PIECE_TOLERANCE;
     let ends = loop {
-        let ends = cuts(&cells, &own, tolerance);
+        let ends = cuts(
+            grid,
+            &cells,
+            |maxima, k0, k1| limits_with_share(&grid.bounds_of(maxima, k0, k1), axes, share, cap),
+            tolerance,
+        );
         if ends.len() <= MAX_PIECES || tolerance >= 1.0 {
             break ends;
         }
@@ -665,19 +685,22 @@ fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
 }
 
 /// The end points (grid indices) of the stretches: a stretch grows cell by cell while its
-/// limits stay within `tolerance` of the highest of its cells' own.
-fn cuts(cells: &[Limits], own: &impl Fn(usize, usize) -> Limits, tolerance: f64) -> Vec<usize> {
+/// limits (`own` of its points' largest derivatives, its first and its last point) stay
+/// within `tolerance` of the highest of its cells' own.
+fn cuts(grid: &Grid, cells: &[Limits], own: impl Fn([Pos; 3], usize, usize) -> Limits, tolerance: f64) -> Vec<usize> {
     let close = |x: f64, top: f64| x == top || x >= (1.0 - tolerance) * top;
     let mut ends = Vec::new();
-    let (mut k0, mut top) = (0, cells[0]);
+    let (mut k0, mut top, mut maxima) = (0, cells[0], grid.maxima(0, 1));
     for (c, cell) in cells.iter().enumerate().skip(1) {
         let up = Limits { v: top.v.max(cell.v), a: top.a.max(cell.a), j: top.j.max(cell.j) };
-        let merged = own(k0, c + 1);
+        let mut wider = maxima;
+        widen(&mut wider, &grid.d[c + 1]);
+        let merged = own(wider, k0, c + 1);
         if close(merged.v, up.v) && close(merged.a, up.a) && close(merged.j, up.j) {
-            top = up;
+            (top, maxima) = (up, wider);
         } else {
             ends.push(c);
-            (k0, top) = (c, *cell);
+            (k0, top, maxima) = (c, *cell, grid.maxima(c, c + 1));
         }
     }
     ends.push(cells.len());
