@@ -604,18 +604,14 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
     for share in CRUISE_SHARES {
         let whole = limits_with_share(&grid.whole(), axes, share, cap);
         let cut = if may_cut { pieces(grid, axes, share, cap) } else { Vec::new() };
-        let mut start = 0.0;
-        let chain: Vec<(f64, Limits)> = cut
-            .iter()
-            .map(|p| {
-                let len = (p.end - start) * grid.len;
-                start = p.end;
-                (len, fed(p.limits))
-            })
-            .collect();
         let mut options = vec![(super::planner::chain_time(&[(grid.len, fed(whole))]), Vec::new())];
         if !cut.is_empty() {
-            options.push((super::planner::chain_time(&chain), cut));
+            let reach = super::profile::change(0.0, fed(whole).v, &fed(whole)).1 / grid.len;
+            let ends_whole = merge_ends(grid, axes, share, cap, &cut, reach);
+            options.push((chain_time(&cut, grid.len, fed), cut));
+            if !ends_whole.is_empty() {
+                options.push((chain_time(&ends_whole, grid.len, fed), ends_whole));
+            }
         }
         for (time, cut) in options {
             if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
@@ -624,6 +620,48 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
         }
     }
     best.map_or((Limits { v: 0.0, a: 0.0, j: 0.0 }, Vec::new()), |(_, lim, cut)| (lim, cut))
+}
+
+/// The rest-to-rest time of a path `len` long cut into `pieces`, with `fed` applied to their
+/// limits.
+fn chain_time(pieces: &[Piece], len: f64, fed: impl Fn(Limits) -> Limits) -> f64 {
+    let mut start = 0.0;
+    let chain: Vec<(f64, Limits)> = pieces
+        .iter()
+        .map(|p| {
+            let piece = ((p.end - start) * len, fed(p.limits));
+            start = p.end;
+            piece
+        })
+        .collect();
+    super::planner::chain_time(&chain)
+}
+
+/// `cut` with its pieces within `reach` (a share of the path) of either end merged into one at
+/// each end: where the machine changes speed from or to rest, one profile over the stretch
+/// beats a chain of short ones, each returning to zero acceleration. Empty when the two ends
+/// meet.
+fn merge_ends(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64, cut: &[Piece], reach: f64) -> Vec<Piece> {
+    let starts: Vec<f64> = std::iter::once(0.0).chain(cut.iter().map(|p| p.end)).collect();
+    let first = cut.iter().position(|p| p.end >= reach).unwrap_or(cut.len() - 1);
+    let last = (0..cut.len()).rev().find(|&k| starts[k] <= 1.0 - reach).unwrap_or(0);
+    if first >= last {
+        return Vec::new();
+    }
+    let m = grid.cells() as f64;
+    let merged = |k0: usize, k1: usize| Piece {
+        limits: limits_with_share(
+            &grid.bounds((starts[k0] * m).round() as usize, (cut[k1].end * m).round() as usize),
+            axes,
+            share,
+            cap,
+        ),
+        ..cut[k1].clone()
+    };
+    let mut out = vec![merged(0, first)];
+    out.extend_from_slice(&cut[first + 1..last]);
+    out.push(merged(last, cut.len() - 1));
+    out
 }
 
 /// A stretch of a kinematic path planned with limits of its own (`Segment::split`).
