@@ -1194,7 +1194,8 @@ impl Segment {
     /// has its tool tip moved by `tip` in the table frame (so the shift turns with the table); a
     /// move in machine coordinates stays.
     pub fn shifted(&self, machine: &Pos, tip: Vec3) -> Segment {
-        let mut seg = self.clone();
+        // The pieces were cut for the path before the shift: the shifted one runs whole.
+        let mut seg = Segment { pieces: Vec::new(), ..self.clone() };
         if self.machine_coordinates {
             return seg;
         }
@@ -1347,7 +1348,9 @@ impl Segment {
         let s = s.clamp(0.0, self.len);
         let u = if self.len > 0.0 { s / self.len } else { 1.0 };
         let (from, work_from) = self.at(s);
-        let mut tail = Segment { from, work_from, len: self.len - s, ..self.clone() };
+        // Pieces are shares of the whole path: a tail (of a segment not yet split) runs whole,
+        // within the whole path's limits.
+        let mut tail = Segment { from, work_from, len: self.len - s, pieces: Vec::new(), ..self.clone() };
         if let Some(c) = &mut tail.circle {
             c.start += c.sweep * u;
             c.r0 += (c.r1 - c.r0) * u;
