@@ -596,7 +596,9 @@ const CRUISE_SHARES: [f64; 4] = [0.9, 0.75, 0.5, 0.25];
 /// whether to cut at all, is the choice of [`CRUISE_SHARES`] × {cut, whole} whose rest-to-rest
 /// time at min(v, feed) is the shortest as the planner would plan it (`chain_time`): a high
 /// share cruises fast but accelerates slowly, and a chain of short pieces changes speed more
-/// slowly than one profile (its acceleration returns to zero at every junction). Without
+/// slowly than one profile (its acceleration returns to zero at every junction); a third
+/// option merges the pieces at either end where the path changes speed from or to rest. The
+/// pieces of the chosen cut then take each the share that shortens that time. Without
 /// `may_cut` the path runs whole.
 fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut: bool) -> (Limits, Vec<Piece>) {
     let fed = |lim: Limits| Limits { v: lim.v.min(feed), ..lim };
@@ -619,7 +621,28 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
             }
         }
     }
-    best.map_or((Limits { v: 0.0, a: 0.0, j: 0.0 }, Vec::new()), |(_, lim, cut)| (lim, cut))
+    let Some((time, whole, mut cut)) = best else { return (Limits { v: 0.0, a: 0.0, j: 0.0 }, Vec::new()) };
+    // Each piece its own share, where that is faster: a piece that only changes speed does
+    // better with a low one (a lower top speed, more acceleration left), one that cruises with
+    // a high one.
+    let mut time = time;
+    let m = grid.cells() as f64;
+    for k in 0..cut.len() {
+        let k0 = if k == 0 { 0 } else { (cut[k - 1].end * m).round() as usize };
+        let k1 = (cut[k].end * m).round() as usize;
+        let bounds = grid.bounds(k0, k1);
+        for share in CRUISE_SHARES {
+            let kept = cut[k].limits;
+            cut[k].limits = limits_with_share(&bounds, axes, share, cap);
+            let t = chain_time(&cut, grid.len, fed);
+            if t < time * (1.0 - 1e-9) {
+                time = t;
+            } else {
+                cut[k].limits = kept;
+            }
+        }
+    }
+    (whole, cut)
 }
 
 /// The rest-to-rest time of a path `len` long cut into `pieces`, with `fed` applied to their
