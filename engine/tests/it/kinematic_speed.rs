@@ -75,8 +75,8 @@ fn window_share(w: &[&Sample], lim: &[(f64, f64, f64, bool)]) -> f64 {
 const AT_LIMIT: f64 = 0.9;
 
 /// The share of a limit some axis reaches somewhere in a block whose tip stays below the feed,
-/// at least. The goal is [`AT_LIMIT`]; a run of 500 random TCP cases had 450 blocks below their
-/// feed, 12 of them below it everywhere, the lowest at 57 %: short blocks with a large swing that never finish a speed change, whose limits
+/// at least. The goal is [`AT_LIMIT`]; a run of 500 random TCP cases had 454 blocks below their
+/// feed, 9 of them below it everywhere, the lowest at 55 %: short blocks with a large swing that never finish a speed change, whose limits
 /// are worked out for a top speed they do not reach (`docs/motion.md`, "Kinematic paths").
 const BLOCK_REACHED: f64 = 0.5;
 
