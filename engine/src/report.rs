@@ -10,22 +10,21 @@
 //!   the singular posture (`near_singular_deg`);
 //! - limits: the lowest and highest position reached and the closest approach (margin) to the
 //!   stored stroke or the rotary movement range, whichever is tighter;
-//! - unwinds: executed segments in which a rotary axis turns 180° or more against the direction
-//!   it last moved in;
+//! - unwinds: executed motions (a split kinematic path's pieces as one) in which a rotary axis
+//!   turns 180° or more against the direction it last moved in;
 //! - tip deviation: the distance, in the table frame, from the tool tip the axes put there to the
 //!   programmed tip path: a tool centre point or tilted-plane move's own tip line or circle; on a
 //!   move whose rotary axes turn without one, the straight line between the tip's start and end
 //!   (the linearisation error); a move whose rotary axes stand still carries the tip rigidly
 //!   along its programmed path and deviates by nothing.
 
-use crate::canon::{Motion, Pos};
+use crate::canon::Pos;
 use crate::interp::Interpreter;
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::AxisKind;
 use crate::motion::Segment;
 use crate::run::{run_observed, Observer, RunOptions, RunResult, Sample};
 use serde::Serialize;
-use std::collections::VecDeque;
 
 /// The words of the report's `&'static str` fields, for the service's document.
 #[cfg(feature = "schema")]
@@ -219,10 +218,9 @@ pub struct Recorder {
     near_s: f64,
     min_singular: Option<f64>,
     period_s: f64,
-    /// The tool length of each queued segment not yet executed, in order, and the number of
-    /// the first.
-    tool_lengths: VecDeque<f64>,
-    first: u64,
+    /// Where the motion being executed started, while its pieces run (a kinematic path the
+    /// planner split, `Segment::continued`): an unwind is the whole motion's turn.
+    motion_from: Option<Pos>,
     last: Option<(f64, Pos)>,
     /// Where the last executed segment ended: the motion after the last sample counts too.
     last_end: Option<Pos>,
@@ -290,8 +288,7 @@ impl Recorder {
             near_s: 0.0,
             min_singular: None,
             period_s,
-            tool_lengths: VecDeque::new(),
-            first: 0,
+            motion_from: None,
             last: None,
             last_end: None,
             deviation: TipDeviation { max: 0.0, t: None, line: None, n: None, tip: None },
@@ -374,7 +371,7 @@ impl Recorder {
     }
 
     /// The tip deviation at a sample on `seg`, `s` along it, with the axes at `machine`.
-    fn deviation(&mut self, machine: &Pos, seg: &Segment, s: f64, number: u64) -> Option<(f64, Vec3)> {
+    fn deviation(&mut self, machine: &Pos, seg: &Segment, s: f64) -> Option<(f64, Vec3)> {
         let kin = self.kin.as_ref()?;
         if let Some((programmed, length)) = seg.programmed_tip(s) {
             let tip = kin.forward(machine, length).tip;
@@ -384,7 +381,7 @@ impl Recorder {
         if !rotary_moves {
             return None;
         }
-        let length = *self.tool_lengths.get(number.checked_sub(self.first)? as usize)?;
+        let length = seg.tool_length;
         let chord = match self.chord {
             Some((f, t, a, b)) if f == seg.from && t == seg.to => (a, b),
             _ => {
@@ -407,10 +404,6 @@ fn distance_to_segment(p: Vec3, a: Vec3, b: Vec3) -> f64 {
 }
 
 impl Observer for Recorder {
-    fn queued(&mut self, motion: &Motion, _segment: &Segment) {
-        self.tool_lengths.push_back(motion.context.tool_length);
-    }
-
     fn sample(&mut self, sample: &Sample, machine: &Pos, on: Option<(&Segment, f64, u64)>) {
         if let Some((t0, p0)) = self.last {
             let dt = sample.t - t0;
@@ -438,8 +431,8 @@ impl Observer for Recorder {
         }
         self.last = Some((sample.t, *machine));
         self.position(machine);
-        if let Some((seg, s, number)) = on {
-            if let Some((d, tip)) = self.deviation(machine, seg, s, number) {
+        if let Some((seg, s, _)) = on {
+            if let Some((d, tip)) = self.deviation(machine, seg, s) {
                 if d > self.deviation.max {
                     self.deviation = TipDeviation {
                         max: d,
@@ -454,14 +447,16 @@ impl Observer for Recorder {
     }
 
     fn executed(&mut self, segment: &Segment) {
-        if self.tool_lengths.pop_front().is_some() {
-            self.first += 1;
-        }
         self.position(&segment.from);
         self.position(&segment.to);
         self.last_end = Some(segment.to);
+        let from = *self.motion_from.get_or_insert(segment.from);
+        if segment.continued() {
+            return;
+        }
+        self.motion_from = None;
         for (i, a) in self.axes.iter_mut().enumerate() {
-            let d = segment.to[i] - segment.from[i];
+            let d = segment.to[i] - from[i];
             if a.rotary && d != 0.0 {
                 if a.direction != 0.0 && d.abs() >= UNWIND_DEG && d.signum() != a.direction {
                     a.unwinds += 1;

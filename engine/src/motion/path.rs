@@ -108,6 +108,16 @@ pub struct Segment {
     /// How the trace reads the tool tip from the axes on this segment (`crate::tip`); the
     /// maker of the segment sets it (from the canonical command's).
     pub tip_basis: crate::tip::Basis,
+    /// A kinematic path's stretches with limits of their own (empty: one for the whole
+    /// segment); the planner queues each as a segment (`Segment::split`).
+    pieces: Vec<Piece>,
+    /// The next segment is the rest of this motion (a piece of a split kinematic path).
+    continued: bool,
+    /// No feed of its own: it runs as fast as the axes allow (a kinematic rapid, a rotary-only
+    /// move fed by the axes), so each piece at its own speed.
+    unfed: bool,
+    /// The override applied (`set_override`), for the pieces it is split into.
+    factor: f64,
 }
 
 /// A tool tip path in the table frame and how the tool turns along it; the machine axes at each
@@ -253,6 +263,23 @@ impl Posture {
             Posture::Arc { alpha, beta, .. } => {
                 alpha[0] += (alpha[1] - alpha[0]) * u;
                 beta[0] += (beta[1] - beta[0]) * u;
+                true
+            }
+        }
+    }
+
+    /// Keep what comes before `u` of the way; `false`: nothing left to turn.
+    fn keep_to(&mut self, u: f64, circle: Option<&Circle3>) -> bool {
+        let v = self.at(u, circle);
+        match self {
+            Posture::Great { v1, angle, .. } => {
+                *v1 = v;
+                *angle *= u;
+                *angle > 1e-12
+            }
+            Posture::Arc { alpha, beta, .. } => {
+                alpha[1] = alpha[0] + (alpha[1] - alpha[0]) * u;
+                beta[1] = beta[0] + (beta[1] - beta[0]) * u;
                 true
             }
         }
@@ -416,6 +443,24 @@ impl Follow {
         }
     }
 
+    /// Keep what comes before `u` of the way.
+    fn keep_to(&mut self, u: f64) {
+        self.to = self.tip(u);
+        if let Some(p) = &mut self.posture {
+            if !p.keep_to(u, self.circle.as_ref()) {
+                self.posture = None;
+            }
+        }
+        if let Some(c) = &mut self.compensation {
+            c.to = std::array::from_fn(|i| c.from[i] + (c.to[i] - c.from[i]) * u);
+        }
+        if let Some(c) = &mut self.circle {
+            c.r1 = c.r0 + (c.r1 - c.r0) * u;
+            c.sweep *= u;
+            c.rise *= u;
+        }
+    }
+
     /// Programming coordinates at `u` for machine position `machine`.
     fn work(&self, machine: &Pos, u: f64, offset: &Pos) -> Pos {
         let mut work: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
@@ -434,9 +479,9 @@ impl Follow {
     }
 }
 
-/// Bounds on a kinematic path's axis derivatives, sampled at `n + 1` points.
+/// Bounds on a kinematic path's axis derivatives over a stretch of it.
 struct Sampled {
-    /// The largest |d(axis)/ds|, |d²/ds²|, |d³/ds³| of every axis over the path.
+    /// The largest |d(axis)/ds|, |d²/ds²|, |d³/ds³| of every axis over the stretch.
     rate: Pos,
     bend: Pos,
     twist: Pos,
@@ -446,84 +491,281 @@ struct Sampled {
     end_curvature: Pos,
 }
 
-/// The first three derivatives of every axis by s (`q` gives the axes at `u` = s / `len`), by
-/// differences around `n + 1` points.
-fn sampled(q: impl Fn(f64) -> Pos, len: f64, n: usize, axes: &AxisLimits) -> Sampled {
-    let h = 1.0 / (4.0 * n as f64);
-    let mut out = Sampled {
-        rate: [0.0; MAX_AXES],
-        bend: [0.0; MAX_AXES],
-        twist: [0.0; MAX_AXES],
-        start_dir: [0.0; MAX_AXES],
-        end_dir: [0.0; MAX_AXES],
-        start_curvature: [0.0; MAX_AXES],
-        end_curvature: [0.0; MAX_AXES],
-    };
-    if len <= 0.0 {
-        return out;
-    }
-    let (rate, bend, twist) = (&mut out.rate, &mut out.bend, &mut out.twist);
-    for k in 0..=n {
-        let u = k as f64 / n as f64;
-        let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
+/// The first three derivatives by s of every axis at `cells + 1` evenly spaced points of a
+/// kinematic path (`q` gives the axes at u = s / `len`), by differences around each point.
+struct Grid {
+    len: f64,
+    /// `d[k]`: d/ds, d²/ds², d³/ds³ of every axis at u = k / cells.
+    d: Vec<[Pos; 3]>,
+}
+
+impl Grid {
+    fn new(q: impl Fn(f64) -> Pos, len: f64, cells: usize, axes: &AxisLimits) -> Grid {
+        let cells = cells.max(1);
+        let h = 1.0 / (4.0 * cells as f64);
         let ds = h * len;
-        for i in 0..axes.count {
-            let d1 = (c[i] - b[i]) / ds;
-            let d2 = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
-            let d3 = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
-            rate[i] = rate[i].max(d1.abs());
-            bend[i] = bend[i].max(d2.abs());
-            twist[i] = twist[i].max(d3.abs());
-            if k == 0 {
-                (out.start_dir[i], out.start_curvature[i]) = (d1, d2);
-            }
-            if k == n {
-                (out.end_dir[i], out.end_curvature[i]) = (d1, d2);
-            }
+        let d = (0..=cells)
+            .map(|k| {
+                let mut out = [[0.0; MAX_AXES]; 3];
+                if len <= 0.0 {
+                    return out;
+                }
+                let u = k as f64 / cells as f64;
+                let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
+                for i in 0..axes.count {
+                    out[0][i] = (c[i] - b[i]) / ds;
+                    out[1][i] = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
+                    out[2][i] = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
+                }
+                out
+            })
+            .collect();
+        Grid { len, d }
+    }
+
+    fn cells(&self) -> usize {
+        self.d.len() - 1
+    }
+
+    /// The largest |d/ds|, |d²/ds²|, |d³/ds³| of every axis at the points `k0..=k1`.
+    fn maxima(&self, k0: usize, k1: usize) -> [Pos; 3] {
+        let mut out = [[0.0; MAX_AXES]; 3];
+        for d in &self.d[k0..=k1] {
+            widen(&mut out, d);
+        }
+        out
+    }
+
+    /// The bounds over the cells from point `k0` to point `k1`, whose points' largest
+    /// derivatives are `maxima`. Between two points (`len / cells` apart) a derivative can
+    /// exceed its sampled maximum by at most the next derivative's maximum times half the
+    /// spacing: the maxima are raised by that, so that a peak between points does not let an
+    /// axis run past its limits (random machines found 1e-5 overshoots without it).
+    fn bounds_of(&self, maxima: [Pos; 3], k0: usize, k1: usize) -> Sampled {
+        let [mut rate, mut bend, twist] = maxima;
+        let half = 0.5 * self.len / self.cells() as f64;
+        for i in 0..MAX_AXES {
+            rate[i] += bend[i] * half;
+            bend[i] += twist[i] * half;
+        }
+        Sampled {
+            rate,
+            bend,
+            twist,
+            start_dir: self.d[k0][0],
+            end_dir: self.d[k1][0],
+            start_curvature: self.d[k0][1],
+            end_curvature: self.d[k1][1],
         }
     }
-    // Between two samples (len/n apart) a derivative can exceed its sampled maximum by at most
-    // the next derivative's maximum times half the spacing: bound the maxima by that, so that a
-    // peak between samples does not let an axis run past its limits (random machines found
-    // 1e-5 overshoots without it).
-    let half = 0.5 * len / n as f64;
-    for i in 0..axes.count {
-        rate[i] += bend[i] * half;
-        bend[i] += twist[i] * half;
+
+    fn bounds(&self, k0: usize, k1: usize) -> Sampled {
+        self.bounds_of(self.maxima(k0, k1), k0, k1)
     }
-    out
+
+    /// The whole path's bounds.
+    fn whole(&self) -> Sampled {
+        self.bounds(0, self.cells())
+    }
+}
+
+/// Raise `maxima` to the magnitudes of the derivatives `d` where they are larger.
+fn widen(maxima: &mut [Pos; 3], d: &[Pos; 3]) {
+    for (bound, d) in maxima.iter_mut().zip(d) {
+        for (b, x) in bound.iter_mut().zip(d) {
+            *b = b.max(x.abs());
+        }
+    }
 }
 
 /// The shares of each axis's acceleration and jerk that a kinematic path's cruise may take
 /// (`kinematic_limits`), tried in turn; the rest is left to the path's speed changes.
 const CRUISE_SHARES: [f64; 4] = [0.9, 0.75, 0.5, 0.25];
 
-/// The path limits of a kinematic path with the sampled derivative bounds `d`, `len` long, fed
-/// at `feed` (per second; infinite for a rapid), never faster than `cap`.
+/// The path limits of a kinematic path (its derivative grid `grid`) fed at `feed` (per second;
+/// infinite for a rapid), never faster than `cap`, and the pieces it is cut into (none: it
+/// runs whole).
 ///
 /// Axis i moves at v·q1, accelerates a·q1 + v²·q2 and jerks j·q1 + 3·v·a·q2 + v³·q3 (q1..q3
-/// its derivatives by s, bounded by `d`; v, a, j the path's speed, acceleration and jerk). The
-/// path's top speed v comes first: at most the axis's speed, and its own terms v²·q2 and v³·q3
-/// within a share σ of the axis's acceleration and jerk. What is left goes to speed changes:
-/// a ≤ (A − v²·q2)/q1, the cross term 3·v·a·q2 within half of the jerk left, j with the rest.
-/// A top speed never runs faster than the axes allow at the point that binds; the share is
-/// the one of [`CRUISE_SHARES`] that gives the shortest rest-to-rest time over `len` at
-/// min(v, feed) (a high share cruises fast but accelerates slowly).
-fn kinematic_limits(d: &Sampled, axes: &AxisLimits, len: f64, feed: f64, cap: f64) -> Limits {
-    let mut best: Option<(f64, Limits)> = None;
+/// its derivatives by s, bounded over a stretch by the grid; v, a, j the path's speed,
+/// acceleration and jerk). A stretch's top speed v comes first: at most the axis's speed, and
+/// its own terms v²·q2 and v³·q3 within a share σ of the axis's acceleration and jerk. What is
+/// left goes to speed changes: a ≤ (A − v²·q2)/q1, the cross term 3·v·a·q2 within half of the
+/// jerk left, j with the rest. The path is cut where these limits change by more than a few %
+/// ([`pieces`]), so that each piece cruises at what its own stretch allows. The share, and
+/// whether to cut at all, is the choice of [`CRUISE_SHARES`] × {cut, whole} whose rest-to-rest
+/// time at min(v, feed) is the shortest as the planner would plan it (`chain_time`): a high
+/// share cruises fast but accelerates slowly, and a chain of short pieces changes speed more
+/// slowly than one profile (its acceleration returns to zero at every junction); a third
+/// option merges the pieces at either end where the path changes speed from or to rest. The
+/// pieces of the chosen cut then take each the share that shortens that time. Without
+/// `may_cut` the path runs whole.
+fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut: bool) -> (Limits, Vec<Piece>) {
+    let fed = |lim: Limits| Limits { v: lim.v.min(feed), ..lim };
+    let mut best: Option<(f64, Limits, Vec<Piece>)> = None;
     for share in CRUISE_SHARES {
-        let lim = limits_with_share(d, axes, share, cap);
-        let run = Limits { v: lim.v.min(feed), ..lim };
-        let time = if run.v > 0.0 && run.a > 0.0 && run.j > 0.0 {
-            Profile::plan(0.0, 0.0, len, &run).duration()
-        } else {
-            f64::INFINITY
-        };
-        if best.as_ref().is_none_or(|(t, _)| time < *t * (1.0 - 1e-9)) {
-            best = Some((time, lim));
+        let whole = limits_with_share(&grid.whole(), axes, share, cap);
+        let cut = if may_cut { pieces(grid, axes, share, cap) } else { Vec::new() };
+        let mut options = vec![(super::planner::chain_time(&[(grid.len, fed(whole))]), Vec::new())];
+        if !cut.is_empty() {
+            let reach = super::profile::change(0.0, fed(whole).v, &fed(whole)).1 / grid.len;
+            let ends_whole = merge_ends(grid, axes, share, cap, &cut, reach);
+            options.push((chain_time(&cut, grid.len, fed), cut));
+            if !ends_whole.is_empty() {
+                options.push((chain_time(&ends_whole, grid.len, fed), ends_whole));
+            }
+        }
+        for (time, cut) in options {
+            if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
+                best = Some((time, whole, cut));
+            }
         }
     }
-    best.map_or(Limits { v: 0.0, a: 0.0, j: 0.0 }, |(_, lim)| lim)
+    let Some((time, whole, mut cut)) = best else { return (Limits { v: 0.0, a: 0.0, j: 0.0 }, Vec::new()) };
+    // Each piece its own share, where that is faster: a piece that only changes speed does
+    // better with a low one (a lower top speed, more acceleration left), one that cruises with
+    // a high one.
+    let mut time = time;
+    let m = grid.cells() as f64;
+    for k in 0..cut.len() {
+        let k0 = if k == 0 { 0 } else { (cut[k - 1].end * m).round() as usize };
+        let k1 = (cut[k].end * m).round() as usize;
+        let bounds = grid.bounds(k0, k1);
+        for share in CRUISE_SHARES {
+            let kept = cut[k].limits;
+            cut[k].limits = limits_with_share(&bounds, axes, share, cap);
+            let t = chain_time(&cut, grid.len, fed);
+            if t < time * (1.0 - 1e-9) {
+                time = t;
+            } else {
+                cut[k].limits = kept;
+            }
+        }
+    }
+    (whole, cut)
+}
+
+/// The rest-to-rest time of a path `len` long cut into `pieces`, with `fed` applied to their
+/// limits.
+fn chain_time(pieces: &[Piece], len: f64, fed: impl Fn(Limits) -> Limits) -> f64 {
+    let mut start = 0.0;
+    let chain: Vec<(f64, Limits)> = pieces
+        .iter()
+        .map(|p| {
+            let piece = ((p.end - start) * len, fed(p.limits));
+            start = p.end;
+            piece
+        })
+        .collect();
+    super::planner::chain_time(&chain)
+}
+
+/// `cut` with its pieces within `reach` (a share of the path) of either end merged into one at
+/// each end: where the machine changes speed from or to rest, one profile over the stretch
+/// beats a chain of short ones, each returning to zero acceleration. Empty when the two ends
+/// meet.
+fn merge_ends(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64, cut: &[Piece], reach: f64) -> Vec<Piece> {
+    let starts: Vec<f64> = std::iter::once(0.0).chain(cut.iter().map(|p| p.end)).collect();
+    let first = cut.iter().position(|p| p.end >= reach).unwrap_or(cut.len() - 1);
+    let last = (0..cut.len()).rev().find(|&k| starts[k] <= 1.0 - reach).unwrap_or(0);
+    if first >= last {
+        return Vec::new();
+    }
+    let m = grid.cells() as f64;
+    let merged = |k0: usize, k1: usize| Piece {
+        limits: limits_with_share(
+            &grid.bounds((starts[k0] * m).round() as usize, (cut[k1].end * m).round() as usize),
+            axes,
+            share,
+            cap,
+        ),
+        ..cut[k1].clone()
+    };
+    let mut out = vec![merged(0, first)];
+    out.extend_from_slice(&cut[first + 1..last]);
+    out.push(merged(last, cut.len() - 1));
+    out
+}
+
+/// A stretch of a kinematic path planned with limits of its own (`Segment::split`).
+#[derive(Debug, Clone, PartialEq)]
+struct Piece {
+    /// Where it ends, as a share of the path.
+    end: f64,
+    /// Its speed (what the axes allow, before the feed), acceleration and jerk limits.
+    limits: Limits,
+    /// d(axis)/ds and d²(axis)/ds² where it ends (the next piece starts with the same: the
+    /// planner sees a smooth junction).
+    end_dir: Pos,
+    end_curvature: Pos,
+}
+
+/// At most this many pieces to a kinematic block: each is a segment in the planner's queue.
+const MAX_PIECES: usize = 16;
+
+/// Cells of a kinematic path share a piece while the piece's limits stay within this share of
+/// each cell's own; with more than [`MAX_PIECES`] pieces the share doubles.
+const PIECE_TOLERANCE: f64 = 0.03;
+
+/// A kinematic path cut where its limits change: the cells of `grid` grouped into stretches
+/// whose own limits (the cruise taking `share`, at most `cap`) are each within a few % of
+/// every cell's in them. Empty when one stretch is the whole path.
+fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
+    let m = grid.cells();
+    let own = |k0: usize, k1: usize| limits_with_share(&grid.bounds(k0, k1), axes, share, cap);
+    let cells: Vec<Limits> = (0..m).map(|c| own(c, c + 1)).collect();
+    let mut tolerance = PIECE_TOLERANCE;
+    let ends = loop {
+        let ends = cuts(
+            grid,
+            &cells,
+            |maxima, k0, k1| limits_with_share(&grid.bounds_of(maxima, k0, k1), axes, share, cap),
+            tolerance,
+        );
+        if ends.len() <= MAX_PIECES || tolerance >= 1.0 {
+            break ends;
+        }
+        tolerance *= 2.0;
+    };
+    if ends.len() <= 1 {
+        return Vec::new();
+    }
+    let mut k0 = 0;
+    ends.iter()
+        .map(|&k1| {
+            let piece = Piece {
+                end: k1 as f64 / m as f64,
+                limits: own(k0, k1),
+                end_dir: grid.d[k1][0],
+                end_curvature: grid.d[k1][1],
+            };
+            k0 = k1;
+            piece
+        })
+        .collect()
+}
+
+/// The end points (grid indices) of the stretches: a stretch grows cell by cell while its
+/// limits (`own` of its points' largest derivatives, its first and its last point) stay
+/// within `tolerance` of the highest of its cells' own.
+fn cuts(grid: &Grid, cells: &[Limits], own: impl Fn([Pos; 3], usize, usize) -> Limits, tolerance: f64) -> Vec<usize> {
+    let close = |x: f64, top: f64| x == top || x >= (1.0 - tolerance) * top;
+    let mut ends = Vec::new();
+    let (mut k0, mut top, mut maxima) = (0, cells[0], grid.maxima(0, 1));
+    for (c, cell) in cells.iter().enumerate().skip(1) {
+        let up = Limits { v: top.v.max(cell.v), a: top.a.max(cell.a), j: top.j.max(cell.j) };
+        let mut wider = maxima;
+        widen(&mut wider, &grid.d[c + 1]);
+        let merged = own(wider, k0, c + 1);
+        if close(merged.v, up.v) && close(merged.a, up.a) && close(merged.j, up.j) {
+            (top, maxima) = (up, wider);
+        } else {
+            ends.push(c);
+            (k0, top, maxima) = (c, *cell, grid.maxima(c, c + 1));
+        }
+    }
+    ends.push(cells.len());
+    ends
 }
 
 /// [`kinematic_limits`] with the cruise taking `share` of each axis's acceleration and jerk.
@@ -589,6 +831,10 @@ fn deviation_speed(follow: &Follow, from: &Pos, to: &Pos, len: f64, n: usize, to
     }
     step * (tolerance / worst).sqrt() / INTERPOLATION_PERIOD
 }
+
+/// Cells of a kinematic path's derivative grid per sample point of [`sample_count`]: the
+/// finer grid the pieces are cut from.
+const CELLS_PER_SAMPLE: usize = 2;
 
 /// Sample points for a kinematic path: more where the rotary axes turn more.
 fn sample_count(turn_deg: f64, sweep_deg: f64) -> usize {
@@ -703,6 +949,10 @@ impl Segment {
             tip_basis: crate::tip::Basis::default(),
             programmed,
             axis_speed,
+            pieces: Vec::new(),
+            continued: false,
+            unfed: false,
+            factor: 1.0,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         if rapid && ctx.options.nonlinear_rapid {
@@ -796,7 +1046,8 @@ impl Segment {
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);
-        let found = sampled(|u| follow.at(from, &to, u), len, n, axes);
+        let grid = Grid::new(|u| follow.at(from, &to, u), len, CELLS_PER_SAMPLE * n, axes);
+        let found = grid.whole();
         let cap =
             tip.deviation.map_or(f64::INFINITY, |tolerance| deviation_speed(&follow, from, &to, len, n, tolerance));
         // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
@@ -804,7 +1055,7 @@ impl Segment {
         let as_fast_as_axes = rapid || (rotary_only && !tip.rotary_feed && !fixed_time);
         let feed = if as_fast_as_axes { f64::INFINITY } else { programmed_speed(m, len) * feed_scale };
         let scale = if rapid { ctx.rapid_override } else { ctx.feed_override };
-        let limits = kinematic_limits(&found, axes, len, feed * scale.max(0.0), cap);
+        let (limits, pieces) = kinematic_limits(&grid, axes, feed * scale.max(0.0), cap, true);
         let axis_speed = limits.v;
         let programmed = if as_fast_as_axes { axis_speed } else { feed };
         let work_to = follow.work(&to, 1.0, &std::array::from_fn(|i| m.target[i] - to[i]));
@@ -834,6 +1085,10 @@ impl Segment {
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
             tip_basis: crate::tip::Basis::default(),
+            pieces,
+            continued: false,
+            unfed: as_fast_as_axes,
+            factor: 1.0,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg
@@ -885,8 +1140,11 @@ impl Segment {
         };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
-        let found = sampled(|u| follow.at(from, to, u), len, 32, axes);
-        let limits = kinematic_limits(&found, axes, len, feed_deg_min / 60.0, f64::INFINITY);
+        let grid = Grid::new(|u| follow.at(from, to, u), len, CELLS_PER_SAMPLE * 32, axes);
+        let found = grid.whole();
+        // Whole: a handle interruption runs its tip rotation as the one run its planner
+        // releases first (`controller/interrupt.rs`), so a manual rotation is never cut.
+        let (limits, pieces) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, f64::INFINITY, false);
         let mut seg = Segment {
             line: 0,
             block: 0,
@@ -914,6 +1172,10 @@ impl Segment {
             tool_length,
             // The caller places it in the workpiece system it runs in.
             tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
+            pieces,
+            continued: false,
+            unfed: false,
+            factor: 1.0,
         };
         seg.set_override(1.0, 1.0);
         seg
@@ -955,7 +1217,8 @@ impl Segment {
     /// has its tool tip moved by `tip` in the table frame (so the shift turns with the table); a
     /// move in machine coordinates stays.
     pub fn shifted(&self, machine: &Pos, tip: Vec3) -> Segment {
-        let mut seg = self.clone();
+        // The pieces were cut for the path before the shift: the shifted one runs whole.
+        let mut seg = Segment { pieces: Vec::new(), ..self.clone() };
         if self.machine_coordinates {
             return seg;
         }
@@ -1003,7 +1266,59 @@ impl Segment {
             (false, true) => 1.0,
             (false, false) => feed,
         };
-        self.limits.v = self.axis_speed.min(self.programmed * k.max(0.0));
+        self.factor = k.max(0.0);
+        self.limits.v = self.axis_speed.min(self.programmed * self.factor);
+    }
+
+    /// Whether the next segment is the rest of this motion (a piece of a split kinematic path,
+    /// `split`).
+    pub fn continued(&self) -> bool {
+        self.continued
+    }
+
+    /// The segment as the planner queues it: a kinematic path whose limits change along the
+    /// way becomes its pieces, each with the limits of its own stretch, joined smoothly (equal
+    /// tangents and curvatures) and ending where the next begins; others stay whole.
+    pub fn split(mut self) -> Vec<Segment> {
+        let pieces = std::mem::take(&mut self.pieces);
+        if pieces.is_empty() {
+            return vec![self];
+        }
+        let mut out = Vec::with_capacity(pieces.len());
+        let (mut start, mut dir, mut curvature) = (0.0, self.start_dir, self.start_curvature);
+        for (k, piece) in pieces.iter().enumerate() {
+            let last = k + 1 == pieces.len();
+            let end = if last { self.len } else { piece.end * self.len };
+            let mut seg = self.part(start, end);
+            (seg.start_dir, seg.start_curvature) = (dir, curvature);
+            if !last {
+                (seg.end_dir, seg.end_curvature) = (piece.end_dir, piece.end_curvature);
+            }
+            seg.axis_speed = piece.limits.v;
+            seg.limits = piece.limits;
+            if seg.unfed {
+                seg.programmed = piece.limits.v;
+            }
+            seg.limits.v = seg.axis_speed.min(seg.programmed * seg.factor);
+            seg.stop_after = last && self.stop_after;
+            seg.continued = !last;
+            (start, dir, curvature) = (end, piece.end_dir, piece.end_curvature);
+            out.push(seg);
+        }
+        out
+    }
+
+    /// The stretch from distance `s0` to `s1` (a kinematic path's piece).
+    fn part(&self, s0: f64, s1: f64) -> Segment {
+        let mut p = if s0 > 0.0 { self.tail(s0) } else { self.clone() };
+        if s1 < self.len {
+            (p.to, p.work_to) = self.at(s1);
+            if let Some(f) = &mut p.follow {
+                f.keep_to((s1 - s0) / (self.len - s0));
+            }
+            p.len = s1 - s0;
+        }
+        p
     }
 
     /// Machine and programming positions at distance `s` along the segment.
@@ -1056,7 +1371,9 @@ impl Segment {
         let s = s.clamp(0.0, self.len);
         let u = if self.len > 0.0 { s / self.len } else { 1.0 };
         let (from, work_from) = self.at(s);
-        let mut tail = Segment { from, work_from, len: self.len - s, ..self.clone() };
+        // Pieces are shares of the whole path: a tail (of a segment not yet split) runs whole,
+        // within the whole path's limits.
+        let mut tail = Segment { from, work_from, len: self.len - s, pieces: Vec::new(), ..self.clone() };
         if let Some(c) = &mut tail.circle {
             c.start += c.sweep * u;
             c.r0 += (c.r1 - c.r0) * u;

@@ -128,8 +128,15 @@ impl Planner {
         self.queue.is_empty() && self.ready.is_empty()
     }
 
-    /// Queue a segment (zero-length segments are dropped: they take no time).
+    /// Queue a segment (zero-length segments are dropped: they take no time); a kinematic
+    /// path whose limits change along the way is queued as its pieces (`Segment::split`).
     pub fn push(&mut self, segment: Segment) {
+        for piece in segment.split() {
+            self.push_one(piece);
+        }
+    }
+
+    fn push_one(&mut self, segment: Segment) {
         if segment.len <= 0.0 {
             return;
         }
@@ -268,6 +275,43 @@ impl Planner {
         }
         runs
     }
+}
+
+/// The time a chain of smoothly joined stretches (`(length, limits)`, junction speeds only
+/// their own limits) takes from rest to rest, planned as [`Planner`] plans them: runs of
+/// equal speed limits and acceleration and jerk within a factor of two, a backward and a
+/// forward pass. (`path` uses it to choose how to cut a kinematic path.)
+pub(crate) fn chain_time(chain: &[(f64, Limits)]) -> f64 {
+    let mut runs: Vec<(f64, Limits)> = Vec::new();
+    for &(len, lim) in chain {
+        match runs.last_mut() {
+            Some((l, r))
+                if (lim.v - r.v).abs() <= 1e-9 * r.v && within_twice(lim.a, r.a) && within_twice(lim.j, r.j) =>
+            {
+                *l += len;
+                *r = r.min(lim);
+            }
+            _ => runs.push((len, lim)),
+        }
+    }
+    if runs.iter().any(|(_, r)| !(r.v > 0.0 && r.a > 0.0 && r.j > 0.0)) {
+        return f64::INFINITY;
+    }
+    // Backward from the stop, then forward from rest; a junction takes the lower limit.
+    let mut ends = vec![0.0; runs.len()];
+    let mut v_next_start = 0.0;
+    for (k, (len, r)) in runs.iter().enumerate().rev() {
+        let cap = runs.get(k + 1).map_or(0.0, |(_, next)| r.v.min(next.v));
+        ends[k] = cap.min(v_next_start);
+        v_next_start = reachable(ends[k], *len, r.v, r);
+    }
+    let (mut v_start, mut time) = (0.0, 0.0);
+    for ((len, r), end) in runs.iter().zip(ends.iter_mut()) {
+        *end = end.min(reachable(v_start, *len, r.v, r));
+        time += Profile::plan(v_start, *end, *len, r).duration();
+        v_start = *end;
+    }
+    time
 }
 
 fn within_twice(x: f64, of: f64) -> bool {

@@ -5,11 +5,13 @@
 use crate::common;
 
 use common::*;
+use fivex_engine::canon::{Motion, Pos};
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::report::{run_with_report, Report};
-use fivex_engine::run::{run, RunOptions};
+use fivex_engine::motion::Segment;
+use fivex_engine::report::{run_with_report, Recorder, Report};
+use fivex_engine::run::{run, run_observed, Observer, RunOptions, Sample};
 use fivex_engine::Dialect;
 
 const PERIOD: f64 = 0.001;
@@ -184,4 +186,41 @@ fn a_long_run_keeps_its_speed_profile_to_a_thousand_points() {
     assert!(p.period_s > fivex_engine::report::SpeedProfile::FIRST_PERIOD_S);
     let travel: f64 = p.axes[0].speeds.iter().map(|v| v / 60.0 * p.period_s).sum();
     assert!((travel - axis(&r, 'X').travel).abs() < 1e-6, "{travel}");
+}
+
+#[test]
+fn a_kinematic_path_planned_in_pieces_unwinds_once() {
+    // Under TCP C turns 340° back while the tip crosses the table: the planner runs the block
+    // in pieces with limits of their own (`Segment::split`), none turning 180°; the report
+    // counts the motion's turn, one unwind.
+    struct Pieces {
+        rec: Recorder,
+        continued: usize,
+    }
+    impl Observer for Pieces {
+        fn queued(&mut self, motion: &Motion, segment: &Segment) {
+            self.rec.queued(motion, segment)
+        }
+        fn sample(&mut self, sample: &Sample, machine: &Pos, on: Option<(&Segment, f64, u64)>) {
+            self.rec.sample(sample, machine, on)
+        }
+        fn executed(&mut self, segment: &Segment) {
+            self.continued += usize::from(segment.continued());
+            self.rec.executed(segment)
+        }
+    }
+    let mut m = MachineConfig::preset("table-ac").unwrap();
+    let c = m.axis_index(b'C').unwrap();
+    m.axes[c].rollover = false;
+    m.axes[c].shortest = false;
+    m.axes[c].stroke = Some([-400.0, 400.0]);
+    let src = "G90 G01 C170. F7200.\nG43.4 H1\nX-100. Y0 Z50.\nG01 X100. C-170. F3000.\nG49\nM30\n";
+    let mut interp = Interpreter::new(parse_file(src), Config::new(m, Dialect::Fanuc));
+    interp.state.offsets.tool_mut(1).unwrap().h_geometry = 100.0;
+    let mut obs = Pieces { rec: Recorder::new(&interp, PERIOD), continued: 0 };
+    let result = run_observed(&mut interp, &opts(), |_| {}, &mut obs);
+    assert!(result.completed(), "{:?}", result.alarms);
+    assert!(obs.continued > 0, "the block ran whole: nothing to check");
+    let r = obs.rec.finish(&result);
+    assert_eq!(axis(&r, 'C').unwinds, 1);
 }
