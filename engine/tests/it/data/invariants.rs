@@ -1,0 +1,79 @@
+//! The invariants every data fixture's run is held to, sample by sample (1 ms period):
+//!
+//! - `limits`: each axis's speed, acceleration and jerk by finite differences within its limits
+//!   (`common::check_limits_of`, corners allowed the speed step), and every sample within the
+//!   stored stroke (`common::check_strokes`).
+//! - `tip`: the tool tip by forward kinematics (`Sample::tip`) against the commanded point
+//!   (`Sample::programmed`). Where the two systems coincide — the commanded point is in the
+//!   workpiece system and every rotary axis stands at 0 — they are the same point (1 nm). In
+//!   every other case (rotaries turned with plain G43, TCP in Π, a tilted plane's feature
+//!   system, G54.4's WSCS) the commanded point's system is fixed to the tip's while a block
+//!   runs, so the tip's path is the commanded path carried rigidly: within each block, every
+//!   sample is as far from the block's first sample on the tip path as on the commanded path
+//!   (1 µm, the kinematic paths' tolerance). What breaks it — a block that changes the tool
+//!   length moves the machine by the change while the commanded point moves from where it was;
+//!   a rotary move without TCP swings the tip off the commanded line; a display in machine
+//!   directions (FANUC DET) under a turning table — is named by the fixture's `(skip: tip@LINE …)`.
+
+use crate::common;
+use fivex_engine::machine::{AxisKind, MachineConfig};
+use fivex_engine::run::Sample;
+use fivex_engine::tip::System;
+
+/// Where the tip and the commanded point coincide, mm.
+const SAME: f64 = 1e-6;
+/// How far the rigid copy may be off, mm.
+const RIGID: f64 = 1e-3;
+
+pub fn limits(samples: &[Sample], m: &MachineConfig) -> Result<(), String> {
+    common::check_limits_of(samples, m, false).map_err(|e| e.to_string())?;
+    common::check_strokes(samples, m).map_err(|e| e.to_string())
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Every rotary axis at 0 (the shown position is kept in [0, 360) on rollover axes).
+fn rotaries_at_zero(s: &Sample, m: &MachineConfig) -> bool {
+    m.axes.iter().enumerate().all(|(i, a)| {
+        let x = s.machine[i].rem_euclid(360.0);
+        a.kind != AxisKind::Rotary || x < 1e-9 || x > 360.0 - 1e-9
+    })
+}
+
+/// The `tip` invariant; `skipped` lines are not checked. Returns how many samples were
+/// compared, so that a fixture where it checks nothing is seen.
+pub fn tip(samples: &[Sample], m: &MachineConfig, skipped: &[u32]) -> Result<usize, String> {
+    let mut compared = 0;
+    for block in samples.chunk_by(|a, b| a.line == b.line) {
+        let first = &block[0];
+        if skipped.contains(&first.line) {
+            continue;
+        }
+        for s in block {
+            if s.programmed_in == System::Workpiece && rotaries_at_zero(s, m) {
+                let d = dist(s.tip, s.programmed);
+                if d > SAME {
+                    return Err(format!(
+                        "line {} t={}: tip {:?} is {d} mm from the commanded point {:?} (workpiece system, rotaries at 0)",
+                        s.line, s.t, s.tip, s.programmed
+                    ));
+                }
+            }
+            let on_tip = dist(s.tip, first.tip);
+            let on_path = dist(s.programmed, first.programmed);
+            if (on_tip - on_path).abs() > RIGID {
+                return Err(format!(
+                    "line {} t={}: the tip moved {on_tip} mm since t={} but the commanded point ({}) {on_path} mm",
+                    s.line,
+                    s.t,
+                    first.t,
+                    s.programmed_in.name()
+                ));
+            }
+            compared += 1;
+        }
+    }
+    Ok(compared)
+}
