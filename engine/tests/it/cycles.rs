@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::{alarm_with, canon, interpreter, motions, var};
+use common::{canon, interpreter, motions, var};
 use fivex_engine::canon::{CanonKind, MotionKind};
 use fivex_engine::kin::{Kinematics, Vec3};
 use fivex_engine::machine::MachineConfig;
@@ -41,21 +41,6 @@ fn k0_stores_the_cycle_data_without_drilling() {
     let m = motions(src);
     assert!(m.iter().all(|m| m.target[0] != 10.0), "K0 moved to its hole");
     assert_eq!(strokes(src), vec![(30.0, 0.0, -7.0)]);
-}
-
-#[test]
-fn decision_l_in_a_cycle_block_is_refused_on_both_dialects() {
-    // The 30i's repeat count is K; L is older controls' (FS15 format, a parameter): refused
-    // rather than silently read one way (docs/dialects.md).
-    let src = "G90 G00 X0 Y0 Z20.\nG91 G81 X10. R-15. Z-7. L3 F300.\nM30\n";
-    assert_eq!(alarm_with(src, Dialect::Fanuc), "PS0009");
-    assert_eq!(alarm_with(src, Dialect::Syntec), "COR-002");
-}
-
-#[test]
-fn k_must_be_a_whole_count() {
-    let src = "G90 G00 X0 Y0 Z20.\nG81 X10. R5. Z-7. K1.5 F300.\nM30\n";
-    assert_eq!(alarm_with(src, Dialect::Fanuc), "PS0009");
 }
 
 #[test]

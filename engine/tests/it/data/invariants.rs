@@ -10,12 +10,16 @@
 //!   system, G54.4's WSCS) the commanded point's system is fixed to the tip's while a block
 //!   runs, so the tip's path is the commanded path carried rigidly: within each block, every
 //!   sample is as far from the block's first sample on the tip path as on the commanded path
-//!   (1 µm, the kinematic paths' tolerance). What breaks it — a block that changes the tool
-//!   length moves the machine by the change while the commanded point moves from where it was;
-//!   a rotary move without TCP swings the tip off the commanded line; a display in machine
+//!   (1 µm, the kinematic paths' tolerance). A block that changes the tool length in effect
+//!   (G43/G44/G49, TCP on or off, found from the canonical commands' `tip_basis`) moves the
+//!   machine by the change while the commanded point moves from where it was (FANUC type A): the
+//!   tip meets the commanded path only at the block's end, so there the harness checks only that
+//!   the tip ends no farther from the commanded point than it started. What else breaks it — a
+//!   rotary move without TCP swings the tip off the commanded line; a display in machine
 //!   directions (FANUC DET) under a turning table — is named by the fixture's `(skip: tip@LINE …)`.
 
 use crate::common;
+use fivex_engine::canon::Canon;
 use fivex_engine::machine::{AxisKind, MachineConfig};
 use fivex_engine::run::Sample;
 use fivex_engine::tip::System;
@@ -42,13 +46,39 @@ fn rotaries_at_zero(s: &Sample, m: &MachineConfig) -> bool {
     })
 }
 
-/// The `tip` invariant; `skipped` lines are not checked. Returns how many samples were
-/// compared, so that a fixture where it checks nothing is seen.
-pub fn tip(samples: &[Sample], m: &MachineConfig, skipped: &[u32]) -> Result<usize, String> {
+/// The lines whose commands change the tool length the tip is read with.
+pub fn length_changes(canon: &[Canon]) -> Vec<u32> {
+    let mut length = 0.0;
+    let mut lines = Vec::new();
+    for c in canon {
+        if c.tip_basis.tool_length != length {
+            length = c.tip_basis.tool_length;
+            lines.push(c.line);
+        }
+    }
+    lines
+}
+
+/// The `tip` invariant; `skipped` lines are not checked, on `length_changed` lines only the
+/// approach. Returns how many samples were compared, so that a fixture where it checks nothing
+/// is seen.
+pub fn tip(samples: &[Sample], m: &MachineConfig, skipped: &[u32], length_changed: &[u32]) -> Result<usize, String> {
     let mut compared = 0;
     for block in samples.chunk_by(|a, b| a.line == b.line) {
         let first = &block[0];
         if skipped.contains(&first.line) {
+            continue;
+        }
+        if length_changed.contains(&first.line) {
+            let last = &block[block.len() - 1];
+            let (from, to) = (dist(first.tip, first.programmed), dist(last.tip, last.programmed));
+            if to > from + RIGID {
+                return Err(format!(
+                    "line {} (the tool length changes): the tip ends {to} mm from the commanded point, started {from} mm",
+                    first.line
+                ));
+            }
+            compared += 1;
             continue;
         }
         for s in block {

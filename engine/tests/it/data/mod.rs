@@ -166,7 +166,7 @@ fn invariants(h: &Header, o: &Outcome, machine: &MachineConfig) -> Result<(), St
         invariants::limits(&o.samples, machine).map_err(|e| format!("limits: {e}"))?;
     }
     if !h.skips_all("tip") {
-        let compared = invariants::tip(&o.samples, machine, &h.skipped_lines("tip")).map_err(|e| format!("tip: {e}"))?;
+        let compared = invariants::tip(&o.samples, machine, &h.skipped_lines("tip"), &invariants::length_changes(&o.canon)).map_err(|e| format!("tip: {e}"))?;
         // A program that never moves has no sample; one that moves must compare some.
         if compared == 0 && !o.samples.is_empty() {
             return Err("tip: no sample compared (say why with (skip: tip …))".into());
