@@ -163,7 +163,7 @@ fn execute(text: &str, h: &Header, dialect: Dialect, dir: &Path) -> Result<Outco
 
 fn invariants(h: &Header, o: &Outcome, machine: &MachineConfig) -> Result<(), String> {
     if !h.skips_all("limits") {
-        invariants::limits(&o.samples, machine).map_err(|e| format!("limits: {e}"))?;
+        invariants::limits(&o.samples, machine, &h.skipped_lines("limits")).map_err(|e| format!("limits: {e}"))?;
     }
     if !h.skips_all("tip") {
         let compared = invariants::tip(&o.samples, machine, &h.skipped_lines("tip"), &invariants::length_changes(&o.canon)).map_err(|e| format!("tip: {e}"))?;
