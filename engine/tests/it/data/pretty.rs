@@ -45,7 +45,14 @@ fn motion(m: &MachineConfig, mo: &Motion) -> String {
     }
     if let Some(a) = &mo.arc {
         let (i, j, _) = a.plane_axes;
-        let _ = write!(s, " arc c=({} {}) r={} sweep={}", num(a.center[i]), num(a.center[j]), num(a.radius), num(a.sweep_deg));
+        let _ = write!(
+            s,
+            " arc c=({} {}) r={} sweep={}",
+            num(a.center[i]),
+            num(a.center[j]),
+            num(a.radius),
+            num(a.sweep_deg)
+        );
     }
     if let Some(t) = &mo.tip {
         let _ = write!(s, " tip {}→{} L={}", vec3(t.from), vec3(t.to), num(t.tool_length));
