@@ -104,12 +104,24 @@ fn kind(m: &MachineConfig, k: &CanonKind) -> String {
     }
 }
 
+/// Commands printed at most: the first `HEAD` and the last `TAIL` of a longer list (a program
+/// that expands without bound until its alarm).
+const HEAD: usize = 200;
+const TAIL: usize = 20;
+
 /// One line per command.
 pub fn canon(m: &MachineConfig, cmds: &[Canon]) -> String {
     let mut out = String::new();
-    for c in cmds {
+    let line = |out: &mut String, c: &Canon| {
         let n = c.n.map(|n| format!(" N{n}")).unwrap_or_default();
         let _ = writeln!(out, "{}{n} {}", c.line, kind(m, &c.kind));
+    };
+    if cmds.len() <= HEAD + TAIL {
+        cmds.iter().for_each(|c| line(&mut out, c));
+    } else {
+        cmds[..HEAD].iter().for_each(|c| line(&mut out, c));
+        let _ = writeln!(out, "… {} commands …", cmds.len() - HEAD - TAIL);
+        cmds[cmds.len() - TAIL..].iter().for_each(|c| line(&mut out, c));
     }
     out
 }
