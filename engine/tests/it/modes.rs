@@ -256,13 +256,6 @@ fn type_2_arcs_are_given_by_r() {
     assert_eq!(syntec(HEAD, &after_arc.replace("{}", "G04 X0.5")), "ok");
 }
 
-#[test]
-fn g_codes_allowed_in_tcp() {
-    let legal =
-        "G43.4 H1\nG01 X10. F100\nG02 X20. Y10. R10.\nG04 P1\nG91 G01 X1.\nG90\nG41 D1 X1.\nG40 X0\nG93\nG94\nG49";
-    assert_eq!(fanuc(HEAD, legal), "ok");
-}
-
 // ---------------------------------------------------------------------------------------------
 // tilted working plane and tool alignment
 // ---------------------------------------------------------------------------------------------

@@ -246,6 +246,24 @@ fn number(v: &str) -> Result<(f64, f64), String> {
     Ok((x.parse().map_err(|_| bad())?, tol.parse().map_err(|_| bad())?))
 }
 
+/// `X1,Y2`: the motion's target on the axes named.
+fn target_mismatches(k: &str, m: &fivex_engine::canon::Motion, v: &str, machine: &MachineConfig) -> Vec<String> {
+    let mut errs = Vec::new();
+    for word in v.split(',') {
+        let letter = word.chars().next().unwrap_or(' ');
+        let Some(i) = machine.axes.iter().position(|a| a.name == letter) else {
+            errs.push(format!("{k}: no axis {letter}"));
+            continue;
+        };
+        match number(&word[1..]) {
+            Ok(w) if close(m.target[i], w) => {}
+            Ok(_) => errs.push(format!("{k}: {letter} expected {}, got {}", &word[1..], m.target[i])),
+            Err(e) => errs.push(e),
+        }
+    }
+    errs
+}
+
 /// The mismatches between the run and the expectations.
 fn expectations(wanted: &[&Expect], o: &Outcome) -> Vec<String> {
     let mut errs = Vec::new();
@@ -314,24 +332,26 @@ fn expectations(wanted: &[&Expect], o: &Outcome) -> Vec<String> {
                     Ok(got) => num(k, got),
                 }
             }
+            "feeds" => {
+                // feeds=X10,Y0,Z-2/X20,Y0,Z-2: every G01 motion's target, in order.
+                let got: Vec<&fivex_engine::canon::Motion> =
+                    motions.iter().copied().filter(|m| m.kind == fivex_engine::canon::MotionKind::Linear).collect();
+                let want: Vec<&str> = v.split('/').collect();
+                if got.len() != want.len() {
+                    errs.push(format!("feeds: expected {} G01 motions, got {}", want.len(), got.len()));
+                    continue;
+                }
+                for (m, w) in got.iter().zip(want) {
+                    errs.extend(target_mismatches(k, m, w, machine));
+                }
+            }
             k if k.starts_with("motion") => {
                 // motionK=X1,Y2: the K-th motion's target (programming coordinates).
                 let Some(m) = k[6..].parse::<usize>().ok().and_then(|i| motions.get(i.wrapping_sub(1))) else {
                     errs.push(format!("{k}: no such motion (there are {})", motions.len()));
                     continue;
                 };
-                for word in v.split(',') {
-                    let letter = word.chars().next().unwrap_or(' ');
-                    let Some(i) = machine.axes.iter().position(|a| a.name == letter) else {
-                        errs.push(format!("{k}: no axis {letter}"));
-                        continue;
-                    };
-                    match number(&word[1..]) {
-                        Ok(w) if close(m.target[i], w) => {}
-                        Ok(_) => errs.push(format!("{k}: {letter} expected {}, got {}", &word[1..], m.target[i])),
-                        Err(e) => errs.push(e),
-                    }
-                }
+                errs.extend(target_mismatches(k, m, v, machine));
             }
             k if k.len() == 2 && (k.starts_with('m') || k.starts_with('w')) => {
                 let letter = k.chars().nth(1).unwrap();
