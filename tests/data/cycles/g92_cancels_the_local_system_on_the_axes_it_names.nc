@@ -9,4 +9,4 @@ G00 Y0
 #102=#5022
 M30
 (Y was not named: its local origin [20] stays.)
-(expect: #100=0 #101=10 #102=20)
+(expect: #100=0 #101=10 #102=20 status=completed)

@@ -9,3 +9,5 @@ N8 G69 G90 X-500. Y-500.
 M30
 (N8: G69 in the block, then an ordinary absolute move.)
 (expect: motions=6 motion6=X-500~1e-6,Y-500~1e-6)
+(The manual's distances leave mill3's stroke: the run stops at N3 before it moves, the interpreter's motions above are all there.)
+(expect: alarm=OT0510 alarm_line=3)

@@ -5,4 +5,4 @@ G01 X10. Y10. F100.
 G50.1 Y0
 #101=#4022
 M30
-(expect: motion1=X10~1e-6,Y-10~1e-6)
+(expect: motion1=X10~1e-6,Y-10~1e-6 status=completed)

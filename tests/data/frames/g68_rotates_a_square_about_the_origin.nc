@@ -7,4 +7,4 @@ Y0
 G69
 M30
 (Exact at multiples of 90° [no 6e-16 left over].)
-(expect: motions=5 motion2=X0~1e-6,Y10~1e-6 motion3=X-10~1e-6,Y10~1e-6 motion4=X-10~1e-6,Y0~1e-6 motion5=X0~1e-6,Y0~1e-6 motion2=X0)
+(expect: motions=5 motion2=X0~1e-6,Y10~1e-6 motion3=X-10~1e-6,Y10~1e-6 motion4=X-10~1e-6,Y0~1e-6 motion5=X0~1e-6,Y0~1e-6 motion2=X0 status=completed)

@@ -4,4 +4,4 @@ M30
 :5678
 #100=#1+1
 M99
-(expect: #100=2)
+(expect: #100=2 status=completed)

@@ -3,4 +3,4 @@
 /G90 G00 X5.
 M30
 (The default is off.)
-(expect: #100=1)
+(expect: #100=1 status=completed)

@@ -2,4 +2,4 @@
 #100=1 (SET ONE)
 G90 G01 (MOVE) X1. F100 (FEED)
 M30
-(expect: #100=1)
+(expect: #100=1 status=completed)

@@ -5,4 +5,4 @@ O9000
 #100=4.
 M99
 (They are shared across levels.)
-(expect: #101=5)
+(expect: #101=5 status=completed)

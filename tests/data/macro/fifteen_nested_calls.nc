@@ -7,4 +7,4 @@ O0100
 IF[#100GE#101]GOTO 9
 M98 P100
 N9 M99
-(expect: #100=15 #102=1)
+(expect: #100=15 #102=1 status=completed)

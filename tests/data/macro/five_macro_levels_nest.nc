@@ -7,4 +7,4 @@ O9500
 IF[#100GE#101]GOTO 9
 G65 P9500
 N9 M99
-(expect: #100=5 #102=1)
+(expect: #100=5 #102=1 status=completed)

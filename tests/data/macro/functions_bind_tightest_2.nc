@@ -1,3 +1,3 @@
 #100=2*SQRT[16]+1
 M30
-(expect: #100=9)
+(expect: #100=9 status=completed)

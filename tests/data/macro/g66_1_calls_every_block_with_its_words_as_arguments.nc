@@ -10,4 +10,4 @@ O9400
 #[110+#100]=#1
 #[120+#100]=#24
 M99
-(expect: motions=1 motion1=X9)
+(expect: motions=1 motion1=X9 status=completed)

@@ -16,4 +16,4 @@ M99
 (Two moves in G66 mode: two calls [not after the G66 block, the assignment, M05, the)
 (dwell, the G67 block or the move after G67].)
 (The arguments of the G66 block.)
-(expect: #100=2 #101=1)
+(expect: #100=2 #101=1 status=completed)

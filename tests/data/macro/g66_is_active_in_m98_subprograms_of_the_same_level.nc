@@ -9,4 +9,4 @@ M99
 O9300
 #100=#100+1
 M99
-(expect: #100=2)
+(expect: #100=2 status=completed)

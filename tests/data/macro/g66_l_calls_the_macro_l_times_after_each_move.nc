@@ -8,4 +8,4 @@ O9300
 #100=#100+#1
 M99
 (Two moves × two calls, each call starting again from A = 1: 4 × 2 = 8.)
-(expect: #100=8)
+(expect: #100=8 status=completed)

@@ -5,4 +5,4 @@ M30
 O9300
 #100=1
 M99
-(expect: #100=vacant)
+(expect: #100=vacant status=completed)

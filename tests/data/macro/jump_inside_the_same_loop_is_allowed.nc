@@ -6,4 +6,4 @@ GOTO 10
 N10 #101=#101+1
 END1
 M30
-(expect: #100=vacant #101=3)
+(expect: #100=vacant #101=3 status=completed)

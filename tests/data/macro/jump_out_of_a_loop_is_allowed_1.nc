@@ -5,4 +5,4 @@ IF[#1GE5]GOTO 99
 END1
 N99 #100=#1
 M30
-(expect: #100=5)
+(expect: #100=5 status=completed)

@@ -11,4 +11,4 @@ WHILE[#1LT6]DO1
 END1
 #101=#1
 M30
-(expect: #100=3 #101=6)
+(expect: #100=3 #101=6 status=completed)

@@ -6,4 +6,4 @@ O9005
 #100=#100+1
 #2=7.
 M99
-(expect: #100=2 #101=vacant #102=vacant)
+(expect: #100=2 #101=vacant #102=vacant status=completed)

@@ -11,4 +11,4 @@ O9001
 M99
 (In the macro: #1 is the argument, #2 [not given] is vacant.)
 (Back in main: its own #1 and #2 are untouched.)
-(expect: #100=7 #101=vacant #102=5 #103=3)
+(expect: #100=7 #101=vacant #102=5 #103=3 status=completed)

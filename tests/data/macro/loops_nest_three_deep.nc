@@ -13,4 +13,4 @@ END2
 #1=#1+1
 END1
 M30
-(expect: #100=60)
+(expect: #100=60 status=completed)

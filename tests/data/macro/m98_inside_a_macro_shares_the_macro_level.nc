@@ -9,4 +9,4 @@ M99
 O9004
 #1=#1+10
 M99
-(expect: #100=12 #101=1)
+(expect: #100=12 #101=1 status=completed)

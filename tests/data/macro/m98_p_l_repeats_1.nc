@@ -4,4 +4,4 @@ M30
 O0010
 #100=#100+1
 M99
-(expect: #100=3 #101=1)
+(expect: #100=3 #101=1 status=completed)

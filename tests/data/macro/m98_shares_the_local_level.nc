@@ -6,4 +6,4 @@ O9002
 #100=#1
 #1=9.
 M99
-(expect: #100=5 #101=9)
+(expect: #100=5 #101=9 status=completed)

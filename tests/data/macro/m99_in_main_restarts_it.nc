@@ -2,4 +2,4 @@
 IF[#100GE3]GOTO 9
 M99
 N9 M30
-(expect: #100=3)
+(expect: #100=3 status=completed)

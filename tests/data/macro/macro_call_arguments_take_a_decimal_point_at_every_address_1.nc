@@ -5,4 +5,4 @@ M30
 O9011
 #100=#13
 M99
-(expect: #100=0.5)
+(expect: #100=0.5 status=completed)

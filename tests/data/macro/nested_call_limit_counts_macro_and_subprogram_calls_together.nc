@@ -14,4 +14,4 @@ O0100
 IF[#103GE#101]GOTO 9
 M98 P100
 N9 M99
-(expect: #102=1 #103=10)
+(expect: #102=1 #103=10 status=completed)

@@ -3,4 +3,4 @@ O0001
 #100=5
 M30
 %
-(expect: #100=5)
+(expect: #100=5 status=completed)

@@ -3,4 +3,4 @@
 M30
 %
 (`%` with text after it is still a tape mark line.)
-(expect: #100=6)
+(expect: #100=6 status=completed)

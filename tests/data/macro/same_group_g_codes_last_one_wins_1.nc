@@ -3,4 +3,4 @@ G00 G01 X1. F100
 G01 G00 X2.
 #101=#4001
 M30
-(expect: #100=1 #101=0)
+(expect: #100=1 #101=0 status=completed)

@@ -9,4 +9,4 @@ WHILE[#1LT4]DO1
 #1=#1+1
 END1
 M30
-(expect: #100=3 #101=4)
+(expect: #100=3 #101=4 status=completed)

@@ -3,4 +3,4 @@ G04 X1.
 G04 P1000
 #100=#3001
 M30
-(expect: #100=1100)
+(expect: #100=1100 status=completed)

@@ -2,4 +2,4 @@
 G90 G01 X100. F6000
 #100=#3001
 M30
-(expect: #100=0)
+(expect: #100=0 status=completed)

@@ -5,4 +5,4 @@ WHILE[#1LE10]DO1
 #1=#1+1
 END1
 M30
-(expect: #100=55)
+(expect: #100=55 status=completed)

@@ -4,4 +4,4 @@ END1
 #101=1
 M30
 (A false condition at once skips the body.)
-(expect: #100=vacant)
+(expect: #100=vacant status=completed)

@@ -4,4 +4,4 @@
 G90 G01 F100 X#1 Y#[#2+1] Z-#1
 X[#1*2] Y-[#2+1] Z#3
 M30
-(expect: motions=2)
+(expect: motions=2 status=completed)
