@@ -1,7 +1,7 @@
-//! The invariants every data fixture's run is held to, sample by sample (1 ms period):
+//! The invariants every data fixture's run is held to, sample by sample (every [`PERIOD`]):
 //!
 //! - `limits`: each axis's speed, acceleration and jerk by finite differences within its limits
-//!   (`common::check_limits_of`, corners allowed the speed step), and every sample within the
+//!   (`common::check_limits_every`, corners allowed the speed step), and every sample within the
 //!   stored stroke (`common::check_strokes`).
 //! - `tip`: the tool tip by forward kinematics (`Sample::tip`) against the commanded point
 //!   (`Sample::programmed`). Where the two systems coincide — the commanded point is in the
@@ -24,6 +24,10 @@ use fivex_engine::machine::{AxisKind, MachineConfig};
 use fivex_engine::run::Sample;
 use fivex_engine::tip::System;
 
+/// The sampling period, s: 2 ms halves the cost of a 1 ms trace (most of the harness's time
+/// is the run itself), and a finite difference over it bounds the derivatives as well.
+pub const PERIOD: f64 = 0.002;
+
 /// Where the tip and the commanded point coincide, mm.
 const SAME: f64 = 1e-6;
 /// How far the rigid copy may be off, mm.
@@ -33,7 +37,7 @@ const RIGID: f64 = 1e-3;
 /// apart, so that no finite difference spans a gap).
 pub fn limits(samples: &[Sample], m: &MachineConfig, skipped: &[u32]) -> Result<(), String> {
     for stretch in samples.split(|s| skipped.contains(&s.line)) {
-        common::check_limits_of(stretch, m, false).map_err(|e| e.to_string())?;
+        common::check_limits_every(stretch, m, false, PERIOD).map_err(|e| e.to_string())?;
         common::check_strokes(stretch, m).map_err(|e| e.to_string())?;
     }
     Ok(())
@@ -47,7 +51,7 @@ fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
 fn rotaries_at_zero(s: &Sample, m: &MachineConfig) -> bool {
     m.axes.iter().enumerate().all(|(i, a)| {
         let x = s.machine[i].rem_euclid(360.0);
-        a.kind != AxisKind::Rotary || x < 1e-9 || x > 360.0 - 1e-9
+        a.kind != AxisKind::Rotary || !(1e-9..=360.0 - 1e-9).contains(&x)
     })
 }
 

@@ -2,7 +2,7 @@
 //! (`header.rs`; the format is in `tests/README.md`, "Data fixtures"). For each dialect the
 //! header names, the interpreter's canonical commands are pretty-printed (`pretty.rs`) into one
 //! insta snapshot per fixture (`tests/data/<topic>/snapshots/<name>.snap`, all dialects in
-//! it), the program is run through the motion at a 1 ms period, its `(expect: …)` are checked
+//! it), the program is run through the motion at a 2 ms period, its `(expect: …)` are checked
 //! against the run, and the invariants of `invariants.rs` against every sample. The programs of
 //! `tests/fixtures/` (the e2e harness's) are held to the same invariants.
 //!
@@ -66,7 +66,7 @@ fn every_topic_folder_has_its_test() {
 fn e2e_fixtures_keep_the_invariants() {
     let files = nc_files(Path::new(FIXTURES));
     assert!(files.len() >= 40, "the e2e fixtures: found {}", files.len());
-    let failures: Vec<String> = files.iter().filter_map(|f| guarded(f, |f| invariants_only(f))).collect();
+    let failures: Vec<String> = files.iter().filter_map(|f| guarded(f, invariants_only)).collect();
     assert!(failures.is_empty(), "{} of {} fixtures fail:\n{}", failures.len(), files.len(), failures.join("\n"));
 }
 
@@ -156,7 +156,7 @@ fn execute(text: &str, h: &Header, dialect: Dialect, dir: &Path) -> Result<Outco
     let mut samples = Vec::new();
     // No invariant to hold: no samples (a program that runs for hours before its alarm).
     let sampled = !(h.skips_all("limits") && h.skips_all("tip"));
-    let opts = RunOptions { period_s: if sampled { 0.001 } else { 0.0 }, ..RunOptions::default() };
+    let opts = RunOptions { period_s: if sampled { invariants::PERIOD } else { 0.0 }, ..RunOptions::default() };
     let result = run(&mut interp, &opts, |s| samples.push(*s));
     Ok(Outcome { canon, interp_alarm, result, samples, interp })
 }
