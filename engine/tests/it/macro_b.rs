@@ -93,14 +93,6 @@ fn close(actual: f64, expected: f64) {
     assert!((actual - expected).abs() < 1e-9, "got {actual}, expected {expected}");
 }
 
-/// Any variable (local, system…) after the run, read through the interpreter.
-fn read_after(src: &str, n: u32) -> Option<f64> {
-    let mut interp = interp_cfg(src, "mill3", Dialect::Fanuc, |_| {});
-    let r = run_interp(&mut interp);
-    assert!(r.completed(), "unexpected alarm {:?} in\n{src}", r.alarms);
-    interp.state.read(n).expect("readable")
-}
-
 // ---------------------------------------------------------------------------------------------
 // Blocks and words
 // ---------------------------------------------------------------------------------------------
@@ -273,23 +265,6 @@ fn bracket_alarm_reports_its_line() {
 }
 
 #[test]
-fn asin_ranges_nat0_and_nat1() {
-    // NAT=0: 270…90 (negative results as 270…360).
-    assert_eq!(ev_nat("ASIN[-1]", false), 270.0);
-    close(ev_nat("ASIN[-0.5]", false), 330.0);
-    // NAT=1: -90…90.
-    assert_eq!(ev_nat("ASIN[-1]", true), -90.0);
-    close(ev_nat("ASIN[-0.5]", true), -30.0);
-    close(ev_nat("ASIN[0.5]", true), 30.0);
-}
-
-#[test]
-fn acos_range_0_to_180() {
-    assert_eq!(ev_nat("ACOS[-1]", true), 180.0);
-    close(ev_nat("ACOS[-0.5]", true), 120.0);
-}
-
-#[test]
 fn atan_two_argument_forms_quadrants_nat0() {
     for (a, b, deg) in [
         (1.0, 1.0, 45.0),
@@ -324,13 +299,6 @@ fn atan_two_argument_forms_quadrants_nat1() {
     }
     // (-180, 180]: the negative x axis with a -0 y is +180, never -180.
     close(ev_nat("ATAN[-0]/[-1]", true), 180.0);
-}
-
-#[test]
-fn atan_one_argument() {
-    close(ev_nat("ATAN[1]", false), 45.0);
-    close(ev_nat("ATAN[-1]", false), 315.0);
-    close(ev_nat("ATAN[-1]", true), -45.0);
 }
 
 #[test]
@@ -648,17 +616,6 @@ fn timer_3001_counts_simulated_milliseconds() {
     // jerk and 4000 mm/s² of acceleration: two jerk phases of √(v/J) = 35.36 ms).
     let src = "#3001=0\nG90 G01 X100. F6000\nG04 P0\n#100=#3001\nM30\n";
     close(val(src, 100), 1000.0 + 2000.0 * (100.0f64 / 80000.0).sqrt());
-}
-
-#[test]
-fn parts_counters_3901_3902() {
-    assert_eq!(read_after("M30\n", 3901), Some(1.0));
-    assert_eq!(read_after("#3901=5\nM30\n", 3901), Some(6.0));
-    assert_eq!(read_after("#3901=5\nM02\n", 3901), Some(6.0));
-    // The end of the main program's text is not M30: no part counted.
-    assert_eq!(read_after("#100=1\n", 3901), Some(0.0));
-    let src = "#3902=40\n#100=#3902\n#101=#3901\nM30\n";
-    assert_eq!(read_after(src, 3902), Some(40.0));
 }
 
 #[test]
