@@ -90,6 +90,19 @@ fn topic(name: &str) {
     assert!(!files.is_empty(), "tests/data/{name} holds no fixture");
     let failures: Vec<String> = files.iter().filter_map(|f| guarded(f, |f| fixture(&dir, f))).collect();
     assert!(failures.is_empty(), "{} of {} fixtures fail:\n{}", failures.len(), files.len(), failures.join("\n\n"));
+    // A snapshot whose fixture was renamed or removed would pin nothing.
+    let snapshots = dir.join("snapshots");
+    for entry in std::fs::read_dir(&snapshots).unwrap_or_else(|e| panic!("{}: {e}", snapshots.display())) {
+        let snap = entry.unwrap().path();
+        if snap.extension().is_some_and(|e| e == "snap") {
+            let stem = snap.file_stem().unwrap().to_string_lossy().into_owned();
+            assert!(
+                files.iter().any(|f| f.file_stem().is_some_and(|s| *s == *stem)),
+                "{} has no fixture",
+                snap.display()
+            );
+        }
+    }
 }
 
 /// Runs `check` on one file; its failures (or its panic: an insta mismatch, an engine panic)
