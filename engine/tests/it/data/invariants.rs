@@ -3,8 +3,9 @@
 //! - `limits`: each axis's speed, acceleration and jerk by finite differences within its limits
 //!   (`common::check_limits_every`, corners allowed the speed step), and every sample within the
 //!   stored stroke (`common::check_strokes`).
-//! - `tip`: the tool tip by forward kinematics (`Sample::tip`) against the commanded point
-//!   (`Sample::programmed`). Where the two systems coincide — the commanded point is in the
+//! - `tip`: the sample's tip is the forward kinematics of its axes (`tip_is_fk`, read
+//!   independently of the run through `fivex_engine::tip::locate`), and that tip
+//!   (`Sample::tip`) is held against the commanded point (`Sample::programmed`). Where the two systems coincide — the commanded point is in the
 //!   workpiece system and every rotary axis stands at 0 — they are the same point (1 nm). In
 //!   every other case (rotaries turned with plain G43, TCP in Π, a tilted plane's feature
 //!   system, G54.4's WSCS) the commanded point's system is fixed to the tip's while a block
@@ -20,9 +21,11 @@
 
 use crate::common;
 use fivex_engine::canon::Canon;
+use fivex_engine::kin::Kinematics;
 use fivex_engine::machine::{AxisKind, MachineConfig};
 use fivex_engine::run::Sample;
-use fivex_engine::tip::System;
+use fivex_engine::tip::{self, Basis};
+use std::collections::HashMap;
 
 /// The sampling period, s: 2 ms halves the cost of a 1 ms trace (most of the harness's time
 /// is the run itself), and a finite difference over it bounds the derivatives as well.
@@ -55,6 +58,33 @@ fn rotaries_at_zero(s: &Sample, m: &MachineConfig) -> bool {
     })
 }
 
+/// Every sample's `tip` and `tool` are the forward kinematics of its axes with the tool length
+/// and workpiece origin of its block (the `tip_basis` of the canonical commands of its line,
+/// where that line has one; a line run with different bases, as a loop over G43 H#1 can, is
+/// left out), read here through `fivex_engine::tip::locate`. Returns how many were compared.
+pub fn tip_is_fk(samples: &[Sample], canon: &[Canon], kin: Option<&Kinematics>) -> Result<usize, String> {
+    let mut bases: HashMap<u32, Option<Basis>> = HashMap::new();
+    for c in canon {
+        let b = bases.entry(c.line).or_insert(Some(c.tip_basis));
+        if *b != Some(c.tip_basis) {
+            *b = None;
+        }
+    }
+    let mut compared = 0;
+    for s in samples {
+        let Some(Some(basis)) = bases.get(&s.line) else { continue };
+        let fk = tip::locate(kin, &s.machine, basis);
+        if dist(fk.tip, s.tip) > SAME || dist(fk.tool, s.tool) > 1e-9 {
+            return Err(format!(
+                "line {} t={}: the sample's tip {:?} (tool {:?}) is not the forward kinematics {:?} ({:?})",
+                s.line, s.t, s.tip, s.tool, fk.tip, fk.tool
+            ));
+        }
+        compared += 1;
+    }
+    Ok(compared)
+}
+
 /// The lines whose commands change the tool length the tip is read with.
 pub fn length_changes(canon: &[Canon]) -> Vec<u32> {
     let mut length = 0.0;
@@ -82,7 +112,7 @@ pub fn tip(samples: &[Sample], m: &MachineConfig, skipped: &[u32], length_change
         if length_changed.contains(&first.line) {
             // Comparable only where the two systems coincide at both ends.
             let last = &block[block.len() - 1];
-            let same = |s: &Sample| s.programmed_in == System::Workpiece && rotaries_at_zero(s, m);
+            let same = |s: &Sample| s.programmed_in == tip::System::Workpiece && rotaries_at_zero(s, m);
             if same(first) && same(last) {
                 let (from, to) = (dist(first.tip, first.programmed), dist(last.tip, last.programmed));
                 if to > from + RIGID {
@@ -96,7 +126,7 @@ pub fn tip(samples: &[Sample], m: &MachineConfig, skipped: &[u32], length_change
             continue;
         }
         for s in block {
-            if s.programmed_in == System::Workpiece && rotaries_at_zero(s, m) {
+            if s.programmed_in == tip::System::Workpiece && rotaries_at_zero(s, m) {
                 let d = dist(s.tip, s.programmed);
                 if d > SAME {
                     errs.push(format!(

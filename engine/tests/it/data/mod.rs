@@ -179,6 +179,8 @@ fn invariants(h: &Header, o: &Outcome, machine: &MachineConfig) -> Result<(), St
         invariants::limits(&o.samples, machine, &h.skipped_lines("limits")).map_err(|e| format!("limits: {e}"))?;
     }
     if !h.skips_all("tip") {
+        let kin = o.interp.kinematics().map(|k| &**k);
+        invariants::tip_is_fk(&o.samples, &o.canon, kin).map_err(|e| format!("tip: {e}"))?;
         let changes = invariants::length_changes(&o.canon);
         let compared =
             invariants::tip(&o.samples, machine, &h.skipped_lines("tip"), &changes).map_err(|e| format!("tip: {e}"))?;
