@@ -59,6 +59,14 @@ fn g49_in_g49_mode_does_not_move() {
     assert!(motions("G21 G17 G40 G49 G80 G90 G94\nM30\n").is_empty());
 }
 
+/// A resource bound, not data: kept here rather than in `tests/data/alarms` (its run takes the
+/// interpreter through 200,000 pecks, four times over in the data harness).
+#[test]
+fn a_block_that_would_expand_without_bound_alarms() {
+    // One million pecks: stopped at the expansion limit, not after exhausting memory.
+    both("G00 Z1.\nG83 X0 Y0 Z-1000. R0 Q0.001 F1000.\n", "FX0003", "FX0003", 2);
+}
+
 #[test]
 fn runaway_expressions_are_refused_not_crashing() {
     let long_sum = format!("#100=1{}\nM30\n", "+1".repeat(100_000));
