@@ -44,6 +44,8 @@ impl Expect {
 pub struct Skip {
     pub invariant: String,
     pub line: Option<u32>,
+    /// The comment's text, for the message when it is not needed.
+    pub text: String,
 }
 
 pub const INVARIANTS: &[&str] = &["limits", "tip"];
@@ -135,19 +137,17 @@ pub fn parse(text: &str) -> Result<Header, String> {
         if !INVARIANTS.contains(&invariant) {
             return Err(format!("(skip: {invariant}): no such invariant (known: {INVARIANTS:?})"));
         }
-        h.skips.push(Skip { invariant: invariant.into(), line });
+        h.skips.push(Skip { invariant: invariant.into(), line, text: body.into() });
     }
     Ok(h)
 }
 
-impl Header {
-    /// The invariant is skipped for the whole fixture.
-    pub fn skips_all(&self, invariant: &str) -> bool {
-        self.skips.iter().any(|s| s.invariant == invariant && s.line.is_none())
-    }
+/// The invariant is skipped for the whole fixture.
+pub fn skips_all(skips: &[Skip], invariant: &str) -> bool {
+    skips.iter().any(|s| s.invariant == invariant && s.line.is_none())
+}
 
-    /// Lines on which the invariant is skipped.
-    pub fn skipped_lines(&self, invariant: &str) -> Vec<u32> {
-        self.skips.iter().filter(|s| s.invariant == invariant).filter_map(|s| s.line).collect()
-    }
+/// Lines on which the invariant is skipped.
+pub fn skipped_lines(skips: &[Skip], invariant: &str) -> Vec<u32> {
+    skips.iter().filter(|s| s.invariant == invariant).filter_map(|s| s.line).collect()
 }

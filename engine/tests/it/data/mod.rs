@@ -6,9 +6,10 @@
 //! against the run, and the invariants of `invariants.rs` against every sample. The programs of
 //! `tests/fixtures/` (the e2e harness's) are held to the same invariants.
 //!
-//! A topic folder without fixtures, a folder without its test here, a fixture that expects
-//! nothing in a dialect it runs in, and a run where an invariant compared nothing without a
-//! `(skip: …)` saying why all fail.
+//! A topic folder without fixtures, a folder without its test here, a snapshot without its
+//! fixture, a fixture that expects nothing in a dialect it runs in, a run where an invariant
+//! compared nothing without a `(skip: …)` saying why, and a `(skip: …)` the invariant holds
+//! without all fail.
 
 mod header;
 mod invariants;
@@ -21,7 +22,7 @@ use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
 use fivex_engine::Dialect;
-use header::{Expect, Header};
+use header::{Expect, Header, Skip};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -167,23 +168,22 @@ fn execute(text: &str, h: &Header, dialect: Dialect, dir: &Path) -> Result<Outco
     };
     let mut interp = interpreter(text, h, dialect, dir)?;
     let mut samples = Vec::new();
-    // No invariant to hold: no samples (a program that runs for hours before its alarm).
-    let sampled = !(h.skips_all("limits") && h.skips_all("tip"));
-    let opts = RunOptions { period_s: if sampled { invariants::PERIOD } else { 0.0 }, ..RunOptions::default() };
+    let opts = RunOptions { period_s: invariants::PERIOD, ..RunOptions::default() };
     let result = run(&mut interp, &opts, |s| samples.push(*s));
     Ok(Outcome { canon, interp_alarm, result, samples, interp })
 }
 
-fn invariants(h: &Header, o: &Outcome, machine: &MachineConfig) -> Result<(), String> {
-    if !h.skips_all("limits") {
-        invariants::limits(&o.samples, machine, &h.skipped_lines("limits")).map_err(|e| format!("limits: {e}"))?;
+fn invariants(skips: &[Skip], o: &Outcome, machine: &MachineConfig) -> Result<(), String> {
+    if !header::skips_all(skips, "limits") {
+        invariants::limits(&o.samples, machine, &header::skipped_lines(skips, "limits"))
+            .map_err(|e| format!("limits: {e}"))?;
     }
-    if !h.skips_all("tip") {
+    if !header::skips_all(skips, "tip") {
         let kin = o.interp.kinematics().map(|k| &**k);
         invariants::tip_is_fk(&o.samples, &o.canon, kin).map_err(|e| format!("tip: {e}"))?;
         let changes = invariants::length_changes(&o.canon);
-        let compared =
-            invariants::tip(&o.samples, machine, &h.skipped_lines("tip"), &changes).map_err(|e| format!("tip: {e}"))?;
+        let compared = invariants::tip(&o.samples, machine, &header::skipped_lines(skips, "tip"), &changes)
+            .map_err(|e| format!("tip: {e}"))?;
         // A program that never moves has no sample, nor has one whose only moves change the
         // tool length where the systems differ; any other must compare some.
         if compared == 0 && o.samples.iter().any(|s| !changes.contains(&s.line)) {
@@ -193,6 +193,27 @@ fn invariants(h: &Header, o: &Outcome, machine: &MachineConfig) -> Result<(), St
     Ok(())
 }
 
+/// Marks in `needed` the skips without which this run breaks its invariant.
+fn mark_needed(skips: &[Skip], o: &Outcome, machine: &MachineConfig, needed: &mut [bool]) {
+    for (i, flag) in needed.iter_mut().enumerate() {
+        let rest: Vec<Skip> = skips.iter().enumerate().filter(|(k, _)| *k != i).map(|(_, s)| s.clone()).collect();
+        if invariants(&rest, o, machine).is_err() {
+            *flag = true;
+        }
+    }
+}
+
+/// The skips that no dialect needed: a stale exemption would hide a regression.
+fn unneeded(skips: &[Skip], needed: &[bool]) -> Result<(), String> {
+    let stale: Vec<String> =
+        skips.iter().zip(needed).filter(|(_, n)| !**n).map(|(s, _)| format!("(skip: {})", s.text)).collect();
+    if stale.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("not needed, the invariant holds without: {}", stale.join(" ")))
+    }
+}
+
 fn fixture(dir: &Path, file: &Path) -> Result<(), String> {
     let text = std::fs::read_to_string(file).map_err(|e| e.to_string())?;
     let h = header::parse(&text)?;
@@ -200,6 +221,7 @@ fn fixture(dir: &Path, file: &Path) -> Result<(), String> {
     let mut snapshot = String::new();
     let mut printed: Vec<(String, Vec<Dialect>)> = Vec::new();
     let mut errs = Vec::new();
+    let mut needed = vec![false; h.skips.len()];
     for &dialect in &h.dialects {
         let wanted: Vec<&Expect> = h.expects.iter().filter(|e| e.applies_to(dialect)).collect();
         if wanted.is_empty() {
@@ -215,9 +237,13 @@ fn fixture(dir: &Path, file: &Path) -> Result<(), String> {
             None => printed.push((body, vec![dialect])),
         }
         errs.extend(expectations(&wanted, &o).into_iter().map(|e| format!("{}: {e}", dialect.name())));
-        if let Err(e) = invariants(&h, &o, &machine) {
+        if let Err(e) = invariants(&h.skips, &o, &machine) {
             errs.push(format!("{}: {e}", dialect.name()));
         }
+        mark_needed(&h.skips, &o, &machine, &mut needed);
+    }
+    if let Err(e) = unneeded(&h.skips, &needed) {
+        errs.push(e);
     }
     for (body, ds) in &printed {
         let names: Vec<&str> = ds.iter().map(|d| d.name()).collect();
@@ -242,11 +268,13 @@ fn invariants_only(file: &Path) -> Result<(), String> {
     let text = std::fs::read_to_string(file).map_err(|e| e.to_string())?;
     let h = header::parse(&text)?;
     let machine = MachineConfig::preset(&h.preset).ok_or(format!("no preset {:?}", h.preset))?;
+    let mut needed = vec![false; h.skips.len()];
     for &dialect in &h.dialects {
         let o = execute(&text, &h, dialect, file.parent().unwrap())?;
-        invariants(&h, &o, &machine).map_err(|e| format!("{}: {e}", dialect.name()))?;
+        invariants(&h.skips, &o, &machine).map_err(|e| format!("{}: {e}", dialect.name()))?;
+        mark_needed(&h.skips, &o, &machine, &mut needed);
     }
-    Ok(())
+    unneeded(&h.skips, &needed)
 }
 
 /// Equal to 1e-9 (a hand-computed value written to fewer places says `~TOL`).
