@@ -89,6 +89,9 @@ pub fn split_words(s: &str) -> Vec<String> {
 pub fn parse(text: &str) -> Result<Header, String> {
     let mut h = Header { preset: "mill3".into(), dialects: vec![Dialect::Fanuc], ..Header::default() };
     let first = text.lines().next().unwrap_or("");
+    if tagged_comments(text, "fivex").len() > tagged_comments(first, "fivex").len() {
+        return Err("a (fivex: …) comment after the first line selects nothing".into());
+    }
     if let Some(opts) = tagged_comments(first, "fivex").into_iter().next() {
         let words = split_words(opts);
         let mut it = words.iter();
