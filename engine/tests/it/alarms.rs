@@ -34,12 +34,6 @@ fn unknown_g_codes() {
 }
 
 #[test]
-fn the_alarm_names_the_sequence_number() {
-    let r = run_src("N10 G00 X1.\nN20 G01 X2.\n");
-    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line, r.alarms[0].n), ("PS0011", 2, Some(20)));
-}
-
-#[test]
 fn g80_forgets_the_cycle_data() {
     // The dwell P of G82 must not survive G80 into a later G81.
     let src = "G00 Z10.\nG82 X0 Y0 Z-1. R1. P500 F600\nG80\nG81 X1. Y0 Z-1. R1.\nM30\n";

@@ -375,6 +375,35 @@ fn expectations(wanted: &[&Expect], o: &Outcome) -> Vec<String> {
                     Ok(got) => num(k, got),
                 }
             }
+            "commons" => {
+                // commons=100:1,102:6 (or none): the non-vacant common variables, all of them.
+                let want: Vec<(u32, (f64, f64))> = if v == "none" {
+                    Vec::new()
+                } else {
+                    match v.split(',').map(|p| p.split_once(':').ok_or(p)).collect::<Result<Vec<_>, _>>() {
+                        Ok(pairs) => match pairs
+                            .iter()
+                            .map(|(n, x)| Ok((n.parse::<u32>().map_err(|e| e.to_string())?, number(x)?)))
+                            .collect::<Result<Vec<_>, String>>()
+                        {
+                            Ok(w) => w,
+                            Err(e) => {
+                                errs.push(format!("commons: {e}"));
+                                continue;
+                            }
+                        },
+                        Err(p) => {
+                            errs.push(format!("commons: {p:?} is not N:V"));
+                            continue;
+                        }
+                    }
+                };
+                let same = want.len() == r.variables.len()
+                    && want.iter().zip(&r.variables).all(|((n, w), (gn, g))| n == gn && close(*g, *w));
+                if !same {
+                    errs.push(format!("commons: expected {v}, got {:?}", r.variables));
+                }
+            }
             "feeds" => {
                 // feeds=X10,Y0,Z-2/X20,Y0,Z-2: every G01 motion's target, in order.
                 let got: Vec<&fivex_engine::canon::Motion> =
