@@ -5,19 +5,20 @@
 //!   stored stroke (`common::check_strokes`).
 //! - `tip`: the sample's tip is the forward kinematics of its axes (`tip_is_fk`, read
 //!   independently of the run through `fivex_engine::tip::locate`), and that tip
-//!   (`Sample::tip`) is held against the commanded point (`Sample::programmed`). Where the two systems coincide — the commanded point is in the
-//!   workpiece system and every rotary axis stands at 0 — they are the same point (1 nm). In
-//!   every other case (rotaries turned with plain G43, TCP in Π, a tilted plane's feature
-//!   system, G54.4's WSCS) the commanded point's system is fixed to the tip's while a block
-//!   runs, so the tip's path is the commanded path carried rigidly: within each block, every
-//!   sample is as far from the block's first sample on the tip path as on the commanded path
-//!   (1 µm, the kinematic paths' tolerance). A block that changes the tool length in effect
-//!   (G43/G44/G49, TCP on or off, found from the canonical commands' `tip_basis`) moves the
-//!   machine by the change while the commanded point moves from where it was (FANUC type A): the
-//!   tip meets the commanded path only at the block's end, so there the harness checks only that
-//!   the tip ends no farther from the commanded point than it started. What else breaks it — a
-//!   rotary move without TCP swings the tip off the commanded line; a display in machine
-//!   directions (FANUC DET) under a turning table — is named by the fixture's `(skip: tip@LINE …)`.
+//!   (`Sample::tip`) is held against the commanded point (`Sample::programmed`). Where the two
+//!   systems coincide — the commanded point is in the workpiece system and every rotary axis
+//!   stands at 0 — they are the same point (1 nm). In every other case (rotaries turned with
+//!   plain G43, TCP in Π, a tilted plane's feature system, G54.4's WSCS) the commanded point's
+//!   system is fixed to the tip's while a block runs, so the tip's path is the commanded path
+//!   carried rigidly: within each block, every sample is as far from the block's first sample on
+//!   the tip path as on the commanded path (1 µm, the kinematic paths' tolerance). A block that
+//!   changes the tool length in effect (G43/G44/G49, TCP on or off, found from the canonical
+//!   commands' `tip_basis`) moves the machine by the change while the commanded point moves from
+//!   where it was (FANUC type A): the tip meets the commanded path only at the block's end, so
+//!   there the harness checks only that the tip ends no farther from the commanded point than it
+//!   started. What else breaks it — a rotary move without TCP swings the tip off the commanded
+//!   line; a display in machine directions (FANUC DET) under a turning table — is named by the
+//!   fixture's `(skip: tip@LINE …)`.
 
 use crate::common;
 use fivex_engine::canon::Canon;
