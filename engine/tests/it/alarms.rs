@@ -29,11 +29,6 @@ fn plane_change_during_cutter_compensation() {
 }
 
 #[test]
-fn unknown_g_codes() {
-    assert!(run_with("G53.3\nM30\n", "mill3", Syntec).completed());
-}
-
-#[test]
 fn g80_forgets_the_cycle_data() {
     // The dwell P of G82 must not survive G80 into a later G81.
     let src = "G00 Z10.\nG82 X0 Y0 Z-1. R1. P500 F600\nG80\nG81 X1. Y0 Z-1. R1.\nM30\n";
@@ -46,11 +41,6 @@ fn positions_read_in_inch_under_g20() {
     let r = run_src("G20 G00 X1. Y1\n#100=#5001\n#101=#5002\n#102=#5021\nM30\n");
     let v = |n| r.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v).unwrap();
     assert!(approx(v(100), 1.0) && approx(v(101), 0.0001) && approx(v(102), 1.0), "{:?}", r.variables);
-}
-
-#[test]
-fn g49_in_g49_mode_does_not_move() {
-    assert!(motions("G21 G17 G40 G49 G80 G90 G94\nM30\n").is_empty());
 }
 
 /// A resource bound, not data: kept here rather than in `tests/data/alarms` (its run takes the

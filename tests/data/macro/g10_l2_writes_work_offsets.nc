@@ -9,3 +9,5 @@ G91 G10 L2 P1 X1.
 #104=#5221
 M30
 (expect: commons=100:12,101:-3,102:7,103:0.5,104:13)
+(G10 does not move.)
+(expect: motions=0)
