@@ -7,6 +7,7 @@ mod common;
 mod alarms;
 mod controller;
 mod cycles;
+mod data;
 mod fast_path;
 mod frames;
 mod incremental;

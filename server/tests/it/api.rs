@@ -224,8 +224,9 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
         assert_eq!(again.get(&format!("{C}/{id}/variables/{n}")).await.json()["value"], v, "#{n} after the restart");
     }
     let hours = again.get(&format!("{C}/{id}/variables/3002")).await.json()["value"].as_f64().unwrap();
-    // (It goes on counting the controller's time, 50 times real time here: a little above.)
-    assert!((1.5..1.6).contains(&hours), "#3002 after the restart: {hours}");
+    // (It goes on counting the controller's time, 50 times real time here: a little above, by
+    // as much as the restart took — up to 36 s of a loaded machine's wall time below 2 hours.)
+    assert!((1.5..2.0).contains(&hours), "#3002 after the restart: {hours}");
     assert_eq!(again.get(&format!("{C}/{id}/programs/1")).await.text(), program);
     assert_eq!(again.get(&format!("{C}/{id}/runs")).await.json().as_array().unwrap().len(), 1);
 }

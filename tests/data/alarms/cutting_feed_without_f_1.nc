@@ -1,0 +1,3 @@
+(fivex: --dialect fanuc,syntec)
+G01 X10.
+(expect: alarm[fanuc]=PS0011 alarm_line=2 alarm[syntec]=COR-010)

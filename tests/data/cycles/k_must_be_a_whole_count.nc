@@ -1,0 +1,4 @@
+G90 G00 X0 Y0 Z20.
+G81 X10. R5. Z-7. K1.5 F300.
+M30
+(expect: alarm=PS0009)

@@ -1,0 +1,4 @@
+G17 G68 X0 Y0 R90.
+G02 X10. Y0 R5. F100.
+M30
+(expect: motion1=X0~1e-6,Y10~1e-6 status=completed)

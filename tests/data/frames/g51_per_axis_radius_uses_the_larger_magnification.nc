@@ -1,0 +1,5 @@
+G90 G00 X0 Y100. Z0
+G51 X0 Y0 Z0 I2000 J1000
+G02 X100. Y0 R100. F500.
+M30
+(expect: motion2=X200~1e-6,Y0~1e-6 status=completed)

@@ -1,0 +1,3 @@
+#100=ACOS[-0.5]
+M30
+(expect: #100=120 status=completed)

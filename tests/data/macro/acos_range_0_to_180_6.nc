@@ -1,0 +1,4 @@
+(fivex: --nat)
+#100=ACOS[-0.5]
+M30
+(expect: #100=120 status=completed)

@@ -1,0 +1,3 @@
+#100=ASIN[1]
+M30
+(expect: #100=90 status=completed)

@@ -1,0 +1,3 @@
+#100=ASIN[-0.5]
+M30
+(expect: #100=330 status=completed)

@@ -1,0 +1,3 @@
+#100=FUP[3]
+M30
+(expect: #100=3 status=completed)

@@ -1,0 +1,12 @@
+G66 P9300
+M98 P20
+G67
+M30
+O0020
+G00 X1.
+G00 X2.
+M99
+O9300
+#100=#100+1
+M99
+(expect: #100=2 status=completed)

@@ -1,0 +1,6 @@
+#1=3
+IF[#1EQ3]THEN#100=7
+IF[#1EQ4]THEN#101=7
+IF[#1EQ3]THEN#[102]=#1*2
+M30
+(expect: commons=100:7,102:6)

@@ -1,0 +1,14 @@
+#1=0
+WHILE[1EQ1]DO1
+WHILE[1EQ1]DO2
+#1=#1+1
+IF[#1GE3]GOTO 50
+END2
+END1
+N50 #100=#1
+WHILE[#1LT6]DO1
+#1=#1+1
+END1
+#101=#1
+M30
+(expect: #100=3 #101=6 status=completed)

@@ -1,0 +1,16 @@
+#100=0
+#1=0
+WHILE[#1LT3]DO1
+#2=0
+WHILE[#2LT4]DO2
+#3=0
+WHILE[#3LT5]DO3
+#100=#100+1
+#3=#3+1
+END3
+#2=#2+1
+END2
+#1=#1+1
+END1
+M30
+(expect: #100=60 status=completed)

@@ -1,0 +1,4 @@
+(fivex: --dialect fanuc,syntec)
+M98 P1234
+M30
+(expect: alarm[fanuc]=PS0078 alarm[syntec]=COR-030)

@@ -1,0 +1,2 @@
+M30
+(expect: #3901=1 status=completed)

@@ -1,0 +1,3 @@
+#100=POW[5,0]
+M30
+(expect: #100=1 status=completed)

@@ -1,0 +1,3 @@
+#100=[2+3]*4
+M30
+(expect: #100=20 status=completed)

@@ -1,0 +1,4 @@
+(fivex: --dialect fanuc,syntec)
+#4001=1
+M30
+(expect: alarm[fanuc]=PS0116 alarm[syntec]=COR-022)

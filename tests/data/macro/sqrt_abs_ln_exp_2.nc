@@ -1,0 +1,3 @@
+#100=SQRT[0]
+M30
+(expect: #100=0 status=completed)

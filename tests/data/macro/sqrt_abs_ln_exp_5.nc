@@ -1,0 +1,3 @@
+#100=LN[1]
+M30
+(expect: #100=0 status=completed)

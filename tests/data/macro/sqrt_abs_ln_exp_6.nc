@@ -1,0 +1,3 @@
+#100=LN[EXP[2]]
+M30
+(expect: #100=2 status=completed)

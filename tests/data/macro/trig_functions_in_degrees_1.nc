@@ -1,0 +1,3 @@
+#100=SIN[30]
+M30
+(expect: #100=0.5 status=completed)

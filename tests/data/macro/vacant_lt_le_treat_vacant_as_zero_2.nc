@@ -1,0 +1,3 @@
+IF[#1LE0]THEN#100=1
+M30
+(expect: #100=1 status=completed)

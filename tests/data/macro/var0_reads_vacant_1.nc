@@ -1,0 +1,4 @@
+#100=1
+#100=#0
+M30
+(expect: #100=vacant status=completed)

@@ -1,0 +1,3 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G10 L5000 P1 Q1.5
+(expect: alarm=COR-163)

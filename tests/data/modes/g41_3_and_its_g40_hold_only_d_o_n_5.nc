@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --allow-unbuilt)
+N1 G41.3 D1
+X10.
+N3 G40
+(expect: status=completed)

@@ -1,0 +1,4 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.5 H1 I0 J0 K1.
+G49
+(expect: status=completed)

@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.4 H1
+G02 X10. Y10. R10. F100
+G01 G49
+(expect: status=completed)

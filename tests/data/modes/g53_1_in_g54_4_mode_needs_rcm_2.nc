@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G68.2 X0 Y0 Z0 I0 J0 K0
+G53.1
+G69
+(expect: status=completed)

@@ -1,0 +1,6 @@
+(fivex: --preset mill3 --allow-unbuilt)
+G90
+G54.4 P1
+X10.
+G54.4 P0
+(expect: status=completed)

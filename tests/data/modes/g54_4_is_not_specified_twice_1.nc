@@ -1,0 +1,5 @@
+(fivex: --preset mill3 --dialect fanuc,syntec --allow-unbuilt)
+G54.4 P1
+G54.4 P2
+(twp WSE-01, TV-WSE-12/13)
+(expect: alarm[fanuc]=PS0437 alarm[syntec]=COR-070)

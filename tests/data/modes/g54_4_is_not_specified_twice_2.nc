@@ -1,0 +1,5 @@
+(fivex: --preset mill3 --allow-unbuilt)
+G54.4 P1
+G54.4 P0
+G54.4 P2
+(expect: status=completed)

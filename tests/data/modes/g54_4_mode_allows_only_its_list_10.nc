@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G54.4 P1
+G55
+(twp §6.4, TV-WSE-15)
+([on a Syntec machine with a mechanism: G68.3 needs one, COR-154])
+(expect: alarm=COR-070)

@@ -1,0 +1,5 @@
+(fivex: --preset mill3 --allow-unbuilt)
+G54.4 P1
+G92 X0
+(twp §6.4, TV-WSE-15)
+(expect: alarm=PS0437)

@@ -1,0 +1,4 @@
+(fivex: --preset mill3 --allow-unbuilt)
+G54.4 P7
+G54.4 P0
+(expect: status=completed)

@@ -1,0 +1,5 @@
+(fivex: --preset mill3 --dialect syntec --allow-unbuilt)
+G68.2 P1 Q111 X0 Y0 Z0 I0 J0 K0
+G69
+(twp TWP-02, TV-TWP-09 [FANUC only: Syntec's G68.2 has only the Euler form])
+(expect: status=completed)

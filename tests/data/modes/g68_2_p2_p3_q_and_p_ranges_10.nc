@@ -1,0 +1,5 @@
+(fivex: --preset mill3 --dialect syntec --allow-unbuilt)
+G68.4 P1.5 X0
+G69
+(twp TWP-03/04, TV-TWP-11e; P outside 0..4 [decision])
+(expect: alarm=COR-070)

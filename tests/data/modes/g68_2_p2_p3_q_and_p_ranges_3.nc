@@ -1,0 +1,4 @@
+(fivex: --preset mill3 --allow-unbuilt)
+G68.2 P2 X0 Y0 Z0
+(twp TWP-03/04, TV-TWP-11e; P outside 0..4 [decision])
+(expect: alarm=PS5457)

@@ -1,0 +1,4 @@
+(fivex: --preset mill3 --allow-unbuilt)
+G68.4 P1.5 X0
+(twp TWP-03/04, TV-TWP-11e; P outside 0..4 [decision])
+(expect: alarm=PS5457)

@@ -1,0 +1,4 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G68.3 P2
+G69
+(expect: status=completed)

@@ -1,0 +1,7 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43 H1
+G43.5 H1 I0 J0 K1
+G49
+(tcp TCP-15 [§2.3.2]: G49 is in the list [a TCP-16 code], G43/G44 are not: TCP never)
+(starts over tool length compensation, only after its G49.)
+(expect: alarm=PS5421)

@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.5 H1
+G05.1 Q3
+(crc NSM-05, TV-38)
+(expect: alarm=PS5421)

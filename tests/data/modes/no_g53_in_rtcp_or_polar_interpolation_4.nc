@@ -1,0 +1,5 @@
+(fivex: --preset mill3 --allow-unbuilt)
+G12.1
+G53 X0
+G13.1
+(expect: status=completed)

@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G91
+G43.5 H1
+G90 G49
+(syn SYN-08, TV-14 [Syntec only])
+(expect: status=completed)

@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G43.5 H1
+G91 X1.
+(syn SYN-08, TV-14 [Syntec only])
+(expect: alarm=COR-305)

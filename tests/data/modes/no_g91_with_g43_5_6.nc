@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.5 H1
+G91 X1.
+G90 G49
+(syn SYN-08, TV-14 [Syntec only])
+(expect: status=completed)

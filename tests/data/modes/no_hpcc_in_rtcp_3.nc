@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G43.4 H1
+G05 P0
+G49
+(expect: status=completed)

@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G05 P10000
+G05 P0
+G43.4 H1
+G49
+(expect: status=completed)

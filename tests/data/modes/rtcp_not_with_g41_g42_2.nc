@@ -1,0 +1,7 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.4 H1
+G41 D1
+G40
+G49
+(syn SYN-07/08 [alarm not named: COR-100, decision]; FANUC allows it [tcp TCP-16])
+(expect: status=completed)

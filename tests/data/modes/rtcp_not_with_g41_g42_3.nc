@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G42 D1
+G43.5 H1
+(syn SYN-07/08 [alarm not named: COR-100, decision]; FANUC allows it [tcp TCP-16])
+(expect: alarm=COR-100)

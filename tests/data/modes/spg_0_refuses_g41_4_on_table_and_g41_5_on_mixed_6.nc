@@ -1,0 +1,4 @@
+(fivex: --preset table-bc --allow-unbuilt)
+G41.2 D1
+G40
+(expect: status=completed)

@@ -1,0 +1,5 @@
+(fivex: --preset mixed-bc --allow-unbuilt)
+G41.2 D1
+G01 X10. F100
+G02 X20. Y10. R10.
+(expect: alarm=PS5460)

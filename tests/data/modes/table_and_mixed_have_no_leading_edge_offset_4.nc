@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G41.3 D1
+X10.
+G40
+(expect: status=completed)

@@ -1,0 +1,5 @@
+(fivex: --preset table-bc --allow-unbuilt)
+G41.2 D1
+G01 X10. F100
+G40 X0
+(expect: status=completed)

@@ -1,0 +1,5 @@
+(fivex: --preset table-bc --dialect fanuc,syntec --allow-unbuilt)
+G41.2 D1
+G01 X10. F100
+G03 G40 X0 Y0 R10.
+(expect: alarm[fanuc]=PS0034 alarm[syntec]=COR-070)

@@ -1,0 +1,4 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G02 G41.2 D1 X10. Y10. R10. F100
+G40
+(expect: status=completed)

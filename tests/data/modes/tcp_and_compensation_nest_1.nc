@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.4 H1
+G41.2 D1
+G40
+G49
+(expect: status=completed)

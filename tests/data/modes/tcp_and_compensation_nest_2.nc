@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G41.2 D1
+G43.4 H1
+G40 G49
+(expect: status=completed)

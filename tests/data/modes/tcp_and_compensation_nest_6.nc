@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G41.2 D1
+G43.4 H1
+G40
+(crc CRC-48, TV-22)
+(expect: alarm=PS5460)

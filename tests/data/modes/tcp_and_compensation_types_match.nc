@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.5 H1
+G42.6 D1
+G40
+G49
+(expect: status=completed)

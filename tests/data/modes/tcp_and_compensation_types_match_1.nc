@@ -1,0 +1,5 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.4 H1
+G41.6 D1
+(crc CRC-48, TV-18)
+(expect: alarm=PS5460)

@@ -1,0 +1,7 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G43.5 H1
+G41.2 D1
+G49
+G40
+(crc CRC-48, TV-18)
+(expect: alarm=COR-070)

@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --allow-unbuilt)
+G43.4 H1
+G49
+G54.4 P1
+G54.4 P0
+(expect: status=completed)

@@ -1,0 +1,6 @@
+(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+G41.3 D1
+F100
+X10.
+G40
+(expect: alarm=COR-070)
