@@ -56,7 +56,7 @@ fn live() -> isize {
 }
 
 #[test]
-#[ignore = "issue 18: a running controller holds ≈1.3 MB, most of it the planner's 256-segment look-ahead (docs/performance.md)"]
+#[ignore = "issue 18: a running controller holds ≈880 kB (56 kB idle), most of it the planner's 256-segment look-ahead queue and released runs (docs/performance.md)"]
 fn a_running_controller_holds_under_200_kb() {
     let machine = MachineConfig::preset("table-ac").expect("the table-ac preset");
     let before = live();
