@@ -398,7 +398,7 @@ impl Controller {
             };
         }
         let held = self.run_state == RunState::Hold;
-        let at_block_stop = self.wait == Wait::Operator && (self.program_active || !self.pending.is_empty());
+        let at_block_stop = self.at_operator_stop();
         if (held || at_block_stop) && matches!(self.mode, Mode::Auto | Mode::Mdi) {
             if !matches!(mode, Mode::Jog | Mode::Handle | Mode::Inc) || self.estop {
                 return Err(Refusal::Busy);
@@ -462,6 +462,16 @@ impl Controller {
         true
     }
 
+    /// The program has more to do: blocks to read, or commands read and not yet carried out.
+    fn program_has_more(&self) -> bool {
+        self.program_active || !self.pending.is_empty()
+    }
+
+    /// The program waits for cycle start at M00/M01 or a single-block stop.
+    fn at_operator_stop(&self) -> bool {
+        self.wait == Wait::Operator && self.program_has_more()
+    }
+
     /// A motion is under way or about to start.
     fn moving(&self) -> bool {
         self.run_state == RunState::Running || self.exec.is_moving()
@@ -497,7 +507,7 @@ impl Controller {
             }
             _ => {}
         }
-        if self.wait == Wait::Operator && (self.program_active || !self.pending.is_empty()) {
+        if self.at_operator_stop() {
             self.wait = Wait::None;
             self.set_state(RunState::Running);
             return Ok(());
@@ -962,7 +972,7 @@ impl Controller {
                 self.flush();
             }
             Item::BlockEnd => {
-                if self.panel.single_block && (self.program_active || !self.pending.is_empty()) {
+                if self.panel.single_block && self.program_has_more() {
                     self.wait = Wait::Operator;
                     self.set_state(RunState::Idle);
                 }
