@@ -207,10 +207,12 @@ impl Executor {
     fn segment_of(&mut self, c: &Canon, m: &Motion, ctx: FeedContext, block: u64) -> Segment {
         let before = std::mem::replace(&mut self.queued.basis, c.tip_basis);
         crate::tip::restate_start(&mut self.queued.work, &before, &c.tip_basis);
-        if before.programmed_in != c.tip_basis.programmed_in && m.tip.is_none() {
-            // The programmed point changed its system (G69, G49 after TCP, G53.1 …) without a
-            // motion: a plain motion's programmed and machine points differ by a translation
-            // (the offsets), so its start is where the machine stands, moved by that.
+        let into_workpiece = c.tip_basis.programmed_in == crate::tip::System::Workpiece;
+        if before.programmed_in != c.tip_basis.programmed_in && into_workpiece && m.tip.is_none() {
+            // The programmed point came back to the workpiece system without a motion (G69
+            // after a tilted plane, G49 after TCP): there a plain motion's programmed and
+            // machine points differ by a translation (the offsets), so its start is where the
+            // machine stands, moved by that.
             for (k, w) in self.queued.work.iter_mut().enumerate() {
                 *w = self.queued.machine[k] + m.target[k] - m.machine[k];
             }
