@@ -210,7 +210,7 @@ const BLOCKS_PER_TICK: usize = 100_000;
 
 impl Controller {
     pub fn new(cfg: Config) -> Controller {
-        let machine = Arc::new(cfg.machine.clone());
+        let machine = cfg.machine.clone();
         let interp = Interpreter::new(crate::lang::parse_file(""), cfg);
         let start = Endpoint {
             machine: interp.state.machine_position(),

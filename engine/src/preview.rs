@@ -35,7 +35,7 @@ pub struct ToolPath {
 /// Runs `interp` (already loaded, in its start state) to its end and returns the tip path, at
 /// most `max_points` points.
 pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
-    let machine = std::sync::Arc::new(interp.config().machine.clone());
+    let machine = interp.config().machine.clone();
     let rotary: Vec<bool> = machine.axes.iter().map(|a| a.kind == AxisKind::Rotary).collect();
     let start = Endpoint {
         machine: interp.state.machine_position(),

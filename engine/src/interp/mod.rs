@@ -82,7 +82,8 @@ pub const MAX_NESTED_CALLS: usize = 15;
 #[derive(Debug, Clone)]
 pub struct Config {
     pub dialect: Dialect,
-    pub machine: MachineConfig,
+    /// The machine, shared with the motion executor and the controller (one copy per machine).
+    pub machine: std::sync::Arc<MachineConfig>,
     /// The block delete (optional block skip) switch: when on, `/` blocks are skipped.
     pub block_delete: bool,
     /// The optional stop switch: when on, M01 stops like M00.
@@ -116,10 +117,10 @@ pub struct Config {
 }
 
 impl Config {
-    pub fn new(machine: MachineConfig, dialect: Dialect) -> Config {
+    pub fn new(machine: impl Into<std::sync::Arc<MachineConfig>>, dialect: Dialect) -> Config {
         Config {
             dialect,
-            machine,
+            machine: machine.into(),
             block_delete: false,
             optional_stop: false,
             pocket_calculator: false,

@@ -30,7 +30,7 @@ use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};
 
 /// Run `src` on `machine`, every 1 ms sample.
 fn run_on(machine: &MachineConfig, src: &str) -> (RunResult, Vec<Sample>) {
-    let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.machine = machine.clone());
+    let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.machine = machine.clone().into());
     let mut samples = Vec::new();
     let options = RunOptions { max_time_s: 120.0, ..RunOptions::default() };
     let r = run(&mut interp, &options, |s| samples.push(*s));

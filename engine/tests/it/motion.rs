@@ -184,7 +184,7 @@ fn a_move_beyond_the_stroke_alarms_before_it_starts() {
 fn a_kinematic_move_whose_axis_bulges_past_the_stroke_between_check_points_alarms() {
     let src = "G90 G00 B-30. C0\nG43.4 H1\nG00 X0 Y0 Z0\nN40 G01 B45. F2000.\nG49\nM30\n";
     let peak_of = |m: &MachineConfig| {
-        let mut interp = interpreter_with(src, "head-bc", Dialect::Fanuc, |c| c.machine = m.clone());
+        let mut interp = interpreter_with(src, "head-bc", Dialect::Fanuc, |c| c.machine = m.clone().into());
         let mut peak = f64::MIN;
         let r = run(&mut interp, &RunOptions::default(), |s| {
             if s.line == 4 {

@@ -18,7 +18,7 @@ use proptest::prelude::*;
 
 /// Run `src` on `machine` with tool length 100 on every offset; every 1 ms sample.
 fn run_on(machine: MachineConfig, dialect: Dialect, src: &str) -> (RunResult, Vec<Sample>) {
-    let mut interp = interpreter_with(src, "mill3", dialect, |c| c.machine = machine);
+    let mut interp = interpreter_with(src, "mill3", dialect, |c| c.machine = machine.into());
     let mut samples = Vec::new();
     let r = run(&mut interp, &RunOptions::default(), |s| samples.push(*s));
     (r, samples)
@@ -26,7 +26,7 @@ fn run_on(machine: MachineConfig, dialect: Dialect, src: &str) -> (RunResult, Ve
 
 /// The machine position each motion block of `src` ends at, by line.
 fn ends(machine: MachineConfig, dialect: Dialect, src: &str) -> Vec<(u32, Pos)> {
-    motion_ends(interpreter_with(src, "mill3", dialect, |c| c.machine = machine))
+    motion_ends(interpreter_with(src, "mill3", dialect, |c| c.machine = machine.into()))
 }
 
 fn preset(name: &str) -> MachineConfig {
@@ -620,7 +620,7 @@ fn singular_src(ijk: &str) -> String {
 /// From B10 C0 along X to the direction `ijk` under G43.5 P1: the alarm or the end (B, C) of
 /// the line (interpreted only: a line that swings C round the singular posture runs slowly).
 fn singular_line(m: MachineConfig, ijk: &str) -> (Option<String>, (f64, f64)) {
-    let mut interp = interpreter_with(&singular_src(ijk), "mill3", Dialect::Fanuc, |c| c.machine = m);
+    let mut interp = interpreter_with(&singular_src(ijk), "mill3", Dialect::Fanuc, |c| c.machine = m.into());
     let mut end = (f64::NAN, f64::NAN);
     let r = interp.run(|c| {
         if let fivex_engine::canon::CanonKind::Motion(m) = c.kind {
@@ -895,7 +895,7 @@ fn wse_24_no_singular_change_while_g54_4_is_on() {
     m.five_axis.tool_direction_compensation = true;
     let src =
         format!("G54.4 P1\n{}", singular_src("I-0.1730 J0.0151 K0.9848")).replace("G49\nM30", "G49\nG54.4 P0\nM30");
-    let mut interp = interpreter_with(&src, "mill3", Dialect::Fanuc, |c| c.machine = m);
+    let mut interp = interpreter_with(&src, "mill3", Dialect::Fanuc, |c| c.machine = m.into());
     let mut end = (f64::NAN, f64::NAN);
     let r = interp.run(|c| {
         if let (fivex_engine::canon::CanonKind::Motion(m), 5) = (c.kind, c.line) {

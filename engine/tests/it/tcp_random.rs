@@ -26,7 +26,7 @@ const LENGTH: f64 = 100.0;
 
 /// Run `src` on `machine`; every 1 ms sample.
 fn run_on(machine: &MachineConfig, dialect: Dialect, src: &str) -> (RunResult, Vec<Sample>) {
-    let mut interp = interpreter_with(src, "mill3", dialect, |c| c.machine = machine.clone());
+    let mut interp = interpreter_with(src, "mill3", dialect, |c| c.machine = machine.clone().into());
     let mut samples = Vec::new();
     // No program here takes minutes: a run that long is a planner that crawls.
     let options = RunOptions { max_time_s: 120.0, ..RunOptions::default() };
@@ -36,7 +36,7 @@ fn run_on(machine: &MachineConfig, dialect: Dialect, src: &str) -> (RunResult, V
 
 /// The machine position each motion of `src` ends at, by line.
 fn ends(machine: &MachineConfig, dialect: Dialect, src: &str) -> Vec<(u32, Pos)> {
-    motion_ends(interpreter_with(src, "mill3", dialect, |c| c.machine = machine.clone()))
+    motion_ends(interpreter_with(src, "mill3", dialect, |c| c.machine = machine.clone().into()))
 }
 
 /// A number as a program writes it (always with a decimal point).
@@ -563,7 +563,7 @@ proptest! {
                 zero_rotaries(&m)
             );
             let line = src.lines().position(|l| l.starts_with("G43 H1")).unwrap() as u32 + 2;
-            let mut interp = interpreter_with(&src, "mill3", *dialect, |c| c.machine = m.clone());
+            let mut interp = interpreter_with(&src, "mill3", *dialect, |c| c.machine = m.clone().into());
             let mut e = Vec::new();
             let mut alarm = None;
             if let Err(a) = interp.run(|c| {

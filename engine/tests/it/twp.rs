@@ -145,7 +145,9 @@ fn tv_twp_03_04_multiple_planes_with_mtw() {
     for preset in ["head-bc", "table-ac"] {
         let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
         let run = |src: &str| {
-            motion_ends(interpreter_with(src, preset, Dialect::Fanuc, |c| c.machine.five_axis.multiple_planes = true))
+            motion_ends(interpreter_with(src, preset, Dialect::Fanuc, |c| {
+                std::sync::Arc::make_mut(&mut c.machine).five_axis.multiple_planes = true
+            }))
         };
         for (src, n9) in [(&tv03, Vec3::new(5.0, 30.0, 0.0)), (&tv04, Vec3::new(5.0, 10.0, 0.0))] {
             let e = run(src);
@@ -170,8 +172,9 @@ fn tv_twp_03_04_multiple_planes_with_mtw() {
 fn tv_twp_11c_unstable_plane_distance_is_no_11220() {
     let src = "G68.2 P2 Q1 X0 Y0 Z0\nG68.2 P2 Q2 X100. Y0 Z0\nG68.2 P2 Q3 X50. Y0.0005 Z0\nG69\nM30\n";
     let result = |min: f64| {
-        let mut interp =
-            interpreter_with(src, "head-bc", Dialect::Fanuc, |c| c.machine.five_axis.plane_min_distance = min);
+        let mut interp = interpreter_with(src, "head-bc", Dialect::Fanuc, |c| {
+            std::sync::Arc::make_mut(&mut c.machine).five_axis.plane_min_distance = min
+        });
         fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |_| {})
     };
     assert_eq!(result(0.001).alarms[0].code, "PS5457");
@@ -188,8 +191,9 @@ fn reset_cancels_or_keeps_the_plane() {
     for (rule, kept) in
         [(PlaneAfterReset::Cancelled, false), (PlaneAfterReset::Kept, true), (PlaneAfterReset::KeptOverRestart, true)]
     {
-        let mut interp =
-            interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine.five_axis.plane_after_reset = rule);
+        let mut interp = interpreter_with(src, "head-bc", Dialect::Syntec, |c| {
+            std::sync::Arc::make_mut(&mut c.machine).five_axis.plane_after_reset = rule
+        });
         fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |_| {});
         assert_eq!(interp.state.modal(16), 682, "{rule:?}: the plane is on before the reset");
         interp.reset();
@@ -236,7 +240,7 @@ fn syntec_tv08_g68_3_p1_takes_the_frame_from_the_rotary_axes() {
         [(head_bc_c_left(), Vec3::new(h, h, 0.0)), (MachineConfig::preset("head-bc").unwrap(), Vec3::new(-h, h, 0.0))]
     {
         let kin = Kinematics::new(&m).unwrap();
-        let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine = m.clone()));
+        let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine = m.clone().into()));
         let n5 = kin.forward(&end_of(&e, 5), 0.0);
         assert!(close(n5.tip, want, 1e-9), "{:?}: {:?}", m.rotary[0].hand, n5.tip);
     }
@@ -268,7 +272,7 @@ fn syntec_tv38_g68_3_twice_relative_to_the_work_system() {
                N6 G68.3 X10. Y0. Z0. R0\nN7 X0. Y0. Z0.\nN8 G69\nM30\n";
     let m = head_ca();
     let kin = Kinematics::new(&m).unwrap();
-    let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine = m.clone()));
+    let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine = m.clone().into()));
     assert!(close(kin.forward(&end_of(&e, 2), 0.0).tool, -Vec3::y(), 1e-12));
     assert!(close(kin.forward(&end_of(&e, 5), 0.0).tool, Vec3::x(), 1e-12));
     for line in [4, 7] {
@@ -291,8 +295,9 @@ fn g68_3_x_axis_from_no_12321() {
         (ManualVertical::X, Vec3::new(0.0, -h, -h)),
     ] {
         let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
-        let e =
-            motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine.manual.vertical = vertical));
+        let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| {
+            std::sync::Arc::make_mut(&mut c.machine).manual.vertical = vertical
+        }));
         // The origin is the programmed point (the nose at zero angles); N4 is 10 along X_c from it.
         let (n3_origin, n4) = (Vec3::zeros(), kin.forward(&end_of(&e, 4), 0.0).tip);
         assert!(close(n4 - n3_origin, want, 1e-9), "{vertical:?}: {n4:?}");

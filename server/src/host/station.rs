@@ -64,7 +64,8 @@ impl Station {
             kinematics: controller.kinematics().cloned(),
             extra_parameters: Default::default(),
             unmodelled: fivex_engine::vendor::unmodelled::of_model(&machine),
-            machine: Arc::new(machine),
+            // The interpreter's, shared (the same model as `machine`).
+            machine: controller.interpreter().config().machine.clone(),
             controller,
             program: None,
             run: None,
@@ -86,7 +87,7 @@ impl Station {
             old.panel,
             old.interpreter().state.kept_plane(),
         );
-        let mut controller = Controller::new(fivex_engine::interp::Config::new(machine.clone(), dialect));
+        let mut controller = Controller::new(fivex_engine::interp::Config::new(machine, dialect));
         controller.interpreter_mut().state.offsets = offsets;
         let retained: Vec<(u32, Option<f64>)> = retained.into_iter().map(|(n, v)| (n, Some(v))).collect();
         // (The numbers come from the same engine's retained list: none is refused.)
@@ -98,7 +99,7 @@ impl Station {
             controller.offsets_changed();
         }
         self.kinematics = controller.kinematics().cloned();
-        self.machine = Arc::new(machine);
+        self.machine = controller.interpreter().config().machine.clone();
         self.controller = controller;
         self.program = None;
         self.run = None;
