@@ -24,6 +24,8 @@ impl State {
         matches!(motion, 0 | 10)
             && w.mcodes().is_empty()
             && self.modes[group::CYCLE] == code::G80
+            // Under cutter compensation the general path asks what the stage performs.
+            && self.modes[group::CUTTER_COMP] == code::G40
             && self.modal_calls.is_empty()
             && modes::no_rule_applies(self, g)
             && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some())

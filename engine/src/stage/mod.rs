@@ -10,14 +10,98 @@
 //! goes through and in which order. Until a function's stage exists, the interpreter refuses
 //! the function with the dialect's alarm (`interp::unbuilt`), never passes it on silently.
 //!
-//! A stage may hold commands back to look ahead (cutter compensation C needs the next two
-//! motions to place the corner of the one before). It releases them, in order, when it has
-//! seen enough, and all of them at the end of the program. A command keeps the line, sequence
-//! number and tip basis of the block it came from; the controller counts a released command to
-//! the block being read when it comes out (what its modal display shows while it moves).
+//! A stage may hold commands back to look ahead (cutter compensation C holds a motion until the
+//! next motion in its plane has come, to place the corner between them). It releases them, in
+//! order, when it has seen enough, and all of them at the end of the program. A command keeps
+//! the line, sequence number and tip basis of the block it came from; the controller counts a
+//! released command to the block being read when it comes out (what its modal display shows
+//! while it moves).
+//!
+//! A stage that finds a program error (a gouge, a corner without a solution) reports it on the
+//! [`Link`] of the interpreter's `Config`, holds back the offending command and everything after
+//! it, and the interpreter raises the alarm at its next step: every driver already stops on an
+//! interpreter alarm, after carrying out what was released before it. So that an error in what
+//! a stage still holds at the program end is raised too, the interpreter ends one step later
+//! while a stage holds commands ([`Link::holding`]).
 
-use crate::canon::Canon;
+pub mod cutter;
+
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, Pos};
 use crate::interp::Config;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+/// What the path stages tell the interpreter that feeds them (one per interpreter: a cloned
+/// `Config` gets a new one, [`Link::share`] hands the same one to the stages).
+#[derive(Default)]
+pub struct Link(Arc<Mutex<Shared>>);
+
+#[derive(Default)]
+struct Shared {
+    /// The alarm a stage found, with the line and sequence number of its block.
+    alarm: Option<(AlarmId, u32, Option<u32>)>,
+    /// A stage holds commands it has not released.
+    holding: bool,
+    /// Where the program's path stood (programming coordinates) when cutter compensation was
+    /// turned on: the start of the start-up block.
+    comp_start: Option<Pos>,
+}
+
+impl Clone for Link {
+    fn clone(&self) -> Link {
+        Link::default()
+    }
+}
+
+impl std::fmt::Debug for Link {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Link")
+    }
+}
+
+impl Link {
+    /// The same link, for the stages of the interpreter whose `Config` holds it.
+    pub fn share(&self) -> Link {
+        Link(self.0.clone())
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Shared> {
+        // A panic elsewhere cannot leave the few plain fields half-written.
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// A stage found a program error at a block (the first one counts).
+    pub fn raise(&self, id: AlarmId, line: u32, n: Option<u32>) {
+        self.lock().alarm.get_or_insert((id, line, n));
+    }
+
+    /// The alarm a stage found, once.
+    pub fn take_alarm(&self) -> Option<(AlarmId, u32, Option<u32>)> {
+        self.lock().alarm.take()
+    }
+
+    pub fn set_holding(&self, holding: bool) {
+        self.lock().holding = holding;
+    }
+
+    pub fn holding(&self) -> bool {
+        self.lock().holding
+    }
+
+    /// The interpreter turned cutter compensation on with its path at `pos`.
+    pub fn comp_started(&self, pos: Pos) {
+        self.lock().comp_start = Some(pos);
+    }
+
+    pub fn take_comp_start(&self) -> Option<Pos> {
+        self.lock().comp_start.take()
+    }
+
+    /// A reset: nothing is held, no alarm is due.
+    pub fn clear(&self) {
+        *self.lock() = Shared::default();
+    }
+}
 
 /// One stage of the path.
 pub trait Stage: Send {
@@ -38,10 +122,10 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The stages for programs run with `config`. None is built yet (cutter compensation,
-    /// cutting point control and splines are refused by the interpreter until they are).
-    pub fn for_config(_config: &Config) -> Pipeline {
-        Pipeline::default()
+    /// The stages for programs run with `config`: cutter compensation C. (Cutting point control
+    /// and splines are refused by the interpreter until their stages are built.)
+    pub fn for_config(config: &Config) -> Pipeline {
+        Pipeline { stages: vec![Box::new(cutter::Cutter::new(config))], between: Vec::new() }
     }
 
     /// Pass one interpreter step's commands through every stage: `commands` becomes what comes
@@ -58,7 +142,7 @@ impl Pipeline {
         }
     }
 
-    /// Drop everything the stages hold.
+    /// Drop everything the stages hold (and the alarm they found).
     pub fn reset(&mut self) {
         for stage in &mut self.stages {
             stage.reset();
