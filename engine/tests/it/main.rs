@@ -6,6 +6,7 @@ mod common;
 
 mod alarms;
 mod controller;
+mod cutter;
 mod cycles;
 mod fast_path;
 mod frames;
