@@ -1071,6 +1071,7 @@ impl State {
             coordinates: [280, 300, 530, 520, 920].iter().any(|&c| w.has_g(c)) || in_block(14).is_some(),
             rotary,
             inverse_time: after(group::FEED_MODE) == 930,
+            corner_override: after(group::PATH_MODE) == 620,
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

@@ -160,6 +160,8 @@ pub struct CutterBlock {
     pub rotary: bool,
     /// G93 inverse time feed (the corners' inserted moves would each take 1/F minutes).
     pub inverse_time: bool,
+    /// G62 automatic corner override (its inner-corner feed reduction is not built).
+    pub corner_override: bool,
 }
 
 /// The function a block under G41/G42 asks for that the cutter compensation stage does not
@@ -173,6 +175,7 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.coordinates, "cutter radius compensation with G28/G30/G53, G52/G92 or a workpiece system change"),
         (b.rotary, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
+        (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
     ]
     .into_iter()
     .find_map(|(refused, function)| refused.then_some(function))
