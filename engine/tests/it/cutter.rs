@@ -238,3 +238,277 @@ fn what_the_stage_does_not_perform_stays_refused() {
         }
     }
 }
+
+mod random {
+    //! Random contours of lines and arcs with no feature smaller than the radius: the tool
+    //! centre path is at exactly R from each block's own line or circle along its interior, on
+    //! the commanded side, and never closer than R − 1 µm to the contour anywhere.
+
+    use super::*;
+    use fivex_engine::canon::{Canon, Motion, Pos};
+    use proptest::prelude::*;
+    use std::f64::consts::PI;
+
+    const R: f64 = 5.0;
+
+    /// A programmed block as the interpreter emitted it: a segment, or an arc (centre, start
+    /// radius, signed sweep in radians).
+    #[derive(Debug, Clone, Copy)]
+    enum Block {
+        Line([f64; 2], [f64; 2]),
+        Arc { from: [f64; 2], to: [f64; 2], center: [f64; 2], sweep: f64 },
+    }
+
+    fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+        [a[0] - b[0], a[1] - b[1]]
+    }
+    fn len(a: [f64; 2]) -> f64 {
+        a[0].hypot(a[1])
+    }
+
+    fn distance(p: [f64; 2], b: &Block) -> f64 {
+        match *b {
+            Block::Line(a, e) => {
+                let d = sub(e, a);
+                let u = ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+                let u = u.clamp(0.0, 1.0);
+                len(sub(p, [a[0] + u * d[0], a[1] + u * d[1]]))
+            }
+            Block::Arc { from, to, center, sweep } => {
+                let angle = |q: [f64; 2]| (q[1] - center[1]).atan2(q[0] - center[0]);
+                // The point's angle measured from the start in the sweep's direction.
+                let mut a = (angle(p) - angle(from)) * sweep.signum();
+                a = a.rem_euclid(2.0 * PI);
+                if a <= sweep.abs() {
+                    let rho = len(sub(from, center)) + (len(sub(to, center)) - len(sub(from, center))) * a / sweep.abs();
+                    (len(sub(p, center)) - rho).abs()
+                } else {
+                    len(sub(p, from)).min(len(sub(p, to)))
+                }
+            }
+        }
+    }
+
+    /// Points along a motion from `from` (the executor's reading of `Motion`).
+    fn samples(from: &Pos, m: &Motion, n: usize) -> Vec<[f64; 2]> {
+        (0..=n)
+            .map(|k| {
+                let u = k as f64 / n as f64;
+                match m.arc.as_deref() {
+                    None => [from[0] + u * (m.target[0] - from[0]), from[1] + u * (m.target[1] - from[1])],
+                    Some(arc) => {
+                        let c = [arc.center[0], arc.center[1]];
+                        let r1 = len(sub([m.target[0], m.target[1]], c));
+                        let start = (from[1] - c[1]).atan2(from[0] - c[0]);
+                        let phi = start + u * arc.sweep_deg.to_radians();
+                        let rho = arc.radius + u * (r1 - arc.radius);
+                        [c[0] + rho * phi.cos(), c[1] + rho * phi.sin()]
+                    }
+                }
+            })
+            .collect()
+    }
+
+    /// One contour element: heading change before it (degrees), then a line of `length` or an
+    /// arc of `radius` and `sweep` (degrees, signed).
+    #[derive(Debug, Clone, Copy)]
+    struct Element {
+        turn: f64,
+        arc: bool,
+        length: f64,
+        radius: f64,
+        sweep: f64,
+    }
+
+    fn element() -> impl Strategy<Value = Element> {
+        (prop_oneof![Just(0.0), -100.0..100.0f64], any::<bool>(), 4.0 * R..8.0 * R, 2.0 * R..6.0 * R, 40.0..150.0f64, any::<bool>())
+            .prop_map(|(turn, arc, length, radius, sweep, ccw)| Element {
+                turn,
+                arc,
+                length,
+                radius,
+                // At least 4R along the arc.
+                sweep: sweep.max((4.0 * R / radius).to_degrees()) * if ccw { 1.0 } else { -1.0 },
+            })
+    }
+
+    /// The NC program of a contour, with compensation on `side` (41/42) or none (40), and the
+    /// programmed blocks as the NC text states them (for the far-apart check).
+    fn program(elements: &[Element], side: u32) -> Option<String> {
+        let (mut p, mut h) = ([0.0f64, 0.0f64], 0.0f64);
+        let mut body = String::new();
+        let mut blocks = Vec::new();
+        for e in elements {
+            h += e.turn.to_radians();
+            let t = [h.cos(), h.sin()];
+            let left = [-t[1], t[0]];
+            if e.arc {
+                let s = e.sweep.to_radians();
+                let c = if s > 0.0 {
+                    [p[0] + e.radius * left[0], p[1] + e.radius * left[1]]
+                } else {
+                    [p[0] - e.radius * left[0], p[1] - e.radius * left[1]]
+                };
+                let a0 = (p[1] - c[1]).atan2(p[0] - c[0]);
+                let q = [c[0] + e.radius * (a0 + s).cos(), c[1] + e.radius * (a0 + s).sin()];
+                body += &format!(
+                    "G0{} X{:.6} Y{:.6} I{:.6} J{:.6}\n",
+                    if s > 0.0 { 3 } else { 2 },
+                    q[0],
+                    q[1],
+                    c[0] - p[0],
+                    c[1] - p[1]
+                );
+                blocks.push(Block::Arc { from: p, to: q, center: c, sweep: s });
+                p = q;
+                h += s;
+            } else {
+                let q = [p[0] + e.length * t[0], p[1] + e.length * t[1]];
+                body += &format!("G01 X{:.6} Y{:.6}\n", q[0], q[1]);
+                blocks.push(Block::Line(p, q));
+                p = q;
+            }
+        }
+        // No two blocks that are not neighbours come within 3R of each other; neighbours only
+        // near their common corner (no narrow slot or spike between them).
+        let point = |b: &Block, u: f64| match *b {
+            Block::Line(a, e) => [a[0] + u * (e[0] - a[0]), a[1] + u * (e[1] - a[1])],
+            Block::Arc { from, center, sweep, .. } => {
+                let a0 = (from[1] - center[1]).atan2(from[0] - center[0]);
+                let r = len(sub(from, center));
+                let phi = a0 + sweep * u;
+                [center[0] + r * phi.cos(), center[1] + r * phi.sin()]
+            }
+        };
+        for i in 0..blocks.len() {
+            for j in i + 1..blocks.len() {
+                let corner = if j == i + 1 { Some(point(&blocks[j], 0.0)) } else { None };
+                for (x, y) in [(i, j), (j, i)] {
+                    let close = (0..=40).map(|k| point(&blocks[x], k as f64 / 40.0)).any(|q| match corner {
+                        Some(c) => len(sub(q, c)) > 3.0 * R && distance(q, &blocks[y]) < 2.0 * R,
+                        None => distance(q, &blocks[y]) < 3.0 * R,
+                    });
+                    if close {
+                        return None;
+                    }
+                }
+            }
+        }
+        let first = blocks[0];
+        let last = blocks[blocks.len() - 1];
+        let dir = |b: &Block, end: bool| match *b {
+            Block::Line(a, e) => {
+                let d = sub(e, a);
+                [d[0] / len(d), d[1] / len(d)]
+            }
+            Block::Arc { from, to, center, sweep } => {
+                let q = if end { to } else { from };
+                let r = sub(q, center);
+                let l = len(r);
+                [-r[1] / l * sweep.signum(), r[0] / l * sweep.signum()]
+            }
+        };
+        // Start up and cancel in line with the first and last block, 3R before and after.
+        let (t0, te) = (dir(&first, false), dir(&last, true));
+        let start = [-3.0 * R * t0[0], -3.0 * R * t0[1]];
+        let end = [p[0] + 3.0 * R * te[0], p[1] + 3.0 * R * te[1]];
+        let on = if side == 40 { String::new() } else { format!("G{side} D1 ") };
+        let off = if side == 40 { "" } else { "G40 " };
+        Some(format!(
+            "G90 G17 G00 X{:.6} Y{:.6} Z0\n{on}G01 X0 Y0 F1000\n{body}{off}G01 X{:.6} Y{:.6}\nM30\n",
+            start[0], start[1], end[0], end[1]
+        ))
+    }
+
+    /// The programmed blocks of the contour (lines 3…) as the interpreter emitted them.
+    fn programmed(src: &str) -> Vec<(u32, Block)> {
+        let mut from = [0.0; 2];
+        let mut v = Vec::new();
+        for c in canon(src) {
+            let CanonKind::Motion(m) = c.kind else { continue };
+            let to = [m.target[0], m.target[1]];
+            let b = match m.arc.as_deref() {
+                Some(a) => Block::Arc { from, to, center: [a.center[0], a.center[1]], sweep: a.sweep_deg.to_radians() },
+                None => Block::Line(from, to),
+            };
+            v.push((c.line, b));
+            from = to;
+        }
+        v
+    }
+
+    fn through_stages(src: &str) -> (Vec<Canon>, Option<fivex_engine::alarm::Alarm>) {
+        let mut interp = interpreter(src, "mill3", Fanuc);
+        let mut stages = Pipeline::for_config(interp.config());
+        let (mut out, mut all) = (Vec::new(), Vec::new());
+        loop {
+            let step = interp.step(&mut out);
+            stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
+            all.append(&mut out);
+            match step {
+                Ok(Step::Continue) => {}
+                Ok(Step::NeedInput) => interp.finish(),
+                Ok(Step::Ended) => return (all, None),
+                Err(a) => return (all, Some(a)),
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: cases(300), max_global_rejects: 100_000, ..ProptestConfig::default() })]
+
+        #[test]
+        fn the_tool_centre_stays_at_the_radius(elements in prop::collection::vec(element(), 2..6), left in any::<bool>()) {
+            let side = if left { 41 } else { 42 };
+            let src = program(&elements, side);
+            prop_assume!(src.is_some());
+            let src = src.unwrap();
+            let blocks = programmed(&src);
+            let contour: Vec<Block> = blocks.iter().filter(|(l, _)| *l >= 3 && (*l as usize) < 3 + elements.len()).map(|b| b.1).collect();
+            let (out, alarm) = through_stages(&src);
+            prop_assert!(alarm.is_none(), "{alarm:?}\n{src}");
+            let r = if side == 41 { R } else { -R };
+            let mut from: Pos = [0.0; fivex_engine::machine::MAX_AXES];
+            let mut seen = std::collections::HashSet::new();
+            for c in &out {
+                let CanonKind::Motion(m) = &c.kind else { continue };
+                let pts = samples(&from, m, 24);
+                // (The start-up and cancel blocks run between the contour and points off it.)
+                if c.line >= 3 && (c.line as usize) < 3 + elements.len() {
+                    for p in &pts {
+                        let d = contour.iter().map(|b| distance(*p, b)).fold(f64::INFINITY, f64::min);
+                        prop_assert!(d >= R - 1e-3, "line {}: {p:?} is {d} from the contour\n{src}", c.line);
+                    }
+                }
+                // A contour block's own move (the first motion of its line) runs on its
+                // offset: at R from its line or circle, on the commanded side.
+                let own = blocks.iter().find(|(l, _)| *l == c.line && *l >= 3 && (*l as usize) < 3 + elements.len());
+                if let (Some((_, b)), true) = (own, seen.insert(c.line)) {
+                    for p in &pts[1..pts.len() - 1] {
+                        let off = match *b {
+                            Block::Line(a, e) => {
+                                let t = sub(e, a);
+                                ((p[1] - a[1]) * t[0] - (p[0] - a[0]) * t[1]) / len(t)
+                            }
+                            Block::Arc { to, center, sweep, .. } => {
+                                (len(sub(to, center)) - len(sub(*p, center))) * sweep.signum()
+                            }
+                        };
+                        prop_assert!((off - r).abs() < 1e-5, "line {}: {p:?} is {off} off its block, not {r}\n{src}", c.line);
+                    }
+                }
+                from = m.target;
+            }
+        }
+
+        #[test]
+        fn without_compensation_the_stages_hand_on_the_same_commands(elements in prop::collection::vec(element(), 2..6)) {
+            let src = program(&elements, 40);
+            prop_assume!(src.is_some());
+            let src = src.unwrap();
+            let (out, alarm) = through_stages(&src);
+            prop_assert!(alarm.is_none());
+            prop_assert_eq!(out, canon(&src));
+        }
+    }
+}

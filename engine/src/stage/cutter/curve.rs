@@ -5,6 +5,10 @@
 //! that "left" is always the left of the travel direction seen from the plane's normal. A
 //! signed offset `r` puts the tool on the left for `r > 0` (G41 with a positive radius).
 
+/// Offset curves that miss each other by less than this touch (mm): programs round their
+/// points (to 1 µm), so a tangent transition is rarely exactly tangent.
+const TOUCH: f64 = 1e-3;
+
 /// A point or a direction in the plane.
 pub type P2 = [f64; 2];
 
@@ -142,16 +146,16 @@ fn crossings(a: &Offset, b: &Offset) -> [Option<P2>; 2] {
             let w = sub(*point, *center);
             let half_b = dot(w, *dir);
             let disc = half_b * half_b - (dot(w, w) - radius * radius);
-            if disc < 0.0 || *radius <= 0.0 {
+            if disc < -2.0 * radius * TOUCH || *radius <= 0.0 {
                 return [None, None];
             }
-            let root = disc.sqrt();
+            let root = disc.max(0.0).sqrt();
             [Some(add(*point, scale(*dir, -half_b - root))), Some(add(*point, scale(*dir, -half_b + root)))]
         }
         (Offset::Circle { center: c1, radius: r1 }, Offset::Circle { center: c2, radius: r2 }) => {
             let d = sub(*c2, *c1);
             let dist = norm(d);
-            if dist < 1e-12 || *r1 <= 0.0 || *r2 <= 0.0 || dist > r1 + r2 || dist < (r1 - r2).abs() {
+            if dist < 1e-12 || *r1 <= 0.0 || *r2 <= 0.0 || dist > r1 + r2 + TOUCH || dist < (r1 - r2).abs() - TOUCH {
                 return [None, None];
             }
             let along = (dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist);
