@@ -1057,7 +1057,8 @@ impl State {
         if !matches!(after(group::CUTTER_COMP), 410 | 420) {
             return Ok(());
         }
-        let rotary = w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary));
+        let rotary =
+            w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary));
         let block = unbuilt::CutterBlock {
             transform: !matches!(after(group::ROTATION), code::G69 | 691)
                 || after(11) != 500

@@ -26,6 +26,11 @@ pub const MAX_BLOCKS_BETWEEN: usize = 1;
 /// A motion shorter than this in the plane does not move in it (mm).
 const NO_MOVE: f64 = 1e-9;
 
+/// Blocks whose directions at a corner differ by less than this (radians) meet tangentially:
+/// their offset paths are taken as their tangent lines there. (Where two circles almost touch,
+/// their crossing moves by the points' rounding divided by the angle: ill-conditioned.)
+const NEAR_TANGENT: f64 = 1e-3;
+
 /// A motion waiting for the next motion in the plane.
 struct Held {
     canon: Canon,
@@ -59,6 +64,9 @@ pub struct Cutter {
     /// An alarm was raised: nothing more is handed on until a reset.
     stopped: bool,
     told_holding: bool,
+    /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
+    /// motion the stage does not compensate passes as it came (as before the stage existed).
+    refuse: bool,
 }
 
 impl Cutter {
@@ -76,6 +84,7 @@ impl Cutter {
             after: Vec::new(),
             stopped: false,
             told_holding: false,
+            refuse: config.refuse_unbuilt,
         }
     }
 
@@ -198,7 +207,13 @@ impl Cutter {
         }
         if m.tip.is_some() || m.kind == MotionKind::MachineRapid && comp {
             // The interpreter refuses these (`unbuilt::cutter`); never shift them blindly.
-            self.alarm(AlarmId::GCodeNotBuilt, &c);
+            if self.refuse {
+                self.alarm(AlarmId::GCodeNotBuilt, &c);
+            } else {
+                self.release_perpendicular(out);
+                self.cancelled();
+                out.push(c);
+            }
             return;
         }
         if !self.on {
@@ -319,7 +334,7 @@ fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, Alar
         return Ok(vec![e]);
     }
     let turn = cross(t1, t2);
-    let straight = turn.abs() < 1e-9 && dot(t1, t2) > 0.0;
+    let straight = turn.abs() < NEAR_TANGENT && dot(t1, t2) > 0.0;
     if !cancel && r.signum() != rn.signum() {
         // Change of side: where the old side's offset meets the new side's; without one, the
         // perpendicular vectors of both joined by a straight move.
@@ -329,8 +344,9 @@ fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, Alar
         });
     }
     if straight {
-        // Tangent continuation: the offset points coincide.
-        return Ok(vec![a.offset_point(true, r)]);
+        // (Nearly) tangent continuation: where the offset tangent lines meet.
+        let (n1, n2) = (curve::left(t1), curve::left(t2));
+        return Ok(vec![add(e, scale(add(n1, n2), r / (1.0 + dot(n1, n2))))]);
     }
     let inner = turn * r > 0.0;
     if inner {

@@ -47,10 +47,18 @@ pub fn left(t: P2) -> P2 {
 /// A programmed block in the plane.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Curve {
-    Line { from: P2, to: P2 },
+    Line {
+        from: P2,
+        to: P2,
+    },
     /// A circle (or a spiral, when the end is not at the start's distance from the centre):
     /// `sweep` in radians, positive counter-clockwise.
-    Arc { from: P2, to: P2, center: P2, sweep: f64 },
+    Arc {
+        from: P2,
+        to: P2,
+        center: P2,
+        sweep: f64,
+    },
 }
 
 impl Curve {
@@ -124,10 +132,7 @@ enum Offset {
 /// (parallel lines, circles apart).
 pub fn intersection(a: &Curve, ra: f64, b: &Curve, rb: f64, corner: P2) -> Option<P2> {
     let candidates = crossings(&a.offset(ra), &b.offset(rb));
-    candidates
-        .into_iter()
-        .flatten()
-        .min_by(|p, q| norm(sub(*p, corner)).total_cmp(&norm(sub(*q, corner))))
+    candidates.into_iter().flatten().min_by(|p, q| norm(sub(*p, corner)).total_cmp(&norm(sub(*q, corner))))
 }
 
 fn crossings(a: &Offset, b: &Offset) -> [Option<P2>; 2] {
