@@ -557,3 +557,47 @@ mod random {
         }
     }
 }
+
+mod in_the_controller {
+    //! The stage under the controller: the same tool centre path as a run, in single block too.
+
+    use fivex_engine::controller::{Controller, RunState};
+    use fivex_engine::interp::Config;
+    use fivex_engine::machine::MachineConfig;
+    use fivex_engine::Dialect;
+
+    const SQUARE: &str =
+        "G10 L12 P1 R5.\nG90 G00 X0. Y-10. Z0.\nG42 D1 G01 Y0. F3000.\nX20.\nY20.\nX0.\nY0.\nG40 Y-10.\nM30\n";
+
+    /// Cycle start (again after every single-block stop) until the program ends; the X/Y
+    /// where the machine stood at each stop.
+    fn stops(single_block: bool) -> Vec<[f64; 2]> {
+        let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
+        c.panel.single_block = single_block;
+        c.select_program(SQUARE).unwrap();
+        let mut stops = Vec::new();
+        for _ in 0..12 {
+            if c.cycle_start().is_err() {
+                break;
+            }
+            let start = c.time();
+            while c.run_state() == RunState::Running && c.time() - start < 30.0 {
+                c.tick(0.001);
+            }
+            assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+            let m = c.point().machine;
+            stops.push([m[0], m[1]]);
+        }
+        stops
+    }
+
+    #[test]
+    fn the_controller_stops_at_the_compensated_corners_in_single_block() {
+        assert_eq!(stops(false)[0], [0.0, -10.0]);
+        // Each cycle start runs the block whose end the stage has placed. Not built: the block
+        // before the G40 block runs on with it (the controller reads both in one step, the
+        // stage releasing the first only when the second comes): no stop at (−5, 0).
+        let single = stops(true);
+        assert_eq!(single[..6], [[0.0, -10.0], [5.0, -5.0], [25.0, -5.0], [25.0, 25.0], [-5.0, 25.0], [0.0, -10.0]]);
+    }
+}
