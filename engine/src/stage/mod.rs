@@ -206,7 +206,18 @@ mod tests {
     }
 
     #[test]
-    fn no_stage_hands_on_as_it_came() {
+    fn a_cloned_config_gets_its_own_link() {
+        let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
+        let shared = config.stages.share();
+        let cloned = config.clone();
+        shared.raise(AlarmId::CutterInterference, 7, None);
+        assert_eq!(cloned.stages.take_alarm(), None);
+        assert_eq!(config.stages.take_alarm(), Some((AlarmId::CutterInterference, 7, None)));
+        assert_eq!(config.stages.take_alarm(), None, "raised once");
+    }
+
+    #[test]
+    fn without_compensation_the_stages_hand_on_as_it_came() {
         let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
         let mut p = Pipeline::for_config(&config);
         let mut step = vec![dwell(1), dwell(2)];

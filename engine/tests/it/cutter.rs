@@ -8,15 +8,18 @@ use fivex_engine::interp::Step;
 use fivex_engine::stage::Pipeline;
 use fivex_engine::Dialect::{self, Fanuc, Syntec};
 
+/// Motion ends (line, two axes) and the alarm (code, line), if any.
+type Centre = (Vec<(u32, [f64; 2])>, Option<(String, u32)>);
+
 /// The end point (X, Y) of every motion that comes out of the stages, with its line; and the
 /// alarm the interpreter raised, if any.
-fn centre(src: &str, dialect: Dialect) -> (Vec<(u32, [f64; 2])>, Option<(String, u32)>) {
+fn centre(src: &str, dialect: Dialect) -> Centre {
     let (ends, alarm) = centre_axes(src, dialect, (0, 1));
     (ends, alarm)
 }
 
 /// [`centre`] for the axes `(a, b)` (indices: X 0, Y 1, Z 2).
-fn centre_axes(src: &str, dialect: Dialect, (a, b): (usize, usize)) -> (Vec<(u32, [f64; 2])>, Option<(String, u32)>) {
+fn centre_axes(src: &str, dialect: Dialect, (a, b): (usize, usize)) -> Centre {
     let mut interp = interpreter(src, "mill3", dialect);
     let mut stages = Pipeline::for_config(interp.config());
     let mut out = Vec::new();

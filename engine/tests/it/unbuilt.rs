@@ -7,7 +7,6 @@
 use crate::common;
 use common::*;
 
-use fivex_engine::canon::CanonKind;
 use fivex_engine::check::check;
 use fivex_engine::interp::gcode;
 use fivex_engine::lang::parse_file;
