@@ -338,7 +338,10 @@ fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, Alar
     if !cancel && r.signum() != rn.signum() {
         // Change of side: where the old side's offset meets the new side's; without one, the
         // perpendicular vectors of both joined by a straight move.
-        return Ok(match curve::intersection(a, r, next, rn, e).filter(|_| !straight) {
+        // (Blocks almost in line would put the crossing metres away: fivex takes it only within
+        // ten radii of the corner, a decision, `docs/cutter-compensation.md`.)
+        let near = |p: &P2| norm(sub(*p, e)) <= 10.0 * r.abs().max(rn.abs());
+        return Ok(match curve::intersection(a, r, next, rn, e).filter(|p| !straight && near(p)) {
             Some(p) => vec![p],
             None => vec![a.offset_point(true, r), next.offset_point(false, rn)],
         });

@@ -30,7 +30,8 @@ fn centre_axes(src: &str, dialect: Dialect, (a, b): (usize, usize)) -> Centre {
         stages.process(&mut out, end);
         for c in out.drain(..) {
             if let CanonKind::Motion(m) = c.kind {
-                assert_eq!(m.machine[a] - m.target[a], m.machine[b] - m.target[b], "same shift in both systems");
+                // No work offset here: the stage moved both systems by the same.
+                assert!((m.machine[a] - m.target[a]).abs() < 1e-9 && (m.machine[b] - m.target[b]).abs() < 1e-9);
                 ends.push((c.line, [m.target[a], m.target[b]]));
             }
         }
@@ -603,4 +604,37 @@ mod in_the_controller {
         let single = stops(true);
         assert_eq!(single[..6], [[0.0, -10.0], [5.0, -5.0], [25.0, -5.0], [25.0, 25.0], [-5.0, 25.0], [0.0, -10.0]]);
     }
+}
+
+#[test]
+fn side_change_between_blocks_almost_in_line_does_not_run_away() {
+    // 1° apart: the offsets cross about 573 mm ahead; fivex crosses over at the corner instead.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG42 X40. Y0.349\nG40 X50.\nM30\n";
+    let (ends, alarm) = centre(src, Fanuc);
+    assert_eq!(alarm, None);
+    assert!(ends.iter().all(|(_, p)| p[0].abs() < 60.0 && p[1].abs() < 10.0), "{ends:?}");
+    assert_eq!(ends[2], (3, [20.0, 5.0]));
+}
+
+#[test]
+fn a_work_offset_moves_with_the_compensated_point() {
+    // G54 at X100 Y50: every compensated point is 100, 50 away in machine coordinates.
+    let src = "G10 L2 P1 X100. Y50.\nG90 G54 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nY20.\nG40 X0.\nM30\n";
+    let mut interp = interpreter(src, "mill3", Fanuc);
+    let mut stages = Pipeline::for_config(interp.config());
+    let (mut out, mut seen) = (Vec::new(), Vec::new());
+    loop {
+        let step = interp.step(&mut out);
+        stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
+        for c in out.drain(..) {
+            if let CanonKind::Motion(m) = c.kind {
+                assert!(approx(m.machine[0] - m.target[0], 100.0) && approx(m.machine[1] - m.target[1], 50.0));
+                seen.push([m.target[0], m.target[1]]);
+            }
+        }
+        if !matches!(step, Ok(Step::Continue)) {
+            break;
+        }
+    }
+    assert_eq!(seen[2], [25.0, -5.0]);
 }
