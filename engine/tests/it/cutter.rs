@@ -638,3 +638,28 @@ fn a_work_offset_moves_with_the_compensated_point() {
     }
     assert_eq!(seen[2], [25.0, -5.0]);
 }
+
+#[test]
+fn the_peer_programs_agree_with_linuxcnc_but_at_the_cancel() {
+    // The programs of scripts/peer-crc.sh. LinuxCNC's rs274 gives the same points but for the
+    // block before an inside-corner cancel, which it ends at its perpendicular vector (20,5 and
+    // 15,−2) where FANUC's cancel type A takes the intersection (15,5 and 10,−2).
+    let head = "G21 G17 G40 G90 G94\n";
+    let pocket = format!("{head}G00 X20. Y20. Z0.\nG41 D1 G01 Y0. F1000.\nX40.\nY40.\nX0.\nY0.\nX20.\nG40 Y20.\nM30\n");
+    let ends = |src: &str| centre(src, Fanuc).0.into_iter().skip(1).map(|(_, p)| p).collect::<Vec<_>>();
+    assert_eq!(
+        ends(&pocket),
+        [[25.0, 5.0], [35.0, 5.0], [35.0, 35.0], [5.0, 35.0], [5.0, 5.0], [15.0, 5.0], [20.0, 20.0]]
+    );
+    let slot = format!("{head}G00 X15. Y20. Z0.\nG41 D1 G01 Y-7. F1000.\nX30.\nY7.\nX0.\nY-7.\nX15.\nG40 Y20.\nM30\n");
+    assert_eq!(
+        ends(&slot),
+        [[20.0, -2.0], [25.0, -2.0], [25.0, 2.0], [5.0, 2.0], [5.0, -2.0], [10.0, -2.0], [15.0, 20.0]]
+    );
+    let arcs = format!(
+        "{head}G00 X-20. Y0. Z0.\nG41 D1 G01 X0. F1000.\nX30.\nG03 X40. Y10. R10.\nG01 Y30.\nG02 X50. Y40. R10.\nG01 X70.\nG40 X90.\nM30\n"
+    );
+    let got = ends(&arcs);
+    let want = [[0.0, 5.0], [30.0, 5.0], [35.0, 10.0], [35.0, 30.0], [50.0, 45.0], [70.0, 45.0], [90.0, 40.0]];
+    assert!(got.iter().zip(&want).all(|(g, w)| approx(g[0], w[0]) && approx(g[1], w[1])) && got.len() == 7, "{got:?}");
+}
