@@ -216,6 +216,15 @@ impl Cutter {
             }
             return;
         }
+        // G41/G42 again after a G40 that moved nothing: that cancel, then a new start-up.
+        let restart = if comp { self.link.take_comp_start() } else { None };
+        if self.on && restart.is_some() {
+            self.release_perpendicular(out);
+            self.cancelled();
+            if self.stopped {
+                return;
+            }
+        }
         if !self.on {
             let Some(plane) = self.plane_axes(m.context.plane) else {
                 self.alarm(AlarmId::GCodeNotBuilt, &c);
@@ -225,7 +234,7 @@ impl Cutter {
             self.plane = plane;
             self.vector = [0.0; 2];
             self.startup = true;
-            self.programmed = self.link.take_comp_start().unwrap_or(m.target);
+            self.programmed = restart.unwrap_or(m.target);
         }
         let from = std::mem::replace(&mut self.programmed, m.target);
         let curve = self.curve(m, &from);

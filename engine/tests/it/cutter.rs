@@ -663,3 +663,14 @@ fn the_peer_programs_agree_with_linuxcnc_but_at_the_cancel() {
     let want = [[0.0, 5.0], [30.0, 5.0], [35.0, 10.0], [35.0, 30.0], [50.0, 45.0], [70.0, 45.0], [90.0, 40.0]];
     assert!(got.iter().zip(&want).all(|(g, w)| approx(g[0], w[0]) && approx(g[1], w[1])) && got.len() == 7, "{got:?}");
 }
+
+#[test]
+fn a_g40_without_motion_then_g41_cancels_and_starts_up_again() {
+    // Block 4 cancels without moving: block 3 ends at its perpendicular vector (20,5); block 5
+    // starts up again from the programmed 20,0 (type A, inside corner with block 6: 25,5).
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40\nG41 X30.\nY20.\nG40 X50.\nM30\n";
+    assert_ends(
+        src,
+        &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (5, 25.0, 5.0), (6, 25.0, 20.0), (7, 50.0, 20.0)],
+    );
+}
