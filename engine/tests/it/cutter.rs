@@ -674,3 +674,13 @@ fn a_g40_without_motion_then_g41_cancels_and_starts_up_again() {
         &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (5, 25.0, 5.0), (6, 25.0, 20.0), (7, 50.0, 20.0)],
     );
 }
+
+#[test]
+fn a_helix_is_compensated_in_its_plane_only() {
+    // The boss circle as a helix down 5: X/Y as for the circle, Z as programmed.
+    let src = "G90 G00 X-20. Y0. Z0\nG41 D1 G01 X-10. F500\nG02 I10. Z-5.\nG40 G01 X-20.\nM30\n";
+    let x = -(15.0f64 * 15.0 - 25.0).sqrt();
+    assert_ends(src, &[(1, -20.0, 0.0), (2, x, 5.0), (3, x, -5.0), (4, -20.0, 0.0)]);
+    let (ends, _) = centre_axes(src, Fanuc, (2, 0));
+    assert_eq!(ends.iter().map(|(_, p)| p[0]).collect::<Vec<_>>(), [0.0, 0.0, -5.0, -5.0]);
+}
