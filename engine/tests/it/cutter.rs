@@ -684,3 +684,25 @@ fn a_helix_is_compensated_in_its_plane_only() {
     let (ends, _) = centre_axes(src, Fanuc, (2, 0));
     assert_eq!(ends.iter().map(|(_, p)| p[0]).collect::<Vec<_>>(), [0.0, 0.0, -5.0, -5.0]);
 }
+
+#[test]
+fn an_arc_into_an_outer_acute_corner_ends_on_its_circle_then_the_lengthened_vectors() {
+    // A "D": the quarter circle R10 counter-clockwise from (10,0) to (0,10), then the chord
+    // back; G42 keeps the tool outside (circle radius 15, chord offset toward the origin).
+    // At (0,10) the turn is acute: the arc ends at its own vector (0,15), then (0,15) + 5·t1 =
+    // (−5,15), then (0,10) + 5·n2 − 5·t2 = (−5√2, 10).
+    let src = "G90 G00 X20. Y0 Z0\nG42 D1 G01 X10. F500\nG03 X0. Y10. R10.\nG01 X10. Y0.\nG40 X20.\nM30\n";
+    let h = 50f64.sqrt() / 2.0;
+    assert_ends(
+        src,
+        &[
+            (1, 20.0, 0.0),
+            (2, 200f64.sqrt(), 5.0),
+            (3, 0.0, 15.0),
+            (3, -5.0, 15.0),
+            (3, -50f64.sqrt(), 10.0),
+            (4, 10.0 - h, -h),
+            (5, 20.0, 0.0),
+        ],
+    );
+}
