@@ -155,17 +155,20 @@ impl Cutter {
                 arc.sweep_deg = swept(h.start, end, center, sweep).to_degrees() * sweep.signum();
             }
         }
-        let template = first.clone();
+        // The inserted moves: straight, at the block's feed, from its end (the other axes there).
+        let template = (points.len() > 1).then(|| first.clone());
         out.push(first);
-        for &p in &points[1..] {
-            let mut c = self.placed(template.clone(), p);
-            if let CanonKind::Motion(m) = &mut c.kind {
-                m.arc = None;
-                if m.kind != MotionKind::Rapid {
-                    m.kind = MotionKind::Linear;
+        if let Some(template) = template {
+            for &p in &points[1..] {
+                let mut c = self.placed(template.clone(), p);
+                if let CanonKind::Motion(m) = &mut c.kind {
+                    m.arc = None;
+                    if m.kind != MotionKind::Rapid {
+                        m.kind = MotionKind::Linear;
+                    }
                 }
+                out.push(c);
             }
-            out.push(c);
         }
         let last = points[points.len() - 1];
         self.vector = sub(last, h.curve.to());

@@ -29,19 +29,28 @@ pub mod cutter;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, Pos};
 use crate::interp::Config;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 /// What the path stages tell the interpreter that feeds them (one per interpreter: a cloned
 /// `Config` gets a new one, [`Link::share`] hands the same one to the stages).
 #[derive(Default)]
-pub struct Link(Arc<Mutex<Shared>>);
+pub struct Link(Arc<Shared>);
 
+/// The link's state. The flags let the interpreter and the stage ask "anything there?" once
+/// per block without taking the lock.
 #[derive(Default)]
 struct Shared {
+    /// An alarm or a start of compensation is waiting in `data`.
+    posted: AtomicBool,
+    holding: AtomicBool,
+    data: Mutex<Data>,
+}
+
+#[derive(Default)]
+struct Data {
     /// The alarm a stage found, with the line and sequence number of its block.
     alarm: Option<(AlarmId, u32, Option<u32>)>,
-    /// A stage holds commands it has not released.
-    holding: bool,
     /// Where the program's path stood (programming coordinates) when cutter compensation was
     /// turned on: the start of the start-up block.
     comp_start: Option<Pos>,
@@ -65,41 +74,60 @@ impl Link {
         Link(self.0.clone())
     }
 
-    fn lock(&self) -> MutexGuard<'_, Shared> {
-        // A panic elsewhere cannot leave the few plain fields half-written.
-        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    fn lock(&self) -> MutexGuard<'_, Data> {
+        // A panic elsewhere cannot leave the two plain fields half-written.
+        self.0.data.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn post(&self, f: impl FnOnce(&mut Data)) {
+        let mut data = self.lock();
+        f(&mut data);
+        self.0.posted.store(data.alarm.is_some() || data.comp_start.is_some(), Ordering::Release);
+    }
+
+    fn take<T>(&self, f: impl FnOnce(&mut Data) -> Option<T>) -> Option<T> {
+        if !self.0.posted.load(Ordering::Acquire) {
+            return None;
+        }
+        let mut value = None;
+        self.post(|data| value = f(data));
+        value
     }
 
     /// A stage found a program error at a block (the first one counts).
     pub fn raise(&self, id: AlarmId, line: u32, n: Option<u32>) {
-        self.lock().alarm.get_or_insert((id, line, n));
+        self.post(|data| {
+            data.alarm.get_or_insert((id, line, n));
+        });
     }
 
     /// The alarm a stage found, once.
     pub fn take_alarm(&self) -> Option<(AlarmId, u32, Option<u32>)> {
-        self.lock().alarm.take()
+        self.take(|data| data.alarm.take())
     }
 
+    /// A stage holds commands it has not released.
     pub fn set_holding(&self, holding: bool) {
-        self.lock().holding = holding;
+        self.0.holding.store(holding, Ordering::Release);
     }
 
     pub fn holding(&self) -> bool {
-        self.lock().holding
+        self.0.holding.load(Ordering::Acquire)
     }
 
     /// The interpreter turned cutter compensation on with its path at `pos`.
     pub fn comp_started(&self, pos: Pos) {
-        self.lock().comp_start = Some(pos);
+        self.post(|data| data.comp_start = Some(pos));
     }
 
     pub fn take_comp_start(&self) -> Option<Pos> {
-        self.lock().comp_start.take()
+        self.take(|data| data.comp_start.take())
     }
 
     /// A reset: nothing is held, no alarm is due.
     pub fn clear(&self) {
-        *self.lock() = Shared::default();
+        self.post(|data| *data = Data::default());
+        self.set_holding(false);
     }
 }
 
