@@ -792,7 +792,7 @@ impl Ctx<'_> {
 }
 
 fn any_mode(m: &[u16; GROUPS]) -> bool {
-    matches!(m[7], 412..=426) || matches!(m[8], 434..=439) || matches!(m[16], 682..=684) || m[21] == 121
+    matches!(m[7], 412..=416 | 422..=426) || matches!(m[8], 434..=439) || matches!(m[16], 682..=684) || m[21] == 121
 }
 
 /// G80 and the canned cycles (group 09).
