@@ -85,6 +85,11 @@ pub enum AlarmId {
     UnitChangeInMode,
     /// A circular command in the start-up or cancel block of cutter compensation.
     ArcInCompStartCancel,
+    /// Cutter compensation C: a compensated block would run against its programmed direction
+    /// (the interference check: a gouge).
+    CutterInterference,
+    /// Cutter compensation C: the offset paths of two blocks do not meet at their corner.
+    CutterNoSolution,
     /// A malformed tilted working plane command (G68.2/G68.3/G68.4).
     TwpFormat,
     /// A G code or modal state not allowed with the tilted working plane.

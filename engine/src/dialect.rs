@@ -120,6 +120,8 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::MechanismConflict,
     AlarmId::UnitChangeInMode,
     AlarmId::ArcInCompStartCancel,
+    AlarmId::CutterInterference,
+    AlarmId::CutterNoSolution,
     AlarmId::TwpFormat,
     AlarmId::TwpIllegalCommand,
     AlarmId::AlignmentInWse,
@@ -204,6 +206,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         MechanismConflict => (PS5459, ("OP-032", "Mechanism type configuration conflicted")),
         UnitChangeInMode => (("PS5000", "G20/G21 NOT ALLOWED IN 5-AXIS MODE"), COR100),
         ArcInCompStartCancel => (("PS0034", "NO CIRC ALLOWED IN ST-UP/EXT BLK"), COR100),
+        // The 30i's numbers and texts; no Syntec source names its cutter compensation alarms.
+        CutterInterference => (("PS0041", "INTERFERENCE IN CRC"), COR100),
+        CutterNoSolution => (("PS0033", "NO SOLUTION AT CRC"), COR100),
         TwpFormat => (("PS5457", "G68.2/G68.3 FORMAT ERROR"), ("COR-141", "G68.3 command format error")),
         TwpIllegalCommand => (("PS5462", "ILLEGAL COMMAND (G68.2/G69)"), COR100),
         AlignmentInWse => (("PS5458", "G53.1 NOT ALLOWED IN G54.4 MODE"), COR100),

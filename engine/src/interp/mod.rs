@@ -114,6 +114,9 @@ pub struct Config {
     /// interlocks that belong to those functions (`engine/tests/it/modes.rs`), so that their rules
     /// stay checked until the functions are built.
     pub refuse_unbuilt: bool,
+    /// What the path stages fed by this interpreter tell it (`crate::stage::Link`): an alarm
+    /// they found, whether they hold commands, where cutter compensation started.
+    pub stages: crate::stage::Link,
 }
 
 impl Config {
@@ -133,6 +136,7 @@ impl Config {
             fast_paths: true,
             five_axes_per_block: false,
             refuse_unbuilt: true,
+            stages: Default::default(),
         }
     }
 }
@@ -410,6 +414,7 @@ impl Interpreter {
         st.modal_calls.clear();
         st.wse_between = None;
         st.ended = true;
+        st.cfg.stages.clear();
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
         // puts group 07 in G40 (CRC-44, TV-30; the manual lists the 5-axis codes, fivex ends
         // G41/G42 the same way, as their offset vector does not survive a reset either).
@@ -448,6 +453,12 @@ impl Interpreter {
     /// Execute the next block; its canonical commands are appended to `out`.
     pub fn step(&mut self, out: &mut Vec<Canon>) -> Result<Step, Alarm> {
         let st = &mut self.state;
+        // An alarm the path stages found in what this interpreter handed them (`crate::stage`).
+        if let Some((id, line, n)) = st.cfg.stages.take_alarm() {
+            st.ended = true;
+            let (code, message) = st.cfg.dialect.describe(&id);
+            return Err(Alarm { code, message, line, n });
+        }
         if st.ended {
             return Ok(Step::Ended);
         }
@@ -463,6 +474,11 @@ impl Interpreter {
             result = Err(AlarmId::FloatOverflow);
         }
         match result {
+            // A stage still holding commands (cutter compensation) may find an error in them
+            // when it releases them at the end: end one step later, so that it is raised.
+            Ok(Step::Ended) if st.modes[group::CUTTER_COMP] != code::G40 || st.cfg.stages.holding() => {
+                Ok(Step::Continue)
+            }
             Ok(step) => Ok(step),
             Err(id) => {
                 st.ended = true;

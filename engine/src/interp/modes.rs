@@ -820,7 +820,8 @@ impl Ctx<'_> {
 }
 
 fn any_mode(m: &[u16; GROUPS]) -> bool {
-    matches!(m[group::CUTTER_COMP], G41_2..=G42_6)
+    // The 3-D / 5-axis cutter compensations (G41.2…G41.6, G42.2…G42.6), not G42 itself.
+    matches!(m[group::CUTTER_COMP], G41_2..=G41_6 | G42_2..=G42_6)
         || matches!(m[group::LENGTH_COMP], G43_4..=G43_9)
         || TILTED_PLANES.contains(&m[group::ROTATION])
         || m[group::POLAR_INTERPOLATION] == G12_1

@@ -406,6 +406,7 @@ impl State {
             self.modes[group::UNITS] = code::G21;
         }
         let machine_before = self.machine_position();
+        let comp_before = self.modes[group::CUTTER_COMP];
         let mut axes_owner: Option<u16> = None;
         let mut one_shots: [u16; 12] = [0; 12];
         let mut n_one_shots = 0;
@@ -473,6 +474,10 @@ impl State {
         if wcs_changed {
             self.pos = self.machine_to_program(&machine_before);
             self.sync_programmed();
+        }
+        if comp_before == code::G40 && matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42) {
+            // The start-up block starts here (`stage::cutter`).
+            self.cfg.stages.comp_started(self.pos);
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
         self.apply_wse(&w)?;
@@ -592,6 +597,10 @@ impl State {
                     self.parts_done += 1.0;
                     self.emit(out, CanonKind::ProgramEnd { m });
                     self.ended = true;
+                    // M02/M30 end cutter compensation C (its stage drops the vector there).
+                    if matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42) {
+                        self.modes[group::CUTTER_COMP] = code::G40;
+                    }
                 }
                 mcode::M05 => {
                     self.spindle = SpindleState::Stop;
@@ -1034,6 +1043,41 @@ impl State {
             (_, value) => value.map_or(unbuilt::Word::Absent, unbuilt::Word::Value),
         };
         match w.gcodes().iter().find(|&&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
+            Some(_) => Err(AlarmId::GCodeNotBuilt),
+            None => self.refuse_unbuilt_cutter(w),
+        }
+    }
+
+    /// Under G41/G42 (in force after the block), what the cutter compensation stage does not
+    /// perform is refused like a function not built (`unbuilt::cutter`).
+    fn refuse_unbuilt_cutter(&self, w: &Words) -> Result<(), AlarmId> {
+        let dialect = self.cfg.dialect;
+        let in_block = |group: usize| {
+            w.gcodes().iter().copied().find(|&c| gcode::lookup(c, dialect).is_some_and(|d| d.group == group))
+        };
+        let after = |group: usize| in_block(group).unwrap_or(self.modes[group]);
+        if !matches!(after(group::CUTTER_COMP), code::G41 | code::G42) {
+            return Ok(());
+        }
+        let rotary =
+            w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary));
+        let block = unbuilt::CutterBlock {
+            transform: !matches!(after(group::ROTATION), code::G69 | code::G69_1)
+                || after(group::SCALING) != code::G50
+                || after(group::MIRROR) != code::G50_1
+                || after(group::POLAR) == code::G16,
+            five_axis: matches!(after(group::LENGTH_COMP), code::G43_4 | code::G43_5)
+                || self.plane_active()
+                || self.wse.is_some()
+                || in_block(group::WSE).is_some(),
+            cycle: after(group::CYCLE) != code::G80,
+            coordinates: [code::G28, code::G30, code::G53, code::G52, code::G92].iter().any(|&c| w.has_g(c))
+                || in_block(group::WORK_SYSTEM).is_some(),
+            rotary,
+            inverse_time: after(group::FEED_MODE) == code::G93,
+            corner_override: after(group::PATH_MODE) == code::G62,
+        };
+        match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),
             None => Ok(()),
         }

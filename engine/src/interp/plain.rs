@@ -11,6 +11,7 @@ use super::nc::Words;
 use super::{modes, State};
 use crate::alarm::AlarmId;
 use crate::canon::Canon;
+use crate::machine::AxisKind;
 
 impl State {
     /// Whether the block (already evaluated) is a plain linear or rapid motion block here.
@@ -24,9 +25,16 @@ impl State {
         matches!(motion, code::G00 | code::G01)
             && w.mcodes().is_empty()
             && self.modes[group::CYCLE] == code::G80
+            // Under cutter compensation a rotary axis word is refused (`unbuilt::cutter`) by the
+            // general path; the block's other conditions are modal, checked where they were set.
+            && (self.modes[group::CUTTER_COMP] == code::G40 || !self.rotary_word(w))
             && self.modal_calls.is_empty()
             && modes::no_rule_applies(self, g)
             && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some())
+    }
+
+    fn rotary_word(&self, w: &Words) -> bool {
+        w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary))
     }
 
     /// Execute a block for which [`State::is_plain_motion`] holds.

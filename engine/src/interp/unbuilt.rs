@@ -88,14 +88,12 @@ const TABLE: &[NotBuilt] = &[
     row(370, When::Always, "automatic tool length measurement (G37)"),
     row(380, When::Always, CUTTER),
     row(390, When::Always, CUTTER),
-    row(410, When::Always, CUTTER),
     row(411, When::Always, "normal direction control (G41.1)"),
     row(412, When::Always, CUTTER_3D),
     row(413, When::Always, "leading edge offset (G41.3)"),
     row(414, When::Always, CUTTER_3D),
     row(415, When::Always, CUTTER_3D),
     row(416, When::Always, CUTTER_3D),
-    row(420, When::Always, CUTTER),
     row(421, When::Always, "normal direction control (G42.1)"),
     row(422, When::Always, CUTTER_3D),
     row(424, When::Always, CUTTER_3D),
@@ -144,6 +142,43 @@ pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<
     };
     // A value known only when running is not refused statically; the run decides.
     refused.unwrap_or(false).then_some(row.function)
+}
+
+/// A block under cutter compensation C (G41/G42 in force after it), as the question "does the
+/// stage perform it?" sees it (`stage::cutter`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CutterBlock {
+    /// G68 rotation, G51 scaling, G51.1 mirror image or G16 polar coordinates in force.
+    pub transform: bool,
+    /// Tool centre point control, the tilted working plane or G54.4 in force.
+    pub five_axis: bool,
+    /// A canned cycle in force.
+    pub cycle: bool,
+    /// G28/G30/G53 (moves in machine coordinates), G52/G92 or a workpiece system selected.
+    pub coordinates: bool,
+    /// A rotary axis word in the block.
+    pub rotary: bool,
+    /// G93 inverse time feed (the corners' inserted moves would each take 1/F minutes).
+    pub inverse_time: bool,
+    /// G62 automatic corner override (its inner-corner feed reduction is not built).
+    pub corner_override: bool,
+}
+
+/// The function a block under G41/G42 asks for that the cutter compensation stage does not
+/// perform. The stage shifts the path in the plane by the same vector in programming and
+/// machine coordinates: right only while the two differ by a translation, for plain motions.
+pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
+    [
+        (b.transform, "cutter radius compensation with rotation, scaling, mirror image or polar coordinates"),
+        (b.five_axis, "cutter radius compensation with TCP, a tilted working plane or G54.4"),
+        (b.cycle, "cutter radius compensation in a canned cycle"),
+        (b.coordinates, "cutter radius compensation with G28/G30/G53, G52/G92 or a workpiece system change"),
+        (b.rotary, "cutter radius compensation with a rotary axis moving"),
+        (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
+        (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
+    ]
+    .into_iter()
+    .find_map(|(refused, function)| refused.then_some(function))
 }
 
 /// An address letter fivex reads but no function of it uses: E (FANUC M series: the thread

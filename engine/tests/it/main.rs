@@ -6,6 +6,7 @@ mod common;
 
 mod alarms;
 mod controller;
+mod cutter;
 mod cycles;
 mod data;
 mod fast_path;

@@ -7,7 +7,6 @@
 use crate::common;
 use common::*;
 
-use fivex_engine::canon::CanonKind;
 use fivex_engine::check::check;
 use fivex_engine::interp::gcode;
 use fivex_engine::lang::parse_file;
@@ -52,6 +51,8 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G30", "G30 Z0", "fixture scaling_g51_g62_g63_g30"),
     ("G31", "G31 X1. F100", "macro_b.rs decision_skip_position_5061 (no skip signal)"),
     ("G40", "G40", "the cancelled state of cutter compensation"),
+    ("G41", "G41 D1 G01 X10. F500\nG40 X0", "cutter.rs (cutter compensation C)"),
+    ("G42", "G42 D1 G01 X10. F500\nG40 X0", "cutter.rs (cutter compensation C)"),
     ("G40.1", "G40.1", "the cancelled state of normal direction control"),
     ("G43", "G43 H1 Z0\nG49", "fixture g43_g44_g49_tools_file"),
     ("G43.4", "G43.4 H1\nG49", "tcp.rs"),
@@ -78,7 +79,7 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G58", "G58\nG54", "fixture work_offsets_g54_g59"),
     ("G59", "G59\nG54", "fixture work_offsets_g54_g59"),
     ("G61", "G61\nG64", "fixture exact_stop_g09_g61_g64"),
-    ("G62", "G62\nG64", "decision: its override acts only in cutter compensation, which is refused"),
+    ("G62", "G62\nG64", "decision: its override acts only in cutter compensation, where G62 is refused (cutter.rs)"),
     ("G63", "G63\nG64", "fixture scaling_g51_g62_g63_g30"),
     ("G64", "G64", "fixture exact_stop_g09_g61_g64"),
     ("G65", "G65 P9000\nM30\nO9000\nM99", "fixture g65_macro_args"),
@@ -157,15 +158,12 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G37 Z-10.", &[Fanuc, Syntec]),
     ("G38 X1.", &[Fanuc, Syntec]),
     ("G39 X1.", &[Fanuc, Syntec]),
-    ("G41 D1 G01 X10. F500", &[Fanuc, Syntec]),
-    ("G41 G01 X10. F500", &[Fanuc, Syntec]),
     ("G41.1", &[Fanuc, Syntec]),
     ("G41.2 D1", &[Fanuc, Syntec]),
     ("G41.3 D1", &[Fanuc, Syntec]),
     ("G41.4 D1", &[Fanuc, Syntec]),
     ("G41.5 D1", &[Fanuc, Syntec]),
     ("G41.6 D1", &[Fanuc, Syntec]),
-    ("G42 D1 G01 X10. F500", &[Fanuc, Syntec]),
     ("G42.1", &[Fanuc, Syntec]),
     ("G42.2 D1", &[Fanuc, Syntec]),
     ("G42.4 D1", &[Fanuc, Syntec]),
@@ -332,25 +330,17 @@ fn the_refused_forms_of_a_code_are_values_not_the_code() {
 }
 
 #[test]
-fn g41_square_is_refused_not_run_on_the_programmed_line() {
+fn g41_square_runs_with_the_tool_centre_offset() {
     // Issue 17: G41 D1 (radius 5) on a 10 mm square left the tool centre on the programmed
-    // line. Now the G41 block alarms and no motion of it or after it is made.
+    // line, then was refused; now the stage offsets it (issue 20) and the run completes there.
     let src = "G90 G00 X0 Y0 Z0\nG41 D1 G01 X10. F500\nY10.\nX0\nY0\nG40 X-5.\nM30\n";
-    for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-100")] {
-        let r = run_with(src, "mill3", dialect);
-        assert_eq!((r.alarms.len(), r.alarms[0].code.as_str(), r.alarms[0].line), (1, code, 2));
+    for dialect in [Fanuc, Syntec] {
         let mut interp = interpreter(src, "mill3", dialect);
-        let mut lines = Vec::new();
-        let err = interp
-            .run(|c| {
-                if let CanonKind::Motion(_) = c.kind {
-                    lines.push(c.line)
-                }
-            })
-            .unwrap_err();
-        assert_eq!((err.code.as_str(), err.line), (code, 2));
-        assert_eq!(lines, vec![1], "only the G00 block moves");
-        assert_eq!(interp.state.modal(7), 400, "G40 stays in force");
+        let path = fivex_engine::preview::tool_path(&mut interp, 100);
+        assert_eq!(path.alarm, None);
+        // Block 2 (start-up, inner corner with block 3) ends at (5, 5), not at (10, 0).
+        let i = path.lines.iter().position(|&l| l == 2).unwrap();
+        assert!(approx(path.points[i][0], 5.0) && approx(path.points[i][1], 5.0), "{:?}", path.points[i]);
     }
 }
 

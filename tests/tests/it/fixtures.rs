@@ -23,6 +23,7 @@
 //! | `msg="TEXT"` | the `messages` list, in order (all of them when any is given) |
 //! | `canon=N` | number of `interp` lines |
 //! | `diag=LINE:CODE` | `check` diagnostics, all of them in order (none given = none expected) |
+//! | `stand=X:Y` | the machine's X and Y axes stand still at X, Y (±1e-6) in two consecutive samples of `run --trace` (a dwell or the end: where the tool centre stops) |
 
 use crate::common;
 
@@ -106,7 +107,7 @@ fn parse_num(v: &str) -> f64 {
 }
 
 /// Check the `(expect: …)` comments; returns the list of mismatches.
-fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<String> {
+fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran, trace: &str) -> Vec<String> {
     let mut errs = Vec::new();
     let summary: Value = match serde_json::from_str(&run.stdout) {
         Ok(v) => v,
@@ -172,6 +173,19 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran) -> Vec<S
                 }
                 "msg" => msgs.get_or_insert_with(Vec::new).push(v.to_string()),
                 "diag" => diags.push(v.to_string()),
+                "stand" => {
+                    let (x, y) = v.split_once(':').unwrap_or_else(|| panic!("stand={v}: not X:Y"));
+                    let (x, y) = (parse_num(x), parse_num(y));
+                    let at = |line: &str| -> Option<(f64, f64)> {
+                        let s: Value = serde_json::from_str(line).ok()?;
+                        Some((s["machine"]["X"].as_f64()?, s["machine"]["Y"].as_f64()?))
+                    };
+                    let points: Vec<Option<(f64, f64)>> = trace.lines().map(at).collect();
+                    let here = |p: &Option<(f64, f64)>| p.is_some_and(|(px, py)| close(px, x) && close(py, y));
+                    if !points.windows(2).any(|w| here(&w[0]) && here(&w[1])) {
+                        errs.push(format!("stand: the machine never stands at X{x} Y{y}"));
+                    }
+                }
                 k if k.starts_with('#') => {
                     let got = &summary["variables"][k];
                     if v == "vacant" {
@@ -243,12 +257,15 @@ const TRACE_SAMPLES: usize = 40;
 
 /// `fivex run --trace` decimated to [`TRACE_SAMPLES`] lines, numbers rounded to 0.1 µm so that
 /// the snapshot pins the motion, not the last bits of a libm.
-fn trace_snapshot(dir: &Path, file: &str, opts: &[String], scratch: &Path) -> String {
+fn run_trace(dir: &Path, file: &str, opts: &[String], scratch: &Path) -> (Ran, String) {
     let trace = scratch.join(format!("{file}.jsonl"));
     let mut opts = opts.to_vec();
     opts.extend(["--trace".to_string(), trace.display().to_string()]);
     let ran = run_cmd(dir, "run", file, &opts);
-    let text = std::fs::read_to_string(&trace).unwrap_or_default();
+    (ran, std::fs::read_to_string(&trace).unwrap_or_default())
+}
+
+fn trace_snapshot(ran: &Ran, text: &str) -> String {
     let lines: Vec<&str> = text.lines().collect();
     let n = lines.len();
     let mut picks: Vec<usize> = (0..TRACE_SAMPLES.min(n)).map(|k| k * (n - 1) / (TRACE_SAMPLES - 1).max(1)).collect();
@@ -296,7 +313,8 @@ fn fixtures() {
         let run = run_cmd(&dir, "run", file, &options_for(&text, "run"));
         let interp = run_cmd(&dir, "interp", file, &options_for(&text, "interp"));
         let check = run_cmd(&dir, "check", file, &options_for(&text, "check"));
-        for e in check_expectations(&text, &run, &interp, &check) {
+        let (traced, trace) = run_trace(&dir, file, &options_for(&text, "run"), scratch.path());
+        for e in check_expectations(&text, &run, &interp, &check, &trace) {
             // Printed at once too: a snapshot failure below ends the test before the summary.
             eprintln!("EXPECTATION FAILED {file}: {e}");
             failures.push(format!("{file}: {e}"));
@@ -304,7 +322,7 @@ fn fixtures() {
         insta::assert_snapshot!("run", run.snapshot);
         insta::assert_snapshot!("interp", interp.snapshot);
         insta::assert_snapshot!("check", check.snapshot);
-        insta::assert_snapshot!("trace", trace_snapshot(&dir, file, &options_for(&text, "run"), scratch.path()));
+        insta::assert_snapshot!("trace", trace_snapshot(&traced, &trace));
     });
     assert!(count >= 30, "expected at least 30 fixtures, found {count}");
     assert!(failures.is_empty(), "{} hand-computed expectation(s) failed:\n{}", failures.len(), failures.join("\n"));

@@ -1,0 +1,463 @@
+//! Cutter compensation C (G41/G42/G40 with D), as the FANUC 30i performs it in the G17/G18/G19
+//! plane: the tool centre runs at the radius from the programmed contour, corners by the
+//! manual's vectors. Rules and sources: `docs/cutter-compensation.md`.
+//!
+//! The stage holds the last motion in the plane until the next one has come (the corner between
+//! them places its end): one motion of look-ahead, and at most [`MAX_BLOCKS_BETWEEN`] blocks
+//! without motion in the plane held behind it. The interpreter refuses what the stage does not
+//! perform (`interp::unbuilt::cutter`): while G41/G42 is in force, programming and machine
+//! coordinates differ by a translation, so a point is compensated by moving both by the same
+//! vector in the plane; the other axes move as programmed.
+
+mod curve;
+
+use super::{Link, Stage};
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, CanonKind, Motion, MotionKind, Pos};
+use crate::interp::gcode::code;
+use crate::interp::Config;
+use crate::machine::MachineConfig;
+use curve::{add, cross, dot, norm, scale, sub, swept, Curve, P2};
+
+/// Blocks without motion in the plane that may come between two motions in it before the
+/// corner vector is lost: FANUC No.19625 (blocks read in offset mode, 3 when 0) less the two
+/// moving blocks.
+pub const MAX_BLOCKS_BETWEEN: usize = 1;
+
+/// A motion shorter than this in the plane does not move in it (mm).
+const NO_MOVE: f64 = 1e-9;
+
+/// Blocks whose directions at a corner differ by less than this (radians) meet tangentially:
+/// their offset paths are taken as their tangent lines there. (Where two circles almost touch,
+/// their crossing moves by the points' rounding divided by the angle: ill-conditioned.)
+const NEAR_TANGENT: f64 = 1e-3;
+
+/// A motion waiting for the next motion in the plane.
+struct Held {
+    canon: Canon,
+    curve: Curve,
+    /// Signed radius: positive puts the tool on the left (G41 with a positive D).
+    r: f64,
+    /// The compensated start (where the tool is when it begins).
+    start: P2,
+    /// The start-up block (type A: its end vector is perpendicular to the next block).
+    startup: bool,
+}
+
+/// The cutter compensation C stage.
+pub struct Cutter {
+    /// Axis indices of X, Y, Z.
+    xyz: [Option<usize>; 3],
+    link: Link,
+    /// G41/G42 in force (as far as the motions that came through say).
+    on: bool,
+    /// The plane's two axis indices while on.
+    plane: (usize, usize),
+    /// The programmed end of the last motion while on (programming coordinates).
+    programmed: Pos,
+    /// The compensated point minus the programmed one, where the tool is.
+    vector: P2,
+    /// No motion in the plane has come since compensation was turned on.
+    startup: bool,
+    held: Option<Held>,
+    /// The commands after `held` (no motion in the plane).
+    after: Vec<Canon>,
+    /// An alarm was raised: nothing more is handed on until a reset.
+    stopped: bool,
+    told_holding: bool,
+    /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
+    /// motion the stage does not compensate passes as it came (as before the stage existed).
+    refuse: bool,
+}
+
+impl Cutter {
+    pub fn new(config: &Config) -> Cutter {
+        let m: &MachineConfig = &config.machine;
+        Cutter {
+            xyz: [m.axis_index(b'X'), m.axis_index(b'Y'), m.axis_index(b'Z')],
+            link: config.stages.share(),
+            on: false,
+            plane: (0, 1),
+            programmed: [0.0; crate::machine::MAX_AXES],
+            vector: [0.0; 2],
+            startup: false,
+            held: None,
+            after: Vec::new(),
+            stopped: false,
+            told_holding: false,
+            refuse: config.refuse_unbuilt,
+        }
+    }
+
+    /// The plane's axes (first, second) for a plane code; `None` if the machine lacks one.
+    fn plane_axes(&self, plane: u16) -> Option<(usize, usize)> {
+        let [x, y, z] = self.xyz;
+        match plane {
+            code::G18 => Some((z?, x?)),
+            code::G19 => Some((y?, z?)),
+            _ => Some((x?, y?)),
+        }
+    }
+
+    fn in_plane(&self, p: &Pos) -> P2 {
+        [p[self.plane.0], p[self.plane.1]]
+    }
+
+    /// The motion's path in the plane from `from`; `None` when it does not move in the plane.
+    fn curve(&self, m: &Motion, from: &Pos) -> Option<Curve> {
+        let (a, b) = (self.in_plane(from), self.in_plane(&m.target));
+        match m.arc.as_deref() {
+            Some(arc) => Some(Curve::Arc {
+                from: a,
+                to: b,
+                center: [arc.center[self.plane.0], arc.center[self.plane.1]],
+                sweep: arc.sweep_deg.to_radians(),
+            }),
+            None if norm(sub(b, a)) > NO_MOVE => Some(Curve::Line { from: a, to: b }),
+            None => None,
+        }
+    }
+
+    fn alarm(&mut self, id: AlarmId, c: &Canon) {
+        self.link.raise(id, c.line, c.n);
+        self.stopped = true;
+        self.held = None;
+        self.after.clear();
+    }
+
+    /// `c` moved so that its end in the plane is at `to` (programming coordinates); the machine
+    /// position moves by the same.
+    fn placed(&self, mut c: Canon, to: P2) -> Canon {
+        if let CanonKind::Motion(m) = &mut c.kind {
+            let (a, b) = self.plane;
+            let d = sub(to, [m.target[a], m.target[b]]);
+            m.target[a] = to[0];
+            m.target[b] = to[1];
+            m.machine[a] += d[0];
+            m.machine[b] += d[1];
+        }
+        c
+    }
+
+    /// Hand on the held motion ending at `points[0]`, then straight moves to the other points,
+    /// then the commands held behind it, moved by the vector at the last point.
+    fn release(&mut self, points: &[P2], out: &mut Vec<Canon>) {
+        let Some(h) = self.held.take() else { return };
+        let end = points[0];
+        if let Err(id) = check_direction(&h, end) {
+            let canon = h.canon.clone();
+            self.alarm(id, &canon);
+            return;
+        }
+        let mut first = self.placed(h.canon, end);
+        if let (CanonKind::Motion(m), Curve::Arc { center, sweep, .. }) = (&mut first.kind, h.curve) {
+            if let Some(arc) = m.arc.as_deref_mut() {
+                arc.radius = norm(sub(h.start, center));
+                arc.sweep_deg = swept(h.start, end, center, sweep).to_degrees() * sweep.signum();
+            }
+        }
+        // The inserted moves: straight, at the block's feed, from its end (the other axes there).
+        let template = (points.len() > 1).then(|| first.clone());
+        out.push(first);
+        if let Some(template) = template {
+            for &p in &points[1..] {
+                let mut c = self.placed(template.clone(), p);
+                if let CanonKind::Motion(m) = &mut c.kind {
+                    m.arc = None;
+                    if m.kind != MotionKind::Rapid {
+                        m.kind = MotionKind::Linear;
+                    }
+                }
+                out.push(c);
+            }
+        }
+        let last = points[points.len() - 1];
+        self.vector = sub(last, h.curve.to());
+        for c in std::mem::take(&mut self.after) {
+            out.push(self.shifted(c));
+        }
+    }
+
+    /// A command moved by the current vector (a motion out of the plane keeps the offset).
+    fn shifted(&self, c: Canon) -> Canon {
+        match &c.kind {
+            CanonKind::Motion(m) => {
+                let p = add(self.in_plane(&m.target), self.vector);
+                self.placed(c, p)
+            }
+            _ => c,
+        }
+    }
+
+    /// The held motion ends with the vector perpendicular to it (nothing follows it in the
+    /// plane: the program's end, a cancel without motion in the plane, a lost vector).
+    fn release_perpendicular(&mut self, out: &mut Vec<Canon>) {
+        if let Some(h) = &self.held {
+            let end = h.curve.offset_point(true, h.r);
+            self.release(&[end], out);
+        } else {
+            for c in std::mem::take(&mut self.after) {
+                out.push(self.shifted(c));
+            }
+        }
+    }
+
+    fn motion(&mut self, c: Canon, out: &mut Vec<Canon>) {
+        let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
+        let comp = matches!(m.context.cutter_comp, code::G41 | code::G42);
+        if !self.on && !comp {
+            out.push(c);
+            return;
+        }
+        if m.tip.is_some() || m.kind == MotionKind::MachineRapid && comp {
+            // The interpreter refuses these (`unbuilt::cutter`); never shift them blindly.
+            if self.refuse {
+                self.alarm(AlarmId::GCodeNotBuilt, &c);
+            } else {
+                self.release_perpendicular(out);
+                self.cancelled();
+                out.push(c);
+            }
+            return;
+        }
+        // G41/G42 again after a G40 that moved nothing: that cancel, then a new start-up.
+        let restart = if comp { self.link.take_comp_start() } else { None };
+        if self.on && restart.is_some() {
+            self.release_perpendicular(out);
+            self.cancelled();
+            if self.stopped {
+                return;
+            }
+        }
+        if !self.on {
+            let Some(plane) = self.plane_axes(m.context.plane) else {
+                self.alarm(AlarmId::GCodeNotBuilt, &c);
+                return;
+            };
+            self.on = true;
+            self.plane = plane;
+            self.vector = [0.0; 2];
+            self.startup = true;
+            self.programmed = restart.unwrap_or(m.target);
+        }
+        let from = std::mem::replace(&mut self.programmed, m.target);
+        let curve = self.curve(m, &from);
+        let side = if m.context.cutter_comp == code::G42 { -1.0 } else { 1.0 };
+        let r = side * m.context.cutter_radius;
+        let is_arc = m.arc.is_some();
+        match (curve, comp) {
+            (None, true) => {
+                if self.held.is_some() {
+                    self.after.push(c);
+                    self.lose_vector_if_too_many(out);
+                } else {
+                    out.push(self.shifted(c));
+                }
+            }
+            (None, false) => {
+                // G40 without motion in the plane: the vector goes in this move.
+                self.release_perpendicular(out);
+                self.cancelled();
+                out.push(c);
+            }
+            (Some(_), _) if is_arc && (self.startup || !comp) => {
+                self.alarm(AlarmId::ArcInCompStartCancel, &c);
+            }
+            (Some(curve), true) => {
+                let start = match self.held.take() {
+                    None => add(curve.from(), self.vector),
+                    Some(h) => {
+                        let points = match corner(&h, &curve, r, false) {
+                            Ok(p) => p,
+                            Err(id) => {
+                                let canon = h.canon.clone();
+                                self.alarm(id, &canon);
+                                return;
+                            }
+                        };
+                        self.held = Some(h);
+                        self.release(&points, out);
+                        if self.stopped {
+                            return;
+                        }
+                        points[points.len() - 1]
+                    }
+                };
+                let startup = std::mem::replace(&mut self.startup, false);
+                self.held = Some(Held { canon: c, curve, r, start, startup });
+            }
+            (Some(curve), false) => {
+                if let Some(h) = self.held.take() {
+                    match corner(&h, &curve, h.r, true) {
+                        Ok(points) => {
+                            self.held = Some(h);
+                            self.release(&points, out);
+                        }
+                        Err(id) => {
+                            let canon = h.canon.clone();
+                            self.alarm(id, &canon);
+                        }
+                    }
+                    if self.stopped {
+                        return;
+                    }
+                } else {
+                    self.release_perpendicular(out);
+                }
+                self.cancelled();
+                out.push(c);
+            }
+        }
+    }
+
+    fn cancelled(&mut self) {
+        self.on = false;
+        self.startup = false;
+        self.vector = [0.0; 2];
+    }
+
+    /// More blocks without motion in the plane than the read-ahead holds: the held motion ends
+    /// perpendicular, the next one starts from there (FANUC: the vector is lost).
+    fn lose_vector_if_too_many(&mut self, out: &mut Vec<Canon>) {
+        let Some(h) = &self.held else { return };
+        let mut lines: Vec<u32> = self.after.iter().map(|c| c.line).filter(|&l| l != h.canon.line).collect();
+        lines.dedup();
+        if lines.len() > MAX_BLOCKS_BETWEEN {
+            self.release_perpendicular(out);
+        }
+    }
+
+    fn tell_holding(&mut self) {
+        let holding = self.held.is_some() || !self.after.is_empty();
+        if holding != self.told_holding {
+            self.told_holding = holding;
+            self.link.set_holding(holding);
+        }
+    }
+}
+
+/// The points of the corner between the held block `h` and the next block `next` (radius `rn`
+/// for the next one): the held block's end, then the ends of the straight moves inserted, the
+/// last of which is where `next` starts. `cancel`: `next` is the G40 block.
+fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, AlarmId> {
+    let (a, r) = (&h.curve, h.r);
+    let e = a.to();
+    let (t1, t2) = (a.tangent(true), next.tangent(false));
+    if r == 0.0 && rn == 0.0 {
+        return Ok(vec![e]);
+    }
+    let turn = cross(t1, t2);
+    let straight = turn.abs() < NEAR_TANGENT && dot(t1, t2) > 0.0;
+    if !cancel && r.signum() != rn.signum() {
+        // Change of side: where the old side's offset meets the new side's; without one, the
+        // perpendicular vectors of both joined by a straight move.
+        // (Blocks almost in line would put the crossing metres away: fivex takes it only within
+        // ten radii of the corner, a decision, `docs/cutter-compensation.md`.)
+        let near = |p: &P2| norm(sub(*p, e)) <= 10.0 * r.abs().max(rn.abs());
+        return Ok(match curve::intersection(a, r, next, rn, e).filter(|p| !straight && near(p)) {
+            Some(p) => vec![p],
+            None => vec![a.offset_point(true, r), next.offset_point(false, rn)],
+        });
+    }
+    if straight {
+        // (Nearly) tangent continuation: where the offset tangent lines meet.
+        let (n1, n2) = (curve::left(t1), curve::left(t2));
+        return Ok(vec![add(e, scale(add(n1, n2), r / (1.0 + dot(n1, n2))))]);
+    }
+    let inner = turn * r > 0.0;
+    if inner {
+        // Inside a corner the offset curves meet; the next block starts there.
+        return curve::intersection(a, r, next, r, e).map(|p| vec![p]).ok_or(AlarmId::CutterNoSolution);
+    }
+    if cancel {
+        // Cancel type A: perpendicular to the block before, then straight to the programmed end.
+        return Ok(vec![a.offset_point(true, r)]);
+    }
+    if h.startup {
+        // Start-up type A: the vector at the end is perpendicular to the next block.
+        return Ok(vec![next.offset_point(false, r)]);
+    }
+    if dot(t1, t2) >= 0.0 {
+        // Outside an obtuse corner (90° ≤ α < 180°): the offset curves' intersection.
+        return curve::intersection(a, r, next, r, e).map(|p| vec![p]).ok_or(AlarmId::CutterNoSolution);
+    }
+    // Outside an acute corner: each vector perpendicular to its block, lengthened by the radius
+    // along it (forward along the first, backward along the second), joined by a straight move.
+    let ra = r.abs();
+    let mut points = Vec::with_capacity(4);
+    if matches!(a, Curve::Arc { .. }) {
+        points.push(a.offset_point(true, r));
+    }
+    points.push(add(a.offset_point(true, r), scale(t1, ra)));
+    points.push(sub(next.offset_point(false, r), scale(t2, ra)));
+    if matches!(next, Curve::Arc { .. }) {
+        points.push(next.offset_point(false, r));
+    }
+    Ok(points)
+}
+
+/// The interference check (direction check): the compensated block must not run against the
+/// programmed one — a line backwards, an arc the other way round (its swept angle differing by
+/// more than 180°) or an arc too small for the tool.
+fn check_direction(h: &Held, end: P2) -> Result<(), AlarmId> {
+    match h.curve {
+        Curve::Line { from, to } => {
+            if dot(sub(end, h.start), sub(to, from)) < 0.0 {
+                return Err(AlarmId::CutterInterference);
+            }
+        }
+        Curve::Arc { sweep, center, .. } => {
+            if h.curve.offset_radius(h.r).is_some_and(|radius| radius <= 0.0) {
+                return Err(AlarmId::CutterInterference);
+            }
+            let turned = swept(h.start, end, center, sweep);
+            if (turned - sweep.abs()).abs() > std::f64::consts::PI {
+                return Err(AlarmId::CutterInterference);
+            }
+        }
+    }
+    Ok(())
+}
+
+impl Stage for Cutter {
+    fn push(&mut self, command: Canon, out: &mut Vec<Canon>) {
+        if self.stopped {
+            return;
+        }
+        match &command.kind {
+            CanonKind::Motion(_) => self.motion(command, out),
+            CanonKind::ProgramEnd { .. } if self.on => {
+                // M02/M30 cancel: the last motion ends perpendicular, the vector stays there.
+                self.release_perpendicular(out);
+                self.cancelled();
+                if !self.stopped {
+                    out.push(command);
+                }
+            }
+            _ if self.held.is_some() => {
+                self.after.push(command);
+                self.lose_vector_if_too_many(out);
+            }
+            _ => out.push(command),
+        }
+        self.tell_holding();
+    }
+
+    fn finish(&mut self, out: &mut Vec<Canon>) {
+        if !self.stopped {
+            self.release_perpendicular(out);
+        }
+        self.tell_holding();
+    }
+
+    fn reset(&mut self) {
+        self.on = false;
+        self.startup = false;
+        self.vector = [0.0; 2];
+        self.held = None;
+        self.after.clear();
+        self.stopped = false;
+        self.told_holding = false;
+        self.link.clear();
+    }
+}

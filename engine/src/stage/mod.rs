@@ -1,0 +1,255 @@
+//! Path stages: where the program's path is rewritten between the interpreter and the motion
+//! executor (cutter compensation, cutting point control, splines and smoothing, as they are
+//! built). Every driver of the interpreter (`crate::run`, `crate::controller`,
+//! `crate::preview`) passes the canonical commands of each step through its [`Pipeline`]
+//! before the executor sees them, so a stage is written once and acts on every run, every
+//! controller and every preview.
+//!
+//! Adding a stage: write a module under `stage/` with a type that implements [`Stage`], and
+//! register it in [`Pipeline::for_config`], the one place that says which stages a program
+//! goes through and in which order. Until a function's stage exists, the interpreter refuses
+//! the function with the dialect's alarm (`interp::unbuilt`), never passes it on silently.
+//!
+//! A stage may hold commands back to look ahead (cutter compensation C holds a motion until the
+//! next motion in its plane has come, to place the corner between them). It releases them, in
+//! order, when it has seen enough, and all of them at the end of the program. A command keeps
+//! the line, sequence number and tip basis of the block it came from; the controller counts a
+//! released command to the block being read when it comes out (what its modal display shows
+//! while it moves).
+//!
+//! A stage that finds a program error (a gouge, a corner without a solution) reports it on the
+//! [`Link`] of the interpreter's `Config`, holds back the offending command and everything after
+//! it, and the interpreter raises the alarm at its next step: every driver already stops on an
+//! interpreter alarm, after carrying out what was released before it. So that an error in what
+//! a stage still holds at the program end is raised too, the interpreter ends one step later
+//! while a stage holds commands ([`Link::holding`]).
+
+pub mod cutter;
+
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, Pos};
+use crate::interp::Config;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+/// What the path stages tell the interpreter that feeds them (one per interpreter: a cloned
+/// `Config` gets a new one, [`Link::share`] hands the same one to the stages).
+#[derive(Default)]
+pub struct Link(Arc<Shared>);
+
+/// The link's state. The flags let the interpreter and the stage ask "anything there?" once
+/// per block without taking the lock.
+#[derive(Default)]
+struct Shared {
+    /// An alarm or a start of compensation is waiting in `data`.
+    posted: AtomicBool,
+    holding: AtomicBool,
+    data: Mutex<Data>,
+}
+
+#[derive(Default)]
+struct Data {
+    /// The alarm a stage found, with the line and sequence number of its block.
+    alarm: Option<(AlarmId, u32, Option<u32>)>,
+    /// Where the program's path stood (programming coordinates) when cutter compensation was
+    /// turned on: the start of the start-up block.
+    comp_start: Option<Pos>,
+}
+
+impl Clone for Link {
+    fn clone(&self) -> Link {
+        Link::default()
+    }
+}
+
+impl std::fmt::Debug for Link {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Link")
+    }
+}
+
+impl Link {
+    /// The same link, for the stages of the interpreter whose `Config` holds it.
+    pub fn share(&self) -> Link {
+        Link(self.0.clone())
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Data> {
+        // A panic elsewhere cannot leave the two plain fields half-written.
+        self.0.data.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn post(&self, f: impl FnOnce(&mut Data)) {
+        let mut data = self.lock();
+        f(&mut data);
+        self.0.posted.store(data.alarm.is_some() || data.comp_start.is_some(), Ordering::Release);
+    }
+
+    fn take<T>(&self, f: impl FnOnce(&mut Data) -> Option<T>) -> Option<T> {
+        if !self.0.posted.load(Ordering::Acquire) {
+            return None;
+        }
+        let mut value = None;
+        self.post(|data| value = f(data));
+        value
+    }
+
+    /// A stage found a program error at a block (the first one counts).
+    pub fn raise(&self, id: AlarmId, line: u32, n: Option<u32>) {
+        self.post(|data| {
+            data.alarm.get_or_insert((id, line, n));
+        });
+    }
+
+    /// The alarm a stage found, once.
+    pub fn take_alarm(&self) -> Option<(AlarmId, u32, Option<u32>)> {
+        self.take(|data| data.alarm.take())
+    }
+
+    /// A stage holds commands it has not released.
+    pub fn set_holding(&self, holding: bool) {
+        self.0.holding.store(holding, Ordering::Release);
+    }
+
+    pub fn holding(&self) -> bool {
+        self.0.holding.load(Ordering::Acquire)
+    }
+
+    /// The interpreter turned cutter compensation on with its path at `pos`.
+    pub fn comp_started(&self, pos: Pos) {
+        self.post(|data| data.comp_start = Some(pos));
+    }
+
+    pub fn take_comp_start(&self) -> Option<Pos> {
+        self.take(|data| data.comp_start.take())
+    }
+
+    /// A reset: nothing is held, no alarm is due.
+    pub fn clear(&self) {
+        self.post(|data| *data = Data::default());
+        self.set_holding(false);
+    }
+}
+
+/// One stage of the path.
+pub trait Stage: Send {
+    /// Take the next command; hand on, in order, whatever is ready.
+    fn push(&mut self, command: Canon, out: &mut Vec<Canon>);
+    /// The program has ended (or stopped with an alarm): hand on everything held.
+    fn finish(&mut self, out: &mut Vec<Canon>);
+    /// The program was abandoned (reset): drop everything held.
+    fn reset(&mut self);
+}
+
+/// The stages a machine's programs go through, in order.
+#[derive(Default)]
+pub struct Pipeline {
+    stages: Vec<Box<dyn Stage>>,
+    /// What one stage handed on, for the next.
+    between: Vec<Canon>,
+}
+
+impl Pipeline {
+    /// The stages for programs run with `config`: cutter compensation C. (Cutting point control
+    /// and splines are refused by the interpreter until their stages are built.)
+    pub fn for_config(config: &Config) -> Pipeline {
+        Pipeline { stages: vec![Box::new(cutter::Cutter::new(config))], between: Vec::new() }
+    }
+
+    /// Pass one interpreter step's commands through every stage: `commands` becomes what comes
+    /// out of the last one. `end`: the program has ended, everything held comes out.
+    pub fn process(&mut self, commands: &mut Vec<Canon>, end: bool) {
+        for stage in &mut self.stages {
+            for c in commands.drain(..) {
+                stage.push(c, &mut self.between);
+            }
+            if end {
+                stage.finish(&mut self.between);
+            }
+            std::mem::swap(commands, &mut self.between);
+        }
+    }
+
+    /// Drop everything the stages hold (and the alarm they found).
+    pub fn reset(&mut self) {
+        for stage in &mut self.stages {
+            stage.reset();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canon::CanonKind;
+
+    /// A stage that holds each command until the next one comes (one command of look-ahead).
+    #[derive(Default)]
+    struct HoldOne(Option<Canon>);
+
+    impl Stage for HoldOne {
+        fn push(&mut self, command: Canon, out: &mut Vec<Canon>) {
+            out.extend(self.0.replace(command));
+        }
+        fn finish(&mut self, out: &mut Vec<Canon>) {
+            out.extend(self.0.take());
+        }
+        fn reset(&mut self) {
+            self.0 = None;
+        }
+    }
+
+    fn dwell(line: u32) -> Canon {
+        Canon { line, n: None, kind: CanonKind::Dwell { seconds: 1.0 }, tip_basis: Default::default() }
+    }
+
+    fn lines(c: &[Canon]) -> Vec<u32> {
+        c.iter().map(|c| c.line).collect()
+    }
+
+    #[test]
+    fn stages_look_ahead_and_release_everything_at_the_end_in_order() {
+        let mut p =
+            Pipeline { stages: vec![Box::new(HoldOne::default()), Box::new(HoldOne::default())], ..Default::default() };
+        let mut step = vec![dwell(1), dwell(2)];
+        p.process(&mut step, false);
+        assert!(step.is_empty(), "two stages of one command each hold both: {:?}", lines(&step));
+        let mut step = vec![dwell(3)];
+        p.process(&mut step, false);
+        assert_eq!(lines(&step), [1]);
+        let mut step = vec![dwell(4)];
+        p.process(&mut step, true);
+        assert_eq!(lines(&step), [2, 3, 4]);
+    }
+
+    #[test]
+    fn reset_drops_what_is_held() {
+        let mut p = Pipeline { stages: vec![Box::new(HoldOne::default())], ..Default::default() };
+        let mut step = vec![dwell(1)];
+        p.process(&mut step, false);
+        p.reset();
+        let mut step = vec![dwell(2)];
+        p.process(&mut step, true);
+        assert_eq!(lines(&step), [2]);
+    }
+
+    #[test]
+    fn a_cloned_config_gets_its_own_link() {
+        let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
+        let shared = config.stages.share();
+        let cloned = config.clone();
+        shared.raise(AlarmId::CutterInterference, 7, None);
+        assert_eq!(cloned.stages.take_alarm(), None);
+        assert_eq!(config.stages.take_alarm(), Some((AlarmId::CutterInterference, 7, None)));
+        assert_eq!(config.stages.take_alarm(), None, "raised once");
+    }
+
+    #[test]
+    fn without_compensation_the_stages_hand_on_as_it_came() {
+        let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
+        let mut p = Pipeline::for_config(&config);
+        let mut step = vec![dwell(1), dwell(2)];
+        p.process(&mut step, false);
+        assert_eq!(lines(&step), [1, 2]);
+    }
+}

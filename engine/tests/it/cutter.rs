@@ -1,0 +1,708 @@
+//! Cutter compensation C (`stage::cutter`): tool centre end points worked out by hand
+//! (`docs/cutter-compensation.md` gives the rules), through the real interpreter and the
+//! pipeline every driver uses, and the run's alarms. Tool offsets 1–99 have radius 5.
+
+use crate::common::*;
+use fivex_engine::canon::CanonKind;
+use fivex_engine::interp::Step;
+use fivex_engine::stage::Pipeline;
+use fivex_engine::Dialect::{self, Fanuc, Syntec};
+
+/// Motion ends (line, two axes) and the alarm (code, line), if any.
+type Centre = (Vec<(u32, [f64; 2])>, Option<(String, u32)>);
+
+/// The end point (X, Y) of every motion that comes out of the stages, with its line; and the
+/// alarm the interpreter raised, if any.
+fn centre(src: &str, dialect: Dialect) -> Centre {
+    let (ends, alarm) = centre_axes(src, dialect, (0, 1));
+    (ends, alarm)
+}
+
+/// [`centre`] for the axes `(a, b)` (indices: X 0, Y 1, Z 2).
+fn centre_axes(src: &str, dialect: Dialect, (a, b): (usize, usize)) -> Centre {
+    let mut interp = interpreter(src, "mill3", dialect);
+    let mut stages = Pipeline::for_config(interp.config());
+    let mut out = Vec::new();
+    let mut ends = Vec::new();
+    loop {
+        let step = interp.step(&mut out);
+        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
+        stages.process(&mut out, end);
+        for c in out.drain(..) {
+            if let CanonKind::Motion(m) = c.kind {
+                // No work offset here: the stage moved both systems by the same.
+                assert!((m.machine[a] - m.target[a]).abs() < 1e-9 && (m.machine[b] - m.target[b]).abs() < 1e-9);
+                ends.push((c.line, [m.target[a], m.target[b]]));
+            }
+        }
+        match step {
+            Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => interp.finish(),
+            Ok(Step::Ended) => return (ends, None),
+            Err(a) => return (ends, Some((a.code, a.line))),
+        }
+    }
+}
+
+/// Every motion end, compared with the expected (line, X, Y) in order, to 1e-6.
+#[track_caller]
+fn assert_ends(src: &str, want: &[(u32, f64, f64)]) {
+    assert_ends_in(src, (0, 1), want);
+}
+
+#[track_caller]
+fn assert_ends_in(src: &str, axes: (usize, usize), want: &[(u32, f64, f64)]) {
+    let (got, alarm) = centre_axes(src, Fanuc, axes);
+    assert_eq!(alarm, None, "{src}");
+    let close = got.len() == want.len()
+        && got.iter().zip(want).all(|((l, p), (wl, x, y))| l == wl && approx(p[0], *x) && approx(p[1], *y));
+    assert!(close, "got {got:?}\nwant {want:?}\n{src}");
+}
+
+#[test]
+fn outside_of_a_square_g42_counter_clockwise() {
+    // Square 0..20; the tool (R5) right of counter-clockwise travel is outside: start-up from
+    // below (inner corner: intersection), 90° outer corners at the offset lines' intersections,
+    // a straight run into the cancel (the offset point, then the programmed end).
+    let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nY20.\nX0.\nY0.\nG40 Y-10.\nM30\n";
+    assert_ends(
+        src,
+        &[
+            (1, 0.0, -10.0),
+            (2, 5.0, -5.0),
+            (3, 25.0, -5.0),
+            (4, 25.0, 25.0),
+            (5, -5.0, 25.0),
+            (6, -5.0, 0.0),
+            (7, 0.0, -10.0),
+        ],
+    );
+}
+
+#[test]
+fn inside_of_a_pocket_g41_counter_clockwise() {
+    // Pocket 0..40: every corner is inside (intersections); cancel at an inner corner.
+    let src = "G90 G00 X20. Y10. Z0\nG41 D1 G01 Y0. F500\nX40.\nY40.\nX0.\nY0.\nX20.\nG40 Y10.\nM30\n";
+    assert_ends(
+        src,
+        &[
+            (1, 20.0, 10.0),
+            (2, 25.0, 5.0),
+            (3, 35.0, 5.0),
+            (4, 35.0, 35.0),
+            (5, 5.0, 35.0),
+            (6, 5.0, 5.0),
+            (7, 15.0, 5.0),
+            (8, 20.0, 10.0),
+        ],
+    );
+}
+
+#[test]
+fn boss_full_circle_g41_clockwise() {
+    // Circle of radius 10 about the origin, clockwise, tool left = outside (offset radius 15).
+    // Start-up along y = 0 meets it at y = 5, cancel along y = 0 backwards leaves it at y = −5.
+    let src = "G90 G00 X-20. Y0. Z0\nG41 D1 G01 X-10. F500\nG02 I10.\nG40 G01 X-20.\nM30\n";
+    let x = -(15.0f64 * 15.0 - 25.0).sqrt();
+    assert_ends(src, &[(1, -20.0, 0.0), (2, x, 5.0), (3, x, -5.0), (4, -20.0, 0.0)]);
+}
+
+#[test]
+fn outer_acute_corner_inserts_the_lengthened_vectors() {
+    // +X then back up-left (−2, 1): tool right (R5) is outside an acute corner. The first
+    // block runs on to (20,0) + (0,−5) + 5·(1,0); a straight move goes to (20,0) + 5·n2 − 5·t2
+    // with t2 = (−2,1)/√5, n2 (right) = (1,2)/√5: (20 + 3√5, √5). The cancel at an outer
+    // corner leaves from the perpendicular vector of the block before.
+    let s5 = 5f64.sqrt();
+    let src = "G90 G00 X-10. Y0 Z0\nG42 D1 G01 X0. F500\nX20.\nX0. Y10.\nG40 X-10.\nM30\n";
+    assert_ends(
+        src,
+        &[
+            (1, -10.0, 0.0),
+            (2, 0.0, -5.0),
+            (3, 25.0, -5.0),
+            (3, 20.0 + 3.0 * s5, s5),
+            (4, s5, 10.0 + 2.0 * s5),
+            (5, -10.0, 10.0),
+        ],
+    );
+}
+
+#[test]
+fn negative_d_swaps_the_sides() {
+    // D2 = −5 with G41 is D1 = 5 with G42 (the outside of the square).
+    let g42 = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nY20.\nX0.\nY0.\nG40 Y-10.\nM30\n";
+    let g41 = g42.replace("G42 D1", "G10 L12 P2 R-5.\nG41 D2");
+    let (a, alarm_a) = centre(g42, Fanuc);
+    let (b, alarm_b) = centre(&g41, Fanuc);
+    assert_eq!((alarm_a, alarm_b), (None, None));
+    let points = |v: &[(u32, [f64; 2])]| v.iter().map(|(_, p)| *p).collect::<Vec<_>>();
+    assert_eq!(points(&a), points(&b));
+    assert_eq!(points(&a)[2], [25.0, -5.0]);
+}
+
+#[test]
+fn side_change_on_a_straight_line_moves_across() {
+    // G41 → G42 between two blocks in line: no intersection; the first ends at its left
+    // vector, a straight move crosses to the right one.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG42 X40.\nG40 X50.\nM30\n";
+    assert_ends(
+        src,
+        &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (3, 20.0, -5.0), (4, 40.0, -5.0), (5, 50.0, 0.0)],
+    );
+}
+
+#[test]
+fn change_of_radius_takes_effect_at_the_end_of_its_block() {
+    // D2 = 3 from block 4: the corner before it is placed with 5, the one after with 3.
+    let src = "G10 L12 P2 R3.\nG90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nD2 Y20.\nX0.\nG40 Y30.\nM30\n";
+    assert_ends(
+        src,
+        &[(2, -10.0, 0.0), (3, 0.0, 5.0), (4, 15.0, 5.0), (5, 17.0, 17.0), (6, 0.0, 17.0), (7, 0.0, 30.0)],
+    );
+}
+
+#[test]
+fn one_block_without_motion_in_the_plane_keeps_the_corner() {
+    // Z between two moves in the plane: the corner is the intersection (15,5); Z moves there.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nZ-1.\nY20.\nG40 X0.\nM30\n";
+    assert_ends(
+        src,
+        &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 15.0, 5.0), (4, 15.0, 5.0), (5, 15.0, 15.0), (6, 0.0, 20.0)],
+    );
+}
+
+#[test]
+fn two_blocks_without_motion_in_the_plane_lose_the_vector() {
+    // Z and M08: more than the read-ahead holds (No.19625 = 3 blocks: one may not move). The
+    // block before ends with its perpendicular vector; the next runs from there.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nZ-1.\nM08\nY20.\nG40 X0.\nM30\n";
+    assert_ends(
+        src,
+        &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 20.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)],
+    );
+}
+
+#[test]
+fn g18_compensates_z_and_x() {
+    // G18: the plane is (Z, X); left of +Z is +X. Y never moves.
+    let src = "G18 G90 G00 X0. Z-10.\nG41 D1 G01 Z0. F500\nZ20.\nG40 Z30.\nM30\n";
+    assert_ends_in(src, (2, 0), &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 30.0, 0.0)]);
+}
+
+#[test]
+fn a_notch_narrower_than_the_tool_is_an_interference_alarm() {
+    // The notch X20–24 is 4 wide, the tool 10: compensated, block 5 would run from (25,3) back
+    // to (19,3). PS0041 at block 5; the tool stops at the end of block 4.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nY-2.\nX24.\nY0.\nX40.\nG40 X50.\nM30\n";
+    let (ends, alarm) = centre(src, Fanuc);
+    assert_eq!(alarm, Some(("PS0041".to_string(), 5)));
+    assert_eq!(ends.iter().map(|e| e.0).collect::<Vec<_>>(), [1, 2, 3, 4]);
+    assert_eq!(ends[3].1, [25.0, 3.0]);
+    for (dialect, code) in [(Fanuc, "PS0041"), (Syntec, "COR-100")] {
+        let r = run_with(src, "mill3", dialect);
+        assert_eq!((r.alarms.len(), r.alarms[0].code.as_str(), r.alarms[0].line), (1, code, 5));
+    }
+}
+
+#[test]
+fn an_arc_too_small_for_the_tool_inside_is_an_interference_alarm() {
+    // A counter-clockwise arc of radius 3 with the tool (5) on its inside (G41).
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nG03 X3. Y3. R3.\nG01 Y20.\nG40 X-10.\nM30\n";
+    assert_eq!(centre(src, Fanuc).1, Some(("PS0041".to_string(), 3)));
+}
+
+#[test]
+fn an_interference_in_the_last_block_before_the_end_is_raised() {
+    // No G40: M30 ends the compensation; the notch's block is the last but one.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nY-2.\nX24.\nY0.\nM30\n";
+    let r = run_with(src, "mill3", Fanuc);
+    assert_eq!((r.alarms.len(), r.alarms[0].code.as_str(), r.alarms[0].line), (1, "PS0041", 5));
+}
+
+#[test]
+fn an_arc_in_the_start_up_or_cancel_block_is_ps0034() {
+    for src in [
+        "G90 G00 X0. Y0 Z0\nG41 D1 G02 X10. R5. F500\nG40 G01 X20.\nM30\n",
+        "G90 G00 X0. Y0 Z0\nG41 D1 G01 X10. F500\nG40 G02 X20. R5.\nM30\n",
+    ] {
+        let line = if src.contains("G40 G02") { 3 } else { 2 };
+        for (dialect, code) in [(Fanuc, "PS0034"), (Syntec, "COR-100")] {
+            let r = run_with(src, "mill3", dialect);
+            assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, line), "{src}");
+        }
+    }
+}
+
+#[test]
+fn what_the_stage_does_not_perform_stays_refused() {
+    // Rotation, scaling, a canned cycle, G28/G53, a work system change, a rotary axis, inverse
+    // time, G62, G39 and G38 under G41: refused at their block (PS0010 / COR-100).
+    let cases = [
+        ("G68 X0 Y0 R30.\nG41 D1 G01 X10. F500\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG68 X0 Y0 R30.\n", 2, "mill3"),
+        ("G51 X0 Y0 P2\nG41 D1 G01 X10. F500\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG81 X20. Z-5. R2.\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG28 X0\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG53 X0\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG55 X20.\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG92 X0\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG62\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG39 X20.\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nG38 X20.\n", 2, "mill3"),
+        ("G41 D1 G01 X10. F500\nC10.\n", 2, "table-ac"),
+    ];
+    for (src, line, preset) in cases {
+        let src = format!("G90 G00 X0 Y0 Z0\n{src}G40 X0\nM30\n");
+        for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-100")] {
+            let r = run_with(&src, preset, dialect);
+            assert_eq!(r.alarms.len(), 1, "{dialect:?} {src}");
+            assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, line + 1), "{dialect:?} {src}");
+        }
+    }
+}
+
+mod random {
+    //! Random contours of lines and arcs with no feature smaller than the radius: the tool
+    //! centre path is at exactly R from each block's own line or circle along its interior, on
+    //! the commanded side, and never closer than R − 1 µm to the contour anywhere.
+
+    use super::*;
+    use fivex_engine::canon::{Canon, Motion, Pos};
+    use proptest::prelude::*;
+    use std::f64::consts::PI;
+
+    const R: f64 = 5.0;
+
+    /// A programmed block as the interpreter emitted it: a segment, or an arc (centre, start
+    /// radius, signed sweep in radians).
+    #[derive(Debug, Clone, Copy)]
+    enum Block {
+        Line([f64; 2], [f64; 2]),
+        Arc { from: [f64; 2], to: [f64; 2], center: [f64; 2], sweep: f64 },
+    }
+
+    fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+        [a[0] - b[0], a[1] - b[1]]
+    }
+    fn len(a: [f64; 2]) -> f64 {
+        a[0].hypot(a[1])
+    }
+
+    fn distance(p: [f64; 2], b: &Block) -> f64 {
+        match *b {
+            Block::Line(a, e) => {
+                let d = sub(e, a);
+                let u = ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+                let u = u.clamp(0.0, 1.0);
+                len(sub(p, [a[0] + u * d[0], a[1] + u * d[1]]))
+            }
+            Block::Arc { from, to, center, sweep } => {
+                let angle = |q: [f64; 2]| (q[1] - center[1]).atan2(q[0] - center[0]);
+                // The point's angle measured from the start in the sweep's direction.
+                let mut a = (angle(p) - angle(from)) * sweep.signum();
+                a = a.rem_euclid(2.0 * PI);
+                if a <= sweep.abs() {
+                    let rho =
+                        len(sub(from, center)) + (len(sub(to, center)) - len(sub(from, center))) * a / sweep.abs();
+                    (len(sub(p, center)) - rho).abs()
+                } else {
+                    len(sub(p, from)).min(len(sub(p, to)))
+                }
+            }
+        }
+    }
+
+    /// Points along a motion from `from` (the executor's reading of `Motion`).
+    fn samples(from: &Pos, m: &Motion, n: usize) -> Vec<[f64; 2]> {
+        (0..=n)
+            .map(|k| {
+                let u = k as f64 / n as f64;
+                match m.arc.as_deref() {
+                    None => [from[0] + u * (m.target[0] - from[0]), from[1] + u * (m.target[1] - from[1])],
+                    Some(arc) => {
+                        let c = [arc.center[0], arc.center[1]];
+                        let r1 = len(sub([m.target[0], m.target[1]], c));
+                        let start = (from[1] - c[1]).atan2(from[0] - c[0]);
+                        let phi = start + u * arc.sweep_deg.to_radians();
+                        let rho = arc.radius + u * (r1 - arc.radius);
+                        [c[0] + rho * phi.cos(), c[1] + rho * phi.sin()]
+                    }
+                }
+            })
+            .collect()
+    }
+
+    /// One contour element: heading change before it (degrees), then a line of `length` or an
+    /// arc of `radius` and `sweep` (degrees, signed).
+    #[derive(Debug, Clone, Copy)]
+    struct Element {
+        turn: f64,
+        arc: bool,
+        length: f64,
+        radius: f64,
+        sweep: f64,
+    }
+
+    fn element() -> impl Strategy<Value = Element> {
+        (
+            prop_oneof![Just(0.0), -100.0..100.0f64],
+            any::<bool>(),
+            4.0 * R..8.0 * R,
+            2.0 * R..6.0 * R,
+            40.0..150.0f64,
+            any::<bool>(),
+        )
+            .prop_map(|(turn, arc, length, radius, sweep, ccw)| Element {
+                turn,
+                arc,
+                length,
+                radius,
+                // At least 4R along the arc.
+                sweep: sweep.max((4.0 * R / radius).to_degrees()) * if ccw { 1.0 } else { -1.0 },
+            })
+    }
+
+    /// The NC program of a contour, with compensation on `side` (41/42) or none (40), and the
+    /// programmed blocks as the NC text states them (for the far-apart check).
+    fn program(elements: &[Element], side: u32) -> Option<String> {
+        // An arc with the tool on its inside needs room: radius at least 3R, and a corner next
+        // to it turning at most 45° (two such arcs of radius ρ meeting at a turn δ leave the
+        // tool room only while sin(δ/2) ≤ 1 − R/ρ; beyond, the control has no solution, PS0033).
+        let s = match side {
+            41 => 1.0,
+            42 => -1.0,
+            _ => 0.0,
+        };
+        for (i, e) in elements.iter().enumerate() {
+            let concave = e.arc && e.sweep * s > 0.0;
+            let inner = |turn: f64| turn.abs() > 45.0;
+            let next_turn = elements.get(i + 1).map_or(0.0, |n| n.turn);
+            if concave && (e.radius < 3.0 * R || inner(e.turn) || inner(next_turn)) {
+                return None;
+            }
+        }
+        let (mut p, mut h) = ([0.0f64, 0.0f64], 0.0f64);
+        let mut body = String::new();
+        let mut blocks = Vec::new();
+        for e in elements {
+            h += e.turn.to_radians();
+            let t = [h.cos(), h.sin()];
+            let left = [-t[1], t[0]];
+            if e.arc {
+                let s = e.sweep.to_radians();
+                let c = if s > 0.0 {
+                    [p[0] + e.radius * left[0], p[1] + e.radius * left[1]]
+                } else {
+                    [p[0] - e.radius * left[0], p[1] - e.radius * left[1]]
+                };
+                let a0 = (p[1] - c[1]).atan2(p[0] - c[0]);
+                let q = [c[0] + e.radius * (a0 + s).cos(), c[1] + e.radius * (a0 + s).sin()];
+                body += &format!(
+                    "G0{} X{:.6} Y{:.6} I{:.6} J{:.6}\n",
+                    if s > 0.0 { 3 } else { 2 },
+                    q[0],
+                    q[1],
+                    c[0] - p[0],
+                    c[1] - p[1]
+                );
+                blocks.push(Block::Arc { from: p, to: q, center: c, sweep: s });
+                p = q;
+                h += s;
+            } else {
+                let q = [p[0] + e.length * t[0], p[1] + e.length * t[1]];
+                body += &format!("G01 X{:.6} Y{:.6}\n", q[0], q[1]);
+                blocks.push(Block::Line(p, q));
+                p = q;
+            }
+        }
+        // No two blocks that are not neighbours come within 3R of each other; neighbours only
+        // near their common corner (no narrow slot or spike between them).
+        let point = |b: &Block, u: f64| match *b {
+            Block::Line(a, e) => [a[0] + u * (e[0] - a[0]), a[1] + u * (e[1] - a[1])],
+            Block::Arc { from, center, sweep, .. } => {
+                let a0 = (from[1] - center[1]).atan2(from[0] - center[0]);
+                let r = len(sub(from, center));
+                let phi = a0 + sweep * u;
+                [center[0] + r * phi.cos(), center[1] + r * phi.sin()]
+            }
+        };
+        for i in 0..blocks.len() {
+            for j in i + 1..blocks.len() {
+                let corner = if j == i + 1 { Some(point(&blocks[j], 0.0)) } else { None };
+                for (x, y) in [(i, j), (j, i)] {
+                    let close = (0..=40).map(|k| point(&blocks[x], k as f64 / 40.0)).any(|q| match corner {
+                        Some(c) => len(sub(q, c)) > 3.0 * R && distance(q, &blocks[y]) < 2.0 * R,
+                        None => distance(q, &blocks[y]) < 3.0 * R,
+                    });
+                    if close {
+                        return None;
+                    }
+                }
+            }
+        }
+        let first = blocks[0];
+        let last = blocks[blocks.len() - 1];
+        let dir = |b: &Block, end: bool| match *b {
+            Block::Line(a, e) => {
+                let d = sub(e, a);
+                [d[0] / len(d), d[1] / len(d)]
+            }
+            Block::Arc { from, to, center, sweep } => {
+                let q = if end { to } else { from };
+                let r = sub(q, center);
+                let l = len(r);
+                [-r[1] / l * sweep.signum(), r[0] / l * sweep.signum()]
+            }
+        };
+        // Start up and cancel in line with the first and last block, 3R before and after.
+        let (t0, te) = (dir(&first, false), dir(&last, true));
+        let start = [-3.0 * R * t0[0], -3.0 * R * t0[1]];
+        let end = [p[0] + 3.0 * R * te[0], p[1] + 3.0 * R * te[1]];
+        let on = if side == 40 { String::new() } else { format!("G{side} D1 ") };
+        let off = if side == 40 { "" } else { "G40 " };
+        Some(format!(
+            "G90 G17 G00 X{:.6} Y{:.6} Z0\n{on}G01 X0 Y0 F1000\n{body}{off}G01 X{:.6} Y{:.6}\nM30\n",
+            start[0], start[1], end[0], end[1]
+        ))
+    }
+
+    /// The programmed blocks of the contour (lines 3…) as the interpreter emitted them.
+    fn programmed(src: &str) -> Vec<(u32, Block)> {
+        let mut from = [0.0; 2];
+        let mut v = Vec::new();
+        for c in canon(src) {
+            let CanonKind::Motion(m) = c.kind else { continue };
+            let to = [m.target[0], m.target[1]];
+            let b = match m.arc.as_deref() {
+                Some(a) => Block::Arc { from, to, center: [a.center[0], a.center[1]], sweep: a.sweep_deg.to_radians() },
+                None => Block::Line(from, to),
+            };
+            v.push((c.line, b));
+            from = to;
+        }
+        v
+    }
+
+    fn through_stages(src: &str) -> (Vec<Canon>, Option<fivex_engine::alarm::Alarm>) {
+        let mut interp = interpreter(src, "mill3", Fanuc);
+        let mut stages = Pipeline::for_config(interp.config());
+        let (mut out, mut all) = (Vec::new(), Vec::new());
+        loop {
+            let step = interp.step(&mut out);
+            stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
+            all.append(&mut out);
+            match step {
+                Ok(Step::Continue) => {}
+                Ok(Step::NeedInput) => interp.finish(),
+                Ok(Step::Ended) => return (all, None),
+                Err(a) => return (all, Some(a)),
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: cases(300), max_global_rejects: 100_000, ..ProptestConfig::default() })]
+
+        #[test]
+        fn the_tool_centre_stays_at_the_radius(elements in prop::collection::vec(element(), 2..6), left in any::<bool>()) {
+            let side = if left { 41 } else { 42 };
+            let src = program(&elements, side);
+            prop_assume!(src.is_some());
+            let src = src.unwrap();
+            let blocks = programmed(&src);
+            let contour: Vec<Block> = blocks.iter().filter(|(l, _)| *l >= 3 && (*l as usize) < 3 + elements.len()).map(|b| b.1).collect();
+            let (out, alarm) = through_stages(&src);
+            prop_assert!(alarm.is_none(), "{alarm:?}\n{src}");
+            let r = if side == 41 { R } else { -R };
+            let mut from: Pos = [0.0; fivex_engine::machine::MAX_AXES];
+            let mut seen = std::collections::HashSet::new();
+            for c in &out {
+                let CanonKind::Motion(m) = &c.kind else { continue };
+                let pts = samples(&from, m, 24);
+                // (The start-up and cancel blocks run between the contour and points off it.)
+                if c.line >= 3 && (c.line as usize) < 3 + elements.len() {
+                    for p in &pts {
+                        let d = contour.iter().map(|b| distance(*p, b)).fold(f64::INFINITY, f64::min);
+                        prop_assert!(d >= R - 1e-3, "line {}: {p:?} is {d} from the contour\n{src}", c.line);
+                    }
+                }
+                // A contour block's own move (the first motion of its line) runs on its
+                // offset: at R from its line or circle, on the commanded side.
+                let own = blocks.iter().find(|(l, _)| *l == c.line && *l >= 3 && (*l as usize) < 3 + elements.len());
+                if let (Some((_, b)), true) = (own, seen.insert(c.line)) {
+                    for p in &pts[1..pts.len() - 1] {
+                        let off = match *b {
+                            Block::Line(a, e) => {
+                                let t = sub(e, a);
+                                ((p[1] - a[1]) * t[0] - (p[0] - a[0]) * t[1]) / len(t)
+                            }
+                            Block::Arc { to, center, sweep, .. } => {
+                                (len(sub(to, center)) - len(sub(*p, center))) * sweep.signum()
+                            }
+                        };
+                        // (The program's points are rounded to 1 µm: its arcs are spirals of that size.)
+                        prop_assert!((off - r).abs() < 1e-4, "line {}: {p:?} is {off} off its block, not {r}\n{src}", c.line);
+                    }
+                }
+                from = m.target;
+            }
+        }
+
+        #[test]
+        fn without_compensation_the_stages_hand_on_the_same_commands(elements in prop::collection::vec(element(), 2..6)) {
+            let src = program(&elements, 40);
+            prop_assume!(src.is_some());
+            let src = src.unwrap();
+            let (out, alarm) = through_stages(&src);
+            prop_assert!(alarm.is_none());
+            prop_assert_eq!(out, canon(&src));
+        }
+    }
+}
+
+mod in_the_controller {
+    //! The stage under the controller: the same tool centre path as a run, in single block too.
+
+    use fivex_engine::controller::{Controller, RunState};
+    use fivex_engine::interp::Config;
+    use fivex_engine::machine::MachineConfig;
+    use fivex_engine::Dialect;
+
+    const SQUARE: &str =
+        "G10 L12 P1 R5.\nG90 G00 X0. Y-10. Z0.\nG42 D1 G01 Y0. F3000.\nX20.\nY20.\nX0.\nY0.\nG40 Y-10.\nM30\n";
+
+    /// Cycle start (again after every single-block stop) until the program ends; the X/Y
+    /// where the machine stood at each stop.
+    fn stops(single_block: bool) -> Vec<[f64; 2]> {
+        let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
+        c.panel.single_block = single_block;
+        c.select_program(SQUARE).unwrap();
+        let mut stops = Vec::new();
+        for _ in 0..12 {
+            if c.cycle_start().is_err() {
+                break;
+            }
+            let start = c.time();
+            while c.run_state() == RunState::Running && c.time() - start < 30.0 {
+                c.tick(0.001);
+            }
+            assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+            let m = c.point().machine;
+            stops.push([m[0], m[1]]);
+        }
+        stops
+    }
+
+    #[test]
+    fn the_controller_stops_at_the_compensated_corners_in_single_block() {
+        assert_eq!(stops(false)[0], [0.0, -10.0]);
+        // Each cycle start runs the block whose end the stage has placed. Not built: the block
+        // before the G40 block runs on with it (the controller reads both in one step, the
+        // stage releasing the first only when the second comes): no stop at (−5, 0).
+        let single = stops(true);
+        assert_eq!(single[..6], [[0.0, -10.0], [5.0, -5.0], [25.0, -5.0], [25.0, 25.0], [-5.0, 25.0], [0.0, -10.0]]);
+    }
+}
+
+#[test]
+fn side_change_between_blocks_almost_in_line_does_not_run_away() {
+    // 1° apart: the offsets cross about 573 mm ahead; fivex crosses over at the corner instead.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG42 X40. Y0.349\nG40 X50.\nM30\n";
+    let (ends, alarm) = centre(src, Fanuc);
+    assert_eq!(alarm, None);
+    assert!(ends.iter().all(|(_, p)| p[0].abs() < 60.0 && p[1].abs() < 10.0), "{ends:?}");
+    assert_eq!(ends[2], (3, [20.0, 5.0]));
+}
+
+#[test]
+fn a_work_offset_moves_with_the_compensated_point() {
+    // G54 at X100 Y50: every compensated point is 100, 50 away in machine coordinates.
+    let src = "G10 L2 P1 X100. Y50.\nG90 G54 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nY20.\nG40 X0.\nM30\n";
+    let mut interp = interpreter(src, "mill3", Fanuc);
+    let mut stages = Pipeline::for_config(interp.config());
+    let (mut out, mut seen) = (Vec::new(), Vec::new());
+    loop {
+        let step = interp.step(&mut out);
+        stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
+        for c in out.drain(..) {
+            if let CanonKind::Motion(m) = c.kind {
+                assert!(approx(m.machine[0] - m.target[0], 100.0) && approx(m.machine[1] - m.target[1], 50.0));
+                seen.push([m.target[0], m.target[1]]);
+            }
+        }
+        if !matches!(step, Ok(Step::Continue)) {
+            break;
+        }
+    }
+    assert_eq!(seen[2], [25.0, -5.0]);
+}
+
+#[test]
+fn the_peer_programs_agree_with_linuxcnc_but_at_the_cancel() {
+    // The programs of scripts/peer-crc.sh. LinuxCNC's rs274 gives the same points but for the
+    // block before an inside-corner cancel, which it ends at its perpendicular vector (20,5 and
+    // 15,−2) where FANUC's cancel type A takes the intersection (15,5 and 10,−2).
+    let head = "G21 G17 G40 G90 G94\n";
+    let pocket = format!("{head}G00 X20. Y20. Z0.\nG41 D1 G01 Y0. F1000.\nX40.\nY40.\nX0.\nY0.\nX20.\nG40 Y20.\nM30\n");
+    let ends = |src: &str| centre(src, Fanuc).0.into_iter().skip(1).map(|(_, p)| p).collect::<Vec<_>>();
+    assert_eq!(
+        ends(&pocket),
+        [[25.0, 5.0], [35.0, 5.0], [35.0, 35.0], [5.0, 35.0], [5.0, 5.0], [15.0, 5.0], [20.0, 20.0]]
+    );
+    let slot = format!("{head}G00 X15. Y20. Z0.\nG41 D1 G01 Y-7. F1000.\nX30.\nY7.\nX0.\nY-7.\nX15.\nG40 Y20.\nM30\n");
+    assert_eq!(
+        ends(&slot),
+        [[20.0, -2.0], [25.0, -2.0], [25.0, 2.0], [5.0, 2.0], [5.0, -2.0], [10.0, -2.0], [15.0, 20.0]]
+    );
+    let arcs = format!(
+        "{head}G00 X-20. Y0. Z0.\nG41 D1 G01 X0. F1000.\nX30.\nG03 X40. Y10. R10.\nG01 Y30.\nG02 X50. Y40. R10.\nG01 X70.\nG40 X90.\nM30\n"
+    );
+    let got = ends(&arcs);
+    let want = [[0.0, 5.0], [30.0, 5.0], [35.0, 10.0], [35.0, 30.0], [50.0, 45.0], [70.0, 45.0], [90.0, 40.0]];
+    assert!(got.iter().zip(&want).all(|(g, w)| approx(g[0], w[0]) && approx(g[1], w[1])) && got.len() == 7, "{got:?}");
+}
+
+#[test]
+fn a_g40_without_motion_then_g41_cancels_and_starts_up_again() {
+    // Block 4 cancels without moving: block 3 ends at its perpendicular vector (20,5); block 5
+    // starts up again from the programmed 20,0 (type A, inside corner with block 6: 25,5).
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40\nG41 X30.\nY20.\nG40 X50.\nM30\n";
+    assert_ends(
+        src,
+        &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (5, 25.0, 5.0), (6, 25.0, 20.0), (7, 50.0, 20.0)],
+    );
+}
+
+#[test]
+fn a_helix_is_compensated_in_its_plane_only() {
+    // The boss circle as a helix down 5: X/Y as for the circle, Z as programmed.
+    let src = "G90 G00 X-20. Y0. Z0\nG41 D1 G01 X-10. F500\nG02 I10. Z-5.\nG40 G01 X-20.\nM30\n";
+    let x = -(15.0f64 * 15.0 - 25.0).sqrt();
+    assert_ends(src, &[(1, -20.0, 0.0), (2, x, 5.0), (3, x, -5.0), (4, -20.0, 0.0)]);
+    let (ends, _) = centre_axes(src, Fanuc, (2, 0));
+    assert_eq!(ends.iter().map(|(_, p)| p[0]).collect::<Vec<_>>(), [0.0, 0.0, -5.0, -5.0]);
+}
+
+#[test]
+fn an_arc_into_an_outer_acute_corner_ends_on_its_circle_then_the_lengthened_vectors() {
+    // A "D": the quarter circle R10 counter-clockwise from (10,0) to (0,10), then the chord
+    // back; G42 keeps the tool outside (circle radius 15, chord offset toward the origin).
+    // At (0,10) the turn is acute: the arc ends at its own vector (0,15), then (0,15) + 5·t1 =
+    // (−5,15), then (0,10) + 5·n2 − 5·t2 = (−5√2, 10).
+    let src = "G90 G00 X20. Y0 Z0\nG42 D1 G01 X10. F500\nG03 X0. Y10. R10.\nG01 X10. Y0.\nG40 X20.\nM30\n";
+    let h = 50f64.sqrt() / 2.0;
+    assert_ends(
+        src,
+        &[
+            (1, 20.0, 0.0),
+            (2, 200f64.sqrt(), 5.0),
+            (3, 0.0, 15.0),
+            (3, -5.0, 15.0),
+            (3, -50f64.sqrt(), 10.0),
+            (4, 10.0 - h, -h),
+            (5, 20.0, 0.0),
+        ],
+    );
+}
