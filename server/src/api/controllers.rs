@@ -1,6 +1,6 @@
 //! Creating, listing, configuring and removing controllers.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use std::sync::Arc;
 
 use axum::extract::rejection::PathRejection;
@@ -11,11 +11,12 @@ use fivex_engine::Dialect;
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path, ControllerStatus};
+use crate::http::extract::JsonBody;
+use super::ControllerStatus;
+use crate::http::extract::{body, hosted, path};
 use crate::db::{self, ControllerRow};
 use crate::host::{now_rfc3339, Hosted, Spec, MAX_SPEED};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// `POST /controllers`: a name, and the machine as a preset name or a machine document (a model
 /// or a vendor parameter list, as `--machine FILE.json` takes).
@@ -266,7 +267,7 @@ pub async fn clone(
     }
     let row = db::controller(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))?;
     let settings = db::controller_settings(&state.db).await?;
-    let Some(hosted) = crate::serve::load_controller(&state.db, row, &settings).await? else {
+    let Some(hosted) = crate::service::controllers::load(&state.db, row, &settings).await? else {
         db::delete_controller(&state.db, &id).await?;
         return Err(ApiError::Unprocessable("the source controller's machine cannot be loaded".into(), None));
     };

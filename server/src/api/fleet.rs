@@ -22,12 +22,12 @@ use serde_json::Value;
 use tokio::sync::{watch, Semaphore};
 use utoipa::{IntoParams, ToSchema};
 
-use super::json_body::JsonBody;
-use super::{body, path};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, path};
 use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options, Tool};
 use crate::host::now_rfc3339;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 use crate::wire::{FleetResult, MachineDocument};
 
 /// The most machines one fleet run may have.
@@ -349,7 +349,7 @@ pub async fn create(
     let opts =
         Options { tools: request.tools.clone(), report: request.report, cancel: Some(cancel), ..Options::default() };
     let task = tokio::spawn(execute(state.clone(), id.clone(), request.program, entries, opts, tx, stopped));
-    let location = format!("{}/fleet/runs/{id}", crate::serve::API_PREFIX);
+    let location = format!("{}/fleet/runs/{id}", crate::http::API_PREFIX);
     let mut headers = HeaderMap::new();
     if let Ok(v) = HeaderValue::from_str(&location) {
         headers.insert(header::LOCATION, v);
@@ -699,7 +699,7 @@ pub async fn library() -> Json<Vec<LibraryMachine>> {
     )
 )]
 pub async fn library_one(name: Result<Path<String>, PathRejection>) -> Result<Json<LibraryMachine>, ApiError> {
-    let name = super::path(name)?;
+    let name = crate::http::extract::path(name)?;
     crate::fleet::LIBRARY
         .iter()
         .find(|(n, _)| *n == name)

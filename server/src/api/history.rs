@@ -1,6 +1,6 @@
 //! Alarms (active and history) and the run history of a controller.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::QueryRejection;
 use axum::extract::{Json, Query, State};
 use serde::{Deserialize, Serialize};
@@ -8,7 +8,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use crate::db;
 use crate::host::stream::AlarmInfo;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// How many history rows an answer holds at most by default, and at all.
 const DEFAULT_LIMIT: u32 = 100;

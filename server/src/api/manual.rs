@@ -2,7 +2,7 @@
 //! right angles, table vertical and horizontal), tool tip centre rotation, reference return,
 //! and the manual settings (jog feed, manual absolute, Syntec R518/R519).
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::controller::{Controller, ManualCoordinates};
@@ -10,10 +10,11 @@ use fivex_engine::kin::ManualFeed;
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
+use crate::http::extract::JsonBody;
 use super::panel::{act, refused};
-use super::{body, hosted, path, ControllerStatus};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use super::ControllerStatus;
+use crate::http::extract::{body, hosted, path};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`.
 #[derive(Debug, Clone, Deserialize, ToSchema)]

@@ -2,19 +2,19 @@
 //! P300). Changes are in the database when the answer comes; a program's own changes (G10,
 //! system variables) are saved when its run state changes.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
 use crate::db::{self, ToolRow};
 use crate::host::station::{tool_row, WORK_SLOTS};
 use crate::host::stream::axes;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// One tool offset number (mm).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]

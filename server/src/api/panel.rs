@@ -2,17 +2,18 @@
 //! emergency stop. Each answers the controller's status after the action; an action the panel
 //! would ignore in this state is 409 with the reason.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::{Json, State};
 use fivex_engine::controller::{Mode, Refusal};
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, ControllerStatus};
+use crate::http::extract::JsonBody;
+use super::ControllerStatus;
+use crate::http::extract::body;
 use crate::db;
 use crate::host::{Hosted, Station};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// Why the panel ignored an action, for a person.
 pub(super) fn refused(r: Refusal) -> ApiError {
@@ -85,7 +86,7 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
     if value.is_null() {
         return Ok(T::default());
     }
-    super::json_body::from_object(value)
+    crate::http::extract::from_object(value)
 }
 
 /// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume

@@ -2,7 +2,7 @@
 //! and changing one parameter, which puts a new machine under the controller as a power cycle
 //! would.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::controller::RunState;
@@ -10,10 +10,10 @@ use fivex_engine::vendor::{self, Params, Value as ParamValue};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
 use crate::db;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// A controller's parameters.
 #[derive(Debug, Clone, Serialize, ToSchema)]

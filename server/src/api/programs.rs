@@ -1,6 +1,6 @@
 //! A controller's stored programs (O numbers) and their NC text.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::body::Bytes;
 use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::{Path, Query, State};
@@ -12,9 +12,9 @@ use fivex_engine::{AlarmId, Dialect};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
-use super::{hosted, path};
+use crate::http::extract::{hosted, path};
 use crate::db;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// The largest program text accepted, bytes.
 pub const MAX_PROGRAM_BYTES: usize = 8 * 1024 * 1024;

@@ -1,18 +1,18 @@
 //! Macro variables: read any a program may read; write the common ones (#100–#199) and the
 //! retained ones (#500–#999, saved in the database before the answer).
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::interp::expr::Variables;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
 use crate::db;
 use crate::host::Message;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// A variable and its value (`null`: vacant).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
