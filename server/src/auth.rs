@@ -64,7 +64,11 @@ impl utoipa::Modify for BearerDoc {
         let required = vec![SecurityRequirement::new("bearer", Vec::<String>::new()), SecurityRequirement::default()];
         crate::http::openapi::for_each_api_operation(openapi, |_, _, operation| {
             operation.security = Some(required.clone());
-            crate::http::openapi::error_response(operation, 401, "The service has a token and the request does not carry it");
+            crate::http::openapi::error_response(
+                operation,
+                401,
+                "The service has a token and the request does not carry it",
+            );
         });
     }
 }

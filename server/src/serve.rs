@@ -7,12 +7,12 @@ use std::time::Duration;
 
 use tokio::net::TcpListener;
 
+use crate::db;
 use crate::host::Host;
 use crate::http::state::SHUTDOWN_GRACE;
 use crate::http::{app, AppState};
 use crate::listen::Limits;
 use crate::origin::{self, AllowedOrigins};
-use crate::db;
 
 /// Serves [`app`] on `listener` with the default [`Limits`] until `shutdown` resolves
 /// ([`serve_with`]).

@@ -22,11 +22,11 @@ use serde_json::Value;
 use tokio::sync::{watch, Semaphore};
 use utoipa::{IntoParams, ToSchema};
 
-use crate::http::extract::JsonBody;
-use crate::http::extract::{body, path};
 use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options, Tool};
 use crate::host::now_rfc3339;
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, path};
 use crate::http::{ApiError, AppState, ErrorBody};
 use crate::wire::{FleetResult, MachineDocument};
 

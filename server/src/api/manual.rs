@@ -10,9 +10,9 @@ use fivex_engine::kin::ManualFeed;
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use crate::http::extract::JsonBody;
 use super::panel::{act, refused};
 use super::ControllerStatus;
+use crate::http::extract::JsonBody;
 use crate::http::extract::{body, hosted, path};
 use crate::http::{ApiError, AppState, ErrorBody};
 

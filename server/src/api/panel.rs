@@ -8,11 +8,10 @@ use fivex_engine::controller::{Mode, Refusal};
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use crate::http::extract::JsonBody;
 use super::ControllerStatus;
-use crate::http::extract::body;
-use crate::db;
 use crate::host::{Hosted, Station};
+use crate::http::extract::body;
+use crate::http::extract::JsonBody;
 use crate::http::{ApiError, AppState, ErrorBody};
 
 /// Why the panel ignored an action, for a person.
@@ -57,23 +56,6 @@ pub struct CycleStart {
     pub program: Option<u32>,
 }
 
-/// The text AUTO runs for stored program `number`: that program first (its lines keep their
-/// numbers in alarms), then every other stored program, each under its O number, for M98/G65.
-pub(crate) fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
-    let main = programs.iter().find(|(n, _)| *n == number)?;
-    let mut text = main.1.clone();
-    for (n, t) in programs.iter().filter(|(n, _)| *n != number) {
-        text.push('\n');
-        // A text with its own O number (after `%` lines and comments; the store keeps it equal
-        // to the slot) needs no other.
-        if super::programs::first_number(t).is_none() {
-            text.push_str(&format!("O{n:04}\n"));
-        }
-        text.push_str(t);
-    }
-    Some(text)
-}
-
 /// An optional JSON body: none (or only white space, whatever the content type says) is the
 /// default. Malformed JSON is 400, JSON of the wrong shape 422, as for a `Json` body.
 fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Result<T, ApiError> {
@@ -111,10 +93,7 @@ pub async fn cycle_start(
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let request = optional_json::<CycleStart>(&body)?;
     let text = match request.program {
-        Some(n) => {
-            let programs = db::programs(&state.db, &hosted.id).await?;
-            Some((n, compose(n, &programs).ok_or_else(|| ApiError::NotFound(format!("no program O{n}")))?))
-        }
+        Some(n) => Some((n, crate::service::programs::composed(&state.db, &hosted, n).await?)),
         None => None,
     };
     act(&state, &hosted, |station| {
@@ -407,31 +386,4 @@ pub async fn emergency_stop(
         station.controller.emergency_stop(pressed);
         Ok(())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_selected_program_comes_first_and_the_others_under_their_numbers() {
-        let programs =
-            vec![(1, "G01 X1.\nM98 P2\nM30\n".to_string()), (2, "O0002\nX2.\nM99\n".into()), (3, "X3.\nM99".into())];
-        let text = compose(1, &programs).unwrap();
-        assert!(text.starts_with("G01 X1.\n"), "{text}");
-        assert!(text.contains("\nO0002\nX2.") && text.contains("\nO0003\nX3."), "{text}");
-        assert!(compose(4, &programs).is_none());
-        // The parser's rules for the text's own number: after `%` lines, blanks and comment
-        // lines, `O` or the ISO `:`; a comment naming a number is not one.
-        use super::super::programs::first_number;
-        assert_eq!(first_number("%\n\nO12 (x)\n"), Some(12));
-        assert_eq!(first_number("(header)\n  :0555\nM99\n"), Some(555));
-        assert_eq!(first_number("(O1)\nG01\nO0002\n"), None);
-        assert_eq!(first_number(""), None);
-        // A text with its own number in the ISO form is not given another (two programs 2).
-        let iso = vec![(1, "M98 P2\nM30\n".to_string()), (2, "(sub)\n:0002\nX2.\nM99\n".into())];
-        let text = compose(1, &iso).unwrap();
-        assert!(!text.contains("O0002"), "{text}");
-        assert_eq!(fivex_engine::lang::parse_file(&text).programs.iter().filter(|p| p.number == Some(2)).count(), 1);
-    }
 }

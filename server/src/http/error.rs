@@ -87,3 +87,16 @@ pub struct ErrorBody {
     #[schema(value_type = Option<serde_json::Value>)]
     pub details: Option<serde_json::Value>,
 }
+
+impl From<crate::service::ServiceError> for ApiError {
+    fn from(e: crate::service::ServiceError) -> ApiError {
+        use crate::service::ServiceError;
+        match e {
+            ServiceError::NotFound(why) => ApiError::NotFound(why),
+            ServiceError::Invalid(why, details) => ApiError::Unprocessable(why, details),
+            ServiceError::Conflict(why) => ApiError::Conflict(why),
+            ServiceError::Unavailable(why) => ApiError::Unavailable(why),
+            ServiceError::Database(source) => ApiError::Database(source),
+        }
+    }
+}
