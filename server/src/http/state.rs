@@ -31,7 +31,7 @@ pub struct AppState {
     /// The origins besides the served one whose pages may drive the service.
     allowed_origins: AllowedOrigins,
     /// The fleet runs under way and their progress.
-    pub fleet_runs: api::fleet::Runs,
+    pub fleet_runs: service::fleet_runs::Runs,
     /// What the fleet stream's subscribers share (`api::fleet_view`).
     pub fleet_view: api::fleet_view::FleetView,
 }
@@ -103,7 +103,7 @@ impl AppState {
 
     /// How many fleet runs run at once (the others wait, `queued`).
     pub fn with_fleet_jobs(mut self, jobs: usize) -> Self {
-        self.fleet_runs = api::fleet::Runs::new(jobs);
+        self.fleet_runs = service::fleet_runs::Runs::new(jobs);
         self
     }
 
