@@ -15,8 +15,7 @@ use crate::http::extract::{hosted, path};
 use crate::http::{ApiError, AppState, ErrorBody};
 use crate::service::programs;
 
-/// The largest program text accepted, bytes.
-pub const MAX_PROGRAM_BYTES: usize = 8 * 1024 * 1024;
+pub use crate::service::programs::MAX_PROGRAM_BYTES;
 
 /// A stored program in a list.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]

@@ -5,6 +5,7 @@
 pub mod controllers;
 pub mod fleet_runs;
 pub mod history;
+pub mod panel;
 pub mod parameters;
 pub mod programs;
 pub mod settings;

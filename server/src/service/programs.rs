@@ -8,6 +8,9 @@ use super::ServiceError;
 use crate::db;
 use crate::host::Hosted;
 
+/// The largest program text accepted, bytes.
+pub const MAX_PROGRAM_BYTES: usize = 8 * 1024 * 1024;
+
 /// A problem `check` finds in a program.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Problem {
