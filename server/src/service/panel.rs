@@ -330,3 +330,74 @@ pub fn execute<T>(
     hosted.publish(messages);
     Ok((result?, seen))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::Spec;
+    use fivex_engine::machine::MachineConfig;
+
+    fn hosted() -> Hosted {
+        Hosted::new(Spec {
+            id: "c1".into(),
+            name: "test".into(),
+            dialect: fivex_engine::Dialect::Fanuc,
+            machine: MachineConfig::preset("mill3").expect("the mill3 preset"),
+            created_at: "2025-01-01T00:00:00Z".into(),
+            speed: 1.0,
+        })
+    }
+
+    fn refusal(command: PanelCommand) -> String {
+        command.check().expect_err("refused").to_string()
+    }
+
+    #[test]
+    fn values_out_of_range_are_refused_before_the_controller() {
+        let overrides = |feed, rapid| PanelCommand::Overrides { feed, rapid };
+        assert_eq!(refusal(overrides(Some(201.0), None)), "feed override must be 0–200 %");
+        assert_eq!(refusal(overrides(Some(50.0), Some(f64::NAN))), "rapid override must be 0–100 %");
+        assert!(overrides(Some(200.0), Some(0.0)).check().is_ok());
+        let handle = PanelCommand::Handle { target: ManualTarget::Axis('X'), amount: 2.0e5 };
+        assert_eq!(refusal(handle), "HANDLE needs a finite amount (at most 1e5)");
+        let signals = PanelCommand::ManualSignals {
+            alngh: None,
+            rghth: None,
+            rndh: None,
+            tb_base: None,
+            handle_select: Some(32),
+        };
+        assert_eq!(refusal(signals), "handle_select is a 5-bit code (0–31)");
+        assert_eq!(mode("JOG").unwrap(), Mode::Jog);
+        assert!(mode("fast").is_err());
+        assert_eq!(letter(" b ").unwrap(), 'B');
+        assert!(ManualTarget::of(Some("X"), None, Some("A")).is_err());
+    }
+
+    #[test]
+    fn commands_change_the_controller_and_a_reset_ends_the_run() {
+        let hosted = hosted();
+        let mut station = hosted.station();
+        let mut ended = Vec::new();
+        let switches = PanelCommand::Switches { single_block: Some(true), optional_stop: None, block_delete: None };
+        assert_eq!(apply(&mut station, "c1", switches, &mut ended), Ok(Applied::Done));
+        assert!(station.controller.panel.single_block && !station.controller.panel.optional_stop);
+        let overrides = PanelCommand::Overrides { feed: Some(50.0), rapid: None };
+        apply(&mut station, "c1", overrides, &mut ended).unwrap();
+        assert_eq!(station.controller.panel.feed_override, 0.5);
+        let mdi = PanelCommand::Mdi { text: "G91 G01 X10. F100".into() };
+        apply(&mut station, "c1", mdi, &mut ended).unwrap();
+        assert_eq!(station.controller.mode(), Mode::Mdi);
+        assert_ne!(station.controller.run_state(), RunState::Idle);
+        let another = PanelCommand::CycleStart { program: Some((1, "G01 X1.\nM30\n".into())) };
+        assert_eq!(apply(&mut station, "c1", another, &mut ended), Err(Refused::ProgramUnderWay));
+        assert_eq!(
+            apply(&mut station, "c1", PanelCommand::SetMode { mode: Mode::Jog }, &mut ended),
+            Err(Refused::Panel(Refusal::Busy))
+        );
+        assert!(ended.is_empty());
+        apply(&mut station, "c1", PanelCommand::Reset, &mut ended).unwrap();
+        assert_eq!(station.controller.run_state(), RunState::Idle);
+        assert!(matches!(ended.as_slice(), [Record::Run { result, .. }] if *result == "reset"), "{ended:?}");
+    }
+}
