@@ -11,7 +11,8 @@ use crate::http::ErrorBody;
 use crate::openapi_doc::RejectionDoc;
 use crate::origin::OriginDoc;
 
-/// The OpenAPI 3.1 description of the service, generated from the handlers above.
+/// The OpenAPI 3.1 description of the service: info, shared schemas and tags; the operations
+/// come from the handlers' `#[utoipa::path]` through the router (`router::routes`).
 #[derive(OpenApi)]
 #[openapi(
     info(
