@@ -39,7 +39,7 @@ pub async fn asset(uri: Uri) -> Response {
             let mime = file.metadata.mimetype().to_string();
             with_type(file.data.into_owned(), &mime, "public, max-age=31536000, immutable")
         }
-        None => crate::serve::ApiError::NotFound(format!("no file {path}")).into_response(),
+        None => crate::http::ApiError::NotFound(format!("no file {path}")).into_response(),
     }
 }
 

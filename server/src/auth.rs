@@ -11,7 +11,7 @@ use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use percent_encoding::percent_decode_str;
 
-use crate::serve::{ApiError, AppState};
+use crate::http::{ApiError, AppState};
 
 /// The token of an `Authorization: Bearer …` header.
 fn bearer(headers: &HeaderMap) -> Option<&[u8]> {
@@ -62,9 +62,13 @@ impl utoipa::Modify for BearerDoc {
             .get_or_insert_with(Default::default)
             .add_security_scheme("bearer", SecurityScheme::Http(scheme.build()));
         let required = vec![SecurityRequirement::new("bearer", Vec::<String>::new()), SecurityRequirement::default()];
-        crate::serve::for_each_api_operation(openapi, |_, _, operation| {
+        crate::http::openapi::for_each_api_operation(openapi, |_, _, operation| {
             operation.security = Some(required.clone());
-            crate::serve::error_response(operation, 401, "The service has a token and the request does not carry it");
+            crate::http::openapi::error_response(
+                operation,
+                401,
+                "The service has a token and the request does not carry it",
+            );
         });
     }
 }

@@ -11,7 +11,7 @@ use axum::http::{header, HeaderMap, Method, StatusCode};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 
-use crate::serve::ApiError;
+use crate::http::ApiError;
 
 /// The routes whose body is not JSON (they check their own content type).
 const TEXT_ROUTES: &[(Method, &str)] = &[(Method::PUT, "/api/v1/controllers/{id}/programs/{number}")];

@@ -93,6 +93,14 @@ impl Db {
     pub fn is_closed(&self) -> bool {
         self.writes.is_closed() || self.reads.is_closed()
     }
+
+    /// Whether the database answers: the readers run a query, and the writer is there (a query
+    /// on it would wait behind the writes).
+    pub async fn ping(&self) -> Result<(), sqlx::Error> {
+        let writer = if self.writes.is_closed() { Err(sqlx::Error::PoolClosed) } else { Ok(()) };
+        let reader = sqlx::query("SELECT 1").execute(&self.reads).await.map(|_| ());
+        writer.and(reader)
+    }
 }
 
 /// Opens the SQLite database at `path`, creating the file if it is missing, and brings its schema

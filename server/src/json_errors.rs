@@ -14,7 +14,7 @@ use axum::http::{header, HeaderMap};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 
-use crate::serve::ApiError;
+use crate::http::ApiError;
 
 /// The most of a plain-text error body kept as the message (they are one line).
 const MESSAGE_BYTES: usize = 4096;

@@ -45,7 +45,7 @@ use tokio::sync::{watch, Notify};
 use tokio::time::Instant;
 use tower::ServiceExt;
 
-use crate::serve::ApiError;
+use crate::http::ApiError;
 
 /// The limits of `fivex serve` on connections (flags `--header-timeout`, `--idle-timeout`,
 /// `--max-connections`, `--max-connections-per-client`, `--max-websockets`,

@@ -11,7 +11,7 @@ use serde_json::Value;
 use utoipa::openapi::path::{Operation, Parameter, ParameterBuilder, ParameterIn};
 use utoipa::openapi::{ObjectBuilder, Required, Type};
 
-use crate::serve::{error_response, for_each_api_operation};
+use crate::http::openapi::{error_response, for_each_api_operation};
 
 /// The modifier (`#[openapi(modifiers(…))]`).
 pub struct RejectionDoc;

@@ -35,7 +35,7 @@ use axum::http::{header, HeaderMap, Method, StatusCode, Uri};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 
-use crate::serve::{ApiError, AppState};
+use crate::http::{ApiError, AppState};
 
 /// A web origin as browsers send it in `Origin`: `scheme://host[:port]`, lower case.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -172,17 +172,17 @@ const HOST_REFUSED: &str =
 
 impl utoipa::Modify for OriginDoc {
     fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
-        crate::serve::for_each_api_operation(openapi, |method, path, operation| {
+        crate::http::openapi::for_each_api_operation(openapi, |method, path, operation| {
             let why = if method != Method::GET || path.ends_with("/stream") {
                 "A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to"
             } else {
                 HOST_REFUSED
             };
-            crate::serve::error_response(operation, 403, why);
+            crate::http::openapi::error_response(operation, 403, why);
         });
         // The Host check answers every request, `/healthz` too.
         if let Some(health) = openapi.paths.paths.get_mut("/healthz").and_then(|item| item.get.as_mut()) {
-            crate::serve::error_response(health, 403, HOST_REFUSED);
+            crate::http::openapi::error_response(health, 403, HOST_REFUSED);
         }
     }
 }

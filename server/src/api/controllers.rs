@@ -1,21 +1,19 @@
 //! Creating, listing, configuring and removing controllers.
 
-use super::Addressed;
-use std::sync::Arc;
+use crate::http::extract::Addressed;
 
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use axum::http::StatusCode;
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::Dialect;
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path, ControllerStatus};
-use crate::db::{self, ControllerRow};
-use crate::host::{now_rfc3339, Hosted, Spec, MAX_SPEED};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use super::ControllerStatus;
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::controllers::{self, NewController};
 
 /// `POST /controllers`: a name, and the machine as a preset name or a machine document (a model
 /// or a vendor parameter list, as `--machine FILE.json` takes).
@@ -48,31 +46,6 @@ pub struct UpdateController {
     pub speed: Option<f64>,
 }
 
-fn check_name(name: &str) -> Result<String, ApiError> {
-    let name = name.trim();
-    if name.is_empty() || name.chars().count() > 200 {
-        return Err(ApiError::Unprocessable("name must have 1 to 200 characters".into(), None));
-    }
-    Ok(name.to_string())
-}
-
-fn check_speed(speed: f64) -> Result<f64, ApiError> {
-    if !(speed.is_finite() && speed > 0.0 && speed <= MAX_SPEED) {
-        return Err(ApiError::Unprocessable(format!("speed must be above 0 and at most {MAX_SPEED}"), None));
-    }
-    Ok(speed)
-}
-
-fn machine_of(request: &CreateController) -> Result<MachineConfig, ApiError> {
-    let bad = |why: String| ApiError::Unprocessable(why, None);
-    match (&request.preset, &request.machine) {
-        (Some(preset), None) => MachineConfig::preset(preset)
-            .ok_or_else(|| bad(format!("unknown preset '{preset}' ({})", MachineConfig::PRESETS.join(", ")))),
-        (None, Some(machine)) => fivex_engine::machine_file::parse(&machine.to_string()).map_err(bad),
-        _ => Err(bad("give exactly one of preset and machine".into())),
-    }
-}
-
 /// Creates a controller in reset state (AUTO, idle) and keeps it in the database.
 #[utoipa::path(
     post,
@@ -91,54 +64,14 @@ pub async fn create(
     request: Result<JsonBody<CreateController>, ApiError>,
 ) -> Result<(StatusCode, Json<ControllerStatus>), ApiError> {
     let request = body(request)?;
-    let name = check_name(&request.name)?;
-    let machine = machine_of(&request)?;
-    // A parameter list gives its own dialect unless the request names one.
-    let given: Option<fivex_engine::vendor::ParamFile> = request
-        .machine
-        .as_ref()
-        .filter(|m| m.get("parameters").is_some())
-        .and_then(|m| serde_json::from_value(m.clone()).ok());
-    let dialect: Dialect = match (&request.dialect, &given) {
-        (Some(d), _) => d.parse().map_err(|e: String| ApiError::Unprocessable(e, None))?,
-        (None, Some(file)) => file.dialect,
-        (None, None) => Dialect::Fanuc,
+    let new = NewController {
+        name: request.name,
+        preset: request.preset,
+        machine: request.machine,
+        dialect: request.dialect,
+        speed: request.speed,
     };
-    let extra = match &given {
-        Some(file) if file.dialect == dialect => super::parameters::extras(dialect, &machine, &file.parameters),
-        _ => Default::default(),
-    };
-    let speed = check_speed(request.speed.unwrap_or(1.0))?;
-    let row = ControllerRow {
-        id: uuid::Uuid::new_v4().simple().to_string(),
-        name: name.clone(),
-        dialect: dialect.name().to_string(),
-        machine_json: serde_json::to_string(&machine).map_err(|e| ApiError::Unprocessable(e.to_string(), None))?,
-        created_at: now_rfc3339(),
-    };
-    let extra_json = serde_json::to_string(&extra).unwrap_or_else(|_| "{}".into());
-    db::insert_controller_with(&state.db, &row, speed, &extra_json).await?;
-    let machine_name = machine.name.clone();
-    let hosted = Arc::new(Hosted::new(Spec {
-        id: row.id.clone(),
-        name,
-        dialect,
-        machine,
-        created_at: row.created_at.clone(),
-        speed,
-    }));
-    {
-        let mut station = hosted.station();
-        // Everything the request's document sets that fivex does not carry out (its unknown
-        // fields too, which the stored model no longer holds).
-        station.unmodelled = match &request.machine {
-            Some(doc) => fivex_engine::machine_file::unmodelled(&doc.to_string()),
-            None => super::parameters::unmodelled(dialect, &station.machine, &extra),
-        };
-        station.extra_parameters = extra;
-    }
-    state.host.add(hosted.clone());
-    tracing::info!(id = %row.id, name = %row.name, machine = %machine_name, "controller created");
+    let hosted = controllers::create(&state.db, &state.host, new).await?;
     Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))
 }
 
@@ -190,17 +123,7 @@ pub async fn update(
     request: Result<JsonBody<UpdateController>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let request = body(request)?;
-    let name = match &request.name {
-        Some(n) => check_name(n)?,
-        None => hosted.name(),
-    };
-    let speed = match request.speed {
-        Some(s) => check_speed(s)?,
-        None => hosted.speed(),
-    };
-    db::update_controller(&state.db, &hosted.id, &name, speed).await?;
-    hosted.rename(name);
-    hosted.set_speed(speed);
+    controllers::update(&state.db, &hosted, request.name.as_deref(), request.speed).await?;
     Ok(Json(ControllerStatus::now(&hosted)))
 }
 
@@ -223,9 +146,7 @@ pub async fn remove(
 ) -> Result<StatusCode, ApiError> {
     let id = path(id)?;
     let hosted = hosted(&state, &id)?;
-    db::delete_controller(&state.db, &hosted.id).await?;
-    state.host.remove(&id);
-    tracing::info!(%id, "controller removed");
+    controllers::remove(&state.db, &state.host, &hosted).await?;
     Ok(StatusCode::NO_CONTENT)
 }
 
@@ -259,20 +180,8 @@ pub async fn clone(
     request: Result<JsonBody<CloneController>, ApiError>,
 ) -> Result<(StatusCode, Json<ControllerStatus>), ApiError> {
     let source = hosted(&state, &path(id)?)?;
-    let name = check_name(&body(request)?.name)?;
-    let id = uuid::Uuid::new_v4().simple().to_string();
-    if !db::clone_controller(&state.db, &source.id, &id, &name, &now_rfc3339()).await? {
-        return Err(ApiError::NotFound(format!("no controller {}", source.id)));
-    }
-    let row = db::controller(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))?;
-    let settings = db::controller_settings(&state.db).await?;
-    let Some(hosted) = crate::serve::load_controller(&state.db, row, &settings).await? else {
-        db::delete_controller(&state.db, &id).await?;
-        return Err(ApiError::Unprocessable("the source controller's machine cannot be loaded".into(), None));
-    };
-    let hosted = Arc::new(hosted);
-    state.host.add(hosted.clone());
-    tracing::info!(%id, from = %source.id, "controller cloned");
+    let name = body(request)?.name;
+    let hosted = controllers::clone(&state.db, &state.host, &source, &name).await?;
     Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))
 }
 

@@ -1,14 +1,10 @@
-//! Fleet runs (`docs/api.md` "Fleet runs", `docs/fleet.md`): `POST /fleet/runs` runs one program
-//! on many machines — presets, machine documents, library machines, existing controllers — on
-//! a blocking thread with one worker per core, so the service keeps answering; at most
-//! `--fleet-jobs` runs at once, the others wait `queued`; `POST /fleet/runs/{id}/cancel` stops
-//! one. The run is kept in SQLite (`GET /fleet/runs`, `GET /fleet/runs/{id}`), and its progress
-//! goes out over `GET /fleet/runs/{id}/stream` (a websocket).
+//! Fleet runs (`docs/api.md` "Fleet runs", `docs/fleet.md`) over HTTP: `POST /fleet/runs` runs
+//! one program on many machines — presets, machine documents, library machines, existing
+//! controllers — (`service::fleet_runs`: queued, run, stored); `POST /fleet/runs/{id}/cancel`
+//! stops one; `GET /fleet/runs`, `GET /fleet/runs/{id}` read them, and the progress goes out
+//! over `GET /fleet/runs/{id}/stream` (a websocket).
 
-use std::collections::{BTreeMap, HashMap};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::collections::BTreeMap;
 
 use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::ws::{CloseFrame, Message as Ws, Utf8Bytes, WebSocket, WebSocketUpgrade};
@@ -19,101 +15,16 @@ use fivex_engine::Dialect;
 use futures_util::{SinkExt, StreamExt};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use tokio::sync::{watch, Semaphore};
+use tokio::sync::watch;
 use utoipa::{IntoParams, ToSchema};
 
-use super::json_body::JsonBody;
-use super::{body, path};
-use crate::db::{self, FleetRunRow};
-use crate::fleet::{self, Entry, Event, Options, Tool};
-use crate::host::now_rfc3339;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::db::FleetRunRow;
+use crate::fleet::{self, Entry, Options, Tool};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, path};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::fleet_runs::{self, MachineProgress, Plan, Progress, Started};
 use crate::wire::{FleetResult, MachineDocument};
-
-/// The most machines one fleet run may have.
-pub const MAX_MACHINES: usize = 200;
-
-/// The fleet runs queued or under way, by id (a run leaves when it is stored as over), and the
-/// places to run in (`--fleet-jobs`).
-#[derive(Clone, Debug)]
-pub struct Runs {
-    /// The runs, and whether the service stops (then no run is added: every one added before
-    /// was interrupted).
-    runs: Arc<Mutex<(HashMap<String, Run>, bool)>>,
-    slots: Arc<Semaphore>,
-}
-
-/// One run queued or under way: its progress and how to stop it.
-#[derive(Clone, Debug)]
-struct Run {
-    progress: watch::Receiver<Progress>,
-    /// Read by the engine before every block (`fleet::Options::cancel`).
-    cancel: Arc<AtomicBool>,
-    /// Why it was stopped (`cancelled`, `interrupted`), for the task that waits in the queue.
-    stopped: Arc<watch::Sender<Option<&'static str>>>,
-}
-
-impl Default for Runs {
-    fn default() -> Self {
-        Runs::new(1)
-    }
-}
-
-impl Runs {
-    /// At most `jobs` runs at once (at least 1).
-    pub fn new(jobs: usize) -> Self {
-        Runs { runs: Default::default(), slots: Arc::new(Semaphore::new(jobs.max(1))) }
-    }
-
-    fn lock(&self) -> std::sync::MutexGuard<'_, (HashMap<String, Run>, bool)> {
-        self.runs.lock().unwrap_or_else(|e| e.into_inner())
-    }
-
-    fn get(&self, id: &str) -> Option<Run> {
-        self.lock().0.get(id).cloned()
-    }
-
-    /// Adds a run; `false` once the service stops.
-    fn put(&self, id: &str, run: Run) -> bool {
-        let mut runs = self.lock();
-        if runs.1 {
-            return false;
-        }
-        runs.0.insert(id.to_string(), run);
-        true
-    }
-
-    fn remove(&self, id: &str) {
-        self.lock().0.remove(id);
-    }
-
-    /// Stop a run (the first reason given is kept); `None` if it is not queued or running.
-    fn stop(&self, id: &str, why: &'static str) -> Option<watch::Receiver<Progress>> {
-        let run = self.get(id)?;
-        run.stopped.send_if_modified(|s| s.is_none() && s.replace(why).is_none());
-        run.cancel.store(true, Ordering::Relaxed);
-        Some(run.progress)
-    }
-
-    /// Stop every run, recorded as `interrupted`, and take no new one (the service shuts down).
-    pub fn interrupt_all(&self) {
-        let ids: Vec<String> = {
-            let mut runs = self.lock();
-            runs.1 = true;
-            runs.0.keys().cloned().collect()
-        };
-        for id in ids {
-            self.stop(&id, "interrupted");
-        }
-    }
-
-    /// Resolves when no run is queued or under way (each has been stored as over).
-    pub async fn all_ended(&self) {
-        while !self.lock().0.is_empty() {
-            tokio::time::sleep(Duration::from_millis(20)).await;
-        }
-    }
-}
 
 /// `POST /fleet/runs`: the program and the machines (at least one of `presets`, `machines`,
 /// `library`, `controllers`; at most 200 machines in all, so at most 200 in each list).
@@ -156,37 +67,6 @@ pub struct CreateOptions {
     /// `true` (default): answer with the fleet array when the run is done; `false`: answer 202
     /// at once with the run's id (follow it on `/fleet/runs/{id}/stream`).
     pub wait: Option<bool>,
-}
-
-/// One machine's state in a progress message.
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct MachineProgress {
-    pub machine: String,
-    /// `queued`, `running`, `completed`, `alarm` or `cancelled` (the run was stopped before
-    /// it finished).
-    #[schema(value_type = crate::wire::words::MachineState)]
-    pub state: &'static str,
-    /// Simulated seconds, once done.
-    pub cycle_time_s: Option<f64>,
-}
-
-/// `{"type": "progress", …}`: where a fleet run is.
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct Progress {
-    /// Always `"progress"`.
-    #[serde(rename = "type")]
-    #[schema(value_type = crate::wire::words::ProgressType, inline)]
-    pub kind: &'static str,
-    pub id: String,
-    /// The run's status: `queued`, `running`, `done`, `cancelled` or `interrupted`.
-    #[schema(value_type = crate::wire::words::FleetRunStatus)]
-    pub status: &'static str,
-    pub total: usize,
-    /// Machines done.
-    pub done: usize,
-    /// The run is over (the last message before the socket closes).
-    pub finished: bool,
-    pub machines: Vec<MachineProgress>,
 }
 
 /// A stored fleet run in a list.
@@ -302,54 +182,15 @@ pub async fn create(
         None => Dialect::Fanuc,
     };
     let entries = entries(&state, &request, dialect)?;
-    if entries.is_empty() {
-        return Err(bad("no machines: give presets, machines, library or controllers"));
-    }
-    if entries.len() > MAX_MACHINES {
-        return Err(bad(format!("{} machines: at most {MAX_MACHINES} in one run", entries.len())));
-    }
-    if let Some(tools) = &request.tools {
-        fleet::check_tools(tools).map_err(bad)?;
-    }
-    let row = FleetRunRow {
-        id: uuid::Uuid::new_v4().simple().to_string(),
-        created_at: now_rfc3339(),
-        finished_at: None,
-        status: "queued".into(),
-        machines: entries.len() as u32,
-        completed: 0,
-        alarms: 0,
-        program: request.program.clone(),
+    let plan = Plan {
         request_json: serde_json::to_string(&request).unwrap_or_else(|_| "{}".into()),
-        results_json: None,
+        options: Options { tools: request.tools, report: request.report, ..Options::default() },
+        program: request.program,
+        entries,
     };
+    let Started { row, end: task } = fleet_runs::start(&state.db, &state.fleet_runs, plan).await?;
     let id = row.id.clone();
-    let progress = Progress {
-        kind: "progress",
-        id: id.clone(),
-        status: "queued",
-        total: entries.len(),
-        done: 0,
-        finished: false,
-        machines: entries
-            .iter()
-            .map(|e| MachineProgress { machine: e.name.clone(), state: "queued", cycle_time_s: None })
-            .collect(),
-    };
-    let (tx, rx) = watch::channel(progress);
-    let cancel = Arc::new(AtomicBool::new(false));
-    let stopped = Arc::new(watch::channel(None).0);
-    if !state.fleet_runs.put(&id, Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() }) {
-        return Err(ApiError::Unavailable("the service is stopping: no new fleet runs".into()));
-    }
-    if let Err(e) = db::insert_fleet_run(&state.db, &row).await {
-        state.fleet_runs.remove(&id);
-        return Err(e.into());
-    }
-    let opts =
-        Options { tools: request.tools.clone(), report: request.report, cancel: Some(cancel), ..Options::default() };
-    let task = tokio::spawn(execute(state.clone(), id.clone(), request.program, entries, opts, tx, stopped));
-    let location = format!("{}/fleet/runs/{id}", crate::serve::API_PREFIX);
+    let location = format!("{}/fleet/runs/{id}", crate::http::API_PREFIX);
     let mut headers = HeaderMap::new();
     if let Ok(v) = HeaderValue::from_str(&location) {
         headers.insert(header::LOCATION, v);
@@ -367,75 +208,6 @@ pub async fn create(
         "cancelled" => Err(ApiError::Conflict(format!("fleet run {id} was cancelled"))),
         _ => Err(ApiError::Unavailable(format!("fleet run {id} was interrupted: the service is stopping"))),
     }
-}
-
-/// A fleet run from the queue to its record: waits for a place (`--fleet-jobs`) unless it is
-/// stopped first, runs on a blocking thread, stores the outcome and answers it (`done`,
-/// `cancelled` or `interrupted`, and the fleet array with `null` for each machine that did not
-/// finish).
-async fn execute(
-    state: AppState,
-    id: String,
-    program: String,
-    entries: Vec<Entry>,
-    opts: Options,
-    tx: watch::Sender<Progress>,
-    stopped: Arc<watch::Sender<Option<&'static str>>>,
-) -> (&'static str, Vec<Option<FleetResult>>) {
-    let total = entries.len();
-    let mut why = stopped.subscribe();
-    let slot = tokio::select! {
-        slot = state.fleet_runs.slots.clone().acquire_owned() => slot.ok(),
-        _ = why.wait_for(Option::is_some) => None,
-    };
-    let mut results: Vec<Option<FleetResult>> = vec![None; total];
-    if slot.is_some() && stopped.borrow().is_none() {
-        if let Err(e) = db::start_fleet_run(&state.db, &id).await {
-            tracing::error!(%id, error = %e, "fleet run start not stored");
-        }
-        tx.send_modify(|p| p.status = "running");
-        let tx = Arc::new(tx.clone());
-        let events = tx.clone();
-        results = tokio::task::spawn_blocking(move || {
-            let on_event = |e: Event| {
-                events.send_modify(|p| match e {
-                    Event::Started { index, .. } => p.machines[index].state = "running",
-                    Event::Finished { index, status, cycle_time_s, .. } => {
-                        p.machines[index].state = status;
-                        p.machines[index].cycle_time_s = Some(cycle_time_s);
-                        p.done += 1;
-                    }
-                    Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
-                })
-            };
-            fleet::run_fleet(&program, &entries, &opts, &on_event)
-        })
-        .await
-        .unwrap_or_else(|_| vec![None; total]);
-    }
-    drop(slot);
-    // A stop that came after every machine finished changes nothing.
-    let status = match *stopped.borrow() {
-        Some(why) if results.iter().any(Option::is_none) => why,
-        _ => "done",
-    };
-    let completed =
-        results.iter().flatten().filter(|r| r.summary.status == crate::wire::RunStatus::Completed).count() as u32;
-    let alarms = results.iter().flatten().count() as u32 - completed;
-    let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
-    if let Err(e) = db::finish_fleet_run(&state.db, &id, status, &now_rfc3339(), completed, alarms, &json).await {
-        tracing::error!(%id, error = %e, "fleet run not stored");
-    }
-    tx.send_modify(|p| {
-        p.status = status;
-        p.finished = true;
-        for m in p.machines.iter_mut().filter(|m| matches!(m.state, "queued" | "running")) {
-            m.state = "cancelled";
-        }
-    });
-    state.fleet_runs.remove(&id);
-    tracing::info!(%id, machines = total, completed, alarms, status, "fleet run over");
-    (status, results)
 }
 
 /// Stops a queued or running fleet run: a queued run never starts, a running one stops before
@@ -459,18 +231,7 @@ pub async fn cancel(
     id: Result<Path<String>, PathRejection>,
 ) -> Result<Json<FleetRunInfo>, ApiError> {
     let id = path(id)?;
-    let stopping = state.fleet_runs.stop(&id, "cancelled");
-    if let Some(mut progress) = stopping.clone() {
-        // The engine stops within a block; storing the outcome takes a moment more.
-        let over = progress.wait_for(|p| p.finished);
-        if tokio::time::timeout(Duration::from_secs(10), over).await.is_err() {
-            tracing::warn!(%id, "fleet run not stopped 10 s after its cancel");
-        }
-    }
-    let row = db::fleet_run(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no fleet run {id}")))?;
-    if stopping.is_none() {
-        return Err(ApiError::Conflict(format!("fleet run {id} is already over ({})", row.status)));
-    }
+    let row = fleet_runs::cancel(&state.db, &state.fleet_runs, &id).await?;
     Ok(Json(FleetRunInfo::of(&row)))
 }
 
@@ -499,7 +260,7 @@ pub async fn list(
     q: Result<Query<Limit>, QueryRejection>,
 ) -> Result<Json<Vec<FleetRunInfo>>, ApiError> {
     let q = q.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
-    let rows = db::fleet_runs(&state.db, q.limit.unwrap_or(100).clamp(1, 10_000)).await?;
+    let rows = fleet_runs::list(&state.db, q.limit.unwrap_or(100)).await?;
     Ok(Json(rows.iter().map(FleetRunInfo::of).collect()))
 }
 
@@ -521,7 +282,7 @@ pub async fn get(
     id: Result<Path<String>, PathRejection>,
 ) -> Result<Json<FleetRun>, ApiError> {
     let id = path(id)?;
-    let row = db::fleet_run(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no fleet run {id}")))?;
+    let row = fleet_runs::get(&state.db, &id).await?;
     Ok(Json(FleetRun {
         info: FleetRunInfo::of(&row),
         request: serde_json::from_str(&row.request_json).unwrap_or(Value::Null),
@@ -550,12 +311,13 @@ pub async fn stream(
     upgrade: WebSocketUpgrade,
 ) -> Result<Response, ApiError> {
     let id = path(id)?;
-    if let Some(run) = state.fleet_runs.get(&id) {
-        return Ok(upgrade.on_upgrade(move |socket| session(socket, state, Some(run.progress), None)));
+    match fleet_runs::follow(&state.db, &state.fleet_runs, &id).await? {
+        Ok(progress) => Ok(upgrade.on_upgrade(move |socket| session(socket, state, Some(progress), None))),
+        Err(row) => {
+            let last = stored_progress(&row);
+            Ok(upgrade.on_upgrade(move |socket| session(socket, state, None, Some(last))))
+        }
     }
-    let row = db::fleet_run(&state.db, &id).await?.ok_or_else(|| ApiError::NotFound(format!("no fleet run {id}")))?;
-    let last = stored_progress(&row);
-    Ok(upgrade.on_upgrade(move |socket| session(socket, state, None, Some(last))))
 }
 
 /// The machines' names in the order of a stored request (`entries`' order), for those a
@@ -699,7 +461,7 @@ pub async fn library() -> Json<Vec<LibraryMachine>> {
     )
 )]
 pub async fn library_one(name: Result<Path<String>, PathRejection>) -> Result<Json<LibraryMachine>, ApiError> {
-    let name = super::path(name)?;
+    let name = crate::http::extract::path(name)?;
     crate::fleet::LIBRARY
         .iter()
         .find(|(n, _)| *n == name)

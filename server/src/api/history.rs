@@ -1,14 +1,14 @@
 //! Alarms (active and history) and the run history of a controller.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::QueryRejection;
 use axum::extract::{Json, Query, State};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
-use crate::db;
 use crate::host::stream::AlarmInfo;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::history;
 
 /// How many history rows an answer holds at most by default, and at all.
 const DEFAULT_LIMIT: u32 = 100;
@@ -78,7 +78,7 @@ pub async fn alarms(
 ) -> Result<Json<Alarms>, ApiError> {
     let limit = limit(q)?;
     let active = hosted.station().controller.alarms().iter().map(AlarmInfo::from).collect();
-    let history = db::alarm_history(&state.db, &hosted.id, limit)
+    let history = history::alarms(&state.db, &hosted, limit)
         .await?
         .into_iter()
         .map(|r| PastAlarm {
@@ -107,7 +107,7 @@ pub async fn runs(
     q: Result<Query<Limit>, QueryRejection>,
 ) -> Result<Json<Vec<Run>>, ApiError> {
     let limit = limit(q)?;
-    let rows = db::run_history(&state.db, &hosted.id, limit).await?;
+    let rows = history::runs(&state.db, &hosted, limit).await?;
     Ok(Json(
         rows.into_iter()
             .map(|r| Run {

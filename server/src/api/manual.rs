@@ -2,18 +2,20 @@
 //! right angles, table vertical and horizontal), tool tip centre rotation, reference return,
 //! and the manual settings (jog feed, manual absolute, Syntec R518/R519).
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
-use fivex_engine::controller::{Controller, ManualCoordinates};
+use fivex_engine::controller::ManualCoordinates;
 use fivex_engine::kin::ManualFeed;
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::panel::{act, refused};
-use super::{body, hosted, path, ControllerStatus};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use super::panel::{command, status_after};
+use super::ControllerStatus;
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::panel::{self, Applied, ManualTarget, PanelCommand};
 
 /// What a JOG or HANDLE move moves: exactly one of `axis`, `feed`, `tip_rotation`.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
@@ -32,29 +34,6 @@ pub struct ManualMove {
     pub positive: Option<bool>,
     /// HANDLE: the distance, mm or degrees (the hand wheel's pulses times its increment).
     pub amount: Option<f64>,
-}
-
-enum Target {
-    Axis(char),
-    Feed(ManualFeed),
-    TipRotation(char),
-}
-
-fn letter(s: &str) -> Result<char, ApiError> {
-    let mut chars = s.trim().chars();
-    match (chars.next(), chars.next()) {
-        (Some(c), None) if c.is_ascii_alphabetic() => Ok(c.to_ascii_uppercase()),
-        _ => Err(ApiError::Unprocessable(format!("'{s}' is not an axis letter"), None)),
-    }
-}
-
-fn target(m: &ManualMove) -> Result<Target, ApiError> {
-    match (&m.axis, m.feed, &m.tip_rotation) {
-        (Some(a), None, None) => Ok(Target::Axis(letter(a)?)),
-        (None, Some(f), None) => Ok(Target::Feed(f)),
-        (None, None, Some(a)) => Ok(Target::TipRotation(letter(a)?)),
-        _ => Err(ApiError::Unprocessable("give exactly one of axis, feed and tip_rotation".into(), None)),
-    }
 }
 
 /// JOG: move until `jog-stop` (or a stroke limit) at the jog feed, in JOG mode.
@@ -76,11 +55,12 @@ pub async fn jog(
     id: Result<Path<String>, PathRejection>,
     request: Result<JsonBody<ManualMove>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    manual_move(state, id, request, |r| {
-        r.positive
-            .map(How::Jog)
-            .ok_or_else(|| ApiError::Unprocessable("JOG needs positive: true or false".into(), None))
-    })
+    let hosted = hosted(&state, &path(id)?)?;
+    let request = body(request)?;
+    let target = target(&request)?;
+    let positive =
+        request.positive.ok_or_else(|| ApiError::Unprocessable("JOG needs positive: true or false".into(), None))?;
+    status_after(&state, &hosted, PanelCommand::Jog { target, positive })
 }
 
 /// Stop a JOG move (decelerating along its path).
@@ -99,10 +79,7 @@ pub async fn jog_stop(
     id: Result<Path<String>, PathRejection>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
-    act(&state, &hosted, |station| {
-        station.controller.jog_stop();
-        Ok(())
-    })
+    status_after(&state, &hosted, PanelCommand::JogStop)
 }
 
 /// HANDLE: move by `amount` (stopping at the strokes), in HANDLE mode.
@@ -124,42 +101,17 @@ pub async fn handle(
     id: Result<Path<String>, PathRejection>,
     request: Result<JsonBody<ManualMove>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    manual_move(state, id, request, |r| {
-        r.amount
-            .filter(|a| a.is_finite() && a.abs() <= 1.0e5)
-            .map(How::Handle)
-            .ok_or_else(|| ApiError::Unprocessable("HANDLE needs a finite amount (at most 1e5)".into(), None))
-    })
-}
-
-/// How a manual move goes: JOG in a direction until stopped, or HANDLE by an amount.
-enum How {
-    Jog(bool),
-    Handle(f64),
-}
-
-/// A JOG or HANDLE request: its target and how, then the controller's command.
-fn manual_move(
-    state: AppState,
-    id: Result<Path<String>, PathRejection>,
-    request: Result<JsonBody<ManualMove>, ApiError>,
-    how: impl FnOnce(&ManualMove) -> Result<How, ApiError>,
-) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let request = body(request)?;
-    let (target, how) = (target(&request)?, how(&request)?);
-    act(&state, &hosted, |station| {
-        let c: &mut Controller = &mut station.controller;
-        match (target, how) {
-            (Target::Axis(a), How::Jog(p)) => c.jog_start(a, p),
-            (Target::Feed(f), How::Jog(p)) => c.jog_direction(f, p),
-            (Target::TipRotation(a), How::Jog(p)) => c.jog_tip_rotation(a, p),
-            (Target::Axis(a), How::Handle(x)) => c.handle(a, x),
-            (Target::Feed(f), How::Handle(x)) => c.handle_direction(f, x),
-            (Target::TipRotation(a), How::Handle(x)) => c.handle_tip_rotation(a, x),
-        }
-        .map_err(refused)
-    })
+    let target = target(&request)?;
+    // A missing amount is refused as an amount out of range is (`PanelCommand::check`).
+    let amount = request.amount.unwrap_or(f64::NAN);
+    status_after(&state, &hosted, PanelCommand::Handle { target, amount })
+}
+
+/// What a manual move request moves.
+fn target(m: &ManualMove) -> Result<ManualTarget, ApiError> {
+    Ok(ManualTarget::of(m.axis.as_deref(), m.feed, m.tip_rotation.as_deref())?)
 }
 
 /// Every axis back to the reference position, in REF mode.
@@ -178,7 +130,7 @@ pub async fn reference_return(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    act(&state, &hosted, |station| station.controller.reference_return().map_err(refused))
+    status_after(&state, &hosted, PanelCommand::ReferenceReturn)
 }
 
 /// The coordinate systems `PUT /manual` takes (the document's enum for the engine's
@@ -232,32 +184,9 @@ pub async fn settings(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<ManualSettings>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let request = body(request)?;
-    if request.jog_feed.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e6)) {
-        return Err(ApiError::Unprocessable("jog_feed must be above 0 and at most 1e6".into(), None));
-    }
-    if request.increment.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e3)) {
-        return Err(ApiError::Unprocessable("increment must be above 0 and at most 1000".into(), None));
-    }
-    act(&state, &hosted, |station| {
-        let c = &mut station.controller;
-        if let Some(choice) = request.coordinates {
-            c.set_manual_coordinates(choice).map_err(refused)?;
-        }
-        if let Some(on) = request.rtcp {
-            c.set_manual_rtcp(on).map_err(refused)?;
-        }
-        if let Some(feed) = request.jog_feed {
-            c.panel.jog_feed = feed;
-        }
-        if let Some(on) = request.manual_absolute {
-            c.panel.manual_absolute = on;
-        }
-        if let Some(step) = request.increment {
-            c.set_increment(step).map_err(refused)?;
-        }
-        Ok(())
-    })
+    let ManualSettings { jog_feed, manual_absolute, coordinates, rtcp, increment } = body(request)?;
+    let command = PanelCommand::ManualSettings { coordinates, rtcp, jog_feed, manual_absolute, increment };
+    status_after(&state, &hosted, command)
 }
 
 /// FANUC's 5-axis manual feed signals (`PUT /manual-signals`): the feed mode signals and the
@@ -299,20 +228,8 @@ pub async fn set_signals(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<PanelSignals>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let request = body(request)?;
-    if request.handle_select.is_some_and(|code| code > 31) {
-        return Err(ApiError::Unprocessable("handle_select is a 5-bit code (0–31)".into(), None));
-    }
-    act(&state, &hosted, |station| {
-        let c = &mut station.controller;
-        let mut s = c.panel.manual_signals;
-        s.alngh = request.alngh.unwrap_or(s.alngh);
-        s.rghth = request.rghth.unwrap_or(s.rghth);
-        s.rndh = request.rndh.unwrap_or(s.rndh);
-        s.tb_base = request.tb_base.unwrap_or(s.tb_base);
-        s.handle_select = request.handle_select.unwrap_or(s.handle_select);
-        c.set_manual_signals(s).map_err(refused)
-    })
+    let PanelSignals { alngh, rghth, rndh, tb_base, handle_select } = body(request)?;
+    status_after(&state, &hosted, PanelCommand::ManualSignals { alngh, rghth, rndh, tb_base, handle_select })
 }
 
 /// `POST /jog-signal`: a ±J key of the panel.
@@ -346,8 +263,8 @@ pub async fn jog_signal(
     request: Result<JsonBody<JogSignal>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let request = body(request)?;
-    let axis = letter(&request.axis)?;
-    act(&state, &hosted, |station| station.controller.jog_signal(axis, request.positive).map_err(refused))
+    let axis = panel::letter(&request.axis)?;
+    status_after(&state, &hosted, PanelCommand::JogSignal { axis, positive: request.positive })
 }
 
 /// `POST /handle-pulses`: what the hand wheel turned.
@@ -389,13 +306,8 @@ pub async fn handle_pulses(
     request: Result<JsonBody<HandlePulses>, ApiError>,
 ) -> Result<Json<HandleTaken>, ApiError> {
     let amount = body(request)?.amount;
-    if !(amount.is_finite() && amount.abs() <= 1.0e5) {
-        return Err(ApiError::Unprocessable("amount must be finite and at most 1e5".into(), None));
+    match command(&state, &hosted, PanelCommand::HandlePulses { amount })? {
+        (Applied::Taken(taken), Json(status)) => Ok(Json(HandleTaken { taken, status })),
+        (Applied::Done, Json(status)) => Ok(Json(HandleTaken { taken: 0.0, status })),
     }
-    let mut taken = 0.0;
-    let Json(status) = act(&state, &hosted, |station| {
-        taken = station.controller.handle_pulses(amount).map_err(refused)?;
-        Ok(())
-    })?;
-    Ok(Json(HandleTaken { taken, status }))
 }

@@ -6,8 +6,8 @@
 pub mod controllers;
 pub mod fleet;
 pub mod fleet_view;
+pub mod health;
 pub mod history;
-pub mod json_body;
 pub mod manual;
 pub mod modal;
 pub mod offsets;
@@ -17,10 +17,6 @@ pub mod programs;
 pub mod stream;
 pub mod variables;
 
-use std::sync::Arc;
-
-use axum::extract::rejection::PathRejection;
-use axum::extract::Path;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
@@ -29,7 +25,7 @@ use utoipa_axum::routes;
 
 use crate::host::stream::{axes, AlarmInfo};
 use crate::host::{Hosted, Station};
-use crate::serve::{ApiError, AppState};
+use crate::http::AppState;
 
 /// The `/api/v1` routes, each listed once: `routes!` takes a handler's path and method from its
 /// `#[utoipa::path]`, so the router and the OpenAPI document come from the same list (handlers
@@ -279,36 +275,4 @@ pub fn word<T: Serialize>(value: &T) -> String {
         Ok(Value::String(s)) => s,
         _ => String::new(),
     }
-}
-
-/// The hosted controller `id`, or 404.
-pub fn hosted(state: &AppState, id: &str) -> Result<Arc<Hosted>, ApiError> {
-    state.host.get(id).ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))
-}
-
-/// The controller a route's `{id}` names (404 when there is none): the first thing every
-/// `/controllers/{id}/…` handler needs.
-pub struct Addressed(pub Arc<Hosted>);
-
-impl axum::extract::FromRequestParts<AppState> for Addressed {
-    type Rejection = ApiError;
-
-    async fn from_request_parts(parts: &mut axum::http::request::Parts, state: &AppState) -> Result<Self, ApiError> {
-        let params = axum::extract::RawPathParams::from_request_parts(parts, state)
-            .await
-            .map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
-        let id = params.iter().find(|(name, _)| *name == "id").map(|(_, value)| value.to_owned());
-        let id = id.ok_or_else(|| ApiError::NotFound("the path names no controller".into()))?;
-        hosted(state, &id).map(Addressed)
-    }
-}
-
-/// A JSON body (an object, `json_body.rs`), or the reason it is not one as a JSON error.
-pub fn body<T>(json: Result<json_body::JsonBody<T>, ApiError>) -> Result<T, ApiError> {
-    json.map(|json_body::JsonBody(v)| v)
-}
-
-/// Path parameters, or the reason they do not parse as a JSON error.
-pub fn path<T>(path: Result<Path<T>, PathRejection>) -> Result<T, ApiError> {
-    path.map(|Path(v)| v).map_err(|e| ApiError::Rejected(e.status(), e.body_text()))
 }

@@ -1,6 +1,6 @@
 //! The modal state as a panel shows it: the G code of each modal group and F, S, T, H, D.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use std::collections::BTreeMap;
 
 use axum::extract::Json;
@@ -8,7 +8,7 @@ use fivex_engine::interp::gcode;
 use serde::Serialize;
 use utoipa::ToSchema;
 
-use crate::serve::{ApiError, ErrorBody};
+use crate::http::{ApiError, ErrorBody};
 
 /// `GET /modal`.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]

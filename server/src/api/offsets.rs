@@ -2,19 +2,20 @@
 //! P300). Changes are in the database when the answer comes; a program's own changes (G10,
 //! system variables) are saved when its run state changes.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path};
-use crate::db::{self, ToolRow};
+use crate::db::ToolRow;
 use crate::host::station::{tool_row, WORK_SLOTS};
 use crate::host::stream::axes;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::settings::{self, ToolChange};
 
 /// One tool offset number (mm).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
@@ -98,14 +99,6 @@ fn name_of(slot: usize) -> String {
     }
 }
 
-fn finite(v: f64, what: &str) -> Result<f64, ApiError> {
-    if v.is_finite() && v.abs() < 1.0e6 {
-        Ok(v)
-    } else {
-        Err(ApiError::Unprocessable(format!("{what} must be a finite number below 1e6 in size"), None))
-    }
-}
-
 /// Tool offsets that are not all zero, by number.
 #[utoipa::path(
     get,
@@ -148,29 +141,13 @@ pub async fn set_tool(
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;
     let request = body(request)?;
-    let current = hosted
-        .station()
-        .controller
-        .interpreter()
-        .state
-        .offsets
-        .tool(number)
-        .filter(|_| number >= 1)
-        .map(|t| tool_row(number, t))
-        .ok_or_else(|| ApiError::Unprocessable(format!("tool offset number {number} is outside 1–999"), None))?;
-    let row = ToolRow {
-        number,
-        length: finite(request.length.unwrap_or(current.length), "length")?,
-        length_wear: finite(request.length_wear.unwrap_or(current.length_wear), "length_wear")?,
-        radius: finite(request.radius.unwrap_or(current.radius), "radius")?,
-        radius_wear: finite(request.radius_wear.unwrap_or(current.radius_wear), "radius_wear")?,
+    let change = ToolChange {
+        length: request.length,
+        length_wear: request.length_wear,
+        radius: request.radius,
+        radius_wear: request.radius_wear,
     };
-    db::save_tool_offsets(&state.db, &hosted.id, &[row]).await?;
-    let mut station = hosted.station();
-    if let Some(t) = station.controller.interpreter_mut().state.offsets.tool_mut(number) {
-        (t.h_geometry, t.h_wear, t.d_geometry, t.d_wear) = (row.length, row.length_wear, row.radius, row.radius_wear);
-    }
-    station.offsets_saved();
+    let row = settings::set_tool_offset(&state.db, &hosted, number, change).await?;
     Ok(Json(row.into()))
 }
 
@@ -219,30 +196,7 @@ pub async fn set_work(
     let hosted = hosted(&state, &id)?;
     let request = body(request)?;
     let slot = slot_of(&name).ok_or_else(|| ApiError::Unprocessable(format!("no work offset {name}"), None))?;
-    let (machine, mut values) = {
-        let station = hosted.station();
-        let values = station.controller.interpreter().state.offsets.work(slot)[..station.machine.axes.len()].to_vec();
-        (station.machine.clone(), values)
-    };
-    for (letter, value) in &request.axes {
-        let index = machine
-            .axes
-            .iter()
-            .position(|a| a.name.to_string().eq_ignore_ascii_case(letter))
-            .ok_or_else(|| ApiError::Unprocessable(format!("the machine has no axis {letter}"), None))?;
-        let v = value.as_f64().ok_or_else(|| ApiError::Unprocessable(format!("{letter} must be a number"), None))?;
-        values[index] = finite(v, letter)?;
-    }
-    if hosted.station().controller.run_state() != fivex_engine::controller::RunState::Idle {
-        return Err(ApiError::Conflict("work offsets change only while nothing runs".into()));
-    }
-    db::save_work_offsets(&state.db, &hosted.id, &[(slot, values.clone())]).await?;
-    let mut station = hosted.station();
-    let work = station.controller.interpreter_mut().state.offsets.work_mut(slot);
-    work[..values.len()].copy_from_slice(&values);
-    let shown = axes(&machine, work);
-    station.offsets_saved();
-    station.controller.offsets_changed();
+    let shown = settings::set_work_offset(&state.db, &hosted, slot, &request.axes).await?;
     Ok(Json(WorkOffsetDto { name: name_of(slot), axes: shown }))
 }
 

@@ -1,50 +1,37 @@
 //! The operator panel: cycle start, feed hold, reset, MDI, mode, overrides, switches and the
-//! emergency stop. Each answers the controller's status after the action; an action the panel
-//! would ignore in this state is 409 with the reason.
+//! emergency stop: each a [`PanelCommand`] (`service::panel`) that answers the controller's
+//! status after it; an action the panel would ignore in this state is 409 with the reason.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::{Json, State};
-use fivex_engine::controller::{Mode, Refusal};
 use serde::Deserialize;
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, ControllerStatus};
-use crate::db;
-use crate::host::{Hosted, Station};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use super::ControllerStatus;
+use crate::host::Hosted;
+use crate::http::extract::body;
+use crate::http::extract::JsonBody;
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::panel::{self, Applied, PanelCommand};
+use crate::service::programs;
 
-/// Why the panel ignored an action, for a person.
-pub(super) fn refused(r: Refusal) -> ApiError {
-    ApiError::Conflict(
-        match r {
-            Refusal::WrongMode => "not possible in this mode",
-            Refusal::Busy => "not possible while the controller runs, holds or is in alarm",
-            Refusal::NoProgram => "there is no program to run",
-            Refusal::NoAxis => "no such axis (or no 5-axis mechanism for this feed)",
-            Refusal::BadValue => "the value is not a finite number in range",
-        }
-        .into(),
-    )
-}
-
-/// Apply `action` to the station, send out what it caused, and answer the status.
-pub(super) fn act(
+/// Applies `command` to the controller and answers its status after it (`service::panel`).
+pub(super) fn command(
     state: &AppState,
     hosted: &Hosted,
-    action: impl FnOnce(&mut Station) -> Result<(), ApiError>,
+    command: PanelCommand,
+) -> Result<(Applied, Json<ControllerStatus>), ApiError> {
+    let (applied, status) = panel::execute(&state.host, hosted, command, ControllerStatus::of)?;
+    Ok((applied, Json(status)))
+}
+
+/// [`command`] when only the status is answered.
+pub(super) fn status_after(
+    state: &AppState,
+    hosted: &Hosted,
+    action: PanelCommand,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let (result, messages, records, status) = {
-        let mut station = hosted.station();
-        let result = action(&mut station);
-        let (messages, records) = station.collect(&hosted.id, 0.0, true);
-        (result, messages, records, ControllerStatus::of(hosted, &station))
-    };
-    for r in records {
-        state.host.record(r);
-    }
-    hosted.publish(messages);
-    result.map(|()| Json(status))
+    command(state, hosted, action).map(|(_, status)| status)
 }
 
 /// `POST /cycle-start`: optionally the stored program to run.
@@ -54,23 +41,6 @@ pub struct CycleStart {
     /// O number of a stored program: selected and started in AUTO. Omitted: resume after a
     /// feed hold or stop, or run the program already selected.
     pub program: Option<u32>,
-}
-
-/// The text AUTO runs for stored program `number`: that program first (its lines keep their
-/// numbers in alarms), then every other stored program, each under its O number, for M98/G65.
-pub(crate) fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
-    let main = programs.iter().find(|(n, _)| *n == number)?;
-    let mut text = main.1.clone();
-    for (n, t) in programs.iter().filter(|(n, _)| *n != number) {
-        text.push('\n');
-        // A text with its own O number (after `%` lines and comments; the store keeps it equal
-        // to the slot) needs no other.
-        if super::programs::first_number(t).is_none() {
-            text.push_str(&format!("O{n:04}\n"));
-        }
-        text.push_str(t);
-    }
-    Some(text)
 }
 
 /// An optional JSON body: none (or only white space, whatever the content type says) is the
@@ -85,7 +55,7 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
     if value.is_null() {
         return Ok(T::default());
     }
-    super::json_body::from_object(value)
+    crate::http::extract::from_object(value)
 }
 
 /// Cycle start: with `program`, select that stored program and run it in AUTO; without, resume
@@ -109,37 +79,11 @@ pub async fn cycle_start(
     body: axum::body::Bytes,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let request = optional_json::<CycleStart>(&body)?;
-    let text = match request.program {
-        Some(n) => {
-            let programs = db::programs(&state.db, &hosted.id).await?;
-            Some((n, compose(n, &programs).ok_or_else(|| ApiError::NotFound(format!("no program O{n}")))?))
-        }
+    let program = match request.program {
+        Some(n) => Some((n, programs::composed(&state.db, &hosted, n).await?)),
         None => None,
     };
-    act(&state, &hosted, |station| {
-        let c = &mut station.controller;
-        let fresh = c.run_state() == fivex_engine::controller::RunState::Idle;
-        if let Some((n, text)) = &text {
-            if !fresh {
-                return Err(ApiError::Conflict(
-                    "a program is under way: resume it with an empty cycle start, or reset first".into(),
-                ));
-            }
-            if c.mode() != Mode::Auto {
-                c.set_mode(Mode::Auto).map_err(refused)?;
-            }
-            c.select_program(text).map_err(refused)?;
-            c.cycle_start().map_err(refused)?;
-            station.begin_run(Some(*n));
-        } else {
-            c.cycle_start().map_err(refused)?;
-            if fresh {
-                let program = if c.mode() == Mode::Auto { station.program } else { None };
-                station.begin_run(program);
-            }
-        }
-        Ok(())
-    })
+    status_after(&state, &hosted, PanelCommand::CycleStart { program })
 }
 
 /// Feed hold: decelerate along the path and wait for cycle start.
@@ -157,10 +101,7 @@ pub async fn feed_hold(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    act(&state, &hosted, |station| {
-        station.controller.feed_hold();
-        Ok(())
-    })
+    status_after(&state, &hosted, PanelCommand::FeedHold)
 }
 
 /// Reset: stop, abandon the program, clear the alarms.
@@ -178,13 +119,7 @@ pub async fn reset(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    act(&state, &hosted, |station| {
-        if let Some(record) = station.end_run(&hosted.id, "reset") {
-            state.host.record(record);
-        }
-        station.controller.reset();
-        Ok(())
-    })
+    status_after(&state, &hosted, PanelCommand::Reset)
 }
 
 /// `POST /mdi`.
@@ -215,20 +150,7 @@ pub async fn mdi(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Mdi>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let request = body(request)?;
-    if request.text.len() > super::programs::MAX_PROGRAM_BYTES {
-        return Err(ApiError::Unprocessable("MDI text too long".into(), None));
-    }
-    act(&state, &hosted, |station| {
-        let c = &mut station.controller;
-        if c.mode() != Mode::Mdi {
-            c.set_mode(Mode::Mdi).map_err(refused)?;
-        }
-        c.set_mdi(&request.text).map_err(refused)?;
-        c.cycle_start().map_err(refused)?;
-        station.begin_run(None);
-        Ok(())
-    })
+    status_after(&state, &hosted, PanelCommand::Mdi { text: body(request)?.text })
 }
 
 /// The modes `PUT /mode` takes (the document's enum; the handler reads the word).
@@ -272,21 +194,8 @@ pub async fn set_mode(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<SetMode>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let mode = match body(request)?.mode.to_ascii_lowercase().as_str() {
-        "auto" => Mode::Auto,
-        "mdi" => Mode::Mdi,
-        "jog" => Mode::Jog,
-        "handle" => Mode::Handle,
-        "ref" => Mode::Ref,
-        "inc" => Mode::Inc,
-        other => {
-            return Err(ApiError::Unprocessable(
-                format!("unknown mode '{other}' (auto, mdi, jog, handle, ref, inc)"),
-                None,
-            ))
-        }
-    };
-    act(&state, &hosted, |station| station.controller.set_mode(mode).map_err(refused))
+    let mode = panel::mode(&body(request)?.mode)?;
+    status_after(&state, &hosted, PanelCommand::SetMode { mode })
 }
 
 /// `PUT /overrides`, percent.
@@ -319,20 +228,8 @@ pub async fn set_overrides(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Overrides>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let request = body(request)?;
-    let within = |v: Option<f64>, max: f64, what: &str| match v {
-        Some(p) if !(p.is_finite() && (0.0..=max).contains(&p)) => {
-            Err(ApiError::Unprocessable(format!("{what} override must be 0–{max} %"), None))
-        }
-        other => Ok(other.map(|p| p / 100.0)),
-    };
-    let (feed, rapid) = (within(request.feed, 200.0, "feed")?, within(request.rapid, 100.0, "rapid")?);
-    act(&state, &hosted, |station| {
-        let c = &mut station.controller;
-        let (f, r) = (feed.unwrap_or(c.panel.feed_override), rapid.unwrap_or(c.panel.rapid_override));
-        c.set_overrides(f, r);
-        Ok(())
-    })
+    let Overrides { feed, rapid } = body(request)?;
+    status_after(&state, &hosted, PanelCommand::Overrides { feed, rapid })
 }
 
 /// `PUT /switches`.
@@ -361,14 +258,8 @@ pub async fn set_switches(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Switches>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let request = body(request)?;
-    act(&state, &hosted, |station| {
-        let p = &mut station.controller.panel;
-        p.single_block = request.single_block.unwrap_or(p.single_block);
-        p.optional_stop = request.optional_stop.unwrap_or(p.optional_stop);
-        p.block_delete = request.block_delete.unwrap_or(p.block_delete);
-        Ok(())
-    })
+    let Switches { single_block, optional_stop, block_delete } = body(request)?;
+    status_after(&state, &hosted, PanelCommand::Switches { single_block, optional_stop, block_delete })
 }
 
 /// `PUT /emergency-stop`.
@@ -396,41 +287,5 @@ pub async fn emergency_stop(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<EmergencyStop>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let pressed = body(request)?.pressed;
-    act(&state, &hosted, |station| {
-        if pressed {
-            if let Some(record) = station.end_run(&hosted.id, "alarm") {
-                state.host.record(record);
-            }
-        }
-        station.controller.emergency_stop(pressed);
-        Ok(())
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_selected_program_comes_first_and_the_others_under_their_numbers() {
-        let programs =
-            vec![(1, "G01 X1.\nM98 P2\nM30\n".to_string()), (2, "O0002\nX2.\nM99\n".into()), (3, "X3.\nM99".into())];
-        let text = compose(1, &programs).unwrap();
-        assert!(text.starts_with("G01 X1.\n"), "{text}");
-        assert!(text.contains("\nO0002\nX2.") && text.contains("\nO0003\nX3."), "{text}");
-        assert!(compose(4, &programs).is_none());
-        // The parser's rules for the text's own number: after `%` lines, blanks and comment
-        // lines, `O` or the ISO `:`; a comment naming a number is not one.
-        use super::super::programs::first_number;
-        assert_eq!(first_number("%\n\nO12 (x)\n"), Some(12));
-        assert_eq!(first_number("(header)\n  :0555\nM99\n"), Some(555));
-        assert_eq!(first_number("(O1)\nG01\nO0002\n"), None);
-        assert_eq!(first_number(""), None);
-        // A text with its own number in the ISO form is not given another (two programs 2).
-        let iso = vec![(1, "M98 P2\nM30\n".to_string()), (2, "(sub)\n:0002\nX2.\nM99\n".into())];
-        let text = compose(1, &iso).unwrap();
-        assert!(!text.contains("O0002"), "{text}");
-        assert_eq!(fivex_engine::lang::parse_file(&text).programs.iter().filter(|p| p.number == Some(2)).count(), 1);
-    }
+    status_after(&state, &hosted, PanelCommand::EmergencyStop { pressed: body(request)?.pressed })
 }

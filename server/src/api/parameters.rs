@@ -2,18 +2,17 @@
 //! and changing one parameter, which puts a new machine under the controller as a power cycle
 //! would.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
-use fivex_engine::controller::RunState;
-use fivex_engine::vendor::{self, Params, Value as ParamValue};
+use fivex_engine::vendor::{Params, Value as ParamValue};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path};
-use crate::db;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::parameters::{self, ParameterSet};
 
 /// A controller's parameters.
 #[derive(Debug, Clone, Serialize, ToSchema)]
@@ -36,45 +35,14 @@ pub struct SetParameter {
     pub value: ParamValue,
 }
 
-/// The dialect's list: the model's canonical parameters and, for the numbers the model does not
-/// write, the extra ones kept as given.
-fn list(
-    dialect: fivex_engine::Dialect,
-    machine: &fivex_engine::machine::MachineConfig,
-    extra: &Params,
-) -> Result<ParameterList, ApiError> {
-    let mut parameters = vendor::params_of(dialect, machine).map_err(|e| {
-        ApiError::Conflict(format!("this machine has no {} parameter form: {}", dialect.name(), e.describe(dialect)))
-    })?;
-    for (number, value) in &extra.0 {
-        parameters.0.entry(*number).or_insert_with(|| value.clone());
+impl ParameterList {
+    fn of(dialect: fivex_engine::Dialect, set: ParameterSet) -> ParameterList {
+        ParameterList {
+            dialect: dialect.name().to_string(),
+            parameters: set.parameters,
+            unmodelled_parameters: super::UnmodelledParameter::list(&set.unmodelled),
+        }
     }
-    let unmodelled = super::UnmodelledParameter::list(&vendor::unmodelled::of_params(dialect, &parameters));
-    Ok(ParameterList { dialect: dialect.name().to_string(), parameters, unmodelled_parameters: unmodelled })
-}
-
-/// What of the controller's machine (its model and the extra parameters kept beside it) fivex
-/// does not carry out: of the dialect's list when the machine has one, else of the model.
-pub fn unmodelled(
-    dialect: fivex_engine::Dialect,
-    machine: &fivex_engine::machine::MachineConfig,
-    extra: &Params,
-) -> Vec<vendor::unmodelled::Unmodelled> {
-    match list(dialect, machine, extra) {
-        Ok(l) => vendor::unmodelled::of_params(dialect, &l.parameters),
-        Err(_) => vendor::unmodelled::of_model(machine),
-    }
-}
-
-/// What of `given` the model of `machine` does not write back: a control keeps every parameter it
-/// is given, so these are stored beside the machine and shown with it.
-pub fn extras(
-    dialect: fivex_engine::Dialect,
-    machine: &fivex_engine::machine::MachineConfig,
-    given: &Params,
-) -> Params {
-    let canonical = vendor::params_of(dialect, machine).unwrap_or_default();
-    Params(given.0.iter().filter(|(n, _)| !canonical.0.contains_key(n)).map(|(n, v)| (*n, v.clone())).collect())
 }
 
 /// The machine as the dialect's parameter list (canonical form).
@@ -90,8 +58,7 @@ pub fn extras(
     )
 )]
 pub async fn get_all(Addressed(hosted): Addressed) -> Result<Json<ParameterList>, ApiError> {
-    let station = hosted.station();
-    Ok(Json(list(hosted.dialect, &station.machine, &station.extra_parameters)?))
+    Ok(Json(ParameterList::of(hosted.dialect, parameters::of(&hosted)?)))
 }
 
 /// Change one parameter. The new set must describe a machine that works (else 422 with the
@@ -119,37 +86,6 @@ pub async fn set(
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;
     let value = body(request)?.value;
-    let finite = match &value {
-        ParamValue::One(x) => x.is_finite(),
-        ParamValue::PerAxis(v) => v.iter().all(|x| x.is_finite()),
-    };
-    if !finite {
-        return Err(ApiError::Unprocessable("parameter values must be finite numbers".into(), None));
-    }
-    let (current, extra) = {
-        let station = hosted.station();
-        (station.machine.clone(), station.extra_parameters.clone())
-    };
-    let mut parameters = list(hosted.dialect, &current, &extra)?.parameters;
-    parameters.0.insert(number, value);
-    let machine = vendor::machine_from(hosted.dialect, &current.name, &parameters)
-        .map_err(|e| ApiError::Unprocessable(e.describe(hosted.dialect), None))?;
-    let json = serde_json::to_string(&machine).map_err(|e| ApiError::Unprocessable(e.to_string(), None))?;
-    if hosted.station().controller.run_state() != RunState::Idle {
-        return Err(ApiError::Conflict("parameters change only while nothing runs".into()));
-    }
-    let extra = extras(hosted.dialect, &machine, &parameters);
-    let extra_json = serde_json::to_string(&extra).unwrap_or_else(|_| "{}".into());
-    db::update_machine(&state.db, &hosted.id, &json, &extra_json).await?;
-    let answer = list(hosted.dialect, &machine, &extra)?;
-    let mut station = hosted.station();
-    station.replace_machine(machine, hosted.dialect);
-    station.unmodelled = answer
-        .unmodelled_parameters
-        .iter()
-        .map(|u| vendor::unmodelled::Unmodelled { parameter: u.parameter.clone(), reason: u.reason.clone() })
-        .collect();
-    station.extra_parameters = extra;
-    tracing::info!(id = %hosted.id, number, "parameter changed; controller restarted on the new machine");
-    Ok(Json(answer))
+    let set = parameters::set(&state.db, &hosted, number, value).await?;
+    Ok(Json(ParameterList::of(hosted.dialect, set)))
 }

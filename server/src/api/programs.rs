@@ -1,23 +1,21 @@
 //! A controller's stored programs (O numbers) and their NC text.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::body::Bytes;
 use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::{Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::IntoResponse;
 use axum::Json;
-use fivex_engine::lang::{is_header, parse_file};
-use fivex_engine::{AlarmId, Dialect};
+use fivex_engine::lang::parse_file;
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
-use super::{hosted, path};
-use crate::db;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::extract::{hosted, path};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::programs;
 
-/// The largest program text accepted, bytes.
-pub const MAX_PROGRAM_BYTES: usize = 8 * 1024 * 1024;
+pub use crate::service::programs::MAX_PROGRAM_BYTES;
 
 /// A stored program in a list.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
@@ -58,61 +56,9 @@ pub struct StoreOptions {
     pub force: bool,
 }
 
-/// The problems `check` finds in `text` as a stored program. A call of another program
-/// (M98/M198/G65/G66 P) is not one: the others are stored separately and found at cycle start
-/// (a missing one still alarms then).
-pub fn diagnostics(text: &str, dialect: Dialect) -> Vec<Diagnostic> {
-    fivex_engine::check::check(parse_file(text), dialect)
-        .into_iter()
-        .filter(|d| d.id != AlarmId::ProgramNotFound)
-        .map(|d| {
-            let (code, message) = dialect.describe(&d.id);
-            Diagnostic {
-                line: d.line,
-                col: d.col,
-                code: code.to_string(),
-                message: message.to_string(),
-                detail: d.detail,
-            }
-        })
-        .collect()
-}
-
-/// The number the text gives its first program (`O0555`, or `:0555`, the ISO form both
-/// dialects read as O), by the engine's parser; `None` when the text starts without one. Only
-/// the lines up to the first block are parsed (one at a time: a block never spans lines).
-pub(crate) fn first_number(text: &str) -> Option<u32> {
-    for line in text.lines() {
-        // A blank, `%` or comment-only line gives no program or a header: look further.
-        if let Some(program) = parse_file(line).programs.iter().find(|p| !is_header(p)) {
-            return program.number;
-        }
-    }
-    None
-}
-
-/// The text's own O number, if it has one, must be the slot it is stored in: the controller
-/// finds a stored program by its slot (`M98 P102`), so a text that calls itself O0555 in slot
-/// 102 would be stored and then not found.
-fn matches_slot(text: &str, slot: u32) -> Result<(), ApiError> {
-    match first_number(text) {
-        Some(given) if given != slot => Err(ApiError::Unprocessable(
-            format!(
-                "the text is program O{given:04} but would be stored as O{slot:04}: store it under {given}, \
-                 or make its O number {slot} (or leave it out)"
-            ),
-            Some(serde_json::json!({"slot": slot, "text_number": given})),
-        )),
-        _ => Ok(()),
-    }
-}
-
-/// A program number in the dialect's range (O1–O9999).
-fn number(n: u32) -> Result<u32, ApiError> {
-    if (1..=9999).contains(&n) {
-        Ok(n)
-    } else {
-        Err(ApiError::Unprocessable(format!("program number {n} is outside 1–9999"), None))
+impl Diagnostic {
+    fn of(p: programs::Problem) -> Diagnostic {
+        Diagnostic { line: p.line, col: p.col, code: p.code, message: p.message, detail: p.detail }
     }
 }
 
@@ -133,7 +79,7 @@ pub async fn list(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
 ) -> Result<Json<Vec<ProgramSummary>>, ApiError> {
-    let rows = db::list_programs(&state.db, &hosted.id).await?;
+    let rows = programs::list(&state.db, &hosted).await?;
     Ok(Json(rows.into_iter().map(|(number, size)| ProgramSummary { number, size }).collect()))
 }
 
@@ -166,7 +112,7 @@ pub async fn store(
     let (id, n) = path(params)?;
     let force = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.force;
     let hosted = hosted(&state, &id)?;
-    let n = number(n)?;
+    let n = programs::number(n)?;
     let media = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).unwrap_or("text/plain");
     if !media.trim_start().to_ascii_lowercase().starts_with("text/plain") {
         return Err(ApiError::Rejected(StatusCode::UNSUPPORTED_MEDIA_TYPE, "programs are text/plain".into()));
@@ -177,23 +123,10 @@ pub async fn store(
             format!("a program may have at most {MAX_PROGRAM_BYTES} bytes"),
         ));
     }
-    let text = std::str::from_utf8(&text)
-        .map_err(|e| ApiError::Unprocessable(format!("the program is not UTF-8 text: {e}"), None))?;
-    if text.contains('\0') {
-        return Err(ApiError::Unprocessable("the program contains NUL bytes (binary data?)".into(), None));
-    }
-    matches_slot(text, n)?;
-    let found = diagnostics(text, hosted.dialect);
-    if !found.is_empty() && !force {
-        let details = serde_json::to_value(&found).ok();
-        return Err(ApiError::Unprocessable(
-            format!("check found {} problem(s); store anyway with ?force=true", found.len()),
-            details,
-        ));
-    }
-    let new = db::put_program(&state.db, &hosted.id, n, text).await?;
-    let stored = StoredProgram { number: n, size: text.len(), diagnostics: found };
-    Ok((if new { StatusCode::CREATED } else { StatusCode::OK }, Json(stored)))
+    let stored = programs::store(&state.db, &hosted, n, &text, force).await?;
+    let status = if stored.new { StatusCode::CREATED } else { StatusCode::OK };
+    let diagnostics = stored.problems.into_iter().map(Diagnostic::of).collect();
+    Ok((status, Json(StoredProgram { number: n, size: text.len(), diagnostics })))
 }
 
 /// A stored program's NC text.
@@ -214,8 +147,7 @@ pub async fn text(
 ) -> Result<impl IntoResponse, ApiError> {
     let (id, n) = path(params)?;
     let hosted = hosted(&state, &id)?;
-    let text =
-        db::program(&state.db, &hosted.id, n).await?.ok_or_else(|| ApiError::NotFound(format!("no program O{n}")))?;
+    let text = programs::text(&state.db, &hosted, n).await?;
     Ok(([(header::CONTENT_TYPE, "text/plain; charset=utf-8")], text))
 }
 
@@ -238,11 +170,8 @@ pub async fn remove(
 ) -> Result<StatusCode, ApiError> {
     let (id, n) = path(params)?;
     let hosted = hosted(&state, &id)?;
-    if db::delete_program(&state.db, &hosted.id, n).await? {
-        Ok(StatusCode::NO_CONTENT)
-    } else {
-        Err(ApiError::NotFound(format!("no program O{n}")))
-    }
+    programs::remove(&state.db, &hosted, n).await?;
+    Ok(StatusCode::NO_CONTENT)
 }
 
 /// `GET /programs/{number}/path` options.
@@ -299,8 +228,7 @@ pub async fn tool_path(
         return Err(ApiError::Unprocessable("max_points must be 1 to 1000000".into(), None));
     }
     let hosted = hosted(&state, &id)?;
-    let programs = db::programs(&state.db, &hosted.id).await?;
-    let text = super::panel::compose(n, &programs).ok_or_else(|| ApiError::NotFound(format!("no program O{n}")))?;
+    let text = programs::composed(&state.db, &hosted, n).await?;
     let mut interp = hosted.station().controller.interpreter().clone();
     let body = tokio::task::spawn_blocking(move || {
         interp.load(parse_file(&text));

@@ -7,7 +7,7 @@
 //! instead. Nothing a client does
 //! or fails to do slows a controller or another client.
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -26,7 +26,7 @@ use utoipa::{IntoParams, ToSchema};
 use super::fleet_view::Update;
 use super::ControllerStatus;
 use crate::host::{Hosted, Published, Reading};
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::{ApiError, AppState, ErrorBody};
 
 /// Position frames per second by default, and the range a client may ask for.
 pub const DEFAULT_RATE_HZ: f64 = 30.0;

@@ -1,18 +1,17 @@
 //! Macro variables: read any a program may read; write the common ones (#100–#199) and the
 //! retained ones (#500–#999, saved in the database before the answer).
 
-use super::Addressed;
+use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Json, Path, State};
 use fivex_engine::interp::expr::Variables;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use super::json_body::JsonBody;
-use super::{body, hosted, path};
-use crate::db;
-use crate::host::Message;
-use crate::serve::{ApiError, AppState, ErrorBody};
+use crate::http::extract::JsonBody;
+use crate::http::extract::{body, hosted, path};
+use crate::http::{ApiError, AppState, ErrorBody};
+use crate::service::settings;
 
 /// A variable and its value (`null`: vacant).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
@@ -97,33 +96,6 @@ pub async fn write(
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;
     let value = body(request)?.value;
-    let signal = (1000..=1035).contains(&number);
-    if !signal && !matches!(number, 100..=199 | 500..=999 | 100_000..=199_999 | 500_000..=999_999) {
-        return Err(ApiError::Unprocessable(
-            format!(
-                "#{number} is not writable here (#100–#199, #500–#999, #100000–#199999, #500000–#999999, \
-                 input signals #1000–#1035)"
-            ),
-            None,
-        ));
-    }
-    if value.is_some_and(|v| !v.is_finite()) {
-        return Err(ApiError::Unprocessable("the value must be a finite number or null".into(), None));
-    }
-    if fivex_engine::interp::State::is_retained(number) {
-        db::save_variables(&state.db, &hosted.id, &[(number, value)]).await?;
-    }
-    {
-        let mut station = hosted.station();
-        let state = &mut station.controller.interpreter_mut().state;
-        let set = if signal {
-            state.signals.set_input(number, value.unwrap_or(0.0))
-        } else {
-            state.set_common_variable(number, value)
-        };
-        set.map_err(|_| ApiError::Unprocessable(format!("#{number}: not a value it can take"), None))?;
-        station.variable_saved(number, value);
-    }
-    hosted.publish(vec![Message::variables(&[(number, value)])]);
+    settings::set_variable(&state.db, &hosted, number, value).await?;
     Ok(Json(Variable { number, value }))
 }

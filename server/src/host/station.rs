@@ -30,7 +30,7 @@ pub struct Station {
     /// Vendor parameters the machine model does not read, kept as given.
     pub extra_parameters: fivex_engine::vendor::Params,
     /// What the machine description sets that fivex does not carry out (shown with the status
-    /// and the parameters; `api::parameters::unmodelled`).
+    /// and the parameters; `service::parameters::unmodelled`).
     pub unmodelled: Vec<fivex_engine::vendor::unmodelled::Unmodelled>,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,

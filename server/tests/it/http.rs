@@ -1,6 +1,6 @@
 //! HTTP service tests.
 //!
-//! Most tests drive [`serve::app`] directly with `tower::ServiceExt::oneshot`, each on a fresh
+//! Most tests drive [`http::app`] directly with `tower::ServiceExt::oneshot`, each on a fresh
 //! SQLite database in its own temporary directory (`spawn_app`). One test runs the real server on
 //! a loopback port-0 listener and talks to it with a plain HTTP client. The checked-in
 //! `openapi/openapi.json` and `docker-compose.yml` are checked here too.
@@ -14,7 +14,8 @@ use axum::http::{Method, Request, StatusCode};
 use axum::response::IntoResponse;
 use common::spawn_app;
 use fivex_server::db::{self, ControllerRow};
-use fivex_server::serve::{self, ApiError, AppState};
+use fivex_server::http::{self, ApiError, AppState};
+use fivex_server::serve;
 use http_body_util::BodyExt;
 use serde_json::{json, Value};
 use tower::ServiceExt;
@@ -105,7 +106,7 @@ async fn stored_controllers_are_hosted_again_oldest_first_and_bad_rows_are_kept(
     // A row whose machine this version refuses stays in the database, unhosted.
     db::insert_controller(&app.state.db, &controller("z", "odd", "2025-01-03T00:00:00Z")).await.unwrap();
     let again = AppState::open(&app.db_path).await.expect("reopen");
-    let reply = serve::app(again.clone())
+    let reply = http::app(again.clone())
         .oneshot(Request::get("/api/v1/controllers").body(Body::empty()).unwrap())
         .await
         .unwrap();
@@ -177,7 +178,7 @@ async fn openapi_document_is_served_and_is_openapi_3_1() {
     for path in ["/healthz", "/api/v1/controllers"] {
         assert!(doc["paths"][path]["get"].is_object(), "{path} missing");
     }
-    let generated: Value = serde_json::from_str(&serve::openapi_json()).unwrap();
+    let generated: Value = serde_json::from_str(&http::openapi_json()).unwrap();
     assert_eq!(doc, generated);
 }
 
@@ -474,7 +475,7 @@ fn fivex_serve_binary_answers_and_stops_gracefully_on_sigterm() {
 #[test]
 fn checked_in_openapi_json_matches_the_code() {
     let path = workspace_file("openapi/openapi.json");
-    let generated = serve::openapi_json();
+    let generated = http::openapi_json();
     if std::env::var("FIVEX_BLESS").as_deref() == Ok("1") {
         std::fs::write(&path, &generated).expect("write openapi/openapi.json");
         return;
@@ -543,7 +544,7 @@ fn docker_compose_runs_fivex_serve_with_a_data_volume() {
 fn every_operation_has_its_own_id_and_query_options_are_query_parameters() {
     // Generated clients (the dashboard's among them) name their calls by operationId and put
     // parameters where the document says.
-    let doc: serde_json::Value = serde_json::from_str(&serve::openapi_json()).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&http::openapi_json()).unwrap();
     let mut seen = std::collections::HashMap::new();
     for (path, ops) in doc["paths"].as_object().unwrap() {
         for (method, op) in ops.as_object().unwrap() {

@@ -32,7 +32,7 @@ fn assert_valid(document: &Value, name: &str, value: &Value, what: &str) {
 }
 
 fn document() -> Value {
-    serde_json::to_value(fivex_server::serve::openapi()).expect("the document as JSON")
+    serde_json::to_value(fivex_server::http::openapi()).expect("the document as JSON")
 }
 
 fn fleet_program(name: &str) -> String {

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use axum::body::{Body, Bytes};
 use axum::http::{header, Method, Request, StatusCode};
 use axum::Router;
-use fivex_server::serve::{self, AppState};
+use fivex_server::http::{self, AppState};
 use http_body_util::BodyExt;
 use serde_json::Value;
 use tempfile::TempDir;
@@ -48,7 +48,7 @@ pub async fn spawn_app() -> TestApp {
 
 impl TestApp {
     pub fn router(&self) -> Router {
-        serve::app(self.state.clone())
+        http::app(self.state.clone())
     }
 
     pub async fn send(&self, request: Request<Body>) -> Reply {

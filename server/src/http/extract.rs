@@ -1,4 +1,7 @@
-//! A JSON request body read as the OpenAPI document describes it. Two places where serde alone
+//! The extractors: the controller a path names ([`Addressed`]) and a JSON request body
+//! ([`JsonBody`]), each with its rejection as an [`ApiError`].
+//!
+//! A JSON request body is read as the OpenAPI document describes it. Two places where serde alone
 //! is wider or narrower than the document's JSON Schema:
 //!
 //! - serde reads a struct from an array too (`[null, null]` as `{"feed": null, "rapid":
@@ -6,11 +9,15 @@
 //! - JSON Schema counts a number without a fraction as an integer (`4.0` is the integer 4);
 //!   serde refuses `4.0` for a `u32`. Such numbers are read as the integers they are.
 
-use axum::extract::{FromRequest, Json, Request};
+use std::sync::Arc;
+
+use axum::extract::rejection::PathRejection;
+use axum::extract::{FromRequest, FromRequestParts, Json, Path, Request};
 use serde::de::DeserializeOwned;
 use serde_json::{Number, Value};
 
-use crate::serve::ApiError;
+use super::{ApiError, AppState};
+use crate::host::Hosted;
 
 /// The extractor: a JSON object deserialized into `T`, or the JSON error (400 syntax, 413 size,
 /// 415 content type, 422 shape).
@@ -55,6 +62,38 @@ fn integers(value: &mut Value) {
         Value::Object(fields) => fields.values_mut().for_each(integers),
         _ => {}
     }
+}
+
+/// The hosted controller `id`, or 404.
+pub fn hosted(state: &AppState, id: &str) -> Result<Arc<Hosted>, ApiError> {
+    state.host.get(id).ok_or_else(|| ApiError::NotFound(format!("no controller {id}")))
+}
+
+/// The controller a route's `{id}` names (404 when there is none): the first thing every
+/// `/controllers/{id}/…` handler needs.
+pub struct Addressed(pub Arc<Hosted>);
+
+impl FromRequestParts<AppState> for Addressed {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut axum::http::request::Parts, state: &AppState) -> Result<Self, ApiError> {
+        let params = axum::extract::RawPathParams::from_request_parts(parts, state)
+            .await
+            .map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+        let id = params.iter().find(|(name, _)| *name == "id").map(|(_, value)| value.to_owned());
+        let id = id.ok_or_else(|| ApiError::NotFound("the path names no controller".into()))?;
+        hosted(state, &id).map(Addressed)
+    }
+}
+
+/// A JSON body (an object, [`JsonBody`]), or the reason it is not one as a JSON error.
+pub fn body<T>(json: Result<JsonBody<T>, ApiError>) -> Result<T, ApiError> {
+    json.map(|JsonBody(v)| v)
+}
+
+/// Path parameters, or the reason they do not parse as a JSON error.
+pub fn path<T>(path: Result<Path<T>, PathRejection>) -> Result<T, ApiError> {
+    path.map(|Path(v)| v).map_err(|e| ApiError::Rejected(e.status(), e.body_text()))
 }
 
 #[cfg(test)]

@@ -1,0 +1,315 @@
+//! Fleet runs (`docs/fleet.md`): one program on many machines, queued for one of
+//! `--fleet-jobs` places, then on a blocking thread so the service keeps answering; stored in
+//! the database from queued to over; their progress in a `watch` per run; stopped by a cancel
+//! or the service's end.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use serde::Serialize;
+use tokio::sync::{watch, Semaphore};
+use utoipa::ToSchema;
+
+use super::ServiceError;
+use crate::db::{self, FleetRunRow};
+use crate::fleet::{self, Entry, Event, Options};
+use crate::host::now_rfc3339;
+use crate::wire::FleetResult;
+
+/// The most machines one fleet run may have.
+pub const MAX_MACHINES: usize = 200;
+
+/// The fleet runs queued or under way, by id (a run leaves when it is stored as over), and the
+/// places to run in (`--fleet-jobs`).
+#[derive(Clone, Debug)]
+pub struct Runs {
+    /// The runs, and whether the service stops (then no run is added: every one added before
+    /// was interrupted).
+    runs: Arc<Mutex<(HashMap<String, Run>, bool)>>,
+    slots: Arc<Semaphore>,
+}
+
+/// One run queued or under way: its progress and how to stop it.
+#[derive(Clone, Debug)]
+struct Run {
+    progress: watch::Receiver<Progress>,
+    /// Read by the engine before every block (`fleet::Options::cancel`).
+    cancel: Arc<AtomicBool>,
+    /// Why it was stopped (`cancelled`, `interrupted`), for the task that waits in the queue.
+    stopped: Arc<watch::Sender<Option<&'static str>>>,
+}
+
+impl Default for Runs {
+    fn default() -> Self {
+        Runs::new(1)
+    }
+}
+
+impl Runs {
+    /// At most `jobs` runs at once (at least 1).
+    pub fn new(jobs: usize) -> Self {
+        Runs { runs: Default::default(), slots: Arc::new(Semaphore::new(jobs.max(1))) }
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, (HashMap<String, Run>, bool)> {
+        self.runs.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn get(&self, id: &str) -> Option<Run> {
+        self.lock().0.get(id).cloned()
+    }
+
+    /// Adds a run; `false` once the service stops.
+    fn put(&self, id: &str, run: Run) -> bool {
+        let mut runs = self.lock();
+        if runs.1 {
+            return false;
+        }
+        runs.0.insert(id.to_string(), run);
+        true
+    }
+
+    fn remove(&self, id: &str) {
+        self.lock().0.remove(id);
+    }
+
+    /// Stop a run (the first reason given is kept); `None` if it is not queued or running.
+    fn stop(&self, id: &str, why: &'static str) -> Option<watch::Receiver<Progress>> {
+        let run = self.get(id)?;
+        run.stopped.send_if_modified(|s| s.is_none() && s.replace(why).is_none());
+        run.cancel.store(true, Ordering::Relaxed);
+        Some(run.progress)
+    }
+
+    /// Stop every run, recorded as `interrupted`, and take no new one (the service shuts down).
+    pub fn interrupt_all(&self) {
+        let ids: Vec<String> = {
+            let mut runs = self.lock();
+            runs.1 = true;
+            runs.0.keys().cloned().collect()
+        };
+        for id in ids {
+            self.stop(&id, "interrupted");
+        }
+    }
+
+    /// Resolves when no run is queued or under way (each has been stored as over).
+    pub async fn all_ended(&self) {
+        while !self.lock().0.is_empty() {
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    }
+}
+
+/// One machine's state in a progress message.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct MachineProgress {
+    pub machine: String,
+    /// `queued`, `running`, `completed`, `alarm` or `cancelled` (the run was stopped before
+    /// it finished).
+    #[schema(value_type = crate::wire::words::MachineState)]
+    pub state: &'static str,
+    /// Simulated seconds, once done.
+    pub cycle_time_s: Option<f64>,
+}
+
+/// `{"type": "progress", …}`: where a fleet run is.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct Progress {
+    /// Always `"progress"`.
+    #[serde(rename = "type")]
+    #[schema(value_type = crate::wire::words::ProgressType, inline)]
+    pub kind: &'static str,
+    pub id: String,
+    /// The run's status: `queued`, `running`, `done`, `cancelled` or `interrupted`.
+    #[schema(value_type = crate::wire::words::FleetRunStatus)]
+    pub status: &'static str,
+    pub total: usize,
+    /// Machines done.
+    pub done: usize,
+    /// The run is over (the last message before the socket closes).
+    pub finished: bool,
+    pub machines: Vec<MachineProgress>,
+}
+
+/// A run to start: the program, its machines in order, how to run them, and the request as
+/// stored.
+pub struct Plan {
+    pub program: String,
+    pub entries: Vec<Entry>,
+    pub options: Options,
+    pub request_json: String,
+}
+
+/// A run started: as stored (queued), and its end (`done`, `cancelled` or `interrupted`, and the
+/// fleet array).
+pub struct Started {
+    pub row: FleetRunRow,
+    pub end: tokio::task::JoinHandle<(&'static str, Vec<Option<FleetResult>>)>,
+}
+
+/// Queues a run of `plan` (at least one machine, at most [`MAX_MACHINES`]), stored as
+/// `queued`; it runs once a place is free.
+pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, ServiceError> {
+    let Plan { program, entries, options, request_json } = plan;
+    if entries.is_empty() {
+        return Err(ServiceError::invalid("no machines: give presets, machines, library or controllers"));
+    }
+    if entries.len() > MAX_MACHINES {
+        return Err(ServiceError::invalid(format!("{} machines: at most {MAX_MACHINES} in one run", entries.len())));
+    }
+    if let Some(tools) = &options.tools {
+        fleet::check_tools(tools).map_err(ServiceError::invalid)?;
+    }
+    let row = FleetRunRow {
+        id: uuid::Uuid::new_v4().simple().to_string(),
+        created_at: now_rfc3339(),
+        finished_at: None,
+        status: "queued".into(),
+        machines: entries.len() as u32,
+        completed: 0,
+        alarms: 0,
+        program: program.clone(),
+        request_json,
+        results_json: None,
+    };
+    let id = row.id.clone();
+    let progress = Progress {
+        kind: "progress",
+        id: id.clone(),
+        status: "queued",
+        total: entries.len(),
+        done: 0,
+        finished: false,
+        machines: entries
+            .iter()
+            .map(|e| MachineProgress { machine: e.name.clone(), state: "queued", cycle_time_s: None })
+            .collect(),
+    };
+    let (tx, rx) = watch::channel(progress);
+    let cancel = Arc::new(AtomicBool::new(false));
+    let stopped = Arc::new(watch::channel(None).0);
+    if !runs.put(&id, Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() }) {
+        return Err(ServiceError::Unavailable("the service is stopping: no new fleet runs".into()));
+    }
+    if let Err(e) = db::insert_fleet_run(db, &row).await {
+        runs.remove(&id);
+        return Err(e.into());
+    }
+    let opts = Options { cancel: Some(cancel), ..options };
+    let end = tokio::spawn(execute(db.clone(), runs.clone(), id, program, entries, opts, tx, stopped));
+    Ok(Started { row, end })
+}
+
+/// A fleet run from the queue to its record: waits for a place (`--fleet-jobs`) unless it is
+/// stopped first, runs on a blocking thread, stores the outcome and answers it (`done`,
+/// `cancelled` or `interrupted`, and the fleet array with `null` for each machine that did not
+/// finish).
+#[allow(clippy::too_many_arguments)]
+async fn execute(
+    db: db::Db,
+    runs: Runs,
+    id: String,
+    program: String,
+    entries: Vec<Entry>,
+    opts: Options,
+    tx: watch::Sender<Progress>,
+    stopped: Arc<watch::Sender<Option<&'static str>>>,
+) -> (&'static str, Vec<Option<FleetResult>>) {
+    let total = entries.len();
+    let mut why = stopped.subscribe();
+    let slot = tokio::select! {
+        slot = runs.slots.clone().acquire_owned() => slot.ok(),
+        _ = why.wait_for(Option::is_some) => None,
+    };
+    let mut results: Vec<Option<FleetResult>> = vec![None; total];
+    if slot.is_some() && stopped.borrow().is_none() {
+        if let Err(e) = db::start_fleet_run(&db, &id).await {
+            tracing::error!(%id, error = %e, "fleet run start not stored");
+        }
+        tx.send_modify(|p| p.status = "running");
+        let tx = Arc::new(tx.clone());
+        let events = tx.clone();
+        results = tokio::task::spawn_blocking(move || {
+            let on_event = |e: Event| {
+                events.send_modify(|p| match e {
+                    Event::Started { index, .. } => p.machines[index].state = "running",
+                    Event::Finished { index, status, cycle_time_s, .. } => {
+                        p.machines[index].state = status;
+                        p.machines[index].cycle_time_s = Some(cycle_time_s);
+                        p.done += 1;
+                    }
+                    Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
+                })
+            };
+            fleet::run_fleet(&program, &entries, &opts, &on_event)
+        })
+        .await
+        .unwrap_or_else(|_| vec![None; total]);
+    }
+    drop(slot);
+    // A stop that came after every machine finished changes nothing.
+    let status = match *stopped.borrow() {
+        Some(why) if results.iter().any(Option::is_none) => why,
+        _ => "done",
+    };
+    let completed =
+        results.iter().flatten().filter(|r| r.summary.status == crate::wire::RunStatus::Completed).count() as u32;
+    let alarms = results.iter().flatten().count() as u32 - completed;
+    let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
+    if let Err(e) = db::finish_fleet_run(&db, &id, status, &now_rfc3339(), completed, alarms, &json).await {
+        tracing::error!(%id, error = %e, "fleet run not stored");
+    }
+    tx.send_modify(|p| {
+        p.status = status;
+        p.finished = true;
+        for m in p.machines.iter_mut().filter(|m| matches!(m.state, "queued" | "running")) {
+            m.state = "cancelled";
+        }
+    });
+    runs.remove(&id);
+    tracing::info!(%id, machines = total, completed, alarms, status, "fleet run over");
+    (status, results)
+}
+
+/// Stops a queued or running run and waits (10 s at most) until it is stored as over: the run as
+/// stored then (`cancelled`, or `done` if it ended first); a run already over is a conflict.
+pub async fn cancel(db: &db::Db, runs: &Runs, id: &str) -> Result<FleetRunRow, ServiceError> {
+    let stopping = runs.stop(id, "cancelled");
+    if let Some(mut progress) = stopping.clone() {
+        // The engine stops within a block; storing the outcome takes a moment more.
+        let over = progress.wait_for(|p| p.finished);
+        if tokio::time::timeout(Duration::from_secs(10), over).await.is_err() {
+            tracing::warn!(%id, "fleet run not stopped 10 s after its cancel");
+        }
+    }
+    let row = get(db, id).await?;
+    if stopping.is_none() {
+        return Err(ServiceError::Conflict(format!("fleet run {id} is already over ({})", row.status)));
+    }
+    Ok(row)
+}
+
+/// The stored runs, newest first, at most `limit` (1–10000).
+pub async fn list(db: &db::Db, limit: u32) -> Result<Vec<FleetRunRow>, ServiceError> {
+    Ok(db::fleet_runs(db, limit.clamp(1, 10_000)).await?)
+}
+
+/// Run `id` as stored.
+pub async fn get(db: &db::Db, id: &str) -> Result<FleetRunRow, ServiceError> {
+    db::fleet_run(db, id).await?.ok_or_else(|| ServiceError::NotFound(format!("no fleet run {id}")))
+}
+
+/// Where a run is: its progress while queued or under way, else the run as stored.
+pub async fn follow(
+    db: &db::Db,
+    runs: &Runs,
+    id: &str,
+) -> Result<Result<watch::Receiver<Progress>, FleetRunRow>, ServiceError> {
+    match runs.get(id) {
+        Some(run) => Ok(Ok(run.progress)),
+        None => get(db, id).await.map(Err),
+    }
+}

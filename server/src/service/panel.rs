@@ -1,0 +1,403 @@
+//! The operator panel as one command type: every button, switch and manual feed the API offers
+//! is a [`PanelCommand`], checked ([`PanelCommand::check`]) before the controller is locked and
+//! applied in one place ([`apply`]). [`execute`] does both on a hosted controller and sends out
+//! what the command caused.
+
+use fivex_engine::controller::{Controller, ManualCoordinates, ManualSignals, Mode, Refusal, RunState};
+use fivex_engine::kin::ManualFeed;
+use serde::Serialize;
+
+use super::programs::MAX_PROGRAM_BYTES;
+use super::ServiceError;
+use crate::host::{Host, Hosted, Record, Station};
+
+/// What a manual move moves: one axis, along a 5-axis manual feed, or the tool tip centre
+/// rotation of a rotary axis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ManualTarget {
+    Axis(char),
+    Feed(ManualFeed),
+    TipRotation(char),
+}
+
+impl ManualTarget {
+    /// Exactly one of an axis letter, a feed and a rotary axis letter.
+    pub fn of(axis: Option<&str>, feed: Option<ManualFeed>, tip_rotation: Option<&str>) -> Result<Self, ServiceError> {
+        match (axis, feed, tip_rotation) {
+            (Some(a), None, None) => Ok(ManualTarget::Axis(letter(a)?)),
+            (None, Some(f), None) => Ok(ManualTarget::Feed(f)),
+            (None, None, Some(a)) => Ok(ManualTarget::TipRotation(letter(a)?)),
+            _ => Err(ServiceError::invalid("give exactly one of axis, feed and tip_rotation")),
+        }
+    }
+}
+
+/// An axis letter, upper case.
+pub fn letter(s: &str) -> Result<char, ServiceError> {
+    let mut chars = s.trim().chars();
+    match (chars.next(), chars.next()) {
+        (Some(c), None) if c.is_ascii_alphabetic() => Ok(c.to_ascii_uppercase()),
+        _ => Err(ServiceError::invalid(format!("'{s}' is not an axis letter"))),
+    }
+}
+
+/// A mode by its word, any case.
+pub fn mode(word: &str) -> Result<Mode, ServiceError> {
+    match word.to_ascii_lowercase().as_str() {
+        "auto" => Ok(Mode::Auto),
+        "mdi" => Ok(Mode::Mdi),
+        "jog" => Ok(Mode::Jog),
+        "handle" => Ok(Mode::Handle),
+        "ref" => Ok(Mode::Ref),
+        "inc" => Ok(Mode::Inc),
+        other => Err(ServiceError::invalid(format!("unknown mode '{other}' (auto, mdi, jog, handle, ref, inc)"))),
+    }
+}
+
+/// One action on the operator panel. A field that is `None` leaves that setting as it is.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "command", rename_all = "snake_case")]
+pub enum PanelCommand {
+    /// With a program (its number and the text AUTO runs, `programs::composed`): select it and
+    /// run it in AUTO; without: resume, or run what is selected.
+    CycleStart {
+        program: Option<(u32, String)>,
+    },
+    FeedHold,
+    /// Stop, abandon the program (recorded as `reset`), clear the alarms.
+    Reset,
+    /// Switch to MDI (when idle) and run the blocks.
+    Mdi {
+        text: String,
+    },
+    SetMode {
+        mode: Mode,
+    },
+    /// Percent: feed 0–200, rapid 0–100.
+    Overrides {
+        feed: Option<f64>,
+        rapid: Option<f64>,
+    },
+    Switches {
+        single_block: Option<bool>,
+        optional_stop: Option<bool>,
+        block_delete: Option<bool>,
+    },
+    /// Pressing it ends the run under way (recorded as `alarm`).
+    EmergencyStop {
+        pressed: bool,
+    },
+    Jog {
+        target: ManualTarget,
+        positive: bool,
+    },
+    JogStop,
+    Handle {
+        target: ManualTarget,
+        amount: f64,
+    },
+    ReferenceReturn,
+    ManualSettings {
+        coordinates: Option<ManualCoordinates>,
+        rtcp: Option<bool>,
+        jog_feed: Option<f64>,
+        manual_absolute: Option<bool>,
+        increment: Option<f64>,
+    },
+    /// FANUC's 5-axis manual feed signals.
+    ManualSignals {
+        alngh: Option<bool>,
+        rghth: Option<bool>,
+        rndh: Option<bool>,
+        tb_base: Option<bool>,
+        handle_select: Option<u8>,
+    },
+    JogSignal {
+        axis: char,
+        positive: bool,
+    },
+    /// Handle pulses while a program waits for them; the distance the controller took.
+    HandlePulses {
+        amount: f64,
+    },
+}
+
+/// What a command gave back besides the controller's new state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Applied {
+    Done,
+    /// The distance the handle pulses moved.
+    Taken(f64),
+}
+
+/// Why the controller did not take a command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refused {
+    /// The panel ignores it in this state.
+    Panel(Refusal),
+    /// A cycle start with a program while another is under way.
+    ProgramUnderWay,
+}
+
+impl From<Refusal> for Refused {
+    fn from(r: Refusal) -> Self {
+        Refused::Panel(r)
+    }
+}
+
+impl From<Refused> for ServiceError {
+    fn from(r: Refused) -> Self {
+        ServiceError::Conflict(
+            match r {
+                Refused::Panel(Refusal::WrongMode) => "not possible in this mode",
+                Refused::Panel(Refusal::Busy) => "not possible while the controller runs, holds or is in alarm",
+                Refused::Panel(Refusal::NoProgram) => "there is no program to run",
+                Refused::Panel(Refusal::NoAxis) => "no such axis (or no 5-axis mechanism for this feed)",
+                Refused::Panel(Refusal::BadValue) => "the value is not a finite number in range",
+                Refused::ProgramUnderWay => {
+                    "a program is under way: resume it with an empty cycle start, or reset first"
+                }
+            }
+            .into(),
+        )
+    }
+}
+
+impl PanelCommand {
+    /// The checks that need no controller: values in range, so that the controller is locked
+    /// only for a command it may take.
+    pub fn check(&self) -> Result<(), ServiceError> {
+        let invalid = |why: String| Err(ServiceError::invalid(why));
+        match self {
+            PanelCommand::Mdi { text } if text.len() > MAX_PROGRAM_BYTES => invalid("MDI text too long".into()),
+            PanelCommand::Overrides { feed, rapid } => {
+                for (value, max, what) in [(feed, 200.0, "feed"), (rapid, 100.0, "rapid")] {
+                    if value.is_some_and(|p: f64| !(p.is_finite() && (0.0..=max).contains(&p))) {
+                        return invalid(format!("{what} override must be 0–{max} %"));
+                    }
+                }
+                Ok(())
+            }
+            PanelCommand::Handle { amount, .. } if !(amount.is_finite() && amount.abs() <= 1.0e5) => {
+                invalid("HANDLE needs a finite amount (at most 1e5)".into())
+            }
+            PanelCommand::ManualSettings { jog_feed, increment, .. } => {
+                if jog_feed.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e6)) {
+                    return invalid("jog_feed must be above 0 and at most 1e6".into());
+                }
+                if increment.is_some_and(|f| !(f.is_finite() && f > 0.0 && f <= 1.0e3)) {
+                    return invalid("increment must be above 0 and at most 1000".into());
+                }
+                Ok(())
+            }
+            PanelCommand::ManualSignals { handle_select: Some(code), .. } if *code > 31 => {
+                invalid("handle_select is a 5-bit code (0–31)".into())
+            }
+            PanelCommand::HandlePulses { amount } if !(amount.is_finite() && amount.abs() <= 1.0e5) => {
+                invalid("amount must be finite and at most 1e5".into())
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Applies `command` to the station of controller `id`; the records of a run it ended go to
+/// `ended`.
+pub fn apply(
+    station: &mut Station,
+    id: &str,
+    command: PanelCommand,
+    ended: &mut Vec<Record>,
+) -> Result<Applied, Refused> {
+    let c: &mut Controller = &mut station.controller;
+    match command {
+        PanelCommand::CycleStart { program } => {
+            let fresh = c.run_state() == RunState::Idle;
+            if let Some((n, text)) = &program {
+                if !fresh {
+                    return Err(Refused::ProgramUnderWay);
+                }
+                if c.mode() != Mode::Auto {
+                    c.set_mode(Mode::Auto)?;
+                }
+                c.select_program(text)?;
+                c.cycle_start()?;
+                station.begin_run(Some(*n));
+            } else {
+                c.cycle_start()?;
+                if fresh {
+                    let program = if c.mode() == Mode::Auto { station.program } else { None };
+                    station.begin_run(program);
+                }
+            }
+        }
+        PanelCommand::FeedHold => c.feed_hold(),
+        PanelCommand::Reset => {
+            ended.extend(station.end_run(id, "reset"));
+            station.controller.reset();
+        }
+        PanelCommand::Mdi { text } => {
+            if c.mode() != Mode::Mdi {
+                c.set_mode(Mode::Mdi)?;
+            }
+            c.set_mdi(&text)?;
+            c.cycle_start()?;
+            station.begin_run(None);
+        }
+        PanelCommand::SetMode { mode } => c.set_mode(mode)?,
+        PanelCommand::Overrides { feed, rapid } => {
+            let feed = feed.map_or(c.panel.feed_override, |p| p / 100.0);
+            let rapid = rapid.map_or(c.panel.rapid_override, |p| p / 100.0);
+            c.set_overrides(feed, rapid);
+        }
+        PanelCommand::Switches { single_block, optional_stop, block_delete } => {
+            let p = &mut c.panel;
+            p.single_block = single_block.unwrap_or(p.single_block);
+            p.optional_stop = optional_stop.unwrap_or(p.optional_stop);
+            p.block_delete = block_delete.unwrap_or(p.block_delete);
+        }
+        PanelCommand::EmergencyStop { pressed } => {
+            if pressed {
+                ended.extend(station.end_run(id, "alarm"));
+            }
+            station.controller.emergency_stop(pressed);
+        }
+        PanelCommand::Jog { target, positive } => match target {
+            ManualTarget::Axis(a) => c.jog_start(a, positive)?,
+            ManualTarget::Feed(f) => c.jog_direction(f, positive)?,
+            ManualTarget::TipRotation(a) => c.jog_tip_rotation(a, positive)?,
+        },
+        PanelCommand::JogStop => c.jog_stop(),
+        PanelCommand::Handle { target, amount } => match target {
+            ManualTarget::Axis(a) => c.handle(a, amount)?,
+            ManualTarget::Feed(f) => c.handle_direction(f, amount)?,
+            ManualTarget::TipRotation(a) => c.handle_tip_rotation(a, amount)?,
+        },
+        PanelCommand::ReferenceReturn => c.reference_return()?,
+        PanelCommand::ManualSettings { coordinates, rtcp, jog_feed, manual_absolute, increment } => {
+            if let Some(choice) = coordinates {
+                c.set_manual_coordinates(choice)?;
+            }
+            if let Some(on) = rtcp {
+                c.set_manual_rtcp(on)?;
+            }
+            if let Some(feed) = jog_feed {
+                c.panel.jog_feed = feed;
+            }
+            if let Some(on) = manual_absolute {
+                c.panel.manual_absolute = on;
+            }
+            if let Some(step) = increment {
+                c.set_increment(step)?;
+            }
+        }
+        PanelCommand::ManualSignals { alngh, rghth, rndh, tb_base, handle_select } => {
+            let s: ManualSignals = c.panel.manual_signals;
+            c.set_manual_signals(ManualSignals {
+                alngh: alngh.unwrap_or(s.alngh),
+                rghth: rghth.unwrap_or(s.rghth),
+                rndh: rndh.unwrap_or(s.rndh),
+                tb_base: tb_base.unwrap_or(s.tb_base),
+                handle_select: handle_select.unwrap_or(s.handle_select),
+            })?;
+        }
+        PanelCommand::JogSignal { axis, positive } => c.jog_signal(axis, positive)?,
+        PanelCommand::HandlePulses { amount } => return Ok(Applied::Taken(c.handle_pulses(amount)?)),
+    }
+    Ok(Applied::Done)
+}
+
+/// Checks `command`, applies it to `hosted` (locked for as long as that takes), sends out what
+/// it caused (also when it was refused), and answers `view` of the controller after it.
+pub fn execute<T>(
+    host: &Host,
+    hosted: &Hosted,
+    command: PanelCommand,
+    view: impl FnOnce(&Hosted, &Station) -> T,
+) -> Result<(Applied, T), ServiceError> {
+    command.check()?;
+    let mut ended = Vec::new();
+    let (result, messages, records, seen) = {
+        let mut station = hosted.station();
+        let result = apply(&mut station, &hosted.id, command, &mut ended);
+        let (messages, records) = station.collect(&hosted.id, 0.0, true);
+        (result, messages, records, view(hosted, &station))
+    };
+    for r in ended.into_iter().chain(records) {
+        host.record(r);
+    }
+    hosted.publish(messages);
+    Ok((result?, seen))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::Spec;
+    use fivex_engine::machine::MachineConfig;
+
+    fn hosted() -> Hosted {
+        Hosted::new(Spec {
+            id: "c1".into(),
+            name: "test".into(),
+            dialect: fivex_engine::Dialect::Fanuc,
+            machine: MachineConfig::preset("mill3").expect("the mill3 preset"),
+            created_at: "2025-01-01T00:00:00Z".into(),
+            speed: 1.0,
+        })
+    }
+
+    fn refusal(command: PanelCommand) -> String {
+        command.check().expect_err("refused").to_string()
+    }
+
+    #[test]
+    fn values_out_of_range_are_refused_before_the_controller() {
+        let overrides = |feed, rapid| PanelCommand::Overrides { feed, rapid };
+        assert_eq!(refusal(overrides(Some(201.0), None)), "feed override must be 0–200 %");
+        assert_eq!(refusal(overrides(Some(50.0), Some(f64::NAN))), "rapid override must be 0–100 %");
+        assert!(overrides(Some(200.0), Some(0.0)).check().is_ok());
+        let handle = PanelCommand::Handle { target: ManualTarget::Axis('X'), amount: 2.0e5 };
+        assert_eq!(refusal(handle), "HANDLE needs a finite amount (at most 1e5)");
+        let signals = PanelCommand::ManualSignals {
+            alngh: None,
+            rghth: None,
+            rndh: None,
+            tb_base: None,
+            handle_select: Some(32),
+        };
+        assert_eq!(refusal(signals), "handle_select is a 5-bit code (0–31)");
+        assert_eq!(mode("JOG").unwrap(), Mode::Jog);
+        assert!(mode("fast").is_err());
+        assert_eq!(letter(" b ").unwrap(), 'B');
+        assert!(ManualTarget::of(Some("X"), None, Some("A")).is_err());
+    }
+
+    #[test]
+    fn commands_change_the_controller_and_a_reset_ends_the_run() {
+        let hosted = hosted();
+        let mut station = hosted.station();
+        let mut ended = Vec::new();
+        let switches = PanelCommand::Switches { single_block: Some(true), optional_stop: None, block_delete: None };
+        assert_eq!(apply(&mut station, "c1", switches, &mut ended), Ok(Applied::Done));
+        assert!(station.controller.panel.single_block && !station.controller.panel.optional_stop);
+        let overrides = PanelCommand::Overrides { feed: Some(50.0), rapid: None };
+        apply(&mut station, "c1", overrides, &mut ended).unwrap();
+        assert_eq!(station.controller.panel.feed_override, 0.5);
+        let mdi = PanelCommand::Mdi { text: "G91 G01 X10. F100".into() };
+        apply(&mut station, "c1", mdi, &mut ended).unwrap();
+        assert_eq!(station.controller.mode(), Mode::Mdi);
+        assert_ne!(station.controller.run_state(), RunState::Idle);
+        let another = PanelCommand::CycleStart { program: Some((1, "G01 X1.\nM30\n".into())) };
+        assert_eq!(apply(&mut station, "c1", another, &mut ended), Err(Refused::ProgramUnderWay));
+        assert_eq!(
+            apply(&mut station, "c1", PanelCommand::SetMode { mode: Mode::Jog }, &mut ended),
+            Err(Refused::Panel(Refusal::Busy))
+        );
+        assert!(ended.is_empty());
+        apply(&mut station, "c1", PanelCommand::Reset, &mut ended).unwrap();
+        assert_eq!(station.controller.run_state(), RunState::Idle);
+        assert!(matches!(ended.as_slice(), [Record::Run { result, .. }] if *result == "reset"), "{ended:?}");
+    }
+}
