@@ -150,10 +150,13 @@ pub fn run_observed(
         motion_alarm = true;
     }
     let Driver { exec, messages, .. } = exec;
-    let (machine, workpiece, basis) = if motion_alarm {
-        (exec.here.machine, exec.here.work, exec.basis())
+    // The machine is where the executor left it: a path stage may have moved it off the
+    // interpreter's point (cutter compensation) or held back what an alarm then dropped.
+    let machine = exec.here.machine;
+    let (workpiece, basis) = if motion_alarm {
+        (exec.here.work, exec.basis())
     } else {
-        (interp.state.machine_position(), interp.state.shown_position(), interp.state.tip_basis())
+        (interp.state.shown_position(), interp.state.tip_basis())
     };
     let tip = crate::tip::locate(exec.kinematics().map(|k| &**k), &machine, &basis);
     let shown = exec.machine();
