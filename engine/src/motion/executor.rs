@@ -70,12 +70,10 @@ pub enum Braking {
     Started,
 }
 
-/// A run executed to its end by [`Executor::advance_to`].
+/// A run executed to its end ([`Executor::finish`]).
 #[derive(Debug, Clone)]
 pub struct Finished {
     pub planned: Planned,
-    /// Its segments' numbers in queue order start here.
-    pub first: u64,
 }
 
 pub struct Executor {
@@ -131,11 +129,6 @@ impl Executor {
 
     pub fn time(&self) -> f64 {
         self.t
-    }
-
-    /// Segments executed to their end so far.
-    pub fn executed(&self) -> u64 {
-        self.executed
     }
 
     /// Nothing is moving and nothing is queued.
@@ -316,7 +309,6 @@ impl Executor {
             return None;
         }
         let Current { planned, .. } = self.current.take()?;
-        let first = self.executed;
         self.executed += planned.segments.len() as u64;
         if let Some(last) = planned.segments.last() {
             (self.last_basis, self.last_tool_length) = (last.tip_basis, last.tool_length);
@@ -324,7 +316,7 @@ impl Executor {
         if planned.profile.end_speed().abs() < 1e-9 {
             self.here.feed = 0.0;
         }
-        Some(Finished { planned, first })
+        Some(Finished { planned })
     }
 
     /// The run ended on its last point exactly (not a stop part-way along it).
