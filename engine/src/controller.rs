@@ -1004,7 +1004,7 @@ impl Controller {
         let mut out = Vec::new();
         let banned = self.interp.wse_forbids_manual();
         let step = self.interp.step(&mut out);
-        self.stages.process(&mut out, crate::run::ends(&step));
+        let stage_alarm = self.stages.process(&mut out, crate::run::ends(&step));
         let produced = !out.is_empty();
         if !matches!(step, Ok(Step::NeedInput)) {
             let (line, n) = self.interp.state.current_block();
@@ -1014,6 +1014,12 @@ impl Controller {
         self.pending.extend(out.into_iter().map(Item::Canon));
         if self.interp.wse_forbids_manual() != banned {
             self.pending.push_back(Item::WseNoManual(!banned));
+        }
+        if let Some(alarm) = stage_alarm {
+            // A path stage's program error: the program stops after what was released before it.
+            self.program_active = false;
+            self.pending.push_back(Item::Alarm(alarm));
+            return;
         }
         match step {
             Ok(Step::Continue) => {

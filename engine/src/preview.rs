@@ -66,7 +66,7 @@ pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
     let mut out = Vec::new();
     loop {
         let step = interp.step(&mut out);
-        stages.process(&mut out, crate::run::ends(&step));
+        let stage_alarm = stages.process(&mut out, crate::run::ends(&step));
         for c in out.drain(..) {
             let CanonKind::Motion(m) = &c.kind else { continue };
             let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
@@ -85,6 +85,10 @@ pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
             } else if !push(&mut path, tip(&exec, &m.machine, length), c.line, rapid) {
                 return path;
             }
+        }
+        if stage_alarm.is_some() {
+            path.alarm = stage_alarm;
+            return path;
         }
         match step {
             Ok(Step::Continue) => {}

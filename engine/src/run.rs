@@ -115,7 +115,7 @@ pub fn run_observed(
             break;
         }
         let step = interp.step(&mut out);
-        stages.process(&mut out, ends(&step));
+        let stage_alarm = stages.process(&mut out, ends(&step));
         let before = exec.exec.time();
         for c in out.drain(..) {
             if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
@@ -126,6 +126,11 @@ pub fn run_observed(
             }
         }
         if motion_alarm || exec.over_budget.is_some() {
+            break;
+        }
+        if let Some(alarm) = stage_alarm {
+            // A path stage's program error: what it released before it has run.
+            alarms.push(alarm);
             break;
         }
         interp.state.advance_time(exec.exec.time() - before);

@@ -114,8 +114,8 @@ pub struct Config {
     /// interlocks that belong to those functions (`engine/tests/it/modes.rs`), so that their rules
     /// stay checked until the functions are built.
     pub refuse_unbuilt: bool,
-    /// What the path stages fed by this interpreter tell it (`crate::stage::Link`): an alarm
-    /// they found, whether they hold commands, where cutter compensation started.
+    /// What this interpreter tells the path stages it feeds that the commands do not carry
+    /// (`crate::stage::Link`): where cutter compensation started.
     pub stages: crate::stage::Link,
 }
 
@@ -453,12 +453,6 @@ impl Interpreter {
     /// Execute the next block; its canonical commands are appended to `out`.
     pub fn step(&mut self, out: &mut Vec<Canon>) -> Result<Step, Alarm> {
         let st = &mut self.state;
-        // An alarm the path stages found in what this interpreter handed them (`crate::stage`).
-        if let Some((id, line, n)) = st.cfg.stages.take_alarm() {
-            st.ended = true;
-            let (code, message) = st.cfg.dialect.describe(&id);
-            return Err(Alarm { code, message, line, n });
-        }
         if st.ended {
             return Ok(Step::Ended);
         }
@@ -474,11 +468,6 @@ impl Interpreter {
             result = Err(AlarmId::FloatOverflow);
         }
         match result {
-            // A stage still holding commands (cutter compensation) may find an error in them
-            // when it releases them at the end: end one step later, so that it is raised.
-            Ok(Step::Ended) if st.modes[group::CUTTER_COMP] != code::G40 || st.cfg.stages.holding() => {
-                Ok(Step::Continue)
-            }
             Ok(step) => Ok(step),
             Err(id) => {
                 st.ended = true;

@@ -64,7 +64,8 @@ pub struct Cutter {
     after: Vec<Canon>,
     /// An alarm was raised: nothing more is handed on until a reset.
     stopped: bool,
-    told_holding: bool,
+    /// The alarm found, until the pipeline takes it.
+    alarm: Option<(AlarmId, u32, Option<u32>)>,
     /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
     /// motion the stage does not compensate passes as it came (as before the stage existed).
     refuse: bool,
@@ -84,7 +85,7 @@ impl Cutter {
             held: None,
             after: Vec::new(),
             stopped: false,
-            told_holding: false,
+            alarm: None,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -119,7 +120,7 @@ impl Cutter {
     }
 
     fn alarm(&mut self, id: AlarmId, c: &Canon) {
-        self.link.raise(id, c.line, c.n);
+        self.alarm.get_or_insert((id, c.line, c.n));
         self.stopped = true;
         self.held = None;
         self.after.clear();
@@ -326,14 +327,6 @@ impl Cutter {
             self.release_perpendicular(out);
         }
     }
-
-    fn tell_holding(&mut self) {
-        let holding = self.held.is_some() || !self.after.is_empty();
-        if holding != self.told_holding {
-            self.told_holding = holding;
-            self.link.set_holding(holding);
-        }
-    }
 }
 
 /// The points of the corner between the held block `h` and the next block `next` (radius `rn`
@@ -440,14 +433,16 @@ impl Stage for Cutter {
             }
             _ => out.push(command),
         }
-        self.tell_holding();
     }
 
     fn finish(&mut self, out: &mut Vec<Canon>) {
         if !self.stopped {
             self.release_perpendicular(out);
         }
-        self.tell_holding();
+    }
+
+    fn take_alarm(&mut self) -> Option<(AlarmId, u32, Option<u32>)> {
+        self.alarm.take()
     }
 
     fn reset(&mut self) {
@@ -457,7 +452,7 @@ impl Stage for Cutter {
         self.held = None;
         self.after.clear();
         self.stopped = false;
-        self.told_holding = false;
+        self.alarm = None;
         self.link.clear();
     }
 }

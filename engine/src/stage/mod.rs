@@ -17,18 +17,19 @@
 //! released command to the block being read when it comes out (what its modal display shows
 //! while it moves).
 //!
-//! A stage that finds a program error (a gouge, a corner without a solution) reports it on the
-//! [`Link`] of the interpreter's `Config`, holds back the offending command and everything after
-//! it, and the interpreter raises the alarm at its next step: every driver already stops on an
-//! interpreter alarm, after carrying out what was released before it. So that an error in what
-//! a stage still holds at the program end is raised too, the interpreter ends one step later
-//! while a stage holds commands ([`Link::holding`]).
+//! A stage that finds a program error (a gouge, a corner without a solution) holds back the
+//! offending command and everything after it and gives the alarm to the pipeline
+//! ([`Stage::take_alarm`]); [`Pipeline::process`] returns it to its driver with what was
+//! released before it, and the driver stops there as on an interpreter alarm. The interpreter
+//! tells the stages one thing the commands do not carry, through the [`Link`] of its `Config`:
+//! where the path stood when cutter compensation was turned on.
 
 pub mod cutter;
 
-use crate::alarm::AlarmId;
+use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, Pos};
 use crate::interp::Config;
+use crate::Dialect;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -37,20 +38,17 @@ use std::sync::{Arc, Mutex, MutexGuard};
 #[derive(Default)]
 pub struct Link(Arc<Shared>);
 
-/// The link's state. The flags let the interpreter and the stage ask "anything there?" once
-/// per block without taking the lock.
+/// The link's state. The flag lets the stage ask "anything there?" once per command without
+/// taking the lock.
 #[derive(Default)]
 struct Shared {
-    /// An alarm or a start of compensation is waiting in `data`.
+    /// A start of compensation is waiting in `data`.
     posted: AtomicBool,
-    holding: AtomicBool,
     data: Mutex<Data>,
 }
 
 #[derive(Default)]
 struct Data {
-    /// The alarm a stage found, with the line and sequence number of its block.
-    alarm: Option<(AlarmId, u32, Option<u32>)>,
     /// Where the program's path stood (programming coordinates) when cutter compensation was
     /// turned on: the start of the start-up block.
     comp_start: Option<Pos>,
@@ -82,7 +80,7 @@ impl Link {
     fn post(&self, f: impl FnOnce(&mut Data)) {
         let mut data = self.lock();
         f(&mut data);
-        self.0.posted.store(data.alarm.is_some() || data.comp_start.is_some(), Ordering::Release);
+        self.0.posted.store(data.comp_start.is_some(), Ordering::Release);
     }
 
     fn take<T>(&self, f: impl FnOnce(&mut Data) -> Option<T>) -> Option<T> {
@@ -94,27 +92,6 @@ impl Link {
         value
     }
 
-    /// A stage found a program error at a block (the first one counts).
-    pub fn raise(&self, id: AlarmId, line: u32, n: Option<u32>) {
-        self.post(|data| {
-            data.alarm.get_or_insert((id, line, n));
-        });
-    }
-
-    /// The alarm a stage found, once.
-    pub fn take_alarm(&self) -> Option<(AlarmId, u32, Option<u32>)> {
-        self.take(|data| data.alarm.take())
-    }
-
-    /// A stage holds commands it has not released.
-    pub fn set_holding(&self, holding: bool) {
-        self.0.holding.store(holding, Ordering::Release);
-    }
-
-    pub fn holding(&self) -> bool {
-        self.0.holding.load(Ordering::Acquire)
-    }
-
     /// The interpreter turned cutter compensation on with its path at `pos`.
     pub fn comp_started(&self, pos: Pos) {
         self.post(|data| data.comp_start = Some(pos));
@@ -124,10 +101,9 @@ impl Link {
         self.take(|data| data.comp_start.take())
     }
 
-    /// A reset: nothing is held, no alarm is due.
+    /// A reset: nothing is due.
     pub fn clear(&self) {
         self.post(|data| *data = Data::default());
-        self.set_holding(false);
     }
 }
 
@@ -139,12 +115,19 @@ pub trait Stage: Send {
     fn finish(&mut self, out: &mut Vec<Canon>);
     /// The program was abandoned (reset): drop everything held.
     fn reset(&mut self);
+    /// The program error this stage found (its id, and the line and sequence number of the
+    /// block), once; the stage hands nothing on after it until a reset.
+    fn take_alarm(&mut self) -> Option<(AlarmId, u32, Option<u32>)> {
+        None
+    }
 }
 
 /// The stages a machine's programs go through, in order.
 #[derive(Default)]
 pub struct Pipeline {
     stages: Vec<Box<dyn Stage>>,
+    /// Whose alarm codes and messages a stage's error gets.
+    dialect: Dialect,
     /// What one stage handed on, for the next.
     between: Vec<Canon>,
 }
@@ -153,12 +136,16 @@ impl Pipeline {
     /// The stages for programs run with `config`: cutter compensation C. (Cutting point control
     /// and splines are refused by the interpreter until their stages are built.)
     pub fn for_config(config: &Config) -> Pipeline {
-        Pipeline { stages: vec![Box::new(cutter::Cutter::new(config))], between: Vec::new() }
+        Pipeline { stages: vec![Box::new(cutter::Cutter::new(config))], dialect: config.dialect, between: Vec::new() }
     }
 
     /// Pass one interpreter step's commands through every stage: `commands` becomes what comes
-    /// out of the last one. `end`: the program has ended, everything held comes out.
-    pub fn process(&mut self, commands: &mut Vec<Canon>, end: bool) {
+    /// out of the last one. `end`: the program has ended, everything held comes out. A stage's
+    /// program error comes back after what was released before it: the driver carries those
+    /// out and stops with the alarm, as on an interpreter alarm.
+    #[must_use = "a stage's program error must stop the driver"]
+    pub fn process(&mut self, commands: &mut Vec<Canon>, end: bool) -> Option<Alarm> {
+        let mut found = None;
         for stage in &mut self.stages {
             for c in commands.drain(..) {
                 stage.push(c, &mut self.between);
@@ -167,7 +154,11 @@ impl Pipeline {
                 stage.finish(&mut self.between);
             }
             std::mem::swap(commands, &mut self.between);
+            found = found.or_else(|| stage.take_alarm());
         }
+        let (id, line, n) = found?;
+        let (code, message) = self.dialect.describe(&id);
+        Some(Alarm { code, message, line, n })
     }
 
     /// Drop everything the stages hold (and the alarm they found).
@@ -212,13 +203,13 @@ mod tests {
         let mut p =
             Pipeline { stages: vec![Box::new(HoldOne::default()), Box::new(HoldOne::default())], ..Default::default() };
         let mut step = vec![dwell(1), dwell(2)];
-        p.process(&mut step, false);
+        assert_eq!(p.process(&mut step, false), None);
         assert!(step.is_empty(), "two stages of one command each hold both: {:?}", lines(&step));
         let mut step = vec![dwell(3)];
-        p.process(&mut step, false);
+        assert_eq!(p.process(&mut step, false), None);
         assert_eq!(lines(&step), [1]);
         let mut step = vec![dwell(4)];
-        p.process(&mut step, true);
+        assert_eq!(p.process(&mut step, true), None);
         assert_eq!(lines(&step), [2, 3, 4]);
     }
 
@@ -226,11 +217,51 @@ mod tests {
     fn reset_drops_what_is_held() {
         let mut p = Pipeline { stages: vec![Box::new(HoldOne::default())], ..Default::default() };
         let mut step = vec![dwell(1)];
-        p.process(&mut step, false);
+        assert_eq!(p.process(&mut step, false), None);
         p.reset();
         let mut step = vec![dwell(2)];
-        p.process(&mut step, true);
+        assert_eq!(p.process(&mut step, true), None);
         assert_eq!(lines(&step), [2]);
+    }
+
+    /// A stage that finds an interference at line 2 and hands on nothing from there.
+    #[derive(Default)]
+    struct Gouge(Option<(AlarmId, u32, Option<u32>)>, bool);
+
+    impl Stage for Gouge {
+        fn push(&mut self, command: Canon, out: &mut Vec<Canon>) {
+            if command.line == 2 {
+                (self.0, self.1) = (Some((AlarmId::CutterInterference, 2, None)), true);
+            }
+            if !self.1 {
+                out.push(command);
+            }
+        }
+        fn finish(&mut self, _: &mut Vec<Canon>) {}
+        fn reset(&mut self) {
+            *self = Gouge::default();
+        }
+        fn take_alarm(&mut self) -> Option<(AlarmId, u32, Option<u32>)> {
+            self.0.take()
+        }
+    }
+
+    #[test]
+    fn a_stage_error_comes_back_after_what_was_released_before_it() {
+        let mut p = Pipeline {
+            stages: vec![Box::new(Gouge::default())],
+            dialect: crate::Dialect::Syntec,
+            ..Default::default()
+        };
+        let mut step = vec![dwell(1), dwell(2), dwell(3)];
+        let alarm = p.process(&mut step, false).expect("the stage's alarm");
+        assert_eq!(lines(&step), [1]);
+        assert_eq!(
+            (alarm.code.as_str(), alarm.line),
+            (crate::Dialect::Syntec.describe(&AlarmId::CutterInterference).0.as_str(), 2)
+        );
+        let mut step = vec![dwell(4)];
+        assert_eq!(p.process(&mut step, true), None, "raised once");
     }
 
     #[test]
@@ -238,10 +269,10 @@ mod tests {
         let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
         let shared = config.stages.share();
         let cloned = config.clone();
-        shared.raise(AlarmId::CutterInterference, 7, None);
-        assert_eq!(cloned.stages.take_alarm(), None);
-        assert_eq!(config.stages.take_alarm(), Some((AlarmId::CutterInterference, 7, None)));
-        assert_eq!(config.stages.take_alarm(), None, "raised once");
+        config.stages.comp_started([1.0; crate::machine::MAX_AXES]);
+        assert_eq!(cloned.stages.take_comp_start(), None);
+        assert_eq!(shared.take_comp_start(), Some([1.0; crate::machine::MAX_AXES]));
+        assert_eq!(shared.take_comp_start(), None, "once");
     }
 
     #[test]
@@ -249,7 +280,7 @@ mod tests {
         let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
         let mut p = Pipeline::for_config(&config);
         let mut step = vec![dwell(1), dwell(2)];
-        p.process(&mut step, false);
+        assert_eq!(p.process(&mut step, false), None);
         assert_eq!(lines(&step), [1, 2]);
     }
 }

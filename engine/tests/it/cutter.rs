@@ -27,13 +27,16 @@ fn centre_axes(src: &str, dialect: Dialect, (a, b): (usize, usize)) -> Centre {
     loop {
         let step = interp.step(&mut out);
         let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
-        stages.process(&mut out, end);
+        let stage_alarm = stages.process(&mut out, end);
         for c in out.drain(..) {
             if let CanonKind::Motion(m) = c.kind {
                 // No work offset here: the stage moved both systems by the same.
                 assert!((m.machine[a] - m.target[a]).abs() < 1e-9 && (m.machine[b] - m.target[b]).abs() < 1e-9);
                 ends.push((c.line, [m.target[a], m.target[b]]));
             }
+        }
+        if let Some(alarm) = stage_alarm {
+            return (ends, Some((alarm.code, alarm.line)));
         }
         match step {
             Ok(Step::Continue) => {}
@@ -491,8 +494,11 @@ mod random {
         let (mut out, mut all) = (Vec::new(), Vec::new());
         loop {
             let step = interp.step(&mut out);
-            stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
+            let stage_alarm = stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
             all.append(&mut out);
+            if stage_alarm.is_some() {
+                return (all, stage_alarm);
+            }
             match step {
                 Ok(Step::Continue) => {}
                 Ok(Step::NeedInput) => interp.finish(),
@@ -625,7 +631,8 @@ fn a_work_offset_moves_with_the_compensated_point() {
     let (mut out, mut seen) = (Vec::new(), Vec::new());
     loop {
         let step = interp.step(&mut out);
-        stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
+        let stage_alarm = stages.process(&mut out, !matches!(step, Ok(Step::Continue | Step::NeedInput)));
+        assert_eq!(stage_alarm, None);
         for c in out.drain(..) {
             if let CanonKind::Motion(m) = c.kind {
                 assert!(approx(m.machine[0] - m.target[0], 100.0) && approx(m.machine[1] - m.target[1], 50.0));
