@@ -1011,7 +1011,16 @@ impl Controller {
             let block = BlockState { line, n, modal: self.interp.state.modal_state() };
             self.pending.push_back(Item::Block(self.executing.read(block, !produced)));
         }
-        self.pending.extend(out.into_iter().map(Item::Canon));
+        // A path stage may release a block it held together with the one just read (cutter
+        // compensation: the block before a G40): each block's commands end at its own stop.
+        let mut line = out.first().map(|c| c.line);
+        for c in out {
+            if line != Some(c.line) {
+                self.pending.push_back(Item::BlockEnd);
+                line = Some(c.line);
+            }
+            self.pending.push_back(Item::Canon(c));
+        }
         if self.interp.wse_forbids_manual() != banned {
             self.pending.push_back(Item::WseNoManual(!banned));
         }

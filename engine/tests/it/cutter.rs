@@ -604,11 +604,13 @@ mod in_the_controller {
     #[test]
     fn the_controller_stops_at_the_compensated_corners_in_single_block() {
         assert_eq!(stops(false)[0], [0.0, -10.0]);
-        // Each cycle start runs the block whose end the stage has placed. Not built: the block
-        // before the G40 block runs on with it (the controller reads both in one step, the
-        // stage releasing the first only when the second comes): no stop at (−5, 0).
+        // Each cycle start runs the block whose end the stage has placed, the block before the
+        // G40 block too (the stage releases both when the G40 block is read).
         let single = stops(true);
-        assert_eq!(single[..6], [[0.0, -10.0], [5.0, -5.0], [25.0, -5.0], [25.0, 25.0], [-5.0, 25.0], [0.0, -10.0]]);
+        assert_eq!(
+            single[..7],
+            [[0.0, -10.0], [5.0, -5.0], [25.0, -5.0], [25.0, 25.0], [-5.0, 25.0], [-5.0, 0.0], [0.0, -10.0]]
+        );
     }
 }
 
