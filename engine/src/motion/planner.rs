@@ -12,7 +12,9 @@
 //! queue ends in a stop: a non-motion command, an exact stop, the program end): its speeds are
 //! then final, because they are planned as if the machine had to stop at the end of the queue.
 //! Planning runs once per `lookahead` queued segments over the whole queue (a backward pass
-//! from the stop, then a forward pass from the current speed): two passes per segment.
+//! from the stop, then a forward pass from the current speed): two passes per segment. A
+//! released run's segments stay at the front of the queue until it is popped (its profile is
+//! made then), so the planner never holds a segment twice.
 
 use super::path::Segment;
 use super::profile::{reachable, Limits, Profile};
@@ -106,9 +108,20 @@ struct Run {
     v_end: f64,
 }
 
+/// A run whose speeds are final, waiting at the front of the queue: its segments stay there
+/// until it is popped (a released run is not a second copy of its segments).
+struct Released {
+    count: usize,
+    v_start: f64,
+    v_end: f64,
+    len: f64,
+    limits: Limits,
+}
+
 pub struct Planner {
+    /// Every segment not yet popped: those of the released runs first, in order.
     queue: VecDeque<Queued>,
-    ready: VecDeque<Planned>,
+    ready: VecDeque<Released>,
     /// Speed at the end of the last released run.
     v_now: f64,
     pub lookahead: usize,
@@ -125,7 +138,7 @@ impl Planner {
     }
 
     pub fn is_empty(&self) -> bool {
-        self.queue.is_empty() && self.ready.is_empty()
+        self.queue.is_empty()
     }
 
     /// Queue a segment (zero-length segments are dropped: they take no time); a kinematic
@@ -152,14 +165,14 @@ impl Planner {
 
     /// Every segment not yet executed, in order (the planner unchanged).
     pub fn segments(&self) -> impl Iterator<Item = &Segment> {
-        self.ready.iter().flat_map(|p| &p.segments).chain(self.queue.iter().map(|q| &q.segment))
+        self.queue.iter().map(|q| &q.segment)
     }
 
     /// Every segment not yet executed, in order, and the planner emptied (for a replan from
     /// rest after a feed hold).
     pub fn take_all(&mut self) -> Vec<Segment> {
-        let mut out: Vec<Segment> = self.ready.drain(..).flat_map(|p| p.segments).collect();
-        out.extend(self.queue.drain(..).map(|q| q.segment));
+        self.ready.clear();
+        let out = self.queue.drain(..).map(|q| q.segment).collect();
         self.v_now = 0.0;
         out
     }
@@ -206,7 +219,11 @@ impl Planner {
             }
             self.plan(if stop { n } else { n - self.lookahead });
         }
-        self.ready.pop_front()
+        let r = self.ready.pop_front()?;
+        // Exactly as many as the run has (collected, a one-segment run would reserve four).
+        let mut segments = Vec::with_capacity(r.count);
+        segments.extend(self.queue.drain(..r.count).map(|q| q.segment));
+        Some(Planned { segments, profile: Profile::plan(r.v_start, r.v_end, r.len, &r.limits) })
     }
 
     /// Plan the queue and release the runs that end within its first `release` segments.
@@ -226,14 +243,10 @@ impl Planner {
         }
         let mut taken = 0;
         for r in runs.iter().take_while(|r| r.end <= release) {
-            // Exactly as many as the run has: a run is often one segment, and a collected
-            // vector would reserve four (2 kB each) for the hundreds of runs waiting.
-            let mut segments = Vec::with_capacity(r.end - taken);
-            segments.extend(self.queue.drain(..r.end - taken).map(|q| q.segment));
+            let (v_start, v_end, len, limits) = (self.v_now, r.v_end, r.len, r.limits);
+            self.ready.push_back(Released { count: r.end - taken, v_start, v_end, len, limits });
             taken = r.end;
-            let profile = Profile::plan(self.v_now, r.v_end, r.len, &r.limits);
             self.v_now = r.v_end;
-            self.ready.push_back(Planned { segments, profile });
         }
     }
 
