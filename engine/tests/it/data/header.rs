@@ -50,41 +50,7 @@ pub struct Skip {
 
 pub const INVARIANTS: &[&str] = &["limits", "tip"];
 
-/// The bodies of `(TAG: …)` comments in `text`.
-pub fn tagged_comments<'a>(text: &'a str, tag: &str) -> Vec<&'a str> {
-    let open = format!("({tag}:");
-    let mut out = Vec::new();
-    let mut rest = text;
-    while let Some(i) = rest.find(&open) {
-        let body = &rest[i + open.len()..];
-        let end = body.find(')').unwrap_or(body.len());
-        out.push(body[..end].trim());
-        rest = &body[end..];
-    }
-    out
-}
-
-/// Words separated by blanks; a double-quoted part may hold blanks (`msg="A B"` → `msg=A B`).
-pub fn split_words(s: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut word = String::new();
-    let mut quoted = false;
-    for c in s.chars() {
-        match c {
-            '"' => quoted = !quoted,
-            c if c.is_whitespace() && !quoted => {
-                if !word.is_empty() {
-                    out.push(std::mem::take(&mut word));
-                }
-            }
-            c => word.push(c),
-        }
-    }
-    if !word.is_empty() {
-        out.push(word);
-    }
-    out
-}
+pub use fivex_e2e::header::{split_words, tagged_comments};
 
 pub fn parse(text: &str) -> Result<Header, String> {
     let mut h = Header { preset: "mill3".into(), dialects: vec![Dialect::Fanuc], ..Header::default() };

@@ -5,6 +5,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
 
+pub use fivex_e2e::header::{split_words, tagged_comments};
+
 /// The `fivex` binary under test.
 ///
 /// `FIVEX_BIN` wins when set. Otherwise the binary is `<target dir>/<profile>/fivex`, found
@@ -67,50 +69,4 @@ pub fn stderr(o: &Output) -> String {
 /// The fixtures directory (`tests/fixtures`).
 pub fn fixtures_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures")
-}
-
-/// Split a line of options on whitespace, keeping `"double quoted"` parts together.
-pub fn split_words(s: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    let mut quoted = false;
-    let mut any = false;
-    for ch in s.chars() {
-        match ch {
-            '"' => {
-                quoted = !quoted;
-                any = true;
-            }
-            c if c.is_whitespace() && !quoted => {
-                if any {
-                    out.push(std::mem::take(&mut cur));
-                    any = false;
-                }
-            }
-            c => {
-                cur.push(c);
-                any = true;
-            }
-        }
-    }
-    if any {
-        out.push(cur);
-    }
-    out
-}
-
-/// The texts of every `(TAG: …)` comment in `text`, in order.
-pub fn tagged_comments<'a>(text: &'a str, tag: &str) -> Vec<&'a str> {
-    let open = format!("({tag}:");
-    let mut out = Vec::new();
-    for line in text.lines() {
-        let mut rest = line;
-        while let Some(i) = rest.find(&open) {
-            let body = &rest[i + open.len()..];
-            let end = body.find(')').unwrap_or(body.len());
-            out.push(body[..end].trim());
-            rest = &body[end..];
-        }
-    }
-    out
 }
