@@ -32,7 +32,9 @@ pub use manual::ManualCoordinates;
 use manual::{Intervention, Shift};
 pub use signals::{ManualSignals, ManualTarget};
 
+/// A controller's mode: the operator panel's mode switch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = ModeName))]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
     Auto,
@@ -44,8 +46,9 @@ pub enum Mode {
     Inc,
 }
 
-/// docs/contracts.md's `run_state`.
+/// A controller's run state (docs/contracts.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = RunStateName))]
 #[serde(rename_all = "lowercase")]
 pub enum RunState {
     Idle,

@@ -159,16 +159,6 @@ pub mod words {
     #![allow(dead_code)]
     use utoipa::ToSchema;
 
-    /// A controller's run state (docs/contracts.md).
-    #[derive(ToSchema)]
-    #[serde(rename_all = "lowercase")]
-    pub enum RunStateName {
-        Idle,
-        Running,
-        Hold,
-        Alarm,
-    }
-
     /// The mechanism a machine's rotary axes are on (`unknown`: the kinematics refuses it).
     #[derive(ToSchema)]
     #[serde(rename_all = "kebab-case")]

@@ -16,6 +16,7 @@ pub(super) const AT_CLAMP: f64 = 1.0e9;
 
 /// Syntec R518: the coordinate system of manual X/Y/Z moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = CoordinatesName))]
 #[serde(rename_all = "lowercase")]
 pub enum ManualCoordinates {
     /// R518 = 0: each axis on its own.

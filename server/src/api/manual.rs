@@ -133,17 +133,6 @@ pub async fn reference_return(
     status_after(&state, &hosted, PanelCommand::ReferenceReturn)
 }
 
-/// The coordinate systems `PUT /manual` takes (the document's enum for the engine's
-/// `ManualCoordinates`, which has no schema of its own).
-#[allow(dead_code)]
-#[derive(ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum CoordinatesName {
-    Machine,
-    Program,
-    Tool,
-}
-
 /// `PUT /manual`: the manual settings to change.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
@@ -155,7 +144,7 @@ pub struct ManualSettings {
     /// programmed points; off: later points shift by the intervention.
     pub manual_absolute: Option<bool>,
     /// Syntec R518: `machine`, `program` or `tool` coordinates for manual X/Y/Z.
-    #[schema(value_type = Option<CoordinatesName>, example = "program")]
+    #[schema(value_type = Option<fivex_engine::controller::ManualCoordinates>, example = "program")]
     pub coordinates: Option<ManualCoordinates>,
     /// Syntec R519: manual rotary moves under TCP keep the tool tip.
     pub rtcp: Option<bool>,

@@ -100,10 +100,10 @@ pub struct ControllerStatus {
     /// Simulated seconds per real second (1 = real time).
     pub speed: f64,
     /// `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
-    #[schema(value_type = panel::ModeName)]
+    #[schema(value_type = fivex_engine::controller::Mode)]
     pub mode: String,
     /// `idle`, `running`, `hold` or `alarm`.
-    #[schema(value_type = crate::wire::words::RunStateName)]
+    #[schema(value_type = fivex_engine::controller::RunState)]
     pub run_state: String,
     /// The stored program AUTO runs (O number), once one was started.
     pub program: Option<u32>,
@@ -161,7 +161,7 @@ pub struct PanelState {
     pub increment: f64,
     pub manual_absolute: bool,
     /// Syntec R518: `machine`, `program` or `tool`.
-    #[schema(value_type = manual::CoordinatesName)]
+    #[schema(value_type = fivex_engine::controller::ManualCoordinates)]
     pub coordinates: String,
     /// Syntec R519 manual RTCP.
     pub rtcp: bool,

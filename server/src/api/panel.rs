@@ -153,25 +153,12 @@ pub async fn mdi(
     status_after(&state, &hosted, PanelCommand::Mdi { text: body(request)?.text })
 }
 
-/// The modes `PUT /mode` takes (the document's enum; the handler reads the word).
-#[allow(dead_code)]
-#[derive(ToSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum ModeName {
-    Auto,
-    Mdi,
-    Jog,
-    Handle,
-    Ref,
-    Inc,
-}
-
 /// `PUT /mode`.
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetMode {
     /// `auto`, `mdi`, `jog`, `handle`, `ref` or `inc`.
-    #[schema(example = "jog", value_type = ModeName)]
+    #[schema(example = "jog", value_type = fivex_engine::controller::Mode)]
     pub mode: String,
 }
 

@@ -224,9 +224,9 @@ pub struct FleetEntry {
     pub kind: String,
     #[schema(value_type = fivex_engine::Dialect)]
     pub dialect: String,
-    #[schema(value_type = super::panel::ModeName)]
+    #[schema(value_type = fivex_engine::controller::Mode)]
     pub mode: String,
-    #[schema(value_type = crate::wire::words::RunStateName)]
+    #[schema(value_type = fivex_engine::controller::RunState)]
     pub run_state: String,
     pub program: Option<u32>,
     pub line: u32,

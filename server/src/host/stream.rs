@@ -193,9 +193,9 @@ impl From<&Alarm> for AlarmInfo {
 pub enum Message {
     /// The run state changed (`idle`, `running`, `hold`, `alarm`).
     State {
-        #[schema(value_type = crate::wire::words::RunStateName)]
+        #[schema(value_type = fivex_engine::controller::RunState)]
         run_state: RunState,
-        #[schema(value_type = crate::api::panel::ModeName)]
+        #[schema(value_type = fivex_engine::controller::Mode)]
         mode: Mode,
         /// The stored program AUTO runs, if one was started.
         program: Option<u32>,

@@ -1022,8 +1022,7 @@ export interface components {
             unmodelled_parameters: components["schemas"]["UnmodelledParameter"][];
         };
         /**
-         * @description The coordinate systems `PUT /manual` takes (the document's enum for the engine's
-         *     `ManualCoordinates`, which has no schema of its own).
+         * @description Syntec R518: the coordinate system of manual X/Y/Z moves.
          * @enum {string}
          */
         CoordinatesName: "machine" | "program" | "tool";
@@ -1607,7 +1606,7 @@ export interface components {
             t: number;
         };
         /**
-         * @description The modes `PUT /mode` takes (the document's enum; the handler reads the word).
+         * @description A controller's mode: the operator panel's mode switch.
          * @enum {string}
          */
         ModeName: "auto" | "mdi" | "jog" | "handle" | "ref" | "inc";
