@@ -5,6 +5,7 @@
 //! Everything is in seconds and machine units (mm, deg).
 
 pub mod executor;
+mod optimal;
 pub mod path;
 pub mod planner;
 pub mod profile;
@@ -36,7 +37,7 @@ pub fn junction_steps(m: &MachineConfig) -> (Pos, Pos) {
 /// The planner for a machine, with [`LOOKAHEAD`] and its [`junction_steps`].
 pub fn planner_for(m: &MachineConfig) -> Planner {
     let (speed, accel) = junction_steps(m);
-    Planner::new(LOOKAHEAD, speed, accel)
+    Planner::new(LOOKAHEAD, speed, accel).with_axes(AxisLimits::of(m))
 }
 
 /// The first stored stroke limit the segment would cross (end point, and the quadrant points

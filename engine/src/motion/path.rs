@@ -138,6 +138,11 @@ struct Follow {
     work_frame: Option<Rigid>,
     /// The display shows the tip in machine directions minus this instead (FANUC DET = 1).
     display_shift: Option<Vec3>,
+    /// The highest path speed the program's tolerance allows (FANUC CRS; infinite without).
+    speed_cap: f64,
+    /// The rotary axes' speeds are held to a share of theirs (G54.4, No.11202/11203): only
+    /// the segment's own limits know it.
+    clamped: bool,
 }
 
 /// A circle (or spiral, or helix) in space: at `u` of the way, `center + r(u)·(cos φ·e1 +
@@ -493,10 +498,10 @@ struct Sampled {
 
 /// The first three derivatives by s of every axis at `cells + 1` evenly spaced points of a
 /// kinematic path (`q` gives the axes at u = s / `len`), by differences around each point.
-struct Grid {
+pub(super) struct Grid {
     len: f64,
     /// `d[k]`: d/ds, d²/ds², d³/ds³ of every axis at u = k / cells.
-    d: Vec<[Pos; 3]>,
+    pub(super) d: Vec<[Pos; 3]>,
 }
 
 impl Grid {
@@ -1016,7 +1021,7 @@ impl Segment {
             .filter(|c| posture.is_none() && on(c, 0.0) && on(c, 1.0))
             .filter(|c| ![0.25, 0.5, 0.75].iter().all(|&u| on(c, u)))
             .filter(|c| steady(&kin, from, &m.machine, |u| compensated(&kin, c, u)));
-        let follow = Follow {
+        let mut follow = Follow {
             kin: kin.clone(),
             tool_length: tip.tool_length,
             from: tip.from,
@@ -1026,6 +1031,8 @@ impl Segment {
             compensation,
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
+            speed_cap: f64::INFINITY,
+            clamped: tip.rotary_clamp.is_some(),
         };
         // FANUC No.11202/11203: the rotary axes of a G54.4-compensated move within a share of
         // their rate.
@@ -1050,6 +1057,7 @@ impl Segment {
         let found = grid.whole();
         let cap =
             tip.deviation.map_or(f64::INFINITY, |tolerance| deviation_speed(&follow, from, &to, len, n, tolerance));
+        follow.speed_cap = cap;
         // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
         let fixed_time = m.feed_mode == FeedMode::InverseTime;
         let as_fast_as_axes = rapid || (rotary_only && !tip.rotary_feed && !fixed_time);
@@ -1137,6 +1145,8 @@ impl Segment {
             compensation: None,
             work_frame: None,
             display_shift: None,
+            speed_cap: f64::INFINITY,
+            clamped: false,
         };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
@@ -1237,6 +1247,34 @@ impl Segment {
             }
         }
         seg
+    }
+
+    /// The first three derivatives by s of every axis at evenly spaced points of a kinematic
+    /// path, its ends included (as many as its limits were found from), for planning its speed
+    /// against the axes' own limits (`motion::optimal`); `None` for other segments, and for
+    /// one whose limits are not the machine's (G54.4's rotary clamp).
+    pub(super) fn derivatives(&self, axes: &AxisLimits) -> Option<Grid> {
+        let f = self.follow.as_ref().filter(|f| !f.clamped && self.len > 0.0)?;
+        let sweep = f.circle.as_ref().map_or(0.0, |c| c.sweep.to_degrees());
+        let n = sample_count(rotary_travel(&f.kin, &self.from, &self.to), sweep);
+        Some(Grid::new(|u| f.at(&self.from, &self.to, u), self.len, CELLS_PER_SAMPLE * n, axes))
+    }
+
+    /// The highest path speed that is not the axes' own: the programmed feed after the
+    /// override and the program's tolerance (none for a move that runs as fast as the axes
+    /// allow, unless an override lowers it).
+    pub(super) fn speed_cap(&self) -> f64 {
+        let tolerance = self.follow.as_ref().map_or(f64::INFINITY, |f| f.speed_cap);
+        if self.unfed && self.factor >= 1.0 {
+            return tolerance;
+        }
+        (self.programmed * self.factor).min(tolerance)
+    }
+
+    /// A path the axes follow through the kinematics, limited by the machine's own axis
+    /// limits (its speed can be planned against them at every point, `Segment::derivatives`).
+    pub fn is_kinematic(&self) -> bool {
+        self.follow.as_ref().is_some_and(|f| !f.clamped) && self.len > 0.0
     }
 
     /// Whether this is a non-linear rapid (its path parameter is the time).

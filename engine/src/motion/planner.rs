@@ -16,7 +16,7 @@
 //! released run's segments stay at the front of the queue until it is popped (its profile is
 //! made then), so the planner never holds a segment twice.
 
-use super::path::Segment;
+use super::path::{AxisLimits, Segment};
 use super::profile::{reachable, Limits, Profile};
 use crate::canon::Pos;
 use std::collections::VecDeque;
@@ -103,6 +103,8 @@ struct Run {
     end: usize,
     len: f64,
     limits: Limits,
+    /// Every segment a kinematic path whose speed is planned against the axes' own limits.
+    kinematic: bool,
     /// Highest speed at its end, then the planned one.
     cap: f64,
     v_end: f64,
@@ -116,6 +118,8 @@ struct Released {
     v_end: f64,
     len: f64,
     limits: Limits,
+    /// Its profile when planned at release (a kinematic run, `motion::optimal`).
+    profile: Option<Box<Profile>>,
 }
 
 pub struct Planner {
@@ -129,12 +133,28 @@ pub struct Planner {
     /// highest acceleration step where the curvature changes, units/s².
     speed_step: Pos,
     accel_step: Pos,
+    /// The machine's axis limits: a run of kinematic segments is planned against them at
+    /// every point (`motion::optimal`); without them, with its run's path limits.
+    axes: Option<AxisLimits>,
 }
 
 impl Planner {
     pub fn new(lookahead: usize, speed_step: Pos, accel_step: Pos) -> Planner {
         let lookahead = lookahead.max(1);
-        Planner { queue: VecDeque::new(), ready: VecDeque::new(), v_now: 0.0, lookahead, speed_step, accel_step }
+        Planner {
+            queue: VecDeque::new(),
+            ready: VecDeque::new(),
+            v_now: 0.0,
+            lookahead,
+            speed_step,
+            accel_step,
+            axes: None,
+        }
+    }
+
+    /// The planner, planning runs of kinematic segments against the axes' own limits.
+    pub fn with_axes(self, axes: AxisLimits) -> Planner {
+        Planner { axes: Some(axes), ..self }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -223,53 +243,97 @@ impl Planner {
         // Exactly as many as the run has (collected, a one-segment run would reserve four).
         let mut segments = Vec::with_capacity(r.count);
         segments.extend(self.queue.drain(..r.count).map(|q| q.segment));
-        Some(Planned { segments, profile: Profile::plan(r.v_start, r.v_end, r.len, &r.limits) })
+        let profile = match r.profile {
+            Some(p) => *p,
+            None => Profile::plan(r.v_start, r.v_end, r.len, &r.limits),
+        };
+        Some(Planned { segments, profile })
     }
 
     /// Plan the queue and release the runs that end within its first `release` segments.
     fn plan(&mut self, release: usize) {
-        let mut runs = self.runs();
+        let mut runs = self.runs(0..self.queue.len(), true);
         // Backward: the machine must be able to stop at the end of the queue.
-        let mut v_next_start = 0.0;
-        for r in runs.iter_mut().rev() {
-            r.v_end = r.cap.min(v_next_start);
-            v_next_start = reachable(r.v_end, r.len, r.limits.v, &r.limits);
-        }
-        // Forward: from the current speed, no faster than acceleration allows.
-        let mut v_start = self.v_now;
-        for r in runs.iter_mut() {
-            r.v_end = r.v_end.min(reachable(v_start, r.len, r.limits.v, &r.limits));
-            v_start = r.v_end;
-        }
+        pass(&mut runs, self.v_now, 0.0);
         let mut taken = 0;
         for r in runs.iter().take_while(|r| r.end <= release) {
-            let (v_start, v_end, len, limits) = (self.v_now, r.v_end, r.len, r.limits);
-            self.ready.push_back(Released { count: r.end - taken, v_start, v_end, len, limits });
+            if !r.kinematic {
+                self.release(r, taken, None);
+                taken = r.end;
+                continue;
+            }
+            // A kinematic run: planned against the axes' own limits, or as runs of similar path
+            // limits between the same speeds — whichever is quicker (the first can fail, or
+            // lose to the second where its joins are conservative: `motion::optimal`).
+            let mut parts = self.runs(taken..r.end, false);
+            pass(&mut parts, self.v_now, r.v_end);
+            let optimal = self.axes.as_ref().and_then(|axes| self.optimal(taken, r, axes));
+            match optimal {
+                Some(profile) if profile.duration() <= chain_duration(&parts, self.v_now) => {
+                    self.release(r, taken, Some(Box::new(profile)));
+                }
+                _ => {
+                    let mut from = taken;
+                    for part in &parts {
+                        self.release(part, from, None);
+                        from = part.end;
+                    }
+                }
+            }
             taken = r.end;
-            self.v_now = r.v_end;
         }
     }
 
-    /// The queue grouped into runs (at most `lookahead` segments each, so that a run is
-    /// released while its look-ahead still follows it).
-    fn runs(&self) -> Vec<Run> {
+    /// Release run `r` (starting at queue index `from`) at the current speed.
+    fn release(&mut self, r: &Run, from: usize, profile: Option<Box<Profile>>) {
+        let (v_start, v_end, len, limits) = (self.v_now, r.v_end, r.len, r.limits);
+        self.ready.push_back(Released { count: r.end - from, v_start, v_end, len, limits, profile });
+        self.v_now = r.v_end;
+    }
+
+    /// The profile of kinematic run `r` (from queue index `from`) against the axes' limits.
+    fn optimal(&self, from: usize, r: &Run, axes: &AxisLimits) -> Option<Profile> {
+        let segments: Vec<&Segment> = self.queue.range(from..r.end).map(|q| &q.segment).collect();
+        let junctions: Vec<f64> = self.queue.range(from..r.end - 1).map(|q| q.junction).collect();
+        super::optimal::plan(&segments, &junctions, self.v_now, r.v_end, axes)
+    }
+
+    /// The queued segments `range` grouped into runs (at most `lookahead` segments each, so
+    /// that a run is released while its look-ahead still follows it); with `merge_kinematic`,
+    /// consecutive kinematic segments share a run unless a corner parts them.
+    fn runs(&self, range: std::ops::Range<usize>, merge_kinematic: bool) -> Vec<Run> {
         let mut runs: Vec<Run> = Vec::new();
         let mut open: Option<Run> = None;
-        for (k, q) in self.queue.iter().enumerate() {
+        let last = range.end - 1;
+        let first = range.start;
+        for (k, q) in self.queue.range(range).enumerate().map(|(k, q)| (k + first, q)) {
             let lim = q.segment.limits;
             let run = match open.take() {
                 Some(mut r) => {
                     r.len += q.segment.len;
                     r.limits = r.limits.min(lim);
+                    r.kinematic &= q.segment.is_kinematic();
                     r
                 }
-                None => Run { end: 0, len: q.segment.len, limits: lim, cap: 0.0, v_end: 0.0 },
+                None => Run {
+                    end: 0,
+                    len: q.segment.len,
+                    limits: lim,
+                    kinematic: merge_kinematic && self.axes.is_some() && q.segment.is_kinematic(),
+                    cap: 0.0,
+                    v_end: 0.0,
+                },
             };
             let run = Run { end: k + 1, cap: q.junction, ..run };
-            let next = self.queue.get(k + 1).map(|n| n.segment.limits);
-            let count = runs.last().map_or(k + 1, |last| k + 1 - last.end);
+            let next = self.queue.get(k + 1).filter(|_| k < last).map(|n| n.segment.limits);
+            let count = runs.last().map_or(k + 1 - first, |last| k + 1 - last.end);
             let ends = match next {
                 None => true,
+                // Kinematic segments are planned at every point against the axes' limits: only a
+                // corner or a full run ends their run.
+                Some(next) if run.kinematic && kinematic_pair(&q.segment, self.queue.get(k + 1)) => {
+                    q.junction < run.limits.v.min(next.v) || count >= self.lookahead
+                }
                 Some(next) => {
                     // A corner that may have to slow the machine, a different speed, limits
                     // too different to share (the run takes the lowest), or a full run.
@@ -288,6 +352,34 @@ impl Planner {
         }
         runs
     }
+}
+
+/// The speeds at the ends of `runs`: backward from `v_end` (each within its junction cap and
+/// able to brake to the next), then forward from `v_start`, no faster than acceleration allows.
+fn pass(runs: &mut [Run], v_start: f64, v_end: f64) {
+    let mut v_next_start = v_end;
+    let n = runs.len();
+    for (k, r) in runs.iter_mut().enumerate().rev() {
+        r.v_end = if k + 1 == n { v_end } else { r.cap.min(v_next_start) };
+        v_next_start = reachable(r.v_end, r.len, r.limits.v, &r.limits);
+    }
+    let mut v = v_start;
+    for r in runs.iter_mut() {
+        r.v_end = r.v_end.min(reachable(v, r.len, r.limits.v, &r.limits));
+        v = r.v_end;
+    }
+}
+
+/// The time `runs` take from speed `v_start`, each on its own profile.
+fn chain_duration(runs: &[Run], v_start: f64) -> f64 {
+    let mut v = v_start;
+    runs.iter()
+        .map(|r| {
+            let t = Profile::plan(v, r.v_end, r.len, &r.limits).duration();
+            v = r.v_end;
+            t
+        })
+        .sum()
 }
 
 /// The time a chain of smoothly joined stretches (`(length, limits)`, junction speeds only
@@ -325,6 +417,10 @@ pub(crate) fn chain_time(chain: &[(f64, Limits)]) -> f64 {
         v_start = *end;
     }
     time
+}
+
+fn kinematic_pair(a: &Segment, b: Option<&Queued>) -> bool {
+    a.is_kinematic() && b.is_some_and(|b| b.segment.is_kinematic())
 }
 
 fn within_twice(x: f64, of: f64) -> bool {

@@ -88,21 +88,45 @@ impl Phase {
 }
 
 /// A planned run: at most ten phases (an S-curve down to the limit when it enters too fast, two
-/// S-curves and a cruise).
+/// S-curves and a cruise), or a table of many (a run along a kinematic path, `motion::optimal`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Profile {
     phases: ArrayVec<Phase, 10>,
+    /// The phases of a tabled profile (then `phases` is empty), with the time each starts.
+    table: Option<std::sync::Arc<Table>>,
     len: f64,
     duration: f64,
     /// Speed at the end (also when there is no phase at all).
     end_speed: f64,
 }
 
+/// Many constant-jerk phases and their start times (for a search by time).
+#[derive(Debug, PartialEq)]
+struct Table {
+    phases: Vec<Phase>,
+    starts: Vec<f64>,
+}
+
 impl Profile {
+    /// A profile of the given constant-jerk phases, each `(duration, jerk, state at its start)`,
+    /// covering `len` and ending at `end_speed` (the caller makes them continuous).
+    pub fn tabled(phases: impl IntoIterator<Item = (f64, f64, PathState)>, len: f64, end_speed: f64) -> Profile {
+        let (mut list, mut starts, mut t) = (Vec::new(), Vec::new(), 0.0);
+        for (duration, jerk, at) in phases {
+            if duration > 0.0 {
+                starts.push(t);
+                list.push(Phase { duration, jerk, s: at.s, v: at.v, a: at.a });
+                t += duration;
+            }
+        }
+        let table = Some(std::sync::Arc::new(Table { phases: list, starts }));
+        Profile { phases: ArrayVec::new(), table, len, duration: t, end_speed }
+    }
+
     /// From `vs` to `ve` over `len`; `vs` and `ve` must be reachable from each other within
     /// `len` (the planner guarantees it; otherwise the profile runs at the nearer speed).
     pub fn plan(vs: f64, ve: f64, len: f64, lim: &Limits) -> Profile {
-        let mut p = Profile { phases: ArrayVec::new(), len: len.max(0.0), duration: 0.0, end_speed: vs };
+        let mut p = Profile { phases: ArrayVec::new(), table: None, len: len.max(0.0), duration: 0.0, end_speed: vs };
         if len <= 0.0 {
             return p;
         }
@@ -169,7 +193,7 @@ impl Profile {
     /// zero, then, if that is faster than `target`, an S-curve down to it (an override lowered
     /// while moving). Its length is the distance it needs.
     pub fn transition(v: f64, a: f64, target: f64, lim: &Limits) -> Profile {
-        let mut p = Profile { phases: ArrayVec::new(), len: 0.0, duration: 0.0, end_speed: v };
+        let mut p = Profile { phases: ArrayVec::new(), table: None, len: 0.0, duration: 0.0, end_speed: v };
         let mut state = PathState { s: 0.0, v, a };
         p.push(&mut state, a.abs() / lim.j, -lim.j.copysign(a));
         state.a = 0.0;
@@ -186,7 +210,7 @@ impl Profile {
     /// `(a² − 2ap²)/2J − ap·t₂ = −v`, so `ap = √(J·v + a²/2)` when that is within A, else A with
     /// a constant phase. Its length is the stopping distance.
     pub fn stop(v: f64, a: f64, lim: &Limits) -> Profile {
-        let mut p = Profile { phases: ArrayVec::new(), len: 0.0, duration: 0.0, end_speed: 0.0 };
+        let mut p = Profile { phases: ArrayVec::new(), table: None, len: 0.0, duration: 0.0, end_speed: 0.0 };
         let mut j = lim.j;
         if a < 0.0 && v > 0.0 && a * a > 2.0 * j * v {
             // Already braking harder than this jerk can end without reversing (only when the
@@ -217,6 +241,16 @@ impl Profile {
 
     /// The state `t` seconds into the segment (clamped to the segment).
     pub fn at(&self, t: f64) -> PathState {
+        if let Some(table) = &self.table {
+            let t = t.max(0.0);
+            if t < self.duration {
+                let k = table.starts.partition_point(|&start| start <= t).saturating_sub(1);
+                let mut state = table.phases[k].at(t - table.starts[k]);
+                state.s = state.s.clamp(0.0, self.len);
+                return state;
+            }
+            return PathState { s: self.len, v: self.end_speed, a: 0.0 };
+        }
         let mut rest = t.max(0.0);
         for phase in &self.phases {
             if rest <= phase.duration {
@@ -227,6 +261,42 @@ impl Profile {
             rest -= phase.duration;
         }
         PathState { s: self.len, v: self.end_speed, a: 0.0 }
+    }
+
+    /// For a tabled profile: whether each phase starts where the one before ends (position,
+    /// speed and acceleration within `tol` relative), and the last at `len` with its end speed.
+    pub fn is_continuous(&self, tol: f64) -> bool {
+        let Some(table) = &self.table else { return true };
+        let close = |x: f64, y: f64| (x - y).abs() <= tol * (1.0 + x.abs().max(y.abs()));
+        let ends = table.phases.iter().map(|p| p.at(p.duration));
+        let starts = table.phases.iter().skip(1).map(|p| PathState { s: p.s, v: p.v, a: p.a });
+        let last = PathState { s: self.len, v: self.end_speed, a: 0.0 };
+        ends.zip(starts.chain(std::iter::once(last)))
+            .all(|(e, s)| close(e.s, s.s) && close(e.v, s.v) && close(e.a, s.a))
+    }
+
+    /// The jerk `t` seconds into the profile (zero outside it).
+    pub fn jerk_at(&self, t: f64) -> f64 {
+        if t < 0.0 || t >= self.duration {
+            return 0.0;
+        }
+        let (phases, starts): (&[Phase], Option<&[f64]>) = match &self.table {
+            Some(table) => (&table.phases, Some(&table.starts)),
+            None => (&self.phases, None),
+        };
+        let k = match starts {
+            Some(starts) => starts.partition_point(|&start| start <= t).saturating_sub(1),
+            None => {
+                let mut rest = t;
+                let mut k = 0;
+                while k + 1 < phases.len() && rest > phases[k].duration {
+                    rest -= phases[k].duration;
+                    k += 1;
+                }
+                k
+            }
+        };
+        phases.get(k).map_or(0.0, |p| p.jerk)
     }
 
     /// The speed the profile ends at.

@@ -6,8 +6,9 @@
 //! the differences smear, a block end, or *short*: below both. The property tests assert the
 //! limits and, per block, the feed or an axis at 90 % somewhere; `kinematic_samples_survey`
 //! measures the classes over a fixed set of random cases and holds them to the figures
-//! `docs/motion.md` gives (the short samples are the part of the rule not reached yet: speed
-//! changes under limits worked out for a piece's top speed).
+//! `docs/motion.md` gives (the short samples are the part of the rule not reached yet: where
+//! the planned profile joins its forward and backward drives, a drive braking early for a dip
+//! of the path's speed limit, and runs whose analytic profile was quicker).
 //!
 //! The axis speeds, accelerations and jerks are finite differences of the 1 ms samples (as in
 //! `common::check_limits_of`): over four samples of one block they are exact for the cubic
@@ -75,10 +76,9 @@ fn window_share(w: &[&Sample], lim: &[(f64, f64, f64, bool)]) -> f64 {
 const AT_LIMIT: f64 = 0.9;
 
 /// The share of a limit some axis reaches somewhere in a block whose tip stays below the feed,
-/// at least. The goal is [`AT_LIMIT`]; a run of 500 random TCP cases had 454 blocks below their
-/// feed, 9 of them below it everywhere, the lowest at 55 %: short blocks with a large swing that never finish a speed change, whose limits
-/// are worked out for a top speed they do not reach (`docs/motion.md`, "Kinematic paths").
-const BLOCK_REACHED: f64 = 0.5;
+/// at least: the whole rule's share (before the speed was planned against the axes at every
+/// point, `motion/optimal.rs`, the lowest of 500 random TCP blocks was 55 %; 400 now pass).
+const BLOCK_REACHED: f64 = AT_LIMIT;
 
 /// Samples at either end of a block where its junction speed or the stop binds.
 const ENDS: usize = 3;
@@ -246,7 +246,7 @@ const SURVEY_TWP: usize = 30;
 
 /// The share of all samples below the feed where no axis is at [`AT_LIMIT`] (short samples),
 /// at most, over the survey; `docs/motion.md` gives the measured figure.
-const SURVEY_SHORT: f64 = 0.24;
+const SURVEY_SHORT: f64 = 0.045;
 
 /// Every sample of a fixed set of random TCP and tilted-plane blocks, classified: the figures
 /// `docs/motion.md` quotes. Run with `--nocapture` to see them.

@@ -1,0 +1,441 @@
+//! The speed along a run of kinematic segments (TCP, tilted planes, tip rotation) planned
+//! against the axes' own limits at every point, not against path limits bounded over a stretch
+//! (`path::kinematic_limits`, which the planner's look-ahead keeps using for junction speeds).
+//!
+//! Along a kinematic path axis i moves at v·q1, accelerates a·q1 + v²·q2 and jerks
+//! j·q1 + 3·v·a·q2 + v³·q3 (q1..q3 its derivatives by s at that point, v, a, j the path's).
+//! At every 1 ms tick the plan takes the highest path jerk for which every axis stays within its
+//! limits, steering toward the highest speed allowed ahead (`drive`): the binding axis is then at
+//! its jerk, its acceleration or its speed limit — or the tip at the feed — the rule issue 17
+//! asks of every sample. One such drive runs forward from the start, one backward from the end
+//! (the same drive on the reversed path: a stop read backwards is a start); the profile follows
+//! the forward drive, ramps its acceleration to zero at the latest tick from which the backward
+//! drive can be met at the same speed (`join`), cruises the gap and follows the backward drive
+//! to the end, so it starts and ends at the planner's speeds with zero acceleration.
+//!
+//! The derivatives come from the segments' own grids (`Segment::derivatives`), interpolated
+//! between points; the plan keeps to [`MARGIN`] of each limit for what interpolation misses and
+//! checks every phase against the whole limits at the end. Anything it cannot do — a path that
+//! turns faster than its drive can follow, a ramp that would break a limit, a run too long for a
+//! table — leaves the run to the analytic profile (`None`).
+
+use super::path::{AxisLimits, Segment};
+use super::profile::{PathState, Profile};
+use crate::canon::Pos;
+use crate::machine::MAX_AXES;
+
+/// The tick of the drives (the control's interpolation period), seconds.
+const DT: f64 = 0.001;
+/// The share of each axis limit the plan keeps to.
+const MARGIN: f64 = 0.98;
+/// The share of an axis's speed the drives steer to (what they overshoot by when the
+/// path's limits close in is within the rest).
+const STEER: f64 = 0.995;
+/// The share of an axis's acceleration and jerk a steady speed may take with its own v²·q2 and
+/// v³·q3 (the rest lets the speed follow the path's changes).
+const CRUISE: f64 = 0.94;
+/// The share of the jerk at hand that a ramp toward a target speed uses.
+const RAMP: f64 = 0.95;
+/// The shares of the jerk at hand tried for the ramp into the cruise that joins the drives.
+const RAMPS: [f64; 4] = [RAMP, 0.8, 0.6, 0.4];
+/// The share of the deceleration at hand the look-ahead's braking envelope assumes (the drive
+/// needs the rest to turn its acceleration around in time).
+const ENVELOPE: f64 = 0.8;
+/// A run longer than this many ticks keeps the analytic profile (a table costs memory).
+const MAX_TICKS: usize = 60_000;
+const TINY: f64 = 1e-12;
+
+/// Derivatives, speed caps and the braking envelope at points along a run (or along it read
+/// backwards).
+struct Track {
+    count: usize,
+    v: Pos,
+    a: Pos,
+    j: Pos,
+    len: f64,
+    s: Vec<f64>,
+    d: Vec<[Pos; 3]>,
+    /// The highest steady speed at each point: feed, tolerance, junction, and every axis
+    /// within its speed and [`CRUISE`] of its acceleration and jerk.
+    cap: Vec<f64>,
+    /// `cap` lowered to what the machine can brake to at [`ENVELOPE`] of its deceleration.
+    envelope: Vec<f64>,
+}
+
+/// A state of a drive and the jerk of its next tick.
+#[derive(Debug, Clone, Copy)]
+struct Tick {
+    s: f64,
+    v: f64,
+    a: f64,
+    j: f64,
+    /// The tick's duration: [`DT`], or less for the one that lands on a steady speed.
+    dt: f64,
+}
+
+impl Track {
+    /// The run's track; `junctions[k]` caps the speed where segment k meets k + 1.
+    fn new(segments: &[&Segment], junctions: &[f64], axes: &AxisLimits) -> Option<Track> {
+        let mut t = Track {
+            count: axes.count,
+            v: axes.v,
+            a: axes.a.map(|x| x * MARGIN),
+            j: axes.j.map(|x| x * MARGIN),
+            len: 0.0,
+            s: Vec::new(),
+            d: Vec::new(),
+            cap: Vec::new(),
+            envelope: Vec::new(),
+        };
+        for (k, seg) in segments.iter().enumerate() {
+            let grid = seg.derivatives(axes)?;
+            let cells = grid.d.len() - 1;
+            let feed = seg.speed_cap();
+            for (p, d) in grid.d.iter().enumerate() {
+                t.s.push(t.len + seg.len * p as f64 / cells as f64);
+                t.d.push(*d);
+                let mut cap = feed;
+                if p == cells {
+                    cap = cap.min(junctions.get(k).copied().unwrap_or(f64::INFINITY));
+                }
+                if p == 0 && k > 0 {
+                    cap = cap.min(junctions[k - 1]);
+                }
+                t.cap.push(cap);
+            }
+            t.len += seg.len;
+        }
+        for k in 0..t.s.len() {
+            let error = |cell: Option<usize>| cell.map_or([0.0; MAX_AXES], |c| t.rate_error(c));
+            let (before, after) = (error(k.checked_sub(1)), error(Some(k)));
+            let error: Pos = std::array::from_fn(|i| before[i].max(after[i]));
+            t.cap[k] = t.cap[k].min(t.steady(&t.d[k], &error));
+        }
+        if t.cap.iter().any(|&c| c.is_nan() || c <= TINY) {
+            return None;
+        }
+        t.fill_envelope();
+        Some(t)
+    }
+
+    /// The same track read from its end: s' = len − s, odd derivatives change sign.
+    fn reversed(&self) -> Track {
+        let flip = |d: &[Pos; 3]| [d[0].map(|x| -x), d[1], d[2].map(|x| -x)];
+        let mut t = Track {
+            count: self.count,
+            v: self.v,
+            a: self.a,
+            j: self.j,
+            len: self.len,
+            s: self.s.iter().rev().map(|s| self.len - s).collect(),
+            d: self.d.iter().rev().map(flip).collect(),
+            cap: self.cap.iter().rev().copied().collect(),
+            envelope: Vec::new(),
+        };
+        t.fill_envelope();
+        t
+    }
+
+    /// How much more than its interpolated value an axis's rate by s can be in the cell from
+    /// point `k` to the next: a function's distance from its chord is at most h²/8 times its
+    /// second derivative (here q3, taken 1.5 times the larger at the cell's ends).
+    fn rate_error(&self, k: usize) -> Pos {
+        let Some(&next) = self.s.get(k + 1) else { return [0.0; MAX_AXES] };
+        let h = next - self.s[k];
+        std::array::from_fn(|i| 1.5 * h * h / 8.0 * self.d[k][2][i].abs().max(self.d[k + 1][2][i].abs()))
+    }
+
+    /// The highest steady speed the axes allow where their derivatives are `d` (the rates
+    /// possibly `error` higher between points).
+    fn steady(&self, d: &[Pos; 3], error: &Pos) -> f64 {
+        let mut v = f64::INFINITY;
+        for i in 0..self.count {
+            let [q1, q2, q3] = [d[0][i].abs() + error[i], d[1][i].abs(), d[2][i].abs()];
+            if q1 > TINY {
+                v = v.min(STEER * self.v[i] / q1);
+            }
+            if q2 > TINY {
+                v = v.min((CRUISE * self.a[i] / q2).sqrt());
+            }
+            if q3 > TINY {
+                v = v.min((CRUISE * self.j[i] / q3).cbrt());
+            }
+        }
+        v
+    }
+
+    /// Backward from the end (with no speed required there: the other drive ends the run),
+    /// the speed from which the machine can still brake to every later cap.
+    fn fill_envelope(&mut self) {
+        let n = self.s.len();
+        self.envelope = self.cap.clone();
+        for k in (0..n - 1).rev() {
+            let after = self.envelope[k + 1];
+            let (lo, _) = self.accel_bounds(&self.d[k + 1], after, 1.0);
+            let brake = (-lo).max(0.0) * ENVELOPE;
+            let ds = self.s[k + 1] - self.s[k];
+            self.envelope[k] = self.cap[k].min((after * after + 2.0 * brake * ds).sqrt());
+        }
+    }
+
+    /// The point at or before `s` (the later of two at a junction).
+    fn index(&self, s: f64) -> usize {
+        self.s.partition_point(|&x| x <= s).saturating_sub(1)
+    }
+
+    /// The derivatives at `s`, interpolated.
+    fn at(&self, s: f64) -> [Pos; 3] {
+        let k = self.index(s);
+        let Some(&next) = self.s.get(k + 1) else { return self.d[k] };
+        let span = next - self.s[k];
+        if span <= TINY {
+            return self.d[k];
+        }
+        let u = ((s - self.s[k]) / span).clamp(0.0, 1.0);
+        let (p, q) = (&self.d[k], &self.d[k + 1]);
+        std::array::from_fn(|o| std::array::from_fn(|i| p[o][i] + (q[o][i] - p[o][i]) * u))
+    }
+
+    /// The interpolated envelope at `s`, and the lowest cap from `s` to `ahead`.
+    fn target(&self, s: f64, ahead: f64) -> f64 {
+        let last = self.s.len() - 1;
+        let (k, far) = (self.index(s), (self.index(ahead) + 1).min(last));
+        let mut target = self.envelope[far];
+        for c in &self.cap[k..=far] {
+            target = target.min(*c);
+        }
+        target
+    }
+
+    /// The path accelerations at which every axis stays within `share` of its (planning)
+    /// acceleration at speed `v`.
+    fn accel_bounds(&self, d: &[Pos; 3], v: f64, share: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for ((q1, q2), limit) in d[0].iter().zip(&d[1]).zip(&self.a).take(self.count) {
+            tighten(&mut lo, &mut hi, *q1, q2 * v * v, limit * share);
+        }
+        (lo, hi)
+    }
+
+    /// The path jerks at which every axis stays within `share` of its (planning) jerk at speed
+    /// `v`, acceleration `a`.
+    fn jerk_bounds(&self, d: &[Pos; 3], v: f64, a: f64, share: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for (((q1, q2), q3), limit) in d[0].iter().zip(&d[1]).zip(&d[2]).zip(&self.j).take(self.count) {
+            tighten(&mut lo, &mut hi, *q1, 3.0 * q2 * v * a + q3 * v * v * v, limit * share);
+        }
+        (lo, hi)
+    }
+
+    /// Every axis within its speed, and within `share` of the acceleration and jerk the plan
+    /// keeps to, at state `x` with path jerk `j` (`1 / MARGIN`: the whole limits).
+    fn within(&self, x: &PathState, j: f64, share: f64) -> bool {
+        let d = self.at(x.s);
+        let error = self.rate_error(self.index(x.s));
+        let speed_ok = (0..self.count).all(|i| (d[0][i].abs() + error[i]) * x.v.abs() <= self.v[i] + 1e-9);
+        let inside = |(lo, hi): (f64, f64), x: f64| x >= lo - 1e-9 && x <= hi + 1e-9;
+        speed_ok && inside(self.accel_bounds(&d, x.v, share), x.a) && inside(self.jerk_bounds(&d, x.v, x.a, share), j)
+    }
+
+    /// From `start` (speed `v0`, zero acceleration) at each tick the jerk that steers toward
+    /// the highest speed allowed ahead, within every axis's limits; until the end of the track.
+    fn drive(&self, v0: f64) -> Option<Vec<Tick>> {
+        let mut x = Tick { s: 0.0, v: v0, a: 0.0, j: 0.0, dt: DT };
+        let mut out = Vec::new();
+        while x.s < self.len {
+            if out.len() >= MAX_TICKS {
+                return None;
+            }
+            let d = self.at(x.s);
+            let (j_lo, j_hi) = self.jerk_bounds(&d, x.v, x.a, 1.0);
+            if j_lo > j_hi {
+                return None;
+            }
+            // The highest acceleration after this tick from which a ramp at `turn` still ends
+            // at or below the lowest cap it passes: x²/2turn + x·DT/2 ≤ cap − v − a·DT/2.
+            let turn = RAMP * j_hi.min(-j_lo).max(TINY);
+            let target = self.goal(&x, j_hi, turn);
+            let room = target - x.v - 0.5 * x.a * DT;
+            let disc = 0.25 * DT * DT + 2.0 * room / turn;
+            let wanted = if disc >= 0.0 {
+                turn * (disc.sqrt() - 0.5 * DT)
+            } else {
+                -(2.0 * turn * (x.v - target).max(0.0)).sqrt()
+            };
+            // The acceleration the next tick may reach, where it will be.
+            let next = self.at(x.s + x.v * DT);
+            let (a_lo, a_hi) = self.accel_bounds(&next, x.v + x.a * DT, 1.0);
+            let mut j = ((wanted - x.a) / DT).clamp((a_lo - x.a) / DT, (a_hi - x.a) / DT);
+            j = j.clamp(j_lo, j_hi);
+            let mut t = DT;
+            // Landing on the steady speed within this tick: one ramp that ends exactly there
+            // (the law above only nears it), and then holding it.
+            let gap = target - x.v;
+            if x.a.abs() <= 1e-9 * (1.0 + x.v) && gap.abs() <= 1e-9 * (1.0 + x.v) {
+                (x.a, j) = (0.0, 0.0);
+            } else if x.a > 0.0 && gap > 0.0 && 2.0 * gap / x.a <= DT && -x.a * x.a / (2.0 * gap) >= j_lo {
+                j = -x.a * x.a / (2.0 * gap);
+                t = 2.0 * gap / x.a;
+            }
+            (x.j, x.dt) = (j, t);
+            out.push(x);
+            let landed = t < DT;
+            x = Tick {
+                s: x.s + t * (x.v + t * (0.5 * x.a + t * j / 6.0)),
+                v: if landed { target } else { x.v + t * (x.a + 0.5 * t * j) },
+                a: if landed { 0.0 } else { x.a + t * j },
+                j: 0.0,
+                dt: DT,
+            };
+            if x.v < -1e-9 {
+                return None;
+            }
+            x.v = x.v.max(0.0);
+            if x.v <= TINY && x.a <= TINY && target <= TINY {
+                return None;
+            }
+        }
+        out.push(x);
+        Some(out)
+    }
+
+    /// The speed the drive steers to from `x` (with `j_hi` the highest jerk at hand and `turn`
+    /// the jerk its ramps use): the lowest cap, and envelope, a ramp from the acceleration
+    /// the next tick may reach would pass.
+    fn goal(&self, x: &Tick, j_hi: f64, turn: f64) -> f64 {
+        let most = (x.a + j_hi * DT).max(0.0);
+        let tau = most / turn + 2.0 * DT;
+        self.target(x.s, x.s + (x.v + most * tau) * tau)
+    }
+
+    /// [`Track::goal`] with the jerk at `x`.
+    fn goal_at(&self, x: &Tick) -> f64 {
+        let (lo, hi) = self.jerk_bounds(&self.at(x.s), x.v, x.a, 1.0);
+        self.goal(x, hi, RAMP * hi.min(-lo).max(TINY))
+    }
+
+    /// The constant-jerk ramp from `x` that brings its acceleration to zero at speed `v`
+    /// (`None` when none can within the limits): its jerk, duration and the state it ends in.
+    fn ramp_to(&self, x: &Tick, v: f64) -> Option<(f64, f64, PathState)> {
+        let start = PathState { s: x.s, v: x.v, a: x.a };
+        if x.a.abs() <= TINY {
+            return ((v - x.v).abs() <= 1e-9 * (1.0 + v)).then_some((0.0, 0.0, start));
+        }
+        let dv = v - x.v;
+        if dv * x.a <= 0.0 {
+            return None;
+        }
+        let j = -x.a * x.a / (2.0 * dv);
+        let tau = -x.a / j;
+        let end = PathState { s: x.s + tau * (x.v + tau * (0.5 * x.a + tau * j / 6.0)), v, a: 0.0 };
+        let fits = (0..=4).all(|k| {
+            let t = tau * k as f64 / 4.0;
+            let p = PathState {
+                s: x.s + t * (x.v + t * (0.5 * x.a + t * j / 6.0)),
+                v: x.v + t * (x.a + 0.5 * t * j),
+                a: x.a + t * j,
+            };
+            self.within(&p, j, 1.0)
+        });
+        fits.then_some((j, tau, end))
+    }
+
+    /// The speed a ramp from `x` ends at with `share` of the jerk at hand.
+    fn plateau(&self, x: &Tick, share: f64) -> f64 {
+        let (lo, hi) = self.jerk_bounds(&self.at(x.s), x.v, x.a, 1.0);
+        let turn = share * if x.a > 0.0 { -lo } else { hi };
+        if turn <= TINY {
+            return f64::INFINITY;
+        }
+        x.v + x.a * x.a.abs() / (2.0 * turn)
+    }
+
+    /// Every axis within its limits at speed `v` and no acceleration from `s0` to `s1`.
+    fn cruise_fits(&self, s0: f64, s1: f64, v: f64) -> bool {
+        let steady = |s: f64| self.within(&PathState { s, v, a: 0.0 }, 0.0, 1.0);
+        let (k0, k1) = (self.index(s0), self.index(s1));
+        steady(s0)
+            && steady(s1)
+            && self.s[k0 + 1..=k1.max(k0)].iter().all(|&s| steady(s))
+            && v <= self.cap_between(k0, k1)
+    }
+
+    fn cap_between(&self, k0: usize, k1: usize) -> f64 {
+        self.cap[k0..=k1.min(self.cap.len() - 1)].iter().copied().fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// Narrow `[lo, hi]` to the x with |q1·x + rest| ≤ limit.
+fn tighten(lo: &mut f64, hi: &mut f64, q1: f64, rest: f64, limit: f64) {
+    if q1.abs() > TINY {
+        let (a, b) = ((-limit - rest) / q1, (limit - rest) / q1);
+        *lo = lo.max(a.min(b));
+        *hi = hi.min(a.max(b));
+    } else if rest.abs() > limit {
+        *lo = f64::INFINITY;
+        *hi = f64::NEG_INFINITY;
+    }
+}
+
+/// The profile of a run of kinematic segments from speed `v_start` to `v_end` (both with zero
+/// acceleration), `junctions[k]` the highest speed where segment k meets k + 1; `None` when a
+/// segment is not kinematic or the plan cannot keep to the limits (see the module).
+pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, axes: &AxisLimits) -> Option<Profile> {
+    let forward = Track::new(segments, junctions, axes)?;
+    let backward = forward.reversed();
+    let f = forward.drive(v_start)?;
+    let b = backward.drive(v_end)?;
+    let len = forward.len;
+    // The backward drive's speed at forward distance s.
+    let speed_back = |s: f64| {
+        let sigma = len - s;
+        let k = b.partition_point(|x| x.s <= sigma).saturating_sub(1);
+        b[k].v
+    };
+    let crossing = f.iter().position(|x| x.v > speed_back(x.s) * (1.0 + 1e-9) + 1e-12).unwrap_or(f.len() - 1);
+    for k in (0..=crossing).rev().take(2000) {
+        let x = f[k];
+        // Into a cruise at the speed the drive steers to, or at the end of a ramp at the jerk
+        // at hand (or gentler where the limits tighten along it).
+        let speeds = std::iter::once(forward.goal_at(&x)).chain(RAMPS.iter().map(|&share| forward.plateau(&x, share)));
+        let joined = speeds.filter(|v| *v > TINY && v.is_finite()).find_map(|v| {
+            let (jf, tf, ef) = forward.ramp_to(&x, v)?;
+            // The backward tick nearest the crossing whose ramp can end at the same speed,
+            // short of the forward ramp's end.
+            let top = b.partition_point(|t| t.s < len - ef.s);
+            let m = (0..top).rev().take(4000).find(|&m| backward.ramp_to(&b[m], v).is_some())?;
+            let (jb, tb, eb) = backward.ramp_to(&b[m], v)?;
+            let s_back = len - eb.s;
+            let fits = s_back >= ef.s - 1e-12 && forward.cruise_fits(ef.s, s_back.max(ef.s), v);
+            fits.then_some((v, (jf, tf, ef), m, (jb, tb), s_back))
+        });
+        let Some((v, (jf, tf, ef), m, (jb, tb), s_back)) = joined else { continue };
+        let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + 3);
+        phases.extend(f[..k].iter().map(|t| (t.dt, t.j, PathState { s: t.s, v: t.v, a: t.a })));
+        phases.push((tf, jf, PathState { s: x.s, v: x.v, a: x.a }));
+        phases.push(((s_back - ef.s).max(0.0) / v, 0.0, ef));
+        // The backward drive read forwards: a state at σ is one at len − σ with its
+        // acceleration's sign changed; the jerk keeps its sign.
+        let fwd = |t: &Tick| PathState { s: len - t.s, v: t.v, a: -t.a };
+        phases.push((tb, jb, PathState { s: s_back, v, a: 0.0 }));
+        phases.extend((0..m).rev().map(|i| (b[i].dt, b[i].j, fwd(&b[i + 1]))));
+        let profile = Profile::tabled(phases, len, v_end);
+        return verified(&forward, profile);
+    }
+    None
+}
+
+/// The profile, if every one of its phases keeps every axis within its whole limits.
+fn verified(track: &Track, profile: Profile) -> Option<Profile> {
+    if !profile.is_continuous(1e-9) {
+        return None;
+    }
+    let n = (profile.duration() / DT).ceil() as usize;
+    let ok = (0..=n).all(|k| {
+        let t = (k as f64 * DT).min(profile.duration());
+        let x = profile.at(t);
+        let j = profile.jerk_at(t);
+        track.within(&x, j, 1.0 / MARGIN)
+    });
+    ok.then_some(profile)
+}
