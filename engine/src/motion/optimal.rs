@@ -111,7 +111,10 @@ impl Track {
             let error: Pos = std::array::from_fn(|i| before[i].max(after[i]));
             t.cap[k] = t.cap[k].min(t.steady(&t.d[k], &error));
         }
-        if t.cap.iter().any(|&c| c.is_nan() || c <= TINY) {
+        // A path too short to difference (or a rate that is not a number) keeps the analytic
+        // plan.
+        let finite = t.d.iter().all(|d| d.iter().all(|row| row.iter().all(|x| x.is_finite())));
+        if !finite || t.cap.iter().any(|&c| c.is_nan() || c <= TINY) {
             return None;
         }
         t.fill_envelope();
@@ -138,11 +141,13 @@ impl Track {
 
     /// How much more than its interpolated value an axis's rate by s can be in the cell from
     /// point `k` to the next: a function's distance from its chord is at most h²/8 times its
-    /// second derivative (here q3, taken 1.5 times the larger at the cell's ends).
+    /// second derivative, and the rate at a point, a difference over ±h, is off by up to h²/6
+    /// times it (q3, taken 1.5 times the larger at the cell's ends).
     fn rate_error(&self, k: usize) -> Pos {
         let Some(&next) = self.s.get(k + 1) else { return [0.0; MAX_AXES] };
         let h = next - self.s[k];
-        std::array::from_fn(|i| 1.5 * h * h / 8.0 * self.d[k][2][i].abs().max(self.d[k + 1][2][i].abs()))
+        let share = 1.5 * (1.0 / 8.0 + 1.0 / 6.0) * h * h;
+        std::array::from_fn(|i| share * self.d[k][2][i].abs().max(self.d[k + 1][2][i].abs()))
     }
 
     /// The highest steady speed the axes allow where their derivatives are `d` (the rates
@@ -193,13 +198,20 @@ impl Track {
         }
         let u = ((s - self.s[k]) / span).clamp(0.0, 1.0);
         let (p, q) = (&self.d[k], &self.d[k + 1]);
-        std::array::from_fn(|o| std::array::from_fn(|i| p[o][i] + (q[o][i] - p[o][i]) * u))
+        let mut out = *p;
+        for (o, row) in out.iter_mut().enumerate() {
+            for (i, x) in row.iter_mut().enumerate().take(self.count) {
+                *x += (q[o][i] - p[o][i]) * u;
+            }
+        }
+        out
     }
 
     /// The interpolated envelope at `s`, and the lowest cap from `s` to `ahead`.
     fn target(&self, s: f64, ahead: f64) -> f64 {
         let last = self.s.len() - 1;
-        let (k, far) = (self.index(s), (self.index(ahead) + 1).min(last));
+        let k = self.index(s);
+        let far = (self.index(ahead) + 1).clamp(k, last);
         let mut target = self.envelope[far];
         for c in &self.cap[k..=far] {
             target = target.min(*c);
@@ -227,12 +239,17 @@ impl Track {
         (lo, hi)
     }
 
+    /// The highest speed at `s` at which every axis is within its speed.
+    fn top_speed(&self, s: f64) -> f64 {
+        let (d, error) = (self.at(s), self.rate_error(self.index(s)));
+        (0..self.count).map(|i| self.v[i] / (d[0][i].abs() + error[i]).max(TINY)).fold(f64::INFINITY, f64::min)
+    }
+
     /// Every axis within its speed, and within `share` of the acceleration and jerk the plan
     /// keeps to, at state `x` with path jerk `j` (`1 / MARGIN`: the whole limits).
     fn within(&self, x: &PathState, j: f64, share: f64) -> bool {
         let d = self.at(x.s);
-        let error = self.rate_error(self.index(x.s));
-        let speed_ok = (0..self.count).all(|i| (d[0][i].abs() + error[i]) * x.v.abs() <= self.v[i] + 1e-9);
+        let speed_ok = x.v.abs() <= self.top_speed(x.s) + 1e-9;
         let inside = |(lo, hi): (f64, f64), x: f64| x >= lo - 1e-9 && x <= hi + 1e-9;
         speed_ok && inside(self.accel_bounds(&d, x.v, share), x.a) && inside(self.jerk_bounds(&d, x.v, x.a, share), j)
     }
@@ -253,7 +270,10 @@ impl Track {
             }
             // The highest acceleration after this tick from which a ramp at `turn` still ends
             // at or below the lowest cap it passes: x²/2turn + x·DT/2 ≤ cap − v − a·DT/2.
-            let turn = RAMP * j_hi.min(-j_lo).max(TINY);
+            // The jerk a ramp down can count on: what it has now and where it ends (at zero
+            // acceleration, a little faster), the lower.
+            let (end_lo, _) = self.jerk_bounds(&d, x.v + x.a.max(0.0).powi(2) / (2.0 * (-j_lo).max(TINY)), 0.0, 1.0);
+            let turn = RAMP * j_hi.min(-j_lo).min(-end_lo).max(TINY);
             let target = self.goal(&x, j_hi, turn);
             let room = target - x.v - 0.5 * x.a * DT;
             let disc = 0.25 * DT * DT + 2.0 * room / turn;
@@ -266,6 +286,10 @@ impl Track {
             let next = self.at(x.s + x.v * DT);
             let (a_lo, a_hi) = self.accel_bounds(&next, x.v + x.a * DT, 1.0);
             let mut j = ((wanted - x.a) / DT).clamp((a_lo - x.a) / DT, (a_hi - x.a) / DT);
+            // Never past an axis's speed at the next tick (the law above keeps to it but for
+            // a path whose rates grow faster than it looked ahead).
+            let fastest = self.top_speed(x.s + x.v * DT);
+            j = j.min(2.0 * (fastest - x.v - x.a * DT) / (DT * DT));
             j = j.clamp(j_lo, j_hi);
             let mut t = DT;
             // Landing on the steady speed within this tick: one ramp that ends exactly there
