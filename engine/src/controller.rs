@@ -886,8 +886,8 @@ impl Controller {
                     self.exec.take_queued();
                 }
             }
-            // A non-linear rapid: its axes finish their own profiles (the block ends at rest),
-            // then what follows waits or is dropped.
+            // The run under way ends at rest as planned (a non-linear rapid, or a run too near
+            // its own stop), then what follows waits or is dropped.
             Braking::Finishing => {
                 self.stopping = Some(after);
                 if after == AfterStop::Drop {

@@ -62,7 +62,9 @@ struct Current {
 pub enum Braking {
     /// Nothing was moving.
     Idle,
-    /// A non-linear rapid cannot be slowed along a path: its axes finish their own profiles.
+    /// The run under way ends at rest as planned: a non-linear rapid (it cannot be slowed
+    /// along a path: its axes finish their own profiles), or a run planned against the axes
+    /// at every point too near the stop it makes to stop sooner.
     Finishing,
     /// The machine was at the very end of its path: it stands; `rest` is what was queued.
     AtEnd { rest: Vec<Segment> },
@@ -349,13 +351,38 @@ impl Executor {
         }
         let state = c.planned.profile.at(self.t - c.start);
         let mut rest = c.planned.rest(state.s);
+        let in_run = rest.len();
         rest.extend(self.planner.take_all());
         if rest.is_empty() {
             self.here.feed = 0.0;
             return Braking::AtEnd { rest };
         }
-        let lim = stop_limits(&rest, state.v, state.a);
-        let profile = Profile::stop(state.v, state.a, &lim);
+        // A run planned against the axes at every point may be faster than its path limits:
+        // its stop is planned the same way, within what is left of it.
+        let tabled = c.planned.profile.is_tabled();
+        let planned_stop = tabled.then(|| {
+            // Up to the next exact stop: the machine must be at rest there.
+            let end = rest.iter().position(|s| s.stop_after).map_or(rest.len(), |k| k + 1);
+            let path: Vec<&Segment> = rest[..end].iter().collect();
+            super::optimal::stop(&path, &self.planner.corners(&path), state.v, state.a, &self.axes)
+        });
+        let profile = match planned_stop.flatten() {
+            Some(profile) => profile,
+            None => {
+                let stop = Profile::stop(state.v, state.a, &stop_limits(&rest, state.v, state.a));
+                // A run planned at every point may be faster than the path limits that stop
+                // uses; and that stop may not end before the exact stop ahead. Where the run
+                // itself ends at rest, it is the stop (too near the one it is planned to make).
+                let overruns = tabled || stop.len() > to_next_stop(&rest).1 + 1e-9;
+                if overruns && c.planned.profile.end_speed() <= 0.0 {
+                    self.planner.continue_at(0.0);
+                    self.requeue(rest.split_off(in_run));
+                    self.current = Some(c);
+                    return Braking::Finishing;
+                }
+                stop
+            }
+        };
         self.start(Planned { segments: rest, profile });
         Braking::Started
     }
@@ -393,9 +420,12 @@ impl Executor {
         // and exact stop ahead.
         let after = Planned { segments: rest.clone(), profile: transition.clone() }.rest(transition.len());
         let fits = transition.end_speed() <= self.planner.entry_speed(&after) + 1e-9;
-        if state.a < 0.0 || !fits || c.planned.segments[0].is_independent() {
+        // A run planned against the axes at every point (its path limits may be below where
+        // it is) changes speed only when it ends.
+        let tabled = c.planned.profile.is_tabled();
+        if state.a < 0.0 || !fits || tabled || c.planned.segments[0].is_independent() {
             // Braking already, too near a junction or stop to be sure of keeping to it after
-            // the change, or a non-linear rapid: the run under way ends as planned, the rest
+            // the change, a run planned at every point, or a non-linear rapid: the run under way ends as planned, the rest
             // takes the override.
             self.planner.continue_at(c.planned.profile.end_speed());
             self.requeue(rest.split_off(in_run));

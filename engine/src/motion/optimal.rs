@@ -60,6 +60,8 @@ struct Track {
     cap: Vec<f64>,
     /// `cap` lowered to what the machine can brake to at [`ENVELOPE`] of its deceleration.
     envelope: Vec<f64>,
+    /// [`Track::rate_error`] of the cell from each point to the next.
+    error: Vec<Pos>,
 }
 
 /// A state of a drive and the jerk of its next tick.
@@ -86,6 +88,7 @@ impl Track {
             d: Vec::new(),
             cap: Vec::new(),
             envelope: Vec::new(),
+            error: Vec::new(),
         };
         for (k, seg) in segments.iter().enumerate() {
             let grid = seg.derivatives(axes)?;
@@ -105,8 +108,9 @@ impl Track {
             }
             t.len += seg.len;
         }
+        t.error = (0..t.s.len()).map(|k| t.rate_error(k)).collect();
         for k in 0..t.s.len() {
-            let error = |cell: Option<usize>| cell.map_or([0.0; MAX_AXES], |c| t.rate_error(c));
+            let error = |cell: Option<usize>| cell.map_or([0.0; MAX_AXES], |c| t.error[c]);
             let (before, after) = (error(k.checked_sub(1)), error(Some(k)));
             let error: Pos = std::array::from_fn(|i| before[i].max(after[i]));
             t.cap[k] = t.cap[k].min(t.steady(&t.d[k], &error));
@@ -134,7 +138,9 @@ impl Track {
             d: self.d.iter().rev().map(flip).collect(),
             cap: self.cap.iter().rev().copied().collect(),
             envelope: Vec::new(),
+            error: Vec::new(),
         };
+        t.error = (0..t.s.len()).map(|k| t.rate_error(k)).collect();
         t.fill_envelope();
         t
     }
@@ -239,9 +245,10 @@ impl Track {
         (lo, hi)
     }
 
-    /// The highest speed at `s` at which every axis is within its speed.
-    fn top_speed(&self, s: f64) -> f64 {
-        let (d, error) = (self.at(s), self.rate_error(self.index(s)));
+    /// The highest speed at which every axis is within its speed where the derivatives are
+    /// `d`, in the cell from point `k`.
+    fn top_speed_at(&self, d: &[Pos; 3], k: usize) -> f64 {
+        let error = &self.error[k];
         (0..self.count).map(|i| self.v[i] / (d[0][i].abs() + error[i]).max(TINY)).fold(f64::INFINITY, f64::min)
     }
 
@@ -249,15 +256,16 @@ impl Track {
     /// keeps to, at state `x` with path jerk `j` (`1 / MARGIN`: the whole limits).
     fn within(&self, x: &PathState, j: f64, share: f64) -> bool {
         let d = self.at(x.s);
-        let speed_ok = x.v.abs() <= self.top_speed(x.s) + 1e-9;
+        let speed_ok = x.v.abs() <= self.top_speed_at(&d, self.index(x.s)) + 1e-9;
         let inside = |(lo, hi): (f64, f64), x: f64| x >= lo - 1e-9 && x <= hi + 1e-9;
         speed_ok && inside(self.accel_bounds(&d, x.v, share), x.a) && inside(self.jerk_bounds(&d, x.v, x.a, share), j)
     }
 
-    /// From `start` (speed `v0`, zero acceleration) at each tick the jerk that steers toward
-    /// the highest speed allowed ahead, within every axis's limits; until the end of the track.
-    fn drive(&self, v0: f64) -> Option<Vec<Tick>> {
-        let mut x = Tick { s: 0.0, v: v0, a: 0.0, j: 0.0, dt: DT };
+    /// From `start` at each tick the jerk that steers toward the highest speed allowed ahead
+    /// (with `halt`, toward rest: the ticks then end where the machine stands), within every
+    /// axis's limits; until the end of the track.
+    fn drive(&self, start: Tick, halt: bool) -> Option<Vec<Tick>> {
+        let mut x = start;
         let mut out = Vec::new();
         while x.s < self.len {
             if out.len() >= MAX_TICKS {
@@ -265,30 +273,41 @@ impl Track {
             }
             let d = self.at(x.s);
             let (j_lo, j_hi) = self.jerk_bounds(&d, x.v, x.a, 1.0);
-            if j_lo > j_hi {
+            if j_lo.is_nan() || j_hi.is_nan() || j_lo > j_hi {
                 return None;
             }
-            // The highest acceleration after this tick from which a ramp at `turn` still ends
-            // at or below the lowest cap it passes: x²/2turn + x·DT/2 ≤ cap − v − a·DT/2.
+            // The acceleration after this tick from which a ramp at `turn` ends on the lowest
+            // cap it passes: x²/2turn + x·DT/2 ≤ cap − v − a·DT/2 from below.
             // The jerk a ramp down can count on: what it has now and where it ends (at zero
             // acceleration, a little faster), the lower.
             let (end_lo, _) = self.jerk_bounds(&d, x.v + x.a.max(0.0).powi(2) / (2.0 * (-j_lo).max(TINY)), 0.0, 1.0);
             let turn = RAMP * j_hi.min(-j_lo).min(-end_lo).max(TINY);
-            let target = self.goal(&x, j_hi, turn);
+            let target = if halt { 0.0 } else { self.goal(&x, j_hi, turn) };
+            // Below it: the highest such acceleration; above it, the lowest from which a
+            // ramp up at `turn` ends at it: x²/2turn − x·DT/2 ≤ v + a·DT/2 − cap.
+            // (A drive may stand a hair above a cap that falls: the continuous curve there;
+            // a halt lands on rest by the discrete one, which does not overshoot it.)
             let room = target - x.v - 0.5 * x.a * DT;
             let disc = 0.25 * DT * DT + 2.0 * room / turn;
-            let wanted = if disc >= 0.0 {
+            let wanted = if room < 0.0 && halt {
+                turn * (0.5 * DT - (0.25 * DT * DT - 2.0 * room / turn).sqrt())
+            } else if disc >= 0.0 {
                 turn * (disc.sqrt() - 0.5 * DT)
             } else {
                 -(2.0 * turn * (x.v - target).max(0.0)).sqrt()
             };
             // The acceleration the next tick may reach, where it will be.
-            let next = self.at(x.s + x.v * DT);
+            let ahead = x.s + x.v * DT;
+            let next = self.at(ahead);
             let (a_lo, a_hi) = self.accel_bounds(&next, x.v + x.a * DT, 1.0);
+            if a_lo.is_nan() || a_hi.is_nan() || a_lo > a_hi {
+                // No acceleration keeps every axis within its limits there at this speed.
+                return None;
+            }
             let mut j = ((wanted - x.a) / DT).clamp((a_lo - x.a) / DT, (a_hi - x.a) / DT);
             // Never past an axis's speed at the next tick (the law above keeps to it but for
             // a path whose rates grow faster than it looked ahead).
-            let fastest = self.top_speed(x.s + x.v * DT);
+            let fastest = self.top_speed_at(&next, self.index(ahead));
             j = j.min(2.0 * (fastest - x.v - x.a * DT) / (DT * DT));
             j = j.clamp(j_lo, j_hi);
             let mut t = DT;
@@ -297,9 +316,13 @@ impl Track {
             let gap = target - x.v;
             if x.a.abs() <= 1e-9 * (1.0 + x.v) && gap.abs() <= 1e-9 * (1.0 + x.v) {
                 (x.a, j) = (0.0, 0.0);
-            } else if x.a > 0.0 && gap > 0.0 && 2.0 * gap / x.a <= DT && -x.a * x.a / (2.0 * gap) >= j_lo {
-                j = -x.a * x.a / (2.0 * gap);
-                t = 2.0 * gap / x.a;
+            } else if x.a * gap > 0.0 && 2.0 * gap / x.a <= DT {
+                // Toward the speed with the acceleration still pointing to it: the jerk that
+                // ends both together (within the jerk at hand).
+                let landing = -x.a * x.a / (2.0 * gap);
+                if landing >= j_lo && landing <= j_hi {
+                    (j, t) = (landing, 2.0 * gap / x.a);
+                }
             }
             (x.j, x.dt) = (j, t);
             out.push(x);
@@ -315,9 +338,17 @@ impl Track {
                 return None;
             }
             x.v = x.v.max(0.0);
-            if x.v <= TINY && x.a <= TINY && target <= TINY {
+            if x.v <= TINY && x.a.abs() <= TINY && target <= TINY {
+                // At rest: where a halt ends; a drive stalled on a cap of zero.
+                if halt {
+                    out.push(x);
+                    return Some(out);
+                }
                 return None;
             }
+        }
+        if halt {
+            return None;
         }
         out.push(x);
         Some(out)
@@ -407,8 +438,9 @@ fn tighten(lo: &mut f64, hi: &mut f64, q1: f64, rest: f64, limit: f64) {
 pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, axes: &AxisLimits) -> Option<Profile> {
     let forward = Track::new(segments, junctions, axes)?;
     let backward = forward.reversed();
-    let f = forward.drive(v_start)?;
-    let b = backward.drive(v_end)?;
+    let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
+    let f = forward.drive(rest(v_start), false)?;
+    let b = backward.drive(rest(v_end), false)?;
     let len = forward.len;
     // The backward drive's speed at forward distance s.
     let speed_back = |s: f64| {
@@ -427,7 +459,17 @@ pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, 
             // The backward tick nearest the crossing whose ramp can end at the same speed,
             // short of the forward ramp's end.
             let top = b.partition_point(|t| t.s < len - ef.s);
-            let m = (0..top).rev().take(4000).find(|&m| backward.ramp_to(&b[m], v).is_some())?;
+            // (A ramp ending at v at most the jerk at hand is needed first: a cheaper test.)
+            let reaches = |m: usize| {
+                let t = &b[m];
+                let end = backward.plateau(t, 1.0);
+                if t.a > 0.0 {
+                    t.v <= v && end <= v + 1e-9
+                } else {
+                    t.a == 0.0 || end >= v - 1e-9
+                }
+            };
+            let m = (0..top).rev().take(4000).find(|&m| reaches(m) && backward.ramp_to(&b[m], v).is_some())?;
             let (jb, tb, eb) = backward.ramp_to(&b[m], v)?;
             let s_back = len - eb.s;
             let fits = s_back >= ef.s - 1e-12 && forward.cruise_fits(ef.s, s_back.max(ef.s), v);
@@ -449,17 +491,43 @@ pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, 
     None
 }
 
+/// The quickest stop along `path` (its corner speeds `corners`) from speed `v` and acceleration
+/// `a` within every axis's own limits (a feed hold during a run planned by [`plan`], which may
+/// go faster than the path limits `Profile::stop` would use); its length is the stopping
+/// distance. `None` when it cannot stop within `path`.
+pub fn stop(path: &[&Segment], corners: &[f64], v: f64, a: f64, axes: &AxisLimits) -> Option<Profile> {
+    let track = Track::new(path, corners, axes)?;
+    let ticks = track.drive(Tick { s: 0.0, v, a, j: 0.0, dt: DT }, true)?;
+    let (last, moving) = ticks.split_last()?;
+    let phases = moving.iter().map(|t| (t.dt, t.j, PathState { s: t.s, v: t.v, a: t.a }));
+    verified(&track, Profile::tabled(phases, last.s, 0.0))
+}
+
 /// The profile, if every one of its phases keeps every axis within its whole limits.
 fn verified(track: &Track, profile: Profile) -> Option<Profile> {
     if !profile.is_continuous(1e-9) {
         return None;
     }
-    let n = (profile.duration() / DT).ceil() as usize;
-    let ok = (0..=n).all(|k| {
-        let t = (k as f64 * DT).min(profile.duration());
-        let x = profile.at(t);
-        let j = profile.jerk_at(t);
-        track.within(&x, j, 1.0 / MARGIN)
+    // Each phase at its start and end; a steady one also at every point of the track inside
+    // it (between points its axis rates are linear: the limits hold if they hold there);
+    // another long one every tick.
+    let ok = profile.tabled_phases().all(|(duration, j, x)| {
+        let at = |t: f64| {
+            let p = PathState {
+                s: x.s + t * (x.v + t * (0.5 * x.a + t * j / 6.0)),
+                v: x.v + t * (x.a + 0.5 * t * j),
+                a: x.a + t * j,
+            };
+            track.within(&p, j, 1.0 / MARGIN)
+        };
+        if !(at(0.0) && at(duration)) {
+            return false;
+        }
+        if j == 0.0 && x.a == 0.0 && x.v > 0.0 {
+            let (k0, k1) = (track.index(x.s), track.index(x.s + x.v * duration));
+            return track.s[k0 + 1..=k1.max(k0)].iter().all(|&s| at((s - x.s) / x.v));
+        }
+        (1..(duration / DT).ceil() as usize).all(|k| at(k as f64 * DT))
     });
     ok.then_some(profile)
 }

@@ -110,6 +110,10 @@ struct Run {
     v_end: f64,
 }
 
+/// The most segments of a kinematic run planned against the axes at every point
+/// (`motion::optimal`): a block's pieces (at most 16) and a few short blocks.
+const OPTIMAL_SEGMENTS: usize = 48;
+
 /// A run whose speeds are final, waiting at the front of the queue: its segments stay there
 /// until it is popped (a released run is not a second copy of its segments).
 struct Released {
@@ -267,9 +271,14 @@ impl Planner {
             // lose to the second where its joins are conservative: `motion::optimal`).
             let mut parts = self.runs(taken..r.end, false);
             pass(&mut parts, self.v_now, r.v_end);
-            let optimal = self.axes.as_ref().and_then(|axes| self.optimal(taken, r, axes));
-            match optimal {
-                Some(profile) if profile.duration() <= chain_duration(&parts, self.v_now) => {
+            // A run of many segments (a long chain of short blocks, the look-ahead's queue)
+            // keeps the analytic plan: planning it tick by tick costs more than it saves.
+            let optimal = match &self.axes {
+                Some(axes) if r.end - taken <= OPTIMAL_SEGMENTS => self.optimal(taken, r, axes),
+                _ => None,
+            };
+            match optimal.filter(|p| p.duration() <= chain_duration(&parts, self.v_now)) {
+                Some(profile) => {
                     self.release(r, taken, Some(Box::new(profile)));
                 }
                 _ => {
@@ -294,8 +303,15 @@ impl Planner {
     /// The profile of kinematic run `r` (from queue index `from`) against the axes' limits.
     fn optimal(&self, from: usize, r: &Run, axes: &AxisLimits) -> Option<Profile> {
         let segments: Vec<&Segment> = self.queue.range(from..r.end).map(|q| &q.segment).collect();
+        // The junction speeds as queued: between a block's pieces, the lower of their path
+        // limits (the drives' look-ahead is surer with them where the path bends sharply).
         let junctions: Vec<f64> = self.queue.range(from..r.end - 1).map(|q| q.junction).collect();
         super::optimal::plan(&segments, &junctions, self.v_now, r.v_end, axes)
+    }
+
+    /// The corner speed at each junction of `path` (one fewer than its segments).
+    pub fn corners(&self, path: &[&Segment]) -> Vec<f64> {
+        path.windows(2).map(|w| corner_speed(w[0], w[1], &self.speed_step, &self.accel_step)).collect()
     }
 
     /// The queued segments `range` grouped into runs (at most `lookahead` segments each, so
@@ -432,7 +448,13 @@ fn within_twice(x: f64, of: f64) -> bool {
 /// slowing), and at most `accel_step[i]` of sudden acceleration change (where the curvature
 /// changes: the acceleration toward an arc's centre is v² times its curvature vector).
 fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
-    let mut v = a.limits.v.min(b.limits.v);
+    a.limits.v.min(b.limits.v).min(corner_speed(a, b, speed_step, accel_step))
+}
+
+/// The highest speed through the junction of `a` into `b` that its corner and its change of
+/// curvature allow (infinite where the path goes on smoothly, as between a block's pieces).
+fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
+    let mut v = f64::INFINITY;
     for i in 0..speed_step.len() {
         let turn = (b.start_dir[i] - a.end_dir[i]).abs();
         if turn > 1e-12 {

@@ -220,7 +220,14 @@ impl Profile {
         }
         let need = v + a * a / (2.0 * j);
         let ideal = (j * v + 0.5 * a * a).max(0.0).sqrt();
-        let (ap, hold) = if ideal <= lim.a { (ideal, 0.0) } else { (lim.a, (need - lim.a * lim.a / j) / lim.a) };
+        let (mut ap, mut hold) =
+            if ideal <= lim.a { (ideal, 0.0) } else { (lim.a, (need - lim.a * lim.a / j) / lim.a) };
+        if -a > ap {
+            // Braking already harder than that (a run planned with other limits): hold the
+            // deceleration it has, then end it.
+            ap = -a;
+            hold = ((need - ap * ap / j) / ap).max(0.0);
+        }
         let mut state = PathState { s: 0.0, v, a };
         p.push(&mut state, (a + ap) / j, -j);
         p.push(&mut state, hold, 0.0);
@@ -261,6 +268,17 @@ impl Profile {
             rest -= phase.duration;
         }
         PathState { s: self.len, v: self.end_speed, a: 0.0 }
+    }
+
+    /// The phases of a tabled profile (none for another): duration, jerk, state at the start.
+    pub fn tabled_phases(&self) -> impl Iterator<Item = (f64, f64, PathState)> + '_ {
+        let phases = self.table.as_ref().map_or(&[][..], |t| &t.phases[..]);
+        phases.iter().map(|p| (p.duration, p.jerk, PathState { s: p.s, v: p.v, a: p.a }))
+    }
+
+    /// Whether the profile is a table of phases (planned against the axes at every point).
+    pub fn is_tabled(&self) -> bool {
+        self.table.is_some()
     }
 
     /// For a tabled profile: whether each phase starts where the one before ends (position,
