@@ -14,10 +14,12 @@
 //! to the end, so it starts and ends at the planner's speeds with zero acceleration.
 //!
 //! The derivatives come from the segments' own grids (`Segment::derivatives`), interpolated
-//! between points; the plan keeps to [`MARGIN`] of each limit for what interpolation misses and
-//! checks every phase against the whole limits at the end. Anything it cannot do — a path that
-//! turns faster than its drive can follow, a ramp that would break a limit, a run too long for a
-//! table — leaves the run to the analytic profile (`None`).
+//! between points; the plan keeps to [`MARGIN`] of each axis's acceleration and jerk for what
+//! interpolation misses, bounds its speed with what the rate can add between points, and checks
+//! every phase against the whole limits at the end. Anything it cannot do — a path that turns
+//! faster than its drive can follow, a ramp that would break a limit, a run too long for a
+//! table — leaves the run to the analytic profile (`None`). `stop` plans a feed hold's stop on
+//! such a run the same way (a drive toward rest).
 
 use super::path::{AxisLimits, Segment};
 use super::profile::{PathState, Profile};
