@@ -285,7 +285,7 @@ proptest! {
         }
         prop_assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
         // Within the block. (Its end is not held here: a known defect, `docs/motion.md`,
-        // "Feed hold": after the resume a block's G09 stop can be lost.)
+        // "Known defect": a hold's stop can run past the block's G09 point.)
         let in_block: Vec<Sample> = seen.iter().filter(|s| s.line == 5).copied().collect();
         check_limits_of(&in_block, &m, false)?;
     }
