@@ -10,7 +10,7 @@
 //! Time advances only by [`Executor::advance_to`] and [`Executor::idle_until`]: the engine reads
 //! no clock.
 
-use super::{AxisLimits, Cursor, FeedContext, Limits, Planned, Planner, Point, Profile, Segment};
+use super::{AxisLimits, Cursor, FeedContext, Limits, PathState, Planned, Planner, Point, Profile, Segment};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, Motion, Pos};
 use crate::kin::Kinematics;
@@ -369,22 +369,60 @@ impl Executor {
         let profile = match planned_stop.flatten() {
             Some(profile) => profile,
             None => {
-                let stop = Profile::stop(state.v, state.a, &stop_limits(&rest, state.v, state.a));
+                let mut lim = stop_limits(&rest, state.v, state.a);
+                // Still accelerating: the acceleration's return to zero raises the speed by
+                // a²/2J first; with the lower jerk of later segments that could pass the speed
+                // where it is. Their jerk there, as far as the segment's own allows.
+                let here = &rest[0].limits;
+                if state.a > 0.0 && state.v + state.a * state.a / (2.0 * lim.j) > here.v {
+                    lim.j = lim.j.max(here.j.min(state.a * state.a / (2.0 * (here.v - state.v).max(1e-12))));
+                }
+                let stop = Profile::stop(state.v, state.a, &lim);
                 // A run planned at every point may be faster than the path limits that stop
                 // uses; and that stop may not end before the exact stop ahead. Where the run
-                // itself ends at rest, it is the stop (too near the one it is planned to make).
-                let overruns = tabled || stop.len() > to_next_stop(&rest).1 + 1e-9;
-                if overruns && c.planned.profile.end_speed() <= 0.0 {
+                // itself ends at rest, it is the stop (too near the one it is planned to make);
+                // where the stop would run past the exact stop, the plan to it is.
+                let overruns = stop.len() > to_next_stop(&rest).1 + 1e-9;
+                if (tabled || overruns) && c.planned.profile.end_speed() <= 0.0 {
                     self.planner.continue_at(0.0);
                     self.requeue(rest.split_off(in_run));
                     self.current = Some(c);
                     return Braking::Finishing;
                 }
-                stop
+                // The plan itself, to the exact stop ahead, where it ends at rest.
+                let planned = if overruns { self.plan_to_stop(&c, state.s, &rest, in_run) } else { None };
+                planned.unwrap_or(stop)
             }
         };
         self.start(Planned { segments: rest, profile });
         Braking::Started
+    }
+
+    /// The motion as planned from where run `c` is (distance `s` into it) to the next exact
+    /// stop in `rest` (the run's rest, its first `in_run`, and what was queued), where it ends
+    /// at rest: the run's own profile, then the runs a fresh plan of the queued segments up to
+    /// that stop gives. `None` when the stop is not beyond the run or the pieces do not join.
+    fn plan_to_stop(&self, c: &Current, s: f64, rest: &[Segment], in_run: usize) -> Option<Profile> {
+        let end = rest.iter().position(|seg| seg.stop_after)? + 1;
+        if end <= in_run {
+            return None;
+        }
+        let mut phases = c.planned.profile.phases_after(self.t - c.start);
+        let mut offset = c.planned.profile.len() - s;
+        let mut plan = self.planner.fresh();
+        plan.continue_at(c.planned.profile.end_speed());
+        for seg in &rest[in_run..end] {
+            plan.push(seg.clone());
+        }
+        while let Some(run) = plan.pop(true) {
+            let shift = offset;
+            phases.extend(
+                run.profile.phases_after(0.0).into_iter().map(|(d, j, x)| (d, j, PathState { s: x.s + shift, ..x })),
+            );
+            offset += run.profile.len();
+        }
+        let profile = Profile::tabled(phases, offset, 0.0);
+        profile.is_continuous(1e-9).then_some(profile)
     }
 
     /// New overrides: every queued segment takes them; the run under way changes speed at

@@ -156,6 +156,11 @@ impl Planner {
         }
     }
 
+    /// An empty planner with the same look-ahead, steps and axis limits.
+    pub fn fresh(&self) -> Planner {
+        Planner { axes: self.axes.clone(), ..Planner::new(self.lookahead, self.speed_step, self.accel_step) }
+    }
+
     /// The planner, planning runs of kinematic segments against the axes' own limits.
     pub fn with_axes(self, axes: AxisLimits) -> Planner {
         Planner { axes: Some(axes), ..self }

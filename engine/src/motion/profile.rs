@@ -276,6 +276,27 @@ impl Profile {
         phases.iter().map(|p| (p.duration, p.jerk, PathState { s: p.s, v: p.v, a: p.a }))
     }
 
+    /// The phases from `t` seconds in to the end, each `(duration, jerk, state at its start)`,
+    /// the first cut at `t`, positions measured from where the profile is at `t`.
+    pub fn phases_after(&self, t: f64) -> Vec<(f64, f64, PathState)> {
+        let phases: &[Phase] = match &self.table {
+            Some(table) => &table.phases,
+            None => &self.phases,
+        };
+        let origin = self.at(t).s;
+        let (mut out, mut start) = (Vec::new(), 0.0);
+        for p in phases {
+            let end = start + p.duration;
+            if end > t {
+                let from = (t - start).max(0.0);
+                let x = p.at(from);
+                out.push((p.duration - from, p.jerk, PathState { s: x.s - origin, ..x }));
+            }
+            start = end;
+        }
+        out
+    }
+
     /// Whether the profile is a table of phases (planned against the axes at every point).
     pub fn is_tabled(&self) -> bool {
         self.table.is_some()
