@@ -369,15 +369,14 @@ impl Executor {
         let profile = match planned_stop.flatten() {
             Some(profile) => profile,
             None => {
-                let mut lim = stop_limits(&rest, state.v, state.a);
+                let lim = stop_limits(&rest, state.v, state.a);
                 // Still accelerating: the acceleration's return to zero raises the speed by
                 // a²/2J first; with the lower jerk of later segments that could pass the speed
-                // where it is. Their jerk there, as far as the segment's own allows.
-                let here = &rest[0].limits;
-                if state.a > 0.0 && state.v + state.a * state.a / (2.0 * lim.j) > here.v {
-                    lim.j = lim.j.max(here.j.min(state.a * state.a / (2.0 * (here.v - state.v).max(1e-12))));
-                }
-                let stop = Profile::stop(state.v, state.a, &lim);
+                // where the machine is. That first turn may use the jerk of the segment it is on.
+                let here = &rest[0];
+                let turning = state.a > 0.0 && state.v + state.a * state.a / (2.0 * lim.j) > here.limits.v;
+                let first = if turning { here.limits.j } else { lim.j };
+                let stop = Profile::stop_turning(state.v, state.a, &lim, first);
                 // A run planned at every point may be faster than the path limits that stop
                 // uses; and that stop may not end before the exact stop ahead. Where the run
                 // itself ends at rest, it is the stop (too near the one it is planned to make);

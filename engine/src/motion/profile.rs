@@ -210,6 +210,13 @@ impl Profile {
     /// `(a² − 2ap²)/2J − ap·t₂ = −v`, so `ap = √(J·v + a²/2)` when that is within A, else A with
     /// a constant phase. Its length is the stopping distance.
     pub fn stop(v: f64, a: f64, lim: &Limits) -> Profile {
+        Profile::stop_turning(v, a, lim, lim.j)
+    }
+
+    /// [`Profile::stop`] whose first phase, turning a positive acceleration `a` down, may use
+    /// the higher jerk `first` (where the machine is, its own); the rest keeps `lim.j`. The
+    /// speed lost is then v + a²/2J₁ = ap²·(1/2J₁ + 1/2J) + ap·t₂.
+    pub fn stop_turning(v: f64, a: f64, lim: &Limits, first: f64) -> Profile {
         let mut p = Profile { phases: ArrayVec::new(), table: None, len: 0.0, duration: 0.0, end_speed: 0.0 };
         let mut j = lim.j;
         if a < 0.0 && v > 0.0 && a * a > 2.0 * j * v {
@@ -218,10 +225,24 @@ impl Profile {
             // end the braking exactly at rest.
             j = a * a / (2.0 * v);
         }
+        let j1 = if a > 0.0 { first.max(j) } else { j };
         let need = v + a * a / (2.0 * j);
-        let ideal = (j * v + 0.5 * a * a).max(0.0).sqrt();
-        let (mut ap, mut hold) =
-            if ideal <= lim.a { (ideal, 0.0) } else { (lim.a, (need - lim.a * lim.a / j) / lim.a) };
+        let (mut ap, mut hold) = if j1 == j {
+            let ideal = (j * v + 0.5 * a * a).max(0.0).sqrt();
+            if ideal <= lim.a {
+                (ideal, 0.0)
+            } else {
+                (lim.a, (need - lim.a * lim.a / j) / lim.a)
+            }
+        } else {
+            let (gain, k) = (v + a * a / (2.0 * j1), 0.5 / j1 + 0.5 / j);
+            let ideal = (gain / k).max(0.0).sqrt();
+            if ideal <= lim.a {
+                (ideal, 0.0)
+            } else {
+                (lim.a, ((gain - lim.a * lim.a * k) / lim.a).max(0.0))
+            }
+        };
         if -a > ap {
             // Braking already harder than that (a run planned with other limits): hold the
             // deceleration it has, then end it.
@@ -229,7 +250,7 @@ impl Profile {
             hold = ((need - ap * ap / j) / ap).max(0.0);
         }
         let mut state = PathState { s: 0.0, v, a };
-        p.push(&mut state, (a + ap) / j, -j);
+        p.push(&mut state, (a + ap) / j1, -j1);
         p.push(&mut state, hold, 0.0);
         p.push(&mut state, ap / j, j);
         // Rounding at a standstill must not give a stop that runs backwards.
