@@ -7,7 +7,7 @@
 //! corner between them. A run gets one jerk-limited profile over its whole length (zero
 //! acceleration only at its ends), so that a program of many short segments accelerates as
 //! one smooth move instead of pulsing at every block. Consecutive kinematic segments share a
-//! run unless a corner parts them; such a run (of at most [`OPTIMAL_SEGMENTS`]) is planned
+//! run unless a corner parts them; such a run (of at most `OPTIMAL_SEGMENTS`) is planned
 //! against each axis's own limits at every point (`motion::optimal`) when that is quicker
 //! than its pieces' runs of similar path limits, which it is released as otherwise.
 //!
