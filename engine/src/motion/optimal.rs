@@ -46,6 +46,12 @@ const ENVELOPE: f64 = 0.8;
 /// A run longer than this many ticks keeps the analytic profile (a table costs memory).
 const MAX_TICKS: usize = 60_000;
 const TINY: f64 = 1e-12;
+/// How far ahead (in time at the speed at hand) a drive makes sure it can brake under a
+/// falling top speed.
+const GUARD: f64 = 0.06;
+/// The share of the jerk at hand the guard counts on for that braking (the jerk's bounds move
+/// as the speed and acceleration change).
+const GUARD_BRAKE: f64 = 0.8;
 
 /// Derivatives, speed caps and the braking envelope at points along a run (or along it read
 /// backwards).
@@ -64,7 +70,24 @@ struct Track {
     envelope: Vec<f64>,
     /// [`Track::rate_error`] of the cell from each point to the next.
     error: Vec<Pos>,
+    /// The highest speed every axis allows at each point, with the rate error of either cell
+    /// beside it.
+    top: Vec<f64>,
 }
+
+/// What a drive steers to.
+#[derive(Debug, Clone, Copy)]
+enum Steer {
+    /// The highest speed allowed ahead.
+    Ahead,
+    /// Rest, as soon as it can.
+    Halt,
+    /// This speed with no acceleration, then stop driving.
+    Settle(f64),
+}
+
+/// The most ticks a settling drive may take.
+const SETTLE_TICKS: usize = 2000;
 
 /// A state of a drive and the jerk of its next tick.
 #[derive(Debug, Clone, Copy)]
@@ -91,6 +114,7 @@ impl Track {
             cap: Vec::new(),
             envelope: Vec::new(),
             error: Vec::new(),
+            top: Vec::new(),
         };
         for (k, seg) in segments.iter().enumerate() {
             let grid = seg.derivatives(axes)?;
@@ -124,6 +148,7 @@ impl Track {
             return None;
         }
         t.fill_envelope();
+        t.fill_top();
         Some(t)
     }
 
@@ -141,10 +166,44 @@ impl Track {
             cap: self.cap.iter().rev().copied().collect(),
             envelope: Vec::new(),
             error: Vec::new(),
+            top: Vec::new(),
         };
         t.error = (0..t.s.len()).map(|k| t.rate_error(k)).collect();
         t.fill_envelope();
+        t.fill_top();
         t
+    }
+
+    fn fill_top(&mut self) {
+        let last = self.s.len() - 1;
+        self.top = (0..=last)
+            .map(|k| {
+                let d = &self.d[k];
+                self.top_speed_at(d, k)
+                    .min(self.top_speed_at(d, k.saturating_sub(1)))
+                    .min(self.top_speed_at(d, (k + 1).min(last)))
+            })
+            .collect();
+    }
+
+    /// The highest jerk for this tick from `x` after which braking at `brake` (a negative
+    /// jerk) keeps the speed below every point's top speed within [`GUARD`] ahead: a top speed
+    /// that falls faster than the jerk lets the deceleration grow is met in time.
+    fn brake_guard(&self, x: &Tick, brake: f64) -> f64 {
+        let mut j = f64::INFINITY;
+        let v = x.v.max(TINY);
+        for k in self.index(x.s) + 1..self.s.len() {
+            let t = (self.s[k] - x.s) / v;
+            if t > GUARD {
+                break;
+            }
+            if t <= DT {
+                continue;
+            }
+            let tau = t - DT;
+            j = j.min((STEER * self.top[k] - x.v - x.a * t - 0.5 * brake * tau * tau) / (0.5 * DT * DT + DT * tau));
+        }
+        j
     }
 
     /// How much more than its interpolated value an axis's rate by s can be in the cell from
@@ -267,6 +326,17 @@ impl Track {
     /// (with `halt`, toward rest: the ticks then end where the machine stands), within every
     /// axis's limits; until the end of the track.
     fn drive(&self, start: Tick, halt: bool) -> Option<Vec<Tick>> {
+        self.steer(start, if halt { Steer::Halt } else { Steer::Ahead })
+    }
+
+    /// From `start` (accelerating toward `v`) the ticks that bring the acceleration to zero at
+    /// speed `v` with the jerk at hand; the last is the settled state.
+    fn settle(&self, start: Tick, v: f64) -> Option<Vec<Tick>> {
+        self.steer(start, Steer::Settle(v))
+    }
+
+    fn steer(&self, start: Tick, steer: Steer) -> Option<Vec<Tick>> {
+        let halt = matches!(steer, Steer::Halt);
         let mut x = start;
         let mut out = Vec::new();
         while x.s < self.len {
@@ -284,7 +354,11 @@ impl Track {
             // acceleration, a little faster), the lower.
             let (end_lo, _) = self.jerk_bounds(&d, x.v + x.a.max(0.0).powi(2) / (2.0 * (-j_lo).max(TINY)), 0.0, 1.0);
             let turn = RAMP * j_hi.min(-j_lo).min(-end_lo).max(TINY);
-            let target = if halt { 0.0 } else { self.goal(&x, j_hi, turn) };
+            let target = match steer {
+                Steer::Halt => 0.0,
+                Steer::Settle(v) => v,
+                Steer::Ahead => self.goal(&x, j_hi, turn),
+            };
             // Below it: the highest such acceleration; above it, the lowest from which a
             // ramp up at `turn` ends at it: x²/2turn − x·DT/2 ≤ v + a·DT/2 − cap.
             // (A drive may stand a hair above a cap that falls: the continuous curve there;
@@ -309,15 +383,34 @@ impl Track {
             let mut j = ((wanted - x.a) / DT).clamp((a_lo - x.a) / DT, (a_hi - x.a) / DT);
             // Never past an axis's speed at the next tick (the law above keeps to it but for
             // a path whose rates grow faster than it looked ahead).
-            let fastest = self.top_speed_at(&next, self.index(ahead));
-            j = j.min(2.0 * (fastest - x.v - x.a * DT) / (DT * DT));
+            // (Its cell's rate error too, or the next one's: where the tick ends is known to
+            // within a·DT²/2, and the bound steps at a cell's end.)
+            let cell = self.index(ahead);
+            let fastest =
+                self.top_speed_at(&next, cell).min(self.top_speed_at(&next, (cell + 1).min(self.s.len() - 1)));
+            let guard = self.brake_guard(&x, GUARD_BRAKE * j_lo);
+            j = j.min(2.0 * (fastest - x.v - x.a * DT) / (DT * DT)).min(guard);
             j = j.clamp(j_lo, j_hi);
+            // The jerk's bounds move with the speed and acceleration over the tick: within them
+            // where it ends too.
+            let end = PathState {
+                s: x.s + DT * (x.v + DT * (0.5 * x.a + DT * j / 6.0)),
+                v: x.v + DT * (x.a + 0.5 * DT * j),
+                a: x.a + DT * j,
+            };
+            let (end_lo, end_hi) = self.jerk_bounds(&self.at(end.s), end.v, end.a, 1.0);
+            if end_lo <= end_hi {
+                j = j.clamp(end_lo.max(j_lo).min(j_hi), end_hi.min(j_hi).max(j_lo));
+            }
             let mut t = DT;
             // Landing on the steady speed within this tick: one ramp that ends exactly there
-            // (the law above only nears it), and then holding it.
+            // (the law above only nears it), and then holding it — unless a falling top speed
+            // ahead needs the brakes now.
             let gap = target - x.v;
             if x.a.abs() <= 1e-9 * (1.0 + x.v) && gap.abs() <= 1e-9 * (1.0 + x.v) {
-                (x.a, j) = (0.0, 0.0);
+                if guard >= 0.0 {
+                    (x.a, j) = (0.0, 0.0);
+                }
             } else if x.a * gap > 0.0 && 2.0 * gap / x.a <= DT {
                 // Toward the speed with the acceleration still pointing to it: the jerk that
                 // ends both together (within the jerk at hand).
@@ -338,6 +431,15 @@ impl Track {
             };
             if x.v < -1e-9 {
                 return None;
+            }
+            if let Steer::Settle(v) = steer {
+                if landed || (x.a == 0.0 && (x.v - v).abs() <= 1e-9 * (1.0 + v)) {
+                    out.push(x);
+                    return Some(out);
+                }
+                if out.len() >= SETTLE_TICKS {
+                    return None;
+                }
             }
             x.v = x.v.max(0.0);
             if x.v <= TINY && x.a.abs() <= TINY && target <= TINY {
@@ -397,6 +499,16 @@ impl Track {
         fits.then_some((j, tau, end))
     }
 
+    /// The ticks from `x` to a steady speed `v` (the last one steady): a settling drive, or
+    /// else one constant-jerk ramp.
+    fn join_ramp(&self, x: &Tick, v: f64) -> Option<Vec<Tick>> {
+        if let Some(ticks) = self.settle(*x, v) {
+            return Some(ticks);
+        }
+        let (j, dt, end) = self.ramp_to(x, v)?;
+        Some(vec![Tick { j, dt, ..*x }, Tick { s: end.s, v: end.v, a: end.a, j: 0.0, dt: DT }])
+    }
+
     /// The speed a ramp from `x` ends at with `share` of the jerk at hand.
     fn plateau(&self, x: &Tick, share: f64) -> f64 {
         let (lo, hi) = self.jerk_bounds(&self.at(x.s), x.v, x.a, 1.0);
@@ -441,8 +553,8 @@ pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, 
     let forward = Track::new(segments, junctions, axes)?;
     let backward = forward.reversed();
     let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
-    let f = forward.drive(rest(v_start), false)?;
     let b = backward.drive(rest(v_end), false)?;
+    let f = forward.drive(rest(v_start), false)?;
     let len = forward.len;
     // The backward drive's speed at forward distance s.
     let speed_back = |s: f64| {
@@ -457,13 +569,14 @@ pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, 
         // at hand (or gentler where the limits tighten along it).
         let speeds = std::iter::once(forward.goal_at(&x)).chain(RAMPS.iter().map(|&share| forward.plateau(&x, share)));
         let joined = speeds.filter(|v| *v > TINY && v.is_finite()).find_map(|v| {
-            let (jf, tf, ef) = forward.ramp_to(&x, v)?;
+            let rf = forward.join_ramp(&x, v)?;
+            let ef = *rf.last()?;
             // The backward tick nearest the crossing whose ramp can end at the same speed,
             // short of the forward ramp's end.
             let top = b.partition_point(|t| t.s < len - ef.s);
             // (A ramp ending at v at most the jerk at hand is needed first: a cheaper test.)
-            let reaches = |m: usize| {
-                let t = &b[m];
+            let reaches = |m: &usize| {
+                let t = &b[*m];
                 let end = backward.plateau(t, 1.0);
                 if t.a > 0.0 {
                     t.v <= v && end <= v + 1e-9
@@ -471,21 +584,23 @@ pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, 
                     t.a == 0.0 || end >= v - 1e-9
                 }
             };
-            let m = (0..top).rev().take(4000).find(|&m| reaches(m) && backward.ramp_to(&b[m], v).is_some())?;
-            let (jb, tb, eb) = backward.ramp_to(&b[m], v)?;
-            let s_back = len - eb.s;
-            let fits = s_back >= ef.s - 1e-12 && forward.cruise_fits(ef.s, s_back.max(ef.s), v);
-            fits.then_some((v, (jf, tf, ef), m, (jb, tb), s_back))
+            let (m, rb) = (0..top).rev().take(4000).filter(reaches).take(8).find_map(|m| {
+                let rb = backward.join_ramp(&b[m], v)?;
+                (len - rb.last()?.s >= ef.s - 1e-12).then_some((m, rb))
+            })?;
+            let s_back = len - rb.last()?.s;
+            forward.cruise_fits(ef.s, s_back.max(ef.s), v).then_some((v, rf, m, rb, s_back))
         });
-        let Some((v, (jf, tf, ef), m, (jb, tb), s_back)) = joined else { continue };
-        let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + 3);
-        phases.extend(f[..k].iter().map(|t| (t.dt, t.j, PathState { s: t.s, v: t.v, a: t.a })));
-        phases.push((tf, jf, PathState { s: x.s, v: x.v, a: x.a }));
-        phases.push(((s_back - ef.s).max(0.0) / v, 0.0, ef));
+        let Some((v, rf, m, rb, s_back)) = joined else { continue };
+        let ef = rf[rf.len() - 1];
+        let state = |t: &Tick| PathState { s: t.s, v: t.v, a: t.a };
+        let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + rf.len() + rb.len() + 1);
+        phases.extend(f[..k].iter().chain(&rf[..rf.len() - 1]).map(|t| (t.dt, t.j, state(t))));
+        phases.push(((s_back - ef.s).max(0.0) / v, 0.0, PathState { s: ef.s, v, a: 0.0 }));
         // The backward drive read forwards: a state at σ is one at len − σ with its
         // acceleration's sign changed; the jerk keeps its sign.
         let fwd = |t: &Tick| PathState { s: len - t.s, v: t.v, a: -t.a };
-        phases.push((tb, jb, PathState { s: s_back, v, a: 0.0 }));
+        phases.extend((0..rb.len() - 1).rev().map(|i| (rb[i].dt, rb[i].j, fwd(&rb[i + 1]))));
         phases.extend((0..m).rev().map(|i| (b[i].dt, b[i].j, fwd(&b[i + 1]))));
         let profile = Profile::tabled(phases, len, v_end);
         return verified(&forward, profile);
