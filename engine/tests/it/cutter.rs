@@ -240,7 +240,7 @@ fn an_arc_in_the_start_up_or_cancel_block_is_ps0034() {
 #[test]
 fn what_the_stage_does_not_perform_stays_refused() {
     // Rotation, scaling, a canned cycle, G28/G53, a work system change, a rotary axis, inverse
-    // time, G62, G39 and G38 under G41: refused at their block (PS0010 / COR-100).
+    // time, G62 and G38 under G41: refused at their block (PS0010 / COR-100).
     let cases = [
         ("G68 X0 Y0 R30.\nG41 D1 G01 X10. F500\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG68 X0 Y0 R30.\n", 2, "mill3"),
@@ -252,7 +252,6 @@ fn what_the_stage_does_not_perform_stays_refused() {
         ("G41 D1 G01 X10. F500\nG92 X0\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG62\n", 2, "mill3"),
-        ("G41 D1 G01 X10. F500\nG39 X20.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG38 X20.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nC10.\n", 2, "table-ac"),
     ];
@@ -714,4 +713,124 @@ fn an_arc_into_an_outer_acute_corner_ends_on_its_circle_then_the_lengthened_vect
             (5, 20.0, 0.0),
         ],
     );
+}
+
+/// An arc's centre X/Y and signed sweep in degrees.
+type ArcOf = ([f64; 2], f64);
+
+/// Every motion out of the stages (FANUC, mill3): line, end X/Y, and the arc if it is one.
+fn motions(src: &str) -> Vec<(u32, [f64; 2], Option<ArcOf>)> {
+    let mut interp = interpreter(src, "mill3", Fanuc);
+    let mut stages = Pipeline::for_config(interp.config());
+    let mut out = Vec::new();
+    let mut seen = Vec::new();
+    loop {
+        let step = interp.step(&mut out);
+        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
+        assert_eq!(stages.process(&mut out, end), None, "{src}");
+        for c in out.drain(..) {
+            if let CanonKind::Motion(m) = c.kind {
+                let arc = m.arc.map(|a| ([a.center[0], a.center[1]], a.sweep_deg));
+                seen.push((c.line, [m.target[0], m.target[1]], arc));
+            }
+        }
+        match step {
+            Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => interp.finish(),
+            _ => return seen,
+        }
+    }
+}
+
+mod corner_arc {
+    //! G39 corner circular interpolation (FANUC 15i §14.4.9).
+
+    use super::*;
+
+    #[test]
+    fn g39_without_ijk_ends_perpendicular_to_the_next_block() {
+        // G42 R5, +Y into (0,0) (inside corner with +X: 5,−5), then +X to 20,0, G39, +Y to
+        // 20,20, cancel +X to 30,20 (inside corner: 25,15). Block 3 ends at its own vector:
+        // right of +X is (0,−5): 20,−5. G39: the new vector is perpendicular to block 5 at its
+        // start, right of +Y: (5,0), so 25,0; the arc turns about 20,0 from −90° to 0°,
+        // counter-clockwise for G42: +90°. Block 5 runs from 25,0 up x = 25.
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nG39\nY20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, 0.0, -10.0), (2, 5.0, -5.0), (3, 20.0, -5.0), (4, 25.0, 0.0), (5, 25.0, 15.0), (6, 30.0, 20.0)],
+        );
+        let arc = motions(src).into_iter().find(|m| m.0 == 4).unwrap().2.expect("an arc");
+        assert!(approx(arc.0[0], 20.0) && approx(arc.0[1], 0.0) && approx(arc.1, 90.0), "{arc:?}");
+    }
+
+    #[test]
+    fn g39_turns_clockwise_under_g41() {
+        // G41 R5, −Y into (0,0), +X to 20,0 (left of +X: (0,5)), G39, −Y to 20,−20, cancel +X.
+        // Old vector (0,5) at 90°, new: left of −Y is (5,0) at 0°: clockwise −90° about 20,0.
+        // Block 5 ends at the inside corner with the cancel: x = 25, y = −20 + 5.
+        let src = "G90 G00 X0. Y10. Z0\nG41 D1 G01 Y0. F500\nX20.\nG39\nY-20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, 0.0, 10.0), (2, 5.0, 5.0), (3, 20.0, 5.0), (4, 25.0, 0.0), (5, 25.0, -15.0), (6, 30.0, -20.0)],
+        );
+        let arc = motions(src).into_iter().find(|m| m.0 == 4).unwrap().2.expect("an arc");
+        assert!(approx(arc.0[0], 20.0) && approx(arc.0[1], 0.0) && approx(arc.1, -90.0), "{arc:?}");
+    }
+
+    #[test]
+    fn g39_with_ij_ends_perpendicular_to_their_direction() {
+        // As the first, with G39 I1. J1.: the new vector is right of (1,1)/√2 by 5:
+        // (5/√2, −5/√2), at −45°: the arc turns +45° from −90°. Block 5 starts there and ends
+        // at the inside corner with the cancel, 25,15, as before.
+        let h = 5.0 / 2f64.sqrt();
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nG39 I1. J1.\nY20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, 0.0, -10.0), (2, 5.0, -5.0), (3, 20.0, -5.0), (4, 20.0 + h, -h), (5, 25.0, 15.0), (6, 30.0, 20.0)],
+        );
+        let arc = motions(src).into_iter().find(|m| m.0 == 4).unwrap().2.expect("an arc");
+        assert!(approx(arc.1, 45.0), "{arc:?}");
+    }
+
+    #[test]
+    fn g39_keeps_a_move_out_of_the_plane_behind_it() {
+        // A Z move between G39 and the next block: it runs after the arc, at the new vector.
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nG39\nZ-1.\nY20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[
+                (1, 0.0, -10.0),
+                (2, 5.0, -5.0),
+                (3, 20.0, -5.0),
+                (4, 25.0, 0.0),
+                (5, 25.0, 0.0),
+                (6, 25.0, 15.0),
+                (7, 30.0, 20.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn g39_alarms() {
+        let cases = [
+            // Not in offset mode: PS0010 / COR-070 at the G39 block.
+            ("G90 G00 X0. Y0. Z0\nG01 X10. F500\nG39\nM30\n", 3, ("PS0010", "COR-070")),
+            // In the block that turns compensation on.
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G39\nG01 X10. F500\nM30\n", 2, ("PS0010", "COR-070")),
+            // A move command in the G39 block: PS0273.
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G01 X10. F500\nG39 X20.\nM30\n", 3, ("PS0273", "COR-100")),
+            // G41 given, but no block in offset mode before the corner.
+            ("G90 G00 X0. Y0. Z0 F500\nG41 D1\nG39\nG01 X10.\nM30\n", 3, ("PS0010", "COR-070")),
+            // No block after it in the plane: its arc has no end (PS0033 at the G39).
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G01 X10. F500\nG39\nM30\n", 3, ("PS0033", "COR-100")),
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G01 X10. F500\nG39\nG40 Z5.\nM30\n", 3, ("PS0033", "COR-100")),
+        ];
+        for (src, line, (fanuc, syntec)) in cases {
+            for (dialect, code) in [(Fanuc, fanuc), (Syntec, syntec)] {
+                let r = run_with(src, "mill3", dialect);
+                assert_eq!(r.alarms.len(), 1, "{dialect:?} {src}");
+                assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, line), "{dialect:?} {src}");
+            }
+        }
+    }
 }
