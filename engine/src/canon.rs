@@ -76,6 +76,9 @@ pub enum CutterWord {
     /// an arc of the offset radius about the corner, ending at the vector perpendicular to this
     /// direction (`None`: to the next block at its start).
     CornerArc(Option<[f64; 3]>),
+    /// G40 with I/J/K: the block before the cancel ends where its offset path meets the line
+    /// along this direction from its programmed end, offset on the same side.
+    CancelDirection([f64; 3]),
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -561,6 +561,25 @@ impl State {
 
         // --- motion -------------------------------------------------------------------------
         let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
+        // G40 with I/J/K in G00/G01 ending offset mode: the direction goes to the cutter
+        // compensation stage with the block's motion; without axis words the block still moves
+        // (to where it stands: the vector goes there).
+        let cancel_direction = (matches!(comp_before, code::G41 | code::G42)
+            && w.has_g(code::G40)
+            && matches!(self.modes[group::MOTION], code::G00 | code::G01)
+            && self.modes[group::CYCLE] == code::G80
+            && axes_owner.is_none()
+            && !transform_axes)
+            .then(|| self.cutter_direction(&w))
+            .flatten();
+        if let Some(d) = cancel_direction {
+            self.emit(out, CanonKind::Cutter(CutterWord::CancelDirection(d)));
+            if !has_axes {
+                let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+                self.push_motion(kind, self.pos, None, out);
+                moved = true;
+            }
+        }
         if axes_owner.is_none() && !transform_axes {
             if self.modes[group::CYCLE] != code::G80
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))

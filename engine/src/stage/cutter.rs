@@ -232,10 +232,11 @@ impl Cutter {
             }
             return;
         }
-        if let Some(CutterWord::CornerArc(direction)) = self.word.take() {
-            self.corner_arc(c, direction, out);
-            return;
-        }
+        let toward = match self.word.take() {
+            Some(CutterWord::CornerArc(direction)) => return self.corner_arc(c, direction, out),
+            Some(CutterWord::CancelDirection(d)) => Some(ijk_in_plane(d, m.context.plane)),
+            None => None,
+        };
         // G41/G42 again after a G40 that moved nothing: that cancel, then a new start-up.
         let restart = if comp { self.link.take_comp_start() } else { None };
         if self.on && restart.is_some() {
@@ -273,7 +274,13 @@ impl Cutter {
             }
             (None, false) => {
                 // G40 without motion in the plane: the vector goes in this move.
-                self.release_perpendicular(out);
+                match (toward, &self.held) {
+                    (Some(d), Some(h)) => {
+                        let points = cancel_toward(h, d);
+                        self.release(&points, out);
+                    }
+                    _ => self.release_perpendicular(out),
+                }
                 self.cancelled();
                 out.push(c);
             }
@@ -307,7 +314,11 @@ impl Cutter {
             (Some(curve), false) => {
                 self.finish_corner(&curve, out);
                 if let Some(h) = self.held.take() {
-                    match corner(&h, &curve, h.r, true) {
+                    let points = match toward {
+                        Some(d) => Ok(cancel_toward(&h, d)),
+                        None => corner(&h, &curve, h.r, true),
+                    };
+                    match points {
                         Ok(points) => {
                             self.held = Some(h);
                             self.release(&points, out);
@@ -351,14 +362,8 @@ impl Cutter {
             self.corner = Some(c);
             return;
         };
-        // I/J/K are X/Y/Z components; the plane's two, in its order.
-        let d = match m.context.plane {
-            code::G18 => [d[2], d[0]],
-            code::G19 => [d[1], d[2]],
-            _ => [d[0], d[1]],
-        };
-        let r = signed_radius(m);
-        self.emit_corner(c, scale(curve::left(curve::unit(d)), r), out);
+        let new = scale(curve::left(curve::unit(ijk_in_plane(d, m.context.plane))), signed_radius(m));
+        self.emit_corner(c, new, out);
     }
 
     /// A waiting G39 ends perpendicular to `next` at its start.
@@ -425,6 +430,29 @@ impl Cutter {
         if lines.len() > MAX_BLOCKS_BETWEEN {
             self.release_perpendicular(out);
         }
+    }
+}
+
+/// I/J/K (X/Y/Z components) as the plane's two, in its order.
+fn ijk_in_plane(d: [f64; 3], plane: u16) -> P2 {
+    match plane {
+        code::G18 => [d[2], d[0]],
+        code::G19 => [d[1], d[2]],
+        _ => [d[0], d[1]],
+    }
+}
+
+/// G40 with I/J/K: the block before ends where its offset path meets the line along `d` from its
+/// programmed end, offset to the same side — whether the corner is inside or outside. Where they
+/// do not meet, or meet farther than ten radii from the corner (lines almost parallel), it ends
+/// at its perpendicular vector (a decision, as for the change of side).
+fn cancel_toward(h: &Held, d: P2) -> Vec<P2> {
+    let e = h.curve.to();
+    let line = Curve::Line { from: e, to: add(e, curve::unit(d)) };
+    let near = |p: &P2| norm(sub(*p, e)) <= 10.0 * h.r.abs();
+    match curve::intersection(&h.curve, h.r, &line, h.r, e).filter(near) {
+        Some(p) => vec![p],
+        None => vec![h.curve.offset_point(true, h.r)],
     }
 }
 

@@ -834,3 +834,60 @@ mod corner_arc {
         }
     }
 }
+
+mod cancel_direction {
+    //! G40 with I/J/K: the block before the cancel ends where its offset path meets the line
+    //! along (I, J) from its programmed end, offset to the same side.
+
+    use super::*;
+
+    #[test]
+    fn at_an_outside_corner_the_block_before_runs_on_to_the_intersection() {
+        // G41 R5 along +X, y = 5 offset. The cancel turns right (outside for G41); type A would
+        // end block 3 at its perpendicular vector 20,5. With I0 J-1: the line from 20,0 along
+        // −Y, offset to its left (left of −Y is +X) by 5: x = 25; it meets y = 5 at 25,5.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X30. Y-10. I0 J-1.\nM30\n";
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 25.0, 5.0), (4, 30.0, -10.0)]);
+        // Without I/J: type A.
+        let plain = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X30. Y-10.\nM30\n";
+        assert_ends(plain, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 30.0, -10.0)]);
+    }
+
+    #[test]
+    fn at_an_inside_corner_the_line_of_ij_decides_not_the_cancel_block() {
+        // I-1. J1.: the line x + y = 20 through 20,0, offset to the left of (−1,1)/√2 (toward
+        // (−1,−1)/√2) by 5: x + y = 20 − 5√2; with y = 5: x = 15 − 5√2. The cancel block goes
+        // to 10,10 (its own offset line would give another point: the I/J line decides).
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X10. Y10. I-1. J1.\nM30\n";
+        let x = 15.0 - 5.0 * 2f64.sqrt();
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, x, 5.0), (4, 10.0, 10.0)]);
+    }
+
+    #[test]
+    fn a_g40_with_ij_and_no_move_goes_to_the_intersection_then_removes_the_vector() {
+        // The G40 I0 J-1. block moves to where it stands: 25,5 (as above), then 20,0.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 I0 J-1.\nG00 X50.\nM30\n";
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 25.0, 5.0), (4, 20.0, 0.0), (5, 50.0, 0.0)]);
+    }
+
+    #[test]
+    fn parallel_ij_leaves_the_perpendicular_vector() {
+        // I1. J0 along the block before: no intersection; block 3 ends at 20,5.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X30. Y-10. I1. J0\nM30\n";
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 30.0, -10.0)]);
+    }
+
+    #[test]
+    fn after_an_arc_the_line_meets_its_offset_circle() {
+        // G42 R5, a counter-clockwise quarter circle R10 about the origin from 10,0 to 0,10
+        // (the tool right of it is outside: radius 15), then G40 X-10. Y10. I-1. J0: the line
+        // y = 10 offset to the right of −X (toward +Y) by 5: y = 15, meets the circle of
+        // radius 15 at 0,15 (tangent: the crossing nearest the corner).
+        let src = "G90 G00 X20. Y0 Z0\nG42 D1 G01 X10. F500\nG03 X0. Y10. R10.\nG40 G01 X-10. Y10. I-1. J0\nM30\n";
+        let got = centre(src, Fanuc);
+        assert_eq!(got.1, None);
+        let (line, p) = got.0[2];
+        assert_eq!(line, 3);
+        assert!(p[0].abs() < 1e-3 && approx(p[1], 15.0), "{p:?}");
+    }
+}

@@ -221,9 +221,13 @@ impl CanonWriter {
                 json_string(w, text);
             }
             CanonKind::Cutter(word) => {
-                // `"corner_arc": [I, J, K]` or `null` (G39 without I/J/K).
-                let CutterWord::CornerArc(d) = word;
-                put(w, b",\"corner_arc\":");
+                // `"corner_arc": [I, J, K]` or `null` (G39 without I/J/K), `"cancel_direction":
+                // [I, J, K]` (G40 with I/J/K).
+                let (key, d): (&[u8], _) = match word {
+                    CutterWord::CornerArc(d) => (b",\"corner_arc\":", *d),
+                    CutterWord::CancelDirection(d) => (b",\"cancel_direction\":", Some(*d)),
+                };
+                put(w, key);
                 match d {
                     Some(d) => {
                         for (k, x) in d.iter().enumerate() {

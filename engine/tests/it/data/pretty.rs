@@ -105,6 +105,9 @@ fn kind(m: &MachineConfig, k: &CanonKind) -> String {
             Some(d) => format!("corner arc I{} J{} K{}", num(d[0]), num(d[1]), num(d[2])),
             None => "corner arc".to_string(),
         },
+        CanonKind::Cutter(CutterWord::CancelDirection(d)) => {
+            format!("cancel toward I{} J{} K{}", num(d[0]), num(d[1]), num(d[2]))
+        }
     }
 }
 
