@@ -71,6 +71,8 @@ pub struct Cutter {
     stopped: bool,
     /// The alarm found, until the pipeline takes it.
     alarm: Option<(AlarmId, u32, Option<u32>)>,
+    /// Start-up and cancel of type B (FANUC No.5003#0 SUP = 1) instead of type A.
+    type_b: bool,
     /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
     /// motion the stage does not compensate passes as it came (as before the stage existed).
     refuse: bool,
@@ -93,6 +95,7 @@ impl Cutter {
             after: Vec::new(),
             stopped: false,
             alarm: None,
+            type_b: m.motion.cutter_startup_type_b,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -292,7 +295,7 @@ impl Cutter {
                 let start = match self.held.take() {
                     None => add(curve.from(), self.vector),
                     Some(h) => {
-                        let points = match corner(&h, &curve, r, false) {
+                        let points = match corner(&h, &curve, r, false, self.type_b) {
                             Ok(p) => p,
                             Err(id) => {
                                 let canon = h.canon.clone();
@@ -316,7 +319,7 @@ impl Cutter {
                 if let Some(h) = self.held.take() {
                     let points = match toward {
                         Some(d) => Ok(cancel_toward(&h, d)),
-                        None => corner(&h, &curve, h.r, true),
+                        None => corner(&h, &curve, h.r, true, self.type_b),
                     };
                     match points {
                         Ok(points) => {
@@ -464,8 +467,9 @@ fn signed_radius(m: &Motion) -> f64 {
 
 /// The points of the corner between the held block `h` and the next block `next` (radius `rn`
 /// for the next one): the held block's end, then the ends of the straight moves inserted, the
-/// last of which is where `next` starts. `cancel`: `next` is the G40 block.
-fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, AlarmId> {
+/// last of which is where `next` starts. `cancel`: `next` is the G40 block; `type_b`: start-up
+/// and cancel of type B.
+fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool) -> Result<Vec<P2>, AlarmId> {
     let (a, r) = (&h.curve, h.r);
     let e = a.to();
     let (t1, t2) = (a.tangent(true), next.tangent(false));
@@ -495,30 +499,41 @@ fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, Alar
         // Inside a corner the offset curves meet; the next block starts there.
         return curve::intersection(a, r, next, r, e).map(|p| vec![p]).ok_or(AlarmId::CutterNoSolution);
     }
-    if cancel {
+    if !type_b && cancel {
         // Cancel type A: perpendicular to the block before, then straight to the programmed end.
         return Ok(vec![a.offset_point(true, r)]);
     }
-    if h.startup {
+    if !type_b && h.startup {
         // Start-up type A: the vector at the end is perpendicular to the next block.
         return Ok(vec![next.offset_point(false, r)]);
     }
-    if dot(t1, t2) >= 0.0 {
-        // Outside an obtuse corner (90° ≤ α < 180°): the offset curves' intersection.
-        return curve::intersection(a, r, next, r, e).map(|p| vec![p]).ok_or(AlarmId::CutterNoSolution);
-    }
-    // Outside an acute corner: each vector perpendicular to its block, lengthened by the radius
-    // along it (forward along the first, backward along the second), joined by a straight move.
-    let ra = r.abs();
-    let mut points = Vec::with_capacity(4);
-    if matches!(a, Curve::Arc { .. }) {
+    let mut points = Vec::with_capacity(6);
+    if h.startup {
+        // Start-up type B: the start-up block ends perpendicular to itself, then the corner.
         points.push(a.offset_point(true, r));
     }
-    points.push(add(a.offset_point(true, r), scale(t1, ra)));
-    points.push(sub(next.offset_point(false, r), scale(t2, ra)));
-    if matches!(next, Curve::Arc { .. }) {
+    if dot(t1, t2) >= 0.0 {
+        // Outside an obtuse corner (90° ≤ α < 180°): the offset curves' intersection.
+        points.push(curve::intersection(a, r, next, r, e).ok_or(AlarmId::CutterNoSolution)?);
+    } else {
+        // Outside an acute corner: each vector perpendicular to its block, lengthened by the
+        // radius along it (forward along the first, backward along the second), joined by a
+        // straight move; an arc ends (starts) at its own perpendicular vector first.
+        let ra = r.abs();
+        if matches!(a, Curve::Arc { .. }) {
+            points.push(a.offset_point(true, r));
+        }
+        points.push(add(a.offset_point(true, r), scale(t1, ra)));
+        points.push(sub(next.offset_point(false, r), scale(t2, ra)));
+        if matches!(next, Curve::Arc { .. }) {
+            points.push(next.offset_point(false, r));
+        }
+    }
+    if cancel {
+        // Cancel type B: the cancel block starts perpendicular to itself.
         points.push(next.offset_point(false, r));
     }
+    points.dedup();
     Ok(points)
 }
 

@@ -19,8 +19,12 @@ fn centre(src: &str, dialect: Dialect) -> Centre {
 }
 
 /// [`centre`] for the axes `(a, b)` (indices: X 0, Y 1, Z 2).
-fn centre_axes(src: &str, dialect: Dialect, (a, b): (usize, usize)) -> Centre {
-    let mut interp = interpreter(src, "mill3", dialect);
+fn centre_axes(src: &str, dialect: Dialect, axes: (usize, usize)) -> Centre {
+    centre_of(interpreter(src, "mill3", dialect), axes)
+}
+
+/// [`centre`] of an interpreter set up by the caller.
+fn centre_of(mut interp: fivex_engine::interp::Interpreter, (a, b): (usize, usize)) -> Centre {
     let mut stages = Pipeline::for_config(interp.config());
     let mut out = Vec::new();
     let mut ends = Vec::new();
@@ -889,5 +893,106 @@ mod cancel_direction {
         let (line, p) = got.0[2];
         assert_eq!(line, 3);
         assert!(p[0].abs() < 1e-3 && approx(p[1], 15.0), "{p:?}");
+    }
+}
+
+mod type_b {
+    //! Start-up and cancel type B (FANUC No.5003#0 SUP = 1): at an outside corner the start-up
+    //! block ends perpendicular to itself and the cancel block starts perpendicular to itself,
+    //! the corner's own vectors between.
+
+    use super::*;
+
+    /// Motion ends with type B on mill3 (FANUC).
+    #[track_caller]
+    fn assert_ends_b(src: &str, want: &[(u32, f64, f64)]) {
+        let interp = interpreter_with(src, "mill3", Fanuc, |c| {
+            std::sync::Arc::make_mut(&mut c.machine).motion.cutter_startup_type_b = true
+        });
+        let (got, alarm) = centre_of(interp, (0, 1));
+        assert_eq!(alarm, None, "{src}");
+        let close = got.len() == want.len()
+            && got.iter().zip(want).all(|((l, p), (wl, x, y))| l == wl && approx(p[0], *x) && approx(p[1], *y));
+        assert!(close, "got {got:?}\nwant {want:?}\n{src}");
+    }
+
+    #[test]
+    fn at_right_angle_outside_corners_the_intersection_comes_after_the_perpendicular_vectors() {
+        // G41 R5: +Y into 0,0, +X to 20,0, cancel −Y to 20,−10. Both corners turn right, outside
+        // for the tool on the left, α = 90° (the intersection rule). Start-up: its own vector,
+        // left of +Y: −5,0; then the intersection of x = −5 and y = 5: −5,5. Cancel: the
+        // intersection of y = 5 and x = 25 (left of −Y is +X): 25,5; then the cancel block's own
+        // vector at its start: 25,0; then its programmed end.
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 Y0. F500\nX20.\nG40 Y-10.\nM30\n";
+        assert_ends_b(
+            src,
+            &[(1, 0.0, -10.0), (2, -5.0, 0.0), (2, -5.0, 5.0), (3, 25.0, 5.0), (3, 25.0, 0.0), (4, 20.0, -10.0)],
+        );
+        // Type A (the default): perpendicular to the next block / to the block before.
+        assert_ends(src, &[(1, 0.0, -10.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 20.0, -10.0)]);
+    }
+
+    #[test]
+    fn at_an_acute_start_up_the_lengthened_vectors_follow_its_own() {
+        // G41 R5: +Y into 0,0, then toward 10,−10: t2 = (1,−1)/√2, a right turn (outside), acute.
+        // Start-up: −5,0 (its own vector), −5,5 (lengthened by 5 along +Y), then
+        // 5·n2 − 5·t2 with n2 = (1,1)/√2: (0, 5√2). Block 3 meets block 4 (+X) inside: its
+        // offset line x + y = 5√2 and y = −5: 5 + 5√2, −5. Block 4 runs in line into the
+        // cancel: 30,−5; the cancel to 40,−10.
+        let s2 = 2f64.sqrt();
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 Y0. F500\nX10. Y-10.\nX30.\nG40 X40.\nM30\n";
+        assert_ends_b(
+            src,
+            &[
+                (1, 0.0, -10.0),
+                (2, -5.0, 0.0),
+                (2, -5.0, 5.0),
+                (2, 0.0, 5.0 * s2),
+                (3, 5.0 + 5.0 * s2, -5.0),
+                (4, 30.0, -5.0),
+                (5, 40.0, -10.0),
+            ],
+        );
+        // Type A ends the start-up block at 5·n2 instead.
+        let h = 5.0 / s2;
+        assert_ends(src, &[(1, 0.0, -10.0), (2, h, h), (3, 5.0 + 5.0 * s2, -5.0), (4, 30.0, -5.0), (5, 40.0, -10.0)]);
+    }
+
+    #[test]
+    fn at_an_acute_cancel_its_own_vector_comes_after_the_lengthened_ones() {
+        // G41 R5 along +X at y = 5, cancel toward 10,−10: t2 = (−1,−1)/√2, right turn, acute.
+        // 20,5 + 5·(1,0) = 25,5; 5·n2 − 5·t2 with n2 = (1,−1)/√2: 20 + 5√2, 0; then the cancel
+        // block's own vector 20 + 5/√2, −5/√2; then 10,−10. (The start-up runs in line: 0,5.)
+        let s2 = 2f64.sqrt();
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X10. Y-10.\nM30\n";
+        assert_ends_b(
+            src,
+            &[
+                (1, -10.0, 0.0),
+                (2, 0.0, 5.0),
+                (3, 25.0, 5.0),
+                (3, 20.0 + 5.0 * s2, 0.0),
+                (3, 20.0 + 5.0 / s2, -5.0 / s2),
+                (4, 10.0, -10.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn inside_corners_are_the_same_as_type_a() {
+        // The pocket of `inside_of_a_pocket_g41_counter_clockwise`: every corner inside.
+        let src = "G90 G00 X20. Y10. Z0\nG41 D1 G01 Y0. F500\nX40.\nY40.\nX0.\nY0.\nX20.\nG40 Y10.\nM30\n";
+        let want = [
+            (1, 20.0, 10.0),
+            (2, 25.0, 5.0),
+            (3, 35.0, 5.0),
+            (4, 35.0, 35.0),
+            (5, 5.0, 35.0),
+            (6, 5.0, 5.0),
+            (7, 15.0, 5.0),
+            (8, 20.0, 10.0),
+        ];
+        assert_ends_b(src, &want);
+        assert_ends(src, &want);
     }
 }
