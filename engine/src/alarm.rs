@@ -90,6 +90,8 @@ pub enum AlarmId {
     CutterInterference,
     /// Cutter compensation C: the offset paths of two blocks do not meet at their corner.
     CutterNoSolution,
+    /// A move command in a G39 (corner circular interpolation) block.
+    CornerArcWithMove,
     /// A malformed tilted working plane command (G68.2/G68.3/G68.4).
     TwpFormat,
     /// A G code or modal state not allowed with the tilted working plane.

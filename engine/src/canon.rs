@@ -67,6 +67,20 @@ pub struct MotionContext {
     pub rotation: u16,
 }
 
+/// What a cutter compensation block's G39 or I/J/K say to the cutter compensation stage
+/// (`stage::cutter`, `docs/cutter-compensation.md`). Directions are in programming coordinates
+/// (I along X, J along Y, K along Z; the stage reads the two of its plane).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CutterWord {
+    /// G39 corner circular interpolation: the motion that follows (it does not move) becomes
+    /// an arc of the offset radius about the corner, ending at the vector perpendicular to this
+    /// direction (`None`: to the next block at its start).
+    CornerArc(Option<[f64; 3]>),
+    /// G40 with I/J/K: the block before the cancel ends where its offset path meets the line
+    /// along this direction from its programmed end, offset on the same side.
+    CancelDirection([f64; 3]),
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Motion {
     pub kind: MotionKind,
@@ -195,6 +209,9 @@ pub enum CanonKind {
     ProgramEnd {
         m: u32,
     },
+    /// For cutter compensation C, about the motion that follows it in the same block; the stage
+    /// takes it (the executor never sees it).
+    Cutter(CutterWord),
 }
 
 /// One canonical command with the block it came from.

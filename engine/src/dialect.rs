@@ -122,6 +122,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::ArcInCompStartCancel,
     AlarmId::CutterInterference,
     AlarmId::CutterNoSolution,
+    AlarmId::CornerArcWithMove,
     AlarmId::TwpFormat,
     AlarmId::TwpIllegalCommand,
     AlarmId::AlignmentInWse,
@@ -209,6 +210,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         // The 30i's numbers and texts; no Syntec source names its cutter compensation alarms.
         CutterInterference => (("PS0041", "INTERFERENCE IN CRC"), COR100),
         CutterNoSolution => (("PS0033", "NO SOLUTION AT CRC"), COR100),
+        // The number is the 15i-MA manual's (§14.4.9), the text fivex's.
+        CornerArcWithMove => (("PS0273", "MOVE COMMAND IN G39 BLOCK"), COR100),
         TwpFormat => (("PS5457", "G68.2/G68.3 FORMAT ERROR"), ("COR-141", "G68.3 command format error")),
         TwpIllegalCommand => (("PS5462", "ILLEGAL COMMAND (G68.2/G69)"), COR100),
         AlignmentInWse => (("PS5458", "G53.1 NOT ALLOWED IN G54.4 MODE"), COR100),

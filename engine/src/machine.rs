@@ -381,6 +381,12 @@ pub struct MotionOptions {
     /// (FANUC No.0000#2 INI, the setting of the input unit).
     #[serde(default, skip_serializing_if = "is_false")]
     pub power_on_inch: bool,
+    /// Cutter compensation C starts up and cancels by type B (FANUC No.5003#0 SUP = 1): at an
+    /// outside corner the start-up block ends at the vector perpendicular to itself and the
+    /// cancel block starts at the vector perpendicular to itself, the corner's own vectors
+    /// between; by default type A (SUP = 0). `docs/cutter-compensation.md`.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub cutter_startup_type_b: bool,
 }
 
 impl MotionOptions {

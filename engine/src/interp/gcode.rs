@@ -361,7 +361,7 @@ pub const TABLE: &[GDef] = &[
     g(360, 1),   // G36 circular threading CCW
     gx(370, 0),  // G37 automatic tool length measurement
     g(380, 0),   // G38 cutter compensation: preserve vector
-    g(390, 0),   // G39 corner circular interpolation
+    gx(390, 0),  // G39 corner circular interpolation (I/J/K: direction; no move command)
     g(400, 7),   // G40 cutter compensation cancel
     g(401, 19),  // G40.1 normal direction control cancel
     g(410, 7),   // G41 left

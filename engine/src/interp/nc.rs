@@ -11,7 +11,9 @@ use super::program::Loaded;
 use super::unbuilt;
 use super::{CallFrame, CallKind, CycleData, ModalCall, State, LOCALS};
 use crate::alarm::AlarmId;
-use crate::canon::{Arc, Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
+use crate::canon::{
+    Arc, Canon, CanonKind, Coolant, CutterWord, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState,
+};
 use crate::dialect::Dialect;
 use crate::lang::{Block, Word, WordValue};
 use crate::machine::{AxisKind, MAX_AXES};
@@ -559,6 +561,25 @@ impl State {
 
         // --- motion -------------------------------------------------------------------------
         let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
+        // G40 with I/J/K in G00/G01 ending offset mode: the direction goes to the cutter
+        // compensation stage with the block's motion; without axis words the block still moves
+        // (to where it stands: the vector goes there).
+        let cancel_direction = (matches!(comp_before, code::G41 | code::G42)
+            && w.has_g(code::G40)
+            && matches!(self.modes[group::MOTION], code::G00 | code::G01)
+            && self.modes[group::CYCLE] == code::G80
+            && axes_owner.is_none()
+            && !transform_axes)
+            .then(|| self.cutter_direction(&w))
+            .flatten();
+        if let Some(d) = cancel_direction {
+            self.emit(out, CanonKind::Cutter(CutterWord::CancelDirection(d)));
+            if !has_axes {
+                let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+                self.push_motion(kind, self.pos, None, out);
+                moved = true;
+            }
+        }
         if axes_owner.is_none() && !transform_axes {
             if self.modes[group::CYCLE] != code::G80
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))
@@ -821,6 +842,43 @@ impl State {
         Ok(())
     }
 
+    /// G39 corner circular interpolation (FANUC 15i §14.4.9): only in offset mode, after G41/G42
+    /// was given (in G40 or in a block with a group-07 code: PS0010), without a move command
+    /// (PS0273). The block emits the corner word, then a motion that does not move, which the
+    /// cutter compensation stage turns into the arc. It is cut at the F in force whatever the
+    /// group-01 mode (no F yet: PS0011; FANUC's No.1493 rate is not modelled).
+    fn corner_arc(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let group07_here = [code::G40, code::G41, code::G42].iter().any(|&c| w.has_g(c));
+        if group07_here || !matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42) {
+            return Err(AlarmId::ImproperGCode);
+        }
+        if self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8)) {
+            return Err(AlarmId::CornerArcWithMove);
+        }
+        self.check_feed()?;
+        let direction = self.cutter_direction(w);
+        self.emit(out, CanonKind::Cutter(CutterWord::CornerArc(direction)));
+        let motion = self.motion(MotionKind::Linear, self.pos, self.program_to_machine(&self.pos), None, None);
+        self.emit(out, CanonKind::Motion(motion));
+        Ok(())
+    }
+
+    /// The I/J/K of a cutter compensation block as a direction (I along X, J along Y, K along Z),
+    /// when one of the two of the plane is given and they are not both zero.
+    fn cutter_direction(&self, w: &Words) -> Option<[f64; 3]> {
+        let letters: [u8; 2] = match self.modes[group::PLANE] {
+            code::G18 => [b'K', b'I'],
+            code::G19 => [b'J', b'K'],
+            _ => [b'I', b'J'],
+        };
+        if !letters.iter().any(|&l| w.has(l)) {
+            return None;
+        }
+        let d = [b'I', b'J', b'K'].map(|l| self.value(w, l).unwrap_or(0.0));
+        let in_plane = letters.map(|l| d[(l - b'I') as usize]);
+        (in_plane.iter().any(|x| *x != 0.0)).then_some(d)
+    }
+
     /// The plane's first, second and normal axis indices.
     pub(super) fn plane_axes(&self) -> Result<(usize, usize, usize), AlarmId> {
         let m = &self.cfg.machine;
@@ -932,6 +990,10 @@ impl State {
                 self.emit(out, CanonKind::Dwell { seconds });
             }
             code::G10 => self.data_setting(w, machine_before)?,
+            code::G39 => {
+                self.corner_arc(w, out)?;
+                return Ok(true);
+            }
             code::G52 => {
                 let incremental = self.modes[group::DISTANCE] == code::G91;
                 for i in 0..axes {

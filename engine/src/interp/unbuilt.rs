@@ -87,7 +87,6 @@ const TABLE: &[NotBuilt] = &[
     row(360, When::Always, "circular threading (G36)"),
     row(370, When::Always, "automatic tool length measurement (G37)"),
     row(380, When::Always, CUTTER),
-    row(390, When::Always, CUTTER),
     row(411, When::Always, "normal direction control (G41.1)"),
     row(412, When::Always, CUTTER_3D),
     row(413, When::Always, "leading edge offset (G41.3)"),

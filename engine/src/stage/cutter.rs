@@ -13,7 +13,7 @@ mod curve;
 
 use super::{Link, Stage};
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, Motion, MotionKind, Pos};
+use crate::canon::{Arc, Canon, CanonKind, CutterWord, Motion, MotionKind, Pos};
 use crate::interp::gcode::code;
 use crate::interp::Config;
 use crate::machine::MachineConfig;
@@ -60,12 +60,19 @@ pub struct Cutter {
     /// No motion in the plane has come since compensation was turned on.
     startup: bool,
     held: Option<Held>,
-    /// The commands after `held` (no motion in the plane).
+    /// The cutter word of the block whose motion comes next.
+    word: Option<CutterWord>,
+    /// A G39 block without I/J/K: its arc ends perpendicular to the next block in the plane,
+    /// so it waits for that block (the block before it has ended at its own vector).
+    corner: Option<Canon>,
+    /// The commands after `held` or `corner` (no motion in the plane).
     after: Vec<Canon>,
     /// An alarm was raised: nothing more is handed on until a reset.
     stopped: bool,
     /// The alarm found, until the pipeline takes it.
     alarm: Option<(AlarmId, u32, Option<u32>)>,
+    /// Start-up and cancel of type B (FANUC No.5003#0 SUP = 1) instead of type A.
+    type_b: bool,
     /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
     /// motion the stage does not compensate passes as it came (as before the stage existed).
     refuse: bool,
@@ -83,9 +90,12 @@ impl Cutter {
             vector: [0.0; 2],
             startup: false,
             held: None,
+            word: None,
+            corner: None,
             after: Vec::new(),
             stopped: false,
             alarm: None,
+            type_b: m.motion.cutter_startup_type_b,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -123,6 +133,7 @@ impl Cutter {
         self.alarm.get_or_insert((id, c.line, c.n));
         self.stopped = true;
         self.held = None;
+        self.corner = None;
         self.after.clear();
     }
 
@@ -191,9 +202,12 @@ impl Cutter {
     }
 
     /// The held motion ends with the vector perpendicular to it (nothing follows it in the
-    /// plane: the program's end, a cancel without motion in the plane, a lost vector).
+    /// plane: the program's end, a cancel without motion in the plane, a lost vector). A G39
+    /// waiting for the next block has no end then: PS0033 at it.
     fn release_perpendicular(&mut self, out: &mut Vec<Canon>) {
-        if let Some(h) = &self.held {
+        if let Some(c) = self.corner.take() {
+            self.alarm(AlarmId::CutterNoSolution, &c);
+        } else if let Some(h) = &self.held {
             let end = h.curve.offset_point(true, h.r);
             self.release(&[end], out);
         } else {
@@ -221,6 +235,11 @@ impl Cutter {
             }
             return;
         }
+        let toward = match self.word.take() {
+            Some(CutterWord::CornerArc(direction)) => return self.corner_arc(c, direction, out),
+            Some(CutterWord::CancelDirection(d)) => Some(ijk_in_plane(d, m.context.plane)),
+            None => None,
+        };
         // G41/G42 again after a G40 that moved nothing: that cancel, then a new start-up.
         let restart = if comp { self.link.take_comp_start() } else { None };
         if self.on && restart.is_some() {
@@ -243,12 +262,13 @@ impl Cutter {
         }
         let from = std::mem::replace(&mut self.programmed, m.target);
         let curve = self.curve(m, &from);
-        let side = if m.context.cutter_comp == code::G42 { -1.0 } else { 1.0 };
-        let r = side * m.context.cutter_radius;
+        let r = signed_radius(m);
         let is_arc = m.arc.is_some();
         match (curve, comp) {
             (None, true) => {
-                if self.held.is_some() {
+                if self.corner.is_some() {
+                    self.after.push(c);
+                } else if self.held.is_some() {
                     self.after.push(c);
                     self.lose_vector_if_too_many(out);
                 } else {
@@ -257,7 +277,13 @@ impl Cutter {
             }
             (None, false) => {
                 // G40 without motion in the plane: the vector goes in this move.
-                self.release_perpendicular(out);
+                match (toward, &self.held) {
+                    (Some(d), Some(h)) => {
+                        let points = cancel_toward(h, d);
+                        self.release(&points, out);
+                    }
+                    _ => self.release_perpendicular(out),
+                }
                 self.cancelled();
                 out.push(c);
             }
@@ -265,10 +291,11 @@ impl Cutter {
                 self.alarm(AlarmId::ArcInCompStartCancel, &c);
             }
             (Some(curve), true) => {
+                self.finish_corner(&curve, out);
                 let start = match self.held.take() {
                     None => add(curve.from(), self.vector),
                     Some(h) => {
-                        let points = match corner(&h, &curve, r, false) {
+                        let points = match corner(&h, &curve, r, false, self.type_b) {
                             Ok(p) => p,
                             Err(id) => {
                                 let canon = h.canon.clone();
@@ -288,8 +315,13 @@ impl Cutter {
                 self.held = Some(Held { canon: c, curve, r, start, startup });
             }
             (Some(curve), false) => {
+                self.finish_corner(&curve, out);
                 if let Some(h) = self.held.take() {
-                    match corner(&h, &curve, h.r, true) {
+                    let points = match toward {
+                        Some(d) => Ok(cancel_toward(&h, d)),
+                        None => corner(&h, &curve, h.r, true, self.type_b),
+                    };
+                    match points {
                         Ok(points) => {
                             self.held = Some(h);
                             self.release(&points, out);
@@ -311,6 +343,81 @@ impl Cutter {
         }
     }
 
+    /// G39 (corner circular interpolation, FANUC 15i §14.4.9): the block before ends at its
+    /// perpendicular vector (the old vector); an arc of the offset radius about the corner turns
+    /// from there to the new vector — perpendicular to `direction` (I/J/K) on the side of the
+    /// compensation, or, without one, perpendicular to the next block at its start (then the arc
+    /// waits for that block). The next block starts at the new vector.
+    fn corner_arc(&mut self, c: Canon, direction: Option<[f64; 3]>, out: &mut Vec<Canon>) {
+        // A corner needs a block before it in offset mode: none since G41/G42 (or since a
+        // restart after a G40 that moved nothing), or another G39 still waiting, is PS0010.
+        let restarted = self.link.take_comp_start().is_some();
+        if !self.on || restarted || self.startup && self.held.is_none() || self.corner.is_some() {
+            self.alarm(AlarmId::ImproperGCode, &c);
+            return;
+        }
+        self.release_perpendicular(out);
+        if self.stopped {
+            return;
+        }
+        let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
+        let Some(d) = direction else {
+            self.corner = Some(c);
+            return;
+        };
+        let new = scale(curve::left(curve::unit(ijk_in_plane(d, m.context.plane))), signed_radius(m));
+        self.emit_corner(c, new, out);
+    }
+
+    /// A waiting G39 ends perpendicular to `next` at its start.
+    fn finish_corner(&mut self, next: &Curve, out: &mut Vec<Canon>) {
+        let Some(c) = self.corner.take() else { return };
+        let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
+        let r = signed_radius(m);
+        self.emit_corner(c, sub(next.offset_point(false, r), next.from()), out);
+    }
+
+    /// The G39 block `c` as the arc from the current vector to `new` about its point (the
+    /// corner): clockwise for the tool on the left (G41 with a positive value), counter-clockwise
+    /// on the right. Then the commands held behind it, moved by the new vector.
+    fn emit_corner(&mut self, c: Canon, new: P2, out: &mut Vec<Canon>) {
+        let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
+        let corner = self.in_plane(&m.target);
+        let old = self.vector;
+        let clockwise = signed_radius(m) > 0.0;
+        let turn = cross(old, new).atan2(dot(old, new));
+        // The whole way round in the compensation's sense (at an inside corner that is more
+        // than half a turn: FANUC 15i, "overcutting results").
+        let sweep =
+            if clockwise { -(-turn).rem_euclid(std::f64::consts::TAU) } else { turn.rem_euclid(std::f64::consts::TAU) };
+        let normal = match m.context.plane {
+            code::G18 => self.xyz[1],
+            code::G19 => self.xyz[0],
+            _ => self.xyz[2],
+        };
+        let (a, b) = self.plane;
+        let mut c = self.placed(c, add(corner, new));
+        if let CanonKind::Motion(m) = &mut c.kind {
+            if sweep.abs() > 1e-12 {
+                let mut center = m.target;
+                center[a] = corner[0];
+                center[b] = corner[1];
+                m.kind = if clockwise { MotionKind::ArcCw } else { MotionKind::ArcCcw };
+                m.arc = Some(Box::new(Arc {
+                    center,
+                    plane_axes: (a, b, normal.unwrap_or(a)),
+                    radius: norm(old),
+                    sweep_deg: sweep.to_degrees(),
+                }));
+            }
+        }
+        out.push(c);
+        self.vector = new;
+        for c in std::mem::take(&mut self.after) {
+            out.push(self.shifted(c));
+        }
+    }
+
     fn cancelled(&mut self) {
         self.on = false;
         self.startup = false;
@@ -329,10 +436,40 @@ impl Cutter {
     }
 }
 
+/// I/J/K (X/Y/Z components) as the plane's two, in its order.
+fn ijk_in_plane(d: [f64; 3], plane: u16) -> P2 {
+    match plane {
+        code::G18 => [d[2], d[0]],
+        code::G19 => [d[1], d[2]],
+        _ => [d[0], d[1]],
+    }
+}
+
+/// G40 with I/J/K: the block before ends where its offset path meets the line along `d` from its
+/// programmed end, offset to the same side — whether the corner is inside or outside. Where they
+/// do not meet, or meet farther than ten radii from the corner (lines almost parallel), it ends
+/// at its perpendicular vector (a decision, as for the change of side).
+fn cancel_toward(h: &Held, d: P2) -> Vec<P2> {
+    let e = h.curve.to();
+    let line = Curve::Line { from: e, to: add(e, curve::unit(d)) };
+    let near = |p: &P2| norm(sub(*p, e)) <= 10.0 * h.r.abs();
+    match curve::intersection(&h.curve, h.r, &line, h.r, e).filter(near) {
+        Some(p) => vec![p],
+        None => vec![h.curve.offset_point(true, h.r)],
+    }
+}
+
+/// The signed offset radius of a motion: positive puts the tool on the left.
+fn signed_radius(m: &Motion) -> f64 {
+    let side = if m.context.cutter_comp == code::G42 { -1.0 } else { 1.0 };
+    side * m.context.cutter_radius
+}
+
 /// The points of the corner between the held block `h` and the next block `next` (radius `rn`
 /// for the next one): the held block's end, then the ends of the straight moves inserted, the
-/// last of which is where `next` starts. `cancel`: `next` is the G40 block.
-fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, AlarmId> {
+/// last of which is where `next` starts. `cancel`: `next` is the G40 block; `type_b`: start-up
+/// and cancel of type B.
+fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool) -> Result<Vec<P2>, AlarmId> {
     let (a, r) = (&h.curve, h.r);
     let e = a.to();
     let (t1, t2) = (a.tangent(true), next.tangent(false));
@@ -362,30 +499,41 @@ fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool) -> Result<Vec<P2>, Alar
         // Inside a corner the offset curves meet; the next block starts there.
         return curve::intersection(a, r, next, r, e).map(|p| vec![p]).ok_or(AlarmId::CutterNoSolution);
     }
-    if cancel {
+    if !type_b && cancel {
         // Cancel type A: perpendicular to the block before, then straight to the programmed end.
         return Ok(vec![a.offset_point(true, r)]);
     }
-    if h.startup {
+    if !type_b && h.startup {
         // Start-up type A: the vector at the end is perpendicular to the next block.
         return Ok(vec![next.offset_point(false, r)]);
     }
-    if dot(t1, t2) >= 0.0 {
-        // Outside an obtuse corner (90° ≤ α < 180°): the offset curves' intersection.
-        return curve::intersection(a, r, next, r, e).map(|p| vec![p]).ok_or(AlarmId::CutterNoSolution);
-    }
-    // Outside an acute corner: each vector perpendicular to its block, lengthened by the radius
-    // along it (forward along the first, backward along the second), joined by a straight move.
-    let ra = r.abs();
-    let mut points = Vec::with_capacity(4);
-    if matches!(a, Curve::Arc { .. }) {
+    let mut points = Vec::with_capacity(6);
+    if h.startup {
+        // Start-up type B: the start-up block ends perpendicular to itself, then the corner.
         points.push(a.offset_point(true, r));
     }
-    points.push(add(a.offset_point(true, r), scale(t1, ra)));
-    points.push(sub(next.offset_point(false, r), scale(t2, ra)));
-    if matches!(next, Curve::Arc { .. }) {
+    if dot(t1, t2) >= 0.0 {
+        // Outside an obtuse corner (90° ≤ α < 180°): the offset curves' intersection.
+        points.push(curve::intersection(a, r, next, r, e).ok_or(AlarmId::CutterNoSolution)?);
+    } else {
+        // Outside an acute corner: each vector perpendicular to its block, lengthened by the
+        // radius along it (forward along the first, backward along the second), joined by a
+        // straight move; an arc ends (starts) at its own perpendicular vector first.
+        let ra = r.abs();
+        if matches!(a, Curve::Arc { .. }) {
+            points.push(a.offset_point(true, r));
+        }
+        points.push(add(a.offset_point(true, r), scale(t1, ra)));
+        points.push(sub(next.offset_point(false, r), scale(t2, ra)));
+        if matches!(next, Curve::Arc { .. }) {
+            points.push(next.offset_point(false, r));
+        }
+    }
+    if cancel {
+        // Cancel type B: the cancel block starts perpendicular to itself.
         points.push(next.offset_point(false, r));
     }
+    points.dedup();
     Ok(points)
 }
 
@@ -419,6 +567,7 @@ impl Stage for Cutter {
         }
         match &command.kind {
             CanonKind::Motion(_) => self.motion(command, out),
+            CanonKind::Cutter(word) => self.word = Some(*word),
             CanonKind::ProgramEnd { .. } if self.on => {
                 // M02/M30 cancel: the last motion ends perpendicular, the vector stays there.
                 self.release_perpendicular(out);
@@ -427,6 +576,7 @@ impl Stage for Cutter {
                     out.push(command);
                 }
             }
+            _ if self.corner.is_some() => self.after.push(command),
             _ if self.held.is_some() => {
                 self.after.push(command);
                 self.lose_vector_if_too_many(out);
@@ -450,6 +600,8 @@ impl Stage for Cutter {
         self.startup = false;
         self.vector = [0.0; 2];
         self.held = None;
+        self.word = None;
+        self.corner = None;
         self.after.clear();
         self.stopped = false;
         self.alarm = None;

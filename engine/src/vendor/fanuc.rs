@@ -6,7 +6,8 @@
 //! hypothetical axes, 19697–19699 reference tool direction, 19700–19705 table positions, 19666
 //! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
 //! Look-ahead: 1604#0 SHP, 19501#5 FRP, 1660 / 1671 all 0. G54.4: 11200#0 RCM, 11202/11203
-//! rotary clamp, 11204, 3106#6 DAK, 5006#6 TOS, 5412 cycle feed, 5400#2 D3R.
+//! rotary clamp, 11204, 3106#6 DAK, 5006#6 TOS, 5412 cycle feed, 5400#2 D3R. Cutter
+//! compensation: 5003#0 SUP (start-up/cancel type B).
 
 use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
 use super::{Params, Value};
@@ -179,8 +180,16 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
     // No.0000#2 INI: the input unit at power on (absent: 0, mm).
     let power_on_inch = p.0.contains_key(&0) && p.bit(0, 2)?;
-    let motion =
-        MotionOptions { helical_feed_on_path, nonlinear_rapid, power_on_inch, ..look_ahead_options(p, n, &accel)? };
+    // No.5003#0 SUP: cutter compensation start-up/cancel type B (absent: 0, type A). The other
+    // bits (#1 SUV, the "perpendicular to the next movement" type) are not read.
+    let cutter_startup_type_b = p.0.contains_key(&5003) && p.bit(5003, 0)?;
+    let motion = MotionOptions {
+        helical_feed_on_path,
+        nonlinear_rapid,
+        power_on_inch,
+        cutter_startup_type_b,
+        ..look_ahead_options(p, n, &accel)?
+    };
     let five_axis = five_axis_options(p)?;
     let manual = manual_options(p, n)?;
     Ok(MachineConfig {
@@ -392,6 +401,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if m.motion.power_on_inch {
         p.set(0, 4.0);
+    }
+    if m.motion.cutter_startup_type_b {
+        p.set(5003, 1.0);
     }
     look_ahead_params(&mut p, m)?;
 

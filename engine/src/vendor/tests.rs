@@ -709,6 +709,29 @@ fn fanuc_htg_bit_sets_the_helical_feed() {
     assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.helical_feed_on_path);
 }
 
+/// No.5003#0 SUP selects cutter compensation start-up/cancel type B (issue 20 item 3); No.5003
+/// is modelled: its SUP bit is read, its other bits (#1 SUV) are reported as not modelled.
+#[test]
+fn fanuc_sup_bit_sets_the_cutter_start_up_type() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    assert!(!params_of(Dialect::Fanuc, &m).unwrap().0.contains_key(&5003), "SUP = 0 is not written");
+    m.motion.cutter_startup_type_b = true;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(5003, 0).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert!(back.motion.cutter_startup_type_b);
+    assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    let mut suv = p.clone();
+    suv.set(5003, 3.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &suv).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["No.5003#1"]);
+    let mut only_suv = p;
+    only_suv.set(5003, 2.0);
+    assert!(!machine_from(Dialect::Fanuc, "m", &only_suv).unwrap().motion.cutter_startup_type_b);
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("SUP"));
+}
+
 #[test]
 fn fanuc_lrp_bit_sets_the_rapid_type() {
     let mut m = MachineConfig::preset("mill3").unwrap();
@@ -909,8 +932,12 @@ fn fanuc_ini_power_on_inch_round_trip() {
     assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("INI"));
     // No FANUC motion setting is dropped silently from a Syntec list.
-    let settings: [fn(&mut crate::machine::MotionOptions); 3] =
-        [|o| o.helical_feed_on_path = true, |o| o.nonlinear_rapid = true, |o| o.no_feed_look_ahead = true];
+    let settings: [fn(&mut crate::machine::MotionOptions); 4] = [
+        |o| o.helical_feed_on_path = true,
+        |o| o.nonlinear_rapid = true,
+        |o| o.no_feed_look_ahead = true,
+        |o| o.cutter_startup_type_b = true,
+    ];
     for set in settings {
         let mut m = MachineConfig::preset("mill3").unwrap();
         set(&mut m.motion);

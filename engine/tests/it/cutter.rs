@@ -19,8 +19,12 @@ fn centre(src: &str, dialect: Dialect) -> Centre {
 }
 
 /// [`centre`] for the axes `(a, b)` (indices: X 0, Y 1, Z 2).
-fn centre_axes(src: &str, dialect: Dialect, (a, b): (usize, usize)) -> Centre {
-    let mut interp = interpreter(src, "mill3", dialect);
+fn centre_axes(src: &str, dialect: Dialect, axes: (usize, usize)) -> Centre {
+    centre_of(interpreter(src, "mill3", dialect), axes)
+}
+
+/// [`centre`] of an interpreter set up by the caller.
+fn centre_of(mut interp: fivex_engine::interp::Interpreter, (a, b): (usize, usize)) -> Centre {
     let mut stages = Pipeline::for_config(interp.config());
     let mut out = Vec::new();
     let mut ends = Vec::new();
@@ -240,7 +244,7 @@ fn an_arc_in_the_start_up_or_cancel_block_is_ps0034() {
 #[test]
 fn what_the_stage_does_not_perform_stays_refused() {
     // Rotation, scaling, a canned cycle, G28/G53, a work system change, a rotary axis, inverse
-    // time, G62, G39 and G38 under G41: refused at their block (PS0010 / COR-100).
+    // time, G62 and G38 under G41: refused at their block (PS0010 / COR-100).
     let cases = [
         ("G68 X0 Y0 R30.\nG41 D1 G01 X10. F500\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG68 X0 Y0 R30.\n", 2, "mill3"),
@@ -252,7 +256,6 @@ fn what_the_stage_does_not_perform_stays_refused() {
         ("G41 D1 G01 X10. F500\nG92 X0\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG62\n", 2, "mill3"),
-        ("G41 D1 G01 X10. F500\nG39 X20.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG38 X20.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nC10.\n", 2, "table-ac"),
     ];
@@ -714,4 +717,282 @@ fn an_arc_into_an_outer_acute_corner_ends_on_its_circle_then_the_lengthened_vect
             (5, 20.0, 0.0),
         ],
     );
+}
+
+/// An arc's centre X/Y and signed sweep in degrees.
+type ArcOf = ([f64; 2], f64);
+
+/// Every motion out of the stages (FANUC, mill3): line, end X/Y, and the arc if it is one.
+fn motions(src: &str) -> Vec<(u32, [f64; 2], Option<ArcOf>)> {
+    let mut interp = interpreter(src, "mill3", Fanuc);
+    let mut stages = Pipeline::for_config(interp.config());
+    let mut out = Vec::new();
+    let mut seen = Vec::new();
+    loop {
+        let step = interp.step(&mut out);
+        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
+        assert_eq!(stages.process(&mut out, end), None, "{src}");
+        for c in out.drain(..) {
+            if let CanonKind::Motion(m) = c.kind {
+                let arc = m.arc.map(|a| ([a.center[0], a.center[1]], a.sweep_deg));
+                seen.push((c.line, [m.target[0], m.target[1]], arc));
+            }
+        }
+        match step {
+            Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => interp.finish(),
+            _ => return seen,
+        }
+    }
+}
+
+mod corner_arc {
+    //! G39 corner circular interpolation (FANUC 15i §14.4.9).
+
+    use super::*;
+
+    #[test]
+    fn g39_without_ijk_ends_perpendicular_to_the_next_block() {
+        // G42 R5, +Y into (0,0) (inside corner with +X: 5,−5), then +X to 20,0, G39, +Y to
+        // 20,20, cancel +X to 30,20 (inside corner: 25,15). Block 3 ends at its own vector:
+        // right of +X is (0,−5): 20,−5. G39: the new vector is perpendicular to block 5 at its
+        // start, right of +Y: (5,0), so 25,0; the arc turns about 20,0 from −90° to 0°,
+        // counter-clockwise for G42: +90°. Block 5 runs from 25,0 up x = 25.
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nG39\nY20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, 0.0, -10.0), (2, 5.0, -5.0), (3, 20.0, -5.0), (4, 25.0, 0.0), (5, 25.0, 15.0), (6, 30.0, 20.0)],
+        );
+        let arc = motions(src).into_iter().find(|m| m.0 == 4).unwrap().2.expect("an arc");
+        assert!(approx(arc.0[0], 20.0) && approx(arc.0[1], 0.0) && approx(arc.1, 90.0), "{arc:?}");
+    }
+
+    #[test]
+    fn g39_turns_clockwise_under_g41() {
+        // G41 R5, −Y into (0,0), +X to 20,0 (left of +X: (0,5)), G39, −Y to 20,−20, cancel +X.
+        // Old vector (0,5) at 90°, new: left of −Y is (5,0) at 0°: clockwise −90° about 20,0.
+        // Block 5 ends at the inside corner with the cancel: x = 25, y = −20 + 5.
+        let src = "G90 G00 X0. Y10. Z0\nG41 D1 G01 Y0. F500\nX20.\nG39\nY-20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, 0.0, 10.0), (2, 5.0, 5.0), (3, 20.0, 5.0), (4, 25.0, 0.0), (5, 25.0, -15.0), (6, 30.0, -20.0)],
+        );
+        let arc = motions(src).into_iter().find(|m| m.0 == 4).unwrap().2.expect("an arc");
+        assert!(approx(arc.0[0], 20.0) && approx(arc.0[1], 0.0) && approx(arc.1, -90.0), "{arc:?}");
+    }
+
+    #[test]
+    fn g39_with_ij_ends_perpendicular_to_their_direction() {
+        // As the first, with G39 I1. J1.: the new vector is right of (1,1)/√2 by 5:
+        // (5/√2, −5/√2), at −45°: the arc turns +45° from −90°. Block 5 starts there and ends
+        // at the inside corner with the cancel, 25,15, as before.
+        let h = 5.0 / 2f64.sqrt();
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nG39 I1. J1.\nY20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, 0.0, -10.0), (2, 5.0, -5.0), (3, 20.0, -5.0), (4, 20.0 + h, -h), (5, 25.0, 15.0), (6, 30.0, 20.0)],
+        );
+        let arc = motions(src).into_iter().find(|m| m.0 == 4).unwrap().2.expect("an arc");
+        assert!(approx(arc.1, 45.0), "{arc:?}");
+    }
+
+    #[test]
+    fn g39_keeps_a_move_out_of_the_plane_behind_it() {
+        // A Z move between G39 and the next block: it runs after the arc, at the new vector.
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nG39\nZ-1.\nY20.\nG40 X30.\nM30\n";
+        assert_ends(
+            src,
+            &[
+                (1, 0.0, -10.0),
+                (2, 5.0, -5.0),
+                (3, 20.0, -5.0),
+                (4, 25.0, 0.0),
+                (5, 25.0, 0.0),
+                (6, 25.0, 15.0),
+                (7, 30.0, 20.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn g39_alarms() {
+        let cases = [
+            // Not in offset mode: PS0010 / COR-070 at the G39 block.
+            ("G90 G00 X0. Y0. Z0\nG01 X10. F500\nG39\nM30\n", 3, ("PS0010", "COR-070")),
+            // In the block that turns compensation on.
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G39\nG01 X10. F500\nM30\n", 2, ("PS0010", "COR-070")),
+            // A move command in the G39 block: PS0273.
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G01 X10. F500\nG39 X20.\nM30\n", 3, ("PS0273", "COR-100")),
+            // G41 given, but no block in offset mode before the corner.
+            ("G90 G00 X0. Y0. Z0 F500\nG41 D1\nG39\nG01 X10.\nM30\n", 3, ("PS0010", "COR-070")),
+            // No block after it in the plane: its arc has no end (PS0033 at the G39).
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G01 X10. F500\nG39\nM30\n", 3, ("PS0033", "COR-100")),
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G01 X10. F500\nG39\nG40 Z5.\nM30\n", 3, ("PS0033", "COR-100")),
+        ];
+        for (src, line, (fanuc, syntec)) in cases {
+            for (dialect, code) in [(Fanuc, fanuc), (Syntec, syntec)] {
+                let r = run_with(src, "mill3", dialect);
+                assert_eq!(r.alarms.len(), 1, "{dialect:?} {src}");
+                assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, line), "{dialect:?} {src}");
+            }
+        }
+    }
+}
+
+mod cancel_direction {
+    //! G40 with I/J/K: the block before the cancel ends where its offset path meets the line
+    //! along (I, J) from its programmed end, offset to the same side.
+
+    use super::*;
+
+    #[test]
+    fn at_an_outside_corner_the_block_before_runs_on_to_the_intersection() {
+        // G41 R5 along +X, y = 5 offset. The cancel turns right (outside for G41); type A would
+        // end block 3 at its perpendicular vector 20,5. With I0 J-1: the line from 20,0 along
+        // −Y, offset to its left (left of −Y is +X) by 5: x = 25; it meets y = 5 at 25,5.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X30. Y-10. I0 J-1.\nM30\n";
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 25.0, 5.0), (4, 30.0, -10.0)]);
+        // Without I/J: type A.
+        let plain = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X30. Y-10.\nM30\n";
+        assert_ends(plain, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 30.0, -10.0)]);
+    }
+
+    #[test]
+    fn at_an_inside_corner_the_line_of_ij_decides_not_the_cancel_block() {
+        // I-1. J1.: the line x + y = 20 through 20,0, offset to the left of (−1,1)/√2 (toward
+        // (−1,−1)/√2) by 5: x + y = 20 − 5√2; with y = 5: x = 15 − 5√2. The cancel block goes
+        // to 10,10 (its own offset line would give another point: the I/J line decides).
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X10. Y10. I-1. J1.\nM30\n";
+        let x = 15.0 - 5.0 * 2f64.sqrt();
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, x, 5.0), (4, 10.0, 10.0)]);
+    }
+
+    #[test]
+    fn a_g40_with_ij_and_no_move_goes_to_the_intersection_then_removes_the_vector() {
+        // The G40 I0 J-1. block moves to where it stands: 25,5 (as above), then 20,0.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 I0 J-1.\nG00 X50.\nM30\n";
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 25.0, 5.0), (4, 20.0, 0.0), (5, 50.0, 0.0)]);
+    }
+
+    #[test]
+    fn parallel_ij_leaves_the_perpendicular_vector() {
+        // I1. J0 along the block before: no intersection; block 3 ends at 20,5.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X30. Y-10. I1. J0\nM30\n";
+        assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 30.0, -10.0)]);
+    }
+
+    #[test]
+    fn after_an_arc_the_line_meets_its_offset_circle() {
+        // G42 R5, a counter-clockwise quarter circle R10 about the origin from 10,0 to 0,10
+        // (the tool right of it is outside: radius 15), then G40 X-10. Y10. I-1. J0: the line
+        // y = 10 offset to the right of −X (toward +Y) by 5: y = 15, meets the circle of
+        // radius 15 at 0,15 (tangent: the crossing nearest the corner).
+        let src = "G90 G00 X20. Y0 Z0\nG42 D1 G01 X10. F500\nG03 X0. Y10. R10.\nG40 G01 X-10. Y10. I-1. J0\nM30\n";
+        let got = centre(src, Fanuc);
+        assert_eq!(got.1, None);
+        let (line, p) = got.0[2];
+        assert_eq!(line, 3);
+        assert!(p[0].abs() < 1e-3 && approx(p[1], 15.0), "{p:?}");
+    }
+}
+
+mod type_b {
+    //! Start-up and cancel type B (FANUC No.5003#0 SUP = 1): at an outside corner the start-up
+    //! block ends perpendicular to itself and the cancel block starts perpendicular to itself,
+    //! the corner's own vectors between.
+
+    use super::*;
+
+    /// Motion ends with type B on mill3 (FANUC).
+    #[track_caller]
+    fn assert_ends_b(src: &str, want: &[(u32, f64, f64)]) {
+        let interp = interpreter_with(src, "mill3", Fanuc, |c| {
+            std::sync::Arc::make_mut(&mut c.machine).motion.cutter_startup_type_b = true
+        });
+        let (got, alarm) = centre_of(interp, (0, 1));
+        assert_eq!(alarm, None, "{src}");
+        let close = got.len() == want.len()
+            && got.iter().zip(want).all(|((l, p), (wl, x, y))| l == wl && approx(p[0], *x) && approx(p[1], *y));
+        assert!(close, "got {got:?}\nwant {want:?}\n{src}");
+    }
+
+    #[test]
+    fn at_right_angle_outside_corners_the_intersection_comes_after_the_perpendicular_vectors() {
+        // G41 R5: +Y into 0,0, +X to 20,0, cancel −Y to 20,−10. Both corners turn right, outside
+        // for the tool on the left, α = 90° (the intersection rule). Start-up: its own vector,
+        // left of +Y: −5,0; then the intersection of x = −5 and y = 5: −5,5. Cancel: the
+        // intersection of y = 5 and x = 25 (left of −Y is +X): 25,5; then the cancel block's own
+        // vector at its start: 25,0; then its programmed end.
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 Y0. F500\nX20.\nG40 Y-10.\nM30\n";
+        assert_ends_b(
+            src,
+            &[(1, 0.0, -10.0), (2, -5.0, 0.0), (2, -5.0, 5.0), (3, 25.0, 5.0), (3, 25.0, 0.0), (4, 20.0, -10.0)],
+        );
+        // Type A (the default): perpendicular to the next block / to the block before.
+        assert_ends(src, &[(1, 0.0, -10.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 20.0, -10.0)]);
+    }
+
+    #[test]
+    fn at_an_acute_start_up_the_lengthened_vectors_follow_its_own() {
+        // G41 R5: +Y into 0,0, then toward 10,−10: t2 = (1,−1)/√2, a right turn (outside), acute.
+        // Start-up: −5,0 (its own vector), −5,5 (lengthened by 5 along +Y), then
+        // 5·n2 − 5·t2 with n2 = (1,1)/√2: (0, 5√2). Block 3 meets block 4 (+X) inside: its
+        // offset line x + y = 5√2 and y = −5: 5 + 5√2, −5. Block 4 runs in line into the
+        // cancel: 30,−5; the cancel to 40,−10.
+        let s2 = 2f64.sqrt();
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 Y0. F500\nX10. Y-10.\nX30.\nG40 X40.\nM30\n";
+        assert_ends_b(
+            src,
+            &[
+                (1, 0.0, -10.0),
+                (2, -5.0, 0.0),
+                (2, -5.0, 5.0),
+                (2, 0.0, 5.0 * s2),
+                (3, 5.0 + 5.0 * s2, -5.0),
+                (4, 30.0, -5.0),
+                (5, 40.0, -10.0),
+            ],
+        );
+        // Type A ends the start-up block at 5·n2 instead.
+        let h = 5.0 / s2;
+        assert_ends(src, &[(1, 0.0, -10.0), (2, h, h), (3, 5.0 + 5.0 * s2, -5.0), (4, 30.0, -5.0), (5, 40.0, -10.0)]);
+    }
+
+    #[test]
+    fn at_an_acute_cancel_its_own_vector_comes_after_the_lengthened_ones() {
+        // G41 R5 along +X at y = 5, cancel toward 10,−10: t2 = (−1,−1)/√2, right turn, acute.
+        // 20,5 + 5·(1,0) = 25,5; 5·n2 − 5·t2 with n2 = (1,−1)/√2: 20 + 5√2, 0; then the cancel
+        // block's own vector 20 + 5/√2, −5/√2; then 10,−10. (The start-up runs in line: 0,5.)
+        let s2 = 2f64.sqrt();
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG40 X10. Y-10.\nM30\n";
+        assert_ends_b(
+            src,
+            &[
+                (1, -10.0, 0.0),
+                (2, 0.0, 5.0),
+                (3, 25.0, 5.0),
+                (3, 20.0 + 5.0 * s2, 0.0),
+                (3, 20.0 + 5.0 / s2, -5.0 / s2),
+                (4, 10.0, -10.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn inside_corners_are_the_same_as_type_a() {
+        // The pocket of `inside_of_a_pocket_g41_counter_clockwise`: every corner inside.
+        let src = "G90 G00 X20. Y10. Z0\nG41 D1 G01 Y0. F500\nX40.\nY40.\nX0.\nY0.\nX20.\nG40 Y10.\nM30\n";
+        let want = [
+            (1, 20.0, 10.0),
+            (2, 25.0, 5.0),
+            (3, 35.0, 5.0),
+            (4, 35.0, 35.0),
+            (5, 5.0, 35.0),
+            (6, 5.0, 5.0),
+            (7, 15.0, 5.0),
+            (8, 20.0, 10.0),
+        ];
+        assert_ends_b(src, &want);
+        assert_ends(src, &want);
+    }
 }

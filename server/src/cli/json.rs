@@ -2,7 +2,9 @@
 //! samples, written by hand into a buffered writer, since they are the hot path of `fivex
 //! interp`/`run --trace`. The run summary is a typed wire format (`crate::wire`).
 
-use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState};
+use fivex_engine::canon::{
+    Canon, CanonKind, Coolant, CutterWord, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState,
+};
 use fivex_engine::interp::gcode::{code, display};
 use fivex_engine::run::Sample;
 use std::io::Write;
@@ -164,6 +166,7 @@ impl CanonWriter {
             CanonKind::Stop { .. } => "stop",
             CanonKind::Print { .. } => "print",
             CanonKind::ProgramEnd { .. } => "program_end",
+            CanonKind::Cutter(_) => "cutter",
         };
         put(w, b"{\"type\":\"");
         put(w, kind.as_bytes());
@@ -216,6 +219,25 @@ impl CanonWriter {
             CanonKind::Print { text } => {
                 put(w, b",\"text\":");
                 json_string(w, text);
+            }
+            CanonKind::Cutter(word) => {
+                // `"corner_arc": [I, J, K]` or `null` (G39 without I/J/K), `"cancel_direction":
+                // [I, J, K]` (G40 with I/J/K).
+                let (key, d): (&[u8], _) = match word {
+                    CutterWord::CornerArc(d) => (b",\"corner_arc\":", *d),
+                    CutterWord::CancelDirection(d) => (b",\"cancel_direction\":", Some(*d)),
+                };
+                put(w, key);
+                match d {
+                    Some(d) => {
+                        for (k, x) in d.iter().enumerate() {
+                            put(w, if k == 0 { b"[" } else { b"," });
+                            num(w, *x);
+                        }
+                        put(w, b"]");
+                    }
+                    None => put(w, b"null"),
+                }
             }
         }
         put(w, b"}\n");

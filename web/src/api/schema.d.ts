@@ -1613,6 +1613,13 @@ export interface components {
         /** @description Interpolation choices the vendors make by parameter. */
         MotionOptions: {
             /**
+             * @description Cutter compensation C starts up and cancels by type B (FANUC No.5003#0 SUP = 1): at an
+             *     outside corner the start-up block ends at the vector perpendicular to itself and the
+             *     cancel block starts at the vector perpendicular to itself, the corner's own vectors
+             *     between; by default type A (SUP = 0). `docs/cutter-compensation.md`.
+             */
+            cutter_startup_type_b?: boolean;
+            /**
              * @description Helical interpolation: F is the speed along the whole tool path, the linear axes
              *     included (FANUC No.1403#5 HTG = 1), instead of along the arc (HTG = 0, the default).
              */

@@ -31,7 +31,7 @@ pub fn cross(a: P2, b: P2) -> f64 {
 pub fn norm(a: P2) -> f64 {
     a[0].hypot(a[1])
 }
-fn unit(a: P2) -> P2 {
+pub fn unit(a: P2) -> P2 {
     let n = norm(a);
     if n > 0.0 {
         scale(a, 1.0 / n)

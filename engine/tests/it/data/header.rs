@@ -9,6 +9,8 @@ use fivex_engine::Dialect;
 pub struct Header {
     /// `--preset` (default mill3).
     pub preset: String,
+    /// `--machine FILE` (relative to the fixture): this machine file instead of the preset.
+    pub machine: Option<String>,
     /// `--dialect fanuc,syntec`: every dialect the program runs in (default FANUC).
     pub dialects: Vec<Dialect>,
     /// `--tools FILE` (relative to the fixture): these offsets instead of the default 1–99.
@@ -69,6 +71,7 @@ pub fn parse(text: &str) -> Result<Header, String> {
                     h.dialects = value()?.split(',').map(str::parse).collect::<Result<_, _>>()?;
                 }
                 "--tools" => h.tools = Some(value()?),
+                "--machine" => h.machine = Some(value()?),
                 "--max-blocks" => h.max_blocks = Some(value()?.parse().map_err(|e| format!("--max-blocks: {e}"))?),
                 "--block-delete" => h.block_delete = true,
                 "--optional-stop" => h.optional_stop = true,

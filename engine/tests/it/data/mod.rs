@@ -122,8 +122,19 @@ fn guarded(file: &Path, check: impl Fn(&Path) -> Result<(), String>) -> Option<S
     Some(format!("{}: {err}", file.display()))
 }
 
+/// The fixture's machine: its `--machine` file (relative to `dir`), or its preset.
+fn machine_of(h: &Header, dir: &Path) -> Result<MachineConfig, String> {
+    match &h.machine {
+        Some(file) => {
+            let text = std::fs::read_to_string(dir.join(file)).map_err(|e| format!("{file}: {e}"))?;
+            fivex_engine::machine_file::parse(&text).map_err(|e| format!("{file}: {e}"))
+        }
+        None => MachineConfig::preset(&h.preset).ok_or(format!("no preset {:?}", h.preset)),
+    }
+}
+
 fn interpreter(text: &str, h: &Header, dialect: Dialect, dir: &Path) -> Result<Interpreter, String> {
-    let machine = MachineConfig::preset(&h.preset).ok_or(format!("no preset {:?}", h.preset))?;
+    let machine = machine_of(h, dir)?;
     let mut cfg = Config::new(machine, dialect);
     cfg.max_blocks = h.max_blocks.unwrap_or(1_000_000);
     cfg.block_delete = h.block_delete;
@@ -217,7 +228,7 @@ fn unneeded(skips: &[Skip], needed: &[bool]) -> Result<(), String> {
 fn fixture(dir: &Path, file: &Path) -> Result<(), String> {
     let text = std::fs::read_to_string(file).map_err(|e| e.to_string())?;
     let h = header::parse(&text)?;
-    let machine = MachineConfig::preset(&h.preset).ok_or(format!("no preset {:?}", h.preset))?;
+    let machine = machine_of(&h, file.parent().unwrap())?;
     let mut snapshot = String::new();
     let mut printed: Vec<(String, Vec<Dialect>)> = Vec::new();
     let mut errs = Vec::new();
@@ -267,7 +278,7 @@ fn fixture(dir: &Path, file: &Path) -> Result<(), String> {
 fn invariants_only(file: &Path) -> Result<(), String> {
     let text = std::fs::read_to_string(file).map_err(|e| e.to_string())?;
     let h = header::parse(&text)?;
-    let machine = MachineConfig::preset(&h.preset).ok_or(format!("no preset {:?}", h.preset))?;
+    let machine = machine_of(&h, file.parent().unwrap())?;
     let mut needed = vec![false; h.skips.len()];
     for &dialect in &h.dialects {
         let o = execute(&text, &h, dialect, file.parent().unwrap())?;

@@ -2,7 +2,7 @@
 //! command, `LINE [Nn] what`, numbers rounded to 1 nm / 1 µdeg so that the snapshot pins the
 //! program's meaning, not the last bits of the arithmetic.
 
-use fivex_engine::canon::{Canon, CanonKind, Coolant, FeedMode, Motion, MotionKind, Pos, SpindleState};
+use fivex_engine::canon::{Canon, CanonKind, Coolant, CutterWord, FeedMode, Motion, MotionKind, Pos, SpindleState};
 use fivex_engine::kin::Vec3;
 use fivex_engine::machine::MachineConfig;
 use std::fmt::Write as _;
@@ -101,6 +101,13 @@ fn kind(m: &MachineConfig, k: &CanonKind) -> String {
         }
         CanonKind::Print { text } => format!("print {text:?}"),
         CanonKind::ProgramEnd { m } => format!("end M{m}"),
+        CanonKind::Cutter(CutterWord::CornerArc(d)) => match d {
+            Some(d) => format!("corner arc I{} J{} K{}", num(d[0]), num(d[1]), num(d[2])),
+            None => "corner arc".to_string(),
+        },
+        CanonKind::Cutter(CutterWord::CancelDirection(d)) => {
+            format!("cancel toward I{} J{} K{}", num(d[0]), num(d[1]), num(d[2]))
+        }
     }
 }
 
