@@ -67,7 +67,7 @@ pub struct MotionContext {
     pub rotation: u16,
 }
 
-/// What a cutter compensation block's G39 or I/J/K say to the cutter compensation stage
+/// What a cutter compensation block's G38, G39 or I/J/K say to the cutter compensation stage
 /// (`stage::cutter`, `docs/cutter-compensation.md`). Directions are in programming coordinates
 /// (I along X, J along Y, K along Z; the stage reads the two of its plane).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,6 +79,10 @@ pub enum CutterWord {
     /// G40 with I/J/K: the block before the cancel ends where its offset path meets the line
     /// along this direction from its programmed end, offset on the same side.
     CancelDirection([f64; 3]),
+    /// G38 vector hold: the motion that follows (a straight move, or one that does not move in
+    /// the plane) ends at its programmed point plus the vector where it starts (no corner with
+    /// the block after it), or plus the offset value along this direction.
+    VectorHold(Option<[f64; 3]>),
 }
 
 #[derive(Debug, Clone, PartialEq)]

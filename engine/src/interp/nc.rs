@@ -863,6 +863,34 @@ impl State {
         Ok(())
     }
 
+    /// G38 vector hold (NCT 99M/2000M §14.5.5, Mitsubishi M700V §12.4): only in offset mode,
+    /// after G41/G42 was given (in G40 or in a block with a group-07 code: PS0010), in G00/G01
+    /// (G02/G03: PS0010). The block emits the hold word before its motion; the cutter
+    /// compensation stage ends that motion at its programmed point plus the vector where it
+    /// starts, or plus the offset value along I/J/K. A G38 with I/J/K and no axis word moves to
+    /// where it stands (the vector goes there); one with neither does nothing.
+    fn vector_hold(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+        let group07_here = [code::G40, code::G41, code::G42].iter().any(|&c| w.has_g(c));
+        if group07_here
+            || !matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42)
+            || !matches!(self.modes[group::MOTION], code::G00 | code::G01)
+        {
+            return Err(AlarmId::ImproperGCode);
+        }
+        let direction = self.cutter_direction(w);
+        let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
+        if !has_axes && direction.is_none() {
+            return Ok(false);
+        }
+        self.emit(out, CanonKind::Cutter(CutterWord::VectorHold(direction)));
+        if has_axes {
+            return Ok(false);
+        }
+        let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+        self.push_motion(kind, self.pos, None, out);
+        Ok(true)
+    }
+
     /// The I/J/K of a cutter compensation block as a direction (I along X, J along Y, K along Z),
     /// when one of the two of the plane is given and they are not both zero.
     fn cutter_direction(&self, w: &Words) -> Option<[f64; 3]> {
@@ -990,6 +1018,7 @@ impl State {
                 self.emit(out, CanonKind::Dwell { seconds });
             }
             code::G10 => self.data_setting(w, machine_before)?,
+            code::G38 => return self.vector_hold(w, out),
             code::G39 => {
                 self.corner_arc(w, out)?;
                 return Ok(true);

@@ -41,7 +41,6 @@ const fn row(code: u16, when: When, function: &'static str) -> NotBuilt {
     NotBuilt { code, dialect: None, when, function }
 }
 
-const CUTTER: &str = "cutter radius compensation";
 const CUTTER_3D: &str = "3-D / 5-axis cutter compensation";
 
 /// Every G code of `gcode::TABLE` that fivex does not perform, or performs only with some
@@ -86,7 +85,6 @@ const TABLE: &[NotBuilt] = &[
     row(350, When::Always, "circular threading (G35)"),
     row(360, When::Always, "circular threading (G36)"),
     row(370, When::Always, "automatic tool length measurement (G37)"),
-    row(380, When::Always, CUTTER),
     row(411, When::Always, "normal direction control (G41.1)"),
     row(412, When::Always, CUTTER_3D),
     row(413, When::Always, "leading edge offset (G41.3)"),

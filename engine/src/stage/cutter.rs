@@ -238,7 +238,8 @@ impl Cutter {
         let toward = match self.word.take() {
             Some(CutterWord::CornerArc(direction)) => return self.corner_arc(c, direction, out),
             Some(CutterWord::CancelDirection(d)) => Some(ijk_in_plane(d, m.context.plane)),
-            None => None,
+            Some(CutterWord::VectorHold(direction)) if comp => return self.vector_hold(c, direction, out),
+            Some(CutterWord::VectorHold(_)) | None => None,
         };
         // G41/G42 again after a G40 that moved nothing: that cancel, then a new start-up.
         let restart = if comp { self.link.take_comp_start() } else { None };
@@ -367,6 +368,66 @@ impl Cutter {
         };
         let new = scale(curve::left(curve::unit(ijk_in_plane(d, m.context.plane))), signed_radius(m));
         self.emit_corner(c, new, out);
+    }
+
+    /// G38 vector hold (NCT 99M/2000M §14.5.5, Mitsubishi M700V §12.4): the block before ends
+    /// at its corner with this block as usual; this block (a straight move) ends at its
+    /// programmed point plus the vector where it starts — no corner with the block after it,
+    /// which starts there — or, with `direction` (I/J/K), plus the offset value along it. A G38
+    /// block that does not move in the plane keeps the corner (a block without motion in the
+    /// plane); with I/J/K the block before ends at its perpendicular vector and the block moves
+    /// to the new vector at its point.
+    fn vector_hold(&mut self, c: Canon, direction: Option<[f64; 3]>, out: &mut Vec<Canon>) {
+        // The vector held is one of offset mode: none before the first block that moved in it.
+        let restarted = self.link.take_comp_start().is_some();
+        if !self.on || restarted || self.startup && self.held.is_none() && self.corner.is_none() {
+            self.alarm(AlarmId::ImproperGCode, &c);
+            return;
+        }
+        let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
+        let from = std::mem::replace(&mut self.programmed, m.target);
+        let new = direction.map(|d| scale(curve::unit(ijk_in_plane(d, m.context.plane)), m.context.cutter_radius));
+        let r = signed_radius(m);
+        let Some(curve) = self.curve(m, &from) else {
+            // No motion in the plane: with I/J/K the vector changes here, else a plain block.
+            if let Some(new) = new {
+                self.release_perpendicular(out);
+                if self.stopped {
+                    return;
+                }
+                self.vector = new;
+                out.push(self.shifted(c));
+            } else if self.corner.is_some() || self.held.is_some() {
+                self.after.push(c);
+                self.lose_vector_if_too_many(out);
+            } else {
+                out.push(self.shifted(c));
+            }
+            return;
+        };
+        self.finish_corner(&curve, out);
+        let start = match self.held.take() {
+            None => add(curve.from(), self.vector),
+            Some(h) => match corner(&h, &curve, r, false, self.type_b) {
+                Ok(points) => {
+                    self.held = Some(h);
+                    self.release(&points, out);
+                    if self.stopped {
+                        return;
+                    }
+                    points[points.len() - 1]
+                }
+                Err(id) => {
+                    let canon = h.canon.clone();
+                    self.alarm(id, &canon);
+                    return;
+                }
+            },
+        };
+        self.startup = false;
+        let vector = new.unwrap_or_else(|| sub(start, curve.from()));
+        self.held = Some(Held { canon: c, curve, r, start, startup: false });
+        self.release(&[add(curve.to(), vector)], out);
     }
 
     /// A waiting G39 ends perpendicular to `next` at its start.

@@ -244,7 +244,7 @@ fn an_arc_in_the_start_up_or_cancel_block_is_ps0034() {
 #[test]
 fn what_the_stage_does_not_perform_stays_refused() {
     // Rotation, scaling, a canned cycle, G28/G53, a work system change, a rotary axis, inverse
-    // time, G62 and G38 under G41: refused at their block (PS0010 / COR-100).
+    // time and G62 under G41: refused at their block (PS0010 / COR-100).
     let cases = [
         ("G68 X0 Y0 R30.\nG41 D1 G01 X10. F500\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG68 X0 Y0 R30.\n", 2, "mill3"),
@@ -256,7 +256,6 @@ fn what_the_stage_does_not_perform_stays_refused() {
         ("G41 D1 G01 X10. F500\nG92 X0\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nG62\n", 2, "mill3"),
-        ("G41 D1 G01 X10. F500\nG38 X20.\n", 2, "mill3"),
         ("G41 D1 G01 X10. F500\nC10.\n", 2, "table-ac"),
     ];
     for (src, line, preset) in cases {
@@ -994,5 +993,130 @@ mod type_b {
         ];
         assert_ends_b(src, &want);
         assert_ends(src, &want);
+    }
+}
+
+mod vector_hold {
+    //! G38 vector hold (NCT 99M/2000M §14.5.5, Mitsubishi M700V §12.4): the G38 block ends at
+    //! its programmed point plus the vector where it starts (or the offset value along I/J),
+    //! with no corner to the block after it.
+
+    use super::*;
+
+    #[test]
+    fn the_g38_block_keeps_the_vector_of_the_corner_before_it() {
+        // G41 R5. Block 3 (+X, y = 5) meets block 4 (+Y, offset x = 15) inside: 15,5. Block 4
+        // (G38) holds (15,5) − (20,0) = (−5,5): it ends at 20,10 + (−5,5) = 15,15. Block 5 runs
+        // from there toward 30,20 along (1,1)/√2; it meets the cancel (+X) outside at 45°:
+        // type A, its perpendicular vector, left of (1,1)/√2 by 5: 30 − h, 20 + h, h = 5/√2.
+        // (Without G38 block 4 would end where x = 15 meets block 5's offset line, 15, 5 + 5√2.)
+        let h = 5.0 / 2f64.sqrt();
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG38 Y10.\nX30. Y20.\nG40 X40.\nM30\n";
+        assert_ends(
+            src,
+            &[
+                (1, -10.0, 0.0),
+                (2, 0.0, 5.0),
+                (3, 15.0, 5.0),
+                (4, 15.0, 15.0),
+                (5, 30.0 - h, 20.0 + h),
+                (6, 40.0, 20.0),
+            ],
+        );
+        let plain = src.replace("G38 ", "");
+        assert_ends(
+            &plain,
+            &[
+                (1, -10.0, 0.0),
+                (2, 0.0, 5.0),
+                (3, 15.0, 5.0),
+                (4, 15.0, 5.0 + 5.0 * 2f64.sqrt()),
+                (5, 30.0 - h, 20.0 + h),
+                (6, 40.0, 20.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn g38_with_ij_ends_at_the_offset_value_along_them() {
+        // As above, G38 Y10. I-1. J1.: the vector is 5·(−1,1)/√2 = (−h, h): block 4 ends at
+        // 20 − h, 10 + h; block 5 starts there and ends as before.
+        let h = 5.0 / 2f64.sqrt();
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG38 Y10. I-1. J1.\nX30. Y20.\nG40 X40.\nM30\n";
+        assert_ends(
+            src,
+            &[
+                (1, -10.0, 0.0),
+                (2, 0.0, 5.0),
+                (3, 15.0, 5.0),
+                (4, 20.0 - h, 10.0 + h),
+                (5, 30.0 - h, 20.0 + h),
+                (6, 40.0, 20.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn consecutive_g38_blocks_step_over_with_the_same_vector() {
+        // G42 R5: block 3 (+X, y = −5) meets block 4 (+Y, x = 25) outside at 90°: 25,−5, vector
+        // (5,−5). Blocks 4–6 hold it: 20,10 → 25,5; 30,10 → 35,5; 30,0 → 35,−5. Block 7 (+X)
+        // starts there and meets the cancel in line: 50,−5; the cancel ends at 60,0.
+        let src = "G90 G00 X-10. Y0 Z0\nG42 D1 G01 X0. F500\nX20.\nG38 Y10.\nG38 X30.\nG38 Y0\nX50.\nG40 X60.\nM30\n";
+        assert_ends(
+            src,
+            &[
+                (1, -10.0, 0.0),
+                (2, 0.0, -5.0),
+                (3, 25.0, -5.0),
+                (4, 25.0, 5.0),
+                (5, 35.0, 5.0),
+                (6, 35.0, -5.0),
+                (7, 50.0, -5.0),
+                (8, 60.0, 0.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn g38_with_ij_and_no_move_changes_the_vector_where_it_stands() {
+        // G41 R5: block 3 ends at its perpendicular vector 20,5; G38 I1. J0 moves to 20,0 +
+        // (5,0) = 25,0. Block 5 (+Y) starts there and meets the cancel (−X) inside: x = 15,
+        // y = 20 − 5 = 15.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG38 I1. J0\nY20.\nG40 X10.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 25.0, 0.0), (5, 15.0, 15.0), (6, 10.0, 20.0)],
+        );
+    }
+
+    #[test]
+    fn g38_out_of_the_plane_keeps_the_corner() {
+        // G38 Z-1. between two blocks is a block without motion in the plane: the corner 15,5.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG38 Z-1.\nY20.\nG40 X10.\nM30\n";
+        assert_ends(
+            src,
+            &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 15.0, 5.0), (4, 15.0, 5.0), (5, 15.0, 15.0), (6, 10.0, 20.0)],
+        );
+    }
+
+    #[test]
+    fn g38_alarms() {
+        let cases = [
+            // Not in offset mode: PS0010 / COR-070 at the G38 block.
+            ("G90 G00 X0. Y0. Z0\nG01 X10. F500\nG38 X20.\nM30\n", 3),
+            // In the block that turns compensation on.
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G38 G01 X10. F500\nX20.\nG40 X30.\nM30\n", 2),
+            // In G02/G03.
+            ("G90 G00 X0. Y0. Z0\nG41 D1 G01 X10. F500\nG38 G02 X20. R5.\nG40 G01 X30.\nM30\n", 3),
+            // G41 given, but no block has moved in offset mode: no vector to hold.
+            ("G90 G00 X0. Y0. Z0 F500\nG41 D1\nG38 G01 X10.\nX20.\nG40 X30.\nM30\n", 3),
+        ];
+        for (src, line) in cases {
+            for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-070")] {
+                let r = run_with(src, "mill3", dialect);
+                assert_eq!(r.alarms.len(), 1, "{dialect:?} {src}");
+                assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, line), "{dialect:?} {src}");
+            }
+        }
     }
 }

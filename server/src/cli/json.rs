@@ -226,6 +226,7 @@ impl CanonWriter {
                 let (key, d): (&[u8], _) = match word {
                     CutterWord::CornerArc(d) => (b",\"corner_arc\":", *d),
                     CutterWord::CancelDirection(d) => (b",\"cancel_direction\":", Some(*d)),
+                    CutterWord::VectorHold(d) => (b",\"vector_hold\":", *d),
                 };
                 put(w, key);
                 match d {

@@ -108,6 +108,10 @@ fn kind(m: &MachineConfig, k: &CanonKind) -> String {
         CanonKind::Cutter(CutterWord::CancelDirection(d)) => {
             format!("cancel toward I{} J{} K{}", num(d[0]), num(d[1]), num(d[2]))
         }
+        CanonKind::Cutter(CutterWord::VectorHold(d)) => match d {
+            Some(d) => format!("vector hold I{} J{} K{}", num(d[0]), num(d[1]), num(d[2])),
+            None => "vector hold".to_string(),
+        },
     }
 }
 
