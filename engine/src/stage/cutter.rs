@@ -27,6 +27,10 @@ pub const MAX_BLOCKS_BETWEEN: usize = 1;
 /// A motion shorter than this in the plane does not move in it (mm).
 const NO_MOVE: f64 = 1e-9;
 
+/// An arc whose ends are closer than this (mm) has no chord direction for the interference
+/// check (a whole turn, or a compensated arc that shrank to a point): points are rounded to 1 µm.
+const CHORD: f64 = 1e-3;
+
 /// Blocks whose directions at a corner differ by less than this (radians) meet tangentially:
 /// their offset paths are taken as their tangent lines there. (Where two circles almost touch,
 /// their crossing moves by the points' rounding divided by the angle: ill-conditioned.)
@@ -598,13 +602,17 @@ fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool) -> Result
     Ok(points)
 }
 
-/// The interference check (direction check): the compensated block must not run against the
-/// programmed one — a line backwards, an arc the other way round (its swept angle differing by
-/// more than 180°) or an arc too small for the tool.
+/// The interference check (`docs/cutter-compensation.md`, rule 9): the compensated block must
+/// not run against the programmed one. The direction check: from its start to its end (a line,
+/// or an arc's chord) it runs more than 90° away from the programmed start to end. The arc check:
+/// the compensated arc's swept angle differs from the programmed one by more than 180° (it runs
+/// the other way round), or the tool does not fit inside it.
 fn check_direction(h: &Held, end: P2) -> Result<(), AlarmId> {
+    let (from, to) = (h.curve.from(), h.curve.to());
+    let (programmed, compensated) = (sub(to, from), sub(end, h.start));
     match h.curve {
-        Curve::Line { from, to } => {
-            if dot(sub(end, h.start), sub(to, from)) < 0.0 {
+        Curve::Line { .. } => {
+            if dot(compensated, programmed) < 0.0 {
                 return Err(AlarmId::CutterInterference);
             }
         }
@@ -614,6 +622,11 @@ fn check_direction(h: &Held, end: P2) -> Result<(), AlarmId> {
             }
             let turned = swept(h.start, end, center, sweep);
             if (turned - sweep.abs()).abs() > std::f64::consts::PI {
+                return Err(AlarmId::CutterInterference);
+            }
+            // The chord has a direction only when the arc's ends are apart (not a whole turn).
+            let apart = norm(programmed) > CHORD && norm(compensated) > CHORD;
+            if apart && dot(compensated, programmed) < 0.0 {
                 return Err(AlarmId::CutterInterference);
             }
         }
@@ -667,5 +680,33 @@ impl Stage for Cutter {
         self.stopped = false;
         self.alarm = None;
         self.link.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::{FRAC_PI_2, TAU};
+
+    fn held(curve: Curve, r: f64, start: P2) -> Held {
+        let canon = Canon { line: 1, n: None, kind: CanonKind::ProgramEnd { m: 30 }, tip_basis: Default::default() };
+        Held { canon, curve, r, start, startup: false }
+    }
+
+    #[test]
+    fn the_arc_check_sees_an_arc_whose_chord_turns_back() {
+        // A counter-clockwise quarter circle R10 about the origin, (10,0) → (0,10), the tool (5)
+        // inside: offset radius 5. Compensated from 150° to 200° on it: (−4.330, 2.5) →
+        // (−4.698, −1.710). It turns 50° the right way (within 180° of the programmed 90°: the
+        // swept-angle check passes), but its chord (−0.368, −4.210) against the programmed
+        // (−10, 10) gives 3.68 − 42.10 < 0: more than 90° away, an interference.
+        let arc = Curve::Arc { from: [10.0, 0.0], to: [0.0, 10.0], center: [0.0, 0.0], sweep: FRAC_PI_2 };
+        let at = |deg: f64| [5.0 * deg.to_radians().cos(), 5.0 * deg.to_radians().sin()];
+        assert_eq!(check_direction(&held(arc, 5.0, at(150.0)), at(200.0)), Err(AlarmId::CutterInterference));
+        // From 30° to 100°: the chord (−5.198, 2.424) is within 90° of (−10, 10): no alarm.
+        assert_eq!(check_direction(&held(arc, 5.0, at(30.0)), at(100.0)), Ok(()));
+        // A whole turn has no chord: not checked by it.
+        let full = Curve::Arc { from: [10.0, 0.0], to: [10.0, 0.0], center: [0.0, 0.0], sweep: TAU };
+        assert_eq!(check_direction(&held(full, 5.0, at(0.0)), at(0.0)), Ok(()));
     }
 }

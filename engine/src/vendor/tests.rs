@@ -732,6 +732,20 @@ fn fanuc_sup_bit_sets_the_cutter_start_up_type() {
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("SUP"));
 }
 
+/// The interference check's avoidance (FANUC No.5008, No.19607) is not modelled: a list that
+/// sets them gets them reported, and the check raises its alarm as with the defaults.
+#[test]
+fn fanuc_interference_avoidance_is_reported_as_not_modelled() {
+    let m = MachineConfig::preset("mill3").unwrap();
+    let mut p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(!p.0.contains_key(&5008) && !p.0.contains_key(&19607));
+    p.set(5008, 8.0);
+    p.set(19607, 32.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &p).into_iter().map(|u| u.parameter).collect();
+    assert!(names.iter().any(|n| n.starts_with("No.5008")), "{names:?}");
+    assert!(names.iter().any(|n| n.starts_with("No.19607")), "{names:?}");
+}
+
 #[test]
 fn fanuc_lrp_bit_sets_the_rapid_type() {
     let mut m = MachineConfig::preset("mill3").unwrap();

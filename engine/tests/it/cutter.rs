@@ -213,6 +213,20 @@ fn a_notch_narrower_than_the_tool_is_an_interference_alarm() {
 }
 
 #[test]
+fn a_depression_smaller_than_the_offset_is_an_interference_alarm() {
+    // FANUC 30i §5 <1>: a V 2 wide and 2 deep in a +X wall, tool left (R5). Block 4 runs along
+    // (1,−2)/√5; its offset line (left normal (2,1)/√5) meets y = 5 (outside, obtuse) at
+    // x = 17.5 + 2.5√5 and, by symmetry, block 5's offset at x = 21, y = 5√5 − 2: compensated
+    // it runs along (−1,2), against the programmed (1,−2). PS0041 at block 4; the tool stops at
+    // the end of block 3, 17.5 + 2.5√5, 5.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21. Y-2.\nX22. Y0\nX40.\nG40 X50.\nM30\n";
+    let (ends, alarm) = centre(src, Fanuc);
+    assert_eq!(alarm, Some(("PS0041".to_string(), 4)));
+    assert_eq!(ends.iter().map(|e| e.0).collect::<Vec<_>>(), [1, 2, 3]);
+    assert!(approx(ends[2].1[0], 17.5 + 2.5 * 5f64.sqrt()) && approx(ends[2].1[1], 5.0), "{ends:?}");
+}
+
+#[test]
 fn an_arc_too_small_for_the_tool_inside_is_an_interference_alarm() {
     // A counter-clockwise arc of radius 3 with the tool (5) on its inside (G41).
     let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nG03 X3. Y3. R3.\nG01 Y20.\nG40 X-10.\nM30\n";
