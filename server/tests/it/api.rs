@@ -310,6 +310,31 @@ async fn mdi_runs_blocks_and_panel_settings_are_checked() {
 }
 
 #[tokio::test]
+async fn mdi_under_cutter_compensation_moves_the_tool_centre_at_the_offset() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
+    // D1 of the default tools: radius 5. The text's blocks are read ahead together: the inside
+    // corner at 40,0 is met at 35,5, the last block ends at its perpendicular vector 35,30.
+    let text = "G90 G17 G00 X-20. Y0. Z0.\nG41 D1 G01 X0. F3000.\nX40.\nY30.";
+    assert_eq!(app.post(&format!("{C}/{id}/mdi"), &json!({"text": text})).await.status, StatusCode::OK);
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(
+        (done["position"]["machine"]["X"].clone(), done["position"]["machine"]["Y"].clone()),
+        (json!(35.0), json!(30.0)),
+        "{done}"
+    );
+    assert!(done["alarms"].as_array().unwrap().is_empty(), "{done}");
+    // The next MDI text starts in G40: its first move removes the vector (docs/cutter-compensation.md, "MDI").
+    assert_eq!(app.post(&format!("{C}/{id}/mdi"), &json!({"text": "X0."})).await.status, StatusCode::OK);
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(
+        (done["position"]["machine"]["X"].clone(), done["position"]["machine"]["Y"].clone()),
+        (json!(0.0), json!(30.0)),
+        "{done}"
+    );
+}
+
+#[tokio::test]
 async fn only_common_variables_are_writable_and_values_must_be_numbers() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
