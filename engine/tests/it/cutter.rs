@@ -639,7 +639,7 @@ mod in_mdi {
         c.set_mdi(text).unwrap();
         let mut stops = Vec::new();
         let starts = if c.panel.single_block { text.lines().count() } else { 1 };
-        let mut run = |c: &mut Controller, stops: &mut Vec<[f64; 2]>| {
+        let run = |c: &mut Controller, stops: &mut Vec<[f64; 2]>| {
             c.cycle_start().unwrap();
             let start = c.time();
             while c.run_state() == RunState::Running && c.time() - start < 30.0 {
