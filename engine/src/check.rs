@@ -4,13 +4,18 @@
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
 //! do not exist, L in a block that names a canned cycle.
+//!
+//! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
+//! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
+//! executor, so the compensation's alarms (PS0033, PS0034, PS0041 …) are found as a run finds
+//! them; [`uses_cutter_compensation`] says whether the text can raise them at all.
 
-use crate::alarm::AlarmId;
+use crate::alarm::{Alarm, AlarmId};
 use crate::dialect::Dialect;
 use crate::interp::gcode::{self, code, group};
 use crate::interp::mcode;
 use crate::interp::unbuilt::{self, Word};
-use crate::interp::Loaded;
+use crate::interp::{Interpreter, Loaded, Step};
 use crate::lang::Word as NcWord;
 use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
 use std::collections::HashSet;
@@ -116,4 +121,56 @@ fn literal(words: &[NcWord], letter: u8) -> Word {
         Some(WordValue::Number { value, .. }) => Word::Value(*value),
         Some(WordValue::Expr(_)) => Word::Unknown,
     }
+}
+
+/// How a run without motion stopped ([`run_without_motion`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunStop {
+    /// The alarm, as a run would raise it (code, message, line, sequence number).
+    pub alarm: Alarm,
+    /// A path stage raised it (cutter compensation's corner, interference, start-up checks),
+    /// not the interpreter.
+    pub by_stage: bool,
+    /// Cutter compensation (G41/G42) was in force where it was raised (always for a stage).
+    pub compensating: bool,
+}
+
+/// Runs `interp` (loaded, in its start state) to its end through the interpreter and the path
+/// stages a run uses (`crate::stage::Pipeline::for_config`), without the executor: nothing is
+/// planned or moves, so no stroke or speed is checked. The first alarm, if any — a stage's is
+/// found where a run finds it (a corner when the next motion has been read, what the stage
+/// still holds at the program end).
+pub fn run_without_motion(interp: &mut Interpreter) -> Option<RunStop> {
+    let mut stages = crate::stage::Pipeline::for_config(interp.config());
+    let mut out = Vec::new();
+    loop {
+        out.clear();
+        let step = interp.step(&mut out);
+        if let Some(alarm) = stages.process(&mut out, crate::run::ends(&step)) {
+            return Some(RunStop { alarm, by_stage: true, compensating: true });
+        }
+        match step {
+            Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => interp.finish(),
+            Ok(Step::Ended) => return None,
+            Err(alarm) => {
+                let mode = interp.state.modal(group::CUTTER_COMP);
+                let compensating = mode == code::G41 || mode == code::G42;
+                return Some(RunStop { alarm, by_stage: false, compensating });
+            }
+        }
+    }
+}
+
+/// The text turns cutter compensation C on somewhere: a G41 or G42 word with a literal value
+/// (a G code given by an expression is not known without running).
+pub fn uses_cutter_compensation(file: &File) -> bool {
+    file.programs.iter().flat_map(|p| &p.blocks).any(|b| match &b.kind {
+        BlockKind::Words(words) => words.iter().any(|w| {
+            w.letter == b'G'
+                && matches!(w.value, WordValue::Number { value, .. }
+                    if gcode::code_of(value).is_some_and(|c| c == code::G41 || c == code::G42))
+        }),
+        _ => false,
+    })
 }

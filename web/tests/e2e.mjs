@@ -323,6 +323,38 @@ test("a fleet run that never ends is cancelled from the dashboard; the one queue
   await poll("the queued run done", async () => (await http("GET", `/api/v1/fleet/runs/${queued.id}`)).body.status === "done");
 });
 
+test("under cutter compensation the 3D view draws the programmed path dashed beside the tool centre path, with a legend", async () => {
+  const made = await http("POST", "/api/v1/controllers", { name: "crc", preset: "mill3" });
+  assert.equal(made.status, 201, JSON.stringify(made.body));
+  const cid = made.body.id;
+  const square = "O0002\nG21 G17 G40 G90\nG00 X-20. Y-20.\nG41 D1 G01 X0. Y0. F500.\nY40.\nX40.\nY0.\nX0.\nG40 X-20. Y-20.\nM30\n";
+  assert.ok((await http("PUT", `/api/v1/controllers/${cid}/programs/2`, square, "text/plain")).status < 300);
+  assert.ok((await http("PUT", `/api/v1/controllers/${cid}/programs/3`, "O0003\nG90 G00 X10. Y10.\nG01 X30. F500.\nM30\n", "text/plain")).status < 300);
+  await page.goto(`${base}/#/c/${cid}/program`);
+  await page.locator(".view3d canvas").waitFor();
+  await page.click(".prog-list a[data-program='2']");
+  const legend = page.locator("[data-testid=path-legend]");
+  await legend.waitFor();
+  const text = await legend.textContent();
+  assert.match(text, /tool centre path/);
+  assert.match(text, /programmed path/);
+  const drawn = await poll("the programmed path in the scene", () =>
+    page.evaluate(() => {
+      const s = window.__fivexView?.view.machineScene;
+      return s && s.programmed.segments > 0 && s.path.object.geometry.getAttribute("position") ? { programmed: s.programmed.segments, centre: s.path.object.geometry.getAttribute("position").count / 2, dashed: s.programmed.object.material.type } : null;
+    }),
+  );
+  assert.equal(drawn.dashed, "LineDashedMaterial");
+  assert.ok(drawn.programmed >= 7 && drawn.centre >= 7, JSON.stringify(drawn));
+  await page.screenshot({ path: join(shots, "path-compensated.png") });
+  // A program without compensation: one path, no legend.
+  await page.click(".prog-list a[data-program='3']");
+  await legend.waitFor({ state: "detached" });
+  assert.equal(await page.evaluate(() => window.__fivexView.view.machineScene.programmed.segments), 0);
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
   const have = (await http("GET", "/api/v1/controllers")).body.length;
   for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });

@@ -630,6 +630,99 @@ mod in_the_controller {
     }
 }
 
+mod in_mdi {
+    //! MDI under G41/G42 (`docs/cutter-compensation.md`, "MDI"): the blocks of one MDI text
+    //! are read ahead like a program's, so their corners are placed by the same rules; at the
+    //! end of the text the stage releases what it holds, the last block ending at its
+    //! perpendicular vector. The next cycle start loads the next text, which starts in G40 like
+    //! any program (a load resets group 07): its first move removes the vector as a G40 block
+    //! does, and compensating again is a new start-up.
+
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    use fivex_engine::interp::gcode::{code, group};
+    use fivex_engine::interp::Config;
+    use fivex_engine::machine::MachineConfig;
+    use fivex_engine::Dialect;
+
+    /// Runs `text` in MDI (cycle start again after every single-block stop: one per block, as
+    /// a cycle start after the end would run the text again); the X/Y where the machine stood
+    /// at each stop.
+    fn mdi(c: &mut Controller, text: &str) -> Vec<[f64; 2]> {
+        c.set_mode(Mode::Mdi).unwrap();
+        c.set_mdi(text).unwrap();
+        let mut stops = Vec::new();
+        let starts = if c.panel.single_block { text.lines().count() } else { 1 };
+        let run = |c: &mut Controller, stops: &mut Vec<[f64; 2]>| {
+            c.cycle_start().unwrap();
+            let start = c.time();
+            while c.run_state() == RunState::Running && c.time() - start < 30.0 {
+                c.tick(0.001);
+            }
+            assert!(c.alarms().is_empty(), "{text}: {:?}", c.alarms());
+            let m = c.point().machine;
+            if stops.last() != Some(&[m[0], m[1]]) {
+                stops.push([m[0], m[1]]);
+            }
+        };
+        for _ in 0..starts {
+            run(c, &mut stops);
+        }
+        // A stop after the last block's motion (the program's end still to read): one more.
+        for _ in 0..3 {
+            if c.set_mdi(text).is_ok() {
+                break;
+            }
+            run(c, &mut stops);
+        }
+        stops
+    }
+
+    fn controller(single_block: bool) -> Controller {
+        let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
+        c.interpreter_mut().state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
+        c.panel.single_block = single_block;
+        c
+    }
+
+    fn cutter_mode(c: &Controller) -> u16 {
+        c.interpreter().state.modal(group::CUTTER_COMP)
+    }
+
+    #[test]
+    fn a_compensated_mdi_text_moves_the_tool_centre_at_the_offset_and_the_next_text_removes_the_vector() {
+        for single_block in [false, true] {
+            let mut c = controller(single_block);
+            // One text: start-up along +X (the next block in line: the vector is 0,5), an inside
+            // corner at 40,0 (the offset lines meet at 35,5), the text's last block ends at its
+            // perpendicular vector (35,30): nothing comes after it to meet.
+            let stops = mdi(&mut c, "G90 G17 G00 X-20. Y0. Z0.\nG41 D1 G01 X0. F3000.\nX40.\nY30.\n");
+            let want: &[[f64; 2]] =
+                if single_block { &[[-20.0, 0.0], [0.0, 5.0], [35.0, 5.0], [35.0, 30.0]] } else { &[[35.0, 30.0]] };
+            assert_eq!(stops, want, "single block {single_block}");
+            assert_eq!(cutter_mode(&c), code::G41, "G41 stays in force after the MDI text");
+            // The next text starts in G40: its first move goes from the vector where the tool
+            // stands (35,30) to its programmed point, as a cancel block (no corner with the text
+            // before, which had already been carried out).
+            assert_eq!(mdi(&mut c, "X0.\n"), [[0.0, 30.0]], "single block {single_block}");
+            assert_eq!(cutter_mode(&c), code::G40, "each MDI text starts in G40");
+            // Compensating again is a new start-up: along −X, G41 ends at the vector 0,−5.
+            assert_eq!(mdi(&mut c, "G41 D1 G01 X-20.\n"), [[-20.0, 25.0]], "single block {single_block}");
+            assert_eq!(mdi(&mut c, "G40 Y0.\n"), [[-20.0, 0.0]], "single block {single_block}");
+            assert_eq!(cutter_mode(&c), code::G40);
+        }
+    }
+
+    #[test]
+    fn a_reset_after_a_compensated_mdi_text_drops_the_vector() {
+        let mut c = controller(false);
+        assert_eq!(mdi(&mut c, "G90 G17 G00 X0. Y0. Z0.\nG41 D1 G01 X20. F3000.\n"), [[20.0, 5.0]]);
+        c.reset();
+        // FANUC 16/18-C: "the offset vector is cleared by reset"; group 07 is back to G40 too.
+        assert_eq!(cutter_mode(&c), code::G40);
+        assert_eq!(mdi(&mut c, "G01 X30. F3000.\n"), [[30.0, 5.0]], "the machine moves only along X");
+    }
+}
+
 #[test]
 fn side_change_between_blocks_almost_in_line_does_not_run_away() {
     // 1° apart: the offsets cross about 573 mm ahead; fivex crosses over at the corner instead.

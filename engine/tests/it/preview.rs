@@ -82,6 +82,70 @@ fn the_path_ends_at_an_alarm_and_at_the_point_budget() {
     assert_eq!(path.points.len(), 10);
 }
 
+/// A 40 mm square cut on the outside with G41 (clockwise), tool radius 5 (D1).
+const G41_SQUARE: &str =
+    "G21 G17 G40 G90\nG00 X-20. Y-20.\nG41 D1 G01 X0. Y0. F500.\nY40.\nX40.\nY0.\nX0.\nG40 X-20. Y-20.\nM30\n";
+
+#[test]
+fn under_cutter_compensation_the_programmed_path_comes_beside_the_tool_centre_path() {
+    let path = tool_path(&mut interpreter(G41_SQUARE, "mill3", Dialect::Fanuc), 10_000);
+    assert!(path.alarm.is_none() && !path.truncated, "{path:?}");
+    let programmed = path.programmed.as_ref().expect("compensation was in force: the programmed path too");
+    let nose = MachineConfig::preset("mill3").unwrap().nose;
+    let xy = |p: [f64; 3]| [p[0] - nose[0], p[1] - nose[1]];
+    // The end of each line's moves on a path.
+    let end = |points: &[[f64; 3]], lines: &[u32], line: u32| {
+        let i = lines.iter().rposition(|&l| l == line).unwrap_or_else(|| panic!("no point of line {line}"));
+        xy(points[i])
+    };
+    let near = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6;
+    // Programmed: the square's corners. Tool centre: the outside corners offset by the radius
+    // (obtuse-or-right outside corners: the offset lines' intersections).
+    for (line, corner, centre) in
+        [(4, [0.0, 40.0], [-5.0, 45.0]), (5, [40.0, 40.0], [45.0, 45.0]), (6, [40.0, 0.0], [45.0, -5.0])]
+    {
+        let p = end(&programmed.points, &programmed.lines, line);
+        assert!(near(p, corner), "programmed line {line} ends at {p:?}, not {corner:?}");
+        let c = end(&path.points, &path.lines, line);
+        assert!(near(c, centre), "the tool centre of line {line} ends at {c:?}, not {centre:?}");
+    }
+    // Every tool centre point of the edges is on the square's offset lines (5 outside it; its
+    // corners farther), every programmed one on the square.
+    let outside = |p: [f64; 2]| {
+        let (dx, dy) = ((-p[0]).max(p[0] - 40.0).max(0.0), (-p[1]).max(p[1] - 40.0).max(0.0));
+        (dx * dx + dy * dy).sqrt()
+    };
+    for (i, &l) in path.lines.iter().enumerate().filter(|(_, &l)| (4..=7).contains(&l)) {
+        let (d, p) = (outside(xy(path.points[i])), xy(path.points[i]));
+        let on_offset_line = [p[0] + 5.0, p[0] - 45.0, p[1] + 5.0, p[1] - 45.0].iter().any(|v| v.abs() < 1e-6);
+        assert!(l == 7 || (d >= 5.0 - 1e-6 && on_offset_line), "line {l}: tool centre {p:?} is {d} from the square");
+    }
+    for (i, _) in programmed.lines.iter().enumerate().filter(|(_, &l)| (3..=7).contains(&l)) {
+        assert!(outside(xy(programmed.points[i])) < 1e-9, "{:?}", programmed.points[i]);
+    }
+    // Before compensation the two are the same; both end at the cancel's programmed point.
+    assert_eq!((&programmed.points[..2], &programmed.lines[..2]), (&path.points[..2], &path.lines[..2]));
+    assert_eq!(programmed.points.last(), path.points.last());
+    assert_eq!(programmed.lines.len(), programmed.points.len());
+    assert_eq!(programmed.rapid.len(), programmed.points.len());
+    // Without compensation there is no second path.
+    let plain = tool_path(&mut interpreter("G00 X10.\nG01 Y10. F100.\nM30\n", "mill3", Dialect::Fanuc), 100);
+    assert_eq!(plain.programmed, None);
+}
+
+#[test]
+fn after_a_stage_alarm_the_programmed_path_shows_what_was_read() {
+    // A groove narrower than the tool: PS0041 at line 6; the tool centre path stops before it,
+    // the programmed one holds the blocks read up to it.
+    let src = "G21 G17 G40 G90\nG00 X-10. Y0.\nG41 D1 G01 X0. F1000.\nX20.\nY-2.\nX24.\nY0.\nX40.\nG40 X50.\nM30\n";
+    let path = tool_path(&mut interpreter(src, "mill3", Dialect::Fanuc), 10_000);
+    let alarm = path.alarm.as_ref().expect("PS0041");
+    assert_eq!((alarm.code.as_str(), alarm.line), ("PS0041", 6));
+    assert!(path.lines.iter().all(|&l| l < 6), "{:?}", path.lines);
+    let programmed = path.programmed.expect("programmed path");
+    assert!(programmed.lines.contains(&6), "{:?}", programmed.lines);
+}
+
 fn run_until(c: &mut Controller, mut done: impl FnMut(&Controller) -> bool) {
     for _ in 0..100_000 {
         if done(c) {

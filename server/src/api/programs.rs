@@ -196,14 +196,36 @@ pub struct ToolPathBody {
     pub rapid: Vec<bool>,
     /// The alarm the program would stop with, if it does before its end.
     pub alarm: Option<crate::host::stream::AlarmInfo>,
-    /// The path has more points than `max_points`.
+    /// The path has more points than `max_points` (or the programmed path has).
     pub truncated: bool,
+    /// Only when cutter compensation (G41/G42) is in force somewhere in the program: the
+    /// programmed path, the interpreter's points before the path stages, while `xyz` is where
+    /// the tool centre goes (`docs/cutter-compensation.md`). Equal to `xyz` until compensation
+    /// starts; it goes as far as the interpreter read (the blocks held when a compensation
+    /// alarm stopped the path included). Absent without compensation: `xyz` is the programmed
+    /// path then.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false)]
+    pub programmed: Option<ProgrammedPathBody>,
+}
+
+/// The programmed path beside a compensated tool path, in the same form.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ProgrammedPathBody {
+    /// Programmed tip positions in the table frame, x y z of each point in turn; the first is
+    /// where the machine is now.
+    pub xyz: Vec<f64>,
+    /// Per point: the 1-based program line that moves to it (0 for the start).
+    pub lines: Vec<u32>,
+    /// Per point: the move to it is a rapid.
+    pub rapid: Vec<bool>,
 }
 
 /// The programmed tool tip path of a stored program, run from where the machine is now with
-/// the controller's offsets and variables, without moving anything (the interpreter only).
-/// Straight moves are their ends; arcs, rotary moves and tool-tip-path moves are sampled at
-/// least every mm or degree.
+/// the controller's offsets and variables, without moving anything (the interpreter and the
+/// path stages). Straight moves are their ends; arcs, rotary moves and tool-tip-path moves are
+/// sampled at least every mm or degree. Under cutter compensation `xyz` is the tool centre's
+/// path and `programmed` the programmed one beside it.
 #[utoipa::path(
     get,
     path = "/api/v1/controllers/{id}/programs/{number}/path",
@@ -239,6 +261,11 @@ pub async fn tool_path(
             rapid: path.rapid,
             alarm: path.alarm.as_ref().map(crate::host::stream::AlarmInfo::from),
             truncated: path.truncated,
+            programmed: path.programmed.map(|p| ProgrammedPathBody {
+                xyz: p.points.iter().flatten().copied().collect(),
+                lines: p.lines,
+                rapid: p.rapid,
+            }),
         }
     })
     .await

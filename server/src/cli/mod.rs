@@ -110,9 +110,15 @@ struct CheckArgs {
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
     /// With a machine (`--preset` or `--machine`), the program is also run through the
-    /// interpreter on it (nothing moves): what only that machine refuses is reported too.
+    /// interpreter and the path stages on it (nothing moves): what only that machine refuses,
+    /// and cutter compensation's alarms, are reported too. Without one, a program that turns
+    /// cutter compensation on (G41/G42) is run so on the default machine (mill3) and only the
+    /// compensation's alarms are reported.
     #[command(flatten)]
     machine: MachineArgs,
+    /// Tool offsets file for the run (as for `run`); default: 1–99 with length 100, radius 5.
+    #[arg(long)]
+    tools: Option<PathBuf>,
 }
 
 /// Blocks a machine check runs before it gives up (FX0001): a program that runs longer is
@@ -425,16 +431,26 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
             (d.line, d.col, format!("{code} {message}: {}", d.detail))
         })
         .collect();
-    if a.machine.preset.is_some() || a.machine.machine.is_some() {
+    let on_machine = a.machine.preset.is_some() || a.machine.machine.is_some();
+    let file = parse_file(&text);
+    // Without a machine, only a program that turns cutter compensation on is run (on the
+    // default machine): what the compensation finds hardly depends on the machine.
+    if on_machine || fivex_engine::check::uses_cutter_compensation(&file) {
         let machine = load_machine(&a.machine)?;
         let name = machine.name.clone();
         let mut cfg = Config::new(machine, a.dialect);
         cfg.max_blocks = CHECK_MAX_BLOCKS;
-        let interp = equip(Interpreter::new(parse_file(&text), cfg), None)?;
+        let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
+        let stop = machine_alarm(interp, a.dialect).filter(|s| on_machine || s.compensating);
         // Where the text itself is wrong the static diagnostic says it already.
-        if let Some(alarm) = machine_alarm(interp, a.dialect) {
+        if let Some(fivex_engine::check::RunStop { alarm, .. }) = stop {
             if !lines.iter().any(|(line, ..)| *line == alarm.line) {
-                lines.push((alarm.line, 1, format!("{} {}: when run on {name}", alarm.code, alarm.message)));
+                let detail = if on_machine {
+                    format!("when run on {name}")
+                } else {
+                    format!("when run on {name} (the default machine)")
+                };
+                lines.push((alarm.line, 1, format!("{} {}: {detail}", alarm.code, alarm.message)));
             }
         }
     }
@@ -450,19 +466,10 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     Ok(if lines.is_empty() { 0 } else { 1 })
 }
 
-/// The alarm a program stops with when the interpreter runs it on a machine, if any. A call of a
-/// program the file does not hold is not one: a check sees one file, the control has them all.
-fn machine_alarm(mut interp: Interpreter, dialect: Dialect) -> Option<fivex_engine::alarm::Alarm> {
+/// How a program stops when the interpreter and the path stages run it on a machine (nothing
+/// moves), if it does. A call of a program the file does not hold is not an alarm here: a check
+/// sees one file, the control has them all.
+fn machine_alarm(mut interp: Interpreter, dialect: Dialect) -> Option<fivex_engine::check::RunStop> {
     let not_found = dialect.describe(&fivex_engine::alarm::AlarmId::ProgramNotFound).0;
-    let mut out = Vec::new();
-    loop {
-        out.clear();
-        match interp.step(&mut out) {
-            Ok(Step::Continue) => {}
-            Ok(Step::NeedInput) => interp.finish(),
-            Ok(Step::Ended) => return None,
-            Err(alarm) if alarm.code == not_found => return None,
-            Err(alarm) => return Some(alarm),
-        }
-    }
+    fivex_engine::check::run_without_motion(&mut interp).filter(|s| s.by_stage || s.alarm.code != not_found)
 }

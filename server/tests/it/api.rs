@@ -310,6 +310,31 @@ async fn mdi_runs_blocks_and_panel_settings_are_checked() {
 }
 
 #[tokio::test]
+async fn mdi_under_cutter_compensation_moves_the_tool_centre_at_the_offset() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
+    // D1 of the default tools: radius 5. The text's blocks are read ahead together: the inside
+    // corner at 40,0 is met at 35,5, the last block ends at its perpendicular vector 35,30.
+    let text = "G90 G17 G00 X-20. Y0. Z0.\nG41 D1 G01 X0. F3000.\nX40.\nY30.";
+    assert_eq!(app.post(&format!("{C}/{id}/mdi"), &json!({"text": text})).await.status, StatusCode::OK);
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(
+        (done["position"]["machine"]["X"].clone(), done["position"]["machine"]["Y"].clone()),
+        (json!(35.0), json!(30.0)),
+        "{done}"
+    );
+    assert!(done["alarms"].as_array().unwrap().is_empty(), "{done}");
+    // The next MDI text starts in G40: its first move removes the vector (docs/cutter-compensation.md, "MDI").
+    assert_eq!(app.post(&format!("{C}/{id}/mdi"), &json!({"text": "X0."})).await.status, StatusCode::OK);
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(
+        (done["position"]["machine"]["X"].clone(), done["position"]["machine"]["Y"].clone()),
+        (json!(0.0), json!(30.0)),
+        "{done}"
+    );
+}
+
+#[tokio::test]
 async fn only_common_variables_are_writable_and_values_must_be_numbers() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
@@ -718,6 +743,37 @@ async fn a_program_path_is_the_tip_in_the_table_frame_and_says_where_it_stops() 
         app.get(&format!("{C}/{id}/programs/1/path?max_points=0")).await.status,
         StatusCode::UNPROCESSABLE_ENTITY
     );
+}
+
+#[tokio::test]
+async fn under_cutter_compensation_the_path_has_the_programmed_path_beside_the_tool_centre() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    // A 40 mm square cut outside, clockwise under G41, with D1 (the default tools: radius 5).
+    let square =
+        "G21 G17 G40 G90\nG00 X-20. Y-20.\nG41 D1 G01 X0. Y0. F500.\nY40.\nX40.\nY0.\nX0.\nG40 X-20. Y-20.\nM30\n";
+    store(&app, &id, 1, square).await;
+    let path = app.get(&format!("{C}/{id}/programs/1/path")).await.json();
+    let programmed = &path["programmed"];
+    assert!(programmed.is_object(), "{path}");
+    let numbers = |v: &Value| v.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect::<Vec<f64>>();
+    let (centre, written) = (numbers(&path["xyz"]), numbers(&programmed["xyz"]));
+    assert_eq!(written.len() / 3, programmed["lines"].as_array().unwrap().len());
+    assert_eq!(written.len() / 3, programmed["rapid"].as_array().unwrap().len());
+    // The end of line 5 (the top edge, +X): programmed at the square's corner 40,40, the tool
+    // centre at the outside corner's offset point 45,45 (both in the table frame: the same nose).
+    let end = |xyz: &[f64], lines: &Value, line: u64| {
+        let i = lines.as_array().unwrap().iter().rposition(|l| l.as_u64() == Some(line)).unwrap();
+        [xyz[3 * i], xyz[3 * i + 1]]
+    };
+    let (p, c) = (end(&written, &programmed["lines"], 5), end(&centre, &path["lines"], 5));
+    assert!(((c[0] - p[0]) - 5.0).abs() < 1e-9 && ((c[1] - p[1]) - 5.0).abs() < 1e-9, "{p:?} {c:?}");
+    // Before compensation the two start alike.
+    assert_eq!(&centre[..6], &written[..6]);
+    // Without compensation the field is absent: the answer is what it was.
+    store(&app, &id, 2, "G90 G00 X10.\nG01 X50. F100.\nM30\n").await;
+    let plain = app.get(&format!("{C}/{id}/programs/2/path")).await.json();
+    assert!(plain.get("programmed").is_none(), "{plain}");
 }
 
 #[tokio::test]

@@ -562,6 +562,73 @@ fn check_on_a_machine_reports_what_only_that_machine_refuses() {
     assert_eq!(codes(&head), [(4, "PS0078".to_string())], "{head}");
 }
 
+/// A groove 4 wide, cut with the default tool (radius 5) under G41: the interference check's
+/// PS0041 at line 6, where the compensated block would run backwards.
+const CRC_GROOVE: &str = "\
+G21 G17 G40 G90 G94
+G00 X-10. Y0. Z0.
+G41 D1 G01 X0. F1000.
+X20.
+Y-2.
+X24.
+Y0.
+X40.
+G40 X50.
+M30
+";
+
+#[test]
+fn check_runs_cutter_compensation_and_reports_its_alarms() {
+    let startup_arc = "G21 G17 G40 G90\nG00 X-10. Y0.\nG41 D1 G02 X0. Y10. R10. F1000.\nG01 X20.\nG40 X30.\nM30\n";
+    let square =
+        "G21 G17 G40 G90\nG00 X-10. Y-10.\nG41 D1 G01 X0. Y0. F500.\nX40.\nY40.\nX0.\nY0.\nG40 X-10. Y-10.\nM30\n";
+    let (_d, p) = scratch(&[("groove.nc", CRC_GROOVE), ("arc.nc", startup_arc), ("square.nc", square)]);
+    let codes = |out: &std::process::Output, program: &str| {
+        stdout(out)
+            .lines()
+            .map(|l| {
+                let (line, _, code) = parse_diag(l, program);
+                (line, code.to_string())
+            })
+            .collect::<Vec<_>>()
+    };
+    // Without a machine a program with G41/G42 runs on the default machine, the default tools.
+    let out = fivex(&["check", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(1), "stderr: {}", stderr(&out));
+    assert_eq!(codes(&out, s(&p[0])), [(6, "PS0041".to_string())], "{}", stdout(&out));
+    assert!(stdout(&out).trim_end().ends_with("INTERFERENCE IN CRC: when run on mill3 (the default machine)"));
+    let out = fivex(&["check", s(&p[0]), "--preset", "head-bc"]);
+    assert_eq!(codes(&out, s(&p[0])), [(6, "PS0041".to_string())], "{}", stdout(&out));
+    assert!(stdout(&out).trim_end().ends_with("when run on head-bc"), "{}", stdout(&out));
+    let syntec = fivex(&["check", s(&p[0]), "--dialect", "syntec"]);
+    assert_eq!(codes(&syntec, s(&p[0])), [(6, "COR-100".to_string())], "{}", stdout(&syntec));
+    // A tool that fits the groove: no interference.
+    let (_t, tools) = scratch(&[("tools.json", r#"{"1": {"length": 100.0, "radius": 1.5}}"#)]);
+    let out = fivex(&["check", s(&p[0]), "--tools", s(&tools[0])]);
+    assert_eq!((out.status.code(), stdout(&out)), (Some(0), String::new()));
+    // G02 as the start-up block.
+    let out = fivex(&["check", s(&p[1])]);
+    assert_eq!(codes(&out, s(&p[1])), [(3, "PS0034".to_string())], "{}", stdout(&out));
+    // A correct G41 contour: nothing, with or without a machine.
+    for args in [&["check", s(&p[2])][..], &["check", s(&p[2]), "--preset", "mill3"]] {
+        let out = fivex(args);
+        assert_eq!((out.status.code(), stdout(&out)), (Some(0), String::new()), "{args:?}");
+    }
+}
+
+#[test]
+fn check_without_a_machine_reports_only_the_compensations_alarms() {
+    // Line 3 needs a B axis mill3 lacks: the machine's alarm, not a compensation one, so a check
+    // without a machine stays silent (it is not the text's fault); G41 is in the text.
+    let prog = "G21 G17 G90\nG00 X0. Y0.\nG01 B30. F500.\nG41 D1 X10.\nG40 X0.\nM30\n";
+    let (_d, p) = scratch(&[("b.nc", prog)]);
+    let out = fivex(&["check", s(&p[0])]);
+    assert_eq!((out.status.code(), stdout(&out)), (Some(0), String::new()));
+    let out = fivex(&["check", s(&p[0]), "--preset", "mill3"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stdout(&out).contains(":3:1: "), "{}", stdout(&out));
+}
+
 // --- interp ---------------------------------------------------------------------------------
 
 fn json_lines(text: &str) -> Vec<Value> {

@@ -435,9 +435,10 @@ export interface paths {
         };
         /**
          * The programmed tool tip path of a stored program, run from where the machine is now with
-         *     the controller's offsets and variables, without moving anything (the interpreter only).
-         *     Straight moves are their ends; arcs, rotary moves and tool-tip-path moves are sampled at
-         *     least every mm or degree.
+         *     the controller's offsets and variables, without moving anything (the interpreter and the
+         *     path stages). Straight moves are their ends; arcs, rotary moves and tool-tip-path moves are
+         *     sampled at least every mm or degree. Under cutter compensation `xyz` is the tool centre's
+         *     path and `programmed` the programmed one beside it.
          */
         get: operations["tool_path"];
         put?: never;
@@ -1873,6 +1874,18 @@ export interface components {
             /** @description Size of the NC text, bytes. */
             size: number;
         };
+        /** @description The programmed path beside a compensated tool path, in the same form. */
+        ProgrammedPathBody: {
+            /** @description Per point: the 1-based program line that moves to it (0 for the start). */
+            lines: number[];
+            /** @description Per point: the move to it is a rapid. */
+            rapid: boolean[];
+            /**
+             * @description Programmed tip positions in the table frame, x y z of each point in turn; the first is
+             *     where the machine is now.
+             */
+            xyz: number[];
+        };
         /** @description `{"type": "progress", …}`: where a fleet run is. */
         Progress: {
             /** @description Machines done. */
@@ -2144,9 +2157,18 @@ export interface components {
             alarm?: null | components["schemas"]["AlarmInfo"];
             /** @description Per point: the 1-based program line that moves to it (0 for the start). */
             lines: number[];
+            /**
+             * @description Only when cutter compensation (G41/G42) is in force somewhere in the program: the
+             *     programmed path, the interpreter's points before the path stages, while `xyz` is where
+             *     the tool centre goes (`docs/cutter-compensation.md`). Equal to `xyz` until compensation
+             *     starts; it goes as far as the interpreter read (the blocks held when a compensation
+             *     alarm stopped the path included). Absent without compensation: `xyz` is the programmed
+             *     path then.
+             */
+            programmed?: components["schemas"]["ProgrammedPathBody"];
             /** @description Per point: the move to it is a rapid. */
             rapid: boolean[];
-            /** @description The path has more points than `max_points`. */
+            /** @description The path has more points than `max_points` (or the programmed path has). */
             truncated: boolean;
             /**
              * @description Tip positions in the table frame (`docs/machine-config.md`), x y z of each point in

@@ -27,15 +27,16 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
   const live = useController(id);
   const [error, setError] = useState<string | null>(null);
   const [program, setProgram] = useState<number | null>(null);
-  const [path, setPath] = useState<{ xyz: Float32Array; rapid: boolean[] } | null>(null);
+  const [path, setPath] = useState<{ xyz: Float32Array; rapid: boolean[]; programmed: Float32Array | null } | null>(null);
   const status = live.status;
 
   // The programmed path of the selected program, for the 3D view (again when it starts, since
-  // it is computed from where the machine is).
+  // it is computed from where the machine is); under cutter compensation the tool centre's
+  // path with the programmed one beside it.
   useEffect(() => {
     if (program == null) return setPath(null);
     must(api.GET("/api/v1/controllers/{id}/programs/{number}/path", { params: { path: { id, number: program } } })).then(
-      (p) => setPath({ xyz: new Float32Array(p.xyz), rapid: p.rapid }),
+      (p) => setPath({ xyz: new Float32Array(p.xyz), rapid: p.rapid, programmed: p.programmed ? new Float32Array(p.programmed.xyz) : null }),
       () => setPath(null),
     );
   }, [id, program, status?.run_state === "running" && status.program === program]);

@@ -12,7 +12,7 @@ export function Machine3D({
 }: {
   machine: Machine;
   frame: Frame | null;
-  path: { xyz: Float32Array; rapid: boolean[] } | null;
+  path: { xyz: Float32Array; rapid: boolean[]; programmed: Float32Array | null } | null;
   onFrame: (f: (frame: Frame) => void) => () => void;
 }) {
   const view = useRef<View3DHandle | null>(null);
@@ -27,6 +27,7 @@ export function Machine3D({
         toolLength={frame?.tool_length ?? 0}
         path={path?.xyz}
         pathRapid={path?.rapid}
+        programmedPath={path?.programmed ?? null}
         onReady={(h) => {
           view.current = h;
           // The browser tests reach the view through this.

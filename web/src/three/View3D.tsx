@@ -38,6 +38,11 @@ export interface View3DProps {
   path?: Float32Array;
   /** Per path point: the move to it is a rapid (the same response's `rapid`); drawn dim. */
   pathRapid?: ArrayLike<boolean>;
+  /**
+   * Under cutter compensation: the programmed path (the same response's `programmed.xyz`),
+   * drawn dashed beside `path`, which is then the tool centre's; a legend tells them apart.
+   */
+  programmedPath?: Float32Array | null;
   /** Receives the handle once the view exists, and null when it goes away. */
   onReady?: (handle: View3DHandle | null) => void;
   /** Hide the toolbar. */
@@ -67,6 +72,22 @@ const button: CSSProperties = {
   cursor: "pointer",
 };
 
+const legend: CSSProperties = {
+  position: "absolute",
+  bottom: "6px",
+  left: "6px",
+  padding: "4px 8px",
+  font: "12px sans-serif",
+  color: "#e8e8e8",
+  background: "rgba(40, 44, 50, 0.85)",
+  border: "1px solid #60666e",
+  borderRadius: "3px",
+  zIndex: 1,
+  pointerEvents: "none",
+};
+
+const swatch: CSSProperties = { display: "inline-block", width: "22px", verticalAlign: "middle", marginRight: "4px" };
+
 export function View3D(props: View3DProps) {
   const host = useRef<HTMLDivElement>(null);
   const view = useRef<MachineView | null>(null);
@@ -93,6 +114,7 @@ export function View3D(props: View3DProps) {
     if (p.axes) v.setAxes(p.axes);
     if (p.toolLength !== undefined) v.setToolLength(p.toolLength);
     if (p.path) v.setPath(p.path, p.pathRapid);
+    if (p.programmedPath) v.setProgrammedPath(p.programmedPath);
     v.setView("iso");
     const handle: View3DHandle = {
       addTrace: (x, y, z) => v.addTrace(x, y, z),
@@ -122,6 +144,10 @@ export function View3D(props: View3DProps) {
   useEffect(() => {
     view.current?.setPath(props.path ?? new Float32Array(0), props.pathRapid);
   }, [props.path, props.pathRapid]);
+
+  useEffect(() => {
+    view.current?.setProgrammedPath(props.programmedPath ?? null);
+  }, [props.programmedPath]);
 
   const act = (f: (v: MachineView) => void) => () => {
     if (view.current) f(view.current);
@@ -156,6 +182,16 @@ export function View3D(props: View3DProps) {
           <button type="button" style={button} title="Clear the tool-tip trace" onClick={act((v) => v.clearTrace())}>
             clear trace
           </button>
+        </div>
+      )}
+      {props.programmedPath && props.programmedPath.length >= 6 && !error && (
+        <div style={legend} data-testid="path-legend">
+          <div>
+            <span style={{ ...swatch, borderTop: "2px solid #30d0ff" }} /> tool centre path (compensated)
+          </div>
+          <div>
+            <span style={{ ...swatch, borderTop: "2px dashed #ff5ad2" }} /> programmed path
+          </div>
         </div>
       )}
     </div>

@@ -2,7 +2,7 @@ import * as THREE from "three";
 import { describe, expect, it } from "vitest";
 import { fixture } from "./fixtures/fixture";
 import { MachineScene } from "./scene";
-import { PathLine, TraceLine } from "./trace";
+import { PathLine, ProgrammedLine, TraceLine } from "./trace";
 import type { Vec3 } from "./model";
 
 const diff = (a: THREE.Vector3, b: readonly number[]) =>
@@ -95,6 +95,26 @@ describe("path", () => {
     const want = s.rig.kinematics.tableToMachine([10, 0, 0], { A: 90, C: 30 });
     expect(diff(world, want)).toBeLessThanOrEqual(1e-9);
     expect(s.bounds().isEmpty()).toBe(false);
+    s.dispose();
+  });
+});
+
+describe("programmed path", () => {
+  it("is drawn dashed in its own colour beside the compensated path, and cleared with null", () => {
+    const m = fixture.machines.find((x) => x.source === "table-ac")!;
+    const s = new MachineScene(m.model);
+    expect(s.programmed.segments).toBe(0);
+    s.setPath(new Float32Array([0, -5, 0, 45, -5, 0, 45, 45, 0]), [false, false, false]);
+    s.setProgrammedPath(new Float32Array([0, 0, 0, 40, 0, 0, 40, 40, 0]));
+    expect(s.programmed.segments).toBe(2);
+    const material = s.programmed.object.material as THREE.LineDashedMaterial;
+    expect(material.type).toBe("LineDashedMaterial");
+    expect(material.color.getHex()).toBe(ProgrammedLine.COLOR.getHex());
+    expect(material.color.getHex()).not.toBe(PathLine.FEED.getHex());
+    expect(s.programmed.object.geometry.getAttribute("lineDistance")).toBeTruthy(); // dashes need them
+    expect(s.programmed.object.parent).toBe(s.path.object.parent); // rides with the table too
+    s.setProgrammedPath(null);
+    expect(s.programmed.segments).toBe(0);
     s.dispose();
   });
 });

@@ -13,7 +13,7 @@ import { axisColor, buildMachine } from "./rig";
 import type { MachineRig } from "./rig";
 import type { AxisValues } from "./kinematics";
 import type { MachineModel, MachineModelInput } from "./model";
-import { PathLine, TraceLine } from "./trace";
+import { PathLine, ProgrammedLine, TraceLine } from "./trace";
 
 export type ViewPreset = "iso" | "front" | "top" | "side";
 
@@ -22,6 +22,8 @@ export class MachineScene {
   readonly rig: MachineRig;
   readonly trace: TraceLine;
   readonly path: PathLine;
+  /** The programmed path beside a compensated `path` (empty without cutter compensation). */
+  readonly programmed: ProgrammedLine;
   private axes: AxisValues = {};
   private toolLength = 0;
   /** Called whenever something visible changed (MachineView schedules a frame). */
@@ -41,7 +43,8 @@ export class MachineScene {
     this.scene.add(fill);
     this.trace = new TraceLine(0xffd000, options.traceCap);
     this.path = new PathLine();
-    this.rig.tableFrame.add(this.path.object, this.trace.object);
+    this.programmed = new ProgrammedLine();
+    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object);
     this.rig.root.updateMatrixWorld(true);
   }
 
@@ -78,6 +81,12 @@ export class MachineScene {
     this.onChange();
   }
 
+  /** The programmed path beside a compensated path (`GET …/path` `programmed.xyz`), table frame; null: none. */
+  setProgrammedPath(points: ArrayLike<number> | null | undefined): void {
+    this.programmed.set(points);
+    this.onChange();
+  }
+
   /** One executed tip position, table frame. */
   addTrace(x: number, y: number, z: number): void {
     if (this.trace.add(x, y, z)) this.onChange();
@@ -106,6 +115,8 @@ export class MachineScene {
     for (const b of all ? this.rig.bodies : this.rig.focus) box.expandByObject(b);
     const pb = this.path.bounds;
     if (pb && !pb.isEmpty()) box.union(pb.clone().applyMatrix4(this.rig.tableFrame.matrixWorld));
+    const qb = this.programmed.bounds;
+    if (qb && !qb.isEmpty()) box.union(qb.clone().applyMatrix4(this.rig.tableFrame.matrixWorld));
     return box;
   }
 
@@ -122,6 +133,7 @@ export class MachineScene {
   dispose(): void {
     this.trace.dispose();
     this.path.dispose();
+    this.programmed.dispose();
     this.rig.dispose();
   }
 }
@@ -237,6 +249,11 @@ export class MachineView {
   /** The programmed path, xyz triples in the TABLE frame; `rapid[i]`: the move to point i is a rapid (drawn dim). */
   setPath(points: Float32Array, rapid?: ArrayLike<boolean>): void {
     this.machineScene.setPath(points, rapid);
+  }
+
+  /** The programmed path beside a compensated one (TABLE frame, drawn dashed); null: none. */
+  setProgrammedPath(points: Float32Array | null): void {
+    this.machineScene.setProgrammedPath(points);
   }
 
   /** One executed tool-tip position in the TABLE frame. */

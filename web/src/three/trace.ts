@@ -189,3 +189,58 @@ export class PathLine {
     (this.object.material as THREE.Material).dispose();
   }
 }
+
+/**
+ * The programmed path drawn beside a compensated tool path (cutter compensation G41/G42: the
+ * path above is where the tool centre goes, this one the contour as written): dashed, in one
+ * colour of its own, rapids and feeds alike.
+ */
+export class ProgrammedLine {
+  readonly object: THREE.LineSegments;
+  static readonly COLOR = new THREE.Color(0xff5ad2);
+
+  constructor() {
+    this.object = new THREE.LineSegments(
+      new THREE.BufferGeometry(),
+      new THREE.LineDashedMaterial({ color: ProgrammedLine.COLOR, dashSize: 2, gapSize: 1.2, transparent: true, opacity: 0.95 }),
+    );
+    this.object.name = "programmed-path";
+    this.object.frustumCulled = false;
+  }
+
+  /** xyz triples in the table frame; null or fewer than two points: nothing drawn. */
+  set(points: ArrayLike<number> | null | undefined): void {
+    const old = this.object.geometry;
+    const geometry = new THREE.BufferGeometry();
+    const n = points ? Math.floor(points.length / 3) : 0;
+    if (points && n >= 2) {
+      const pos = new Float32Array((n - 1) * 6);
+      for (let i = 0; i + 1 < n; i++) {
+        for (let k = 0; k < 3; k++) {
+          pos[6 * i + k] = points[3 * i + k];
+          pos[6 * i + 3 + k] = points[3 * (i + 1) + k];
+        }
+      }
+      geometry.setAttribute("position", new THREE.BufferAttribute(pos, 3));
+      geometry.computeBoundingBox();
+    }
+    this.object.geometry = geometry;
+    if (n >= 2) this.object.computeLineDistances();
+    old.dispose();
+  }
+
+  /** Segments drawn (0 when there is no programmed path). */
+  get segments(): number {
+    const pos = this.object.geometry.getAttribute("position");
+    return pos ? pos.count / 2 : 0;
+  }
+
+  get bounds(): THREE.Box3 | null {
+    return this.object.geometry.boundingBox;
+  }
+
+  dispose(): void {
+    this.object.geometry.dispose();
+    (this.object.material as THREE.Material).dispose();
+  }
+}
