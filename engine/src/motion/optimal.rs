@@ -82,12 +82,15 @@ enum Steer {
     Ahead,
     /// Rest, as soon as it can.
     Halt,
-    /// This speed with no acceleration, then stop driving.
-    Settle(f64),
+    /// This speed with no acceleration, then stop driving; none if that lies past `until`.
+    Settle { v: f64, until: f64 },
 }
 
 /// The most ticks a settling drive may take.
 const SETTLE_TICKS: usize = 2000;
+/// How much quicker than the two drives' lower speed a join may be (it is not below both
+/// everywhere: a settling ramp may run above a braking drive for a few ticks).
+const MARGIN_BEAT: f64 = 1.02;
 
 /// A state of a drive and the jerk of its next tick.
 #[derive(Debug, Clone, Copy)]
@@ -330,9 +333,9 @@ impl Track {
     }
 
     /// From `start` (accelerating toward `v`) the ticks that bring the acceleration to zero at
-    /// speed `v` with the jerk at hand; the last is the settled state.
-    fn settle(&self, start: Tick, v: f64) -> Option<Vec<Tick>> {
-        self.steer(start, Steer::Settle(v))
+    /// speed `v` with the jerk at hand, at `until` at the latest; the last is the settled state.
+    fn settle(&self, start: Tick, v: f64, until: f64) -> Option<Vec<Tick>> {
+        self.steer(start, Steer::Settle { v, until })
     }
 
     fn steer(&self, start: Tick, steer: Steer) -> Option<Vec<Tick>> {
@@ -356,7 +359,7 @@ impl Track {
             let turn = RAMP * j_hi.min(-j_lo).min(-end_lo).max(TINY);
             let target = match steer {
                 Steer::Halt => 0.0,
-                Steer::Settle(v) => v,
+                Steer::Settle { v, .. } => v,
                 Steer::Ahead => self.goal(&x, j_hi, turn),
             };
             // Below it: the highest such acceleration; above it, the lowest from which a
@@ -393,12 +396,9 @@ impl Track {
             j = j.clamp(j_lo, j_hi);
             // The jerk's bounds move with the speed and acceleration over the tick: within them
             // where it ends too.
-            let end = PathState {
-                s: x.s + DT * (x.v + DT * (0.5 * x.a + DT * j / 6.0)),
-                v: x.v + DT * (x.a + 0.5 * DT * j),
-                a: x.a + DT * j,
-            };
-            let (end_lo, end_hi) = self.jerk_bounds(&self.at(end.s), end.v, end.a, 1.0);
+            // (The derivatives where the tick ends: those `ahead`, a·DT²/2 from it.)
+            let (v_end, a_end) = (x.v + DT * (x.a + 0.5 * DT * j), x.a + DT * j);
+            let (end_lo, end_hi) = self.jerk_bounds(&next, v_end, a_end, 1.0);
             if end_lo <= end_hi {
                 j = j.clamp(end_lo.max(j_lo).min(j_hi), end_hi.min(j_hi).max(j_lo));
             }
@@ -432,7 +432,10 @@ impl Track {
             if x.v < -1e-9 {
                 return None;
             }
-            if let Steer::Settle(v) = steer {
+            if let Steer::Settle { v, until } = steer {
+                if x.s > until {
+                    return None;
+                }
                 if landed || (x.a == 0.0 && (x.v - v).abs() <= 1e-9 * (1.0 + v)) {
                     out.push(x);
                     return Some(out);
@@ -499,10 +502,10 @@ impl Track {
         fits.then_some((j, tau, end))
     }
 
-    /// The ticks from `x` to a steady speed `v` (the last one steady): a settling drive, or
-    /// else one constant-jerk ramp.
-    fn join_ramp(&self, x: &Tick, v: f64) -> Option<Vec<Tick>> {
-        if let Some(ticks) = self.settle(*x, v) {
+    /// The ticks from `x` to a steady speed `v` (the last one steady, at `until` at the
+    /// latest): a settling drive, or else one constant-jerk ramp.
+    fn join_ramp(&self, x: &Tick, v: f64, until: f64) -> Option<Vec<Tick>> {
+        if let Some(ticks) = self.settle(*x, v, until) {
             return Some(ticks);
         }
         let (j, dt, end) = self.ramp_to(x, v)?;
@@ -549,7 +552,13 @@ fn tighten(lo: &mut f64, hi: &mut f64, q1: f64, rest: f64, limit: f64) {
 /// The profile of a run of kinematic segments from speed `v_start` to `v_end` (both with zero
 /// acceleration), `junctions[k]` the highest speed where segment k meets k + 1; `None` when a
 /// segment is not kinematic or the plan cannot keep to the limits (see the module).
-pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, axes: &AxisLimits) -> Option<Profile> {
+pub fn plan(
+    segments: &[&Segment],
+    junctions: &[f64],
+    (v_start, v_end): (f64, f64),
+    axes: &AxisLimits,
+    to_beat: f64,
+) -> Option<Profile> {
     let forward = Track::new(segments, junctions, axes)?;
     let backward = forward.reversed();
     let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
@@ -563,13 +572,22 @@ pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, 
         b[k].v
     };
     let crossing = f.iter().position(|x| x.v > speed_back(x.s) * (1.0 + 1e-9) + 1e-12).unwrap_or(f.len() - 1);
-    for k in (0..=crossing).rev().take(2000) {
+    // No join is quicker than the two drives' lower speed all along: where that is no quicker
+    // than the plan to beat, the joins are not looked for (they cost several drives each).
+    let fastest: f64 =
+        f.windows(2).map(|w| (w[1].s - w[0].s) / w[0].v.max(w[1].v).min(speed_back(w[0].s)).max(TINY)).sum();
+    if fastest >= MARGIN_BEAT * to_beat {
+        return None;
+    }
+    // A join from forward tick k: its speed, the forward ramp, the backward tick and ramp, and
+    // where the backward ramp starts (read forwards).
+    let join_at = |k: usize| {
         let x = f[k];
         // Into a cruise at the speed the drive steers to, or at the end of a ramp at the jerk
         // at hand (or gentler where the limits tighten along it).
         let speeds = std::iter::once(forward.goal_at(&x)).chain(RAMPS.iter().map(|&share| forward.plateau(&x, share)));
-        let joined = speeds.filter(|v| *v > TINY && v.is_finite()).find_map(|v| {
-            let rf = forward.join_ramp(&x, v)?;
+        speeds.filter(|v| *v > TINY && v.is_finite()).find_map(|v| {
+            let rf = forward.join_ramp(&x, v, len)?;
             let ef = *rf.last()?;
             // The backward tick nearest the crossing whose ramp can end at the same speed,
             // short of the forward ramp's end.
@@ -585,13 +603,38 @@ pub fn plan(segments: &[&Segment], junctions: &[f64], v_start: f64, v_end: f64, 
                 }
             };
             let (m, rb) = (0..top).rev().take(4000).filter(reaches).take(8).find_map(|m| {
-                let rb = backward.join_ramp(&b[m], v)?;
+                let rb = backward.join_ramp(&b[m], v, len - ef.s + 1e-12)?;
                 (len - rb.last()?.s >= ef.s - 1e-12).then_some((m, rb))
             })?;
             let s_back = len - rb.last()?.s;
             forward.cruise_fits(ef.s, s_back.max(ef.s), v).then_some((v, rf, m, rb, s_back))
-        });
-        let Some((v, rf, m, rb, s_back)) = joined else { continue };
+        })
+    };
+    // The latest tick at or before the crossing with a join: back from the crossing in
+    // doubling steps to one that has one, then halving the gap (each try runs drives).
+    let (mut k, mut step, mut failed) = (crossing, 1, crossing + 1);
+    let mut joined = loop {
+        if let Some(join) = join_at(k) {
+            break Some((k, join));
+        }
+        if k == 0 {
+            break None;
+        }
+        failed = k;
+        k = k.saturating_sub(step);
+        step *= 2;
+    };
+    while let Some((found, _)) = joined {
+        if failed - found <= 1 {
+            break;
+        }
+        let mid = found + (failed - found) / 2;
+        match join_at(mid) {
+            Some(join) => joined = Some((mid, join)),
+            None => failed = mid,
+        }
+    }
+    if let Some((k, (v, rf, m, rb, s_back))) = joined {
         let ef = rf[rf.len() - 1];
         let state = |t: &Tick| PathState { s: t.s, v: t.v, a: t.a };
         let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + rf.len() + rb.len() + 1);

@@ -279,13 +279,14 @@ impl Planner {
             // lose to the second where its joins are conservative: `motion::optimal`).
             let mut parts = self.runs(taken..r.end, false);
             pass(&mut parts, self.v_now, r.v_end);
+            let analytic = chain_duration(&parts, self.v_now);
             // A run of many segments (a long chain of short blocks, the look-ahead's queue)
             // keeps the analytic plan: planning it tick by tick costs more than it saves.
             let optimal = match &self.axes {
-                Some(axes) if r.end - taken <= OPTIMAL_SEGMENTS => self.optimal(taken, r, axes),
+                Some(axes) if r.end - taken <= OPTIMAL_SEGMENTS => self.optimal(taken, r, axes, analytic),
                 _ => None,
             };
-            match optimal.filter(|p| p.duration() <= chain_duration(&parts, self.v_now)) {
+            match optimal.filter(|p| p.duration() <= analytic) {
                 Some(profile) => {
                     self.release(r, taken, Some(Box::new(profile)));
                 }
@@ -309,12 +310,12 @@ impl Planner {
     }
 
     /// The profile of kinematic run `r` (from queue index `from`) against the axes' limits.
-    fn optimal(&self, from: usize, r: &Run, axes: &AxisLimits) -> Option<Profile> {
+    fn optimal(&self, from: usize, r: &Run, axes: &AxisLimits, to_beat: f64) -> Option<Profile> {
         let segments: Vec<&Segment> = self.queue.range(from..r.end).map(|q| &q.segment).collect();
         // The junction speeds as queued: between a block's pieces, the lower of their path
         // limits (the drives' look-ahead is surer with them where the path bends sharply).
         let junctions: Vec<f64> = self.queue.range(from..r.end - 1).map(|q| q.junction).collect();
-        super::optimal::plan(&segments, &junctions, self.v_now, r.v_end, axes)
+        super::optimal::plan(&segments, &junctions, (self.v_now, r.v_end), axes, to_beat)
     }
 
     /// The corner speed at each junction of `path` (one fewer than its segments).
