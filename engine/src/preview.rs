@@ -42,7 +42,7 @@ pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
         work: interp.state.position(),
         basis: interp.state.tip_basis(),
     };
-    let mut exec = Executor::new(machine, interp.kinematics().cloned(), start);
+    let mut exec = Executor::new(machine, start);
     let mut stages = crate::stage::Pipeline::for_config(interp.config());
     let ctx = exec.feed_context(1.0, 1.0, false);
     let tip = |exec: &Executor, pos: &Pos, length: f64| -> [f64; 3] {
