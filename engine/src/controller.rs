@@ -16,7 +16,7 @@ use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState};
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
-use crate::machine::MachineConfig;
+use crate::machine::Machine;
 use crate::motion::{Braking, Endpoint, Executor, FeedContext, Finished, Point, Sample, Segment};
 use crate::stage::Pipeline;
 use std::collections::VecDeque;
@@ -151,10 +151,8 @@ enum Wait {
 
 pub struct Controller {
     interp: Interpreter,
-    /// The machine (the executor's, shared).
-    machine: Arc<MachineConfig>,
-    /// The mechanism (for the 5-axis manual feeds); `None` when the machine's is refused.
-    kinematics: Option<Arc<Kinematics>>,
+    /// The machine (the executor's, shared; its mechanism drives the 5-axis manual feeds).
+    machine: Arc<Machine>,
     /// Where canonical motions become motion: the planner, the run under way, the clock.
     exec: Executor,
     /// The path stages between the interpreter and the executor (`crate::stage`).
@@ -221,11 +219,9 @@ impl Controller {
             basis: interp.state.tip_basis(),
         };
         let executing = Executing::new(interp.state.modal_state());
-        let kinematics = interp.kinematics().cloned();
         Controller {
-            exec: Executor::new(machine.clone(), kinematics.clone(), start),
+            exec: Executor::new(machine.clone(), start),
             stages: Pipeline::for_config(interp.config()),
-            kinematics,
             machine,
             interp,
             program: None,
@@ -323,7 +319,7 @@ impl Controller {
     /// Where the tool tip is now, from the machine axes (with a handle interruption's shift)
     /// and [`Controller::tip_basis`].
     pub fn tip(&self) -> crate::tip::Tip {
-        crate::tip::locate(self.kinematics.as_deref(), &self.machine_now(), &self.tip_basis())
+        crate::tip::locate(self.machine.kinematics().map(|k| &**k), &self.machine_now(), &self.tip_basis())
     }
 
     /// The machine now, as the trace reads it (`Sample`): axes with a handle interruption's
@@ -344,7 +340,7 @@ impl Controller {
 
     /// The machine's mechanism (the interpreter's, compiled once).
     pub fn kinematics(&self) -> Option<&std::sync::Arc<Kinematics>> {
-        self.kinematics.as_ref()
+        self.machine.kinematics()
     }
 
     pub fn interpreter(&self) -> &Interpreter {

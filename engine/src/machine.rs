@@ -656,6 +656,86 @@ impl MachineConfig {
     }
 }
 
+/// Per-axis limits in the units of the axis (mm or deg) per second.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisLimits {
+    pub count: usize,
+    pub v: [f64; MAX_AXES],
+    pub a: [f64; MAX_AXES],
+    pub j: [f64; MAX_AXES],
+}
+
+impl AxisLimits {
+    pub fn of(m: &MachineConfig) -> AxisLimits {
+        let mut l = AxisLimits { count: m.axes.len(), v: [0.0; MAX_AXES], a: [0.0; MAX_AXES], j: [0.0; MAX_AXES] };
+        for (i, axis) in m.axes.iter().enumerate() {
+            l.v[i] = axis.rapid / 60.0;
+            l.a[i] = axis.max_accel();
+            l.j[i] = axis.max_jerk();
+        }
+        l
+    }
+}
+
+/// A machine as the engine runs it: its configuration with the mechanism compiled from it and
+/// its axes' limits, built once and shared by `Arc` between the interpreter, the motion
+/// executor, the controller and the server's station. It reads as its configuration (`Deref`);
+/// only the settings that change neither the mechanism nor the limits can be edited in place.
+#[derive(Debug, Clone)]
+pub struct Machine {
+    config: MachineConfig,
+    /// `None` when the kinematics refuses the configuration (its tip is read as a 3-axis one's).
+    kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
+    limits: AxisLimits,
+}
+
+impl Machine {
+    pub fn new(config: MachineConfig) -> Machine {
+        let kinematics = crate::kin::Kinematics::new(&config).ok().map(std::sync::Arc::new);
+        Machine { kinematics, limits: AxisLimits::of(&config), config }
+    }
+
+    pub fn config(&self) -> &MachineConfig {
+        &self.config
+    }
+
+    /// The mechanism (`None` when the configuration's is refused).
+    pub fn kinematics(&self) -> Option<&std::sync::Arc<crate::kin::Kinematics>> {
+        self.kinematics.as_ref()
+    }
+
+    /// Each axis's speed, acceleration and jerk per second.
+    pub fn limits(&self) -> &AxisLimits {
+        &self.limits
+    }
+
+    /// The 5-axis manual feed settings, to change as a parameter screen would (the mechanism
+    /// and the limits do not depend on them).
+    pub fn manual_mut(&mut self) -> &mut ManualOptions {
+        &mut self.config.manual
+    }
+}
+
+impl std::ops::Deref for Machine {
+    type Target = MachineConfig;
+
+    fn deref(&self) -> &MachineConfig {
+        &self.config
+    }
+}
+
+impl From<MachineConfig> for Machine {
+    fn from(config: MachineConfig) -> Machine {
+        Machine::new(config)
+    }
+}
+
+impl From<MachineConfig> for std::sync::Arc<Machine> {
+    fn from(config: MachineConfig) -> std::sync::Arc<Machine> {
+        std::sync::Arc::new(Machine::new(config))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -101,14 +101,13 @@ fn draw(exec: &mut Executor, c: &Canon, rotary: &[bool], ctx: FeedContext, line:
 /// most `max_points` points (each of the two paths).
 pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
     let machine = interp.config().machine.clone();
-    let kinematics = interp.kinematics().cloned();
     let rotary: Vec<bool> = machine.axes.iter().map(|a| a.kind == AxisKind::Rotary).collect();
     let start = Endpoint {
         machine: interp.state.machine_position(),
         work: interp.state.position(),
         basis: interp.state.tip_basis(),
     };
-    let mut exec = Executor::new(machine.clone(), kinematics.clone(), start);
+    let mut exec = Executor::new(machine.clone(), start);
     let mut stages = crate::stage::Pipeline::for_config(interp.config());
     let ctx = exec.feed_context(1.0, 1.0, false);
     let mut main = Polyline::default();
@@ -135,7 +134,7 @@ pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
         let step = interp.step(&mut out);
         let mode = interp.state.modal(group::CUTTER_COMP);
         if programmed.is_none() && (mode == code::G41 || mode == code::G42) {
-            let exec = Executor::new(machine.clone(), kinematics.clone(), exec.queued);
+            let exec = Executor::new(machine.clone(), exec.queued);
             programmed = Some((exec, main.clone(), false));
         }
         if let Some((exec, line, full)) = &mut programmed {

@@ -98,7 +98,7 @@ pub fn run_observed(
     };
     let mut exec = Driver {
         // A mechanism the kinematics refuses still runs; its trace shows the tool along +Z.
-        exec: Executor::new(interp.config().machine.clone(), interp.kinematics().cloned(), start),
+        exec: Executor::new(interp.config().machine.clone(), start),
         next_sample: 0,
         opts: *opts,
         messages: Vec::new(),

@@ -166,7 +166,7 @@ impl Controller {
         if self.interrupt.moving.is_some() {
             return Ok(0.0);
         }
-        let target = self.panel.manual_signals.handle_target(self.kinematics.as_deref(), &self.machine);
+        let target = self.panel.manual_signals.handle_target(self.machine.kinematics().map(|k| &**k), &self.machine);
         if matches!(target, ManualTarget::Feed(_) | ManualTarget::TipRotation(_)) && self.rotary_block_under_way() {
             return Ok(0.0);
         }
@@ -229,7 +229,7 @@ impl Controller {
             ManualTarget::Nothing => return None,
             ManualTarget::Axis(i) => to[i] += amount,
             ManualTarget::Feed(_) => {
-                let (d, kin) = (direction?, self.kinematics.as_ref()?);
+                let (d, kin) = (direction?, self.machine.kinematics()?);
                 for (axis, index) in kin.linear.iter().enumerate() {
                     if let Some(i) = index {
                         to[*i] += d[axis] * amount;
@@ -237,7 +237,7 @@ impl Controller {
                 }
             }
             ManualTarget::TipRotation(i) => {
-                let kin = self.kinematics.clone()?;
+                let kin = self.machine.kinematics().cloned()?;
                 to[i] += amount;
                 let length = self.manual_tool_length();
                 let seg = Segment::tip_rotation(kin, from, from, &to, length, AT_CLAMP, &self.manual_limits());
@@ -257,7 +257,7 @@ impl Controller {
         };
         // At the handle clamp whatever the overrides.
         let ctx = self.exec.feed_context(1.0, 1.0, true);
-        let seg = Segment::new(&m, from, from, &self.manual_limits(), ctx, self.kinematics.as_ref());
+        let seg = Segment::new(&m, from, from, &self.manual_limits(), ctx, self.machine.kinematics());
         (seg.len > 0.0).then_some(seg)
     }
 
@@ -284,7 +284,7 @@ impl Controller {
     /// A block that moves a rotary axis of the mechanism is executing: the one the machine is
     /// in (moving, or held in it).
     fn rotary_block_under_way(&self) -> bool {
-        let Some(kin) = &self.kinematics else { return false };
+        let Some(kin) = self.machine.kinematics() else { return false };
         let seg = match self.exec.on() {
             Some((seg, _, _)) => Some(seg),
             None => self.exec.queued_segments().next().filter(|seg| seg.line == self.exec.here.line),

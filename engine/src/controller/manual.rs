@@ -133,7 +133,7 @@ impl Controller {
     /// the table (a rotary axis moved by hand shifts the tool centre point, MAN-02; on table
     /// machines the shift turns with the table, MAN-03).
     pub(super) fn intervention_shift(&self, start: &Pos, moved: &Pos) -> Shift {
-        let tip = match &self.kinematics {
+        let tip = match self.machine.kinematics() {
             Some(kin) => {
                 let length = self.interp.active_length_offset().unwrap_or(0.0);
                 kin.forward(&self.exec.here.machine, length).tip - kin.forward(start, length).tip
@@ -148,7 +148,7 @@ impl Controller {
     /// plane's axes, or under tool centre point control the table's (they turn with it),
     /// otherwise the machine's; tool coordinates: right-angle directions 1, 2 and the tool axis.
     pub(super) fn coordinate_direction(&self, i: usize) -> Option<Vec3> {
-        let kin = self.kinematics.as_ref()?;
+        let kin = self.machine.kinematics()?;
         let k = kin.linear.iter().position(|&index| index == Some(i))?;
         match self.panel.manual_coordinates {
             ManualCoordinates::Machine => None,
@@ -173,7 +173,7 @@ impl Controller {
     /// Syntec R519: the tool length rotary axis `i` turns about when manual RTCP is on under
     /// tool centre point control (the active offset; none: the spindle nose stays).
     pub(super) fn rtcp_length(&self, i: usize) -> Option<f64> {
-        let kin = self.kinematics.as_ref()?;
+        let kin = self.machine.kinematics()?;
         let rotary = kin.head.iter().chain(&kin.table).any(|j| j.index == Some(i));
         (self.panel.manual_rtcp && rotary && self.interp.tcp_on())
             .then(|| self.interp.active_length_offset().unwrap_or(0.0))
@@ -186,7 +186,7 @@ impl Controller {
     pub fn jog_direction(&mut self, feed: ManualFeed, positive: bool) -> Result<(), Refusal> {
         let reach = self.jog_reach()?;
         let d = self.manual_direction(feed)?;
-        let axis = self.kinematics.as_ref().and_then(|k| signal_axis(k, feed));
+        let axis = self.machine.kinematics().and_then(|k| signal_axis(k, feed));
         self.move_along(if positive { d } else { -d }, reach, self.manual_jog_feed_of(axis))
     }
 
@@ -255,7 +255,7 @@ impl Controller {
     pub fn manual_options_mut(&mut self) -> &mut ManualOptions {
         // The first edit gives the controller a machine of its own; the executor's keeps the
         // old manual settings, which it never reads (manual moves take their limits from here).
-        &mut std::sync::Arc::make_mut(&mut self.machine).manual
+        std::sync::Arc::make_mut(&mut self.machine).manual_mut()
     }
 
     /// The tool length of the 5-axis manual feeds (FANUC MAN-13): No.12318, or with LOD the
@@ -320,7 +320,7 @@ impl Controller {
     pub fn jog_signal(&mut self, axis: char, positive: bool) -> Result<(), Refusal> {
         let reach = self.jog_reach()?;
         let i = self.axis(axis)?;
-        match self.panel.manual_signals.jog_target(self.kinematics.as_deref(), i) {
+        match self.panel.manual_signals.jog_target(self.machine.kinematics().map(|k| &**k), i) {
             ManualTarget::Feed(feed) => {
                 let d = self.manual_direction(feed)?;
                 self.move_along(if positive { d } else { -d }, reach, self.manual_jog_feed_of(Some(i)))
@@ -356,7 +356,7 @@ impl Controller {
         if self.moving() || self.exec.has_queued() {
             return Ok(0.0);
         }
-        let target = self.panel.manual_signals.handle_target(self.kinematics.as_deref(), &self.machine);
+        let target = self.panel.manual_signals.handle_target(self.machine.kinematics().map(|k| &**k), &self.machine);
         let taken = match target {
             ManualTarget::Nothing => return Ok(0.0),
             ManualTarget::Feed(feed) => {
@@ -386,7 +386,7 @@ impl Controller {
     /// TV-MAN-05): in a tilted working plane with TWD the plane's axes; otherwise the
     /// conventional directions, or with FLL longitude and latitude.
     pub fn manual_direction(&self, feed: ManualFeed) -> Result<Vec3, Refusal> {
-        let kin = self.kinematics.as_ref().ok_or(Refusal::NoAxis)?;
+        let kin = self.machine.kinematics().ok_or(Refusal::NoAxis)?;
         let o = &self.machine.manual;
         if o.plane_directions {
             if let Some([x, y, z]) = self.interp.plane_axes(&self.exec.here.machine) {
@@ -426,7 +426,7 @@ impl Controller {
         feed_deg_min: f64,
         linear_feed: Option<f64>,
     ) -> Result<(), Refusal> {
-        let kin = self.kinematics.clone().ok_or(Refusal::NoAxis)?;
+        let kin = self.machine.kinematics().cloned().ok_or(Refusal::NoAxis)?;
         let i = self.axis(axis)?;
         if kin.linear.contains(&Some(i)) {
             return Err(Refusal::NoAxis);
@@ -513,7 +513,7 @@ impl Controller {
     /// Move X, Y, Z up to `distance` along the unit direction `d` (machine coordinates),
     /// clamped to the strokes.
     pub(super) fn move_along(&mut self, d: Vec3, distance: f64, feed: f64) -> Result<(), Refusal> {
-        let kin = self.kinematics.clone().ok_or(Refusal::NoAxis)?;
+        let kin = self.machine.kinematics().cloned().ok_or(Refusal::NoAxis)?;
         if !d.iter().all(|x| x.is_finite()) || (d.norm() - 1.0).abs() > 1e-6 {
             return Err(Refusal::NoAxis);
         }
@@ -551,12 +551,12 @@ impl Controller {
     /// absolute on starts its tool tip path where the tip is (`reposition`).
     pub(super) fn moved_motion(&self, m: &Motion, shift: Option<&Shift>) -> Motion {
         let mut m = m.clone();
-        if let (true, Some(tip), Some(kin)) = (self.reposition, &mut m.tip, &self.kinematics) {
+        if let (true, Some(tip), Some(kin)) = (self.reposition, &mut m.tip, self.machine.kinematics()) {
             tip.from = kin.forward(&self.exec.queued.machine, tip.tool_length).tip;
         }
         // Machine-coordinate moves (G53, reference returns) go where they say.
         let Some(shift) = shift.filter(|_| m.kind != MotionKind::MachineRapid) else { return m };
-        match (&mut m.tip, &self.kinematics) {
+        match (&mut m.tip, self.machine.kinematics()) {
             (Some(tip), Some(kin)) => {
                 tip.from += shift.tip;
                 tip.to += shift.tip;

@@ -82,8 +82,9 @@ pub const MAX_NESTED_CALLS: usize = 15;
 #[derive(Debug, Clone)]
 pub struct Config {
     pub dialect: Dialect,
-    /// The machine, shared with the motion executor and the controller (one copy per machine).
-    pub machine: std::sync::Arc<MachineConfig>,
+    /// The machine (its mechanism and limits compiled once), shared with the motion executor
+    /// and the controller.
+    pub machine: std::sync::Arc<crate::machine::Machine>,
     /// The block delete (optional block skip) switch: when on, `/` blocks are skipped.
     pub block_delete: bool,
     /// The optional stop switch: when on, M01 stops like M00.
@@ -120,7 +121,7 @@ pub struct Config {
 }
 
 impl Config {
-    pub fn new(machine: impl Into<std::sync::Arc<MachineConfig>>, dialect: Dialect) -> Config {
+    pub fn new(machine: impl Into<std::sync::Arc<crate::machine::Machine>>, dialect: Dialect) -> Config {
         Config {
             dialect,
             machine: machine.into(),
@@ -138,6 +139,14 @@ impl Config {
             refuse_unbuilt: true,
             stages: Default::default(),
         }
+    }
+
+    /// Change the machine's configuration: the mechanism and limits are compiled again (a
+    /// machine shared with others is left as it is).
+    pub fn edit_machine(&mut self, edit: impl FnOnce(&mut MachineConfig)) {
+        let mut config = self.machine.config().clone();
+        edit(&mut config);
+        self.machine = std::sync::Arc::new(crate::machine::Machine::new(config));
     }
 }
 
@@ -518,7 +527,7 @@ impl State {
                 axis_by_letter[(axis.name as u8 - b'A') as usize] = i as u8;
             }
         }
-        let kinematics = crate::kin::Kinematics::new(&cfg.machine).ok().map(std::sync::Arc::new);
+        let kinematics = cfg.machine.kinematics().cloned();
         let wse_kinematics = wse::compensation_kinematics(&cfg.machine, kinematics.as_ref());
         State {
             axis_by_letter,

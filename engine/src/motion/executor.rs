@@ -14,7 +14,7 @@ use super::{AxisLimits, Cursor, FeedContext, Limits, PathState, Planned, Planner
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, Motion, Pos};
 use crate::kin::Kinematics;
-use crate::machine::MachineConfig;
+use crate::machine::Machine;
 use crate::tip::{Basis, System};
 use std::sync::Arc;
 
@@ -79,10 +79,8 @@ pub struct Finished {
 }
 
 pub struct Executor {
-    machine: Arc<MachineConfig>,
-    /// The mechanism; `None` when the machine's is refused (its tip is read as a 3-axis one's).
-    kinematics: Option<Arc<Kinematics>>,
-    axes: AxisLimits,
+    /// The machine: configuration, mechanism and the axis limits of program motion.
+    machine: Arc<Machine>,
     planner: Planner,
     /// Simulated seconds.
     t: f64,
@@ -100,12 +98,10 @@ pub struct Executor {
 
 impl Executor {
     /// An executor standing at `machine` (programmed position `work` in `basis`) at time 0.
-    pub fn new(machine: Arc<MachineConfig>, kinematics: Option<Arc<Kinematics>>, start: Endpoint) -> Executor {
+    pub fn new(machine: Arc<Machine>, start: Endpoint) -> Executor {
         Executor {
-            axes: AxisLimits::of(&machine),
             planner: super::planner_for(&machine),
             machine,
-            kinematics,
             t: 0.0,
             current: None,
             here: Point { machine: start.machine, work: start.work, feed: 0.0, line: 0, n: None, s: 0.0 },
@@ -116,17 +112,17 @@ impl Executor {
         }
     }
 
-    pub fn machine(&self) -> &MachineConfig {
+    pub fn machine(&self) -> &Arc<Machine> {
         &self.machine
     }
 
     pub fn kinematics(&self) -> Option<&Arc<Kinematics>> {
-        self.kinematics.as_ref()
+        self.machine.kinematics()
     }
 
     /// The axis limits of program motion.
     pub fn axes(&self) -> &AxisLimits {
-        &self.axes
+        self.machine.limits()
     }
 
     pub fn time(&self) -> f64 {
@@ -193,7 +189,7 @@ impl Executor {
 
     /// The segment of motion `m` from the queued endpoint, within `axes`.
     pub fn segment_within(&self, m: &Motion, ctx: FeedContext, axes: &AxisLimits) -> Segment {
-        Segment::new(m, &self.queued.machine, &self.queued.work, axes, ctx, self.kinematics.as_ref())
+        Segment::new(m, &self.queued.machine, &self.queued.work, axes, ctx, self.machine.kinematics())
     }
 
     /// The segment of command `c`'s motion `m` (the command's, or a shifted copy of it) read in
@@ -212,7 +208,7 @@ impl Executor {
                 *w = self.queued.machine[k] + m.target[k] - m.machine[k];
             }
         }
-        let mut seg = self.segment_within(m, ctx, &self.axes);
+        let mut seg = self.segment_within(m, ctx, self.machine.limits());
         (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
         seg
     }
@@ -364,7 +360,7 @@ impl Executor {
             // Up to the next exact stop: the machine must be at rest there.
             let end = rest.iter().position(|s| s.stop_after).map_or(rest.len(), |k| k + 1);
             let path: Vec<&Segment> = rest[..end].iter().collect();
-            super::optimal::stop(&path, &self.planner.corners(&path), state.v, state.a, &self.axes)
+            super::optimal::stop(&path, &self.planner.corners(&path), state.v, state.a, self.machine.limits())
         });
         let profile = match planned_stop.flatten() {
             Some(profile) => profile,
@@ -484,7 +480,7 @@ impl Executor {
     /// (the clock's, or a sample time the run passes through) with the tip by forward
     /// kinematics of `machine` (the axes as they stand; a handle interruption's shift in them).
     pub fn sample(&self, t: f64, machine: &Pos, basis: &Basis) -> Sample {
-        let placed = crate::tip::locate(self.kinematics.as_deref(), machine, basis);
+        let placed = crate::tip::locate(self.machine.kinematics().map(|k| &**k), machine, basis);
         Sample {
             t,
             line: self.here.line,
@@ -501,7 +497,7 @@ impl Executor {
 }
 
 /// The plan of one segment on its own, from rest to rest (a handle interruption's pulse move).
-pub fn plan_alone(machine: &MachineConfig, seg: Segment) -> Option<Planned> {
+pub fn plan_alone(machine: &Machine, seg: Segment) -> Option<Planned> {
     let mut planner = super::planner_for(machine);
     planner.push(seg);
     planner.pop(true)

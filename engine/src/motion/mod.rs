@@ -17,7 +17,7 @@ pub use profile::{Limits, PathState, Profile};
 
 use crate::alarm::AlarmId;
 use crate::canon::Pos;
-use crate::machine::{MachineConfig, MAX_AXES};
+use crate::machine::{Machine, MachineConfig, MAX_AXES};
 
 /// Segments of look-ahead (the issue asks for at least 200).
 pub const LOOKAHEAD: usize = 256;
@@ -35,9 +35,9 @@ pub fn junction_steps(m: &MachineConfig) -> (Pos, Pos) {
 }
 
 /// The planner for a machine, with [`LOOKAHEAD`] and its [`junction_steps`].
-pub fn planner_for(m: &MachineConfig) -> Planner {
+pub fn planner_for(m: &Machine) -> Planner {
     let (speed, accel) = junction_steps(m);
-    Planner::new(LOOKAHEAD, speed, accel).with_axes(AxisLimits::of(m))
+    Planner::new(LOOKAHEAD, speed, accel).with_axes(m.limits().clone())
 }
 
 /// The first stored stroke limit the segment would cross (end point, and the quadrant points

@@ -11,28 +11,11 @@ use super::profile::{Limits, Profile};
 use crate::canon::{Arc, Compensation, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
 use crate::geom::Rigid;
 use crate::kin::{Kinematics, Vec3};
-use crate::machine::{MachineConfig, MotionOptions, MAX_AXES};
+use crate::machine::{MotionOptions, MAX_AXES};
 
-/// Per-axis limits in the units of the axis (mm or deg) per second.
-#[derive(Debug, Clone, PartialEq)]
-pub struct AxisLimits {
-    pub count: usize,
-    pub v: Pos,
-    pub a: Pos,
-    pub j: Pos,
-}
+pub use crate::machine::AxisLimits;
 
 impl AxisLimits {
-    pub fn of(m: &MachineConfig) -> AxisLimits {
-        let mut l = AxisLimits { count: m.axes.len(), v: [0.0; MAX_AXES], a: [0.0; MAX_AXES], j: [0.0; MAX_AXES] };
-        for (i, axis) in m.axes.iter().enumerate() {
-            l.v[i] = axis.rapid / 60.0;
-            l.a[i] = axis.max_accel();
-            l.j[i] = axis.max_jerk();
-        }
-        l
-    }
-
     /// The path limits of a motion whose axis rates per unit of `s` are at most `rate[i]`:
     /// axis i moves `rate[i]` times as fast, as much accelerated and as much jerked as the path.
     fn along(&self, rate: &Pos) -> Limits {

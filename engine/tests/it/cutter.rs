@@ -1012,9 +1012,8 @@ mod type_b {
     /// Motion ends with type B on mill3 (FANUC).
     #[track_caller]
     fn assert_ends_b(src: &str, want: &[(u32, f64, f64)]) {
-        let interp = interpreter_with(src, "mill3", Fanuc, |c| {
-            std::sync::Arc::make_mut(&mut c.machine).motion.cutter_startup_type_b = true
-        });
+        let interp =
+            interpreter_with(src, "mill3", Fanuc, |c| c.edit_machine(|m| m.motion.cutter_startup_type_b = true));
         let (got, alarm) = centre_of(interp, (0, 1));
         assert_eq!(alarm, None, "{src}");
         let close = got.len() == want.len()

@@ -839,9 +839,8 @@ fn interface_signals_read_inputs_and_write_outputs() {
 fn a_machine_set_to_inch_at_power_on_starts_in_g20() {
     // FANUC No.0000#2 INI = 1 (`motion.power_on_inch`): X1. is an inch until a G21.
     let src = "#100=#4006\nG91 G01 X1. F10.\nG21\nX1.\nM30\n";
-    let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| {
-        std::sync::Arc::make_mut(&mut c.machine).motion.power_on_inch = true
-    });
+    let mut interp =
+        interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.edit_machine(|m| m.motion.power_on_inch = true));
     let mut ends = Vec::new();
     interp
         .run(|c| {

@@ -205,7 +205,7 @@ fn stcp_moves_only_the_rtcp_axes() {
     assert_eq!(custom("XYZBCU", Dialect::Syntec, "G43.4 H1\nG01 U10. F100"), "ok");
     assert_eq!(custom("XYZBCU", Dialect::Syntec, "G43.4 H1 L1\nG43.4 H1 L0\nG01 U10. F100"), "ok");
     // TV-25b/c/d: Pr3051 = 1 turns STCP on without L; L0 still turns it off.
-    let pr3051 = |c: &mut Config| std::sync::Arc::make_mut(&mut c.machine).five_axis.smooth_tcp = true;
+    let pr3051 = |c: &mut Config| c.edit_machine(|m| m.five_axis.smooth_tcp = true);
     assert_eq!(custom_with("XYZBCU", Dialect::Syntec, "G43.4 H1\nG01 U10. F100", pr3051), "COR-107");
     assert_eq!(custom_with("XYZBCU", Dialect::Syntec, "G43.4 H1 L0\nG01 U10. F100", pr3051), "ok");
 }

@@ -146,7 +146,7 @@ fn tv_twp_03_04_multiple_planes_with_mtw() {
         let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
         let run = |src: &str| {
             motion_ends(interpreter_with(src, preset, Dialect::Fanuc, |c| {
-                std::sync::Arc::make_mut(&mut c.machine).five_axis.multiple_planes = true
+                c.edit_machine(|m| m.five_axis.multiple_planes = true)
             }))
         };
         for (src, n9) in [(&tv03, Vec3::new(5.0, 30.0, 0.0)), (&tv04, Vec3::new(5.0, 10.0, 0.0))] {
@@ -173,7 +173,7 @@ fn tv_twp_11c_unstable_plane_distance_is_no_11220() {
     let src = "G68.2 P2 Q1 X0 Y0 Z0\nG68.2 P2 Q2 X100. Y0 Z0\nG68.2 P2 Q3 X50. Y0.0005 Z0\nG69\nM30\n";
     let result = |min: f64| {
         let mut interp = interpreter_with(src, "head-bc", Dialect::Fanuc, |c| {
-            std::sync::Arc::make_mut(&mut c.machine).five_axis.plane_min_distance = min
+            c.edit_machine(|m| m.five_axis.plane_min_distance = min)
         });
         fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |_| {})
     };
@@ -192,7 +192,7 @@ fn reset_cancels_or_keeps_the_plane() {
         [(PlaneAfterReset::Cancelled, false), (PlaneAfterReset::Kept, true), (PlaneAfterReset::KeptOverRestart, true)]
     {
         let mut interp = interpreter_with(src, "head-bc", Dialect::Syntec, |c| {
-            std::sync::Arc::make_mut(&mut c.machine).five_axis.plane_after_reset = rule
+            c.edit_machine(|m| m.five_axis.plane_after_reset = rule)
         });
         fivex_engine::run::run(&mut interp, &fivex_engine::run::RunOptions::default(), |_| {});
         assert_eq!(interp.state.modal(16), 682, "{rule:?}: the plane is on before the reset");
@@ -296,7 +296,7 @@ fn g68_3_x_axis_from_no_12321() {
     ] {
         let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
         let e = motion_ends(interpreter_with(src, "head-bc", Dialect::Syntec, |c| {
-            std::sync::Arc::make_mut(&mut c.machine).manual.vertical = vertical
+            c.edit_machine(|m| m.manual.vertical = vertical)
         }));
         // The origin is the programmed point (the nose at zero angles); N4 is 10 along X_c from it.
         let (n3_origin, n4) = (Vec3::zeros(), kin.forward(&end_of(&e, 4), 0.0).tip);

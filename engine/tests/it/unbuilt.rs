@@ -350,9 +350,8 @@ fn stcp_by_parameter_is_refused_like_g43_4_l1() {
     // refused as `G43.4 L1` is; L0 asks for plain RTCP and runs.
     use fivex_engine::run::{run, RunOptions};
     for (body, alarm) in [("G43.4 H1\nG49", Some("COR-100")), ("G43.4 H1 L0\nG49", None)] {
-        let mut interp = interpreter_with(&program(body), PRESET, Syntec, |c| {
-            std::sync::Arc::make_mut(&mut c.machine).five_axis.smooth_tcp = true
-        });
+        let mut interp =
+            interpreter_with(&program(body), PRESET, Syntec, |c| c.edit_machine(|m| m.five_axis.smooth_tcp = true));
         let r = run(&mut interp, &RunOptions::default(), |_| {});
         let got = r.alarms.first().map(|a| (a.code.as_str(), a.line));
         assert_eq!(got, alarm.map(|code| (code, 2)), "{body}");

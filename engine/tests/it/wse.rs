@@ -261,8 +261,9 @@ fn g53_and_g28_bypass_the_error() {
 fn wse_21_reset_cancels_unless_d3r() {
     for keep in [false, true] {
         let mut interp = fanuc_with("G54.4 P1\nM30\n", "mill3", |c| {
-            std::sync::Arc::make_mut(&mut c.machine).five_axis.plane_after_reset =
-                if keep { PlaneAfterReset::Kept } else { PlaneAfterReset::Cancelled }
+            c.edit_machine(|m| {
+                m.five_axis.plane_after_reset = if keep { PlaneAfterReset::Kept } else { PlaneAfterReset::Cancelled }
+            })
         });
         interp.state.setting_errors.sets[1].shift = [1.0, 2.0, 3.0];
         let mut interp = ran(interp);
@@ -325,7 +326,7 @@ fn tv_wse_19b_19c_tcp_and_g53_1_need_tool_direction_compensation() {
 // --- tool direction compensation (RCM = 1) -------------------------------------------------
 
 fn rcm(c: &mut Config) {
-    std::sync::Arc::make_mut(&mut c.machine).five_axis.tool_direction_compensation = true;
+    c.edit_machine(|m| m.five_axis.tool_direction_compensation = true);
 }
 
 /// Example 2 (TV-WSE-19) on the BC head with RCM = 1, No.01 as Example 1, G55 (100, 50, −400).
@@ -436,7 +437,7 @@ fn singular_run(b0: f64, error: bool, tol: f64) -> Pos {
     );
     let mut interp = fanuc_with(&src, "head-bc", |c| {
         rcm(c);
-        std::sync::Arc::make_mut(&mut c.machine).five_axis.singular_tolerance_deg = tol;
+        c.edit_machine(|m| m.five_axis.singular_tolerance_deg = tol);
     });
     interp.state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
     let ends = motion_ends(interp);
@@ -477,7 +478,7 @@ fn tv_wse_27_singular_start_keeps_the_absolute_coordinates() {
     let src = "G90 G00 X1. Y2. Z3. B0.05 C30.\nG54.4 P1\n#100=#5001\n#101=#5004\n#102=#5005\nM30\n";
     let mut interp = fanuc_with(src, "head-bc", |c| {
         rcm(c);
-        std::sync::Arc::make_mut(&mut c.machine).five_axis.singular_tolerance_deg = 0.1;
+        c.edit_machine(|m| m.five_axis.singular_tolerance_deg = 0.1);
     });
     interp.state.setting_errors.sets[1] =
         wse::ErrorSet { shift: [5.0, 0.0, 0.0], rotation: [0.0, -0.03, 0.0], table: [0.0; 2] };
@@ -492,7 +493,7 @@ fn one_block(b0: f64, c0: f64, b: f64, c: f64, dc: f64, tol: f64) -> (f64, f64) 
     let src = format!("G90 G00 B{b0:.3} C{c0:.3}\nG54.4 P1\nG00 B{b:.3} C{c:.3}\nM30\n");
     let mut interp = fanuc_with(&src, "head-bc", |cfg| {
         rcm(cfg);
-        std::sync::Arc::make_mut(&mut cfg.machine).five_axis.singular_tolerance_deg = tol;
+        cfg.edit_machine(|m| m.five_axis.singular_tolerance_deg = tol);
     });
     interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, dc];
     let end = motion_ends(interp).last().unwrap().1;
@@ -506,7 +507,7 @@ fn tv_wse_28_the_four_cases_of_the_singular_rules() {
     let src = "G90 G00 B0 C10.\nG54.4 P1\nG00 B0.5 C0\nM30\n";
     let mut interp = fanuc_with(src, "head-bc", |c| {
         rcm(c);
-        std::sync::Arc::make_mut(&mut c.machine).five_axis.singular_tolerance_deg = 0.1;
+        c.edit_machine(|m| m.five_axis.singular_tolerance_deg = 0.1);
     });
     interp.state.setting_errors.sets[1].rotation = [0.0, -0.45, 0.0];
     let end = motion_ends(interp).last().unwrap().1;
@@ -703,9 +704,8 @@ fn extreme_error_data_end_in_alarms_not_panics() {
             "#1=10000000000.\n#26000=-#1*#1*#1\n",
         ] {
             let src = format!("{data}G54.4 P1\nG00 X1. Y1. Z1.\nG02 X2. Y2. R5. F100.\nG54.4 P0\nM30\n");
-            let mut interp = fanuc_with(&src, preset, |c| {
-                std::sync::Arc::make_mut(&mut c.machine).five_axis.tool_direction_compensation = rcm_on
-            });
+            let mut interp =
+                fanuc_with(&src, preset, |c| c.edit_machine(|m| m.five_axis.tool_direction_compensation = rcm_on));
             let r = run(&mut interp, &RunOptions::default(), |_| {});
             // A shift beyond every stroke is an over travel before the move; angles and table
             // data of 1e20–1e30 make positions that are no numbers: the block alarms (it used
@@ -852,8 +852,9 @@ fn wse_24_no_11202_11203_clamp_the_compensating_rotary_motion() {
     let interp = |g: &str, feed_pct: f64, rapid_pct: f64| {
         let mut interp = fanuc_with(&src(g), "head-bc", |c| {
             rcm(c);
-            let five = &mut std::sync::Arc::make_mut(&mut c.machine).five_axis;
-            (five.wse_feed_clamp_pct, five.wse_rapid_clamp_pct) = (feed_pct, rapid_pct);
+            c.edit_machine(|m| {
+                (m.five_axis.wse_feed_clamp_pct, m.five_axis.wse_rapid_clamp_pct) = (feed_pct, rapid_pct)
+            });
         });
         interp.state.setting_errors.sets[1].rotation = [0.0, 0.0, 90.0];
         interp
@@ -872,10 +873,7 @@ fn wse_24_no_11202_11203_clamp_the_compensating_rotary_motion() {
     }
     // Without G54.4 no clamp applies.
     let src = "G90 G00 X0 Y0 Z100. B30. C0\nG01 X10. C90. F100000.\nM30\n";
-    let top = top_c_speed(
-        fanuc_with(src, "head-bc", |c| std::sync::Arc::make_mut(&mut c.machine).five_axis.wse_feed_clamp_pct = 1.0),
-        2,
-    );
+    let top = top_c_speed(fanuc_with(src, "head-bc", |c| c.edit_machine(|m| m.five_axis.wse_feed_clamp_pct = 1.0)), 2);
     assert!(top > 1.5 * 0.01 * c_rate, "{top}");
 }
 
@@ -903,8 +901,8 @@ fn wse_19_canned_cycle_rapids_run_at_no_5412_in_g54_4() {
     let ends = [[13.0, 9.0, 50.0], [13.0, 9.0, 2.0], [13.0, 9.0, -5.0], [13.0, 9.0, 50.0]];
     let with = |cycle_feed: f64, dry_run: f64| {
         move |c: &mut Config| {
-            std::sync::Arc::make_mut(&mut c.machine).five_axis.wse_cycle_feed = cycle_feed;
-            std::sync::Arc::make_mut(&mut c.machine).manual.dry_run_feed = dry_run;
+            c.edit_machine(|m| m.five_axis.wse_cycle_feed = cycle_feed);
+            c.edit_machine(|m| m.manual.dry_run_feed = dry_run);
         }
     };
     let pm = FeedMode::PerMinute;
@@ -938,7 +936,7 @@ fn wse_19_canned_cycle_rapids_run_at_no_5412_in_g54_4() {
 fn held_in_g54_4(preset: &str, rcm_on: bool) -> fivex_engine::controller::Controller {
     use fivex_engine::controller::{Controller, Mode, RunState};
     let mut cfg = Config::new(MachineConfig::preset(preset).unwrap(), Dialect::Fanuc);
-    std::sync::Arc::make_mut(&mut cfg.machine).five_axis.tool_direction_compensation = rcm_on;
+    cfg.edit_machine(|m| m.five_axis.tool_direction_compensation = rcm_on);
     let mut c = Controller::new(cfg);
     c.interpreter_mut().state.setting_errors.sets[1].shift = [3.0, 4.0, 0.0];
     c.set_mode(Mode::Auto).unwrap();
@@ -1024,8 +1022,8 @@ fn wse_18_dak_shows_the_absolute_position_in_the_wcs() {
                N40 X50.0 Y50.0 Z20.0\nN50 X150.0\nN60 Y150.0\nM30\n";
     let interp = |dak: bool, rcm_on: bool| {
         let mut i = fanuc_with(src, "head-bc", |c| {
-            std::sync::Arc::make_mut(&mut c.machine).five_axis.wse_display_wcs = dak;
-            std::sync::Arc::make_mut(&mut c.machine).five_axis.tool_direction_compensation = rcm_on;
+            c.edit_machine(|m| m.five_axis.wse_display_wcs = dak);
+            c.edit_machine(|m| m.five_axis.tool_direction_compensation = rcm_on);
         });
         i.state.offsets.work_mut(2)[..3].copy_from_slice(&[100.0, 50.0, -400.0]);
         i.state.setting_errors.sets[1] =

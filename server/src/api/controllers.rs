@@ -203,7 +203,7 @@ pub async fn machine(
 ) -> Result<Json<MachineConfig>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     let machine = hosted.station().machine.clone();
-    Ok(Json((*machine).clone()))
+    Ok(Json(machine.config().clone()))
 }
 
 /// A built-in machine preset.

@@ -139,7 +139,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
         let station = hosted.station();
         out.push(Entry {
             name: hosted.name(),
-            machine: (*station.machine).clone(),
+            machine: station.machine.config().clone(),
             dialect: hosted.dialect,
             offsets: Some(Box::new(station.controller.interpreter().state.offsets.clone())),
         });

@@ -57,7 +57,7 @@ impl FleetEntry {
             id: hosted.id.clone(),
             name: hosted.name(),
             machine: station.machine.name.clone(),
-            kind: super::kind_name(station.kinematics.as_ref().map(|k| k.kind)),
+            kind: super::kind_name(station.machine.kinematics().map(|k| k.kind)),
             dialect: hosted.dialect.name().to_string(),
             mode: super::word(&c.mode()),
             run_state: super::word(&c.run_state()),

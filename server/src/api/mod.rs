@@ -237,7 +237,7 @@ impl ControllerStatus {
             name: hosted.name(),
             dialect: hosted.dialect.name().to_string(),
             machine: station.machine.name.clone(),
-            kind: kind_name(station.kinematics.as_ref().map(|k| k.kind)),
+            kind: kind_name(station.machine.kinematics().map(|k| k.kind)),
             created_at: hosted.created_at.clone(),
             speed: hosted.speed(),
             mode: word(&c.mode()),

@@ -8,8 +8,7 @@ use std::sync::Arc;
 use fivex_engine::controller::{Controller, Event, RunState};
 use fivex_engine::interp::State;
 use fivex_engine::interp::MAX_G54_1;
-use fivex_engine::kin::Kinematics;
-use fivex_engine::machine::MachineConfig;
+use fivex_engine::machine::{Machine, MachineConfig};
 
 use crate::db::ToolRow;
 
@@ -24,9 +23,7 @@ const SAVE_VARIABLES_EVERY: f64 = 1.0;
 pub struct Station {
     pub controller: Controller,
     /// The machine the controller runs (replaced, with the controller, by a parameter change).
-    pub machine: Arc<MachineConfig>,
-    /// Its mechanism (`None` when the kinematics refuses it; positions show the tool along +Z).
-    pub kinematics: Option<Arc<Kinematics>>,
+    pub machine: Arc<Machine>,
     /// Vendor parameters the machine model does not read, kept as given.
     pub extra_parameters: fivex_engine::vendor::Params,
     /// What the machine description sets that fivex does not carry out (shown with the status
@@ -61,7 +58,6 @@ impl Station {
         // What the controller starts with counts as saved (the defaults, or rows just read).
         controller.interpreter_mut().state.offsets.take_touched();
         Station {
-            kinematics: controller.kinematics().cloned(),
             extra_parameters: Default::default(),
             unmodelled: fivex_engine::vendor::unmodelled::of_model(&machine),
             // The interpreter's, shared (the same model as `machine`).
@@ -98,7 +94,6 @@ impl Station {
             controller.interpreter_mut().state.restore_plane(plane);
             controller.offsets_changed();
         }
-        self.kinematics = controller.kinematics().cloned();
         self.machine = controller.interpreter().config().machine.clone();
         self.controller = controller;
         self.program = None;

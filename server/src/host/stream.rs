@@ -10,7 +10,7 @@ use utoipa::ToSchema;
 
 use fivex_engine::canon::Pos;
 use fivex_engine::controller::{Mode, RunState};
-use fivex_engine::machine::MachineConfig;
+use fivex_engine::machine::{Machine, MachineConfig};
 use fivex_engine::motion::Sample;
 use fivex_engine::Alarm;
 
@@ -70,7 +70,7 @@ pub struct PositionFrame {
 /// published (as a [`Published`]) only when it differs from the last one in more than its clock.
 #[derive(Debug, Clone)]
 pub struct Reading {
-    machine_config: Arc<MachineConfig>,
+    machine_config: Arc<Machine>,
     wall_ms: f64,
     sample: Sample,
     /// The programmed position of every axis (the sample holds X, Y, Z).
