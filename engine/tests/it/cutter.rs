@@ -59,7 +59,12 @@ fn assert_ends(src: &str, want: &[(u32, f64, f64)]) {
 
 #[track_caller]
 fn assert_ends_in(src: &str, axes: (usize, usize), want: &[(u32, f64, f64)]) {
-    let (got, alarm) = centre_axes(src, Fanuc, axes);
+    assert_centre(centre_axes(src, Fanuc, axes), src, want);
+}
+
+/// No alarm, and the motion ends `want` (line, the two axes).
+#[track_caller]
+fn assert_centre((got, alarm): Centre, src: &str, want: &[(u32, f64, f64)]) {
     assert_eq!(alarm, None, "{src}");
     let close = got.len() == want.len()
         && got.iter().zip(want).all(|((l, p), (wl, x, y))| l == wl && approx(p[0], *x) && approx(p[1], *y));
@@ -1014,11 +1019,7 @@ mod type_b {
     fn assert_ends_b(src: &str, want: &[(u32, f64, f64)]) {
         let interp =
             interpreter_with(src, "mill3", Fanuc, |c| c.edit_machine(|m| m.motion.cutter_startup_type_b = true));
-        let (got, alarm) = centre_of(interp, (0, 1));
-        assert_eq!(alarm, None, "{src}");
-        let close = got.len() == want.len()
-            && got.iter().zip(want).all(|((l, p), (wl, x, y))| l == wl && approx(p[0], *x) && approx(p[1], *y));
-        assert!(close, "got {got:?}\nwant {want:?}\n{src}");
+        assert_centre(centre_of(interp, (0, 1)), src, want);
     }
 
     #[test]
