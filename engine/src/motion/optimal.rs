@@ -73,6 +73,9 @@ struct Track {
     /// The highest speed every axis allows at each point, with the rate error of either cell
     /// beside it.
     top: Vec<f64>,
+    /// The last point [`Track::index`] found: a drive asks for the same or the next one
+    /// tick after tick.
+    hint: std::cell::Cell<usize>,
 }
 
 /// What a drive steers to.
@@ -118,6 +121,7 @@ impl Track {
             envelope: Vec::new(),
             error: Vec::new(),
             top: Vec::new(),
+            hint: std::cell::Cell::new(0),
         };
         for (k, seg) in segments.iter().enumerate() {
             let grid = seg.derivatives(axes)?;
@@ -170,6 +174,7 @@ impl Track {
             envelope: Vec::new(),
             error: Vec::new(),
             top: Vec::new(),
+            hint: std::cell::Cell::new(0),
         };
         t.error = (0..t.s.len()).map(|k| t.rate_error(k)).collect();
         t.fill_envelope();
@@ -255,7 +260,17 @@ impl Track {
 
     /// The point at or before `s` (the later of two at a junction).
     fn index(&self, s: f64) -> usize {
-        self.s.partition_point(|&x| x <= s).saturating_sub(1)
+        let fits = |k: usize| self.s[k] <= s && self.s.get(k + 1).is_none_or(|&next| next > s);
+        let hint = self.hint.get();
+        let k = if hint < self.s.len() && fits(hint) {
+            hint
+        } else if hint + 1 < self.s.len() && fits(hint + 1) {
+            hint + 1
+        } else {
+            self.s.partition_point(|&x| x <= s).saturating_sub(1)
+        };
+        self.hint.set(k);
+        k
     }
 
     /// The derivatives at `s`, interpolated.
