@@ -594,7 +594,7 @@ fn widen(maxima: &mut [Pos; 3], d: &[Pos; 3]) {
 
 /// The shares of each axis's acceleration and jerk that a kinematic path's cruise may take
 /// (`kinematic_limits`), tried in turn; the rest is left to the path's speed changes.
-const CRUISE_SHARES: [f64; 4] = [0.9, 0.75, 0.5, 0.25];
+const CRUISE_SHARES: [f64; 2] = [0.9, 0.5];
 
 /// The path limits of a kinematic path (its derivative grid `grid`) fed at `feed` (per second;
 /// infinite for a rapid), never faster than `cap`, and the pieces it is cut into (none: it
