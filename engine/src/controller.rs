@@ -10,7 +10,8 @@
 //! by the amount a hand wheel gives, REF returns every axis to the reference position. Those
 //! manual moves stop at the stroke limits and the program's current point follows them. The
 //! 5-axis manual operation (feeds along the tool, manual intervention in a held program, Syntec's
-//! manual RTCP) is in `manual.rs`.
+//! manual RTCP) is in `manual.rs`; the program cycle's states and their transitions (blocks to
+//! read, commands read ahead, a dwell, a stop, a manual intervention) in `cycle.rs`.
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState};
@@ -19,13 +20,14 @@ use crate::kin::Kinematics;
 use crate::machine::Machine;
 use crate::motion::{Braking, Endpoint, Executor, FeedContext, Finished, Point, Sample, Segment};
 use crate::stage::Pipeline;
-use std::collections::VecDeque;
 use std::sync::Arc;
 
+mod cycle;
 mod executing;
 mod interrupt;
 mod manual;
 mod signals;
+use cycle::Cycle;
 use executing::{BlockState, Executing};
 use interrupt::Interrupt;
 pub use manual::ManualCoordinates;
@@ -139,16 +141,6 @@ enum AfterStop {
     Continue,
 }
 
-/// What the program cycle waits for besides motion.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Wait {
-    None,
-    /// A dwell ends at this time.
-    Until(f64),
-    /// M00/M01 or a single-block stop: cycle start continues.
-    Operator,
-}
-
 pub struct Controller {
     interp: Interpreter,
     /// The machine (the executor's, shared; its mechanism drives the 5-axis manual feeds).
@@ -169,14 +161,9 @@ pub struct Controller {
     stopping: Option<AfterStop>,
     /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04).
     spindle: f64,
-    /// Canonical commands read but not yet carried out.
-    pending: VecDeque<Item>,
-    /// The interpreter has more blocks to run.
-    program_active: bool,
-    wait: Wait,
-    /// A manual intervention in a held program (JOG/HANDLE between feed hold or a single-block
-    /// stop and cycle start).
-    intervention: Option<Intervention>,
+    /// The program cycle: blocks to read, commands read ahead, a dwell or a stop, a manual
+    /// intervention holding it (`cycle.rs`).
+    cycle: Cycle,
     /// Manual absolute off: what the interventions moved, added to every later motion.
     shift: Option<Shift>,
     /// Manual absolute on after an intervention at a block stop: the next tool tip path starts
@@ -234,10 +221,7 @@ impl Controller {
             estop: false,
             stopping: None,
             spindle: 0.0,
-            pending: VecDeque::new(),
-            program_active: false,
-            wait: Wait::None,
-            intervention: None,
+            cycle: Cycle::OFF,
             shift: None,
             reposition: false,
             wse_no_manual: false,
@@ -309,7 +293,7 @@ impl Controller {
     pub fn tip_basis(&self) -> crate::tip::Basis {
         if self.exec.is_moving() {
             self.exec.basis()
-        } else if self.program_active || self.exec.has_queued() {
+        } else if self.cycle.blocks().reading() || self.exec.has_queued() {
             self.exec.last_basis()
         } else {
             self.interp.state.tip_basis()
@@ -331,7 +315,7 @@ impl Controller {
     /// The modal state of the block the machine is executing. The interpreter's own state is
     /// the block it has read to; they differ while blocks read ahead are queued or moving.
     pub fn modal(&self) -> ModalState {
-        if self.pending.is_empty() && !self.exec.is_moving() && !self.exec.has_queued() {
+        if self.cycle.blocks().nothing_ahead() && !self.exec.is_moving() && !self.exec.has_queued() {
             self.interp.state.modal_state()
         } else {
             self.executing.shown().modal
@@ -379,7 +363,7 @@ impl Controller {
         {
             return Err(Refusal::Busy);
         }
-        if let Some(i) = &self.intervention {
+        if let Some(back) = self.cycle.intervention().map(|i| i.mode) {
             if self.exec.has_queued() {
                 // A held hand move: cycle start finishes it first.
                 return Err(Refusal::Busy);
@@ -389,7 +373,7 @@ impl Controller {
                     self.mode = mode;
                     Ok(())
                 }
-                m if m == i.mode => {
+                m if m == back => {
                     self.end_intervention();
                     Ok(())
                 }
@@ -397,12 +381,12 @@ impl Controller {
             };
         }
         let held = self.run_state == RunState::Hold;
-        let at_block_stop = self.at_operator_stop();
+        let at_block_stop = self.cycle.at_operator_stop();
         if (held || at_block_stop) && matches!(self.mode, Mode::Auto | Mode::Mdi) {
             if !matches!(mode, Mode::Jog | Mode::Handle | Mode::Inc) || self.estop {
                 return Err(Refusal::Busy);
             }
-            self.intervention = Some(Intervention {
+            self.cycle.intervene(Intervention {
                 mode: self.mode,
                 held,
                 start: self.exec.here.machine,
@@ -425,7 +409,7 @@ impl Controller {
 
     /// The program AUTO runs (NC text).
     pub fn select_program(&mut self, text: &str) -> Result<(), Refusal> {
-        if self.busy() || self.intervention.is_some() {
+        if self.busy() || self.cycle.intervening() {
             return Err(Refusal::Busy);
         }
         self.program = Some(text.to_string());
@@ -461,16 +445,6 @@ impl Controller {
         true
     }
 
-    /// The program has more to do: blocks to read, or commands read and not yet carried out.
-    fn program_has_more(&self) -> bool {
-        self.program_active || !self.pending.is_empty()
-    }
-
-    /// The program waits for cycle start at M00/M01 or a single-block stop.
-    fn at_operator_stop(&self) -> bool {
-        self.wait == Wait::Operator && self.program_has_more()
-    }
-
     /// A motion is under way or about to start.
     fn moving(&self) -> bool {
         self.run_state == RunState::Running || self.exec.is_moving()
@@ -479,13 +453,11 @@ impl Controller {
     /// A program or a motion is under way (a program held for a manual intervention lets
     /// the manual commands through).
     fn busy(&self) -> bool {
-        self.run_state == RunState::Running
-            || (self.program_active && self.intervention.is_none())
-            || self.exec.is_moving()
+        self.run_state == RunState::Running || self.cycle.program_reading() || self.exec.is_moving()
     }
 
     pub fn cycle_start(&mut self) -> Result<(), Refusal> {
-        if self.intervention.is_some() {
+        if self.cycle.intervening() {
             // JOG/HANDLE of a manual intervention: cycle start only finishes a held hand move;
             // the program goes on after the return to its mode.
             if self.run_state == RunState::Hold && self.exec.has_queued() && !self.estop {
@@ -500,14 +472,14 @@ impl Controller {
         match self.run_state {
             RunState::Running => return Ok(()),
             RunState::Hold => {
-                self.wait = if matches!(self.wait, Wait::Operator) { Wait::None } else { self.wait };
+                self.cycle.course_mut().release_stop();
                 self.set_state(RunState::Running);
                 return Ok(());
             }
             _ => {}
         }
-        if self.at_operator_stop() {
-            self.wait = Wait::None;
+        if self.cycle.at_operator_stop() {
+            self.cycle.course_mut().release_stop();
             self.set_state(RunState::Running);
             return Ok(());
         }
@@ -530,8 +502,7 @@ impl Controller {
         self.apply_interrupt();
         // Until its first motion ends, the program stands in the state it starts from.
         self.exec.stand_in(self.interp.state.tip_basis());
-        self.program_active = true;
-        self.wait = Wait::None;
+        self.cycle.start();
         self.set_state(RunState::Running);
         Ok(())
     }
@@ -563,7 +534,7 @@ impl Controller {
     pub fn reset(&mut self) {
         // The machine's reset stops the spindle (as the usual machine ladder does).
         self.spindle = 0.0;
-        self.intervention = None;
+        self.cycle.end_intervention();
         if self.exec.is_moving() {
             self.decelerate(AfterStop::Drop);
         } else {
@@ -589,13 +560,11 @@ impl Controller {
     fn abandon_program(&mut self) {
         self.shift = None;
         self.reposition = false;
-        self.pending.clear();
+        self.cycle.abandon();
         self.stages.reset();
         self.interp.reset();
         self.executing.settle(self.interp.state.modal_state());
         self.wse_no_manual = self.interp.wse_forbids_manual();
-        self.program_active = false;
-        self.wait = Wait::None;
     }
 
     /// Emergency stop pressed (`true`) or released: pressing stops every axis at once.
@@ -604,7 +573,7 @@ impl Controller {
         if pressed {
             self.end_interrupt_move();
             self.spindle = 0.0;
-            self.intervention = None;
+            self.cycle.end_intervention();
             self.exec.halt();
             self.stopping = None;
             self.abandon_program();
@@ -771,14 +740,14 @@ impl Controller {
                 self.exec.idle_until(end);
                 break;
             }
-            if let Wait::Until(until) = self.wait {
+            if let Some(until) = self.cycle.course().dwell_end() {
                 self.exec.idle_until(until.min(end));
                 if self.exec.time() >= until {
-                    self.wait = Wait::None;
+                    self.cycle.course_mut().dwell_over();
                 }
                 continue;
             }
-            if self.intervention.is_some() {
+            if self.cycle.intervening() {
                 // Only the manual moves run; the program waits for the return to its mode.
                 if self.exec.release(true) {
                     continue;
@@ -788,7 +757,7 @@ impl Controller {
                 self.exec.idle_until(end);
                 break;
             }
-            if self.wait == Wait::Operator {
+            if self.cycle.course().stopped() {
                 self.exec.idle_until(end);
                 break;
             }
@@ -803,6 +772,7 @@ impl Controller {
             blocks += 1;
             if !self.advance_program() {
                 // Nothing more to read: carry out the rest and stop.
+                self.cycle.over();
                 if self.exec.release(true) {
                     continue;
                 }
@@ -851,7 +821,7 @@ impl Controller {
     /// Whatever was planned is gone: the next motion starts where the machine stands, and so
     /// does the program's current point (it had read ahead).
     fn stand_here(&mut self) {
-        if self.intervention.is_some() {
+        if self.cycle.intervening() {
             // The held program's current point stays where the program put it.
             self.exec.queue_from_here(self.exec.here.work, self.tip_basis());
             return;
@@ -905,8 +875,8 @@ impl Controller {
     /// A stop that drops the path also drops what the program read ahead, unless the path
     /// was a manual intervention's (the held program keeps its blocks).
     fn drop_pending(&mut self) {
-        if self.intervention.is_none() {
-            self.pending.clear();
+        if !self.cycle.intervening() {
+            self.cycle.blocks_mut().drop_ahead();
         }
     }
 
@@ -918,8 +888,8 @@ impl Controller {
                 self.show(block);
             }
         }
-        let Some(item) = self.pending.pop_front() else {
-            if !self.program_active {
+        let Some(item) = self.cycle.blocks_mut().pop() else {
+            if !self.cycle.blocks().reading() {
                 return false;
             }
             self.run_block();
@@ -950,7 +920,7 @@ impl Controller {
                     if let Err(id) = queued {
                         if motion_pending {
                             // The alarm comes when the machine has stopped before the block.
-                            self.pending.push_front(Item::Canon(c));
+                            self.cycle.blocks_mut().push_front(Item::Canon(c));
                             self.flush();
                         } else {
                             self.raise(id, c.line, c.n);
@@ -960,29 +930,29 @@ impl Controller {
                 }
                 _ if motion_pending => {
                     // Every other command waits for the motion before it.
-                    self.pending.push_front(Item::Canon(c));
+                    self.cycle.blocks_mut().push_front(Item::Canon(c));
                     self.flush();
                 }
                 kind => self.carry_out(kind),
             },
             Item::BlockEnd if !self.panel.single_block => {}
             Item::BlockEnd if motion_pending => {
-                self.pending.push_front(Item::BlockEnd);
+                self.cycle.blocks_mut().push_front(Item::BlockEnd);
                 self.flush();
             }
             Item::BlockEnd => {
-                if self.panel.single_block && self.program_has_more() {
-                    self.wait = Wait::Operator;
+                if self.panel.single_block && self.cycle.blocks().has_more() {
+                    self.cycle.course_mut().stop();
                     self.set_state(RunState::Idle);
                 }
             }
             Item::WseNoManual(on) if motion_pending => {
-                self.pending.push_front(Item::WseNoManual(on));
+                self.cycle.blocks_mut().push_front(Item::WseNoManual(on));
                 self.flush();
             }
             Item::WseNoManual(on) => self.wse_no_manual = on,
             Item::Alarm(a) if motion_pending => {
-                self.pending.push_front(Item::Alarm(a));
+                self.cycle.blocks_mut().push_front(Item::Alarm(a));
                 self.flush();
             }
             Item::Alarm(a) => {
@@ -1008,54 +978,54 @@ impl Controller {
         if !matches!(step, Ok(Step::NeedInput)) {
             let (line, n) = self.interp.state.current_block();
             let block = BlockState { line, n, modal: self.interp.state.modal_state() };
-            self.pending.push_back(Item::Block(self.executing.read(block, !produced)));
+            self.cycle.blocks_mut().push(Item::Block(self.executing.read(block, !produced)));
         }
         // A path stage may release a block it held together with the one just read (cutter
         // compensation: the block before a G40): each block's commands end at its own stop.
         let mut line = out.first().map(|c| c.line);
         for c in out {
             if line != Some(c.line) {
-                self.pending.push_back(Item::BlockEnd);
+                self.cycle.blocks_mut().push(Item::BlockEnd);
                 line = Some(c.line);
             }
-            self.pending.push_back(Item::Canon(c));
+            self.cycle.blocks_mut().push(Item::Canon(c));
         }
         if self.interp.wse_forbids_manual() != banned {
-            self.pending.push_back(Item::WseNoManual(!banned));
+            self.cycle.blocks_mut().push(Item::WseNoManual(!banned));
         }
         if let Some(alarm) = stage_alarm {
             // A path stage's program error: the program stops after what was released before it.
-            self.program_active = false;
-            self.pending.push_back(Item::Alarm(alarm));
+            self.cycle.blocks_mut().push(Item::Alarm(alarm));
+            self.cycle.blocks_mut().end_reading();
             return;
         }
         match step {
             Ok(Step::Continue) => {
                 if produced {
-                    self.pending.push_back(Item::BlockEnd);
+                    self.cycle.blocks_mut().push(Item::BlockEnd);
                 }
             }
             Ok(Step::NeedInput) => self.interp.finish(),
-            Ok(Step::Ended) => self.program_active = false,
+            Ok(Step::Ended) => self.cycle.blocks_mut().end_reading(),
             Err(alarm) => {
-                self.program_active = false;
-                self.pending.push_back(Item::Alarm(alarm));
+                self.cycle.blocks_mut().push(Item::Alarm(alarm));
+                self.cycle.blocks_mut().end_reading();
             }
         }
     }
 
     fn carry_out(&mut self, kind: &CanonKind) {
         match kind {
-            CanonKind::Dwell { seconds } => self.wait = Wait::Until(self.exec.time() + seconds),
+            CanonKind::Dwell { seconds } => self.cycle.course_mut().dwell(self.exec.time() + seconds),
             CanonKind::ToolChange { .. } => {
-                self.wait = Wait::Until(self.exec.time() + self.machine.motion.tool_change_s)
+                self.cycle.course_mut().dwell(self.exec.time() + self.machine.motion.tool_change_s)
             }
             // M00, and M01 (the interpreter emits it only with the optional stop switch on).
             CanonKind::Stop { message, .. } => {
                 if let Some(m) = message {
                     self.events.push(Event::Message(m.clone()));
                 }
-                self.wait = Wait::Operator;
+                self.cycle.course_mut().stop();
                 self.set_state(RunState::Idle);
             }
             CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
@@ -1091,8 +1061,7 @@ impl Controller {
         let alarm = Alarm { code, message, line, n };
         self.alarms.push(alarm.clone());
         self.events.push(Event::Alarm(alarm));
-        self.program_active = false;
-        self.pending.clear();
+        self.cycle.abort();
         self.set_state(RunState::Alarm);
     }
 

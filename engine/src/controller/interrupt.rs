@@ -130,9 +130,7 @@ impl Controller {
         }
         let over = self.exec.is_idle()
             && self.stopping.is_none()
-            && self.pending.is_empty()
-            && !self.program_active
-            && self.intervention.is_none()
+            && self.cycle.program_over()
             && self.interrupt.moving.is_none();
         if self.interrupt.applied && over {
             self.release_interrupt();
@@ -159,7 +157,7 @@ impl Controller {
         if self.estop || self.run_state == RunState::Alarm {
             return Err(Refusal::Busy);
         }
-        if !self.interrupt.applied || self.intervention.is_some() {
+        if !self.interrupt.applied || self.cycle.intervening() {
             // No automatic operation under way: nothing to interrupt.
             return Err(Refusal::WrongMode);
         }

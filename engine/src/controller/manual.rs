@@ -53,7 +53,7 @@ impl Controller {
     /// Back from a manual intervention: the held path goes on from where the machine stands,
     /// to the programmed end point (manual absolute on) or shifted by the intervention (off).
     pub(super) fn end_intervention(&mut self) {
-        let Some(i) = self.intervention.take() else { return };
+        let Some(i) = self.cycle.end_intervention() else { return };
         // Back to the program's coordinates (a handle interruption's shift stays over them).
         self.apply_interrupt();
         self.mode = i.mode;
@@ -350,7 +350,7 @@ impl Controller {
         if self.mode != Mode::Handle {
             return Err(Refusal::WrongMode);
         }
-        if self.estop || self.run_state == RunState::Alarm || (self.program_active && self.intervention.is_none()) {
+        if self.estop || self.run_state == RunState::Alarm || self.cycle.program_reading() {
             return Err(Refusal::Busy);
         }
         if self.moving() || self.exec.has_queued() {
@@ -490,7 +490,7 @@ impl Controller {
         }
         // Under TCP the tip keeps its program coordinates (in Π; FANUC DET = 1 shows the tip in
         // the workpiece system instead, which the table's turn moves: left to the samples).
-        if self.interp.tcp_on() && self.intervention.is_none() && !self.machine.five_axis.display_workpiece {
+        if self.interp.tcp_on() && !self.cycle.intervening() && !self.machine.five_axis.display_workpiece {
             seg = seg.keeping_program_xyz();
         }
         self.exec.push(seg);
