@@ -186,6 +186,25 @@ fn single_block_and_program_stops_wait_for_cycle_start() {
 }
 
 #[test]
+fn a_jog_after_a_program_that_ended_on_m00_ends_idle() {
+    // The program's last block stops at M00 (alone, or with M30) and nothing follows: the
+    // program is over, and a JOG afterwards ends idle like any other.
+    for src in ["G90 G01 X10. F6000.\nM00\n", "G90 G01 X10. F6000.\nM00 M30\n"] {
+        let mut c = started(src);
+        run_until_stopped(&mut c, 10.0);
+        assert_eq!(c.run_state(), RunState::Idle, "{src}");
+        c.set_mode(Mode::Jog).unwrap();
+        c.panel.jog_feed = 6000.0;
+        c.jog_start('Y', true).unwrap();
+        run_until_stopped(&mut c, 0.5);
+        c.jog_stop();
+        run_until_stopped(&mut c, 5.0);
+        assert_eq!(c.run_state(), RunState::Idle, "{src}");
+        assert!(c.point().machine[1] > 10.0, "{src}: {:?}", c.point().machine);
+    }
+}
+
+#[test]
 fn emergency_stop_halts_at_once_and_only_reset_clears_it() {
     let mut c = started("G90 G01 X100. F6000.\nM30\n");
     c.tick(0.3);
