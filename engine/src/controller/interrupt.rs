@@ -16,7 +16,7 @@ use super::{Controller, Mode, Refusal, RunState};
 use crate::canon::{Motion, MotionContext, MotionKind, Pos};
 use crate::kin::Vec3;
 use crate::machine::MAX_AXES;
-use crate::motion::{self, Cursor, Planned, Segment};
+use crate::motion::{Cursor, Planned, Segment};
 
 /// The handle interruption's shift.
 #[derive(Default)]
@@ -207,7 +207,7 @@ impl Controller {
                 None => return Ok(0.0),
             }
         };
-        let Some(planned) = motion::executor::plan_alone(&self.machine, seg) else { return Ok(0.0) };
+        let Some(planned) = self.exec.plan_alone(seg) else { return Ok(0.0) };
         self.interrupt.moving = Some((planned, self.exec.time()));
         Ok(amount * fraction)
     }
@@ -235,10 +235,9 @@ impl Controller {
                 }
             }
             ManualTarget::TipRotation(i) => {
-                let kin = self.machine.kinematics().cloned()?;
                 to[i] += amount;
                 let length = self.manual_tool_length();
-                let seg = Segment::tip_rotation(kin, from, from, &to, length, AT_CLAMP, &self.manual_limits());
+                let seg = self.exec.tip_rotation((from, from), &to, length, AT_CLAMP, &self.manual_limits())?;
                 return (seg.len > 0.0).then_some(seg);
             }
         }
@@ -255,7 +254,7 @@ impl Controller {
         };
         // At the handle clamp whatever the overrides.
         let ctx = self.exec.feed_context(1.0, 1.0, true);
-        let seg = Segment::new(&m, from, from, &self.manual_limits(), ctx, self.machine.kinematics());
+        let seg = self.exec.segment_from(&m, (from, from), ctx, &self.manual_limits());
         (seg.len > 0.0).then_some(seg)
     }
 

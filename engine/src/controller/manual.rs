@@ -460,9 +460,11 @@ impl Controller {
         let segment = |amount: f64| {
             let mut to = from;
             to[i] += amount;
-            let mut seg = Segment::tip_rotation(kin.clone(), &from, &self.exec.here.work, &to, length, feed, &axes);
+            // (The mechanism is there: checked above.)
+            let seg = self.exec.tip_rotation((&from, &self.exec.here.work), &to, length, feed, &axes);
+            let mut seg = seg.ok_or(Refusal::NoAxis)?;
             seg.tip_basis = basis;
-            seg
+            Ok(seg)
         };
         // The largest part of the turn whose path (sampled) stays inside every stroke.
         let inside = |seg: &Segment| {
@@ -475,18 +477,18 @@ impl Controller {
                     .all(|(a, ax)| ax.stroke.is_none_or(|[lo, hi]| p[a] >= lo && p[a] <= hi))
             })
         };
-        let mut seg = segment(amount);
+        let mut seg = segment(amount)?;
         if !inside(&seg) {
             let (mut lo, mut hi) = (0.0, 1.0);
             for _ in 0..30 {
                 let mid = 0.5 * (lo + hi);
-                if inside(&segment(amount * mid)) {
+                if inside(&segment(amount * mid)?) {
                     lo = mid;
                 } else {
                     hi = mid;
                 }
             }
-            seg = segment(amount * lo);
+            seg = segment(amount * lo)?;
         }
         // Under TCP the tip keeps its program coordinates (in Π; FANUC DET = 1 shows the tip in
         // the workpiece system instead, which the table's turn moves: left to the samples).

@@ -189,7 +189,36 @@ impl Executor {
 
     /// The segment of motion `m` from the queued endpoint, within `axes`.
     pub fn segment_within(&self, m: &Motion, ctx: FeedContext, axes: &AxisLimits) -> Segment {
-        Segment::new(m, &self.queued.machine, &self.queued.work, axes, ctx, self.machine.kinematics())
+        self.segment_from(m, (&self.queued.machine, &self.queued.work), ctx, axes)
+    }
+
+    /// The segment of motion `m` from `from` (machine and programmed points), within `axes`: a
+    /// manual move laid over the program (a handle interruption's pulse) starts where the
+    /// machine is, not where the queue ends.
+    pub fn segment_from(&self, m: &Motion, from: (&Pos, &Pos), ctx: FeedContext, axes: &AxisLimits) -> Segment {
+        Segment::new(m, from.0, from.1, axes, ctx, self.machine.kinematics())
+    }
+
+    /// A rotation of the rotary axes from `from` to `to` about the tool tip (tool length
+    /// `tool_length`) at `feed_deg_min`, within `axes` (`None` without a 5-axis mechanism).
+    pub fn tip_rotation(
+        &self,
+        (from, work_from): (&Pos, &Pos),
+        to: &Pos,
+        tool_length: f64,
+        feed_deg_min: f64,
+        axes: &AxisLimits,
+    ) -> Option<Segment> {
+        let kin = self.machine.kinematics()?.clone();
+        Some(Segment::tip_rotation(kin, from, work_from, to, tool_length, feed_deg_min, axes))
+    }
+
+    /// The plan of one segment on its own, from rest to rest (a handle interruption's pulse
+    /// move, executed beside the program's runs).
+    pub fn plan_alone(&self, seg: Segment) -> Option<Planned> {
+        let mut planner = super::planner_for(&self.machine);
+        planner.push(seg);
+        planner.pop(true)
     }
 
     /// The segment of command `c`'s motion `m` (the command's, or a shifted copy of it) read in
@@ -494,13 +523,6 @@ impl Executor {
             feed: self.here.feed,
         }
     }
-}
-
-/// The plan of one segment on its own, from rest to rest (a handle interruption's pulse move).
-pub fn plan_alone(machine: &Machine, seg: Segment) -> Option<Planned> {
-    let mut planner = super::planner_for(machine);
-    planner.push(seg);
-    planner.pop(true)
 }
 
 /// The lowest limits of the segments up to the next place the machine must stop at (an exact
