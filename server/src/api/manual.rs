@@ -22,13 +22,13 @@ use crate::service::panel::{self, Applied, ManualTarget, PanelCommand};
 #[serde(deny_unknown_fields)]
 pub struct ManualMove {
     /// One axis by its letter.
-    #[schema(example = "X")]
+    #[schema(example = "X", pattern = r"^[ \t\n\r]*[A-Za-z][ \t\n\r]*$")]
     pub axis: Option<String>,
     /// A 5-axis manual feed: `tool-axis`, `right-angle1`, `right-angle2`, `table-vertical`,
     /// `table-horizontal1`, `table-horizontal2`.
     pub feed: Option<ManualFeed>,
     /// Tool tip centre rotation: the rotary axis to turn while X/Y/Z keep the tip in place.
-    #[schema(example = "B")]
+    #[schema(example = "B", pattern = r"^[ \t\n\r]*[A-Za-z][ \t\n\r]*$")]
     pub tip_rotation: Option<String>,
     /// JOG: the direction (`true`: +).
     pub positive: Option<bool>,
@@ -226,7 +226,7 @@ pub async fn set_signals(
 #[serde(deny_unknown_fields)]
 pub struct JogSignal {
     /// The axis whose key is pressed (`Z` is ±J3 on an X Y Z … machine).
-    #[schema(example = "Z", pattern = r"^\s*[A-Za-z]\s*$")]
+    #[schema(example = "Z", pattern = r"^[ \t\n\r]*[A-Za-z][ \t\n\r]*$")]
     pub axis: String,
     pub positive: bool,
 }

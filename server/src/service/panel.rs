@@ -33,9 +33,17 @@ impl ManualTarget {
     }
 }
 
+/// The white space an axis letter may carry: JSON's four characters, the same set the schemas'
+/// pattern ([`AXIS_LETTER_PATTERN`]) names. Written out rather than `\s`, whose set differs
+/// between ECMA-262 (what JSON Schema means), Python (what schemathesis runs) and Rust's `trim`.
+const LETTER_SPACE: [char; 4] = [' ', '\t', '\n', '\r'];
+
+/// The JSON Schema pattern of an axis letter: exactly what [`letter`] accepts.
+pub const AXIS_LETTER_PATTERN: &str = r"^[ \t\n\r]*[A-Za-z][ \t\n\r]*$";
+
 /// An axis letter, upper case.
 pub fn letter(s: &str) -> Result<char, ServiceError> {
-    let mut chars = s.trim().chars();
+    let mut chars = s.trim_matches(LETTER_SPACE).chars();
     match (chars.next(), chars.next()) {
         (Some(c), None) if c.is_ascii_alphabetic() => Ok(c.to_ascii_uppercase()),
         _ => Err(ServiceError::invalid(format!("'{s}' is not an axis letter"))),
@@ -371,6 +379,11 @@ mod tests {
         assert_eq!(mode("JOG").unwrap(), Mode::Jog);
         assert!(mode("fast").is_err());
         assert_eq!(letter(" b ").unwrap(), 'B');
+        assert_eq!(letter("\t\r\nc\n").unwrap(), 'C');
+        // What the pattern refuses, the service refuses too: other white space, two letters.
+        for refused in ["\u{a0}X", "X\u{85}", "\u{feff}X", "XY", "", "1"] {
+            assert!(letter(refused).is_err(), "{refused:?}");
+        }
         assert!(ManualTarget::of(Some("X"), None, Some("A")).is_err());
     }
 

@@ -31,6 +31,29 @@ fn assert_valid(document: &Value, name: &str, value: &Value, what: &str) {
     assert!(errors.is_empty(), "{what} is not a {name}: {errors:#?}");
 }
 
+#[test]
+fn an_axis_letter_is_valid_in_the_schemas_exactly_when_the_service_takes_it() {
+    // The pattern names its white space (JSON's four characters) instead of `\s`, whose set
+    // differs between ECMA-262, Python and Rust; the service trims the same four.
+    use fivex_server::service::panel::{letter, AXIS_LETTER_PATTERN};
+    let doc = document();
+    let candidates = [
+        "X", "b", " c ", "\t\r\nZ\n", "", " ", "XY", "1", "\u{a0}X", "X\u{85}", "\u{feff}X", "\u{2003}B", "\u{1c}A", "É",
+    ];
+    for (component, field) in [("ManualMove", "axis"), ("ManualMove", "tip_rotation"), ("JogSignal", "axis")] {
+        let declared = &doc["components"]["schemas"][component]["properties"][field]["pattern"];
+        assert_eq!(declared, AXIS_LETTER_PATTERN, "{component}.{field}");
+        let validator = schema(&doc, component);
+        for s in candidates {
+            let mut body = json!({field: s});
+            if component == "JogSignal" {
+                body["positive"] = json!(true);
+            }
+            assert_eq!(validator.is_valid(&body), letter(s).is_ok(), "{component}.{field} = {s:?}");
+        }
+    }
+}
+
 fn document() -> Value {
     serde_json::to_value(fivex_server::http::openapi()).expect("the document as JSON")
 }
