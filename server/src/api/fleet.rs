@@ -52,14 +52,35 @@ pub struct FleetRequest {
     pub controllers: Vec<String>,
     /// Dialect of presets, models and library models: `fanuc` (default) or `syntec`.
     pub dialect: Option<String>,
-    /// Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}`; default: 1–99 at 100 / 5 mm
-    /// (a controller keeps its own unless this is given).
-    #[schema(value_type = Option<std::collections::HashMap<String, Tool>>)]
+    /// Tool offsets by number (the schema and its description: [`tool_table_schema`]).
+    #[schema(schema_with = tool_table_schema)]
     pub tools: Option<BTreeMap<u32, Tool>>,
     /// Add each machine's run report (`"report"`).
     #[serde(default)]
     pub report: bool,
 }
+
+/// The schema of `FleetRequest.tools`: an object keyed by offset numbers 1–999, written as JSON
+/// keys are (`"1"`), without sign, leading zero or white space: exactly the keys the service
+/// takes (serde reads a key as a JSON number; `check_tools` then refuses 0 and beyond 999).
+fn tool_table_schema() -> utoipa::openapi::Object {
+    use utoipa::openapi::schema::{ObjectBuilder, SchemaType, Type};
+    use utoipa::openapi::Ref;
+    // `Tool` is listed in the document's components (`http::openapi`): a `schema_with` does not
+    // collect the schemas it refers to.
+    ObjectBuilder::new()
+        .schema_type(SchemaType::from_iter([Type::Object, Type::Null]))
+        .description(Some(
+            "Tool offsets `{\"1\": {\"length\": 100.0, \"radius\": 5.0}}` (numbers 1–999); default: 1–99 at \
+             100 / 5 mm (a controller keeps its own unless this is given).",
+        ))
+        .additional_properties(Some(Ref::from_schema_name("Tool")))
+        .property_names(Some(ObjectBuilder::new().schema_type(Type::String).pattern(Some(TOOL_NUMBER_KEY))))
+        .build()
+}
+
+/// A tool offset number 1–999 as a JSON object key.
+pub const TOOL_NUMBER_KEY: &str = "^[1-9][0-9]{0,2}$";
 
 #[derive(Debug, Clone, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]

@@ -34,6 +34,7 @@ use crate::origin::OriginDoc;
         api::stream::FleetDelta,
         api::stream::FleetEntry,
         api::fleet::FleetRequest,
+        crate::fleet::Tool,
         api::fleet::FleetRunInfo,
         api::fleet::FleetRun,
         crate::service::fleet_runs::Progress,

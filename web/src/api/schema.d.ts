@@ -1268,10 +1268,7 @@ export interface components {
             program: string;
             /** @description Add each machine's run report (`"report"`). */
             report?: boolean;
-            /**
-             * @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}`; default: 1–99 at 100 / 5 mm
-             *     (a controller keeps its own unless this is given).
-             */
+            /** @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}` (numbers 1–999); default: 1–99 at 100 / 5 mm (a controller keeps its own unless this is given). */
             tools?: {
                 [key: string]: components["schemas"]["Tool"];
             } | null;

@@ -54,6 +54,22 @@ fn an_axis_letter_is_valid_in_the_schemas_exactly_when_the_service_takes_it() {
     }
 }
 
+#[test]
+fn a_tool_table_key_is_valid_in_the_schema_exactly_when_the_service_takes_it() {
+    use fivex_server::api::fleet::TOOL_NUMBER_KEY;
+    use fivex_server::fleet::{check_tools, Tool};
+    let doc = document();
+    let declared = &doc["components"]["schemas"]["FleetRequest"]["properties"]["tools"];
+    assert_eq!(declared["propertyNames"]["pattern"], TOOL_NUMBER_KEY);
+    let validator = schema(&doc, "FleetRequest");
+    for key in ["1", "9", "10", "99", "999", "0", "1000", "01", "+1", "-1", " 1", "1 ", "1.0", "1e2", "a", "", "٣"] {
+        let tools = json!({key: {"length": 100.0, "radius": 5.0}});
+        let request = json!({"program": "M30", "presets": ["mill3"], "tools": tools});
+        let taken = serde_json::from_value::<std::collections::BTreeMap<u32, Tool>>(tools).is_ok_and(|t| check_tools(&t).is_ok());
+        assert_eq!(validator.is_valid(&request), taken, "tool number key {key:?}");
+    }
+}
+
 fn document() -> Value {
     serde_json::to_value(fivex_server::http::openapi()).expect("the document as JSON")
 }
