@@ -35,7 +35,7 @@ use manual::{Intervention, Shift};
 pub use signals::{ManualSignals, ManualTarget};
 
 /// A controller's mode: the operator panel's mode switch.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = ModeName))]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {

@@ -5,7 +5,7 @@
 
 use fivex_engine::controller::{Controller, ManualCoordinates, ManualSignals, Mode, Refusal, RunState};
 use fivex_engine::kin::ManualFeed;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::programs::MAX_PROGRAM_BYTES;
 use super::ServiceError;
@@ -13,7 +13,7 @@ use crate::host::{Host, Hosted, Record, Station};
 
 /// What a manual move moves: one axis, along a 5-axis manual feed, or the tool tip centre
 /// rotation of a rotary axis.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ManualTarget {
     Axis(char),
@@ -64,7 +64,9 @@ pub fn mode(word: &str) -> Result<Mode, ServiceError> {
 }
 
 /// One action on the operator panel. A field that is `None` leaves that setting as it is.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// Serialisable both ways, so that a command can be recorded or handed to another process as
+/// it is (`{"command": "set_mode", "mode": "jog"}`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "command", rename_all = "snake_case")]
 pub enum PanelCommand {
     /// With a program (its number and the text AUTO runs, `programs::composed`): select it and
@@ -385,6 +387,43 @@ mod tests {
             assert!(letter(refused).is_err(), "{refused:?}");
         }
         assert!(ManualTarget::of(Some("X"), None, Some("A")).is_err());
+    }
+
+    #[test]
+    fn every_command_reads_back_as_it_was_written() {
+        let target = ManualTarget::Feed(ManualFeed::ToolAxis);
+        let commands = [
+            PanelCommand::CycleStart { program: Some((12, "O0012\nM30\n".into())) },
+            PanelCommand::CycleStart { program: None },
+            PanelCommand::FeedHold,
+            PanelCommand::Reset,
+            PanelCommand::Mdi { text: "G91 X1.".into() },
+            PanelCommand::SetMode { mode: Mode::Handle },
+            PanelCommand::Overrides { feed: Some(50.0), rapid: None },
+            PanelCommand::Switches { single_block: Some(true), optional_stop: None, block_delete: Some(false) },
+            PanelCommand::EmergencyStop { pressed: true },
+            PanelCommand::Jog { target: ManualTarget::Axis('X'), positive: false },
+            PanelCommand::JogStop,
+            PanelCommand::Handle { target, amount: -0.25 },
+            PanelCommand::Handle { target: ManualTarget::TipRotation('B'), amount: 1.0 },
+            PanelCommand::ReferenceReturn,
+            PanelCommand::ManualSettings {
+                coordinates: Some(ManualCoordinates::Tool),
+                rtcp: Some(true),
+                jog_feed: Some(500.0),
+                manual_absolute: None,
+                increment: Some(0.01),
+            },
+            PanelCommand::ManualSignals { alngh: Some(true), rghth: None, rndh: None, tb_base: Some(false), handle_select: Some(3) },
+            PanelCommand::JogSignal { axis: 'Z', positive: true },
+            PanelCommand::HandlePulses { amount: 0.1 },
+        ];
+        for command in commands {
+            let json = serde_json::to_string(&command).unwrap();
+            assert_eq!(serde_json::from_str::<PanelCommand>(&json).unwrap(), command, "{json}");
+        }
+        let read: PanelCommand = serde_json::from_str(r#"{"command": "set_mode", "mode": "jog"}"#).unwrap();
+        assert_eq!(read, PanelCommand::SetMode { mode: Mode::Jog });
     }
 
     #[test]
