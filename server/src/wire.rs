@@ -1,5 +1,6 @@
 //! The typed wire formats the command line and the service share (`docs/contracts.md`,
-//! `docs/api.md`): the `fivex run` summary, one machine's result of a fleet run, and the schemas
+//! `docs/api.md`): the `fivex run` summary, one machine's result of a fleet run, the answers of
+//! `fivex kin fk`/`ik`, and the schemas
 //! of what the document describes but no single Rust type is — a machine document (a model or
 //! a vendor parameter list), the words of the enums the engine has no schema for, and the
 //! websocket messages of each stream. The engine's own wire types (the machine model, the run
@@ -53,8 +54,43 @@ pub struct RunSummary {
     pub messages: Vec<String>,
 }
 
-/// Axis values keyed by axis letter, in axis order.
-fn axes(p: &[f64], axes: &[char]) -> Map<String, Value> {
+/// `fivex kin fk`: the tool tip and direction of axis positions, in the table frame and in the
+/// machine frame, and how near the posture is to a singularity.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ForwardKinematics {
+    pub tip: [f64; 3],
+    pub tool: [f64; 3],
+    pub tip_machine: [f64; 3],
+    pub tool_machine: [f64; 3],
+    pub singularity: Option<SingularityInfo>,
+}
+
+/// The axis a singular posture leaves free and the tool's angle to it (degrees, 0: singular).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SingularityInfo {
+    pub axis: String,
+    pub angle: f64,
+}
+
+/// `fivex kin ik`: every axis solution, the one the dialect's rules choose (or the alarm
+/// they raise), and the axes a singular posture leaves at their `--from` angle.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct InverseKinematics {
+    pub candidates: Vec<Map<String, Value>>,
+    pub chosen: Option<Map<String, Value>>,
+    pub alarm: Option<AlarmCode>,
+    pub singular: Vec<String>,
+}
+
+/// An alarm without a place in a program: the dialect's code and message.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AlarmCode {
+    pub code: String,
+    pub message: String,
+}
+
+/// Axis values keyed by axis letter, in axis order (`{"X": 0.0, "B": 30.0}`).
+pub fn axis_values(p: &[f64], axes: &[char]) -> Map<String, Value> {
     axes.iter().zip(p).map(|(a, v)| (a.to_string(), Value::from(*v))).collect()
 }
 
@@ -66,8 +102,8 @@ impl RunSummary {
             blocks: r.blocks,
             cycle_time_s: r.cycle_time_s,
             position: Position {
-                machine: axes(&r.machine, axis_names),
-                workpiece: axes(&r.workpiece, axis_names),
+                machine: axis_values(&r.machine, axis_names),
+                workpiece: axis_values(&r.workpiece, axis_names),
                 tip: r.tip.tip,
                 tool: r.tip.tool,
                 programmed: r.programmed,

@@ -1,11 +1,12 @@
 //! `fivex kin fk` / `fivex kin ik` (docs/contracts.md): the machine's kinematics by hand.
 
 use super::{load_machine, Fail, MachineArgs};
+use crate::wire::{axis_values, AlarmCode, ForwardKinematics, InverseKinematics, SingularityInfo};
 use clap::{Args, Subcommand};
 use fivex_engine::kin::{Kinematics, Selection, Vec3};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::Dialect;
-use serde_json::{json, Map, Value};
+use serde::Serialize;
 
 #[derive(Subcommand, Debug)]
 pub enum KinCommand {
@@ -103,16 +104,12 @@ fn triple(text: &str) -> Result<Vec3, Fail> {
     }
 }
 
-fn array(v: Vec3) -> Value {
-    json!([v.x, v.y, v.z])
+fn array(v: Vec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
 }
 
-fn axes_object(m: &MachineConfig, pos: &[f64]) -> Value {
-    Value::Object(m.axes.iter().zip(pos).map(|(a, v)| (a.name.to_string(), json!(v))).collect::<Map<_, _>>())
-}
-
-fn print(value: Value) -> Result<(), Fail> {
-    println!("{}", serde_json::to_string(&value)?);
+fn print(value: &impl Serialize) -> Result<(), Fail> {
+    println!("{}", serde_json::to_string(value)?);
     Ok(())
 }
 
@@ -120,14 +117,13 @@ fn fk(a: FkArgs) -> Result<i32, Fail> {
     let (m, k) = model(&a.machine, a.dialect)?;
     let pos = positions(&m, &a.axes)?;
     let p = k.forward(&pos, a.tool_length);
-    let singularity = k.singularity(&pos).map(|s| json!({"axis": s.axis.to_string(), "angle": s.angle}));
-    print(json!({
-        "tip": array(p.tip),
-        "tool": array(p.tool),
-        "tip_machine": array(p.tip_machine),
-        "tool_machine": array(p.tool_machine),
-        "singularity": singularity,
-    }))?;
+    print(&ForwardKinematics {
+        tip: array(p.tip),
+        tool: array(p.tool),
+        tip_machine: array(p.tip_machine),
+        tool_machine: array(p.tool_machine),
+        singularity: k.singularity(&pos).map(|s| SingularityInfo { axis: s.axis.to_string(), angle: s.angle }),
+    })?;
     Ok(0)
 }
 
@@ -141,11 +137,12 @@ fn ik(a: IkArgs) -> Result<i32, Fail> {
     let candidates = k.inverse(triple(&a.tip)?, tool, a.tool_length, &from);
     let how = Selection { dialect: a.dialect, pri: a.pri, p: a.p };
     let choice = k.select(&candidates, &from, how);
+    let names: Vec<char> = m.axes.iter().map(|a| a.name).collect();
     let (chosen, alarm) = match &choice {
-        Ok(c) => (axes_object(&m, &c.pos), Value::Null),
+        Ok(c) => (Some(axis_values(&c.pos, &names)), None),
         Err(id) => {
             let (code, message) = a.dialect.describe(id);
-            (Value::Null, json!({"code": code, "message": message}))
+            (None, Some(AlarmCode { code: code.to_string(), message: message.to_string() }))
         }
     };
     // Axes a singular posture leaves free (kept at their --from angle).
@@ -154,11 +151,11 @@ fn ik(a: IkArgs) -> Result<i32, Fail> {
         .first()
         .map(|c| joints.iter().zip(&c.free).filter(|(_, f)| **f).map(|(j, _)| j.name.to_string()).collect())
         .unwrap_or_default();
-    print(json!({
-        "candidates": candidates.iter().map(|c| axes_object(&m, &c.pos)).collect::<Vec<_>>(),
-        "chosen": chosen,
-        "alarm": alarm,
-        "singular": free,
-    }))?;
+    print(&InverseKinematics {
+        candidates: candidates.iter().map(|c| axis_values(&c.pos, &names)).collect(),
+        chosen,
+        alarm,
+        singular: free,
+    })?;
     Ok(if choice.is_ok() { 0 } else { 1 })
 }

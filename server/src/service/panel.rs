@@ -414,7 +414,13 @@ mod tests {
                 manual_absolute: None,
                 increment: Some(0.01),
             },
-            PanelCommand::ManualSignals { alngh: Some(true), rghth: None, rndh: None, tb_base: Some(false), handle_select: Some(3) },
+            PanelCommand::ManualSignals {
+                alngh: Some(true),
+                rghth: None,
+                rndh: None,
+                tb_base: Some(false),
+                handle_select: Some(3),
+            },
             PanelCommand::JogSignal { axis: 'Z', positive: true },
             PanelCommand::HandlePulses { amount: 0.1 },
         ];

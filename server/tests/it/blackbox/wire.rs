@@ -38,7 +38,20 @@ fn an_axis_letter_is_valid_in_the_schemas_exactly_when_the_service_takes_it() {
     use fivex_server::service::panel::{letter, AXIS_LETTER_PATTERN};
     let doc = document();
     let candidates = [
-        "X", "b", " c ", "\t\r\nZ\n", "", " ", "XY", "1", "\u{a0}X", "X\u{85}", "\u{feff}X", "\u{2003}B", "\u{1c}A", "É",
+        "X",
+        "b",
+        " c ",
+        "\t\r\nZ\n",
+        "",
+        " ",
+        "XY",
+        "1",
+        "\u{a0}X",
+        "X\u{85}",
+        "\u{feff}X",
+        "\u{2003}B",
+        "\u{1c}A",
+        "É",
     ];
     for (component, field) in [("ManualMove", "axis"), ("ManualMove", "tip_rotation"), ("JogSignal", "axis")] {
         let declared = &doc["components"]["schemas"][component]["properties"][field]["pattern"];
@@ -65,7 +78,8 @@ fn a_tool_table_key_is_valid_in_the_schema_exactly_when_the_service_takes_it() {
     for key in ["1", "9", "10", "99", "999", "0", "1000", "01", "+1", "-1", " 1", "1 ", "1.0", "1e2", "a", "", "٣"] {
         let tools = json!({key: {"length": 100.0, "radius": 5.0}});
         let request = json!({"program": "M30", "presets": ["mill3"], "tools": tools});
-        let taken = serde_json::from_value::<std::collections::BTreeMap<u32, Tool>>(tools).is_ok_and(|t| check_tools(&t).is_ok());
+        let taken = serde_json::from_value::<std::collections::BTreeMap<u32, Tool>>(tools)
+            .is_ok_and(|t| check_tools(&t).is_ok());
         assert_eq!(validator.is_valid(&request), taken, "tool number key {key:?}");
     }
 }
