@@ -366,10 +366,9 @@ impl Track {
             if j_lo.is_nan() || j_hi.is_nan() || j_lo > j_hi {
                 return None;
             }
-            // The acceleration after this tick from which a ramp at `turn` ends on the lowest
-            // cap it passes: x²/2turn + x·DT/2 ≤ cap − v − a·DT/2 from below.
             // The jerk a ramp down can count on: what it has now and where it ends (at zero
-            // acceleration, a little faster), the lower.
+            // acceleration, a little faster), the lower. How far ahead the drive looks for
+            // its target takes the lower of either direction's.
             let (end_lo, _) = self.jerk_bounds(&d, x.v + x.a.max(0.0).powi(2) / (2.0 * (-j_lo).max(TINY)), 0.0, 1.0);
             let turn = RAMP * j_hi.min(-j_lo).min(-end_lo).max(TINY);
             let target = match steer {
@@ -377,18 +376,32 @@ impl Track {
                 Steer::Settle { v, .. } => v,
                 Steer::Ahead => self.goal(&x, j_hi, turn),
             };
-            // Below it: the highest such acceleration; above it, the lowest from which a
-            // ramp up at `turn` ends at it: x²/2turn − x·DT/2 ≤ v + a·DT/2 − cap.
+            // The acceleration after this tick from which a ramp at jerk `law` lands on the
+            // target: below it, the highest such acceleration, x²/2law + x·DT/2 ≤ room; above
+            // it, the lowest from which a ramp up ends at it, x²/2law − x·DT/2 ≤ −room.
             // (A drive may stand a hair above a cap that falls: the continuous curve there;
             // a halt lands on rest by the discrete one, which does not overshoot it.)
             let room = target - x.v - 0.5 * x.a * DT;
-            let disc = 0.25 * DT * DT + 2.0 * room / turn;
+            // `law` is the jerk that landing turns the acceleration with: negative coming up
+            // to the target, positive coming down to it, each bounded where it starts and
+            // where it ends. (Both directions' lower bound, as `turn`, held ramps down to
+            // 73 % of the jerk at hand where the other direction's was the tighter.)
+            let law = RAMP
+                * if room >= 0.0 {
+                    (-j_lo).min(-end_lo)
+                } else {
+                    let (_, end_hi) =
+                        self.jerk_bounds(&d, x.v - x.a.min(0.0).powi(2) / (2.0 * j_hi.max(TINY)), 0.0, 1.0);
+                    j_hi.min(end_hi)
+                }
+                .max(TINY);
+            let disc = 0.25 * DT * DT + 2.0 * room / law;
             let wanted = if room < 0.0 && halt {
-                turn * (0.5 * DT - (0.25 * DT * DT - 2.0 * room / turn).sqrt())
+                law * (0.5 * DT - (0.25 * DT * DT - 2.0 * room / law).sqrt())
             } else if disc >= 0.0 {
-                turn * (disc.sqrt() - 0.5 * DT)
+                law * (disc.sqrt() - 0.5 * DT)
             } else {
-                -(2.0 * turn * (x.v - target).max(0.0)).sqrt()
+                -(2.0 * law * (x.v - target).max(0.0)).sqrt()
             };
             // The acceleration the next tick may reach, where it will be.
             let ahead = x.s + x.v * DT;
@@ -589,8 +602,30 @@ pub fn plan(
     let crossing = f.iter().position(|x| x.v > speed_back(x.s) * (1.0 + 1e-9) + 1e-12).unwrap_or(f.len() - 1);
     // No join is quicker than the two drives' lower speed all along: where that is no quicker
     // than the plan to beat, the joins are not looked for (they cost several drives each).
-    let fastest: f64 =
-        f.windows(2).map(|w| (w[1].s - w[0].s) / w[0].v.max(w[1].v).min(speed_back(w[0].s)).max(TINY)).sum();
+    // Over each forward tick the lower speed takes at least as long as either drive does
+    // there (the backward drive's time read off its ticks by distance): a lower bound, so a
+    // join that could win is never skipped. (Dividing each tick's length by the backward
+    // speed at its start overestimated it where the backward drive nears rest: a long forward
+    // tick over the last few slow backward ones — by 4–17 % on whole blocks.)
+    let mut clock = 0.0;
+    let b_time: Vec<f64> = b
+        .iter()
+        .map(|t| {
+            let now = clock;
+            clock += t.dt;
+            now
+        })
+        .collect();
+    let time_back = |sigma: f64| {
+        let k = b.partition_point(|x| x.s <= sigma).saturating_sub(1);
+        match b.get(k + 1) {
+            Some(next) if next.s > b[k].s => {
+                b_time[k] + (b_time[k + 1] - b_time[k]) * ((sigma - b[k].s) / (next.s - b[k].s)).clamp(0.0, 1.0)
+            }
+            _ => b_time[k],
+        }
+    };
+    let fastest: f64 = f.windows(2).map(|w| w[0].dt.max(time_back(len - w[0].s) - time_back(len - w[1].s))).sum();
     if fastest >= MARGIN_BEAT * to_beat {
         return None;
     }
