@@ -11,7 +11,9 @@
 //! (the same drive on the reversed path: a stop read backwards is a start); the profile follows
 //! the forward drive, ramps its acceleration to zero at the latest tick from which the backward
 //! drive can be met at the same speed (`join`), cruises the gap and follows the backward drive
-//! to the end, so it starts and ends at the planner's speeds with zero acceleration.
+//! to the end, so it starts and ends at the planner's speeds with zero acceleration. Where no
+//! join is found (both drives still accelerating toward each other where they cross), the
+//! run is planned again with its cap a little below the crossing speed around it.
 //!
 //! The derivatives come from the segments' own grids (`Segment::derivatives`), interpolated
 //! between points; the plan keeps to [`MARGIN`] of each axis's acceleration and jerk for what
@@ -55,6 +57,7 @@ const GUARD_BRAKE: f64 = 0.8;
 
 /// Derivatives, speed caps and the braking envelope at points along a run (or along it read
 /// backwards).
+#[derive(Clone)]
 struct Track {
     count: usize,
     v: Pos,
@@ -89,6 +92,9 @@ enum Steer {
     Settle { v: f64, until: f64 },
 }
 
+/// The shares of the speed where the drives cross that a run without a join is capped at
+/// around the crossing, tried in turn (each lower one leaves the two landings more room).
+const BELOW_CROSSING: [f64; 4] = [0.99, 0.97, 0.93, 0.85];
 /// The most ticks a settling drive may take.
 const SETTLE_TICKS: usize = 2000;
 /// How much quicker than the two drives' lower speed a join may be (it is not below both
@@ -179,6 +185,18 @@ impl Track {
         t.error = (0..t.s.len()).map(|k| t.rate_error(k)).collect();
         t.fill_envelope();
         t.fill_top();
+        t
+    }
+
+    /// The same track with its caps at most `v` from `from` to `to`.
+    fn capped(&self, from: f64, to: f64, v: f64) -> Track {
+        let mut t = self.clone();
+        for (cap, s) in t.cap.iter_mut().zip(&self.s) {
+            if (from..=to).contains(s) {
+                *cap = cap.min(v);
+            }
+        }
+        t.fill_envelope();
         t
     }
 
@@ -588,117 +606,179 @@ pub fn plan(
     to_beat: f64,
 ) -> Option<Profile> {
     let forward = Track::new(segments, junctions, axes)?;
-    let backward = forward.reversed();
-    let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
-    let b = backward.drive(rest(v_end), false)?;
-    let f = forward.drive(rest(v_start), false)?;
-    let len = forward.len;
-    // The backward drive's speed at forward distance s.
-    let speed_back = |s: f64| {
-        let sigma = len - s;
-        let k = b.partition_point(|x| x.s <= sigma).saturating_sub(1);
-        b[k].v
-    };
-    let crossing = f.iter().position(|x| x.v > speed_back(x.s) * (1.0 + 1e-9) + 1e-12).unwrap_or(f.len() - 1);
-    // No join is quicker than the two drives' lower speed all along: where that is no quicker
-    // than the plan to beat, the joins are not looked for (they cost several drives each).
-    // Over each forward tick the lower speed takes at least as long as either drive does
-    // there (the backward drive's time read off its ticks by distance): a lower bound, so a
-    // join that could win is never skipped. (Dividing each tick's length by the backward
-    // speed at its start overestimated it where the backward drive nears rest: a long forward
-    // tick over the last few slow backward ones — by 4–17 % on whole blocks.)
-    let mut clock = 0.0;
-    let b_time: Vec<f64> = b
-        .iter()
-        .map(|t| {
-            let now = clock;
-            clock += t.dt;
-            now
-        })
-        .collect();
-    let time_back = |sigma: f64| {
-        let k = b.partition_point(|x| x.s <= sigma).saturating_sub(1);
-        match b.get(k + 1) {
-            Some(next) if next.s > b[k].s => {
-                b_time[k] + (b_time[k + 1] - b_time[k]) * ((sigma - b[k].s) / (next.s - b[k].s)).clamp(0.0, 1.0)
+    let drives = Drives::new(forward, (v_start, v_end))?;
+    match drives.join(to_beat) {
+        Joined::Profile(profile) => Some(*profile),
+        Joined::Skipped => None,
+        // Both drives still accelerating toward each other where they cross (each landing on
+        // the same cap ahead, which neither reaches): no ramp lands below the crossing in
+        // time. Capped a little below the speed there, they land on that cap and cruise, and
+        // join on the cruise.
+        Joined::None(crossing) => BELOW_CROSSING.iter().find_map(|&share| {
+            let (from, to, v) = drives.below_crossing(crossing, share)?;
+            match Drives::new(drives.forward.capped(from, to, v), (v_start, v_end))?.join(to_beat) {
+                Joined::Profile(profile) => Some(*profile),
+                _ => None,
             }
-            _ => b_time[k],
-        }
-    };
-    let fastest: f64 = f.windows(2).map(|w| w[0].dt.max(time_back(len - w[0].s) - time_back(len - w[1].s))).sum();
-    if fastest >= MARGIN_BEAT * to_beat {
-        return None;
+        }),
     }
-    // A join from forward tick k: its speed, the forward ramp, the backward tick and ramp, and
-    // where the backward ramp starts (read forwards).
-    let join_at = |k: usize| {
-        let x = f[k];
-        // Into a cruise at the speed the drive steers to, or at the end of a ramp at the jerk
-        // at hand (or gentler where the limits tighten along it).
-        let speeds = std::iter::once(forward.goal_at(&x)).chain(RAMPS.iter().map(|&share| forward.plateau(&x, share)));
-        speeds.filter(|v| *v > TINY && v.is_finite()).find_map(|v| {
-            let rf = forward.join_ramp(&x, v, len)?;
-            let ef = *rf.last()?;
-            // The backward tick nearest the crossing whose ramp can end at the same speed,
-            // short of the forward ramp's end.
-            let top = b.partition_point(|t| t.s < len - ef.s);
-            // (A ramp ending at v at most the jerk at hand is needed first: a cheaper test.)
-            let reaches = |m: &usize| {
-                let t = &b[*m];
-                let end = backward.plateau(t, 1.0);
-                if t.a > 0.0 {
-                    t.v <= v && end <= v + 1e-9
-                } else {
-                    t.a == 0.0 || end >= v - 1e-9
+}
+
+/// How a join of the two drives came out.
+enum Joined {
+    Profile(Box<Profile>),
+    /// Not looked for: no join could beat the plan to beat.
+    Skipped,
+    /// None found back from the forward tick where the drives cross.
+    None(usize),
+}
+
+/// A run's track, its reverse, and the drive along each from the run's end speeds.
+struct Drives {
+    forward: Track,
+    backward: Track,
+    f: Vec<Tick>,
+    b: Vec<Tick>,
+    v_end: f64,
+}
+
+impl Drives {
+    fn new(forward: Track, (v_start, v_end): (f64, f64)) -> Option<Drives> {
+        let backward = forward.reversed();
+        let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
+        let b = backward.drive(rest(v_end), false)?;
+        let f = forward.drive(rest(v_start), false)?;
+        Some(Drives { forward, backward, f, b, v_end })
+    }
+
+    /// The backward drive's speed at forward distance s.
+    fn speed_back(&self, s: f64) -> f64 {
+        let sigma = self.forward.len - s;
+        let k = self.b.partition_point(|x| x.s <= sigma).saturating_sub(1);
+        self.b[k].v
+    }
+
+    /// `share` of the speed at the forward tick `crossing`, and the stretch around it from the
+    /// last tick of each drive from which a ramp at the jerk at hand still lands below that.
+    fn below_crossing(&self, crossing: usize, share: f64) -> Option<(f64, f64, f64)> {
+        let v = share * self.f[crossing].v;
+        let len = self.forward.len;
+        let first = self.f[..=crossing].iter().rposition(|x| self.forward.plateau(x, RAMP) < v)?;
+        let sigma = len - self.f[crossing].s;
+        let back = self.b.partition_point(|x| x.s <= sigma).min(self.b.len() - 1);
+        let last = self.b[..=back].iter().rposition(|x| self.backward.plateau(x, RAMP) < v)?;
+        let (from, to) = (self.f[first].s, len - self.b[last].s);
+        (v > TINY && from < to).then_some((from, to, v))
+    }
+
+    /// The profile joining the drives (see the module).
+    fn join(&self, to_beat: f64) -> Joined {
+        let Drives { forward, backward, f, b, v_end } = self;
+        let v_end = *v_end;
+        let speed_back = |s: f64| self.speed_back(s);
+        let len = forward.len;
+        let crossing = f.iter().position(|x| x.v > speed_back(x.s) * (1.0 + 1e-9) + 1e-12).unwrap_or(f.len() - 1);
+        // No join is quicker than the two drives' lower speed all along: where that is no quicker
+        // than the plan to beat, the joins are not looked for (they cost several drives each).
+        // Over each forward tick the lower speed takes at least as long as either drive does
+        // there (the backward drive's time read off its ticks by distance): a lower bound, so a
+        // join that could win is never skipped. (Dividing each tick's length by the backward
+        // speed at its start overestimated it where the backward drive nears rest: a long forward
+        // tick over the last few slow backward ones — by 4–17 % on whole blocks.)
+        let mut clock = 0.0;
+        let b_time: Vec<f64> = b
+            .iter()
+            .map(|t| {
+                let now = clock;
+                clock += t.dt;
+                now
+            })
+            .collect();
+        let time_back = |sigma: f64| {
+            let k = b.partition_point(|x| x.s <= sigma).saturating_sub(1);
+            match b.get(k + 1) {
+                Some(next) if next.s > b[k].s => {
+                    b_time[k] + (b_time[k + 1] - b_time[k]) * ((sigma - b[k].s) / (next.s - b[k].s)).clamp(0.0, 1.0)
                 }
-            };
-            let (m, rb) = (0..top).rev().take(4000).filter(reaches).take(8).find_map(|m| {
-                let rb = backward.join_ramp(&b[m], v, len - ef.s + 1e-12)?;
-                (len - rb.last()?.s >= ef.s - 1e-12).then_some((m, rb))
-            })?;
-            let s_back = len - rb.last()?.s;
-            forward.cruise_fits(ef.s, s_back.max(ef.s), v).then_some((v, rf, m, rb, s_back))
-        })
-    };
-    // The latest tick at or before the crossing with a join: back from the crossing in
-    // doubling steps to one that has one, then halving the gap (each try runs drives).
-    let (mut k, mut step, mut failed) = (crossing, 1, crossing + 1);
-    let mut joined = loop {
-        if let Some(join) = join_at(k) {
-            break Some((k, join));
+                _ => b_time[k],
+            }
+        };
+        let fastest: f64 = f.windows(2).map(|w| w[0].dt.max(time_back(len - w[0].s) - time_back(len - w[1].s))).sum();
+        if fastest >= MARGIN_BEAT * to_beat {
+            return Joined::Skipped;
         }
-        if k == 0 {
-            break None;
+        // A join from forward tick k: its speed, the forward ramp, the backward tick and ramp, and
+        // where the backward ramp starts (read forwards).
+        let join_at = |k: usize| {
+            let x = f[k];
+            // Into a cruise at the speed the drive steers to, or at the end of a ramp at the jerk
+            // at hand (or gentler where the limits tighten along it).
+            let speeds =
+                std::iter::once(forward.goal_at(&x)).chain(RAMPS.iter().map(|&share| forward.plateau(&x, share)));
+            speeds.filter(|v| *v > TINY && v.is_finite()).find_map(|v| {
+                let rf = forward.join_ramp(&x, v, len)?;
+                let ef = *rf.last()?;
+                // The backward tick nearest the crossing whose ramp can end at the same speed,
+                // short of the forward ramp's end.
+                let top = b.partition_point(|t| t.s < len - ef.s);
+                // (A ramp ending at v at most the jerk at hand is needed first: a cheaper test.)
+                let reaches = |m: &usize| {
+                    let t = &b[*m];
+                    let end = backward.plateau(t, 1.0);
+                    if t.a > 0.0 {
+                        t.v <= v && end <= v + 1e-9
+                    } else {
+                        t.a == 0.0 || end >= v - 1e-9
+                    }
+                };
+                let (m, rb) = (0..top).rev().take(4000).filter(reaches).take(8).find_map(|m| {
+                    let rb = backward.join_ramp(&b[m], v, len - ef.s + 1e-12)?;
+                    (len - rb.last()?.s >= ef.s - 1e-12).then_some((m, rb))
+                })?;
+                let s_back = len - rb.last()?.s;
+                forward.cruise_fits(ef.s, s_back.max(ef.s), v).then_some((v, rf, m, rb, s_back))
+            })
+        };
+        // The latest tick at or before the crossing with a join: back from the crossing in
+        // doubling steps to one that has one, then halving the gap (each try runs drives).
+        let (mut k, mut step, mut failed) = (crossing, 1, crossing + 1);
+        let mut joined = loop {
+            if let Some(join) = join_at(k) {
+                break Some((k, join));
+            }
+            if k == 0 {
+                break None;
+            }
+            failed = k;
+            k = k.saturating_sub(step);
+            step *= 2;
+        };
+        while let Some((found, _)) = joined {
+            if failed - found <= 1 {
+                break;
+            }
+            let mid = found + (failed - found) / 2;
+            match join_at(mid) {
+                Some(join) => joined = Some((mid, join)),
+                None => failed = mid,
+            }
         }
-        failed = k;
-        k = k.saturating_sub(step);
-        step *= 2;
-    };
-    while let Some((found, _)) = joined {
-        if failed - found <= 1 {
-            break;
+        if let Some((k, (v, rf, m, rb, s_back))) = joined {
+            let ef = rf[rf.len() - 1];
+            let state = |t: &Tick| PathState { s: t.s, v: t.v, a: t.a };
+            let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + rf.len() + rb.len() + 1);
+            phases.extend(f[..k].iter().chain(&rf[..rf.len() - 1]).map(|t| (t.dt, t.j, state(t))));
+            phases.push(((s_back - ef.s).max(0.0) / v, 0.0, PathState { s: ef.s, v, a: 0.0 }));
+            // The backward drive read forwards: a state at σ is one at len − σ with its
+            // acceleration's sign changed; the jerk keeps its sign.
+            let fwd = |t: &Tick| PathState { s: len - t.s, v: t.v, a: -t.a };
+            phases.extend((0..rb.len() - 1).rev().map(|i| (rb[i].dt, rb[i].j, fwd(&rb[i + 1]))));
+            phases.extend((0..m).rev().map(|i| (b[i].dt, b[i].j, fwd(&b[i + 1]))));
+            let profile = Profile::tabled(phases, len, v_end);
+            return verified(forward, profile).map_or(Joined::None(crossing), |p| Joined::Profile(Box::new(p)));
         }
-        let mid = found + (failed - found) / 2;
-        match join_at(mid) {
-            Some(join) => joined = Some((mid, join)),
-            None => failed = mid,
-        }
+        Joined::None(crossing)
     }
-    if let Some((k, (v, rf, m, rb, s_back))) = joined {
-        let ef = rf[rf.len() - 1];
-        let state = |t: &Tick| PathState { s: t.s, v: t.v, a: t.a };
-        let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + rf.len() + rb.len() + 1);
-        phases.extend(f[..k].iter().chain(&rf[..rf.len() - 1]).map(|t| (t.dt, t.j, state(t))));
-        phases.push(((s_back - ef.s).max(0.0) / v, 0.0, PathState { s: ef.s, v, a: 0.0 }));
-        // The backward drive read forwards: a state at σ is one at len − σ with its
-        // acceleration's sign changed; the jerk keeps its sign.
-        let fwd = |t: &Tick| PathState { s: len - t.s, v: t.v, a: -t.a };
-        phases.extend((0..rb.len() - 1).rev().map(|i| (rb[i].dt, rb[i].j, fwd(&rb[i + 1]))));
-        phases.extend((0..m).rev().map(|i| (b[i].dt, b[i].j, fwd(&b[i + 1]))));
-        let profile = Profile::tabled(phases, len, v_end);
-        return verified(&forward, profile);
-    }
-    None
 }
 
 /// The quickest stop along `path` (its corner speeds `corners`) from speed `v` and acceleration
