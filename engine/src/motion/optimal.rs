@@ -398,16 +398,19 @@ impl Track {
             // a halt lands on rest by the discrete one, which does not overshoot it.)
             let room = target - x.v - 0.5 * x.a * DT;
             // `law` is the jerk that landing turns the acceleration with: negative coming up
-            // to the target, positive coming down to it, each bounded where it starts and
-            // where it ends. (Both directions' lower bound, as `turn`, held ramps down to
-            // 73 % of the jerk at hand where the other direction's was the tighter.)
+            // to the target, positive coming down to it; the mean of what it has now and where
+            // it ends (the bound moves with the speed along the landing, which the drive
+            // follows tick by tick), no more than now. (Both directions' lower bound, as
+            // `turn`, held ramps down to 73 % of the jerk at hand where the other direction's
+            // was the tighter; the lower of now and the end, to 80 % where the bound tightens
+            // along the landing.)
             let law = RAMP
                 * if room >= 0.0 {
-                    (-j_lo).min(-end_lo)
+                    (-j_lo).min(-0.5 * (j_lo + end_lo))
                 } else {
                     let (_, end_hi) =
                         self.jerk_bounds(&d, x.v - x.a.min(0.0).powi(2) / (2.0 * j_hi.max(TINY)), 0.0, 1.0);
-                    j_hi.min(end_hi)
+                    j_hi.min(0.5 * (j_hi + end_hi))
                 }
                 .max(TINY);
             let disc = 0.25 * DT * DT + 2.0 * room / law;
@@ -436,7 +439,7 @@ impl Track {
                 self.top_speed_at(&next, cell).min(self.top_speed_at(&next, (cell + 1).min(self.s.len() - 1)));
             // (It brakes with the jerk a landing on the target would: at 80 % of the jerk at
             // hand, as it was, it landed every drive coming up to an axis's top speed early.)
-            let guard = self.brake_guard(&x, RAMP * j_lo.max(end_lo));
+            let guard = self.brake_guard(&x, RAMP * j_lo.max(0.5 * (j_lo + end_lo)));
             j = j.min(2.0 * (fastest - x.v - x.a * DT) / (DT * DT)).min(guard);
             j = j.clamp(j_lo, j_hi);
             // The jerk's bounds move with the speed and acceleration over the tick: within them
