@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
-# The whole test suite: every Rust test, a build check of the fuzz targets, then the dashboard's
-# (scripts/web-test.sh).
+# The whole test suite: every Rust test, the comparisons with LinuxCNC's rs274 (ignored by a
+# plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches), a build check of
+# the fuzz targets, then the dashboard's (scripts/web-test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== cargo test --workspace"
 cargo test --workspace
+echo "== cutter compensation against LinuxCNC's rs274 (the peer, fetched from Debian's archive)"
+bash scripts/peer-rs274.sh
+cargo test -p fivex-e2e --test it peer_crc -- --ignored
 echo "== the fuzz targets build (a crate outside the workspace: nothing else compiles them)"
 cargo check --manifest-path fuzz/Cargo.toml --bins
 scripts/web-test.sh

@@ -15,6 +15,7 @@ use fivex_engine::interp::{Config, Interpreter, Step};
 use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions};
+use fivex_engine::stage::Pipeline;
 use fivex_engine::Dialect;
 use std::collections::BTreeMap;
 use std::io::{BufWriter, Write};
@@ -102,6 +103,10 @@ struct InterpArgs {
     program: PathBuf,
     #[command(flatten)]
     interp: InterpreterArgs,
+    /// The commands after the path stages (cutter compensation C: the tool centre path, with
+    /// the `--tools` radii) instead of as the program states them.
+    #[arg(long)]
+    stages: bool,
 }
 
 #[derive(Args, Debug)]
@@ -381,10 +386,25 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
         }
         out.flush()
     });
-    // The interpreter appends straight into the batch that goes to the writer.
+    // The interpreter appends straight into the batch that goes to the writer; with the path
+    // stages, into a step's own buffer that the stages turn into what they release.
     let mut batch = Vec::with_capacity(BATCH + 64);
+    let mut stages = a.stages.then(|| (Pipeline::for_config(interp.config()), Vec::new()));
     let result = loop {
-        match interp.step(&mut batch) {
+        let step = match &mut stages {
+            None => interp.step(&mut batch),
+            Some((pipeline, step_out)) => {
+                let step = interp.step(step_out);
+                let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
+                let alarm = pipeline.process(step_out, end);
+                batch.append(step_out);
+                if let Some(alarm) = alarm {
+                    break Err(alarm);
+                }
+                step
+            }
+        };
+        match step {
             Ok(Step::Continue) => {}
             Ok(Step::NeedInput) => match part_rx.recv() {
                 Ok(part) => interp.push_part(part),

@@ -687,6 +687,35 @@ fn interp_stdout_stays_json_when_the_program_alarms() {
     assert!(stderr(&out).contains("PS0011"), "feed zero alarm reported on stderr: {}", stderr(&out));
 }
 
+/// The (X, Y) end points of the motions `fivex interp` printed.
+fn motion_ends(canon: &[Value]) -> Vec<(f64, f64)> {
+    canon.iter().filter(|c| c["type"] == "motion").map(|c| (num(&c["target"]["X"]), num(&c["target"]["Y"]))).collect()
+}
+
+#[test]
+fn interp_with_stages_prints_the_tool_centre_path() {
+    // A 40 mm pocket cut inside with G41 and radius 5 (the default tool table): the start-up
+    // and every corner at the offset paths' intersections, FANUC's type A cancel (the block
+    // before G40 ends where its offset meets the cancel block's). Without --stages: as programmed.
+    let prog = "G90 G00 X20. Y20. Z0.\nG41 D1 G01 Y0. F1000.\nX40.\nY40.\nX0.\nY0.\nX20.\nG40 Y20.\nM30\n";
+    let (_d, p) = scratch(&[("p.nc", prog)]);
+    let out = fivex(&["interp", "--stages", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let centre =
+        [(20.0, 20.0), (25.0, 5.0), (35.0, 5.0), (35.0, 35.0), (5.0, 35.0), (5.0, 5.0), (15.0, 5.0), (20.0, 20.0)];
+    assert_eq!(motion_ends(&json_lines(&stdout(&out))), centre);
+    let out = fivex(&["interp", s(&p[0])]);
+    let programmed =
+        [(20.0, 20.0), (20.0, 0.0), (40.0, 0.0), (40.0, 40.0), (0.0, 40.0), (0.0, 0.0), (20.0, 0.0), (20.0, 20.0)];
+    assert_eq!(motion_ends(&json_lines(&stdout(&out))), programmed);
+    // A compensation alarm (an arc as the start-up block, PS0034) ends the output with exit 1.
+    let (_d, p) = scratch(&[("p.nc", "G90 G00 X0. Y0.\nG01 X10. F500.\nG41 D1 G02 X20. Y0. R5.\nM30\n")]);
+    let out = fivex(&["interp", "--stages", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("PS0034"), "{}", stderr(&out));
+    assert_eq!(motion_ends(&json_lines(&stdout(&out))), [(0.0, 0.0), (10.0, 0.0)]);
+}
+
 #[test]
 fn odd_bytes_do_not_break_the_cli() {
     let (_d, _) = scratch(&[]);

@@ -6,4 +6,5 @@ mod common;
 mod fixtures;
 mod fleet;
 mod kin_cli;
+mod peer_crc;
 mod service;
