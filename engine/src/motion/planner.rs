@@ -465,11 +465,11 @@ fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) 
 fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
     let mut v = f64::INFINITY;
     for i in 0..speed_step.len() {
-        let turn = (b.start_dir[i] - a.end_dir[i]).abs();
+        let turn = (b.start_dir()[i] - a.end_dir()[i]).abs();
         if turn > 1e-12 {
             v = v.min(speed_step[i] / turn);
         }
-        let bend = (b.start_curvature[i] - a.end_curvature[i]).abs();
+        let bend = (b.start_curvature()[i] - a.end_curvature()[i]).abs();
         if bend > 1e-12 {
             v = v.min((accel_step[i] / bend).sqrt());
         }
