@@ -766,7 +766,7 @@ struct Piece {
 }
 
 /// At most this many pieces to a kinematic block: each is a segment in the planner's queue.
-const MAX_PIECES: usize = 16;
+pub(super) const MAX_PIECES: usize = 16;
 
 /// Cells of a kinematic path share a piece while the piece's limits stay within this share of
 /// each cell's own; with more than [`MAX_PIECES`] pieces the share doubles.
