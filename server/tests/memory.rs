@@ -56,7 +56,7 @@ fn live() -> isize {
 }
 
 #[test]
-#[ignore = "issue 18: a running controller holds ≈590 kB (55 kB idle), most of it the planner's queue of up to 2 × 256 segments (docs/performance.md)"]
+#[ignore = "issue 18: a running controller holds ≈232 kB (55 kB idle), most of it the planner's queue of 256 + 32 segments (docs/performance.md)"]
 fn a_running_controller_holds_under_200_kb() {
     let machine = MachineConfig::preset("table-ac").expect("the table-ac preset");
     let before = live();

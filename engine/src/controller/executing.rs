@@ -16,6 +16,14 @@ pub(super) struct BlockState {
     pub modal: ModalState,
 }
 
+/// A block read ahead: its line and number (its modal state is in `Executing::modals`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Ahead {
+    serial: u64,
+    line: u32,
+    n: Option<u32>,
+}
+
 /// Blocks read but not yet reached, and the one reached last.
 #[derive(Debug, Clone)]
 pub(super) struct Executing {
@@ -24,7 +32,12 @@ pub(super) struct Executing {
     /// The block shown and its serial.
     shown: (u64, BlockState),
     /// Blocks read after the shown one, in reading order.
-    ahead: VecDeque<(u64, BlockState)>,
+    ahead: VecDeque<Ahead>,
+    /// The modal states of the blocks ahead, each kept only where it differs from the block
+    /// read before (a block's is that of the last entry at or before its serial, else the
+    /// shown one's): the reading runs hundreds of blocks ahead of the machine (the planner's
+    /// look-ahead) and a modal state is 104 bytes, mostly repeated.
+    modals: VecDeque<(u64, ModalState)>,
     /// The latest block reached in the reading while motion was still under way: it begins when
     /// that motion ends (unless a segment of its own begins it earlier).
     after_motion: Option<u64>,
@@ -38,6 +51,7 @@ impl Executing {
             read: 0,
             shown: (0, BlockState { line: 0, n: None, modal }),
             ahead: VecDeque::new(),
+            modals: VecDeque::new(),
             after_motion: None,
             last_silent: false,
         }
@@ -49,11 +63,19 @@ impl Executing {
     /// of its own to be shown by, and the motion's end shows the last one read.
     pub fn read(&mut self, block: BlockState, silent: bool) -> u64 {
         self.read += 1;
-        if silent && self.last_silent && !self.ahead.is_empty() {
-            self.ahead.pop_back();
+        if silent && self.last_silent {
+            if let Some(dropped) = self.ahead.pop_back() {
+                if self.modals.back().is_some_and(|m| m.0 == dropped.serial) {
+                    self.modals.pop_back();
+                }
+            }
         }
         self.last_silent = silent;
-        self.ahead.push_back((self.read, block));
+        let before = self.modals.back().map_or(&self.shown.1.modal, |m| &m.1);
+        if !same(before, &block.modal) {
+            self.modals.push_back((self.read, block.modal));
+        }
+        self.ahead.push_back(Ahead { serial: self.read, line: block.line, n: block.n });
         self.read
     }
 
@@ -79,12 +101,16 @@ impl Executing {
         if serial <= self.shown.0 {
             return None;
         }
-        while let Some(&(s, block)) = self.ahead.front() {
+        while let Some(&Ahead { serial: s, line, n }) = self.ahead.front() {
             if s > serial {
                 break;
             }
             self.ahead.pop_front();
-            self.shown = (s, block);
+            let mut modal = self.shown.1.modal;
+            while self.modals.front().is_some_and(|m| m.0 <= s) {
+                modal = self.modals.pop_front().map_or(modal, |m| m.1);
+            }
+            self.shown = (s, BlockState { line, n, modal });
         }
         if self.after_motion.is_some_and(|s| s <= serial) {
             self.after_motion = None;
@@ -95,6 +121,7 @@ impl Executing {
     /// Everything read is dropped or done (reset, a fresh start): show `modal` from now on.
     pub fn settle(&mut self, modal: ModalState) {
         self.ahead.clear();
+        self.modals.clear();
         self.after_motion = None;
         self.shown = (self.read, BlockState { modal, ..self.shown.1 });
     }
@@ -102,4 +129,10 @@ impl Executing {
     pub fn shown(&self) -> &BlockState {
         &self.shown.1
     }
+}
+
+/// Equal bit for bit (a feed of -0.0 is not 0.0's), so that a block shows the state it was read
+/// with exactly.
+fn same(a: &ModalState, b: &ModalState) -> bool {
+    a == b && a.words.f.to_bits() == b.words.f.to_bits() && a.words.s.to_bits() == b.words.s.to_bits()
 }

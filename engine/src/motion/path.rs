@@ -57,7 +57,8 @@ pub struct Segment {
     pub to: Pos,
     pub work_from: Pos,
     pub work_to: Pos,
-    circle: Option<Circle>,
+    /// Boxed: most segments are straight, and the queue holds hundreds of them.
+    circle: Option<Box<Circle>>,
     /// A non-linear rapid: each axis's own rest-to-rest profile (`None` for axes that stay);
     /// the path parameter is then the time.
     independent: Option<Box<[Option<Profile>; MAX_AXES]>>,
@@ -71,12 +72,8 @@ pub struct Segment {
     /// The programmed speed before the override, and the highest the axes allow.
     programmed: f64,
     axis_speed: f64,
-    /// Axis rates d(axis)/ds at the start and at the end (the tangents, for corners).
-    pub start_dir: Pos,
-    pub end_dir: Pos,
-    /// d²(axis)/ds² at the start and at the end (zero on a line; toward the centre on an arc).
-    pub start_curvature: Pos,
-    pub end_curvature: Pos,
+    /// The tangents and curvatures at the ends, for the planner's corners.
+    ends: Ends,
     /// Tool tip (X, Y, Z of the programming system) distance per unit of `s`.
     pub tip_rate: f64,
     /// The motion must come to a stop at its end (G09, G61, rapids).
@@ -93,7 +90,7 @@ pub struct Segment {
     pub tip_basis: crate::tip::Basis,
     /// A kinematic path's stretches with limits of their own (empty: one for the whole
     /// segment); the planner queues each as a segment (`Segment::split`).
-    pieces: Vec<Piece>,
+    pieces: Box<[Piece]>,
     /// The next segment is the rest of this motion (a piece of a split kinematic path).
     continued: bool,
     /// No feed of its own: it runs as fast as the axes allow (a kinematic rapid, a rotary-only
@@ -101,6 +98,60 @@ pub struct Segment {
     unfed: bool,
     /// The override applied (`set_override`), for the pieces it is split into.
     factor: f64,
+}
+
+/// Axis rates d(axis)/ds at the start and at the end of a segment (the tangents, for
+/// corners), and d²(axis)/ds² there (zero on a line; toward the centre on an arc). Kept as the
+/// start's tangent alone where the end's is the same and neither end is curved (every straight
+/// move): the planner's look-ahead holds hundreds of segments, and 192 of a segment's bytes
+/// would otherwise repeat one tangent and zeros. The numbers are the ones given, bit for bit.
+#[derive(Debug, Clone, PartialEq)]
+struct Ends {
+    start_dir: Pos,
+    /// `None`: the end's tangent is `start_dir` and both curvatures are zero.
+    bent: Option<Box<Bent>>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct Bent {
+    end_dir: Pos,
+    start_curvature: Pos,
+    end_curvature: Pos,
+}
+
+const NO_CURVATURE: Pos = [0.0; MAX_AXES];
+
+impl Ends {
+    fn new(start_dir: Pos, end_dir: Pos, start_curvature: Pos, end_curvature: Pos) -> Ends {
+        // Bit for bit (a -0.0 is kept as given).
+        let same = |a: &Pos, b: &Pos| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        let straight =
+            same(&start_dir, &end_dir) && same(&start_curvature, &NO_CURVATURE) && same(&end_curvature, &NO_CURVATURE);
+        let bent = (!straight).then(|| Box::new(Bent { end_dir, start_curvature, end_curvature }));
+        Ends { start_dir, bent }
+    }
+
+    fn end_dir(&self) -> &Pos {
+        self.bent.as_ref().map_or(&self.start_dir, |b| &b.end_dir)
+    }
+
+    fn start_curvature(&self) -> &Pos {
+        self.bent.as_ref().map_or(&NO_CURVATURE, |b| &b.start_curvature)
+    }
+
+    fn end_curvature(&self) -> &Pos {
+        self.bent.as_ref().map_or(&NO_CURVATURE, |b| &b.end_curvature)
+    }
+
+    /// The same end, another start.
+    fn with_start(&self, start_dir: Pos, start_curvature: Pos) -> Ends {
+        Ends::new(start_dir, *self.end_dir(), start_curvature, *self.end_curvature())
+    }
+
+    /// The same start, another end.
+    fn with_end(&self, end_dir: Pos, end_curvature: Pos) -> Ends {
+        Ends::new(self.start_dir, end_dir, *self.start_curvature(), end_curvature)
+    }
 }
 
 /// A tool tip path in the table frame and how the tool turns along it; the machine axes at each
@@ -715,7 +766,7 @@ struct Piece {
 }
 
 /// At most this many pieces to a kinematic block: each is a segment in the planner's queue.
-const MAX_PIECES: usize = 16;
+pub(super) const MAX_PIECES: usize = 16;
 
 /// Cells of a kinematic path share a piece while the piece's limits stay within this share of
 /// each cell's own; with more than [`MAX_PIECES`] pieces the share doubles.
@@ -946,15 +997,12 @@ impl Segment {
             to: m.machine,
             work_from: *work_from,
             work_to: m.target,
-            circle,
+            circle: circle.map(Box::new),
             independent: None,
             follow: None,
             len,
             limits,
-            start_dir,
-            end_dir,
-            start_curvature,
-            end_curvature,
+            ends: Ends::new(start_dir, end_dir, start_curvature, end_curvature),
             tip_rate,
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
@@ -963,7 +1011,7 @@ impl Segment {
             tip_basis: crate::tip::Basis::default(),
             programmed,
             axis_speed,
-            pieces: Vec::new(),
+            pieces: Box::default(),
             continued: false,
             unfed: false,
             factor: 1.0,
@@ -1092,17 +1140,14 @@ impl Segment {
             limits,
             programmed,
             axis_speed,
-            start_dir: found.start_dir,
-            end_dir: found.end_dir,
-            start_curvature: found.start_curvature,
-            end_curvature: found.end_curvature,
+            ends: Ends::new(found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
             tip_rate: if rotary_only { 0.0 } else { 1.0 },
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
             tip_basis: crate::tip::Basis::default(),
-            pieces,
+            pieces: pieces.into_boxed_slice(),
             continued: false,
             unfed: as_fast_as_axes,
             factor: 1.0,
@@ -1180,10 +1225,7 @@ impl Segment {
             limits,
             programmed: feed_deg_min / 60.0,
             axis_speed: limits.v,
-            start_dir: found.start_dir,
-            end_dir: found.end_dir,
-            start_curvature: found.start_curvature,
-            end_curvature: found.end_curvature,
+            ends: Ends::new(found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
             tip_rate: 0.0,
             stop_after: true,
             fixed_feed: false,
@@ -1191,7 +1233,7 @@ impl Segment {
             tool_length,
             // The caller places it in the workpiece system it runs in.
             tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
-            pieces,
+            pieces: pieces.into_boxed_slice(),
             continued: false,
             unfed: false,
             factor: 1.0,
@@ -1237,7 +1279,7 @@ impl Segment {
     /// move in machine coordinates stays.
     pub fn shifted(&self, machine: &Pos, tip: Vec3) -> Segment {
         // The pieces were cut for the path before the shift: the shifted one runs whole.
-        let mut seg = Segment { pieces: Vec::new(), ..self.clone() };
+        let mut seg = Segment { pieces: Box::default(), ..self.clone() };
         if self.machine_coordinates {
             return seg;
         }
@@ -1317,6 +1359,24 @@ impl Segment {
         self.limits.v = self.axis_speed.min(self.programmed * self.factor);
     }
 
+    /// d(axis)/ds at the start and at the end (the tangents, for corners).
+    pub fn start_dir(&self) -> &Pos {
+        &self.ends.start_dir
+    }
+
+    pub fn end_dir(&self) -> &Pos {
+        self.ends.end_dir()
+    }
+
+    /// d²(axis)/ds² at the start and at the end (zero on a line; toward the centre on an arc).
+    pub fn start_curvature(&self) -> &Pos {
+        self.ends.start_curvature()
+    }
+
+    pub fn end_curvature(&self) -> &Pos {
+        self.ends.end_curvature()
+    }
+
     /// Whether the next segment is the rest of this motion (a piece of a split kinematic path,
     /// `split`).
     pub fn continued(&self) -> bool {
@@ -1332,14 +1392,14 @@ impl Segment {
             return vec![self];
         }
         let mut out = Vec::with_capacity(pieces.len());
-        let (mut start, mut dir, mut curvature) = (0.0, self.start_dir, self.start_curvature);
+        let (mut start, mut dir, mut curvature) = (0.0, self.ends.start_dir, *self.ends.start_curvature());
         for (k, piece) in pieces.iter().enumerate() {
             let last = k + 1 == pieces.len();
             let end = if last { self.len } else { piece.end * self.len };
             let mut seg = self.part(start, end);
-            (seg.start_dir, seg.start_curvature) = (dir, curvature);
+            seg.ends = seg.ends.with_start(dir, curvature);
             if !last {
-                (seg.end_dir, seg.end_curvature) = (piece.end_dir, piece.end_curvature);
+                seg.ends = seg.ends.with_end(piece.end_dir, piece.end_curvature);
             }
             seg.axis_speed = piece.limits.v;
             seg.limits = piece.limits;
@@ -1420,14 +1480,16 @@ impl Segment {
         let (from, work_from) = self.at(s);
         // Pieces are shares of the whole path: a tail (of a segment not yet split) runs whole,
         // within the whole path's limits.
-        let mut tail = Segment { from, work_from, len: self.len - s, pieces: Vec::new(), ..self.clone() };
+        let mut tail = Segment { from, work_from, len: self.len - s, pieces: Box::default(), ..self.clone() };
         if let Some(c) = &mut tail.circle {
             c.start += c.sweep * u;
             c.r0 += (c.r1 - c.r0) * u;
             c.sweep *= 1.0 - u;
-            let share = self.start_dir[c.a].hypot(self.start_dir[c.b]);
-            c.set_tangent(&mut tail.start_dir, c.start, share);
-            c.set_curvature(&mut tail.start_curvature, c.start, c.r0, share);
+            let share = self.ends.start_dir[c.a].hypot(self.ends.start_dir[c.b]);
+            let (mut dir, mut curvature) = (self.ends.start_dir, *self.ends.start_curvature());
+            c.set_tangent(&mut dir, c.start, share);
+            c.set_curvature(&mut curvature, c.start, c.r0, share);
+            tail.ends = tail.ends.with_start(dir, curvature);
         }
         if let Some(f) = &mut tail.follow {
             f.cut(u);
@@ -1556,4 +1618,16 @@ fn arc_limits(lim: &mut Limits, c: &Circle, rate: &Pos, axes: &AxisLimits) {
     lim.v = lim.v.min(w / k);
     lim.a = lim.a.min(0.5 * amax / k);
     lim.j = lim.j.min(jmax / 3.0 / k);
+}
+
+#[cfg(test)]
+mod tests {
+    /// The look-ahead holds hundreds of segments per controller (issue 18: a running one under
+    /// 200 kB): a field added to every segment shows here first.
+    #[test]
+    fn a_segment_stays_small() {
+        let size = std::mem::size_of::<super::Segment>();
+        println!("size_of::<Segment>() = {size}");
+        assert!(size <= 512, "a segment takes {size} bytes");
+    }
 }

@@ -14,8 +14,12 @@
 //! A run is released only when at least [`Planner::lookahead`] segments follow it (or the
 //! queue ends in a stop: a non-motion command, an exact stop, the program end): its speeds are
 //! then final, because they are planned as if the machine had to stop at the end of the queue.
-//! Planning runs once per `lookahead` queued segments over the whole queue (a backward pass
-//! from the stop, then a forward pass from the current speed): two passes per segment. A
+//! Planning runs over the whole queue (a backward pass from the stop, then a forward pass from
+//! the current speed) once per [`Planner::batch`] segments queued beyond the look-ahead (an
+//! eighth of it), so that the queue holds at most the look-ahead and one batch: a controller's
+//! memory is mostly this queue (issue 18, `docs/performance.md`). Runs are grouped from the end
+//! of the last released one, as they always were, so a run is never cut shorter by planning
+//! more often; a run not yet followed by a look-ahead's worth waits for the next batch. A
 //! released run's segments stay at the front of the queue until it is popped (its profile is
 //! made then), so the planner never holds a segment twice.
 
@@ -133,6 +137,8 @@ pub struct Planner {
     /// Every segment not yet popped: those of the released runs first, in order.
     queue: VecDeque<Queued>,
     ready: VecDeque<Released>,
+    /// Segments the last planning left unreleased: the next one waits for a batch more.
+    left: usize,
     /// Speed at the end of the last released run.
     v_now: f64,
     pub lookahead: usize,
@@ -151,6 +157,7 @@ impl Planner {
         Planner {
             queue: VecDeque::new(),
             ready: VecDeque::new(),
+            left: 0,
             v_now: 0.0,
             lookahead,
             speed_step,
@@ -173,6 +180,11 @@ impl Planner {
         self.queue.is_empty()
     }
 
+    /// Segments queued beyond the look-ahead before the queue is planned again.
+    pub fn batch(&self) -> usize {
+        (self.lookahead / 8).max(1)
+    }
+
     /// Queue a segment (zero-length segments are dropped: they take no time); a kinematic
     /// path whose limits change along the way is queued as its pieces (`Segment::split`).
     pub fn push(&mut self, segment: Segment) {
@@ -184,6 +196,13 @@ impl Planner {
     fn push_one(&mut self, segment: Segment) {
         if segment.len <= 0.0 {
             return;
+        }
+        // Grown by doubling up to what running a program holds (the look-ahead, a batch and a
+        // split block's pieces) and exactly to that: doubling past it would reserve room for
+        // hundreds of segments never queued.
+        let (len, most) = (self.queue.len(), self.lookahead + self.batch() + super::path::MAX_PIECES);
+        if len == self.queue.capacity() && len < most {
+            self.queue.reserve_exact((2 * len).clamp(4, most) - len);
         }
         if let Some(last) = self.queue.back_mut() {
             last.junction = if last.segment.stop_after || segment.rapid {
@@ -204,6 +223,7 @@ impl Planner {
     /// rest after a feed hold).
     pub fn take_all(&mut self) -> Vec<Segment> {
         self.ready.clear();
+        self.left = 0;
         let out = self.queue.drain(..).map(|q| q.segment).collect();
         self.v_now = 0.0;
         out
@@ -244,12 +264,13 @@ impl Planner {
     pub fn pop(&mut self, stop: bool) -> Option<Planned> {
         if self.ready.is_empty() {
             let n = self.queue.len();
-            // Planning passes over the whole queue, so they run once `lookahead` segments can
-            // be released: two passes per segment whatever the look-ahead.
-            if n == 0 || (!stop && n < 2 * self.lookahead) {
+            // Planning passes over the whole queue, so they run once a batch more than the
+            // look-ahead (and than the last planning left) is queued.
+            if n == 0 || (!stop && n < self.lookahead.max(self.left) + self.batch()) {
                 return None;
             }
             self.plan(if stop { n } else { n - self.lookahead });
+            self.left = n - self.ready.iter().map(|r| r.count).sum::<usize>();
         }
         let r = self.ready.pop_front()?;
         // Exactly as many as the run has (collected, a one-segment run would reserve four).
@@ -465,11 +486,11 @@ fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) 
 fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
     let mut v = f64::INFINITY;
     for i in 0..speed_step.len() {
-        let turn = (b.start_dir[i] - a.end_dir[i]).abs();
+        let turn = (b.start_dir()[i] - a.end_dir()[i]).abs();
         if turn > 1e-12 {
             v = v.min(speed_step[i] / turn);
         }
-        let bend = (b.start_curvature[i] - a.end_curvature[i]).abs();
+        let bend = (b.start_curvature()[i] - a.end_curvature()[i]).abs();
         if bend > 1e-12 {
             v = v.min((accel_step[i] / bend).sqrt());
         }
