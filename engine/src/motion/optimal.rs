@@ -404,15 +404,14 @@ impl Track {
             // `turn`, held ramps down to 73 % of the jerk at hand where the other direction's
             // was the tighter; the lower of now and the end, to 80 % where the bound tightens
             // along the landing.)
-            let law = RAMP
-                * if room >= 0.0 {
-                    (-j_lo).min(-0.5 * (j_lo + end_lo))
-                } else {
-                    let (_, end_hi) =
-                        self.jerk_bounds(&d, x.v - x.a.min(0.0).powi(2) / (2.0 * j_hi.max(TINY)), 0.0, 1.0);
-                    j_hi.min(0.5 * (j_hi + end_hi))
-                }
-                .max(TINY);
+            let coming_up = RAMP * (-j_lo).min(-0.5 * (j_lo + end_lo));
+            let law = if room >= 0.0 {
+                coming_up
+            } else {
+                let (_, end_hi) = self.jerk_bounds(&d, x.v - x.a.min(0.0).powi(2) / (2.0 * j_hi.max(TINY)), 0.0, 1.0);
+                RAMP * j_hi.min(0.5 * (j_hi + end_hi))
+            }
+            .max(TINY);
             let disc = 0.25 * DT * DT + 2.0 * room / law;
             let wanted = if room < 0.0 && halt {
                 law * (0.5 * DT - (0.25 * DT * DT - 2.0 * room / law).sqrt())
@@ -439,7 +438,7 @@ impl Track {
                 self.top_speed_at(&next, cell).min(self.top_speed_at(&next, (cell + 1).min(self.s.len() - 1)));
             // (It brakes with the jerk a landing on the target would: at 80 % of the jerk at
             // hand, as it was, it landed every drive coming up to an axis's top speed early.)
-            let guard = self.brake_guard(&x, RAMP * j_lo.max(0.5 * (j_lo + end_lo)));
+            let guard = self.brake_guard(&x, -coming_up);
             j = j.min(2.0 * (fastest - x.v - x.a * DT) / (DT * DT)).min(guard);
             j = j.clamp(j_lo, j_hi);
             // The jerk's bounds move with the speed and acceleration over the tick: within them
