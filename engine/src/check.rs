@@ -162,14 +162,14 @@ pub fn run_without_motion(interp: &mut Interpreter) -> Option<RunStop> {
     }
 }
 
-/// The text turns cutter compensation C on somewhere: a G41 or G42 word with a literal value
-/// (a G code given by an expression is not known without running).
+/// The text turns cutter compensation on somewhere: a G41, G42, G41.2 or G42.2 word with a
+/// literal value (a G code given by an expression is not known without running).
 pub fn uses_cutter_compensation(file: &File) -> bool {
     file.programs.iter().flat_map(|p| &p.blocks).any(|b| match &b.kind {
         BlockKind::Words(words) => words.iter().any(|w| {
             w.letter == b'G'
                 && matches!(w.value, WordValue::Number { value, .. }
-                    if gcode::code_of(value).is_some_and(|c| c == code::G41 || c == code::G42))
+                    if gcode::code_of(value).is_some_and(|c| code::COMPENSATED_BY_STAGES.contains(&c)))
         }),
         _ => false,
     })

@@ -599,8 +599,6 @@ enum Mech {
     Mixed,
 }
 
-/// The mechanism type, read from the preset names until machines carry it (issue 3); any other
-/// machine with a rotary axis counts as tool rotation type.
 /// The mechanism type (FANUC No.19680) from the sides the rotary links are on: all on the
 /// head, all on the table, or one of each; a rotary axis without a link counts as a head.
 fn mechanism(m: &MachineConfig) -> Mech {

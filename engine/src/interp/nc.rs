@@ -477,7 +477,7 @@ impl State {
             self.pos = self.machine_to_program(&machine_before);
             self.sync_programmed();
         }
-        if comp_before == code::G40 && matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42) {
+        if comp_before == code::G40 && code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
             // The start-up block starts here (`stage::cutter`).
             self.cfg.stages.comp_started(self.pos);
         }
@@ -618,8 +618,8 @@ impl State {
                     self.parts_done += 1.0;
                     self.emit(out, CanonKind::ProgramEnd { m });
                     self.ended = true;
-                    // M02/M30 end cutter compensation C (its stage drops the vector there).
-                    if matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42) {
+                    // M02/M30 end cutter compensation (its stage drops the vector there).
+                    if code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
                         self.modes[group::CUTTER_COMP] = code::G40;
                     }
                 }
@@ -1139,34 +1139,38 @@ impl State {
         }
     }
 
-    /// Under G41/G42 (in force after the block), what the cutter compensation stage does not
-    /// perform is refused like a function not built (`unbuilt::cutter`).
+    /// Under cutter compensation (G41/G42 or G41.2/G42.2 in force after the block), what its
+    /// stage does not perform is refused like a function not built (`unbuilt::cutter`).
     fn refuse_unbuilt_cutter(&self, w: &Words) -> Result<(), AlarmId> {
         let dialect = self.cfg.dialect;
         let in_block = |group: usize| {
             w.gcodes().iter().copied().find(|&c| gcode::lookup(c, dialect).is_some_and(|d| d.group == group))
         };
         let after = |group: usize| in_block(group).unwrap_or(self.modes[group]);
-        if !matches!(after(group::CUTTER_COMP), code::G41 | code::G42) {
+        let comp = after(group::CUTTER_COMP);
+        if !code::COMPENSATED_BY_STAGES.contains(&comp) {
             return Ok(());
         }
         let rotary =
             w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary));
         let block = unbuilt::CutterBlock {
+            tool_side: matches!(comp, code::G41_2 | code::G42_2),
             transform: !matches!(after(group::ROTATION), code::G69 | code::G69_1)
                 || after(group::SCALING) != code::G50
                 || after(group::MIRROR) != code::G50_1
                 || after(group::POLAR) == code::G16,
-            five_axis: matches!(after(group::LENGTH_COMP), code::G43_4 | code::G43_5)
-                || self.plane_active()
-                || self.wse.is_some()
-                || in_block(group::WSE).is_some(),
+            tcp: matches!(after(group::LENGTH_COMP), code::G43_4 | code::G43_5),
+            five_axis: self.plane_active() || self.wse.is_some() || in_block(group::WSE).is_some(),
             cycle: after(group::CYCLE) != code::G80,
             coordinates: [code::G28, code::G30, code::G53, code::G52, code::G92].iter().any(|&c| w.has_g(c))
                 || in_block(group::WORK_SYSTEM).is_some(),
             rotary,
             inverse_time: after(group::FEED_MODE) == code::G93,
             corner_override: after(group::PATH_MODE) == code::G62,
+            arc: !matches!(after(group::MOTION), code::G00 | code::G01),
+            rotary_table: self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table),
+            q: w.has(b'Q'),
+            respecified: in_block(group::CUTTER_COMP) == Some(self.modes[group::CUTTER_COMP]),
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

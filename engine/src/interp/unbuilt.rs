@@ -86,13 +86,11 @@ const TABLE: &[NotBuilt] = &[
     row(360, When::Always, "circular threading (G36)"),
     row(370, When::Always, "automatic tool length measurement (G37)"),
     row(411, When::Always, "normal direction control (G41.1)"),
-    row(412, When::Always, CUTTER_3D),
     row(413, When::Always, "leading edge offset (G41.3)"),
     row(414, When::Always, CUTTER_3D),
     row(415, When::Always, CUTTER_3D),
     row(416, When::Always, CUTTER_3D),
     row(421, When::Always, "normal direction control (G42.1)"),
-    row(422, When::Always, CUTTER_3D),
     row(424, When::Always, CUTTER_3D),
     row(425, When::Always, CUTTER_3D),
     row(426, When::Always, CUTTER_3D),
@@ -141,13 +139,18 @@ pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<
     refused.unwrap_or(false).then_some(row.function)
 }
 
-/// A block under cutter compensation C (G41/G42 in force after it), as the question "does the
-/// stage perform it?" sees it (`stage::cutter`).
+/// A block under cutter compensation (G41/G42, or the tool side offset G41.2/G42.2, in force
+/// after it), as the question "does the stage perform it?" sees it (`stage::cutter`,
+/// `stage::tool_side`).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct CutterBlock {
+    /// G41.2/G42.2 (5-axis tool side offset, type 1) rather than G41/G42.
+    pub tool_side: bool,
     /// G68 rotation, G51 scaling, G51.1 mirror image or G16 polar coordinates in force.
     pub transform: bool,
-    /// Tool centre point control, the tilted working plane or G54.4 in force.
+    /// Tool centre point control in force.
+    pub tcp: bool,
+    /// The tilted working plane or G54.4 in force.
     pub five_axis: bool,
     /// A canned cycle in force.
     pub cycle: bool,
@@ -159,20 +162,37 @@ pub struct CutterBlock {
     pub inverse_time: bool,
     /// G62 automatic corner override (its inner-corner feed reduction is not built).
     pub corner_override: bool,
+    /// A circular (or helical) motion in force.
+    pub arc: bool,
+    /// The machine turns the workpiece (a rotary table): the programming system turns under
+    /// the tool (table and mixed types, their own rules).
+    pub rotary_table: bool,
+    /// Q in the block (the interference check's Q1/Q2/Q3 at a compensation plane change).
+    pub q: bool,
+    /// G41.2 (G42.2) given again in its own mode: the block before ends at a vector
+    /// perpendicular to it (FANUC 5-axis manual §3.1.2, like Q1).
+    pub respecified: bool,
 }
 
-/// The function a block under G41/G42 asks for that the cutter compensation stage does not
-/// perform. The stage shifts the path in the plane by the same vector in programming and
+/// The function a block under cutter compensation asks for that its stage does not perform.
+/// Cutter compensation C shifts the path in the plane by the same vector in programming and
 /// machine coordinates: right only while the two differ by a translation, for plain motions.
+/// The tool side offset compensates straight moves in the plane perpendicular to the tool, on a
+/// machine whose rotary axes turn the tool only, with or without TCP.
 pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
+    let conventional = !b.tool_side;
     [
         (b.transform, "cutter radius compensation with rotation, scaling, mirror image or polar coordinates"),
-        (b.five_axis, "cutter radius compensation with TCP, a tilted working plane or G54.4"),
+        (b.five_axis || b.tcp && conventional, "cutter radius compensation with TCP, a tilted working plane or G54.4"),
         (b.cycle, "cutter radius compensation in a canned cycle"),
         (b.coordinates, "cutter radius compensation with G28/G30/G53, G52/G92 or a workpiece system change"),
-        (b.rotary, "cutter radius compensation with a rotary axis moving"),
+        (b.rotary && conventional, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
+        (b.tool_side && b.arc, "circular interpolation in the tool side offset (G41.2/G42.2)"),
+        (b.tool_side && b.rotary_table, "tool side offset (G41.2/G42.2) on a machine with a rotary table"),
+        (b.tool_side && b.q, "Q1/Q2/Q3 of the tool side offset's interference check"),
+        (b.tool_side && b.respecified, "G41.2/G42.2 given again in its mode (perpendicular vector)"),
     ]
     .into_iter()
     .find_map(|(refused, function)| refused.then_some(function))

@@ -9,7 +9,7 @@
 //! coordinates differ by a translation, so a point is compensated by moving both by the same
 //! vector in the plane; the other axes move as programmed.
 
-mod curve;
+pub(super) mod curve;
 
 use super::{Link, Stage};
 use crate::alarm::AlarmId;
@@ -37,15 +37,15 @@ const CHORD: f64 = 1e-3;
 const NEAR_TANGENT: f64 = 1e-3;
 
 /// A motion waiting for the next motion in the plane.
-struct Held {
-    canon: Canon,
-    curve: Curve,
+pub(super) struct Held {
+    pub(super) canon: Canon,
+    pub(super) curve: Curve,
     /// Signed radius: positive puts the tool on the left (G41 with a positive D).
-    r: f64,
+    pub(super) r: f64,
     /// The compensated start (where the tool is when it begins).
-    start: P2,
+    pub(super) start: P2,
     /// The start-up block (type A: its end vector is perpendicular to the next block).
-    startup: bool,
+    pub(super) startup: bool,
 }
 
 /// The cutter compensation C stage.
@@ -534,7 +534,7 @@ fn signed_radius(m: &Motion) -> f64 {
 /// for the next one): the held block's end, then the ends of the straight moves inserted, the
 /// last of which is where `next` starts. `cancel`: `next` is the G40 block; `type_b`: start-up
 /// and cancel of type B.
-fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool) -> Result<Vec<P2>, AlarmId> {
+pub(super) fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool) -> Result<Vec<P2>, AlarmId> {
     let (a, r) = (&h.curve, h.r);
     let e = a.to();
     let (t1, t2) = (a.tangent(true), next.tangent(false));
@@ -607,7 +607,7 @@ fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool) -> Result
 /// or an arc's chord) it runs more than 90° away from the programmed start to end. The arc check:
 /// the compensated arc's swept angle differs from the programmed one by more than 180° (it runs
 /// the other way round), or the tool does not fit inside it.
-fn check_direction(h: &Held, end: P2) -> Result<(), AlarmId> {
+pub(super) fn check_direction(h: &Held, end: P2) -> Result<(), AlarmId> {
     let (from, to) = (h.curve.from(), h.curve.to());
     let (programmed, compensated) = (sub(to, from), sub(end, h.start));
     match h.curve {

@@ -25,6 +25,7 @@
 //! where the path stood when cutter compensation was turned on.
 
 pub mod cutter;
+pub mod tool_side;
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, Pos};
@@ -133,10 +134,14 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The stages for programs run with `config`: cutter compensation C. (Cutting point control
-    /// and splines are refused by the interpreter until their stages are built.)
+    /// The stages for programs run with `config`: cutter compensation C, and the tool side
+    /// offset of 5-axis cutter compensation (the two are modes of one modal group: a motion goes
+    /// through at most one of them changed). Cutting point control and splines are refused by
+    /// the interpreter until their stages are built.
     pub fn for_config(config: &Config) -> Pipeline {
-        Pipeline { stages: vec![Box::new(cutter::Cutter::new(config))], dialect: config.dialect, between: Vec::new() }
+        let stages: Vec<Box<dyn Stage>> =
+            vec![Box::new(cutter::Cutter::new(config)), Box::new(tool_side::ToolSide::new(config))];
+        Pipeline { stages, dialect: config.dialect, between: Vec::new() }
     }
 
     /// Pass one interpreter step's commands through every stage: `commands` becomes what comes

@@ -26,6 +26,7 @@ mod smoke;
 mod stop;
 mod tcp;
 mod tcp_random;
+mod tool_side;
 mod trace_tip;
 mod twp;
 mod unbuilt;

@@ -1,0 +1,397 @@
+//! Tool side offset of 5-axis cutter compensation, type 1 (FANUC G41.2/G42.2) on a machine
+//! whose rotary axes turn the tool: at the end Q of each block the compensation plane is the
+//! plane perpendicular to the tool there; the block, its start P and the next block's end R are
+//! projected on it and cutter compensation C places the corner in it (the 2-D rules of
+//! `stage::cutter`); the vectors found are added to the programmed 3-D point Q (FANUC 5-axis
+//! manual §3.1.2, "the same as cutter compensation C" in that plane). Rules, decisions and what
+//! is still refused: `docs/cutter-compensation.md`, "Tool side offset".
+//!
+//! What the stage sees as a block's motion in the plane is its move with the part along the
+//! tool taken out; a block that does not move in its plane (a move along the tool, a rotary
+//! axis alone) is a block without motion and keeps the vector of the block before it. Only
+//! straight moves are compensated (the interpreter refuses arcs in the mode until they are
+//! built, `interp::unbuilt::cutter`), on machines without a rotary table (the programming
+//! system does not turn under the tool), so programming, table and machine coordinates differ
+//! by a rotation and a translation that the block carries (`TipMove::frame` under TCP).
+
+use super::cutter::curve::{Curve, P2};
+use super::cutter::{check_direction, corner, Held, MAX_BLOCKS_BETWEEN};
+use super::{Link, Stage};
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, CanonKind, Motion, MotionKind};
+use crate::interp::gcode::code;
+use crate::interp::Config;
+use crate::kin::{Kinematics, Vec3};
+use nalgebra::Matrix3;
+use std::sync::Arc;
+
+/// A move shorter than this in its plane does not move in it (mm).
+const NO_MOVE: f64 = 1e-9;
+
+/// FANUC No.19635 at 0: the tool directions of two blocks differ "a lot" for the interference
+/// check of a compensation plane change from 45° on.
+const PLANE_CHANGE_DEG: f64 = 45.0;
+
+/// The compensation plane at a block's end: e1 the tool direction (programming coordinates),
+/// (e2, e3) the plane's axes with e2 × e3 = e1, so that the 2-D rules' "left seen from the
+/// plane's normal" is the left seen from the tool side (G41.2).
+#[derive(Debug, Clone, Copy)]
+struct Plane {
+    e1: Vec3,
+    e2: Vec3,
+    e3: Vec3,
+}
+
+impl Plane {
+    fn of(tool: Vec3) -> Plane {
+        // Any completion gives the same vectors (the 2-D rules do not change when the plane
+        // turns in itself); X, or Y where X is almost along the tool, keeps it well conditioned.
+        let axis = if tool.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
+        let e2 = (axis - tool * tool.dot(&axis)).normalize();
+        Plane { e1: tool, e2, e3: tool.cross(&e2) }
+    }
+
+    fn project(&self, v: Vec3) -> P2 {
+        [v.dot(&self.e2), v.dot(&self.e3)]
+    }
+
+    fn lift(&self, p: P2) -> Vec3 {
+        self.e2 * p[0] + self.e3 * p[1]
+    }
+}
+
+/// A block waiting for the next block that moves in its plane.
+struct Waiting {
+    /// The block as a 2-D block in its end plane, coordinates relative to its programmed end.
+    held: Held,
+    plane: Plane,
+    /// Programmed start and end (X, Y, Z, programming coordinates).
+    from: Vec3,
+    to: Vec3,
+}
+
+/// The tool side offset stage.
+pub struct ToolSide {
+    /// Axis indices of X, Y, Z.
+    xyz: [Option<usize>; 3],
+    kin: Option<Arc<Kinematics>>,
+    /// The tool direction with the rotary axes at 0 (a machine without rotary axes).
+    tool_axis: Vec3,
+    link: Link,
+    on: bool,
+    /// The programmed end of the last motion while on.
+    programmed: Vec3,
+    /// The compensated point minus the programmed one where the tool is (programming
+    /// coordinates), and the same in the table frame (the tip's shift under TCP).
+    vector: Vec3,
+    vector_table: Vec3,
+    startup: bool,
+    waiting: Option<Waiting>,
+    /// The commands after `waiting` (no motion in the plane).
+    after: Vec<Canon>,
+    stopped: bool,
+    alarm: Option<(AlarmId, u32, Option<u32>)>,
+    type_b: bool,
+    /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, which
+    /// check alarms and modes with the paths as they were before the stage existed: then the
+    /// stage hands everything on as it comes.
+    refuse: bool,
+}
+
+fn is_tool_side(comp: u16) -> bool {
+    matches!(comp, code::G41_2 | code::G42_2)
+}
+
+/// The signed offset radius: positive puts the tool on the left seen from the tool side.
+fn signed_radius(m: &Motion) -> f64 {
+    let side = if m.context.cutter_comp == code::G42_2 { -1.0 } else { 1.0 };
+    side * m.context.cutter_radius
+}
+
+/// The rotation from programming to table coordinates of a motion (under TCP its frame; else
+/// none: the work offsets only translate).
+fn frame(m: &Motion) -> Matrix3<f64> {
+    m.tip.as_ref().map_or_else(Matrix3::identity, |t| t.frame.r)
+}
+
+impl ToolSide {
+    pub fn new(config: &Config) -> ToolSide {
+        let m = &config.machine;
+        ToolSide {
+            xyz: [m.axis_index(b'X'), m.axis_index(b'Y'), m.axis_index(b'Z')],
+            kin: m.kinematics().cloned(),
+            tool_axis: crate::kin::vec3(m.tool_axis).normalize(),
+            link: config.stages.share(),
+            on: false,
+            programmed: Vec3::zeros(),
+            vector: Vec3::zeros(),
+            vector_table: Vec3::zeros(),
+            startup: false,
+            waiting: None,
+            after: Vec::new(),
+            stopped: false,
+            alarm: None,
+            type_b: m.motion.cutter_startup_type_b,
+            refuse: config.refuse_unbuilt,
+        }
+    }
+
+    fn xyz(&self, p: &crate::canon::Pos) -> Vec3 {
+        let at = |i: Option<usize>| i.map_or(0.0, |i| p[i]);
+        Vec3::new(at(self.xyz[0]), at(self.xyz[1]), at(self.xyz[2]))
+    }
+
+    /// The tool direction (tip → holder, programming coordinates) at the end of `m`.
+    fn tool(&self, m: &Motion) -> Vec3 {
+        let table = self.kin.as_ref().map_or(self.tool_axis, |k| k.forward(&m.machine, 0.0).tool);
+        frame(m).transpose() * table
+    }
+
+    fn alarm(&mut self, id: AlarmId, c: &Canon) {
+        self.alarm.get_or_insert((id, c.line, c.n));
+        self.stopped = true;
+        self.waiting = None;
+        self.after.clear();
+    }
+
+    /// `c` moved by `vector` (programming coordinates) at its end, starting where the tool
+    /// is; the tool is then there.
+    fn placed(&mut self, mut c: Canon, vector: Vec3) -> Canon {
+        if let CanonKind::Motion(m) = &mut c.kind {
+            let table = frame(m) * vector;
+            for (k, i) in self.xyz.iter().enumerate() {
+                if let Some(i) = *i {
+                    m.target[i] += vector[k];
+                    // No rotary table: machine X/Y/Z move as the tip does in the table frame.
+                    m.machine[i] += table[k];
+                }
+            }
+            if let Some(t) = m.tip.as_deref_mut() {
+                t.from += self.vector_table;
+                t.to += table;
+            }
+            self.vector_table = table;
+        }
+        self.vector = vector;
+        c
+    }
+
+    /// Hand on the waiting block ending at `points[0]` (2-D, relative to its end in its
+    /// plane), then straight moves to the other points at its feed, then the commands held
+    /// behind it at the last vector.
+    fn release(&mut self, points: &[P2], out: &mut Vec<Canon>) {
+        let Some(w) = self.waiting.take() else { return };
+        if let Err(id) = check_direction(&w.held, points[0]) {
+            self.alarm(id, &w.held.canon);
+            return;
+        }
+        let template = (points.len() > 1).then(|| w.held.canon.clone());
+        let first = self.placed(w.held.canon, w.plane.lift(points[0]));
+        out.push(first);
+        if let Some(mut template) = template {
+            if let CanonKind::Motion(m) = &mut template.kind {
+                // A corner's move: at the block's end, the rotary axes standing.
+                if m.kind != MotionKind::Rapid {
+                    m.kind = MotionKind::Linear;
+                }
+                if let Some(t) = m.tip.as_deref_mut() {
+                    t.from = t.to;
+                    t.posture = None;
+                }
+            }
+            for &p in &points[1..] {
+                let c = self.placed(template.clone(), w.plane.lift(p));
+                out.push(c);
+            }
+        }
+        for c in std::mem::take(&mut self.after) {
+            let c = self.placed(c, self.vector);
+            out.push(c);
+        }
+    }
+
+    /// The waiting block ends with the vector perpendicular to it (nothing follows it in its
+    /// plane); without one, the commands held are handed on at the current vector.
+    fn release_perpendicular(&mut self, out: &mut Vec<Canon>) {
+        if let Some(w) = &self.waiting {
+            let end = w.held.curve.offset_point(true, w.held.r);
+            self.release(&[end], out);
+        } else {
+            for c in std::mem::take(&mut self.after) {
+                let c = self.placed(c, self.vector);
+                out.push(c);
+            }
+        }
+    }
+
+    fn cancelled(&mut self) {
+        self.on = false;
+        self.startup = false;
+        self.vector = Vec3::zeros();
+    }
+
+    /// More blocks without motion in the plane than the read-ahead holds: the vector is lost.
+    fn lose_vector_if_too_many(&mut self, out: &mut Vec<Canon>) {
+        let Some(w) = &self.waiting else { return };
+        let mut lines: Vec<u32> = self.after.iter().map(|c| c.line).filter(|&l| l != w.held.canon.line).collect();
+        lines.dedup();
+        if lines.len() > MAX_BLOCKS_BETWEEN {
+            self.release_perpendicular(out);
+        }
+    }
+
+    /// The corner at the waiting block's end with the next block moving from its end to `to`
+    /// with tool `tool` (radius `rn`): the points of the corner in the waiting block's plane.
+    fn corner_with(&self, w: &Waiting, to: Vec3, tool: Vec3, rn: f64, cancel: bool) -> Result<Vec<P2>, AlarmId> {
+        let next = Curve::Line { from: [0.0, 0.0], to: w.plane.project(to - w.to) };
+        if crate::stage::cutter::curve::norm(next.to()) <= NO_MOVE {
+            // The next block runs along this block's tool: no corner in this plane.
+            return Ok(vec![w.held.curve.offset_point(true, w.held.r)]);
+        }
+        if !cancel && plane_change_interferes(w, to, tool) {
+            return Err(AlarmId::CutterInterference);
+        }
+        corner(&w.held, &next, rn, cancel, self.type_b)
+    }
+
+    fn motion(&mut self, c: Canon, out: &mut Vec<Canon>) {
+        let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
+        let comp = is_tool_side(m.context.cutter_comp);
+        if !self.on && !comp {
+            out.push(c);
+            return;
+        }
+        if m.arc.is_some() || m.kind == MotionKind::MachineRapid || m.tip.as_ref().is_some_and(|t| t.arc.is_some()) {
+            // The interpreter refuses these (`unbuilt::cutter`); never shift them blindly.
+            self.alarm(AlarmId::GCodeNotBuilt, &c);
+            return;
+        }
+        let restart = if comp { self.link.take_comp_start() } else { None };
+        if self.on && restart.is_some() {
+            self.release_perpendicular(out);
+            self.cancelled();
+        }
+        if !self.on {
+            self.on = true;
+            self.vector = Vec3::zeros();
+            self.startup = true;
+            self.programmed = restart.map_or_else(|| self.xyz(&m.target), |p| self.xyz(&p));
+        }
+        let (from, to) = (self.programmed, self.xyz(&m.target));
+        self.programmed = to;
+        let tool = self.tool(m);
+        let plane = Plane::of(tool);
+        let moves = crate::stage::cutter::curve::norm(plane.project(to - from)) > NO_MOVE;
+        let r = signed_radius(m);
+        if !comp {
+            // G40: the waiting block ends perpendicular (type A) or at its corner with this
+            // block (type B); this block moves to its programmed end.
+            match (&self.waiting, moves) {
+                (Some(w), true) => match self.corner_with(w, to, tool, w.held.r, true) {
+                    Ok(points) => self.release(&points, out),
+                    Err(id) => {
+                        let canon = w.held.canon.clone();
+                        self.alarm(id, &canon);
+                    }
+                },
+                _ => self.release_perpendicular(out),
+            }
+            if !self.stopped {
+                self.cancelled();
+                let c = self.placed(c, Vec3::zeros());
+                out.push(c);
+            }
+            return;
+        }
+        if !moves {
+            if self.waiting.is_some() {
+                self.after.push(c);
+                self.lose_vector_if_too_many(out);
+            } else {
+                let c = self.placed(c, self.vector);
+                out.push(c);
+            }
+            return;
+        }
+        let start = match &self.waiting {
+            None => from + self.vector,
+            Some(w) => {
+                let points = match self.corner_with(w, to, tool, r, false) {
+                    Ok(points) => points,
+                    Err(id) => {
+                        let canon = w.held.canon.clone();
+                        self.alarm(id, &canon);
+                        return;
+                    }
+                };
+                let last = w.to + w.plane.lift(points[points.len() - 1]);
+                self.release(&points, out);
+                if self.stopped {
+                    return;
+                }
+                last
+            }
+        };
+        let startup = std::mem::replace(&mut self.startup, false);
+        let curve = Curve::Line { from: plane.project(from - to), to: [0.0, 0.0] };
+        let held = Held { canon: c, curve, r, start: plane.project(start - to), startup };
+        self.waiting = Some(Waiting { held, plane, from, to });
+    }
+}
+
+/// The interference check at a change of the compensation plane (FANUC 5-axis manual §3.1.2):
+/// the tool turns by the angle of No.19635 or more between the two blocks, the vectors they
+/// would each get point the same way, and their paths run against each other seen in the first
+/// block's plane.
+fn plane_change_interferes(w: &Waiting, to: Vec3, vb: Vec3) -> bool {
+    let va = w.plane.e1;
+    let (ua, ub) = (w.to - w.from, to - w.to);
+    let turned = va.dot(&vb) <= PLANE_CHANGE_DEG.to_radians().cos();
+    let same_side = va.cross(&ua).dot(&vb.cross(&ub)) >= 0.0;
+    let ra = ua - va * ua.dot(&va);
+    let rb = ub - va * ub.dot(&va);
+    turned && same_side && ra.dot(&rb) < 0.0
+}
+
+impl Stage for ToolSide {
+    fn push(&mut self, command: Canon, out: &mut Vec<Canon>) {
+        if self.stopped {
+            return;
+        }
+        match &command.kind {
+            _ if !self.refuse => out.push(command),
+            CanonKind::Motion(_) => self.motion(command, out),
+            CanonKind::ProgramEnd { .. } if self.on => {
+                self.release_perpendicular(out);
+                self.cancelled();
+                if !self.stopped {
+                    out.push(command);
+                }
+            }
+            _ if self.waiting.is_some() => {
+                self.after.push(command);
+                self.lose_vector_if_too_many(out);
+            }
+            _ => out.push(command),
+        }
+    }
+
+    fn finish(&mut self, out: &mut Vec<Canon>) {
+        if !self.stopped {
+            self.release_perpendicular(out);
+        }
+    }
+
+    fn take_alarm(&mut self) -> Option<(AlarmId, u32, Option<u32>)> {
+        self.alarm.take()
+    }
+
+    fn reset(&mut self) {
+        self.cancelled();
+        self.vector_table = Vec3::zeros();
+        self.waiting = None;
+        self.after.clear();
+        self.stopped = false;
+        self.alarm = None;
+    }
+}

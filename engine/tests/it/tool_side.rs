@@ -1,0 +1,286 @@
+//! Tool side offset of 5-axis cutter compensation, type 1 (G41.2/G42.2, `stage::tool_side`):
+//! the manual's vectors worked out by hand, the rule that defines it checked against cutter
+//! compensation C (the same corners in the plane perpendicular to the tool, whatever the tool's
+//! direction and whatever part of the moves runs along it), the interference check at a change
+//! of the compensation plane, and what is still refused. Tool offsets have radius 5, length 100.
+
+use crate::common::*;
+use fivex_engine::canon::CanonKind;
+use fivex_engine::interp::gcode::code;
+use fivex_engine::interp::{Interpreter, Step};
+use fivex_engine::kin::{Kinematics, Vec3};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::stage::Pipeline;
+use fivex_engine::Dialect::Fanuc;
+
+/// Every motion end coming out of the stages (line, X/Y/Z in programming coordinates, and the
+/// tool tip the machine axes put there by forward kinematics, tool length 100 when a length
+/// compensation is on), and the alarm (code, line).
+struct Ends {
+    ends: Vec<(u32, Vec3)>,
+    alarm: Option<(String, u32)>,
+}
+
+fn ends_of(src: &str, preset: &str) -> Ends {
+    let mut interp: Interpreter = interpreter(src, preset, Fanuc);
+    let mut stages = Pipeline::for_config(interp.config());
+    let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+    let (mut out, mut ends) = (Vec::new(), Vec::new());
+    loop {
+        let step = interp.step(&mut out);
+        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
+        let stage_alarm = stages.process(&mut out, end);
+        for c in out.drain(..) {
+            if let CanonKind::Motion(m) = c.kind {
+                let on = matches!(m.context.cutter_comp, code::G41_2 | code::G42_2);
+                let at = Vec3::new(m.target[0], m.target[1], m.target[2]);
+                // The machine axes put the tool where the stage says (no work offset here):
+                // under TCP the tip, else the programmed (pivot-relative) point moved alike.
+                let length = if m.tip.is_some() { 100.0 } else { 0.0 };
+                let tip = kin.forward(&m.machine, length).tip;
+                let want = if let Some(t) = &m.tip { t.to } else { kin.forward(&m.target, 0.0).tip };
+                assert!(!on || (tip - want).norm() < 1e-9, "line {}: machine tip {tip:?}, stage {want:?}", c.line);
+                ends.push((c.line, at));
+            }
+        }
+        if let Some(a) = stage_alarm {
+            return Ends { ends, alarm: Some((a.code, a.line)) };
+        }
+        match step {
+            Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => interp.finish(),
+            Ok(Step::Ended) => return Ends { ends, alarm: None },
+            Err(a) => return Ends { ends, alarm: Some((a.code, a.line)) },
+        }
+    }
+}
+
+#[track_caller]
+fn assert_ends(src: &str, preset: &str, want: &[(u32, [f64; 3])]) {
+    let got = ends_of(src, preset);
+    assert_eq!(got.alarm, None, "{src}");
+    let close = got.ends.len() == want.len()
+        && got.ends.iter().zip(want).all(|((l, p), (wl, w))| l == wl && (p - Vec3::from(*w)).norm() < 1e-6);
+    assert!(close, "got {:?}\nwant {want:?}\n{src}", got.ends);
+}
+
+const H: f64 = std::f64::consts::FRAC_1_SQRT_2 * 5.0;
+
+#[test]
+fn tv09_a_corner_in_the_plane_of_a_tilted_tool() {
+    // head-bc at B45 C-90: the tool (0, −0.7071, 0.7071). From (−50,0,0) along X to (100,0,0),
+    // then to (100,100,100): in the plane e2 = X, e3 = (0, 0.7071, 0.7071) a 90° left turn.
+    // The start-up block ends perpendicular to X in the plane (type A): 5 along e3. G41.2
+    // (inside): VD = −5 e2 + 5 e3 = (−5, 3.5355, 3.5355); the last block before G40 ends
+    // perpendicular to itself (−5 e2), then the cancel moves to the programmed point.
+    // G42.2 (outside at the corner, α = 90°): the offset lines' intersection, VD = (5, −3.5355,
+    // −3.5355); the turn into the cancel is an inside corner for it: the intersection again.
+    let prog = |g: &str| {
+        format!("G90 G00 X-50. Y0 Z0 B45. C-90.\n{g} D1\nG01 X0 F1000.\nX100.\nY100. Z100.\nG40 X150.\nM30\n")
+    };
+    let moves = |first: [f64; 3], corner: [f64; 3], last: [f64; 3]| {
+        vec![(1, [-50.0, 0.0, 0.0]), (3, first), (4, corner), (5, last), (6, [150.0, 100.0, 100.0])]
+    };
+    assert_ends(&prog("G41.2"), "head-bc", &moves([0.0, H, H], [95.0, H, H], [95.0, 100.0, 100.0]));
+    assert_ends(&prog("G42.2"), "head-bc", &moves([0.0, -H, -H], [105.0, -H, -H], [105.0, 100.0 - H, 100.0 - H]));
+}
+
+#[test]
+fn tv09_the_same_under_tool_centre_point_control() {
+    // G43.4 first, G40 before G49 (§3.5.2): the tip goes where the vectors say; the axes put it
+    // there (checked for every motion by `ends_of`).
+    let src = "G90 G00 X-50. Y0 Z0 B0 C0\nG43.4 H1\nG00 B45. C-90.\nG41.2 D1\nG01 X0 F1000.\nX100.\n\
+               Y100. Z100.\nG40 X150.\nG49\nM30\n";
+    let got = ends_of(src, "head-bc");
+    assert_eq!(got.alarm, None);
+    let at = |line: u32| got.ends.iter().find(|(l, _)| *l == line).unwrap().1;
+    assert!((at(6) - Vec3::new(95.0, H, H)).norm() < 1e-9, "{:?}", at(6));
+    assert!((at(7) - Vec3::new(95.0, 100.0, 100.0)).norm() < 1e-9, "{:?}", at(7));
+}
+
+#[test]
+fn a_vertical_tool_compensates_as_g41_in_g17() {
+    // With the tool along Z the plane is XY: the same tool centre as cutter compensation C.
+    let contour = "G01 X0 Y0 F500.\nX40.\nY40.\nX20. Y25.\nX0 Y40.\nY0\nG40 Y-10.\nM30\n";
+    let start = "G90 G00 X-10. Y-10. Z0\n";
+    let g41 = ends_of(&format!("{start}G41 D1\n{contour}"), "mill3");
+    let g41_2 = ends_of(&format!("{start}G41.2 D1\n{contour}"), "head-bc");
+    assert_eq!((g41.alarm, g41_2.alarm), (None, None));
+    assert_eq!(g41.ends.len(), g41_2.ends.len());
+    assert_eq!(g41.ends.len(), 8, "the start, the start-up, 5 blocks, the cancel");
+    for ((l1, a), (l2, b)) in g41.ends.iter().zip(&g41_2.ends) {
+        assert_eq!(l1, l2);
+        assert!((a - b).norm() < 1e-9, "line {l1}: {a:?} {b:?}");
+    }
+}
+
+#[test]
+fn tv07_changing_the_side_retraces_the_block() {
+    // (3)-1: G42.2 in the returning block: the tool comes back on the same line (start, end
+    // and the cancel's start all 5 to the left of +X).
+    let src = "G90 G00 X0 Y0 Z0\nG41.2 D1\nG91 G01 X100. F500.\nG42.2 X-100.\nG90 G40 Y-20.\nM30\n";
+    assert_ends(
+        src,
+        "head-bc",
+        // (The change of side joins the two perpendicular vectors by a move, here of length 0.)
+        &[
+            (1, [0.0, 0.0, 0.0]),
+            (3, [100.0, 5.0, 0.0]),
+            (3, [100.0, 5.0, 0.0]),
+            (4, [0.0, 5.0, 0.0]),
+            (5, [0.0, -20.0, 0.0]),
+        ],
+    );
+}
+
+#[test]
+fn a_rotary_axis_alone_keeps_the_vector_and_the_corner_takes_the_next_move() {
+    // CRC-14: N4 turns B only; the corner at the end of N3 is made with N5, and N4 ends at
+    // the same vector. Tool vertical at N3's end: the corner is in XY, (95, 5, 0); B then tilts
+    // the tool about Y, which leaves that vector perpendicular to it.
+    let src = "G90 G00 X-50. Y0 Z0 B0 C0\nG41.2 D1\nG01 X100. F500.\nB20.\nY100.\nG40 Y150.\nM30\n";
+    let got = ends_of(src, "head-bc");
+    assert_eq!(got.alarm, None);
+    let ends: Vec<(u32, [f64; 3])> = got.ends.iter().map(|(l, p)| (*l, [p.x, p.y, p.z])).collect();
+    let near = |a: [f64; 3], b: [f64; 3]| (Vec3::from(a) - Vec3::from(b)).norm() < 1e-9;
+    assert_eq!(ends.iter().map(|e| e.0).collect::<Vec<_>>(), [1, 3, 4, 5, 6]);
+    assert!(near(ends[1].1, [95.0, 5.0, 0.0]) && near(ends[2].1, [95.0, 5.0, 0.0]), "{ends:?}");
+    // N5 in the plane of the tilted tool (B20: (sin20, 0, cos20)) ends perpendicular to itself
+    // there: Y is in that plane, its left seen from the tool is −(tool × Y)... = −e where
+    // e = Y × tool; 5 × (−cos20, 0, sin20).
+    let (s, c) = 20f64.to_radians().sin_cos();
+    assert!(near(ends[3].1, [100.0 - 5.0 * c, 100.0, 5.0 * s]), "{ends:?}");
+}
+
+#[test]
+fn tv01_a_change_of_plane_that_reverses_the_path_is_ps0041() {
+    // The manual's program turned 90° about Z for head-bc (B tilts about Y): the tool at
+    // B46 (0.7193, 0, 0.6947) along N4, B−45 (−0.7071, 0, 0.7071) along N6 after the
+    // rotary-only N5; the tool turns 91° ≥ 45° (No.19635 = 0), the vectors N4 and N6 would
+    // get point the same way, and N6 runs against N4 seen in N4's plane.
+    let tv01 = |n6: &str| {
+        format!(
+            "G90 G00 X0 Y0 Z0 B46. C0\nG41.2 D1\nG01 Y100. F3000.\nX200. Z-200.\nB-45.\n{n6}\nY0\n\
+             X200. Z-200.\nB46.\nX0 Z0\nG40 Y-50.\nM30\n"
+        )
+    };
+    let got = ends_of(&tv01("X400. Z0"), "head-bc");
+    assert_eq!(got.alarm, Some(("PS0041".to_string(), 4)), "{:?}", got.ends);
+    // A tool that turns less (B30 at N5: 16°) is no plane change: no PS0041 from that check.
+    let src = tv01("X400. Z0").replace("B-45.", "B30.");
+    let got = ends_of(&src, "head-bc");
+    assert_ne!(got.alarm.as_ref().map(|a| a.1), Some(4), "{:?}", got.alarm);
+}
+
+#[test]
+fn what_the_tool_side_offset_does_not_perform_stays_refused() {
+    let cases = [
+        // Circles in the mode, a rotary table, Q1/Q2/Q3, G41.2 again in its mode: not built.
+        ("G41.2 D1 G01 X10. F500\nG02 X20. R5.\n", 2, "head-bc", "PS0010"),
+        ("G41.2 D1 G01 X10. F500\n", 1, "table-ac", "PS0010"),
+        ("G41.2 D1 G01 X10. F500\n", 1, "mixed-bc", "PS0010"),
+        ("G41.2 D1 G01 X10. F500\nY10. Q1\n", 2, "head-bc", "PS0010"),
+        ("G41.2 D1 G01 X10. F500\nG41.2 Y10.\n", 2, "head-bc", "PS0010"),
+        ("G41.2 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "head-bc", "PS0010"),
+        // Type 2 and the leading edge offset are not built.
+        ("G41.6 D1 G01 X10. I0 J0 K1. F500\n", 1, "head-bc", "PS0010"),
+        ("G41.3 D1\n", 1, "head-bc", "PS0010"),
+        // What the manual forbids in the mode (§3.5.1) keeps its own alarm.
+        ("G41.2 D1 G01 X10. F500\nG81 X20. Z-5. R2.\n", 2, "head-bc", "PS5460"),
+        ("G41.2 D1 G01 X10. F500\nG28 X0\n", 2, "head-bc", "PS5460"),
+    ];
+    for (src, line, preset, code) in cases {
+        let src = format!("G90 G00 X0 Y0 Z0\n{src}G40 X0\nM30\n");
+        let r = run_with(&src, preset, Fanuc);
+        let alarms: Vec<(&str, u32)> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
+        assert_eq!(alarms.first().copied(), Some((code, line + 1)), "{src}\n{alarms:?}");
+    }
+}
+
+#[test]
+fn m30_ends_the_mode_with_the_last_block_perpendicular() {
+    // The start-up block turns right into X50 with the tool on the right: an inside corner,
+    // the offset lines' intersection (5, −5); M30 leaves X50 perpendicular to itself.
+    let src = "G90 G00 X0 Y-10. Z0\nG42.2 D1 G01 Y0 F500.\nX50.\nM30\n";
+    assert_ends(src, "head-bc", &[(1, [0.0, -10.0, 0.0]), (2, [5.0, -5.0, 0.0]), (3, [50.0, -5.0, 0.0])]);
+}
+
+mod random {
+    //! The defining rule on random contours: with the tool in any fixed direction, and any part
+    //! of each move along the tool, the vector added at every block end is perpendicular to the
+    //! tool and is the vector cutter compensation C finds for the contour seen in the plane
+    //! perpendicular to the tool (G41 in G17 on the same points in plane coordinates).
+
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The tool direction at B, C on head-bc.
+    fn tool(b: f64, c: f64) -> Vec3 {
+        let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+        let mut pos = [0.0; 8];
+        (pos[3], pos[4]) = (b, c);
+        kin.forward(&pos, 0.0).tool
+    }
+
+    fn program(side: &str, points: &[[f64; 3]], start: [f64; 3], first: &str) -> String {
+        let xyz = |p: &[f64; 3]| format!("X{:.9} Y{:.9} Z{:.9}", p[0], p[1], p[2]);
+        let mut src = format!("G90 G00 {}{first}\n{side} D1\nG01 F800. ", xyz(&start));
+        for p in points.iter().chain(std::iter::once(&points[0])) {
+            src += &format!("{}\n", xyz(p));
+        }
+        src + &format!("G40 {}\nM30\n", xyz(&start))
+    }
+
+    /// A star-shaped polygon around the origin (inner and outer corners): corners at sorted
+    /// angles and radii 30–80, each with a distance along the tool.
+    fn contour() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
+        prop::collection::vec((0.0..std::f64::consts::TAU, 30.0..80.0, -30.0..30.0f64), 4..8).prop_map(|mut v| {
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            v
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: cases(60), max_global_rejects: 10_000, ..ProptestConfig::default() })]
+        #[test]
+        fn every_vector_is_cutter_compensation_c_in_the_plane_perpendicular_to_the_tool(
+            b in -60.0..60.0f64,
+            c in -180.0..180.0f64,
+            corners in contour(),
+            left in any::<bool>(),
+        ) {
+            let t = tool(b, c);
+            // The test's own plane axes (any pair with e2 × e3 = the tool will do).
+            let e2 = t.cross(&Vec3::new(0.3, -0.5, 0.8)).normalize();
+            let e3 = t.cross(&e2);
+            let flat: Vec<[f64; 2]> = corners.iter().map(|(a, r, _)| [r * a.cos(), r * a.sin()]).collect();
+            let lift = |p: [f64; 2], along: f64| e2 * p[0] + e3 * p[1] + t * along;
+            let start = [flat[0][0] * 1.6, flat[0][1] * 1.6];
+            let side = if left { "G41" } else { "G42" };
+            let arr = |v: Vec3| [v.x, v.y, v.z];
+            let flat3: Vec<[f64; 3]> = flat.iter().map(|p| [p[0], p[1], 0.0]).collect();
+            let plane = ends_of(&program(side, &flat3, [start[0], start[1], 0.0], ""), "mill3");
+            let points: Vec<[f64; 3]> = flat.iter().zip(&corners).map(|(p, k)| arr(lift(*p, k.2))).collect();
+            let tilted = program(&format!("{side}.2"), &points, arr(lift(start, 0.0)), &format!(" B{b:.9} C{c:.9}"));
+            let tilted = ends_of(&tilted, "head-bc");
+            prop_assert_eq!(&plane.alarm, &tilted.alarm);
+            // A contour the compensation refuses (a gouge) is refused by both: compare others.
+            prop_assume!(plane.alarm.is_none());
+            prop_assert_eq!(plane.ends.len(), tilted.ends.len());
+            let n = flat.len();
+            for ((l1, p), (l2, q)) in plane.ends.iter().zip(&tilted.ends) {
+                prop_assert_eq!(l1, l2);
+                // Line 3 + k ends at corner k (line 3 + n closes the contour); the start and
+                // the cancel are at the start point.
+                let (programmed, along) = match *l1 as usize {
+                    k if (3..=3 + n).contains(&k) => (flat[(k - 3) % n], corners[(k - 3) % n].2),
+                    _ => (start, 0.0),
+                };
+                let vector = q - lift(programmed, along);
+                prop_assert!(vector.dot(&t).abs() < 1e-9, "line {}: {:?} along the tool", l1, vector);
+                let want = e2 * (p.x - programmed[0]) + e3 * (p.y - programmed[1]);
+                prop_assert!((vector - want).norm() < 1e-7, "line {}: {:?} want {:?}", l1, vector, want);
+            }
+        }
+    }
+}
