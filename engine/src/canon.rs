@@ -83,6 +83,14 @@ pub enum CutterWord {
     /// the plane) ends at its programmed point plus the vector where it starts (no corner with
     /// the block after it), or plus the offset value along this direction.
     VectorHold(Option<[f64; 3]>),
+    /// Q1/Q2/Q3 in a block of the tool side offset (G41.2/G42.2, `stage::tool_side`): where
+    /// the interference check at a change of the compensation plane finds the block's end in
+    /// the way, it ends at its perpendicular vector (1), at the first of its corner vectors
+    /// (2), or at all of them (3), without the alarm.
+    PlaneChange(u8),
+    /// G41.2/G42.2 given again in its own mode: the block before ends at its perpendicular
+    /// vector.
+    Perpendicular,
 }
 
 #[derive(Debug, Clone, PartialEq)]

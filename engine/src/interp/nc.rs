@@ -580,6 +580,17 @@ impl State {
                 moved = true;
             }
         }
+        // Under the tool side offset, Q1/Q2/Q3 and G41.2/G42.2 given again go to its stage
+        // before the block's motion (`stage::tool_side`; other Q values are refused, `unbuilt`).
+        let comp = self.modes[group::CUTTER_COMP];
+        if matches!(comp, code::G41_2 | code::G42_2) {
+            if comp_before == comp && w.has_g(comp) {
+                self.emit(out, CanonKind::Cutter(CutterWord::Perpendicular));
+            }
+            if let Some(q) = w.integer(b'Q') {
+                self.emit(out, CanonKind::Cutter(CutterWord::PlaneChange(q as u8)));
+            }
+        }
         if axes_owner.is_none() && !transform_axes {
             if self.modes[group::CYCLE] != code::G80
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))
@@ -1169,8 +1180,7 @@ impl State {
             corner_override: after(group::PATH_MODE) == code::G62,
             arc: !matches!(after(group::MOTION), code::G00 | code::G01),
             rotary_table: self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table),
-            q: w.has(b'Q'),
-            respecified: in_block(group::CUTTER_COMP) == Some(self.modes[group::CUTTER_COMP]),
+            q: w.has(b'Q') && !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0)),
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

@@ -167,11 +167,9 @@ pub struct CutterBlock {
     /// The machine turns the workpiece (a rotary table): the programming system turns under
     /// the tool (table and mixed types, their own rules).
     pub rotary_table: bool,
-    /// Q in the block (the interference check's Q1/Q2/Q3 at a compensation plane change).
+    /// Q in the block other than Q1/Q2/Q3 (the tool side offset's answers to its interference
+    /// check at a compensation plane change).
     pub q: bool,
-    /// G41.2 (G42.2) given again in its own mode: the block before ends at a vector
-    /// perpendicular to it (FANUC 5-axis manual §3.1.2, like Q1).
-    pub respecified: bool,
 }
 
 /// The function a block under cutter compensation asks for that its stage does not perform.
@@ -191,8 +189,7 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
         (b.tool_side && b.arc, "circular interpolation in the tool side offset (G41.2/G42.2)"),
         (b.tool_side && b.rotary_table, "tool side offset (G41.2/G42.2) on a machine with a rotary table"),
-        (b.tool_side && b.q, "Q1/Q2/Q3 of the tool side offset's interference check"),
-        (b.tool_side && b.respecified, "G41.2/G42.2 given again in its mode (perpendicular vector)"),
+        (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset"),
     ]
     .into_iter()
     .find_map(|(refused, function)| refused.then_some(function))

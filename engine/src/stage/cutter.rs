@@ -243,7 +243,8 @@ impl Cutter {
             Some(CutterWord::CornerArc(direction)) => return self.corner_arc(c, direction, out),
             Some(CutterWord::CancelDirection(d)) => Some(ijk_in_plane(d, m.context.plane)),
             Some(CutterWord::VectorHold(direction)) if comp => return self.vector_hold(c, direction, out),
-            Some(CutterWord::VectorHold(_)) | None => None,
+            // (The tool side offset's words are taken by its stage, before this one.)
+            Some(CutterWord::VectorHold(_) | CutterWord::PlaneChange(_) | CutterWord::Perpendicular) | None => None,
         };
         // G41/G42 again after a G40 that moved nothing: that cancel, then a new start-up.
         let restart = if comp { self.link.take_comp_start() } else { None };

@@ -134,13 +134,13 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The stages for programs run with `config`: cutter compensation C, and the tool side
-    /// offset of 5-axis cutter compensation (the two are modes of one modal group: a motion goes
-    /// through at most one of them changed). Cutting point control and splines are refused by
+    /// The stages for programs run with `config`: the tool side offset of 5-axis cutter
+    /// compensation, and cutter compensation C (the two are modes of one modal group: a motion
+    /// is changed by one of them at most; the first hands the second the words of G38/G39/G40). Cutting point control and splines are refused by
     /// the interpreter until their stages are built.
     pub fn for_config(config: &Config) -> Pipeline {
         let stages: Vec<Box<dyn Stage>> =
-            vec![Box::new(cutter::Cutter::new(config)), Box::new(tool_side::ToolSide::new(config))];
+            vec![Box::new(tool_side::ToolSide::new(config)), Box::new(cutter::Cutter::new(config))];
         Pipeline { stages, dialect: config.dialect, between: Vec::new() }
     }
 

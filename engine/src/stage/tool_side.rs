@@ -18,7 +18,7 @@ use super::cutter::curve::{Curve, P2};
 use super::cutter::{check_direction, corner, Held, MAX_BLOCKS_BETWEEN};
 use super::{Link, Stage};
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, Motion, MotionKind};
+use crate::canon::{Canon, CanonKind, CutterWord, Motion, MotionKind};
 use crate::interp::gcode::code;
 use crate::interp::Config;
 use crate::kin::{Kinematics, Vec3};
@@ -68,6 +68,18 @@ struct Waiting {
     /// Programmed start and end (X, Y, Z, programming coordinates).
     from: Vec3,
     to: Vec3,
+    /// Q1/Q2/Q3 of the block: its end where the plane-change check finds it in the way.
+    q: Option<u8>,
+}
+
+/// The block after a waiting one, as its corner sees it: its programmed end, its tool there,
+/// its signed radius; `cancel`: it is the G40 block.
+#[derive(Debug, Clone, Copy)]
+struct Next {
+    to: Vec3,
+    tool: Vec3,
+    rn: f64,
+    cancel: bool,
 }
 
 /// The tool side offset stage.
@@ -92,6 +104,10 @@ pub struct ToolSide {
     stopped: bool,
     alarm: Option<(AlarmId, u32, Option<u32>)>,
     type_b: bool,
+    /// The next motion's Q1/Q2/Q3; and G41.2/G42.2 given again: the waiting block ends
+    /// perpendicular to itself where the next block that moves in its plane comes.
+    q: Option<u8>,
+    perpendicular: bool,
     /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, which
     /// check alarms and modes with the paths as they were before the stage existed: then the
     /// stage hands everything on as it comes.
@@ -132,6 +148,8 @@ impl ToolSide {
             stopped: false,
             alarm: None,
             type_b: m.motion.cutter_startup_type_b,
+            q: None,
+            perpendicular: false,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -240,22 +258,35 @@ impl ToolSide {
         }
     }
 
-    /// The corner at the waiting block's end with the next block moving from its end to `to`
-    /// with tool `tool` (radius `rn`): the points of the corner in the waiting block's plane.
-    fn corner_with(&self, w: &Waiting, to: Vec3, tool: Vec3, rn: f64, cancel: bool) -> Result<Vec<P2>, AlarmId> {
+    /// The corner at the waiting block's end with the next block: the points of the corner in
+    /// the waiting block's plane.
+    /// `respecified`: the next block gave G41.2/G42.2 again.
+    fn corner_with(&self, w: &Waiting, next: Next, respecified: bool) -> Result<Vec<P2>, AlarmId> {
+        let Next { to, tool, rn, cancel } = next;
+        let perpendicular = || vec![w.held.curve.offset_point(true, w.held.r)];
         let next = Curve::Line { from: [0.0, 0.0], to: w.plane.project(to - w.to) };
-        if crate::stage::cutter::curve::norm(next.to()) <= NO_MOVE {
-            // The next block runs along this block's tool: no corner in this plane.
-            return Ok(vec![w.held.curve.offset_point(true, w.held.r)]);
+        if crate::stage::cutter::curve::norm(next.to()) <= NO_MOVE || respecified {
+            // The next block runs along this block's tool (no corner in this plane), or gave
+            // G41.2/G42.2 again (§3.1.2: "a perpendicular vector is generated").
+            return Ok(perpendicular());
         }
-        if !cancel && plane_change_interferes(w, to, tool) {
-            return Err(AlarmId::CutterInterference);
+        let points = corner(&w.held, &next, rn, cancel, self.type_b)?;
+        if cancel || !plane_change_interferes(w, to, tool) {
+            return Ok(points);
         }
-        corner(&w.held, &next, rn, cancel, self.type_b)
+        // The block that the check stops may say what its end does instead (§3.1.2).
+        match w.q {
+            Some(1) => Ok(perpendicular()),
+            Some(2) => Ok(points[..1].to_vec()),
+            Some(_) => Ok(points),
+            None => Err(AlarmId::CutterInterference),
+        }
     }
 
     fn motion(&mut self, c: Canon, out: &mut Vec<Canon>) {
         let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
+        // Q belongs to this block's end (nothing to do where it does not move in its plane).
+        let q = self.q.take();
         let comp = is_tool_side(m.context.cutter_comp);
         if !self.on && !comp {
             out.push(c);
@@ -287,7 +318,7 @@ impl ToolSide {
             // G40: the waiting block ends perpendicular (type A) or at its corner with this
             // block (type B); this block moves to its programmed end.
             match (&self.waiting, moves) {
-                (Some(w), true) => match self.corner_with(w, to, tool, w.held.r, true) {
+                (Some(w), true) => match self.corner_with(w, Next { to, tool, rn: w.held.r, cancel: true }, false) {
                     Ok(points) => self.release(&points, out),
                     Err(id) => {
                         let canon = w.held.canon.clone();
@@ -316,7 +347,8 @@ impl ToolSide {
         let start = match &self.waiting {
             None => from + self.vector,
             Some(w) => {
-                let points = match self.corner_with(w, to, tool, r, false) {
+                let respecified = std::mem::take(&mut self.perpendicular);
+                let points = match self.corner_with(w, Next { to, tool, rn: r, cancel: false }, respecified) {
                     Ok(points) => points,
                     Err(id) => {
                         let canon = w.held.canon.clone();
@@ -335,7 +367,7 @@ impl ToolSide {
         let startup = std::mem::replace(&mut self.startup, false);
         let curve = Curve::Line { from: plane.project(from - to), to: [0.0, 0.0] };
         let held = Held { canon: c, curve, r, start: plane.project(start - to), startup };
-        self.waiting = Some(Waiting { held, plane, from, to });
+        self.waiting = Some(Waiting { held, plane, from, to, q });
     }
 }
 
@@ -359,6 +391,9 @@ impl Stage for ToolSide {
             return;
         }
         match &command.kind {
+            // The words of the tool side offset are this stage's; G38/G39/G40's go on.
+            CanonKind::Cutter(CutterWord::PlaneChange(q)) => self.q = Some(*q),
+            CanonKind::Cutter(CutterWord::Perpendicular) => self.perpendicular = true,
             _ if !self.refuse => out.push(command),
             CanonKind::Motion(_) => self.motion(command, out),
             CanonKind::ProgramEnd { .. } if self.on => {
@@ -388,6 +423,8 @@ impl Stage for ToolSide {
 
     fn reset(&mut self) {
         self.cancelled();
+        self.q = None;
+        self.perpendicular = false;
         self.vector_table = Vec3::zeros();
         self.waiting = None;
         self.after.clear();

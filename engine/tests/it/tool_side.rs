@@ -166,6 +166,33 @@ fn tv01_a_change_of_plane_that_reverses_the_path_is_ps0041() {
     };
     let got = ends_of(&tv01("X400. Z0"), "head-bc");
     assert_eq!(got.alarm, Some(("PS0041".to_string(), 4)), "{:?}", got.ends);
+    // TV-02…TV-05: Q in N4, or G41.2 again in N6, answer the check instead of the alarm. In N4's
+    // plane its move runs along t = (0.6947, 0, −0.7193) and its perpendicular vector (left seen
+    // from the tool) is n = (0, 5, 0); the corner against N6 gives two vectors, n + 5t and the
+    // other side's (Q3 keeps both, Q2 the first, Q1 and G41.2 only n).
+    let n4_ends = |src: &str| {
+        let got = ends_of(src, "head-bc");
+        assert_eq!(got.alarm, None, "{src}");
+        got.ends.iter().filter(|(l, _)| *l == 4).map(|(_, p)| [p.x, p.y, p.z]).collect::<Vec<_>>()
+    };
+    let near = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+        a.len() == b.len() && a.iter().zip(b).all(|(p, q)| (Vec3::from(*p) - Vec3::from(*q)).norm() < 1e-5)
+    };
+    let (n, v1, v2) = ([200.0, 105.0, -200.0], [203.473292, 105.0, -203.596699], [203.473292, 95.0, -203.596699]);
+    for (src, want) in [
+        (tv01("X400. Z0").replace("X200. Z-200.\nB-45.", "X200. Z-200. Q1\nB-45."), vec![n]),
+        (tv01("G41.2 X400. Z0"), vec![n]),
+        (tv01("X400. Z0").replace("X200. Z-200.\nB-45.", "X200. Z-200. Q2\nB-45."), vec![v1]),
+        (tv01("X400. Z0").replace("X200. Z-200.\nB-45.", "X200. Z-200. Q3\nB-45."), vec![v1, v2]),
+    ] {
+        let got = n4_ends(&src);
+        assert!(near(&got, &want), "got {got:?} want {want:?}\n{src}");
+    }
+    // Q where the check does not stop the block changes nothing (decision: Q answers the
+    // check); a Q other than 1–3 is refused.
+    let plain = "G90 G00 X0 Y0 Z0\nG41.2 D1\nG01 X50. F500.\nY50.\nG40 X0\nM30\n";
+    assert_eq!(ends_of(plain, "head-bc").ends, ends_of(&plain.replace("X50. F500.", "X50. F500. Q1"), "head-bc").ends);
+    assert_eq!(ends_of(&plain.replace("Y50.", "Y50. Q4"), "head-bc").alarm, Some(("PS0010".into(), 4)));
     // A tool that turns less (B30 at N5: 16°) is no plane change: no PS0041 from that check.
     let src = tv01("X400. Z0").replace("B-45.", "B30.");
     let got = ends_of(&src, "head-bc");
@@ -175,12 +202,10 @@ fn tv01_a_change_of_plane_that_reverses_the_path_is_ps0041() {
 #[test]
 fn what_the_tool_side_offset_does_not_perform_stays_refused() {
     let cases = [
-        // Circles in the mode, a rotary table, Q1/Q2/Q3, G41.2 again in its mode: not built.
+        // Circles in the mode, a rotary table: not built.
         ("G41.2 D1 G01 X10. F500\nG02 X20. R5.\n", 2, "head-bc", "PS0010"),
         ("G41.2 D1 G01 X10. F500\n", 1, "table-ac", "PS0010"),
         ("G41.2 D1 G01 X10. F500\n", 1, "mixed-bc", "PS0010"),
-        ("G41.2 D1 G01 X10. F500\nY10. Q1\n", 2, "head-bc", "PS0010"),
-        ("G41.2 D1 G01 X10. F500\nG41.2 Y10.\n", 2, "head-bc", "PS0010"),
         ("G41.2 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "head-bc", "PS0010"),
         // Type 2 and the leading edge offset are not built.
         ("G41.6 D1 G01 X10. I0 J0 K1. F500\n", 1, "head-bc", "PS0010"),

@@ -222,22 +222,30 @@ impl CanonWriter {
             }
             CanonKind::Cutter(word) => {
                 // `"corner_arc": [I, J, K]` or `null` (G39 without I/J/K), `"cancel_direction":
-                // [I, J, K]` (G40 with I/J/K).
-                let (key, d): (&[u8], _) = match word {
-                    CutterWord::CornerArc(d) => (b",\"corner_arc\":", *d),
-                    CutterWord::CancelDirection(d) => (b",\"cancel_direction\":", Some(*d)),
-                    CutterWord::VectorHold(d) => (b",\"vector_hold\":", *d),
-                };
-                put(w, key);
-                match d {
-                    Some(d) => {
-                        for (k, x) in d.iter().enumerate() {
-                            put(w, if k == 0 { b"[" } else { b"," });
-                            num(w, *x);
+                // [I, J, K]` (G40 with I/J/K), `"vector_hold"` as G39's, `"plane_change": Q`
+                // (Q1/Q2/Q3 under G41.2/G42.2), `"perpendicular": null` (G41.2/G42.2 again).
+                let direction = |w: &mut Out, key: &[u8], d: Option<[f64; 3]>| {
+                    put(w, key);
+                    match d {
+                        Some(d) => {
+                            for (k, x) in d.iter().enumerate() {
+                                put(w, if k == 0 { b"[" } else { b"," });
+                                num(w, *x);
+                            }
+                            put(w, b"]");
                         }
-                        put(w, b"]");
+                        None => put(w, b"null"),
                     }
-                    None => put(w, b"null"),
+                };
+                match word {
+                    CutterWord::CornerArc(d) => direction(w, b",\"corner_arc\":", *d),
+                    CutterWord::CancelDirection(d) => direction(w, b",\"cancel_direction\":", Some(*d)),
+                    CutterWord::VectorHold(d) => direction(w, b",\"vector_hold\":", *d),
+                    CutterWord::PlaneChange(q) => {
+                        put(w, b",\"plane_change\":");
+                        uint(w, u64::from(*q));
+                    }
+                    CutterWord::Perpendicular => put(w, b",\"perpendicular\":null"),
                 }
             }
         }

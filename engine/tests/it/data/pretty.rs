@@ -112,6 +112,8 @@ fn kind(m: &MachineConfig, k: &CanonKind) -> String {
             Some(d) => format!("vector hold I{} J{} K{}", num(d[0]), num(d[1]), num(d[2])),
             None => "vector hold".to_string(),
         },
+        CanonKind::Cutter(CutterWord::PlaneChange(q)) => format!("plane change Q{q}"),
+        CanonKind::Cutter(CutterWord::Perpendicular) => "perpendicular".to_string(),
     }
 }
 
