@@ -17,6 +17,7 @@ use crate::canon::{
 use crate::dialect::Dialect;
 use crate::lang::{Block, Word, WordValue};
 use crate::machine::{AxisKind, MAX_AXES};
+use crate::stage::{CompStart, PerpendicularStart};
 use arrayvec::ArrayVec;
 use std::collections::HashMap;
 
@@ -478,8 +479,14 @@ impl State {
             self.sync_programmed();
         }
         if comp_before == code::G40 && matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42) {
-            // The start-up block starts here (`stage::cutter`).
-            self.cfg.stages.comp_started(self.pos);
+            // The start-up block starts here (`stage::cutter`); with No.5003#1 SUV a G00/G01
+            // block without an axis word of the plane starts up perpendicular to the next move.
+            let perpendicular = self.perpendicular_start_stop(&w).then_some(PerpendicularStart {
+                line: self.line,
+                n: self.n,
+                rapid: self.modes[group::MOTION] == code::G00,
+            });
+            self.cfg.stages.comp_started(CompStart { pos: self.pos, perpendicular });
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
         self.apply_wse(&w)?;
@@ -579,6 +586,19 @@ impl State {
                 self.push_motion(kind, self.pos, None, out);
                 moved = true;
             }
+        } else if matches!(comp_before, code::G41 | code::G42)
+            && self.modes[group::CUTTER_COMP] == code::G40
+            && !has_axes
+            && axes_owner.is_none()
+            && !transform_axes
+            && self.modes[group::CYCLE] == code::G80
+            && self.perpendicular_start_stop(&w)
+        {
+            // No.5003#1 SUV: a G40 block in G00/G01 without motion removes the vector itself,
+            // straight to where the program stands (`stage::cutter`).
+            let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+            self.push_motion(kind, self.pos, None, out);
+            moved = true;
         }
         if axes_owner.is_none() && !transform_axes {
             if self.modes[group::CYCLE] != code::G80
@@ -889,6 +909,20 @@ impl State {
         let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
         self.push_motion(kind, self.pos, None, out);
         Ok(true)
+    }
+
+    /// Start-up and cancel "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1,
+    /// `motion.cutter_startup_perpendicular`) apply to this G41/G42/G40 block: it is in G00/G01
+    /// and has no axis word of the plane (`docs/cutter-compensation.md`, rule 13).
+    fn perpendicular_start_stop(&self, w: &Words) -> bool {
+        let letters: [u8; 2] = match self.modes[group::PLANE] {
+            code::G18 => [b'Z', b'X'],
+            code::G19 => [b'Y', b'Z'],
+            _ => [b'X', b'Y'],
+        };
+        self.cfg.machine.motion.cutter_startup_perpendicular
+            && matches!(self.modes[group::MOTION], code::G00 | code::G01)
+            && !letters.iter().any(|&l| w.has(l))
     }
 
     /// The I/J/K of a cutter compensation block as a direction (I along X, J along Y, K along Z),

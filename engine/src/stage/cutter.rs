@@ -11,7 +11,7 @@
 
 mod curve;
 
-use super::{Link, Stage};
+use super::{Link, PerpendicularStart, Stage};
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, CanonKind, CutterWord, Motion, MotionKind, Pos};
 use crate::interp::gcode::code;
@@ -77,6 +77,9 @@ pub struct Cutter {
     alarm: Option<(AlarmId, u32, Option<u32>)>,
     /// Start-up and cancel of type B (FANUC No.5003#0 SUP = 1) instead of type A.
     type_b: bool,
+    /// G41/G42 came in a G00/G01 block without an axis word of the plane under No.5003#1 SUV:
+    /// the next motion in the plane is preceded by a straight move perpendicular to it.
+    perpendicular: Option<PerpendicularStart>,
     /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
     /// motion the stage does not compensate passes as it came (as before the stage existed).
     refuse: bool,
@@ -100,6 +103,7 @@ impl Cutter {
             stopped: false,
             alarm: None,
             type_b: m.motion.cutter_startup_type_b,
+            perpendicular: None,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -263,12 +267,26 @@ impl Cutter {
             self.plane = plane;
             self.vector = [0.0; 2];
             self.startup = true;
-            self.programmed = restart.unwrap_or(m.target);
+            self.programmed = restart.map_or(m.target, |s| s.pos);
+            self.perpendicular = restart.and_then(|s| s.perpendicular);
         }
         let from = std::mem::replace(&mut self.programmed, m.target);
         let curve = self.curve(m, &from);
         let r = signed_radius(m);
         let is_arc = m.arc.is_some();
+        if let (Some(curve), true, true) = (&curve, comp, self.startup && self.held.is_none()) {
+            if let Some(p) = self.perpendicular.take() {
+                // Start-up perpendicular to the next movement (No.5003#1 SUV): a straight move of
+                // the offset value perpendicular to this block at its start; this block is then
+                // one of offset mode (an arc too).
+                let to = curve.offset_point(false, r);
+                if norm(sub(to, curve.from())) > NO_MOVE {
+                    out.push(self.inserted_before(&c, &from, to, p));
+                }
+                self.vector = sub(to, curve.from());
+                self.startup = false;
+            }
+        }
         match (curve, comp) {
             (None, true) => {
                 if self.corner.is_some() {
@@ -486,7 +504,26 @@ impl Cutter {
     fn cancelled(&mut self) {
         self.on = false;
         self.startup = false;
+        self.perpendicular = None;
         self.vector = [0.0; 2];
+    }
+
+    /// The block inserted by a start-up perpendicular to the next movement: a straight move,
+    /// of the G41/G42 block `p` (its line, G00 or G01), from where the motion `c` starts
+    /// (programmed at `from`) to `to` in the plane; the other axes stay where they are.
+    fn inserted_before(&self, c: &Canon, from: &Pos, to: P2, p: PerpendicularStart) -> Canon {
+        let mut s = c.clone();
+        s.line = p.line;
+        s.n = p.n;
+        if let CanonKind::Motion(m) = &mut s.kind {
+            for ((t, machine), f) in m.target.iter_mut().zip(m.machine.iter_mut()).zip(from) {
+                *machine -= *t - f;
+                *t = *f;
+            }
+            m.arc = None;
+            m.kind = if p.rapid { MotionKind::Rapid } else { MotionKind::Linear };
+        }
+        self.placed(s, to)
     }
 
     /// More blocks without motion in the plane than the read-ahead holds: the held motion ends
@@ -672,6 +709,7 @@ impl Stage for Cutter {
     fn reset(&mut self) {
         self.on = false;
         self.startup = false;
+        self.perpendicular = None;
         self.vector = [0.0; 2];
         self.held = None;
         self.word = None;

@@ -1227,3 +1227,109 @@ mod vector_hold {
         }
     }
 }
+
+mod perpendicular {
+    //! Start-up and cancel "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1,
+    //! `motion.cutter_startup_perpendicular`): a G41/G42 block in G00/G01 without an axis word
+    //! of the plane is followed by a straight move of the offset value perpendicular to the next
+    //! block at its start; a G40 block in G00/G01 without an axis word moves straight back from
+    //! the vector perpendicular to the block before. Blocks that move in the plane fall back to
+    //! type A (SUP = 0) or B (SUP = 1).
+
+    use super::*;
+
+    /// Motion ends with SUV (and SUP = `type_b`) on mill3 (FANUC).
+    fn ends_c(src: &str, type_b: bool) -> Centre {
+        let interp = interpreter_with(src, "mill3", Fanuc, |c| {
+            c.edit_machine(|m| {
+                m.motion.cutter_startup_perpendicular = true;
+                m.motion.cutter_startup_type_b = type_b;
+            })
+        });
+        centre_of(interp, (0, 1))
+    }
+
+    #[test]
+    fn a_start_up_from_a_point_moves_perpendicular_to_the_next_block_first() {
+        // G41 R5 at 0,−10 with no move; the next block goes +Y to 0,0: left of +Y is −X, so the
+        // inserted block (line 2) moves to −5,−10. Block 3 then runs in offset mode: the corner
+        // with +X (turning right, outside for the tool on the left, 90°) is the intersection of
+        // x = −5 and y = 5: −5,5. Block 4 ends at its perpendicular vector 20,5 (the G40 block
+        // does not move), and the G40 block (line 5) moves straight back to 20,0; the rapid to
+        // 20,−10 is uncompensated. Type A would end block 3 at 0,5 (perpendicular to block 4).
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 F500\nY0.\nX20.\nG40\nG00 Y-10.\nM30\n";
+        let want =
+            [(1, 0.0, -10.0), (2, -5.0, -10.0), (3, -5.0, 5.0), (4, 20.0, 5.0), (5, 20.0, 0.0), (6, 20.0, -10.0)];
+        assert_centre(ends_c(src, false), src, &want);
+        assert_centre(ends_c(src, true), src, &want);
+        // Without SUV the same program starts up by type A at block 3, and the G40 block does
+        // not move: the rapid of line 6 removes the vector.
+        assert_ends(src, &[(1, 0.0, -10.0), (3, 0.0, 5.0), (4, 20.0, 5.0), (6, 20.0, -10.0)]);
+    }
+
+    #[test]
+    fn an_arc_may_follow_the_start_up_block() {
+        // G41 R5 at 10,0; then a counter-clockwise half circle R10 about 0,0 to −10,0 (left of
+        // counter-clockwise travel is toward the centre: offset radius 5). Inserted: 10,0 moved
+        // left of the arc's start tangent (0,1), to 5,0. The arc ends where it meets the next
+        // block, −Y from −10,0 (tangent: the offsets meet at −5,0); that block ends at its
+        // perpendicular vector −5,−10 and the G40 block moves back to −10,−10. Without SUV the
+        // arc would be the start-up block: PS0034.
+        let src = "G90 G00 X10. Y0 Z0\nG41 D1 G01 F500\nG03 X-10. Y0 R10.\nG01 Y-10.\nG40\nM30\n";
+        let want = [(1, 10.0, 0.0), (2, 5.0, 0.0), (3, -5.0, 0.0), (4, -5.0, -10.0), (5, -10.0, -10.0)];
+        assert_centre(ends_c(src, false), src, &want);
+        let (_, alarm) = centre(src, Fanuc);
+        assert_eq!(alarm, Some(("PS0034".to_string(), 3)));
+    }
+
+    #[test]
+    fn a_move_out_of_the_plane_in_the_start_up_block_comes_first() {
+        // G41 D1 Z−1.: Z goes down at 0,−10 uncompensated; the inserted move comes before the
+        // next block in the plane, and is of the G41 block (line 2).
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 Z-1. F500\nY0.\nX20.\nG40\nM30\n";
+        let want = [(1, 0.0, -10.0), (2, 0.0, -10.0), (2, -5.0, -10.0), (3, -5.0, 5.0), (4, 20.0, 5.0), (5, 20.0, 0.0)];
+        assert_centre(ends_c(src, false), src, &want);
+    }
+
+    #[test]
+    fn start_up_and_cancel_blocks_that_move_fall_back_to_type_a_or_b() {
+        // The outside square of `outside_of_a_square_g42_counter_clockwise`: its G42 and G40
+        // blocks move in the plane, so SUV changes nothing (type A); with SUP = 1 it is type B.
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nY20.\nX0.\nY0.\nG40 Y-10.\nM30\n";
+        let a = [
+            (1, 0.0, -10.0),
+            (2, 5.0, -5.0),
+            (3, 25.0, -5.0),
+            (4, 25.0, 25.0),
+            (5, -5.0, 25.0),
+            (6, -5.0, 0.0),
+            (7, 0.0, -10.0),
+        ];
+        assert_centre(ends_c(src, false), src, &a);
+        let b_machine =
+            interpreter_with(src, "mill3", Fanuc, |c| c.edit_machine(|m| m.motion.cutter_startup_type_b = true));
+        let (b, alarm) = centre_of(b_machine, (0, 1));
+        assert_eq!(alarm, None);
+        assert_eq!(ends_c(src, true), (b, None));
+    }
+
+    #[test]
+    fn blocks_that_move_or_are_in_g02_mode_are_not_perpendicular() {
+        // The G40 block with X moves in the plane: type A (the block before ends at 20,5, outside).
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 F500\nY0.\nX20.\nG40 X30.\nM30\n";
+        assert_centre(
+            ends_c(src, false),
+            src,
+            &[(1, 0.0, -10.0), (2, -5.0, -10.0), (3, -5.0, 5.0), (4, 20.0, 5.0), (5, 30.0, 0.0)],
+        );
+        // A G41 block in G02 mode without a move: the next G01 block is an ordinary start-up.
+        let src = "G90 G00 X0. Y-10. Z0\nG02 G41 D1 F500\nG01 Y0.\nX20.\nG40 X30.\nM30\n";
+        assert_centre(ends_c(src, false), src, &[(1, 0.0, -10.0), (3, 0.0, 5.0), (4, 20.0, 5.0), (5, 30.0, 0.0)]);
+    }
+
+    #[test]
+    fn d0_inserts_nothing() {
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D0 G01 F500\nY0.\nX20.\nG40\nM30\n";
+        assert_centre(ends_c(src, false), src, &[(1, 0.0, -10.0), (3, 0.0, 0.0), (4, 20.0, 0.0), (5, 20.0, 0.0)]);
+    }
+}

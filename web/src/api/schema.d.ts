@@ -1611,6 +1611,16 @@ export interface components {
         /** @description Interpolation choices the vendors make by parameter. */
         MotionOptions: {
             /**
+             * @description Cutter compensation C starts up and cancels "perpendicular to the next movement"
+             *     (FANUC No.5003#1 SUV = 1): a G41/G42 block in G00/G01 without an axis word of the plane
+             *     is followed by a straight move of the offset value perpendicular to the next block's
+             *     start; a G40 block in G00/G01 without an axis word moves straight back from the vector
+             *     perpendicular to the block before. A start-up or cancel block that moves in the plane
+             *     starts up or cancels by type A or B (`cutter_startup_type_b`).
+             *     `docs/cutter-compensation.md`.
+             */
+            cutter_startup_perpendicular?: boolean;
+            /**
              * @description Cutter compensation C starts up and cancels by type B (FANUC No.5003#0 SUP = 1): at an
              *     outside corner the start-up block ends at the vector perpendicular to itself and the
              *     cancel block starts at the vector perpendicular to itself, the corner's own vectors
