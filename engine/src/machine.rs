@@ -387,6 +387,22 @@ pub struct MotionOptions {
     /// between; by default type A (SUP = 0). `docs/cutter-compensation.md`.
     #[serde(default, skip_serializing_if = "is_false")]
     pub cutter_startup_type_b: bool,
+    /// Cutter compensation C starts up and cancels "perpendicular to the next movement"
+    /// (FANUC No.5003#1 SUV = 1): a G41/G42 block in G00/G01 without an axis word of the plane
+    /// is followed by a straight move of the offset value perpendicular to the next block's
+    /// start; a G40 block in G00/G01 without an axis word moves straight back from the vector
+    /// perpendicular to the block before. A start-up or cancel block that moves in the plane
+    /// starts up or cancels by type A or B (`cutter_startup_type_b`).
+    /// `docs/cutter-compensation.md`.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub cutter_startup_perpendicular: bool,
+    /// Cutter compensation C avoids an interference instead of stopping with PS0041 (FANUC
+    /// No.19607#5 CAV = 1): a block whose compensated path runs against its programmed one is
+    /// given no vector of its own, and the block before it ends where its offset path crosses
+    /// the offset path of the block after it; where they do not cross, PS0041 at the block
+    /// before. `docs/cutter-compensation.md`.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub cutter_interference_avoidance: bool,
 }
 
 impl MotionOptions {

@@ -17,6 +17,7 @@ use crate::canon::{
 use crate::dialect::Dialect;
 use crate::lang::{Block, Word, WordValue};
 use crate::machine::{AxisKind, MAX_AXES};
+use crate::stage::{CompStart, PerpendicularStart};
 use arrayvec::ArrayVec;
 use std::collections::HashMap;
 
@@ -478,8 +479,15 @@ impl State {
             self.sync_programmed();
         }
         if comp_before == code::G40 && code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
-            // The start-up block starts here (`stage::cutter`).
-            self.cfg.stages.comp_started(self.pos);
+            // The start-up block starts here (`stage::cutter`); with No.5003#1 SUV a G00/G01
+            // block without an axis word of the plane starts up perpendicular to the next move.
+            let conventional = matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42);
+            let perpendicular = (conventional && self.perpendicular_start_stop(&w)).then_some(PerpendicularStart {
+                line: self.line,
+                n: self.n,
+                rapid: self.modes[group::MOTION] == code::G00,
+            });
+            self.cfg.stages.comp_started(CompStart { pos: self.pos, perpendicular });
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
         self.apply_wse(&w)?;
@@ -579,6 +587,19 @@ impl State {
                 self.push_motion(kind, self.pos, None, out);
                 moved = true;
             }
+        } else if matches!(comp_before, code::G41 | code::G42)
+            && self.modes[group::CUTTER_COMP] == code::G40
+            && !has_axes
+            && axes_owner.is_none()
+            && !transform_axes
+            && self.modes[group::CYCLE] == code::G80
+            && self.perpendicular_start_stop(&w)
+        {
+            // No.5003#1 SUV: a G40 block in G00/G01 without motion removes the vector itself,
+            // straight to where the program stands (`stage::cutter`).
+            let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+            self.push_motion(kind, self.pos, None, out);
+            moved = true;
         }
         // Under the tool side offset, Q1/Q2/Q3 and G41.2/G42.2 given again go to its stage
         // before the block's motion (`stage::tool_side`; other Q values are refused, `unbuilt`).
@@ -902,6 +923,20 @@ impl State {
         Ok(true)
     }
 
+    /// Start-up and cancel "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1,
+    /// `motion.cutter_startup_perpendicular`) apply to this G41/G42/G40 block: it is in G00/G01
+    /// and has no axis word of the plane (`docs/cutter-compensation.md`, rule 13).
+    fn perpendicular_start_stop(&self, w: &Words) -> bool {
+        let letters: [u8; 2] = match self.modes[group::PLANE] {
+            code::G18 => [b'Z', b'X'],
+            code::G19 => [b'Y', b'Z'],
+            _ => [b'X', b'Y'],
+        };
+        self.cfg.machine.motion.cutter_startup_perpendicular
+            && matches!(self.modes[group::MOTION], code::G00 | code::G01)
+            && !letters.iter().any(|&l| w.has(l))
+    }
+
     /// The I/J/K of a cutter compensation block as a direction (I along X, J along Y, K along Z),
     /// when one of the two of the plane is given and they are not both zero.
     fn cutter_direction(&self, w: &Words) -> Option<[f64; 3]> {
@@ -1181,6 +1216,7 @@ impl State {
             arc: !matches!(after(group::MOTION), code::G00 | code::G01),
             rotary_table: self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table),
             q: w.has(b'Q') && !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0)),
+            startup_perpendicular: self.cfg.machine.motion.cutter_startup_perpendicular,
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

@@ -170,6 +170,8 @@ pub struct CutterBlock {
     /// Q in the block other than Q1/Q2/Q3 (the tool side offset's answers to its interference
     /// check at a compensation plane change).
     pub q: bool,
+    /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV).
+    pub startup_perpendicular: bool,
 }
 
 /// The function a block under cutter compensation asks for that its stage does not perform.
@@ -190,6 +192,10 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.tool_side && b.arc, "circular interpolation in the tool side offset (G41.2/G42.2)"),
         (b.tool_side && b.rotary_table, "tool side offset (G41.2/G42.2) on a machine with a rotary table"),
         (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset"),
+        (
+            b.tool_side && b.startup_perpendicular,
+            "the tool side offset's start-up perpendicular to the next move (No.5003#1 SUV)",
+        ),
     ]
     .into_iter()
     .find_map(|(refused, function)| refused.then_some(function))

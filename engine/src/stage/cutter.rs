@@ -11,7 +11,7 @@
 
 pub(super) mod curve;
 
-use super::{Link, Stage};
+use super::{Link, PerpendicularStart, Stage};
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, CanonKind, CutterWord, Motion, MotionKind, Pos};
 use crate::interp::gcode::code;
@@ -37,6 +37,7 @@ const CHORD: f64 = 1e-3;
 const NEAR_TANGENT: f64 = 1e-3;
 
 /// A motion waiting for the next motion in the plane.
+#[derive(Clone)]
 pub(super) struct Held {
     pub(super) canon: Canon,
     pub(super) curve: Curve,
@@ -46,6 +47,16 @@ pub(super) struct Held {
     pub(super) start: P2,
     /// The start-up block (type A: its end vector is perpendicular to the next block).
     pub(super) startup: bool,
+}
+
+/// A block released but not handed on yet, under interference avoidance: if the block after it
+/// interferes, its end moves to the avoidance vector.
+struct Staged {
+    held: Held,
+    /// What its release gave: the block, the moves inserted after it, the commands behind it.
+    out: Vec<Canon>,
+    /// The commands behind it as they came (before they were moved by its vector).
+    after: Vec<Canon>,
 }
 
 /// The cutter compensation C stage.
@@ -77,6 +88,20 @@ pub struct Cutter {
     alarm: Option<(AlarmId, u32, Option<u32>)>,
     /// Start-up and cancel of type B (FANUC No.5003#0 SUP = 1) instead of type A.
     type_b: bool,
+    /// G41/G42 came in a G00/G01 block without an axis word of the plane under No.5003#1 SUV:
+    /// the next motion in the plane is preceded by a straight move perpendicular to it.
+    perpendicular: Option<PerpendicularStart>,
+    /// Interference avoidance (FANUC No.19607#5 CAV = 1): an interfering block's vectors give
+    /// way to one at the crossing of the blocks around it.
+    avoid: bool,
+    /// Under `avoid`: the last block released, held back until the block after it is checked.
+    staged: Option<Staged>,
+    /// The avoidance point just placed: where the next block starts.
+    avoided: Option<P2>,
+    /// Where the staged block's output belongs in the current call's output.
+    staged_at: usize,
+    /// The next motion in the plane while the held block is released at the corner with it.
+    next: Option<(Curve, f64)>,
     /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
     /// motion the stage does not compensate passes as it came (as before the stage existed).
     refuse: bool,
@@ -100,6 +125,12 @@ impl Cutter {
             stopped: false,
             alarm: None,
             type_b: m.motion.cutter_startup_type_b,
+            perpendicular: None,
+            avoid: m.motion.cutter_interference_avoidance,
+            staged: None,
+            avoided: None,
+            staged_at: 0,
+            next: None,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -135,6 +166,7 @@ impl Cutter {
 
     fn alarm(&mut self, id: AlarmId, c: &Canon) {
         self.alarm.get_or_insert((id, c.line, c.n));
+        self.next = None;
         self.stopped = true;
         self.held = None;
         self.corner = None;
@@ -161,10 +193,79 @@ impl Cutter {
         let Some(h) = self.held.take() else { return };
         let end = points[0];
         if let Err(id) = check_direction(&h, end) {
-            let canon = h.canon.clone();
-            self.alarm(id, &canon);
+            if let Some(next) = self.next.filter(|_| self.avoid && self.staged.is_some()) {
+                self.avoid_interference(h, next, out);
+            } else {
+                let canon = h.canon.clone();
+                self.alarm(id, &canon);
+            }
             return;
         }
+        if self.avoid {
+            // Hand on the block staged before, stage this one.
+            self.flush_staged(out);
+            let mut produced = Vec::new();
+            let after = self.after.clone();
+            let held = h.clone();
+            self.produce(h, points, end, &mut produced);
+            self.staged_at = out.len();
+            self.staged = Some(Staged { held, out: produced, after });
+        } else {
+            self.produce(h, points, end, out);
+        }
+    }
+
+    /// The staged block's output, put where it belongs in `out`.
+    fn flush_staged(&mut self, out: &mut Vec<Canon>) {
+        if let Some(st) = self.staged.take() {
+            let at = self.staged_at.min(out.len());
+            out.splice(at..at, st.out);
+        }
+    }
+
+    /// Interference avoidance (FANUC 30i B-63944EN-1/02 §5, "interference avoidance"; the
+    /// 5-axis extract's CRC-41/M-15): the held block `h` interferes. Its vectors and those of
+    /// the staged block before it give way to one avoidance vector: the crossing of the staged
+    /// block's offset path with that of `next` (the block after `h`). The staged block ends
+    /// there, `h` moves nothing in the plane, `next` starts there. No crossing (parallel or
+    /// concentric paths, or one farther than ten radii from the corner), or a staged block
+    /// that would interfere ending there: PS0041 at the staged block, which does not move.
+    fn avoid_interference(&mut self, h: Held, (next, rn): (Curve, f64), out: &mut Vec<Canon>) {
+        let Some(st) = self.staged.take() else { return };
+        let b = &st.held;
+        let corner = b.curve.to();
+        let near = |p: &P2| norm(sub(*p, corner)) <= 10.0 * b.r.abs().max(rn.abs());
+        let va = curve::intersection(&b.curve, b.r, &next, rn, corner).filter(near);
+        let Some(va) = va.filter(|va| check_direction(b, *va).is_ok()) else {
+            let canon = b.canon.clone();
+            self.alarm(AlarmId::CutterInterference, &canon);
+            return;
+        };
+        let mut produced = Vec::new();
+        let held_after = std::mem::replace(&mut self.after, st.after);
+        self.produce(st.held, &[va], va, &mut produced);
+        // The interfering block: to the avoidance point, straight (it moves only out of the
+        // plane), then the commands behind it.
+        let mut c = self.placed(h.canon, va);
+        if let CanonKind::Motion(m) = &mut c.kind {
+            m.arc = None;
+            if m.kind != MotionKind::Rapid {
+                m.kind = MotionKind::Linear;
+            }
+        }
+        produced.push(c);
+        self.vector = sub(va, h.curve.to());
+        for c in held_after {
+            produced.push(self.shifted(c));
+        }
+        let at = self.staged_at.min(out.len());
+        out.splice(at..at, produced);
+        self.avoided = Some(va);
+    }
+
+    /// The output of the released block `h` ending at `end`, then straight moves to the other
+    /// `points`, then the commands held behind it moved by the vector at the last point.
+    fn produce(&mut self, h: Held, points: &[P2], end: P2, out: &mut Vec<Canon>) {
         let mut first = self.placed(h.canon, end);
         if let (CanonKind::Motion(m), Curve::Arc { center, sweep, .. }) = (&mut first.kind, h.curve) {
             if let Some(arc) = m.arc.as_deref_mut() {
@@ -264,12 +365,26 @@ impl Cutter {
             self.plane = plane;
             self.vector = [0.0; 2];
             self.startup = true;
-            self.programmed = restart.unwrap_or(m.target);
+            self.programmed = restart.map_or(m.target, |s| s.pos);
+            self.perpendicular = restart.and_then(|s| s.perpendicular);
         }
         let from = std::mem::replace(&mut self.programmed, m.target);
         let curve = self.curve(m, &from);
         let r = signed_radius(m);
         let is_arc = m.arc.is_some();
+        if let (Some(curve), true, true) = (&curve, comp, self.startup && self.held.is_none()) {
+            if let Some(p) = self.perpendicular.take() {
+                // Start-up perpendicular to the next movement (No.5003#1 SUV): a straight move of
+                // the offset value perpendicular to this block at its start; this block is then
+                // one of offset mode (an arc too).
+                let to = curve.offset_point(false, r);
+                if norm(sub(to, curve.from())) > NO_MOVE {
+                    out.push(self.inserted_before(&c, &from, to, p));
+                }
+                self.vector = sub(to, curve.from());
+                self.startup = false;
+            }
+        }
         match (curve, comp) {
             (None, true) => {
                 if self.corner.is_some() {
@@ -310,11 +425,14 @@ impl Cutter {
                             }
                         };
                         self.held = Some(h);
+                        self.next = Some((curve, r));
                         self.release(&points, out);
+                        self.next = None;
                         if self.stopped {
                             return;
                         }
-                        points[points.len() - 1]
+                        // (Where interference avoidance placed the vector, the block starts there.)
+                        self.avoided.take().unwrap_or(points[points.len() - 1])
                     }
                 };
                 let startup = std::mem::replace(&mut self.startup, false);
@@ -487,7 +605,26 @@ impl Cutter {
     fn cancelled(&mut self) {
         self.on = false;
         self.startup = false;
+        self.perpendicular = None;
         self.vector = [0.0; 2];
+    }
+
+    /// The block inserted by a start-up perpendicular to the next movement: a straight move,
+    /// of the G41/G42 block `p` (its line, G00 or G01), from where the motion `c` starts
+    /// (programmed at `from`) to `to` in the plane; the other axes stay where they are.
+    fn inserted_before(&self, c: &Canon, from: &Pos, to: P2, p: PerpendicularStart) -> Canon {
+        let mut s = c.clone();
+        s.line = p.line;
+        s.n = p.n;
+        if let CanonKind::Motion(m) = &mut s.kind {
+            for ((t, machine), f) in m.target.iter_mut().zip(m.machine.iter_mut()).zip(from) {
+                *machine -= *t - f;
+                *t = *f;
+            }
+            m.arc = None;
+            m.kind = if p.rapid { MotionKind::Rapid } else { MotionKind::Linear };
+        }
+        self.placed(s, to)
     }
 
     /// More blocks without motion in the plane than the read-ahead holds: the held motion ends
@@ -635,11 +772,8 @@ pub(super) fn check_direction(h: &Held, end: P2) -> Result<(), AlarmId> {
     Ok(())
 }
 
-impl Stage for Cutter {
-    fn push(&mut self, command: Canon, out: &mut Vec<Canon>) {
-        if self.stopped {
-            return;
-        }
+impl Cutter {
+    fn push_command(&mut self, command: Canon, out: &mut Vec<Canon>) {
         match &command.kind {
             CanonKind::Motion(_) => self.motion(command, out),
             CanonKind::Cutter(word) => self.word = Some(*word),
@@ -660,10 +794,38 @@ impl Stage for Cutter {
         }
     }
 
-    fn finish(&mut self, out: &mut Vec<Canon>) {
-        if !self.stopped {
-            self.release_perpendicular(out);
+    /// Under interference avoidance: what one call gave (`local`) goes to `out`, the staged
+    /// block in its place unless it is the last thing given and more may come.
+    fn settle(&mut self, mut local: Vec<Canon>, end: bool, out: &mut Vec<Canon>) {
+        if self.staged.is_some() && (end || self.stopped || local.len() > self.staged_at) {
+            self.flush_staged(&mut local);
         }
+        out.append(&mut local);
+    }
+}
+
+impl Stage for Cutter {
+    fn push(&mut self, command: Canon, out: &mut Vec<Canon>) {
+        if self.stopped {
+            return;
+        }
+        if !self.avoid {
+            return self.push_command(command, out);
+        }
+        // (The staged block, if any, came before everything of this call.)
+        self.staged_at = 0;
+        let mut local = Vec::new();
+        self.push_command(command, &mut local);
+        self.settle(local, false, out);
+    }
+
+    fn finish(&mut self, out: &mut Vec<Canon>) {
+        self.staged_at = 0;
+        let mut local = Vec::new();
+        if !self.stopped {
+            self.release_perpendicular(&mut local);
+        }
+        self.settle(local, true, out);
     }
 
     fn take_alarm(&mut self) -> Option<(AlarmId, u32, Option<u32>)> {
@@ -671,8 +833,12 @@ impl Stage for Cutter {
     }
 
     fn reset(&mut self) {
+        self.staged = None;
+        self.avoided = None;
+        self.next = None;
         self.on = false;
         self.startup = false;
+        self.perpendicular = None;
         self.vector = [0.0; 2];
         self.held = None;
         self.word = None;

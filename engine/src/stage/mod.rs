@@ -50,9 +50,27 @@ struct Shared {
 
 #[derive(Default)]
 struct Data {
-    /// Where the program's path stood (programming coordinates) when cutter compensation was
-    /// turned on: the start of the start-up block.
-    comp_start: Option<Pos>,
+    comp_start: Option<CompStart>,
+}
+
+/// Cutter compensation was turned on (G41/G42 after G40).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompStart {
+    /// Where the program's path stood (programming coordinates): the start of the start-up
+    /// block.
+    pub pos: Pos,
+    /// Start-up "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1) applies: the
+    /// G41/G42 block is in G00/G01 and has no axis word of the plane. Its line and sequence
+    /// number, and whether it is in G00, for the block the stage inserts.
+    pub perpendicular: Option<PerpendicularStart>,
+}
+
+/// The G41/G42 block of a start-up "perpendicular to the next movement".
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PerpendicularStart {
+    pub line: u32,
+    pub n: Option<u32>,
+    pub rapid: bool,
 }
 
 impl Clone for Link {
@@ -93,12 +111,12 @@ impl Link {
         value
     }
 
-    /// The interpreter turned cutter compensation on with its path at `pos`.
-    pub fn comp_started(&self, pos: Pos) {
-        self.post(|data| data.comp_start = Some(pos));
+    /// The interpreter turned cutter compensation on.
+    pub fn comp_started(&self, start: CompStart) {
+        self.post(|data| data.comp_start = Some(start));
     }
 
-    pub fn take_comp_start(&self) -> Option<Pos> {
+    pub fn take_comp_start(&self) -> Option<CompStart> {
         self.take(|data| data.comp_start.take())
     }
 
@@ -274,9 +292,10 @@ mod tests {
         let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
         let shared = config.stages.share();
         let cloned = config.clone();
-        config.stages.comp_started([1.0; crate::machine::MAX_AXES]);
+        let start = CompStart { pos: [1.0; crate::machine::MAX_AXES], perpendicular: None };
+        config.stages.comp_started(start);
         assert_eq!(cloned.stages.take_comp_start(), None);
-        assert_eq!(shared.take_comp_start(), Some([1.0; crate::machine::MAX_AXES]));
+        assert_eq!(shared.take_comp_start(), Some(start));
         assert_eq!(shared.take_comp_start(), None, "once");
     }
 

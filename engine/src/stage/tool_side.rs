@@ -297,7 +297,7 @@ impl ToolSide {
             self.alarm(AlarmId::GCodeNotBuilt, &c);
             return;
         }
-        let restart = if comp { self.link.take_comp_start() } else { None };
+        let restart = if comp { self.link.take_comp_start().map(|s| s.pos) } else { None };
         if self.on && restart.is_some() {
             self.release_perpendicular(out);
             self.cancelled();

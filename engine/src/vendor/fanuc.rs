@@ -7,7 +7,7 @@
 //! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
 //! Look-ahead: 1604#0 SHP, 19501#5 FRP, 1660 / 1671 all 0. G54.4: 11200#0 RCM, 11202/11203
 //! rotary clamp, 11204, 3106#6 DAK, 5006#6 TOS, 5412 cycle feed, 5400#2 D3R. Cutter
-//! compensation: 5003#0 SUP (start-up/cancel type B).
+//! compensation: 5003#0 SUP (start-up/cancel type B), #1 SUV (perpendicular to the next movement), 19607#5 CAV (interference avoidance).
 
 use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
 use super::{Params, Value};
@@ -180,14 +180,21 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
     // No.0000#2 INI: the input unit at power on (absent: 0, mm).
     let power_on_inch = p.0.contains_key(&0) && p.bit(0, 2)?;
-    // No.5003#0 SUP: cutter compensation start-up/cancel type B (absent: 0, type A). The other
-    // bits (#1 SUV, the "perpendicular to the next movement" type) are not read.
+    // No.5003#0 SUP: cutter compensation start-up/cancel type B (absent: 0, type A); #1 SUV:
+    // "perpendicular to the next movement" where the G41/G42/G40 block does not move in the
+    // plane. The other bits are not read.
     let cutter_startup_type_b = p.0.contains_key(&5003) && p.bit(5003, 0)?;
+    let cutter_startup_perpendicular = p.0.contains_key(&5003) && p.bit(5003, 1)?;
+    // No.19607#5 CAV: the interference check avoids instead of stopping (absent: 0). The
+    // parameter's other bits are not read.
+    let cutter_interference_avoidance = p.0.contains_key(&19607) && p.bit(19607, 5)?;
     let motion = MotionOptions {
         helical_feed_on_path,
         nonlinear_rapid,
         power_on_inch,
         cutter_startup_type_b,
+        cutter_startup_perpendicular,
+        cutter_interference_avoidance,
         ..look_ahead_options(p, n, &accel)?
     };
     let five_axis = five_axis_options(p)?;
@@ -402,8 +409,12 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if m.motion.power_on_inch {
         p.set(0, 4.0);
     }
-    if m.motion.cutter_startup_type_b {
-        p.set(5003, 1.0);
+    if m.motion.cutter_startup_type_b || m.motion.cutter_startup_perpendicular {
+        let bits = m.motion.cutter_startup_type_b as u8 | (m.motion.cutter_startup_perpendicular as u8) << 1;
+        p.set(5003, bits as f64);
+    }
+    if m.motion.cutter_interference_avoidance {
+        p.set(19607, 32.0);
     }
     look_ahead_params(&mut p, m)?;
 

@@ -321,12 +321,14 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         || o.no_feed_look_ahead
         || o.no_rapid_look_ahead
         || o.cutter_startup_type_b
+        || o.cutter_startup_perpendicular
+        || o.cutter_interference_avoidance
     {
         // (The Syntec seed names no parameter for these: a list without them would drop them.)
         return Err(unrepresentable(
             "Syntec",
-            "inch at power on (INI), HTG, LRP, the look-ahead settings and cutter compensation start-up type B \
-             (SUP) are FANUC settings",
+            "inch at power on (INI), HTG, LRP, the look-ahead settings and cutter compensation start-up types B \
+             and C (SUP, SUV) and interference avoidance (CAV) are FANUC settings",
         ));
     }
     p.set(3013, blu(holder));

@@ -709,8 +709,9 @@ fn fanuc_htg_bit_sets_the_helical_feed() {
     assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.helical_feed_on_path);
 }
 
-/// No.5003#0 SUP selects cutter compensation start-up/cancel type B (issue 20 item 3); No.5003
-/// is modelled: its SUP bit is read, its other bits (#1 SUV) are reported as not modelled.
+/// No.5003#0 SUP selects cutter compensation start-up/cancel type B (issue 20 item 3), #1 SUV
+/// the start-up and cancel perpendicular to the next movement; No.5003's other bits are
+/// reported as not modelled.
 #[test]
 fn fanuc_sup_bit_sets_the_cutter_start_up_type() {
     let mut m = MachineConfig::preset("mill3").unwrap();
@@ -722,28 +723,48 @@ fn fanuc_sup_bit_sets_the_cutter_start_up_type() {
     assert!(back.motion.cutter_startup_type_b);
     assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
     assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
-    let mut suv = p.clone();
-    suv.set(5003, 3.0);
-    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &suv).into_iter().map(|u| u.parameter).collect();
-    assert_eq!(names, ["No.5003#1"]);
-    let mut only_suv = p;
+    let mut both = p.clone();
+    both.set(5003, 3.0);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &both), vec![]);
+    let back = machine_from(Dialect::Fanuc, "m", &both).unwrap();
+    assert!(back.motion.cutter_startup_type_b && back.motion.cutter_startup_perpendicular);
+    assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), both);
+    let mut only_suv = p.clone();
     only_suv.set(5003, 2.0);
-    assert!(!machine_from(Dialect::Fanuc, "m", &only_suv).unwrap().motion.cutter_startup_type_b);
+    let back = machine_from(Dialect::Fanuc, "m", &only_suv).unwrap();
+    assert!(!back.motion.cutter_startup_type_b && back.motion.cutter_startup_perpendicular);
+    assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), only_suv);
+    let mut other = p;
+    other.set(5003, 5.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &other).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["No.5003#2"]);
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("SUP"));
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.motion.cutter_startup_perpendicular = true;
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("SUV"));
 }
 
-/// The interference check's avoidance (FANUC No.5008, No.19607) is not modelled: a list that
-/// sets them gets them reported, and the check raises its alarm as with the defaults.
+/// The interference check's avoidance: No.19607#5 CAV is read (`cutter_interference_avoidance`),
+/// both ways; No.5008 and No.19607's other bits are reported as not modelled.
 #[test]
-fn fanuc_interference_avoidance_is_reported_as_not_modelled() {
-    let m = MachineConfig::preset("mill3").unwrap();
+fn fanuc_cav_bit_sets_interference_avoidance_and_5008_is_reported() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
     let mut p = params_of(Dialect::Fanuc, &m).unwrap();
     assert!(!p.0.contains_key(&5008) && !p.0.contains_key(&19607));
+    m.motion.cutter_interference_avoidance = true;
+    let with = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(with.bit(19607, 5).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &with).unwrap();
+    assert!(back.motion.cutter_interference_avoidance);
+    assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), with);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &with), vec![]);
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("CAV"));
     p.set(5008, 8.0);
-    p.set(19607, 32.0);
+    p.set(19607, 2.0);
     let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &p).into_iter().map(|u| u.parameter).collect();
     assert!(names.iter().any(|n| n.starts_with("No.5008")), "{names:?}");
     assert!(names.iter().any(|n| n.starts_with("No.19607")), "{names:?}");
+    assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.cutter_interference_avoidance);
 }
 
 #[test]
@@ -946,11 +967,13 @@ fn fanuc_ini_power_on_inch_round_trip() {
     assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("INI"));
     // No FANUC motion setting is dropped silently from a Syntec list.
-    let settings: [fn(&mut crate::machine::MotionOptions); 4] = [
+    let settings: [fn(&mut crate::machine::MotionOptions); 6] = [
         |o| o.helical_feed_on_path = true,
         |o| o.nonlinear_rapid = true,
         |o| o.no_feed_look_ahead = true,
         |o| o.cutter_startup_type_b = true,
+        |o| o.cutter_startup_perpendicular = true,
+        |o| o.cutter_interference_avoidance = true,
     ];
     for set in settings {
         let mut m = MachineConfig::preset("mill3").unwrap();

@@ -1227,3 +1227,247 @@ mod vector_hold {
         }
     }
 }
+
+mod perpendicular {
+    //! Start-up and cancel "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1,
+    //! `motion.cutter_startup_perpendicular`): a G41/G42 block in G00/G01 without an axis word
+    //! of the plane is followed by a straight move of the offset value perpendicular to the next
+    //! block at its start; a G40 block in G00/G01 without an axis word moves straight back from
+    //! the vector perpendicular to the block before. Blocks that move in the plane fall back to
+    //! type A (SUP = 0) or B (SUP = 1).
+
+    use super::*;
+
+    /// Motion ends with SUV (and SUP = `type_b`) on mill3 (FANUC).
+    fn ends_c(src: &str, type_b: bool) -> Centre {
+        let interp = interpreter_with(src, "mill3", Fanuc, |c| {
+            c.edit_machine(|m| {
+                m.motion.cutter_startup_perpendicular = true;
+                m.motion.cutter_startup_type_b = type_b;
+            })
+        });
+        centre_of(interp, (0, 1))
+    }
+
+    #[test]
+    fn a_start_up_from_a_point_moves_perpendicular_to_the_next_block_first() {
+        // G41 R5 at 0,−10 with no move; the next block goes +Y to 0,0: left of +Y is −X, so the
+        // inserted block (line 2) moves to −5,−10. Block 3 then runs in offset mode: the corner
+        // with +X (turning right, outside for the tool on the left, 90°) is the intersection of
+        // x = −5 and y = 5: −5,5. Block 4 ends at its perpendicular vector 20,5 (the G40 block
+        // does not move), and the G40 block (line 5) moves straight back to 20,0; the rapid to
+        // 20,−10 is uncompensated. Type A would end block 3 at 0,5 (perpendicular to block 4).
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 F500\nY0.\nX20.\nG40\nG00 Y-10.\nM30\n";
+        let want =
+            [(1, 0.0, -10.0), (2, -5.0, -10.0), (3, -5.0, 5.0), (4, 20.0, 5.0), (5, 20.0, 0.0), (6, 20.0, -10.0)];
+        assert_centre(ends_c(src, false), src, &want);
+        assert_centre(ends_c(src, true), src, &want);
+        // Without SUV the same program starts up by type A at block 3, and the G40 block does
+        // not move: the rapid of line 6 removes the vector.
+        assert_ends(src, &[(1, 0.0, -10.0), (3, 0.0, 5.0), (4, 20.0, 5.0), (6, 20.0, -10.0)]);
+    }
+
+    #[test]
+    fn an_arc_may_follow_the_start_up_block() {
+        // G41 R5 at 10,0; then a counter-clockwise half circle R10 about 0,0 to −10,0 (left of
+        // counter-clockwise travel is toward the centre: offset radius 5). Inserted: 10,0 moved
+        // left of the arc's start tangent (0,1), to 5,0. The arc ends where it meets the next
+        // block, −Y from −10,0 (tangent: the offsets meet at −5,0); that block ends at its
+        // perpendicular vector −5,−10 and the G40 block moves back to −10,−10. Without SUV the
+        // arc would be the start-up block: PS0034.
+        let src = "G90 G00 X10. Y0 Z0\nG41 D1 G01 F500\nG03 X-10. Y0 R10.\nG01 Y-10.\nG40\nM30\n";
+        let want = [(1, 10.0, 0.0), (2, 5.0, 0.0), (3, -5.0, 0.0), (4, -5.0, -10.0), (5, -10.0, -10.0)];
+        assert_centre(ends_c(src, false), src, &want);
+        let (_, alarm) = centre(src, Fanuc);
+        assert_eq!(alarm, Some(("PS0034".to_string(), 3)));
+    }
+
+    #[test]
+    fn a_move_out_of_the_plane_in_the_start_up_block_comes_first() {
+        // G41 D1 Z−1.: Z goes down at 0,−10 uncompensated; the inserted move comes before the
+        // next block in the plane, and is of the G41 block (line 2).
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 Z-1. F500\nY0.\nX20.\nG40\nM30\n";
+        let want = [(1, 0.0, -10.0), (2, 0.0, -10.0), (2, -5.0, -10.0), (3, -5.0, 5.0), (4, 20.0, 5.0), (5, 20.0, 0.0)];
+        assert_centre(ends_c(src, false), src, &want);
+    }
+
+    #[test]
+    fn start_up_and_cancel_blocks_that_move_fall_back_to_type_a_or_b() {
+        // The outside square of `outside_of_a_square_g42_counter_clockwise`: its G42 and G40
+        // blocks move in the plane, so SUV changes nothing (type A); with SUP = 1 it is type B.
+        let src = "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nY20.\nX0.\nY0.\nG40 Y-10.\nM30\n";
+        let a = [
+            (1, 0.0, -10.0),
+            (2, 5.0, -5.0),
+            (3, 25.0, -5.0),
+            (4, 25.0, 25.0),
+            (5, -5.0, 25.0),
+            (6, -5.0, 0.0),
+            (7, 0.0, -10.0),
+        ];
+        assert_centre(ends_c(src, false), src, &a);
+        let b_machine =
+            interpreter_with(src, "mill3", Fanuc, |c| c.edit_machine(|m| m.motion.cutter_startup_type_b = true));
+        let (b, alarm) = centre_of(b_machine, (0, 1));
+        assert_eq!(alarm, None);
+        assert_eq!(ends_c(src, true), (b, None));
+    }
+
+    #[test]
+    fn blocks_that_move_or_are_in_g02_mode_are_not_perpendicular() {
+        // The G40 block with X moves in the plane: type A (the block before ends at 20,5, outside).
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D1 G01 F500\nY0.\nX20.\nG40 X30.\nM30\n";
+        assert_centre(
+            ends_c(src, false),
+            src,
+            &[(1, 0.0, -10.0), (2, -5.0, -10.0), (3, -5.0, 5.0), (4, 20.0, 5.0), (5, 30.0, 0.0)],
+        );
+        // A G41 block in G02 mode without a move: the next G01 block is an ordinary start-up.
+        let src = "G90 G00 X0. Y-10. Z0\nG02 G41 D1 F500\nG01 Y0.\nX20.\nG40 X30.\nM30\n";
+        assert_centre(ends_c(src, false), src, &[(1, 0.0, -10.0), (3, 0.0, 5.0), (4, 20.0, 5.0), (5, 30.0, 0.0)]);
+    }
+
+    #[test]
+    fn d0_inserts_nothing() {
+        let src = "G90 G00 X0. Y-10. Z0\nG41 D0 G01 F500\nY0.\nX20.\nG40\nM30\n";
+        assert_centre(ends_c(src, false), src, &[(1, 0.0, -10.0), (3, 0.0, 0.0), (4, 20.0, 0.0), (5, 20.0, 0.0)]);
+    }
+}
+
+mod avoidance {
+    //! Interference avoidance (FANUC No.19607#5 CAV = 1, `motion.cutter_interference_avoidance`;
+    //! FANUC 30i B-63944EN-1/02 §5): an interfering block gets no vector of its own; the block
+    //! before it ends where its offset path crosses that of the block after it. No crossing:
+    //! PS0041 at the block before, which does not move.
+
+    use super::*;
+
+    fn ends_avoiding(src: &str) -> Centre {
+        let interp = interpreter_with(src, "mill3", Fanuc, |c| {
+            c.edit_machine(|m| m.motion.cutter_interference_avoidance = true)
+        });
+        centre_of(interp, (0, 1))
+    }
+
+    /// A dip smaller than the tool: +X to 20,0, down-right to 21,−1, up-right at 45° to 31,9,
+    /// +X to 40,9; G41 R5 (the tool above).
+    const DIP: &str = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21. Y-1.\nX31. Y9.\nX40.\nG40 X50.\nM30\n";
+
+    #[test]
+    fn a_dip_smaller_than_the_tool_is_avoided() {
+        // Offset paths: block 3 y = 5; block 4 (direction (1,−1)/√2, left normal (1,1)/√2)
+        // x + y = 20 + 5√2; block 5 (direction (1,1)/√2, left normal (−1,1)/√2)
+        // y − x = −22 + 5√2; block 6 y = 14. Corner 3/4 (outside, obtuse): y = 5 on block 4's
+        // path, x = 15 + 5√2 = 22.071; corner 4/5 (inside): x = 21, y = −1 + 5√2 = 6.071, so
+        // block 4 would run from 22.071,5 to 21,6.071, against its programmed (1,−1): PS0041.
+        // Avoidance: block 3 ends where y = 5 meets block 5's path, x = 27 − 5√2 = 19.929;
+        // block 4 stays there; block 5 runs to y = 14 at x = 36 − 5√2 = 28.929; block 6 ends
+        // at 40,14 (in line with the cancel), the cancel goes to 50,9.
+        let s = 5.0 * 2f64.sqrt();
+        let want = [
+            (1, -10.0, 0.0),
+            (2, 0.0, 5.0),
+            (3, 27.0 - s, 5.0),
+            (4, 27.0 - s, 5.0),
+            (5, 36.0 - s, 14.0),
+            (6, 40.0, 14.0),
+            (7, 50.0, 9.0),
+        ];
+        assert_centre(ends_avoiding(DIP), DIP, &want);
+        // Without avoidance: PS0041 at block 4, the tool stops at the end of block 3.
+        let (ends, alarm) = centre(DIP, Fanuc);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 4)));
+        assert_eq!(ends.last().map(|e| e.0), Some(3));
+        assert!(approx(ends.last().unwrap().1[0], 15.0 + s));
+    }
+
+    #[test]
+    fn a_groove_with_parallel_walls_has_no_avoidance_point() {
+        // The `crc_interference` groove: 4 wide, 2 deep, tool 10. Block 5 (the bottom) would run
+        // backwards; the walls' offset paths x = 25 and x = 19 are parallel: no avoidance point,
+        // PS0041 at block 4 (the wall before, FANUC 30i: "an alarm will occur immediately before
+        // block 1"), which does not move: the tool stops at the end of block 3, 25,5.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F1000.\nX20.\nY-2.\nX24.\nY0.\nX40.\nG40 X50.\nM30\n";
+        let (ends, alarm) = ends_avoiding(src);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 4)));
+        assert_eq!(ends, vec![(1, [-10.0, 0.0]), (2, [0.0, 5.0]), (3, [25.0, 5.0])]);
+        let (ends, alarm) = centre(src, Fanuc);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 5)));
+        assert_eq!(ends.last(), Some(&(4, [25.0, 3.0])));
+    }
+
+    /// Random contours along +X with a dip (a block shorter than the radius, then one at least
+    /// as long) in them, compensated with G41 R5: where the plain run stops with PS0041 and the run with
+    /// avoidance completes, no point of the tool centre path between the start-up and the
+    /// cancel comes closer than R − 1 µm to the programmed contour. At least a fifth of the
+    /// programs must be such cases (so that the property is exercised).
+    #[test]
+    fn an_avoided_path_never_comes_closer_than_the_radius() {
+        let mut seed: u64 = 0x5eed_c0de_2020;
+        let mut rand = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let dist = |p: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+            let (d, w) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+            let t = ((w[0] * d[0] + w[1] * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
+            (w[0] - t * d[0]).hypot(w[1] - t * d[1])
+        };
+        let (mut avoided, total) = (0, 200);
+        for _ in 0..total {
+            // 0,0 → 20,0; the dip: down at −20°…−80° for 0.5–4, up at 20°…80° for 5–10 (one
+            // short block: avoidance over one block, with a block after it at least R long); then
+            // a block of 15–25 at −40°…60°, one of 20 along +X; the cancel beyond.
+            let mut pts = vec![[0.0f64, 0.0], [20.0, 0.0]];
+            let go = |pts: &mut Vec<[f64; 2]>, deg: f64, len: f64| {
+                let l = pts[pts.len() - 1];
+                let a = deg.to_radians();
+                pts.push([
+                    ((l[0] + len * a.cos()) * 1000.0).round() / 1000.0,
+                    ((l[1] + len * a.sin()) * 1000.0).round() / 1000.0,
+                ]);
+            };
+            go(&mut pts, -20.0 - 60.0 * rand(), 0.5 + 3.5 * rand());
+            go(&mut pts, 20.0 + 60.0 * rand(), 5.0 + 5.0 * rand());
+            go(&mut pts, -40.0 + 100.0 * rand(), 15.0 + 10.0 * rand());
+            go(&mut pts, 0.0, 20.0);
+            let last = pts[pts.len() - 1];
+            let mut src = String::from("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\n");
+            for p in &pts[1..] {
+                src += &format!("X{:.3} Y{:.3}\n", p[0], p[1]);
+            }
+            src += &format!("G40 X{:.3} Y{:.3}\nM30\n", last[0] + 10.0, last[1]);
+            let (_, plain) = centre(&src, Fanuc);
+            let (ends, alarm) = ends_avoiding(&src);
+            if plain.as_ref().map(|a| a.0.as_str()) != Some("PS0041") || alarm.is_some() {
+                continue;
+            }
+            avoided += 1;
+            // Lines 3..=7 are the contour's blocks (and the moves inserted at their corners).
+            let mut from = ends[0].1;
+            for &(line, to) in &ends[1..] {
+                if (3..=7).contains(&line) {
+                    for k in 0..=32 {
+                        let t = k as f64 / 32.0;
+                        let p = [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])];
+                        let d = pts.windows(2).map(|w| dist(p, w[0], w[1])).fold(f64::INFINITY, f64::min);
+                        assert!(d >= 5.0 - 1e-3, "line {line}: {p:?} is {d} from the contour\n{src}");
+                    }
+                }
+                from = to;
+            }
+        }
+        assert!(avoided * 5 >= total, "only {avoided} of {total} programs were avoided");
+    }
+
+    #[test]
+    fn without_interference_avoidance_changes_nothing() {
+        // The outside square and the inside pocket: the same points with avoidance on.
+        for src in [
+            "G90 G00 X0. Y-10. Z0\nG42 D1 G01 Y0. F500\nX20.\nY20.\nX0.\nY0.\nG40 Y-10.\nM30\n",
+            "G90 G00 X20. Y10. Z0\nG41 D1 G01 Y0. F500\nX40.\nY40.\nX0.\nY0.\nX20.\nG04 P1\nG40 Y10.\nM30\n",
+        ] {
+            assert_eq!(ends_avoiding(src), centre(src, Fanuc), "{src}");
+        }
+    }
+}

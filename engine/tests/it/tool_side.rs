@@ -223,6 +223,17 @@ fn what_the_tool_side_offset_does_not_perform_stays_refused() {
 }
 
 #[test]
+fn the_start_up_perpendicular_to_the_next_move_is_refused() {
+    // No.5003#1 SUV (type C, CRC-08) is built for G41/G42 only: G41.2 on such a machine is
+    // refused rather than started up as type A.
+    let src = "G90 G00 X0 Y0 Z0\nG41.2 D1\nG01 X10. F500.\nG40 X0\nM30\n";
+    let mut interp =
+        interpreter_with(src, "head-bc", Fanuc, |c| c.edit_machine(|m| m.motion.cutter_startup_perpendicular = true));
+    let r = fivex_engine::run::run(&mut interp, &Default::default(), |_| {});
+    assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).next(), Some(("PS0010", 2)));
+}
+
+#[test]
 fn m30_ends_the_mode_with_the_last_block_perpendicular() {
     // The start-up block turns right into X50 with the tool on the right: an inside corner,
     // the offset lines' intersection (5, −5); M30 leaves X50 perpendicular to itself.

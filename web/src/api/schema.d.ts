@@ -1611,6 +1611,24 @@ export interface components {
         /** @description Interpolation choices the vendors make by parameter. */
         MotionOptions: {
             /**
+             * @description Cutter compensation C avoids an interference instead of stopping with PS0041 (FANUC
+             *     No.19607#5 CAV = 1): a block whose compensated path runs against its programmed one is
+             *     given no vector of its own, and the block before it ends where its offset path crosses
+             *     the offset path of the block after it; where they do not cross, PS0041 at the block
+             *     before. `docs/cutter-compensation.md`.
+             */
+            cutter_interference_avoidance?: boolean;
+            /**
+             * @description Cutter compensation C starts up and cancels "perpendicular to the next movement"
+             *     (FANUC No.5003#1 SUV = 1): a G41/G42 block in G00/G01 without an axis word of the plane
+             *     is followed by a straight move of the offset value perpendicular to the next block's
+             *     start; a G40 block in G00/G01 without an axis word moves straight back from the vector
+             *     perpendicular to the block before. A start-up or cancel block that moves in the plane
+             *     starts up or cancels by type A or B (`cutter_startup_type_b`).
+             *     `docs/cutter-compensation.md`.
+             */
+            cutter_startup_perpendicular?: boolean;
+            /**
              * @description Cutter compensation C starts up and cancels by type B (FANUC No.5003#0 SUP = 1): at an
              *     outside corner the start-up block ends at the vector perpendicular to itself and the
              *     cancel block starts at the vector perpendicular to itself, the corner's own vectors
