@@ -275,8 +275,10 @@ pub mod code {
     /// The tilted working plane definitions.
     pub const TILTED_PLANES: [u16; 3] = [G68_2, G68_3, G68_4];
     /// The cutter compensations a path stage performs (`crate::stage`): C (G41/G42) and the
-    /// 5-axis tool side offset of type 1 (G41.2/G42.2).
-    pub const COMPENSATED_BY_STAGES: [u16; 4] = [G41, G42, G41_2, G42_2];
+    /// 5-axis tool side offset of type 1 (G41.2/G42.2) and type 2 (G41.6/G42.6).
+    pub const COMPENSATED_BY_STAGES: [u16; 6] = [G41, G42, G41_2, G42_2, G41_6, G42_6];
+    /// The 5-axis tool side offset (`stage::tool_side`), type 1 and type 2.
+    pub const TOOL_SIDE: [u16; 4] = [G41_2, G42_2, G41_6, G42_6];
     /// The macro calls, single and modal.
     pub const MACRO_CALLS: [u16; 3] = [G65, G66, G66_1];
 }

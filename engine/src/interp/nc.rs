@@ -604,11 +604,11 @@ impl State {
         // Under the tool side offset, Q1/Q2/Q3 and G41.2/G42.2 given again go to its stage
         // before the block's motion (`stage::tool_side`; other Q values are refused, `unbuilt`).
         let comp = self.modes[group::CUTTER_COMP];
-        if matches!(comp, code::G41_2 | code::G42_2) {
+        if code::TOOL_SIDE.contains(&comp) {
             if comp_before == comp && w.has_g(comp) {
                 self.emit(out, CanonKind::Cutter(CutterWord::Perpendicular));
             }
-            if let Some(q) = w.integer(b'Q') {
+            if let Some(q) = w.integer(b'Q').filter(|_| matches!(comp, code::G41_2 | code::G42_2)) {
                 self.emit(out, CanonKind::Cutter(CutterWord::PlaneChange(q as u8)));
             }
         }
@@ -1200,7 +1200,8 @@ impl State {
         let rotary =
             w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary));
         let block = unbuilt::CutterBlock {
-            tool_side: matches!(comp, code::G41_2 | code::G42_2),
+            tool_side: code::TOOL_SIDE.contains(&comp),
+            type2_alone: matches!(comp, code::G41_6 | code::G42_6) && after(group::LENGTH_COMP) != code::G43_5,
             transform: !matches!(after(group::ROTATION), code::G69 | code::G69_1)
                 || after(group::SCALING) != code::G50
                 || after(group::MIRROR) != code::G50_1
@@ -1215,8 +1216,10 @@ impl State {
             corner_override: after(group::PATH_MODE) == code::G62,
             arc: !matches!(after(group::MOTION), code::G00 | code::G01),
             rotary_table: self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table),
-            q: w.has(b'Q') && !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0)),
-            startup_perpendicular: self.cfg.machine.motion.cutter_startup_perpendicular,
+            q: w.has(b'Q')
+                && (matches!(comp, code::G41_6 | code::G42_6) || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
+            conventional_settings: self.cfg.machine.motion.cutter_startup_perpendicular
+                || self.cfg.machine.motion.cutter_interference_avoidance,
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

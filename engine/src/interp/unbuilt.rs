@@ -89,11 +89,9 @@ const TABLE: &[NotBuilt] = &[
     row(413, When::Always, "leading edge offset (G41.3)"),
     row(414, When::Always, CUTTER_3D),
     row(415, When::Always, CUTTER_3D),
-    row(416, When::Always, CUTTER_3D),
     row(421, When::Always, "normal direction control (G42.1)"),
     row(424, When::Always, CUTTER_3D),
     row(425, When::Always, CUTTER_3D),
-    row(426, When::Always, CUTTER_3D),
     row(431, When::Always, "tool length compensation in tool axis direction (G43.1)"),
     // Syntec's G43.4 L1 is STCP (smooth tool centre point); L0 is plain RTCP.
     NotBuilt {
@@ -144,8 +142,11 @@ pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<
 /// `stage::tool_side`).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct CutterBlock {
-    /// G41.2/G42.2 (5-axis tool side offset, type 1) rather than G41/G42.
+    /// G41.2/G42.2 or G41.6/G42.6 (5-axis tool side offset, type 1 or 2) rather than G41/G42.
     pub tool_side: bool,
+    /// Type 2 (G41.6/G42.6: the tool direction by I/J/K) without tool centre point control of
+    /// type 2 (G43.5), which turns I/J/K into rotary angles.
+    pub type2_alone: bool,
     /// G68 rotation, G51 scaling, G51.1 mirror image or G16 polar coordinates in force.
     pub transform: bool,
     /// Tool centre point control in force.
@@ -168,17 +169,18 @@ pub struct CutterBlock {
     /// the tool (table and mixed types, their own rules).
     pub rotary_table: bool,
     /// Q in the block other than Q1/Q2/Q3 (the tool side offset's answers to its interference
-    /// check at a compensation plane change).
+    /// check at a compensation plane change), or any Q under type 2 (its inclination).
     pub q: bool,
-    /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV).
-    pub startup_perpendicular: bool,
+    /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV)
+    /// or avoids interference (No.19607#5 CAV): built for cutter compensation C only.
+    pub conventional_settings: bool,
 }
 
 /// The function a block under cutter compensation asks for that its stage does not perform.
 /// Cutter compensation C shifts the path in the plane by the same vector in programming and
 /// machine coordinates: right only while the two differ by a translation, for plain motions.
 /// The tool side offset compensates straight moves in the plane perpendicular to the tool, on a
-/// machine whose rotary axes turn the tool only, with or without TCP.
+/// machine whose rotary axes turn the tool only: type 1 with or without TCP, type 2 under G43.5.
 pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
     let conventional = !b.tool_side;
     [
@@ -189,12 +191,14 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.rotary && conventional, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
-        (b.tool_side && b.arc, "circular interpolation in the tool side offset (G41.2/G42.2)"),
-        (b.tool_side && b.rotary_table, "tool side offset (G41.2/G42.2) on a machine with a rotary table"),
-        (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset"),
+        (b.tool_side && b.arc, "circular interpolation in the tool side offset"),
+        (b.tool_side && b.rotary_table, "the tool side offset on a machine with a rotary table"),
+        (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset (type 2: its inclination)"),
+        (b.type2_alone, "the tool side offset of type 2 (G41.6/G42.6) without G43.5"),
         (
-            b.tool_side && b.startup_perpendicular,
-            "the tool side offset's start-up perpendicular to the next move (No.5003#1 SUV)",
+            b.tool_side && b.conventional_settings,
+            "the tool side offset with start-up perpendicular to the next move (No.5003#1 SUV) or interference \
+             avoidance (No.19607#5 CAV)",
         ),
     ]
     .into_iter()

@@ -99,6 +99,38 @@ fn tv09_the_same_under_tool_centre_point_control() {
 }
 
 #[test]
+fn type_2_under_g43_5_places_the_tip_as_type_1_with_the_same_tool_directions() {
+    // G41.6 with the tool given by I/J/K at each block end (G43.5 turns them into angles) and
+    // G41.2 with the same directions given by B/C: the same tool tip at every block end.
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let blocks =
+        [("X0", 45.0, -90.0), ("X100.", 30.0, -60.0), ("Y100. Z60.", 20.0, -120.0), ("X20. Y80.", 35.0, -90.0)];
+    let (mut type1, mut type2) = (String::new(), String::new());
+    for (k, (xyz, b, c)) in blocks.iter().enumerate() {
+        let mut pos = [0.0; 8];
+        (pos[3], pos[4]) = (*b, *c);
+        let t = kin.forward(&pos, 0.0).tool;
+        let feed = if k == 0 { " F1000." } else { "" };
+        type1 += &format!("G01 {xyz} B{b:.3} C{c:.3}{feed}\n");
+        type2 += &format!("G01 {xyz} I{:.9} J{:.9} K{:.9}{feed}\n", t.x, t.y, t.z);
+    }
+    let start = "G90 G00 X-50. Y0 Z0 B45. C-90.\n";
+    let end = "G40 X-50.\nG49\nM30\n";
+    let one = ends_of(&format!("{start}G43.4 H1\nG41.2 D1\n{type1}{end}"), "head-bc");
+    let two = ends_of(&format!("{start}G43.5 H1\nG41.6 D1\n{type2}{end}"), "head-bc");
+    assert_eq!((&one.alarm, &two.alarm), (&None, &None));
+    let tips = |e: &Ends| e.ends.iter().filter(|(l, _)| (5..=9).contains(l)).map(|(l, p)| (*l, *p)).collect::<Vec<_>>();
+    let (a, b) = (tips(&one), tips(&two));
+    assert_eq!(a.len(), 5, "{a:?}");
+    assert_eq!(a.len(), b.len());
+    for ((l1, p), (l2, q)) in a.iter().zip(&b) {
+        assert!(l1 == l2 && (p - q).norm() < 1e-6, "line {l1}: type 1 {p:?}, type 2 {q:?}");
+    }
+    // Compensated: the tip is not on the programmed X100. line end (100, 0, 0).
+    assert!((a[1].1 - Vec3::new(100.0, 0.0, 0.0)).norm() > 4.0, "{a:?}");
+}
+
+#[test]
 fn a_vertical_tool_compensates_as_g41_in_g17() {
     // With the tool along Z the plane is XY: the same tool centre as cutter compensation C.
     let contour = "G01 X0 Y0 F500.\nX40.\nY40.\nX20. Y25.\nX0 Y40.\nY0\nG40 Y-10.\nM30\n";
@@ -207,8 +239,9 @@ fn what_the_tool_side_offset_does_not_perform_stays_refused() {
         ("G41.2 D1 G01 X10. F500\n", 1, "table-ac", "PS0010"),
         ("G41.2 D1 G01 X10. F500\n", 1, "mixed-bc", "PS0010"),
         ("G41.2 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "head-bc", "PS0010"),
-        // Type 2 and the leading edge offset are not built.
+        // Type 2 without G43.5, a Q in type 2 (its inclination), the leading edge offset.
         ("G41.6 D1 G01 X10. I0 J0 K1. F500\n", 1, "head-bc", "PS0010"),
+        ("G43.5 H1\nG41.6 D1 G01 X10. I0 J0 K1. Q2. F500\n", 2, "head-bc", "PS0010"),
         ("G41.3 D1\n", 1, "head-bc", "PS0010"),
         // What the manual forbids in the mode (§3.5.1) keeps its own alarm.
         ("G41.2 D1 G01 X10. F500\nG81 X20. Z-5. R2.\n", 2, "head-bc", "PS5460"),
