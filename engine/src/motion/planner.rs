@@ -485,8 +485,9 @@ fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) 
 /// curvature allow (infinite where the path goes on smoothly, as between a block's pieces).
 fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
     let mut v = f64::INFINITY;
+    let (start_dir, end_dir) = (b.start_dir(), a.end_dir());
     for i in 0..speed_step.len() {
-        let turn = (b.start_dir()[i] - a.end_dir()[i]).abs();
+        let turn = (start_dir[i] - end_dir[i]).abs();
         if turn > 1e-12 {
             v = v.min(speed_step[i] / turn);
         }
