@@ -197,12 +197,13 @@ impl Planner {
         if segment.len <= 0.0 {
             return;
         }
-        // Grown by doubling up to what running a program holds (the look-ahead, a batch and a
-        // split block's pieces) and exactly to that: doubling past it would reserve room for
-        // hundreds of segments never queued.
-        let (len, most) = (self.queue.len(), self.lookahead + self.batch() + super::path::MAX_PIECES);
-        if len == self.queue.capacity() && len < most {
-            self.queue.reserve_exact((2 * len).clamp(4, most) - len);
+        // Grown by doubling up to what running a program holds (the look-ahead and a batch),
+        // exactly to that, then by a split block's pieces only when one comes: doubling past it
+        // would reserve room for hundreds of segments never queued.
+        let (len, held) = (self.queue.len(), self.lookahead + self.batch());
+        if len == self.queue.capacity() && len < held + super::path::MAX_PIECES {
+            let to = if len < held { (2 * len).clamp(4, held) } else { held + super::path::MAX_PIECES };
+            self.queue.reserve_exact(to - len);
         }
         if let Some(last) = self.queue.back_mut() {
             last.junction = if last.segment.stop_after || segment.rapid {
