@@ -369,7 +369,9 @@ impl Planner {
     /// that a run is released while its look-ahead still follows it); with `merge_kinematic`,
     /// consecutive kinematic segments share a run unless a corner parts them.
     fn runs(&self, range: std::ops::Range<usize>, merge_kinematic: bool) -> Vec<Run> {
-        let mut runs: Vec<Run> = Vec::new();
+        // At most a run per segment: reserved at once, as growing it by doubling copies it
+        // (a planning every batch makes this the planner's most frequent allocation).
+        let mut runs: Vec<Run> = Vec::with_capacity(range.len());
         let mut open: Option<Run> = None;
         let last = range.end - 1;
         let first = range.start;
