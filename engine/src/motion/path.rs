@@ -1710,4 +1710,21 @@ mod tests {
         println!("size_of::<Segment>() = {size}");
         assert!(size <= 384, "a segment takes {size} bytes");
     }
+
+    /// A segment's positions read back bit for bit, those of axes beyond the inline ones (and
+    /// a -0.0 there) included.
+    #[test]
+    fn points_read_back_bit_for_bit() {
+        use super::{Points, FROM, TO};
+        let bits = |p: crate::canon::Pos| p.map(f64::to_bits);
+        let five = [1.5, -2.0, -0.0, 3.0, 4.0, 0.0, 0.0, 0.0];
+        let eight = [0.1, 0.0, 0.0, 0.0, 0.0, -0.0, 7.25, 1e-300];
+        let mut points = Points::new([&five; 5]);
+        assert!(points.rest.is_none(), "five axes are kept inline");
+        points.set(TO, &eight);
+        assert_eq!(bits(points.get(TO)), bits(eight));
+        assert_eq!(bits(points.get(FROM)), bits(five));
+        points.set(TO, &five);
+        assert_eq!(bits(points.get(TO)), bits(five));
+    }
 }
