@@ -268,7 +268,7 @@ impl Controller {
             let line = self.exec.here.line;
             let end = self.exec.run_ahead().iter().take_while(|seg| seg.line == line).last();
             if let Some(seg) = end {
-                for (o, (to, here)) in out.iter_mut().zip(seg.work_to.iter().zip(&self.exec.here.work)) {
+                for (o, (to, here)) in out.iter_mut().zip(seg.work_to().iter().zip(&self.exec.here.work)) {
                     *o = to - here;
                 }
             }

@@ -377,16 +377,17 @@ impl Recorder {
             let tip = kin.forward(machine, length).tip;
             return Some(((tip - programmed).norm(), tip));
         }
-        let rotary_moves = self.axes.iter().enumerate().any(|(i, a)| a.rotary && seg.from[i] != seg.to[i]);
+        let (from, to) = (seg.from(), seg.to());
+        let rotary_moves = self.axes.iter().enumerate().any(|(i, a)| a.rotary && from[i] != to[i]);
         if !rotary_moves {
             return None;
         }
         let length = seg.tool_length;
         let chord = match self.chord {
-            Some((f, t, a, b)) if f == seg.from && t == seg.to => (a, b),
+            Some((f, t, a, b)) if f == from && t == to => (a, b),
             _ => {
-                let (a, b) = (kin.forward(&seg.from, length).tip, kin.forward(&seg.to, length).tip);
-                self.chord = Some((seg.from, seg.to, a, b));
+                let (a, b) = (kin.forward(&from, length).tip, kin.forward(&to, length).tip);
+                self.chord = Some((from, to, a, b));
                 (a, b)
             }
         };
@@ -447,16 +448,17 @@ impl Observer for Recorder {
     }
 
     fn executed(&mut self, segment: &Segment) {
-        self.position(&segment.from);
-        self.position(&segment.to);
-        self.last_end = Some(segment.to);
-        let from = *self.motion_from.get_or_insert(segment.from);
+        let (start, end) = (segment.from(), segment.to());
+        self.position(&start);
+        self.position(&end);
+        self.last_end = Some(end);
+        let from = *self.motion_from.get_or_insert(start);
         if segment.continued() {
             return;
         }
         self.motion_from = None;
         for (i, a) in self.axes.iter_mut().enumerate() {
-            let d = segment.to[i] - from[i];
+            let d = end[i] - from[i];
             if a.rotary && d != 0.0 {
                 if a.direction != 0.0 && d.abs() >= UNWIND_DEG && d.signum() != a.direction {
                     a.unwinds += 1;

@@ -4,8 +4,9 @@
 //! the live total. `docs/performance.md` has the figures, where they come from (the motion
 //! planner's look-ahead), and the RSS measurement beside this one.
 //!
-//! The goal is not met yet: the test is ignored until it is, and runs with
-//! `cargo test -p fivex-server --test memory -- --ignored --nocapture`.
+//! It runs alone in its test binary (the allocator counts every thread's allocations), in well
+//! under a second, and measures the same bytes every time: the run is the same ticks of the same
+//! program. `cargo test -p fivex-server --test memory -- --nocapture` prints the figures.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicIsize, Ordering};
@@ -56,7 +57,6 @@ fn live() -> isize {
 }
 
 #[test]
-#[ignore = "issue 18: a running controller holds ≈232 kB (55 kB idle), most of it the planner's queue of 256 + 32 segments (docs/performance.md)"]
 fn a_running_controller_holds_under_200_kb() {
     let machine = MachineConfig::preset("table-ac").expect("the table-ac preset");
     let before = live();
@@ -100,6 +100,8 @@ fn a_running_controller_holds_under_200_kb() {
     let idle_kb = (idle - before) as f64 / COUNT as f64 / 1024.0;
     let running_kb = (running - before) as f64 / COUNT as f64 / 1024.0;
     println!("heap per controller: {idle_kb:.1} kB idle, {running_kb:.1} kB running (with its last position)");
+    // Measured 2026-11-25: 55.4 kB idle, 188.0 kB running, most of it the planner's look-ahead
+    // (288 segments of 384 bytes and their junction speeds).
     assert!(running_kb < 200.0, "a running controller holds {running_kb:.1} kB ({idle_kb:.1} kB idle)");
     drop(subscribers);
 }

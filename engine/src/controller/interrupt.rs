@@ -36,14 +36,14 @@ impl Interrupt {
         let Some((p, t0)) = &self.moving else { return self.done };
         let elapsed = (t - t0).clamp(0.0, p.profile.duration());
         let point = p.point(elapsed, &mut Cursor::default()).machine;
-        let from = p.segments[0].from;
+        let from = p.segments[0].from();
         std::array::from_fn(|i| self.done[i] + point[i] - from[i])
     }
 
     /// The shift once the move under way has ended.
     pub(super) fn last(&self) -> Pos {
         let Some((p, _)) = &self.moving else { return self.done };
-        let (from, to) = (p.segments[0].from, p.segments.last().map_or(p.segments[0].to, |s| s.to));
+        let (from, to) = (p.segments[0].from(), p.segments.last().map_or(p.segments[0].to(), |s| s.to()));
         std::array::from_fn(|i| self.done[i] + to[i] - from[i])
     }
 
@@ -185,8 +185,8 @@ impl Controller {
         let ahead: Vec<Pos> = self.path_ahead();
         let base = self.interrupt.at(self.exec.time());
         let fits = |seg: &Segment| {
-            let end = seg.to;
-            let shift: Pos = std::array::from_fn(|i| base[i] + end[i] - seg.from[i]);
+            let (start, end) = (seg.from(), seg.to());
+            let shift: Pos = std::array::from_fn(|i| base[i] + end[i] - start[i]);
             let sampled = (0..=16).map(|k| seg.at(seg.len * k as f64 / 16.0).0);
             let queued = ahead.iter().map(|p| std::array::from_fn(|i| p[i] + shift[i]));
             self.inside(sampled) && self.inside(queued)
@@ -262,8 +262,8 @@ impl Controller {
     /// then what is queued), program coordinates.
     fn path_ahead(&self) -> Vec<Pos> {
         let mut out = vec![self.exec.here.machine];
-        out.extend(self.exec.run_ahead().iter().map(|seg| seg.to));
-        out.extend(self.exec.queued_segments().map(|seg| seg.to));
+        out.extend(self.exec.run_ahead().iter().map(|seg| seg.to()));
+        out.extend(self.exec.queued_segments().map(|seg| seg.to()));
         out
     }
 
@@ -287,7 +287,8 @@ impl Controller {
             None => self.exec.queued_segments().next().filter(|seg| seg.line == self.exec.here.line),
         };
         let Some(seg) = seg else { return false };
-        kin.head.iter().chain(&kin.table).filter_map(|j| j.index).any(|i| (seg.to[i] - seg.from[i]).abs() > 1e-9)
+        let (from, to) = (seg.from(), seg.to());
+        kin.head.iter().chain(&kin.table).filter_map(|j| j.index).any(|i| (to[i] - from[i]).abs() > 1e-9)
     }
 
     /// Whether the handle's pulses are a handle interruption (AUTO or MDI mode).

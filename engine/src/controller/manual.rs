@@ -66,7 +66,7 @@ impl Controller {
                 let shift = self.intervention_shift(&i.start, &moved);
                 path = path.iter().map(|seg| seg.shifted(&shift.machine, shift.tip)).collect();
                 if let Some(last) = path.last() {
-                    (self.exec.queued.machine, self.exec.queued.work) = (last.to, last.work_to);
+                    (self.exec.queued.machine, self.exec.queued.work) = (last.to(), last.work_to());
                 } else {
                     (self.exec.queued.machine, self.exec.queued.work) = (here, self.exec.here.work);
                 }
@@ -83,7 +83,7 @@ impl Controller {
                 self.reposition = true;
             }
             let continues =
-                path.first().is_some_and(|seg| seg.from.iter().zip(&here).all(|(a, b)| (a - b).abs() < 1e-9));
+                path.first().is_some_and(|seg| seg.from().iter().zip(&here).all(|(a, b)| (a - b).abs() < 1e-9));
             if !path.is_empty() && !continues {
                 // The rest of the block under way becomes one straight move to its end.
                 let line = path[0].line;
@@ -94,8 +94,8 @@ impl Controller {
             // Where a shifted path meets one that was not (a move in machine coordinates), the
             // later block goes straight from where the earlier one ends.
             for k in 1..path.len() {
-                let (to, work_to) = (path[k - 1].to, path[k - 1].work_to);
-                if path[k].from.iter().zip(&to).any(|(a, b)| (a - b).abs() > 1e-9) {
+                let (to, work_to) = (path[k - 1].to(), path[k - 1].work_to());
+                if path[k].from().iter().zip(&to).any(|(a, b)| (a - b).abs() > 1e-9) {
                     path[k] = self.straight(to, work_to, &path[k]);
                 }
             }
@@ -111,8 +111,8 @@ impl Controller {
     fn straight(&mut self, from: Pos, from_work: Pos, end: &Segment) -> Segment {
         let m = Motion {
             kind: if end.rapid { MotionKind::Rapid } else { MotionKind::Linear },
-            target: end.work_to,
-            machine: end.to,
+            target: end.work_to(),
+            machine: end.to(),
             arc: None,
             tip: None,
             feed: end.programmed_feed(),

@@ -276,7 +276,7 @@ impl Executor {
     /// Queue a segment made elsewhere (a manual move) and take its end as the queued endpoint
     /// (the workpiece system stays).
     pub fn push(&mut self, seg: Segment) {
-        (self.queued.machine, self.queued.work) = (seg.to, seg.work_to);
+        (self.queued.machine, self.queued.work) = (seg.to(), seg.work_to());
         self.planner.push(seg);
     }
 
@@ -349,7 +349,7 @@ impl Executor {
     /// The run ended on its last point exactly (not a stop part-way along it).
     pub fn arrive(&mut self, finished: &Finished) {
         if let Some(last) = finished.planned.segments.last() {
-            (self.here.machine, self.here.work) = (last.to, last.work_to);
+            (self.here.machine, self.here.work) = (last.to(), last.work_to());
         }
     }
 

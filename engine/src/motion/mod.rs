@@ -51,7 +51,7 @@ pub fn stroke_check(seg: &Segment, m: &MachineConfig) -> Result<(), AlarmId> {
 /// every planned point on the way to the axes).
 pub fn stroke_check_shifted(seg: &Segment, m: &MachineConfig, shift: &Pos) -> Result<(), AlarmId> {
     let shifted = |p: Pos| -> Pos { std::array::from_fn(|i| p[i] + shift[i]) };
-    let points = std::iter::once(seg.to).chain(seg.arc_extremes()).chain(follow_peaks(seg, m, shift));
+    let points = std::iter::once(seg.to()).chain(seg.arc_extremes()).chain(follow_peaks(seg, m, shift));
     check_points(points.map(shifted), m)
 }
 

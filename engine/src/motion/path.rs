@@ -52,11 +52,9 @@ pub struct Segment {
     pub block: u64,
     pub n: Option<u32>,
     pub rapid: bool,
-    /// Machine and programming positions at the start and the end.
-    pub from: Pos,
-    pub to: Pos,
-    pub work_from: Pos,
-    pub work_to: Pos,
+    /// Machine and programming positions at the start and the end, and the start's tangent
+    /// (`from()`, `to()`, `work_from()`, `work_to()`, `start_dir()`).
+    points: Points,
     /// Boxed: most segments are straight, and the queue holds hundreds of them.
     circle: Option<Box<Circle>>,
     /// A non-linear rapid: each axis's own rest-to-rest profile (`None` for axes that stay);
@@ -72,8 +70,9 @@ pub struct Segment {
     /// The programmed speed before the override, and the highest the axes allow.
     programmed: f64,
     axis_speed: f64,
-    /// The tangents and curvatures at the ends, for the planner's corners.
-    ends: Ends,
+    /// The end's tangent and the curvatures at both ends, for the planner's corners (`None`:
+    /// the end's tangent is the start's and neither end is curved, as on every straight move).
+    bent: Option<Box<Bent>>,
     /// Tool tip (X, Y, Z of the programming system) distance per unit of `s`.
     pub tip_rate: f64,
     /// The motion must come to a stop at its end (G09, G61, rapids).
@@ -88,9 +87,6 @@ pub struct Segment {
     /// How the trace reads the tool tip from the axes on this segment (`crate::tip`); the
     /// maker of the segment sets it (from the canonical command's).
     pub tip_basis: crate::tip::Basis,
-    /// A kinematic path's stretches with limits of their own (empty: one for the whole
-    /// segment); the planner queues each as a segment (`Segment::split`).
-    pieces: Box<[Piece]>,
     /// The next segment is the rest of this motion (a piece of a split kinematic path).
     continued: bool,
     /// No feed of its own: it runs as fast as the axes allow (a kinematic rapid, a rotary-only
@@ -100,18 +96,73 @@ pub struct Segment {
     factor: f64,
 }
 
-/// Axis rates d(axis)/ds at the start and at the end of a segment (the tangents, for
-/// corners), and d²(axis)/ds² there (zero on a line; toward the centre on an arc). Kept as the
-/// start's tangent alone where the end's is the same and neither end is curved (every straight
-/// move): the planner's look-ahead holds hundreds of segments, and 192 of a segment's bytes
-/// would otherwise repeat one tangent and zeros. The numbers are the ones given, bit for bit.
-#[derive(Debug, Clone, PartialEq)]
-struct Ends {
-    start_dir: Pos,
-    /// `None`: the end's tangent is `start_dir` and both curvatures are zero.
-    bent: Option<Box<Bent>>,
+/// A segment's positions and its start tangent, each of every axis: kept for the first
+/// [`INLINE_AXES`] axes (a five-axis machine's), the others boxed only where one of them is not
+/// +0.0 (a machine of more axes). The planner's look-ahead holds hundreds of segments per
+/// controller (issue 18): five positions of eight axes were 320 of a segment's 512 bytes, three
+/// eighths of them zeros. Every number reads back bit for bit as it was set.
+#[derive(Debug, Clone)]
+struct Points {
+    head: [[f64; INLINE_AXES]; ROWS],
+    rest: Option<Box<[[f64; MAX_AXES - INLINE_AXES]; ROWS]>>,
 }
 
+/// The axes a segment keeps inline.
+const INLINE_AXES: usize = 5;
+
+/// The rows of [`Points`].
+const ROWS: usize = 5;
+const FROM: usize = 0;
+const TO: usize = 1;
+const WORK_FROM: usize = 2;
+const WORK_TO: usize = 3;
+const START_DIR: usize = 4;
+
+impl Points {
+    fn new(rows: [&Pos; ROWS]) -> Points {
+        let mut points = Points { head: [[0.0; INLINE_AXES]; ROWS], rest: None };
+        for (row, p) in rows.into_iter().enumerate() {
+            points.set(row, p);
+        }
+        points
+    }
+
+    fn get(&self, row: usize) -> Pos {
+        let mut p = [0.0; MAX_AXES];
+        p[..INLINE_AXES].copy_from_slice(&self.head[row]);
+        if let Some(rest) = &self.rest {
+            p[INLINE_AXES..].copy_from_slice(&rest[row]);
+        }
+        p
+    }
+
+    fn set(&mut self, row: usize, p: &Pos) {
+        self.head[row].copy_from_slice(&p[..INLINE_AXES]);
+        let tail = &p[INLINE_AXES..];
+        match &mut self.rest {
+            Some(rest) => rest[row].copy_from_slice(tail),
+            // Bit for bit: a -0.0 is kept.
+            None if tail.iter().any(|x| x.to_bits() != 0) => {
+                let mut rest = Box::new([[0.0; MAX_AXES - INLINE_AXES]; ROWS]);
+                rest[row].copy_from_slice(tail);
+                self.rest = Some(rest);
+            }
+            None => {}
+        }
+    }
+}
+
+/// As the positions compare (boxed or not).
+impl PartialEq for Points {
+    fn eq(&self, other: &Points) -> bool {
+        (0..ROWS).all(|row| self.get(row) == other.get(row))
+    }
+}
+
+/// d(axis)/ds at the end of a segment and d²(axis)/ds² at both ends (zero on a line; toward the
+/// centre on an arc), where they are not the start's tangent and zeros: the planner's
+/// look-ahead holds hundreds of segments, and 192 bytes of each would otherwise repeat one
+/// tangent and zeros. The numbers are the ones given, bit for bit.
 #[derive(Debug, Clone, PartialEq)]
 struct Bent {
     end_dir: Pos,
@@ -121,36 +172,14 @@ struct Bent {
 
 const NO_CURVATURE: Pos = [0.0; MAX_AXES];
 
-impl Ends {
-    fn new(start_dir: Pos, end_dir: Pos, start_curvature: Pos, end_curvature: Pos) -> Ends {
+impl Bent {
+    /// `None` where the end's tangent is `start_dir` and neither end is curved.
+    fn of(start_dir: &Pos, end_dir: Pos, start_curvature: Pos, end_curvature: Pos) -> Option<Box<Bent>> {
         // Bit for bit (a -0.0 is kept as given).
         let same = |a: &Pos, b: &Pos| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
         let straight =
-            same(&start_dir, &end_dir) && same(&start_curvature, &NO_CURVATURE) && same(&end_curvature, &NO_CURVATURE);
-        let bent = (!straight).then(|| Box::new(Bent { end_dir, start_curvature, end_curvature }));
-        Ends { start_dir, bent }
-    }
-
-    fn end_dir(&self) -> &Pos {
-        self.bent.as_ref().map_or(&self.start_dir, |b| &b.end_dir)
-    }
-
-    fn start_curvature(&self) -> &Pos {
-        self.bent.as_ref().map_or(&NO_CURVATURE, |b| &b.start_curvature)
-    }
-
-    fn end_curvature(&self) -> &Pos {
-        self.bent.as_ref().map_or(&NO_CURVATURE, |b| &b.end_curvature)
-    }
-
-    /// The same end, another start.
-    fn with_start(&self, start_dir: Pos, start_curvature: Pos) -> Ends {
-        Ends::new(start_dir, *self.end_dir(), start_curvature, *self.end_curvature())
-    }
-
-    /// The same start, another end.
-    fn with_end(&self, end_dir: Pos, end_curvature: Pos) -> Ends {
-        Ends::new(self.start_dir, end_dir, *self.start_curvature(), end_curvature)
+            same(start_dir, &end_dir) && same(&start_curvature, &NO_CURVATURE) && same(&end_curvature, &NO_CURVATURE);
+        (!straight).then(|| Box::new(Bent { end_dir, start_curvature, end_curvature }))
     }
 }
 
@@ -177,6 +206,9 @@ struct Follow {
     /// The rotary axes' speeds are held to a share of theirs (G54.4, No.11202/11203): only
     /// the segment's own limits know it.
     clamped: bool,
+    /// The path's stretches with limits of their own (empty: one for the whole path); the
+    /// planner queues each as a segment (`Segment::split`).
+    pieces: Box<[Piece]>,
 }
 
 /// A circle (or spiral, or helix) in space: at `u` of the way, `center + r(u)·(cos φ·e1 +
@@ -993,16 +1025,13 @@ impl Segment {
             block: 0,
             n: None,
             rapid,
-            from: *from,
-            to: m.machine,
-            work_from: *work_from,
-            work_to: m.target,
+            points: Points::new([from, &m.machine, work_from, &m.target, &start_dir]),
             circle: circle.map(Box::new),
             independent: None,
             follow: None,
             len,
             limits,
-            ends: Ends::new(start_dir, end_dir, start_curvature, end_curvature),
+            bent: Bent::of(&start_dir, end_dir, start_curvature, end_curvature),
             tip_rate,
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
@@ -1011,7 +1040,6 @@ impl Segment {
             tip_basis: crate::tip::Basis::default(),
             programmed,
             axis_speed,
-            pieces: Box::default(),
             continued: false,
             unfed: false,
             factor: 1.0,
@@ -1090,6 +1118,7 @@ impl Segment {
             display_shift: tip.display_shift,
             speed_cap: f64::INFINITY,
             clamped: tip.rotary_clamp.is_some(),
+            pieces: Box::default(),
         };
         // FANUC No.11202/11203: the rotary axes of a G54.4-compensated move within a share of
         // their rate.
@@ -1129,25 +1158,21 @@ impl Segment {
             block: 0,
             n: None,
             rapid,
-            from: *from,
-            to,
-            work_from: *work_from,
-            work_to,
+            points: Points::new([from, &to, work_from, &work_to, &found.start_dir]),
             circle: None,
             independent: None,
-            follow: Some(Box::new(follow)),
+            follow: Some(Box::new(Follow { pieces: pieces.into_boxed_slice(), ..follow })),
             len,
             limits,
             programmed,
             axis_speed,
-            ends: Ends::new(found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
+            bent: Bent::of(&found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
             tip_rate: if rotary_only { 0.0 } else { 1.0 },
             stop_after: rapid || ctx.exact_stop,
             fixed_feed: m.context.fixed_feed,
             machine_coordinates: m.kind == MotionKind::MachineRapid,
             tool_length: m.context.tool_length,
             tip_basis: crate::tip::Basis::default(),
-            pieces: pieces.into_boxed_slice(),
             continued: false,
             unfed: as_fast_as_axes,
             factor: 1.0,
@@ -1166,12 +1191,14 @@ impl Segment {
     pub fn keeping_program_xyz(mut self) -> Segment {
         if let Some(f) = self.follow.as_mut() {
             let mut held = Vec3::zeros();
+            let (work_from, mut work_to) = (self.points.get(WORK_FROM), self.points.get(WORK_TO));
             for (axis, index) in f.kin.linear.iter().enumerate() {
                 if let Some(i) = index {
-                    held[axis] = self.work_from[*i];
-                    self.work_to[*i] = self.work_from[*i];
+                    held[axis] = work_from[*i];
+                    work_to[*i] = work_from[*i];
                 }
             }
+            self.points.set(WORK_TO, &work_to);
             // The frame that puts the (fixed) tip at those coordinates.
             f.work_frame = Some(Rigid { r: nalgebra::Matrix3::identity(), o: f.from - held });
         }
@@ -1201,6 +1228,7 @@ impl Segment {
             display_shift: None,
             speed_cap: f64::INFINITY,
             clamped: false,
+            pieces: Box::default(),
         };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
@@ -1208,16 +1236,19 @@ impl Segment {
         let found = grid.whole();
         // Whole: a handle interruption runs its tip rotation as the one run its planner
         // releases first (`controller/interrupt.rs`), so a manual rotation is never cut.
-        let (limits, pieces) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, f64::INFINITY, false);
+        let (limits, _) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, f64::INFINITY, false);
         let mut seg = Segment {
             line: 0,
             block: 0,
             n: None,
             rapid: false,
-            from: *from,
-            to: end,
-            work_from: *work_from,
-            work_to: std::array::from_fn(|i| end[i] + offset[i]),
+            points: Points::new([
+                from,
+                &end,
+                work_from,
+                &std::array::from_fn(|i| end[i] + offset[i]),
+                &found.start_dir,
+            ]),
             circle: None,
             independent: None,
             follow: Some(Box::new(follow)),
@@ -1225,7 +1256,7 @@ impl Segment {
             limits,
             programmed: feed_deg_min / 60.0,
             axis_speed: limits.v,
-            ends: Ends::new(found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
+            bent: Bent::of(&found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
             tip_rate: 0.0,
             stop_after: true,
             fixed_feed: false,
@@ -1233,7 +1264,6 @@ impl Segment {
             tool_length,
             // The caller places it in the workpiece system it runs in.
             tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
-            pieces: pieces.into_boxed_slice(),
             continued: false,
             unfed: false,
             factor: 1.0,
@@ -1248,8 +1278,9 @@ impl Segment {
     fn make_independent(&mut self, axes: &AxisLimits, rapid_override: f64) {
         let mut profiles: [Option<Profile>; MAX_AXES] = Default::default();
         let mut duration: f64 = 0.0;
+        let (from, to) = (self.from(), self.to());
         for (i, profile) in profiles.iter_mut().enumerate().take(axes.count) {
-            let travel = (self.to[i] - self.from[i]).abs();
+            let travel = (to[i] - from[i]).abs();
             if travel > 0.0 {
                 let lim = Limits { v: axes.v[i] * rapid_override.max(0.0), a: axes.a[i], j: axes.j[i] };
                 let p = Profile::plan(0.0, 0.0, travel, &lim);
@@ -1279,24 +1310,27 @@ impl Segment {
     /// move in machine coordinates stays.
     pub fn shifted(&self, machine: &Pos, tip: Vec3) -> Segment {
         // The pieces were cut for the path before the shift: the shifted one runs whole.
-        let mut seg = Segment { pieces: Box::default(), ..self.clone() };
+        let mut seg = self.whole();
         if self.machine_coordinates {
             return seg;
         }
+        let (mut from, mut to) = (self.from(), self.to());
         match &mut seg.follow {
             Some(f) => {
                 (f.from, f.to) = (f.from + tip, f.to + tip);
                 if let Some(c) = &mut f.circle {
                     c.center += tip;
                 }
-                (seg.from, seg.to) = (f.at(&self.from, &self.to, 0.0), f.at(&self.from, &self.to, 1.0));
+                (from, to) = (f.at(&from, &to, 0.0), f.at(&from, &to, 1.0));
             }
             None => {
-                for ((from, to), d) in seg.from.iter_mut().zip(seg.to.iter_mut()).zip(machine) {
+                for ((from, to), d) in from.iter_mut().zip(to.iter_mut()).zip(machine) {
                     (*from, *to) = (*from + d, *to + d);
                 }
             }
         }
+        seg.points.set(FROM, &from);
+        seg.points.set(TO, &to);
         seg
     }
 
@@ -1307,8 +1341,9 @@ impl Segment {
     pub(super) fn derivatives(&self, axes: &AxisLimits) -> Option<Grid> {
         let f = self.follow.as_ref().filter(|f| !f.clamped && self.len > 1e-9)?;
         let sweep = f.circle.as_ref().map_or(0.0, |c| c.sweep.to_degrees());
-        let n = sample_count(rotary_travel(&f.kin, &self.from, &self.to), sweep);
-        Some(Grid::lattice(|u| f.at(&self.from, &self.to, u), self.len, CELLS_PER_SAMPLE * n, axes))
+        let (from, to) = (self.from(), self.to());
+        let n = sample_count(rotary_travel(&f.kin, &from, &to), sweep);
+        Some(Grid::lattice(|u| f.at(&from, &to, u), self.len, CELLS_PER_SAMPLE * n, axes))
     }
 
     /// The highest path speed that is not the axes' own: the programmed feed after the
@@ -1359,22 +1394,51 @@ impl Segment {
         self.limits.v = self.axis_speed.min(self.programmed * self.factor);
     }
 
-    /// d(axis)/ds at the start and at the end (the tangents, for corners).
-    pub fn start_dir(&self) -> &Pos {
-        &self.ends.start_dir
+    /// Machine positions at the start and the end.
+    pub fn from(&self) -> Pos {
+        self.points.get(FROM)
     }
 
-    pub fn end_dir(&self) -> &Pos {
-        self.ends.end_dir()
+    pub fn to(&self) -> Pos {
+        self.points.get(TO)
+    }
+
+    /// Programming positions at the start and the end.
+    pub fn work_from(&self) -> Pos {
+        self.points.get(WORK_FROM)
+    }
+
+    pub fn work_to(&self) -> Pos {
+        self.points.get(WORK_TO)
+    }
+
+    /// d(axis)/ds at the start and at the end (the tangents, for corners).
+    pub fn start_dir(&self) -> Pos {
+        self.points.get(START_DIR)
+    }
+
+    pub fn end_dir(&self) -> Pos {
+        self.bent.as_ref().map_or_else(|| self.start_dir(), |b| b.end_dir)
     }
 
     /// d²(axis)/ds² at the start and at the end (zero on a line; toward the centre on an arc).
     pub fn start_curvature(&self) -> &Pos {
-        self.ends.start_curvature()
+        self.bent.as_ref().map_or(&NO_CURVATURE, |b| &b.start_curvature)
     }
 
     pub fn end_curvature(&self) -> &Pos {
-        self.ends.end_curvature()
+        self.bent.as_ref().map_or(&NO_CURVATURE, |b| &b.end_curvature)
+    }
+
+    /// Another start tangent and curvature, the same end.
+    fn with_start(&mut self, start_dir: Pos, start_curvature: Pos) {
+        self.bent = Bent::of(&start_dir, self.end_dir(), start_curvature, *self.end_curvature());
+        self.points.set(START_DIR, &start_dir);
+    }
+
+    /// The same start, another end tangent and curvature.
+    fn with_end(&mut self, end_dir: Pos, end_curvature: Pos) {
+        self.bent = Bent::of(&self.start_dir(), end_dir, *self.start_curvature(), end_curvature);
     }
 
     /// Whether the next segment is the rest of this motion (a piece of a split kinematic path,
@@ -1387,19 +1451,19 @@ impl Segment {
     /// way becomes its pieces, each with the limits of its own stretch, joined smoothly (equal
     /// tangents and curvatures) and ending where the next begins; others stay whole.
     pub fn split(mut self) -> Vec<Segment> {
-        let pieces = std::mem::take(&mut self.pieces);
+        let pieces = self.follow.as_mut().map(|f| std::mem::take(&mut f.pieces)).unwrap_or_default();
         if pieces.is_empty() {
             return vec![self];
         }
         let mut out = Vec::with_capacity(pieces.len());
-        let (mut start, mut dir, mut curvature) = (0.0, self.ends.start_dir, *self.ends.start_curvature());
+        let (mut start, mut dir, mut curvature) = (0.0, self.start_dir(), *self.start_curvature());
         for (k, piece) in pieces.iter().enumerate() {
             let last = k + 1 == pieces.len();
             let end = if last { self.len } else { piece.end * self.len };
             let mut seg = self.part(start, end);
-            seg.ends = seg.ends.with_start(dir, curvature);
+            seg.with_start(dir, curvature);
             if !last {
-                seg.ends = seg.ends.with_end(piece.end_dir, piece.end_curvature);
+                seg.with_end(piece.end_dir, piece.end_curvature);
             }
             seg.axis_speed = piece.limits.v;
             seg.limits = piece.limits;
@@ -1415,11 +1479,22 @@ impl Segment {
         out
     }
 
+    /// The segment, its pieces forgotten: it runs whole.
+    fn whole(&self) -> Segment {
+        let mut seg = self.clone();
+        if let Some(f) = &mut seg.follow {
+            f.pieces = Box::default();
+        }
+        seg
+    }
+
     /// The stretch from distance `s0` to `s1` (a kinematic path's piece).
     fn part(&self, s0: f64, s1: f64) -> Segment {
         let mut p = if s0 > 0.0 { self.tail(s0) } else { self.clone() };
         if s1 < self.len {
-            (p.to, p.work_to) = self.at(s1);
+            let (to, work_to) = self.at(s1);
+            p.points.set(TO, &to);
+            p.points.set(WORK_TO, &work_to);
             if let Some(f) = &mut p.follow {
                 f.keep_to((s1 - s0) / (self.len - s0));
             }
@@ -1430,35 +1505,38 @@ impl Segment {
 
     /// Machine and programming positions at distance `s` along the segment.
     pub fn at(&self, s: f64) -> (Pos, Pos) {
+        let (to, work_to) = (self.to(), self.work_to());
         if s >= self.len {
-            return (self.to, self.work_to);
+            return (to, work_to);
         }
+        let from = self.from();
         if let Some(f) = &self.follow {
             let u = if self.len > 0.0 { s / self.len } else { 1.0 };
-            let machine = f.at(&self.from, &self.to, u);
-            let work = f.work(&machine, u, &std::array::from_fn(|i| self.work_to[i] - self.to[i]));
+            let machine = f.at(&from, &to, u);
+            let work = f.work(&machine, u, &std::array::from_fn(|i| work_to[i] - to[i]));
             return (machine, work);
         }
         if let Some(profiles) = &self.independent {
             // Each axis on its own profile, `s` seconds in; the offsets are constant.
             let machine: Pos = std::array::from_fn(|i| match &profiles[i] {
-                Some(p) => self.from[i] + p.at(s).s.copysign(self.to[i] - self.from[i]),
-                None => self.from[i],
+                Some(p) => from[i] + p.at(s).s.copysign(to[i] - from[i]),
+                None => from[i],
             });
-            let work = std::array::from_fn(|i| machine[i] + (self.work_to[i] - self.to[i]));
+            let work = std::array::from_fn(|i| machine[i] + (work_to[i] - to[i]));
             return (machine, work);
         }
         let u = if self.len > 0.0 { s / self.len } else { 1.0 };
-        let mut machine: Pos = std::array::from_fn(|i| self.from[i] + (self.to[i] - self.from[i]) * u);
-        let mut work: Pos = std::array::from_fn(|i| self.work_from[i] + (self.work_to[i] - self.work_from[i]) * u);
+        let work_from = self.work_from();
+        let mut machine: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+        let mut work: Pos = std::array::from_fn(|i| work_from[i] + (work_to[i] - work_from[i]) * u);
         if let Some(c) = &self.circle {
             let angle = c.start + c.sweep * u;
             let r = c.r0 + (c.r1 - c.r0) * u;
             let (sin, cos) = angle.sin_cos();
             let (x, y) = (c.center.0 + r * cos, c.center.1 + r * sin);
             // The offsets are constant along an arc: machine = programming + (end offset).
-            machine[c.a] = x + (self.to[c.a] - self.work_to[c.a]);
-            machine[c.b] = y + (self.to[c.b] - self.work_to[c.b]);
+            machine[c.a] = x + (to[c.a] - work_to[c.a]);
+            machine[c.b] = y + (to[c.b] - work_to[c.b]);
             work[c.a] = x;
             work[c.b] = y;
         }
@@ -1480,16 +1558,18 @@ impl Segment {
         let (from, work_from) = self.at(s);
         // Pieces are shares of the whole path: a tail (of a segment not yet split) runs whole,
         // within the whole path's limits.
-        let mut tail = Segment { from, work_from, len: self.len - s, pieces: Box::default(), ..self.clone() };
+        let mut tail = Segment { len: self.len - s, ..self.whole() };
+        tail.points.set(FROM, &from);
+        tail.points.set(WORK_FROM, &work_from);
         if let Some(c) = &mut tail.circle {
             c.start += c.sweep * u;
             c.r0 += (c.r1 - c.r0) * u;
             c.sweep *= 1.0 - u;
-            let share = self.ends.start_dir[c.a].hypot(self.ends.start_dir[c.b]);
-            let (mut dir, mut curvature) = (self.ends.start_dir, *self.ends.start_curvature());
+            let (mut dir, mut curvature) = (self.start_dir(), *self.start_curvature());
+            let share = dir[c.a].hypot(dir[c.b]);
             c.set_tangent(&mut dir, c.start, share);
             c.set_curvature(&mut curvature, c.start, c.r0, share);
-            tail.ends = tail.ends.with_start(dir, curvature);
+            tail.with_start(dir, curvature);
         }
         if let Some(f) = &mut tail.follow {
             f.cut(u);
@@ -1628,6 +1708,23 @@ mod tests {
     fn a_segment_stays_small() {
         let size = std::mem::size_of::<super::Segment>();
         println!("size_of::<Segment>() = {size}");
-        assert!(size <= 512, "a segment takes {size} bytes");
+        assert!(size <= 384, "a segment takes {size} bytes");
+    }
+
+    /// A segment's positions read back bit for bit, those of axes beyond the inline ones (and
+    /// a -0.0 there) included.
+    #[test]
+    fn points_read_back_bit_for_bit() {
+        use super::{Points, FROM, TO};
+        let bits = |p: crate::canon::Pos| p.map(f64::to_bits);
+        let five = [1.5, -2.0, -0.0, 3.0, 4.0, 0.0, 0.0, 0.0];
+        let eight = [0.1, 0.0, 0.0, 0.0, 0.0, -0.0, 7.25, 1e-300];
+        let mut points = Points::new([&five; 5]);
+        assert!(points.rest.is_none(), "five axes are kept inline");
+        points.set(TO, &eight);
+        assert_eq!(bits(points.get(TO)), bits(eight));
+        assert_eq!(bits(points.get(FROM)), bits(five));
+        points.set(TO, &five);
+        assert_eq!(bits(points.get(TO)), bits(five));
     }
 }

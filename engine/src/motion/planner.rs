@@ -19,7 +19,8 @@
 //! eighth of it), so that the queue holds at most the look-ahead and one batch: a controller's
 //! memory is mostly this queue (issue 18, `docs/performance.md`). Runs are grouped from the end
 //! of the last released one, as they always were, so a run is never cut shorter by planning
-//! more often; a run not yet followed by a look-ahead's worth waits for the next batch. A
+//! more often; a run not yet followed by a look-ahead's worth waits for the next batch (the
+//! plannings before the batch that can release it are skipped: they would change nothing). A
 //! released run's segments stay at the front of the queue until it is popped (its profile is
 //! made then), so the planner never holds a segment twice.
 
@@ -139,6 +140,9 @@ pub struct Planner {
     ready: VecDeque<Released>,
     /// Segments the last planning left unreleased: the next one waits for a batch more.
     left: usize,
+    /// The queue length a planning needs to release anything (0: unknown): the first run's end
+    /// and a look-ahead after it, where the last planning released nothing.
+    first_release: usize,
     /// Speed at the end of the last released run.
     v_now: f64,
     pub lookahead: usize,
@@ -158,6 +162,7 @@ impl Planner {
             queue: VecDeque::new(),
             ready: VecDeque::new(),
             left: 0,
+            first_release: 0,
             v_now: 0.0,
             lookahead,
             speed_step,
@@ -197,12 +202,13 @@ impl Planner {
         if segment.len <= 0.0 {
             return;
         }
-        // Grown by doubling up to what running a program holds (the look-ahead, a batch and a
-        // split block's pieces) and exactly to that: doubling past it would reserve room for
-        // hundreds of segments never queued.
-        let (len, most) = (self.queue.len(), self.lookahead + self.batch() + super::path::MAX_PIECES);
-        if len == self.queue.capacity() && len < most {
-            self.queue.reserve_exact((2 * len).clamp(4, most) - len);
+        // Grown by doubling up to what running a program holds (the look-ahead and a batch),
+        // exactly to that, then by a split block's pieces only when one comes: doubling past it
+        // would reserve room for hundreds of segments never queued.
+        let (len, held) = (self.queue.len(), self.lookahead + self.batch());
+        if len == self.queue.capacity() && len < held + super::path::MAX_PIECES {
+            let to = if len < held { (2 * len).clamp(4, held) } else { held + super::path::MAX_PIECES };
+            self.queue.reserve_exact(to - len);
         }
         if let Some(last) = self.queue.back_mut() {
             last.junction = if last.segment.stop_after || segment.rapid {
@@ -224,6 +230,7 @@ impl Planner {
     pub fn take_all(&mut self) -> Vec<Segment> {
         self.ready.clear();
         self.left = 0;
+        self.first_release = 0;
         let out = self.queue.drain(..).map(|q| q.segment).collect();
         self.v_now = 0.0;
         out
@@ -269,6 +276,13 @@ impl Planner {
             if n == 0 || (!stop && n < self.lookahead.max(self.left) + self.batch()) {
                 return None;
             }
+            // A planning that would release nothing is skipped, as if it had run: a long run
+            // (a CAM program's hundreds of short blocks) waits for its look-ahead over several
+            // batches, and each planning passes over the whole queue.
+            if !stop && n < self.first_release {
+                self.left = n;
+                return None;
+            }
             self.plan(if stop { n } else { n - self.lookahead });
             self.left = n - self.ready.iter().map(|r| r.count).sum::<usize>();
         }
@@ -286,6 +300,13 @@ impl Planner {
     /// Plan the queue and release the runs that end within its first `release` segments.
     fn plan(&mut self, release: usize) {
         let mut runs = self.runs(0..self.queue.len(), true);
+        // Where nothing is released, the first run is the same at the next planning (its
+        // segments, their junctions and the limits of the one after it are as queued) unless
+        // the queue's end cut it: it is released once a look-ahead follows it.
+        self.first_release = match runs.first() {
+            Some(r) if r.end > release && r.end < self.queue.len() => r.end + self.lookahead,
+            _ => 0,
+        };
         // Backward: the machine must be able to stop at the end of the queue.
         pass(&mut runs, self.v_now, 0.0);
         let mut taken = 0;
@@ -348,7 +369,9 @@ impl Planner {
     /// that a run is released while its look-ahead still follows it); with `merge_kinematic`,
     /// consecutive kinematic segments share a run unless a corner parts them.
     fn runs(&self, range: std::ops::Range<usize>, merge_kinematic: bool) -> Vec<Run> {
-        let mut runs: Vec<Run> = Vec::new();
+        // At most a run per segment: reserved at once, as growing it by doubling copies it
+        // (a planning every batch makes this the planner's most frequent allocation).
+        let mut runs: Vec<Run> = Vec::with_capacity(range.len());
         let mut open: Option<Run> = None;
         let last = range.end - 1;
         let first = range.start;
@@ -485,8 +508,9 @@ fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) 
 /// curvature allow (infinite where the path goes on smoothly, as between a block's pieces).
 fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
     let mut v = f64::INFINITY;
+    let (start_dir, end_dir) = (b.start_dir(), a.end_dir());
     for i in 0..speed_step.len() {
-        let turn = (b.start_dir()[i] - a.end_dir()[i]).abs();
+        let turn = (start_dir[i] - end_dir[i]).abs();
         if turn > 1e-12 {
             v = v.min(speed_step[i] / turn);
         }
@@ -496,4 +520,75 @@ fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) ->
         }
     }
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canon::{FeedMode, Motion, MotionContext, MotionKind};
+    use crate::machine::MotionOptions;
+    use crate::motion::path::FeedContext;
+
+    /// Legs of 300 steps of 0.1 mm, turning 90° between legs: runs of a full look-ahead, whose
+    /// release waits for several batches.
+    fn legs(count: usize, axes: &AxisLimits) -> Vec<Segment> {
+        let ctx = FeedContext {
+            feed_override: 1.0,
+            rapid_override: 1.0,
+            exact_stop: false,
+            options: MotionOptions::default(),
+        };
+        let mut here: Pos = [0.0; 8];
+        (0..count)
+            .map(|k| {
+                let mut to = here;
+                to[(k / 300) % 2] += 0.1;
+                let m = Motion {
+                    kind: MotionKind::Linear,
+                    target: to,
+                    machine: to,
+                    arc: None,
+                    tip: None,
+                    feed: 3000.0,
+                    feed_mode: FeedMode::PerMinute,
+                    spindle: 0.0,
+                    context: MotionContext::default(),
+                };
+                let seg = Segment::new(&m, &here, &here, axes, ctx, None);
+                here = to;
+                seg
+            })
+            .collect()
+    }
+
+    /// Skipping the plannings that cannot release the first run releases the same runs, with
+    /// the same profiles, at the same calls as planning once per batch.
+    #[test]
+    fn skipped_plannings_change_nothing() {
+        let axes = AxisLimits { count: 5, v: [100.0; 8], a: [1000.0; 8], j: [20000.0; 8] };
+        let new = || Planner::new(256, [5.0; 8], [500.0; 8]);
+        let (mut skipping, mut planning) = (new(), new());
+        let mut skipped = 0;
+        for seg in legs(2000, &axes) {
+            skipping.push(seg.clone());
+            planning.push(seg);
+            loop {
+                // Planning at every batch, as before skipping.
+                planning.first_release = 0;
+                let (a, b) = (skipping.pop(false), planning.pop(false));
+                assert_eq!(a, b);
+                if skipping.queue.len() < skipping.first_release {
+                    skipped += 1;
+                }
+                if a.is_none() {
+                    break;
+                }
+            }
+        }
+        while let Some(a) = skipping.pop(true) {
+            assert_eq!(Some(a), planning.pop(true));
+        }
+        assert_eq!(planning.pop(true), None);
+        assert!(skipped > 0, "no planning skipped");
+    }
 }
