@@ -1214,7 +1214,6 @@ impl State {
             rotary,
             inverse_time: after(group::FEED_MODE) == code::G93,
             corner_override: after(group::PATH_MODE) == code::G62,
-            arc: !matches!(after(group::MOTION), code::G00 | code::G01),
             rotary_table: self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table),
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6) || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),

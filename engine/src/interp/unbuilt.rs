@@ -163,8 +163,6 @@ pub struct CutterBlock {
     pub inverse_time: bool,
     /// G62 automatic corner override (its inner-corner feed reduction is not built).
     pub corner_override: bool,
-    /// A circular (or helical) motion in force.
-    pub arc: bool,
     /// The machine turns the workpiece (a rotary table): the programming system turns under
     /// the tool (table and mixed types, their own rules).
     pub rotary_table: bool,
@@ -191,7 +189,6 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.rotary && conventional, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
-        (b.tool_side && b.arc, "circular interpolation in the tool side offset"),
         (b.tool_side && b.rotary_table, "the tool side offset on a machine with a rotary table"),
         (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset (type 2: its inclination)"),
         (b.type2_alone, "the tool side offset of type 2 (G41.6/G42.6) without G43.5"),

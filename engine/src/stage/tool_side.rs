@@ -1,5 +1,5 @@
-//! Tool side offset of 5-axis cutter compensation, type 1 (FANUC G41.2/G42.2) on a machine
-//! whose rotary axes turn the tool: at the end Q of each block the compensation plane is the
+//! Tool side offset of 5-axis cutter compensation (FANUC G41.2/G42.2 type 1, G41.6/G42.6
+//! type 2 under G43.5) on a machine whose rotary axes turn the tool: at the end Q of each block the compensation plane is the
 //! plane perpendicular to the tool there; the block, its start P and the next block's end R are
 //! projected on it and cutter compensation C places the corner in it (the 2-D rules of
 //! `stage::cutter`); the vectors found are added to the programmed 3-D point Q (FANUC 5-axis
@@ -8,11 +8,12 @@
 //!
 //! What the stage sees as a block's motion in the plane is its move with the part along the
 //! tool taken out; a block that does not move in its plane (a move along the tool, a rotary
-//! axis alone) is a block without motion and keeps the vector of the block before it. Only
-//! straight moves are compensated (the interpreter refuses arcs in the mode until they are
-//! built, `interp::unbuilt::cutter`), on machines without a rotary table (the programming
-//! system does not turn under the tool), so programming, table and machine coordinates differ
-//! by a rotation and a translation that the block carries (`TipMove::frame` under TCP).
+//! axis alone) is a block without motion and keeps the vector of the block before it. A circle
+//! is compensated where the tool is along its normal (seen from a tilted tool it is an
+//! ellipse: refused here, at run time). Only machines without a rotary table (the interpreter
+//! refuses the others, `interp::unbuilt::cutter`): the programming system does not turn under
+//! the tool, so programming, table and machine coordinates differ by a rotation and a
+//! translation that the block carries (`TipMove::frame` under TCP).
 
 use super::cutter::curve::{Curve, P2};
 use super::cutter::{check_direction, corner, Held, MAX_BLOCKS_BETWEEN};
@@ -60,6 +61,45 @@ impl Plane {
     }
 }
 
+/// A circular (or helical) block in programming coordinates: its centre moved along the normal
+/// into the plane of the block's end, the unit normal the sweep turns about (right-handed), and
+/// the signed sweep (radians).
+#[derive(Debug, Clone, Copy)]
+struct Arc3 {
+    center: Vec3,
+    normal: Vec3,
+    sweep: f64,
+}
+
+impl Arc3 {
+    /// The block as a 2-D block in `plane` (coordinates relative to `origin`): its start,
+    /// end and centre projected (FANUC §3.1.2 "Others"), turning the way it is seen from the
+    /// tool side. `None` where the tool is not along the circle's normal: seen from a tilted
+    /// tool a circle is an ellipse, which the 2-D rules (lines and circles) do not place corners
+    /// on (not built).
+    fn curve(&self, plane: &Plane, origin: Vec3, from: Vec3, to: Vec3) -> Option<Curve> {
+        let facing = self.normal.dot(&plane.e1);
+        (1.0 - facing.abs() <= ALIGNED).then(|| Curve::Arc {
+            from: plane.project(from - origin),
+            to: plane.project(to - origin),
+            center: plane.project(self.center - origin),
+            sweep: self.sweep * facing.signum(),
+        })
+    }
+
+    /// The signed sweep (degrees) from `from` to `to` about the centre, the way the block turns
+    /// (the ends moved by their vectors: a spiral, a helix where they leave the plane).
+    fn sweep_deg(&self, from: Vec3, to: Vec3) -> f64 {
+        let u = Plane::of(self.normal);
+        let (a, b) = (u.project(from - self.center), u.project(to - self.center));
+        crate::stage::cutter::curve::swept(a, b, [0.0, 0.0], self.sweep).to_degrees() * self.sweep.signum()
+    }
+}
+
+/// The tool is along a circle's normal where 1 − |cos| of their angle is at most this (4.5e-5
+/// rad: a circle of 1 m seen from there is round to 1 µm).
+const ALIGNED: f64 = 1e-9;
+
 /// A block waiting for the next block that moves in its plane.
 struct Waiting {
     /// The block as a 2-D block in its end plane, coordinates relative to its programmed end.
@@ -70,6 +110,7 @@ struct Waiting {
     to: Vec3,
     /// Q1/Q2/Q3 of the block: its end where the plane-change check finds it in the way.
     q: Option<u8>,
+    arc: Option<Arc3>,
 }
 
 /// The block after a waiting one, as its corner sees it: its programmed end, its tool there,
@@ -80,6 +121,7 @@ struct Next {
     tool: Vec3,
     rn: f64,
     cancel: bool,
+    arc: Option<Arc3>,
 }
 
 /// The tool side offset stage.
@@ -165,6 +207,29 @@ impl ToolSide {
         frame(m).transpose() * table
     }
 
+    /// The circle of a circular block ending at `to` (programming coordinates), if it is one.
+    fn arc(&self, m: &Motion, to: Vec3) -> Option<Arc3> {
+        let (center, normal, sweep_deg) = match (&m.arc, m.tip.as_deref().and_then(|t| t.arc.map(|a| (t, a)))) {
+            (Some(a), _) => {
+                let axis = |i: usize| self.xyz.iter().position(|&x| x == Some(i));
+                let mut normal = Vec3::zeros();
+                if let Some(k) = axis(a.plane_axes.2) {
+                    normal[k] = 1.0;
+                }
+                (self.xyz(&a.center), normal, a.sweep_deg)
+            }
+            (None, Some((t, a))) => {
+                // The tip's circle is in the table frame: back into programming coordinates.
+                (t.frame.r.transpose() * (a.center - t.frame.o), t.frame.r.transpose() * a.normal, a.sweep_deg)
+            }
+            (None, None) => return None,
+        };
+        let normal = normal.try_normalize(1e-12)?;
+        // The centre in the plane of the end (a helix rises along the normal).
+        let center = center + normal * normal.dot(&(to - center));
+        Some(Arc3 { center, normal, sweep: sweep_deg.to_radians() })
+    }
+
     fn alarm(&mut self, id: AlarmId, c: &Canon) {
         self.alarm.get_or_insert((id, c.line, c.n));
         self.stopped = true;
@@ -204,17 +269,24 @@ impl ToolSide {
             return;
         }
         let template = (points.len() > 1).then(|| w.held.canon.clone());
-        let first = self.placed(w.held.canon, w.plane.lift(points[0]));
+        let start = w.from + self.vector;
+        let end = w.plane.lift(points[0]);
+        let mut first = self.placed(w.held.canon, end);
+        if let (Some(arc), CanonKind::Motion(m)) = (w.arc, &mut first.kind) {
+            reshape(m, &arc, start, w.to + end);
+        }
         out.push(first);
         if let Some(mut template) = template {
             if let CanonKind::Motion(m) = &mut template.kind {
-                // A corner's move: at the block's end, the rotary axes standing.
+                // A corner's move: straight, at the block's end, the rotary axes standing.
+                m.arc = None;
                 if m.kind != MotionKind::Rapid {
                     m.kind = MotionKind::Linear;
                 }
                 if let Some(t) = m.tip.as_deref_mut() {
                     t.from = t.to;
                     t.posture = None;
+                    t.arc = None;
                 }
             }
             for &p in &points[1..] {
@@ -262,10 +334,15 @@ impl ToolSide {
     /// the waiting block's plane.
     /// `respecified`: the next block gave G41.2/G42.2 again.
     fn corner_with(&self, w: &Waiting, next: Next, respecified: bool) -> Result<Vec<P2>, AlarmId> {
-        let Next { to, tool, rn, cancel } = next;
+        let Next { to, tool, rn, cancel, arc } = next;
         let perpendicular = || vec![w.held.curve.offset_point(true, w.held.r)];
-        let next = Curve::Line { from: [0.0, 0.0], to: w.plane.project(to - w.to) };
-        if crate::stage::cutter::curve::norm(next.to()) <= NO_MOVE || respecified {
+        let line = Curve::Line { from: [0.0, 0.0], to: w.plane.project(to - w.to) };
+        let next = match arc {
+            Some(a) => a.curve(&w.plane, w.to, w.to, to).unwrap_or(line),
+            None => line,
+        };
+        let along_tool = arc.is_none() && crate::stage::cutter::curve::norm(next.to()) <= NO_MOVE;
+        if along_tool || respecified {
             // The next block runs along this block's tool (no corner in this plane), or gave
             // G41.2/G42.2 again (§3.1.2: "a perpendicular vector is generated").
             return Ok(perpendicular());
@@ -292,7 +369,7 @@ impl ToolSide {
             out.push(c);
             return;
         }
-        if m.arc.is_some() || m.kind == MotionKind::MachineRapid || m.tip.as_ref().is_some_and(|t| t.arc.is_some()) {
+        if m.kind == MotionKind::MachineRapid {
             // The interpreter refuses these (`unbuilt::cutter`); never shift them blindly.
             self.alarm(AlarmId::GCodeNotBuilt, &c);
             return;
@@ -312,13 +389,29 @@ impl ToolSide {
         self.programmed = to;
         let tool = self.tool(m);
         let plane = Plane::of(tool);
-        let moves = crate::stage::cutter::curve::norm(plane.project(to - from)) > NO_MOVE;
+        let arc = self.arc(m, to);
+        let curve = match arc {
+            Some(a) => match a.curve(&plane, to, from, to) {
+                Some(curve) => curve,
+                None => {
+                    self.alarm(AlarmId::GCodeNotBuilt, &c);
+                    return;
+                }
+            },
+            None => Curve::Line { from: plane.project(from - to), to: [0.0, 0.0] },
+        };
+        let moves = arc.is_some() || crate::stage::cutter::curve::norm(curve.from()) > NO_MOVE;
+        if arc.is_some() && (self.startup || !comp) {
+            self.alarm(AlarmId::ArcInCompStartCancel, &c);
+            return;
+        }
         let r = signed_radius(m);
         if !comp {
             // G40: the waiting block ends perpendicular (type A) or at its corner with this
             // block (type B); this block moves to its programmed end.
             match (&self.waiting, moves) {
-                (Some(w), true) => match self.corner_with(w, Next { to, tool, rn: w.held.r, cancel: true }, false) {
+                (Some(w), true) => match self.corner_with(w, Next { to, tool, rn: w.held.r, cancel: true, arc }, false)
+                {
                     Ok(points) => self.release(&points, out),
                     Err(id) => {
                         let canon = w.held.canon.clone();
@@ -348,7 +441,7 @@ impl ToolSide {
             None => from + self.vector,
             Some(w) => {
                 let respecified = std::mem::take(&mut self.perpendicular);
-                let points = match self.corner_with(w, Next { to, tool, rn: r, cancel: false }, respecified) {
+                let points = match self.corner_with(w, Next { to, tool, rn: r, cancel: false, arc }, respecified) {
                     Ok(points) => points,
                     Err(id) => {
                         let canon = w.held.canon.clone();
@@ -365,9 +458,22 @@ impl ToolSide {
             }
         };
         let startup = std::mem::replace(&mut self.startup, false);
-        let curve = Curve::Line { from: plane.project(from - to), to: [0.0, 0.0] };
         let held = Held { canon: c, curve, r, start: plane.project(start - to), startup };
-        self.waiting = Some(Waiting { held, plane, from, to, q });
+        self.waiting = Some(Waiting { held, plane, from, to, q, arc });
+    }
+}
+
+/// A circular block moved to start at `start` and end at `end` (programming coordinates): the
+/// same centre, its radius where it starts, its sweep between the moved ends.
+fn reshape(m: &mut Motion, arc: &Arc3, start: Vec3, end: Vec3) {
+    let sweep = arc.sweep_deg(start, end);
+    if let Some(a) = m.arc.as_deref_mut() {
+        let radial = start - arc.center;
+        a.radius = (radial - arc.normal * radial.dot(&arc.normal)).norm();
+        a.sweep_deg = sweep;
+    }
+    if let Some(a) = m.tip.as_deref_mut().and_then(|t| t.arc.as_mut()) {
+        a.sweep_deg = sweep;
     }
 }
 

@@ -147,6 +147,71 @@ fn a_vertical_tool_compensates_as_g41_in_g17() {
 }
 
 #[test]
+fn arcs_seen_along_their_normal_compensate_as_g41_in_their_plane() {
+    // CRC-16: with the tool along the circles' normal the projection changes nothing: the tool
+    // vertical and G17, or the tool along +X (B90) and G19, give cutter compensation C's tool
+    // centre (tangent and non-tangent arcs, inside and outside, both sides).
+    let contour = |a: &str, b: &str| {
+        format!(
+            "G01 {a}0 {b}0 F500.\n{a}40.\nG03 {a}60. {b}20. R20.\nG01 {b}40.\nG02 {a}40. {b}60. R25.\nG01 {a}10.\n\
+             G03 {a}0 {b}50. R10.\nG01 {b}0\nG40 {b}-10.\nM30\n"
+        )
+    };
+    for side in ["G41", "G42"] {
+        for (plane, a, b, angles, start) in
+            [("G17", "X", "Y", "B0 C0", "X-10. Y-10. Z0"), ("G19", "Y", "Z", "B90. C0", "X0 Y-10. Z-10.")]
+        {
+            let conventional = format!("G90 {plane} G00 {start}\n{side} D1\n{}", contour(a, b));
+            let tool_side = format!("G90 {plane} G00 {start} {angles}\n{side}.2 D1\n{}", contour(a, b));
+            let (c, t) = (ends_of(&conventional, "mill3"), ends_of(&tool_side, "head-bc"));
+            assert_eq!((&c.alarm, &t.alarm), (&None, &None), "{side} {plane}");
+            assert!(c.ends.len() >= 10, "{side} {plane}: {:?}", c.ends);
+            assert_eq!(c.ends.len(), t.ends.len(), "{side} {plane}");
+            for ((l1, p), (l2, q)) in c.ends.iter().zip(&t.ends) {
+                assert!(l1 == l2 && (p - q).norm() < 1e-9, "{side} {plane} line {l1}: {p:?} {q:?}");
+            }
+            // And the run moves through them (the executor takes the reshaped circles).
+            let r = run_with(&tool_side, "head-bc", Fanuc);
+            assert!(r.completed(), "{side} {plane}: {:?}", r.alarms);
+        }
+        // A tilted tool sees the circles as ellipses, which the corner rules do not place
+        // vectors on: refused at the first circle (not built).
+        let tilted = format!("G90 G17 G00 X-10. Y-10. Z0 B30. C20.\n{side}.2 D1\n{}", contour("X", "Y"));
+        assert_eq!(ends_of(&tilted, "head-bc").alarm, Some(("PS0010".into(), 5)), "{side}");
+    }
+}
+
+#[test]
+fn an_arc_under_tcp_runs_with_its_tip_on_the_offset_circle() {
+    // G43.4, the tool vertical: a G02 half circle of radius 20 about (20, 0) over the top, the
+    // tool (R5) on the left of the travel, outside it: every sample of the run has its tip
+    // (forward kinematics) at 25 from the centre while the block runs.
+    let src = "G90 G00 X0 Y-20. Z0 B0 C0\nG43.4 H1\nG41.2 D1\nG01 X0 Y0 F1000.\nG02 X40. Y0 R20.\nG01 Y-20.\nG40 X50.\nG49\nM30\n";
+    let got = ends_of(src, "head-bc");
+    assert_eq!(got.alarm, None);
+    let mut interp = interpreter(src, "head-bc", Fanuc);
+    let mut radii = Vec::new();
+    let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+        if s.line == 5 {
+            radii.push(((s.tip[0] - 20.0).powi(2) + s.tip[1].powi(2)).sqrt());
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(radii.len() > 100, "{}", radii.len());
+    assert!(
+        radii.iter().all(|d| (d - 25.0).abs() < 1e-3),
+        "{:?}",
+        radii.iter().cloned().fold((f64::MAX, 0.0f64), |a, d| (a.0.min(d), a.1.max(d)))
+    );
+}
+
+#[test]
+fn an_arc_as_the_start_up_block_is_ps0034() {
+    let src = "G90 G00 X-20. Y0 Z0\nG41.2 D1\nG02 X20. Y0 R20. F500.\nG40 X30.\nM30\n";
+    assert_eq!(ends_of(src, "head-bc").alarm, Some(("PS0034".into(), 3)));
+}
+
+#[test]
 fn tv07_changing_the_side_retraces_the_block() {
     // (3)-1: G42.2 in the returning block: the tool comes back on the same line (start, end
     // and the cancel's start all 5 to the left of +X).
@@ -234,8 +299,7 @@ fn tv01_a_change_of_plane_that_reverses_the_path_is_ps0041() {
 #[test]
 fn what_the_tool_side_offset_does_not_perform_stays_refused() {
     let cases = [
-        // Circles in the mode, a rotary table: not built.
-        ("G41.2 D1 G01 X10. F500\nG02 X20. R5.\n", 2, "head-bc", "PS0010"),
+        // A rotary table: not built.
         ("G41.2 D1 G01 X10. F500\n", 1, "table-ac", "PS0010"),
         ("G41.2 D1 G01 X10. F500\n", 1, "mixed-bc", "PS0010"),
         ("G41.2 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "head-bc", "PS0010"),
