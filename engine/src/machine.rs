@@ -295,6 +295,12 @@ pub struct FiveAxisOptions {
     /// a tool length offset or TCP started inside it with this setting (PS0438, WSE-24).
     #[serde(default, skip_serializing_if = "is_false")]
     pub length_offset_by_motion: bool,
+    /// The tool side offset (G41.2/G42.2) places its vectors at the cutting point this far
+    /// along the tool from the programmed (pivot) point, mm (FANUC No.19632, CRC-30: the
+    /// point is Q + d·(tool direction, tip → holder), the manual's formula); 0: at the
+    /// programmed point.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cutting_point_distance: f64,
     /// G54.4: the rapid portions of hole-machining canned cycles run as cutting moves at this
     /// feed, mm/min (FANUC No.5412, WSE-19); 0: at the dry run rate (`manual.dry_run_feed`,
     /// No.1410); both 0: they stay rapids.
@@ -647,6 +653,9 @@ impl MachineConfig {
         }
         if !finite(&self.nose) || !self.holder.is_finite() || !finite(&self.tool_axis) {
             return Err("nose, holder and tool_axis must be finite numbers".into());
+        }
+        if !f.cutting_point_distance.is_finite() {
+            return Err("five_axis: cutting_point_distance must be a finite number".into());
         }
         if self.tool_axis.iter().map(|x| x * x).sum::<f64>().sqrt() < 1e-9 {
             return Err("tool_axis needs a non-zero direction".into());

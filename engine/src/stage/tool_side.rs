@@ -102,10 +102,11 @@ const ALIGNED: f64 = 1e-9;
 
 /// A block waiting for the next block that moves in its plane.
 struct Waiting {
-    /// The block as a 2-D block in its end plane, coordinates relative to its programmed end.
+    /// The block as a 2-D block in its end plane, coordinates relative to `to`.
     held: Held,
     plane: Plane,
-    /// Programmed start and end (X, Y, Z, programming coordinates).
+    /// Where its vectors are placed (X, Y, Z, programming coordinates): its programmed start
+    /// and end, or with No.19632 the cutting points there (CRC-30).
     from: Vec3,
     to: Vec3,
     /// Q1/Q2/Q3 of the block: its end where the plane-change check finds it in the way.
@@ -131,6 +132,12 @@ pub struct ToolSide {
     kin: Option<Arc<Kinematics>>,
     /// The tool direction with the rotary axes at 0 (a machine without rotary axes).
     tool_axis: Vec3,
+    /// FANUC No.19632: the vectors are placed at the cutting point this far along the tool
+    /// from the programmed (pivot) point (0: at the programmed point).
+    cutting_point: f64,
+    /// The tool at the end of the last motion (where the next one starts), kept while
+    /// `cutting_point` is set.
+    tool_last: Vec3,
     link: Link,
     on: bool,
     /// The programmed end of the last motion while on.
@@ -179,6 +186,8 @@ impl ToolSide {
             xyz: [m.axis_index(b'X'), m.axis_index(b'Y'), m.axis_index(b'Z')],
             kin: m.kinematics().cloned(),
             tool_axis: crate::kin::vec3(m.tool_axis).normalize(),
+            cutting_point: m.five_axis.cutting_point_distance,
+            tool_last: crate::kin::vec3(m.tool_axis).normalize(),
             link: config.stages.share(),
             on: false,
             programmed: Vec3::zeros(),
@@ -366,6 +375,9 @@ impl ToolSide {
         let q = self.q.take();
         let comp = is_tool_side(m.context.cutter_comp);
         if !self.on && !comp {
+            if self.cutting_point != 0.0 {
+                self.tool_last = self.tool(m);
+            }
             out.push(c);
             return;
         }
@@ -388,19 +400,24 @@ impl ToolSide {
         let (from, to) = (self.programmed, self.xyz(&m.target));
         self.programmed = to;
         let tool = self.tool(m);
+        let tool_from = std::mem::replace(&mut self.tool_last, tool);
         let plane = Plane::of(tool);
+        // Where the vectors are placed: the programmed points, or the cutting points (CRC-30,
+        // each with its own tool; a block that moves no linear axis gets no vector).
+        let (from_at, to_at) = (from + tool_from * self.cutting_point, to + tool * self.cutting_point);
         let arc = self.arc(m, to);
         let curve = match arc {
-            Some(a) => match a.curve(&plane, to, from, to) {
-                Some(curve) => curve,
-                None => {
-                    self.alarm(AlarmId::GCodeNotBuilt, &c);
-                    return;
-                }
-            },
-            None => Curve::Line { from: plane.project(from - to), to: [0.0, 0.0] },
+            Some(a) if self.cutting_point == 0.0 => a.curve(&plane, to, from, to),
+            // (A circle's cutting points with No.19632: not built.)
+            Some(_) => None,
+            None => Some(Curve::Line { from: plane.project(from_at - to_at), to: [0.0, 0.0] }),
         };
-        let moves = arc.is_some() || crate::stage::cutter::curve::norm(curve.from()) > NO_MOVE;
+        let Some(curve) = curve else {
+            self.alarm(AlarmId::GCodeNotBuilt, &c);
+            return;
+        };
+        let in_plane = |v: Vec3| crate::stage::cutter::curve::norm(plane.project(v)) > NO_MOVE;
+        let moves = arc.is_some() || in_plane(to - from) && in_plane(to_at - from_at);
         if arc.is_some() && (self.startup || !comp) {
             self.alarm(AlarmId::ArcInCompStartCancel, &c);
             return;
@@ -409,9 +426,9 @@ impl ToolSide {
         if !comp {
             // G40: the waiting block ends perpendicular (type A) or at its corner with this
             // block (type B); this block moves to its programmed end.
+            let next = Next { to: to_at, tool, rn: 0.0, cancel: true, arc };
             match (&self.waiting, moves) {
-                (Some(w), true) => match self.corner_with(w, Next { to, tool, rn: w.held.r, cancel: true, arc }, false)
-                {
+                (Some(w), true) => match self.corner_with(w, Next { rn: w.held.r, ..next }, false) {
                     Ok(points) => self.release(&points, out),
                     Err(id) => {
                         let canon = w.held.canon.clone();
@@ -437,11 +454,13 @@ impl ToolSide {
             }
             return;
         }
-        let start = match &self.waiting {
-            None => from + self.vector,
+        // The vector where this block starts.
+        let vector = match &self.waiting {
+            None => self.vector,
             Some(w) => {
                 let respecified = std::mem::take(&mut self.perpendicular);
-                let points = match self.corner_with(w, Next { to, tool, rn: r, cancel: false, arc }, respecified) {
+                let next = Next { to: to_at, tool, rn: r, cancel: false, arc };
+                let points = match self.corner_with(w, next, respecified) {
                     Ok(points) => points,
                     Err(id) => {
                         let canon = w.held.canon.clone();
@@ -449,7 +468,7 @@ impl ToolSide {
                         return;
                     }
                 };
-                let last = w.to + w.plane.lift(points[points.len() - 1]);
+                let last = w.plane.lift(points[points.len() - 1]);
                 self.release(&points, out);
                 if self.stopped {
                     return;
@@ -458,8 +477,8 @@ impl ToolSide {
             }
         };
         let startup = std::mem::replace(&mut self.startup, false);
-        let held = Held { canon: c, curve, r, start: plane.project(start - to), startup };
-        self.waiting = Some(Waiting { held, plane, from, to, q, arc });
+        let held = Held { canon: c, curve, r, start: plane.project(from_at + vector - to_at), startup };
+        self.waiting = Some(Waiting { held, plane, from: from_at, to: to_at, q, arc });
     }
 }
 

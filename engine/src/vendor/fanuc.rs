@@ -355,6 +355,7 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         display_workpiece: bit(19608, 2)?,
         deviation_clamp: bit(19746, 6)?,
         rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
+        cutting_point_distance: if p.0.contains_key(&19632) { p.get(19632)? } else { 0.0 },
         cutting_deviation: if p.0.contains_key(&19752) { p.get(19752)? } else { 0.0 },
         length_offset_by_motion: p.0.contains_key(&5006) && !p.bit(5006, 6)?,
         wse_cycle_feed: non_negative(p, 5412)?,
@@ -476,6 +477,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (19739, f.singular_tolerance),
         (19751, f.rapid_deviation),
         (19752, f.cutting_deviation),
+        (19632, f.cutting_point_distance),
     ] {
         if value != 0.0 {
             p.set(number, real(value));

@@ -826,7 +826,9 @@ fn fanuc_five_axis_options_round_trip() {
     (f.singular_angle, f.singular_tolerance, f.singular_alarm) = (2.5, 10.0, true);
     (f.mirror_direction, f.display_workpiece) = (true, true);
     (f.deviation_clamp, f.rapid_deviation, f.cutting_deviation) = (true, -1.0, 0.005);
+    f.cutting_point_distance = -120.5;
     let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!(p.get(19632).unwrap(), -120.5);
     assert!(p.bit(19608, 2).unwrap() && p.bit(19608, 5).unwrap() && p.bit(19608, 6).unwrap());
     assert!(p.bit(19746, 6).unwrap() && p.get(19751).unwrap() == -1.0 && p.get(19752).unwrap() == 0.005);
     assert_eq!((p.get(19738).unwrap(), p.get(19739).unwrap()), (2.5, 10.0));
@@ -838,7 +840,7 @@ fn fanuc_five_axis_options_round_trip() {
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("FANUC settings"));
     // Absent: 0, never changed.
     let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("head-bc").unwrap()).unwrap();
-    assert!(!plain.0.contains_key(&19738));
+    assert!(!plain.0.contains_key(&19738) && !plain.0.contains_key(&19632));
     let back = machine_from(Dialect::Fanuc, "m", &plain).unwrap();
     assert_eq!((back.five_axis.singular_angle, back.five_axis.singular_alarm), (0.0, false));
 }

@@ -212,6 +212,40 @@ fn an_arc_as_the_start_up_block_is_ps0034() {
 }
 
 #[test]
+fn no_19632_places_the_vectors_at_the_cutting_points() {
+    // CRC-30 / M-11 (TV-16's formula QT = Q + LC·(sin b cos c, sin b sin c, cos b), here the
+    // tool direction of head-bc at B, C), LC = 100. N3 X100 with the tool vertical, N4 Y100
+    // turning B to 20°: the cutting points P_T = (0,0,100), Q_T = (100,0,100) and
+    // R_T = (100,100,0) + 100 (sin20, 0, cos20). In the plane of Q (XY) the inside corner of
+    // G41.2 is where y = 5 meets the line Q_T→R_T offset by 5 to its left; the vector from Q_T
+    // is added to the programmed (pivot) point Q = (100, 0, 0).
+    let src = "G90 G00 X0 Y0 Z0 B0 C0\nG41.2 D1\nG01 X100. F500.\nY100. B20.\nG40 X200.\nM30\n";
+    let s20 = 20f64.to_radians().sin();
+    let d = Vec3::new(100.0 * s20, 100.0, 0.0).normalize(); // Q_T → R_T seen in XY
+    let n = Vec3::new(-d.y, d.x, 0.0);
+    let t = (5.0 - 5.0 * n.y) / d.y;
+    let want = [100.0 + 5.0 * n.x + t * d.x, 5.0, 0.0];
+    let mut interp =
+        interpreter_with(src, "head-bc", Fanuc, |c| c.edit_machine(|m| m.five_axis.cutting_point_distance = 100.0));
+    let mut stages = Pipeline::for_config(interp.config());
+    let mut out = Vec::new();
+    let mut ends = Vec::new();
+    while let Ok(Step::Continue) = interp.step(&mut out) {
+        assert!(stages.process(&mut out, false).is_none());
+        for c in out.drain(..) {
+            if let CanonKind::Motion(m) = c.kind {
+                ends.push((c.line, [m.target[0], m.target[1], m.target[2]]));
+            }
+        }
+    }
+    let n3 = ends.iter().find(|(l, _)| *l == 3).unwrap().1;
+    assert!((Vec3::from(n3) - Vec3::from(want)).norm() < 1e-9, "{n3:?} want {want:?}");
+    // At the programmed points instead (No.19632 = 0): the 90° corner, (95, 5, 0).
+    let plain = ends_of(src, "head-bc");
+    assert!((plain.ends[1].1 - Vec3::new(95.0, 5.0, 0.0)).norm() < 1e-9, "{:?}", plain.ends);
+}
+
+#[test]
 fn tv07_changing_the_side_retraces_the_block() {
     // (3)-1: G42.2 in the returning block: the tool comes back on the same line (start, end
     // and the cancel's start all 5 to the left of +X).

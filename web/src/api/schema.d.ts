@@ -1100,6 +1100,14 @@ export interface components {
              */
             cutting_deviation?: number;
             /**
+             * Format: double
+             * @description The tool side offset (G41.2/G42.2) places its vectors at the cutting point this far
+             *     along the tool from the programmed (pivot) point, mm (FANUC No.19632, CRC-30: the
+             *     point is Q + d·(tool direction, tip → holder), the manual's formula); 0: at the
+             *     programmed point.
+             */
+            cutting_point_distance?: number;
+            /**
              * @description Lower the speed of tool centre point moves so that the tip's path deviation stays within
              *     `rapid_deviation` / `cutting_deviation` (FANUC No.19746#6 CRS; `docs/five-axis.md`).
              */
