@@ -274,9 +274,9 @@ pub mod code {
     pub const ALIGNMENTS: [u16; 3] = [G53_1, G53_3, G53_6];
     /// The tilted working plane definitions.
     pub const TILTED_PLANES: [u16; 3] = [G68_2, G68_3, G68_4];
-    /// The cutter compensations a path stage performs (`crate::stage`): C (G41/G42) and the
-    /// 5-axis tool side offset of type 1 (G41.2/G42.2).
-    pub const COMPENSATED_BY_STAGES: [u16; 4] = [G41, G42, G41_2, G42_2];
+    /// The cutter compensations a path stage performs (`crate::stage`): C (G41/G42), the
+    /// 5-axis tool side offset of type 1 (G41.2/G42.2) and the leading edge offset (G41.3).
+    pub const COMPENSATED_BY_STAGES: [u16; 5] = [G41, G42, G41_2, G42_2, G41_3];
     /// The macro calls, single and modal.
     pub const MACRO_CALLS: [u16; 3] = [G65, G66, G66_1];
 }

@@ -207,9 +207,8 @@ fn what_the_tool_side_offset_does_not_perform_stays_refused() {
         ("G41.2 D1 G01 X10. F500\n", 1, "table-ac", "PS0010"),
         ("G41.2 D1 G01 X10. F500\n", 1, "mixed-bc", "PS0010"),
         ("G41.2 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "head-bc", "PS0010"),
-        // Type 2 and the leading edge offset are not built.
+        // Type 2 is not built (the leading edge offset: `leading_edge.rs`).
         ("G41.6 D1 G01 X10. I0 J0 K1. F500\n", 1, "head-bc", "PS0010"),
-        ("G41.3 D1\n", 1, "head-bc", "PS0010"),
         // What the manual forbids in the mode (§3.5.1) keeps its own alarm.
         ("G41.2 D1 G01 X10. F500\nG81 X20. Z-5. R2.\n", 2, "head-bc", "PS5460"),
         ("G41.2 D1 G01 X10. F500\nG28 X0\n", 2, "head-bc", "PS5460"),
