@@ -92,6 +92,9 @@ pub enum AlarmId {
     CutterNoSolution,
     /// A move command in a G39 (corner circular interpolation) block.
     CornerArcWithMove,
+    /// Leading edge offset (G41.3): the block after G41.3 moves along the tool (θ between the
+    /// tool and the move counts as 0° or 180°), so no offset plane is defined.
+    LeadingEdgeAlongTool,
     /// A malformed tilted working plane command (G68.2/G68.3/G68.4).
     TwpFormat,
     /// A G code or modal state not allowed with the tilted working plane.

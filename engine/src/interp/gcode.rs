@@ -274,9 +274,10 @@ pub mod code {
     pub const ALIGNMENTS: [u16; 3] = [G53_1, G53_3, G53_6];
     /// The tilted working plane definitions.
     pub const TILTED_PLANES: [u16; 3] = [G68_2, G68_3, G68_4];
-    /// The cutter compensations a path stage performs (`crate::stage`): C (G41/G42) and the
-    /// 5-axis tool side offset of type 1 (G41.2/G42.2) and type 2 (G41.6/G42.6).
-    pub const COMPENSATED_BY_STAGES: [u16; 6] = [G41, G42, G41_2, G42_2, G41_6, G42_6];
+    /// The cutter compensations a path stage performs (`crate::stage`): C (G41/G42), the
+    /// 5-axis tool side offset of type 1 (G41.2/G42.2) and type 2 (G41.6/G42.6), and the
+    /// leading edge offset (G41.3).
+    pub const COMPENSATED_BY_STAGES: [u16; 7] = [G41, G42, G41_2, G42_2, G41_6, G42_6, G41_3];
     /// The 5-axis tool side offset (`stage::tool_side`), type 1 and type 2.
     pub const TOOL_SIDE: [u16; 4] = [G41_2, G42_2, G41_6, G42_6];
     /// The macro calls, single and modal.

@@ -481,13 +481,18 @@ impl State {
         if comp_before == code::G40 && code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
             // The start-up block starts here (`stage::cutter`); with No.5003#1 SUV a G00/G01
             // block without an axis word of the plane starts up perpendicular to the next move.
-            let conventional = matches!(self.modes[group::CUTTER_COMP], code::G41 | code::G42);
-            let perpendicular = (conventional && self.perpendicular_start_stop(&w)).then_some(PerpendicularStart {
+            // The G41.3 block moves by the leading edge offset's first vector when the next
+            // block comes (`stage::leading_edge`).
+            let comp = self.modes[group::CUTTER_COMP];
+            let conventional = matches!(comp, code::G41 | code::G42);
+            let inserts = conventional && self.perpendicular_start_stop(&w) || comp == code::G41_3;
+            let perpendicular = inserts.then_some(PerpendicularStart {
                 line: self.line,
                 n: self.n,
                 rapid: self.modes[group::MOTION] == code::G00,
             });
-            self.cfg.stages.comp_started(CompStart { pos: self.pos, perpendicular });
+            let machine = self.machine_position();
+            self.cfg.stages.comp_started(CompStart { pos: self.pos, machine, perpendicular });
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
         self.apply_wse(&w)?;
@@ -599,6 +604,23 @@ impl State {
             // straight to where the program stands (`stage::cutter`).
             let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
             self.push_motion(kind, self.pos, None, out);
+            moved = true;
+        } else if comp_before == code::G41_3
+            && self.cfg.refuse_unbuilt
+            && self.modes[group::CUTTER_COMP] == code::G40
+            && !has_axes
+            && axes_owner.is_none()
+            && !transform_axes
+        {
+            // The G40 block of the leading edge offset moves the tool back by its vector
+            // (`stage::leading_edge`), to where the program stands. (Not in the tests of the
+            // mode interlocks, which keep the paths as they were before the stage existed.)
+            let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+            if self.follows_tip() {
+                self.tip_motion(kind, self.pos, None, out)?;
+            } else {
+                self.push_motion(kind, self.pos, None, out);
+            }
             moved = true;
         }
         // Under the tool side offset, Q1/Q2/Q3 and G41.2/G42.2 given again go to its stage
@@ -1185,7 +1207,7 @@ impl State {
         }
     }
 
-    /// Under cutter compensation (G41/G42 or G41.2/G42.2 in force after the block), what its
+    /// Under cutter compensation (G41/G42, G41.2/G42.2 or G41.3 in force after the block), what its
     /// stage does not perform is refused like a function not built (`unbuilt::cutter`).
     fn refuse_unbuilt_cutter(&self, w: &Words) -> Result<(), AlarmId> {
         let dialect = self.cfg.dialect;
@@ -1202,6 +1224,9 @@ impl State {
         let block = unbuilt::CutterBlock {
             tool_side: code::TOOL_SIDE.contains(&comp),
             type2_alone: matches!(comp, code::G41_6 | code::G42_6) && after(group::LENGTH_COMP) != code::G43_5,
+            leading_edge: comp == code::G41_3,
+            no_mechanism: self.kinematics.is_none()
+                || !self.cfg.machine.axes.iter().any(|a| a.kind == AxisKind::Rotary),
             transform: !matches!(after(group::ROTATION), code::G69 | code::G69_1)
                 || after(group::SCALING) != code::G50
                 || after(group::MIRROR) != code::G50_1
@@ -1216,7 +1241,8 @@ impl State {
             corner_override: after(group::PATH_MODE) == code::G62,
             rotary_table: self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table),
             q: w.has(b'Q')
-                && (matches!(comp, code::G41_6 | code::G42_6) || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
+                && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
+                    || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
             conventional_settings: self.cfg.machine.motion.cutter_startup_perpendicular
                 || self.cfg.machine.motion.cutter_interference_avoidance,
         };

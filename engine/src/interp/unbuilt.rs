@@ -86,7 +86,6 @@ const TABLE: &[NotBuilt] = &[
     row(360, When::Always, "circular threading (G36)"),
     row(370, When::Always, "automatic tool length measurement (G37)"),
     row(411, When::Always, "normal direction control (G41.1)"),
-    row(413, When::Always, "leading edge offset (G41.3)"),
     row(414, When::Always, CUTTER_3D),
     row(415, When::Always, CUTTER_3D),
     row(421, When::Always, "normal direction control (G42.1)"),
@@ -137,9 +136,9 @@ pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<
     refused.unwrap_or(false).then_some(row.function)
 }
 
-/// A block under cutter compensation (G41/G42, or the tool side offset G41.2/G42.2, in force
-/// after it), as the question "does the stage perform it?" sees it (`stage::cutter`,
-/// `stage::tool_side`).
+/// A block under cutter compensation (G41/G42, the tool side offset G41.2/G42.2 or the leading
+/// edge offset G41.3, in force after it), as the question "does the stage perform it?" sees it
+/// (`stage::cutter`, `stage::tool_side`, `stage::leading_edge`).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct CutterBlock {
     /// G41.2/G42.2 or G41.6/G42.6 (5-axis tool side offset, type 1 or 2) rather than G41/G42.
@@ -147,6 +146,11 @@ pub struct CutterBlock {
     /// Type 2 (G41.6/G42.6: the tool direction by I/J/K) without tool centre point control of
     /// type 2 (G43.5), which turns I/J/K into rotary angles.
     pub type2_alone: bool,
+    /// G41.3 (5-axis leading edge offset) rather than G41/G42.
+    pub leading_edge: bool,
+    /// The machine has no mechanism that turns the tool (no rotary axis, or kinematics that
+    /// the machine file does not define): the leading edge offset has no tool direction.
+    pub no_mechanism: bool,
     /// G68 rotation, G51 scaling, G51.1 mirror image or G16 polar coordinates in force.
     pub transform: bool,
     /// Tool centre point control in force.
@@ -166,8 +170,9 @@ pub struct CutterBlock {
     /// The machine turns the workpiece (a rotary table): the programming system turns under
     /// the tool (table and mixed types, their own rules).
     pub rotary_table: bool,
-    /// Q in the block other than Q1/Q2/Q3 (the tool side offset's answers to its interference
-    /// check at a compensation plane change), or any Q under type 2 (its inclination).
+    /// Q in the block that the mode does not take: any Q under G41.3 and under type 2 (its
+    /// inclination), under G41.2/G42.2 a Q other than Q1/Q2/Q3 (the tool side offset's answers
+    /// to its interference check at a compensation plane change).
     pub q: bool,
     /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV)
     /// or avoids interference (No.19607#5 CAV): built for cutter compensation C only.
@@ -178,9 +183,11 @@ pub struct CutterBlock {
 /// Cutter compensation C shifts the path in the plane by the same vector in programming and
 /// machine coordinates: right only while the two differ by a translation, for plain motions.
 /// The tool side offset compensates straight moves in the plane perpendicular to the tool, on a
-/// machine whose rotary axes turn the tool only: type 1 with or without TCP, type 2 under G43.5.
+/// machine whose rotary axes turn the tool only: type 1 with or without TCP, type 2 under G43.5;
+/// the leading edge offset (straight moves only, by its mode rules) likewise.
 pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
-    let conventional = !b.tool_side;
+    let five_axis = b.tool_side || b.leading_edge;
+    let conventional = !five_axis;
     [
         (b.transform, "cutter radius compensation with rotation, scaling, mirror image or polar coordinates"),
         (b.five_axis || b.tcp && conventional, "cutter radius compensation with TCP, a tilted working plane or G54.4"),
@@ -192,6 +199,12 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.tool_side && b.rotary_table, "the tool side offset on a machine with a rotary table"),
         (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset (type 2: its inclination)"),
         (b.type2_alone, "the tool side offset of type 2 (G41.6/G42.6) without G43.5"),
+        (b.leading_edge && b.rotary_table, "the leading edge offset (G41.3) on a machine with a rotary table"),
+        (
+            b.leading_edge && b.no_mechanism,
+            "the leading edge offset (G41.3) on a machine without a tool rotation mechanism",
+        ),
+        (b.leading_edge && b.q, "Q in the leading edge offset (G41.3)"),
         (
             b.tool_side && b.conventional_settings,
             "the tool side offset with start-up perpendicular to the next move (No.5003#1 SUV) or interference \

@@ -25,6 +25,7 @@
 //! where the path stood when cutter compensation was turned on.
 
 pub mod cutter;
+pub mod leading_edge;
 pub mod tool_side;
 
 use crate::alarm::{Alarm, AlarmId};
@@ -53,19 +54,23 @@ struct Data {
     comp_start: Option<CompStart>,
 }
 
-/// Cutter compensation was turned on (G41/G42 after G40).
+/// Cutter compensation was turned on (G41/G42, G41.2/G42.2 or G41.3 after G40).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompStart {
     /// Where the program's path stood (programming coordinates): the start of the start-up
     /// block.
     pub pos: Pos,
-    /// Start-up "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1) applies: the
-    /// G41/G42 block is in G00/G01 and has no axis word of the plane. Its line and sequence
-    /// number, and whether it is in G00, for the block the stage inserts.
+    /// Where the machine axes stood then (the tool direction at G41.3, `stage::leading_edge`).
+    pub machine: Pos,
+    /// The block that turned compensation on inserts a move of its own when the next block
+    /// comes: a start-up "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1: the
+    /// G41/G42 block is in G00/G01 and has no axis word of the plane), or the leading edge
+    /// offset's G41.3 block (its move by the first vector). Its line and sequence number, and
+    /// whether it is in G00, for the block the stage inserts.
     pub perpendicular: Option<PerpendicularStart>,
 }
 
-/// The G41/G42 block of a start-up "perpendicular to the next movement".
+/// The G41/G42 block of a start-up "perpendicular to the next movement", or a G41.3 block.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PerpendicularStart {
     pub line: u32,
@@ -152,13 +157,17 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The stages for programs run with `config`: the tool side offset of 5-axis cutter
-    /// compensation, and cutter compensation C (the two are modes of one modal group: a motion
-    /// is changed by one of them at most; the first hands the second the words of G38/G39/G40). Cutting point control and splines are refused by
-    /// the interpreter until their stages are built.
+    /// The stages for programs run with `config`: the tool side offset and the leading edge
+    /// offset of 5-axis cutter compensation, and cutter compensation C (the three are modes of
+    /// one modal group: a motion is changed by one of them at most; the first two hand the last
+    /// the words of G38/G39/G40). Cutting point control and splines are refused by the
+    /// interpreter until their stages are built.
     pub fn for_config(config: &Config) -> Pipeline {
-        let stages: Vec<Box<dyn Stage>> =
-            vec![Box::new(tool_side::ToolSide::new(config)), Box::new(cutter::Cutter::new(config))];
+        let stages: Vec<Box<dyn Stage>> = vec![
+            Box::new(tool_side::ToolSide::new(config)),
+            Box::new(leading_edge::LeadingEdge::new(config)),
+            Box::new(cutter::Cutter::new(config)),
+        ];
         Pipeline { stages, dialect: config.dialect, between: Vec::new() }
     }
 
@@ -292,7 +301,11 @@ mod tests {
         let config = Config::new(crate::machine::MachineConfig::preset("mill3").unwrap(), crate::Dialect::Fanuc);
         let shared = config.stages.share();
         let cloned = config.clone();
-        let start = CompStart { pos: [1.0; crate::machine::MAX_AXES], perpendicular: None };
+        let start = CompStart {
+            pos: [1.0; crate::machine::MAX_AXES],
+            machine: [2.0; crate::machine::MAX_AXES],
+            perpendicular: None,
+        };
         config.stages.comp_started(start);
         assert_eq!(cloned.stages.take_comp_start(), None);
         assert_eq!(shared.take_comp_start(), Some(start));

@@ -985,3 +985,14 @@ fn fanuc_ini_power_on_inch_round_trip() {
     let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("mill3").unwrap()).unwrap();
     assert!(!plain.0.contains_key(&0));
 }
+
+/// No.19631 (the leading edge offset's Δθ) is not read: a list that sets it is reported as not
+/// modelled (`docs/cutter-compensation.md`, "Leading edge offset", rule 3).
+#[test]
+fn fanuc_leading_edge_angle_19631_is_reported_as_not_modelled() {
+    let mut p = params_of(Dialect::Fanuc, &MachineConfig::preset("head-bc").unwrap()).unwrap();
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    p.set(19631, 5.0);
+    let reported = unmodelled::of_params(Dialect::Fanuc, &p);
+    assert!(reported.iter().any(|u| u.parameter == "No.19631"), "{reported:?}");
+}

@@ -13,6 +13,7 @@ mod fast_path;
 mod frames;
 mod incremental;
 mod kinematic_speed;
+mod leading_edge;
 mod library;
 mod macro_b;
 mod manual;

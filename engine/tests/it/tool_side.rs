@@ -337,10 +337,10 @@ fn what_the_tool_side_offset_does_not_perform_stays_refused() {
         ("G41.2 D1 G01 X10. F500\n", 1, "table-ac", "PS0010"),
         ("G41.2 D1 G01 X10. F500\n", 1, "mixed-bc", "PS0010"),
         ("G41.2 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "head-bc", "PS0010"),
-        // Type 2 without G43.5, a Q in type 2 (its inclination), the leading edge offset.
+        // Type 2 without G43.5, a Q in type 2 (its inclination); the leading edge offset is
+        // `leading_edge.rs`'s.
         ("G41.6 D1 G01 X10. I0 J0 K1. F500\n", 1, "head-bc", "PS0010"),
         ("G43.5 H1\nG41.6 D1 G01 X10. I0 J0 K1. Q2. F500\n", 2, "head-bc", "PS0010"),
-        ("G41.3 D1\n", 1, "head-bc", "PS0010"),
         // What the manual forbids in the mode (§3.5.1) keeps its own alarm.
         ("G41.2 D1 G01 X10. F500\nG81 X20. Z-5. R2.\n", 2, "head-bc", "PS5460"),
         ("G41.2 D1 G01 X10. F500\nG28 X0\n", 2, "head-bc", "PS5460"),
