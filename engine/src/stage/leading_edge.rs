@@ -14,16 +14,15 @@
 //! block's own move. Only straight moves are compensated (the mode allows G00/G01 only, the
 //! interlocks of `interp::modes`), on machines without a rotary table, so programming, table
 //! and machine coordinates differ by a rotation and a translation that the block carries
-//! (`TipMove::frame` under TCP), as in `stage::tool_side`.
+//! (`TipMove::frame` under TCP): `stage::tool_shift`, shared with `stage::tool_side`.
 
+use super::tool_shift::ToolShift;
 use super::{Link, PerpendicularStart, Stage};
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, Motion, MotionKind, Pos};
+use crate::canon::{Canon, CanonKind, MotionKind, Pos};
 use crate::interp::gcode::code;
 use crate::interp::Config;
-use crate::kin::{Kinematics, Vec3};
-use nalgebra::Matrix3;
-use std::sync::Arc;
+use crate::kin::Vec3;
 
 /// A move shorter than this (X/Y/Z) does not move (mm): a block without movement.
 const NO_MOVE: f64 = 1e-9;
@@ -121,19 +120,12 @@ struct Startup {
 
 /// The leading edge offset stage.
 pub struct LeadingEdge {
-    /// Axis indices of X, Y, Z.
-    xyz: [Option<usize>; 3],
-    kin: Option<Arc<Kinematics>>,
-    /// The tool direction with the rotary axes at 0 (a machine without rotary axes).
-    tool_axis: Vec3,
+    /// The tool, and the vector where it stands.
+    shift: ToolShift,
     link: Link,
     on: bool,
     /// The programmed end of the last motion while on.
     programmed: Vec3,
-    /// The compensated point minus the programmed one where the tool is (programming
-    /// coordinates), and the same in the table frame (the tip's shift under TCP).
-    vector: Vec3,
-    vector_table: Vec3,
     previous: Option<Previous>,
     startup: Option<Startup>,
     waiting: Option<Waiting>,
@@ -146,24 +138,14 @@ pub struct LeadingEdge {
     refuse: bool,
 }
 
-/// The rotation from programming to table coordinates of a motion (under TCP its frame; else
-/// none: the work offsets only translate).
-fn frame(m: &Motion) -> Matrix3<f64> {
-    m.tip.as_ref().map_or_else(Matrix3::identity, |t| t.frame.r)
-}
-
 impl LeadingEdge {
     pub fn new(config: &Config) -> LeadingEdge {
         let m = &config.machine;
         LeadingEdge {
-            xyz: [m.axis_index(b'X'), m.axis_index(b'Y'), m.axis_index(b'Z')],
-            kin: m.kinematics().cloned(),
-            tool_axis: crate::kin::vec3(m.tool_axis).normalize(),
+            shift: ToolShift::new(m),
             link: config.stages.share(),
             on: false,
             programmed: Vec3::zeros(),
-            vector: Vec3::zeros(),
-            vector_table: Vec3::zeros(),
             previous: None,
             startup: None,
             waiting: None,
@@ -174,18 +156,6 @@ impl LeadingEdge {
         }
     }
 
-    fn xyz(&self, p: &Pos) -> Vec3 {
-        let at = |i: Option<usize>| i.map_or(0.0, |i| p[i]);
-        Vec3::new(at(self.xyz[0]), at(self.xyz[1]), at(self.xyz[2]))
-    }
-
-    /// The tool direction (tip → holder, programming coordinates of `m`) with the machine axes
-    /// at `machine`.
-    fn tool(&self, m: &Motion, machine: &Pos) -> Vec3 {
-        let table = self.kin.as_ref().map_or(self.tool_axis, |k| k.forward(machine, 0.0).tool);
-        frame(m).transpose() * table
-    }
-
     fn alarm(&mut self, id: AlarmId, c: &Canon) {
         self.alarm.get_or_insert((id, c.line, c.n));
         self.stopped = true;
@@ -193,40 +163,18 @@ impl LeadingEdge {
         self.after.clear();
     }
 
-    /// `c` moved by `vector` (programming coordinates) at its end, starting where the tool
-    /// is; the tool is then there.
-    fn placed(&mut self, mut c: Canon, vector: Vec3) -> Canon {
-        if let CanonKind::Motion(m) = &mut c.kind {
-            let table = frame(m) * vector;
-            for (k, i) in self.xyz.iter().enumerate() {
-                if let Some(i) = *i {
-                    m.target[i] += vector[k];
-                    // No rotary table: machine X/Y/Z move as the tip does in the table frame.
-                    m.machine[i] += table[k];
-                }
-            }
-            if let Some(t) = m.tip.as_deref_mut() {
-                t.from += self.vector_table;
-                t.to += table;
-            }
-            self.vector_table = table;
-        }
-        self.vector = vector;
-        c
-    }
-
     /// The vector kept where a block makes none of its own.
     fn kept(&self) -> Vec3 {
-        self.previous.map_or(self.vector, |p| p.vc)
+        self.previous.map_or(self.shift.vector, |p| p.vc)
     }
 
     /// Hand on the waiting block ending at `vc`, then the commands held behind it at `vc`.
     fn release(&mut self, vc: Vec3, out: &mut Vec<Canon>) {
         let Some(w) = self.waiting.take() else { return };
-        let c = self.placed(w.canon, vc);
+        let c = self.shift.placed(w.canon, vc);
         out.push(c);
         for c in std::mem::take(&mut self.after) {
-            let c = self.placed(c, vc);
+            let c = self.shift.placed(c, vc);
             out.push(c);
         }
         self.previous = Some(Previous { vc, tool: w.tool });
@@ -240,7 +188,7 @@ impl LeadingEdge {
             self.release(vc, out);
         }
         for c in std::mem::take(&mut self.after) {
-            let c = self.placed(c, self.vector);
+            let c = self.shift.placed(c, self.shift.vector);
             out.push(c);
         }
         self.startup = None;
@@ -248,7 +196,7 @@ impl LeadingEdge {
 
     fn cancelled(&mut self) {
         self.on = false;
-        self.vector = Vec3::zeros();
+        self.shift.vector = Vec3::zeros();
         self.previous = None;
         self.startup = None;
     }
@@ -284,7 +232,7 @@ impl LeadingEdge {
                 t.posture = None;
             }
         }
-        self.placed(template, vc)
+        self.shift.placed(template, vc)
     }
 
     fn motion(&mut self, c: Canon, out: &mut Vec<Canon>) {
@@ -303,7 +251,7 @@ impl LeadingEdge {
             // G40 (or another mode): the block before ends at its own vector, this block
             // moves back to the programmed path.
             self.end_mode(out);
-            let c = self.placed(c, Vec3::zeros());
+            let c = self.shift.placed(c, Vec3::zeros());
             out.push(c);
             self.cancelled();
             return;
@@ -315,13 +263,13 @@ impl LeadingEdge {
                 return;
             };
             self.on = true;
-            self.vector = Vec3::zeros();
+            self.shift.vector = Vec3::zeros();
             self.previous = None;
-            self.programmed = self.xyz(&s.pos);
+            self.programmed = self.shift.xyz(&s.pos);
             self.startup = Some(Startup { pos: s.pos, machine: s.machine, block: s.perpendicular });
         }
         let from = self.programmed;
-        let to = self.xyz(&m.target);
+        let to = self.shift.xyz(&m.target);
         let mv = to - from;
         if mv.norm() <= NO_MOVE {
             if self.startup.is_some() {
@@ -332,16 +280,16 @@ impl LeadingEdge {
                 self.after.push(c);
                 self.keep_vector_if_too_many(out);
             } else {
-                let c = self.placed(c, self.vector);
+                let c = self.shift.placed(c, self.shift.vector);
                 out.push(c);
             }
             return;
         }
         self.programmed = to;
-        let (tool, r) = (self.tool(m, &m.machine), m.context.cutter_radius);
+        let (tool, r) = (self.shift.tool(m, &m.machine), m.context.cutter_radius);
         if let Some(s) = self.startup.take() {
             // Start-up (CRC-22): the tool at G41.3 and this block's move.
-            let tool0 = self.tool(m, &s.machine);
+            let tool0 = self.shift.tool(m, &s.machine);
             let Some(vc) = vector(r, tool0, mv, mv, None) else {
                 self.alarm(AlarmId::LeadingEdgeAlongTool, &c);
                 return;
@@ -349,7 +297,7 @@ impl LeadingEdge {
             let inserted = self.startup_move(&c, &s, vc);
             out.push(inserted);
             for c in std::mem::take(&mut self.after) {
-                let c = self.placed(c, vc);
+                let c = self.shift.placed(c, vc);
                 out.push(c);
             }
             self.previous = Some(Previous { vc, tool: tool0 });
@@ -382,7 +330,7 @@ impl Stage for LeadingEdge {
                 self.keep_vector_if_too_many(out);
             }
             _ if self.on => {
-                let c = self.placed(command, self.vector);
+                let c = self.shift.placed(command, self.shift.vector);
                 out.push(c);
             }
             _ => out.push(command),
@@ -401,7 +349,7 @@ impl Stage for LeadingEdge {
 
     fn reset(&mut self) {
         self.cancelled();
-        self.vector_table = Vec3::zeros();
+        self.shift.reset();
         self.waiting = None;
         self.after.clear();
         self.stopped = false;

@@ -26,6 +26,7 @@
 
 pub mod cutter;
 pub mod leading_edge;
+mod tool_shift;
 pub mod tool_side;
 
 use crate::alarm::{Alarm, AlarmId};

@@ -13,18 +13,17 @@
 //! ellipse: refused here, at run time). Only machines without a rotary table (the interpreter
 //! refuses the others, `interp::unbuilt::cutter`): the programming system does not turn under
 //! the tool, so programming, table and machine coordinates differ by a rotation and a
-//! translation that the block carries (`TipMove::frame` under TCP).
+//! translation that the block carries (`TipMove::frame` under TCP; `stage::tool_shift`).
 
 use super::cutter::curve::{Curve, P2};
 use super::cutter::{check_direction, corner, Held, MAX_BLOCKS_BETWEEN};
+use super::tool_shift::ToolShift;
 use super::{Link, Stage};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, CutterWord, Motion, MotionKind};
 use crate::interp::gcode::code;
 use crate::interp::Config;
-use crate::kin::{Kinematics, Vec3};
-use nalgebra::Matrix3;
-use std::sync::Arc;
+use crate::kin::Vec3;
 
 /// A move shorter than this in its plane does not move in it (mm).
 const NO_MOVE: f64 = 1e-9;
@@ -127,11 +126,8 @@ struct Next {
 
 /// The tool side offset stage.
 pub struct ToolSide {
-    /// Axis indices of X, Y, Z.
-    xyz: [Option<usize>; 3],
-    kin: Option<Arc<Kinematics>>,
-    /// The tool direction with the rotary axes at 0 (a machine without rotary axes).
-    tool_axis: Vec3,
+    /// The tool, and the vector where it stands.
+    shift: ToolShift,
     /// FANUC No.19632: the vectors are placed at the cutting point this far along the tool
     /// from the programmed (pivot) point (0: at the programmed point).
     cutting_point: f64,
@@ -142,10 +138,6 @@ pub struct ToolSide {
     on: bool,
     /// The programmed end of the last motion while on.
     programmed: Vec3,
-    /// The compensated point minus the programmed one where the tool is (programming
-    /// coordinates), and the same in the table frame (the tip's shift under TCP).
-    vector: Vec3,
-    vector_table: Vec3,
     startup: bool,
     waiting: Option<Waiting>,
     /// The commands after `waiting` (no motion in the plane).
@@ -173,26 +165,16 @@ fn signed_radius(m: &Motion) -> f64 {
     side * m.context.cutter_radius
 }
 
-/// The rotation from programming to table coordinates of a motion (under TCP its frame; else
-/// none: the work offsets only translate).
-fn frame(m: &Motion) -> Matrix3<f64> {
-    m.tip.as_ref().map_or_else(Matrix3::identity, |t| t.frame.r)
-}
-
 impl ToolSide {
     pub fn new(config: &Config) -> ToolSide {
         let m = &config.machine;
         ToolSide {
-            xyz: [m.axis_index(b'X'), m.axis_index(b'Y'), m.axis_index(b'Z')],
-            kin: m.kinematics().cloned(),
-            tool_axis: crate::kin::vec3(m.tool_axis).normalize(),
+            shift: ToolShift::new(m),
             cutting_point: m.five_axis.cutting_point_distance,
             tool_last: crate::kin::vec3(m.tool_axis).normalize(),
             link: config.stages.share(),
             on: false,
             programmed: Vec3::zeros(),
-            vector: Vec3::zeros(),
-            vector_table: Vec3::zeros(),
             startup: false,
             waiting: None,
             after: Vec::new(),
@@ -205,27 +187,16 @@ impl ToolSide {
         }
     }
 
-    fn xyz(&self, p: &crate::canon::Pos) -> Vec3 {
-        let at = |i: Option<usize>| i.map_or(0.0, |i| p[i]);
-        Vec3::new(at(self.xyz[0]), at(self.xyz[1]), at(self.xyz[2]))
-    }
-
-    /// The tool direction (tip → holder, programming coordinates) at the end of `m`.
-    fn tool(&self, m: &Motion) -> Vec3 {
-        let table = self.kin.as_ref().map_or(self.tool_axis, |k| k.forward(&m.machine, 0.0).tool);
-        frame(m).transpose() * table
-    }
-
     /// The circle of a circular block ending at `to` (programming coordinates), if it is one.
     fn arc(&self, m: &Motion, to: Vec3) -> Option<Arc3> {
         let (center, normal, sweep_deg) = match (&m.arc, m.tip.as_deref().and_then(|t| t.arc.map(|a| (t, a)))) {
             (Some(a), _) => {
-                let axis = |i: usize| self.xyz.iter().position(|&x| x == Some(i));
+                let axis = |i: usize| self.shift.linear_of(i);
                 let mut normal = Vec3::zeros();
                 if let Some(k) = axis(a.plane_axes.2) {
                     normal[k] = 1.0;
                 }
-                (self.xyz(&a.center), normal, a.sweep_deg)
+                (self.shift.xyz(&a.center), normal, a.sweep_deg)
             }
             (None, Some((t, a))) => {
                 // The tip's circle is in the table frame: back into programming coordinates.
@@ -246,28 +217,6 @@ impl ToolSide {
         self.after.clear();
     }
 
-    /// `c` moved by `vector` (programming coordinates) at its end, starting where the tool
-    /// is; the tool is then there.
-    fn placed(&mut self, mut c: Canon, vector: Vec3) -> Canon {
-        if let CanonKind::Motion(m) = &mut c.kind {
-            let table = frame(m) * vector;
-            for (k, i) in self.xyz.iter().enumerate() {
-                if let Some(i) = *i {
-                    m.target[i] += vector[k];
-                    // No rotary table: machine X/Y/Z move as the tip does in the table frame.
-                    m.machine[i] += table[k];
-                }
-            }
-            if let Some(t) = m.tip.as_deref_mut() {
-                t.from += self.vector_table;
-                t.to += table;
-            }
-            self.vector_table = table;
-        }
-        self.vector = vector;
-        c
-    }
-
     /// Hand on the waiting block ending at `points[0]` (2-D, relative to its end in its
     /// plane), then straight moves to the other points at its feed, then the commands held
     /// behind it at the last vector.
@@ -278,9 +227,9 @@ impl ToolSide {
             return;
         }
         let template = (points.len() > 1).then(|| w.held.canon.clone());
-        let start = w.from + self.vector;
+        let start = w.from + self.shift.vector;
         let end = w.plane.lift(points[0]);
-        let mut first = self.placed(w.held.canon, end);
+        let mut first = self.shift.placed(w.held.canon, end);
         if let (Some(arc), CanonKind::Motion(m)) = (w.arc, &mut first.kind) {
             reshape(m, &arc, start, w.to + end);
         }
@@ -299,12 +248,12 @@ impl ToolSide {
                 }
             }
             for &p in &points[1..] {
-                let c = self.placed(template.clone(), w.plane.lift(p));
+                let c = self.shift.placed(template.clone(), w.plane.lift(p));
                 out.push(c);
             }
         }
         for c in std::mem::take(&mut self.after) {
-            let c = self.placed(c, self.vector);
+            let c = self.shift.placed(c, self.shift.vector);
             out.push(c);
         }
     }
@@ -317,7 +266,7 @@ impl ToolSide {
             self.release(&[end], out);
         } else {
             for c in std::mem::take(&mut self.after) {
-                let c = self.placed(c, self.vector);
+                let c = self.shift.placed(c, self.shift.vector);
                 out.push(c);
             }
         }
@@ -326,7 +275,7 @@ impl ToolSide {
     fn cancelled(&mut self) {
         self.on = false;
         self.startup = false;
-        self.vector = Vec3::zeros();
+        self.shift.vector = Vec3::zeros();
     }
 
     /// More blocks without motion in the plane than the read-ahead holds: the vector is lost.
@@ -376,7 +325,7 @@ impl ToolSide {
         let comp = is_tool_side(m.context.cutter_comp);
         if !self.on && !comp {
             if self.cutting_point != 0.0 {
-                self.tool_last = self.tool(m);
+                self.tool_last = self.shift.tool(m, &m.machine);
             }
             out.push(c);
             return;
@@ -393,13 +342,13 @@ impl ToolSide {
         }
         if !self.on {
             self.on = true;
-            self.vector = Vec3::zeros();
+            self.shift.vector = Vec3::zeros();
             self.startup = true;
-            self.programmed = restart.map_or_else(|| self.xyz(&m.target), |p| self.xyz(&p));
+            self.programmed = restart.map_or_else(|| self.shift.xyz(&m.target), |p| self.shift.xyz(&p));
         }
-        let (from, to) = (self.programmed, self.xyz(&m.target));
+        let (from, to) = (self.programmed, self.shift.xyz(&m.target));
         self.programmed = to;
-        let tool = self.tool(m);
+        let tool = self.shift.tool(m, &m.machine);
         let tool_from = std::mem::replace(&mut self.tool_last, tool);
         let plane = Plane::of(tool);
         // Where the vectors are placed: the programmed points, or the cutting points (CRC-30,
@@ -439,7 +388,7 @@ impl ToolSide {
             }
             if !self.stopped {
                 self.cancelled();
-                let c = self.placed(c, Vec3::zeros());
+                let c = self.shift.placed(c, Vec3::zeros());
                 out.push(c);
             }
             return;
@@ -449,14 +398,14 @@ impl ToolSide {
                 self.after.push(c);
                 self.lose_vector_if_too_many(out);
             } else {
-                let c = self.placed(c, self.vector);
+                let c = self.shift.placed(c, self.shift.vector);
                 out.push(c);
             }
             return;
         }
         // The vector where this block starts.
         let vector = match &self.waiting {
-            None => self.vector,
+            None => self.shift.vector,
             Some(w) => {
                 let respecified = std::mem::take(&mut self.perpendicular);
                 let next = Next { to: to_at, tool, rn: r, cancel: false, arc };
@@ -550,7 +499,7 @@ impl Stage for ToolSide {
         self.cancelled();
         self.q = None;
         self.perpendicular = false;
-        self.vector_table = Vec3::zeros();
+        self.shift.reset();
         self.waiting = None;
         self.after.clear();
         self.stopped = false;

@@ -24,31 +24,16 @@ fn centre_axes(src: &str, dialect: Dialect, axes: (usize, usize)) -> Centre {
 }
 
 /// [`centre`] of an interpreter set up by the caller.
-fn centre_of(mut interp: fivex_engine::interp::Interpreter, (a, b): (usize, usize)) -> Centre {
-    let mut stages = Pipeline::for_config(interp.config());
-    let mut out = Vec::new();
+fn centre_of(interp: fivex_engine::interp::Interpreter, (a, b): (usize, usize)) -> Centre {
     let mut ends = Vec::new();
-    loop {
-        let step = interp.step(&mut out);
-        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
-        let stage_alarm = stages.process(&mut out, end);
-        for c in out.drain(..) {
-            if let CanonKind::Motion(m) = c.kind {
-                // No work offset here: the stage moved both systems by the same.
-                assert!((m.machine[a] - m.target[a]).abs() < 1e-9 && (m.machine[b] - m.target[b]).abs() < 1e-9);
-                ends.push((c.line, [m.target[a], m.target[b]]));
-            }
+    let alarm = through_stages(interp, |c| {
+        if let CanonKind::Motion(m) = c.kind {
+            // No work offset here: the stage moved both systems by the same.
+            assert!((m.machine[a] - m.target[a]).abs() < 1e-9 && (m.machine[b] - m.target[b]).abs() < 1e-9);
+            ends.push((c.line, [m.target[a], m.target[b]]));
         }
-        if let Some(alarm) = stage_alarm {
-            return (ends, Some((alarm.code, alarm.line)));
-        }
-        match step {
-            Ok(Step::Continue) => {}
-            Ok(Step::NeedInput) => interp.finish(),
-            Ok(Step::Ended) => return (ends, None),
-            Err(a) => return (ends, Some((a.code, a.line))),
-        }
-    }
+    });
+    (ends, alarm)
 }
 
 /// Every motion end, compared with the expected (line, X, Y) in order, to 1e-6.

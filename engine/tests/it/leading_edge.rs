@@ -6,62 +6,8 @@
 //! radius 5, length 100.
 
 use crate::common::*;
-use fivex_engine::canon::CanonKind;
-use fivex_engine::interp::gcode::code;
-use fivex_engine::interp::{Interpreter, Step};
 use fivex_engine::kin::{Kinematics, Vec3};
 use fivex_engine::machine::MachineConfig;
-use fivex_engine::stage::Pipeline;
-use fivex_engine::Dialect::Fanuc;
-
-/// Every motion end coming out of the stages (line, X/Y/Z in programming coordinates), and the
-/// alarm (code, line). Under G41.3 the machine axes must put the programmed (pivot-relative)
-/// point where the stage says.
-struct Ends {
-    ends: Vec<(u32, Vec3)>,
-    alarm: Option<(String, u32)>,
-}
-
-fn ends_of(src: &str) -> Ends {
-    let mut interp: Interpreter = interpreter(src, "head-bc", Fanuc);
-    let mut stages = Pipeline::for_config(interp.config());
-    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
-    let (mut out, mut ends) = (Vec::new(), Vec::new());
-    loop {
-        let step = interp.step(&mut out);
-        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
-        let stage_alarm = stages.process(&mut out, end);
-        for c in out.drain(..) {
-            if let CanonKind::Motion(m) = c.kind {
-                let on = m.context.cutter_comp == code::G41_3;
-                let at = Vec3::new(m.target[0], m.target[1], m.target[2]);
-                let length = if m.tip.is_some() { 100.0 } else { 0.0 };
-                let tip = kin.forward(&m.machine, length).tip;
-                let want = if let Some(t) = &m.tip { t.to } else { kin.forward(&m.target, 0.0).tip };
-                assert!(!on || (tip - want).norm() < 1e-9, "line {}: machine tip {tip:?}, stage {want:?}", c.line);
-                ends.push((c.line, at));
-            }
-        }
-        if let Some(a) = stage_alarm {
-            return Ends { ends, alarm: Some((a.code, a.line)) };
-        }
-        match step {
-            Ok(Step::Continue) => {}
-            Ok(Step::NeedInput) => interp.finish(),
-            Ok(Step::Ended) => return Ends { ends, alarm: None },
-            Err(a) => return Ends { ends, alarm: Some((a.code, a.line)) },
-        }
-    }
-}
-
-#[track_caller]
-fn assert_ends(src: &str, want: &[(u32, [f64; 3])]) {
-    let got = ends_of(src);
-    assert_eq!(got.alarm, None, "{src}");
-    let close = got.ends.len() == want.len()
-        && got.ends.iter().zip(want).all(|((l, p), (wl, w))| l == wl && (p - Vec3::from(*w)).norm() < 1e-6);
-    assert!(close, "got {:?}\nwant {want:?}\n{src}", got.ends);
-}
 
 /// 5·(sin 60°, cos 60°): R times the components of the tool at B30 (sin 30° = 0.5).
 const S: f64 = 4.330127018922193;
@@ -76,6 +22,7 @@ fn tv10_the_tool_trails_the_programmed_point_across_the_tool() {
     let src = "G90 G00 X0 Y0 Z0 B30. C0\nG41.3 D1\nG01 X100. F1000.\nX200.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 0.0]),
             (2, [-S, 0.0, C]),
@@ -88,6 +35,7 @@ fn tv10_the_tool_trails_the_programmed_point_across_the_tool() {
     let src = src.replace("B30.", "B-30.");
     assert_ends(
         &src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 0.0]),
             (2, [-S, 0.0, -C]),
@@ -106,6 +54,7 @@ fn tv10_a_vertical_tool_and_a_move_down_and_across() {
     let src = "G90 G00 X0 Y0 Z50. B0 C0\nG41.3 D1\nG01 X100. Z0 F1000.\nY100.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 50.0]),
             (2, [-5.0, 0.0, 50.0]),
@@ -120,11 +69,11 @@ fn tv10_a_vertical_tool_and_a_move_down_and_across() {
 fn tv12_the_block_after_g41_3_along_the_tool_is_ps5408() {
     for first in ["G01 Z-10. F500.", "G01 Z10. F500.", "G01 B10. F500."] {
         let src = format!("G90 G00 X0 Y0 Z0 B0 C0\nG41.3 D1\n{first}\nG40\nM30\n");
-        assert_eq!(ends_of(&src).alarm, Some(("PS5408".to_string(), 3)), "{src}");
+        assert_eq!(ends_of(&src, "head-bc").alarm, Some(("PS5408".to_string(), 3)), "{src}");
     }
     // Tilted: along the tool at B30 is (0.5, 0, 0.8660).
     let src = "G90 G00 X0 Y0 Z0 B30. C0\nG41.3 D1\nG01 X-50. Z-86.602540378 F500.\nG40\nM30\n";
-    assert_eq!(ends_of(src).alarm, Some(("PS5408".to_string(), 3)));
+    assert_eq!(ends_of(src, "head-bc").alarm, Some(("PS5408".to_string(), 3)));
 }
 
 #[test]
@@ -135,6 +84,7 @@ fn tv13_a_move_along_the_tool_keeps_the_vector_before() {
     let src = "G90 G00 X0 Y0 Z50. B0 C0\nG41.3 D1\nG01 X100. F500.\nZ40.\nZ30.\nX200.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 50.0]),
             (2, [-5.0, 0.0, 50.0]),
@@ -155,6 +105,7 @@ fn tv14_one_block_without_movement_is_looked_over() {
     let src = "G90 G00 X0 Y0 Z0 B0 C0\nG41.3 D1\nG01 X100. F500.\nB30.\nY100.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 0.0]),
             (2, [-5.0, 0.0, 0.0]),
@@ -172,6 +123,7 @@ fn tv14_two_blocks_without_movement_keep_the_vector_before() {
     let src = "G90 G00 X0 Y0 Z0 B0 C0\nG41.3 D1\nG01 X100. F500.\nB0\nC0\nY100.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 0.0]),
             (2, [-5.0, 0.0, 0.0]),
@@ -193,6 +145,7 @@ fn tv10_at_90_degrees_the_sign_follows_the_vector_before() {
     let src = "G90 G00 X0 Y0 Z0 B0 C0\nG41.3 D1\nG01 X100. F500.\nB0\nC0\nX0\nY100.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 0.0]),
             (2, [-5.0, 0.0, 0.0]),
@@ -215,6 +168,7 @@ fn tv15_the_block_before_g40_uses_its_own_move() {
     let src = "G90 G00 X0 Y0 Z0 B30. C0\nG41.3 D1\nG01 X100. F500.\nY100. Z-50.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 0.0]),
             (2, [-S, 0.0, C]),
@@ -229,11 +183,12 @@ fn tv15_the_block_before_g40_uses_its_own_move() {
 fn m30_ends_the_mode_at_the_last_vector_and_d_changes_act_from_their_block() {
     // M30 in the mode: the last block ends at its own vector (as before G40); no move back.
     let src = "G90 G00 X0 Y0 Z0 B0 C0\nG41.3 D1\nG01 X100. F500.\nM30\n";
-    assert_ends(src, &[(1, [0.0, 0.0, 0.0]), (2, [-5.0, 0.0, 0.0]), (3, [95.0, 0.0, 0.0])]);
+    assert_ends(src, "head-bc", &[(1, [0.0, 0.0, 0.0]), (2, [-5.0, 0.0, 0.0]), (3, [95.0, 0.0, 0.0])]);
     // D0 in the mode: the value of the block whose end the vector is at.
     let src = "G90 G00 X0 Y0 Z0 B0 C0\nG41.3 D1\nG01 X100. F500.\nD0\nX200.\nG40\nM30\n";
     assert_ends(
         src,
+        "head-bc",
         &[
             (1, [0.0, 0.0, 0.0]),
             (2, [-5.0, 0.0, 0.0]),
@@ -265,9 +220,7 @@ fn tv31_what_the_leading_edge_offset_does_not_perform_stays_refused() {
     ];
     for (src, line, preset, code) in cases {
         let src = format!("G90 G00 X0 Y0 Z0\n{src}G40\nM30\n");
-        let r = run_with(&src, preset, Fanuc);
-        let alarms: Vec<(&str, u32)> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
-        assert_eq!(alarms.first().copied(), Some((code, line)), "{preset}\n{src}\n{alarms:?}");
+        assert_eq!(first_alarm(&src, preset), Some((code.to_string(), line)), "{preset}\n{src}");
     }
 }
 
@@ -313,7 +266,7 @@ mod random {
                 lines.push(src.lines().count() as u32);
             }
             src += "G40\nM30\n";
-            let got = ends_of(&src);
+            let got = ends_of(&src, "head-bc");
             // Moves along the tool or exactly across it (90°) do not come up here.
             prop_assert_eq!(&got.alarm, &None);
             for (k, (p, (b, c))) in blocks.iter().enumerate() {

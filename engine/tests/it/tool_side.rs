@@ -6,63 +6,11 @@
 
 use crate::common::*;
 use fivex_engine::canon::CanonKind;
-use fivex_engine::interp::gcode::code;
-use fivex_engine::interp::{Interpreter, Step};
+use fivex_engine::interp::Step;
 use fivex_engine::kin::{Kinematics, Vec3};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::stage::Pipeline;
 use fivex_engine::Dialect::Fanuc;
-
-/// Every motion end coming out of the stages (line, X/Y/Z in programming coordinates, and the
-/// tool tip the machine axes put there by forward kinematics, tool length 100 when a length
-/// compensation is on), and the alarm (code, line).
-struct Ends {
-    ends: Vec<(u32, Vec3)>,
-    alarm: Option<(String, u32)>,
-}
-
-fn ends_of(src: &str, preset: &str) -> Ends {
-    let mut interp: Interpreter = interpreter(src, preset, Fanuc);
-    let mut stages = Pipeline::for_config(interp.config());
-    let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
-    let (mut out, mut ends) = (Vec::new(), Vec::new());
-    loop {
-        let step = interp.step(&mut out);
-        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
-        let stage_alarm = stages.process(&mut out, end);
-        for c in out.drain(..) {
-            if let CanonKind::Motion(m) = c.kind {
-                let on = matches!(m.context.cutter_comp, code::G41_2 | code::G42_2);
-                let at = Vec3::new(m.target[0], m.target[1], m.target[2]);
-                // The machine axes put the tool where the stage says (no work offset here):
-                // under TCP the tip, else the programmed (pivot-relative) point moved alike.
-                let length = if m.tip.is_some() { 100.0 } else { 0.0 };
-                let tip = kin.forward(&m.machine, length).tip;
-                let want = if let Some(t) = &m.tip { t.to } else { kin.forward(&m.target, 0.0).tip };
-                assert!(!on || (tip - want).norm() < 1e-9, "line {}: machine tip {tip:?}, stage {want:?}", c.line);
-                ends.push((c.line, at));
-            }
-        }
-        if let Some(a) = stage_alarm {
-            return Ends { ends, alarm: Some((a.code, a.line)) };
-        }
-        match step {
-            Ok(Step::Continue) => {}
-            Ok(Step::NeedInput) => interp.finish(),
-            Ok(Step::Ended) => return Ends { ends, alarm: None },
-            Err(a) => return Ends { ends, alarm: Some((a.code, a.line)) },
-        }
-    }
-}
-
-#[track_caller]
-fn assert_ends(src: &str, preset: &str, want: &[(u32, [f64; 3])]) {
-    let got = ends_of(src, preset);
-    assert_eq!(got.alarm, None, "{src}");
-    let close = got.ends.len() == want.len()
-        && got.ends.iter().zip(want).all(|((l, p), (wl, w))| l == wl && (p - Vec3::from(*w)).norm() < 1e-6);
-    assert!(close, "got {:?}\nwant {want:?}\n{src}", got.ends);
-}
 
 const H: f64 = std::f64::consts::FRAC_1_SQRT_2 * 5.0;
 
@@ -347,9 +295,7 @@ fn what_the_tool_side_offset_does_not_perform_stays_refused() {
     ];
     for (src, line, preset, code) in cases {
         let src = format!("G90 G00 X0 Y0 Z0\n{src}G40 X0\nM30\n");
-        let r = run_with(&src, preset, Fanuc);
-        let alarms: Vec<(&str, u32)> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
-        assert_eq!(alarms.first().copied(), Some((code, line + 1)), "{src}\n{alarms:?}");
+        assert_eq!(first_alarm(&src, preset), Some((code.to_string(), line + 1)), "{src}");
     }
 }
 

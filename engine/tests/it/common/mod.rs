@@ -220,3 +220,73 @@ pub fn check_strokes(samples: &[Sample], m: &MachineConfig) -> Result<(), TestCa
 pub fn cases(default: u32) -> u32 {
     std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(default)
 }
+
+/// The motion ends that come out of the path stages for `src` on `preset` (FANUC): line and
+/// X/Y/Z in programming coordinates, and the alarm (code, line). Under a 5-axis cutter
+/// compensation (G41.2…G42.6, G41.3) every motion's machine axes are checked to put the tool
+/// where the stage says: the tip under TCP (tool length 100), else the programmed point.
+pub struct Ends {
+    pub ends: Vec<(u32, fivex_engine::kin::Vec3)>,
+    pub alarm: Option<(String, u32)>,
+}
+
+pub fn ends_of(src: &str, preset: &str) -> Ends {
+    use fivex_engine::interp::gcode::code;
+    use fivex_engine::kin::{Kinematics, Vec3};
+    let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+    let mut ends = Vec::new();
+    let alarm = through_stages(interpreter(src, preset, Dialect::Fanuc), |c| {
+        if let CanonKind::Motion(m) = c.kind {
+            let on = code::TOOL_SIDE.contains(&m.context.cutter_comp) || m.context.cutter_comp == code::G41_3;
+            let at = Vec3::new(m.target[0], m.target[1], m.target[2]);
+            let length = if m.tip.is_some() { 100.0 } else { 0.0 };
+            let tip = kin.forward(&m.machine, length).tip;
+            let want = if let Some(t) = &m.tip { t.to } else { kin.forward(&m.target, 0.0).tip };
+            assert!(!on || (tip - want).norm() < 1e-9, "line {}: machine tip {tip:?}, stage {want:?}", c.line);
+            ends.push((c.line, at));
+        }
+    });
+    Ends { ends, alarm }
+}
+
+/// Run `interp` to its end through the path stages every driver uses, handing `each` every
+/// command that comes out; the alarm (code, line) that stopped it, if any.
+pub fn through_stages(mut interp: Interpreter, mut each: impl FnMut(Canon)) -> Option<(String, u32)> {
+    use fivex_engine::interp::Step;
+    let mut stages = fivex_engine::stage::Pipeline::for_config(interp.config());
+    let mut out = Vec::new();
+    loop {
+        let step = interp.step(&mut out);
+        let end = !matches!(step, Ok(Step::Continue | Step::NeedInput));
+        let stage_alarm = stages.process(&mut out, end);
+        out.drain(..).for_each(&mut each);
+        if let Some(a) = stage_alarm {
+            return Some((a.code, a.line));
+        }
+        match step {
+            Ok(Step::Continue) => {}
+            Ok(Step::NeedInput) => interp.finish(),
+            Ok(Step::Ended) => return None,
+            Err(a) => return Some((a.code, a.line)),
+        }
+    }
+}
+
+/// No alarm, and the motion ends of [`ends_of`] are `want` (line, X/Y/Z) to 1e-6, in order.
+#[track_caller]
+pub fn assert_ends(src: &str, preset: &str, want: &[(u32, [f64; 3])]) {
+    let got = ends_of(src, preset);
+    assert_eq!(got.alarm, None, "{src}");
+    let close = got.ends.len() == want.len()
+        && got
+            .ends
+            .iter()
+            .zip(want)
+            .all(|((l, p), (wl, w))| l == wl && (p - fivex_engine::kin::Vec3::from(*w)).norm() < 1e-6);
+    assert!(close, "got {:?}\nwant {want:?}\n{src}", got.ends);
+}
+
+/// The first alarm (code, line) of a run of `src` on `preset` (FANUC), if any.
+pub fn first_alarm(src: &str, preset: &str) -> Option<(String, u32)> {
+    run_with(src, preset, Dialect::Fanuc).alarms.first().map(|a| (a.code.clone(), a.line))
+}

@@ -1,0 +1,90 @@
+//! What the 5-axis compensation stages (`tool_side`, `leading_edge`) share: reading the tool
+//! direction of a motion's axes, and moving a motion by a 3-D vector. On machines without a
+//! rotary table (the only ones those stages run on) programming, table and machine coordinates
+//! differ by a rotation and a translation that the motion carries (`TipMove::frame` under TCP;
+//! without TCP only the work offsets translate), so a vector in programming coordinates moves
+//! the machine's X/Y/Z as it moves the tip in the table frame.
+
+use crate::canon::{Canon, CanonKind, Motion, Pos};
+use crate::kin::{Kinematics, Vec3};
+use crate::machine::MachineConfig;
+use nalgebra::Matrix3;
+use std::sync::Arc;
+
+/// The tool and the vector where it stands, for one stage.
+pub(super) struct ToolShift {
+    /// Axis indices of X, Y, Z.
+    xyz: [Option<usize>; 3],
+    kin: Option<Arc<Kinematics>>,
+    /// The tool direction with the rotary axes at 0 (a machine without rotary axes).
+    tool_axis: Vec3,
+    /// The compensated point minus the programmed one where the tool is (programming
+    /// coordinates), and the same in the table frame (the tip's shift under TCP).
+    pub(super) vector: Vec3,
+    vector_table: Vec3,
+}
+
+/// The rotation from programming to table coordinates of a motion (under TCP its frame; else
+/// none: the work offsets only translate).
+fn frame(m: &Motion) -> Matrix3<f64> {
+    m.tip.as_ref().map_or_else(Matrix3::identity, |t| t.frame.r)
+}
+
+impl ToolShift {
+    pub(super) fn new(m: &crate::machine::Machine) -> ToolShift {
+        let c: &MachineConfig = m;
+        ToolShift {
+            xyz: [c.axis_index(b'X'), c.axis_index(b'Y'), c.axis_index(b'Z')],
+            kin: m.kinematics().cloned(),
+            tool_axis: crate::kin::vec3(c.tool_axis).normalize(),
+            vector: Vec3::zeros(),
+            vector_table: Vec3::zeros(),
+        }
+    }
+
+    /// X, Y, Z of a position.
+    pub(super) fn xyz(&self, p: &Pos) -> Vec3 {
+        let at = |i: Option<usize>| i.map_or(0.0, |i| p[i]);
+        Vec3::new(at(self.xyz[0]), at(self.xyz[1]), at(self.xyz[2]))
+    }
+
+    /// Which of X, Y, Z (0, 1, 2) the machine axis `index` is.
+    pub(super) fn linear_of(&self, index: usize) -> Option<usize> {
+        self.xyz.iter().position(|&x| x == Some(index))
+    }
+
+    /// The tool direction (tip → holder, programming coordinates of `m`) with the machine axes
+    /// at `machine`.
+    pub(super) fn tool(&self, m: &Motion, machine: &Pos) -> Vec3 {
+        let table = self.kin.as_ref().map_or(self.tool_axis, |k| k.forward(machine, 0.0).tool);
+        frame(m).transpose() * table
+    }
+
+    /// `c` moved by `vector` (programming coordinates) at its end, starting where the tool
+    /// is; the tool is then there.
+    pub(super) fn placed(&mut self, mut c: Canon, vector: Vec3) -> Canon {
+        if let CanonKind::Motion(m) = &mut c.kind {
+            let table = frame(m) * vector;
+            for (k, i) in self.xyz.iter().enumerate() {
+                if let Some(i) = *i {
+                    m.target[i] += vector[k];
+                    // No rotary table: machine X/Y/Z move as the tip does in the table frame.
+                    m.machine[i] += table[k];
+                }
+            }
+            if let Some(t) = m.tip.as_deref_mut() {
+                t.from += self.vector_table;
+                t.to += table;
+            }
+            self.vector_table = table;
+        }
+        self.vector = vector;
+        c
+    }
+
+    /// A reset: the tool stands where the program says.
+    pub(super) fn reset(&mut self) {
+        self.vector = Vec3::zeros();
+        self.vector_table = Vec3::zeros();
+    }
+}
