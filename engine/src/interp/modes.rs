@@ -251,6 +251,21 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "crc CRC-48, TV-22: G49 before G40 when CRC started inside TCP", A::IllegalCommandInMode, |c| {
         c.five.crc_inside_tcp && c.tcp_cancels() && c.crc5(c.after[group::CUTTER_COMP])
     }),
+    rule(
+        Fanuc,
+        "crc TV-24, §3.5.3: TCP with CRC on a table/mixed machine in one system (WKP = 1; TBP = 0, not modelled)",
+        A::IllegalCommandInMode,
+        |c| {
+            let (crc, tcp) = (c.after[group::CUTTER_COMP], c.after[group::LENGTH_COMP]);
+            let together = c.crc5(crc) && c.tcp(tcp);
+            let starting =
+                c.starts(group::CUTTER_COMP, |c, m| c.crc5(m)) || c.starts(group::LENGTH_COMP, |c, m| c.tcp(m));
+            c.table_or_mixed()
+                && together
+                && starting
+                && c.st.cfg.machine.five_axis.tcp_coordinates != crate::machine::TcpCoordinates::Workpiece
+        },
+    ),
     rule(Fanuc, "crc CRC-46, TV-29: no G20/G21 in 5-axis cutter compensation", A::UnitChangeInMode, |c| {
         c.during(group::CUTTER_COMP, |c, m| c.crc5(m)) && c.any(&[G20, G21])
     }),

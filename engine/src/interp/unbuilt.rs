@@ -167,8 +167,7 @@ pub struct CutterBlock {
     pub inverse_time: bool,
     /// G62 automatic corner override (its inner-corner feed reduction is not built).
     pub corner_override: bool,
-    /// The machine turns the workpiece (a rotary table): the programming system turns under
-    /// the tool (table and mixed types, their own rules).
+    /// The machine turns the workpiece (a rotary table: table and mixed types).
     pub rotary_table: bool,
     /// Q in the block that the mode does not take: any Q under G41.3 and under type 2 (its
     /// inclination), under G41.2/G42.2 a Q other than Q1/Q2/Q3 (the tool side offset's answers
@@ -183,8 +182,9 @@ pub struct CutterBlock {
 /// Cutter compensation C shifts the path in the plane by the same vector in programming and
 /// machine coordinates: right only while the two differ by a translation, for plain motions.
 /// The tool side offset compensates straight moves in the plane perpendicular to the tool, on a
-/// machine whose rotary axes turn the tool only: type 1 with or without TCP, type 2 under G43.5;
-/// the leading edge offset (straight moves only, by its mode rules) likewise.
+/// machine of any mechanism type (on table machines in the workpiece system, TBP = 0): type 1
+/// with or without TCP, type 2 under G43.5. The leading edge offset: straight moves (by its
+/// mode rules) on a machine whose rotary axes turn the tool only.
 pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
     let five_axis = b.tool_side || b.leading_edge;
     let conventional = !five_axis;
@@ -196,7 +196,6 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.rotary && conventional, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
-        (b.tool_side && b.rotary_table, "the tool side offset on a machine with a rotary table"),
         (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset (type 2: its inclination)"),
         (b.type2_alone, "the tool side offset of type 2 (G41.6/G42.6) without G43.5"),
         (b.leading_edge && b.rotary_table, "the leading edge offset (G41.3) on a machine with a rotary table"),

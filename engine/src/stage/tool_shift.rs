@@ -1,9 +1,11 @@
 //! What the 5-axis compensation stages (`tool_side`, `leading_edge`) share: reading the tool
-//! direction of a motion's axes, and moving a motion by a 3-D vector. On machines without a
-//! rotary table (the only ones those stages run on) programming, table and machine coordinates
-//! differ by a rotation and a translation that the motion carries (`TipMove::frame` under TCP;
-//! without TCP only the work offsets translate), so a vector in programming coordinates moves
-//! the machine's X/Y/Z as it moves the tip in the table frame.
+//! direction of a motion's axes in its programming coordinates, and moving a motion by a 3-D
+//! vector given in them. Without TCP the programming coordinates are the machine's directions
+//! moved by the work offsets (on a table machine they do not turn with the table: FANUC's
+//! workpiece coordinate system, TBP = 0), so the tool is its machine direction and a vector
+//! moves the machine's X/Y/Z as it is. Under TCP they are the motion's `TipMove::frame` in the
+//! table frame: the tool is read there, the tip moved there, and the machine's X/Y/Z put where
+//! the kinematics carry the moved tip.
 
 use crate::canon::{Canon, CanonKind, Motion, Pos};
 use crate::kin::{Kinematics, Vec3};
@@ -56,25 +58,38 @@ impl ToolShift {
     /// The tool direction (tip → holder, programming coordinates of `m`) with the machine axes
     /// at `machine`.
     pub(super) fn tool(&self, m: &Motion, machine: &Pos) -> Vec3 {
-        let table = self.kin.as_ref().map_or(self.tool_axis, |k| k.forward(machine, 0.0).tool);
-        frame(m).transpose() * table
+        let Some(kin) = &self.kin else { return self.tool_axis };
+        let pose = kin.forward(machine, 0.0);
+        match &m.tip {
+            Some(t) => t.frame.r.transpose() * pose.tool,
+            None => pose.tool_machine,
+        }
     }
 
     /// `c` moved by `vector` (programming coordinates) at its end, starting where the tool
     /// is; the tool is then there.
     pub(super) fn placed(&mut self, mut c: Canon, vector: Vec3) -> Canon {
         if let CanonKind::Motion(m) = &mut c.kind {
-            let table = frame(m) * vector;
             for (k, i) in self.xyz.iter().enumerate() {
                 if let Some(i) = *i {
                     m.target[i] += vector[k];
-                    // No rotary table: machine X/Y/Z move as the tip does in the table frame.
-                    m.machine[i] += table[k];
                 }
             }
-            if let Some(t) = m.tip.as_deref_mut() {
-                t.from += self.vector_table;
-                t.to += table;
+            let table = frame(m) * vector;
+            // Under TCP the machine's X/Y/Z carry the moved tip (on a table machine the table's
+            // turn at the end stands between); without it they move as the program does.
+            let carriage = match (m.tip.as_deref_mut(), &self.kin) {
+                (Some(t), Some(kin)) => {
+                    t.from += self.vector_table;
+                    t.to += table;
+                    Some(kin.carriage_for(&m.machine, t.to, t.tool_length))
+                }
+                _ => None,
+            };
+            for (k, i) in self.xyz.iter().enumerate() {
+                if let Some(i) = *i {
+                    m.machine[i] = carriage.map_or(m.machine[i] + vector[k], |p| p[k]);
+                }
             }
             self.vector_table = table;
         }

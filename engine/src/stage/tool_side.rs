@@ -1,6 +1,6 @@
 //! Tool side offset of 5-axis cutter compensation (FANUC G41.2/G42.2 type 1, G41.6/G42.6
-//! type 2 under G43.5) on a machine whose rotary axes turn the tool: at the end Q of each block the compensation plane is the
-//! plane perpendicular to the tool there; the block, its start P and the next block's end R are
+//! type 2 under G43.5): at the end Q of each block the compensation plane is the plane
+//! perpendicular to the tool there; the block, its start P and the next block's end R are
 //! projected on it and cutter compensation C places the corner in it (the 2-D rules of
 //! `stage::cutter`); the vectors found are added to the programmed 3-D point Q (FANUC 5-axis
 //! manual §3.1.2, "the same as cutter compensation C" in that plane). Rules, decisions and what
@@ -10,10 +10,9 @@
 //! tool taken out; a block that does not move in its plane (a move along the tool, a rotary
 //! axis alone) is a block without motion and keeps the vector of the block before it. A circle
 //! is compensated where the tool is along its normal (seen from a tilted tool it is an
-//! ellipse: refused here, at run time). Only machines without a rotary table (the interpreter
-//! refuses the others, `interp::unbuilt::cutter`): the programming system does not turn under
-//! the tool, so programming, table and machine coordinates differ by a rotation and a
-//! translation that the block carries (`TipMove::frame` under TCP; `stage::tool_shift`).
+//! ellipse: refused here, at run time). The tool is read, and a motion moved, in its
+//! programming coordinates (`stage::tool_shift`): on a table machine the workpiece system,
+//! which does not turn with the table.
 
 use super::cutter::curve::{Curve, P2};
 use super::cutter::{check_direction, corner, Held, MAX_BLOCKS_BETWEEN};

@@ -865,10 +865,11 @@ fn tv65_tcp_needs_linear_type_rapids() {
 
 #[test]
 fn tv69_cutter_compensation_nested_with_tcp_in_the_workpiece_system() {
-    // 5-axis cutter compensation is not built: G41.2 is refused at its block (`unbuilt.rs`);
-    // TV-69 comes back when it is built.
+    // Both nestings accepted with WKP = 1 on a mixed machine (the tool side offset and TCP in
+    // the same system, TV-24); with Π on the table (WKP = 0) the second to start is PS5460.
     for src in ["G41.2 D1\nG43.4 H1\nG49\nG40\nM30\n", "G43.4 H1\nG41.2 D1\nG40\nG49\nM30\n"] {
-        assert_eq!(outcome(workpiece_preset("mixed-bc"), src), "PS0010", "{src}");
+        assert_eq!(outcome(workpiece_preset("mixed-bc"), src), "ok", "{src}");
+        assert_eq!(outcome(free_preset("mixed-bc"), src), "PS5460", "{src}");
     }
 }
 

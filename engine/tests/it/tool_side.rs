@@ -194,6 +194,50 @@ fn no_19632_places_the_vectors_at_the_cutting_points() {
 }
 
 #[test]
+fn on_a_table_machine_the_plane_is_perpendicular_to_the_fixed_tool() {
+    // table-ac, the table turned (A30 C40): without TCP the program is in the workpiece system,
+    // which does not turn with the table (TBP = 0), and the tool stands along Z: the tool side
+    // offset is cutter compensation C in XY.
+    let contour = "G01 X0 Y0 F500.\nX40.\nY40.\nX20. Y25.\nX0 Y40.\nY0\nG40 Y-10.\nM30\n";
+    let g41 = ends_of(&format!("G90 G00 X-10. Y-10. Z0\nG41 D1\n{contour}"), "mill3");
+    let g41_2 = ends_of(&format!("G90 G00 X-10. Y-10. Z0 A30. C40.\nG41.2 D1\n{contour}"), "table-ac");
+    assert_eq!((&g41.alarm, &g41_2.alarm), (&None, &None));
+    assert_eq!(g41.ends.len(), g41_2.ends.len());
+    for ((l1, a), (l2, b)) in g41.ends.iter().zip(&g41_2.ends) {
+        assert!(l1 == l2 && (a - b).norm() < 1e-9, "line {l1}: {a:?} {b:?}");
+    }
+    // Under TCP in the workpiece system (WKP = 1) the tip follows the same offset path, the
+    // table turning under it (the machine axes carry the tip: forward kinematics); with Π on
+    // the table (WKP = 0, the default) TCP and compensation would be in two systems: PS5460
+    // (TV-24).
+    let tcp = format!("G90 G00 X-10. Y-10. Z0 A0 C0\nG43.4 H1\nG00 A30. C40.\nG41.2 D1\n{contour}")
+        .replace("M30", "G49\nM30");
+    let workpiece = |c: &mut fivex_engine::interp::Config| {
+        c.edit_machine(|m| m.five_axis.tcp_coordinates = fivex_engine::machine::TcpCoordinates::Workpiece)
+    };
+    let kin = Kinematics::new(&MachineConfig::preset("table-ac").unwrap()).unwrap();
+    let mut ends = Vec::new();
+    let alarm = through_stages(interpreter_with(&tcp, "table-ac", Fanuc, workpiece), |c| {
+        if let CanonKind::Motion(m) = c.kind {
+            if let Some(t) = m.tip.as_deref() {
+                assert!((kin.forward(&m.machine, 100.0).tip - t.to).norm() < 1e-9, "line {}", c.line);
+                // The tip in the workpiece system: machine directions (the frame only turns
+                // the table's frame back).
+                ends.push((c.line, t.frame.r.transpose() * (t.to - t.frame.o)));
+            }
+        }
+    });
+    assert_eq!(alarm, None);
+    let ends: Vec<_> = ends.into_iter().filter(|(l, _)| *l >= 5).collect();
+    let planar: Vec<_> = g41.ends.iter().filter(|(l, _)| *l >= 3).collect();
+    assert_eq!(ends.len(), planar.len(), "{ends:?}");
+    for ((l1, p), (l2, q)) in ends.iter().zip(planar) {
+        assert!(l1 - 2 == *l2 && (p.xy() - q.xy()).norm() < 1e-6, "line {l1}: {p:?} {q:?}");
+    }
+    assert_eq!(first_alarm(&tcp, "table-ac"), Some(("PS5460".into(), 4)));
+}
+
+#[test]
 fn tv07_changing_the_side_retraces_the_block() {
     // (3)-1: G42.2 in the returning block: the tool comes back on the same line (start, end
     // and the cancel's start all 5 to the left of +X).
@@ -281,9 +325,6 @@ fn tv01_a_change_of_plane_that_reverses_the_path_is_ps0041() {
 #[test]
 fn what_the_tool_side_offset_does_not_perform_stays_refused() {
     let cases = [
-        // A rotary table: not built.
-        ("G41.2 D1 G01 X10. F500\n", 1, "table-ac", "PS0010"),
-        ("G41.2 D1 G01 X10. F500\n", 1, "mixed-bc", "PS0010"),
         ("G41.2 D1 G01 X10. F500\nG93 X20. F10.\n", 2, "head-bc", "PS0010"),
         // Type 2 without G43.5, a Q in type 2 (its inclination); the leading edge offset is
         // `leading_edge.rs`'s.
@@ -322,17 +363,19 @@ mod random {
     //! The defining rule on random contours: with the tool in any fixed direction, and any part
     //! of each move along the tool, the vector added at every block end is perpendicular to the
     //! tool and is the vector cutter compensation C finds for the contour seen in the plane
-    //! perpendicular to the tool (G41 in G17 on the same points in plane coordinates).
+    //! perpendicular to the tool (G41 in G17 on the same points in plane coordinates); on a
+    //! tool rotation machine and on a mixed one (whose table turns under the program).
 
     use super::*;
     use proptest::prelude::*;
 
-    /// The tool direction at B, C on head-bc.
-    fn tool(b: f64, c: f64) -> Vec3 {
-        let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    /// The tool direction (machine coordinates: without TCP the program's) at B, C on
+    /// `preset` (head-bc: both turn the tool; mixed-bc: B the tool, C the table).
+    fn tool(preset: &str, b: f64, c: f64) -> Vec3 {
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
         let mut pos = [0.0; 8];
         (pos[3], pos[4]) = (b, c);
-        kin.forward(&pos, 0.0).tool
+        kin.forward(&pos, 0.0).tool_machine
     }
 
     fn program(side: &str, points: &[[f64; 3]], start: [f64; 3], first: &str) -> String {
@@ -361,8 +404,10 @@ mod random {
             c in -180.0..180.0f64,
             corners in contour(),
             left in any::<bool>(),
+            mixed in any::<bool>(),
         ) {
-            let t = tool(b, c);
+            let preset = if mixed { "mixed-bc" } else { "head-bc" };
+            let t = tool(preset, b, c);
             // The test's own plane axes (any pair with e2 × e3 = the tool will do).
             let e2 = t.cross(&Vec3::new(0.3, -0.5, 0.8)).normalize();
             let e3 = t.cross(&e2);
@@ -375,7 +420,7 @@ mod random {
             let plane = ends_of(&program(side, &flat3, [start[0], start[1], 0.0], ""), "mill3");
             let points: Vec<[f64; 3]> = flat.iter().zip(&corners).map(|(p, k)| arr(lift(*p, k.2))).collect();
             let tilted = program(&format!("{side}.2"), &points, arr(lift(start, 0.0)), &format!(" B{b:.9} C{c:.9}"));
-            let tilted = ends_of(&tilted, "head-bc");
+            let tilted = ends_of(&tilted, preset);
             prop_assert_eq!(&plane.alarm, &tilted.alarm);
             // A contour the compensation refuses (a gouge) is refused by both: compare others.
             prop_assume!(plane.alarm.is_none());
