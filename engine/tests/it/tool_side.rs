@@ -441,4 +441,83 @@ mod random {
             }
         }
     }
+
+    /// A star polygon lifted into the plane perpendicular to `t` (with the parts along it of
+    /// `corners`) as a program: the machine turned to `angles` first, TCP, the contour under
+    /// `side` (G41.2 or G42.2), the cancel, G49.
+    fn tcp_program(side: &str, t: Vec3, corners: &[(f64, f64, f64)], angles: &str) -> (String, Vec<Vec3>) {
+        let e2 = t.cross(&Vec3::new(0.3, -0.5, 0.8)).normalize();
+        let e3 = t.cross(&e2);
+        let points: Vec<Vec3> =
+            corners.iter().map(|(a, r, z)| e2 * (r * a.cos()) + e3 * (r * a.sin()) + t * *z).collect();
+        let xyz = |p: &Vec3| format!("X{:.9} Y{:.9} Z{:.9}", p.x, p.y, p.z);
+        let start = points[0] * 1.6;
+        let mut src = format!("G90 G00 {} {angles}\nG43.4 H1\n{side} D1\nG01 F3000. ", xyz(&start));
+        for p in points.iter().chain(std::iter::once(&points[0])) {
+            src += &format!("{}\n", xyz(p));
+        }
+        src += &format!("G40 {}\nG49\nM30\n", xyz(&start));
+        (src, points)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: cases(24), max_global_rejects: 10_000, ..ProptestConfig::default() })]
+        /// At every sample of the run in the middle of a contour block, the real tool tip (forward
+        /// kinematics of the sampled axes) is at the radius from the programmed line, measured
+        /// in the plane perpendicular to the tool, on the commanded side: on a tool rotation, a
+        /// mixed and a table machine, under TCP in the workpiece system.
+        #[test]
+        fn every_sample_of_a_straight_block_keeps_the_tip_at_the_radius(
+            machine in 0..3usize,
+            b in -50.0..50.0f64,
+            c in -180.0..180.0f64,
+            corners in contour(),
+            left in any::<bool>(),
+        ) {
+            let (preset, angles) = [("head-bc", "B"), ("mixed-bc", "B"), ("table-ac", "A")][machine];
+            let angles = format!("{angles}{b:.3} C{c:.3}");
+            let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+            let mut pos = [0.0; 8];
+            (pos[3], pos[4]) = ((b * 1000.0).round() / 1000.0, (c * 1000.0).round() / 1000.0);
+            // The tool in the workpiece system (which does not turn with a table: WKP = 1).
+            let t = kin.forward(&pos, 0.0).tool_machine;
+            let side = if left { "G41.2" } else { "G42.2" };
+            let (src, points) = tcp_program(side, t, &corners, &angles);
+            let workpiece = |c: &mut fivex_engine::interp::Config| {
+                c.edit_machine(|m| m.five_axis.tcp_coordinates = fivex_engine::machine::TcpCoordinates::Workpiece)
+            };
+            prop_assume!(first_alarm_with(&src, preset, workpiece).is_none());
+            let mut interp = interpreter_with(&src, preset, Fanuc, workpiece);
+            let n = points.len();
+            let mut checked = 0;
+            let mut worst = 0.0f64;
+            let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+                // Line 5 + k runs from corner k to corner k + 1 (the start-up block is line 4).
+                let k = s.line as usize;
+                if !(5..5 + n).contains(&k) {
+                    return;
+                }
+                let (p, q) = (points[(k - 5) % n], points[(k - 4) % n]);
+                // The real tip from the sampled axes (tool length 100), in machine coordinates:
+                // the programming system here (no work offset; WKP = 1 does not turn with the
+                // table, where the trace's `tip` is on the table).
+                let tip = kin.forward(&s.machine, 100.0).tip_machine;
+                // In the plane perpendicular to the tool: the programmed line and the tip.
+                let flat = |v: Vec3| v - t * v.dot(&t);
+                let (d, w) = (flat(q - p), flat(tip - p));
+                let u = d.dot(&w) / d.norm_squared();
+                if !(0.25..=0.75).contains(&u) {
+                    return;
+                }
+                let across = w - d * u;
+                let sign = if t.dot(&d.cross(&across)) > 0.0 { 1.0 } else { -1.0 };
+                let want = if left { 5.0 } else { -5.0 };
+                worst = worst.max((sign * across.norm() - want).abs());
+                checked += 1;
+            });
+            prop_assert!(r.completed(), "{:?}", r.alarms);
+            prop_assert!(checked > 10 * n, "{} samples checked", checked);
+            prop_assert!(worst < 1e-3, "a sample {} mm off the radius", worst);
+        }
+    }
 }

@@ -288,5 +288,12 @@ pub fn assert_ends(src: &str, preset: &str, want: &[(u32, [f64; 3])]) {
 
 /// The first alarm (code, line) of a run of `src` on `preset` (FANUC), if any.
 pub fn first_alarm(src: &str, preset: &str) -> Option<(String, u32)> {
-    run_with(src, preset, Dialect::Fanuc).alarms.first().map(|a| (a.code.clone(), a.line))
+    first_alarm_with(src, preset, |_| {})
+}
+
+/// [`first_alarm`] with the configuration `tweak` adjusts.
+pub fn first_alarm_with(src: &str, preset: &str, tweak: impl FnOnce(&mut Config)) -> Option<(String, u32)> {
+    let mut interp = interpreter_with(src, preset, Dialect::Fanuc, tweak);
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+    r.alarms.first().map(|a| (a.code.clone(), a.line))
 }
