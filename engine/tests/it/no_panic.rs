@@ -3,7 +3,8 @@
 //! The parser, the static checks, the interpreter (`Interpreter::run`) and the ideal executor
 //! (`run::run`) are fed (a) arbitrary strings and bytes, (b) strings built from an NC-ish alphabet
 //! and from a small random grammar of blocks, and (c) random mutations of a valid macro program.
-//! Every run has a small block budget, so loops end. Case counts keep the file to a few seconds
+//! And (d) random block sequences of the 5-axis compensations (G41.2…G42.6, G41.3, with TCP)
+//! on every mechanism type. Every run has a small block budget, so loops end. Case counts keep the file to a few seconds
 //! in a debug build; `PROPTEST_CASES=N` raises them all for a longer local run.
 //!
 //! Inputs are kept short (a few hundred characters): very long lines overflow the stack in the
@@ -333,5 +334,74 @@ proptest! {
             text = apply(&text, m);
         }
         exercise(&text);
+    }
+}
+
+/// A block of a 5-axis compensation program: a move (often degenerate: repeated points, moves
+/// along the tool, rotary axes alone), a mode change, a word the mode refuses or answers.
+fn compensation_block() -> impl Strategy<Value = String> {
+    let coord = prop_oneof![
+        3 => (-200.0f64..200.0).prop_map(|x| format!("{x:.3}")),
+        1 => prop::sample::select(vec!["0", "0.", "1e3", "-0.", "0.001", "99999."]).prop_map(String::from),
+    ];
+    let axis = prop::sample::select(vec!['X', 'Y', 'Z', 'A', 'B', 'C']);
+    let words = prop::collection::vec((axis, coord), 0..4)
+        .prop_map(|w| w.into_iter().map(|(l, v)| format!("{l}{v}")).collect::<Vec<_>>().join(" "));
+    let mode = prop::sample::select(vec![
+        "",
+        "",
+        "",
+        "G41.2 D1",
+        "G42.2 D1",
+        "G41.6 D1",
+        "G42.6 D2",
+        "G41.3 D1",
+        "G40",
+        "G43.4 H1",
+        "G43.5 H1",
+        "G49",
+        "G02",
+        "G03",
+        "G00",
+        "G01",
+        "Q1",
+        "Q2",
+        "Q3",
+        "Q7",
+        "D0",
+        "D3",
+        "I0 J0 K1.",
+        "I1. J0 K0",
+        "I0 J0 K0",
+        "R5.",
+        "G17",
+        "G19",
+    ]);
+    (mode, words).prop_map(|(m, w)| format!("{m} {w}"))
+}
+
+/// The 5-axis compensation stages (tool side offset, leading edge offset) on every mechanism
+/// type: any block sequence ends in an alarm or a run whose end is a number.
+fn exercise_compensation(text: &str) {
+    for preset in ["head-bc", "mixed-bc", "table-ac"] {
+        let mut interp = interpreter(text, preset, Dialect::Fanuc);
+        for (n, d) in [(2, -3.0), (3, 0.0)] {
+            interp.state.offsets.tool_mut(n).expect("offset").d_geometry = d;
+        }
+        let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+        assert!(r.machine.iter().all(|x| x.is_finite()), "{preset}: ends at {:?} ({:?})", r.machine, r.alarms);
+        assert!(r.cycle_time_s.is_finite(), "{preset}: cycle time {}", r.cycle_time_s);
+    }
+}
+
+proptest! {
+    #![proptest_config(cases(200))]
+
+    #[test]
+    fn random_five_axis_compensation_programs(
+        blocks in prop::collection::vec(compensation_block(), 1..14),
+    ) {
+        let text = format!("G90 G01 F1000. X0 Y0 Z0\n{}\nM30\n", blocks.join("\n"));
+        exercise_compensation(&text);
     }
 }
