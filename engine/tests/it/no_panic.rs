@@ -4,8 +4,9 @@
 //! (`run::run`) are fed (a) arbitrary strings and bytes, (b) strings built from an NC-ish alphabet
 //! and from a small random grammar of blocks, and (c) random mutations of a valid macro program.
 //! And (d) random block sequences of the 5-axis compensations (G41.2…G42.6, G41.3, with TCP)
-//! on every mechanism type. Every run has a small block budget, so loops end. Case counts keep the file to a few seconds
-//! in a debug build; `PROPTEST_CASES=N` raises them all for a longer local run.
+//! on every mechanism type. Every run has a small block budget, so loops end. Case counts keep
+//! the file to a few seconds in a debug build; `PROPTEST_CASES=N` raises them all for a longer
+//! local run.
 //!
 //! Inputs are kept short (a few hundred characters): very long lines overflow the stack in the
 //! parser and the evaluator (see `tests/tests/cli.rs`, `deep_expressions_do_not_crash`), which
