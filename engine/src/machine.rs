@@ -295,6 +295,14 @@ pub struct FiveAxisOptions {
     /// a tool length offset or TCP started inside it with this setting (PS0438, WSE-24).
     #[serde(default, skip_serializing_if = "is_false")]
     pub length_offset_by_motion: bool,
+    /// The tool side offset's interference check at a change of the compensation plane looks at
+    /// corners where the tool turns by this angle or more, degrees (FANUC No.19635; 0: 45°).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub plane_change_angle: f64,
+    /// The leading edge offset counts the angle between the tool and the next move as 0°, 90°
+    /// or 180° within this many degrees of them (FANUC No.19631, Δθ; 0: exact).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub leading_edge_tolerance: f64,
     /// The tool side offset (G41.2/G42.2) places its vectors at the cutting point this far
     /// along the tool from the programmed (pivot) point, mm (FANUC No.19632, CRC-30: the
     /// point is Q + d·(tool direction, tip → holder), the manual's formula); 0: at the
@@ -656,6 +664,10 @@ impl MachineConfig {
         }
         if !f.cutting_point_distance.is_finite() {
             return Err("five_axis: cutting_point_distance must be a finite number".into());
+        }
+        let angle = |x: f64| (0.0..=180.0).contains(&x);
+        if !(angle(f.plane_change_angle) && angle(f.leading_edge_tolerance)) {
+            return Err("five_axis: plane_change_angle and leading_edge_tolerance are 0 to 180 degrees".into());
         }
         if self.tool_axis.iter().map(|x| x * x).sum::<f64>().sqrt() < 1e-9 {
             return Err("tool_axis needs a non-zero direction".into());

@@ -27,11 +27,6 @@ use crate::kin::Vec3;
 /// A move shorter than this (X/Y/Z) does not move (mm): a block without movement.
 const NO_MOVE: f64 = 1e-9;
 
-/// FANUC No.19631, Δθ (degrees): θ within Δθ of 0°, 180° or 90° counts as that angle. fivex does
-/// not read it (a parameter list that sets it is reported as not modelled): the manual gives no
-/// default, a cleared parameter is 0 — only the exact angles count.
-pub const DELTA_THETA_DEG: f64 = 0.0;
-
 /// Directions computed from rotary angles are not exact: an angle this close (degrees) to 0°,
 /// 90° or 180° is that angle whatever Δθ is.
 const ANGLE_EPS_DEG: f64 = 1e-7;
@@ -82,11 +77,13 @@ pub struct Previous {
 /// (VM_{n+1}, or the block's own before G40), `own` the block's own move VM_n (the 90° rule
 /// compares the vector before with (VM_n × VT_{n−1}) × VT_{n−1}), `r` the offset value.
 /// `None`: θ counts as 0° or 180° (or there is no move): no vector of its own.
-pub fn vector(r: f64, tool: Vec3, next: Vec3, own: Vec3, previous: Option<Previous>) -> Option<Vec3> {
+/// `delta`: Δθ of [`classify`] (`five_axis.leading_edge_tolerance`, No.19631; the manual gives
+/// no default, a cleared parameter is 0: only the exact angles count).
+pub fn vector(r: f64, tool: Vec3, next: Vec3, own: Vec3, previous: Option<Previous>, delta: f64) -> Option<Vec3> {
     if next.norm() <= NO_MOVE {
         return None;
     }
-    let class = classify(theta(tool, next), DELTA_THETA_DEG);
+    let class = classify(theta(tool, next), delta);
     if class == Theta::Along {
         return None;
     }
@@ -133,6 +130,8 @@ pub struct LeadingEdge {
     after: Vec<Canon>,
     stopped: bool,
     alarm: Option<(AlarmId, u32, Option<u32>)>,
+    /// Δθ of the θ classes (`five_axis.leading_edge_tolerance`, No.19631), degrees.
+    delta_theta: f64,
     /// `Config::refuse_unbuilt` (off: the stage hands everything on as it comes, for the tests
     /// of the mode interlocks).
     refuse: bool,
@@ -152,6 +151,7 @@ impl LeadingEdge {
             after: Vec::new(),
             stopped: false,
             alarm: None,
+            delta_theta: m.five_axis.leading_edge_tolerance,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -184,7 +184,7 @@ impl LeadingEdge {
     /// waiting is the block before G40, its vector is made with its own move (CRC-26).
     fn end_mode(&mut self, out: &mut Vec<Canon>) {
         if let Some(w) = &self.waiting {
-            let vc = vector(w.r, w.tool, w.mv, w.mv, self.previous).unwrap_or_else(|| self.kept());
+            let vc = vector(w.r, w.tool, w.mv, w.mv, self.previous, self.delta_theta).unwrap_or_else(|| self.kept());
             self.release(vc, out);
         }
         for c in std::mem::take(&mut self.after) {
@@ -290,7 +290,7 @@ impl LeadingEdge {
         if let Some(s) = self.startup.take() {
             // Start-up (CRC-22): the tool at G41.3 and this block's move.
             let tool0 = self.shift.tool(m, &s.machine);
-            let Some(vc) = vector(r, tool0, mv, mv, None) else {
+            let Some(vc) = vector(r, tool0, mv, mv, None, self.delta_theta) else {
                 self.alarm(AlarmId::LeadingEdgeAlongTool, &c);
                 return;
             };
@@ -304,7 +304,7 @@ impl LeadingEdge {
         } else if let Some(w) = &self.waiting {
             // The block before ends at its vector with this block's move (CRC-23; one block
             // without movement between them is looked over, CRC-25).
-            let vc = vector(w.r, w.tool, mv, w.mv, self.previous).unwrap_or_else(|| self.kept());
+            let vc = vector(w.r, w.tool, mv, w.mv, self.previous, self.delta_theta).unwrap_or_else(|| self.kept());
             self.release(vc, out);
         }
         self.waiting = Some(Waiting { canon: c, mv, tool, r });
@@ -376,19 +376,19 @@ mod tests {
             (Vec3::z(), x, 5.0, [-5.0, 0.0, 0.0]),
         ];
         for (tool, mv, r, want) in cases {
-            let got = vector(r, tool, mv, mv, None).unwrap();
+            let got = vector(r, tool, mv, mv, None, 0.0).unwrap();
             assert!(near(got, want), "{tool:?} {mv:?}: {got:?}");
         }
         // 90° after a vector that pointed the other way (+(VM_n × VT_{n−1}) × VT_{n−1} negated):
         // the sign follows it.
         let before = Previous { vc: Vec3::new(5.0, 0.0, 0.0), tool: Vec3::z() };
-        assert!(near(vector(5.0, Vec3::z(), x, x, Some(before)).unwrap(), [5.0, 0.0, 0.0]));
+        assert!(near(vector(5.0, Vec3::z(), x, x, Some(before), 0.0).unwrap(), [5.0, 0.0, 0.0]));
         let before = Previous { vc: Vec3::new(-5.0, 0.0, 0.0), tool: Vec3::z() };
-        assert!(near(vector(5.0, Vec3::z(), x, x, Some(before)).unwrap(), [-5.0, 0.0, 0.0]));
+        assert!(near(vector(5.0, Vec3::z(), x, x, Some(before), 0.0).unwrap(), [-5.0, 0.0, 0.0]));
         // Not 90°: the formula whatever the vector before.
         let before = Previous { vc: Vec3::new(10.0, 0.0, 0.0), tool: Vec3::z() };
         let mv = Vec3::new(100.0, 0.0, -50.0);
-        assert!(near(vector(10.0, Vec3::z(), mv, mv, Some(before)).unwrap(), [-10.0, 0.0, 0.0]));
+        assert!(near(vector(10.0, Vec3::z(), mv, mv, Some(before), 0.0).unwrap(), [-10.0, 0.0, 0.0]));
     }
 
     #[test]
@@ -407,15 +407,15 @@ mod tests {
             assert_eq!(classify(theta, 5.0), want, "θ = {theta}");
         }
         // With No.19631 = 0 (fivex's): only the exact angles.
-        assert_eq!(classify(0.001, DELTA_THETA_DEG), Theta::Normal);
-        assert_eq!(classify(90.0, DELTA_THETA_DEG), Theta::Across);
-        assert_eq!(classify(180.0, DELTA_THETA_DEG), Theta::Along);
+        assert_eq!(classify(0.001, 0.0), Theta::Normal);
+        assert_eq!(classify(90.0, 0.0), Theta::Across);
+        assert_eq!(classify(180.0, 0.0), Theta::Along);
     }
 
     #[test]
     fn tv12_a_move_along_the_tool_has_no_vector() {
         for mv in [Vec3::new(0.0, 0.0, -10.0), Vec3::new(0.0, 0.0, 10.0), Vec3::zeros()] {
-            assert_eq!(vector(5.0, Vec3::z(), mv, mv, None), None);
+            assert_eq!(vector(5.0, Vec3::z(), mv, mv, None, 0.0), None);
         }
     }
 }

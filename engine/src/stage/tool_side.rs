@@ -31,6 +31,13 @@ const NO_MOVE: f64 = 1e-9;
 /// check of a compensation plane change from 45° on.
 const PLANE_CHANGE_DEG: f64 = 45.0;
 
+/// The cosine of the turn of the tool from which the plane-change check looks at a corner
+/// (`five_axis.plane_change_angle`, No.19635).
+fn plane_change_cos(m: &crate::machine::MachineConfig) -> f64 {
+    let deg = m.five_axis.plane_change_angle;
+    if deg == 0.0 { PLANE_CHANGE_DEG } else { deg }.to_radians().cos()
+}
+
 /// The compensation plane at a block's end: e1 the tool direction (programming coordinates),
 /// (e2, e3) the plane's axes with e2 × e3 = e1, so that the 2-D rules' "left seen from the
 /// plane's normal" is the left seen from the tool side (G41.2).
@@ -144,6 +151,8 @@ pub struct ToolSide {
     stopped: bool,
     alarm: Option<(AlarmId, u32, Option<u32>)>,
     type_b: bool,
+    /// The check at a change of the compensation plane: cos of the least turn of the tool.
+    plane_change_cos: f64,
     /// The next motion's Q1/Q2/Q3; and G41.2/G42.2 given again: the waiting block ends
     /// perpendicular to itself where the next block that moves in its plane comes.
     q: Option<u8>,
@@ -180,6 +189,7 @@ impl ToolSide {
             stopped: false,
             alarm: None,
             type_b: m.motion.cutter_startup_type_b,
+            plane_change_cos: plane_change_cos(m),
             q: None,
             perpendicular: false,
             refuse: config.refuse_unbuilt,
@@ -305,7 +315,7 @@ impl ToolSide {
             return Ok(perpendicular());
         }
         let points = corner(&w.held, &next, rn, cancel, self.type_b)?;
-        if cancel || !plane_change_interferes(w, to, tool) {
+        if cancel || !plane_change_interferes(w, to, tool, self.plane_change_cos) {
             return Ok(points);
         }
         // The block that the check stops may say what its end does instead (§3.1.2).
@@ -445,13 +455,13 @@ fn reshape(m: &mut Motion, arc: &Arc3, start: Vec3, end: Vec3) {
 }
 
 /// The interference check at a change of the compensation plane (FANUC 5-axis manual §3.1.2):
-/// the tool turns by the angle of No.19635 or more between the two blocks, the vectors they
-/// would each get point the same way, and their paths run against each other seen in the first
-/// block's plane.
-fn plane_change_interferes(w: &Waiting, to: Vec3, vb: Vec3) -> bool {
+/// the tool turns between the two blocks by the angle whose cosine is `cos` or more, the
+/// vectors they would each get point the same way, and their paths run against each other
+/// seen in the first block's plane.
+fn plane_change_interferes(w: &Waiting, to: Vec3, vb: Vec3, cos: f64) -> bool {
     let va = w.plane.e1;
     let (ua, ub) = (w.to - w.from, to - w.to);
-    let turned = va.dot(&vb) <= PLANE_CHANGE_DEG.to_radians().cos();
+    let turned = va.dot(&vb) <= cos;
     let same_side = va.cross(&ua).dot(&vb.cross(&ub)) >= 0.0;
     let ra = ua - va * ua.dot(&va);
     let rb = ub - va * ub.dot(&va);

@@ -356,6 +356,8 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         deviation_clamp: bit(19746, 6)?,
         rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
         cutting_point_distance: if p.0.contains_key(&19632) { p.get(19632)? } else { 0.0 },
+        plane_change_angle: if p.0.contains_key(&19635) { p.get(19635)? } else { 0.0 },
+        leading_edge_tolerance: if p.0.contains_key(&19631) { p.get(19631)? } else { 0.0 },
         cutting_deviation: if p.0.contains_key(&19752) { p.get(19752)? } else { 0.0 },
         length_offset_by_motion: p.0.contains_key(&5006) && !p.bit(5006, 6)?,
         wse_cycle_feed: non_negative(p, 5412)?,
@@ -478,6 +480,8 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (19751, f.rapid_deviation),
         (19752, f.cutting_deviation),
         (19632, f.cutting_point_distance),
+        (19635, f.plane_change_angle),
+        (19631, f.leading_edge_tolerance),
     ] {
         if value != 0.0 {
             p.set(number, real(value));

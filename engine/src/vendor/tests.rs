@@ -986,13 +986,17 @@ fn fanuc_ini_power_on_inch_round_trip() {
     assert!(!plain.0.contains_key(&0));
 }
 
-/// No.19631 (the leading edge offset's Δθ) is not read: a list that sets it is reported as not
-/// modelled (`docs/cutter-compensation.md`, "Leading edge offset", rule 3).
+/// No.19631 (the leading edge offset's Δθ) and No.19635 (the plane-change check's angle) are
+/// read: a list that sets them is the machine that has them, and nothing is reported.
 #[test]
-fn fanuc_leading_edge_angle_19631_is_reported_as_not_modelled() {
-    let mut p = params_of(Dialect::Fanuc, &MachineConfig::preset("head-bc").unwrap()).unwrap();
+fn fanuc_cutter_compensation_angles_19631_19635_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    (m.five_axis.leading_edge_tolerance, m.five_axis.plane_change_angle) = (5.0, 95.0);
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!((p.get(19631).unwrap(), p.get(19635).unwrap()), (5.0, 95.0));
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().five_axis, m.five_axis);
     assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
-    p.set(19631, 5.0);
-    let reported = unmodelled::of_params(Dialect::Fanuc, &p);
-    assert!(reported.iter().any(|u| u.parameter == "No.19631"), "{reported:?}");
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("FANUC settings"));
+    m.five_axis.plane_change_angle = 181.0;
+    assert!(m.validate().is_err());
 }

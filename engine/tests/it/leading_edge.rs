@@ -288,3 +288,14 @@ mod random {
         }
     }
 }
+
+#[test]
+fn tv11_no_19631_counts_a_move_near_the_tool_as_along_it() {
+    // The first move 3° off the vertical tool: with Δθ = 5° it counts as 0° (PS5408 at
+    // start-up); with the default 0 it has a vector of its own.
+    let (s3, c3) = 3f64.to_radians().sin_cos();
+    let src = format!("G90 G00 X0 Y0 Z0 B0 C0\nG41.3 D1\nG01 X{:.6} Z{:.6} F500.\nG40\nM30\n", 50.0 * s3, 50.0 * c3);
+    let tolerance = |c: &mut fivex_engine::interp::Config| c.edit_machine(|m| m.five_axis.leading_edge_tolerance = 5.0);
+    assert_eq!(first_alarm_with(&src, "head-bc", tolerance), Some(("PS5408".into(), 3)));
+    assert_eq!(first_alarm(&src, "head-bc"), None);
+}

@@ -316,6 +316,9 @@ fn tv01_a_change_of_plane_that_reverses_the_path_is_ps0041() {
     let plain = "G90 G00 X0 Y0 Z0\nG41.2 D1\nG01 X50. F500.\nY50.\nG40 X0\nM30\n";
     assert_eq!(ends_of(plain, "head-bc").ends, ends_of(&plain.replace("X50. F500.", "X50. F500. Q1"), "head-bc").ends);
     assert_eq!(ends_of(&plain.replace("Y50.", "Y50. Q4"), "head-bc").alarm, Some(("PS0010".into(), 4)));
+    // TV-06: No.19635 = 95°: the tool's 91° turn is no plane change, no PS0041 from that check.
+    let wide = |c: &mut fivex_engine::interp::Config| c.edit_machine(|m| m.five_axis.plane_change_angle = 95.0);
+    assert_ne!(first_alarm_with(&tv01("X400. Z0"), "head-bc", wide).map(|a| a.1), Some(4));
     // A tool that turns less (B30 at N5: 16°) is no plane change: no PS0041 from that check.
     let src = tv01("X400. Z0").replace("B-45.", "B30.");
     let got = ends_of(&src, "head-bc");

@@ -1118,6 +1118,12 @@ export interface components {
              */
             display_workpiece?: boolean;
             /**
+             * Format: double
+             * @description The leading edge offset counts the angle between the tool and the next move as 0°, 90°
+             *     or 180° within this many degrees of them (FANUC No.19631, Δθ; 0: exact).
+             */
+            leading_edge_tolerance?: number;
+            /**
              * @description Tool length offsets move the axes instead of shifting the coordinate system (FANUC
              *     No.5006#6 TOS = 0). The engine applies an offset the same way either way; G54.4 refuses
              *     a tool length offset or TCP started inside it with this setting (PS0438, WSE-24).
@@ -1135,6 +1141,12 @@ export interface components {
             multiple_planes?: boolean;
             /** @description What a reset does to a tilted working plane. */
             plane_after_reset?: components["schemas"]["PlaneAfterReset"];
+            /**
+             * Format: double
+             * @description The tool side offset's interference check at a change of the compensation plane looks at
+             *     corners where the tool turns by this angle or more, degrees (FANUC No.19635; 0: 45°).
+             */
+            plane_change_angle?: number;
             /**
              * Format: double
              * @description The least distance, mm, of each of the three points of G68.2 P2 from the line through
