@@ -332,6 +332,7 @@ pub async fn stream(
     upgrade: WebSocketUpgrade,
 ) -> Result<Response, ApiError> {
     let id = path(id)?;
+    let upgrade = super::stream::upgrade_small(upgrade);
     match fleet_runs::follow(&state.db, &state.fleet_runs, &id).await? {
         Ok(progress) => Ok(upgrade.on_upgrade(move |socket| session(socket, state, Some(progress), None))),
         Err(row) => {

@@ -36,6 +36,23 @@ const MIN_RATE_HZ: f64 = 0.1;
 /// A client that cannot take a message within this time is dropped.
 const SEND_TIMEOUT: Duration = Duration::from_secs(10);
 
+/// The read buffer of every websocket the service accepts (tungstenite's default is 128 KiB).
+/// tungstenite allocates it whole per connection and zero-fills it on every read attempt, so it
+/// was resident: 128 KiB of every stream subscriber, more than a running controller holds
+/// (`docs/performance.md`, "Memory per running controller"). It is not a limit: a frame longer
+/// than the buffer gets a buffer of its length once its header is read; the size is only the
+/// capacity kept and how much one read takes from the socket. Our clients send only control
+/// frames (close, ping, pong: at most 2 + 4 + 125 = 131 bytes each; the web client sends
+/// nothing else), so 256 bytes read any of them at once. What the service sends is written from
+/// a buffer of its own that grows to the message (the write buffer size is a threshold for
+/// sending, not an allocation; every send here is flushed at once).
+const WS_READ_BUFFER: usize = 256;
+
+/// A websocket upgrade with the service's buffer size ([`WS_READ_BUFFER`]).
+pub(crate) fn upgrade_small(upgrade: WebSocketUpgrade) -> WebSocketUpgrade {
+    upgrade.read_buffer_size(WS_READ_BUFFER)
+}
+
 #[derive(Debug, Clone, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
 pub struct StreamOptions {
@@ -101,7 +118,7 @@ pub async fn stream(
         ));
     }
     let closing = state.closing();
-    Ok(upgrade.on_upgrade(move |socket| session(socket, hosted, rate, closing)))
+    Ok(upgrade_small(upgrade).on_upgrade(move |socket| session(socket, hosted, rate, closing)))
 }
 
 async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing: watch::Receiver<bool>) {
@@ -293,7 +310,7 @@ pub async fn fleet(
         return Err(ApiError::Unprocessable("rate must be 0.1–30 messages per second".into(), None));
     }
     let deltas = options.deltas.unwrap_or(true);
-    Ok(upgrade.on_upgrade(move |socket| fleet_session(socket, state, rate, deltas)))
+    Ok(upgrade_small(upgrade).on_upgrade(move |socket| fleet_session(socket, state, rate, deltas)))
 }
 
 async fn fleet_session(socket: WebSocket, state: AppState, rate: f64, deltas: bool) {
