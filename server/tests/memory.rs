@@ -101,7 +101,7 @@ fn a_running_controller_holds_under_200_kb() {
     let idle_kb = (idle - before) as f64 / COUNT as f64 / 1024.0;
     let running_kb = (running - before) as f64 / COUNT as f64 / 1024.0;
     println!("heap per controller: {idle_kb:.1} kB idle, {running_kb:.1} kB running (with its last position)");
-    // Measured 2026-11-25: 57.6 kB idle, 190.2 kB running, most of it the planner's look-ahead
+    // Measured 2026-11-25: 57.6 kB idle, 186.2 kB running, most of it the planner's look-ahead
     // (288 segments of 384 bytes and their junction speeds).
     assert!(running_kb < 200.0, "a running controller holds {running_kb:.1} kB ({idle_kb:.1} kB idle)");
     drop(subscribers);
