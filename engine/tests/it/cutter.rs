@@ -1436,6 +1436,24 @@ mod avoidance {
     }
 
     #[test]
+    fn two_interfering_blocks_before_a_parallel_one_have_no_avoidance_point() {
+        // `TWO`'s first three blocks, then +X at y = −0.5 to 40: block 4 interferes as there;
+        // block 5 from the avoidance point 33 − 5√5 = 21.820, 5 to corner 5/6 (outside, obtuse:
+        // −x + 2y = −23 + 5√5 meets y = 4.5 at x = 32 − 5√5 = 20.820) runs back against (2,1):
+        // two consecutive. Block 3's offset path y = 5 and block 6's y = 4.5 are parallel: no
+        // avoidance vector, PS0041 at block 3, which does not move (FANUC 30i: "an alarm will
+        // occur immediately before block 1").
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21. Y-1.\nX22. Y-0.5\nX40.\nG40 X50.\nM30\n";
+        let (b3, b5, b6) = ([[0.0, 0.0], [20.0, 0.0]], [[21.0, -1.0], [22.0, -0.5]], [[22.0, -0.5], [40.0, -0.5]]);
+        let (va, c56) = (meet(5.0, b3, b5), meet(5.0, b5, b6));
+        assert!(approx(c56[0], 32.0 - 5.0 * 5f64.sqrt()) && approx(c56[1], 4.5));
+        assert!((c56[0] - va[0]) * 2.0 + (c56[1] - va[1]) < 0.0);
+        let (ends, alarm) = ends_avoiding(src);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 3)));
+        assert_eq!(ends, vec![(1, [-10.0, 0.0]), (2, [0.0, 5.0])]);
+    }
+
+    #[test]
     fn three_consecutive_interfering_blocks_stop_before_the_first() {
         // `TWO` with a third short block, right to 23,−0.3, before the climb to 33,10. Block 4
         // interferes as there; block 5 from the avoidance point 21.820,5 (block 3 meeting block
