@@ -59,6 +59,34 @@ struct Staged {
     after: Vec<Canon>,
 }
 
+/// An avoidance vector placed but not handed on yet: until the block that starts at it has
+/// passed the check, that block interfering too moves it (two consecutive interfering blocks),
+/// a third gives it up.
+struct Pending {
+    /// Block 1, the last good block before the interfering ones, as it was staged (its output
+    /// with its own vector, the commands behind it as they came).
+    before: Staged,
+    /// The interfering blocks (one or two), each with the commands behind it as they came.
+    interfering: Vec<(Held, Vec<Canon>)>,
+    /// Block 1 to the avoidance point, the interfering blocks there, the commands behind them.
+    out: Vec<Canon>,
+}
+
+/// After an avoidance: the programmed blocks it replaced (with their signed radii), which the
+/// new path near the avoidance point must keep the radius from, and how many more blocks
+/// released are checked against them.
+struct Guard {
+    replaced: Vec<(Curve, f64)>,
+    left: usize,
+}
+
+/// The blocks released after an avoidance point whose paths the guard checks: the one that
+/// starts there and the one after it (decision, `docs/cutter-compensation.md` rule 9).
+const GUARDED_BLOCKS: usize = 2;
+
+/// The guard's tolerance (mm): the new path may come this much closer than the radius.
+const GUARD_TOLERANCE: f64 = 1e-3;
+
 /// The cutter compensation C stage.
 pub struct Cutter {
     /// Axis indices of X, Y, Z.
@@ -96,6 +124,10 @@ pub struct Cutter {
     avoid: bool,
     /// Under `avoid`: the last block released, held back until the block after it is checked.
     staged: Option<Staged>,
+    /// Under `avoid`: the avoidance vector placed, not handed on yet (in the place of `staged`).
+    pending: Option<Pending>,
+    /// Under `avoid`: the programmed blocks the last avoidance replaced, checked against.
+    guard: Option<Guard>,
     /// The avoidance point just placed: where the next block starts.
     avoided: Option<P2>,
     /// Where the staged block's output belongs in the current call's output.
@@ -128,6 +160,8 @@ impl Cutter {
             perpendicular: None,
             avoid: m.motion.cutter_interference_avoidance,
             staged: None,
+            pending: None,
+            guard: None,
             avoided: None,
             staged_at: 0,
             next: None,
@@ -193,16 +227,41 @@ impl Cutter {
         let Some(h) = self.held.take() else { return };
         let end = points[0];
         if let Err(id) = check_direction(&h, end) {
-            if let Some(next) = self.next.filter(|_| self.avoid && self.staged.is_some()) {
-                self.avoid_interference(h, next, out);
-            } else {
-                let canon = h.canon.clone();
-                self.alarm(id, &canon);
+            match (self.next.filter(|_| self.avoid), self.pending.take()) {
+                // The block that starts at an avoidance point interferes too.
+                (Some(next), Some(p)) => self.avoid_again(p, h, next, out),
+                (Some(next), None) if self.staged.is_some() => self.avoid_interference(h, next),
+                (_, pending) => {
+                    // No block after it in offset mode: the alarm as without avoidance (what
+                    // was avoided before it moves).
+                    self.pending = pending;
+                    self.flush_staged(out);
+                    let canon = h.canon.clone();
+                    self.alarm(id, &canon);
+                }
             }
             return;
         }
+        if let Some(g) = &mut self.guard {
+            let gouges = gouges(&g.replaced, &path_of(&h, points));
+            g.left = g.left.saturating_sub(1);
+            if g.left == 0 {
+                self.guard = None;
+            }
+            if gouges {
+                // The block that starts at the avoidance point: the avoidance is given up, PS0041
+                // at the block before the interfering ones (not moved). A later block: PS0041 at
+                // it (the tool stops at the end of the block before it).
+                let canon = match self.pending.take() {
+                    Some(p) => p.before.held.canon,
+                    None => h.canon.clone(),
+                };
+                self.alarm(AlarmId::CutterInterference, &canon);
+                return;
+            }
+        }
         if self.avoid {
-            // Hand on the block staged before, stage this one.
+            // Hand on the avoidance or the block staged before, stage this one.
             self.flush_staged(out);
             let mut produced = Vec::new();
             let after = self.after.clone();
@@ -215,51 +274,94 @@ impl Cutter {
         }
     }
 
-    /// The staged block's output, put where it belongs in `out`.
+    /// The avoidance placed (if any) and the staged block's output, put where they belong in
+    /// `out` (at most one of them is there).
     fn flush_staged(&mut self, out: &mut Vec<Canon>) {
-        if let Some(st) = self.staged.take() {
-            let at = self.staged_at.min(out.len());
+        let at = self.staged_at.min(out.len());
+        if let Some(p) = self.pending.take() {
+            out.splice(at..at, p.out);
+        } else if let Some(st) = self.staged.take() {
             out.splice(at..at, st.out);
         }
     }
 
     /// Interference avoidance (FANUC 30i B-63944EN-1/02 §5, "interference avoidance"; the
     /// 5-axis extract's CRC-41/M-15): the held block `h` interferes. Its vectors and those of
-    /// the staged block before it give way to one avoidance vector: the crossing of the staged
-    /// block's offset path with that of `next` (the block after `h`). The staged block ends
-    /// there, `h` moves nothing in the plane, `next` starts there. No crossing (parallel or
-    /// concentric paths, or one farther than ten radii from the corner), or a staged block
-    /// that would interfere ending there: PS0041 at the staged block, which does not move.
-    fn avoid_interference(&mut self, h: Held, (next, rn): (Curve, f64), out: &mut Vec<Canon>) {
-        let Some(st) = self.staged.take() else { return };
-        let b = &st.held;
+    /// the staged block before it (block 1) give way to one avoidance vector (`place_avoidance`).
+    fn avoid_interference(&mut self, h: Held, next: (Curve, f64)) {
+        let Some(before) = self.staged.take() else { return };
+        self.place_avoidance(Pending { before, interfering: Vec::new(), out: Vec::new() }, h, next);
+    }
+
+    /// The block `h` that starts at the avoidance point `p` placed interferes as well: two
+    /// consecutive interfering blocks, the avoidance vector moves to the crossing of block 1 with
+    /// `next` (CRC-41: "between the last good block (N20) and the next good block (N50)"). A third
+    /// one: no avoidance vector can be made (CRC-42); block 1 ends at its own vector and PS0041
+    /// stops the tool before the first interfering block (decision: the control's overcut without
+    /// alarm is not hidden, `docs/cutter-compensation.md` rule 9).
+    fn avoid_again(&mut self, p: Pending, h: Held, next: (Curve, f64), out: &mut Vec<Canon>) {
+        if p.interfering.len() >= 2 {
+            let first = p.interfering[0].0.canon.clone();
+            let at = self.staged_at.min(out.len());
+            out.splice(at..at, p.before.out);
+            self.alarm(AlarmId::CutterInterference, &first);
+            return;
+        }
+        self.place_avoidance(p, h, next);
+    }
+
+    /// One avoidance vector for the interfering blocks of `p` and `h`: the crossing of block 1's
+    /// offset path with that of `next` (the block after `h`). Block 1 ends there, the interfering
+    /// blocks move nothing in the plane, `next` starts there; all of it waits (`pending`) until
+    /// `next` has passed the check. No crossing (parallel or concentric paths, or one farther than
+    /// ten radii from the corner), a block 1 that would interfere ending there, or one whose new
+    /// path comes closer than the radius to an interfering block (the guard): PS0041 at block 1,
+    /// which does not move.
+    fn place_avoidance(&mut self, mut p: Pending, h: Held, (next, rn): (Curve, f64)) {
+        p.interfering.push((h, std::mem::take(&mut self.after)));
+        // (With the blocks an avoidance just before replaced, while its guard still runs.)
+        let mut replaced: Vec<(Curve, f64)> = p.interfering.iter().map(|(h, _)| (h.curve, h.r)).collect();
+        if let Some(g) = self.guard.take() {
+            for old in g.replaced {
+                if !replaced.contains(&old) {
+                    replaced.push(old);
+                }
+            }
+        }
+        let b = &p.before.held;
         let corner = b.curve.to();
-        let near = |p: &P2| norm(sub(*p, corner)) <= 10.0 * b.r.abs().max(rn.abs());
-        let va = curve::intersection(&b.curve, b.r, &next, rn, corner).filter(near);
-        let Some(va) = va.filter(|va| check_direction(b, *va).is_ok()) else {
+        let near = |q: &P2| norm(sub(*q, corner)) <= 10.0 * b.r.abs().max(rn.abs());
+        let va = curve::intersection(&b.curve, b.r, &next, rn, corner)
+            .filter(near)
+            .filter(|va| check_direction(b, *va).is_ok())
+            .filter(|va| !gouges(&replaced, &path_of(b, &[*va])));
+        let Some(va) = va else {
             let canon = b.canon.clone();
             self.alarm(AlarmId::CutterInterference, &canon);
             return;
         };
         let mut produced = Vec::new();
-        let held_after = std::mem::replace(&mut self.after, st.after);
-        self.produce(st.held, &[va], va, &mut produced);
-        // The interfering block: to the avoidance point, straight (it moves only out of the
-        // plane), then the commands behind it.
-        let mut c = self.placed(h.canon, va);
-        if let CanonKind::Motion(m) = &mut c.kind {
-            m.arc = None;
-            if m.kind != MotionKind::Rapid {
-                m.kind = MotionKind::Linear;
+        self.after = p.before.after.clone();
+        self.produce(p.before.held.clone(), &[va], va, &mut produced);
+        for (h, after) in &p.interfering {
+            // An interfering block: to the avoidance point, straight (it moves only out of the
+            // plane), then the commands behind it.
+            let mut c = self.placed(h.canon.clone(), va);
+            if let CanonKind::Motion(m) = &mut c.kind {
+                m.arc = None;
+                if m.kind != MotionKind::Rapid {
+                    m.kind = MotionKind::Linear;
+                }
+            }
+            produced.push(c);
+            self.vector = sub(va, h.curve.to());
+            for c in after {
+                produced.push(self.shifted(c.clone()));
             }
         }
-        produced.push(c);
-        self.vector = sub(va, h.curve.to());
-        for c in held_after {
-            produced.push(self.shifted(c));
-        }
-        let at = self.staged_at.min(out.len());
-        out.splice(at..at, produced);
+        p.out = produced;
+        self.pending = Some(p);
+        self.guard = Some(Guard { replaced, left: GUARDED_BLOCKS });
         self.avoided = Some(va);
     }
 
@@ -603,6 +705,7 @@ impl Cutter {
     }
 
     fn cancelled(&mut self) {
+        self.guard = None;
         self.on = false;
         self.startup = false;
         self.perpendicular = None;
@@ -740,6 +843,43 @@ pub(super) fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool
     Ok(points)
 }
 
+/// The tool centre path of the released block `h` ending at `points[0]`, then straight to the
+/// other points: its pieces (an arc keeps its centre; its radius may change along it).
+fn path_of(h: &Held, points: &[P2]) -> Vec<Curve> {
+    let mut pieces = Vec::with_capacity(points.len());
+    pieces.push(match h.curve {
+        Curve::Line { .. } => Curve::Line { from: h.start, to: points[0] },
+        Curve::Arc { center, sweep, .. } => Curve::Arc {
+            from: h.start,
+            to: points[0],
+            center,
+            sweep: swept(h.start, points[0], center, sweep) * sweep.signum(),
+        },
+    });
+    for w in points.windows(2) {
+        pieces.push(Curve::Line { from: w[0], to: w[1] });
+    }
+    pieces
+}
+
+/// The guard after an interference avoidance (`docs/cutter-compensation.md`, rule 9): some point
+/// of the path `pieces` comes closer than the radius (less [`GUARD_TOLERANCE`]) to one of the
+/// programmed blocks `replaced`, or lies beside one of them on the side away from the tool.
+/// The path is sampled at most a hundredth of the radius apart (the sampled distance errs by
+/// less than 0.1 µm near the radius).
+fn gouges(replaced: &[(Curve, f64)], pieces: &[Curve]) -> bool {
+    replaced.iter().any(|(g, r)| {
+        let want = r.abs() - GUARD_TOLERANCE;
+        if want <= 0.0 {
+            return false;
+        }
+        pieces.iter().any(|piece| {
+            let n = ((curve::length(piece) / (r.abs() / 100.0)).ceil() as usize).clamp(8, 100_000);
+            (0..=n).any(|k| curve::clearance(g, *r, curve::point_at(piece, k as f64 / n as f64)) < want)
+        })
+    })
+}
+
 /// The interference check (`docs/cutter-compensation.md`, rule 9): the compensated block must
 /// not run against the programmed one. The direction check: from its start to its end (a line,
 /// or an arc's chord) it runs more than 90° away from the programmed start to end. The arc check:
@@ -797,7 +937,8 @@ impl Cutter {
     /// Under interference avoidance: what one call gave (`local`) goes to `out`, the staged
     /// block in its place unless it is the last thing given and more may come.
     fn settle(&mut self, mut local: Vec<Canon>, end: bool, out: &mut Vec<Canon>) {
-        if self.staged.is_some() && (end || self.stopped || local.len() > self.staged_at) {
+        let waiting = self.staged.is_some() || self.pending.is_some();
+        if waiting && (end || self.stopped || local.len() > self.staged_at) {
             self.flush_staged(&mut local);
         }
         out.append(&mut local);
@@ -834,6 +975,8 @@ impl Stage for Cutter {
 
     fn reset(&mut self) {
         self.staged = None;
+        self.pending = None;
+        self.guard = None;
         self.avoided = None;
         self.next = None;
         self.on = false;

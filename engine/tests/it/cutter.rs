@@ -1327,6 +1327,19 @@ mod avoidance {
 
     use super::*;
 
+    /// Where the offset lines (G41, radius `r`) of the programmed lines `a1`→`b1` and `a2`→`b2`
+    /// meet.
+    fn meet(r: f64, [a1, b1]: [[f64; 2]; 2], [a2, b2]: [[f64; 2]; 2]) -> [f64; 2] {
+        let offset = |a: [f64; 2], b: [f64; 2]| {
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let l = dx.hypot(dy);
+            ([a[0] - r * dy / l, a[1] + r * dx / l], [dx / l, dy / l])
+        };
+        let ((p, d), (q, e)) = (offset(a1, b1), offset(a2, b2));
+        let t = ((q[0] - p[0]) * e[1] - (q[1] - p[1]) * e[0]) / (d[0] * e[1] - d[1] * e[0]);
+        [p[0] + t * d[0], p[1] + t * d[1]]
+    }
+
     fn ends_avoiding(src: &str) -> Centre {
         let interp = interpreter_with(src, "mill3", Fanuc, |c| {
             c.edit_machine(|m| m.motion.cutter_interference_avoidance = true)
@@ -1381,11 +1394,142 @@ mod avoidance {
         assert_eq!(ends.last(), Some(&(4, [25.0, 3.0])));
     }
 
-    /// Random contours along +X with a dip (a block shorter than the radius, then one at least
-    /// as long) in them, compensated with G41 R5: where the plain run stops with PS0041 and the run with
-    /// avoidance completes, no point of the tool centre path between the start-up and the
-    /// cancel comes closer than R − 1 µm to the programmed contour. At least a fifth of the
-    /// programs must be such cases (so that the property is exercised).
+    /// A dip of two short blocks (G41 R5): +X to 20,0, down-right to 21,−1, right and up to
+    /// 22,−0.5, up at 45° to 32,9.5, +X to 40,9.5.
+    const TWO: &str =
+        "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21. Y-1.\nX22. Y-0.5\nX32. Y9.5\nX40.\nG40 X50.\nM30\n";
+
+    #[test]
+    fn two_consecutive_interfering_blocks_share_one_avoidance_vector() {
+        // Offset paths: block 3 y = 5; block 4 x + y = 20 + 5√2; block 5 (direction (2,1)/√5,
+        // left normal (−1,2)/√5) −x + 2y = −23 + 5√5; block 6 y − x = −22.5 + 5√2; block 7
+        // y = 14.5. Corner 3/4 (outside, obtuse): x = 15 + 5√2 = 22.071; corner 4/5 (inside):
+        // 3y = −3 + 5√2 + 5√5, y = 5.084, x = 21.987: block 4 runs back (−0.084, 0.084) against
+        // (1,−1) — it interferes. The avoidance vector for it, block 3 meeting block 5, is
+        // x = 33 − 5√5 = 21.820, y = 5; block 5 would start there and end at corner 5/6
+        // (inside): y = −0.5 + 5√5 − 5√2 = 3.609, x = 19.038 — back against (2,1): block 5
+        // interferes too. Two consecutive: the avoidance vector is where block 3 meets block 6
+        // (CRC-41, "between the last good block and the next good block"): x = 27.5 − 5√2 =
+        // 20.429, y = 5. Blocks 4 and 5 stay there; block 6 ends at corner 6/7 (outside):
+        // y = 14.5, x = 37 − 5√2 = 29.929; block 7 at 40,14.5 (in line with the cancel).
+        let s = 5.0 * 2f64.sqrt();
+        assert!(approx(
+            meet(5.0, [[0.0, 0.0], [20.0, 0.0]], [[21.0, -1.0], [22.0, -0.5]])[0],
+            33.0 - 5.0 * 5f64.sqrt()
+        ));
+        let want = [
+            (1, -10.0, 0.0),
+            (2, 0.0, 5.0),
+            (3, 27.5 - s, 5.0),
+            (4, 27.5 - s, 5.0),
+            (5, 27.5 - s, 5.0),
+            (6, 37.0 - s, 14.5),
+            (7, 40.0, 14.5),
+            (8, 50.0, 9.5),
+        ];
+        assert_centre(ends_avoiding(TWO), TWO, &want);
+        // Without avoidance: PS0041 at block 4, block 3 ends at its own corner.
+        let (ends, alarm) = centre(TWO, Fanuc);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 4)));
+        assert_eq!(ends.last().map(|e| e.0), Some(3));
+        assert!(approx(ends.last().unwrap().1[0], 15.0 + s));
+    }
+
+    #[test]
+    fn two_interfering_blocks_before_a_parallel_one_have_no_avoidance_point() {
+        // `TWO`'s first three blocks, then +X at y = −0.5 to 40: block 4 interferes as there;
+        // block 5 from the avoidance point 33 − 5√5 = 21.820, 5 to corner 5/6 (outside, obtuse:
+        // −x + 2y = −23 + 5√5 meets y = 4.5 at x = 32 − 5√5 = 20.820) runs back against (2,1):
+        // two consecutive. Block 3's offset path y = 5 and block 6's y = 4.5 are parallel: no
+        // avoidance vector, PS0041 at block 3, which does not move (FANUC 30i: "an alarm will
+        // occur immediately before block 1").
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21. Y-1.\nX22. Y-0.5\nX40.\nG40 X50.\nM30\n";
+        let (b3, b5, b6) = ([[0.0, 0.0], [20.0, 0.0]], [[21.0, -1.0], [22.0, -0.5]], [[22.0, -0.5], [40.0, -0.5]]);
+        let (va, c56) = (meet(5.0, b3, b5), meet(5.0, b5, b6));
+        assert!(approx(c56[0], 32.0 - 5.0 * 5f64.sqrt()) && approx(c56[1], 4.5));
+        assert!((c56[0] - va[0]) * 2.0 + (c56[1] - va[1]) < 0.0);
+        let (ends, alarm) = ends_avoiding(src);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 3)));
+        assert_eq!(ends, vec![(1, [-10.0, 0.0]), (2, [0.0, 5.0])]);
+    }
+
+    #[test]
+    fn three_consecutive_interfering_blocks_stop_before_the_first() {
+        // `TWO` with a third short block, right to 23,−0.3, before the climb to 33,10. Block 4
+        // interferes as there; block 5 from the avoidance point 21.820,5 (block 3 meeting block
+        // 5) to corner 5/6 (inside) 20.363,4.272 runs back against (2,1); block 6 (direction
+        // (5,1)/√26, offset −x + 5y = −24.5 + 5√26) from the avoidance point 24.005,5 (block 3
+        // meeting block 6) to corner 6/7 (inside) 20.495,4.298 runs back against (5,1): three
+        // consecutive interfering blocks, no avoidance vector (CRC-42). The control overcuts
+        // without an alarm; fivex stops before the first interfering block (rule 9's decision):
+        // PS0041 at block 4, block 3 ends at its own corner 15 + 5√2, 5 — as without avoidance.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21. Y-1.\nX22. Y-0.5\nX23. Y-0.3\nX33. Y10.\nX40.\nG40 X50.\nM30\n";
+        let (b3, b5, b6, b7) = (
+            [[0.0, 0.0], [20.0, 0.0]],
+            [[21.0, -1.0], [22.0, -0.5]],
+            [[22.0, -0.5], [23.0, -0.3]],
+            [[23.0, -0.3], [33.0, 10.0]],
+        );
+        let (va, c56) = (meet(5.0, b3, b5), meet(5.0, b5, b6));
+        assert!((c56[0] - va[0]) * 2.0 + (c56[1] - va[1]) < 0.0);
+        let (va2, c67) = (meet(5.0, b3, b6), meet(5.0, b6, b7));
+        assert!(approx(va2[0], 25.0 - (-24.5 + 5.0 * 26f64.sqrt())));
+        assert!((c67[0] - va2[0]) * 5.0 + (c67[1] - va2[1]) < 0.0);
+        let (ends, alarm) = ends_avoiding(src);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 4)));
+        let s = 5.0 * 2f64.sqrt();
+        assert_eq!(ends.len(), 3);
+        assert!(ends[2].0 == 3 && approx(ends[2].1[0], 15.0 + s) && approx(ends[2].1[1], 5.0), "{ends:?}");
+        assert_eq!((ends, alarm), centre(src, Fanuc));
+    }
+
+    #[test]
+    fn an_avoidance_whose_next_block_would_gouge_is_given_up() {
+        // `TWO` with block 6 right-down to 22.5,−0.6, then up to 33,10. Blocks 4 and 5 interfere
+        // (as in the three-block case); block 3 meets block 6's offset (direction (5,−1)/√26,
+        // x + 5y = 19.5 + 5√26) at 5√26 − 5.5 = 19.995, 5 — and block 6 from there to corner 6/7 (inside)
+        // 20.842,4.831 runs forward: the avoidance vector exists. But that corner is 4.904 from
+        // the programmed point 20,0 (the start of block 4, which the avoidance replaced): the
+        // guard finds a gouge of 0.096 mm; PS0041 at block 3, which does not move.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21. Y-1.\nX22. Y-0.5\nX22.5 Y-0.6\nX33. Y10.\nX40.\nG40 X50.\nM30\n";
+        let (b3, b6, b7) = ([[0.0, 0.0], [20.0, 0.0]], [[22.0, -0.5], [22.5, -0.6]], [[22.5, -0.6], [33.0, 10.0]]);
+        let (va, c67) = (meet(5.0, b3, b6), meet(5.0, b6, b7));
+        assert!(approx(va[0], 5.0 * 26f64.sqrt() - 5.5) && approx(va[1], 5.0));
+        assert!((c67[0] - va[0]) * 5.0 - (c67[1] - va[1]) > 0.0);
+        let d = (c67[0] - 20.0).hypot(c67[1]);
+        assert!(d < 5.0 - 0.09 && d > 5.0 - 0.1, "{d}");
+        let (ends, alarm) = ends_avoiding(src);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 3)));
+        assert_eq!(ends, vec![(1, [-10.0, 0.0]), (2, [0.0, 5.0])]);
+    }
+
+    #[test]
+    fn the_gouge_found_by_the_property_test_now_alarms() {
+        // The dip `X20. / X21.588 Y-2.455 / X22.129 Y-0.871 / X41.372 Y-6.282` with G41 R5
+        // (`docs/cutter-compensation.md`, rule 9): block 4 interferes; block 3 meets block 5's
+        // offset at 18.851,5, block 4 stays there, block 5 runs to its corner with block 6
+        // (inside) 18.927,5.223. Block 6 from there to its corner with block 7 passes 4.83 mm
+        // from 20,0, the start of the avoided block 4: the guard stops it — PS0041 at block 6,
+        // which does not move (the tool stands at the end of block 5). Before the guard the run
+        // completed with that gouge.
+        let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nX21.588 Y-2.455\nX22.129 Y-0.871\nX41.372 Y-6.282\nX60.\nG40 X70.\nM30\n";
+        let (b3, b5, b6) =
+            ([[0.0, 0.0], [20.0, 0.0]], [[21.588, -2.455], [22.129, -0.871]], [[22.129, -0.871], [41.372, -6.282]]);
+        let (va, c56) = (meet(5.0, b3, b5), meet(5.0, b5, b6));
+        let (ends, alarm) = ends_avoiding(src);
+        assert_eq!(alarm, Some(("PS0041".to_string(), 6)));
+        let want = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, va[0], va[1]), (4, va[0], va[1]), (5, c56[0], c56[1])];
+        assert_centre((ends, None), src, &want);
+        assert!((va[0] - 18.851).abs() < 1e-3 && (c56[0] - 18.927).abs() < 1e-3 && (c56[1] - 5.223).abs() < 1e-3);
+    }
+
+    /// Random contours along +X with a dip (a block shorter than the radius, then one up that
+    /// may be short too) in them, compensated with G41 R5: where the plain run stops with
+    /// PS0041 and the run with avoidance completes (over one or two interfering blocks), no
+    /// point of the tool centre path between the start-up and the cancel comes closer than
+    /// R − 1 µm to the programmed contour. At least a fifth of the programs must be such cases
+    /// (so that the property is exercised); where the guard finds a gouge the run stops with
+    /// PS0041 and is not counted.
     #[test]
     fn an_avoided_path_never_comes_closer_than_the_radius() {
         let mut seed: u64 = 0x5eed_c0de_2020;
@@ -1398,11 +1542,12 @@ mod avoidance {
             let t = ((w[0] * d[0] + w[1] * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
             (w[0] - t * d[0]).hypot(w[1] - t * d[1])
         };
-        let (mut avoided, total) = (0, 200);
+        let (mut avoided, mut two, total) = (0, 0, 200);
         for _ in 0..total {
-            // 0,0 → 20,0; the dip: down at −20°…−80° for 0.5–4, up at 20°…80° for 5–10 (one
-            // short block: avoidance over one block, with a block after it at least R long); then
-            // a block of 15–25 at −40°…60°, one of 20 along +X; the cancel beyond.
+            // 0,0 → 20,0; the dip: down at −20°…−80° for 0.5–4, up at 20°…80° for 0.5–10 (one
+            // or two short blocks: avoidance over one or two blocks, or the guard's alarm where
+            // the path after it would come too close — the dips the test left out before the
+            // guard); then a block of 15–25 at −40°…60°, one of 20 along +X; the cancel beyond.
             let mut pts = vec![[0.0f64, 0.0], [20.0, 0.0]];
             let go = |pts: &mut Vec<[f64; 2]>, deg: f64, len: f64| {
                 let l = pts[pts.len() - 1];
@@ -1413,7 +1558,7 @@ mod avoidance {
                 ]);
             };
             go(&mut pts, -20.0 - 60.0 * rand(), 0.5 + 3.5 * rand());
-            go(&mut pts, 20.0 + 60.0 * rand(), 5.0 + 5.0 * rand());
+            go(&mut pts, 20.0 + 60.0 * rand(), 0.5 + 9.5 * rand());
             go(&mut pts, -40.0 + 100.0 * rand(), 15.0 + 10.0 * rand());
             go(&mut pts, 0.0, 20.0);
             let last = pts[pts.len() - 1];
@@ -1428,6 +1573,11 @@ mod avoidance {
                 continue;
             }
             avoided += 1;
+            // Two interfering blocks avoided together: blocks 4 and 5 both stay at the point.
+            let at = |line: u32| ends.iter().find(|e| e.0 == line).map(|e| e.1);
+            if at(4).is_some() && at(4) == at(5) {
+                two += 1;
+            }
             // Lines 3..=7 are the contour's blocks (and the moves inserted at their corners).
             let mut from = ends[0].1;
             for &(line, to) in &ends[1..] {
@@ -1443,6 +1593,7 @@ mod avoidance {
             }
         }
         assert!(avoided * 5 >= total, "only {avoided} of {total} programs were avoided");
+        assert!(two * 20 >= total, "only {two} of {total} programs were avoided over two blocks");
     }
 
     #[test]

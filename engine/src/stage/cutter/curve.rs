@@ -172,6 +172,70 @@ fn crossings(a: &Offset, b: &Offset) -> [Option<P2>; 2] {
     }
 }
 
+/// The length of a path piece (an arc whose radius changes along it: approximately).
+pub fn length(c: &Curve) -> f64 {
+    match *c {
+        Curve::Line { from, to } => norm(sub(to, from)),
+        Curve::Arc { from, to, center, sweep } => {
+            0.5 * (norm(sub(from, center)) + norm(sub(to, center))) * sweep.abs() + norm(sub(to, from))
+        }
+    }
+}
+
+/// The point at the fraction `t` (0…1) along a path piece: on an arc, the angle and the
+/// radius change in proportion.
+pub fn point_at(c: &Curve, t: f64) -> P2 {
+    match *c {
+        Curve::Line { from, to } => add(from, scale(sub(to, from), t)),
+        Curve::Arc { from, to, center, sweep } => {
+            let (r0, r1) = (norm(sub(from, center)), norm(sub(to, center)));
+            let a0 = (from[1] - center[1]).atan2(from[0] - center[0]);
+            let a = a0 + t * sweep;
+            let r = r0 + t * (r1 - r0);
+            add(center, [r * a.cos(), r * a.sin()])
+        }
+    }
+}
+
+/// How far `p` is from the programmed block `g` on the side of the tool (signed radius `r`:
+/// positive on the left): beside the block (its foot within it), the distance from it, negative
+/// on the other side; elsewhere, the distance from the nearer end.
+pub fn clearance(g: &Curve, r: f64, p: P2) -> f64 {
+    let ends = || norm(sub(p, g.from())).min(norm(sub(p, g.to())));
+    match *g {
+        Curve::Line { from, to } => {
+            let d = sub(to, from);
+            let l2 = dot(d, d);
+            let t = if l2 > 0.0 { dot(sub(p, from), d) / l2 } else { -1.0 };
+            if t > 0.0 && t < 1.0 {
+                cross(d, sub(p, from)) / l2.sqrt() * r.signum()
+            } else {
+                ends()
+            }
+        }
+        Curve::Arc { from, center, sweep, .. } => {
+            let (a, b) = (sub(from, center), sub(p, center));
+            let mut angle = cross(a, b).atan2(dot(a, b));
+            if sweep < 0.0 {
+                angle = -angle;
+            }
+            let angle = angle.rem_euclid(std::f64::consts::TAU);
+            if norm(b) > 0.0 && angle > 0.0 && angle < sweep.abs() {
+                let rho = norm(a);
+                // The tool inside the circle: its offset radius is smaller.
+                let inside = g.offset_radius(r).is_some_and(|o| o < rho);
+                if inside {
+                    rho - norm(b)
+                } else {
+                    norm(b) - rho
+                }
+            } else {
+                ends()
+            }
+        }
+    }
+}
+
 /// The angle from `from` to `to` about `center`, turning the way `sweep` does, in
 /// [0, 2π) — or [0, 4π) made nearest to `sweep` for arcs of a full turn or more.
 pub fn swept(from: P2, to: P2, center: P2, sweep: f64) -> f64 {
@@ -231,6 +295,29 @@ mod tests {
         let p = intersection(&line, 2.0, &arc, 2.0, [0.0, 10.0]).unwrap();
         // y = 12 and radius 12: tangent at (0, 12).
         assert!((p[0]).abs() < 1e-6 && (p[1] - 12.0).abs() < 1e-9, "{p:?}");
+    }
+
+    #[test]
+    fn clearance_is_signed_beside_a_block_and_a_distance_past_its_ends() {
+        // The line 0,0 → 10,0 with the tool on the left (r 5): 3 above it is 3 on the tool's
+        // side, 3 below it −3; past its end, the distance from the end.
+        let line = Curve::Line { from: [0.0, 0.0], to: [10.0, 0.0] };
+        assert!((clearance(&line, 5.0, [5.0, 3.0]) - 3.0).abs() < 1e-12);
+        assert!((clearance(&line, 5.0, [5.0, -3.0]) + 3.0).abs() < 1e-12);
+        assert!((clearance(&line, -5.0, [5.0, -3.0]) - 3.0).abs() < 1e-12);
+        assert!((clearance(&line, 5.0, [13.0, 4.0]) - 5.0).abs() < 1e-12);
+        // The counter-clockwise quarter circle R10 about the origin, tool on the left (inside):
+        // at 45°, radius 5 is 5 inside; radius 12 is 2 on the wrong side; past its ends, the
+        // distance from the nearer end.
+        let arc =
+            Curve::Arc { from: [10.0, 0.0], to: [0.0, 10.0], center: [0.0, 0.0], sweep: std::f64::consts::FRAC_PI_2 };
+        let at = |rho: f64, deg: f64| [rho * deg.to_radians().cos(), rho * deg.to_radians().sin()];
+        assert!((clearance(&arc, 5.0, at(5.0, 45.0)) - 5.0).abs() < 1e-12);
+        assert!((clearance(&arc, 5.0, at(12.0, 45.0)) + 2.0).abs() < 1e-12);
+        assert!((clearance(&arc, -5.0, at(12.0, 45.0)) - 2.0).abs() < 1e-12);
+        assert!((clearance(&arc, 5.0, [10.0, -3.0]) - 3.0).abs() < 1e-12);
+        // Along the arc of a path piece, the points keep the radius.
+        assert!((norm(point_at(&arc, 0.5)) - 10.0).abs() < 1e-12);
     }
 
     #[test]
