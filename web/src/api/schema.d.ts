@@ -1634,8 +1634,10 @@ export interface components {
              * @description Cutter compensation C avoids an interference instead of stopping with PS0041 (FANUC
              *     No.19607#5 CAV = 1): a block whose compensated path runs against its programmed one is
              *     given no vector of its own, and the block before it ends where its offset path crosses
-             *     the offset path of the block after it; where they do not cross, PS0041 at the block
-             *     before. `docs/cutter-compensation.md`.
+             *     the offset path of the block after it (of the next good block, over two consecutive
+             *     interfering blocks); where they do not cross, or the new path would come within the
+             *     radius of the blocks it replaced, PS0041 at the block before (or at the block that would
+             *     come within it); three consecutive interfering blocks: PS0041 at the first. `docs/cutter-compensation.md`.
              */
             cutter_interference_avoidance?: boolean;
             /**
