@@ -9,8 +9,9 @@
 //! program. `cargo test -p fivex-server --test memory -- --nocapture` prints the figures;
 //! `tests/memory_stream.rs` measures a stream subscriber the same way.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicIsize, Ordering};
+mod counting;
+
+use counting::live;
 use std::sync::Arc;
 
 use fivex_engine::controller::RunState;
@@ -18,44 +19,11 @@ use fivex_engine::machine::MachineConfig;
 use fivex_engine::Dialect;
 use fivex_server::host::{Hosted, Published, Reading, Spec};
 
-struct Counting;
-
-static LIVE: AtomicIsize = AtomicIsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        LIVE.fetch_add(layout.size() as isize, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        LIVE.fetch_add(layout.size() as isize, Ordering::Relaxed);
-        unsafe { System.alloc_zeroed(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size() as isize, Ordering::Relaxed);
-        unsafe { System.dealloc(ptr, layout) }
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        LIVE.fetch_add(new_size as isize - layout.size() as isize, Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
 /// The load program of `fivex-load` (`server/src/bin/fivex-load.rs`): a square with A and C
 /// turning, forever.
 const PROGRAM: &str = "#1=0\nWHILE [#1 LT 1000000] DO1\nG90 G01 X100. Y0 Z10. A10. C90. F3000\nX100. Y100. A0 C180.\nX0 Y100. A-10. C270.\nX0 Y0 A0 C360.\n#1=#1+1\nEND1\nM30\n";
 
 const COUNT: usize = 20;
-
-fn live() -> isize {
-    LIVE.load(Ordering::Relaxed)
-}
 
 #[test]
 fn a_running_controller_holds_under_200_kb() {
@@ -101,7 +69,7 @@ fn a_running_controller_holds_under_200_kb() {
     let idle_kb = (idle - before) as f64 / COUNT as f64 / 1024.0;
     let running_kb = (running - before) as f64 / COUNT as f64 / 1024.0;
     println!("heap per controller: {idle_kb:.1} kB idle, {running_kb:.1} kB running (with its last position)");
-    // Measured 2026-11-25: 57.6 kB idle, 186.2 kB running, most of it the planner's look-ahead
+    // Measured 2026-11-25: 58.1 kB idle, 186.7 kB running, most of it the planner's look-ahead
     // (288 segments of 384 bytes and their junction speeds).
     assert!(running_kb < 200.0, "a running controller holds {running_kb:.1} kB ({idle_kb:.1} kB idle)");
     drop(subscribers);
