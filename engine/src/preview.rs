@@ -8,7 +8,7 @@
 //! their path parameter, so a rotary move without TCP shows the curve the tip really makes.
 //!
 //! The path is the one the machine would move: after the path stages, so under cutter
-//! compensation (G41/G42) it is the tool centre's. Once compensation has been in force, the
+//! compensation (G41/G42, and the 5-axis G41.2…G42.6, G41.3) it is the tool centre's. Once compensation has been in force, the
 //! programmed path — the interpreter's commands before the stages, the contour as written — comes
 //! beside it ([`ToolPath::programmed`]), so a display can draw both.
 
@@ -39,7 +39,8 @@ pub struct Polyline {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ToolPath {
     /// Tip positions in the table frame, in program order; the first is where the run starts.
-    /// After the path stages: where the tool centre goes (compensated under G41/G42).
+    /// After the path stages: where the tool centre goes (compensated under G41/G42 and the
+    /// 5-axis compensations).
     pub points: Vec<[f64; 3]>,
     /// Per point: the 1-based line of the block that moves to it (0 for the start).
     pub lines: Vec<u32>,
@@ -133,7 +134,7 @@ pub fn tool_path(interp: &mut Interpreter, max_points: usize) -> ToolPath {
     loop {
         let step = interp.step(&mut out);
         let mode = interp.state.modal(group::CUTTER_COMP);
-        if programmed.is_none() && (mode == code::G41 || mode == code::G42) {
+        if programmed.is_none() && code::COMPENSATED_BY_STAGES.contains(&mode) {
             let exec = Executor::new(machine.clone(), exec.queued);
             programmed = Some((exec, main.clone(), false));
         }

@@ -131,6 +131,15 @@ fn under_cutter_compensation_the_programmed_path_comes_beside_the_tool_centre_pa
     // Without compensation there is no second path.
     let plain = tool_path(&mut interpreter("G00 X10.\nG01 Y10. F100.\nM30\n", "mill3", Dialect::Fanuc), 100);
     assert_eq!(plain.programmed, None);
+    // The 5-axis tool side offset with the tool vertical (head-bc) is the same square's: the
+    // programmed path beside the tool centre's, which runs 5 outside it.
+    let five = G41_SQUARE.replace("G41 D1", "G41.2 D1");
+    let path5 = tool_path(&mut interpreter(&five, "head-bc", Dialect::Fanuc), 10_000);
+    assert!(path5.alarm.is_none() && path5.programmed.is_some(), "{path5:?}");
+    let nose5 = MachineConfig::preset("head-bc").unwrap().nose;
+    let i = path5.lines.iter().rposition(|&l| l == 5).unwrap();
+    let c = [path5.points[i][0] - nose5[0], path5.points[i][1] - nose5[1]];
+    assert!(near(c, [45.0, 45.0]), "the tool centre of line 5 ends at {c:?}");
 }
 
 #[test]
