@@ -1373,10 +1373,16 @@ mod avoidance {
         ];
         assert_centre(ends_avoiding(DIP), DIP, &want);
         // Without avoidance: PS0041 at block 4, the tool stops at the end of block 3.
-        let (ends, alarm) = centre(DIP, Fanuc);
+        assert_stops_at_block_3_without_avoidance(DIP, 15.0 + s);
+    }
+
+    /// Without avoidance: PS0041 at block 4, the last motion block 3's, ending at X `x`.
+    #[track_caller]
+    fn assert_stops_at_block_3_without_avoidance(src: &str, x: f64) {
+        let (ends, alarm) = centre(src, Fanuc);
         assert_eq!(alarm, Some(("PS0041".to_string(), 4)));
         assert_eq!(ends.last().map(|e| e.0), Some(3));
-        assert!(approx(ends.last().unwrap().1[0], 15.0 + s));
+        assert!(approx(ends.last().unwrap().1[0], x));
     }
 
     #[test]
@@ -1429,10 +1435,7 @@ mod avoidance {
         ];
         assert_centre(ends_avoiding(TWO), TWO, &want);
         // Without avoidance: PS0041 at block 4, block 3 ends at its own corner.
-        let (ends, alarm) = centre(TWO, Fanuc);
-        assert_eq!(alarm, Some(("PS0041".to_string(), 4)));
-        assert_eq!(ends.last().map(|e| e.0), Some(3));
-        assert!(approx(ends.last().unwrap().1[0], 15.0 + s));
+        assert_stops_at_block_3_without_avoidance(TWO, 15.0 + s);
     }
 
     #[test]
