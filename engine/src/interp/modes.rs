@@ -281,6 +281,16 @@ static RULES: &[Rule] = &[
     ),
     rule(
         Fanuc,
+        "crc CRC-49, TV-23: TCP before CRC in the table system, not in one block",
+        A::IllegalCommandInMode,
+        |c| {
+            c.crc_in_table()
+                && c.starts(group::CUTTER_COMP, |c, m| c.crc5(m))
+                && c.starts(group::LENGTH_COMP, |c, m| c.tcp(m))
+        },
+    ),
+    rule(
+        Fanuc,
         "crc CRC-49, TV-25: no table rotary axis word in the G41.2 block (table system, TCP)",
         A::IllegalCommandInMode,
         |c| {

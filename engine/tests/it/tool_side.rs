@@ -709,6 +709,9 @@ fn tbp_interlocks_and_what_stays_refused() {
     assert_eq!(with(ex2, |_| {}), Some(("PS0010".into(), 2)));
     let ex3 = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG41.2 D1\nG01 X10. F500.\nG49\nG40\nM30\n";
     assert_eq!(with(ex3, |_| {}), Some(("PS5460".into(), 5)));
+    // Both in one block: TCP is not first (PS5460).
+    let one = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1 G41.2 D1\nG01 X10. F500.\nG40 X20.\nG49\nM30\n";
+    assert_eq!(with(one, |_| {}), Some(("PS5460".into(), 2)));
     // TV-25: the table stands as when TCP started (its turn modulo 360°), and no table axis
     // word in the G41.2 block.
     let turned = format!("G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG01 Z10. C30. F500.\nG41.2 D1\n{contour}G49\nM30\n");
