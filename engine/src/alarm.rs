@@ -92,6 +92,10 @@ pub enum AlarmId {
     CutterNoSolution,
     /// A move command in a G39 (corner circular interpolation) block.
     CornerArcWithMove,
+    /// 5-axis cutter compensation in the table coordinate system (FANUC TBP = 1, WKP = 0)
+    /// started while a setting it needs is missing (linear-type rapids, look-ahead for rapids
+    /// and cutting feed).
+    CrcTableParameter,
     /// Leading edge offset (G41.3): the block after G41.3 moves along the tool (θ between the
     /// tool and the move counts as 0° or 180°), so no offset plane is defined.
     LeadingEdgeAlongTool,

@@ -123,6 +123,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::CutterInterference,
     AlarmId::CutterNoSolution,
     AlarmId::CornerArcWithMove,
+    AlarmId::CrcTableParameter,
     AlarmId::LeadingEdgeAlongTool,
     AlarmId::TwpFormat,
     AlarmId::TwpIllegalCommand,
@@ -213,6 +214,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         CutterNoSolution => (("PS0033", "NO SOLUTION AT CRC"), COR100),
         // The number is the 15i-MA manual's (§14.4.9), the text fivex's.
         CornerArcWithMove => (("PS0273", "MOVE COMMAND IN G39 BLOCK"), COR100),
+        // The number is the 5-axis manual's (§3.2.2, §3.3.2), the text fivex's (modelled on
+        // PS5420's); Syntec has no table coordinate system for its cutter compensation.
+        CrcTableParameter => (("PS5483", "ILLEGAL PARAMETER IN 3-D CUTTER COMPENSATION"), COR100),
         // The number is the 5-axis manual's (§3.1.4), the text fivex's; G41.3 is not a Syntec code.
         LeadingEdgeAlongTool => (("PS5408", "G41.3 MOVE ALONG THE TOOL AXIS"), COR100),
         TwpFormat => (("PS5457", "G68.2/G68.3 FORMAT ERROR"), ("COR-141", "G68.3 command format error")),

@@ -303,6 +303,12 @@ pub struct FiveAxisOptions {
     /// or 180° within this many degrees of them (FANUC No.19631, Δθ; 0: exact).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub leading_edge_tolerance: f64,
+    /// On a machine with a rotary table, 5-axis cutter compensation takes the table coordinate
+    /// system as its programming coordinate system when tool centre point control does (FANUC
+    /// No.19746#4 TBP = 1 with WKP = 0, CRC-38); otherwise the workpiece system (TBP = 0,
+    /// CRC-39). fivex performs it under TCP only (`docs/cutter-compensation.md`, rule 8).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub crc_table_coordinates: bool,
     /// The tool side offset (G41.2/G42.2) places its vectors at the cutting point this far
     /// along the tool from the programmed (pivot) point, mm (FANUC No.19632, CRC-30: the
     /// point is Q + d·(tool direction, tip → holder), the manual's formula); 0: at the
@@ -419,6 +425,14 @@ pub struct MotionOptions {
     /// come within it); three consecutive interfering blocks: PS0041 at the first. `docs/cutter-compensation.md`.
     #[serde(default, skip_serializing_if = "is_false")]
     pub cutter_interference_avoidance: bool,
+}
+
+impl FiveAxisOptions {
+    /// 5-axis cutter compensation works in the table coordinate system (TBP = 1, WKP = 0, on a
+    /// machine with a rotary table: the caller checks the mechanism).
+    pub fn crc_in_table(&self) -> bool {
+        self.crc_table_coordinates && self.tcp_coordinates != TcpCoordinates::Workpiece
+    }
 }
 
 impl MotionOptions {

@@ -253,17 +253,62 @@ static RULES: &[Rule] = &[
     }),
     rule(
         Fanuc,
-        "crc TV-24, §3.5.3: TCP with CRC on a table/mixed machine in one system (WKP = 1; TBP = 0, not modelled)",
+        "crc CRC-38, TV-20: CRC in the table system (TBP = 1, WKP = 0) needs LRP, FRP, No.1660/1671/1672",
+        A::CrcTableParameter,
+        |c| {
+            let motion = &c.st.cfg.machine.motion;
+            c.crc_in_table()
+                && c.starts(group::CUTTER_COMP, |c, m| c.crc5(m))
+                && (motion.nonlinear_rapid || !motion.look_ahead_set_up())
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc TV-24, §3.5.3: TCP with CRC on a table/mixed machine in one system (WKP = 1, or TBP = 1)",
         A::IllegalCommandInMode,
         |c| {
             let (crc, tcp) = (c.after[group::CUTTER_COMP], c.after[group::LENGTH_COMP]);
             let together = c.crc5(crc) && c.tcp(tcp);
             let starting =
                 c.starts(group::CUTTER_COMP, |c, m| c.crc5(m)) || c.starts(group::LENGTH_COMP, |c, m| c.tcp(m));
+            let five = &c.st.cfg.machine.five_axis;
             c.table_or_mixed()
                 && together
                 && starting
-                && c.st.cfg.machine.five_axis.tcp_coordinates != crate::machine::TcpCoordinates::Workpiece
+                && five.tcp_coordinates != crate::machine::TcpCoordinates::Workpiece
+                && !five.crc_table_coordinates
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-49, TV-23: TCP before CRC in the table system, not in one block",
+        A::IllegalCommandInMode,
+        |c| {
+            c.crc_in_table()
+                && c.starts(group::CUTTER_COMP, |c, m| c.crc5(m))
+                && c.starts(group::LENGTH_COMP, |c, m| c.tcp(m))
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-49, TV-25: no table rotary axis word in the G41.2 block (table system, TCP)",
+        A::IllegalCommandInMode,
+        |c| {
+            c.crc_in_table()
+                && c.tcp(c.before[group::LENGTH_COMP])
+                && c.starts(group::CUTTER_COMP, |c, m| c.crc5(m))
+                && c.table_axis_word()
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-49, TV-25: the table stands as at the TCP start when CRC starts (table system)",
+        A::IllegalCommandInMode,
+        |c| {
+            c.crc_in_table()
+                && c.tcp(c.before[group::LENGTH_COMP])
+                && c.starts(group::CUTTER_COMP, |c, m| c.crc5(m))
+                && c.st.table_turned_since_tcp_start()
         },
     ),
     rule(Fanuc, "crc CRC-46, TV-29: no G20/G21 in 5-axis cutter compensation", A::UnitChangeInMode, |c| {
@@ -782,6 +827,21 @@ impl Ctx<'_> {
         kin.joints()
             .iter()
             .any(|j| j.side == crate::machine::Side::Table && j.index.is_some_and(|i| self.st.pos[i].abs() > 1e-9))
+    }
+
+    /// 5-axis cutter compensation works in the table coordinate system (TBP = 1, WKP = 0) on
+    /// this machine (one with a rotary table).
+    fn crc_in_table(&self) -> bool {
+        self.table_or_mixed() && self.st.cfg.machine.five_axis.crc_in_table()
+    }
+
+    /// The block names a rotary axis of the table.
+    fn table_axis_word(&self) -> bool {
+        let Some(kin) = &self.st.kinematics else { return false };
+        kin.joints().iter().any(|j| {
+            j.side == crate::machine::Side::Table
+                && j.index.is_some_and(|i| self.st.cfg.machine.axes.get(i).is_some_and(|a| self.w.has(a.name as u8)))
+        })
     }
 
     /// The block names an axis that is neither X/Y/Z nor a rotary axis of the mechanism.

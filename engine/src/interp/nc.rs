@@ -1221,6 +1221,7 @@ impl State {
         }
         let rotary =
             w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary));
+        let rotary_table = self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table);
         let block = unbuilt::CutterBlock {
             tool_side: code::TOOL_SIDE.contains(&comp),
             type2_alone: matches!(comp, code::G41_6 | code::G42_6) && after(group::LENGTH_COMP) != code::G43_5,
@@ -1239,7 +1240,8 @@ impl State {
             rotary,
             inverse_time: after(group::FEED_MODE) == code::G93,
             corner_override: after(group::PATH_MODE) == code::G62,
-            rotary_table: self.cfg.machine.rotary.iter().any(|l| l.side == crate::machine::Side::Table),
+            rotary_table,
+            table_system: rotary_table && self.cfg.machine.five_axis.crc_in_table(),
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),

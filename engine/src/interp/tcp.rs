@@ -49,6 +49,20 @@ impl State {
         self.tcp.is_some()
     }
 
+    /// Under TCP, a table rotary axis stands elsewhere than at the end of the TCP start block
+    /// (angles compared modulo 360°: the table's turn, not the axis's count, fixes a table
+    /// coordinate system). False without TCP.
+    pub(super) fn table_turned_since_tcp_start(&self) -> bool {
+        let (Some(t), Some(now)) = (&self.tcp, self.follow_machine) else { return false };
+        t.kin.joints().iter().any(|j| {
+            j.side == crate::machine::Side::Table
+                && j.index.is_some_and(|i| {
+                    let d = (now[i] - t.start_machine[i]).rem_euclid(360.0);
+                    d.min(360.0 - d) > 1e-6
+                })
+        })
+    }
+
     /// Whether moves follow the tool tip through the kinematics (TCP or a tilted plane).
     pub(super) fn follows_tip(&self) -> bool {
         self.tcp.is_some() || self.plane_active() || self.wse_follows()

@@ -173,6 +173,10 @@ pub struct CutterBlock {
     /// inclination), under G41.2/G42.2 a Q other than Q1/Q2/Q3 (the tool side offset's answers
     /// to its interference check at a compensation plane change).
     pub q: bool,
+    /// The machine turns the workpiece and its 5-axis cutter compensation works in the table
+    /// coordinate system (FANUC No.19746#4 TBP = 1, WKP = 0, CRC-38): performed under tool
+    /// centre point control only, whose programming frame Π is that system.
+    pub table_system: bool,
     /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV)
     /// or avoids interference (No.19607#5 CAV): built for cutter compensation C only.
     pub conventional_settings: bool,
@@ -182,8 +186,9 @@ pub struct CutterBlock {
 /// Cutter compensation C shifts the path in the plane by the same vector in programming and
 /// machine coordinates: right only while the two differ by a translation, for plain motions.
 /// The tool side offset compensates straight moves in the plane perpendicular to the tool, on a
-/// machine of any mechanism type (on table machines in the workpiece system, TBP = 0): type 1
-/// with or without TCP, type 2 under G43.5. The leading edge offset: straight moves (by its
+/// machine of any mechanism type: type 1 with or without TCP, type 2 under G43.5 — on table
+/// machines in the workpiece system (TBP = 0), in the table system (TBP = 1, WKP = 0) only under
+/// TCP. The leading edge offset: straight moves (by its
 /// mode rules) on a machine whose rotary axes turn the tool only.
 pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
     let five_axis = b.tool_side || b.leading_edge;
@@ -198,6 +203,11 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
         (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset (type 2: its inclination)"),
         (b.type2_alone, "the tool side offset of type 2 (G41.6/G42.6) without G43.5"),
+        (
+            b.tool_side && b.table_system && !b.tcp,
+            "the tool side offset in the table coordinate system (No.19746#4 TBP = 1, WKP = 0) without tool \
+             centre point control",
+        ),
         (b.leading_edge && b.rotary_table, "the leading edge offset (G41.3) on a machine with a rotary table"),
         (
             b.leading_edge && b.no_mechanism,

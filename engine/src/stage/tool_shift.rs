@@ -5,7 +5,8 @@
 //! workpiece coordinate system, TBP = 0), so the tool is its machine direction and a vector
 //! moves the machine's X/Y/Z as it is. Under TCP they are the motion's `TipMove::frame` in the
 //! table frame: the tool is read there, the tip moved there, and the machine's X/Y/Z put where
-//! the kinematics carry the moved tip.
+//! the kinematics carry the moved tip (with TBP = 1, WKP = 0 that frame is the table coordinate
+//! system the compensation works in; without TCP that system is refused, `interp::unbuilt`).
 
 use crate::canon::{Canon, CanonKind, Motion, Pos};
 use crate::kin::{Kinematics, Vec3};

@@ -327,7 +327,7 @@ fn manual_params(p: &mut Params, m: &MachineConfig) {
 }
 
 /// The 5-axis function bits: No.19696#3 NPC, #5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#2 DET, #5 PRI, #6 MIR, No.19746#6 CRS, No.11221#0 MTW, No.5400#2 D3R, and
+/// No.19608#2 DET, #5 PRI, #6 MIR, No.19746#4 TBP, #6 CRS, No.11221#0 MTW, No.5400#2 D3R, and
 /// No.19738/19739/19751/19752/11220; G54.4: No.11200#0 RCM, No.11204 singular tolerance (degrees),
 /// No.5006#6 TOS (absent: 1), No.5412, No.11202/11203 (percent), No.3106#6 DAK (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
@@ -354,6 +354,7 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         mirror_direction: bit(19608, 6)?,
         display_workpiece: bit(19608, 2)?,
         deviation_clamp: bit(19746, 6)?,
+        crc_table_coordinates: bit(19746, 4)?,
         rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
         cutting_point_distance: if p.0.contains_key(&19632) { p.get(19632)? } else { 0.0 },
         plane_change_angle: if p.0.contains_key(&19635) { p.get(19635)? } else { 0.0 },
@@ -502,8 +503,8 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
             p.set(number, value as f64);
         }
     }
-    if f.deviation_clamp {
-        p.set_bits(19746, 1 << 6);
+    if f.deviation_clamp || f.crc_table_coordinates {
+        p.set_bits(19746, (f.deviation_clamp as u32) << 6 | (f.crc_table_coordinates as u32) << 4);
     }
     if f.smooth_tcp || f.smooth_tolerance.is_some() {
         return Err(unrepresentable("FANUC", "STCP (Syntec Pr3051–3053)"));

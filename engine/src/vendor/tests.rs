@@ -845,17 +845,25 @@ fn fanuc_five_axis_options_round_trip() {
     assert_eq!((back.five_axis.singular_angle, back.five_axis.singular_alarm), (0.0, false));
 }
 
-/// No.19746 holds LOD, LOZ (manual feeds) and CRS (TCP): all three survive a round trip.
+/// No.19746 holds LOD, LOZ (manual feeds), TBP (5-axis cutter compensation) and CRS (TCP): all
+/// four survive a round trip, each alone too; Syntec lists have no TBP.
 #[test]
 fn fanuc_19746_shared_bits_round_trip() {
     let mut m = MachineConfig::preset("head-bc").unwrap();
     m.manual.length_from_offset = true;
     m.manual.zero_length_without_offset = true;
     m.five_axis.deviation_clamp = true;
+    m.five_axis.crc_table_coordinates = true;
     let p = params_of(Dialect::Fanuc, &m).unwrap();
-    assert_eq!(p.get(19746).unwrap(), 4.0 + 8.0 + 64.0);
+    assert_eq!(p.get(19746).unwrap(), 4.0 + 8.0 + 16.0 + 64.0);
     let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
     assert_eq!((back.manual.clone(), back.five_axis), (m.manual.clone(), m.five_axis));
+    let mut tbp = MachineConfig::preset("mixed-bc").unwrap();
+    tbp.five_axis.crc_table_coordinates = true;
+    let p = params_of(Dialect::Fanuc, &tbp).unwrap();
+    assert_eq!(p.get(19746).unwrap(), 16.0);
+    assert!(machine_from(Dialect::Fanuc, "m", &p).unwrap().five_axis.crc_table_coordinates);
+    assert!(params_of(Dialect::Syntec, &tbp).unwrap_err().detail.contains("TBP"));
 }
 
 /// Look-ahead (No.1604#0 SHP, No.19501#5 FRP, No.1660/1671) and the G54.4 settings (No.5006#6

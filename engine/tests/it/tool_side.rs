@@ -524,3 +524,203 @@ mod random {
         }
     }
 }
+
+// --- the table coordinate system as PCS (No.19746#4 TBP = 1, CRC-38, TV-20…TV-26) ------------
+
+/// The manual's §3.6 Program 1 (mixed machine: B tilts the tool about Y, C turns the table about
+/// Z; TBP = 1, WKP = 0, type 1), as printed but for O101.
+const PROGRAM_1: &str = "N10 G55\nN20 G90 X0 Y0 Z300. B0 C0\nN30 G01 G43.4 H01 Z40. F500.\nN40 G41.2 D01\n\
+    N50 X50. Y50. Z20. B30. C45.\nN60 X-50. C135.\nN70 X-100. Y-100. C225.\nN80 X100. C315.\n\
+    N90 X50. Y50. C405.\nN100 X0 Y0 Z40. B0 C360.\nN110 G40\nN120 G49 Z300.\nN130 M30\n";
+
+/// Program 2: the same in the workpiece system (WKP = 1).
+const PROGRAM_2: &str = "N10 G55\nN20 G90 X0 Y0 Z300. B0 C0\nN30 G01 G43.4 H01 Z40. F500.\nN40 G41.2 D01\n\
+    N50 X70.711 Y0 Z20. B30. C45.\nN60 C135.\nN70 X141.421 C225.\nN80 C315.\nN90 X70.711 C405.\n\
+    N100 X0 Y0 Z40. B0 C360.\nN110 G40\nN120 G49 Z300.\nN130 M30\n";
+
+fn tbp(coordinates: fivex_engine::machine::TcpCoordinates) -> impl FnOnce(&mut fivex_engine::interp::Config) {
+    move |c: &mut fivex_engine::interp::Config| {
+        c.edit_machine(|m| {
+            m.five_axis.crc_table_coordinates = true;
+            m.five_axis.tcp_coordinates = coordinates;
+        })
+    }
+}
+
+/// Every motion under TCP of `src` on mixed-bc: line, the tip in Π (the motion's programming
+/// frame), the tool (table frame) and the machine axes; every motion's axes carry its tip
+/// (forward kinematics, tool length 100). And the alarm.
+#[allow(clippy::type_complexity)]
+fn tip_ends(
+    src: &str,
+    tweak: impl FnOnce(&mut fivex_engine::interp::Config),
+) -> (Vec<(u32, Vec3, Vec3, [f64; 8])>, Option<(String, u32)>) {
+    let kin = Kinematics::new(&MachineConfig::preset("mixed-bc").unwrap()).unwrap();
+    let mut ends = Vec::new();
+    let alarm = through_stages(interpreter_with(src, "mixed-bc", Fanuc, tweak), |c| {
+        if let CanonKind::Motion(m) = c.kind {
+            if let Some(t) = m.tip.as_deref() {
+                let pose = kin.forward(&m.machine, 100.0);
+                assert!((pose.tip - t.to).norm() < 1e-9, "line {}: {:?} {:?}", c.line, pose.tip, t.to);
+                let mut machine = [0.0; 8];
+                machine[..m.machine.len().min(8)].copy_from_slice(&m.machine[..m.machine.len().min(8)]);
+                ends.push((c.line, t.frame.r.transpose() * (t.to - t.frame.o), pose.tool, machine));
+            }
+        }
+    });
+    (ends, alarm)
+}
+
+#[test]
+fn tv26_program_1_compensates_in_the_table_system() {
+    use fivex_engine::machine::TcpCoordinates::{TableAtStart, TableAtZero};
+    // TBP = 1, WKP = 0 (INZ = 0 and 1: the table stands at C0 when TCP starts, so Π is the
+    // table system either way): TCP and compensation in one system (TV-24 row "1 0").
+    for wkp0 in [TableAtStart, TableAtZero] {
+        let (ends, alarm) = tip_ends(PROGRAM_1, tbp(wkp0));
+        assert_eq!(alarm, None);
+        let last = |line: u32| ends.iter().rev().find(|(l, ..)| *l == line).unwrap();
+        // The tool in the table system at B30 (C the table's turn): (sin B cos C, sin B sin C,
+        // cos B), the manual's VT; at each corner Q (between P and R, lines 6–9 = N60–N90) the
+        // plane is ⊥ VT; the moves projected on it give unit u1, u2, their left normals
+        // n = VT × u (G41.2: G41 seen from the holder), and every corner turns left (inside):
+        // the offset lines meet at Q + r (n1 + n2) / (1 + n1·n2), r = 5. Worked out:
+        // N80: Q (100, −100, 20), VT at C315 (0.353553, −0.353553, 0.866025); the move from
+        // (−100, −100, 20) along +X projects to u1 = (0.935414, 0.133631, −0.327327), the next
+        // one toward (50, 50, 20) to u2 = (−0.176777, 0.883883, 0.433013); n1 = (0, 0.925820,
+        // 0.377964), n2 = (−0.918559, −0.306186, 0.25), n1·n2 = −0.188982: the vector
+        // (−5.663000, 3.820101, 3.871459), ⊥ VT, 5 from both offset lines.
+        let corners = [
+            (6, 135.0, [-47.060011, 45.790898, 22.918604]),
+            (7, 225.0, [-94.337000, -96.179899, 23.871459]),
+            (8, 315.0, [94.337000, -96.179899, 23.871459]),
+            (9, 405.0, [48.873122, 41.802054, 23.806844]),
+        ];
+        for (line, c, want) in corners {
+            let (_, tip, tool, machine) = last(line);
+            let c = f64::to_radians(c);
+            let vt = Vec3::new(0.5 * c.cos(), 0.5 * c.sin(), 30f64.to_radians().cos());
+            assert!((tool - vt).norm() < 1e-9, "line {line}: tool {tool:?}, VT {vt:?}");
+            assert!((tip - Vec3::from(want)).norm() < 1e-5, "line {line}: {tip:?} {want:?}");
+            assert!((machine[3] - 30.0).abs() < 1e-9, "line {line}: B {}", machine[3]);
+        }
+        // N80 by the definition: the vector is ⊥ VT and 5 from both offset lines.
+        let (_, tip, ..) = last(8);
+        let v = tip - Vec3::new(100.0, -100.0, 20.0);
+        let (vt, n1, n2) = (
+            Vec3::new(0.353553, -0.353553, 0.866025),
+            Vec3::new(0.0, 0.925820, 0.377964),
+            Vec3::new(-0.918559, -0.306186, 0.25),
+        );
+        assert!(v.dot(&vt).abs() < 1e-5 && (v.dot(&n1) - 5.0).abs() < 1e-5 && (v.dot(&n2) - 5.0).abs() < 1e-5);
+    }
+}
+
+#[test]
+fn tv26_program_2_and_what_the_same_machining_means() {
+    use fivex_engine::machine::TcpCoordinates::{TableAtStart, Workpiece};
+    // Program 2 (WKP = 1: TCP and compensation in the workpiece system, TV-24 row "1 1") runs.
+    let (p1, a1) = tip_ends(PROGRAM_1, tbp(TableAtStart));
+    let (p2, a2) = tip_ends(PROGRAM_2, tbp(Workpiece));
+    assert_eq!((a1, a2), (None, None));
+    // "All perform the same machining" (§3.6): the programmed end points are one point on the
+    // table, p_w = Rz(−C)·p_t (TV-26), so without compensation every block end has the same
+    // machine axes (to the printed 3 decimals; C modulo 360).
+    let last =
+        |ends: &[(u32, Vec3, Vec3, [f64; 8])], line: u32| ends.iter().rev().find(|(l, ..)| *l == line).unwrap().3;
+    let plain = |src: &str, wkp| tip_ends(&src.replace("G41.2 D01", "G40"), tbp(wkp));
+    let ((q1, b1), (q2, b2)) = (plain(PROGRAM_1, TableAtStart), plain(PROGRAM_2, Workpiece));
+    assert_eq!((b1, b2), (None, None));
+    for line in 5..=10 {
+        let (m1, m2) = (last(&q1, line), last(&q2, line));
+        for k in 0..5 {
+            let d = if k == 4 { ((m1[k] - m2[k]).rem_euclid(360.0) + 180.0) % 360.0 - 180.0 } else { m1[k] - m2[k] };
+            assert!(d.abs() < 2e-3, "line {line} axis {k}: {m1:?} {m2:?}");
+        }
+    }
+    // With compensation they cannot agree: in the workpiece system Program 2's contour is a line
+    // along X run out and back (N60/N80 turn the table only and keep their vectors), so its
+    // vectors are found from that line, not from the quadrilateral on the table Program 1
+    // describes. N80's end: Program 1 puts the tip at Q + (−5.663, 3.820, 3.871) in the table
+    // system (above); Program 2 at the second of the two lengthened vectors of its turn back at
+    // (141.421, 0, 20) (α < 90°, CRC-10): 5 along the line projected ⊥ the tool, (4.330, 0,
+    // −2.5), and 5 to its right for the return.
+    let (m1, m2) = (last(&p1, 8), last(&p2, 8));
+    assert!((m1[0] - m2[0]).abs() > 1.0, "{m1:?} {m2:?}");
+    let (_, tip, ..) = p2.iter().rev().find(|(l, ..)| *l == 8).unwrap();
+    assert!((tip - Vec3::new(145.751127, -5.0, 17.5)).norm() < 1e-5, "{tip:?}");
+}
+
+/// Program 3 (type 2, G41.6 with I/J/K, TBP = 1), as printed under G43.4, and with G43.5.
+const PROGRAM_3: &str = "N10 G55\nN20 G90 X0 Y0 Z300. B0 C0\nN30 G01 G43.4 H01 Z40. F500.\nN40 G41.6 D01\n\
+    N50 X50. Y50. Z20. I35.355 J35.355 K86.603\nN60 X-50. I-35.355 J35.355 K86.603\n\
+    N70 X-100. Y-100. I-35.355 J-35.355 K86.603\nN80 X100. I35.355 J-35.355 K86.603\n\
+    N90 X50. Y50. I35.355 J35.355 K86.603\nN100 X0 Y0 Z40. K1.\nN110 G40\nN120 G49 Z300.\nN130 M30\n";
+
+#[test]
+fn tv26_program_3() {
+    use fivex_engine::machine::TcpCoordinates::TableAtStart;
+    // As printed, G41.6 under G43.4: the pairing of §3.5.2 (CRC-48, TV-18: type 2 with G43.5
+    // only) refuses it.
+    let (_, alarm) = tip_ends(PROGRAM_3, tbp(TableAtStart));
+    assert_eq!(alarm, Some(("PS5460".into(), 4)));
+    // Under G43.5 (the pairing the manual requires) the same tips as Program 1 in Π.
+    let (p3, a3) = tip_ends(&PROGRAM_3.replace("G43.4", "G43.5"), tbp(TableAtStart));
+    let (p1, _) = tip_ends(PROGRAM_1, tbp(TableAtStart));
+    assert_eq!(a3, None);
+    for line in 5..=10 {
+        let at = |ends: &[(u32, Vec3, Vec3, [f64; 8])]| ends.iter().rev().find(|(l, ..)| *l == line).unwrap().1;
+        assert!((at(&p1) - at(&p3)).norm() < 1e-3, "line {line}: {:?} {:?}", at(&p1), at(&p3));
+    }
+}
+
+#[test]
+fn tbp_interlocks_and_what_stays_refused() {
+    use fivex_engine::machine::TcpCoordinates::{TableAtStart, Workpiece};
+    let with = |src: &str, edit: fn(&mut MachineConfig)| {
+        first_alarm_with(src, "mixed-bc", |c| {
+            c.edit_machine(|m| {
+                m.five_axis.crc_table_coordinates = true;
+                edit(m);
+            })
+        })
+    };
+    let contour = "G01 X10. F500.\nY10.\nG40 X20. Y20.\n";
+    // TBP = 1 without TCP: the table system as PCS would need the programmed points placed on
+    // the turned table by the interpreter: not built (PS0010), never compensated in the
+    // workpiece system instead.
+    let alone = format!("G90 G00 X0 Y0 Z0 B0 C30.\nG41.2 D1\n{contour}M30\n");
+    assert_eq!(with(&alone, |_| {}), Some(("PS0010".into(), 2)));
+    // … whose look-ahead prerequisites come first (TV-20: PS5483 at G41.2).
+    assert_eq!(with(&alone, |m| m.motion.no_feed_look_ahead = true), Some(("PS5483".into(), 2)));
+    assert_eq!(with(&alone, |m| m.motion.no_rapid_look_ahead = true), Some(("PS5483".into(), 2)));
+    assert_eq!(with(&alone, |m| m.motion.nonlinear_rapid = true), Some(("PS5483".into(), 2)));
+    // TBP = 1, WKP = 1: the workpiece system (CRC-39), as TBP = 0: compensated without TCP.
+    assert_eq!(with(&alone, |m| m.five_axis.tcp_coordinates = Workpiece), None);
+    // TBP = 0, WKP = 0 stays PS5460 (TV-24 row "0 0") at the block that starts the second.
+    let nested = format!("G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG41.2 D1\n{contour}G49\nM30\n");
+    let tbp0 =
+        first_alarm_with(&nested, "mixed-bc", |c| c.edit_machine(|m| m.five_axis.tcp_coordinates = TableAtStart));
+    assert_eq!(tbp0, Some(("PS5460".into(), 3)));
+    assert_eq!(with(&nested, |_| {}), None);
+    // TV-23: TCP first and cancelled last. Ex. 2 (G41.2 before G43.4) stops at its G41.2 (not
+    // built without TCP); Ex. 3 (G49 before G40) is PS5460 (CRC-48/49).
+    let ex2 = "G90 G00 X0 Y0 Z0 B0 C0\nG41.2 D1\nG43.4 H1\nG01 X10. F500.\nG49\nM30\n";
+    assert_eq!(with(ex2, |_| {}), Some(("PS0010".into(), 2)));
+    let ex3 = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG41.2 D1\nG01 X10. F500.\nG49\nG40\nM30\n";
+    assert_eq!(with(ex3, |_| {}), Some(("PS5460".into(), 5)));
+    // Both in one block: TCP is not first (PS5460).
+    let one = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1 G41.2 D1\nG01 X10. F500.\nG40 X20.\nG49\nM30\n";
+    assert_eq!(with(one, |_| {}), Some(("PS5460".into(), 2)));
+    // TV-25: the table stands as when TCP started (its turn modulo 360°), and no table axis
+    // word in the G41.2 block.
+    let turned = format!("G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG01 Z10. C30. F500.\nG41.2 D1\n{contour}G49\nM30\n");
+    assert_eq!(with(&turned, |_| {}), Some(("PS5460".into(), 4)));
+    let back = turned.replace("C30.", "C360.");
+    assert_eq!(with(&back, |_| {}), None);
+    let word = nested.replace("G41.2 D1", "G41.2 D1 C10.");
+    assert_eq!(with(&word, |_| {}), Some(("PS5460".into(), 3)));
+    // The head axis may move before G41.2 (B is the tool's).
+    let head = nested.replace("G41.2 D1", "G01 B20. F500.\nG41.2 D1").replace("G49", "G40\nG49");
+    assert_eq!(with(&head, |_| {}), None);
+}

@@ -1095,6 +1095,13 @@ export interface components {
         /** @description 5-axis function settings of the control (vendor bits, `docs/five-axis.md`). */
         FiveAxisOptions: {
             /**
+             * @description On a machine with a rotary table, 5-axis cutter compensation takes the table coordinate
+             *     system as its programming coordinate system when tool centre point control does (FANUC
+             *     No.19746#4 TBP = 1 with WKP = 0, CRC-38); otherwise the workpiece system (TBP = 0,
+             *     CRC-39). fivex performs it under TCP only (`docs/cutter-compensation.md`, rule 8).
+             */
+            crc_table_coordinates?: boolean;
+            /**
              * Format: double
              * @description The same for cutting feed (FANUC No.19752).
              */
