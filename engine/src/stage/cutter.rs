@@ -973,6 +973,22 @@ impl Stage for Cutter {
         self.alarm.take()
     }
 
+    fn passes(&self, command: &Canon) -> bool {
+        // (Under interference avoidance every call goes through `settle`: not skipped.)
+        let idle = !self.avoid
+            && !self.on
+            && !self.stopped
+            && self.held.is_none()
+            && self.corner.is_none()
+            && self.word.is_none()
+            && self.after.is_empty();
+        idle && match &command.kind {
+            CanonKind::Motion(m) => !matches!(m.context.cutter_comp, code::G41 | code::G42),
+            CanonKind::Cutter(_) => false,
+            _ => true,
+        }
+    }
+
     fn reset(&mut self) {
         self.staged = None;
         self.pending = None;

@@ -347,6 +347,11 @@ impl Stage for LeadingEdge {
         self.alarm.take()
     }
 
+    fn passes(&self, command: &Canon) -> bool {
+        let idle = !self.on && self.waiting.is_none() && self.startup.is_none() && !self.stopped;
+        idle && !matches!(&command.kind, CanonKind::Motion(m) if m.context.cutter_comp == code::G41_3)
+    }
+
     fn reset(&mut self) {
         self.cancelled();
         self.shift.reset();

@@ -504,6 +504,16 @@ impl Stage for ToolSide {
         self.alarm.take()
     }
 
+    fn passes(&self, command: &Canon) -> bool {
+        let idle = !self.on && self.waiting.is_none() && self.q.is_none() && !self.perpendicular && !self.stopped;
+        idle && self.cutting_point == 0.0
+            && match &command.kind {
+                CanonKind::Motion(m) => !is_tool_side(m.context.cutter_comp),
+                CanonKind::Cutter(CutterWord::PlaneChange(_) | CutterWord::Perpendicular) => false,
+                _ => true,
+            }
+    }
+
     fn reset(&mut self) {
         self.cancelled();
         self.q = None;
