@@ -19,6 +19,10 @@ pub struct ToolOffset {
     pub h_wear: f64,
     pub d_geometry: f64,
     pub d_wear: f64,
+    /// The tool's corner radius (FANUC's corner-R offset data): cutting point control
+    /// (G43.8/G43.9) reads the tool as a ball end mill when it equals the radius (D), a square
+    /// end mill when 0, a bull-nose (radius end) mill otherwise.
+    pub corner_radius: f64,
 }
 
 /// Every slot exists and reads zero until written; only the slots up to the highest one
@@ -42,7 +46,7 @@ const WORK_WORDS: usize = WORK_SLOTS.div_ceil(64);
 const TOOL_WORDS: usize = (MAX_TOOL_OFFSETS + 1).div_ceil(64);
 /// What a slot never written holds.
 const ZERO_WORK: Pos = [0.0; MAX_AXES];
-const ZERO_TOOL: ToolOffset = ToolOffset { h_geometry: 0.0, h_wear: 0.0, d_geometry: 0.0, d_wear: 0.0 };
+const ZERO_TOOL: ToolOffset = ToolOffset { h_geometry: 0.0, h_wear: 0.0, d_geometry: 0.0, d_wear: 0.0, corner_radius: 0.0 };
 
 impl Default for Offsets {
     fn default() -> Self {
