@@ -67,6 +67,10 @@ pub enum AlarmId {
     /// Tool centre point control with machine settings it cannot work with (FANUC: rapids not
     /// of the linear type).
     TcpParameter,
+    /// Cutting point control (FANUC G43.8/G43.9) cannot place the tool: `,L2 I0 J0 K0`, a
+    /// block whose surface normals are opposite, a corner radius beyond the tool radius, or a
+    /// rotary axis of the tool moved by hand (FANUC PS5464).
+    CuttingPoint,
     /// Tool posture control on a circle would turn the tool to the other side of the plane
     /// (FANUC M-8).
     PostureCrossesPlane,

@@ -148,6 +148,21 @@ pub struct TipMove {
     /// G54.4 tool direction compensation recomputed all along the block; `None`: the rotary
     /// axes move in proportion between the end points (or as `posture` says).
     pub compensation: Option<Compensation>,
+    /// Cutting point control (G43.8/G43.9): `from`, `to` (and `arc`) are the cutting point's
+    /// path, and the tip is away from it as `crate::cutting_point` says, all along the block.
+    pub cutting: Option<CuttingMove>,
+}
+
+/// A block under cutting point control: what places the tool tip from the cutting point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CuttingMove {
+    pub tool: crate::cutting_point::Tool,
+    /// The surface normal (table frame, unit) at the block's start and end.
+    pub normals: (Vec3, Vec3),
+    /// FANUC No.11262, degrees (0: no singular posture).
+    pub singular_deg: f64,
+    /// The vector tip − cutting point (table frame) where the block starts.
+    pub start: Vec3,
 }
 
 /// G54.4 tool direction compensation between a block's ends (FANUC §2.13.5: every

@@ -114,6 +114,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::SlaveOutOfRange,
     AlarmId::PostureCrossesPlane,
     AlarmId::TcpParameter,
+    AlarmId::CuttingPoint,
     AlarmId::AxisSetting,
     AlarmId::ToolDirectionSetting,
     AlarmId::ToolAxisParallel,
@@ -201,6 +202,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         // FANUC only (Syntec turns the tool on the great circle on arcs too).
         PostureCrossesPlane => (("PS0432", "UNAVAILABLE POSTURE IN TPC"), COR100),
         TcpParameter => (("PS5420", "ILLEGAL PARAMETER IN G43.4/G43.5"), COR100),
+        // The number is the 5-axis manual's (§2.3.20, §2.3.21), the text fivex's; G43.8/G43.9
+        // are not Syntec codes.
+        CuttingPoint => (("PS5464", "ILLEGAL COMMAND IN CUTTING POINT CONTROL"), COR100),
         AxisSetting => (PS5459, ("COR-156", "5-axis axial direction error")),
         ToolDirectionSetting => (PS5459, ("COR-155", "5-axis tool direction error")),
         ToolAxisParallel => {

@@ -8,6 +8,7 @@ pub mod angle;
 pub mod canon;
 pub mod check;
 pub mod controller;
+pub mod cutting_point;
 pub mod dialect;
 pub mod geom;
 pub mod interp;

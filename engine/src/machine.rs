@@ -303,6 +303,12 @@ pub struct FiveAxisOptions {
     /// or 180° within this many degrees of them (FANUC No.19631, Δθ; 0: exact).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub leading_edge_tolerance: f64,
+    /// Cutting point control (G43.8/G43.9) counts a square or bull-nose end mill as near its
+    /// singular posture when the tool is within this angle of the surface normal, degrees, and
+    /// then holds the vector from the cutting point to the tool tip (FANUC No.11262, 0 to 90;
+    /// 0: no singular posture).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cutting_point_singular_angle: f64,
     /// On a machine with a rotary table, 5-axis cutter compensation takes the table coordinate
     /// system as its programming coordinate system when tool centre point control does (FANUC
     /// No.19746#4 TBP = 1 with WKP = 0, CRC-38); otherwise the workpiece system (TBP = 0,
@@ -684,6 +690,9 @@ impl MachineConfig {
         let angle = |x: f64| (0.0..=180.0).contains(&x);
         if !(angle(f.plane_change_angle) && angle(f.leading_edge_tolerance)) {
             return Err("five_axis: plane_change_angle and leading_edge_tolerance are 0 to 180 degrees".into());
+        }
+        if !(0.0..=90.0).contains(&f.cutting_point_singular_angle) {
+            return Err("five_axis: cutting_point_singular_angle is 0 to 90 degrees".into());
         }
         if self.tool_axis.iter().map(|x| x * x).sum::<f64>().sqrt() < 1e-9 {
             return Err("tool_axis needs a non-zero direction".into());

@@ -13,7 +13,8 @@
 //! - unwinds: executed motions (a split kinematic path's pieces as one) in which a rotary axis
 //!   turns 180° or more against the direction it last moved in;
 //! - tip deviation: the distance, in the table frame, from the tool tip the axes put there to the
-//!   programmed tip path: a tool centre point or tilted-plane move's own tip line or circle; on a
+//!   programmed tip path: a tool centre point or tilted-plane move's own tip line or circle (under
+//!   cutting point control the cutting point's path plus the tool's vector); on a
 //!   move whose rotary axes turn without one, the straight line between the tip's start and end
 //!   (the linearisation error); a move whose rotary axes stand still carries the tip rigidly
 //!   along its programmed path and deviates by nothing.

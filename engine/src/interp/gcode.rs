@@ -266,8 +266,10 @@ pub mod code {
         G160 = 1600 in IN_FEED;
     }
 
-    /// Tool centre point control, type 1 and type 2.
-    pub const TCP: [u16; 2] = [G43_4, G43_5];
+    /// Tool centre point control, type 1 and type 2, alone or with cutting point control.
+    pub const TCP: [u16; 4] = [G43_4, G43_5, G43_8, G43_9];
+    /// Tool centre point control whose tool direction is a vector I, J, K (type 2).
+    pub const TCP_TYPE2: [u16; 2] = [G43_5, G43_9];
     /// The tool length compensation cancels.
     pub const LENGTH_CANCEL: [u16; 2] = [G49, G49_1];
     /// The tool alignments (tool axis direction control).

@@ -8,10 +8,11 @@ use crate::kin::Vec3;
 
 impl Interpreter {
     /// The tool length offset data when an offset is "active" in FANUC's sense (MAN-13): group
-    /// 08 is G43, G44, G43.4 or G43.5 (not G49) and H is not 0.
+    /// 08 is G43, G44, G43.4, G43.5, G43.8 or G43.9 (not G49) and H is not 0.
     pub fn active_length_offset(&self) -> Option<f64> {
         let st = &self.state;
-        (matches!(st.modes[group::LENGTH_COMP], code::G43 | code::G44 | code::G43_4 | code::G43_5) && st.h != 0)
+        let mode = st.modes[group::LENGTH_COMP];
+        ((matches!(mode, code::G43 | code::G44) || code::TCP.contains(&mode)) && st.h != 0)
             .then(|| st.offsets.length(st.h))
     }
 

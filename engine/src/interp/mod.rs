@@ -4,6 +4,7 @@
 //! a block can change). Splitting them lets a block be borrowed from the programs while the state
 //! is mutated, with no copying on the hot path.
 
+mod cutting_point;
 mod cycles;
 pub mod expr;
 mod frames;

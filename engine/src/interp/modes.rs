@@ -319,16 +319,16 @@ static RULES: &[Rule] = &[
     }),
     // --- tool centre point control -------------------------------------------------------
     rule(Fanuc, "tcp TCP-08, TV-61: G43.5 needs two rotary axes", A::MachineParameter, |c| {
-        c.has(G43_5) && c.rotary_axes() < 2
+        c.any(&TCP_TYPE2) && c.rotary_axes() < 2
     }),
     rule(Fanuc, "tcp TCP-08, TV-58: no I/J/K in the G43.5 block (table/mixed)", A::IllegalCommandInTcp, |c| {
-        c.table_or_mixed() && c.has(G43_5) && c.count_letters(b"IJK") > 0
+        c.table_or_mixed() && c.any(&TCP_TYPE2) && c.count_letters(b"IJK") > 0
     }),
     rule(
         Both,
         "tcp TCP-09/20, TV-62; syn SYN-08, TV-15: no rotary axis word in G43.5",
         A::RotaryCommandInTcpType2,
-        |c| c.tcp(c.after[group::LENGTH_COMP]) && c.after[group::LENGTH_COMP] == G43_5 && c.any_rotary(),
+        |c| c.tcp(c.after[group::LENGTH_COMP]) && TCP_TYPE2.contains(&c.after[group::LENGTH_COMP]) && c.any_rotary(),
     ),
     rule(Syntec, "syn SYN-08, TV-12: I=J=K=0 in G43.5", A::ZeroToolVector, |c| {
         c.tcp(c.after[group::LENGTH_COMP]) && c.after[group::LENGTH_COMP] == G43_5 && {
@@ -766,7 +766,7 @@ impl Ctx<'_> {
     }
 
     fn tcp(&self, m: u16) -> bool {
-        (TCP.contains(&m) || matches!(m, G43_8 | G43_9)) && self.five_axis()
+        TCP.contains(&m) && self.five_axis()
     }
 
     fn twp(&self, m: u16) -> bool {

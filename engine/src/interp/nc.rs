@@ -40,12 +40,21 @@ pub(super) enum Form {
     Expr,
 }
 
+/// Where a letter's last word is kept in `Words::last`.
+fn slot(letter: u8) -> usize {
+    match letter {
+        b'a'..=b'z' => 26 + (letter - b'a') as usize,
+        _ => (letter - b'A') as usize,
+    }
+}
+
 /// A block's words after evaluation: vacant words are gone, values are as written.
 pub(super) struct Words {
     /// (letter, value, how it was written), in block order.
     list: ArrayVec<(u8, f64, Form), MAX_WORDS>,
-    /// Index into `list` of the last word per letter, +1 (0 = absent).
-    last: [u8; 26],
+    /// Index into `list` of the last word per letter, +1 (0 = absent): A–Z, then the comma
+    /// addresses' lower-case letters a–z (`lang::ast::Word::letter`).
+    last: [u8; 52],
     g: [u16; 12],
     ng: usize,
     /// Bit `code % 64` set for every G code of the block: most `has_g` questions end here.
@@ -64,7 +73,7 @@ impl Words {
     }
 
     fn word(&self, letter: u8) -> Option<(f64, Form)> {
-        let i = self.last[(letter - b'A') as usize];
+        let i = self.last[slot(letter)];
         (i != 0).then(|| {
             let (_, v, form) = self.list[i as usize - 1];
             (v, form)
@@ -72,7 +81,7 @@ impl Words {
     }
 
     pub(super) fn has(&self, letter: u8) -> bool {
-        self.last[(letter - b'A') as usize] != 0
+        self.last[slot(letter)] != 0
     }
 
     /// The block's G codes (×10), in block order.
@@ -111,7 +120,7 @@ impl Words {
     pub(super) fn new() -> Words {
         Words {
             list: ArrayVec::new(),
-            last: [0; 26],
+            last: [0; 52],
             g: [0; 12],
             ng: 0,
             g_bits: 0,
@@ -172,7 +181,7 @@ impl State {
                 _ => {}
             }
             w.list.try_push((word.letter, v, form)).map_err(|_| AlarmId::ImproperAddress)?;
-            w.last[(word.letter - b'A') as usize] = w.list.len() as u8;
+            w.last[slot(word.letter)] = w.list.len() as u8;
         }
         Ok(())
     }
@@ -192,16 +201,17 @@ impl State {
     /// Whether a number without a decimal point at this address counts least increments.
     fn counts_increments(&self, letter: u8) -> bool {
         !self.cfg.pocket_calculator
-            && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') || self.axis_of(letter).is_some())
+            && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k')
+                || self.axis_of(letter).is_some())
     }
 
     /// Least input increments per unit of an address: 1000 (0.001 mm or deg) at the axes and
     /// I J K R Q, 10000 for linear ones in G20 (0.0001 inch), 1 at the other addresses.
-    fn steps_of(&self, letter: u8) -> f64 {
+    pub(super) fn steps_of(&self, letter: u8) -> f64 {
         match self.axis_of(letter) {
             Some(i) if self.cfg.machine.axes[i].kind != AxisKind::Linear => 1000.0,
             Some(_) => 1.0 / self.increment(),
-            None if matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q') => 1.0 / self.increment(),
+            None if matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k') => 1.0 / self.increment(),
             None => 1.0,
         }
     }
@@ -380,7 +390,12 @@ impl State {
                     | b'R'
                     | b'S'
                     | b'T'
-            ) || self.axis_of(letter).is_some();
+                    | b'a'
+                    | b'c'
+                    | b'r'
+            ) || self.axis_of(letter).is_some()
+                // FANUC's `,L2 I J K` (cutting point control; checked where it is read).
+                || (matches!(letter, b'l' | b'i' | b'j' | b'k') && self.cfg.dialect == crate::Dialect::Fanuc);
             if !known {
                 return Err(AlarmId::ImproperAddress);
             }
@@ -883,7 +898,7 @@ impl State {
                 let (cw, arc) = self.arc(w, &target)?;
                 let kind = if cw { MotionKind::ArcCw } else { MotionKind::ArcCcw };
                 match arc {
-                    Some(arc) if self.wse_arc() => self.wse_arc_motion(kind, target, arc, out),
+                    Some(arc) if self.wse_arc() => self.wse_arc_motion(kind, target, arc, out)?,
                     arc => self.push_motion(kind, target, arc, out),
                 }
                 self.xf.programmed = programmed;
@@ -1201,10 +1216,10 @@ impl State {
             (b'L', None) => stcp_default.map_or(unbuilt::Word::Absent, unbuilt::Word::Value),
             (_, value) => value.map_or(unbuilt::Word::Absent, unbuilt::Word::Value),
         };
-        match w.gcodes().iter().find(|&&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
-            Some(_) => Err(AlarmId::GCodeNotBuilt),
-            None => self.refuse_unbuilt_cutter(w),
+        if w.gcodes().iter().any(|&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
+            return Err(AlarmId::GCodeNotBuilt);
         }
+        self.refuse_unbuilt_cutter(w)
     }
 
     /// Under cutter compensation (G41/G42, G41.2/G42.2 or G41.3 in force after the block), what its
@@ -1232,7 +1247,8 @@ impl State {
                 || after(group::SCALING) != code::G50
                 || after(group::MIRROR) != code::G50_1
                 || after(group::POLAR) == code::G16,
-            tcp: matches!(after(group::LENGTH_COMP), code::G43_4 | code::G43_5),
+            tcp: code::TCP.contains(&after(group::LENGTH_COMP)),
+            cutting_point: matches!(after(group::LENGTH_COMP), code::G43_8 | code::G43_9),
             five_axis: self.plane_active() || self.wse.is_some() || in_block(group::WSE).is_some(),
             cycle: after(group::CYCLE) != code::G80,
             coordinates: [code::G28, code::G30, code::G53, code::G52, code::G92].iter().any(|&c| w.has_g(c))

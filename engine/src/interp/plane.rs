@@ -289,8 +289,9 @@ impl State {
             tool_length: self.active_tool_length(),
             posture: false,
             along: true,
+            cutting: None,
         };
-        self.follow_motion(&kin, kind, target, arc, path, out);
+        self.follow_motion(&kin, kind, target, arc, path, out)?;
         self.wse_keep_programmed_angles(&programmed);
         Ok(())
     }
@@ -356,9 +357,14 @@ impl State {
                         }
                     }
                 }
-                let path =
-                    FollowPath { frame, tool_length: length - pivot, posture: false, along: code == code::G53_6 };
-                self.follow_motion(&kin, MotionKind::Rapid, target, None, path, out);
+                let path = FollowPath {
+                    frame,
+                    tool_length: length - pivot,
+                    posture: false,
+                    along: code == code::G53_6,
+                    cutting: None,
+                };
+                self.follow_motion(&kin, MotionKind::Rapid, target, None, path, out)?;
                 match self.follow_machine {
                     // The current point is the tip again, wherever the pivot put it.
                     Some(end) if pivot != 0.0 => self.plane_moved_to(end),

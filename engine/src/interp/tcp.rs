@@ -14,7 +14,7 @@ use super::gcode::{code, group};
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
-use crate::canon::{Arc, CanonKind, MotionKind, Pos, TipArc, TipMove};
+use crate::canon::{Arc, CanonKind, CuttingMove, MotionKind, Pos, TipArc, TipMove};
 use crate::geom::Rigid;
 use crate::kin::{Kinematics, Selection, Vec3};
 use crate::machine::TcpCoordinates;
@@ -23,7 +23,8 @@ use std::sync::Arc as Shared;
 /// Tool centre point control in force.
 #[derive(Debug, Clone)]
 pub(super) struct Tcp {
-    /// 434 (type 1) or 435 (type 2).
+    /// Group 08's code: 434 (type 1) or 435 (type 2), 438/439 the same types under cutting
+    /// point control.
     code: u16,
     kin: Shared<Kinematics>,
     /// Π in the table frame; `None`: Π is the workpiece system (FANUC WKP = 1), placed on the
@@ -42,6 +43,15 @@ pub(super) struct Tcp {
     /// The machine position at the end of the start block (the table angles WKP = 1 arcs are
     /// checked against, M-13).
     start_machine: Pos,
+    /// Cutting point control (G43.8/G43.9): the program's X/Y/Z are the cutting point.
+    pub(super) cutting: Option<super::cutting_point::CuttingPoint>,
+}
+
+impl Tcp {
+    /// The tool direction is a vector I, J, K (G43.5, G43.9), not the rotary angles.
+    fn type2(&self) -> bool {
+        code::TCP_TYPE2.contains(&self.code)
+    }
 }
 
 impl State {
@@ -127,7 +137,9 @@ impl State {
             }
             // TCP-08/23, TV-60: type 2 cannot work in the workpiece system (WKP = 1); on every
             // kind of machine (Q-23, decision: the parameter check does not look at the type).
-            if self.modes[group::LENGTH_COMP] == code::G43_5 && five.tcp_coordinates == TcpCoordinates::Workpiece {
+            if code::TCP_TYPE2.contains(&self.modes[group::LENGTH_COMP])
+                && five.tcp_coordinates == TcpCoordinates::Workpiece
+            {
                 return Err(AlarmId::MachineParameter);
             }
         }
@@ -143,6 +155,7 @@ impl State {
         let tool = kin.forward(&machine, tool_length).tool;
         let inclination =
             if self.modes[group::LENGTH_COMP] == code::G43_5 { self.angle_word(w, b'Q').unwrap_or(0.0) } else { 0.0 };
+        let cutting = self.cutting_begin(w)?;
         self.tcp = Some(Tcp {
             code: self.modes[group::LENGTH_COMP],
             kin,
@@ -154,6 +167,7 @@ impl State {
             commanded: None,
             starting: true,
             start_machine: machine,
+            cutting,
         });
         self.follow_machine = Some(machine);
         Ok(())
@@ -217,7 +231,7 @@ impl State {
             // type 1's as programmed, type 2's (machine angles for a direction in Π, which
             // holds the error) the angles whose error-free direction is the actual one.
             self.follow_machine = Some(machine);
-            let angles = if t.code == code::G43_4 { Some(programmed) } else { self.wse_programmed_angles(&machine) };
+            let angles = if t.type2() { self.wse_programmed_angles(&machine) } else { Some(programmed) };
             if let Some(angles) = angles {
                 self.wse_keep_programmed_angles(&angles);
             }
@@ -229,16 +243,38 @@ impl State {
     /// start block ended: the current point becomes the tool tip there, in Π.
     pub(super) fn tcp_moved_to(&mut self, machine: Pos) {
         let Some(t) = &self.tcp else { return };
-        let frame = t.frame.unwrap_or_else(|| self.frame_on_table(&t.kin, &machine));
-        self.pos = self.tip_position(&t.kin, &frame, &machine, t.tool_length);
+        let kin = t.kin.clone();
+        let frame = t.frame.unwrap_or_else(|| self.frame_on_table(&kin, &machine));
+        self.cutting_moved_to(&kin, &frame, &machine);
+        let t = self.tcp.as_ref().expect("checked above");
+        self.pos = self.tip_position(&kin, &frame, &machine, t.tool_length);
+        // Under cutting point control the current point is the cutting point, the tool's
+        // vector back from the tip.
+        if let Some(c) = &t.cutting {
+            let back = frame.r.transpose() * c.vector;
+            for (axis, index) in kin.linear.iter().enumerate() {
+                if let Some(i) = index {
+                    self.pos[*i] -= back[axis];
+                }
+            }
+        }
         self.follow_machine = Some(machine);
         self.sync_programmed();
     }
 
     /// Type 2: the block's I/J/K (a tool direction, not an arc centre) and Q.
     pub(super) fn tcp_words(&mut self, w: &Words) -> Result<(), AlarmId> {
+        // `,L2 I J K`: the surface normal of cutting point control, kept until a move takes it.
+        let cutting = self.tcp.as_ref().is_some_and(|t| t.cutting.is_some());
+        if let Some(normal) = self.surface_normal(w, cutting)? {
+            // (The start block's normal is taken where it starts, `cutting_begin`.)
+            let t = self.tcp.as_mut().expect("only cutting point control takes ,L2");
+            if let (Some(c), false) = (&mut t.cutting, t.starting) {
+                c.commanded = Some(normal);
+            }
+        }
         let Some(t) = &self.tcp else { return Ok(()) };
-        if t.code != code::G43_5 || t.starting {
+        if !t.type2() || t.starting {
             return Ok(());
         }
         let [i, j, k] = [b'I', b'J', b'K'].map(|l| self.value(w, l));
@@ -268,7 +304,7 @@ impl State {
 
     /// Whether group 01's I/J/K are a tool direction here (type 2), not an arc centre.
     pub(super) fn ijk_is_direction(&self) -> bool {
-        self.tcp.as_ref().is_some_and(|t| t.code == code::G43_5 && !t.starting)
+        self.tcp.as_ref().is_some_and(|t| t.type2() && !t.starting)
     }
 
     /// A motion under tool centre point control to `target` (Π; rotary axes as programmed),
@@ -281,11 +317,14 @@ impl State {
         out: &mut Vec<crate::canon::Canon>,
     ) -> Result<(), AlarmId> {
         let t = self.tcp.as_ref().expect("tcp_motion under TCP");
+        if t.cutting.is_some_and(|c| c.disturbed) {
+            return Err(AlarmId::CuttingPoint);
+        }
         let kin = t.kin.clone();
         let from_machine = self.machine_position();
         let off = self.offset_vector();
         let mut through_singular = false;
-        if t.code == code::G43_5 && !t.starting {
+        if t.type2() && !t.starting {
             // Type 2: the rotary angles that give the commanded direction (TCP-09, M-10).
             let mut v = t.commanded.unwrap_or(t.direction);
             if t.inclination != 0.0 {
@@ -317,7 +356,7 @@ impl State {
             }
         }
         let programmed = target;
-        if self.tcp.as_ref().is_some_and(|t| t.code == code::G43_4) {
+        if self.tcp.as_ref().is_some_and(|t| !t.type2()) {
             // Type 1 under G54.4 with RCM = 1: the programmed angles seen from the WSCS.
             self.wse_compensate(&kin, &mut target)?;
         }
@@ -368,9 +407,21 @@ impl State {
         if let (true, Some(a), crate::Dialect::Fanuc, false) = (posture, &arc, self.cfg.dialect, t.starting) {
             posture_stays_on_one_side(&kin, a, &frame, &from_machine, &machine_end, t.tool_length)?;
         }
-        let path = FollowPath { frame, tool_length: t.tool_length, posture, along: !t.starting };
-        let starting = t.starting;
-        self.follow_motion(&kin, kind, target, arc, path, out);
+        let (tool_length, starting) = (t.tool_length, t.starting);
+        let cutting = match self.tcp.as_mut().and_then(|t| t.cutting.as_mut()) {
+            Some(c) => {
+                let (a, b) = c.take_normals()?;
+                let singular_deg = self.cfg.machine.five_axis.cutting_point_singular_angle;
+                Some(CuttingMove { tool: c.tool, normals: (frame.r * a, frame.r * b), singular_deg, start: c.vector })
+            }
+            None => None,
+        };
+        let path = FollowPath { frame, tool_length, posture, along: !starting, cutting };
+        self.follow_motion(&kin, kind, target, arc, path, out)?;
+        if let Some(c) = self.tcp.as_mut().and_then(|t| t.cutting.as_mut()) {
+            let tip = kin.forward(&self.follow_machine.expect("a tip move leaves it"), tool_length).tip;
+            c.vector = tip - frame.to_parent(&xyz(&kin, &target));
+        }
         if starting {
             self.tcp_started();
         }
@@ -388,22 +439,21 @@ impl State {
         arc: Option<Box<Arc>>,
         path: FollowPath,
         out: &mut Vec<crate::canon::Canon>,
-    ) {
+    ) -> Result<(), AlarmId> {
         let from_machine = self.machine_position();
         let off = self.offset_vector();
-        let FollowPath { frame, tool_length, posture, along } = path;
+        let FollowPath { frame, tool_length, posture, along, cutting } = path;
         // G54.4's compensation along the way, as the block's `wse_compensate` left it.
         let compensation = self.wse_between.take();
+        // The rotary axes' end is known here; X/Y/Z are placed below, for the tip.
         let mut machine: Pos = std::array::from_fn(|i| target[i] + off[i]);
         let tip_to = frame.to_parent(&xyz(kin, &target));
-        let carriage = kin.carriage_for(&machine, tip_to, tool_length);
-        for (axis, index) in kin.linear.iter().enumerate() {
-            if let Some(i) = index {
-                machine[*i] = carriage[axis];
-            }
-        }
         let tip = along.then(|| {
-            let from = kin.forward(&from_machine, tool_length);
+            let mut from = kin.forward(&from_machine, tool_length);
+            if let Some(c) = &cutting {
+                // The path is the cutting point's.
+                from.tip -= c.start;
+            }
             let end_tool = kin.forward(&machine, tool_length).tool;
             let tip_arc = arc.as_deref().map(|a| {
                 let mut normal = Vec3::zeros();
@@ -429,13 +479,31 @@ impl State {
                 rotary_feed: self.cfg.machine.five_axis.rotary_feed,
                 rotary_clamp: self.wse_rotary_clamp(kind),
                 compensation,
+                cutting,
             })
         });
+        // Cutting point control puts the tip away from the cutting point as the path turns
+        // the tool (an ordinary start block: by the tool's own vector at its end).
+        let aimed = match (&cutting, &tip) {
+            (Some(_), Some(t)) => {
+                tip_to
+                    + crate::motion::path::cutting_end(kin, t, &from_machine, &machine).ok_or(AlarmId::CuttingPoint)?
+            }
+            (Some(c), None) => tip_to + c.tool.vector(kin.forward(&machine, 0.0).tool, c.normals.1),
+            (None, _) => tip_to,
+        };
+        let carriage = kin.carriage_for(&machine, aimed, tool_length);
+        for (axis, index) in kin.linear.iter().enumerate() {
+            if let Some(i) = index {
+                machine[*i] = carriage[axis];
+            }
+        }
         let mut motion = self.motion(kind, target, machine, None, tip);
         self.wse_display(&mut motion);
         self.emit(out, CanonKind::Motion(motion));
         self.pos = target;
         self.follow_machine = Some(machine);
+        Ok(())
     }
 }
 
@@ -500,6 +568,8 @@ pub(super) struct FollowPath {
     pub(super) posture: bool,
     /// The tip follows the path; `false`: an ordinary move to the end point (TCP start block).
     pub(super) along: bool,
+    /// Cutting point control: X/Y/Z are the cutting point, the tip away from it.
+    pub(super) cutting: Option<CuttingMove>,
 }
 
 /// FANUC M-13 (§2.3.7, TV-30…42): a circle under TCP in the workpiece system (WKP = 1) is

@@ -100,8 +100,6 @@ const TABLE: &[NotBuilt] = &[
         function: "smooth tool centre point control (STCP, G43.4 L1; without L when Pr3051 = 1)",
     },
     row(437, When::Always, "tool offset (G43.7)"),
-    row(438, When::Always, "cutting point command (G43.8)"),
-    row(439, When::Always, "cutting point command (G43.9)"),
     row(450, When::Always, "tool position offset (G45)"),
     row(460, When::Always, "tool position offset (G46)"),
     row(470, When::Always, "tool position offset (G47)"),
@@ -155,6 +153,8 @@ pub struct CutterBlock {
     pub transform: bool,
     /// Tool centre point control in force.
     pub tcp: bool,
+    /// Cutting point control (G43.8/G43.9) in force: it offsets the tool by D itself.
+    pub cutting_point: bool,
     /// The tilted working plane or G54.4 in force.
     pub five_axis: bool,
     /// A canned cycle in force.
@@ -194,6 +194,7 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
     let five_axis = b.tool_side || b.leading_edge;
     let conventional = !five_axis;
     [
+        (b.cutting_point, "cutter radius compensation under cutting point control (G43.8/G43.9)"),
         (b.transform, "cutter radius compensation with rotation, scaling, mirror image or polar coordinates"),
         (b.five_axis || b.tcp && conventional, "cutter radius compensation with TCP, a tilted working plane or G54.4"),
         (b.cycle, "cutter radius compensation in a canned cycle"),
@@ -225,9 +226,18 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
 }
 
 /// An address letter fivex reads but no function of it uses: E (FANUC M series: the thread
-/// lead of G33, which is not built). Macro call arguments (G65/G66) are not addresses here.
+/// lead of G33, which is not built), the comma addresses of chamfering and corner rounding
+/// (`,C` `,R`) and of the angle of direct drawing dimension programming (`,A`), in the lower
+/// case `lang::ast::Word::letter` gives them. Macro call arguments (G65/G66) are not addresses
+/// here.
 pub fn address(letter: u8) -> Option<&'static str> {
-    (letter == b'E').then_some("address E (thread lead)")
+    match letter {
+        b'E' => Some("address E (thread lead)"),
+        b'c' => Some("chamfering (,C)"),
+        b'r' => Some("corner rounding (,R)"),
+        b'a' => Some("angle of direct drawing dimension programming (,A)"),
+        _ => None,
+    }
 }
 
 /// The codes of the table (for documentation checks).

@@ -239,8 +239,14 @@ impl State {
     /// G02/G03 under G54.4 without tool centre point control or a tilted plane: the circle
     /// (WSCS) carried into the WCS as a circle in space, the tool length along Z as plain G43
     /// applies it, so the end point is exactly `program_to_machine(target)`.
-    pub(super) fn wse_arc_motion(&mut self, kind: MotionKind, target: Pos, arc: Box<Arc>, out: &mut Vec<Canon>) {
-        let Some((kin, active)) = self.kinematics.clone().zip(self.wse) else { return };
+    pub(super) fn wse_arc_motion(
+        &mut self,
+        kind: MotionKind,
+        target: Pos,
+        arc: Box<Arc>,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
+        let Some((kin, active)) = self.kinematics.clone().zip(self.wse) else { return Ok(()) };
         let end = self.program_to_machine(&target);
         let [x, y, z] = active.xyz;
         let length = Rigid {
@@ -248,10 +254,11 @@ impl State {
             o: Vec3::new(self.tool_vec[x], self.tool_vec[y], self.tool_vec[z]),
         };
         let frame = self.wcs_on_table(&kin, &end).then(&length).then(&active.frame);
-        let path = FollowPath { frame, tool_length: 0.0, posture: false, along: true };
-        self.follow_motion(&kin, kind, target, Some(arc), path, out);
+        let path = FollowPath { frame, tool_length: 0.0, posture: false, along: true, cutting: None };
+        self.follow_motion(&kin, kind, target, Some(arc), path, out)?;
         // Not a mode that follows the tip: the machine position is the programmed point's.
         self.follow_machine = None;
+        Ok(())
     }
 }
 
@@ -316,8 +323,9 @@ impl State {
         self.wse_compensate(&kin, &mut target)?;
         let from = self.machine_position();
         let frame = self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &from));
-        let path = FollowPath { frame, tool_length: self.active_tool_length(), posture: false, along: true };
-        self.follow_motion(&kin, kind, target, arc, path, out);
+        let path =
+            FollowPath { frame, tool_length: self.active_tool_length(), posture: false, along: true, cutting: None };
+        self.follow_motion(&kin, kind, target, arc, path, out)?;
         self.wse_keep_programmed_angles(&programmed);
         Ok(())
     }

@@ -95,6 +95,9 @@ pub type Words = smallvec::SmallVec<[Word; 4]>;
 /// One address word: a letter and its value.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Word {
+    /// The address in upper case; a comma address (`,C` `,R` `,A` `,L`) in lower case, and so
+    /// are the I, J, K that follow `,L` (FANUC's `,L2 I J K`, the surface normal of cutting
+    /// point control), which are not the block's own I, J, K.
     pub letter: u8,
     pub value: WordValue,
     /// 1-based column of the letter.

@@ -364,9 +364,30 @@ impl BlockParser<'_> {
 
     fn words(&mut self) -> PResult<Words> {
         let mut words = Words::new();
-        while let (Tok::Letter(letter), col) = self.lx.peek() {
-            self.lx.next_tok();
-            let value = self.word_value(letter, col)?;
+        // After `,L` only I, J, K may come, and they belong to it (FANUC §2.2.4).
+        let mut after_l = false;
+        loop {
+            let (letter, col) = match self.lx.peek() {
+                (Tok::Letter(letter), col) => {
+                    self.lx.next_tok();
+                    if after_l && !matches!(letter, b'I' | b'J' | b'K') {
+                        return self.err(col, AlarmId::ImproperAddress, "only I, J, K may follow ,L");
+                    }
+                    (if after_l { letter.to_ascii_lowercase() } else { letter }, col)
+                }
+                (Tok::Comma, col) => {
+                    self.lx.next_tok();
+                    match self.lx.next_tok() {
+                        (Tok::Letter(letter @ (b'A' | b'C' | b'L' | b'R')), _) if !after_l => {
+                            after_l = letter == b'L';
+                            (letter.to_ascii_lowercase(), col)
+                        }
+                        _ => return self.err(col, AlarmId::Syntax, "a comma address is ,A ,C ,R or ,L"),
+                    }
+                }
+                _ => break,
+            };
+            let value = self.word_value(letter.to_ascii_uppercase(), col)?;
             words.push(Word { letter, value, col });
         }
         Ok(words)

@@ -8,7 +8,7 @@
 //! within the tolerance) in the plane's two axes with every other axis moving in proportion.
 
 use super::profile::{Limits, Profile};
-use crate::canon::{Arc, Compensation, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
+use crate::canon::{Arc, Compensation, CuttingMove, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
 use crate::geom::Rigid;
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::{MotionOptions, MAX_AXES};
@@ -195,6 +195,9 @@ struct Follow {
     posture: Option<Posture>,
     /// G54.4 tool direction compensation along the way (when there is no posture).
     compensation: Option<Compensation>,
+    /// Cutting point control: `from`/`to`/`circle` are the cutting point's path, the tip is
+    /// away from it by the block's vector (`cutting_point::Along`).
+    cutting: Option<Box<Cutting>>,
     /// The programming coordinate system in the table frame; `None`: the programming
     /// coordinates keep their offset from the machine's (a manual tip rotation outside tool
     /// centre point control).
@@ -209,6 +212,15 @@ struct Follow {
     /// The path's stretches with limits of their own (empty: one for the whole path); the
     /// planner queues each as a segment (`Segment::split`).
     pieces: Box<[Piece]>,
+}
+
+/// Cutting point control along a (part of a) block: `u` of the way is `lo + u·(hi − lo)` of
+/// the block's `along`.
+#[derive(Debug, Clone, PartialEq)]
+struct Cutting {
+    along: crate::cutting_point::Along,
+    lo: f64,
+    hi: f64,
 }
 
 /// A circle (or spiral, or helix) in space: at `u` of the way, `center + r(u)·(cos φ·e1 +
@@ -463,7 +475,56 @@ fn compensated(kin: &Kinematics, c: &Compensation, u: f64) -> Vec3 {
     c.turn * kin.forward(&q, 0.0).tool
 }
 
+/// How tool posture control turns the tool along a tip path from `from` to `to` (`None`: the
+/// rotary axes in proportion).
+fn posture_along(kin: &Kinematics, tip: &TipMove, circle: Option<&Circle3>, from: &Pos, to: &Pos) -> Option<Posture> {
+    tip.posture
+        .and_then(|(a, b)| match circle {
+            Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
+            _ => Posture::new(a, b),
+        })
+        .filter(|p| p.continuous(kin, from, to, circle))
+}
+
+/// Cutting point control: the vector from the cutting point to the tool tip (table frame) where
+/// a block from the axes at `from` to the angles of `to` ends, as its path turns the tool
+/// (`tip.cutting` set; the interpreter places the block's end with it); `None` when the tool
+/// cannot follow the block (`cutting_point::Along::through_singular`).
+pub(crate) fn cutting_end(kin: &std::sync::Arc<Kinematics>, tip: &TipMove, from: &Pos, to: &Pos) -> Option<Vec3> {
+    let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
+    let posture = posture_along(kin, tip, circle.as_ref(), from, to);
+    let follow = Follow {
+        kin: kin.clone(),
+        tool_length: tip.tool_length,
+        from: tip.from,
+        to: tip.to,
+        circle,
+        posture,
+        compensation: None,
+        cutting: None,
+        work_frame: None,
+        display_shift: None,
+        speed_cap: f64::INFINITY,
+        clamped: false,
+        pieces: Box::default(),
+    };
+    match &tip.cutting {
+        Some(c) => {
+            let along = follow.along(c, from, to);
+            let end = along.vector_for(1.0, kin.forward(&follow.angles(from, to, 1.0), 0.0).tool);
+            (!along.through_singular()).then_some(end)
+        }
+        None => Some(Vec3::zeros()),
+    }
+}
+
 impl Follow {
+    /// A block's cutting point vector all along it, the axes going from `from` to `to`.
+    fn along(&self, c: &CuttingMove, from: &Pos, to: &Pos) -> crate::cutting_point::Along {
+        let tool_at = |u: f64| self.kin.forward(&self.angles(from, to, u), 0.0).tool;
+        crate::cutting_point::Along::new(c.tool, c.normals, c.singular_deg, c.start, tool_at)
+    }
+
     fn tip(&self, u: f64) -> Vec3 {
         match &self.circle {
             Some(c) => c.at(u),
@@ -475,16 +536,8 @@ impl Follow {
     /// proportion, or for the posture's direction the inverse solution nearest that, then X/Y/Z
     /// so that the tip is on the path.
     fn at(&self, from: &Pos, to: &Pos, u: f64) -> Pos {
-        let mut q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
-        let direction = match (&self.posture, &self.compensation) {
-            (Some(p), _) => Some(p.at(u, self.circle.as_ref())),
-            (None, Some(c)) => Some(compensated(&self.kin, c, u)),
-            (None, None) => None,
-        };
-        if let Some(angles) = direction.and_then(|d| self.kin.angles_near(d, &q)) {
-            q = angles;
-        }
-        let carriage = self.kin.carriage_for(&q, self.tip(u), self.tool_length);
+        let mut q = self.angles(from, to, u);
+        let carriage = self.kin.carriage_for(&q, self.aimed_tip(&q, u), self.tool_length);
         for (axis, index) in self.kin.linear.iter().enumerate() {
             if let Some(i) = index {
                 q[*i] = carriage[axis];
@@ -493,8 +546,36 @@ impl Follow {
         q
     }
 
+    /// The rotary (and other) axes `u` of the way: in proportion, or for the posture's
+    /// direction the inverse solution nearest that (X/Y/Z not yet placed).
+    fn angles(&self, from: &Pos, to: &Pos, u: f64) -> Pos {
+        let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+        let direction = match (&self.posture, &self.compensation) {
+            (Some(p), _) => Some(p.at(u, self.circle.as_ref())),
+            (None, Some(c)) => Some(compensated(&self.kin, c, u)),
+            (None, None) => None,
+        };
+        direction.and_then(|d| self.kin.angles_near(d, &q)).unwrap_or(q)
+    }
+
+    /// Where the tip goes `u` of the way with the axes at `q` (only their angles count): on
+    /// the path, or under cutting point control the block's vector away from it.
+    fn aimed_tip(&self, q: &Pos, u: f64) -> Vec3 {
+        let tip = self.tip(u);
+        match &self.cutting {
+            Some(c) => {
+                let along = c.lo + (c.hi - c.lo) * u;
+                tip + c.along.vector_for(along, self.kin.forward(q, 0.0).tool)
+            }
+            None => tip,
+        }
+    }
+
     /// Keep what is left after `u` of the way.
     fn cut(&mut self, u: f64) {
+        if let Some(c) = &mut self.cutting {
+            c.lo += (c.hi - c.lo) * u;
+        }
         self.from = self.tip(u);
         if let Some(p) = &mut self.posture {
             if !p.cut(u, self.circle.as_ref()) {
@@ -516,6 +597,9 @@ impl Follow {
 
     /// Keep what comes before `u` of the way.
     fn keep_to(&mut self, u: f64) {
+        if let Some(c) = &mut self.cutting {
+            c.hi = c.lo + (c.hi - c.lo) * u;
+        }
         self.to = self.tip(u);
         if let Some(p) = &mut self.posture {
             if !p.keep_to(u, self.circle.as_ref()) {
@@ -1079,13 +1163,7 @@ impl Segment {
             None => ((tip.to - tip.from).norm(), 0.0),
         };
         let turn = rotary_travel(&kin, from, &m.machine);
-        let posture = tip
-            .posture
-            .and_then(|(a, b)| match &circle {
-                Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
-                _ => Posture::new(a, b),
-            })
-            .filter(|p| p.continuous(&kin, from, &m.machine, circle.as_ref()));
+        let posture = posture_along(&kin, tip, circle.as_ref(), from, &m.machine);
         // G54.4's compensation all along the way, where it starts and ends on the block's end
         // points (not so when a singular-posture rule held an axis within No.11204), differs
         // from turning the axes in proportion (it does not for an error about the
@@ -1114,12 +1192,17 @@ impl Segment {
             circle,
             posture,
             compensation,
+            cutting: None,
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
             speed_cap: f64::INFINITY,
             clamped: tip.rotary_clamp.is_some(),
             pieces: Box::default(),
         };
+        follow.cutting = tip
+            .cutting
+            .as_ref()
+            .map(|c| Box::new(Cutting { along: follow.along(c, from, &m.machine), lo: 0.0, hi: 1.0 }));
         // FANUC No.11202/11203: the rotary axes of a G54.4-compensated move within a share of
         // their rate.
         let clamped;
@@ -1229,6 +1312,7 @@ impl Segment {
             speed_cap: f64::INFINITY,
             clamped: false,
             pieces: Box::default(),
+            cutting: None,
         };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
@@ -1545,10 +1629,15 @@ impl Segment {
 
     /// The programmed tool tip (table frame) at distance `s` along a path the axes follow
     /// through the kinematics, with the tool length it is for; `None` on other segments.
+    /// Under cutting point control the tip the cutting point asks for there.
     pub fn programmed_tip(&self, s: f64) -> Option<(crate::kin::Vec3, f64)> {
         let f = self.follow.as_ref()?;
         let u = if self.len > 0.0 { (s / self.len).clamp(0.0, 1.0) } else { 1.0 };
-        Some((f.tip(u), f.tool_length))
+        let tip = match f.cutting {
+            Some(_) => f.aimed_tip(&self.at(s).0, u),
+            None => f.tip(u),
+        };
+        Some((tip, f.tool_length))
     }
 
     /// What is left of the segment from distance `s` on (a feed hold resumes from there).

@@ -8,6 +8,7 @@
 //! Look-ahead: 1604#0 SHP, 19501#5 FRP, 1660 / 1671 all 0. G54.4: 11200#0 RCM, 11202/11203
 //! rotary clamp, 11204, 3106#6 DAK, 5006#6 TOS, 5412 cycle feed, 5400#2 D3R. Cutter
 //! compensation: 5003#0 SUP (start-up/cancel type B), #1 SUV (perpendicular to the next movement), 19607#5 CAV (interference avoidance).
+//! Cutting point control: 11262 (the singular posture's angle).
 
 use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
 use super::{Params, Value};
@@ -359,6 +360,7 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         cutting_point_distance: if p.0.contains_key(&19632) { p.get(19632)? } else { 0.0 },
         plane_change_angle: if p.0.contains_key(&19635) { p.get(19635)? } else { 0.0 },
         leading_edge_tolerance: if p.0.contains_key(&19631) { p.get(19631)? } else { 0.0 },
+        cutting_point_singular_angle: if p.0.contains_key(&11262) { p.get(11262)? } else { 0.0 },
         cutting_deviation: if p.0.contains_key(&19752) { p.get(19752)? } else { 0.0 },
         length_offset_by_motion: p.0.contains_key(&5006) && !p.bit(5006, 6)?,
         wse_cycle_feed: non_negative(p, 5412)?,
@@ -483,6 +485,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (19632, f.cutting_point_distance),
         (19635, f.plane_change_angle),
         (19631, f.leading_edge_tolerance),
+        (11262, f.cutting_point_singular_angle),
     ] {
         if value != 0.0 {
             p.set(number, real(value));

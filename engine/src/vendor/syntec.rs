@@ -365,12 +365,14 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     let singular = f.singular_angle != 0.0 || f.singular_tolerance != 0.0 || f.singular_alarm;
     let clamp = f.deviation_clamp || f.rapid_deviation != 0.0 || f.cutting_deviation != 0.0;
-    let compensation =
-        f.cutting_point_distance != 0.0 || f.plane_change_angle != 0.0 || f.leading_edge_tolerance != 0.0;
+    let compensation = f.cutting_point_distance != 0.0
+        || f.plane_change_angle != 0.0
+        || f.leading_edge_tolerance != 0.0
+        || f.cutting_point_singular_angle != 0.0;
     if singular || clamp || f.mirror_direction || f.display_workpiece || compensation || f.crc_table_coordinates {
         return Err(unrepresentable(
             "Syntec",
-            "No.19738/19739/NPC, MIR, DET, CRS, TBP and No.19631/19632/19635 are FANUC settings",
+            "No.19738/19739/NPC, MIR, DET, CRS, TBP and No.19631/19632/19635/11262 are FANUC settings",
         ));
     }
     if f.posture_control {

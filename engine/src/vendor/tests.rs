@@ -1008,3 +1008,17 @@ fn fanuc_cutter_compensation_angles_19631_19635_round_trip() {
     m.five_axis.plane_change_angle = 181.0;
     assert!(m.validate().is_err());
 }
+
+/// No.11262 (cutting point control's singular posture angle) is read and written back.
+#[test]
+fn fanuc_cutting_point_singular_angle_11262_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.five_axis.cutting_point_singular_angle = 5.0;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!(p.get(11262).unwrap(), 5.0);
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().five_axis, m.five_axis);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("FANUC settings"));
+    m.five_axis.cutting_point_singular_angle = 91.0;
+    assert!(m.validate().is_err());
+}

@@ -7,6 +7,7 @@ mod common;
 mod alarms;
 mod controller;
 mod cutter;
+mod cutting_point;
 mod cycles;
 mod data;
 mod fast_path;

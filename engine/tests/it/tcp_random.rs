@@ -22,10 +22,10 @@ use proptest::prelude::*;
 use std::f64::consts::{PI, TAU};
 
 /// Tool length of every offset in `common::interpreter_with`.
-const LENGTH: f64 = 100.0;
+pub(crate) const LENGTH: f64 = 100.0;
 
 /// Run `src` on `machine`; every 1 ms sample.
-fn run_on(machine: &MachineConfig, dialect: Dialect, src: &str) -> (RunResult, Vec<Sample>) {
+pub(crate) fn run_on(machine: &MachineConfig, dialect: Dialect, src: &str) -> (RunResult, Vec<Sample>) {
     let mut interp = interpreter_with(src, "mill3", dialect, |c| c.machine = machine.clone().into());
     let mut samples = Vec::new();
     // No program here takes minutes: a run that long is a planner that crawls.
@@ -40,7 +40,7 @@ fn ends(machine: &MachineConfig, dialect: Dialect, src: &str) -> Vec<(u32, Pos)>
 }
 
 /// A number as a program writes it (always with a decimal point).
-fn mm(x: f64) -> f64 {
+pub(crate) fn mm(x: f64) -> f64 {
     (x * 1000.0).round() / 1000.0
 }
 
@@ -55,7 +55,7 @@ fn zero_rotaries(m: &MachineConfig) -> String {
 }
 
 /// The rotary words for commanded angles `q` (axis order).
-fn rotary_words(m: &MachineConfig, q: &[f64]) -> String {
+pub(crate) fn rotary_words(m: &MachineConfig, q: &[f64]) -> String {
     let mut s = String::new();
     for (i, a) in m.axes.iter().enumerate() {
         if a.kind == AxisKind::Rotary {
@@ -66,7 +66,7 @@ fn rotary_words(m: &MachineConfig, q: &[f64]) -> String {
 }
 
 /// Every axis at 0 (the carriage at machine zero, the rotary axes at commanded 0).
-fn zeros(m: &MachineConfig) -> Vec<f64> {
+pub(crate) fn zeros(m: &MachineConfig) -> Vec<f64> {
     vec![0.0; m.axes.len()]
 }
 
@@ -77,14 +77,14 @@ fn pi_frame(kin: &Kinematics, m: &MachineConfig) -> Rigid {
 }
 
 /// Π of TCP started with the axes at `start`.
-fn pi_frame_at(kin: &Kinematics, start: &[f64]) -> Rigid {
+pub(crate) fn pi_frame_at(kin: &Kinematics, start: &[f64]) -> Rigid {
     let table = kin.table_frame(start);
     let r = table.r.transpose();
     Rigid { r, o: r * (kin.nose - table.o) }
 }
 
 /// The tip and the tool of the sampled axes in Π.
-fn in_pi(kin: &Kinematics, pi: &Rigid, machine: &[f64]) -> (Vec3, Vec3) {
+pub(crate) fn in_pi(kin: &Kinematics, pi: &Rigid, machine: &[f64]) -> (Vec3, Vec3) {
     let pose = kin.forward(machine, LENGTH);
     (pi.from_parent(&pose.tip), pi.r.transpose() * pose.tool)
 }
@@ -262,7 +262,7 @@ fn great_circle_clear_of(v0: Vec3, v1: Vec3, axis: Vec3, deg: f64) -> bool {
 const FANUC: Selection = Selection { dialect: Dialect::Fanuc, pri: false, p: 0 };
 
 /// A machine with two rotary axes.
-fn five_axis_machine() -> impl Strategy<Value = MachineConfig> {
+pub(crate) fn five_axis_machine() -> impl Strategy<Value = MachineConfig> {
     (0..3usize).prop_flat_map(|k| {
         random_machine_of([MachineKind::HeadHead, MachineKind::TableTable, MachineKind::HeadTable][k])
     })

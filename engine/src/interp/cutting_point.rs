@@ -1,0 +1,104 @@
+//! Cutting point control (FANUC G43.8 type 1, G43.9 type 2; 30i-A5 manual §2.2.4, §2.2.5,
+//! §2.3.20, §2.3.21) in the interpreter: the tool from the D offset, the surface normal's
+//! modal rules (`,L2 I J K`), and the restrictions. Tool centre point control (`super::tcp`)
+//! carries the tool tip; the geometry that places the tip from the cutting point is
+//! `crate::cutting_point`, shared with the path the axes follow (`motion::path`).
+
+use super::expr::round_to;
+use super::gcode::{code, group};
+use super::nc::Words;
+use super::State;
+use crate::alarm::AlarmId;
+use crate::canon::Pos;
+use crate::cutting_point::Tool;
+use crate::geom::Rigid;
+use crate::kin::{Kinematics, Vec3};
+use crate::machine::Side;
+
+/// Cutting point control in force.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct CuttingPoint {
+    pub(super) tool: Tool,
+    /// The surface normal as the last `,L2 I J K` gave it, in Π (unit).
+    pub(super) normal: Vec3,
+    /// A later block's normal (`,L2`), in Π, until a move takes it.
+    pub(super) commanded: Option<Vec3>,
+    /// Tool tip − cutting point where the machine stands (table frame).
+    pub(super) vector: Vec3,
+    /// A rotary axis that turns the tool was moved by hand (PS5464 at the next move,
+    /// §2.3.21).
+    pub(super) disturbed: bool,
+}
+
+impl CuttingPoint {
+    /// The normals a move starts and ends with (in Π); the one it ends with is kept.
+    pub(super) fn take_normals(&mut self) -> Result<(Vec3, Vec3), AlarmId> {
+        let end = self.commanded.take().unwrap_or(self.normal);
+        // Opposite normals leave no way to turn one into the other (a decision: PS5464).
+        if self.normal.dot(&end) < -1.0 + 1e-12 {
+            return Err(AlarmId::CuttingPoint);
+        }
+        let start = std::mem::replace(&mut self.normal, end);
+        Ok((start, end))
+    }
+}
+
+impl State {
+    /// The G43.8/G43.9 block (`tcp_begin`): the tool of offset D and the first surface normal;
+    /// `None` for G43.4/G43.5.
+    pub(super) fn cutting_begin(&self, w: &Words) -> Result<Option<CuttingPoint>, AlarmId> {
+        if !matches!(self.modes[group::LENGTH_COMP], code::G43_8 | code::G43_9) {
+            return Ok(None);
+        }
+        // The tool radius R is D's geometry plus wear; the corner radius r is set beside its
+        // geometry (0 ≤ r ≤ geometry), and a worn ball end mill stays a ball (r at most R).
+        let offset = self.offsets.tool(self.d).copied().unwrap_or_default();
+        let radius = self.offsets.radius(self.d);
+        if radius < 0.0 || offset.corner_radius < 0.0 || offset.corner_radius > offset.d_geometry {
+            return Err(AlarmId::CuttingPoint);
+        }
+        let tool = Tool { radius, corner: offset.corner_radius.min(radius) };
+        // TCP-39: without `,L2` words the reference tool direction (No.19697–19699).
+        let normal = match self.surface_normal(w, true)? {
+            Some(n) => n,
+            None => Vec3::from(self.cfg.machine.tool_axis).normalize(),
+        };
+        Ok(Some(CuttingPoint { tool, normal, commanded: None, vector: Vec3::zeros(), disturbed: false }))
+    }
+
+    /// A block's `,L2 I J K` (in Π, unit; omitted components 0), `None` when it has none.
+    /// `,L` is `,L2` and belongs to cutting point control (`cutting`); I = J = K = 0 is PS5464
+    /// (TCP-39).
+    pub(super) fn surface_normal(&self, w: &Words, cutting: bool) -> Result<Option<Vec3>, AlarmId> {
+        if !w.has(b'l') {
+            return Ok(None);
+        }
+        if !cutting || w.integer(b'l') != Some(2.0) {
+            return Err(AlarmId::ImproperAddress);
+        }
+        // As many decimals as the increment system (§2.3.20).
+        let [i, j, k] = [b'i', b'j', b'k'].map(|l| self.value(w, l).map(|v| round_to(v, self.steps_of(l))));
+        if i.is_none() && j.is_none() && k.is_none() {
+            return Ok(None);
+        }
+        let n = Vec3::new(i.unwrap_or(0.0), j.unwrap_or(0.0), k.unwrap_or(0.0));
+        n.try_normalize(0.0).map(Some).ok_or(AlarmId::CuttingPoint)
+    }
+
+    /// The machine was moved by hand under cutting point control: a rotary axis that turns the
+    /// tool makes the next move PS5464 (§2.3.21); a table that turned leaves the tool at
+    /// another angle to the surface, so the tip is taken as the tool's own vector away from
+    /// the cutting point there (a decision: the held vector of a singular posture is let go).
+    pub(super) fn cutting_moved_to(&mut self, kin: &Kinematics, frame: &Rigid, machine: &Pos) {
+        let Some(before) = self.follow_machine else { return };
+        let Some(c) = self.tcp.as_mut().and_then(|t| t.cutting.as_mut()) else { return };
+        let turned = |side: Side| {
+            kin.joints().iter().any(|j| j.side == side && j.index.is_some_and(|i| before[i] != machine[i]))
+        };
+        if turned(Side::Head) {
+            c.disturbed = true;
+        } else if turned(Side::Table) {
+            c.vector = c.tool.vector(kin.forward(machine, 0.0).tool, frame.r * c.normal);
+        }
+    }
+}
