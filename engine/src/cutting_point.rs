@@ -166,6 +166,13 @@ impl Along {
         }
     }
 
+    /// Where a tool with its tip at `tip` and direction `tool` touches the surface `u` of the
+    /// way: its lowest point along the normal there (the programmed cutting point unless a held
+    /// vector lets it drift).
+    pub fn contact(&self, u: f64, tip: Vec3, tool: Vec3) -> Vec3 {
+        tip - self.tool.vector(tool, self.normal(u))
+    }
+
     /// The vector `u` of the way for the tool direction `tool` there.
     pub fn vector_for(&self, u: f64, tool: Vec3) -> Vec3 {
         match self.held(u) {

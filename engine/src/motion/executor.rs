@@ -38,6 +38,10 @@ pub struct Sample {
     pub programmed_in: System,
     /// Tool tip speed relative to the workpiece, mm/min.
     pub feed: f64,
+    /// Under cutting point control (G43.8/G43.9), where the tool touches the surface, in the
+    /// workpiece system as `tip`: its lowest point along the surface normal, from the sampled
+    /// axes (`motion::Segment::cutting_point`); `None` elsewhere.
+    pub cutting: Option<[f64; 3]>,
 }
 
 /// Where the last queued motion ends: where the next one starts.
@@ -510,6 +514,11 @@ impl Executor {
     /// kinematics of `machine` (the axes as they stand; a handle interruption's shift in them).
     pub fn sample(&self, t: f64, machine: &Pos, basis: &Basis) -> Sample {
         let placed = crate::tip::locate(self.machine.kinematics().map(|k| &**k), machine, basis);
+        let o = basis.origin;
+        let cutting = self
+            .on()
+            .and_then(|(seg, s, _)| seg.cutting_point(s, machine))
+            .map(|p| [p.x - o[0], p.y - o[1], p.z - o[2]]);
         Sample {
             t,
             line: self.here.line,
@@ -521,6 +530,7 @@ impl Executor {
             programmed: [self.here.work[0], self.here.work[1], self.here.work[2]],
             programmed_in: basis.programmed_in,
             feed: self.here.feed,
+            cutting,
         }
     }
 }

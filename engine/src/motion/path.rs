@@ -1640,6 +1640,16 @@ impl Segment {
         Some((tip, f.tool_length))
     }
 
+    /// Under cutting point control, where the tool with the axes at `machine` touches the
+    /// surface (table frame) at distance `s` along the segment; `None` on other segments.
+    pub fn cutting_point(&self, s: f64, machine: &Pos) -> Option<crate::kin::Vec3> {
+        let f = self.follow.as_ref()?;
+        let c = f.cutting.as_ref()?;
+        let u = if self.len > 0.0 { (s / self.len).clamp(0.0, 1.0) } else { 1.0 };
+        let pose = f.kin.forward(machine, f.tool_length);
+        Some(c.along.contact(c.lo + (c.hi - c.lo) * u, pose.tip, pose.tool))
+    }
+
     /// What is left of the segment from distance `s` on (a feed hold resumes from there).
     pub fn tail(&self, s: f64) -> Segment {
         let s = s.clamp(0.0, self.len);

@@ -71,10 +71,13 @@ fn slerp(a: Vec3, b: Vec3, u: f64) -> Vec3 {
 /// closed by a flat end; the circle's lowest point along `n` is across the axis against `n`'s
 /// part across the tool, and the tool surface is `r` below it along `n`.
 fn lowest_point_error(shape: Shape, tip: Vec3, v: Vec3, n: Vec3, p: Vec3) -> f64 {
+    (lowest_point(shape, tip, v, n) - p).norm()
+}
+
+fn lowest_point(shape: Shape, tip: Vec3, v: Vec3, n: Vec3) -> Vec3 {
     let across = n - v * n.dot(&v);
     let side = across.try_normalize(1e-12).unwrap_or_else(Vec3::zeros);
-    let lowest = tip + v * shape.corner - side * (shape.radius - shape.corner) - n * shape.corner;
-    (lowest - p).norm()
+    tip + v * shape.corner - side * (shape.radius - shape.corner) - n * shape.corner
 }
 
 /// TV-29a–f, the manual's example (§2.3.20) on the trunnion table-ac (A, C), with the seed's
@@ -105,9 +108,13 @@ fn tv29_the_tool_touches_the_programmed_cutting_point() {
             let (tip, v) = in_pi(&kin, &pi, &s.machine);
             let e = lowest_point_error(shape, tip, v, n, p);
             assert!(e < 1e-6, "{shape:?} N{:?} at {p:?}: the tool is {e} mm off the cutting point", s.n);
+            // The sample's cutting point (Π is the workpiece system here) is the programmed one.
+            let cutting = Vec3::from(s.cutting.expect("a cutting point under G43.8"));
+            assert!((cutting - p).norm() < 1e-6, "{shape:?} N{:?}: {cutting:?} vs {p:?}", s.n);
             seen[(s.n.unwrap() / 10 - 3) as usize] += 1;
         }
         assert!(seen.iter().all(|&k| k > 10), "{seen:?}: too few samples to judge");
+        assert!(samples.iter().filter(|s| s.n == Some(10)).all(|s| s.cutting.is_none()));
         // The run report measures the tip against the tip the cutting point asks for.
         let mut interp = interpreter_with(src, "table-ac", Dialect::Fanuc, |_| {});
         set_tool(&mut interp, shape);
@@ -210,7 +217,7 @@ fn tv29k_near_the_singular_posture_the_vector_is_held() {
         let side = (n - v * n.dot(&v)).normalize();
         side * SQUARE.radius
     };
-    let (mut before, mut inside, mut after) = (0, 0, 0);
+    let (mut before, mut inside, mut after, mut drift) = (0, 0, 0, 0.0f64);
     for s in samples.iter().filter(|s| s.line == 3) {
         let p = Vec3::from(s.programmed);
         let tool = kin.forward(&s.machine, LENGTH);
@@ -221,12 +228,20 @@ fn tv29k_near_the_singular_posture_the_vector_is_held() {
             before += 1;
         } else if p.x > 15.1 && p.x < 24.9 {
             assert!((vector - held).norm() < 1e-6, "at X{}: {vector:?}, held {held:?}", p.x);
+            // The trace shows where the tool really touches: off the programmed point.
+            let touches = lowest_point(SQUARE, tool.tip, tool.tool, n);
+            let cutting = Vec3::from(s.cutting.expect("a cutting point under G43.8"));
+            assert!((cutting - touches).norm() < 1e-6, "at X{}: {cutting:?} vs {touches:?}", p.x);
+            drift = drift.max((cutting - p).norm());
             inside += 1;
         } else if p.x > 25.1 {
             after += 1;
         }
     }
     assert!(before > 10 && inside > 10 && after > 10, "{before} {inside} {after}");
+    // Within 5° of the normal a square end mill's held vector lets the contact drift by up to
+    // 2·R·sin 5° ≈ 0.87 mm.
+    assert!(drift > 0.5, "{drift}");
     // At the end the tool's own vector again: the lowest point is the cutting point.
     let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.machine = m.clone().into());
     set_tool(&mut interp, SQUARE);

@@ -325,6 +325,23 @@ fn every_address_letter_has_a_decision() {
     }
 }
 
+/// The comma addresses: `,L2 I J K` belongs to cutting point control (FANUC, `cutting_point.rs`);
+/// chamfering `,C`, corner rounding `,R` and the drawing angle `,A` are refused at their block
+/// and reported by `fivex check` at their word, in both dialects.
+#[test]
+fn comma_addresses_have_a_decision() {
+    for dialect in [Fanuc, Syntec] {
+        for (letter, body) in [("C", "G01 X1. ,C1. F100"), ("R", "G01 X1. ,R1. F100"), ("A", "G01 X1. ,A30. F100")] {
+            let r = run_with(&program(body), PRESET, dialect);
+            let expected = if dialect == Fanuc { "PS0009" } else { "COR-100" };
+            assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (expected, 2), "{dialect:?} ,{letter}");
+            let diags = check(parse_file(&program(body)), dialect);
+            let found = diags.iter().find(|d| d.detail.contains("not built"));
+            assert_eq!(found.map(|d| (d.line, d.col)), Some((2, 9)), "{dialect:?} ,{letter}: {diags:?}");
+        }
+    }
+}
+
 #[test]
 fn the_refused_forms_of_a_code_are_values_not_the_code() {
     // Conditional refusals: the performed values of the same code run (the PERFORMED list has
