@@ -340,7 +340,12 @@ pub fn write_sample(w: &mut Out, s: &Sample, axes: &[char]) {
     triple(w, &s.programmed);
     put(w, b",\"programmed_in\":\"");
     put(w, s.programmed_in.name().as_bytes());
-    put(w, b"\"}\n");
+    put(w, b"\"");
+    if let Some(c) = &s.cutting {
+        put(w, b",\"cutting\":");
+        triple(w, c);
+    }
+    put(w, b"}\n");
 }
 
 fn triple(w: &mut Out, v: &[f64; 3]) {

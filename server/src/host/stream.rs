@@ -64,6 +64,11 @@ pub struct PositionFrame {
     /// the part on its table, from the machine axes, the mechanism and the tool length in effect (for a
     /// machine without table axes, machine coordinates). The 3D view draws the trace with it.
     pub tip_table: [f64; 3],
+    /// Under cutting point control (G43.8/G43.9): where the tool touches the surface, in the
+    /// workpiece system as `tip` (its lowest point along the surface normal, from the machine
+    /// axes); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cutting: Option<[f64; 3]>,
 }
 
 /// What a worker reads every tick for a watched controller: plain numbers, no allocation. It is
@@ -113,6 +118,7 @@ impl Reading {
             && same(&[a.feed, self.spindle, self.tool_length], &[b.feed, other.spindle, other.tool_length])
             && same(&self.to_go, &other.to_go)
             && same(&a.tip_table, &b.tip_table)
+            && same(a.cutting.as_ref().map_or(&[], |c| &c[..]), b.cutting.as_ref().map_or(&[], |c| &c[..]))
     }
 
     pub fn frame(&self) -> PositionFrame {
@@ -134,6 +140,7 @@ impl Reading {
             spindle: self.spindle,
             tool_length: self.tool_length,
             tip_table: s.tip_table,
+            cutting: s.cutting,
         }
     }
 }
