@@ -46,7 +46,8 @@ const WORK_WORDS: usize = WORK_SLOTS.div_ceil(64);
 const TOOL_WORDS: usize = (MAX_TOOL_OFFSETS + 1).div_ceil(64);
 /// What a slot never written holds.
 const ZERO_WORK: Pos = [0.0; MAX_AXES];
-const ZERO_TOOL: ToolOffset = ToolOffset { h_geometry: 0.0, h_wear: 0.0, d_geometry: 0.0, d_wear: 0.0, corner_radius: 0.0 };
+const ZERO_TOOL: ToolOffset =
+    ToolOffset { h_geometry: 0.0, h_wear: 0.0, d_geometry: 0.0, d_wear: 0.0, corner_radius: 0.0 };
 
 impl Default for Offsets {
     fn default() -> Self {
