@@ -257,8 +257,9 @@ pub async fn clone_controller(
     for copy in [
         "INSERT INTO programs (controller_id, number, text) SELECT ?, number, text FROM programs WHERE controller_id = ?",
         "INSERT INTO variables (controller_id, number, value) SELECT ?, number, value FROM variables WHERE controller_id = ?",
-        "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear) \
-         SELECT ?, number, length, length_wear, radius, radius_wear FROM tool_offsets WHERE controller_id = ?",
+        "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear, corner_radius) \
+         SELECT ?, number, length, length_wear, radius, radius_wear, corner_radius FROM tool_offsets \
+         WHERE controller_id = ?",
         "INSERT INTO work_offsets (controller_id, slot, axes) SELECT ?, slot, axes FROM work_offsets WHERE controller_id = ?",
     ] {
         sqlx::query(copy).bind(id).bind(from).execute(&mut *tx).await?;
@@ -538,7 +539,7 @@ async fn record_on(conn: &mut SqliteConnection, record: &Record) -> Result<(), s
 
 // --- offsets --------------------------------------------------------------------------------
 
-/// One tool offset number's four values.
+/// One tool offset number's values: H and D geometry and wear, and the corner radius.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ToolRow {
     pub number: u32,
@@ -546,12 +547,14 @@ pub struct ToolRow {
     pub length_wear: f64,
     pub radius: f64,
     pub radius_wear: f64,
+    /// The tool's corner radius (migration 0006; 0 in the rows stored before it).
+    pub corner_radius: f64,
 }
 
 pub async fn tool_offsets(db: &Db, controller: &str) -> Result<Vec<ToolRow>, sqlx::Error> {
     let rows = sqlx::query(
-        "SELECT number, length, length_wear, radius, radius_wear FROM tool_offsets WHERE controller_id = ? \
-         ORDER BY number",
+        "SELECT number, length, length_wear, radius, radius_wear, corner_radius FROM tool_offsets \
+         WHERE controller_id = ? ORDER BY number",
     )
     .bind(controller)
     .fetch_all(db.reads())
@@ -564,6 +567,7 @@ pub async fn tool_offsets(db: &Db, controller: &str) -> Result<Vec<ToolRow>, sql
                 length_wear: r.try_get("length_wear")?,
                 radius: r.try_get("radius")?,
                 radius_wear: r.try_get("radius_wear")?,
+                corner_radius: r.try_get("corner_radius")?,
             })
         })
         .collect()
@@ -579,10 +583,10 @@ pub async fn save_tool_offsets(db: &Db, controller: &str, rows: &[ToolRow]) -> R
 async fn tool_offsets_on(conn: &mut SqliteConnection, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
     for t in rows {
         sqlx::query(
-            "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear) \
-             VALUES (?, ?, ?, ?, ?, ?) ON CONFLICT (controller_id, number) DO UPDATE SET \
+            "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear, corner_radius) \
+             VALUES (?, ?, ?, ?, ?, ?, ?) ON CONFLICT (controller_id, number) DO UPDATE SET \
              length = excluded.length, length_wear = excluded.length_wear, radius = excluded.radius, \
-             radius_wear = excluded.radius_wear",
+             radius_wear = excluded.radius_wear, corner_radius = excluded.corner_radius",
         )
         .bind(controller)
         .bind(t.number as i64)
@@ -590,6 +594,7 @@ async fn tool_offsets_on(conn: &mut SqliteConnection, controller: &str, rows: &[
         .bind(t.length_wear)
         .bind(t.radius)
         .bind(t.radius_wear)
+        .bind(t.corner_radius)
         .execute(&mut *conn)
         .await?;
     }

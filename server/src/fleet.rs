@@ -33,11 +33,16 @@ pub struct Entry {
     pub offsets: Option<Box<Offsets>>,
 }
 
-/// One tool offset of a `--tools` table: length and radius geometry.
+/// One tool offset of a `--tools` table: length and radius geometry, and the corner radius.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize, utoipa::ToSchema)]
 pub struct Tool {
     pub length: f64,
     pub radius: f64,
+    /// The tool's corner radius, read by cutting point control (G43.8/G43.9); not negative.
+    /// Absent: 0 (a square end mill, or a ball end mill read from the radius).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(minimum = 0.0)]
+    pub corner_radius: Option<f64>,
 }
 
 /// How the fleet runs.
@@ -168,17 +173,22 @@ pub fn equip(interp: &mut Interpreter, tools: Option<&BTreeMap<u32, Tool>>) -> R
                     .ok_or_else(|| format!("tool offset number {n} is out of range 1–999"))?;
                 slot.h_geometry = t.length;
                 slot.d_geometry = t.radius;
+                slot.corner_radius = t.corner_radius.unwrap_or(0.0);
             }
         }
     }
     Ok(())
 }
 
-/// Check a tool table before a run (so a bad number is a usage error, not a failed machine).
+/// Check a tool table before a run (so a bad number or a negative corner radius is a usage
+/// error, not a failed machine).
 pub fn check_tools(tools: &BTreeMap<u32, Tool>) -> Result<(), String> {
     let mut probe = Offsets::default();
-    for n in tools.keys() {
+    for (n, t) in tools {
         probe.tool_mut(*n).ok_or_else(|| format!("tool offset number {n} is out of range 1–999"))?;
+        if let Some(r) = t.corner_radius.filter(|r| !(r.is_finite() && *r >= 0.0)) {
+            return Err(format!("tool offset {n}: corner_radius {r} must be a finite number, 0 or more"));
+        }
     }
     Ok(())
 }

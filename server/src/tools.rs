@@ -8,7 +8,7 @@ pub const DEFAULT_NUMBERS: std::ops::RangeInclusive<u32> = 1..=99;
 pub const DEFAULT_LENGTH: f64 = 100.0;
 pub const DEFAULT_RADIUS: f64 = 5.0;
 
-/// Give offsets 1–99 the default length and radius (geometry; wear stays 0).
+/// Give offsets 1–99 the default length and radius (geometry; wear and corner radius stay 0).
 pub fn equip_defaults(offsets: &mut Offsets) {
     for n in DEFAULT_NUMBERS {
         if let Some(t) = offsets.tool_mut(n) {

@@ -187,6 +187,24 @@ test("a macro variable is edited in the table", async () => {
   await poll("#500 = 7.25 in the service", async () => (await http("GET", `/api/v1/controllers/${id}/variables/500`)).body.value === 7.25);
 });
 
+test("a tool offset's corner radius is edited in the offsets table; a negative one is refused", async () => {
+  await page.click("nav.tabs a[href$='/offsets']");
+  const cell = page.locator("tr[data-tool='3'] td[data-field=corner_radius] input");
+  await poll("offset 3's Corner R", async () => (await cell.count()) && (await cell.inputValue()) === "0");
+  assert.ok((await page.locator(".offsets thead th").allTextContents()).includes("Corner R"));
+  await cell.fill("1.5");
+  await cell.press("Enter");
+  const three = async () => (await http("GET", `/api/v1/controllers/${id}/tool-offsets`)).body.find((t) => t.number === 3);
+  await poll("corner radius 1.5 in the service", async () => (await three())?.corner_radius === 1.5);
+  assert.equal((await three()).radius, 5, "the D radius is kept");
+  await page.screenshot({ path: join(shots, "controller-offsets.png") });
+  await cell.fill("-1");
+  await cell.press("Enter");
+  await page.locator("p.error", { hasText: "corner_radius" }).waitFor();
+  assert.equal((await three()).corner_radius, 1.5, "the refused value changed nothing");
+  await page.click("p.error");
+});
+
 test("the fleet view shows the controllers live, with clone and delete", async () => {
   await http("POST", "/api/v1/controllers", { name: "head 1", preset: "head-bc" });
   await http("POST", "/api/v1/controllers", { name: "mixed 1", preset: "mixed-bc", dialect: "syntec" });

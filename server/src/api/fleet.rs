@@ -71,8 +71,8 @@ fn tool_table_schema() -> utoipa::openapi::Object {
     ObjectBuilder::new()
         .schema_type(SchemaType::from_iter([Type::Object, Type::Null]))
         .description(Some(
-            "Tool offsets `{\"1\": {\"length\": 100.0, \"radius\": 5.0}}` (numbers 1–999); default: 1–99 at \
-             100 / 5 mm (a controller keeps its own unless this is given).",
+            "Tool offsets `{\"1\": {\"length\": 100.0, \"radius\": 5.0}}` (numbers 1–999; `corner_radius` \
+             optional, default 0); default: 1–99 at 100 / 5 mm (a controller keeps its own unless this is given).",
         ))
         .additional_properties(Some(Ref::from_schema_name("Tool")))
         .property_names(Some(ObjectBuilder::new().schema_type(Type::String).pattern(Some(TOOL_NUMBER_KEY))))

@@ -1,6 +1,6 @@
-//! Tool offset memory (H/D, geometry and wear) and work offsets (external, G54–G59, G54.1 P1–
-//! P300). Changes are in the database when the answer comes; a program's own changes (G10,
-//! system variables) are saved when its run state changes.
+//! Tool offset memory (H/D, geometry and wear; the corner radius) and work offsets (external,
+//! G54–G59, G54.1 P1–P300). Changes are in the database when the answer comes; a program's own
+//! changes (G10, system variables) are saved when its run state changes.
 
 use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
@@ -27,6 +27,9 @@ pub struct ToolOffsetDto {
     /// D geometry and wear.
     pub radius: f64,
     pub radius_wear: f64,
+    /// The tool's corner radius, read by cutting point control (G43.8/G43.9): 0 for a square
+    /// end mill (and for a ball end mill, whose corner radius is its radius D).
+    pub corner_radius: f64,
 }
 
 impl From<ToolRow> for ToolOffsetDto {
@@ -37,6 +40,7 @@ impl From<ToolRow> for ToolOffsetDto {
             length_wear: t.length_wear,
             radius: t.radius,
             radius_wear: t.radius_wear,
+            corner_radius: t.corner_radius,
         }
     }
 }
@@ -53,6 +57,9 @@ pub struct SetToolOffset {
     pub radius: Option<f64>,
     #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
     pub radius_wear: Option<f64>,
+    /// Not negative; absent: as it is (0 for an offset never given one).
+    #[schema(minimum = 0.0, exclusive_maximum = 1.0e6)]
+    pub corner_radius: Option<f64>,
 }
 
 /// A work offset by name.
@@ -129,7 +136,7 @@ pub async fn tools(Addressed(hosted): Addressed) -> Result<Json<Vec<ToolOffsetDt
     responses(
         (status = 200, description = "Changed", body = ToolOffsetDto),
         (status = 404, description = "No such controller", body = ErrorBody),
-        (status = 422, description = "No such offset number or not a finite value", body = ErrorBody),
+        (status = 422, description = "No such offset number, not a finite value, or a negative corner radius", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
@@ -146,6 +153,7 @@ pub async fn set_tool(
         length_wear: request.length_wear,
         radius: request.radius,
         radius_wear: request.radius_wear,
+        corner_radius: request.corner_radius,
     };
     let row = settings::set_tool_offset(&state.db, &hosted, number, change).await?;
     Ok(Json(row.into()))

@@ -28,7 +28,8 @@ pub struct FleetArgs {
     /// Dialect of presets and model files.
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
-    /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}.
+    /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}; optional per tool
+    /// "corner_radius" (mm, 0 or more; default 0).
     #[arg(long)]
     tools: Option<PathBuf>,
     /// Machines simulated at once (default: one per core).

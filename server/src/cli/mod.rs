@@ -64,7 +64,8 @@ struct InterpreterArgs {
     /// Dialect: fanuc or syntec.
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
-    /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}.
+    /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}; optional per tool
+    /// "corner_radius" (mm, 0 or more; default 0).
     #[arg(long)]
     tools: Option<PathBuf>,
     /// Turn the block delete switch on (skip blocks starting with '/').
@@ -218,12 +219,6 @@ fn load_machine(args: &MachineArgs) -> Result<MachineConfig, Fail> {
         .ok_or_else(|| Fail(format!("unknown preset '{name}' (presets: {})", MachineConfig::PRESETS.join(", "))))
 }
 
-#[derive(serde::Deserialize)]
-struct ToolEntry {
-    length: f64,
-    radius: f64,
-}
-
 /// Build the interpreter for a program file with the CLI's settings.
 fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> {
     let cfg = config(args)?;
@@ -239,26 +234,19 @@ fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
     Ok(cfg)
 }
 
-/// Load the tool offsets (`--tools`, or the default 1–99: length 100, radius 5).
+/// Load the tool offsets (`--tools`, or the default 1–99: length 100, radius 5), read and
+/// checked as `fivex fleet` reads them.
 fn equip(mut interp: Interpreter, tools: Option<&Path>) -> Result<Interpreter, Fail> {
-    let tools: BTreeMap<u32, ToolEntry> = match tools {
+    let tools: Option<BTreeMap<u32, crate::fleet::Tool>> = match tools {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-            serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?
+            let tools = serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+            crate::fleet::check_tools(&tools).map_err(Fail)?;
+            Some(tools)
         }
-        None => crate::tools::DEFAULT_NUMBERS
-            .map(|n| (n, ToolEntry { length: crate::tools::DEFAULT_LENGTH, radius: crate::tools::DEFAULT_RADIUS }))
-            .collect(),
+        None => None,
     };
-    for (n, t) in tools {
-        let slot = interp
-            .state
-            .offsets
-            .tool_mut(n)
-            .ok_or_else(|| Fail(format!("tool offset number {n} is out of range 1–999")))?;
-        slot.h_geometry = t.length;
-        slot.d_geometry = t.radius;
-    }
+    crate::fleet::equip(&mut interp, tools.as_ref()).map_err(Fail)?;
     Ok(interp)
 }
 

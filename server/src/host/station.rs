@@ -116,8 +116,8 @@ impl Station {
         let offsets = &mut self.controller.interpreter_mut().state.offsets;
         for t in tools {
             if let Some(slot) = offsets.tool_mut(t.number) {
-                (slot.h_geometry, slot.h_wear, slot.d_geometry, slot.d_wear) =
-                    (t.length, t.length_wear, t.radius, t.radius_wear);
+                (slot.h_geometry, slot.h_wear, slot.d_geometry, slot.d_wear, slot.corner_radius) =
+                    (t.length, t.length_wear, t.radius, t.radius_wear, t.corner_radius);
             }
         }
         for (index, axes) in work {
@@ -289,5 +289,12 @@ pub const WORK_SLOTS: usize = 7 + MAX_G54_1;
 
 /// A tool offset as a database row.
 pub fn tool_row(number: u32, t: &fivex_engine::interp::ToolOffset) -> ToolRow {
-    ToolRow { number, length: t.h_geometry, length_wear: t.h_wear, radius: t.d_geometry, radius_wear: t.d_wear }
+    ToolRow {
+        number,
+        length: t.h_geometry,
+        length_wear: t.h_wear,
+        radius: t.d_geometry,
+        radius_wear: t.d_wear,
+        corner_radius: t.corner_radius,
+    }
 }

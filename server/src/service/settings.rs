@@ -51,6 +51,15 @@ fn finite(v: f64, what: &str) -> Result<f64, ServiceError> {
     }
 }
 
+/// A corner radius: an offset value (`finite`) that is not negative.
+fn corner_radius(v: f64) -> Result<f64, ServiceError> {
+    if v.is_finite() && (0.0..1.0e6).contains(&v) {
+        Ok(v)
+    } else {
+        Err(ServiceError::invalid("corner_radius must be a finite number from 0 to below 1e6"))
+    }
+}
+
 /// Tool offset `number` (1–999) as it is now.
 pub fn tool_offset(hosted: &Hosted, number: u32) -> Result<ToolRow, ServiceError> {
     hosted
@@ -72,6 +81,7 @@ pub struct ToolChange {
     pub length_wear: Option<f64>,
     pub radius: Option<f64>,
     pub radius_wear: Option<f64>,
+    pub corner_radius: Option<f64>,
 }
 
 /// Changes tool offset `number`; the offset after the change.
@@ -88,11 +98,13 @@ pub async fn set_tool_offset(
         length_wear: finite(change.length_wear.unwrap_or(current.length_wear), "length_wear")?,
         radius: finite(change.radius.unwrap_or(current.radius), "radius")?,
         radius_wear: finite(change.radius_wear.unwrap_or(current.radius_wear), "radius_wear")?,
+        corner_radius: corner_radius(change.corner_radius.unwrap_or(current.corner_radius))?,
     };
     db::save_tool_offsets(db, &hosted.id, &[row]).await?;
     let mut station = hosted.station();
     if let Some(t) = station.controller.interpreter_mut().state.offsets.tool_mut(number) {
-        (t.h_geometry, t.h_wear, t.d_geometry, t.d_wear) = (row.length, row.length_wear, row.radius, row.radius_wear);
+        (t.h_geometry, t.h_wear, t.d_geometry, t.d_wear, t.corner_radius) =
+            (row.length, row.length_wear, row.radius, row.radius_wear, row.corner_radius);
     }
     station.offsets_saved();
     Ok(row)

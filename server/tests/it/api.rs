@@ -406,7 +406,10 @@ async fn tool_and_work_offsets_are_set_used_and_kept() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
     let t = app.put(&format!("{C}/{id}/tool-offsets/5"), &json!({"length": 80.0, "radius_wear": -0.1})).await;
-    assert_eq!(t.json(), json!({"number": 5, "length": 80.0, "length_wear": 0.0, "radius": 5.0, "radius_wear": -0.1}));
+    assert_eq!(
+        t.json(),
+        json!({"number": 5, "length": 80.0, "length_wear": 0.0, "radius": 5.0, "radius_wear": -0.1, "corner_radius": 0.0})
+    );
     assert_eq!(
         app.put(&format!("{C}/{id}/tool-offsets/0"), &json!({"length": 1})).await.status,
         StatusCode::UNPROCESSABLE_ENTITY
@@ -444,9 +447,73 @@ async fn tool_and_work_offsets_are_set_used_and_kept() {
     let state = app.restart().await;
     let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
     let tools = again.get(&format!("{C}/{id}/tool-offsets")).await.json();
-    assert_eq!(tools[4], json!({"number": 5, "length": 80.0, "length_wear": 0.0, "radius": 5.0, "radius_wear": -0.1}));
+    assert_eq!(
+        tools[4],
+        json!({"number": 5, "length": 80.0, "length_wear": 0.0, "radius": 5.0, "radius_wear": -0.1, "corner_radius": 0.0})
+    );
     let works = again.get(&format!("{C}/{id}/work-offsets")).await.json();
     assert_eq!((works[1]["axes"]["X"].clone(), works[2]["axes"]["X"].clone()), (json!(100.0), json!(7.5)));
+}
+
+#[tokio::test]
+async fn a_tool_offset_keeps_its_corner_radius() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    let t7 = format!("{C}/{id}/tool-offsets/7");
+    // Set with the others, read back; the other values are the default tool's.
+    let t = app.put(&t7, &json!({"radius": 6.0, "corner_radius": 1.5})).await;
+    assert_eq!(t.status, StatusCode::OK, "{}", t.text());
+    let want = json!({"number": 7, "length": 100.0, "length_wear": 0.0, "radius": 6.0, "radius_wear": 0.0, "corner_radius": 1.5});
+    assert_eq!(t.json(), want);
+    // Absent: kept as it is, and a change of another value leaves it.
+    assert_eq!(app.put(&t7, &json!({"length_wear": -0.2})).await.json()["corner_radius"], 1.5);
+    // Absent on an offset never given one: 0.
+    assert_eq!(
+        app.put(&format!("{C}/{id}/tool-offsets/8"), &json!({"length": 90.0})).await.json()["corner_radius"],
+        0.0
+    );
+    // An offset that is only a corner radius is listed (it is not all zero).
+    assert_eq!(
+        app.put(&format!("{C}/{id}/tool-offsets/150"), &json!({"corner_radius": 2.0})).await.status,
+        StatusCode::OK
+    );
+    let tools = app.get(&format!("{C}/{id}/tool-offsets")).await.json();
+    let by_number = |n: u32| tools.as_array().unwrap().iter().find(|t| t["number"] == n).cloned();
+    assert_eq!(by_number(7).map(|t| t["corner_radius"].clone()), Some(json!(1.5)), "{tools}");
+    assert_eq!(by_number(1).map(|t| t["corner_radius"].clone()), Some(json!(0.0)), "{tools}");
+    assert_eq!(
+        by_number(150),
+        Some(
+            json!({"number": 150, "length": 0.0, "length_wear": 0.0, "radius": 0.0, "radius_wear": 0.0, "corner_radius": 2.0})
+        )
+    );
+    // Negative or too large: 422 with the JSON error, and nothing changes.
+    for bad in [json!(-0.5), json!(-1.0e-9), json!(1.0e6), json!("1")] {
+        let reply = app.put(&t7, &json!({"corner_radius": bad, "length": 1.0})).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad}: {}", reply.text());
+        assert!(reply.json()["error"].as_str().unwrap_or("").contains("corner_radius"), "{bad}: {}", reply.text());
+    }
+    let t = app.get(&format!("{C}/{id}/tool-offsets")).await.json();
+    let seven = t.as_array().unwrap().iter().find(|t| t["number"] == 7).cloned().unwrap();
+    assert_eq!((seven["length"].clone(), seven["corner_radius"].clone()), (json!(100.0), json!(1.5)), "{seven}");
+    // 0 is a corner radius too (a square end mill).
+    assert_eq!(
+        app.put(&format!("{C}/{id}/tool-offsets/150"), &json!({"corner_radius": 0})).await.json()["corner_radius"],
+        0.0
+    );
+    // Kept over a restart, and by a clone.
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    let tools = again.get(&format!("{C}/{id}/tool-offsets")).await.json();
+    let seven = tools.as_array().unwrap().iter().find(|t| t["number"] == 7).cloned();
+    assert_eq!(seven.map(|t| t["corner_radius"].clone()), Some(json!(1.5)), "{tools}");
+    assert!(!tools.as_array().unwrap().iter().any(|t| t["number"] == 150), "150 is all zero again: {tools}");
+    let copy = again.post(&format!("{C}/{id}/clone"), &json!({"name": "copy"})).await;
+    assert_eq!(copy.status, StatusCode::CREATED, "{}", copy.text());
+    let copy_id = copy.json()["id"].as_str().unwrap().to_string();
+    let tools = again.get(&format!("{C}/{copy_id}/tool-offsets")).await.json();
+    let seven = tools.as_array().unwrap().iter().find(|t| t["number"] == 7).cloned();
+    assert_eq!(seven.map(|t| t["corner_radius"].clone()), Some(json!(1.5)), "{tools}");
 }
 
 #[tokio::test]

@@ -116,6 +116,32 @@ async fn machines_from_documents_the_library_and_controllers_with_reports() {
 }
 
 #[tokio::test]
+async fn a_tool_table_may_give_corner_radii_and_is_stored_as_posted() {
+    let app = spawn_app().await;
+    // Offset 2 without a corner radius, offset 1 with one: both taken, the run is the one
+    // without the corner radius (nothing in it reads one).
+    let tools =
+        json!({"1": {"length": 120.0, "radius": 4.0, "corner_radius": 1.0}, "2": {"length": 80.0, "radius": 3.0}});
+    let request = json!({"program": program("everywhere.nc"), "presets": ["mill3"], "tools": tools});
+    let reply = app.post("/api/v1/fleet/runs", &request).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let plain = json!({"1": {"length": 120.0, "radius": 4.0}, "2": {"length": 80.0, "radius": 3.0}});
+    let again = app
+        .post("/api/v1/fleet/runs", &json!({"program": request["program"], "presets": ["mill3"], "tools": plain}))
+        .await;
+    assert_eq!(again.status, StatusCode::OK, "{}", again.text());
+    assert_eq!(reply.json(), again.json());
+    let list = app.get("/api/v1/fleet/runs").await.json();
+    let mut stored = Vec::new();
+    for info in list.as_array().unwrap() {
+        let run = app.get(&format!("/api/v1/fleet/runs/{}", info["id"].as_str().unwrap())).await.json();
+        stored.push(run["request"]["tools"].clone());
+    }
+    // Newest first; a tool without a corner radius is stored without one.
+    assert_eq!(stored, [plain, tools]);
+}
+
+#[tokio::test]
 async fn a_malformed_program_is_a_run_whose_machines_alarm() {
     let app = spawn_app().await;
     let reply = app.post("/api/v1/fleet/runs", &json!({"program": program("malformed.nc"), "presets": PRESETS})).await;
@@ -151,6 +177,16 @@ async fn bad_requests_are_4xx_json_with_the_reason() {
             json!({"program": nc, "presets": ["mill3"], "tools": {"0": {"length": 1.0, "radius": 1.0}}}),
             StatusCode::UNPROCESSABLE_ENTITY,
             "out of range",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"1": {"length": 1.0, "radius": 1.0, "corner_radius": -0.5}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "corner_radius",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"1": {"length": 1.0, "radius": 1.0, "corner_radius": "1"}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "corner_radius",
         ),
         (json!({"program": nc, "presets": ["mill3"], "colour": "red"}), StatusCode::UNPROCESSABLE_ENTITY, "colour"),
         (json!({"presets": ["mill3"]}), StatusCode::UNPROCESSABLE_ENTITY, "program"),

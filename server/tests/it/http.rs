@@ -235,6 +235,61 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
 }
 
 #[tokio::test]
+async fn tool_offsets_stored_before_the_corner_radius_read_0() {
+    // A database as the version before migration 0006 left it, with a tool offset in it.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("old.db");
+    {
+        let options = sqlx::sqlite::SqliteConnectOptions::new().filename(&path).create_if_missing(true);
+        let pool = sqlx::SqlitePool::connect_with(options).await.expect("open");
+        let before = sqlx::migrate::Migrator {
+            migrations: db::MIGRATOR.migrations.iter().filter(|m| m.version < 6).cloned().collect(),
+            ..sqlx::migrate::Migrator::DEFAULT
+        };
+        before.run(&pool).await.expect("migrations 0001–0005");
+        let machine = serde_json::to_string(&fivex_engine::machine::MachineConfig::preset("mill3").unwrap()).unwrap();
+        sqlx::query(
+            "INSERT INTO controllers (id, name, dialect, machine_json, created_at) \
+             VALUES ('old', 'old', 'fanuc', ?, '2025-01-01T00:00:00Z')",
+        )
+        .bind(machine)
+        .execute(&pool)
+        .await
+        .unwrap();
+        sqlx::query(
+            "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear) \
+             VALUES ('old', 3, 120.0, 0.0, 4.0, -0.05)",
+        )
+        .execute(&pool)
+        .await
+        .unwrap();
+        pool.close().await;
+    }
+    // This version migrates it on start: the row reads corner radius 0, stored and served.
+    let state = AppState::open(&path).await.expect("open and migrate");
+    let rows = db::tool_offsets(&state.db, "old").await.unwrap();
+    let three = rows.iter().find(|t| t.number == 3).copied().expect("offset 3 kept");
+    assert_eq!(
+        three,
+        db::ToolRow { number: 3, length: 120.0, length_wear: 0.0, radius: 4.0, radius_wear: -0.05, corner_radius: 0.0 }
+    );
+    let reply = http::app(state.clone())
+        .oneshot(Request::get("/api/v1/controllers/old/tool-offsets").body(Body::empty()).unwrap())
+        .await
+        .unwrap();
+    assert_eq!(reply.status(), StatusCode::OK);
+    let tools: Value = serde_json::from_slice(&reply.into_body().collect().await.unwrap().to_bytes()).unwrap();
+    let three = tools.as_array().unwrap().iter().find(|t| t["number"] == 3).cloned();
+    assert_eq!(
+        three,
+        Some(
+            json!({"number": 3, "length": 120.0, "length_wear": 0.0, "radius": 4.0, "radius_wear": -0.05, "corner_radius": 0.0})
+        )
+    );
+    state.shutdown().await;
+}
+
+#[tokio::test]
 async fn deleting_a_controller_cascades_to_programs_and_variables() {
     let app = spawn_app().await;
     db::insert_controller(&app.state.db, &controller("c1", "m", "2025-01-01T00:00:00Z")).await.unwrap();

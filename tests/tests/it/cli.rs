@@ -289,6 +289,42 @@ fn tools_file_sets_radius_too() {
     assert_eq!(num(&v["variables"]["#101"]), 90.0, "H geometry #11007");
 }
 
+#[test]
+fn tools_file_may_give_a_corner_radius() {
+    let (_d, p) = scratch(&[
+        ("p.nc", "G90 G00 G43 H7 Z0.\n#100=#13007\n#101=#11007\nM30\n"),
+        ("plain.json", r#"{"7": {"length": 90.0, "radius": 4.5}}"#),
+        (
+            "corner.json",
+            r#"{"7": {"length": 90.0, "radius": 4.5, "corner_radius": 1.0}, "8": {"length": 1.0, "radius": 0.5, "corner_radius": 0}}"#,
+        ),
+        ("negative.json", r#"{"7": {"length": 90.0, "radius": 4.5, "corner_radius": -1.0}}"#),
+        ("text.json", r#"{"7": {"length": 90.0, "radius": 4.5, "corner_radius": "1"}}"#),
+    ]);
+    // Optional: a table with corner radii runs as the one without (nothing here reads them).
+    let (code, plain) = run_json(&[s(&p[0]), "--tools", s(&p[1])]);
+    assert_eq!(code, 0);
+    let (code, corner) = run_json(&[s(&p[0]), "--tools", s(&p[2])]);
+    assert_eq!(code, 0);
+    assert_eq!(corner, plain);
+    assert_eq!(num(&corner["variables"]["#100"]), 4.5, "D geometry #13007");
+    // A negative corner radius: a usage error naming it, no panic; one that is not a number is
+    // a usage error as any malformed table is (serde's message, with its line and column).
+    for (bad, cmd, says) in [
+        (&p[3], "run", "corner_radius"),
+        (&p[3], "check", "corner_radius"),
+        (&p[3], "interp", "corner_radius"),
+        (&p[4], "run", "expected f64"),
+    ] {
+        // (`check` reads the tools when it runs the program on a machine.)
+        let out = fivex(&[cmd, s(&p[0]), "--preset", "mill3", "--tools", s(bad)]);
+        assert_eq!(out.status.code(), Some(2), "{cmd} {}: {}", s(bad), stderr(&out));
+        assert!(out.stdout.is_empty(), "{cmd}: {}", stdout(&out));
+        let err = stderr(&out);
+        assert!(err.contains(says) && !err.contains("panicked"), "{cmd}: {err}");
+    }
+}
+
 // --- --trace --------------------------------------------------------------------------------
 
 fn read_trace(path: &Path) -> Vec<Value> {

@@ -1295,7 +1295,7 @@ export interface components {
             program: string;
             /** @description Add each machine's run report (`"report"`). */
             report?: boolean;
-            /** @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}` (numbers 1–999); default: 1–99 at 100 / 5 mm (a controller keeps its own unless this is given). */
+            /** @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}` (numbers 1–999; `corner_radius` optional, default 0); default: 1–99 at 100 / 5 mm (a controller keeps its own unless this is given). */
             tools?: {
                 [key: string]: components["schemas"]["Tool"];
             } | null;
@@ -2079,6 +2079,11 @@ export interface components {
         };
         /** @description `PUT /tool-offsets/{number}`: the values to change. */
         SetToolOffset: {
+            /**
+             * Format: double
+             * @description Not negative; absent: as it is (0 for an offset never given one).
+             */
+            corner_radius?: number | null;
             /** Format: double */
             length?: number | null;
             /** Format: double */
@@ -2170,8 +2175,14 @@ export interface components {
             /** @description The tool tip there, table frame. */
             tip?: number[] | null;
         };
-        /** @description One tool offset of a `--tools` table: length and radius geometry. */
+        /** @description One tool offset of a `--tools` table: length and radius geometry, and the corner radius. */
         Tool: {
+            /**
+             * Format: double
+             * @description The tool's corner radius, read by cutting point control (G43.8/G43.9); not negative.
+             *     Absent: 0 (a square end mill, or a ball end mill read from the radius).
+             */
+            corner_radius?: number | null;
             /** Format: double */
             length: number;
             /** Format: double */
@@ -2179,6 +2190,12 @@ export interface components {
         };
         /** @description One tool offset number (mm). */
         ToolOffsetDto: {
+            /**
+             * Format: double
+             * @description The tool's corner radius, read by cutting point control (G43.8/G43.9): 0 for a square
+             *     end mill (and for a ball end mill, whose corner radius is its radius D).
+             */
+            corner_radius: number;
             /**
              * Format: double
              * @description H geometry and wear.
@@ -5167,7 +5184,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No such offset number or not a finite value */
+            /** @description No such offset number, not a finite value, or a negative corner radius */
             422: {
                 headers: {
                     [name: string]: unknown;

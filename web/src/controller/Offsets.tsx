@@ -1,10 +1,11 @@
-// Tool offset memory (H length and D radius, geometry and wear) and the work offsets.
+// Tool offset memory (H length and D radius, geometry and wear; the corner radius G43.8/G43.9
+// read) and the work offsets.
 import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, type Schemas, errorText } from "../api/client";
 import { EditCell } from "./EditCell";
 
-const TOOL_FIELDS = ["length", "length_wear", "radius", "radius_wear"] as const;
+const TOOL_FIELDS = ["length", "length_wear", "radius", "radius_wear", "corner_radius"] as const;
 
 function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onError: (e: string | null) => void }) {
   const [tools, setTools] = useState<Schemas["ToolOffsetDto"][]>([]);
@@ -54,14 +55,15 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
             <th>wear</th>
             <th>radius (D)</th>
             <th>wear</th>
+            <th title="corner radius (cutting point control G43.8/G43.9): 0 for a square or a ball end mill">Corner R</th>
           </tr>
         </thead>
         <tbody>
           {tools.map((t) => (
-            <tr key={t.number}>
+            <tr key={t.number} data-tool={t.number}>
               <th>{t.number}</th>
               {TOOL_FIELDS.map((f) => (
-                <td>{numberInput(t[f], (v) => setTool(t.number, f, v))}</td>
+                <td data-field={f}>{numberInput(t[f], (v) => setTool(t.number, f, v))}</td>
               ))}
             </tr>
           ))}
@@ -74,7 +76,7 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
             const n = Number(more);
             // A new row to fill in; the service lists only the offsets that are not all zero.
             if (n >= 1 && n <= 999 && !tools.some((t) => t.number === n))
-              setTools([...tools, { number: n, length: 0, length_wear: 0, radius: 0, radius_wear: 0 }].sort((a, b) => a.number - b.number));
+              setTools([...tools, { number: n, length: 0, length_wear: 0, radius: 0, radius_wear: 0, corner_radius: 0 }].sort((a, b) => a.number - b.number));
           }}
         >
           add
