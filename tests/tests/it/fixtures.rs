@@ -1,7 +1,8 @@
 //! Data-driven end-to-end tests: every `tests/fixtures/*.nc` is run through the real `fivex`
 //! binary with `run`, `interp` and `check`, and once more with `--trace`; each output is an
 //! insta snapshot (`tests/tests/snapshots/fixtures__{run,interp,check,trace}@NAME.nc.snap`; the
-//! trace decimated to 40 samples, rounded to 0.1 µm, with the programmed point and its system).
+//! trace decimated to 40 samples, rounded to 0.1 µm, with the programmed point and its system,
+//! and the cutting point where there is one).
 //!
 //! A fixture's first line may select options: `(fivex: --preset table-ac --dialect syntec)`.
 //! `run` gets all of them; `interp` all but the trace/timing ones; `check` only `--dialect`.
@@ -296,6 +297,11 @@ fn trace_snapshot(ran: &Ran, text: &str) -> String {
             s["programmed_in"].as_str().unwrap_or("?"),
             vec3(&s["programmed"]),
         );
+        // Under cutting point control: where the tool touches.
+        if let Some(c) = s.get("cutting") {
+            out.pop();
+            let _ = writeln!(out, " | cutting {}", vec3(c));
+        }
     }
     out
 }

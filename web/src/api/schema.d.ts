@@ -1115,6 +1115,14 @@ export interface components {
              */
             cutting_point_distance?: number;
             /**
+             * Format: double
+             * @description Cutting point control (G43.8/G43.9) counts a square or bull-nose end mill as near its
+             *     singular posture when the tool is within this angle of the surface normal, degrees, and
+             *     then holds the vector from the cutting point to the tool tip (FANUC No.11262, 0 to 90;
+             *     0: no singular posture).
+             */
+            cutting_point_singular_angle?: number;
+            /**
              * @description Lower the speed of tool centre point moves so that the tip's path deviation stays within
              *     `rapid_deviation` / `cutting_deviation` (FANUC No.19746#6 CRS; `docs/five-axis.md`).
              */
@@ -1824,6 +1832,12 @@ export interface components {
         };
         /** @description `{"type": "position", …}`: where the machine is. */
         PositionFrame: {
+            /**
+             * @description Under cutting point control (G43.8/G43.9): where the tool touches the surface, in the
+             *     workpiece system as `tip` (its lowest point along the surface normal, from the machine
+             *     axes); absent otherwise.
+             */
+            cutting?: number[] | null;
             /**
              * Format: double
              * @description Tool tip speed relative to the workpiece, mm/min.
