@@ -315,6 +315,11 @@ pub struct FiveAxisOptions {
     /// CRC-39). fivex performs it under TCP only (`docs/cutter-compensation.md`, rule 8).
     #[serde(default, skip_serializing_if = "is_false")]
     pub crc_table_coordinates: bool,
+    /// The tool side offset's G codes follow the mechanism (FANUC No.19607#1 SPG = 1): G41.4/
+    /// G42.4 on a table rotation machine, G41.5/G42.5 on a mixed one, G41.2/G42.2 on a head
+    /// machine; off (SPG = 0): G41.2/G42.2 on every machine (CRC-31, CRC-32, TV-17).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub crc_codes_by_mechanism: bool,
     /// The tool side offset (G41.2/G42.2) places its vectors at the cutting point this far
     /// along the tool from the programmed (pivot) point, mm (FANUC No.19632, CRC-30: the
     /// point is Q + d·(tool direction, tip → holder), the manual's formula); 0: at the

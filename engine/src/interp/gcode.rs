@@ -277,11 +277,17 @@ pub mod code {
     /// The tilted working plane definitions.
     pub const TILTED_PLANES: [u16; 3] = [G68_2, G68_3, G68_4];
     /// The cutter compensations a path stage performs (`crate::stage`): C (G41/G42), the
-    /// 5-axis tool side offset of type 1 (G41.2/G42.2) and type 2 (G41.6/G42.6), and the
-    /// leading edge offset (G41.3).
-    pub const COMPENSATED_BY_STAGES: [u16; 7] = [G41, G42, G41_2, G42_2, G41_6, G42_6, G41_3];
+    /// 5-axis tool side offset of type 1 (G41.2/G42.2, and G41.4/G42.4, G41.5/G42.5 where
+    /// SPG selects them) and type 2 (G41.6/G42.6), and the leading edge offset (G41.3).
+    pub const COMPENSATED_BY_STAGES: [u16; 11] =
+        [G41, G42, G41_2, G42_2, G41_4, G42_4, G41_5, G42_5, G41_6, G42_6, G41_3];
     /// The 5-axis tool side offset (`stage::tool_side`), type 1 and type 2.
-    pub const TOOL_SIDE: [u16; 4] = [G41_2, G42_2, G41_6, G42_6];
+    pub const TOOL_SIDE: [u16; 8] = [G41_2, G42_2, G41_4, G42_4, G41_5, G42_5, G41_6, G42_6];
+    /// The tool side offset of type 1 (the tool direction by the rotary axes): G41.2/G42.2 on
+    /// every machine, or by mechanism (FANUC SPG = 1) G41.4/G42.4 (table), G41.5/G42.5 (mixed).
+    pub const TOOL_SIDE_TYPE1: [u16; 6] = [G41_2, G42_2, G41_4, G42_4, G41_5, G42_5];
+    /// The tool side offset's codes that put the tool right of the path.
+    pub const TOOL_SIDE_RIGHT: [u16; 4] = [G42_2, G42_4, G42_5, G42_6];
     /// The macro calls, single and modal.
     pub const MACRO_CALLS: [u16; 3] = [G65, G66, G66_1];
 }

@@ -69,12 +69,6 @@ impl FiveAxisModes {
     }
 }
 
-/// FANUC parameter values the rules depend on, at their defaults until machine parameters exist
-/// (issue 3): SPG (No.19607) G41.4/G41.5 code set. (RCM, No.11200#0, is
-/// `FiveAxisOptions::tool_direction_compensation`; MTW, No.11221#0, is
-/// `FiveAxisOptions::multiple_planes`.)
-const SPG: bool = false;
-
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum On {
     Both,
@@ -192,12 +186,30 @@ static RULES: &[Rule] = &[
         c.st.cfg.machine.five_axis.length_offset_by_motion && c.wse_during() && c.any(&[G43, G43_1, G44, G43_4, G43_5])
     }),
     // --- 5-axis cutter compensation ----------------------------------------------------
-    rule(Fanuc, "crc CRC-31: G41.4/G42.4 on a table machine with SPG=0", A::ImproperGCode, |c| {
-        !SPG && c.mech() == Mech::Table && c.any(&[G41_4, G42_4])
+    // SPG (No.19607#1) selects the tool side offset's code set (TV-17). The manual names SPG = 0
+    // with G41.4 on a table machine and G41.5 on a mixed one PS0010; fivex extends it to every
+    // machine (a decision: without SPG the codes are not selected anywhere).
+    rule(Fanuc, "crc CRC-31/32, TV-17: G41.4/G42.4, G41.5/G42.5 with SPG=0", A::ImproperGCode, |c| {
+        !c.spg() && c.any(&[G41_4, G42_4, G41_5, G42_5])
     }),
-    rule(Fanuc, "crc CRC-32: G41.5/G42.5 on a mixed machine with SPG=0", A::ImproperGCode, |c| {
-        !SPG && c.mech() == Mech::Mixed && c.any(&[G41_5, G42_5])
-    }),
+    rule(
+        Fanuc,
+        "crc CRC-31/32, TV-17: G41.2/G42.2 on a table or mixed machine with SPG=1",
+        A::IllegalCommandInMode,
+        |c| c.spg() && c.table_or_mixed() && c.any(&[G41_2, G42_2]),
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-31, TV-17: G41.4/G42.4 on a machine other than table with SPG=1",
+        A::IllegalCommandInMode,
+        |c| c.spg() && c.mech() != Mech::Table && c.any(&[G41_4, G42_4]),
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-32, TV-17: G41.5/G42.5 on a machine other than mixed with SPG=1",
+        A::IllegalCommandInMode,
+        |c| c.spg() && c.mech() != Mech::Mixed && c.any(&[G41_5, G42_5]),
+    ),
     rule(Fanuc, "crc CRC-02, TV-18: G41.6/G42.6 needs two rotary axes", A::IllegalCommandInMode, |c| {
         c.any(&[G41_6, G42_6]) && c.rotary_axes() < 2
     }),
@@ -693,6 +705,11 @@ impl Ctx<'_> {
         self.mech
     }
 
+    /// FANUC No.19607#1 SPG: the tool side offset's G codes by mechanism.
+    fn spg(&self) -> bool {
+        self.st.cfg.machine.five_axis.crc_codes_by_mechanism
+    }
+
     fn table_or_mixed(&self) -> bool {
         matches!(self.mech(), Mech::Table | Mech::Mixed)
     }
@@ -911,7 +928,7 @@ fn int_in(v: f64, lo: i64, hi: i64) -> bool {
 
 /// 5-axis cutter compensation type 1 (G41.2/G42.2 and the FS16i-compatible G41.4/G41.5 forms).
 fn is_crc_type1(m: u16) -> bool {
-    matches!(m, G41_2 | G42_2 | G41_4 | G42_4 | G41_5 | G42_5)
+    TOOL_SIDE_TYPE1.contains(&m)
 }
 
 /// 5-axis cutter compensation type 2.

@@ -645,7 +645,7 @@ impl State {
             if comp_before == comp && w.has_g(comp) {
                 self.emit(out, CanonKind::Cutter(CutterWord::Perpendicular));
             }
-            if let Some(q) = w.integer(b'Q').filter(|_| matches!(comp, code::G41_2 | code::G42_2)) {
+            if let Some(q) = w.integer(b'Q').filter(|_| code::TOOL_SIDE_TYPE1.contains(&comp)) {
                 self.emit(out, CanonKind::Cutter(CutterWord::PlaneChange(q as u8)));
             }
         }

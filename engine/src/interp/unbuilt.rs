@@ -41,8 +41,6 @@ const fn row(code: u16, when: When, function: &'static str) -> NotBuilt {
     NotBuilt { code, dialect: None, when, function }
 }
 
-const CUTTER_3D: &str = "3-D / 5-axis cutter compensation";
-
 /// Every G code of `gcode::TABLE` that fivex does not perform, or performs only with some
 /// values of an address. A code not listed here is performed (its behaviour has tests).
 const TABLE: &[NotBuilt] = &[
@@ -86,11 +84,7 @@ const TABLE: &[NotBuilt] = &[
     row(360, When::Always, "circular threading (G36)"),
     row(370, When::Always, "automatic tool length measurement (G37)"),
     row(411, When::Always, "normal direction control (G41.1)"),
-    row(414, When::Always, CUTTER_3D),
-    row(415, When::Always, CUTTER_3D),
     row(421, When::Always, "normal direction control (G42.1)"),
-    row(424, When::Always, CUTTER_3D),
-    row(425, When::Always, CUTTER_3D),
     row(431, When::Always, "tool length compensation in tool axis direction (G43.1)"),
     // Syntec's G43.4 L1 is STCP (smooth tool centre point); L0 is plain RTCP.
     NotBuilt {

@@ -169,7 +169,7 @@ fn is_tool_side(comp: u16) -> bool {
 
 /// The signed offset radius: positive puts the tool on the left seen from the tool side.
 fn signed_radius(m: &Motion) -> f64 {
-    let side = if matches!(m.context.cutter_comp, code::G42_2 | code::G42_6) { -1.0 } else { 1.0 };
+    let side = if code::TOOL_SIDE_RIGHT.contains(&m.context.cutter_comp) { -1.0 } else { 1.0 };
     side * m.context.cutter_radius
 }
 

@@ -7,7 +7,8 @@
 //! tool holder offset, 19709–19714 head offset vectors, 19741–19744 movement ranges.
 //! Look-ahead: 1604#0 SHP, 19501#5 FRP, 1660 / 1671 all 0. G54.4: 11200#0 RCM, 11202/11203
 //! rotary clamp, 11204, 3106#6 DAK, 5006#6 TOS, 5412 cycle feed, 5400#2 D3R. Cutter
-//! compensation: 5003#0 SUP (start-up/cancel type B), #1 SUV (perpendicular to the next movement), 19607#5 CAV (interference avoidance).
+//! compensation: 5003#0 SUP (start-up/cancel type B), #1 SUV (perpendicular to the next movement), 19607#5 CAV (interference avoidance),
+//! 19607#1 SPG (the tool side offset's G codes by mechanism: G41.4 table, G41.5 mixed).
 //! Cutting point control: 11262 (the singular posture's angle).
 
 use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
@@ -186,8 +187,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     // plane. The other bits are not read.
     let cutter_startup_type_b = p.0.contains_key(&5003) && p.bit(5003, 0)?;
     let cutter_startup_perpendicular = p.0.contains_key(&5003) && p.bit(5003, 1)?;
-    // No.19607#5 CAV: the interference check avoids instead of stopping (absent: 0). The
-    // parameter's other bits are not read.
+    // No.19607#5 CAV: the interference check avoids instead of stopping (absent: 0). (#1 SPG
+    // is read with the 5-axis settings; the parameter's other bits are not read.)
     let cutter_interference_avoidance = p.0.contains_key(&19607) && p.bit(19607, 5)?;
     let motion = MotionOptions {
         helical_feed_on_path,
@@ -356,6 +357,7 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         display_workpiece: bit(19608, 2)?,
         deviation_clamp: bit(19746, 6)?,
         crc_table_coordinates: bit(19746, 4)?,
+        crc_codes_by_mechanism: bit(19607, 1)?,
         rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
         cutting_point_distance: if p.0.contains_key(&19632) { p.get(19632)? } else { 0.0 },
         plane_change_angle: if p.0.contains_key(&19635) { p.get(19635)? } else { 0.0 },
@@ -420,7 +422,10 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         p.set(5003, bits as f64);
     }
     if m.motion.cutter_interference_avoidance {
-        p.set(19607, 32.0);
+        p.set_bits(19607, 32);
+    }
+    if m.five_axis.crc_codes_by_mechanism {
+        p.set_bits(19607, 2);
     }
     look_ahead_params(&mut p, m)?;
 

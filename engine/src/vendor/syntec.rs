@@ -369,10 +369,17 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         || f.plane_change_angle != 0.0
         || f.leading_edge_tolerance != 0.0
         || f.cutting_point_singular_angle != 0.0;
-    if singular || clamp || f.mirror_direction || f.display_workpiece || compensation || f.crc_table_coordinates {
+    if singular
+        || clamp
+        || f.mirror_direction
+        || f.display_workpiece
+        || compensation
+        || f.crc_table_coordinates
+        || f.crc_codes_by_mechanism
+    {
         return Err(unrepresentable(
             "Syntec",
-            "No.19738/19739/NPC, MIR, DET, CRS, TBP and No.19631/19632/19635/11262 are FANUC settings",
+            "No.19738/19739/NPC, MIR, DET, CRS, TBP, SPG and No.19631/19632/19635/11262 are FANUC settings",
         ));
     }
     if f.posture_control {

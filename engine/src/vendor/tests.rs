@@ -760,11 +760,27 @@ fn fanuc_cav_bit_sets_interference_avoidance_and_5008_is_reported() {
     assert_eq!(unmodelled::of_params(Dialect::Fanuc, &with), vec![]);
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("CAV"));
     p.set(5008, 8.0);
-    p.set(19607, 2.0);
+    p.set(19607, 1.0);
     let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &p).into_iter().map(|u| u.parameter).collect();
     assert!(names.iter().any(|n| n.starts_with("No.5008")), "{names:?}");
     assert!(names.iter().any(|n| n.starts_with("No.19607")), "{names:?}");
     assert!(!machine_from(Dialect::Fanuc, "m", &p).unwrap().motion.cutter_interference_avoidance);
+}
+
+/// No.19607#1 SPG (the tool side offset's G codes by mechanism) is read and written beside #5
+/// CAV; Syntec has no such setting.
+#[test]
+fn fanuc_spg_bit_round_trips_beside_cav() {
+    let mut m = MachineConfig::preset("table-ac").unwrap();
+    m.five_axis.crc_codes_by_mechanism = true;
+    m.motion.cutter_interference_avoidance = true;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(19607, 1).unwrap() && p.bit(19607, 5).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert!(back.five_axis.crc_codes_by_mechanism && back.motion.cutter_interference_avoidance);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    m.motion.cutter_interference_avoidance = false;
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("SPG"));
 }
 
 #[test]

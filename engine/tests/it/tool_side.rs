@@ -193,6 +193,65 @@ fn no_19632_places_the_vectors_at_the_cutting_points() {
     assert!((plain.ends[1].1 - Vec3::new(95.0, 5.0, 0.0)).norm() < 1e-9, "{:?}", plain.ends);
 }
 
+fn spg(c: &mut fivex_engine::interp::Config) {
+    c.edit_machine(|m| m.five_axis.crc_codes_by_mechanism = true);
+}
+
+/// TV-17 (CRC-31, CRC-32): SPG (No.19607#1) selects the tool side offset's codes by mechanism —
+/// G41.4/G42.4 on a table machine, G41.5/G42.5 on a mixed one; the other family there, or a
+/// code of another mechanism, is PS5460; without SPG G41.4/G41.5 are PS0010 (fivex: on every
+/// machine) and G41.2/G42.2 run everywhere.
+#[test]
+fn tv17_the_codes_follow_spg_and_the_mechanism() {
+    let cases: &[(&str, bool, &str, Option<&str>)] = &[
+        ("table-ac", false, "G41.4", Some("PS0010")),
+        ("table-ac", false, "G42.4", Some("PS0010")),
+        ("table-ac", true, "G41.4", None),
+        ("table-ac", true, "G42.4", None),
+        ("table-ac", true, "G41.2", Some("PS5460")),
+        ("table-ac", false, "G41.2", None),
+        ("table-ac", true, "G41.5", Some("PS5460")),
+        ("mixed-bc", false, "G41.5", Some("PS0010")),
+        ("mixed-bc", true, "G41.5", None),
+        ("mixed-bc", true, "G42.5", None),
+        ("mixed-bc", true, "G42.2", Some("PS5460")),
+        ("mixed-bc", true, "G41.4", Some("PS5460")),
+        ("mixed-bc", false, "G41.2", None),
+        ("head-bc", true, "G41.2", None),
+        ("head-bc", true, "G41.4", Some("PS5460")),
+        ("head-bc", true, "G41.5", Some("PS5460")),
+        ("head-bc", false, "G41.4", Some("PS0010")),
+        ("mill3", false, "G41.5", Some("PS0010")),
+    ];
+    for &(preset, on, code, want) in cases {
+        let src = format!("G90 G00 X-10. Y-10. Z0\n{code} D1\nG01 X0 Y0 F500.\nX40.\nG40 Y-10.\nM30\n");
+        let got = if on { first_alarm_with(&src, preset, spg) } else { first_alarm(&src, preset) };
+        let want = want.map(|w| (w.to_string(), 2));
+        assert_eq!(got, want, "{preset} SPG={on} {code}");
+    }
+}
+
+/// With SPG, G41.4/G42.4 on a table machine and G41.5/G42.5 on a mixed one compensate exactly as
+/// G41.2/G42.2 does there without it.
+#[test]
+fn with_spg_the_mechanism_codes_compensate_as_g41_2() {
+    let contour = "G01 X0 Y0 F500.\nX40.\nY40.\nX20. Y25.\nX0 Y40.\nY0\nG40 Y-10.\nM30\n";
+    for (preset, turned, codes) in
+        [("table-ac", "A30. C40.", ["G41.4", "G42.4"]), ("mixed-bc", "B20. C40.", ["G41.5", "G42.5"])]
+    {
+        for (code, plain) in codes.iter().zip(["G41.2", "G42.2"]) {
+            let start = format!("G90 G00 X-10. Y-10. Z0 {turned}\n");
+            let by_mechanism = ends_with(&format!("{start}{code} D1\n{contour}"), preset, spg);
+            let g41_2 = ends_of(&format!("{start}{plain} D1\n{contour}"), preset);
+            assert_eq!((&by_mechanism.alarm, &g41_2.alarm), (&None, &None), "{preset} {code}");
+            assert_eq!(by_mechanism.ends, g41_2.ends, "{preset} {code}");
+            // And the compensation did something: the corner at X40 Y0 is off the contour.
+            let corner = g41_2.ends.iter().find(|(l, _)| *l == 4).unwrap().1;
+            assert!((corner.xy() - nalgebra::Vector2::new(40.0, 0.0)).norm() > 4.0, "{preset} {code}: {corner:?}");
+        }
+    }
+}
+
 #[test]
 fn on_a_table_machine_the_plane_is_perpendicular_to_the_fixed_tool() {
     // table-ac, the table turned (A30 C40): without TCP the program is in the workpiece system,

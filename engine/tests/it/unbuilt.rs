@@ -168,13 +168,13 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G41.1", &[Fanuc, Syntec]),
     ("G41.2 D1", &[Syntec]),
     ("G41.3 D1", &[Syntec]),
-    ("G41.4 D1", &[Fanuc, Syntec]),
-    ("G41.5 D1", &[Fanuc, Syntec]),
+    ("G41.4 D1", &[Syntec]),
+    ("G41.5 D1", &[Syntec]),
     ("G41.6 D1", &[Syntec]),
     ("G42.1", &[Fanuc, Syntec]),
     ("G42.2 D1", &[Syntec]),
-    ("G42.4 D1", &[Fanuc, Syntec]),
-    ("G42.5 D1", &[Fanuc, Syntec]),
+    ("G42.4 D1", &[Syntec]),
+    ("G42.5 D1", &[Syntec]),
     ("G42.6 D1", &[Syntec]),
     ("G43.1 H1", &[Fanuc, Syntec]),
     ("G43.4 H1 L1", &[Syntec]),
@@ -249,12 +249,33 @@ fn refusal(dialect: Dialect, code: &str) -> &'static str {
     }
 }
 
+/// Performed only on a machine setting's request: (the code, the preset, an example that runs to
+/// its end there with FANUC's SPG = 1, where its behaviour is tested). Elsewhere the mode
+/// interlocks refuse them (PS0010 without SPG, PS5460 on another mechanism; `tool_side.rs`).
+const PERFORMED_WITH_SPG: &[(&str, &str, &str)] = &[
+    ("G41.4", "table-ac", "G41.4 D1 G01 X10. F500\nG40 X0"),
+    ("G42.4", "table-ac", "G42.4 D1 G01 X10. F500\nG40 X0"),
+    ("G41.5", "mixed-bc", "G41.5 D1 G01 X10. F500\nG40 X0"),
+    ("G42.5", "mixed-bc", "G42.5 D1 G01 X10. F500\nG40 X0"),
+];
+
+#[test]
+fn codes_by_mechanism_run_with_spg() {
+    for (name, preset, body) in PERFORMED_WITH_SPG {
+        let spg = |c: &mut fivex_engine::interp::Config| c.edit_machine(|m| m.five_axis.crc_codes_by_mechanism = true);
+        assert_eq!(first_alarm_with(&program(body), preset, spg), None, "{name} on {preset}");
+        // And `fivex check` does not call them unbuilt.
+        assert!(check(parse_file(&program(body)), Fanuc).is_empty(), "{name}");
+    }
+}
+
 #[test]
 fn every_g_code_has_a_decision() {
     for dialect in [Fanuc, Syntec] {
         for def in gcode::TABLE.iter().filter(|d| gcode::lookup(d.code, dialect).is_some()) {
             let name = gcode::display(def.code);
-            let performed = PERFORMED.iter().any(|(g, _, _)| *g == name);
+            let performed = PERFORMED.iter().any(|(g, _, _)| *g == name)
+                || dialect == Fanuc && PERFORMED_WITH_SPG.iter().any(|(g, _, _)| *g == name);
             let refused = REFUSED.iter().any(|(b, ds)| first_g(b) == name && ds.contains(&dialect));
             assert!(performed || refused, "{dialect:?}: {name} is neither performed nor refused: decide");
         }

@@ -1095,6 +1095,12 @@ export interface components {
         /** @description 5-axis function settings of the control (vendor bits, `docs/five-axis.md`). */
         FiveAxisOptions: {
             /**
+             * @description The tool side offset's G codes follow the mechanism (FANUC No.19607#1 SPG = 1): G41.4/
+             *     G42.4 on a table rotation machine, G41.5/G42.5 on a mixed one, G41.2/G42.2 on a head
+             *     machine; off (SPG = 0): G41.2/G42.2 on every machine (CRC-31, CRC-32, TV-17).
+             */
+            crc_codes_by_mechanism?: boolean;
+            /**
              * @description On a machine with a rotary table, 5-axis cutter compensation takes the table coordinate
              *     system as its programming coordinate system when tool centre point control does (FANUC
              *     No.19746#4 TBP = 1 with WKP = 0, CRC-38); otherwise the workpiece system (TBP = 0,

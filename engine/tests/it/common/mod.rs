@@ -231,11 +231,16 @@ pub struct Ends {
 }
 
 pub fn ends_of(src: &str, preset: &str) -> Ends {
+    ends_with(src, preset, |_| {})
+}
+
+/// [`ends_of`] with the configuration `tweak` adjusts (the machine's mechanism as the preset's).
+pub fn ends_with(src: &str, preset: &str, tweak: impl FnOnce(&mut Config)) -> Ends {
     use fivex_engine::interp::gcode::code;
     use fivex_engine::kin::{Kinematics, Vec3};
     let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
     let mut ends = Vec::new();
-    let alarm = through_stages(interpreter(src, preset, Dialect::Fanuc), |c| {
+    let alarm = through_stages(interpreter_with(src, preset, Dialect::Fanuc, tweak), |c| {
         if let CanonKind::Motion(m) = c.kind {
             let on = code::TOOL_SIDE.contains(&m.context.cutter_comp) || m.context.cutter_comp == code::G41_3;
             let at = Vec3::new(m.target[0], m.target[1], m.target[2]);
