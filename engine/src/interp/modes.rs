@@ -464,6 +464,28 @@ static RULES: &[Rule] = &[
         A::IllegalCommandInMode,
         |c| c.foreign(group::CUTTER_COMP, |c, m| c.crc5(m), |_, g| !crc5_forbids(g)),
     ),
+    rule(
+        Fanuc,
+        "crc CRC-50, §3.5.3: G codes allowed in 5-axis cutter compensation in the table coordinate system",
+        A::IllegalCommandInMode,
+        |c| c.crc_in_table() && c.foreign(group::CUTTER_COMP, |c, m| c.crc5(m), |_, g| table_crc_allows(g)),
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-51, §3.5.3: modal states 5-axis cutter compensation may start in (table coordinate system)",
+        A::IllegalCommandInTcp,
+        |c| {
+            c.crc_in_table()
+                && c.starts(group::CUTTER_COMP, |c, m| c.crc5(m))
+                && c.state_outside(group::CUTTER_COMP, table_crc_state_allows)
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc §3.5.3: no axis outside the 5-axis set in 5-axis cutter compensation (table coordinate system)",
+        A::IllegalCommandInMode,
+        |c| c.crc_in_table() && c.during(group::CUTTER_COMP, |c, m| c.crc5(m)) && c.other_axes() > 0,
+    ),
     rule(Fanuc, "tcp TCP-16; crc CRC-48, NSM-05, NRB-03: G codes allowed in TCP", A::IllegalCommandInTcp, |c| {
         c.foreign(
             group::LENGTH_COMP,
@@ -937,6 +959,49 @@ fn is_crc_type2(m: u16) -> bool {
 }
 
 /// crc §6.1: G codes that may not be given in any 5-axis cutter compensation mode.
+/// crc CRC-50 (§3.5.3): the G codes 5-axis cutter compensation takes in the table coordinate
+/// system (any other: PS5460), and its own codes (a change of side, a decision: the manual's
+/// list names G40 only).
+fn table_crc_allows(g: u16) -> bool {
+    matches!(
+        g,
+        G00 | G01
+            | G04
+            | G09
+            | G10
+            | G11
+            | G17
+            | G18
+            | G19
+            | G22
+            | G23
+            | G38
+            | G39
+            | G40
+            | G49
+            | G50
+            | G51
+            | G61
+            | G62
+            | G64
+            | G65
+            | G66
+            | G66_1
+            | G67
+            | G90
+            | G91
+    ) || TOOL_SIDE.contains(&g)
+}
+
+/// crc CRC-51 (§3.5.3): the modal states it may start in (any other: PS5421) — those codes, the
+/// cancels the manual lists (the milling ones), and tool centre point control, which must be on
+/// before it (a decision: the list leaves G43.4/G43.5 out, §3.5.3 asks for them first).
+fn table_crc_state_allows(_group: usize, g: u16) -> bool {
+    table_crc_allows(g)
+        || matches!(g, G13_1 | G15 | G20 | G21 | G54 | G55 | G56 | G57 | G58 | G59 | G69 | G80 | G94 | G97 | G98 | G99)
+        || TCP.contains(&g)
+}
+
 fn crc5_forbids(g: u16) -> bool {
     matches!(
         g,

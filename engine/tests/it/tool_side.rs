@@ -630,6 +630,45 @@ fn tip_ends(
     (ends, alarm)
 }
 
+/// §3.5.3 in the table coordinate system (TBP = 1, WKP = 0, under TCP): in the mode only the
+/// listed G codes (CRC-50, PS5460), a start only in the listed modal states (CRC-51, PS5421),
+/// and no axis outside the five (PS5460).
+#[test]
+fn in_the_table_system_the_mode_takes_the_listed_codes_only() {
+    use fivex_engine::machine::TcpCoordinates::TableAtStart;
+    let program = |before: &str, inside: &str| {
+        format!(
+            "G55\nG90 X0 Y0 Z300. B0 C0\nG01 G43.4 H01 Z40. F500.\n{before}G41.2 D01\nX50. Y50. Z20. B30. C45.\n\
+             {inside}X-50. C135.\nG40\nG49 Z300.\nM30\n"
+        )
+    };
+    let (_, alarm) = tip_ends(&program("", "G04 P100\nG61\nG64\nG91 X0\nG90\n"), tbp(TableAtStart));
+    assert_eq!(alarm, None);
+    // G94 is a state it may start in, not a code it takes (every 5-axis compensation takes it
+    // in the workpiece system); G63 is taken by TCP, not by it.
+    assert_eq!(tip_ends(&program("", "G94\n"), tbp(TableAtStart)).1, Some(("PS5460".into(), 6)));
+    assert_eq!(tip_ends(&program("G63\n", ""), tbp(TableAtStart)).1, Some(("PS5421".into(), 5)));
+    // In the workpiece system (TBP = 0) neither list applies.
+    let (_, alarm) = tip_ends(&program("", "G94\n"), |c| {
+        c.edit_machine(|m| m.five_axis.tcp_coordinates = fivex_engine::machine::TcpCoordinates::Workpiece)
+    });
+    assert_eq!(alarm, None);
+    // A sixth axis (U beside X) moved in the mode.
+    let with_u = |c: &mut fivex_engine::interp::Config| {
+        tbp(TableAtStart)(c);
+        c.edit_machine(|m| {
+            let mut u = m.axes[0].clone();
+            u.name = 'U';
+            m.axes.push(u);
+        })
+    };
+    let alarm = through_stages(interpreter_with(&program("", "U10.\n"), "mixed-bc", Fanuc, with_u), |_| {});
+    assert_eq!(alarm, Some(("PS5460".into(), 6)));
+    // Outside the mode U moves freely.
+    let outside = program("", "").replace("G49 Z300.", "G49 Z300.\nU10.");
+    assert_eq!(through_stages(interpreter_with(&outside, "mixed-bc", Fanuc, with_u), |_| {}), None);
+}
+
 #[test]
 fn tv26_program_1_compensates_in_the_table_system() {
     use fivex_engine::machine::TcpCoordinates::{TableAtStart, TableAtZero};
