@@ -958,7 +958,6 @@ fn is_crc_type2(m: u16) -> bool {
     matches!(m, G41_6 | G42_6)
 }
 
-/// crc §6.1: G codes that may not be given in any 5-axis cutter compensation mode.
 /// crc CRC-50 (§3.5.3): the G codes 5-axis cutter compensation takes in the table coordinate
 /// system (any other: PS5460), and its own codes (a change of side, a decision: the manual's
 /// list names G40 only).
@@ -1002,6 +1001,7 @@ fn table_crc_state_allows(_group: usize, g: u16) -> bool {
         || TCP.contains(&g)
 }
 
+/// crc §6.1: G codes that may not be given in any 5-axis cutter compensation mode.
 fn crc5_forbids(g: u16) -> bool {
     matches!(
         g,

@@ -493,21 +493,7 @@ fn posture_along(kin: &Kinematics, tip: &TipMove, circle: Option<&Circle3>, from
 pub(crate) fn cutting_end(kin: &std::sync::Arc<Kinematics>, tip: &TipMove, from: &Pos, to: &Pos) -> Option<Vec3> {
     let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
     let posture = posture_along(kin, tip, circle.as_ref(), from, to);
-    let follow = Follow {
-        kin: kin.clone(),
-        tool_length: tip.tool_length,
-        from: tip.from,
-        to: tip.to,
-        circle,
-        posture,
-        compensation: None,
-        cutting: None,
-        work_frame: None,
-        display_shift: None,
-        speed_cap: f64::INFINITY,
-        clamped: false,
-        pieces: Box::default(),
-    };
+    let follow = Follow { circle, posture, ..Follow::plain(kin.clone(), tip.tool_length, tip.from, tip.to) };
     match &tip.cutting {
         Some(c) => {
             let along = follow.along(c, from, to);
@@ -519,6 +505,26 @@ pub(crate) fn cutting_end(kin: &std::sync::Arc<Kinematics>, tip: &TipMove, from:
 }
 
 impl Follow {
+    /// A straight tip path from `from` to `to` with the rotary axes in proportion, nothing else
+    /// along it.
+    fn plain(kin: std::sync::Arc<Kinematics>, tool_length: f64, from: Vec3, to: Vec3) -> Follow {
+        Follow {
+            kin,
+            tool_length,
+            from,
+            to,
+            circle: None,
+            posture: None,
+            compensation: None,
+            cutting: None,
+            work_frame: None,
+            display_shift: None,
+            speed_cap: f64::INFINITY,
+            clamped: false,
+            pieces: Box::default(),
+        }
+    }
+
     /// A block's cutting point vector all along it, the axes going from `from` to `to`.
     fn along(&self, c: &CuttingMove, from: &Pos, to: &Pos) -> crate::cutting_point::Along {
         let tool_at = |u: f64| self.kin.forward(&self.angles(from, to, u), 0.0).tool;
@@ -1185,19 +1191,13 @@ impl Segment {
             .filter(|c| ![0.25, 0.5, 0.75].iter().all(|&u| on(c, u)))
             .filter(|c| steady(&kin, from, &m.machine, |u| compensated(&kin, c, u)));
         let mut follow = Follow {
-            kin: kin.clone(),
-            tool_length: tip.tool_length,
-            from: tip.from,
-            to: tip.to,
             circle,
             posture,
             compensation,
-            cutting: None,
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
-            speed_cap: f64::INFINITY,
             clamped: tip.rotary_clamp.is_some(),
-            pieces: Box::default(),
+            ..Follow::plain(kin.clone(), tip.tool_length, tip.from, tip.to)
         };
         follow.cutting = tip
             .cutting
@@ -1299,21 +1299,7 @@ impl Segment {
     ) -> Segment {
         let tip = kin.forward(from, tool_length).tip;
         let len = rotary_travel(&kin, from, to);
-        let follow = Follow {
-            kin,
-            tool_length,
-            from: tip,
-            to: tip,
-            circle: None,
-            posture: None,
-            compensation: None,
-            work_frame: None,
-            display_shift: None,
-            speed_cap: f64::INFINITY,
-            clamped: false,
-            pieces: Box::default(),
-            cutting: None,
-        };
+        let follow = Follow::plain(kin, tool_length, tip, tip);
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
         let grid = Grid::new(|u| follow.at(from, to, u), len, CELLS_PER_SAMPLE * 32, axes);

@@ -8,6 +8,7 @@ use crate::tcp_random::{five_axis_machine, in_pi, mm, pi_frame_at, rotary_words,
 
 use common::random::{angles_inside, random_machine};
 use common::{cases, check_strokes, end_of, first_alarm_with, interpreter_with, motion_ends};
+use fivex_engine::geom::Rigid;
 use fivex_engine::interp::Config;
 use fivex_engine::kin::{Kinematics, Vec3};
 use fivex_engine::machine::MachineConfig;
@@ -312,6 +313,31 @@ fn normal_near(v: Vec3, a: [f64; 3]) -> (String, Vec3) {
     (words, written.normalize())
 }
 
+/// Where the random programs start: the machine's mechanism and Π (TCP started at commanded
+/// angles 0), the program up to its first move (`code` H1 D1 with a normal near the tool, the tip
+/// to (0, 0, 50)), and that normal.
+fn start(m: &MachineConfig, code: &str, tilt: [f64; 3]) -> (Kinematics, Rigid, String, Vec3) {
+    let kin = Kinematics::new(m).unwrap();
+    let pi = pi_frame_at(&kin, &zeros(m));
+    let v0 = pi.r.transpose() * kin.forward(&zeros(m), LENGTH).tool;
+    let (words, n0) = normal_near(v0, tilt);
+    let src = format!("G90 G17 G00{}\n{code} H1 D1 {words}\nX0 Y0 Z50.\nG01 F2000.\n", rotary_words(m, &zeros(m)));
+    (kin, pi, src, n0)
+}
+
+/// Run a random program to its end; the samples. Left out (not failed): an axis beyond its
+/// stroke, a run past the time budget (as in `tcp_random`), and a square or bull-nose end mill
+/// taken through its singular posture (PS5464 without No.11262, as
+/// `a_flat_end_through_the_singular_posture_needs_no_11262` shows).
+fn run_or_skip(m: &MachineConfig, tool: Shape, src: &str) -> Result<Vec<Sample>, TestCaseError> {
+    let (r, samples) = run_tool(m, tool, src);
+    prop_assume!(r.completed() || !r.alarms[0].code.starts_with("OT"));
+    prop_assume!(r.completed() || r.alarms[0].code != "FX0002");
+    prop_assume!(r.completed() || r.alarms[0].code != "PS5464" || tool.corner >= tool.radius);
+    prop_assert!(r.completed(), "{:?}\n{src}\n{m:?}", r.alarms);
+    Ok(samples)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: cases(12), ..ProptestConfig::default() })]
 
@@ -326,11 +352,7 @@ proptest! {
         blocks in prop::collection::vec((prop::array::uniform3(-40.0..40.0f64), prop::collection::vec(0.0..1.0f64, 8), prop::array::uniform3(-0.5..0.5f64)), 1..4),
         first in prop::array::uniform3(-0.5..0.5f64),
     ) {
-        let kin = Kinematics::new(&m).unwrap();
-        let pi = pi_frame_at(&kin, &zeros(&m));
-        let v0 = pi.r.transpose() * kin.forward(&zeros(&m), LENGTH).tool;
-        let (words, n0) = normal_near(v0, first);
-        let mut src = format!("G90 G17 G00{}\nG43.8 H1 D1 {words}\nX0 Y0 Z50.\nG01 F2000.\n", rotary_words(&m, &zeros(&m)));
+        let (kin, pi, mut src, n0) = start(&m, "G43.8", first);
         let (mut at, mut normal) = (Vec3::new(0.0, 0.0, 50.0), n0);
         let mut moves = Vec::new();
         for (k, (p, fractions, tilt)) in blocks.iter().enumerate() {
@@ -343,13 +365,7 @@ proptest! {
             (at, normal) = (end, n);
         }
         src += "G49\nM30\n";
-        let (r, samples) = run_tool(&m, tool, &src);
-        prop_assume!(r.completed() || !r.alarms[0].code.starts_with("OT"));
-        prop_assume!(r.completed() || r.alarms[0].code != "FX0002");
-        // The tool may pass its singular posture on the way (a square or bull-nose end mill):
-        // PS5464 without No.11262, as `a_flat_end_through_the_singular_posture_needs_no_11262`.
-        prop_assume!(r.completed() || r.alarms[0].code != "PS5464" || tool.corner >= tool.radius);
-        prop_assert!(r.completed(), "{:?}\n{src}\n{m:?}", r.alarms);
+        let samples = run_or_skip(&m, tool, &src)?;
         for &(line, a, b, n0, n1) in &moves {
             let of_line: Vec<&Sample> = samples.iter().filter(|s| s.line == line).collect();
             prop_assert!(!of_line.is_empty(), "line {line}: no sample\n{src}");
@@ -373,11 +389,7 @@ proptest! {
         blocks in prop::collection::vec((prop::array::uniform3(-40.0..40.0f64), prop::collection::vec(0.0..1.0f64, 8), prop::array::uniform3(-0.5..0.5f64)), 1..4),
         first in prop::array::uniform3(-0.5..0.5f64),
     ) {
-        let kin = Kinematics::new(&m).unwrap();
-        let pi = pi_frame_at(&kin, &zeros(&m));
-        let v0 = pi.r.transpose() * kin.forward(&zeros(&m), LENGTH).tool;
-        let (words, _) = normal_near(v0, first);
-        let mut src = format!("G90 G17 G00{}\nG43.9 H1 D1 {words}\nX0 Y0 Z50.\nG01 F2000.\n", rotary_words(&m, &zeros(&m)));
+        let (kin, pi, mut src, _) = start(&m, "G43.9", first);
         let mut want = Vec::new();
         for (k, (p, fractions, tilt)) in blocks.iter().enumerate() {
             let q = angles_inside(&m, fractions, 5.0);
@@ -389,11 +401,7 @@ proptest! {
             want.push((5 + k as u32, end, v, n));
         }
         src += "G49\nM30\n";
-        let (r, _) = run_tool(&m, tool, &src);
-        prop_assume!(r.completed() || !r.alarms[0].code.starts_with("OT"));
-        prop_assume!(r.completed() || r.alarms[0].code != "FX0002");
-        prop_assume!(r.completed() || r.alarms[0].code != "PS5464" || tool.corner >= tool.radius);
-        prop_assert!(r.completed(), "{:?}\n{src}\n{m:?}", r.alarms);
+        run_or_skip(&m, tool, &src)?;
         let mut interp = interpreter_with(&src, "mill3", Dialect::Fanuc, |c| c.machine = m.clone().into());
         set_tool(&mut interp, tool);
         let ends = motion_ends(interp);
