@@ -19,9 +19,10 @@ use crate::machine::Side;
 #[derive(Debug, Clone, Copy)]
 pub(super) struct CuttingPoint {
     pub(super) tool: Tool,
-    /// The surface normal as the last `,L2 I J K` gave it, in Π (unit).
-    pub(super) normal: Vec3,
-    /// A later block's normal (`,L2`), in Π, until a move takes it.
+    /// The surface normal where the machine stands, in the table frame (unit): a block without
+    /// `,L2` keeps it, on the part, whatever Π does; `None` until the start block moves.
+    surface: Option<Vec3>,
+    /// The G43.8/G43.9 block's normal, or a later block's `,L2`, in Π, until a move takes it.
     pub(super) commanded: Option<Vec3>,
     /// Tool tip − cutting point where the machine stands (table frame).
     pub(super) vector: Vec3,
@@ -31,14 +32,21 @@ pub(super) struct CuttingPoint {
 }
 
 impl CuttingPoint {
-    /// The normals a move starts and ends with (in Π); the one it ends with is kept.
-    pub(super) fn take_normals(&mut self) -> Result<(Vec3, Vec3), AlarmId> {
-        let end = self.commanded.take().unwrap_or(self.normal);
+    /// The normals (table frame) a move starts and ends with, `frame` its Π; the one it ends
+    /// with is kept.
+    pub(super) fn take_normals(&mut self, frame: &Rigid) -> Result<(Vec3, Vec3), AlarmId> {
+        let end = match (self.commanded.take(), self.surface) {
+            (Some(n), _) => frame.r * n,
+            (None, Some(kept)) => kept,
+            // (The start block always has one: `cutting_begin`.)
+            (None, None) => return Err(AlarmId::CuttingPoint),
+        };
+        let start = self.surface.unwrap_or(end);
         // Opposite normals leave no way to turn one into the other (a decision: PS5464).
-        if self.normal.dot(&end) < -1.0 + 1e-12 {
+        if start.dot(&end) < -1.0 + 1e-12 {
             return Err(AlarmId::CuttingPoint);
         }
-        let start = std::mem::replace(&mut self.normal, end);
+        self.surface = Some(end);
         Ok((start, end))
     }
 }
@@ -63,7 +71,7 @@ impl State {
             Some(n) => n,
             None => Vec3::from(self.cfg.machine.tool_axis).normalize(),
         };
-        Ok(Some(CuttingPoint { tool, normal, commanded: None, vector: Vec3::zeros(), disturbed: false }))
+        Ok(Some(CuttingPoint { tool, surface: None, commanded: Some(normal), vector: Vec3::zeros(), disturbed: false }))
     }
 
     /// A block's `,L2 I J K` (in Π, unit; omitted components 0), `None` when it has none.
@@ -89,7 +97,7 @@ impl State {
     /// tool makes the next move PS5464 (§2.3.21); a table that turned leaves the tool at
     /// another angle to the surface, so the tip is taken as the tool's own vector away from
     /// the cutting point there (a decision: the held vector of a singular posture is let go).
-    pub(super) fn cutting_moved_to(&mut self, kin: &Kinematics, frame: &Rigid, machine: &Pos) {
+    pub(super) fn cutting_moved_to(&mut self, kin: &Kinematics, machine: &Pos) {
         let Some(before) = self.follow_machine else { return };
         let Some(c) = self.tcp.as_mut().and_then(|t| t.cutting.as_mut()) else { return };
         let turned = |side: Side| {
@@ -97,8 +105,8 @@ impl State {
         };
         if turned(Side::Head) {
             c.disturbed = true;
-        } else if turned(Side::Table) {
-            c.vector = c.tool.vector(kin.forward(machine, 0.0).tool, frame.r * c.normal);
+        } else if let (true, Some(n)) = (turned(Side::Table), c.surface) {
+            c.vector = c.tool.vector(kin.forward(machine, 0.0).tool, n);
         }
     }
 }

@@ -245,7 +245,7 @@ impl State {
         let Some(t) = &self.tcp else { return };
         let kin = t.kin.clone();
         let frame = t.frame.unwrap_or_else(|| self.frame_on_table(&kin, &machine));
-        self.cutting_moved_to(&kin, &frame, &machine);
+        self.cutting_moved_to(&kin, &machine);
         let t = self.tcp.as_ref().expect("checked above");
         self.pos = self.tip_position(&kin, &frame, &machine, t.tool_length);
         // Under cutting point control the current point is the cutting point, the tool's
@@ -410,9 +410,9 @@ impl State {
         let (tool_length, starting) = (t.tool_length, t.starting);
         let cutting = match self.tcp.as_mut().and_then(|t| t.cutting.as_mut()) {
             Some(c) => {
-                let (a, b) = c.take_normals()?;
+                let normals = c.take_normals(&frame)?;
                 let singular_deg = self.cfg.machine.five_axis.cutting_point_singular_angle;
-                Some(CuttingMove { tool: c.tool, normals: (frame.r * a, frame.r * b), singular_deg, start: c.vector })
+                Some(CuttingMove { tool: c.tool, normals, singular_deg, start: c.vector })
             }
             None => None,
         };

@@ -250,6 +250,34 @@ fn tv29k_near_the_singular_posture_the_vector_is_held() {
     assert!(lowest_point_error(SQUARE, tool.tip, tool.tool, n, Vec3::new(40.0, 0.0, 50.0)) < 1e-6);
 }
 
+/// A block without `,L2` keeps the surface normal on the part (the table frame), whatever Π
+/// is: with Π the workpiece system at each block's end angles (WKP = 1) or the table at zero
+/// after a start elsewhere, the table turning, the tool stays on the programmed point without a
+/// jump between blocks (a decision, `docs/five-axis.md`).
+#[test]
+fn the_normal_stays_on_the_part_as_the_table_turns() {
+    use fivex_engine::machine::TcpCoordinates::{TableAtZero, Workpiece};
+    let src = "G90 G00 X0 Y0 Z20. A10. C30.\nG43.8 H1 D1 ,L2 I1. K2.\nG01 X10. C60. F1000.\nX20. C90.\n\
+               X30. A20. C120. ,L2 I1. K1.\nG49\nM30\n";
+    for coordinates in [Workpiece, TableAtZero] {
+        let mut m = MachineConfig::preset("table-ac").unwrap();
+        m.five_axis.tcp_coordinates = coordinates;
+        let (r, samples) = run_tool(&m, BULL, src);
+        assert!(r.completed(), "{coordinates:?}: {:?}", r.alarms);
+        // The tip on the part and where it touches (both from the axes) move on, never by a
+        // jump (1 ms samples at F1000 with the table turning: well under 0.2 mm). Were the
+        // kept normal read in each block's Π, the tool's vector would turn with the table at
+        // every block start (about 2 mm here).
+        let on: Vec<&Sample> = samples.iter().filter(|s| s.cutting.is_some()).collect();
+        assert!(on.len() > 100, "{coordinates:?}");
+        for w in on.windows(2) {
+            let tip = (Vec3::from(w[1].tip_table) - Vec3::from(w[0].tip_table)).norm();
+            let touch = (Vec3::from(w[1].cutting.unwrap()) - Vec3::from(w[0].cutting.unwrap())).norm();
+            assert!(tip < 0.2 && touch < 0.2, "{coordinates:?} line {}: jumps {tip} / {touch} mm", w[1].line);
+        }
+    }
+}
+
 /// TCP-41: on a machine whose rotary axes turn the tool, a rotary axis moved by hand under
 /// cutting point control makes the next move PS5464; a linear axis moved by hand does not.
 #[test]
