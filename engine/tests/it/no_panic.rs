@@ -377,17 +377,33 @@ fn compensation_block() -> impl Strategy<Value = String> {
         "R5.",
         "G17",
         "G19",
+        "G43.8 H1 D4",
+        "G43.9 H1 D5",
+        "G43.8 H1 D1 ,L2 I1.",
+        ",L2 I1.",
+        ",L2 K1.",
+        ",L2 I-1. J0.5 K1.",
+        ",L2 I0 J0 K0",
+        ",L2 K-1.",
+        ",L3 I1.",
+        ",C1.",
     ]);
     (mode, words).prop_map(|(m, w)| format!("{m} {w}"))
 }
 
-/// The 5-axis compensation stages (tool side offset, leading edge offset) on every mechanism
-/// type: any block sequence ends in an alarm or a run whose end is a number.
+/// The 5-axis compensation stages (tool side offset, leading edge offset) and cutting point
+/// control on every mechanism type: any block sequence ends in an alarm or a run whose end is a
+/// number.
 fn exercise_compensation(text: &str) {
     for preset in ["head-bc", "mixed-bc", "table-ac"] {
         let mut interp = interpreter(text, preset, Dialect::Fanuc);
         for (n, d) in [(2, -3.0), (3, 0.0)] {
             interp.state.offsets.tool_mut(n).expect("offset").d_geometry = d;
+        }
+        // Cutting point control's tools: a bull-nose end mill (4) and a square one (5).
+        for (n, d, corner) in [(4, 6.0, 2.0), (5, 5.0, 0.0)] {
+            let t = interp.state.offsets.tool_mut(n).expect("offset");
+            (t.d_geometry, t.corner_radius) = (d, corner);
         }
         let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
         assert!(r.machine.iter().all(|x| x.is_finite()), "{preset}: ends at {:?} ({:?})", r.machine, r.alarms);
