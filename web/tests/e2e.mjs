@@ -373,6 +373,67 @@ test("under cutter compensation the 3D view draws the programmed path dashed bes
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });
 
+test("under cutting point control (G43.8) the 3D view draws the cutting point's trace beside the tip trace", async () => {
+  const made = await http("POST", "/api/v1/controllers", { name: "cutting point", preset: "head-bc" });
+  assert.equal(made.status, 201, JSON.stringify(made.body));
+  const cid = made.body.id;
+  // A bull-nose end mill: radius 5, corner radius 1.
+  const put = await http("PUT", `/api/v1/controllers/${cid}/tool-offsets/1`, { length: 100, radius: 5, corner_radius: 1 });
+  assert.ok(put.status < 300, JSON.stringify(put.body));
+  const program = "O0004\nG90 G00 X0 Y0 Z100. B0 C0\nG43.8 H1 D1 ,L2 I1.\nG01 Y20. Z10. F2000.\nG49\nG00 Z250.\nM30\n";
+  const stored = await http("PUT", `/api/v1/controllers/${cid}/programs/4`, program, "text/plain");
+  assert.ok(stored.status < 300, JSON.stringify(stored.body));
+  await page.goto(`${base}/#/c/${cid}/program`);
+  await page.locator(".view3d canvas").waitFor();
+  await page.click(".prog-list a[data-program='4']");
+  await page.locator(".pill.live").waitFor();
+  const traced = () =>
+    page.evaluate(() => {
+      const s = window.__fivexView?.view.machineScene;
+      return s ? { tip: s.trace.length, cutting: s.cutting.length, stretches: s.cutting.lines.length, marker: s.cuttingMarker.visible } : null;
+    });
+  const before = await poll("the 3D view", traced);
+  assert.deepEqual({ ...before, tip: 0 }, { tip: 0, cutting: 0, stretches: 0, marker: false });
+  await page.click("button[data-action=run]");
+  await page.locator("[data-run-state=running]").waitFor();
+  await poll("the cutting point's marker", async () => (await traced())?.marker);
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 30000 });
+  const after = await traced();
+  assert.ok(after.cutting >= 5 && after.tip > after.cutting, JSON.stringify(after));
+  // One G43.8 move: one stretch (the rapid away after G49 adds none); the marker hid when it ended.
+  assert.equal(after.stretches, 1, JSON.stringify(after));
+  assert.equal(after.marker, false);
+  // The surface normal is +X (I1.) and the tool vertical, so the tool touches it on its side, 5 mm
+  // (the radius) in −X and 1 mm (the corner radius) above its tip: the cutting points at the
+  // programmed X0 along Y0 Z100 → Y20 Z10, the tip at X5.
+  const points = await page.evaluate(() => {
+    const line = window.__fivexView.view.machineScene.cutting.lines[0];
+    return Array.from({ length: line.length }, (_, i) => line.point(i));
+  });
+  for (const [x, y, z] of points) {
+    assert.ok(Math.abs(x) < 1e-3, `cutting point X ${x}`);
+    assert.ok(y > -1e-3 && y < 20 + 1e-3 && z > 10 - 1e-3 && z < 100 + 1e-3, `cutting point ${[x, y, z]}`);
+  }
+  assert.ok(points.at(-1)[1] > 15, `the last cutting point ${points.at(-1)}`);
+  // A close look for the screenshot (the head is up, out of the way), at the middle of the
+  // cutting trace, from the −X side: the tip trace runs 5 mm behind it.
+  await page.evaluate(() => {
+    const v = window.__fivexView.view;
+    const line = v.machineScene.cutting.lines[0];
+    const at = line.object.localToWorld(v.controls.target.clone().set(...line.point(Math.floor(line.length / 2))));
+    v.controls.target.copy(at);
+    v.camera.position.copy(at).add(at.clone().set(-160, -90, 40));
+    v.controls.update();
+    v.render();
+  });
+  await page.locator(".view3d").screenshot({ path: join(shots, "cutting-point-trace.png") });
+  // clear trace clears both traces.
+  await page.click(".view3d button[title^='Clear the tool-tip trace']");
+  assert.deepEqual(await traced(), { tip: 0, cutting: 0, stretches: 0, marker: false });
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
   const have = (await http("GET", "/api/v1/controllers")).body.length;
   for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });

@@ -1,8 +1,10 @@
 // The live 3D machine of a controller: the kinematic chain moved by the streamed axis values,
-// the programmed path of the selected program and the executed tool tip trace.
+// the programmed path of the selected program, the executed tool tip trace and, under cutting
+// point control (G43.8/G43.9), the trace of the cutting point (where the tool touches the part).
 import { useEffect, useRef } from "preact/hooks";
 import type { Frame, Machine } from "../api/client";
 import { View3D, type View3DHandle } from "../three/View3D";
+import { traceFrame } from "../three/frameTrace";
 
 export function Machine3D({
   machine,
@@ -16,9 +18,15 @@ export function Machine3D({
   onFrame: (f: (frame: Frame) => void) => () => void;
 }) {
   const view = useRef<View3DHandle | null>(null);
-  // Every frame's tip goes to the trace as it arrives (the panel repaints at most once per
-  // animation frame; the trace must not lose points in between).
-  useEffect(() => onFrame((f) => view.current?.addTrace(f.tip_table[0], f.tip_table[1], f.tip_table[2])), [onFrame]);
+  // Every frame's tip (and cutting point) goes to the traces as it arrives (the panel repaints
+  // at most once per animation frame; the traces must not lose points in between).
+  useEffect(
+    () =>
+      onFrame((f) => {
+        if (view.current) traceFrame(view.current, f);
+      }),
+    [onFrame],
+  );
   return (
     <div class="view3d">
       <View3D

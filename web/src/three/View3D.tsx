@@ -3,6 +3,8 @@
 //   <View3D machine={model} axes={position.machine} toolLength={L} path={points}
 //           onReady={(h) => (trace = h)} />
 //   trace?.addTrace(tip[0], tip[1], tip[2]);       // table frame, e.g. from the position stream
+//   trace?.addCuttingTrace(c[0], c[1], c[2]);      // under G43.8/G43.9: the cutting point, table frame
+//   trace?.endCuttingTrace();                      // a frame without one
 //
 // `machine` (re)builds the view when its content changes; `axes`, `toolLength` and `path` are
 // applied as they change. Trace points are pushed through the handle given to `onReady`
@@ -21,6 +23,14 @@ export interface View3DHandle {
   addTracePoints(xyz: ArrayLike<number>): void;
   /** Add the current tool tip (forward kinematics of the axes and tool length last given) to the trace. */
   addTraceAtTip(): void;
+  /**
+   * One cutting point (cutting point control G43.8/G43.9: where the tool touches the part), table
+   * frame: extends the cutting trace, drawn beside the tip trace, and moves its marker there.
+   */
+  addCuttingTrace(x: number, y: number, z: number): void;
+  /** A position without a cutting point: the cutting trace's stretch ends (the next point starts a new one), the marker hides. */
+  endCuttingTrace(): void;
+  /** Clear the tip trace and the cutting point's trace. */
   clearTrace(): void;
   fit(): void;
   setView(view: ViewPreset): void;
@@ -120,6 +130,8 @@ export function View3D(props: View3DProps) {
       addTrace: (x, y, z) => v.addTrace(x, y, z),
       addTracePoints: (xyz) => v.addTracePoints(xyz),
       addTraceAtTip: () => v.addTraceAtTip(),
+      addCuttingTrace: (x, y, z) => v.addCutting(x, y, z),
+      endCuttingTrace: () => v.endCutting(),
       clearTrace: () => v.clearTrace(),
       fit: () => v.fit(),
       setView: (name) => v.setView(name),
@@ -179,7 +191,7 @@ export function View3D(props: View3DProps) {
           <button type="button" style={button} title="Top view (from +Z)" onClick={act((v) => v.setView("top"))}>
             top
           </button>
-          <button type="button" style={button} title="Clear the tool-tip trace" onClick={act((v) => v.clearTrace())}>
+          <button type="button" style={button} title="Clear the tool-tip trace and the cutting point's trace" onClick={act((v) => v.clearTrace())}>
             clear trace
           </button>
         </div>

@@ -1,8 +1,8 @@
 import * as THREE from "three";
 import { describe, expect, it } from "vitest";
 import { fixture } from "./fixtures/fixture";
-import { MachineScene } from "./scene";
-import { PathLine, ProgrammedLine, TraceLine } from "./trace";
+import { CUTTING_TRACE_COLOR, MachineScene, TIP_TRACE_COLOR } from "./scene";
+import { PathLine, ProgrammedLine, STRETCH_MAX, TraceLine, TraceStretches } from "./trace";
 import type { Vec3 } from "./model";
 
 const diff = (a: THREE.Vector3, b: readonly number[]) =>
@@ -167,5 +167,132 @@ describe("trace buffer", () => {
       if (i % 100 === 0) t.flush();
     }
     expect(performance.now() - start).toBeLessThan(500);
+  });
+});
+
+describe("cutting point trace", () => {
+  const lineColor = (o: THREE.Object3D) => ((o as THREE.Line).material as THREE.LineBasicMaterial).color.getHex();
+
+  it("is drawn in the table frame group, in its own colour, with a marker at the latest point", () => {
+    for (const m of fixture.machines) {
+      const s = new MachineScene(m.model);
+      const kin = s.rig.kinematics;
+      expect(s.cutting.object.parent).toBe(s.rig.tableFrame);
+      expect(s.cuttingMarker.parent).toBe(s.rig.tableFrame);
+      expect(s.cuttingMarker.visible).toBe(false);
+      const pts: Vec3[] = [
+        [12.5, -40.25, 3.75],
+        [-100, 50.5, -20.125],
+      ];
+      for (const p of m.poses.slice(0, 4)) {
+        s.setAxes(p.axes);
+        for (const w of pts) {
+          s.addCutting(...w);
+          const line = s.cutting.lines[s.cutting.lines.length - 1];
+          expect(line.object.parent).toBe(s.cutting.object);
+          expect(lineColor(line.object)).toBe(CUTTING_TRACE_COLOR);
+          const world = new THREE.Vector3(...line.point(line.length - 1)).applyMatrix4(line.object.matrixWorld);
+          const where = `${m.source} ${JSON.stringify(p.axes)}`;
+          expect(diff(world, kin.tableToMachine(w, p.axes)), where).toBeLessThanOrEqual(1e-9);
+          expect(s.cuttingMarker.visible).toBe(true);
+          const dot = s.cuttingMarker.getWorldPosition(new THREE.Vector3());
+          expect(diff(dot, kin.tableToMachine(w, p.axes)), `${where} marker`).toBeLessThanOrEqual(1e-6);
+        }
+      }
+      // The cutting points went to the cutting trace only.
+      expect(s.trace.length).toBe(0);
+      expect(s.cutting.length).toBe(2 * Math.min(4, m.poses.length));
+      expect(s.cutting.lines.length).toBe(1); // one stretch: nothing ended it
+      s.dispose();
+    }
+  });
+
+  it("differs in colour from the tip trace, the path and the programmed path", () => {
+    const s = new MachineScene(fixture.machines[0].model);
+    expect(lineColor(s.trace.object)).toBe(TIP_TRACE_COLOR);
+    for (const other of [TIP_TRACE_COLOR, PathLine.FEED.getHex(), PathLine.RAPID.getHex(), ProgrammedLine.COLOR.getHex()]) expect(CUTTING_TRACE_COLOR).not.toBe(other);
+    s.dispose();
+  });
+
+  it("a position without a cutting point adds nothing, ends the stretch and hides the marker", () => {
+    const s = new MachineScene(fixture.machines[0].model);
+    let changes = 0;
+    s.onChange = () => changes++;
+    s.endCutting(); // nothing was open, nothing shown: no change
+    expect(changes).toBe(0);
+    expect(s.cutting.length).toBe(0);
+    expect(s.cutting.lines.length).toBe(0);
+    s.addCutting(0, 0, 0);
+    s.addCutting(1, 0, 0);
+    s.addCutting(1, 0, 0); // a repeat: nothing new, the marker already there
+    expect(changes).toBe(2);
+    s.endCutting();
+    expect(changes).toBe(3); // the marker hid
+    expect(s.cuttingMarker.visible).toBe(false);
+    s.endCutting();
+    expect(changes).toBe(3);
+    expect(s.cutting.length).toBe(2);
+    // The next stretch is a line of its own: nothing joins (1, 0, 0) to (5, 5, 5).
+    s.addCutting(5, 5, 5);
+    s.addCutting(6, 5, 5);
+    expect(s.cutting.lines.length).toBe(2);
+    expect(s.cutting.lines.map((l) => l.length)).toEqual([2, 2]);
+    expect(s.cutting.lines[1].point(0)).toEqual([5, 5, 5]);
+    s.flush();
+    expect(s.cutting.lines.map((l) => l.object.geometry.drawRange.count)).toEqual([2, 2]);
+    s.dispose();
+  });
+
+  it("clearTrace clears the tip trace and the cutting trace", () => {
+    const s = new MachineScene(fixture.machines[0].model);
+    s.addTrace(1, 2, 3);
+    s.addTrace(2, 2, 3);
+    s.addCutting(1, 2, 0);
+    s.endCutting();
+    s.addCutting(2, 2, 0);
+    s.addCutting(3, 2, 0);
+    expect(s.cutting.lines.length).toBe(2);
+    s.clearTrace();
+    s.flush();
+    expect(s.trace.length).toBe(0);
+    expect(s.trace.object.geometry.drawRange.count).toBe(0);
+    expect(s.cutting.length).toBe(0);
+    expect(s.cutting.lines.length).toBe(0);
+    expect(s.cutting.object.children.length).toBe(0);
+    // A point after the clear starts a new stretch.
+    s.addCutting(4, 2, 0);
+    expect(s.cutting.lines.length).toBe(1);
+    expect(s.cutting.length).toBe(1);
+    s.dispose();
+  });
+
+  it("keeps the newest points and stretches within its bounds", () => {
+    const t = new TraceStretches(0x00ff00, 1000);
+    for (let k = 0; k < 5; k++) {
+      for (let i = 0; i < 300; i++) t.add(k, i, 0);
+      t.end();
+    }
+    // 1,500 points in 5 stretches of 300: the two oldest dropped.
+    expect(t.length).toBe(900);
+    expect(t.lines.map((l) => l.point(0)[0])).toEqual([2, 3, 4]);
+    expect(t.object.children.length).toBe(3);
+    // One stretch longer than the cap halves itself as the tip trace does.
+    for (let i = 0; i < 3000; i++) t.add(9, i, 1);
+    expect(t.lines.length).toBe(1);
+    expect(t.length).toBeLessThanOrEqual(1000);
+    t.end();
+    const u = new TraceStretches(0x00ff00);
+    for (let k = 0; k < STRETCH_MAX + 10; k++) {
+      u.add(k, 0, 0);
+      u.add(k, 1, 0);
+      u.end();
+    }
+    expect(u.lines.length).toBe(STRETCH_MAX);
+    expect(u.lines[0].point(0)[0]).toBe(10);
+    expect(u.length).toBe(2 * STRETCH_MAX);
+    u.end(); // an empty stretch is never kept
+    expect(u.lines.length).toBe(STRETCH_MAX);
+    t.dispose();
+    u.dispose();
   });
 });

@@ -1,8 +1,9 @@
 // The live 3D machine view.
 //
 // `MachineScene` is everything but the renderer: the machine rig (rig.ts), lights, the
-// programmed path and the executed trace (children of the innermost table group, so they ride
-// with the part). It needs no DOM or WebGL, so tests build and check it in node.
+// programmed path, the executed tip trace and, under cutting point control, the cutting point's
+// trace and marker (children of the innermost table group, so they ride with the part). It
+// needs no DOM or WebGL, so tests build and check it in node.
 // `MachineView` puts a `MachineScene` in a container: a WebGL renderer (injectable), a
 // perspective camera with Z up, OrbitControls, a ResizeObserver, and on-demand rendering (a
 // frame is drawn only after something changed: axes, tool, path, trace, camera, size).
@@ -13,14 +14,32 @@ import { axisColor, buildMachine } from "./rig";
 import type { MachineRig } from "./rig";
 import type { AxisValues } from "./kinematics";
 import type { MachineModel, MachineModelInput } from "./model";
-import { PathLine, ProgrammedLine, TraceLine } from "./trace";
+import { PathLine, ProgrammedLine, TraceLine, TraceStretches } from "./trace";
 
 export type ViewPreset = "iso" | "front" | "top" | "side";
+
+/** The tool-tip trace's colour (yellow). */
+export const TIP_TRACE_COLOR = 0xffd000;
+/**
+ * The cutting point's trace and marker (magenta): under cutting point control the programmed
+ * path (cyan) is the cutting point's path, so the trace is drawn in cyan's complement, apart from
+ * the tip trace (yellow), the tip marker (red) and the axis lines and triad (red, green, blue).
+ * The dashed pink programmed path appears only under cutter compensation, which cutting point
+ * control refuses.
+ */
+export const CUTTING_TRACE_COLOR = 0xff30ff;
 
 export class MachineScene {
   readonly scene = new THREE.Scene();
   readonly rig: MachineRig;
   readonly trace: TraceLine;
+  /**
+   * Where the tool touches the part under cutting point control (G43.8/G43.9), table frame: a
+   * stretch per run of position frames that carry `cutting`.
+   */
+  readonly cutting: TraceStretches;
+  /** A dot at the latest cutting point; hidden while the latest frame has none. */
+  readonly cuttingMarker: THREE.Mesh;
   readonly path: PathLine;
   /** The programmed path beside a compensated `path` (empty without cutter compensation). */
   readonly programmed: ProgrammedLine;
@@ -41,10 +60,23 @@ export class MachineScene {
     const fill = new THREE.DirectionalLight(0xffffff, 0.5);
     fill.position.set(-1, 0.8, 0.4).multiplyScalar(this.rig.size * 2);
     this.scene.add(fill);
-    this.trace = new TraceLine(0xffd000, options.traceCap);
+    this.trace = new TraceLine(TIP_TRACE_COLOR, options.traceCap);
+    this.cutting = new TraceStretches(CUTTING_TRACE_COLOR, options.traceCap, "cutting-trace");
+    // The dot is drawn over everything: the cutting point is on the tool's surface, which the
+    // drawn tool (a nominal cylinder, not the offset's radius) may hide.
+    const tipMarker = this.rig.tip instanceof THREE.Mesh ? this.rig.tip.geometry : null;
+    tipMarker?.computeBoundingSphere();
+    const r = 0.6 * (tipMarker?.boundingSphere?.radius ?? this.rig.size / 250);
+    this.cuttingMarker = new THREE.Mesh(
+      new THREE.SphereGeometry(r, 12, 8),
+      new THREE.MeshBasicMaterial({ color: CUTTING_TRACE_COLOR, depthTest: false, transparent: true, opacity: 0.9 }),
+    );
+    this.cuttingMarker.name = "cutting-point";
+    this.cuttingMarker.renderOrder = 11;
+    this.cuttingMarker.visible = false;
     this.path = new PathLine();
     this.programmed = new ProgrammedLine();
-    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object);
+    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker);
     this.rig.root.updateMatrixWorld(true);
   }
 
@@ -104,8 +136,34 @@ export class MachineScene {
     if (this.trace.addMany(xyz) > 0) this.onChange();
   }
 
+  /**
+   * One cutting point (cutting point control G43.8/G43.9), table frame: extends the cutting trace's
+   * open stretch and puts the marker there.
+   */
+  addCutting(x: number, y: number, z: number): void {
+    const added = this.cutting.add(x, y, z);
+    const m = this.cuttingMarker;
+    if (added || !m.visible) {
+      m.position.set(x, y, z);
+      m.visible = true;
+      m.updateMatrixWorld();
+      this.onChange();
+    }
+  }
+
+  /** A position without a cutting point: the cutting trace's stretch ends, the marker hides. */
+  endCutting(): void {
+    this.cutting.end();
+    if (this.cuttingMarker.visible) {
+      this.cuttingMarker.visible = false;
+      this.onChange();
+    }
+  }
+
+  /** Clear the tip trace and the cutting point's trace (the marker stays where the tool touches now). */
   clearTrace(): void {
     this.trace.clear();
+    this.cutting.clear();
     this.onChange();
   }
 
@@ -123,6 +181,7 @@ export class MachineScene {
   /** Upload pending trace points (before each render). */
   flush(): void {
     this.trace.flush();
+    this.cutting.flush();
   }
 
   private pose(): void {
@@ -132,6 +191,9 @@ export class MachineScene {
 
   dispose(): void {
     this.trace.dispose();
+    this.cutting.dispose();
+    this.cuttingMarker.geometry.dispose();
+    (this.cuttingMarker.material as THREE.Material).dispose();
     this.path.dispose();
     this.programmed.dispose();
     this.rig.dispose();
@@ -271,6 +333,17 @@ export class MachineView {
     this.machineScene.addTracePoints(xyz);
   }
 
+  /** One cutting point (under cutting point control) in the TABLE frame: the cutting trace and its marker. */
+  addCutting(x: number, y: number, z: number): void {
+    this.machineScene.addCutting(x, y, z);
+  }
+
+  /** A position without a cutting point: the cutting trace's stretch ends and its marker hides. */
+  endCutting(): void {
+    this.machineScene.endCutting();
+  }
+
+  /** Clear the tip trace and the cutting point's trace. */
   clearTrace(): void {
     this.machineScene.clearTrace();
   }

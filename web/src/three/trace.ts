@@ -1,4 +1,5 @@
-// The executed tool-tip trace and the programmed path, as lines in the table frame.
+// The executed tool-tip trace, the cutting point's trace (in stretches) and the programmed path,
+// as lines in the table frame.
 //
 // Trace: one preallocated Float32 BufferGeometry drawn as a line strip. Capacity starts at
 // TRACE_INITIAL points and doubles (a new geometry, the old one disposed: log₂ times in all)
@@ -133,6 +134,115 @@ export class TraceLine {
   dispose(): void {
     this.object.geometry.dispose();
     (this.object.material as THREE.Material).dispose();
+  }
+}
+
+/** Points a new stretch of a `TraceStretches` starts with room for (it doubles as `TraceLine` does). */
+export const STRETCH_INITIAL = 256;
+/** The most stretches a `TraceStretches` keeps (the newest ones): each is one draw call. */
+export const STRETCH_MAX = 1024;
+
+/**
+ * A trace that exists only at times, drawn in stretches: the cutting point under cutting point
+ * control (G43.8/G43.9), which the position stream carries only while such a block moves. Each
+ * stretch is a `TraceLine` of its own in `object` (a group), so two stretches are never joined
+ * by a line across the part. `end()` closes the open stretch; the next point opens a new one
+ * (starting at STRETCH_INITIAL points and doubling). Bounded like the tip trace: when the points
+ * held pass `cap`, or the stretches STRETCH_MAX, the oldest stretches are dropped (the open one
+ * halves itself as a `TraceLine` does).
+ */
+export class TraceStretches {
+  readonly object = new THREE.Group();
+  readonly color: number;
+  readonly cap: number;
+  private readonly stretches: TraceLine[] = [];
+  /** The stretch points are added to; null after `end()` or `clear()`. */
+  private open: TraceLine | null = null;
+  /** Points held by the closed stretches. */
+  private closed = 0;
+
+  constructor(color: number, cap = TRACE_CAP, name = "stretches") {
+    this.color = color;
+    this.cap = cap;
+    this.object.name = name;
+  }
+
+  /** Points held, all stretches. */
+  get length(): number {
+    return this.closed + (this.open?.length ?? 0);
+  }
+
+  /** The stretches, oldest first (the last one may be open). */
+  get lines(): readonly TraceLine[] {
+    return this.stretches;
+  }
+
+  /** Whether a stretch is open (the next point continues it). */
+  get isOpen(): boolean {
+    return this.open !== null;
+  }
+
+  /** Append a point to the open stretch, opening one if none is; a repeat of its last point is skipped: returns false. */
+  add(x: number, y: number, z: number): boolean {
+    if (!this.open) {
+      if (this.stretches.length >= STRETCH_MAX) this.dropOldest();
+      const line = new TraceLine(this.color, this.cap, STRETCH_INITIAL);
+      line.object.name = `${this.object.name}-stretch`;
+      this.stretches.push(line);
+      this.object.add(line.object);
+      line.object.updateMatrixWorld(); // placed with the group now, not only at the next render
+      this.open = line;
+    }
+    if (!this.open.add(x, y, z)) return false;
+    while (this.closed > 0 && this.length > this.cap) this.dropOldest();
+    return true;
+  }
+
+  /** Close the open stretch (nothing if none is open): the next point starts a new one. */
+  end(): void {
+    if (!this.open) return;
+    const line = this.open;
+    this.open = null;
+    if (line.length === 0) {
+      this.remove(line);
+      return;
+    }
+    this.closed += line.length;
+    line.flush();
+  }
+
+  clear(): void {
+    for (const line of this.stretches) {
+      this.object.remove(line.object);
+      line.dispose();
+    }
+    this.stretches.length = 0;
+    this.open = null;
+    this.closed = 0;
+  }
+
+  /** Upload what changed (closed stretches were flushed when they closed). */
+  flush(): void {
+    this.open?.flush();
+  }
+
+  dispose(): void {
+    this.clear();
+  }
+
+  private dropOldest(): void {
+    const line = this.stretches[0];
+    if (!line) return;
+    if (line === this.open) this.open = null;
+    else this.closed -= line.length;
+    this.remove(line);
+  }
+
+  private remove(line: TraceLine): void {
+    const i = this.stretches.indexOf(line);
+    if (i >= 0) this.stretches.splice(i, 1);
+    this.object.remove(line.object);
+    line.dispose();
   }
 }
 

@@ -87,6 +87,32 @@ describe("MachineView", () => {
     expect(f.removed()).toBe(true);
   });
 
+  it("draws the cutting point's trace on demand; clear trace clears both traces", () => {
+    const f = fakes();
+    const model = fixture.machines.find((m) => m.source === "head-bc")!.model;
+    const v = new MachineView(f.container, model, { createRenderer: () => f.renderer });
+    runFrames();
+    const base = f.calls.renders;
+    v.endCutting(); // nothing to hide: no frame
+    runFrames();
+    expect(f.calls.renders).toBe(base);
+    for (let i = 0; i < 20; i++) {
+      v.addTrace(i, 5, 100);
+      v.addCutting(i, 0, 100);
+    }
+    runFrames();
+    expect(f.calls.renders).toBe(base + 1);
+    const cutting = v.machineScene.cutting;
+    expect(cutting.lines[0].object.geometry.drawRange.count).toBe(20);
+    v.clearTrace();
+    runFrames();
+    expect(f.calls.renders).toBe(base + 2);
+    expect(v.machineScene.trace.length).toBe(0);
+    expect(cutting.length).toBe(0);
+    expect(cutting.object.children.length).toBe(0);
+    v.dispose();
+  });
+
   it("fit frames the working zone from the current direction", () => {
     const f = fakes();
     const model = fixture.machines.find((m) => m.source === "head-bc")!.model;

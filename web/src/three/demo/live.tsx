@@ -1,11 +1,13 @@
 // The 3D view on a real controller: creates one from a preset (?preset=table-ac), stores and
 // starts a small 5-axis program (or ?id=… an existing controller, no program), draws its path
-// and follows the position stream (axes, tool length, `tip_table` trace). Serve the page with a
-// dev server that proxies /api to `fivex serve` (README, "Looking at it").
+// and follows the position stream (axes, tool length, `tip_table` trace, the cutting point's
+// trace under G43.8/G43.9). Serve the page with a dev server that proxies /api to `fivex serve`
+// (README, "Looking at it").
 import { render } from "preact";
 import { useEffect, useState } from "preact/hooks";
 import { View3D } from "../View3D";
 import type { View3DHandle } from "../View3D";
+import { traceFrame } from "../frameTrace";
 import type { MachineModelInput } from "../model";
 import type { ControllerMessage } from "../../api/client";
 
@@ -65,7 +67,7 @@ function Live() {
       if (m.type !== "position") return;
       setAxes(m.machine);
       setL(m.tool_length);
-      handle.addTrace(m.tip_table[0], m.tip_table[1], m.tip_table[2]);
+      traceFrame(handle, m);
       setFrames(++n);
     };
     ws.onopen = async () => {
