@@ -368,7 +368,10 @@ test("under cutter compensation the 3D view draws the programmed path dashed bes
   // A program without compensation: one path, no legend.
   await page.click(".prog-list a[data-program='3']");
   await legend.waitFor({ state: "detached" });
-  assert.equal(await page.evaluate(() => window.__fivexView.view.machineScene.programmed.segments), 0);
+  // The view drops the programmed path on its next update, which may come after the legend goes.
+  await poll("the programmed path gone", () =>
+    page.evaluate(() => window.__fivexView.view.machineScene.programmed.segments === 0),
+  );
   await page.goto(base + "/");
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });
