@@ -319,6 +319,78 @@ fn tcp41_a_tool_rotary_axis_moved_by_hand_is_ps5464() {
     }
 }
 
+/// A feed hold in the held stretch of TV-29k's block, and one after it (where the vector fades
+/// back), then cycle start: the rest of the block is the rest of the same path — every tip of
+/// the interrupted run lies on the uninterrupted run's tip path, and both end alike.
+#[test]
+fn a_feed_hold_under_cutting_point_control_resumes_on_the_same_path() {
+    use fivex_engine::controller::{Controller, RunState};
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.five_axis.cutting_point_singular_angle = 5.0;
+    let kin = Kinematics::new(&m).unwrap();
+    let src = "G90 G00 X0 Y0 Z50. B-20. C0\nG43.8 H1 D1 ,L2 K1.\nG01 X40. B20. F1000.\nG49\nM30\n";
+    let held_run = |holds: &[f64]| {
+        let mut c = Controller::new(fivex_engine::interp::Config::new(m.clone(), Dialect::Fanuc));
+        c.select_program(src).unwrap();
+        let t = c.interpreter_mut().state.offsets.tool_mut(1).unwrap();
+        (t.h_geometry, t.d_geometry, t.corner_radius) = (100.0, SQUARE.radius, SQUARE.corner);
+        c.cycle_start().unwrap();
+        let mut tips = Vec::new();
+        let mut holds = holds.iter().peekable();
+        while c.run_state() != RunState::Idle && c.time() < 120.0 {
+            c.tick(0.001);
+            let s = c.sample();
+            if s.line == 3 {
+                tips.push(kin.forward(&c.point().machine, 100.0).tip);
+            }
+            // Hold where the cutting point passes X, then go on after standing a while.
+            if let Some(&&x) = holds.peek() {
+                if s.line == 3 && s.programmed[0] > x {
+                    holds.next();
+                    c.feed_hold();
+                    for _ in 0..400 {
+                        c.tick(0.001);
+                        tips.push(kin.forward(&c.point().machine, 100.0).tip);
+                    }
+                    c.cycle_start().unwrap();
+                }
+            }
+        }
+        assert_eq!(c.run_state(), RunState::Idle);
+        (tips, c.point().machine)
+    };
+    // The uninterrupted run sampled ten times as often as the ticks (its polyline within the
+    // tolerance of its own curve).
+    let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.machine = m.clone().into());
+    set_tool(&mut interp, SQUARE);
+    let mut whole = Vec::new();
+    let r = run(&mut interp, &RunOptions { period_s: 0.0001, ..RunOptions::default() }, |s| {
+        if s.line == 3 {
+            whole.push(kin.forward(&s.machine, 100.0).tip);
+        }
+    });
+    let end = r.machine;
+    let (held, held_end) = held_run(&[20.0, 30.0]);
+    assert!(end.iter().zip(&held_end).all(|(a, b)| (a - b).abs() < 1e-9), "{end:?} {held_end:?}");
+    // Both runs go along the path in order: look for each tip near where the last one was.
+    let mut at = 0usize;
+    let mut worst = 0.0f64;
+    for p in &held {
+        let (mut best, mut best_k) = (f64::INFINITY, at);
+        for k in at.saturating_sub(20)..(at + 400).min(whole.len() - 1) {
+            let (a, d) = (whole[k], whole[k + 1] - whole[k]);
+            let u = if d.norm() > 0.0 { ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+            let e = (p - (a + d * u)).norm();
+            if e < best {
+                (best, best_k) = (e, k);
+            }
+        }
+        at = best_k;
+        worst = worst.max(best);
+    }
+    assert!(worst < 1e-6, "the resumed tip leaves the path by {worst} mm");
+}
+
 /// Tool 1 of a random shape: a ball, a square or a bull-nose end mill.
 fn shape() -> impl Strategy<Value = Shape> {
     (1.0..8.0f64, 0..3u8, 0.1..0.9f64).prop_map(|(radius, kind, share)| {
