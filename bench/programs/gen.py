@@ -13,6 +13,8 @@ Writes into OUT_DIR (default: bench/out/ next to this script's parent):
                    arcs, a G81/G83 drilling pattern, tool changes
   tcp-5x.nc        20,000 G43.5 blocks (tip point and tool vector I J K) for `fivex run`
                    on table-ac: a finishing raster over a dome, the tool along its normal
+  cutting-5x.nc    the same raster under cutting point control G43.9 (X/Y/Z the cutting
+                   point, `,L2` the dome's normal), the tool leaning 10 degrees toward +X
 and prints the expected final value of #2 for the macro programs.
 
 Coordinates are computed with integer arithmetic only (micrometres), so the
@@ -177,6 +179,36 @@ def write_tcp5x(path, blocks):
         f.write("G49\nM30\n")
 
 
+def write_cutting5x(path, blocks):
+    """`write_tcp5x`'s raster under cutting point control: G43.9 H1 D1, X/Y/Z the point where
+    the tool touches the dome, `,L2 I J K` its normal (x, y, R), the tool I J K leaning about 10
+    degrees from it toward +X: (x + 17.633, y, R) unnormalised (tan 10 deg = 0.17633)."""
+    r_um, lead_um = 100_000, 17_633
+    step_um, half_um, pitch_um = 500, 60_000, 1_000
+    per_row = 2 * half_um // step_um
+    rows = (blocks + per_row - 1) // per_row
+    with open(path, "w", newline="\n") as f:
+        # (The start block's normal is the first point's: with the tool along +Z and the normal
+        # +Z a square end mill would start in its singular posture and leave it, PS5464.)
+        f.write("O0006\nG90 G54 G00 A0 C0\nG43.9 H1 D1 ,L2 I-60. J-42. K100.\n")
+        n = 0
+        for row in range(rows):
+            y = (row - rows // 2) * pitch_um
+            for k in range(per_row + 1):
+                if n == blocks:
+                    break
+                x = -half_um + k * step_um if row % 2 == 0 else half_um - k * step_um
+                z = -(x * x + y * y) // (2 * r_um)
+                head = "G01 " if n == 0 else ""
+                feed = " F2000." if n == 0 else ""
+                f.write(
+                    "%sX%s Y%s Z%s I%s J%s K%s%s ,L2 I%s J%s K%s\n"
+                    % (head, fmt(x), fmt(y), fmt(z), fmt(x + lead_um), fmt(y), fmt(r_um), feed, fmt(x), fmt(y), fmt(r_um))
+                )
+                n += 1
+        f.write("G49\nM30\n")
+
+
 def expected_macro(iters):
     acc = 0.0
     for i in range(iters):
@@ -200,6 +232,7 @@ def main():
         "macro-200k.ngc": lambda p: write_macro_ngc(p, a.iters),
         "indexed-5x.nc": lambda p: write_indexed(p, a.faces),
         "tcp-5x.nc": lambda p: write_tcp5x(p, 20_000),
+        "cutting-5x.nc": lambda p: write_cutting5x(p, 20_000),
     }
     for name, writer in files.items():
         path = os.path.join(a.out, name)

@@ -76,9 +76,6 @@ pub struct Along {
     normals: (Vec3, Vec3),
     /// From which `u` each stretch holds, in order; the first from 0.
     stretches: Vec<(f64, Stretch)>,
-    /// Without No.11262 the tool of a flat end comes into or out of the singular posture: its
-    /// vector turns at once there (the tip would jump by up to 2(R − r)).
-    through_singular: bool,
 }
 
 /// Points per block where the singular posture is looked for (then refined by bisection).
@@ -87,15 +84,19 @@ const PROBES: usize = 64;
 /// Closer than this (radians) to the surface normal's line the tool is in the singular posture.
 const SINGULAR: f64 = 1e-7;
 
+/// Points per block where a tool with nothing to hold its vector is looked at for the singular
+/// posture: fewer than `PROBES`, as the bound between them (`touches_singular`) tells where to
+/// look closer.
+const SINGULAR_PROBES: usize = 16;
+
 impl Along {
     /// The block's vector: `tool_at(u)` the tool direction `u` of the way (table frame, unit),
     /// `normals` the surface normal at its start and end, `limit_deg` No.11262, `start` the
     /// vector in use where the block starts.
     pub fn new(tool: Tool, normals: (Vec3, Vec3), limit_deg: f64, start: Vec3, tool_at: impl Fn(f64) -> Vec3) -> Along {
-        let mut along = Along { tool, normals, stretches: Vec::new(), through_singular: false };
+        let mut along = Along { tool, normals, stretches: Vec::new() };
         if limit_deg <= 0.0 || !tool.flat() {
             along.stretches.push((0.0, Stretch::Free { fade: Vec3::zeros(), from: 0.0 }));
-            along.through_singular = tool.flat() && touches_singular(normals, &tool_at);
             return along;
         }
         let limit = limit_deg.to_radians();
@@ -133,13 +134,6 @@ impl Along {
             lo = hi;
         }
         along
-    }
-
-    /// Whether the block takes a tool with a flat end into or out of its singular posture with
-    /// nothing to hold the vector (No.11262 = 0): the tool cannot follow (the interpreter
-    /// refuses the block; a tool that stays in the posture all along is not such a block).
-    pub fn through_singular(&self) -> bool {
-        self.through_singular
     }
 
     /// The surface normal `u` of the way.
@@ -186,33 +180,50 @@ impl Along {
     }
 }
 
+/// Whether a block takes a tool with a flat end into or out of its singular posture with nothing
+/// to hold the vector (No.11262 = 0): its vector would turn at once there (the tip would jump by
+/// up to 2(R − r)), so the tool cannot follow and the interpreter refuses the block. A tool that
+/// stays in the posture all along is not such a block. Arguments as [`Along::new`]'s.
+pub fn through_singular(tool: Tool, normals: (Vec3, Vec3), limit_deg: f64, tool_at: impl Fn(f64) -> Vec3) -> bool {
+    limit_deg <= 0.0 && tool.flat() && touches_singular(normals, &tool_at)
+}
+
 /// Whether the tool comes within `SINGULAR` of the normal's line somewhere in the block but not
 /// all along it.
 fn touches_singular(normals: (Vec3, Vec3), tool_at: &impl Fn(f64) -> Vec3) -> bool {
-    let off = |u: f64| {
-        let a = tool_at(u).angle(&normal_at(normals.0, normals.1, u));
+    let off = |v: Vec3, n: Vec3| {
+        let a = v.angle(&n);
         a.min(std::f64::consts::PI - a)
     };
-    let probes: Vec<f64> = (0..=PROBES).map(|k| off(k as f64 / PROBES as f64)).collect();
+    let at = |u: f64| (tool_at(u), normal_at(normals.0, normals.1, u));
+    let points: Vec<(Vec3, Vec3)> = (0..=SINGULAR_PROBES).map(|k| at(k as f64 / SINGULAR_PROBES as f64)).collect();
+    let probes: Vec<f64> = points.iter().map(|&(v, n)| off(v, n)).collect();
     if probes.iter().all(|&a| a < SINGULAR) {
         return false;
     }
-    let (k, _) = probes.iter().enumerate().fold((0, f64::INFINITY), |m, (k, &a)| if a < m.1 { (k, a) } else { m });
-    // Golden-section search about the closest probe.
-    let (mut a, mut b) = ((k.saturating_sub(1)) as f64 / PROBES as f64, ((k + 1).min(PROBES)) as f64 / PROBES as f64);
+    // Between two probes the angle falls by no more than the tool and the normal turn there
+    // (taken twice: the tool's way between probes need not be a great circle): only a stretch
+    // that may come near is looked at closer (usually none: one pass over the block).
+    let reach = |i: usize| 2.0 * (points[i].0.angle(&points[i + 1].0) + points[i].1.angle(&points[i + 1].1));
+    // Each stretch that may come near: a golden-section search for its closest point.
+    let step = 1.0 / SINGULAR_PROBES as f64;
     let g = (5f64.sqrt() - 1.0) / 2.0;
-    let mut best = probes[k];
-    for _ in 0..80 {
-        let (c, d) = (b - g * (b - a), a + g * (b - a));
-        let (fc, fd) = (off(c), off(d));
-        best = best.min(fc).min(fd);
-        if fc < fd {
-            b = d;
-        } else {
-            a = c;
+    (0..SINGULAR_PROBES).filter(|&i| probes[i].min(probes[i + 1]) - reach(i) <= SINGULAR).any(|i| {
+        let (mut a, mut b) = (i as f64 * step, (i + 1) as f64 * step);
+        let mut best = probes[i].min(probes[i + 1]);
+        for _ in 0..60 {
+            let (c, d) = (b - g * (b - a), a + g * (b - a));
+            let ((vc, nc), (vd, nd)) = (at(c), at(d));
+            let (fc, fd) = (off(vc, nc), off(vd, nd));
+            best = best.min(fc).min(fd);
+            if fc < fd {
+                b = d;
+            } else {
+                a = c;
+            }
         }
-    }
-    best < SINGULAR
+        best < SINGULAR
+    })
 }
 
 #[cfg(test)]

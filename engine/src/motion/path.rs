@@ -489,16 +489,18 @@ fn posture_along(kin: &Kinematics, tip: &TipMove, circle: Option<&Circle3>, from
 /// Cutting point control: the vector from the cutting point to the tool tip (table frame) where
 /// a block from the axes at `from` to the angles of `to` ends, as its path turns the tool
 /// (`tip.cutting` set; the interpreter places the block's end with it); `None` when the tool
-/// cannot follow the block (`cutting_point::Along::through_singular`).
+/// cannot follow the block (`cutting_point::through_singular`).
 pub(crate) fn cutting_end(kin: &std::sync::Arc<Kinematics>, tip: &TipMove, from: &Pos, to: &Pos) -> Option<Vec3> {
     let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
     let posture = posture_along(kin, tip, circle.as_ref(), from, to);
     let follow = Follow { circle, posture, ..Follow::plain(kin.clone(), tip.tool_length, tip.from, tip.to) };
     match &tip.cutting {
         Some(c) => {
-            let along = follow.along(c, from, to);
-            let end = along.vector_for(1.0, kin.forward(&follow.angles(from, to, 1.0), 0.0).tool);
-            (!along.through_singular()).then_some(end)
+            let tool_at = |u: f64| kin.forward(&follow.angles(from, to, u), 0.0).tool;
+            if crate::cutting_point::through_singular(c.tool, c.normals, c.singular_deg, tool_at) {
+                return None;
+            }
+            Some(follow.along(c, from, to).vector_for(1.0, tool_at(1.0)))
         }
         None => Some(Vec3::zeros()),
     }
