@@ -1,6 +1,8 @@
 //! Tool centre point control: FANUC G43.4 (type 1, the tool direction by rotary angles) and
 //! G43.5 (type 2, by a vector I, J, K), Syntec RTCP (spec `fanuc-tcp.md` TCP-03…TCP-35,
-//! `syntec.md` SYN-07…SYN-11). The choices the manuals leave open are in `docs/five-axis.md`.
+//! `syntec.md` SYN-07…SYN-11), and the same under cutting point control (G43.8/G43.9, whose
+//! X/Y/Z are the cutting point: `super::cutting_point`). The choices the manuals leave open are
+//! in `docs/five-axis.md`.
 //!
 //! A block's X/Y/Z are the tool tip in the programming coordinate system Π (FANUC M-2), which
 //! is fixed on the table: its frame in the table frame is taken when TCP starts (or with the
@@ -240,7 +242,8 @@ impl State {
     }
 
     /// The machine was moved outside the program (manual intervention during TCP), or the
-    /// start block ended: the current point becomes the tool tip there, in Π.
+    /// start block ended: the current point becomes the tool tip there, in Π (under cutting
+    /// point control the cutting point, the tool's vector back from the tip).
     pub(super) fn tcp_moved_to(&mut self, machine: Pos) {
         let Some(t) = &self.tcp else { return };
         let kin = t.kin.clone();
