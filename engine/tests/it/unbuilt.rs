@@ -361,6 +361,9 @@ fn comma_addresses_have_a_decision() {
             assert_eq!(found.map(|d| (d.line, d.col)), Some((2, 9)), "{dialect:?} ,{letter}: {diags:?}");
         }
     }
+    // ,L is FANUC's (cutting point control); Syntec has no such address.
+    let r = run_with(&program("G01 X1. F100 ,L2 I1."), PRESET, Syntec);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("COR-002", 2));
 }
 
 #[test]
