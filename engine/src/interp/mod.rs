@@ -13,6 +13,7 @@ mod manual_view;
 pub mod mcode;
 mod modes;
 mod nc;
+mod nurbs;
 mod offsets;
 mod plain;
 mod plane;
@@ -279,6 +280,8 @@ pub struct State {
     wse_kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     /// Tool centre point control in force.
     tcp: Option<tcp::Tcp>,
+    /// A NURBS curve (G06.2) being given, from its G06.2 block to its last knot.
+    nurbs: Option<Box<nurbs::Builder>>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
@@ -423,6 +426,7 @@ impl Interpreter {
         st.locals[0] = [None; LOCALS];
         st.modal_calls.clear();
         st.wse_between = None;
+        st.nurbs = None;
         st.ended = true;
         st.cfg.stages.clear();
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
@@ -574,6 +578,7 @@ impl State {
             kinematics,
             wse_kinematics,
             tcp: None,
+            nurbs: None,
             follow_machine: None,
             plane: None,
             definition: plane::Definition::default(),
