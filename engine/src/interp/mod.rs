@@ -761,6 +761,10 @@ impl State {
         if frame.pc >= prog.len() {
             // The end of a program's text: the main program ends, a called one returns.
             if self.frames.len() == 1 {
+                if self.nurbs.is_some() {
+                    // The text ends inside a NURBS curve: its last knot never comes.
+                    return Err(AlarmId::NurbsFormat);
+                }
                 self.ended = true;
                 return Ok(Step::Ended);
             }

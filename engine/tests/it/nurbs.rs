@@ -225,6 +225,13 @@ fn g01_before_the_last_knot_is_ps5115() {
 }
 
 #[test]
+fn a_program_text_ending_inside_the_curve_is_ps5115() {
+    let src = "G90 G00 X0 Y0 Z0\nG06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\n";
+    let r = common::run_with(src, "mill3", Dialect::Fanuc);
+    assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS5115"));
+}
+
+#[test]
 fn the_first_control_point_must_be_the_current_position() {
     assert_eq!(alarm_of("G06.2 P3 K0 X5. Y0 F100"), Some(("PS5117".into(), 2)));
     // Omitted axes are the current position.
