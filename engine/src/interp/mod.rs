@@ -446,6 +446,13 @@ impl Interpreter {
     /// current point follows it (FANUC manual absolute on).
     pub fn moved_to(&mut self, machine: &Pos) {
         let st = &mut self.state;
+        let before = st.machine_position();
+        if before.iter().zip(machine).any(|(a, b)| (a - b).abs() > 1e-9) {
+            // Moved by hand inside a NURBS curve: it no longer starts where the tool stands.
+            if let Some(b) = st.nurbs.as_deref_mut() {
+                b.moved_by_hand = true;
+            }
+        }
         if st.plane_active() {
             st.plane_moved_to(*machine);
         } else if st.tcp_active() {

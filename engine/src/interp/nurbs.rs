@@ -27,6 +27,9 @@ pub(super) struct Builder {
     weights: Vec<f64>,
     /// Knot-only blocks so far (the curve is complete at `rank` of them).
     closing: usize,
+    /// The machine was moved by hand (jog, handle) between the curve's blocks
+    /// (`Interpreter::moved_to`): the curve's next block is PS5117.
+    pub(super) moved_by_hand: bool,
 }
 
 impl State {
@@ -88,14 +91,23 @@ impl State {
         if first.iter().zip(&here).any(|(a, b)| (a - b).abs() > CHORD_TOLERANCE_MM) {
             return Err(AlarmId::NurbsStart);
         }
-        self.nurbs =
-            Some(Box::new(Builder { rank, knots: vec![knot], points: vec![here], weights: vec![weight], closing: 0 }));
+        self.nurbs = Some(Box::new(Builder {
+            rank,
+            knots: vec![knot],
+            points: vec![here],
+            weights: vec![weight],
+            closing: 0,
+            moved_by_hand: false,
+        }));
         Ok(())
     }
 
     /// A block while a curve is being given: a control point with its knot (`K X Y Z [R]`) or
     /// a knot alone (`K`); anything else ends the curve with an alarm.
     pub(super) fn nurbs_block(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        if self.nurbs.as_deref().is_some_and(|b| b.moved_by_hand) {
+            return Err(AlarmId::NurbsStart);
+        }
         let dialect = self.cfg.dialect;
         if w.gcodes().iter().any(|&c| gcode::lookup(c, dialect).is_some_and(|d| d.group == group::MOTION)) {
             // A group-01 code ends NURBS mode before the curve's last knot.

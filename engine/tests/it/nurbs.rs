@@ -60,6 +60,30 @@ fn a_quarter_circle_stays_on_the_circle() {
     }
 }
 
+/// The distance of every sample of `line` from the circle of radius `r` about `(cx, cy)`.
+fn off_circle(samples: &[Sample], line: u32, (cx, cy): (f64, f64), r: f64) -> f64 {
+    let on: Vec<&Sample> = samples.iter().filter(|s| s.line == line).collect();
+    assert!(on.len() > 100, "{} samples of line {line}", on.len());
+    on.iter().map(|s| ((s.machine[0] - cx).hypot(s.machine[1] - cy) - r).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn incremental_control_points_and_a_rotated_curve() {
+    // G91: each control point from the previous one.
+    let g91 = "G90 G00 X60. Y50. Z0\n#1=SQRT[2]/2\nG91 G06.2 P3 K0 X0 Y0 F1000\nK0 Y10. R#1\nK0 X-10.\n\
+               K1.\nK1.\nK1.\nG90 G01 X50. Y60.\nM30\n";
+    let worst = off_circle(&samples_of(g91, "mill3"), 8, (50.0, 50.0), 10.0);
+    assert!(worst < 1e-3, "{worst}");
+    // G68 turns the control points (a NURBS curve is invariant under affine maps): the quarter
+    // from (60, 50) to (50, 60) turned 90° about (50, 50) runs from (50, 60) to (40, 50).
+    let g68 = "G90 G00 X50. Y60. Z0\nG68 X50. Y50. R90.\n#1=SQRT[2]/2\nG06.2 P3 K0 X60. Y50. F1000\n\
+               K0 X60. Y60. R#1\nK0 X50. Y60.\nK1.\nK1.\nK1.\nG01 X50. Y60.\nG69\nM30\n";
+    let samples = samples_of(g68, "mill3");
+    assert!(off_circle(&samples, 9, (50.0, 50.0), 10.0) < 1e-3);
+    let last = samples.iter().rfind(|s| s.line == 9).unwrap().machine;
+    assert!(last[0] < 40.01 && (last[1] - 50.0).abs() < 0.5, "{last:?}");
+}
+
 #[test]
 fn a_full_circle_of_nine_control_points() {
     let src = "G90 G17 G00 X60. Y50. Z0\n\
@@ -222,6 +246,28 @@ fn g01_before_the_last_knot_is_ps5115() {
     // Nothing of the curve was emitted: the machine stands at its start.
     let r = common::run_with(&format!("G90 G00 X0 Y0 Z0\n{body}\nM30\n"), "mill3", Dialect::Fanuc);
     assert_eq!(r.machine[..3], [0.0, 0.0, 0.0]);
+}
+
+#[test]
+fn a_hand_move_inside_the_curve_is_ps5117() {
+    let src = "G90 G00 X0 Y0 Z0\nG06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1.\nK1.\nM30\n";
+    let mut interp = interpreter(src, "mill3", Dialect::Fanuc);
+    let mut out = Vec::new();
+    // Up to the G06.2 block, then a jog of X by 2 mm.
+    while interp.state.current_block().0 < 3 {
+        interp.step(&mut out).expect("no alarm before the jog");
+    }
+    let mut at = interp.state.machine_position();
+    at[0] += 2.0;
+    interp.moved_to(&at);
+    let err = loop {
+        match interp.step(&mut out) {
+            Ok(fivex_engine::interp::Step::Ended) => panic!("the curve ran after a hand move"),
+            Ok(_) => {}
+            Err(a) => break a,
+        }
+    };
+    assert_eq!((err.code.as_str(), err.line), ("PS5117", 4));
 }
 
 #[test]
