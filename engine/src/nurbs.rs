@@ -231,6 +231,32 @@ mod tests {
         assert_eq!(c.chords(&[true, true]).unwrap().last().unwrap().1, [10.0, 0.0]);
     }
 
+    /// A full circle of radius `r` about (r, 0) through the origin: nine control points.
+    fn circle(r: f64) -> Curve<2> {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let p =
+            [[0.0, 0.0], [0.0, r], [r, r], [2.0 * r, r], [2.0 * r, 0.0], [2.0 * r, -r], [r, -r], [0.0, -r], [0.0, 0.0]];
+        let knots = vec![0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 2.0, 3.0, 3.0, 4.0, 4.0, 4.0];
+        Curve::new(3, knots, p.to_vec(), vec![1.0, h, 1.0, h, 1.0, h, 1.0, h, 1.0]).unwrap()
+    }
+
+    #[test]
+    fn chords_stay_within_the_tolerance_and_are_bounded() {
+        let c = circle(10.0);
+        let chords = c.chords(&[true, true]).unwrap();
+        // About 180 per quadrant (a chord of angle θ is r·θ²/8 from the arc).
+        assert!((600..1600).contains(&chords.len()), "{}", chords.len());
+        let mut from = [0.0, 0.0];
+        for (_, q) in &chords {
+            assert!(((q[0] - 10.0).hypot(q[1]) - 10.0).abs() < 1e-9);
+            // The chord's middle is inside the circle by at most the tolerance.
+            let m = [(from[0] + q[0]) / 2.0, (from[1] + q[1]) / 2.0];
+            assert!(10.0 - (m[0] - 10.0).hypot(m[1]) <= CHORD_TOLERANCE_MM * 1.0001);
+            from = *q;
+        }
+        assert_eq!(circle(4.0e6).chords(&[true, true]), Err(Error::TooManyChords));
+    }
+
     #[test]
     fn knot_rules() {
         let pts = vec![[0.0], [1.0], [2.0]];

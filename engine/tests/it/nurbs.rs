@@ -240,6 +240,16 @@ fn rank_and_knot_errors_are_ps5115() {
 }
 
 #[test]
+fn a_curve_needing_too_many_chords_is_ps5115() {
+    // A full circle of radius 4 km needs about 440,000 chords within 0.1 µm: more than
+    // nurbs::MAX_CHORDS (200,000).
+    let body = "#1=SQRT[2]/2\n#2=4000000\nG06.2 P3 K0 X0 Y0 F1000\nK0 Y#2 R#1\nK0 X#2 Y#2\n\
+        K1. X[2*#2] Y#2 R#1\nK1. X[2*#2] Y0\nK2. X[2*#2] Y-#2 R#1\nK2. X#2 Y-#2\nK3. X0 Y-#2 R#1\n\
+        K3. X0 Y0\nK4.\nK4.\nK4.";
+    assert_eq!(alarm_of(body), Some(("PS5115".into(), 15)));
+}
+
+#[test]
 fn g01_before_the_last_knot_is_ps5115() {
     let body = "G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1.\nG01 X30.";
     assert_eq!(alarm_of(body), Some(("PS5115".into(), 7)));
