@@ -8,9 +8,9 @@
 
 /// The largest distance, mm, from the curve to a chord of its tessellation (0.1 µm, measured
 /// on the linear components). It is a tenth of the 1 µm least input increment of FANUC's IS-B
-/// and of fivex's samples, so the path a program cuts is the curve to the resolution a program
-/// can state; a radius-10 circle needs about 180 chords per quadrant at this tolerance
-/// (`docs/motion.md`, "NURBS").
+/// (and of the 1 µm the tests hold sampled paths to), so the path a program cuts is the curve
+/// to the resolution a program can state; a radius-10 circle needs about 180 chords per
+/// quadrant at this tolerance (`docs/motion.md`, "NURBS").
 pub const CHORD_TOLERANCE_MM: f64 = 1e-4;
 
 /// The same bound, degrees, on the rotary components (their chord turns the tool linearly).
