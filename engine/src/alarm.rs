@@ -74,6 +74,16 @@ pub enum AlarmId {
     /// Tool posture control on a circle would turn the tool to the other side of the plane
     /// (FANUC M-8).
     PostureCrossesPlane,
+    // --- NURBS interpolation (G06.2, `crate::nurbs`) ----------------------------------------
+    /// The rank, knots or weights of a NURBS curve break its rules (rank not 2–4, knots
+    /// decreasing, a wrong number or run of equal knots, a missing knot, a weight not above
+    /// zero), the curve is left before its last knot, or it needs too many chords.
+    NurbsFormat,
+    /// A block inside a NURBS curve that is neither a control point nor a knot, or a NURBS
+    /// block after the curve ended without a new G06.2.
+    NurbsBlock,
+    /// The first control point of a NURBS curve is not the current position.
+    NurbsStart,
     // --- Machine configuration (`crate::kin`, `crate::vendor`) -----------------------------
     /// Rotary axis settings that do not make a mechanism: missing or parallel axes, an axis
     /// name that does not match its direction.

@@ -113,6 +113,9 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::MasterOutOfRange,
     AlarmId::SlaveOutOfRange,
     AlarmId::PostureCrossesPlane,
+    AlarmId::NurbsFormat,
+    AlarmId::NurbsBlock,
+    AlarmId::NurbsStart,
     AlarmId::TcpParameter,
     AlarmId::CuttingPoint,
     AlarmId::AxisSetting,
@@ -201,6 +204,11 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         SlaveOutOfRange => (PS5459, ("COR-152", "2nd rotation axis entering illegal range")),
         // FANUC only (Syntec turns the tool on the great circle on arcs too).
         PostureCrossesPlane => (("PS0432", "UNAVAILABLE POSTURE IN TPC"), COR100),
+        // FANUC 30i's NURBS alarms, numbers from memory of its alarm list (no seed holds them,
+        // `docs/dialects.md`); Syntec refuses G06.2 (COR-100) and never raises them.
+        NurbsFormat => (("PS5115", "SPL : ERROR"), COR100),
+        NurbsBlock => (("PS5116", "SPL : ERROR"), COR100),
+        NurbsStart => (("PS5117", "SPL : ERROR"), COR100),
         TcpParameter => (("PS5420", "ILLEGAL PARAMETER IN G43.4/G43.5"), COR100),
         // The number is the 5-axis manual's (§2.3.20, §2.3.21), the text fivex's; G43.8/G43.9
         // are not Syntec codes.

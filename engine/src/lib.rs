@@ -17,6 +17,7 @@ pub mod lang;
 pub mod machine;
 pub mod machine_file;
 pub mod motion;
+pub mod nurbs;
 pub mod preview;
 pub mod report;
 pub mod run;

@@ -13,6 +13,7 @@ mod manual_view;
 pub mod mcode;
 mod modes;
 mod nc;
+mod nurbs;
 mod offsets;
 mod plain;
 mod plane;
@@ -279,6 +280,8 @@ pub struct State {
     wse_kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     /// Tool centre point control in force.
     tcp: Option<tcp::Tcp>,
+    /// A NURBS curve (G06.2) being given, from its G06.2 block to its last knot.
+    nurbs: Option<Box<nurbs::Builder>>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
@@ -423,6 +426,7 @@ impl Interpreter {
         st.locals[0] = [None; LOCALS];
         st.modal_calls.clear();
         st.wse_between = None;
+        st.nurbs = None;
         st.ended = true;
         st.cfg.stages.clear();
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
@@ -442,6 +446,13 @@ impl Interpreter {
     /// current point follows it (FANUC manual absolute on).
     pub fn moved_to(&mut self, machine: &Pos) {
         let st = &mut self.state;
+        let before = st.machine_position();
+        if before.iter().zip(machine).any(|(a, b)| (a - b).abs() > 1e-9) {
+            // Moved by hand inside a NURBS curve: it no longer starts where the tool stands.
+            if let Some(b) = st.nurbs.as_deref_mut() {
+                b.moved_by_hand = true;
+            }
+        }
         if st.plane_active() {
             st.plane_moved_to(*machine);
         } else if st.tcp_active() {
@@ -574,6 +585,7 @@ impl State {
             kinematics,
             wse_kinematics,
             tcp: None,
+            nurbs: None,
             follow_machine: None,
             plane: None,
             definition: plane::Definition::default(),
@@ -756,6 +768,10 @@ impl State {
         if frame.pc >= prog.len() {
             // The end of a program's text: the main program ends, a called one returns.
             if self.frames.len() == 1 {
+                if self.nurbs.is_some() {
+                    // The text ends inside a NURBS curve: its last knot never comes.
+                    return Err(AlarmId::NurbsFormat);
+                }
                 self.ended = true;
                 return Ok(Step::Ended);
             }

@@ -326,6 +326,10 @@ impl State {
         let mut w = Words::new();
         self.collect_into(words, &mut w)?;
         self.exact_stop = false;
+        if self.nurbs.is_some() {
+            // Inside a NURBS curve only its control points and knots may come (`nurbs`).
+            return self.nurbs_block(&w, out);
+        }
         if self.cfg.fast_paths && self.is_plain_motion(&w) {
             return self.plain_motion(&w, out);
         }
@@ -408,6 +412,9 @@ impl State {
         // (The interlocks first: their alarm is the more precise one where both apply.)
         let five = modes::check(self, &w)?;
         self.refuse_unbuilt(&w)?;
+        if self.cfg.refuse_unbuilt {
+            self.refuse_unbuilt_nurbs(&w)?;
+        }
         self.five = five;
         if w.has_g(code::G67) {
             // G67 cancels the latest modal call; the one before it is in force again.
@@ -649,7 +656,20 @@ impl State {
                 self.emit(out, CanonKind::Cutter(CutterWord::PlaneChange(q as u8)));
             }
         }
-        if axes_owner.is_none() && !transform_axes {
+        let nurbs_start = w.has_g(code::G06_2);
+        if nurbs_start && (axes_owner.is_some() || transform_axes || tool_length_changed) {
+            return Err(AlarmId::IllegalGCodeCombination);
+        }
+        if nurbs_start {
+            self.nurbs_start(&w)?;
+        } else if self.modes[group::MOTION] == code::G06_2
+            && axes_owner.is_none()
+            && !transform_axes
+            && (has_axes || w.has(b'K'))
+        {
+            // A NURBS block after the curve ended: a new curve starts with G06.2.
+            return Err(AlarmId::NurbsBlock);
+        } else if axes_owner.is_none() && !transform_axes {
             if self.modes[group::CYCLE] != code::G80
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))
             {
@@ -800,7 +820,7 @@ impl State {
 
     /// Emit a motion to `target` (workpiece coordinates, after the programming transforms) and
     /// make it the current point; the caller keeps the programmed point.
-    fn push_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
+    pub(super) fn push_motion(&mut self, kind: MotionKind, target: Pos, arc: Option<Box<Arc>>, out: &mut Vec<Canon>) {
         let machine = self.program_to_machine(&target);
         self.emit_motion_at(kind, target, machine, arc, out);
         // A plain move (canned cycle, G28 intermediate point) under G54.4 tool direction

@@ -55,7 +55,9 @@ const TABLE: &[NotBuilt] = &[
     // Q1/Q0: look-ahead on/off (performed); Q2 and Q3 (nano smoothing, smooth interpolation).
     row(51, When::Unless(b'Q', &[0.0, 1.0]), "smoothing / nano smoothing (G05.1 Q2, Q3)"),
     row(54, When::Always, "HRV3 servo control (G05.4)"),
-    row(62, When::Always, "NURBS interpolation (G06.2)"),
+    // G06.2 is performed in FANUC's format (`interp::nurbs`); Syntec's manual does not
+    // describe it, so the Syntec dialect keeps refusing it rather than guess its format.
+    NotBuilt { code: 62, dialect: Some(Dialect::Syntec), when: When::Always, function: "NURBS interpolation (G06.2)" },
     row(70, When::Always, "hypothetical axis interpolation (G07)"),
     // Also its cancel G07.1 C0: fivex would read C0 as a move of the C axis.
     row(71, When::Always, "cylindrical interpolation (G07.1)"),

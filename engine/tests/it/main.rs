@@ -22,6 +22,7 @@ mod manual_interrupt;
 mod modes;
 mod motion;
 mod no_panic;
+mod nurbs;
 mod preview;
 mod report;
 mod smoke;

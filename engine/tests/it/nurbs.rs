@@ -1,0 +1,369 @@
+//! G06.2 NURBS interpolation (FANUC format, `docs/dialects.md`, "NURBS interpolation"): the path
+//! against curves computed here independently (the circle a rational quadratic is, and a
+//! Cox–de Boor basis-function sum), the format's alarms, and the tip on the curve under G43.4.
+
+use crate::common;
+
+use common::{first_alarm, interpreter, interpreter_with, motions};
+use fivex_engine::kin::{Kinematics, Vec3};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions, Sample};
+use fivex_engine::Dialect;
+
+/// Run `src` on `preset` (FANUC, tool length 100 on every offset); every 1 ms sample.
+fn samples_of(src: &str, preset: &str) -> Vec<Sample> {
+    let mut interp = interpreter(src, preset, Dialect::Fanuc);
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions::default(), |s| samples.push(*s));
+    assert!(r.completed(), "{:?}\n{src}", r.alarms);
+    samples
+}
+
+/// The quarter circle of radius 10 about (0, 0) from (10, 0) to (0, 10) as a rational quadratic
+/// (the middle weight √2/2), completed on line 8.
+const QUARTER: &str = "G90 G17 G00 X10. Y0 Z0\n\
+    #1=SQRT[2]/2\n\
+    G06.2 P3 K0 X10. Y0 R1. F1000\n\
+    K0 X10. Y10. R#1\n\
+    K0 X0 Y10. R1.\n\
+    K1.\n\
+    K1.\n\
+    K1.\n\
+    G01 X0 Y10.\n\
+    M30\n";
+
+#[test]
+fn a_quarter_circle_stays_on_the_circle() {
+    let samples = samples_of(QUARTER, "mill3");
+    let on: Vec<&Sample> = samples.iter().filter(|s| s.line == 8).collect();
+    assert!(on.len() > 100, "{} samples", on.len());
+    let mut nearest_middle = f64::MAX;
+    for s in &on {
+        let (x, y, z) = (s.machine[0], s.machine[1], s.machine[2]);
+        let r = x.hypot(y);
+        assert!((r - 10.0).abs() < 1e-3, "({x}, {y}) is {r} from the centre");
+        assert!(z.abs() < 1e-9 && x > -1e-9 && y > -1e-9, "({x}, {y}, {z})");
+        let m = 10.0 / 2f64.sqrt();
+        nearest_middle = nearest_middle.min((x - m).hypot(y - m));
+    }
+    // The path passes through the circle's middle point (a path to the control point would
+    // reach 14.14 from the centre there).
+    assert!(nearest_middle < 0.05, "{nearest_middle}");
+    // The chords' ends are on the circle; the last is the last control point.
+    let m = motions(QUARTER);
+    let last = m[m.len() - 2].target;
+    assert!(last[0].abs() < 1e-12 && (last[1] - 10.0).abs() < 1e-12, "{last:?}");
+    assert!(m.len() > 50, "{} motions", m.len());
+    for mo in &m[1..m.len() - 1] {
+        let r = mo.target[0].hypot(mo.target[1]);
+        assert!((r - 10.0).abs() < 1e-9, "{:?}", mo.target);
+    }
+}
+
+/// The distance of every sample of `line` from the circle of radius `r` about `(cx, cy)`.
+fn off_circle(samples: &[Sample], line: u32, (cx, cy): (f64, f64), r: f64) -> f64 {
+    let on: Vec<&Sample> = samples.iter().filter(|s| s.line == line).collect();
+    assert!(on.len() > 100, "{} samples of line {line}", on.len());
+    on.iter().map(|s| ((s.machine[0] - cx).hypot(s.machine[1] - cy) - r).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn incremental_control_points_and_a_rotated_curve() {
+    // G91: each control point from the previous one.
+    let g91 = "G90 G00 X60. Y50. Z0\n#1=SQRT[2]/2\nG91 G06.2 P3 K0 X0 Y0 F1000\nK0 Y10. R#1\nK0 X-10.\n\
+               K1.\nK1.\nK1.\nG90 G01 X50. Y60.\nM30\n";
+    let worst = off_circle(&samples_of(g91, "mill3"), 8, (50.0, 50.0), 10.0);
+    assert!(worst < 1e-3, "{worst}");
+    // G68 turns the control points (a NURBS curve is invariant under affine maps): the quarter
+    // from (60, 50) to (50, 60) turned 90° about (50, 50) runs from (50, 60) to (40, 50).
+    let g68 = "G90 G00 X50. Y60. Z0\nG68 X50. Y50. R90.\n#1=SQRT[2]/2\nG06.2 P3 K0 X60. Y50. F1000\n\
+               K0 X60. Y60. R#1\nK0 X50. Y60.\nK1.\nK1.\nK1.\nG01 X50. Y60.\nG69\nM30\n";
+    let samples = samples_of(g68, "mill3");
+    assert!(off_circle(&samples, 9, (50.0, 50.0), 10.0) < 1e-3);
+    let last = samples.iter().rfind(|s| s.line == 9).unwrap().machine;
+    assert!(last[0] < 40.01 && (last[1] - 50.0).abs() < 0.5, "{last:?}");
+}
+
+#[test]
+fn a_full_circle_of_nine_control_points() {
+    let src = "G90 G17 G00 X60. Y50. Z0\n\
+        #1=SQRT[2]/2\n\
+        G06.2 P3 K0 X60. Y50. F2000\n\
+        K0 X60. Y60. R#1\n\
+        K0 X50. Y60.\n\
+        K1. X40. Y60. R#1\n\
+        K1. X40. Y50.\n\
+        K2. X40. Y40. R#1\n\
+        K2. X50. Y40.\n\
+        K3. X60. Y40. R#1\n\
+        K3. X60. Y50.\n\
+        K4.\n\
+        K4.\n\
+        K4.\n\
+        G01 X60.\n\
+        M30\n";
+    let samples = samples_of(src, "mill3");
+    let on: Vec<&Sample> = samples.iter().filter(|s| s.line == 14).collect();
+    assert!(on.len() > 100);
+    let mut seen = [false; 36];
+    for s in &on {
+        let (dx, dy) = (s.machine[0] - 50.0, s.machine[1] - 50.0);
+        let r = dx.hypot(dy);
+        assert!((r - 10.0).abs() < 1e-3, "{:?} is {r} from the centre", s.machine);
+        let a = dy.atan2(dx).to_degrees().rem_euclid(360.0);
+        seen[(a / 10.0) as usize % 36] = true;
+    }
+    assert!(seen.iter().all(|&s| s), "the path goes round: {seen:?}");
+}
+
+/// Cox–de Boor: the B-spline basis function `N_{i,p}(u)` of `knots` (0/0 = 0).
+fn basis(knots: &[f64], i: usize, p: usize, u: f64) -> f64 {
+    if p == 0 {
+        let last = knots[knots.len() - 1];
+        // The end of the range belongs to the last non-empty span.
+        let inside = knots[i] <= u && (u < knots[i + 1] || (u == last && knots[i + 1] == last && knots[i] < last));
+        return if inside { 1.0 } else { 0.0 };
+    }
+    let mut n = 0.0;
+    if knots[i + p] > knots[i] {
+        n += (u - knots[i]) / (knots[i + p] - knots[i]) * basis(knots, i, p - 1, u);
+    }
+    if knots[i + p + 1] > knots[i + 1] {
+        n += (knots[i + p + 1] - u) / (knots[i + p + 1] - knots[i + 1]) * basis(knots, i + 1, p - 1, u);
+    }
+    n
+}
+
+fn reference(knots: &[f64], points: &[[f64; 3]], u: f64) -> Vec3 {
+    let mut c = Vec3::zeros();
+    for (i, p) in points.iter().enumerate() {
+        c += Vec3::from(*p) * basis(knots, i, 3, u);
+    }
+    c
+}
+
+fn to_segment(q: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let d = b - a;
+    let t = if d.norm_squared() > 0.0 { ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    (q - (a + d * t)).norm()
+}
+
+#[test]
+fn a_cubic_with_interior_knots_is_the_basis_function_sum() {
+    let knots = [0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 3.0, 3.0, 3.0, 3.0];
+    let points = [
+        [0.0, 0.0, 0.0],
+        [5.0, 12.0, 1.0],
+        [15.0, 14.0, -2.0],
+        [22.0, 3.0, 0.5],
+        [30.0, -6.0, 3.0],
+        [35.0, 8.0, 1.0],
+        [44.0, 10.0, -1.0],
+    ];
+    let mut src = String::from("G90 G00 X0 Y0 Z0\nG06.2 P4 K0 X0 Y0 Z0 F1500\n");
+    for (k, p) in knots[1..points.len()].iter().zip(&points[1..]) {
+        src += &format!("K{k:.1} X{:.1} Y{:.1} Z{:.1}\n", p[0], p[1], p[2]);
+    }
+    for k in &knots[points.len()..] {
+        src += &format!("K{k:.1}\n");
+    }
+    src += "G01 X44.\nM30\n";
+    let ends: Vec<Vec3> = motions(&src).iter().map(|m| Vec3::new(m.target[0], m.target[1], m.target[2])).collect();
+    let (_, chords) = ends.split_first().unwrap();
+    let chords = &chords[..chords.len() - 1];
+    assert!(chords.len() > 100, "{} chords", chords.len());
+    assert!((chords.last().unwrap() - Vec3::new(44.0, 10.0, -1.0)).norm() < 1e-12);
+    // The reference curve, densely: every chord end lies on it, and every reference point
+    // lies within the tolerance of the chords.
+    const N: usize = 3000;
+    let at = |u: f64| reference(&knots, &points, u);
+    let dense: Vec<Vec3> = (0..=N).map(|j| at(3.0 * j as f64 / N as f64)).collect();
+    assert!((dense[0] - Vec3::zeros()).norm() < 1e-12 && (dense[N] - Vec3::new(44.0, 10.0, -1.0)).norm() < 1e-12);
+    for q in chords {
+        // The nearest grid point, then a ternary search around it.
+        let j = (0..=N).min_by(|&a, &b| (dense[a] - q).norm().total_cmp(&(dense[b] - q).norm())).unwrap();
+        let step = 3.0 / N as f64;
+        let (mut lo, mut hi) = ((j as f64 - 1.0) * step, (j as f64 + 1.0) * step);
+        for _ in 0..100 {
+            let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+            if (at(m1.clamp(0.0, 3.0)) - q).norm() < (at(m2.clamp(0.0, 3.0)) - q).norm() {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        let d = (at(lo.clamp(0.0, 3.0)) - q).norm();
+        assert!(d < 1e-9, "chord end {q:?} is {d} mm off the curve");
+    }
+    let mut path = vec![Vec3::zeros()];
+    path.extend_from_slice(chords);
+    for q in &dense {
+        let d = path.windows(2).map(|w| to_segment(*q, w[0], w[1])).fold(f64::MAX, f64::min);
+        assert!(d < 1.5e-4, "curve point {q:?} is {d} mm off the path");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// alarms
+// ---------------------------------------------------------------------------------------------
+
+fn alarm_of(body: &str) -> Option<(String, u32)> {
+    first_alarm(&format!("G90 G00 X0 Y0 Z0\n{body}\nM30\n"), "mill3")
+}
+
+#[test]
+fn rank_and_knot_errors_are_ps5115() {
+    let a = |code: &str, line: u32| Some((code.to_string(), line));
+    // Rank 5.
+    assert_eq!(alarm_of("G06.2 P5 K0 X0 Y0 F100"), a("PS5115", 2));
+    // No knot in a control-point block. (Without K the G06.2 block takes the second block's.)
+    assert_eq!(alarm_of("G06.2 P3 X0 Y0 F100\nX10. Y10."), a("PS5115", 3));
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F100\nX10. Y10."), a("PS5115", 3));
+    assert_eq!(alarm_of("G06.2 P3 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1.\nK1.\nG01 X20."), None);
+    assert_eq!(alarm_of("G06.2 P3 X0 Y0 F100\nK0.5 X10. Y10.\nK0.5 X20. Y0\nK1.\nK1.\nK1.\nG01 X20."), None);
+    // Decreasing knots (found when the curve is complete).
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK0.5\nK1."), a("PS5115", 7));
+    // The first knots not equal.
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F100\nK0.5 X10. Y10.\nK0.5 X20. Y0\nK1.\nK1.\nK1."), a("PS5115", 7));
+    // A run of equal knots as long as the rank inside the curve.
+    assert_eq!(
+        alarm_of(
+            "G06.2 P3 K0 X0 Y0 F100\nK0 X5. Y5.\nK0 X10. Y10.\nK1. X15. Y5.\nK1. X20. Y0\nK1. X25. Y5.\nK2.\nK2.\nK2."
+        ),
+        a("PS5115", 10)
+    );
+    // A wrong number of knots: a control point after the closing knots; too few control points.
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1. X30."), a("PS5115", 6));
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK1.\nK1.\nK1."), a("PS5115", 6));
+    // A weight that is not positive.
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10. R0\nK0 X20. Y0\nK1.\nK1.\nK1."), a("PS5115", 7));
+}
+
+#[test]
+fn a_curve_needing_too_many_chords_is_ps5115() {
+    // A full circle of radius 4 km needs about 440,000 chords within 0.1 µm: more than
+    // nurbs::MAX_CHORDS (200,000).
+    let body = "#1=SQRT[2]/2\n#2=4000000\nG06.2 P3 K0 X0 Y0 F1000\nK0 Y#2 R#1\nK0 X#2 Y#2\n\
+        K1. X[2*#2] Y#2 R#1\nK1. X[2*#2] Y0\nK2. X[2*#2] Y-#2 R#1\nK2. X#2 Y-#2\nK3. X0 Y-#2 R#1\n\
+        K3. X0 Y0\nK4.\nK4.\nK4.";
+    assert_eq!(alarm_of(body), Some(("PS5115".into(), 15)));
+}
+
+#[test]
+fn g01_before_the_last_knot_is_ps5115() {
+    let body = "G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1.\nG01 X30.";
+    assert_eq!(alarm_of(body), Some(("PS5115".into(), 7)));
+    // Nothing of the curve was emitted: the machine stands at its start.
+    let r = common::run_with(&format!("G90 G00 X0 Y0 Z0\n{body}\nM30\n"), "mill3", Dialect::Fanuc);
+    assert_eq!(r.machine[..3], [0.0, 0.0, 0.0]);
+}
+
+#[test]
+fn a_hand_move_inside_the_curve_is_ps5117() {
+    let src = "G90 G00 X0 Y0 Z0\nG06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1.\nK1.\nM30\n";
+    let mut interp = interpreter(src, "mill3", Dialect::Fanuc);
+    let mut out = Vec::new();
+    // Up to the G06.2 block, then a jog of X by 2 mm.
+    while interp.state.current_block().0 < 3 {
+        interp.step(&mut out).expect("no alarm before the jog");
+    }
+    let mut at = interp.state.machine_position();
+    at[0] += 2.0;
+    interp.moved_to(&at);
+    let err = loop {
+        match interp.step(&mut out) {
+            Ok(fivex_engine::interp::Step::Ended) => panic!("the curve ran after a hand move"),
+            Ok(_) => {}
+            Err(a) => break a,
+        }
+    };
+    assert_eq!((err.code.as_str(), err.line), ("PS5117", 4));
+}
+
+#[test]
+fn a_program_text_ending_inside_the_curve_is_ps5115() {
+    let src = "G90 G00 X0 Y0 Z0\nG06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\n";
+    let r = common::run_with(src, "mill3", Dialect::Fanuc);
+    assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS5115"));
+}
+
+#[test]
+fn the_first_control_point_must_be_the_current_position() {
+    assert_eq!(alarm_of("G06.2 P3 K0 X5. Y0 F100"), Some(("PS5117".into(), 2)));
+    // Omitted axes are the current position.
+    assert_eq!(alarm_of("G06.2 P3 K0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1.\nK1.\nG01 X20."), None);
+}
+
+#[test]
+fn a_foreign_block_inside_the_curve_is_ps5116() {
+    for foreign in ["M08", "G04 P100", "S1000", "G90 K0 X5.", "F200 K0 X5.", "M30"] {
+        let body = format!("G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\n{foreign}\nK0 X20. Y0\nK1.\nK1.\nK1.");
+        assert_eq!(alarm_of(&body), Some(("PS5116".into(), 4)), "{foreign}");
+    }
+    // After the curve a new one needs G06.2.
+    let body = "G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\nK0 X20. Y0\nK1.\nK1.\nK1.\nK0 X30.";
+    assert_eq!(alarm_of(body), Some(("PS5116".into(), 8)));
+}
+
+#[test]
+fn not_built_around_nurbs_is_refused() {
+    // Cutter compensation, polar coordinates, inverse time feed: PS0010.
+    for before in ["G41 D1 G01 X0 Y0 F100", "G16", "G93"] {
+        let body = format!("{before}\nG06.2 P3 K0 X0 Y0 F100");
+        assert_eq!(alarm_of(&body), Some(("PS0010".into(), 3)), "{before}");
+    }
+    // Syntec keeps refusing G06.2 (its manual does not describe it).
+    let r = common::run_with("G90 G00 X0 Y0\nG06.2 P3 K0 X0 Y0 F100\nM30\n", "mill3", Dialect::Syntec);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("COR-100", 2));
+}
+
+#[test]
+fn a_line_of_rank_2_and_its_feed() {
+    // Rank 2 is the control polygon; the chords keep the feed.
+    let src = "G90 G00 X0 Y0 Z0\nG06.2 P2 K0 X0 Y0 F600\nK0 X10.\nK1. X10. Y10.\nK2.\nK2.\nG01 X10.\nM30\n";
+    let m = motions(src);
+    assert!(m[1..].iter().all(|m| m.feed == 600.0));
+    let corner = m.iter().any(|m| (m.target[0] - 10.0).abs() < 1e-12 && m.target[1].abs() < 1e-12);
+    assert!(corner, "the polygon's corner is on the path");
+    let end = m.last().unwrap().target;
+    assert!((end[0] - 10.0).abs() < 1e-12 && (end[1] - 10.0).abs() < 1e-12);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5-axis: G43.4 with the rotary axes as NURBS components
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn under_g43_4_the_tip_follows_the_curve_while_b_turns() {
+    let src = "G00 G90 B0 C0\nG55\nG43.4 H01\nG00 X150. Y100. Z20.\n\
+        #1=SQRT[2]/2\n\
+        G06.2 P3 K0 X150. Y100. Z20. B0 F1000\n\
+        K0 X150. Y150. B15. R#1\n\
+        K0 X100. Y150. B30.\n\
+        K1.\n\
+        K1.\n\
+        K1.\n\
+        G01 X100. Y150.\n\
+        G49\n\
+        M30\n";
+    let m = MachineConfig::preset("head-bc").unwrap();
+    let kin = Kinematics::new(&m).unwrap();
+    let mut interp = interpreter_with(src, "head-bc", Dialect::Fanuc, |_| {});
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions::default(), |s| samples.push(*s));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let on: Vec<&Sample> = samples.iter().filter(|s| s.line == 11).collect();
+    assert!(on.len() > 100);
+    let b = m.axis_index(b'B').unwrap();
+    let (mut b_min, mut b_max) = (f64::MAX, f64::MIN);
+    for s in &on {
+        let tip = kin.forward(&s.machine, 100.0).tip;
+        let r = (tip.x - 100.0).hypot(tip.y - 100.0);
+        assert!((r - 50.0).abs() < 1e-3 && (tip.z - 20.0).abs() < 1e-3, "tip {tip:?} ({r} from the centre)");
+        (b_min, b_max) = (b_min.min(s.machine[b]), b_max.max(s.machine[b]));
+    }
+    assert!(b_min < 1.0 && b_max > 29.0, "B turned from {b_min} to {b_max}");
+    let ends = common::motion_ends(interpreter_with(src, "head-bc", Dialect::Fanuc, |_| {}));
+    let end = kin.forward(&common::end_of(&ends, 11), 100.0);
+    assert!((end.tip - Vec3::new(100.0, 150.0, 20.0)).norm() < 1e-6, "{:?}", end.tip);
+}
