@@ -154,28 +154,35 @@ def write_indexed(path, faces):
         f.write("M30\n")
 
 
-def write_tcp5x(path, blocks):
-    """A 5-axis finishing pass for `fivex run` on table-ac: G43.5 with the tool along the
-    normal of a paraboloid dome z = -(x^2 + y^2) / 2R (R = 100 mm), raster rows of 0.5 mm moves
-    along X, the vector I J K = (x, y, R) unnormalised (the control normalises it)."""
-    r_um = 100_000
+DOME_R_UM = 100_000
+
+
+def dome_raster(blocks):
+    """The finishing raster over a paraboloid dome z = -(x^2 + y^2) / 2R (R = 100 mm): rows of
+    0.5 mm moves along X, 1 mm apart, `blocks` points (x, y, z) in micrometres."""
     step_um, half_um, pitch_um = 500, 60_000, 1_000
     per_row = 2 * half_um // step_um
     rows = (blocks + per_row - 1) // per_row
+    n = 0
+    for row in range(rows):
+        y = (row - rows // 2) * pitch_um
+        for k in range(per_row + 1):
+            if n == blocks:
+                return
+            x = -half_um + k * step_um if row % 2 == 0 else half_um - k * step_um
+            yield x, y, -(x * x + y * y) // (2 * DOME_R_UM)
+            n += 1
+
+
+def write_tcp5x(path, blocks):
+    """A 5-axis finishing pass for `fivex run` on table-ac: G43.5 over `dome_raster` with the
+    tool along the dome's normal, the vector I J K = (x, y, R) unnormalised (the control
+    normalises it)."""
     with open(path, "w", newline="\n") as f:
         f.write("O0005\nG90 G54 G00 A0 C0\nG43.5 H1\n")
-        n = 0
-        for row in range(rows):
-            y = (row - rows // 2) * pitch_um
-            for k in range(per_row + 1):
-                if n == blocks:
-                    break
-                x = -half_um + k * step_um if row % 2 == 0 else half_um - k * step_um
-                z = -(x * x + y * y) // (2 * r_um)
-                head = "G01 " if n == 0 else ""
-                feed = " F2000." if n == 0 else ""
-                f.write("%sX%s Y%s Z%s I%s J%s K%s%s\n" % (head, fmt(x), fmt(y), fmt(z), fmt(x), fmt(y), fmt(r_um), feed))
-                n += 1
+        for n, (x, y, z) in enumerate(dome_raster(blocks)):
+            head, feed = ("G01 ", " F2000.") if n == 0 else ("", "")
+            f.write("%sX%s Y%s Z%s I%s J%s K%s%s\n" % (head, fmt(x), fmt(y), fmt(z), fmt(x), fmt(y), fmt(DOME_R_UM), feed))
         f.write("G49\nM30\n")
 
 
@@ -183,29 +190,17 @@ def write_cutting5x(path, blocks):
     """`write_tcp5x`'s raster under cutting point control: G43.9 H1 D1, X/Y/Z the point where
     the tool touches the dome, `,L2 I J K` its normal (x, y, R), the tool I J K leaning about 10
     degrees from it toward +X: (x + 17.633, y, R) unnormalised (tan 10 deg = 0.17633)."""
-    r_um, lead_um = 100_000, 17_633
-    step_um, half_um, pitch_um = 500, 60_000, 1_000
-    per_row = 2 * half_um // step_um
-    rows = (blocks + per_row - 1) // per_row
+    lead_um = 17_633
     with open(path, "w", newline="\n") as f:
         # (The start block's normal is the first point's: with the tool along +Z and the normal
         # +Z a square end mill would start in its singular posture and leave it, PS5464.)
         f.write("O0006\nG90 G54 G00 A0 C0\nG43.9 H1 D1 ,L2 I-60. J-42. K100.\n")
-        n = 0
-        for row in range(rows):
-            y = (row - rows // 2) * pitch_um
-            for k in range(per_row + 1):
-                if n == blocks:
-                    break
-                x = -half_um + k * step_um if row % 2 == 0 else half_um - k * step_um
-                z = -(x * x + y * y) // (2 * r_um)
-                head = "G01 " if n == 0 else ""
-                feed = " F2000." if n == 0 else ""
-                f.write(
-                    "%sX%s Y%s Z%s I%s J%s K%s%s ,L2 I%s J%s K%s\n"
-                    % (head, fmt(x), fmt(y), fmt(z), fmt(x + lead_um), fmt(y), fmt(r_um), feed, fmt(x), fmt(y), fmt(r_um))
-                )
-                n += 1
+        for n, (x, y, z) in enumerate(dome_raster(blocks)):
+            head, feed = ("G01 ", " F2000.") if n == 0 else ("", "")
+            f.write(
+                "%sX%s Y%s Z%s I%s J%s K%s%s ,L2 I%s J%s K%s\n"
+                % (head, fmt(x), fmt(y), fmt(z), fmt(x + lead_um), fmt(y), fmt(DOME_R_UM), feed, fmt(x), fmt(y), fmt(DOME_R_UM))
+            )
         f.write("G49\nM30\n")
 
 
