@@ -193,6 +193,28 @@ fn no_19632_places_the_vectors_at_the_cutting_points() {
     assert!((plain.ends[1].1 - Vec3::new(95.0, 5.0, 0.0)).norm() < 1e-9, "{:?}", plain.ends);
 }
 
+/// CRC-11 (§3.1.2 (2)): the moves inserted at an outside corner lie before the single-block stop
+/// point of the block that ends there, so they run at that block's feed — here F1000, though
+/// the next block gives F500 — and belong to its line (the controller stops after them).
+#[test]
+fn crc11_the_corner_moves_run_at_the_feed_of_the_block_before_them() {
+    // G41.2 with the tool along Z: a right turn of 153° is an outside corner under 90°, two
+    // lengthened vectors joined by a straight move (CRC-10).
+    let src = "G90 G00 X-10. Y0 Z0 B0 C0\nG41.2 D1 G01 X0 F1000.\nX20.\nX0 Y-10. F500.\nG40 X-10.\nM30\n";
+    let mut at_corner = Vec::new();
+    let alarm = through_stages(interpreter(src, "head-bc", Fanuc), |c| {
+        if let CanonKind::Motion(m) = c.kind {
+            if c.line == 3 {
+                at_corner.push(m.feed);
+            }
+        }
+    });
+    assert_eq!(alarm, None);
+    // The block itself (to the first lengthened vector) and the corner's inserted move (to the
+    // second), both at F1000.
+    assert_eq!(at_corner, vec![1000.0; 2], "line 3's motions: {at_corner:?}");
+}
+
 fn spg(c: &mut fivex_engine::interp::Config) {
     c.edit_machine(|m| m.five_axis.crc_codes_by_mechanism = true);
 }
