@@ -3,7 +3,8 @@
 //! Beyond the parser's diagnostics: G codes the dialect does not have, G codes and addresses of
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
-//! do not exist, L in a block that names a canned cycle.
+//! do not exist, L in a block that names a canned cycle, a `,L` other than `,L2` and a zero
+//! surface normal of cutting point control.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
@@ -75,6 +76,22 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     ));
                                 }
                             }
+                        }
+                    }
+                    // Cutting point control's `,L2 I J K` (FANUC): `,L` is `,L2`, and a normal of
+                    // three literal zeros is PS5464 (`interp/cutting_point.rs`); Syntec has no `,L`.
+                    if let Some(l) = words.iter().find(|w| w.letter == b'l') {
+                        let ijk = [b'i', b'j', b'k'].map(|c| literal(words, c));
+                        let zero = ijk.iter().any(|w| *w != Word::Absent)
+                            && ijk.iter().all(|w| matches!(w, Word::Absent | Word::Value(0.0)));
+                        let refusal = match (dialect, literal(words, b'l')) {
+                            (Dialect::Syntec, _) => Some((AlarmId::ImproperAddress, "no ,L in the Syntec dialect")),
+                            (_, Word::Value(v)) if v != 2.0 => Some((AlarmId::ImproperAddress, ",L other than ,L2")),
+                            _ if zero => Some((AlarmId::CuttingPoint, ",L2 I0 J0 K0: the surface normal is zero")),
+                            _ => None,
+                        };
+                        if let Some((id, detail)) = refusal {
+                            diags.push(at(l.col, id, detail.into()));
                         }
                     }
                     // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).

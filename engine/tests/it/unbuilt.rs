@@ -369,6 +369,19 @@ fn comma_addresses_have_a_decision() {
     // ,L is FANUC's (cutting point control); Syntec has no such address.
     let r = run_with(&program("G01 X1. F100 ,L2 I1."), PRESET, Syntec);
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("COR-002", 2));
+    // `fivex check` finds what the words alone decide, at the ,L; a normal given by an
+    // expression, or one not all zero, is left to the run.
+    let diag = |text: &str, dialect| {
+        check(parse_file(&program(text)), dialect)
+            .iter()
+            .map(|d| (d.line, d.col, dialect.describe(&d.id).0))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(diag("G01 X1. F100 ,L2 I1.", Syntec), vec![(2, 14, "COR-002".to_string())]);
+    assert_eq!(diag("G01 X1. F100 ,L3 I1.", Fanuc), vec![(2, 14, "PS0009".to_string())]);
+    assert_eq!(diag("G01 X1. F100 ,L2 I0 J0. K0", Fanuc), vec![(2, 14, "PS5464".to_string())]);
+    assert_eq!(diag("G01 X1. F100 ,L2 I0 J[#1] K0", Fanuc), vec![]);
+    assert_eq!(diag("G01 X1. F100 ,L2 I0 K1.", Fanuc), vec![]);
 }
 
 #[test]
