@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite: every Rust test, the comparisons with LinuxCNC's rs274 (ignored by a
-# plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches), a build check of
-# the fuzz targets, then the dashboard's (scripts/web-test.sh).
+# plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches) and of NURBS with
+# SciPy (ignored likewise: they need python3-scipy), a build check of the fuzz targets, then the
+# dashboard's (scripts/web-test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== cargo test --workspace"
@@ -9,6 +10,12 @@ cargo test --workspace
 echo "== cutter compensation against LinuxCNC's rs274 (the peer, fetched from Debian's archive)"
 bash scripts/peer-rs274.sh
 cargo test -p fivex-e2e --test it peer_crc -- --ignored
+echo "== NURBS (G06.2) against SciPy's B-splines (Debian's python3-scipy, installed if missing)"
+if ! /usr/bin/python3 -c 'import scipy' 2>/dev/null; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3-scipy >/dev/null
+fi
+cargo test -p fivex-e2e --test it nurbs_scipy -- --ignored
 echo "== the fuzz targets build (a crate outside the workspace: nothing else compiles them)"
 cargo check --manifest-path fuzz/Cargo.toml --bins
 scripts/web-test.sh

@@ -6,5 +6,6 @@ mod common;
 mod fixtures;
 mod fleet;
 mod kin_cli;
+mod nurbs_scipy;
 mod peer_crc;
 mod service;
