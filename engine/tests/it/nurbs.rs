@@ -84,6 +84,29 @@ fn incremental_control_points_and_a_rotated_curve() {
     assert!(last[0] < 40.01 && (last[1] - 50.0).abs() < 0.5, "{last:?}");
 }
 
+/// Under G54.4 (workpiece setting error compensation, its error a shift and a turn about Z) the
+/// curve is the programmed one carried by the error, as any programmed point is (p_w =
+/// Rz(−20°)·p_s + (10, 20, 0), TV-WSE-17): the quarter about (50, 50) runs on the circle of
+/// radius 10 about the carried centre. In a tilted working plane the mode interlocks refuse
+/// G06.2 (PS5462: not in §6.2's list).
+#[test]
+fn under_g54_4_the_curve_is_carried_by_the_setting_error() {
+    let src = "G90 G00 X60. Y50. Z0 B0 C0\nG54.4 P1\nG00 X60. Y50.\n#1=SQRT[2]/2\nG06.2 P3 K0 X60. Y50. F1000\n\
+               K0 X60. Y60. R#1\nK0 X50. Y60.\nK1.\nK1.\nK1.\nG01 X50. Y60.\nG54.4 P0\nM30\n";
+    let mut interp = interpreter(src, "head-bc", Dialect::Fanuc);
+    interp.state.setting_errors.sets[1] =
+        fivex_engine::wse::ErrorSet { shift: [10.0, 20.0, 0.0], rotation: [0.0, 0.0, -20.0], table: [0.0; 2] };
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions::default(), |s| samples.push(*s));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let a = (-20f64).to_radians();
+    let centre = (50.0 * a.cos() - 50.0 * a.sin() + 10.0, 50.0 * a.sin() + 50.0 * a.cos() + 20.0);
+    let worst = off_circle(&samples, 10, centre, 10.0);
+    assert!(worst < 1e-3, "{worst}");
+    let plane = "G90 G00 X0 Y0 Z100. B0 C0\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG06.2 P3 K0 X0 Y0 F1000\n";
+    assert_eq!(first_alarm(&format!("{plane}M30\n"), "head-bc"), Some(("PS5462".into(), 4)));
+}
+
 #[test]
 fn a_full_circle_of_nine_control_points() {
     let src = "G90 G17 G00 X60. Y50. Z0\n\
