@@ -1242,14 +1242,22 @@ impl State {
         self.refuse_unbuilt_cutter(w)
     }
 
+    /// The block's code of `group` (its last one: the one that counts), if it gives one.
+    pub(super) fn block_code(&self, w: &Words, group: usize) -> Option<u16> {
+        let dialect = self.cfg.dialect;
+        w.gcodes().iter().rev().copied().find(|&c| gcode::lookup(c, dialect).is_some_and(|d| d.group == group))
+    }
+
+    /// The code of `group` after this block: the block's own, or the mode in force.
+    pub(super) fn after_block(&self, w: &Words, group: usize) -> u16 {
+        self.block_code(w, group).unwrap_or(self.modes[group])
+    }
+
     /// Under cutter compensation (G41/G42, G41.2/G42.2 or G41.3 in force after the block), what its
     /// stage does not perform is refused like a function not built (`unbuilt::cutter`).
     fn refuse_unbuilt_cutter(&self, w: &Words) -> Result<(), AlarmId> {
-        let dialect = self.cfg.dialect;
-        let in_block = |group: usize| {
-            w.gcodes().iter().copied().find(|&c| gcode::lookup(c, dialect).is_some_and(|d| d.group == group))
-        };
-        let after = |group: usize| in_block(group).unwrap_or(self.modes[group]);
+        let in_block = |group: usize| self.block_code(w, group);
+        let after = |group: usize| self.after_block(w, group);
         let comp = after(group::CUTTER_COMP);
         if !code::COMPENSATED_BY_STAGES.contains(&comp) {
             return Ok(());

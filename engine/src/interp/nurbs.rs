@@ -33,16 +33,6 @@ pub(super) struct Builder {
 }
 
 impl State {
-    /// The code of `group` after this block: the block's last code of the group, or the mode.
-    fn after_block(&self, w: &Words, g: usize) -> u16 {
-        w.gcodes()
-            .iter()
-            .rev()
-            .find(|&&c| gcode::lookup(c, self.cfg.dialect).is_some_and(|d| d.group == g))
-            .copied()
-            .unwrap_or(self.modes[g])
-    }
-
     /// A G06.2 block in a state whose NURBS interpolation fivex does not perform is refused
     /// like a function not built (before the block changes anything): under cutter
     /// compensation, polar coordinates (G16), inverse time feed (G93), or a modal macro call.
