@@ -49,6 +49,11 @@ pub struct Axis {
     #[serde(default, skip_serializing_if = "no_references")]
     #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
     pub references: [f64; 3],
+    /// Rotary axes: how far nano smoothing for 5-axis machining (G05.1 Q3) may correct the
+    /// axis's programmed positions, degrees; 0: the least input increment, 0.001° (FANUC
+    /// No.19587).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub smoothing_tolerance: f64,
 }
 
 fn no_references(r: &[f64; 3]) -> bool {
@@ -72,6 +77,7 @@ impl Axis {
             rollover: false,
             shortest: false,
             references: [0.0; 3],
+            smoothing_tolerance: 0.0,
         }
     }
 
@@ -436,6 +442,41 @@ pub struct MotionOptions {
     /// come within it); three consecutive interfering blocks: PS0041 at the first. `docs/cutter-compensation.md`.
     #[serde(default, skip_serializing_if = "is_false")]
     pub cutter_interference_avoidance: bool,
+    /// How nano smoothing (G05.1 Q3) builds its curve (`docs/motion.md`, "Nano smoothing").
+    #[serde(default, skip_serializing_if = "NanoSmoothing::is_default")]
+    pub nano_smoothing: NanoSmoothing,
+}
+
+/// The settings of nano smoothing (FANUC G05.1 Q3) for the linear axes: fivex's, as FANUC's
+/// numbers and defaults for the conventional function are not in its sources (the rotary
+/// axes' tolerance is FANUC No.19587, [`Axis::smoothing_tolerance`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(deny_unknown_fields, default)]
+pub struct NanoSmoothing {
+    /// How far a programmed point may be corrected, and the tool path leave the programmed
+    /// segments (3-D distance of the linear axes, mm, > 0).
+    pub tolerance: f64,
+    /// Blocks shorter than this (mm) are not smoothed.
+    pub min_block: f64,
+    /// Blocks longer than this (mm) are not smoothed.
+    pub max_block: f64,
+    /// A point where the path turns by more than this (degrees) is a corner, kept.
+    pub corner_angle: f64,
+    /// A point between blocks whose lengths differ by more than this factor is kept.
+    pub spacing_ratio: f64,
+}
+
+impl Default for NanoSmoothing {
+    fn default() -> Self {
+        NanoSmoothing { tolerance: 0.01, min_block: 0.0, max_block: 5.0, corner_angle: 30.0, spacing_ratio: 5.0 }
+    }
+}
+
+impl NanoSmoothing {
+    fn is_default(&self) -> bool {
+        *self == NanoSmoothing::default()
+    }
 }
 
 impl FiveAxisOptions {
@@ -678,6 +719,24 @@ impl MachineConfig {
             if (a.rollover && a.kind != AxisKind::Rotary) || (a.shortest && !a.rollover) {
                 return Err(format!("axis '{}': rollover is for rotary axes, shortest path for rollover axes", a.name));
             }
+            if !(a.smoothing_tolerance.is_finite() && a.smoothing_tolerance >= 0.0) {
+                return Err(format!("axis '{}': smoothing_tolerance is 0 or more", a.name));
+            }
+        }
+        let n = &self.motion.nano_smoothing;
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        if !(positive(n.tolerance)
+            && n.min_block.is_finite()
+            && n.min_block >= 0.0
+            && positive(n.max_block)
+            && n.min_block <= n.max_block
+            && (0.0..=180.0).contains(&n.corner_angle)
+            && n.spacing_ratio.is_finite()
+            && n.spacing_ratio >= 1.0)
+        {
+            return Err("motion.nano_smoothing: tolerance and max_block above 0, min_block 0 to max_block, \
+                        corner_angle 0 to 180 degrees, spacing_ratio 1 or more"
+                .into());
         }
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         let f = &self.five_axis;

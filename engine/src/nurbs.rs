@@ -6,15 +6,8 @@
 //! machine: X/Y/Z and, under tool centre point control, the rotary axes follow the same curve
 //! parameter).
 
-/// The largest distance, mm, from the curve to a chord of its tessellation (0.1 µm, measured
-/// on the linear components). It is a tenth of the 1 µm least input increment of FANUC's IS-B
-/// (and of the 1 µm the tests hold sampled paths to), so the path a program cuts is the curve
-/// to the resolution a program can state; a radius-10 circle needs about 180 chords per
-/// quadrant at this tolerance (`docs/motion.md`, "NURBS").
-pub const CHORD_TOLERANCE_MM: f64 = 1e-4;
-
-/// The same bound, degrees, on the rotary components (their chord turns the tool linearly).
-pub const CHORD_TOLERANCE_DEG: f64 = 1e-4;
+/// The largest distance, mm, from the curve to a chord of its tessellation (`crate::chords`).
+pub const CHORD_TOLERANCE_MM: f64 = crate::chords::TOLERANCE_MM;
 
 /// A curve that needs more chords than this is refused (PS5115) rather than emitted: 200,000
 /// chords are a 20 m long curve of radius 10 at `CHORD_TOLERANCE_MM`.
@@ -148,76 +141,29 @@ impl<const D: usize> Curve<D> {
     }
 
     /// The curve as chords: the end points (and their parameters) of straight pieces from the
-    /// curve's start to its end, each within `CHORD_TOLERANCE_MM` of the curve on the
-    /// components `linear` marks and `CHORD_TOLERANCE_DEG` on the others. Every knot span is
-    /// halved until three points inside each piece (at ¼, ½, ¾) are within the tolerance of
-    /// its chord.
+    /// curve's start to its end, within `crate::chords`' tolerances of the curve (`linear`
+    /// marks the components in mm). Every non-empty knot span starts as four pieces, so a span
+    /// whose quarter points happen to lie on one chord is still looked at more closely.
     pub fn chords(&self, linear: &[bool; D]) -> Result<Vec<(f64, [f64; D])>, Error> {
         let mut out = Vec::new();
-        let n = self.knots.len();
-        for i in 0..n - 1 {
-            let (a, b) = (self.knots[i], self.knots[i + 1]);
+        let curve = |u: f64| self.eval(u);
+        for span in self.knots.windows(2) {
+            let (a, b) = (span[0], span[1]);
             if b <= a {
                 continue;
             }
-            // Start every non-empty span with four pieces, so a span whose quarter points
-            // happen to lie on one chord is still looked at more closely.
             let mut pa = self.eval(a);
             for q in 1..=4 {
-                let ub = a + (b - a) * q as f64 / 4.0;
-                let ub = if q == 4 { b } else { ub };
                 let ua = a + (b - a) * (q - 1) as f64 / 4.0;
+                let ub = if q == 4 { b } else { a + (b - a) * q as f64 / 4.0 };
                 let pb = self.eval(ub);
-                self.split(ua, &pa, ub, &pb, linear, 0, &mut out)?;
+                crate::chords::split(&curve, ua, &pa, ub, &pb, linear, MAX_CHORDS, &mut out)
+                    .map_err(|_| Error::TooManyChords)?;
                 pa = pb;
             }
         }
         Ok(out)
     }
-
-    #[allow(clippy::too_many_arguments)]
-    fn split(
-        &self,
-        a: f64,
-        pa: &[f64; D],
-        b: f64,
-        pb: &[f64; D],
-        linear: &[bool; D],
-        depth: u32,
-        out: &mut Vec<(f64, [f64; D])>,
-    ) -> Result<(), Error> {
-        let fine = depth >= 40
-            || [0.25, 0.5, 0.75].iter().all(|t| {
-                let q = self.eval(a + (b - a) * t);
-                deviation(pa, pb, &q, linear, true) <= CHORD_TOLERANCE_MM
-                    && deviation(pa, pb, &q, linear, false) <= CHORD_TOLERANCE_DEG
-            });
-        if fine {
-            if out.len() >= MAX_CHORDS {
-                return Err(Error::TooManyChords);
-            }
-            out.push((b, *pb));
-            return Ok(());
-        }
-        let m = 0.5 * (a + b);
-        let pm = self.eval(m);
-        self.split(a, pa, m, &pm, linear, depth + 1, out)?;
-        self.split(m, &pm, b, pb, linear, depth + 1, out)
-    }
-}
-
-/// The distance from `q` to the segment `a`–`b`, on the components `linear` marks (`on` true)
-/// or on the others.
-fn deviation<const D: usize>(a: &[f64; D], b: &[f64; D], q: &[f64; D], linear: &[bool; D], on: bool) -> f64 {
-    let pick = |c: usize| linear[c] == on;
-    let (mut ab2, mut t) = (0.0, 0.0);
-    for c in (0..D).filter(|&c| pick(c)) {
-        let ab = b[c] - a[c];
-        ab2 += ab * ab;
-        t += (q[c] - a[c]) * ab;
-    }
-    let t = if ab2 > 0.0 { (t / ab2).clamp(0.0, 1.0) } else { 0.0 };
-    (0..D).filter(|&c| pick(c)).map(|c| (a[c] + t * (b[c] - a[c]) - q[c]).powi(2)).sum::<f64>().sqrt()
 }
 
 #[cfg(test)]

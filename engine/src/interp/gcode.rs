@@ -336,7 +336,7 @@ pub const TABLE: &[GDef] = &[
     gx(40, 0),   // dwell
     g(41, 0),    // G04.1 prevent buffering
     g(50, 0),    // G05 high-speed cycle / HPCC
-    g(51, 0),    // G05.1 AI contour / smooth interpolation
+    gx(51, 0),   // G05.1 AI contour / nano smoothing (Q3's axis words name the axes smoothed)
     g(54, 0),    // G05.4 HRV3
     g(62, 1),    // G06.2 NURBS
     g(70, 0),    // G07 hypothetical axis interpolation

@@ -19,6 +19,7 @@ mod plain;
 mod plane;
 pub(crate) mod program;
 mod singular;
+mod smoothing;
 mod tcp;
 pub mod unbuilt;
 mod vars;
@@ -282,6 +283,8 @@ pub struct State {
     tcp: Option<tcp::Tcp>,
     /// A NURBS curve (G06.2) being given, from its G06.2 block to its last knot.
     nurbs: Option<Box<nurbs::Builder>>,
+    /// Nano smoothing (G05.1 Q3) in force, with the points it holds.
+    smoothing: Option<Box<smoothing::Smoothing>>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
@@ -427,6 +430,7 @@ impl Interpreter {
         st.modal_calls.clear();
         st.wse_between = None;
         st.nurbs = None;
+        st.smoothing_reset();
         st.ended = true;
         st.cfg.stages.clear();
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
@@ -586,6 +590,7 @@ impl State {
             wse_kinematics,
             tcp: None,
             nurbs: None,
+            smoothing: None,
             follow_machine: None,
             plane: None,
             definition: plane::Definition::default(),
@@ -772,6 +777,7 @@ impl State {
                     // The text ends inside a NURBS curve: its last knot never comes.
                     return Err(AlarmId::NurbsFormat);
                 }
+                self.smoothing_flush(out)?;
                 self.ended = true;
                 return Ok(Step::Ended);
             }

@@ -330,6 +330,7 @@ impl State {
             // Inside a NURBS curve only its control points and knots may come (`nurbs`).
             return self.nurbs_block(&w, out);
         }
+        self.smoothing_block(&w, out)?;
         if self.cfg.fast_paths && self.is_plain_motion(&w) {
             return self.plain_motion(&w, out);
         }
@@ -892,6 +893,12 @@ impl State {
 
     pub(super) fn group01_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let programmed = self.target(w);
+        if self.smoothing_point_block() {
+            self.check_feed()?;
+            self.smoothing_point(self.xf.forward(&programmed), out)?;
+            self.xf.programmed = programmed;
+            return Ok(());
+        }
         if self.follows_tip() {
             let target = self.xf.forward(&programmed);
             let (kind, arc) = match self.modes[group::MOTION] {
@@ -1214,8 +1221,9 @@ impl State {
                 self.move_to(MotionKind::Linear, target, out);
                 return Ok(true);
             }
-            // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off (other Q: `unbuilt`).
-            code::G05_1 => self.look_ahead = w.integer(b'Q') == Some(1.0),
+            // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off; Q3 nano smoothing
+            // (`smoothing`; other Q: `unbuilt`).
+            code::G05_1 => self.g05_1(w)?,
             // The one-shot codes left are performed by doing nothing here (G04.1, G09, G22
             // without limits…), or refused before this (`unbuilt`).
             _ => {}
@@ -1291,6 +1299,7 @@ impl State {
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
             conventional_settings: self.cfg.machine.motion.cutter_startup_perpendicular
                 || self.cfg.machine.motion.cutter_interference_avoidance,
+            smoothing: if w.has_g(code::G05_1) { w.integer(b'Q') == Some(3.0) } else { self.smoothing.is_some() },
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

@@ -52,8 +52,21 @@ const TABLE: &[NotBuilt] = &[
     row(34, When::Always, "3-D circular interpolation"),
     // G05 P0 is the cancelled state; P10000 (HPCC) and the high-speed cycles are not built.
     row(50, When::Unless(b'P', &[0.0]), "high-speed machining (G05 P10000 HPCC, high-speed cycle)"),
-    // Q1/Q0: look-ahead on/off (performed); Q2 and Q3 (nano smoothing, smooth interpolation).
-    row(51, When::Unless(b'Q', &[0.0, 1.0]), "smoothing / nano smoothing (G05.1 Q2, Q3)"),
+    // Q1/Q0: look-ahead on/off, and FANUC's Q3 nano smoothing (`interp::smoothing`), are
+    // performed; Q2 is not (smooth interpolation: its manual pages are not in fivex's sources).
+    // Syntec's G05.1 is its own (Q0–Q2 with E), not described to build.
+    NotBuilt {
+        code: 51,
+        dialect: Some(Dialect::Fanuc),
+        when: When::Unless(b'Q', &[0.0, 1.0, 3.0]),
+        function: "smooth interpolation (G05.1 Q2)",
+    },
+    NotBuilt {
+        code: 51,
+        dialect: Some(Dialect::Syntec),
+        when: When::Unless(b'Q', &[0.0, 1.0]),
+        function: "smoothing (G05.1 Q2, Q3)",
+    },
     row(54, When::Always, "HRV3 servo control (G05.4)"),
     // G06.2 is performed in FANUC's format (`interp::nurbs`); Syntec's manual does not
     // describe it, so the Syntec dialect keeps refusing it rather than guess its format.
@@ -176,6 +189,9 @@ pub struct CutterBlock {
     /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV)
     /// or avoids interference (No.19607#5 CAV): built for cutter compensation C only.
     pub conventional_settings: bool,
+    /// Nano smoothing (G05.1 Q3) in force after the block: its curve is built from the
+    /// programmed points, before (not after) any compensation.
+    pub smoothing: bool,
 }
 
 /// The function a block under cutter compensation asks for that its stage does not perform.
@@ -194,6 +210,7 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.transform, "cutter radius compensation with rotation, scaling, mirror image or polar coordinates"),
         (b.five_axis || b.tcp && conventional, "cutter radius compensation with TCP, a tilted working plane or G54.4"),
         (b.cycle, "cutter radius compensation in a canned cycle"),
+        (b.smoothing, "cutter radius compensation with nano smoothing (G05.1 Q3)"),
         (b.coordinates, "cutter radius compensation with G28/G30/G53, G52/G92 or a workpiece system change"),
         (b.rotary && conventional, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
@@ -270,7 +287,9 @@ mod tests {
     fn values_decide() {
         let q = |v: Word| move |l: u8| if l == b'Q' { v } else { Word::Absent };
         assert!(g_code(51, Dialect::Fanuc, q(Word::Value(1.0))).is_none());
-        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(3.0))).is_some());
+        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(3.0))).is_none());
+        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(2.0))).is_some());
+        assert!(g_code(51, Dialect::Syntec, q(Word::Value(3.0))).is_some());
         assert!(g_code(51, Dialect::Fanuc, q(Word::Absent)).is_some());
         assert!(g_code(51, Dialect::Fanuc, q(Word::Unknown)).is_none());
         let l = |v: f64| move |c: u8| if c == b'L' { Word::Value(v) } else { Word::Absent };

@@ -58,6 +58,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let n = names.len();
     let (rot, roll, per_rev, basics) = (p.axes(1006, n)?, p.axes(1008, n)?, p.axes(1260, n)?, p.axes(1022, n)?);
     let references = [p.axes(1241, n)?, p.axes(1242, n)?, p.axes(1243, n)?];
+    let smoothing = p.axes(19587, n)?;
     let (plus, minus, rapid, accel, bell) =
         (p.axes(1320, n)?, p.axes(1321, n)?, p.axes(1420, n)?, p.axes(1660, n)?, p.axes(1672, n)?);
     let mut axes = Vec::with_capacity(n);
@@ -82,6 +83,9 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         if rotary && per_rev[i] != 360.0 && per_rev[i] != 0.0 {
             return Err(ConfigError::invalid(format!("No.1260 of axis {letter}: fivex turns 360 per revolution only")));
         }
+        if smoothing[i] < 0.0 || (!rotary && smoothing[i] != 0.0) {
+            return Err(ConfigError::invalid(format!("No.19587 of axis {letter}: 0 or more, on rotary axes only")));
+        }
         let stroke = (plus[i] != 0.0 || minus[i] != 0.0).then_some([minus[i], plus[i]]);
         let a = (accel[i] > 0.0).then_some(accel[i]);
         let jerk = a.filter(|_| bell[i] > 0.0).map(|a| a / (bell[i] / 1000.0));
@@ -92,6 +96,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             rollover,
             shortest: rollover && bits & 2 == 0,
             references: [references[0][i], references[1][i], references[2][i]],
+            smoothing_tolerance: smoothing[i],
             ..Axis::new(letter, if rotary { AxisKind::Rotary } else { AxisKind::Linear }, rapid[i])
         });
     }
@@ -405,6 +410,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         if m.axes.iter().any(|a| a.references[k] != 0.0) {
             p.set_axes(number, each(&|a| a.references[k]));
         }
+    }
+    if m.axes.iter().any(|a| a.smoothing_tolerance != 0.0) {
+        p.set_axes(19587, each(&|a| a.smoothing_tolerance));
     }
     p.set_axes(1660, each(&|a| a.max_accel()));
     p.set_axes(1672, each(&|a| 1000.0 * a.max_accel() / a.max_jerk()));

@@ -382,6 +382,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
             "No.19738/19739/NPC, MIR, DET, CRS, TBP, SPG and No.19631/19632/19635/11262 are FANUC settings",
         ));
     }
+    if m.axes.iter().any(|a| a.smoothing_tolerance != 0.0) {
+        return Err(unrepresentable("Syntec", "No.19587 (nano smoothing's rotary tolerance) is a FANUC setting"));
+    }
     if f.posture_control {
         p.set(3054, 1.0);
     }

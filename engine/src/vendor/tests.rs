@@ -1038,3 +1038,45 @@ fn fanuc_cutting_point_singular_angle_11262_round_trip() {
     m.five_axis.cutting_point_singular_angle = 91.0;
     assert!(m.validate().is_err());
 }
+
+/// No.19587 (nano smoothing's rotary tolerance, per axis) is read and written back; on a linear
+/// axis it must be 0; a Syntec list cannot carry it.
+#[test]
+fn fanuc_nano_smoothing_rotary_tolerance_19587_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let c = m.axis_index(b'C').unwrap();
+    m.axes[c].smoothing_tolerance = 0.05;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!(p.axes(19587, m.axes.len()).unwrap()[c], 0.05);
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().axes, m.axes);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("19587"));
+    let mut on_x = p.clone();
+    let mut values = vec![0.0; m.axes.len()];
+    values[0] = 0.01;
+    on_x.set_axes(19587, values);
+    assert!(machine_from(Dialect::Fanuc, "m", &on_x).unwrap_err().detail.contains("19587"));
+    m.axes[c].smoothing_tolerance = -1.0;
+    assert!(m.validate().is_err());
+}
+
+/// The nano smoothing settings are checked when a machine is loaded.
+#[test]
+fn nano_smoothing_settings_are_validated() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    assert!(m.validate().is_ok());
+    for bad in [
+        |n: &mut crate::machine::NanoSmoothing| n.tolerance = 0.0,
+        |n: &mut crate::machine::NanoSmoothing| n.min_block = 6.0,
+        |n: &mut crate::machine::NanoSmoothing| n.corner_angle = 200.0,
+        |n: &mut crate::machine::NanoSmoothing| n.spacing_ratio = 0.5,
+    ] {
+        let mut bad_m = m.clone();
+        bad(&mut bad_m.motion.nano_smoothing);
+        assert!(bad_m.validate().unwrap_err().contains("nano_smoothing"));
+    }
+    m.motion.nano_smoothing.tolerance = 0.002;
+    let json = serde_json::to_string(&m).unwrap();
+    assert!(json.contains("\"nano_smoothing\":{\"tolerance\":0.002"), "{json}");
+    assert!(!serde_json::to_string(&MachineConfig::preset("mill3").unwrap()).unwrap().contains("nano_smoothing"));
+}

@@ -26,6 +26,7 @@ mod nurbs;
 mod preview;
 mod report;
 mod smoke;
+mod smoothing;
 mod stop;
 mod tcp;
 mod tcp_random;

@@ -1,0 +1,112 @@
+//! Curves the interpreter emits as straight chords (NURBS, `crate::nurbs`; nano smoothing,
+//! `crate::smoothing`): a parameter interval of a curve is halved until three points inside
+//! each piece (at ¼, ½, ¾) are within the tolerance of its chord, on the linear components in
+//! mm and on the others (rotary axes) in degrees.
+//!
+//! Pure: no state, no IO. A curve has `D` components and is given as its evaluation function.
+
+/// The largest distance, mm, from a curve to one of its chords (0.1 µm, measured on the linear
+/// components). It is a tenth of the 1 µm least input increment of FANUC's IS-B (and of the
+/// 1 µm the tests hold sampled paths to), so the path a program cuts is the curve to the
+/// resolution a program can state; a radius-10 circle needs about 180 chords per quadrant at
+/// this tolerance (`docs/motion.md`, "NURBS").
+pub const TOLERANCE_MM: f64 = 1e-4;
+
+/// The same bound, degrees, on the rotary components (their chord turns the tool linearly).
+pub const TOLERANCE_DEG: f64 = 1e-4;
+
+/// A curve halved this many times over is taken as it is (2⁻⁴⁰ of its interval: far below any
+/// increment; only a curve that is not continuous gets there).
+const MAX_DEPTH: u32 = 40;
+
+/// More chords than a caller allows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TooMany;
+
+/// The chords of `curve` over `[a, b]`, whose end points `pa`, `pb` the caller has evaluated:
+/// their end points and parameters are appended to `out` (not `pa`), ending with `(b, pb)`.
+/// `linear` marks the components measured in mm. More than `max` entries in `out`: `TooMany`.
+#[allow(clippy::too_many_arguments)]
+pub fn split<const D: usize>(
+    curve: &impl Fn(f64) -> [f64; D],
+    a: f64,
+    pa: &[f64; D],
+    b: f64,
+    pb: &[f64; D],
+    linear: &[bool; D],
+    max: usize,
+    out: &mut Vec<(f64, [f64; D])>,
+) -> Result<(), TooMany> {
+    split_from(curve, a, pa, b, pb, linear, 0, max, out)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn split_from<const D: usize>(
+    curve: &impl Fn(f64) -> [f64; D],
+    a: f64,
+    pa: &[f64; D],
+    b: f64,
+    pb: &[f64; D],
+    linear: &[bool; D],
+    depth: u32,
+    max: usize,
+    out: &mut Vec<(f64, [f64; D])>,
+) -> Result<(), TooMany> {
+    let fine = depth >= MAX_DEPTH
+        || [0.25, 0.5, 0.75].iter().all(|t| {
+            let q = curve(a + (b - a) * t);
+            deviation(pa, pb, &q, linear, true) <= TOLERANCE_MM && deviation(pa, pb, &q, linear, false) <= TOLERANCE_DEG
+        });
+    if fine {
+        if out.len() >= max {
+            return Err(TooMany);
+        }
+        out.push((b, *pb));
+        return Ok(());
+    }
+    let m = 0.5 * (a + b);
+    let pm = curve(m);
+    split_from(curve, a, pa, m, &pm, linear, depth + 1, max, out)?;
+    split_from(curve, m, &pm, b, pb, linear, depth + 1, max, out)
+}
+
+/// The distance from `q` to the segment `a`–`b`, on the components `linear` marks (`on` true)
+/// or on the others.
+pub fn deviation<const D: usize>(a: &[f64; D], b: &[f64; D], q: &[f64; D], linear: &[bool; D], on: bool) -> f64 {
+    let pick = |c: usize| linear[c] == on;
+    let (mut ab2, mut t) = (0.0, 0.0);
+    for c in (0..D).filter(|&c| pick(c)) {
+        let ab = b[c] - a[c];
+        ab2 += ab * ab;
+        t += (q[c] - a[c]) * ab;
+    }
+    let t = if ab2 > 0.0 { (t / ab2).clamp(0.0, 1.0) } else { 0.0 };
+    (0..D).filter(|&c| pick(c)).map(|c| (a[c] + t * (b[c] - a[c]) - q[c]).powi(2)).sum::<f64>().sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_parabola_is_cut_until_every_chord_is_within_the_tolerance() {
+        // y = x² over [0, 1]: a chord of width w sags w²/4 at its middle, so chords of width
+        // 2⁻⁵ (sag 2.4e-4) are too coarse and 2⁻⁶ (6.1e-5) fine: 64 chords.
+        let curve = |u: f64| [u, u * u];
+        let mut out = Vec::new();
+        split(&curve, 0.0, &curve(0.0), 1.0, &curve(1.0), &[true, true], 1000, &mut out).unwrap();
+        assert_eq!(out.len(), 64);
+        assert_eq!(out.last().unwrap().1, [1.0, 1.0]);
+        assert_eq!(split(&curve, 0.0, &curve(0.0), 1.0, &curve(1.0), &[true, true], 10, &mut Vec::new()), Err(TooMany));
+    }
+
+    #[test]
+    fn rotary_components_are_held_to_degrees() {
+        // The same parabola on two rotary components beside a linear one that stands still:
+        // the same bound, in degrees.
+        let curve = |u: f64| [0.0, u, u * u];
+        let mut out = Vec::new();
+        split(&curve, 0.0, &curve(0.0), 1.0, &curve(1.0), &[true, false, false], 1000, &mut out).unwrap();
+        assert_eq!(out.len(), 64);
+    }
+}

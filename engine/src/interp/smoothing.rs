@@ -1,0 +1,177 @@
+//! FANUC nano smoothing, G05.1 Q3 (`docs/motion.md`, "Nano smoothing"): `G05.1 Q3 X0 Y0 Z0
+//! [α0 β0]` names the axes smoothed — the linear group and at most two rotary axes (nano
+//! smoothing for 5-axis machining, also under G43.4) — and turns look-ahead on; `G05.1 Q0`
+//! (or Q1) ends it. In the mode, a G01 block of axis words and F alone is a point of the curve
+//! (`crate::smoothing` builds it and says which spans are ready); any other block first moves
+//! every span held, then runs as it always does. A span's chords are emitted as that block's
+//! motions (its line, sequence number and F) through the tip path under TCP.
+
+use super::gcode::{code, group};
+use super::nc::Words;
+use super::State;
+use crate::alarm::AlarmId;
+use crate::canon::{Canon, MotionKind};
+use crate::machine::{AxisKind, MAX_AXES};
+use crate::smoothing::{Settings, Smoother, Span};
+
+/// The block a span belongs to: line, sequence number and feed.
+type Tag = (u32, Option<u32>, f64);
+
+/// The least input increment of a rotary axis (IS-B), the tolerance No.19587 = 0 gives.
+const LEAST_INCREMENT_DEG: f64 = 0.001;
+
+/// Nano smoothing in force.
+#[derive(Debug, Clone)]
+pub(super) struct Smoothing {
+    settings: Settings<MAX_AXES>,
+    /// The run being built (`None` until its first point: it starts where the tool is then).
+    run: Option<Smoother<Tag, MAX_AXES>>,
+    /// The block being executed is a point of the curve.
+    point: bool,
+}
+
+impl State {
+    /// G05.1 (a one-shot code whose axis words name axes): Q1 look-ahead on, Q0 off, Q3 nano
+    /// smoothing on (and look-ahead with it). The block is not a point of the curve, so what
+    /// was held has been moved before it.
+    pub(super) fn g05_1(&mut self, w: &Words) -> Result<(), AlarmId> {
+        let q = w.integer(b'Q');
+        self.smoothing = None;
+        // Syntec's G05.1 (Q0–Q2 with E) is not FANUC's: its Q3 is refused (`unbuilt`), or run
+        // for its mode rules alone when refusals are off.
+        let nano = q == Some(3.0) && self.cfg.dialect == crate::Dialect::Fanuc;
+        self.look_ahead = q == Some(1.0) || nano;
+        if nano {
+            let settings = self.smoothing_settings(w)?;
+            self.smoothing = Some(Box::new(Smoothing { settings, run: None, point: false }));
+        }
+        Ok(())
+    }
+
+    /// The axes `G05.1 Q3` names (each with 0): one to three linear axes and at most two
+    /// rotary ones; anything else is refused (PS0010).
+    fn smoothing_settings(&self, w: &Words) -> Result<Settings<MAX_AXES>, AlarmId> {
+        let m = &self.cfg.machine;
+        let mut linear = [false; MAX_AXES];
+        let mut rotary = [None; MAX_AXES];
+        let mut mm = [false; MAX_AXES];
+        for (i, axis) in m.axes.iter().enumerate() {
+            mm[i] = axis.kind == AxisKind::Linear;
+            let Some(value) = w.number(axis.name as u8) else { continue };
+            if value != 0.0 {
+                return Err(AlarmId::ImproperGCode);
+            }
+            match axis.kind {
+                AxisKind::Linear => linear[i] = true,
+                AxisKind::Rotary => {
+                    let tol = axis.smoothing_tolerance;
+                    rotary[i] = Some(if tol > 0.0 { tol } else { LEAST_INCREMENT_DEG });
+                }
+            }
+        }
+        let count = |named: &mut dyn Iterator<Item = bool>| named.filter(|&b| b).count();
+        let (lin, rot) = (count(&mut linear.iter().copied()), count(&mut rotary.iter().map(Option::is_some)));
+        if !(1..=3).contains(&lin) || rot > 2 {
+            return Err(AlarmId::ImproperGCode);
+        }
+        let n = &m.motion.nano_smoothing;
+        Ok(Settings {
+            linear,
+            rotary,
+            tolerance: n.tolerance,
+            min_block: n.min_block,
+            max_block: n.max_block,
+            corner_cos: n.corner_angle.to_radians().cos(),
+            spacing_ratio: n.spacing_ratio,
+            mm,
+        })
+    }
+
+    /// In nano smoothing, before anything of the block is done: whether it is a point of the
+    /// curve (a G01 block of axis words and F, in G94/G95, outside canned cycles and modal
+    /// calls); if not, every span held is moved first. Starting TCP, a tilted working plane
+    /// or G54.4 inside the mode is refused (G43.4 comes first, G05.1 Q0 before G49 — NSM-05 —
+    /// and the other two do not list G05.1 Q3 among their modal states).
+    pub(super) fn smoothing_block(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let Some(s) = self.smoothing.as_deref() else { return Ok(()) };
+        let motion = match w.gcodes() {
+            [] => self.modes[group::MOTION],
+            [c] => *c,
+            _ => 0,
+        };
+        let point = motion == code::G01
+            && w.mcodes().is_empty()
+            && self.modes[group::FEED_MODE] != code::G93
+            && self.modes[group::CYCLE] == code::G80
+            && self.modal_calls.is_empty()
+            && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some());
+        if !point && s.run.is_some() {
+            self.smoothing_flush(out)?;
+        }
+        let starts = |codes: &[u16]| w.gcodes().iter().any(|c| codes.contains(c));
+        if starts(&[code::G43_4, code::G43_5]) {
+            return Err(AlarmId::IllegalCommandInTcp);
+        }
+        if starts(&[code::G68_2, code::G68_3, code::G68_4, code::G53_1, code::G53_3, code::G53_6]) {
+            return Err(AlarmId::TwpIllegalCommand);
+        }
+        if starts(&[code::G54_4]) && w.integer(b'P') != Some(0.0) {
+            return Err(AlarmId::WseModalState);
+        }
+        if let Some(s) = self.smoothing.as_deref_mut() {
+            s.point = point;
+        }
+        Ok(())
+    }
+
+    /// The G01 block being executed is a point of the curve (`smoothing_block`).
+    pub(super) fn smoothing_point_block(&self) -> bool {
+        self.smoothing.as_deref().is_some_and(|s| s.point)
+    }
+
+    /// The block's end point `target` (after the programming transforms): into the curve;
+    /// the spans it completes are moved.
+    pub(super) fn smoothing_point(&mut self, target: crate::canon::Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let tag = (self.line, self.n, self.f);
+        let start = self.pos;
+        let s = self.smoothing.as_deref_mut().expect("nano smoothing in force");
+        let settings = s.settings;
+        let run = s.run.get_or_insert_with(|| Smoother::new(settings, start));
+        let mut spans = Vec::new();
+        run.push(target, tag, &mut spans);
+        self.emit_spans(spans, out)
+    }
+
+    /// Move every span held (the run ends at its last point).
+    pub(super) fn smoothing_flush(&mut self, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let Some(mut run) = self.smoothing.as_deref_mut().and_then(|s| s.run.take()) else { return Ok(()) };
+        let mut spans = Vec::new();
+        run.finish(&mut spans);
+        self.emit_spans(spans, out)
+    }
+
+    /// A reset: what was held is dropped (the next run starts where the tool stands).
+    pub(super) fn smoothing_reset(&mut self) {
+        if let Some(s) = self.smoothing.as_deref_mut() {
+            s.run = None;
+        }
+    }
+
+    /// Each span's chords as motions of its block (its line, sequence number and F).
+    fn emit_spans(&mut self, spans: Vec<Span<Tag, MAX_AXES>>, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let here = (self.line, self.n, self.f);
+        for span in spans {
+            (self.line, self.n, self.f) = span.tag;
+            for q in span.chords {
+                if self.follows_tip() {
+                    // An alarm here names the block whose motion it is.
+                    self.tip_motion(MotionKind::Linear, q, None, out)?;
+                } else {
+                    self.push_motion(MotionKind::Linear, q, None, out);
+                }
+            }
+        }
+        (self.line, self.n, self.f) = here;
+        Ok(())
+    }
+}

@@ -1,0 +1,266 @@
+//! Nano smoothing, G05.1 Q3 (`docs/motion.md`, "Nano smoothing"): the tool tip (forward
+//! kinematics of the sampled axes) against the programmed points — within the tolerance of its
+//! block's programmed segment at every 1 ms sample, on 3-axis and under G43.4 — the curve
+//! through points of a known circle, corners kept, every block counted once and in order, and
+//! the mode's alarms.
+
+use crate::common;
+
+use common::{cases, first_alarm, first_alarm_with, interpreter_with};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::{run, RunOptions, RunResult, Sample};
+use fivex_engine::Dialect;
+use proptest::prelude::*;
+
+/// Run `src` on `preset` (FANUC, tool length 100), `tweak` adjusting the machine; every 1 ms
+/// sample.
+fn run_on(src: &str, preset: &str, tweak: impl FnOnce(&mut MachineConfig)) -> (RunResult, Vec<Sample>) {
+    let mut m = MachineConfig::preset(preset).unwrap();
+    tweak(&mut m);
+    let mut interp = interpreter_with(src, preset, Dialect::Fanuc, |c| c.machine = m.into());
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions { max_time_s: 120.0, ..RunOptions::default() }, |s| samples.push(*s));
+    (r, samples)
+}
+
+/// The distance from `p` to the segment `a`–`b`.
+fn to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let ab: [f64; 3] = std::array::from_fn(|c| b[c] - a[c]);
+    let ap: [f64; 3] = std::array::from_fn(|c| p[c] - a[c]);
+    let l2: f64 = ab.iter().map(|x| x * x).sum();
+    let t = if l2 > 0.0 { (ab.iter().zip(&ap).map(|(x, y)| x * y).sum::<f64>() / l2).clamp(0.0, 1.0) } else { 0.0 };
+    (0..3).map(|c| (a[c] + t * ab[c] - p[c]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// A program that smooths `points` (X, Y, Z) from the first at F `feed`: line 3 is the first
+/// block of the curve, line 3 + i the block ending at point i + 1; the program ends with G05.1
+/// Q0 and M30.
+fn program(points: &[[f64; 3]], feed: f64, smoothing: bool, prefix: &str) -> String {
+    let p0 = points[0];
+    let mut s = format!("G90 G00 X{:.4} Y{:.4} Z{:.4}\n{prefix}G01 F{feed:.0}\n", p0[0], p0[1], p0[2]);
+    s += if smoothing { "G05.1 Q3 X0 Y0 Z0\n" } else { "G04 X0\n" };
+    for p in &points[1..] {
+        s += &format!("X{:.4} Y{:.4} Z{:.4}\n", p[0], p[1], p[2]);
+    }
+    s + if smoothing { "G05.1 Q0\n" } else { "G04 X0\n" } + "M30\n"
+}
+
+/// Every sample of the curve's blocks is within `tol` (+ 1 µm for the chords and the check's
+/// sampling) of its own block's programmed segment; returns the largest distance.
+fn within_segments(samples: &[Sample], points: &[[f64; 3]], tol: f64) -> Result<f64, String> {
+    let mut worst = 0.0f64;
+    let mut seen = 0;
+    for s in samples {
+        let k = s.line as usize;
+        if !(4..4 + points.len() - 1).contains(&k) {
+            continue;
+        }
+        let i = k - 3;
+        let d = to_segment(s.tip, points[i - 1], points[i]);
+        if d > tol + 1e-6 {
+            return Err(format!("line {k} at t = {}: tip {:?} is {d} from its segment", s.t, s.tip));
+        }
+        worst = worst.max(d);
+        seen += 1;
+    }
+    if seen < 10 {
+        return Err(format!("only {seen} samples on the curve"));
+    }
+    Ok(worst)
+}
+
+/// A radius-20 arc cut into 1° blocks (sagitta 0.76 µm).
+fn arc_points() -> Vec<[f64; 3]> {
+    (0..=180).map(|i| (i as f64).to_radians()).map(|a| [20.0 * a.cos(), 20.0 * a.sin(), 0.0]).collect()
+}
+
+#[test]
+fn points_of_a_circle_become_a_curve_on_it() {
+    let points = arc_points();
+    let (r, samples) = run_on(&program(&points, 3000.0, true, ""), "mill3", |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    within_segments(&samples, &points, 0.01).unwrap();
+    // The polygon's chords sag 0.76 µm inside the circle; the curve through the corrected
+    // points (each 3·R·δ⁴/35 = 0.16 nm inside: `crate::smoothing`'s circle test) follows it to
+    // the chords' 0.1 µm.
+    let off = |s: &[Sample]| {
+        s.iter()
+            .filter(|s| (4..184).contains(&s.line))
+            .map(|s| (s.tip[0].hypot(s.tip[1]) - 20.0).abs())
+            .fold(0.0, f64::max)
+    };
+    assert!(off(&samples) < 1.2e-4, "{}", off(&samples));
+    let (plain, polygon) = run_on(&program(&points, 3000.0, false, ""), "mill3", |_| {});
+    assert!(plain.completed());
+    assert!(off(&polygon) > 7e-4, "{}", off(&polygon));
+    // Every block's samples come in order, each block once (the chords are counted to the
+    // block whose span they are).
+    let lines: Vec<u32> = samples.iter().map(|s| s.line).filter(|l| (4..184).contains(l)).collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "lines out of order");
+    assert_eq!(lines.first(), Some(&4));
+    assert_eq!(lines.last(), Some(&183));
+    // The last block ends at its programmed point.
+    let end = common::end_of(&ends(&program(&points, 3000.0, true, "")), 183);
+    assert!((end[0] + 20.0).abs() < 1e-12 && end[1].abs() < 1e-12, "{end:?}");
+}
+
+/// The machine position each motion of `src` on mill3 ends at, by line.
+fn ends(src: &str) -> Vec<(u32, fivex_engine::canon::Pos)> {
+    common::motion_ends(interpreter_with(src, "mill3", Dialect::Fanuc, |_| {}))
+}
+
+#[test]
+fn a_corner_between_smooth_runs_is_reached_exactly() {
+    // Two straight lines of 0.5 mm blocks meeting at 90° (beyond the 30° corner angle): the
+    // tool passes through the corner point itself.
+    let mut points: Vec<[f64; 3]> = (0..=20).map(|i| [i as f64 * 0.5, 0.0, 0.0]).collect();
+    points.extend((1..=20).map(|i| [10.0, i as f64 * 0.5, 0.0]));
+    let (r, samples) = run_on(&program(&points, 2000.0, true, ""), "mill3", |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    let src = program(&points, 2000.0, true, "");
+    assert_eq!(common::end_of(&ends(&src), 23)[..2], [10.0, 0.0]);
+    within_segments(&samples, &points, 0.01).unwrap();
+}
+
+#[test]
+fn the_program_text_ending_in_the_mode_moves_what_is_held() {
+    // No G05.1 Q0, no M30: the last point is still reached.
+    let points = arc_points();
+    let src = program(&points, 3000.0, true, "").replace("G05.1 Q0\nM30\n", "");
+    let (r, _) = run_on(&src, "mill3", |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    let ends = ends(&src);
+    let (line, last) = ends.last().unwrap();
+    assert_eq!(*line, 183);
+    assert!((last[0] + 20.0).abs() < 1e-12 && last[1].abs() < 1e-12, "{last:?}");
+}
+
+#[test]
+fn smoothing_cuts_the_cycle_time_of_noisy_points() {
+    // A wave sampled every 0.2 mm with ±2 µm of noise, as CAM output rounded to 4 decimals is:
+    // the polygon turns by up to 1.2° at every point (the noise's share alone), the curve
+    // through the corrected points turns smoothly, so the feed is held.
+    let points = wave(0.1, 0.003, 11);
+    let (s, smooth) = run_on(&program(&points, 15000.0, true, ""), "mill3", |_| {});
+    let (p, _) = run_on(&program(&points, 15000.0, false, ""), "mill3", |_| {});
+    assert!(s.completed() && p.completed());
+    within_segments(&smooth, &points, 0.01).unwrap();
+    eprintln!("cycle time: {} s smoothed, {} s not", s.cycle_time_s, p.cycle_time_s);
+    assert!(s.cycle_time_s < 0.9 * p.cycle_time_s, "{} s smoothed, {} s not", s.cycle_time_s, p.cycle_time_s);
+}
+
+/// Points along z = 2·sin(x/5) over 30 mm of X, `step` apart, with a deterministic noise of
+/// ±`noise` mm on Z.
+fn wave(step: f64, noise: f64, seed: u64) -> Vec<[f64; 3]> {
+    let mut state = seed;
+    let n = (30.0 / step) as usize;
+    (0..=n)
+        .map(|i| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let e =
+                if i == 0 || i == n { 0.0 } else { ((state >> 33) as f64 / (1u64 << 31) as f64 - 0.5) * 2.0 * noise };
+            let x = i as f64 * step;
+            [x, 0.3 * x, 2.0 * (x / 5.0).sin() + e].map(|v| (v * 1e4).round() / 1e4)
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(12)))]
+
+    /// Random waves, steps, noise, feeds and tolerances: every sample within the tolerance of
+    /// its block's programmed segment.
+    #[test]
+    fn the_tip_stays_within_the_tolerance_of_the_programmed_segments(
+        step in 0.05f64..1.5,
+        noise in 0.0f64..0.005,
+        seed in any::<u64>(),
+        feed in 500.0f64..10000.0,
+        tol in 0.002f64..0.05,
+    ) {
+        let points = wave(step, noise, seed);
+        let (r, samples) = run_on(&program(&points, feed, true, ""), "mill3", |m| m.motion.nano_smoothing.tolerance = tol);
+        prop_assert!(r.completed(), "{:?}", r.alarms);
+        let checked = within_segments(&samples, &points, tol);
+        prop_assert!(checked.is_ok(), "{:?}", checked);
+    }
+}
+
+#[test]
+fn under_g43_4_the_tip_and_the_rotary_axes_are_smoothed_within_their_tolerances() {
+    // Head-bc under G43.4: the tip along an arc of radius 40 in 1° blocks, B and C turning with
+    // it (B 20° → 34°, C −10° → 80°); C's tolerance 0.01°, B's 0 (the least increment).
+    let mut src = String::from("G90 G00 X40. Y0 Z10. B20. C-10.\nG43.4 H1\nG01 F2000\nG05.1 Q3 X0 Y0 Z0 B0 C0\n");
+    let mut tips = vec![[40.0, 0.0, 10.0]];
+    let mut rot = vec![[20.0, -10.0]];
+    for i in 1..=90 {
+        let a = (i as f64).to_radians();
+        let (p, b, c) =
+            ([40.0 * a.cos(), 40.0 * a.sin(), 10.0], 20.0 + 14.0 * (i as f64 / 90.0).powi(2), -10.0 + i as f64);
+        src += &format!("X{:.4} Y{:.4} Z10. B{b:.4} C{c:.4}\n", p[0], p[1]);
+        tips.push([(p[0] * 1e4).round() / 1e4, (p[1] * 1e4).round() / 1e4, 10.0]);
+        rot.push([(b * 1e4).round() / 1e4, c]);
+    }
+    src += "G05.1 Q0\nG49\nM30\n";
+    let (r, samples) = run_on(&src, "head-bc", |m| {
+        let c = m.axis_index(b'C').unwrap();
+        m.axes[c].smoothing_tolerance = 0.01;
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    let m = MachineConfig::preset("head-bc").unwrap();
+    let (b, c) = (m.axis_index(b'B').unwrap(), m.axis_index(b'C').unwrap());
+    let mut seen = 0;
+    for s in samples.iter().filter(|s| (5..=94).contains(&s.line)) {
+        let i = s.line as usize - 4;
+        let d = to_segment(s.tip, tips[i - 1], tips[i]);
+        assert!(d < 0.01 + 1e-6, "line {}: tip {:?} {d} from its segment", s.line, s.tip);
+        // The rotary axes within their tolerance (+ the chords' 0.0001°) of the range between
+        // their programmed ends.
+        for (k, axis, tol) in [(0, b, 0.001), (1, c, 0.01)] {
+            let (lo, hi) = (rot[i - 1][k].min(rot[i][k]), rot[i - 1][k].max(rot[i][k]));
+            // C rolls over: the samples show it modulo 360.
+            let v = s.machine[axis] - 360.0 * ((s.machine[axis] - lo + 180.0) / 360.0).floor();
+            assert!(
+                v > lo - tol - 2e-4 && v < hi + tol + 2e-4,
+                "line {}: axis {k} at {v}, not in [{lo}, {hi}]",
+                s.line
+            );
+        }
+        seen += 1;
+    }
+    assert!(seen > 90, "{seen}");
+}
+
+#[test]
+fn the_modes_alarms() {
+    let on = "G90 G00 X0 Y0 Z0\nG01 F1000\nG05.1 Q3 X0 Y0 Z0\n";
+    // Axis words name axes with 0; at least one linear axis.
+    assert_eq!(first_alarm("G05.1 Q3 X1. Y0 Z0\nM30\n", "mill3"), Some(("PS0010".into(), 1)));
+    assert_eq!(first_alarm("G05.1 Q3\nM30\n", "mill3"), Some(("PS0010".into(), 1)));
+    assert_eq!(first_alarm("G05.1 Q3 B0 C0\nM30\n", "head-bc"), Some(("PS0010".into(), 1)));
+    // G05.1 Q2 (smooth interpolation) is not built.
+    assert_eq!(first_alarm("G05.1 Q2 X0 Y0 Z0\nM30\n", "mill3"), Some(("PS0010".into(), 1)));
+    // Cutter compensation with nano smoothing is not built, either order.
+    assert_eq!(first_alarm(&format!("{on}G41 D1 X10.\nM30\n"), "mill3"), Some(("PS0010".into(), 4)));
+    assert_eq!(first_alarm("G01 F1000\nG41 D1 X10.\nG05.1 Q3 X0 Y0 Z0\nM30\n", "mill3"), Some(("PS0010".into(), 3)));
+    // G43.4 first, G05.1 Q0 before G49 (NSM-05); not with G43.5 (TV-38).
+    assert_eq!(first_alarm(&format!("{on}G43.4 H1\nM30\n"), "head-bc"), Some(("PS5421".into(), 4)));
+    assert_eq!(first_alarm("G43.4 H1\nG05.1 Q3 X0 Y0 Z0 B0 C0\nG49\nM30\n", "head-bc"), Some(("PS5421".into(), 3)));
+    assert_eq!(first_alarm("G43.5 H1\nG05.1 Q3 X0 Y0 Z0\nM30\n", "head-bc"), Some(("PS5421".into(), 2)));
+    // Tilted working plane and G54.4 do not take it, nor start inside it.
+    assert_eq!(first_alarm(&format!("{on}G68.2 X0 Y0 Z0 I0 J30. K0\nM30\n"), "head-bc"), Some(("PS5462".into(), 4)));
+    assert_eq!(
+        first_alarm("G68.2 X0 Y0 Z0 I0 J30. K0\nG05.1 Q3 X0 Y0 Z0\nM30\n", "head-bc"),
+        Some(("PS5462".into(), 2))
+    );
+    assert_eq!(first_alarm(&format!("{on}G54.4 P1\nM30\n"), "head-bc"), Some(("PS0439".into(), 4)));
+    // The Syntec dialect has no nano smoothing.
+    let syntec = common::alarm_with("G05.1 Q3 X0 Y0 Z0\nM30\n", Dialect::Syntec);
+    assert!(syntec.starts_with("COR-100"), "{syntec}");
+    // A program that uses it completes (the reference for the alarms above).
+    assert_eq!(first_alarm(&format!("{on}X1. Y1.\nX2. Y1.5\nG05.1 Q0\nM30\n"), "mill3"), None);
+    assert_eq!(
+        first_alarm_with("G43.4 H1\nG05.1 Q3 X0 Y0 Z0 B0 C0\nX1. B1.\nG05.1 Q0\nG49\nM30\n", "head-bc", |_| {}),
+        None
+    );
+}
