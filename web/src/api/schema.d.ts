@@ -893,6 +893,13 @@ export interface components {
              *     command gives the direction.
              */
             shortest?: boolean;
+            /**
+             * Format: double
+             * @description Rotary axes: how far nano smoothing for 5-axis machining (G05.1 Q3) may correct the
+             *     axis's programmed positions, degrees; 0: the least input increment, 0.001° (FANUC
+             *     No.19587).
+             */
+            smoothing_tolerance?: number;
             /** @description Stored stroke limit `[negative, positive]` in machine coordinates, mm or deg; `None`: none. */
             stroke?: number[] | null;
         };
@@ -1688,6 +1695,8 @@ export interface components {
              *     No.1604#0 SHP = 0); by default it is on from power-on (SHP = 1).
              */
             look_ahead_by_command?: boolean;
+            /** @description How nano smoothing (G05.1 Q3) builds its curve (`docs/motion.md`, "Nano smoothing"). */
+            nano_smoothing?: components["schemas"]["NanoSmoothing"];
             /**
              * @description Cutting feed has no acceleration/deceleration before interpolation (FANUC No.1660 = 0
              *     on every axis).
@@ -1712,6 +1721,44 @@ export interface components {
              *     neither vendor's parameter list carries it).
              */
             tool_change_s?: number;
+        };
+        /**
+         * @description The settings of nano smoothing (FANUC G05.1 Q3) for the linear axes: fivex's, as FANUC's
+         *     numbers and defaults for the conventional function are not in its sources (the rotary
+         *     axes' tolerance is FANUC No.19587, [`Axis::smoothing_tolerance`]).
+         */
+        NanoSmoothing: {
+            /**
+             * Format: double
+             * @description A point where the path turns by more than this (degrees) is a corner, kept.
+             * @default 30
+             */
+            corner_angle: number;
+            /**
+             * Format: double
+             * @description Blocks longer than this (mm) are not smoothed.
+             * @default 5
+             */
+            max_block: number;
+            /**
+             * Format: double
+             * @description Blocks shorter than this (mm) are not smoothed.
+             * @default 0
+             */
+            min_block: number;
+            /**
+             * Format: double
+             * @description A point between blocks whose lengths differ by more than this factor is kept.
+             * @default 5
+             */
+            spacing_ratio: number;
+            /**
+             * Format: double
+             * @description How far a programmed point may be corrected, and the tool path leave the programmed
+             *     segments (3-D distance of the linear axes, mm, > 0).
+             * @default 0.01
+             */
+            tolerance: number;
         };
         /** @description `PUT /overrides`, percent. */
         Overrides: {
