@@ -15,6 +15,9 @@ Writes into OUT_DIR (default: bench/out/ next to this script's parent):
                    on table-ac: a finishing raster over a dome, the tool along its normal
   cutting-5x.nc    the same raster under cutting point control G43.9 (X/Y/Z the cutting
                    point, `,L2` the dome's normal), the tool leaning 10 degrees toward +X
+  nano-5x.nc       200,000 G43.4 blocks for `fivex run` on head-bc (tip X Y Z and B C) of
+                   0.1 mm over a dome, in nano smoothing (G05.1 Q3 X0 Y0 Z0 B0 C0)
+  tcp4-5x.nc       the very same blocks without nano smoothing
 and prints the expected final value of #2 for the macro programs.
 
 Coordinates are computed with integer arithmetic only (micrometres), so the
@@ -204,6 +207,40 @@ def write_cutting5x(path, blocks):
         f.write("G49\nM30\n")
 
 
+def write_nano5x(path, blocks, smoothing):
+    """A 5-axis finishing pass for `fivex run` on head-bc: G43.4 over a dome z = -(x^2 +
+    y^2) / 2R in rows of 0.1 mm moves along X, 0.5 mm apart from Y5 on (so the tool never
+    stands vertical: C is continuous along a row), the tool along (x + 36.4, y, R) — the
+    normal leaning 20 degrees toward +X — as B C angles (B = its angle from Z, C its azimuth),
+    with or without nano smoothing. Angles to 4 decimals."""
+    step_um, half_um, pitch_um = 100, 60_000, 500
+    per_row = 2 * half_um // step_um
+    with open(path, "w", newline="\n") as f:
+        f.write("O0007\nG90 G54 G00 B0 C0\nG43.4 H1\n")
+        n = 0
+        row = 0
+        while n < blocks:
+            y = 5_000 + row * pitch_um
+            for k in range(per_row + 1):
+                if n == blocks:
+                    break
+                x = -half_um + k * step_um if row % 2 == 0 else half_um - k * step_um
+                z = -(x * x + y * y) // (2 * DOME_R_UM)
+                tx, ty, tz = x + 36_400, y, DOME_R_UM
+                b = math.degrees(math.atan2(math.hypot(tx, ty), tz))
+                c = math.degrees(math.atan2(ty, tx))
+                head = "G01 " if n == 0 else ""
+                feed = " F2000." if n == 0 else ""
+                f.write("%sX%s Y%s Z%s B%.4f C%.4f%s\n" % (head, fmt(x), fmt(y), fmt(z), b, c, feed))
+                if n == 0 and smoothing:
+                    f.write("G05.1 Q3 X0 Y0 Z0 B0 C0\n")
+                n += 1
+            row += 1
+        if smoothing:
+            f.write("G05.1 Q0\n")
+        f.write("G49\nM30\n")
+
+
 def expected_macro(iters):
     acc = 0.0
     for i in range(iters):
@@ -228,6 +265,8 @@ def main():
         "indexed-5x.nc": lambda p: write_indexed(p, a.faces),
         "tcp-5x.nc": lambda p: write_tcp5x(p, 20_000),
         "cutting-5x.nc": lambda p: write_cutting5x(p, 20_000),
+        "nano-5x.nc": lambda p: write_nano5x(p, 200_000, True),
+        "tcp4-5x.nc": lambda p: write_nano5x(p, 200_000, False),
     }
     for name, writer in files.items():
         path = os.path.join(a.out, name)

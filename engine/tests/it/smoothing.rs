@@ -186,6 +186,54 @@ proptest! {
     }
 }
 
+/// `program` under G43.4 on head-bc with B and C turning along the points (B from 10° by up to
+/// `tilt`° more, C by `turn`° over the run), both smoothed; the tips are the points, on the
+/// lines `program` puts them.
+fn program_5x(points: &[[f64; 3]], feed: f64, tilt: f64, turn: f64) -> String {
+    let n = points.len() as f64;
+    let angles = |i: usize| {
+        let u = i as f64 / n;
+        [(10.0 + tilt * (3.0 * u).sin().abs()) * 1e4, (turn * u) * 1e4].map(|v| v.round() / 1e4)
+    };
+    let p0 = points[0];
+    let [b0, c0] = angles(0);
+    let mut s =
+        format!("G90 G00 X{:.4} Y{:.4} Z{:.4} B{b0:.4} C{c0:.4}\nG43.4 H1 G01 F{feed:.0}\n", p0[0], p0[1], p0[2]);
+    s += "G05.1 Q3 X0 Y0 Z0 B0 C0\n";
+    for (i, p) in points.iter().enumerate().skip(1) {
+        let [b, c] = angles(i);
+        s += &format!("X{:.4} Y{:.4} Z{:.4} B{b:.4} C{c:.4}\n", p[0], p[1], p[2]);
+    }
+    s + "G05.1 Q0\nG49\nM30\n"
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(8)))]
+
+    /// The same under G43.4 on head-bc, B and C smoothed too (their tolerances 0.01°): the tip
+    /// (forward kinematics of the sampled axes) within the tolerance of its block's segment.
+    #[test]
+    fn under_g43_4_the_tip_stays_within_the_tolerance(
+        step in 0.1f64..1.0,
+        noise in 0.0f64..0.004,
+        seed in any::<u64>(),
+        feed in 500.0f64..6000.0,
+        tilt in 0.0f64..20.0,
+        turn in -90.0f64..90.0,
+    ) {
+        let points = wave(step, noise, seed);
+        let src = program_5x(&points, feed, tilt, turn);
+        let (r, samples) = run_on(&src, "head-bc", |m| {
+            for a in m.axes.iter_mut().filter(|a| a.kind == fivex_engine::machine::AxisKind::Rotary) {
+                a.smoothing_tolerance = 0.01;
+            }
+        });
+        prop_assert!(r.completed(), "{:?}", r.alarms);
+        let checked = within_segments(&samples, &points, 0.01);
+        prop_assert!(checked.is_ok(), "{:?}", checked);
+    }
+}
+
 #[test]
 fn under_g43_4_the_tip_and_the_rotary_axes_are_smoothed_within_their_tolerances() {
     // Head-bc under G43.4: the tip along an arc of radius 40 in 1° blocks, B and C turning with
