@@ -349,17 +349,24 @@ pub struct FiveAxisOptions {
     #[serde(default, skip_serializing_if = "is_false")]
     pub wse_display_wcs: bool,
     // --- Syntec STCP (smooth tool centre point control, SYN-09) ---------------------------------
-    /// STCP is on with G43.4 without L (Syntec Pr3051 = 1; `L0` turns it off). Its mode rules
-    /// apply (COR-107); its smoothing is not modelled: the tip follows the programmed path
-    /// exactly (the machine loader reports the setting, `docs/machine-config.md`).
+    /// STCP is on with G43.4 without L (Syntec Pr3051 = 1; `L0` turns it off): RTCP whose tip
+    /// path and tool orientation are smoothed (`docs/motion.md`, "Nano smoothing").
     #[serde(default, skip_serializing_if = "is_false")]
     pub smooth_tcp: bool,
     /// STCP's rotary axis tolerances, degrees, master / slave (Syntec Pr3052 / Pr3053; absent:
-    /// the control's default 0.5). Kept so that the parameter list reads back; not used.
+    /// the control's default 0.5).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub smooth_tolerance: Option<[f64; 2]>,
+    /// STCP's tip path tolerance, mm (Syntec Pr407, "HPCC smoothing tolerance", 2–20 µm;
+    /// absent: the control's default 3 µm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smooth_path_tolerance: Option<f64>,
 }
+
+/// Syntec's defaults of Pr3052/3053 (0.5°) and Pr407 (3 µm).
+pub const STCP_ROTARY_TOLERANCE_DEG: f64 = 0.5;
+pub const STCP_PATH_TOLERANCE_MM: f64 = 0.003;
 
 /// What a reset (and a restart of the controller) does to the tilted working plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -754,6 +761,12 @@ impl MachineConfig {
         let angle = |x: f64| (0.0..=180.0).contains(&x);
         if !(angle(f.plane_change_angle) && angle(f.leading_edge_tolerance)) {
             return Err("five_axis: plane_change_angle and leading_edge_tolerance are 0 to 180 degrees".into());
+        }
+        if f.smooth_tolerance.is_some_and(|t| !t.iter().all(|x| x.is_finite() && *x > 0.0 && *x <= 360.0)) {
+            return Err("five_axis: smooth_tolerance is two angles above 0, at most 360 degrees".into());
+        }
+        if f.smooth_path_tolerance.is_some_and(|t| !(0.002..=0.020).contains(&t)) {
+            return Err("five_axis: smooth_path_tolerance is 0.002 to 0.020 mm (Syntec Pr407, 2 to 20 µm)".into());
         }
         if !(0.0..=90.0).contains(&f.cutting_point_singular_angle) {
             return Err("five_axis: cutting_point_singular_angle is 0 to 90 degrees".into());

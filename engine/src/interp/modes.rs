@@ -67,6 +67,11 @@ impl FiveAxisModes {
     pub(super) fn clear_wse(&mut self) {
         self.wse = 0;
     }
+
+    /// Syntec STCP is on.
+    pub(super) fn stcp_on(&self) -> bool {
+        self.stcp
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

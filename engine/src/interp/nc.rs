@@ -417,6 +417,7 @@ impl State {
             self.refuse_unbuilt_nurbs(&w)?;
         }
         self.five = five;
+        self.follow_stcp();
         if w.has_g(code::G67) {
             // G67 cancels the latest modal call; the one before it is in force again.
             self.modal_calls.pop();
@@ -1237,13 +1238,7 @@ impl State {
         if !self.cfg.refuse_unbuilt {
             return Ok(());
         }
-        // Syntec Pr3051 = 1 makes STCP the default of a G43.4 without L (SYN-09): an absent L
-        // reads as the machine's default (the table's only other L row, G10 L5000, needs an L).
-        let stcp_default = self.cfg.machine.five_axis.smooth_tcp.then_some(1.0);
-        let word = |letter: u8| match (letter, w.integer(letter)) {
-            (b'L', None) => stcp_default.map_or(unbuilt::Word::Absent, unbuilt::Word::Value),
-            (_, value) => value.map_or(unbuilt::Word::Absent, unbuilt::Word::Value),
-        };
+        let word = |letter: u8| w.integer(letter).map_or(unbuilt::Word::Absent, unbuilt::Word::Value);
         if w.gcodes().iter().any(|&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
             return Err(AlarmId::GCodeNotBuilt);
         }

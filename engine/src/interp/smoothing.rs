@@ -1,7 +1,9 @@
-//! FANUC nano smoothing, G05.1 Q3 (`docs/motion.md`, "Nano smoothing"): `G05.1 Q3 X0 Y0 Z0
-//! [α0 β0]` names the axes smoothed — the linear group and at most two rotary axes (nano
-//! smoothing for 5-axis machining, also under G43.4) — and turns look-ahead on; `G05.1 Q0`
-//! (or Q1) ends it. In the mode, a G01 block of axis words and F alone is a point of the curve
+//! FANUC nano smoothing, G05.1 Q3, and Syntec STCP (`docs/motion.md`, "Nano smoothing"):
+//! `G05.1 Q3 X0 Y0 Z0 [α0 β0]` names the axes smoothed — the linear group and at most two
+//! rotary axes (nano smoothing for 5-axis machining, also under G43.4) — and turns look-ahead
+//! on; `G05.1 Q0` (or Q1) ends it. STCP (`G43.4 L1`, or G43.4 with Pr3051 = 1) smooths the
+//! five RTCP axes within Pr407 and Pr3052/3053 until G49 or `G43.4 L0`. In the mode, a G01
+//! block of axis words and F alone is a point of the curve
 //! (`crate::smoothing` builds it and says which spans are ready); any other block first moves
 //! every span held, then runs as it always does. A span's chords are emitted as that block's
 //! motions (its line, sequence number and F) through the tip path under TCP.
@@ -11,7 +13,7 @@ use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, MotionKind};
-use crate::machine::{AxisKind, MAX_AXES};
+use crate::machine::{AxisKind, MAX_AXES, STCP_PATH_TOLERANCE_MM, STCP_ROTARY_TOLERANCE_DEG};
 use crate::smoothing::{Settings, Smoother, Span};
 
 /// The block a span belongs to: line, sequence number and feed.
@@ -20,9 +22,19 @@ type Tag = (u32, Option<u32>, f64);
 /// The least input increment of a rotary axis (IS-B), the tolerance No.19587 = 0 gives.
 const LEAST_INCREMENT_DEG: f64 = 0.001;
 
-/// Nano smoothing in force.
+/// Which function smooths.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Source {
+    /// FANUC G05.1 Q3.
+    Nano,
+    /// Syntec STCP.
+    Stcp,
+}
+
+/// Nano smoothing (or STCP) in force.
 #[derive(Debug, Clone)]
 pub(super) struct Smoothing {
+    source: Source,
     settings: Settings<MAX_AXES>,
     /// The run being built (`None` until its first point: it starts where the tool is then).
     run: Option<Smoother<Tag, MAX_AXES>>,
@@ -36,16 +48,69 @@ impl State {
     /// was held has been moved before it.
     pub(super) fn g05_1(&mut self, w: &Words) -> Result<(), AlarmId> {
         let q = w.integer(b'Q');
+        if self.cfg.dialect != crate::Dialect::Fanuc {
+            // Syntec's G05.1 (Q0–Q2 with E) is not FANUC's: its Q3 is refused (`unbuilt`), or
+            // run for its mode rules alone when refusals are off.
+            self.look_ahead = q == Some(1.0);
+            return Ok(());
+        }
         self.smoothing = None;
-        // Syntec's G05.1 (Q0–Q2 with E) is not FANUC's: its Q3 is refused (`unbuilt`), or run
-        // for its mode rules alone when refusals are off.
-        let nano = q == Some(3.0) && self.cfg.dialect == crate::Dialect::Fanuc;
-        self.look_ahead = q == Some(1.0) || nano;
-        if nano {
+        self.look_ahead = q == Some(1.0) || q == Some(3.0);
+        if q == Some(3.0) {
             let settings = self.smoothing_settings(w)?;
-            self.smoothing = Some(Box::new(Smoothing { settings, run: None, point: false }));
+            self.smoothing = Some(Box::new(Smoothing { source: Source::Nano, settings, run: None, point: false }));
         }
         Ok(())
+    }
+
+    /// STCP follows the mode a block leaves (the block's own motion is not smoothed: what was
+    /// held has been moved before it): on, the five RTCP axes are smoothed — X, Y, Z within
+    /// Pr407 of their 3-D path, the master and slave rotary axes within Pr3052 / Pr3053 —
+    /// with nano smoothing's conditions for blocks and corners (`motion.nano_smoothing`:
+    /// Syntec's manual gives none); off, it ends.
+    pub(super) fn follow_stcp(&mut self) {
+        let stcp = self.five.stcp_on() && self.cfg.dialect == crate::Dialect::Syntec;
+        let active = self.smoothing.as_deref().is_some_and(|s| s.source == Source::Stcp);
+        if stcp == active {
+            return;
+        }
+        self.smoothing = None;
+        if stcp {
+            let settings = self.stcp_settings();
+            self.smoothing = Some(Box::new(Smoothing { source: Source::Stcp, settings, run: None, point: false }));
+        }
+    }
+
+    fn stcp_settings(&self) -> Settings<MAX_AXES> {
+        let m = &self.cfg.machine;
+        let f = &m.five_axis;
+        let [master, slave] = f.smooth_tolerance.unwrap_or([STCP_ROTARY_TOLERANCE_DEG; 2]);
+        let mut linear = [false; MAX_AXES];
+        let mut rotary = [None; MAX_AXES];
+        let mut mm = [false; MAX_AXES];
+        for (i, axis) in m.axes.iter().enumerate() {
+            mm[i] = axis.kind == AxisKind::Linear;
+            linear[i] = matches!(axis.name, 'X' | 'Y' | 'Z') && axis.kind == AxisKind::Linear;
+            let link = m.rotary.iter().position(|l| l.axis == axis.name && l.fixed.is_none());
+            rotary[i] = link.map(|k| if k == 0 { master } else { slave });
+        }
+        let tolerance = f.smooth_path_tolerance.unwrap_or(STCP_PATH_TOLERANCE_MM);
+        Settings { linear, rotary, tolerance, ..self.smoothing_conditions(mm) }
+    }
+
+    /// The block and corner conditions of `motion.nano_smoothing`, nothing smoothed yet.
+    fn smoothing_conditions(&self, mm: [bool; MAX_AXES]) -> Settings<MAX_AXES> {
+        let n = &self.cfg.machine.motion.nano_smoothing;
+        Settings {
+            linear: [false; MAX_AXES],
+            rotary: [None; MAX_AXES],
+            tolerance: n.tolerance,
+            min_block: n.min_block,
+            max_block: n.max_block,
+            corner_cos: n.corner_angle.to_radians().cos(),
+            spacing_ratio: n.spacing_ratio,
+            mm,
+        }
     }
 
     /// The axes `G05.1 Q3` names (each with 0): one to three linear axes and at most two
@@ -74,17 +139,7 @@ impl State {
         if !(1..=3).contains(&lin) || rot > 2 {
             return Err(AlarmId::ImproperGCode);
         }
-        let n = &m.motion.nano_smoothing;
-        Ok(Settings {
-            linear,
-            rotary,
-            tolerance: n.tolerance,
-            min_block: n.min_block,
-            max_block: n.max_block,
-            corner_cos: n.corner_angle.to_radians().cos(),
-            spacing_ratio: n.spacing_ratio,
-            mm,
-        })
+        Ok(Settings { linear, rotary, ..self.smoothing_conditions(mm) })
     }
 
     /// In nano smoothing, before anything of the block is done: whether it is a point of the
@@ -105,8 +160,15 @@ impl State {
             && self.modes[group::CYCLE] == code::G80
             && self.modal_calls.is_empty()
             && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some());
+        let nano = s.source == Source::Nano;
         if !point && s.run.is_some() {
             self.smoothing_flush(out)?;
+        }
+        if !nano {
+            if let Some(s) = self.smoothing.as_deref_mut() {
+                s.point = point;
+            }
+            return Ok(());
         }
         let starts = |codes: &[u16]| w.gcodes().iter().any(|c| codes.contains(c));
         if starts(&[code::G43_4, code::G43_5]) {

@@ -101,13 +101,6 @@ const TABLE: &[NotBuilt] = &[
     row(411, When::Always, "normal direction control (G41.1)"),
     row(421, When::Always, "normal direction control (G42.1)"),
     row(431, When::Always, "tool length compensation in tool axis direction (G43.1)"),
-    // Syntec's G43.4 L1 is STCP (smooth tool centre point); L0 is plain RTCP.
-    NotBuilt {
-        code: 434,
-        dialect: Some(Dialect::Syntec),
-        when: When::Is(b'L', &[1.0]),
-        function: "smooth tool centre point control (STCP, G43.4 L1; without L when Pr3051 = 1)",
-    },
     row(437, When::Always, "tool offset (G43.7)"),
     row(450, When::Always, "tool position offset (G45)"),
     row(460, When::Always, "tool position offset (G46)"),
@@ -292,9 +285,5 @@ mod tests {
         assert!(g_code(51, Dialect::Syntec, q(Word::Value(3.0))).is_some());
         assert!(g_code(51, Dialect::Fanuc, q(Word::Absent)).is_some());
         assert!(g_code(51, Dialect::Fanuc, q(Word::Unknown)).is_none());
-        let l = |v: f64| move |c: u8| if c == b'L' { Word::Value(v) } else { Word::Absent };
-        assert!(g_code(434, Dialect::Syntec, l(1.0)).is_some());
-        assert!(g_code(434, Dialect::Syntec, l(0.0)).is_none());
-        assert!(g_code(434, Dialect::Fanuc, l(1.0)).is_none());
     }
 }

@@ -253,7 +253,11 @@ impl Track {
                 v = v.min((CRUISE * self.a[i] / q2).sqrt());
             }
             if q3 > TINY {
-                v = v.min((CRUISE * self.j[i] / q3).cbrt());
+                // ∛x only where it can be the lower (as `path::limits_with_share`).
+                let x = CRUISE * self.j[i] / q3;
+                if x < v * v * v * (1.0 + 1e-12) {
+                    v = v.min(x.cbrt());
+                }
             }
         }
         v

@@ -969,7 +969,12 @@ fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Li
             v = v.min((share * axes.a[i] / d.bend[i]).sqrt());
         }
         if d.twist[i] > tiny {
-            v = v.min((share * axes.j[i] / d.twist[i]).cbrt());
+            // The cube root (a tenth of a TCP run's time) only where it can be the lower:
+            // with x above v³ by more than its rounding, ∛x is above v.
+            let x = share * axes.j[i] / d.twist[i];
+            if x < v * v * v * (1.0 + 1e-12) {
+                v = v.min(x.cbrt());
+            }
         }
     }
     // The jerk each axis has left beside the cruise's own v³·q3.

@@ -522,8 +522,8 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if f.deviation_clamp || f.crc_table_coordinates {
         p.set_bits(19746, (f.deviation_clamp as u32) << 6 | (f.crc_table_coordinates as u32) << 4);
     }
-    if f.smooth_tcp || f.smooth_tolerance.is_some() {
-        return Err(unrepresentable("FANUC", "STCP (Syntec Pr3051–3053)"));
+    if f.smooth_tcp || f.smooth_tolerance.is_some() || f.smooth_path_tolerance.is_some() {
+        return Err(unrepresentable("FANUC", "STCP (Syntec Pr3051–3053, Pr407)"));
     }
     if f.plane_after_reset == PlaneAfterReset::KeptOverRestart {
         return Err(unrepresentable("FANUC", "a tilted working plane kept over a restart (Syntec Pr3014 = 2)"));

@@ -3,7 +3,7 @@
 //! Per axis i = 0, 1, … (consecutive numbers): Pr21+i servo channel (0: the axis is not set
 //! up), Pr201+i axis type, Pr321+i axis name, Pr401+i acceleration time, Pr421+i jerk time,
 //! Pr461+i rapid rate, Pr2401+i / Pr2421+i stroke. The 5-axis set: Pr3001 type, Pr3002–3004 tool
-//! direction, Pr3005–3008 rotary axes, Pr3009–3012 ranges, Pr3013 holder offset, Pr3051–3053 STCP, Pr3015–3020
+//! direction, Pr3005–3008 rotary axes, Pr3009–3012 ranges, Pr3013 holder offset, Pr3051–3053 and Pr407 STCP, Pr3015–3020
 //! orientation and zero errors, Pr3021–3046 mechanism-chain vectors; Pr3201 machine type.
 //!
 //! The seed names Pr21~, Pr201~ and Pr321~ without their value tables, and no rates or strokes:
@@ -212,6 +212,12 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             } else {
                 None
             },
+            // Pr407, µm (STCP's tip path tolerance; absent: 3).
+            smooth_path_tolerance: if p.0.contains_key(&407) {
+                Some(p.code(407, 2, 20)? as f64 / 1000.0)
+            } else {
+                None
+            },
             ..FiveAxisOptions::default()
         },
         // Syntec has no parameters for the 5-axis manual feeds (its manual RTCP is the PLC
@@ -397,6 +403,13 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if let Some([master, slave]) = f.smooth_tolerance {
         p.set(3052, blu(master));
         p.set(3053, blu(slave));
+    }
+    if let Some(t) = f.smooth_path_tolerance {
+        let um = t * 1000.0;
+        if (um - um.round()).abs() > 1e-9 {
+            return Err(unrepresentable("Syntec", "Pr407 holds whole micrometres"));
+        }
+        p.set(407, um.round());
     }
     let grip = t0 * from_blu(p.get(3013)?);
     let point = |k: usize| vec3(links[k].point);

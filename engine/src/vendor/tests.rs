@@ -968,17 +968,28 @@ fn unmodelled_fanuc_parameters_are_reported() {
     }
 }
 
-/// Syntec: an unknown number is reported, and STCP's smoothing settings (SYN-09), which the
-/// model keeps without smoothing, are reported from the model.
+/// Syntec: an unknown number is reported; STCP's settings (SYN-09: Pr3051–3053, Pr407) are
+/// carried out, read and written back.
 #[test]
-fn unmodelled_syntec_parameters_and_settings_are_reported() {
+fn unmodelled_syntec_parameters_are_reported_and_stcp_settings_round_trip() {
     let mut p = syntec_cb_spindle();
     p.set(9999, 1.0);
+    p.set(3051, 1.0);
     p.set(3052, 250.0);
+    p.set(407, 5.0);
     let names: Vec<String> = unmodelled::of_params(Dialect::Syntec, &p).into_iter().map(|u| u.parameter).collect();
-    assert_eq!(names, ["Pr9999", "five_axis.smooth_tolerance (Syntec Pr3052/3053)"]);
+    assert_eq!(names, ["Pr9999"]);
     let m = machine_from(Dialect::Syntec, "m", &p).unwrap();
-    assert_eq!(unmodelled::of_model(&m).len(), 1);
+    assert_eq!(unmodelled::of_model(&m), vec![]);
+    let f = &m.five_axis;
+    assert!(f.smooth_tcp);
+    assert_eq!((f.smooth_tolerance, f.smooth_path_tolerance), (Some([0.25, 0.5]), Some(0.005)));
+    let back = params_of(Dialect::Syntec, &m).unwrap();
+    assert_eq!(back.get(407).unwrap(), 5.0);
+    assert_eq!(machine_from(Dialect::Syntec, "m", &back).unwrap().five_axis, m.five_axis);
+    p.set(407, 25.0);
+    assert!(machine_from(Dialect::Syntec, "m", &p).is_err());
+    assert!(params_of(Dialect::Fanuc, &m).unwrap_err().detail.contains("Pr407"));
 }
 
 /// No.0000#2 INI: programs start in inch; the model's `motion.power_on_inch` both ways.

@@ -6,8 +6,8 @@
 //! changing its value by one, or (FANUC, values 0–255) flipping any of its bits leaves the
 //! machine the list describes unchanged. A FANUC bit that is set while the rest of its parameter
 //! is read is reported alone (`No.19608#0`). Known display-only parameters are not reported.
-//! Settings the model keeps without acting on them (Syntec STCP's smoothing) are reported from
-//! the model, whatever form it was given in.
+//! Settings the model would keep without acting on them are reported from the model, whatever
+//! form it was given in (none today).
 
 use super::{machine_from, Params, Value};
 use crate::machine::MachineConfig;
@@ -26,25 +26,11 @@ pub struct Unmodelled {
 /// Parameters that change nothing a program does (display only): accepted without a report.
 const DISPLAY_ONLY: &[(Dialect, u32)] = &[(Dialect::Fanuc, 3281)];
 
-/// The model's settings fivex keeps without carrying them out.
-pub fn of_model(m: &MachineConfig) -> Vec<Unmodelled> {
-    let mut out = Vec::new();
-    let f = &m.five_axis;
-    if f.smooth_tcp {
-        out.push(Unmodelled {
-            parameter: "five_axis.smooth_tcp (Syntec Pr3051)".into(),
-            reason: "STCP is on without L: its mode rules apply, its smoothing is not modelled (the tip follows \
-                     the programmed path exactly)"
-                .into(),
-        });
-    }
-    if f.smooth_tolerance.is_some() {
-        out.push(Unmodelled {
-            parameter: "five_axis.smooth_tolerance (Syntec Pr3052/3053)".into(),
-            reason: "STCP's rotary tolerances are kept, not used: fivex does not smooth".into(),
-        });
-    }
-    out
+/// The model's settings fivex keeps without carrying them out: none today (Syntec STCP's
+/// smoothing, the last, is performed); a setting the model gains before its function is built
+/// is reported here.
+pub fn of_model(_m: &MachineConfig) -> Vec<Unmodelled> {
+    Vec::new()
 }
 
 /// What of the parameter list `given` fivex does not carry out (nothing when the list

@@ -15,9 +15,18 @@ use proptest::prelude::*;
 /// Run `src` on `preset` (FANUC, tool length 100), `tweak` adjusting the machine; every 1 ms
 /// sample.
 fn run_on(src: &str, preset: &str, tweak: impl FnOnce(&mut MachineConfig)) -> (RunResult, Vec<Sample>) {
+    run_in(Dialect::Fanuc, src, preset, tweak)
+}
+
+fn run_in(
+    dialect: Dialect,
+    src: &str,
+    preset: &str,
+    tweak: impl FnOnce(&mut MachineConfig),
+) -> (RunResult, Vec<Sample>) {
     let mut m = MachineConfig::preset(preset).unwrap();
     tweak(&mut m);
-    let mut interp = interpreter_with(src, preset, Dialect::Fanuc, |c| c.machine = m.into());
+    let mut interp = interpreter_with(src, preset, dialect, |c| c.machine = m.into());
     let mut samples = Vec::new();
     let r = run(&mut interp, &RunOptions { max_time_s: 120.0, ..RunOptions::default() }, |s| samples.push(*s));
     (r, samples)
@@ -311,4 +320,74 @@ fn the_modes_alarms() {
         first_alarm_with("G43.4 H1\nG05.1 Q3 X0 Y0 Z0 B0 C0\nX1. B1.\nG05.1 Q0\nG49\nM30\n", "head-bc", |_| {}),
         None
     );
+}
+
+/// Syntec STCP on head-bc: `program_5x`'s blocks (B and C turning, unless `still`) with `head`
+/// (`G43.4 H1 L1` …) in place of G43.4 and G05.1 Q3.
+fn stcp_program(points: &[[f64; 3]], feed: f64, head: &str) -> String {
+    stcp_program_turning(points, feed, head, true)
+}
+
+fn stcp_program_turning(points: &[[f64; 3]], feed: f64, head: &str, turning: bool) -> String {
+    let (tilt, turn) = if turning { (12.0, 40.0) } else { (0.0, 0.0) };
+    program_5x(points, feed, tilt, turn)
+        .replace("G43.4 H1 G01", &format!("{head} G01"))
+        .replace("G05.1 Q3 X0 Y0 Z0 B0 C0\n", "G04 X0\n")
+        .replace("G05.1 Q0\n", "G04 X0\n")
+}
+
+#[test]
+fn syntec_stcp_smooths_the_tip_within_pr407_and_the_rotary_axes_within_pr3052_3053() {
+    // SYN-09: RTCP plus smoothing of the tip path (Pr407, default 3 µm) and of the tool
+    // orientation (Pr3052/3053, default 0.5°). The wave's ±3 µm of noise at 0.1 mm steps: the
+    // tip within 3 µm of its blocks' segments while B and C turn.
+    let points = wave(0.1, 0.003, 5);
+    let (s, smooth) = run_in(Dialect::Syntec, &stcp_program(&points, 12000.0, "G43.4 H1 L1"), "head-bc", |_| {});
+    assert!(s.completed(), "{:?}", s.alarms);
+    let worst = within_segments(&smooth, &points, 0.003).unwrap();
+    assert!(worst > 0.0005, "the noise is smoothed away: {worst}");
+    // With the tool still, faster than plain RTCP (L0). (With B and C turning, fivex's planner
+    // takes the curve's chords as short blocks of their own: `docs/motion.md`.)
+    let time = |head: &str| {
+        let (r, _) = run_in(Dialect::Syntec, &stcp_program_turning(&points, 12000.0, head, false), "head-bc", |_| {});
+        assert!(r.completed(), "{:?}", r.alarms);
+        r.cycle_time_s
+    };
+    let (stcp, rtcp) = (time("G43.4 H1 L1"), time("G43.4 H1 L0"));
+    assert!(stcp < 0.9 * rtcp, "{stcp} s with STCP, {rtcp} s without");
+    // Pr407 = 10 µm: within 10 µm, not within 3.
+    let (_, wide) = run_in(Dialect::Syntec, &stcp_program(&points, 12000.0, "G43.4 H1 L1"), "head-bc", |m| {
+        m.five_axis.smooth_path_tolerance = Some(0.010);
+    });
+    let worst = within_segments(&wide, &points, 0.010).unwrap();
+    assert!(worst > 0.003, "{worst}");
+}
+
+#[test]
+fn syntec_stcp_by_pr3051_and_its_end() {
+    // TV-25b/d: with Pr3051 = 1 a G43.4 without L is STCP; L0 is plain RTCP, whose motions are
+    // the blocks themselves. After G49 the blocks are plain again.
+    let points = wave(0.1, 0.003, 9);
+    let count = |src: &str, pr3051: bool| {
+        let m = {
+            let mut m = MachineConfig::preset("head-bc").unwrap();
+            m.five_axis.smooth_tcp = pr3051;
+            m
+        };
+        let interp = interpreter_with(src, "head-bc", Dialect::Syntec, |c| c.machine = m.into());
+        common::motion_ends(interp)
+    };
+    let plain = count(&stcp_program(&points, 3000.0, "G43.4 H1 L0"), true);
+    let by_parameter = count(&stcp_program(&points, 3000.0, "G43.4 H1"), true);
+    let by_l1 = count(&stcp_program(&points, 3000.0, "G43.4 H1 L1"), false);
+    // One motion per block, and the rapid, the tool length taking effect at G43.4 and at G49.
+    assert_eq!(plain.len(), points.len() + 2);
+    assert_eq!(by_parameter, by_l1);
+    assert_ne!(by_parameter, plain);
+    // The blocks after G49 are not smoothed: their ends are the programmed points.
+    let after =
+        stcp_program(&points, 3000.0, "G43.4 H1 L1").replace("G49\nM30\n", "G49\nX1. Y1. Z1.\nX2. Y1.5 Z1.2\nM30\n");
+    let ends = count(&after, false);
+    let n = ends.len();
+    assert_eq!(ends[n - 2].1[..3], [1.0, 1.0, 1.0]);
 }

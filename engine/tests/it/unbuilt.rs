@@ -181,7 +181,6 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G42.5 D1", &[Syntec]),
     ("G42.6 D1", &[Syntec]),
     ("G43.1 H1", &[Fanuc, Syntec]),
-    ("G43.4 H1 L1", &[Syntec]),
     ("G43.7 H1", &[Fanuc, Syntec]),
     ("G43.8 H1", &[Syntec]),
     ("G43.9 H1", &[Syntec]),
@@ -407,19 +406,5 @@ fn g41_square_runs_with_the_tool_centre_offset() {
         // Block 2 (start-up, inner corner with block 3) ends at (5, 5), not at (10, 0).
         let i = path.lines.iter().position(|&l| l == 2).unwrap();
         assert!(approx(path.points[i][0], 5.0) && approx(path.points[i][1], 5.0), "{:?}", path.points[i]);
-    }
-}
-
-#[test]
-fn stcp_by_parameter_is_refused_like_g43_4_l1() {
-    // Syntec Pr3051 = 1 makes a G43.4 without L start STCP (SYN-09, TV-25b), which is not built:
-    // refused as `G43.4 L1` is; L0 asks for plain RTCP and runs.
-    use fivex_engine::run::{run, RunOptions};
-    for (body, alarm) in [("G43.4 H1\nG49", Some("COR-100")), ("G43.4 H1 L0\nG49", None)] {
-        let mut interp =
-            interpreter_with(&program(body), PRESET, Syntec, |c| c.edit_machine(|m| m.five_axis.smooth_tcp = true));
-        let r = run(&mut interp, &RunOptions::default(), |_| {});
-        let got = r.alarms.first().map(|a| (a.code.as_str(), a.line));
-        assert_eq!(got, alarm.map(|code| (code, 2)), "{body}");
     }
 }

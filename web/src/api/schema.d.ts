@@ -1221,14 +1221,19 @@ export interface components {
              */
             singular_tolerance_deg?: number;
             /**
-             * @description STCP is on with G43.4 without L (Syntec Pr3051 = 1; `L0` turns it off). Its mode rules
-             *     apply (COR-107); its smoothing is not modelled: the tip follows the programmed path
-             *     exactly (the machine loader reports the setting, `docs/machine-config.md`).
+             * Format: double
+             * @description STCP's tip path tolerance, mm (Syntec Pr407, "HPCC smoothing tolerance", 2–20 µm;
+             *     absent: the control's default 3 µm).
+             */
+            smooth_path_tolerance?: number | null;
+            /**
+             * @description STCP is on with G43.4 without L (Syntec Pr3051 = 1; `L0` turns it off): RTCP whose tip
+             *     path and tool orientation are smoothed (`docs/motion.md`, "Nano smoothing").
              */
             smooth_tcp?: boolean;
             /**
              * @description STCP's rotary axis tolerances, degrees, master / slave (Syntec Pr3052 / Pr3053; absent:
-             *     the control's default 0.5). Kept so that the parameter list reads back; not used.
+             *     the control's default 0.5).
              */
             smooth_tolerance?: number[] | null;
             /** @description The programming coordinate system of tool centre point control. */
