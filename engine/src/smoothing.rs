@@ -237,11 +237,13 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
         let (lo, hi) = (j.saturating_sub(WINDOW), (j + WINDOW).min(last));
         let t = &self.t;
         let k = hi - lo + 1;
-        // Rows a·m[i−1] + b·m[i] + c·m[i+1] = r, solved by the Thomas algorithm.
-        let mut a = vec![0.0; k];
-        let mut b = vec![0.0; k];
-        let mut cc = vec![0.0; k];
-        let mut r = vec![[0.0; D]; k];
+        // Rows a·m[i−1] + b·m[i] + c·m[i+1] = r, solved by the Thomas algorithm (on the stack:
+        // this runs once per block).
+        const ROWS: usize = 2 * WINDOW + 1;
+        let mut a = [0.0; ROWS];
+        let mut b = [0.0; ROWS];
+        let mut cc = [0.0; ROWS];
+        let mut r = [[0.0; D]; ROWS];
         for i in lo..=hi {
             let row = i - lo;
             if i == lo || i == hi {
@@ -261,7 +263,7 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
                 *x -= w * p;
             }
         }
-        let mut m = vec![[0.0; D]; k];
+        let mut m = [[0.0; D]; ROWS];
         for row in (0..k).rev() {
             let next = if row + 1 < k { m[row + 1] } else { [0.0; D] };
             m[row] = std::array::from_fn(|c| (r[row][c] - cc[row] * next[c]) / b[row]);
@@ -313,19 +315,23 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
         let (mut m0, mut m1) = (self.m[k - 1], self.m[k]);
         let (p0, p1) = (self.p[k - 1], self.p[k]);
         let curve = |m0: &[f64; D], m1: &[f64; D], u: f64| hermite(&q0, &q1, m0, m1, h, u);
-        let samples = || (1..CHECK_SAMPLES).map(|i| i as f64 / CHECK_SAMPLES as f64);
-        let linear_out = samples()
-            .any(|u| chords::deviation(&p0, &p1, &curve(&m0, &m1, u), &self.s.linear, true) > self.s.tolerance);
+        // Which components leave their tolerance somewhere on the span (one pass of samples):
+        // the linear group as one, each rotary axis on its own; the others are not smoothed.
+        let mut out: [bool; D] = std::array::from_fn(|c| !self.s.linear[c] && self.s.rotary[c].is_none());
+        let mut linear_out = false;
+        for i in 1..CHECK_SAMPLES {
+            let u = i as f64 / CHECK_SAMPLES as f64;
+            let at = curve(&m0, &m1, u);
+            linear_out = linear_out || chords::deviation(&p0, &p1, &at, &self.s.linear, true) > self.s.tolerance;
+            for (c, tol) in self.s.rotary.iter().enumerate() {
+                if let Some(tol) = tol {
+                    out[c] = out[c] || (at[c] - (p0[c] + u * (p1[c] - p0[c]))).abs() > *tol;
+                }
+            }
+        }
         for c in 0..D {
-            let straight = (q1[c] - q0[c]) / h;
-            let out = if self.s.linear[c] {
-                linear_out
-            } else if let Some(tol) = self.s.rotary[c] {
-                samples().any(|u| (curve(&m0, &m1, u)[c] - (p0[c] + u * (p1[c] - p0[c]))).abs() > tol)
-            } else {
-                true
-            };
-            if out {
+            if out[c] || (self.s.linear[c] && linear_out) {
+                let straight = (q1[c] - q0[c]) / h;
                 (m0[c], m1[c]) = (straight, straight);
             }
         }
