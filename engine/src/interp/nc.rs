@@ -1289,8 +1289,7 @@ impl State {
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
-            conventional_settings: self.cfg.machine.motion.cutter_startup_perpendicular
-                || self.cfg.machine.motion.cutter_interference_avoidance,
+            conventional_settings: self.cfg.machine.motion.cutter_startup_perpendicular,
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

@@ -173,8 +173,8 @@ pub struct CutterBlock {
     /// coordinate system (FANUC No.19746#4 TBP = 1, WKP = 0, CRC-38): performed under tool
     /// centre point control only, whose programming frame Π is that system.
     pub table_system: bool,
-    /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV)
-    /// or avoids interference (No.19607#5 CAV): built for cutter compensation C only.
+    /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV):
+    /// built for cutter compensation C only.
     pub conventional_settings: bool,
 }
 
@@ -213,8 +213,7 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.leading_edge && b.q, "Q in the leading edge offset (G41.3)"),
         (
             b.tool_side && b.conventional_settings,
-            "the tool side offset with start-up perpendicular to the next move (No.5003#1 SUV) or interference \
-             avoidance (No.19607#5 CAV)",
+            "the tool side offset with start-up perpendicular to the next move (No.5003#1 SUV)",
         ),
     ]
     .into_iter()

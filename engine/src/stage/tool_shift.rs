@@ -15,6 +15,7 @@ use nalgebra::Matrix3;
 use std::sync::Arc;
 
 /// The tool and the vector where it stands, for one stage.
+#[derive(Clone)]
 pub(super) struct ToolShift {
     /// Axis indices of X, Y, Z.
     xyz: [Option<usize>; 3],
