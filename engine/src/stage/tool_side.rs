@@ -295,11 +295,11 @@ impl ToolSide {
     fn release(&mut self, points: &[P2], out: &mut Vec<Canon>) {
         let Some(w) = self.waiting.take() else { return };
         if self.interferes(&w, points[0]) {
-            match (self.next.filter(|_| self.avoid), self.pending.take()) {
+            let next = self.next.filter(|_| self.avoid);
+            match (next, self.pending.take(), self.staged.take()) {
                 // The block that starts at an avoidance point interferes too.
-                (Some(next), Some(p)) => self.avoid_again(p, w, next, out),
-                (Some(next), None) if self.staged.is_some() => {
-                    let before = self.staged.take().expect("staged");
+                (Some(next), Some(p), _) => self.avoid_again(p, w, next, out),
+                (Some(next), None, Some(before)) => {
                     self.place_avoidance(Pending { before, interfering: Vec::new() }, w, next);
                 }
                 // No block 1 (the start-up block, a vector lost) or no block after it in
@@ -439,12 +439,7 @@ impl ToolSide {
         if let Some(g) = self.guard.take() {
             // (The blocks an avoidance just before replaced, while its guard still runs.)
             for (curve, r) in g.replaced {
-                let moved = match curve {
-                    Curve::Line { from, to } => {
-                        Curve::Line { from: in_b(g.origin + g.plane.lift(from)), to: in_b(g.origin + g.plane.lift(to)) }
-                    }
-                    arc => arc,
-                };
+                let moved = moved(curve, (&g.plane, g.origin), (&b.plane, b.to));
                 if !replaced.contains(&(moved, r)) {
                     replaced.push((moved, r));
                 }
@@ -703,6 +698,20 @@ fn straighten(m: &mut Motion) {
 fn seen_from(b: &Waiting, h: &Waiting) -> Curve {
     let line = Curve::Line { from: b.plane.project(h.from - b.to), to: b.plane.project(h.to - b.to) };
     h.arc.and_then(|a| a.curve(&b.plane, b.to, h.from, h.to)).unwrap_or(line)
+}
+
+/// A 2-D block of the plane `from` (coordinates relative to its origin) as seen in the plane
+/// `to`: its points lifted into 3-D and projected there; a circle by its chord where the two
+/// planes are not parallel (as `seen_from`).
+fn moved(curve: Curve, from: (&Plane, Vec3), to: (&Plane, Vec3)) -> Curve {
+    let at = |p: P2| to.0.project(from.1 + from.0.lift(p) - to.1);
+    let facing = from.0.e1.dot(&to.0.e1);
+    match curve {
+        Curve::Arc { from: a, to: b, center, sweep } if 1.0 - facing.abs() <= ALIGNED => {
+            Curve::Arc { from: at(a), to: at(b), center: at(center), sweep: sweep * facing.signum() }
+        }
+        c => Curve::Line { from: at(c.from()), to: at(c.to()) },
+    }
 }
 
 /// The guard after an avoidance: the tool centre path of the released block `w` (ending at
