@@ -174,7 +174,7 @@ pub struct CutterBlock {
     /// centre point control only, whose programming frame Π is that system.
     pub table_system: bool,
     /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV):
-    /// built for cutter compensation C only.
+    /// built for cutter compensation C, and for the tool side offset without TCP.
     pub conventional_settings: bool,
 }
 
@@ -212,8 +212,9 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         ),
         (b.leading_edge && b.q, "Q in the leading edge offset (G41.3)"),
         (
-            b.tool_side && b.conventional_settings,
-            "the tool side offset with start-up perpendicular to the next move (No.5003#1 SUV)",
+            b.tool_side && b.conventional_settings && b.tcp,
+            "the tool side offset under tool centre point control with start-up perpendicular to the next move \
+             (No.5003#1 SUV)",
         ),
     ]
     .into_iter()

@@ -17,7 +17,7 @@
 use super::cutter::curve::{Curve, P2};
 use super::cutter::{avoidance_point, check_direction, corner, gouges, Held, GUARDED_BLOCKS, MAX_BLOCKS_BETWEEN};
 use super::tool_shift::ToolShift;
-use super::{Link, Stage};
+use super::{CompStart, Link, Stage};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, CutterWord, Motion, MotionKind};
 use crate::interp::gcode::code;
@@ -184,6 +184,9 @@ pub struct ToolSide {
     guard: Option<Guard>,
     /// The next block while the waiting one is released at the corner with it (offset mode).
     next: Option<Next>,
+    /// G41.2 came in a G00/G01 block without X/Y/Z under No.5003#1 SUV: the next block that
+    /// moves in its plane is preceded by a straight move perpendicular to it (rule 13).
+    perpendicular_start: Option<CompStart>,
 }
 
 /// Under interference avoidance: the block released last, which becomes block 1 if the block
@@ -254,6 +257,7 @@ impl ToolSide {
             pending: None,
             guard: None,
             next: None,
+            perpendicular_start: None,
         }
     }
 
@@ -496,6 +500,7 @@ impl ToolSide {
     }
 
     fn cancelled(&mut self) {
+        self.perpendicular_start = None;
         // (What is held back goes out with the next command; no block after the cancel joins it.)
         self.staged = None;
         self.pending = None;
@@ -563,7 +568,7 @@ impl ToolSide {
             self.alarm(AlarmId::GCodeNotBuilt, &c);
             return;
         }
-        let restart = if comp { self.link.take_comp_start().map(|s| s.pos) } else { None };
+        let restart = if comp { self.link.take_comp_start() } else { None };
         if self.on && restart.is_some() {
             self.release_perpendicular(out);
             self.cancelled();
@@ -572,7 +577,8 @@ impl ToolSide {
             self.on = true;
             self.shift.vector = Vec3::zeros();
             self.startup = true;
-            self.programmed = restart.map_or_else(|| self.shift.xyz(&m.target), |p| self.shift.xyz(&p));
+            self.programmed = restart.map_or_else(|| self.shift.xyz(&m.target), |s| self.shift.xyz(&s.pos));
+            self.perpendicular_start = restart.filter(|s| s.perpendicular.is_some());
         }
         let (from, to) = (self.programmed, self.shift.xyz(&m.target));
         self.programmed = to;
@@ -595,6 +601,23 @@ impl ToolSide {
         };
         let in_plane = |v: Vec3| crate::stage::cutter::curve::norm(plane.project(v)) > NO_MOVE;
         let moves = arc.is_some() || in_plane(to - from) && in_plane(to_at - from_at);
+        if comp && moves && self.startup && self.waiting.is_none() {
+            if let Some(s) = self.perpendicular_start.take() {
+                // Start-up perpendicular to the next movement (No.5003#1 SUV, rule 13): the
+                // G41.2 block moves straight by the offset value perpendicular to this block at
+                // its start, in this block's plane (the plane is taken at block ends, rule 11);
+                // this block is then one of offset mode (an arc too).
+                let v0 = plane
+                    .lift(crate::stage::cutter::curve::sub(curve.offset_point(false, signed_radius(m)), curve.from()));
+                if v0.norm() > NO_MOVE {
+                    self.flush(out);
+                    let inserted = self.shift.startup_move(&c, s.pos, s.machine, s.perpendicular, v0);
+                    out.push(inserted);
+                }
+                self.shift.vector = v0;
+                self.startup = false;
+            }
+        }
         if arc.is_some() && (self.startup || !comp) {
             self.alarm(AlarmId::ArcInCompStartCancel, &c);
             return;

@@ -424,15 +424,62 @@ fn what_the_tool_side_offset_does_not_perform_stays_refused() {
     }
 }
 
+/// No.5003#1 SUV (rule 13, CRC-08) under the tool side offset, in the plane of a tilted tool:
+/// head-bc at B45 C−90, the tool t = (0, −s, s), s = √2/2, the plane's axes e2 = X and
+/// e3 = (0, s, s) (e2 × e3 = t: G41.2 is G41 seen in (e2, e3)). A point (u, v) there with w
+/// along the tool is u e2 + v e3 + w t.
 #[test]
-fn the_start_up_perpendicular_to_the_next_move_is_refused() {
-    // No.5003#1 SUV (type C, CRC-08) is built for G41/G42 only: G41.2 on such a machine is
-    // refused rather than started up as type A.
-    let src = "G90 G00 X0 Y0 Z0\nG41.2 D1\nG01 X10. F500.\nG40 X0\nM30\n";
-    let mut interp =
-        interpreter_with(src, "head-bc", Fanuc, |c| c.edit_machine(|m| m.motion.cutter_startup_perpendicular = true));
+fn the_start_up_perpendicular_to_the_next_move_in_the_plane_of_the_tool() {
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let lift = |u: f64, v: f64, w: f64| [u, s * (v - w), s * (v + w)];
+    let xyz = |p: [f64; 3]| format!("X{:.9} Y{:.9} Z{:.9}", p[0], p[1], p[2]);
+    // From (−10, 0) along +u to (20, 0) (1 along the tool), then along +v to (20, 20); the
+    // G41.2 block in G01 has no X/Y/Z, nor has the G40 block.
+    let src = format!(
+        "G90 G00 {} B45. C-90.\nG01 G41.2 D1 F500.\n{}\n{}\nG40\nM30\n",
+        xyz(lift(-10.0, 0.0, 0.0)),
+        xyz(lift(20.0, 0.0, 1.0)),
+        xyz(lift(20.0, 20.0, 0.0))
+    );
+    let suv = |c: &mut fivex_engine::interp::Config| c.edit_machine(|m| m.motion.cutter_startup_perpendicular = true);
+    let got = ends_with(&src, "head-bc", suv);
+    assert_eq!(got.alarm, None, "{src}");
+    // The G41.2 block (line 2) moves by 5 perpendicular to the first block, to its left in the
+    // plane: (−10, 5). The first block is then one of offset mode: the left turn into +v is an
+    // inside corner, the offset lines v = 5 and u = 15 meet at (15, 5), at its own w = 1. The
+    // last block before the cancel ends perpendicular to itself, (15, 20); the G40 block moves
+    // from there to the programmed point (20, 20).
+    let want = [
+        (1, lift(-10.0, 0.0, 0.0)),
+        (2, lift(-10.0, 5.0, 0.0)),
+        (3, lift(15.0, 5.0, 1.0)),
+        (4, lift(15.0, 20.0, 0.0)),
+        (5, lift(20.0, 20.0, 0.0)),
+    ];
+    assert_eq!(got.ends.len(), want.len(), "{:?}", got.ends);
+    for ((l, p), (wl, w)) in got.ends.iter().zip(&want) {
+        assert!(l == wl && (p - Vec3::from(*w)).norm() < 1e-6, "line {l}: {p:?} want {wl} {w:?}");
+    }
+    // Without SUV (type A): the G41.2 and G40 blocks do not move; the start-up block ends at
+    // the same inside corner, and M30 leaves the last block perpendicular to itself.
+    let plain = ends_of(&src, "head-bc");
+    assert_eq!(plain.alarm, None);
+    let lines: Vec<u32> = plain.ends.iter().map(|e| e.0).collect();
+    assert_eq!(lines, [1, 3, 4]);
+    // An arc after the G41.2 block is one of offset mode under SUV (PS0034 without it): the
+    // tool vertical, G02 from (0, 0) about (10, 0) — the start-up move goes to the left of its
+    // start tangent (0, 1): (−5, 0).
+    let arc = "G90 G00 X0 Y0 Z0 B0 C0\nG01 G41.2 D1 F500.\nG02 X20. Y0 I10. J0\nG01 Y-10.\nG40\nM30\n";
+    assert_eq!(first_alarm(arc, "head-bc"), Some(("PS0034".into(), 3)));
+    let got = ends_with(arc, "head-bc", suv);
+    assert_eq!(got.alarm, None);
+    assert!((got.ends[1].1 - Vec3::new(-5.0, 0.0, 0.0)).norm() < 1e-9 && got.ends[1].0 == 2, "{:?}", got.ends);
+    // Under TCP the inserted moves would have to follow the tip: refused (PS0010 at G41.2).
+    let tcp =
+        format!("G90 G00 {} B45. C-90.\nG43.4 H1\nG01 G41.2 D1 F500.\nX0\nG40\nG49\nM30\n", xyz(lift(-10.0, 0.0, 0.0)));
+    let mut interp = interpreter_with(&tcp, "head-bc", Fanuc, suv);
     let r = fivex_engine::run::run(&mut interp, &Default::default(), |_| {});
-    assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).next(), Some(("PS0010", 2)));
+    assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).next(), Some(("PS0010", 3)));
 }
 
 #[test]
