@@ -480,6 +480,10 @@ fn the_start_up_perpendicular_to_the_next_move_in_the_plane_of_the_tool() {
     let mut interp = interpreter_with(&tcp, "head-bc", Fanuc, suv);
     let r = fivex_engine::run::run(&mut interp, &Default::default(), |_| {});
     assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).next(), Some(("PS0010", 3)));
+    // `fivex check` runs the same pipeline and reports it.
+    let mut interp = interpreter_with(&tcp, "head-bc", Fanuc, suv);
+    let stop = fivex_engine::check::run_without_motion(&mut interp).map(|s| (s.alarm.code, s.alarm.line));
+    assert_eq!(stop, Some(("PS0010".into(), 3)));
 }
 
 #[test]
@@ -992,6 +996,12 @@ mod interference {
         let mut interp = interpreter_with(&src, "head-bc", Fanuc, with(true, true, 0.0));
         let r = fivex_engine::run::run(&mut interp, &Default::default(), |_| {});
         assert!(r.completed(), "{:?}", r.alarms);
+        // `fivex check` runs the same stages: nothing to report with avoidance, PS0041 without.
+        let check = |cav: bool| {
+            let mut interp = interpreter_with(&src, "head-bc", Fanuc, with(true, cav, 0.0));
+            fivex_engine::check::run_without_motion(&mut interp).map(|s| (s.alarm.code, s.alarm.line))
+        };
+        assert_eq!((check(true), check(false)), (None, Some(("PS0041".into(), 5))));
         // Without avoidance: PS0041 at N4, N3 ends at its own corner 15 + 5√2, 5.
         let plain = ends_with(&src, "head-bc", with(true, false, 0.0));
         assert_eq!(plain.alarm, Some(("PS0041".into(), 5)));
