@@ -625,11 +625,14 @@ impl State {
             && self.perpendicular_start_stop(&w, code::TOOL_SIDE.contains(&comp_before))
         {
             // No.5003#1 SUV: a G40 block in G00/G01 without motion removes the vector itself,
-            // straight to where the program stands (`stage::cutter`, `stage::tool_side`; the
-            // tool side offset under TCP, whose move would have to follow the tip, is refused
-            // with SUV: `unbuilt::cutter`).
+            // straight to where the program stands (`stage::cutter`, `stage::tool_side`; under
+            // TCP the tool side offset's tip goes there, the axes following it).
             let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
-            self.push_motion(kind, self.pos, None, out);
+            if self.tcp_active() {
+                self.tip_motion(kind, self.pos, None, out)?;
+            } else {
+                self.push_motion(kind, self.pos, None, out);
+            }
             moved = true;
         } else if comp_before == code::G41_3
             && self.cfg.refuse_unbuilt
@@ -1295,7 +1298,6 @@ impl State {
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
-            conventional_settings: self.cfg.machine.motion.cutter_startup_perpendicular,
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

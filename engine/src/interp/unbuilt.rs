@@ -173,9 +173,6 @@ pub struct CutterBlock {
     /// coordinate system (FANUC No.19746#4 TBP = 1, WKP = 0, CRC-38): performed under tool
     /// centre point control only, whose programming frame Π is that system.
     pub table_system: bool,
-    /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV):
-    /// built for cutter compensation C, and for the tool side offset without TCP.
-    pub conventional_settings: bool,
 }
 
 /// The function a block under cutter compensation asks for that its stage does not perform.
@@ -211,11 +208,6 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
             "the leading edge offset (G41.3) on a machine without a tool rotation mechanism",
         ),
         (b.leading_edge && b.q, "Q in the leading edge offset (G41.3)"),
-        (
-            b.tool_side && b.conventional_settings && b.tcp,
-            "the tool side offset under tool centre point control with start-up perpendicular to the next move \
-             (No.5003#1 SUV)",
-        ),
     ]
     .into_iter()
     .find_map(|(refused, function)| refused.then_some(function))
