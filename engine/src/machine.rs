@@ -326,6 +326,19 @@ pub struct FiveAxisOptions {
     /// machine; off (SPG = 0): G41.2/G42.2 on every machine (CRC-31, CRC-32, TV-17).
     #[serde(default, skip_serializing_if = "is_false")]
     pub crc_codes_by_mechanism: bool,
+    /// The tool side offset's interference check is made in the compensation plane (the plane
+    /// perpendicular to the tool) on every machine type (FANUC No.19608#1 NI5 = 1, CRC-40, §3.4);
+    /// off (NI5 = 0): the §3.5.1 check on the programmed positions and the vectors in 3-D
+    /// (CRC-43), under which the tool side offset does not avoid interference
+    /// (`docs/cutter-compensation.md`, "Tool side offset", rule 12).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub crc_check_in_plane: bool,
+    /// Interference avoidance of the tool side offset: the largest angle, degrees, between the
+    /// tool at the end of the block before the interfering ones and at the start of the block
+    /// after them for which the avoidance vector is made (FANUC No.19636, CRC-41; 0 to 180);
+    /// a larger turn keeps the plain vectors. 0 (a cleared parameter): the tool must not turn.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub avoidance_max_tool_angle: f64,
     /// The tool side offset (G41.2/G42.2) places its vectors at the cutting point this far
     /// along the tool from the programmed (pivot) point, mm (FANUC No.19632, CRC-30: the
     /// point is Q + d·(tool direction, tip → holder), the manual's formula); 0: at the
@@ -759,8 +772,11 @@ impl MachineConfig {
             return Err("five_axis: cutting_point_distance must be a finite number".into());
         }
         let angle = |x: f64| (0.0..=180.0).contains(&x);
-        if !(angle(f.plane_change_angle) && angle(f.leading_edge_tolerance)) {
-            return Err("five_axis: plane_change_angle and leading_edge_tolerance are 0 to 180 degrees".into());
+        if !(angle(f.plane_change_angle) && angle(f.leading_edge_tolerance) && angle(f.avoidance_max_tool_angle)) {
+            return Err(
+                "five_axis: plane_change_angle, leading_edge_tolerance and avoidance_max_tool_angle are 0 to 180 degrees"
+                    .into(),
+            );
         }
         if f.smooth_tolerance.is_some_and(|t| !t.iter().all(|x| x.is_finite() && *x > 0.0 && *x <= 360.0)) {
             return Err("five_axis: smooth_tolerance is two angles above 0, at most 360 degrees".into());

@@ -509,7 +509,9 @@ impl State {
             // block comes (`stage::leading_edge`).
             let comp = self.modes[group::CUTTER_COMP];
             let conventional = matches!(comp, code::G41 | code::G42);
-            let inserts = conventional && self.perpendicular_start_stop(&w) || comp == code::G41_3;
+            let tool_side = code::TOOL_SIDE.contains(&comp);
+            let inserts =
+                (conventional || tool_side) && self.perpendicular_start_stop(&w, tool_side) || comp == code::G41_3;
             let perpendicular = inserts.then_some(PerpendicularStart {
                 line: self.line,
                 n: self.n,
@@ -616,18 +618,23 @@ impl State {
                 self.push_motion(kind, self.pos, None, out);
                 moved = true;
             }
-        } else if matches!(comp_before, code::G41 | code::G42)
+        } else if (matches!(comp_before, code::G41 | code::G42) || code::TOOL_SIDE.contains(&comp_before))
             && self.modes[group::CUTTER_COMP] == code::G40
             && !has_axes
             && axes_owner.is_none()
             && !transform_axes
             && self.modes[group::CYCLE] == code::G80
-            && self.perpendicular_start_stop(&w)
+            && self.perpendicular_start_stop(&w, code::TOOL_SIDE.contains(&comp_before))
         {
             // No.5003#1 SUV: a G40 block in G00/G01 without motion removes the vector itself,
-            // straight to where the program stands (`stage::cutter`).
+            // straight to where the program stands (`stage::cutter`, `stage::tool_side`; under
+            // TCP the tool side offset's tip goes there, the axes following it).
             let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
-            self.push_motion(kind, self.pos, None, out);
+            if self.tcp_active() {
+                self.tip_motion(kind, self.pos, None, out)?;
+            } else {
+                self.push_motion(kind, self.pos, None, out);
+            }
             moved = true;
         } else if comp_before == code::G41_3
             && self.cfg.refuse_unbuilt
@@ -990,12 +997,14 @@ impl State {
 
     /// Start-up and cancel "perpendicular to the next movement" (FANUC No.5003#1 SUV = 1,
     /// `motion.cutter_startup_perpendicular`) apply to this G41/G42/G40 block: it is in G00/G01
-    /// and has no axis word of the plane (`docs/cutter-compensation.md`, rule 13).
-    fn perpendicular_start_stop(&self, w: &Words) -> bool {
-        let letters: [u8; 2] = match self.modes[group::PLANE] {
-            code::G18 => [b'Z', b'X'],
-            code::G19 => [b'Y', b'Z'],
-            _ => [b'X', b'Y'],
+    /// and has no axis word of the plane (`docs/cutter-compensation.md`, rule 13) — for the tool
+    /// side offset (`tool_side`), whose plane is perpendicular to the tool, no X, Y or Z word.
+    fn perpendicular_start_stop(&self, w: &Words, tool_side: bool) -> bool {
+        let letters: &[u8] = match self.modes[group::PLANE] {
+            _ if tool_side => b"XYZ",
+            code::G18 => b"ZX",
+            code::G19 => b"YZ",
+            _ => b"XY",
         };
         self.cfg.machine.motion.cutter_startup_perpendicular
             && matches!(self.modes[group::MOTION], code::G00 | code::G01)
@@ -1292,8 +1301,6 @@ impl State {
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
-            conventional_settings: self.cfg.machine.motion.cutter_startup_perpendicular
-                || self.cfg.machine.motion.cutter_interference_avoidance,
             smoothing: if w.has_g(code::G05_1) { w.integer(b'Q') == Some(3.0) } else { self.smoothing.is_some() },
         };
         match unbuilt::cutter(&block) {

@@ -179,9 +179,6 @@ pub struct CutterBlock {
     /// coordinate system (FANUC No.19746#4 TBP = 1, WKP = 0, CRC-38): performed under tool
     /// centre point control only, whose programming frame Π is that system.
     pub table_system: bool,
-    /// The machine starts up and cancels perpendicular to the next move (FANUC No.5003#1 SUV)
-    /// or avoids interference (No.19607#5 CAV): built for cutter compensation C only.
-    pub conventional_settings: bool,
     /// Nano smoothing (G05.1 Q3) in force after the block: its curve is built from the
     /// programmed points, before (not after) any compensation.
     pub smoothing: bool,
@@ -221,11 +218,6 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
             "the leading edge offset (G41.3) on a machine without a tool rotation mechanism",
         ),
         (b.leading_edge && b.q, "Q in the leading edge offset (G41.3)"),
-        (
-            b.tool_side && b.conventional_settings,
-            "the tool side offset with start-up perpendicular to the next move (No.5003#1 SUV) or interference \
-             avoidance (No.19607#5 CAV)",
-        ),
     ]
     .into_iter()
     .find_map(|(refused, function)| refused.then_some(function))

@@ -82,7 +82,7 @@ struct Guard {
 
 /// The blocks released after an avoidance point whose paths the guard checks: the one that
 /// starts there and the one after it (decision, `docs/cutter-compensation.md` rule 9).
-const GUARDED_BLOCKS: usize = 2;
+pub(super) const GUARDED_BLOCKS: usize = 2;
 
 /// The guard's tolerance (mm): the new path may come this much closer than the radius.
 const GUARD_TOLERANCE: f64 = 1e-3;
@@ -329,13 +329,7 @@ impl Cutter {
             }
         }
         let b = &p.before.held;
-        let corner = b.curve.to();
-        let near = |q: &P2| norm(sub(*q, corner)) <= 10.0 * b.r.abs().max(rn.abs());
-        let va = curve::intersection(&b.curve, b.r, &next, rn, corner)
-            .filter(near)
-            .filter(|va| check_direction(b, *va).is_ok())
-            .filter(|va| !gouges(&replaced, &path_of(b, &[*va])));
-        let Some(va) = va else {
+        let Some(va) = avoidance_point(b, &next, rn, &replaced) else {
             let canon = b.canon.clone();
             self.alarm(AlarmId::CutterInterference, &canon);
             return;
@@ -843,9 +837,24 @@ pub(super) fn corner(h: &Held, next: &Curve, rn: f64, cancel: bool, type_b: bool
     Ok(points)
 }
 
+/// The avoidance vector of interference avoidance (`docs/cutter-compensation.md`, rule 9, and
+/// the tool side offset's rule 12): where the offset path of `before` (block 1, the last good
+/// block) crosses that of `next` (the next good block, signed radius `rn`), the crossing nearest
+/// block 1's programmed end. `None` — no avoidance — where they do not cross within ten radii of
+/// that end (decision, as rules 5 and 11), where block 1 ending there would itself interfere,
+/// or where its path there comes within the radius of one of the `replaced` blocks (the guard).
+pub(super) fn avoidance_point(before: &Held, next: &Curve, rn: f64, replaced: &[(Curve, f64)]) -> Option<P2> {
+    let corner = before.curve.to();
+    let near = |q: &P2| norm(sub(*q, corner)) <= 10.0 * before.r.abs().max(rn.abs());
+    curve::intersection(&before.curve, before.r, next, rn, corner)
+        .filter(near)
+        .filter(|va| check_direction(before, *va).is_ok())
+        .filter(|va| !gouges(replaced, &path_of(before, &[*va])))
+}
+
 /// The tool centre path of the released block `h` ending at `points[0]`, then straight to the
 /// other points: its pieces (an arc keeps its centre; its radius may change along it).
-fn path_of(h: &Held, points: &[P2]) -> Vec<Curve> {
+pub(super) fn path_of(h: &Held, points: &[P2]) -> Vec<Curve> {
     let mut pieces = Vec::with_capacity(points.len());
     pieces.push(match h.curve {
         Curve::Line { .. } => Curve::Line { from: h.start, to: points[0] },
@@ -867,7 +876,7 @@ fn path_of(h: &Held, points: &[P2]) -> Vec<Curve> {
 /// programmed blocks `replaced`, or lies beside one of them on the side away from the tool.
 /// The path is sampled at most a hundredth of the radius apart (the sampled distance errs by
 /// less than 0.1 µm near the radius).
-fn gouges(replaced: &[(Curve, f64)], pieces: &[Curve]) -> bool {
+pub(super) fn gouges(replaced: &[(Curve, f64)], pieces: &[Curve]) -> bool {
     replaced.iter().any(|(g, r)| {
         let want = r.abs() - GUARD_TOLERANCE;
         if want <= 0.0 {

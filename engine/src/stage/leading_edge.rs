@@ -213,28 +213,6 @@ impl LeadingEdge {
         }
     }
 
-    /// The move of the G41.3 block: from where the program stood straight by `vc` (the rotary
-    /// axes standing), in G00 or G01 as the G41.3 block was, at the first block's feed.
-    fn startup_move(&mut self, c: &Canon, s: &Startup, vc: Vec3) -> Canon {
-        let mut template = c.clone();
-        if let Some(b) = s.block {
-            (template.line, template.n) = (b.line, b.n);
-        }
-        if let CanonKind::Motion(m) = &mut template.kind {
-            m.target = s.pos;
-            m.machine = s.machine;
-            m.arc = None;
-            let rapid = s.block.map_or(m.kind == MotionKind::Rapid, |b| b.rapid);
-            m.kind = if rapid { MotionKind::Rapid } else { MotionKind::Linear };
-            if let Some(t) = m.tip.as_deref_mut() {
-                t.to = t.from;
-                t.arc = None;
-                t.posture = None;
-            }
-        }
-        self.shift.placed(template, vc)
-    }
-
     fn motion(&mut self, c: Canon, out: &mut Vec<Canon>) {
         let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
         let lead = m.context.cutter_comp == code::G41_3;
@@ -294,7 +272,8 @@ impl LeadingEdge {
                 self.alarm(AlarmId::LeadingEdgeAlongTool, &c);
                 return;
             };
-            let inserted = self.startup_move(&c, &s, vc);
+            // The move of the G41.3 block (`ToolShift::startup_move`).
+            let inserted = self.shift.startup_move(&c, s.pos, s.machine, s.block, vc);
             out.push(inserted);
             for c in std::mem::take(&mut self.after) {
                 let c = self.shift.placed(c, vc);

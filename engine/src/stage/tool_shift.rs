@@ -8,13 +8,15 @@
 //! the kinematics carry the moved tip (with TBP = 1, WKP = 0 that frame is the table coordinate
 //! system the compensation works in; without TCP that system is refused, `interp::unbuilt`).
 
-use crate::canon::{Canon, CanonKind, Motion, Pos};
+use super::PerpendicularStart;
+use crate::canon::{Canon, CanonKind, Motion, MotionKind, Pos};
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::MachineConfig;
 use nalgebra::Matrix3;
 use std::sync::Arc;
 
 /// The tool and the vector where it stands, for one stage.
+#[derive(Clone)]
 pub(super) struct ToolShift {
     /// Axis indices of X, Y, Z.
     xyz: [Option<usize>; 3],
@@ -96,6 +98,38 @@ impl ToolShift {
         }
         self.vector = vector;
         c
+    }
+
+    /// The move a compensation's start block makes when the first block after it comes (the
+    /// leading edge offset's G41.3 block, a start-up perpendicular to the next movement): from
+    /// where the program stood (`pos`, the machine at `machine`) straight by `vector`, the rotary
+    /// axes standing, made from the first block `c` — at its feed, in G00 or G01 as the start
+    /// block `block` was, with that block's line and sequence number.
+    pub(super) fn startup_move(
+        &mut self,
+        c: &Canon,
+        pos: Pos,
+        machine: Pos,
+        block: Option<PerpendicularStart>,
+        vector: Vec3,
+    ) -> Canon {
+        let mut template = c.clone();
+        if let Some(b) = block {
+            (template.line, template.n) = (b.line, b.n);
+        }
+        if let CanonKind::Motion(m) = &mut template.kind {
+            m.target = pos;
+            m.machine = machine;
+            m.arc = None;
+            let rapid = block.map_or(m.kind == MotionKind::Rapid, |b| b.rapid);
+            m.kind = if rapid { MotionKind::Rapid } else { MotionKind::Linear };
+            if let Some(t) = m.tip.as_deref_mut() {
+                t.to = t.from;
+                t.arc = None;
+                t.posture = None;
+            }
+        }
+        self.placed(template, vector)
     }
 
     /// A reset: the tool stands where the program says.

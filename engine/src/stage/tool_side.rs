@@ -15,9 +15,9 @@
 //! which does not turn with the table.
 
 use super::cutter::curve::{Curve, P2};
-use super::cutter::{check_direction, corner, Held, MAX_BLOCKS_BETWEEN};
+use super::cutter::{avoidance_point, check_direction, corner, gouges, Held, GUARDED_BLOCKS, MAX_BLOCKS_BETWEEN};
 use super::tool_shift::ToolShift;
-use super::{Link, Stage};
+use super::{CompStart, Link, Stage};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, CutterWord, Motion, MotionKind};
 use crate::interp::gcode::code;
@@ -101,11 +101,17 @@ impl Arc3 {
     }
 }
 
+/// No.19636 at 0: the tool must not turn across the avoided blocks; it turns where the angle
+/// between its directions exceeds this (degrees: directions computed from the same rotary
+/// angles agree far closer).
+const AVOID_MIN_DEG: f64 = 1e-6;
+
 /// The tool is along a circle's normal where 1 − |cos| of their angle is at most this (4.5e-5
 /// rad: a circle of 1 m seen from there is round to 1 µm).
 const ALIGNED: f64 = 1e-9;
 
 /// A block waiting for the next block that moves in its plane.
+#[derive(Clone)]
 struct Waiting {
     /// The block as a 2-D block in its end plane, coordinates relative to `to`.
     held: Held,
@@ -114,6 +120,8 @@ struct Waiting {
     /// and end, or with No.19632 the cutting points there (CRC-30).
     from: Vec3,
     to: Vec3,
+    /// The vector where it starts (programming coordinates).
+    start_vector: Vec3,
     /// Q1/Q2/Q3 of the block: its end where the plane-change check finds it in the way.
     q: Option<u8>,
     arc: Option<Arc3>,
@@ -161,6 +169,54 @@ pub struct ToolSide {
     /// check alarms and modes with the paths as they were before the stage existed: then the
     /// stage hands everything on as it comes.
     refuse: bool,
+    /// The interference check in the plane perpendicular to the tool (FANUC No.19608#1 NI5 = 1);
+    /// off: on the programmed 3-D positions and the vectors (§3.5.1).
+    check_in_plane: bool,
+    /// Interference avoidance (No.19607#5 CAV = 1, with NI5 = 1: §3.4).
+    avoid: bool,
+    /// The cosine of the largest turn of the tool across the avoided blocks (No.19636).
+    avoid_cos: f64,
+    /// Under `avoid`: what was released and not handed on yet — the last block (`staged`), or
+    /// an avoidance placed (`pending`) — handed on once the block after it has passed the check.
+    held_back: Vec<Canon>,
+    staged: Option<Staged>,
+    pending: Option<Pending>,
+    guard: Option<Guard>,
+    /// The next block while the waiting one is released at the corner with it (offset mode).
+    next: Option<Next>,
+    /// G41.2 came in a G00/G01 block without X/Y/Z under No.5003#1 SUV: the next block that
+    /// moves in its plane is preceded by a straight move perpendicular to it (rule 13).
+    perpendicular_start: Option<CompStart>,
+}
+
+/// Under interference avoidance: the block released last, which becomes block 1 if the block
+/// after it interferes.
+#[derive(Clone)]
+struct Staged {
+    w: Waiting,
+    /// The tool and vector before its output was made (to make it again, ending elsewhere).
+    shift: ToolShift,
+    /// The commands behind it as they came.
+    after: Vec<Canon>,
+    /// What its release gave.
+    out: Vec<Canon>,
+}
+
+/// An avoidance vector placed: block 1 and the interfering blocks (one or two, each with the
+/// commands behind it as they came).
+struct Pending {
+    before: Staged,
+    interfering: Vec<(Waiting, Vec<Canon>)>,
+}
+
+/// After an avoidance: the programmed blocks it replaced, as 2-D blocks in block 1's plane
+/// (relative to `origin`, block 1's end) with their signed radii, which the new path must keep
+/// the radius from (cutter compensation C's guard), and how many more blocks are checked.
+struct Guard {
+    replaced: Vec<(Curve, f64)>,
+    plane: Plane,
+    origin: Vec3,
+    left: usize,
 }
 
 fn is_tool_side(comp: u16) -> bool {
@@ -193,6 +249,15 @@ impl ToolSide {
             q: None,
             perpendicular: false,
             refuse: config.refuse_unbuilt,
+            check_in_plane: m.five_axis.crc_check_in_plane,
+            avoid: m.motion.cutter_interference_avoidance && m.five_axis.crc_check_in_plane,
+            avoid_cos: m.five_axis.avoidance_max_tool_angle.max(AVOID_MIN_DEG).to_radians().cos(),
+            held_back: Vec::new(),
+            staged: None,
+            pending: None,
+            guard: None,
+            next: None,
+            perpendicular_start: None,
         }
     }
 
@@ -228,13 +293,85 @@ impl ToolSide {
 
     /// Hand on the waiting block ending at `points[0]` (2-D, relative to its end in its
     /// plane), then straight moves to the other points at its feed, then the commands held
-    /// behind it at the last vector.
+    /// behind it at the last vector. Under interference avoidance it is held back (`staged`)
+    /// until the block after it has passed the check, and an interfering block gives way to an
+    /// avoidance vector.
     fn release(&mut self, points: &[P2], out: &mut Vec<Canon>) {
         let Some(w) = self.waiting.take() else { return };
-        if let Err(id) = check_direction(&w.held, points[0]) {
-            self.alarm(id, &w.held.canon);
+        if self.interferes(&w, points[0]) {
+            let next = self.next.filter(|_| self.avoid);
+            match (next, self.pending.take(), self.staged.take()) {
+                // The block that starts at an avoidance point interferes too.
+                (Some(next), Some(p), _) => self.avoid_again(p, w, next, out),
+                (Some(next), None, Some(before)) => {
+                    self.place_avoidance(Pending { before, interfering: Vec::new() }, w, next);
+                }
+                // No block 1 (the start-up block, a vector lost) or no block after it in
+                // offset mode: the alarm as without avoidance (what was avoided before moves).
+                _ => {
+                    self.flush(out);
+                    self.alarm(AlarmId::CutterInterference, &w.held.canon);
+                }
+            }
             return;
         }
+        if let Some(g) = &mut self.guard {
+            g.left = g.left.saturating_sub(1);
+            let gouges = guard_gouges(g, &w, points);
+            if g.left == 0 {
+                self.guard = None;
+            }
+            if gouges {
+                // The block that starts at the avoidance point: the avoidance is given up, PS0041
+                // at block 1 (not moved). A later block: PS0041 at it.
+                let canon = match self.pending.take() {
+                    Some(p) => {
+                        self.held_back.clear();
+                        p.before.w.held.canon
+                    }
+                    None => w.held.canon.clone(),
+                };
+                self.flush(out);
+                self.alarm(AlarmId::CutterInterference, &canon);
+                return;
+            }
+        }
+        if self.avoid {
+            self.flush(out);
+            let (shift, after) = (self.shift.clone(), self.after.clone());
+            let mut produced = Vec::new();
+            self.produce(w.clone(), points, &mut produced);
+            self.held_back = produced.clone();
+            self.staged = Some(Staged { w, shift, after, out: produced });
+        } else {
+            self.produce(w, points, out);
+        }
+    }
+
+    /// What was held back goes out: the avoidance or the staged block is final.
+    fn flush(&mut self, out: &mut Vec<Canon>) {
+        out.append(&mut self.held_back);
+        self.staged = None;
+        self.pending = None;
+    }
+
+    /// The interference check of a block ending at `end` (2-D in its plane): with NI5 = 1 in
+    /// the plane perpendicular to the tool (cutter compensation C's check); with NI5 = 0 on the
+    /// programmed positions and the vectors in 3-D (§3.5.1): the tool centre's move from start to
+    /// end against the programmed move. (A circle, seen along its normal, is checked in the
+    /// plane either way: its swept angle is about that normal.)
+    fn interferes(&self, w: &Waiting, end: P2) -> bool {
+        if self.check_in_plane || w.arc.is_some() {
+            return check_direction(&w.held, end).is_err();
+        }
+        let programmed = w.to - w.from;
+        let centre = (w.to + w.plane.lift(end)) - (w.from + w.start_vector);
+        centre.dot(&programmed) < 0.0
+    }
+
+    /// The output of the released block `w` ending at `points[0]`, the corner's straight moves,
+    /// the commands behind it.
+    fn produce(&mut self, w: Waiting, points: &[P2], out: &mut Vec<Canon>) {
         let template = (points.len() > 1).then(|| w.held.canon.clone());
         let start = w.from + self.shift.vector;
         let end = w.plane.lift(points[0]);
@@ -246,14 +383,10 @@ impl ToolSide {
         if let Some(mut template) = template {
             if let CanonKind::Motion(m) = &mut template.kind {
                 // A corner's move: straight, at the block's end, the rotary axes standing.
-                m.arc = None;
-                if m.kind != MotionKind::Rapid {
-                    m.kind = MotionKind::Linear;
-                }
+                straighten(m);
                 if let Some(t) = m.tip.as_deref_mut() {
                     t.from = t.to;
                     t.posture = None;
-                    t.arc = None;
                 }
             }
             for &p in &points[1..] {
@@ -267,13 +400,98 @@ impl ToolSide {
         }
     }
 
+    /// The block `w` that starts at the avoidance point of `p` interferes as well: two
+    /// consecutive interfering blocks, the avoidance vector moves to the crossing of block 1
+    /// with `next` (CRC-41). A third: no avoidance vector (CRC-42); block 1 ends at its own
+    /// vector and PS0041 stops the tool before the first interfering block (decision, as cutter
+    /// compensation C: `docs/cutter-compensation.md`, rule 9).
+    fn avoid_again(&mut self, p: Pending, w: Waiting, next: Next, out: &mut Vec<Canon>) {
+        if p.interfering.len() >= 2 {
+            self.held_back = p.before.out;
+            self.flush(out);
+            self.alarm(AlarmId::CutterInterference, &p.interfering[0].0.held.canon);
+            return;
+        }
+        self.place_avoidance(p, w, next);
+    }
+
+    /// One avoidance vector Va for the interfering blocks of `p` and `w` (CRC-41, M-15): the
+    /// block after them (`next`) projected on block 1's plane — perpendicular to the tool at its
+    /// end — and crossed with block 1 there (`cutter::avoidance_point`). Block 1 ends at Va, each
+    /// interfering block at Va in that plane (it moves only along block 1's tool), `next` starts
+    /// there; all of it is held back until `next` has passed the check. The tool
+    /// turning more than No.19636 between block 1's end and `next`'s start, no crossing, or the
+    /// guard failing: PS0041 — at the first interfering block (block 1 keeps its own vector)
+    /// when the tool turned, else at block 1, which does not move.
+    fn place_avoidance(&mut self, mut p: Pending, w: Waiting, next: Next) {
+        p.interfering.push((w, std::mem::take(&mut self.after)));
+        let b = p.before.w.clone();
+        let last = &p.interfering[p.interfering.len() - 1].0;
+        if b.plane.e1.dot(&last.plane.e1) < self.avoid_cos {
+            // (The check has raised it: "the compensation vector is determined but interference
+            // avoidance is not performed".)
+            let first = p.interfering[0].0.held.canon.clone();
+            self.held_back = p.before.out;
+            self.staged = None;
+            self.alarm(AlarmId::CutterInterference, &first);
+            return;
+        }
+        let in_b = |v: Vec3| b.plane.project(v - b.to);
+        let line = Curve::Line { from: in_b(last.to), to: in_b(next.to) };
+        let next_curve = next.arc.and_then(|a| a.curve(&b.plane, b.to, last.to, next.to)).unwrap_or(line);
+        let mut replaced: Vec<(Curve, f64)> = p.interfering.iter().map(|(h, _)| (seen_from(&b, h), h.held.r)).collect();
+        if let Some(g) = self.guard.take() {
+            // (The blocks an avoidance just before replaced, while its guard still runs.)
+            for (curve, r) in g.replaced {
+                let moved = moved(curve, (&g.plane, g.origin), (&b.plane, b.to));
+                if !replaced.contains(&(moved, r)) {
+                    replaced.push((moved, r));
+                }
+            }
+        }
+        let Some(va) = avoidance_point(&b.held, &next_curve, next.rn, &replaced) else {
+            self.held_back.clear();
+            self.staged = None;
+            self.alarm(AlarmId::CutterInterference, &b.held.canon);
+            return;
+        };
+        self.shift = p.before.shift.clone();
+        self.after = p.before.after.clone();
+        let mut produced = Vec::new();
+        self.produce(b.clone(), &[va], &mut produced);
+        let at = b.to + b.plane.lift(va);
+        let e1 = b.plane.e1;
+        for (h, after) in &p.interfering {
+            // An interfering block: straight to Va in block 1's plane, which the avoidance takes
+            // as the compensation plane (§3.4.1) — it moves only along block 1's tool — then the
+            // commands behind it.
+            let mut c = h.held.canon.clone();
+            if let CanonKind::Motion(m) = &mut c.kind {
+                straighten(m);
+            }
+            let across = at - h.to;
+            let c = self.shift.placed(c, across - e1 * across.dot(&e1));
+            produced.push(c);
+            for c in after {
+                let c = self.shift.placed(c.clone(), self.shift.vector);
+                produced.push(c);
+            }
+        }
+        self.held_back = produced;
+        self.pending = Some(p);
+        self.guard = Some(Guard { replaced, plane: b.plane, origin: b.to, left: GUARDED_BLOCKS });
+    }
+
     /// The waiting block ends with the vector perpendicular to it (nothing follows it in its
     /// plane); without one, the commands held are handed on at the current vector.
     fn release_perpendicular(&mut self, out: &mut Vec<Canon>) {
         if let Some(w) = &self.waiting {
             let end = w.held.curve.offset_point(true, w.held.r);
             self.release(&[end], out);
+            // No corner joins it to the next block: it is no block 1 of an avoidance.
+            self.staged = None;
         } else {
+            self.flush(out);
             for c in std::mem::take(&mut self.after) {
                 let c = self.shift.placed(c, self.shift.vector);
                 out.push(c);
@@ -282,6 +500,11 @@ impl ToolSide {
     }
 
     fn cancelled(&mut self) {
+        self.perpendicular_start = None;
+        // (What is held back goes out with the next command; no block after the cancel joins it.)
+        self.staged = None;
+        self.pending = None;
+        self.guard = None;
         self.on = false;
         self.startup = false;
         self.shift.vector = Vec3::zeros();
@@ -336,6 +559,7 @@ impl ToolSide {
             if self.cutting_point != 0.0 {
                 self.tool_last = self.shift.tool(m, &m.machine);
             }
+            self.flush(out);
             out.push(c);
             return;
         }
@@ -344,7 +568,7 @@ impl ToolSide {
             self.alarm(AlarmId::GCodeNotBuilt, &c);
             return;
         }
-        let restart = if comp { self.link.take_comp_start().map(|s| s.pos) } else { None };
+        let restart = if comp { self.link.take_comp_start() } else { None };
         if self.on && restart.is_some() {
             self.release_perpendicular(out);
             self.cancelled();
@@ -353,7 +577,8 @@ impl ToolSide {
             self.on = true;
             self.shift.vector = Vec3::zeros();
             self.startup = true;
-            self.programmed = restart.map_or_else(|| self.shift.xyz(&m.target), |p| self.shift.xyz(&p));
+            self.programmed = restart.map_or_else(|| self.shift.xyz(&m.target), |s| self.shift.xyz(&s.pos));
+            self.perpendicular_start = restart.filter(|s| s.perpendicular.is_some());
         }
         let (from, to) = (self.programmed, self.shift.xyz(&m.target));
         self.programmed = to;
@@ -376,6 +601,23 @@ impl ToolSide {
         };
         let in_plane = |v: Vec3| crate::stage::cutter::curve::norm(plane.project(v)) > NO_MOVE;
         let moves = arc.is_some() || in_plane(to - from) && in_plane(to_at - from_at);
+        if comp && moves && self.startup && self.waiting.is_none() {
+            if let Some(s) = self.perpendicular_start.take() {
+                // Start-up perpendicular to the next movement (No.5003#1 SUV, rule 13): the
+                // G41.2 block moves straight by the offset value perpendicular to this block at
+                // its start, in this block's plane (the plane is taken at block ends, rule 11);
+                // this block is then one of offset mode (an arc too).
+                let v0 = plane
+                    .lift(crate::stage::cutter::curve::sub(curve.offset_point(false, signed_radius(m)), curve.from()));
+                if v0.norm() > NO_MOVE {
+                    self.flush(out);
+                    let inserted = self.shift.startup_move(&c, s.pos, s.machine, s.perpendicular, v0);
+                    out.push(inserted);
+                }
+                self.shift.vector = v0;
+                self.startup = false;
+            }
+        }
         if arc.is_some() && (self.startup || !comp) {
             self.alarm(AlarmId::ArcInCompStartCancel, &c);
             return;
@@ -387,6 +629,7 @@ impl ToolSide {
             let next = Next { to: to_at, tool, rn: 0.0, cancel: true, arc };
             match (&self.waiting, moves) {
                 (Some(w), true) => match self.corner_with(w, Next { rn: w.held.r, ..next }, false) {
+                    // (No block after the cancel in offset mode: no avoidance.)
                     Ok(points) => self.release(&points, out),
                     Err(id) => {
                         let canon = w.held.canon.clone();
@@ -397,6 +640,7 @@ impl ToolSide {
             }
             if !self.stopped {
                 self.cancelled();
+                self.flush(out);
                 let c = self.shift.placed(c, Vec3::zeros());
                 out.push(c);
             }
@@ -407,6 +651,7 @@ impl ToolSide {
                 self.after.push(c);
                 self.lose_vector_if_too_many(out);
             } else {
+                self.flush(out);
                 let c = self.shift.placed(c, self.shift.vector);
                 out.push(c);
             }
@@ -426,17 +671,20 @@ impl ToolSide {
                         return;
                     }
                 };
-                let last = w.plane.lift(points[points.len() - 1]);
+                self.next = Some(next);
                 self.release(&points, out);
+                self.next = None;
                 if self.stopped {
                     return;
                 }
-                last
+                // The last vector placed (with an avoidance, Va seen in the last interfering
+                // block's plane).
+                self.shift.vector
             }
         };
         let startup = std::mem::replace(&mut self.startup, false);
         let held = Held { canon: c, curve, r, start: plane.project(from_at + vector - to_at), startup };
-        self.waiting = Some(Waiting { held, plane, from: from_at, to: to_at, q, arc });
+        self.waiting = Some(Waiting { held, plane, from: from_at, to: to_at, start_vector: vector, q, arc });
     }
 }
 
@@ -452,6 +700,64 @@ fn reshape(m: &mut Motion, arc: &Arc3, start: Vec3, end: Vec3) {
     if let Some(a) = m.tip.as_deref_mut().and_then(|t| t.arc.as_mut()) {
         a.sweep_deg = sweep;
     }
+}
+
+/// A block's move made straight in its plane (an interfering block under avoidance, a
+/// corner's move): no circle, G01 unless it is G00.
+fn straighten(m: &mut Motion) {
+    m.arc = None;
+    if m.kind != MotionKind::Rapid {
+        m.kind = MotionKind::Linear;
+    }
+    if let Some(t) = m.tip.as_deref_mut() {
+        t.arc = None;
+    }
+}
+
+/// The programmed block `h` as a 2-D block in the plane of `b` (relative to `b`'s end): its
+/// ends projected, a circle seen along its normal as a circle, else by its chord (decision:
+/// only a tool turned within No.19636 gets here, and a circle is compensated only where the
+/// tool is along its normal).
+fn seen_from(b: &Waiting, h: &Waiting) -> Curve {
+    let line = Curve::Line { from: b.plane.project(h.from - b.to), to: b.plane.project(h.to - b.to) };
+    h.arc.and_then(|a| a.curve(&b.plane, b.to, h.from, h.to)).unwrap_or(line)
+}
+
+/// A 2-D block of the plane `from` (coordinates relative to its origin) as seen in the plane
+/// `to`: its points lifted into 3-D and projected there; a circle by its chord where the two
+/// planes are not parallel (as `seen_from`).
+fn moved(curve: Curve, from: (&Plane, Vec3), to: (&Plane, Vec3)) -> Curve {
+    let at = |p: P2| to.0.project(from.1 + from.0.lift(p) - to.1);
+    let facing = from.0.e1.dot(&to.0.e1);
+    match curve {
+        Curve::Arc { from: a, to: b, center, sweep } if 1.0 - facing.abs() <= ALIGNED => {
+            Curve::Arc { from: at(a), to: at(b), center: at(center), sweep: sweep * facing.signum() }
+        }
+        c => Curve::Line { from: at(c.from()), to: at(c.to()) },
+    }
+}
+
+/// The guard after an avoidance: the tool centre path of the released block `w` (ending at
+/// `points[0]`, then its corner's moves), in 3-D projected on block 1's plane, comes within the
+/// radius of a replaced block (`cutter::gouges`). A circle not seen along its normal from there
+/// (the tool turned) is checked by its chord.
+fn guard_gouges(g: &Guard, w: &Waiting, points: &[P2]) -> bool {
+    let at = |v: Vec3| g.plane.project(v - g.origin);
+    let (start, end) = (w.from + w.start_vector, w.to + w.plane.lift(points[0]));
+    let first = match w.arc.and_then(|a| a.curve(&g.plane, g.origin, start, end)) {
+        Some(Curve::Arc { from, to, center, sweep }) => Curve::Arc {
+            from,
+            to,
+            center,
+            sweep: crate::stage::cutter::curve::swept(from, to, center, sweep) * sweep.signum(),
+        },
+        _ => Curve::Line { from: at(start), to: at(end) },
+    };
+    let mut pieces = vec![first];
+    for pair in points.windows(2) {
+        pieces.push(Curve::Line { from: at(w.to + w.plane.lift(pair[0])), to: at(w.to + w.plane.lift(pair[1])) });
+    }
+    gouges(&g.replaced, &pieces)
 }
 
 /// The interference check at a change of the compensation plane (FANUC 5-axis manual §3.1.2):
@@ -473,24 +779,10 @@ impl Stage for ToolSide {
         if self.stopped {
             return;
         }
-        match &command.kind {
-            // The words of the tool side offset are this stage's; G38/G39/G40's go on.
-            CanonKind::Cutter(CutterWord::PlaneChange(q)) => self.q = Some(*q),
-            CanonKind::Cutter(CutterWord::Perpendicular) => self.perpendicular = true,
-            _ if !self.refuse => out.push(command),
-            CanonKind::Motion(_) => self.motion(command, out),
-            CanonKind::ProgramEnd { .. } if self.on => {
-                self.release_perpendicular(out);
-                self.cancelled();
-                if !self.stopped {
-                    out.push(command);
-                }
-            }
-            _ if self.waiting.is_some() => {
-                self.after.push(command);
-                self.lose_vector_if_too_many(out);
-            }
-            _ => out.push(command),
+        self.push_command(command, out);
+        if self.stopped {
+            // The blocks before the one the alarm stops move (what an avoidance gave up is gone).
+            self.flush(out);
         }
     }
 
@@ -498,6 +790,7 @@ impl Stage for ToolSide {
         if !self.stopped {
             self.release_perpendicular(out);
         }
+        self.flush(out);
     }
 
     fn take_alarm(&mut self) -> Option<(AlarmId, u32, Option<u32>)> {
@@ -505,7 +798,12 @@ impl Stage for ToolSide {
     }
 
     fn passes(&self, command: &Canon) -> bool {
-        let idle = !self.on && self.waiting.is_none() && self.q.is_none() && !self.perpendicular && !self.stopped;
+        let idle = !self.on
+            && self.waiting.is_none()
+            && self.held_back.is_empty()
+            && self.q.is_none()
+            && !self.perpendicular
+            && !self.stopped;
         idle && self.cutting_point == 0.0
             && match &command.kind {
                 CanonKind::Motion(m) => !is_tool_side(m.context.cutter_comp),
@@ -521,7 +819,37 @@ impl Stage for ToolSide {
         self.shift.reset();
         self.waiting = None;
         self.after.clear();
+        self.held_back.clear();
+        self.next = None;
         self.stopped = false;
         self.alarm = None;
+    }
+}
+
+impl ToolSide {
+    fn push_command(&mut self, command: Canon, out: &mut Vec<Canon>) {
+        match &command.kind {
+            // The words of the tool side offset are this stage's; G38/G39/G40's go on.
+            CanonKind::Cutter(CutterWord::PlaneChange(q)) => self.q = Some(*q),
+            CanonKind::Cutter(CutterWord::Perpendicular) => self.perpendicular = true,
+            _ if !self.refuse => out.push(command),
+            CanonKind::Motion(_) => self.motion(command, out),
+            CanonKind::ProgramEnd { .. } if self.on => {
+                self.release_perpendicular(out);
+                self.cancelled();
+                if !self.stopped {
+                    self.flush(out);
+                    out.push(command);
+                }
+            }
+            _ if self.waiting.is_some() => {
+                self.after.push(command);
+                self.lose_vector_if_too_many(out);
+            }
+            _ => {
+                self.flush(out);
+                out.push(command);
+            }
+        }
     }
 }

@@ -334,7 +334,7 @@ fn manual_params(p: &mut Params, m: &MachineConfig) {
 }
 
 /// The 5-axis function bits: No.19696#3 NPC, #5 WKP, #6 RFC, No.19754#5 INZ, No.19604#0 TPC,
-/// No.19608#2 DET, #5 PRI, #6 MIR, No.19746#4 TBP, #6 CRS, No.11221#0 MTW, No.5400#2 D3R, and
+/// No.19608#1 NI5, #2 DET, #5 PRI, #6 MIR, No.19746#4 TBP, #6 CRS, No.11221#0 MTW, No.5400#2 D3R, and
 /// No.19738/19739/19751/19752/11220; G54.4: No.11200#0 RCM, No.11204 singular tolerance (degrees),
 /// No.5006#6 TOS (absent: 1), No.5412, No.11202/11203 (percent), No.3106#6 DAK (absent: 0).
 fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
@@ -363,6 +363,8 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         deviation_clamp: bit(19746, 6)?,
         crc_table_coordinates: bit(19746, 4)?,
         crc_codes_by_mechanism: bit(19607, 1)?,
+        crc_check_in_plane: bit(19608, 1)?,
+        avoidance_max_tool_angle: if p.0.contains_key(&19636) { p.get(19636)? } else { 0.0 },
         rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
         cutting_point_distance: if p.0.contains_key(&19632) { p.get(19632)? } else { 0.0 },
         plane_change_angle: if p.0.contains_key(&19635) { p.get(19635)? } else { 0.0 },
@@ -499,6 +501,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (19635, f.plane_change_angle),
         (19631, f.leading_edge_tolerance),
         (11262, f.cutting_point_singular_angle),
+        (19636, f.avoidance_max_tool_angle),
     ] {
         if value != 0.0 {
             p.set(number, real(value));
@@ -512,7 +515,10 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         (11200, f.tool_direction_compensation as u32),
         (
             19608,
-            (f.display_workpiece as u32) << 2 | (f.second_axis_first as u32) << 5 | (f.mirror_direction as u32) << 6,
+            (f.crc_check_in_plane as u32) << 1
+                | (f.display_workpiece as u32) << 2
+                | (f.second_axis_first as u32) << 5
+                | (f.mirror_direction as u32) << 6,
         ),
     ] {
         if value != 0 {

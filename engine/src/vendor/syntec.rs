@@ -374,7 +374,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     let compensation = f.cutting_point_distance != 0.0
         || f.plane_change_angle != 0.0
         || f.leading_edge_tolerance != 0.0
-        || f.cutting_point_singular_angle != 0.0;
+        || f.cutting_point_singular_angle != 0.0
+        || f.avoidance_max_tool_angle != 0.0
+        || f.crc_check_in_plane;
     if singular
         || clamp
         || f.mirror_direction
@@ -385,7 +387,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     {
         return Err(unrepresentable(
             "Syntec",
-            "No.19738/19739/NPC, MIR, DET, CRS, TBP, SPG and No.19631/19632/19635/11262 are FANUC settings",
+            "No.19738/19739/NPC, MIR, DET, CRS, TBP, SPG, NI5 and No.19631/19632/19635/19636/11262 are FANUC settings",
         ));
     }
     if m.axes.iter().any(|a| a.smoothing_tolerance != 0.0) {

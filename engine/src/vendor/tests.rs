@@ -1036,6 +1036,28 @@ fn fanuc_cutter_compensation_angles_19631_19635_round_trip() {
     assert!(m.validate().is_err());
 }
 
+/// No.19608#1 NI5 (the tool side offset's interference check in the compensation plane) and
+/// No.19636 (its avoidance's largest tool turn) are read and written back, NI5 beside DET in
+/// No.19608 (#1 + #2 = 6); a Syntec list refuses either.
+#[test]
+fn fanuc_ni5_and_19636_round_trip() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    (m.five_axis.crc_check_in_plane, m.five_axis.display_workpiece) = (true, true);
+    m.five_axis.avoidance_max_tool_angle = 7.5;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!((p.get(19608).unwrap(), p.get(19636).unwrap()), (6.0, 7.5));
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().five_axis, m.five_axis);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    m.five_axis.display_workpiece = false;
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("FANUC settings"));
+    m.five_axis.avoidance_max_tool_angle = 0.0;
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("NI5"));
+    (m.five_axis.crc_check_in_plane, m.five_axis.avoidance_max_tool_angle) = (false, 7.5);
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("19636"));
+    m.five_axis.avoidance_max_tool_angle = 180.5;
+    assert!(m.validate().is_err());
+}
+
 /// No.11262 (cutting point control's singular posture angle) is read and written back.
 #[test]
 fn fanuc_cutting_point_singular_angle_11262_round_trip() {

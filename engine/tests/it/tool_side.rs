@@ -424,15 +424,92 @@ fn what_the_tool_side_offset_does_not_perform_stays_refused() {
     }
 }
 
+/// No.5003#1 SUV (rule 13, CRC-08) under the tool side offset, in the plane of a tilted tool:
+/// head-bc at B45 C−90, the tool t = (0, −s, s), s = √2/2, the plane's axes e2 = X and
+/// e3 = (0, s, s) (e2 × e3 = t: G41.2 is G41 seen in (e2, e3)). A point (u, v) there with w
+/// along the tool is u e2 + v e3 + w t.
 #[test]
-fn the_start_up_perpendicular_to_the_next_move_is_refused() {
-    // No.5003#1 SUV (type C, CRC-08) is built for G41/G42 only: G41.2 on such a machine is
-    // refused rather than started up as type A.
-    let src = "G90 G00 X0 Y0 Z0\nG41.2 D1\nG01 X10. F500.\nG40 X0\nM30\n";
-    let mut interp =
-        interpreter_with(src, "head-bc", Fanuc, |c| c.edit_machine(|m| m.motion.cutter_startup_perpendicular = true));
+fn the_start_up_perpendicular_to_the_next_move_in_the_plane_of_the_tool() {
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let lift = |u: f64, v: f64, w: f64| [u, s * (v - w), s * (v + w)];
+    let xyz = |p: [f64; 3]| format!("X{:.9} Y{:.9} Z{:.9}", p[0], p[1], p[2]);
+    // From (−10, 0) along +u to (20, 0) (1 along the tool), then along +v to (20, 20); the
+    // G41.2 block in G01 has no X/Y/Z, nor has the G40 block.
+    let src = format!(
+        "G90 G00 {} B45. C-90.\nG01 G41.2 D1 F500.\n{}\n{}\nG40\nM30\n",
+        xyz(lift(-10.0, 0.0, 0.0)),
+        xyz(lift(20.0, 0.0, 1.0)),
+        xyz(lift(20.0, 20.0, 0.0))
+    );
+    let suv = |c: &mut fivex_engine::interp::Config| c.edit_machine(|m| m.motion.cutter_startup_perpendicular = true);
+    let got = ends_with(&src, "head-bc", suv);
+    assert_eq!(got.alarm, None, "{src}");
+    // The G41.2 block (line 2) moves by 5 perpendicular to the first block, to its left in the
+    // plane: (−10, 5). The first block is then one of offset mode: the left turn into +v is an
+    // inside corner, the offset lines v = 5 and u = 15 meet at (15, 5), at its own w = 1. The
+    // last block before the cancel ends perpendicular to itself, (15, 20); the G40 block moves
+    // from there to the programmed point (20, 20).
+    let want = [
+        (1, lift(-10.0, 0.0, 0.0)),
+        (2, lift(-10.0, 5.0, 0.0)),
+        (3, lift(15.0, 5.0, 1.0)),
+        (4, lift(15.0, 20.0, 0.0)),
+        (5, lift(20.0, 20.0, 0.0)),
+    ];
+    assert_eq!(got.ends.len(), want.len(), "{:?}", got.ends);
+    for ((l, p), (wl, w)) in got.ends.iter().zip(&want) {
+        assert!(l == wl && (p - Vec3::from(*w)).norm() < 1e-6, "line {l}: {p:?} want {wl} {w:?}");
+    }
+    // Without SUV (type A): the G41.2 and G40 blocks do not move; the start-up block ends at
+    // the same inside corner, and M30 leaves the last block perpendicular to itself.
+    let plain = ends_of(&src, "head-bc");
+    assert_eq!(plain.alarm, None);
+    let lines: Vec<u32> = plain.ends.iter().map(|e| e.0).collect();
+    assert_eq!(lines, [1, 3, 4]);
+    // An arc after the G41.2 block is one of offset mode under SUV (PS0034 without it): the
+    // tool vertical, G02 from (0, 0) about (10, 0) — the start-up move goes to the left of its
+    // start tangent (0, 1): (−5, 0).
+    let arc = "G90 G00 X0 Y0 Z0 B0 C0\nG01 G41.2 D1 F500.\nG02 X20. Y0 I10. J0\nG01 Y-10.\nG40\nM30\n";
+    assert_eq!(first_alarm(arc, "head-bc"), Some(("PS0034".into(), 3)));
+    let got = ends_with(arc, "head-bc", suv);
+    assert_eq!(got.alarm, None);
+    assert!((got.ends[1].1 - Vec3::new(-5.0, 0.0, 0.0)).norm() < 1e-9 && got.ends[1].0 == 2, "{:?}", got.ends);
+    // Under TCP the tip goes where the vectors say (`ends_with` checks every motion's axes
+    // carry it, tool length 100): the same points, two lines later (G43.4 and the turn first).
+    let tcp = src.replace("B45. C-90.\n", "B0 C0\nG43.4 H1\nG00 B45. C-90.\n").replace("M30", "G49\nM30");
+    let got = ends_with(&tcp, "head-bc", suv);
+    assert_eq!(got.alarm, None, "{tcp}");
+    assert_eq!(got.ends.len(), want.len() + 3, "{:?}", got.ends);
+    for ((l, p), (wl, w)) in got.ends[2..].iter().zip(&want) {
+        assert!(*l == wl + 2 && (p - Vec3::from(*w)).norm() < 1e-6, "line {l}: {p:?} want {w:?}");
+    }
+    // On mixed-bc (B tilts the tool about Y, C turns the table) in the workpiece system
+    // (WKP = 1): at B45 the tool is (s, 0, s); the plane's axes e2 = Y, e3 = (−s, 0, s)
+    // (e2 × e3 = the tool), so (u, v, w) is (s(w − v), u, s(v + w)). The same contour there
+    // gives the same points in (u, v, w), and the run moves through them.
+    let workpiece = |c: &mut fivex_engine::interp::Config| {
+        c.edit_machine(|m| {
+            m.motion.cutter_startup_perpendicular = true;
+            m.five_axis.tcp_coordinates = fivex_engine::machine::TcpCoordinates::Workpiece;
+        })
+    };
+    let lift_m = |u: f64, v: f64, w: f64| [s * (w - v), u, s * (v + w)];
+    let on_mixed = format!(
+        "G90 G00 {} B0 C0\nG43.4 H1\nG00 B45.\nG01 G41.2 D1 F500.\n{}\n{}\nG40\nG49\nM30\n",
+        xyz(lift_m(-10.0, 0.0, 0.0)),
+        xyz(lift_m(20.0, 0.0, 1.0)),
+        xyz(lift_m(20.0, 20.0, 0.0))
+    );
+    let got = ends_with(&on_mixed, "mixed-bc", workpiece);
+    assert_eq!((&got.alarm, got.ends.len()), (&None, 8), "{on_mixed}\n{:?}", got.ends);
+    let want_m =
+        [(1, -10.0, 0.0, 0.0), (2, -10.0, 5.0, 0.0), (3, 15.0, 5.0, 1.0), (4, 15.0, 20.0, 0.0), (5, 20.0, 20.0, 0.0)];
+    for ((l, p), (wl, u, v, w)) in got.ends[2..].iter().zip(want_m) {
+        assert!(*l == wl + 2 && (p - Vec3::from(lift_m(u, v, w))).norm() < 1e-6, "mixed line {l}: {p:?}");
+    }
+    let mut interp = interpreter_with(&on_mixed, "mixed-bc", Fanuc, workpiece);
     let r = fivex_engine::run::run(&mut interp, &Default::default(), |_| {});
-    assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).next(), Some(("PS0010", 2)));
+    assert!(r.completed(), "{:?}", r.alarms);
 }
 
 #[test]
@@ -441,6 +518,11 @@ fn m30_ends_the_mode_with_the_last_block_perpendicular() {
     // the offset lines' intersection (5, −5); M30 leaves X50 perpendicular to itself.
     let src = "G90 G00 X0 Y-10. Z0\nG42.2 D1 G01 Y0 F500.\nX50.\nM30\n";
     assert_ends(src, "head-bc", &[(1, [0.0, -10.0, 0.0]), (2, [5.0, -5.0, 0.0]), (3, [50.0, -5.0, 0.0])]);
+}
+
+/// NI5 = 1 (No.19608#1): the tool side offset's interference check in the compensation plane.
+fn ni5(c: &mut fivex_engine::interp::Config) {
+    c.edit_machine(|m| m.five_axis.crc_check_in_plane = true)
 }
 
 mod random {
@@ -504,7 +586,9 @@ mod random {
             let plane = ends_of(&program(side, &flat3, [start[0], start[1], 0.0], ""), "mill3");
             let points: Vec<[f64; 3]> = flat.iter().zip(&corners).map(|(p, k)| arr(lift(*p, k.2))).collect();
             let tilted = program(&format!("{side}.2"), &points, arr(lift(start, 0.0)), &format!(" B{b:.9} C{c:.9}"));
-            let tilted = ends_of(&tilted, preset);
+            // The check in the plane (NI5 = 1) is cutter compensation C's there; with NI5 = 0
+            // it is made in 3-D and misses reversals hidden by the moves along the tool.
+            let tilted = ends_with(&tilted, preset, ni5);
             prop_assert_eq!(&plane.alarm, &tilted.alarm);
             // A contour the compensation refuses (a gouge) is refused by both: compare others.
             prop_assume!(plane.alarm.is_none());
@@ -843,4 +927,280 @@ fn tbp_interlocks_and_what_stays_refused() {
     // The head axis may move before G41.2 (B is the tool's).
     let head = nested.replace("G41.2 D1", "G01 B20. F500.\nG41.2 D1").replace("G49", "G40\nG49");
     assert_eq!(with(&head, |_| {}), None);
+}
+
+// --- §3.4: the interference check in the compensation plane (NI5) and avoidance (CAV) --------
+
+mod interference {
+    //! FANUC 5-axis manual §3.4 (CRC-40…CRC-43, M-15, TV-33): with No.19608#1 NI5 = 1 the
+    //! interference check is made in the plane perpendicular to the tool, with NI5 = 0 on the
+    //! programmed 3-D positions and the vectors (§3.5.1); with No.19607#5 CAV = 1 (and NI5 = 1)
+    //! an interfering block's vectors give way to one avoidance vector Va, made in the plane of
+    //! the block before them (`docs/cutter-compensation.md`, "Tool side offset", rule 12).
+    //! The contours are cutter compensation C's hand-worked dips (`cutter.rs`, `avoidance`)
+    //! lifted into the plane of a tilted tool on head-bc, B45 C−90: the tool t = (0, −s, s),
+    //! s = √2/2, the plane's axes e2 = X, e3 = (0, s, s) (e2 × e3 = t, so G41.2 is G41 seen
+    //! there), and each point moved along the tool by its own w: (u, v, w) → u e2 + v e3 + w t.
+
+    use super::*;
+
+    const S: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+    fn lift(u: f64, v: f64, w: f64) -> Vec3 {
+        Vec3::new(u, S * (v - w), S * (v + w))
+    }
+
+    /// `G41.2` on head-bc at B45 C−90 from (−10, 0, 0) through `points` (u, v, w), the cancel to
+    /// `cancel` (u, v; w = 0). `angles[k]`: B/C words of the k-th point, if any.
+    fn program(points: &[(f64, f64, f64)], cancel: (f64, f64), angles: &[(usize, &str)]) -> String {
+        let xyz = |p: Vec3| format!("X{:.9} Y{:.9} Z{:.9}", p.x, p.y, p.z);
+        let mut src = format!("G90 G00 {} B45. C-90.\nG41.2 D1\nG01 F500. ", xyz(lift(-10.0, 0.0, 0.0)));
+        for (k, &(u, v, w)) in points.iter().enumerate() {
+            let extra = angles.iter().find(|a| a.0 == k).map_or("", |a| a.1);
+            src += &format!("{}{extra}\n", xyz(lift(u, v, w)));
+        }
+        src + &format!("G40 {}\nM30\n", xyz(lift(cancel.0, cancel.1, 0.0)))
+    }
+
+    fn with(ni5: bool, cav: bool, max_turn: f64) -> impl FnOnce(&mut fivex_engine::interp::Config) {
+        move |c: &mut fivex_engine::interp::Config| {
+            c.edit_machine(|m| {
+                m.five_axis.crc_check_in_plane = ni5;
+                m.motion.cutter_interference_avoidance = cav;
+                m.five_axis.avoidance_max_tool_angle = max_turn;
+            })
+        }
+    }
+
+    /// `ends` are `want` (line, u, v, w lifted) to 1e-6, in order.
+    #[track_caller]
+    fn assert_lifted(got: &Ends, want: &[(u32, f64, f64, f64)]) {
+        let close = got.ends.len() == want.len()
+            && got.ends.iter().zip(want).all(|((l, p), &(wl, u, v, w))| *l == wl && (p - lift(u, v, w)).norm() < 1e-6);
+        assert!(
+            close,
+            "got {:?}\nwant {:?}",
+            got.ends,
+            want.iter().map(|&(l, u, v, w)| (l, lift(u, v, w))).collect::<Vec<_>>()
+        );
+    }
+
+    /// `cutter.rs`'s `TWO` (a dip of two short blocks), each point moved along the tool.
+    const TWO: [(f64, f64, f64); 6] =
+        [(0.0, 0.0, 0.0), (20.0, 0.0, 2.0), (21.0, -1.0, -3.0), (22.0, -0.5, 5.0), (32.0, 9.5, 1.0), (40.0, 9.5, 0.0)];
+
+    #[test]
+    fn tv33_two_interfering_blocks_share_one_avoidance_vector_in_the_plane_of_the_tool() {
+        // In the plane (u, v) this is `cutter.rs`'s TWO, worked there by hand: N3 (to 20,0)
+        // ends at 15 + 5√2 = 22.071 on v = 5; N4 (to 21,−1) would run from there to its inside
+        // corner with N5 at 21.987, 5.084, back against (1, −1); avoided with N5's offset line
+        // −u + 2v = −23 + 5√5 at 33 − 5√5 = 21.820, 5, N5 would run from there to its inside
+        // corner with N6 at 19.038, 3.609, back against (2, 1): N4 and N5 interfere (TV-33's N30
+        // and N40: V20, V30, V40 removed). Va is where N3's offset line v = 5 crosses N6's,
+        // v − u = −22.5 + 5√2: u = 27.5 − 5√2 = 20.429 (N3 "N20", N6 "N50", both in N3's plane —
+        // the tool does not turn). N3 ends at Va at its own w (2), N4 and N5 stand there (each
+        // at its own w: they move only along the tool), N6 ends at its corner with N7 (outside,
+        // obtuse: v = 14.5, u = 37 − 5√2), N7 at 40, 14.5 (in line with the cancel).
+        let r2 = 5.0 * 2f64.sqrt();
+        let src = program(&TWO, (50.0, 9.5), &[]);
+        let got = ends_with(&src, "head-bc", with(true, true, 0.0));
+        assert_eq!(got.alarm, None, "{src}");
+        assert_lifted(
+            &got,
+            &[
+                (1, -10.0, 0.0, 0.0),
+                (3, 0.0, 5.0, 0.0),
+                (4, 27.5 - r2, 5.0, 2.0),
+                (5, 27.5 - r2, 5.0, -3.0),
+                (6, 27.5 - r2, 5.0, 5.0),
+                (7, 37.0 - r2, 14.5, 1.0),
+                (8, 40.0, 14.5, 0.0),
+                (9, 50.0, 9.5, 0.0),
+            ],
+        );
+        // And the run moves through them (the executor takes every move).
+        let mut interp = interpreter_with(&src, "head-bc", Fanuc, with(true, true, 0.0));
+        let r = fivex_engine::run::run(&mut interp, &Default::default(), |_| {});
+        assert!(r.completed(), "{:?}", r.alarms);
+        // `fivex check` runs the same stages: nothing to report with avoidance, PS0041 without.
+        let check = |cav: bool| {
+            let mut interp = interpreter_with(&src, "head-bc", Fanuc, with(true, cav, 0.0));
+            fivex_engine::check::run_without_motion(&mut interp).map(|s| (s.alarm.code, s.alarm.line))
+        };
+        assert_eq!((check(true), check(false)), (None, Some(("PS0041".into(), 5))));
+        // Without avoidance: PS0041 at N4, N3 ends at its own corner 15 + 5√2, 5.
+        let plain = ends_with(&src, "head-bc", with(true, false, 0.0));
+        assert_eq!(plain.alarm, Some(("PS0041".into(), 5)));
+        assert_eq!(plain.ends.last().map(|e| e.0), Some(4));
+        assert!((plain.ends.last().unwrap().1 - lift(15.0 + r2, 5.0, 2.0)).norm() < 1e-6, "{:?}", plain.ends);
+    }
+
+    #[test]
+    fn no_19636_a_tool_turning_across_the_avoided_block_keeps_the_plain_vectors() {
+        // `cutter.rs`'s DIP (one interfering block, N4), N4 turning the tool to B48 (3°): the
+        // tool at the end of N3 ("N20") and at the start of N5 ("N50", the end of N4) differ by
+        // 3°. No.19636 = 0 (the tool must not turn): no avoidance, N4's check raises PS0041 and
+        // N3 ends at its own corner 15 + 5√2, 5 (CRC-41: "the compensation vector is determined
+        // but interference avoidance is not performed").
+        let dip = [(0.0, 0.0, 0.0), (20.0, 0.0, 0.0), (21.0, -1.0, 0.0), (31.0, 9.0, 0.0), (40.0, 9.0, 0.0)];
+        let r2 = 5.0 * 2f64.sqrt();
+        let src = program(&dip, (50.0, 9.0), &[(2, " B48.")]);
+        let got = ends_with(&src, "head-bc", with(true, true, 0.0));
+        assert_eq!(got.alarm, Some(("PS0041".into(), 5)), "{src}");
+        assert_eq!(got.ends.last().map(|e| e.0), Some(4));
+        assert!((got.ends.last().unwrap().1 - lift(15.0 + r2, 5.0, 0.0)).norm() < 1e-6, "{:?}", got.ends);
+        // No.19636 = 2°: still too much. 5°: the avoidance is made — Va in N3's plane (the
+        // tool there is B45's), where v = 5 crosses N5's offset line v − u = −22 + 5√2:
+        // u = 27 − 5√2 (`cutter.rs`, `a_dip_smaller_than_the_tool_is_avoided`). N4 ends at Va
+        // in that plane too (§3.4.1: N3's plane "is regarded as a compensation plane"): its
+        // vector is perpendicular to N3's tool, not to its own turned one, and N5 starts there.
+        assert_eq!(ends_with(&src, "head-bc", with(true, true, 2.0)).alarm, Some(("PS0041".into(), 5)));
+        let got = ends_with(&src, "head-bc", with(true, true, 5.0));
+        assert_eq!(got.alarm, None, "{src}");
+        let at = |line: u32| got.ends.iter().find(|e| e.0 == line).unwrap().1;
+        assert!((at(4) - lift(27.0 - r2, 5.0, 0.0)).norm() < 1e-6, "{:?}", got.ends);
+        assert!((at(5) - lift(27.0 - r2, 5.0, 0.0)).norm() < 1e-6, "{:?}", got.ends);
+    }
+
+    #[test]
+    fn three_consecutive_interfering_blocks_stop_before_the_first() {
+        // `cutter.rs`'s three short blocks (to 21,−1; 22,−0.5; 23,−0.3) before the climb: N4, N5
+        // and N6 interfere one after the other (worked there by hand). No avoidance vector
+        // (CRC-42); the control overcuts, fivex stops before the first interfering block
+        // (decision, as under G41): PS0041 at N4, N3 at its own corner 15 + 5√2, 5.
+        let three = [
+            (0.0, 0.0, 0.0),
+            (20.0, 0.0, 1.0),
+            (21.0, -1.0, 0.0),
+            (22.0, -0.5, -1.0),
+            (23.0, -0.3, 0.0),
+            (33.0, 10.0, 2.0),
+            (40.0, 10.0, 0.0),
+        ];
+        let src = program(&three, (50.0, 10.0), &[]);
+        let got = ends_with(&src, "head-bc", with(true, true, 0.0));
+        assert_eq!(got.alarm, Some(("PS0041".into(), 5)), "{src}");
+        assert_eq!(got.ends.last().map(|e| e.0), Some(4));
+        assert!((got.ends.last().unwrap().1 - lift(15.0 + 5.0 * 2f64.sqrt(), 5.0, 1.0)).norm() < 1e-6);
+    }
+
+    #[test]
+    fn ni5_the_check_in_the_plane_sees_a_reversal_that_the_moves_along_the_tool_hide_in_3d() {
+        // The DIP with N4 (to 21,−1) moving 3 along the tool. In the plane N4 runs from its
+        // corner with N3 (22.071, 5) to its corner with N5 (21, 6.071): (−1.071, 1.071) against
+        // the programmed (1, −1), dot −2.142 < 0 — NI5 = 1: PS0041 at N4. In 3-D (NI5 = 0,
+        // §3.5.1) both moves also run 3 along the tool: the dot is −2.142 + 9 > 0, no alarm — the
+        // legacy check lets the compensated block run back over the dip.
+        let dip = [(0.0, 0.0, 0.0), (20.0, 0.0, 0.0), (21.0, -1.0, 3.0), (31.0, 9.0, 3.0), (40.0, 9.0, 0.0)];
+        let src = program(&dip, (50.0, 9.0), &[]);
+        assert_eq!(ends_with(&src, "head-bc", with(true, false, 0.0)).alarm, Some(("PS0041".into(), 5)));
+        let legacy = ends_with(&src, "head-bc", with(false, false, 0.0));
+        assert_eq!(legacy.alarm, None);
+        let r2 = 5.0 * 2f64.sqrt();
+        let at = |line: u32| legacy.ends.iter().find(|e| e.0 == line).unwrap().1;
+        assert!((at(5) - lift(21.0, r2 - 1.0, 3.0)).norm() < 1e-6, "{:?}", legacy.ends);
+        // The same dip without the move along the tool: the 3-D check sees it as well.
+        let flat = [(0.0, 0.0, 0.0), (20.0, 0.0, 0.0), (21.0, -1.0, 0.0), (31.0, 9.0, 0.0), (40.0, 9.0, 0.0)];
+        let src = program(&flat, (50.0, 9.0), &[]);
+        assert_eq!(ends_with(&src, "head-bc", with(false, false, 0.0)).alarm, Some(("PS0041".into(), 5)));
+        // NI5 = 0 with CAV = 1: no avoidance under the tool side offset (§3.5.1: "the
+        // interference check avoidance function cannot be used").
+        assert_eq!(ends_with(&src, "head-bc", with(false, true, 0.0)).alarm, Some(("PS0041".into(), 5)));
+        assert_eq!(ends_with(&src, "head-bc", with(true, true, 0.0)).alarm, None);
+    }
+}
+
+/// Random dips under G41.2 with CAV and NI5 (`docs/cutter-compensation.md`, "Tool side offset",
+/// rule 12), in the plane of a tool fixed at random B/C, on head-bc and mixed-bc under TCP (the
+/// workpiece system): the contours of `cutter.rs`'s `an_avoided_path_never_comes_closer_than_
+/// the_radius` — along +X, a dip of one or two short blocks, a long block, one along +X — lifted
+/// into the plane perpendicular to the tool, each point moved along the tool at random. Every
+/// run either ends in PS0041 or completes with every sample of the contour's blocks having its
+/// real tip (forward kinematics of the sampled axes, tool length 100) at R − 1 µm or more from
+/// every programmed block, measured in the plane. At least a fifth of the programs must be
+/// avoided (PS0041 without CAV, complete with it), so that the property is exercised.
+#[test]
+fn an_avoided_path_keeps_the_radius_in_the_plane() {
+    let mut seed: u64 = 0x5eed_c0de_0334;
+    let mut rand = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let dist = |p: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        let (d, w) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+        let t = ((w[0] * d[0] + w[1] * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
+        (w[0] - t * d[0]).hypot(w[1] - t * d[1])
+    };
+    let settings = |cav: bool| {
+        move |c: &mut fivex_engine::interp::Config| {
+            c.edit_machine(|m| {
+                m.five_axis.tcp_coordinates = fivex_engine::machine::TcpCoordinates::Workpiece;
+                m.five_axis.crc_check_in_plane = true;
+                m.motion.cutter_interference_avoidance = cav;
+            })
+        }
+    };
+    let (mut avoided, mut alarms, total) = (0, 0, cases(40));
+    for case in 0..total {
+        let preset = if case % 2 == 0 { "head-bc" } else { "mixed-bc" };
+        let (b, c) = (
+            ((-50.0 + 100.0 * rand()) * 1000.0f64).round() / 1000.0,
+            ((-180.0 + 360.0 * rand()) * 1000.0f64).round() / 1000.0,
+        );
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let mut pos = [0.0; 8];
+        (pos[3], pos[4]) = (b, c);
+        let t = kin.forward(&pos, 0.0).tool_machine;
+        let e2 = t.cross(&Vec3::new(0.3, -0.5, 0.8)).normalize();
+        let e3 = t.cross(&e2);
+        // The contour in the plane (u, v), as `cutter.rs` makes it.
+        let mut pts = vec![[0.0f64, 0.0], [20.0, 0.0]];
+        let go = |pts: &mut Vec<[f64; 2]>, deg: f64, len: f64| {
+            let l = pts[pts.len() - 1];
+            let a = deg.to_radians();
+            pts.push([
+                ((l[0] + len * a.cos()) * 1000.0).round() / 1000.0,
+                ((l[1] + len * a.sin()) * 1000.0).round() / 1000.0,
+            ]);
+        };
+        go(&mut pts, -20.0 - 60.0 * rand(), 0.5 + 3.5 * rand());
+        go(&mut pts, 20.0 + 60.0 * rand(), 0.5 + 9.5 * rand());
+        go(&mut pts, -40.0 + 100.0 * rand(), 15.0 + 10.0 * rand());
+        go(&mut pts, 0.0, 20.0);
+        let lift = |p: [f64; 2], w: f64| e2 * p[0] + e3 * p[1] + t * w;
+        let xyz = |p: Vec3| format!("X{:.9} Y{:.9} Z{:.9}", p.x, p.y, p.z);
+        let last = pts[pts.len() - 1];
+        let mut src =
+            format!("G90 G00 {} B{b:.3} C{c:.3}\nG43.4 H1\nG41.2 D1\nG01 F3000. ", xyz(lift([-10.0, 0.0], 0.0)));
+        for p in &pts {
+            src += &format!("{}\n", xyz(lift(*p, -3.0 + 6.0 * rand())));
+        }
+        src += &format!("G40 {}\nG49\nM30\n", xyz(lift([last[0] + 10.0, last[1]], 0.0)));
+        let plain = first_alarm_with(&src, preset, settings(false));
+        let mut interp = interpreter_with(&src, preset, Fanuc, settings(true));
+        // Line 5 + k runs the contour's block k + 1 (from pts[k] to pts[k + 1]).
+        let contour = 5..5 + pts.len() as u32 - 1;
+        let mut worst = f64::INFINITY;
+        let mut samples = 0;
+        let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+            if contour.contains(&s.line) {
+                let tip = kin.forward(&s.machine, 100.0).tip_machine;
+                let p = [tip.dot(&e2), tip.dot(&e3)];
+                let d = pts.windows(2).map(|w| dist(p, w[0], w[1])).fold(f64::INFINITY, f64::min);
+                worst = worst.min(d);
+                samples += 1;
+            }
+        });
+        if let Some(a) = r.alarms.first() {
+            assert_eq!(a.code, "PS0041", "{src}");
+            alarms += 1;
+            continue;
+        }
+        assert!(samples > 20, "{samples} samples\n{src}");
+        assert!(worst >= 5.0 - 1e-3, "{preset}: a tip {worst} from the contour in the plane\n{src}");
+        if plain.is_some_and(|a| a.0 == "PS0041") {
+            avoided += 1;
+        }
+    }
+    assert!(avoided * 5 >= total, "only {avoided} of {total} programs were avoided ({alarms} alarms)");
 }

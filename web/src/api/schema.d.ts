@@ -1102,6 +1102,22 @@ export interface components {
         /** @description 5-axis function settings of the control (vendor bits, `docs/five-axis.md`). */
         FiveAxisOptions: {
             /**
+             * Format: double
+             * @description Interference avoidance of the tool side offset: the largest angle, degrees, between the
+             *     tool at the end of the block before the interfering ones and at the start of the block
+             *     after them for which the avoidance vector is made (FANUC No.19636, CRC-41; 0 to 180);
+             *     a larger turn keeps the plain vectors. 0 (a cleared parameter): the tool must not turn.
+             */
+            avoidance_max_tool_angle?: number;
+            /**
+             * @description The tool side offset's interference check is made in the compensation plane (the plane
+             *     perpendicular to the tool) on every machine type (FANUC No.19608#1 NI5 = 1, CRC-40, §3.4);
+             *     off (NI5 = 0): the §3.5.1 check on the programmed positions and the vectors in 3-D
+             *     (CRC-43), under which the tool side offset does not avoid interference
+             *     (`docs/cutter-compensation.md`, "Tool side offset", rule 12).
+             */
+            crc_check_in_plane?: boolean;
+            /**
              * @description The tool side offset's G codes follow the mechanism (FANUC No.19607#1 SPG = 1): G41.4/
              *     G42.4 on a table rotation machine, G41.5/G42.5 on a mixed one, G41.2/G42.2 on a head
              *     machine; off (SPG = 0): G41.2/G42.2 on every machine (CRC-31, CRC-32, TV-17).
