@@ -303,7 +303,8 @@ impl Controller {
     /// Where the tool tip is now, from the machine axes (with a handle interruption's shift)
     /// and [`Controller::tip_basis`].
     pub fn tip(&self) -> crate::tip::Tip {
-        crate::tip::locate(self.machine.kinematics().map(|k| &**k), &self.machine_now(), &self.tip_basis())
+        let basis = self.tip_basis();
+        crate::tip::locate(self.machine.kinematics_of(basis.chain).map(|k| &**k), &self.machine_now(), &basis)
     }
 
     /// The machine now, as the trace reads it (`Sample`): axes with a handle interruption's
@@ -1029,6 +1030,11 @@ impl Controller {
                 self.set_state(RunState::Idle);
             }
             CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
+            // The manual feeds use the mechanism the program switched to, from here on.
+            CanonKind::Chain(chain) => {
+                self.exec.follow_chain(*chain);
+                self.machine = self.exec.machine().clone();
+            }
             CanonKind::Spindle { state, speed } => {
                 self.spindle = match state {
                     SpindleState::Cw => *speed,

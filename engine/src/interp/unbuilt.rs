@@ -61,13 +61,6 @@ const TABLE: &[NotBuilt] = &[
     row(70, When::Always, "hypothetical axis interpolation (G07)"),
     // Also its cancel G07.1 C0: fivex would read C0 as a move of the C axis.
     row(71, When::Always, "cylindrical interpolation (G07.1)"),
-    // G10 L5000: Syntec's choice of the mechanism chain; fivex has one chain per machine.
-    NotBuilt {
-        code: 100,
-        dialect: Some(Dialect::Syntec),
-        when: When::Is(b'L', &[5000.0]),
-        function: "multiple kinematic chains (G10 L5000)",
-    },
     row(106, When::Always, "tool retract and recover (G10.6)"),
     row(121, When::Always, "polar coordinate interpolation (G12.1)"),
     row(171, When::Always, "plane conversion (G17.1)"),
