@@ -543,6 +543,9 @@ impl Controller {
             self.stand_here();
         }
         self.abandon_program();
+        // A G10 L5000 read ahead and dropped still switched the interpreter, whose state the next
+        // program starts from: the machine takes its chain too.
+        self.follow_chain(self.interp.config().machine.chain());
         if !self.estop && !self.alarms.is_empty() {
             self.alarms.clear();
             self.events.push(Event::AlarmsCleared);
@@ -1015,6 +1018,12 @@ impl Controller {
         }
     }
 
+    /// The executor and the manual feeds take mechanism chain `chain` (Syntec G10 L5000).
+    fn follow_chain(&mut self, chain: crate::machine::Chain) {
+        self.exec.follow_chain(chain);
+        self.machine = self.exec.machine().clone();
+    }
+
     fn carry_out(&mut self, kind: &CanonKind) {
         match kind {
             CanonKind::Dwell { seconds } => self.cycle.course_mut().dwell(self.exec.time() + seconds),
@@ -1031,10 +1040,7 @@ impl Controller {
             }
             CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
             // The manual feeds use the mechanism the program switched to, from here on.
-            CanonKind::Chain(chain) => {
-                self.exec.follow_chain(*chain);
-                self.machine = self.exec.machine().clone();
-            }
+            CanonKind::Chain(chain) => self.follow_chain(*chain),
             CanonKind::Spindle { state, speed } => {
                 self.spindle = match state {
                     SpindleState::Cw => *speed,

@@ -858,8 +858,12 @@ impl MachineConfig {
 
     /// The machine with `chain`'s mechanism as its own (`rotary`, `tool_axis`, `nose`, `holder`)
     /// and no further chains: what the kinematics and the 5-axis functions read while that chain
-    /// is in use. `None` when the machine does not describe the chain.
+    /// is in use; set 1 as described is the machine itself. `None` when the machine does not
+    /// describe the chain.
     pub fn chain_view(&self, chain: Chain) -> Option<MachineConfig> {
+        if chain == Chain::MAIN {
+            return Some(self.clone());
+        }
         let (rotary, tool_axis, nose, holder, subs) = if chain.set == 1 {
             (&self.rotary, self.tool_axis, self.nose, self.holder, &self.sub_chains)
         } else {
@@ -1035,6 +1039,79 @@ mod tests {
         // Axes in address order, whatever the chain order.
         assert_eq!(MachineConfig::preset("head-bc").unwrap().axis_index(b'C'), Some(4));
         assert!(MachineConfig::preset("nope").is_none());
+    }
+
+    /// A head-bc with set 2 an A/C head (A about X through the B pivot).
+    fn two_chains() -> MachineConfig {
+        let mut m = MachineConfig::preset("head-bc").unwrap();
+        m.axes.insert(3, Axis::new('A', AxisKind::Rotary, 10_800.0));
+        let rotary =
+            vec![link('C', Side::Head, [0.0, 0.0, 150.0], None), link('A', Side::Head, [0.0, 0.0, 150.0], None)];
+        m.chains =
+            vec![ChainSet { set: 2, rotary, tool_axis: plus_z(), nose: [0.0; 3], holder: 150.0, sub_chains: vec![] }];
+        m
+    }
+
+    #[test]
+    fn chains_are_checked() {
+        let m = two_chains();
+        m.validate().unwrap();
+        assert_eq!(m.chain_list(), [Chain::MAIN, Chain { set: 2, sub: 1 }]);
+        // The view of set 2 is the machine with set 2's mechanism and no further chains.
+        let view = m.chain_view(Chain { set: 2, sub: 1 }).unwrap();
+        assert_eq!((view.rotary[1].axis, view.chains.len()), ('A', 0));
+        assert!(m.chain_view(Chain { set: 3, sub: 1 }).is_none());
+        let bad = |f: &dyn Fn(&mut MachineConfig), why: &str| {
+            let mut m = two_chains();
+            f(&mut m);
+            let e = m.validate().expect_err(why);
+            assert!(e.contains(why), "{e}");
+        };
+        bad(&|m| m.chains[0].set = 1, "set is 2, 3 or 4");
+        bad(&|m| m.chains[0].set = 5, "set is 2, 3 or 4");
+        bad(&|m| m.chains.push(m.chains[0].clone()), "set 2 appears twice");
+        bad(&|m| m.chains[0].rotary.clear(), "needs rotary axes");
+        bad(&|m| m.chains[0].rotary[1].axis = 'X', "not a rotary axis");
+        bad(&|m| m.chains[0].tool_axis = [0.0; 3], "non-zero direction");
+        bad(&|m| m.chains[0].nose[0] = f64::NAN, "finite");
+        let sub = SubChain { q: 2, tool_axis: [1.0, 0.0, 0.0], nose: [0.0; 3], holder: 0.0 };
+        bad(&|m| m.sub_chains = vec![SubChain { q: 1, ..sub }], "q is 2, 3 or 4");
+        bad(&|m| m.sub_chains = vec![sub, sub], "q is 2, 3 or 4, each once");
+        bad(&|m| m.chains[0].sub_chains = vec![SubChain { tool_axis: [0.0; 3], ..sub }], "set 2 sub-chain 2");
+        // A table set cannot carry a head attachment.
+        bad(
+            &|m| {
+                m.chains[0].rotary =
+                    vec![link('A', Side::Table, [0.0; 3], None), link('C', Side::Table, [0.0; 3], None)];
+                m.chains[0].sub_chains = vec![sub];
+            },
+            "spindle-type",
+        );
+    }
+
+    #[test]
+    fn a_machine_without_chains_reads_and_writes_as_before() {
+        // No `chains` / `sub_chains` key is written for one chain, and the machine's view of
+        // set 1 is itself.
+        let m = MachineConfig::preset("head-bc").unwrap();
+        let text = serde_json::to_string(&m).unwrap();
+        assert!(!text.contains("chains"), "{text}");
+        assert_eq!(m.chain_view(Chain::MAIN).unwrap(), m);
+        let machine = Machine::new(m);
+        assert_eq!(machine.chain(), Chain::MAIN);
+        assert!(machine.with_chain(Chain { set: 2, sub: 1 }).is_none());
+    }
+
+    #[test]
+    fn a_machine_switches_chains_and_keeps_every_one_compiled() {
+        let machine = Machine::new(two_chains());
+        let two = machine.with_chain(Chain { set: 2, sub: 1 }).unwrap();
+        assert_eq!((two.chain(), two.rotary[1].axis), (Chain { set: 2, sub: 1 }, 'A'));
+        // Set 2's mechanism turns A (axis 3); set 1's is still there by name.
+        assert_eq!(two.kinematics().unwrap().head[1].index, Some(3));
+        assert_eq!(two.kinematics_of(Chain::MAIN).unwrap().head[1].name, 'B');
+        let back = two.with_chain(Chain::MAIN).unwrap();
+        assert_eq!(back.config(), machine.config());
     }
 
     #[test]

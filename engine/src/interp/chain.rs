@@ -24,7 +24,9 @@ impl State {
         let q = w.integer(b'Q');
         // Q0 and Q1 are the set as described; Q2–Q4 its listed sub-chains.
         let sub = q.map_or(1, |q| (q as u8).max(1));
-        let set_alone = self.cfg.machine.with_chain(Chain { set, sub: 1 }).ok_or(AlarmId::ChainNotConfigured)?;
+        // A set without rotary axes is type 0, not on (a 3-axis machine's set 1).
+        let set_alone = self.cfg.machine.with_chain(Chain { set, sub: 1 }).filter(|m| !m.rotary.is_empty());
+        let set_alone = set_alone.ok_or(AlarmId::ChainNotConfigured)?;
         let spindle = set_alone.kinematics().is_some_and(|k| k.kind == MachineKind::HeadHead);
         if q.is_some() && !spindle {
             return Err(AlarmId::ChainNotSpindle);
