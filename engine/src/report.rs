@@ -21,7 +21,7 @@
 
 use crate::canon::Pos;
 use crate::interp::Interpreter;
-use crate::kin::{Kinematics, Vec3};
+use crate::kin::Vec3;
 use crate::machine::AxisKind;
 use crate::motion::Segment;
 use crate::run::{run_observed, Observer, RunOptions, RunResult, Sample};
@@ -210,9 +210,11 @@ pub fn run_with_report(interp: &mut Interpreter, opts: &RunOptions) -> (RunResul
 
 /// The observer that builds a [`Report`].
 pub struct Recorder {
-    kin: Option<std::sync::Arc<Kinematics>>,
+    /// The machine, whose mechanism of each segment's chain (Syntec G10 L5000) reads its tip.
+    machine: std::sync::Arc<crate::machine::Machine>,
     /// The line of the axis whose posture is singular (`Kinematics::singularity`), fixed in
-    /// the table frame: the angle to it comes from each sample's tool direction.
+    /// the table frame: the angle to it comes from each sample's tool direction (of the chain
+    /// the run starts in).
     singular_axis: Option<Vec3>,
     axes: Vec<AxisAcc>,
     near_deg: Option<f64>,
@@ -282,7 +284,7 @@ impl Recorder {
         // No.11204 (G54.4); a machine with neither uses the default.
         let near = [f.singular_angle, f.singular_tolerance_deg].into_iter().find(|a| *a > 0.0);
         Recorder {
-            kin,
+            machine: machine.clone(),
             axes,
             near_deg: singular_axis.map(|_| near.unwrap_or(DEFAULT_NEAR_SINGULAR_DEG)),
             singular_axis,
@@ -373,7 +375,7 @@ impl Recorder {
 
     /// The tip deviation at a sample on `seg`, `s` along it, with the axes at `machine`.
     fn deviation(&mut self, machine: &Pos, seg: &Segment, s: f64) -> Option<(f64, Vec3)> {
-        let kin = self.kin.as_ref()?;
+        let kin = self.machine.kinematics_of(seg.tip_basis.chain)?.clone();
         if let Some((programmed, length)) = seg.programmed_tip(s) {
             let tip = kin.forward(machine, length).tip;
             return Some(((tip - programmed).norm(), tip));
