@@ -323,7 +323,13 @@ impl Controller {
         }
     }
 
-    /// The machine's mechanism (the interpreter's, compiled once).
+    /// The mechanism chain the machine executes in (Syntec G10 L5000: the program's, in program
+    /// order).
+    pub fn chain(&self) -> crate::machine::Chain {
+        self.machine.chain()
+    }
+
+    /// The mechanism of the chain in force (compiled once with the machine).
     pub fn kinematics(&self) -> Option<&std::sync::Arc<Kinematics>> {
         self.machine.kinematics()
     }
