@@ -286,3 +286,28 @@ proptest! {
         }
     }
 }
+
+/// The controller follows the program's chain in program order: before the `G10 L5000 P2`
+/// block is reached, its manual feeds and tip use set 1; after it, set 2 — the status's chain,
+/// the mechanism of the 5-axis manual feeds and the tip it shows (set 2's nose: the carriage
+/// point at 0, 0, 200 with no tool puts the tip 50 lower, at machine Z 150 — in the workpiece
+/// system, whose origin is the nose, it stays 200).
+#[test]
+fn the_controller_takes_the_chain_in_program_order() {
+    use fivex_engine::controller::{Controller, RunState};
+    let mut c = Controller::new(Config::new(exchange_head(), Syntec));
+    assert_eq!((c.chain(), c.kinematics().unwrap().head[1].name), (Chain::MAIN, 'B'));
+    c.select_program("G90 G00 X0. Y0. Z200.\nG10 L5000 P2\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    while c.run_state() == RunState::Running && c.time() < 10.0 {
+        c.tick(0.001);
+        if c.point().line == 1 {
+            assert_eq!(c.chain(), Chain::MAIN, "not before its block");
+        }
+    }
+    assert_eq!((c.chain(), c.kinematics().unwrap().head[1].name), (SET_2, 'A'));
+    assert!(dist(c.tip().table, [0.0, 0.0, 150.0]) < 1e-9, "{:?}", c.tip());
+    assert!(dist(c.tip().tip, [0.0, 0.0, 200.0]) < 1e-9, "{:?}", c.tip());
+    c.reset();
+    assert_eq!(c.chain(), SET_2, "a reset keeps the chain");
+}
