@@ -22,6 +22,10 @@ impl State {
         // Decision (spec Q-21): P counts the sets as the manual's alarm texts do, 1st to 4th.
         let set = u8::try_from(set).ok().filter(|s| (1..=4).contains(s)).ok_or(AlarmId::ChainNotConfigured)?;
         let q = w.integer(b'Q');
+        // `modes` refused it already (COR-163); kept here so that no Q is ever read as another.
+        if q.is_some_and(|q| q.fract() != 0.0 || !(0.0..=4.0).contains(&q)) {
+            return Err(AlarmId::ChainQ);
+        }
         // Q0 and Q1 are the set as described; Q2–Q4 its listed sub-chains.
         let sub = q.map_or(1, |q| (q as u8).max(1));
         // A set without rotary axes is type 0, not on (a 3-axis machine's set 1).
