@@ -311,3 +311,25 @@ fn the_controller_takes_the_chain_in_program_order() {
     c.reset();
     assert_eq!(c.chain(), SET_2, "a reset keeps the chain");
 }
+
+/// The run report measures the singular posture of each block's chain: set 1's C master is
+/// along the tool at zero angles (singular the whole time), set 2 here an A master about X with
+/// set 1's B as its slave, 90° from the tool. A move in set 2 with the tool along Z spends no
+/// time near the singular posture; the same move in set 1 spends all of it there.
+#[test]
+fn the_report_reads_the_singular_posture_of_the_chain_in_use() {
+    let mut m = exchange_head();
+    let b = m.rotary[1];
+    m.chains[0].rotary = vec![m.chains[0].rotary[1], b]; // A master, B slave
+    let report = |src: &str| {
+        let mut interp = interpreter(src, m.clone(), Syntec);
+        let opts = RunOptions { period_s: 0.01, ..RunOptions::default() };
+        let (r, report) = fivex_engine::report::run_with_report(&mut interp, &opts);
+        assert!(r.completed(), "{:?}", r.alarms);
+        (r.cycle_time_s, report)
+    };
+    let (time, set1) = report("G90 G01 X100. F3000.\nM30\n");
+    assert!(time > 1.9 && set1.near_singular_s > time - 0.05, "{time} {}", set1.near_singular_s);
+    let (time, set2) = report("G10 L5000 P2\nG90 G01 X100. F3000.\nM30\n");
+    assert!(time > 1.9 && set2.near_singular_s < 0.05, "{time} {}", set2.near_singular_s);
+}
