@@ -1027,7 +1027,12 @@ impl Controller {
     /// The executor and the manual feeds take mechanism chain `chain` (Syntec G10 L5000).
     fn follow_chain(&mut self, chain: crate::machine::Chain) {
         self.exec.follow_chain(chain);
-        self.machine = self.exec.machine().clone();
+        // From the controller's own machine: it keeps the manual feed settings edited here.
+        if chain != self.machine.chain() {
+            if let Some(m) = self.machine.with_chain(chain) {
+                self.machine = Arc::new(m);
+            }
+        }
     }
 
     fn carry_out(&mut self, kind: &CanonKind) {

@@ -297,6 +297,8 @@ fn the_controller_takes_the_chain_in_program_order() {
     use fivex_engine::controller::{Controller, RunState};
     let mut c = Controller::new(Config::new(exchange_head(), Syntec));
     assert_eq!((c.chain(), c.kinematics().unwrap().head[1].name), (Chain::MAIN, 'B'));
+    // A manual feed setting changed on the panel survives the switch.
+    c.manual_options_mut().tool_length = 42.0;
     c.select_program("G90 G00 X0. Y0. Z200.\nG10 L5000 P2\nM30\n").unwrap();
     c.cycle_start().unwrap();
     while c.run_state() == RunState::Running && c.time() < 10.0 {
@@ -306,6 +308,7 @@ fn the_controller_takes_the_chain_in_program_order() {
         }
     }
     assert_eq!((c.chain(), c.kinematics().unwrap().head[1].name), (SET_2, 'A'));
+    assert_eq!(c.manual_options().tool_length, 42.0);
     assert!(dist(c.tip().table, [0.0, 0.0, 150.0]) < 1e-9, "{:?}", c.tip());
     assert!(dist(c.tip().tip, [0.0, 0.0, 200.0]) < 1e-9, "{:?}", c.tip());
     c.reset();
