@@ -140,6 +140,13 @@ pub enum AlarmId {
     ChainQ,
     /// G10 L5000 while a 5-axis function is on.
     ChainSwitchInMode,
+    /// G10 L5000 selects a mechanism chain (set or sub-chain) the machine does not have, or
+    /// whose mechanism does not work.
+    ChainNotConfigured,
+    /// G10 L5000 with Q selects a set that is not of the spindle type.
+    ChainNotSpindle,
+    /// With a sub-chain 2–4 in use, a 5-axis command other than the few it supports.
+    ChainCommand,
     // --- custom macro ---------------------------------------------------------------------
     /// A macro statement that does not follow the grammar.
     MacroFormat,

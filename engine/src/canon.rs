@@ -236,6 +236,9 @@ pub enum CanonKind {
     ProgramEnd {
         m: u32,
     },
+    /// Syntec `G10 L5000 P_ [Q_]`: the mechanism chain the following commands are made and read
+    /// with (the executor follows it in program order, the controller's manual feeds too).
+    Chain(crate::machine::Chain),
     /// For cutter compensation C, about the motion that follows it in the same block; the stage
     /// takes it (the executor never sees it).
     Cutter(CutterWord),

@@ -303,7 +303,8 @@ impl Controller {
     /// Where the tool tip is now, from the machine axes (with a handle interruption's shift)
     /// and [`Controller::tip_basis`].
     pub fn tip(&self) -> crate::tip::Tip {
-        crate::tip::locate(self.machine.kinematics().map(|k| &**k), &self.machine_now(), &self.tip_basis())
+        let basis = self.tip_basis();
+        crate::tip::locate(self.machine.kinematics_of(basis.chain).map(|k| &**k), &self.machine_now(), &basis)
     }
 
     /// The machine now, as the trace reads it (`Sample`): axes with a handle interruption's
@@ -322,7 +323,13 @@ impl Controller {
         }
     }
 
-    /// The machine's mechanism (the interpreter's, compiled once).
+    /// The mechanism chain the machine executes in (Syntec G10 L5000: the program's, in program
+    /// order).
+    pub fn chain(&self) -> crate::machine::Chain {
+        self.machine.chain()
+    }
+
+    /// The mechanism of the chain in force (compiled once with the machine).
     pub fn kinematics(&self) -> Option<&std::sync::Arc<Kinematics>> {
         self.machine.kinematics()
     }
@@ -542,6 +549,9 @@ impl Controller {
             self.stand_here();
         }
         self.abandon_program();
+        // A G10 L5000 read ahead and dropped still switched the interpreter, whose state the next
+        // program starts from: the machine takes its chain too.
+        self.follow_chain(self.interp.config().machine.chain());
         if !self.estop && !self.alarms.is_empty() {
             self.alarms.clear();
             self.events.push(Event::AlarmsCleared);
@@ -1014,6 +1024,17 @@ impl Controller {
         }
     }
 
+    /// The executor and the manual feeds take mechanism chain `chain` (Syntec G10 L5000).
+    fn follow_chain(&mut self, chain: crate::machine::Chain) {
+        self.exec.follow_chain(chain);
+        // From the controller's own machine: it keeps the manual feed settings edited here.
+        if chain != self.machine.chain() {
+            if let Some(m) = self.machine.with_chain(chain) {
+                self.machine = Arc::new(m);
+            }
+        }
+    }
+
     fn carry_out(&mut self, kind: &CanonKind) {
         match kind {
             CanonKind::Dwell { seconds } => self.cycle.course_mut().dwell(self.exec.time() + seconds),
@@ -1029,6 +1050,8 @@ impl Controller {
                 self.set_state(RunState::Idle);
             }
             CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
+            // The manual feeds use the mechanism the program switched to, from here on.
+            CanonKind::Chain(chain) => self.follow_chain(*chain),
             CanonKind::Spindle { state, speed } => {
                 self.spindle = match state {
                     SpindleState::Cw => *speed,

@@ -142,6 +142,9 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::AlignmentToolZero,
     AlarmId::ChainQ,
     AlarmId::ChainSwitchInMode,
+    AlarmId::ChainNotConfigured,
+    AlarmId::ChainNotSpindle,
+    AlarmId::ChainCommand,
     AlarmId::MacroFormat,
     AlarmId::VariableOutOfRange,
     AlarmId::WriteProtectedVariable,
@@ -254,6 +257,17 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             ("PS1144", "G10 FORMAT ERROR"),
             ("COR-160", "5-axis mechanism chain switched when the 5-axis function is ON"),
         ),
+        // FANUC has no G10 L5000 (its G10 refuses the L): these three are Syntec's alone.
+        ChainNotConfigured => {
+            (("PS1144", "G10 FORMAT ERROR"), ("COR-161", "Selected 5-axis mechanism chain is not ON"))
+        }
+        ChainNotSpindle => (
+            ("PS1144", "G10 FORMAT ERROR"),
+            ("COR-164", "Multi-kinematic chain command related 5-Axis mechanism setting error"),
+        ),
+        ChainCommand => {
+            (("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"), ("COR-165", "Multi-kinematic chain command not illegal"))
+        }
         IllegalReferenceReturn => {
             (("PS0046", "ILLEGAL REFERENCE RETURN COMMAND"), ("COR-036", "Illegal reference position number"))
         }

@@ -201,6 +201,14 @@ pub struct MachineConfig {
     /// `nose` and the axis points; this records how the vendor's parameters split it.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub holder: f64,
+    /// Sub-chains 2–4 of this main mechanism (Syntec `G10 L5000 P1 Q2..Q4`; a spindle-type
+    /// mechanism only): head attachments. Absent: none (`docs/machine-config.md`, chains).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sub_chains: Vec<SubChain>,
+    /// Further mechanism chains, Syntec's sets 2–4 (`G10 L5000 P2..P4`), each a whole mechanism
+    /// as the fields above describe the main one, set 1. Absent: the one chain above.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub chains: Vec<ChainSet>,
     /// How the control interpolates (`docs/motion.md`).
     #[serde(default, skip_serializing_if = "MotionOptions::is_default")]
     pub motion: MotionOptions,
@@ -210,6 +218,71 @@ pub struct MachineConfig {
     /// How the 5-axis manual feeds behave (`docs/five-axis.md`, 5-axis manual operation).
     #[serde(default, skip_serializing_if = "ManualOptions::is_default")]
     pub manual: ManualOptions,
+}
+
+/// A further mechanism chain (Syntec set 2, 3 or 4, type parameter Pr3101 / Pr5501 / Pr5601):
+/// the rotary mechanism described as the main fields of [`MachineConfig`] describe set 1. The
+/// machine's axes are shared: a chain names which of them it turns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(deny_unknown_fields)]
+pub struct ChainSet {
+    /// The set number, 2 to 4 (`G10 L5000 P_`).
+    pub set: u8,
+    /// As [`MachineConfig::rotary`]; at least one link (a set without is not configured).
+    pub rotary: Vec<RotaryLink>,
+    #[serde(default = "plus_z")]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
+    pub tool_axis: [f64; 3],
+    #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
+    pub nose: [f64; 3],
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub holder: f64,
+    /// This set's sub-chains 2–4 (spindle type only), as [`MachineConfig::sub_chains`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sub_chains: Vec<SubChain>,
+}
+
+/// A sub-kinematic chain of a spindle-type set (Syntec `G10 L5000 P_ Q2..Q4`): a head
+/// attachment carried after the set's last head axis, so it changes only what is beyond that
+/// axis — the tool direction, the spindle nose and the holder offset; the rotary links stay the
+/// set's. *Decision* (spec Q-21: the manual does not describe sub-chains): Q0 and Q1 are the set
+/// as described, Q2–Q4 the listed attachments.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(deny_unknown_fields)]
+pub struct SubChain {
+    /// The Q that selects it, 2 to 4.
+    pub q: u8,
+    #[serde(default = "plus_z")]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
+    pub tool_axis: [f64; 3],
+    #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(min_items = 3, max_items = 3))]
+    pub nose: [f64; 3],
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub holder: f64,
+}
+
+/// Which mechanism chain is in use: Syntec's set (1–4) and sub-chain (1: the set as described,
+/// 2–4 an attachment), chosen by `G10 L5000 P_ [Q_]`; set 1, sub-chain 1 at power-on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct Chain {
+    pub set: u8,
+    pub sub: u8,
+}
+
+impl Chain {
+    /// Set 1 as described: the machine's main mechanism.
+    pub const MAIN: Chain = Chain { set: 1, sub: 1 };
+}
+
+impl Default for Chain {
+    fn default() -> Chain {
+        Chain::MAIN
+    }
 }
 
 /// Which coordinate system the X/Y/Z of a tool centre point control program are in.
@@ -706,6 +779,8 @@ impl MachineConfig {
             holder,
             // A typical arm-type changer, chip to chip.
             motion: MotionOptions { tool_change_s: 3.0, ..MotionOptions::default() },
+            sub_chains: Vec::new(),
+            chains: Vec::new(),
             five_axis: FiveAxisOptions::default(),
             manual: ManualOptions::default(),
         })
@@ -758,15 +833,11 @@ impl MachineConfig {
                         corner_angle 0 to 180 degrees, spacing_ratio 1 or more"
                 .into());
         }
-        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         let f = &self.five_axis;
         let percent = |x: f64| (0.0..=100.0).contains(&x);
         let cycle_feed = f.wse_cycle_feed.is_finite() && f.wse_cycle_feed >= 0.0;
         if !(cycle_feed && percent(f.wse_feed_clamp_pct) && percent(f.wse_rapid_clamp_pct)) {
             return Err("five_axis: wse_cycle_feed is 0 or more, the wse clamps percentages 0 to 100".into());
-        }
-        if !finite(&self.nose) || !self.holder.is_finite() || !finite(&self.tool_axis) {
-            return Err("nose, holder and tool_axis must be finite numbers".into());
         }
         if !f.cutting_point_distance.is_finite() {
             return Err("five_axis: cutting_point_distance must be a finite number".into());
@@ -786,6 +857,17 @@ impl MachineConfig {
         }
         if !(0.0..=90.0).contains(&f.cutting_point_singular_angle) {
             return Err("five_axis: cutting_point_singular_angle is 0 to 90 degrees".into());
+        }
+        self.validate_mechanism()?;
+        self.validate_chains()
+    }
+
+    /// The mechanism fields (`rotary`, `tool_axis`, `nose`, `holder`) of the machine or of one
+    /// chain's view of it.
+    fn validate_mechanism(&self) -> Result<(), String> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !finite(&self.nose) || !self.holder.is_finite() || !finite(&self.tool_axis) {
+            return Err("nose, holder and tool_axis must be finite numbers".into());
         }
         if self.tool_axis.iter().map(|x| x * x).sum::<f64>().sqrt() < 1e-9 {
             return Err("tool_axis needs a non-zero direction".into());
@@ -808,6 +890,87 @@ impl MachineConfig {
             }
         }
         Ok(())
+    }
+
+    /// Sets 2–4 and the sub-chains: numbered once each within their ranges, every set with a
+    /// mechanism, sub-chains only on a spindle-type mechanism, each chain's mechanism valid.
+    fn validate_chains(&self) -> Result<(), String> {
+        for (i, c) in self.chains.iter().enumerate() {
+            if !(2..=4).contains(&c.set) {
+                return Err(format!("chains[{i}]: set is 2, 3 or 4 (set 1 is the machine's own mechanism)"));
+            }
+            if self.chains[..i].iter().any(|d| d.set == c.set) {
+                return Err(format!("chains[{i}]: set {} appears twice", c.set));
+            }
+            if c.rotary.is_empty() {
+                return Err(format!(
+                    "chains[{i}]: set {} needs rotary axes (leave out a set that is not configured)",
+                    c.set
+                ));
+            }
+        }
+        let sets = std::iter::once((1, &self.rotary, &self.sub_chains))
+            .chain(self.chains.iter().map(|c| (c.set, &c.rotary, &c.sub_chains)));
+        for (set, rotary, subs) in sets {
+            let spindle = rotary.len() == 2 && rotary.iter().all(|l| l.side == Side::Head);
+            if !subs.is_empty() && !spindle {
+                return Err(format!("set {set}: sub_chains are for a spindle-type mechanism (two head axes)"));
+            }
+            for (i, sub) in subs.iter().enumerate() {
+                if !(2..=4).contains(&sub.q) || subs[..i].iter().any(|o| o.q == sub.q) {
+                    return Err(format!("set {set}: sub_chains[{i}]: q is 2, 3 or 4, each once"));
+                }
+            }
+        }
+        for chain in self.chain_list().into_iter().skip(1) {
+            let view = self.chain_view(chain).expect("a listed chain has a view");
+            view.validate_mechanism().map_err(|e| format!("set {} sub-chain {}: {e}", chain.set, chain.sub))?;
+        }
+        Ok(())
+    }
+
+    /// Every chain the machine describes, set 1 as described first (then its sub-chains, then
+    /// the sets 2–4 in the file's order, each followed by its sub-chains).
+    pub fn chain_list(&self) -> Vec<Chain> {
+        let subs = |set: u8, subs: &[SubChain]| {
+            std::iter::once(Chain { set, sub: 1 })
+                .chain(subs.iter().map(move |s| Chain { set, sub: s.q }))
+                .collect::<Vec<_>>()
+        };
+        let mut out = subs(1, &self.sub_chains);
+        for c in &self.chains {
+            out.extend(subs(c.set, &c.sub_chains));
+        }
+        out
+    }
+
+    /// The machine with `chain`'s mechanism as its own (`rotary`, `tool_axis`, `nose`, `holder`)
+    /// and no further chains: what the kinematics and the 5-axis functions read while that chain
+    /// is in use; set 1 as described is the machine itself. `None` when the machine does not
+    /// describe the chain.
+    pub fn chain_view(&self, chain: Chain) -> Option<MachineConfig> {
+        if chain == Chain::MAIN {
+            return Some(self.clone());
+        }
+        let (rotary, tool_axis, nose, holder, subs) = if chain.set == 1 {
+            (&self.rotary, self.tool_axis, self.nose, self.holder, &self.sub_chains)
+        } else {
+            let c = self.chains.iter().find(|c| c.set == chain.set)?;
+            (&c.rotary, c.tool_axis, c.nose, c.holder, &c.sub_chains)
+        };
+        let (tool_axis, nose, holder) = match chain.sub {
+            1 => (tool_axis, nose, holder),
+            q => subs.iter().find(|s| s.q == q).map(|s| (s.tool_axis, s.nose, s.holder))?,
+        };
+        Some(MachineConfig {
+            rotary: rotary.clone(),
+            tool_axis,
+            nose,
+            holder,
+            sub_chains: Vec::new(),
+            chains: Vec::new(),
+            ..self.clone()
+        })
     }
 }
 
@@ -836,27 +999,86 @@ impl AxisLimits {
 /// its axes' limits, built once and shared by `Arc` between the interpreter, the motion
 /// executor, the controller and the server's station. It reads as its configuration (`Deref`);
 /// only the settings that change neither the mechanism nor the limits can be edited in place.
+///
+/// A machine with several mechanism chains (`MachineConfig::chains`) compiles each once; it
+/// reads as the view of the chain in use ([`MachineConfig::chain_view`]), and
+/// [`Machine::with_chain`] gives the same machine in another chain.
 #[derive(Debug, Clone)]
 pub struct Machine {
+    /// The configuration as the chain in use sees it (the configuration itself in set 1).
     config: MachineConfig,
     /// `None` when the kinematics refuses the configuration (its tip is read as a 3-axis one's).
     kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     limits: AxisLimits,
+    /// The chain in use.
+    chain: Chain,
+    /// Every chain the configuration describes with its compiled mechanism, set 1 first;
+    /// shared by every chain's view.
+    chains: std::sync::Arc<[Compiled]>,
+}
+
+/// One chain of a machine, compiled.
+#[derive(Debug)]
+struct Compiled {
+    chain: Chain,
+    view: MachineConfig,
+    kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
 }
 
 impl Machine {
     pub fn new(config: MachineConfig) -> Machine {
         let kinematics = crate::kin::Kinematics::new(&config).ok().map(std::sync::Arc::new);
-        Machine { kinematics, limits: AxisLimits::of(&config), config }
+        // Only a machine with further chains compiles them (and keeps their views).
+        let chains: Vec<Compiled> = match config.chains.is_empty() && config.sub_chains.is_empty() {
+            true => Vec::new(),
+            false => config
+                .chain_list()
+                .into_iter()
+                .filter_map(|chain| {
+                    let view = config.chain_view(chain)?;
+                    let kinematics = match chain == Chain::MAIN {
+                        true => kinematics.clone(),
+                        false => crate::kin::Kinematics::new(&view).ok().map(std::sync::Arc::new),
+                    };
+                    Some(Compiled { chain, view, kinematics })
+                })
+                .collect(),
+        };
+        Machine { kinematics, limits: AxisLimits::of(&config), config, chain: Chain::MAIN, chains: chains.into() }
     }
 
     pub fn config(&self) -> &MachineConfig {
         &self.config
     }
 
-    /// The mechanism (`None` when the configuration's is refused).
+    /// The mechanism of the chain in use (`None` when the configuration's is refused).
     pub fn kinematics(&self) -> Option<&std::sync::Arc<crate::kin::Kinematics>> {
         self.kinematics.as_ref()
+    }
+
+    /// The chain in use.
+    pub fn chain(&self) -> Chain {
+        self.chain
+    }
+
+    /// The mechanism of `chain` (a tip read in a block of that chain), whichever is in use.
+    pub fn kinematics_of(&self, chain: Chain) -> Option<&std::sync::Arc<crate::kin::Kinematics>> {
+        if chain == self.chain {
+            return self.kinematics.as_ref();
+        }
+        self.chains.iter().find(|c| c.chain == chain).and_then(|c| c.kinematics.as_ref())
+    }
+
+    /// The same machine in `chain`, if the machine describes that chain and its mechanism works
+    /// (Syntec COR-161 otherwise: the selected chain is not on).
+    pub fn with_chain(&self, chain: Chain) -> Option<Machine> {
+        if chain == self.chain {
+            return self.kinematics.is_some().then(|| self.clone());
+        }
+        let c = self.chains.iter().find(|c| c.chain == chain)?;
+        let kinematics = Some(c.kinematics.clone()?);
+        let config = MachineConfig { manual: self.config.manual.clone(), ..c.view.clone() };
+        Some(Machine { config, kinematics, limits: self.limits.clone(), chain, chains: self.chains.clone() })
     }
 
     /// Each axis's speed, acceleration and jerk per second.
@@ -905,6 +1127,79 @@ mod tests {
         // Axes in address order, whatever the chain order.
         assert_eq!(MachineConfig::preset("head-bc").unwrap().axis_index(b'C'), Some(4));
         assert!(MachineConfig::preset("nope").is_none());
+    }
+
+    /// A head-bc with set 2 an A/C head (A about X through the B pivot).
+    fn two_chains() -> MachineConfig {
+        let mut m = MachineConfig::preset("head-bc").unwrap();
+        m.axes.insert(3, Axis::new('A', AxisKind::Rotary, 10_800.0));
+        let rotary =
+            vec![link('C', Side::Head, [0.0, 0.0, 150.0], None), link('A', Side::Head, [0.0, 0.0, 150.0], None)];
+        m.chains =
+            vec![ChainSet { set: 2, rotary, tool_axis: plus_z(), nose: [0.0; 3], holder: 150.0, sub_chains: vec![] }];
+        m
+    }
+
+    #[test]
+    fn chains_are_checked() {
+        let m = two_chains();
+        m.validate().unwrap();
+        assert_eq!(m.chain_list(), [Chain::MAIN, Chain { set: 2, sub: 1 }]);
+        // The view of set 2 is the machine with set 2's mechanism and no further chains.
+        let view = m.chain_view(Chain { set: 2, sub: 1 }).unwrap();
+        assert_eq!((view.rotary[1].axis, view.chains.len()), ('A', 0));
+        assert!(m.chain_view(Chain { set: 3, sub: 1 }).is_none());
+        let bad = |f: &dyn Fn(&mut MachineConfig), why: &str| {
+            let mut m = two_chains();
+            f(&mut m);
+            let e = m.validate().expect_err(why);
+            assert!(e.contains(why), "{e}");
+        };
+        bad(&|m| m.chains[0].set = 1, "set is 2, 3 or 4");
+        bad(&|m| m.chains[0].set = 5, "set is 2, 3 or 4");
+        bad(&|m| m.chains.push(m.chains[0].clone()), "set 2 appears twice");
+        bad(&|m| m.chains[0].rotary.clear(), "needs rotary axes");
+        bad(&|m| m.chains[0].rotary[1].axis = 'X', "not a rotary axis");
+        bad(&|m| m.chains[0].tool_axis = [0.0; 3], "non-zero direction");
+        bad(&|m| m.chains[0].nose[0] = f64::NAN, "finite");
+        let sub = SubChain { q: 2, tool_axis: [1.0, 0.0, 0.0], nose: [0.0; 3], holder: 0.0 };
+        bad(&|m| m.sub_chains = vec![SubChain { q: 1, ..sub }], "q is 2, 3 or 4");
+        bad(&|m| m.sub_chains = vec![sub, sub], "q is 2, 3 or 4, each once");
+        bad(&|m| m.chains[0].sub_chains = vec![SubChain { tool_axis: [0.0; 3], ..sub }], "set 2 sub-chain 2");
+        // A table set cannot carry a head attachment.
+        bad(
+            &|m| {
+                m.chains[0].rotary =
+                    vec![link('A', Side::Table, [0.0; 3], None), link('C', Side::Table, [0.0; 3], None)];
+                m.chains[0].sub_chains = vec![sub];
+            },
+            "spindle-type",
+        );
+    }
+
+    #[test]
+    fn a_machine_without_chains_reads_and_writes_as_before() {
+        // No `chains` / `sub_chains` key is written for one chain, and the machine's view of
+        // set 1 is itself.
+        let m = MachineConfig::preset("head-bc").unwrap();
+        let text = serde_json::to_string(&m).unwrap();
+        assert!(!text.contains("chains"), "{text}");
+        assert_eq!(m.chain_view(Chain::MAIN).unwrap(), m);
+        let machine = Machine::new(m);
+        assert_eq!(machine.chain(), Chain::MAIN);
+        assert!(machine.with_chain(Chain { set: 2, sub: 1 }).is_none());
+    }
+
+    #[test]
+    fn a_machine_switches_chains_and_keeps_every_one_compiled() {
+        let machine = Machine::new(two_chains());
+        let two = machine.with_chain(Chain { set: 2, sub: 1 }).unwrap();
+        assert_eq!((two.chain(), two.rotary[1].axis), (Chain { set: 2, sub: 1 }, 'A'));
+        // Set 2's mechanism turns A (axis 3); set 1's is still there by name.
+        assert_eq!(two.kinematics().unwrap().head[1].index, Some(3));
+        assert_eq!(two.kinematics_of(Chain::MAIN).unwrap().head[1].name, 'B');
+        let back = two.with_chain(Chain::MAIN).unwrap();
+        assert_eq!(back.config(), machine.config());
     }
 
     #[test]

@@ -48,6 +48,13 @@ fn unknown_fields(doc: &serde_json::Value, m: &MachineConfig) -> Vec<vendor::unm
         let n = doc.get(list).and_then(|v| v.as_array()).map_or(0, Vec::len);
         objects.extend((0..n).map(|i| (format!("{list}[{i}]."), format!("/{list}/{i}"))));
     }
+    // The rotary links of the further mechanism chains (the chains themselves refuse unknown
+    // fields, as the option objects do).
+    let chains = doc.get("chains").and_then(|v| v.as_array()).map_or(&[][..], Vec::as_slice);
+    for (c, chain) in chains.iter().enumerate() {
+        let n = chain.get("rotary").and_then(|v| v.as_array()).map_or(0, Vec::len);
+        objects.extend((0..n).map(|i| (format!("chains[{c}].rotary[{i}]."), format!("/chains/{c}/rotary/{i}"))));
+    }
     let mut out = Vec::new();
     for (path, pointer) in objects {
         let Some(object) = doc.pointer(&pointer).and_then(|v| v.as_object()) else { continue };
@@ -118,5 +125,18 @@ mod tests {
         assert!(e.starts_with("COR-155"), "{e}");
         let e = parse(r#"{"name": "x", "dialect": "fanuc", "parameters": {"1020": "X"}}"#).unwrap_err();
         assert!(e.contains("1020") || e.contains("untagged"), "{e}");
+    }
+
+    #[test]
+    fn a_chain_refuses_unknown_fields_and_its_links_report_them() {
+        let mut doc = serde_json::to_value(MachineConfig::preset("head-bc").unwrap()).unwrap();
+        let links = doc["rotary"].clone();
+        doc["chains"] = serde_json::json!([{"set": 2, "rotary": links, "holder": 150.0}]);
+        assert!(parse(&doc.to_string()).is_ok());
+        doc["chains"][0]["rotary"][0]["bogus"] = 1.into();
+        let names: Vec<String> = unmodelled(&doc.to_string()).into_iter().map(|u| u.parameter).collect();
+        assert_eq!(names, ["chains[0].rotary[0].bogus"]);
+        doc["chains"][0]["typo"] = 1.into();
+        assert!(parse(&doc.to_string()).unwrap_err().contains("typo"));
     }
 }

@@ -21,7 +21,7 @@
 
 use crate::canon::Pos;
 use crate::interp::Interpreter;
-use crate::kin::{Kinematics, Vec3};
+use crate::kin::Vec3;
 use crate::machine::AxisKind;
 use crate::motion::Segment;
 use crate::run::{run_observed, Observer, RunOptions, RunResult, Sample};
@@ -210,12 +210,17 @@ pub fn run_with_report(interp: &mut Interpreter, opts: &RunOptions) -> (RunResul
 
 /// The observer that builds a [`Report`].
 pub struct Recorder {
-    kin: Option<std::sync::Arc<Kinematics>>,
-    /// The line of the axis whose posture is singular (`Kinematics::singularity`), fixed in
-    /// the table frame: the angle to it comes from each sample's tool direction.
+    /// The machine, whose mechanism of each segment's chain (Syntec G10 L5000) reads its tip.
+    machine: std::sync::Arc<crate::machine::Machine>,
+    /// The mechanism chain of the segment last sampled (Syntec G10 L5000).
+    chain: crate::machine::Chain,
+    /// The line of the axis whose posture is singular (`Kinematics::singularity`) in that
+    /// chain, fixed in the table frame: the angle to it comes from each sample's tool direction.
     singular_axis: Option<Vec3>,
     axes: Vec<AxisAcc>,
+    /// The angle taken as near the singular posture (while the chain has one).
     near_deg: Option<f64>,
+    near: f64,
     near_s: f64,
     min_singular: Option<f64>,
     period_s: f64,
@@ -273,18 +278,18 @@ impl Recorder {
                 }
             })
             .collect();
-        let singular_axis = kin.as_ref().and_then(|k| {
-            let axis = k.singularity(&[0.0; crate::machine::MAX_AXES])?.axis;
-            k.joints().iter().find(|j| j.name == axis).map(|j| j.direction)
-        });
+        let singular_axis = singular_axis(kin.as_deref());
         let f = &machine.five_axis;
         // The machine's own singular angles: No.19738 (type 2 end-point change) first, then
         // No.11204 (G54.4); a machine with neither uses the default.
         let near = [f.singular_angle, f.singular_tolerance_deg].into_iter().find(|a| *a > 0.0);
+        let near = near.unwrap_or(DEFAULT_NEAR_SINGULAR_DEG);
         Recorder {
-            kin,
+            machine: machine.clone(),
+            chain: machine.chain(),
             axes,
-            near_deg: singular_axis.map(|_| near.unwrap_or(DEFAULT_NEAR_SINGULAR_DEG)),
+            near_deg: singular_axis.map(|_| near),
+            near,
             singular_axis,
             near_s: 0.0,
             min_singular: None,
@@ -363,6 +368,15 @@ impl Recorder {
         }
     }
 
+    /// From a segment of another mechanism chain on, the singular axis is that chain's.
+    fn follow_chain(&mut self, chain: crate::machine::Chain) {
+        if chain != self.chain {
+            self.chain = chain;
+            self.singular_axis = singular_axis(self.machine.kinematics_of(chain).map(|k| &**k));
+            self.near_deg = self.near_deg.or(self.singular_axis.map(|_| self.near));
+        }
+    }
+
     /// The angle between the sample's tool direction and the singular axis, degrees (as
     /// `Kinematics::singularity` computes it).
     fn singular_angle(&self, sample: &Sample) -> Option<f64> {
@@ -373,7 +387,7 @@ impl Recorder {
 
     /// The tip deviation at a sample on `seg`, `s` along it, with the axes at `machine`.
     fn deviation(&mut self, machine: &Pos, seg: &Segment, s: f64) -> Option<(f64, Vec3)> {
-        let kin = self.kin.as_ref()?;
+        let kin = self.machine.kinematics_of(seg.tip_basis.chain)?.clone();
         if let Some((programmed, length)) = seg.programmed_tip(s) {
             let tip = kin.forward(machine, length).tip;
             return Some(((tip - programmed).norm(), tip));
@@ -397,6 +411,13 @@ impl Recorder {
     }
 }
 
+/// The line of the axis whose posture is singular, at all angles zero.
+fn singular_axis(kin: Option<&crate::kin::Kinematics>) -> Option<Vec3> {
+    let k = kin?;
+    let axis = k.singularity(&[0.0; crate::machine::MAX_AXES])?.axis;
+    k.joints().iter().find(|j| j.name == axis).map(|j| j.direction)
+}
+
 /// Distance from `p` to the line segment from `a` to `b`.
 fn distance_to_segment(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     let ab = b - a;
@@ -407,6 +428,9 @@ fn distance_to_segment(p: Vec3, a: Vec3, b: Vec3) -> f64 {
 
 impl Observer for Recorder {
     fn sample(&mut self, sample: &Sample, machine: &Pos, on: Option<(&Segment, f64, u64)>) {
+        if let Some((seg, ..)) = on {
+            self.follow_chain(seg.tip_basis.chain);
+        }
         if let Some((t0, p0)) = self.last {
             let dt = sample.t - t0;
             if dt > 0.0 {

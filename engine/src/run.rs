@@ -163,7 +163,7 @@ pub fn run_observed(
     } else {
         (interp.state.shown_position(), interp.state.tip_basis())
     };
-    let tip = crate::tip::locate(exec.kinematics().map(|k| &**k), &machine, &basis);
+    let tip = crate::tip::locate(exec.machine().kinematics_of(basis.chain).map(|k| &**k), &machine, &basis);
     let shown = exec.machine();
     let (machine, workpiece) = (shown.shown(&machine), shown.shown(&workpiece));
     RunResult {
@@ -218,6 +218,7 @@ impl<O: Observer> Driver<'_, O> {
                         self.wait(self.exec.machine().motion.tool_change_s, c, tracing, on_sample)
                     }
                     CanonKind::Print { text } => self.messages.push(text.clone()),
+                    CanonKind::Chain(chain) => self.exec.follow_chain(*chain),
                     CanonKind::Stop { message: Some(m), .. } => self.messages.push(m.clone()),
                     _ => {}
                 }

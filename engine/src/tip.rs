@@ -54,6 +54,8 @@ pub struct Basis {
     pub tool_length: f64,
     pub origin: [f64; 3],
     pub programmed_in: System,
+    /// The mechanism chain of the block (Syntec `G10 L5000`): whose kinematics reads the tip.
+    pub chain: crate::machine::Chain,
 }
 
 /// A motion queued after the workpiece origin changed without motion (G10, G92, a work offset)

@@ -4,6 +4,7 @@
 //! a block can change). Splitting them lets a block be borrowed from the programs while the state
 //! is mutated, with no copying on the hot path.
 
+mod chain;
 mod cutting_point;
 mod cycles;
 pub mod expr;
@@ -733,7 +734,7 @@ impl State {
                 (applied, shown)
             }
         };
-        crate::tip::Basis { tool_length, origin, programmed_in }
+        crate::tip::Basis { tool_length, origin, programmed_in, chain: self.cfg.machine.chain() }
     }
 
     pub fn modal(&self, group: usize) -> u16 {

@@ -141,6 +141,12 @@ static RULES: &[Rule] = &[
     rule(Syntec, "syn SYN-26: no G10 L5000 in RTCP or after a tool alignment", A::ChainSwitchInMode, |c| {
         c.chain_switch() && (c.tcp(c.before[group::LENGTH_COMP]) || c.five.aligned && c.twp(c.before[group::ROTATION]))
     }),
+    rule(
+        Syntec,
+        "syn SYN-26, COR-165: with sub-chain Q2..Q4 only G43.4, G43.5, G68.2 + G53.1/G53.6, G68.3",
+        A::ChainCommand,
+        |c| c.st.cfg.machine.chain().sub >= 2 && c.g.iter().any(|g| chain_limited(*g)),
+    ),
     // --- workpiece setting error compensation: combinations -----------------------------
     rule(Fanuc, "twp TWP-07, WSE-11: G53.1 in G54.4 mode needs RCM=1", A::AlignmentInWse, |c| {
         !c.rcm() && c.has(G53_1) && c.wse_during()
@@ -947,6 +953,14 @@ fn any_mode(m: &[u16; GROUPS]) -> bool {
 /// G80 and the canned cycles (group 09).
 fn in_group_09(g: u16) -> bool {
     gcode::lookup(g, Dialect::Fanuc).is_some_and(|d| d.group == group::CYCLE)
+}
+
+/// A 5-axis command that a sub-chain 2–4 does not support (COR-165). The manual's two lists
+/// differ on G53.3 (§6.1 names G53.1/G53.3/G53.6, the §6.2 solution G53.1 and G53.6 only):
+/// fivex follows the shorter, so G53.3 is refused (TV-22c).
+fn chain_limited(g: u16) -> bool {
+    let five_axis = TCP.contains(&g) || ALIGNMENTS.contains(&g) || TILTED_PLANES.contains(&g) || TOOL_SIDE.contains(&g);
+    five_axis && ![G43_4, G43_5, G68_2, G68_3, G53_1, G53_6].contains(&g)
 }
 
 fn int_in(v: f64, lo: i64, hi: i64) -> bool {

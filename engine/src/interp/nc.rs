@@ -1137,7 +1137,7 @@ impl State {
                 }
                 self.emit(out, CanonKind::Dwell { seconds });
             }
-            code::G10 => self.data_setting(w, machine_before)?,
+            code::G10 => self.data_setting(w, machine_before, out)?,
             code::G38 => return self.vector_hold(w, out),
             code::G39 => {
                 self.corner_arc(w, out)?;
@@ -1310,7 +1310,7 @@ impl State {
     }
 
     /// G10: programmable data input of work and tool offsets.
-    fn data_setting(&mut self, w: &Words, machine_before: Pos) -> Result<(), AlarmId> {
+    fn data_setting(&mut self, w: &Words, machine_before: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let l = w.integer(b'L').ok_or(AlarmId::DataSettingFormat)?;
         let p = w.integer(b'P').ok_or(AlarmId::DataSettingFormat)?;
         if p < 0.0 || p.fract() != 0.0 {
@@ -1346,8 +1346,7 @@ impl State {
                 *slot = if incremental { *slot + r } else { r };
             }
             // Syntec: select the mechanism chain (its Q and its modes are checked in `modes`).
-            // fivex has one chain per machine: refused by `unbuilt` before this.
-            5000 if self.cfg.dialect == Dialect::Syntec => {}
+            5000 if self.cfg.dialect == Dialect::Syntec => self.switch_chain(w, p, out)?,
             _ => return Err(AlarmId::DataSettingFormat),
         }
         Ok(())

@@ -22,8 +22,6 @@ enum When {
     Always,
     /// Unless the address has one of these values (the cancel, or the mode fivex performs).
     Unless(u8, &'static [f64]),
-    /// Only when the address has one of these values.
-    Is(u8, &'static [f64]),
     /// When any of these addresses is given.
     WithAny(&'static [u8]),
 }
@@ -74,13 +72,6 @@ const TABLE: &[NotBuilt] = &[
     row(70, When::Always, "hypothetical axis interpolation (G07)"),
     // Also its cancel G07.1 C0: fivex would read C0 as a move of the C axis.
     row(71, When::Always, "cylindrical interpolation (G07.1)"),
-    // G10 L5000: Syntec's choice of the mechanism chain; fivex has one chain per machine.
-    NotBuilt {
-        code: 100,
-        dialect: Some(Dialect::Syntec),
-        when: When::Is(b'L', &[5000.0]),
-        function: "multiple kinematic chains (G10 L5000)",
-    },
     row(106, When::Always, "tool retract and recover (G10.6)"),
     row(121, When::Always, "polar coordinate interpolation (G12.1)"),
     row(171, When::Always, "plane conversion (G17.1)"),
@@ -129,7 +120,6 @@ pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<
     let refused = match row.when {
         When::Always => Some(true),
         When::Unless(letter, values) => value_in(letter, values).map(|ok| !ok),
-        When::Is(letter, values) => value_in(letter, values),
         When::WithAny(letters) => Some(letters.iter().any(|&l| word(l) != Word::Absent)),
     };
     // A value known only when running is not refused statically; the run decides.

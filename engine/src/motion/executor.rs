@@ -124,6 +124,17 @@ impl Executor {
         self.machine.kinematics()
     }
 
+    /// From a program command of mechanism chain `chain` on (Syntec `G10 L5000`), its segments
+    /// and the manual moves are made with that chain's mechanism. The interpreter refused a
+    /// chain the machine cannot take, so one that has none leaves the machine as it is.
+    pub fn follow_chain(&mut self, chain: crate::machine::Chain) {
+        if chain != self.machine.chain() {
+            if let Some(m) = self.machine.with_chain(chain) {
+                self.machine = Arc::new(m);
+            }
+        }
+    }
+
     /// The axis limits of program motion.
     pub fn axes(&self) -> &AxisLimits {
         self.machine.limits()
@@ -241,6 +252,7 @@ impl Executor {
                 *w = self.queued.machine[k] + m.target[k] - m.machine[k];
             }
         }
+        self.follow_chain(c.tip_basis.chain);
         let mut seg = self.segment_within(m, ctx, self.machine.limits());
         (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
         seg
@@ -513,7 +525,7 @@ impl Executor {
     /// (the clock's, or a sample time the run passes through) with the tip by forward
     /// kinematics of `machine` (the axes as they stand; a handle interruption's shift in them).
     pub fn sample(&self, t: f64, machine: &Pos, basis: &Basis) -> Sample {
-        let placed = crate::tip::locate(self.machine.kinematics().map(|k| &**k), machine, basis);
+        let placed = crate::tip::locate(self.machine.kinematics_of(basis.chain).map(|k| &**k), machine, basis);
         let o = basis.origin;
         let cutting = self
             .on()

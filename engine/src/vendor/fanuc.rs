@@ -213,6 +213,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         tool_axis: tool_axis.into(),
         nose,
         holder,
+        sub_chains: Vec::new(),
+        chains: Vec::new(),
         motion,
         five_axis,
         manual,
@@ -398,6 +400,9 @@ fn percent(p: &Params, number: u32) -> Result<f64, ConfigError> {
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
+    if !m.chains.is_empty() || !m.sub_chains.is_empty() {
+        return Err(unrepresentable("FANUC", "more than one mechanism chain (Syntec G10 L5000)"));
+    }
     let mut p = Params::default();
     let each = |f: &dyn Fn(&Axis) -> f64| m.axes.iter().map(|a| real(f(a))).collect::<Vec<f64>>();
     p.set_axes(1020, each(&|a| a.name as u32 as f64));

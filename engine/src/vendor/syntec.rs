@@ -186,6 +186,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         tool_axis: tool_axis.into(),
         nose: [0.0; 3],
         holder,
+        sub_chains: Vec::new(),
+        chains: Vec::new(),
         motion: Default::default(),
         five_axis: FiveAxisOptions {
             // Pr3054 = 1 tool-vector interpolation, Pr3055 = 1 table coordinates at the rotary
@@ -227,6 +229,14 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
+    // Spec Q-22: the manual gives only the type parameters of sets 2–4 (Pr3101, Pr5501,
+    // Pr5601), not the numbers of their vectors; sub-chains have none at all.
+    if !m.chains.is_empty() || !m.sub_chains.is_empty() {
+        return Err(unrepresentable(
+            "Syntec",
+            "mechanism-chain sets 2–4 and sub-chains (their parameter numbers are not in the manual)",
+        ));
+    }
     let mut p = Params::default();
     if m.axes.len() > SLOTS as usize {
         return Err(unrepresentable("Syntec", format!("more than {SLOTS} axes")));

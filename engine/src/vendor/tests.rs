@@ -1113,3 +1113,15 @@ fn nano_smoothing_settings_are_validated() {
     assert!(json.contains("\"nano_smoothing\":{\"tolerance\":0.002"), "{json}");
     assert!(!serde_json::to_string(&MachineConfig::preset("mill3").unwrap()).unwrap().contains("nano_smoothing"));
 }
+
+/// Neither vendor list can carry further mechanism chains: FANUC has none, and Syntec's manual
+/// gives no parameter numbers for sets 2–4 beyond their types (spec Q-22). Refused, not dropped.
+#[test]
+fn chains_are_refused_by_both_lists() {
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    m.sub_chains = vec![crate::machine::SubChain { q: 2, tool_axis: [1.0, 0.0, 0.0], nose: [0.0; 3], holder: 0.0 }];
+    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+        let e = params_of(dialect, &m).expect_err("chains");
+        assert!(e.detail.contains("chain"), "{dialect:?}: {}", e.detail);
+    }
+}

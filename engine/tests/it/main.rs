@@ -5,6 +5,7 @@
 mod common;
 
 mod alarms;
+mod chains;
 mod controller;
 mod cutter;
 mod cutting_point;

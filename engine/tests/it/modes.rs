@@ -83,6 +83,8 @@ fn custom_run(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Confi
             tool_axis: [0.0, 0.0, 1.0],
             nose: [0.0; 3],
             holder: 0.0,
+            sub_chains: Vec::new(),
+            chains: Vec::new(),
             motion: Default::default(),
             five_axis: Default::default(),
             manual: Default::default(),

@@ -153,7 +153,6 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G07 C10.", &[Fanuc, Syntec]),
     ("G07.1 C10.", &[Fanuc, Syntec]),
     ("G07.1 C0", &[Fanuc, Syntec]),
-    ("G10 L5000 P2", &[Syntec]),
     ("G10.6 Z10.", &[Fanuc, Syntec]),
     ("G12.1", &[Fanuc, Syntec]),
     ("G17.1 P1", &[Fanuc, Syntec]),

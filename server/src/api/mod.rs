@@ -127,6 +127,9 @@ pub struct ControllerStatus {
     /// What the controller's machine description sets that fivex keeps but does not carry out
     /// (`docs/machine-config.md`, "Settings fivex does not model"); empty for most machines.
     pub unmodelled_parameters: Vec<UnmodelledParameter>,
+    /// The mechanism chain in force (Syntec `G10 L5000 P_ Q_`, `docs/five-axis.md`): its set
+    /// 1–4 and sub-chain 1–4, as the machine executes; set 1, sub-chain 1 on a one-chain machine.
+    pub chain: fivex_engine::machine::Chain,
 }
 
 /// A machine setting fivex does not carry out.
@@ -259,6 +262,7 @@ impl ControllerStatus {
             panel: PanelState::of(&c.panel),
             interrupt_shift: axes(&station.machine, &c.interrupt_shift()),
             unmodelled_parameters: UnmodelledParameter::list(&station.unmodelled),
+            chain: c.chain(),
         }
     }
 

@@ -167,6 +167,7 @@ impl CanonWriter {
             CanonKind::Print { .. } => "print",
             CanonKind::ProgramEnd { .. } => "program_end",
             CanonKind::Cutter(_) => "cutter",
+            CanonKind::Chain(_) => "chain",
         };
         put(w, b"{\"type\":\"");
         put(w, kind.as_bytes());
@@ -215,6 +216,12 @@ impl CanonWriter {
                     Some(m) => json_string(w, m),
                     None => put(w, b"null"),
                 }
+            }
+            CanonKind::Chain(chain) => {
+                put(w, b",\"set\":");
+                uint(w, chain.set as u64);
+                put(w, b",\"sub\":");
+                uint(w, chain.sub as u64);
             }
             CanonKind::Print { text } => {
                 put(w, b",\"text\":");

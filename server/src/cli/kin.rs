@@ -4,7 +4,7 @@ use super::{load_machine, Fail, MachineArgs};
 use crate::wire::{axis_values, AlarmCode, ForwardKinematics, InverseKinematics, SingularityInfo};
 use clap::{Args, Subcommand};
 use fivex_engine::kin::{Kinematics, Selection, Vec3};
-use fivex_engine::machine::MachineConfig;
+use fivex_engine::machine::{Chain, MachineConfig};
 use fivex_engine::Dialect;
 use serde::Serialize;
 
@@ -29,6 +29,9 @@ pub struct FkArgs {
     /// Whose alarm a machine that cannot work raises: fanuc or syntec.
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
+    /// The mechanism chain, as Syntec's G10 L5000 P_ Q_ selects it: SET or SET,SUB (default 1).
+    #[arg(long)]
+    chain: Option<String>,
 }
 
 #[derive(Args, Debug)]
@@ -56,6 +59,9 @@ pub struct IkArgs {
     /// Whose selection rules: fanuc or syntec.
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
+    /// The mechanism chain, as Syntec's G10 L5000 P_ Q_ selects it: SET or SET,SUB (default 1).
+    #[arg(long)]
+    chain: Option<String>,
 }
 
 pub fn run(command: KinCommand) -> Result<i32, Fail> {
@@ -65,9 +71,23 @@ pub fn run(command: KinCommand) -> Result<i32, Fail> {
     }
 }
 
-/// The machine and its kinematics; a mechanism that cannot work fails with the dialect's alarm.
-fn model(args: &MachineArgs, dialect: Dialect) -> Result<(MachineConfig, Kinematics), Fail> {
-    let m = load_machine(args)?;
+/// The machine (as `chain` sees it) and its kinematics; a mechanism that cannot work fails with
+/// the dialect's alarm.
+fn model(args: &MachineArgs, dialect: Dialect, chain: Option<&str>) -> Result<(MachineConfig, Kinematics), Fail> {
+    let mut m = load_machine(args)?;
+    if let Some(text) = chain {
+        let numbers: Vec<u8> = text
+            .split(',')
+            .map(|n| n.trim().parse())
+            .collect::<Result<_, _>>()
+            .map_err(|_| Fail(format!("--chain '{text}': expected SET or SET,SUB (whole numbers)")))?;
+        let chain = match numbers[..] {
+            [set] => Chain { set, sub: 1 },
+            [set, sub] => Chain { set, sub: sub.max(1) },
+            _ => return Err(Fail(format!("--chain '{text}': expected SET or SET,SUB"))),
+        };
+        m = m.chain_view(chain).ok_or_else(|| Fail(format!("--chain '{text}': the machine has no such chain")))?;
+    }
     let k = Kinematics::new(&m).map_err(|e| Fail(e.describe(dialect)))?;
     Ok((m, k))
 }
@@ -114,7 +134,7 @@ fn print(value: &impl Serialize) -> Result<(), Fail> {
 }
 
 fn fk(a: FkArgs) -> Result<i32, Fail> {
-    let (m, k) = model(&a.machine, a.dialect)?;
+    let (m, k) = model(&a.machine, a.dialect, a.chain.as_deref())?;
     let pos = positions(&m, &a.axes)?;
     let p = k.forward(&pos, a.tool_length);
     print(&ForwardKinematics {
@@ -128,7 +148,7 @@ fn fk(a: FkArgs) -> Result<i32, Fail> {
 }
 
 fn ik(a: IkArgs) -> Result<i32, Fail> {
-    let (m, k) = model(&a.machine, a.dialect)?;
+    let (m, k) = model(&a.machine, a.dialect, a.chain.as_deref())?;
     let from = positions(&m, &a.from)?;
     let tool = triple(&a.tool)?;
     if tool.norm() < 1e-12 {

@@ -963,3 +963,20 @@ async fn cycle_start_takes_an_empty_body_with_a_json_content_type() {
     }
     assert_eq!(error_of(&app.raw(Method::POST, &uri, "application/json", "").await), "there is no program to run");
 }
+
+#[tokio::test]
+async fn the_status_shows_the_mechanism_chain_a_program_switched_to() {
+    // Syntec G10 L5000 on the library's exchangeable-head machine: set 1 at creation, set 2
+    // once an MDI program switched and executed, kept after a reset (docs/five-axis.md).
+    let app = spawn_app().await;
+    let machine: Value = serde_json::from_str(include_str!("../../../machines/head-exchange-bc-ac.json")).unwrap();
+    let reply = app.post(C, &json!({"name": "x", "dialect": "syntec", "machine": machine})).await;
+    assert_eq!(reply.status, StatusCode::CREATED, "{}", reply.text());
+    assert_eq!(reply.json()["chain"], json!({"set": 1, "sub": 1}));
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G10 L5000 P2\nG91 G01 X1. F1000."})).await;
+    wait_for(&app, &id, "idle").await;
+    assert_eq!(app.get(&format!("{C}/{id}")).await.json()["chain"], json!({"set": 2, "sub": 1}));
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    assert_eq!(app.get(&format!("{C}/{id}")).await.json()["chain"], json!({"set": 2, "sub": 1}));
+}

@@ -173,3 +173,36 @@ fn the_dashboards_kinematics_fixture_is_what_the_engine_computes() {
     }
     assert!(checked >= 100, "{checked} poses");
 }
+
+/// `--chain` computes with a further mechanism chain (Syntec G10 L5000 P_ Q_): the library's
+/// exchangeable head at A90 in set 2 — its pivot 150 above the carriage point, its nose 50
+/// below it, A +90° about +X takes the 100 mm tool's tip from 300 below the pivot to 300 along
+/// +Y: (0, 300, 150), tool −Y (docs/five-axis.md). Set 1 (the default) turns B instead.
+#[test]
+fn a_further_mechanism_chain() {
+    let machine = concat!(env!("CARGO_MANIFEST_DIR"), "/../machines/head-exchange-bc-ac.json");
+    let (code, v) = kin(&["fk", "--machine", machine, "--axes", "A=90", "--tool-length", "100", "--chain", "2"]);
+    assert_eq!(code, 0);
+    assert_eq!((v["tip"].clone(), v["tool"].clone()), (json!([0.0, 300.0, 150.0]), json!([0.0, -1.0, 0.0])));
+    let (_, v) = kin(&["fk", "--machine", machine, "--axes", "A=90", "--tool-length", "100"]);
+    assert_eq!(v["tip"], json!([0.0, 0.0, -100.0]), "set 1 does not turn A");
+    let (code, v) = kin(&[
+        "ik",
+        "--machine",
+        machine,
+        "--tip",
+        "0,300,150",
+        "--tool",
+        "0,-1,0",
+        "--tool-length",
+        "100",
+        "--chain",
+        "2",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["chosen"]["A"], json!(90.0), "{v}");
+    for bad in ["3", "2,2", "x"] {
+        let out = fivex(&["kin", "fk", "--machine", machine, "--chain", bad]);
+        assert_eq!(out.status.code(), Some(2), "--chain {bad}");
+    }
+}

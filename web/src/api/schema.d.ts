@@ -949,6 +949,36 @@ export interface components {
             axis: string;
             speeds: number[];
         };
+        /**
+         * @description Which mechanism chain is in use: Syntec's set (1–4) and sub-chain (1: the set as described,
+         *     2–4 an attachment), chosen by `G10 L5000 P_ [Q_]`; set 1, sub-chain 1 at power-on.
+         */
+        Chain: {
+            /** Format: int32 */
+            set: number;
+            /** Format: int32 */
+            sub: number;
+        };
+        /**
+         * @description A further mechanism chain (Syntec set 2, 3 or 4, type parameter Pr3101 / Pr5501 / Pr5601):
+         *     the rotary mechanism described as the main fields of [`MachineConfig`] describe set 1. The
+         *     machine's axes are shared: a chain names which of them it turns.
+         */
+        ChainSet: {
+            /** Format: double */
+            holder?: number;
+            nose?: number[];
+            /** @description As [`MachineConfig::rotary`]; at least one link (a set without is not configured). */
+            rotary: components["schemas"]["RotaryLink"][];
+            /**
+             * Format: int32
+             * @description The set number, 2 to 4 (`G10 L5000 P_`).
+             */
+            set: number;
+            /** @description This set's sub-chains 2–4 (spindle type only), as [`MachineConfig::sub_chains`]. */
+            sub_chains?: components["schemas"]["SubChain"][];
+            tool_axis?: number[];
+        };
         /** @description `POST /controllers/{id}/clone`: the new controller's name. */
         CloneController: {
             /** @example cell 1 (copy) */
@@ -960,6 +990,11 @@ export interface components {
         ControllerStatus: {
             /** @description Alarms in force. */
             alarms: components["schemas"]["AlarmInfo"][];
+            /**
+             * @description The mechanism chain in force (Syntec `G10 L5000 P_ Q_`, `docs/five-axis.md`): its set
+             *     1–4 and sub-chain 1–4, as the machine executes; set 1, sub-chain 1 on a one-chain machine.
+             */
+            chain: components["schemas"]["Chain"];
             /**
              * @description Creation time, RFC 3339 UTC.
              * @example 2025-01-01T00:00:00Z
@@ -1442,6 +1477,11 @@ export interface components {
         };
         MachineConfig: {
             axes: components["schemas"]["Axis"][];
+            /**
+             * @description Further mechanism chains, Syntec's sets 2–4 (`G10 L5000 P2..P4`), each a whole mechanism
+             *     as the fields above describe the main one, set 1. Absent: the one chain above.
+             */
+            chains?: components["schemas"]["ChainSet"][];
             /** @description How the 5-axis functions behave (`docs/five-axis.md`). */
             five_axis?: components["schemas"]["FiveAxisOptions"];
             /**
@@ -1466,6 +1506,11 @@ export interface components {
              *     table links from the bed to the table top (so the master axis comes first on each side).
              */
             rotary?: components["schemas"]["RotaryLink"][];
+            /**
+             * @description Sub-chains 2–4 of this main mechanism (Syntec `G10 L5000 P1 Q2..Q4`; a spindle-type
+             *     mechanism only): head attachments. Absent: none (`docs/machine-config.md`, chains).
+             */
+            sub_chains?: components["schemas"]["SubChain"][];
             /** @description Tool direction (tip → holder) with every head axis at zero, machine coordinates. */
             tool_axis?: number[];
         };
@@ -2230,6 +2275,24 @@ export interface components {
             /** Format: int32 */
             number: number;
             size: number;
+        };
+        /**
+         * @description A sub-kinematic chain of a spindle-type set (Syntec `G10 L5000 P_ Q2..Q4`): a head
+         *     attachment carried after the set's last head axis, so it changes only what is beyond that
+         *     axis — the tool direction, the spindle nose and the holder offset; the rotary links stay the
+         *     set's. *Decision* (spec Q-21: the manual does not describe sub-chains): Q0 and Q1 are the set
+         *     as described, Q2–Q4 the listed attachments.
+         */
+        SubChain: {
+            /** Format: double */
+            holder?: number;
+            nose?: number[];
+            /**
+             * Format: int32
+             * @description The Q that selects it, 2 to 4.
+             */
+            q: number;
+            tool_axis?: number[];
         };
         /** @description `PUT /switches`. */
         Switches: {

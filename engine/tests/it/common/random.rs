@@ -212,6 +212,8 @@ pub fn random_machine_of(kind: MachineKind) -> impl Strategy<Value = MachineConf
                 tool_axis: tool_axis.into(),
                 nose,
                 holder: 0.0,
+                sub_chains: Vec::new(),
+                chains: Vec::new(),
                 motion: Default::default(),
                 five_axis: FiveAxisOptions::default(),
                 manual: Default::default(),

@@ -22,8 +22,7 @@
 
 use crate::common;
 use fivex_engine::canon::Canon;
-use fivex_engine::kin::Kinematics;
-use fivex_engine::machine::{AxisKind, MachineConfig};
+use fivex_engine::machine::{AxisKind, Machine, MachineConfig};
 use fivex_engine::run::Sample;
 use fivex_engine::tip::{self, Basis};
 use std::collections::HashMap;
@@ -62,8 +61,9 @@ fn rotaries_at_zero(s: &Sample, m: &MachineConfig) -> bool {
 /// Every sample's `tip` and `tool` are the forward kinematics of its axes with the tool length
 /// and workpiece origin of its block (the `tip_basis` of the canonical commands of its line,
 /// where that line has one; a line run with different bases, as a loop over G43 H#1 can, is
-/// left out), read here through `fivex_engine::tip::locate`. Returns how many were compared.
-pub fn tip_is_fk(samples: &[Sample], canon: &[Canon], kin: Option<&Kinematics>) -> Result<usize, String> {
+/// left out), read here through `fivex_engine::tip::locate` with the mechanism of the basis's
+/// chain (Syntec G10 L5000). Returns how many were compared.
+pub fn tip_is_fk(samples: &[Sample], canon: &[Canon], machine: &Machine) -> Result<usize, String> {
     let mut bases: HashMap<u32, Option<Basis>> = HashMap::new();
     for c in canon {
         let b = bases.entry(c.line).or_insert(Some(c.tip_basis));
@@ -74,7 +74,7 @@ pub fn tip_is_fk(samples: &[Sample], canon: &[Canon], kin: Option<&Kinematics>) 
     let mut compared = 0;
     for s in samples {
         let Some(Some(basis)) = bases.get(&s.line) else { continue };
-        let fk = tip::locate(kin, &s.machine, basis);
+        let fk = tip::locate(machine.kinematics_of(basis.chain).map(|k| &**k), &s.machine, basis);
         if dist(fk.tip, s.tip) > SAME || dist(fk.tool, s.tool) > 1e-9 {
             return Err(format!(
                 "line {} t={}: the sample's tip {:?} (tool {:?}) is not the forward kinematics {:?} ({:?})",

@@ -190,8 +190,7 @@ fn invariants(skips: &[Skip], o: &Outcome, machine: &MachineConfig) -> Result<()
             .map_err(|e| format!("limits: {e}"))?;
     }
     if !header::skips_all(skips, "tip") {
-        let kin = o.interp.kinematics().map(|k| &**k);
-        invariants::tip_is_fk(&o.samples, &o.canon, kin).map_err(|e| format!("tip: {e}"))?;
+        invariants::tip_is_fk(&o.samples, &o.canon, &o.interp.config().machine).map_err(|e| format!("tip: {e}"))?;
         let changes = invariants::length_changes(&o.canon);
         let compared = invariants::tip(&o.samples, machine, &header::skipped_lines(skips, "tip"), &changes)
             .map_err(|e| format!("tip: {e}"))?;

@@ -101,6 +101,7 @@ fn kind(m: &MachineConfig, k: &CanonKind) -> String {
         }
         CanonKind::Print { text } => format!("print {text:?}"),
         CanonKind::ProgramEnd { m } => format!("end M{m}"),
+        CanonKind::Chain(c) => format!("chain P{} Q{}", c.set, c.sub),
         CanonKind::Cutter(CutterWord::CornerArc(d)) => match d {
             Some(d) => format!("corner arc I{} J{} K{}", num(d[0]), num(d[1]), num(d[2])),
             None => "corner arc".to_string(),
