@@ -37,37 +37,39 @@ pub fn split<const D: usize>(
     max: usize,
     out: &mut Vec<(f64, [f64; D])>,
 ) -> Result<(), TooMany> {
-    split_from(curve, a, pa, b, pb, linear, 0, max, out)
+    Halving { curve, linear, max, out }.piece((a, pa), (b, pb), 0)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn split_from<const D: usize>(
-    curve: &impl Fn(f64) -> [f64; D],
-    a: f64,
-    pa: &[f64; D],
-    b: f64,
-    pb: &[f64; D],
-    linear: &[bool; D],
-    depth: u32,
+/// One tessellation in progress: the curve, how it is measured, and the chords so far.
+struct Halving<'a, F, const D: usize> {
+    curve: &'a F,
+    linear: &'a [bool; D],
     max: usize,
-    out: &mut Vec<(f64, [f64; D])>,
-) -> Result<(), TooMany> {
-    let fine = depth >= MAX_DEPTH
-        || [0.25, 0.5, 0.75].iter().all(|t| {
-            let q = curve(a + (b - a) * t);
-            deviation(pa, pb, &q, linear, true) <= TOLERANCE_MM && deviation(pa, pb, &q, linear, false) <= TOLERANCE_DEG
-        });
-    if fine {
-        if out.len() >= max {
-            return Err(TooMany);
+    out: &'a mut Vec<(f64, [f64; D])>,
+}
+
+impl<F: Fn(f64) -> [f64; D], const D: usize> Halving<'_, F, D> {
+    /// The piece from `a` to `b` (parameters and points), halved `depth` times so far.
+    fn piece(&mut self, (a, pa): (f64, &[f64; D]), (b, pb): (f64, &[f64; D]), depth: u32) -> Result<(), TooMany> {
+        let (curve, linear) = (self.curve, self.linear);
+        let fine = depth >= MAX_DEPTH
+            || [0.25, 0.5, 0.75].iter().all(|t| {
+                let q = curve(a + (b - a) * t);
+                deviation(pa, pb, &q, linear, true) <= TOLERANCE_MM
+                    && deviation(pa, pb, &q, linear, false) <= TOLERANCE_DEG
+            });
+        if fine {
+            if self.out.len() >= self.max {
+                return Err(TooMany);
+            }
+            self.out.push((b, *pb));
+            return Ok(());
         }
-        out.push((b, *pb));
-        return Ok(());
+        let m = 0.5 * (a + b);
+        let pm = curve(m);
+        self.piece((a, pa), (m, &pm), depth + 1)?;
+        self.piece((m, &pm), (b, pb), depth + 1)
     }
-    let m = 0.5 * (a + b);
-    let pm = curve(m);
-    split_from(curve, a, pa, m, &pm, linear, depth + 1, max, out)?;
-    split_from(curve, m, &pm, b, pb, linear, depth + 1, max, out)
 }
 
 /// The distance from `q` to the segment `a`–`b`, on the components `linear` marks (`on` true)

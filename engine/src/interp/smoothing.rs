@@ -3,9 +3,9 @@
 //! rotary axes (nano smoothing for 5-axis machining, also under G43.4) — and turns look-ahead
 //! on; `G05.1 Q0` (or Q1) ends it. STCP (`G43.4 L1`, or G43.4 with Pr3051 = 1) smooths the
 //! five RTCP axes within Pr407 and Pr3052/3053 until G49 or `G43.4 L0`. In the mode, a G01
-//! block of axis words and F alone is a point of the curve
-//! (`crate::smoothing` builds it and says which spans are ready); any other block first moves
-//! every span held, then runs as it always does. A span's chords are emitted as that block's
+//! block of axis words and F alone is a point of the curve (`crate::smoothing` builds it and
+//! says which spans are ready); any other block first moves every span held, then runs as it
+//! always does. A span's chords are emitted as that block's
 //! motions (its line, sequence number and F) through the tip path under TCP.
 
 use super::gcode::{code, group};
@@ -81,6 +81,7 @@ impl State {
         }
     }
 
+    /// STCP's axes and tolerances: X, Y, Z and the mechanism's two rotary axes.
     fn stcp_settings(&self) -> Settings<MAX_AXES> {
         let m = &self.cfg.machine;
         let f = &m.five_axis;
@@ -142,11 +143,11 @@ impl State {
         Ok(Settings { linear, rotary, ..self.smoothing_conditions(mm) })
     }
 
-    /// In nano smoothing, before anything of the block is done: whether it is a point of the
-    /// curve (a G01 block of axis words and F, in G94/G95, outside canned cycles and modal
-    /// calls); if not, every span held is moved first. Starting TCP, a tilted working plane
-    /// or G54.4 inside the mode is refused (G43.4 comes first, G05.1 Q0 before G49 — NSM-05 —
-    /// and the other two do not list G05.1 Q3 among their modal states).
+    /// In nano smoothing or STCP, before anything of the block is done: whether it is a point
+    /// of the curve (a G01 block of axis words and F, in G94/G95, outside canned cycles and
+    /// modal calls); if not, every span held is moved first. In nano smoothing, starting TCP, a
+    /// tilted working plane or G54.4 is refused (G43.4 comes first, G05.1 Q0 before G49 —
+    /// NSM-05 — and the other two do not list G05.1 Q3 among their modal states).
     pub(super) fn smoothing_block(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let Some(s) = self.smoothing.as_deref() else { return Ok(()) };
         let motion = match w.gcodes() {
@@ -164,21 +165,17 @@ impl State {
         if !point && s.run.is_some() {
             self.smoothing_flush(out)?;
         }
-        if !nano {
-            if let Some(s) = self.smoothing.as_deref_mut() {
-                s.point = point;
+        if nano {
+            let starts = |codes: &[u16]| w.gcodes().iter().any(|c| codes.contains(c));
+            if starts(&[code::G43_4, code::G43_5]) {
+                return Err(AlarmId::IllegalCommandInTcp);
             }
-            return Ok(());
-        }
-        let starts = |codes: &[u16]| w.gcodes().iter().any(|c| codes.contains(c));
-        if starts(&[code::G43_4, code::G43_5]) {
-            return Err(AlarmId::IllegalCommandInTcp);
-        }
-        if starts(&[code::G68_2, code::G68_3, code::G68_4, code::G53_1, code::G53_3, code::G53_6]) {
-            return Err(AlarmId::TwpIllegalCommand);
-        }
-        if starts(&[code::G54_4]) && w.integer(b'P') != Some(0.0) {
-            return Err(AlarmId::WseModalState);
+            if starts(&[code::G68_2, code::G68_3, code::G68_4, code::G53_1, code::G53_3, code::G53_6]) {
+                return Err(AlarmId::TwpIllegalCommand);
+            }
+            if starts(&[code::G54_4]) && w.integer(b'P') != Some(0.0) {
+                return Err(AlarmId::WseModalState);
+            }
         }
         if let Some(s) = self.smoothing.as_deref_mut() {
             s.point = point;
