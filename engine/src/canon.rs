@@ -110,6 +110,11 @@ pub struct Motion {
     /// Spindle speed at the time (for G95).
     pub spindle: f64,
     pub context: MotionContext,
+    /// The highest speed along the path, mm/s, that the curve this motion is a chord of allows
+    /// the axes (its bending against their acceleration: nano smoothing's spans,
+    /// `crate::smoothing`); infinite for any other motion. Not scaled by the feed override.
+    /// (f32: it fits beside the small fields, keeping `Canon` within its size.)
+    pub speed_cap: f32,
 }
 
 /// A motion whose axes follow a tool tip path (FANUC G43.4/G43.5, Syntec RTCP, G68.2 planes):

@@ -67,14 +67,25 @@ pub struct Settings<const D: usize> {
     /// Components measured in mm by the chords (the machine's linear axes); the others in
     /// degrees.
     pub mm: [bool; D],
+    /// Each component's highest acceleration (per s²; infinite: none): the curve's bending
+    /// bounds the speed along it by it ([`Span::speed_cap`]).
+    pub accel: [f64; D],
 }
 
+/// The share of a component's acceleration the curve's bending may take at the capped speed
+/// (the rest is left to speed changes along it), as the planner's cruise share for kinematic
+/// paths (`motion::path`).
+const BENDING_SHARE: f64 = 0.9;
+
 /// A piece of the path to move, in order: straight chords to these points, at the feed of and
-/// counted to the block `tag`.
+/// counted to the block `tag`, no faster along the linear group than `speed_cap` (mm/s: what
+/// the curve's bending leaves each component's acceleration; infinite for a straight span —
+/// its corners are the planner's).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Span<T, const D: usize> {
     pub chords: Vec<[f64; D]>,
     pub tag: T,
+    pub speed_cap: f64,
 }
 
 /// The run being built: points come in with [`Smoother::push`], spans go out as soon as the
@@ -125,7 +136,7 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
         if length <= NO_MOVE || length < self.s.min_block || length > self.s.max_block || others_move {
             // Not smoothed: the run ends before it, the block moves straight.
             self.close(out);
-            out.push(Span { chords: vec![point], tag });
+            out.push(Span { chords: vec![point], tag, speed_cap: f64::INFINITY });
             self.restart(point);
             return;
         }
@@ -343,7 +354,36 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
         if let Some(end) = points.last_mut() {
             *end = q1;
         }
-        Span { chords: points, tag: self.tags[k].clone().expect("a span ends a block") }
+        let speed_cap = self.speed_cap(&q0, &q1, &m0, &m1, h);
+        Span { chords: points, tag: self.tags[k].clone().expect("a span ends a block"), speed_cap }
+    }
+
+    /// The highest speed along the span's linear path at which no component's acceleration
+    /// from the curve's bending passes `BENDING_SHARE` of its limit: with s the path length and
+    /// t the span's parameter, a component x accelerates v²·x_ss at a steady v, where
+    /// x_ss = (x'' − x'·s''/s')/s'². Checked at the span's samples and ends. (The bending's jerk,
+    /// v³·x_sss, is not capped: a spline's third derivative through points rounded to 0.1 µm is
+    /// the rounding's more than the surface's — ±0.1/mm² against 0.016 on a test wave — and
+    /// the planner does not bound it on polygons either; `docs/motion.md`.)
+    fn speed_cap(&self, q0: &[f64; D], q1: &[f64; D], m0: &[f64; D], m1: &[f64; D], h: f64) -> f64 {
+        let (d1, d2) = hermite_derivatives(q0, q1, m0, m1, h);
+        let mut cap = f64::INFINITY;
+        for i in 0..=CHECK_SAMPLES {
+            let u = i as f64 / CHECK_SAMPLES as f64;
+            let (x1, x2) = (d1(u), d2(u));
+            let s1 = (0..D).filter(|&c| self.s.linear[c]).map(|c| x1[c] * x1[c]).sum::<f64>().sqrt();
+            if s1 <= NO_MOVE {
+                continue;
+            }
+            let s2 = (0..D).filter(|&c| self.s.linear[c]).map(|c| x1[c] * x2[c]).sum::<f64>() / s1;
+            for c in 0..D {
+                let xss = (x2[c] - x1[c] * s2 / s1) / (s1 * s1);
+                if xss.abs() > 1e-12 {
+                    cap = cap.min((BENDING_SHARE * self.s.accel[c] / xss.abs()).sqrt());
+                }
+            }
+        }
+        cap
     }
 }
 
@@ -353,6 +393,26 @@ fn hermite<const D: usize>(q0: &[f64; D], q1: &[f64; D], m0: &[f64; D], m1: &[f6
     let (u2, u3) = (u * u, u * u * u);
     let (h00, h10, h01, h11) = (2.0 * u3 - 3.0 * u2 + 1.0, u3 - 2.0 * u2 + u, 3.0 * u2 - 2.0 * u3, u3 - u2);
     std::array::from_fn(|c| h00 * q0[c] + h10 * h * m0[c] + h01 * q1[c] + h11 * h * m1[c])
+}
+
+/// The first and second derivatives by t of the Hermite curve of [`hermite`], as functions of u.
+fn hermite_derivatives<'a, const D: usize>(
+    q0: &'a [f64; D],
+    q1: &'a [f64; D],
+    m0: &'a [f64; D],
+    m1: &'a [f64; D],
+    h: f64,
+) -> (impl Fn(f64) -> [f64; D] + 'a, impl Fn(f64) -> [f64; D] + 'a) {
+    let d1 = move |u: f64| -> [f64; D] {
+        let (a, b, c, d) =
+            (6.0 * u * u - 6.0 * u, 3.0 * u * u - 4.0 * u + 1.0, 6.0 * u - 6.0 * u * u, 3.0 * u * u - 2.0 * u);
+        std::array::from_fn(|k| (a * q0[k] + b * h * m0[k] + c * q1[k] + d * h * m1[k]) / h)
+    };
+    let d2 = move |u: f64| -> [f64; D] {
+        let (a, b, c, d) = (12.0 * u - 6.0, 6.0 * u - 4.0, 6.0 - 12.0 * u, 6.0 * u - 2.0);
+        std::array::from_fn(|k| (a * q0[k] + b * h * m0[k] + c * q1[k] + d * h * m1[k]) / (h * h))
+    };
+    (d1, d2)
 }
 
 /// The least-squares quadratic in t through the points, at `at` (three points or fewer: the
@@ -398,6 +458,7 @@ mod tests {
             corner_cos: 30f64.to_radians().cos(),
             spacing_ratio: 5.0,
             mm: [true; 3],
+            accel: [f64::INFINITY; 3],
         }
     }
 
@@ -510,5 +571,25 @@ mod tests {
             joints += 1;
         }
         assert!(joints > 10, "{joints}");
+    }
+
+    #[test]
+    fn a_circles_speed_cap_is_what_its_curvature_leaves_the_axes() {
+        // Radius 20 in 1° blocks, 4000 mm/s² per axis: a component of the circle accelerates
+        // v²/R·|cos| at a steady v, so with 90 % of 4000 the speed is at most √(3600·20) =
+        // 268.33 mm/s where a component's share is whole (at 0°, 90°, …), more in between.
+        let mut s = settings();
+        s.accel = [4000.0; 3];
+        let points: Vec<[f64; 3]> =
+            (0..=180).map(|i| (i as f64).to_radians()).map(|a| [20.0 * a.cos(), 20.0 * a.sin(), 0.0]).collect();
+        let spans = run(&points, s);
+        let least = spans.iter().map(|s| s.speed_cap).fold(f64::INFINITY, f64::min);
+        assert!((least - (3600.0f64 * 20.0).sqrt()).abs() < 0.5, "{least}");
+        // At 45° both components take 1/√2 of the bending: √2^(1/2) times more.
+        let at_45 = spans.iter().find(|s| s.tag == 45).unwrap().speed_cap;
+        assert!((at_45 / least - 2f64.sqrt().sqrt()).abs() < 0.02, "{at_45}");
+        // A straight run is not capped.
+        let line: Vec<[f64; 3]> = (0..20).map(|i| [i as f64 * 0.5, 0.0, 0.0]).collect();
+        assert!(run(&line, s).iter().all(|s| s.speed_cap.is_infinite()));
     }
 }

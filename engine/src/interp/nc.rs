@@ -873,6 +873,7 @@ impl State {
             feed_mode: self.feed_mode(),
             spindle: self.s,
             context: self.context(),
+            speed_cap: f32::INFINITY,
         }
     }
 

@@ -99,9 +99,11 @@ impl State {
         Settings { linear, rotary, tolerance, ..self.smoothing_conditions(mm) }
     }
 
-    /// The block and corner conditions of `motion.nano_smoothing`, nothing smoothed yet.
+    /// The block and corner conditions of `motion.nano_smoothing` and the axes' acceleration,
+    /// nothing smoothed yet.
     fn smoothing_conditions(&self, mm: [bool; MAX_AXES]) -> Settings<MAX_AXES> {
-        let n = &self.cfg.machine.motion.nano_smoothing;
+        let m = &self.cfg.machine;
+        let n = &m.motion.nano_smoothing;
         Settings {
             linear: [false; MAX_AXES],
             rotary: [None; MAX_AXES],
@@ -111,6 +113,7 @@ impl State {
             corner_cos: n.corner_angle.to_radians().cos(),
             spacing_ratio: n.spacing_ratio,
             mm,
+            accel: std::array::from_fn(|i| m.axes.get(i).map_or(f64::INFINITY, crate::machine::Axis::max_accel)),
         }
     }
 
@@ -216,17 +219,24 @@ impl State {
         }
     }
 
-    /// Each span's chords as motions of its block (its line, sequence number and F).
+    /// Each span's chords as motions of its block (its line, sequence number and F), no faster
+    /// than the span's curve allows the axes.
     fn emit_spans(&mut self, spans: Vec<Span<Tag, MAX_AXES>>, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let here = (self.line, self.n, self.f);
         for span in spans {
             (self.line, self.n, self.f) = span.tag;
+            let first = out.len();
             for q in span.chords {
                 if self.follows_tip() {
                     // An alarm here names the block whose motion it is.
                     self.tip_motion(MotionKind::Linear, q, None, out)?;
                 } else {
                     self.push_motion(MotionKind::Linear, q, None, out);
+                }
+            }
+            for c in &mut out[first..] {
+                if let crate::canon::CanonKind::Motion(m) = &mut c.kind {
+                    m.speed_cap = span.speed_cap as f32;
                 }
             }
         }

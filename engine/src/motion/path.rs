@@ -204,7 +204,8 @@ struct Follow {
     work_frame: Option<Rigid>,
     /// The display shows the tip in machine directions minus this instead (FANUC DET = 1).
     display_shift: Option<Vec3>,
-    /// The highest path speed the program's tolerance allows (FANUC CRS; infinite without).
+    /// The highest path speed the program's tolerance allows (FANUC CRS), and the curve a
+    /// chord belongs to (`Motion::speed_cap`); infinite without.
     speed_cap: f64,
     /// The rotary axes' speeds are held to a share of theirs (G54.4, No.11202/11203): only
     /// the segment's own limits know it.
@@ -1115,6 +1116,8 @@ impl Segment {
         if let Some(c) = &circle {
             arc_limits(&mut limits, c, &rate, axes);
         }
+        // A chord of a curve: what the curve's bending leaves the axes (`Motion::speed_cap`).
+        limits.v = limits.v.min(m.speed_cap as f64);
         let axis_speed = limits.v;
         let programmed = if rapid { axis_speed } else { programmed_speed(m, len) * feed_scale };
         let mut seg = Segment {
@@ -1231,8 +1234,10 @@ impl Segment {
         let n = sample_count(turn, sweep_deg);
         let grid = Grid::new(|u| follow.at(from, &to, u), len, CELLS_PER_SAMPLE * n, axes);
         let found = grid.whole();
-        let cap =
-            tip.deviation.map_or(f64::INFINITY, |tolerance| deviation_speed(&follow, from, &to, len, n, tolerance));
+        let cap = tip
+            .deviation
+            .map_or(f64::INFINITY, |tolerance| deviation_speed(&follow, from, &to, len, n, tolerance))
+            .min(m.speed_cap as f64);
         follow.speed_cap = cap;
         // Inverse time prescribes the block's time also for rotary-only moves (TCP-19).
         let fixed_time = m.feed_mode == FeedMode::InverseTime;

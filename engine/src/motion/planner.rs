@@ -553,6 +553,7 @@ mod tests {
                     feed_mode: FeedMode::PerMinute,
                     spindle: 0.0,
                     context: MotionContext::default(),
+                    speed_cap: f32::INFINITY,
                 };
                 let seg = Segment::new(&m, &here, &here, axes, ctx, None);
                 here = to;
