@@ -899,9 +899,12 @@ impl MachineConfig {
                         are settings of the 16i variant (crc_variant \"16i\")"
                 .into());
         }
-        if !f.crc_variant.is_30i() && (f.crc_check_in_plane || f.avoidance_max_tool_angle != 0.0) {
-            return Err("five_axis: crc_check_in_plane (No.19608#1 NI5) and avoidance_max_tool_angle (No.19636) \
-                        are 30i settings: the 16i variant checks in the compensation plane and does not avoid"
+        if !f.crc_variant.is_30i()
+            && (f.crc_check_in_plane || f.avoidance_max_tool_angle != 0.0 || f.crc_codes_by_mechanism)
+        {
+            return Err("five_axis: crc_check_in_plane (No.19608#1 NI5), avoidance_max_tool_angle (No.19636) and \
+                        crc_codes_by_mechanism (No.19607#1 SPG) are 30i settings: the 16i variant checks in the \
+                        compensation plane, does not avoid and has G41.2/G42.2 only"
                 .into());
         }
         if !(0.0..=90.0).contains(&f.cutting_point_singular_angle) {
