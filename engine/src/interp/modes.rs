@@ -480,7 +480,7 @@ static RULES: &[Rule] = &[
     ),
     rule(
         Fanuc,
-        "crc16i A-78438E p.8 NOTE: type C — the G41.2/G42.2/G40 block in G00/G01, without a move command",
+        "crc16i A-78438E p.7 NOTE: type C — the G41.2/G42.2/G40 block in G00/G01, without a move command",
         A::IllegalCommandInMode,
         |c| {
             let starts_or_cancels = c.starts(group::CUTTER_COMP, |c, m| c.crc5(m) && is_crc_type1(m))
@@ -495,7 +495,7 @@ static RULES: &[Rule] = &[
     ),
     rule(
         Fanuc,
-        "crc16i A-78438E p.28-29: dwell, G05, NURBS, in-feed control, M/S/T with a move in the mode",
+        "crc16i A-78438E p.27-28: dwell, G05, NURBS, in-feed control, M/S/T with a move in the mode",
         A::IllegalCommandInMode,
         |c| {
             let mst_with_move = c.any_axis() && c.count_letters(b"MST") > 0;

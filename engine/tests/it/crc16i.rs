@@ -106,7 +106,7 @@ fn nic_skips_the_check_at_a_change_of_the_compensation_plane() {
     // NIC = 0 (No.19605#5, the default): the check raises PS0041 at N4 as on the 30i.
     let plain = ends_with(&tv01(""), "head-bc", sixteen_i(|_| {}));
     assert_eq!(plain.alarm, Some(("PS0041".into(), 4)));
-    // NIC = 1 (A-78438E p.37: "1: Not performed"): no check, so N4 ends at both of its corner
+    // NIC = 1 (A-78438E p.36: "1: Not perform"): no check, so N4 ends at both of its corner
     // vectors as with Q3 ("the two vectors (V1 and V2) are not deleted"). In N4's plane its
     // move runs along t = (0.6947, 0, −0.7193) (the tool at B46 is (0.7193, 0, 0.6947)) and its
     // perpendicular vector is n = (0, 5, 0); V1 = n + 5t from (200, 100, −200):
@@ -163,7 +163,7 @@ fn no_19630_takes_a_short_move_as_a_block_without_movement() {
 
 #[test]
 fn type_c_on_the_16i_takes_no_move_in_its_g41_2_or_g40_block() {
-    // No.5003#1 SUV (type C). A-78438E p.8 NOTE: the G40/G41.2/G42.2 block is in G00/G01 and has
+    // No.5003#1 SUV (type C). A-78438E p.7 NOTE: the G40/G41.2/G42.2 block is in G00/G01 and has
     // no move command. The 30i falls back to type A/B there (rule 13's decision); the 16i refuses
     // it (PS5460, fivex's number: the 16i names none).
     let suv = |m: &mut MachineConfig| m.motion.cutter_startup_perpendicular = true;
@@ -194,7 +194,7 @@ fn type_c_on_the_16i_takes_no_move_in_its_g41_2_or_g40_block() {
 
 #[test]
 fn the_16i_refuses_dwell_nurbs_in_feed_and_mst_with_a_move_in_the_mode() {
-    // A-78438E p.28–29, "Commands that cannot be specified": dwell G04, G05, G06.2, G160/G161,
+    // A-78438E p.27–28, "Commands that cannot be specified": dwell G04, G05, G06.2, G160/G161,
     // and M, S, T with a motion command. The 30i takes G04 and M with a move there.
     let src =
         |block: &str| format!("G90 G00 X-50. Y0 Z0 B0 C0\nG41.2 D1\nG01 X50. F500.\n{block}\nY50.\nG40 X-50.\nM30\n");
@@ -221,7 +221,7 @@ fn the_16i_has_g41_2_g42_2_and_g41_3_only() {
 
 #[test]
 fn the_leading_edge_offset_is_the_same_on_both() {
-    // A-78438E §1.2 (Fig. 1.2 (d)–(f), p.21–24) is the 30i's §3.1.3–§3.1.4 (`leading_edge.rs`):
+    // A-78438E §1.2 (Fig. 1.2 (d)–(f), p.21–23) is the 30i's §3.1.3–§3.1.4 (`leading_edge.rs`):
     // the variant changes nothing there.
     let src = "G90 G00 X0 Y0 Z0 B30. C0\nG41.3 D1\nG01 X50. F500.\nY50.\nX0 Z10.\nG40\nM30\n";
     let (a, b) = (ends_of(src, "head-bc"), ends_with(src, "head-bc", sixteen_i(|_| {})));
