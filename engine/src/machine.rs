@@ -414,15 +414,16 @@ pub struct FiveAxisOptions {
     pub avoidance_max_tool_angle: f64,
     /// Which FANUC control's 3-D cutter compensation the tool side offset follows: the 30i's
     /// (the default) or, as a compatibility setting, the 16i-MA/MB's (A-78438E; FANUC lists: a
-    /// list holding No.19605 is a 16i's). `docs/cutter-compensation.md`, "16i variant".
+    /// list holding No.19605 or No.19630 is a 16i's). `docs/cutter-compensation.md`, "16i
+    /// variant".
     #[serde(default, skip_serializing_if = "CrcVariant::is_30i")]
     pub crc_variant: CrcVariant,
     /// 16i only: the tool side offset skips its interference check at a change of the
     /// compensation plane (FANUC 16i No.19605#5 NIC = 1).
     #[serde(default, skip_serializing_if = "is_false")]
     pub plane_change_check_off: bool,
-    /// 16i only: a block whose move in its compensation plane is shorter than this, mm, counts
-    /// as a block without movement in the tool side offset's intersection calculation (FANUC
+    /// 16i only: a block whose move in its compensation plane is this short or shorter, mm,
+    /// counts as a block without movement in the tool side offset's intersection calculation (FANUC
     /// 16i No.19630; 0: only a block that does not move in the plane).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub non_movement_limit: f64,
