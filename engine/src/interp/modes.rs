@@ -474,13 +474,13 @@ static RULES: &[Rule] = &[
     // PS5460 of the same family (a decision, `docs/cutter-compensation.md`, "16i variant").
     rule(
         Fanuc,
-        "crc16i A-78438E §1.1: G41.6/G42.6, G41.4/G42.4, G41.5/G42.5 are not 16i codes",
+        "crc 16i A-78438E §1.1: G41.6/G42.6, G41.4/G42.4, G41.5/G42.5 are not 16i codes",
         A::ImproperGCode,
         |c| c.crc16i() && c.any(&[G41_6, G42_6, G41_4, G42_4, G41_5, G42_5]),
     ),
     rule(
         Fanuc,
-        "crc16i A-78438E p.7 NOTE: type C — the G41.2/G42.2/G40 block in G00/G01, without a move command",
+        "crc 16i A-78438E p.7 NOTE: type C — the G41.2/G42.2/G40 block in G00/G01, without a move command",
         A::IllegalCommandInMode,
         |c| {
             let starts_or_cancels = c.starts(group::CUTTER_COMP, |c, m| c.crc5(m) && is_crc_type1(m))
@@ -495,7 +495,7 @@ static RULES: &[Rule] = &[
     ),
     rule(
         Fanuc,
-        "crc16i A-78438E p.27-28: dwell, G05, NURBS, in-feed control, M/S/T with a move in the mode",
+        "crc 16i A-78438E p.27-28: dwell, G05, NURBS, in-feed control, M/S/T with a move in the mode",
         A::IllegalCommandInMode,
         |c| {
             let mst_with_move = c.any_axis() && c.count_letters(b"MST") > 0;
