@@ -229,3 +229,67 @@ fn the_leading_edge_offset_is_the_same_on_both() {
     assert!(a.ends.len() >= 5);
     assert_eq!(a.ends, b.ends);
 }
+
+mod random {
+    //! Invariants on random contours (head-bc, the tool tilted anywhere, each point moved along
+    //! the tool by its own amount): the 16i variant is the 30i with NI5 = 1 (the check in the
+    //! compensation plane) and without avoidance — the same ends and the same alarm; and a
+    //! No.19630 below every block's move in its plane changes nothing.
+
+    use super::*;
+    use proptest::prelude::*;
+
+    fn program(b: f64, c: f64, points: &[(f64, f64, f64)]) -> String {
+        let mut src = format!("G90 G00 X-120. Y0 Z0 B{b:.3} C{c:.3}\nG41.2 D1\nG01 F800. ");
+        for (x, y, z) in points.iter().chain(std::iter::once(&points[0])) {
+            src += &format!("X{x:.6} Y{y:.6} Z{z:.6}\n");
+        }
+        src + "G40 X-120. Y0 Z0\nM30\n"
+    }
+
+    /// A star-shaped polygon around the origin (inner and outer corners) with Z moves.
+    fn contour() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
+        prop::collection::vec((0.0..std::f64::consts::TAU, 20.0..80.0, -20.0..20.0f64), 4..9).prop_map(|mut v| {
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            v.into_iter().map(|(a, r, z)| (r * a.cos(), r * a.sin(), z)).collect()
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: cases(40), ..ProptestConfig::default() })]
+        #[test]
+        fn the_16i_is_the_30i_checking_in_the_plane(b in -60.0..60.0f64, c in -180.0..180.0f64, points in contour()) {
+            let src = program(b, c, &points);
+            let ni5 = |cfg: &mut Config| cfg.edit_machine(|m| m.five_axis.crc_check_in_plane = true);
+            let (a, s) = (ends_with(&src, "head-bc", ni5), ends_with(&src, "head-bc", sixteen_i(|_| {})));
+            prop_assert_eq!(&a.alarm, &s.alarm, "{}", src);
+            prop_assert_eq!(&a.ends, &s.ends, "{}", src);
+            // With CAV the 30i (NI5 = 1) may avoid; the 16i does not: where the 30i without
+            // CAV stops, so does the 16i with it.
+            let cav = sixteen_i(|m| m.motion.cutter_interference_avoidance = true);
+            prop_assert_eq!(&ends_with(&src, "head-bc", cav).alarm, &a.alarm, "{}", src);
+        }
+
+        #[test]
+        fn a_limit_below_every_move_changes_nothing(b in -60.0..60.0f64, c in -180.0..180.0f64, points in contour()) {
+            // Corners at least a few mm apart in any plane the tilt gives (the polygon's sides are
+            // ≥ 0 long, so keep the limit far below: 1 µm, and skip contours with a shorter side).
+            let tool = {
+                let (sb, cb) = b.to_radians().sin_cos();
+                let (sc, cc) = c.to_radians().sin_cos();
+                fivex_engine::kin::Vec3::new(sb * cc, sb * sc, cb)
+            };
+            let ring: Vec<_> = points.iter().chain(std::iter::once(&points[0])).collect();
+            let shortest = ring.windows(2).map(|w| {
+                let d = fivex_engine::kin::Vec3::new(w[1].0 - w[0].0, w[1].1 - w[0].1, w[1].2 - w[0].2);
+                (d - tool * d.dot(&tool)).norm()
+            }).fold(f64::INFINITY, f64::min);
+            prop_assume!(shortest > 0.01);
+            let src = program(b, c, &points);
+            let plain = ends_with(&src, "head-bc", sixteen_i(|_| {}));
+            let limited = ends_with(&src, "head-bc", sixteen_i(|m| m.five_axis.non_movement_limit = 0.001));
+            prop_assert_eq!(&plain.alarm, &limited.alarm, "{}", src);
+            prop_assert_eq!(&plain.ends, &limited.ends, "{}", src);
+        }
+    }
+}
