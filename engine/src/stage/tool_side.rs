@@ -162,7 +162,7 @@ pub struct ToolSide {
     /// The check at a change of the compensation plane: cos of the least turn of the tool;
     /// `None`: not made (16i No.19605#5 NIC = 1).
     plane_change_cos: Option<f64>,
-    /// A move shorter than this in its plane does not move in it (mm): `NO_MOVE`, or the 16i's
+    /// A move this short or shorter in its plane does not move in it (mm): `NO_MOVE`, or the 16i's
     /// No.19630.
     no_move: f64,
     /// The next motion's Q1/Q2/Q3; and G41.2/G42.2 given again: the waiting block ends
