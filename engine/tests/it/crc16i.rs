@@ -293,3 +293,12 @@ mod random {
         }
     }
 }
+
+#[test]
+fn a_plane_change_in_the_mode_is_ps0037() {
+    // A-78438E p.38: P/S0037 "CRC:PLANE CHANGE — an attempt was made to change the plane in the
+    // cutter compensation mode" — as on the 30i (the interpreter's rule 1).
+    let src = "G90 G17 G00 X-50. Y0 Z0 B0 C0\nG41.2 D1\nG01 X50. F500.\nG18\nY50.\nG40 X-50.\nM30\n";
+    assert_eq!(first_alarm_with(src, "head-bc", sixteen_i(|_| {})), Some(("PS0037".into(), 4)));
+    assert_eq!(first_alarm_with(src, "head-bc", |_| {}), Some(("PS0037".into(), 4)));
+}
