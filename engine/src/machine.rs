@@ -412,6 +412,21 @@ pub struct FiveAxisOptions {
     /// a larger turn keeps the plain vectors. 0 (a cleared parameter): the tool must not turn.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub avoidance_max_tool_angle: f64,
+    /// Which FANUC control's 3-D cutter compensation the tool side offset follows: the 30i's
+    /// (the default) or, as a compatibility setting, the 16i-MA/MB's (A-78438E; FANUC lists: a
+    /// list holding No.19605 or No.19630 is a 16i's). `docs/cutter-compensation.md`, "16i
+    /// variant".
+    #[serde(default, skip_serializing_if = "CrcVariant::is_30i")]
+    pub crc_variant: CrcVariant,
+    /// 16i only: the tool side offset skips its interference check at a change of the
+    /// compensation plane (FANUC 16i No.19605#5 NIC = 1).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub plane_change_check_off: bool,
+    /// 16i only: a block whose move in its compensation plane is this short or shorter, mm,
+    /// counts as a block without movement in the tool side offset's intersection calculation (FANUC
+    /// 16i No.19630; 0: only a block that does not move in the plane).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub non_movement_limit: f64,
     /// The tool side offset (G41.2/G42.2) places its vectors at the cutting point this far
     /// along the tool from the programmed (pivot) point, mm (FANUC No.19632, CRC-30: the
     /// point is Q + d·(tool direction, tip → holder), the manual's formula); 0: at the
@@ -453,6 +468,28 @@ pub struct FiveAxisOptions {
 /// Syntec's defaults of Pr3052/3053 (0.5°) and Pr407 (3 µm).
 pub const STCP_ROTARY_TOLERANCE_DEG: f64 = 0.5;
 pub const STCP_PATH_TOLERANCE_MM: f64 = 0.003;
+
+/// The FANUC control whose 3-D cutter compensation (tool side offset) is followed
+/// (`five_axis.crc_variant`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub enum CrcVariant {
+    /// FANUC 30i-A: the interference check by No.19608#1 NI5, avoidance by No.19607#5 CAV
+    /// with No.19636.
+    #[default]
+    #[serde(rename = "30i")]
+    Fanuc30i,
+    /// FANUC 16i-MA/MB (A-78438E): the check always in the compensation plane, no avoidance,
+    /// No.19605#5 NIC and No.19630.
+    #[serde(rename = "16i")]
+    Fanuc16i,
+}
+
+impl CrcVariant {
+    pub fn is_30i(&self) -> bool {
+        *self == CrcVariant::Fanuc30i
+    }
+}
 
 /// What a reset (and a restart of the controller) does to the tilted working plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -854,6 +891,22 @@ impl MachineConfig {
         }
         if f.smooth_path_tolerance.is_some_and(|t| !(0.002..=0.020).contains(&t)) {
             return Err("five_axis: smooth_path_tolerance is 0.002 to 0.020 mm (Syntec Pr407, 2 to 20 µm)".into());
+        }
+        if !(f.non_movement_limit.is_finite() && f.non_movement_limit >= 0.0) {
+            return Err("five_axis: non_movement_limit is 0 or more, mm".into());
+        }
+        if f.crc_variant.is_30i() && (f.plane_change_check_off || f.non_movement_limit != 0.0) {
+            return Err("five_axis: plane_change_check_off (No.19605#5 NIC) and non_movement_limit (No.19630) \
+                        are settings of the 16i variant (crc_variant \"16i\")"
+                .into());
+        }
+        if !f.crc_variant.is_30i()
+            && (f.crc_check_in_plane || f.avoidance_max_tool_angle != 0.0 || f.crc_codes_by_mechanism)
+        {
+            return Err("five_axis: crc_check_in_plane (No.19608#1 NI5), avoidance_max_tool_angle (No.19636) and \
+                        crc_codes_by_mechanism (No.19607#1 SPG) are 30i settings: the 16i variant checks in the \
+                        compensation plane, does not avoid and has G41.2/G42.2 only"
+                .into());
         }
         if !(0.0..=90.0).contains(&f.cutting_point_singular_angle) {
             return Err("five_axis: cutting_point_singular_angle is 0 to 90 degrees".into());

@@ -469,6 +469,41 @@ static RULES: &[Rule] = &[
             },
         )
     }),
+    // --- the 16i variant of 3-D cutter compensation (`five_axis.crc_variant`, A-78438E) ------
+    // The 16i names no alarm number for these ("the alarm is issued"): fivex gives the 30i's
+    // PS5460 of the same family (a decision, `docs/cutter-compensation.md`, "16i variant").
+    rule(
+        Fanuc,
+        "crc 16i A-78438E §1.1: G41.6/G42.6, G41.4/G42.4, G41.5/G42.5 are not 16i codes",
+        A::ImproperGCode,
+        |c| c.crc16i() && c.any(&[G41_6, G42_6, G41_4, G42_4, G41_5, G42_5]),
+    ),
+    rule(
+        Fanuc,
+        "crc 16i A-78438E p.7 NOTE: type C — the G41.2/G42.2/G40 block in G00/G01, without a move command",
+        A::IllegalCommandInMode,
+        |c| {
+            let starts_or_cancels = c.starts(group::CUTTER_COMP, |c, m| c.crc5(m) && is_crc_type1(m))
+                || c.crc5(c.before[group::CUTTER_COMP])
+                    && is_crc_type1(c.before[group::CUTTER_COMP])
+                    && c.after[group::CUTTER_COMP] == G40;
+            c.crc16i()
+                && c.st.cfg.machine.motion.cutter_startup_perpendicular
+                && starts_or_cancels
+                && (!matches!(c.after[group::MOTION], G00 | G01) || c.any_axis())
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc 16i A-78438E p.27-28: dwell, G05, NURBS, in-feed control, M/S/T with a move in the mode",
+        A::IllegalCommandInMode,
+        |c| {
+            let mst_with_move = c.any_axis() && c.count_letters(b"MST") > 0;
+            c.crc16i()
+                && c.during(group::CUTTER_COMP, |c, m| c.crc5(m))
+                && (c.any(&[G04, G05, G06_2, G160, G161_CODE]) || c.after[group::MOTION] == G06_2 || mst_with_move)
+        },
+    ),
     rule(
         Fanuc,
         "crc §6.1, CRC-47, TV-34: G codes forbidden in 5-axis cutter compensation",
@@ -815,6 +850,11 @@ impl Ctx<'_> {
         (m == G41_3 || is_crc_type1(m) || is_crc_type2(m)) && self.five_axis()
     }
 
+    /// The 16i variant of 3-D cutter compensation (`five_axis.crc_variant`).
+    fn crc16i(&self) -> bool {
+        !self.st.cfg.machine.five_axis.crc_variant.is_30i() && self.five_axis()
+    }
+
     fn tcp(&self, m: u16) -> bool {
         TCP.contains(&m) && self.five_axis()
     }
@@ -1019,6 +1059,9 @@ fn table_crc_state_allows(_group: usize, g: u16) -> bool {
         || matches!(g, G13_1 | G15 | G20 | G21 | G54 | G55 | G56 | G57 | G58 | G59 | G69 | G80 | G94 | G97 | G98 | G99)
         || TCP.contains(&g)
 }
+
+/// G161 (in-feed control), which has no name of its own in `gcode::code`.
+const G161_CODE: u16 = 1610;
 
 /// crc §6.1: G codes that may not be given in any 5-axis cutter compensation mode.
 fn crc5_forbids(g: u16) -> bool {

@@ -159,8 +159,12 @@ pub struct ToolSide {
     stopped: bool,
     alarm: Option<(AlarmId, u32, Option<u32>)>,
     type_b: bool,
-    /// The check at a change of the compensation plane: cos of the least turn of the tool.
-    plane_change_cos: f64,
+    /// The check at a change of the compensation plane: cos of the least turn of the tool;
+    /// `None`: not made (16i No.19605#5 NIC = 1).
+    plane_change_cos: Option<f64>,
+    /// A move this short or shorter in its plane does not move in it (mm): `NO_MOVE`, or the 16i's
+    /// No.19630.
+    no_move: f64,
     /// The next motion's Q1/Q2/Q3; and G41.2/G42.2 given again: the waiting block ends
     /// perpendicular to itself where the next block that moves in its plane comes.
     q: Option<u8>,
@@ -232,6 +236,7 @@ fn signed_radius(m: &Motion) -> f64 {
 impl ToolSide {
     pub fn new(config: &Config) -> ToolSide {
         let m = &config.machine;
+        let sixteen_i = !m.five_axis.crc_variant.is_30i();
         ToolSide {
             shift: ToolShift::new(m),
             cutting_point: m.five_axis.cutting_point_distance,
@@ -245,11 +250,14 @@ impl ToolSide {
             stopped: false,
             alarm: None,
             type_b: m.motion.cutter_startup_type_b,
-            plane_change_cos: plane_change_cos(m),
+            plane_change_cos: (!m.five_axis.plane_change_check_off).then(|| plane_change_cos(m)),
+            no_move: m.five_axis.non_movement_limit.max(NO_MOVE),
             q: None,
             perpendicular: false,
             refuse: config.refuse_unbuilt,
-            check_in_plane: m.five_axis.crc_check_in_plane,
+            // The 16i checks in the compensation plane, "as in cutter compensation C", and has
+            // no avoidance (A-78438E §1.1; `docs/cutter-compensation.md`, "16i variant").
+            check_in_plane: m.five_axis.crc_check_in_plane || sixteen_i,
             avoid: m.motion.cutter_interference_avoidance && m.five_axis.crc_check_in_plane,
             avoid_cos: m.five_axis.avoidance_max_tool_angle.max(AVOID_MIN_DEG).to_radians().cos(),
             held_back: Vec::new(),
@@ -531,14 +539,15 @@ impl ToolSide {
             Some(a) => a.curve(&w.plane, w.to, w.to, to).unwrap_or(line),
             None => line,
         };
-        let along_tool = arc.is_none() && crate::stage::cutter::curve::norm(next.to()) <= NO_MOVE;
+        let along_tool = arc.is_none() && crate::stage::cutter::curve::norm(next.to()) <= self.no_move;
         if along_tool || respecified {
             // The next block runs along this block's tool (no corner in this plane), or gave
             // G41.2/G42.2 again (§3.1.2: "a perpendicular vector is generated").
             return Ok(perpendicular());
         }
         let points = corner(&w.held, &next, rn, cancel, self.type_b)?;
-        if cancel || !plane_change_interferes(w, to, tool, self.plane_change_cos) {
+        let checked = self.plane_change_cos.is_some_and(|cos| plane_change_interferes(w, to, tool, cos));
+        if cancel || !checked {
             return Ok(points);
         }
         // The block that the check stops may say what its end does instead (§3.1.2).
@@ -599,7 +608,8 @@ impl ToolSide {
             self.alarm(AlarmId::GCodeNotBuilt, &c);
             return;
         };
-        let in_plane = |v: Vec3| crate::stage::cutter::curve::norm(plane.project(v)) > NO_MOVE;
+        let no_move = self.no_move;
+        let in_plane = |v: Vec3| crate::stage::cutter::curve::norm(plane.project(v)) > no_move;
         let moves = arc.is_some() || in_plane(to - from) && in_plane(to_at - from_at);
         if comp && moves && self.startup && self.waiting.is_none() {
             if let Some(s) = self.perpendicular_start.take() {

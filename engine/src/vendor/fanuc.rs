@@ -9,6 +9,7 @@
 //! rotary clamp, 11204, 3106#6 DAK, 5006#6 TOS, 5412 cycle feed, 5400#2 D3R. Cutter
 //! compensation: 5003#0 SUP (start-up/cancel type B), #1 SUV (perpendicular to the next movement), 19607#5 CAV (interference avoidance),
 //! 19607#1 SPG (the tool side offset's G codes by mechanism: G41.4 table, G41.5 mixed).
+//! The 16i variant of 3-D cutter compensation: 19605#5 NIC, 19630 (a list holding either is a 16i's).
 //! Cutting point control: 11262 (the singular posture's angle).
 
 use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
@@ -16,8 +17,8 @@ use super::{Params, Value};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
 use crate::machine::{
-    Axis, AxisKind, ConfigError, FiveAxisOptions, Hand, MachineConfig, ManualOptions, ManualVertical, MotionOptions,
-    PlaneAfterReset, RotaryLink, Side, TcpCoordinates,
+    Axis, AxisKind, ConfigError, CrcVariant, FiveAxisOptions, Hand, MachineConfig, ManualOptions, ManualVertical,
+    MotionOptions, PlaneAfterReset, RotaryLink, Side, TcpCoordinates,
 };
 
 const NAMES: &str = "XYZUVWABC";
@@ -366,6 +367,15 @@ fn five_axis_options(p: &Params) -> Result<FiveAxisOptions, ConfigError> {
         crc_table_coordinates: bit(19746, 4)?,
         crc_codes_by_mechanism: bit(19607, 1)?,
         crc_check_in_plane: bit(19608, 1)?,
+        // The 16i variant: a list holding No.19605 (#5 NIC) or No.19630 is a 16i's (A-78438E;
+        // the 30i's No.19605 bits are not read).
+        crc_variant: if p.0.contains_key(&19605) || p.0.contains_key(&19630) {
+            CrcVariant::Fanuc16i
+        } else {
+            CrcVariant::Fanuc30i
+        },
+        plane_change_check_off: bit(19605, 5)?,
+        non_movement_limit: non_negative(p, 19630)?,
         avoidance_max_tool_angle: if p.0.contains_key(&19636) { p.get(19636)? } else { 0.0 },
         rapid_deviation: if p.0.contains_key(&19751) { p.get(19751)? } else { 0.0 },
         cutting_point_distance: if p.0.contains_key(&19632) { p.get(19632)? } else { 0.0 },
@@ -528,6 +538,13 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     ] {
         if value != 0 {
             p.set(number, value as f64);
+        }
+    }
+    if !f.crc_variant.is_30i() {
+        // Written whole, 0 too: its presence marks the list as a 16i's.
+        p.set(19605, ((f.plane_change_check_off as u32) << 5) as f64);
+        if f.non_movement_limit != 0.0 {
+            p.set(19630, real(f.non_movement_limit));
         }
     }
     if f.deviation_clamp || f.crc_table_coordinates {

@@ -386,7 +386,10 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         || f.leading_edge_tolerance != 0.0
         || f.cutting_point_singular_angle != 0.0
         || f.avoidance_max_tool_angle != 0.0
-        || f.crc_check_in_plane;
+        || f.crc_check_in_plane
+        || !f.crc_variant.is_30i()
+        || f.plane_change_check_off
+        || f.non_movement_limit != 0.0;
     if singular
         || clamp
         || f.mirror_direction
@@ -397,7 +400,8 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     {
         return Err(unrepresentable(
             "Syntec",
-            "No.19738/19739/NPC, MIR, DET, CRS, TBP, SPG, NI5 and No.19631/19632/19635/19636/11262 are FANUC settings",
+            "No.19738/19739/NPC, MIR, DET, CRS, TBP, SPG, NI5, No.19631/19632/19635/19636/11262 and the 16i variant \
+             (No.19605#5 NIC, No.19630) are FANUC settings",
         ));
     }
     if m.axes.iter().any(|a| a.smoothing_tolerance != 0.0) {

@@ -1058,6 +1058,52 @@ fn fanuc_ni5_and_19636_round_trip() {
     assert!(m.validate().is_err());
 }
 
+/// The 16i variant of 3-D cutter compensation (`five_axis.crc_variant`): a FANUC list holding
+/// No.19605 (#5 NIC) or No.19630 (the non-movement limit, mm) is a 16i's; both are read and
+/// written back, No.19605 always (0 too) for a 16i, never for a 30i. The 16i's own kinematic
+/// parameters No.19610–19623 are not read (the tool comes from No.19680–19699): reported. A
+/// Syntec list refuses the variant.
+#[test]
+fn fanuc_16i_variant_19605_19630_round_trip() {
+    use crate::machine::CrcVariant;
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    assert!(!params_of(Dialect::Fanuc, &m).unwrap().0.contains_key(&19605));
+    m.five_axis.crc_variant = CrcVariant::Fanuc16i;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!(p.get(19605).unwrap(), 0.0);
+    assert!(!p.0.contains_key(&19630));
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().five_axis, m.five_axis);
+    (m.five_axis.plane_change_check_off, m.five_axis.non_movement_limit) = (true, 0.01);
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert_eq!((p.get(19605).unwrap(), p.get(19630).unwrap()), (32.0, 0.01));
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &p).unwrap().five_axis, m.five_axis);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    // No.19630 alone marks a 16i list too; a negative limit is refused.
+    let mut only = params_of(Dialect::Fanuc, &MachineConfig::preset("head-bc").unwrap()).unwrap();
+    only.set(19630, 0.02);
+    let back = machine_from(Dialect::Fanuc, "m", &only).unwrap();
+    assert_eq!((back.five_axis.crc_variant, back.five_axis.non_movement_limit), (CrcVariant::Fanuc16i, 0.02));
+    only.set(19630, -1.0);
+    assert!(machine_from(Dialect::Fanuc, "m", &only).is_err());
+    // No.19610–19623 and No.19605's other bits: reported, not read.
+    let mut kin = p.clone();
+    kin.set(19610, 4.0);
+    kin.set(19622, 90.0);
+    kin.set(19605, 32.0 + 128.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &kin).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["No.19605#7", "No.19610", "No.19622"]);
+    let reasons = unmodelled::of_params(Dialect::Fanuc, &kin);
+    assert!(reasons[1].reason.contains("16i") && reasons[2].reason.contains("No.19680–19699"), "{reasons:?}");
+    // A 16i list with NI5 (No.19608#1) describes no machine: NI5 is the 30i's.
+    let mut ni5 = p.clone();
+    ni5.set(19608, 2.0);
+    assert!(machine_from(Dialect::Fanuc, "m", &ni5).is_err());
+    let err = params_of(Dialect::Syntec, &m).unwrap_err().detail;
+    assert!(err.contains("16i variant"), "{err}");
+    (m.five_axis.plane_change_check_off, m.five_axis.non_movement_limit) = (false, 0.0);
+    assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("16i variant"));
+}
+
 /// No.11262 (cutting point control's singular posture angle) is read and written back.
 #[test]
 fn fanuc_cutting_point_singular_angle_11262_round_trip() {

@@ -26,6 +26,18 @@ pub struct Unmodelled {
 /// Parameters that change nothing a program does (display only): accepted without a report.
 const DISPLAY_ONLY: &[(Dialect, u32)] = &[(Dialect::Fanuc, 3281)];
 
+/// Why a parameter that is not read is reported, where fivex knows more than "not read": the
+/// FANUC 16i's own description of the tool's rotation axes for 3-D cutter compensation.
+fn not_read_reason(dialect: Dialect, n: u32) -> String {
+    match (dialect, n) {
+        (Dialect::Fanuc, 19610..=19623) => "the 16i's description of the tool's rotation axes for 3-D cutter \
+            compensation (A-78438E) is not read: fivex takes the tool from the machine's kinematics \
+            (No.19680–19699), docs/cutter-compensation.md, \"16i variant\""
+            .into(),
+        _ => "not read by fivex's model: the machine behaves as without it".into(),
+    }
+}
+
 /// The model's settings fivex keeps without carrying them out: none today (Syntec STCP's
 /// smoothing, the last, is performed); a setting the model gains before its function is built
 /// is reported here.
@@ -88,10 +100,7 @@ pub fn of_params(dialect: Dialect, given: &Params) -> Vec<Unmodelled> {
         };
         // A bit parameter at its default is read when flipping one of its bits matters.
         if !read && flips.iter().all(|f| f.2 == Some(true)) {
-            out.push(Unmodelled {
-                parameter: name(n),
-                reason: "not read by fivex's model: the machine behaves as without it".into(),
-            });
+            out.push(Unmodelled { parameter: name(n), reason: not_read_reason(dialect, n) });
             continue;
         }
         // Bit by bit only where bits are what the model reads: some bit's flip gives another

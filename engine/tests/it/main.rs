@@ -7,6 +7,7 @@ mod common;
 mod alarms;
 mod chains;
 mod controller;
+mod crc16i;
 mod cutter;
 mod cutting_point;
 mod cycles;

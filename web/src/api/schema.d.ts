@@ -1070,6 +1070,12 @@ export interface components {
          */
         CoordinatesName: "machine" | "program" | "tool";
         /**
+         * @description The FANUC control whose 3-D cutter compensation (tool side offset) is followed
+         *     (`five_axis.crc_variant`).
+         * @enum {string}
+         */
+        CrcVariant: "30i" | "16i";
+        /**
          * @description `POST /controllers`: a name, and the machine as a preset name or a machine document (a model
          *     or a vendor parameter list, as `--machine FILE.json` takes).
          */
@@ -1166,6 +1172,13 @@ export interface components {
              */
             crc_table_coordinates?: boolean;
             /**
+             * @description Which FANUC control's 3-D cutter compensation the tool side offset follows: the 30i's
+             *     (the default) or, as a compatibility setting, the 16i-MA/MB's (A-78438E; FANUC lists: a
+             *     list holding No.19605 or No.19630 is a 16i's). `docs/cutter-compensation.md`, "16i
+             *     variant".
+             */
+            crc_variant?: components["schemas"]["CrcVariant"];
+            /**
              * Format: double
              * @description The same for cutting feed (FANUC No.19752).
              */
@@ -1218,6 +1231,13 @@ export interface components {
              *     MTW: multiple tilted working planes); otherwise they raise the mode alarm there.
              */
             multiple_planes?: boolean;
+            /**
+             * Format: double
+             * @description 16i only: a block whose move in its compensation plane is this short or shorter, mm,
+             *     counts as a block without movement in the tool side offset's intersection calculation (FANUC
+             *     16i No.19630; 0: only a block that does not move in the plane).
+             */
+            non_movement_limit?: number;
             /** @description What a reset does to a tilted working plane. */
             plane_after_reset?: components["schemas"]["PlaneAfterReset"];
             /**
@@ -1226,6 +1246,11 @@ export interface components {
              *     corners where the tool turns by this angle or more, degrees (FANUC No.19635; 0: 45°).
              */
             plane_change_angle?: number;
+            /**
+             * @description 16i only: the tool side offset skips its interference check at a change of the
+             *     compensation plane (FANUC 16i No.19605#5 NIC = 1).
+             */
+            plane_change_check_off?: boolean;
             /**
              * Format: double
              * @description The least distance, mm, of each of the three points of G68.2 P2 from the line through
