@@ -111,10 +111,24 @@ pub struct Motion {
     pub spindle: f64,
     pub context: MotionContext,
     /// The highest speed along the path, mm/s, that the curve this motion is a chord of allows
-    /// the axes (its bending against their acceleration: nano smoothing's spans,
-    /// `crate::smoothing`); infinite for any other motion. Not scaled by the feed override.
+    /// the axes (its bending against their acceleration: NURBS and nano smoothing,
+    /// `crate::chords::bending_speed`); infinite for any other motion. Not scaled by the feed override.
     /// (f32: it fits beside the small fields, keeping `Canon` within its size.)
     pub speed_cap: f32,
+}
+
+/// The motions among `commands` (a curve's chord) go no faster than `cap` (mm/s,
+/// [`Motion::speed_cap`]), rounded down to a power of 2^(1/8) (steps of 9 %): the chords of
+/// one curve then share their limit over stretches, and the planner joins them into one run
+/// (it parts a run where a segment's speed limit differs, and a chain of runs of one chord
+/// each accelerates as if it stopped at every junction).
+pub fn cap_speed(commands: &mut [Canon], cap: f64) {
+    let cap = if cap.is_finite() && cap > 0.0 { ((8.0 * cap.log2()).floor() / 8.0).exp2() } else { cap };
+    for c in commands {
+        if let CanonKind::Motion(m) = &mut c.kind {
+            m.speed_cap = cap as f32;
+        }
+    }
 }
 
 /// A motion whose axes follow a tool tip path (FANUC G43.4/G43.5, Syntec RTCP, G68.2 planes):

@@ -19,6 +19,33 @@ pub const TOLERANCE_DEG: f64 = 1e-4;
 /// increment; only a curve that is not continuous gets there).
 const MAX_DEPTH: u32 = 40;
 
+/// The share of an axis's acceleration a curve's bending may take at the speed it caps (the
+/// rest is left to speed changes along it), as the planner's cruise share for kinematic paths
+/// (`motion::path`).
+const BENDING_SHARE: f64 = 0.9;
+
+/// The highest speed along a curve's linear components at which no component's acceleration
+/// from the curve's bending passes `BENDING_SHARE` of `accel` (per s²), given the curve's first
+/// and second derivatives by any parameter t at one point (`linear` marks the components whose
+/// length the path's speed is): with s the path length, a component x accelerates v²·x_ss at a
+/// steady v, x_ss = (x'' − x'·s''/s')/s'², s' = |x'| and s'' = x'·x''/s' over the linear
+/// components. Infinite where the curve does not bend (or does not move).
+pub fn bending_speed<const D: usize>(x1: &[f64; D], x2: &[f64; D], linear: &[bool; D], accel: &[f64; D]) -> f64 {
+    let s1 = (0..D).filter(|&c| linear[c]).map(|c| x1[c] * x1[c]).sum::<f64>().sqrt();
+    if s1 <= 1e-12 {
+        return f64::INFINITY;
+    }
+    let s2 = (0..D).filter(|&c| linear[c]).map(|c| x1[c] * x2[c]).sum::<f64>() / s1;
+    let mut cap = f64::INFINITY;
+    for c in 0..D {
+        let xss = (x2[c] - x1[c] * s2 / s1) / (s1 * s1);
+        if xss.abs() > 1e-12 {
+            cap = cap.min((BENDING_SHARE * accel[c] / xss.abs()).sqrt());
+        }
+    }
+    cap
+}
+
 /// More chords than a caller allows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TooMany;

@@ -140,6 +140,98 @@ impl<const D: usize> Curve<D> {
         std::array::from_fn(|c| hp[p][c] / hw[p])
     }
 
+    /// The curve's point and its first and second derivatives by u at `u` (clamped to the
+    /// domain): the basis functions' derivatives (Piegl & Tiller, The NURBS Book, A2.3) give
+    /// those of the homogeneous curve A = Σ N·w·P and of W = Σ N·w, and the quotient rule those
+    /// of C = A/W: C' = (A' − W'·C)/W, C'' = (A'' − 2·W'·C' − W''·C)/W.
+    pub fn derivatives(&self, u: f64) -> [[f64; D]; 3] {
+        let (a, b) = self.domain();
+        let u = u.clamp(a, b);
+        let p = self.rank - 1;
+        let k = self.span(u);
+        let ders = self.basis_derivatives(k, u);
+        let mut hp = [[0.0; D]; 3];
+        let mut hw = [0.0; 3];
+        for (d, row) in ders.iter().enumerate() {
+            for (j, n) in row.iter().take(p + 1).enumerate() {
+                let i = k - p + j;
+                let w = self.weights[i];
+                hw[d] += n * w;
+                for (h, x) in hp[d].iter_mut().zip(&self.points[i]) {
+                    *h += n * w * x;
+                }
+            }
+        }
+        let c0: [f64; D] = std::array::from_fn(|c| hp[0][c] / hw[0]);
+        let c1: [f64; D] = std::array::from_fn(|c| (hp[1][c] - hw[1] * c0[c]) / hw[0]);
+        let c2: [f64; D] = std::array::from_fn(|c| (hp[2][c] - 2.0 * hw[1] * c1[c] - hw[2] * c0[c]) / hw[0]);
+        [c0, c1, c2]
+    }
+
+    /// The non-zero basis functions of span `k` at `u` and their first and second derivatives
+    /// (`ders[d][j]` for N_{k−p+j}), by The NURBS Book's algorithm A2.3; a quotient whose knot
+    /// difference is zero (a repeated knot) counts 0.
+    fn basis_derivatives(&self, k: usize, u: f64) -> [[f64; 4]; 3] {
+        let p = self.rank - 1;
+        let t = &self.knots;
+        let div = |x: f64, y: f64| if y == 0.0 { 0.0 } else { x / y };
+        let mut ndu = [[0.0; 4]; 4];
+        let (mut left, mut right) = ([0.0; 4], [0.0; 4]);
+        ndu[0][0] = 1.0;
+        for j in 1..=p {
+            left[j] = u - t[k + 1 - j];
+            right[j] = t[k + j] - u;
+            let mut saved = 0.0;
+            for r in 0..j {
+                ndu[j][r] = right[r + 1] + left[j - r];
+                let temp = div(ndu[r][j - 1], ndu[j][r]);
+                ndu[r][j] = saved + right[r + 1] * temp;
+                saved = left[j - r] * temp;
+            }
+            ndu[j][j] = saved;
+        }
+        let mut ders = [[0.0; 4]; 3];
+        for j in 0..=p {
+            ders[0][j] = ndu[j][p];
+        }
+        let n = 2.min(p);
+        for r in 0..=p {
+            let mut a = [[0.0; 4]; 2];
+            let (mut s1, mut s2) = (0, 1);
+            a[0][0] = 1.0;
+            for kk in 1..=n {
+                let mut d = 0.0;
+                let rk = r as isize - kk as isize;
+                let pk = p - kk;
+                if rk >= 0 {
+                    a[s2][0] = div(a[s1][0], ndu[pk + 1][rk as usize]);
+                    d = a[s2][0] * ndu[rk as usize][pk];
+                }
+                let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+                let j2 = if r as isize - 1 <= pk as isize { kk - 1 } else { p - r };
+                for j in j1..=j2 {
+                    let at = (rk + j as isize) as usize;
+                    a[s2][j] = div(a[s1][j] - a[s1][j - 1], ndu[pk + 1][at]);
+                    d += a[s2][j] * ndu[at][pk];
+                }
+                if r <= pk {
+                    a[s2][kk] = div(-a[s1][kk - 1], ndu[pk + 1][r]);
+                    d += a[s2][kk] * ndu[r][pk];
+                }
+                ders[kk][r] = d;
+                std::mem::swap(&mut s1, &mut s2);
+            }
+        }
+        let mut factor = p as f64;
+        for row in ders.iter_mut().take(n + 1).skip(1) {
+            for x in row.iter_mut().take(p + 1) {
+                *x *= factor;
+            }
+            factor *= (p - 1) as f64;
+        }
+        ders
+    }
+
     /// The curve as chords: the end points (and their parameters) of straight pieces from the
     /// curve's start to its end, within `crate::chords`' tolerances of the curve (`linear`
     /// marks the components in mm). Every non-empty knot span starts as four pieces, so a span
@@ -221,5 +313,50 @@ mod tests {
         let pts6 = vec![[0.0], [1.0], [2.0], [3.0], [4.0], [5.0]];
         let knots = vec![0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0];
         assert_eq!(Curve::<1>::new(3, knots, pts6, vec![1.0; 6]), Err(Error::Multiplicity));
+    }
+
+    #[test]
+    fn derivatives_are_those_of_the_curve() {
+        // Against central differences of `eval` (h 1e-5 and 1e-4: errors of order h² times the
+        // third and fourth derivatives) on the full circle (rational, repeated interior knots)
+        // and on a rational cubic with uneven knots; the point itself is `eval`'s.
+        let cubic = Curve::<3>::new(
+            4,
+            vec![0.0, 0.0, 0.0, 0.0, 0.7, 1.9, 3.0, 3.0, 3.0, 3.0],
+            vec![
+                [0.0, 0.0, 0.0],
+                [5.0, 12.0, 1.0],
+                [15.0, -4.0, 3.0],
+                [22.0, 9.0, -2.0],
+                [30.0, 1.0, 0.5],
+                [41.0, 6.0, 2.0],
+            ],
+            vec![1.0, 0.5, 2.0, 1.0, 1.5, 1.0],
+        )
+        .unwrap();
+        let c = circle(10.0);
+        let check = |d: [[f64; 3]; 3], at: &dyn Fn(f64) -> [f64; 3], u: f64| {
+            let (h1, h2) = (1e-5, 1e-4);
+            for k in 0..3 {
+                let fd1 = (at(u + h1)[k] - at(u - h1)[k]) / (2.0 * h1);
+                let fd2 = (at(u + h2)[k] - 2.0 * at(u)[k] + at(u - h2)[k]) / (h2 * h2);
+                assert!((d[0][k] - at(u)[k]).abs() < 1e-12, "{u}: {:?}", d[0]);
+                assert!((d[1][k] - fd1).abs() < 1e-5 * (1.0 + fd1.abs()), "{u}: {} vs {fd1}", d[1][k]);
+                assert!((d[2][k] - fd2).abs() < 1e-3 * (1.0 + fd2.abs()), "{u}: {} vs {fd2}", d[2][k]);
+            }
+        };
+        for i in 1..30 {
+            let u = 3.0 * i as f64 / 30.0 + 0.013;
+            check(cubic.derivatives(u), &|u| cubic.eval(u), u);
+        }
+        let c3 = |u: f64| {
+            let p = c.eval(u);
+            [p[0], p[1], 0.0]
+        };
+        for i in 1..40 {
+            let u = 4.0 * i as f64 / 40.0 + 0.017;
+            let d = c.derivatives(u);
+            check([[d[0][0], d[0][1], 0.0], [d[1][0], d[1][1], 0.0], [d[2][0], d[2][1], 0.0]], &c3, u);
+        }
     }
 }

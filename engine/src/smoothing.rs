@@ -72,11 +72,6 @@ pub struct Settings<const D: usize> {
     pub accel: [f64; D],
 }
 
-/// The share of a component's acceleration the curve's bending may take at the capped speed
-/// (the rest is left to speed changes along it), as the planner's cruise share for kinematic
-/// paths (`motion::path`).
-const BENDING_SHARE: f64 = 0.9;
-
 /// A piece of the path to move, in order: straight chords to these points, at the feed of and
 /// counted to the block `tag`, no faster along the linear group than `speed_cap` (mm/s: what
 /// the curve's bending leaves each component's acceleration; infinite for a straight span —
@@ -359,31 +354,17 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
     }
 
     /// The highest speed along the span's linear path at which no component's acceleration
-    /// from the curve's bending passes `BENDING_SHARE` of its limit: with s the path length and
-    /// t the span's parameter, a component x accelerates v²·x_ss at a steady v, where
-    /// x_ss = (x'' − x'·s''/s')/s'². Checked at the span's samples and ends. (The bending's jerk,
-    /// v³·x_sss, is not capped: a spline's third derivative through points rounded to 0.1 µm is
-    /// the rounding's more than the surface's — ±0.1/mm² against 0.016 on a test wave — and
-    /// the planner does not bound it on polygons either; `docs/motion.md`.)
+    /// from the curve's bending passes its share (`chords::bending_speed`), at the span's
+    /// samples and ends. (The bending's jerk, v³·x_sss, is not capped: through points rounded
+    /// to 0.1 µm a spline's third derivative is the rounding's more than the surface's —
+    /// ±0.1/mm² against 0.016 on a test wave — and the planner does not bound it on polygons
+    /// either; `docs/motion.md`.)
     fn speed_cap(&self, q0: &[f64; D], q1: &[f64; D], m0: &[f64; D], m1: &[f64; D], h: f64) -> f64 {
         let (d1, d2) = hermite_derivatives(q0, q1, m0, m1, h);
-        let mut cap = f64::INFINITY;
-        for i in 0..=CHECK_SAMPLES {
-            let u = i as f64 / CHECK_SAMPLES as f64;
-            let (x1, x2) = (d1(u), d2(u));
-            let s1 = (0..D).filter(|&c| self.s.linear[c]).map(|c| x1[c] * x1[c]).sum::<f64>().sqrt();
-            if s1 <= NO_MOVE {
-                continue;
-            }
-            let s2 = (0..D).filter(|&c| self.s.linear[c]).map(|c| x1[c] * x2[c]).sum::<f64>() / s1;
-            for c in 0..D {
-                let xss = (x2[c] - x1[c] * s2 / s1) / (s1 * s1);
-                if xss.abs() > 1e-12 {
-                    cap = cap.min((BENDING_SHARE * self.s.accel[c] / xss.abs()).sqrt());
-                }
-            }
-        }
-        cap
+        (0..=CHECK_SAMPLES)
+            .map(|i| i as f64 / CHECK_SAMPLES as f64)
+            .map(|u| chords::bending_speed(&d1(u), &d2(u), &self.s.linear, &self.s.accel))
+            .fold(f64::INFINITY, f64::min)
     }
 }
 

@@ -3,7 +3,8 @@
 //! point, each later block adds a control point with its knot or a knot alone, and the block
 //! with the `rank`-th knot-only word completes it: the curve is checked (`crate::nurbs`) and
 //! emitted there as straight chords within `nurbs::CHORD_TOLERANCE_MM` of it, at the feed in
-//! force, through the tip path under tool centre point control.
+//! force, through the tip path under tool centre point control, each no faster than the curve's
+//! bending leaves the axes' acceleration (`chords::bending_speed`).
 
 use super::gcode::{self, code, group};
 use super::modes;
@@ -156,14 +157,27 @@ impl State {
             std::array::from_fn(|i| self.cfg.machine.axes.get(i).is_none_or(|a| a.kind == AxisKind::Linear));
         let chords = curve.chords(&linear).map_err(|_| AlarmId::NurbsFormat)?;
         let n = chords.len();
-        for (i, (_, q)) in chords.into_iter().enumerate() {
+        let accel: [f64; MAX_AXES] = std::array::from_fn(|i| {
+            self.cfg.machine.axes.get(i).map_or(f64::INFINITY, crate::machine::Axis::max_accel)
+        });
+        let mut u0 = curve.domain().0;
+        for (i, (u, q)) in chords.into_iter().enumerate() {
             // The curve ends exactly at its last control point.
             let q = if i + 1 == n { end } else { q };
+            let first = out.len();
             if self.follows_tip() {
                 self.tip_motion(MotionKind::Linear, q, None, out)?;
             } else {
                 self.push_motion(MotionKind::Linear, q, None, out);
             }
+            // No faster than the curve's bending leaves the axes, at the chord's ends and middle.
+            let cap = [u0, 0.5 * (u0 + u), u]
+                .map(|at| curve.derivatives(at))
+                .iter()
+                .map(|[_, d1, d2]| crate::chords::bending_speed(d1, d2, &linear, &accel))
+                .fold(f64::INFINITY, f64::min);
+            crate::canon::cap_speed(&mut out[first..], cap);
+            u0 = u;
         }
         self.xf.programmed = last;
         Ok(())

@@ -234,11 +234,7 @@ impl State {
                     self.push_motion(MotionKind::Linear, q, None, out);
                 }
             }
-            for c in &mut out[first..] {
-                if let crate::canon::CanonKind::Motion(m) = &mut c.kind {
-                    m.speed_cap = span.speed_cap as f32;
-                }
-            }
+            crate::canon::cap_speed(&mut out[first..], span.speed_cap);
         }
         (self.line, self.n, self.f) = here;
         Ok(())

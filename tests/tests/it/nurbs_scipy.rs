@@ -1,7 +1,9 @@
 //! G06.2 against an independent evaluator: SciPy's B-splines (`scripts/nurbs_reference.py`).
 //! Every chord vertex `fivex interp` prints for a curve lies on the rational curve SciPy
-//! evaluates from the same control points, weights and knots within 1e-9 mm, and the path ends
-//! where the curve does. Needs python3 with SciPy (Debian's python3-scipy): ignored by a plain
+//! evaluates from the same control points, weights and knots within 1e-9 mm, the path ends
+//! where the curve does, and the curve's first and second derivatives the engine computes
+//! (`fivex_engine::nurbs::Curve::derivatives`, which bound the speed along it) are SciPy's
+//! within 1e-9 of their size. Needs python3 with SciPy (Debian's python3-scipy): ignored by a plain
 //! `cargo test`, run by scripts/test.sh, which installs it.
 
 use crate::common::{fivex_in, stdout};
@@ -51,14 +53,19 @@ fn vertices(program: &str) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// SciPy's verdict on `samples`: the largest distance to the curve and its two ends.
-fn reference(curve: &Curve, samples: &[[f64; 3]]) -> (f64, [[f64; 3]; 2]) {
+/// A point of a curve and its first and second derivatives.
+type Derivatives = [[f64; 3]; 3];
+
+/// SciPy's verdict on `samples`: the largest distance to the curve and its two ends; and at
+/// each parameter of `at`, the curve's point and first and second derivatives.
+fn reference(curve: &Curve, samples: &[[f64; 3]], at: &[f64]) -> (f64, [[f64; 3]; 2], Vec<Derivatives>) {
     let job = json!({
         "degree": curve.rank - 1,
         "knots": curve.knots,
         "points": curve.points,
         "weights": curve.weights,
         "samples": samples,
+        "at": at,
     });
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/../scripts/nurbs_reference.py");
     // Debian's python3-scipy is for the system's interpreter (a python3 earlier on PATH may not
@@ -75,7 +82,9 @@ fn reference(curve: &Curve, samples: &[[f64; 3]]) -> (f64, [[f64; 3]; 2]) {
     assert!(out.status.success(), "the reference script failed");
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     let end = |k: usize| [0, 1, 2].map(|i| v["ends"][k][i].as_f64().unwrap());
-    (v["max"].as_f64().unwrap(), [end(0), end(1)])
+    let triple = |d: &Value| [0, 1, 2].map(|k| [0, 1, 2].map(|i| d[k][i].as_f64().unwrap()));
+    let derivatives = v["derivatives"].as_array().unwrap().iter().map(triple).collect();
+    (v["max"].as_f64().unwrap(), [end(0), end(1)], derivatives)
 }
 
 fn assert_on_curve(curve: &Curve) {
@@ -84,11 +93,30 @@ fn assert_on_curve(curve: &Curve) {
     // The rapid to the first point, then the chords; the closing G01 is a move of length 0.
     let chords: Vec<[f64; 3]> = xs[1..].to_vec();
     assert!(chords.len() > 20, "{} chord vertices\n{program}", chords.len());
-    let (worst, ends) = reference(curve, &chords);
+    // The engine's curve of the same numbers, and 50 parameters across its domain (inside
+    // each knot span: a derivative is one-sided at a knot of multiplicity).
+    let engine = fivex_engine::nurbs::Curve::<3>::new(
+        curve.rank,
+        curve.knots.clone(),
+        curve.points.clone(),
+        curve.weights.clone(),
+    )
+    .unwrap();
+    let (lo, hi) = engine.domain();
+    let at: Vec<f64> = (0..50).map(|i| lo + (hi - lo) * (i as f64 + 0.37) / 50.0).collect();
+    let (worst, ends, derivatives) = reference(curve, &chords, &at);
     assert!(worst < 1e-9, "a vertex is {worst} mm off SciPy's curve\n{program}");
     let last = chords.last().unwrap();
     let gap = (0..3).map(|i| (last[i] - ends[1][i]).powi(2)).sum::<f64>().sqrt();
     assert!(gap < 1e-9, "the path ends {gap} mm from the curve's end\n{program}");
+    for (u, want) in at.iter().zip(&derivatives) {
+        let got = engine.derivatives(*u);
+        for d in 0..3 {
+            let size = want[d].iter().map(|x| x * x).sum::<f64>().sqrt().max(1.0);
+            let off = (0..3).map(|i| (got[d][i] - want[d][i]).powi(2)).sum::<f64>().sqrt();
+            assert!(off <= 1e-9 * size, "derivative {d} at u = {u}: {:?} against SciPy's {:?}", got[d], want[d]);
+        }
+    }
 }
 
 #[test]
