@@ -890,11 +890,9 @@ fn tbp_interlocks_and_what_stays_refused() {
         })
     };
     let contour = "G01 X10. F500.\nY10.\nG40 X20. Y20.\n";
-    // TBP = 1 without TCP: the table system as PCS would need the programmed points placed on
-    // the turned table by the interpreter: not built (PS0010), never compensated in the
-    // workpiece system instead.
+    // TBP = 1 without TCP: compensated in the table system (`table_system` below).
     let alone = format!("G90 G00 X0 Y0 Z0 B0 C30.\nG41.2 D1\n{contour}M30\n");
-    assert_eq!(with(&alone, |_| {}), Some(("PS0010".into(), 2)));
+    assert_eq!(with(&alone, |_| {}), None);
     // … whose look-ahead prerequisites come first (TV-20: PS5483 at G41.2).
     assert_eq!(with(&alone, |m| m.motion.no_feed_look_ahead = true), Some(("PS5483".into(), 2)));
     assert_eq!(with(&alone, |m| m.motion.no_rapid_look_ahead = true), Some(("PS5483".into(), 2)));
@@ -907,10 +905,10 @@ fn tbp_interlocks_and_what_stays_refused() {
         first_alarm_with(&nested, "mixed-bc", |c| c.edit_machine(|m| m.five_axis.tcp_coordinates = TableAtStart));
     assert_eq!(tbp0, Some(("PS5460".into(), 3)));
     assert_eq!(with(&nested, |_| {}), None);
-    // TV-23: TCP first and cancelled last. Ex. 2 (G41.2 before G43.4) stops at its G41.2 (not
-    // built without TCP); Ex. 3 (G49 before G40) is PS5460 (CRC-48/49).
+    // TV-23: TCP first and cancelled last. Ex. 2 (G43.4 inside G41.2) is PS5460 at G43.4 (not
+    // a code the mode takes, CRC-49/50); Ex. 3 (G49 before G40) is PS5460 (CRC-48/49).
     let ex2 = "G90 G00 X0 Y0 Z0 B0 C0\nG41.2 D1\nG43.4 H1\nG01 X10. F500.\nG49\nM30\n";
-    assert_eq!(with(ex2, |_| {}), Some(("PS0010".into(), 2)));
+    assert_eq!(with(ex2, |_| {}), Some(("PS5460".into(), 3)));
     let ex3 = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG41.2 D1\nG01 X10. F500.\nG49\nG40\nM30\n";
     assert_eq!(with(ex3, |_| {}), Some(("PS5460".into(), 5)));
     // Both in one block: TCP is not first (PS5460).
@@ -1203,4 +1201,216 @@ fn an_avoided_path_keeps_the_radius_in_the_plane() {
         }
     }
     assert!(avoided * 5 >= total, "only {avoided} of {total} programs were avoided ({alarms} alarms)");
+}
+
+// --- the table coordinate system without TCP (TBP = 1, WKP = 0; CRC-38, M-14) ----------------
+
+mod table_system {
+    //! FANUC 5-axis manual §3.2.2/§3.3.2 (CRC-38, M-14): with TBP = 1 and WKP = 0 the tool side
+    //! offset without TCP reads X/Y/Z in the table coordinate system — the workpiece system frozen
+    //! to the table at the end of the G41.2 block (INZ = 0) or with the table axes at 0 (INZ = 1)
+    //! — and compensates there; the machine's linear axes carry the programmed point through the
+    //! table's turn (`interp::table_crc`). The presets' table axes turn left-handed, so a point
+    //! at p in the table system (frozen at C = c0) is at p_w = Rz(−(C − c0))·p in the workpiece
+    //! system when the table stands at C (M-14's p_w = Rz(−C)·p_t, with c0 = 0). Work offsets 0,
+    //! radius 5, no tool length (G49: §3.5.3's list of states the mode starts in has no G43, so
+    //! the programmed point, and the tip read with length 0, is the spindle nose); at A0/B0 the
+    //! tool is along Z.
+
+    use super::*;
+    use fivex_engine::machine::TcpCoordinates::{self, TableAtStart, TableAtZero};
+    use fivex_engine::run::{run, RunOptions, Sample};
+
+    /// A 40 mm square run counter-clockwise in the table system with G41.2 (the tool inside),
+    /// entered along its first side; N6 turns the table by 30° while it runs.
+    fn square(a: &str, c0: f64) -> String {
+        format!(
+            "N1 G90 G00 X-20. Y0 Z10. {a}0 C{c0:.1}\nN2 G49 Z10.\nN3 G41.2 D1\nN4 G01 X0 Y0 F500.\nN5 X40.\n\
+             N6 Y40. C{:.1}\nN7 X0\nN8 Y0\nN9 G40 X-20.\nN10 M30\n",
+            c0 + 30.0
+        )
+    }
+
+    fn with(coordinates: TcpCoordinates, det: bool) -> impl FnOnce(&mut fivex_engine::interp::Config) {
+        move |c: &mut fivex_engine::interp::Config| {
+            tbp(coordinates)(c);
+            c.edit_machine(|m| m.five_axis.display_workpiece = det);
+        }
+    }
+
+    /// The samples of a run (every 2 ms), and where each line's last motion ends (after the
+    /// stages): the machine axes, and the tip there by forward kinematics (table frame, tool
+    /// length 0).
+    struct Run {
+        samples: Vec<Sample>,
+        ends: Vec<(u32, [f64; 8], Vec3)>,
+    }
+
+    fn samples(src: &str, preset: &str, coordinates: TcpCoordinates, det: bool) -> Run {
+        let mut interp = interpreter_with(src, preset, Fanuc, with(coordinates, det));
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| samples.push(*s));
+        assert!(r.alarms.is_empty(), "{:?}", r.alarms);
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let mut ends: Vec<(u32, [f64; 8], Vec3)> = Vec::new();
+        let alarm = through_stages(interpreter_with(src, preset, Fanuc, with(coordinates, det)), |c| {
+            if let CanonKind::Motion(m) = c.kind {
+                let mut machine = [0.0; 8];
+                machine[..m.machine.len().min(8)].copy_from_slice(&m.machine[..m.machine.len().min(8)]);
+                ends.retain(|(l, ..)| *l != c.line);
+                ends.push((c.line, machine, kin.forward(&m.machine, 0.0).tip));
+            }
+        });
+        assert_eq!(alarm, None);
+        Run { samples, ends }
+    }
+
+    /// Rz(θ) of the x-y part, degrees.
+    fn rz(deg: f64, p: [f64; 3]) -> Vec3 {
+        let (s, c) = deg.to_radians().sin_cos();
+        Vec3::new(c * p[0] - s * p[1], s * p[0] + c * p[1], p[2])
+    }
+
+    /// The compensated tool-tip path by hand, in the table system: the start-up block N4 ends
+    /// perpendicular to N5 at its start, on its left (0, 5) (type A, the two collinear); the
+    /// square's corners turn left, inside for G41.2: the offset sides meet 5 in from each
+    /// corner; N8 ends perpendicular to itself (the cancel, type A): moving −Y its left is +X,
+    /// (5, 0); N9 moves to the programmed point. Z stays 10 (the tool along Z: no vector along
+    /// it).
+    const ENDS: [(u32, [f64; 3]); 6] = [
+        (4, [0.0, 5.0, 10.0]),
+        (5, [35.0, 5.0, 10.0]),
+        (6, [35.0, 35.0, 10.0]),
+        (7, [5.0, 35.0, 10.0]),
+        (8, [5.0, 0.0, 10.0]),
+        (9, [-20.0, 0.0, 10.0]),
+    ];
+
+    /// Every sample of lines 4–9 (the tip by forward kinematics of the sampled axes, table
+    /// frame, turned into the table system by `to_system`) is on its block's straight line of
+    /// the hand-worked path within 1 µm, and each block ends at its hand-worked point.
+    #[track_caller]
+    fn assert_on_path(run: &Run, start: [f64; 3], to_system: impl Fn([f64; 3]) -> Vec3) {
+        let mut from = Vec3::from(start);
+        for (line, end) in ENDS {
+            let end = Vec3::from(end);
+            let on: Vec<&Sample> = run.samples.iter().filter(|s| s.line == line).collect();
+            assert!(!on.is_empty(), "line {line}");
+            let d = (end - from).normalize();
+            for s in &on {
+                let p = to_system(s.tip_table) - from;
+                let off = (p - d * p.dot(&d)).norm();
+                assert!(off < 1e-6, "line {line}: {:?} off the line by {off}", to_system(s.tip_table));
+            }
+            let (.., tip) = run.ends.iter().find(|(l, ..)| *l == line).unwrap();
+            let last = to_system((*tip).into());
+            assert!((last - end).norm() < 1e-6, "line {line}: ends at {last:?}, by hand {end:?}");
+            from = end;
+        }
+    }
+
+    #[test]
+    fn crc38_the_square_is_cut_on_the_table_while_it_turns() {
+        // Frozen at C30 (INZ = 0): the table system is the workpiece system with the table at
+        // C30, so a point p of it is in the table frame at Rz(30)·p (left-handed C) and the tip
+        // (table frame) is read back in it by Rz(−30).
+        for preset in ["table-ac", "table-bc", "mixed-bc"] {
+            let a = if preset == "table-ac" { "A" } else { "B" };
+            let got = samples(&square(a, 30.0), preset, TableAtStart, false);
+            assert_on_path(&got, [-20.0, 0.0, 10.0], |t| rz(-30.0, t));
+            // N6's end by hand in machine terms: the tip (35, 35, 10) of the table system with the
+            // table at C60, 30° past the freeze: Rz(−30)·(35, 35) = (35 cos30 + 35 sin30,
+            // −35 sin30 + 35 cos30) = (47.810889, 12.810889) in the workpiece system — the
+            // machine's X/Y (offsets 0, the nose over X/Y, the tool along Z).
+            let (_, n6, _) = got.ends.iter().find(|(l, ..)| *l == 6).unwrap();
+            assert!((n6[0] - 47.810889).abs() < 1e-6 && (n6[1] - 12.810889).abs() < 1e-6, "{preset}: {n6:?}");
+            assert!((n6[4] - 60.0).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn m14_the_same_part_with_the_table_turned_is_the_same_tip_path_on_it() {
+        // The same program frozen at C0 and at C90: every sample's tip in its table system
+        // (Rz(−c0) of the table frame) is on the same hand-worked path. The machine's X/Y/Z are
+        // the same at every block end (the part turned with the table: at N6's end the table has
+        // turned 30° past the freeze either way, Rz(−30)·(35, 35)), C is 90° apart.
+        let at0 = samples(&square("A", 0.0), "table-ac", TableAtStart, false);
+        let at90 = samples(&square("A", 90.0), "table-ac", TableAtStart, false);
+        assert_on_path(&at0, [-20.0, 0.0, 10.0], Vec3::from);
+        assert_on_path(&at90, [-20.0, 0.0, 10.0], |t| rz(-90.0, t));
+        for ((l0, m0, _), (l90, m90, _)) in at0.ends.iter().zip(&at90.ends) {
+            assert_eq!(l0, l90);
+            assert!((0..3).all(|k| (m0[k] - m90[k]).abs() < 1e-9), "line {l0}: {m0:?} {m90:?}");
+            assert!((m90[4] - m0[4] - 90.0).abs() < 1e-9, "line {l0}: {m0:?} {m90:?}");
+        }
+    }
+
+    #[test]
+    fn inz_fixes_the_table_system_with_the_table_axes_at_0() {
+        // INZ = 1, the G41.2 block at C30: the table system is the workpiece system at C0, the
+        // table frame itself here (offsets 0, nose on the table's axis). The start-up block
+        // starts where the tool stands, (−20, 0) of the workpiece system at C30: Rz(30)·(−20, 0)
+        // = (−17.320508, −10) in the table system; the rest of the path is the same square.
+        let got = samples(&square("A", 30.0), "table-ac", TableAtZero, false);
+        assert_on_path(&got, [-10.0 * 3f64.sqrt(), -10.0, 10.0], Vec3::from);
+    }
+
+    #[test]
+    fn crc38_det_shows_the_table_system_or_the_workpiece_system() {
+        // DET = 0: the position display (the commanded point) in the table system, named
+        // `programming`; DET = 1: in the workpiece system with the machine's axes. At N6's end the
+        // commanded point is the compensated one (35, 35, 10) in the table system, and
+        // Rz(−30)·(35, 35) = (47.810889, 12.810889) in the workpiece system (the table at C60).
+        // (A dwell after N6 shows where it ended.)
+        let src = square("A", 30.0).replace("N7 X0", "N7 G04 P500\nN7 X0");
+        let shown = |det: bool| {
+            let s = samples(&src, "table-ac", TableAtStart, det);
+            let dwell = *s.samples.iter().rfind(|s| s.line == 7).unwrap();
+            (dwell.programmed, dwell.programmed_in.name())
+        };
+        let (p, name) = shown(false);
+        assert!((Vec3::from(p) - Vec3::new(35.0, 35.0, 10.0)).norm() < 1e-6, "{p:?}");
+        assert_eq!(name, "programming");
+        let (p, name) = shown(true);
+        assert!((Vec3::from(p) - Vec3::new(47.810889, 12.810889, 10.0)).norm() < 1e-6, "{p:?}");
+        assert_eq!(name, "workpiece_machine_axes");
+    }
+
+    #[test]
+    fn after_g40_the_program_is_read_in_the_workpiece_system_again() {
+        // The table stands at C60 after the square: X-30. Y0 of a block after G40 is the workpiece
+        // point itself (machine X/Y with offsets 0), not the table system's (which would be at
+        // Rz(−30)·(−30, 0)).
+        let src = square("A", 30.0).replace("N10 M30", "N10 G00 X-30. Y0\nN11 M30");
+        let got = samples(&src, "table-ac", TableAtStart, false);
+        let (_, m, _) = got.ends.iter().find(|(l, ..)| *l == 10).unwrap();
+        assert!((m[0] + 30.0).abs() < 1e-9 && m[1].abs() < 1e-9 && (m[4] - 60.0).abs() < 1e-9, "{m:?}");
+        assert_eq!(got.samples.last().unwrap().programmed_in.name(), "workpiece");
+    }
+
+    #[test]
+    fn crc38_alarms_in_the_table_system_without_tcp() {
+        let alarm = |src: &str, edit: fn(&mut MachineConfig)| {
+            first_alarm_with(src, "table-ac", |c| {
+                tbp(TableAtStart)(c);
+                c.edit_machine(edit);
+            })
+        };
+        let src = square("A", 30.0);
+        assert_eq!(alarm(&src, |_| {}), None);
+        // `fivex check` runs the interpreter and the stages: no longer "not built" (PS0010).
+        let mut interp = interpreter_with(&src, "table-ac", Fanuc, tbp(TableAtStart));
+        assert_eq!(fivex_engine::check::run_without_motion(&mut interp).map(|s| s.alarm.code), None);
+        // PS5483: the look-ahead prerequisites, at the G41.2 block (TV-20).
+        assert_eq!(alarm(&src, |m| m.motion.nonlinear_rapid = true), Some(("PS5483".into(), 3)));
+        assert_eq!(alarm(&src, |m| m.motion.no_feed_look_ahead = true), Some(("PS5483".into(), 3)));
+        // PS5460: a workpiece system selected in the mode (CRC-38 note 3).
+        let g55 = src.replace("N7 X0", "N7 G55 X0");
+        assert_eq!(alarm(&g55, |_| {}), Some(("PS5460".into(), 7)));
+        // The table turned in the G41.2 block: its move ends first, then the system is frozen
+        // (there at C30: the same path as the square started at C30).
+        let turning = square("A", 0.0).replace("N3 G41.2 D1", "N3 G41.2 D1 C30.").replace("C30.0\nN7", "C60.\nN7");
+        let got = samples(&turning, "table-ac", TableAtStart, false);
+        assert_on_path(&got, [-20.0, 0.0, 10.0], |t| rz(-30.0, t));
+    }
 }
