@@ -1414,3 +1414,89 @@ mod table_system {
         assert_on_path(&got, [-20.0, 0.0, 10.0], |t| rz(-30.0, t));
     }
 }
+
+mod table_system_random {
+    //! The tool side offset in the table coordinate system without TCP on random contours: a star
+    //! polygon lifted into the plane perpendicular to the tool as the table system sees it, the
+    //! table turned before G41.2 and the system fixed with the table axes at 0 (INZ = 1), so that
+    //! the table system is neither the workpiece system nor the machine's directions.
+
+    use super::*;
+    use proptest::prelude::*;
+
+    fn contour() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
+        prop::collection::vec((0.0..std::f64::consts::TAU, 30.0..80.0, -30.0..30.0f64), 4..8).prop_map(|mut v| {
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            v
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: cases(24), max_global_rejects: 10_000, ..ProptestConfig::default() })]
+        /// At every sample in the middle of a contour block, the point the machine carries (the
+        /// unturned tip, forward kinematics of the sampled axes; G49, so the spindle nose), read
+        /// in the table system, is at the radius from the programmed line in the plane
+        /// perpendicular to the tool, on the commanded side: on table-ac, table-bc and mixed-bc.
+        #[test]
+        fn every_sample_keeps_the_radius_in_the_table_system(
+            machine in 0..3usize,
+            b in -40.0..40.0f64,
+            c in -180.0..180.0f64,
+            corners in contour(),
+            left in any::<bool>(),
+        ) {
+            let (preset, tilt) = [("table-ac", "A"), ("table-bc", "B"), ("mixed-bc", "B")][machine];
+            // table-bc's B turns within −30…110.
+            let b = if preset == "table-bc" { b.abs() } else { b };
+            let (b, c) = ((b * 1000.0).round() / 1000.0, (c * 1000.0).round() / 1000.0);
+            let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+            let mut pos = [0.0; 8];
+            (pos[3], pos[4]) = (b, c);
+            // With INZ = 1 and no offsets the table system is the table frame: the tool there.
+            let t = kin.forward(&pos, 0.0).tool;
+            let e2 = t.cross(&Vec3::new(0.3, -0.5, 0.8)).normalize();
+            let e3 = t.cross(&e2);
+            let points: Vec<Vec3> =
+                corners.iter().map(|(a, r, z)| e2 * (r * a.cos()) + e3 * (r * a.sin()) + t * *z).collect();
+            let xyz = |p: &Vec3| format!("X{:.9} Y{:.9} Z{:.9}", p.x, p.y, p.z);
+            // The G00 block is in the workpiece system: the start placed on the turned table.
+            let start = points[0] * 1.6;
+            let start_w = kin.table_frame(&pos).to_parent(&start);
+            let side = if left { "G41.2" } else { "G42.2" };
+            let mut src = format!("G90 G00 {} {tilt}{b:.3} C{c:.3}\n{side} D1\nG01 F3000. ", xyz(&start_w));
+            for p in points.iter().chain(std::iter::once(&points[0])) {
+                src += &format!("{}\n", xyz(p));
+            }
+            src += &format!("G40 {}\nM30\n", xyz(&start));
+            let inz = tbp(fivex_engine::machine::TcpCoordinates::TableAtZero);
+            prop_assume!(first_alarm_with(&src, preset, inz).is_none());
+            let mut interp =
+                interpreter_with(&src, preset, Fanuc, tbp(fivex_engine::machine::TcpCoordinates::TableAtZero));
+            let n = points.len();
+            let (mut checked, mut worst) = (0, 0.0f64);
+            let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+                // Line 4 + k runs from corner k to corner k + 1 (the start-up block is line 3).
+                let k = s.line as usize;
+                if !(4..4 + n).contains(&k) {
+                    return;
+                }
+                let (p, q) = (points[(k - 4) % n], points[(k - 3) % n]);
+                let point = kin.unturned_tip(&s.machine, 0.0);
+                let flat = |v: Vec3| v - t * v.dot(&t);
+                let (d, w) = (flat(q - p), flat(point - p));
+                let u = d.dot(&w) / d.norm_squared();
+                if !(0.25..=0.75).contains(&u) {
+                    return;
+                }
+                let across = w - d * u;
+                let sign = if t.dot(&d.cross(&across)) > 0.0 { 1.0 } else { -1.0 };
+                let want = if left { 5.0 } else { -5.0 };
+                worst = worst.max((sign * across.norm() - want).abs());
+                checked += 1;
+            });
+            prop_assert!(r.completed(), "{:?}", r.alarms);
+            prop_assert!(checked > 10 * n, "{} samples checked", checked);
+            prop_assert!(worst < 1e-3, "a sample {} mm off the radius", worst);
+        }
+    }
+}
