@@ -600,6 +600,7 @@ impl State {
         }
 
         // --- motion -------------------------------------------------------------------------
+        self.table_crc_cancel_stop(comp_before, out);
         let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
         // G40 with I/J/K in G00/G01 ending offset mode: the direction goes to the cutter
         // compensation stage with the block's motion; without axis words the block still moves

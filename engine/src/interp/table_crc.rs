@@ -125,6 +125,17 @@ impl State {
         }
     }
 
+    /// The G40 block in the table coordinate system "suppresses buffering" (CRC-38): it is not
+    /// read ahead, so the machine stops at the end of the block before it. fivex reads on (the
+    /// path is the same) and gives the stop as a dwell of no time before the block's move, which
+    /// every driver carries out by letting the motion before it end at rest.
+    pub(super) fn table_crc_cancel_stop(&mut self, comp_before: u16, out: &mut Vec<Canon>) {
+        let cancels = code::TOOL_SIDE.contains(&comp_before) && self.modes[group::CUTTER_COMP] == code::G40;
+        if self.table_crc_active() && cancels {
+            self.emit(out, CanonKind::Dwell { seconds: 0.0 });
+        }
+    }
+
     /// The mode ends: the current point is the machine position read in the workpiece system.
     pub(super) fn table_crc_end(&mut self) {
         if self.table_crc.take().is_none() {

@@ -1377,6 +1377,42 @@ mod table_system {
     }
 
     #[test]
+    fn crc38_the_g40_block_suppresses_buffering_the_machine_stops_before_it() {
+        // After the stages: N8's move, then the stop (a dwell of no time, line 9), then the G40
+        // block's move; the machine comes to rest at N8's end, (5, 0) of the table system.
+        let mut order = Vec::new();
+        let interp = interpreter_with(&square("A", 30.0), "table-ac", Fanuc, with(TableAtStart, false));
+        let alarm = through_stages(interp, |c| match c.kind {
+            CanonKind::Motion(_) => order.push((c.line, "move")),
+            CanonKind::Dwell { seconds } => order.push((c.line, if seconds == 0.0 { "stop" } else { "dwell" })),
+            _ => {}
+        });
+        assert_eq!(alarm, None);
+        let at = order.iter().position(|&(l, k)| (l, k) == (9, "stop")).expect("a stop at the G40 block");
+        assert_eq!((order[at - 1], order[at + 1]), ((8, "move"), (9, "move")));
+        // The run stands there: with the G40 block going on along N8 (X5. Y-20.: straight on
+        // from (5, 0)), the slowest sample of N8's second half and G40's first half is at rest
+        // (0 within the 2 ms sampling: the S-curve's last period, j·t²/2 = 80000 · 0.002² / 2
+        // mm/s = 9.6 mm/min at most); read ahead (the same path in the workpiece system, WKP =
+        // 1, the table standing) it is passed at the feed.
+        let straight_on = square("A", 30.0).replace("C60.0", "C30.0").replace("G40 X-20.", "G40 X5. Y-20.");
+        let slowest = |coordinates| {
+            samples(&straight_on, "table-ac", coordinates, false)
+                .samples
+                .iter()
+                .filter(|s| {
+                    let y = rz(-30.0, s.tip_table).y;
+                    s.line == 8 && y < 17.0 || s.line == 9 && y > -10.0
+                })
+                .map(|s| s.feed)
+                .fold(f64::INFINITY, f64::min)
+        };
+        assert!(slowest(TableAtStart) < 10.0);
+        let read_ahead = slowest(TcpCoordinates::Workpiece);
+        assert!(read_ahead > 499.0, "{read_ahead}");
+    }
+
+    #[test]
     fn after_g40_the_program_is_read_in_the_workpiece_system_again() {
         // The table stands at C60 after the square: X-30. Y0 of a block after G40 is the workpiece
         // point itself (machine X/Y with offsets 0), not the table system's (which would be at
