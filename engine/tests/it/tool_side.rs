@@ -1448,6 +1448,28 @@ mod table_system {
         let turning = square("A", 0.0).replace("N3 G41.2 D1", "N3 G41.2 D1 C30.").replace("C30.0\nN7", "C60.\nN7");
         let got = samples(&turning, "table-ac", TableAtStart, false);
         assert_on_path(&got, [-20.0, 0.0, 10.0], |t| rz(-30.0, t));
+        // With SPG (No.19607#1) the mechanism's codes, G41.4 on table-ac and G41.5 on mixed-bc,
+        // compensate in the table system as G41.2 does: the same block ends.
+        for (preset, tilt, code) in [("table-ac", "A", "G41.4"), ("mixed-bc", "B", "G41.5")] {
+            let src = square(tilt, 30.0);
+            let by_mechanism = src.replace("G41.2", code);
+            let spg_tbp = |c: &mut fivex_engine::interp::Config| {
+                with(TableAtStart, false)(c);
+                spg(c);
+            };
+            let ends = |src: &str, tweak: &dyn Fn(&mut fivex_engine::interp::Config)| {
+                let mut ends = Vec::new();
+                let interp = interpreter_with(src, preset, Fanuc, tweak);
+                let alarm = through_stages(interp, |c| {
+                    if let CanonKind::Motion(m) = c.kind {
+                        ends.push((c.line, m.machine));
+                    }
+                });
+                assert_eq!(alarm, None, "{preset} {src}");
+                ends
+            };
+            assert_eq!(ends(&by_mechanism, &spg_tbp), ends(&src, &|c| with(TableAtStart, false)(c)), "{preset}");
+        }
     }
 }
 
