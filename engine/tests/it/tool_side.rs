@@ -1329,6 +1329,35 @@ mod table_system {
     }
 
     #[test]
+    fn on_a_mixed_machine_the_tool_is_read_in_the_table_system_as_the_table_turns_under_it() {
+        // mixed-bc, the head at B30 (the tool (sin30, 0, cos30) = (0.5, 0, 0.866025) in the
+        // machine), frozen at C0. N3 enters along +Y and N4 goes on along +Y while C turns to
+        // 90: at N4's end the table has turned under the head, so in the table system the tool
+        // is Rz(90)·(0.5, 0, 0.866025) = (0, 0.5, 0.866025) (a point p of it is at Rz(−C)·p).
+        // N4 is the block before G40: its vector is perpendicular to itself in the plane ⊥ that
+        // tool — the move (0, 40, 0) projected there, (0, 40, 0) − 20·t = (0, 30, −17.320508),
+        // unit u = (0, 0.866025, −0.5); G41.2's left n = t × u = (−0.25 − 0.75, 0, 0) = (−1, 0, 0):
+        // N4 ends at (0, 40, 50) + 5·n = (−5, 40, 50) in the table system. Machine X/Y there,
+        // C90: Rz(−90)·(−5, 40) = (40, 5).
+        let src = "N1 G90 G00 X0 Y-20. Z50. B30. C0\nN2 G41.2 D1\nN3 G01 Y0 F500.\nN4 Y40. C90.\n\
+                   N5 G40 Y60.\nN6 M30\n";
+        let got = samples(src, "mixed-bc", TableAtStart, false);
+        let (_, m, _) = got.ends.iter().find(|(l, ..)| *l == 4).unwrap();
+        assert!((m[0] - 40.0).abs() < 1e-6 && (m[1] - 5.0).abs() < 1e-6, "{m:?}");
+        assert!((m[3] - 30.0).abs() < 1e-9 && (m[4] - 90.0).abs() < 1e-9);
+        // The point the machine carries (the unturned tip: G49, the nose) in the table system.
+        let kin = Kinematics::new(&MachineConfig::preset("mixed-bc").unwrap()).unwrap();
+        let point = kin.unturned_tip(m, 0.0);
+        assert!((point - Vec3::new(-5.0, 40.0, 50.0)).norm() < 1e-6, "{point:?}");
+        // N3 (the start-up) ends perpendicular to N4 at its start, where the table still stands
+        // at C0: the tool (0.5, 0, 0.866025), +Y projected is +Y itself, n = t × Y =
+        // (−0.866025, 0, 0.5): (0, 0, 50) + 5·n = (−4.330127, 0, 52.5).
+        let (_, m3, _) = got.ends.iter().find(|(l, ..)| *l == 3).unwrap();
+        let p3 = kin.unturned_tip(m3, 0.0);
+        assert!((p3 - Vec3::new(-4.330127, 0.0, 52.5)).norm() < 1e-6, "{p3:?}");
+    }
+
+    #[test]
     fn m14_the_same_part_with_the_table_turned_is_the_same_tip_path_on_it() {
         // The same program frozen at C0 and at C90: every sample's tip in its table system
         // (Rz(−c0) of the table frame) is on the same hand-worked path. The machine's X/Y/Z are
