@@ -170,6 +170,33 @@ pub struct TipMove {
     /// Cutting point control (G43.8/G43.9): `from`, `to` (and `arc`) are the cutting point's
     /// path, and the tip is away from it as `crate::cutting_point` says, all along the block.
     pub cutting: Option<CuttingMove>,
+    /// Without tool centre point control (5-axis cutter compensation in the table coordinate
+    /// system, FANUC TBP = 1): `from`, `to` are the point the carriage and the table carry
+    /// (`Kinematics::unturned_tip`), not the tool tip — a head axis turning swings the tip about
+    /// it, as in any block without TCP; only the table's turn is followed.
+    pub head_fixed: bool,
+}
+
+impl TipMove {
+    /// The carriage (X, Y, Z) that puts this path's point at `point` (table frame) with the
+    /// rotary axes of `pos`.
+    pub fn carriage_for(&self, kin: &crate::kin::Kinematics, pos: &[f64], point: Vec3) -> Vec3 {
+        if self.head_fixed {
+            kin.carriage_for_unturned(pos, point, self.tool_length)
+        } else {
+            kin.carriage_for(pos, point, self.tool_length)
+        }
+    }
+
+    /// This path's point (table frame) with the axes at `pos`: the tip, or with `head_fixed`
+    /// the unturned tip.
+    pub fn point_at(&self, kin: &crate::kin::Kinematics, pos: &[f64]) -> Vec3 {
+        if self.head_fixed {
+            kin.unturned_tip(pos, self.tool_length)
+        } else {
+            kin.forward(pos, self.tool_length).tip
+        }
+    }
 }
 
 /// A block under cutting point control: what places the tool tip from the cutting point.

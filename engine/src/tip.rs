@@ -18,11 +18,13 @@ pub enum System {
     #[default]
     Workpiece,
     /// The workpiece system's origin with the machine's axis directions, not turned with the
-    /// table: FANUC DET's position display under tool centre point control (the same as
+    /// table: FANUC DET's position display under tool centre point control, or in 5-axis cutter
+    /// compensation's table coordinate system (the same as
     /// `Workpiece` on a head machine or with the table axes at zero).
     WorkpieceMachineAxes,
     /// The programming coordinate system of tool centre point control (FANUC G43.4/G43.5 Π,
-    /// Syntec RTCP).
+    /// Syntec RTCP), or the table coordinate system of 5-axis cutter compensation without TCP
+    /// (FANUC TBP = 1, `interp::table_crc`).
     Programming,
     /// The feature coordinate system of a tilted working plane (G68.2/G68.3/G68.4).
     Feature,

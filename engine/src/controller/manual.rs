@@ -555,7 +555,7 @@ impl Controller {
     pub(super) fn moved_motion(&self, m: &Motion, shift: Option<&Shift>) -> Motion {
         let mut m = m.clone();
         if let (true, Some(tip), Some(kin)) = (self.reposition, &mut m.tip, self.machine.kinematics()) {
-            tip.from = kin.forward(&self.exec.queued.machine, tip.tool_length).tip;
+            tip.from = tip.point_at(kin, &self.exec.queued.machine);
         }
         // Machine-coordinate moves (G53, reference returns) go where they say.
         let Some(shift) = shift.filter(|_| m.kind != MotionKind::MachineRapid) else { return m };
@@ -566,7 +566,7 @@ impl Controller {
                 if let Some(arc) = &mut tip.arc {
                     arc.center += shift.tip;
                 }
-                let carriage = kin.carriage_for(&m.machine, tip.to, tip.tool_length);
+                let carriage = tip.carriage_for(kin, &m.machine, tip.to);
                 for (axis, index) in kin.linear.iter().enumerate() {
                     if let Some(i) = index {
                         m.machine[*i] = carriage[axis];

@@ -21,6 +21,7 @@ mod plane;
 pub(crate) mod program;
 mod singular;
 mod smoothing;
+mod table_crc;
 mod tcp;
 pub mod unbuilt;
 mod vars;
@@ -282,6 +283,8 @@ pub struct State {
     wse_kinematics: Option<std::sync::Arc<crate::kin::Kinematics>>,
     /// Tool centre point control in force.
     tcp: Option<tcp::Tcp>,
+    /// 5-axis cutter compensation in the table coordinate system without TCP (`table_crc`).
+    table_crc: Option<table_crc::TableCrc>,
     /// A NURBS curve (G06.2) being given, from its G06.2 block to its last knot.
     nurbs: Option<Box<nurbs::Builder>>,
     /// Nano smoothing (G05.1 Q3) in force, with the points it holds.
@@ -438,6 +441,7 @@ impl Interpreter {
         // puts group 07 in G40 (CRC-44, TV-30; the manual lists the 5-axis codes, fivex ends
         // G41/G42 the same way, as their offset vector does not survive a reset either).
         st.modes[group::CUTTER_COMP] = code::G40;
+        st.table_crc_end();
         st.five.compensation_ended();
         let after_reset = st.cfg.machine.five_axis.plane_after_reset;
         if st.plane_active() && after_reset == crate::machine::PlaneAfterReset::Cancelled {
@@ -462,6 +466,8 @@ impl Interpreter {
             st.plane_moved_to(*machine);
         } else if st.tcp_active() {
             st.tcp_moved_to(*machine);
+        } else if st.table_crc_active() {
+            st.table_crc_moved_to(*machine);
         } else if st.wse_follows() {
             st.wse_moved_to(*machine);
         } else {
@@ -590,6 +596,7 @@ impl State {
             kinematics,
             wse_kinematics,
             tcp: None,
+            table_crc: None,
             nurbs: None,
             smoothing: None,
             follow_machine: None,
@@ -726,6 +733,11 @@ impl State {
                 if tcp::shows_workpiece(self) { System::WorkpieceMachineAxes } else { System::Programming },
             ),
             None if self.plane_active() => (self.active_tool_length(), System::Feature),
+            // The table coordinate system of 5-axis cutter compensation: shown as Π is (DET).
+            None if self.table_crc_active() => (
+                self.active_tool_length(),
+                if tcp::shows_workpiece(self) { System::WorkpieceMachineAxes } else { System::Programming },
+            ),
             None => {
                 // The length applied at the last H selection (a G10 to the offset in use waits
                 // for the next one, as the machine position does).

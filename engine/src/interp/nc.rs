@@ -326,6 +326,7 @@ impl State {
         let mut w = Words::new();
         self.collect_into(words, &mut w)?;
         self.exact_stop = false;
+        let first = out.len();
         if self.nurbs.is_some() {
             // Inside a NURBS curve only its control points and knots may come (`nurbs`).
             return self.nurbs_block(&w, out);
@@ -518,7 +519,7 @@ impl State {
                 rapid: self.modes[group::MOTION] == code::G00,
             });
             let machine = self.machine_position();
-            self.cfg.stages.comp_started(CompStart { pos: self.pos, machine, perpendicular });
+            self.cfg.stages.comp_started(CompStart { pos: self.pos, machine, perpendicular, table: None });
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
         self.apply_wse(&w)?;
@@ -599,6 +600,7 @@ impl State {
         }
 
         // --- motion -------------------------------------------------------------------------
+        self.table_crc_cancel_stop(comp_before, out);
         let has_axes = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
         // G40 with I/J/K in G00/G01 ending offset mode: the direction goes to the cutter
         // compensation stage with the block's motion; without axis words the block still moves
@@ -630,7 +632,7 @@ impl State {
             // straight to where the program stands (`stage::cutter`, `stage::tool_side`; under
             // TCP the tool side offset's tip goes there, the axes following it).
             let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
-            if self.tcp_active() {
+            if self.tcp_active() || self.table_crc_active() {
                 self.tip_motion(kind, self.pos, None, out)?;
             } else {
                 self.push_motion(kind, self.pos, None, out);
@@ -738,6 +740,9 @@ impl State {
                 other => self.emit(out, CanonKind::Aux { m: other }),
             }
         }
+        // The table coordinate system of 5-axis cutter compensation without TCP is frozen after
+        // the start block's move and left after the G40 block's (`table_crc`).
+        self.table_crc_after_block(comp_before, first, out);
         if moved && !self.ended {
             if let Some(mc) = self.modal_call_here() {
                 if !mc.every_block {
@@ -1298,7 +1303,6 @@ impl State {
             inverse_time: after(group::FEED_MODE) == code::G93,
             corner_override: after(group::PATH_MODE) == code::G62,
             rotary_table,
-            table_system: rotary_table && self.cfg.machine.five_axis.crc_in_table(),
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),

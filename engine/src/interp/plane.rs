@@ -290,6 +290,7 @@ impl State {
             posture: false,
             along: true,
             cutting: None,
+            head_fixed: false,
         };
         self.follow_motion(&kin, kind, target, arc, path, out)?;
         self.wse_keep_programmed_angles(&programmed);
@@ -363,6 +364,7 @@ impl State {
                     posture: false,
                     along: code == code::G53_6,
                     cutting: None,
+                    head_fixed: false,
                 };
                 self.follow_motion(&kin, MotionKind::Rapid, target, None, path, out)?;
                 match self.follow_machine {

@@ -77,7 +77,7 @@ impl State {
 
     /// Whether moves follow the tool tip through the kinematics (TCP or a tilted plane).
     pub(super) fn follows_tip(&self) -> bool {
-        self.tcp.is_some() || self.plane_active() || self.wse_follows()
+        self.tcp.is_some() || self.plane_active() || self.table_crc_active() || self.wse_follows()
     }
 
     /// A move under TCP or in the tilted plane (`follows_tip`).
@@ -92,6 +92,8 @@ impl State {
             self.tcp_motion(kind, target, arc, out)
         } else if self.plane_active() {
             self.plane_motion(kind, target, arc, out)
+        } else if self.table_crc_active() {
+            self.table_crc_motion(kind, target, arc, out)
         } else {
             self.wse_motion(kind, target, arc, out)
         }
@@ -419,7 +421,7 @@ impl State {
             }
             None => None,
         };
-        let path = FollowPath { frame, tool_length, posture, along: !starting, cutting };
+        let path = FollowPath { frame, tool_length, posture, along: !starting, cutting, head_fixed: false };
         self.follow_motion(&kin, kind, target, arc, path, out)?;
         if let Some(c) = self.tcp.as_mut().and_then(|t| t.cutting.as_mut()) {
             let tip = kin.forward(&self.follow_machine.expect("a tip move leaves it"), tool_length).tip;
@@ -445,7 +447,7 @@ impl State {
     ) -> Result<(), AlarmId> {
         let from_machine = self.machine_position();
         let off = self.offset_vector();
-        let FollowPath { frame, tool_length, posture, along, cutting } = path;
+        let FollowPath { frame, tool_length, posture, along, cutting, head_fixed } = path;
         // G54.4's compensation along the way, as the block's `wse_compensate` left it.
         let compensation = self.wse_between.take();
         // The rotary axes' end is known here; X/Y/Z are placed below, for the tip.
@@ -453,6 +455,9 @@ impl State {
         let tip_to = frame.to_parent(&xyz(kin, &target));
         let tip = along.then(|| {
             let mut from = kin.forward(&from_machine, tool_length);
+            if head_fixed {
+                from.tip = kin.unturned_tip(&from_machine, tool_length);
+            }
             if let Some(c) = &cutting {
                 // The path is the cutting point's.
                 from.tip -= c.start;
@@ -483,6 +488,7 @@ impl State {
                 rotary_clamp: self.wse_rotary_clamp(kind),
                 compensation,
                 cutting,
+                head_fixed,
             })
         });
         // Cutting point control puts the tip away from the cutting point as the path turns
@@ -495,7 +501,11 @@ impl State {
             (Some(c), None) => tip_to + c.tool.vector(kin.forward(&machine, 0.0).tool, c.normals.1),
             (None, _) => tip_to,
         };
-        let carriage = kin.carriage_for(&machine, aimed, tool_length);
+        let carriage = if head_fixed {
+            kin.carriage_for_unturned(&machine, aimed, tool_length)
+        } else {
+            kin.carriage_for(&machine, aimed, tool_length)
+        };
         for (axis, index) in kin.linear.iter().enumerate() {
             if let Some(i) = index {
                 machine[*i] = carriage[axis];
@@ -542,7 +552,9 @@ fn display_shift(state: &State, kin: &Kinematics) -> Option<Vec3> {
 /// Whether TCP's position display shows the tip in the workpiece system (DET with Π on the
 /// table) instead of in Π.
 pub(super) fn shows_workpiece(state: &State) -> bool {
-    let on_table = state.tcp.as_ref().is_some_and(|t| t.frame.is_some());
+    // (The table coordinate system of 5-axis cutter compensation is on the table too, and
+    // FANUC's DET, No.19608#2, chooses its display the same way: CRC-38.)
+    let on_table = state.tcp.as_ref().is_some_and(|t| t.frame.is_some()) || state.table_crc_active();
     on_table && state.cfg.machine.five_axis.display_workpiece
 }
 
@@ -573,6 +585,9 @@ pub(super) struct FollowPath {
     pub(super) along: bool,
     /// Cutting point control: X/Y/Z are the cutting point, the tip away from it.
     pub(super) cutting: Option<CuttingMove>,
+    /// Without TCP (5-axis cutter compensation in the table coordinate system): X/Y/Z are the
+    /// unturned tip, which the table's turn carries and the head's does not (`TipMove::head_fixed`).
+    pub(super) head_fixed: bool,
 }
 
 /// FANUC M-13 (§2.3.7, TV-30…42): a circle under TCP in the workpiece system (WKP = 1) is

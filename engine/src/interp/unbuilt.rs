@@ -165,10 +165,6 @@ pub struct CutterBlock {
     /// inclination), under G41.2/G42.2 a Q other than Q1/Q2/Q3 (the tool side offset's answers
     /// to its interference check at a compensation plane change).
     pub q: bool,
-    /// The machine turns the workpiece and its 5-axis cutter compensation works in the table
-    /// coordinate system (FANUC No.19746#4 TBP = 1, WKP = 0, CRC-38): performed under tool
-    /// centre point control only, whose programming frame Π is that system.
-    pub table_system: bool,
     /// Nano smoothing (G05.1 Q3) in force after the block: its curve is built from the
     /// programmed points, before (not after) any compensation.
     pub smoothing: bool,
@@ -179,8 +175,8 @@ pub struct CutterBlock {
 /// machine coordinates: right only while the two differ by a translation, for plain motions.
 /// The tool side offset compensates straight moves in the plane perpendicular to the tool, on a
 /// machine of any mechanism type: type 1 with or without TCP, type 2 under G43.5 — on table
-/// machines in the workpiece system (TBP = 0), in the table system (TBP = 1, WKP = 0) only under
-/// TCP. The leading edge offset: straight moves (by its
+/// machines in the workpiece system (TBP = 0) or in the table system (TBP = 1, WKP = 0: under
+/// TCP its Π, without it `interp::table_crc`). The leading edge offset: straight moves (by its
 /// mode rules) on a machine whose rotary axes turn the tool only.
 pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
     let five_axis = b.tool_side || b.leading_edge;
@@ -197,11 +193,6 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
         (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset (type 2: its inclination)"),
         (b.type2_alone, "the tool side offset of type 2 (G41.6/G42.6) without G43.5"),
-        (
-            b.tool_side && b.table_system && !b.tcp,
-            "the tool side offset in the table coordinate system (No.19746#4 TBP = 1, WKP = 0) without tool \
-             centre point control",
-        ),
         (b.leading_edge && b.rotary_table, "the leading edge offset (G41.3) on a machine with a rotary table"),
         (
             b.leading_edge && b.no_mechanism,

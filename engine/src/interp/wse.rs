@@ -220,7 +220,7 @@ impl State {
         if self.wse_shows_wcs() {
             self.wcs_position()
         } else {
-            self.tcp_shown().unwrap_or(self.pos)
+            self.tcp_shown().or_else(|| self.table_crc_shown()).unwrap_or(self.pos)
         }
     }
 
@@ -254,7 +254,8 @@ impl State {
             o: Vec3::new(self.tool_vec[x], self.tool_vec[y], self.tool_vec[z]),
         };
         let frame = self.wcs_on_table(&kin, &end).then(&length).then(&active.frame);
-        let path = FollowPath { frame, tool_length: 0.0, posture: false, along: true, cutting: None };
+        let path =
+            FollowPath { frame, tool_length: 0.0, posture: false, along: true, cutting: None, head_fixed: false };
         self.follow_motion(&kin, kind, target, Some(arc), path, out)?;
         // Not a mode that follows the tip: the machine position is the programmed point's.
         self.follow_machine = None;
@@ -323,8 +324,14 @@ impl State {
         self.wse_compensate(&kin, &mut target)?;
         let from = self.machine_position();
         let frame = self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &from));
-        let path =
-            FollowPath { frame, tool_length: self.active_tool_length(), posture: false, along: true, cutting: None };
+        let path = FollowPath {
+            frame,
+            tool_length: self.active_tool_length(),
+            posture: false,
+            along: true,
+            cutting: None,
+            head_fixed: false,
+        };
         self.follow_motion(&kin, kind, target, arc, path, out)?;
         self.wse_keep_programmed_angles(&programmed);
         Ok(())

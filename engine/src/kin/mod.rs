@@ -336,6 +336,21 @@ impl Kinematics {
         self.carriage_with(&self.motion(Side::Head, pos), &self.motion(Side::Table, pos), tip, tool_length)
     }
 
+    /// The point X/Y/Z carry without tool centre point control (table frame): the tool tip as
+    /// it would be with the head's axes at zero, which only the carriage and the table move —
+    /// the head's turn swings the real tip about it (the programmed point of a plain G43 block,
+    /// which 5-axis cutter compensation in the table coordinate system carries with the table).
+    pub fn unturned_tip(&self, pos: &[f64], tool_length: f64) -> Vec3 {
+        let machine = self.carriage(pos) + self.nose - tool_length * self.tool_axis;
+        self.motion(Side::Table, pos).undo(machine)
+    }
+
+    /// The carriage position that puts [`Kinematics::unturned_tip`] at `point` (table frame)
+    /// with the rotary axes of `pos`: [`Kinematics::carriage_for`] with the head left out.
+    pub fn carriage_for_unturned(&self, pos: &[f64], point: Vec3, tool_length: f64) -> Vec3 {
+        self.motion(Side::Table, pos).apply(point) - (self.nose - tool_length * self.tool_axis)
+    }
+
     /// [`Kinematics::carriage_for`] with the chain motions already computed.
     fn carriage_with(&self, head: &ChainMotion, table: &ChainMotion, tip: Vec3, tool_length: f64) -> Vec3 {
         table.apply(tip) - head.apply(self.nose - tool_length * self.tool_axis)

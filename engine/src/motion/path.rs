@@ -213,6 +213,8 @@ struct Follow {
     /// The path's stretches with limits of their own (empty: one for the whole path); the
     /// planner queues each as a segment (`Segment::split`).
     pieces: Box<[Piece]>,
+    /// The path is the unturned tip's (`TipMove::head_fixed`: no TCP), not the tool tip's.
+    head_fixed: bool,
 }
 
 /// Cutting point control along a (part of a) block: `u` of the way is `lo + u·(hi − lo)` of
@@ -525,6 +527,7 @@ impl Follow {
             speed_cap: f64::INFINITY,
             clamped: false,
             pieces: Box::default(),
+            head_fixed: false,
         }
     }
 
@@ -546,7 +549,12 @@ impl Follow {
     /// so that the tip is on the path.
     fn at(&self, from: &Pos, to: &Pos, u: f64) -> Pos {
         let mut q = self.angles(from, to, u);
-        let carriage = self.kin.carriage_for(&q, self.aimed_tip(&q, u), self.tool_length);
+        let aimed = self.aimed_tip(&q, u);
+        let carriage = if self.head_fixed {
+            self.kin.carriage_for_unturned(&q, aimed, self.tool_length)
+        } else {
+            self.kin.carriage_for(&q, aimed, self.tool_length)
+        };
         for (axis, index) in self.kin.linear.iter().enumerate() {
             if let Some(i) = index {
                 q[*i] = carriage[axis];
@@ -1018,7 +1026,11 @@ fn deviation_speed(follow: &Follow, from: &Pos, to: &Pos, len: f64, n: usize, to
         let u0 = k as f64 / n as f64 * (1.0 - du);
         let (a, b) = (follow.at(from, to, u0), follow.at(from, to, u0 + du));
         let middle: Pos = std::array::from_fn(|i| 0.5 * (a[i] + b[i]));
-        let tip = follow.kin.forward(&middle, follow.tool_length).tip;
+        let tip = if follow.head_fixed {
+            follow.kin.unturned_tip(&middle, follow.tool_length)
+        } else {
+            follow.kin.forward(&middle, follow.tool_length).tip
+        };
         worst = worst.max((tip - follow.tip(u0 + 0.5 * du)).norm());
     }
     if worst <= 1e-12 {
@@ -1207,6 +1219,7 @@ impl Segment {
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
             clamped: tip.rotary_clamp.is_some(),
+            head_fixed: tip.head_fixed,
             ..Follow::plain(kin.clone(), tip.tool_length, tip.from, tip.to)
         };
         follow.cutting = tip
@@ -1629,7 +1642,8 @@ impl Segment {
     /// through the kinematics, with the tool length it is for; `None` on other segments.
     /// Under cutting point control the tip the cutting point asks for there.
     pub fn programmed_tip(&self, s: f64) -> Option<(crate::kin::Vec3, f64)> {
-        let f = self.follow.as_ref()?;
+        // Without TCP the path is not the tip's (`TipMove::head_fixed`): nothing to compare.
+        let f = self.follow.as_ref().filter(|f| !f.head_fixed)?;
         let u = if self.len > 0.0 { (s / self.len).clamp(0.0, 1.0) } else { 1.0 };
         let tip = match f.cutting {
             Some(_) => f.aimed_tip(&self.at(s).0, u),

@@ -73,6 +73,11 @@ pub struct CompStart {
     /// offset's G41.3 block (its move by the first vector). Its line and sequence number, and
     /// whether it is in G00, for the block the stage inserts.
     pub perpendicular: Option<PerpendicularStart>,
+    /// 5-axis cutter compensation in the table coordinate system without tool centre point
+    /// control (FANUC TBP = 1, WKP = 0): that system in the table frame, frozen at the end of the
+    /// start block (`pos` is then in it). The start block is an ordinary move whose end the
+    /// interpreter gives there; the moves of the mode carry it as their tip frame.
+    pub table: Option<crate::geom::Rigid>,
 }
 
 /// The G41/G42 block of a start-up "perpendicular to the next movement", or a G41.3 block.
@@ -321,6 +326,7 @@ mod tests {
             pos: [1.0; crate::machine::MAX_AXES],
             machine: [2.0; crate::machine::MAX_AXES],
             perpendicular: None,
+            table: None,
         };
         config.stages.comp_started(start);
         assert_eq!(cloned.stages.take_comp_start(), None);

@@ -6,10 +6,14 @@
 //! moves the machine's X/Y/Z as it is. Under TCP they are the motion's `TipMove::frame` in the
 //! table frame: the tool is read there, the tip moved there, and the machine's X/Y/Z put where
 //! the kinematics carry the moved tip (with TBP = 1, WKP = 0 that frame is the table coordinate
-//! system the compensation works in; without TCP that system is refused, `interp::unbuilt`).
+//! system the compensation works in). With TBP = 1 without TCP the interpreter gives the moves of
+//! the mode the table coordinate system as their frame (their point the unturned tip,
+//! `canon::TipMove::head_fixed`) and the stage that system for the start block, an ordinary
+//! move whose end it reads there (`table`).
 
 use super::PerpendicularStart;
 use crate::canon::{Canon, CanonKind, Motion, MotionKind, Pos};
+use crate::geom::Rigid;
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::MachineConfig;
 use nalgebra::Matrix3;
@@ -27,12 +31,10 @@ pub(super) struct ToolShift {
     /// coordinates), and the same in the table frame (the tip's shift under TCP).
     pub(super) vector: Vec3,
     vector_table: Vec3,
-}
-
-/// The rotation from programming to table coordinates of a motion (under TCP its frame; else
-/// none: the work offsets only translate).
-fn frame(m: &Motion) -> Matrix3<f64> {
-    m.tip.as_ref().map_or_else(Matrix3::identity, |t| t.frame.r)
+    /// 5-axis cutter compensation in the table coordinate system without TCP: that system in
+    /// the table frame, for a motion that does not carry it (the start block, an ordinary move
+    /// whose end the interpreter gives in it).
+    pub(super) table: Option<Rigid>,
 }
 
 impl ToolShift {
@@ -44,6 +46,7 @@ impl ToolShift {
             tool_axis: crate::kin::vec3(c.tool_axis).normalize(),
             vector: Vec3::zeros(),
             vector_table: Vec3::zeros(),
+            table: None,
         }
     }
 
@@ -63,9 +66,20 @@ impl ToolShift {
     pub(super) fn tool(&self, m: &Motion, machine: &Pos) -> Vec3 {
         let Some(kin) = &self.kin else { return self.tool_axis };
         let pose = kin.forward(machine, 0.0);
-        match &m.tip {
-            Some(t) => t.frame.r.transpose() * pose.tool,
-            None => pose.tool_machine,
+        match (&m.tip, &self.table) {
+            (Some(t), _) => t.frame.r.transpose() * pose.tool,
+            (None, Some(f)) => f.r.transpose() * pose.tool,
+            (None, None) => pose.tool_machine,
+        }
+    }
+
+    /// The rotation from programming to table coordinates of a motion (under TCP its frame; in
+    /// the table coordinate system that one; else none: the work offsets only translate).
+    fn frame(&self, m: &Motion) -> Matrix3<f64> {
+        match (&m.tip, &self.table) {
+            (Some(t), _) => t.frame.r,
+            (None, Some(f)) => f.r,
+            (None, None) => Matrix3::identity(),
         }
     }
 
@@ -78,20 +92,25 @@ impl ToolShift {
                     m.target[i] += vector[k];
                 }
             }
-            let table = frame(m) * vector;
+            let table = self.frame(m) * vector;
             // Under TCP the machine's X/Y/Z carry the moved tip (on a table machine the table's
-            // turn at the end stands between); without it they move as the program does.
+            // turn at the end stands between); without it they move as the program does — in
+            // the table coordinate system turned as the table stands at the end.
             let carriage = match (m.tip.as_deref_mut(), &self.kin) {
                 (Some(t), Some(kin)) => {
                     t.from += self.vector_table;
                     t.to += table;
-                    Some(kin.carriage_for(&m.machine, t.to, t.tool_length))
+                    Some(t.carriage_for(kin, &m.machine, t.to))
                 }
                 _ => None,
             };
+            let machine_vector = match (&self.table, &self.kin) {
+                (Some(_), Some(kin)) => kin.table_frame(&m.machine).r * table,
+                _ => vector,
+            };
             for (k, i) in self.xyz.iter().enumerate() {
                 if let Some(i) = *i {
-                    m.machine[i] = carriage.map_or(m.machine[i] + vector[k], |p| p[k]);
+                    m.machine[i] = carriage.map_or(m.machine[i] + machine_vector[k], |p| p[k]);
                 }
             }
             self.vector_table = table;
@@ -136,5 +155,6 @@ impl ToolShift {
     pub(super) fn reset(&mut self) {
         self.vector = Vec3::zeros();
         self.vector_table = Vec3::zeros();
+        self.table = None;
     }
 }

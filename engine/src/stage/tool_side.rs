@@ -12,7 +12,7 @@
 //! is compensated where the tool is along its normal (seen from a tilted tool it is an
 //! ellipse: refused here, at run time). The tool is read, and a motion moved, in its
 //! programming coordinates (`stage::tool_shift`): on a table machine the workpiece system,
-//! which does not turn with the table.
+//! which does not turn with the table, or with TBP = 1 the table coordinate system, which does.
 
 use super::cutter::curve::{Curve, P2};
 use super::cutter::{avoidance_point, check_direction, corner, gouges, Held, GUARDED_BLOCKS, MAX_BLOCKS_BETWEEN};
@@ -516,6 +516,7 @@ impl ToolSide {
         self.on = false;
         self.startup = false;
         self.shift.vector = Vec3::zeros();
+        self.shift.table = None;
     }
 
     /// More blocks without motion in the plane than the read-ahead holds: the vector is lost.
@@ -588,6 +589,7 @@ impl ToolSide {
             self.startup = true;
             self.programmed = restart.map_or_else(|| self.shift.xyz(&m.target), |s| self.shift.xyz(&s.pos));
             self.perpendicular_start = restart.filter(|s| s.perpendicular.is_some());
+            self.shift.table = restart.and_then(|s| s.table);
         }
         let (from, to) = (self.programmed, self.shift.xyz(&m.target));
         self.programmed = to;

@@ -890,11 +890,9 @@ fn tbp_interlocks_and_what_stays_refused() {
         })
     };
     let contour = "G01 X10. F500.\nY10.\nG40 X20. Y20.\n";
-    // TBP = 1 without TCP: the table system as PCS would need the programmed points placed on
-    // the turned table by the interpreter: not built (PS0010), never compensated in the
-    // workpiece system instead.
+    // TBP = 1 without TCP: compensated in the table system (`table_system` below).
     let alone = format!("G90 G00 X0 Y0 Z0 B0 C30.\nG41.2 D1\n{contour}M30\n");
-    assert_eq!(with(&alone, |_| {}), Some(("PS0010".into(), 2)));
+    assert_eq!(with(&alone, |_| {}), None);
     // … whose look-ahead prerequisites come first (TV-20: PS5483 at G41.2).
     assert_eq!(with(&alone, |m| m.motion.no_feed_look_ahead = true), Some(("PS5483".into(), 2)));
     assert_eq!(with(&alone, |m| m.motion.no_rapid_look_ahead = true), Some(("PS5483".into(), 2)));
@@ -907,10 +905,10 @@ fn tbp_interlocks_and_what_stays_refused() {
         first_alarm_with(&nested, "mixed-bc", |c| c.edit_machine(|m| m.five_axis.tcp_coordinates = TableAtStart));
     assert_eq!(tbp0, Some(("PS5460".into(), 3)));
     assert_eq!(with(&nested, |_| {}), None);
-    // TV-23: TCP first and cancelled last. Ex. 2 (G41.2 before G43.4) stops at its G41.2 (not
-    // built without TCP); Ex. 3 (G49 before G40) is PS5460 (CRC-48/49).
+    // TV-23: TCP first and cancelled last. Ex. 2 (G43.4 inside G41.2) is PS5460 at G43.4 (not
+    // a code the mode takes, CRC-49/50); Ex. 3 (G49 before G40) is PS5460 (CRC-48/49).
     let ex2 = "G90 G00 X0 Y0 Z0 B0 C0\nG41.2 D1\nG43.4 H1\nG01 X10. F500.\nG49\nM30\n";
-    assert_eq!(with(ex2, |_| {}), Some(("PS0010".into(), 2)));
+    assert_eq!(with(ex2, |_| {}), Some(("PS5460".into(), 3)));
     let ex3 = "G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG41.2 D1\nG01 X10. F500.\nG49\nG40\nM30\n";
     assert_eq!(with(ex3, |_| {}), Some(("PS5460".into(), 5)));
     // Both in one block: TCP is not first (PS5460).
@@ -1203,4 +1201,389 @@ fn an_avoided_path_keeps_the_radius_in_the_plane() {
         }
     }
     assert!(avoided * 5 >= total, "only {avoided} of {total} programs were avoided ({alarms} alarms)");
+}
+
+// --- the table coordinate system without TCP (TBP = 1, WKP = 0; CRC-38, M-14) ----------------
+
+mod table_system {
+    //! FANUC 5-axis manual §3.2.2/§3.3.2 (CRC-38, M-14): with TBP = 1 and WKP = 0 the tool side
+    //! offset without TCP reads X/Y/Z in the table coordinate system — the workpiece system frozen
+    //! to the table at the end of the G41.2 block (INZ = 0) or with the table axes at 0 (INZ = 1)
+    //! — and compensates there; the machine's linear axes carry the programmed point through the
+    //! table's turn (`interp::table_crc`). The presets' table axes turn left-handed, so a point
+    //! at p in the table system (frozen at C = c0) is at p_w = Rz(−(C − c0))·p in the workpiece
+    //! system when the table stands at C (M-14's p_w = Rz(−C)·p_t, with c0 = 0). Work offsets 0,
+    //! radius 5, no tool length (G49: §3.5.3's list of states the mode starts in has no G43, so
+    //! the programmed point, and the tip read with length 0, is the spindle nose); at A0/B0 the
+    //! tool is along Z.
+
+    use super::*;
+    use fivex_engine::machine::TcpCoordinates::{self, TableAtStart, TableAtZero};
+    use fivex_engine::run::{run, RunOptions, Sample};
+
+    /// A 40 mm square run counter-clockwise in the table system with G41.2 (the tool inside),
+    /// entered along its first side; N6 turns the table by 30° while it runs.
+    fn square(a: &str, c0: f64) -> String {
+        format!(
+            "N1 G90 G00 X-20. Y0 Z10. {a}0 C{c0:.1}\nN2 G49 Z10.\nN3 G41.2 D1\nN4 G01 X0 Y0 F500.\nN5 X40.\n\
+             N6 Y40. C{:.1}\nN7 X0\nN8 Y0\nN9 G40 X-20.\nN10 M30\n",
+            c0 + 30.0
+        )
+    }
+
+    fn with(coordinates: TcpCoordinates, det: bool) -> impl FnOnce(&mut fivex_engine::interp::Config) {
+        move |c: &mut fivex_engine::interp::Config| {
+            tbp(coordinates)(c);
+            c.edit_machine(|m| m.five_axis.display_workpiece = det);
+        }
+    }
+
+    /// The samples of a run (every 2 ms), and where each line's last motion ends (after the
+    /// stages): the machine axes, and the tip there by forward kinematics (table frame, tool
+    /// length 0).
+    struct Run {
+        samples: Vec<Sample>,
+        ends: Vec<(u32, [f64; 8], Vec3)>,
+    }
+
+    fn samples(src: &str, preset: &str, coordinates: TcpCoordinates, det: bool) -> Run {
+        let mut interp = interpreter_with(src, preset, Fanuc, with(coordinates, det));
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| samples.push(*s));
+        assert!(r.alarms.is_empty(), "{:?}", r.alarms);
+        let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+        let mut ends: Vec<(u32, [f64; 8], Vec3)> = Vec::new();
+        let alarm = through_stages(interpreter_with(src, preset, Fanuc, with(coordinates, det)), |c| {
+            if let CanonKind::Motion(m) = c.kind {
+                let mut machine = [0.0; 8];
+                machine[..m.machine.len().min(8)].copy_from_slice(&m.machine[..m.machine.len().min(8)]);
+                ends.retain(|(l, ..)| *l != c.line);
+                ends.push((c.line, machine, kin.forward(&m.machine, 0.0).tip));
+            }
+        });
+        assert_eq!(alarm, None);
+        Run { samples, ends }
+    }
+
+    /// Rz(θ) of the x-y part, degrees.
+    fn rz(deg: f64, p: [f64; 3]) -> Vec3 {
+        let (s, c) = deg.to_radians().sin_cos();
+        Vec3::new(c * p[0] - s * p[1], s * p[0] + c * p[1], p[2])
+    }
+
+    /// The compensated tool-tip path by hand, in the table system: the start-up block N4 ends
+    /// perpendicular to N5 at its start, on its left (0, 5) (type A, the two collinear); the
+    /// square's corners turn left, inside for G41.2: the offset sides meet 5 in from each
+    /// corner; N8 ends perpendicular to itself (the cancel, type A): moving −Y its left is +X,
+    /// (5, 0); N9 moves to the programmed point. Z stays 10 (the tool along Z: no vector along
+    /// it).
+    const ENDS: [(u32, [f64; 3]); 6] = [
+        (4, [0.0, 5.0, 10.0]),
+        (5, [35.0, 5.0, 10.0]),
+        (6, [35.0, 35.0, 10.0]),
+        (7, [5.0, 35.0, 10.0]),
+        (8, [5.0, 0.0, 10.0]),
+        (9, [-20.0, 0.0, 10.0]),
+    ];
+
+    /// Every sample of lines 4–9 (the tip by forward kinematics of the sampled axes, table
+    /// frame, turned into the table system by `to_system`) is on its block's straight line of
+    /// the hand-worked path within 1 µm, and each block ends at its hand-worked point.
+    #[track_caller]
+    fn assert_on_path(run: &Run, start: [f64; 3], to_system: impl Fn([f64; 3]) -> Vec3) {
+        let mut from = Vec3::from(start);
+        for (line, end) in ENDS {
+            let end = Vec3::from(end);
+            let on: Vec<&Sample> = run.samples.iter().filter(|s| s.line == line).collect();
+            assert!(!on.is_empty(), "line {line}");
+            let d = (end - from).normalize();
+            for s in &on {
+                let p = to_system(s.tip_table) - from;
+                let off = (p - d * p.dot(&d)).norm();
+                assert!(off < 1e-6, "line {line}: {:?} off the line by {off}", to_system(s.tip_table));
+            }
+            let (.., tip) = run.ends.iter().find(|(l, ..)| *l == line).unwrap();
+            let last = to_system((*tip).into());
+            assert!((last - end).norm() < 1e-6, "line {line}: ends at {last:?}, by hand {end:?}");
+            from = end;
+        }
+    }
+
+    #[test]
+    fn crc38_the_square_is_cut_on_the_table_while_it_turns() {
+        // Frozen at C30 (INZ = 0): the table system is the workpiece system with the table at
+        // C30, so a point p of it is in the table frame at Rz(30)·p (left-handed C) and the tip
+        // (table frame) is read back in it by Rz(−30).
+        for preset in ["table-ac", "table-bc", "mixed-bc"] {
+            let a = if preset == "table-ac" { "A" } else { "B" };
+            let got = samples(&square(a, 30.0), preset, TableAtStart, false);
+            assert_on_path(&got, [-20.0, 0.0, 10.0], |t| rz(-30.0, t));
+            // N6's end by hand in machine terms: the tip (35, 35, 10) of the table system with the
+            // table at C60, 30° past the freeze: Rz(−30)·(35, 35) = (35 cos30 + 35 sin30,
+            // −35 sin30 + 35 cos30) = (47.810889, 12.810889) in the workpiece system — the
+            // machine's X/Y (offsets 0, the nose over X/Y, the tool along Z).
+            let (_, n6, _) = got.ends.iter().find(|(l, ..)| *l == 6).unwrap();
+            assert!((n6[0] - 47.810889).abs() < 1e-6 && (n6[1] - 12.810889).abs() < 1e-6, "{preset}: {n6:?}");
+            assert!((n6[4] - 60.0).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn on_a_mixed_machine_the_tool_is_read_in_the_table_system_as_the_table_turns_under_it() {
+        // mixed-bc, the head at B30 (the tool (sin30, 0, cos30) = (0.5, 0, 0.866025) in the
+        // machine), frozen at C0. N3 enters along +Y and N4 goes on along +Y while C turns to
+        // 90: at N4's end the table has turned under the head, so in the table system the tool
+        // is Rz(90)·(0.5, 0, 0.866025) = (0, 0.5, 0.866025) (a point p of it is at Rz(−C)·p).
+        // N4 is the block before G40: its vector is perpendicular to itself in the plane ⊥ that
+        // tool — the move (0, 40, 0) projected there, (0, 40, 0) − 20·t = (0, 30, −17.320508),
+        // unit u = (0, 0.866025, −0.5); G41.2's left n = t × u = (−0.25 − 0.75, 0, 0) = (−1, 0, 0):
+        // N4 ends at (0, 40, 50) + 5·n = (−5, 40, 50) in the table system. Machine X/Y there,
+        // C90: Rz(−90)·(−5, 40) = (40, 5).
+        let src = "N1 G90 G00 X0 Y-20. Z50. B30. C0\nN2 G41.2 D1\nN3 G01 Y0 F500.\nN4 Y40. C90.\n\
+                   N5 G40 Y60.\nN6 M30\n";
+        let got = samples(src, "mixed-bc", TableAtStart, false);
+        let (_, m, _) = got.ends.iter().find(|(l, ..)| *l == 4).unwrap();
+        assert!((m[0] - 40.0).abs() < 1e-6 && (m[1] - 5.0).abs() < 1e-6, "{m:?}");
+        assert!((m[3] - 30.0).abs() < 1e-9 && (m[4] - 90.0).abs() < 1e-9);
+        // The point the machine carries (the unturned tip: G49, the nose) in the table system.
+        let kin = Kinematics::new(&MachineConfig::preset("mixed-bc").unwrap()).unwrap();
+        let point = kin.unturned_tip(m, 0.0);
+        assert!((point - Vec3::new(-5.0, 40.0, 50.0)).norm() < 1e-6, "{point:?}");
+        // N3 (the start-up) ends perpendicular to N4 at its start, where the table still stands
+        // at C0: the tool (0.5, 0, 0.866025), +Y projected is +Y itself, n = t × Y =
+        // (−0.866025, 0, 0.5): (0, 0, 50) + 5·n = (−4.330127, 0, 52.5).
+        let (_, m3, _) = got.ends.iter().find(|(l, ..)| *l == 3).unwrap();
+        let p3 = kin.unturned_tip(m3, 0.0);
+        assert!((p3 - Vec3::new(-4.330127, 0.0, 52.5)).norm() < 1e-6, "{p3:?}");
+    }
+
+    #[test]
+    fn m14_the_same_part_with_the_table_turned_is_the_same_tip_path_on_it() {
+        // The same program frozen at C0 and at C90: every sample's tip in its table system
+        // (Rz(−c0) of the table frame) is on the same hand-worked path. The machine's X/Y/Z are
+        // the same at every block end (the part turned with the table: at N6's end the table has
+        // turned 30° past the freeze either way, Rz(−30)·(35, 35)), C is 90° apart.
+        let at0 = samples(&square("A", 0.0), "table-ac", TableAtStart, false);
+        let at90 = samples(&square("A", 90.0), "table-ac", TableAtStart, false);
+        assert_on_path(&at0, [-20.0, 0.0, 10.0], Vec3::from);
+        assert_on_path(&at90, [-20.0, 0.0, 10.0], |t| rz(-90.0, t));
+        for ((l0, m0, _), (l90, m90, _)) in at0.ends.iter().zip(&at90.ends) {
+            assert_eq!(l0, l90);
+            assert!((0..3).all(|k| (m0[k] - m90[k]).abs() < 1e-9), "line {l0}: {m0:?} {m90:?}");
+            assert!((m90[4] - m0[4] - 90.0).abs() < 1e-9, "line {l0}: {m0:?} {m90:?}");
+        }
+    }
+
+    #[test]
+    fn inz_fixes_the_table_system_with_the_table_axes_at_0() {
+        // INZ = 1, the G41.2 block at C30: the table system is the workpiece system at C0, the
+        // table frame itself here (offsets 0, nose on the table's axis). The start-up block
+        // starts where the tool stands, (−20, 0) of the workpiece system at C30: Rz(30)·(−20, 0)
+        // = (−17.320508, −10) in the table system; the rest of the path is the same square.
+        let got = samples(&square("A", 30.0), "table-ac", TableAtZero, false);
+        assert_on_path(&got, [-10.0 * 3f64.sqrt(), -10.0, 10.0], Vec3::from);
+    }
+
+    #[test]
+    fn crc38_det_shows_the_table_system_or_the_workpiece_system() {
+        // DET = 0: the position display (the commanded point) in the table system, named
+        // `programming`; DET = 1: in the workpiece system with the machine's axes. At N6's end the
+        // commanded point is the compensated one (35, 35, 10) in the table system, and
+        // Rz(−30)·(35, 35) = (47.810889, 12.810889) in the workpiece system (the table at C60).
+        // (A dwell after N6 shows where it ended.)
+        let src = square("A", 30.0).replace("N7 X0", "N7 G04 P500\nN7 X0");
+        let shown = |det: bool| {
+            let s = samples(&src, "table-ac", TableAtStart, det);
+            let dwell = *s.samples.iter().rfind(|s| s.line == 7).unwrap();
+            (dwell.programmed, dwell.programmed_in.name())
+        };
+        let (p, name) = shown(false);
+        assert!((Vec3::from(p) - Vec3::new(35.0, 35.0, 10.0)).norm() < 1e-6, "{p:?}");
+        assert_eq!(name, "programming");
+        let (p, name) = shown(true);
+        assert!((Vec3::from(p) - Vec3::new(47.810889, 12.810889, 10.0)).norm() < 1e-6, "{p:?}");
+        assert_eq!(name, "workpiece_machine_axes");
+    }
+
+    #[test]
+    fn crc38_the_g40_block_suppresses_buffering_the_machine_stops_before_it() {
+        // After the stages: N8's move, then the stop (a dwell of no time, line 9), then the G40
+        // block's move; the machine comes to rest at N8's end, (5, 0) of the table system.
+        let mut order = Vec::new();
+        let interp = interpreter_with(&square("A", 30.0), "table-ac", Fanuc, with(TableAtStart, false));
+        let alarm = through_stages(interp, |c| match c.kind {
+            CanonKind::Motion(_) => order.push((c.line, "move")),
+            CanonKind::Dwell { seconds } => order.push((c.line, if seconds == 0.0 { "stop" } else { "dwell" })),
+            _ => {}
+        });
+        assert_eq!(alarm, None);
+        let at = order.iter().position(|&(l, k)| (l, k) == (9, "stop")).expect("a stop at the G40 block");
+        assert_eq!((order[at - 1], order[at + 1]), ((8, "move"), (9, "move")));
+        // The run stands there: with the G40 block going on along N8 (X5. Y-20.: straight on
+        // from (5, 0)), the slowest sample of N8's second half and G40's first half is at rest
+        // (0 within the 2 ms sampling: the S-curve's last period, j·t²/2 = 80000 · 0.002² / 2
+        // mm/s = 9.6 mm/min at most); read ahead (the same path in the workpiece system, WKP =
+        // 1, the table standing) it is passed at the feed.
+        let straight_on = square("A", 30.0).replace("C60.0", "C30.0").replace("G40 X-20.", "G40 X5. Y-20.");
+        let slowest = |coordinates| {
+            samples(&straight_on, "table-ac", coordinates, false)
+                .samples
+                .iter()
+                .filter(|s| {
+                    let y = rz(-30.0, s.tip_table).y;
+                    s.line == 8 && y < 17.0 || s.line == 9 && y > -10.0
+                })
+                .map(|s| s.feed)
+                .fold(f64::INFINITY, f64::min)
+        };
+        assert!(slowest(TableAtStart) < 10.0);
+        let read_ahead = slowest(TcpCoordinates::Workpiece);
+        assert!(read_ahead > 499.0, "{read_ahead}");
+    }
+
+    #[test]
+    fn after_g40_the_program_is_read_in_the_workpiece_system_again() {
+        // The table stands at C60 after the square: X-30. Y0 of a block after G40 is the workpiece
+        // point itself (machine X/Y with offsets 0), not the table system's (which would be at
+        // Rz(−30)·(−30, 0)).
+        let src = square("A", 30.0).replace("N10 M30", "N10 G00 X-30. Y0\nN11 M30");
+        let got = samples(&src, "table-ac", TableAtStart, false);
+        let (_, m, _) = got.ends.iter().find(|(l, ..)| *l == 10).unwrap();
+        assert!((m[0] + 30.0).abs() < 1e-9 && m[1].abs() < 1e-9 && (m[4] - 60.0).abs() < 1e-9, "{m:?}");
+        assert_eq!(got.samples.last().unwrap().programmed_in.name(), "workpiece");
+    }
+
+    #[test]
+    fn crc38_alarms_in_the_table_system_without_tcp() {
+        let alarm = |src: &str, edit: fn(&mut MachineConfig)| {
+            first_alarm_with(src, "table-ac", |c| {
+                tbp(TableAtStart)(c);
+                c.edit_machine(edit);
+            })
+        };
+        let src = square("A", 30.0);
+        assert_eq!(alarm(&src, |_| {}), None);
+        // `fivex check` runs the interpreter and the stages: no longer "not built" (PS0010).
+        let mut interp = interpreter_with(&src, "table-ac", Fanuc, tbp(TableAtStart));
+        assert_eq!(fivex_engine::check::run_without_motion(&mut interp).map(|s| s.alarm.code), None);
+        // PS5483: the look-ahead prerequisites, at the G41.2 block (TV-20).
+        assert_eq!(alarm(&src, |m| m.motion.nonlinear_rapid = true), Some(("PS5483".into(), 3)));
+        assert_eq!(alarm(&src, |m| m.motion.no_feed_look_ahead = true), Some(("PS5483".into(), 3)));
+        // PS5460: a workpiece system selected in the mode (CRC-38 note 3).
+        let g55 = src.replace("N7 X0", "N7 G55 X0");
+        assert_eq!(alarm(&g55, |_| {}), Some(("PS5460".into(), 7)));
+        // The table turned in the G41.2 block: its move ends first, then the system is frozen
+        // (there at C30: the same path as the square started at C30).
+        let turning = square("A", 0.0).replace("N3 G41.2 D1", "N3 G41.2 D1 C30.").replace("C30.0\nN7", "C60.\nN7");
+        let got = samples(&turning, "table-ac", TableAtStart, false);
+        assert_on_path(&got, [-20.0, 0.0, 10.0], |t| rz(-30.0, t));
+        // With SPG (No.19607#1) the mechanism's codes, G41.4 on table-ac and G41.5 on mixed-bc,
+        // compensate in the table system as G41.2 does: the same block ends.
+        for (preset, tilt, code) in [("table-ac", "A", "G41.4"), ("mixed-bc", "B", "G41.5")] {
+            let src = square(tilt, 30.0);
+            let by_mechanism = src.replace("G41.2", code);
+            let spg_tbp = |c: &mut fivex_engine::interp::Config| {
+                with(TableAtStart, false)(c);
+                spg(c);
+            };
+            let ends = |src: &str, tweak: &dyn Fn(&mut fivex_engine::interp::Config)| {
+                let mut ends = Vec::new();
+                let interp = interpreter_with(src, preset, Fanuc, tweak);
+                let alarm = through_stages(interp, |c| {
+                    if let CanonKind::Motion(m) = c.kind {
+                        ends.push((c.line, m.machine));
+                    }
+                });
+                assert_eq!(alarm, None, "{preset} {src}");
+                ends
+            };
+            assert_eq!(ends(&by_mechanism, &spg_tbp), ends(&src, &|c| with(TableAtStart, false)(c)), "{preset}");
+        }
+    }
+}
+
+mod table_system_random {
+    //! The tool side offset in the table coordinate system without TCP on random contours: a star
+    //! polygon lifted into the plane perpendicular to the tool as the table system sees it, the
+    //! table turned before G41.2 and the system fixed with the table axes at 0 (INZ = 1), so that
+    //! the table system is neither the workpiece system nor the machine's directions.
+
+    use super::*;
+    use proptest::prelude::*;
+
+    fn contour() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
+        prop::collection::vec((0.0..std::f64::consts::TAU, 30.0..80.0, -30.0..30.0f64), 4..8).prop_map(|mut v| {
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            v
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: cases(24), max_global_rejects: 10_000, ..ProptestConfig::default() })]
+        /// At every sample in the middle of a contour block, the point the machine carries (the
+        /// unturned tip, forward kinematics of the sampled axes; G49, so the spindle nose), read
+        /// in the table system, is at the radius from the programmed line in the plane
+        /// perpendicular to the tool, on the commanded side: on table-ac, table-bc and mixed-bc.
+        #[test]
+        fn every_sample_keeps_the_radius_in_the_table_system(
+            machine in 0..3usize,
+            b in -40.0..40.0f64,
+            c in -180.0..180.0f64,
+            corners in contour(),
+            left in any::<bool>(),
+        ) {
+            let (preset, tilt) = [("table-ac", "A"), ("table-bc", "B"), ("mixed-bc", "B")][machine];
+            // table-bc's B turns within −30…110.
+            let b = if preset == "table-bc" { b.abs() } else { b };
+            let (b, c) = ((b * 1000.0).round() / 1000.0, (c * 1000.0).round() / 1000.0);
+            let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+            let mut pos = [0.0; 8];
+            (pos[3], pos[4]) = (b, c);
+            // With INZ = 1 and no offsets the table system is the table frame: the tool there.
+            let t = kin.forward(&pos, 0.0).tool;
+            let e2 = t.cross(&Vec3::new(0.3, -0.5, 0.8)).normalize();
+            let e3 = t.cross(&e2);
+            let points: Vec<Vec3> =
+                corners.iter().map(|(a, r, z)| e2 * (r * a.cos()) + e3 * (r * a.sin()) + t * *z).collect();
+            let xyz = |p: &Vec3| format!("X{:.9} Y{:.9} Z{:.9}", p.x, p.y, p.z);
+            // The G00 block is in the workpiece system: the start placed on the turned table.
+            let start = points[0] * 1.6;
+            let start_w = kin.table_frame(&pos).to_parent(&start);
+            let side = if left { "G41.2" } else { "G42.2" };
+            let mut src = format!("G90 G00 {} {tilt}{b:.3} C{c:.3}\n{side} D1\nG01 F3000. ", xyz(&start_w));
+            for p in points.iter().chain(std::iter::once(&points[0])) {
+                src += &format!("{}\n", xyz(p));
+            }
+            src += &format!("G40 {}\nM30\n", xyz(&start));
+            let inz = tbp(fivex_engine::machine::TcpCoordinates::TableAtZero);
+            prop_assume!(first_alarm_with(&src, preset, inz).is_none());
+            let mut interp =
+                interpreter_with(&src, preset, Fanuc, tbp(fivex_engine::machine::TcpCoordinates::TableAtZero));
+            let n = points.len();
+            let (mut checked, mut worst) = (0, 0.0f64);
+            let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+                // Line 4 + k runs from corner k to corner k + 1 (the start-up block is line 3).
+                let k = s.line as usize;
+                if !(4..4 + n).contains(&k) {
+                    return;
+                }
+                let (p, q) = (points[(k - 4) % n], points[(k - 3) % n]);
+                let point = kin.unturned_tip(&s.machine, 0.0);
+                let flat = |v: Vec3| v - t * v.dot(&t);
+                let (d, w) = (flat(q - p), flat(point - p));
+                let u = d.dot(&w) / d.norm_squared();
+                if !(0.25..=0.75).contains(&u) {
+                    return;
+                }
+                let across = w - d * u;
+                let sign = if t.dot(&d.cross(&across)) > 0.0 { 1.0 } else { -1.0 };
+                let want = if left { 5.0 } else { -5.0 };
+                worst = worst.max((sign * across.norm() - want).abs());
+                checked += 1;
+            });
+            prop_assert!(r.completed(), "{:?}", r.alarms);
+            prop_assert!(checked > 10 * n, "{} samples checked", checked);
+            prop_assert!(worst < 1e-3, "a sample {} mm off the radius", worst);
+        }
+    }
 }
