@@ -42,9 +42,10 @@ pub struct PositionFrame {
     /// The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
     /// names.
     pub programmed: [f64; 3],
-    /// `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
-    /// `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
-    /// (G54.4).
+    /// `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control or in
+    /// the table system of 5-axis cutter compensation), `programming` (tool centre point
+    /// control, the table system of 5-axis cutter compensation), `feature` (tilted working
+    /// plane) or `wscs` (G54.4).
     #[schema(value_type = crate::wire::words::SystemName)]
     pub programmed_in: &'static str,
     /// 1-based program line of the block moving now (0 before any).

@@ -2007,9 +2007,10 @@ export interface components {
              */
             programmed: number[];
             /**
-             * @description `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control),
-             *     `programming` (tool centre point control), `feature` (tilted working plane) or `wscs`
-             *     (G54.4).
+             * @description `workpiece`, `workpiece_machine_axes` (FANUC DET under tool centre point control or in
+             *     the table system of 5-axis cutter compensation), `programming` (tool centre point
+             *     control, the table system of 5-axis cutter compensation), `feature` (tilted working
+             *     plane) or `wscs` (G54.4).
              */
             programmed_in: components["schemas"]["SystemName"];
             /**
