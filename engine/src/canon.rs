@@ -110,6 +110,11 @@ pub struct Motion {
     /// Spindle speed at the time (for G95).
     pub spindle: f64,
     pub context: MotionContext,
+    /// Cutting feed without look-ahead (acceleration/deceleration before interpolation): FANUC
+    /// AI contour control off (G05.1 Q0, or not yet G05.1 Q1 with No.1604#0 SHP = 0), or none
+    /// set up for cutting feed (No.1660 = 0); false (look-ahead) for manual moves. Beside the
+    /// context rather than in it: there it would grow every canonical command by 8 bytes.
+    pub no_look_ahead: bool,
 }
 
 /// A motion whose axes follow a tool tip path (FANUC G43.4/G43.5, Syntec RTCP, G68.2 planes):

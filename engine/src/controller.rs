@@ -720,6 +720,7 @@ impl Controller {
             spindle: 0.0,
             // Handle pulses go at the clamp, whatever the override.
             context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
+            no_look_ahead: false,
         };
         let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, true);
         let mut seg = self.exec.segment_within(&m, ctx, &self.manual_limits());

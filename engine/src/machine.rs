@@ -501,9 +501,11 @@ pub struct MotionOptions {
     #[serde(default, skip_serializing_if = "is_zero")]
     pub tool_change_s: f64,
     // --- acceleration/deceleration before interpolation (look-ahead) ----------------------
-    // The engine plans every motion with look-ahead whatever these say: they describe a
-    // control set up otherwise, which the functions needing look-ahead refuse (G54.4 with tool
-    // direction compensation: PS0438, `docs/five-axis.md`).
+    // Where look-ahead is off by these, cutting feed moves through the filter after
+    // interpolation if the axes have time constants (`Axis::after_interpolation_ms`;
+    // `docs/motion.md`, "Without look-ahead"), otherwise with look-ahead as on every machine;
+    // either way the functions needing look-ahead refuse (G54.4 with tool direction
+    // compensation: PS0438, `docs/five-axis.md`).
     /// Look-ahead is on only between G05.1 Q1 and G05.1 Q0 (FANUC AI contour control with
     /// No.1604#0 SHP = 0); by default it is on from power-on (SHP = 1).
     #[serde(default, skip_serializing_if = "is_false")]

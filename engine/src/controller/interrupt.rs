@@ -251,6 +251,7 @@ impl Controller {
             feed_mode: crate::canon::FeedMode::PerMinute,
             spindle: 0.0,
             context: MotionContext { fixed_feed: true, ..MotionContext::default() },
+            no_look_ahead: false,
         };
         // At the handle clamp whatever the overrides.
         let ctx = self.exec.feed_context(1.0, 1.0, true);

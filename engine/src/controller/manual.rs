@@ -119,6 +119,7 @@ impl Controller {
             feed_mode: crate::canon::FeedMode::PerMinute,
             spindle: 0.0,
             context: MotionContext::default(),
+            no_look_ahead: false,
         };
         let queued = (self.exec.queued.machine, self.exec.queued.work);
         (self.exec.queued.machine, self.exec.queued.work) = (from, from_work);

@@ -873,6 +873,7 @@ impl State {
             feed_mode: self.feed_mode(),
             spindle: self.s,
             context: self.context(),
+            no_look_ahead: !self.look_ahead || self.cfg.machine.motion.no_feed_look_ahead,
         }
     }
 

@@ -59,6 +59,19 @@ struct Current {
     planned: Planned,
     start: f64,
     cursor: Cursor,
+    /// Where the filter after interpolation reads the run (its ticks: `after::TICK_S`).
+    tick_cursor: Cursor,
+}
+
+/// Acceleration/deceleration after interpolation (`motion::after`) on a machine that has it:
+/// the filter, the next tick of the interpolation period, and whether the motion under way
+/// (or last ended) passes through it.
+#[derive(Debug, Clone)]
+struct After {
+    filter: super::after::Filter,
+    /// Index of the next tick: tick k is at k × `after::TICK_S`.
+    tick: u64,
+    engaged: bool,
 }
 
 /// How a deceleration to rest along the path began ([`Executor::brake`]).
@@ -98,11 +111,19 @@ pub struct Executor {
     last_tool_length: f64,
     /// Segments executed to their end so far.
     executed: u64,
+    /// The filter after interpolation (`None`: no axis has a time constant).
+    after: Option<After>,
+    /// The axes' limits for cutting feed without look-ahead: the commanded feed at once
+    /// (within 1 ms), the machine's speeds.
+    at_once: AxisLimits,
 }
 
 impl Executor {
     /// An executor standing at `machine` (programmed position `work` in `basis`) at time 0.
     pub fn new(machine: Arc<Machine>, start: Endpoint) -> Executor {
+        let after =
+            super::after::Filter::of(&machine, &start.machine).map(|filter| After { filter, tick: 0, engaged: false });
+        let at_once = at_once(machine.limits());
         Executor {
             planner: super::planner_for(&machine),
             machine,
@@ -113,6 +134,8 @@ impl Executor {
             last_basis: start.basis,
             last_tool_length: 0.0,
             executed: 0,
+            after,
+            at_once,
         }
     }
 
@@ -253,7 +276,14 @@ impl Executor {
             }
         }
         self.follow_chain(c.tip_basis.chain);
+        // Cutting feed without look-ahead, on a machine with a filter after interpolation:
+        // lines and arcs (a kinematic path keeps its planning: docs/motion.md).
+        let unfiltered = |seg: &Segment| seg.rapid || seg.is_kinematic() || seg.is_independent();
         let mut seg = self.segment_within(m, ctx, self.machine.limits());
+        if m.no_look_ahead && self.after.is_some() && !unfiltered(&seg) {
+            seg = self.segment_within(m, ctx, &self.at_once);
+            seg.after_interpolation = true;
+        }
         (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
         seg
     }
@@ -326,7 +356,61 @@ impl Executor {
     }
 
     fn start(&mut self, planned: Planned) {
-        self.current = Some(Current { planned, start: self.t, cursor: Cursor::default() });
+        let filtered = planned.segments.first().is_some_and(|s| s.after_interpolation);
+        if let Some(a) = &mut self.after {
+            if filtered && !a.engaged {
+                // The machine is at rest here (look-ahead switched off at a stop).
+                a.filter.stand(&self.here.machine);
+            }
+            a.engaged = filtered;
+        }
+        self.current =
+            Some(Current { planned, start: self.t, cursor: Cursor::default(), tick_cursor: Cursor::default() });
+    }
+
+    /// Run the filter after interpolation over its ticks up to the clock: the run's
+    /// interpolated positions at each tick in, or where the machine stands.
+    fn tick(&mut self) {
+        let Some(a) = &mut self.after else { return };
+        loop {
+            let tk = a.tick as f64 * super::after::TICK_S;
+            if tk > self.t {
+                return;
+            }
+            a.tick += 1;
+            if !a.engaged {
+                continue;
+            }
+            let x = match &mut self.current {
+                Some(c) if tk >= c.start => c.planned.point(tk - c.start, &mut c.tick_cursor).machine,
+                _ => self.here.machine,
+            };
+            a.filter.step(&x);
+        }
+    }
+
+    /// Where the axes are: the interpolated positions, through the filter after interpolation
+    /// where it acts (the trace's and the report's machine: what the machine does).
+    pub fn axes_now(&self) -> Pos {
+        match &self.after {
+            Some(a) if a.engaged => a.filter.output(),
+            _ => self.here.machine,
+        }
+    }
+
+    /// At rest after a run, the filter after interpolation still moves the axes (its lag):
+    /// the motion has not ended until they are within `after::SETTLED` of the end.
+    pub fn lagging(&self) -> bool {
+        self.current.is_none() && self.after.as_ref().is_some_and(|a| a.engaged && !a.filter.settled())
+    }
+
+    /// The time of the next tick of the interpolation period (the filter's), or the clock's
+    /// where there is no filter.
+    pub fn next_tick(&self) -> f64 {
+        match &self.after {
+            Some(a) => (a.tick as f64 * super::after::TICK_S).max(self.t),
+            None => self.t,
+        }
     }
 
     /// When the run under way ends.
@@ -339,11 +423,13 @@ impl Executor {
     pub fn advance_to(&mut self, until: f64) {
         let Some(c) = &mut self.current else {
             self.t = self.t.max(until);
+            self.tick();
             return;
         };
         let end = c.start + c.planned.profile.duration();
         self.t = until.min(end).max(self.t);
         self.here = c.planned.point(self.t - c.start, &mut c.cursor);
+        self.tick();
     }
 
     /// The run under way, if the clock has reached its end: it is over.
@@ -373,6 +459,7 @@ impl Executor {
     pub fn idle_until(&mut self, until: f64) {
         debug_assert!(self.current.is_none());
         self.t = self.t.max(until);
+        self.tick();
     }
 
     /// Stop at once where the machine is (emergency stop): nothing runs or is queued.
@@ -380,6 +467,14 @@ impl Executor {
         self.current = None;
         self.planner.take_all();
         self.here.feed = 0.0;
+        if let Some(a) = &mut self.after {
+            // The axes stop where they are.
+            let at = a.filter.output();
+            if a.engaged {
+                self.here.machine = at;
+            }
+            a.filter.stand(&self.here.machine);
+        }
     }
 
     /// Decelerate to rest along the path, within the limits of every segment the stop covers;
@@ -545,6 +640,20 @@ impl Executor {
             cutting,
         }
     }
+}
+
+/// The axes' limits of cutting feed without look-ahead: each axis's speed, and an
+/// acceleration that reaches it within one tick of the interpolation period (jerk likewise):
+/// the commanded feed at once, as the control interpolates it; the filter after interpolation
+/// is what accelerates the axes.
+fn at_once(axes: &AxisLimits) -> AxisLimits {
+    let tick = super::after::TICK_S;
+    let mut l = axes.clone();
+    for i in 0..l.count {
+        l.a[i] = l.v[i] / tick;
+        l.j[i] = l.a[i] / tick;
+    }
+    l
 }
 
 /// The lowest limits of the segments up to the next place the machine must stop at (an exact

@@ -1,0 +1,145 @@
+//! AI contour control switched by the command (FANUC G05.1 Q1 / Q0 on a machine with
+//! No.1604#0 SHP = 0): without look-ahead, cutting feed is interpolated at the commanded feed
+//! at once and each axis passes through the filter after interpolation (No.1610 type, No.1622
+//! time constant: `docs/motion.md`, "Without look-ahead"). The tip of every sample is forward
+//! kinematics of the filtered axes, so the trace shows the rounded corners and the shrunk
+//! circles the manuals describe; with G05.1 Q1 the path is the programmed one again.
+
+use crate::common;
+
+use common::{first_alarm_with, interpreter_with};
+use fivex_engine::machine::{AfterInterpolation, MachineConfig};
+use fivex_engine::run::{run, RunOptions, RunResult, Sample};
+use fivex_engine::Dialect;
+
+/// mill3 with look-ahead only between G05.1 Q1 and Q0, and X, Y, Z filtered after
+/// interpolation with time constant `ms` of type `kind`; every 1 ms sample.
+fn run_filtered(src: &str, kind: AfterInterpolation, ms: f64) -> (RunResult, Vec<Sample>) {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.motion.look_ahead_by_command = true;
+    m.motion.after_interpolation = kind;
+    for a in &mut m.axes {
+        a.after_interpolation_ms = ms;
+    }
+    let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.machine = m.into());
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions { max_time_s: 60.0, ..RunOptions::default() }, |s| samples.push(*s));
+    assert!(r.alarms.is_empty(), "{:?}", r.alarms);
+    (r, samples)
+}
+
+/// Three turns of a radius-10 circle about X0 Y0 at F6000 (v = 100 mm/s): lines 3, 4, 5.
+const CIRCLE: &str =
+    "G90 G00 X10. Y0 Z0\nG01 G17 F6000\nG03 X10. Y0 I-10. J0\nG03 X10. Y0 I-10. J0\nG03 X10. Y0 I-10. J0\nM30\n";
+
+/// The least and the greatest distance of the tip from the centre over the third turn.
+fn radius_range(samples: &[Sample]) -> (f64, f64) {
+    // (Not its last 50 ms: the filter's window there holds the stop at its end.)
+    // (Moving: the samples of the stop after it, the filter settling, are the end point's.)
+    let mut turn: Vec<f64> =
+        samples.iter().filter(|s| s.line == 5 && s.feed > 0.0).map(|s| s.tip[0].hypot(s.tip[1])).collect();
+    assert!(turn.len() > 500, "the third turn is sampled");
+    turn.truncate(turn.len() - 50);
+    (turn.iter().cloned().fold(f64::INFINITY, f64::min), turn.iter().cloned().fold(0.0, f64::max))
+}
+
+#[test]
+fn without_look_ahead_a_circle_shrinks_by_the_manuals_radius_error() {
+    // FANUC 0i-A connection manual p.314: Δr = (T1²/24 + T2²/2)·v²/r for linear
+    // acceleration/deceleration after interpolation (T2, the servo's, is not modelled: 0).
+    // T1 = 32 ms, v = 100 mm/s, r = 10 mm: 0.032²/24 · 100²/10 = 0.042667 mm. The filter is a
+    // moving average of 32 positions 1 ms apart, 0.01 rad of the circle apart: its gain
+    // sin 0.16 / (32·sin 0.005) = 0.99574294, so Δr = 0.042571 mm exactly, all round.
+    let (_, samples) = run_filtered(CIRCLE, AfterInterpolation::Linear, 32.0);
+    let (least, most) = radius_range(&samples);
+    assert!((10.0 - least - 0.042571).abs() < 2e-6, "least radius {least}");
+    assert!((10.0 - most - 0.042571).abs() < 2e-6, "greatest radius {most}");
+    assert!((10.0 - least - 0.042667).abs() < 0.042667 * 0.01, "within 1 % of the formula");
+    // Exponential, T1 = 8 ms: Δr = T1²/2 · v²/r = 0.008²/2 · 100²/10 = 0.032 mm; the first
+    // order filter's gain 1/√(1 + (ωT)²), ωT = 0.08, gives 0.031847 mm, and by 1 ms steps
+    // (gain g = 1 − e^(−1/8), |g / (1 − (1 − g)·e^(−0.01i))|) 0.031806 mm (the formula
+    // keeps the first term of the series: 0.6 % more).
+    let (_, samples) = run_filtered(CIRCLE, AfterInterpolation::Exponential, 8.0);
+    let (least, most) = radius_range(&samples);
+    assert!((10.0 - least - 0.032).abs() < 0.032 * 0.01, "least radius {least}");
+    assert!((10.0 - least - 0.031806).abs() < 2e-6, "least radius {least}");
+    assert!(most - least < 1e-6, "round: {least} … {most}");
+}
+
+#[test]
+fn g05_1_q1_puts_the_circle_back_on_its_radius() {
+    // The same circle with look-ahead on: the planner slows the arc to what the axes allow
+    // and the tip stays on the circle (the samples' 1 µm bound); the filter does not act.
+    let (_, samples) = run_filtered(&format!("G05.1 Q1\n{CIRCLE}"), AfterInterpolation::Linear, 32.0);
+    let turn: Vec<f64> = samples.iter().filter(|s| s.line == 6).map(|s| s.tip[0].hypot(s.tip[1])).collect();
+    assert!(turn.iter().all(|r| (r - 10.0).abs() < 1e-6));
+}
+
+/// Two legs of a square's corner at F6000 from X0 Y0: X10, then Y10 (lines 2, 3).
+const CORNER: &str = "G90 G01 X10. Y0 F6000\nY10.\nM30\n";
+
+#[test]
+fn without_look_ahead_a_corner_is_rounded_and_the_stop_waits_for_the_filter() {
+    // The filter averages the positions of the last T = 32 ms. Half way through the turn,
+    // T/2 after the interpolation passed the corner at v = 100 mm/s, X has averaged
+    // v·(T/2)²/2 / T = v·T/8 = 0.4 mm short of the corner and Y as much past it: the tip
+    // passes √2 · 0.4 = 0.566 mm from the corner (by 1 ms steps 0.1·(0 + 1 + … + 15)/32 =
+    // 0.375 to 0.1·(1 + … + 16)/32 = 0.425 mm on each axis, by where the corner falls
+    // between two ticks).
+    let (r, samples) = run_filtered(CORNER, AfterInterpolation::Linear, 32.0);
+    let nearest = samples.iter().map(|s| (s.tip[0] - 10.0).hypot(s.tip[1])).fold(f64::INFINITY, f64::min);
+    assert!((0.375 * 2f64.sqrt() - 1e-9..=0.425 * 2f64.sqrt() + 1e-9).contains(&nearest), "nearest {nearest}");
+    // The time: 20 mm at 100 mm/s, the feed reached within a tick (0.894 ms: the commanded
+    // feed at once, jerk 5·10⁸ mm/s³), then the filter's lag at the stop: its window empties
+    // 31 ticks after the last interpolated position (32 inputs, the last one the end point).
+    assert!((r.cycle_time_s - (0.2 + 0.000894 + 0.031)).abs() < 0.0015, "cycle {}", r.cycle_time_s);
+    let last = samples.last().unwrap();
+    assert!((last.tip[0] - 10.0).abs() < 1e-6 && (last.tip[1] - 10.0).abs() < 1e-6);
+    // With look-ahead the tip turns the corner exactly (it slows there) and the machine is
+    // at rest at the end when the interpolation is.
+    let (q1, samples) = run_filtered(&format!("G05.1 Q1\n{CORNER}"), AfterInterpolation::Linear, 32.0);
+    assert!(samples.iter().all(|s| s.tip[1].abs() < 1e-6 || (s.tip[0] - 10.0).abs() < 1e-6));
+    assert!(q1.cycle_time_s != r.cycle_time_s);
+}
+
+#[test]
+fn look_ahead_switched_on_and_off_stops_the_machine_between() {
+    // G05.1 Q1 between two legs: the first runs without look-ahead (filtered), the second
+    // with it; the machine comes to rest at X10 with the filter settled, so the second leg
+    // starts from the corner itself and its samples are on the line X = 10.
+    let (_, samples) =
+        run_filtered("G90 G01 X10. Y0 F6000\nG05.1 Q1\nY10.\nG05.1 Q0\nX0\nM30\n", AfterInterpolation::Bell, 32.0);
+    let second: Vec<&Sample> = samples.iter().filter(|s| s.line == 3).collect();
+    assert!(!second.is_empty() && second.iter().all(|s| (s.tip[0] - 10.0).abs() < 1e-6));
+    // And back off for the third: rounded again at its start only by the filter's own ramp,
+    // ending on X0 Y10.
+    let last = samples.last().unwrap();
+    assert!(last.tip[0].abs() < 1e-6 && (last.tip[1] - 10.0).abs() < 1e-6);
+}
+
+#[test]
+fn the_functions_that_need_look_ahead_still_refuse_without_it() {
+    // G54.4 with tool direction compensation (RCM) before G05.1 Q1 on an SHP = 0 machine:
+    // PS0438, with the filter after interpolation set or not (WSE-11).
+    let tweak = |c: &mut fivex_engine::interp::Config| {
+        c.edit_machine(|m| {
+            m.motion.look_ahead_by_command = true;
+            m.five_axis.tool_direction_compensation = true;
+            for a in &mut m.axes {
+                a.after_interpolation_ms = 32.0;
+            }
+        })
+    };
+    assert_eq!(first_alarm_with("G54.4 P1\nG54.4 P0\nM30\n", "head-bc", tweak), Some(("PS0438".into(), 1)));
+    assert_eq!(first_alarm_with("G05.1 Q1\nG54.4 P1\nG54.4 P0\nM30\n", "head-bc", tweak), None);
+    // TCP needs look-ahead set up for cutting feed (TCP-14): PS5420 without it.
+    let no_feed = |c: &mut fivex_engine::interp::Config| {
+        c.edit_machine(|m| {
+            m.motion.no_feed_look_ahead = true;
+            for a in &mut m.axes {
+                a.after_interpolation_ms = 32.0;
+            }
+        })
+    };
+    assert_eq!(first_alarm_with("G43.4 H1\nM30\n", "head-bc", no_feed), Some(("PS5420".into(), 1)));
+}
