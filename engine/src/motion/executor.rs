@@ -72,6 +72,8 @@ struct After {
     /// Index of the next tick: tick k is at k × `after::TICK_S`.
     tick: u64,
     engaged: bool,
+    /// The last run ended at rest (a stop): the machine waits there for the filter.
+    at_rest: bool,
 }
 
 /// How a deceleration to rest along the path began ([`Executor::brake`]).
@@ -121,8 +123,12 @@ pub struct Executor {
 impl Executor {
     /// An executor standing at `machine` (programmed position `work` in `basis`) at time 0.
     pub fn new(machine: Arc<Machine>, start: Endpoint) -> Executor {
-        let after =
-            super::after::Filter::of(&machine, &start.machine).map(|filter| After { filter, tick: 0, engaged: false });
+        let after = super::after::Filter::of(&machine, &start.machine).map(|filter| After {
+            filter,
+            tick: 0,
+            engaged: false,
+            at_rest: true,
+        });
         let at_once = at_once(machine.limits());
         Executor {
             planner: super::planner_for(&machine),
@@ -172,9 +178,10 @@ impl Executor {
         self.current.is_none() && self.planner.is_empty()
     }
 
-    /// A run is being executed.
+    /// A run is being executed, or at its stop the filter after interpolation still moves the
+    /// axes.
     pub fn is_moving(&self) -> bool {
-        self.current.is_some()
+        self.current.is_some() || self.lagging()
     }
 
     /// Segments are queued, not yet released.
@@ -362,7 +369,7 @@ impl Executor {
                 // The machine is at rest here (look-ahead switched off at a stop).
                 a.filter.stand(&self.here.machine);
             }
-            a.engaged = filtered;
+            (a.engaged, a.at_rest) = (filtered, false);
         }
         self.current =
             Some(Current { planned, start: self.t, cursor: Cursor::default(), tick_cursor: Cursor::default() });
@@ -401,7 +408,24 @@ impl Executor {
     /// At rest after a run, the filter after interpolation still moves the axes (its lag):
     /// the motion has not ended until they are within `after::SETTLED` of the end.
     pub fn lagging(&self) -> bool {
-        self.current.is_none() && self.after.as_ref().is_some_and(|a| a.engaged && !a.filter.settled())
+        self.current.is_none() && self.after.as_ref().is_some_and(|a| a.engaged && a.at_rest && !a.filter.settled())
+    }
+
+    /// Tick the filter toward `until` while it lags at a stop; the clock stops at the tick it
+    /// settles on (the motion ends there, and the next one starts then).
+    fn settle_to(&mut self, until: f64) {
+        while self.lagging() {
+            let next = self.next_tick();
+            if next > until {
+                break;
+            }
+            self.t = next;
+            self.tick();
+        }
+        if self.lagging() {
+            self.t = self.t.max(until);
+            self.tick();
+        }
     }
 
     /// The time of the next tick of the interpolation period (the filter's), or the clock's
@@ -422,6 +446,10 @@ impl Executor {
     /// to `until`); the machine is then where the run puts it.
     pub fn advance_to(&mut self, until: f64) {
         let Some(c) = &mut self.current else {
+            if self.lagging() {
+                self.settle_to(until);
+                return;
+            }
             self.t = self.t.max(until);
             self.tick();
             return;
@@ -444,6 +472,9 @@ impl Executor {
         }
         if planned.profile.end_speed().abs() < 1e-9 {
             self.here.feed = 0.0;
+            if let Some(a) = &mut self.after {
+                a.at_rest = true;
+            }
         }
         Some(Finished { planned })
     }
