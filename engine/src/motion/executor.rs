@@ -116,7 +116,7 @@ pub struct Executor {
     /// The filter after interpolation (`None`: no axis has a time constant).
     after: Option<After>,
     /// The axes' limits for cutting feed without look-ahead: the commanded feed at once
-    /// (within 1 ms), the machine's speeds.
+    /// (within two ticks), the machine's speeds.
     at_once: AxisLimits,
 }
 
@@ -673,8 +673,9 @@ impl Executor {
     }
 }
 
-/// The axes' limits of cutting feed without look-ahead: each axis's speed, and an
-/// acceleration that reaches it within one tick of the interpolation period (jerk likewise):
+/// The axes' limits of cutting feed without look-ahead: each axis's speed, its acceleration
+/// that speed per tick of the interpolation period and its jerk that per tick again, so a
+/// jerk-limited profile reaches any feed within two ticks (2·√(Δv/J) ≤ 2 ticks for Δv ≤ v):
 /// the commanded feed at once, as the control interpolates it; the filter after interpolation
 /// is what accelerates the axes.
 fn at_once(axes: &AxisLimits) -> AxisLimits {
