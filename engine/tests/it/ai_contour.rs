@@ -185,3 +185,46 @@ fn a_controller_moves_through_the_filter_exactly_as_run_does() {
     assert_eq!(c.point().machine[..3], r.machine[..3]);
     assert!((c.time() - r.cycle_time_s).abs() <= 0.001, "{} vs {}", c.time(), r.cycle_time_s);
 }
+
+#[test]
+fn a_feed_hold_without_look_ahead_stops_the_interpolation_and_the_filter_brings_the_axes_to_rest() {
+    // X10 at F6000 without look-ahead, linear 32 ms: a feed hold 50 ms in stops the
+    // interpolation within two ticks (its limits: the feed at once), and the axes follow it to
+    // rest through the filter, the held point reached 31 ticks later; then they stand still,
+    // and cycle start finishes the move exactly on X10.
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.motion.look_ahead_by_command = true;
+    m.motion.after_interpolation = AfterInterpolation::Linear;
+    for a in &mut m.axes {
+        a.after_interpolation_ms = 32.0;
+    }
+    let mut c = fivex_engine::controller::Controller::new(fivex_engine::interp::Config::new(m, Dialect::Fanuc));
+    c.select_program("G90 G01 X10. F6000\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    for _ in 0..50 {
+        c.tick(0.001);
+    }
+    let lagging = c.point().machine[0];
+    c.feed_hold();
+    let mut xs = vec![lagging];
+    for _ in 0..60 {
+        c.tick(0.001);
+        xs.push(c.point().machine[0]);
+    }
+    assert_eq!(c.run_state(), fivex_engine::controller::RunState::Hold);
+    // Moving forward all the way (a mean of points that only advance), still moving for a
+    // while after the hold (the filter's lag: at 100 mm/s the axis is 1.55 mm behind the
+    // interpolation), then still.
+    assert!(xs.windows(2).all(|w| w[1] >= w[0] - 1e-12));
+    assert!(xs[20] - lagging > 1.0, "still moving 20 ms after the hold: {} → {}", lagging, xs[20]);
+    assert!((xs[35] - xs[60]).abs() < 1e-9, "at rest 2 + 31 ticks after it (+ a tick of slack)");
+    let held = c.point().machine;
+    c.tick(0.5);
+    assert_eq!(c.point().machine, held, "held means still");
+    assert!(held[0] < 10.0);
+    c.cycle_start().unwrap();
+    while c.run_state() == fivex_engine::controller::RunState::Running {
+        c.tick(0.001);
+    }
+    assert!((c.point().machine[0] - 10.0).abs() < 1e-6);
+}
