@@ -7,14 +7,20 @@
 
 use crate::common;
 
-use common::{first_alarm_with, interpreter_with};
+use common::{cases, first_alarm_with, interpreter_with};
 use fivex_engine::machine::{AfterInterpolation, MachineConfig};
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
 use fivex_engine::Dialect;
+use proptest::prelude::*;
 
 /// mill3 with look-ahead only between G05.1 Q1 and Q0, and X, Y, Z filtered after
 /// interpolation with time constant `ms` of type `kind`; every 1 ms sample.
 fn run_filtered(src: &str, kind: AfterInterpolation, ms: f64) -> (RunResult, Vec<Sample>) {
+    run_sampled(src, kind, ms, 0.001)
+}
+
+/// [`run_filtered`] sampled every `period_s` (0: no trace).
+fn run_sampled(src: &str, kind: AfterInterpolation, ms: f64, period_s: f64) -> (RunResult, Vec<Sample>) {
     let mut m = MachineConfig::preset("mill3").unwrap();
     m.motion.look_ahead_by_command = true;
     m.motion.after_interpolation = kind;
@@ -23,7 +29,8 @@ fn run_filtered(src: &str, kind: AfterInterpolation, ms: f64) -> (RunResult, Vec
     }
     let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.machine = m.into());
     let mut samples = Vec::new();
-    let r = run(&mut interp, &RunOptions { max_time_s: 60.0, ..RunOptions::default() }, |s| samples.push(*s));
+    let opts = RunOptions { max_time_s: 60.0, period_s, ..RunOptions::default() };
+    let r = run(&mut interp, &opts, |s| samples.push(*s));
     assert!(r.alarms.is_empty(), "{:?}", r.alarms);
     (r, samples)
 }
@@ -227,4 +234,56 @@ fn a_feed_hold_without_look_ahead_stops_the_interpolation_and_the_filter_brings_
         c.tick(0.001);
     }
     assert!((c.point().machine[0] - 10.0).abs() < 1e-6);
+}
+
+/// The distance from `p` to the segment `a`–`b` in X/Y.
+fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 { (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    (a[0] + t * dx - p[0]).hypot(a[1] + t * dy - p[1])
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(16)))]
+
+    /// Random polylines at random feeds through a random filter: every sample within v·T of
+    /// the programmed path (a linear or bell filter averages points of the last T, at most v·T
+    /// of path apart, and an exponential one's weights beyond 8·T are below e⁻⁸), the run ends
+    /// exactly on the last point, and the trace's period does not change the motion (the
+    /// filter runs on its own 1 ms ticks): the same cycle time and end sampled every 1 ms,
+    /// every 3 ms or not at all.
+    #[test]
+    fn the_filtered_path_stays_near_the_programmed_one_whatever_the_trace(
+        points in prop::collection::vec((-50.0f64..50.0, -50.0f64..50.0), 2..7),
+        feed in 300.0f64..9000.0,
+        kind in prop_oneof![
+            Just(AfterInterpolation::Linear),
+            Just(AfterInterpolation::Bell),
+            Just(AfterInterpolation::Exponential)
+        ],
+        ms in 1.0f64..100.0,
+    ) {
+        let mut src = format!("G90 G01 F{feed:.0}\n");
+        let mut path = vec![[0.0, 0.0]];
+        for (x, y) in &points {
+            src += &format!("X{x:.3} Y{y:.3}\n");
+            path.push([(x * 1000.0).round() / 1000.0, (y * 1000.0).round() / 1000.0]);
+        }
+        src += "M30\n";
+        let (r, samples) = run_filtered(&src, kind, ms);
+        let reach = feed / 60.0 * ms * 0.001 * if kind == AfterInterpolation::Exponential { 8.0 } else { 1.0 };
+        for s in &samples {
+            let d = path.windows(2).map(|w| to_segment([s.tip[0], s.tip[1]], w[0], w[1])).fold(f64::INFINITY, f64::min);
+            prop_assert!(d <= reach + 1e-6, "t={} {:?}: {d} from the path, bound {reach}", s.t, s.tip);
+        }
+        let end = path[path.len() - 1];
+        let last = samples.last().unwrap();
+        prop_assert!((last.tip[0] - end[0]).abs() < 1e-6 && (last.tip[1] - end[1]).abs() < 1e-6);
+        for period in [0.003, 0.0] {
+            let (other, _) = run_sampled(&src, kind, ms, period);
+            prop_assert_eq!(other.cycle_time_s, r.cycle_time_s);
+            prop_assert_eq!(other.machine, r.machine);
+        }
+    }
 }
