@@ -61,6 +61,17 @@ pub struct Axis {
     /// (`docs/motion.md`, "Without look-ahead").
     #[serde(default, skip_serializing_if = "is_zero")]
     pub after_interpolation_ms: f64,
+    /// Time constants of rapid traverse's acceleration/deceleration after interpolation,
+    /// milliseconds: `[T1, T2]`, linear over T1 (FANUC No.1620), bell-shaped by T2 more
+    /// (No.1621); `[0, 0]`: none. They act only on rapids without look-ahead (G05.1 Q0, or
+    /// `motion.no_rapid_look_ahead`).
+    #[serde(default, skip_serializing_if = "no_time_constants")]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
+    pub rapid_after_interpolation_ms: [f64; 2],
+}
+
+fn no_time_constants(t: &[f64; 2]) -> bool {
+    *t == [0.0; 2]
 }
 
 fn no_references(r: &[f64; 3]) -> bool {
@@ -86,6 +97,7 @@ impl Axis {
             references: [0.0; 3],
             smoothing_tolerance: 0.0,
             after_interpolation_ms: 0.0,
+            rapid_after_interpolation_ms: [0.0; 2],
         }
     }
 
@@ -859,9 +871,14 @@ impl MachineConfig {
             if !(a.smoothing_tolerance.is_finite() && a.smoothing_tolerance >= 0.0) {
                 return Err(format!("axis '{}': smoothing_tolerance is 0 or more", a.name));
             }
-            if !(a.after_interpolation_ms.is_finite()
-                && (0.0..=MAX_AFTER_INTERPOLATION_MS).contains(&a.after_interpolation_ms))
-            {
+            let time_constant = |t: f64| t.is_finite() && (0.0..=MAX_AFTER_INTERPOLATION_MS).contains(&t);
+            if !a.rapid_after_interpolation_ms.iter().all(|t| time_constant(*t)) {
+                return Err(format!(
+                    "axis '{}': rapid_after_interpolation_ms are 0 to {MAX_AFTER_INTERPOLATION_MS}",
+                    a.name
+                ));
+            }
+            if !time_constant(a.after_interpolation_ms) {
                 return Err(format!("axis '{}': after_interpolation_ms is 0 to {MAX_AFTER_INTERPOLATION_MS}", a.name));
             }
         }

@@ -873,7 +873,13 @@ impl State {
             feed_mode: self.feed_mode(),
             spindle: self.s,
             context: self.context(),
-            no_look_ahead: !self.look_ahead || self.cfg.machine.motion.no_feed_look_ahead,
+            no_look_ahead: !self.look_ahead || {
+                let motion = &self.cfg.machine.motion;
+                match kind {
+                    MotionKind::Rapid | MotionKind::MachineRapid => motion.no_rapid_look_ahead,
+                    _ => motion.no_feed_look_ahead,
+                }
+            },
         }
     }
 

@@ -51,15 +51,41 @@ enum Axis {
     /// Linear: the average over T (a step of speed becomes a ramp over T).
     Linear(Average),
     /// Bell-shaped: two averages over T/2 in a row (a step of speed becomes two parabolas, half
-    /// the step at T/2, all of it at T: the curve of the FANUC descriptions).
+    /// the step at T/2, all of it at T: the curve of the FANUC descriptions); for rapids, over
+    /// T1 and then T2.
     Bell(Average, Average),
     /// First order with time constant T: y += (x − y)·(1 − e^(−tick/T)).
     Exponential { gain: f64, y: f64 },
 }
 
+/// The ticks of a time constant of `ms` milliseconds.
+fn ticks(ms: f64) -> usize {
+    crate::angle::round(ms * 0.001 / TICK_S).max(0) as usize
+}
+
+/// What one axis's filter is made of.
+#[derive(Debug, Clone, Copy)]
+enum Shape {
+    /// Cutting feed: the machine's type, the axis's time constant (No.1622).
+    Cutting(AfterInterpolation, f64),
+    /// Rapid traverse: linear over T1 (No.1620), bell-shaped by T2 more (No.1621).
+    Rapid(f64, f64),
+}
+
 impl Axis {
+    fn of(shape: Shape, at: f64) -> Axis {
+        match shape {
+            Shape::Cutting(kind, ms) => Axis::new(kind, ms, at),
+            Shape::Rapid(t1, t2) => match (ticks(t1), ticks(t2)) {
+                (0, _) => Axis::Through,
+                (n, 0) => Axis::Linear(Average::new(n, at)),
+                (n, m) => Axis::Bell(Average::new(n, at), Average::new(m, at)),
+            },
+        }
+    }
+
     fn new(kind: AfterInterpolation, ms: f64, at: f64) -> Axis {
-        let ticks = crate::angle::round(ms * 0.001 / TICK_S).max(0) as usize;
+        let ticks = ticks(ms);
         if ticks == 0 {
             return Axis::Through;
         }
@@ -100,8 +126,7 @@ fn exp_neg(x: f64) -> f64 {
 /// The filters of every axis of a machine, and where they put the axes.
 #[derive(Debug, Clone)]
 pub struct Filter {
-    kind: AfterInterpolation,
-    ms: Vec<f64>,
+    shapes: Vec<Shape>,
     axes: Vec<Axis>,
     out: Pos,
     input: Pos,
@@ -110,13 +135,32 @@ pub struct Filter {
 impl Filter {
     /// The machine's filter standing at `at`, or `None` when no axis has a time constant.
     pub fn of(m: &MachineConfig, at: &Pos) -> Option<Filter> {
-        let ms: Vec<f64> = m.axes.iter().map(|a| a.after_interpolation_ms).collect();
-        if ms.iter().all(|t| *t == 0.0) {
+        let kind = m.motion.after_interpolation;
+        Filter::with(m.axes.iter().map(|a| Shape::Cutting(kind, a.after_interpolation_ms)).collect(), at)
+    }
+
+    /// The machine's filter of rapid traverse (No.1620 linear, with No.1621 bell-shaped)
+    /// standing at `at`, or `None` when no axis has a time constant for it.
+    pub fn of_rapid(m: &MachineConfig, at: &Pos) -> Option<Filter> {
+        Filter::with(
+            m.axes
+                .iter()
+                .map(|a| Shape::Rapid(a.rapid_after_interpolation_ms[0], a.rapid_after_interpolation_ms[1]))
+                .collect(),
+            at,
+        )
+    }
+
+    fn with(shapes: Vec<Shape>, at: &Pos) -> Option<Filter> {
+        let none = |s: &Shape| match *s {
+            Shape::Cutting(_, ms) => ticks(ms) == 0,
+            Shape::Rapid(t1, _) => ticks(t1) == 0,
+        };
+        if shapes.iter().all(none) {
             return None;
         }
-        let kind = m.motion.after_interpolation;
-        let axes = ms.iter().zip(at).map(|(t, x)| Axis::new(kind, *t, *x)).collect();
-        Some(Filter { kind, ms, axes, out: *at, input: *at })
+        let axes = shapes.iter().zip(at).map(|(s, x)| Axis::of(*s, *x)).collect();
+        Some(Filter { shapes, axes, out: *at, input: *at })
     }
 
     /// One interpolation period: the interpolated positions `x` in, the filtered ones out.
@@ -141,7 +185,7 @@ impl Filter {
     /// Stand at `at` with nothing in the filter (the motion ended there, or an emergency stop:
     /// the axes stand where they are).
     pub fn stand(&mut self, at: &Pos) {
-        let fresh: Vec<Axis> = self.ms.iter().zip(at).map(|(t, x)| Axis::new(self.kind, *t, *x)).collect();
+        let fresh: Vec<Axis> = self.shapes.iter().zip(at).map(|(s, x)| Axis::of(*s, *x)).collect();
         self.axes = fresh;
         (self.out, self.input) = (*at, *at);
     }

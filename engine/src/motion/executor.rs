@@ -10,6 +10,7 @@
 //! Time advances only by [`Executor::advance_to`] and [`Executor::idle_until`]: the engine reads
 //! no clock.
 
+use super::after::Filter;
 use super::{AxisLimits, Cursor, FeedContext, Limits, PathState, Planned, Planner, Point, Profile, Segment};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, Motion, Pos};
@@ -64,16 +65,40 @@ struct Current {
 }
 
 /// Acceleration/deceleration after interpolation (`motion::after`) on a machine that has it:
-/// the filter, the next tick of the interpolation period, and whether the motion under way
-/// (or last ended) passes through it.
+/// the filters of cutting feed and of rapids, the next tick of the interpolation period, and
+/// which filter the motion under way (or last ended) passes through.
 #[derive(Debug, Clone)]
 struct After {
-    filter: super::after::Filter,
+    feed: Option<Filter>,
+    rapid: Option<Filter>,
     /// Index of the next tick: tick k is at k × `after::TICK_S`.
     tick: u64,
-    engaged: bool,
+    /// The filter in use: true the rapids', false cutting feed's; `None`: neither.
+    engaged: Option<bool>,
     /// The last run ended at rest (a stop): the machine waits there for the filter.
     at_rest: bool,
+}
+
+impl After {
+    fn of(m: &Machine, at: &Pos) -> Option<After> {
+        let (feed, rapid) = (Filter::of(m, at), Filter::of_rapid(m, at));
+        (feed.is_some() || rapid.is_some()).then_some(After { feed, rapid, tick: 0, engaged: None, at_rest: true })
+    }
+
+    fn filter(&mut self, rapid: bool) -> Option<&mut Filter> {
+        if rapid {
+            self.rapid.as_mut()
+        } else {
+            self.feed.as_mut()
+        }
+    }
+
+    fn active(&self) -> Option<&Filter> {
+        match self.engaged? {
+            true => self.rapid.as_ref(),
+            false => self.feed.as_ref(),
+        }
+    }
 }
 
 /// How a deceleration to rest along the path began ([`Executor::brake`]).
@@ -123,12 +148,7 @@ pub struct Executor {
 impl Executor {
     /// An executor standing at `machine` (programmed position `work` in `basis`) at time 0.
     pub fn new(machine: Arc<Machine>, start: Endpoint) -> Executor {
-        let after = super::after::Filter::of(&machine, &start.machine).map(|filter| After {
-            filter,
-            tick: 0,
-            engaged: false,
-            at_rest: true,
-        });
+        let after = After::of(&machine, &start.machine);
         let at_once = at_once(machine.limits());
         Executor {
             planner: super::planner_for(&machine),
@@ -283,11 +303,12 @@ impl Executor {
             }
         }
         self.follow_chain(c.tip_basis.chain);
-        // Cutting feed without look-ahead, on a machine with a filter after interpolation:
-        // lines and arcs (a kinematic path keeps its planning: docs/motion.md).
-        let unfiltered = |seg: &Segment| seg.rapid || seg.is_kinematic() || seg.is_independent();
+        // Cutting feed or rapids without look-ahead, on a machine with a filter after
+        // interpolation for them: lines and arcs (a kinematic path keeps its planning, and a
+        // non-linear rapid its axes' own profiles: docs/motion.md).
         let mut seg = self.segment_within(m, ctx, self.machine.limits());
-        if m.no_look_ahead && self.after.is_some() && !unfiltered(&seg) {
+        let filtered = self.after.as_mut().is_some_and(|a| a.filter(seg.rapid).is_some());
+        if m.no_look_ahead && filtered && !seg.is_kinematic() && !seg.is_independent() {
             seg = self.segment_within(m, ctx, &self.at_once);
             seg.after_interpolation = true;
         }
@@ -363,13 +384,16 @@ impl Executor {
     }
 
     fn start(&mut self, planned: Planned) {
-        let filtered = planned.segments.first().is_some_and(|s| s.after_interpolation);
+        let which = planned.segments.first().filter(|s| s.after_interpolation).map(|s| s.rapid);
         if let Some(a) = &mut self.after {
-            if filtered && !a.engaged {
-                // The machine is at rest here (look-ahead switched off at a stop).
-                a.filter.stand(&self.here.machine);
+            if let Some(rapid) = which.filter(|w| a.engaged != Some(*w)) {
+                // The machine is at rest here (look-ahead switched off, or from a rapid to
+                // cutting feed: at a stop).
+                if let Some(f) = a.filter(rapid) {
+                    f.stand(&self.here.machine);
+                }
             }
-            (a.engaged, a.at_rest) = (filtered, false);
+            (a.engaged, a.at_rest) = (which, false);
         }
         self.current =
             Some(Current { planned, start: self.t, cursor: Cursor::default(), tick_cursor: Cursor::default() });
@@ -385,30 +409,31 @@ impl Executor {
                 return;
             }
             a.tick += 1;
-            if !a.engaged {
-                continue;
-            }
+            let Some(rapid) = a.engaged else { continue };
             let x = match &mut self.current {
                 Some(c) if tk >= c.start => c.planned.point(tk - c.start, &mut c.tick_cursor).machine,
                 _ => self.here.machine,
             };
-            a.filter.step(&x);
+            if let Some(f) = a.filter(rapid) {
+                f.step(&x);
+            }
         }
     }
 
     /// Where the axes are: the interpolated positions, through the filter after interpolation
     /// where it acts (the trace's and the report's machine: what the machine does).
     pub fn axes_now(&self) -> Pos {
-        match &self.after {
-            Some(a) if a.engaged => a.filter.output(),
-            _ => self.here.machine,
+        match self.after.as_ref().and_then(After::active) {
+            Some(f) => f.output(),
+            None => self.here.machine,
         }
     }
 
     /// At rest after a run, the filter after interpolation still moves the axes (its lag):
     /// the motion has not ended until they are within `after::SETTLED` of the end.
     pub fn lagging(&self) -> bool {
-        self.current.is_none() && self.after.as_ref().is_some_and(|a| a.engaged && a.at_rest && !a.filter.settled())
+        self.current.is_none()
+            && self.after.as_ref().is_some_and(|a| a.at_rest && a.active().is_some_and(|f| !f.settled()))
     }
 
     /// Tick the filter toward `until` while it lags at a stop; the clock stops at the tick it
@@ -500,11 +525,12 @@ impl Executor {
         self.here.feed = 0.0;
         if let Some(a) = &mut self.after {
             // The axes stop where they are.
-            let at = a.filter.output();
-            if a.engaged {
-                self.here.machine = at;
+            if let Some(f) = a.active() {
+                self.here.machine = f.output();
             }
-            a.filter.stand(&self.here.machine);
+            for f in [&mut a.feed, &mut a.rapid].into_iter().flatten() {
+                f.stand(&self.here.machine);
+            }
         }
     }
 

@@ -60,6 +60,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let references = [p.axes(1241, n)?, p.axes(1242, n)?, p.axes(1243, n)?];
     let smoothing = p.axes(19587, n)?;
     let after_ms = p.axes(1622, n)?;
+    let (rapid_t1, rapid_t2) = (p.axes(1620, n)?, p.axes(1621, n)?);
     let (plus, minus, rapid, accel, bell) =
         (p.axes(1320, n)?, p.axes(1321, n)?, p.axes(1420, n)?, p.axes(1660, n)?, p.axes(1672, n)?);
     let mut axes = Vec::with_capacity(n);
@@ -87,8 +88,10 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         if smoothing[i] < 0.0 || (!rotary && smoothing[i] != 0.0) {
             return Err(ConfigError::invalid(format!("No.19587 of axis {letter}: 0 or more, on rotary axes only")));
         }
-        if !(0.0..=crate::machine::MAX_AFTER_INTERPOLATION_MS).contains(&after_ms[i]) {
-            return Err(ConfigError::invalid(format!("No.1622 of axis {letter}: 0 to 4000 ms")));
+        for (number, ms) in [(1622, after_ms[i]), (1620, rapid_t1[i]), (1621, rapid_t2[i])] {
+            if !(0.0..=crate::machine::MAX_AFTER_INTERPOLATION_MS).contains(&ms) {
+                return Err(ConfigError::invalid(format!("No.{number} of axis {letter}: 0 to 4000 ms")));
+            }
         }
         let stroke = (plus[i] != 0.0 || minus[i] != 0.0).then_some([minus[i], plus[i]]);
         let a = (accel[i] > 0.0).then_some(accel[i]);
@@ -102,6 +105,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             references: [references[0][i], references[1][i], references[2][i]],
             smoothing_tolerance: smoothing[i],
             after_interpolation_ms: after_ms[i],
+            rapid_after_interpolation_ms: [rapid_t1[i], rapid_t2[i]],
             ..Axis::new(letter, if rotary { AxisKind::Rotary } else { AxisKind::Linear }, rapid[i])
         });
     }
@@ -457,6 +461,11 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if m.axes.iter().any(|a| a.after_interpolation_ms != 0.0) {
         p.set_axes(1622, each(&|a| a.after_interpolation_ms));
+    }
+    for (k, number) in [1620, 1621].into_iter().enumerate() {
+        if m.axes.iter().any(|a| a.rapid_after_interpolation_ms[k] != 0.0) {
+            p.set_axes(number, each(&|a| a.rapid_after_interpolation_ms[k]));
+        }
     }
     let type_bits = match m.motion.after_interpolation {
         AfterInterpolation::Exponential => 0.0,

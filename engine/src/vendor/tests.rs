@@ -1128,15 +1128,17 @@ fn chains_are_refused_by_both_lists() {
 }
 
 /// Acceleration/deceleration after interpolation of cutting feed: No.1622 (ms, per axis) and
-/// No.1610 #0 CTL / #1 CTB (per axis): model → FANUC → model is the identity, nothing is
+/// No.1610 #0 CTL / #1 CTB (per axis); of rapids: No.1620 T1, No.1621 T2 (ms, per axis): model → FANUC → model is the identity, nothing is
 /// written at the defaults, the axes with a time constant must agree on the type, and Syntec
 /// refuses the settings rather than drop them.
 #[test]
-fn fanuc_after_interpolation_1610_1622_round_trip() {
+fn fanuc_after_interpolation_1610_1620_1621_1622_round_trip() {
     let mut base = MachineConfig::preset("table-ac").unwrap();
     base.motion.tool_change_s = 0.0; // not a CNC parameter
     let plain = params_of(Dialect::Fanuc, &base).unwrap();
-    assert!(!plain.0.contains_key(&1610) && !plain.0.contains_key(&1622));
+    for n in [1610, 1620, 1621, 1622] {
+        assert!(!plain.0.contains_key(&n), "No.{n}: not written at the defaults");
+    }
     for (kind, bits) in
         [(AfterInterpolation::Linear, 1.0), (AfterInterpolation::Bell, 2.0), (AfterInterpolation::Exponential, 0.0)]
     {
@@ -1146,8 +1148,14 @@ fn fanuc_after_interpolation_1610_1622_round_trip() {
         for (a, ms) in m.axes.iter_mut().zip([32.0, 32.0, 48.0, 0.0, 0.0]) {
             a.after_interpolation_ms = ms;
         }
+        // Rapids: T1 on the linear axes, T2 on X only.
+        for (a, t) in m.axes.iter_mut().zip([[100.0, 20.0], [100.0, 0.0], [60.0, 0.0], [0.0; 2], [0.0; 2]]) {
+            a.rapid_after_interpolation_ms = t;
+        }
         let p = params_of(Dialect::Fanuc, &m).unwrap();
         assert_eq!(p.axes(1622, 5).unwrap(), vec![32.0, 32.0, 48.0, 0.0, 0.0]);
+        assert_eq!(p.axes(1620, 5).unwrap(), vec![100.0, 100.0, 60.0, 0.0, 0.0]);
+        assert_eq!(p.axes(1621, 5).unwrap(), vec![20.0, 0.0, 0.0, 0.0, 0.0]);
         assert_eq!(p.0.contains_key(&1610), bits != 0.0, "{kind:?}");
         if bits != 0.0 {
             assert_eq!(p.axes(1610, 5).unwrap(), vec![bits; 5]);
@@ -1169,4 +1177,7 @@ fn fanuc_after_interpolation_1610_1622_round_trip() {
     q.set_axes(1610, vec![0.0; 5]);
     q.set_axes(1622, vec![-1.0, 0.0, 0.0, 0.0, 0.0]);
     assert!(machine_from(Dialect::Fanuc, "m", &q).unwrap_err().detail.contains("No.1622"));
+    q.set_axes(1622, vec![0.0; 5]);
+    q.set_axes(1621, vec![0.0, 4001.0, 0.0, 0.0, 0.0]);
+    assert!(machine_from(Dialect::Fanuc, "m", &q).unwrap_err().detail.contains("No.1621"));
 }

@@ -300,3 +300,45 @@ proptest! {
         }
     }
 }
+
+/// mill3 with look-ahead only between G05.1 Q1 and Q0 and rapid time constants `[T1, T2]` on
+/// X and Y (`x`, `y`); every 1 ms sample.
+fn run_rapid(src: &str, x: [f64; 2], y: [f64; 2]) -> (RunResult, Vec<Sample>) {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.motion.look_ahead_by_command = true;
+    (m.axes[0].rapid_after_interpolation_ms, m.axes[1].rapid_after_interpolation_ms) = (x, y);
+    let mut interp = interpreter_with(src, "mill3", Dialect::Fanuc, |c| c.machine = m.into());
+    let mut samples = Vec::new();
+    let r = run(&mut interp, &RunOptions::default(), |s| samples.push(*s));
+    assert!(r.alarms.is_empty(), "{:?}", r.alarms);
+    (r, samples)
+}
+
+#[test]
+fn without_look_ahead_a_rapid_moves_through_its_own_time_constants() {
+    // G00 X100 at mill3's 30000 mm/min (500 mm/s), T1 = 100 ms (No.1620), linear: the
+    // interpolation takes 0.2 s + 2 ms (Δv·J = 500 · 5·10⁸ = A²: 2·√(500/5·10⁸)), then the
+    // window of 100 positions empties 99 ticks after the last: 0.301 s. With look-ahead the
+    // axis's own S-curve (A = 4000, J = 80000: Δv/A + A/J = 0.125 + 0.05 s): 0.375 s.
+    let (r, _) = run_rapid("G00 X100.\nM30\n", [100.0, 0.0], [100.0, 0.0]);
+    assert!((r.cycle_time_s - 0.301).abs() < 0.0015, "cycle {}", r.cycle_time_s);
+    let (q1, _) = run_rapid("G05.1 Q1\nG00 X100.\nM30\n", [100.0, 0.0], [100.0, 0.0]);
+    assert!((q1.cycle_time_s - 0.375).abs() < 1e-6, "cycle {}", q1.cycle_time_s);
+    // T2 = 40 ms more (No.1621, bell-shaped): 39 ticks more to empty the second window.
+    let (bell, _) = run_rapid("G00 X100.\nM30\n", [100.0, 40.0], [100.0, 0.0]);
+    assert!((bell.cycle_time_s - 0.340).abs() < 0.0015, "cycle {}", bell.cycle_time_s);
+}
+
+#[test]
+fn a_rapid_leaves_its_line_where_the_axes_time_constants_differ() {
+    // G00 X50 Y50, both axes at 500 mm/s for 0.1 s, X filtered over 100 ms and Y over 50 ms
+    // (each axis accelerates on its own: the 15i descriptions' "the path may not match the
+    // specified line"). At 0.1 s X has averaged 500·t over [0, 0.1] = 25 mm and Y over
+    // [0.05, 0.1] = 37.5 mm: 12.5/√2 = 8.84 mm off the diagonal (by 1 ms steps 24.75 and
+    // 37.25 mm, the same 12.5).
+    let (_, samples) = run_rapid("G00 X50. Y50.\nM30\n", [100.0, 0.0], [50.0, 0.0]);
+    let off = samples.iter().map(|s| (s.tip[1] - s.tip[0]) / 2f64.sqrt()).fold(0.0, f64::max);
+    assert!((off - 12.5 / 2f64.sqrt()).abs() < 0.01, "off the line by {off}");
+    let last = samples.last().unwrap();
+    assert!((last.tip[0] - 50.0).abs() < 1e-6 && (last.tip[1] - 50.0).abs() < 1e-6);
+}

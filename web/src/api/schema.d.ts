@@ -896,6 +896,13 @@ export interface components {
              */
             rapid: number;
             /**
+             * @description Time constants of rapid traverse's acceleration/deceleration after interpolation,
+             *     milliseconds: `[T1, T2]`, linear over T1 (FANUC No.1620), bell-shaped by T2 more
+             *     (No.1621); `[0, 0]`: none. They act only on rapids without look-ahead (G05.1 Q0, or
+             *     `motion.no_rapid_look_ahead`).
+             */
+            rapid_after_interpolation_ms?: number[];
+            /**
              * @description The 2nd, 3rd and 4th reference positions in machine coordinates (G30 P2/P3/P4; FANUC
              *     No.1241–1243); the 1st (G28) is machine zero.
              */
