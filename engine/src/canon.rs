@@ -110,6 +110,12 @@ pub struct Motion {
     /// Spindle speed at the time (for G95).
     pub spindle: f64,
     pub context: MotionContext,
+    /// No look-ahead (acceleration/deceleration before interpolation): FANUC AI contour control
+    /// off (G05.1 Q0, or not yet G05.1 Q1 with No.1604#0 SHP = 0), or none set up for this kind
+    /// of motion (cutting feed: No.1660 = 0; rapids: No.19501#5 FRP = 0 or No.1671 = 0); false
+    /// (look-ahead) for manual moves. Beside the
+    /// context rather than in it: there it would grow every canonical command by 8 bytes.
+    pub no_look_ahead: bool,
     /// The highest speed along the path, mm/s, that the curve this motion is a chord of allows
     /// the axes (its bending against their acceleration: NURBS and nano smoothing,
     /// `crate::chords::bending_speed`); infinite for any other motion. Not scaled by the feed override.

@@ -721,6 +721,7 @@ impl Controller {
             // Handle pulses go at the clamp, whatever the override.
             context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
             speed_cap: f32::INFINITY,
+            no_look_ahead: false,
         };
         let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, true);
         let mut seg = self.exec.segment_within(&m, ctx, &self.manual_limits());

@@ -54,6 +54,24 @@ pub struct Axis {
     /// No.19587).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub smoothing_tolerance: f64,
+    /// Time constant of the acceleration/deceleration *after* interpolation of cutting feed,
+    /// milliseconds (FANUC No.1622); 0: none. It acts only where look-ahead is off
+    /// (`motion.look_ahead_by_command` before G05.1 Q1 or after G05.1 Q0): the axis's
+    /// interpolated positions then pass through the filter of `motion.after_interpolation`
+    /// (`docs/motion.md`, "Without look-ahead").
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub after_interpolation_ms: f64,
+    /// Time constants of rapid traverse's acceleration/deceleration after interpolation,
+    /// milliseconds: `[T1, T2]`, linear over T1 (FANUC No.1620), bell-shaped by T2 more
+    /// (No.1621); `[0, 0]`: none. They act only on rapids without look-ahead (G05.1 Q0, or
+    /// `motion.no_rapid_look_ahead`).
+    #[serde(default, skip_serializing_if = "no_time_constants")]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
+    pub rapid_after_interpolation_ms: [f64; 2],
+}
+
+fn no_time_constants(t: &[f64; 2]) -> bool {
+    *t == [0.0; 2]
 }
 
 fn no_references(r: &[f64; 3]) -> bool {
@@ -78,6 +96,8 @@ impl Axis {
             shortest: false,
             references: [0.0; 3],
             smoothing_tolerance: 0.0,
+            after_interpolation_ms: 0.0,
+            rapid_after_interpolation_ms: [0.0; 2],
         }
     }
 
@@ -530,9 +550,11 @@ pub struct MotionOptions {
     #[serde(default, skip_serializing_if = "is_zero")]
     pub tool_change_s: f64,
     // --- acceleration/deceleration before interpolation (look-ahead) ----------------------
-    // The engine plans every motion with look-ahead whatever these say: they describe a
-    // control set up otherwise, which the functions needing look-ahead refuse (G54.4 with tool
-    // direction compensation: PS0438, `docs/five-axis.md`).
+    // Where look-ahead is off by these, cutting feed moves through the filter after
+    // interpolation if the axes have time constants (`Axis::after_interpolation_ms`;
+    // `docs/motion.md`, "Without look-ahead"), otherwise with look-ahead as on every machine;
+    // either way the functions needing look-ahead refuse (G54.4 with tool direction
+    // compensation: PS0438, `docs/five-axis.md`).
     /// Look-ahead is on only between G05.1 Q1 and G05.1 Q0 (FANUC AI contour control with
     /// No.1604#0 SHP = 0); by default it is on from power-on (SHP = 1).
     #[serde(default, skip_serializing_if = "is_false")]
@@ -575,6 +597,38 @@ pub struct MotionOptions {
     /// How nano smoothing (G05.1 Q3) builds its curve (`docs/motion.md`, "Nano smoothing").
     #[serde(default, skip_serializing_if = "NanoSmoothing::is_default")]
     pub nano_smoothing: NanoSmoothing,
+    /// The type of cutting feed's acceleration/deceleration after interpolation, whose time
+    /// constants are the axes' `after_interpolation_ms` (FANUC No.1610#0 CTL, #1 CTB; both 0,
+    /// FANUC's default: exponential).
+    #[serde(default, skip_serializing_if = "AfterInterpolation::is_default")]
+    pub after_interpolation: AfterInterpolation,
+}
+
+/// Highest time constant of acceleration/deceleration after interpolation, ms (fivex's bound:
+/// the filter keeps one position per millisecond of it).
+pub const MAX_AFTER_INTERPOLATION_MS: f64 = 4000.0;
+
+/// The filter of acceleration/deceleration after interpolation (`motion::after`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "kebab-case")]
+pub enum AfterInterpolation {
+    /// First order: each step of the axis's speed is followed as 1 − e^(−t/T) (No.1610 CTL = 0,
+    /// CTB = 0).
+    #[default]
+    Exponential,
+    /// The speed follows a step linearly over T: a moving average of the positions over T
+    /// (CTL = 1).
+    Linear,
+    /// Bell-shaped: the speed reaches half the step at T/2 along a parabola, all of it at T:
+    /// two moving averages over T/2 (CTB = 1).
+    Bell,
+}
+
+impl AfterInterpolation {
+    fn is_default(&self) -> bool {
+        *self == AfterInterpolation::default()
+    }
 }
 
 /// The settings of nano smoothing (FANUC G05.1 Q3) for the linear axes: fivex's, as FANUC's
@@ -853,6 +907,16 @@ impl MachineConfig {
             }
             if !(a.smoothing_tolerance.is_finite() && a.smoothing_tolerance >= 0.0) {
                 return Err(format!("axis '{}': smoothing_tolerance is 0 or more", a.name));
+            }
+            let time_constant = |t: f64| t.is_finite() && (0.0..=MAX_AFTER_INTERPOLATION_MS).contains(&t);
+            if !a.rapid_after_interpolation_ms.iter().all(|t| time_constant(*t)) {
+                return Err(format!(
+                    "axis '{}': rapid_after_interpolation_ms are 0 to {MAX_AFTER_INTERPOLATION_MS}",
+                    a.name
+                ));
+            }
+            if !time_constant(a.after_interpolation_ms) {
+                return Err(format!("axis '{}': after_interpolation_ms is 0 to {MAX_AFTER_INTERPOLATION_MS}", a.name));
             }
         }
         let n = &self.motion.nano_smoothing;

@@ -269,6 +269,22 @@ impl<O: Observer> Driver<'_, O> {
         if let Some(last) = finished.planned.segments.last() {
             self.check_budget(last.line, last.n);
         }
+        if finished.planned.profile.end_speed().abs() < 1e-9 {
+            self.settle(tracing, on_sample);
+        }
+    }
+
+    /// At a stop, wait while the filter after interpolation still moves the axes (cutting feed
+    /// without look-ahead: `docs/motion.md`), tick by tick of the interpolation period.
+    fn settle(&mut self, tracing: bool, on_sample: &mut impl FnMut(&Sample)) {
+        while self.exec.lagging() && self.over_budget.is_none() {
+            let t1 = self.exec.next_tick();
+            if tracing {
+                self.sample_until(t1, None, on_sample);
+            }
+            self.exec.idle_until(t1);
+            self.check_budget(self.exec.here.line, self.exec.here.n);
+        }
     }
 
     fn check_budget(&mut self, line: u32, n: Option<u32>) {
@@ -290,8 +306,8 @@ impl<O: Observer> Driver<'_, O> {
             let sample = match standing {
                 None => {
                     self.exec.advance_to(ts);
-                    let raw = self.exec.here.machine;
-                    self.exec.sample(ts, &raw, &self.exec.basis())
+                    let axes = self.exec.axes_now();
+                    self.exec.sample(ts, &axes, &self.exec.basis())
                 }
                 Some((line, n)) => {
                     let basis = self.exec.basis();
@@ -299,7 +315,7 @@ impl<O: Observer> Driver<'_, O> {
                 }
             };
             on_sample(&sample);
-            let raw = self.exec.here.machine;
+            let raw = self.exec.axes_now();
             self.observer.sample(&sample, &raw, self.exec.on());
             self.next_sample += 1;
         }

@@ -59,14 +59,16 @@ impl Controller {
         self.interrupt.at(self.exec.time())
     }
 
-    /// Where the machine stands now (the program's point plus the interruption's shift while a
-    /// program is under way).
+    /// Where the machine stands now (the program's point — through the filter after
+    /// interpolation where it acts — plus the interruption's shift while a program is under
+    /// way).
     pub(super) fn machine_now(&self) -> Pos {
+        let axes = self.exec.axes_now();
         if !self.interrupt.applied || self.interrupt.is_zero() {
-            return self.exec.here.machine;
+            return axes;
         }
         let shift = self.interrupt.at(self.exec.time());
-        std::array::from_fn(|i| self.exec.here.machine[i] + shift[i])
+        std::array::from_fn(|i| axes[i] + shift[i])
     }
 
     /// The program's machine position (where the machine stands without the shift).
@@ -252,6 +254,7 @@ impl Controller {
             spindle: 0.0,
             context: MotionContext { fixed_feed: true, ..MotionContext::default() },
             speed_cap: f32::INFINITY,
+            no_look_ahead: false,
         };
         // At the handle clamp whatever the overrides.
         let ctx = self.exec.feed_context(1.0, 1.0, true);

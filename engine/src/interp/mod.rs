@@ -257,7 +257,9 @@ pub struct State {
     wse_between: Option<crate::canon::Compensation>,
     /// Look-ahead (FANUC AI contour control) is on: from power-on unless it needs G05.1 Q1
     /// (`motion.look_ahead_by_command`), then G05.1 Q1 / Q0. A reset keeps it, as it keeps
-    /// the modal G codes (CLR = 0).
+    /// the modal G codes (CLR = 0). Each motion carries it to the executor
+    /// (`Motion::no_look_ahead`), which plans cutting feed without it through the filter
+    /// after interpolation (`docs/motion.md`, "Without look-ahead").
     look_ahead: bool,
     /// Programming coordinates of the current point (the last block's end point), after the
     /// programming transforms (G51.1, G51, G68): the workpiece coordinates of the tool.

@@ -879,6 +879,13 @@ impl State {
             spindle: self.s,
             context: self.context(),
             speed_cap: f32::INFINITY,
+            no_look_ahead: !self.look_ahead || {
+                let motion = &self.cfg.machine.motion;
+                match kind {
+                    MotionKind::Rapid | MotionKind::MachineRapid => motion.no_rapid_look_ahead,
+                    _ => motion.no_feed_look_ahead,
+                }
+            },
         }
     }
 

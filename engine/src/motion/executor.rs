@@ -10,6 +10,7 @@
 //! Time advances only by [`Executor::advance_to`] and [`Executor::idle_until`]: the engine reads
 //! no clock.
 
+use super::after::Filter;
 use super::{AxisLimits, Cursor, FeedContext, Limits, PathState, Planned, Planner, Point, Profile, Segment};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, Motion, Pos};
@@ -59,6 +60,45 @@ struct Current {
     planned: Planned,
     start: f64,
     cursor: Cursor,
+    /// Where the filter after interpolation reads the run (its ticks: `after::TICK_S`).
+    tick_cursor: Cursor,
+}
+
+/// Acceleration/deceleration after interpolation (`motion::after`) on a machine that has it:
+/// the filters of cutting feed and of rapids, the next tick of the interpolation period, and
+/// which filter the motion under way (or last ended) passes through.
+#[derive(Debug, Clone)]
+struct After {
+    feed: Option<Filter>,
+    rapid: Option<Filter>,
+    /// Index of the next tick: tick k is at k × `after::TICK_S`.
+    tick: u64,
+    /// The filter in use: true the rapids', false cutting feed's; `None`: neither.
+    engaged: Option<bool>,
+    /// The last run ended at rest (a stop): the machine waits there for the filter.
+    at_rest: bool,
+}
+
+impl After {
+    fn of(m: &Machine, at: &Pos) -> Option<After> {
+        let (feed, rapid) = (Filter::of(m, at), Filter::of_rapid(m, at));
+        (feed.is_some() || rapid.is_some()).then_some(After { feed, rapid, tick: 0, engaged: None, at_rest: true })
+    }
+
+    fn filter(&mut self, rapid: bool) -> Option<&mut Filter> {
+        if rapid {
+            self.rapid.as_mut()
+        } else {
+            self.feed.as_mut()
+        }
+    }
+
+    fn active(&self) -> Option<&Filter> {
+        match self.engaged? {
+            true => self.rapid.as_ref(),
+            false => self.feed.as_ref(),
+        }
+    }
 }
 
 /// How a deceleration to rest along the path began ([`Executor::brake`]).
@@ -98,11 +138,18 @@ pub struct Executor {
     last_tool_length: f64,
     /// Segments executed to their end so far.
     executed: u64,
+    /// The filter after interpolation (`None`: no axis has a time constant).
+    after: Option<After>,
+    /// The axes' limits for cutting feed without look-ahead: the commanded feed at once
+    /// (within two ticks), the machine's speeds.
+    at_once: AxisLimits,
 }
 
 impl Executor {
     /// An executor standing at `machine` (programmed position `work` in `basis`) at time 0.
     pub fn new(machine: Arc<Machine>, start: Endpoint) -> Executor {
+        let after = After::of(&machine, &start.machine);
+        let at_once = at_once(machine.limits());
         Executor {
             planner: super::planner_for(&machine),
             machine,
@@ -113,6 +160,8 @@ impl Executor {
             last_basis: start.basis,
             last_tool_length: 0.0,
             executed: 0,
+            after,
+            at_once,
         }
     }
 
@@ -149,9 +198,10 @@ impl Executor {
         self.current.is_none() && self.planner.is_empty()
     }
 
-    /// A run is being executed.
+    /// A run is being executed, or at its stop the filter after interpolation still moves the
+    /// axes.
     pub fn is_moving(&self) -> bool {
-        self.current.is_some()
+        self.current.is_some() || self.lagging()
     }
 
     /// Segments are queued, not yet released.
@@ -253,7 +303,15 @@ impl Executor {
             }
         }
         self.follow_chain(c.tip_basis.chain);
+        // Cutting feed or rapids without look-ahead, on a machine with a filter after
+        // interpolation for them: lines and arcs (a kinematic path keeps its planning, and a
+        // non-linear rapid its axes' own profiles: docs/motion.md).
         let mut seg = self.segment_within(m, ctx, self.machine.limits());
+        let filtered = self.after.as_mut().is_some_and(|a| a.filter(seg.rapid).is_some());
+        if m.no_look_ahead && filtered && !seg.is_kinematic() && !seg.is_independent() {
+            seg = self.segment_within(m, ctx, &self.at_once);
+            seg.after_interpolation = true;
+        }
         (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
         seg
     }
@@ -326,7 +384,82 @@ impl Executor {
     }
 
     fn start(&mut self, planned: Planned) {
-        self.current = Some(Current { planned, start: self.t, cursor: Cursor::default() });
+        let which = planned.segments.first().filter(|s| s.after_interpolation).map(|s| s.rapid);
+        if let Some(a) = &mut self.after {
+            if let Some(rapid) = which.filter(|w| a.engaged != Some(*w)) {
+                // The machine is at rest here (look-ahead switched off, or from a rapid to
+                // cutting feed: at a stop).
+                if let Some(f) = a.filter(rapid) {
+                    f.stand(&self.here.machine);
+                }
+            }
+            (a.engaged, a.at_rest) = (which, false);
+        }
+        self.current =
+            Some(Current { planned, start: self.t, cursor: Cursor::default(), tick_cursor: Cursor::default() });
+    }
+
+    /// Run the filter after interpolation over its ticks up to the clock: the run's
+    /// interpolated positions at each tick in, or where the machine stands.
+    fn tick(&mut self) {
+        let Some(a) = &mut self.after else { return };
+        loop {
+            let tk = a.tick as f64 * super::after::TICK_S;
+            if tk > self.t {
+                return;
+            }
+            a.tick += 1;
+            let Some(rapid) = a.engaged else { continue };
+            let x = match &mut self.current {
+                Some(c) if tk >= c.start => c.planned.point(tk - c.start, &mut c.tick_cursor).machine,
+                _ => self.here.machine,
+            };
+            if let Some(f) = a.filter(rapid) {
+                f.step(&x);
+            }
+        }
+    }
+
+    /// Where the axes are: the interpolated positions, through the filter after interpolation
+    /// where it acts (the trace's and the report's machine: what the machine does).
+    pub fn axes_now(&self) -> Pos {
+        match self.after.as_ref().and_then(After::active) {
+            Some(f) => f.output(),
+            None => self.here.machine,
+        }
+    }
+
+    /// At rest after a run, the filter after interpolation still moves the axes (its lag):
+    /// the motion has not ended until they are within `after::SETTLED` of the end.
+    pub fn lagging(&self) -> bool {
+        self.current.is_none()
+            && self.after.as_ref().is_some_and(|a| a.at_rest && a.active().is_some_and(|f| !f.settled()))
+    }
+
+    /// Tick the filter toward `until` while it lags at a stop; the clock stops at the tick it
+    /// settles on (the motion ends there, and the next one starts then).
+    fn settle_to(&mut self, until: f64) {
+        while self.lagging() {
+            let next = self.next_tick();
+            if next > until {
+                break;
+            }
+            self.t = next;
+            self.tick();
+        }
+        if self.lagging() {
+            self.t = self.t.max(until);
+            self.tick();
+        }
+    }
+
+    /// The time of the next tick of the interpolation period (the filter's), or the clock's
+    /// where there is no filter.
+    pub fn next_tick(&self) -> f64 {
+        match &self.after {
+            Some(a) => (a.tick as f64 * super::after::TICK_S).max(self.t),
+            None => self.t,
+        }
     }
 
     /// When the run under way ends.
@@ -338,12 +471,18 @@ impl Executor {
     /// to `until`); the machine is then where the run puts it.
     pub fn advance_to(&mut self, until: f64) {
         let Some(c) = &mut self.current else {
+            if self.lagging() {
+                self.settle_to(until);
+                return;
+            }
             self.t = self.t.max(until);
+            self.tick();
             return;
         };
         let end = c.start + c.planned.profile.duration();
         self.t = until.min(end).max(self.t);
         self.here = c.planned.point(self.t - c.start, &mut c.cursor);
+        self.tick();
     }
 
     /// The run under way, if the clock has reached its end: it is over.
@@ -358,6 +497,9 @@ impl Executor {
         }
         if planned.profile.end_speed().abs() < 1e-9 {
             self.here.feed = 0.0;
+            if let Some(a) = &mut self.after {
+                a.at_rest = true;
+            }
         }
         Some(Finished { planned })
     }
@@ -373,6 +515,7 @@ impl Executor {
     pub fn idle_until(&mut self, until: f64) {
         debug_assert!(self.current.is_none());
         self.t = self.t.max(until);
+        self.tick();
     }
 
     /// Stop at once where the machine is (emergency stop): nothing runs or is queued.
@@ -380,6 +523,15 @@ impl Executor {
         self.current = None;
         self.planner.take_all();
         self.here.feed = 0.0;
+        if let Some(a) = &mut self.after {
+            // The axes stop where they are.
+            if let Some(f) = a.active() {
+                self.here.machine = f.output();
+            }
+            for f in [&mut a.feed, &mut a.rapid].into_iter().flatten() {
+                f.stand(&self.here.machine);
+            }
+        }
     }
 
     /// Decelerate to rest along the path, within the limits of every segment the stop covers;
@@ -545,6 +697,21 @@ impl Executor {
             cutting,
         }
     }
+}
+
+/// The axes' limits of cutting feed without look-ahead: each axis's speed, its acceleration
+/// that speed per tick of the interpolation period and its jerk that per tick again, so a
+/// jerk-limited profile reaches any feed within two ticks (2·√(Δv/J) ≤ 2 ticks for Δv ≤ v):
+/// the commanded feed at once, as the control interpolates it; the filter after interpolation
+/// is what accelerates the axes.
+fn at_once(axes: &AxisLimits) -> AxisLimits {
+    let tick = super::after::TICK_S;
+    let mut l = axes.clone();
+    for i in 0..l.count {
+        l.a[i] = l.v[i] / tick;
+        l.j[i] = l.a[i] / tick;
+    }
+    l
 }
 
 /// The lowest limits of the segments up to the next place the machine must stop at (an exact

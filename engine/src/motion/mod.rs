@@ -4,6 +4,7 @@
 //! a segment into a jerk-limited speed profile that can be sampled at any time.
 //! Everything is in seconds and machine units (mm, deg).
 
+pub mod after;
 pub mod executor;
 mod optimal;
 pub mod path;

@@ -94,6 +94,11 @@ pub struct Segment {
     unfed: bool,
     /// The override applied (`set_override`), for the pieces it is split into.
     factor: f64,
+    /// Cutting feed planned without look-ahead (acceleration/deceleration before
+    /// interpolation off): its limits let the commanded feed come at once, no corner slows it,
+    /// and the axes' interpolated positions pass through the filter after interpolation
+    /// (`motion::after`; `docs/motion.md`, "Without look-ahead").
+    pub after_interpolation: bool,
 }
 
 /// A segment's positions and its start tangent, each of every axis: kept for the first
@@ -1155,6 +1160,7 @@ impl Segment {
             continued: false,
             unfed: false,
             factor: 1.0,
+            after_interpolation: false,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         if rapid && ctx.options.nonlinear_rapid {
@@ -1284,6 +1290,7 @@ impl Segment {
             continued: false,
             unfed: as_fast_as_axes,
             factor: 1.0,
+            after_interpolation: false,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg
@@ -1362,6 +1369,7 @@ impl Segment {
             continued: false,
             unfed: false,
             factor: 1.0,
+            after_interpolation: false,
         };
         seg.set_override(1.0, 1.0);
         seg

@@ -507,6 +507,15 @@ fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) 
 /// The highest speed through the junction of `a` into `b` that its corner and its change of
 /// curvature allow (infinite where the path goes on smoothly, as between a block's pieces).
 fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
+    match (a.after_interpolation, b.after_interpolation) {
+        // Without look-ahead the interpolation runs through corners at the feed: the filter
+        // after interpolation rounds them.
+        (true, true) => return f64::INFINITY,
+        // Look-ahead switched on or off: the machine stops there, so the filter is at rest when
+        // it starts or ends.
+        (true, false) | (false, true) => return 0.0,
+        (false, false) => {}
+    }
     let mut v = f64::INFINITY;
     let (start_dir, end_dir) = (b.start_dir(), a.end_dir());
     for i in 0..speed_step.len() {
@@ -554,6 +563,7 @@ mod tests {
                     spindle: 0.0,
                     context: MotionContext::default(),
                     speed_cap: f32::INFINITY,
+                    no_look_ahead: false,
                 };
                 let seg = Segment::new(&m, &here, &here, axes, ctx, None);
                 here = to;

@@ -17,8 +17,8 @@ use super::{Params, Value};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
 use crate::machine::{
-    Axis, AxisKind, ConfigError, CrcVariant, FiveAxisOptions, Hand, MachineConfig, ManualOptions, ManualVertical,
-    MotionOptions, PlaneAfterReset, RotaryLink, Side, TcpCoordinates,
+    AfterInterpolation, Axis, AxisKind, ConfigError, CrcVariant, FiveAxisOptions, Hand, MachineConfig, ManualOptions,
+    ManualVertical, MotionOptions, PlaneAfterReset, RotaryLink, Side, TcpCoordinates,
 };
 
 const NAMES: &str = "XYZUVWABC";
@@ -60,6 +60,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let (rot, roll, per_rev, basics) = (p.axes(1006, n)?, p.axes(1008, n)?, p.axes(1260, n)?, p.axes(1022, n)?);
     let references = [p.axes(1241, n)?, p.axes(1242, n)?, p.axes(1243, n)?];
     let smoothing = p.axes(19587, n)?;
+    let after_ms = p.axes(1622, n)?;
+    let (rapid_t1, rapid_t2) = (p.axes(1620, n)?, p.axes(1621, n)?);
     let (plus, minus, rapid, accel, bell) =
         (p.axes(1320, n)?, p.axes(1321, n)?, p.axes(1420, n)?, p.axes(1660, n)?, p.axes(1672, n)?);
     let mut axes = Vec::with_capacity(n);
@@ -87,6 +89,11 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         if smoothing[i] < 0.0 || (!rotary && smoothing[i] != 0.0) {
             return Err(ConfigError::invalid(format!("No.19587 of axis {letter}: 0 or more, on rotary axes only")));
         }
+        for (number, ms) in [(1622, after_ms[i]), (1620, rapid_t1[i]), (1621, rapid_t2[i])] {
+            if !(0.0..=crate::machine::MAX_AFTER_INTERPOLATION_MS).contains(&ms) {
+                return Err(ConfigError::invalid(format!("No.{number} of axis {letter}: 0 to 4000 ms")));
+            }
+        }
         let stroke = (plus[i] != 0.0 || minus[i] != 0.0).then_some([minus[i], plus[i]]);
         let a = (accel[i] > 0.0).then_some(accel[i]);
         let jerk = a.filter(|_| bell[i] > 0.0).map(|a| a / (bell[i] / 1000.0));
@@ -98,6 +105,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             shortest: rollover && bits & 2 == 0,
             references: [references[0][i], references[1][i], references[2][i]],
             smoothing_tolerance: smoothing[i],
+            after_interpolation_ms: after_ms[i],
+            rapid_after_interpolation_ms: [rapid_t1[i], rapid_t2[i]],
             ..Axis::new(letter, if rotary { AxisKind::Rotary } else { AxisKind::Linear }, rapid[i])
         });
     }
@@ -203,6 +212,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         cutter_startup_type_b,
         cutter_startup_perpendicular,
         cutter_interference_avoidance,
+        after_interpolation: after_interpolation(p, &after_ms)?,
         ..look_ahead_options(p, n, &accel)?
     };
     let five_axis = five_axis_options(p)?;
@@ -235,6 +245,34 @@ fn look_ahead_options(p: &Params, axes: usize, accel: &[f64]) -> Result<MotionOp
         no_rapid_look_ahead: cleared(19501, 5)? || all_zero(1671, &p.axes(1671, axes)?),
         ..MotionOptions::default()
     })
+}
+
+/// The type of cutting feed's acceleration/deceleration after interpolation: No.1610 (per
+/// axis) #0 CTL linear, #1 CTB bell-shaped, neither exponential (0i-A connection manual
+/// p.314 names the same parameter's #4 JGL). fivex models one type for the machine: the axes
+/// with a time constant (No.1622) must agree.
+fn after_interpolation(p: &Params, after_ms: &[f64]) -> Result<AfterInterpolation, ConfigError> {
+    let bits = p.axes(1610, after_ms.len())?;
+    let mut kind = None;
+    let mut first = None;
+    for (b, ms) in bits.iter().zip(after_ms) {
+        let b = super::params::whole(1610, *b, 0, 255)?;
+        let this = match (b & 1 == 1, b & 2 == 2) {
+            (_, true) => AfterInterpolation::Bell,
+            (true, false) => AfterInterpolation::Linear,
+            (false, false) => AfterInterpolation::Exponential,
+        };
+        first.get_or_insert(this);
+        if *ms == 0.0 {
+            continue;
+        }
+        if kind.is_some_and(|k| k != this) {
+            return Err(ConfigError::invalid("No.1610 #0/#1: fivex takes one type of acceleration/deceleration after interpolation for every axis with a No.1622 time constant"));
+        }
+        kind = Some(this);
+    }
+    // Without a time constant the type is the first axis's (as written for a model).
+    Ok(kind.or(first).unwrap_or_default())
 }
 
 /// [`look_ahead_options`] the other way: SHP = 0 and FRP = 0 as `1604: 0`, `19501: 0`; no
@@ -430,6 +468,22 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if m.axes.iter().any(|a| a.smoothing_tolerance != 0.0) {
         p.set_axes(19587, each(&|a| a.smoothing_tolerance));
+    }
+    if m.axes.iter().any(|a| a.after_interpolation_ms != 0.0) {
+        p.set_axes(1622, each(&|a| a.after_interpolation_ms));
+    }
+    for (k, number) in [1620, 1621].into_iter().enumerate() {
+        if m.axes.iter().any(|a| a.rapid_after_interpolation_ms[k] != 0.0) {
+            p.set_axes(number, each(&|a| a.rapid_after_interpolation_ms[k]));
+        }
+    }
+    let type_bits = match m.motion.after_interpolation {
+        AfterInterpolation::Exponential => 0.0,
+        AfterInterpolation::Linear => 1.0,
+        AfterInterpolation::Bell => 2.0,
+    };
+    if type_bits != 0.0 {
+        p.set_axes(1610, vec![type_bits; m.axes.len()]);
     }
     p.set_axes(1660, each(&|a| a.max_accel()));
     p.set_axes(1672, each(&|a| 1000.0 * a.max_accel() / a.max_jerk()));

@@ -4,6 +4,7 @@
 use super::*;
 use crate::alarm::AlarmId;
 use crate::kin::{Kinematics, Selection, Vec3};
+use crate::machine::AfterInterpolation;
 
 use proptest::prelude::*;
 
@@ -1170,4 +1171,59 @@ fn chains_are_refused_by_both_lists() {
         let e = params_of(dialect, &m).expect_err("chains");
         assert!(e.detail.contains("chain"), "{dialect:?}: {}", e.detail);
     }
+}
+
+/// Acceleration/deceleration after interpolation of cutting feed: No.1622 (ms, per axis) and
+/// No.1610 #0 CTL / #1 CTB (per axis); of rapids: No.1620 T1, No.1621 T2 (ms, per axis): model → FANUC → model is the identity, nothing is
+/// written at the defaults, the axes with a time constant must agree on the type, and Syntec
+/// refuses the settings rather than drop them.
+#[test]
+fn fanuc_after_interpolation_1610_1620_1621_1622_round_trip() {
+    let mut base = MachineConfig::preset("table-ac").unwrap();
+    base.motion.tool_change_s = 0.0; // not a CNC parameter
+    let plain = params_of(Dialect::Fanuc, &base).unwrap();
+    for n in [1610, 1620, 1621, 1622] {
+        assert!(!plain.0.contains_key(&n), "No.{n}: not written at the defaults");
+    }
+    for (kind, bits) in
+        [(AfterInterpolation::Linear, 1.0), (AfterInterpolation::Bell, 2.0), (AfterInterpolation::Exponential, 0.0)]
+    {
+        let mut m = base.clone();
+        m.motion.look_ahead_by_command = true;
+        m.motion.after_interpolation = kind;
+        for (a, ms) in m.axes.iter_mut().zip([32.0, 32.0, 48.0, 0.0, 0.0]) {
+            a.after_interpolation_ms = ms;
+        }
+        // Rapids: T1 on the linear axes, T2 on X only.
+        for (a, t) in m.axes.iter_mut().zip([[100.0, 20.0], [100.0, 0.0], [60.0, 0.0], [0.0; 2], [0.0; 2]]) {
+            a.rapid_after_interpolation_ms = t;
+        }
+        let p = params_of(Dialect::Fanuc, &m).unwrap();
+        assert_eq!(p.axes(1622, 5).unwrap(), vec![32.0, 32.0, 48.0, 0.0, 0.0]);
+        assert_eq!(p.axes(1620, 5).unwrap(), vec![100.0, 100.0, 60.0, 0.0, 0.0]);
+        assert_eq!(p.axes(1621, 5).unwrap(), vec![20.0, 0.0, 0.0, 0.0, 0.0]);
+        assert_eq!(p.0.contains_key(&1610), bits != 0.0, "{kind:?}");
+        if bits != 0.0 {
+            assert_eq!(p.axes(1610, 5).unwrap(), vec![bits; 5]);
+        }
+        let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+        assert!(diff(&p, &params_of(Dialect::Fanuc, &back).unwrap()).is_empty());
+        assert_eq!((back.axes, back.motion), (m.axes.clone(), m.motion), "{kind:?}");
+        assert!(params_of(Dialect::Syntec, &m).is_err(), "Syntec has no number for it");
+    }
+    // CTB wins over CTL (bell-shaped); an axis without a time constant does not count.
+    let mut q = plain.clone();
+    q.set_axes(1622, vec![16.0, 16.0, 16.0, 0.0, 0.0]);
+    q.set_axes(1610, vec![3.0, 3.0, 3.0, 1.0, 0.0]);
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &q).unwrap().motion.after_interpolation, AfterInterpolation::Bell);
+    // Two types among the filtered axes: refused, not averaged.
+    q.set_axes(1610, vec![1.0, 2.0, 1.0, 0.0, 0.0]);
+    assert!(machine_from(Dialect::Fanuc, "m", &q).unwrap_err().detail.contains("No.1610"));
+    // Out of range.
+    q.set_axes(1610, vec![0.0; 5]);
+    q.set_axes(1622, vec![-1.0, 0.0, 0.0, 0.0, 0.0]);
+    assert!(machine_from(Dialect::Fanuc, "m", &q).unwrap_err().detail.contains("No.1622"));
+    q.set_axes(1622, vec![0.0; 5]);
+    q.set_axes(1621, vec![0.0, 4001.0, 0.0, 0.0, 0.0]);
+    assert!(machine_from(Dialect::Fanuc, "m", &q).unwrap_err().detail.contains("No.1621"));
 }

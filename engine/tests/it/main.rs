@@ -4,6 +4,7 @@
 
 mod common;
 
+mod ai_contour;
 mod alarms;
 mod chains;
 mod controller;

@@ -816,6 +816,11 @@ export interface paths {
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
+        /**
+         * @description The filter of acceleration/deceleration after interpolation (`motion::after`).
+         * @enum {string}
+         */
+        AfterInterpolation: "exponential" | "linear" | "bell";
         /** @description An alarm as a user sees it: the dialect's code and message, where it happened. */
         Alarm: {
             code: string;
@@ -870,6 +875,15 @@ export interface components {
             accel?: number | null;
             /**
              * Format: double
+             * @description Time constant of the acceleration/deceleration *after* interpolation of cutting feed,
+             *     milliseconds (FANUC No.1622); 0: none. It acts only where look-ahead is off
+             *     (`motion.look_ahead_by_command` before G05.1 Q1 or after G05.1 Q0): the axis's
+             *     interpolated positions then pass through the filter of `motion.after_interpolation`
+             *     (`docs/motion.md`, "Without look-ahead").
+             */
+            after_interpolation_ms?: number;
+            /**
+             * Format: double
              * @description Highest jerk, mm/s³ or deg/s³; `None`: [`Axis::max_jerk`]'s default.
              */
             jerk?: number | null;
@@ -881,6 +895,13 @@ export interface components {
              * @description Rapid traverse rate, the axis's highest speed: mm/min or deg/min.
              */
             rapid: number;
+            /**
+             * @description Time constants of rapid traverse's acceleration/deceleration after interpolation,
+             *     milliseconds: `[T1, T2]`, linear over T1 (FANUC No.1620), bell-shaped by T2 more
+             *     (No.1621); `[0, 0]`: none. They act only on rapids without look-ahead (G05.1 Q0, or
+             *     `motion.no_rapid_look_ahead`).
+             */
+            rapid_after_interpolation_ms?: number[];
             /**
              * @description The 2nd, 3rd and 4th reference positions in machine coordinates (G30 P2/P3/P4; FANUC
              *     No.1241–1243); the 1st (G28) is machine zero.
@@ -1749,6 +1770,12 @@ export interface components {
         ModeName: "auto" | "mdi" | "jog" | "handle" | "ref" | "inc";
         /** @description Interpolation choices the vendors make by parameter. */
         MotionOptions: {
+            /**
+             * @description The type of cutting feed's acceleration/deceleration after interpolation, whose time
+             *     constants are the axes' `after_interpolation_ms` (FANUC No.1610#0 CTL, #1 CTB; both 0,
+             *     FANUC's default: exponential).
+             */
+            after_interpolation?: components["schemas"]["AfterInterpolation"];
             /**
              * @description Cutter compensation C avoids an interference instead of stopping with PS0041 (FANUC
              *     No.19607#5 CAV = 1): a block whose compensated path runs against its programmed one is
