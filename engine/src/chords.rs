@@ -24,26 +24,41 @@ const MAX_DEPTH: u32 = 40;
 /// (`motion::path`).
 const BENDING_SHARE: f64 = 0.9;
 
-/// The highest speed along a curve's linear components at which no component's acceleration
-/// from the curve's bending passes `BENDING_SHARE` of `accel` (per s²), given the curve's first
-/// and second derivatives by any parameter t at one point (`linear` marks the components whose
-/// length the path's speed is): with s the path length, a component x accelerates v²·x_ss at a
-/// steady v, x_ss = (x'' − x'·s''/s')/s'², s' = |x'| and s'' = x'·x''/s' over the linear
-/// components. Infinite where the curve does not bend (or does not move).
-pub fn bending_speed<const D: usize>(x1: &[f64; D], x2: &[f64; D], linear: &[bool; D], accel: &[f64; D]) -> f64 {
+/// A curve's second derivative by its path length s at one point, from its first and second
+/// derivatives by any parameter t there (`linear` marks the components whose length s is):
+/// x_ss = (x'' − x'·s''/s')/s'², s' = |x'| and s'' = x'·x''/s' over the linear components.
+/// `None` where the curve does not move.
+pub fn by_length<const D: usize>(x1: &[f64; D], x2: &[f64; D], linear: &[bool; D]) -> Option<[f64; D]> {
     let s1 = (0..D).filter(|&c| linear[c]).map(|c| x1[c] * x1[c]).sum::<f64>().sqrt();
     if s1 <= 1e-12 {
-        return f64::INFINITY;
+        return None;
     }
     let s2 = (0..D).filter(|&c| linear[c]).map(|c| x1[c] * x2[c]).sum::<f64>() / s1;
-    let mut cap = f64::INFINITY;
-    for c in 0..D {
-        let xss = (x2[c] - x1[c] * s2 / s1) / (s1 * s1);
-        if xss.abs() > 1e-12 {
-            cap = cap.min((BENDING_SHARE * accel[c] / xss.abs()).sqrt());
-        }
+    Some(std::array::from_fn(|c| (x2[c] - x1[c] * s2 / s1) / (s1 * s1)))
+}
+
+/// The highest speed along a curve at which no component's acceleration from the curve's
+/// bending, v²·x_ss (`xss`, [`by_length`]), passes `BENDING_SHARE` of `accel` (per s²).
+/// Infinite where the curve does not bend.
+pub fn bending_speed<const D: usize>(xss: &[f64; D], accel: &[f64; D]) -> f64 {
+    xss.iter()
+        .zip(accel)
+        .filter(|(x, _)| x.abs() > 1e-12)
+        .map(|(x, a)| (BENDING_SHARE * a / x.abs()).sqrt())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The same for the jerk of the bending, v³·x_sss, with x_sss the change of x_ss from `xss0` to
+/// `xss1` over a path length `ds`, against `BENDING_SHARE` of `jerk` (per s³).
+pub fn bending_jerk_speed<const D: usize>(xss0: &[f64; D], xss1: &[f64; D], ds: f64, jerk: &[f64; D]) -> f64 {
+    if ds <= 1e-12 {
+        return f64::INFINITY;
     }
-    cap
+    (0..D)
+        .map(|c| ((xss1[c] - xss0[c]) / ds, jerk[c]))
+        .filter(|(x, _)| x.abs() > 1e-12)
+        .map(|(x, j)| (BENDING_SHARE * j / x.abs()).cbrt())
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// More chords than a caller allows.

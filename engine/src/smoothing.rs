@@ -363,7 +363,8 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
         let (d1, d2) = hermite_derivatives(q0, q1, m0, m1, h);
         (0..=CHECK_SAMPLES)
             .map(|i| i as f64 / CHECK_SAMPLES as f64)
-            .map(|u| chords::bending_speed(&d1(u), &d2(u), &self.s.linear, &self.s.accel))
+            .filter_map(|u| chords::by_length(&d1(u), &d2(u), &self.s.linear))
+            .map(|xss| chords::bending_speed(&xss, &self.s.accel))
             .fold(f64::INFINITY, f64::min)
     }
 }

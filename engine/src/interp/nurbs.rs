@@ -4,7 +4,7 @@
 //! with the `rank`-th knot-only word completes it: the curve is checked (`crate::nurbs`) and
 //! emitted there as straight chords within `nurbs::CHORD_TOLERANCE_MM` of it, at the feed in
 //! force, through the tip path under tool centre point control, each no faster than the curve's
-//! bending leaves the axes' acceleration (`chords::bending_speed`).
+//! bending leaves the axes' acceleration and jerk (`chords::bending_speed`).
 
 use super::gcode::{self, code, group};
 use super::modes;
@@ -157,9 +157,14 @@ impl State {
             std::array::from_fn(|i| self.cfg.machine.axes.get(i).is_none_or(|a| a.kind == AxisKind::Linear));
         let chords = curve.chords(&linear).map_err(|_| AlarmId::NurbsFormat)?;
         let n = chords.len();
-        let accel: [f64; MAX_AXES] = std::array::from_fn(|i| {
-            self.cfg.machine.axes.get(i).map_or(f64::INFINITY, crate::machine::Axis::max_accel)
-        });
+        let axis = |f: fn(&crate::machine::Axis) -> f64| -> [f64; MAX_AXES] {
+            std::array::from_fn(|i| self.cfg.machine.axes.get(i).map_or(f64::INFINITY, f))
+        };
+        let (accel, jerk) = (axis(crate::machine::Axis::max_accel), axis(crate::machine::Axis::max_jerk));
+        let bending = |at: f64| {
+            let [c, d1, d2] = curve.derivatives(at);
+            (c, crate::chords::by_length(&d1, &d2, &linear))
+        };
         let mut u0 = curve.domain().0;
         for (i, (u, q)) in chords.into_iter().enumerate() {
             // The curve ends exactly at its last control point.
@@ -170,12 +175,18 @@ impl State {
             } else {
                 self.push_motion(MotionKind::Linear, q, None, out);
             }
-            // No faster than the curve's bending leaves the axes, at the chord's ends and middle.
-            let cap = [u0, 0.5 * (u0 + u), u]
-                .map(|at| curve.derivatives(at))
+            // No faster than the curve's bending leaves the axes' acceleration (at the chord's
+            // ends and middle) and jerk (its change along the chord: the curve's derivatives
+            // are exact, so the difference is the curve's).
+            let ends = [bending(u0), bending(0.5 * (u0 + u)), bending(u)];
+            let mut cap = ends
                 .iter()
-                .map(|[_, d1, d2]| crate::chords::bending_speed(d1, d2, &linear, &accel))
+                .filter_map(|(_, x)| x.map(|x| crate::chords::bending_speed(&x, &accel)))
                 .fold(f64::INFINITY, f64::min);
+            if let ((c0, Some(x0)), (c1, Some(x1))) = (ends[0], ends[2]) {
+                let ds = (0..MAX_AXES).filter(|&i| linear[i]).map(|i| (c1[i] - c0[i]).powi(2)).sum::<f64>().sqrt();
+                cap = cap.min(crate::chords::bending_jerk_speed(&x0, &x1, ds, &jerk));
+            }
             crate::canon::cap_speed(&mut out[first..], cap);
             u0 = u;
         }
