@@ -555,7 +555,7 @@ mod random {
 
     /// A star-shaped polygon around the origin (inner and outer corners): corners at sorted
     /// angles and radii 30–80, each with a distance along the tool.
-    fn contour() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
+    pub(super) fn contour() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
         prop::collection::vec((0.0..std::f64::consts::TAU, 30.0..80.0, -30.0..30.0f64), 4..8).prop_map(|mut v| {
             v.sort_by(|a, b| a.0.total_cmp(&b.0));
             v
@@ -1511,12 +1511,7 @@ mod table_system_random {
     use super::*;
     use proptest::prelude::*;
 
-    fn contour() -> impl Strategy<Value = Vec<(f64, f64, f64)>> {
-        prop::collection::vec((0.0..std::f64::consts::TAU, 30.0..80.0, -30.0..30.0f64), 4..8).prop_map(|mut v| {
-            v.sort_by(|a, b| a.0.total_cmp(&b.0));
-            v
-        })
-    }
+    use super::random::contour;
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: cases(24), max_global_rejects: 10_000, ..ProptestConfig::default() })]
