@@ -121,6 +121,47 @@ pub struct Motion {
     /// `crate::chords::bending_speed`); infinite for any other motion. Not scaled by the feed override.
     /// (f32: it fits beside the small fields, keeping `Canon` within its size.)
     pub speed_cap: f32,
+    /// Moved off its programmed path by a cutter compensation stage (G41/G42, G41.2…G42.6,
+    /// G41.3): what the trace's cutting point is read from. `None` outside compensation.
+    pub offset: Option<Box<Offset>>,
+}
+
+/// A motion a cutter compensation stage moved: where the block put the machine before it was
+/// moved (the tip there is its programmed contour's end), and how the tool meets the contour
+/// (`motion::contact`, `docs/conventions.md`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Offset {
+    /// The machine axes at the motion's end as the block programmed them. An inserted move
+    /// (a corner's, a start-up's) has those of the block it belongs to: the corner it turns
+    /// about, the point it starts from.
+    pub programmed_machine: Pos,
+    /// The tool's radius: the magnitude of the offset value in effect.
+    pub radius: f64,
+    pub touch: Touch,
+}
+
+/// Which point of the tool a compensation puts on the contour.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Touch {
+    /// Its side (cutter compensation C, the tool side offset), the vectors placed `along` up
+    /// the tool from the tip (FANUC No.19632; 0 elsewhere).
+    Side { along: f64 },
+    /// The leading edge of its end (FANUC G41.3): the end's edge toward the move.
+    LeadingEdge,
+}
+
+impl Motion {
+    /// Record, before a compensation stage first moves this motion, where the block put it
+    /// and the tool (`radius`, `touch`); a motion already moved keeps its record (an inserted
+    /// move copied from a moved block stays with that block's programmed end). A motion
+    /// without an offset value in effect (the cancel block, D0) has none: it does not cut at
+    /// the tool's side.
+    pub fn record_offset(&mut self, touch: Touch) {
+        let radius = self.context.cutter_radius.abs();
+        if self.offset.is_none() && radius > 0.0 {
+            self.offset = Some(Box::new(Offset { programmed_machine: self.machine, radius, touch }));
+        }
+    }
 }
 
 /// The motions among `commands` (a curve's chord) go no faster than `cap` (mm/s,

@@ -180,7 +180,9 @@ pub struct Controller {
     reading_block: u64,
 }
 
-/// A pending canonical command, or a single-block stop point.
+/// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
+/// items small beside them: a box per command would be an allocation for every block read.)
+#[allow(clippy::large_enum_variant)]
 enum Item {
     /// The commands of the block with this serial follow (`Executing`).
     Block(u64),
@@ -721,6 +723,7 @@ impl Controller {
             // Handle pulses go at the clamp, whatever the override.
             context: MotionContext { fixed_feed: feed >= manual::AT_CLAMP, ..MotionContext::default() },
             speed_cap: f32::INFINITY,
+            offset: None,
             no_look_ahead: false,
         };
         let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, true);

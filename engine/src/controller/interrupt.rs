@@ -254,6 +254,7 @@ impl Controller {
             spindle: 0.0,
             context: MotionContext { fixed_feed: true, ..MotionContext::default() },
             speed_cap: f32::INFINITY,
+            offset: None,
             no_look_ahead: false,
         };
         // At the handle clamp whatever the overrides.

@@ -120,6 +120,7 @@ impl Controller {
             spindle: 0.0,
             context: MotionContext::default(),
             speed_cap: f32::INFINITY,
+            offset: None,
             no_look_ahead: false,
         };
         let queued = (self.exec.queued.machine, self.exec.queued.work);

@@ -879,6 +879,7 @@ impl State {
             spindle: self.s,
             context: self.context(),
             speed_cap: f32::INFINITY,
+            offset: None,
             no_look_ahead: !self.look_ahead || {
                 let motion = &self.cfg.machine.motion;
                 match kind {

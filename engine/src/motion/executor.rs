@@ -11,10 +11,12 @@
 //! no clock.
 
 use super::after::Filter;
+use super::contact::{Contact, Contour};
+use super::path::TurnCenter;
 use super::{AxisLimits, Cursor, FeedContext, Limits, PathState, Planned, Planner, Point, Profile, Segment};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, Motion, Pos};
-use crate::kin::Kinematics;
+use crate::kin::{Kinematics, Vec3};
 use crate::machine::Machine;
 use crate::tip::{Basis, System};
 use std::sync::Arc;
@@ -39,9 +41,10 @@ pub struct Sample {
     pub programmed_in: System,
     /// Tool tip speed relative to the workpiece, mm/min.
     pub feed: f64,
-    /// Under cutting point control (G43.8/G43.9), where the tool touches the surface, in the
-    /// workpiece system as `tip`: its lowest point along the surface normal, from the sampled
-    /// axes (`motion::Segment::cutting_point`); `None` elsewhere.
+    /// Where the tool touches, in the workpiece system as `tip`, on the tool placed by the
+    /// sampled axes (`motion::Segment::cutting_point`): under cutting point control (G43.8/G43.9)
+    /// its lowest point along the surface normal; under a cutter compensation its side nearest to
+    /// the programmed contour or G41.3's leading edge (`motion::contact`). `None` elsewhere.
     pub cutting: Option<[f64; 3]>,
 }
 
@@ -143,6 +146,9 @@ pub struct Executor {
     /// The axes' limits for cutting feed without look-ahead: the commanded feed at once
     /// (within two ticks), the machine's speeds.
     at_once: AxisLimits,
+    /// Where the programmed contour of the last queued program motion ends under cutter
+    /// compensation (table frame; `None`: at the tip where the motion ends).
+    queued_contour: Option<Vec3>,
 }
 
 impl Executor {
@@ -162,6 +168,7 @@ impl Executor {
             executed: 0,
             after,
             at_once,
+            queued_contour: None,
         }
     }
 
@@ -313,14 +320,39 @@ impl Executor {
             seg.after_interpolation = true;
         }
         (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
+        seg.contact = self.contact(m, &seg).map(Box::new);
         seg
+    }
+
+    /// Where a motion that a cutter compensation stage moved cuts (`motion::contact`): its
+    /// piece of the programmed contour goes from where the last queued motion's programmed
+    /// point ended to the tip where the block put the axes (`canon::Offset`), about the centre
+    /// of its circle if it moves on one.
+    fn contact(&self, m: &Motion, seg: &Segment) -> Option<Contact> {
+        let o = m.offset.as_deref()?;
+        let kin = self.machine.kinematics_of(seg.tip_basis.chain).map(|k| &**k);
+        let tip = |p: &Pos| Vec3::from(crate::tip::locate(kin, p, &seg.tip_basis).table);
+        let from = self.queued_contour.unwrap_or_else(|| tip(&self.queued.machine));
+        let circle = seg.turn().map(|t| match t.center {
+            TurnCenter::Tip(center) => (center, t.axis, t.sweep),
+            // A circle of the axes turns in machine directions: the table's as it stands.
+            TurnCenter::Axes(p) => (tip(&p), kin.map_or(t.axis, |k| k.table_frame(&p).r.transpose() * t.axis), t.sweep),
+        });
+        let contour = Contour::of(from, tip(&o.programmed_machine), circle);
+        Some(Contact::new(contour, o.radius, o.touch))
+    }
+
+    /// The queued end moved to motion `m`'s, whose segment is `seg`.
+    fn queued_to(&mut self, m: &Motion, seg: &Segment) {
+        (self.queued.machine, self.queued.work) = (m.machine, m.target);
+        self.queued_contour = seg.contact.as_ref().map(|c| c.contour_end());
     }
 
     /// The geometry of command `c`'s motion `m` as [`Executor::queue`] would queue it, without
     /// planning (a preview): the next one starts at its end.
     pub fn geometry(&mut self, c: &Canon, m: &Motion, ctx: FeedContext) -> Segment {
         let seg = self.segment_of(c, m, ctx, 0);
-        (self.queued.machine, self.queued.work) = (m.machine, m.target);
+        self.queued_to(m, &seg);
         seg
     }
 
@@ -341,7 +373,7 @@ impl Executor {
             Some(shift) => super::stroke_check_shifted(&seg, &self.machine, shift)?,
             None => super::stroke_check(&seg, &self.machine)?,
         }
-        (self.queued.machine, self.queued.work) = (m.machine, m.target);
+        self.queued_to(m, &seg);
         queued(&seg);
         self.planner.push(seg);
         Ok(())
@@ -370,6 +402,7 @@ impl Executor {
     /// The next motion starts where the machine stands (programmed position `work` in `basis`).
     pub fn queue_from_here(&mut self, work: Pos, basis: Basis) {
         self.queued = Endpoint { machine: self.here.machine, work, basis };
+        self.queued_contour = None;
     }
 
     /// Start the next run whose speeds are final, if nothing runs (`stop`: release everything
@@ -679,9 +712,10 @@ impl Executor {
     pub fn sample(&self, t: f64, machine: &Pos, basis: &Basis) -> Sample {
         let placed = crate::tip::locate(self.machine.kinematics_of(basis.chain).map(|k| &**k), machine, basis);
         let o = basis.origin;
+        let (tip, tool) = (Vec3::from(placed.table), Vec3::from(placed.tool));
         let cutting = self
             .on()
-            .and_then(|(seg, s, _)| seg.cutting_point(s, machine))
+            .and_then(|(seg, s, _)| seg.cutting_point(s, machine, tip, tool))
             .map(|p| [p.x - o[0], p.y - o[1], p.z - o[2]]);
         Sample {
             t,

@@ -5,6 +5,7 @@
 //! Everything is in seconds and machine units (mm, deg).
 
 pub mod after;
+pub mod contact;
 pub mod executor;
 mod optimal;
 pub mod path;

@@ -44,6 +44,25 @@ struct Circle {
     sweep: f64,
 }
 
+/// A circular segment's centre, the axis it turns about (unit, its sweep right-handed about
+/// it) and its sweep, radians (`Segment::turn`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Turn {
+    pub center: TurnCenter,
+    pub axis: Vec3,
+    pub sweep: f64,
+}
+
+/// Where a circle's centre and axis are given.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TurnCenter {
+    /// A tip path's circle: the table frame.
+    Tip(Vec3),
+    /// A circle of the axes: their position at the centre (the other axes where the segment
+    /// starts); the axis in the machine's X/Y/Z directions.
+    Axes(Pos),
+}
+
 /// One motion ready for planning.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segment {
@@ -77,21 +96,12 @@ pub struct Segment {
     pub tip_rate: f64,
     /// The motion must come to a stop at its end (G09, G61, rapids).
     pub stop_after: bool,
-    /// The feed override does not act (G63, tapping cycles).
-    fixed_feed: bool,
-    /// A move in machine coordinates (G53, reference returns): a manual intervention's shift
-    /// does not move it.
-    machine_coordinates: bool,
+    traits: Traits,
     /// The tool length offset in force (what a display needs to place the tip from the axes).
     pub tool_length: f64,
     /// How the trace reads the tool tip from the axes on this segment (`crate::tip`); the
     /// maker of the segment sets it (from the canonical command's).
     pub tip_basis: crate::tip::Basis,
-    /// The next segment is the rest of this motion (a piece of a split kinematic path).
-    continued: bool,
-    /// No feed of its own: it runs as fast as the axes allow (a kinematic rapid, a rotary-only
-    /// move fed by the axes), so each piece at its own speed.
-    unfed: bool,
     /// The override applied (`set_override`), for the pieces it is split into.
     factor: f64,
     /// Cutting feed planned without look-ahead (acceleration/deceleration before
@@ -99,6 +109,48 @@ pub struct Segment {
     /// and the axes' interpolated positions pass through the filter after interpolation
     /// (`motion::after`; `docs/motion.md`, "Without look-ahead").
     pub after_interpolation: bool,
+    /// Under cutter compensation: what places the point where the tool touches the contour
+    /// (`Segment::cutting_point`; the executor sets it, knowing the vector the motion starts
+    /// with). Boxed: most segments are not compensated.
+    pub contact: Option<Box<super::contact::Contact>>,
+}
+
+/// Four yes/no facts of a segment in one byte (the look-ahead holds hundreds of segments:
+/// issue 18).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Traits(u8);
+
+impl Traits {
+    /// The feed override does not act (G63, tapping cycles).
+    const FIXED_FEED: u8 = 1;
+    /// A move in machine coordinates (G53, reference returns): a manual intervention's shift
+    /// does not move it.
+    const MACHINE_COORDINATES: u8 = 2;
+    /// The next segment is the rest of this motion (a piece of a split kinematic path).
+    const CONTINUED: u8 = 4;
+    /// No feed of its own: it runs as fast as the axes allow (a kinematic rapid, a rotary-only
+    /// move fed by the axes), so each piece at its own speed.
+    const UNFED: u8 = 8;
+
+    fn of(m: &Motion, unfed: bool) -> Traits {
+        let mut t = Traits::default();
+        t.set(Traits::FIXED_FEED, m.context.fixed_feed);
+        t.set(Traits::MACHINE_COORDINATES, m.kind == MotionKind::MachineRapid);
+        t.set(Traits::UNFED, unfed);
+        t
+    }
+
+    fn has(self, which: u8) -> bool {
+        self.0 & which != 0
+    }
+
+    fn set(&mut self, which: u8, on: bool) {
+        if on {
+            self.0 |= which;
+        } else {
+            self.0 &= !which;
+        }
+    }
 }
 
 /// A segment's positions and its start tangent, each of every axis: kept for the first
@@ -1151,16 +1203,14 @@ impl Segment {
             bent: Bent::of(&start_dir, end_dir, start_curvature, end_curvature),
             tip_rate,
             stop_after: rapid || ctx.exact_stop,
-            fixed_feed: m.context.fixed_feed,
-            machine_coordinates: m.kind == MotionKind::MachineRapid,
+            traits: Traits::of(m, false),
             tool_length: m.context.tool_length,
             tip_basis: crate::tip::Basis::default(),
             programmed,
             axis_speed,
-            continued: false,
-            unfed: false,
             factor: 1.0,
             after_interpolation: false,
+            contact: None,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         if rapid && ctx.options.nonlinear_rapid {
@@ -1283,14 +1333,12 @@ impl Segment {
             bent: Bent::of(&found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
             tip_rate: if rotary_only { 0.0 } else { 1.0 },
             stop_after: rapid || ctx.exact_stop,
-            fixed_feed: m.context.fixed_feed,
-            machine_coordinates: m.kind == MotionKind::MachineRapid,
+            traits: Traits::of(m, as_fast_as_axes),
             tool_length: m.context.tool_length,
             tip_basis: crate::tip::Basis::default(),
-            continued: false,
-            unfed: as_fast_as_axes,
             factor: 1.0,
             after_interpolation: false,
+            contact: None,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
         seg
@@ -1361,15 +1409,13 @@ impl Segment {
             bent: Bent::of(&found.start_dir, found.end_dir, found.start_curvature, found.end_curvature),
             tip_rate: 0.0,
             stop_after: true,
-            fixed_feed: false,
-            machine_coordinates: false,
+            traits: Traits::default(),
             tool_length,
             // The caller places it in the workpiece system it runs in.
             tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
-            continued: false,
-            unfed: false,
             factor: 1.0,
             after_interpolation: false,
+            contact: None,
         };
         seg.set_override(1.0, 1.0);
         seg
@@ -1414,7 +1460,7 @@ impl Segment {
     pub fn shifted(&self, machine: &Pos, tip: Vec3) -> Segment {
         // The pieces were cut for the path before the shift: the shifted one runs whole.
         let mut seg = self.whole();
-        if self.machine_coordinates {
+        if self.traits.has(Traits::MACHINE_COORDINATES) {
             return seg;
         }
         let (mut from, mut to) = (self.from(), self.to());
@@ -1454,7 +1500,7 @@ impl Segment {
     /// allow, unless an override lowers it).
     pub(super) fn speed_cap(&self) -> f64 {
         let tolerance = self.follow.as_ref().map_or(f64::INFINITY, |f| f.speed_cap);
-        if self.unfed && self.factor >= 1.0 {
+        if self.traits.has(Traits::UNFED) && self.factor >= 1.0 {
             return tolerance;
         }
         (self.programmed * self.factor).min(tolerance)
@@ -1488,7 +1534,7 @@ impl Segment {
             // Its axes' profiles were planned with the override of the time.
             return;
         }
-        let k = match (self.rapid, self.fixed_feed) {
+        let k = match (self.rapid, self.traits.has(Traits::FIXED_FEED)) {
             (true, _) => rapid,
             (false, true) => 1.0,
             (false, false) => feed,
@@ -1547,7 +1593,7 @@ impl Segment {
     /// Whether the next segment is the rest of this motion (a piece of a split kinematic path,
     /// `split`).
     pub fn continued(&self) -> bool {
-        self.continued
+        self.traits.has(Traits::CONTINUED)
     }
 
     /// The segment as the planner queues it: a kinematic path whose limits change along the
@@ -1570,12 +1616,12 @@ impl Segment {
             }
             seg.axis_speed = piece.limits.v;
             seg.limits = piece.limits;
-            if seg.unfed {
+            if seg.traits.has(Traits::UNFED) {
                 seg.programmed = piece.limits.v;
             }
             seg.limits.v = seg.axis_speed.min(seg.programmed * seg.factor);
             seg.stop_after = last && self.stop_after;
-            seg.continued = !last;
+            seg.traits.set(Traits::CONTINUED, !last);
             (start, dir, curvature) = (end, piece.end_dir, piece.end_curvature);
             out.push(seg);
         }
@@ -1660,14 +1706,35 @@ impl Segment {
         Some((tip, f.tool_length))
     }
 
-    /// Under cutting point control, where the tool with the axes at `machine` touches the
-    /// surface (table frame) at distance `s` along the segment; `None` on other segments.
-    pub fn cutting_point(&self, s: f64, machine: &Pos) -> Option<crate::kin::Vec3> {
+    /// Where the tool with the axes at `machine` (its tip at `tip` pointing along `tool`, table
+    /// frame) touches the part at distance `s` along the segment: under cutter compensation the
+    /// contour (`motion::contact`), under cutting point control the surface (table frame);
+    /// `None` on other segments.
+    pub fn cutting_point(&self, s: f64, machine: &Pos, tip: Vec3, tool: Vec3) -> Option<Vec3> {
+        let u = if self.len > 0.0 { (s / self.len).clamp(0.0, 1.0) } else { 1.0 };
+        if let Some(c) = &self.contact {
+            return Some(c.point(tip, tool));
+        }
         let f = self.follow.as_ref()?;
         let c = f.cutting.as_ref()?;
-        let u = if self.len > 0.0 { (s / self.len).clamp(0.0, 1.0) } else { 1.0 };
         let pose = f.kin.forward(machine, f.tool_length);
         Some(c.along.contact(c.lo + (c.hi - c.lo) * u, pose.tip, pose.tool))
+    }
+
+    /// A circular segment's centre, axis and sweep.
+    pub fn turn(&self) -> Option<Turn> {
+        if let Some(c) = self.follow.as_ref().and_then(|f| f.circle.as_ref()) {
+            return Some(Turn { center: TurnCenter::Tip(c.center), axis: c.e1.cross(&c.e2), sweep: c.sweep });
+        }
+        let c = self.circle.as_ref()?;
+        let unit = |i: usize| (i < 3).then(|| Vec3::ith(i, 1.0));
+        // The circle is the programmed one; the machine's axes move by the same less the
+        // offsets between them.
+        let (from, work_from) = (self.from(), self.work_from());
+        let mut center = from;
+        center[c.a] = c.center.0 + from[c.a] - work_from[c.a];
+        center[c.b] = c.center.1 + from[c.b] - work_from[c.b];
+        Some(Turn { center: TurnCenter::Axes(center), axis: unit(c.a)?.cross(&unit(c.b)?), sweep: c.sweep })
     }
 
     /// What is left of the segment from distance `s` on (a feed hold resumes from there).

@@ -563,6 +563,7 @@ mod tests {
                     spindle: 0.0,
                     context: MotionContext::default(),
                     speed_cap: f32::INFINITY,
+                    offset: None,
                     no_look_ahead: false,
                 };
                 let seg = Segment::new(&m, &here, &here, axes, ctx, None);

@@ -13,7 +13,7 @@ pub(super) mod curve;
 
 use super::{Link, PerpendicularStart, Stage};
 use crate::alarm::AlarmId;
-use crate::canon::{Arc, Canon, CanonKind, CutterWord, Motion, MotionKind, Pos};
+use crate::canon::{Arc, Canon, CanonKind, CutterWord, Motion, MotionKind, Pos, Touch};
 use crate::interp::gcode::code;
 use crate::interp::Config;
 use crate::machine::MachineConfig;
@@ -211,6 +211,7 @@ impl Cutter {
     /// position moves by the same.
     fn placed(&self, mut c: Canon, to: P2) -> Canon {
         if let CanonKind::Motion(m) = &mut c.kind {
+            m.record_offset(Touch::Side { along: 0.0 });
             let (a, b) = self.plane;
             let d = sub(to, [m.target[a], m.target[b]]);
             m.target[a] = to[0];

@@ -19,7 +19,7 @@
 use super::tool_shift::ToolShift;
 use super::{Link, PerpendicularStart, Stage};
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, MotionKind, Pos};
+use crate::canon::{Canon, CanonKind, MotionKind, Pos, Touch};
 use crate::interp::gcode::code;
 use crate::interp::Config;
 use crate::kin::Vec3;
@@ -141,7 +141,7 @@ impl LeadingEdge {
     pub fn new(config: &Config) -> LeadingEdge {
         let m = &config.machine;
         LeadingEdge {
-            shift: ToolShift::new(m),
+            shift: ToolShift::new(m, Touch::LeadingEdge),
             link: config.stages.share(),
             on: false,
             programmed: Vec3::zeros(),

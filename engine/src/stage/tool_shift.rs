@@ -35,10 +35,13 @@ pub(super) struct ToolShift {
     /// the table frame, for a motion that does not carry it (the start block, an ordinary move
     /// whose end the interpreter gives in it).
     pub(super) table: Option<Rigid>,
+    /// Which point of the tool the stage puts on the contour (for the trace, `canon::Offset`).
+    touch: crate::canon::Touch,
 }
 
 impl ToolShift {
-    pub(super) fn new(m: &crate::machine::Machine) -> ToolShift {
+    /// `touch`: which point of the tool the stage puts on the contour.
+    pub(super) fn new(m: &crate::machine::Machine, touch: crate::canon::Touch) -> ToolShift {
         let c: &MachineConfig = m;
         ToolShift {
             xyz: [c.axis_index(b'X'), c.axis_index(b'Y'), c.axis_index(b'Z')],
@@ -47,6 +50,7 @@ impl ToolShift {
             vector: Vec3::zeros(),
             vector_table: Vec3::zeros(),
             table: None,
+            touch,
         }
     }
 
@@ -87,6 +91,7 @@ impl ToolShift {
     /// is; the tool is then there.
     pub(super) fn placed(&mut self, mut c: Canon, vector: Vec3) -> Canon {
         if let CanonKind::Motion(m) = &mut c.kind {
+            m.record_offset(self.touch);
             for (k, i) in self.xyz.iter().enumerate() {
                 if let Some(i) = *i {
                     m.target[i] += vector[k];

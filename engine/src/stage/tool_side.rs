@@ -19,7 +19,7 @@ use super::cutter::{avoidance_point, check_direction, corner, gouges, Held, GUAR
 use super::tool_shift::ToolShift;
 use super::{CompStart, Link, Stage};
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, CutterWord, Motion, MotionKind};
+use crate::canon::{Canon, CanonKind, CutterWord, Motion, MotionKind, Touch};
 use crate::interp::gcode::code;
 use crate::interp::Config;
 use crate::kin::Vec3;
@@ -238,7 +238,7 @@ impl ToolSide {
         let m = &config.machine;
         let sixteen_i = !m.five_axis.crc_variant.is_30i();
         ToolSide {
-            shift: ToolShift::new(m),
+            shift: ToolShift::new(m, Touch::Side { along: m.five_axis.cutting_point_distance }),
             cutting_point: m.five_axis.cutting_point_distance,
             tool_last: crate::kin::vec3(m.tool_axis).normalize(),
             link: config.stages.share(),

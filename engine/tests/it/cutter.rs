@@ -562,6 +562,51 @@ mod random {
             }
         }
 
+        /// The run's cutting point (`Sample::cutting`, from the sampled axes and the tool's
+        /// radius): wherever the tool runs on a contour block's offset (its tip at R from the
+        /// block, inside it), the tool touches the block there — on it within 1 µm, at R from
+        /// the tip; and it never shows inside the contour by more than the tool cuts past it.
+        #[test]
+        fn the_cutting_point_is_on_the_contour_where_the_tool_touches(
+            elements in prop::collection::vec(element(), 2..5),
+            left in any::<bool>(),
+        ) {
+            let side = if left { 41 } else { 42 };
+            let src = program(&elements, side);
+            prop_assume!(src.is_some());
+            let src = src.unwrap();
+            let blocks = programmed(&src);
+            let own = |line: u32| blocks.iter().find(|(l, _)| *l == line && *l >= 3 && (*l as usize) < 3 + elements.len());
+            let mut interp = interpreter(&src, "mill3", Fanuc);
+            let (mut touching, mut worst, mut without) = (0, 0.0f64, 0);
+            let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+                let Some((_, b)) = own(s.line) else { return };
+                let Some(cut) = s.cutting else {
+                    without += 1;
+                    return;
+                };
+                let (tip, cut) = ([s.tip[0], s.tip[1]], [cut[0], cut[1]]);
+                // Always the tool's side: at R from the tip, at its height.
+                worst = worst.max((len(sub(cut, tip)) - R).abs()).max((s.cutting.unwrap()[2] - s.tip[2]).abs());
+                let inside = match *b {
+                    Block::Line(a, e) => {
+                        let d = sub(e, a);
+                        let u = ((tip[0] - a[0]) * d[0] + (tip[1] - a[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+                        (0.01..=0.99).contains(&u)
+                    }
+                    Block::Arc { from, to, .. } => len(sub(tip, from)) > 0.5 && len(sub(tip, to)) > 0.5,
+                };
+                if inside && (distance(tip, b) - R).abs() < 1e-4 {
+                    touching += 1;
+                    worst = worst.max(distance(cut, b));
+                }
+            });
+            prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
+            prop_assert_eq!(without, 0, "samples of the contour's blocks without a cutting point\n{}", src);
+            prop_assert!(touching > 20 * elements.len(), "{} samples touching\n{}", touching, src);
+            prop_assert!(worst < 1e-3, "the cutting point {} mm off\n{}", worst, src);
+        }
+
         #[test]
         fn without_compensation_the_stages_hand_on_the_same_commands(elements in prop::collection::vec(element(), 2..6)) {
             let src = program(&elements, 40);

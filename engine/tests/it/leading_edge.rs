@@ -46,6 +46,28 @@ fn tv10_the_tool_trails_the_programmed_point_across_the_tool() {
     );
 }
 
+/// The run's cutting point (`Sample::cutting`) is the leading edge: the end's edge toward the
+/// block's move across the tool, R from the tip — at every sample of the blocks of the mode, so
+/// on the programmed point where the block starts (its tip at the programmed point + VC).
+#[test]
+fn tv10_the_cutting_point_is_the_leading_edge() {
+    let src = "G90 G00 X0 Y0 Z0 B30. C0\nG41.3 D1\nG01 X100. F1000.\nX200.\nG40\nM30\n";
+    let mut interp = interpreter(src, "head-bc", fivex_engine::Dialect::Fanuc);
+    let (mut seen, mut worst) = (0, 0.0f64);
+    let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+        if !(3..=4).contains(&s.line) {
+            return;
+        }
+        let cut = s.cutting.expect("a cutting point under G41.3");
+        let edge = Vec3::from(cut) - Vec3::from(s.tip);
+        worst = worst.max((edge - Vec3::new(S, 0.0, -C)).norm());
+        seen += 1;
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(seen > 100, "{seen} samples");
+    assert!(worst < 1e-9, "the cutting point {worst} mm off the leading edge");
+}
+
 #[test]
 fn tv10_a_vertical_tool_and_a_move_down_and_across() {
     // VT = Z, VM = (100, 0, −50): θ = 116.6°, VC = (−5, 0, 0): the part along the tool drops out.

@@ -610,6 +610,13 @@ mod random {
         }
     }
 
+    /// Where a flat end mill standing on `tip` along `t` touches a line whose point at the
+    /// radius seen along the tool is `on`: there, or where the line runs below the tip, on the
+    /// tool's bottom edge above it.
+    pub(super) fn touching(on: Vec3, tip: Vec3, t: Vec3) -> Vec3 {
+        on - t * t.dot(&(on - tip)).min(0.0)
+    }
+
     /// A star polygon lifted into the plane perpendicular to `t` (with the parts along it of
     /// `corners`) as a program: the machine turned to `angles` first, TCP, the contour under
     /// `side` (G41.2 or G42.2), the cancel, G49.
@@ -657,8 +664,8 @@ mod random {
             prop_assume!(first_alarm_with(&src, preset, workpiece).is_none());
             let mut interp = interpreter_with(&src, preset, Fanuc, workpiece);
             let n = points.len();
-            let mut checked = 0;
-            let mut worst = 0.0f64;
+            let (mut checked, mut cut_checked) = (0, 0);
+            let (mut worst, mut worst_cut) = (0.0f64, 0.0f64);
             let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
                 // Line 5 + k runs from corner k to corner k + 1 (the start-up block is line 4).
                 let k = s.line as usize;
@@ -682,10 +689,21 @@ mod random {
                 let want = if left { 5.0 } else { -5.0 };
                 worst = worst.max((sign * across.norm() - want).abs());
                 checked += 1;
+                // The cutting point (the trace's, in the table frame like `tip`) turned into
+                // machine directions about the tip: the line's point at the radius seen along the
+                // tool, or where it runs below the tip, the tool's bottom edge above it.
+                if let Some(cut) = s.cutting {
+                    let turn = kin.table_frame(&s.machine).r;
+                    let at = tip + turn * (Vec3::from(cut) - Vec3::from(s.tip));
+                    worst_cut = worst_cut.max((at - touching(p + (q - p) * u, tip, t)).norm());
+                    cut_checked += 1;
+                }
             });
             prop_assert!(r.completed(), "{:?}", r.alarms);
             prop_assert!(checked > 10 * n, "{} samples checked", checked);
             prop_assert!(worst < 1e-3, "a sample {} mm off the radius", worst);
+            prop_assert_eq!(cut_checked, checked, "samples without a cutting point");
+            prop_assert!(worst_cut < 1e-3, "a cutting point {} mm off the programmed line", worst_cut);
         }
     }
 }
@@ -1511,7 +1529,7 @@ mod table_system_random {
     use super::*;
     use proptest::prelude::*;
 
-    use super::random::contour;
+    use super::random::{contour, touching};
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: cases(24), max_global_rejects: 10_000, ..ProptestConfig::default() })]
@@ -1555,7 +1573,8 @@ mod table_system_random {
             let mut interp =
                 interpreter_with(&src, preset, Fanuc, tbp(fivex_engine::machine::TcpCoordinates::TableAtZero));
             let n = points.len();
-            let (mut checked, mut worst) = (0, 0.0f64);
+            let (mut checked, mut cut_checked) = (0, 0);
+            let (mut worst, mut worst_cut) = (0.0f64, 0.0f64);
             let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
                 // Line 4 + k runs from corner k to corner k + 1 (the start-up block is line 3).
                 let k = s.line as usize;
@@ -1575,10 +1594,19 @@ mod table_system_random {
                 let want = if left { 5.0 } else { -5.0 };
                 worst = worst.max((sign * across.norm() - want).abs());
                 checked += 1;
+                // The cutting point (the trace's, in the table frame like `tip`) moved with the
+                // tip onto the unturned tip: as in the test above.
+                if let Some(cut) = s.cutting {
+                    let at = point + (Vec3::from(cut) - Vec3::from(s.tip));
+                    worst_cut = worst_cut.max((at - touching(p + (q - p) * u, point, t)).norm());
+                    cut_checked += 1;
+                }
             });
             prop_assert!(r.completed(), "{:?}", r.alarms);
             prop_assert!(checked > 10 * n, "{} samples checked", checked);
             prop_assert!(worst < 1e-3, "a sample {} mm off the radius", worst);
+            prop_assert_eq!(cut_checked, checked, "samples without a cutting point");
+            prop_assert!(worst_cut < 1e-3, "a cutting point {} mm off the programmed line", worst_cut);
         }
     }
 }

@@ -65,9 +65,10 @@ pub struct PositionFrame {
     /// the part on its table, from the machine axes, the mechanism and the tool length in effect (for a
     /// machine without table axes, machine coordinates). The 3D view draws the trace with it.
     pub tip_table: [f64; 3],
-    /// Under cutting point control (G43.8/G43.9): where the tool touches the surface, in the
-    /// workpiece system as `tip` (its lowest point along the surface normal, from the machine
-    /// axes); absent otherwise.
+    /// Under cutting point control (G43.8/G43.9) or a cutter compensation (G41/G42,
+    /// G41.2…G42.6, G41.3): where the tool touches the surface or the programmed contour, in the
+    /// workpiece system as `tip`, on the tool placed by the machine axes (`docs/api.md`,
+    /// "Positions"); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cutting: Option<[f64; 3]>,
 }

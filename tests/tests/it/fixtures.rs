@@ -297,7 +297,7 @@ fn trace_snapshot(ran: &Ran, text: &str) -> String {
             s["programmed_in"].as_str().unwrap_or("?"),
             vec3(&s["programmed"]),
         );
-        // Under cutting point control: where the tool touches.
+        // Under cutting point control or cutter compensation: where the tool touches.
         if let Some(c) = s.get("cutting") {
             out.pop();
             let _ = writeln!(out, " | cutting {}", vec3(c));

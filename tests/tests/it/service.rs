@@ -229,6 +229,56 @@ fn a_program_runs_over_the_api_the_stream_shows_it_and_a_restart_keeps_everythin
     server.stop();
 }
 
+/// Under cutter compensation the stream's position frames carry `cutting`: the radius-5 tool
+/// outside a square (G42) touches each side where it runs along it, and the frames of a block
+/// without an offset value (before G42, the G40 block) have none.
+#[test]
+fn the_stream_shows_where_the_compensated_tool_touches_the_contour() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&dir.path().join("fivex.db"));
+    let created = server.send("POST", "/controllers", &json!({"name": "crc", "preset": "mill3", "speed": 4}));
+    let id = created["id"].as_str().unwrap().to_string();
+    server.send("PUT", &format!("/controllers/{id}/tool-offsets/1"), &json!({"radius": 5.0}));
+    let program = "G90 G00 X0 Y-10. Z0\nG42 D1 G01 Y0 F600\nX20.\nY20.\nX0\nY0\nG40 Y-10.\nM30\n";
+    server.put_text(&format!("/controllers/{id}/programs/1"), program);
+    let mut ws = server.stream(&id);
+    next_json(&mut ws).expect("snapshot");
+    server.send("POST", &format!("/controllers/{id}/cycle-start"), &json!({"program": 1}));
+    let mut positions = Vec::new();
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < deadline {
+        let Some(m) = next_json(&mut ws) else { break };
+        match m["type"].as_str().unwrap() {
+            "position" => positions.push(m),
+            "state" if m["run_state"] == "idle" => break,
+            _ => {}
+        }
+    }
+    let xyz = |v: &Value| [0, 1, 2].map(|k| v[k].as_f64().unwrap());
+    let (mut on_side, mut worst) = (0, 0.0f64);
+    for p in &positions {
+        let line = p["line"].as_u64().unwrap();
+        let cutting = p.get("cutting");
+        if line == 1 || line == 7 {
+            assert!(cutting.is_none(), "no cutting point without an offset value: {p}");
+            continue;
+        }
+        // Along the sides X20 (line 3: y = 0) and Y20 (line 4: x = 20), inside their ends.
+        let (tip, cut) = (xyz(&p["tip"]), cutting.map(xyz));
+        let want = match line {
+            3 if (1.0..19.0).contains(&tip[0]) => [tip[0], 0.0, 0.0],
+            4 if (1.0..19.0).contains(&tip[1]) => [20.0, tip[1], 0.0],
+            _ => continue,
+        };
+        let cut = cut.unwrap_or_else(|| panic!("a frame on a side without a cutting point: {p}"));
+        worst = (0..3).map(|k| (cut[k] - want[k]).abs()).fold(worst, f64::max);
+        on_side += 1;
+    }
+    assert!(on_side > 10, "{on_side} frames along the sides of {}", positions.len());
+    assert!(worst < 1e-6, "the cutting point {worst} mm off the square's side");
+    server.stop();
+}
+
 #[test]
 fn what_was_acknowledged_survives_kill_9() {
     let dir = tempfile::tempdir().unwrap();

@@ -2004,9 +2004,10 @@ export interface components {
         /** @description `{"type": "position", …}`: where the machine is. */
         PositionFrame: {
             /**
-             * @description Under cutting point control (G43.8/G43.9): where the tool touches the surface, in the
-             *     workpiece system as `tip` (its lowest point along the surface normal, from the machine
-             *     axes); absent otherwise.
+             * @description Under cutting point control (G43.8/G43.9) or a cutter compensation (G41/G42,
+             *     G41.2…G42.6, G41.3): where the tool touches the surface or the programmed contour, in the
+             *     workpiece system as `tip`, on the tool placed by the machine axes (`docs/api.md`,
+             *     "Positions"); absent otherwise.
              */
             cutting?: number[] | null;
             /**

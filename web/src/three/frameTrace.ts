@@ -1,6 +1,6 @@
 // What one position frame of the stream adds to the 3D view's traces: the tip (`tip_table`) to
-// the tip trace, and under cutting point control (G43.8/G43.9) the cutting point to the cutting
-// trace. The frame's `cutting` is in the active workpiece system, as `tip`; that system differs
+// the tip trace, and under cutting point control (G43.8/G43.9) or a cutter compensation the
+// cutting point to the cutting trace. The frame's `cutting` is in the active workpiece system, as `tip`; that system differs
 // from the table frame by a translation only, so in the table frame the cutting point is
 // `cutting + (tip_table − tip)`.
 import type { Frame } from "../api/client";
@@ -11,7 +11,7 @@ export type FrameTraceTarget = Pick<View3DHandle, "addTrace" | "addCuttingTrace"
 
 type Vec3 = [number, number, number];
 
-/** The frame's cutting point in the table frame; null when it has none (not under cutting point control, or not moving). */
+/** The frame's cutting point in the table frame; null when it has none (under neither cutting point control nor a cutter compensation, or not moving). */
 export function cuttingInTable(f: Pick<Frame, "tip" | "tip_table" | "cutting">): Vec3 | null {
   const c = f.cutting;
   if (!c || c.length < 3) return null;

@@ -1,7 +1,8 @@
 // The live 3D machine view.
 //
 // `MachineScene` is everything but the renderer: the machine rig (rig.ts), lights, the
-// programmed path, the executed tip trace and, under cutting point control, the cutting point's
+// programmed path, the executed tip trace and, under cutting point control or a cutter
+// compensation, the cutting point's
 // trace and marker (children of the innermost table group, so they ride with the part). It
 // needs no DOM or WebGL, so tests build and check it in node.
 // `MachineView` puts a `MachineScene` in a container: a WebGL renderer (injectable), a
@@ -24,8 +25,8 @@ export const TIP_TRACE_COLOR = 0xffd000;
  * The cutting point's trace and marker (magenta): under cutting point control the programmed
  * path (cyan) is the cutting point's path, so the trace is drawn in cyan's complement, apart from
  * the tip trace (yellow), the tip marker (red) and the axis lines and triad (red, green, blue).
- * The dashed pink programmed path appears only under cutter compensation, which cutting point
- * control refuses.
+ * The dashed pink programmed path appears only under cutter compensation; there the cutting
+ * point runs on it wherever the tool touches the contour (solid over dashed).
  */
 export const CUTTING_TRACE_COLOR = 0xff30ff;
 
@@ -34,8 +35,8 @@ export class MachineScene {
   readonly rig: MachineRig;
   readonly trace: TraceLine;
   /**
-   * Where the tool touches the part under cutting point control (G43.8/G43.9), table frame: a
-   * stretch per run of position frames that carry `cutting`.
+   * Where the tool touches the part under cutting point control (G43.8/G43.9) or a cutter
+   * compensation, table frame: a stretch per run of position frames that carry `cutting`.
    */
   readonly cutting: TraceStretches;
   /** A dot at the latest cutting point; hidden while the latest frame has none. */
@@ -137,7 +138,7 @@ export class MachineScene {
   }
 
   /**
-   * One cutting point (cutting point control G43.8/G43.9), table frame: extends the cutting trace's
+   * One cutting point (cutting point control G43.8/G43.9, a cutter compensation), table frame: extends the cutting trace's
    * open stretch and puts the marker there.
    */
   addCutting(x: number, y: number, z: number): void {
@@ -333,7 +334,7 @@ export class MachineView {
     this.machineScene.addTracePoints(xyz);
   }
 
-  /** One cutting point (under cutting point control) in the TABLE frame: the cutting trace and its marker. */
+  /** One cutting point (under cutting point control or a cutter compensation) in the TABLE frame: the cutting trace and its marker. */
   addCutting(x: number, y: number, z: number): void {
     this.machineScene.addCutting(x, y, z);
   }
