@@ -24,14 +24,18 @@ use crate::machine::{Machine, MachineConfig, MAX_AXES};
 /// Segments of look-ahead (the issue asks for at least 200).
 pub const LOOKAHEAD: usize = 256;
 
+/// The time over which a junction's sudden changes are allowed (the interpolation period).
+pub const JUNCTION_S: f64 = 0.001;
+
 /// What each axis may change at once at a junction (the role of FANUC No.1783, allowable speed
-/// difference for corner deceleration): its speed by what its acceleration gives in 1 ms, and
-/// its acceleration (a line meeting an arc, arcs of other radii) by what its jerk gives in 1 ms.
+/// difference for corner deceleration): its speed by what its acceleration gives in
+/// [`JUNCTION_S`], and its acceleration (a line meeting an arc, arcs of other radii) by what its
+/// jerk gives in it.
 pub fn junction_steps(m: &MachineConfig) -> (Pos, Pos) {
     let (mut speed, mut accel) = ([0.0; MAX_AXES], [0.0; MAX_AXES]);
     for ((v, a), axis) in speed.iter_mut().zip(accel.iter_mut()).zip(&m.axes) {
-        *v = axis.max_accel() * 0.001;
-        *a = axis.max_jerk() * 0.001;
+        *v = axis.max_accel() * JUNCTION_S;
+        *a = axis.max_jerk() * JUNCTION_S;
     }
     (speed, accel)
 }

@@ -131,12 +131,16 @@ impl Traits {
     /// No feed of its own: it runs as fast as the axes allow (a kinematic rapid, a rotary-only
     /// move fed by the axes), so each piece at its own speed.
     const UNFED: u8 = 8;
+    /// A chord of a curve whose bending caps its speed (`Motion::speed_cap`: NURBS, nano
+    /// smoothing): its corners with the next chord are the curve's, which the cap has seen.
+    const CHORD: u8 = 16;
 
     fn of(m: &Motion, unfed: bool) -> Traits {
         let mut t = Traits::default();
         t.set(Traits::FIXED_FEED, m.context.fixed_feed);
         t.set(Traits::MACHINE_COORDINATES, m.kind == MotionKind::MachineRapid);
         t.set(Traits::UNFED, unfed);
+        t.set(Traits::CHORD, m.speed_cap.is_finite());
         t
     }
 
@@ -1592,6 +1596,11 @@ impl Segment {
 
     /// Whether the next segment is the rest of this motion (a piece of a split kinematic path,
     /// `split`).
+    /// A chord of a curve whose bending caps its speed (NURBS, nano smoothing).
+    pub fn is_chord(&self) -> bool {
+        self.traits.has(Traits::CHORD)
+    }
+
     pub fn continued(&self) -> bool {
         self.traits.has(Traits::CONTINUED)
     }

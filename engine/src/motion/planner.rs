@@ -518,10 +518,24 @@ fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) ->
     }
     let mut v = f64::INFINITY;
     let (start_dir, end_dir) = (b.start_dir(), a.end_dir());
+    // A polygon of short blocks: corners that turn an axis by `turn` every `shorter` of path
+    // turn it as a circle of radius r = shorter/turn does, and junctions closer than the
+    // period add their speed steps up. So the axis's acceleration toward that circle's centre,
+    // v²/r, stays within its limit, and the jerk of that acceleration turning, v³/r², within
+    // half of its limit (the other half for speed changes along the blocks) — FANUC's AI
+    // contour control likewise slows down by the acceleration across small blocks. A curve's
+    // chords are capped by the curve's own bending instead (`Segment::is_chord`).
+    let polygon = !(a.is_chord() && b.is_chord());
+    let shorter = a.len.min(b.len);
     for i in 0..speed_step.len() {
         let turn = (start_dir[i] - end_dir[i]).abs();
         if turn > 1e-12 {
             v = v.min(speed_step[i] / turn);
+            if polygon {
+                let (accel, jerk) = (speed_step[i] / super::JUNCTION_S, accel_step[i] / super::JUNCTION_S);
+                let r = shorter / turn;
+                v = v.min((accel * r).sqrt()).min((0.5 * jerk * r * r).cbrt());
+            }
         }
         let bend = (b.start_curvature()[i] - a.end_curvature()[i]).abs();
         if bend > 1e-12 {

@@ -149,9 +149,7 @@ fn the_curve_is_fed_within_the_axes_limits() {
     // A wave sampled every 0.1 mm, exact (rounded to 0.1 µm) and with ±3 µm of noise, at
     // F15000 on mill3: the curve's spans are capped by each axis's acceleration against the
     // curve's bending (`smoothing::Span::speed_cap`), so the samples keep every axis's speed,
-    // acceleration and jerk, corners between chords included, in 10 ms differences. (The
-    // polygon of the exact points runs 0.262 s against the curve's 0.340 s, with Z's jerk
-    // 1.7 times its limit in those differences: `docs/motion.md`.)
+    // acceleration and jerk, corners between chords included, in 10 ms differences.
     for noise in [0.0, 0.003] {
         let points = wave(0.1, noise, 11);
         let (s, smooth) = run_on(&program(&points, 15000.0, true, ""), "mill3", |_| {});
@@ -385,4 +383,45 @@ fn syntec_stcp_by_pr3051_and_its_end() {
     let ends = count(&after, false);
     let n = ends.len();
     assert_eq!(ends[n - 2].1[..3], [1.0, 1.0, 1.0]);
+}
+
+#[test]
+fn a_polygon_of_short_blocks_is_fed_within_the_axes_limits() {
+    // The same wave unsmoothed, in blocks of 0.2, 0.1 and 0.025 mm, exact and with noise: the
+    // planner's corners of short blocks run as the circle they make (`docs/motion.md`,
+    // "Polygons of short blocks"), so every axis keeps its speed, acceleration and jerk in 10 ms
+    // differences, corners included. (Before, 0.1 mm blocks ran in 0.262 s with Z's jerk 1.7
+    // times its limit, and 0.025 mm blocks with X's 1.04 times.)
+    let mill3 = MachineConfig::preset("mill3").unwrap();
+    for noise in [0.0, 0.003] {
+        for step in [0.2, 0.1, 0.025] {
+            let points = wave(step, noise, 11);
+            let (r, polygon) = run_on(&program(&points, 15000.0, false, ""), "mill3", |_| {});
+            assert!(r.completed(), "{:?}", r.alarms);
+            let every: Vec<Sample> = polygon.iter().step_by(10).copied().collect();
+            common::check_limits_every(&every, &mill3, true, 0.01)
+                .unwrap_or_else(|e| panic!("step {step}, noise {noise}: {e}"));
+        }
+    }
+}
+
+#[test]
+fn smoothing_shortens_the_cycle_time_of_short_blocks() {
+    // Both runs within the axes' limits (the tests above), the smoothed one quicker: its curve
+    // turns as the points do without the polygon's corners (`docs/performance.md`, "Nano
+    // smoothing", has the times).
+    for noise in [0.0, 0.003] {
+        for step in [0.5, 0.2, 0.1, 0.05] {
+            let points = wave(step, noise, 11);
+            let (polygon, _) = run_on(&program(&points, 15000.0, false, ""), "mill3", |_| {});
+            let (smoothed, _) = run_on(&program(&points, 15000.0, true, ""), "mill3", |_| {});
+            assert!(polygon.completed() && smoothed.completed());
+            assert!(
+                smoothed.cycle_time_s < polygon.cycle_time_s,
+                "step {step}, noise {noise}: smoothed {} s, polygon {} s",
+                smoothed.cycle_time_s,
+                polygon.cycle_time_s
+            );
+        }
+    }
 }
