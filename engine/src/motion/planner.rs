@@ -321,7 +321,16 @@ impl Planner {
             // lose to the second where its joins are conservative: `motion::optimal`).
             let mut parts = self.runs(taken..r.end, false);
             pass(&mut parts, self.v_now, r.v_end);
-            let analytic = chain_duration(&parts, self.v_now);
+            // Each part's speed change starts and ends at zero acceleration, so a chain of short
+            // parts brakes less in the same length than the run as one S-curve, which the
+            // backward pass counted on: where the parts cannot slow down from the speed the run
+            // starts at, the run goes as one profile within the lowest limits of its segments.
+            let whole = !feasible(&parts, self.v_now);
+            let analytic = if whole {
+                Profile::plan(self.v_now, r.v_end, r.len, &r.limits).duration()
+            } else {
+                chain_duration(&parts, self.v_now)
+            };
             // A run of many segments (a long chain of short blocks, the look-ahead's queue)
             // keeps the analytic plan: planning it tick by tick costs more than it saves.
             let optimal = match &self.axes {
@@ -332,7 +341,8 @@ impl Planner {
                 Some(profile) => {
                     self.release(r, taken, Some(Box::new(profile)));
                 }
-                _ => {
+                None if whole => self.release(r, taken, None),
+                None => {
                     let mut from = taken;
                     for part in &parts {
                         self.release(part, from, None);
@@ -437,6 +447,17 @@ fn pass(runs: &mut [Run], v_start: f64, v_end: f64) {
         r.v_end = r.v_end.min(reachable(v, r.len, r.limits.v, &r.limits));
         v = r.v_end;
     }
+}
+
+/// Whether each of `runs` can go from the speed the one before ends at (the first from
+/// `v_start`) to its own end speed within its length.
+fn feasible(runs: &[Run], v_start: f64) -> bool {
+    let mut v = v_start;
+    runs.iter().all(|r| {
+        let fits = super::profile::change(v, r.v_end, &r.limits).1 <= r.len * (1.0 + 1e-9) + 1e-12;
+        v = r.v_end;
+        fits
+    })
 }
 
 /// The time `runs` take from speed `v_start`, each on its own profile.

@@ -130,6 +130,14 @@ impl Profile {
         if len <= 0.0 {
             return p;
         }
+        // The planner's passes keep every speed change within its length; one that is not
+        // would run past the segment, where the axes stand while the speed goes on (a 0/0 of
+        // unlimited acceleration, a non-linear rapid's time parameter, is not a change).
+        debug_assert!(
+            !(change(vs, ve, lim).1 > len * (1.0 + 1e-6) + 1e-9) || vs > lim.v.max(ve),
+            "a speed change from {vs} to {ve} needs {} in a length of {len} ({lim:?})",
+            change(vs, ve, lim).1
+        );
         let mut state = PathState { s: 0.0, v: vs, a: 0.0 };
         // Entering faster than the segment allows (the override was just lowered): slow down
         // first, as far as the segment lets.

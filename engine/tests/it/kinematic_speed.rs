@@ -350,3 +350,36 @@ fn kinematic_samples_survey() {
     assert!(blocks >= SURVEY_TCP / 2, "only {blocks} of the survey's blocks completed");
     assert!(short <= SURVEY_SHORT, "{:.1} % of the samples below the feed are short of the rule", 100.0 * short);
 }
+
+/// A wave under G43.4 on head-bc in short blocks (the tip along z = 2·sin(x/5), B and C turning
+/// with it), as CAM output is: the axes never stand still while the tip is fed, and keep their
+/// limits in 10 ms differences. Before, a run of short blocks that the planner cut into parts
+/// (each part's speed change starts and ends at zero acceleration) could not brake from the
+/// speed the run was entered at: the part's profile ran past its length, and the axes stood
+/// for up to 32 ms at its end while the reported feed went on, then jumped (X's jerk 4–13 times
+/// its limit in 10 ms differences).
+#[test]
+fn short_tcp_blocks_never_stand_still_while_fed() {
+    let head_bc = MachineConfig::preset("head-bc").unwrap();
+    for step in [0.1, 0.05, 0.025] {
+        let n = (30.0 / step) as usize;
+        let angles = |i: usize| {
+            let u = i as f64 / n as f64;
+            [10.0 + 10.0 * (3.0 * u).sin().abs(), 60.0 * u]
+        };
+        let mut src = String::from("G90 G00 X0 Y0 Z0 B10. C0\nG43.4 H1 G01 F6000\n");
+        for i in 1..=n {
+            let x = i as f64 * step;
+            let [b, c] = angles(i);
+            src += &format!("X{x:.7} Y{:.7} Z{:.7} B{b:.7} C{c:.7}\n", 0.3 * x, 2.0 * (x / 5.0).sin());
+        }
+        src += "G49\nM30\n";
+        let (r, samples) = run_on(&head_bc, &src);
+        assert!(r.completed(), "{:?}", r.alarms);
+        let stalls =
+            samples.windows(2).filter(|w| w[1].line > 2 && w[1].feed > 1.0 && w[0].machine == w[1].machine).count();
+        assert_eq!(stalls, 0, "step {step}: samples where the axes stand while the feed is not 0");
+        let every: Vec<Sample> = samples.iter().step_by(10).copied().collect();
+        common::check_limits_every(&every, &head_bc, true, 0.01).unwrap_or_else(|e| panic!("step {step}: {e}"));
+    }
+}
