@@ -134,7 +134,7 @@ impl Profile {
         // would run past the segment, where the axes stand while the speed goes on (a 0/0 of
         // unlimited acceleration, a non-linear rapid's time parameter, is not a change).
         debug_assert!(
-            !(change(vs, ve, lim).1 > len * (1.0 + 1e-6) + 1e-9) || vs > lim.v.max(ve),
+            change(vs, ve, lim).1.is_nan() || change(vs, ve, lim).1 <= len * (1.0 + 1e-6) + 1e-9 || vs > lim.v.max(ve),
             "a speed change from {vs} to {ve} needs {} in a length of {len} ({lim:?})",
             change(vs, ve, lim).1
         );
