@@ -6,8 +6,8 @@
 // It saves screenshots in web/test-results/ and prints the page's responsiveness figures
 // (measured, never asserted: no timing assertions in tests).
 import { chromium } from "playwright-core";
-import { spawn } from "node:child_process";
-import { mkdtempSync, mkdirSync, rmSync } from "node:fs";
+import { execFileSync, spawn } from "node:child_process";
+import { mkdtempSync, mkdirSync, readFileSync, rmSync } from "node:fs";
 import { createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { dirname, join, resolve } from "node:path";
@@ -433,6 +433,71 @@ test("under cutting point control (G43.8) the 3D view draws the cutting point's 
   // clear trace clears both traces.
   await page.click(".view3d button[title^='Clear the tool-tip trace']");
   assert.deepEqual(await traced(), { tip: 0, cutting: 0, stretches: 0, marker: false });
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
+test("after G10 L5000 P2 the 3D view turns the exchanged head's axes (set 2 of head-exchange-bc-ac), and set 1's after P1", async () => {
+  const file = join(here, "../../machines/head-exchange-bc-ac.json");
+  const made = await http("POST", "/api/v1/controllers", { name: "head exchange", dialect: "syntec", machine: JSON.parse(readFileSync(file, "utf8")) });
+  assert.equal(made.status, 201, JSON.stringify(made.body));
+  const cid = made.body.id;
+  await page.goto(`${base}/#/c/${cid}/mdi`);
+  await page.locator(".view3d canvas").waitFor();
+  // What the page draws: the chain, its joints, the axes and tool length it was given, the tool
+  // tip marker's world position and the drawn tool's direction (tip → holder).
+  const drawn = () =>
+    page.evaluate(() => {
+      const s = window.__fivexView?.view.machineScene;
+      if (!s) return null;
+      const tool = s.rig.root.getObjectByName("tool");
+      const holder = tool.localToWorld(tool.position.clone().set(0, 0, 0));
+      const end = tool.localToWorld(tool.position.clone().set(0, 1, 0));
+      const dir = holder.sub(end).normalize();
+      const tip = s.rig.tip.getWorldPosition(tool.position.clone());
+      return { chain: s.chain, joints: [...s.rig.joints.keys()].sort(), axes: s.getAxes(), L: s.getToolLength(), tip: tip.toArray(), tool: dir.toArray(), trace: s.trace.length, traceOnTable: s.trace.object.parent === s.rig.tableFrame };
+    });
+  // The engine's forward kinematics of the drawn axes in a chain (`fivex kin fk --chain`).
+  const fk = (d, chain) => {
+    const axes = Object.entries(d.axes).map(([k, v]) => `${k}=${v}`).join(",");
+    return JSON.parse(execFileSync(bin, ["kin", "fk", "--machine", file, "--chain", chain, "--axes", axes, "--tool-length", String(d.L)], { encoding: "utf8" }));
+  };
+  const near = (a, b, tol) => a.every((x, i) => Math.abs(x - b[i]) <= tol);
+  const mdi = async (text) => {
+    await page.fill("textarea[name=mdi]", text);
+    await page.click(".mdi button[type=submit]");
+  };
+  const before = await poll("the 3D view", drawn);
+  assert.deepEqual(before.chain, { set: 1, sub: 1 });
+  assert.deepEqual(before.joints, ["B", "C"]);
+
+  await mdi("G10 L5000 P2\nG90 G00 X40. Y-30. A30. B-20. C40.");
+  const set2 = await poll("set 2 drawn at A30 C40", async () => {
+    const d = await drawn();
+    return d?.chain.set === 2 && d.axes.A === 30 && d.axes.C === 40 && d.axes.X === 40 ? d : null;
+  });
+  assert.deepEqual(set2.joints, ["A", "C"]);
+  const want2 = fk(set2, "2");
+  assert.ok(near(set2.tool, want2.tool_machine, 1e-6), `drawn tool ${set2.tool}, set 2's ${want2.tool_machine}`);
+  assert.ok(near(set2.tip, want2.tip_machine, 1e-6), `drawn tip ${set2.tip}, set 2's ${want2.tip_machine}`);
+  // Set 1 (B about Y) would point the tool elsewhere: the check tells the heads apart.
+  const other = fk(set2, "1");
+  assert.ok(!near(set2.tool, other.tool_machine, 0.1), `set 1's tool ${other.tool_machine} is as drawn`);
+  // The tip trace followed the move and stays on the table frame of the rebuilt rig.
+  assert.ok(set2.trace > 0 && set2.traceOnTable, JSON.stringify(set2));
+  await page.locator(".view3d").screenshot({ path: join(shots, "chain-set2.png") });
+
+  await mdi("G10 L5000 P1");
+  const set1 = await poll("set 1 drawn again", async () => {
+    const d = await drawn();
+    return d?.chain.set === 1 ? d : null;
+  });
+  assert.deepEqual(set1.joints, ["B", "C"]);
+  const want1 = fk(set1, "1");
+  assert.ok(near(set1.tool, want1.tool_machine, 1e-6), `drawn tool ${set1.tool}, set 1's ${want1.tool_machine}`);
+  assert.ok(near(set1.tip, want1.tip_machine, 1e-6), `drawn tip ${set1.tip}, set 1's ${want1.tip_machine}`);
+  // The trace is kept through the rebuild (the other head's tip is elsewhere: at most one point more).
+  assert.ok(set1.trace >= set2.trace && set1.trace <= set2.trace + 1 && set1.traceOnTable, JSON.stringify(set1));
   await page.goto(base + "/");
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });

@@ -10,7 +10,7 @@ use utoipa::ToSchema;
 
 use fivex_engine::canon::Pos;
 use fivex_engine::controller::{Mode, RunState};
-use fivex_engine::machine::{Machine, MachineConfig};
+use fivex_engine::machine::{Chain, Machine, MachineConfig};
 use fivex_engine::motion::Sample;
 use fivex_engine::Alarm;
 
@@ -71,6 +71,10 @@ pub struct PositionFrame {
     /// "Positions"); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cutting: Option<[f64; 3]>,
+    /// The mechanism chain the machine executes in (Syntec `G10 L5000 P_ Q_`), as the status's
+    /// `chain`: carried by every frame so the 3D view turns the head this frame's axes belong to
+    /// (a switch takes effect between motions, so no frame mixes two chains).
+    pub chain: Chain,
 }
 
 /// What a worker reads every tick for a watched controller: plain numbers, no allocation. It is
@@ -85,6 +89,7 @@ pub struct Reading {
     to_go: Pos,
     spindle: f64,
     tool_length: f64,
+    chain: Chain,
 }
 
 impl Reading {
@@ -98,6 +103,7 @@ impl Reading {
             to_go: c.to_go(),
             spindle: c.spindle(),
             tool_length: c.tool_length(),
+            chain: c.chain(),
         }
     }
 
@@ -120,6 +126,7 @@ impl Reading {
             && same(&[a.feed, self.spindle, self.tool_length], &[b.feed, other.spindle, other.tool_length])
             && same(&self.to_go, &other.to_go)
             && same(&a.tip_table, &b.tip_table)
+            && self.chain == other.chain
             && same(a.cutting.as_ref().map_or(&[], |c| &c[..]), b.cutting.as_ref().map_or(&[], |c| &c[..]))
     }
 
@@ -143,6 +150,7 @@ impl Reading {
             tool_length: self.tool_length,
             tip_table: s.tip_table,
             cutting: s.cutting,
+            chain: self.chain,
         }
     }
 }

@@ -2004,6 +2004,12 @@ export interface components {
         /** @description `{"type": "position", …}`: where the machine is. */
         PositionFrame: {
             /**
+             * @description The mechanism chain the machine executes in (Syntec `G10 L5000 P_ Q_`), as the status's
+             *     `chain`: carried by every frame so the 3D view turns the head this frame's axes belong to
+             *     (a switch takes effect between motions, so no frame mixes two chains).
+             */
+            chain: components["schemas"]["Chain"];
+            /**
              * @description Under cutting point control (G43.8/G43.9) or a cutter compensation (G41/G42,
              *     G41.2…G42.6, G41.3): where the tool touches the surface or the programmed contour, in the
              *     workpiece system as `tip`, on the tool placed by the machine axes (`docs/api.md`,

@@ -1,4 +1,5 @@
-// The live 3D machine of a controller: the kinematic chain moved by the streamed axis values,
+// The live 3D machine of a controller: the kinematic chain moved by the streamed axis values
+// (the mechanism chain each frame names: after Syntec's G10 L5000 P2 the view turns set 2's head),
 // the programmed path of the selected program, the executed tool tip trace and, under cutting
 // point control (G43.8/G43.9), the trace of the cutting point (where the tool touches the part).
 import { useEffect, useRef } from "preact/hooks";
@@ -31,6 +32,7 @@ export function Machine3D({
     <div class="view3d">
       <View3D
         machine={machine}
+        chain={frame?.chain}
         axes={frame?.machine}
         toolLength={frame?.tool_length ?? 0}
         path={path?.xyz}

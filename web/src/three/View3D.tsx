@@ -6,8 +6,9 @@
 //   trace?.addCuttingTrace(c[0], c[1], c[2]);      // under G43.8/G43.9: the cutting point, table frame
 //   trace?.endCuttingTrace();                      // a frame without one
 //
-// `machine` (re)builds the view when its content changes; `axes`, `toolLength` and `path` are
-// applied as they change. Trace points are pushed through the handle given to `onReady`
+// `machine` (re)builds the view when its content changes; `chain`, `axes`, `toolLength` and
+// `path` are applied as they change (a new chain rebuilds the rig alone: the traces, the path and
+// the camera stay). Trace points are pushed through the handle given to `onReady`
 // (pushing them through props would re-render per point).
 
 import { useEffect, useRef, useState } from "preact/hooks";
@@ -15,6 +16,7 @@ import type { CSSProperties } from "preact";
 import { MachineView } from "./scene";
 import type { MachineViewOptions, ViewPreset } from "./scene";
 import type { MachineModel, MachineModelInput } from "./model";
+import type { Chain } from "./chain";
 
 export interface View3DHandle {
   /** One executed tool-tip position, table frame. */
@@ -40,6 +42,11 @@ export interface View3DHandle {
 
 export interface View3DProps {
   machine: MachineModel | MachineModelInput;
+  /**
+   * The mechanism chain the machine executes in (the position stream's `chain`, Syntec
+   * `G10 L5000 P_ Q_`); absent: set 1 as described.
+   */
+  chain?: Chain;
   /** Machine axis values by address (as the position stream's `machine`). */
   axes?: Record<string, number>;
   /** Active tool length, mm (0: the nose). */
@@ -121,6 +128,7 @@ export function View3D(props: View3DProps) {
       return;
     }
     view.current = v;
+    if (p.chain) v.setChain(p.chain);
     if (p.axes) v.setAxes(p.axes);
     if (p.toolLength !== undefined) v.setToolLength(p.toolLength);
     if (p.path) v.setPath(p.path, p.pathRapid);
@@ -144,6 +152,11 @@ export function View3D(props: View3DProps) {
       v.dispose();
     };
   }, [machineKey]);
+
+  // Before the axes: a frame's axes belong to its chain.
+  useEffect(() => {
+    if (props.chain) view.current?.setChain(props.chain);
+  }, [props.chain?.set, props.chain?.sub]);
 
   useEffect(() => {
     if (props.axes) view.current?.setAxes(props.axes);

@@ -3,7 +3,8 @@
 //
 // `MachineModelInput` is the file as written (optional fields may be missing);
 // `MachineModel` is the same with every default applied (`normalizeModel`). The 3D view and the
-// kinematics only read the mechanism (axes, rotary, tool_axis, nose, holder); the option blocks
+// kinematics only read the mechanism (axes, rotary, tool_axis, nose, holder, and the further
+// chains that `chain.ts` turns into a machine of their own); the option blocks
 // (`motion`, `five_axis`, `manual`) are carried through untouched for callers that want them.
 
 import type { components } from "../api/schema";
@@ -18,6 +19,8 @@ export type RotaryLinkInput = components["schemas"]["RotaryLink"];
 export type AxisKind = components["schemas"]["AxisKind"];
 export type Side = components["schemas"]["Side"];
 export type Hand = components["schemas"]["Hand"];
+type ChainSetInput = components["schemas"]["ChainSet"];
+type SubChainInput = components["schemas"]["SubChain"];
 
 export interface Axis {
   name: string;
@@ -42,6 +45,24 @@ export interface RotaryLink {
   range: [number, number] | null;
 }
 
+/** A head attachment of a spindle-type set (Syntec `G10 L5000 P_ Q2..Q4`): it replaces the set's tool direction, nose and holder. */
+export interface SubChain {
+  q: number;
+  tool_axis: Vec3;
+  nose: Vec3;
+  holder: number;
+}
+
+/** A further mechanism chain, Syntec's set 2–4: a whole mechanism as the main fields describe set 1. */
+export interface ChainSet {
+  set: number;
+  rotary: RotaryLink[];
+  tool_axis: Vec3;
+  nose: Vec3;
+  holder: number;
+  sub_chains: SubChain[];
+}
+
 export interface MachineModel {
   name: string;
   axes: Axis[];
@@ -49,6 +70,10 @@ export interface MachineModel {
   tool_axis: Vec3;
   nose: Vec3;
   holder: number;
+  /** Set 1's sub-chains (empty: none). */
+  sub_chains: SubChain[];
+  /** Sets 2–4 (empty: the machine has the one chain above). */
+  chains: ChainSet[];
   motion: components["schemas"]["MotionOptions"];
   five_axis: components["schemas"]["FiveAxisOptions"];
   manual: components["schemas"]["ManualOptions"];
@@ -73,23 +98,36 @@ export function normalizeModel(m: MachineModelInput | MachineModel): MachineMode
       shortest: a.shortest ?? false,
     };
   });
-  const rotary: RotaryLink[] = (m.rotary ?? []).map((r) => ({
-    axis: r.axis,
-    side: r.side,
-    direction: vec(r.direction, [0, 0, 1]),
-    hand: r.hand,
-    point: vec(r.point, [0, 0, 0]),
-    zero_offset: r.zero_offset ?? 0,
-    fixed: r.fixed ?? null,
-    range: r.range && !(r.range[0] === 0 && r.range[1] === 0) ? [r.range[0], r.range[1]] : null,
-  }));
+  const rotary = (links: RotaryLinkInput[] | RotaryLink[] | undefined): RotaryLink[] =>
+    (links ?? []).map((r) => ({
+      axis: r.axis,
+      side: r.side,
+      direction: vec(r.direction, [0, 0, 1]),
+      hand: r.hand,
+      point: vec(r.point, [0, 0, 0]),
+      zero_offset: r.zero_offset ?? 0,
+      fixed: r.fixed ?? null,
+      range: r.range && !(r.range[0] === 0 && r.range[1] === 0) ? [r.range[0], r.range[1]] : null,
+    }));
+  // The tail of a mechanism past its last head axis (the fields a sub-chain replaces).
+  const tail = (c: { tool_axis?: readonly number[] | null; nose?: readonly number[] | null; holder?: number | null }) => ({
+    tool_axis: vec(c.tool_axis, [0, 0, 1]),
+    nose: vec(c.nose, [0, 0, 0]),
+    holder: c.holder ?? 0,
+  });
+  const subChains = (subs: SubChainInput[] | SubChain[] | undefined): SubChain[] => (subs ?? []).map((s) => ({ q: s.q, ...tail(s) }));
   return {
     name: m.name,
     axes,
-    rotary,
-    tool_axis: vec(m.tool_axis, [0, 0, 1]),
-    nose: vec(m.nose, [0, 0, 0]),
-    holder: m.holder ?? 0,
+    rotary: rotary(m.rotary),
+    ...tail(m),
+    sub_chains: subChains(m.sub_chains),
+    chains: (m.chains ?? []).map((c: ChainSetInput | ChainSet) => ({
+      set: c.set,
+      rotary: rotary(c.rotary),
+      ...tail(c),
+      sub_chains: subChains(c.sub_chains),
+    })),
     motion: { ...(m.motion ?? {}) },
     five_axis: { ...(m.five_axis ?? {}) },
     manual: { ...(m.manual ?? {}) },

@@ -2,6 +2,8 @@ import * as THREE from "three";
 import { describe, expect, it } from "vitest";
 import { fixture } from "./fixtures/fixture";
 import { CUTTING_TRACE_COLOR, MachineScene, TIP_TRACE_COLOR } from "./scene";
+import { MAIN_CHAIN, chainView } from "./chain";
+import { Kinematics } from "./kinematics";
 import { PathLine, ProgrammedLine, STRETCH_MAX, TraceLine, TraceStretches } from "./trace";
 import type { Vec3 } from "./model";
 
@@ -77,6 +79,81 @@ describe("the scene graph is the kinematic chain", () => {
       expect(b.isEmpty()).toBe(false);
       s.dispose();
     }
+  });
+});
+
+describe("the scene draws the mechanism chain the machine executes in", () => {
+  const chained = fixture.machines.filter((m) => m.chains?.length);
+
+  for (const m of chained) {
+    for (const c of m.chains!) {
+      it(`${m.source} chain ${c.chain.set},${c.chain.sub}: the drawn tool tip is that chain's FK tip`, () => {
+        const s = new MachineScene(m.model);
+        expect(s.setChain(c.chain)).toBe(true);
+        expect(s.chain).toEqual(c.chain);
+        for (const p of c.poses) {
+          s.setAxes(p.axes);
+          s.setToolLength(p.tool_length);
+          const where = `${m.source} ${c.chain.set},${c.chain.sub} ${JSON.stringify(p.axes)} L${p.tool_length}`;
+          expect(diff(s.rig.tip.getWorldPosition(new THREE.Vector3()), p.tip_machine), where).toBeLessThanOrEqual(1e-9);
+          // The drawn tool points along the chain's tool direction (tip → holder).
+          if (p.tool_length > 0) {
+            const tool = s.rig.root.getObjectByName("tool")!;
+            const holder = tool.localToWorld(new THREE.Vector3(0, 0, 0));
+            const tip = tool.localToWorld(new THREE.Vector3(0, 1, 0));
+            const dir = holder.sub(tip).normalize();
+            expect(diff(dir, p.tool_machine), `${where} tool direction`).toBeLessThanOrEqual(1e-6);
+          }
+          expect(diff(s.rig.tableFrame.localToWorld(new THREE.Vector3(...p.tip)), p.tip_machine), `${where} table frame`).toBeLessThanOrEqual(1e-9);
+        }
+        s.dispose();
+      });
+    }
+  }
+
+  it("a switch rebuilds the rig at the current pose with the chain's joints; path and traces carry over", () => {
+    const m = fixture.machines.find((x) => x.source === "library/head-exchange-bc-ac.json")!;
+    const s = new MachineScene(m.model);
+    let changes = 0;
+    s.onChange = () => changes++;
+    s.setPath(new Float32Array([0, 0, 0, 10, 0, 0]), [false, false]);
+    s.addTrace(1, 2, 3);
+    s.addCutting(4, 5, 6);
+    const axes = { X: 10, Y: -20, Z: 30, A: 30, B: -45, C: 60 };
+    s.setAxes(axes);
+    s.setToolLength(80);
+    const set1 = s.rig;
+    expect([...set1.joints.keys()].sort()).toEqual(["B", "C"]);
+    changes = 0;
+
+    expect(s.setChain({ set: 2, sub: 1 })).toBe(true);
+    expect(changes).toBe(1);
+    const set2 = s.rig;
+    expect(set2).not.toBe(set1);
+    expect([...set2.joints.keys()].sort()).toEqual(["A", "C"]);
+    expect(s.scene.children).toContain(set2.root);
+    expect(s.scene.children).not.toContain(set1.root);
+    // Posed at once: the axes and tool length given before the switch, through set 2's chain.
+    const want = new Kinematics(chainView(m.model, { set: 2, sub: 1 })!).forward(axes, 80).tipMachine;
+    expect(diff(set2.tip.getWorldPosition(new THREE.Vector3()), want)).toBeLessThanOrEqual(1e-9);
+    for (const o of [s.path.object, s.programmed.object, s.trace.object, s.cutting.object, s.cuttingMarker]) {
+      expect(o.parent).toBe(set2.tableFrame);
+    }
+    expect(s.trace.length).toBe(1);
+    expect(s.cutting.length).toBe(1);
+    expect(s.path.object.geometry.getAttribute("position").count).toBe(2);
+
+    // The same chain again, or one the machine does not describe: nothing changes.
+    expect(s.setChain({ set: 2, sub: 1 })).toBe(false);
+    expect(s.setChain({ set: 3, sub: 1 })).toBe(false);
+    expect(s.rig).toBe(set2);
+    expect(changes).toBe(1);
+
+    expect(s.setChain(MAIN_CHAIN)).toBe(true);
+    expect([...s.rig.joints.keys()].sort()).toEqual(["B", "C"]);
+    const back = new Kinematics(m.model).forward(axes, 80).tipMachine;
+    expect(diff(s.rig.tip.getWorldPosition(new THREE.Vector3()), back)).toBeLessThanOrEqual(1e-9);
+    s.dispose();
   });
 });
 

@@ -4,7 +4,9 @@
 // programmed path, the executed tip trace and, under cutting point control or a cutter
 // compensation, the cutting point's
 // trace and marker (children of the innermost table group, so they ride with the part). It
-// needs no DOM or WebGL, so tests build and check it in node.
+// needs no DOM or WebGL, so tests build and check it in node. The rig is the mechanism chain the
+// machine executes in (`setChain`, Syntec G10 L5000): a switch rebuilds the rig from that
+// chain's view of the machine (chain.ts) and moves the path and traces onto its table frame.
 // `MachineView` puts a `MachineScene` in a container: a WebGL renderer (injectable), a
 // perspective camera with Z up, OrbitControls, a ResizeObserver, and on-demand rendering (a
 // frame is drawn only after something changed: axes, tool, path, trace, camera, size).
@@ -14,6 +16,9 @@ import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { axisColor, buildMachine } from "./rig";
 import type { MachineRig } from "./rig";
 import type { AxisValues } from "./kinematics";
+import { MAIN_CHAIN, chainView, sameChain } from "./chain";
+import type { Chain } from "./chain";
+import { normalizeModel } from "./model";
 import type { MachineModel, MachineModelInput } from "./model";
 import { PathLine, ProgrammedLine, TraceLine, TraceStretches } from "./trace";
 
@@ -32,7 +37,8 @@ export const CUTTING_TRACE_COLOR = 0xff30ff;
 
 export class MachineScene {
   readonly scene = new THREE.Scene();
-  readonly rig: MachineRig;
+  /** The whole machine, every chain. */
+  readonly machine: MachineModel;
   readonly trace: TraceLine;
   /**
    * Where the tool touches the part under cutting point control (G43.8/G43.9) or a cutter
@@ -46,11 +52,14 @@ export class MachineScene {
   readonly programmed: ProgrammedLine;
   private axes: AxisValues = {};
   private toolLength = 0;
+  private current: MachineRig;
+  private currentChain: Chain = MAIN_CHAIN;
   /** Called whenever something visible changed (MachineView schedules a frame). */
   onChange: () => void = () => {};
 
   constructor(machine: MachineModelInput | MachineModel, options: { traceCap?: number } = {}) {
-    this.rig = buildMachine(machine);
+    this.machine = normalizeModel(machine);
+    this.current = buildMachine(this.machine);
     for (const a of this.rig.model.axes) this.axes[a.name] = 0; // the rig is built at zero
     this.scene.add(this.rig.root);
     this.scene.background = new THREE.Color(0x1d2126);
@@ -79,6 +88,42 @@ export class MachineScene {
     this.programmed = new ProgrammedLine();
     this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker);
     this.rig.root.updateMatrixWorld(true);
+  }
+
+  /** The rig of the chain in use: its model is that chain's view of the machine. */
+  get rig(): MachineRig {
+    return this.current;
+  }
+
+  /** The mechanism chain drawn (set 1 as described until `setChain`). */
+  get chain(): Chain {
+    return { ...this.currentChain };
+  }
+
+  /**
+   * Draw the machine in mechanism chain `chain` (the position frames' `chain`): the rig is
+   * rebuilt from that chain's rotary links, tool axis and nose, posed at the current axes and tool
+   * length; the path, the traces and the cutting point marker move onto its table frame as they
+   * are (their points are table-frame points, whichever head turns). Returns whether the drawing
+   * changed: false for the chain already drawn and for one the machine does not describe (the
+   * control refuses to switch to it, COR-161, so no frame names it).
+   */
+  setChain(chain: Chain): boolean {
+    if (sameChain(chain, this.currentChain)) return false;
+    const view = chainView(this.machine, chain);
+    if (!view) return false;
+    const old = this.current;
+    const rig = buildMachine(view);
+    // Moved out before the old rig is disposed (which disposes everything under its root).
+    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker);
+    this.scene.remove(old.root);
+    old.dispose();
+    this.scene.add(rig.root);
+    this.current = rig;
+    this.currentChain = { set: chain.set, sub: chain.sub };
+    rig.update(this.axes, this.toolLength);
+    this.onChange();
+    return true;
   }
 
   /** Axis values by address; missing ones keep their last value (initially 0). */
@@ -268,6 +313,7 @@ export class MachineView {
   private readonly resizeObserver: ResizeObserver | null;
   private frame = 0;
   private disposed = false;
+  private readonly labels: boolean;
   /** Frames drawn so far (for tests and diagnostics). */
   frames = 0;
 
@@ -293,7 +339,8 @@ export class MachineView {
     this.controls.addEventListener("change", () => this.requestRender());
     this.machineScene.onChange = () => this.requestRender();
 
-    if (options.labels !== false && typeof document !== "undefined") addAxisLabels(this.machineScene.rig);
+    this.labels = options.labels !== false && typeof document !== "undefined";
+    if (this.labels) addAxisLabels(this.machineScene.rig);
 
     this.resize();
     this.resizeObserver = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => this.resize());
@@ -307,6 +354,11 @@ export class MachineView {
 
   setToolLength(L: number): void {
     this.machineScene.setToolLength(L);
+  }
+
+  /** Draw the mechanism chain the machine executes in (a frame's `chain`); the camera stays where it is. */
+  setChain(chain: Chain): void {
+    if (this.machineScene.setChain(chain) && this.labels) addAxisLabels(this.machineScene.rig);
   }
 
   /** The programmed path, xyz triples in the TABLE frame; `rapid[i]`: the move to point i is a rapid (drawn dim). */

@@ -113,6 +113,23 @@ describe("MachineView", () => {
     v.dispose();
   });
 
+  it("draws a chain switch once, keeping the camera where it is", () => {
+    const f = fakes();
+    const model = fixture.machines.find((m) => m.source === "library/head-exchange-bc-ac.json")!.model;
+    const v = new MachineView(f.container, model, { createRenderer: () => f.renderer });
+    runFrames();
+    const base = f.calls.renders;
+    const camera = v.camera.position.clone();
+    v.setChain({ set: 2, sub: 1 });
+    v.setChain({ set: 2, sub: 1 }); // the same chain: nothing more to draw
+    runFrames();
+    expect(f.calls.renders).toBe(base + 1);
+    expect(v.machineScene.chain).toEqual({ set: 2, sub: 1 });
+    expect(v.machineScene.rig.joints.has("A")).toBe(true);
+    expect(v.camera.position.equals(camera)).toBe(true);
+    v.dispose();
+  });
+
   it("fit frames the working zone from the current direction", () => {
     const f = fakes();
     const model = fixture.machines.find((m) => m.source === "head-bc")!.model;

@@ -170,3 +170,35 @@ async fn subscribers_of_one_controller_receive_identical_frames() {
         assert_eq!(seen[0][t], seen[2][t]);
     }
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_chain_switch_sends_a_frame_that_names_the_new_chain() {
+    // Syntec G10 L5000 on the library's exchangeable-head machine, its A/C head given the B/C
+    // head's nose: at zero angles both put the tip at the same place, so a switch changes nothing
+    // in the frame but its chain — and the 3D view must still learn it.
+    let served = Served::start(&[]);
+    let mut machine: Value =
+        serde_json::from_str(include_str!("../../../../machines/head-exchange-bc-ac.json")).unwrap();
+    machine["chains"][0]["nose"] = machine["nose"].clone();
+    let body = json!({"name": "heads", "dialect": "syntec", "machine": machine});
+    let reply = served.send_json(Method::POST, "/api/v1/controllers", &body).await;
+    assert_eq!(reply.status, 201, "{:?}", String::from_utf8_lossy(&reply.body));
+    let id = reply.json()["id"].as_str().expect("an id").to_owned();
+    let mut ws = connect(&served, &format!("/api/v1/controllers/{id}/stream?rate=30")).await;
+    assert_eq!(next_json(&mut ws, Duration::from_secs(10)).await.expect("a snapshot")["type"], "snapshot");
+    let now = next_json(&mut ws, Duration::from_secs(10)).await.expect("the position now");
+    assert_eq!(now["chain"], json!({"set": 1, "sub": 1}), "{now}");
+
+    for (text, set) in [("G10 L5000 P2", 2), ("G10 L5000 P1", 1)] {
+        mdi(&served, &id, text).await;
+        let frames: Vec<Value> = collect(&mut ws, Duration::from_millis(1500))
+            .await
+            .iter()
+            .filter(|m| kind(m) == "position")
+            .map(|m| serde_json::from_str(m).unwrap())
+            .collect();
+        let last = frames.last().unwrap_or_else(|| panic!("{text}: no position frame"));
+        assert_eq!(last["chain"], json!({"set": set, "sub": 1}), "{text}: {last}");
+        assert_eq!((&last["machine"], &last["tip"]), (&now["machine"], &now["tip"]), "{text}: {last}");
+    }
+}
