@@ -355,10 +355,10 @@ impl<T: Clone, const D: usize> Smoother<T, D> {
 
     /// The highest speed along the span's linear path at which no component's acceleration
     /// from the curve's bending passes its share (`chords::bending_speed`), at the span's
-    /// samples and ends. (The bending's jerk, v³·x_sss, is not capped: through points rounded
-    /// to 0.1 µm a spline's third derivative is the rounding's more than the surface's —
-    /// ±0.1/mm² against 0.016 on a test wave — and the planner does not bound it on polygons
-    /// either; `docs/motion.md`.)
+    /// samples and ends. (The bending's jerk, v³·x_sss, is not capped here: through points
+    /// rounded to 0.1 µm a spline's third derivative is the rounding's more than the surface's —
+    /// ±0.1/mm² against 0.016 on a test wave. The planner bounds it at the chords' junctions,
+    /// from how far they turn the machine's axes: `motion::planner`, `docs/motion.md`.)
     fn speed_cap(&self, q0: &[f64; D], q1: &[f64; D], m0: &[f64; D], m1: &[f64; D], h: f64) -> f64 {
         let (d1, d2) = hermite_derivatives(q0, q1, m0, m1, h);
         (0..=CHECK_SAMPLES)
