@@ -805,10 +805,13 @@ const CRUISE_SHARES: [f64; 2] = [0.9, 0.5];
 /// `may_cut` the path runs whole.
 fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut: bool) -> (Limits, Vec<Piece>) {
     let fed = |lim: Limits| Limits { v: lim.v.min(feed), ..lim };
+    // The bounds do not depend on the share: found once for both.
+    let whole_bounds = grid.whole();
+    let cell_bounds: Vec<Sampled> = if may_cut { (0..grid.cells()).map(|c| grid.bounds(c, c + 1)).collect() } else { Vec::new() };
     let mut best: Option<(f64, Limits, Vec<Piece>)> = None;
     for share in CRUISE_SHARES {
-        let whole = limits_with_share(&grid.whole(), axes, share, cap);
-        let cut = if may_cut { pieces(grid, axes, share, cap) } else { Vec::new() };
+        let whole = limits_with_share(&whole_bounds, axes, share, cap);
+        let cut = if may_cut { pieces(grid, &cell_bounds, axes, share, cap) } else { Vec::new() };
         let mut options = vec![(super::planner::chain_time(&[(grid.len, fed(whole))]), Vec::new())];
         if !cut.is_empty() {
             let reach = super::profile::change(0.0, fed(whole).v, &fed(whole)).1 / grid.len;
@@ -910,13 +913,14 @@ pub(super) const MAX_PIECES: usize = 16;
 /// each cell's own; with more than [`MAX_PIECES`] pieces the share doubles.
 const PIECE_TOLERANCE: f64 = 0.03;
 
-/// A kinematic path cut where its limits change: the cells of `grid` grouped into stretches
-/// whose own limits (the cruise taking `share`, at most `cap`) are each within a few % of
-/// every cell's in them. Empty when one stretch is the whole path.
-fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
+/// A kinematic path cut where its limits change: the cells of `grid` (their bounds
+/// `cell_bounds`) grouped into stretches whose own limits (the cruise taking `share`, at most
+/// `cap`) are each within a few % of every cell's in them. Empty when one stretch is the whole
+/// path.
+fn pieces(grid: &Grid, cell_bounds: &[Sampled], axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
     let m = grid.cells();
     let own = |k0: usize, k1: usize| limits_with_share(&grid.bounds(k0, k1), axes, share, cap);
-    let cells: Vec<Limits> = (0..m).map(|c| own(c, c + 1)).collect();
+    let cells: Vec<Limits> = cell_bounds.iter().map(|b| limits_with_share(b, axes, share, cap)).collect();
     let mut tolerance = PIECE_TOLERANCE;
     let ends = loop {
         let ends = cuts(
