@@ -983,12 +983,15 @@ fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Li
         if d.rate[i] > tiny {
             v = v.min(axes.v[i] / d.rate[i]);
         }
+        // The roots (the cube root was a tenth of a TCP run's time) only where they can be the
+        // lower: with x above v² (v³) by more than its rounding, √x (∛x) is above v.
         if d.bend[i] > tiny {
-            v = v.min((share * axes.a[i] / d.bend[i]).sqrt());
+            let x = share * axes.a[i] / d.bend[i];
+            if x < v * v * (1.0 + 1e-12) {
+                v = v.min(x.sqrt());
+            }
         }
         if d.twist[i] > tiny {
-            // The cube root (a tenth of a TCP run's time) only where it can be the lower:
-            // with x above v³ by more than its rounding, ∛x is above v.
             let x = share * axes.j[i] / d.twist[i];
             if x < v * v * v * (1.0 + 1e-12) {
                 v = v.min(x.cbrt());
