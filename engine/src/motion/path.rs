@@ -981,17 +981,18 @@ fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Li
     let mut v = cap;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
-            v = v.min(axes.v[i] / d.rate[i]);
+            v = lower(v, axes.v[i], d.rate[i]);
         }
         // The roots (the cube root was a tenth of a TCP run's time) only where they can be the
-        // lower: with x above v² (v³) by more than its rounding, √x (∛x) is above v.
-        if d.bend[i] > tiny {
+        // lower: with x above v² (v³) by more than its rounding, √x (∛x) is above v. The
+        // quotient too where its numerator clears v² (v³) times its denominator: x then does.
+        if d.bend[i] > tiny && share * axes.a[i] <= v * v * d.bend[i] * (1.0 + 2e-12) {
             let x = share * axes.a[i] / d.bend[i];
             if x < v * v * (1.0 + 1e-12) {
                 v = v.min(x.sqrt());
             }
         }
-        if d.twist[i] > tiny {
+        if d.twist[i] > tiny && share * axes.j[i] <= v * v * v * d.twist[i] * (1.0 + 2e-12) {
             let x = share * axes.j[i] / d.twist[i];
             if x < v * v * v * (1.0 + 1e-12) {
                 v = v.min(x.cbrt());
@@ -1003,19 +1004,31 @@ fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Li
     let mut a = f64::INFINITY;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
-            a = a.min((axes.a[i] - v * v * d.bend[i]) / d.rate[i]);
+            a = lower(a, axes.a[i] - v * v * d.bend[i], d.rate[i]);
         }
         if d.bend[i] > tiny && v > 0.0 {
-            a = a.min(0.5 * jerk_left(i) / (3.0 * v * d.bend[i]));
+            a = lower(a, 0.5 * jerk_left(i), 3.0 * v * d.bend[i]);
         }
     }
     let mut j = f64::INFINITY;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
-            j = j.min((jerk_left(i) - 3.0 * v * a * d.bend[i]) / d.rate[i]);
+            j = lower(j, jerk_left(i) - 3.0 * v * a * d.bend[i], d.rate[i]);
         }
     }
     Limits { v, a: a.max(0.0), j: j.max(0.0) }
+}
+
+/// `m.min(num / den)` for `den` > 0, without the division (most of `limits_with_share`'s time)
+/// where the numerator clears `m` times the denominator by more than their rounding: the
+/// quotient is then above `m`.
+fn lower(m: f64, num: f64, den: f64) -> f64 {
+    let bound = m * den;
+    if num > bound + bound.abs() * 1e-12 {
+        m
+    } else {
+        m.min(num / den)
+    }
 }
 
 /// The interpolation period of the FANUC CRS clamp (the control's 1 ms), seconds.
