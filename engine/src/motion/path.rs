@@ -809,21 +809,31 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
     let whole_bounds = grid.whole();
     let cell_bounds: Vec<Sampled> = if may_cut { (0..grid.cells()).map(|c| grid.bounds(c, c + 1)).collect() } else { Vec::new() };
     let mut best: Option<(f64, Limits, Vec<Piece>)> = None;
+    // An option is planned (`chain_time`, most of the cost) only where its floor does not
+    // already lose to the best so far (it mostly does: a lower cruise share rarely wins).
+    let consider = |best: &mut Option<(f64, Limits, Vec<Piece>)>, whole: Limits, cut: Vec<Piece>| {
+        if best.as_ref().is_some_and(|(t, _, _)| floor_time(&cut, whole, grid.len, fed) >= *t) {
+            return;
+        }
+        let time = if cut.is_empty() {
+            super::planner::chain_time(&[(grid.len, fed(whole))])
+        } else {
+            chain_time(&cut, grid.len, fed)
+        };
+        if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
+            *best = Some((time, whole, cut));
+        }
+    };
     for share in CRUISE_SHARES {
         let whole = limits_with_share(&whole_bounds, axes, share, cap);
         let cut = if may_cut { pieces(grid, &cell_bounds, axes, share, cap) } else { Vec::new() };
-        let mut options = vec![(super::planner::chain_time(&[(grid.len, fed(whole))]), Vec::new())];
+        consider(&mut best, whole, Vec::new());
         if !cut.is_empty() {
             let reach = super::profile::change(0.0, fed(whole).v, &fed(whole)).1 / grid.len;
             let ends_whole = merge_ends(grid, axes, share, cap, &cut, reach);
-            options.push((chain_time(&cut, grid.len, fed), cut));
+            consider(&mut best, whole, cut);
             if !ends_whole.is_empty() {
-                options.push((chain_time(&ends_whole, grid.len, fed), ends_whole));
-            }
-        }
-        for (time, cut) in options {
-            if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
-                best = Some((time, whole, cut));
+                consider(&mut best, whole, ends_whole);
             }
         }
     }
@@ -840,6 +850,11 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
         for share in CRUISE_SHARES {
             let kept = cut[k].limits;
             cut[k].limits = limits_with_share(&bounds, axes, share, cap);
+            // The same limits take the same time; a floor no faster cannot win either.
+            if cut[k].limits == kept || floor_time(&cut, whole, grid.len, fed) >= time {
+                cut[k].limits = kept;
+                continue;
+            }
             let t = chain_time(&cut, grid.len, fed);
             if t < time * (1.0 - 1e-9) {
                 time = t;
@@ -849,6 +864,21 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
         }
     }
     (whole, cut)
+}
+
+/// A time the path `len` long, cut into `pieces` (or whole, with the limits `whole`), cannot
+/// beat from rest to rest: the chain's profiles are a motion within the highest of their
+/// limits ([`super::profile::rest_to_rest_floor`]).
+fn floor_time(pieces: &[Piece], whole: Limits, len: f64, fed: impl Fn(Limits) -> Limits) -> f64 {
+    let lim = match pieces.split_first() {
+        None => whole,
+        Some((first, rest)) => rest.iter().fold(first.limits, |m, p| Limits {
+            v: m.v.max(p.limits.v),
+            a: m.a.max(p.limits.a),
+            j: m.j.max(p.limits.j),
+        }),
+    };
+    super::profile::rest_to_rest_floor(len, &fed(lim))
 }
 
 /// The rest-to-rest time of a path `len` long cut into `pieces`, with `fed` applied to their

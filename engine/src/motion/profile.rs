@@ -42,6 +42,16 @@ pub fn reachable(v0: f64, len: f64, cap: f64, lim: &Limits) -> f64 {
     bisect_to(v0, cap, len, lim, |v| change(v0, v, lim).1)
 }
 
+/// A time no motion over `len` from rest to rest (zero acceleration at both ends) within `lim`
+/// can beat, for less than a bisection's cost: its speed at most `lim.v` (`len / v`), its
+/// acceleration at most `lim.a` (half the time up, half down: 2·√(len/a)), its jerk at most
+/// `lim.j` (the jerk's four equal phases, ±j: 4·∛(len/2j)). A planned profile takes at least
+/// that, less its rounding (some 1e-16 of it), so a profile whose floor is no faster than one
+/// already planned cannot be faster by 1e-9 of it (`motion::path`).
+pub fn rest_to_rest_floor(len: f64, lim: &Limits) -> f64 {
+    (len / lim.v).max(2.0 * (len / lim.a).sqrt()).max(4.0 * (len / (2.0 * lim.j)).cbrt())
+}
+
 /// [`bisect`] for `dist(x) <= len`, `dist` a distance of speed changes under `lim` that grows
 /// with `x` (it fits at `lo`, not at `hi`): its very steps, bit for bit, with fewer evaluations
 /// of `dist` — the bisections were a third of a 5-axis run's time. A few steps of regula falsi
@@ -483,6 +493,14 @@ mod tests {
                 let plain = bisect(floor, v, |x| two(x) <= len);
                 prop_assert_eq!(plain.to_bits(), bisect_to(floor, v, len, &lim, two).to_bits());
             }
+        }
+
+        #[test]
+        fn no_rest_to_rest_profile_beats_its_floor(v in -1.0..3.0f64, a in 0.0..4.0f64, j in 0.0..6.0f64, l in -5.0..3.0f64) {
+            let lim = Limits { v: 10f64.powf(v), a: 10f64.powf(a), j: 10f64.powf(j) };
+            let len = 10f64.powf(l);
+            let planned = Profile::plan(0.0, 0.0, len, &lim).duration();
+            prop_assert!(rest_to_rest_floor(len, &lim) <= planned * (1.0 + 1e-14), "{planned}");
         }
 
         #[test]
