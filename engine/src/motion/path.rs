@@ -1754,7 +1754,11 @@ impl Segment {
         if self.follow.is_none() || self.len <= 0.0 {
             return Vec::new();
         }
-        (0..=N).map(|k| self.len * k as f64 / N as f64).map(|s| (s, self.at(s).0)).collect()
+        // The machine positions of `Segment::at` (its programming ones, unused here, cost a
+        // frame change each).
+        let (f, from, to) = (self.follow.as_ref().expect("a kinematic path"), self.from(), self.to());
+        let machine = |s: f64| if s >= self.len { to } else { f.at(&from, &to, s / self.len) };
+        (0..=N).map(|k| self.len * k as f64 / N as f64).map(|s| (s, machine(s))).collect()
     }
 
     /// The point in `[lo, hi]` where axis `i` is largest (`sign` 1) or smallest (-1), for a
