@@ -41,11 +41,13 @@ pub fn by_length<const D: usize>(x1: &[f64; D], x2: &[f64; D], linear: &[bool; D
 /// bending, v²·x_ss (`xss`, [`by_length`]), passes `BENDING_SHARE` of `accel` (per s²).
 /// Infinite where the curve does not bend.
 pub fn bending_speed<const D: usize>(xss: &[f64; D], accel: &[f64; D]) -> f64 {
+    // One root, of the lowest quotient: the root is monotone, also as rounded.
     xss.iter()
         .zip(accel)
         .filter(|(x, _)| x.abs() > 1e-12)
-        .map(|(x, a)| (BENDING_SHARE * a / x.abs()).sqrt())
+        .map(|(x, a)| BENDING_SHARE * a / x.abs())
         .fold(f64::INFINITY, f64::min)
+        .sqrt()
 }
 
 /// The same for the jerk of the bending, v³·x_sss, with x_sss the change of x_ss from `xss0` to

@@ -861,22 +861,35 @@ const CRUISE_SHARES: [f64; 2] = [0.9, 0.5];
 /// `may_cut` the path runs whole.
 fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut: bool) -> (Limits, Vec<Piece>) {
     let fed = |lim: Limits| Limits { v: lim.v.min(feed), ..lim };
+    // The bounds do not depend on the share: found once for both.
+    let whole_bounds = grid.whole();
+    let cell_bounds: Vec<Sampled> = if may_cut { (0..grid.cells()).map(|c| grid.bounds(c, c + 1)).collect() } else { Vec::new() };
     let mut best: Option<(f64, Limits, Vec<Piece>)> = None;
+    // An option is planned (`chain_time`, most of the cost) only where its floor does not
+    // already lose to the best so far (it mostly does: a lower cruise share rarely wins).
+    let consider = |best: &mut Option<(f64, Limits, Vec<Piece>)>, whole: Limits, cut: Vec<Piece>| {
+        if best.as_ref().is_some_and(|(t, _, _)| floor_time(&cut, whole, grid.len, fed) >= *t) {
+            return;
+        }
+        let time = if cut.is_empty() {
+            super::planner::chain_time(&[(grid.len, fed(whole))])
+        } else {
+            chain_time(&cut, grid.len, fed)
+        };
+        if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
+            *best = Some((time, whole, cut));
+        }
+    };
     for share in CRUISE_SHARES {
-        let whole = limits_with_share(&grid.whole(), axes, share, cap);
-        let cut = if may_cut { pieces(grid, axes, share, cap) } else { Vec::new() };
-        let mut options = vec![(super::planner::chain_time(&[(grid.len, fed(whole))]), Vec::new())];
+        let whole = limits_with_share(&whole_bounds, axes, share, cap);
+        let cut = if may_cut { pieces(grid, &cell_bounds, axes, share, cap) } else { Vec::new() };
+        consider(&mut best, whole, Vec::new());
         if !cut.is_empty() {
             let reach = super::profile::change(0.0, fed(whole).v, &fed(whole)).1 / grid.len;
             let ends_whole = merge_ends(grid, axes, share, cap, &cut, reach);
-            options.push((chain_time(&cut, grid.len, fed), cut));
+            consider(&mut best, whole, cut);
             if !ends_whole.is_empty() {
-                options.push((chain_time(&ends_whole, grid.len, fed), ends_whole));
-            }
-        }
-        for (time, cut) in options {
-            if best.as_ref().is_none_or(|(t, _, _)| time < *t * (1.0 - 1e-9)) {
-                best = Some((time, whole, cut));
+                consider(&mut best, whole, ends_whole);
             }
         }
     }
@@ -893,6 +906,11 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
         for share in CRUISE_SHARES {
             let kept = cut[k].limits;
             cut[k].limits = limits_with_share(&bounds, axes, share, cap);
+            // The same limits take the same time; a floor no faster cannot win either.
+            if cut[k].limits == kept || floor_time(&cut, whole, grid.len, fed) >= time {
+                cut[k].limits = kept;
+                continue;
+            }
             let t = chain_time(&cut, grid.len, fed);
             if t < time * (1.0 - 1e-9) {
                 time = t;
@@ -902,6 +920,21 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
         }
     }
     (whole, cut)
+}
+
+/// A time the path `len` long, cut into `pieces` (or whole, with the limits `whole`), cannot
+/// beat from rest to rest: the chain's profiles are a motion within the highest of their
+/// limits ([`super::profile::rest_to_rest_floor`]).
+fn floor_time(pieces: &[Piece], whole: Limits, len: f64, fed: impl Fn(Limits) -> Limits) -> f64 {
+    let lim = match pieces.split_first() {
+        None => whole,
+        Some((first, rest)) => rest.iter().fold(first.limits, |m, p| Limits {
+            v: m.v.max(p.limits.v),
+            a: m.a.max(p.limits.a),
+            j: m.j.max(p.limits.j),
+        }),
+    };
+    super::profile::rest_to_rest_floor(len, &fed(lim))
 }
 
 /// The rest-to-rest time of a path `len` long cut into `pieces`, with `fed` applied to their
@@ -966,13 +999,14 @@ pub(super) const MAX_PIECES: usize = 16;
 /// each cell's own; with more than [`MAX_PIECES`] pieces the share doubles.
 const PIECE_TOLERANCE: f64 = 0.03;
 
-/// A kinematic path cut where its limits change: the cells of `grid` grouped into stretches
-/// whose own limits (the cruise taking `share`, at most `cap`) are each within a few % of
-/// every cell's in them. Empty when one stretch is the whole path.
-fn pieces(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
+/// A kinematic path cut where its limits change: the cells of `grid` (their bounds
+/// `cell_bounds`) grouped into stretches whose own limits (the cruise taking `share`, at most
+/// `cap`) are each within a few % of every cell's in them. Empty when one stretch is the whole
+/// path.
+fn pieces(grid: &Grid, cell_bounds: &[Sampled], axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
     let m = grid.cells();
     let own = |k0: usize, k1: usize| limits_with_share(&grid.bounds(k0, k1), axes, share, cap);
-    let cells: Vec<Limits> = (0..m).map(|c| own(c, c + 1)).collect();
+    let cells: Vec<Limits> = cell_bounds.iter().map(|b| limits_with_share(b, axes, share, cap)).collect();
     let mut tolerance = PIECE_TOLERANCE;
     let ends = loop {
         let ends = cuts(
@@ -1033,14 +1067,18 @@ fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Li
     let mut v = cap;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
-            v = v.min(axes.v[i] / d.rate[i]);
+            v = lower(v, axes.v[i], d.rate[i]);
         }
-        if d.bend[i] > tiny {
-            v = v.min((share * axes.a[i] / d.bend[i]).sqrt());
+        // The roots (the cube root was a tenth of a TCP run's time) only where they can be the
+        // lower: with x above v² (v³) by more than its rounding, √x (∛x) is above v. The
+        // quotient too where its numerator clears v² (v³) times its denominator: x then does.
+        if d.bend[i] > tiny && share * axes.a[i] <= v * v * d.bend[i] * (1.0 + 2e-12) {
+            let x = share * axes.a[i] / d.bend[i];
+            if x < v * v * (1.0 + 1e-12) {
+                v = v.min(x.sqrt());
+            }
         }
-        if d.twist[i] > tiny {
-            // The cube root (a tenth of a TCP run's time) only where it can be the lower:
-            // with x above v³ by more than its rounding, ∛x is above v.
+        if d.twist[i] > tiny && share * axes.j[i] <= v * v * v * d.twist[i] * (1.0 + 2e-12) {
             let x = share * axes.j[i] / d.twist[i];
             if x < v * v * v * (1.0 + 1e-12) {
                 v = v.min(x.cbrt());
@@ -1052,19 +1090,31 @@ fn limits_with_share(d: &Sampled, axes: &AxisLimits, share: f64, cap: f64) -> Li
     let mut a = f64::INFINITY;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
-            a = a.min((axes.a[i] - v * v * d.bend[i]) / d.rate[i]);
+            a = lower(a, axes.a[i] - v * v * d.bend[i], d.rate[i]);
         }
         if d.bend[i] > tiny && v > 0.0 {
-            a = a.min(0.5 * jerk_left(i) / (3.0 * v * d.bend[i]));
+            a = lower(a, 0.5 * jerk_left(i), 3.0 * v * d.bend[i]);
         }
     }
     let mut j = f64::INFINITY;
     for i in 0..axes.count {
         if d.rate[i] > tiny {
-            j = j.min((jerk_left(i) - 3.0 * v * a * d.bend[i]) / d.rate[i]);
+            j = lower(j, jerk_left(i) - 3.0 * v * a * d.bend[i], d.rate[i]);
         }
     }
     Limits { v, a: a.max(0.0), j: j.max(0.0) }
+}
+
+/// `m.min(num / den)` for `den` > 0, without the division (most of `limits_with_share`'s time)
+/// where the numerator clears `m` times the denominator by more than their rounding: the
+/// quotient is then above `m`.
+fn lower(m: f64, num: f64, den: f64) -> f64 {
+    let bound = m * den;
+    if num > bound + bound.abs() * 1e-12 {
+        m
+    } else {
+        m.min(num / den)
+    }
 }
 
 /// The interpolation period of the FANUC CRS clamp (the control's 1 ms), seconds.
@@ -1780,7 +1830,11 @@ impl Segment {
         if self.follow.is_none() || self.len <= 0.0 {
             return Vec::new();
         }
-        (0..=N).map(|k| self.len * k as f64 / N as f64).map(|s| (s, self.at(s).0)).collect()
+        // The machine positions of `Segment::at` (its programming ones, unused here, cost a
+        // frame change each).
+        let (f, from, to) = (self.follow.as_ref().expect("a kinematic path"), self.from(), self.to());
+        let machine = |s: f64| if s >= self.len { to } else { f.at(&from, &to, s / self.len) };
+        (0..=N).map(|k| self.len * k as f64 / N as f64).map(|s| (s, machine(s))).collect()
     }
 
     /// The point in `[lo, hi]` where axis `i` is largest (`sign` 1) or smallest (-1), for a

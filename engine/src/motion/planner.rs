@@ -507,17 +507,25 @@ pub(crate) fn chain_time(chain: &[(f64, Limits)]) -> f64 {
     if runs.iter().any(|(_, r)| !(r.v > 0.0 && r.a > 0.0 && r.j > 0.0)) {
         return f64::INFINITY;
     }
-    // Backward from the stop, then forward from rest; a junction takes the lower limit.
+    // Backward from the stop, then forward from rest; a junction takes the lower limit. The
+    // bisections of `reachable` are most of the cost, so they are skipped where their result
+    // cannot matter: the first run's backward one (nothing comes before it), and a forward one
+    // whose end speed is already no higher than where it starts and its limit (what `reachable`
+    // returns is never below either).
     let mut ends = vec![0.0; runs.len()];
     let mut v_next_start = 0.0;
     for (k, (len, r)) in runs.iter().enumerate().rev() {
         let cap = runs.get(k + 1).map_or(0.0, |(_, next)| r.v.min(next.v));
         ends[k] = cap.min(v_next_start);
-        v_next_start = reachable(ends[k], *len, r.v, r);
+        if k > 0 {
+            v_next_start = reachable(ends[k], *len, r.v, r);
+        }
     }
-    let (mut v_start, mut time) = (0.0, 0.0);
+    let (mut v_start, mut time) = (0.0f64, 0.0);
     for ((len, r), end) in runs.iter().zip(ends.iter_mut()) {
-        *end = end.min(reachable(v_start, *len, r.v, r));
+        if *end > v_start.min(r.v) {
+            *end = end.min(reachable(v_start, *len, r.v, r));
+        }
         time += Profile::plan(v_start, *end, *len, r).duration();
         v_start = *end;
     }
