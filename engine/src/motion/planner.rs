@@ -7,9 +7,10 @@
 //! corner between them. A run gets one jerk-limited profile over its whole length (zero
 //! acceleration only at its ends), so that a program of many short segments accelerates as
 //! one smooth move instead of pulsing at every block. Consecutive kinematic segments share a
-//! run unless a corner parts them; such a run (of at most `OPTIMAL_SEGMENTS`) is planned
-//! against each axis's own limits at every point (`motion::optimal`) when that is quicker
-//! than its pieces' runs of similar path limits, which it is released as otherwise.
+//! run unless a sharp corner (to under half the speed) parts them; such a run (of at most
+//! `OPTIMAL_SEGMENTS`, without a corner) is planned against each axis's own limits at every
+//! point (`motion::optimal`) when that is quicker than its pieces' runs of similar path limits
+//! (speed limits within 10 %: `shares_part`), which it is released as otherwise.
 //!
 //! A run is released only when at least [`Planner::lookahead`] segments follow it (or the
 //! queue ends in a stop: a non-motion command, an exact stop, the program end): its speeds are
