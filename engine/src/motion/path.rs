@@ -863,7 +863,8 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
     let fed = |lim: Limits| Limits { v: lim.v.min(feed), ..lim };
     // The bounds do not depend on the share: found once for both.
     let whole_bounds = grid.whole();
-    let cell_bounds: Vec<Sampled> = if may_cut { (0..grid.cells()).map(|c| grid.bounds(c, c + 1)).collect() } else { Vec::new() };
+    let cell_bounds: Vec<Sampled> =
+        if may_cut { (0..grid.cells()).map(|c| grid.bounds(c, c + 1)).collect() } else { Vec::new() };
     let mut best: Option<(f64, Limits, Vec<Piece>)> = None;
     // An option is planned (`chain_time`, most of the cost) only where its floor does not
     // already lose to the best so far (it mostly does: a lower cruise share rarely wins).
