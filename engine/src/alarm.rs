@@ -56,6 +56,9 @@ pub enum AlarmId {
     HpccInTcp,
     /// An axis outside the 5-axis set commanded in tool centre point control.
     AxisNotInTcp,
+    /// Syntec's G05 in a form the manual calls a format error: P other than 10000 or 0, E not
+    /// positive, the axis form of HPCC wrong (`interp::smoothing`).
+    HpccFormat,
     /// The machine cannot do the 5-axis function (too few rotary axes).
     MachineParameter,
     /// No rotary axis solution for a tool direction fits the movement ranges.

@@ -4,7 +4,8 @@
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
 //! do not exist, L in a block that names a canned cycle, a `,L` other than `,L2` and a zero
-//! surface normal of cutting point control.
+//! surface normal of cutting point control, and Syntec's G05 format errors that literal words
+//! show.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
@@ -44,6 +45,13 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                 }
                 BlockKind::Words(words) => {
                     let (mut calls, mut cycle) = (false, false);
+                    // The block's literal G codes (an argument of one is not an address of its own).
+                    let codes = || {
+                        words.iter().filter_map(|w| match (w.letter, &w.value) {
+                            (b'G', WordValue::Number { value, .. }) => gcode::code_of(*value),
+                            _ => None,
+                        })
+                    };
                     for w in words {
                         let WordValue::Number { value, .. } = w.value else { continue };
                         match w.letter {
@@ -68,7 +76,8 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             },
                             b'M' => calls |= mcode::SUBPROGRAM_CALLS.contains(&(value as u32)),
                             letter => {
-                                if let Some(function) = unbuilt::address(letter) {
+                                let argument = codes().any(|c| unbuilt::argument_of(c, dialect, letter));
+                                if let Some(function) = unbuilt::address(letter).filter(|_| !argument) {
                                     diags.push(at(
                                         w.col,
                                         AlarmId::AddressNotBuilt,
@@ -92,6 +101,17 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         };
                         if let Some((id, detail)) = refusal {
                             diags.push(at(l.col, id, detail.into()));
+                        }
+                    }
+                    if dialect == Dialect::Syntec {
+                        let is_g05 = |w: &&NcWord| {
+                            w.letter == b'G'
+                                && matches!(w.value, WordValue::Number { value, .. } if gcode::code_of(value) == Some(code::G05))
+                        };
+                        if let Some(g05) = words.iter().find(is_g05) {
+                            if let Some((col, detail)) = g05_format(words, g05.col) {
+                                diags.push(at(col, AlarmId::HpccFormat, detail.into()));
+                            }
                         }
                     }
                     // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).
@@ -138,6 +158,31 @@ fn literal(words: &[NcWord], letter: u8) -> Word {
         Some(WordValue::Number { value, .. }) => Word::Value(*value),
         Some(WordValue::Expr(_)) => Word::Unknown,
     }
+}
+
+/// The first word of a Syntec G05 block whose literal value is a format error (COR-107,
+/// `interp::smoothing`'s `g05_form`): P other than 10000 or 0 (at the G word when P is
+/// missing), E not positive, X/Y/Z other than 0 or in a G05 P0 block. Which rotary axes the
+/// axis form may name is the machine's: left to the run.
+fn g05_format(words: &[NcWord], g_col: u32) -> Option<(u32, &'static str)> {
+    let col = |letter: u8| words.iter().rev().find(|w| w.letter == letter).map_or(g_col, |w| w.col);
+    let p = literal(words, b'P');
+    match p {
+        Word::Absent => return Some((g_col, "G05 without P (P10000 or P0)")),
+        Word::Value(v) if v != 0.0 && v != 10000.0 => return Some((col(b'P'), "G05 P other than P10000 or P0")),
+        _ => {}
+    }
+    if matches!(literal(words, b'E'), Word::Value(e) if e <= 0.0) {
+        return Some((col(b'E'), "G05 E not positive"));
+    }
+    for letter in [b'X', b'Y', b'Z'] {
+        match literal(words, letter) {
+            Word::Value(_) if p == Word::Value(0.0) => return Some((col(letter), "an axis argument in G05 P0")),
+            Word::Value(v) if v != 0.0 => return Some((col(letter), "a geometry axis argument of G05 other than 0")),
+            _ => {}
+        }
+    }
+    None
 }
 
 /// How a run without motion stopped ([`run_without_motion`]).

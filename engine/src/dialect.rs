@@ -108,6 +108,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::MachineCoordinatesInTcp,
     AlarmId::HpccInTcp,
     AlarmId::AxisNotInTcp,
+    AlarmId::HpccFormat,
     AlarmId::MachineParameter,
     AlarmId::NoRotarySolution,
     AlarmId::MasterOutOfRange,
@@ -200,6 +201,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         MachineCoordinatesInTcp => (PS5421, ("COR-118", "Prohibit G53 commands in tool tip control mode")),
         HpccInTcp => (PS5421, ("COR-140", "Prohibit G05 in tool tip control mode")),
         AxisNotInTcp => (PS5421, ("COR-107", "G5.1/G05 command format error")),
+        // Syntec only: FANUC refuses its G05 other than P0 as not built (PS0010).
+        HpccFormat => (("PS0010", "IMPROPER G-CODE"), ("COR-107", "G5.1/G05 command format error")),
         MachineParameter => (PS5459, ("COR-154", "No 5-axis function")),
         NoRotarySolution => (PS5459, ("COR-153", "Tool direction unknown")),
         // Syntec only: FANUC's movement ranges only choose among solutions (No.19741–19744).

@@ -91,7 +91,7 @@ pub mod code {
         G03_2 = 32 in MOTION;
         /// Dwell.
         G04 = 40 in ONE_SHOT;
-        /// High-speed cycle machining (Syntec: G05 P10000 HPCC).
+        /// High-speed cycle machining; Syntec: HPCC, `G05 P10000` on, `G05 P0` off.
         G05 = 50 in ONE_SHOT;
         /// AI contour control / nano smoothing (Q0, Q1, Q3).
         G05_1 = 51 in ONE_SHOT;
@@ -304,6 +304,15 @@ pub struct GDef {
     pub fanuc_only: bool,
 }
 
+impl GDef {
+    /// The block's axis words belong to this code in `dialect`: `takes_axes`, and Syntec's G05,
+    /// whose axis words name the axes HPCC smooths (`G05 P10000 X0 Y0 Z0 B1. C1.`); FANUC's
+    /// G05 takes none.
+    pub fn owns_axes(&self, dialect: Dialect) -> bool {
+        self.takes_axes || self.code == code::G05 && dialect == Dialect::Syntec
+    }
+}
+
 const fn g(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false }
 }
@@ -335,7 +344,7 @@ pub const TABLE: &[GDef] = &[
     g(34, 1),    // 3-D circular
     gx(40, 0),   // dwell
     g(41, 0),    // G04.1 prevent buffering
-    g(50, 0),    // G05 high-speed cycle / HPCC
+    g(50, 0),    // G05 high-speed cycle / HPCC (Syntec: its axis words name the axes, `GDef::owns_axes`)
     gx(51, 0),   // G05.1 AI contour / nano smoothing (Q3's axis words name the axes smoothed)
     g(54, 0),    // G05.4 HRV3
     g(62, 1),    // G06.2 NURBS

@@ -289,7 +289,8 @@ pub struct State {
     table_crc: Option<table_crc::TableCrc>,
     /// A NURBS curve (G06.2) being given, from its G06.2 block to its last knot.
     nurbs: Option<Box<nurbs::Builder>>,
-    /// Nano smoothing (G05.1 Q3) in force, with the points it holds.
+    /// Nano smoothing (G05.1 Q3), Syntec STCP or HPCC (G05 P10000) in force, with the points it
+    /// holds.
     smoothing: Option<Box<smoothing::Smoothing>>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
@@ -793,6 +794,7 @@ impl State {
                     return Err(AlarmId::NurbsFormat);
                 }
                 self.smoothing_flush(out)?;
+                self.hpcc_end();
                 self.ended = true;
                 return Ok(Step::Ended);
             }

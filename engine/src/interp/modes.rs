@@ -135,6 +135,9 @@ static RULES: &[Rule] = &[
     rule(Syntec, "syn SYN-22: P of G53.1/G53.3/G53.6 is 0, 1 or 2", A::AlignmentP, |c| {
         c.any(&ALIGNMENTS) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
     }),
+    rule(Syntec, "syn §3.1, COR-107: G05 P10000 [X0 Y0 Z0 α β] / G05 P0, E positive", A::HpccFormat, |c| {
+        c.has(G05) && c.st.g05_form(c.w).is_err()
+    }),
     rule(Syntec, "syn SYN-26: G10 L5000 Q is an integer 0..4", A::ChainQ, |c| {
         c.chain_switch() && c.word(b'Q').is_some_and(|q| !int_in(q, 0, 4))
     }),
@@ -370,6 +373,16 @@ static RULES: &[Rule] = &[
     rule(Syntec, "syn SYN-07/08/09, TV-16: no G05 P10000 in RTCP/STCP", A::HpccInTcp, |c| {
         c.has(G05) && c.word(b'P') == Some(10000.0) && c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
     }),
+    rule(
+        Syntec,
+        "syn SYN-07/08/09, TV-16 (decision: the other order): no RTCP/STCP started in HPCC",
+        A::HpccInTcp,
+        |c| {
+            c.st.hpcc_on()
+                && c.starts(group::LENGTH_COMP, |c, m| c.tcp(m))
+                && !(c.has(G05) && c.word(b'P') == Some(0.0))
+        },
+    ),
     rule(Syntec, "syn SYN-09, TV-25: STCP moves only the five RTCP axes", A::AxisNotInTcp, |c| {
         c.five.stcp && c.during(group::LENGTH_COMP, |c, m| c.tcp(m)) && c.other_axes() > 0
     }),
@@ -799,7 +812,8 @@ impl Ctx<'_> {
     fn axes_are_data(&self) -> bool {
         self.g.iter().any(|&g| {
             matches!(g, G51 | G51_1 | G68)
-                || gcode::lookup(g, self.st.cfg.dialect).is_some_and(|d| d.takes_axes && d.group == group::ONE_SHOT)
+                || gcode::lookup(g, self.st.cfg.dialect)
+                    .is_some_and(|d| d.owns_axes(self.st.cfg.dialect) && d.group == group::ONE_SHOT)
         })
     }
 

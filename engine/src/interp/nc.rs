@@ -405,7 +405,8 @@ impl State {
             if !known {
                 return Err(AlarmId::ImproperAddress);
             }
-            if self.cfg.refuse_unbuilt && unbuilt::address(letter).is_some() {
+            let argument = w.gcodes().iter().any(|&c| unbuilt::argument_of(c, self.cfg.dialect, letter));
+            if self.cfg.refuse_unbuilt && unbuilt::address(letter).is_some() && !argument {
                 return Err(AlarmId::AddressNotBuilt);
             }
         }
@@ -443,7 +444,10 @@ impl State {
         for &code in &w.g[..w.ng] {
             let def: &GDef = gcode::lookup(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
             if def.group == group::ONE_SHOT {
-                if def.takes_axes {
+                // Syntec's G05 owns the axis words it has; without any, its block moves as any
+                // other (the tool length change of `G05 P0 G43.4 H1`).
+                let axis_words = || self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
+                if def.owns_axes(self.cfg.dialect) && (def.takes_axes || axis_words()) {
                     if axes_owner.is_some() {
                         return Err(AlarmId::IllegalGCodeCombination);
                     }
@@ -718,6 +722,7 @@ impl State {
                     self.parts_done += 1.0;
                     self.emit(out, CanonKind::ProgramEnd { m });
                     self.ended = true;
+                    self.hpcc_end();
                     // M02/M30 end cutter compensation (its stage drops the vector there).
                     if code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
                         self.modes[group::CUTTER_COMP] = code::G40;
@@ -1248,6 +1253,9 @@ impl State {
             // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off; Q3 nano smoothing
             // (`smoothing`; other Q: `unbuilt`).
             code::G05_1 => self.g05_1(w)?,
+            // Syntec's G05 P10000 / P0: HPCC on / off (`smoothing`; FANUC's P0 does nothing,
+            // its other forms are refused, `unbuilt`).
+            code::G05 => self.g05(w)?,
             // The one-shot codes left are performed by doing nothing here (G04.1, G09, G22
             // without limits…), or refused before this (`unbuilt`).
             _ => {}
@@ -1314,7 +1322,13 @@ impl State {
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
-            smoothing: if w.has_g(code::G05_1) { w.integer(b'Q') == Some(3.0) } else { self.smoothing.is_some() },
+            smoothing: if w.has_g(code::G05_1) {
+                w.integer(b'Q') == Some(3.0)
+            } else if w.has_g(code::G05) && self.cfg.dialect == crate::Dialect::Syntec {
+                w.integer(b'P') == Some(10000.0)
+            } else {
+                self.smoothing.is_some()
+            },
         };
         match unbuilt::cutter(&block) {
             Some(_) => Err(AlarmId::GCodeNotBuilt),

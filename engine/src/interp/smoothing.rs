@@ -1,8 +1,10 @@
-//! FANUC nano smoothing, G05.1 Q3, and Syntec STCP (`docs/motion.md`, "Nano smoothing"):
-//! `G05.1 Q3 X0 Y0 Z0 [α0 β0]` names the axes smoothed — the linear group and at most two
-//! rotary axes (nano smoothing for 5-axis machining, also under G43.4) — and turns look-ahead
-//! on; `G05.1 Q0` (or Q1) ends it. STCP (`G43.4 L1`, or G43.4 with Pr3051 = 1) smooths the
-//! five RTCP axes within Pr407 and Pr3052/3053 until G49 or `G43.4 L0`. In the mode, a G01
+//! FANUC nano smoothing, G05.1 Q3, and Syntec STCP and HPCC (`docs/motion.md`, "Nano
+//! smoothing"): `G05.1 Q3 X0 Y0 Z0 [α0 β0]` names the axes smoothed — the linear group and at
+//! most two rotary axes (nano smoothing for 5-axis machining, also under G43.4) — and turns
+//! look-ahead on; `G05.1 Q0` (or Q1) ends it. STCP (`G43.4 L1`, or G43.4 with Pr3051 = 1)
+//! smooths the five RTCP axes within Pr407 and Pr3052/3053 until G49 or `G43.4 L0`. HPCC
+//! (`G05 P10000 [X0 Y0 Z0 α β]`) smooths X, Y, Z, or the axes its arguments name, with the same
+//! tolerances until G05 P0, M02/M30 or a reset. In the mode, a G01
 //! block of axis words and F alone is a point of the curve (`crate::smoothing` builds it and
 //! says which spans are ready); any other block first moves every span held, then runs as it
 //! always does. A span's chords are emitted as that block's
@@ -29,9 +31,11 @@ enum Source {
     Nano,
     /// Syntec STCP.
     Stcp,
+    /// Syntec HPCC (G05 P10000).
+    Hpcc,
 }
 
-/// Nano smoothing (or STCP) in force.
+/// Nano smoothing, STCP or HPCC in force.
 #[derive(Debug, Clone)]
 pub(super) struct Smoothing {
     source: Source,
@@ -61,6 +65,81 @@ impl State {
             self.smoothing = Some(Box::new(Smoothing { source: Source::Nano, settings, run: None, point: false }));
         }
         Ok(())
+    }
+
+    /// Syntec's G05 (its axis words are its arguments, `GDef::owns_axes`): P10000 turns HPCC on
+    /// with the axes of [`State::g05_form`], P0 ends it (a G05 P10000 in HPCC starts it again
+    /// with its own axes). The block is not a point of the curve: what was held has been moved
+    /// before it. FANUC's G05 P0 does nothing (its other forms are refused, `unbuilt`).
+    pub(super) fn g05(&mut self, w: &Words) -> Result<(), AlarmId> {
+        if self.cfg.dialect != crate::Dialect::Syntec {
+            return Ok(());
+        }
+        let settings = self.g05_form(w)?;
+        self.hpcc_end();
+        if let Some(settings) = settings {
+            self.smoothing = Some(Box::new(Smoothing { source: Source::Hpcc, settings, run: None, point: false }));
+        }
+        Ok(())
+    }
+
+    /// Syntec's G05 format (5-axis manual §3.1, COR-107), which the mode interlocks check before
+    /// the block changes anything: P is 10000 (HPCC on, with these settings) or 0 (off: `None`);
+    /// an E given is positive (and then refused as not built: `unbuilt`). `G05 P10000` smooths
+    /// X, Y, Z within Pr407; `G05 P10000 X0 Y0 Z0 α β` the geometry axes given (each 0) within
+    /// Pr407 and the rotary ones given (one or two of the mechanism's, each positive) within
+    /// Pr3052 / Pr3053: both kinds or neither, so five axes at most. Any other axis word, or one
+    /// in a G05 P0 block, is a format error too (the readings: `docs/motion.md`, "Syntec HPCC").
+    pub(super) fn g05_form(&self, w: &Words) -> Result<Option<Settings<MAX_AXES>>, AlarmId> {
+        let bad = Err(AlarmId::HpccFormat);
+        if w.number(b'E').is_some_and(|e| e <= 0.0) {
+            return bad;
+        }
+        let m = &self.cfg.machine;
+        let named = m.axes.iter().any(|a| w.has(a.name as u8));
+        match w.number(b'P') {
+            Some(10000.0) => {}
+            Some(0.0) if !named => return Ok(None),
+            _ => return bad,
+        }
+        // STCP's axes and tolerances: X, Y, Z within Pr407, the master and slave within
+        // Pr3052 / Pr3053.
+        let mut s = self.stcp_settings();
+        if !named {
+            s.rotary = [None; MAX_AXES];
+            return Ok(Some(s));
+        }
+        let (mut geometry, mut rotary) = (0, 0);
+        for (i, axis) in m.axes.iter().enumerate() {
+            let Some(v) = w.number(axis.name as u8) else {
+                (s.linear[i], s.rotary[i]) = (false, None);
+                continue;
+            };
+            if s.linear[i] && v == 0.0 {
+                geometry += 1;
+            } else if s.rotary[i].is_some() && v > 0.0 {
+                rotary += 1;
+            } else {
+                return bad;
+            }
+        }
+        if geometry == 0 || rotary == 0 {
+            return bad;
+        }
+        Ok(Some(s))
+    }
+
+    /// Syntec's HPCC is on.
+    pub(super) fn hpcc_on(&self) -> bool {
+        self.smoothing.as_deref().is_some_and(|s| s.source == Source::Hpcc)
+    }
+
+    /// HPCC ends (G05 P0, M02/M30, the end of the program's text, a reset): what it held has
+    /// been moved first, or dropped by the reset.
+    pub(super) fn hpcc_end(&mut self) {
+        if self.hpcc_on() {
+            self.smoothing = None;
+        }
     }
 
     /// STCP follows the mode a block leaves (the block's own motion is not smoothed: what was
@@ -146,11 +225,12 @@ impl State {
         Ok(Settings { linear, rotary, ..self.smoothing_conditions(mm) })
     }
 
-    /// In nano smoothing or STCP, before anything of the block is done: whether it is a point
-    /// of the curve (a G01 block of axis words and F, in G94/G95, outside canned cycles and
-    /// modal calls); if not, every span held is moved first. In nano smoothing, starting TCP, a
-    /// tilted working plane or G54.4 is refused (G43.4 comes first, G05.1 Q0 before G49 —
-    /// NSM-05 — and the other two do not list G05.1 Q3 among their modal states).
+    /// In nano smoothing, STCP or HPCC, before anything of the block is done: whether it is a
+    /// point of the curve (a G01 block of axis words and F, in G94/G95, outside canned cycles
+    /// and modal calls); if not, every span held is moved first. In nano smoothing, starting
+    /// TCP, a tilted working plane or G54.4 is refused (G43.4 comes first, G05.1 Q0 before G49
+    /// — NSM-05 — and the other two do not list G05.1 Q3 among their modal states); in HPCC,
+    /// RTCP is refused by the mode interlocks (COR-140).
     pub(super) fn smoothing_block(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let Some(s) = self.smoothing.as_deref() else { return Ok(()) };
         let motion = match w.gcodes() {
@@ -212,11 +292,14 @@ impl State {
         self.emit_spans(spans, out)
     }
 
-    /// A reset: what was held is dropped (the next run starts where the tool stands).
+    /// A reset: what was held is dropped (the next run starts where the tool stands), and HPCC
+    /// ends (decision: Syntec's manual does not say; its tolerance Pr407 takes effect at a
+    /// reset, so a reset starts again from the cancelled state, as M02/M30 do).
     pub(super) fn smoothing_reset(&mut self) {
         if let Some(s) = self.smoothing.as_deref_mut() {
             s.run = None;
         }
+        self.hpcc_end();
     }
 
     /// Each span's chords as motions of its block (its line, sequence number and F), no faster
@@ -238,5 +321,44 @@ impl State {
         }
         (self.line, self.n, self.f) = here;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::interp::{Config, Interpreter};
+    use crate::lang::parse_file;
+    use crate::machine::MachineConfig;
+    use crate::Dialect;
+
+    /// Whether HPCC is on after `src`'s first `blocks` blocks (Syntec, mill3), and after a reset
+    /// then.
+    fn hpcc_after(src: &str, blocks: usize) -> (bool, bool) {
+        let cfg = Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Syntec);
+        let mut interp = Interpreter::new(parse_file(src), cfg);
+        let mut out = Vec::new();
+        for _ in 0..blocks {
+            interp.step(&mut out).unwrap();
+        }
+        let on = interp.state.hpcc_on();
+        interp.reset();
+        (on, interp.state.hpcc_on())
+    }
+
+    #[test]
+    fn g05_p0_m02_m30_the_end_and_a_reset_end_hpcc() {
+        let on = "G05 P10000\nG01 X1. F1000\n";
+        assert_eq!(hpcc_after(&format!("{on}X2. Y0.1\nM30\n"), 3), (true, false));
+        for end in ["G05 P0\n", "M30\n", "M02\n"] {
+            assert!(!hpcc_after(&format!("{on}{end}X3.\n"), 3).0, "{end}");
+        }
+        // The end of the program's text (an end step after the last block).
+        assert!(!hpcc_after(on, 3).0);
+        // G05 P10000 in HPCC keeps it on; FANUC's G05 is not HPCC.
+        assert!(hpcc_after(&format!("{on}G05 P10000\n"), 3).0);
+        let cfg = Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc);
+        let mut interp = Interpreter::new(parse_file("G05 P10000\n"), Config { refuse_unbuilt: false, ..cfg });
+        interp.step(&mut Vec::new()).unwrap();
+        assert!(!interp.state.hpcc_on());
     }
 }

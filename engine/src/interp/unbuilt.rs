@@ -24,6 +24,9 @@ enum When {
     Unless(u8, &'static [f64]),
     /// When any of these addresses is given.
     WithAny(&'static [u8]),
+    /// When the address is given a positive value (its other values are format errors of the
+    /// mode interlocks, `interp::modes`).
+    Positive(u8),
 }
 
 struct NotBuilt {
@@ -48,8 +51,22 @@ const TABLE: &[NotBuilt] = &[
     row(32, When::Always, "involute interpolation"),
     row(33, When::Always, "exponential interpolation"),
     row(34, When::Always, "3-D circular interpolation"),
-    // G05 P0 is the cancelled state; P10000 (HPCC) and the high-speed cycles are not built.
-    row(50, When::Unless(b'P', &[0.0]), "high-speed machining (G05 P10000 HPCC, high-speed cycle)"),
+    // FANUC: G05 P0 is the cancelled state; P10000 (HPCC) and the high-speed cycles are not
+    // built.
+    NotBuilt {
+        code: 50,
+        dialect: Some(Dialect::Fanuc),
+        when: When::Unless(b'P', &[0.0]),
+        function: "high-speed machining (G05 P10000 HPCC, high-speed cycle)",
+    },
+    // Syntec: G05 P10000 is HPCC (`interp::smoothing`); its E argument is nowhere described, so
+    // a G05 with one is refused (a P other than 10000 / 0 or an E not positive is COR-107).
+    NotBuilt {
+        code: 50,
+        dialect: Some(Dialect::Syntec),
+        when: When::Positive(b'E'),
+        function: "the E argument of G05 (HPCC)",
+    },
     // Q1/Q0: look-ahead on/off, and FANUC's Q3 nano smoothing (`interp::smoothing`), are
     // performed; Q2 is not (smooth interpolation: its manual pages are not in fivex's sources).
     // Syntec's G05.1 is its own (Q0–Q2 with E), not described to build.
@@ -121,6 +138,11 @@ pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<
         When::Always => Some(true),
         When::Unless(letter, values) => value_in(letter, values).map(|ok| !ok),
         When::WithAny(letters) => Some(letters.iter().any(|&l| word(l) != Word::Absent)),
+        When::Positive(letter) => match word(letter) {
+            Word::Value(v) => Some(v > 0.0),
+            Word::Absent => Some(false),
+            Word::Unknown => None,
+        },
     };
     // A value known only when running is not refused statically; the run decides.
     refused.unwrap_or(false).then_some(row.function)
@@ -165,8 +187,8 @@ pub struct CutterBlock {
     /// inclination), under G41.2/G42.2 a Q other than Q1/Q2/Q3 (the tool side offset's answers
     /// to its interference check at a compensation plane change).
     pub q: bool,
-    /// Nano smoothing (G05.1 Q3) in force after the block: its curve is built from the
-    /// programmed points, before (not after) any compensation.
+    /// Nano smoothing (G05.1 Q3) or Syntec's HPCC (G05 P10000) in force after the block: its
+    /// curve is built from the programmed points, before (not after) any compensation.
     pub smoothing: bool,
 }
 
@@ -186,7 +208,7 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.transform, "cutter radius compensation with rotation, scaling, mirror image or polar coordinates"),
         (b.five_axis || b.tcp && conventional, "cutter radius compensation with TCP, a tilted working plane or G54.4"),
         (b.cycle, "cutter radius compensation in a canned cycle"),
-        (b.smoothing, "cutter radius compensation with nano smoothing (G05.1 Q3)"),
+        (b.smoothing, "cutter radius compensation with smoothing (G05.1 Q3, HPCC)"),
         (b.coordinates, "cutter radius compensation with G28/G30/G53, G52/G92 or a workpiece system change"),
         (b.rotary && conventional, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
@@ -217,6 +239,12 @@ pub fn address(letter: u8) -> Option<&'static str> {
         b'a' => Some("angle of direct drawing dimension programming (,A)"),
         _ => None,
     }
+}
+
+/// `letter` is an argument of the G code `code` in `dialect`, decided by the code's row rather
+/// than by [`address`]: Syntec's G05 E.
+pub fn argument_of(code: u16, dialect: Dialect, letter: u8) -> bool {
+    code == 50 && dialect == Dialect::Syntec && letter == b'E'
 }
 
 /// The codes of the table (for documentation checks).
@@ -258,5 +286,18 @@ mod tests {
         assert!(g_code(51, Dialect::Syntec, q(Word::Value(3.0))).is_some());
         assert!(g_code(51, Dialect::Fanuc, q(Word::Absent)).is_some());
         assert!(g_code(51, Dialect::Fanuc, q(Word::Unknown)).is_none());
+        let p_e = |p: f64, e: Word| {
+            move |l: u8| match l {
+                b'P' => Word::Value(p),
+                b'E' => e,
+                _ => Word::Absent,
+            }
+        };
+        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Absent)).is_none());
+        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Value(1.0))).is_some());
+        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Value(0.0))).is_none());
+        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Unknown)).is_none());
+        assert!(g_code(50, Dialect::Fanuc, p_e(10000.0, Word::Absent)).is_some());
+        assert!(g_code(50, Dialect::Fanuc, p_e(0.0, Word::Absent)).is_none());
     }
 }

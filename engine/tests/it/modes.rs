@@ -25,7 +25,7 @@ fn outcome(r: fivex_engine::run::RunResult) -> String {
 }
 
 /// A run with the functions fivex does not build yet allowed (`Config::refuse_unbuilt` off):
-/// most interlocks belong to 5-axis cutter compensation, NURBS, smoothing and HPCC, which a
+/// most interlocks belong to 5-axis cutter compensation, NURBS and smoothing, which a
 /// normal run refuses at their first block (`engine/tests/unbuilt.rs`); their rules stay
 /// checked here until those functions are built.
 fn run_interlocks(src: &str, preset: &str, dialect: Dialect) -> fivex_engine::run::RunResult {

@@ -18,7 +18,7 @@ fn run_on(src: &str, preset: &str, tweak: impl FnOnce(&mut MachineConfig)) -> (R
     run_in(Dialect::Fanuc, src, preset, tweak)
 }
 
-fn run_in(
+pub(crate) fn run_in(
     dialect: Dialect,
     src: &str,
     preset: &str,
@@ -33,7 +33,7 @@ fn run_in(
 }
 
 /// The distance from `p` to the segment `a`–`b`.
-fn to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     let ab: [f64; 3] = std::array::from_fn(|c| b[c] - a[c]);
     let ap: [f64; 3] = std::array::from_fn(|c| p[c] - a[c]);
     let l2: f64 = ab.iter().map(|x| x * x).sum();
@@ -44,7 +44,7 @@ fn to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
 /// A program that smooths `points` (X, Y, Z) from the first at F `feed`: line 3 is the first
 /// block of the curve, line 3 + i the block ending at point i + 1; the program ends with G05.1
 /// Q0 and M30.
-fn program(points: &[[f64; 3]], feed: f64, smoothing: bool, prefix: &str) -> String {
+pub(crate) fn program(points: &[[f64; 3]], feed: f64, smoothing: bool, prefix: &str) -> String {
     let p0 = points[0];
     let mut s = format!("G90 G00 X{:.4} Y{:.4} Z{:.4}\n{prefix}G01 F{feed:.0}\n", p0[0], p0[1], p0[2]);
     s += if smoothing { "G05.1 Q3 X0 Y0 Z0\n" } else { "G04 X0\n" };
@@ -56,7 +56,7 @@ fn program(points: &[[f64; 3]], feed: f64, smoothing: bool, prefix: &str) -> Str
 
 /// Every sample of the curve's blocks is within `tol` (+ 1 µm for the chords and the check's
 /// sampling) of its own block's programmed segment; returns the largest distance.
-fn within_segments(samples: &[Sample], points: &[[f64; 3]], tol: f64) -> Result<f64, String> {
+pub(crate) fn within_segments(samples: &[Sample], points: &[[f64; 3]], tol: f64) -> Result<f64, String> {
     let mut worst = 0.0f64;
     let mut seen = 0;
     for s in samples {
@@ -162,7 +162,7 @@ fn the_curve_is_fed_within_the_axes_limits() {
 
 /// Points along z = 2·sin(x/5) over 30 mm of X, `step` apart, with a deterministic noise of
 /// ±`noise` mm on Z.
-fn wave(step: f64, noise: f64, seed: u64) -> Vec<[f64; 3]> {
+pub(crate) fn wave(step: f64, noise: f64, seed: u64) -> Vec<[f64; 3]> {
     let mut state = seed;
     let n = (30.0 / step) as usize;
     (0..=n)
@@ -200,7 +200,7 @@ proptest! {
 /// `program` under G43.4 on head-bc with B and C turning along the points (B from 10° by up to
 /// `tilt`° more, C by `turn`° over the run), both smoothed; the tips are the points, on the
 /// lines `program` puts them.
-fn program_5x(points: &[[f64; 3]], feed: f64, tilt: f64, turn: f64) -> String {
+pub(crate) fn program_5x(points: &[[f64; 3]], feed: f64, tilt: f64, turn: f64) -> String {
     let n = points.len() as f64;
     let angles = |i: usize| {
         let u = i as f64 / n;

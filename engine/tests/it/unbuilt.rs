@@ -32,7 +32,7 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G03", "G03 X2. R1. F100", "fixture arcs_ij, helix"),
     ("G04", "G04 P100", "fixture dwell"),
     ("G04.1", "G04.1", "decision: fivex reads no block ahead that a program could see (docs/dialects.md)"),
-    ("G05", "G05 P0", "G05 P0 is the cancelled state"),
+    ("G05", "G05 P0", "G05 P0 is the cancelled state; Syntec's G05 P10000 (HPCC): hpcc.rs"),
     ("G05.1", "G05.1 Q1\nG05.1 Q0", "wse.rs (look-ahead on/off); FANUC's Q3: smoothing.rs"),
     ("G06.2", "G06.2 P3 K0 F100\nK0 X1.\nK0 X1. Y1.\nK1.\nK1.\nK1.\nG01 X1.", "nurbs.rs (FANUC; Syntec refuses it)"),
     ("G08", "G08 P1\nG08 P0", "decision: the planner always looks ahead (docs/dialects.md)"),
@@ -142,9 +142,12 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G03.2 X1. Y1. I1. J0 R1. F100", &[Fanuc, Syntec]),
     ("G03.3 X1. Y1. R1. F100", &[Fanuc, Syntec]),
     ("G03.4 X1. Y1. Z1. I1. J1. K1. F100", &[Fanuc, Syntec]),
-    ("G05 P10000", &[Fanuc, Syntec]),
-    ("G05 P1", &[Fanuc, Syntec]),
-    ("G05", &[Fanuc, Syntec]),
+    // Syntec: G05 P10000 is HPCC, its E argument is not built; a P other than 10000 or 0 is
+    // its format error COR-107 (hpcc.rs).
+    ("G05 P10000", &[Fanuc]),
+    ("G05 P1", &[Fanuc]),
+    ("G05", &[Fanuc]),
+    ("G05 P10000 E1.", &[Syntec]),
     ("G05.1 Q3", &[Syntec]),
     ("G05.1 Q2", &[Fanuc, Syntec]),
     ("G05.1", &[Fanuc, Syntec]),
@@ -386,7 +389,12 @@ fn comma_addresses_have_a_decision() {
 fn the_refused_forms_of_a_code_are_values_not_the_code() {
     // Conditional refusals: the performed values of the same code run (the PERFORMED list has
     // the cancels); here the modes that select a different function.
-    for (src, dialect) in [("G43.4 H1 L0\nG49", Syntec), ("G43.4 H1\nG49", Syntec), ("G10 L2 P1 X0", Syntec)] {
+    for (src, dialect) in [
+        ("G43.4 H1 L0\nG49", Syntec),
+        ("G43.4 H1\nG49", Syntec),
+        ("G10 L2 P1 X0", Syntec),
+        ("G05 P10000\nG01 X1. F100\nG05 P0", Syntec),
+    ] {
         assert!(run_with(&program(src), PRESET, dialect).completed(), "{src}");
     }
     // G10 L5000 is Syntec's; in FANUC it is a G10 format error, as before.

@@ -1,4 +1,4 @@
-(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+(fivex: --preset head-bc --dialect syntec)
 G43.4 H1
 G05 P0
 G49

@@ -1,4 +1,4 @@
-(fivex: --preset head-bc --dialect syntec --allow-unbuilt)
+(fivex: --preset head-bc --dialect syntec)
 G05 P10000
 G05 P0
 G43.4 H1

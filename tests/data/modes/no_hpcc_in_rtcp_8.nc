@@ -1,0 +1,7 @@
+(fivex: --preset head-bc --dialect syntec)
+G05 P10000
+G05 P0 G43.4 H1
+G49
+M30
+(HPCC ends in the block that starts RTCP: allowed)
+(expect: status=completed)
