@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
-# The whole test suite: every Rust test, the comparisons with LinuxCNC's rs274 (ignored by a
+# The whole test suite: every Rust test (the service's on PostgreSQL too: a server of its own
+# per test, from Debian's postgresql, installed if missing), the comparisons with LinuxCNC's rs274 (ignored by a
 # plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches) and of NURBS with
 # SciPy (ignored likewise: they need python3-scipy), a build check of the fuzz targets, then the
 # dashboard's (scripts/web-test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+echo "== PostgreSQL for the service's tests on it (Debian's postgresql, installed if missing)"
+if ! ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 && ! command -v initdb >/dev/null; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq postgresql >/dev/null
+fi
 echo "== cargo test --workspace"
 cargo test --workspace
 echo "== cutter compensation against LinuxCNC's rs274 (the peer, fetched from Debian's archive)"

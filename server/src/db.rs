@@ -1,19 +1,30 @@
-//! SQLite persistence: opening (and creating) the database, running the migrations in
-//! `migrations/`, and the queries the HTTP layer needs.
+//! Persistence: opening (and creating) the database, running the migrations, and the queries
+//! the HTTP layer needs — on SQLite (the embedded default, a file) or on PostgreSQL (a
+//! `postgres://` URL, for a cluster of nodes sharing their state).
+//!
+//! One set of queries serves both through sqlx's `Any` driver: plain SQL both understand
+//! (`$1` placeholders, `ON CONFLICT … DO UPDATE`, `excluded`), on the same tables. The schema is
+//! kept twice, `migrations/` for SQLite and `migrations/postgres/` for PostgreSQL (its column
+//! types: BIGINT for INTEGER, DOUBLE PRECISION for REAL, an identity `rowid`), and a test holds
+//! the two equal table by table and column by column.
 //!
 //! Queries are runtime queries (`sqlx::query`), not the compile-time checked macros, so building
 //! the crate never needs a database. The migrations are embedded into the binary with
-//! `sqlx::migrate!`, so a fresh file is migrated on start with no extra files at run time.
+//! `sqlx::migrate!`, so a fresh database is migrated on start with no extra files at run time.
 
 use std::path::Path;
 use std::time::Duration;
 
-use sqlx::sqlite::{SqliteConnectOptions, SqliteConnection, SqliteJournalMode, SqlitePool, SqlitePoolOptions};
-use sqlx::sqlite::{SqliteRow, SqliteSynchronous};
-use sqlx::Row;
+use sqlx::any::{AnyConnectOptions, AnyPoolOptions};
+use sqlx::{AnyConnection, AnyPool, ConnectOptions, Executor, Row};
 
-/// The migrations embedded from the workspace's `migrations/` directory.
+type AnyRow = sqlx::any::AnyRow;
+
+/// The SQLite migrations embedded from the workspace's `migrations/` directory.
 pub static MIGRATOR: sqlx::migrate::Migrator = sqlx::migrate!("../migrations");
+
+/// The same schema for PostgreSQL (`migrations/postgres/`).
+pub static POSTGRES_MIGRATOR: sqlx::migrate::Migrator = sqlx::migrate!("../migrations/postgres");
 
 /// Why the database could not be opened.
 #[derive(Debug, thiserror::Error)]
@@ -38,7 +49,14 @@ pub enum OpenError {
     },
 }
 
-/// The database as the service uses it: one writer connection and a pool of readers.
+/// Which database the service keeps its state in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    Sqlite,
+    Postgres,
+}
+
+/// The database as the service uses it: readers and writers.
 ///
 /// *Decision* (docs/api.md, "The database"): SQLite lets one connection write at a time. Several
 /// connections that write race for the lock, and a transaction that reads before it writes
@@ -49,42 +67,54 @@ pub enum OpenError {
 /// that reads before it writes starts with `BEGIN IMMEDIATE`. The readers are `query_only`, so a
 /// write sent to them fails in every test instead of racing the writer; WAL lets them read
 /// while the writer writes. The busy timeout stays as a defence against other processes
-/// (`sqlite3` on the same file).
+/// (`sqlite3` on the same file). PostgreSQL has row locks and many writers: there both are one
+/// pool.
 #[derive(Clone, Debug)]
 pub struct Db {
-    reads: SqlitePool,
-    writes: SqlitePool,
+    reads: AnyPool,
+    writes: AnyPool,
+    backend: Backend,
 }
 
 /// Readers: enough for the handlers that read at once on a small machine.
 const READERS: u32 = 4;
 
+/// Connections to PostgreSQL, readers and writers together.
+const POSTGRES_CONNECTIONS: u32 = 8;
+
 /// How long a request may wait for the writer before it fails (a defence: a write takes
 /// milliseconds, and the queue is fair).
 const WRITER_WAIT: Duration = Duration::from_secs(60);
 
-/// How long a connection waits for a lock another process holds.
-const BUSY_TIMEOUT: Duration = Duration::from_secs(5);
+/// How long a SQLite connection waits for a lock another process holds, ms.
+const BUSY_TIMEOUT_MS: u32 = 5000;
 
 impl Db {
-    /// The pool of read-only (`query_only`) connections.
-    pub fn reads(&self) -> &SqlitePool {
+    /// The pool of connections that read (on SQLite `query_only`).
+    pub fn reads(&self) -> &AnyPool {
         &self.reads
     }
 
-    /// The pool of the one connection that writes.
-    pub fn writes(&self) -> &SqlitePool {
+    /// The pool of connections that write (on SQLite the one connection).
+    pub fn writes(&self) -> &AnyPool {
         &self.writes
     }
 
-    /// A write transaction that holds the write lock from its start (`BEGIN IMMEDIATE`), for a
-    /// transaction that reads before it writes.
-    async fn begin_write(&self) -> Result<sqlx::Transaction<'static, sqlx::Sqlite>, sqlx::Error> {
-        self.writes.begin_with("BEGIN IMMEDIATE").await
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    /// A write transaction; on SQLite it holds the write lock from its start (`BEGIN
+    /// IMMEDIATE`), for a transaction that reads before it writes.
+    async fn begin_write(&self) -> Result<sqlx::Transaction<'static, sqlx::Any>, sqlx::Error> {
+        match self.backend {
+            Backend::Sqlite => self.writes.begin_with("BEGIN IMMEDIATE").await,
+            Backend::Postgres => self.writes.begin().await,
+        }
     }
 
     /// Closes both pools (waiting for the connections in use); the writer last, so that it is
-    /// the one that checkpoints the WAL into the file.
+    /// the one that checkpoints SQLite's WAL into the file.
     pub async fn close(&self) {
         self.reads.close().await;
         self.writes.close().await;
@@ -95,7 +125,7 @@ impl Db {
     }
 
     /// Whether the database answers: the readers run a query, and the writer is there (a query
-    /// on it would wait behind the writes).
+    /// on SQLite's would wait behind the writes).
     pub async fn ping(&self) -> Result<(), sqlx::Error> {
         let writer = if self.writes.is_closed() { Err(sqlx::Error::PoolClosed) } else { Ok(()) };
         let reader = sqlx::query("SELECT 1").execute(&self.reads).await.map(|_| ());
@@ -103,34 +133,96 @@ impl Db {
     }
 }
 
+/// Opens the database `db` names — a `postgres://` (or `postgresql://`) URL, else the path of a
+/// SQLite file — and brings its schema up to date.
+pub async fn open_any(db: &str) -> Result<Db, OpenError> {
+    if db.starts_with("postgres://") || db.starts_with("postgresql://") {
+        open_postgres(db).await
+    } else {
+        open(Path::new(db)).await
+    }
+}
+
+/// `db` as `open_any` takes it, for messages and logs: a URL without its password.
+pub fn shown(db: &str) -> String {
+    match url::Url::parse(db) {
+        Ok(mut url) if url.scheme().starts_with("postgres") => {
+            if url.password().is_some() {
+                let _ = url.set_password(Some("***"));
+            }
+            url.to_string()
+        }
+        _ => db.to_string(),
+    }
+}
+
 /// Opens the SQLite database at `path`, creating the file if it is missing, and brings its schema
 /// up to date. Foreign keys are enforced (deleting a controller deletes its programs and
 /// variables) and the journal is in WAL mode so readers do not block the writer.
 pub async fn open(path: &Path) -> Result<Db, OpenError> {
+    sqlx::any::install_default_drivers();
     let shown = path.display().to_string();
     let connect = |source| OpenError::Connect { path: shown.clone(), source };
-    let options = SqliteConnectOptions::new()
-        .filename(path)
-        .foreign_keys(true)
-        .synchronous(SqliteSynchronous::Normal)
-        .busy_timeout(BUSY_TIMEOUT);
+    let url = sqlite_url(path).map_err(connect)?;
     // The writer first: it creates the file and turns on WAL, which the readers then find.
-    let writes = SqlitePoolOptions::new()
+    let writes = AnyPoolOptions::new()
         .max_connections(1)
         .min_connections(1)
         .acquire_timeout(WRITER_WAIT)
         .idle_timeout(None)
         .max_lifetime(None)
-        .connect_with(options.clone().create_if_missing(true).journal_mode(SqliteJournalMode::Wal))
+        .after_connect(|conn, _| Box::pin(async move { sqlite_pragmas(conn, false).await }))
+        .connect_with(url.clone())
         .await
         .map_err(connect)?;
     MIGRATOR.run(&writes).await.map_err(|source| OpenError::Migrate { path: shown.clone(), source })?;
-    let reads = SqlitePoolOptions::new()
+    let reads = AnyPoolOptions::new()
         .max_connections(READERS)
-        .connect_with(options.pragma("query_only", "ON"))
+        .after_connect(|conn, _| Box::pin(async move { sqlite_pragmas(conn, true).await }))
+        .connect_with(url)
         .await
         .map_err(connect)?;
-    Ok(Db { reads, writes })
+    Ok(Db { reads, writes, backend: Backend::Sqlite })
+}
+
+/// The `Any` options of a SQLite file, created if missing (`mode=rwc`): its absolute path,
+/// percent-encoded (a `?` or `#` in a file name stays in it).
+fn sqlite_url(path: &Path) -> Result<AnyConnectOptions, sqlx::Error> {
+    let absolute = std::path::absolute(path).map_err(|e| sqlx::Error::Configuration(e.into()))?;
+    let mut url = url::Url::parse("sqlite:///").map_err(|e| sqlx::Error::Configuration(e.into()))?;
+    url.set_path(&absolute.to_string_lossy());
+    url.set_query(Some("mode=rwc"));
+    AnyConnectOptions::from_url(&url)
+}
+
+/// What every SQLite connection is set to: foreign keys enforced, WAL, synchronous NORMAL (safe
+/// with WAL), the busy timeout; readers `query_only`.
+async fn sqlite_pragmas(conn: &mut AnyConnection, read_only: bool) -> Result<(), sqlx::Error> {
+    conn.execute(
+        format!(
+            "PRAGMA foreign_keys = ON; PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL; \
+             PRAGMA busy_timeout = {BUSY_TIMEOUT_MS}; PRAGMA query_only = {}",
+            if read_only { "ON" } else { "OFF" }
+        )
+        .as_str(),
+    )
+    .await
+    .map(|_| ())
+}
+
+/// Opens the PostgreSQL database at `url` and brings its schema up to date (the database must
+/// exist; the tables are created).
+pub async fn open_postgres(url: &str) -> Result<Db, OpenError> {
+    sqlx::any::install_default_drivers();
+    let shown = shown(url);
+    let pool = AnyPoolOptions::new()
+        .max_connections(POSTGRES_CONNECTIONS)
+        .acquire_timeout(WRITER_WAIT)
+        .connect(url)
+        .await
+        .map_err(|source| OpenError::Connect { path: shown.clone(), source })?;
+    POSTGRES_MIGRATOR.run(&pool).await.map_err(|source| OpenError::Migrate { path: shown, source })?;
+    Ok(Db { reads: pool.clone(), writes: pool, backend: Backend::Postgres })
 }
 
 /// One row of the `controllers` table.
@@ -144,7 +236,7 @@ pub struct ControllerRow {
 }
 
 impl ControllerRow {
-    fn from_row(row: &SqliteRow) -> Result<Self, sqlx::Error> {
+    fn from_row(row: &AnyRow) -> Result<Self, sqlx::Error> {
         Ok(Self {
             id: row.try_get("id")?,
             name: row.try_get("name")?,
@@ -171,7 +263,7 @@ pub async fn list_controllers(db: &Db) -> Result<Vec<ControllerRow>, sqlx::Error
 pub async fn insert_controller(db: &Db, row: &ControllerRow) -> Result<(), sqlx::Error> {
     sqlx::query(
         "INSERT INTO controllers (id, name, dialect, machine_json, created_at) \
-         VALUES (?, ?, ?, ?, ?)",
+         VALUES ($1, $2, $3, $4, $5)",
     )
     .bind(&row.id)
     .bind(&row.name)
@@ -186,13 +278,13 @@ pub async fn insert_controller(db: &Db, row: &ControllerRow) -> Result<(), sqlx:
 /// Removes a controller and (by the foreign keys) everything stored for it; false if there was
 /// none.
 pub async fn delete_controller(db: &Db, id: &str) -> Result<bool, sqlx::Error> {
-    let done = sqlx::query("DELETE FROM controllers WHERE id = ?").bind(id).execute(db.writes()).await?;
+    let done = sqlx::query("DELETE FROM controllers WHERE id = $1").bind(id).execute(db.writes()).await?;
     Ok(done.rows_affected() > 0)
 }
 
 /// Sets a controller's name and speed factor.
 pub async fn update_controller(db: &Db, id: &str, name: &str, speed: f64) -> Result<(), sqlx::Error> {
-    sqlx::query("UPDATE controllers SET name = ?, speed = ? WHERE id = ?")
+    sqlx::query("UPDATE controllers SET name = $1, speed = $2 WHERE id = $3")
         .bind(name)
         .bind(speed)
         .bind(id)
@@ -216,7 +308,7 @@ pub async fn insert_controller_with(
 ) -> Result<(), sqlx::Error> {
     sqlx::query(
         "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters) \
-         VALUES (?, ?, ?, ?, ?, ?, ?)",
+         VALUES ($1, $2, $3, $4, $5, $6, $7)",
     )
     .bind(&row.id)
     .bind(&row.name)
@@ -243,7 +335,7 @@ pub async fn clone_controller(
     let mut tx = db.begin_write().await?;
     let copied = sqlx::query(
         "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters) \
-         SELECT ?, ?, dialect, machine_json, ?, speed, extra_parameters FROM controllers WHERE id = ?",
+         SELECT $1, $2, dialect, machine_json, $3, speed, extra_parameters FROM controllers WHERE id = $4",
     )
     .bind(id)
     .bind(name)
@@ -255,12 +347,12 @@ pub async fn clone_controller(
         return Ok(false);
     }
     for copy in [
-        "INSERT INTO programs (controller_id, number, text) SELECT ?, number, text FROM programs WHERE controller_id = ?",
-        "INSERT INTO variables (controller_id, number, value) SELECT ?, number, value FROM variables WHERE controller_id = ?",
+        "INSERT INTO programs (controller_id, number, text) SELECT $1, number, text FROM programs WHERE controller_id = $2",
+        "INSERT INTO variables (controller_id, number, value) SELECT $1, number, value FROM variables WHERE controller_id = $2",
         "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear, corner_radius) \
-         SELECT ?, number, length, length_wear, radius, radius_wear, corner_radius FROM tool_offsets \
-         WHERE controller_id = ?",
-        "INSERT INTO work_offsets (controller_id, slot, axes) SELECT ?, slot, axes FROM work_offsets WHERE controller_id = ?",
+         SELECT $1, number, length, length_wear, radius, radius_wear, corner_radius FROM tool_offsets \
+         WHERE controller_id = $2",
+        "INSERT INTO work_offsets (controller_id, slot, axes) SELECT $1, slot, axes FROM work_offsets WHERE controller_id = $2",
     ] {
         sqlx::query(copy).bind(id).bind(from).execute(&mut *tx).await?;
     }
@@ -270,7 +362,7 @@ pub async fn clone_controller(
 
 /// One stored controller row.
 pub async fn controller(db: &Db, id: &str) -> Result<Option<ControllerRow>, sqlx::Error> {
-    let row = sqlx::query("SELECT id, name, dialect, machine_json, created_at FROM controllers WHERE id = ?")
+    let row = sqlx::query("SELECT id, name, dialect, machine_json, created_at FROM controllers WHERE id = $1")
         .bind(id)
         .fetch_optional(db.reads())
         .await?;
@@ -281,16 +373,18 @@ pub async fn controller(db: &Db, id: &str) -> Result<Option<ControllerRow>, sqlx
 
 /// The O-numbers and sizes of a controller's stored programs, ascending.
 pub async fn list_programs(db: &Db, controller: &str) -> Result<Vec<(u32, usize)>, sqlx::Error> {
-    let rows = sqlx::query("SELECT number, length(text) AS size FROM programs WHERE controller_id = ? ORDER BY number")
-        .bind(controller)
-        .fetch_all(db.reads())
-        .await?;
+    let rows = sqlx::query(
+        "SELECT number, CAST(length(text) AS BIGINT) AS size FROM programs WHERE controller_id = $1 ORDER BY number",
+    )
+    .bind(controller)
+    .fetch_all(db.reads())
+    .await?;
     rows.iter().map(|r| Ok((r.try_get::<i64, _>("number")? as u32, r.try_get::<i64, _>("size")? as usize))).collect()
 }
 
 /// Every stored program of a controller, ascending: (number, text).
 pub async fn programs(db: &Db, controller: &str) -> Result<Vec<(u32, String)>, sqlx::Error> {
-    let rows = sqlx::query("SELECT number, text FROM programs WHERE controller_id = ? ORDER BY number")
+    let rows = sqlx::query("SELECT number, text FROM programs WHERE controller_id = $1 ORDER BY number")
         .bind(controller)
         .fetch_all(db.reads())
         .await?;
@@ -298,7 +392,7 @@ pub async fn programs(db: &Db, controller: &str) -> Result<Vec<(u32, String)>, s
 }
 
 pub async fn program(db: &Db, controller: &str, number: u32) -> Result<Option<String>, sqlx::Error> {
-    let row = sqlx::query("SELECT text FROM programs WHERE controller_id = ? AND number = ?")
+    let row = sqlx::query("SELECT text FROM programs WHERE controller_id = $1 AND number = $2")
         .bind(controller)
         .bind(number as i64)
         .fetch_optional(db.reads())
@@ -309,14 +403,14 @@ pub async fn program(db: &Db, controller: &str, number: u32) -> Result<Option<St
 /// Stores (or replaces) a program; true if it was new.
 pub async fn put_program(db: &Db, controller: &str, number: u32, text: &str) -> Result<bool, sqlx::Error> {
     let mut tx = db.begin_write().await?;
-    let existed = sqlx::query("SELECT 1 FROM programs WHERE controller_id = ? AND number = ?")
+    let existed = sqlx::query("SELECT 1 FROM programs WHERE controller_id = $1 AND number = $2")
         .bind(controller)
         .bind(number as i64)
         .fetch_optional(&mut *tx)
         .await?
         .is_some();
     sqlx::query(
-        "INSERT INTO programs (controller_id, number, text) VALUES (?, ?, ?) \
+        "INSERT INTO programs (controller_id, number, text) VALUES ($1, $2, $3) \
          ON CONFLICT (controller_id, number) DO UPDATE SET text = excluded.text",
     )
     .bind(controller)
@@ -329,7 +423,7 @@ pub async fn put_program(db: &Db, controller: &str, number: u32, text: &str) -> 
 }
 
 pub async fn delete_program(db: &Db, controller: &str, number: u32) -> Result<bool, sqlx::Error> {
-    let done = sqlx::query("DELETE FROM programs WHERE controller_id = ? AND number = ?")
+    let done = sqlx::query("DELETE FROM programs WHERE controller_id = $1 AND number = $2")
         .bind(controller)
         .bind(number as i64)
         .execute(db.writes())
@@ -342,7 +436,7 @@ pub async fn delete_program(db: &Db, controller: &str, number: u32) -> Result<bo
 /// A controller's retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902): every
 /// row with a value (a NULL row is vacant).
 pub async fn retained_variables(db: &Db, controller: &str) -> Result<Vec<(u32, f64)>, sqlx::Error> {
-    let rows = sqlx::query("SELECT number, value FROM variables WHERE controller_id = ? AND value IS NOT NULL")
+    let rows = sqlx::query("SELECT number, value FROM variables WHERE controller_id = $1 AND value IS NOT NULL")
         .bind(controller)
         .fetch_all(db.reads())
         .await?;
@@ -364,13 +458,13 @@ pub async fn save_variables(db: &Db, controller: &str, values: &[(u32, Option<f6
 }
 
 async fn variables_on(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     controller: &str,
     values: &[(u32, Option<f64>)],
 ) -> Result<(), sqlx::Error> {
     for (number, value) in values {
         sqlx::query(
-            "INSERT INTO variables (controller_id, number, value) VALUES (?, ?, ?) \
+            "INSERT INTO variables (controller_id, number, value) VALUES ($1, $2, $3) \
              ON CONFLICT (controller_id, number) DO UPDATE SET value = excluded.value",
         )
         .bind(controller)
@@ -397,8 +491,8 @@ pub struct AlarmRow {
 /// A controller's alarm history, newest first, at most `limit` rows.
 pub async fn alarm_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<AlarmRow>, sqlx::Error> {
     let rows = sqlx::query(
-        "SELECT raised_at, code, message, line, n FROM alarm_history WHERE controller_id = ? \
-         ORDER BY id DESC LIMIT ?",
+        "SELECT raised_at, code, message, line, n FROM alarm_history WHERE controller_id = $1 \
+         ORDER BY id DESC LIMIT $2",
     )
     .bind(controller)
     .bind(limit as i64)
@@ -431,7 +525,7 @@ pub struct RunRow {
 pub async fn run_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<RunRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT program, started_at, ended_at, cycle_time_s, result FROM run_history \
-         WHERE controller_id = ? ORDER BY id DESC LIMIT ?",
+         WHERE controller_id = $1 ORDER BY id DESC LIMIT $2",
     )
     .bind(controller)
     .bind(limit as i64)
@@ -480,8 +574,8 @@ pub enum Record {
 /// Writes what the workers produce ([`Record`]) until every sender is gone: what
 /// has arrived, up to [`RECORDS_PER_TRANSACTION`], in one write transaction, so a busy fleet
 /// holds the writer for few commits. A failed record is logged and the others are kept (a
-/// deleted controller's late records fail on the foreign key, harmlessly; SQLite undoes only the
-/// failed statement).
+/// deleted controller's late records fail on the foreign key, harmlessly; only the failed
+/// record is undone).
 pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedReceiver<Record>) {
     let mut batch = Vec::with_capacity(RECORDS_PER_TRANSACTION);
     while records.recv_many(&mut batch, RECORDS_PER_TRANSACTION).await > 0 {
@@ -495,14 +589,26 @@ pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedRece
 async fn write_batch(db: &Db, batch: &[Record]) -> Result<(), sqlx::Error> {
     let mut tx = db.begin_write().await?;
     for record in batch {
-        if let Err(e) = record_on(&mut tx, record).await {
+        // PostgreSQL aborts the whole transaction at a failed statement: there each record
+        // goes in a savepoint of its own, so a failed one is undone alone, as on SQLite.
+        let stored = match db.backend {
+            Backend::Sqlite => record_on(&mut tx, record).await,
+            Backend::Postgres => {
+                let mut savepoint = sqlx::Connection::begin(&mut *tx).await?;
+                match record_on(&mut savepoint, record).await {
+                    Ok(()) => savepoint.commit().await,
+                    Err(e) => savepoint.rollback().await.and(Err(e)),
+                }
+            }
+        };
+        if let Err(e) = stored {
             tracing::warn!(error = %e, ?record, "cannot store a record");
         }
     }
     tx.commit().await
 }
 
-async fn record_on(conn: &mut SqliteConnection, record: &Record) -> Result<(), sqlx::Error> {
+async fn record_on(conn: &mut AnyConnection, record: &Record) -> Result<(), sqlx::Error> {
     match record {
         Record::Variables { controller, values } => variables_on(conn, controller, values).await,
         Record::ToolOffsets { controller, rows } => tool_offsets_on(conn, controller, rows).await,
@@ -510,7 +616,7 @@ async fn record_on(conn: &mut SqliteConnection, record: &Record) -> Result<(), s
         Record::WorkOffsets { controller, rows } => work_offsets_on(conn, controller, rows).await,
         Record::Alarm { controller, at, alarm } => sqlx::query(
             "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
-             VALUES (?, ?, ?, ?, ?, ?)",
+             VALUES ($1, $2, $3, $4, $5, $6)",
         )
         .bind(controller)
         .bind(at)
@@ -523,7 +629,7 @@ async fn record_on(conn: &mut SqliteConnection, record: &Record) -> Result<(), s
         .map(|_| ()),
         Record::Run { controller, program, started_at, ended_at, cycle_time_s, result } => sqlx::query(
             "INSERT INTO run_history (controller_id, program, started_at, ended_at, cycle_time_s, result) \
-             VALUES (?, ?, ?, ?, ?, ?)",
+             VALUES ($1, $2, $3, $4, $5, $6)",
         )
         .bind(controller)
         .bind(program.map(|n| n as i64))
@@ -554,7 +660,7 @@ pub struct ToolRow {
 pub async fn tool_offsets(db: &Db, controller: &str) -> Result<Vec<ToolRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT number, length, length_wear, radius, radius_wear, corner_radius FROM tool_offsets \
-         WHERE controller_id = ? ORDER BY number",
+         WHERE controller_id = $1 ORDER BY number",
     )
     .bind(controller)
     .fetch_all(db.reads())
@@ -580,11 +686,11 @@ pub async fn save_tool_offsets(db: &Db, controller: &str, rows: &[ToolRow]) -> R
     tx.commit().await
 }
 
-async fn tool_offsets_on(conn: &mut SqliteConnection, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
+async fn tool_offsets_on(conn: &mut AnyConnection, controller: &str, rows: &[ToolRow]) -> Result<(), sqlx::Error> {
     for t in rows {
         sqlx::query(
             "INSERT INTO tool_offsets (controller_id, number, length, length_wear, radius, radius_wear, corner_radius) \
-             VALUES (?, ?, ?, ?, ?, ?, ?) ON CONFLICT (controller_id, number) DO UPDATE SET \
+             VALUES ($1, $2, $3, $4, $5, $6, $7) ON CONFLICT (controller_id, number) DO UPDATE SET \
              length = excluded.length, length_wear = excluded.length_wear, radius = excluded.radius, \
              radius_wear = excluded.radius_wear, corner_radius = excluded.corner_radius",
         )
@@ -603,7 +709,7 @@ async fn tool_offsets_on(conn: &mut SqliteConnection, controller: &str, rows: &[
 
 /// A controller's stored work offsets: (slot, value per axis).
 pub async fn work_offsets(db: &Db, controller: &str) -> Result<Vec<(usize, Vec<f64>)>, sqlx::Error> {
-    let rows = sqlx::query("SELECT slot, axes FROM work_offsets WHERE controller_id = ? ORDER BY slot")
+    let rows = sqlx::query("SELECT slot, axes FROM work_offsets WHERE controller_id = $1 ORDER BY slot")
         .bind(controller)
         .fetch_all(db.reads())
         .await?;
@@ -627,14 +733,14 @@ pub async fn save_work_offsets(db: &Db, controller: &str, rows: &[(usize, Vec<f6
 }
 
 async fn work_offsets_on(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     controller: &str,
     rows: &[(usize, Vec<f64>)],
 ) -> Result<(), sqlx::Error> {
     for (slot, axes) in rows {
         let axes = serde_json::to_string(axes).unwrap_or_else(|_| "[]".into());
         sqlx::query(
-            "INSERT INTO work_offsets (controller_id, slot, axes) VALUES (?, ?, ?) \
+            "INSERT INTO work_offsets (controller_id, slot, axes) VALUES ($1, $2, $3) \
              ON CONFLICT (controller_id, slot) DO UPDATE SET axes = excluded.axes",
         )
         .bind(controller)
@@ -648,7 +754,7 @@ async fn work_offsets_on(
 
 /// Replaces a controller's machine document and the parameters its model does not read.
 pub async fn update_machine(db: &Db, id: &str, machine_json: &str, extra_json: &str) -> Result<(), sqlx::Error> {
-    sqlx::query("UPDATE controllers SET machine_json = ?, extra_parameters = ? WHERE id = ?")
+    sqlx::query("UPDATE controllers SET machine_json = $1, extra_parameters = $2 WHERE id = $3")
         .bind(machine_json)
         .bind(extra_json)
         .bind(id)
@@ -660,7 +766,7 @@ pub async fn update_machine(db: &Db, id: &str, machine_json: &str, extra_json: &
 /// The tilted working plane a controller keeps over a restart (JSON), if any.
 pub async fn kept_plane(db: &Db, id: &str) -> Result<Option<String>, sqlx::Error> {
     let row =
-        sqlx::query("SELECT kept_plane FROM controllers WHERE id = ?").bind(id).fetch_optional(db.reads()).await?;
+        sqlx::query("SELECT kept_plane FROM controllers WHERE id = $1").bind(id).fetch_optional(db.reads()).await?;
     Ok(row.and_then(|r| r.try_get::<Option<String>, _>("kept_plane").ok().flatten()))
 }
 
@@ -674,12 +780,12 @@ pub async fn save_kept_plane(
 }
 
 async fn kept_plane_on(
-    conn: &mut SqliteConnection,
+    conn: &mut AnyConnection,
     id: &str,
     plane: Option<&fivex_engine::interp::KeptPlane>,
 ) -> Result<(), sqlx::Error> {
     let json = plane.and_then(|p| serde_json::to_string(p).ok());
-    sqlx::query("UPDATE controllers SET kept_plane = ? WHERE id = ?").bind(json).bind(id).execute(conn).await?;
+    sqlx::query("UPDATE controllers SET kept_plane = $1 WHERE id = $2").bind(json).bind(id).execute(conn).await?;
     Ok(())
 }
 
@@ -702,7 +808,7 @@ pub struct FleetRunRow {
 /// A fleet run that was asked for (`queued`, or `running` at once).
 pub async fn insert_fleet_run(db: &Db, row: &FleetRunRow) -> Result<(), sqlx::Error> {
     sqlx::query(
-        "INSERT INTO fleet_runs (id, created_at, status, machines, program, request_json) VALUES (?, ?, ?, ?, ?, ?)",
+        "INSERT INTO fleet_runs (id, created_at, status, machines, program, request_json) VALUES ($1, $2, $3, $4, $5, $6)",
     )
     .bind(&row.id)
     .bind(&row.created_at)
@@ -717,7 +823,7 @@ pub async fn insert_fleet_run(db: &Db, row: &FleetRunRow) -> Result<(), sqlx::Er
 
 /// A queued fleet run that starts running.
 pub async fn start_fleet_run(db: &Db, id: &str) -> Result<(), sqlx::Error> {
-    sqlx::query("UPDATE fleet_runs SET status = 'running' WHERE id = ?").bind(id).execute(db.writes()).await?;
+    sqlx::query("UPDATE fleet_runs SET status = 'running' WHERE id = $1").bind(id).execute(db.writes()).await?;
     Ok(())
 }
 
@@ -733,8 +839,8 @@ pub async fn finish_fleet_run(
     results_json: &str,
 ) -> Result<(), sqlx::Error> {
     sqlx::query(
-        "UPDATE fleet_runs SET status = ?, finished_at = ?, completed = ?, alarms = ?, results_json = ? \
-         WHERE id = ?",
+        "UPDATE fleet_runs SET status = $1, finished_at = $2, completed = $3, alarms = $4, results_json = $5 \
+         WHERE id = $6",
     )
     .bind(status)
     .bind(finished_at)
@@ -755,7 +861,7 @@ pub async fn interrupt_fleet_runs(db: &Db) -> Result<(), sqlx::Error> {
     Ok(())
 }
 
-fn fleet_run_row(r: &sqlx::sqlite::SqliteRow, full: bool) -> Result<FleetRunRow, sqlx::Error> {
+fn fleet_run_row(r: &AnyRow, full: bool) -> Result<FleetRunRow, sqlx::Error> {
     Ok(FleetRunRow {
         id: r.try_get("id")?,
         created_at: r.try_get("created_at")?,
@@ -774,7 +880,7 @@ fn fleet_run_row(r: &sqlx::sqlite::SqliteRow, full: bool) -> Result<FleetRunRow,
 pub async fn fleet_runs(db: &Db, limit: u32) -> Result<Vec<FleetRunRow>, sqlx::Error> {
     let rows = sqlx::query(
         "SELECT id, created_at, finished_at, status, machines, completed, alarms FROM fleet_runs \
-         ORDER BY rowid DESC LIMIT ?",
+         ORDER BY rowid DESC LIMIT $1",
     )
     .bind(limit as i64)
     .fetch_all(db.reads())
@@ -784,6 +890,6 @@ pub async fn fleet_runs(db: &Db, limit: u32) -> Result<Vec<FleetRunRow>, sqlx::E
 
 /// One fleet run with everything stored.
 pub async fn fleet_run(db: &Db, id: &str) -> Result<Option<FleetRunRow>, sqlx::Error> {
-    let row = sqlx::query("SELECT * FROM fleet_runs WHERE id = ?").bind(id).fetch_optional(db.reads()).await?;
+    let row = sqlx::query("SELECT * FROM fleet_runs WHERE id = $1").bind(id).fetch_optional(db.reads()).await?;
     row.as_ref().map(|r| fleet_run_row(r, true)).transpose()
 }

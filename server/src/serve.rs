@@ -90,6 +90,7 @@ fn init_tracing() {
 /// `FIVEX_ALLOW_ORIGIN`, and the limits' `FIVEX_…`, `cli/limits.rs`).
 #[derive(Debug, Clone)]
 pub struct ServeOptions {
+    /// A SQLite file, or a `postgres://` URL (`db::open_any`).
     pub db: std::path::PathBuf,
     pub addr: String,
     pub token: Option<String>,
@@ -126,16 +127,16 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         .build()
         .map_err(|e| format!("cannot start the async runtime: {e}"))?;
     let served = runtime.block_on(async {
-        let (db, addr) = (&options.db, &options.addr);
-        let pool = db::open(db).await.map_err(|e| e.to_string())?;
+        let (db, addr) = (db::shown(&options.db.to_string_lossy()), &options.addr);
+        let pool = db::open_any(&options.db.to_string_lossy()).await.map_err(|e| e.to_string())?;
         let workers = options.workers.unwrap_or_else(Host::default_workers);
         let state = AppState::restore_with(pool, workers)
             .await
-            .map_err(|e| format!("cannot read the controllers of {}: {e}", db.display()))?
+            .map_err(|e| format!("cannot read the controllers of {db}: {e}"))?
             .with_token(options.token.clone())
             .with_allowed_origins(AllowedOrigins::new(options.allow_origins.clone()))
             .with_fleet_jobs(options.fleet_jobs);
-        tracing::info!(db = %db.display(), workers, token = state.token().is_some(), "database ready");
+        tracing::info!(db = %db, workers, token = state.token().is_some(), "database ready");
         tracing::info!(limits = ?options.limits, fleet_jobs = options.fleet_jobs, "limits");
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         let local = listener.local_addr().map_err(|e| format!("cannot listen on {addr}: {e}"))?;

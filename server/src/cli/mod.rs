@@ -133,7 +133,8 @@ const CHECK_MAX_BLOCKS: u64 = 5_000_000;
 
 #[derive(Args, Debug)]
 struct ServeArgs {
-    /// SQLite database file (created and migrated on start).
+    /// SQLite database file (created and migrated on start), or a PostgreSQL URL
+    /// (`postgres://user:password@host/database`: its tables created and migrated on start).
     #[arg(long, env = "FIVEX_DB", default_value = "fivex.db")]
     db: PathBuf,
     /// Address to listen on.

@@ -6,6 +6,7 @@ mod document;
 mod limits;
 mod modal;
 mod origin;
+mod postgres;
 mod served;
 mod store;
 mod streams;

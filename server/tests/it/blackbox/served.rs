@@ -56,10 +56,20 @@ impl Served {
 
     /// As [`Served::start_in`], with these environment variables set.
     pub fn start_with_env(dir: tempfile::TempDir, args: &[&str], envs: &[(&str, &str)]) -> Self {
+        let db = dir.path().join("fivex.db");
+        Self::spawn(dir, db.as_os_str(), args, envs)
+    }
+
+    /// As [`Served::start`], on the database `db` names (a `postgres://` URL).
+    pub fn start_on(db: &str, args: &[&str]) -> Self {
+        Self::spawn(tempfile::tempdir().expect("temporary directory"), db.as_ref(), args, &[])
+    }
+
+    fn spawn(dir: tempfile::TempDir, db: &std::ffi::OsStr, args: &[&str], envs: &[(&str, &str)]) -> Self {
         let mut child = Command::new(env!("CARGO_BIN_EXE_fivex"))
             .arg("serve")
             .arg("--db")
-            .arg(dir.path().join("fivex.db"))
+            .arg(db)
             .args(["--addr", "127.0.0.1:0"])
             .args(args)
             .env("RUST_LOG", "info")

@@ -57,7 +57,11 @@ const CYCLE: &str = "O0001\n#500=#500+1\n#501=#500*2\nG10 L11 P7 R[#500]\nG91 G0
 /// is read.
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn writes_succeed_while_controllers_write() {
-    let served = Arc::new(Served::start(&[]));
+    writes_succeed(Arc::new(Served::start(&[]))).await;
+}
+
+/// [`writes_succeed_while_controllers_write`] on the service `served` (on SQLite or PostgreSQL).
+pub async fn writes_succeed(served: Arc<Served>) {
     let mut ids = Vec::new();
     for i in 0..20 {
         let id = create(&served, &format!("load {i}"), 1000.0).await;
