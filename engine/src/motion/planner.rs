@@ -469,9 +469,33 @@ fn pass(runs: &mut [Run], v_start: f64, v_end: f64) {
     }
     let mut v = v_start;
     for r in runs.iter_mut() {
-        r.v_end = r.v_end.min(reachable(v, r.len, r.limits.v, &r.limits));
+        r.v_end = settle(v, r.v_end.min(reachable(v, r.len, r.limits.v, &r.limits)), r.len, &r.limits);
         v = r.v_end;
     }
+}
+
+/// An end speed at most `v_end` that a run of `len` can slow down to from `v_start`. Slowing
+/// down is not monotonic in the target under a jerk limit: a change's time grows as the root
+/// of its size, so braking from 16.7 mm/s to 4.3 takes 0.261 mm and to rest 0.241. So where the
+/// backward pass let the machine enter a run faster than it can slow to the end speed the next
+/// run asks for (it checked only that the queue could stop: 1 µm blocks at F1000 on mill3),
+/// the run slows down further, to the highest speed below that it reaches in its length — at
+/// worst to rest, which it can (the backward pass made sure of it).
+fn settle(v_start: f64, v_end: f64, len: f64, lim: &Limits) -> f64 {
+    let fits = |v: f64| super::profile::change(v_start, v, lim).1 <= len * (1.0 + 1e-9) + 1e-12;
+    if v_end >= v_start || fits(v_end) || !fits(0.0) {
+        return v_end;
+    }
+    let (mut lo, mut hi) = (0.0, v_end);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
 }
 
 /// Whether each of `runs` can go from the speed the one before ends at (the first from

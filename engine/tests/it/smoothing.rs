@@ -456,3 +456,24 @@ fn under_g43_4_the_wave_keeps_the_axes_limits_smoothed_or_not() {
         eprintln!("wave under G43.4, {step} mm blocks: {:.3} s unsmoothed, {:.3} s in G05.1 Q3", times[0], times[1]);
     }
 }
+
+/// 20,000 blocks of 1 µm along X at F1000 on mill3 (a WHILE loop, as `tests/it/cli.rs` runs
+/// it — fewer did not meet the case): the look-ahead's 256 blocks are about the distance
+/// the machine needs to stop, and the last run before the stop was entered faster than it could
+/// slow to what the short run after it asks for (under a jerk limit braking to 4.3 mm/s takes
+/// longer than braking to rest). Its profile ran past its length (a debug assertion in
+/// `Profile::plan`; in a release build the axes stood at the block's end while the feed went
+/// on). Now the run slows down further: the machine never stands while fed, within its limits.
+#[test]
+fn micron_blocks_slow_down_in_time_for_the_stop() {
+    let src = "#1=0\nWHILE[#1LT20000]DO1\nG91 G01 X0.001 F1000.\n#1=#1+1\nEND1\nM30\n";
+    let (r, samples) = run_on(src, "mill3", |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    let end = r.machine[0];
+    assert!((end - 20.0).abs() < 1e-6, "ends at X{end}");
+    let stalls = samples.windows(2).filter(|w| w[1].feed > 1.0 && w[0].machine == w[1].machine).count();
+    assert_eq!(stalls, 0, "samples where the axes stand while the feed is not 0");
+    let mill3 = MachineConfig::preset("mill3").unwrap();
+    let every: Vec<Sample> = samples.iter().step_by(10).copied().collect();
+    common::check_limits_every(&every, &mill3, true, 0.01).unwrap();
+}
