@@ -6,7 +6,7 @@
 //! `no_hpcc_in_rtcp_*`); M02/M30 and a reset ending it, unit tests of `interp::smoothing`.
 
 use crate::common;
-use crate::smoothing::{program, program_5x, run_in, to_segment, wave, within_segments};
+use crate::smoothing::{program, program_5x, rotary_between, run_in, to_segment, wave, within_segments};
 
 use fivex_engine::check::check;
 use fivex_engine::lang::parse_file;
@@ -94,18 +94,8 @@ fn the_axis_form_smooths_the_rotary_axes_it_names_within_pr3052_3053() {
         let i = s.line as usize - 3;
         let d = to_segment([s.machine[0], s.machine[1], s.machine[2]], points[i - 1], points[i]);
         assert!(d < 0.003 + 1e-6, "line {}: X/Y/Z {d} from the segment", s.line);
-        // B (slave, Pr3053) and C (master, Pr3052) within their tolerances (+ the chords'
-        // 0.0001°) of the range between their programmed ends.
-        for (k, axis, tol) in [(0, b, 0.01), (1, c, 0.02)] {
-            let (lo, hi) = (rotary[i - 1][k].min(rotary[i][k]), rotary[i - 1][k].max(rotary[i][k]));
-            // (The samples show C modulo 360.)
-            let v = s.machine[axis] - 360.0 * ((s.machine[axis] - lo + 180.0) / 360.0).floor();
-            assert!(
-                v > lo - tol - 2e-4 && v < hi + tol + 2e-4,
-                "line {}: axis {k} at {v}, not in [{lo}, {hi}]",
-                s.line
-            );
-        }
+        // B (slave, Pr3053) and C (master, Pr3052) within their tolerances.
+        rotary_between(s, [(0, b, 0.01), (1, c, 0.02)], rotary[i - 1], rotary[i]);
         seen += 1;
     }
     assert!(seen > 100, "{seen}");

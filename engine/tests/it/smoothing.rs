@@ -32,6 +32,17 @@ pub(crate) fn run_in(
     (r, samples)
 }
 
+/// Each rotary axis `(k, axis index, tolerance)` of sample `s` within its tolerance (+ the
+/// chords' 0.0001°) of the range between its programmed ends `from[k]` and `to[k]` (a rollover
+/// axis is shown modulo 360: it is read near the range).
+pub(crate) fn rotary_between(s: &Sample, axes: [(usize, usize, f64); 2], from: [f64; 2], to: [f64; 2]) {
+    for (k, axis, tol) in axes {
+        let (lo, hi) = (from[k].min(to[k]), from[k].max(to[k]));
+        let v = s.machine[axis] - 360.0 * ((s.machine[axis] - lo + 180.0) / 360.0).floor();
+        assert!(v > lo - tol - 2e-4 && v < hi + tol + 2e-4, "line {}: axis {k} at {v}, not in [{lo}, {hi}]", s.line);
+    }
+}
+
 /// The distance from `p` to the segment `a`–`b`.
 pub(crate) fn to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     let ab: [f64; 3] = std::array::from_fn(|c| b[c] - a[c]);
@@ -273,18 +284,7 @@ fn under_g43_4_the_tip_and_the_rotary_axes_are_smoothed_within_their_tolerances(
         let i = s.line as usize - 4;
         let d = to_segment(s.tip, tips[i - 1], tips[i]);
         assert!(d < 0.01 + 1e-6, "line {}: tip {:?} {d} from its segment", s.line, s.tip);
-        // The rotary axes within their tolerance (+ the chords' 0.0001°) of the range between
-        // their programmed ends.
-        for (k, axis, tol) in [(0, b, 0.001), (1, c, 0.01)] {
-            let (lo, hi) = (rot[i - 1][k].min(rot[i][k]), rot[i - 1][k].max(rot[i][k]));
-            // C rolls over: the samples show it modulo 360.
-            let v = s.machine[axis] - 360.0 * ((s.machine[axis] - lo + 180.0) / 360.0).floor();
-            assert!(
-                v > lo - tol - 2e-4 && v < hi + tol + 2e-4,
-                "line {}: axis {k} at {v}, not in [{lo}, {hi}]",
-                s.line
-            );
-        }
+        rotary_between(s, [(0, b, 0.001), (1, c, 0.01)], rot[i - 1], rot[i]);
         seen += 1;
     }
     assert!(seen > 90, "{seen}");
