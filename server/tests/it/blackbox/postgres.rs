@@ -189,8 +189,8 @@ async fn writes_succeed_while_controllers_write_on_postgres() {
 }
 
 /// A service stopped and started again on the same PostgreSQL database brings its controllers
-/// back with their programs, retained variables, tool offsets and history; the URL's password
-/// is not logged.
+/// back with their programs, retained variables, tool offsets, run and alarm history, and its
+/// fleet runs; the URL's password is not logged.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_restarted_service_finds_what_it_kept_on_postgres() {
     const C: &str = "/api/v1/controllers";
@@ -217,6 +217,29 @@ async fn a_restarted_service_finds_what_it_kept_on_postgres() {
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
     assert_eq!(runs[0]["result"], "completed", "{runs}");
+    // An alarm (history) and a fleet run (its own table), kept too.
+    let stop = "O0002\n#3000=1(STOP HERE)\nM30\n";
+    let stored =
+        served.request(Method::PUT, &format!("{C}/{id}/programs/2"), &[("content-type", "text/plain")], stop).await;
+    assert_eq!(stored.status, StatusCode::CREATED);
+    let started = served.send_json(Method::POST, &format!("{C}/{id}/cycle-start"), &json!({"program": 2})).await;
+    assert!(started.status.is_success(), "{:?}", started.body);
+    let fleet = json!({"program": "G91 G01 X1. F1000\nM30\n", "presets": ["mill3", "head-bc"]});
+    let posted = served.send_json(Method::POST, "/api/v1/fleet/runs", &fleet).await;
+    assert!(posted.status.is_success(), "{:?}", posted.body);
+    let fleet_id = posted.headers.get("x-fleet-run").expect("a fleet run id").to_str().unwrap().to_owned();
+    let (mut alarms, mut fleet_run) = (json!([]), json!({}));
+    for _ in 0..200 {
+        alarms = served.get(&format!("{C}/{id}/alarms")).await.json();
+        fleet_run = served.get(&format!("/api/v1/fleet/runs/{fleet_id}")).await.json();
+        if !alarms["history"].as_array().unwrap().is_empty() && fleet_run["status"] == "done" {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert!(alarms.to_string().contains("STOP HERE"), "{alarms}");
+    assert_eq!(fleet_run["status"], "done", "{fleet_run}");
+    let runs = served.get(&format!("{C}/{id}/runs")).await.json();
     let mut served = served;
     let (status, _) = served.terminate(Duration::from_secs(30));
     assert!(status.success(), "{status}; log: {}", served.log());
@@ -232,4 +255,6 @@ async fn a_restarted_service_finds_what_it_kept_on_postgres() {
     let three = tools.as_array().unwrap().iter().find(|t| t["number"] == 3).cloned().expect("offset 3");
     assert_eq!(three["length"], json!(42.0));
     assert_eq!(again.get(&format!("{C}/{id}/runs")).await.json(), runs);
+    assert_eq!(again.get(&format!("{C}/{id}/alarms")).await.json()["history"], alarms["history"]);
+    assert_eq!(again.get(&format!("/api/v1/fleet/runs/{fleet_id}")).await.json(), fleet_run);
 }
