@@ -33,9 +33,13 @@ pub const MAX_BODY_BYTES: usize = api::programs::MAX_PROGRAM_BYTES + 64 * 1024;
 /// (`RUST_LOG=fivex_server::serve=info`), kept from before the HTTP layer had its own module.
 const LOG_TARGET: &str = "fivex_server::serve";
 
-/// Every documented route: `/healthz` and the API, over the document's info, schemas and tags.
+/// Every documented route: `/healthz`, `/readyz` and the API, over the document's info, schemas
+/// and tags.
 pub(super) fn routes() -> OpenApiRouter<AppState> {
-    OpenApiRouter::with_openapi(ApiDoc::openapi()).routes(routes!(api::health::healthz)).merge(api::routes())
+    OpenApiRouter::with_openapi(ApiDoc::openapi())
+        .routes(routes!(api::health::healthz))
+        .routes(routes!(api::health::readyz))
+        .merge(api::routes())
 }
 
 /// The whole HTTP application. Separate from serving so tests can call it directly.

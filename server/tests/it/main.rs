@@ -1,5 +1,5 @@
 //! The service's tests in one test binary (one link instead of one per file): the API through
-//! `oneshot` (`api`, `http`, `fleet`), the black-box tests that start the real `fivex serve`
+//! `oneshot` (`api`, `http`, `fleet`, `metrics`), the black-box tests that start the real `fivex serve`
 //! (`blackbox`) and the layering of the sources (`layers`). `common` holds what the `oneshot`
 //! tests share. (`memory.rs` stays a binary of its own: it installs a counting global
 //! allocator.)
@@ -10,3 +10,4 @@ mod common;
 mod fleet;
 mod http;
 mod layers;
+mod metrics;
