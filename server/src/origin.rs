@@ -180,8 +180,8 @@ impl utoipa::Modify for OriginDoc {
             };
             crate::http::openapi::error_response(operation, 403, why);
         });
-        // The Host check answers every request, `/healthz` and `/readyz` too.
-        for path in ["/healthz", "/readyz"] {
+        // The Host check answers every request, `/healthz`, `/readyz` and `/metrics` too.
+        for path in ["/healthz", "/readyz", "/metrics"] {
             if let Some(operation) = openapi.paths.paths.get_mut(path).and_then(|item| item.get.as_mut()) {
                 crate::http::openapi::error_response(operation, 403, HOST_REFUSED);
             }

@@ -47,7 +47,7 @@ use crate::origin::OriginDoc;
         crate::wire::FleetResult,
     )),
     tags(
-        (name = "service", description = "Service health, readiness and documentation"),
+        (name = "service", description = "Service health, readiness, metrics and documentation"),
         (name = "controllers", description = "Virtual CNC controllers"),
         (name = "programs", description = "Stored NC programs"),
         (name = "panel", description = "The operator panel"),

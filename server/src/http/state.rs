@@ -8,7 +8,7 @@ use tokio::sync::watch;
 
 use crate::host::Host;
 use crate::origin::AllowedOrigins;
-use crate::{api, db, service};
+use crate::{api, db, metrics, service};
 
 /// How long in-flight requests may take to finish after a shutdown signal before the server
 /// stops anyway.
@@ -34,6 +34,8 @@ pub struct AppState {
     pub fleet_runs: service::fleet_runs::Runs,
     /// What the fleet stream's subscribers share (`api::fleet_view`).
     pub fleet_view: api::fleet_view::FleetView,
+    /// What the layers count for `/metrics`.
+    pub metrics: metrics::Metrics,
     /// This process as a node (`/readyz`).
     pub node: Arc<Node>,
 }
@@ -84,6 +86,7 @@ impl AppState {
             allowed_origins: AllowedOrigins::default(),
             fleet_runs: Default::default(),
             fleet_view: Default::default(),
+            metrics: Default::default(),
             node: Arc::new(Node::new()),
         })
     }
