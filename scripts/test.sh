@@ -3,9 +3,16 @@
 # per test, from Debian's postgresql, installed if missing), the comparisons with LinuxCNC's rs274 (ignored by a
 # plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches) and of NURBS with
 # SciPy (ignored likewise: they need python3-scipy), a build check of the fuzz targets, then the
-# dashboard's (scripts/web-test.sh).
+# dashboard's (scripts/web-test.sh). The service's `/metrics` tests read the scrape with Python's
+# prometheus_client parser too (Debian's python3-prometheus-client, installed here if missing: a
+# plain `cargo test` without it fails those tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+echo "== Python's prometheus_client for the /metrics tests (Debian's python3-prometheus-client, installed if missing)"
+if ! /usr/bin/python3 -c 'import prometheus_client.parser' 2>/dev/null; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3-prometheus-client >/dev/null
+fi
 echo "== PostgreSQL for the service's tests on it (Debian's postgresql, installed if missing)"
 if ! ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 && ! command -v initdb >/dev/null; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"

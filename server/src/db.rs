@@ -13,6 +13,8 @@
 //! `sqlx::migrate!`, so a fresh database is migrated on start with no extra files at run time.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 use sqlx::any::{AnyConnectOptions, AnyPoolOptions};
@@ -56,6 +58,16 @@ pub enum Backend {
     Postgres,
 }
 
+impl Backend {
+    /// `sqlite` or `postgres`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Sqlite => "sqlite",
+            Backend::Postgres => "postgres",
+        }
+    }
+}
+
 /// The database as the service uses it: readers and writers.
 ///
 /// *Decision* (docs/api.md, "The database"): SQLite lets one connection write at a time. Several
@@ -74,6 +86,8 @@ pub struct Db {
     reads: AnyPool,
     writes: AnyPool,
     backend: Backend,
+    /// The workers' records that could not be stored (`write_records`), for `/metrics`.
+    failed_records: Arc<AtomicU64>,
 }
 
 /// Readers: enough for the handlers that read at once on a small machine.
@@ -102,6 +116,12 @@ impl Db {
 
     pub fn backend(&self) -> Backend {
         self.backend
+    }
+
+    /// The workers' records that could not be stored since the service started (each failed
+    /// record, and each failed batch as one).
+    pub fn failed_records(&self) -> u64 {
+        self.failed_records.load(Ordering::Relaxed)
     }
 
     /// A write transaction; on SQLite it holds the write lock from its start (`BEGIN
@@ -182,7 +202,7 @@ pub async fn open(path: &Path) -> Result<Db, OpenError> {
         .connect_with(url)
         .await
         .map_err(connect)?;
-    Ok(Db { reads, writes, backend: Backend::Sqlite })
+    Ok(Db { reads, writes, backend: Backend::Sqlite, failed_records: Default::default() })
 }
 
 /// The `Any` options of a SQLite file, created if missing (`mode=rwc`): its absolute path,
@@ -222,7 +242,7 @@ pub async fn open_postgres(url: &str) -> Result<Db, OpenError> {
         .await
         .map_err(|source| OpenError::Connect { path: shown.clone(), source })?;
     POSTGRES_MIGRATOR.run(&pool).await.map_err(|source| OpenError::Migrate { path: shown, source })?;
-    Ok(Db { reads: pool.clone(), writes: pool, backend: Backend::Postgres })
+    Ok(Db { reads: pool.clone(), writes: pool, backend: Backend::Postgres, failed_records: Default::default() })
 }
 
 /// One row of the `controllers` table.
@@ -580,6 +600,7 @@ pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedRece
     let mut batch = Vec::with_capacity(RECORDS_PER_TRANSACTION);
     while records.recv_many(&mut batch, RECORDS_PER_TRANSACTION).await > 0 {
         if let Err(e) = write_batch(&db, &batch).await {
+            db.failed_records.fetch_add(1, Ordering::Relaxed);
             tracing::warn!(error = %e, records = batch.len(), "cannot store the workers' records");
         }
         batch.clear();
@@ -602,6 +623,7 @@ async fn write_batch(db: &Db, batch: &[Record]) -> Result<(), sqlx::Error> {
             }
         };
         if let Err(e) = stored {
+            db.failed_records.fetch_add(1, Ordering::Relaxed);
             tracing::warn!(error = %e, ?record, "cannot store a record");
         }
     }

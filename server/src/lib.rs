@@ -10,6 +10,7 @@ pub mod host;
 pub mod http;
 pub mod json_errors;
 pub mod listen;
+pub mod metrics;
 pub mod openapi_doc;
 pub mod origin;
 pub mod serve;

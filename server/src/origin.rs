@@ -180,9 +180,11 @@ impl utoipa::Modify for OriginDoc {
             };
             crate::http::openapi::error_response(operation, 403, why);
         });
-        // The Host check answers every request, `/healthz` too.
-        if let Some(health) = openapi.paths.paths.get_mut("/healthz").and_then(|item| item.get.as_mut()) {
-            crate::http::openapi::error_response(health, 403, HOST_REFUSED);
+        // The Host check answers every request, `/healthz`, `/readyz` and `/metrics` too.
+        for path in ["/healthz", "/readyz", "/metrics"] {
+            if let Some(operation) = openapi.paths.paths.get_mut(path).and_then(|item| item.get.as_mut()) {
+                crate::http::openapi::error_response(operation, 403, HOST_REFUSED);
+            }
         }
     }
 }

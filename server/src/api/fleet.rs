@@ -396,6 +396,7 @@ fn stored_progress(row: &FleetRunRow) -> Progress {
 }
 
 async fn session(socket: WebSocket, state: AppState, rx: Option<watch::Receiver<Progress>>, last: Option<Progress>) {
+    let _counted = state.metrics.subscriber(crate::metrics::Stream::FleetRun);
     let (mut tx, _) = socket.split();
     let text = |p: &Progress| Ws::Text(Utf8Bytes::from(serde_json::to_string(p).unwrap_or_default()));
     let mut closing = state.closing();

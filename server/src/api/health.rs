@@ -1,8 +1,10 @@
-//! `GET /healthz`.
+//! `GET /healthz` (liveness: the service and its database answer) and `GET /readyz` (this node
+//! can take work).
 
 use axum::extract::State;
 use axum::Json;
 use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
 use utoipa::ToSchema;
 
 use crate::http::{ApiError, AppState, ErrorBody};
@@ -31,4 +33,81 @@ pub async fn healthz(State(state): State<AppState>) -> Result<Json<Health>, ApiE
         ApiError::Unavailable("database does not answer".into())
     })?;
     Ok(Json(Health { status: "ok".into() }))
+}
+
+/// `GET /readyz` body: this node can take work. The shape is meant to grow without breaking a
+/// client: fields are only ever added.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct Readiness {
+    /// Always `"ready"` when the service answers 200.
+    #[schema(example = "ready")]
+    pub status: String,
+    /// This process.
+    pub node: NodeReadiness,
+    /// The cluster this node belongs to: `null` while the service runs as a single node (today,
+    /// always). A clustered service (issue 23) will put an object here (its nodes, which of them
+    /// are ready); a client that reads `node` alone keeps working.
+    #[schema(value_type = Option<std::collections::HashMap<String, serde_json::Value>>, required = true)]
+    pub cluster: Option<Map<String, Value>>,
+}
+
+/// One node in `/readyz`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct NodeReadiness {
+    /// Made when the process starts: a new one after every restart.
+    pub id: String,
+    /// When the process started, RFC 3339 UTC.
+    #[schema(example = "2025-01-01T00:00:00.000Z")]
+    pub started_at: String,
+    /// The fivex version.
+    #[schema(example = "0.1.0")]
+    pub version: String,
+    /// `sqlite` or `postgres`.
+    #[schema(example = "sqlite")]
+    pub database: String,
+    /// Worker threads running (all of those started, when ready).
+    pub workers: usize,
+    /// Controllers hosted.
+    pub controllers: usize,
+}
+
+/// Readiness: 200 when this node can take work — its database answers, every worker thread
+/// runs and it is not shutting down; 503 with the reasons otherwise.
+#[utoipa::path(
+    get,
+    path = "/readyz",
+    tag = "service",
+    responses(
+        (status = 200, description = "The node can take work", body = Readiness),
+        (status = 503, description = "Not ready: the database does not answer, a worker thread stopped, or the service is shutting down (the reasons in `error`)", body = ErrorBody),
+    )
+)]
+pub async fn readyz(State(state): State<AppState>) -> Result<Json<Readiness>, ApiError> {
+    let mut not = Vec::new();
+    if state.is_closing() {
+        not.push("the service is shutting down".to_string());
+    }
+    if let Err(e) = state.db.ping().await {
+        tracing::warn!(error = %e, "readiness check: database does not answer");
+        not.push("the database does not answer".into());
+    }
+    let (workers, running) = (state.host.workers(), state.host.workers_running());
+    if running < workers {
+        not.push(format!("{} of {workers} worker threads stopped", workers - running));
+    }
+    if !not.is_empty() {
+        return Err(ApiError::Unavailable(format!("not ready: {}", not.join("; "))));
+    }
+    Ok(Json(Readiness {
+        status: "ready".into(),
+        node: NodeReadiness {
+            id: state.node.id.clone(),
+            started_at: state.node.started_at.clone(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            database: state.db.backend().name().into(),
+            workers: running,
+            controllers: state.host.len(),
+        },
+        cluster: None,
+    }))
 }

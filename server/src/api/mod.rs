@@ -9,6 +9,7 @@ pub mod fleet_view;
 pub mod health;
 pub mod history;
 pub mod manual;
+pub mod metrics;
 pub mod modal;
 pub mod offsets;
 pub mod panel;

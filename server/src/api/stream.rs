@@ -25,8 +25,9 @@ use utoipa::{IntoParams, ToSchema};
 
 use super::fleet_view::Update;
 use super::ControllerStatus;
-use crate::host::{Hosted, Published, Reading};
+use crate::host::{now_unix_ms, Hosted, Published, Reading};
 use crate::http::{ApiError, AppState, ErrorBody};
+use crate::metrics::{Metrics, Stream};
 
 /// Position frames per second by default, and the range a client may ask for.
 pub const DEFAULT_RATE_HZ: f64 = 30.0;
@@ -118,10 +119,17 @@ pub async fn stream(
         ));
     }
     let closing = state.closing();
-    Ok(upgrade_small(upgrade).on_upgrade(move |socket| session(socket, hosted, rate, closing)))
+    let metrics = state.metrics.clone();
+    Ok(upgrade_small(upgrade).on_upgrade(move |socket| session(socket, hosted, rate, closing, metrics)))
 }
 
-async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing: watch::Receiver<bool>) {
+async fn session(
+    socket: WebSocket,
+    hosted: Arc<Hosted>,
+    rate: f64,
+    mut closing: watch::Receiver<bool>,
+    metrics: Metrics,
+) {
     let (mut tx, mut rx) = socket.split();
     let mut positions = hosted.positions();
     let mut events = hosted.events();
@@ -133,7 +141,7 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
     // Where the machine is now, once: the watch only carries changes, and an idle controller
     // makes none.
     let now = Arc::new(Published::new(Reading::of(&hosted.station())));
-    if !send_text(&mut tx, now.text()).await {
+    if !send_frame(&mut tx, &now, &metrics).await {
         return;
     }
     // What this client was sent last: the first publication after a quiet spell may say the same.
@@ -151,7 +159,7 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
                 pacing = positions.has_changed().unwrap_or(false);
                 if pacing {
                     pace.as_mut().reset(tokio::time::Instant::now() + period);
-                    position(&mut tx, &mut positions, &mut sent).await
+                    position(&mut tx, &mut positions, &mut sent, &metrics).await
                 } else {
                     true
                 }
@@ -159,7 +167,7 @@ async fn session(socket: WebSocket, hosted: Arc<Hosted>, rate: f64, mut closing:
             changed = positions.changed(), if !pacing => {
                 pacing = true;
                 pace.as_mut().reset(tokio::time::Instant::now() + period);
-                changed.is_ok() && position(&mut tx, &mut positions, &mut sent).await
+                changed.is_ok() && position(&mut tx, &mut positions, &mut sent, &metrics).await
             }
             event = events.recv() => match event {
                 Ok(message) => send(&mut tx, json(&*message)).await,
@@ -193,15 +201,27 @@ async fn position(
     tx: &mut Sink,
     positions: &mut watch::Receiver<Option<Arc<Published>>>,
     sent: &mut Arc<Published>,
+    metrics: &Metrics,
 ) -> bool {
     let latest = positions.borrow_and_update().clone();
     match latest {
         Some(published) if !published.reading.same_frame(&sent.reading) => {
             *sent = published;
-            send_text(tx, sent.text()).await
+            send_frame(tx, sent, metrics).await
         }
         _ => true,
     }
+}
+
+/// Send a position frame, counted with its age (the wall clock now, as the service hands it
+/// to the socket, minus the worker's reading: the part of the lag the service can see).
+async fn send_frame(tx: &mut Sink, frame: &Published, metrics: &Metrics) -> bool {
+    let lag_s = (now_unix_ms() - frame.reading.wall_ms()) / 1000.0;
+    let sent = send_text(tx, frame.text()).await;
+    if sent {
+        metrics.frame_sent(lag_s);
+    }
+    sent
 }
 
 /// What the client sent, as whether it is still there (a close, an error or the end: gone).
@@ -314,6 +334,7 @@ pub async fn fleet(
 }
 
 async fn fleet_session(socket: WebSocket, state: AppState, rate: f64, deltas: bool) {
+    let _counted = state.metrics.subscriber(Stream::Fleet);
     let (mut tx, mut rx) = socket.split();
     let mut closing = state.closing();
     let mut every = tokio::time::interval(Duration::from_secs_f64(1.0 / rate));

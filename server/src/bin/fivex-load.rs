@@ -12,7 +12,9 @@
 //!   and every `--sample-every` seconds while measuring (its growth says whether memory is flat);
 //! - with `--fleet-subscribers`, fleet stream messages and bytes; with `--writes-per-s`, a
 //!   writer of variables (`PUT …/variables/500`) round-robin over the controllers; every
-//!   refused request and every stream that ended counts as an error.
+//!   refused request and every stream that ended counts as an error;
+//! - with `--scrape-every`, `GET /metrics` that often: how long a scrape takes and its size, and
+//!   what the service itself says (controllers behind real time, the largest lag, frames sent).
 //!
 //! It prints one JSON object and exits 0 if the goal holds (p99 lag under `--p99-ms`, no
 //! controller behind, no error, memory growth under `--max-growth-mb`), 1 otherwise.
@@ -73,6 +75,9 @@ struct Args {
     /// The goal: the service's resident set grows less than this many MB while measuring.
     #[arg(long, default_value_t = 50.0)]
     max_growth_mb: f64,
+    /// Seconds between two scrapes of `/metrics` while measuring (0: none).
+    #[arg(long, default_value_t = 0.0)]
+    scrape_every: f64,
 }
 
 /// The program every controller runs: a square with the rotary axes turning, forever.
@@ -237,6 +242,31 @@ async fn main() {
         }));
     }
     tokio::time::sleep(Duration::from_secs_f64(args.warmup)).await;
+    // The scraper: each scrape's time (ms) and the last answer.
+    let scrapes = Arc::new(Mutex::new((Vec::<f64>::new(), String::new())));
+    let scraper = (args.scrape_every > 0.0 && args.scrape_every.is_finite()).then(|| {
+        let (url, scrapes, errors) = (format!("http://{addr}/metrics"), scrapes.clone(), errors.clone());
+        let every = Duration::from_secs_f64(args.scrape_every).max(Duration::from_millis(1));
+        tokio::spawn(async move {
+            let http = Http::new();
+            let mut tick = tokio::time::interval(every);
+            loop {
+                tick.tick().await;
+                let started = Instant::now();
+                match http.get_text(&url).await {
+                    Ok(text) => {
+                        let mut s = scrapes.lock().unwrap();
+                        s.0.push(started.elapsed().as_secs_f64() * 1000.0);
+                        s.1 = text;
+                    }
+                    Err(e) => {
+                        eprintln!("scrape refused: {e}");
+                        errors.fetch_add(1, Ordering::Relaxed);
+                    }
+                }
+            }
+        })
+    });
     let rss_running = rss_mb(pid);
     let (cpu0, t0) = (cpu_seconds(pid), Instant::now());
     let writes0 = writes.load(Ordering::Relaxed);
@@ -254,10 +284,29 @@ async fn main() {
     measuring.store(false, Ordering::Relaxed);
     let (cpu1, wall) = (cpu_seconds(pid), t0.elapsed().as_secs_f64());
     let writes_done = writes.load(Ordering::Relaxed) - writes0;
-    // The writer stops with the measurement (its requests would fail once the service is gone).
+    // The writer and the scraper stop with the measurement (their requests would fail once the
+    // service is gone).
     if let Some(writer) = writer {
         writer.abort();
     }
+    if let Some(scraper) = scraper {
+        scraper.abort();
+    }
+    let metrics = {
+        let (mut times, text) = scrapes.lock().unwrap().clone();
+        times.sort_by(f64::total_cmp);
+        // A sample without labels in the last scrape.
+        let value =
+            |name: &str| text.lines().find_map(|l| l.strip_prefix(name)?.strip_prefix(' ')?.parse::<f64>().ok());
+        json!({
+            "scrapes": times.len(),
+            "scrape_ms": {"p50": percentile(&times, 0.5), "max": times.last().copied().unwrap_or(f64::NAN)},
+            "bytes": text.len(),
+            "behind_real_time": value("fivex_controllers_behind_real_time"),
+            "max_lag_s": value("fivex_controllers_max_lag_seconds"),
+            "frames_sent": value("fivex_position_frames_sent_total"),
+        })
+    };
 
     // Every controller still running, no alarms.
     let mut running = 0;
@@ -319,6 +368,7 @@ async fn main() {
         "fleet_messages_per_subscriber_per_s": fleet_seen.0.load(Ordering::Relaxed) as f64 / args.fleet_subscribers.max(1) as f64 / wall,
         "fleet_bytes_per_subscriber_per_s": fleet_seen.1.load(Ordering::Relaxed) as f64 / args.fleet_subscribers.max(1) as f64 / wall,
         "writes": writes_done,
+        "metrics": metrics,
         "errors": errors,
         "cores": std::thread::available_parallelism().map_or(0, |n| n.get()),
     });
@@ -368,6 +418,19 @@ impl Http {
 
     async fn get(&self, url: &str) -> Value {
         self.send("GET", url, "application/json", String::new()).await
+    }
+
+    /// A GET answered as text (`/metrics`).
+    async fn get_text(&self, url: &str) -> Result<String, String> {
+        use http_body_util::BodyExt;
+        let request = hyper::Request::get(url).body(http_body_util::Full::new(bytes::Bytes::new())).unwrap();
+        let response = self.client.request(request).await.map_err(|e| format!("GET {url}: {e}"))?;
+        let status = response.status();
+        let bytes = response.into_body().collect().await.map_err(|e| format!("GET {url}: {e}"))?.to_bytes();
+        if !status.is_success() {
+            return Err(format!("GET {url}: {status}"));
+        }
+        String::from_utf8(bytes.to_vec()).map_err(|e| format!("GET {url}: {e}"))
     }
 
     async fn post(&self, url: &str, body: &Value) -> Value {

@@ -14,9 +14,9 @@ pub mod stream;
 mod worker;
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, RwLock};
+use std::sync::{Arc, LazyLock, Mutex, MutexGuard, RwLock};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use fivex_engine::controller::Controller;
 use fivex_engine::interp::Config;
@@ -37,6 +37,20 @@ const EVENT_BUFFER: usize = 1024;
 /// The fastest simulated time may run, as a multiple of real time.
 pub const MAX_SPEED: f64 = 1000.0;
 
+/// How far a controller's simulated time may trail the wall clock before it counts as behind
+/// real time (`/metrics`): ten ticks. A healthy worker brings each of its controllers up to the
+/// wall clock every [`TICK`] plus the time its round takes; the service's goal for the position
+/// frames' lag is 100 ms (docs/performance.md, "The service under load").
+pub const BEHIND: Duration = Duration::from_millis(100);
+
+/// The instant the controllers' tick times count from (the process's first use of it).
+static EPOCH: LazyLock<Instant> = LazyLock::new(Instant::now);
+
+/// `at` as nanoseconds since [`EPOCH`] (0 for an instant before it).
+fn since_epoch(at: Instant) -> u64 {
+    u64::try_from(at.saturating_duration_since(*EPOCH).as_nanos()).unwrap_or(u64::MAX)
+}
+
 /// A cheap handle on the registry and its workers. The workers stop when the last handle is
 /// dropped or [`Host::shutdown`] is called.
 #[derive(Clone)]
@@ -51,6 +65,8 @@ struct Inner {
     generation: AtomicU64,
     stop: AtomicBool,
     workers: Mutex<Vec<JoinHandle<()>>>,
+    /// How many worker threads were started.
+    worker_count: usize,
     /// Taken at shutdown, so the database writer sees the end of its channel.
     records: Mutex<Option<mpsc::UnboundedSender<Record>>>,
 }
@@ -78,9 +94,10 @@ impl Host {
             generation: AtomicU64::new(0),
             stop: AtomicBool::new(false),
             workers: Mutex::new(Vec::new()),
+            worker_count: workers.max(1),
             records: Mutex::new(Some(records)),
         });
-        let count = workers.max(1);
+        let count = inner.worker_count;
         let handles = (0..count)
             .map(|index| {
                 let weak = Arc::downgrade(&inner);
@@ -99,11 +116,24 @@ impl Host {
         std::thread::available_parallelism().map_or(2, |n| n.get())
     }
 
+    /// How many worker threads were started.
+    pub fn workers(&self) -> usize {
+        self.inner.worker_count
+    }
+
+    /// How many worker threads are running now: all of them until [`Host::shutdown`] (a worker
+    /// that ended otherwise, which only a panic could do, is not running: its controllers stand).
+    pub fn workers_running(&self) -> usize {
+        lock(&self.inner.workers).iter().filter(|w| !w.is_finished()).count()
+    }
+
     /// Stop the workers and wait for them (the controllers stay registered, frozen); then close
     /// the channel to the database writer, which ends once it has written what it holds.
     pub fn shutdown(&self) {
         self.inner.stop.store(true, Ordering::SeqCst);
-        for handle in std::mem::take(&mut *lock(&self.inner.workers)) {
+        // Taken before joining: the lock is not held while the workers finish their round.
+        let handles = std::mem::take(&mut *lock(&self.inner.workers));
+        for handle in handles {
             let _ = handle.join();
         }
         lock(&self.inner.records).take();
@@ -163,6 +193,9 @@ pub struct Hosted {
     /// Set when the controller leaves the registry, so its streams close (a stream holds the
     /// controller alive, and would otherwise stay open on it forever).
     removed: watch::Sender<bool>,
+    /// The wall-clock instant (ns since [`EPOCH`]) its simulated time has reached: the start of
+    /// the worker round that ticked it last (a tick advances it by the real time up to there).
+    ticked: AtomicU64,
 }
 
 impl std::fmt::Debug for Hosted {
@@ -198,6 +231,7 @@ impl Hosted {
             position,
             events,
             removed: watch::channel(false).0,
+            ticked: AtomicU64::new(since_epoch(Instant::now())),
         }
     }
 
@@ -239,6 +273,19 @@ impl Hosted {
             // An error means the controller itself is gone: removed too.
             let _ = removed.wait_for(|gone| *gone).await;
         }
+    }
+
+    /// How far its simulated time trails the wall clock at `now`: the real time since the worker
+    /// round that ticked it last began (a round advances every controller by the real time up to
+    /// its start; a new controller counts from its creation).
+    pub fn lag(&self, now: Instant) -> Duration {
+        Duration::from_nanos(since_epoch(now).saturating_sub(self.ticked.load(Ordering::Relaxed)))
+    }
+
+    /// Its position stream's subscribers now (each open `…/stream` websocket holds one receiver;
+    /// the workers read a position only for a controller that has any).
+    pub fn subscribers(&self) -> usize {
+        self.position.receiver_count()
     }
 
     /// Tell subscribers (events produced outside a worker tick: an operator action).

@@ -107,6 +107,11 @@ impl Reading {
         }
     }
 
+    /// The server's wall clock when the worker read it, Unix ms (the frame's `wall_ms`).
+    pub fn wall_ms(&self) -> f64 {
+        self.wall_ms
+    }
+
     /// Whether a frame of `self` would say the same as one of `other` but for `t` and
     /// `wall_ms`: then nothing moved and nothing is sent. Bit-wise, so a NaN does not count as
     /// a change on every tick.

@@ -32,6 +32,7 @@ pub(super) fn run(inner: Weak<Inner>, index: usize, count: usize) {
         }
         for hosted in &mine {
             step(&inner, hosted, real_dt);
+            hosted.ticked.store(super::since_epoch(now), Ordering::Relaxed);
         }
         drop(inner);
         // Sleep to the next tick boundary of this worker's own schedule.

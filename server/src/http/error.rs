@@ -66,9 +66,18 @@ impl IntoResponse for ApiError {
             _ => None,
         };
         let body = ErrorBody { error: self.to_string(), details };
-        (status, Json(body)).into_response()
+        let mut response = (status, Json(body)).into_response();
+        if matches!(self, ApiError::Database(_)) {
+            // For the request layer's count (`/metrics`, `fivex_database_errors_total`).
+            response.extensions_mut().insert(DatabaseFailed);
+        }
+        response
     }
 }
+
+/// Marks a response that answers a database error (500), for the request layer to count.
+#[derive(Debug, Clone, Copy)]
+pub struct DatabaseFailed;
 
 /// A write for a controller that a concurrent request deleted after the handler found it fails on
 /// the foreign key: that is the client's 404, not the service's 500.

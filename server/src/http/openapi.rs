@@ -5,7 +5,7 @@ use axum::http::Method;
 use utoipa::OpenApi;
 
 use crate::api;
-use crate::api::health::Health;
+use crate::api::health::{Health, NodeReadiness, Readiness};
 use crate::auth::BearerDoc;
 use crate::http::ErrorBody;
 use crate::openapi_doc::RejectionDoc;
@@ -22,6 +22,8 @@ use crate::origin::OriginDoc;
     ),
     components(schemas(
         Health,
+        Readiness,
+        NodeReadiness,
         ErrorBody,
         api::ControllerStatus,
         api::Position,
@@ -45,7 +47,7 @@ use crate::origin::OriginDoc;
         crate::wire::FleetResult,
     )),
     tags(
-        (name = "service", description = "Service health and documentation"),
+        (name = "service", description = "Service health, readiness, metrics and documentation"),
         (name = "controllers", description = "Virtual CNC controllers"),
         (name = "programs", description = "Stored NC programs"),
         (name = "panel", description = "The operator panel"),

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use axum::extract::{DefaultBodyLimit, Request};
+use axum::extract::{DefaultBodyLimit, Request, State};
 use axum::http::{Method, Uri};
 use axum::middleware::{self, Next};
 use axum::response::Response;
@@ -15,8 +15,10 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 use utoipa_swagger_ui::SwaggerUi;
 
+use super::error::DatabaseFailed;
 use super::openapi::{openapi, ApiDoc};
 use super::{ApiError, AppState};
+use crate::metrics::Metrics;
 use crate::{api, assets, auth, content_type, origin};
 
 /// Where the OpenAPI document is served.
@@ -33,9 +35,14 @@ pub const MAX_BODY_BYTES: usize = api::programs::MAX_PROGRAM_BYTES + 64 * 1024;
 /// (`RUST_LOG=fivex_server::serve=info`), kept from before the HTTP layer had its own module.
 const LOG_TARGET: &str = "fivex_server::serve";
 
-/// Every documented route: `/healthz` and the API, over the document's info, schemas and tags.
+/// Every documented route: `/healthz`, `/readyz`, `/metrics` and the API, over the document's
+/// info, schemas and tags.
 pub(super) fn routes() -> OpenApiRouter<AppState> {
-    OpenApiRouter::with_openapi(ApiDoc::openapi()).routes(routes!(api::health::healthz)).merge(api::routes())
+    OpenApiRouter::with_openapi(ApiDoc::openapi())
+        .routes(routes!(api::health::healthz))
+        .routes(routes!(api::health::readyz))
+        .routes(routes!(api::metrics::metrics))
+        .merge(api::routes())
 }
 
 /// The whole HTTP application. Separate from serving so tests can call it directly.
@@ -54,7 +61,7 @@ pub fn app(state: AppState) -> Router {
         .layer(middleware::from_fn_with_state(state.clone(), origin::refuse_cross_origin))
         // Outside every check: whatever error any layer answers leaves as the JSON body.
         .layer(middleware::from_fn(crate::json_errors::json_errors))
-        .layer(middleware::from_fn(log_request))
+        .layer(middleware::from_fn_with_state(state.metrics.clone(), log_request))
         .with_state(state)
 }
 
@@ -66,13 +73,18 @@ async fn method_not_allowed(method: Method, uri: Uri) -> ApiError {
     ApiError::MethodNotAllowed { method, path: uri.path().to_owned() }
 }
 
-/// One log line per request: method, path, status, latency.
-async fn log_request(req: Request, next: Next) -> Response {
+/// One log line per request: method, path, status, latency; and the request counted by its
+/// status class (and as a database error if it answers one) for `/metrics`.
+async fn log_request(State(metrics): State<Metrics>, req: Request, next: Next) -> Response {
     let method = req.method().clone();
     let path = req.uri().path().to_owned();
     let start = Instant::now();
     let response = next.run(req).await;
     let status = response.status().as_u16();
+    metrics.answered(status);
+    if response.extensions().get::<DatabaseFailed>().is_some() {
+        metrics.database_error();
+    }
     let micros = start.elapsed().as_micros() as u64;
     if status >= 500 {
         tracing::warn!(target: LOG_TARGET, %method, %path, status, micros, "request");

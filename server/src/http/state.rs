@@ -8,7 +8,7 @@ use tokio::sync::watch;
 
 use crate::host::Host;
 use crate::origin::AllowedOrigins;
-use crate::{api, db, service};
+use crate::{api, db, metrics, service};
 
 /// How long in-flight requests may take to finish after a shutdown signal before the server
 /// stops anyway.
@@ -34,6 +34,25 @@ pub struct AppState {
     pub fleet_runs: service::fleet_runs::Runs,
     /// What the fleet stream's subscribers share (`api::fleet_view`).
     pub fleet_view: api::fleet_view::FleetView,
+    /// What the layers count for `/metrics`.
+    pub metrics: metrics::Metrics,
+    /// This process as a node (`/readyz`).
+    pub node: Arc<Node>,
+}
+
+/// This process as a node of the service: one today; the cluster (issue 23) will have several.
+#[derive(Debug, Clone)]
+pub struct Node {
+    /// Made at start: a new one every time the process starts.
+    pub id: String,
+    /// When the process started, RFC 3339 UTC.
+    pub started_at: String,
+}
+
+impl Node {
+    fn new() -> Node {
+        Node { id: uuid::Uuid::new_v4().simple().to_string(), started_at: crate::host::now_rfc3339() }
+    }
 }
 
 impl AppState {
@@ -67,6 +86,8 @@ impl AppState {
             allowed_origins: AllowedOrigins::default(),
             fleet_runs: Default::default(),
             fleet_view: Default::default(),
+            metrics: Default::default(),
+            node: Arc::new(Node::new()),
         })
     }
 
@@ -94,6 +115,11 @@ impl AppState {
     /// A receiver that changes when the service starts shutting down.
     pub fn closing(&self) -> watch::Receiver<bool> {
         self.closing.subscribe()
+    }
+
+    /// Whether the service is shutting down.
+    pub fn is_closing(&self) -> bool {
+        *self.closing.borrow()
     }
 
     /// Tell every websocket to close (the start of a graceful shutdown).

@@ -4,7 +4,7 @@
 //! or the service's end.
 
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -29,6 +29,29 @@ pub struct Runs {
     /// was interrupted).
     runs: Arc<Mutex<(HashMap<String, Run>, bool)>>,
     slots: Arc<Semaphore>,
+    /// `--fleet-jobs`: the places.
+    jobs: usize,
+    /// The runs over since the service started, by [`FINISHED`] status.
+    finished: Arc<[AtomicU64; 3]>,
+}
+
+/// How a run ends: the statuses of a run that is over.
+pub const FINISHED: [&str; 3] = ["done", "cancelled", "interrupted"];
+
+/// The fleet runs now, for `/metrics`.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Census {
+    /// Runs waiting for a place.
+    pub queued: usize,
+    /// Runs under way (as their progress says).
+    pub running: usize,
+    /// `--fleet-jobs`.
+    pub jobs: usize,
+    /// Places taken now (a run holds one from the moment it leaves the queue until its
+    /// machines are over).
+    pub jobs_running: usize,
+    /// Runs over since the service started, by status ([`FINISHED`]'s order).
+    pub finished: [u64; 3],
 }
 
 /// One run queued or under way: its progress and how to stop it.
@@ -50,7 +73,33 @@ impl Default for Runs {
 impl Runs {
     /// At most `jobs` runs at once (at least 1).
     pub fn new(jobs: usize) -> Self {
-        Runs { runs: Default::default(), slots: Arc::new(Semaphore::new(jobs.max(1))) }
+        let jobs = jobs.max(1);
+        Runs { runs: Default::default(), slots: Arc::new(Semaphore::new(jobs)), jobs, finished: Default::default() }
+    }
+
+    /// How many runs are queued and running, the places, and the runs over by status.
+    pub fn census(&self) -> Census {
+        let (mut queued, mut running) = (0, 0);
+        for run in self.lock().0.values() {
+            match run.progress.borrow().status {
+                "queued" => queued += 1,
+                _ => running += 1,
+            }
+        }
+        Census {
+            queued,
+            running,
+            jobs: self.jobs,
+            jobs_running: self.jobs.saturating_sub(self.slots.available_permits()),
+            finished: std::array::from_fn(|i| self.finished[i].load(Ordering::Relaxed)),
+        }
+    }
+
+    /// A run ended with `status` (one of [`FINISHED`]).
+    fn finished(&self, status: &str) {
+        if let Some(i) = FINISHED.iter().position(|s| *s == status) {
+            self.finished[i].fetch_add(1, Ordering::Relaxed);
+        }
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, (HashMap<String, Run>, bool)> {
@@ -270,6 +319,7 @@ async fn execute(
         }
     });
     runs.remove(&id);
+    runs.finished(status);
     tracing::info!(%id, machines = total, completed, alarms, status, "fleet run over");
     (status, results)
 }

@@ -812,6 +812,47 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/metrics": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The service's metrics for Prometheus: controllers by run state and how far they trail real
+         *     time, stream subscribers and position frames, fleet runs and jobs, requests by status class,
+         *     database errors.
+         */
+        get: operations["metrics"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/readyz": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Readiness: 200 when this node can take work — its database answers, every worker thread
+         *     runs and it is not shutting down; 503 with the reasons otherwise.
+         */
+        get: operations["readyz"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
 }
 export type webhooks = Record<string, never>;
 export interface components {
@@ -1878,6 +1919,30 @@ export interface components {
              */
             tolerance: number;
         };
+        /** @description One node in `/readyz`. */
+        NodeReadiness: {
+            /** @description Controllers hosted. */
+            controllers: number;
+            /**
+             * @description `sqlite` or `postgres`.
+             * @example sqlite
+             */
+            database: string;
+            /** @description Made when the process starts: a new one after every restart. */
+            id: string;
+            /**
+             * @description When the process started, RFC 3339 UTC.
+             * @example 2025-01-01T00:00:00.000Z
+             */
+            started_at: string;
+            /**
+             * @description The fivex version.
+             * @example 0.1.0
+             */
+            version: string;
+            /** @description Worker threads running (all of those started, when ready). */
+            workers: number;
+        };
         /** @description `PUT /overrides`, percent. */
         Overrides: {
             /**
@@ -2136,6 +2201,27 @@ export interface components {
             total: number;
             /** @description Always `"progress"`. */
             type: "progress";
+        };
+        /**
+         * @description `GET /readyz` body: this node can take work. The shape is meant to grow without breaking a
+         *     client: fields are only ever added.
+         */
+        Readiness: {
+            /**
+             * @description The cluster this node belongs to: `null` while the service runs as a single node (today,
+             *     always). A clustered service (issue 23) will put an object here (its nodes, which of them
+             *     are ready); a client that reads `node` alone keeps working.
+             */
+            cluster: {
+                [key: string]: unknown;
+            } | null;
+            /** @description This process. */
+            node: components["schemas"]["NodeReadiness"];
+            /**
+             * @description Always `"ready"` when the service answers 200.
+             * @example ready
+             */
+            status: string;
         };
         /** @description The report of one run. */
         Report: {
@@ -6448,6 +6534,73 @@ export interface operations {
                 };
             };
             /** @description The database does not answer */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    metrics: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The Prometheus text exposition format 0.0.4 (docs/api.md, "Metrics") */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/plain; version=0.0.4; charset=utf-8": string;
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    readyz: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The node can take work */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Readiness"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not ready: the database does not answer, a worker thread stopped, or the service is shutting down (the reasons in `error`) */
             503: {
                 headers: {
                     [name: string]: unknown;

@@ -4,6 +4,7 @@
 
 mod document;
 mod limits;
+mod metrics;
 mod modal;
 mod origin;
 mod postgres;

@@ -25,7 +25,7 @@ fn schema(document: &Value, name: &str) -> jsonschema::Validator {
 }
 
 /// Panics with every violation when `value` is not a `name`.
-fn assert_valid(document: &Value, name: &str, value: &Value, what: &str) {
+pub(super) fn assert_valid(document: &Value, name: &str, value: &Value, what: &str) {
     let validator = schema(document, name);
     let errors: Vec<String> = validator.iter_errors(value).map(|e| format!("{} at {}", e, e.instance_path())).collect();
     assert!(errors.is_empty(), "{what} is not a {name}: {errors:#?}");
@@ -84,7 +84,7 @@ fn a_tool_table_key_is_valid_in_the_schema_exactly_when_the_service_takes_it() {
     }
 }
 
-fn document() -> Value {
+pub(super) fn document() -> Value {
     serde_json::to_value(fivex_server::http::openapi()).expect("the document as JSON")
 }
 

@@ -2,6 +2,8 @@
 //! `oneshot`.
 #![allow(dead_code)]
 
+pub mod exposition;
+
 use std::path::PathBuf;
 
 use axum::body::{Body, Bytes};
