@@ -3,6 +3,7 @@ pub mod api;
 pub mod assets;
 pub mod auth;
 pub mod cli;
+pub mod cluster;
 pub mod content_type;
 pub mod db;
 pub mod fleet;

@@ -100,6 +100,12 @@ pub struct ServeOptions {
     pub limits: Limits,
     /// Fleet runs that run at once (at least 1).
     pub fleet_jobs: usize,
+    /// `--nats`: the NATS server of a distributed fleet (`crate::cluster`).
+    pub nats: Option<String>,
+    /// Fleet jobs this node runs at once with `--nats` (default: one per core).
+    pub nats_jobs: Option<usize>,
+    /// With `--nats`: a run gives up when no node nor result was heard from for this long.
+    pub nats_idle: Duration,
 }
 
 /// `fivex serve` with the database and address only.
@@ -112,6 +118,9 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
         allow_origins: Vec::new(),
         limits: Limits::default(),
         fleet_jobs: 1,
+        nats: None,
+        nats_jobs: None,
+        nats_idle: crate::cluster::IDLE_TIMEOUT,
     })
 }
 
@@ -136,6 +145,16 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
             .with_token(options.token.clone())
             .with_allowed_origins(AllowedOrigins::new(options.allow_origins.clone()))
             .with_fleet_jobs(options.fleet_jobs);
+        let state = match &options.nats {
+            None => state,
+            Some(url) => {
+                let nats = crate::cluster::connect(url).await?;
+                let jobs = options.nats_jobs.unwrap_or_else(crate::fleet::default_jobs).max(1);
+                let node = crate::cluster::start_node(&nats, jobs).await?;
+                tracing::info!(nats = %url, jobs, "fleet runs go to the cluster");
+                state.with_fleet_remote(crate::service::fleet_runs::Remote { nats, node, idle: options.nats_idle })
+            }
+        };
         tracing::info!(db = %db, workers, token = state.token().is_some(), "database ready");
         tracing::info!(limits = ?options.limits, fleet_jobs = options.fleet_jobs, "limits");
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;

@@ -18,6 +18,7 @@ use serde_json::Value;
 use tokio::sync::watch;
 use utoipa::{IntoParams, ToSchema};
 
+use crate::cluster::Source;
 use crate::db::FleetRunRow;
 use crate::fleet::{self, Entry, Options, Tool};
 use crate::http::extract::JsonBody;
@@ -139,20 +140,27 @@ fn bad(why: impl Into<String>) -> ApiError {
     ApiError::Unprocessable(why.into(), None)
 }
 
-/// The machines of a request, in order: presets, machine documents, library, controllers.
-fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<Entry>, ApiError> {
+/// The machines of a request, in order: presets, machine documents, library, controllers; and
+/// where each comes from, for a run over NATS (none for the controllers).
+fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<(Vec<Entry>, Vec<Source>), ApiError> {
     let mut out = Vec::new();
+    let mut sources = Vec::new();
     for name in &r.presets {
         out.push(fleet::preset(name, dialect).map_err(bad)?);
+        sources.push(Source::Preset(name.clone()));
     }
     for (i, m) in r.machines.iter().enumerate() {
-        out.push(fleet::machine_file(&m.to_string(), dialect).map_err(|e| bad(format!("machines[{i}]: {e}")))?);
+        let text = m.to_string();
+        out.push(fleet::machine_file(&text, dialect).map_err(|e| bad(format!("machines[{i}]: {e}")))?);
+        sources.push(Source::Document(text));
     }
     for name in &r.library {
         if name == "*" {
             out.extend(fleet::whole_library(dialect).map_err(bad)?);
+            sources.extend(fleet::LIBRARY.iter().map(|(n, _)| Source::Library(n.to_string())));
         } else {
             out.push(fleet::library(name, dialect).map_err(bad)?);
+            sources.push(Source::Library(name.clone()));
         }
     }
     for id in &r.controllers {
@@ -165,7 +173,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<Vec<E
             offsets: Some(Box::new(station.controller.interpreter().state.offsets.clone())),
         });
     }
-    Ok(out)
+    Ok((out, sources))
 }
 
 /// Runs a program on many machines at once; with `wait` (the default) the answer is the
@@ -202,8 +210,9 @@ pub async fn create(
         Some(d) => d.parse().map_err(|e: String| bad(e))?,
         None => Dialect::Fanuc,
     };
-    let entries = entries(&state, &request, dialect)?;
+    let (entries, sources) = entries(&state, &request, dialect)?;
     let plan = Plan {
+        sources,
         request_json: serde_json::to_string(&request).unwrap_or_else(|_| "{}".into()),
         options: Options { tools: request.tools, report: request.report, ..Options::default() },
         program: request.program,
@@ -223,10 +232,11 @@ pub async fn create(
         let info = FleetRunInfo::of(&row);
         return Ok((StatusCode::ACCEPTED, headers, Json(info)).into_response());
     }
-    let (status, results) = task.await.map_err(|e| ApiError::Unavailable(format!("fleet run failed: {e}")))?;
-    match status {
-        "done" => Ok((StatusCode::OK, headers, Json(results)).into_response()),
-        "cancelled" => Err(ApiError::Conflict(format!("fleet run {id} was cancelled"))),
+    let ended = task.await.map_err(|e| ApiError::Unavailable(format!("fleet run failed: {e}")))?;
+    match (ended.status, ended.error) {
+        ("done", _) => Ok((StatusCode::OK, headers, Json(ended.results)).into_response()),
+        ("cancelled", _) => Err(ApiError::Conflict(format!("fleet run {id} was cancelled"))),
+        (_, Some(error)) => Err(ApiError::Unavailable(format!("fleet run {id} was interrupted: {error}"))),
         _ => Err(ApiError::Unavailable(format!("fleet run {id} was interrupted: the service is stopping"))),
     }
 }

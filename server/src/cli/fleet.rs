@@ -3,6 +3,7 @@
 //! `"dialect"`, and with `--report` the run report); progress goes to stderr.
 
 use super::{read_program, Fail};
+use crate::cluster::{self, Job, Outcome, Source};
 use crate::fleet::{self, Entry, Event, Options, Tool};
 use clap::Args;
 use fivex_engine::Dialect;
@@ -33,8 +34,17 @@ pub struct FleetArgs {
     #[arg(long)]
     tools: Option<PathBuf>,
     /// Machines simulated at once (default: one per core).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "nats")]
     jobs: Option<usize>,
+    /// Run on a distributed fleet: one job per machine on this NATS server's JetStream work
+    /// queue, run by the `fivex serve --nats` nodes connected to it (at least one must run;
+    /// docs/fleet.md).
+    #[arg(long, env = "FIVEX_NATS", value_name = "URL")]
+    nats: Option<String>,
+    /// With --nats: give up (exit status 2) when neither a node nor a result was heard from for
+    /// this many seconds.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..=86400))]
+    nats_timeout_s: u64,
     /// Add each machine's run report ("report": travel, speeds, singular time, limits,
     /// unwinds, tip deviation).
     #[arg(long)]
@@ -56,8 +66,11 @@ pub struct FleetArgs {
 pub fn run(a: FleetArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
     let mut entries: Vec<Entry> = Vec::new();
+    // Where each machine comes from, for --nats (the nodes build it as this does).
+    let mut sources: Vec<Source> = Vec::new();
     for name in &a.presets {
         entries.push(fleet::preset(name, a.dialect).map_err(Fail)?);
+        sources.push(Source::Preset(name.clone()));
     }
     for path in &a.machines {
         let file = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
@@ -65,12 +78,17 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
         for line in fivex_engine::machine_file::warnings(&path.display().to_string(), &file) {
             eprintln!("{line}");
         }
+        sources.push(Source::Document(file));
     }
     match &a.library {
-        Some(names) if names.is_empty() => entries.extend(fleet::whole_library(a.dialect).map_err(Fail)?),
+        Some(names) if names.is_empty() => {
+            entries.extend(fleet::whole_library(a.dialect).map_err(Fail)?);
+            sources.extend(fleet::LIBRARY.iter().map(|(n, _)| Source::Library(n.to_string())));
+        }
         Some(names) => {
             for name in names {
                 entries.push(fleet::library(name, a.dialect).map_err(Fail)?);
+                sources.push(Source::Library(name.clone()));
             }
         }
         None => {}
@@ -111,14 +129,77 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
             eprintln!("fleet: [{k}/{total}] {machine}: {status}, {cycle_time_s:.3} s");
         }
     };
-    let results = fleet::run_fleet(&text, &entries, &opts, &progress);
-    let completed = |r: &Option<crate::wire::FleetResult>| {
-        r.as_ref().is_some_and(|r| r.summary.status == crate::wire::RunStatus::Completed)
+    let json = match &a.nats {
+        None => {
+            let results = fleet::run_fleet(&text, &entries, &opts, &progress);
+            let completed = |r: &Option<crate::wire::FleetResult>| {
+                r.as_ref().is_some_and(|r| r.summary.status == crate::wire::RunStatus::Completed)
+            };
+            let status = if results.iter().all(completed) { 0 } else { 1 };
+            (serde_json::to_string_pretty(&results)?, status)
+        }
+        Some(url) => {
+            let idle = std::time::Duration::from_secs(a.nats_timeout_s);
+            let results = remote(url, text, &entries, sources, &opts, idle, &progress)?;
+            let status =
+                if results.iter().all(|r| r.as_ref().is_some_and(|r| r["status"] == "completed")) { 0 } else { 1 };
+            (serde_json::to_string_pretty(&results)?, status)
+        }
     };
-    let status = if results.iter().all(completed) { 0 } else { 1 };
-    let json = serde_json::to_string_pretty(&results)?;
+    let (json, status) = json;
     match writeln!(std::io::stdout().lock(), "{json}") {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Fail(format!("stdout: {e}"))),
         _ => Ok(status),
     }
+}
+
+/// `--nats`: the machines as jobs on the cluster's work queue, the results collected from the
+/// run's subject; Ctrl-C cancels the run (its waiting jobs purged, its running ones stopped).
+fn remote(
+    url: &str,
+    program: String,
+    entries: &[Entry],
+    sources: Vec<Source>,
+    opts: &Options,
+    idle: std::time::Duration,
+    progress: &(dyn Fn(Event) + Sync),
+) -> Result<Vec<Option<serde_json::Value>>, Fail> {
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| Fail(format!("cannot start the async runtime: {e}")))?;
+    runtime.block_on(async {
+        let nats = cluster::connect(url).await.map_err(Fail)?;
+        let run = uuid::Uuid::new_v4().simple().to_string();
+        let jobs = entries
+            .iter()
+            .zip(sources)
+            .enumerate()
+            .map(|(index, (entry, machine))| Job {
+                run: run.clone(),
+                index,
+                program: program.clone(),
+                machine,
+                dialect: entry.dialect,
+                tools: opts.tools.clone(),
+                report: opts.report,
+                report_period_s: opts.report_period_s,
+                max_blocks: opts.max_blocks,
+                max_time_s: opts.max_time_s,
+            })
+            .collect();
+        let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
+        let (stop, stopped) = tokio::sync::watch::channel(None);
+        tokio::spawn(async move {
+            if tokio::signal::ctrl_c().await.is_ok() {
+                stop.send_replace(Some("cancelled"));
+            }
+        });
+        let (outcome, results) = cluster::run(&nats, jobs, &names, idle, stopped, progress).await;
+        match outcome {
+            Outcome::Done => Ok(results),
+            Outcome::Stopped(why) => Err(Fail(format!("fleet run {run} {why}: its jobs were withdrawn"))),
+            Outcome::Failed(e) => Err(Fail(format!("fleet run {run}: {e}"))),
+        }
+    })
 }

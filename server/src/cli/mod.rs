@@ -152,6 +152,17 @@ struct ServeArgs {
     allow_origin: Vec<crate::origin::Origin>,
     #[command(flatten)]
     limits: limits::LimitArgs,
+    /// Distributed fleet runs: take fleet jobs from this NATS server's JetStream work queue,
+    /// and send this service's fleet runs there (`nats://HOST:PORT`; docs/fleet.md).
+    #[arg(long, env = "FIVEX_NATS", value_name = "URL")]
+    nats: Option<String>,
+    /// With --nats: fleet jobs (machines) this node runs at once (default: one per core).
+    #[arg(long, env = "FIVEX_NATS_JOBS", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    nats_jobs: Option<u32>,
+    /// With --nats: a fleet run gives up (`interrupted`) when neither a node nor a result was
+    /// heard from for this many seconds.
+    #[arg(long, env = "FIVEX_NATS_TIMEOUT_S", default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..=86400))]
+    nats_timeout_s: u64,
 }
 
 /// A usage or IO error: exit status 2.
@@ -192,6 +203,9 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
                 allow_origins: a.allow_origin,
                 limits: a.limits.limits(),
                 fleet_jobs: a.limits.fleet_jobs as usize,
+                nats: a.nats,
+                nats_jobs: a.nats_jobs.map(|n| n as usize),
+                nats_idle: std::time::Duration::from_secs(a.nats_timeout_s),
             };
             crate::serve::run_with(options).map_err(Fail)?;
             Ok(0)

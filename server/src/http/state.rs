@@ -133,6 +133,12 @@ impl AppState {
         self
     }
 
+    /// Fleet runs go to a cluster over NATS (`fivex serve --nats`, `crate::cluster`).
+    pub fn with_fleet_remote(mut self, remote: service::fleet_runs::Remote) -> Self {
+        self.fleet_runs = self.fleet_runs.with_remote(remote);
+        self
+    }
+
     /// The end of a graceful shutdown: websockets told to close, fleet runs interrupted and
     /// recorded, the workers stopped, and everything they produced written to the database.
     pub async fn shutdown(&self) {

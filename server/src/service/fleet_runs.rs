@@ -13,10 +13,11 @@ use tokio::sync::{watch, Semaphore};
 use utoipa::ToSchema;
 
 use super::ServiceError;
+use crate::cluster::{self, Source};
 use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options};
 use crate::host::now_rfc3339;
-use crate::wire::FleetResult;
+use serde_json::Value;
 
 /// The most machines one fleet run may have.
 pub const MAX_MACHINES: usize = 200;
@@ -33,6 +34,18 @@ pub struct Runs {
     jobs: usize,
     /// The runs over since the service started, by [`FINISHED`] status.
     finished: Arc<[AtomicU64; 3]>,
+    /// `--nats`: runs go to the cluster's work queue (`crate::cluster`), not to the places.
+    remote: Option<Remote>,
+}
+
+/// The cluster a node with `--nats` sends its runs to and takes jobs from.
+#[derive(Clone, Debug)]
+pub struct Remote {
+    pub nats: cluster::Nats,
+    /// This node's share of the work (stopped with the service).
+    pub node: cluster::Node,
+    /// A run gives up when no node nor result was heard from for this long.
+    pub idle: Duration,
 }
 
 /// How a run ends: the statuses of a run that is over.
@@ -74,7 +87,19 @@ impl Runs {
     /// At most `jobs` runs at once (at least 1).
     pub fn new(jobs: usize) -> Self {
         let jobs = jobs.max(1);
-        Runs { runs: Default::default(), slots: Arc::new(Semaphore::new(jobs)), jobs, finished: Default::default() }
+        Runs {
+            runs: Default::default(),
+            slots: Arc::new(Semaphore::new(jobs)),
+            jobs,
+            finished: Default::default(),
+            remote: None,
+        }
+    }
+
+    /// Runs sent to a cluster (`--nats`): each machine a job on the work queue.
+    pub fn with_remote(mut self, remote: Remote) -> Self {
+        self.remote = Some(remote);
+        self
     }
 
     /// How many runs are queued and running, the places, and the runs over by status.
@@ -139,6 +164,9 @@ impl Runs {
             runs.1 = true;
             runs.0.keys().cloned().collect()
         };
+        if let Some(remote) = &self.remote {
+            remote.node.stop();
+        }
         for id in ids {
             self.stop(&id, "interrupted");
         }
@@ -188,21 +216,34 @@ pub struct Progress {
 pub struct Plan {
     pub program: String,
     pub entries: Vec<Entry>,
+    /// Where each entry comes from, for a run over NATS (`crate::cluster`); shorter than
+    /// `entries` when a machine cannot be sent (an existing controller's).
+    pub sources: Vec<Source>,
     pub options: Options,
     pub request_json: String,
 }
 
-/// A run started: as stored (queued), and its end (`done`, `cancelled` or `interrupted`, and the
-/// fleet array).
+/// A run started: as stored (queued), and its end.
 pub struct Started {
     pub row: FleetRunRow,
-    pub end: tokio::task::JoinHandle<(&'static str, Vec<Option<FleetResult>>)>,
+    pub end: tokio::task::JoinHandle<Ended>,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone)]
+pub struct Ended {
+    /// `done`, `cancelled` or `interrupted`.
+    pub status: &'static str,
+    /// The fleet array (`null` for each machine that did not finish).
+    pub results: Vec<Option<Value>>,
+    /// Why a run over NATS gave up (stored `interrupted`).
+    pub error: Option<String>,
 }
 
 /// Queues a run of `plan` (at least one machine, at most [`MAX_MACHINES`]), stored as
 /// `queued`; it runs once a place is free.
 pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, ServiceError> {
-    let Plan { program, entries, options, request_json } = plan;
+    let Plan { program, entries, sources, options, request_json } = plan;
     if entries.is_empty() {
         return Err(ServiceError::invalid("no machines: give presets, machines, library or controllers"));
     }
@@ -211,6 +252,12 @@ pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, Serv
     }
     if let Some(tools) = &options.tools {
         fleet::check_tools(tools).map_err(ServiceError::invalid)?;
+    }
+    if runs.remote.is_some() && sources.len() != entries.len() {
+        return Err(ServiceError::invalid(
+            "existing controllers cannot run on a distributed fleet (this node runs with --nats): \
+             give their machines as presets, machines or library",
+        ));
     }
     let row = FleetRunRow {
         id: uuid::Uuid::new_v4().simple().to_string(),
@@ -248,7 +295,7 @@ pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, Serv
         return Err(e.into());
     }
     let opts = Options { cancel: Some(cancel), ..options };
-    let end = tokio::spawn(execute(db.clone(), runs.clone(), id, program, entries, opts, tx, stopped));
+    let end = tokio::spawn(execute(db.clone(), runs.clone(), id, program, entries, sources, opts, tx, stopped));
     Ok(Started { row, end })
 }
 
@@ -263,17 +310,21 @@ async fn execute(
     id: String,
     program: String,
     entries: Vec<Entry>,
+    sources: Vec<Source>,
     opts: Options,
     tx: watch::Sender<Progress>,
     stopped: Arc<watch::Sender<Option<&'static str>>>,
-) -> (&'static str, Vec<Option<FleetResult>>) {
+) -> Ended {
     let total = entries.len();
     let mut why = stopped.subscribe();
+    if let Some(remote) = runs.remote.clone() {
+        return execute_remote(db, runs, remote, id, program, entries, sources, opts, tx, stopped).await;
+    }
     let slot = tokio::select! {
         slot = runs.slots.clone().acquire_owned() => slot.ok(),
         _ = why.wait_for(Option::is_some) => None,
     };
-    let mut results: Vec<Option<FleetResult>> = vec![None; total];
+    let mut results: Vec<Option<Value>> = vec![None; total];
     if slot.is_some() && stopped.borrow().is_none() {
         if let Err(e) = db::start_fleet_run(&db, &id).await {
             tracing::error!(%id, error = %e, "fleet run start not stored");
@@ -293,7 +344,9 @@ async fn execute(
                     Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
                 })
             };
-            fleet::run_fleet(&program, &entries, &opts, &on_event)
+            let results = fleet::run_fleet(&program, &entries, &opts, &on_event);
+            // As the fleet array is written: the same JSON (`serde_json`'s numbers keep their bits).
+            results.iter().map(|r| r.as_ref().and_then(|r| serde_json::to_value(r).ok())).collect()
         })
         .await
         .unwrap_or_else(|_| vec![None; total]);
@@ -304,11 +357,24 @@ async fn execute(
         Some(why) if results.iter().any(Option::is_none) => why,
         _ => "done",
     };
-    let completed =
-        results.iter().flatten().filter(|r| r.summary.status == crate::wire::RunStatus::Completed).count() as u32;
+    finish(&db, &runs, &id, &tx, status, results, None).await
+}
+
+/// Stores a run's outcome and tells its followers.
+async fn finish(
+    db: &db::Db,
+    runs: &Runs,
+    id: &str,
+    tx: &watch::Sender<Progress>,
+    status: &'static str,
+    results: Vec<Option<Value>>,
+    error: Option<String>,
+) -> Ended {
+    let total = results.len();
+    let completed = results.iter().flatten().filter(|r| r["status"] == "completed").count() as u32;
     let alarms = results.iter().flatten().count() as u32 - completed;
     let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
-    if let Err(e) = db::finish_fleet_run(&db, &id, status, &now_rfc3339(), completed, alarms, &json).await {
+    if let Err(e) = db::finish_fleet_run(db, id, status, &now_rfc3339(), completed, alarms, &json).await {
         tracing::error!(%id, error = %e, "fleet run not stored");
     }
     tx.send_modify(|p| {
@@ -318,10 +384,77 @@ async fn execute(
             m.state = "cancelled";
         }
     });
-    runs.remove(&id);
+    runs.remove(id);
     runs.finished(status);
-    tracing::info!(%id, machines = total, completed, alarms, status, "fleet run over");
-    (status, results)
+    match &error {
+        Some(error) => tracing::warn!(%id, machines = total, completed, alarms, status, %error, "fleet run over"),
+        None => tracing::info!(%id, machines = total, completed, alarms, status, "fleet run over"),
+    }
+    Ended { status, results, error }
+}
+
+/// A run over NATS: one job per machine on the cluster's work queue, the results collected
+/// from the run's subject (`crate::cluster::run`); no place (`--fleet-jobs`) is taken: the
+/// nodes' jobs are the limit.
+#[allow(clippy::too_many_arguments)]
+async fn execute_remote(
+    db: db::Db,
+    runs: Runs,
+    remote: Remote,
+    id: String,
+    program: String,
+    entries: Vec<Entry>,
+    sources: Vec<Source>,
+    opts: Options,
+    tx: watch::Sender<Progress>,
+    stopped: Arc<watch::Sender<Option<&'static str>>>,
+) -> Ended {
+    let total = entries.len();
+    if stopped.borrow().is_some() {
+        let why = (*stopped.borrow()).unwrap_or("interrupted");
+        return finish(&db, &runs, &id, &tx, why, vec![None; total], None).await;
+    }
+    if let Err(e) = db::start_fleet_run(&db, &id).await {
+        tracing::error!(%id, error = %e, "fleet run start not stored");
+    }
+    tx.send_modify(|p| p.status = "running");
+    let jobs = entries
+        .iter()
+        .zip(sources)
+        .enumerate()
+        .map(|(index, (entry, machine))| cluster::Job {
+            run: id.clone(),
+            index,
+            program: program.clone(),
+            machine,
+            dialect: entry.dialect,
+            tools: opts.tools.clone(),
+            report: opts.report,
+            report_period_s: opts.report_period_s,
+            max_blocks: opts.max_blocks,
+            max_time_s: opts.max_time_s,
+        })
+        .collect();
+    let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
+    let on_event = |e: Event| {
+        tx.send_modify(|p| match e {
+            Event::Started { index, .. } => p.machines[index].state = "running",
+            Event::Finished { index, status, cycle_time_s, .. } => {
+                p.machines[index].state = status;
+                p.machines[index].cycle_time_s = Some(cycle_time_s);
+                p.done += 1;
+            }
+            Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
+        })
+    };
+    let (outcome, results) =
+        cluster::run(&remote.nats, jobs, &names, remote.idle, stopped.subscribe(), &on_event).await;
+    let (status, error) = match outcome {
+        cluster::Outcome::Done => ("done", None),
+        cluster::Outcome::Stopped(why) => (why, None),
+        cluster::Outcome::Failed(e) => ("interrupted", Some(e)),
+    };
+    finish(&db, &runs, &id, &tx, status, results, error).await
 }
 
 /// Stops a queued or running run and waits (10 s at most) until it is stored as over: the run as

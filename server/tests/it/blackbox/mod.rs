@@ -6,6 +6,7 @@ mod document;
 mod limits;
 mod metrics;
 mod modal;
+mod nats;
 mod origin;
 mod postgres;
 mod served;

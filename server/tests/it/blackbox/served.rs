@@ -132,6 +132,35 @@ impl Served {
         self.request(method, path, &[("content-type", "application/json")], body.to_string()).await
     }
 
+    /// As [`Served::send_json`], as a future that does not borrow `self` (to spawn).
+    pub fn send_json_detached(
+        &self,
+        method: Method,
+        path: &str,
+        body: &serde_json::Value,
+    ) -> impl std::future::Future<Output = Reply> + Send + 'static {
+        let client = self.client.clone();
+        let request = Request::builder()
+            .method(method)
+            .uri(self.url(path))
+            .header("content-type", "application/json")
+            .body(Full::new(Bytes::from(body.to_string())))
+            .unwrap();
+        async move {
+            let response = client.request(request).await.expect("request sent");
+            let status = response.status();
+            let headers = response.headers().clone();
+            let body = response.into_body().collect().await.expect("response body").to_bytes();
+            Reply { status, headers, body }
+        }
+    }
+
+    /// Kills the process (SIGKILL: no shutdown of any kind) and waits for it.
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
     /// Sends SIGTERM and waits (at most `limit`) for the process to exit; returns its status and
     /// how long it took.
     pub fn terminate(&mut self, limit: Duration) -> (ExitStatus, Duration) {
