@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite: every Rust test (the service's on PostgreSQL too: a server of its own
-# per test, from Debian's postgresql, installed if missing), the comparisons with LinuxCNC's rs274 (ignored by a
+# per test, from Debian's postgresql, installed if missing; the distributed fleet's on a
+# `nats-server -js` of their own, from Debian's nats-server, installed likewise), the comparisons with LinuxCNC's rs274 (ignored by a
 # plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches) and of NURBS with
 # SciPy (ignored likewise: they need python3-scipy), a build check of the fuzz targets, then the
 # dashboard's (scripts/web-test.sh). The service's `/metrics` tests read the scrape with Python's
@@ -17,6 +18,11 @@ echo "== PostgreSQL for the service's tests on it (Debian's postgresql, installe
 if ! ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 && ! command -v initdb >/dev/null; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq postgresql >/dev/null
+fi
+echo "== NATS for the distributed fleet's tests (Debian's nats-server, installed if missing)"
+if ! command -v nats-server >/dev/null && [ ! -x /usr/sbin/nats-server ]; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nats-server >/dev/null
 fi
 echo "== cargo test --workspace"
 cargo test --workspace

@@ -191,8 +191,8 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<(Vec<
         (status = 202, description = "`wait=false`: started; follow it on the stream", body = FleetRunInfo),
         (status = 400, description = "Not JSON", body = ErrorBody),
         (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
-        (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program", body = ErrorBody),
-        (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`)", body = ErrorBody),
+        (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes)", body = ErrorBody),
+        (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`), or, on a node with `--nats`, the run gave up (`interrupted`: no node heard from for `--nats-timeout-s`, NATS failing)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
