@@ -320,10 +320,13 @@ impl Node {
         let mut running = lock(&self.inner.running);
         let entry = running.entry(run.to_string()).or_insert_with(|| (Arc::new(AtomicBool::new(false)), 0));
         entry.1 += 1;
-        if self.stopping() {
-            entry.0.store(true, Ordering::Relaxed);
+        let flag = entry.0.clone();
+        drop(running);
+        // After the entry is in: a cancel that comes meanwhile sees it, or is seen here.
+        if self.stopping() || self.is_cancelled(run) {
+            flag.store(true, Ordering::Relaxed);
         }
-        entry.0.clone()
+        flag
     }
 
     fn leave(&self, run: &str) {

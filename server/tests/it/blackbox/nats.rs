@@ -4,7 +4,8 @@
 //! posted to one node is shared out as one job per machine and answers exactly what a single
 //! node answers; a node killed (SIGKILL) in the middle of its jobs leaves them to the others and
 //! the run still completes with every result; `fivex fleet --nats` prints what `fivex fleet`
-//! prints.
+//! prints; without a node it gives up with a clear error; a job that does not parse is
+//! terminated; a cancel withdraws the waiting jobs and stops the running ones.
 
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
@@ -52,8 +53,6 @@ impl NatsServer {
             assert!(Instant::now() < deadline, "nats-server did not listen on {port} within 30 s");
             std::thread::sleep(Duration::from_millis(20));
         }
-        // A moment for JetStream to be ready is not needed: the nodes' stream creation waits.
-        server.port = port;
         server
     }
 
@@ -130,27 +129,34 @@ async fn a_fleet_run_over_nats_equals_the_single_node_run_and_survives_a_killed_
     let expected = post_fleet(&alone, &request).await;
     let mut nodes = nodes;
     let posted = tokio::spawn(nodes[1].send_json_detached(Method::POST, "/api/v1/fleet/runs", &request));
-    // Wait until node 0 has finished a few jobs and is in the middle of one.
+    // Wait until node 0 has finished two jobs, then kill it just after it starts another (a job
+    // takes a good part of a second: it is killed in the middle of that one).
     let deadline = Instant::now() + Duration::from_secs(300);
-    let in_flight = loop {
+    let mut seen = Vec::new();
+    loop {
         let log = nodes[0].log();
         let started = indices(&log, "fleet job started");
         let done = indices(&log, "fleet job done");
-        let open: Vec<usize> = started.iter().filter(|i| !done.contains(i)).copied().collect();
-        if done.len() >= 2 && !open.is_empty() {
-            break open;
+        if done.len() >= 2 && started.iter().any(|i| !seen.contains(i) && !done.contains(i)) {
+            break;
         }
+        seen = started;
         assert!(Instant::now() < deadline, "node 0 never ran two jobs; log: {log}");
-        tokio::time::sleep(Duration::from_millis(10)).await;
-    };
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
     nodes[0].kill();
     let reply = posted.await.unwrap();
     assert_eq!(reply.status, 200, "{}", reply.json());
     assert_eq!(reply.json(), expected);
-    // A job node 0 had under way was run again by another node.
-    let elsewhere: Vec<usize> =
-        nodes[1..].iter().flat_map(|n| indices(&n.log(), "fleet job done")).filter(|i| in_flight.contains(i)).collect();
-    assert!(!elsewhere.is_empty(), "none of {in_flight:?} redelivered");
+    // The jobs node 0 had under way when it died were run again by the others.
+    let log = nodes[0].log();
+    let done = indices(&log, "fleet job done");
+    let unfinished: Vec<usize> = indices(&log, "fleet job started").into_iter().filter(|i| !done.contains(i)).collect();
+    assert!(!unfinished.is_empty(), "node 0 was not killed in the middle of a job; log: {log}");
+    let elsewhere: Vec<usize> = nodes[1..].iter().flat_map(|n| indices(&n.log(), "fleet job done")).collect();
+    for i in &unfinished {
+        assert!(elsewhere.contains(i), "machine {i}, under way on the killed node, was not run again");
+    }
 
     // `fivex fleet --nats` prints what `fivex fleet` prints.
     let dir = tempfile::tempdir().unwrap();
@@ -178,7 +184,7 @@ fn indices(log: &str, what: &str) -> Vec<usize> {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn without_a_node_fivex_fleet_nats_gives_up_with_a_clear_error() {
+async fn over_nats_no_node_is_a_clear_error_bad_jobs_end_and_cancel_withdraws_the_jobs() {
     let nats = NatsServer::start();
     let dir = tempfile::tempdir().unwrap();
     let program = dir.path().join("p.nc");
@@ -222,4 +228,28 @@ async fn without_a_node_fivex_fleet_nats_gives_up_with_a_clear_error() {
         .await;
     assert_eq!(reply.status, 200, "{}", reply.json());
     assert_eq!(reply.json()[0]["status"], "completed");
+
+    // Cancel: the running jobs stop, the waiting ones never run (purged from the queue).
+    let request = json!({"program": long_program(8000), "presets": machines(12)});
+    let reply = node.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
+    assert_eq!(reply.status, 202, "{}", reply.json());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !node.log().lines().any(|l| l.contains("fleet job started") && l.contains(&id)) {
+        assert!(Instant::now() < deadline, "no job of the run started; log: {}", node.log());
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    let reply = node.request(Method::POST, &format!("/api/v1/fleet/runs/{id}/cancel"), &[], "").await;
+    assert_eq!(reply.status, 200, "{}", reply.json());
+    assert_eq!(reply.json()["status"], "cancelled");
+    let run = node.get(&format!("/api/v1/fleet/runs/{id}")).await.json();
+    let results = run["results"].as_array().unwrap();
+    assert_eq!(results.len(), 12);
+    assert!(results.iter().any(Value::is_null), "{run}");
+    assert_eq!(stream.info().await.unwrap().state.messages, 0, "the run's waiting jobs are still queued");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while !node.log().lines().any(|l| l.contains("fleet job cancelled") && l.contains(&id)) {
+        assert!(Instant::now() < deadline, "the running jobs were not stopped; log: {}", node.log());
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
 }
