@@ -93,6 +93,30 @@ pub struct Job {
     pub max_time_s: f64,
 }
 
+impl Job {
+    /// The jobs of run `run`: one per machine of `entries`, with its `sources` (how a node
+    /// builds it) and the run's options.
+    pub fn all(run: &str, program: &str, entries: &[Entry], sources: Vec<Source>, opts: &Options) -> Vec<Job> {
+        entries
+            .iter()
+            .zip(sources)
+            .enumerate()
+            .map(|(index, (entry, machine))| Job {
+                run: run.to_owned(),
+                index,
+                program: program.to_owned(),
+                machine,
+                dialect: entry.dialect,
+                tools: opts.tools.clone(),
+                report: opts.report,
+                report_period_s: opts.report_period_s,
+                max_blocks: opts.max_blocks,
+                max_time_s: opts.max_time_s,
+            })
+            .collect()
+    }
+}
+
 /// What a node sends back on the run's subjects.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Reply {

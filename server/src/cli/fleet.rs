@@ -171,23 +171,7 @@ fn remote(
     runtime.block_on(async {
         let nats = cluster::connect(url).await.map_err(Fail)?;
         let run = uuid::Uuid::new_v4().simple().to_string();
-        let jobs = entries
-            .iter()
-            .zip(sources)
-            .enumerate()
-            .map(|(index, (entry, machine))| Job {
-                run: run.clone(),
-                index,
-                program: program.clone(),
-                machine,
-                dialect: entry.dialect,
-                tools: opts.tools.clone(),
-                report: opts.report,
-                report_period_s: opts.report_period_s,
-                max_blocks: opts.max_blocks,
-                max_time_s: opts.max_time_s,
-            })
-            .collect();
+        let jobs = Job::all(&run, &program, entries, sources, opts);
         let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
         let (stop, stopped) = tokio::sync::watch::channel(None);
         tokio::spawn(async move {

@@ -418,23 +418,7 @@ async fn execute_remote(
         tracing::error!(%id, error = %e, "fleet run start not stored");
     }
     tx.send_modify(|p| p.status = "running");
-    let jobs = entries
-        .iter()
-        .zip(sources)
-        .enumerate()
-        .map(|(index, (entry, machine))| cluster::Job {
-            run: id.clone(),
-            index,
-            program: program.clone(),
-            machine,
-            dialect: entry.dialect,
-            tools: opts.tools.clone(),
-            report: opts.report,
-            report_period_s: opts.report_period_s,
-            max_blocks: opts.max_blocks,
-            max_time_s: opts.max_time_s,
-        })
-        .collect();
+    let jobs = cluster::Job::all(&id, &program, &entries, sources, &opts);
     let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
     let on_event = |e: Event| {
         tx.send_modify(|p| match e {

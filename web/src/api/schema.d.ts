@@ -6120,7 +6120,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program */
+            /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes) */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -6138,7 +6138,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description The service is stopping; `wait`: it stopped before the run finished (`interrupted`) */
+            /** @description The service is stopping; `wait`: it stopped before the run finished (`interrupted`), or, on a node with `--nats`, the run gave up (`interrupted`: no node heard from for `--nats-timeout-s`, NATS failing) */
             503: {
                 headers: {
                     [name: string]: unknown;
