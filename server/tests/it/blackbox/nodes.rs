@@ -3,13 +3,15 @@
 //! created through one node are driven through another and read through a third (requests
 //! forwarded to the owner); the owner killed (SIGKILL) while a program runs and variables are
 //! written, every controller comes back on a survivor with every acknowledged write; a node
-//! stopped cleanly hands its controllers over; a websocket of a remote controller is refused
-//! naming its node.
+//! stopped cleanly hands its controllers over; the stream of a remote controller is relayed by
+//! the node holding the websocket, and closed (1012) when the owner dies.
 
 use std::time::{Duration, Instant};
 
+use futures_util::StreamExt;
 use hyper::{Method, StatusCode};
 use serde_json::{json, Value};
+use tokio_tungstenite::tungstenite::Message;
 
 use super::nats::NatsServer;
 use super::postgres::Postgres;
@@ -25,6 +27,20 @@ fn node(pg: &Postgres, nats: &NatsServer, name: &str) -> Served {
 async fn hosted(served: &Served) -> Vec<String> {
     let ready = served.get("/readyz").await.json();
     ready["cluster"]["controllers"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect()
+}
+
+type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+/// The next text message as JSON (within 30 s).
+async fn next_json(ws: &mut Socket) -> Value {
+    loop {
+        match tokio::time::timeout(Duration::from_secs(30), ws.next()).await.expect("a message within 30 s") {
+            Some(Ok(Message::Text(text))) => return serde_json::from_str(text.as_str()).expect("a JSON message"),
+            Some(Ok(Message::Close(frame))) => panic!("the stream closed: {frame:?}"),
+            Some(Ok(_)) => continue,
+            other => panic!("websocket: {other:?}"),
+        }
+    }
 }
 
 /// Waits (generously) until `check` holds, panicking with `what` after the deadline.
@@ -100,25 +116,36 @@ async fn controllers_are_hosted_across_nodes_and_survive_a_killed_node() {
     for path in [format!("{C}/0123456789abcdef0123456789abcdef"), format!("{C}/no%20such")] {
         assert_eq!(two.get(&path).await.status, StatusCode::NOT_FOUND, "{path}");
     }
-    // A websocket of a remote controller: refused, naming the owner.
-    let ws = two
-        .request(
-            Method::GET,
-            &format!("{C}/{id}/stream"),
-            &[
-                ("connection", "upgrade"),
-                ("upgrade", "websocket"),
-                ("sec-websocket-version", "13"),
-                ("sec-websocket-key", "dGhlIHNhbXBsZSBub25jZQ=="),
-            ],
-            "",
-        )
-        .await;
-    assert_eq!(ws.status, StatusCode::MISDIRECTED_REQUEST, "{:?}", ws.body);
-    assert!(ws.json()["error"].as_str().unwrap().contains("node one"), "{:?}", ws.body);
+    // The stream of a controller on node one through node two: relayed (snapshot, positions of
+    // the running program, a variable written through node three); a bad rate refused as on one.
+    let bad = format!("ws://{}{C}/{id}/stream?rate=0", two.addr);
+    match tokio_tungstenite::connect_async(bad).await {
+        Err(tokio_tungstenite::tungstenite::Error::Http(response)) => assert_eq!(response.status(), 422),
+        other => panic!("a bad rate opened a stream: {:?}", other.map(|_| ())),
+    }
+    let (mut ws, _) = tokio_tungstenite::connect_async(format!("ws://{}{C}/{id}/stream?rate=20", two.addr))
+        .await
+        .expect("relayed websocket");
+    let snapshot = next_json(&mut ws).await;
+    assert_eq!(snapshot["type"], "snapshot", "{snapshot}");
+    assert_eq!(snapshot["controller"]["id"], json!(id));
+    let mut positions = 0;
+    while positions < 5 {
+        if next_json(&mut ws).await["type"] == "position" {
+            positions += 1;
+        }
+    }
+    let put = three.send_json(Method::PUT, &format!("{C}/{id}/variables/600"), &json!({"value": 6.25})).await;
+    assert_eq!(put.status, StatusCode::OK);
+    loop {
+        let message = next_json(&mut ws).await;
+        if message.to_string().contains("6.25") {
+            break;
+        }
+    }
 
     // Writes acknowledged while the program runs, then the owner killed.
-    let mut acknowledged: Vec<(u32, f64)> = vec![(500, 7.5)];
+    let mut acknowledged: Vec<(u32, f64)> = vec![(500, 7.5), (600, 6.25)];
     for k in 0..20u32 {
         let (number, value) = (501 + k, f64::from(k) * 1.5);
         let put = three
@@ -132,8 +159,21 @@ async fn controllers_are_hosted_across_nodes_and_survive_a_killed_node() {
             acknowledged.push((number, value));
         }
     }
-    assert_eq!(acknowledged.len(), 21);
+    assert_eq!(acknowledged.len(), 22);
     one.kill();
+    // The relayed stream is closed (1012: reconnect) once node one has left.
+    loop {
+        match tokio::time::timeout(Duration::from_secs(30), ws.next()).await.expect("the relayed stream closes") {
+            Some(Ok(Message::Close(frame))) => {
+                let frame = frame.expect("a close frame");
+                assert_eq!(u16::from(frame.code), 1012, "{frame:?}");
+                assert!(frame.reason.contains("node one"), "{frame:?}");
+                break;
+            }
+            Some(Ok(_)) => continue,
+            other => panic!("the relayed stream ended without a close frame: {other:?}"),
+        }
+    }
 
     eventually("every controller hosted by a survivor", || async {
         let (a, b) = (hosted(&two).await, hosted(&three).await);
@@ -148,7 +188,7 @@ async fn controllers_are_hosted_across_nodes_and_survive_a_killed_node() {
     assert_eq!(after.status, StatusCode::OK, "{:?}", after.body);
     assert_ne!(after.json()["run_state"], json!("running"), "{}", after.json());
     for (k, (number, value)) in acknowledged.iter().enumerate() {
-        let target = if k == 0 { &ids[0] } else { &ids[(k - 1) % 3] };
+        let target = if k < 2 { &ids[0] } else { &ids[(k - 2) % 3] };
         for n in [&two, &three] {
             let read = n.get(&format!("{C}/{target}/variables/{number}")).await;
             assert_eq!(read.json()["value"], json!(value), "#{number} of {target}: {:?}", read.body);
