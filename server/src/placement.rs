@@ -653,3 +653,19 @@ fn unavailable(reason: String) -> Response {
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_names_are_keys_and_subject_tokens() {
+        for good in ["n1", "node-2", "A_b", &"x".repeat(64)] {
+            assert!(valid_name(good), "{good}");
+        }
+        for bad in ["", "a.b", "a b", "a*", "a>", "é", &"x".repeat(65)] {
+            assert!(!valid_name(bad), "{bad}");
+        }
+        assert!(valid_name(&default_name()));
+    }
+}
