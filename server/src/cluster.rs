@@ -137,6 +137,18 @@ pub struct Nats {
     stream: jetstream::stream::Stream,
 }
 
+impl Nats {
+    /// The core NATS connection.
+    pub fn client(&self) -> &async_nats::Client {
+        &self.client
+    }
+
+    /// The JetStream context over it.
+    pub fn jetstream(&self) -> &jetstream::Context {
+        &self.js
+    }
+}
+
 /// Connects to `url` and makes sure the fleet stream exists.
 pub async fn connect(url: &str) -> Result<Nats, String> {
     let client = async_nats::connect(url).await.map_err(|e| format!("cannot connect to NATS at {url}: {e}"))?;

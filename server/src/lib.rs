@@ -14,6 +14,7 @@ pub mod listen;
 pub mod metrics;
 pub mod openapi_doc;
 pub mod origin;
+pub mod placement;
 pub mod serve;
 pub mod service;
 pub mod tools;

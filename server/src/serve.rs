@@ -106,6 +106,25 @@ pub struct ServeOptions {
     pub nats_jobs: Option<usize>,
     /// With `--nats`: a run gives up when no node nor result was heard from for this long.
     pub nats_idle: Duration,
+    /// `--node`: this node's name in the cluster of controller hosts (`--nats` with a
+    /// PostgreSQL database, `crate::placement`); default: the host's name.
+    pub node: Option<String>,
+}
+
+/// Joins the cluster of controller hosts as `name`, or else as the host's name (with a suffix
+/// when a node already has it).
+async fn join(nats: &crate::cluster::Nats, name: Option<&str>) -> Result<crate::placement::Cluster, String> {
+    use crate::placement::{default_name, Cluster};
+    match name {
+        Some(name) => Cluster::join(nats, name).await,
+        None => match Cluster::join(nats, &default_name()).await {
+            Ok(cluster) => Ok(cluster),
+            Err(_) => {
+                Cluster::join(nats, &format!("{}-{}", default_name(), &uuid::Uuid::new_v4().simple().to_string()[..8]))
+                    .await
+            }
+        },
+    }
 }
 
 /// `fivex serve` with the database and address only.
@@ -121,6 +140,7 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
         nats: None,
         nats_jobs: None,
         nats_idle: crate::cluster::IDLE_TIMEOUT,
+        node: None,
     })
 }
 
@@ -139,22 +159,45 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         let (db, addr) = (db::shown(&options.db.to_string_lossy()), &options.addr);
         let pool = db::open_any(&options.db.to_string_lossy()).await.map_err(|e| e.to_string())?;
         let workers = options.workers.unwrap_or_else(Host::default_workers);
-        let state = AppState::restore_with(pool, workers)
-            .await
+        let postgres = pool.backend() == db::Backend::Postgres;
+        let nats = match &options.nats {
+            Some(url) => Some(crate::cluster::connect(url).await?),
+            None => None,
+        };
+        // Controllers across nodes: with NATS and a shared (PostgreSQL) database only.
+        let cluster = match (&nats, postgres) {
+            (Some(nats), true) => Some(join(nats, options.node.as_deref()).await?),
+            (Some(_), false) if options.node.is_some() => {
+                return Err("--node: controllers hosted across nodes need a shared PostgreSQL --db (SQLite is one process's file)".to_string());
+            }
+            (Some(_), false) => {
+                tracing::warn!("--nats with SQLite: fleet runs go to the cluster; controllers stay on this node (they need a PostgreSQL --db to be shared)");
+                None
+            }
+            (None, _) => None,
+        };
+        let state = match cluster.clone() {
+            Some(cluster) => AppState::clustered(pool, workers, cluster).await,
+            None => AppState::restore_with(pool, workers).await,
+        };
+        let state = state
             .map_err(|e| format!("cannot read the controllers of {db}: {e}"))?
             .with_token(options.token.clone())
             .with_allowed_origins(AllowedOrigins::new(options.allow_origins.clone()))
             .with_fleet_jobs(options.fleet_jobs);
-        let state = match &options.nats {
-            None => state,
-            Some(url) => {
-                let nats = crate::cluster::connect(url).await?;
+        let state = match (&options.nats, nats) {
+            (Some(url), Some(nats)) => {
                 let jobs = options.nats_jobs.unwrap_or_else(crate::fleet::default_jobs).max(1);
                 let node = crate::cluster::start_node(&nats, jobs).await?;
                 tracing::info!(nats = %url, jobs, "fleet runs go to the cluster");
                 state.with_fleet_remote(crate::service::fleet_runs::Remote { nats, node, idle: options.nats_idle })
             }
+            _ => state,
         };
+        if let Some(cluster) = &cluster {
+            cluster.start(state.clone(), app(state.clone())).await?;
+            tracing::info!(node = cluster.name(), members = ?cluster.members(), controllers = state.host.len(), "joined the cluster of controller hosts");
+        }
         tracing::info!(db = %db, workers, token = state.token().is_some(), "database ready");
         tracing::info!(limits = ?options.limits, fleet_jobs = options.fleet_jobs, "limits");
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;

@@ -72,20 +72,55 @@ pub async fn create(
         speed: request.speed,
     };
     let hosted = controllers::create(&state.db, &state.host, new).await?;
+    place(&state, &hosted.id).await;
     Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))
 }
 
-/// Every controller with its status, oldest first.
+/// Every controller with its status, oldest first; in a cluster of nodes, those of every
+/// member (each asked over NATS).
 #[utoipa::path(
     get,
     path = "/api/v1/controllers",
     tag = "controllers",
     responses(
-        (status = 200, description = "Every controller", body = [ControllerStatus]),
+        (status = 200, description = "Every controller (in a cluster: every controller each member hosts)", body = [ControllerStatus]),
+        (status = 503, description = "In a cluster (docs/cluster.md): a member did not list its controllers", body = ErrorBody),
     )
 )]
-pub async fn list(State(state): State<AppState>) -> Json<Vec<ControllerStatus>> {
-    Json(state.host.list().iter().map(|h| ControllerStatus::now(h)).collect())
+pub async fn list(
+    State(state): State<AppState>,
+    headers: axum::http::HeaderMap,
+) -> Result<Json<Vec<ControllerStatus>>, ApiError> {
+    let mut all: Vec<ControllerStatus> = state.host.list().iter().map(|h| ControllerStatus::now(h)).collect();
+    // In a cluster (`crate::placement`), each other member answers for what it hosts.
+    if let Some(cluster) = state.cluster.as_ref().filter(|_| !headers.contains_key(crate::placement::FORWARDED)) {
+        let uri: axum::http::Uri = "/api/v1/controllers".parse().expect("a path");
+        for node in cluster.members().into_iter().filter(|n| n != cluster.name()) {
+            let answer = cluster.send(&node, &axum::http::Method::GET, &uri, &headers, Default::default()).await;
+            let status = answer.status();
+            let body = axum::body::to_bytes(answer.into_body(), usize::MAX).await.unwrap_or_default();
+            match serde_json::from_slice::<Vec<ControllerStatus>>(&body) {
+                Ok(theirs) if status.is_success() => all.extend(theirs),
+                _ => {
+                    return Err(ApiError::Unavailable(format!(
+                        "node {node} did not list its controllers ({status}): the list would be incomplete"
+                    )))
+                }
+            }
+        }
+        all.sort_by(|a, b| (&a.created_at, &a.id).cmp(&(&b.created_at, &b.id)));
+    }
+    Ok(Json(all))
+}
+
+/// In a cluster, a controller made here is placed here (a failure is logged: the node places
+/// it at its next beat).
+async fn place(state: &AppState, id: &str) {
+    if let Some(cluster) = &state.cluster {
+        if let Err(e) = cluster.place(id).await {
+            tracing::warn!(%id, error = %e, "new controller not placed yet");
+        }
+    }
 }
 
 /// One controller's status: mode, run state, position, alarms, program and line.
@@ -147,6 +182,9 @@ pub async fn remove(
     let id = path(id)?;
     let hosted = hosted(&state, &id)?;
     controllers::remove(&state.db, &state.host, &hosted).await?;
+    if let Some(cluster) = &state.cluster {
+        cluster.forget(&hosted.id).await;
+    }
     Ok(StatusCode::NO_CONTENT)
 }
 
@@ -182,6 +220,7 @@ pub async fn clone(
     let source = hosted(&state, &path(id)?)?;
     let name = body(request)?.name;
     let hosted = controllers::clone(&state.db, &state.host, &source, &name).await?;
+    place(&state, &hosted.id).await;
     Ok((StatusCode::CREATED, Json(ControllerStatus::now(&hosted))))
 }
 

@@ -44,9 +44,10 @@ pub struct Readiness {
     pub status: String,
     /// This process.
     pub node: NodeReadiness,
-    /// The cluster this node belongs to: `null` while the service runs as a single node (today,
-    /// always). A clustered service (issue 23) will put an object here (its nodes, which of them
-    /// are ready); a client that reads `node` alone keeps working.
+    /// The cluster of controller hosts this node belongs to (`fivex serve --nats` with a
+    /// PostgreSQL database, docs/cluster.md): `node` (this node's name), `members` (the nodes
+    /// seen alive at the last beat) and `controllers` (the ids hosted here). `null` for a single
+    /// node.
     #[schema(value_type = Option<std::collections::HashMap<String, serde_json::Value>>, required = true)]
     pub cluster: Option<Map<String, Value>>,
 }
@@ -108,6 +109,13 @@ pub async fn readyz(State(state): State<AppState>) -> Result<Json<Readiness>, Ap
             workers: running,
             controllers: state.host.len(),
         },
-        cluster: None,
+        cluster: state.cluster.as_ref().map(|c| {
+            let mut cluster = Map::new();
+            cluster.insert("node".into(), Value::from(c.name()));
+            cluster.insert("members".into(), Value::from(c.members()));
+            let hosted: Vec<Value> = state.host.list().iter().map(|h| Value::from(h.id.clone())).collect();
+            cluster.insert("controllers".into(), Value::from(hosted));
+            cluster
+        }),
     }))
 }

@@ -120,22 +120,118 @@ pub async fn stream(
     }
     let closing = state.closing();
     let metrics = state.metrics.clone();
-    Ok(upgrade_small(upgrade).on_upgrade(move |socket| session(socket, hosted, rate, closing, metrics)))
+    Ok(upgrade_small(upgrade).on_upgrade(move |socket| {
+        let (tx, rx) = socket.split();
+        session(Out::Ws(tx), In::Ws(rx), hosted, rate, closing, metrics)
+    }))
+}
+
+/// The rate a stream request asks for (`?rate=`), checked.
+pub fn rate_of(uri: &axum::http::Uri) -> Result<f64, ApiError> {
+    let options =
+        Query::<StreamOptions>::try_from_uri(uri).map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+    let rate = options.rate.unwrap_or(DEFAULT_RATE_HZ);
+    if !(rate.is_finite() && (MIN_RATE_HZ..=MAX_RATE_HZ).contains(&rate)) {
+        return Err(ApiError::Unprocessable(
+            format!("rate must be {MIN_RATE_HZ}–{MAX_RATE_HZ} frames per second"),
+            None,
+        ));
+    }
+    Ok(rate)
+}
+
+/// A stream of `hosted` that another node relays to its client's websocket
+/// (`crate::placement`): the messages go to NATS subject `to`, the relaying node says it is
+/// still there on `control`.
+pub fn relayed(
+    state: &AppState,
+    hosted: Arc<Hosted>,
+    rate: f64,
+    client: async_nats::Client,
+    to: String,
+    control: async_nats::Subscriber,
+) {
+    let (closing, metrics) = (state.closing(), state.metrics.clone());
+    let input = In::Relay { control, until: tokio::time::Instant::now() + RELAY_IDLE };
+    tokio::spawn(session(Out::Relay { client, to }, input, hosted, rate, closing, metrics));
+}
+
+/// A relayed stream ends when its relaying node has not said it is there for this long.
+pub const RELAY_IDLE: Duration = Duration::from_secs(10);
+/// The header of a relayed stream's last message: its close code and reason (`4404 controller
+/// deleted`).
+pub const RELAY_CLOSE: &str = "fivex-close";
+
+/// Where a stream's messages go: a client's websocket, or a NATS subject another node relays.
+enum Out {
+    Ws(Sink),
+    Relay { client: async_nats::Client, to: String },
+}
+
+impl Out {
+    async fn text(&mut self, text: Utf8Bytes) -> bool {
+        match self {
+            Out::Ws(tx) => send_text(tx, text).await,
+            Out::Relay { client, to } => {
+                client.publish(to.clone(), bytes::Bytes::copy_from_slice(text.as_str().as_bytes())).await.is_ok()
+            }
+        }
+    }
+
+    async fn close(&mut self, code: u16, reason: &'static str) {
+        match self {
+            Out::Ws(tx) => goodbye(tx, code, reason).await,
+            Out::Relay { client, to } => {
+                let mut headers = async_nats::HeaderMap::new();
+                headers.insert(RELAY_CLOSE, format!("{code} {reason}").as_str());
+                let _ = client.publish_with_headers(to.clone(), headers, bytes::Bytes::new()).await;
+                let _ = client.flush().await;
+            }
+        }
+    }
+}
+
+/// What says the stream's reader is still there.
+enum In {
+    Ws(futures_util::stream::SplitStream<WebSocket>),
+    /// `alive` every few seconds, `stop` when the client left; nothing until `until`: gone.
+    Relay {
+        control: async_nats::Subscriber,
+        until: tokio::time::Instant,
+    },
+}
+
+impl In {
+    async fn still_there(&mut self) -> bool {
+        match self {
+            In::Ws(rx) => still_there(&rx.next().await),
+            In::Relay { control, until } => tokio::select! {
+                m = control.next() => match m {
+                    Some(m) if m.payload.as_ref() == b"alive" => {
+                        *until = tokio::time::Instant::now() + RELAY_IDLE;
+                        true
+                    }
+                    _ => false,
+                },
+                _ = tokio::time::sleep_until(*until) => false,
+            },
+        }
+    }
 }
 
 async fn session(
-    socket: WebSocket,
+    mut tx: Out,
+    mut rx: In,
     hosted: Arc<Hosted>,
     rate: f64,
     mut closing: watch::Receiver<bool>,
     metrics: Metrics,
 ) {
-    let (mut tx, mut rx) = socket.split();
     let mut positions = hosted.positions();
     let mut events = hosted.events();
     let removed = hosted.removed();
     tokio::pin!(removed);
-    if !send(&mut tx, json(&Snapshot::of(&hosted))).await {
+    if !tx.text(json(&Snapshot::of(&hosted)).into()).await {
         return;
     }
     // Where the machine is now, once: the watch only carries changes, and an idle controller
@@ -170,17 +266,17 @@ async fn session(
                 changed.is_ok() && position(&mut tx, &mut positions, &mut sent, &metrics).await
             }
             event = events.recv() => match event {
-                Ok(message) => send(&mut tx, json(&*message)).await,
-                Err(RecvError::Lagged(_)) => send(&mut tx, json(&Snapshot::of(&hosted))).await,
+                Ok(message) => tx.text(json(&*message).into()).await,
+                Err(RecvError::Lagged(_)) => tx.text(json(&Snapshot::of(&hosted)).into()).await,
                 Err(RecvError::Closed) => false,
             },
-            incoming = rx.next() => still_there(&incoming),
+            alive = rx.still_there() => alive,
             _ = closing.changed() => {
-                goodbye(&mut tx, close_code::AWAY, "server shutting down").await;
+                tx.close(close_code::AWAY, "server shutting down").await;
                 false
             }
             () = &mut removed => {
-                goodbye(&mut tx, CONTROLLER_DELETED, "controller deleted").await;
+                tx.close(CONTROLLER_DELETED, "controller deleted").await;
                 false
             }
         };
@@ -198,7 +294,7 @@ type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
 
 /// Send the newest position unless it says what `sent`, the one sent last, said.
 async fn position(
-    tx: &mut Sink,
+    tx: &mut Out,
     positions: &mut watch::Receiver<Option<Arc<Published>>>,
     sent: &mut Arc<Published>,
     metrics: &Metrics,
@@ -215,9 +311,9 @@ async fn position(
 
 /// Send a position frame, counted with its age (the wall clock now, as the service hands it
 /// to the socket, minus the worker's reading: the part of the lag the service can see).
-async fn send_frame(tx: &mut Sink, frame: &Published, metrics: &Metrics) -> bool {
+async fn send_frame(tx: &mut Out, frame: &Published, metrics: &Metrics) -> bool {
     let lag_s = (now_unix_ms() - frame.reading.wall_ms()) / 1000.0;
-    let sent = send_text(tx, frame.text()).await;
+    let sent = tx.text(frame.text()).await;
     if sent {
         metrics.frame_sent(lag_s);
     }

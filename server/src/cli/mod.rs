@@ -163,6 +163,10 @@ struct ServeArgs {
     /// heard from for this many seconds.
     #[arg(long, env = "FIVEX_NATS_TIMEOUT_S", default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..=86400))]
     nats_timeout_s: u64,
+    /// With --nats and a PostgreSQL --db: this node's name in the cluster of controller hosts
+    /// (docs/cluster.md; 1 to 64 of A-Z a-z 0-9 _ -). Default: the host's name.
+    #[arg(long, env = "FIVEX_NODE", value_name = "NAME", requires = "nats")]
+    node: Option<String>,
 }
 
 /// A usage or IO error: exit status 2.
@@ -206,6 +210,7 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
                 nats: a.nats,
                 nats_jobs: a.nats_jobs.map(|n| n as usize),
                 nats_idle: std::time::Duration::from_secs(a.nats_timeout_s),
+                node: a.node,
             };
             crate::serve::run_with(options).map_err(Fail)?;
             Ok(0)

@@ -54,6 +54,9 @@ pub fn app(state: AppState) -> Router {
         .merge(SwaggerUi::new("/swagger-ui").url(OPENAPI_PATH, openapi()))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
+        // Innermost: after the token and origin checks, a request for a controller of
+        // another node goes there (`crate::placement`).
+        .layer(middleware::from_fn_with_state(state.clone(), crate::placement::forward))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .layer(middleware::from_fn_with_state(state.clone(), auth::require_token))
         // Added after the token check, so it runs before it: a foreign page's request is

@@ -38,6 +38,9 @@ pub struct AppState {
     pub metrics: metrics::Metrics,
     /// This process as a node (`/readyz`).
     pub node: Arc<Node>,
+    /// With `--nats` and PostgreSQL: the cluster of controller hosts (`crate::placement`); the
+    /// host holds only the controllers placed on this node.
+    pub cluster: Option<crate::placement::Cluster>,
 }
 
 /// This process as a node of the service: one today; the cluster (issue 23) will have several.
@@ -72,10 +75,30 @@ impl AppState {
 
     /// [`AppState::restore`] with `workers` worker threads.
     pub async fn restore_with(db: db::Db, workers: usize) -> Result<Self, sqlx::Error> {
+        Self::start_with(db, workers, true).await
+    }
+
+    /// State over `db` hosting no controller yet: a node of a cluster hosts those placed on it
+    /// (`crate::placement`).
+    pub async fn clustered(
+        db: db::Db,
+        workers: usize,
+        cluster: crate::placement::Cluster,
+    ) -> Result<Self, sqlx::Error> {
+        let mut state = Self::start_with(db, workers, false).await?;
+        state.cluster = Some(cluster);
+        Ok(state)
+    }
+
+    async fn start_with(db: db::Db, workers: usize, restore: bool) -> Result<Self, sqlx::Error> {
         let (records, incoming) = tokio::sync::mpsc::unbounded_channel();
         let writer = tokio::spawn(db::write_records(db.clone(), incoming));
         let host = Host::new(workers, records);
-        service::controllers::restore(&db, &host).await?;
+        if restore {
+            service::controllers::restore(&db, &host).await?;
+        } else {
+            db::interrupt_fleet_runs(&db).await?;
+        }
         let (closing, _) = watch::channel(false);
         Ok(Self {
             db,
@@ -88,6 +111,7 @@ impl AppState {
             fleet_view: Default::default(),
             metrics: Default::default(),
             node: Arc::new(Node::new()),
+            cluster: None,
         })
     }
 
@@ -152,6 +176,10 @@ impl AppState {
         let writer = self.writer.lock().unwrap_or_else(|e| e.into_inner()).take();
         if let Some(writer) = writer {
             let _ = writer.await;
+        }
+        // Everything written: the other nodes may take the controllers over.
+        if let Some(cluster) = &self.cluster {
+            cluster.leave(self).await;
         }
     }
 }

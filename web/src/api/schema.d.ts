@@ -11,7 +11,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Every controller with its status, oldest first. */
+        /**
+         * Every controller with its status, oldest first; in a cluster of nodes, those of every
+         *     member (each asked over NATS).
+         */
         get: operations["list"];
         put?: never;
         /** Creates a controller in reset state (AUTO, idle) and keeps it in the database. */
@@ -2208,9 +2211,10 @@ export interface components {
          */
         Readiness: {
             /**
-             * @description The cluster this node belongs to: `null` while the service runs as a single node (today,
-             *     always). A clustered service (issue 23) will put an object here (its nodes, which of them
-             *     are ready); a client that reads `node` alone keeps working.
+             * @description The cluster of controller hosts this node belongs to (`fivex serve --nats` with a
+             *     PostgreSQL database, docs/cluster.md): `node` (this node's name), `members` (the nodes
+             *     seen alive at the last beat) and `controllers` (the ids hosted here). `null` for a single
+             *     node.
              */
             cluster: {
                 [key: string]: unknown;
@@ -2590,7 +2594,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description Every controller */
+            /** @description Every controller (in a cluster: every controller each member hosts) */
             200: {
                 headers: {
                     [name: string]: unknown;
@@ -2610,6 +2614,15 @@ export interface operations {
             };
             /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
             403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description In a cluster (docs/cluster.md): a member did not list its controllers */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };

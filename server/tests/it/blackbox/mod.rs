@@ -7,6 +7,7 @@ mod limits;
 mod metrics;
 mod modal;
 mod nats;
+mod nodes;
 mod origin;
 mod postgres;
 mod served;
