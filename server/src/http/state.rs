@@ -94,10 +94,11 @@ impl AppState {
         let (records, incoming) = tokio::sync::mpsc::unbounded_channel();
         let writer = tokio::spawn(db::write_records(db.clone(), incoming));
         let host = Host::new(workers, records);
+        // A single node marks the fleet runs its last process left under way as interrupted
+        // (in `restore`); a node of a cluster does not: on the shared database they may be
+        // other nodes' runs, under way.
         if restore {
             service::controllers::restore(&db, &host).await?;
-        } else {
-            db::interrupt_fleet_runs(&db).await?;
         }
         let (closing, _) = watch::channel(false);
         Ok(Self {
