@@ -295,16 +295,13 @@ pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, Serv
         return Err(e.into());
     }
     let opts = Options { cancel: Some(cancel), ..options };
-    let end = tokio::spawn(execute(db.clone(), runs.clone(), id, program, entries, sources, opts, tx, stopped));
+    let run = Execution { db: db.clone(), runs: runs.clone(), id, program, entries, sources, opts, tx, stopped };
+    let end = tokio::spawn(execute(run));
     Ok(Started { row, end })
 }
 
-/// A fleet run from the queue to its record: waits for a place (`--fleet-jobs`) unless it is
-/// stopped first, runs on a blocking thread, stores the outcome and answers it (`done`,
-/// `cancelled` or `interrupted`, and the fleet array with `null` for each machine that did not
-/// finish).
-#[allow(clippy::too_many_arguments)]
-async fn execute(
+/// A fleet run started: what it runs and where its progress and outcome go.
+struct Execution {
     db: db::Db,
     runs: Runs,
     id: String,
@@ -314,12 +311,19 @@ async fn execute(
     opts: Options,
     tx: watch::Sender<Progress>,
     stopped: Arc<watch::Sender<Option<&'static str>>>,
-) -> Ended {
+}
+
+/// A fleet run from the queue to its record: waits for a place (`--fleet-jobs`) unless it is
+/// stopped first, runs on a blocking thread, stores the outcome and answers it (`done`,
+/// `cancelled` or `interrupted`, and the fleet array with `null` for each machine that did not
+/// finish).
+async fn execute(run: Execution) -> Ended {
+    if let Some(remote) = run.runs.remote.clone() {
+        return execute_remote(run, remote).await;
+    }
+    let Execution { db, runs, id, program, entries, sources: _, opts, tx, stopped } = run;
     let total = entries.len();
     let mut why = stopped.subscribe();
-    if let Some(remote) = runs.remote.clone() {
-        return execute_remote(db, runs, remote, id, program, entries, sources, opts, tx, stopped).await;
-    }
     let slot = tokio::select! {
         slot = runs.slots.clone().acquire_owned() => slot.ok(),
         _ = why.wait_for(Option::is_some) => None,
@@ -396,19 +400,8 @@ async fn finish(
 /// A run over NATS: one job per machine on the cluster's work queue, the results collected
 /// from the run's subject (`crate::cluster::run`); no place (`--fleet-jobs`) is taken: the
 /// nodes' jobs are the limit.
-#[allow(clippy::too_many_arguments)]
-async fn execute_remote(
-    db: db::Db,
-    runs: Runs,
-    remote: Remote,
-    id: String,
-    program: String,
-    entries: Vec<Entry>,
-    sources: Vec<Source>,
-    opts: Options,
-    tx: watch::Sender<Progress>,
-    stopped: Arc<watch::Sender<Option<&'static str>>>,
-) -> Ended {
+async fn execute_remote(run: Execution, remote: Remote) -> Ended {
+    let Execution { db, runs, id, program, entries, sources, opts, tx, stopped } = run;
     let total = entries.len();
     if stopped.borrow().is_some() {
         let why = (*stopped.borrow()).unwrap_or("interrupted");
