@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite: every Rust test (the service's on PostgreSQL too: a server of its own
 # per test, from Debian's postgresql, installed if missing; the distributed fleet's on a
-# `nats-server -js` of their own, from Debian's nats-server, installed likewise), the comparisons with LinuxCNC's rs274 (ignored by a
-# plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches) and of NURBS with
+# `nats-server -js` of their own, from Debian's nats-server, installed likewise; the cluster of
+# docker-compose.yml behind Debian's nginx, installed likewise), the comparisons with LinuxCNC's
+# rs274 (ignored by a plain `cargo test`: they need the peer, which scripts/peer-rs274.sh fetches) and of NURBS with
 # SciPy (ignored likewise: they need python3-scipy), a build check of the fuzz targets, then the
 # dashboard's (scripts/web-test.sh). The service's `/metrics` tests read the scrape with Python's
 # prometheus_client parser too (Debian's python3-prometheus-client, installed here if missing: a
@@ -23,6 +24,11 @@ echo "== NATS for the distributed fleet's tests (Debian's nats-server, installed
 if ! command -v nats-server >/dev/null && [ ! -x /usr/sbin/nats-server ]; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nats-server >/dev/null
+fi
+echo "== nginx for the test of docker-compose.yml's cluster behind its proxy (Debian's nginx, installed if missing)"
+if [ ! -x /usr/sbin/nginx ] && ! command -v nginx >/dev/null; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nginx >/dev/null
 fi
 echo "== cargo test --workspace"
 cargo test --workspace

@@ -553,31 +553,40 @@ fn checked_in_openapi_json_matches_the_code() {
     }
 }
 
-#[test]
-fn docker_compose_runs_fivex_serve_with_a_data_volume() {
-    let text = std::fs::read_to_string(workspace_file("docker-compose.yml")).unwrap();
-    let compose: Value = serde_norway::from_str(&text).expect("docker-compose.yml is YAML");
-    let services = compose["services"].as_object().expect("services");
-    assert_eq!(services.keys().collect::<Vec<_>>(), ["fivex"]);
-    let fivex = &services["fivex"];
+/// A compose file as JSON, its YAML merge keys (`<<: *node`) applied.
+fn compose_file(name: &str) -> Value {
+    let text = std::fs::read_to_string(workspace_file(name)).unwrap();
+    let mut yaml: serde_norway::Value = serde_norway::from_str(&text).unwrap_or_else(|e| panic!("{name} is YAML: {e}"));
+    yaml.apply_merge().unwrap_or_else(|e| panic!("{name}: merge keys: {e}"));
+    serde_json::to_value(yaml).unwrap()
+}
 
-    let command: Vec<&str> = match &fivex["command"] {
+/// A service's `command` as words.
+fn command_of(service: &Value) -> Vec<&str> {
+    match &service["command"] {
         Value::Array(items) => items.iter().map(|v| v.as_str().unwrap()).collect(),
         Value::String(line) => line.split_whitespace().collect(),
         other => panic!("command: {other}"),
-    };
-    assert_eq!(command, ["serve", "--db", "/data/fivex.db", "--addr", "0.0.0.0:8080"]);
+    }
+}
 
-    let ports: Vec<&str> = fivex["ports"]
-        .as_array()
-        .expect("ports")
-        .iter()
-        .map(|p| p.as_str().expect("port mapping as a string"))
-        .collect();
+fn strings(value: &Value) -> Vec<&str> {
+    value.as_array().unwrap_or_else(|| panic!("not a list: {value}")).iter().map(|v| v.as_str().unwrap()).collect()
+}
+
+/// The single-process compose file: `fivex serve` on SQLite with the data on a named volume.
+#[test]
+fn docker_compose_single_runs_fivex_serve_with_a_data_volume() {
+    let compose = compose_file("docker-compose.single.yml");
+    let services = compose["services"].as_object().expect("services");
+    assert_eq!(services.keys().collect::<Vec<_>>(), ["fivex"]);
+    let fivex = &services["fivex"];
+    assert_eq!(command_of(fivex), ["serve", "--db", "/data/fivex.db", "--addr", "0.0.0.0:8080"]);
+
+    let ports = strings(&fivex["ports"]);
     assert!(ports.iter().any(|p| p.ends_with(":8080")), "no host port maps to container port 8080: {ports:?}");
 
-    let volumes: Vec<&str> =
-        fivex["volumes"].as_array().expect("volumes").iter().map(|v| v.as_str().unwrap()).collect();
+    let volumes = strings(&fivex["volumes"]);
     let data = volumes
         .iter()
         .find(|v| v.split(':').nth(1) == Some("/data"))
@@ -593,6 +602,45 @@ fn docker_compose_runs_fivex_serve_with_a_data_volume() {
     assert!(dockerfile.contains("--bin fivex"), "Dockerfile builds the fivex binary");
     assert!(dockerfile.contains(r#"ENTRYPOINT ["/usr/local/bin/fivex"]"#));
     assert!(dockerfile.contains("EXPOSE 8080"));
+}
+
+/// The cluster compose file (docs/cluster.md, "With Docker Compose"): PostgreSQL, NATS with
+/// JetStream, three nodes of this repository's image with distinct names, one proxy publishing
+/// 8080 with the repository's nginx.conf, which names the three nodes. (The black-box test
+/// `blackbox::compose` runs the same commands, environment and nginx.conf on loopback.)
+#[test]
+fn docker_compose_runs_three_nodes_on_postgres_and_nats_behind_one_proxy() {
+    let compose = compose_file("docker-compose.yml");
+    let services = compose["services"].as_object().expect("services");
+    let mut names: Vec<&str> = services.keys().map(|k| k.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["fivex-1", "fivex-2", "fivex-3", "nats", "postgres", "proxy"]);
+
+    assert!(command_of(&services["nats"]).contains(&"-js"), "NATS runs without JetStream");
+    assert!(services["postgres"]["image"].as_str().unwrap().starts_with("postgres:"));
+    let nginx = std::fs::read_to_string(workspace_file("deploy/nginx.conf")).unwrap();
+    for (i, name) in ["fivex-1", "fivex-2", "fivex-3"].into_iter().enumerate() {
+        let node = &services[name];
+        assert_eq!(node["build"], ".", "{name} is built from this repository");
+        assert_eq!(command_of(node), ["serve", "--node", name], "{name}: its node name is its service name");
+        let env = &node["environment"];
+        let db = env["FIVEX_DB"].as_str().expect("FIVEX_DB");
+        assert!(db.starts_with("postgres://") && db.contains("@postgres:5432/"), "{name}: FIVEX_DB {db}");
+        assert_eq!(env["FIVEX_NATS"], "nats://nats:4222", "{name}");
+        assert_eq!(env["FIVEX_ADDR"], "0.0.0.0:8080", "{name}");
+        let depends = node["depends_on"].as_object().expect("depends_on");
+        for needed in ["postgres", "nats"] {
+            assert_eq!(depends[needed]["condition"], "service_healthy", "{name} waits for {needed}");
+        }
+        assert_eq!(node["stop_signal"], "SIGTERM", "{name}: a stopped node hands its controllers over");
+        assert!(nginx.contains(&format!("server fivex-{}:8080", i + 1)), "nginx.conf does not name {name}");
+    }
+    let proxy = &services["proxy"];
+    assert_eq!(strings(&proxy["ports"]), ["8080:8080"]);
+    assert_eq!(strings(&proxy["volumes"]), ["./deploy/nginx.conf:/etc/nginx/nginx.conf:ro"]);
+    for volume in ["postgres-data", "nats-data"] {
+        assert!(compose["volumes"].get(volume).is_some(), "named volume {volume} is not declared");
+    }
 }
 
 #[test]

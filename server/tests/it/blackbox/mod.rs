@@ -2,6 +2,7 @@
 //! fresh SQLite file, talks to it over TCP as a client would, and stops it. One module per concern
 //! of the service's hardening (docs/api.md).
 
+mod compose;
 mod document;
 mod limits;
 mod metrics;

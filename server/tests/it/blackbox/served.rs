@@ -57,21 +57,28 @@ impl Served {
     /// As [`Served::start_in`], with these environment variables set.
     pub fn start_with_env(dir: tempfile::TempDir, args: &[&str], envs: &[(&str, &str)]) -> Self {
         let db = dir.path().join("fivex.db");
-        Self::spawn(dir, db.as_os_str(), args, envs)
+        let mut command = Command::new(env!("CARGO_BIN_EXE_fivex"));
+        command.arg("serve").arg("--db").arg(db).args(["--addr", "127.0.0.1:0"]).args(args);
+        Self::spawn(dir, command, envs)
     }
 
     /// As [`Served::start`], on the database `db` names (a `postgres://` URL).
     pub fn start_on(db: &str, args: &[&str]) -> Self {
-        Self::spawn(tempfile::tempdir().expect("temporary directory"), db.as_ref(), args, &[])
+        let mut command = Command::new(env!("CARGO_BIN_EXE_fivex"));
+        command.args(["serve", "--db", db, "--addr", "127.0.0.1:0"]).args(args);
+        Self::spawn(tempfile::tempdir().expect("temporary directory"), command, &[])
     }
 
-    fn spawn(dir: tempfile::TempDir, db: &std::ffi::OsStr, args: &[&str], envs: &[(&str, &str)]) -> Self {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_fivex"))
-            .arg("serve")
-            .arg("--db")
-            .arg(db)
-            .args(["--addr", "127.0.0.1:0"])
-            .args(args)
+    /// `fivex ARGS…` exactly as given, with these environment variables (the listening address
+    /// among them, or in `args`; it must be a loopback one with port 0).
+    pub fn start_as_given(args: &[&str], envs: &[(&str, &str)]) -> Self {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_fivex"));
+        command.args(args);
+        Self::spawn(tempfile::tempdir().expect("temporary directory"), command, envs)
+    }
+
+    fn spawn(dir: tempfile::TempDir, mut command: Command, envs: &[(&str, &str)]) -> Self {
+        let mut child = command
             .env("RUST_LOG", "info")
             .envs(envs.iter().copied())
             .stdin(Stdio::null())
