@@ -30,6 +30,13 @@ if [ ! -x /usr/sbin/nginx ] && ! command -v nginx >/dev/null; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nginx >/dev/null
 fi
+echo "== the compose files, validated by Docker Compose itself (Debian's docker-compose, installed if missing; no Docker daemon needed)"
+if ! command -v docker-compose >/dev/null; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get update -qq && $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq docker-compose >/dev/null
+fi
+docker-compose -f docker-compose.yml config -q
+docker-compose -f docker-compose.single.yml config -q
 echo "== cargo test --workspace"
 cargo test --workspace
 echo "== cutter compensation against LinuxCNC's rs274 (the peer, fetched from Debian's archive)"
