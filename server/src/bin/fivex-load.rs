@@ -16,6 +16,12 @@
 //! - with `--scrape-every`, `GET /metrics` that often: how long a scrape takes and its size, and
 //!   what the service itself says (controllers behind real time, the largest lag, frames sent).
 //!
+//! - with `--nodes N --db postgres://… --nats nats://…`, a cluster of N nodes instead of one
+//!   process on SQLite: controller k is created (so hosted) through node k mod N, its stream
+//!   opened through the same node or, with `--relay`, through the next one (relayed); CPU and
+//!   memory are the nodes' sums, and the report says what each node hosts at the end
+//!   (`bench/cluster.sh` starts PostgreSQL and NATS and runs the series).
+//!
 //! It prints one JSON object and exits 0 if the goal holds (p99 lag under `--p99-ms`, no
 //! controller behind, no error, memory growth under `--max-growth-mb`), 1 otherwise.
 //! `docs/performance.md` has the commands and the figures; `scripts/soak.sh` the soak.
@@ -78,6 +84,21 @@ struct Args {
     /// Seconds between two scrapes of `/metrics` while measuring (0: none).
     #[arg(long, default_value_t = 0.0)]
     scrape_every: f64,
+    /// A cluster of this many nodes (`fivex serve --node loadK`) on `--db` and `--nats` instead
+    /// of one process on a SQLite file of its own; controller k is created (and so hosted)
+    /// through node k mod N.
+    #[arg(long, default_value_t = 0)]
+    nodes: usize,
+    /// With `--nodes`: the PostgreSQL database (`postgres://…`, a fresh one per run).
+    #[arg(long)]
+    db: Option<String>,
+    /// With `--nodes`: the NATS server (`nats://…`, JetStream on).
+    #[arg(long)]
+    nats: Option<String>,
+    /// With `--nodes` ≥ 2: subscribe to each controller's stream through the next node, which
+    /// relays it, instead of through the node hosting it.
+    #[arg(long)]
+    relay: bool,
 }
 
 /// The program every controller runs: a square with the rotary axes turning, forever.
@@ -134,36 +155,51 @@ async fn main() {
     let fivex = args.fivex.clone().unwrap_or_else(|| std::env::current_exe().unwrap().with_file_name("fivex"));
     let dir = std::env::temp_dir().join(format!("fivex-load-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let db = dir.join("load.db");
-    let mut cmd = tokio::process::Command::new(&fivex);
-    cmd.arg("serve")
-        .arg("--db")
-        .arg(&db)
-        .args(["--addr", "127.0.0.1:0"])
-        .env("RUST_LOG", "warn,fivex_server::serve=info");
-    if let Some(w) = args.workers {
-        cmd.args(["--workers", &w.to_string()]);
-    }
-    let mut child =
-        cmd.stderr(Stdio::piped()).stdout(Stdio::null()).kill_on_drop(true).spawn().expect("start fivex serve");
-    let pid = child.id().unwrap();
-    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let addr = loop {
-        let line = lines.next_line().await.unwrap().expect("fivex serve ended before listening");
-        if let Some(at) = line.find("listening on http://") {
-            break line[at + "listening on http://".len()..].trim().to_string();
+    let mut services = Vec::new();
+    if args.nodes == 0 {
+        let db = dir.join("load.db");
+        services.push(start(&fivex, &args, &[std::ffi::OsStr::new("--db"), db.as_os_str()]).await);
+    } else {
+        let db = args.db.clone().expect("--nodes needs --db postgres://…");
+        let nats = args.nats.clone().expect("--nodes needs --nats nats://…");
+        for k in 0..args.nodes {
+            // Unique per run: a killed run's nodes stay members for their lease.
+            let node = format!("load{}-{k}", std::process::id());
+            let extra = ["--db", db.as_str(), "--nats", nats.as_str(), "--node", node.as_str()];
+            let extra: Vec<&std::ffi::OsStr> = extra.iter().map(std::ffi::OsStr::new).collect();
+            services.push(start(&fivex, &args, &extra).await);
         }
-    };
-    tokio::spawn(async move { while let Ok(Some(_)) = lines.next_line().await {} });
+        // Every node sees every other before any controller is made.
+        let http = Http::new();
+        for (_, addr, _) in &services {
+            let deadline = Instant::now() + Duration::from_secs(30);
+            while http.get(&format!("http://{addr}/readyz")).await["cluster"]["members"].as_array().map_or(0, Vec::len)
+                < args.nodes
+            {
+                assert!(Instant::now() < deadline, "the nodes did not all join within 30 s");
+                tokio::time::sleep(Duration::from_millis(200)).await;
+            }
+        }
+    }
+    let pids: Vec<u32> = services.iter().map(|(child, _, _)| child.id().unwrap()).collect();
+    let addrs: Vec<String> = services.iter().map(|(_, addr, _)| addr.clone()).collect();
+    let addr = addrs[0].clone();
     let base = format!("http://{addr}/api/v1");
+    // Controller k's node (the one it is created through, so hosting it) and the node its
+    // stream is opened through.
+    let owner_of = |k: usize| &addrs[k % addrs.len()];
+    let stream_node_of = |k: usize| &addrs[(k + usize::from(args.relay)) % addrs.len()];
     let http = Http::new();
+    let cpu_all = || pids.iter().map(|p| cpu_seconds(*p)).sum::<Option<f64>>();
+    let rss_all = || pids.iter().map(|p| rss_mb(*p)).sum::<Option<f64>>();
 
     let errors = Arc::new(AtomicUsize::new(0));
     tokio::time::sleep(Duration::from_secs(1)).await;
-    let rss_empty = rss_mb(pid);
+    let rss_empty = rss_all();
     // Controllers and their program.
     let mut ids = Vec::new();
     for k in 0..args.controllers {
+        let base = format!("http://{}/api/v1", owner_of(k));
         let c = http
             .post(&format!("{base}/controllers"), &json!({"name": format!("load {k}"), "preset": args.preset}))
             .await;
@@ -172,12 +208,12 @@ async fn main() {
         ids.push(id);
     }
     tokio::time::sleep(Duration::from_secs(2)).await;
-    let rss_idle = rss_mb(pid);
+    let rss_idle = rss_all();
     // A subscriber each, then cycle start.
     let measuring = Arc::new(AtomicBool::new(false));
     let seen: Vec<Arc<Mutex<Seen>>> = ids.iter().map(|_| Arc::new(Mutex::new(Seen::default()))).collect();
-    for (id, seen) in ids.iter().zip(&seen) {
-        let url = format!("ws://{addr}/api/v1/controllers/{id}/stream?rate={}", args.rate);
+    for (k, (id, seen)) in ids.iter().zip(&seen).enumerate() {
+        let url = format!("ws://{}/api/v1/controllers/{id}/stream?rate={}", stream_node_of(k), args.rate);
         let (ws, _) = tokio_tungstenite::connect_async(url).await.expect("websocket");
         let (seen, measuring, errors) = (seen.clone(), measuring.clone(), errors.clone());
         tokio::spawn(async move {
@@ -215,8 +251,8 @@ async fn main() {
             errors.fetch_add(1, Ordering::Relaxed);
         });
     }
-    for id in ids.iter().filter(|_| !args.idle) {
-        http.post(&format!("{base}/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
+    for (k, id) in ids.iter().enumerate().filter(|_| !args.idle) {
+        http.post(&format!("http://{}/api/v1/controllers/{id}/cycle-start", owner_of(k)), &json!({"program": 1})).await;
     }
     // The writer: variables, as an operator or a cell computer would set them.
     let writes = Arc::new(AtomicUsize::new(0));
@@ -267,14 +303,14 @@ async fn main() {
             }
         })
     });
-    let rss_running = rss_mb(pid);
-    let (cpu0, t0) = (cpu_seconds(pid), Instant::now());
+    let rss_running = rss_all();
+    let (cpu0, t0) = (cpu_all(), Instant::now());
     let writes0 = writes.load(Ordering::Relaxed);
     measuring.store(true, Ordering::Relaxed);
     let mut rss_samples = Vec::new();
     let end = t0 + Duration::from_secs_f64(args.seconds);
     loop {
-        rss_samples.push(rss_mb(pid).unwrap_or(f64::NAN));
+        rss_samples.push(rss_all().unwrap_or(f64::NAN));
         let left = end.saturating_duration_since(Instant::now());
         if left.is_zero() {
             break;
@@ -282,7 +318,7 @@ async fn main() {
         tokio::time::sleep(left.min(Duration::from_secs_f64(args.sample_every))).await;
     }
     measuring.store(false, Ordering::Relaxed);
-    let (cpu1, wall) = (cpu_seconds(pid), t0.elapsed().as_secs_f64());
+    let (cpu1, wall) = (cpu_all(), t0.elapsed().as_secs_f64());
     let writes_done = writes.load(Ordering::Relaxed) - writes0;
     // The writer and the scraper stop with the measurement (their requests would fail once the
     // service is gone).
@@ -310,10 +346,16 @@ async fn main() {
 
     // Every controller still running, no alarms.
     let mut running = 0;
-    for id in &ids {
-        if http.get(&format!("{base}/controllers/{id}")).await["run_state"] == "running" {
+    for (k, id) in ids.iter().enumerate() {
+        if http.get(&format!("http://{}/api/v1/controllers/{id}", owner_of(k))).await["run_state"] == "running" {
             running += 1;
         }
+    }
+    // What each node hosts at the end (a cluster: from its `/readyz`).
+    let mut hosted = Vec::new();
+    for a in &addrs {
+        let ready = http.get(&format!("http://{a}/readyz")).await;
+        hosted.push(ready["cluster"]["controllers"].as_array().map_or(ids.len(), Vec::len));
     }
     let mut lags = Vec::new();
     let (mut behind, mut silent, mut worst_ratio) = (0, 0, f64::INFINITY);
@@ -346,6 +388,9 @@ async fn main() {
     let errors = errors.load(Ordering::Relaxed);
     let report = json!({
         "controllers": args.controllers,
+        "nodes": args.nodes,
+        "relayed": args.relay && args.nodes > 1,
+        "hosted_per_node": hosted,
         "preset": args.preset,
         "idle": args.idle,
         "rate_hz": args.rate,
@@ -373,11 +418,38 @@ async fn main() {
         "cores": std::thread::available_parallelism().map_or(0, |n| n.get()),
     });
     println!("{}", serde_json::to_string_pretty(&report).unwrap());
-    let _ = child.kill().await;
+    for (mut child, _, _) in services {
+        let _ = child.kill().await;
+    }
     let _ = std::fs::remove_dir_all(&dir);
     let moving = args.idle || (p99 < args.p99_ms && behind == 0 && silent == 0 && running == args.controllers);
     let ok = moving && errors == 0 && growth < args.max_growth_mb;
     std::process::exit(if ok { 0 } else { 1 });
+}
+
+/// Starts `fivex serve --addr 127.0.0.1:0 EXTRA…` and waits for its address; its log is read
+/// (and dropped) from then on.
+async fn start(
+    fivex: &std::path::Path,
+    args: &Args,
+    extra: &[&std::ffi::OsStr],
+) -> (tokio::process::Child, String, tokio::task::JoinHandle<()>) {
+    let mut cmd = tokio::process::Command::new(fivex);
+    cmd.arg("serve").args(["--addr", "127.0.0.1:0"]).args(extra).env("RUST_LOG", "warn,fivex_server::serve=info");
+    if let Some(w) = args.workers {
+        cmd.args(["--workers", &w.to_string()]);
+    }
+    let mut child =
+        cmd.stderr(Stdio::piped()).stdout(Stdio::null()).kill_on_drop(true).spawn().expect("start fivex serve");
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let addr = loop {
+        let line = lines.next_line().await.unwrap().expect("fivex serve ended before listening");
+        if let Some(at) = line.find("listening on http://") {
+            break line[at + "listening on http://".len()..].trim().to_string();
+        }
+    };
+    let drain = tokio::spawn(async move { while let Ok(Some(_)) = lines.next_line().await {} });
+    (child, addr, drain)
 }
 
 /// A minimal JSON-over-HTTP client (hyper), enough for setting the load up.
