@@ -211,3 +211,38 @@ async fn a_joining_node_gets_its_share_of_idle_controllers_and_running_ones_stay
         }
     }
 }
+
+/// The handover's barrier (`placement::handover`, step 3): once the database writer's count of
+/// records done reaches the host's count of records sent, every record sent before is stored.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn records_sent_before_the_count_are_stored_once_the_writer_reaches_it() {
+    use fivex_server::{db, host::Record, http::AppState};
+    let dir = tempfile::tempdir().unwrap();
+    let state = AppState::open(&dir.path().join("fivex.db")).await.unwrap();
+    let machine = serde_json::to_string(&fivex_engine::machine::MachineConfig::preset("mill3").unwrap()).unwrap();
+    let row = db::ControllerRow {
+        id: "c1".into(),
+        name: "c1".into(),
+        dialect: "fanuc".into(),
+        machine_json: machine,
+        created_at: "2026-01-01T00:00:00Z".into(),
+    };
+    db::insert_controller(&state.db, &row).await.unwrap();
+    for round in 0..5u32 {
+        for k in 0..200u32 {
+            let value = f64::from(round * 1000 + k);
+            state.host.record(Record::Variables { controller: "c1".into(), values: vec![(500 + k, Some(value))] });
+        }
+        let sent = state.host.records_sent();
+        assert_eq!(sent, u64::from(round + 1) * 200);
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while state.db.records_done() < sent {
+            assert!(Instant::now() < deadline, "the writer did not reach {sent} within 30 s");
+            tokio::time::sleep(Duration::from_millis(1)).await;
+        }
+        let mut stored = db::retained_variables(&state.db, "c1").await.unwrap();
+        stored.sort_by_key(|(n, _)| *n);
+        let expected: Vec<(u32, f64)> = (0..200).map(|k| (500 + k, f64::from(round * 1000 + k))).collect();
+        assert_eq!(stored, expected, "round {round}");
+    }
+}
