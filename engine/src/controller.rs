@@ -247,6 +247,19 @@ impl Controller {
         self.exec.time()
     }
 
+    /// Nothing is under way that a restart in reset state would cut short: idle (no alarm, no
+    /// emergency stop), no program started and not over (reading, held, at a single-block stop
+    /// or M00/M01, or held for a manual intervention), no motion moving or queued (a jog, a
+    /// handle or reference move, a deceleration). The service moves only such a controller to
+    /// another node (`docs/cluster.md`, "Rebalancing").
+    pub fn at_rest(&self) -> bool {
+        self.run_state == RunState::Idle
+            && !self.estop
+            && self.cycle.program_over()
+            && !self.exec.is_moving()
+            && !self.exec.has_queued()
+    }
+
     pub fn alarms(&self) -> &[Alarm] {
         &self.alarms
     }

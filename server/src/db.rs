@@ -88,6 +88,8 @@ pub struct Db {
     backend: Backend,
     /// The workers' records that could not be stored (`write_records`), for `/metrics`.
     failed_records: Arc<AtomicU64>,
+    /// The workers' records `write_records` is done with (stored, or failed and counted).
+    records_done: Arc<AtomicU64>,
 }
 
 /// Readers: enough for the handlers that read at once on a small machine.
@@ -122,6 +124,12 @@ impl Db {
     /// record, and each failed batch as one).
     pub fn failed_records(&self) -> u64 {
         self.failed_records.load(Ordering::Relaxed)
+    }
+
+    /// How many of the workers' records the writer is done with, in the order they were sent
+    /// (`host::Host::records_sent`): stored, or failed (and counted in `failed_records`).
+    pub fn records_done(&self) -> u64 {
+        self.records_done.load(Ordering::SeqCst)
     }
 
     /// A write transaction; on SQLite it holds the write lock from its start (`BEGIN
@@ -202,7 +210,13 @@ pub async fn open(path: &Path) -> Result<Db, OpenError> {
         .connect_with(url)
         .await
         .map_err(connect)?;
-    Ok(Db { reads, writes, backend: Backend::Sqlite, failed_records: Default::default() })
+    Ok(Db {
+        reads,
+        writes,
+        backend: Backend::Sqlite,
+        failed_records: Default::default(),
+        records_done: Default::default(),
+    })
 }
 
 /// The `Any` options of a SQLite file, created if missing (`mode=rwc`): its absolute path,
@@ -242,7 +256,13 @@ pub async fn open_postgres(url: &str) -> Result<Db, OpenError> {
         .await
         .map_err(|source| OpenError::Connect { path: shown.clone(), source })?;
     POSTGRES_MIGRATOR.run(&pool).await.map_err(|source| OpenError::Migrate { path: shown, source })?;
-    Ok(Db { reads: pool.clone(), writes: pool, backend: Backend::Postgres, failed_records: Default::default() })
+    Ok(Db {
+        reads: pool.clone(),
+        writes: pool,
+        backend: Backend::Postgres,
+        failed_records: Default::default(),
+        records_done: Default::default(),
+    })
 }
 
 /// One row of the `controllers` table.
@@ -276,6 +296,12 @@ pub async fn list_controllers(db: &Db) -> Result<Vec<ControllerRow>, sqlx::Error
     .fetch_all(db.reads())
     .await?;
     rows.iter().map(ControllerRow::from_row).collect()
+}
+
+/// The ids of every stored controller (what a node of a cluster places, `crate::placement`).
+pub async fn controller_ids(db: &Db) -> Result<Vec<String>, sqlx::Error> {
+    let rows = sqlx::query("SELECT id FROM controllers ORDER BY created_at, id").fetch_all(db.reads()).await?;
+    rows.iter().map(|r| r.try_get("id")).collect()
 }
 
 /// Inserts a controller row. The controllers API (a later issue) builds on this; tests use it
@@ -603,6 +629,7 @@ pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedRece
             db.failed_records.fetch_add(1, Ordering::Relaxed);
             tracing::warn!(error = %e, records = batch.len(), "cannot store the workers' records");
         }
+        db.records_done.fetch_add(batch.len() as u64, Ordering::SeqCst);
         batch.clear();
     }
 }

@@ -8,10 +8,15 @@
 //! - Placement: bucket [`PLACEMENT_BUCKET`], controller id → node name. A node claims a
 //!   controller with a revision-checked write (`create` for a free one, `update` at the revision
 //!   it read for one whose node is gone), so of several nodes claiming at once exactly one wins.
+//! - Each node keeps the placement bucket in memory ([`view`]), current through a watch: a
+//!   forwarded request and a beat read no bucket entry (the bucket is read while the view is
+//!   being built, after a reconnect).
 //! - Every [`BEAT`] each node reconciles ([`Cluster::reconcile`]): it claims controllers of the
 //!   database whose node left (at once) or that were never placed (after one more beat, leaving
 //!   the creating node its time to place it), up to a fair share, and hosts them from the
-//!   database in reset state; it drops any it hosts whose placement names another node.
+//!   database in reset state; it drops any it hosts whose placement names another node. Then a
+//!   node above its fair share hands idle controllers over to the members below theirs
+//!   ([`handover`]); the receiver's view wakes it to host them at once.
 //! - Requests: any `/api/v1/controllers/{id}/…` request for a controller hosted elsewhere is
 //!   forwarded ([`forward`]) to its node by NATS request/reply on `fivex.nodes.{node}.http`: the
 //!   owner answers it through its own router. Websockets of a remote controller are refused
@@ -19,7 +24,11 @@
 //! - A node that stops cleanly releases its placements, so the others take its controllers at
 //!   their next beat.
 
-use std::collections::{HashMap, HashSet};
+mod handover;
+pub mod view;
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -37,6 +46,7 @@ use tower::ServiceExt;
 
 use crate::http::{ApiError, AppState};
 use crate::{db, service};
+use view::{Placed, View};
 
 /// Membership: node name → when it started; entries expire after [`LEASE`].
 pub const NODES_BUCKET: &str = "fivex_nodes";
@@ -46,6 +56,8 @@ pub const PLACEMENT_BUCKET: &str = "fivex_placement";
 pub const BEAT: Duration = Duration::from_secs(1);
 /// How long a node stays a member after its last beat.
 pub const LEASE: Duration = Duration::from_secs(5);
+/// The longest a listing of the members may take.
+const LIST_TIMEOUT: Duration = Duration::from_secs(2);
 /// How long a forwarded request may take before the node that got it answers 504.
 pub const FORWARD_TIMEOUT: Duration = Duration::from_secs(30);
 /// Set on a forwarded request: its owner answers it itself (never forwards it again) and a
@@ -112,6 +124,12 @@ struct Inner {
     members: Mutex<Vec<String>>,
     /// Set once the node leaves: it claims nothing more.
     leaving: std::sync::atomic::AtomicBool,
+    /// The placement bucket in memory, kept current by a watch.
+    view: Arc<View>,
+    /// Placement entries read from the bucket (while the view is not current, and by `leave`).
+    reads: AtomicU64,
+    /// The last beat's busy controllers of this node and the handovers that wait for them.
+    waits: Mutex<(usize, usize)>,
 }
 
 impl std::fmt::Debug for Cluster {
@@ -141,6 +159,13 @@ async fn bucket(js: &async_nats::jetstream::Context, name: &str, max_age: Durati
     js.get_key_value(name).await.map_err(|e| format!("NATS: cannot open the bucket {name}: {e}"))
 }
 
+/// What a reconcile saw: the members, the stored controllers, their placements.
+struct Seen {
+    members: Vec<String>,
+    ids: Vec<String>,
+    owners: HashMap<String, Placed>,
+}
+
 impl Cluster {
     /// Joins: makes sure of the buckets and takes the name `name` in [`NODES_BUCKET`] (refused
     /// while a node of that name is a member).
@@ -158,6 +183,8 @@ impl Cluster {
                 LEASE.as_secs()
             ));
         }
+        let view = Arc::new(View::new(name));
+        tokio::spawn(view::follow(view.clone(), placement.clone(), nats.client().clone()));
         Ok(Cluster {
             inner: Arc::new(Inner {
                 name: name.to_string(),
@@ -167,6 +194,9 @@ impl Cluster {
                 unplaced: Mutex::default(),
                 members: Mutex::new(vec![name.to_string()]),
                 leaving: Default::default(),
+                view,
+                reads: AtomicU64::new(0),
+                waits: Mutex::default(),
             }),
         })
     }
@@ -181,31 +211,89 @@ impl Cluster {
         lock(&self.inner.members).clone()
     }
 
-    async fn live_members(&self) -> Result<Vec<String>, String> {
-        let mut keys = self.inner.nodes.keys().await.map_err(|e| format!("NATS: cannot list the nodes: {e}"))?;
-        let mut members = Vec::new();
-        while let Some(key) = keys.next().await {
-            members.push(key.map_err(|e| format!("NATS: cannot list the nodes: {e}"))?);
-        }
-        members.sort();
+    /// Lists the members (the keys of [`NODES_BUCKET`]) and keeps them for [`Cluster::members`].
+    /// Bounded: a listing whose consumer misses its end (seen on nats-server 2.9 when a key is
+    /// written while it is listed) fails after [`LIST_TIMEOUT`] instead of holding the beat.
+    async fn refresh_members(&self) -> Result<Vec<String>, String> {
+        let list = async {
+            let mut keys = self.inner.nodes.keys().await.map_err(|e| format!("NATS: cannot list the nodes: {e}"))?;
+            let mut members = Vec::new();
+            while let Some(key) = keys.next().await {
+                members.push(key.map_err(|e| format!("NATS: cannot list the nodes: {e}"))?);
+            }
+            members.sort();
+            Ok::<_, String>(members)
+        };
+        let members = tokio::time::timeout(LIST_TIMEOUT, list)
+            .await
+            .map_err(|_| format!("NATS: the nodes not listed within {} s", LIST_TIMEOUT.as_secs()))??;
+        *lock(&self.inner.members) = members.clone();
         Ok(members)
     }
 
-    /// The node that hosts controller `id`, if it is placed.
+    /// The node that hosts controller `id`, if it is placed: from the view, or from the bucket
+    /// while the view is not current.
     pub async fn owner(&self, id: &str) -> Result<Option<String>, String> {
-        let value =
-            self.inner.placement.get(id).await.map_err(|e| format!("NATS: cannot read the placement of {id}: {e}"))?;
-        Ok(value.map(|v| String::from_utf8_lossy(&v).into_owned()))
+        Ok(self.placement(id).await?.node)
+    }
+
+    /// The placement of `id` (revision 0: never placed).
+    async fn placement(&self, id: &str) -> Result<Placed, String> {
+        if let Some(placed) = self.inner.view.get(id) {
+            return Ok(placed.unwrap_or(Placed { node: None, revision: 0 }));
+        }
+        self.inner.reads.fetch_add(1, Ordering::Relaxed);
+        let entry = self
+            .inner
+            .placement
+            .entry(id.to_string())
+            .await
+            .map_err(|e| format!("NATS: cannot read the placement of {id}: {e}"))?;
+        Ok(entry.as_ref().map_or(Placed { node: None, revision: 0 }, Placed::of))
+    }
+
+    /// The placements of `ids` (a controller never placed has none).
+    async fn placements(&self, ids: &[String]) -> Result<HashMap<String, Placed>, String> {
+        if let Some(placed) = self.inner.view.of(ids) {
+            return Ok(placed);
+        }
+        let mut placed = HashMap::new();
+        for id in ids {
+            let p = self.placement(id).await?;
+            if p.revision != 0 {
+                placed.insert(id.clone(), p);
+            }
+        }
+        Ok(placed)
+    }
+
+    /// How many placement entries this node has read from the bucket: none while its view is
+    /// current (docs/cluster.md, "The placement view").
+    pub fn placement_reads(&self) -> u64 {
+        self.inner.reads.load(Ordering::Relaxed)
+    }
+
+    /// Whether this node's view of the placement bucket is current (else it reads the bucket).
+    pub fn view_current(&self) -> bool {
+        self.inner.view.is_current()
+    }
+
+    /// How many times this node built its view of the placement bucket (1, then one more after
+    /// each broken watch or reconnect).
+    pub fn view_builds(&self) -> u64 {
+        self.inner.view.builds()
     }
 
     /// Controller `id` (created here) is hosted here.
     pub async fn place(&self, id: &str) -> Result<(), String> {
-        self.inner
+        let revision = self
+            .inner
             .placement
             .put(id, Bytes::from(self.inner.name.clone()))
             .await
-            .map(|_| ())
-            .map_err(|e| format!("NATS: cannot place {id}: {e}"))
+            .map_err(|e| format!("NATS: cannot place {id}: {e}"))?;
+        self.inner.view.wrote(id, Some(&self.inner.name), revision);
+        Ok(())
     }
 
     /// Controller `id` is gone (removed).
@@ -244,7 +332,9 @@ impl Cluster {
                 tokio::spawn(async move { answer(app, client, message).await });
             }
         });
-        let cluster = self.clone();
+        // Membership on its own task (this node's key written, then the members listed): a slow
+        // reconcile or handover never delays it.
+        let (cluster, started) = (self.clone(), Bytes::from(state.node.started_at.clone()));
         tokio::spawn(async move {
             let mut beat = tokio::time::interval(BEAT);
             beat.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
@@ -253,11 +343,28 @@ impl Cluster {
                 if cluster.leaving() {
                     break;
                 }
-                let started = Bytes::from(state.node.started_at.clone());
-                if let Err(e) = cluster.inner.nodes.put(&cluster.inner.name, started).await {
+                if let Err(e) = cluster.inner.nodes.put(&cluster.inner.name, started.clone()).await {
                     tracing::warn!(error = %e, "cluster heartbeat not written");
                 }
-                if let Err(e) = cluster.reconcile(&state).await {
+                if let Err(e) = cluster.refresh_members().await {
+                    tracing::warn!(error = %e, "cluster members not listed: the last list is kept");
+                }
+            }
+        });
+        let cluster = self.clone();
+        tokio::spawn(async move {
+            let mut beat = tokio::time::interval(BEAT);
+            beat.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+            loop {
+                let kicked = tokio::select! {
+                    _ = beat.tick() => false,
+                    () = cluster.inner.view.kicked() => true,
+                };
+                if cluster.leaving() {
+                    break;
+                }
+                let done = if kicked { cluster.adopt(&state).await } else { cluster.beat(&state).await };
+                if let Err(e) = done {
                     tracing::warn!(error = %e, "cluster placements not reconciled");
                 }
             }
@@ -266,118 +373,175 @@ impl Cluster {
     }
 
     fn leaving(&self) -> bool {
-        self.inner.leaving.load(std::sync::atomic::Ordering::SeqCst)
+        self.inner.leaving.load(Ordering::SeqCst)
     }
 
-    /// One beat: claims the controllers of the database that no live node hosts (up to a fair
-    /// share) and hosts them in reset state; drops those it hosts that another node owns.
+    /// One beat: [`Cluster::reconcile`] with the members the membership task listed last, then
+    /// the surplus handed over (`handover`).
+    async fn beat(&self, state: &AppState) -> Result<(), String> {
+        let Some(seen) = self.reconciled(state, self.members()).await? else { return Ok(()) };
+        let me = self.inner.name.as_str();
+        let mut placed: BTreeMap<String, usize> = seen.members.iter().map(|m| (m.clone(), 0)).collect();
+        let mut settled = true;
+        for id in &seen.ids {
+            match seen.owners.get(id).and_then(|p| p.node.as_ref()).and_then(|n| placed.get_mut(n)) {
+                Some(count) => *count += 1,
+                None => settled = false,
+            }
+        }
+        let to = handover::receivers(me, &placed, seen.ids.len(), settled);
+        handover::hand_over(self, state, &seen.owners, to).await;
+        Ok(())
+    }
+
+    /// Reconciles once (the members listed first): claims the controllers of the database that
+    /// no live node hosts (up to a fair share) and hosts them in reset state; drops those it
+    /// hosts that another node owns.
     pub async fn reconcile(&self, state: &AppState) -> Result<(), String> {
+        let members = self.refresh_members().await?;
+        self.reconciled(state, members).await.map(|_| ())
+    }
+
+    /// [`Cluster::reconcile`] with `members`, answering what it saw (`None` once leaving).
+    async fn reconciled(&self, state: &AppState, members: Vec<String>) -> Result<Option<Seen>, String> {
         if self.leaving() {
-            return Ok(());
+            return Ok(None);
         }
         let me = self.inner.name.clone();
-        let members = self.live_members().await?;
-        *lock(&self.inner.members) = members.clone();
-        let rows = db::list_controllers(&state.db).await.map_err(|e| format!("cannot list the controllers: {e}"))?;
-        let mut owners: HashMap<String, (Option<String>, u64)> = HashMap::new();
-        for row in &rows {
-            let entry = self
-                .inner
-                .placement
-                .entry(row.id.clone())
-                .await
-                .map_err(|e| format!("NATS: cannot read the placement of {}: {e}", row.id))?;
-            let owner = match entry {
-                Some(e) if e.operation == kv::Operation::Put => {
-                    (Some(String::from_utf8_lossy(&e.value).into_owned()), e.revision)
-                }
-                Some(e) => (None, e.revision),
-                None => (None, 0),
-            };
-            owners.insert(row.id.clone(), owner);
-        }
+        let ids = db::controller_ids(&state.db).await.map_err(|e| format!("cannot list the controllers: {e}"))?;
+        let mut owners = self.placements(&ids).await?;
+        let stored: HashSet<&String> = ids.iter().collect();
         // Hosted here but placed elsewhere: dropped. Hosted here and not placed: placed here.
         for hosted in state.host.list() {
-            match owners.get(&hosted.id) {
-                Some((Some(owner), _)) if *owner != me => {
+            let placed = owners.get(&hosted.id).cloned();
+            match placed {
+                Some(Placed { node: Some(owner), .. }) if owner != me => {
                     tracing::warn!(id = %hosted.id, %owner, "controller hosted by another node: dropped here");
                     state.host.remove(&hosted.id);
                 }
-                Some((None, revision)) if self.claim(&hosted.id, *revision).await => {
-                    owners.insert(hosted.id.clone(), (Some(me.clone()), 0));
+                Some(Placed { node: Some(_), .. }) => {}
+                // Not placed (deleted marker, or never): placed here if it is still stored.
+                _ if stored.contains(&hosted.id) => {
+                    let revision = placed.map_or(0, |p| p.revision);
+                    if let Some(won) = self.claim(&hosted.id, revision).await {
+                        owners.insert(hosted.id.clone(), Placed { node: Some(me.clone()), revision: won });
+                    }
                 }
                 _ => {}
             }
         }
-        let mine = owners.values().filter(|(o, _)| o.as_deref() == Some(me.as_str())).count();
-        let share = rows.len().div_ceil(members.len().max(1));
+        let mine = owners.values().filter(|p| p.node.as_deref() == Some(me.as_str())).count();
+        let share = ids.len().div_ceil(members.len().max(1));
         let mut room = share.saturating_sub(mine);
         let mut unplaced_now = HashSet::new();
         let previously = lock(&self.inner.unplaced).clone();
-        let settings =
-            db::controller_settings(&state.db).await.map_err(|e| format!("cannot read the controllers: {e}"))?;
-        for row in rows {
-            let (owner, revision) = owners.get(&row.id).cloned().unwrap_or((None, 0));
-            let orphan = match &owner {
-                Some(o) if *o == me => {
-                    // Owned (a claim of an earlier beat whose load failed): hosted now.
-                    state.host.get(&row.id).is_none()
-                }
+        let mut to_host = Vec::new();
+        for id in &ids {
+            let placed = owners.get(id).cloned().unwrap_or(Placed { node: None, revision: 0 });
+            let orphan = match &placed.node {
+                // Owned (a claim of an earlier beat whose load failed, or a handover to this
+                // node): hosted now.
+                Some(o) if *o == me => state.host.get(id).is_none(),
                 Some(o) => !members.contains(o),
                 None => {
-                    unplaced_now.insert(row.id.clone());
-                    previously.contains(&row.id)
+                    unplaced_now.insert(id.clone());
+                    previously.contains(id)
                 }
             };
-            if !orphan || state.host.get(&row.id).is_some() {
+            if !orphan || state.host.get(id).is_some() {
                 continue;
             }
-            let owned = owner.as_deref() == Some(me.as_str());
-            if !owned {
+            if placed.node.as_deref() != Some(me.as_str()) {
                 if room == 0 {
                     continue;
                 }
-                if !self.claim(&row.id, revision).await {
-                    continue;
-                }
+                let Some(won) = self.claim(id, placed.revision).await else { continue };
+                owners.insert(id.clone(), Placed { node: Some(me.clone()), revision: won });
                 room -= 1;
+                tracing::info!(%id, from = ?placed.node, "controller taken over by this node, in reset state");
             }
-            let id = row.id.clone();
-            match service::controllers::load(&state.db, row, &settings).await {
-                Ok(Some(hosted)) => {
-                    if state.host.get(&id).is_none() {
-                        state.host.add(Arc::new(hosted));
-                        tracing::info!(%id, from = ?owner, "controller taken over by this node, in reset state");
-                    }
-                }
-                Ok(None) => {}
-                Err(e) => tracing::warn!(%id, error = %e, "claimed controller not loaded: retried at the next beat"),
-            }
+            to_host.push(id.clone());
         }
+        self.host_stored(state, to_host).await;
         *lock(&self.inner.unplaced) = unplaced_now;
+        Ok(Some(Seen { members, ids, owners }))
+    }
+
+    /// Hosts what the view says is placed on this node and is not hosted here (a handover to
+    /// this node: the view woke it).
+    async fn adopt(&self, state: &AppState) -> Result<(), String> {
+        let Some(mine) = self.inner.view.mine() else { return Ok(()) };
+        let missing: Vec<String> = mine.into_iter().filter(|id| state.host.get(id).is_none()).collect();
+        self.host_stored(state, missing).await;
         Ok(())
     }
 
-    /// Claims controller `id` at `revision` (0: never placed); whether this node won.
-    async fn claim(&self, id: &str, revision: u64) -> bool {
+    /// Hosts controllers `ids` from the database in reset state (one no longer stored is
+    /// skipped; one that fails to load is tried again at the next beat).
+    async fn host_stored(&self, state: &AppState, ids: Vec<String>) {
+        if ids.is_empty() {
+            return;
+        }
+        let settings = match db::controller_settings(&state.db).await {
+            Ok(s) => s,
+            Err(e) => return tracing::warn!(error = %e, "controllers placed here not loaded: retried at the next beat"),
+        };
+        for id in ids {
+            let row = match db::controller(&state.db, &id).await {
+                Ok(Some(row)) => row,
+                Ok(None) => continue,
+                Err(e) => {
+                    tracing::warn!(%id, error = %e, "controller placed here not loaded: retried at the next beat");
+                    continue;
+                }
+            };
+            match service::controllers::load(&state.db, row, &settings).await {
+                Ok(Some(hosted)) if state.host.get(&id).is_none() && !self.leaving() => {
+                    state.host.add(Arc::new(hosted));
+                    tracing::info!(%id, "controller hosted here, from the database in reset state");
+                }
+                Ok(_) => {}
+                Err(e) => {
+                    tracing::warn!(%id, error = %e, "controller placed here not loaded: retried at the next beat")
+                }
+            }
+        }
+    }
+
+    /// Claims controller `id` at `revision` (0: never placed); the revision of the claim when
+    /// this node won (a claim that lost is not believed: the view waits for the watch).
+    async fn claim(&self, id: &str, revision: u64) -> Option<u64> {
         let me = Bytes::from(self.inner.name.clone());
         let won = if revision == 0 {
-            self.inner.placement.create(id, me).await.is_ok()
+            self.inner.placement.create(id, me).await.ok()
         } else {
-            self.inner.placement.update(id, me, revision).await.is_ok()
-        };
-        if won {
-            tracing::info!(%id, node = %self.inner.name, "controller claimed");
-        }
-        won
+            self.inner.placement.update(id, me, revision).await.ok()
+        }?;
+        self.inner.view.wrote(id, Some(&self.inner.name), won);
+        tracing::info!(%id, node = %self.inner.name, "controller claimed");
+        Some(won)
+    }
+
+    /// Places controller `id`, placed here at `revision`, on node `to` (revision-checked: a
+    /// placement changed meanwhile stays as it is).
+    async fn hand(&self, id: &str, to: &str, revision: u64) -> Result<(), String> {
+        let written = self
+            .inner
+            .placement
+            .update(id, Bytes::from(to.to_string()), revision)
+            .await
+            .map_err(|e| format!("NATS: placement not changed: {e}"))?;
+        self.inner.view.wrote(id, Some(to), written);
+        Ok(())
     }
 
     /// Leaves cleanly (after the controllers' records are written): claims nothing more,
     /// releases every placement of this node and its membership, so the other nodes take its
     /// controllers at their next beat.
     pub async fn leave(&self, state: &AppState) {
-        self.inner.leaving.store(true, std::sync::atomic::Ordering::SeqCst);
+        self.inner.leaving.store(true, Ordering::SeqCst);
         for hosted in state.host.list() {
+            self.inner.reads.fetch_add(1, Ordering::Relaxed);
             if let Ok(Some(entry)) = self.inner.placement.entry(hosted.id.clone()).await {
                 if entry.operation == kv::Operation::Put && entry.value.as_ref() == self.inner.name.as_bytes() {
                     // Revision-checked: a placement another node took meanwhile stays.
@@ -608,15 +772,23 @@ pub async fn forward(State(state): State<AppState>, request: Request, next: Next
         return next.run(request).await;
     };
     // An id that cannot be a key (ids are uuids) is no controller's: the route answers.
-    if !valid_name(id) || state.host.get(id).is_some() || request.headers().contains_key(FORWARDED) {
+    if !valid_name(id) || state.host.get(id).is_some() {
         return next.run(request).await;
     }
     let id = id.to_string();
+    let stored = || async { db::controller(&state.db, &id).await.ok().flatten().is_some() };
+    if request.headers().contains_key(FORWARDED) {
+        // Sent here as to its owner, but not hosted here (yet, or any more: a handover or a
+        // takeover under way): retried, it reaches the node that hosts it.
+        if stored().await {
+            return unavailable(format!("controller {id} is moving between nodes"));
+        }
+        return next.run(request).await;
+    }
     let owner = match cluster.owner(&id).await {
         Ok(owner) => owner,
         Err(e) => return ApiError::Unavailable(e).into_response(),
     };
-    let stored = || async { db::controller(&state.db, &id).await.ok().flatten().is_some() };
     match owner {
         Some(owner) if owner != cluster.name() && cluster.members().contains(&owner) => {
             if request.headers().get("upgrade").is_some() {
@@ -635,6 +807,9 @@ pub async fn forward(State(state): State<AppState>, request: Request, next: Next
                 Err(e) => return ApiError::BadRequest(format!("cannot read the request body: {e}")).into_response(),
             };
             cluster.send(&owner, &parts.method, &parts.uri, &parts.headers, body).await
+        }
+        Some(owner) if owner == cluster.name() && stored().await => {
+            unavailable(format!("controller {id} is moving between nodes (placed on this node, {owner}, not hosted yet or any more)"))
         }
         Some(owner) if stored().await => {
             unavailable(format!("controller {id} is not hosted right now (placed on node {owner}, which is not serving it): a node takes it over"))

@@ -204,6 +204,68 @@ fn a_jog_after_a_program_that_ended_on_m00_ends_idle() {
     }
 }
 
+/// `at_rest`: nothing under way a restart would cut short (the service moves only such a
+/// controller to another node).
+#[test]
+fn at_rest_only_when_no_program_motion_alarm_or_stop_is_under_way() {
+    let mut c = controller();
+    assert!(c.at_rest(), "a new controller");
+    // A program under way, held, at a single-block stop: not at rest; over: at rest.
+    c.panel.single_block = true;
+    c.select_program("G90 G01 X10. F6000.\nX20.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    c.tick(0.01);
+    assert!(!c.at_rest(), "running");
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[0], 10.0);
+    assert!(!c.at_rest(), "at a single-block stop ({:?})", c.run_state());
+    c.panel.single_block = false;
+    c.cycle_start().unwrap();
+    c.tick(0.01);
+    c.feed_hold();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.run_state(), RunState::Hold);
+    assert!(!c.at_rest(), "held");
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[0], 20.0);
+    assert!(c.at_rest(), "the program is over ({:?})", c.run_state());
+    // A jog while it moves, and its deceleration: not at rest.
+    c.set_mode(Mode::Jog).unwrap();
+    c.panel.jog_feed = 6000.0;
+    c.jog_start('Y', true).unwrap();
+    c.tick(0.1);
+    assert!(!c.at_rest(), "jogging");
+    c.jog_stop();
+    c.tick(0.001);
+    for _ in 0..10_000 {
+        if c.at_rest() {
+            break;
+        }
+        c.tick(0.001);
+    }
+    assert!(c.at_rest(), "the jog stopped and the axes stand");
+    // The emergency stop and an alarm: not at rest until reset.
+    c.emergency_stop(true);
+    assert!(!c.at_rest(), "emergency stop");
+    c.emergency_stop(false);
+    assert!(!c.at_rest(), "its alarm");
+    c.reset();
+    assert!(c.at_rest(), "reset");
+    // Reset in the middle of a program: at rest once the axes stand.
+    let mut c = started("G90 G01 X100. F600.\nM30\n");
+    c.tick(0.2);
+    c.reset();
+    run_until_stopped(&mut c, 10.0);
+    for _ in 0..10_000 {
+        if c.run_state() == RunState::Idle {
+            break;
+        }
+        c.tick(0.001);
+    }
+    assert!(c.at_rest(), "reset and standing ({:?})", c.run_state());
+}
+
 #[test]
 fn emergency_stop_halts_at_once_and_only_reset_clears_it() {
     let mut c = started("G90 G01 X100. F6000.\nM30\n");

@@ -115,6 +115,8 @@ pub async fn readyz(State(state): State<AppState>) -> Result<Json<Readiness>, Ap
             cluster.insert("members".into(), Value::from(c.members()));
             let hosted: Vec<Value> = state.host.list().iter().map(|h| Value::from(h.id.clone())).collect();
             cluster.insert("controllers".into(), Value::from(hosted));
+            let view = if c.view_current() { "current" } else { "building" };
+            cluster.insert("placement_view".into(), Value::from(view));
             cluster
         }),
     }))

@@ -69,12 +69,17 @@ struct Inner {
     worker_count: usize,
     /// Taken at shutdown, so the database writer sees the end of its channel.
     records: Mutex<Option<mpsc::UnboundedSender<Record>>>,
+    /// Records handed to the writer so far (counted under the `records` lock, in the channel's
+    /// order: the writer's count of those done reaching it means these are written).
+    sent: AtomicU64,
 }
 
 impl Inner {
     fn record(&self, record: Record) {
         if let Some(records) = lock(&self.records).as_ref() {
-            let _ = records.send(record);
+            if records.send(record).is_ok() {
+                self.sent.fetch_add(1, Ordering::SeqCst);
+            }
         }
     }
 }
@@ -96,6 +101,7 @@ impl Host {
             workers: Mutex::new(Vec::new()),
             worker_count: workers.max(1),
             records: Mutex::new(Some(records)),
+            sent: AtomicU64::new(0),
         });
         let count = inner.worker_count;
         let handles = (0..count)
@@ -176,6 +182,12 @@ impl Host {
     pub fn record(&self, record: Record) {
         self.inner.record(record);
     }
+
+    /// How many records were handed to the database writer so far: once the writer has done
+    /// as many (`db::Db::records_done`), every one handed before this call is written.
+    pub fn records_sent(&self) -> u64 {
+        self.inner.sent.load(Ordering::SeqCst)
+    }
 }
 
 /// One hosted controller: what never changes, and the [`Station`] behind its mutex.
@@ -196,6 +208,8 @@ pub struct Hosted {
     /// The wall-clock instant (ns since [`EPOCH`]) its simulated time has reached: the start of
     /// the worker round that ticked it last (a tick advances it by the real time up to there).
     ticked: AtomicU64,
+    /// When (ns since [`EPOCH`]) a command or write last addressed it, or it was hosted here.
+    used: AtomicU64,
 }
 
 impl std::fmt::Debug for Hosted {
@@ -232,6 +246,7 @@ impl Hosted {
             events,
             removed: watch::channel(false).0,
             ticked: AtomicU64::new(since_epoch(Instant::now())),
+            used: AtomicU64::new(since_epoch(Instant::now())),
         }
     }
 
@@ -264,6 +279,22 @@ impl Hosted {
 
     pub fn events(&self) -> broadcast::Receiver<Arc<Message>> {
         self.events.subscribe()
+    }
+
+    /// A command or a write addressed it now.
+    pub fn touch(&self) {
+        self.used.store(since_epoch(Instant::now()), Ordering::Relaxed);
+    }
+
+    /// How long before `now` a command or write last addressed it (or it was hosted here).
+    pub fn unused_for(&self, now: Instant) -> Duration {
+        Duration::from_nanos(since_epoch(now).saturating_sub(self.used.load(Ordering::Relaxed)))
+    }
+
+    /// Whether the controller has left the registry (deleted, or hosted by another node now):
+    /// a command that locked its station after that must not act on it.
+    pub fn is_removed(&self) -> bool {
+        *self.removed.borrow()
     }
 
     /// Resolves once the controller is removed from the registry (at once if it already is).

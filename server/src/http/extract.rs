@@ -82,7 +82,13 @@ impl FromRequestParts<AppState> for Addressed {
             .map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
         let id = params.iter().find(|(name, _)| *name == "id").map(|(_, value)| value.to_owned());
         let id = id.ok_or_else(|| ApiError::NotFound("the path names no controller".into()))?;
-        hosted(state, &id).map(Addressed)
+        let hosted = hosted(state, &id)?;
+        // A command or a write: its operator is at it, so a node of a cluster leaves it where it
+        // is for a while (`placement::handover`). Reading it (a dashboard polling) does not.
+        if !matches!(parts.method, axum::http::Method::GET | axum::http::Method::HEAD) {
+            hosted.touch();
+        }
+        Ok(Addressed(hosted))
     }
 }
 

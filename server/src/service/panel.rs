@@ -330,6 +330,14 @@ pub fn execute<T>(
     let mut ended = Vec::new();
     let (result, messages, records, seen) = {
         let mut station = hosted.station();
+        // Removed while this request waited for the lock (handed to another node, which
+        // loads it from the database): acting on this copy would be lost.
+        if hosted.is_removed() {
+            return Err(ServiceError::Unavailable(format!(
+                "controller {} is moving to another node: retry in a few seconds",
+                hosted.id
+            )));
+        }
         let result = apply(&mut station, &hosted.id, command, &mut ended);
         let (messages, records) = station.collect(&hosted.id, 0.0, true);
         (result, messages, records, view(hosted, &station))

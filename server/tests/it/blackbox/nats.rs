@@ -22,6 +22,19 @@ pub struct NatsServer {
     child: Child,
     port: u16,
     _dir: tempfile::TempDir,
+    bin: PathBuf,
+}
+
+/// `nats-server -js` on `port` with its store in `dir`.
+fn spawn(bin: &Path, port: u16, dir: &Path) -> Child {
+    Command::new(bin)
+        .args(["-js", "-a", "127.0.0.1", "-p", &port.to_string(), "-sd"])
+        .arg(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {}: {e}", bin.display()))
 }
 
 impl NatsServer {
@@ -36,24 +49,30 @@ impl NatsServer {
             .unwrap_or_else(|| panic!("nats-server not found: install Debian's `nats-server` (scripts/test.sh does)"));
         let dir = tempfile::tempdir().expect("temporary directory");
         let port = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port").local_addr().unwrap().port();
-        let child = Command::new(&bin)
-            .args(["-js", "-a", "127.0.0.1", "-p", &port.to_string(), "-sd"])
-            .arg(dir.path())
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start {}: {e}", bin.display()));
-        let mut server = NatsServer { child, port, _dir: dir };
+        let child = spawn(&bin, port, dir.path());
+        let mut server = NatsServer { child, port, _dir: dir, bin };
+        server.wait_listening();
+        server
+    }
+
+    /// Kills the server and starts it again on the same port and store (its streams and
+    /// buckets kept): every client loses its connection and reconnects.
+    pub fn restart(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        self.child = spawn(&self.bin, self.port, self._dir.path());
+        self.wait_listening();
+    }
+
+    fn wait_listening(&mut self) {
         let deadline = Instant::now() + Duration::from_secs(30);
-        while TcpStream::connect(("127.0.0.1", port)).is_err() {
-            if let Ok(Some(status)) = server.child.try_wait() {
+        while TcpStream::connect(("127.0.0.1", self.port)).is_err() {
+            if let Ok(Some(status)) = self.child.try_wait() {
                 panic!("nats-server exited at start: {status}");
             }
-            assert!(Instant::now() < deadline, "nats-server did not listen on {port} within 30 s");
+            assert!(Instant::now() < deadline, "nats-server did not listen on {} within 30 s", self.port);
             std::thread::sleep(Duration::from_millis(20));
         }
-        server
     }
 
     pub fn url(&self) -> String {
