@@ -211,6 +211,16 @@ impl Cluster {
         lock(&self.inner.members).clone()
     }
 
+    /// Whether node `node` is a member: as seen at the last beat, or else (a node that joined
+    /// since) its key read from [`NODES_BUCKET`] now, so a request for a controller of a node
+    /// that has just joined is not refused for up to a beat.
+    pub async fn is_member(&self, node: &str) -> bool {
+        if lock(&self.inner.members).iter().any(|m| m == node) {
+            return true;
+        }
+        matches!(self.inner.nodes.get(node).await, Ok(Some(_)))
+    }
+
     /// Lists the members (the keys of [`NODES_BUCKET`]) and keeps them for [`Cluster::members`].
     /// Bounded: a listing whose consumer misses its end (seen on nats-server 2.9 when a key is
     /// written while it is listed) fails after [`LIST_TIMEOUT`] instead of holding the beat.
@@ -224,9 +234,21 @@ impl Cluster {
             members.sort();
             Ok::<_, String>(members)
         };
-        let members = tokio::time::timeout(LIST_TIMEOUT, list)
+        let mut members = tokio::time::timeout(LIST_TIMEOUT, list)
             .await
             .map_err(|_| format!("NATS: the nodes not listed within {} s", LIST_TIMEOUT.as_secs()))??;
+        // A listing misses a key written while it runs (nats-server 2.9: the key's message moves
+        // past the listing's end), and every member writes its key every beat: a member seen
+        // before is asked for directly (a read by key sees its last write) before it counts as
+        // gone. Taking over a live node's controllers would reset them under it.
+        let unlisted: Vec<String> =
+            lock(&self.inner.members).iter().filter(|n| !members.contains(n)).cloned().collect();
+        for node in unlisted {
+            if matches!(self.inner.nodes.get(&node).await, Ok(Some(_))) {
+                members.push(node);
+            }
+        }
+        members.sort();
         *lock(&self.inner.members) = members.clone();
         Ok(members)
     }
@@ -442,7 +464,9 @@ impl Cluster {
                 // Owned (a claim of an earlier beat whose load failed, or a handover to this
                 // node): hosted now.
                 Some(o) if *o == me => state.host.get(id).is_none(),
-                Some(o) => !members.contains(o),
+                // Gone from the members; read by key once more before its controllers are
+                // taken: a takeover resets a controller, it must never hit a live node's.
+                Some(o) => !members.contains(o) && !self.is_member(o).await,
                 None => {
                     unplaced_now.insert(id.clone());
                     previously.contains(id)
@@ -789,8 +813,12 @@ pub async fn forward(State(state): State<AppState>, request: Request, next: Next
         Ok(owner) => owner,
         Err(e) => return ApiError::Unavailable(e).into_response(),
     };
+    let live = match &owner {
+        Some(owner) if owner != cluster.name() => cluster.is_member(owner).await,
+        _ => false,
+    };
     match owner {
-        Some(owner) if owner != cluster.name() && cluster.members().contains(&owner) => {
+        Some(owner) if owner != cluster.name() && live => {
             if request.headers().get("upgrade").is_some() {
                 if path.ends_with("/stream") && path.matches('/').count() == 5 {
                     return relay(state.clone(), cluster, owner, id, request).await;
