@@ -109,7 +109,7 @@ struct Inner {
     /// Controllers seen in the database without a placement at the last reconcile.
     unplaced: Mutex<HashSet<String>>,
     /// The members seen at the last reconcile.
-    members: Mutex<Vec<String>>,
+    members: tokio::sync::watch::Sender<Vec<String>>,
     /// Set once the node leaves: it claims nothing more.
     leaving: std::sync::atomic::AtomicBool,
 }
@@ -120,27 +120,6 @@ impl std::fmt::Debug for Cluster {
     }
 }
 
-async fn bucket(js: &async_nats::jetstream::Context, name: &str, max_age: Duration) -> Result<kv::Store, String> {
-    // The bucket's stream made here as `create_key_value` would (it reads the account first,
-    // which fails on nats-server 2.9, Debian's): one value per key, deletes as markers.
-    let config = async_nats::jetstream::stream::Config {
-        name: format!("KV_{name}"),
-        subjects: vec![format!("$KV.{name}.>")],
-        max_messages_per_subject: 1,
-        max_age,
-        max_message_size: -1,
-        max_bytes: -1,
-        allow_rollup: true,
-        deny_delete: true,
-        allow_direct: true,
-        num_replicas: 1,
-        discard: async_nats::jetstream::stream::DiscardPolicy::New,
-        ..Default::default()
-    };
-    js.get_or_create_stream(config).await.map_err(|e| format!("NATS: cannot create the bucket {name}: {e}"))?;
-    js.get_key_value(name).await.map_err(|e| format!("NATS: cannot open the bucket {name}: {e}"))
-}
-
 impl Cluster {
     /// Joins: makes sure of the buckets and takes the name `name` in [`NODES_BUCKET`] (refused
     /// while a node of that name is a member).
@@ -149,8 +128,8 @@ impl Cluster {
             return Err(format!("--node {name:?}: a node name has 1 to 64 of A-Z a-z 0-9 _ -"));
         }
         let js = nats.jetstream();
-        let nodes = bucket(js, NODES_BUCKET, LEASE).await?;
-        let placement = bucket(js, PLACEMENT_BUCKET, Duration::ZERO).await?;
+        let nodes = crate::cluster::key_value(js, NODES_BUCKET, LEASE).await?;
+        let placement = crate::cluster::key_value(js, PLACEMENT_BUCKET, Duration::ZERO).await?;
         let started = Bytes::from(crate::host::now_rfc3339());
         if nodes.create(name, started).await.is_err() {
             return Err(format!(
@@ -165,7 +144,7 @@ impl Cluster {
                 nodes,
                 placement,
                 unplaced: Mutex::default(),
-                members: Mutex::new(vec![name.to_string()]),
+                members: tokio::sync::watch::channel(vec![name.to_string()]).0,
                 leaving: Default::default(),
             }),
         })
@@ -178,7 +157,12 @@ impl Cluster {
 
     /// The members seen at the last beat, sorted.
     pub fn members(&self) -> Vec<String> {
-        lock(&self.inner.members).clone()
+        self.inner.members.borrow().clone()
+    }
+
+    /// The members seen at the last beat, as they change.
+    pub fn watch_members(&self) -> tokio::sync::watch::Receiver<Vec<String>> {
+        self.inner.members.subscribe()
     }
 
     async fn live_members(&self) -> Result<Vec<String>, String> {
@@ -277,7 +261,7 @@ impl Cluster {
         }
         let me = self.inner.name.clone();
         let members = self.live_members().await?;
-        *lock(&self.inner.members) = members.clone();
+        self.inner.members.send_replace(members.clone());
         let rows = db::list_controllers(&state.db).await.map_err(|e| format!("cannot list the controllers: {e}"))?;
         let mut owners: HashMap<String, (Option<String>, u64)> = HashMap::new();
         for row in &rows {
