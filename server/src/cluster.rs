@@ -464,7 +464,7 @@ impl Collection {
                         continue; // not of this run, or known already
                     }
                     if let Some(e) = reply.error {
-                        let name = &self.names[index];
+                        let name = self.names.get(index).map_or("", String::as_str);
                         return Err(Outcome::Failed(format!("machine {index} ({name}): a node refused it: {e}")));
                     }
                     if let Some(result) = reply.result {
