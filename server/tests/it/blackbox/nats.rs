@@ -477,6 +477,29 @@ async fn a_fleet_run_outlives_the_node_that_took_it() {
     assert_eq!(taken.len(), 1, "{taken:?}");
     assert!(taken[0].contains("from=\"ghost\"") && taken[0].contains("republished=3"), "{}", taken[0]);
     nothing_left_on_nats(&url).await;
+
+    // A run collected by node three, cancelled through node two: ended `cancelled` for both.
+    let request = json!({"program": long_program(8000), "presets": machines(12)});
+    let reply = three.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
+    assert_eq!(reply.status, 202, "{}", reply.json());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let path = format!("/api/v1/fleet/runs/{id}");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while counted(&again.get(&path).await.json()).0 == 0 {
+        assert!(Instant::now() < deadline, "no result of the run recorded");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let reply = again.request(Method::POST, &format!("{path}/cancel"), &[], "").await;
+    assert_eq!(reply.status, 200, "{}", reply.json());
+    assert_eq!(reply.json()["status"], "cancelled");
+    for n in [&three, &again] {
+        let run = n.get(&path).await.json();
+        assert_eq!(run["status"], "cancelled");
+        let results = run["results"].as_array().unwrap();
+        assert!(results.iter().any(Value::is_null) && results.iter().any(|r| !r.is_null()), "{run}");
+        assert_eq!(counted(&run).0, results.iter().filter(|r| !r.is_null()).count() as u64);
+    }
+    nothing_left_on_nats(&url).await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
