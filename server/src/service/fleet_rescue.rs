@@ -113,11 +113,11 @@ async fn adopt(db: &db::Db, runs: &Runs, remote: &Remote, id: &str, from: Option
         .filter(|job| lost.contains(&job.index))
         .collect();
     let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
-    let progress = fleet_runs::progress_of(id, "running", &names, &results);
-    let Some(adopted) = runs.adopt(id, progress) else { return Err("the service stops".into()) };
     if row.status == "queued" {
         db::start_fleet_run(db, id).await.map_err(|e| format!("cannot store its start: {e}"))?;
     }
+    let progress = fleet_runs::progress_of(id, "running", &names, &results);
+    let Some(adopted) = runs.adopt(id, progress) else { return Err("the service stops".into()) };
     tracing::info!(
         %id,
         from = from.unwrap_or("none"),
