@@ -1,29 +1,33 @@
 //! The distributed fleet over NATS JetStream (`docs/fleet.md`, "Over NATS"): a fleet run split
 //! into one job per machine on a work queue, run by every `fivex serve --nats` node, the results
-//! coming back on the run's subject.
+//! kept on a stream of their own until the run is over.
 //!
 //! - Stream [`STREAM`] on `fivex.fleet.jobs.>`, work-queue retention; a job is published on
 //!   `fivex.fleet.jobs.{run}.{index}` as a JSON [`Job`].
 //! - One durable pull consumer [`CONSUMER`] shared by the nodes, explicit acks, [`ACK_WAIT`]: a
-//!   job is acked only after its result is published, so a node that dies mid-job leaves it
+//!   job is acked only after its result is stored, so a node that dies mid-job leaves it
 //!   unacked and JetStream hands it to another node once the ack wait has passed. A node sends
 //!   an in-progress ack every [`HEARTBEAT`] while it runs a job.
-//! - Replies ([`Reply`]) on `fivex.fleet.runs.{run}.running` (a job started, and every
-//!   [`HEARTBEAT`] while it runs) and `fivex.fleet.runs.{run}.results`; the submitter subscribes
-//!   before it publishes and keeps the first result of each machine (a redelivered job's second
-//!   result is ignored).
-//! - Nodes say they are alive on [`NODES`] every [`HEARTBEAT`]: the submitter gives up when it
+//! - Results ([`Reply`]) on the stream [`RESULTS_STREAM`], `fivex.fleet.results.{run}.{index}`
+//!   (one message per subject): they outlive the node collecting them, so another node can
+//!   take a run over and read them from the start ([`Collection`]: an ordered consumer of the
+//!   run's results, which keeps the first of each machine). A job under way says so on the core
+//!   subject `fivex.fleet.runs.{run}.running` when it starts and every [`HEARTBEAT`].
+//! - Nodes say they are alive on [`NODES`] every [`HEARTBEAT`]: a collection gives up when it
 //!   has heard neither a node nor a result for its idle time.
-//! - Cancel: the submitter purges the run's jobs from the stream (no waiting job runs) and
+//! - Cancel: the collector purges the run's jobs from the stream (no waiting job runs) and
 //!   publishes the run id on [`CANCEL`]: the nodes stop the run's jobs under way before their next
-//!   block and skip any of its jobs they still get.
+//!   block and skip any of its jobs they still get; the run's collector, wherever it is, stops.
+//! - A run over has its results purged ([`clean`]).
 
 use std::collections::{BTreeMap, HashMap, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use async_nats::jetstream::{self, consumer::pull, consumer::AckPolicy, stream, AckKind};
+use async_nats::jetstream::consumer::{pull, push, AckPolicy, DeliverPolicy};
+use async_nats::jetstream::stream::LastRawMessageErrorKind;
+use async_nats::jetstream::{self, kv, stream, AckKind};
 use bytes::Bytes;
 use fivex_engine::Dialect;
 use futures_util::StreamExt;
@@ -49,9 +53,24 @@ pub const CANCEL: &str = "fivex.fleet.cancel";
 pub const NODES: &str = "fivex.fleet.nodes";
 /// Default: give up a run when neither a result nor a node was heard for this long.
 pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
+/// The stream of the results (`fivex.fleet.results.{run}.{index}`).
+pub const RESULTS_STREAM: &str = "FIVEX_FLEET_RESULTS";
+/// The prefix of the result subjects.
+pub const RESULTS: &str = "fivex.fleet.results";
+/// How long a result stays on [`RESULTS_STREAM`] at most: a run over purges its own at once;
+/// this bounds what runs nobody ended leave (a `fivex fleet --nats` killed).
+pub const RESULTS_MAX_AGE: Duration = Duration::from_secs(24 * 3600);
 
-fn run_subjects(run: &str) -> String {
-    format!("fivex.fleet.runs.{run}.*")
+fn result_subject(run: &str, index: usize) -> String {
+    format!("{RESULTS}.{run}.{index}")
+}
+
+fn job_subject(run: &str, index: usize) -> String {
+    format!("{JOBS}.{run}.{index}")
+}
+
+fn running_subject(run: &str) -> String {
+    format!("fivex.fleet.runs.{run}.running")
 }
 
 /// Where a job's machine comes from: the node builds it as the submitter did (`fleet::preset`,
@@ -66,6 +85,22 @@ pub enum Source {
 }
 
 impl Source {
+    /// The machines of a fleet request that can be sent, in the request's order (`POST
+    /// /fleet/runs`, and a node taking a stored run over): presets, machine documents (as JSON
+    /// text), library machines (`"*"`: the whole library, in name order).
+    pub fn requested(presets: &[String], machines: &[Value], library: &[String]) -> Vec<Source> {
+        let mut sources: Vec<Source> = presets.iter().cloned().map(Source::Preset).collect();
+        sources.extend(machines.iter().map(|m| Source::Document(m.to_string())));
+        for name in library {
+            if name == "*" {
+                sources.extend(fleet::LIBRARY.iter().map(|(n, _)| Source::Library(n.to_string())));
+            } else {
+                sources.push(Source::Library(name.clone()));
+            }
+        }
+        sources
+    }
+
     /// The machine, as `fivex fleet` and `POST /fleet/runs` build it.
     pub fn entry(&self, dialect: Dialect) -> Result<Entry, String> {
         match self {
@@ -129,12 +164,15 @@ pub struct Reply {
     pub error: Option<String>,
 }
 
-/// A connection to NATS with the fleet's stream made sure of.
+/// A connection to NATS with the fleet's streams made sure of.
 #[derive(Clone, Debug)]
 pub struct Nats {
     client: async_nats::Client,
     js: jetstream::Context,
+    /// The jobs ([`STREAM`]).
     stream: jetstream::stream::Stream,
+    /// The results ([`RESULTS_STREAM`]).
+    results: jetstream::stream::Stream,
 }
 
 impl Nats {
@@ -149,7 +187,7 @@ impl Nats {
     }
 }
 
-/// Connects to `url` and makes sure the fleet stream exists.
+/// Connects to `url` and makes sure the fleet's streams exist.
 pub async fn connect(url: &str) -> Result<Nats, String> {
     let client = async_nats::connect(url).await.map_err(|e| format!("cannot connect to NATS at {url}: {e}"))?;
     let js = jetstream::new(client.clone());
@@ -165,7 +203,45 @@ pub async fn connect(url: &str) -> Result<Nats, String> {
     let stream = js.get_or_create_stream(config).await.map_err(|e| {
         format!("NATS at {url}: cannot create the stream {STREAM} (is JetStream on, `nats-server -js`?): {e}")
     })?;
-    Ok(Nats { client, js, stream })
+    let config = stream::Config {
+        name: RESULTS_STREAM.into(),
+        subjects: vec![format!("{RESULTS}.>")],
+        retention: stream::RetentionPolicy::Limits,
+        storage: stream::StorageType::File,
+        // One result per machine: a redelivered job's result replaces its first (the same, bit
+        // for bit), so a run holds at most one message per machine.
+        max_messages_per_subject: 1,
+        discard: stream::DiscardPolicy::Old,
+        max_age: RESULTS_MAX_AGE,
+        ..Default::default()
+    };
+    let results = js
+        .get_or_create_stream(config)
+        .await
+        .map_err(|e| format!("NATS at {url}: cannot create the stream {RESULTS_STREAM}: {e}"))?;
+    Ok(Nats { client, js, stream, results })
+}
+
+/// The JetStream key-value bucket `name` (entries living `max_age`, zero: for ever), made sure
+/// of: its stream made here as `create_key_value` would (that call reads the account first,
+/// which fails on nats-server 2.9, Debian's): one value per key, deletes as markers.
+pub async fn key_value(js: &jetstream::Context, name: &str, max_age: Duration) -> Result<kv::Store, String> {
+    let config = stream::Config {
+        name: format!("KV_{name}"),
+        subjects: vec![format!("$KV.{name}.>")],
+        max_messages_per_subject: 1,
+        max_age,
+        max_message_size: -1,
+        max_bytes: -1,
+        allow_rollup: true,
+        deny_delete: true,
+        allow_direct: true,
+        num_replicas: 1,
+        discard: stream::DiscardPolicy::New,
+        ..Default::default()
+    };
+    js.get_or_create_stream(config).await.map_err(|e| format!("NATS: cannot create the bucket {name}: {e}"))?;
+    js.get_key_value(name).await.map_err(|e| format!("NATS: cannot open the bucket {name}: {e}"))
 }
 
 /// How a distributed run ended.
@@ -173,16 +249,36 @@ pub async fn connect(url: &str) -> Result<Nats, String> {
 pub enum Outcome {
     /// Every machine has its result.
     Done,
-    /// Stopped by the caller with this reason (`cancelled`, `interrupted`).
+    /// Stopped by the caller with this reason (`cancelled`, `interrupted`), or `cancelled` from
+    /// any node ([`CANCEL`]).
     Stopped(&'static str),
     /// Gave up: the message says why (no node heard from, NATS failing, a job refused).
     Failed(String),
 }
 
-/// Publishes `jobs` (one run, in machine order, named `names`) and collects their results,
-/// reporting as `fleet::run_fleet` does; stops when `stop` holds a reason (then the run's
-/// waiting jobs are purged and its running ones cancelled), or when nothing was heard from a node
-/// for `idle`. The results in machine order, `None` for each machine without one.
+/// What a [`Collection`] hears about a machine.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Heard {
+    /// Its job started on a node (said once).
+    Started(usize),
+    /// Its result (the first one).
+    Result(usize, Value),
+}
+
+/// The progress event of machine `index` named `machine` whose result is `result`.
+pub fn finished(index: usize, machine: String, result: &Value) -> Event {
+    let status = match result["status"].as_str() {
+        Some("completed") => "completed",
+        _ => "alarm",
+    };
+    Event::Finished { index, machine, status, cycle_time_s: result["cycle_time_s"].as_f64().unwrap_or(0.0) }
+}
+
+/// Publishes `jobs` (one run's, in machine order) and collects their results, reporting as
+/// `fleet::run_fleet` does; stops when `stop` holds a reason (then the run's waiting jobs are
+/// purged and its running ones cancelled), or when nothing was heard from a node for `idle`.
+/// The run's results are purged from the stream at the end. The results in machine order,
+/// `None` for each machine without one.
 pub async fn run(
     nats: &Nats,
     jobs: Vec<Job>,
@@ -194,105 +290,232 @@ pub async fn run(
     let total = jobs.len();
     let mut results: Vec<Option<Value>> = vec![None; total];
     let Some(run) = jobs.first().map(|j| j.run.clone()) else { return (Outcome::Done, results) };
-    let outcome = collect(nats, &run, jobs, names, idle, &mut stop, progress, &mut results).await;
+    let name = |i: usize| names.get(i).cloned().unwrap_or_default();
+    let outcome = match Collection::open(nats, &run, names.to_vec(), vec![false; total], idle).await {
+        Err(e) => Outcome::Failed(e),
+        Ok(mut collection) => {
+            let outcome = match publish(nats, &jobs).await {
+                Err(e) => Outcome::Failed(e),
+                Ok(()) => loop {
+                    match collection.next(&mut stop).await {
+                        Ok(Heard::Started(index)) => progress(Event::Started { index, machine: name(index) }),
+                        Ok(Heard::Result(index, result)) => {
+                            progress(finished(index, name(index), &result));
+                            results[index] = Some(result);
+                        }
+                        Err(outcome) => break outcome,
+                    }
+                },
+            };
+            collection.close(nats).await;
+            outcome
+        }
+    };
     if outcome != Outcome::Done {
-        forget(nats, &run).await;
+        withdraw(nats, &run).await;
     }
+    clean(nats, &run).await;
     (outcome, results)
 }
 
-#[allow(clippy::too_many_arguments)]
-async fn collect(
-    nats: &Nats,
-    run: &str,
-    jobs: Vec<Job>,
-    names: &[String],
+/// Publishes `jobs` (one run's) on the work queue, each stored before the next goes.
+pub async fn publish(nats: &Nats, jobs: &[Job]) -> Result<(), String> {
+    for job in jobs {
+        let payload = serde_json::to_vec(job).map_err(|e| format!("NATS: cannot write a job: {e}"))?;
+        let ack = nats
+            .js
+            .publish(job_subject(&job.run, job.index), Bytes::from(payload))
+            .await
+            .map_err(|e| format!("NATS: cannot publish a job: {e}"))?;
+        ack.await.map_err(|e| format!("NATS: a job was not stored: {e}"))?;
+    }
+    Ok(())
+}
+
+/// Of the machines `indices` of run `run`, those with neither a job on the queue (waiting, or
+/// under way on a node) nor a stored result: their jobs were lost (the submitting node died
+/// before it had published them all) and must be published again.
+pub async fn lost_jobs(nats: &Nats, run: &str, indices: &[usize]) -> Result<Vec<usize>, String> {
+    // The queue first: a job gone from it was acked, which a node does only once its result is
+    // stored, so the result looked for afterwards is there.
+    let mut gone = Vec::new();
+    for &index in indices {
+        if !has_message(&nats.stream, &job_subject(run, index)).await? {
+            gone.push(index);
+        }
+    }
+    let mut lost = Vec::new();
+    for index in gone {
+        if !has_message(&nats.results, &result_subject(run, index)).await? {
+            lost.push(index);
+        }
+    }
+    Ok(lost)
+}
+
+async fn has_message(stream: &jetstream::stream::Stream, subject: &str) -> Result<bool, String> {
+    match stream.get_last_raw_message_by_subject(subject).await {
+        Ok(_) => Ok(true),
+        Err(e) if e.kind() == LastRawMessageErrorKind::NoMessageFound => Ok(false),
+        Err(e) => Err(format!("NATS: cannot read {subject}: {e}")),
+    }
+}
+
+/// The results of one run as they come, read from the start of the results stream (so what was
+/// computed before the collection opened, the case of a run taken over, comes first): the first
+/// result of each machine not known already, the jobs starting, the run's cancel from any node,
+/// and the nodes' being alive.
+pub struct Collection {
+    run: String,
+    names: Vec<String>,
+    /// Whether each machine's result is known (heard, or known before).
+    have: Vec<bool>,
+    started: Vec<bool>,
+    /// Machines without a result.
+    left: usize,
+    results: push::Ordered,
+    /// The consumer's name: deleted when the collection closes.
+    consumer: String,
+    beats: async_nats::Subscriber,
+    nodes: async_nats::Subscriber,
+    cancels: async_nats::Subscriber,
     idle: Duration,
-    stop: &mut watch::Receiver<Option<&'static str>>,
-    progress: &(dyn Fn(Event) + Sync),
-    results: &mut [Option<Value>],
-) -> Outcome {
-    let failed = |what: &str, e: &dyn std::fmt::Display| Outcome::Failed(format!("NATS: {what}: {e}"));
-    // Subscribed before the jobs go out (the same connection: the server has the subscription
-    // before it stores the first job), so no reply is missed.
-    let mut replies = match nats.client.subscribe(run_subjects(run)).await {
-        Ok(s) => s,
-        Err(e) => return failed("cannot subscribe to the run's subjects", &e),
-    };
-    let mut nodes = match nats.client.subscribe(NODES).await {
-        Ok(s) => s,
-        Err(e) => return failed("cannot subscribe to the nodes' subject", &e),
-    };
-    for job in &jobs {
-        let payload = match serde_json::to_vec(job) {
-            Ok(p) => p,
-            Err(e) => return failed("cannot write a job", &e),
+    deadline: tokio::time::Instant,
+}
+
+impl Collection {
+    /// Opens the collection of run `run`, whose machines are `names`; `have[i]`: machine `i`'s
+    /// result is known already (it is not heard again).
+    pub async fn open(
+        nats: &Nats,
+        run: &str,
+        names: Vec<String>,
+        have: Vec<bool>,
+        idle: Duration,
+    ) -> Result<Collection, String> {
+        let subscribe = |subject: String| async move {
+            nats.client
+                .subscribe(subject.clone())
+                .await
+                .map_err(|e| format!("NATS: cannot subscribe to {subject}: {e}"))
         };
-        let subject = format!("{JOBS}.{run}.{}", job.index);
-        let ack = match nats.js.publish(subject, Bytes::from(payload)).await {
-            Ok(ack) => ack,
-            Err(e) => return failed("cannot publish a job", &e),
+        let beats = subscribe(running_subject(run)).await?;
+        let nodes = subscribe(NODES.into()).await?;
+        let cancels = subscribe(CANCEL.into()).await?;
+        let config = push::OrderedConfig {
+            deliver_subject: nats.client.new_inbox(),
+            filter_subject: format!("{RESULTS}.{run}.>"),
+            deliver_policy: DeliverPolicy::All,
+            ..Default::default()
         };
-        if let Err(e) = ack.await {
-            return failed("a job was not stored", &e);
-        }
+        let consumer = nats
+            .results
+            .create_consumer(config)
+            .await
+            .map_err(|e| format!("NATS: cannot read the results of run {run}: {e}"))?;
+        let name = consumer.cached_info().name.clone();
+        let results =
+            consumer.messages().await.map_err(|e| format!("NATS: cannot read the results of run {run}: {e}"))?;
+        Ok(Collection {
+            run: run.to_owned(),
+            names,
+            left: have.iter().filter(|h| !**h).count(),
+            started: vec![false; have.len()],
+            have,
+            results,
+            consumer: name,
+            beats,
+            nodes,
+            cancels,
+            idle,
+            deadline: tokio::time::Instant::now() + idle,
+        })
     }
-    let name = |i: usize| names.get(i).cloned().unwrap_or_default();
-    let mut started = vec![false; results.len()];
-    let mut done = 0;
-    let mut deadline = tokio::time::Instant::now() + idle;
-    while done < results.len() {
-        tokio::select! {
-            reply = replies.next() => {
-                let Some(message) = reply else { return Outcome::Failed("NATS: the connection closed".into()) };
-                deadline = tokio::time::Instant::now() + idle;
-                let reply: Reply = match serde_json::from_slice(&message.payload) {
-                    Ok(r) => r,
-                    Err(e) => {
-                        tracing::warn!(subject = %message.subject, error = %e, "fleet reply is not a reply: ignored");
-                        continue;
-                    }
-                };
-                let index = reply.index;
-                if index >= results.len() || results[index].is_some() {
-                    continue; // not of this run, or a redelivered job's second result
-                }
-                if let Some(e) = reply.error {
-                    return Outcome::Failed(format!("machine {index} ({}): a node refused it: {e}", name(index)));
-                }
-                if let Some(result) = reply.result {
-                    let status = match result["status"].as_str() {
-                        Some("completed") => "completed",
-                        _ => "alarm",
+
+    /// The next thing heard; `Err` once the collection is over: every result in
+    /// ([`Outcome::Done`]), `stop` holding a reason, the run cancelled from any node, a job
+    /// refused by a node, nothing heard from a node for the idle time.
+    pub async fn next(&mut self, stop: &mut watch::Receiver<Option<&'static str>>) -> Result<Heard, Outcome> {
+        loop {
+            if self.left == 0 {
+                return Err(Outcome::Done);
+            }
+            tokio::select! {
+                message = self.results.next() => {
+                    let message = match message {
+                        Some(Ok(m)) => m,
+                        Some(Err(e)) => {
+                            // The ordered consumer makes itself again from where it was.
+                            tracing::warn!(run = %self.run, error = %e, "fleet results: reading again");
+                            continue;
+                        }
+                        None => return Err(Outcome::Failed("NATS: the results' consumer ended".into())),
                     };
-                    let cycle_time_s = result["cycle_time_s"].as_f64().unwrap_or(0.0);
-                    results[index] = Some(result);
-                    done += 1;
-                    progress(Event::Finished { index, machine: name(index), status, cycle_time_s });
-                } else if !started[index] {
-                    started[index] = true;
-                    progress(Event::Started { index, machine: name(index) });
+                    self.deadline = tokio::time::Instant::now() + self.idle;
+                    let reply: Reply = match serde_json::from_slice(&message.payload) {
+                        Ok(r) => r,
+                        Err(e) => {
+                            tracing::warn!(subject = %message.subject, error = %e, "fleet reply is not a reply: ignored");
+                            continue;
+                        }
+                    };
+                    let index = reply.index;
+                    if index >= self.have.len() || self.have[index] {
+                        continue; // not of this run, or known already
+                    }
+                    if let Some(e) = reply.error {
+                        let name = self.names.get(index).map_or("", String::as_str);
+                        return Err(Outcome::Failed(format!("machine {index} ({name}): a node refused it: {e}")));
+                    }
+                    if let Some(result) = reply.result {
+                        self.have[index] = true;
+                        self.left -= 1;
+                        return Ok(Heard::Result(index, result));
+                    }
                 }
-            }
-            Some(_) = nodes.next() => deadline = tokio::time::Instant::now() + idle,
-            _ = tokio::time::sleep_until(deadline) => {
-                return Outcome::Failed(format!(
-                    "no fleet node heard from for {} s: is a `fivex serve --nats` node running on this NATS server?",
-                    idle.as_secs()
-                ));
-            }
-            why = stop.wait_for(Option::is_some) => {
-                let why = why.ok().and_then(|w| *w).unwrap_or("interrupted");
-                return Outcome::Stopped(why);
+                beat = self.beats.next() => {
+                    let Some(message) = beat else { return Err(Outcome::Failed("NATS: the connection closed".into())) };
+                    self.deadline = tokio::time::Instant::now() + self.idle;
+                    let Ok(Reply { index, .. }) = serde_json::from_slice(&message.payload) else { continue };
+                    if index < self.have.len() && !self.have[index] && !self.started[index] {
+                        self.started[index] = true;
+                        return Ok(Heard::Started(index));
+                    }
+                }
+                Some(_) = self.nodes.next() => self.deadline = tokio::time::Instant::now() + self.idle,
+                Some(cancel) = self.cancels.next() => {
+                    if cancel.payload.as_ref() == self.run.as_bytes() {
+                        return Err(Outcome::Stopped("cancelled"));
+                    }
+                }
+                _ = tokio::time::sleep_until(self.deadline) => {
+                    return Err(Outcome::Failed(format!(
+                        "no fleet node heard from for {} s: is a `fivex serve --nats` node running on this NATS server?",
+                        self.idle.as_secs()
+                    )));
+                }
+                why = stop.wait_for(Option::is_some) => {
+                    let why = why.ok().and_then(|w| *w).unwrap_or("interrupted");
+                    return Err(Outcome::Stopped(why));
+                }
             }
         }
     }
-    Outcome::Done
+
+    /// Ends the collection and deletes its consumer (the server would, 30 s after its reader
+    /// left).
+    pub async fn close(self, nats: &Nats) {
+        let Collection { results, consumer, run, .. } = self;
+        drop(results);
+        if let Err(e) = nats.results.delete_consumer(&consumer).await {
+            tracing::debug!(%run, error = %e, "fleet results' consumer not deleted");
+        }
+    }
 }
 
 /// A run that will not collect its results: its waiting jobs are purged, its running ones
 /// cancelled.
-async fn forget(nats: &Nats, run: &str) {
+pub async fn withdraw(nats: &Nats, run: &str) {
     if let Err(e) = nats.stream.purge().filter(format!("{JOBS}.{run}.>")).await {
         tracing::warn!(%run, error = %e, "fleet run's jobs not purged");
     }
@@ -300,6 +523,13 @@ async fn forget(nats: &Nats, run: &str) {
         tracing::warn!(%run, error = %e, "fleet run's cancel not published");
     }
     let _ = nats.client.flush().await;
+}
+
+/// A run over: its results leave the stream.
+pub async fn clean(nats: &Nats, run: &str) {
+    if let Err(e) = nats.results.purge().filter(format!("{RESULTS}.{run}.>")).await {
+        tracing::warn!(%run, error = %e, "fleet run's results not purged");
+    }
 }
 
 /// A node's share of the work: takes jobs, at most `jobs` at once.
@@ -414,7 +644,7 @@ pub async fn start_node(nats: &Nats, jobs: usize) -> Result<Node, String> {
         }
     });
     for _ in 0..jobs.max(1) {
-        let (consumer, client, node) = (consumer.clone(), nats.client.clone(), node.clone());
+        let (consumer, nats, node) = (consumer.clone(), nats.clone(), node.clone());
         tokio::spawn(async move {
             while !node.stopping() {
                 let batch = consumer.batch().max_messages(1).expires(HEARTBEAT).messages().await;
@@ -428,7 +658,7 @@ pub async fn start_node(nats: &Nats, jobs: usize) -> Result<Node, String> {
                 };
                 while let Some(message) = batch.next().await {
                     match message {
-                        Ok(m) => take(&node, &client, m).await,
+                        Ok(m) => take(&node, &nats, m).await,
                         Err(e) => tracing::debug!(error = %e, "fleet jobs: pull ended"),
                     }
                 }
@@ -440,7 +670,8 @@ pub async fn start_node(nats: &Nats, jobs: usize) -> Result<Node, String> {
 }
 
 /// Runs one job and answers it.
-async fn take(node: &Node, client: &async_nats::Client, message: jetstream::Message) {
+async fn take(node: &Node, nats: &Nats, message: jetstream::Message) {
+    let client = &nats.client;
     let job: Job = match serde_json::from_slice(&message.payload) {
         Ok(job) => job,
         Err(e) => {
@@ -451,12 +682,14 @@ async fn take(node: &Node, client: &async_nats::Client, message: jetstream::Mess
         }
     };
     let (run, index) = (job.run.clone(), job.index);
-    let reply_to = format!("fivex.fleet.runs.{run}.results");
+    let reply_to = result_subject(&run, index);
+    // Stored on the results stream (its ack awaited) before the job is acked.
     let answer = |reply: Reply| {
         let to = reply_to.clone();
         async move {
-            match serde_json::to_vec(&reply) {
-                Ok(p) => client.publish(to, Bytes::from(p)).await.is_ok() && client.flush().await.is_ok(),
+            let Ok(payload) = serde_json::to_vec(&reply) else { return false };
+            match nats.js.publish(to, Bytes::from(payload)).await {
+                Ok(ack) => ack.await.is_ok(),
                 Err(_) => false,
             }
         }
@@ -489,7 +722,7 @@ async fn take(node: &Node, client: &async_nats::Client, message: jetstream::Mess
     let program = job.program;
     let machine = entry.name.clone();
     tracing::info!(%run, index, %machine, "fleet job started");
-    let running = format!("fivex.fleet.runs.{run}.running");
+    let running = running_subject(&run);
     let beat = Bytes::from(format!("{{\"index\":{index}}}"));
     let _ = client.publish(running.clone(), beat.clone()).await;
     let mut task = tokio::task::spawn_blocking(move || fleet::run_one(&program, &entry, &opts));

@@ -877,7 +877,10 @@ pub async fn start_fleet_run(db: &Db, id: &str) -> Result<(), sqlx::Error> {
 }
 
 /// A fleet run that is over (`status`: `done`, `cancelled` or `interrupted`), with its results
-/// (`null` for a machine that did not finish).
+/// (`null` for a machine that did not finish); its results recorded one by one
+/// ([`record_fleet_result`]) leave. Only a run still `queued` or `running` is changed (of two
+/// nodes collecting the same run, one cut off meanwhile, the first to end it is kept):
+/// whether it was.
 pub async fn finish_fleet_run(
     db: &Db,
     id: &str,
@@ -886,10 +889,11 @@ pub async fn finish_fleet_run(
     completed: u32,
     alarms: u32,
     results_json: &str,
-) -> Result<(), sqlx::Error> {
-    sqlx::query(
+) -> Result<bool, sqlx::Error> {
+    let mut tx = db.begin_write().await?;
+    let changed = sqlx::query(
         "UPDATE fleet_runs SET status = $1, finished_at = $2, completed = $3, alarms = $4, results_json = $5 \
-         WHERE id = $6",
+         WHERE id = $6 AND status IN ('queued', 'running')",
     )
     .bind(status)
     .bind(finished_at)
@@ -897,17 +901,71 @@ pub async fn finish_fleet_run(
     .bind(alarms as i64)
     .bind(results_json)
     .bind(id)
-    .execute(db.writes())
-    .await?;
-    Ok(())
+    .execute(&mut *tx)
+    .await?
+    .rows_affected()
+        == 1;
+    sqlx::query("DELETE FROM fleet_run_results WHERE run_id = $1").bind(id).execute(&mut *tx).await?;
+    tx.commit().await?;
+    Ok(changed)
 }
 
-/// Runs left `queued` or `running` by a service that stopped become `interrupted`.
-pub async fn interrupt_fleet_runs(db: &Db) -> Result<(), sqlx::Error> {
-    sqlx::query("UPDATE fleet_runs SET status = 'interrupted' WHERE status IN ('queued', 'running')")
-        .execute(db.writes())
+/// Machine `index`'s result of fleet run `id` under way (over NATS), as its collecting node hears
+/// it, and the run's `completed` or `alarms` one more. Idempotent: a result recorded already (a
+/// node taking the run over reads the results again), or one of a run that is over, changes
+/// nothing (`false`).
+pub async fn record_fleet_result(
+    db: &Db,
+    id: &str,
+    index: usize,
+    result_json: &str,
+    completed: bool,
+) -> Result<bool, sqlx::Error> {
+    let counter = if completed {
+        "UPDATE fleet_runs SET completed = completed + 1 WHERE id = $1 AND status IN ('queued', 'running')"
+    } else {
+        "UPDATE fleet_runs SET alarms = alarms + 1 WHERE id = $1 AND status IN ('queued', 'running')"
+    };
+    let mut tx = db.begin_write().await?;
+    // The run's row first: on PostgreSQL its lock orders this with the run's end and with another
+    // node recording the same result (which then finds it there and takes its count back).
+    if sqlx::query(counter).bind(id).execute(&mut *tx).await?.rows_affected() != 1 {
+        return Ok(false);
+    }
+    let recorded = sqlx::query(
+        "INSERT INTO fleet_run_results (run_id, idx, result_json) VALUES ($1, $2, $3) \
+         ON CONFLICT (run_id, idx) DO NOTHING",
+    )
+    .bind(id)
+    .bind(index as i64)
+    .bind(result_json)
+    .execute(&mut *tx)
+    .await?
+    .rows_affected()
+        == 1;
+    if recorded {
+        tx.commit().await?;
+    } else {
+        tx.rollback().await?;
+    }
+    Ok(recorded)
+}
+
+/// The results recorded so far of fleet run `id` under way, by machine index.
+pub async fn fleet_run_results(db: &Db, id: &str) -> Result<Vec<(usize, String)>, sqlx::Error> {
+    let rows = sqlx::query("SELECT idx, result_json FROM fleet_run_results WHERE run_id = $1 ORDER BY idx")
+        .bind(id)
+        .fetch_all(db.reads())
         .await?;
-    Ok(())
+    rows.iter().map(|r| Ok((r.try_get::<i64, _>("idx")? as usize, r.try_get("result_json")?))).collect()
+}
+
+/// The ids of the fleet runs `queued` or `running`.
+pub async fn unfinished_fleet_runs(db: &Db) -> Result<Vec<String>, sqlx::Error> {
+    let rows = sqlx::query("SELECT id FROM fleet_runs WHERE status IN ('queued', 'running') ORDER BY rowid")
+        .fetch_all(db.reads())
+        .await?;
+    rows.iter().map(|r| r.try_get("id")).collect()
 }
 
 fn fleet_run_row(r: &AnyRow, full: bool) -> Result<FleetRunRow, sqlx::Error> {

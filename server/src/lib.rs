@@ -7,6 +7,7 @@ pub mod cluster;
 pub mod content_type;
 pub mod db;
 pub mod fleet;
+pub mod fleet_lease;
 pub mod host;
 pub mod http;
 pub mod json_errors;

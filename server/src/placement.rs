@@ -121,7 +121,7 @@ struct Inner {
     /// Controllers seen in the database without a placement at the last reconcile.
     unplaced: Mutex<HashSet<String>>,
     /// The members seen at the last reconcile.
-    members: Mutex<Vec<String>>,
+    members: tokio::sync::watch::Sender<Vec<String>>,
     /// Set once the node leaves: it claims nothing more.
     leaving: std::sync::atomic::AtomicBool,
     /// The placement bucket in memory, kept current by a watch.
@@ -136,27 +136,6 @@ impl std::fmt::Debug for Cluster {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Cluster").field("name", &self.inner.name).finish()
     }
-}
-
-async fn bucket(js: &async_nats::jetstream::Context, name: &str, max_age: Duration) -> Result<kv::Store, String> {
-    // The bucket's stream made here as `create_key_value` would (it reads the account first,
-    // which fails on nats-server 2.9, Debian's): one value per key, deletes as markers.
-    let config = async_nats::jetstream::stream::Config {
-        name: format!("KV_{name}"),
-        subjects: vec![format!("$KV.{name}.>")],
-        max_messages_per_subject: 1,
-        max_age,
-        max_message_size: -1,
-        max_bytes: -1,
-        allow_rollup: true,
-        deny_delete: true,
-        allow_direct: true,
-        num_replicas: 1,
-        discard: async_nats::jetstream::stream::DiscardPolicy::New,
-        ..Default::default()
-    };
-    js.get_or_create_stream(config).await.map_err(|e| format!("NATS: cannot create the bucket {name}: {e}"))?;
-    js.get_key_value(name).await.map_err(|e| format!("NATS: cannot open the bucket {name}: {e}"))
 }
 
 /// What a reconcile saw: the members, the stored controllers, their placements.
@@ -174,8 +153,8 @@ impl Cluster {
             return Err(format!("--node {name:?}: a node name has 1 to 64 of A-Z a-z 0-9 _ -"));
         }
         let js = nats.jetstream();
-        let nodes = bucket(js, NODES_BUCKET, LEASE).await?;
-        let placement = bucket(js, PLACEMENT_BUCKET, Duration::ZERO).await?;
+        let nodes = crate::cluster::key_value(js, NODES_BUCKET, LEASE).await?;
+        let placement = crate::cluster::key_value(js, PLACEMENT_BUCKET, Duration::ZERO).await?;
         let started = Bytes::from(crate::host::now_rfc3339());
         if nodes.create(name, started).await.is_err() {
             return Err(format!(
@@ -192,7 +171,7 @@ impl Cluster {
                 nodes,
                 placement,
                 unplaced: Mutex::default(),
-                members: Mutex::new(vec![name.to_string()]),
+                members: tokio::sync::watch::channel(vec![name.to_string()]).0,
                 leaving: Default::default(),
                 view,
                 reads: AtomicU64::new(0),
@@ -208,14 +187,19 @@ impl Cluster {
 
     /// The members seen at the last beat, sorted.
     pub fn members(&self) -> Vec<String> {
-        lock(&self.inner.members).clone()
+        self.inner.members.borrow().clone()
+    }
+
+    /// The members seen at the last beat, as they change.
+    pub fn watch_members(&self) -> tokio::sync::watch::Receiver<Vec<String>> {
+        self.inner.members.subscribe()
     }
 
     /// Whether node `node` is a member: as seen at the last beat, or else (a node that joined
     /// since) its key read from [`NODES_BUCKET`] now, so a request for a controller of a node
     /// that has just joined is not refused for up to a beat.
     pub async fn is_member(&self, node: &str) -> bool {
-        if lock(&self.inner.members).iter().any(|m| m == node) {
+        if self.inner.members.borrow().iter().any(|m| m == node) {
             return true;
         }
         matches!(self.inner.nodes.get(node).await, Ok(Some(_)))
@@ -242,14 +226,14 @@ impl Cluster {
         // before is asked for directly (a read by key sees its last write) before it counts as
         // gone. Taking over a live node's controllers would reset them under it.
         let unlisted: Vec<String> =
-            lock(&self.inner.members).iter().filter(|n| !members.contains(n)).cloned().collect();
+            self.inner.members.borrow().iter().filter(|n| !members.contains(n)).cloned().collect();
         for node in unlisted {
             if matches!(self.inner.nodes.get(&node).await, Ok(Some(_))) {
                 members.push(node);
             }
         }
         members.sort();
-        *lock(&self.inner.members) = members.clone();
+        self.inner.members.send_replace(members.clone());
         Ok(members)
     }
 

@@ -176,6 +176,12 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
             }
             (None, _) => None,
         };
+        // A single node with --nats marks the runs its last process left under way interrupted
+        // (restoring): their jobs and results are withdrawn from NATS too.
+        let orphans = match (&nats, &cluster) {
+            (Some(_), None) => db::unfinished_fleet_runs(&pool).await.map_err(|e| format!("cannot read {db}: {e}"))?,
+            _ => Vec::new(),
+        };
         let state = match cluster.clone() {
             Some(cluster) => AppState::clustered(pool, workers, cluster).await,
             None => AppState::restore_with(pool, workers).await,
@@ -187,15 +193,26 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
             .with_fleet_jobs(options.fleet_jobs);
         let state = match (&options.nats, nats) {
             (Some(url), Some(nats)) => {
+                for id in &orphans {
+                    crate::cluster::withdraw(&nats, id).await;
+                    crate::cluster::clean(&nats, id).await;
+                }
                 let jobs = options.nats_jobs.unwrap_or_else(crate::fleet::default_jobs).max(1);
                 let node = crate::cluster::start_node(&nats, jobs).await?;
+                // On a cluster, runs outlive their node (`crate::fleet_lease`).
+                let leases = match &cluster {
+                    Some(c) => Some(crate::fleet_lease::Leases::open(&nats, c.name(), c.watch_members()).await?),
+                    None => None,
+                };
                 tracing::info!(nats = %url, jobs, "fleet runs go to the cluster");
-                state.with_fleet_remote(crate::service::fleet_runs::Remote { nats, node, idle: options.nats_idle })
+                let remote = crate::service::fleet_runs::Remote { nats, node, idle: options.nats_idle, leases };
+                state.with_fleet_remote(remote)
             }
             _ => state,
         };
         if let Some(cluster) = &cluster {
             cluster.start(state.clone(), app(state.clone())).await?;
+            crate::service::fleet_rescue::start(state.db.clone(), state.fleet_runs.clone());
             tracing::info!(node = cluster.name(), members = ?cluster.members(), controllers = state.host.len(), "joined the cluster of controller hosts");
         }
         tracing::info!(db = %db, workers, token = state.token().is_some(), "database ready");

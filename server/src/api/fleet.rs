@@ -144,25 +144,20 @@ fn bad(why: impl Into<String>) -> ApiError {
 /// where each comes from, for a run over NATS (none for the controllers).
 fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<(Vec<Entry>, Vec<Source>), ApiError> {
     let mut out = Vec::new();
-    let mut sources = Vec::new();
     for name in &r.presets {
         out.push(fleet::preset(name, dialect).map_err(bad)?);
-        sources.push(Source::Preset(name.clone()));
     }
     for (i, m) in r.machines.iter().enumerate() {
-        let text = m.to_string();
-        out.push(fleet::machine_file(&text, dialect).map_err(|e| bad(format!("machines[{i}]: {e}")))?);
-        sources.push(Source::Document(text));
+        out.push(fleet::machine_file(&m.to_string(), dialect).map_err(|e| bad(format!("machines[{i}]: {e}")))?);
     }
     for name in &r.library {
         if name == "*" {
             out.extend(fleet::whole_library(dialect).map_err(bad)?);
-            sources.extend(fleet::LIBRARY.iter().map(|(n, _)| Source::Library(n.to_string())));
         } else {
             out.push(fleet::library(name, dialect).map_err(bad)?);
-            sources.push(Source::Library(name.clone()));
         }
     }
+    let sources = Source::requested(&r.presets, &r.machines, &r.library);
     for id in &r.controllers {
         let hosted = state.host.get(id).ok_or_else(|| bad(format!("no controller {id}")))?;
         let station = hosted.station();
@@ -236,6 +231,10 @@ pub async fn create(
     match (ended.status, ended.error) {
         ("done", _) => Ok((StatusCode::OK, headers, Json(ended.results)).into_response()),
         ("cancelled", _) => Err(ApiError::Conflict(format!("fleet run {id} was cancelled"))),
+        ("running", error) => Err(ApiError::Unavailable(format!(
+            "fleet run {id}: {}",
+            error.as_deref().unwrap_or("no longer collected by this node")
+        ))),
         (_, Some(error)) => Err(ApiError::Unavailable(format!("fleet run {id} was interrupted: {error}"))),
         _ => Err(ApiError::Unavailable(format!("fleet run {id} was interrupted: the service is stopping"))),
     }
@@ -343,13 +342,8 @@ pub async fn stream(
 ) -> Result<Response, ApiError> {
     let id = path(id)?;
     let upgrade = super::stream::upgrade_small(upgrade);
-    match fleet_runs::follow(&state.db, &state.fleet_runs, &id).await? {
-        Ok(progress) => Ok(upgrade.on_upgrade(move |socket| session(socket, state, Some(progress), None))),
-        Err(row) => {
-            let last = stored_progress(&row);
-            Ok(upgrade.on_upgrade(move |socket| session(socket, state, None, Some(last))))
-        }
-    }
+    let progress = fleet_runs::follow(&state.db, &state.fleet_runs, &id).await?.ok();
+    Ok(upgrade.on_upgrade(move |socket| session(socket, state, id, progress)))
 }
 
 /// The machines' names in the order of a stored request (`entries`' order), for those a
@@ -370,22 +364,32 @@ fn requested_names(request_json: &str) -> Vec<String> {
     names
 }
 
-/// The final progress of a stored run.
-fn stored_progress(row: &FleetRunRow) -> Progress {
-    let results: Vec<Value> =
-        row.results_json.as_deref().and_then(|t| serde_json::from_str(t).ok()).unwrap_or_default();
+/// The progress of a stored run: final once it is over; under way (collected by another node
+/// of a cluster), from the results recorded so far.
+async fn stored_progress(state: &AppState, id: &str) -> Result<Progress, ApiError> {
+    let row = fleet_runs::get(&state.db, id).await?;
+    let total = row.machines as usize;
+    let under_way = matches!(row.status.as_str(), "queued" | "running");
+    let results: Vec<Value> = if under_way {
+        let recorded = fleet_runs::recorded(&state.db, id, total).await.map_err(crate::service::ServiceError::from)?;
+        recorded.into_iter().map(|r| r.unwrap_or(Value::Null)).collect()
+    } else {
+        row.results_json.as_deref().and_then(|t| serde_json::from_str(t).ok()).unwrap_or_default()
+    };
     let names = requested_names(&row.request_json);
-    Progress {
+    Ok(Progress {
         kind: "progress",
         id: row.id.clone(),
         status: match row.status.as_str() {
+            "queued" => "queued",
+            "running" => "running",
             "done" => "done",
             "cancelled" => "cancelled",
             _ => "interrupted",
         },
-        total: row.machines as usize,
+        total,
         done: results.iter().filter(|r| !r.is_null()).count(),
-        finished: true,
+        finished: !under_way,
         machines: results
             .iter()
             .enumerate()
@@ -395,6 +399,7 @@ fn stored_progress(row: &FleetRunRow) -> Progress {
                     None => names.get(i).cloned().unwrap_or_default(),
                 },
                 state: match &r["status"] {
+                    Value::Null if under_way => "queued",
                     Value::Null => "cancelled",
                     s if s == "completed" => "completed",
                     _ => "alarm",
@@ -402,38 +407,59 @@ fn stored_progress(row: &FleetRunRow) -> Progress {
                 cycle_time_s: r["cycle_time_s"].as_f64(),
             })
             .collect(),
-    }
+    })
 }
 
-async fn session(socket: WebSocket, state: AppState, rx: Option<watch::Receiver<Progress>>, last: Option<Progress>) {
+/// How often the progress of a run collected by another node is read again.
+const STORED_POLL: std::time::Duration = std::time::Duration::from_secs(1);
+
+/// The progress websocket: from the run's own progress while this node runs or collects it,
+/// else (and once this node hands it over) from the database, read every [`STORED_POLL`]
+/// until the run is over.
+async fn session(socket: WebSocket, state: AppState, id: String, rx: Option<watch::Receiver<Progress>>) {
     let _counted = state.metrics.subscriber(crate::metrics::Stream::FleetRun);
     let (mut tx, _) = socket.split();
     let text = |p: &Progress| Ws::Text(Utf8Bytes::from(serde_json::to_string(p).unwrap_or_default()));
     let mut closing = state.closing();
+    let mut sent: Option<Progress> = None;
     if let Some(mut rx) = rx {
         loop {
             let p = rx.borrow_and_update().clone();
             if tx.send(text(&p)).await.is_err() {
                 return;
             }
-            if p.finished {
+            let finished = p.finished;
+            sent = Some(p);
+            if finished {
                 break;
             }
             tokio::select! {
                 changed = rx.changed() => if changed.is_err() {
-                    // The run's sender is gone: send its final state if not sent yet.
+                    // The run's sender is gone: its final state (if not sent yet), or, handed
+                    // over to another node, on from the database below.
                     let p = rx.borrow().clone();
                     if p.finished {
                         let _ = tx.send(text(&p)).await;
+                        sent = Some(p);
                     }
                     break;
                 },
                 _ = closing.changed() => break,
             }
         }
-    } else if let Some(p) = last {
-        if tx.send(text(&p)).await.is_err() {
-            return;
+    }
+    while !sent.as_ref().is_some_and(|p| p.finished) && !state.is_closing() {
+        let Ok(p) = stored_progress(&state, &id).await else { break };
+        if sent.as_ref() != Some(&p) {
+            if tx.send(text(&p)).await.is_err() {
+                return;
+            }
+            sent = Some(p);
+            continue;
+        }
+        tokio::select! {
+            _ = tokio::time::sleep(STORED_POLL) => {}
+            _ = closing.changed() => break,
         }
     }
     let _ = tx.send(Ws::Close(Some(CloseFrame { code: 1000, reason: Utf8Bytes::from_static("fleet run over") }))).await;

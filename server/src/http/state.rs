@@ -96,7 +96,8 @@ impl AppState {
         let host = Host::new(workers, records);
         // A single node marks the fleet runs its last process left under way as interrupted
         // (in `restore`); a node of a cluster does not: on the shared database they may be
-        // other nodes' runs, under way.
+        // other nodes' runs, under way, and those whose node is gone are taken over
+        // (`service::fleet_rescue`).
         if restore {
             service::controllers::restore(&db, &host).await?;
         }

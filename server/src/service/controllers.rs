@@ -152,7 +152,7 @@ pub async fn clone(db: &db::Db, host: &Host, source: &Hosted, name: &str) -> Res
 /// interrupted.
 pub async fn restore(db: &db::Db, host: &Host) -> Result<(), sqlx::Error> {
     let settings = db::controller_settings(db).await?;
-    db::interrupt_fleet_runs(db).await?;
+    super::fleet_runs::interrupt_unfinished(db).await?;
     for row in db::list_controllers(db).await? {
         if let Some(hosted) = load(db, row, &settings).await? {
             host.add(Arc::new(hosted));

@@ -1,7 +1,9 @@
 //! Fleet runs (`docs/fleet.md`): one program on many machines, queued for one of
 //! `--fleet-jobs` places, then on a blocking thread so the service keeps answering; stored in
 //! the database from queued to over; their progress in a `watch` per run; stopped by a cancel
-//! or the service's end.
+//! or the service's end. With `--nats` a run is sent to the cluster's work queue instead and its
+//! results collected (`crate::cluster`), each recorded as it comes; on a cluster with a shared
+//! database a run whose collector is gone is taken over by another node (`super::fleet_rescue`).
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -13,9 +15,10 @@ use tokio::sync::{watch, Semaphore};
 use utoipa::ToSchema;
 
 use super::ServiceError;
-use crate::cluster::{self, Source};
+use crate::cluster::{self, Heard, Job, Outcome, Source};
 use crate::db::{self, FleetRunRow};
 use crate::fleet::{self, Entry, Event, Options};
+use crate::fleet_lease::Leases;
 use crate::host::now_rfc3339;
 use serde_json::Value;
 
@@ -36,6 +39,9 @@ pub struct Runs {
     finished: Arc<[AtomicU64; 3]>,
     /// `--nats`: runs go to the cluster's work queue (`crate::cluster`), not to the places.
     remote: Option<Remote>,
+    /// Held while this node claims runs of other nodes (`super::fleet_rescue`, a cancel of a
+    /// run collected elsewhere), so it never takes one run over twice.
+    claims: Arc<tokio::sync::Mutex<()>>,
 }
 
 /// The cluster a node with `--nats` sends its runs to and takes jobs from.
@@ -46,7 +52,18 @@ pub struct Remote {
     pub node: cluster::Node,
     /// A run gives up when no node nor result was heard from for this long.
     pub idle: Duration,
+    /// On a cluster with a shared database (`crate::placement`): who collects each run, so a
+    /// run outlives its node (`super::fleet_rescue`). `None` (a SQLite node): a run lives and
+    /// dies with the node it was submitted to.
+    pub leases: Option<Leases>,
 }
+
+/// Why a run over NATS stops here without ending: this node stops cleanly and hands it over to
+/// the cluster (its collector key deleted).
+pub const HANDED_OVER: &str = "handed over";
+/// Why a run over NATS stops here without ending: another node claimed it (this node was cut
+/// off from NATS long enough to leave the cluster).
+pub const TAKEN: &str = "taken over by another node";
 
 /// How a run ends: the statuses of a run that is over.
 pub const FINISHED: [&str; 3] = ["done", "cancelled", "interrupted"];
@@ -65,6 +82,13 @@ pub struct Census {
     pub jobs_running: usize,
     /// Runs over since the service started, by status ([`FINISHED`]'s order).
     pub finished: [u64; 3],
+}
+
+/// A run added by [`Runs::adopt`]: where its progress and stop reason go.
+pub(super) struct Adopted {
+    pub(super) tx: watch::Sender<Progress>,
+    pub(super) stopped: Arc<watch::Sender<Option<&'static str>>>,
+    pub(super) cancel: Arc<AtomicBool>,
 }
 
 /// One run queued or under way: its progress and how to stop it.
@@ -93,6 +117,7 @@ impl Runs {
             jobs,
             finished: Default::default(),
             remote: None,
+            claims: Default::default(),
         }
     }
 
@@ -135,6 +160,41 @@ impl Runs {
         self.lock().0.get(id).cloned()
     }
 
+    /// Whether run `id` is queued or under way here.
+    pub(super) fn has(&self, id: &str) -> bool {
+        self.lock().0.contains_key(id)
+    }
+
+    /// The runs queued or under way here.
+    pub(super) fn ids(&self) -> Vec<String> {
+        self.lock().0.keys().cloned().collect()
+    }
+
+    /// Whether the service stops (no run is added).
+    pub(super) fn stopping(&self) -> bool {
+        self.lock().1
+    }
+
+    /// The cluster runs go to, with `--nats`.
+    pub(super) fn remote(&self) -> Option<&Remote> {
+        self.remote.as_ref()
+    }
+
+    /// Held while claiming runs of other nodes.
+    pub(super) fn claims(&self) -> &tokio::sync::Mutex<()> {
+        &self.claims
+    }
+
+    /// Adds run `id`, taken over from another node, with its progress: its progress sender
+    /// and stop reason, the engine's cancel flag; `None` once the service stops.
+    pub(super) fn adopt(&self, id: &str, progress: Progress) -> Option<Adopted> {
+        let (tx, rx) = watch::channel(progress);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let stopped = Arc::new(watch::channel(None).0);
+        let run = Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() };
+        self.put(id, run).then_some(Adopted { tx, stopped, cancel })
+    }
+
     /// Adds a run; `false` once the service stops.
     fn put(&self, id: &str, run: Run) -> bool {
         let mut runs = self.lock();
@@ -150,7 +210,7 @@ impl Runs {
     }
 
     /// Stop a run (the first reason given is kept); `None` if it is not queued or running.
-    fn stop(&self, id: &str, why: &'static str) -> Option<watch::Receiver<Progress>> {
+    pub(super) fn stop(&self, id: &str, why: &'static str) -> Option<watch::Receiver<Progress>> {
         let run = self.get(id)?;
         run.stopped.send_if_modified(|s| s.is_none() && s.replace(why).is_none());
         run.cancel.store(true, Ordering::Relaxed);
@@ -158,17 +218,23 @@ impl Runs {
     }
 
     /// Stop every run, recorded as `interrupted`, and take no new one (the service shuts down).
+    /// On a cluster with a shared database the runs over NATS are handed over instead: they go
+    /// on, collected by another node (or by this one once it is back).
     pub fn interrupt_all(&self) {
         let ids: Vec<String> = {
             let mut runs = self.lock();
             runs.1 = true;
             runs.0.keys().cloned().collect()
         };
+        let mut why = "interrupted";
         if let Some(remote) = &self.remote {
             remote.node.stop();
+            if remote.leases.is_some() {
+                why = HANDED_OVER;
+            }
         }
         for id in ids {
-            self.stop(&id, "interrupted");
+            self.stop(&id, why);
         }
     }
 
@@ -272,26 +338,28 @@ pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, Serv
         results_json: None,
     };
     let id = row.id.clone();
-    let progress = Progress {
-        kind: "progress",
-        id: id.clone(),
-        status: "queued",
-        total: entries.len(),
-        done: 0,
-        finished: false,
-        machines: entries
-            .iter()
-            .map(|e| MachineProgress { machine: e.name.clone(), state: "queued", cycle_time_s: None })
-            .collect(),
-    };
+    let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
+    let progress = progress_of(&id, "queued", &names, &vec![None; names.len()]);
     let (tx, rx) = watch::channel(progress);
     let cancel = Arc::new(AtomicBool::new(false));
     let stopped = Arc::new(watch::channel(None).0);
     if !runs.put(&id, Run { progress: rx, cancel: cancel.clone(), stopped: stopped.clone() }) {
         return Err(ServiceError::Unavailable("the service is stopping: no new fleet runs".into()));
     }
+    // Collected here: recorded before the run is stored, so a stored run under way without a
+    // collector has none (`crate::fleet_lease`).
+    let leases = runs.remote.as_ref().and_then(|r| r.leases.clone());
+    if let Some(leases) = &leases {
+        if let Err(e) = leases.take_new(&id).await {
+            runs.remove(&id);
+            return Err(ServiceError::Unavailable(e));
+        }
+    }
     if let Err(e) = db::insert_fleet_run(db, &row).await {
         runs.remove(&id);
+        if let Some(leases) = &leases {
+            leases.end(&id).await;
+        }
         return Err(e.into());
     }
     let opts = Options { cancel: Some(cancel), ..options };
@@ -301,16 +369,16 @@ pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, Serv
 }
 
 /// A fleet run started: what it runs and where its progress and outcome go.
-struct Execution {
-    db: db::Db,
-    runs: Runs,
-    id: String,
-    program: String,
-    entries: Vec<Entry>,
-    sources: Vec<Source>,
-    opts: Options,
-    tx: watch::Sender<Progress>,
-    stopped: Arc<watch::Sender<Option<&'static str>>>,
+pub(super) struct Execution {
+    pub(super) db: db::Db,
+    pub(super) runs: Runs,
+    pub(super) id: String,
+    pub(super) program: String,
+    pub(super) entries: Vec<Entry>,
+    pub(super) sources: Vec<Source>,
+    pub(super) opts: Options,
+    pub(super) tx: watch::Sender<Progress>,
+    pub(super) stopped: Arc<watch::Sender<Option<&'static str>>>,
 }
 
 /// A fleet run from the queue to its record: waits for a place (`--fleet-jobs`) unless it is
@@ -334,21 +402,9 @@ async fn execute(run: Execution) -> Ended {
             tracing::error!(%id, error = %e, "fleet run start not stored");
         }
         tx.send_modify(|p| p.status = "running");
-        let tx = Arc::new(tx.clone());
-        let events = tx.clone();
+        let events = Arc::new(tx.clone());
         results = tokio::task::spawn_blocking(move || {
-            let on_event = |e: Event| {
-                events.send_modify(|p| match e {
-                    Event::Started { index, .. } => p.machines[index].state = "running",
-                    Event::Finished { index, status, cycle_time_s, .. } => {
-                        p.machines[index].state = status;
-                        p.machines[index].cycle_time_s = Some(cycle_time_s);
-                        p.done += 1;
-                    }
-                    Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
-                })
-            };
-            let results = fleet::run_fleet(&program, &entries, &opts, &on_event);
+            let results = fleet::run_fleet(&program, &entries, &opts, &|e| on_event(&events, e));
             // As the fleet array is written: the same JSON (`serde_json`'s numbers keep their bits).
             results.iter().map(|r| r.as_ref().and_then(|r| serde_json::to_value(r).ok())).collect()
         })
@@ -378,8 +434,10 @@ async fn finish(
     let completed = results.iter().flatten().filter(|r| r["status"] == "completed").count() as u32;
     let alarms = results.iter().flatten().count() as u32 - completed;
     let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
-    if let Err(e) = db::finish_fleet_run(db, id, status, &now_rfc3339(), completed, alarms, &json).await {
-        tracing::error!(%id, error = %e, "fleet run not stored");
+    match db::finish_fleet_run(db, id, status, &now_rfc3339(), completed, alarms, &json).await {
+        Ok(true) => {}
+        Ok(false) => tracing::warn!(%id, status, "fleet run was over already (ended by another node): kept as it was"),
+        Err(e) => tracing::error!(%id, error = %e, "fleet run not stored"),
     }
     tx.send_modify(|p| {
         p.status = status;
@@ -398,44 +456,208 @@ async fn finish(
 }
 
 /// A run over NATS: one job per machine on the cluster's work queue, the results collected
-/// from the run's subject (`crate::cluster::run`); no place (`--fleet-jobs`) is taken: the
-/// nodes' jobs are the limit.
+/// from the results stream ([`collect_remote`]); no place (`--fleet-jobs`) is taken: the nodes'
+/// jobs are the limit.
 async fn execute_remote(run: Execution, remote: Remote) -> Ended {
-    let Execution { db, runs, id, program, entries, sources, opts, tx, stopped } = run;
-    let total = entries.len();
-    if stopped.borrow().is_some() {
-        let why = (*stopped.borrow()).unwrap_or("interrupted");
-        return finish(&db, &runs, &id, &tx, why, vec![None; total], None).await;
-    }
-    if let Err(e) = db::start_fleet_run(&db, &id).await {
-        tracing::error!(%id, error = %e, "fleet run start not stored");
-    }
-    tx.send_modify(|p| p.status = "running");
-    let jobs = cluster::Job::all(&id, &program, &entries, sources, &opts);
-    let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
-    let on_event = |e: Event| {
-        tx.send_modify(|p| match e {
-            Event::Started { index, .. } => p.machines[index].state = "running",
-            Event::Finished { index, status, cycle_time_s, .. } => {
-                p.machines[index].state = status;
-                p.machines[index].cycle_time_s = Some(cycle_time_s);
-                p.done += 1;
+    let total = run.entries.len();
+    let stopped_first = *run.stopped.borrow();
+    match stopped_first {
+        // Handed over before any job went out: the node taking it publishes them all.
+        Some(HANDED_OVER) => {}
+        Some(why) => return finish(&run.db, &run.runs, &run.id, &run.tx, why, vec![None; total], None).await,
+        None => {
+            if let Err(e) = db::start_fleet_run(&run.db, &run.id).await {
+                tracing::error!(id = %run.id, error = %e, "fleet run start not stored");
             }
-            Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
-        })
+            run.tx.send_modify(|p| p.status = "running");
+        }
+    }
+    let jobs = match stopped_first {
+        Some(_) => Vec::new(),
+        None => Job::all(&run.id, &run.program, &run.entries, run.sources.clone(), &run.opts),
     };
-    let (outcome, results) =
-        cluster::run(&remote.nats, jobs, &names, remote.idle, stopped.subscribe(), &on_event).await;
+    collect_remote(run, remote, jobs, vec![None; total]).await
+}
+
+/// Publishes `jobs` of run `run` and collects the results the run does not have in `results`
+/// (those computed before come first: `cluster::Collection`), recording each in the database as
+/// it comes (any node reads the progress; a node taking the run over records only what is
+/// missing), until the run is over: then stores it, withdraws its jobs if it did not complete,
+/// and purges its results and its collector key. A run handed over or taken by another node
+/// stops here without ending.
+pub(super) async fn collect_remote(
+    run: Execution,
+    remote: Remote,
+    jobs: Vec<Job>,
+    mut results: Vec<Option<Value>>,
+) -> Ended {
+    let Execution { db, runs, id, entries, tx, stopped, .. } = run;
+    let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
+    let have = results.iter().map(Option::is_some).collect();
+    let mut stop = stopped.subscribe();
+    let outcome = match cluster::Collection::open(&remote.nats, &id, names.clone(), have, remote.idle).await {
+        Err(e) => Outcome::Failed(e),
+        Ok(mut collection) => {
+            let outcome = match cluster::publish(&remote.nats, &jobs).await {
+                Err(e) => Outcome::Failed(e),
+                Ok(()) => loop {
+                    match collection.next(&mut stop).await {
+                        Ok(Heard::Started(index)) => tx.send_modify(|p| {
+                            if p.machines[index].state == "queued" {
+                                p.machines[index].state = "running";
+                            }
+                        }),
+                        Ok(Heard::Result(index, result)) => {
+                            record(&db, &id, index, &result).await;
+                            on_event(&tx, cluster::finished(index, names[index].clone(), &result));
+                            results[index] = Some(result);
+                        }
+                        Err(outcome) => break outcome,
+                    }
+                },
+            };
+            collection.close(&remote.nats).await;
+            outcome
+        }
+    };
     let (status, error) = match outcome {
-        cluster::Outcome::Done => ("done", None),
-        cluster::Outcome::Stopped(why) => (why, None),
-        cluster::Outcome::Failed(e) => ("interrupted", Some(e)),
+        Outcome::Stopped(why @ (HANDED_OVER | TAKEN)) => {
+            runs.remove(&id);
+            if why == HANDED_OVER {
+                if let Some(leases) = &remote.leases {
+                    leases.release(&id).await;
+                }
+            }
+            tracing::info!(%id, why, "fleet run no longer collected here: it goes on in the cluster");
+            let error =
+                format!("this node stops: the run goes on on another node of the cluster (GET /fleet/runs/{id})");
+            return Ended {
+                status: "running",
+                results,
+                error: Some(if why == TAKEN { why.to_string() } else { error }),
+            };
+        }
+        Outcome::Done => ("done", None),
+        Outcome::Stopped(why) => (why, None),
+        Outcome::Failed(e) => ("interrupted", Some(e)),
     };
-    finish(&db, &runs, &id, &tx, status, results, error).await
+    if status != "done" {
+        cluster::withdraw(&remote.nats, &id).await;
+    }
+    let ended = finish(&db, &runs, &id, &tx, status, results, error).await;
+    cluster::clean(&remote.nats, &id).await;
+    if let Some(leases) = &remote.leases {
+        leases.end(&id).await;
+    }
+    ended
+}
+
+/// The progress of run `id` with `status`, whose machines are `names` and results so far
+/// `results` (a machine without one is `queued`).
+pub(super) fn progress_of(id: &str, status: &'static str, names: &[String], results: &[Option<Value>]) -> Progress {
+    Progress {
+        kind: "progress",
+        id: id.to_string(),
+        status,
+        total: names.len(),
+        done: results.iter().flatten().count(),
+        finished: false,
+        machines: names
+            .iter()
+            .zip(results)
+            .map(|(name, result)| MachineProgress {
+                machine: name.clone(),
+                state: match result {
+                    None => "queued",
+                    Some(r) if r["status"] == "completed" => "completed",
+                    Some(_) => "alarm",
+                },
+                cycle_time_s: result.as_ref().and_then(|r| r["cycle_time_s"].as_f64()),
+            })
+            .collect(),
+    }
+}
+
+/// A run's progress on event `e`.
+pub(super) fn on_event(tx: &watch::Sender<Progress>, e: Event) {
+    tx.send_modify(|p| match e {
+        Event::Started { index, .. } => p.machines[index].state = "running",
+        Event::Finished { index, status, cycle_time_s, .. } => {
+            p.machines[index].state = status;
+            p.machines[index].cycle_time_s = Some(cycle_time_s);
+            p.done += 1;
+        }
+        Event::Cancelled { index, .. } => p.machines[index].state = "cancelled",
+    })
+}
+
+/// Records machine `index`'s result of run `id` (a failure is logged: the run's end stores
+/// every result again).
+async fn record(db: &db::Db, id: &str, index: usize, result: &Value) {
+    let completed = result["status"] == "completed";
+    if let Err(e) = db::record_fleet_result(db, id, index, &result.to_string(), completed).await {
+        tracing::warn!(%id, index, error = %e, "fleet result not recorded yet");
+    }
+}
+
+/// The results recorded so far of run `id` under way, in machine order (`None` for a machine
+/// without one), for `total` machines.
+pub async fn recorded(db: &db::Db, id: &str, total: usize) -> Result<Vec<Option<Value>>, sqlx::Error> {
+    let mut results = vec![None; total];
+    for (index, json) in db::fleet_run_results(db, id).await? {
+        if let (Some(slot), Ok(value)) = (results.get_mut(index), serde_json::from_str(&json)) {
+            *slot = Some(value);
+        }
+    }
+    Ok(results)
+}
+
+/// The runs a stopped process left queued or under way become `interrupted`, with the results
+/// they had recorded (a single node at start: no other process collects them).
+pub async fn interrupt_unfinished(db: &db::Db) -> Result<(), sqlx::Error> {
+    for id in db::unfinished_fleet_runs(db).await? {
+        let Some(row) = db::fleet_run(db, &id).await? else { continue };
+        let results = recorded(db, &id, row.machines as usize).await?;
+        let completed = results.iter().flatten().filter(|r| r["status"] == "completed").count() as u32;
+        let alarms = results.iter().flatten().count() as u32 - completed;
+        let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
+        db::finish_fleet_run(db, &id, "interrupted", &now_rfc3339(), completed, alarms, &json).await?;
+        tracing::warn!(%id, completed, alarms, "fleet run left under way by the last process: interrupted");
+    }
+    Ok(())
+}
+
+/// Ends run `id`, under way and not collected here, with `status`: its jobs withdrawn, the
+/// results recorded kept (`null` for the others), its results and collector key purged. The
+/// caller holds its collector key.
+pub(super) async fn end_elsewhere(
+    db: &db::Db,
+    remote: &Remote,
+    row: &FleetRunRow,
+    status: &'static str,
+    error: Option<String>,
+) {
+    let id = &row.id;
+    cluster::withdraw(&remote.nats, id).await;
+    let results = recorded(db, id, row.machines as usize).await.unwrap_or_else(|_| vec![None; row.machines as usize]);
+    let completed = results.iter().flatten().filter(|r| r["status"] == "completed").count() as u32;
+    let alarms = results.iter().flatten().count() as u32 - completed;
+    let json = serde_json::to_string(&results).unwrap_or_else(|_| "[]".into());
+    match db::finish_fleet_run(db, id, status, &now_rfc3339(), completed, alarms, &json).await {
+        Ok(true) => tracing::info!(%id, status, error = error.as_deref().unwrap_or(""), "fleet run over"),
+        Ok(false) => tracing::info!(%id, "fleet run was over already"),
+        Err(e) => tracing::error!(%id, error = %e, "fleet run not stored"),
+    }
+    cluster::clean(&remote.nats, id).await;
+    if let Some(leases) = &remote.leases {
+        leases.end(id).await;
+    }
 }
 
 /// Stops a queued or running run and waits (10 s at most) until it is stored as over: the run as
-/// stored then (`cancelled`, or `done` if it ended first); a run already over is a conflict.
+/// stored then (`cancelled`, or `done` if it ended first); a run already over is a conflict. A
+/// run of a cluster collected by another node (or by none: its node died) is claimed and ended
+/// here; its former collector stops at its next beat.
 pub async fn cancel(db: &db::Db, runs: &Runs, id: &str) -> Result<FleetRunRow, ServiceError> {
     let stopping = runs.stop(id, "cancelled");
     if let Some(mut progress) = stopping.clone() {
@@ -446,10 +668,36 @@ pub async fn cancel(db: &db::Db, runs: &Runs, id: &str) -> Result<FleetRunRow, S
         }
     }
     let row = get(db, id).await?;
-    if stopping.is_none() {
-        return Err(ServiceError::Conflict(format!("fleet run {id} is already over ({})", row.status)));
+    if stopping.is_some() {
+        return Ok(row);
     }
-    Ok(row)
+    let under_way = matches!(row.status.as_str(), "queued" | "running");
+    match runs.remote.as_ref().filter(|r| r.leases.is_some()) {
+        Some(remote) if under_way => cancel_elsewhere(db, runs, remote, row).await,
+        _ => Err(ServiceError::Conflict(format!("fleet run {id} is already over ({})", row.status))),
+    }
+}
+
+/// [`cancel`] of a run not collected here: its collector key taken (revision-checked), then
+/// the run ended `cancelled` with the results recorded.
+async fn cancel_elsewhere(
+    db: &db::Db,
+    runs: &Runs,
+    remote: &Remote,
+    row: FleetRunRow,
+) -> Result<FleetRunRow, ServiceError> {
+    let Some(leases) = &remote.leases else { return Err(ServiceError::Conflict("not a cluster".into())) };
+    let id = row.id.clone();
+    let _claiming = runs.claims().lock().await;
+    for _ in 0..3 {
+        let holder = leases.holder(&id).await.map_err(ServiceError::Unavailable)?;
+        if leases.claim(&id, holder.revision).await {
+            tracing::info!(%id, from = ?holder.node, "fleet run collected elsewhere: cancelled here");
+            end_elsewhere(db, remote, &row, "cancelled", None).await;
+            return get(db, &id).await;
+        }
+    }
+    Err(ServiceError::Unavailable(format!("fleet run {id}: its collector changed while it was being cancelled; retry")))
 }
 
 /// The stored runs, newest first, at most `limit` (1–10000).

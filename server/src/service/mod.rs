@@ -3,6 +3,7 @@
 //! HTTP layer (`http::error`) maps to a status. Nothing here knows axum or HTTP.
 
 pub mod controllers;
+pub mod fleet_rescue;
 pub mod fleet_runs;
 pub mod history;
 pub mod panel;

@@ -217,6 +217,7 @@ async fn opening_creates_and_migrates_the_database_idempotently() {
         [
             "alarm_history",
             "controllers",
+            "fleet_run_results",
             "fleet_runs",
             "programs",
             "run_history",

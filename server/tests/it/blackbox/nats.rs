@@ -5,16 +5,22 @@
 //! node answers; a node killed (SIGKILL) in the middle of its jobs leaves them to the others and
 //! the run still completes with every result; `fivex fleet --nats` prints what `fivex fleet`
 //! prints; without a node it gives up with a clear error; a job that does not parse is
-//! terminated; a cancel withdraws the waiting jobs and stops the running ones.
+//! terminated; a cancel withdraws the waiting jobs and stops the running ones. On a cluster with
+//! one PostgreSQL a run outlives the node it was submitted to (killed, or stopped cleanly): a
+//! survivor takes it over and completes it; a single SQLite node killed mid-run finds its run
+//! interrupted after a restart.
 
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use futures_util::StreamExt;
 use hyper::Method;
 use serde_json::{json, Value};
+use tokio_tungstenite::tungstenite::Message;
 
+use super::postgres::Postgres;
 use super::served::Served;
 
 /// A `nats-server -js` of its own, killed when dropped.
@@ -271,4 +277,290 @@ async fn over_nats_no_node_is_a_clear_error_bad_jobs_end_and_cancel_withdraws_th
         assert!(Instant::now() < deadline, "the running jobs were not stopped; log: {}", node.log());
         tokio::time::sleep(Duration::from_millis(10)).await;
     }
+}
+
+/// The number of messages on JetStream stream `name`.
+async fn stored(js: &async_nats::jetstream::Context, name: &str) -> (u64, usize) {
+    let mut stream = js.get_stream(name).await.unwrap_or_else(|e| panic!("stream {name}: {e}"));
+    let info = stream.info().await.unwrap();
+    (info.state.messages, info.state.consumer_count)
+}
+
+/// Waits (60 s at most) until the streams of the results and of the collectors' keys hold
+/// nothing and no consumer reads the results: what the runs over left on NATS.
+async fn nothing_left_on_nats(url: &str) {
+    let js = async_nats::jetstream::new(async_nats::connect(url).await.unwrap());
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let results = stored(&js, "FIVEX_FLEET_RESULTS").await;
+        let keys = stored(&js, "KV_fivex_fleet_runs").await.0;
+        let jobs = stored(&js, "FIVEX_FLEET").await.0;
+        if results == (0, 0) && keys == 0 && jobs == 0 {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "left on NATS: {results:?} results and consumers, {keys} collector keys, {jobs} jobs"
+        );
+        tokio::time::sleep(Duration::from_millis(200)).await;
+    }
+}
+
+/// `completed + alarms` of a stored run and its status.
+fn counted(run: &Value) -> (u64, String) {
+    let n = run["completed"].as_u64().unwrap() + run["alarms"].as_u64().unwrap();
+    (n, run["status"].as_str().unwrap().to_string())
+}
+
+type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+/// The next progress message of a fleet run's stream (within 60 s).
+async fn next_progress(ws: &mut Socket) -> Value {
+    loop {
+        match tokio::time::timeout(Duration::from_secs(60), ws.next()).await.expect("a message within 60 s") {
+            Some(Ok(Message::Text(text))) => return serde_json::from_str(text.as_str()).expect("a JSON message"),
+            Some(Ok(Message::Close(frame))) => panic!("the stream closed: {frame:?}"),
+            Some(Ok(_)) => continue,
+            other => panic!("websocket: {other:?}"),
+        }
+    }
+}
+
+fn under_way(status: &str) -> bool {
+    matches!(status, "queued" | "running")
+}
+
+/// Polls run `id` through every node of `through` until none reads it under way (300 s at
+/// most); meanwhile the machines counted never exceed `total` nor go back.
+async fn until_over(through: &[&Served], id: &str, total: u64, mut seen: u64) {
+    let path = format!("/api/v1/fleet/runs/{id}");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    loop {
+        let mut over = 0;
+        for node in through {
+            let (n, status) = counted(&node.get(&path).await.json());
+            assert!(n <= total, "{n} results counted of {total} machines");
+            if under_way(&status) {
+                assert!(n >= seen, "the results counted went back from {seen} to {n}");
+                seen = n;
+            } else {
+                over += 1;
+            }
+        }
+        if over == through.len() {
+            return;
+        }
+        assert!(Instant::now() < deadline, "run {id} not over within 300 s ({seen} of {total} results)");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_fleet_run_outlives_the_node_that_took_it() {
+    let (pg, nats) = (Postgres::start(), NatsServer::start());
+    let url = nats.url();
+    let node = |name: &str| {
+        Served::start_on(&pg.url(), &["--nats", &url, "--node", name, "--nats-jobs", "2", "--workers", "1"])
+    };
+    let (mut one, mut two, three) = (node("one"), node("two"), node("three"));
+    let alone = Served::start(&[]);
+    let request = json!({"program": long_program(8000), "presets": machines(40)});
+    let expected = post_fleet(&alone, &request).await;
+    assert_eq!(expected.as_array().unwrap().len(), 40);
+
+    // Submitted to node one; followed through node three, which neither took nor collects it.
+    let reply = one.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
+    assert_eq!(reply.status, 202, "{}", reply.json());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let path = format!("/api/v1/fleet/runs/{id}");
+    let (mut ws, _) = tokio_tungstenite::connect_async(format!("ws://{}{path}/stream", three.addr)).await.unwrap();
+    let first = next_progress(&mut ws).await;
+    assert_eq!((first["total"].as_u64(), first["finished"].as_bool()), (Some(40), Some(false)), "{first}");
+    // Halfway, as node two reads it, node one is killed.
+    let deadline = Instant::now() + Duration::from_secs(300);
+    let halfway = loop {
+        let (n, status) = counted(&two.get(&path).await.json());
+        assert!(under_way(&status), "the run ended before node one could be killed ({n} results)");
+        if n >= 20 {
+            break n;
+        }
+        assert!(Instant::now() < deadline, "the run never got halfway ({n} results)");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    };
+    one.kill();
+    assert!(halfway < 40, "node one was killed after the run's end");
+    until_over(&[&two, &three], &id, 40, halfway).await;
+    // Every machine's result exactly once, in order, read alike through both survivors.
+    for n in [&two, &three] {
+        let run = n.get(&path).await.json();
+        assert_eq!(run["status"], "done", "{}", run["status"]);
+        assert_eq!(counted(&run).0, 40);
+        assert_eq!(run["results"], expected);
+    }
+    let takers: Vec<&Served> = [&two, &three]
+        .into_iter()
+        .filter(|n| n.log().lines().any(|l| l.contains("fleet run taken over") && l.contains(&id)))
+        .collect();
+    assert_eq!(takers.len(), 1, "taken over by {} nodes", takers.len());
+    // The stream through node three followed it to its end.
+    let mut done = first["done"].as_u64().unwrap();
+    let last = loop {
+        let p = next_progress(&mut ws).await;
+        let now = p["done"].as_u64().unwrap();
+        assert!(now >= done && now <= 40, "progress went from {done} to {now}: {p}");
+        done = now;
+        if p["finished"] == true {
+            break p;
+        }
+    };
+    assert_eq!((last["status"].as_str(), last["done"].as_u64()), (Some("done"), Some(40)), "{last}");
+    assert!(last["machines"].as_array().unwrap().iter().all(|m| m["state"] == "completed"), "{last}");
+    nothing_left_on_nats(&url).await;
+
+    // A run whose collector stops cleanly (SIGTERM) mid-run is handed over: node three, or two
+    // started again under its name, completes it.
+    let request = json!({"program": long_program(8000), "presets": machines(20)});
+    let reply = two.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
+    assert_eq!(reply.status, 202, "{}", reply.json());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let path = format!("/api/v1/fleet/runs/{id}");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    let before = loop {
+        let (n, status) = counted(&three.get(&path).await.json());
+        assert!(under_way(&status), "the run ended before node two could be stopped ({n} results)");
+        if n >= 5 {
+            break n;
+        }
+        assert!(Instant::now() < deadline, "the run never got going ({n} results)");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    };
+    let (status, _) = two.terminate(Duration::from_secs(60));
+    assert!(status.success(), "{status}; log: {}", two.log());
+    assert!(two.log().contains("handed over"), "{}", two.log());
+    let again = node("two");
+    until_over(&[&three, &again], &id, 20, before).await;
+    for n in [&three, &again] {
+        let run = n.get(&path).await.json();
+        assert_eq!(run["status"], "done");
+        assert_eq!(run["results"].as_array().unwrap()[..], expected.as_array().unwrap()[..20]);
+    }
+    nothing_left_on_nats(&url).await;
+
+    // A run whose node died while it published its jobs: stored, its collector gone (a node
+    // that never beat), one machine's result on the results stream, one job on the queue, three
+    // never published. A node takes it over, publishes the three again and completes it.
+    let program = long_program(300);
+    let presets = machines(5);
+    let request = json!({"program": program, "presets": presets});
+    let expected = post_fleet(&alone, &request).await;
+    let id = "0123456789abcdef0123456789abcdef".to_string();
+    let js = async_nats::jetstream::new(async_nats::connect(&url).await.unwrap());
+    let keys = js.get_key_value("fivex_fleet_runs").await.unwrap();
+    keys.create(&id, "ghost".into()).await.unwrap();
+    let entries: Vec<_> =
+        presets.iter().map(|p| fivex_server::fleet::preset(p, fivex_engine::Dialect::Fanuc).unwrap()).collect();
+    let sources = presets.iter().map(|p| fivex_server::cluster::Source::Preset(p.to_string())).collect();
+    let jobs = fivex_server::cluster::Job::all(&id, &program, &entries, sources, &Default::default());
+    let result = json!({"index": 0, "result": expected[0]}).to_string();
+    js.publish(format!("fivex.fleet.results.{id}.0"), result.into()).await.unwrap().await.unwrap();
+    let job = serde_json::to_vec(&jobs[1]).unwrap();
+    js.publish(format!("fivex.fleet.jobs.{id}.1"), job.into()).await.unwrap().await.unwrap();
+    let db = fivex_server::db::open_postgres(&pg.url()).await.unwrap();
+    let row = fivex_server::db::FleetRunRow {
+        id: id.clone(),
+        created_at: "2026-01-01T00:00:00Z".into(),
+        finished_at: None,
+        status: "running".into(),
+        machines: 5,
+        completed: 0,
+        alarms: 0,
+        program: program.clone(),
+        request_json: request.to_string(),
+        results_json: None,
+    };
+    fivex_server::db::insert_fleet_run(&db, &row).await.unwrap();
+    until_over(&[&three, &again], &id, 5, 0).await;
+    let run = three.get(&format!("/api/v1/fleet/runs/{id}")).await.json();
+    assert_eq!(run["status"], "done");
+    assert_eq!(run["results"], expected);
+    let taken: Vec<String> = [&three, &again]
+        .iter()
+        .flat_map(|n| {
+            n.log()
+                .lines()
+                .filter(|l| l.contains("fleet run taken over") && l.contains(&id))
+                .map(String::from)
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(taken.len(), 1, "{taken:?}");
+    assert!(taken[0].contains("from=\"ghost\"") && taken[0].contains("republished=3"), "{}", taken[0]);
+    nothing_left_on_nats(&url).await;
+
+    // A run collected by node three, cancelled through node two: ended `cancelled` for both.
+    let request = json!({"program": long_program(8000), "presets": machines(12)});
+    let reply = three.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
+    assert_eq!(reply.status, 202, "{}", reply.json());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let path = format!("/api/v1/fleet/runs/{id}");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while counted(&again.get(&path).await.json()).0 == 0 {
+        assert!(Instant::now() < deadline, "no result of the run recorded");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let reply = again.request(Method::POST, &format!("{path}/cancel"), &[], "").await;
+    assert_eq!(reply.status, 200, "{}", reply.json());
+    assert_eq!(reply.json()["status"], "cancelled");
+    for n in [&three, &again] {
+        let run = n.get(&path).await.json();
+        assert_eq!(run["status"], "cancelled");
+        let results = run["results"].as_array().unwrap();
+        assert!(results.iter().any(Value::is_null) && results.iter().any(|r| !r.is_null()), "{run}");
+        assert_eq!(counted(&run).0, results.iter().filter(|r| !r.is_null()).count() as u64);
+    }
+    nothing_left_on_nats(&url).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_single_sqlite_node_killed_mid_run_finds_it_interrupted_after_a_restart() {
+    let nats = NatsServer::start();
+    let args = ["--nats", &nats.url(), "--nats-jobs", "1"];
+    let mut node = Served::start(&args);
+    let request = json!({"program": long_program(8000), "presets": machines(12)});
+    let reply = node.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
+    assert_eq!(reply.status, 202, "{}", reply.json());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let path = format!("/api/v1/fleet/runs/{id}");
+    let deadline = Instant::now() + Duration::from_secs(300);
+    let recorded = loop {
+        let (n, status) = counted(&node.get(&path).await.json());
+        assert!(under_way(&status), "{status}");
+        if n >= 2 {
+            break n;
+        }
+        assert!(Instant::now() < deadline, "no result recorded");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    };
+    node.kill();
+    let js = async_nats::jetstream::new(async_nats::connect(nats.url()).await.unwrap());
+    assert!(stored(&js, "FIVEX_FLEET").await.0 > 0, "no job of the run left to withdraw");
+    let dir = std::mem::replace(&mut node.dir, tempfile::tempdir().unwrap());
+    let node = Served::start_in(dir, &args);
+    let run = node.get(&path).await.json();
+    assert_eq!(run["status"], "interrupted", "{}", run["status"]);
+    // With the results it had recorded (at least those seen before it was killed).
+    let results = run["results"].as_array().unwrap();
+    assert_eq!(results.len(), 12);
+    let kept = results.iter().filter(|r| !r.is_null()).count() as u64;
+    assert!(kept >= recorded && kept < 12, "{kept} results kept, {recorded} seen recorded");
+    assert_eq!(counted(&run).0, kept);
+    // Its jobs and results are withdrawn from NATS.
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while stored(&js, "FIVEX_FLEET").await.0 != 0 || stored(&js, "FIVEX_FLEET_RESULTS").await.0 != 0 {
+        assert!(Instant::now() < deadline, "the interrupted run's jobs or results stayed on NATS");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    // Withdrawn, not run by the node started again.
+    let ran = node.log().lines().any(|l| l.contains("fleet job started") && l.contains(&id));
+    assert!(!ran, "{}", node.log());
 }

@@ -232,14 +232,17 @@ async fn a_restarted_service_finds_what_it_kept_on_postgres() {
     for _ in 0..200 {
         alarms = served.get(&format!("{C}/{id}/alarms")).await.json();
         fleet_run = served.get(&format!("/api/v1/fleet/runs/{fleet_id}")).await.json();
-        if !alarms["history"].as_array().unwrap().is_empty() && fleet_run["status"] == "done" {
+        // The alarm's run is recorded too (its own record, written after the alarm's).
+        runs = served.get(&format!("{C}/{id}/runs")).await.json();
+        let ended = runs.as_array().unwrap().len() == 2;
+        if !alarms["history"].as_array().unwrap().is_empty() && fleet_run["status"] == "done" && ended {
             break;
         }
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
     assert!(alarms.to_string().contains("STOP HERE"), "{alarms}");
     assert_eq!(fleet_run["status"], "done", "{fleet_run}");
-    let runs = served.get(&format!("{C}/{id}/runs")).await.json();
+    assert_eq!(runs[0]["result"], "alarm", "{runs}");
     let mut served = served;
     let (status, _) = served.terminate(Duration::from_secs(30));
     assert!(status.success(), "{status}; log: {}", served.log());
