@@ -10,6 +10,7 @@ mod nats;
 mod nodes;
 mod origin;
 mod postgres;
+mod relay;
 mod served;
 mod store;
 mod streams;
