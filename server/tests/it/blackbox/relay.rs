@@ -4,7 +4,7 @@
 //! and each gets what a websocket on the owner gives (the snapshot, the position, frames at its
 //! own rate, a variable written through a third node, byte for byte as the owner's own
 //! websocket); the owner stops publishing once they leave (a raw NATS subscriber hears
-//! nothing more); a relayed websocket stays open when its controller's node is killed (SIGKILL)
+//! nothing more) and when a relaying node is killed; a relayed websocket stays open when its controller's node is killed (SIGKILL)
 //! or stops (SIGTERM), gets a fresh snapshot from the controller's new node and its frames
 //! there, and closes with 4404 when the controller is deleted.
 
@@ -182,7 +182,8 @@ async fn relayed_streams_share_one_subscription_and_follow_their_controller() {
     let mut one = node(&pg, &nats, "one");
     let two = node(&pg, &nats, "two");
     let three = node(&pg, &nats, "three");
-    let _logs = LogsOnPanic(vec![("one", one.log_handle()), ("two", two.log_handle()), ("three", three.log_handle())]);
+    let mut logs =
+        LogsOnPanic(vec![("one", one.log_handle()), ("two", two.log_handle()), ("three", three.log_handle())]);
     eventually("every node sees three members", || async {
         for n in [&one, &two, &three] {
             let members = n.get("/readyz").await.json()["cluster"]["members"].clone();
@@ -292,6 +293,21 @@ async fn relayed_streams_share_one_subscription_and_follow_their_controller() {
     if let Ok(Some(message)) = tokio::time::timeout(Duration::from_secs(3), raw.next()).await {
         panic!("published after the clients left: {} {:?}", message.subject, message.payload);
     }
+
+    // A relaying node killed with its client: the owner stops publishing for it within seconds.
+    let mut four = node(&pg, &nats, "four");
+    logs.0.push(("four", four.log_handle()));
+    let far = Watcher::connect(&four, &id, 20).await;
+    far.wait_for("a snapshot through node four", 0, is("snapshot")).await;
+    assert_eq!(metric(&one, "fivex_relay_publishers").await, 1.0);
+    four.kill();
+    let killed = Instant::now();
+    eventually("node one stopped publishing for the killed node", || async {
+        let n = metric(&one, "fivex_relay_publishers").await;
+        (n != 0.0).then(|| format!("{n}"))
+    })
+    .await;
+    assert!(killed.elapsed() < Duration::from_secs(15), "publishing stopped {:?} after the kill", killed.elapsed());
 
     // The owner killed: relayed websockets through node two and node three stay open and get a
     // fresh snapshot (reset state) from the controller's new node, then its frames there.
