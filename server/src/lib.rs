@@ -16,6 +16,7 @@ pub mod metrics;
 pub mod openapi_doc;
 pub mod origin;
 pub mod placement;
+pub mod relay;
 pub mod serve;
 pub mod service;
 pub mod tools;

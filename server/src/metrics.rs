@@ -168,8 +168,15 @@ pub struct Now {
     pub behind: usize,
     /// The largest such lag, seconds (0 without controllers).
     pub max_lag_s: f64,
-    /// Subscribers of the controllers' streams.
+    /// Subscribers of the controllers' streams: their position channels' receivers (a
+    /// websocket on this node, or a relay publisher).
     pub controller_subscribers: usize,
+    /// In a cluster (`crate::relay`): controllers of other nodes relayed here (a NATS
+    /// subscription each), their websocket clients here, and the controllers hosted here whose
+    /// stream this node publishes for other nodes (each holds a position receiver).
+    pub relay_subscriptions: usize,
+    pub relay_clients: usize,
+    pub relay_publishers: usize,
     pub workers: usize,
     pub workers_running: usize,
     pub fleet: fleet_runs::Census,
@@ -227,8 +234,11 @@ impl Now {
         let count = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
 
         let states: Vec<(&str, i64)> = STATES.iter().zip(self.controllers).map(|(s, n)| (*s, count(n))).collect();
+        // Websockets open on this node: the local ones (the receivers but the publishers') and
+        // the relayed ones.
+        let websockets = self.controller_subscribers.saturating_sub(self.relay_publishers) + self.relay_clients;
         let subscribers = [
-            ("controller", count(self.controller_subscribers)),
+            ("controller", count(websockets)),
             ("fleet", count(c.subscribers[Stream::Fleet as usize].load(Ordering::Relaxed))),
             ("fleet_run", count(c.subscribers[Stream::FleetRun as usize].load(Ordering::Relaxed))),
         ];
@@ -264,6 +274,17 @@ impl Now {
             )?,
             Box::new(max_lag),
             by("fivex_websocket_subscribers", "Open websocket streams, by stream", "stream", &subscribers)?,
+            int_gauge(
+                "fivex_relay_subscriptions",
+                "Controllers of other nodes whose stream this node relays to its websockets: one NATS \
+                 subscription each, shared by all of that controller's websockets here",
+                self.relay_subscriptions,
+            )?,
+            int_gauge(
+                "fivex_relay_publishers",
+                "Controllers hosted here whose stream this node publishes on NATS for relaying nodes",
+                self.relay_publishers,
+            )?,
             int_gauge("fivex_workers", "Worker threads started (--workers)", self.workers)?,
             int_gauge("fivex_workers_running", "Worker threads running", self.workers_running)?,
             by(

@@ -19,8 +19,8 @@
 //!   ([`handover`]); the receiver's view wakes it to host them at once.
 //! - Requests: any `/api/v1/controllers/{id}/…` request for a controller hosted elsewhere is
 //!   forwarded ([`forward`]) to its node by NATS request/reply on `fivex.nodes.{node}.http`: the
-//!   owner answers it through its own router. Websockets of a remote controller are refused
-//!   (421) naming the owner: relaying streams is not built.
+//!   owner answers it through its own router. The stream websocket of a remote controller is
+//!   relayed (`crate::relay`); any other websocket of one is refused (421) naming the owner.
 //! - A node that stops cleanly releases its placements, so the others take its controllers at
 //!   their next beat.
 
@@ -75,23 +75,6 @@ pub fn http_subject(node: &str) -> String {
     format!("fivex.nodes.{node}.http")
 }
 
-/// The subject on which node `node` opens relayed streams of its controllers.
-pub fn stream_subject(node: &str) -> String {
-    format!("fivex.nodes.{node}.stream")
-}
-
-/// How often a relaying node tells the owner its client is still there.
-const RELAY_ALIVE: Duration = Duration::from_secs(2);
-
-/// A request to open a relayed stream: the controller, the client's request (its `?rate=`),
-/// where the messages go (the control subject is `{to}.ctl`).
-#[derive(serde::Serialize, serde::Deserialize)]
-struct OpenStream {
-    id: String,
-    uri: String,
-    to: String,
-}
-
 /// Whether `name` can name a node: 1 to 64 of `A-Z a-z 0-9 _ -` (a key and a subject token).
 pub fn valid_name(name: &str) -> bool {
     !name.is_empty() && name.len() <= 64 && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
@@ -130,6 +113,8 @@ struct Inner {
     reads: AtomicU64,
     /// The last beat's busy controllers of this node and the handovers that wait for them.
     waits: Mutex<(usize, usize)>,
+    /// The controllers' streams this node publishes for other nodes and relays from them.
+    relays: crate::relay::Relays,
 }
 
 impl std::fmt::Debug for Cluster {
@@ -176,6 +161,7 @@ impl Cluster {
                 view,
                 reads: AtomicU64::new(0),
                 waits: Mutex::default(),
+                relays: Default::default(),
             }),
         })
     }
@@ -237,6 +223,16 @@ impl Cluster {
         Ok(members)
     }
 
+    /// The NATS connection.
+    pub fn client(&self) -> &async_nats::Client {
+        &self.inner.client
+    }
+
+    /// The controllers' streams this node publishes and relays.
+    pub fn relays(&self) -> &crate::relay::Relays {
+        &self.inner.relays
+    }
+
     /// The node that hosts controller `id`, if it is placed: from the view, or from the bucket
     /// while the view is not current.
     pub async fn owner(&self, id: &str) -> Result<Option<String>, String> {
@@ -244,7 +240,7 @@ impl Cluster {
     }
 
     /// The placement of `id` (revision 0: never placed).
-    async fn placement(&self, id: &str) -> Result<Placed, String> {
+    pub(crate) async fn placement(&self, id: &str) -> Result<Placed, String> {
         if let Some(placed) = self.inner.view.get(id) {
             return Ok(placed.unwrap_or(Placed { node: None, revision: 0 }));
         }
@@ -319,16 +315,25 @@ impl Cluster {
             .subscribe(http_subject(&self.inner.name))
             .await
             .map_err(|e| format!("NATS: cannot subscribe to {}: {e}", http_subject(&self.inner.name)))?;
-        let mut streams = self
-            .inner
-            .client
-            .subscribe(stream_subject(&self.inner.name))
-            .await
-            .map_err(|e| format!("NATS: cannot subscribe to {}: {e}", stream_subject(&self.inner.name)))?;
-        let (client, opener) = (self.inner.client.clone(), state.clone());
+        let subscribe = |subject: String| async move {
+            self.inner
+                .client
+                .subscribe(subject.clone())
+                .await
+                .map_err(|e| format!("NATS: cannot subscribe to {subject}: {e}"))
+        };
+        let mut snapshots = subscribe(crate::relay::snapshot_subject(&self.inner.name)).await?;
+        let mut interest = subscribe(crate::relay::INTEREST_SUBJECTS.to_string()).await?;
+        let (client, publishing) = (self.inner.client.clone(), state.clone());
         tokio::spawn(async move {
-            while let Some(message) = streams.next().await {
-                open_stream(&opener, &client, message).await;
+            while let Some(message) = snapshots.next().await {
+                tokio::spawn(crate::relay::publisher::snapshot(publishing.clone(), client.clone(), message));
+            }
+        });
+        let (client, publishing) = (self.inner.client.clone(), state.clone());
+        tokio::spawn(async move {
+            while let Some(message) = interest.next().await {
+                crate::relay::publisher::interest(&publishing, &client, message);
             }
         });
         let client = self.inner.client.clone();
@@ -616,118 +621,6 @@ impl Cluster {
     }
 }
 
-/// Opens a relayed stream of a controller hosted here (the answer: status 101, or the error
-/// as a forwarded request's answer).
-async fn open_stream(state: &AppState, client: &async_nats::Client, message: async_nats::Message) {
-    let Some(reply) = message.reply.clone() else { return };
-    let opened = async {
-        let open: OpenStream = serde_json::from_slice(&message.payload)
-            .map_err(|e| ApiError::BadRequest(format!("not a stream request: {e}")))?;
-        let hosted =
-            state.host.get(&open.id).ok_or_else(|| ApiError::NotFound(format!("no controller {}", open.id)))?;
-        let uri: Uri = open.uri.parse().map_err(|_| ApiError::BadRequest("not a request path".into()))?;
-        let rate = crate::api::stream::rate_of(&uri)?;
-        // Subscribed before the answer: a stop that follows at once is not missed.
-        let control = client
-            .subscribe(format!("{}.ctl", open.to))
-            .await
-            .map_err(|e| ApiError::Unavailable(format!("NATS: cannot subscribe: {e}")))?;
-        crate::api::stream::relayed(state, hosted, rate, client.clone(), open.to, control);
-        Ok::<(), ApiError>(())
-    }
-    .await;
-    let (status, body) = match opened {
-        Ok(()) => (StatusCode::SWITCHING_PROTOCOLS, Bytes::new()),
-        Err(e) => {
-            let response = e.into_response();
-            let status = response.status();
-            (status, axum::body::to_bytes(response.into_body(), MAX_ANSWER).await.unwrap_or_default())
-        }
-    };
-    let mut headers = HeaderMap::new();
-    headers.insert(STATUS, status.as_u16().to_string().as_str());
-    headers.insert("content-type", "application/json");
-    let _ = client.publish_with_headers(reply, headers, body).await;
-}
-
-/// A websocket on this node relaying the stream of controller `id` from node `owner`: opened
-/// there (its refusal answered here as it is), then every message passed on; the client's
-/// departure stops it there; the owner's leaving closes the websocket (1012: reconnect).
-async fn relay(state: AppState, cluster: Cluster, owner: String, id: String, request: Request) -> Response {
-    use axum::extract::ws::{CloseFrame, Message as Ws, WebSocketUpgrade};
-    use axum::extract::FromRequestParts;
-    use futures_util::SinkExt;
-    let (mut parts, _) = request.into_parts();
-    let upgrade = match WebSocketUpgrade::from_request_parts(&mut parts, &state).await {
-        Ok(u) => u,
-        Err(e) => return ApiError::Rejected(e.status(), e.body_text()).into_response(),
-    };
-    let client = cluster.inner.client.clone();
-    let to = client.new_inbox();
-    let mut messages = match client.subscribe(to.clone()).await {
-        Ok(s) => s,
-        Err(e) => return ApiError::Unavailable(format!("NATS: cannot subscribe: {e}")).into_response(),
-    };
-    let open = OpenStream { id: id.clone(), uri: parts.uri.to_string(), to: to.clone() };
-    let payload = Bytes::from(serde_json::to_vec(&open).unwrap_or_default());
-    let request = async_nats::Request::new().payload(payload).timeout(Some(FORWARD_TIMEOUT));
-    let answer = match client.send_request(stream_subject(&owner), request).await {
-        Ok(m) => m,
-        Err(e) => {
-            return ApiError::Unavailable(format!("controller's node {owner} did not open the stream: {e}"))
-                .into_response()
-        }
-    };
-    let status = answer.headers.as_ref().and_then(|h| h.get(STATUS)).and_then(|s| s.as_str().parse::<u16>().ok());
-    if status != Some(101) {
-        let status = status.and_then(|s| StatusCode::from_u16(s).ok()).unwrap_or(StatusCode::BAD_GATEWAY);
-        let mut response = Response::new(Body::from(answer.payload));
-        *response.status_mut() = status;
-        response.headers_mut().insert("content-type", HeaderValue::from_static("application/json"));
-        return response;
-    }
-    let mut closing = state.closing();
-    let control = format!("{to}.ctl");
-    crate::api::stream::upgrade_small(upgrade).on_upgrade(move |socket| async move {
-        let (mut tx, mut rx) = socket.split();
-        let mut alive = tokio::time::interval(RELAY_ALIVE);
-        let close = |code: u16, reason: String| Ws::Close(Some(CloseFrame { code, reason: reason.into() }));
-        loop {
-            tokio::select! {
-                message = messages.next() => {
-                    let Some(message) = message else { break };
-                    if let Some(bye) = message.headers.as_ref().and_then(|h| h.get(crate::api::stream::RELAY_CLOSE)) {
-                        let (code, reason) = bye.as_str().split_once(' ').unwrap_or(("1011", "closed"));
-                        let _ = tx.send(close(code.parse().unwrap_or(1011), reason.to_string())).await;
-                        return;
-                    }
-                    let text = String::from_utf8_lossy(&message.payload).into_owned();
-                    if tokio::time::timeout(Duration::from_secs(10), tx.send(Ws::Text(text.into()))).await.map_or(true, |r| r.is_err()) {
-                        break;
-                    }
-                }
-                incoming = rx.next() => {
-                    if matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_)))) {
-                        break;
-                    }
-                }
-                _ = alive.tick() => {
-                    if !cluster.members().contains(&owner) {
-                        let _ = tx.send(close(1012, format!("controller {id}: its node {owner} left; reconnect"))).await;
-                        return;
-                    }
-                    let _ = client.publish(control.clone(), Bytes::from_static(b"alive")).await;
-                }
-                _ = closing.changed() => {
-                    let _ = tx.send(close(1001, "server shutting down".into())).await;
-                    break;
-                }
-            }
-        }
-        let _ = client.publish(control, Bytes::from_static(b"stop")).await;
-    })
-}
-
 /// Answers a forwarded request through this node's router.
 async fn answer(app: Router, client: async_nats::Client, message: async_nats::Message) {
     let Some(reply) = message.reply.clone() else { return };
@@ -771,8 +664,8 @@ async fn answer(app: Router, client: async_nats::Client, message: async_nats::Me
 }
 
 /// Middleware: a `/api/v1/controllers/{id}…` request for a controller hosted by another node
-/// goes to that node (a websocket is refused, 421, naming it); one whose node left answers 503
-/// until a node takes it over.
+/// goes to that node (its stream websocket is relayed, any other websocket refused, 421, naming
+/// it); one whose node left answers 503 until a node takes it over.
 pub async fn forward(State(state): State<AppState>, request: Request, next: Next) -> Response {
     let Some(cluster) = state.cluster.clone() else { return next.run(request).await };
     let path = request.uri().path();
@@ -805,7 +698,7 @@ pub async fn forward(State(state): State<AppState>, request: Request, next: Next
         Some(owner) if owner != cluster.name() && live => {
             if request.headers().get("upgrade").is_some() {
                 if path.ends_with("/stream") && path.matches('/').count() == 5 {
-                    return relay(state.clone(), cluster, owner, id, request).await;
+                    return crate::relay::session::open(state.clone(), cluster, owner, id, request).await;
                 }
                 return ApiError::Rejected(
                     StatusCode::MISDIRECTED_REQUEST,

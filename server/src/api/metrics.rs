@@ -20,7 +20,12 @@ use crate::metrics::{Now, CONTENT_TYPE};
     )
 )]
 pub async fn metrics(State(state): State<AppState>) -> Result<Response, ApiError> {
-    let now = Now::read(&state.host, &state.fleet_runs, state.db.failed_records());
+    let mut now = Now::read(&state.host, &state.fleet_runs, state.db.failed_records());
+    if let Some(cluster) = &state.cluster {
+        let relays = cluster.relays().census();
+        (now.relay_subscriptions, now.relay_clients, now.relay_publishers) =
+            (relays.subscriptions, relays.clients, relays.publishers);
+    }
     let text = state.metrics.render(&now).map_err(|e| {
         tracing::error!(error = %e, "metrics not encoded");
         ApiError::Rejected(StatusCode::INTERNAL_SERVER_ERROR, "metrics not encoded".into())

@@ -75,7 +75,7 @@ pub struct Snapshot {
 }
 
 impl Snapshot {
-    fn of(hosted: &Hosted) -> Snapshot {
+    pub(crate) fn of(hosted: &Hosted) -> Snapshot {
         let station = hosted.station();
         let variables = station
             .controller
@@ -122,7 +122,7 @@ pub async fn stream(
     let metrics = state.metrics.clone();
     Ok(upgrade_small(upgrade).on_upgrade(move |socket| {
         let (tx, rx) = socket.split();
-        session(Out::Ws(tx), In::Ws(rx), hosted, rate, closing, metrics)
+        session(tx, rx, hosted, rate, closing, metrics)
     }))
 }
 
@@ -140,98 +140,19 @@ pub fn rate_of(uri: &axum::http::Uri) -> Result<f64, ApiError> {
     Ok(rate)
 }
 
-/// A stream of `hosted` that another node relays to its client's websocket
-/// (`crate::placement`): the messages go to NATS subject `to`, the relaying node says it is
-/// still there on `control`.
-pub fn relayed(
-    state: &AppState,
-    hosted: Arc<Hosted>,
-    rate: f64,
-    client: async_nats::Client,
-    to: String,
-    control: async_nats::Subscriber,
-) {
-    let (closing, metrics) = (state.closing(), state.metrics.clone());
-    let input = In::Relay { control, until: tokio::time::Instant::now() + RELAY_IDLE };
-    tokio::spawn(session(Out::Relay { client, to }, input, hosted, rate, closing, metrics));
-}
-
-/// A relayed stream ends when its relaying node has not said it is there for this long.
-pub const RELAY_IDLE: Duration = Duration::from_secs(10);
-/// The header of a relayed stream's last message: its close code and reason (`4404 controller
-/// deleted`).
-pub const RELAY_CLOSE: &str = "fivex-close";
-
-/// Where a stream's messages go: a client's websocket, or a NATS subject another node relays.
-enum Out {
-    Ws(Sink),
-    Relay { client: async_nats::Client, to: String },
-}
-
-impl Out {
-    async fn text(&mut self, text: Utf8Bytes) -> bool {
-        match self {
-            Out::Ws(tx) => send_text(tx, text).await,
-            Out::Relay { client, to } => {
-                client.publish(to.clone(), bytes::Bytes::copy_from_slice(text.as_str().as_bytes())).await.is_ok()
-            }
-        }
-    }
-
-    async fn close(&mut self, code: u16, reason: &'static str) {
-        match self {
-            Out::Ws(tx) => goodbye(tx, code, reason).await,
-            Out::Relay { client, to } => {
-                let mut headers = async_nats::HeaderMap::new();
-                headers.insert(RELAY_CLOSE, format!("{code} {reason}").as_str());
-                let _ = client.publish_with_headers(to.clone(), headers, bytes::Bytes::new()).await;
-                let _ = client.flush().await;
-            }
-        }
-    }
-}
-
-/// What says the stream's reader is still there.
-enum In {
-    Ws(futures_util::stream::SplitStream<WebSocket>),
-    /// `alive` every few seconds, `stop` when the client left; nothing until `until`: gone.
-    Relay {
-        control: async_nats::Subscriber,
-        until: tokio::time::Instant,
-    },
-}
-
-impl In {
-    async fn still_there(&mut self) -> bool {
-        match self {
-            In::Ws(rx) => still_there(&rx.next().await),
-            In::Relay { control, until } => tokio::select! {
-                m = control.next() => match m {
-                    Some(m) if m.payload.as_ref() == b"alive" => {
-                        *until = tokio::time::Instant::now() + RELAY_IDLE;
-                        true
-                    }
-                    _ => false,
-                },
-                _ = tokio::time::sleep_until(*until) => false,
-            },
-        }
-    }
-}
-
 async fn session(
-    mut tx: Out,
-    mut rx: In,
+    mut tx: Sink,
+    mut rx: futures_util::stream::SplitStream<WebSocket>,
     hosted: Arc<Hosted>,
     rate: f64,
     mut closing: watch::Receiver<bool>,
     metrics: Metrics,
 ) {
-    let mut positions = hosted.positions();
+    let mut pace = Pace::new(hosted.positions(), rate);
     let mut events = hosted.events();
     let removed = hosted.removed();
     tokio::pin!(removed);
-    if !tx.text(json(&Snapshot::of(&hosted)).into()).await {
+    if !send(&mut tx, json(&Snapshot::of(&hosted))).await {
         return;
     }
     // Where the machine is now, once: the watch only carries changes, and an idle controller
@@ -242,41 +163,28 @@ async fn session(
     }
     // What this client was sent last: the first publication after a quiet spell may say the same.
     let mut sent = now;
-    // The rate is kept by a pace: after a frame, wait out the period, then send the newest
-    // position if it changed, or else wait for a change and send it at once. One wake-up per
-    // frame while the machine moves; none while it stands.
-    let period = Duration::from_secs_f64(1.0 / rate);
-    let pace = tokio::time::sleep(period);
-    tokio::pin!(pace);
-    let mut pacing = true;
     loop {
         let ok = tokio::select! {
-            _ = &mut pace, if pacing => {
-                pacing = positions.has_changed().unwrap_or(false);
-                if pacing {
-                    pace.as_mut().reset(tokio::time::Instant::now() + period);
-                    position(&mut tx, &mut positions, &mut sent, &metrics).await
-                } else {
-                    true
+            due = pace.due() => match due {
+                Some(Some(published)) if !published.reading.same_frame(&sent.reading) => {
+                    sent = published;
+                    send_frame(&mut tx, &sent, &metrics).await
                 }
-            }
-            changed = positions.changed(), if !pacing => {
-                pacing = true;
-                pace.as_mut().reset(tokio::time::Instant::now() + period);
-                changed.is_ok() && position(&mut tx, &mut positions, &mut sent, &metrics).await
-            }
+                Some(_) => true,
+                None => false,
+            },
             event = events.recv() => match event {
-                Ok(message) => tx.text(json(&*message).into()).await,
-                Err(RecvError::Lagged(_)) => tx.text(json(&Snapshot::of(&hosted)).into()).await,
+                Ok(message) => send(&mut tx, json(&*message)).await,
+                Err(RecvError::Lagged(_)) => send(&mut tx, json(&Snapshot::of(&hosted))).await,
                 Err(RecvError::Closed) => false,
             },
-            alive = rx.still_there() => alive,
+            incoming = rx.next() => still_there(&incoming),
             _ = closing.changed() => {
-                tx.close(close_code::AWAY, "server shutting down").await;
+                goodbye(&mut tx, close_code::AWAY, "server shutting down".into()).await;
                 false
             }
             () = &mut removed => {
-                tx.close(CONTROLLER_DELETED, "controller deleted").await;
+                goodbye(&mut tx, CONTROLLER_DELETED, "controller deleted".into()).await;
                 false
             }
         };
@@ -286,34 +194,64 @@ async fn session(
     }
 }
 
+/// The pace of a stream's position frames, at most `rate` a second, the newest winning: after a
+/// frame, wait out the period, then hand on the newest position if it changed, or else wait for
+/// a change and hand it on at once. One wake-up per frame while the machine moves; none while it
+/// stands. Shared by the local stream and the relayed one (`crate::relay`), which paces the
+/// owner's full-rate feed here, at the client's node.
+pub(crate) struct Pace<T> {
+    positions: watch::Receiver<T>,
+    period: Duration,
+    sleep: std::pin::Pin<Box<tokio::time::Sleep>>,
+    pacing: bool,
+}
+
+impl<T: Clone> Pace<T> {
+    /// Paces `positions`, starting with a period to wait out (a frame was just sent).
+    pub(crate) fn new(positions: watch::Receiver<T>, rate: f64) -> Pace<T> {
+        let period = Duration::from_secs_f64(1.0 / rate);
+        Pace { positions, period, sleep: Box::pin(tokio::time::sleep(period)), pacing: true }
+    }
+
+    /// A frame was just sent from elsewhere (a snapshot's): wait out a period, then look at the
+    /// newest position whether or not it changed since this pace last looked.
+    pub(crate) fn restart(&mut self) {
+        self.positions.mark_changed();
+        self.pacing = true;
+        self.sleep.as_mut().reset(tokio::time::Instant::now() + self.period);
+    }
+
+    /// The newest position when one is due (the caller sends it unless it says what the last one
+    /// sent said); `None` when the positions end. Cancel-safe: nothing changes across an await.
+    pub(crate) async fn due(&mut self) -> Option<T> {
+        loop {
+            if self.pacing {
+                self.sleep.as_mut().await;
+                self.pacing = self.positions.has_changed().unwrap_or(false);
+                if !self.pacing {
+                    continue;
+                }
+            } else {
+                self.positions.changed().await.ok()?;
+                self.pacing = true;
+            }
+            self.sleep.as_mut().reset(tokio::time::Instant::now() + self.period);
+            return Some(self.positions.borrow_and_update().clone());
+        }
+    }
+}
+
 /// The close code of a controller's stream when the controller is deleted (4000–4999 are for
 /// applications; 4404 reads as "not found").
 pub const CONTROLLER_DELETED: u16 = 4404;
 
-type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
-
-/// Send the newest position unless it says what `sent`, the one sent last, said.
-async fn position(
-    tx: &mut Out,
-    positions: &mut watch::Receiver<Option<Arc<Published>>>,
-    sent: &mut Arc<Published>,
-    metrics: &Metrics,
-) -> bool {
-    let latest = positions.borrow_and_update().clone();
-    match latest {
-        Some(published) if !published.reading.same_frame(&sent.reading) => {
-            *sent = published;
-            send_frame(tx, sent, metrics).await
-        }
-        _ => true,
-    }
-}
+pub(crate) type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
 
 /// Send a position frame, counted with its age (the wall clock now, as the service hands it
 /// to the socket, minus the worker's reading: the part of the lag the service can see).
-async fn send_frame(tx: &mut Out, frame: &Published, metrics: &Metrics) -> bool {
+async fn send_frame(tx: &mut Sink, frame: &Published, metrics: &Metrics) -> bool {
     let lag_s = (now_unix_ms() - frame.reading.wall_ms()) / 1000.0;
-    let sent = tx.text(frame.text()).await;
+    let sent = send_text(tx, frame.text()).await;
     if sent {
         metrics.frame_sent(lag_s);
     }
@@ -321,14 +259,14 @@ async fn send_frame(tx: &mut Out, frame: &Published, metrics: &Metrics) -> bool 
 }
 
 /// What the client sent, as whether it is still there (a close, an error or the end: gone).
-fn still_there(incoming: &Option<Result<Ws, axum::Error>>) -> bool {
+pub(crate) fn still_there(incoming: &Option<Result<Ws, axum::Error>>) -> bool {
     !matches!(incoming, None | Some(Err(_)) | Some(Ok(Ws::Close(_))))
 }
 
 /// Close with `code` and `reason` (not waiting long for a slow client): 1001 "going away" when
 /// the service shuts down, [`CONTROLLER_DELETED`] when the controller is deleted.
-async fn goodbye(tx: &mut Sink, code: u16, reason: &'static str) {
-    let bye = CloseFrame { code, reason: Utf8Bytes::from_static(reason) };
+pub(crate) async fn goodbye(tx: &mut Sink, code: u16, reason: Utf8Bytes) {
+    let bye = CloseFrame { code, reason };
     let _ = tokio::time::timeout(Duration::from_secs(1), tx.send(Ws::Close(Some(bye)))).await;
 }
 
@@ -338,11 +276,11 @@ async fn send(tx: &mut Sink, text: String) -> bool {
 }
 
 /// [`send`] of text encoded already (shared with other subscribers).
-async fn send_text(tx: &mut Sink, text: Utf8Bytes) -> bool {
+pub(crate) async fn send_text(tx: &mut Sink, text: Utf8Bytes) -> bool {
     matches!(tokio::time::timeout(SEND_TIMEOUT, tx.send(Ws::Text(text))).await, Ok(Ok(())))
 }
 
-fn json<T: Serialize>(value: &T) -> String {
+pub(crate) fn json<T: Serialize>(value: &T) -> String {
     serde_json::to_string(value).unwrap_or_else(|e| format!("{{\"type\":\"error\",\"error\":\"{e}\"}}"))
 }
 
@@ -450,7 +388,7 @@ async fn fleet_session(socket: WebSocket, state: AppState, rate: f64, deltas: bo
             }
             incoming = rx.next() => still_there(&incoming),
             _ = closing.changed() => {
-                goodbye(&mut tx, close_code::AWAY, "server shutting down").await;
+                goodbye(&mut tx, close_code::AWAY, "server shutting down".into()).await;
                 false
             }
         };

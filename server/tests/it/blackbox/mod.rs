@@ -13,6 +13,7 @@ mod origin;
 mod placement_view;
 mod postgres;
 mod rebalance;
+mod relay;
 mod served;
 mod store;
 mod streams;

@@ -4,7 +4,8 @@
 //! forwarded to the owner); the owner killed (SIGKILL) while a program runs and variables are
 //! written, every controller comes back on a survivor with every acknowledged write; a node
 //! stopped cleanly hands its controllers over; the stream of a remote controller is relayed by
-//! the node holding the websocket, and closed (1012) when the owner dies.
+//! the node holding the websocket, and follows the controller when the owner dies (a fresh
+//! snapshot from its new node; `relay.rs` tests the relaying itself).
 
 use std::time::{Duration, Instant};
 
@@ -19,20 +20,20 @@ use super::served::Served;
 
 const C: &str = "/api/v1/controllers";
 
-fn node(pg: &Postgres, nats: &NatsServer, name: &str) -> Served {
+pub(super) fn node(pg: &Postgres, nats: &NatsServer, name: &str) -> Served {
     Served::start_on(&pg.url(), &["--nats", &nats.url(), "--node", name, "--workers", "1"])
 }
 
 /// The controller ids node `served` hosts, from `/readyz`.
-async fn hosted(served: &Served) -> Vec<String> {
+pub(super) async fn hosted(served: &Served) -> Vec<String> {
     let ready = served.get("/readyz").await.json();
     ready["cluster"]["controllers"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect()
 }
 
-type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+pub(super) type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
 /// The next text message as JSON (within 30 s).
-async fn next_json(ws: &mut Socket) -> Value {
+pub(super) async fn next_json(ws: &mut Socket) -> Value {
     loop {
         match tokio::time::timeout(Duration::from_secs(30), ws.next()).await.expect("a message within 30 s") {
             Some(Ok(Message::Text(text))) => return serde_json::from_str(text.as_str()).expect("a JSON message"),
@@ -44,7 +45,7 @@ async fn next_json(ws: &mut Socket) -> Value {
 }
 
 /// Waits (generously) until `check` holds, panicking with `what` after the deadline.
-async fn eventually<F, Fut>(what: &str, mut check: F)
+pub(super) async fn eventually<F, Fut>(what: &str, mut check: F)
 where
     F: FnMut() -> Fut,
     Fut: std::future::Future<Output = Option<String>>,
@@ -164,17 +165,14 @@ async fn controllers_are_hosted_across_nodes_and_survive_a_killed_node() {
     }
     assert_eq!(acknowledged.len(), 22);
     one.kill();
-    // The relayed stream is closed (1012: reconnect) once node one has left.
+    // The relayed stream stays open and follows the controller: a fresh snapshot from its new
+    // node, in reset state.
     loop {
-        match tokio::time::timeout(Duration::from_secs(30), ws.next()).await.expect("the relayed stream closes") {
-            Some(Ok(Message::Close(frame))) => {
-                let frame = frame.expect("a close frame");
-                assert_eq!(u16::from(frame.code), 1012, "{frame:?}");
-                assert!(frame.reason.contains("node one"), "{frame:?}");
-                break;
-            }
-            Some(Ok(_)) => continue,
-            other => panic!("the relayed stream ended without a close frame: {other:?}"),
+        let message = next_json(&mut ws).await;
+        if message["type"] == "snapshot" {
+            assert_eq!(message["controller"]["id"], json!(id), "{message}");
+            assert_ne!(message["controller"]["run_state"], json!("running"), "{message}");
+            break;
         }
     }
 

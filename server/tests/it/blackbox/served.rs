@@ -117,6 +117,11 @@ impl Served {
         self.log.lock().unwrap().join("\n")
     }
 
+    /// Its log as it grows (to print after the process is gone or moved).
+    pub fn log_handle(&self) -> Arc<Mutex<Vec<String>>> {
+        Arc::clone(&self.log)
+    }
+
     /// One request; `body` is sent as given with the headers given (no content type is added).
     pub async fn request(&self, method: Method, path: &str, headers: &[(&str, &str)], body: impl Into<Bytes>) -> Reply {
         let mut request = Request::builder().method(method).uri(self.url(path));
