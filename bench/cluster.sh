@@ -3,7 +3,7 @@
 # initdb into a temporary directory) and a `nats-server -js` of its own on loopback, then
 # `fivex-load` once per line of RUNS, each on a fresh database: one process on SQLite, one node,
 # three nodes with each stream opened through the hosting node, and three nodes with every
-# stream relayed by another node. Prints one JSON report per run.
+# stream relayed by another node. Prints one JSON report per run. LOGS=DIR keeps every node's log.
 #
 #   cargo build --release -p fivex-server
 #   bash bench/cluster.sh [CONTROLLERS] [SECONDS]      # default 300 controllers, 15 s each
@@ -35,13 +35,13 @@ mkdir -p "$WORK/nats" && chmod 777 "$WORK/nats"
 "$NATS" -js -a 127.0.0.1 -p "$NATS_PORT" -sd "$WORK/nats" >/dev/null 2>&1 &
 NATS_PID=$!
 sleep 1
-run=0
+# A database of its own per run (called in $(…), a subshell: no counter survives it).
 fresh_db() {
-    run=$((run + 1))
-    "${AS[@]}" "$BIN/createdb" -h 127.0.0.1 -p "$PG_PORT" -U fivex "load$run"
-    echo "postgres://fivex@127.0.0.1:$PG_PORT/load$run"
+    local name="load$(date +%s%N)"
+    "${AS[@]}" "$BIN/createdb" -h 127.0.0.1 -p "$PG_PORT" -U fivex "$name" >&2
+    echo "postgres://fivex@127.0.0.1:$PG_PORT/$name"
 }
-common=(--controllers "$N" --seconds "$SECONDS_EACH" --warmup 5)
+common=(--controllers "$N" --seconds "$SECONDS_EACH" --warmup 5 ${LOGS:+--logs "$LOGS"})
 echo "== one process, SQLite"
 $LOAD "${common[@]}" || true
 echo "== one node (PostgreSQL, NATS)"

@@ -218,7 +218,9 @@ impl Cluster {
                 members.push(node);
             }
         }
+        // A key rewritten while it is listed can also come twice.
         members.sort();
+        members.dedup();
         self.inner.members.send_replace(members.clone());
         Ok(members)
     }

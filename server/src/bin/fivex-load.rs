@@ -99,6 +99,9 @@ struct Args {
     /// relays it, instead of through the node hosting it.
     #[arg(long)]
     relay: bool,
+    /// Write each service's log (at `info`) to DIR/ADDRESS.log.
+    #[arg(long)]
+    logs: Option<PathBuf>,
 }
 
 /// The program every controller runs: a square with the rotary axes turning, forever.
@@ -435,7 +438,8 @@ async fn start(
     extra: &[&std::ffi::OsStr],
 ) -> (tokio::process::Child, String, tokio::task::JoinHandle<()>) {
     let mut cmd = tokio::process::Command::new(fivex);
-    cmd.arg("serve").args(["--addr", "127.0.0.1:0"]).args(extra).env("RUST_LOG", "warn,fivex_server::serve=info");
+    let log = if args.logs.is_some() { "info" } else { "warn,fivex_server::serve=info" };
+    cmd.arg("serve").args(["--addr", "127.0.0.1:0"]).args(extra).env("RUST_LOG", log);
     if let Some(w) = args.workers {
         cmd.args(["--workers", &w.to_string()]);
     }
@@ -448,7 +452,19 @@ async fn start(
             break line[at + "listening on http://".len()..].trim().to_string();
         }
     };
-    let drain = tokio::spawn(async move { while let Ok(Some(_)) = lines.next_line().await {} });
+    // With `--logs DIR`, the service's log goes to DIR/ADDR.log (its port names it).
+    let mut file = args.logs.as_ref().map(|dir| {
+        let _ = std::fs::create_dir_all(dir);
+        std::fs::File::create(dir.join(format!("{}.log", addr.replace(':', "_")))).expect("a log file")
+    });
+    let drain = tokio::spawn(async move {
+        while let Ok(Some(line)) = lines.next_line().await {
+            if let Some(f) = file.as_mut() {
+                use std::io::Write;
+                let _ = writeln!(f, "{line}");
+            }
+        }
+    });
     (child, addr, drain)
 }
 
