@@ -120,9 +120,10 @@ pub async fn stream(
     }
     let closing = state.closing();
     let metrics = state.metrics.clone();
+    let db = state.db.clone();
     Ok(upgrade_small(upgrade).on_upgrade(move |socket| {
         let (tx, rx) = socket.split();
-        session(tx, rx, hosted, rate, closing, metrics)
+        session(tx, rx, hosted, rate, closing, metrics, db)
     }))
 }
 
@@ -147,6 +148,7 @@ async fn session(
     rate: f64,
     mut closing: watch::Receiver<bool>,
     metrics: Metrics,
+    db: crate::db::Db,
 ) {
     let mut pace = Pace::new(hosted.positions(), rate);
     let mut events = hosted.events();
@@ -184,7 +186,14 @@ async fn session(
                 false
             }
             () = &mut removed => {
-                goodbye(&mut tx, CONTROLLER_DELETED, "controller deleted".into()).await;
+                // Gone from this node but still stored: another node of the cluster hosts it
+                // now (this one was cut off, or handed it over). Not "deleted": reconnect.
+                if crate::service::controllers::still_stored(&db, &hosted.id).await {
+                    let reason = format!("controller {}: hosted by another node now; reconnect", hosted.id);
+                    goodbye(&mut tx, CONTROLLER_MOVED, reason.into()).await;
+                } else {
+                    goodbye(&mut tx, CONTROLLER_DELETED, "controller deleted".into()).await;
+                }
                 false
             }
         };
@@ -244,6 +253,9 @@ impl<T: Clone> Pace<T> {
 /// The close code of a controller's stream when the controller is deleted (4000–4999 are for
 /// applications; 4404 reads as "not found").
 pub const CONTROLLER_DELETED: u16 = 4404;
+/// Close code when the controller left this node for another of the cluster (1012, "service
+/// restart": reconnecting, through any node, reaches it there).
+pub const CONTROLLER_MOVED: u16 = 1012;
 
 pub(crate) type Sink = futures_util::stream::SplitSink<WebSocket, Ws>;
 

@@ -120,6 +120,13 @@ pub async fn update(db: &db::Db, hosted: &Hosted, name: Option<&str>, speed: Opt
 }
 
 /// Removes a controller with everything stored of it; its streams close.
+/// Whether controller `id` is still stored: one that left this node's host and is stored moved
+/// to another node of a cluster (deleted, it is not). A failed read counts as stored: "moved,
+/// reconnect" is the answer a client can act on either way.
+pub async fn still_stored(db: &db::Db, id: &str) -> bool {
+    !matches!(db::controller(db, id).await, Ok(None))
+}
+
 pub async fn remove(db: &db::Db, host: &Host, hosted: &Hosted) -> Result<(), ServiceError> {
     db::delete_controller(db, &hosted.id).await?;
     host.remove(&hosted.id);

@@ -15,15 +15,14 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use bytes::Bytes;
-use futures_util::StreamExt;
 use http_body_util::{BodyExt, Full};
 use hyper::{Method, Request, StatusCode};
 use hyper_util::client::legacy::{connect::HttpConnector, Client};
 use hyper_util::rt::TokioExecutor;
 use serde_json::{json, Value};
-use tokio_tungstenite::tungstenite::Message;
 
 use super::nats::NatsServer;
+use super::nodes::{hosted, next_json, Socket};
 use super::postgres::Postgres;
 use super::served::{Reply, Served};
 
@@ -152,26 +151,6 @@ impl Drop for Proxy {
 /// Every node's log, for a failure's message.
 fn logs(nodes: &[Served]) -> String {
     nodes.iter().zip(NODES).map(|(n, name)| format!("--- {name}\n{}\n", n.log())).collect()
-}
-
-/// The controller ids node `served` hosts, from its `/readyz`.
-async fn hosted(served: &Served) -> Vec<String> {
-    let ready = served.get("/readyz").await.json();
-    ready["cluster"]["controllers"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect()
-}
-
-type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
-
-/// The next text message as JSON (within 30 s).
-async fn next_json(ws: &mut Socket) -> Value {
-    loop {
-        match tokio::time::timeout(Duration::from_secs(30), ws.next()).await.expect("a message within 30 s") {
-            Some(Ok(Message::Text(text))) => return serde_json::from_str(text.as_str()).expect("a JSON message"),
-            Some(Ok(Message::Close(frame))) => panic!("the stream closed: {frame:?}"),
-            Some(Ok(_)) => continue,
-            other => panic!("websocket: {other:?}"),
-        }
-    }
 }
 
 /// A stream through the proxy: open, its snapshot names controller `id`.

@@ -225,3 +225,54 @@ async fn node_with_sqlite_is_refused() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("PostgreSQL"), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// A node that stops hosting a controller another node took over (as when it was cut off from
+/// NATS for longer than its lease) closes the controller's websockets on it with 1012 "hosted
+/// by another node now; reconnect", not 4404 "deleted": the controller is still stored and
+/// answers through either node.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stream_on_a_node_that_loses_its_controller_says_reconnect() {
+    let (pg, nats) = (Postgres::start(), NatsServer::start());
+    let one = node(&pg, &nats, "one");
+    let two = node(&pg, &nats, "two");
+    eventually("both nodes see two members", || async {
+        for n in [&one, &two] {
+            let members = n.get("/readyz").await.json()["cluster"]["members"].clone();
+            if members != json!(["one", "two"]) {
+                return Some(format!("{members}"));
+            }
+        }
+        None
+    })
+    .await;
+    let created = one.send_json(Method::POST, C, &json!({"name": "m", "preset": "mill3"})).await;
+    assert_eq!(created.status, StatusCode::CREATED, "{:?}", created.body);
+    let id = created.json()["id"].as_str().unwrap().to_owned();
+    let (mut ws, _) =
+        tokio_tungstenite::connect_async(format!("ws://{}{C}/{id}/stream", one.addr)).await.expect("websocket");
+    assert_eq!(next_json(&mut ws).await["type"], "snapshot");
+
+    // Node two's takeover as the bucket sees it: the placement names node two.
+    let client = async_nats::connect(nats.url()).await.expect("NATS");
+    let placement = async_nats::jetstream::new(client).get_key_value("fivex_placement").await.expect("the bucket");
+    placement.put(&id, "two".into()).await.expect("placement written");
+
+    let frame = loop {
+        match tokio::time::timeout(Duration::from_secs(30), ws.next()).await.expect("the stream closes") {
+            Some(Ok(Message::Close(frame))) => break frame.expect("a close frame"),
+            Some(Ok(_)) => continue,
+            other => panic!("the stream ended without a close frame: {other:?}"),
+        }
+    };
+    assert_eq!(u16::from(frame.code), 1012, "{frame:?}");
+    assert!(frame.reason.contains("hosted by another node"), "{frame:?}");
+    eventually("the controller hosted by node two", || async {
+        let on_two = hosted(&two).await;
+        (on_two != [id.clone()]).then(|| format!("{on_two:?}"))
+    })
+    .await;
+    for n in [&one, &two] {
+        let read = n.get(&format!("{C}/{id}")).await;
+        assert_eq!(read.status, StatusCode::OK, "{:?}", read.body);
+    }
+}
