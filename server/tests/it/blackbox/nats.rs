@@ -15,10 +15,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use futures_util::StreamExt;
 use hyper::Method;
 use serde_json::{json, Value};
-use tokio_tungstenite::tungstenite::Message;
 
 use super::postgres::Postgres;
 use super::served::Served;
@@ -312,20 +310,6 @@ fn counted(run: &Value) -> (u64, String) {
     (n, run["status"].as_str().unwrap().to_string())
 }
 
-type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
-
-/// The next progress message of a fleet run's stream (within 60 s).
-async fn next_progress(ws: &mut Socket) -> Value {
-    loop {
-        match tokio::time::timeout(Duration::from_secs(60), ws.next()).await.expect("a message within 60 s") {
-            Some(Ok(Message::Text(text))) => return serde_json::from_str(text.as_str()).expect("a JSON message"),
-            Some(Ok(Message::Close(frame))) => panic!("the stream closed: {frame:?}"),
-            Some(Ok(_)) => continue,
-            other => panic!("websocket: {other:?}"),
-        }
-    }
-}
-
 fn under_way(status: &str) -> bool {
     matches!(status, "queued" | "running")
 }
@@ -374,7 +358,7 @@ async fn a_fleet_run_outlives_the_node_that_took_it() {
     let id = reply.json()["id"].as_str().unwrap().to_string();
     let path = format!("/api/v1/fleet/runs/{id}");
     let (mut ws, _) = tokio_tungstenite::connect_async(format!("ws://{}{path}/stream", three.addr)).await.unwrap();
-    let first = next_progress(&mut ws).await;
+    let first = super::nodes::next_json_within(&mut ws, Duration::from_secs(60)).await;
     assert_eq!((first["total"].as_u64(), first["finished"].as_bool()), (Some(40), Some(false)), "{first}");
     // Halfway, as node two reads it, node one is killed.
     let deadline = Instant::now() + Duration::from_secs(300);
@@ -405,7 +389,7 @@ async fn a_fleet_run_outlives_the_node_that_took_it() {
     // The stream through node three followed it to its end.
     let mut done = first["done"].as_u64().unwrap();
     let last = loop {
-        let p = next_progress(&mut ws).await;
+        let p = super::nodes::next_json_within(&mut ws, Duration::from_secs(60)).await;
         let now = p["done"].as_u64().unwrap();
         assert!(now >= done && now <= 40, "progress went from {done} to {now}: {p}");
         done = now;

@@ -24,18 +24,26 @@ pub(super) fn node(pg: &Postgres, nats: &NatsServer, name: &str) -> Served {
     Served::start_on(&pg.url(), &["--nats", &nats.url(), "--node", name, "--workers", "1"])
 }
 
-/// The controller ids node `served` hosts, from `/readyz`.
+/// The controller ids node `served` hosts, from `/readyz`, sorted.
 pub(super) async fn hosted(served: &Served) -> Vec<String> {
     let ready = served.get("/readyz").await.json();
-    ready["cluster"]["controllers"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect()
+    let mut ids: Vec<String> =
+        ready["cluster"]["controllers"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect();
+    ids.sort();
+    ids
 }
 
 pub(super) type Socket = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
 /// The next text message as JSON (within 30 s).
 pub(super) async fn next_json(ws: &mut Socket) -> Value {
+    next_json_within(ws, Duration::from_secs(30)).await
+}
+
+/// The next text message as JSON, within `limit`.
+pub(super) async fn next_json_within(ws: &mut Socket, limit: Duration) -> Value {
     loop {
-        match tokio::time::timeout(Duration::from_secs(30), ws.next()).await.expect("a message within 30 s") {
+        match tokio::time::timeout(limit, ws.next()).await.unwrap_or_else(|_| panic!("no message within {limit:?}")) {
             Some(Ok(Message::Text(text))) => return serde_json::from_str(text.as_str()).expect("a JSON message"),
             Some(Ok(Message::Close(frame))) => panic!("the stream closed: {frame:?}"),
             Some(Ok(_)) => continue,
@@ -58,22 +66,27 @@ where
     }
 }
 
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn controllers_are_hosted_across_nodes_and_survive_a_killed_node() {
-    let (pg, nats) = (Postgres::start(), NatsServer::start());
-    let mut one = node(&pg, &nats, "one");
-    let two = node(&pg, &nats, "two");
-    let three = node(&pg, &nats, "three");
-    eventually("every node sees three members", || async {
-        for n in [&one, &two, &three] {
+/// Waits until every node of `nodes` sees exactly the members `names` (sorted).
+pub(super) async fn members_seen(nodes: &[&Served], names: &[&str]) {
+    eventually("every node sees the members", || async {
+        for n in nodes {
             let members = n.get("/readyz").await.json()["cluster"]["members"].clone();
-            if members != json!(["one", "three", "two"]) {
+            if members != json!(names) {
                 return Some(format!("{members}"));
             }
         }
         None
     })
     .await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn controllers_are_hosted_across_nodes_and_survive_a_killed_node() {
+    let (pg, nats) = (Postgres::start(), NatsServer::start());
+    let mut one = node(&pg, &nats, "one");
+    let two = node(&pg, &nats, "two");
+    let three = node(&pg, &nats, "three");
+    members_seen(&[&one, &two, &three], &["one", "three", "two"]).await;
 
     // Created through node one: placed on it.
     let mut ids = Vec::new();
@@ -235,16 +248,7 @@ async fn a_stream_on_a_node_that_loses_its_controller_says_reconnect() {
     let (pg, nats) = (Postgres::start(), NatsServer::start());
     let one = node(&pg, &nats, "one");
     let two = node(&pg, &nats, "two");
-    eventually("both nodes see two members", || async {
-        for n in [&one, &two] {
-            let members = n.get("/readyz").await.json()["cluster"]["members"].clone();
-            if members != json!(["one", "two"]) {
-                return Some(format!("{members}"));
-            }
-        }
-        None
-    })
-    .await;
+    members_seen(&[&one, &two], &["one", "two"]).await;
     let created = one.send_json(Method::POST, C, &json!({"name": "m", "preset": "mill3"})).await;
     assert_eq!(created.status, StatusCode::CREATED, "{:?}", created.body);
     let id = created.json()["id"].as_str().unwrap().to_owned();

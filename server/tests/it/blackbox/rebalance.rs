@@ -13,23 +13,11 @@ use hyper::{Method, StatusCode};
 use serde_json::{json, Value};
 
 use super::nats::NatsServer;
+use super::nodes::{hosted, node};
 use super::postgres::Postgres;
 use super::served::Served;
 
 const C: &str = "/api/v1/controllers";
-
-fn node(pg: &Postgres, nats: &NatsServer, name: &str) -> Served {
-    Served::start_on(&pg.url(), &["--nats", &nats.url(), "--node", name, "--workers", "1"])
-}
-
-/// The controller ids node `served` hosts, from `/readyz`.
-async fn hosted(served: &Served) -> Vec<String> {
-    let ready = served.get("/readyz").await.json();
-    let mut ids: Vec<String> =
-        ready["cluster"]["controllers"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_owned()).collect();
-    ids.sort();
-    ids
-}
 
 /// Waits (generously: the machine is shared) until `check` answers `None`, else panics with
 /// `what` and the last reason.

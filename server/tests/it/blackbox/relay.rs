@@ -17,7 +17,7 @@ use serde_json::{json, Value};
 use tokio_tungstenite::tungstenite::Message;
 
 use super::nats::NatsServer;
-use super::nodes::{eventually, hosted, node};
+use super::nodes::{eventually, hosted, members_seen, node};
 use super::postgres::Postgres;
 use super::served::Served;
 
@@ -184,16 +184,7 @@ async fn relayed_streams_share_one_subscription_and_follow_their_controller() {
     let three = node(&pg, &nats, "three");
     let mut logs =
         LogsOnPanic(vec![("one", one.log_handle()), ("two", two.log_handle()), ("three", three.log_handle())]);
-    eventually("every node sees three members", || async {
-        for n in [&one, &two, &three] {
-            let members = n.get("/readyz").await.json()["cluster"]["members"].clone();
-            if members != json!(["one", "three", "two"]) {
-                return Some(format!("{members}"));
-            }
-        }
-        None
-    })
-    .await;
+    members_seen(&[&one, &two, &three], &["one", "three", "two"]).await;
     let created = one.send_json(Method::POST, C, &json!({"name": "relayed", "preset": "head-bc"})).await;
     assert_eq!(created.status, StatusCode::CREATED, "{:?}", created.body);
     let id = created.json()["id"].as_str().unwrap().to_owned();
