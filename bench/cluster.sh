@@ -28,6 +28,7 @@ cleanup() {
     rm -rf "$WORK"
 }
 trap cleanup EXIT
+trap "exit 1" INT TERM
 "${AS[@]}" "$BIN/initdb" -D "$WORK/data" -A trust -U fivex --no-sync -E UTF8 >/dev/null
 "${AS[@]}" "$BIN/pg_ctl" -D "$WORK/data" -o "-p $PG_PORT -h 127.0.0.1 -k $WORK -c max_connections=400" \
     -l "$WORK/pg.log" -w start >/dev/null

@@ -142,7 +142,13 @@ impl Proxy {
 }
 
 impl Drop for Proxy {
+    /// SIGTERM, so that the master stops its workers (killed, it would leave them serving).
     fn drop(&mut self) {
+        let _ = Command::new("kill").args(["-TERM", &self.child.id().to_string()]).status();
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while matches!(self.child.try_wait(), Ok(None)) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(20));
+        }
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
