@@ -304,6 +304,30 @@ async fn nothing_left_on_nats(url: &str) {
     }
 }
 
+/// Posts fleet run `request` to `via` without waiting: its id and path.
+async fn submit(via: &Served, request: &Value) -> (String, String) {
+    let reply = via.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", request).await;
+    assert_eq!(reply.status, 202, "{}", reply.json());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    let path = format!("/api/v1/fleet/runs/{id}");
+    (id, path)
+}
+
+/// Waits until the run at `path`, read through `via`, has at least `at_least` results while it
+/// is still under way (it must not end first): how many it has then.
+async fn results_under_way(via: &Served, path: &str, at_least: u64) -> u64 {
+    let deadline = Instant::now() + Duration::from_secs(300);
+    loop {
+        let (n, status) = counted(&via.get(path).await.json());
+        assert!(under_way(&status), "the run ended ({status}) with {n} results, before {at_least}");
+        if n >= at_least {
+            return n;
+        }
+        assert!(Instant::now() < deadline, "the run never reached {at_least} results ({n})");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
 /// `completed + alarms` of a stored run and its status.
 fn counted(run: &Value) -> (u64, String) {
     let n = run["completed"].as_u64().unwrap() + run["alarms"].as_u64().unwrap();
@@ -353,24 +377,12 @@ async fn a_fleet_run_outlives_the_node_that_took_it() {
     assert_eq!(expected.as_array().unwrap().len(), 40);
 
     // Submitted to node one; followed through node three, which neither took nor collects it.
-    let reply = one.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
-    assert_eq!(reply.status, 202, "{}", reply.json());
-    let id = reply.json()["id"].as_str().unwrap().to_string();
-    let path = format!("/api/v1/fleet/runs/{id}");
+    let (id, path) = submit(&one, &request).await;
     let (mut ws, _) = tokio_tungstenite::connect_async(format!("ws://{}{path}/stream", three.addr)).await.unwrap();
     let first = super::nodes::next_json_within(&mut ws, Duration::from_secs(60)).await;
     assert_eq!((first["total"].as_u64(), first["finished"].as_bool()), (Some(40), Some(false)), "{first}");
     // Halfway, as node two reads it, node one is killed.
-    let deadline = Instant::now() + Duration::from_secs(300);
-    let halfway = loop {
-        let (n, status) = counted(&two.get(&path).await.json());
-        assert!(under_way(&status), "the run ended before node one could be killed ({n} results)");
-        if n >= 20 {
-            break n;
-        }
-        assert!(Instant::now() < deadline, "the run never got halfway ({n} results)");
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    };
+    let halfway = results_under_way(&two, &path, 20).await;
     one.kill();
     assert!(halfway < 40, "node one was killed after the run's end");
     until_over(&[&two, &three], &id, 40, halfway).await;
@@ -404,20 +416,8 @@ async fn a_fleet_run_outlives_the_node_that_took_it() {
     // A run whose collector stops cleanly (SIGTERM) mid-run is handed over: node three, or two
     // started again under its name, completes it.
     let request = json!({"program": long_program(8000), "presets": machines(20)});
-    let reply = two.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
-    assert_eq!(reply.status, 202, "{}", reply.json());
-    let id = reply.json()["id"].as_str().unwrap().to_string();
-    let path = format!("/api/v1/fleet/runs/{id}");
-    let deadline = Instant::now() + Duration::from_secs(300);
-    let before = loop {
-        let (n, status) = counted(&three.get(&path).await.json());
-        assert!(under_way(&status), "the run ended before node two could be stopped ({n} results)");
-        if n >= 5 {
-            break n;
-        }
-        assert!(Instant::now() < deadline, "the run never got going ({n} results)");
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    };
+    let (id, path) = submit(&two, &request).await;
+    let before = results_under_way(&three, &path, 5).await;
     let (status, _) = two.terminate(Duration::from_secs(60));
     assert!(status.success(), "{status}; log: {}", two.log());
     assert!(two.log().contains("handed over"), "{}", two.log());
@@ -483,10 +483,7 @@ async fn a_fleet_run_outlives_the_node_that_took_it() {
 
     // A run collected by node three, cancelled through node two: ended `cancelled` for both.
     let request = json!({"program": long_program(8000), "presets": machines(12)});
-    let reply = three.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
-    assert_eq!(reply.status, 202, "{}", reply.json());
-    let id = reply.json()["id"].as_str().unwrap().to_string();
-    let path = format!("/api/v1/fleet/runs/{id}");
+    let (_, path) = submit(&three, &request).await;
     let deadline = Instant::now() + Duration::from_secs(300);
     while counted(&again.get(&path).await.json()).0 == 0 {
         assert!(Instant::now() < deadline, "no result of the run recorded");
@@ -511,20 +508,8 @@ async fn a_single_sqlite_node_killed_mid_run_finds_it_interrupted_after_a_restar
     let args = ["--nats", &nats.url(), "--nats-jobs", "1"];
     let mut node = Served::start(&args);
     let request = json!({"program": long_program(8000), "presets": machines(12)});
-    let reply = node.send_json(Method::POST, "/api/v1/fleet/runs?wait=false", &request).await;
-    assert_eq!(reply.status, 202, "{}", reply.json());
-    let id = reply.json()["id"].as_str().unwrap().to_string();
-    let path = format!("/api/v1/fleet/runs/{id}");
-    let deadline = Instant::now() + Duration::from_secs(300);
-    let recorded = loop {
-        let (n, status) = counted(&node.get(&path).await.json());
-        assert!(under_way(&status), "{status}");
-        if n >= 2 {
-            break n;
-        }
-        assert!(Instant::now() < deadline, "no result recorded");
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    };
+    let (id, path) = submit(&node, &request).await;
+    let recorded = results_under_way(&node, &path, 2).await;
     node.kill();
     let js = async_nats::jetstream::new(async_nats::connect(nats.url()).await.unwrap());
     assert!(stored(&js, "FIVEX_FLEET").await.0 > 0, "no job of the run left to withdraw");
