@@ -264,6 +264,22 @@ impl Controller {
         &self.alarms
     }
 
+    /// Whether the emergency stop is pressed.
+    pub fn emergency_stopped(&self) -> bool {
+        self.estop
+    }
+
+    /// The text of 1-based `line` of what the mode runs (the AUTO program or the MDI text),
+    /// as a panel's program display shows the executing block; `None` past its end or before
+    /// anything was selected.
+    pub fn source_line(&self, line: u32) -> Option<&str> {
+        let text = match self.mode {
+            Mode::Mdi => self.mdi.as_deref(),
+            _ => self.program.as_deref(),
+        }?;
+        text.lines().nth((line as usize).checked_sub(1)?)
+    }
+
     /// Where the machine is now (rollover axes shown modulo 360). The machine position includes
     /// a manual handle interruption's shift, the program's (absolute) position does not.
     pub fn point(&self) -> Point {

@@ -19,5 +19,6 @@ pub mod placement;
 pub mod relay;
 pub mod serve;
 pub mod service;
+pub mod shopfloor;
 pub mod tools;
 pub mod wire;

@@ -109,6 +109,8 @@ pub struct ServeOptions {
     /// `--node`: this node's name in the cluster of controller hosts (`--nats` with a
     /// PostgreSQL database, `crate::placement`); default: the host's name.
     pub node: Option<String>,
+    /// `--mtconnect`, `--opcua`: the shop-floor interfaces (`crate::shopfloor`).
+    pub shopfloor: crate::shopfloor::Options,
 }
 
 /// Joins the cluster of controller hosts as `name`, or else as the host's name (with a suffix
@@ -141,6 +143,7 @@ pub fn run_blocking(db: &Path, addr: &str) -> Result<(), String> {
         nats_jobs: None,
         nats_idle: crate::cluster::IDLE_TIMEOUT,
         node: None,
+        shopfloor: Default::default(),
     })
 }
 
@@ -217,6 +220,7 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         }
         tracing::info!(db = %db, workers, token = state.token().is_some(), "database ready");
         tracing::info!(limits = ?options.limits, fleet_jobs = options.fleet_jobs, "limits");
+        let shopfloor = crate::shopfloor::start(&options.shopfloor, &state).await?;
         let listener = TcpListener::bind(addr).await.map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         let local = listener.local_addr().map_err(|e| format!("cannot listen on {addr}: {e}"))?;
         // Installed before announcing the address: once the line below is logged, SIGINT and
@@ -227,6 +231,9 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         serve_with(listener, state, options.limits.clone().fitted_to_process(), shutdown)
             .await
             .map_err(|e| format!("server error: {e}"))?;
+        if let Some(shopfloor) = shopfloor {
+            shopfloor.stop().await;
+        }
         after.shutdown().await;
         after.db.close().await;
         tracing::info!("fivex stopped");

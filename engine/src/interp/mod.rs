@@ -657,6 +657,11 @@ impl State {
         p.chain(e).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).collect()
     }
 
+    /// The part count (#3901, parts machined) and the parts required (#3902).
+    pub fn part_count(&self) -> (f64, f64) {
+        (self.parts_done, self.parts_required)
+    }
+
     /// Whether a power cycle keeps variable `n` ([`State::retained_variables`]).
     pub fn is_retained(n: u32) -> bool {
         matches!(n, 500..=999 | 500_000..=999_999 | 3002 | 3901 | 3902)

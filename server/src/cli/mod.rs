@@ -167,6 +167,20 @@ struct ServeArgs {
     /// (docs/cluster.md; 1 to 64 of A-Z a-z 0-9 _ -). Default: the host's name.
     #[arg(long, env = "FIVEX_NODE", value_name = "NAME", requires = "nats")]
     node: Option<String>,
+    /// Serve an MTConnect agent for the controllers on this address (`HOST:PORT`, e.g.
+    /// `0.0.0.0:5000`; docs/shopfloor.md). Read-only, without the token.
+    #[arg(long, env = "FIVEX_MTCONNECT", value_name = "ADDR")]
+    mtconnect: Option<String>,
+    /// Observations the MTConnect agent keeps for `/sample` (its buffer size).
+    #[arg(long, env = "FIVEX_MTCONNECT_BUFFER", default_value_t = crate::shopfloor::mtconnect::DEFAULT_BUFFER as u32, value_parser = clap::value_parser!(u32).range(16..=16_777_216))]
+    mtconnect_buffer: u32,
+    /// Serve OPC UA (Machine Tools companion specification) on this address (`HOST:PORT`, e.g.
+    /// `0.0.0.0:4840`; docs/shopfloor.md).
+    #[arg(long, env = "FIVEX_OPCUA", value_name = "ADDR")]
+    opcua: Option<String>,
+    /// How often the shop-floor interfaces read every controller, milliseconds.
+    #[arg(long, env = "FIVEX_SHOPFLOOR_PERIOD_MS", default_value_t = 100, value_parser = clap::value_parser!(u64).range(10..=10_000))]
+    shopfloor_period_ms: u64,
 }
 
 /// A usage or IO error: exit status 2.
@@ -211,6 +225,12 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
                 nats_jobs: a.nats_jobs.map(|n| n as usize),
                 nats_idle: std::time::Duration::from_secs(a.nats_timeout_s),
                 node: a.node,
+                shopfloor: crate::shopfloor::Options {
+                    mtconnect: a.mtconnect,
+                    mtconnect_buffer: a.mtconnect_buffer as usize,
+                    opcua: a.opcua,
+                    period: std::time::Duration::from_millis(a.shopfloor_period_ms),
+                },
             };
             crate::serve::run_with(options).map_err(Fail)?;
             Ok(0)
