@@ -37,6 +37,8 @@ if ! command -v docker-compose >/dev/null; then
 fi
 docker-compose -f docker-compose.yml config -q
 docker-compose -f docker-compose.single.yml config -q
+echo "== the shop-floor tests' Python clients (asyncua, lxml from PyPI in target/venv)"
+scripts/python-venv.sh
 echo "== cargo test --workspace"
 cargo test --workspace
 echo "== cutter compensation against LinuxCNC's rs274 (the peer, fetched from Debian's archive)"
