@@ -12,3 +12,4 @@ mod fleet;
 mod http;
 mod layers;
 mod metrics;
+mod shopfloor;

@@ -14,7 +14,7 @@ mod placement_view;
 mod postgres;
 mod rebalance;
 mod relay;
-mod served;
+pub mod served;
 mod store;
 mod streams;
 mod wire;

@@ -1,0 +1,1 @@
+//! The MTConnect agent (tests being written).
