@@ -1,0 +1,205 @@
+//! The agent's memory: every observation numbered by one sequence across all devices, the last
+//! `capacity` of them kept for `/sample`, and each device's current values for `/current`.
+//!
+//! An observation is made only when a data item's value changed between two rounds of the
+//! observer, so the sequence says what changed and when; a `/sample` client that asks for
+//! `from = nextSequence` each time sees every observation once, in order, without gaps.
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+
+use super::doc::Text;
+use super::model::{Category, Device, Value};
+use crate::host::stream::AlarmInfo;
+use crate::shopfloor::observe::Round;
+
+/// What one observation says.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Said {
+    Value(Text),
+    Unavailable,
+    /// A condition's fault came on (nativeCode = the alarm's code, text its message).
+    Fault(AlarmInfo),
+    /// A condition is normal again: every fault (`None`) or the one with this code.
+    Normal(Option<String>),
+}
+
+#[derive(Debug, Clone)]
+pub struct Observation {
+    pub sequence: u64,
+    /// RFC 3339 UTC, the observer's round.
+    pub at: Arc<str>,
+    pub device: Arc<Device>,
+    /// Index into the device's items.
+    pub item: usize,
+    pub said: Said,
+}
+
+/// A device as the agent holds it: its model, the values last seen, and what `/current` shows
+/// (per item: the last observation; for a condition, every fault in force or one `Normal`).
+#[derive(Debug)]
+pub struct Held {
+    pub model: Arc<Device>,
+    /// Per item: the value last observed (`None`: not yet).
+    last: Vec<Option<Value>>,
+    pub current: Vec<Vec<Observation>>,
+}
+
+#[derive(Debug)]
+pub struct Buffer {
+    capacity: usize,
+    kept: VecDeque<Observation>,
+    next: u64,
+    /// In the order the controllers were first seen.
+    pub devices: Vec<Held>,
+    /// When the set of devices or one's model last changed (the header's deviceModelChangeTime).
+    pub model_changed_at: String,
+}
+
+impl Buffer {
+    pub fn new(capacity: usize) -> Buffer {
+        Buffer {
+            capacity: capacity.max(1),
+            kept: VecDeque::with_capacity(capacity.clamp(1, 1 << 20)),
+            next: 1,
+            devices: Vec::new(),
+            model_changed_at: crate::host::now_rfc3339(),
+        }
+    }
+
+    pub fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// The sequence the next observation gets.
+    pub fn next_sequence(&self) -> u64 {
+        self.next
+    }
+
+    /// The oldest sequence still kept (`next` when none is).
+    pub fn first_sequence(&self) -> u64 {
+        self.kept.front().map_or(self.next, |o| o.sequence)
+    }
+
+    pub fn last_sequence(&self) -> u64 {
+        self.next.saturating_sub(1).max(self.first_sequence().saturating_sub(1))
+    }
+
+    /// Up to `count` observations from sequence `from` on (`from` must be kept or `next`).
+    pub fn range(&self, from: u64, count: usize) -> &[Observation] {
+        let first = self.first_sequence();
+        let start = usize::try_from(from.saturating_sub(first)).unwrap_or(usize::MAX).min(self.kept.len());
+        let (a, b) = self.kept.as_slices();
+        // The ring's two halves: a range inside one of them is one slice; one across both is
+        // cut at the seam (the caller asks again from the next sequence).
+        if start < a.len() {
+            &a[start..(start + count).min(a.len())]
+        } else {
+            let start = start - a.len();
+            &b[start..(start + count).min(b.len())]
+        }
+    }
+
+    /// Takes in a round: observations for what changed, new devices, and devices gone.
+    pub fn observe(&mut self, round: &Round) {
+        let at: Arc<str> = Arc::from(round.at.as_str());
+        let mut seen = vec![false; self.devices.len()];
+        for entry in &round.controllers {
+            let index = match self.devices.iter().position(|d| d.model.uuid == entry.id) {
+                Some(i) => {
+                    seen[i] = true;
+                    let held = &self.devices[i];
+                    if !Arc::ptr_eq(&held.model.machine, &entry.machine) || held.model.name != entry.name {
+                        // A new machine (or name): the device's model is rebuilt, every value
+                        // observed afresh.
+                        self.devices[i] = Held::new(Arc::new(Device::of(entry)));
+                        self.model_changed_at = round.at.clone();
+                    }
+                    i
+                }
+                None => {
+                    self.devices.push(Held::new(Arc::new(Device::of(entry))));
+                    seen.push(true);
+                    self.model_changed_at = round.at.clone();
+                    self.devices.len() - 1
+                }
+            };
+            let values: Vec<Value> = self.devices[index].model.items.iter().map(|i| i.value(&entry.observed)).collect();
+            for (item, value) in values.into_iter().enumerate() {
+                if self.devices[index].last[item].as_ref() != Some(&value) {
+                    self.change(index, item, value, &at);
+                }
+            }
+        }
+        // Gone (deleted, or hosted by another node now): said unavailable, then forgotten.
+        for i in (0..seen.len()).rev() {
+            if !seen[i] {
+                let availability = self.devices[i].model.items.iter().position(|it| it.kind == "AVAILABILITY");
+                if let Some(item) = availability {
+                    self.change(i, item, Value::Unavailable, &at);
+                }
+                self.devices.remove(i);
+                self.model_changed_at = round.at.clone();
+            }
+        }
+    }
+
+    /// Item `item` of device `index` now has `value`: the observations that say so.
+    fn change(&mut self, index: usize, item: usize, value: Value, at: &Arc<str>) {
+        let held = &self.devices[index];
+        let said: Vec<Said> = match (&held.last[item], &value) {
+            (_, Value::Text(t)) => vec![Said::Value(t.clone())],
+            (_, Value::Unavailable) => vec![Said::Unavailable],
+            (before, Value::Faults(now)) => {
+                let before: &[AlarmInfo] = match before {
+                    Some(Value::Faults(f)) => f,
+                    _ => &[],
+                };
+                if now.is_empty() {
+                    vec![Said::Normal(None)]
+                } else {
+                    let cleared =
+                        before.iter().filter(|a| !now.contains(a)).map(|a| Said::Normal(Some(a.code.clone())));
+                    let raised = now.iter().filter(|a| !before.contains(a)).map(|a| Said::Fault(a.clone()));
+                    cleared.chain(raised).collect()
+                }
+            }
+        };
+        let model = held.model.clone();
+        for said in said {
+            let observation =
+                Observation { sequence: self.next, at: at.clone(), device: model.clone(), item, said: said.clone() };
+            self.next += 1;
+            let current = &mut self.devices[index].current[item];
+            if model.items[item].category == Category::Condition {
+                match &said {
+                    Said::Fault(_) => {
+                        current.retain(|o| matches!(o.said, Said::Fault(_)));
+                        current.push(observation.clone());
+                    }
+                    Said::Normal(Some(code)) => {
+                        current.retain(|o| !matches!(&o.said, Said::Fault(a) if &a.code == code));
+                        if current.is_empty() {
+                            current.push(observation.clone());
+                        }
+                    }
+                    _ => *current = vec![observation.clone()],
+                }
+            } else {
+                *current = vec![observation.clone()];
+            }
+            if self.kept.len() == self.capacity {
+                self.kept.pop_front();
+            }
+            self.kept.push_back(observation);
+        }
+        self.devices[index].last[item] = Some(value);
+    }
+}
+
+impl Held {
+    fn new(model: Arc<Device>) -> Held {
+        let n = model.items.len();
+        Held { model, last: vec![None; n], current: vec![Vec::new(); n] }
+    }
+}
