@@ -203,3 +203,108 @@ impl Held {
         Held { model, last: vec![None; n], current: vec![Vec::new(); n] }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shopfloor::observe::{Entry, Observed};
+    use fivex_engine::controller::{Mode, RunState};
+    use fivex_engine::machine::{Machine, MachineConfig};
+
+    fn entry(machine: &Arc<Machine>, x: f64, alarms: &[&str]) -> Arc<Entry> {
+        let observed = Observed {
+            emergency_stop: false,
+            mode: Mode::Auto,
+            run_state: if alarms.is_empty() { RunState::Running } else { RunState::Alarm },
+            program: Some(1),
+            line: 3,
+            n: None,
+            block: None,
+            machine: vec![x, 0.0, 0.0],
+            tip: [x, 0.0, 0.0],
+            feed: 600.0,
+            feed_override: 100.0,
+            rapid_override: 100.0,
+            spindle: 0.0,
+            tool: 1,
+            parts: 0.0,
+            parts_required: 0.0,
+            alarms: alarms
+                .iter()
+                .map(|c| AlarmInfo { code: c.to_string(), message: "m".into(), line: 3, n: None })
+                .collect(),
+            time_s: 0.0,
+        };
+        Arc::new(Entry {
+            id: "c1".into(),
+            name: "one".into(),
+            dialect: fivex_engine::Dialect::Fanuc,
+            created_at: String::new(),
+            machine: machine.clone(),
+            observed,
+            lag: Default::default(),
+        })
+    }
+
+    fn round(number: u64, controllers: Vec<Arc<Entry>>) -> Round {
+        Round { number, at: format!("2026-01-01T00:00:0{number}Z"), controllers }
+    }
+
+    fn condition(b: &Buffer) -> Vec<Said> {
+        let held = &b.devices[0];
+        let item = held.model.items.iter().position(|i| i.category == Category::Condition).unwrap();
+        held.current[item].iter().map(|o| o.said.clone()).collect()
+    }
+
+    #[test]
+    fn only_changes_are_observed_and_conditions_track_each_fault() {
+        let machine = Arc::new(Machine::new(MachineConfig::preset("mill3").unwrap()));
+        let mut b = Buffer::new(1000);
+        b.observe(&round(1, vec![entry(&machine, 0.0, &[])]));
+        let first = b.next_sequence();
+        assert_eq!(first - 1, b.devices[0].model.items.len() as u64, "every item once at first");
+        assert_eq!(condition(&b), vec![Said::Normal(None)]);
+
+        b.observe(&round(2, vec![entry(&machine, 0.0, &[])]));
+        assert_eq!(b.next_sequence(), first, "nothing changed, nothing observed");
+
+        // X moves: its ACTUAL and COMMANDED, and the path position.
+        b.observe(&round(3, vec![entry(&machine, 1.0, &[])]));
+        assert_eq!(b.next_sequence(), first + 3);
+
+        b.observe(&round(4, vec![entry(&machine, 1.0, &["PS0010", "PS0011"])]));
+        let faults = condition(&b);
+        assert_eq!(faults.len(), 2, "{faults:?}");
+        b.observe(&round(5, vec![entry(&machine, 1.0, &["PS0011"])]));
+        assert!(matches!(&condition(&b)[..], [Said::Fault(a)] if a.code == "PS0011"));
+        let last = b.range(b.next_sequence() - 1, 1)[0].clone();
+        assert_eq!(last.said, Said::Normal(Some("PS0010".into())));
+        b.observe(&round(6, vec![entry(&machine, 1.0, &[])]));
+        assert_eq!(condition(&b), vec![Said::Normal(None)]);
+
+        // The controller is gone: unavailable, then forgotten.
+        b.observe(&round(7, vec![]));
+        assert!(b.devices.is_empty());
+        let last = b.range(b.next_sequence() - 1, 1)[0].clone();
+        assert_eq!(last.said, Said::Unavailable);
+    }
+
+    #[test]
+    fn a_full_buffer_drops_the_oldest_and_ranges_stay_contiguous_across_its_seam() {
+        let machine = Arc::new(Machine::new(MachineConfig::preset("mill3").unwrap()));
+        let mut b = Buffer::new(10);
+        for k in 0..40 {
+            b.observe(&round(k, vec![entry(&machine, k as f64, &[])]));
+        }
+        assert_eq!(b.next_sequence() - b.first_sequence(), 10);
+        let mut at = b.first_sequence();
+        let mut seen = Vec::new();
+        while at < b.next_sequence() {
+            let slice = b.range(at, 4);
+            assert!(!slice.is_empty());
+            seen.extend(slice.iter().map(|o| o.sequence));
+            at = slice.last().unwrap().sequence + 1;
+        }
+        assert_eq!(seen, (b.first_sequence()..b.next_sequence()).collect::<Vec<_>>());
+    }
+}

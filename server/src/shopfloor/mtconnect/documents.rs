@@ -146,13 +146,20 @@ fn observation(o: &Observation) -> Element {
     };
     if item.category == Category::Condition {
         let e = match &o.said {
-            Said::Fault(alarm) => {
-                base("Fault").attr("type", item.kind).attr("nativeCode", alarm.code.clone()).text(match alarm.n {
+            // The alarm's code identifies the condition's activation (the reference agent's
+            // default), so a Normal with that code clears exactly it.
+            Said::Fault(alarm) => base("Fault")
+                .attr("type", item.kind)
+                .attr("nativeCode", alarm.code.clone())
+                .attr("conditionId", alarm.code.clone())
+                .text(match alarm.n {
                     Some(n) => format!("{} (line {}, N{n})", alarm.message, alarm.line),
                     None => format!("{} (line {})", alarm.message, alarm.line),
-                })
-            }
-            Said::Normal(code) => base("Normal").attr("type", item.kind).attr_opt("nativeCode", code.clone()),
+                }),
+            Said::Normal(code) => base("Normal")
+                .attr("type", item.kind)
+                .attr_opt("nativeCode", code.clone())
+                .attr_opt("conditionId", code.clone()),
             Said::Unavailable | Said::Value(_) => base("Unavailable").attr("type", item.kind),
         };
         return e;
