@@ -22,6 +22,13 @@
 //!   memory are the nodes' sums, and the report says what each node hosts at the end
 //!   (`bench/cluster.sh` starts PostgreSQL and NATS and runs the series).
 //!
+//! - with `--mtconnect`, the service's MTConnect agent on: one `/sample` stream per controller
+//!   (its device, `interval=100`) counting observations, their order and their age at arrival,
+//!   and one client polling the whole agent from each `nextSequence` counting missing numbers;
+//!   with `--opcua` its OPC UA server on, and `--opcua-client CMD` run beside (its JSON report
+//!   taken in; `bench/shopfloor.sh`); `--no-streams` leaves the websockets out, and the
+//!   service's own count of controllers behind real time (`/metrics`) decides.
+//!
 //! It prints one JSON object and exits 0 if the goal holds (p99 lag under `--p99-ms`, no
 //! controller behind, no error, memory growth under `--max-growth-mb`), 1 otherwise.
 //! `docs/performance.md` has the commands and the figures; `scripts/soak.sh` the soak.
@@ -37,6 +44,8 @@ use futures_util::StreamExt;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use tokio::io::{AsyncBufReadExt, BufReader};
+
+mod shopfloor;
 
 #[derive(Parser, Debug)]
 #[command(name = "fivex-load", about = "Load test of fivex serve on loopback: N controllers, a stream each")]
@@ -99,6 +108,20 @@ struct Args {
     /// relays it, instead of through the node hosting it.
     #[arg(long)]
     relay: bool,
+    /// Turn the MTConnect agent on and run its clients (a `/sample` stream per controller, a
+    /// poller of the whole agent).
+    #[arg(long)]
+    mtconnect: bool,
+    /// Turn the OPC UA server on.
+    #[arg(long)]
+    opcua: bool,
+    /// With --opcua: a command run beside the measurement with the endpoint and the seconds as
+    /// its last arguments, printing a JSON report (`bench/opcua_load.py`).
+    #[arg(long, requires = "opcua")]
+    opcua_client: Option<String>,
+    /// No websocket subscribers (measure the shop-floor clients alone).
+    #[arg(long)]
+    no_streams: bool,
     /// Write each service's log (at `info`) to DIR/ADDRESS.log.
     #[arg(long)]
     logs: Option<PathBuf>,
@@ -174,7 +197,7 @@ async fn main() {
         }
         // Every node sees every other before any controller is made.
         let http = Http::new();
-        for (_, addr, _) in &services {
+        for (_, addr, _, _) in &services {
             let deadline = Instant::now() + Duration::from_secs(30);
             while http.get(&format!("http://{addr}/readyz")).await["cluster"]["members"].as_array().map_or(0, Vec::len)
                 < args.nodes
@@ -184,8 +207,8 @@ async fn main() {
             }
         }
     }
-    let pids: Vec<u32> = services.iter().map(|(child, _, _)| child.id().unwrap()).collect();
-    let addrs: Vec<String> = services.iter().map(|(_, addr, _)| addr.clone()).collect();
+    let pids: Vec<u32> = services.iter().map(|(child, _, _, _)| child.id().unwrap()).collect();
+    let addrs: Vec<String> = services.iter().map(|(_, addr, _, _)| addr.clone()).collect();
     let addr = addrs[0].clone();
     let base = format!("http://{addr}/api/v1");
     // Controller k's node (the one it is created through, so hosting it) and the node its
@@ -215,7 +238,7 @@ async fn main() {
     // A subscriber each, then cycle start.
     let measuring = Arc::new(AtomicBool::new(false));
     let seen: Vec<Arc<Mutex<Seen>>> = ids.iter().map(|_| Arc::new(Mutex::new(Seen::default()))).collect();
-    for (k, (id, seen)) in ids.iter().zip(&seen).enumerate() {
+    for (k, (id, seen)) in ids.iter().zip(&seen).enumerate().filter(|_| !args.no_streams) {
         let url = format!("ws://{}/api/v1/controllers/{id}/stream?rate={}", stream_node_of(k), args.rate);
         let (ws, _) = tokio_tungstenite::connect_async(url).await.expect("websocket");
         let (seen, measuring, errors) = (seen.clone(), measuring.clone(), errors.clone());
@@ -254,6 +277,21 @@ async fn main() {
             errors.fetch_add(1, Ordering::Relaxed);
         });
     }
+    // The MTConnect clients: a stream per controller from its node's agent, a poller per agent.
+    let mt_seen = Arc::new(Mutex::new(shopfloor::Seen::default()));
+    if args.mtconnect {
+        let client = shopfloor::client();
+        let nodes = services.len();
+        for (i, (_, _, _, interfaces)) in services.iter().enumerate() {
+            let agent = interfaces.mtconnect.clone().expect("the agent's address");
+            let from = shopfloor::next_sequence(&client, &agent).await;
+            shopfloor::poll(client.clone(), agent.clone(), from, mt_seen.clone(), measuring.clone());
+            // Controller k is hosted by node k mod N (created through it).
+            for id in ids.iter().skip(i).step_by(nodes) {
+                shopfloor::stream(client.clone(), agent.clone(), id.clone(), from, mt_seen.clone(), measuring.clone());
+            }
+        }
+    }
     for (k, id) in ids.iter().enumerate().filter(|_| !args.idle) {
         http.post(&format!("http://{}/api/v1/controllers/{id}/cycle-start", owner_of(k)), &json!({"program": 1})).await;
     }
@@ -280,6 +318,14 @@ async fn main() {
             }
         }));
     }
+    // The OPC UA client connects and subscribes during the warm-up, then measures as long.
+    let opcua_client = match (&args.opcua_client, services[0].3.opcua.clone()) {
+        (Some(command), Some(endpoint)) => {
+            let (command, seconds) = (command.clone(), args.seconds);
+            Some(tokio::spawn(async move { shopfloor::opcua_client(&command, &endpoint, seconds).await }))
+        }
+        _ => None,
+    };
     tokio::time::sleep(Duration::from_secs_f64(args.warmup)).await;
     // The scraper: each scrape's time (ms) and the last answer.
     let scrapes = Arc::new(Mutex::new((Vec::<f64>::new(), String::new())));
@@ -347,6 +393,15 @@ async fn main() {
         })
     };
 
+    let mtconnect = args.mtconnect.then(|| shopfloor::report(&mt_seen.lock().unwrap(), ids.len(), wall));
+    let opcua = match opcua_client {
+        Some(task) => Some(task.await.unwrap_or_else(|e| json!({"error": e.to_string()}))),
+        None => None,
+    };
+    // The service's own count of controllers behind real time, at the end.
+    let behind_now = http.get_text(&format!("http://{addr}/metrics")).await.ok().and_then(|text| {
+        text.lines().find_map(|l| l.strip_prefix("fivex_controllers_behind_real_time ")?.parse::<f64>().ok())
+    });
     // Every controller still running, no alarms.
     let mut running = 0;
     for (k, id) in ids.iter().enumerate() {
@@ -417,37 +472,66 @@ async fn main() {
         "fleet_bytes_per_subscriber_per_s": fleet_seen.1.load(Ordering::Relaxed) as f64 / args.fleet_subscribers.max(1) as f64 / wall,
         "writes": writes_done,
         "metrics": metrics,
+        "behind_real_time_at_end": behind_now,
+        "mtconnect": mtconnect,
+        "opcua": opcua,
         "errors": errors,
         "cores": std::thread::available_parallelism().map_or(0, |n| n.get()),
     });
     println!("{}", serde_json::to_string_pretty(&report).unwrap());
-    for (mut child, _, _) in services {
+    for (mut child, _, _, _) in services {
         let _ = child.kill().await;
     }
     let _ = std::fs::remove_dir_all(&dir);
-    let moving = args.idle || (p99 < args.p99_ms && behind == 0 && silent == 0 && running == args.controllers);
-    let ok = moving && errors == 0 && growth < args.max_growth_mb;
+    let streams_kept_up =
+        if args.no_streams { behind_now == Some(0.0) } else { p99 < args.p99_ms && behind == 0 && silent == 0 };
+    let moving = args.idle || (streams_kept_up && running == args.controllers);
+    let mt = mt_seen.lock().unwrap();
+    let shopfloor_ok = mt.gaps == 0 && mt.out_of_order == 0 && mt.errors == 0;
+    let ok = moving && errors == 0 && growth < args.max_growth_mb && shopfloor_ok;
     std::process::exit(if ok { 0 } else { 1 });
 }
 
-/// Starts `fivex serve --addr 127.0.0.1:0 EXTRA…` and waits for its address; its log is read
-/// (and dropped) from then on.
-async fn start(
-    fivex: &std::path::Path,
-    args: &Args,
-    extra: &[&std::ffi::OsStr],
-) -> (tokio::process::Child, String, tokio::task::JoinHandle<()>) {
+/// A started service: the process, its address, the task reading its log, and the addresses
+/// its shop-floor interfaces announced (`http://…` of the MTConnect agent, `opc.tcp://…`).
+type Service = (tokio::process::Child, String, tokio::task::JoinHandle<()>, Shopfloor);
+
+#[derive(Debug, Clone, Default)]
+struct Shopfloor {
+    mtconnect: Option<String>,
+    opcua: Option<String>,
+}
+
+/// Starts `fivex serve --addr 127.0.0.1:0 EXTRA…` (and its shop-floor interfaces when asked)
+/// and waits for its address; its log is read (and dropped) from then on.
+async fn start(fivex: &std::path::Path, args: &Args, extra: &[&std::ffi::OsStr]) -> Service {
     let mut cmd = tokio::process::Command::new(fivex);
-    let log = if args.logs.is_some() { "info" } else { "warn,fivex_server::serve=info" };
+    let log = if args.logs.is_some() { "info" } else { "warn,fivex_server::serve=info,fivex_server::shopfloor=info" };
     cmd.arg("serve").args(["--addr", "127.0.0.1:0"]).args(extra).env("RUST_LOG", log);
     if let Some(w) = args.workers {
         cmd.args(["--workers", &w.to_string()]);
     }
+    if args.mtconnect {
+        cmd.args(["--mtconnect", "127.0.0.1:0"]);
+    }
+    if args.opcua {
+        // A free port now (the server is given one).
+        let port = std::net::TcpListener::bind("127.0.0.1:0").and_then(|l| l.local_addr()).expect("a free port").port();
+        cmd.args(["--opcua", &format!("127.0.0.1:{port}")]);
+    }
     let mut child =
         cmd.stderr(Stdio::piped()).stdout(Stdio::null()).kill_on_drop(true).spawn().expect("start fivex serve");
     let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let mut shopfloor = Shopfloor::default();
+    let announced = |line: &str, marker: &str| {
+        line.find(marker).map(|at| {
+            line[at + marker.len()..].split_whitespace().next().unwrap_or("").trim_end_matches('/').to_string()
+        })
+    };
     let addr = loop {
         let line = lines.next_line().await.unwrap().expect("fivex serve ended before listening");
+        shopfloor.mtconnect = shopfloor.mtconnect.or(announced(&line, "MTConnect agent at "));
+        shopfloor.opcua = shopfloor.opcua.or(announced(&line, "OPC UA server at "));
         if let Some(at) = line.find("listening on http://") {
             break line[at + "listening on http://".len()..].trim().to_string();
         }
@@ -465,7 +549,7 @@ async fn start(
             }
         }
     });
-    (child, addr, drain)
+    (child, addr, drain, shopfloor)
 }
 
 /// A minimal JSON-over-HTTP client (hyper), enough for setting the load up.
