@@ -22,6 +22,8 @@ use super::Shared;
 const DEFAULT_COUNT: usize = 100;
 /// A stream's empty document when nothing happened for this long, unless `heartbeat` says.
 const DEFAULT_HEARTBEAT: Duration = Duration::from_secs(10);
+/// The longest `interval` and `heartbeat` a stream takes: an hour.
+const LONGEST_WAIT: Duration = Duration::from_secs(3600);
 /// `/assets`' count when none is given.
 const DEFAULT_ASSETS: usize = 100;
 
@@ -249,8 +251,12 @@ fn sample(s: &Shared, format: Format, q: &Query, device: Option<String>) -> Answ
     };
     let from = q.number("from")?;
     let heartbeat = q.number("heartbeat")?.map_or(DEFAULT_HEARTBEAT, Duration::from_millis);
-    if heartbeat < Duration::from_millis(10) {
-        return Err((ErrorCode::OutOfRange, "'heartbeat' must be at least 10 ms".into()));
+    if !(Duration::from_millis(10)..=LONGEST_WAIT).contains(&heartbeat) {
+        return Err((ErrorCode::OutOfRange, "'heartbeat' must be 10 to 3,600,000 ms".into()));
+    }
+    let interval = q.number("interval")?.map(Duration::from_millis);
+    if interval.is_some_and(|i| i > LONGEST_WAIT) {
+        return Err((ErrorCode::OutOfRange, "'interval' must be at most 3,600,000 ms".into()));
     }
     let window = {
         let buffer = s.buffer();
@@ -258,13 +264,13 @@ fn sample(s: &Shared, format: Format, q: &Query, device: Option<String>) -> Answ
         check_from(&buffer, from)?;
         Window { from, count, device }
     };
-    match q.number("interval")? {
+    match interval {
         None => {
             let buffer = s.buffer();
             let (observations, next) = collect(&buffer, &window);
             Ok(document(format, &documents::streams(&s.sender, &buffer, &observations, next), "Streams"))
         }
-        Some(interval) => Ok(stream(s.clone(), format, window, Duration::from_millis(interval), heartbeat)),
+        Some(interval) => Ok(stream(s.clone(), format, window, interval, heartbeat)),
     }
 }
 

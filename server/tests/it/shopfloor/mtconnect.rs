@@ -191,6 +191,8 @@ async fn every_document_validates_and_says_what_the_api_says() {
         ("/sample?from=99999999".into(), 400),
         ("/sample?count=0".into(), 400),
         ("/sample?count=ten".into(), 400),
+        ("/sample?interval=18446744073709551615".into(), 400),
+        ("/sample?interval=10&heartbeat=99999999999".into(), 400),
         ("/sample?path=//Axes".into(), 400),
         ("/nobody/current".into(), 404),
         ("/a/b/c".into(), 404),
