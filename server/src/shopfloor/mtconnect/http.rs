@@ -29,17 +29,17 @@ const DEFAULT_ASSETS: usize = 100;
 
 pub fn router(shared: Shared) -> Router {
     Router::new()
-        .route("/", get(probe_all))
-        .route("/probe", get(probe_all))
-        .route("/current", get(current_all))
-        .route("/sample", get(sample_all))
-        .route("/assets", get(assets_all))
+        .route("/", get(|s, d, h, q| request(s, d, h, q, probe)))
+        .route("/probe", get(|s, d, h, q| request(s, d, h, q, probe)))
+        .route("/current", get(|s, d, h, q| request(s, d, h, q, current)))
+        .route("/sample", get(|s, d, h, q| request(s, d, h, q, sample)))
+        .route("/assets", get(|s, d, h, q| request(s, d, h, q, assets)))
         .route("/asset/{ids}", get(asset_ids))
-        .route("/{device}", get(probe_one))
-        .route("/{device}/probe", get(probe_one))
-        .route("/{device}/current", get(current_one))
-        .route("/{device}/sample", get(sample_one))
-        .route("/{device}/assets", get(assets_one))
+        .route("/{device}", get(|s, d, h, q| request(s, d, h, q, probe)))
+        .route("/{device}/probe", get(|s, d, h, q| request(s, d, h, q, probe)))
+        .route("/{device}/current", get(|s, d, h, q| request(s, d, h, q, current)))
+        .route("/{device}/sample", get(|s, d, h, q| request(s, d, h, q, sample)))
+        .route("/{device}/assets", get(|s, d, h, q| request(s, d, h, q, assets)))
         .fallback(|State(shared): State<Shared>, headers: HeaderMap| async move {
             let format = Format::of(&headers, &Query::default());
             refuse(&shared, format, ErrorCode::InvalidUri, "no such request: the agent answers /probe, /current, /sample, /assets and /asset/{ids}, each also under /{device}/")
@@ -150,84 +150,52 @@ fn find(shared: &Shared, name: &str) -> Result<String, (ErrorCode, String)> {
 
 type Answer = Result<Response, (ErrorCode, String)>;
 
+/// One request of the agent's or of a device's (`/{device}/…`: its name or uuid), answered by
+/// `answer_with` with the device's uuid, or its refusal as an Error document.
+async fn request(
+    State(s): State<Shared>,
+    device: Option<Path<String>>,
+    headers: HeaderMap,
+    RawQuery(q): RawQuery,
+    answer_with: fn(&Shared, Format, &Query, Option<String>) -> Answer,
+) -> Response {
+    let q = Query::parse(q);
+    let format = Format::of(&headers, &q);
+    let device = match device {
+        Some(Path(name)) => find(&s, &name).map(Some),
+        None => Ok(None),
+    };
+    answer(&s, format, device.and_then(|uuid| answer_with(&s, format, &q, uuid)))
+}
+
 /// A handler's answer, its refusal as an Error document.
 fn answer(shared: &Shared, format: Format, result: Answer) -> Response {
     result.unwrap_or_else(|(code, message)| refuse(shared, format, code, &message))
 }
 
-async fn probe_all(State(s): State<Shared>, headers: HeaderMap, RawQuery(q): RawQuery) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    answer(&s, format, probe(&s, format, &q, None))
-}
-
-async fn probe_one(
-    State(s): State<Shared>,
-    Path(device): Path<String>,
-    headers: HeaderMap,
-    RawQuery(q): RawQuery,
-) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    let result = find(&s, &device).and_then(|uuid| probe(&s, format, &q, Some(&uuid)));
-    answer(&s, format, result)
-}
-
-fn probe(s: &Shared, format: Format, q: &Query, device: Option<&str>) -> Answer {
+fn probe(s: &Shared, format: Format, q: &Query, device: Option<String>) -> Answer {
     q.only(&[])?;
     let counts = asset_counts(s);
     let buffer = s.buffer();
-    let devices: Vec<_> =
-        buffer.devices.iter().filter(|d| device.is_none_or(|u| d.model.uuid == u)).map(|d| d.model.clone()).collect();
+    let devices: Vec<_> = buffer
+        .devices
+        .iter()
+        .filter(|d| device.as_ref().is_none_or(|u| &d.model.uuid == u))
+        .map(|d| d.model.clone())
+        .collect();
     Ok(document(format, &documents::probe(&s.sender, &buffer, &devices, counts), "Devices"))
 }
 
-async fn current_all(State(s): State<Shared>, headers: HeaderMap, RawQuery(q): RawQuery) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    answer(&s, format, current(&s, format, &q, None))
-}
-
-async fn current_one(
-    State(s): State<Shared>,
-    Path(device): Path<String>,
-    headers: HeaderMap,
-    RawQuery(q): RawQuery,
-) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    let result = find(&s, &device).and_then(|uuid| current(&s, format, &q, Some(&uuid)));
-    answer(&s, format, result)
-}
-
-fn current(s: &Shared, format: Format, q: &Query, device: Option<&str>) -> Answer {
+fn current(s: &Shared, format: Format, q: &Query, device: Option<String>) -> Answer {
     q.only(&[])?;
     let buffer = s.buffer();
     let observations = buffer
         .devices
         .iter()
-        .filter(|d| device.is_none_or(|u| d.model.uuid == u))
+        .filter(|d| device.as_ref().is_none_or(|u| &d.model.uuid == u))
         .flat_map(|d| d.current.iter().flatten());
     let root = documents::streams(&s.sender, &buffer, observations, buffer.next_sequence());
     Ok(document(format, &root, "Streams"))
-}
-
-async fn sample_all(State(s): State<Shared>, headers: HeaderMap, RawQuery(q): RawQuery) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    answer(&s, format, sample(&s, format, &q, None))
-}
-
-async fn sample_one(
-    State(s): State<Shared>,
-    Path(device): Path<String>,
-    headers: HeaderMap,
-    RawQuery(q): RawQuery,
-) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    let result = find(&s, &device).and_then(|uuid| sample(&s, format, &q, Some(uuid)));
-    answer(&s, format, result)
 }
 
 /// What a `/sample` asks for.
@@ -386,25 +354,7 @@ impl Streaming {
     }
 }
 
-async fn assets_all(State(s): State<Shared>, headers: HeaderMap, RawQuery(q): RawQuery) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    answer(&s, format, assets(&s, format, &q, None))
-}
-
-async fn assets_one(
-    State(s): State<Shared>,
-    Path(device): Path<String>,
-    headers: HeaderMap,
-    RawQuery(q): RawQuery,
-) -> Response {
-    let q = Query::parse(q);
-    let format = Format::of(&headers, &q);
-    let result = find(&s, &device).and_then(|uuid| assets(&s, format, &q, Some(&uuid)));
-    answer(&s, format, result)
-}
-
-fn assets(s: &Shared, format: Format, q: &Query, device: Option<&str>) -> Answer {
+fn assets(s: &Shared, format: Format, q: &Query, device: Option<String>) -> Answer {
     q.only(&["type", "count"])?;
     if let Some(kind) = q.0.get("type") {
         if kind != "CuttingTool" {
@@ -416,7 +366,7 @@ fn assets(s: &Shared, format: Format, q: &Query, device: Option<&str>) -> Answer
         Some(0) => return Err((ErrorCode::OutOfRange, "'count' must be at least 1".into())),
         Some(n) => n as usize,
     };
-    let mut tools = tools(s, device);
+    let mut tools = tools(s, device.as_deref());
     let counts = asset_counts(s);
     tools.truncate(count);
     Ok(document(format, &documents::assets(&s.sender, &s.buffer(), &tools, counts), "Assets"))
