@@ -89,7 +89,7 @@ impl Types<'_> {
 
     fn mandatory(&self, declaration: &NodeId) -> bool {
         self.target(declaration, ReferenceTypeId::HasModellingRule)
-            .is_some_and(|rule| rule == NodeId::from(ObjectId::ModellingRule_Mandatory))
+            .is_some_and(|rule| rule == ObjectId::ModellingRule_Mandatory)
     }
 
     /// The instance declarations below `source` — a type and its supertypes, or an instance
@@ -117,7 +117,7 @@ impl Types<'_> {
         let mut found = Vec::new();
         for holder in &chain {
             for (reference, target) in self.references(holder, BrowseDirection::Forward) {
-                if !AGGREGATES.iter().any(|a| reference == NodeId::from(*a)) {
+                if !AGGREGATES.iter().any(|a| reference == *a) {
                     continue;
                 }
                 let Some(node) = self.find(&target) else { continue };

@@ -514,6 +514,112 @@ fn property(id: &NodeId, browse_name: QualifiedName) -> NodeType {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shopfloor::opcua::{instance, nodesets, FIVEX};
+    use fivex_engine::machine::{Machine, MachineConfig};
+    use opcua::nodes::NamespaceMap;
+    use opcua::server::address_space::CoreNamespace;
+
+    fn entry(id: &str, name: &str, preset: &str) -> Entry {
+        let machine: Machine = MachineConfig::preset(preset).expect("a preset").into();
+        Entry {
+            id: id.into(),
+            name: name.into(),
+            dialect: fivex_engine::Dialect::Fanuc,
+            created_at: String::new(),
+            machine: Arc::new(machine),
+            observed: Observed {
+                emergency_stop: false,
+                mode: Mode::Auto,
+                run_state: RunState::Idle,
+                program: None,
+                line: 0,
+                n: None,
+                block: None,
+                machine: vec![0.0; 5],
+                tip: [0.0; 3],
+                feed: 0.0,
+                feed_override: 100.0,
+                rapid_override: 100.0,
+                spindle: 0.0,
+                tool: 0,
+                parts: 0.0,
+                parts_required: 0.0,
+                alarms: Vec::new(),
+                time_s: 0.0,
+            },
+            lag: Default::default(),
+        }
+    }
+
+    /// A machine is its type's mandatory members, the optional ones named, fivex's own parts,
+    /// and nothing else; removing it leaves no node behind.
+    #[test]
+    fn a_machine_is_its_mandatory_members_and_what_fivex_fills() {
+        let mut namespaces = NamespaceMap::new();
+        let mut core = AddressSpace::new();
+        core.import_node_set(&CoreNamespace, &mut namespaces);
+        let mut own = AddressSpace::new();
+        for import in nodesets::imports().unwrap() {
+            own.import_node_set(&*import, &mut namespaces);
+        }
+        let fivex = namespaces.add_namespace(FIVEX);
+        own.add_namespace(FIVEX, fivex);
+        let (machinery, machine_tool) = Model::namespaces(&namespaces).unwrap();
+        let model = Model::read(&instance::Types::new(&own, &core), fivex, machinery, machine_tool).unwrap();
+        // OPC 40501-1 ProductionStateMachineType: Initializing 0, Running 1, Ended 2, Interrupted 3,
+        // Aborted 4 (STATE_NAMES order: Initializing, Running, Interrupted, Aborted, Ended).
+        assert_eq!(model.states.clone().map(|s| s.number), [0, 1, 3, 4, 2]);
+
+        let entry = entry("c1", "cell", "table-ac");
+        let mut planned = Vec::new();
+        let shown = Shown::plan(&model, &instance::Types::new(&own, &core), &entry, &mut planned);
+        instance::insert(&mut own, planned);
+        let constants = shown.finish(&mut own, &entry).expect("every node it sets is there");
+        assert!(constants.len() > 10);
+
+        let exists = |path: &str| own.node_exists(&member_id(&shown.root, path));
+        for mandatory in [
+            "Equipment",
+            "Identification/Manufacturer",
+            "Identification/SerialNumber",
+            "Identification/ProductInstanceUri",
+            "Monitoring/MachineTool/OperationMode",
+            "Notification",
+            "Production/ActiveProgram/Name",
+            "Production/ActiveProgram/NumberInList",
+            "Production/ActiveProgram/State/CurrentState/Id",
+            "Monitoring/Channel1/Name",
+            "Monitoring/Channel1/FeedOverride/EngineeringUnits",
+            "Monitoring/Spindle/IsRotating",
+        ] {
+            assert!(exists(mandatory), "{mandatory}");
+        }
+        for optional in ["Identification/Model", "Notification/Messages", "Monitoring/Channel1/RapidOverride"] {
+            assert!(exists(optional), "{optional}: fivex fills it");
+        }
+        for absent in ["Identification/Location", "Monitoring/Stacklight", "Monitoring/Spindle/Override", "Components"]
+        {
+            assert!(!exists(absent), "{absent}: optional and not filled");
+        }
+        for axis in ["X", "Y", "Z", "A", "C"] {
+            assert!(exists(&format!("Axes/{axis}/ActualPosition/EngineeringUnits")), "{axis}");
+        }
+        let tree = opcua::nodes::DefaultTypeTree::new();
+        let organized = |own: &AddressSpace| {
+            own.find_references(
+                &model.machines,
+                Some((ReferenceTypeId::Organizes, false)),
+                &tree,
+                opcua::types::BrowseDirection::Forward,
+            )
+            .any(|r| *r.target_node == shown.root)
+        };
+        assert!(organized(&own), "organized by Machines");
+
+        shown.remove(&mut own);
+        assert!(shown.nodes.iter().all(|id| !own.node_exists(id)), "no node left");
+        assert!(!organized(&own), "nor a reference to it");
+    }
 
     #[test]
     fn unit_ids_are_the_unece_codes() {
