@@ -146,6 +146,17 @@ fn application() -> ApplicationDescription {
 /// Basic256Sha256 or Aes256_Sha256_RsaPss), its certificate store, who may do what (`token`:
 /// the service's).
 fn builder(host: &str, port: u16, pki: &std::path::Path, token: Option<&str>) -> ServerBuilder {
+    let mut builder = configured(host, port, pki, token);
+    // One subscription may watch every value of every controller (1,000 controllers of ~15
+    // values); async-opcua's default is 1,000 items.
+    builder.limits_mut().subscriptions.max_monitored_items_per_sub = MONITORED_ITEMS_PER_SUBSCRIPTION;
+    builder
+}
+
+/// How many values one subscription may monitor.
+const MONITORED_ITEMS_PER_SUBSCRIPTION: usize = 100_000;
+
+fn configured(host: &str, port: u16, pki: &std::path::Path, token: Option<&str>) -> ServerBuilder {
     let anonymous = [ANONYMOUS_USER_TOKEN_ID.to_string()];
     let none = ServerEndpoint {
         // A user-name token's password is encrypted all the same (`access`).
