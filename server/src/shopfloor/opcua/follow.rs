@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use opcua::server::node_manager::memory::CoreNodeManager;
 use opcua::server::ServerHandle;
-use opcua::types::{DataValue, NodeId, ObjectId};
+use opcua::types::{DataValue, DateTime, NodeId, ObjectId};
 use tokio::sync::watch;
 
 use super::events;
@@ -63,10 +63,11 @@ impl Follower {
         let mut alarms: Vec<(NodeId, NodeId, String, AlarmInfo)> = Vec::new();
         let mut changes: Vec<(&NodeId, DataValue)> = Vec::new();
         let mut found = Vec::new();
+        let at = DateTime::now();
         for entry in &round.controllers {
             let Some(shown) = self.shown.get(&entry.id) else { continue };
             let (root, messages) = (shown.root.clone(), shown.messages.clone());
-            shown.update(&self.model, entry, &mut changes, &mut found);
+            shown.update(&self.model, entry, at, &mut changes, &mut found);
             alarms.extend(found.drain(..).map(|a| (root.clone(), messages.clone(), entry.name.clone(), a)));
         }
         if !changes.is_empty() {

@@ -16,7 +16,7 @@ use fivex_engine::machine::AxisKind;
 use opcua::nodes::{EventNotifier, Method, NodeBase, NodeType, Object};
 use opcua::server::address_space::AddressSpace;
 use opcua::types::{
-    DataValue, EUInformation, ExtensionObject, LocalizedText, NodeId, ObjectTypeId, QualifiedName, Range,
+    DataValue, DateTime, EUInformation, ExtensionObject, LocalizedText, NodeId, ObjectTypeId, QualifiedName, Range,
     ReferenceTypeId, UAString, VariableTypeId, Variant,
 };
 
@@ -377,12 +377,14 @@ impl Shown {
         same
     }
 
-    /// The values of `entry` that differ from the last shown, into `out`, and the alarms that
-    /// appeared since (none at the first sight: an event is a change).
+    /// The values of `entry` that differ from the last shown, into `out` (stamped `at`: a
+    /// round's values share their instant), and the alarms that appeared since (none at the
+    /// first sight: an event is a change).
     pub fn update<'a>(
         &'a self,
         model: &Model,
         entry: &Arc<Entry>,
+        at: DateTime,
         out: &mut Vec<(&'a NodeId, DataValue)>,
         alarms: &mut Vec<AlarmInfo>,
     ) {
@@ -394,7 +396,7 @@ impl Shown {
             alarms.extend(now.alarms.iter().filter(|a| !before.alarms.contains(a)).cloned());
         }
         let v = &self.values;
-        let mut set = |id: &'a NodeId, value: Variant| out.push((id, DataValue::new_now(value)));
+        let mut set = |id: &'a NodeId, value: Variant| out.push((id, DataValue::new_at(value, at)));
         if first || before.mode != now.mode {
             set(&v.operation_mode, Variant::Int32(operation_mode(now.mode)));
             set(&v.channel_mode, Variant::Int32(channel_mode(now.mode)));
