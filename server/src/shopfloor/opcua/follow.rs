@@ -98,30 +98,32 @@ impl Follower {
         if gone.is_empty() && new.is_empty() {
             return;
         }
-        let mut constants = Vec::new();
-        {
+        if !gone.is_empty() {
             let mut space = self.manager.address_space().write();
             for shown in &gone {
                 shown.remove(&mut space);
             }
-            for entry in &new {
-                let mut planned = Vec::new();
-                let mut shown = {
-                    let core = self.core.address_space().read();
-                    Shown::plan(&self.model, &Types::new(&space, &core), entry, &mut planned)
-                };
-                instance::insert(&mut space, planned);
-                match shown.finish(&mut space, entry) {
-                    Ok(values) => constants.extend(values),
-                    Err(e) => {
-                        tracing::error!(controller = %entry.id, "OPC UA: cannot show the controller: {e}");
-                        shown.remove(&mut space);
-                        continue;
-                    }
+        }
+        // One machine at a time, planned under read locks: clients keep reading meanwhile.
+        let mut constants = Vec::new();
+        for entry in &new {
+            let mut planned = Vec::new();
+            let mut shown = {
+                let (own, core) = (self.manager.address_space().read(), self.core.address_space().read());
+                Shown::plan(&self.model, &Types::new(&own, &core), entry, &mut planned)
+            };
+            let mut space = self.manager.address_space().write();
+            instance::insert(&mut space, planned);
+            match shown.finish(&mut space, entry) {
+                Ok(values) => constants.extend(values),
+                Err(e) => {
+                    tracing::error!(controller = %entry.id, "OPC UA: cannot show the controller: {e}");
+                    shown.remove(&mut space);
+                    continue;
                 }
-                shown.seen = round.number;
-                self.shown.insert(entry.id.clone(), shown);
             }
+            shown.seen = round.number;
+            self.shown.insert(entry.id.clone(), shown);
         }
         let values = constants.iter().map(|(id, value)| (id, None, value.clone()));
         if let Err(status) = self.manager.set_values(self.handle.subscriptions(), values) {
