@@ -277,3 +277,26 @@ async fn with_a_token_only_its_holders_call_the_methods() {
     assert_eq!(opcua.call("none", "someone", TOKEN, "guarded", "CycleStart").await, "Good");
     opcua.until(&id, "running").await;
 }
+
+/// With PostgreSQL there is no database file to keep the certificate beside: it is made in a
+/// temporary directory of this process, removed when the server stops.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn on_postgresql_the_certificate_is_temporary() {
+    let pg = crate::blackbox::postgres::Postgres::start();
+    let mut served = Served::start_on(&pg.url(), &["--opcua", "127.0.0.1:0"]);
+    let opcua_line = announced(|| served.log(), "OPC UA server at ");
+    assert!(opcua_line.starts_with("opc.tcp://127.0.0.1:"));
+    let log = served.log();
+    let pki = log
+        .lines()
+        .find(|l| l.contains("OPC UA server at "))
+        .and_then(|l| l.split("pki=").nth(1))
+        .and_then(|rest| rest.split_whitespace().next())
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| panic!("the pki directory in the log: {log}"));
+    assert!(pki.starts_with(std::env::temp_dir()), "{}", pki.display());
+    assert!(pki.join("own/cert.der").is_file() && pki.join("private/private.pem").is_file());
+    let (status, _) = served.terminate(Duration::from_secs(60));
+    assert!(status.success(), "{status}: {}", served.log());
+    assert!(!pki.exists(), "{} removed at the stop", pki.display());
+}
