@@ -120,6 +120,19 @@ impl Db {
         self.backend
     }
 
+    /// The SQLite database's file (an in-memory database, or PostgreSQL: none), for what the
+    /// service keeps beside it (the OPC UA server's certificates).
+    pub fn sqlite_file(&self) -> Option<std::path::PathBuf> {
+        if self.backend != Backend::Sqlite {
+            return None;
+        }
+        let url = self.writes.connect_options().database_url.clone();
+        // `sqlite_url` percent-encoded it.
+        let path =
+            std::path::PathBuf::from(percent_encoding::percent_decode_str(url.path()).decode_utf8().ok()?.as_ref());
+        (url.scheme() == "sqlite" && path.is_absolute()).then_some(path)
+    }
+
     /// The workers' records that could not be stored since the service started (each failed
     /// record, and each failed batch as one).
     pub fn failed_records(&self) -> u64 {

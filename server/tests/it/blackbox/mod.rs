@@ -11,7 +11,7 @@ mod nats;
 mod nodes;
 mod origin;
 mod placement_view;
-mod postgres;
+pub mod postgres;
 mod rebalance;
 mod relay;
 pub mod served;
