@@ -73,12 +73,15 @@ pub fn shutdown_signal() -> std::io::Result<impl Future<Output = ()> + Send + 's
     }
 }
 
-/// Logs to stderr (colored only on a terminal); `RUST_LOG` filters, default `info`. Does nothing
-/// if a subscriber is already set.
+/// Logs to stderr (colored only on a terminal); `RUST_LOG` filters, default `info` (async-opcua's
+/// address-space warnings left out). Does nothing if a subscriber is already set.
 fn init_tracing() {
     use std::io::IsTerminal;
     use tracing_subscriber::EnvFilter;
-    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info"));
+    // async-opcua warns at every start about nodes the companion nodesets reference twice in
+    // their type trees (nothing a user can act on): only its errors by default.
+    let filter =
+        EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info,opcua_server::address_space=error"));
     let _ = tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_writer(std::io::stderr)

@@ -394,7 +394,7 @@ async fn main() {
     };
 
     let mtconnect = args.mtconnect.then(|| shopfloor::report(&mt_seen.lock().unwrap(), ids.len(), wall));
-    let opcua = match opcua_client {
+    let opcua_report = match opcua_client {
         Some(task) => Some(task.await.unwrap_or_else(|e| json!({"error": e.to_string()}))),
         None => None,
     };
@@ -474,7 +474,7 @@ async fn main() {
         "metrics": metrics,
         "behind_real_time_at_end": behind_now,
         "mtconnect": mtconnect,
-        "opcua": opcua,
+        "opcua": opcua_report,
         "errors": errors,
         "cores": std::thread::available_parallelism().map_or(0, |n| n.get()),
     });
@@ -487,7 +487,10 @@ async fn main() {
         if args.no_streams { behind_now == Some(0.0) } else { p99 < args.p99_ms && behind == 0 && silent == 0 };
     let moving = args.idle || (streams_kept_up && running == args.controllers);
     let mt = mt_seen.lock().unwrap();
-    let shopfloor_ok = mt.gaps == 0 && mt.out_of_order == 0 && mt.errors == 0;
+    let shopfloor_ok = mt.gaps == 0
+        && mt.out_of_order == 0
+        && mt.errors == 0
+        && opcua_report.as_ref().is_none_or(shopfloor::opcua_kept_up);
     let ok = moving && errors == 0 && growth < args.max_growth_mb && shopfloor_ok;
     std::process::exit(if ok { 0 } else { 1 });
 }

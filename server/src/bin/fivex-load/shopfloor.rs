@@ -154,6 +154,15 @@ pub fn poll(client: Client, agent: String, from: u64, seen: Arc<Mutex<Seen>>, me
     });
 }
 
+/// Whether the OPC UA client's report says every subscription kept up: no error, every one saw
+/// changes, none went back in time.
+pub fn opcua_kept_up(report: &Value) -> bool {
+    report.get("error").is_none()
+        && report["subscriptions"].as_u64().is_some_and(|n| n > 0)
+        && report["subscriptions_without_change"] == 0
+        && report["timestamps_backwards"] == 0
+}
+
 pub fn report(seen: &Seen, controllers: usize, wall: f64) -> Value {
     let mut ages = seen.ages_ms.clone();
     ages.sort_by(f64::total_cmp);
@@ -180,10 +189,10 @@ pub async fn opcua_client(command: &str, endpoint: &str, seconds: f64) -> Value 
         .args(words)
         .arg(endpoint)
         .arg(format!("{seconds}"))
-        .stderr(std::process::Stdio::inherit())
         .output()
         .await
         .expect("run the OPC UA client");
-    serde_json::from_slice(&output.stdout)
-        .unwrap_or_else(|_| json!({"error": format!("{}: {}", output.status, String::from_utf8_lossy(&output.stdout))}))
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let last = stderr.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("");
+    serde_json::from_slice(&output.stdout).unwrap_or_else(|_| json!({"error": format!("{}: {last}", output.status)}))
 }

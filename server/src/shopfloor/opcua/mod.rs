@@ -150,8 +150,14 @@ fn builder(host: &str, port: u16, pki: &std::path::Path, token: Option<&str>) ->
     // One subscription may watch every value of every controller (1,000 controllers of ~15
     // values); async-opcua's default is 1,000 items.
     builder.limits_mut().subscriptions.max_monitored_items_per_sub = MONITORED_ITEMS_PER_SUBSCRIPTION;
+    // A client may as well watch each machine by a subscription of its own (a dashboard of a
+    // fleet); async-opcua's default is 10 per session.
+    builder.limits_mut().subscriptions.max_subscriptions_per_session = SUBSCRIPTIONS_PER_SESSION;
     builder
 }
+
+/// How many subscriptions one session may hold.
+const SUBSCRIPTIONS_PER_SESSION: usize = 1_000;
 
 /// How many values one subscription may monitor.
 const MONITORED_ITEMS_PER_SUBSCRIPTION: usize = 100_000;
