@@ -34,6 +34,7 @@ mod smoothing;
 mod stop;
 mod tcp;
 mod tcp_random;
+mod teach;
 mod tool_side;
 mod trace_tip;
 mod twp;
