@@ -16,6 +16,7 @@ pub mod panel;
 pub mod parameters;
 pub mod programs;
 pub mod stream;
+pub mod teach;
 pub mod variables;
 
 use serde::{Deserialize, Serialize};
@@ -66,6 +67,10 @@ pub fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(offsets::set_work))
         .routes(routes!(parameters::get_all))
         .routes(routes!(parameters::set))
+        .routes(routes!(teach::get))
+        .routes(routes!(teach::clear))
+        .routes(routes!(teach::latch))
+        .routes(routes!(teach::plane))
         .routes(routes!(history::alarms))
         .routes(routes!(history::runs))
         .routes(routes!(stream::stream))

@@ -31,6 +31,8 @@ pub struct Station {
     pub unmodelled: Vec<fivex_engine::vendor::unmodelled::Unmodelled>,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
+    /// Syntec's teach screen: the boxes F1 latched (`api::teach`; not saved).
+    pub teach: fivex_engine::teach::Points,
     run: Option<RunStart>,
     /// The retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902) as last saved,
     /// non-vacant ones only.
@@ -64,6 +66,7 @@ impl Station {
             machine: controller.interpreter().config().machine.clone(),
             controller,
             program: None,
+            teach: Default::default(),
             run: None,
             saved,
             saved_plane: None,

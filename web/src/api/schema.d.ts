@@ -537,6 +537,77 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/controllers/{id}/teach": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The boxes latched and whether F1 may latch now. */
+        get: operations["get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/teach/plane": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Teach: the feature coordinate system of the mode from the latched boxes, and the G68.2 block
+         *     that sets it. Nothing changes on the controller (run the block through `/mdi` to set it).
+         */
+        post: operations["plane"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/teach/points": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        post?: never;
+        /** Empty every box. */
+        delete: operations["clear"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/teach/points/{slot}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** F1 Latch G54 Coordinate: the tool tip where the machine stands now into a box. */
+        post: operations["latch"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/controllers/{id}/tool-offsets": {
         parameters: {
             query?: never;
@@ -2455,11 +2526,69 @@ export interface components {
          * @enum {string}
          */
         SystemName: "workpiece" | "workpiece_machine_axes" | "programming" | "feature" | "wscs";
+        /** @description The taught plane. */
+        TaughtPlane: {
+            /**
+             * @description The block that sets it, `G68.2 X_ Y_ Z_ I_ J_ K_` (values to 0.001).
+             * @example G68.2 X0. Y0. Z0. I0. J180. K0.
+             */
+            block: string;
+            /** @description Its Z–X–Z Euler angles I, J, K, degrees, unrounded. */
+            euler: number[];
+            /** @description Its origin and X, Y, Z axes in the workpiece system. */
+            origin: number[];
+            x: number[];
+            y: number[];
+            z: number[];
+        };
         /**
          * @description Which coordinate system the X/Y/Z of a tool centre point control program are in.
          * @enum {string}
          */
         TcpCoordinates: "table-at-start" | "table-at-zero" | "workpiece";
+        /**
+         * @description The guidance mode of a teach.
+         * @enum {string}
+         */
+        TeachMode: "three_points" | "tool_direction" | "euler" | "two_vectors";
+        /** @description One latched box. */
+        TeachPoint: {
+            /** @description The tool tip's absolute coordinate (active workpiece system), mm. */
+            point: number[];
+            /**
+             * @description `p1`, `p2` or `p3`.
+             * @example p1
+             */
+            slot: string;
+            /** @description The tool direction there (unit, tip toward holder), in the workpiece system's axes. */
+            tool: number[];
+        };
+        /** @description `POST /teach/plane`: the mode and the values typed (each mode takes only its own). */
+        TeachRequest: {
+            /**
+             * Format: double
+             * @description Degrees: tool direction's turn about the tool; Euler's first angle (absent: 0).
+             */
+            i?: number | null;
+            /**
+             * Format: double
+             * @description Degrees: Euler's second and third angles (absent: 0).
+             */
+            j?: number | null;
+            /** Format: double */
+            k?: number | null;
+            mode: components["schemas"]["TeachMode"];
+            /** @description Two vectors: the X and the Z axis of the plane (both required). */
+            x?: number[] | null;
+            z?: number[] | null;
+        };
+        /** @description `GET /teach`: the boxes latched, and whether F1 may latch now. */
+        TeachState: {
+            /** @description Why a latch is refused now (G49, or a tilted plane in force); null when it is allowed. */
+            latch_refused?: string | null;
+            /** @description The latched boxes, P1 first (absent boxes are not listed). */
+            points: components["schemas"]["TeachPoint"][];
+        };
         /** @description The largest tip deviation and where it happened. */
         TipDeviation: {
             /** Format: int32 */
@@ -5353,6 +5482,311 @@ export interface operations {
                 };
             };
             /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The teach screen's boxes */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TeachState"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    plane: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["TeachRequest"];
+            };
+        };
+        responses: {
+            /** @description The plane taught */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TaughtPlane"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The teach fails (collinear points, vectors zero or not orthogonal, a box not latched) or a value the mode does not take */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    clear: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Emptied */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TeachState"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    latch: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+                /** @description p1, p2 or p3 */
+                slot: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Latched */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TeachPoint"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller; G49 in force; or a tilted plane in force */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such box */
             422: {
                 headers: {
                     [name: string]: unknown;
