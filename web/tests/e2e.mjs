@@ -502,6 +502,50 @@ test("after G10 L5000 P2 the 3D view turns the exchanged head's axes (set 2 of h
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });
 
+test("the Teach panel of a Syntec controller latches three points, teaches the G68.2 block and sets the plane (F2)", async () => {
+  const fanuc = (await http("POST", "/api/v1/controllers", { name: "teach fanuc", preset: "head-bc" })).body.id;
+  await page.goto(`${base}/#/c/${fanuc}`);
+  await page.locator(".ctl-head h1", { hasText: "teach fanuc" }).waitFor();
+  assert.equal(await page.locator(".teach").count(), 0, "no Teach panel on a FANUC controller");
+  const s = (await http("POST", "/api/v1/controllers", { name: "teach syntec", preset: "head-bc", dialect: "syntec", speed: 20 })).body.id;
+  await http("PUT", `/api/v1/controllers/${s}/tool-offsets/1`, { length: 50 });
+  await page.goto(`${base}/#/c/${s}`);
+  const panel = page.locator(".teach");
+  await panel.waitFor();
+  // G49: F1 is refused and the panel says why.
+  await panel.locator(".teach-refused", { hasText: "G49" }).waitFor();
+  assert.ok(await panel.locator("tr[data-slot=p1] button").isDisabled());
+  const idle = () => poll("idle", async () => (await http("GET", `/api/v1/controllers/${s}`)).body.run_state === "idle");
+  for (const [slot, text] of [["p1", "G90 G43.4 H1\nG01 X0 Y0 Z0 F3000"], ["p2", "G01 X10."], ["p3", "G01 X0 Y-5."]]) {
+    await http("POST", `/api/v1/controllers/${s}/mdi`, { text });
+    await idle();
+    const button = panel.locator(`tr[data-slot=${slot}] button`);
+    await poll(`${slot} latch enabled`, async () => !(await button.isDisabled()));
+    await button.click();
+    await poll(`${slot} latched`, async () => (await http("GET", `/api/v1/controllers/${s}/teach`)).body.points.some((p) => p.slot === slot));
+  }
+  await panel.locator("tr[data-slot=p2] td.num", { hasText: "10.000, 0.000, 0.000" }).waitFor();
+  await panel.locator(".teach-actions button:has-text('teach')").click();
+  await panel.locator(".teach-block", { hasText: "G68.2 X0. Y0. Z0. I0. J180. K0." }).waitFor();
+  // A failed teach says why: two vectors not orthogonal.
+  await panel.locator("input[name=teach-mode][value=two_vectors]").check();
+  await panel.locator("input[name=teach-x]").fill("1, 0, 0");
+  await panel.locator("input[name=teach-z]").fill("1, 0, 1");
+  await panel.locator(".teach-actions button:has-text('teach')").click();
+  await panel.locator(".teach-failed", { hasText: "orthogonal" }).waitFor();
+  await panel.locator("input[name=teach-mode][value=three_points]").check();
+  await panel.locator(".teach-actions button:has-text('teach')").click();
+  await panel.locator(".teach-block").waitFor();
+  await page.screenshot({ path: join(shots, "controller-teach.png") });
+  // F2: G49 and the block in MDI; the plane is in force (F1 is refused, G49 now); F8 ends it.
+  await panel.locator(".teach-actions button:has-text('F2')").click();
+  await poll("G68.2 in force", async () => (await http("GET", `/api/v1/controllers/${s}/modal`)).body.groups["16"] === "G68.2");
+  await panel.locator(".teach-refused", { hasText: "G49" }).waitFor();
+  await idle();
+  await panel.locator(".teach-actions button:has-text('F8')").click();
+  await poll("G69 again", async () => (await http("GET", `/api/v1/controllers/${s}/modal`)).body.groups["16"] === "G69");
+});
+
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
   const have = (await http("GET", "/api/v1/controllers")).body.length;
   for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });

@@ -13,6 +13,7 @@ import { Variables } from "./Variables";
 import { Parameters } from "./Parameters";
 import { Offsets } from "./Offsets";
 import { Machine3D } from "./Machine3D";
+import { Teach } from "./Teach";
 
 const TABS: [string, string][] = [
   ["program", "Program"],
@@ -84,6 +85,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
         <div class="center">{live.machine && <Machine3D machine={live.machine} frame={live.frame} path={path} onFrame={live.onFrame} />}</div>
       </div>
       <Panel status={status} axes={axes} run={live.act} onError={setError} />
+      {status.dialect === "syntec" && <Teach status={status} run={live.act} onError={setError} />}
       <nav class="tabs">
         {TABS.map(([t, label]) => (
           <a key={t} href={`#/c/${id}/${t}`} class={tab === t ? "active" : ""}>
