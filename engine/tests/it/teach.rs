@@ -177,6 +177,36 @@ proptest! {
     }
 }
 
+/// The words of a G68.2 block by letter.
+fn words(block: &str) -> std::collections::HashMap<char, f64> {
+    block.split(' ').skip(1).map(|w| (w.chars().next().unwrap(), w[1..].parse().unwrap())).collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(crate::common::cases(256)))]
+
+    /// Three points anywhere: X along P1→P2, P3 on the +Y side in the plane, a right-handed
+    /// orthonormal frame, and the block's values (to one BLU) give that frame back as G68.2 reads
+    /// them (`twp::euler`).
+    #[test]
+    fn three_points_teach_and_block_round_trip(
+        p in proptest::array::uniform3(proptest::array::uniform3(-500.0..500.0f64)),
+    ) {
+        let v = p.map(Vec3::from);
+        let off_line = (v[1] - v[0]).cross(&(v[2] - v[0])).norm() / (v[1] - v[0]).norm().max(1e-12);
+        prop_assume!((v[1] - v[0]).norm() > 1.0 && off_line > 1.0);
+        let taught = teach::teach(Method::ThreePoints, &points(&v.map(|q| at(q.x, q.y, q.z)))).unwrap();
+        let f = taught.frame;
+        prop_assert!(close(f.x(), (v[1] - v[0]).normalize(), 1e-9));
+        prop_assert!(f.from_parent(&v[2]).y > 0.0 && f.from_parent(&v[2]).z.abs() < 1e-6);
+        prop_assert!((f.r.transpose() * f.r - nalgebra::Matrix3::identity()).abs().max() < 1e-9 && f.r.determinant() > 0.0);
+        let w = words(&taught.block);
+        let back = twp::euler(Vec3::new(w[&'X'], w[&'Y'], w[&'Z']), w[&'I'], w[&'J'], w[&'K']);
+        prop_assert!((back.r - f.r).abs().max() < 5e-5, "{} for {:?}", taught.block, f.r);
+        prop_assert!((back.o - f.o).abs().max() <= 0.0005 + 1e-9);
+    }
+}
+
 #[test]
 fn euler_angles_at_j_0_and_180_put_the_turn_in_i() {
     for (i, j, k) in [(10.0, 0.0, 25.0), (-70.0, 180.0, 30.0), (0.0, 0.0, 0.0)] {
