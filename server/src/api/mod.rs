@@ -135,7 +135,7 @@ pub struct ControllerStatus {
     /// The run of a stored program under way against its estimated cycle time (`docs/api.md`,
     /// "Cycle-time estimate and progress"); absent when no such run is under way.
     #[serde(default)]
-    pub progress: Option<crate::host::estimate::Progress>,
+    pub progress: Option<crate::host::estimate::RunProgress>,
 }
 
 /// A machine setting fivex does not carry out.

@@ -149,7 +149,7 @@ pub fn compute(mut interp: Interpreter, text: &str, budget: Duration) -> Estimat
 
 /// A run under way against its estimate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
-pub struct Progress {
+pub struct RunProgress {
     /// The stored program running.
     pub program: u32,
     /// Simulated seconds since its cycle start (holds and stops included).
@@ -176,7 +176,7 @@ pub struct Conditions {
 }
 
 /// The progress of a run of `program` that has been under way `elapsed_s`.
-pub fn progress(program: u32, elapsed_s: f64, estimate: Estimate, seen: Conditions) -> Progress {
+pub fn progress(program: u32, elapsed_s: f64, estimate: Estimate, seen: Conditions) -> RunProgress {
     let mut caveats = Vec::new();
     for (differs, name) in [
         (seen.feed_override != 1.0, "feed_override"),
@@ -192,7 +192,7 @@ pub fn progress(program: u32, elapsed_s: f64, estimate: Estimate, seen: Conditio
     let total = estimate.cycle_time_s.filter(|_| estimate.state == "ready");
     let remaining_s = total.map(|t| (t - elapsed_s).max(0.0));
     let percent = total.map(|t| if t > 0.0 { (elapsed_s / t * 100.0).min(100.0) } else { 100.0 });
-    Progress { program, elapsed_s, estimate, remaining_s, percent, caveats }
+    RunProgress { program, elapsed_s, estimate, remaining_s, percent, caveats }
 }
 
 /// The estimate of running `text` on `hosted` as it stands now: known, or begun on a blocking

@@ -12,7 +12,7 @@ use fivex_engine::machine::{Machine, MachineConfig};
 
 use crate::db::ToolRow;
 
-use super::estimate::{progress, Conditions, Estimate, Estimates, Key, Progress};
+use super::estimate::{progress, Conditions, Estimate, Estimates, Key, RunProgress};
 use super::stream::{AlarmInfo, Message};
 use super::{now_rfc3339, Record};
 
@@ -183,7 +183,7 @@ impl Station {
     }
 
     /// The run of a stored program under way against its estimate (`None` for none, or MDI).
-    pub fn progress(&self) -> Option<Progress> {
+    pub fn progress(&self) -> Option<RunProgress> {
         let run = self.run.as_ref()?;
         let program = run.program?;
         let estimate = match run.estimate.and_then(|k| self.estimates.get(k)) {

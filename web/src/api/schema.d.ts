@@ -1133,7 +1133,7 @@ export interface components {
              * @description The stored program AUTO runs (O number), once one was started.
              */
             program?: number | null;
-            progress?: null | components["schemas"]["Progress"];
+            progress?: null | components["schemas"]["RunProgress"];
             /** @description `idle`, `running`, `hold` or `alarm`. */
             run_state: components["schemas"]["RunStateName"];
             /**
@@ -2352,6 +2352,36 @@ export interface components {
          * @enum {string}
          */
         RunEnd: "completed" | "alarm" | "reset";
+        /** @description A run under way against its estimate. */
+        RunProgress: {
+            /**
+             * @description What makes this run differ from the estimate: `feed_override`, `rapid_override`,
+             *     `single_block`, `optional_stop` (the switch is on), `held` (it was held or stopped);
+             *     empty when it runs as estimated.
+             */
+            caveats: string[];
+            /**
+             * Format: double
+             * @description Simulated seconds since its cycle start (holds and stops included).
+             */
+            elapsed_s: number;
+            estimate: components["schemas"]["Estimate"];
+            /**
+             * Format: double
+             * @description `elapsed_s / cycle_time_s` in percent, at most 100; absent without an estimate.
+             */
+            percent?: number | null;
+            /**
+             * Format: int32
+             * @description The stored program running.
+             */
+            program: number;
+            /**
+             * Format: double
+             * @description `cycle_time_s − elapsed_s`, never below 0; absent without an estimate.
+             */
+            remaining_s?: number | null;
+        };
         /**
          * @description A controller's run state (docs/contracts.md).
          * @enum {string}

@@ -21,6 +21,7 @@ import type { Chain } from "./chain";
 import { normalizeModel } from "./model";
 import type { MachineModel, MachineModelInput } from "./model";
 import { PathLine, ProgrammedLine, TraceLine, TraceStretches } from "./trace";
+import { MIN_PART_RADIUS, WorkZeroFrame, pointsBounds } from "./part";
 
 export type ViewPreset = "iso" | "front" | "top" | "side";
 
@@ -50,6 +51,8 @@ export class MachineScene {
   readonly path: PathLine;
   /** The programmed path beside a compensated `path` (empty without cutter compensation). */
   readonly programmed: ProgrammedLine;
+  /** The active work offset's zero and axes (`setWorkZero`). */
+  readonly workZero = new WorkZeroFrame();
   private axes: AxisValues = {};
   private toolLength = 0;
   private current: MachineRig;
@@ -86,7 +89,7 @@ export class MachineScene {
     this.cuttingMarker.visible = false;
     this.path = new PathLine();
     this.programmed = new ProgrammedLine();
-    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker);
+    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object);
     this.rig.root.updateMatrixWorld(true);
   }
 
@@ -115,7 +118,7 @@ export class MachineScene {
     const old = this.current;
     const rig = buildMachine(view);
     // Moved out before the old rig is disposed (which disposes everything under its root).
-    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker);
+    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object);
     this.scene.remove(old.root);
     old.dispose();
     this.scene.add(rig.root);
@@ -224,6 +227,26 @@ export class MachineScene {
     return box;
   }
 
+  /** The active work offset's zero in the table frame (a position frame's `tip_table − tip`). */
+  setWorkZero(x: number, y: number, z: number): void {
+    if (this.workZero.set(x, y, z)) this.onChange();
+  }
+
+  /**
+   * World bounds of the part at the current pose: the programmed path, the executed tip trace
+   * and the work zero (empty when there is none of them), at least MIN_PART_RADIUS around.
+   */
+  partBounds(): THREE.Box3 {
+    this.rig.root.updateMatrixWorld(true);
+    const table = this.rig.tableFrame.matrixWorld;
+    const box = new THREE.Box3();
+    for (const b of [this.path.bounds, this.programmed.bounds]) if (b && !b.isEmpty()) box.union(b.clone().applyMatrix4(table));
+    pointsBounds(this.trace.length, (i) => this.trace.point(i), table, box);
+    if (this.workZero.object.visible) box.expandByPoint(this.workZero.object.getWorldPosition(new THREE.Vector3()));
+    if (!box.isEmpty()) box.union(new THREE.Box3().setFromCenterAndSize(box.getCenter(new THREE.Vector3()), new THREE.Vector3().setScalar(2 * MIN_PART_RADIUS)));
+    return box;
+  }
+
   /** Upload pending trace points (before each render). */
   flush(): void {
     this.trace.flush();
@@ -242,6 +265,7 @@ export class MachineScene {
     (this.cuttingMarker.material as THREE.Material).dispose();
     this.path.dispose();
     this.programmed.dispose();
+    this.workZero.dispose();
     this.rig.dispose();
   }
 }
@@ -408,13 +432,21 @@ export class MachineView {
     this.frameFrom(dir);
   }
 
+  /** Frame the part (the path, the tip trace and the work zero) from the current viewing direction; the machine when there is none. */
+  fitPart(): void {
+    const box = this.machineScene.partBounds();
+    if (box.isEmpty()) return this.fit();
+    const dir = this.camera.position.clone().sub(this.controls.target);
+    if (dir.lengthSq() === 0) dir.set(...VIEW_DIRECTIONS.iso);
+    this.frameFrom(dir, box);
+  }
+
   /** Look from a preset direction and frame the machine. */
   setView(view: ViewPreset): void {
     this.frameFrom(new THREE.Vector3(...VIEW_DIRECTIONS[view]));
   }
 
-  private frameFrom(direction: THREE.Vector3): void {
-    const box = this.machineScene.bounds();
+  private frameFrom(direction: THREE.Vector3, box = this.machineScene.bounds()): void {
     const sphere = box.isEmpty() ? new THREE.Sphere(new THREE.Vector3(), 500) : box.getBoundingSphere(new THREE.Sphere());
     const vfov = THREE.MathUtils.degToRad(this.camera.fov) / 2;
     const hfov = Math.atan(Math.tan(vfov) * Math.max(this.camera.aspect, 1e-3));
@@ -442,6 +474,7 @@ export class MachineView {
   render(): void {
     if (this.disposed) return;
     this.machineScene.flush();
+    this.machineScene.workZero.fitScreen(this.camera.position);
     this.renderer.render(this.machineScene.scene, this.camera);
     this.frames++;
   }
