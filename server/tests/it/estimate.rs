@@ -25,6 +25,12 @@ fn hosted(text: &str) -> Hosted {
     })
 }
 
+/// The estimate of `text` on a fresh controller of its preset, with a wall-clock `budget`.
+fn estimate_of(text: &str, budget: Duration) -> Estimate {
+    let interp = hosted(text).station().controller.interpreter().clone();
+    estimate::compute(interp, text, budget)
+}
+
 /// The estimate of `text` on the controller as it stands, then the controller's own run of it
 /// in 1 ms ticks: (estimate, the run's simulated time from cycle start to idle).
 fn estimate_and_run(text: &str) -> (Estimate, f64) {
@@ -72,9 +78,7 @@ fn the_estimate_is_the_run_s_cycle_time_within_one_percent() {
 #[test]
 fn a_program_that_stops_at_an_alarm_is_estimated_up_to_it() {
     let text = "G01 X10. F600\n#3000=1(STOP)\nG01 X20.\nM30\n";
-    let hosted = hosted(text);
-    let interp = hosted.station().controller.interpreter().clone();
-    let e = estimate::compute(interp, text, Duration::from_secs(60));
+    let e = estimate_of(text, Duration::from_secs(60));
     assert_eq!(e.state, "alarm", "{e:?}");
     assert_eq!(e.alarm.as_ref().map(|a| a.line), Some(2), "{e:?}");
     // 10 mm at 600 mm/min is a second, plus the speed changes.
@@ -86,9 +90,7 @@ fn a_program_that_stops_at_an_alarm_is_estimated_up_to_it() {
 fn an_estimate_out_of_wall_time_is_unknown() {
     // An endless loop: only the wall-clock budget ends it.
     let text = "#1=0\nWHILE[#1GE0]DO1\n#1=#1+1\nEND1\nM30\n";
-    let hosted = hosted(text);
-    let interp = hosted.station().controller.interpreter().clone();
-    let e = estimate::compute(interp, text, Duration::from_millis(50));
+    let e = estimate_of(text, Duration::from_millis(50));
     assert_eq!((e.state.as_str(), e.cycle_time_s), ("unknown", None), "{e:?}");
     assert!(e.reason.unwrap().contains("longer than"));
 }
