@@ -87,3 +87,20 @@ describe("the fit-to-part key", () => {
     expect(isFitKey(key("f", { tagName: "DIV", isContentEditable: true }))).toBe(false);
   });
 });
+
+describe("the tool tip's dot", () => {
+  it("sits on the drawn tip at every pose and keeps its size in pixels", () => {
+    const m = tableAc();
+    const s = new MachineScene(m.model);
+    const material = s.tipPoint.material as THREE.PointsMaterial;
+    expect(material.sizeAttenuation).toBe(false);
+    for (const p of m.poses.slice(0, 4)) {
+      s.setAxes(p.axes);
+      s.setToolLength(p.tool_length);
+      const tip = s.rig.tip.getWorldPosition(new THREE.Vector3());
+      expect(s.tipPoint.position.distanceTo(tip)).toBeLessThanOrEqual(1e-9);
+      expect(s.tipPoint.position.distanceTo(new THREE.Vector3(...p.tip_machine))).toBeLessThanOrEqual(1e-9);
+    }
+    s.dispose();
+  });
+});

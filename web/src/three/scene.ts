@@ -35,6 +35,9 @@ export const TIP_TRACE_COLOR = 0xffd000;
  * point runs on it wherever the tool touches the contour (solid over dashed).
  */
 export const CUTTING_TRACE_COLOR = 0xff30ff;
+/** The tool tip's dot: red like the tip marker, a fixed size in pixels (over the marker, which shrinks with distance). */
+export const TIP_POINT_COLOR = 0xff3030;
+export const TIP_POINT_PX = 7;
 
 export class MachineScene {
   readonly scene = new THREE.Scene();
@@ -51,6 +54,8 @@ export class MachineScene {
   readonly path: PathLine;
   /** The programmed path beside a compensated `path` (empty without cutter compensation). */
   readonly programmed: ProgrammedLine;
+  /** The tool tip as a dot of a fixed size in pixels: where the tool is, seen at any zoom. */
+  readonly tipPoint: THREE.Points;
   /** The active work offset's zero and axes (`setWorkZero`). */
   readonly workZero = new WorkZeroFrame();
   private axes: AxisValues = {};
@@ -87,6 +92,14 @@ export class MachineScene {
     this.cuttingMarker.name = "cutting-point";
     this.cuttingMarker.renderOrder = 11;
     this.cuttingMarker.visible = false;
+    this.tipPoint = new THREE.Points(
+      new THREE.BufferGeometry().setAttribute("position", new THREE.Float32BufferAttribute([0, 0, 0], 3)),
+      new THREE.PointsMaterial({ color: TIP_POINT_COLOR, size: TIP_POINT_PX, sizeAttenuation: false, depthTest: false }),
+    );
+    this.tipPoint.name = "tip-point";
+    this.tipPoint.renderOrder = 13;
+    this.scene.add(this.tipPoint);
+    this.placeTipPoint();
     this.path = new PathLine();
     this.programmed = new ProgrammedLine();
     this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object);
@@ -125,6 +138,7 @@ export class MachineScene {
     this.current = rig;
     this.currentChain = { set: chain.set, sub: chain.sub };
     rig.update(this.axes, this.toolLength);
+    this.placeTipPoint();
     this.onChange();
     return true;
   }
@@ -255,10 +269,20 @@ export class MachineScene {
 
   private pose(): void {
     this.rig.update(this.axes, this.toolLength);
+    this.placeTipPoint();
     this.onChange();
   }
 
+  /** The tip dot onto the drawn tool tip. */
+  private placeTipPoint(): void {
+    this.rig.root.updateMatrixWorld(true);
+    this.rig.tip.getWorldPosition(this.tipPoint.position);
+    this.tipPoint.updateMatrixWorld();
+  }
+
   dispose(): void {
+    this.tipPoint.geometry.dispose();
+    (this.tipPoint.material as THREE.Material).dispose();
     this.trace.dispose();
     this.cutting.dispose();
     this.cuttingMarker.geometry.dispose();
