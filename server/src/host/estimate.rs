@@ -44,11 +44,17 @@ pub struct Estimate {
     pub cycle_time_s: Option<f64>,
     pub alarm: Option<AlarmInfo>,
     pub reason: Option<String>,
+    /// What the program's time depends on that the estimate cannot know:
+    /// `input_signals` (it reads #1000–#1035, which the host may change while it runs; the
+    /// estimate reads them as they are now), `program_stop` (M00 waits for a cycle start: the
+    /// wait is not in the estimate). Empty when there is none of them.
+    #[serde(default)]
+    pub depends_on: Vec<String>,
 }
 
 impl Estimate {
     fn pending() -> Estimate {
-        Estimate { state: "pending".into(), cycle_time_s: None, alarm: None, reason: None }
+        Estimate { state: "pending".into(), cycle_time_s: None, alarm: None, reason: None, depends_on: Vec::new() }
     }
 }
 
@@ -128,23 +134,71 @@ pub fn compute(mut interp: Interpreter, text: &str, budget: Duration) -> Estimat
     let opts = RunOptions { period_s: 0.0, max_time_s: SIMULATED_BUDGET_S, ..RunOptions::default() };
     let mut deadline = Deadline { at: Instant::now() + budget, passed: false };
     let result = run::run_observed(&mut interp, &opts, |_| {}, &mut deadline);
+    let depends_on = depends_on(text);
     if deadline.passed {
         return Estimate {
             state: "unknown".into(),
             cycle_time_s: None,
             alarm: None,
             reason: Some(format!("the simulation took longer than {} s", budget.as_secs())),
+            depends_on,
         };
     }
     match result.alarms.first() {
-        None => Estimate { state: "ready".into(), cycle_time_s: Some(result.cycle_time_s), alarm: None, reason: None },
+        None => Estimate {
+            state: "ready".into(),
+            cycle_time_s: Some(result.cycle_time_s),
+            alarm: None,
+            reason: None,
+            depends_on,
+        },
         Some(alarm) => Estimate {
             state: "alarm".into(),
             cycle_time_s: Some(result.cycle_time_s),
             alarm: Some(AlarmInfo::from(alarm)),
             reason: Some("the program stops at an alarm: the time up to it".into()),
+            depends_on,
         },
     }
+}
+
+/// What in `text` makes its time depend on the outside (see [`Estimate::depends_on`]), read
+/// from the words outside comments: a variable number 1000–1035 after `#`, an M0 / M00. A
+/// variable number computed at run time (`#[#1]`) cannot be read this way and is not counted.
+pub fn depends_on(text: &str) -> Vec<String> {
+    let (mut signals, mut stop) = (false, false);
+    let mut comment = false;
+    let chars: Vec<char> = text.chars().collect();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i].to_ascii_uppercase();
+        i += 1;
+        match c {
+            '(' => comment = true,
+            ')' => comment = false,
+            '\n' => comment = false,
+            '#' | 'M' if !comment => {
+                let start = i;
+                while i < chars.len() && chars[i].is_ascii_digit() {
+                    i += 1;
+                }
+                let digits: String = chars[start..i].iter().collect();
+                // A word's letter follows no other letter (`M` of `DPRNT`'s text does).
+                let word = start < 2 || !chars[start - 2].is_ascii_alphabetic();
+                match (c, digits.parse::<u32>()) {
+                    ('#', Ok(n)) => signals |= (1000..=1035).contains(&n),
+                    ('M', Ok(0)) => stop |= word,
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+    [(signals, "input_signals"), (stop, "program_stop")]
+        .into_iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, n)| n.to_string())
+        .collect()
 }
 
 /// A run under way against its estimate.

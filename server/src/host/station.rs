@@ -193,6 +193,7 @@ impl Station {
                 cycle_time_s: None,
                 alarm: None,
                 reason: Some("the run was not estimated (started before this service held it)".into()),
+                depends_on: Vec::new(),
             },
         };
         let panel = &self.controller.panel;

@@ -97,7 +97,8 @@ fn an_estimate_out_of_wall_time_is_unknown() {
 
 #[test]
 fn progress_is_elapsed_against_the_estimate_and_names_what_differs() {
-    let ready = Estimate { state: "ready".into(), cycle_time_s: Some(40.0), alarm: None, reason: None };
+    let ready =
+        Estimate { state: "ready".into(), cycle_time_s: Some(40.0), alarm: None, reason: None, depends_on: vec![] };
     let as_estimated =
         Conditions { feed_override: 1.0, rapid_override: 1.0, single_block: false, optional_stop: false, held: false };
     let p = estimate::progress(7, 10.0, ready.clone(), as_estimated);
@@ -110,4 +111,18 @@ fn progress_is_elapsed_against_the_estimate_and_names_what_differs() {
     let alarm = Estimate { state: "alarm".into(), ..ready };
     let p = estimate::progress(7, 5.0, alarm, as_estimated);
     assert_eq!((p.remaining_s, p.percent), (None, None));
+}
+
+#[test]
+fn what_the_time_depends_on_outside_the_program_is_named() {
+    let depends = |text: &str| estimate::depends_on(text);
+    assert_eq!(depends("G01 X1. F100\nM00\n#1=#1000\nM30\n"), ["input_signals", "program_stop"]);
+    assert_eq!(depends("IF[#1035 EQ 1] GOTO 5\nM0\n"), ["input_signals", "program_stop"]);
+    // In comments, outputs, other numbers and other M codes: nothing.
+    assert!(depends("(M00 WAITS, #1000 IS READ)\nG01 X1. F100 (M0)\nM30\n").is_empty());
+    assert!(depends("#1100=1\n#10000=2\n#999=#100\nM01\nM03 S1000\nM30\n").is_empty());
+    assert!(depends("POPEN\nDPRNT[DIM00]\nPCLOS\nM30\n").is_empty(), "the M of a word, not an M code");
+    // The estimate carries them.
+    let e = estimate_of("G01 X10. F600\nM00\nG01 X0\nM30\n", Duration::from_secs(60));
+    assert_eq!((e.state.as_str(), e.depends_on.as_slice()), ("ready", &["program_stop".to_string()][..]), "{e:?}");
 }

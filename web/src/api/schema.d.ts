@@ -1236,6 +1236,13 @@ export interface components {
              * @description Simulated seconds at 100 % overrides, without operator stops.
              */
             cycle_time_s?: number | null;
+            /**
+             * @description What the program's time depends on that the estimate cannot know:
+             *     `input_signals` (it reads #1000–#1035, which the host may change while it runs; the
+             *     estimate reads them as they are now), `program_stop` (M00 waits for a cycle start: the
+             *     wait is not in the estimate). Empty when there is none of them.
+             */
+            depends_on?: string[];
             reason?: string | null;
             /**
              * @description `pending` (being computed), `ready` (the program ran to its end), `alarm` (it stopped at

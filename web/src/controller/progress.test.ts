@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import { clock, estimateText, progressView, type Estimate, type RunProgress } from "./progress";
 
-const ready: Estimate = { state: "ready", cycle_time_s: 83.42, alarm: null, reason: null };
+const ready: Estimate = { state: "ready", cycle_time_s: 83.42, alarm: null, reason: null, depends_on: [] };
 
 describe("the cycle-time box", () => {
   it("writes times as m:ss.s and h:mm:ss", () => {
@@ -27,7 +27,10 @@ describe("the cycle-time box", () => {
     expect(slow.caveats).toBe("estimate at 100 %, no stops: feed override ≠ 100 %, was held");
     const none = progressView({ ...run, remaining_s: null, percent: null, estimate: { state: "unknown", cycle_time_s: null, alarm: null, reason: "why" } }, ready);
     expect(none).toEqual({ text: "O0007 0:20.0 elapsed · no estimate: why", percent: null, caveats: "" });
-    // Without a run: the selected program's estimate.
+    // Without a run: the selected program's estimate, and what its time depends on.
     expect(progressView(null, ready)).toEqual({ text: "cycle time 1:23.4", percent: null, caveats: "" });
+    const waits = { ...ready, depends_on: ["program_stop", "input_signals"] };
+    expect(progressView(null, waits).caveats).toBe("depends on the run: waits at M00, reads input signals #1000–#1035");
+    expect(progressView({ ...run, estimate: waits }, null).caveats).toBe("estimate at 100 %, no stops: waits at M00, reads input signals #1000–#1035");
   });
 });

@@ -26,7 +26,12 @@ const CAVEATS: Record<string, string> = {
   single_block: "single block",
   optional_stop: "optional stop on",
   held: "was held",
+  input_signals: "reads input signals #1000–#1035",
+  program_stop: "waits at M00",
 };
+
+/** What the program's time depends on outside it (the estimate's `depends_on`), in words. */
+const dependsText = (e: Estimate | null | undefined) => (e?.depends_on ?? []).map((d) => CAVEATS[d] ?? d).join(", ");
 
 /** What the estimate itself says: its time, or why there is none. */
 export function estimateText(e: Estimate | null): string {
@@ -55,7 +60,7 @@ export type ProgressView = {
 /** The box's content: the run under way when there is one, else the selected program's estimate. */
 export function progressView(run: RunProgress | null | undefined, estimate: Estimate | null): ProgressView {
   if (run) {
-    const caveats = run.caveats.map((c) => CAVEATS[c] ?? c).join(", ");
+    const caveats = [...run.caveats, ...(run.estimate.depends_on ?? [])].map((c) => CAVEATS[c] ?? c).join(", ");
     if (run.remaining_s == null || run.percent == null) {
       return { text: `O${pad(run.program)} ${clock(run.elapsed_s)} elapsed · ${estimateText(run.estimate)}`, percent: null, caveats };
     }
@@ -65,7 +70,8 @@ export function progressView(run: RunProgress | null | undefined, estimate: Esti
       caveats: caveats && `estimate at 100 %, no stops: ${caveats}`,
     };
   }
-  return { text: estimateText(estimate), percent: null, caveats: "" };
+  const depends = dependsText(estimate);
+  return { text: estimateText(estimate), percent: null, caveats: depends && `depends on the run: ${depends}` };
 }
 
 const pad = (n: number) => String(n).padStart(4, "0");
