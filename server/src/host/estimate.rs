@@ -11,6 +11,7 @@
 
 use std::collections::HashMap;
 use std::hash::{DefaultHasher, Hash, Hasher};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use fivex_engine::interp::Interpreter;
@@ -249,9 +250,49 @@ pub fn progress(program: u32, elapsed_s: f64, estimate: Estimate, seen: Conditio
     RunProgress { program, elapsed_s, estimate, remaining_s, percent, caveats }
 }
 
+/// Estimates computing at once, in the whole service: one per core, so that clients asking for
+/// many cannot take the cores the controllers' workers tick on.
+static RUNNING: Slots = Slots::new();
+
+/// A count of things under way with a limit.
+pub struct Slots(AtomicUsize);
+
+/// A slot taken: given back when dropped (also when the estimate panicked).
+pub struct Slot<'a>(&'a AtomicUsize);
+
+impl Slots {
+    pub const fn new() -> Slots {
+        Slots(AtomicUsize::new(0))
+    }
+
+    /// A slot, if fewer than `limit` are taken.
+    pub fn take(&self, limit: usize) -> Option<Slot<'_>> {
+        self.0.fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| (n < limit).then_some(n + 1)).ok()?;
+        Some(Slot(&self.0))
+    }
+}
+
+impl Default for Slots {
+    fn default() -> Self {
+        Slots::new()
+    }
+}
+
+impl Drop for Slot<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
 /// The estimate of running `text` on `hosted` as it stands now: known, or begun on a blocking
-/// thread (then `pending`; ask again). Needs a tokio runtime.
+/// thread (then `pending`; ask again). While every slot is taken nothing begins and the answer
+/// is `pending` too. Needs a tokio runtime.
 pub fn ensure(hosted: &std::sync::Arc<super::Hosted>, text: String) -> Estimate {
+    let Some(slot) = RUNNING.take(super::Host::default_workers()) else {
+        let station = hosted.station();
+        let key = key(&text, station.controller.interpreter());
+        return station.estimates.get(key).cloned().unwrap_or_else(Estimate::pending);
+    };
     let (key, interp) = {
         let mut station = hosted.station();
         let key = key(&text, station.controller.interpreter());
@@ -262,6 +303,7 @@ pub fn ensure(hosted: &std::sync::Arc<super::Hosted>, text: String) -> Estimate 
     };
     let hosted = hosted.clone();
     tokio::task::spawn_blocking(move || {
+        let _slot = slot;
         let estimate = compute(interp, &text, WALL_BUDGET);
         hosted.station().estimates.put(key, estimate);
     });

@@ -192,7 +192,10 @@ impl Station {
                 state: "unknown".into(),
                 cycle_time_s: None,
                 alarm: None,
-                reason: Some("the run was not estimated (started before this service held it)".into()),
+                reason: Some(
+                    "no estimate was begun for this run (the service was busy with others, or the run began before this service held it)"
+                        .into(),
+                ),
                 depends_on: Vec::new(),
             },
         };

@@ -126,3 +126,16 @@ fn what_the_time_depends_on_outside_the_program_is_named() {
     let e = estimate_of("G01 X10. F600\nM00\nG01 X0\nM30\n", Duration::from_secs(60));
     assert_eq!((e.state.as_str(), e.depends_on.as_slice()), ("ready", &["program_stop".to_string()][..]), "{e:?}");
 }
+
+#[test]
+fn estimates_under_way_are_limited_and_their_slots_given_back() {
+    let slots = estimate::Slots::new();
+    let a = slots.take(2).expect("a first slot");
+    let b = slots.take(2).expect("a second slot");
+    assert!(slots.take(2).is_none(), "no third one");
+    drop(a);
+    let c = slots.take(2).expect("the slot given back");
+    assert!(slots.take(2).is_none());
+    drop((b, c));
+    assert!(slots.take(1).is_some());
+}
