@@ -93,8 +93,8 @@ impl Estimates {
 }
 
 /// The key of running `text` on `interp` now: the text, the machine (by identity: a parameter
-/// change makes a new one and clears the estimates), the dialect, the offsets, the retained
-/// variables, the modal state and the machine position.
+/// change makes a new one and clears the estimates), the dialect, the offsets, the common and
+/// retained variables, the modal state and the machine position.
 pub fn key(text: &str, interp: &Interpreter) -> Key {
     let mut h = DefaultHasher::new();
     text.hash(&mut h);
@@ -104,7 +104,8 @@ pub fn key(text: &str, interp: &Interpreter) -> Key {
     format!("{:?}", state.offsets).hash(&mut h);
     // Not the timers (#3001/#3002), which run on while it stands: a program that reads them
     // still takes the same time.
-    for (n, v) in state.retained_variables().into_iter().filter(|(n, _)| !(3001..=3002).contains(n)) {
+    let retained = state.retained_variables().into_iter().filter(|(n, _)| !(3001..=3002).contains(n));
+    for (n, v) in state.common_variables().into_iter().chain(retained) {
         (n, v.to_bits()).hash(&mut h);
     }
     for v in state.machine_position() {

@@ -139,3 +139,18 @@ fn estimates_under_way_are_limited_and_their_slots_given_back() {
     drop((b, c));
     assert!(slots.take(1).is_some());
 }
+
+#[test]
+fn the_key_changes_with_what_the_run_reads() {
+    let text = "G01 X[#100] F600\nM30\n";
+    let hosted = hosted(text);
+    let mut station = hosted.station();
+    let before = estimate::key(text, station.controller.interpreter());
+    assert_eq!(before, estimate::key(text, station.controller.interpreter()), "the same inputs, the same key");
+    assert_ne!(before, estimate::key("G01 X[#100] F601\nM30\n", station.controller.interpreter()), "another text");
+    station.controller.interpreter_mut().state.set_common_variable(100, Some(10.0)).expect("#100 is common");
+    let common = estimate::key(text, station.controller.interpreter());
+    assert_ne!(before, common, "a common variable");
+    station.controller.interpreter_mut().state.offsets.work_mut(1)[0] = 5.0;
+    assert_ne!(common, estimate::key(text, station.controller.interpreter()), "a work offset");
+}
