@@ -160,6 +160,82 @@ test("a program with a check problem shows its diagnostic in place, then stores 
   await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
 });
 
+// A longer program: 160 mm at 600 mm/min, sixteen seconds.
+const LONG = ["O0003 (LONG)", "G90 G54 G00 X0 Y0 Z50. A0 C0", "G01 X40. F600.", "Y40.", "X0", "Y0", "M30"].join("\n");
+const textOf = (selector) => page.locator(selector).textContent({ timeout: 200 }).catch(() => "");
+/// The camera's distance from what it looks at.
+const cameraDistance = () => page.evaluate(() => {
+  const v = window.__fivexView.view;
+  return v.camera.position.distanceTo(v.controls.target);
+});
+/// Whether the program column is beside the readout (to its right, overlapping it vertically) and both are in the window.
+async function besideReadout(height) {
+  const pos = await page.locator(".position").boundingBox();
+  const prog = await page.locator(".program-col .code, .program-col textarea.nc").first().boundingBox();
+  assert.ok(prog.x >= pos.x + pos.width - 1, `the program (x ${prog.x}) is right of the readout (ends ${pos.x + pos.width})`);
+  assert.ok(prog.y < pos.y + pos.height && pos.y < prog.y + prog.height, "they overlap vertically");
+  assert.ok(pos.y + pos.height / 2 < height && prog.y + 100 < height, "both are in the window");
+}
+
+test("the cycle time is estimated before the start and the time left shown while it runs; another program is edited meanwhile; the layout at 1600×1000 and 1024×700; F fits the part", async () => {
+  await page.setViewportSize({ width: 1600, height: 1000 });
+  await page.fill(".prog-list .new input", "3");
+  await page.click(".prog-list .new button");
+  await page.fill("textarea.nc", LONG);
+  await page.click("button[data-action=save]");
+  await page.locator(".code .line[data-line='6']").waitFor();
+  const estimate = (await http("GET", `/api/v1/controllers/${id}/programs/3/estimate`)).body;
+  const shown = await poll("the estimate", async () => {
+    const t = await textOf("[data-testid=cycle-time]");
+    return /cycle time \d+:\d\d\.\d/.test(t) ? t : null;
+  });
+  if (estimate.state === "ready") assert.ok(estimate.cycle_time_s > 16 && estimate.cycle_time_s < 18, JSON.stringify(estimate));
+  await page.click("button[data-action=run]");
+  await page.locator("[data-run-state=running]").waitFor();
+  const left = await poll("the time left", async () => {
+    const t = await textOf("[data-testid=cycle-time]");
+    return /elapsed · \d+:\d\d\.\d left · \d+ %/.test(t) ? t : null;
+  });
+  assert.match(shown, /cycle time/);
+  assert.ok(await page.locator("[data-testid=cycle-time] [role=progressbar]").count(), `a bar with ${left}`);
+  await besideReadout(1000);
+  await page.locator(".program-col .code .line.active").waitFor();
+  await page.screenshot({ path: join(shots, "controller-1600x1000.png") });
+
+  // Background edit: a new program stored while O0003 runs, which goes on.
+  await page.fill(".prog-list .new input", "4");
+  await page.click(".prog-list .new button");
+  const other = "O0004 (EDITED WHILE 3 RUNS)\nG01 X5. F100.\nM30\n";
+  await page.fill("textarea.nc", other);
+  await page.click("button[data-action=save]");
+  await poll("O0004 stored", async () => (await http("GET", `/api/v1/controllers/${id}/programs/4`)).body === other);
+  const during = (await http("GET", `/api/v1/controllers/${id}`)).body;
+  assert.equal(during.run_state, "running");
+  assert.equal(during.program, 3);
+  assert.ok(during.progress.elapsed_s > 0 && during.progress.estimate.state === "ready", JSON.stringify(during.progress));
+
+  await page.setViewportSize({ width: 1024, height: 700 });
+  await page.click("[data-program='3']");
+  await page.locator(".program-col .code .line.active").waitFor();
+  await besideReadout(700);
+  await page.screenshot({ path: join(shots, "controller-1024x700.png") });
+
+  // F frames the part (path, trace, work zero): much closer than the whole machine.
+  await page.click("button[title='Frame the machine']");
+  const machine = await cameraDistance();
+  await page.click(".ctl-head h1");
+  await page.keyboard.press("f");
+  const part = await poll("the view on the part", async () => {
+    const d = await cameraDistance();
+    return d < machine * 0.6 ? d : null;
+  });
+  assert.ok(part < machine, `${part} < ${machine}`);
+  assert.ok(await page.evaluate(() => window.__fivexView.view.machineScene.workZero.object.visible), "the work zero is drawn");
+  await page.locator(".view3d").screenshot({ path: join(shots, "fit-part.png") });
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 30000 });
+  await page.setViewportSize({ width: 1500, height: 1100 });
+});
+
 test("an alarm shows in the banner and in the alarms tab", async () => {
   await page.click("nav.tabs a[href$='/mdi']");
   await page.fill("textarea[name=mdi]", "M98 P9999"); // no such program

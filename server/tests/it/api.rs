@@ -1059,3 +1059,40 @@ async fn the_syntec_teach_screen_latches_the_tip_and_teaches_a_g68_2_block() {
     let empty = app.post(&format!("{teach}/plane"), &json!({"mode": "three_points"})).await;
     assert!(error_of(&empty).contains("P1"), "{}", empty.text());
 }
+
+#[tokio::test]
+async fn a_stored_program_is_estimated_before_it_runs_and_its_progress_shown_while_it_runs() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "est", "preset": "mill3", "speed": 20})).await;
+    // 60 mm at 600 mm/min: six seconds and the speed changes.
+    assert_eq!(store(&app, &id, 1, "G90 G01 X60. F600\nM30\n").await.status, StatusCode::CREATED);
+    let uri = format!("{C}/{id}/programs/1/estimate");
+    let estimate = eventually(&app, &uri, |e| e["state"] != "pending").await;
+    assert_eq!(estimate["state"], "ready", "{estimate}");
+    let cycle = estimate["cycle_time_s"].as_f64().unwrap();
+    assert!((6.0..6.5).contains(&cycle), "{estimate}");
+    // Kept: the same inputs answer at once.
+    assert_eq!(app.get(&uri).await.json(), estimate);
+    assert_eq!(app.get(&format!("{C}/{id}/programs/2/estimate")).await.status, StatusCode::NOT_FOUND);
+    assert!(app.get(&format!("{C}/{id}")).await.json()["progress"].is_null(), "no run, no progress");
+
+    let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await.json();
+    let progress = &started["progress"];
+    assert_eq!((progress["program"].clone(), progress["estimate"].clone()), (json!(1), estimate), "{started}");
+    assert_eq!(progress["caveats"], json!([]), "{started}");
+    let running = eventually(&app, &format!("{C}/{id}"), |s| {
+        s["run_state"] != "running" || s["progress"]["elapsed_s"].as_f64().is_some_and(|e| e > 0.5)
+    })
+    .await;
+    if running["run_state"] == "running" {
+        let p = &running["progress"];
+        let (elapsed, remaining) = (p["elapsed_s"].as_f64().unwrap(), p["remaining_s"].as_f64().unwrap());
+        assert!((remaining - (cycle - elapsed).max(0.0)).abs() < 1e-9, "{p}");
+        assert!((p["percent"].as_f64().unwrap() - (elapsed / cycle * 100.0).min(100.0)).abs() < 1e-9, "{p}");
+    }
+    wait_for(&app, &id, "idle").await;
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    // The run ends within the worker round after its last motion: never shorter than estimated.
+    assert!(runs[0]["cycle_time_s"].as_f64().unwrap() >= cycle * 0.99, "{runs}");
+    assert!(app.get(&format!("{C}/{id}")).await.json()["progress"].is_null(), "over");
+}

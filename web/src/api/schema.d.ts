@@ -429,6 +429,28 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/controllers/{id}/programs/{number}/estimate": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The simulated cycle time of a stored program run from where the machine is now, with the
+         *     controller's machine, offsets, variables and modal state (the engine's `run`, as `fivex run`
+         *     runs it, at 100 % overrides and without operator stops). The first request begins it on a
+         *     background thread and answers `pending`; ask again. Kept until one of those inputs changes.
+         */
+        get: operations["estimate"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/controllers/{id}/programs/{number}/path": {
         parameters: {
             query?: never;
@@ -1182,6 +1204,7 @@ export interface components {
              * @description The stored program AUTO runs (O number), once one was started.
              */
             program?: number | null;
+            progress?: null | components["schemas"]["RunProgress"];
             /** @description `idle`, `running`, `hold` or `alarm`. */
             run_state: components["schemas"]["RunStateName"];
             /**
@@ -1275,6 +1298,29 @@ export interface components {
              * @example no route for GET /api/v1/nope
              */
             error: string;
+        };
+        /** @description A program's estimated cycle time as the API shows it. */
+        Estimate: {
+            alarm?: null | components["schemas"]["AlarmInfo"];
+            /**
+             * Format: double
+             * @description Simulated seconds at 100 % overrides, without operator stops.
+             */
+            cycle_time_s?: number | null;
+            /**
+             * @description What the program's time depends on that the estimate cannot know:
+             *     `input_signals` (it reads #1000–#1035, which the host may change while it runs; the
+             *     estimate reads them as they are now), `program_stop` (M00 waits for a cycle start: the
+             *     wait is not in the estimate). Empty when there is none of them.
+             */
+            depends_on?: string[];
+            reason?: string | null;
+            /**
+             * @description `pending` (being computed), `ready` (the program ran to its end), `alarm` (it stopped at
+             *     `alarm`: `cycle_time_s` is the time up to there) or `unknown` (no estimate: `reason`).
+             * @example ready
+             */
+            state: string;
         };
         /** @description 5-axis function settings of the control (vendor bits, `docs/five-axis.md`). */
         FiveAxisOptions: {
@@ -2384,6 +2430,36 @@ export interface components {
          * @enum {string}
          */
         RunEnd: "completed" | "alarm" | "reset";
+        /** @description A run under way against its estimate. */
+        RunProgress: {
+            /**
+             * @description What makes this run differ from the estimate: `feed_override`, `rapid_override`,
+             *     `single_block`, `optional_stop` (the switch is on), `held` (it was held or stopped);
+             *     empty when it runs as estimated.
+             */
+            caveats: string[];
+            /**
+             * Format: double
+             * @description Simulated seconds since its cycle start (holds and stops included).
+             */
+            elapsed_s: number;
+            estimate: components["schemas"]["Estimate"];
+            /**
+             * Format: double
+             * @description `elapsed_s / cycle_time_s` in percent, at most 100; absent without an estimate.
+             */
+            percent?: number | null;
+            /**
+             * Format: int32
+             * @description The stored program running.
+             */
+            program: number;
+            /**
+             * Format: double
+             * @description `cycle_time_s − elapsed_s`, never below 0; absent without an estimate.
+             */
+            remaining_s?: number | null;
+        };
         /**
          * @description A controller's run state (docs/contracts.md).
          * @enum {string}
@@ -5003,6 +5079,76 @@ export interface operations {
             };
             /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
             415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    estimate: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+                /** @description O number, 1–9999 */
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The estimate, or `pending` while it is computed */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Estimate"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller or program */
+            404: {
                 headers: {
                     [name: string]: unknown;
                 };
