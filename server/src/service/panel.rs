@@ -165,6 +165,7 @@ impl From<Refused> for ServiceError {
                 Refused::Panel(Refusal::NoProgram) => "there is no program to run",
                 Refused::Panel(Refusal::NoAxis) => "no such axis (or no 5-axis mechanism for this feed)",
                 Refused::Panel(Refusal::BadValue) => "the value is not a finite number in range",
+                Refused::Panel(Refusal::NotInDialect) => "the dialect's manuals describe no such function",
                 Refused::ProgramUnderWay => {
                     "a program is under way: resume it with an empty cycle start, or reset first"
                 }
