@@ -17,6 +17,7 @@ use crate::interp::restart::{Found, Target};
 
 /// FANUC's two kinds of program restart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = RestartTypeName))]
 #[serde(rename_all = "lowercase")]
 pub enum RestartType {
     /// After a broken tool: coordinates from the interrupted run's start.
@@ -26,7 +27,8 @@ pub enum RestartType {
 }
 
 /// Where a restart is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = RestartPhaseName))]
 #[serde(rename_all = "lowercase")]
 pub enum RestartPhase {
     /// The search has found the restart block; cycle start returns the axes.

@@ -15,6 +15,7 @@ pub mod offsets;
 pub mod panel;
 pub mod parameters;
 pub mod programs;
+pub mod restart;
 pub mod stream;
 pub mod variables;
 
@@ -50,6 +51,7 @@ pub fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(panel::set_overrides))
         .routes(routes!(panel::set_switches))
         .routes(routes!(panel::emergency_stop))
+        .routes(routes!(restart::restart))
         .routes(routes!(manual::jog))
         .routes(routes!(manual::jog_stop))
         .routes(routes!(manual::handle))
@@ -131,6 +133,8 @@ pub struct ControllerStatus {
     /// The mechanism chain in force (Syntec `G10 L5000 P_ Q_`, `docs/five-axis.md`): its set
     /// 1–4 and sub-chain 1–4, as the machine executes; set 1, sub-chain 1 on a one-chain machine.
     pub chain: fivex_engine::machine::Chain,
+    /// FANUC program restart under way (`POST /restart`): `null` when none.
+    pub restart: Option<restart::RestartInfo>,
 }
 
 /// A machine setting fivex does not carry out.
@@ -264,6 +268,7 @@ impl ControllerStatus {
             interrupt_shift: axes(&station.machine, &c.interrupt_shift()),
             unmodelled_parameters: UnmodelledParameter::list(&station.unmodelled),
             chain: c.chain(),
+            restart: restart::RestartInfo::of(station),
         }
     }
 
