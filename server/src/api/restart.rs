@@ -46,17 +46,18 @@ pub struct RestartInfo {
     pub kind: RestartType,
     /// `searched` (cycle start returns the axes) or `returning`.
     pub phase: RestartPhase,
-    /// The restart block: its line and sequence number.
+    /// The restart block's line.
     pub line: u32,
+    /// Its sequence number (none for a block without N).
     pub n: Option<u32>,
     /// Blocks the search executed.
     pub blocks: u64,
     /// The restart position per axis (machine coordinates): where the return goes.
     #[schema(value_type = std::collections::HashMap<String, f64>)]
     pub position: Map<String, Value>,
-    /// What cycle start outputs before the return: the tool of the last tool change, the
-    /// spindle speed of the last spindle command (1/min; negative counter-clockwise, 0 stopped).
+    /// What cycle start outputs before the return: the tool of the last tool change…
     pub tool: Option<u32>,
+    /// …and the speed of the last spindle command (1/min; negative counter-clockwise, 0 stopped).
     pub spindle: Option<f64>,
     /// The other M codes the search passed over, the last 35 (for the operator to give).
     pub m_codes: Vec<u32>,

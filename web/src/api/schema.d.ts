@@ -2299,12 +2299,15 @@ export interface components {
             blocks: number;
             /**
              * Format: int32
-             * @description The restart block: its line and sequence number.
+             * @description The restart block's line.
              */
             line: number;
             /** @description The other M codes the search passed over, the last 35 (for the operator to give). */
             m_codes: number[];
-            /** Format: int32 */
+            /**
+             * Format: int32
+             * @description Its sequence number (none for a block without N).
+             */
             n?: number | null;
             /** @description `searched` (cycle start returns the axes) or `returning`. */
             phase: components["schemas"]["RestartPhaseName"];
@@ -2312,12 +2315,14 @@ export interface components {
             position: {
                 [key: string]: number;
             };
-            /** Format: double */
+            /**
+             * Format: double
+             * @description …and the speed of the last spindle command (1/min; negative counter-clockwise, 0 stopped).
+             */
             spindle?: number | null;
             /**
              * Format: int32
-             * @description What cycle start outputs before the return: the tool of the last tool change, the
-             *     spindle speed of the last spindle command (1/min; negative counter-clockwise, 0 stopped).
+             * @description What cycle start outputs before the return: the tool of the last tool change…
              */
             tool?: number | null;
             /** @description `p` or `q`. */
