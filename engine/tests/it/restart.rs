@@ -226,6 +226,36 @@ fn single_block_stops_on_the_restart_position_before_the_restart_block() {
 }
 
 #[test]
+fn a_feed_hold_in_the_return_waits_and_cycle_start_goes_on_an_emergency_stop_forgets_it() {
+    let full = ran(PROGRAM);
+    let mut c = controller();
+    c.select_program(PROGRAM).unwrap();
+    c.restart(n(100), RestartType::Q).unwrap();
+    c.cycle_start().unwrap();
+    while c.point().machine[0] < 20.0 {
+        c.tick(0.001);
+    }
+    c.feed_hold();
+    settle(&mut c, 10.0);
+    assert_eq!(c.run_state(), RunState::Hold);
+    let x = c.point().machine[0];
+    assert!(x > 20.0 && x < 70.0, "held on the way: {x}");
+    assert_eq!(c.restart_status().unwrap().phase, RestartPhase::Returning);
+    c.cycle_start().unwrap();
+    settle(&mut c, 60.0);
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert!(close(&c.point().machine, &full.point().machine));
+    // An emergency stop in the return ends the restart.
+    let mut c = controller();
+    c.select_program(PROGRAM).unwrap();
+    c.restart(n(100), RestartType::Q).unwrap();
+    c.cycle_start().unwrap();
+    c.tick(0.05);
+    c.emergency_stop(true);
+    assert!(c.restart_status().is_none());
+}
+
+#[test]
 fn p_type_needs_an_automatic_operation_since_power_on_and_the_emergency_stop() {
     let mut c = controller();
     c.select_program(PROGRAM).unwrap();
