@@ -210,6 +210,17 @@ pub enum AlarmId {
     },
     /// The emergency stop button was pressed (fivex's own code: FANUC shows it as a status).
     EmergencyStop,
+    // --- program restart (`interp/restart.rs`, `controller/restart.rs`) --------------------
+    /// The restart block's sequence number (or line) is not reached before the program ends.
+    RestartBlockNotFound,
+    /// P type without an automatic operation since power-on or the emergency stop.
+    RestartPNoRun,
+    /// P type after the work offsets were changed since the interruption.
+    RestartPOffsetChanged,
+    /// An MDI operation between the restart's search and its cycle start.
+    RestartMdi,
+    /// The restart block lies in a mode the return cannot enter (fivex's decision).
+    RestartInMode,
 }
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.

@@ -26,12 +26,14 @@ mod cycle;
 mod executing;
 mod interrupt;
 mod manual;
+mod restart;
 mod signals;
 use cycle::Cycle;
 use executing::{BlockState, Executing};
 use interrupt::Interrupt;
 pub use manual::ManualCoordinates;
 use manual::{Intervention, Shift};
+pub use restart::{Restart, RestartPhase, RestartType};
 pub use signals::{ManualSignals, ManualTarget};
 
 /// A controller's mode: the operator panel's mode switch.
@@ -128,6 +130,8 @@ pub enum Refusal {
     NoAxis,
     /// The amount is not a finite number.
     BadValue,
+    /// The dialect's manuals describe no such function (Syntec's program restart).
+    NotInDialect,
 }
 
 /// What happens when a deceleration (to rest, or to a new override's speed) has ended.
@@ -178,6 +182,10 @@ pub struct Controller {
     executing: Executing,
     /// Serial of the block whose commands are being handed on (its segments carry it).
     reading_block: u64,
+    /// A program restart searched or returning (`restart.rs`).
+    restart: Option<Restart>,
+    /// What a P type restart needs from the interrupted run (`restart.rs`).
+    memory: restart::RestartMemory,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -230,6 +238,8 @@ impl Controller {
             interrupt: Interrupt::default(),
             executing,
             reading_block: 0,
+            restart: None,
+            memory: restart::RestartMemory::default(),
         }
     }
 
@@ -451,6 +461,7 @@ impl Controller {
             return Err(Refusal::Busy);
         }
         self.program = Some(text.to_string());
+        self.restart = None;
         Ok(())
     }
 
@@ -521,6 +532,9 @@ impl Controller {
             self.set_state(RunState::Running);
             return Ok(());
         }
+        if self.restart_start() {
+            return Ok(());
+        }
         let text = match self.mode {
             Mode::Auto => self.program.clone(),
             Mode::Mdi => self.mdi.clone(),
@@ -532,6 +546,10 @@ impl Controller {
             // ran to its end, an INC step) may have moved it since the program's current point
             // was last set.
             self.stand_here();
+        }
+        if self.mode == Mode::Auto {
+            // Where a P type restart's search starts from (`restart.rs`).
+            self.memory.start = Some(self.exec.here.machine);
         }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
@@ -599,6 +617,8 @@ impl Controller {
 
     /// The program stops for good: nothing read ahead is carried out.
     fn abandon_program(&mut self) {
+        self.restart = None;
+        self.remember_stop();
         self.shift = None;
         self.reposition = false;
         self.cycle.abandon();
@@ -612,6 +632,8 @@ impl Controller {
     pub fn emergency_stop(&mut self, pressed: bool) {
         self.estop = pressed;
         if pressed {
+            // A P type restart needs an automatic operation after this (PS0097).
+            self.memory.start = None;
             self.end_interrupt_move();
             self.spindle = 0.0;
             self.cycle.end_intervention();
@@ -817,6 +839,7 @@ impl Controller {
             if !self.advance_program() {
                 // Nothing more to read: carry out the rest and stop.
                 self.cycle.over();
+                self.remember_stop();
                 if self.exec.release(true) {
                     continue;
                 }
@@ -927,6 +950,9 @@ impl Controller {
     /// Read the program on: hand the next pending command to the planner (or carry it out),
     /// or run the next block. Returns false when there is nothing more to read.
     fn advance_program(&mut self) -> bool {
+        if self.restart_arrived() {
+            return true;
+        }
         if !self.exec.is_moving() && !self.exec.has_queued() {
             if let Some(block) = self.executing.motion_ended() {
                 self.show(block);

@@ -161,6 +161,11 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::GAsArgument,
     AlarmId::MixedStatements,
     AlarmId::EmergencyStop,
+    AlarmId::RestartBlockNotFound,
+    AlarmId::RestartPNoRun,
+    AlarmId::RestartPOffsetChanged,
+    AlarmId::RestartMdi,
+    AlarmId::RestartInMode,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -295,6 +300,16 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block"))
         }
         EmergencyStop => (("FX0004", "EMERGENCY STOP"), ("FX0004", "EMERGENCY STOP")),
+        // Program restart (FANUC only: the Syntec manuals fivex follows do not describe it).
+        RestartBlockNotFound => (("PS0071", "DATA NOT FOUND"), ("COR-037", "Restart block not found")),
+        RestartPNoRun => (("PS0097", "P TYPE NOT ALLOWED (AUTO EXEC)"), ("COR-038", "Restart type P not allowed")),
+        RestartPOffsetChanged => {
+            (("PS0096", "P TYPE NOT ALLOWED (WRK OFS CHG)"), ("COR-039", "Restart type P not allowed"))
+        }
+        RestartMdi => (("PS0099", "MDI EXEC NOT ALLOWED AFT. SEARCH"), ("COR-040", "MDI after restart search")),
+        RestartInMode => {
+            (("FX0005", "RESTART NOT ALLOWED IN THIS MODE"), ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"))
+        }
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }

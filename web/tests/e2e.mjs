@@ -234,6 +234,33 @@ test("the cycle time is estimated before the start and the time left shown while
   await page.locator(".view3d").screenshot({ path: join(shots, "fit-part.png") });
   await page.locator("[data-run-state=idle]").waitFor({ timeout: 30000 });
   await page.setViewportSize({ width: 1500, height: 1100 });
+test("program restart: the dialog searches to a line, the program area shows it, cycle start returns and finishes", async () => {
+  // P type after the run above, restarting at line 5 ("X0" after X40. Y40.).
+  await page.click("button[data-action=restart]");
+  const dialog = page.locator(".restart-dialog");
+  await dialog.waitFor();
+  await dialog.locator("select").nth(1).selectOption("line");
+  await dialog.locator("input[name=restart-block]").fill("5");
+  await page.screenshot({ path: join(shots, "restart-dialog.png") });
+  await page.click("button[data-action=restart-search]");
+  const info = page.locator(".restart-info[data-restart=searched]");
+  await info.waitFor();
+  assert.match(await info.textContent(), /P type restart at \(line 5\).*to X40\.000 Y40\.000 Z50\.000/);
+  await dialog.waitFor({ state: "detached" });
+  const searched = (await http("GET", `/api/v1/controllers/${id}`)).body;
+  assert.equal(searched.restart.line, 5);
+  assert.equal(searched.run_state, "idle");
+  await page.screenshot({ path: join(shots, "restart-searched.png") });
+  await page.click(".op-panel button[title='cycle start']");
+  await info.waitFor({ state: "detached", timeout: 20000 });
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+  const done = await poll("the program's end", async () => {
+    const s = (await http("GET", `/api/v1/controllers/${id}`)).body;
+    return s.run_state === "idle" && s.restart === null ? s : null;
+  });
+  assert.deepEqual(done.alarms, []);
+  assert.equal(done.position.workpiece.X, 0);
+  assert.equal(done.position.workpiece.Y, 0);
 });
 
 test("an alarm shows in the banner and in the alarms tab", async () => {

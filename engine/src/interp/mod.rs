@@ -19,6 +19,7 @@ mod offsets;
 mod plain;
 mod plane;
 pub(crate) mod program;
+pub mod restart;
 mod singular;
 mod smoothing;
 mod table_crc;

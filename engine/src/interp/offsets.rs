@@ -70,6 +70,17 @@ fn take_bits(words: &mut [u64]) -> Vec<usize> {
 
 impl Offsets {
     /// Work offset slot `index` (below `g54_1_index(MAX_G54_1) + 1`).
+    /// The work offsets written so far (program restart's P type compares them with a later
+    /// copy: [`Offsets::same_work`]).
+    pub fn work_copy(&self) -> Vec<Pos> {
+        self.work.clone()
+    }
+
+    /// Whether every work offset equals `copy` (slots beyond either are zero).
+    pub fn same_work(&self, copy: &[Pos]) -> bool {
+        (0..self.work.len().max(copy.len())).all(|i| self.work(i) == copy.get(i).unwrap_or(&ZERO_WORK))
+    }
+
     pub fn work(&self, index: usize) -> &Pos {
         assert!(index < WORK_SLOTS, "work offset slot {index} out of range");
         self.work.get(index).unwrap_or(&ZERO_WORK)

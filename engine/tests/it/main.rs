@@ -29,6 +29,7 @@ mod no_panic;
 mod nurbs;
 mod preview;
 mod report;
+mod restart;
 mod smoke;
 mod smoothing;
 mod stop;

@@ -15,6 +15,7 @@ pub mod offsets;
 pub mod panel;
 pub mod parameters;
 pub mod programs;
+pub mod restart;
 pub mod stream;
 pub mod teach;
 pub mod variables;
@@ -52,6 +53,7 @@ pub fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(panel::set_overrides))
         .routes(routes!(panel::set_switches))
         .routes(routes!(panel::emergency_stop))
+        .routes(routes!(restart::restart))
         .routes(routes!(manual::jog))
         .routes(routes!(manual::jog_stop))
         .routes(routes!(manual::handle))
@@ -141,6 +143,8 @@ pub struct ControllerStatus {
     /// "Cycle-time estimate and progress"); absent when no such run is under way.
     #[serde(default)]
     pub progress: Option<crate::host::estimate::RunProgress>,
+    /// FANUC program restart under way (`POST /restart`): `null` when none.
+    pub restart: Option<restart::RestartInfo>,
 }
 
 /// A machine setting fivex does not carry out.
@@ -275,6 +279,7 @@ impl ControllerStatus {
             unmodelled_parameters: UnmodelledParameter::list(&station.unmodelled),
             chain: c.chain(),
             progress: station.progress(),
+            restart: restart::RestartInfo::of(station),
         }
     }
 

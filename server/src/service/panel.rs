@@ -3,7 +3,8 @@
 //! applied in one place ([`apply`]). [`execute`] does both on a hosted controller and sends out
 //! what the command caused.
 
-use fivex_engine::controller::{Controller, ManualCoordinates, ManualSignals, Mode, Refusal, RunState};
+use fivex_engine::controller::{Controller, ManualCoordinates, ManualSignals, Mode, Refusal, RestartType, RunState};
+use fivex_engine::interp::restart::Target;
 use fivex_engine::kin::ManualFeed;
 use serde::{Deserialize, Serialize};
 
@@ -60,6 +61,46 @@ pub fn mode(word: &str) -> Result<Mode, ServiceError> {
         "ref" => Ok(Mode::Ref),
         "inc" => Ok(Mode::Inc),
         other => Err(ServiceError::invalid(format!("unknown mode '{other}' (auto, mdi, jog, handle, ref, inc)"))),
+    }
+}
+
+/// The restart block of a program restart: a sequence number or a line, and the how-many-th
+/// time execution reaches it (from 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RestartAt {
+    Sequence { n: u32, occurrence: u32 },
+    Line { line: u32, occurrence: u32 },
+}
+
+/// The largest sequence number (FANUC: 8 digits) and pass count a restart takes.
+pub const MAX_RESTART_NUMBER: u32 = 99_999_999;
+
+impl RestartAt {
+    /// Exactly one of `n` and `line`; `occurrence` 1 when left out.
+    pub fn of(n: Option<u32>, line: Option<u32>, occurrence: Option<u32>) -> Result<Self, ServiceError> {
+        let occurrence = occurrence.unwrap_or(1);
+        match (n, line) {
+            (Some(n), None) => Ok(RestartAt::Sequence { n, occurrence }),
+            (None, Some(line)) => Ok(RestartAt::Line { line, occurrence }),
+            _ => Err(ServiceError::invalid("give exactly one of n and line")),
+        }
+    }
+
+    fn target(self) -> Target {
+        match self {
+            RestartAt::Sequence { n, occurrence } => Target::Sequence { n, occurrence },
+            RestartAt::Line { line, occurrence } => Target::Line { line, occurrence },
+        }
+    }
+}
+
+/// A restart type by its word, any case.
+pub fn restart_type(word: &str) -> Result<RestartType, ServiceError> {
+    match word.to_ascii_lowercase().as_str() {
+        "p" => Ok(RestartType::P),
+        "q" => Ok(RestartType::Q),
+        other => Err(ServiceError::invalid(format!("unknown restart type '{other}' (p, q)"))),
     }
 }
 
@@ -131,6 +172,14 @@ pub enum PanelCommand {
     HandlePulses {
         amount: f64,
     },
+    /// FANUC program restart's search (`docs/dialects.md`, "Program restart"); with a program
+    /// (as for cycle start), that program is selected in AUTO first. The next cycle start
+    /// returns the axes and goes on from the restart block.
+    Restart {
+        program: Option<(u32, String)>,
+        kind: RestartType,
+        at: RestartAt,
+    },
 }
 
 /// What a command gave back besides the controller's new state.
@@ -165,6 +214,7 @@ impl From<Refused> for ServiceError {
                 Refused::Panel(Refusal::NoProgram) => "there is no program to run",
                 Refused::Panel(Refusal::NoAxis) => "no such axis (or no 5-axis mechanism for this feed)",
                 Refused::Panel(Refusal::BadValue) => "the value is not a finite number in range",
+                Refused::Panel(Refusal::NotInDialect) => "the dialect's manuals describe no such function",
                 Refused::ProgramUnderWay => {
                     "a program is under way: resume it with an empty cycle start, or reset first"
                 }
@@ -206,6 +256,16 @@ impl PanelCommand {
             }
             PanelCommand::HandlePulses { amount } if !(amount.is_finite() && amount.abs() <= 1.0e5) => {
                 invalid("amount must be finite and at most 1e5".into())
+            }
+            PanelCommand::Restart { at, .. } => {
+                let (RestartAt::Sequence { n: number, occurrence } | RestartAt::Line { line: number, occurrence }) = at;
+                if !(1..=MAX_RESTART_NUMBER).contains(number) {
+                    return invalid(format!("n and line are 1–{MAX_RESTART_NUMBER}"));
+                }
+                if !(1..=MAX_RESTART_NUMBER).contains(occurrence) {
+                    return invalid(format!("occurrence is 1–{MAX_RESTART_NUMBER}"));
+                }
+                Ok(())
             }
             _ => Ok(()),
         }
@@ -317,6 +377,22 @@ pub fn apply(
         }
         PanelCommand::JogSignal { axis, positive } => c.jog_signal(axis, positive)?,
         PanelCommand::HandlePulses { amount } => return Ok(Applied::Taken(c.handle_pulses(amount)?)),
+        PanelCommand::Restart { program, kind, at } => {
+            if let Some((n, text)) = &program {
+                if c.run_state() != RunState::Idle {
+                    return Err(Refused::ProgramUnderWay);
+                }
+                if c.mode() != Mode::Auto {
+                    c.set_mode(Mode::Auto)?;
+                }
+                c.select_program(text)?;
+                c.restart(at.target(), kind)?;
+                // The cycle start that returns the axes runs this program (`begin_run`).
+                station.program = Some(*n);
+            } else {
+                c.restart(at.target(), kind)?;
+            }
+        }
     }
     Ok(Applied::Done)
 }
@@ -434,6 +510,16 @@ mod tests {
             },
             PanelCommand::JogSignal { axis: 'Z', positive: true },
             PanelCommand::HandlePulses { amount: 0.1 },
+            PanelCommand::Restart {
+                program: Some((3, "N10 X1.\nM30\n".into())),
+                kind: RestartType::P,
+                at: RestartAt::Sequence { n: 10, occurrence: 2 },
+            },
+            PanelCommand::Restart {
+                program: None,
+                kind: RestartType::Q,
+                at: RestartAt::Line { line: 4, occurrence: 1 },
+            },
         ];
         for command in commands {
             let json = serde_json::to_string(&command).unwrap();

@@ -13,4 +13,5 @@ mod fleet;
 mod http;
 mod layers;
 mod metrics;
+mod restart;
 mod shopfloor;

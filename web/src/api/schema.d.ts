@@ -508,6 +508,30 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/controllers/{id}/restart": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Program restart: search the program (run from its top without motion) to the restart block;
+         *     the answer's `restart` shows what was found. The manual's conditions (P type without an
+         *     automatic operation since power-on or the emergency stop, the work offsets changed, the
+         *     block not found, a program alarm in the search, a restart block in a mode the return cannot
+         *     enter) are the dialect's alarms, in the status; the next cycle start outputs the M/S/T,
+         *     returns the axes one at a time and goes on from the restart block.
+         */
+        post: operations["restart"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/controllers/{id}/runs": {
         parameters: {
             query?: never;
@@ -1205,6 +1229,7 @@ export interface components {
              */
             program?: number | null;
             progress?: null | components["schemas"]["RunProgress"];
+            restart?: null | components["schemas"]["RestartInfo"];
             /** @description `idle`, `running`, `hold` or `alarm`. */
             run_state: components["schemas"]["RunStateName"];
             /**
@@ -2382,6 +2407,83 @@ export interface components {
          * @enum {string}
          */
         ReportStatus: "completed" | "alarm";
+        /** @description A program restart under way, in the status. */
+        RestartInfo: {
+            /**
+             * Format: int64
+             * @description Blocks the search executed.
+             */
+            blocks: number;
+            /**
+             * Format: int32
+             * @description The restart block's line.
+             */
+            line: number;
+            /** @description The other M codes the search passed over, the last 35 (for the operator to give). */
+            m_codes: number[];
+            /**
+             * Format: int32
+             * @description Its sequence number (none for a block without N).
+             */
+            n?: number | null;
+            /** @description `searched` (cycle start returns the axes) or `returning`. */
+            phase: components["schemas"]["RestartPhaseName"];
+            /** @description The restart position per axis (machine coordinates): where the return goes. */
+            position: {
+                [key: string]: number;
+            };
+            /**
+             * Format: double
+             * @description …and the speed of the last spindle command (1/min; negative counter-clockwise, 0 stopped).
+             */
+            spindle?: number | null;
+            /**
+             * Format: int32
+             * @description What cycle start outputs before the return: the tool of the last tool change…
+             */
+            tool?: number | null;
+            /** @description `p` or `q`. */
+            type: components["schemas"]["RestartTypeName"];
+        };
+        /**
+         * @description Where a restart is.
+         * @enum {string}
+         */
+        RestartPhaseName: "searched" | "returning";
+        /** @description `POST /restart`: the restart block by its sequence number `n` or its `line` (one of them). */
+        RestartRequest: {
+            /**
+             * Format: int32
+             * @description Or its 1-based line in the program's text.
+             */
+            line?: number | null;
+            /**
+             * Format: int32
+             * @description The restart block's sequence number (1–99999999).
+             */
+            n?: number | null;
+            /**
+             * Format: int32
+             * @description The how-many-th time execution reaches the block (a block in a loop); 1 when left out.
+             */
+            occurrence?: number | null;
+            /**
+             * Format: int32
+             * @description O number of a stored program: selected in AUTO and searched. Omitted: the program
+             *     selected (the one AUTO last ran).
+             */
+            program?: number | null;
+            /**
+             * @description `p` (after a broken tool: the interrupted run's coordinates) or `q` (after a power-off or
+             *     an emergency stop: the machine stands at the program's start point).
+             */
+            type: components["schemas"]["RestartTypeName"];
+        };
+        /**
+         * @description FANUC's two kinds of program restart.
+         * @enum {string}
+         */
+        RestartTypeName: "p" | "q";
         /** @description One rotary axis in the mechanism chain. */
         RotaryLink: {
             /** @description The axis letter (must be a rotary axis of `axes`). */
@@ -5370,6 +5472,105 @@ export interface operations {
             };
             /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
             415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    restart: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RestartRequest"];
+            };
+        };
+        responses: {
+            /** @description Searched (or the alarm that stopped the search) */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller or program */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not possible now (running, holding, in alarm, not AUTO, no program, a Syntec controller) */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a restart request */
+            422: {
                 headers: {
                     [name: string]: unknown;
                 };

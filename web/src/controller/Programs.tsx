@@ -5,6 +5,7 @@ import { api, authFetch, must, type Schemas, type Status, errorText } from "../a
 import type { Act } from "./useController";
 import { programNumber } from "../api/program";
 import { CodeView, type Mark } from "./CodeView";
+import { Restart } from "./Restart";
 
 export function Programs({
   status,
@@ -165,6 +166,7 @@ export function Programs({
               >
                 delete
               </button>
+              <Restart status={status} program={selected} run={run} onError={onError} />
             </>
           )}
           {draft != null && selected != null && (

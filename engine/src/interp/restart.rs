@@ -1,0 +1,148 @@
+//! Program restart's block search (FANUC P type / Q type): the program runs from its top to the
+//! restart block *without motion* — every block is executed, so the modal groups, F/S/T/H/D,
+//! the work offsets, the call-free macro variables and the current point come out exactly as a
+//! run from the top would leave them — and the M/S/T the machine must be given before it goes
+//! on are collected instead of carried out. The controller (`controller/restart.rs`) returns
+//! the axes to the point found and continues from the restart block.
+//!
+//! Rules and sources: `docs/dialects.md`, "Program restart".
+
+use super::gcode::{code, group};
+use super::{Interpreter, State, Step};
+use crate::alarm::{Alarm, AlarmId};
+use crate::canon::{Canon, CanonKind, Pos};
+
+/// The block a restart goes on from, in the main program.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// The `occurrence`-th time (from 1) the main program reaches the block numbered `n`.
+    Sequence { n: u32, occurrence: u32 },
+    /// The `occurrence`-th time (from 1) the main program reaches the block on `line`.
+    Line { line: u32, occurrence: u32 },
+}
+
+/// What the search found: the restart block, where the machine must be, what to output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    /// Line and N of the restart block.
+    pub line: u32,
+    pub n: Option<u32>,
+    /// The machine position the restart block starts from (the end of the block before it).
+    pub machine: Pos,
+    /// Blocks executed by the search.
+    pub blocks: u64,
+    /// The last mechanism chain, tool change and spindle command the search passed over, in
+    /// that order: carried out before the return (FANUC outputs the M/S/T of the search).
+    pub output: Vec<Canon>,
+    /// The M codes the search passed over, the last [`M_SHOWN`] (FANUC's program restart screen
+    /// shows them for the operator).
+    pub m_codes: Vec<u32>,
+}
+
+/// How many of the searched M codes are kept for the operator (FANUC's restart screen: 35).
+pub const M_SHOWN: usize = 35;
+
+impl Interpreter {
+    /// The block the next [`Interpreter::step`] executes: its line, N and call depth (1 in the
+    /// main program). `None` at the end.
+    pub fn next_block(&self) -> Option<(u32, Option<u32>, usize)> {
+        let st = &self.state;
+        if st.ended {
+            return None;
+        }
+        let frame = st.frames.last()?;
+        let prog = self.progs.get(frame.prog)?;
+        (frame.pc < prog.len()).then(|| {
+            let b = prog.block(frame.pc);
+            (b.line, b.n, st.frames.len())
+        })
+    }
+
+    /// Run the loaded program from its top to `target` without motion (a restart's block
+    /// search): on success the interpreter stands before the restart block, its state what a
+    /// run from the top would have left. The target not reached before the program's end is
+    /// PS0071; the program's own alarms come as in a run; a restart block in a mode the search
+    /// cannot carry into the return (see [`State::restart_refusal`]) is refused.
+    pub fn search(&mut self, target: Target) -> Result<Found, Alarm> {
+        let (want, occurrence) = match target {
+            Target::Sequence { n, occurrence } | Target::Line { line: n, occurrence } => (n, occurrence.max(1)),
+        };
+        let mut seen = 0;
+        let mut out = Vec::with_capacity(16);
+        let (mut chain, mut tool, mut spindle) = (None, None, None);
+        let mut m_codes: Vec<u32> = Vec::new();
+        let start = self.state.blocks;
+        loop {
+            if let Some((line, n, 1)) = self.next_block() {
+                let here = match target {
+                    Target::Sequence { .. } => n == Some(want),
+                    Target::Line { .. } => line == want,
+                };
+                if here {
+                    seen += 1;
+                    if seen == occurrence {
+                        if let Some(id) = self.state.restart_refusal() {
+                            return Err(self.alarm_at(id, line, n));
+                        }
+                        return Ok(Found {
+                            line,
+                            n,
+                            machine: self.state.machine_position(),
+                            blocks: self.state.blocks - start,
+                            output: [chain, tool, spindle].into_iter().flatten().collect(),
+                            m_codes,
+                        });
+                    }
+                }
+            }
+            let step = self.step(&mut out)?;
+            for c in out.drain(..) {
+                match &c.kind {
+                    CanonKind::Chain(_) => chain = Some(c),
+                    CanonKind::ToolChange { .. } => tool = Some(c),
+                    CanonKind::Spindle { .. } => spindle = Some(c),
+                    CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => m_codes.push(*m),
+                    _ => {}
+                }
+            }
+            if m_codes.len() > M_SHOWN {
+                m_codes.drain(..m_codes.len() - M_SHOWN);
+            }
+            match step {
+                Step::Continue => {}
+                Step::NeedInput => self.finish(),
+                Step::Ended => {
+                    let (line, n) = self.state.current_block();
+                    return Err(self.alarm_at(AlarmId::RestartBlockNotFound, line, n));
+                }
+            }
+        }
+    }
+
+    fn alarm_at(&mut self, id: AlarmId, line: u32, n: Option<u32>) -> Alarm {
+        self.state.ended = true;
+        let (code, message) = self.state.cfg.dialect.describe(&id);
+        Alarm { code, message, line, n }
+    }
+}
+
+impl State {
+    /// Why a restart cannot go on from here. The search runs neither the path stages nor the
+    /// executor, so a mode whose next move depends on what they hold (a compensation vector, a
+    /// canned cycle's hole pattern, a tool tip followed through the kinematics, a curve being
+    /// collected, a modal macro call) cannot be entered by a return in machine coordinates:
+    /// fivex refuses a restart block in it (a decision, `docs/dialects.md`).
+    pub(super) fn restart_refusal(&self) -> Option<AlarmId> {
+        let in_mode = self.modes[group::CUTTER_COMP] != code::G40
+            || self.modes[group::CYCLE] != code::G80
+            || self.tcp_active()
+            || self.plane_active()
+            || self.table_crc_active()
+            || self.wse_follows()
+            || self.follow_machine.is_some()
+            || self.nurbs.is_some()
+            || self.smoothing.is_some()
+            || !self.modal_calls.is_empty();
+        in_mode.then_some(AlarmId::RestartInMode)
+    }
+}
