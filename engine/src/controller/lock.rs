@@ -34,17 +34,28 @@ impl Controller {
     /// Z-axis neglect (FANUC only; the Syntec manual followed describes no such switch) on or
     /// off, under the same rule as machine lock.
     pub fn set_z_neglect(&mut self, on: bool) -> Result<(), Refusal> {
-        if on && (self.interp.config().dialect != Dialect::Fanuc || self.axis('Z').is_err()) {
+        if on && !self.can_neglect_z() {
             return Err(Refusal::NoAxis);
         }
         self.set_locks(self.panel.machine_lock, on)
+    }
+
+    /// Whether this controller has Z-axis neglect: a FANUC one with a Z axis.
+    pub fn can_neglect_z(&self) -> bool {
+        self.interp.config().dialect == Dialect::Fanuc && self.axis('Z').is_ok()
+    }
+
+    /// Nothing moves or is planned (idle, at a single-block or M00/M01 stop, before a start):
+    /// where dry run, machine lock and Z-axis neglect may change.
+    pub fn at_block_boundary(&self) -> bool {
+        !(self.exec.is_moving() || self.exec.has_queued() || self.interrupt.moving.is_some())
     }
 
     fn set_locks(&mut self, all: bool, z: bool) -> Result<(), Refusal> {
         if (all, z) == (self.panel.machine_lock, self.panel.z_neglect) {
             return Ok(());
         }
-        if self.exec.is_moving() || self.exec.has_queued() || self.interrupt.moving.is_some() {
+        if !self.at_block_boundary() {
             return Err(Refusal::Busy);
         }
         let (now, moved) = (self.machine_now(), self.moved_machine());

@@ -35,7 +35,7 @@ impl Controller {
     /// rapids. Changed only at a block boundary: refused while motion is under way or queued
     /// (running or held), since what is planned already keeps its feed.
     pub fn set_dry_run(&mut self, on: bool) -> Result<(), Refusal> {
-        if on != self.panel.dry_run && (self.exec.is_moving() || self.exec.has_queued()) {
+        if on != self.panel.dry_run && !self.at_block_boundary() {
             return Err(Refusal::Busy);
         }
         self.panel.dry_run = on;
