@@ -27,6 +27,20 @@ fn run_to_end(c: &mut Controller) {
     assert_eq!(c.run_state(), RunState::Idle, "the program ends");
 }
 
+fn start(c: &mut Controller, src: &str) {
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+}
+
+/// A mill3 controller (no dry run rate) that ran `src` to its end after `set` set its panel.
+fn ran(src: &str, set: impl FnOnce(&mut Controller)) -> Controller {
+    let mut c = controller(0.0);
+    set(&mut c);
+    start(&mut c, src);
+    run_to_end(&mut c);
+    c
+}
+
 /// The time `src` takes from cycle start, with dry run on or off and feed override `feed`.
 fn duration(src: &str, dry_run: bool, feed: f64) -> f64 {
     let mut c = controller(3000.0);
@@ -67,12 +81,10 @@ fn dry_run_takes_the_feed_override_and_leaves_rapids_alone() {
 
 #[test]
 fn without_a_dry_run_rate_the_jog_feed_is_used() {
-    let mut c = controller(0.0);
-    c.panel.jog_feed = 1500.0;
-    c.set_dry_run(true).unwrap();
-    c.select_program("G90 G01 X100. F9000.\nM30\n").unwrap();
-    c.cycle_start().unwrap();
-    run_to_end(&mut c);
+    let c = ran("G90 G01 X100. F9000.\nM30\n", |c| {
+        c.panel.jog_feed = 1500.0;
+        c.set_dry_run(true).unwrap();
+    });
     assert!((c.time() - line_time(25.0)).abs() <= TICK);
 }
 
@@ -102,10 +114,7 @@ fn dry_run_changes_only_at_a_block_boundary() {
 
 #[test]
 fn the_spindle_override_scales_the_speed_reported() {
-    let mut c = controller(0.0);
-    c.select_program("S1000 M04\nM30\n").unwrap();
-    c.cycle_start().unwrap();
-    run_to_end(&mut c);
+    let mut c = ran("S1000 M04\nM30\n", |_| {});
     assert_eq!(c.spindle(), -1000.0);
     c.set_spindle_override(0.5);
     assert_eq!((c.spindle(), c.spindle_commanded()), (-500.0, -1000.0));
@@ -121,10 +130,7 @@ fn the_spindle_override_scales_the_speed_reported() {
 #[test]
 fn operating_time_counts_automatic_operation_and_cutting_time_its_feeds() {
     let cut = "G90 G01 X100. F3000.\nM30\n";
-    let mut c = controller(0.0);
-    c.select_program(cut).unwrap();
-    c.cycle_start().unwrap();
-    run_to_end(&mut c);
+    let c = ran(cut, |_| {});
     let t = c.times();
     assert!((t.operating_s - line_time(50.0)).abs() <= 2.0 * TICK, "{t:?}");
     assert!((t.cutting_s - line_time(50.0)).abs() <= 2.0 * TICK, "{t:?}");
@@ -174,17 +180,10 @@ proptest! {
     }
 }
 
-fn start(c: &mut Controller, src: &str) {
-    c.select_program(src).unwrap();
-    c.cycle_start().unwrap();
-}
-
 #[test]
 fn machine_lock_runs_the_program_without_moving_the_machine() {
     let src = "G90 G01 X100. Y20. F3000.\nM30\n";
-    let mut free = controller(0.0);
-    start(&mut free, src);
-    run_to_end(&mut free);
+    let free = ran(src, |_| {});
 
     let mut c = controller(0.0);
     c.set_machine_lock(true).unwrap();
@@ -206,10 +205,7 @@ fn machine_lock_runs_the_program_without_moving_the_machine() {
 
 #[test]
 fn after_machine_lock_the_positions_disagree_until_the_reference_return() {
-    let mut c = controller(0.0);
-    c.set_machine_lock(true).unwrap();
-    start(&mut c, "G90 G01 X100. F3000.\nM30\n");
-    run_to_end(&mut c);
+    let mut c = ran("G90 G01 X100. F3000.\nM30\n", |c| c.set_machine_lock(true).unwrap());
     c.set_machine_lock(false).unwrap();
     assert_eq!((c.point().machine[0], c.point().work[0]), (0.0, 100.0));
     // An incremental move moves the machine by its increment from where it stands.
@@ -228,10 +224,7 @@ fn after_machine_lock_the_positions_disagree_until_the_reference_return() {
 
 #[test]
 fn z_axis_neglect_locks_z_alone() {
-    let mut c = controller(0.0);
-    c.set_z_neglect(true).unwrap();
-    start(&mut c, "G90 G01 X50. Z-20. F3000.\nM30\n");
-    run_to_end(&mut c);
+    let mut c = ran("G90 G01 X50. Z-20. F3000.\nM30\n", |c| c.set_z_neglect(true).unwrap());
     let (p, s) = (c.point(), c.sample());
     assert!((p.machine[0] - 50.0).abs() < 1e-9 && p.machine[2] == 0.0, "{p:?}");
     assert_eq!(p.work[2], -20.0);
@@ -248,13 +241,8 @@ fn z_axis_neglect_locks_z_alone() {
 #[test]
 fn auxiliary_function_lock_skips_the_spindle_and_the_tool_change_not_the_program_end() {
     let src = "S1000 M03\nT2 M06\nG04 X0.1\nM30\n";
-    let mut free = controller(0.0);
-    start(&mut free, src);
-    run_to_end(&mut free);
-    let mut c = controller(0.0);
-    c.panel.aux_lock = true;
-    start(&mut c, src);
-    run_to_end(&mut c);
+    let free = ran(src, |_| {});
+    let c = ran(src, |c| c.panel.aux_lock = true);
     assert_eq!((free.spindle(), c.spindle()), (1000.0, 0.0));
     // Without the tool change's time; the dwell (a G function) and M30 are carried out.
     assert!(free.time() > c.time() && (c.time() - 0.1).abs() <= 2.0 * TICK, "{} {}", free.time(), c.time());

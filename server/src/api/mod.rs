@@ -204,24 +204,15 @@ pub struct PanelState {
     /// FANUC's 5-axis manual feed signals (`PUT /manual-signals`).
     pub signals: manual::PanelSignals,
     /// Dry run: cutting feeds at the dry run rate (FANUC No.1410) with the feed override.
-    #[serde(default)]
     pub dry_run: bool,
     /// Machine lock (all axes): the program runs, the machine does not move.
-    #[serde(default)]
     pub machine_lock: bool,
     /// Z-axis neglect (FANUC): machine lock of the Z axis alone.
-    #[serde(default)]
     pub z_neglect: bool,
     /// Auxiliary function lock: spindle commands and tool changes not carried out.
-    #[serde(default)]
     pub aux_lock: bool,
     /// Spindle speed override, percent (50–120).
-    #[serde(default = "hundred")]
     pub spindle_override: f64,
-}
-
-fn hundred() -> f64 {
-    100.0
 }
 
 impl PanelState {

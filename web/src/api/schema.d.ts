@@ -2042,12 +2042,12 @@ export interface components {
          */
         PanelState: {
             /** @description Auxiliary function lock: spindle commands and tool changes not carried out. */
-            aux_lock?: boolean;
+            aux_lock: boolean;
             block_delete: boolean;
             /** @description Syntec R518: `machine`, `program` or `tool`. */
             coordinates: components["schemas"]["CoordinatesName"];
             /** @description Dry run: cutting feeds at the dry run rate (FANUC No.1410) with the feed override. */
-            dry_run?: boolean;
+            dry_run: boolean;
             /**
              * Format: double
              * @description Percent.
@@ -2064,7 +2064,7 @@ export interface components {
              */
             jog_feed: number;
             /** @description Machine lock (all axes): the program runs, the machine does not move. */
-            machine_lock?: boolean;
+            machine_lock: boolean;
             manual_absolute: boolean;
             optional_stop: boolean;
             /** Format: double */
@@ -2078,9 +2078,9 @@ export interface components {
              * Format: double
              * @description Spindle speed override, percent (50–120).
              */
-            spindle_override?: number;
+            spindle_override: number;
             /** @description Z-axis neglect (FANUC): machine lock of the Z axis alone. */
-            z_neglect?: boolean;
+            z_neglect: boolean;
         };
         /** @description A machine described by its vendor parameter list: the other form of `--machine FILE.json`. */
         ParamFile: {
