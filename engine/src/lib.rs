@@ -24,6 +24,7 @@ pub mod report;
 pub mod run;
 pub mod smoothing;
 pub mod stage;
+pub mod teach;
 pub mod tip;
 pub mod twp;
 pub mod vendor;

@@ -83,11 +83,17 @@ pub fn three_points(p: [Vec3; 3], shift: Vec3, r: f64, min_distance: f64) -> Res
 /// G68.2 P3: two vectors — `x` the FCS +X, `z` the FCS +Z, at 85°…95° to each other; the frame
 /// keeps Z exactly and makes X perpendicular to it (Z is the tool axis) (§2.6).
 pub fn two_vectors(origin: Vec3, x: Vec3, z: Vec3) -> Result<Rigid, AlarmId> {
+    two_vectors_within(origin, x, z, 5.0)
+}
+
+/// Two vectors at 90° ± `tolerance_deg` to each other (Syntec's teach screen, `crate::teach`,
+/// has a tolerance of its own), built as [`two_vectors`] builds them.
+pub fn two_vectors_within(origin: Vec3, x: Vec3, z: Vec3, tolerance_deg: f64) -> Result<Rigid, AlarmId> {
     if x.norm() == 0.0 || z.norm() == 0.0 {
         return Err(FORMAT);
     }
     let angle = (x.dot(&z) / (x.norm() * z.norm())).clamp(-1.0, 1.0).acos().to_degrees();
-    if !(85.0..=95.0).contains(&angle) {
+    if !(90.0 - tolerance_deg..=90.0 + tolerance_deg).contains(&angle) {
         return Err(FORMAT);
     }
     let zc = z.normalize();

@@ -160,6 +160,82 @@ test("a program with a check problem shows its diagnostic in place, then stores 
   await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
 });
 
+// A longer program: 160 mm at 600 mm/min, sixteen seconds.
+const LONG = ["O0003 (LONG)", "G90 G54 G00 X0 Y0 Z50. A0 C0", "G01 X40. F600.", "Y40.", "X0", "Y0", "M30"].join("\n");
+const textOf = (selector) => page.locator(selector).textContent({ timeout: 200 }).catch(() => "");
+/// The camera's distance from what it looks at.
+const cameraDistance = () => page.evaluate(() => {
+  const v = window.__fivexView.view;
+  return v.camera.position.distanceTo(v.controls.target);
+});
+/// Whether the program column is beside the readout (to its right, overlapping it vertically) and both are in the window.
+async function besideReadout(height) {
+  const pos = await page.locator(".position").boundingBox();
+  const prog = await page.locator(".program-col .code, .program-col textarea.nc").first().boundingBox();
+  assert.ok(prog.x >= pos.x + pos.width - 1, `the program (x ${prog.x}) is right of the readout (ends ${pos.x + pos.width})`);
+  assert.ok(prog.y < pos.y + pos.height && pos.y < prog.y + prog.height, "they overlap vertically");
+  assert.ok(pos.y + pos.height / 2 < height && prog.y + 100 < height, "both are in the window");
+}
+
+test("the cycle time is estimated before the start and the time left shown while it runs; another program is edited meanwhile; the layout at 1600×1000 and 1024×700; F fits the part", async () => {
+  await page.setViewportSize({ width: 1600, height: 1000 });
+  await page.fill(".prog-list .new input", "3");
+  await page.click(".prog-list .new button");
+  await page.fill("textarea.nc", LONG);
+  await page.click("button[data-action=save]");
+  await page.locator(".code .line[data-line='6']").waitFor();
+  const estimate = (await http("GET", `/api/v1/controllers/${id}/programs/3/estimate`)).body;
+  const shown = await poll("the estimate", async () => {
+    const t = await textOf("[data-testid=cycle-time]");
+    return /cycle time \d+:\d\d\.\d/.test(t) ? t : null;
+  });
+  if (estimate.state === "ready") assert.ok(estimate.cycle_time_s > 16 && estimate.cycle_time_s < 18, JSON.stringify(estimate));
+  await page.click("button[data-action=run]");
+  await page.locator("[data-run-state=running]").waitFor();
+  const left = await poll("the time left", async () => {
+    const t = await textOf("[data-testid=cycle-time]");
+    return /elapsed · \d+:\d\d\.\d left · \d+ %/.test(t) ? t : null;
+  });
+  assert.match(shown, /cycle time/);
+  assert.ok(await page.locator("[data-testid=cycle-time] [role=progressbar]").count(), `a bar with ${left}`);
+  await besideReadout(1000);
+  await page.locator(".program-col .code .line.active").waitFor();
+  await page.screenshot({ path: join(shots, "controller-1600x1000.png") });
+
+  // Background edit: a new program stored while O0003 runs, which goes on.
+  await page.fill(".prog-list .new input", "4");
+  await page.click(".prog-list .new button");
+  const other = "O0004 (EDITED WHILE 3 RUNS)\nG01 X5. F100.\nM30\n";
+  await page.fill("textarea.nc", other);
+  await page.click("button[data-action=save]");
+  await poll("O0004 stored", async () => (await http("GET", `/api/v1/controllers/${id}/programs/4`)).body === other);
+  const during = (await http("GET", `/api/v1/controllers/${id}`)).body;
+  assert.equal(during.run_state, "running");
+  assert.equal(during.program, 3);
+  assert.ok(during.progress.elapsed_s > 0 && during.progress.estimate.state === "ready", JSON.stringify(during.progress));
+
+  await page.setViewportSize({ width: 1024, height: 700 });
+  await page.click("[data-program='3']");
+  await page.locator(".program-col .code .line.active").waitFor();
+  await besideReadout(700);
+  await page.screenshot({ path: join(shots, "controller-1024x700.png") });
+
+  // F frames the part (path, trace, work zero): much closer than the whole machine.
+  await page.click("button[title='Frame the machine']");
+  const machine = await cameraDistance();
+  await page.click(".ctl-head h1");
+  await page.keyboard.press("f");
+  const part = await poll("the view on the part", async () => {
+    const d = await cameraDistance();
+    return d < machine * 0.6 ? d : null;
+  });
+  assert.ok(part < machine, `${part} < ${machine}`);
+  assert.ok(await page.evaluate(() => window.__fivexView.view.machineScene.workZero.object.visible), "the work zero is drawn");
+  await page.locator(".view3d").screenshot({ path: join(shots, "fit-part.png") });
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 30000 });
+  await page.setViewportSize({ width: 1500, height: 1100 });
+});
+
 test("an alarm shows in the banner and in the alarms tab", async () => {
   await page.click("nav.tabs a[href$='/mdi']");
   await page.fill("textarea[name=mdi]", "M98 P9999"); // no such program
@@ -545,6 +621,50 @@ test("after G10 L5000 P2 the 3D view turns the exchanged head's axes (set 2 of h
   assert.ok(set1.trace >= set2.trace && set1.trace <= set2.trace + 1 && set1.traceOnTable, JSON.stringify(set1));
   await page.goto(base + "/");
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
+test("the Teach panel of a Syntec controller latches three points, teaches the G68.2 block and sets the plane (F2)", async () => {
+  const fanuc = (await http("POST", "/api/v1/controllers", { name: "teach fanuc", preset: "head-bc" })).body.id;
+  await page.goto(`${base}/#/c/${fanuc}`);
+  await page.locator(".ctl-head h1", { hasText: "teach fanuc" }).waitFor();
+  assert.equal(await page.locator(".teach").count(), 0, "no Teach panel on a FANUC controller");
+  const s = (await http("POST", "/api/v1/controllers", { name: "teach syntec", preset: "head-bc", dialect: "syntec", speed: 20 })).body.id;
+  await http("PUT", `/api/v1/controllers/${s}/tool-offsets/1`, { length: 50 });
+  await page.goto(`${base}/#/c/${s}`);
+  const panel = page.locator(".teach");
+  await panel.waitFor();
+  // G49: F1 is refused and the panel says why.
+  await panel.locator(".teach-refused", { hasText: "G49" }).waitFor();
+  assert.ok(await panel.locator("tr[data-slot=p1] button").isDisabled());
+  const idle = () => poll("idle", async () => (await http("GET", `/api/v1/controllers/${s}`)).body.run_state === "idle");
+  for (const [slot, text] of [["p1", "G90 G43.4 H1\nG01 X0 Y0 Z0 F3000"], ["p2", "G01 X10."], ["p3", "G01 X0 Y-5."]]) {
+    await http("POST", `/api/v1/controllers/${s}/mdi`, { text });
+    await idle();
+    const button = panel.locator(`tr[data-slot=${slot}] button`);
+    await poll(`${slot} latch enabled`, async () => !(await button.isDisabled()));
+    await button.click();
+    await poll(`${slot} latched`, async () => (await http("GET", `/api/v1/controllers/${s}/teach`)).body.points.some((p) => p.slot === slot));
+  }
+  await panel.locator("tr[data-slot=p2] td.num", { hasText: "10.000, 0.000, 0.000" }).waitFor();
+  await panel.locator(".teach-actions button:has-text('teach')").click();
+  await panel.locator(".teach-block", { hasText: "G68.2 X0. Y0. Z0. I0. J180. K0." }).waitFor();
+  // A failed teach says why: two vectors not orthogonal.
+  await panel.locator("input[name=teach-mode][value=two_vectors]").check();
+  await panel.locator("input[name=teach-x]").fill("1, 0, 0");
+  await panel.locator("input[name=teach-z]").fill("1, 0, 1");
+  await panel.locator(".teach-actions button:has-text('teach')").click();
+  await panel.locator(".teach-failed", { hasText: "orthogonal" }).waitFor();
+  await panel.locator("input[name=teach-mode][value=three_points]").check();
+  await panel.locator(".teach-actions button:has-text('teach')").click();
+  await panel.locator(".teach-block").waitFor();
+  await page.screenshot({ path: join(shots, "controller-teach.png") });
+  // F2: G49 and the block in MDI; the plane is in force (F1 is refused, G49 now); F8 ends it.
+  await panel.locator(".teach-actions button:has-text('F2')").click();
+  await poll("G68.2 in force", async () => (await http("GET", `/api/v1/controllers/${s}/modal`)).body.groups["16"] === "G68.2");
+  await panel.locator(".teach-refused", { hasText: "G49" }).waitFor();
+  await idle();
+  await panel.locator(".teach-actions button:has-text('F8')").click();
+  await poll("G69 again", async () => (await http("GET", `/api/v1/controllers/${s}/modal`)).body.groups["16"] === "G69");
 });
 
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {

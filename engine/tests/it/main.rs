@@ -35,6 +35,7 @@ mod smoothing;
 mod stop;
 mod tcp;
 mod tcp_random;
+mod teach;
 mod tool_side;
 mod trace_tip;
 mod twp;

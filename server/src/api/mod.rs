@@ -16,6 +16,7 @@ pub mod panel;
 pub mod parameters;
 pub mod programs;
 pub mod stream;
+pub mod teach;
 pub mod variables;
 
 use serde::{Deserialize, Serialize};
@@ -42,6 +43,7 @@ pub fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(programs::list))
         .routes(routes!(programs::store, programs::text, programs::remove))
         .routes(routes!(programs::tool_path))
+        .routes(routes!(programs::estimate))
         .routes(routes!(panel::cycle_start))
         .routes(routes!(panel::feed_hold))
         .routes(routes!(panel::reset))
@@ -66,6 +68,10 @@ pub fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(offsets::set_work))
         .routes(routes!(parameters::get_all))
         .routes(routes!(parameters::set))
+        .routes(routes!(teach::get))
+        .routes(routes!(teach::clear))
+        .routes(routes!(teach::latch))
+        .routes(routes!(teach::plane))
         .routes(routes!(history::alarms))
         .routes(routes!(history::runs))
         .routes(routes!(stream::stream))
@@ -131,6 +137,10 @@ pub struct ControllerStatus {
     /// The mechanism chain in force (Syntec `G10 L5000 P_ Q_`, `docs/five-axis.md`): its set
     /// 1–4 and sub-chain 1–4, as the machine executes; set 1, sub-chain 1 on a one-chain machine.
     pub chain: fivex_engine::machine::Chain,
+    /// The run of a stored program under way against its estimated cycle time (`docs/api.md`,
+    /// "Cycle-time estimate and progress"); absent when no such run is under way.
+    #[serde(default)]
+    pub progress: Option<crate::host::estimate::RunProgress>,
     /// Spindle speed, 1/min: the commanded speed times the spindle override; positive clockwise
     /// (M03), negative counter-clockwise (M04), 0 stopped.
     pub spindle: f64,
@@ -311,6 +321,7 @@ impl ControllerStatus {
             interrupt_shift: axes(&station.machine, &c.interrupt_shift()),
             unmodelled_parameters: UnmodelledParameter::list(&station.unmodelled),
             chain: c.chain(),
+            progress: station.progress(),
             spindle: c.spindle(),
             lock_offset: axes(&station.machine, &c.lock_offset()),
             counters: Counters::of(c),

@@ -272,3 +272,28 @@ pub async fn tool_path(
     .map_err(|e| ApiError::Unprocessable(format!("the path could not be made: {e}"), None))?;
     Ok(Json(body))
 }
+
+/// The simulated cycle time of a stored program run from where the machine is now, with the
+/// controller's machine, offsets, variables and modal state (the engine's `run`, as `fivex run`
+/// runs it, at 100 % overrides and without operator stops). The first request begins it on a
+/// background thread and answers `pending`; ask again. Kept until one of those inputs changes.
+#[utoipa::path(
+    get,
+    path = "/api/v1/controllers/{id}/programs/{number}/estimate",
+    tag = "programs",
+    params(("id" = String, Path, description = "Controller id"), ("number" = u32, Path, minimum = 1, maximum = 9999, description = "O number, 1–9999")),
+    responses(
+        (status = 200, description = "The estimate, or `pending` while it is computed", body = crate::host::estimate::Estimate),
+        (status = 404, description = "No such controller or program", body = ErrorBody),
+        (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+    )
+)]
+pub async fn estimate(
+    State(state): State<AppState>,
+    params: Result<Path<(String, u32)>, PathRejection>,
+) -> Result<Json<crate::host::estimate::Estimate>, ApiError> {
+    let (id, n) = path(params)?;
+    let hosted = hosted(&state, &id)?;
+    let text = programs::composed(&state.db, &hosted, n).await?;
+    Ok(Json(crate::host::estimate::ensure(&hosted, text)))
+}

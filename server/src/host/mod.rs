@@ -9,6 +9,7 @@
 //! fresh snapshot). What must outlive the process and comes from the workers (variables a program
 //! wrote, alarms, finished runs) goes to the database writer as [`Record`]s.
 
+pub mod estimate;
 pub mod station;
 pub mod stream;
 mod worker;

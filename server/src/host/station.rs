@@ -12,6 +12,7 @@ use fivex_engine::machine::{Machine, MachineConfig};
 
 use crate::db::ToolRow;
 
+use super::estimate::{progress, Conditions, Estimate, Estimates, Key, RunProgress};
 use super::stream::{AlarmInfo, Message};
 use super::{now_rfc3339, Record};
 
@@ -31,7 +32,11 @@ pub struct Station {
     pub unmodelled: Vec<fivex_engine::vendor::unmodelled::Unmodelled>,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
+    /// Syntec's teach screen: the boxes F1 latched (`api::teach`; not saved).
+    pub teach: fivex_engine::teach::Points,
     run: Option<RunStart>,
+    /// The programs' estimated cycle times (`estimate.rs`), by their inputs.
+    pub estimates: Estimates,
     /// The retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902) as last saved,
     /// non-vacant ones only.
     saved: BTreeMap<u32, f64>,
@@ -48,6 +53,10 @@ struct RunStart {
     program: Option<u32>,
     started_at: String,
     sim_start: f64,
+    /// The estimate of a stored program's run, by its key (taken before its cycle start).
+    estimate: Option<Key>,
+    /// It was held or stopped (feed hold, single block, M00/M01) on its way.
+    held: bool,
 }
 
 impl Station {
@@ -64,7 +73,9 @@ impl Station {
             machine: controller.interpreter().config().machine.clone(),
             controller,
             program: None,
+            teach: Default::default(),
             run: None,
+            estimates: Estimates::default(),
             saved,
             saved_plane: None,
             streamed,
@@ -98,6 +109,8 @@ impl Station {
         self.controller = controller;
         self.program = None;
         self.run = None;
+        // The key names the machine by its address, which a later model may reuse.
+        self.estimates = Estimates::default();
     }
 
     /// Retained values read from the database: they count as saved. Numbers the engine does
@@ -156,7 +169,48 @@ impl Station {
     /// A program run begins (cycle start from idle): remembered for the run history.
     pub fn begin_run(&mut self, program: Option<u32>) {
         self.program = program;
-        self.run = Some(RunStart { program, started_at: now_rfc3339(), sim_start: self.controller.time() });
+        self.run = Some(RunStart {
+            program,
+            started_at: now_rfc3339(),
+            sim_start: self.controller.time(),
+            estimate: None,
+            held: false,
+        });
+    }
+
+    /// The run just begun is the one estimated under `key`.
+    pub fn estimate_run(&mut self, key: Key) {
+        if let Some(run) = &mut self.run {
+            run.estimate = Some(key);
+        }
+    }
+
+    /// The run of a stored program under way against its estimate (`None` for none, or MDI).
+    pub fn progress(&self) -> Option<RunProgress> {
+        let run = self.run.as_ref()?;
+        let program = run.program?;
+        let estimate = match run.estimate.and_then(|k| self.estimates.get(k)) {
+            Some(e) => e.clone(),
+            None => Estimate {
+                state: "unknown".into(),
+                cycle_time_s: None,
+                alarm: None,
+                reason: Some(
+                    "no estimate was begun for this run (the service was busy with others, or the run began before this service held it)"
+                        .into(),
+                ),
+                depends_on: Vec::new(),
+            },
+        };
+        let panel = &self.controller.panel;
+        let seen = Conditions {
+            feed_override: panel.feed_override,
+            rapid_override: panel.rapid_override,
+            single_block: panel.single_block,
+            optional_stop: panel.optional_stop,
+            held: run.held || self.controller.run_state() == RunState::Hold,
+        };
+        Some(progress(program, self.controller.time() - run.sim_start, estimate, seen))
     }
 
     /// The run under way ends with `result`.
@@ -181,6 +235,9 @@ impl Station {
             match event {
                 Event::State(state) => {
                     changed = true;
+                    if let (RunState::Hold, Some(run)) = (state, &mut self.run) {
+                        run.held = true;
+                    }
                     messages.push(Message::state(self));
                     let result = match state {
                         RunState::Idle => Some("completed"),

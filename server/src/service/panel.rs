@@ -250,8 +250,11 @@ pub fn apply(
                     c.set_mode(Mode::Auto)?;
                 }
                 c.select_program(text)?;
+                // The inputs of its estimate as they stand before it starts.
+                let key = crate::host::estimate::key(text, c.interpreter());
                 c.cycle_start()?;
                 station.begin_run(Some(*n));
+                station.estimate_run(key);
             } else {
                 c.cycle_start()?;
                 if fresh {

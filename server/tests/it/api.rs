@@ -1066,3 +1066,119 @@ async fn the_spindle_override_scales_the_reported_speed() {
     let reply = app.put(&format!("{C}/{id}/overrides"), &json!({"spindle": 50})).await;
     assert_eq!(reply.json()["spindle"], -500.0);
 }
+
+#[tokio::test]
+async fn the_syntec_teach_screen_latches_the_tip_and_teaches_a_g68_2_block() {
+    let app = spawn_app().await;
+    let fanuc = create(&app, json!({"name": "f", "preset": "head-bc", "speed": 20})).await;
+    for reply in [
+        app.get(&format!("{C}/{fanuc}/teach")).await,
+        app.post(&format!("{C}/{fanuc}/teach/points/p1"), &json!({})).await,
+        app.post(&format!("{C}/{fanuc}/teach/plane"), &json!({"mode": "three_points"})).await,
+    ] {
+        assert_eq!(reply.status, StatusCode::CONFLICT, "{}", reply.text());
+        assert!(error_of(&reply).contains("Syntec"));
+    }
+    let id = create(&app, json!({"name": "s", "preset": "head-bc", "dialect": "syntec", "speed": 20})).await;
+    let teach = format!("{C}/{id}/teach");
+    // G49: F1 is refused, and says why.
+    let screen = app.get(&teach).await.json();
+    assert_eq!(screen["points"], json!([]));
+    assert!(screen["latch_refused"].as_str().unwrap().contains("G49"), "{screen}");
+    let refused = app.post(&format!("{teach}/points/p1"), &json!({})).await;
+    assert_eq!(refused.status, StatusCode::CONFLICT);
+    assert!(error_of(&refused).contains("G49"));
+    // TV-44 on the machine: P1 (0, 0, 0), P2 (10, 0, 0), P3 (0, −5, 0) under RTCP.
+    app.put(&format!("{C}/{id}/tool-offsets/1"), &json!({"length": 50.0})).await;
+    for (slot, text) in [("p1", "G90 G43.4 H1\nG01 X0 Y0 Z0 F3000"), ("p2", "G01 X10."), ("p3", "G01 X0 Y-5.")] {
+        let run = app.post(&format!("{C}/{id}/mdi"), &json!({ "text": text })).await;
+        assert_eq!(run.status, StatusCode::OK, "{}", run.text());
+        wait_for(&app, &id, "idle").await;
+        let latched = app.post(&format!("{teach}/points/{slot}"), &json!({})).await;
+        assert_eq!(latched.status, StatusCode::OK, "{}", latched.text());
+        assert_eq!(latched.json()["slot"], slot);
+        assert!((latched.json()["tool"][2].as_f64().unwrap() - 1.0).abs() < 1e-9, "{}", latched.text());
+    }
+    let screen = app.get(&teach).await.json();
+    assert_eq!(screen["latch_refused"], Value::Null);
+    assert_eq!(screen["points"].as_array().unwrap().len(), 3);
+    assert!((screen["points"][1]["point"][0].as_f64().unwrap() - 10.0).abs() < 1e-6, "{screen}");
+    let taught = app.post(&format!("{teach}/plane"), &json!({"mode": "three_points"})).await;
+    assert_eq!(taught.status, StatusCode::OK, "{}", taught.text());
+    let plane = taught.json();
+    assert_eq!(plane["block"], "G68.2 X0. Y0. Z0. I0. J180. K0.");
+    assert!(
+        (plane["z"][2].as_f64().unwrap() + 1.0).abs() < 1e-9 && (plane["y"][1].as_f64().unwrap() + 1.0).abs() < 1e-9
+    );
+    // Each mode takes its own values; a failed teach says why.
+    for (bad, says) in [
+        (json!({"mode": "euler", "i": 10, "x": [1, 0, 0]}), "x is not"),
+        (json!({"mode": "three_points", "k": 1}), "k is not"),
+        (json!({"mode": "two_vectors", "x": [1, 0, 0]}), "both x and z"),
+        (json!({"mode": "two_vectors", "x": [1, 0, 0], "z": [1, 0, 1]}), "orthogonal"),
+        (json!({"mode": "two_vectors", "x": [1, 0, 0], "z": [0, 0, 0]}), "zero vector"),
+        (json!({"mode": "sideways"}), ""),
+        (json!({"mode": "euler", "w": 1}), ""),
+    ] {
+        let reply = app.post(&format!("{teach}/plane"), &bad).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad}: {}", reply.text());
+        assert!(error_of(&reply).contains(says), "{bad}: {}", reply.text());
+    }
+    let euler = app.post(&format!("{teach}/plane"), &json!({"mode": "euler", "i": 30, "j": 15, "k": 20})).await;
+    assert_eq!(euler.json()["block"], "G68.2 X0. Y0. Z0. I30. J15. K20.");
+    let vectors =
+        app.post(&format!("{teach}/plane"), &json!({"mode": "two_vectors", "x": [1, 0, 0], "z": [0, 0, 1]})).await;
+    assert_eq!(vectors.json()["block"], "G68.2 X0. Y0. Z0. I0. J0. K0.");
+    assert_eq!(app.post(&format!("{teach}/points/p4"), &json!({})).await.status, StatusCode::UNPROCESSABLE_ENTITY);
+    // F2: the block run in MDI sets the plane; F1 is then refused until G69.
+    let block = plane["block"].as_str().unwrap();
+    let run = app.post(&format!("{C}/{id}/mdi"), &json!({ "text": format!("G49\n{block}\nG43 H1") })).await;
+    assert_eq!(run.status, StatusCode::OK, "{}", run.text());
+    wait_for(&app, &id, "idle").await;
+    assert_eq!(app.get(&format!("{C}/{id}/modal")).await.json()["groups"]["16"], "G68.2");
+    let in_plane = app.post(&format!("{teach}/points/p1"), &json!({})).await;
+    assert_eq!(in_plane.status, StatusCode::CONFLICT);
+    assert!(error_of(&in_plane).contains("G69"));
+    // Emptied, a teach has no P1.
+    let cleared = app.request(Method::DELETE, &format!("{teach}/points")).await;
+    assert_eq!(cleared.json()["points"], json!([]));
+    let empty = app.post(&format!("{teach}/plane"), &json!({"mode": "three_points"})).await;
+    assert!(error_of(&empty).contains("P1"), "{}", empty.text());
+}
+
+#[tokio::test]
+async fn a_stored_program_is_estimated_before_it_runs_and_its_progress_shown_while_it_runs() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "est", "preset": "mill3", "speed": 20})).await;
+    // 60 mm at 600 mm/min: six seconds and the speed changes.
+    assert_eq!(store(&app, &id, 1, "G90 G01 X60. F600\nM30\n").await.status, StatusCode::CREATED);
+    let uri = format!("{C}/{id}/programs/1/estimate");
+    let estimate = eventually(&app, &uri, |e| e["state"] != "pending").await;
+    assert_eq!(estimate["state"], "ready", "{estimate}");
+    let cycle = estimate["cycle_time_s"].as_f64().unwrap();
+    assert!((6.0..6.5).contains(&cycle), "{estimate}");
+    // Kept: the same inputs answer at once.
+    assert_eq!(app.get(&uri).await.json(), estimate);
+    assert_eq!(app.get(&format!("{C}/{id}/programs/2/estimate")).await.status, StatusCode::NOT_FOUND);
+    assert!(app.get(&format!("{C}/{id}")).await.json()["progress"].is_null(), "no run, no progress");
+
+    let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await.json();
+    let progress = &started["progress"];
+    assert_eq!((progress["program"].clone(), progress["estimate"].clone()), (json!(1), estimate), "{started}");
+    assert_eq!(progress["caveats"], json!([]), "{started}");
+    let running = eventually(&app, &format!("{C}/{id}"), |s| {
+        s["run_state"] != "running" || s["progress"]["elapsed_s"].as_f64().is_some_and(|e| e > 0.5)
+    })
+    .await;
+    if running["run_state"] == "running" {
+        let p = &running["progress"];
+        let (elapsed, remaining) = (p["elapsed_s"].as_f64().unwrap(), p["remaining_s"].as_f64().unwrap());
+        assert!((remaining - (cycle - elapsed).max(0.0)).abs() < 1e-9, "{p}");
+        assert!((p["percent"].as_f64().unwrap() - (elapsed / cycle * 100.0).min(100.0)).abs() < 1e-9, "{p}");
+    }
+    wait_for(&app, &id, "idle").await;
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    // The run ends within the worker round after its last motion: never shorter than estimated.
+    assert!(runs[0]["cycle_time_s"].as_f64().unwrap() >= cycle * 0.99, "{runs}");
+    assert!(app.get(&format!("{C}/{id}")).await.json()["progress"].is_null(), "over");
+}

@@ -8,6 +8,7 @@
 mod api;
 mod blackbox;
 mod common;
+mod estimate;
 mod fleet;
 mod http;
 mod layers;

@@ -432,6 +432,28 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/controllers/{id}/programs/{number}/estimate": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The simulated cycle time of a stored program run from where the machine is now, with the
+         *     controller's machine, offsets, variables and modal state (the engine's `run`, as `fivex run`
+         *     runs it, at 100 % overrides and without operator stops). The first request begins it on a
+         *     background thread and answers `pending`; ask again. Kept until one of those inputs changes.
+         */
+        get: operations["estimate"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/controllers/{id}/programs/{number}/path": {
         parameters: {
             query?: never;
@@ -540,6 +562,77 @@ export interface paths {
          */
         put: operations["set_switches"];
         post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/teach": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The boxes latched and whether F1 may latch now. */
+        get: operations["get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/teach/plane": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Teach: the feature coordinate system of the mode from the latched boxes, and the G68.2 block
+         *     that sets it. Nothing changes on the controller (run the block through `/mdi` to set it).
+         */
+        post: operations["plane"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/teach/points": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        post?: never;
+        /** Empty every box. */
+        delete: operations["clear"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/v1/controllers/{id}/teach/points/{slot}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** F1 Latch G54 Coordinate: the tool tip where the machine stands now into a box. */
+        post: operations["latch"];
         delete?: never;
         options?: never;
         head?: never;
@@ -1130,6 +1223,7 @@ export interface components {
              * @description The stored program AUTO runs (O number), once one was started.
              */
             program?: number | null;
+            progress?: null | components["schemas"]["RunProgress"];
             /** @description `idle`, `running`, `hold` or `alarm`. */
             run_state: components["schemas"]["RunStateName"];
             /**
@@ -1255,6 +1349,29 @@ export interface components {
              * @example no route for GET /api/v1/nope
              */
             error: string;
+        };
+        /** @description A program's estimated cycle time as the API shows it. */
+        Estimate: {
+            alarm?: null | components["schemas"]["AlarmInfo"];
+            /**
+             * Format: double
+             * @description Simulated seconds at 100 % overrides, without operator stops.
+             */
+            cycle_time_s?: number | null;
+            /**
+             * @description What the program's time depends on that the estimate cannot know:
+             *     `input_signals` (it reads #1000–#1035, which the host may change while it runs; the
+             *     estimate reads them as they are now), `program_stop` (M00 waits for a cycle start: the
+             *     wait is not in the estimate). Empty when there is none of them.
+             */
+            depends_on?: string[];
+            reason?: string | null;
+            /**
+             * @description `pending` (being computed), `ready` (the program ran to its end), `alarm` (it stopped at
+             *     `alarm`: `cycle_time_s` is the time up to there) or `unknown` (no estimate: `reason`).
+             * @example ready
+             */
+            state: string;
         };
         /** @description 5-axis function settings of the control (vendor bits, `docs/five-axis.md`). */
         FiveAxisOptions: {
@@ -2382,6 +2499,36 @@ export interface components {
          * @enum {string}
          */
         RunEnd: "completed" | "alarm" | "reset";
+        /** @description A run under way against its estimate. */
+        RunProgress: {
+            /**
+             * @description What makes this run differ from the estimate: `feed_override`, `rapid_override`,
+             *     `single_block`, `optional_stop` (the switch is on), `held` (it was held or stopped);
+             *     empty when it runs as estimated.
+             */
+            caveats: string[];
+            /**
+             * Format: double
+             * @description Simulated seconds since its cycle start (holds and stops included).
+             */
+            elapsed_s: number;
+            estimate: components["schemas"]["Estimate"];
+            /**
+             * Format: double
+             * @description `elapsed_s / cycle_time_s` in percent, at most 100; absent without an estimate.
+             */
+            percent?: number | null;
+            /**
+             * Format: int32
+             * @description The stored program running.
+             */
+            program: number;
+            /**
+             * Format: double
+             * @description `cycle_time_s − elapsed_s`, never below 0; absent without an estimate.
+             */
+            remaining_s?: number | null;
+        };
         /**
          * @description A controller's run state (docs/contracts.md).
          * @enum {string}
@@ -2532,11 +2679,69 @@ export interface components {
          * @enum {string}
          */
         SystemName: "workpiece" | "workpiece_machine_axes" | "programming" | "feature" | "wscs";
+        /** @description The taught plane. */
+        TaughtPlane: {
+            /**
+             * @description The block that sets it, `G68.2 X_ Y_ Z_ I_ J_ K_` (values to 0.001).
+             * @example G68.2 X0. Y0. Z0. I0. J180. K0.
+             */
+            block: string;
+            /** @description Its Z–X–Z Euler angles I, J, K, degrees, unrounded. */
+            euler: number[];
+            /** @description Its origin and X, Y, Z axes in the workpiece system. */
+            origin: number[];
+            x: number[];
+            y: number[];
+            z: number[];
+        };
         /**
          * @description Which coordinate system the X/Y/Z of a tool centre point control program are in.
          * @enum {string}
          */
         TcpCoordinates: "table-at-start" | "table-at-zero" | "workpiece";
+        /**
+         * @description The guidance mode of a teach.
+         * @enum {string}
+         */
+        TeachMode: "three_points" | "tool_direction" | "euler" | "two_vectors";
+        /** @description One latched box. */
+        TeachPoint: {
+            /** @description The tool tip's absolute coordinate (active workpiece system), mm. */
+            point: number[];
+            /**
+             * @description `p1`, `p2` or `p3`.
+             * @example p1
+             */
+            slot: string;
+            /** @description The tool direction there (unit, tip toward holder), in the workpiece system's axes. */
+            tool: number[];
+        };
+        /** @description `POST /teach/plane`: the mode and the values typed (each mode takes only its own). */
+        TeachRequest: {
+            /**
+             * Format: double
+             * @description Degrees: tool direction's turn about the tool; Euler's first angle (absent: 0).
+             */
+            i?: number | null;
+            /**
+             * Format: double
+             * @description Degrees: Euler's second and third angles (absent: 0).
+             */
+            j?: number | null;
+            /** Format: double */
+            k?: number | null;
+            mode: components["schemas"]["TeachMode"];
+            /** @description Two vectors: the X and the Z axis of the plane (both required). */
+            x?: number[] | null;
+            z?: number[] | null;
+        };
+        /** @description `GET /teach`: the boxes latched, and whether F1 may latch now. */
+        TeachState: {
+            /** @description Why a latch is refused now (G49, or a tilted plane in force); null when it is allowed. */
+            latch_refused?: string | null;
+            /** @description The latched boxes, P1 first (absent boxes are not listed). */
+            points: components["schemas"]["TeachPoint"][];
+        };
         /** @description The largest tip deviation and where it happened. */
         TipDeviation: {
             /** Format: int32 */
@@ -4969,6 +5174,76 @@ export interface operations {
             };
         };
     };
+    estimate: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+                /** @description O number, 1–9999 */
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The estimate, or `pending` while it is computed */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Estimate"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller or program */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
     tool_path: {
         parameters: {
             query?: {
@@ -5439,6 +5714,311 @@ export interface operations {
                 };
             };
             /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The teach screen's boxes */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TeachState"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    plane: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["TeachRequest"];
+            };
+        };
+        responses: {
+            /** @description The plane taught */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TaughtPlane"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The teach fails (collinear points, vectors zero or not orthogonal, a box not latched) or a value the mode does not take */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    clear: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Emptied */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TeachState"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    latch: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+                /** @description p1, p2 or p3 */
+                slot: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Latched */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TeachPoint"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a Syntec controller; G49 in force; or a tilted plane in force */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such box */
             422: {
                 headers: {
                     [name: string]: unknown;

@@ -1,5 +1,11 @@
 // One controller: what a control's screen shows (position, modal state, program, alarms,
 // variables, parameters, offsets), its operator panel, and the live 3D machine.
+//
+// Layout (style.css, "controller"): the readout (position, cycle time, modal state), the program
+// and the 3D view side by side on a wide screen, the 3D view under the first two on a narrow
+// one; the operator panel below them, and the other pages behind the tabs under the panel.
+// The program column is always there: its text, with the executing block, stays in view beside
+// the readout whatever tab is open, and another program can be edited in it while one runs.
 import { useEffect, useState } from "preact/hooks";
 import { api, must } from "../api/client";
 import { useController } from "./useController";
@@ -13,9 +19,12 @@ import { Variables } from "./Variables";
 import { Parameters } from "./Parameters";
 import { Offsets } from "./Offsets";
 import { Machine3D } from "./Machine3D";
+import { Teach } from "./Teach";
+import { Progress } from "./Progress";
 
+/// The pages behind the tabs; the default route's tab (`program`) opens none of them, the
+/// program being in its own column.
 const TABS: [string, string][] = [
-  ["program", "Program"],
   ["mdi", "MDI"],
   ["alarms", "Alarms"],
   ["variables", "Macro variables"],
@@ -27,19 +36,25 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
   const live = useController(id);
   const [error, setError] = useState<string | null>(null);
   const [program, setProgram] = useState<number | null>(null);
+  /// Bumped when a program is stored: its estimate is asked for again.
+  const [stored, setStored] = useState(0);
   const [path, setPath] = useState<{ xyz: Float32Array; rapid: boolean[]; programmed: Float32Array | null } | null>(null);
   const status = live.status;
+  // The path shows the program running, else the one selected (which may be another one being
+  // edited while it runs).
+  const running = status != null && status.run_state !== "idle" && status.program != null;
+  const shown = running ? status.program : program;
 
   // The programmed path of the selected program, for the 3D view (again when it starts, since
   // it is computed from where the machine is); under cutter compensation the tool centre's
   // path with the programmed one beside it.
   useEffect(() => {
-    if (program == null) return setPath(null);
-    must(api.GET("/api/v1/controllers/{id}/programs/{number}/path", { params: { path: { id, number: program } } })).then(
+    if (shown == null) return setPath(null);
+    must(api.GET("/api/v1/controllers/{id}/programs/{number}/path", { params: { path: { id, number: shown } } })).then(
       (p) => setPath({ xyz: new Float32Array(p.xyz), rapid: p.rapid, programmed: p.programmed ? new Float32Array(p.programmed.xyz) : null }),
       () => setPath(null),
     );
-  }, [id, program, status?.run_state === "running" && status.program === program]);
+  }, [id, shown, status?.run_state === "running"]);
 
   if (live.error && !status) return <p class="error">{live.error}</p>;
   if (!status) return <p>Loading…</p>;
@@ -77,13 +92,18 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
         </p>
       )}
       <div class="ctl-grid">
-        <div class="left">
+        <div class="readout">
           <Position status={status} frame={live.frame} />
+          <Progress status={status} selected={program} revision={stored} />
           <Modal id={id} tick={`${status.run_state}:${live.frame?.line ?? 0}`} />
         </div>
-        <div class="center">{live.machine && <Machine3D machine={live.machine} frame={live.frame} path={path} onFrame={live.onFrame} />}</div>
+        <div class="program-col panel-box">
+          <Programs status={status} line={live.frame?.line ?? status.line} selected={program} onSelect={setProgram} run={live.act} onError={setError} onStored={() => setStored((n) => n + 1)} />
+        </div>
+        <div class="view-col">{live.machine && <Machine3D machine={live.machine} frame={live.frame} path={path} onFrame={live.onFrame} />}</div>
       </div>
       <Panel status={status} axes={axes} run={live.act} onError={setError} />
+      {status.dialect === "syntec" && <Teach status={status} run={live.act} onError={setError} />}
       <nav class="tabs">
         {TABS.map(([t, label]) => (
           <a key={t} href={`#/c/${id}/${t}`} class={tab === t ? "active" : ""}>
@@ -92,8 +112,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
           </a>
         ))}
       </nav>
-      <div class="tab-body">
-        {tab === "program" && <Programs status={status} line={live.frame?.line ?? status.line} selected={program} onSelect={setProgram} run={live.act} onError={setError} />}
+      <div class={`tab-body ${TABS.some(([t]) => t === tab) ? "" : "closed"}`}>
         {tab === "mdi" && <Mdi status={status} run={live.act} onError={setError} />}
         {tab === "alarms" && <Alarms id={id} active={live.alarms} messages={live.messages} />}
         {tab === "variables" && <Variables id={id} values={live.variables} onError={setError} />}

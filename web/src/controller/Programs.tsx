@@ -13,6 +13,7 @@ export function Programs({
   onSelect,
   run,
   onError,
+  onStored,
 }: {
   status: Status;
   /// The line moving now (from the position stream).
@@ -21,6 +22,8 @@ export function Programs({
   onSelect: (n: number | null) => void;
   run: Act;
   onError: (e: string | null) => void;
+  /// A program was stored (its estimate is asked for again).
+  onStored?: (n: number) => void;
 }) {
   const id = status.id;
   const [list, setList] = useState<Schemas["ProgramSummary"][]>([]);
@@ -39,8 +42,9 @@ export function Programs({
     if (selected == null && list.length) onSelect(status.program ?? list[0].number);
   }, [list]);
   useEffect(() => {
-    // The running program shows as it runs.
-    if (status.program != null && status.run_state !== "idle") onSelect(status.program);
+    // The running program shows as it runs, unless another one is being edited (background
+    // edit: its draft must not be lost to a run state change).
+    if (status.program != null && status.run_state !== "idle" && draft == null) onSelect(status.program);
   }, [status.program, status.run_state]);
   useEffect(() => {
     setMarks([]);
@@ -73,6 +77,7 @@ export function Programs({
     const stored = answer as Schemas["StoredProgram"];
     setMarks(stored.diagnostics.map((d) => ({ line: d.line, text: `${d.code} ${d.message}` })));
     await refresh();
+    onStored?.(number);
     if (selected === number) setText(body);
     else onSelect(number);
     setDraft(null);

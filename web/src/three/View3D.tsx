@@ -35,6 +35,10 @@ export interface View3DHandle {
   /** Clear the tip trace and the cutting point's trace. */
   clearTrace(): void;
   fit(): void;
+  /** Frame the part: the programmed path, the tip trace and the work zero (key F). */
+  fitPart(): void;
+  /** The active work offset's zero in the table frame (a frame's `tip_table − tip`). */
+  setWorkZero(x: number, y: number, z: number): void;
   setView(view: ViewPreset): void;
   /** The underlying view (camera, controls, scene) for anything else. */
   view: MachineView;
@@ -142,6 +146,8 @@ export function View3D(props: View3DProps) {
       endCuttingTrace: () => v.endCutting(),
       clearTrace: () => v.clearTrace(),
       fit: () => v.fit(),
+      fitPart: () => v.fitPart(),
+      setWorkZero: (x, y, z) => v.machineScene.setWorkZero(x, y, z),
       setView: (name) => v.setView(name),
       view: v,
     };
@@ -174,6 +180,18 @@ export function View3D(props: View3DProps) {
     view.current?.setProgrammedPath(props.programmedPath ?? null);
   }, [props.programmedPath]);
 
+  // F frames the part, as on a control's graphic screen, unless a field has the keyboard.
+  useEffect(() => {
+    if (props.noToolbar) return;
+    const onKey = (e: KeyboardEvent) => {
+      if (!isFitKey(e)) return;
+      e.preventDefault();
+      view.current?.fitPart();
+    };
+    addEventListener("keydown", onKey);
+    return () => removeEventListener("keydown", onKey);
+  }, [props.noToolbar]);
+
   const act = (f: (v: MachineView) => void) => () => {
     if (view.current) f(view.current);
   };
@@ -194,6 +212,9 @@ export function View3D(props: View3DProps) {
         <div style={toolbar}>
           <button type="button" style={button} title="Frame the machine" onClick={act((v) => v.fit())}>
             fit
+          </button>
+          <button type="button" style={button} title="Frame the part: the path, the tool tip trace and the work zero (key F)" data-action="fit-part" onClick={act((v) => v.fitPart())}>
+            fit part (F)
           </button>
           <button type="button" style={button} title="Isometric view" onClick={act((v) => v.setView("iso"))}>
             iso
@@ -221,4 +242,12 @@ export function View3D(props: View3DProps) {
       )}
     </div>
   );
+}
+
+/** The fit-to-part key: F alone, not typed into a field. */
+export function isFitKey(e: Pick<KeyboardEvent, "key" | "ctrlKey" | "metaKey" | "altKey" | "target">): boolean {
+  if (e.key !== "f" && e.key !== "F") return false;
+  if (e.ctrlKey || e.metaKey || e.altKey) return false;
+  const t = e.target as { tagName?: string; isContentEditable?: boolean } | null;
+  return !(t && (["INPUT", "TEXTAREA", "SELECT"].includes(t.tagName ?? "") || t.isContentEditable));
 }

@@ -30,3 +30,13 @@ export function traceFrame(target: FrameTraceTarget, f: Pick<Frame, "tip" | "tip
   if (c) target.addCuttingTrace(c[0], c[1], c[2]);
   else target.endCuttingTrace();
 }
+
+/** The active work offset's zero in the table frame: `tip_table − tip` (the systems differ by a translation); null for a frame without finite values. */
+export function workZeroInTable(f: Pick<Frame, "tip" | "tip_table">): Vec3 | null {
+  const p: Vec3 = [0, 0, 0];
+  for (let k = 0; k < 3; k++) {
+    p[k] = f.tip_table[k] - f.tip[k];
+    if (!Number.isFinite(p[k])) return null;
+  }
+  return p;
+}

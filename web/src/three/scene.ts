@@ -21,6 +21,7 @@ import type { Chain } from "./chain";
 import { normalizeModel } from "./model";
 import type { MachineModel, MachineModelInput } from "./model";
 import { PathLine, ProgrammedLine, TraceLine, TraceStretches } from "./trace";
+import { MIN_PART_RADIUS, WorkZeroFrame, pointsBounds } from "./part";
 
 export type ViewPreset = "iso" | "front" | "top" | "side";
 
@@ -34,6 +35,9 @@ export const TIP_TRACE_COLOR = 0xffd000;
  * point runs on it wherever the tool touches the contour (solid over dashed).
  */
 export const CUTTING_TRACE_COLOR = 0xff30ff;
+/** The tool tip's dot: red like the tip marker, a fixed size in pixels (over the marker, which shrinks with distance). */
+export const TIP_POINT_COLOR = 0xff3030;
+export const TIP_POINT_PX = 7;
 
 export class MachineScene {
   readonly scene = new THREE.Scene();
@@ -50,6 +54,10 @@ export class MachineScene {
   readonly path: PathLine;
   /** The programmed path beside a compensated `path` (empty without cutter compensation). */
   readonly programmed: ProgrammedLine;
+  /** The tool tip as a dot of a fixed size in pixels: where the tool is, seen at any zoom. */
+  readonly tipPoint: THREE.Points;
+  /** The active work offset's zero and axes (`setWorkZero`). */
+  readonly workZero = new WorkZeroFrame();
   private axes: AxisValues = {};
   private toolLength = 0;
   private current: MachineRig;
@@ -84,9 +92,17 @@ export class MachineScene {
     this.cuttingMarker.name = "cutting-point";
     this.cuttingMarker.renderOrder = 11;
     this.cuttingMarker.visible = false;
+    this.tipPoint = new THREE.Points(
+      new THREE.BufferGeometry().setAttribute("position", new THREE.Float32BufferAttribute([0, 0, 0], 3)),
+      new THREE.PointsMaterial({ color: TIP_POINT_COLOR, size: TIP_POINT_PX, sizeAttenuation: false, depthTest: false }),
+    );
+    this.tipPoint.name = "tip-point";
+    this.tipPoint.renderOrder = 13;
+    this.scene.add(this.tipPoint);
+    this.placeTipPoint();
     this.path = new PathLine();
     this.programmed = new ProgrammedLine();
-    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker);
+    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object);
     this.rig.root.updateMatrixWorld(true);
   }
 
@@ -115,13 +131,14 @@ export class MachineScene {
     const old = this.current;
     const rig = buildMachine(view);
     // Moved out before the old rig is disposed (which disposes everything under its root).
-    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker);
+    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object);
     this.scene.remove(old.root);
     old.dispose();
     this.scene.add(rig.root);
     this.current = rig;
     this.currentChain = { set: chain.set, sub: chain.sub };
     rig.update(this.axes, this.toolLength);
+    this.placeTipPoint();
     this.onChange();
     return true;
   }
@@ -224,6 +241,26 @@ export class MachineScene {
     return box;
   }
 
+  /** The active work offset's zero in the table frame (a position frame's `tip_table − tip`). */
+  setWorkZero(x: number, y: number, z: number): void {
+    if (this.workZero.set(x, y, z)) this.onChange();
+  }
+
+  /**
+   * World bounds of the part at the current pose: the programmed path, the executed tip trace
+   * and the work zero (empty when there is none of them), at least MIN_PART_RADIUS around.
+   */
+  partBounds(): THREE.Box3 {
+    this.rig.root.updateMatrixWorld(true);
+    const table = this.rig.tableFrame.matrixWorld;
+    const box = new THREE.Box3();
+    for (const b of [this.path.bounds, this.programmed.bounds]) if (b && !b.isEmpty()) box.union(b.clone().applyMatrix4(table));
+    pointsBounds(this.trace.length, (i) => this.trace.point(i), table, box);
+    if (this.workZero.object.visible) box.expandByPoint(this.workZero.object.getWorldPosition(new THREE.Vector3()));
+    if (!box.isEmpty()) box.union(new THREE.Box3().setFromCenterAndSize(box.getCenter(new THREE.Vector3()), new THREE.Vector3().setScalar(2 * MIN_PART_RADIUS)));
+    return box;
+  }
+
   /** Upload pending trace points (before each render). */
   flush(): void {
     this.trace.flush();
@@ -232,16 +269,27 @@ export class MachineScene {
 
   private pose(): void {
     this.rig.update(this.axes, this.toolLength);
+    this.placeTipPoint();
     this.onChange();
   }
 
+  /** The tip dot onto the drawn tool tip. */
+  private placeTipPoint(): void {
+    this.rig.root.updateMatrixWorld(true);
+    this.rig.tip.getWorldPosition(this.tipPoint.position);
+    this.tipPoint.updateMatrixWorld();
+  }
+
   dispose(): void {
+    this.tipPoint.geometry.dispose();
+    (this.tipPoint.material as THREE.Material).dispose();
     this.trace.dispose();
     this.cutting.dispose();
     this.cuttingMarker.geometry.dispose();
     (this.cuttingMarker.material as THREE.Material).dispose();
     this.path.dispose();
     this.programmed.dispose();
+    this.workZero.dispose();
     this.rig.dispose();
   }
 }
@@ -408,13 +456,21 @@ export class MachineView {
     this.frameFrom(dir);
   }
 
+  /** Frame the part (the path, the tip trace and the work zero) from the current viewing direction; the machine when there is none. */
+  fitPart(): void {
+    const box = this.machineScene.partBounds();
+    if (box.isEmpty()) return this.fit();
+    const dir = this.camera.position.clone().sub(this.controls.target);
+    if (dir.lengthSq() === 0) dir.set(...VIEW_DIRECTIONS.iso);
+    this.frameFrom(dir, box);
+  }
+
   /** Look from a preset direction and frame the machine. */
   setView(view: ViewPreset): void {
     this.frameFrom(new THREE.Vector3(...VIEW_DIRECTIONS[view]));
   }
 
-  private frameFrom(direction: THREE.Vector3): void {
-    const box = this.machineScene.bounds();
+  private frameFrom(direction: THREE.Vector3, box = this.machineScene.bounds()): void {
     const sphere = box.isEmpty() ? new THREE.Sphere(new THREE.Vector3(), 500) : box.getBoundingSphere(new THREE.Sphere());
     const vfov = THREE.MathUtils.degToRad(this.camera.fov) / 2;
     const hfov = Math.atan(Math.tan(vfov) * Math.max(this.camera.aspect, 1e-3));
@@ -442,6 +498,7 @@ export class MachineView {
   render(): void {
     if (this.disposed) return;
     this.machineScene.flush();
+    this.machineScene.workZero.fitScreen(this.camera.position);
     this.renderer.render(this.machineScene.scene, this.camera);
     this.frames++;
   }

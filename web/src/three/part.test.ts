@@ -1,0 +1,106 @@
+// The part in the 3D view: the work zero's triad (placed in the table frame, the same size on
+// screen at any distance), the part's bounds a "fit part" frames, and the key that does it.
+import * as THREE from "three";
+import { describe, expect, it } from "vitest";
+import { fixture } from "./fixtures/fixture";
+import { MachineScene } from "./scene";
+import { MIN_PART_RADIUS, WORK_ZERO_SCREEN, WorkZeroFrame } from "./part";
+import { workZeroInTable } from "./frameTrace";
+import { isFitKey } from "./View3D";
+
+const tableAc = () => fixture.machines.find((m) => m.source === "table-ac") ?? fixture.machines[0];
+
+describe("the work zero", () => {
+  it("is tip_table − tip of a frame", () => {
+    expect(workZeroInTable({ tip: [10, -20, 30], tip_table: [110, 80, 25] })).toEqual([100, 100, -5]);
+    expect(workZeroInTable({ tip: [NaN, 0, 0], tip_table: [0, 0, 0] })).toBeNull();
+  });
+
+  it("rides with the table: its world place is the table frame's point, at any pose", () => {
+    const m = tableAc();
+    const s = new MachineScene(m.model);
+    expect(s.workZero.object.visible).toBe(false);
+    s.setWorkZero(100, 50, -20);
+    expect(s.workZero.object.visible).toBe(true);
+    for (const p of m.poses.slice(0, 4)) {
+      s.setAxes(p.axes);
+      s.rig.root.updateMatrixWorld(true);
+      const world = s.workZero.object.getWorldPosition(new THREE.Vector3());
+      const want = new THREE.Vector3(...s.rig.kinematics.tableToMachine([100, 50, -20], s.getAxes()));
+      expect(world.distanceTo(want)).toBeLessThanOrEqual(1e-9);
+    }
+    s.dispose();
+  });
+
+  it("keeps its size on screen: its scale grows with the camera's distance", () => {
+    const z = new WorkZeroFrame();
+    z.set(0, 0, 0);
+    z.fitScreen(new THREE.Vector3(0, 0, 100));
+    expect(z.object.scale.x).toBeCloseTo(100 * WORK_ZERO_SCREEN, 12);
+    z.fitScreen(new THREE.Vector3(0, 3000, 4000));
+    expect(z.object.scale.x).toBeCloseTo(5000 * WORK_ZERO_SCREEN, 9);
+    z.dispose();
+  });
+});
+
+describe("the part's bounds", () => {
+  it("hold the path, the trace and the work zero, not the machine", () => {
+    const s = new MachineScene(tableAc().model);
+    expect(s.partBounds().isEmpty()).toBe(true);
+    s.setPath(new Float32Array([0, 0, 0, 40, 0, 0, 40, 40, 0]));
+    s.addTrace(0, 0, 50);
+    s.setWorkZero(-10, -10, 0);
+    const b = s.partBounds();
+    const table = s.rig.tableFrame.matrixWorld;
+    for (const p of [
+      [40, 40, 0],
+      [0, 0, 50],
+      [-10, -10, 0],
+    ]) {
+      expect(b.containsPoint(new THREE.Vector3(...p).applyMatrix4(table))).toBe(true);
+    }
+    const size = b.getSize(new THREE.Vector3());
+    expect(Math.max(size.x, size.y, size.z)).toBeLessThanOrEqual(60 + 1e-6);
+    const machine = s.bounds(true).getSize(new THREE.Vector3());
+    expect(size.length()).toBeLessThan(machine.length());
+    s.dispose();
+  });
+
+  it("give a single point a view of its own", () => {
+    const s = new MachineScene(tableAc().model);
+    s.setWorkZero(1, 2, 3);
+    const size = s.partBounds().getSize(new THREE.Vector3());
+    expect(size.toArray()).toEqual([2 * MIN_PART_RADIUS, 2 * MIN_PART_RADIUS, 2 * MIN_PART_RADIUS]);
+    s.dispose();
+  });
+});
+
+describe("the fit-to-part key", () => {
+  const key = (key: string, target: unknown = null, mods = {}) => ({ key, ctrlKey: false, metaKey: false, altKey: false, target, ...mods }) as unknown as KeyboardEvent;
+  it("is F alone, outside fields", () => {
+    expect(isFitKey(key("f"))).toBe(true);
+    expect(isFitKey(key("F", { tagName: "DIV" }))).toBe(true);
+    expect(isFitKey(key("g"))).toBe(false);
+    expect(isFitKey(key("f", null, { ctrlKey: true }))).toBe(false);
+    expect(isFitKey(key("f", { tagName: "TEXTAREA" }))).toBe(false);
+    expect(isFitKey(key("f", { tagName: "INPUT" }))).toBe(false);
+    expect(isFitKey(key("f", { tagName: "DIV", isContentEditable: true }))).toBe(false);
+  });
+});
+
+describe("the tool tip's dot", () => {
+  it("sits on the drawn tip at every pose and keeps its size in pixels", () => {
+    const m = tableAc();
+    const s = new MachineScene(m.model);
+    const material = s.tipPoint.material as THREE.PointsMaterial;
+    expect(material.sizeAttenuation).toBe(false);
+    for (const p of m.poses.slice(0, 4)) {
+      s.setAxes(p.axes);
+      s.setToolLength(p.tool_length);
+      const tip = s.rig.tip.getWorldPosition(new THREE.Vector3());
+      expect(s.tipPoint.position.distanceTo(tip)).toBeLessThanOrEqual(1e-9);
+      expect(s.tipPoint.position.distanceTo(new THREE.Vector3(...p.tip_machine))).toBeLessThanOrEqual(1e-9);
+    }
+    s.dispose();
+  });
+});
