@@ -25,14 +25,18 @@ use std::sync::Arc;
 mod cycle;
 mod executing;
 mod interrupt;
+mod lock;
 mod manual;
+mod operation;
 mod restart;
 mod signals;
 use cycle::Cycle;
 use executing::{BlockState, Executing};
 use interrupt::Interrupt;
+use lock::Lock;
 pub use manual::ManualCoordinates;
 use manual::{Intervention, Shift};
+pub use operation::{Times, SPINDLE_OVERRIDE};
 pub use restart::{Restart, RestartPhase, RestartType};
 pub use signals::{ManualSignals, ManualTarget};
 
@@ -87,6 +91,19 @@ pub struct Panel {
     /// The increment of INC mode, mm (deg for a rotary axis): one JOG key press moves this far
     /// (FANUC's ×1/×10/×100/×1000 of the least increment: 0.001, 0.01, 0.1, 1).
     pub increment: f64,
+    /// Dry run (FANUC DRN): set through [`Controller::set_dry_run`], which keeps it to block
+    /// boundaries (`operation.rs`).
+    pub dry_run: bool,
+    /// Spindle speed override, a fraction (FANUC SOV; [`SPINDLE_OVERRIDE`]).
+    pub spindle_override: f64,
+    /// Machine lock, all axes (FANUC MLK): set through [`Controller::set_machine_lock`]
+    /// (`lock.rs`).
+    pub machine_lock: bool,
+    /// Z-axis neglect (FANUC ZNG): the Z axis alone locked ([`Controller::set_z_neglect`]).
+    pub z_neglect: bool,
+    /// Auxiliary function lock (FANUC AFL): the program's spindle commands and tool changes are
+    /// not carried out (M00/M01/M02/M30/M98/M99 are).
+    pub aux_lock: bool,
 }
 
 impl Default for Panel {
@@ -103,6 +120,11 @@ impl Default for Panel {
             manual_rtcp: false,
             manual_signals: ManualSignals::default(),
             increment: 0.001,
+            dry_run: false,
+            spindle_override: 1.0,
+            machine_lock: false,
+            z_neglect: false,
+            aux_lock: false,
         }
     }
 }
@@ -186,6 +208,10 @@ pub struct Controller {
     restart: Option<Restart>,
     /// What a P type restart needs from the interrupted run (`restart.rs`).
     memory: restart::RestartMemory,
+    /// Operating and cutting time (`operation.rs`).
+    times: Times,
+    /// Machine lock: where the machine is held, what a locked run left (`lock.rs`).
+    lock: Lock,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -240,6 +266,8 @@ impl Controller {
             reading_block: 0,
             restart: None,
             memory: restart::RestartMemory::default(),
+            times: Times::default(),
+            lock: Lock::default(),
         }
     }
 
@@ -317,9 +345,10 @@ impl Controller {
         out
     }
 
-    /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04), 0 stopped.
+    /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04), 0
+    /// stopped; the commanded speed times the spindle override.
     pub fn spindle(&self) -> f64 {
-        self.spindle
+        self.spindle * self.panel.spindle_override
     }
 
     /// The tool length offset of the block moving now (of the last one when nothing moves).
@@ -736,6 +765,7 @@ impl Controller {
             return Ok(());
         }
         self.clear_interrupt();
+        self.clear_lock_offset();
         let zero = [0.0; crate::machine::MAX_AXES];
         self.push_manual(MotionKind::MachineRapid, zero, 0.0);
         Ok(())
@@ -791,7 +821,10 @@ impl Controller {
     pub fn tick(&mut self, dt: f64) {
         let end = self.exec.time() + dt.max(0.0);
         let mut blocks = 0;
+        // The counters take each stretch of time by what was under way at its start.
+        let mut piece = self.piece();
         while self.exec.time() < end {
+            self.count(&mut piece);
             if self.exec.is_moving() {
                 self.exec.advance_to(end);
                 if let Some((seg, _, _)) = self.exec.on() {
@@ -855,6 +888,7 @@ impl Controller {
                 self.exec.idle_until(end);
             }
         }
+        self.count(&mut piece);
         self.interp.state.advance_time(dt.max(0.0));
         self.settle_interrupt();
     }
@@ -975,7 +1009,7 @@ impl Controller {
             }
             Item::Canon(c) => match &c.kind {
                 CanonKind::Motion(m) => {
-                    let shifted;
+                    let (shifted, dry);
                     // After a manual intervention only (a plain run pays one test).
                     let m = if self.shift.is_none() && !self.reposition {
                         m
@@ -983,6 +1017,13 @@ impl Controller {
                         shifted = self.moved_motion(m, self.shift.as_ref());
                         self.reposition = false;
                         &shifted
+                    };
+                    let m = match self.dry_run_motion(m) {
+                        Some(d) => {
+                            dry = d;
+                            &dry
+                        }
+                        None => m,
                     };
                     let ctx = self.program_feed(m);
                     let shift = (!self.interrupt.is_zero()).then(|| self.interrupt.last());
@@ -1098,6 +1139,8 @@ impl Controller {
     fn carry_out(&mut self, kind: &CanonKind) {
         match kind {
             CanonKind::Dwell { seconds } => self.cycle.course_mut().dwell(self.exec.time() + seconds),
+            // Auxiliary function lock: the M, S and T functions are not sent to the machine.
+            CanonKind::ToolChange { .. } | CanonKind::Spindle { .. } if self.panel.aux_lock => {}
             CanonKind::ToolChange { .. } => {
                 self.cycle.course_mut().dwell(self.exec.time() + self.machine.motion.tool_change_s)
             }

@@ -278,6 +278,51 @@ test("an alarm shows in the banner and in the alarms tab", async () => {
   await banner.waitFor({ state: "detached" });
 });
 
+test("the panel's switches: machine lock runs the program with the machine standing, dry run, the spindle override, the counters", async () => {
+  const status = async () => (await http("GET", `/api/v1/controllers/${id}`)).body;
+  for (const k of ["machine_lock", "dry_run"]) {
+    await page.click(`.op-panel button[data-switch=${k}]`);
+    await poll(`${k} on`, async () => (await page.locator(`.op-panel button[data-switch=${k}]`).getAttribute("aria-pressed")) === "true");
+    assert.equal((await status()).panel[k], true);
+  }
+  await page.selectOption(".op-panel select[title='spindle override']", "80");
+  await poll("the spindle override", async () => (await status()).panel.spindle_override === 80);
+  const parts = (await status()).counters.parts;
+  // Dry run without a dry run rate (No.1410) feeds at the jog feed: a quick one.
+  const jogFeed = (await status()).panel.jog_feed;
+  await http("PUT", `/api/v1/controllers/${id}/manual`, { jog_feed: 6000 });
+  assert.equal((await http("POST", `/api/v1/controllers/${id}/cycle-start`, { program: 1 })).status, 200);
+  await page.locator("[data-run-state=running]").waitFor();
+  // The workpiece position moves, the machine position stays (0 on X at the start: G90 X0).
+  const x0 = await page.locator(".pos tr[data-axis=X] td.mach").textContent();
+  await poll("a moving workpiece X", async () => {
+    const abs = await page.locator(".pos tr[data-axis=X] td.abs").textContent();
+    return Number(abs) > 1 ? abs : null;
+  });
+  assert.equal(await page.locator(".pos tr[data-axis=X] td.mach").textContent(), x0);
+  // A switch that changes only at rest is refused while the program runs, with the reason shown.
+  await page.click(".op-panel button[data-switch=dry_run]");
+  await page.locator("p.error", { hasText: /runs/ }).waitFor();
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 30000 });
+  await page.locator(".op-panel .counters", { hasText: `parts ${parts + 1}` }).waitFor();
+  await page.locator(".op-panel").screenshot({ path: join(shots, "panel-switches.png") });
+  // Back: the switches off, the reference return sets the coordinates to the machine again.
+  for (const k of ["machine_lock", "dry_run"]) await page.click(`.op-panel button[data-switch=${k}]`);
+  await poll("the switches off", async () => {
+    const p = (await status()).panel;
+    return !p.machine_lock && !p.dry_run;
+  });
+  await http("PUT", `/api/v1/controllers/${id}/mode`, { mode: "ref" });
+  await http("POST", `/api/v1/controllers/${id}/reference-return`, {});
+  await poll("the coordinates agree", async () => {
+    const s = await status();
+    return s.run_state === "idle" && Object.values(s.lock_offset).every((v) => v === 0);
+  });
+  await http("PUT", `/api/v1/controllers/${id}/mode`, { mode: "auto" });
+  await http("PUT", `/api/v1/controllers/${id}/overrides`, { spindle: 100 });
+  await http("PUT", `/api/v1/controllers/${id}/manual`, { jog_feed: jogFeed });
+});
+
 test("a macro variable is edited in the table", async () => {
   await page.click("nav.tabs a[href$='/variables']");
   await page.fill("input[name=var-number]", "#500");

@@ -59,10 +59,10 @@ impl Controller {
         self.interrupt.at(self.exec.time())
     }
 
-    /// Where the machine stands now (the program's point — through the filter after
-    /// interpolation where it acts — plus the interruption's shift while a program is under
-    /// way).
-    pub(super) fn machine_now(&self) -> Pos {
+    /// Where the program and the manual moves put the machine now (the program's point —
+    /// through the filter after interpolation where it acts — plus the interruption's shift
+    /// while a program is under way); without machine lock, where it stands (`lock.rs`).
+    pub(super) fn moved_machine(&self) -> Pos {
         let axes = self.exec.axes_now();
         if !self.interrupt.applied || self.interrupt.is_zero() {
             return axes;
@@ -170,7 +170,7 @@ impl Controller {
         if matches!(target, ManualTarget::Feed(_) | ManualTarget::TipRotation(_)) && self.rotary_block_under_way() {
             return Ok(0.0);
         }
-        let from = self.machine_now();
+        let from = self.moved_machine();
         let direction = match target {
             // The direction where the machine really stands (the shift may have turned it).
             ManualTarget::Feed(feed) => {

@@ -27,6 +27,7 @@ mod modes;
 mod motion;
 mod no_panic;
 mod nurbs;
+mod operation;
 mod preview;
 mod report;
 mod restart;

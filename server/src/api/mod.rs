@@ -145,6 +145,38 @@ pub struct ControllerStatus {
     pub progress: Option<crate::host::estimate::RunProgress>,
     /// FANUC program restart under way (`POST /restart`): `null` when none.
     pub restart: Option<restart::RestartInfo>,
+    /// Spindle speed, 1/min: the commanded speed times the spindle override; positive clockwise
+    /// (M03), negative counter-clockwise (M04), 0 stopped.
+    pub spindle: f64,
+    /// Machine minus the program's machine coordinates per axis after (or during) machine lock
+    /// or Z-axis neglect: zero when they agree; the reference return sets them equal
+    /// (`docs/dialects.md`, "The operator's switches and counters").
+    #[schema(value_type = std::collections::HashMap<String, f64>)]
+    pub lock_offset: Map<String, Value>,
+    /// The part count and the operating and cutting time.
+    pub counters: Counters,
+}
+
+/// The part count (#3901, #3902) and FANUC's operating and cutting time (No.6751–6754), in
+/// seconds of simulated time since the controller was made or restored.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct Counters {
+    /// Parts machined (#3901): one at each M02/M30.
+    pub parts: f64,
+    /// Parts required (#3902).
+    pub parts_required: f64,
+    /// Automatic operation running (not held, not stopped).
+    pub operating_time_s: f64,
+    /// The part of it along cutting feeds.
+    pub cutting_time_s: f64,
+}
+
+impl Counters {
+    fn of(c: &fivex_engine::controller::Controller) -> Counters {
+        let (parts, parts_required) = c.interpreter().state.part_count();
+        let t = c.times();
+        Counters { parts, parts_required, operating_time_s: t.operating_s, cutting_time_s: t.cutting_s }
+    }
 }
 
 /// A machine setting fivex does not carry out.
@@ -185,6 +217,16 @@ pub struct PanelState {
     pub rtcp: bool,
     /// FANUC's 5-axis manual feed signals (`PUT /manual-signals`).
     pub signals: manual::PanelSignals,
+    /// Dry run: cutting feeds at the dry run rate (FANUC No.1410) with the feed override.
+    pub dry_run: bool,
+    /// Machine lock (all axes): the program runs, the machine does not move.
+    pub machine_lock: bool,
+    /// Z-axis neglect (FANUC): machine lock of the Z axis alone.
+    pub z_neglect: bool,
+    /// Auxiliary function lock: spindle commands and tool changes not carried out.
+    pub aux_lock: bool,
+    /// Spindle speed override, percent (50–120).
+    pub spindle_override: f64,
 }
 
 impl PanelState {
@@ -207,6 +249,11 @@ impl PanelState {
                 tb_base: Some(panel.manual_signals.tb_base),
                 handle_select: Some(panel.manual_signals.handle_select),
             },
+            dry_run: panel.dry_run,
+            machine_lock: panel.machine_lock,
+            z_neglect: panel.z_neglect,
+            aux_lock: panel.aux_lock,
+            spindle_override: (panel.spindle_override * 100.0).round(),
         }
     }
 }
@@ -280,6 +327,9 @@ impl ControllerStatus {
             chain: c.chain(),
             progress: station.progress(),
             restart: restart::RestartInfo::of(station),
+            spindle: c.spindle(),
+            lock_offset: axes(&station.machine, &c.lock_offset()),
+            counters: Counters::of(c),
         }
     }
 

@@ -200,9 +200,13 @@ pub struct Overrides {
     /// Rapid override, 0–100 %.
     #[schema(minimum = 0.0, maximum = 100.0)]
     pub rapid: Option<f64>,
+    /// Spindle speed override, 50–120 % in steps of 10.
+    #[schema(minimum = 50.0, maximum = 120.0, multiple_of = 10.0)]
+    pub spindle: Option<f64>,
 }
 
-/// Feed and rapid override; the motion under way changes speed at once within the limits.
+/// Feed, rapid and spindle override; the motion under way changes speed at once within the
+/// limits, the spindle at once.
 #[utoipa::path(
     put,
     path = "/api/v1/controllers/{id}/overrides",
@@ -220,8 +224,8 @@ pub async fn set_overrides(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Overrides>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let Overrides { feed, rapid } = body(request)?;
-    status_after(&state, &hosted, PanelCommand::Overrides { feed, rapid })
+    let Overrides { feed, rapid, spindle } = body(request)?;
+    status_after(&state, &hosted, PanelCommand::Overrides { feed, rapid, spindle })
 }
 
 /// `PUT /switches`.
@@ -231,9 +235,21 @@ pub struct Switches {
     pub single_block: Option<bool>,
     pub optional_stop: Option<bool>,
     pub block_delete: Option<bool>,
+    /// Dry run (changes only while nothing moves or is queued: idle, a block stop).
+    pub dry_run: Option<bool>,
+    /// Machine lock, all axes (the same rule).
+    pub machine_lock: Option<bool>,
+    /// Z-axis neglect, FANUC only (the same rule).
+    pub z_neglect: Option<bool>,
+    /// Auxiliary function lock (any time).
+    pub aux_lock: Option<bool>,
 }
 
-/// Single block, optional stop (M01) and block delete (`/`).
+/// Single block, optional stop (M01), block delete (`/`), dry run, machine lock, Z-axis
+/// neglect and auxiliary function lock (`docs/dialects.md`, "The operator's switches and
+/// counters"). Refused with 409 (nothing changed) when dry run, machine lock or Z-axis neglect
+/// would change while the axes move or a held path waits, or Z-axis neglect where the dialect
+/// or the machine has none.
 #[utoipa::path(
     put,
     path = "/api/v1/controllers/{id}/switches",
@@ -243,6 +259,7 @@ pub struct Switches {
     responses(
         (status = 200, description = "Set", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "Not now (the axes move or a path waits), or no Z-axis neglect here", body = ErrorBody),
     )
 )]
 pub async fn set_switches(
@@ -250,8 +267,18 @@ pub async fn set_switches(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Switches>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let Switches { single_block, optional_stop, block_delete } = body(request)?;
-    status_after(&state, &hosted, PanelCommand::Switches { single_block, optional_stop, block_delete })
+    let Switches { single_block, optional_stop, block_delete, dry_run, machine_lock, z_neglect, aux_lock } =
+        body(request)?;
+    let command = PanelCommand::Switches {
+        single_block,
+        optional_stop,
+        block_delete,
+        dry_run,
+        machine_lock,
+        z_neglect,
+        aux_lock,
+    };
+    status_after(&state, &hosted, command)
 }
 
 /// `PUT /emergency-stop`.

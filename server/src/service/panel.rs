@@ -125,15 +125,26 @@ pub enum PanelCommand {
     SetMode {
         mode: Mode,
     },
-    /// Percent: feed 0–200, rapid 0–100.
+    /// Percent: feed 0–200, rapid 0–100, spindle 50–120 in steps of 10.
     Overrides {
         feed: Option<f64>,
         rapid: Option<f64>,
+        #[serde(default)]
+        spindle: Option<f64>,
     },
+    /// Dry run, machine lock and Z-axis neglect change only at rest (`Controller::set_dry_run`).
     Switches {
         single_block: Option<bool>,
         optional_stop: Option<bool>,
         block_delete: Option<bool>,
+        #[serde(default)]
+        dry_run: Option<bool>,
+        #[serde(default)]
+        machine_lock: Option<bool>,
+        #[serde(default)]
+        z_neglect: Option<bool>,
+        #[serde(default)]
+        aux_lock: Option<bool>,
     },
     /// Pressing it ends the run under way (recorded as `alarm`).
     EmergencyStop {
@@ -197,6 +208,8 @@ pub enum Refused {
     Panel(Refusal),
     /// A cycle start with a program while another is under way.
     ProgramUnderWay,
+    /// Z-axis neglect where the dialect or the machine has none.
+    NoZNeglect,
 }
 
 impl From<Refusal> for Refused {
@@ -218,6 +231,7 @@ impl From<Refused> for ServiceError {
                 Refused::ProgramUnderWay => {
                     "a program is under way: resume it with an empty cycle start, or reset first"
                 }
+                Refused::NoZNeglect => "Z-axis neglect needs a FANUC controller and a Z axis",
             }
             .into(),
         )
@@ -231,11 +245,15 @@ impl PanelCommand {
         let invalid = |why: String| Err(ServiceError::invalid(why));
         match self {
             PanelCommand::Mdi { text } if text.len() > MAX_PROGRAM_BYTES => invalid("MDI text too long".into()),
-            PanelCommand::Overrides { feed, rapid } => {
+            PanelCommand::Overrides { feed, rapid, spindle } => {
                 for (value, max, what) in [(feed, 200.0, "feed"), (rapid, 100.0, "rapid")] {
                     if value.is_some_and(|p: f64| !(p.is_finite() && (0.0..=max).contains(&p))) {
                         return invalid(format!("{what} override must be 0–{max} %"));
                     }
+                }
+                // The panel's switch: 50–120 % in 10 % steps (SPINDLE_OVERRIDE).
+                if spindle.is_some_and(|p| !((50.0..=120.0).contains(&p) && p % 10.0 == 0.0)) {
+                    return invalid("spindle override must be 50–120 % in steps of 10".into());
                 }
                 Ok(())
             }
@@ -319,13 +337,40 @@ pub fn apply(
             station.begin_run(None);
         }
         PanelCommand::SetMode { mode } => c.set_mode(mode)?,
-        PanelCommand::Overrides { feed, rapid } => {
+        PanelCommand::Overrides { feed, rapid, spindle } => {
             let feed = feed.map_or(c.panel.feed_override, |p| p / 100.0);
             let rapid = rapid.map_or(c.panel.rapid_override, |p| p / 100.0);
             c.set_overrides(feed, rapid);
+            if let Some(p) = spindle {
+                c.set_spindle_override(p / 100.0);
+            }
         }
-        PanelCommand::Switches { single_block, optional_stop, block_delete } => {
+        PanelCommand::Switches {
+            single_block,
+            optional_stop,
+            block_delete,
+            dry_run,
+            machine_lock,
+            z_neglect,
+            aux_lock,
+        } => {
+            // The switches that may be refused first, so that a refusal changes nothing: Z-axis
+            // neglect for its dialect, then the three that change only at rest (the same rule).
+            if z_neglect == Some(true) && !c.can_neglect_z() {
+                return Err(Refused::NoZNeglect);
+            }
+            let changes = |on: Option<bool>, now: bool| on.is_some_and(|on| on != now);
+            let at_rest_only = changes(dry_run, c.panel.dry_run)
+                || changes(machine_lock, c.panel.machine_lock)
+                || changes(z_neglect, c.panel.z_neglect);
+            if at_rest_only && !c.at_block_boundary() {
+                return Err(Refused::Panel(Refusal::Busy));
+            }
+            c.set_dry_run(dry_run.unwrap_or(c.panel.dry_run))?;
+            c.set_machine_lock(machine_lock.unwrap_or(c.panel.machine_lock))?;
+            c.set_z_neglect(z_neglect.unwrap_or(c.panel.z_neglect))?;
             let p = &mut c.panel;
+            p.aux_lock = aux_lock.unwrap_or(p.aux_lock);
             p.single_block = single_block.unwrap_or(p.single_block);
             p.optional_stop = optional_stop.unwrap_or(p.optional_stop);
             p.block_delete = block_delete.unwrap_or(p.block_delete);
@@ -451,7 +496,7 @@ mod tests {
 
     #[test]
     fn values_out_of_range_are_refused_before_the_controller() {
-        let overrides = |feed, rapid| PanelCommand::Overrides { feed, rapid };
+        let overrides = |feed, rapid| PanelCommand::Overrides { feed, rapid, spindle: None };
         assert_eq!(refusal(overrides(Some(201.0), None)), "feed override must be 0–200 %");
         assert_eq!(refusal(overrides(Some(50.0), Some(f64::NAN))), "rapid override must be 0–100 %");
         assert!(overrides(Some(200.0), Some(0.0)).check().is_ok());
@@ -486,8 +531,16 @@ mod tests {
             PanelCommand::Reset,
             PanelCommand::Mdi { text: "G91 X1.".into() },
             PanelCommand::SetMode { mode: Mode::Handle },
-            PanelCommand::Overrides { feed: Some(50.0), rapid: None },
-            PanelCommand::Switches { single_block: Some(true), optional_stop: None, block_delete: Some(false) },
+            PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None },
+            PanelCommand::Switches {
+                single_block: Some(true),
+                optional_stop: None,
+                block_delete: Some(false),
+                dry_run: None,
+                machine_lock: None,
+                z_neglect: None,
+                aux_lock: None,
+            },
             PanelCommand::EmergencyStop { pressed: true },
             PanelCommand::Jog { target: ManualTarget::Axis('X'), positive: false },
             PanelCommand::JogStop,
@@ -534,10 +587,18 @@ mod tests {
         let hosted = hosted();
         let mut station = hosted.station();
         let mut ended = Vec::new();
-        let switches = PanelCommand::Switches { single_block: Some(true), optional_stop: None, block_delete: None };
+        let switches = PanelCommand::Switches {
+            single_block: Some(true),
+            optional_stop: None,
+            block_delete: None,
+            dry_run: None,
+            machine_lock: None,
+            z_neglect: None,
+            aux_lock: None,
+        };
         assert_eq!(apply(&mut station, "c1", switches, &mut ended), Ok(Applied::Done));
         assert!(station.controller.panel.single_block && !station.controller.panel.optional_stop);
-        let overrides = PanelCommand::Overrides { feed: Some(50.0), rapid: None };
+        let overrides = PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None };
         apply(&mut station, "c1", overrides, &mut ended).unwrap();
         assert_eq!(station.controller.panel.feed_override, 0.5);
         let mdi = PanelCommand::Mdi { text: "G91 G01 X10. F100".into() };

@@ -45,8 +45,10 @@ pub struct Observed {
     /// Percent.
     pub feed_override: f64,
     pub rapid_override: f64,
-    /// 1/min: positive M03, negative M04, 0 stopped.
+    /// 1/min: positive M03, negative M04, 0 stopped (the commanded speed times the override).
     pub spindle: f64,
+    /// Spindle speed override, percent.
+    pub spindle_override: f64,
     /// The tool in the spindle (0: none).
     pub tool: u32,
     /// #3901 and #3902.
@@ -78,6 +80,7 @@ impl Observed {
             feed_override: (c.panel.feed_override * 100.0).round(),
             rapid_override: (c.panel.rapid_override * 100.0).round(),
             spindle: c.spindle(),
+            spindle_override: (c.panel.spindle_override * 100.0).round(),
             tool: c.modal().words.spindle_tool,
             parts,
             parts_required,

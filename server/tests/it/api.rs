@@ -981,6 +981,92 @@ async fn the_status_shows_the_mechanism_chain_a_program_switched_to() {
     assert_eq!(app.get(&format!("{C}/{id}")).await.json()["chain"], json!({"set": 2, "sub": 1}));
 }
 
+/// The operator's switches and counters (`docs/dialects.md`): machine lock runs a program
+/// without moving the machine, the positions disagree after it until REF; dry run and the locks
+/// change only at rest; the spindle override is checked and scales the spindle speed; the part
+/// count and the operating and cutting time are in the status.
+#[tokio::test]
+async fn switches_overrides_and_counters() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
+    let uri = format!("{C}/{id}");
+    let switches = |body: Value| {
+        let app = &app;
+        let uri = format!("{uri}/switches");
+        async move { app.put(&uri, &body).await }
+    };
+    let reply = switches(json!({"machine_lock": true, "dry_run": true, "aux_lock": true})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let panel = &reply.json()["panel"];
+    assert_eq!(
+        (&panel["machine_lock"], &panel["dry_run"], &panel["aux_lock"]),
+        (&json!(true), &json!(true), &json!(true))
+    );
+    assert_eq!(switches(json!({"dry_run": "yes"})).await.status, StatusCode::UNPROCESSABLE_ENTITY);
+
+    store(&app, &id, 1, "#3902=4\nS1000 M03\nG90 G01 X40. F30000.\nG01 X60. F100.\nM30\n").await;
+    app.post(&format!("{uri}/cycle-start"), &json!({"program": 1})).await;
+    let done = eventually(&app, &uri, |s| s["run_state"] == "idle" && s["counters"]["parts"] == 1.0).await;
+    // Locked: the workpiece position went on, the machine stayed; aux lock: no spindle; dry run:
+    // F100 ran at the dry run rate too (the jog feed without No.1410), counted as cutting time.
+    assert_eq!((&done["position"]["workpiece"]["X"], &done["position"]["machine"]["X"]), (&json!(60.0), &json!(0.0)));
+    assert_eq!(done["lock_offset"]["X"], -60.0);
+    assert_eq!(done["spindle"], 0.0);
+    let counters = &done["counters"];
+    assert_eq!(counters["parts_required"], 4.0);
+    let (operating, cutting) =
+        (counters["operating_time_s"].as_f64().unwrap(), counters["cutting_time_s"].as_f64().unwrap());
+    assert!(cutting > 0.0 && cutting <= operating && operating < 60.0, "{counters}");
+
+    // Off again: the machine stays where it is until the reference return.
+    let reply = switches(json!({"machine_lock": false, "aux_lock": false, "dry_run": false})).await;
+    assert_eq!(reply.json()["position"]["machine"]["X"], 0.0);
+    assert_eq!(reply.json()["lock_offset"]["X"], -60.0);
+    app.put(&format!("{uri}/mode"), &json!({"mode": "ref"})).await;
+    app.post(&format!("{uri}/reference-return"), &json!({})).await;
+    let back = eventually(&app, &uri, |s| s["run_state"] == "idle" && s["lock_offset"]["X"] == 0.0).await;
+    assert_eq!(back["position"]["workpiece"]["X"], 0.0);
+
+    // While the axes move, dry run and machine lock are refused and nothing changes.
+    store(&app, &id, 2, "G90 G01 X200. F600.\nM30\n").await;
+    app.put(&format!("{uri}/mode"), &json!({"mode": "auto"})).await;
+    app.post(&format!("{uri}/cycle-start"), &json!({"program": 2})).await;
+    eventually(&app, &uri, |s| s["position"]["machine"]["X"].as_f64().is_some_and(|x| x > 0.0)).await;
+    let refused = switches(json!({"single_block": true, "machine_lock": true})).await;
+    assert_eq!(refused.status, StatusCode::CONFLICT);
+    assert!(error_of(&refused).contains("runs"), "{}", refused.text());
+    let status = app.get(&uri).await.json();
+    assert_eq!((&status["panel"]["single_block"], &status["panel"]["machine_lock"]), (&json!(false), &json!(false)));
+    // The overrides change at any time; the spindle's is 50–120 % in steps of 10.
+    for bad in [json!({"spindle": 45}), json!({"spindle": 125}), json!({"spindle": 85}), json!({"spindle": "x"})] {
+        let reply = app.put(&format!("{uri}/overrides"), &bad).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad}");
+        assert!(!error_of(&reply).is_empty());
+    }
+    let reply = app.put(&format!("{uri}/overrides"), &json!({"spindle": 120})).await;
+    assert_eq!(reply.json()["panel"]["spindle_override"], 120.0);
+    app.post(&format!("{uri}/reset"), &json!({})).await;
+
+    // Z-axis neglect is FANUC's.
+    let syntec = create(&app, json!({"name": "s", "preset": "mill3", "dialect": "syntec"})).await;
+    let reply = app.put(&format!("{C}/{syntec}/switches"), &json!({"z_neglect": true})).await;
+    assert_eq!(reply.status, StatusCode::CONFLICT);
+    assert!(error_of(&reply).contains("Z-axis neglect"));
+    let reply = switches(json!({"z_neglect": true})).await;
+    assert_eq!(reply.json()["panel"]["z_neglect"], true);
+}
+
+/// With the spindle running, the override scales the speed the status reports.
+#[tokio::test]
+async fn the_spindle_override_scales_the_reported_speed() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "S1000 M04"})).await;
+    eventually(&app, &format!("{C}/{id}"), |s| s["spindle"] == -1000.0).await;
+    let reply = app.put(&format!("{C}/{id}/overrides"), &json!({"spindle": 50})).await;
+    assert_eq!(reply.json()["spindle"], -500.0);
+}
+
 #[tokio::test]
 async fn the_syntec_teach_screen_latches_the_tip_and_teaches_a_g68_2_block() {
     let app = spawn_app().await;

@@ -343,7 +343,10 @@ export interface paths {
             cookie?: never;
         };
         get?: never;
-        /** Feed and rapid override; the motion under way changes speed at once within the limits. */
+        /**
+         * Feed, rapid and spindle override; the motion under way changes speed at once within the
+         *     limits, the spindle at once.
+         */
         put: operations["set_overrides"];
         post?: never;
         delete?: never;
@@ -574,7 +577,13 @@ export interface paths {
             cookie?: never;
         };
         get?: never;
-        /** Single block, optional stop (M01) and block delete (`/`). */
+        /**
+         * Single block, optional stop (M01), block delete (`/`), dry run, machine lock, Z-axis
+         *     neglect and auxiliary function lock (`docs/dialects.md`, "The operator's switches and
+         *     counters"). Refused with 409 (nothing changed) when dry run, machine lock or Z-axis neglect
+         *     would change while the axes move or a held path waits, or Z-axis neglect where the dialect
+         *     or the machine has none.
+         */
         put: operations["set_switches"];
         post?: never;
         delete?: never;
@@ -1177,6 +1186,8 @@ export interface components {
              *     1–4 and sub-chain 1–4, as the machine executes; set 1, sub-chain 1 on a one-chain machine.
              */
             chain: components["schemas"]["Chain"];
+            /** @description The part count and the operating and cutting time. */
+            counters: components["schemas"]["Counters"];
             /**
              * @description Creation time, RFC 3339 UTC.
              * @example 2025-01-01T00:00:00Z
@@ -1210,6 +1221,14 @@ export interface components {
              */
             line: number;
             /**
+             * @description Machine minus the program's machine coordinates per axis after (or during) machine lock
+             *     or Z-axis neglect: zero when they agree; the reference return sets them equal
+             *     (`docs/dialects.md`, "The operator's switches and counters").
+             */
+            lock_offset: {
+                [key: string]: number;
+            };
+            /**
              * @description The machine configuration's name (a preset name for a preset).
              * @example table-ac
              */
@@ -1239,6 +1258,12 @@ export interface components {
             speed: number;
             /**
              * Format: double
+             * @description Spindle speed, 1/min: the commanded speed times the spindle override; positive clockwise
+             *     (M03), negative counter-clockwise (M04), 0 stopped.
+             */
+            spindle: number;
+            /**
+             * Format: double
              * @description Simulated seconds since the controller was created (or the service started).
              */
             time_s: number;
@@ -1253,6 +1278,32 @@ export interface components {
          * @enum {string}
          */
         CoordinatesName: "machine" | "program" | "tool";
+        /**
+         * @description The part count (#3901, #3902) and FANUC's operating and cutting time (No.6751–6754), in
+         *     seconds of simulated time since the controller was made or restored.
+         */
+        Counters: {
+            /**
+             * Format: double
+             * @description The part of it along cutting feeds.
+             */
+            cutting_time_s: number;
+            /**
+             * Format: double
+             * @description Automatic operation running (not held, not stopped).
+             */
+            operating_time_s: number;
+            /**
+             * Format: double
+             * @description Parts machined (#3901): one at each M02/M30.
+             */
+            parts: number;
+            /**
+             * Format: double
+             * @description Parts required (#3902).
+             */
+            parts_required: number;
+        };
         /**
          * @description The FANUC control whose 3-D cutter compensation (tool side offset) is followed
          *     (`five_axis.crc_variant`).
@@ -2100,6 +2151,11 @@ export interface components {
              * @description Rapid override, 0–100 %.
              */
             rapid?: number | null;
+            /**
+             * Format: double
+             * @description Spindle speed override, 50–120 % in steps of 10.
+             */
+            spindle?: number | null;
         };
         /**
          * @description FANUC's 5-axis manual feed signals (`PUT /manual-signals`): the feed mode signals and the
@@ -2127,9 +2183,13 @@ export interface components {
          *     `/manual` set them.
          */
         PanelState: {
+            /** @description Auxiliary function lock: spindle commands and tool changes not carried out. */
+            aux_lock: boolean;
             block_delete: boolean;
             /** @description Syntec R518: `machine`, `program` or `tool`. */
             coordinates: components["schemas"]["CoordinatesName"];
+            /** @description Dry run: cutting feeds at the dry run rate (FANUC No.1410) with the feed override. */
+            dry_run: boolean;
             /**
              * Format: double
              * @description Percent.
@@ -2145,6 +2205,8 @@ export interface components {
              * @description JOG and HANDLE feed, mm/min or deg/min.
              */
             jog_feed: number;
+            /** @description Machine lock (all axes): the program runs, the machine does not move. */
+            machine_lock: boolean;
             manual_absolute: boolean;
             optional_stop: boolean;
             /** Format: double */
@@ -2154,6 +2216,13 @@ export interface components {
             /** @description FANUC's 5-axis manual feed signals (`PUT /manual-signals`). */
             signals: components["schemas"]["PanelSignals"];
             single_block: boolean;
+            /**
+             * Format: double
+             * @description Spindle speed override, percent (50–120).
+             */
+            spindle_override: number;
+            /** @description Z-axis neglect (FANUC): machine lock of the Z axis alone. */
+            z_neglect: boolean;
         };
         /** @description A machine described by its vendor parameter list: the other form of `--machine FILE.json`. */
         ParamFile: {
@@ -2695,9 +2764,17 @@ export interface components {
         };
         /** @description `PUT /switches`. */
         Switches: {
+            /** @description Auxiliary function lock (any time). */
+            aux_lock?: boolean | null;
             block_delete?: boolean | null;
+            /** @description Dry run (changes only while nothing moves or is queued: idle, a block stop). */
+            dry_run?: boolean | null;
+            /** @description Machine lock, all axes (the same rule). */
+            machine_lock?: boolean | null;
             optional_stop?: boolean | null;
             single_block?: boolean | null;
+            /** @description Z-axis neglect, FANUC only (the same rule). */
+            z_neglect?: boolean | null;
         };
         /**
          * @description The coordinate system of a programmed point (`docs/api.md`, Positions).
@@ -5803,6 +5880,15 @@ export interface operations {
             };
             /** @description No such controller */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not now (the axes move or a path waits), or no Z-axis neglect here */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };

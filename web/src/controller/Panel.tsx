@@ -1,10 +1,13 @@
 // The operator panel: mode keys, cycle start / feed hold / reset / emergency stop, the single
-// block, optional stop and block delete switches, feed and rapid override, and the manual
-// feeds (JOG with hold-to-move keys, HANDLE with increments, the 5-axis manual feeds).
-import { useState } from "preact/hooks";
+// block, optional stop, block delete, dry run, machine lock, Z-axis neglect (FANUC) and
+// auxiliary function lock switches, feed, rapid and spindle override, the part count and the
+// operating / cutting time, and the manual feeds (JOG with hold-to-move keys, HANDLE with
+// increments, the 5-axis manual feeds).
+import { useEffect, useState } from "preact/hooks";
 import { api, type Status, errorText } from "../api/client";
 import type { components } from "../api/schema";
 import type { Act } from "./useController";
+import { clock } from "./clock";
 
 // The words the document lists (its enums), so the typed client takes them.
 type Mode = components["schemas"]["ModeName"];
@@ -21,6 +24,19 @@ const MODES: [Mode, string][] = [
 ];
 const FEED_STEPS = [0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120, 130, 140, 150, 160, 170, 180, 190, 200];
 const RAPID_STEPS = [0, 25, 50, 100];
+/// The spindle override switch: 50–120 % in 10 % steps.
+const SPINDLE_STEPS = [50, 60, 70, 80, 90, 100, 110, 120];
+type Switch = "single_block" | "optional_stop" | "block_delete" | "dry_run" | "machine_lock" | "z_neglect" | "aux_lock";
+const SWITCHES: [Switch, string][] = [
+  ["single_block", "SINGLE BLOCK"],
+  ["optional_stop", "OPT STOP"],
+  ["block_delete", "BLOCK DELETE"],
+  ["dry_run", "DRY RUN"],
+  ["machine_lock", "MC LOCK"],
+  ["z_neglect", "Z NEGLECT"],
+  ["aux_lock", "AUX LOCK"],
+];
+
 /// The 5-axis manual feeds (`POST /jog` `feed`).
 const FIVE_AXIS_FEEDS: [Feed, string][] = [
   ["tool-axis", "tool axis"],
@@ -64,6 +80,15 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
       return { data: r.data?.status, error: r.error, response: r.response };
     });
   };
+  // The counters go on while a program runs and the stream carries positions, not them: the
+  // status is read again at each change of the run state, and each second while running.
+  useEffect(() => {
+    const read = () => run(() => api.GET("/api/v1/controllers/{id}", p)).catch(() => {});
+    read();
+    if (status.run_state !== "running") return;
+    const timer = setInterval(read, 1000);
+    return () => clearInterval(timer);
+  }, [status.run_state, id]);
   const key = (t: Target) => JSON.stringify(t);
   const selected = (t: Target) => key(t) === key(target);
 
@@ -89,13 +114,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
         <EStop status={status} act={act} />
       </div>
       <div class="row switches">
-        {(
-          [
-            ["single_block", "SINGLE BLOCK"],
-            ["optional_stop", "OPT STOP"],
-            ["block_delete", "BLOCK DELETE"],
-          ] as const
-        ).map(([k, label]) => (
+        {SWITCHES.filter(([k]) => k !== "z_neglect" || status.dialect === "fanuc").map(([k, label]) => (
           <button
             key={k}
             class={`key toggle ${panel[k] ? "lit" : ""}`}
@@ -133,6 +152,26 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
             </button>
           ))}
         </span>
+        <span class="spindle" role="group" aria-label="spindle override">
+          spindle {Math.abs(status.spindle)} min⁻¹
+          <select
+            title="spindle override"
+            value={String(panel.spindle_override)}
+            onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/overrides", { ...p, body: { spindle: Number(e.currentTarget.value) } }))}
+          >
+            {SPINDLE_STEPS.map((v) => (
+              <option value={String(v)}>{v}%</option>
+            ))}
+          </select>
+        </span>
+      </div>
+      <div class="row counters quiet" aria-label="counters">
+        <span title="#3901 / #3902">
+          parts {status.counters.parts}
+          {status.counters.parts_required > 0 ? ` / ${status.counters.parts_required}` : ""}
+        </span>
+        <span title="operating time">run {clock(status.counters.operating_time_s)}</span>
+        <span title="cutting time">cut {clock(status.counters.cutting_time_s)}</span>
       </div>
       <div class="row manual">
         <span class="targets" role="group" aria-label="axis or 5-axis feed">

@@ -226,6 +226,7 @@ mod tests {
             feed_override: 100.0,
             rapid_override: 100.0,
             spindle: 0.0,
+            spindle_override: 100.0,
             tool: 1,
             parts: 0.0,
             parts_required: 0.0,

@@ -6,7 +6,7 @@
 //! ├── Axes
 //! │   ├── Linear X, Y, Z …          POSITION ACTUAL / COMMANDED (machine coordinates)
 //! │   ├── Rotary A, B, C …          ANGLE ACTUAL / COMMANDED; Configuration/Motion: the mechanism
-//! │   └── Rotary S (the spindle)   ROTARY_VELOCITY, ROTARY_MODE = SPINDLE
+//! │   └── Rotary S (the spindle)   ROTARY_VELOCITY, ROTARY_VELOCITY_OVERRIDE, ROTARY_MODE = SPINDLE
 //! └── Controller                    EMERGENCY_STOP, SYSTEM condition (the alarms)
 //!     └── Path                      EXECUTION, CONTROLLER_MODE, PROGRAM, BLOCK, LINE_NUMBER,
 //!                                   LINE_LABEL, PATH_POSITION, PATH_FEEDRATE, overrides,
@@ -60,6 +60,7 @@ enum Source {
     Parts,
     PartsRequired,
     Spindle,
+    SpindleOverride,
     SpindleMode,
     /// The axis with this index, sampled (ACTUAL) or commanded: the same number in fivex,
     /// which has no servo loop between the two.
@@ -120,6 +121,7 @@ impl Item {
             Source::Parts => text(Text::Num(o.parts)),
             Source::PartsRequired => text(Text::Num(o.parts_required)),
             Source::Spindle => text(Text::Num(o.spindle)),
+            Source::SpindleOverride => text(Text::Num(o.spindle_override)),
             Source::SpindleMode => text("SPINDLE".into()),
             Source::Axis(i) => o.machine.get(i).map_or(Value::Unavailable, |v| text(Text::Num(*v))),
         }
@@ -254,6 +256,12 @@ impl<'a> Builder<'a> {
                 spindle,
                 "Srpm",
                 Spec::sample("ROTARY_VELOCITY", "RotaryVelocity", Source::Spindle, "REVOLUTION/MINUTE").sub("ACTUAL"),
+            ),
+            self.item(
+                spindle,
+                "Sovr",
+                Spec::event("ROTARY_VELOCITY_OVERRIDE", "RotaryVelocityOverride", Source::SpindleOverride)
+                    .units("PERCENT"),
             ),
             self.item(spindle, "Smode", Spec::event("ROTARY_MODE", "RotaryMode", Source::SpindleMode)),
         ];

@@ -50,9 +50,10 @@ const STATE_NAMES: [&str; 5] = ["Initializing", "Running", "Interrupted", "Abort
 
 /// The optional members of `MachineToolType` fivex fills (browse paths below the machine).
 const MACHINE_OPTIONAL: &[&str] = &["Identification/Model", "Identification/SoftwareRevision", "Notification/Messages"];
-/// ... of the channel's `ChannelMonitoringType`. The spindle's `SpindleMonitoringType` gets
-/// none: fivex has no spindle override (its optional `Override`).
+/// ... of the channel's `ChannelMonitoringType`.
 const CHANNEL_OPTIONAL: &[&str] = &["RapidOverride"];
+/// ... of the spindle's `SpindleMonitoringType`: the spindle speed override.
+const SPINDLE_OPTIONAL: &[&str] = &["Override"];
 const CHANNEL: &str = "Channel1";
 const SPINDLE: &str = "Spindle";
 
@@ -136,6 +137,7 @@ struct Values {
     feed_override: NodeId,
     rapid_override: NodeId,
     is_rotating: NodeId,
+    spindle_override: NodeId,
     program: NodeId,
     state: NodeId,
     state_id: NodeId,
@@ -195,7 +197,7 @@ impl Shown {
             &model.spindle_type,
             &monitoring,
             ReferenceTypeId::HasComponent,
-            &[],
+            SPINDLE_OPTIONAL,
             out,
         );
         // fivex's extensions.
@@ -272,6 +274,7 @@ impl Shown {
             feed_override: channel("FeedOverride"),
             rapid_override: channel("RapidOverride"),
             is_rotating: at(&format!("Monitoring/{SPINDLE}/IsRotating")),
+            spindle_override: at(&format!("Monitoring/{SPINDLE}/Override")),
             program: at("Production/ActiveProgram/Name"),
             state: at("Production/ActiveProgram/State/CurrentState"),
             state_id: at("Production/ActiveProgram/State/CurrentState/Id"),
@@ -308,6 +311,7 @@ impl Shown {
             &v.feed_override,
             &v.rapid_override,
             &v.is_rotating,
+            &v.spindle_override,
             &v.program,
             &v.state,
             &v.state_id,
@@ -342,6 +346,8 @@ impl Shown {
             (at(&format!("Monitoring/{CHANNEL}/FeedOverride/EURange")), range(0.0, 200.0)),
             (at(&format!("Monitoring/{CHANNEL}/RapidOverride/EngineeringUnits")), units(PERCENT)),
             (at(&format!("Monitoring/{CHANNEL}/RapidOverride/EURange")), range(0.0, 100.0)),
+            (at(&format!("Monitoring/{SPINDLE}/Override/EngineeringUnits")), units(PERCENT)),
+            (at(&format!("Monitoring/{SPINDLE}/Override/EURange")), range(50.0, 120.0)),
             (at("Production/ActiveProgram/NumberInList"), Variant::UInt16(0)),
         ];
         for axis in &entry.machine.axes {
@@ -412,6 +418,9 @@ impl Shown {
         }
         if first || (before.spindle != 0.0) != (now.spindle != 0.0) {
             set(&v.is_rotating, Variant::Boolean(now.spindle != 0.0));
+        }
+        if first || before.spindle_override != now.spindle_override {
+            set(&v.spindle_override, Variant::Double(now.spindle_override));
         }
         if first || before.program != now.program {
             let name = now.program.map(|n| format!("O{n:04}")).unwrap_or_default();
@@ -543,6 +552,7 @@ mod tests {
                 feed_override: 100.0,
                 rapid_override: 100.0,
                 spindle: 0.0,
+                spindle_override: 100.0,
                 tool: 0,
                 parts: 0.0,
                 parts_required: 0.0,
@@ -596,11 +606,15 @@ mod tests {
         ] {
             assert!(exists(mandatory), "{mandatory}");
         }
-        for optional in ["Identification/Model", "Notification/Messages", "Monitoring/Channel1/RapidOverride"] {
+        for optional in [
+            "Identification/Model",
+            "Notification/Messages",
+            "Monitoring/Channel1/RapidOverride",
+            "Monitoring/Spindle/Override",
+        ] {
             assert!(exists(optional), "{optional}: fivex fills it");
         }
-        for absent in ["Identification/Location", "Monitoring/Stacklight", "Monitoring/Spindle/Override", "Components"]
-        {
+        for absent in ["Identification/Location", "Monitoring/Stacklight", "Components"] {
             assert!(!exists(absent), "{absent}: optional and not filled");
         }
         for axis in ["X", "Y", "Z", "A", "C"] {

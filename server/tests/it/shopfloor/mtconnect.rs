@@ -152,12 +152,18 @@ async fn every_document_validates_and_says_what_the_api_says() {
     let status = agent.status_until(&head, |s| s["run_state"] == "alarm").await;
     let code = status["alarms"][0]["code"].as_str().unwrap().to_string();
 
+    // The spindle override scales the speed the spindle reports (S1200 at 80 %).
+    let path = format!("/api/v1/controllers/{table}/overrides");
+    let reply = agent.served.send_json(Method::PUT, &path, &json!({"spindle": 80})).await;
+    assert_eq!(reply.status, 200, "{}", String::from_utf8_lossy(&reply.body));
+    assert_eq!(reply.json()["spindle"], 960.0);
+
     // What the API says, the agent says within a round of the observer.
     let machine = agent.status(&table).await["position"]["machine"].clone();
     let deadline = Instant::now() + Duration::from_secs(10);
     let current = loop {
         let current = agent.get(&format!("/{table}/current")).await.body;
-        if value_of(&current, "_Xact") == machine["X"].as_f64() {
+        if value_of(&current, "_Xact") == machine["X"].as_f64() && value_of(&current, "_Sovr") == Some(80.0) {
             break current;
         }
         assert!(Instant::now() < deadline, "X never {}: {current}", machine["X"]);
@@ -167,7 +173,8 @@ async fn every_document_validates_and_says_what_the_api_says() {
         let shown = value_of(&current, &format!("_{axis}act")).unwrap_or_else(|| panic!("no {axis}: {current}"));
         assert!((shown - value.as_f64().unwrap()).abs() < 1e-6, "{axis}: {shown} vs {value}");
     }
-    assert!(current.contains(">1200</RotaryVelocity>"), "{current}");
+    assert!(current.contains(">960</RotaryVelocity>"), "{current}");
+    assert!(current.contains(">80</RotaryVelocityOverride>"), "{current}");
     assert!(current.contains(">READY</Execution>"), "{current}");
     assert!(current.contains(">MANUAL_DATA_INPUT</ControllerMode>"), "{current}");
     let alarmed = agent.get(&format!("/{head}/current")).await.body;

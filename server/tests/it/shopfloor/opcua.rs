@@ -165,6 +165,8 @@ async fn controllers_are_machine_tools_with_the_rest_positions() {
         assert_eq!(m["feed_override"], 100.0);
         assert_eq!(m["feed_override_range"], json!([0.0, 200.0]));
         assert_eq!(m["is_rotating"], false);
+        assert_eq!(m["spindle_override"], 100.0);
+        assert_eq!(m["spindle_override_range"], json!([50.0, 120.0]));
         assert_eq!((&m["program"], &m["program_state"]), (&json!(""), &json!("Initializing")), "{m}");
         assert_eq!(m["x_unit"], "mm");
     }

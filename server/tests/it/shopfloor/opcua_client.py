@@ -135,6 +135,11 @@ async def cmd_browse(client, args):
                 r.High,
             ],
             is_rotating=await value(node, "Monitoring", "Spindle", "IsRotating"),
+            spindle_override=await value(node, "Monitoring", "Spindle", "Override"),
+            spindle_override_range=[
+                (r := await value(node, "Monitoring", "Spindle", "Override", "EURange")).Low,
+                r.High,
+            ],
             program=await value(node, "Production", "ActiveProgram", "Name"),
             program_state=await value(node, "Production", "ActiveProgram", "State", "CurrentState"),
             x_unit=units.DisplayName.Text,

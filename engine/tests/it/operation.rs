@@ -1,0 +1,257 @@
+//! The operator's switches and counters (`controller/operation.rs`, `docs/dialects.md` "The
+//! operator's switches and counters"): dry run feeds cutting moves at the dry run rate with the
+//! feed override and leaves rapids alone, changes only at a block boundary; the spindle
+//! override scales the speed the controller reports; operating and cutting time count
+//! automatic operation and its cutting feeds.
+
+use fivex_engine::controller::{Controller, Refusal, RunState};
+use fivex_engine::interp::Config;
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::Dialect;
+use proptest::prelude::*;
+
+const TICK: f64 = 0.001;
+
+/// mill3 (500 mm/s, 80000 mm/s³) with a dry run rate of `dry_run` mm/min (No.1410).
+fn controller(dry_run: f64) -> Controller {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.manual.dry_run_feed = dry_run;
+    Controller::new(Config::new(m, Dialect::Fanuc))
+}
+
+fn run_to_end(c: &mut Controller) {
+    let start = c.time();
+    while c.run_state() == RunState::Running && c.time() - start < 120.0 {
+        c.tick(TICK);
+    }
+    assert_eq!(c.run_state(), RunState::Idle, "the program ends");
+}
+
+fn start(c: &mut Controller, src: &str) {
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+}
+
+/// A mill3 controller (no dry run rate) that ran `src` to its end after `set` set its panel.
+fn ran(src: &str, set: impl FnOnce(&mut Controller)) -> Controller {
+    let mut c = controller(0.0);
+    set(&mut c);
+    start(&mut c, src);
+    run_to_end(&mut c);
+    c
+}
+
+/// The time `src` takes from cycle start, with dry run on or off and feed override `feed`.
+fn duration(src: &str, dry_run: bool, feed: f64) -> f64 {
+    let mut c = controller(3000.0);
+    c.set_dry_run(dry_run).unwrap();
+    c.panel.feed_override = feed;
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    run_to_end(&mut c);
+    c.time()
+}
+
+/// 100 mm from rest to rest at `v` mm/s on mill3: the cruise and the short ramp 2·√(v/J).
+fn line_time(v: f64) -> f64 {
+    100.0 / v + 2.0 * (v / 80000.0f64).sqrt()
+}
+
+#[test]
+fn dry_run_feeds_cutting_moves_at_the_dry_run_rate_whatever_f() {
+    // F300 (5 mm/s) and F12000 (200 mm/s) both run at No.1410 = 3000 mm/min (50 mm/s).
+    for f in ["F300.", "F12000."] {
+        let src = format!("G90 G01 X100. {f}\nM30\n");
+        assert!((duration(&src, true, 1.0) - line_time(50.0)).abs() <= TICK, "{f}");
+    }
+    // Without dry run F300 is F300.
+    assert!((duration("G90 G01 X100. F300.\nM30\n", false, 1.0) - line_time(5.0)).abs() <= TICK);
+    // G95 (per revolution) and G93 (inverse time) feeds too.
+    let per_rev = duration("G90 G95 S1000 M03\nG01 X100. F0.01\nM30\n", true, 1.0);
+    assert!((per_rev - line_time(50.0)).abs() <= TICK, "{per_rev}");
+}
+
+#[test]
+fn dry_run_takes_the_feed_override_and_leaves_rapids_alone() {
+    let half = duration("G90 G01 X100. F300.\nM30\n", true, 0.5);
+    assert!((half - line_time(25.0)).abs() <= TICK, "{half}");
+    let rapid = "G90 G00 X100.\nM30\n";
+    assert_eq!(duration(rapid, true, 1.0), duration(rapid, false, 1.0));
+}
+
+#[test]
+fn without_a_dry_run_rate_the_jog_feed_is_used() {
+    let c = ran("G90 G01 X100. F9000.\nM30\n", |c| {
+        c.panel.jog_feed = 1500.0;
+        c.set_dry_run(true).unwrap();
+    });
+    assert!((c.time() - line_time(25.0)).abs() <= TICK);
+}
+
+#[test]
+fn dry_run_changes_only_at_a_block_boundary() {
+    let mut c = controller(3000.0);
+    c.panel.single_block = true;
+    c.select_program("G90 G01 X10. F600.\nG01 X110.\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    c.tick(0.1);
+    assert_eq!(c.set_dry_run(true), Err(Refusal::Busy), "not while the axes move");
+    c.feed_hold();
+    c.tick(0.5);
+    assert_eq!(c.run_state(), RunState::Hold);
+    assert_eq!(c.set_dry_run(true), Err(Refusal::Busy), "not while held with the path queued");
+    assert!(!c.panel.dry_run);
+    c.cycle_start().unwrap();
+    run_to_end(&mut c);
+    // At the single-block stop after the first block: the second block runs at the dry run rate.
+    assert_eq!(c.point().line, 1);
+    c.set_dry_run(true).unwrap();
+    let t0 = c.time();
+    c.cycle_start().unwrap();
+    run_to_end(&mut c);
+    assert!((c.time() - t0 - line_time(50.0)).abs() <= TICK, "{}", c.time() - t0);
+}
+
+#[test]
+fn the_spindle_override_scales_the_speed_reported() {
+    let mut c = ran("S1000 M04\nM30\n", |_| {});
+    assert_eq!(c.spindle(), -1000.0);
+    c.set_spindle_override(0.5);
+    assert_eq!((c.spindle(), c.spindle_commanded()), (-500.0, -1000.0));
+    c.set_spindle_override(1.2);
+    assert!((c.spindle() + 1200.0).abs() < 1e-9);
+    // Outside the panel's range it is clamped; a non-number changes nothing.
+    c.set_spindle_override(3.0);
+    assert!((c.spindle() + 1200.0).abs() < 1e-9);
+    c.set_spindle_override(f64::NAN);
+    assert_eq!(c.panel.spindle_override, 1.2);
+}
+
+#[test]
+fn operating_time_counts_automatic_operation_and_cutting_time_its_feeds() {
+    let cut = "G90 G01 X100. F3000.\nM30\n";
+    let c = ran(cut, |_| {});
+    let t = c.times();
+    assert!((t.operating_s - line_time(50.0)).abs() <= 2.0 * TICK, "{t:?}");
+    assert!((t.cutting_s - line_time(50.0)).abs() <= 2.0 * TICK, "{t:?}");
+
+    // Rapids and a dwell are operating time, not cutting time; a hold is neither.
+    let mut c = controller(0.0);
+    c.select_program("G90 G00 X100.\nG04 X0.5\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    c.tick(0.05);
+    c.feed_hold();
+    for _ in 0..1000 {
+        c.tick(TICK);
+    }
+    assert_eq!(c.run_state(), RunState::Hold);
+    let held = c.times();
+    c.tick(1.0);
+    assert_eq!(c.times(), held, "nothing counts while held");
+    c.cycle_start().unwrap();
+    run_to_end(&mut c);
+    let t = c.times();
+    assert_eq!(t.cutting_s, 0.0);
+    assert!(t.operating_s >= 0.5 && t.operating_s < c.time() - 1.0, "{t:?} of {}", c.time());
+    // Idle and manual modes count nothing.
+    c.tick(1.0);
+    assert_eq!(c.times(), t);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Whatever the program's feed, cutting time never exceeds operating time, which never
+    /// exceeds the time that passed.
+    #[test]
+    fn counters_stay_ordered(f in 600.0f64..20000.0, x in 1.0f64..60.0, dwell in 0.0f64..0.3, ticks in 1usize..40) {
+        let mut c = controller(0.0);
+        let src = format!("G90 G00 X{x:.3}\nG01 X0. F{f:.1}\nG04 X{dwell:.3}\nG01 Y{x:.3}\nM30\n");
+        c.select_program(&src).unwrap();
+        c.cycle_start().unwrap();
+        let step = ticks as f64 * TICK;
+        while c.run_state() == RunState::Running && c.time() < 60.0 {
+            c.tick(step);
+            let t = c.times();
+            prop_assert!(t.cutting_s <= t.operating_s + 1e-12);
+            prop_assert!(t.operating_s <= c.time() + 1e-9);
+        }
+        prop_assert!(c.times().cutting_s > 0.0);
+    }
+}
+
+#[test]
+fn machine_lock_runs_the_program_without_moving_the_machine() {
+    let src = "G90 G01 X100. Y20. F3000.\nM30\n";
+    let free = ran(src, |_| {});
+
+    let mut c = controller(0.0);
+    c.set_machine_lock(true).unwrap();
+    start(&mut c, src);
+    c.tick(0.5);
+    assert_eq!(c.set_machine_lock(false), Err(Refusal::Busy), "not while the program moves");
+    let (p, s) = (c.point(), c.sample());
+    assert!(p.work[0] > 10.0 && p.work[0] < 90.0, "the position shown advances: {:?}", p.work);
+    assert_eq!(&p.machine[..3], &[0.0; 3], "the machine stays");
+    assert_eq!(&s.machine[..3], &[0.0; 3]);
+    assert_eq!(s.tip, [0.0; 3], "the tip is where the machine is");
+    run_to_end(&mut c);
+    // The program took its time; it ended where it ends unlocked.
+    assert!((c.time() - free.time()).abs() < 1e-9);
+    assert_eq!(&c.point().work[..2], &[100.0, 20.0]);
+    assert_eq!(&c.point().line, &free.point().line);
+    assert_eq!(&c.lock_offset()[..2], &[-100.0, -20.0]);
+}
+
+#[test]
+fn after_machine_lock_the_positions_disagree_until_the_reference_return() {
+    let mut c = ran("G90 G01 X100. F3000.\nM30\n", |c| c.set_machine_lock(true).unwrap());
+    c.set_machine_lock(false).unwrap();
+    assert_eq!((c.point().machine[0], c.point().work[0]), (0.0, 100.0));
+    // An incremental move moves the machine by its increment from where it stands.
+    start(&mut c, "G91 G01 X10. F3000.\nM30\n");
+    run_to_end(&mut c);
+    let p = c.point();
+    assert!((p.machine[0] - 10.0).abs() < 1e-9 && (p.work[0] - 110.0).abs() < 1e-9, "{p:?}");
+    // The reference return sets them equal again.
+    c.set_mode(fivex_engine::controller::Mode::Ref).unwrap();
+    c.reference_return().unwrap();
+    run_to_end(&mut c);
+    let p = c.point();
+    assert_eq!((p.machine[0], p.work[0]), (0.0, 0.0));
+    assert_eq!(c.lock_offset(), [0.0; fivex_engine::machine::MAX_AXES]);
+}
+
+#[test]
+fn z_axis_neglect_locks_z_alone() {
+    let mut c = ran("G90 G01 X50. Z-20. F3000.\nM30\n", |c| c.set_z_neglect(true).unwrap());
+    let (p, s) = (c.point(), c.sample());
+    assert!((p.machine[0] - 50.0).abs() < 1e-9 && p.machine[2] == 0.0, "{p:?}");
+    assert_eq!(p.work[2], -20.0);
+    assert_eq!(s.tip[2], 0.0, "the tip stays at the machine's Z");
+    c.set_z_neglect(false).unwrap();
+    assert_eq!(c.lock_offset()[2], 20.0);
+    assert_eq!(c.lock_offset()[0], 0.0);
+    // Syntec: no such switch in its manual.
+    let mut syntec = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Syntec));
+    assert_eq!(syntec.set_z_neglect(true), Err(Refusal::NoAxis));
+    assert!(!syntec.panel.z_neglect);
+}
+
+#[test]
+fn auxiliary_function_lock_skips_the_spindle_and_the_tool_change_not_the_program_end() {
+    let src = "S1000 M03\nT2 M06\nG04 X0.1\nM30\n";
+    let free = ran(src, |_| {});
+    let c = ran(src, |c| c.panel.aux_lock = true);
+    assert_eq!((free.spindle(), c.spindle()), (1000.0, 0.0));
+    // Without the tool change's time; the dwell (a G function) and M30 are carried out.
+    assert!(free.time() > c.time() && (c.time() - 0.1).abs() <= 2.0 * TICK, "{} {}", free.time(), c.time());
+    assert_eq!(c.point().line, free.point().line);
+    // M00 still stops.
+    let mut c = controller(0.0);
+    c.panel.aux_lock = true;
+    start(&mut c, "M00\nG01 X1. F100.\nM30\n");
+    c.tick(0.01);
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert_eq!(c.point().machine[0], 0.0);
+}
