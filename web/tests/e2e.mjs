@@ -234,6 +234,8 @@ test("the cycle time is estimated before the start and the time left shown while
   await page.locator(".view3d").screenshot({ path: join(shots, "fit-part.png") });
   await page.locator("[data-run-state=idle]").waitFor({ timeout: 30000 });
   await page.setViewportSize({ width: 1500, height: 1100 });
+});
+
 test("program restart: the dialog searches to a line, the program area shows it, cycle start returns and finishes", async () => {
   // P type after the run above, restarting at line 5 ("X0" after X40. Y40.).
   await page.click("button[data-action=restart]");
