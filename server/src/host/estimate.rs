@@ -216,8 +216,8 @@ pub struct RunProgress {
     /// `elapsed_s / cycle_time_s` in percent, at most 100; absent without an estimate.
     pub percent: Option<f64>,
     /// What makes this run differ from the estimate: `feed_override`, `rapid_override`,
-    /// `single_block`, `optional_stop` (the switch is on), `held` (it was held or stopped);
-    /// empty when it runs as estimated.
+    /// `single_block`, `optional_stop` (the switch is on), `held` (it was held or stopped),
+    /// `dry_run`, `aux_lock` (the switch is on); empty when it runs as estimated.
     pub caveats: Vec<String>,
 }
 
@@ -229,6 +229,10 @@ pub struct Conditions {
     pub single_block: bool,
     pub optional_stop: bool,
     pub held: bool,
+    /// Dry run changes every cutting feed; the auxiliary function lock drops the tool changes'
+    /// time (machine lock changes no time: the program's timing runs on).
+    pub dry_run: bool,
+    pub aux_lock: bool,
 }
 
 /// The progress of a run of `program` that has been under way `elapsed_s`.
@@ -240,6 +244,8 @@ pub fn progress(program: u32, elapsed_s: f64, estimate: Estimate, seen: Conditio
         (seen.single_block, "single_block"),
         (seen.optional_stop, "optional_stop"),
         (seen.held, "held"),
+        (seen.dry_run, "dry_run"),
+        (seen.aux_lock, "aux_lock"),
     ] {
         if differs {
             caveats.push(name.to_string());

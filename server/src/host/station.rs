@@ -209,6 +209,8 @@ impl Station {
             single_block: panel.single_block,
             optional_stop: panel.optional_stop,
             held: run.held || self.controller.run_state() == RunState::Hold,
+            dry_run: panel.dry_run,
+            aux_lock: panel.aux_lock,
         };
         Some(progress(program, self.controller.time() - run.sim_start, estimate, seen))
     }

@@ -99,14 +99,23 @@ fn an_estimate_out_of_wall_time_is_unknown() {
 fn progress_is_elapsed_against_the_estimate_and_names_what_differs() {
     let ready =
         Estimate { state: "ready".into(), cycle_time_s: Some(40.0), alarm: None, reason: None, depends_on: vec![] };
-    let as_estimated =
-        Conditions { feed_override: 1.0, rapid_override: 1.0, single_block: false, optional_stop: false, held: false };
+    let as_estimated = Conditions {
+        feed_override: 1.0,
+        rapid_override: 1.0,
+        single_block: false,
+        optional_stop: false,
+        held: false,
+        dry_run: false,
+        aux_lock: false,
+    };
     let p = estimate::progress(7, 10.0, ready.clone(), as_estimated);
     assert_eq!((p.remaining_s, p.percent, p.caveats.len()), (Some(30.0), Some(25.0), 0));
     // Past the estimate: nothing remains, 100 % at most.
     let p = estimate::progress(7, 50.0, ready.clone(), Conditions { feed_override: 0.5, held: true, ..as_estimated });
     assert_eq!((p.remaining_s, p.percent), (Some(0.0), Some(100.0)));
     assert_eq!(p.caveats, ["feed_override", "held"]);
+    let p = estimate::progress(7, 5.0, ready.clone(), Conditions { dry_run: true, aux_lock: true, ..as_estimated });
+    assert_eq!(p.caveats, ["dry_run", "aux_lock"]);
     // Without a finished estimate there is no remaining time to tell.
     let alarm = Estimate { state: "alarm".into(), ..ready };
     let p = estimate::progress(7, 5.0, alarm, as_estimated);

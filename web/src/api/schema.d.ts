@@ -2605,8 +2605,8 @@ export interface components {
         RunProgress: {
             /**
              * @description What makes this run differ from the estimate: `feed_override`, `rapid_override`,
-             *     `single_block`, `optional_stop` (the switch is on), `held` (it was held or stopped);
-             *     empty when it runs as estimated.
+             *     `single_block`, `optional_stop` (the switch is on), `held` (it was held or stopped),
+             *     `dry_run`, `aux_lock` (the switch is on); empty when it runs as estimated.
              */
             caveats: string[];
             /**
