@@ -241,7 +241,7 @@ impl Controller {
             work: interp.state.shown_position(),
             basis: interp.state.tip_basis(),
         };
-        let executing = Executing::new(interp.state.modal_state());
+        let executing = Executing::new(interp.state.modal_state(), interp.state.active_plane());
         Controller {
             exec: Executor::new(machine.clone(), start),
             stages: Pipeline::for_config(interp.config()),
@@ -386,11 +386,25 @@ impl Controller {
     /// The modal state of the block the machine is executing. The interpreter's own state is
     /// the block it has read to; they differ while blocks read ahead are queued or moving.
     pub fn modal(&self) -> ModalState {
-        if self.cycle.blocks().nothing_ahead() && !self.exec.is_moving() && !self.exec.has_queued() {
+        if self.reading_is_executing() {
             self.interp.state.modal_state()
         } else {
             self.executing.shown().modal
         }
+    }
+
+    /// The tilted working plane of the block the machine is executing (as [`Controller::modal`]).
+    pub fn plane(&self) -> Option<crate::interp::TiltedPlane> {
+        if self.reading_is_executing() {
+            self.interp.state.active_plane()
+        } else {
+            self.executing.shown().plane
+        }
+    }
+
+    /// Nothing read ahead is queued or moving: the interpreter's state is the machine's.
+    fn reading_is_executing(&self) -> bool {
+        self.cycle.blocks().nothing_ahead() && !self.exec.is_moving() && !self.exec.has_queued()
     }
 
     /// The mechanism chain the machine executes in (Syntec G10 L5000: the program's, in program
@@ -582,7 +596,7 @@ impl Controller {
         }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
-        self.executing.settle(self.interp.state.modal_state());
+        self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();
         // Until its first motion ends, the program stands in the state it starts from.
@@ -653,7 +667,7 @@ impl Controller {
         self.cycle.abandon();
         self.stages.reset();
         self.interp.reset();
-        self.executing.settle(self.interp.state.modal_state());
+        self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());
         self.wse_no_manual = self.interp.wse_forbids_manual();
     }
 
@@ -1088,7 +1102,8 @@ impl Controller {
         let produced = !out.is_empty();
         if !matches!(step, Ok(Step::NeedInput)) {
             let (line, n) = self.interp.state.current_block();
-            let block = BlockState { line, n, modal: self.interp.state.modal_state() };
+            let state = &self.interp.state;
+            let block = BlockState { line, n, modal: state.modal_state(), plane: state.active_plane() };
             self.cycle.blocks_mut().push(Item::Block(self.executing.read(block, !produced)));
         }
         // A path stage may release a block it held together with the one just read (cutter

@@ -616,7 +616,7 @@ pub enum Record {
     /// Work offsets a program changed (G10 L2/L20, #5201…): (slot, value per axis).
     WorkOffsets { controller: String, rows: Vec<(usize, Vec<f64>)> },
     /// The tilted working plane kept over a restart changed (Syntec Pr3014 = 2).
-    KeptPlane { controller: String, plane: Option<fivex_engine::interp::KeptPlane> },
+    TiltedPlane { controller: String, plane: Option<fivex_engine::interp::TiltedPlane> },
     /// An alarm was raised.
     Alarm { controller: String, at: String, alarm: fivex_engine::Alarm },
     /// A program run ended (`completed`, `alarm` or `reset`).
@@ -674,7 +674,7 @@ async fn record_on(conn: &mut AnyConnection, record: &Record) -> Result<(), sqlx
     match record {
         Record::Variables { controller, values } => variables_on(conn, controller, values).await,
         Record::ToolOffsets { controller, rows } => tool_offsets_on(conn, controller, rows).await,
-        Record::KeptPlane { controller, plane } => kept_plane_on(conn, controller, plane.as_ref()).await,
+        Record::TiltedPlane { controller, plane } => kept_plane_on(conn, controller, plane.as_ref()).await,
         Record::WorkOffsets { controller, rows } => work_offsets_on(conn, controller, rows).await,
         Record::Alarm { controller, at, alarm } => sqlx::query(
             "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
@@ -836,7 +836,7 @@ pub async fn kept_plane(db: &Db, id: &str) -> Result<Option<String>, sqlx::Error
 pub async fn save_kept_plane(
     db: &Db,
     id: &str,
-    plane: Option<&fivex_engine::interp::KeptPlane>,
+    plane: Option<&fivex_engine::interp::TiltedPlane>,
 ) -> Result<(), sqlx::Error> {
     kept_plane_on(&mut *db.writes().acquire().await?, id, plane).await
 }
@@ -844,7 +844,7 @@ pub async fn save_kept_plane(
 async fn kept_plane_on(
     conn: &mut AnyConnection,
     id: &str,
-    plane: Option<&fivex_engine::interp::KeptPlane>,
+    plane: Option<&fivex_engine::interp::TiltedPlane>,
 ) -> Result<(), sqlx::Error> {
     let json = plane.and_then(|p| serde_json::to_string(p).ok());
     sqlx::query("UPDATE controllers SET kept_plane = $1 WHERE id = $2").bind(json).bind(id).execute(conn).await?;

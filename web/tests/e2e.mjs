@@ -587,6 +587,52 @@ test("under cutting point control (G43.8) the 3D view draws the cutting point's 
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });
 
+test("while a tilted working plane is in force the 3D view draws its frame on the part, and none after G69", async () => {
+  const made = await http("POST", "/api/v1/controllers", { name: "tilted plane", preset: "table-ac" });
+  assert.equal(made.status, 201, JSON.stringify(made.body));
+  const cid = made.body.id;
+  // G68.2 Euler ZXZ I0 J30. K0: the feature system's Z tilted 30° about X, its origin X20. Y10.
+  const program = "O0005\nG90 G54 G00 X0 Y0 Z100. A0 C0\nG68.2 X20. Y10. Z0 I0 J30. K0\nG53.1\nG01 X30. Y20. Z20. F3000.\nM00\nG69\nG00 Z150.\nM30\n";
+  const stored = await http("PUT", `/api/v1/controllers/${cid}/programs/5`, program, "text/plain");
+  assert.ok(stored.status < 300, JSON.stringify(stored.body));
+  await page.goto(`${base}/#/c/${cid}/program`);
+  await page.locator(".view3d canvas").waitFor();
+  await page.click(".prog-list a[data-program='5']");
+  await page.locator(".pill.live").waitFor();
+  const plane = () =>
+    page.evaluate(() => {
+      const s = window.__fivexView?.view.machineScene;
+      if (!s) return null;
+      s.rig.root.updateMatrixWorld(true);
+      const o = s.workingPlane.object;
+      const origin = o.getWorldPosition(o.position.clone());
+      // The plane's Z axis in world coordinates (the rotation only).
+      const z = o.position.clone().set(0, 0, 1).transformDirection(o.matrixWorld);
+      return { visible: o.visible, origin: origin.toArray(), z: z.toArray(), tableZ: s.rig.tableFrame.position.clone().set(0, 0, 1).transformDirection(s.rig.tableFrame.matrixWorld).toArray() };
+    });
+  assert.equal((await poll("the 3D view", plane)).visible, false, "no plane before the program");
+  await page.click("button[data-action=run]");
+  const stopped = await poll("the M00 stop under the plane", async () => {
+    const st = (await http("GET", `/api/v1/controllers/${cid}`)).body;
+    return st.run_state !== "running" && st.line === 6 ? st : null;
+  });
+  assert.ok(stopped.alarms.length === 0, JSON.stringify(stopped.alarms));
+  const drawn = await poll("the plane's frame", async () => ((await plane())?.visible ? plane() : null));
+  // G53.1 turned A so that the plane's Z is the tool axis (machine +Z).
+  assert.ok(Math.abs(drawn.z[2] - 1) < 1e-6, `the plane's Z in the machine: ${drawn.z}`);
+  assert.ok(Math.abs(drawn.tableZ[2] - Math.cos(Math.PI / 6)) < 1e-6, `the table turned 30°: ${drawn.tableZ}`);
+  await page.keyboard.press("Escape");
+  await page.click(".ctl-head h1");
+  await page.keyboard.press("f");
+  await page.waitForTimeout(300);
+  await page.locator(".view3d").screenshot({ path: join(shots, "tilted-plane.png") });
+  await page.click(".op-panel button[title='cycle start']");
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 30000 });
+  await poll("the plane's frame hidden after G69", async () => ((await plane())?.visible === false ? true : null));
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
 test("after G10 L5000 P2 the 3D view turns the exchanged head's axes (set 2 of head-exchange-bc-ac), and set 1's after P1", async () => {
   const file = join(here, "../../machines/head-exchange-bc-ac.json");
   const made = await http("POST", "/api/v1/controllers", { name: "head exchange", dialect: "syntec", machine: JSON.parse(readFileSync(file, "utf8")) });

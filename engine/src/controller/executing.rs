@@ -5,7 +5,7 @@
 //! that its motion segments carry; the controller moves the shown block on when a segment of a
 //! later block starts or when a block without motion is reached.
 
-use crate::interp::ModalState;
+use crate::interp::{ModalState, TiltedPlane};
 use std::collections::VecDeque;
 
 /// What one block left behind once read.
@@ -14,6 +14,8 @@ pub(super) struct BlockState {
     pub line: u32,
     pub n: Option<u32>,
     pub modal: ModalState,
+    /// The tilted working plane in force.
+    pub plane: Option<TiltedPlane>,
 }
 
 /// A block read ahead: its line and number (its modal state is in `Executing::modals`).
@@ -43,6 +45,8 @@ pub(super) struct Executing {
     /// shown one's): the reading runs hundreds of blocks ahead of the machine (the planner's
     /// look-ahead) and a modal state is 104 bytes, mostly repeated.
     modals: VecDeque<(u64, ModalState)>,
+    /// The tilted working planes of the blocks ahead, kept as `modals` (planes change rarely).
+    planes: VecDeque<(u64, Option<TiltedPlane>)>,
     /// The latest block reached in the reading while motion was still under way: it begins when
     /// that motion ends (unless a segment of its own begins it earlier).
     after_motion: Option<u64>,
@@ -51,12 +55,13 @@ pub(super) struct Executing {
 }
 
 impl Executing {
-    pub fn new(modal: ModalState) -> Self {
+    pub fn new(modal: ModalState, plane: Option<TiltedPlane>) -> Self {
         Self {
             read: 0,
-            shown: (0, BlockState { line: 0, n: None, modal }),
+            shown: (0, BlockState { line: 0, n: None, modal, plane }),
             ahead: VecDeque::new(),
             modals: VecDeque::new(),
+            planes: VecDeque::new(),
             after_motion: None,
             last_silent: false,
         }
@@ -73,12 +78,18 @@ impl Executing {
                 if self.modals.back().is_some_and(|m| m.0 == dropped.serial) {
                     self.modals.pop_back();
                 }
+                if self.planes.back().is_some_and(|p| p.0 == dropped.serial) {
+                    self.planes.pop_back();
+                }
             }
         }
         self.last_silent = silent;
         let before = self.modals.back().map_or(&self.shown.1.modal, |m| &m.1);
         if !same(before, &block.modal) {
             self.modals.push_back((self.read, block.modal));
+        }
+        if self.planes.back().map_or(&self.shown.1.plane, |p| &p.1) != &block.plane {
+            self.planes.push_back((self.read, block.plane));
         }
         self.ahead.push_back(Ahead { serial: self.read, line: block.line, n: block.n.unwrap_or(NO_N) });
         self.read
@@ -115,7 +126,11 @@ impl Executing {
             while self.modals.front().is_some_and(|m| m.0 <= s) {
                 modal = self.modals.pop_front().map_or(modal, |m| m.1);
             }
-            self.shown = (s, BlockState { line, n: (n != NO_N).then_some(n), modal });
+            let mut plane = self.shown.1.plane;
+            while self.planes.front().is_some_and(|p| p.0 <= s) {
+                plane = self.planes.pop_front().map_or(plane, |p| p.1);
+            }
+            self.shown = (s, BlockState { line, n: (n != NO_N).then_some(n), modal, plane });
         }
         if self.after_motion.is_some_and(|s| s <= serial) {
             self.after_motion = None;
@@ -123,12 +138,14 @@ impl Executing {
         Some(self.shown.1)
     }
 
-    /// Everything read is dropped or done (reset, a fresh start): show `modal` from now on.
-    pub fn settle(&mut self, modal: ModalState) {
+    /// Everything read is dropped or done (reset, a fresh start): show `modal` and `plane` from
+    /// now on.
+    pub fn settle(&mut self, modal: ModalState, plane: Option<TiltedPlane>) {
         self.ahead.clear();
         self.modals.clear();
+        self.planes.clear();
         self.after_motion = None;
-        self.shown = (self.read, BlockState { modal, ..self.shown.1 });
+        self.shown = (self.read, BlockState { modal, plane, ..self.shown.1 });
     }
 
     pub fn shown(&self) -> &BlockState {

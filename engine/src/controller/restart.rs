@@ -102,7 +102,7 @@ impl Controller {
         self.interp.load(crate::lang::parse_file(&text));
         match self.interp.search(target) {
             Ok(found) => {
-                self.executing.settle(self.interp.state.modal_state());
+                self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());
                 (self.exec.here.line, self.exec.here.n) = (found.line, found.n);
                 self.restart = Some(Restart { kind, phase: RestartPhase::Searched, found });
             }

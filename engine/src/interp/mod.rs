@@ -37,7 +37,7 @@ use expr::{eval, truth, ExprSettings, Value};
 use gcode::GROUPS;
 use gcode::{code, group};
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
-pub use plane::KeptPlane;
+pub use plane::TiltedPlane;
 pub use vars::InterfaceSignals;
 
 /// F, S, T, the tool in the spindle, H and D as they stand.

@@ -33,10 +33,11 @@ pub(super) struct Definition {
     x: Option<Vec3>,
 }
 
-/// A tilted working plane as a controller keeps it over a restart (Syntec Pr3014 = 2, SYN-25):
-/// the G code of group 16 and the feature coordinate system in the workpiece system.
+/// A tilted working plane: the G code of group 16 and the feature coordinate system in the
+/// workpiece system. The one in force is shown (the 3D view draws its frame) and, where the
+/// machine keeps planes over a restart (Syntec Pr3014 = 2, SYN-25), kept.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct KeptPlane {
+pub struct TiltedPlane {
     /// 682, 683 or 684 (G68.2, G68.3, G68.4).
     pub code: u16,
     /// The FCS origin in the workpiece system.
@@ -48,11 +49,15 @@ pub struct KeptPlane {
 impl State {
     /// The plane to keep over a restart: the active one when the machine keeps it there
     /// (`PlaneAfterReset::KeptOverRestart`), else none.
-    pub fn kept_plane(&self) -> Option<KeptPlane> {
-        let fcs =
-            self.plane.filter(|_| self.cfg.machine.five_axis.plane_after_reset == PlaneAfterReset::KeptOverRestart)?;
+    pub fn kept_plane(&self) -> Option<TiltedPlane> {
+        self.active_plane().filter(|_| self.cfg.machine.five_axis.plane_after_reset == PlaneAfterReset::KeptOverRestart)
+    }
+
+    /// The tilted working plane in force at the block read last.
+    pub fn active_plane(&self) -> Option<TiltedPlane> {
+        let fcs = self.plane?;
         let column = |k: usize| [fcs.r[(0, k)], fcs.r[(1, k)], fcs.r[(2, k)]];
-        Some(KeptPlane {
+        Some(TiltedPlane {
             code: self.modes[group::ROTATION],
             origin: fcs.o.into(),
             axes: [column(0), column(1), column(2)],
@@ -62,7 +67,7 @@ impl State {
     /// After a restart: the plane kept over it becomes active again, the machine where it
     /// stands (nothing when the machine does not keep planes over a restart, or `kept` is no
     /// plane).
-    pub fn restore_plane(&mut self, kept: &KeptPlane) {
+    pub fn restore_plane(&mut self, kept: &TiltedPlane) {
         let keeps = self.cfg.machine.five_axis.plane_after_reset == PlaneAfterReset::KeptOverRestart;
         if !keeps || !code::TILTED_PLANES.contains(&kept.code) || self.kinematics.is_none() {
             return;

@@ -677,3 +677,49 @@ fn the_modal_state_shown_is_the_executing_blocks() {
     // Once everything read is done, the shown state is the interpreter's.
     assert_eq!(c.modal(), c.interpreter().state.modal_state());
 }
+
+/// The tilted working plane shown is the executing block's (the 3D view draws its frame): while
+/// the moves in the plane run, the plane is G68.2's even after the interpreter has read the G69
+/// behind them; after G69 there is none.
+#[test]
+fn the_tilted_plane_shown_is_the_executing_blocks() {
+    let m = MachineConfig::preset("table-ac").unwrap();
+    let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
+    let program = "G90 G54 G00 X0 Y0 Z100.\n\
+                   G68.2 X10. Y0 Z0 I0 J30. K0\n\
+                   G53.1\n\
+                   G01 X20. Y10. Z30. F3000.\n\
+                   G01 X-20. Y0 Z30.\n\
+                   G69\n\
+                   G00 Z120.\n\
+                   M30\n";
+    c.select_program(program).unwrap();
+    c.cycle_start().unwrap();
+    let mut in_plane = 0;
+    let mut read_ahead_seen = false;
+    while c.run_state() == RunState::Running && c.time() < 120.0 {
+        c.tick(TICK);
+        match c.point().line {
+            4 | 5 => {
+                let plane = c.plane().expect("the moves in the plane show it");
+                assert_eq!(plane.code, 682);
+                assert!((plane.origin[0] - 10.0).abs() < 1e-12, "{plane:?}");
+                // Euler ZXZ I0 J30 K0: the FCS X axis stays the workpiece X, Z tilts by 30° about it.
+                let z = plane.axes[2];
+                let (s, co) = 30f64.to_radians().sin_cos();
+                assert!((z[0]).abs() < 1e-12 && (z[1] + s).abs() < 1e-12 && (z[2] - co).abs() < 1e-12, "{plane:?}");
+                in_plane += 1;
+                read_ahead_seen |= c.interpreter().state.active_plane().is_none();
+            }
+            7 => assert_eq!(c.plane(), None, "G00 Z120. runs after G69"),
+            _ => {}
+        }
+    }
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert!(in_plane > 10, "the moves in the plane were sampled {in_plane} times");
+    assert!(
+        read_ahead_seen,
+        "the interpreter never read past G69 while the plane's moves ran: the test proves nothing"
+    );
+    assert_eq!(c.plane(), None);
+}

@@ -41,7 +41,7 @@ pub struct Station {
     /// non-vacant ones only.
     saved: BTreeMap<u32, f64>,
     /// The tilted working plane kept over a restart, as last saved.
-    saved_plane: Option<fivex_engine::interp::KeptPlane>,
+    saved_plane: Option<fivex_engine::interp::TiltedPlane>,
     /// Common variables as last streamed.
     streamed: BTreeMap<u32, f64>,
     since_streamed: f64,
@@ -145,7 +145,7 @@ impl Station {
     }
 
     /// The plane kept over a restart, read from the database: active again, and saved.
-    pub fn load_kept_plane(&mut self, plane: &fivex_engine::interp::KeptPlane) {
+    pub fn load_kept_plane(&mut self, plane: &fivex_engine::interp::TiltedPlane) {
         self.controller.interpreter_mut().state.restore_plane(plane);
         self.controller.offsets_changed();
         self.saved_plane = self.controller.interpreter().state.kept_plane();
@@ -289,7 +289,7 @@ impl Station {
             let plane = self.controller.interpreter().state.kept_plane();
             if plane != self.saved_plane {
                 self.saved_plane = plane;
-                records.push(Record::KeptPlane { controller: controller.to_string(), plane });
+                records.push(Record::TiltedPlane { controller: controller.to_string(), plane });
             }
         }
         (messages, records)

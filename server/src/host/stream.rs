@@ -10,6 +10,8 @@ use utoipa::ToSchema;
 
 use fivex_engine::canon::Pos;
 use fivex_engine::controller::{Mode, RunState};
+use fivex_engine::interp::gcode::display;
+use fivex_engine::interp::TiltedPlane;
 use fivex_engine::machine::{Chain, Machine, MachineConfig};
 use fivex_engine::motion::Sample;
 use fivex_engine::Alarm;
@@ -75,6 +77,28 @@ pub struct PositionFrame {
     /// `chain`: carried by every frame so the 3D view turns the head this frame's axes belong to
     /// (a switch takes effect between motions, so no frame mixes two chains).
     pub chain: Chain,
+    /// The tilted working plane of the block moving now (G68.2…G68.4, Syntec G68.2), in the
+    /// workpiece system as `tip`; absent when none is in force. The 3D view draws its frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plane: Option<WorkingPlane>,
+}
+
+/// A tilted working plane: its feature coordinate system in the workpiece system.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct WorkingPlane {
+    /// The G code that defined it, e.g. `G68.2`.
+    #[schema(example = "G68.2")]
+    pub code: String,
+    /// The feature coordinate system's origin, mm.
+    pub origin: [f64; 3],
+    /// Its X, Y and Z axes, unit vectors.
+    pub axes: [[f64; 3]; 3],
+}
+
+impl From<&TiltedPlane> for WorkingPlane {
+    fn from(p: &TiltedPlane) -> Self {
+        WorkingPlane { code: display(p.code), origin: p.origin, axes: p.axes }
+    }
 }
 
 /// What a worker reads every tick for a watched controller: plain numbers, no allocation. It is
@@ -90,6 +114,7 @@ pub struct Reading {
     spindle: f64,
     tool_length: f64,
     chain: Chain,
+    plane: Option<TiltedPlane>,
 }
 
 impl Reading {
@@ -104,6 +129,7 @@ impl Reading {
             spindle: c.spindle(),
             tool_length: c.tool_length(),
             chain: c.chain(),
+            plane: c.plane(),
         }
     }
 
@@ -132,6 +158,7 @@ impl Reading {
             && same(&self.to_go, &other.to_go)
             && same(&a.tip_table, &b.tip_table)
             && self.chain == other.chain
+            && self.plane == other.plane
             && same(a.cutting.as_ref().map_or(&[], |c| &c[..]), b.cutting.as_ref().map_or(&[], |c| &c[..]))
     }
 
@@ -156,6 +183,7 @@ impl Reading {
             tip_table: s.tip_table,
             cutting: s.cutting,
             chain: self.chain,
+            plane: self.plane.as_ref().map(WorkingPlane::from),
         }
     }
 }

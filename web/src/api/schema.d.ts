@@ -2314,6 +2314,7 @@ export interface components {
              * @description Its sequence number.
              */
             n?: number | null;
+            plane?: null | components["schemas"]["WorkingPlane"];
             /**
              * @description The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
              *     names.
@@ -2959,6 +2960,18 @@ export interface components {
              * @example G54
              */
             name: string;
+        };
+        /** @description A tilted working plane: its feature coordinate system in the workpiece system. */
+        WorkingPlane: {
+            /** @description Its X, Y and Z axes, unit vectors. */
+            axes: number[][];
+            /**
+             * @description The G code that defined it, e.g. `G68.2`.
+             * @example G68.2
+             */
+            code: string;
+            /** @description The feature coordinate system's origin, mm. */
+            origin: number[];
         };
     };
     responses: never;

@@ -2,11 +2,12 @@
 // (the mechanism chain each frame names: after Syntec's G10 L5000 P2 the view turns set 2's head),
 // the programmed path of the selected program, the executed tool tip trace and, under cutting
 // point control (G43.8/G43.9), the trace of the cutting point (where the tool touches the part),
-// and the active work offset's zero as a triad; F (or "fit part") frames the part.
+// the active work offset's zero as a triad and, while a tilted working plane is in force, its
+// frame (triad and square); F (or "fit part") frames the part.
 import { useEffect, useRef } from "preact/hooks";
 import type { Frame, Machine } from "../api/client";
 import { View3D, type View3DHandle } from "../three/View3D";
-import { traceFrame, workZeroInTable } from "../three/frameTrace";
+import { planeInTable, traceFrame, workZeroInTable } from "../three/frameTrace";
 
 export function Machine3D({
   machine,
@@ -29,6 +30,7 @@ export function Machine3D({
         traceFrame(view.current, f);
         const zero = workZeroInTable(f);
         if (zero) view.current.setWorkZero(...zero);
+        view.current.setWorkingPlane(planeInTable(f));
       }),
     [onFrame],
   );

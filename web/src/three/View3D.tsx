@@ -17,6 +17,7 @@ import { MachineView } from "./scene";
 import type { MachineViewOptions, ViewPreset } from "./scene";
 import type { MachineModel, MachineModelInput } from "./model";
 import type { Chain } from "./chain";
+import type { PlaneInTable } from "./frameTrace";
 
 export interface View3DHandle {
   /** One executed tool-tip position, table frame. */
@@ -39,6 +40,8 @@ export interface View3DHandle {
   fitPart(): void;
   /** The active work offset's zero in the table frame (a frame's `tip_table − tip`). */
   setWorkZero(x: number, y: number, z: number): void;
+  /** The tilted working plane in the table frame (`planeInTable`), or null to hide it. */
+  setWorkingPlane(plane: PlaneInTable | null): void;
   setView(view: ViewPreset): void;
   /** The underlying view (camera, controls, scene) for anything else. */
   view: MachineView;
@@ -148,6 +151,7 @@ export function View3D(props: View3DProps) {
       fit: () => v.fit(),
       fitPart: () => v.fitPart(),
       setWorkZero: (x, y, z) => v.machineScene.setWorkZero(x, y, z),
+      setWorkingPlane: (plane) => v.machineScene.setWorkingPlane(plane),
       setView: (name) => v.setView(name),
       view: v,
     };

@@ -40,3 +40,15 @@ export function workZeroInTable(f: Pick<Frame, "tip" | "tip_table">): Vec3 | nul
   }
   return p;
 }
+
+/** A tilted working plane in the table frame: its origin and X, Y, Z axes. */
+export type PlaneInTable = { origin: Vec3; axes: [Vec3, Vec3, Vec3] };
+
+/** The frame's tilted working plane in the table frame (its origin moved by `tip_table − tip`, its axes as they are); null when none is in force. */
+export function planeInTable(f: Pick<Frame, "tip" | "tip_table" | "plane">): PlaneInTable | null {
+  const zero = workZeroInTable(f);
+  const p = f.plane;
+  if (!zero || !p || p.origin.length < 3 || p.axes.length < 3) return null;
+  const axes = p.axes.slice(0, 3).map((a) => [a[0], a[1], a[2]] as Vec3) as [Vec3, Vec3, Vec3];
+  return { origin: [zero[0] + p.origin[0], zero[1] + p.origin[1], zero[2] + p.origin[2]], axes };
+}

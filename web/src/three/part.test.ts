@@ -5,7 +5,7 @@ import { describe, expect, it } from "vitest";
 import { fixture } from "./fixtures/fixture";
 import { MachineScene } from "./scene";
 import { MIN_PART_RADIUS, WORK_ZERO_SCREEN, WorkZeroFrame } from "./part";
-import { workZeroInTable } from "./frameTrace";
+import { planeInTable, workZeroInTable } from "./frameTrace";
 import { isFitKey } from "./View3D";
 
 const tableAc = () => fixture.machines.find((m) => m.source === "table-ac") ?? fixture.machines[0];
@@ -34,12 +34,51 @@ describe("the work zero", () => {
 
   it("keeps its size on screen: its scale grows with the camera's distance", () => {
     const z = new WorkZeroFrame();
-    z.set(0, 0, 0);
+    z.set([0, 0, 0]);
     z.fitScreen(new THREE.Vector3(0, 0, 100));
     expect(z.object.scale.x).toBeCloseTo(100 * WORK_ZERO_SCREEN, 12);
     z.fitScreen(new THREE.Vector3(0, 3000, 4000));
     expect(z.object.scale.x).toBeCloseTo(5000 * WORK_ZERO_SCREEN, 9);
     z.dispose();
+  });
+});
+
+describe("the tilted working plane", () => {
+  const s30 = Math.sin(Math.PI / 6);
+  const c30 = Math.cos(Math.PI / 6);
+  // G68.2 X10. I0 J30. K0: the FCS X is the workpiece X, its Z tilted 30° about it.
+  const plane = { code: "G68.2", origin: [10, 0, 0], axes: [[1, 0, 0], [0, c30, s30], [0, -s30, c30]] };
+
+  it("is the frame's plane moved into the table frame by tip_table − tip", () => {
+    const got = planeInTable({ tip: [10, -20, 30], tip_table: [110, 80, 25], plane });
+    expect(got).toEqual({ origin: [110, 100, -5], axes: plane.axes });
+    expect(planeInTable({ tip: [0, 0, 0], tip_table: [0, 0, 0] })).toBeNull();
+    expect(planeInTable({ tip: [0, 0, 0], tip_table: [0, 0, 0], plane: null })).toBeNull();
+  });
+
+  it("rides with the table, turned as the plane at any pose, and hides when the plane ends", () => {
+    const m = tableAc();
+    const s = new MachineScene(m.model);
+    const frame = s.workingPlane.object;
+    expect(frame.visible).toBe(false);
+    const inTable = planeInTable({ tip: [0, 0, 0], tip_table: [100, 50, -20], plane });
+    if (!inTable) throw new Error("no plane");
+    s.setWorkingPlane(inTable);
+    expect(frame.visible).toBe(true);
+    for (const p of m.poses.slice(0, 4)) {
+      s.setAxes(p.axes);
+      s.rig.root.updateMatrixWorld(true);
+      const world = frame.getWorldPosition(new THREE.Vector3());
+      const at = (q: number[]) => new THREE.Vector3(...s.rig.kinematics.tableToMachine(q as [number, number, number], s.getAxes()));
+      expect(world.distanceTo(at([110, 50, -20]))).toBeLessThanOrEqual(1e-9);
+      // Its Z arm's end is the plane's Z axis from its origin (the scale is 1 before a render).
+      const zEnd = new THREE.Vector3(0, 0, 1).applyMatrix4(frame.matrixWorld);
+      expect(zEnd.distanceTo(at([110, 50 - s30, -20 + c30]))).toBeLessThanOrEqual(1e-9);
+    }
+    expect(s.partBounds().containsPoint(frame.getWorldPosition(new THREE.Vector3()))).toBe(true);
+    s.setWorkingPlane(null);
+    expect(frame.visible).toBe(false);
+    s.dispose();
   });
 });
 

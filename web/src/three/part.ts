@@ -1,6 +1,7 @@
 // What the view shows of the part: the active work offset's zero as a frame (a triad that keeps
-// its size on screen at any zoom), and the box a "fit to part" frames — the programmed path, the
-// executed tip trace and the work zero, not the machine around them.
+// its size on screen at any zoom), the tilted working plane's frame while one is in force, and
+// the box a "fit to part" frames — the programmed path, the executed tip trace and the work
+// zero, not the machine around them.
 
 import * as THREE from "three";
 
@@ -10,55 +11,97 @@ export const WORK_ZERO_COLORS = [0xff7a7a, 0x7aff9a, 0x7ab0ff] as const;
 /** The triad's arm length as a fraction of the camera's distance: about 6 % of the view's height. */
 export const WORK_ZERO_SCREEN = 0.045;
 
-/**
- * The active work offset's zero and axes, a child of the table frame (it rides with the table),
- * drawn over everything; hidden until a position gives its place.
- */
-export class WorkZeroFrame {
-  readonly object = new THREE.Group();
+/** The tilted working plane's triad: deeper colours than the work zero's, arms half as long again. */
+export const WORKING_PLANE_COLORS = [0xff3d00, 0x00e05a, 0x2f7bff] as const;
+export const WORKING_PLANE_SCREEN = 0.07;
+/** The square drawn in the plane (its X–Y plane), translucent, so the plane reads as a plane. */
+export const WORKING_PLANE_FILL = 0xffb000;
 
-  constructor() {
-    this.object.name = "work-zero";
+type Vec3 = readonly [number, number, number];
+
+/**
+ * A coordinate system drawn as a triad (and, for a plane, a translucent square in its X–Y
+ * plane), a child of the table frame (it rides with the table), drawn over everything and the
+ * same size on screen at any distance; hidden until `set` places it.
+ */
+export class ScreenFrame {
+  readonly object = new THREE.Group();
+  private readonly screen: number;
+
+  constructor(name: string, colors: readonly number[], screen: number, fill?: number) {
+    this.screen = screen;
+    this.object.name = name;
     this.object.visible = false;
-    const axes: [number, number, number][] = [
+    const axes: Vec3[] = [
       [1, 0, 0],
       [0, 1, 0],
       [0, 0, 1],
     ];
     axes.forEach((d, i) => {
       const g = new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3(...d)]);
-      const line = new THREE.Line(g, new THREE.LineBasicMaterial({ color: WORK_ZERO_COLORS[i], depthTest: false, transparent: true }));
+      const line = new THREE.Line(g, new THREE.LineBasicMaterial({ color: colors[i], depthTest: false, transparent: true }));
       line.renderOrder = 12;
       this.object.add(line);
     });
+    if (fill !== undefined) {
+      const square = new THREE.Mesh(
+        new THREE.PlaneGeometry(1.2, 1.2).translate(0.6, 0.6, 0),
+        new THREE.MeshBasicMaterial({ color: fill, transparent: true, opacity: 0.22, side: THREE.DoubleSide, depthTest: false, depthWrite: false }),
+      );
+      square.renderOrder = 11;
+      this.object.add(square);
+    }
   }
 
-  /** The work zero in the table frame; returns whether it moved. */
-  set(x: number, y: number, z: number): boolean {
-    if (![x, y, z].every(Number.isFinite)) return false;
-    const p = this.object.position;
-    if (this.object.visible && p.x === x && p.y === y && p.z === z) return false;
-    p.set(x, y, z);
-    this.object.visible = true;
-    this.object.updateMatrixWorld(true);
+  /** Its origin in the table frame and, if given, its X, Y, Z axes there (unit vectors); returns whether it changed. */
+  set(origin: Vec3, axes?: readonly [Vec3, Vec3, Vec3]): boolean {
+    if (!origin.every(Number.isFinite) || (axes && !axes.every((a) => a.every(Number.isFinite)))) return false;
+    const o = this.object;
+    const turn = axes ? new THREE.Quaternion().setFromRotationMatrix(new THREE.Matrix4().makeBasis(...(axes.map((a) => new THREE.Vector3(...a)) as [THREE.Vector3, THREE.Vector3, THREE.Vector3]))) : new THREE.Quaternion();
+    if (o.visible && o.position.x === origin[0] && o.position.y === origin[1] && o.position.z === origin[2] && o.quaternion.equals(turn)) return false;
+    o.position.set(...origin);
+    o.quaternion.copy(turn);
+    o.visible = true;
+    o.updateMatrixWorld(true);
     return true;
+  }
+
+  /** No longer drawn; returns whether it was. */
+  hide(): boolean {
+    const was = this.object.visible;
+    this.object.visible = false;
+    return was;
   }
 
   /** Size it for a camera at `camera` (world): the same size on screen at any distance. */
   fitScreen(camera: THREE.Vector3): void {
     if (!this.object.visible) return;
     const here = this.object.getWorldPosition(new THREE.Vector3());
-    const s = Math.max(here.distanceTo(camera) * WORK_ZERO_SCREEN, 1e-6);
+    const s = Math.max(here.distanceTo(camera) * this.screen, 1e-6);
     this.object.scale.setScalar(s);
     this.object.updateMatrixWorld(true);
   }
 
   dispose(): void {
     for (const c of this.object.children) {
-      const line = c as THREE.Line;
-      line.geometry.dispose();
-      (line.material as THREE.Material).dispose();
+      const shape = c as THREE.Line | THREE.Mesh;
+      shape.geometry.dispose();
+      (shape.material as THREE.Material).dispose();
     }
+  }
+}
+
+/** The active work offset's zero and axes. */
+export class WorkZeroFrame extends ScreenFrame {
+  constructor() {
+    super("work-zero", WORK_ZERO_COLORS, WORK_ZERO_SCREEN);
+  }
+}
+
+/** The tilted working plane's feature coordinate system (G68.2…): triad and square. */
+export class WorkingPlaneFrame extends ScreenFrame {
+  constructor() {
+    super("working-plane", WORKING_PLANE_COLORS, WORKING_PLANE_SCREEN, WORKING_PLANE_FILL);
   }
 }
 

@@ -21,7 +21,8 @@ import type { Chain } from "./chain";
 import { normalizeModel } from "./model";
 import type { MachineModel, MachineModelInput } from "./model";
 import { PathLine, ProgrammedLine, TraceLine, TraceStretches } from "./trace";
-import { MIN_PART_RADIUS, WorkZeroFrame, pointsBounds } from "./part";
+import { MIN_PART_RADIUS, WorkZeroFrame, WorkingPlaneFrame, pointsBounds } from "./part";
+import type { PlaneInTable } from "./frameTrace";
 
 export type ViewPreset = "iso" | "front" | "top" | "side";
 
@@ -58,6 +59,8 @@ export class MachineScene {
   readonly tipPoint: THREE.Points;
   /** The active work offset's zero and axes (`setWorkZero`). */
   readonly workZero = new WorkZeroFrame();
+  /** The tilted working plane's frame while one is in force (`setWorkingPlane`). */
+  readonly workingPlane = new WorkingPlaneFrame();
   private axes: AxisValues = {};
   private toolLength = 0;
   private current: MachineRig;
@@ -102,7 +105,7 @@ export class MachineScene {
     this.placeTipPoint();
     this.path = new PathLine();
     this.programmed = new ProgrammedLine();
-    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object);
+    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object, this.workingPlane.object);
     this.rig.root.updateMatrixWorld(true);
   }
 
@@ -131,7 +134,7 @@ export class MachineScene {
     const old = this.current;
     const rig = buildMachine(view);
     // Moved out before the old rig is disposed (which disposes everything under its root).
-    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object);
+    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object, this.workingPlane.object);
     this.scene.remove(old.root);
     old.dispose();
     this.scene.add(rig.root);
@@ -243,12 +246,18 @@ export class MachineScene {
 
   /** The active work offset's zero in the table frame (a position frame's `tip_table − tip`). */
   setWorkZero(x: number, y: number, z: number): void {
-    if (this.workZero.set(x, y, z)) this.onChange();
+    if (this.workZero.set([x, y, z])) this.onChange();
+  }
+
+  /** The tilted working plane in the table frame (`planeInTable`), or null: none in force. */
+  setWorkingPlane(plane: PlaneInTable | null): void {
+    if (plane ? this.workingPlane.set(plane.origin, plane.axes) : this.workingPlane.hide()) this.onChange();
   }
 
   /**
-   * World bounds of the part at the current pose: the programmed path, the executed tip trace
-   * and the work zero (empty when there is none of them), at least MIN_PART_RADIUS around.
+   * World bounds of the part at the current pose: the programmed path, the executed tip trace,
+   * the work zero and the working plane's origin (empty when there is none of them), at least
+   * MIN_PART_RADIUS around.
    */
   partBounds(): THREE.Box3 {
     this.rig.root.updateMatrixWorld(true);
@@ -256,7 +265,7 @@ export class MachineScene {
     const box = new THREE.Box3();
     for (const b of [this.path.bounds, this.programmed.bounds]) if (b && !b.isEmpty()) box.union(b.clone().applyMatrix4(table));
     pointsBounds(this.trace.length, (i) => this.trace.point(i), table, box);
-    if (this.workZero.object.visible) box.expandByPoint(this.workZero.object.getWorldPosition(new THREE.Vector3()));
+    for (const frame of [this.workZero, this.workingPlane]) if (frame.object.visible) box.expandByPoint(frame.object.getWorldPosition(new THREE.Vector3()));
     if (!box.isEmpty()) box.union(new THREE.Box3().setFromCenterAndSize(box.getCenter(new THREE.Vector3()), new THREE.Vector3().setScalar(2 * MIN_PART_RADIUS)));
     return box;
   }
@@ -290,6 +299,7 @@ export class MachineScene {
     this.path.dispose();
     this.programmed.dispose();
     this.workZero.dispose();
+    this.workingPlane.dispose();
     this.rig.dispose();
   }
 }
@@ -499,6 +509,7 @@ export class MachineView {
     if (this.disposed) return;
     this.machineScene.flush();
     this.machineScene.workZero.fitScreen(this.camera.position);
+    this.machineScene.workingPlane.fitScreen(this.camera.position);
     this.renderer.render(this.machineScene.scene, this.camera);
     this.frames++;
   }
