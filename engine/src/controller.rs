@@ -1168,6 +1168,8 @@ impl Controller {
                 self.set_state(RunState::Idle);
             }
             CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
+            // The machine has reached the program's end: a part is done (FANUC No.6700#0 PCM = 0).
+            CanonKind::ProgramEnd { .. } => self.interp.state.count_part(),
             // The manual feeds use the mechanism the program switched to, from here on.
             CanonKind::Chain(chain) => self.follow_chain(*chain),
             CanonKind::Spindle { state, speed } => {

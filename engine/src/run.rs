@@ -103,6 +103,7 @@ pub fn run_observed(
         opts: *opts,
         messages: Vec::new(),
         over_budget: None,
+        parts: 0,
         observer,
     };
     let mut stages = Pipeline::for_config(interp.config());
@@ -154,7 +155,10 @@ pub fn run_observed(
         alarms = vec![Alarm { code, message, line, n }];
         motion_alarm = true;
     }
-    let Driver { exec, messages, .. } = exec;
+    let Driver { exec, messages, parts, .. } = exec;
+    for _ in 0..parts {
+        interp.state.count_part();
+    }
     // The machine is where the executor left it: a path stage may have moved it off the
     // interpreter's point (cutter compensation) or held back what an alarm then dropped.
     let machine = exec.here.machine;
@@ -190,6 +194,8 @@ struct Driver<'o, O: Observer> {
     messages: Vec<String>,
     /// The block during which simulated time ran past `max_time_s`; nothing runs after it.
     over_budget: Option<(u32, Option<u32>)>,
+    /// Program ends (M02/M30) the machine reached: parts machined (#3901).
+    parts: u32,
 }
 
 impl<O: Observer> Driver<'_, O> {
@@ -220,6 +226,7 @@ impl<O: Observer> Driver<'_, O> {
                     CanonKind::Print { text } => self.messages.push(text.clone()),
                     CanonKind::Chain(chain) => self.exec.follow_chain(*chain),
                     CanonKind::Stop { message: Some(m), .. } => self.messages.push(m.clone()),
+                    CanonKind::ProgramEnd { .. } => self.parts += 1,
                     _ => {}
                 }
             }

@@ -615,6 +615,8 @@ pub enum Record {
     ToolOffsets { controller: String, rows: Vec<ToolRow> },
     /// Work offsets a program changed (G10 L2/L20, #5201…): (slot, value per axis).
     WorkOffsets { controller: String, rows: Vec<(usize, Vec<f64>)> },
+    /// The counters of automatic operation changed (operating and cutting time, seconds).
+    Times { controller: String, times: fivex_engine::controller::Times },
     /// The tilted working plane kept over a restart changed (Syntec Pr3014 = 2).
     TiltedPlane { controller: String, plane: Option<fivex_engine::interp::TiltedPlane> },
     /// An alarm was raised.
@@ -675,6 +677,15 @@ async fn record_on(conn: &mut AnyConnection, record: &Record) -> Result<(), sqlx
         Record::Variables { controller, values } => variables_on(conn, controller, values).await,
         Record::ToolOffsets { controller, rows } => tool_offsets_on(conn, controller, rows).await,
         Record::TiltedPlane { controller, plane } => kept_plane_on(conn, controller, plane.as_ref()).await,
+        Record::Times { controller, times } => {
+            sqlx::query("UPDATE controllers SET operating_time_s = $1, cutting_time_s = $2 WHERE id = $3")
+                .bind(times.operating_s)
+                .bind(times.cutting_s)
+                .bind(controller)
+                .execute(conn)
+                .await
+                .map(|_| ())
+        }
         Record::WorkOffsets { controller, rows } => work_offsets_on(conn, controller, rows).await,
         Record::Alarm { controller, at, alarm } => sqlx::query(
             "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
@@ -830,6 +841,18 @@ pub async fn kept_plane(db: &Db, id: &str) -> Result<Option<String>, sqlx::Error
     let row =
         sqlx::query("SELECT kept_plane FROM controllers WHERE id = $1").bind(id).fetch_optional(db.reads()).await?;
     Ok(row.and_then(|r| r.try_get::<Option<String>, _>("kept_plane").ok().flatten()))
+}
+
+/// The counters of automatic operation a controller kept (0 for a controller that never ran).
+pub async fn operation_times(db: &Db, id: &str) -> Result<fivex_engine::controller::Times, sqlx::Error> {
+    let row = sqlx::query("SELECT operating_time_s, cutting_time_s FROM controllers WHERE id = $1")
+        .bind(id)
+        .fetch_optional(db.reads())
+        .await?;
+    Ok(row.map_or_else(Default::default, |r| fivex_engine::controller::Times {
+        operating_s: r.try_get("operating_time_s").unwrap_or(0.0),
+        cutting_s: r.try_get("cutting_time_s").unwrap_or(0.0),
+    }))
 }
 
 /// Stores (or, `None`, clears) the tilted working plane a controller keeps over a restart.

@@ -61,6 +61,13 @@ impl Controller {
         self.times
     }
 
+    /// The counters as saved before a power cycle (FANUC keeps No.6751–6754 through power
+    /// off): counting goes on from them. Negative or non-finite values count as 0.
+    pub fn load_times(&mut self, times: Times) {
+        let kept = |s: f64| if s.is_finite() { s.max(0.0) } else { 0.0 };
+        self.times = Times { operating_s: kept(times.operating_s), cutting_s: kept(times.cutting_s) };
+    }
+
     /// Motion `m` as dry run feeds it: a cutting feed at the dry run rate per minute (F, its
     /// feed mode and G95's spindle no longer matter); `None` when it runs as programmed.
     pub(super) fn dry_run_motion(&self, m: &Motion) -> Option<Motion> {

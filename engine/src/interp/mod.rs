@@ -658,6 +658,11 @@ impl State {
         p.chain(e).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).collect()
     }
 
+    /// A program end (M02/M30) was carried out: one more part machined (#3901).
+    pub fn count_part(&mut self) {
+        self.parts_done += 1.0;
+    }
+
     /// The part count (#3901, parts machined) and the parts required (#3902).
     pub fn part_count(&self) -> (f64, f64) {
         (self.parts_done, self.parts_required)

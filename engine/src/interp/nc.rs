@@ -719,7 +719,8 @@ impl State {
                     }
                 }
                 mcode::M02 | mcode::M30 => {
-                    self.parts_done += 1.0;
+                    // The part is counted when the machine gets there (`State::count_part`), not
+                    // here: the reading runs ahead of the machine.
                     self.emit(out, CanonKind::ProgramEnd { m });
                     self.ended = true;
                     self.hpcc_end();

@@ -158,6 +158,32 @@ fn operating_time_counts_automatic_operation_and_cutting_time_its_feeds() {
     assert_eq!(c.times(), t);
 }
 
+/// #3901 counts a part when the machine reaches M30, not when the reading (which runs ahead of
+/// the machine) reads it; a reset before M30 counts none.
+#[test]
+fn a_part_is_counted_when_the_machine_reaches_m30() {
+    let src = "G90 G01 X100. F3000.\nM30\n";
+    let mut c = controller(0.0);
+    start(&mut c, src);
+    let mut read_ahead = false;
+    while c.run_state() == RunState::Running && c.time() < 10.0 {
+        c.tick(TICK);
+        if c.point().line == 1 {
+            read_ahead |= c.interpreter().state.current_block().0 == 2;
+            assert_eq!(c.interpreter().state.part_count().0, 0.0, "counted while X100. still moves");
+        }
+    }
+    assert!(read_ahead, "M30 was never read while the move ran: the test proves nothing");
+    assert_eq!(c.interpreter().state.part_count().0, 1.0);
+
+    // Reset during the move: no part.
+    let mut c = controller(0.0);
+    start(&mut c, src);
+    c.tick(0.2);
+    c.reset();
+    assert_eq!(c.interpreter().state.part_count().0, 0.0);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(12))]
 

@@ -40,6 +40,8 @@ pub struct Station {
     /// The retained variables (#500–#999, #500000–#999999, #3002, #3901/#3902) as last saved,
     /// non-vacant ones only.
     saved: BTreeMap<u32, f64>,
+    /// The counters of automatic operation as last saved.
+    saved_times: fivex_engine::controller::Times,
     /// The tilted working plane kept over a restart, as last saved.
     saved_plane: Option<fivex_engine::interp::TiltedPlane>,
     /// Common variables as last streamed.
@@ -63,6 +65,7 @@ impl Station {
     pub fn new(controller: Controller, machine: MachineConfig) -> Station {
         let saved = controller.interpreter().state.retained_variables().into_iter().collect();
         let streamed = controller.interpreter().state.common_variables().into_iter().collect();
+        let controller_times = controller.times();
         let mut controller = controller;
         // What the controller starts with counts as saved (the defaults, or rows just read).
         controller.interpreter_mut().state.offsets.take_touched();
@@ -78,6 +81,7 @@ impl Station {
             estimates: Estimates::default(),
             saved,
             saved_plane: None,
+            saved_times: controller_times,
             streamed,
             since_streamed: 0.0,
             since_saved: 0.0,
@@ -88,11 +92,12 @@ impl Station {
     /// state that keeps the offsets, the retained variables and the panel settings.
     pub fn replace_machine(&mut self, machine: MachineConfig, dialect: fivex_engine::Dialect) {
         let old = &self.controller;
-        let (offsets, retained, panel, plane) = (
+        let (offsets, retained, panel, plane, times) = (
             old.interpreter().state.offsets.clone(),
             old.interpreter().state.retained_variables(),
             old.panel,
             old.interpreter().state.kept_plane(),
+            old.times(),
         );
         let mut controller = Controller::new(fivex_engine::interp::Config::new(machine, dialect));
         controller.interpreter_mut().state.offsets = offsets;
@@ -100,6 +105,7 @@ impl Station {
         // (The numbers come from the same engine's retained list: none is refused.)
         let _ = controller.interpreter_mut().state.load_retained(&retained);
         controller.panel = panel;
+        controller.load_times(times);
         // A restart on the new machine keeps the plane as a power cycle would (Pr3014 = 2).
         if let Some(plane) = &plane {
             controller.interpreter_mut().state.restore_plane(plane);
@@ -142,6 +148,13 @@ impl Station {
         }
         self.offsets_saved();
         self.controller.offsets_changed();
+    }
+
+    /// The counters of automatic operation, read from the database: counting goes on from
+    /// them, and they count as saved.
+    pub fn load_times(&mut self, times: fivex_engine::controller::Times) {
+        self.controller.load_times(times);
+        self.saved_times = self.controller.times();
     }
 
     /// The plane kept over a restart, read from the database: active again, and saved.
@@ -282,6 +295,11 @@ impl Station {
             self.since_saved = 0.0;
             if let Some(record) = self.save_changes(controller) {
                 records.push(record);
+            }
+            let times = self.controller.times();
+            if times != self.saved_times {
+                self.saved_times = times;
+                records.push(Record::Times { controller: controller.to_string(), times });
             }
         }
         if changed {

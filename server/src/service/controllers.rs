@@ -209,6 +209,8 @@ pub async fn load(
         });
         station.unmodelled = parameters::unmodelled(dialect, &station.machine.clone(), &station.extra_parameters);
     }
+    let times = db::operation_times(db, &row_id).await?;
+    hosted.station().load_times(times);
     // Syntec Pr3014 = 2: the tilted working plane survives the restart.
     if let Some(json) = db::kept_plane(db, &row_id).await? {
         match serde_json::from_str(&json) {

@@ -190,6 +190,8 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
     assert_eq!(started.json()["program"], 1);
     let done = wait_for(&app, &id, "idle").await;
     assert_eq!(done["position"]["workpiece"]["X"], 10.0, "{done}");
+    let operated = done["counters"]["operating_time_s"].as_f64().unwrap();
+    assert!(operated > 0.0, "{done}");
     let var = |n: u32| {
         let app = &app;
         let id = id.clone();
@@ -212,6 +214,9 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
         (c["name"].as_str(), c["run_state"].as_str(), c["speed"].as_f64()),
         (Some("fast"), Some("idle"), Some(50.0))
     );
+    // The operating and cutting time go on from what they were (FANUC keeps them through power off).
+    assert_eq!(c["counters"]["operating_time_s"].as_f64(), Some(operated), "{c}");
+    assert_eq!(c["counters"]["cutting_time_s"], done["counters"]["cutting_time_s"], "{c}");
     for (n, v) in [
         (500, json!(7.5)),
         (501, json!(15.0)),
