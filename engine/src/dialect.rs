@@ -14,6 +14,8 @@ pub enum Dialect {
     #[default]
     Fanuc,
     Syntec,
+    /// Haas Next Generation Control (mill).
+    Haas,
 }
 
 impl std::str::FromStr for Dialect {
@@ -22,7 +24,8 @@ impl std::str::FromStr for Dialect {
         match s.to_ascii_lowercase().as_str() {
             "fanuc" => Ok(Dialect::Fanuc),
             "syntec" => Ok(Dialect::Syntec),
-            other => Err(format!("unknown dialect '{other}' (expected fanuc or syntec)")),
+            "haas" => Ok(Dialect::Haas),
+            other => Err(format!("unknown dialect '{other}' (expected fanuc, syntec or haas)")),
         }
     }
 }
@@ -32,6 +35,7 @@ impl Dialect {
         match self {
             Dialect::Fanuc => "fanuc",
             Dialect::Syntec => "syntec",
+            Dialect::Haas => "haas",
         }
     }
 
@@ -39,7 +43,8 @@ impl Dialect {
     pub fn describe(self, id: &AlarmId) -> (String, String) {
         match id {
             AlarmId::MacroAlarm { number, message } => match self {
-                Dialect::Fanuc => (format!("MC{}", 3000 + number), message.clone()),
+                // TODO(haas): Haas's own codes (skeleton: FANUC's).
+                Dialect::Fanuc | Dialect::Haas => (format!("MC{}", 3000 + number), message.clone()),
                 Dialect::Syntec => (format!("MAR-{number:03}"), message.clone()),
             },
             AlarmId::BlockBudgetExceeded { budget } => {
@@ -52,8 +57,8 @@ impl Dialect {
             AlarmId::OverTravel { axis, positive } => {
                 let sign = if *positive { '+' } else { '-' };
                 match (self, positive) {
-                    (Dialect::Fanuc, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
-                    (Dialect::Fanuc, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    (Dialect::Fanuc | Dialect::Haas, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    (Dialect::Fanuc | Dialect::Haas, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
                     (Dialect::Syntec, true) => {
                         ("MOT-001".into(), format!("{axis} axis exceeds positive software limit"))
                     }
@@ -67,7 +72,8 @@ impl Dialect {
             }
             plain => {
                 let (fanuc, syntec) = codes(plain);
-                let (code, message) = if self == Dialect::Fanuc { fanuc } else { syntec };
+                // TODO(haas): Haas's own codes (skeleton: FANUC's).
+                let (code, message) = if self != Dialect::Syntec { fanuc } else { syntec };
                 (code.into(), message.into())
             }
         }

@@ -500,7 +500,8 @@ static INDEX: [u8; MAX_CODE + 1] = {
 pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
     let i = *INDEX.get(code as usize)?;
     let def = TABLE.get((i as usize).checked_sub(1)?)?;
-    if def.syntec_only && dialect != Dialect::Syntec || def.fanuc_only && dialect != Dialect::Fanuc {
+    // TODO(haas): the NGC's own code list (skeleton: FANUC's).
+    if def.syntec_only && dialect != Dialect::Syntec || def.fanuc_only && dialect == Dialect::Syntec {
         return None;
     }
     Some(def)

@@ -186,7 +186,8 @@ impl State {
         let q = w.integer(b'Q').map(|q| q as u32);
         // Syntec's G68.2 has the Euler form only (SYN-18): its P and Q mean nothing.
         let form = match self.cfg.dialect {
-            crate::Dialect::Fanuc => w.integer(b'P').unwrap_or(0.0) as u32,
+            // TODO(haas): the NGC's G68.2 forms (skeleton: FANUC's).
+            crate::Dialect::Fanuc | crate::Dialect::Haas => w.integer(b'P').unwrap_or(0.0) as u32,
             crate::Dialect::Syntec => 0,
         };
         let local = match form {

@@ -406,7 +406,8 @@ impl State {
         let posture = t.posture
             && !through_singular
             && match self.cfg.dialect {
-                crate::Dialect::Fanuc => true,
+                // TODO(haas): skeleton: FANUC's.
+                crate::Dialect::Fanuc | crate::Dialect::Haas => true,
                 crate::Dialect::Syntec => kind != MotionKind::Rapid,
             };
         if let (true, Some(a), crate::Dialect::Fanuc, false) = (posture, &arc, self.cfg.dialect, t.starting) {

@@ -70,7 +70,8 @@ impl Kinematics {
     /// Choose among `candidates` (from [`Kinematics::inverse`]) starting from `from`.
     pub fn select(&self, candidates: &[Candidate], from: &[f64], how: Selection) -> Result<Choice, AlarmId> {
         match how.dialect {
-            Dialect::Fanuc => self.select_fanuc(candidates, from, how.pri),
+            // TODO(haas): skeleton: FANUC's.
+            Dialect::Fanuc | Dialect::Haas => self.select_fanuc(candidates, from, how.pri),
             Dialect::Syntec => self.select_syntec(candidates, from, how.p),
         }
     }

@@ -22,7 +22,8 @@ use crate::Dialect;
 /// The machine a vendor parameter list describes.
 pub fn machine_from(dialect: Dialect, name: &str, params: &Params) -> Result<MachineConfig, ConfigError> {
     let m = match dialect {
-        Dialect::Fanuc => fanuc::machine(name, params)?,
+        // TODO(haas): the Haas settings (MRZP…); skeleton: FANUC's parameters.
+        Dialect::Fanuc | Dialect::Haas => fanuc::machine(name, params)?,
         Dialect::Syntec => syntec::machine(name, params)?,
     };
     // The mechanism checks (parallel axes, axes parallel to the tool) raise the vendor's alarm.
@@ -34,7 +35,7 @@ pub fn machine_from(dialect: Dialect, name: &str, params: &Params) -> Result<Mac
 pub fn params_of(dialect: Dialect, m: &MachineConfig) -> Result<Params, ConfigError> {
     crate::kin::Kinematics::new(m)?;
     match dialect {
-        Dialect::Fanuc => fanuc::params(m),
+        Dialect::Fanuc | Dialect::Haas => fanuc::params(m),
         Dialect::Syntec => syntec::params(m),
     }
 }

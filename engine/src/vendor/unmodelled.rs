@@ -51,6 +51,7 @@ pub fn of_params(dialect: Dialect, given: &Params) -> Vec<Unmodelled> {
     let Ok(base) = machine_from(dialect, "m", given) else { return Vec::new() };
     let name = |n: u32| match dialect {
         Dialect::Fanuc => format!("No.{n}"),
+        Dialect::Haas => format!("Setting {n}"),
         Dialect::Syntec => format!("Pr{n}"),
     };
     // Whether the list with `n` set to `value` (`None`: removed) describes another machine (or

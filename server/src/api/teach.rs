@@ -86,7 +86,7 @@ pub struct TaughtPlane {
 fn syntec_only(hosted: &Hosted) -> Result<(), ApiError> {
     match hosted.dialect {
         Dialect::Syntec => Ok(()),
-        Dialect::Fanuc => Err(ApiError::Conflict(teach::LatchRefused::NotSyntec.reason().into())),
+        Dialect::Fanuc | Dialect::Haas => Err(ApiError::Conflict(teach::LatchRefused::NotSyntec.reason().into())),
     }
 }
 

@@ -1359,7 +1359,7 @@ export interface components {
             message: string;
         };
         /** @enum {string} */
-        Dialect: "fanuc" | "syntec";
+        Dialect: "fanuc" | "syntec" | "haas";
         /** @description `PUT /emergency-stop`. */
         EmergencyStop: {
             /** @description Pressed (stop every axis at once, alarm) or released. */
