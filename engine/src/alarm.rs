@@ -171,8 +171,12 @@ pub enum AlarmId {
     IllegalLoopNumber,
     /// GOTO to a sequence number that does not exist.
     IllegalSequenceNumber,
-    /// A called program (M98/G65/G66) or a return sequence number (M99 P) that does not exist.
+    /// A called program (M98/G65/G66) that does not exist.
     ProgramNotFound,
+    /// A sequence number that a call or return names does not exist: M99 P, Haas M97 P.
+    LineNotFound,
+    /// Haas: M97, M98 or G65 without the P that names the line or program (alarm 313).
+    MissingP,
     /// Too many nested subprogram or macro calls.
     NestingTooDeep,
     /// G used as a G65 argument.

@@ -131,7 +131,9 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         if let Some((p, col)) = p {
                             let m98 = words.iter().any(|w| w.letter == b'M');
                             let has_l = words.iter().any(|w| w.letter == b'L');
-                            let number = if m98 && !has_l && p >= 10_000.0 { p % 10_000.0 } else { p };
+                            // Haas: P is the program number itself (no count in front of it).
+                            let count_form = m98 && !has_l && p >= 10_000.0 && dialect != Dialect::Haas;
+                            let number = if count_form { p % 10_000.0 } else { p };
                             if !numbers.contains(&(number as u32)) {
                                 diags.push(at(
                                     col,

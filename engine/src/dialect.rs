@@ -2,7 +2,8 @@
 //!
 //! FANUC codes are the 30i's own (`PS0010`, `PS0112`…). Syntec's seed lists only its 5-axis
 //! alarms (`COR-070`, `COR-153`, `MAR-406`…); the codes it does not print are *constructed* in a
-//! range the seed does not use and are marked so in `docs/dialects.md`.
+//! range the seed does not use and are marked so in `docs/dialects.md`. Haas codes are the NGC
+//! mill alarm numbers (`313`, `314`…), with constructed `7xx` where no Haas source names one.
 
 use crate::alarm::AlarmId;
 use serde::{Deserialize, Serialize};
@@ -43,8 +44,9 @@ impl Dialect {
     pub fn describe(self, id: &AlarmId) -> (String, String) {
         match id {
             AlarmId::MacroAlarm { number, message } => match self {
-                // TODO(haas): Haas's own codes (skeleton: FANUC's).
-                Dialect::Fanuc | Dialect::Haas => (format!("MC{}", 3000 + number), message.clone()),
+                Dialect::Fanuc => (format!("MC{}", 3000 + number), message.clone()),
+                // Haas: the user alarms are numbered 1000 + n (`docs/dialects.md`, "Haas").
+                Dialect::Haas => (format!("{}", 1000 + number), message.clone()),
                 Dialect::Syntec => (format!("MAR-{number:03}"), message.clone()),
             },
             AlarmId::BlockBudgetExceeded { budget } => {
@@ -57,8 +59,19 @@ impl Dialect {
             AlarmId::OverTravel { axis, positive } => {
                 let sign = if *positive { '+' } else { '-' };
                 match (self, positive) {
-                    (Dialect::Fanuc | Dialect::Haas, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
-                    (Dialect::Fanuc | Dialect::Haas, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    // Haas: 316–319 for X, Y, Z, A (its alarm list); the other axes constructed.
+                    (Dialect::Haas, _) => {
+                        let code = match axis {
+                            'X' => "316",
+                            'Y' => "317",
+                            'Z' => "318",
+                            'A' => "319",
+                            _ => "725",
+                        };
+                        (code.into(), format!("{axis} OVER TRAVEL RANGE"))
+                    }
+                    (Dialect::Fanuc, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    (Dialect::Fanuc, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
                     (Dialect::Syntec, true) => {
                         ("MOT-001".into(), format!("{axis} axis exceeds positive software limit"))
                     }
@@ -72,8 +85,11 @@ impl Dialect {
             }
             plain => {
                 let (fanuc, syntec) = codes(plain);
-                // TODO(haas): Haas's own codes (skeleton: FANUC's).
-                let (code, message) = if self != Dialect::Syntec { fanuc } else { syntec };
+                let (code, message) = match self {
+                    Dialect::Fanuc => fanuc,
+                    Dialect::Syntec => syntec,
+                    Dialect::Haas => haas(plain),
+                };
                 (code.into(), message.into())
             }
         }
@@ -163,6 +179,8 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::IllegalLoopNumber,
     AlarmId::IllegalSequenceNumber,
     AlarmId::ProgramNotFound,
+    AlarmId::LineNotFound,
+    AlarmId::MissingP,
     AlarmId::NestingTooDeep,
     AlarmId::GAsArgument,
     AlarmId::MixedStatements,
@@ -300,6 +318,10 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         IllegalLoopNumber => (("PS0126", "ILLEGAL LOOP NUMBER"), ("COR-028", "Illegal loop number")),
         IllegalSequenceNumber => (("PS0128", "ILLEGAL MACRO SEQUENCE NUMBER"), ("COR-029", "GOTO target not found")),
         ProgramNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
+        // FANUC and Syntec raise their "not found" alarm for these (PS0078 / COR-030), as before
+        // the Haas dialect split them out.
+        LineNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
+        MissingP => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
         NestingTooDeep => (("PS0077", "TOO MANY SUB,MACRO NESTING"), ("COR-031", "Too many nested calls")),
         GAsArgument => (("PS0129", "USE 'G' AS ARGUMENT"), ("COR-032", "G used as macro argument")),
         MixedStatements => {
@@ -325,6 +347,80 @@ fn codes(id: &AlarmId) -> (Text, Text) {
     }
 }
 
+/// Haas NGC code and message of every alarm that carries no data. The numbers 1xx–5xx are the
+/// Haas mill alarm list's (program 3xx, macro 5xx); 7xx are **constructed** for conditions no
+/// Haas source names, in a range the list does not use (`docs/dialects.md`, "Haas").
+fn haas(id: &AlarmId) -> Text {
+    use AlarmId::*;
+    const INVALID_G: Text = ("310", "INVALID G CODE");
+    const UNKNOWN: Text = ("311", "UNKNOWN CODE");
+    const RANGE: Text = ("331", "RANGE ERROR");
+    const FIVE_AXIS: Text = ("730", "ILLEGAL COMMAND IN 5-AXIS MODE");
+    const TCP: Text = ("731", "ILLEGAL COMMAND IN TCPC");
+    const SETTING: Text = ("732", "MACHINE SETTING INCORRECT FOR 5-AXIS");
+    const PLANE: Text = ("733", "ILLEGAL COMMAND IN TILTED PLANE");
+    const WSE: Text = ("734", "ILLEGAL COMMAND IN WORK SETTING ERROR COMP");
+    const NURBS: Text = ("735", "NURBS FORMAT ERROR");
+    const RESTART: Text = ("740", "RESTART NOT POSSIBLE");
+    match id {
+        Syntax | ImproperAddress | AddressNotBuilt => UNKNOWN,
+        NoDataAfterAddress => ("701", "NO VALUE AFTER ADDRESS"),
+        TooManyDigits | IllegalOffsetNumber => RANGE,
+        ImproperGCode | GCodeNotBuilt => INVALID_G,
+        IllegalGCodeCombination => ("339", "MULTIPLE CODES"),
+        FeedZero => ("320", "NO FEED RATE SPECIFIED"),
+        ArcRadiusTolerance => ("338", "INVALID IJK AND XYZ IN G02 OR G03"),
+        PlaneChangeInCompensation => ("702", "PLANE CHANGE IN CUTTER COMP"),
+        DataSettingFormat => ("703", "G10 FORMAT ERROR"),
+        MissingQ => ("305", "INVALID Q IN CANNED CYCLE"),
+        ReferenceReturnInCycle => ("704", "G28 NOT ALLOWED IN CANNED CYCLE"),
+        IllegalReferenceReturn => ("705", "ILLEGAL REFERENCE RETURN"),
+        IllegalScaleRate => ("706", "ILLEGAL SCALE FACTOR"),
+        IllegalPlaneInRotation => ("707", "ILLEGAL PLANE IN ROTATION"),
+        UnitChangeInMode => ("708", "G20/G21 NOT ALLOWED IN THIS MODE"),
+        ArcInCompStartCancel => ("340", "CUTTER COMP BEGIN WITH G02 OR G03"),
+        CutterInterference => ("367", "CUTTER COMP INTERFERENCE"),
+        CutterNoSolution => ("342", "CUTTER COMP PATH TOO SMALL"),
+        CornerArcWithMove | CrcTableParameter | LeadingEdgeAlongTool => INVALID_G,
+        IllegalCommandInMode | ChainSwitchInMode | ChainCommand | AlignmentInCompensation => FIVE_AXIS,
+        IllegalCommandInTcp | RotaryCommandInTcpType2 | ZeroToolVector | IncrementalInTcpType2 => TCP,
+        MachineCoordinatesInTcp | HpccInTcp | AxisNotInTcp | TcpParameter | CuttingPoint => TCP,
+        HpccFormat => INVALID_G,
+        MachineParameter | AxisSetting | ToolDirectionSetting | ToolAxisParallel | MechanismConflict => SETTING,
+        ChainQ | ChainNotConfigured | ChainNotSpindle => SETTING,
+        NoRotarySolution => ("736", "NO ROTARY AXIS SOLUTION"),
+        MasterOutOfRange | SlaveOutOfRange => ("737", "ROTARY AXIS OUT OF RANGE"),
+        PostureCrossesPlane => TCP,
+        NurbsFormat | NurbsBlock | NurbsStart => NURBS,
+        TwpFormat | TwpIllegalCommand | AlignmentP | AlignmentToolZero => PLANE,
+        AlignmentInWse | WseCommand | WseModalState | WseBasicAxes | WseToolDirection | WseUnreachable => WSE,
+        MacroFormat => ("540", "MACRO SYNTAX NOT ALLOWED"),
+        VariableOutOfRange => ("503", "ILLEGAL MACRO VARIABLE REFERENCE"),
+        WriteProtectedVariable => ("522", "ILLEGAL ASSIGNMENT VAR OR VALUE"),
+        ZeroDivide => ("508", "DIVISION BY ZERO"),
+        BracketNesting => ("504", "UNBALANCED PAREN. IN EXPRESSION"),
+        ArgumentOutOfRange => ("521", "ILLEGAL FUNCTIONAL PARAMETER"),
+        FloatOverflow => ("709", "CALCULATION OVERFLOW"),
+        MissingEnd => ("538", "MATCHING END NOT FOUND"),
+        IllegalLoopNumber => ("534", "DO OR END ALREADY IN USE"),
+        IllegalSequenceNumber | LineNotFound => ("337", "GOTO OR P LINE NOT FOUND"),
+        ProgramNotFound => ("314", "SUBPROGRAM NOT IN MEMORY"),
+        MissingP => ("313", "NO P CODE IN M97, M98 OR G65"),
+        NestingTooDeep => ("307", "SUBROUTINE NESTING TOO DEEP"),
+        GAsArgument => ("529", "ILLEGAL G65 PARAMETER"),
+        MixedStatements => ("710", "NC AND MACRO STATEMENT IN ONE BLOCK"),
+        EmergencyStop => ("107", "EMERGENCY OFF"),
+        RestartBlockNotFound | RestartPNoRun | RestartPOffsetChanged | RestartMdi => RESTART,
+        RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
+        // Alarms with data are described in `Dialect::describe`; this arm is never taken.
+        MacroAlarm { .. }
+        | BlockBudgetExceeded { .. }
+        | TimeBudgetExceeded { .. }
+        | BlockOutputExceeded { .. }
+        | OverTravel { .. } => ("FX0000", "ALARM"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -344,7 +440,8 @@ mod tests {
             .map(|id| {
                 let (fc, fm) = Dialect::Fanuc.describe(id);
                 let (sc, sm) = Dialect::Syntec.describe(id);
-                format!("| `{id:?}` | `{fc}` {fm} | `{sc}` {sm} |\n")
+                let (hc, hm) = Dialect::Haas.describe(id);
+                format!("| `{id:?}` | `{fc}` {fm} | `{sc}` {sm} | `{hc}` {hm} |\n")
             })
             .collect();
         let docs = include_str!("../../docs/dialects.md");
@@ -356,5 +453,21 @@ mod tests {
         let id = AlarmId::MacroAlarm { number: 12, message: "TOOL BROKEN".into() };
         assert_eq!(Dialect::Fanuc.describe(&id), ("MC3012".into(), "TOOL BROKEN".into()));
         assert_eq!(Dialect::Syntec.describe(&id), ("MAR-012".into(), "TOOL BROKEN".into()));
+        assert_eq!(Dialect::Haas.describe(&id), ("1012".into(), "TOOL BROKEN".into()));
+    }
+
+    #[test]
+    fn haas_program_alarms() {
+        let code = |id: AlarmId| Dialect::Haas.describe(&id);
+        assert_eq!(code(AlarmId::MissingP), ("313".into(), "NO P CODE IN M97, M98 OR G65".into()));
+        assert_eq!(code(AlarmId::ProgramNotFound).0, "314");
+        assert_eq!(code(AlarmId::ImproperGCode), ("310".into(), "INVALID G CODE".into()));
+        assert_eq!(code(AlarmId::LineNotFound).0, "337");
+        // FANUC keeps its one "not found" alarm for all three.
+        for id in [AlarmId::MissingP, AlarmId::LineNotFound, AlarmId::ProgramNotFound] {
+            assert_eq!(Dialect::Fanuc.describe(&id).0, "PS0078");
+        }
+        let ot = AlarmId::OverTravel { axis: 'Z', positive: false };
+        assert_eq!(Dialect::Haas.describe(&ot), ("318".into(), "Z OVER TRAVEL RANGE".into()));
     }
 }

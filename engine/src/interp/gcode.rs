@@ -1,5 +1,6 @@
 //! The milling G-code set of the FANUC 30i-A5 (M series), grouped exactly as FANUC groups them,
-//! with the Syntec-only and FANUC-only codes marked. Which of them fivex performs: `unbuilt`.
+//! with the Syntec-only and FANUC-only codes marked, and the Haas NGC's codes ([`HAAS_HAS`],
+//! [`HAAS_TABLE`]). Which of them fivex performs: `unbuilt`.
 //! A G code is held as its number ×10 (`G43.4` → 434), and named in code by [`code`]
 //! (`code::G43_4`), a modal group by [`group`] (`group::LENGTH_COMP`).
 
@@ -496,15 +497,111 @@ static INDEX: [u8; MAX_CODE + 1] = {
     index
 };
 
+/// The FANUC codes of [`TABLE`] that the Haas NGC mill has with the same function (the NGC's
+/// G-code list, `docs/dialects.md`, "Haas"). Every other FANUC code is not a code of the Haas
+/// dialect (alarm 310 INVALID G CODE); the NGC's own codes are [`HAAS_TABLE`]. Sorted.
+pub const HAAS_HAS: &[u16] = &[
+    0, 10, 20, 30, 40, 90, 100, 170, 180, 190, 200, 210, 280, 290, 310, 400, 410, 420, 430, 440, 490, 500, 510,
+    520, 530, 540, 550, 560, 570, 580, 590, 600, 610, 640, 650, 680, 690, 730, 740, 760, 800, 810, 820, 830, 840,
+    850, 860, 870, 880, 890, 900, 910, 920, 930, 940, 950, 980, 990,
+];
+
+const fn h(code: u16, group: usize) -> GDef {
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false }
+}
+const fn hx(code: u16, group: usize) -> GDef {
+    GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false }
+}
+
+/// The Haas NGC mill's own codes: numbers FANUC does not have, or has with another function
+/// (G35, G36, G37, G47, G161). Groups are fivex's (FANUC's numbers): the NGC's group 12 (work
+/// offsets) is [`group::WORK_SYSTEM`]. Which of them fivex performs: `unbuilt` (G110–G129 and
+/// G154 are the G54.1 P work offsets). Sorted by code.
+pub const HAAS_TABLE: &[GDef] = &[
+    h(120, 0),   // G12 circular pocket milling CW
+    h(130, 0),   // G13 circular pocket milling CCW
+    hx(350, 0),  // G35 automatic tool diameter measurement (probe)
+    hx(360, 0),  // G36 automatic work offset measurement (probe)
+    hx(370, 0),  // G37 automatic tool offset measurement (probe)
+    h(470, 0),   // G47 text engraving
+    h(700, 0),   // G70 bolt hole circle
+    h(710, 0),   // G71 bolt hole arc
+    h(720, 0),   // G72 bolt holes along an angle
+    h(770, 9),   // G77 back bore canned cycle
+    h(1000, 0),  // G100 mirror image cancel
+    hx(1010, 0), // G101 mirror image
+    h(1030, 0),  // G103 limit block buffering
+    h(1070, 0),  // G107 cylindrical mapping
+    h(1100, 14), // G110 … G129: G154 P1 … P20
+    h(1110, 14),
+    h(1120, 14),
+    h(1130, 14),
+    h(1140, 14),
+    h(1150, 14),
+    h(1160, 14),
+    h(1170, 14),
+    h(1180, 14),
+    h(1190, 14),
+    h(1200, 14),
+    h(1210, 14),
+    h(1220, 14),
+    h(1230, 14),
+    h(1240, 14),
+    h(1250, 14),
+    h(1260, 14),
+    h(1270, 14),
+    h(1280, 14),
+    h(1290, 14),
+    h(1360, 0),  // G136 automatic work offset center measurement (probe)
+    h(1410, 7),  // G141 3D+ cutter compensation
+    h(1430, 8),  // G143 5-axis tool length compensation
+    h(1500, 0),  // G150 general purpose pocket milling
+    h(1530, 9),  // G153 5-axis high speed peck drilling
+    h(1540, 14), // G154 P1–P99 work offsets
+    h(1550, 9),  // G155 5-axis reverse tap
+    h(1610, 9),  // G161 5-axis drill
+    h(1620, 9),  // G162 5-axis spot drill
+    h(1630, 9),  // G163 5-axis normal peck drilling
+    h(1640, 9),  // G164 5-axis tapping
+    h(1650, 9),  // G165 5-axis boring
+    h(1660, 9),  // G166 5-axis bore and stop
+    h(1690, 9),  // G169 5-axis bore and dwell
+    h(1740, 0),  // G174 CCW non-vertical rigid tap
+    h(1840, 0),  // G184 CW non-vertical rigid tap
+    h(1870, 0),  // G187 smoothness level
+    h(2340, 8),  // G234 tool center point control
+    h(2530, 0),  // G253 orient spindle normal to the feature coordinate system
+    h(2540, 23), // G254 dynamic work offset
+    h(2550, 23), // G255 dynamic work offset cancel
+    hx(2660, 0), // G266 visible axes linear rapid motion
+    h(2680, 16), // G268 feature coordinate system
+    h(2690, 16), // G269 feature coordinate system cancel
+];
+
 /// The definition of a G code, if the dialect has it.
 pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
+    if dialect == Dialect::Haas {
+        if let Ok(i) = HAAS_TABLE.binary_search_by_key(&code, |d| d.code) {
+            return HAAS_TABLE.get(i);
+        }
+        HAAS_HAS.binary_search(&code).ok()?;
+    }
     let i = *INDEX.get(code as usize)?;
     let def = TABLE.get((i as usize).checked_sub(1)?)?;
-    // TODO(haas): the NGC's own code list (skeleton: FANUC's).
     if def.syntec_only && dialect != Dialect::Syntec || def.fanuc_only && dialect == Dialect::Syntec {
         return None;
     }
     Some(def)
+}
+
+/// The Haas work offset a code selects as G54.1's P: G154 (P given) → None, G110 … G129 →
+/// Some(1 … 20) (the NGC's G110–G129 are G154 P1–P20).
+pub fn haas_work_offset(code: u16) -> Option<Option<u16>> {
+    match code {
+        1540 => Some(None),
+        1100..=1290 if code % 10 == 0 => Some(Some((code - 1100) / 10 + 1)),
+        _ => None,
+    }
 }
 
 /// The G code value of a word as ×10, if it is an exact tenth (`G43.4` yes, `G43.45` no).
@@ -610,6 +707,34 @@ mod tests {
         assert!(lookup(1000, Dialect::Fanuc).is_none());
         assert!(lookup(412, Dialect::Syntec).is_none());
         assert!(lookup(439, Dialect::Syntec).is_none());
+    }
+
+    #[test]
+    fn haas_codes() {
+        assert!(HAAS_TABLE.windows(2).all(|w| w[0].code < w[1].code));
+        assert!(HAAS_HAS.windows(2).all(|w| w[0] < w[1]));
+        let haas = |c| lookup(c, Dialect::Haas).map(|d| d.group);
+        // FANUC's codes the NGC has, and its own.
+        assert_eq!(haas(10), Some(1));
+        assert_eq!(haas(650), Some(0));
+        assert_eq!(haas(1540), Some(group::WORK_SYSTEM));
+        assert_eq!(haas(1290), Some(group::WORK_SYSTEM));
+        assert_eq!(haas(2340), Some(group::LENGTH_COMP));
+        // G35/G36 are probing (one-shot) on the NGC, circular threading (motion) on FANUC.
+        assert_eq!(haas(350), Some(0));
+        assert_eq!(lookup(350, Dialect::Fanuc).map(|d| d.group), Some(1));
+        // FANUC codes the NGC does not have.
+        for c in [434, 435, 682, 541, 51, 62, 121, 150, 160, 220, 300, 660, 661, 670, 960, 1600, 412, 533, 544] {
+            assert_eq!(haas(c), None, "{}", display(c));
+        }
+        // Haas codes FANUC and Syntec do not have.
+        for c in [120, 700, 1030, 1540, 1870, 2340, 2540] {
+            assert!(lookup(c, Dialect::Fanuc).is_none() && lookup(c, Dialect::Syntec).is_none(), "{}", display(c));
+        }
+        assert_eq!(haas_work_offset(1100), Some(Some(1)));
+        assert_eq!(haas_work_offset(1290), Some(Some(20)));
+        assert_eq!(haas_work_offset(1540), Some(None));
+        assert_eq!(haas_work_offset(540), None);
     }
 
     #[test]

@@ -25,6 +25,9 @@ pub const M09: u32 = 9;
 pub const M19: u32 = 19;
 /// Program end and rewind.
 pub const M30: u32 = 30;
+/// Haas: local subprogram call (`M97 P<n> L<count>`: the block N<n> of the same program). In
+/// the FANUC and Syntec dialects an ordinary M code.
+pub const M97: u32 = 97;
 /// Subprogram call.
 pub const M98: u32 = 98;
 /// Return from a subprogram (in the main program: start it again).

@@ -185,6 +185,8 @@ struct CallFrame {
     kind: CallKind,
     /// Further repetitions after this one (L of M98/G65).
     repeats: u32,
+    /// Where each repetition starts: 0, or a Haas M97's block N<P>.
+    start: usize,
     /// The arguments a G65 repetition starts from again.
     args: Option<Box<[Value; LOCALS]>>,
     /// O number of the program (for #4115).
@@ -966,6 +968,7 @@ impl State {
                     pc: 0,
                     kind: CallKind::Macro,
                     repeats: count - 1,
+                    start: 0,
                     args: Some(args),
                     number: 0,
                 });
@@ -973,8 +976,17 @@ impl State {
             }
             None => CallKind::Sub,
         };
-        self.frames.push(CallFrame { prog, pc: 0, kind, repeats: count - 1, args: None, number: 0 });
+        self.frames.push(CallFrame { prog, pc: 0, kind, repeats: count - 1, start: 0, args: None, number: 0 });
         Ok(())
+    }
+
+    /// The call just made (Haas M97) starts, and each repetition starts again, at block `pc`.
+    fn start_at(&mut self, pc: usize) {
+        let frame = self.frame_mut();
+        if frame.kind == CallKind::Sub {
+            frame.pc = pc;
+            frame.start = pc;
+        }
     }
 
     /// M99 (or the end of a called program's text): repeat, or return to the caller, optionally
@@ -984,14 +996,21 @@ impl State {
         if frame.kind == CallKind::Main {
             // M99 in the main program: start again (at N to_n if given).
             frame.pc = match to_n {
-                Some(n) => progs[frame.prog].find_label(n, 0).ok_or(AlarmId::ProgramNotFound)?,
+                Some(n) => progs[frame.prog].find_label(n, 0).ok_or(AlarmId::LineNotFound)?,
                 None => 0,
             };
             return Ok(());
         }
+        // Haas: M99 P<n> in a subprogram branches to N<n> of that subprogram and does not return
+        // (the classic mill manual, "M99 … does not return control to the calling subroutine").
+        if let (Some(n), crate::Dialect::Haas) = (to_n, self.cfg.dialect) {
+            let from = frame.pc.saturating_sub(1);
+            frame.pc = progs[frame.prog].find_label(n, from).ok_or(AlarmId::LineNotFound)?;
+            return Ok(());
+        }
         if frame.repeats > 0 {
             frame.repeats -= 1;
-            frame.pc = 0;
+            frame.pc = frame.start;
             if let Some(args) = &frame.args {
                 *self.locals.last_mut().expect("macro level") = **args;
             }
@@ -1004,7 +1023,7 @@ impl State {
         if let Some(n) = to_n {
             let caller = self.frames.last_mut().expect("caller frame");
             let from = caller.pc.saturating_sub(1);
-            caller.pc = progs[caller.prog].find_label(n, from).ok_or(AlarmId::ProgramNotFound)?;
+            caller.pc = progs[caller.prog].find_label(n, from).ok_or(AlarmId::LineNotFound)?;
         }
         Ok(())
     }

@@ -64,6 +64,8 @@ pub(super) struct Words {
     /// An M word that is no M code (`M3.5`, a negative value): refused where the block's M
     /// codes run, but a macro call's argument (`G65 P9010 M0.070`, #13).
     improper_m: bool,
+    /// Haas: the G54.1 P that G110 … G129 select (G154 P1 … P20); G154 itself takes the P word.
+    haas_wcs_p: Option<u16>,
 }
 
 impl Words {
@@ -127,6 +129,7 @@ impl Words {
             m: [0; 4],
             nm: 0,
             improper_m: false,
+            haas_wcs_p: None,
         }
     }
 }
@@ -157,8 +160,16 @@ impl State {
             };
             match word.letter {
                 b'G' => {
-                    let code = gcode::code_of(v).ok_or(AlarmId::ImproperGCode)?;
+                    let mut code = gcode::code_of(v).ok_or(AlarmId::ImproperGCode)?;
                     gcode::lookup(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
+                    // Haas: G154 P1–P99 and G110–G129 (= G154 P1–P20) are the G54.1 P work
+                    // offsets (the same storage, #7001…/#14001…).
+                    if self.cfg.dialect == crate::Dialect::Haas {
+                        if let Some(p) = gcode::haas_work_offset(code) {
+                            w.haas_wcs_p = p;
+                            code = code::G54_1;
+                        }
+                    }
                     if w.ng == w.g.len() {
                         return Err(AlarmId::IllegalGCodeCombination);
                     }
@@ -278,7 +289,8 @@ impl State {
     }
 
     fn find_program(&self, by_number: &HashMap<u32, usize>, p: Option<f64>) -> Result<usize, AlarmId> {
-        let p = p.ok_or(AlarmId::ProgramNotFound)?;
+        let missing = if self.cfg.dialect == crate::Dialect::Haas { AlarmId::MissingP } else { AlarmId::ProgramNotFound };
+        let p = p.ok_or(missing)?;
         if p < 0.0 || p.fract() != 0.0 || p > u32::MAX as f64 {
             return Err(AlarmId::ProgramNotFound);
         }
@@ -481,8 +493,15 @@ impl State {
                 group::WORK_SYSTEM => {
                     wcs_changed = true;
                     if code == code::G54_1 {
-                        let p = w.integer(b'P').unwrap_or(1.0);
-                        if !(1.0..=MAX_G54_1 as f64).contains(&p) || p.fract() != 0.0 {
+                        let haas = self.cfg.dialect == crate::Dialect::Haas;
+                        // Haas: G110–G129 name their P; G154 needs one (P1–P99).
+                        let p = match w.haas_wcs_p {
+                            Some(p) => p as f64,
+                            None if haas => w.integer(b'P').ok_or(AlarmId::IllegalOffsetNumber)?,
+                            None => w.integer(b'P').unwrap_or(1.0),
+                        };
+                        let max = if haas { 99 } else { MAX_G54_1 };
+                        if !(1.0..=max as f64).contains(&p) || p.fract() != 0.0 {
                             return Err(AlarmId::IllegalOffsetNumber);
                         }
                         self.wcs_p = p as u16;
@@ -735,12 +754,31 @@ impl State {
                 }
                 mcode::M09 => self.emit(out, CanonKind::Coolant(Coolant::Off)),
                 mcode::M03 | mcode::M04 | mcode::M06 | mcode::M07 | mcode::M08 => {}
+                mcode::M97 if self.cfg.dialect == crate::Dialect::Haas => {
+                    // Haas local subprogram: N<P> of this program, L times, back after M99.
+                    let n = w.integer(b'P').ok_or(AlarmId::MissingP)?;
+                    let count = Self::count(&w)?;
+                    let (prog, pc) = self.frames.last().map_or((0, 0), |f| (f.prog, f.pc));
+                    let from = pc.saturating_sub(1);
+                    let to = sequence_number(n).and_then(|n| progs[prog].find_label(n, from));
+                    let to = to.ok_or(AlarmId::LineNotFound)?;
+                    if progs[prog].jump_enters_loop(from, to) {
+                        return Err(AlarmId::IllegalLoopNumber);
+                    }
+                    if count > 0 {
+                        self.push_frame(progs, prog, count, None)?;
+                        self.start_at(to);
+                    }
+                }
                 mcode::M98 | mcode::M198 => {
                     let (prog, count) = self.subprogram_target(by_number, &w)?;
                     self.push_frame(progs, prog, count, None)?;
                 }
                 mcode::M99 => {
-                    let to_n = w.integer(b'P').map(|p| p as u32);
+                    let to_n = match w.integer(b'P') {
+                        Some(p) => Some(sequence_number(p).ok_or(AlarmId::LineNotFound)?),
+                        None => None,
+                    };
                     self.return_from_call(progs, to_n)?;
                 }
                 other => self.emit(out, CanonKind::Aux { m: other }),
@@ -772,9 +810,11 @@ impl State {
     }
 
     /// M98 P… L…, or P with the count in front of a four-digit number (`P30010` = O0010 ×3).
+    /// Haas: P is the program number (O00001–O99999) and L the count; no P is alarm 313.
     fn subprogram_target(&self, by_number: &HashMap<u32, usize>, w: &Words) -> Result<(usize, u32), AlarmId> {
-        let p = w.integer(b'P').ok_or(AlarmId::ProgramNotFound)?;
-        if w.has(b'L') || p < 10_000.0 {
+        let haas = self.cfg.dialect == crate::Dialect::Haas;
+        let p = w.integer(b'P').ok_or(if haas { AlarmId::MissingP } else { AlarmId::ProgramNotFound })?;
+        if haas || w.has(b'L') || p < 10_000.0 {
             return Ok((self.find_program(by_number, Some(p))?, Self::count(w)?));
         }
         let count = (p / 10_000.0).trunc();
@@ -1394,6 +1434,11 @@ fn is_cycle(code: u16) -> bool {
 
 impl CallFrame {
     pub(super) fn main() -> CallFrame {
-        CallFrame { prog: 0, pc: 0, kind: CallKind::Main, repeats: 0, args: None, number: 0 }
+        CallFrame { prog: 0, pc: 0, kind: CallKind::Main, repeats: 0, start: 0, args: None, number: 0 }
     }
+}
+
+/// A P value as a sequence number (N0–N99999999), if it is one.
+fn sequence_number(p: f64) -> Option<u32> {
+    ((0.0..=99_999_999.0).contains(&p) && p.fract() == 0.0).then_some(p as u32)
 }

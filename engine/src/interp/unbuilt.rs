@@ -42,7 +42,11 @@ const fn row(code: u16, when: When, function: &'static str) -> NotBuilt {
     NotBuilt { code, dialect: None, when, function }
 }
 
-/// Every G code of `gcode::TABLE` that fivex does not perform, or performs only with some
+const fn haas(code: u16, function: &'static str) -> NotBuilt {
+    NotBuilt { code, dialect: Some(Dialect::Haas), when: When::Always, function }
+}
+
+/// Every G code of `gcode::TABLE` (and `gcode::HAAS_TABLE`) that fivex does not perform, or performs only with some
 /// values of an address. A code not listed here is performed (its behaviour has tests).
 const TABLE: &[NotBuilt] = &[
     row(22, When::Always, "involute interpolation"),
@@ -123,12 +127,55 @@ const TABLE: &[NotBuilt] = &[
     row(815, When::Always, "electronic gear box (G81.5)"),
     row(960, When::Always, "constant surface speed (G96)"),
     row(1610, When::Always, "in-feed control (G161)"),
+    // The Haas NGC's own codes that fivex does not carry out (`gcode::HAAS_TABLE`); a Haas row
+    // comes before a row for every dialect of the same number (G35, G36, G37, G47, G161 are other
+    // functions on the NGC).
+    haas(120, "circular pocket milling (G12)"),
+    haas(130, "circular pocket milling (G13)"),
+    haas(350, "automatic tool diameter measurement (G35)"),
+    haas(360, "automatic work offset measurement (G36)"),
+    haas(370, "automatic tool offset measurement (G37)"),
+    haas(470, "text engraving (G47)"),
+    haas(700, "bolt hole circle (G70)"),
+    haas(710, "bolt hole arc (G71)"),
+    haas(720, "bolt holes along an angle (G72)"),
+    haas(770, "back bore canned cycle (G77)"),
+    haas(1010, "mirror image (G101)"),
+    haas(1030, "limit block buffering (G103)"),
+    haas(1070, "cylindrical mapping (G107)"),
+    haas(1360, "automatic work offset center measurement (G136)"),
+    haas(1410, "3D+ cutter compensation (G141)"),
+    haas(1430, "5-axis tool length compensation (G143)"),
+    haas(1500, "general purpose pocket milling (G150)"),
+    haas(1530, "5-axis high speed peck drilling (G153)"),
+    haas(1550, "5-axis reverse tap (G155)"),
+    haas(1610, "5-axis drill cycle (G161)"),
+    haas(1620, "5-axis spot drill cycle (G162)"),
+    haas(1630, "5-axis normal peck drilling cycle (G163)"),
+    haas(1640, "5-axis tapping cycle (G164)"),
+    haas(1650, "5-axis boring cycle (G165)"),
+    haas(1660, "5-axis bore and stop cycle (G166)"),
+    haas(1690, "5-axis bore and dwell cycle (G169)"),
+    haas(1740, "non-vertical rigid tapping (G174)"),
+    haas(1840, "non-vertical rigid tapping (G184)"),
+    haas(1870, "smoothness level (G187)"),
+    haas(2340, "tool center point control (G234)"),
+    haas(2530, "spindle normal to the feature coordinate system (G253)"),
+    haas(2540, "dynamic work offset (G254)"),
+    haas(2550, "dynamic work offset cancel (G255)"),
+    haas(2660, "visible axes linear rapid motion (G266)"),
+    haas(2680, "feature coordinate system (G268)"),
+    haas(2690, "feature coordinate system cancel (G269)"),
 ];
 
 /// The function a G code (×10) selects with its block's addresses, if fivex does not carry it
 /// out in `dialect`.
 pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<&'static str> {
-    let row = TABLE.iter().find(|r| r.code == code && r.dialect.is_none_or(|d| d == dialect))?;
+    // The dialect's own row first, then the row for every dialect.
+    let row = TABLE
+        .iter()
+        .find(|r| r.code == code && r.dialect == Some(dialect))
+        .or_else(|| TABLE.iter().find(|r| r.code == code && r.dialect.is_none()))?;
     let value_in = |letter: u8, values: &[f64]| match word(letter) {
         Word::Value(v) => Some(values.contains(&v)),
         Word::Absent => Some(false),
@@ -299,5 +346,16 @@ mod tests {
         assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Unknown)).is_none());
         assert!(g_code(50, Dialect::Fanuc, p_e(10000.0, Word::Absent)).is_some());
         assert!(g_code(50, Dialect::Fanuc, p_e(0.0, Word::Absent)).is_none());
+    }
+
+    #[test]
+    fn haas_rows_name_the_ngc_function() {
+        let none = |_: u8| Word::Absent;
+        assert_eq!(g_code(370, Dialect::Haas, none), Some("automatic tool offset measurement (G37)"));
+        assert_eq!(g_code(370, Dialect::Fanuc, none), Some("automatic tool length measurement (G37)"));
+        assert_eq!(g_code(2340, Dialect::Haas, none), Some("tool center point control (G234)"));
+        // G154 / G110–G129 are performed (the G54.1 P work offsets).
+        assert_eq!(g_code(1540, Dialect::Haas, none), None);
+        assert_eq!(g_code(1100, Dialect::Haas, none), None);
     }
 }

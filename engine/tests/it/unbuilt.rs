@@ -251,6 +251,7 @@ fn refusal(dialect: Dialect, code: &str) -> &'static str {
         Fanuc => "PS0010",
         Syntec if FANUC_ONLY.contains(&code) => "COR-070",
         Syntec => "COR-100",
+        Dialect::Haas => "310",
     }
 }
 
