@@ -55,7 +55,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     for w in words {
                         let WordValue::Number { value, .. } = w.value else { continue };
                         match w.letter {
-                            b'G' => match gcode::code_of(value).and_then(|c| gcode::lookup(c, dialect)) {
+                            b'G' => match gcode::code_of(value).and_then(|c| gcode::written(c, dialect)) {
                                 None => diags.push(at(
                                     w.col,
                                     AlarmId::ImproperGCode,

@@ -584,7 +584,11 @@ pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
         if let Ok(i) = HAAS_TABLE.binary_search_by_key(&code, |d| d.code) {
             return HAAS_TABLE.get(i);
         }
-        HAAS_HAS.binary_search(&code).ok()?;
+        // G54.1 is how fivex holds G154 P / G110–G129 (`haas_work_offset`); written, it is
+        // refused (`written`).
+        if code != code::G54_1 {
+            HAAS_HAS.binary_search(&code).ok()?;
+        }
     }
     let i = *INDEX.get(code as usize)?;
     let def = TABLE.get((i as usize).checked_sub(1)?)?;
@@ -592,6 +596,15 @@ pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
         return None;
     }
     Some(def)
+}
+
+/// The definition of a G code as a program writes it: [`lookup`], except that the Haas dialect
+/// has no G54.1 (its extra work offsets are G154 P and G110–G129).
+pub fn written(code: u16, dialect: Dialect) -> Option<&'static GDef> {
+    if dialect == Dialect::Haas && code == code::G54_1 {
+        return None;
+    }
+    lookup(code, dialect)
 }
 
 /// The Haas work offset a code selects as G54.1's P: G154 (P given) → None, G110 … G129 →
@@ -724,9 +737,13 @@ mod tests {
         assert_eq!(haas(350), Some(0));
         assert_eq!(lookup(350, Dialect::Fanuc).map(|d| d.group), Some(1));
         // FANUC codes the NGC does not have.
-        for c in [434, 435, 682, 541, 51, 62, 121, 150, 160, 220, 300, 660, 661, 670, 960, 1600, 412, 533, 544] {
+        for c in [434, 435, 682, 51, 62, 121, 150, 160, 220, 300, 660, 661, 670, 960, 1600, 412, 533, 544] {
             assert_eq!(haas(c), None, "{}", display(c));
         }
+        // G54.1 is fivex's form of G154 P, not a code a Haas program may write.
+        assert_eq!(written(541, Dialect::Haas), None);
+        assert_eq!(written(1540, Dialect::Haas).map(|d| d.group), Some(group::WORK_SYSTEM));
+        assert_eq!(written(541, Dialect::Fanuc), lookup(541, Dialect::Fanuc));
         // Haas codes FANUC and Syntec do not have.
         for c in [120, 700, 1030, 1540, 1870, 2340, 2540] {
             assert!(lookup(c, Dialect::Fanuc).is_none() && lookup(c, Dialect::Syntec).is_none(), "{}", display(c));

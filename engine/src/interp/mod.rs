@@ -657,7 +657,12 @@ impl State {
         let p = self.persistent.iter().enumerate().filter_map(|(i, v)| v.map(|x| (500 + i as u32, x)));
         let e = self.extended.range(500_000..=999_999).map(|(&n, &v)| (n, v));
         let system = [(3002, self.hour_timer()), (3901, self.parts_done), (3902, self.parts_required)];
-        p.chain(e).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).collect()
+        // Haas: #100–#199 and the NGC's own #10000… general purpose variables are kept too.
+        let haas = self.cfg.dialect == crate::Dialect::Haas;
+        let c = self.common.iter().enumerate().filter_map(|(i, v)| v.map(|x| (100 + i as u32, x)));
+        let c = c.filter(|_| haas);
+        let ngc = self.extended.range(10_000..=10_999).map(|(&n, &v)| (n, v)).filter(|_| haas);
+        c.chain(p).chain(e).chain(ngc).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).collect()
     }
 
     /// A program end (M02/M30) was carried out: one more part machined (#3901).
@@ -682,6 +687,9 @@ impl State {
             match n {
                 500..=999 => self.persistent[n as usize - 500] = value,
                 500_000..=999_999 => self.set_extended(n, value),
+                // Haas (`retained_variables`).
+                100..=199 => self.common[n as usize - 100] = value,
+                10_000..=10_999 => self.set_extended(n, value),
                 3002 => self.timer_h_base = self.clock_s / 3600.0 - value.unwrap_or(0.0),
                 3901 => self.parts_done = value.unwrap_or(0.0),
                 3902 => self.parts_required = value.unwrap_or(0.0),
@@ -717,6 +725,11 @@ impl State {
             100..=199 => self.common[n as usize - 100] = value,
             500..=999 => self.persistent[n as usize - 500] = value,
             100_000..=199_999 | 500_000..=999_999 => self.set_extended(n, value),
+            // Haas: the NGC's #10000 + n names #n (`vars::haas_slot`).
+            10_000..=10_999 if self.cfg.dialect == crate::Dialect::Haas => match n - 10_000 {
+                k @ (100..=199 | 500..=699 | 800..=999) => return self.set_common_variable(k, value),
+                _ => self.set_extended(n, value),
+            },
             _ => return Err(AlarmId::WriteProtectedVariable),
         }
         Ok(())
@@ -1011,7 +1024,11 @@ impl State {
         if frame.repeats > 0 {
             frame.repeats -= 1;
             frame.pc = frame.start;
-            if let Some(args) = &frame.args {
+            // FANUC starts each repetition of G65 … L from the arguments again; Haas sets them on
+            // the first only and keeps the local variables from repetition to repetition (the
+            // mill manual, "Local Variables").
+            let fresh_args = self.cfg.dialect != crate::Dialect::Haas;
+            if let Some(args) = frame.args.as_ref().filter(|_| fresh_args) {
                 *self.locals.last_mut().expect("macro level") = **args;
             }
             return Ok(());

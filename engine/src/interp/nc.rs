@@ -161,7 +161,7 @@ impl State {
             match word.letter {
                 b'G' => {
                     let mut code = gcode::code_of(v).ok_or(AlarmId::ImproperGCode)?;
-                    gcode::lookup(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
+                    gcode::written(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
                     // Haas: G154 P1–P99 and G110–G129 (= G154 P1–P20) are the G54.1 P work
                     // offsets (the same storage, #7001…/#14001…).
                     if self.cfg.dialect == crate::Dialect::Haas {
@@ -210,10 +210,13 @@ impl State {
     }
 
     /// Whether a number without a decimal point at this address counts least increments.
+    /// Haas also counts them at F (Setting 77 "Scale Integer F" at its default: `F12` is
+    /// 0.0012 in/min in G20, 0.012 mm/min in G21).
     fn counts_increments(&self, letter: u8) -> bool {
         !self.cfg.pocket_calculator
             && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k')
-                || self.axis_of(letter).is_some())
+                || self.axis_of(letter).is_some()
+                || letter == b'F' && self.cfg.dialect == crate::Dialect::Haas)
     }
 
     /// Least input increments per unit of an address: 1000 (0.001 mm or deg) at the axes and
@@ -800,7 +803,8 @@ impl State {
 
     /// F: mm/min (inch/min is converted), or 1/min under G93.
     pub(super) fn set_feed(&mut self, w: &Words) -> Result<(), AlarmId> {
-        if let Some(f) = w.number(b'F') {
+        if let Some((f, form)) = w.word(b'F') {
+            let f = if form == Form::NoPoint && self.counts_increments(b'F') { f * self.increment() } else { f };
             if f < 0.0 {
                 return Err(AlarmId::ImproperAddress);
             }
@@ -1181,7 +1185,10 @@ impl State {
         let axes = self.cfg.machine.axes.len();
         match code {
             code::G04 => {
+                let haas = self.cfg.dialect == crate::Dialect::Haas;
                 let seconds = match (w.integer(b'P'), w.raw(b'X')) {
+                    // Haas: P with a decimal point is seconds, without milliseconds.
+                    (Some(p), _) if haas && w.word(b'P').is_some_and(|(_, form)| form == Form::Point) => p,
                     (Some(p), _) => p / 1000.0,
                     (None, Some((x, no_point))) => {
                         if no_point && !self.cfg.pocket_calculator {

@@ -186,9 +186,12 @@ impl State {
         let q = w.integer(b'Q').map(|q| q as u32);
         // Syntec's G68.2 has the Euler form only (SYN-18): its P and Q mean nothing.
         let form = match self.cfg.dialect {
-            // TODO(haas): the NGC's G68.2 forms (skeleton: FANUC's).
-            crate::Dialect::Fanuc | crate::Dialect::Haas => w.integer(b'P').unwrap_or(0.0) as u32,
+            crate::Dialect::Fanuc => w.integer(b'P').unwrap_or(0.0) as u32,
             crate::Dialect::Syntec => 0,
+            // The NGC has no G68.2 (its tilted plane is G268, not built): the Haas dialect refuses
+            // G68.2 as no code of it (310 INVALID G CODE, `gcode::HAAS_HAS`), so no Haas block
+            // comes here.
+            crate::Dialect::Haas => return Err(AlarmId::ImproperGCode),
         };
         let local = match form {
             0 => {

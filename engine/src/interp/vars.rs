@@ -26,6 +26,13 @@ enum Slot {
         axis: usize,
     },
     System(u32),
+    /// Haas: #4001–#4021, the last block's code of the NGC's group `n - 4000`.
+    HaasGroup(u32),
+    /// Haas: #5201–#5206, the G52 offset (fivex's local coordinate system), read only.
+    HaasG52(usize),
+    /// A variable the NGC has but fivex does not model (`haas_slot`): refused when read or
+    /// written, never a silent value.
+    NotModelled,
 }
 
 #[derive(Clone, Copy)]
@@ -83,9 +90,109 @@ fn slot(n: u32, axes: usize) -> Slot {
     }
 }
 
+/// The Haas NGC mill's variable map (`docs/dialects.md`, "Haas: variables"): the general
+/// purpose variables and their NGC aliases #10000 + n, tool offsets #2001–#2800 (length
+/// geometry, length wear, diameter geometry, diameter wear: the NGC's order, not FANUC's),
+/// the work offsets #5221… (G54–G59), #7001… (G110–G129 = G154 P1–P20), #14001… (G154 P1–P99),
+/// and the system variables fivex models; every other number the NGC lists is `NotModelled`.
+fn haas_slot(n: u32, axes: usize) -> Slot {
+    let axis_ok = |i: u32| (i as usize) < axes;
+    let general = |k: u32| match k {
+        100..=199 => Some(Slot::Common(k as usize - 100)),
+        500..=699 | 800..=999 => Some(Slot::Persistent(k as usize - 500)),
+        _ => None,
+    };
+    if let Some(slot) = general(n) {
+        return slot;
+    }
+    match n {
+        0 => Slot::Vacant,
+        1..=33 => Slot::Local(n as usize - 1),
+        // The NGC's names of #100–#199, #500–#699, #800–#999, and its own general purpose
+        // variables #10000–#10099, #10200–#10499, #10700–#10799.
+        10_000..=10_999 => general(n - 10_000).unwrap_or(Slot::Extended(n)),
+        2001..=2200 => Slot::Tool { number: n - 2000, field: ToolField::HGeometry },
+        2201..=2400 => Slot::Tool { number: n - 2200, field: ToolField::HWear },
+        2401..=2600 => Slot::Tool { number: n - 2400, field: ToolField::DGeometry },
+        2601..=2800 => Slot::Tool { number: n - 2600, field: ToolField::DWear },
+        4001..=4021 => Slot::HaasGroup(n - 4000),
+        5201..=5206 if axis_ok(n - 5201) => Slot::HaasG52((n - 5201) as usize),
+        5221..=5340 if axis_ok((n - 5221) % 20) => {
+            Slot::Work { index: ((n - 5201) / 20) as usize, axis: ((n - 5201) % 20) as usize }
+        }
+        7001..=7386 if axis_ok((n - 7001) % 20) => {
+            Slot::Work { index: g54_1_index(((n - 7001) / 20) as usize + 1), axis: ((n - 7001) % 20) as usize }
+        }
+        14_001..=15_966 if axis_ok((n - 14_001) % 20) => {
+            Slot::Work { index: g54_1_index(((n - 14_001) / 20) as usize + 1), axis: ((n - 14_001) % 20) as usize }
+        }
+        3000..=3004 | 3006 | 3011 | 3012 | 3026 | 3027 | 3901 | 4101..=4126 => Slot::System(n),
+        5001..=5006 | 5021..=5026 | 5041..=5046 | 5061..=5069 | 5081..=5086 => Slot::System(n),
+        // What the NGC lists and fivex does not model: hidden variables, discrete and analog
+        // inputs/outputs, axis loads, flutes, vibrations, the timers #3020–#3025, single block,
+        // block delete and optional stop, actual diameters, coolant positions, M30 count 2,
+        // servo deviations, tool life and load monitors, settings and parameters (legacy
+        // #6001…/#6501… and NGC #20000…/#30000…), ATM and tool data, inputs/outputs #11000…/
+        // #12000…, tool table #50001….
+        700..=749
+        | 1000..=1068
+        | 1080..=1098
+        | 1100..=1155
+        | 1264..=1268
+        | 1601..=2000
+        | 3020..=3025
+        | 3028..=3033
+        | 3196
+        | 3201..=3600
+        | 3902
+        | 5101..=5106
+        | 5401..=6000
+        | 6001..=6999
+        | 8500..=8999
+        | 11_000..=12_255
+        | 20_000..=39_999
+        | 50_001..=59_999 => Slot::NotModelled,
+        // Not a variable of the NGC.
+        _ => Slot::NotModelled,
+    }
+}
+
+/// The NGC's modal groups as fivex's (FANUC's numbers): the same but the work offsets, which
+/// the NGC calls group 12 (FANUC's 12 is the modal macro call, which the NGC does not have).
+fn haas_group(g: u32) -> Option<usize> {
+    match g {
+        1 | 2 | 3 | 5 | 6 | 7 | 8 | 9 | 10 | 11 | 15 | 16 => Some(g as usize),
+        12 => Some(group::WORK_SYSTEM),
+        _ => None,
+    }
+}
+
+impl State {
+    fn slot(&self, n: u32) -> Slot {
+        let axes = self.cfg.machine.axes.len();
+        match self.cfg.dialect {
+            crate::Dialect::Haas => haas_slot(n, axes),
+            _ => slot(n, axes),
+        }
+    }
+
+    /// Haas #4001–#4021: the code of the group, as the NGC names it (G154 for a G154 P or
+    /// G110–G129 offset: fivex keeps them as G54.1 P).
+    fn haas_group_code(&self, g: u32) -> Result<f64, AlarmId> {
+        let group = haas_group(g).ok_or(AlarmId::VariableOutOfRange)?;
+        Ok(match self.modes[group] {
+            code::G54_1 => 154.0,
+            c => gcode::as_number(c),
+        })
+    }
+}
+
 impl Variables for State {
     fn read(&self, n: u32) -> Result<Value, AlarmId> {
-        Ok(match slot(n, self.cfg.machine.axes.len()) {
+        Ok(match self.slot(n) {
+            Slot::HaasGroup(g) => Some(self.haas_group_code(g)?),
+            Slot::HaasG52(axis) => Some(self.local[axis]),
+            Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Vacant => None,
             Slot::Local(i) => self.locals[self.level()][i],
             Slot::Common(i) => self.common[i],
@@ -176,6 +283,16 @@ impl State {
             3011 => self.cfg.date,
             3012 => self.cfg.time,
             3901 => self.parts_done,
+            // Haas: the tool in the spindle and the spindle speed (the commanded S while the
+            // spindle turns, 0 stopped; the panel's spindle override is not the interpreter's).
+            3026 if self.cfg.dialect == crate::Dialect::Haas => self.tool_in_spindle as f64,
+            3027 if self.cfg.dialect == crate::Dialect::Haas => {
+                if self.spindle == crate::canon::SpindleState::Stop {
+                    0.0
+                } else {
+                    self.s
+                }
+            }
             3902 => self.parts_required,
             4001..=4030 => gcode::as_number(self.modes[(n - 4000) as usize]),
             4201..=4230 => gcode::as_number(self.modes[(n - 4200) as usize]),
@@ -228,8 +345,9 @@ impl State {
 
     /// Assign `value` to variable `n` (the block supplies `#3000`/`#3006` messages).
     pub(super) fn write(&mut self, n: u32, value: Value, block: &Block, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
-        match slot(n, self.cfg.machine.axes.len()) {
-            Slot::Vacant => return Err(AlarmId::WriteProtectedVariable),
+        match self.slot(n) {
+            Slot::Vacant | Slot::HaasGroup(_) | Slot::HaasG52(_) => return Err(AlarmId::WriteProtectedVariable),
+            Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Local(i) => {
                 let level = self.level();
                 self.locals[level][i] = value;
@@ -265,6 +383,9 @@ impl State {
                     // G54.4 error data (WSE-08); COMMON has no Δa/Δb/Δc (#26003–#26005).
                     26000..=26099 => *self.setting_errors.variable_mut(n).ok_or(AlarmId::VariableOutOfRange)? = v,
                     3902 => self.parts_required = v,
+                    3026 | 3027 if self.cfg.dialect == crate::Dialect::Haas => {
+                        return Err(AlarmId::WriteProtectedVariable)
+                    }
                     3011 | 3012 | 4001..=4030 | 4101..=4130 | 4201..=4230 | 4301..=4330 | 5001..=5120 => {
                         return Err(AlarmId::WriteProtectedVariable)
                     }

@@ -1,0 +1,4 @@
+(fivex: --dialect haas)
+#3026=5
+M30
+(expect: alarm=522 alarm_line=2)

@@ -1,0 +1,4 @@
+(fivex: --dialect haas)
+M98 P4321
+M30
+(expect: alarm=314 alarm_line=2)
