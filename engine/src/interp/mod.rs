@@ -688,8 +688,8 @@ impl State {
                 500..=999 => self.persistent[n as usize - 500] = value,
                 500_000..=999_999 => self.set_extended(n, value),
                 // Haas (`retained_variables`).
-                100..=199 => self.common[n as usize - 100] = value,
-                10_000..=10_999 => self.set_extended(n, value),
+                100..=199 if self.cfg.dialect == crate::Dialect::Haas => self.common[n as usize - 100] = value,
+                10_000..=10_999 if self.cfg.dialect == crate::Dialect::Haas => self.set_extended(n, value),
                 3002 => self.timer_h_base = self.clock_s / 3600.0 - value.unwrap_or(0.0),
                 3901 => self.parts_done = value.unwrap_or(0.0),
                 3902 => self.parts_required = value.unwrap_or(0.0),

@@ -1,5 +1,5 @@
-//! No silent stubs: every G code of the parser's table and every address letter, in both
-//! dialects, is either performed (an example program runs to its end; the function's own
+//! No silent stubs: every G code of the parser's table (and of the Haas NGC's) and every
+//! address letter, in every dialect, is either performed (an example program runs to its end; the function's own
 //! behaviour tests are named beside it) or refused at its block with the dialect's alarm
 //! (`interp::unbuilt`). A code added to the table without a decision fails
 //! `every_g_code_has_a_decision`.
@@ -10,7 +10,7 @@ use common::*;
 use fivex_engine::check::check;
 use fivex_engine::interp::gcode;
 use fivex_engine::lang::parse_file;
-use fivex_engine::Dialect::{self, Fanuc, Syntec};
+use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
 
 /// The machine of these tests: X Y Z and the rotary axes B C (for G07.1 C and 5-axis codes).
 const PRESET: &str = "head-bc";
@@ -168,9 +168,9 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G31.9 X1. F100", &[Fanuc, Syntec]),
     ("G33 Z-10. F1.", &[Fanuc, Syntec]),
     ("G34 Z-10. F1. K0.1", &[Fanuc, Syntec]),
-    ("G35 X10. Z0 R5. F1.", &[Fanuc, Syntec]),
-    ("G36 X10. Z0 R5. F1.", &[Fanuc, Syntec]),
-    ("G37 Z-10.", &[Fanuc, Syntec]),
+    ("G35 X10. Z0 R5. F1.", &[Fanuc, Syntec, Haas]),
+    ("G36 X10. Z0 R5. F1.", &[Fanuc, Syntec, Haas]),
+    ("G37 Z-10.", &[Fanuc, Syntec, Haas]),
     ("G41.1", &[Fanuc, Syntec]),
     ("G41.2 D1", &[Syntec]),
     ("G41.3 D1", &[Syntec]),
@@ -188,17 +188,93 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G43.9 H1", &[Syntec]),
     ("G45 X1. D1", &[Fanuc, Syntec]),
     ("G46 X1. D1", &[Fanuc, Syntec]),
-    ("G47 X1. D1", &[Fanuc, Syntec]),
+    ("G47 X1. D1", &[Fanuc, Syntec, Haas]),
     ("G48 X1. D1", &[Fanuc, Syntec]),
     ("G54.2 P1", &[Fanuc, Syntec]),
-    ("G60 X1.", &[Fanuc, Syntec]),
+    ("G60 X1.", &[Fanuc, Syntec, Haas]),
     ("G72.1 P10 L2 X0 Y0 R90.", &[Fanuc, Syntec]),
     ("G72.2 P10 L2 I10. J0", &[Fanuc, Syntec]),
     ("G81.1 Z10. Q5. R2. F1000", &[Fanuc, Syntec]),
     ("G81.5 T1 L1", &[Fanuc, Syntec]),
     ("G96 S100", &[Fanuc, Syntec]),
-    ("G161 R1.", &[Fanuc, Syntec]),
+    ("G161 R1.", &[Fanuc, Syntec, Haas]),
+    // The Haas NGC's own codes fivex does not carry out (its G35/G36/G37/G47/G161 are above).
+    ("G12 I1. D1 F100.", &[Haas]),
+    ("G13 I1. D1 F100.", &[Haas]),
+    ("G70 I1. J0 L4", &[Haas]),
+    ("G71 I1. J0 K10. L4", &[Haas]),
+    ("G72 I1. J0 L4", &[Haas]),
+    ("G77 X1. Z-1. R1. I0.1 F100.", &[Haas]),
+    ("G101 X0", &[Haas]),
+    ("G103 P1", &[Haas]),
+    ("G107 Y0 R10.", &[Haas]),
+    ("G136 P1", &[Haas]),
+    ("G141 D1 X1. F100.", &[Haas]),
+    ("G143 H1", &[Haas]),
+    ("G150 P100 D1 F100.", &[Haas]),
+    ("G153 X1. Z-1. R1. Q0.5 F100.", &[Haas]),
+    ("G155 X1. Z-1. R1. F100.", &[Haas]),
+    ("G162 X1. Z-1. R1. F100.", &[Haas]),
+    ("G163 X1. Z-1. R1. Q0.5 F100.", &[Haas]),
+    ("G164 X1. Z-1. R1. F100.", &[Haas]),
+    ("G165 X1. Z-1. R1. F100.", &[Haas]),
+    ("G166 X1. Z-1. R1. F100.", &[Haas]),
+    ("G169 X1. Z-1. R1. P100 F100.", &[Haas]),
+    ("G174 X1. Z-1. F100.", &[Haas]),
+    ("G184 X1. Z-1. F100.", &[Haas]),
+    ("G187 P1", &[Haas]),
+    ("G234 H1", &[Haas]),
+    ("G253", &[Haas]),
+    ("G254", &[Haas]),
+    ("G255", &[Haas]),
+    ("G266 X1.", &[Haas]),
+    ("G268 X0 Y0 Z0 I0 J30. K0", &[Haas]),
+    ("G269", &[Haas]),
 ];
+
+/// Performed in the Haas dialect only: the NGC's own codes fivex carries out.
+const PERFORMED_IN_HAAS: &[(&str, &str, &str)] = &[
+    ("G100", "G100", "the cancelled state of G101 (refused)"),
+    ("G154", "G154 P5\nG54", "data fixture frames/haas_g154_work_offsets (the G54.1 P offsets)"),
+    ("G110", "G110\nG54", "data fixture frames/haas_g154_work_offsets (G154 P1)"),
+    ("G111", "G111\nG54", "G154 P2"),
+    ("G112", "G112\nG54", "G154 P3"),
+    ("G113", "G113\nG54", "G154 P4"),
+    ("G114", "G114\nG54", "G154 P5"),
+    ("G115", "G115\nG54", "G154 P6"),
+    ("G116", "G116\nG54", "G154 P7"),
+    ("G117", "G117\nG54", "G154 P8"),
+    ("G118", "G118\nG54", "G154 P9"),
+    ("G119", "G119\nG54", "G154 P10"),
+    ("G120", "G120\nG54", "G154 P11"),
+    ("G121", "G121\nG54", "G154 P12"),
+    ("G122", "G122\nG54", "G154 P13"),
+    ("G123", "G123\nG54", "G154 P14"),
+    ("G124", "G124\nG54", "G154 P15"),
+    ("G125", "G125\nG54", "G154 P16"),
+    ("G126", "G126\nG54", "G154 P17"),
+    ("G127", "G127\nG54", "G154 P18"),
+    ("G128", "G128\nG54", "G154 P19"),
+    ("G129", "G129\nG54", "G154 P20"),
+];
+
+/// The Haas dialect reads an F without a decimal point in least increments (Setting 77): the
+/// examples' feeds get their point there, so that they mean what they mean in FANUC's.
+fn in_dialect(body: &str, dialect: Dialect) -> String {
+    if dialect != Haas {
+        return body.to_string();
+    }
+    body.split_inclusive(|c: char| c == ' ' || c == '\n')
+        .map(|w| {
+            let t = w.trim_end();
+            if t.starts_with('F') && t.len() > 1 && t[1..].chars().all(|c| c.is_ascii_digit()) {
+                format!("{t}.{}", &w[t.len()..])
+            } else {
+                w.to_string()
+            }
+        })
+        .collect()
+}
 
 /// Address letters on `PRESET` (axes X Y Z B C): performed, with an example that runs to its
 /// end; E is refused; A U V W are not axes of the machine (PS0009 / COR-002).
@@ -242,7 +318,7 @@ fn first_g(block: &str) -> &str {
 
 fn has_code(dialect: Dialect, name: &str) -> bool {
     let code = gcode::code_of(name[1..].parse().unwrap()).unwrap();
-    gcode::lookup(code, dialect).is_some()
+    gcode::written(code, dialect).is_some()
 }
 
 /// The alarm a refused function gives in `dialect`.
@@ -251,7 +327,7 @@ fn refusal(dialect: Dialect, code: &str) -> &'static str {
         Fanuc => "PS0010",
         Syntec if FANUC_ONLY.contains(&code) => "COR-070",
         Syntec => "COR-100",
-        Dialect::Haas => "310",
+        Haas => "310",
     }
 }
 
@@ -277,10 +353,13 @@ fn codes_by_mechanism_run_with_spg() {
 
 #[test]
 fn every_g_code_has_a_decision() {
-    for dialect in [Fanuc, Syntec] {
-        for def in gcode::TABLE.iter().filter(|d| gcode::lookup(d.code, dialect).is_some()) {
+    for dialect in [Fanuc, Syntec, Haas] {
+        let table = gcode::TABLE.iter().chain(gcode::HAAS_TABLE);
+        for def in table.filter(|d| gcode::written(d.code, dialect).is_some()) {
             let name = gcode::display(def.code);
-            let performed = PERFORMED.iter().any(|(g, _, _)| *g == name)
+            let haas_own = gcode::HAAS_TABLE.contains(def);
+            let performed = PERFORMED.iter().any(|(g, _, _)| *g == name) && !haas_own
+                || dialect == Haas && PERFORMED_IN_HAAS.iter().any(|(g, _, _)| *g == name)
                 || dialect == Fanuc && PERFORMED_WITH_SPG.iter().any(|(g, _, _)| *g == name);
             let refused = REFUSED.iter().any(|(b, ds)| first_g(b) == name && ds.contains(&dialect));
             assert!(performed || refused, "{dialect:?}: {name} is neither performed nor refused: decide");
@@ -290,11 +369,16 @@ fn every_g_code_has_a_decision() {
 
 #[test]
 fn performed_codes_run_to_their_end() {
-    for dialect in [Fanuc, Syntec] {
+    for dialect in [Fanuc, Syntec, Haas] {
         let here = |g: &str| has_code(dialect, g) && !(dialect == Syntec && PERFORMED_IN_FANUC_ONLY.contains(&g));
-        for (name, body, _) in PERFORMED.iter().filter(|(g, _, _)| here(g)) {
+        // The NGC's own codes of FANUC's numbers (G35 … G161) are not FANUC's functions.
+        let haas_own = |g: &str| {
+            dialect == Haas && gcode::HAAS_TABLE.iter().any(|d| gcode::display(d.code) == g)
+        };
+        let haas = PERFORMED_IN_HAAS.iter().filter(|_| dialect == Haas);
+        for (name, body, _) in PERFORMED.iter().filter(|(g, _, _)| here(g) && !haas_own(g)).chain(haas) {
             // Codes refused with some values are listed on both sides: only this form runs.
-            let r = run_with(&program(body), PRESET, dialect);
+            let r = run_with(&program(&in_dialect(body, dialect)), PRESET, dialect);
             assert!(r.completed(), "{dialect:?} {name}: {:?}\n{body}", r.alarms);
         }
     }
@@ -337,15 +421,16 @@ fn every_address_letter_has_a_decision() {
         ];
         assert_eq!(decided.iter().filter(|&&d| d).count(), 1, "{}", letter as char);
     }
-    for dialect in [Fanuc, Syntec] {
+    for dialect in [Fanuc, Syntec, Haas] {
         for (letter, body) in LETTERS_PERFORMED {
-            let r = run_with(&program(body), PRESET, dialect);
+            let r = run_with(&program(&in_dialect(body, dialect)), PRESET, dialect);
             assert!(r.completed(), "{dialect:?} {}: {:?}", *letter as char, r.alarms);
         }
-        for (letters, code) in [(LETTERS_REFUSED, ["PS0009", "COR-100"]), (LETTERS_NOT_AXES, ["PS0009", "COR-002"])] {
+        let refused = [(LETTERS_REFUSED, ["PS0009", "COR-100", "311"]), (LETTERS_NOT_AXES, ["PS0009", "COR-002", "311"])];
+        for (letters, code) in refused {
             for &letter in letters {
-                let r = run_with(&program(&format!("G01 X1. {}2. F100", letter as char)), PRESET, dialect);
-                let expected = if dialect == Fanuc { code[0] } else { code[1] };
+                let r = run_with(&program(&format!("G01 X1. {}2. F100.", letter as char)), PRESET, dialect);
+                let expected = code[dialect as usize];
                 assert_eq!(r.alarms[0].code, expected, "{dialect:?} {}", letter as char);
                 assert_eq!(r.alarms[0].line, 2);
             }
