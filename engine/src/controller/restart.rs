@@ -63,12 +63,13 @@ impl Controller {
 
     /// Program restart's block search: the selected program runs from its top to `target`
     /// without motion. Refused (as the panel would) outside AUTO, while anything runs, holds
-    /// or is in alarm, without a program, and in the Syntec dialect (its manuals, as fivex has
-    /// them, describe no restart). The manual's conditions are alarms: P type without an
+    /// or is in alarm, without a program, and in the Syntec and Haas dialects (their manuals, as
+    /// fivex has them, describe no FANUC-style P/Q restart: the NGC's restart is its Setting 36
+    /// scan, not built). The manual's conditions are alarms: P type without an
     /// automatic operation since power-on or the emergency stop (PS0097), or after the work
     /// offsets changed (PS0096); the block not found (PS0071); a program alarm in the search.
     pub fn restart(&mut self, target: Target, kind: RestartType) -> Result<(), Refusal> {
-        if self.interp.config().dialect == Dialect::Syntec {
+        if self.interp.config().dialect != Dialect::Fanuc {
             return Err(Refusal::NotInDialect);
         }
         if self.mode != Mode::Auto {

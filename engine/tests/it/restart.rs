@@ -352,9 +352,11 @@ fn the_panel_refuses_a_restart_where_it_cannot_be_made() {
     c.cycle_start().unwrap();
     c.tick(0.01);
     assert_eq!(c.restart(n(10), RestartType::Q), Err(Refusal::Busy));
-    let mut s = Controller::new(config(Dialect::Syntec));
-    s.select_program(PROGRAM).unwrap();
-    assert_eq!(s.restart(n(10), RestartType::Q), Err(Refusal::NotInDialect));
+    for dialect in [Dialect::Syntec, Dialect::Haas] {
+        let mut s = Controller::new(config(dialect));
+        s.select_program(PROGRAM).unwrap();
+        assert_eq!(s.restart(n(10), RestartType::Q), Err(Refusal::NotInDialect), "{dialect:?}");
+    }
 }
 
 // --- the property: a restart at block k is a run from the top to block k ------------------------

@@ -28,7 +28,7 @@ pub struct CreateController {
     /// A machine document instead of a preset (`docs/machine-config.md`).
     #[schema(value_type = Option<crate::wire::MachineDocument>)]
     pub machine: Option<serde_json::Value>,
-    /// `fanuc` (default) or `syntec`.
+    /// `fanuc` (default), `syntec` or `haas` (Haas NGC mill).
     #[schema(example = "fanuc")]
     pub dialect: Option<String>,
     /// Simulated seconds per real second (default 1; up to 1000).

@@ -51,7 +51,7 @@ pub struct FleetRequest {
     #[serde(default)]
     #[schema(max_items = 200)]
     pub controllers: Vec<String>,
-    /// Dialect of presets, models and library models: `fanuc` (default) or `syntec`.
+    /// Dialect of presets, models and library models: `fanuc` (default), `syntec` or `haas`.
     pub dialect: Option<String>,
     /// Tool offsets by number (the schema and its description: [`tool_table_schema`]).
     #[schema(schema_with = tool_table_schema)]

@@ -93,7 +93,7 @@ pub struct ControllerStatus {
     pub id: String,
     /// Display name.
     pub name: String,
-    /// `fanuc` or `syntec`.
+    /// `fanuc`, `syntec` or `haas`.
     #[schema(value_type = fivex_engine::Dialect)]
     pub dialect: String,
     /// The machine configuration's name (a preset name for a preset).

@@ -17,7 +17,7 @@ use crate::service::parameters::{self, ParameterSet};
 /// A controller's parameters.
 #[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct ParameterList {
-    /// `fanuc` or `syntec`: whose numbering.
+    /// `fanuc`, `syntec` or `haas` (the NGC calls its list Settings): whose numbering.
     #[schema(value_type = fivex_engine::Dialect)]
     pub dialect: String,
     /// `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis.

@@ -22,7 +22,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 #[derive(Parser, Debug)]
-#[command(name = "fivex", version, about = "Virtual 5-axis CNC controllers (FANUC 30i-A5 and Syntec dialects)")]
+#[command(name = "fivex", version, about = "Virtual 5-axis CNC controllers (FANUC 30i-A5, Syntec and Haas NGC dialects)")]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -61,7 +61,7 @@ struct MachineArgs {
 struct InterpreterArgs {
     #[command(flatten)]
     machine: MachineArgs,
-    /// Dialect: fanuc or syntec.
+    /// Dialect: fanuc, syntec or haas.
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
     /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}; optional per tool

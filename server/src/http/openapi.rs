@@ -17,7 +17,7 @@ use crate::origin::OriginDoc;
 #[openapi(
     info(
         title = "fivex",
-        description = "A service hosting virtual 5-axis CNC controllers (FANUC 30i-A5 and Syntec \
+        description = "A service hosting virtual 5-axis CNC controllers (FANUC 30i-A5, Syntec and Haas NGC \
                        dialects). Errors are JSON `{\"error\": \"…\"}` bodies with a 4xx/5xx status."
     ),
     components(schemas(

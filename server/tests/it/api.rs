@@ -1187,3 +1187,38 @@ async fn a_stored_program_is_estimated_before_it_runs_and_its_progress_shown_whi
     assert!(runs[0]["cycle_time_s"].as_f64().unwrap() >= cycle * 0.99, "{runs}");
     assert!(app.get(&format!("{C}/{id}")).await.json()["progress"].is_null(), "over");
 }
+
+#[tokio::test]
+async fn a_haas_controller_runs_its_dialect() {
+    let app = spawn_app().await;
+    let reply = app.post(C, &json!({"name": "vf2", "preset": "mill3", "dialect": "haas", "speed": 50})).await;
+    assert_eq!(reply.status, StatusCode::CREATED, "{}", reply.text());
+    let id = reply.json()["id"].as_str().unwrap().to_string();
+    assert_eq!(app.get(&format!("{C}/{id}")).await.json()["dialect"], "haas");
+    // M97 calls N100 of the same program twice; M98 P2 calls program 2 (Haas: P is the program
+    // number); the main program ends at its M30, not in the local subprogram.
+    let program = "G00 X0 Y0\nM97 P100 L2\nM98 P2\nG01 X20. F6000.\nM30\nN100 #100=[#100+1]\nM99\n";
+    assert_eq!(store(&app, &id, 1, program).await.status, StatusCode::CREATED);
+    assert_eq!(store(&app, &id, 2, "#101=#100*10\nM99\n").await.status, StatusCode::CREATED);
+    let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(done["position"]["workpiece"]["X"], 20.0, "{done}");
+    let v100 = app.get(&format!("{C}/{id}/variables/100")).await.json()["value"].clone();
+    let v101 = app.get(&format!("{C}/{id}/variables/101")).await.json()["value"].clone();
+    assert_eq!((v100, v101), (json!(2.0), json!(20.0)));
+
+    // A Haas code fivex does not build is reported with the Haas alarm when stored...
+    let reply = store(&app, &id, 3, "G00 X1.\nG234 H1\nM30\n").await;
+    assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", reply.text());
+    let body = reply.json();
+    assert_eq!((body["details"][0]["line"].clone(), body["details"][0]["code"].clone()), (json!(2), json!("310")), "{body}");
+    // ... and stops a forced run at its block with it.
+    app.raw(Method::PUT, &format!("{C}/{id}/programs/3?force=true"), "text/plain", "G00 X1.\nG234 H1\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 3})).await;
+    let status = wait_for(&app, &id, "alarm").await;
+    assert_eq!((status["alarms"][0]["code"].clone(), status["alarms"][0]["line"].clone()), (json!("310"), json!(2)), "{status}");
+    // Teach is Syntec's.
+    let teach = app.post(&format!("{C}/{id}/teach/points/p1"), &json!({})).await;
+    assert_eq!(teach.status, StatusCode::CONFLICT, "{}", teach.text());
+}
