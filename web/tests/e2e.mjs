@@ -742,6 +742,28 @@ test("the Teach panel of a Syntec controller latches three points, teaches the G
   await poll("G69 again", async () => (await http("GET", `/api/v1/controllers/${s}/modal`)).body.groups["16"] === "G69");
 });
 
+test("a Haas controller is created from the dialect selector: its parameters are Settings, it runs M97, no Teach panel", async () => {
+  await page.goto(base + "/");
+  await page.fill("form.create input[name=name]", "haas vf2");
+  await page.selectOption("form.create select[name=preset]", "mill3");
+  await page.selectOption("form.create select[name=dialect]", "haas");
+  await page.click("form.create button[type=submit]");
+  await page.waitForURL(/#\/c\//);
+  const h = decodeURIComponent(page.url().split("#/c/")[1].split("/")[0]);
+  await page.locator(".ctl-head h1", { hasText: "haas vf2" }).waitFor();
+  await page.locator(".ctl-head .meta", { hasText: "HAAS" }).waitFor();
+  assert.equal((await http("GET", `/api/v1/controllers/${h}`)).body.dialect, "haas");
+  assert.equal(await page.locator(".teach").count(), 0, "no Teach panel on a Haas controller");
+  // M97 calls N100 of the same program; the program ends at its M30.
+  const text = "G00 X0 Y0\nM97 P100 L2\nG01 X20. F3000.\nM30\nN100 #100=[#100+1]\nM99\n";
+  await http("PUT", `/api/v1/controllers/${h}/programs/1`, text, "text/plain");
+  await http("POST", `/api/v1/controllers/${h}/cycle-start`, { program: 1 });
+  await poll("the Haas run ends", async () => (await http("GET", `/api/v1/controllers/${h}`)).body.run_state === "idle");
+  assert.equal((await http("GET", `/api/v1/controllers/${h}/variables/100`)).body.value, 2);
+  await page.goto(`${base}/#/c/${h}/parameters`);
+  await page.locator(".parameters input[placeholder^='Setting']").waitFor();
+});
+
 test("responsiveness: 200 controllers in the fleet view and a 100,000-point trace (measured)", async () => {
   const have = (await http("GET", "/api/v1/controllers")).body.length;
   for (let i = have; i < 200; i++) await http("POST", "/api/v1/controllers", { name: `bulk ${i}`, preset: ["mill3", "head-bc", "table-ac", "mixed-bc"][i % 4] });

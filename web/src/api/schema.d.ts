@@ -1193,7 +1193,7 @@ export interface components {
              * @example 2025-01-01T00:00:00Z
              */
             created_at: string;
-            /** @description `fanuc` or `syntec`. */
+            /** @description `fanuc`, `syntec` or `haas`. */
             dialect: components["schemas"]["Dialect"];
             /**
              * Format: double
@@ -1316,7 +1316,7 @@ export interface components {
          */
         CreateController: {
             /**
-             * @description `fanuc` (default) or `syntec`.
+             * @description `fanuc` (default), `syntec` or `haas` (Haas NGC mill).
              * @example fanuc
              */
             dialect?: string | null;
@@ -1643,7 +1643,7 @@ export interface components {
         FleetRequest: {
             /** @description Existing controllers by id: their machine, dialect and tool and work offsets. */
             controllers?: string[];
-            /** @description Dialect of presets, models and library models: `fanuc` (default) or `syntec`. */
+            /** @description Dialect of presets, models and library models: `fanuc` (default), `syntec` or `haas`. */
             dialect?: string | null;
             /** @description Machines of the library by name (`docs/fleet.md`); `["*"]`: all of them. */
             library?: string[];
@@ -2232,7 +2232,7 @@ export interface components {
         };
         /** @description A controller's parameters. */
         ParameterList: {
-            /** @description `fanuc` or `syntec`: whose numbering. */
+            /** @description `fanuc`, `syntec` or `haas` (the NGC calls its list Settings): whose numbering. */
             dialect: components["schemas"]["Dialect"];
             /** @description `{"1020": [88, 89, 90, 65, 67], "19680": 12, …}`: a number, or one per axis. */
             parameters: components["schemas"]["Params"];

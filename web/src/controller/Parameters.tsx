@@ -1,4 +1,4 @@
-// The parameter editor in the dialect's numbering (FANUC No.…, Syntec Pr…): the whole list,
+// The parameter editor in the dialect's numbering (FANUC No.…, Syntec Pr…, Haas Setting …): the whole list,
 // filterable, each value editable (per-axis values as comma-separated lists).
 import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
@@ -27,7 +27,7 @@ function ParametersView({ status, onError }: { status: Status; onError: (e: stri
     }
     load();
   };
-  const prefix = status.dialect === "syntec" ? "Pr" : "No.";
+  const prefix = status.dialect === "syntec" ? "Pr" : status.dialect === "haas" ? "Setting " : "No.";
   const rows = Object.entries(params).filter(([n]) => !filter || n.includes(filter.replace(/\D/g, "")));
   return (
     <div class="parameters">

@@ -200,6 +200,7 @@ function CreateForm({ onError }: { onError: (e: string | null) => void }) {
         <select name="dialect" value={dialect} onChange={(e) => setDialect(e.currentTarget.value)}>
           <option value="fanuc">FANUC</option>
           <option value="syntec">Syntec</option>
+          <option value="haas">Haas NGC</option>
         </select>
       </label>
       <button type="submit" class="primary" disabled={busy}>

@@ -190,6 +190,7 @@ function NewRun() {
             <select value={dialect} onChange={(e) => setDialect(e.currentTarget.value)}>
               <option value="fanuc">FANUC</option>
               <option value="syntec">Syntec</option>
+              <option value="haas">Haas NGC</option>
             </select>
           </label>
           <button type="submit" class="primary" disabled={!program.trim() || picked.size === 0}>
