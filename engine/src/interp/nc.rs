@@ -1394,10 +1394,22 @@ impl State {
         let incremental = self.modes[group::DISTANCE] == code::G91;
         let p = p as usize;
         match l as u32 {
+            // Haas: G10 L2 P0 is the G52 offset (FANUC's P0 is the external offset).
+            2 if p == 0 && self.cfg.dialect == Dialect::Haas => {
+                for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
+                    if let Some(v) = self.value(w, axis.name as u8) {
+                        self.local[i] = if incremental { self.local[i] + v } else { v };
+                    }
+                }
+                self.pos = self.machine_to_program(&machine_before);
+                self.sync_programmed();
+            }
             2 | 20 => {
+                // Haas: G10 L20 P1–P99 (G154 P1–P99).
+                let max = if self.cfg.dialect == Dialect::Haas { 99 } else { MAX_G54_1 };
                 let index = match (l as u32, p) {
                     (2, 0..=6) => p,
-                    (20, 1..=MAX_G54_1) => g54_1_index(p),
+                    (20, 1..) if p <= max => g54_1_index(p),
                     _ => return Err(AlarmId::IllegalOffsetNumber),
                 };
                 for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
