@@ -501,9 +501,9 @@ static INDEX: [u8; MAX_CODE + 1] = {
 /// G-code list, `docs/dialects.md`, "Haas"). Every other FANUC code is not a code of the Haas
 /// dialect (alarm 310 INVALID G CODE); the NGC's own codes are [`HAAS_TABLE`]. Sorted.
 pub const HAAS_HAS: &[u16] = &[
-    0, 10, 20, 30, 40, 90, 100, 170, 180, 190, 200, 210, 280, 290, 310, 400, 410, 420, 430, 440, 490, 500, 510,
-    520, 530, 540, 550, 560, 570, 580, 590, 600, 610, 640, 650, 680, 690, 730, 740, 760, 800, 810, 820, 830, 840,
-    850, 860, 870, 880, 890, 900, 910, 920, 930, 940, 950, 980, 990,
+    0, 10, 20, 30, 40, 90, 100, 170, 180, 190, 200, 210, 280, 290, 310, 400, 410, 420, 430, 440, 490, 500, 510, 520,
+    530, 540, 550, 560, 570, 580, 590, 600, 610, 640, 650, 680, 690, 730, 740, 760, 800, 810, 820, 830, 840, 850, 860,
+    870, 880, 890, 900, 910, 920, 930, 940, 950, 980, 990,
 ];
 
 const fn h(code: u16, group: usize) -> GDef {
@@ -612,7 +612,7 @@ pub fn written(code: u16, dialect: Dialect) -> Option<&'static GDef> {
 pub fn haas_work_offset(code: u16) -> Option<Option<u16>> {
     match code {
         1540 => Some(None),
-        1100..=1290 if code % 10 == 0 => Some(Some((code - 1100) / 10 + 1)),
+        1100..=1290 if code.is_multiple_of(10) => Some(Some((code - 1100) / 10 + 1)),
         _ => None,
     }
 }

@@ -292,7 +292,8 @@ impl State {
     }
 
     fn find_program(&self, by_number: &HashMap<u32, usize>, p: Option<f64>) -> Result<usize, AlarmId> {
-        let missing = if self.cfg.dialect == crate::Dialect::Haas { AlarmId::MissingP } else { AlarmId::ProgramNotFound };
+        let missing =
+            if self.cfg.dialect == crate::Dialect::Haas { AlarmId::MissingP } else { AlarmId::ProgramNotFound };
         let p = p.ok_or(missing)?;
         if p < 0.0 || p.fract() != 0.0 || p > u32::MAX as f64 {
             return Err(AlarmId::ProgramNotFound);

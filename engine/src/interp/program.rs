@@ -45,7 +45,9 @@ fn reaches_beyond(block: &Block) -> bool {
         BlockKind::Output(_) => false,
         BlockKind::Goto(_) | BlockKind::IfGoto { .. } | BlockKind::Do { .. } | BlockKind::End { .. } => true,
         BlockKind::Words(words) => words.iter().any(|w| match (&w.letter, &w.value) {
-            (b'M', WordValue::Number { value, .. }) => matches!(*value as u32, mcode::M97 | mcode::M98 | mcode::M99 | mcode::M198),
+            (b'M', WordValue::Number { value, .. }) => {
+                matches!(*value as u32, mcode::M97 | mcode::M98 | mcode::M99 | mcode::M198)
+            }
             (b'G', WordValue::Number { value, .. }) => {
                 super::gcode::code_of(*value).is_some_and(|c| code::MACRO_CALLS.contains(&c))
             }

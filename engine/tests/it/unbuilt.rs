@@ -264,7 +264,7 @@ fn in_dialect(body: &str, dialect: Dialect) -> String {
     if dialect != Haas {
         return body.to_string();
     }
-    body.split_inclusive(|c: char| c == ' ' || c == '\n')
+    body.split_inclusive([' ', '\n'])
         .map(|w| {
             let t = w.trim_end();
             if t.starts_with('F') && t.len() > 1 && t[1..].chars().all(|c| c.is_ascii_digit()) {
@@ -372,9 +372,7 @@ fn performed_codes_run_to_their_end() {
     for dialect in [Fanuc, Syntec, Haas] {
         let here = |g: &str| has_code(dialect, g) && !(dialect == Syntec && PERFORMED_IN_FANUC_ONLY.contains(&g));
         // The NGC's own codes of FANUC's numbers (G35 … G161) are not FANUC's functions.
-        let haas_own = |g: &str| {
-            dialect == Haas && gcode::HAAS_TABLE.iter().any(|d| gcode::display(d.code) == g)
-        };
+        let haas_own = |g: &str| dialect == Haas && gcode::HAAS_TABLE.iter().any(|d| gcode::display(d.code) == g);
         let haas = PERFORMED_IN_HAAS.iter().filter(|_| dialect == Haas);
         for (name, body, _) in PERFORMED.iter().filter(|(g, _, _)| here(g) && !haas_own(g)).chain(haas) {
             // Codes refused with some values are listed on both sides: only this form runs.
@@ -426,7 +424,8 @@ fn every_address_letter_has_a_decision() {
             let r = run_with(&program(&in_dialect(body, dialect)), PRESET, dialect);
             assert!(r.completed(), "{dialect:?} {}: {:?}", *letter as char, r.alarms);
         }
-        let refused = [(LETTERS_REFUSED, ["PS0009", "COR-100", "311"]), (LETTERS_NOT_AXES, ["PS0009", "COR-002", "311"])];
+        let refused =
+            [(LETTERS_REFUSED, ["PS0009", "COR-100", "311"]), (LETTERS_NOT_AXES, ["PS0009", "COR-002", "311"])];
         for (letters, code) in refused {
             for &letter in letters {
                 let r = run_with(&program(&format!("G01 X1. {}2. F100.", letter as char)), PRESET, dialect);

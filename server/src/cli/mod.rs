@@ -22,7 +22,11 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 #[derive(Parser, Debug)]
-#[command(name = "fivex", version, about = "Virtual 5-axis CNC controllers (FANUC 30i-A5, Syntec and Haas NGC dialects)")]
+#[command(
+    name = "fivex",
+    version,
+    about = "Virtual 5-axis CNC controllers (FANUC 30i-A5, Syntec and Haas NGC dialects)"
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,

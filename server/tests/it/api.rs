@@ -1212,12 +1212,20 @@ async fn a_haas_controller_runs_its_dialect() {
     let reply = store(&app, &id, 3, "G00 X1.\nG234 H1\nM30\n").await;
     assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", reply.text());
     let body = reply.json();
-    assert_eq!((body["details"][0]["line"].clone(), body["details"][0]["code"].clone()), (json!(2), json!("310")), "{body}");
+    assert_eq!(
+        (body["details"][0]["line"].clone(), body["details"][0]["code"].clone()),
+        (json!(2), json!("310")),
+        "{body}"
+    );
     // ... and stops a forced run at its block with it.
     app.raw(Method::PUT, &format!("{C}/{id}/programs/3?force=true"), "text/plain", "G00 X1.\nG234 H1\nM30\n").await;
     app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 3})).await;
     let status = wait_for(&app, &id, "alarm").await;
-    assert_eq!((status["alarms"][0]["code"].clone(), status["alarms"][0]["line"].clone()), (json!("310"), json!(2)), "{status}");
+    assert_eq!(
+        (status["alarms"][0]["code"].clone(), status["alarms"][0]["line"].clone()),
+        (json!("310"), json!(2)),
+        "{status}"
+    );
     // Teach is Syntec's.
     let teach = app.post(&format!("{C}/{id}/teach/points/p1"), &json!({})).await;
     assert_eq!(teach.status, StatusCode::CONFLICT, "{}", teach.text());
