@@ -22,6 +22,8 @@ pub enum AlarmId {
     GCodeNotBuilt,
     /// An address fivex reads but no function of it uses (`interp::unbuilt`).
     AddressNotBuilt,
+    /// Haas: an M code whose function fivex does not carry out (`interp::unbuilt::haas_m_code`).
+    MCodeNotBuilt,
     /// Two G codes in one block that cannot be combined (for example two group 00 codes).
     IllegalGCodeCombination,
     /// Cutting feed commanded while the feedrate is zero.

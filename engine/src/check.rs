@@ -74,7 +74,17 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     cycle |= d.group == group::CYCLE && d.code != code::G80;
                                 }
                             },
-                            b'M' => calls |= mcode::SUBPROGRAM_CALLS.contains(&(value as u32)),
+                            b'M' => {
+                                calls |= mcode::SUBPROGRAM_CALLS.contains(&(value as u32));
+                                let haas = dialect == Dialect::Haas && value.fract() == 0.0 && value >= 0.0;
+                                if let Some(function) = unbuilt::haas_m_code(value as u32).filter(|_| haas) {
+                                    diags.push(at(
+                                        w.col,
+                                        AlarmId::MCodeNotBuilt,
+                                        format!("{function} is not built in fivex"),
+                                    ));
+                                }
+                            }
                             letter => {
                                 let argument = codes().any(|c| unbuilt::argument_of(c, dialect, letter));
                                 if let Some(function) = unbuilt::address(letter).filter(|_| !argument) {

@@ -113,6 +113,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::ImproperGCode,
     AlarmId::GCodeNotBuilt,
     AlarmId::AddressNotBuilt,
+    AlarmId::MCodeNotBuilt,
     AlarmId::IllegalGCodeCombination,
     AlarmId::FeedZero,
     AlarmId::IllegalOffsetNumber,
@@ -205,6 +206,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         // Syntec's COR-100 names the option not activated (both from the manuals' alarm lists).
         GCodeNotBuilt => (("PS0010", "IMPROPER G-CODE"), COR100),
         AddressNotBuilt => (("PS0009", "IMPROPER NC-ADDRESS"), COR100),
+        // Raised in the Haas dialect only; FANUC's and Syntec's columns for completeness.
+        MCodeNotBuilt => (("PS0009", "IMPROPER NC-ADDRESS"), COR100),
         IllegalGCodeCombination => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
         FeedZero => (("PS0011", "FEED ZERO ( COMMAND )"), ("COR-010", "Feedrate is zero")),
         IllegalOffsetNumber => (("PS0030", "ILLEGAL OFFSET NUMBER"), ("COR-011", "Illegal offset number")),
@@ -367,6 +370,7 @@ fn haas(id: &AlarmId) -> Text {
         NoDataAfterAddress => ("701", "NO VALUE AFTER ADDRESS"),
         TooManyDigits | IllegalOffsetNumber => RANGE,
         ImproperGCode | GCodeNotBuilt => INVALID_G,
+        MCodeNotBuilt => ("329", "UNDEFINED M CODE"),
         IllegalGCodeCombination => ("339", "MULTIPLE CODES"),
         FeedZero => ("320", "NO FEED RATE SPECIFIED"),
         ArcRadiusTolerance => ("338", "INVALID IJK AND XYZ IN G02 OR G03"),

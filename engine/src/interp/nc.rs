@@ -392,6 +392,11 @@ impl State {
         if w.improper_m {
             return Err(AlarmId::ImproperAddress);
         }
+        if self.cfg.refuse_unbuilt && self.cfg.dialect == crate::Dialect::Haas {
+            if w.mcodes().iter().any(|&m| unbuilt::haas_m_code(m).is_some()) {
+                return Err(AlarmId::MCodeNotBuilt);
+            }
+        }
 
         // --- addresses this machine does not have ------------------------------------------
         for &(letter, _, _) in &w.list {

@@ -82,3 +82,12 @@ fn haas_retains_100_to_199() {
     let v = |n: u32| r.variables.iter().find(|(k, _)| *k == n).map(|p| p.1);
     assert_eq!((v(101), v(102)), (Some(1.0), Some(2.0)));
 }
+
+/// `fivex check` reports the Haas M codes fivex does not build (M96 jumps on an input).
+#[test]
+fn check_reports_haas_m_codes() {
+    let src = "G00 X1.\nM96 P10 Q8\nM109 P501\nM30\nN10 M30\n";
+    let found: Vec<_> = check(parse_file(src), Haas).iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
+    assert_eq!(found, vec![(2, 1, "329".to_string()), (3, 1, "329".to_string())]);
+    assert!(check(parse_file(src), Fanuc).is_empty());
+}
