@@ -4,8 +4,8 @@
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
 //! do not exist, L in a block that names a canned cycle, a `,L` other than `,L2` and a zero
-//! surface normal of cutting point control, and Syntec's G05 format errors that literal words
-//! show.
+//! surface normal of cutting point control, Syntec's G05 format errors that literal words
+//! show, and Haas's M97/M98/G65 without P and M97 P of a line the program does not have.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
@@ -132,6 +132,32 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             AlarmId::ImproperAddress,
                             "L in a canned cycle: the repeat count is K".into(),
                         ));
+                    }
+                    // Haas: M97 P<n> calls N<n> of this program; M97, M98 and G65 need their P.
+                    let literal_m = |m: u32| {
+                        words.iter().find(|w| {
+                            w.letter == b'M' && matches!(w.value, WordValue::Number { value, .. } if value == m as f64)
+                        })
+                    };
+                    let m97 = literal_m(mcode::M97).filter(|_| dialect == Dialect::Haas);
+                    if dialect == Dialect::Haas && (calls || m97.is_some()) && !words.iter().any(|w| w.letter == b'P') {
+                        let call = m97.or(literal_m(mcode::M98)).or_else(|| {
+                            words.iter().find(|w| {
+                                w.letter == b'G' && matches!(w.value, WordValue::Number { value, .. } if value == 65.0)
+                            })
+                        });
+                        if let Some(call) = call {
+                            diags.push(at(call.col, AlarmId::MissingP, "no P: the line or program to call".into()));
+                        }
+                    }
+                    if let Some(m97) = m97 {
+                        if let Word::Value(n) = literal(words, b'P') {
+                            let col = words.iter().find(|w| w.letter == b'P').map_or(m97.col, |w| w.col);
+                            let found = n >= 0.0 && n.fract() == 0.0 && loaded.find_label(n as u32, i).is_some();
+                            if !found {
+                                diags.push(at(col, AlarmId::LineNotFound, format!("no N{n} in this program")));
+                            }
+                        }
                     }
                     if calls {
                         let p = words.iter().find_map(|w| match (w.letter, &w.value) {

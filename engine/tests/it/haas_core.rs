@@ -91,3 +91,13 @@ fn check_reports_haas_m_codes() {
     assert_eq!(found, vec![(2, 1, "329".to_string()), (3, 1, "329".to_string())]);
     assert!(check(parse_file(src), Fanuc).is_empty());
 }
+
+/// `fivex check` in the Haas dialect: M97 to a line the program does not have (337), and M97,
+/// M98, G65 without P (313).
+#[test]
+fn check_reports_m97_targets_and_missing_p() {
+    let src = "M97 P100\nM97 P200\nM97 L2\nM98 L2\nG65 A1.\nM30\nN100 M99\n";
+    let found: Vec<_> = check(parse_file(src), Haas).iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
+    let want = [(2, 5, "337"), (3, 1, "313"), (4, 1, "313"), (5, 1, "313")];
+    assert_eq!(found, want.map(|(l, c, code)| (l, c, code.to_string())), "{found:?}");
+}
