@@ -392,10 +392,9 @@ impl State {
         if w.improper_m {
             return Err(AlarmId::ImproperAddress);
         }
-        if self.cfg.refuse_unbuilt && self.cfg.dialect == crate::Dialect::Haas {
-            if w.mcodes().iter().any(|&m| unbuilt::haas_m_code(m).is_some()) {
-                return Err(AlarmId::MCodeNotBuilt);
-            }
+        let haas_refuses = self.cfg.refuse_unbuilt && self.cfg.dialect == crate::Dialect::Haas;
+        if haas_refuses && w.mcodes().iter().any(|&m| unbuilt::haas_m_code(m).is_some()) {
+            return Err(AlarmId::MCodeNotBuilt);
         }
 
         // --- addresses this machine does not have ------------------------------------------
