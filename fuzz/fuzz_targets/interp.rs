@@ -14,7 +14,7 @@ fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
     let file = parse_file(&text);
     for preset in ["mill3", "head-bc"] {
-        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+        for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
             let mut cfg = Config::new(MachineConfig::preset(preset).expect("preset"), dialect);
             cfg.max_blocks = 10_000;
             let mut interp = Interpreter::new(file.clone(), cfg);

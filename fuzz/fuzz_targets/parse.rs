@@ -12,7 +12,7 @@ fuzz_target!(|data: &[u8]| {
         assert!(d.line >= 1, "diagnostic lines are 1-based: {d:?}");
     }
     // The static checks walk the same tree: exercise them too.
-    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
         let _ = fivex_engine::check::check(file.clone(), dialect);
     }
 });

@@ -41,11 +41,11 @@ fn exercise(text: &str) {
     for d in &file.diagnostics {
         assert!(d.line >= 1, "diagnostic lines are 1-based: {d:?}");
     }
-    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
         let _ = check(file.clone(), dialect);
     }
-    // `fivex run` on mill3 (FANUC) and on head-bc (Syntec).
-    for (preset, dialect) in [("mill3", Dialect::Fanuc), ("head-bc", Dialect::Syntec)] {
+    // `fivex run` on mill3 (FANUC and Haas) and on head-bc (Syntec).
+    for (preset, dialect) in [("mill3", Dialect::Fanuc), ("head-bc", Dialect::Syntec), ("mill3", Dialect::Haas)] {
         let mut interp = interpreter(text, preset, dialect);
         let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
         assert!(r.blocks <= MAX_BLOCKS + 1, "block budget not enforced: {} blocks", r.blocks);
@@ -70,10 +70,10 @@ const TOKENS: &[&str] = &[
     ")", "%", " ", "\n", "\n", ",", "WHILE", "DO", "END", "IF", "GOTO", "THEN", "SIN", "COS", "TAN", "ATAN", "ASIN",
     "ACOS", "SQRT", "ABS", "ROUND", "FIX", "FUP", "LN", "EXP", "POW", "BIN", "BCD", "ADP", "MOD", "AND", "OR", "XOR",
     "EQ", "NE", "GT", "GE", "LT", "LE", "POPEN", "PCLOS", "DPRNT", "BPRNT", "G65", "G66", "G66.1", "G67", "M98", "M99",
-    "M30", "G01", "G02", "G03", "G00", "G81", "G83", "G73", "G84", "G76", "G80", "G98", "G99", "G10", "L2", "L20",
-    "G52", "G92", "G28", "G53", "G43", "G49", "G54.1", "G17", "G18", "G19", "G90", "G91", "G20", "G21", "G04", "#0",
-    "#1", "#100", "#3000", "#3006", "#5001", "#4001", "#[", "O1", "O2", "/", "N10", "GOTO10", "99999999", "1E5",
-    "0.0001", "1.", "-0", "\t",
+    "M30", "M97", "G154", "G110", "#10100", "#2401", "G01", "G02", "G03", "G00", "G81", "G83", "G73", "G84", "G76",
+    "G80", "G98", "G99", "G10", "L2", "L20", "G52", "G92", "G28", "G53", "G43", "G49", "G54.1", "G17", "G18", "G19",
+    "G90", "G91", "G20", "G21", "G04", "#0", "#1", "#100", "#3000", "#3006", "#5001", "#4001", "#[", "O1", "O2", "/",
+    "N10", "GOTO10", "99999999", "1E5", "0.0001", "1.", "-0", "\t",
 ];
 
 fn nc_soup() -> impl Strategy<Value = String> {
