@@ -70,6 +70,10 @@ impl Dialect {
             AlarmId::BlockOutputExceeded { limit } => {
                 ("FX0003".into(), format!("BLOCK EXPANDS TO MORE THAN {limit} COMMANDS"))
             }
+            plain if self == Dialect::Haas && haas_five_axis(plain).is_some() => {
+                let (code, message) = haas_five_axis(plain).expect("checked by the guard");
+                (code.into(), message.into())
+            }
             plain => {
                 let (fanuc, syntec) = codes(plain);
                 // TODO(haas): Haas's own codes (skeleton: FANUC's).
@@ -172,7 +176,27 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RestartPOffsetChanged,
     AlarmId::RestartMdi,
     AlarmId::RestartInMode,
+    AlarmId::TcpcNoToolLength,
+    AlarmId::DwoRotaryMotion,
+    AlarmId::DwoXyzNotGiven,
+    AlarmId::DwoWorkOffsetTilt,
+    AlarmId::DwoWithTcpc,
 ];
+
+/// The Haas codes of the 5-axis rules of TCPC and DWO (G234, G254). The NGC manual states the
+/// rules but prints no alarm numbers for them: these are **constructed** (9301–9305, a range
+/// the Haas sources used do not use; `docs/dialects.md`, "Haas 5-axis").
+fn haas_five_axis(id: &AlarmId) -> Option<Text> {
+    use AlarmId::*;
+    Some(match id {
+        TcpcNoToolLength => ("9301", "G234 WITHOUT TOOL LENGTH OFFSET (H)"),
+        DwoRotaryMotion => ("9302", "ROTARY MOTION NOT ALLOWED WITH G254"),
+        DwoXyzNotGiven => ("9303", "X, Y AND Z NOT COMMANDED AFTER G254"),
+        DwoWorkOffsetTilt => ("9304", "G254 WORK OFFSET TILT AXIS NOT ZERO"),
+        DwoWithTcpc => ("9305", "G254 AND G234 CANNOT BE COMBINED"),
+        _ => return None,
+    })
+}
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
 fn codes(id: &AlarmId) -> (Text, Text) {
@@ -315,6 +339,11 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         RestartMdi => (("PS0099", "MDI EXEC NOT ALLOWED AFT. SEARCH"), ("COR-040", "MDI after restart search")),
         RestartInMode => {
             (("FX0005", "RESTART NOT ALLOWED IN THIS MODE"), ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"))
+        }
+        // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
+        // Haas codes are `haas_five_axis`.
+        TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
+            (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code"))
         }
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }

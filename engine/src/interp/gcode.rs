@@ -264,10 +264,17 @@ pub mod code {
         G99 = 990 in RETURN_LEVEL;
         /// In-feed control cancel.
         G160 = 1600 in IN_FEED;
+        /// Haas tool center point control (TCPC): type 1 tool centre point control in the
+        /// work coordinate system fixed to the table (`interp::tcp`).
+        G234 = 2340 in LENGTH_COMP;
+        /// Haas dynamic work offset (DWO) and its cancel (`interp::dwo`).
+        G254 = 2540 in DYNAMIC_FIXTURE;
+        G255 = 2550 in DYNAMIC_FIXTURE;
     }
 
     /// Tool centre point control, type 1 and type 2, alone or with cutting point control.
-    pub const TCP: [u16; 4] = [G43_4, G43_5, G43_8, G43_9];
+    /// Haas G234 (TCPC) is type 1.
+    pub const TCP: [u16; 5] = [G43_4, G43_5, G43_8, G43_9, G234];
     /// Tool centre point control whose tool direction is a vector I, J, K (type 2).
     pub const TCP_TYPE2: [u16; 2] = [G43_5, G43_9];
     /// The tool length compensation cancels.
@@ -302,6 +309,8 @@ pub struct GDef {
     pub syntec_only: bool,
     /// A FANUC code the Syntec manual does not have (COR-070 in the Syntec dialect).
     pub fanuc_only: bool,
+    /// A code of the Haas NGC only (G234, G254, G255): not a code of the other dialects.
+    pub haas_only: bool,
 }
 
 impl GDef {
@@ -314,20 +323,24 @@ impl GDef {
 }
 
 const fn g(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false }
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false, haas_only: false }
 }
 const fn gx(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false }
+    GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false, haas_only: false }
 }
 const fn gsx(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false }
+    GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false, haas_only: false }
 }
 /// FANUC's 5-axis codes that the Syntec 5-axis manual does not list (its 5-axis functions are
 /// RTCP/STCP G43.4/G43.5, G68.2/G68.3, the tool alignments G53.1/G53.3/G53.6 and the chains
 /// G10 L5000): 3-D cutter compensation, cutting point command, G54.4, G68.4. Not codes of the
 /// Syntec dialect (COR-070), rather than FANUC's behaviour under a Syntec name.
 const fn gf(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true }
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true, haas_only: false }
+}
+/// The Haas NGC's own 5-axis codes (TCPC G234, DWO G254/G255).
+const fn gh(code: u16, group: usize) -> GDef {
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false, haas_only: true }
 }
 
 /// Sorted by code, for binary search.
@@ -480,10 +493,13 @@ pub const TABLE: &[GDef] = &[
     g(990, 10),  // G99 return to R level
     g(1600, 20), // G160 in-feed control cancel
     g(1610, 20), // G161 in-feed control
+    gh(2340, 8), // G234 Haas tool center point control (TCPC)
+    gh(2540, 23), // G254 Haas dynamic work offset (DWO)
+    gh(2550, 23), // G255 Haas DWO cancel
 ];
 
 /// Highest code in the table, ×10.
-const MAX_CODE: usize = 1610;
+const MAX_CODE: usize = 2550;
 
 /// `TABLE` index + 1 by code (0 = no such code): one array access per G word.
 static INDEX: [u8; MAX_CODE + 1] = {
@@ -501,7 +517,10 @@ pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
     let i = *INDEX.get(code as usize)?;
     let def = TABLE.get((i as usize).checked_sub(1)?)?;
     // TODO(haas): the NGC's own code list (skeleton: FANUC's).
-    if def.syntec_only && dialect != Dialect::Syntec || def.fanuc_only && dialect == Dialect::Syntec {
+    if def.syntec_only && dialect != Dialect::Syntec
+        || def.fanuc_only && dialect == Dialect::Syntec
+        || def.haas_only && dialect != Dialect::Haas
+    {
         return None;
     }
     Some(def)
@@ -579,7 +598,13 @@ mod tests {
         assert!(TABLE.len() < u8::MAX as usize);
         assert_eq!(TABLE.last().map(|d| d.code as usize), Some(MAX_CODE));
         for d in TABLE {
-            let dialect = if d.fanuc_only { Dialect::Fanuc } else { Dialect::Syntec };
+            let dialect = if d.haas_only {
+                Dialect::Haas
+            } else if d.fanuc_only {
+                Dialect::Fanuc
+            } else {
+                Dialect::Syntec
+            };
             assert_eq!(lookup(d.code, dialect), Some(d));
         }
     }
@@ -591,7 +616,7 @@ mod tests {
         assert!(code::CLAIMS.len() > 100);
         for &(name, value, claimed) in code::CLAIMS {
             assert_eq!(display(value), name.replace('_', "."), "{name} = {value}");
-            let def = lookup(value, Dialect::Fanuc).or_else(|| lookup(value, Dialect::Syntec));
+            let def = [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas].into_iter().find_map(|d| lookup(value, d));
             assert_eq!(def.map(|d| d.group), Some(claimed), "{name}: not in TABLE, or in another group");
         }
     }

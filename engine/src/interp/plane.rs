@@ -58,7 +58,8 @@ impl State {
         let fcs = self.plane?;
         let column = |k: usize| [fcs.r[(0, k)], fcs.r[(1, k)], fcs.r[(2, k)]];
         Some(TiltedPlane {
-            code: self.modes[group::ROTATION],
+            // Haas DWO runs as a plane (`super::dwo`): shown as G254.
+            code: if self.dwo_active() { code::G254 } else { self.modes[group::ROTATION] },
             origin: fcs.o.into(),
             axes: [column(0), column(1), column(2)],
         })

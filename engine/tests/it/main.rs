@@ -14,6 +14,7 @@ mod cutting_point;
 mod cycles;
 mod data;
 mod fast_path;
+mod haas_five_axis;
 mod frames;
 mod hpcc;
 mod incremental;

@@ -10,7 +10,7 @@ use common::*;
 use fivex_engine::check::check;
 use fivex_engine::interp::gcode;
 use fivex_engine::lang::parse_file;
-use fivex_engine::Dialect::{self, Fanuc, Syntec};
+use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
 
 /// The machine of these tests: X Y Z and the rotary axes B C (for G07.1 C and 5-axis codes).
 const PRESET: &str = "head-bc";
@@ -248,7 +248,7 @@ fn has_code(dialect: Dialect, name: &str) -> bool {
 /// The alarm a refused function gives in `dialect`.
 fn refusal(dialect: Dialect, code: &str) -> &'static str {
     match dialect {
-        Fanuc => "PS0010",
+        Fanuc | Haas => "PS0010",
         Syntec if FANUC_ONLY.contains(&code) => "COR-070",
         Syntec => "COR-100",
     }
