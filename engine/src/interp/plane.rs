@@ -38,7 +38,7 @@ pub(super) struct Definition {
 /// machine keeps planes over a restart (Syntec Pr3014 = 2, SYN-25), kept.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TiltedPlane {
-    /// 682, 683 or 684 (G68.2, G68.3, G68.4).
+    /// 682, 683 or 684 (G68.2, G68.3, G68.4); 2540 for Haas DWO (G254, `super::dwo`).
     pub code: u16,
     /// The FCS origin in the workpiece system.
     pub origin: [f64; 3],

@@ -309,3 +309,13 @@ fn haas_list_round_trips() {
     let report = vendor::unmodelled::of_params(Dialect::Haas, &p);
     assert!(report.iter().any(|u| u.parameter == "Setting 255"), "{report:?}");
 }
+
+/// The Haas rows of `unbuilt.rs`'s performed list run to their end in the Haas dialect on its
+/// machine (head-bc: fivex performs TCPC and DWO on any mechanism, `docs/dialects.md`).
+#[test]
+fn haas_codes_run_on_a_head_machine_too() {
+    for body in ["G234 H1\nG01 X10. Y5. Z20. B20. C30. F1000.\nG49\nM30\n", "G00 B20. C30.\nG254\nG00 X1. Y1.\nZ1.\nG01 X2. F100.\nG255\nM30\n"] {
+        let r = common::run_with(body, "head-bc", Dialect::Haas);
+        assert!(r.completed(), "{body}: {:?}", r.alarms);
+    }
+}

@@ -132,6 +132,10 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G98", "G98", "fixture g81_drill_g98_g99_repeat"),
     ("G99", "G99\nG98", "fixture g81_drill_g98_g99_repeat"),
     ("G160", "G160", "the cancelled state of G161"),
+    // Haas only (not codes of the FANUC and Syntec dialects).
+    ("G234", "G234 H1\nG49", "haas_five_axis.rs"),
+    ("G254", "G254\nG255", "haas_five_axis.rs"),
+    ("G255", "G255", "haas_five_axis.rs"),
 ];
 
 /// Refused: (the block, the dialects it is refused in). The block's first G word is the code.
