@@ -69,7 +69,10 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let mrzp = p.get3(MRZP)?;
     let [low, high] = [p.get(TILT_RANGE)?, p.get(TILT_RANGE + 1)?];
     if low > high {
-        return Err(ConfigError::invalid(format!("Setting {TILT_RANGE}/{} (tilt range): low above high", TILT_RANGE + 1)));
+        return Err(ConfigError::invalid(format!(
+            "Setting {TILT_RANGE}/{} (tilt range): low above high",
+            TILT_RANGE + 1
+        )));
     }
     let range = (low != 0.0 || high != 0.0).then_some([low, high]);
     let mut rotary = Vec::new();
@@ -77,7 +80,10 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         let tilt = j == 0;
         let r = p.get(ROTARY_RAPID + j as u32)?;
         if r <= 0.0 {
-            return Err(ConfigError::invalid(format!("parameter {} ({letter} rapid) must be positive", ROTARY_RAPID + j as u32)));
+            return Err(ConfigError::invalid(format!(
+                "parameter {} ({letter} rapid) must be positive",
+                ROTARY_RAPID + j as u32
+            )));
         }
         // The tilt (or 4th) axis has the range; the platter always rolls over.
         let range = if tilt { range } else { None };
@@ -123,7 +129,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         return Err(no("the linear axes are not X, Y, Z".into()));
     }
     let letters: Vec<char> = m.rotary.iter().map(|l| l.axis).collect();
-    let unit = (0..=3).find(|&u| unit_axes(u) == letters.as_slice()).ok_or_else(|| no("the rotary axes are not A, A/B or B/C".into()))?;
+    let unit = (0..=3)
+        .find(|&u| unit_axes(u) == letters.as_slice())
+        .ok_or_else(|| no("the rotary axes are not A, A/B or B/C".into()))?;
     if m.axes.len() != 3 + letters.len() {
         return Err(no("an axis outside the rotary unit".into()));
     }
@@ -133,7 +141,11 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if m.motion != MotionOptions::default() {
         return Err(no("motion options other than the defaults".into()));
     }
-    if m.five_axis != Default::default() || m.manual != Default::default() || !m.chains.is_empty() || !m.sub_chains.is_empty() {
+    if m.five_axis != Default::default()
+        || m.manual != Default::default()
+        || !m.chains.is_empty()
+        || !m.sub_chains.is_empty()
+    {
         return Err(no("5-axis, manual or chain options".into()));
     }
     let mut p = Params::default();

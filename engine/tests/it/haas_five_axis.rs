@@ -25,7 +25,8 @@ fn haas(name: &str) -> MachineConfig {
     let path = format!("{}/../machines/{name}.json", env!("CARGO_MANIFEST_DIR"));
     let f: ParamFile = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     assert_eq!(f.dialect, Dialect::Haas);
-    vendor::machine_from(f.dialect, &f.name, &f.parameters).unwrap_or_else(|e| panic!("{name}: {}", e.describe(f.dialect)))
+    vendor::machine_from(f.dialect, &f.name, &f.parameters)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.describe(f.dialect)))
 }
 
 /// The Haas machines with rotary axes.
@@ -150,8 +151,13 @@ fn g254_reaches_the_workpiece_points() {
             );
             let interp = interpreter_with(&src, "mill3", Dialect::Haas, |cfg| cfg.machine = m.clone().into());
             let ends = motion_ends(interp);
-            let wants: [(u32, f64, f64, Option<f64>); 5] =
-                [(5, 10.0, -5.0, None), (6, 10.0, -5.0, Some(30.0)), (7, 10.0, -5.0, Some(5.0)), (8, -15.0, 12.0, Some(5.0)), (9, -5.0, 22.0, Some(5.0))];
+            let wants: [(u32, f64, f64, Option<f64>); 5] = [
+                (5, 10.0, -5.0, None),
+                (6, 10.0, -5.0, Some(30.0)),
+                (7, 10.0, -5.0, Some(5.0)),
+                (8, -15.0, 12.0, Some(5.0)),
+                (9, -5.0, 22.0, Some(5.0)),
+            ];
             for (line, x, y, z) in wants {
                 let end = end_of(&ends, line);
                 let tip = pi.from_parent(&kin.forward(&end, LENGTH).tip);
@@ -314,7 +320,10 @@ fn haas_list_round_trips() {
 /// machine (head-bc: fivex performs TCPC and DWO on any mechanism, `docs/dialects.md`).
 #[test]
 fn haas_codes_run_on_a_head_machine_too() {
-    for body in ["G234 H1\nG01 X10. Y5. Z20. B20. C30. F1000.\nG49\nM30\n", "G00 B20. C30.\nG254\nG00 X1. Y1.\nZ1.\nG01 X2. F100.\nG255\nM30\n"] {
+    for body in [
+        "G234 H1\nG01 X10. Y5. Z20. B20. C30. F1000.\nG49\nM30\n",
+        "G00 B20. C30.\nG254\nG00 X1. Y1.\nZ1.\nG01 X2. F100.\nG255\nM30\n",
+    ] {
         let r = common::run_with(body, "head-bc", Dialect::Haas);
         assert!(r.completed(), "{body}: {:?}", r.alarms);
     }

@@ -575,7 +575,8 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
 async fn haas_settings_are_a_haas_controller_s_parameters() {
     let app = spawn_app().await;
     let doc: Value =
-        serde_json::from_str(include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../machines/haas-umc-750.json"))).unwrap();
+        serde_json::from_str(include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../machines/haas-umc-750.json")))
+            .unwrap();
     let id = create(&app, json!({"name": "umc", "machine": doc})).await;
     let list = app.get(&format!("{C}/{id}/parameters")).await.json();
     assert_eq!((list["dialect"].clone(), list["parameters"]["255"].clone()), (json!("haas"), json!(-381)));
