@@ -345,157 +345,159 @@ const fn gh(code: u16, group: usize) -> GDef {
 
 /// Sorted by code, for binary search.
 pub const TABLE: &[GDef] = &[
-    g(0, 1),      // positioning
-    g(10, 1),     // linear interpolation
-    g(20, 1),     // circular/helical CW
-    g(22, 1),     // involute CW
-    g(23, 1),     // exponential CW
-    g(24, 1),     // 3-D circular
-    g(30, 1),     // circular/helical CCW
-    g(32, 1),     // involute CCW
-    g(33, 1),     // exponential CCW
-    g(34, 1),     // 3-D circular
-    gx(40, 0),    // dwell
-    g(41, 0),     // G04.1 prevent buffering
-    g(50, 0),     // G05 high-speed cycle / HPCC (Syntec: its axis words name the axes, `GDef::owns_axes`)
-    gx(51, 0),    // G05.1 AI contour / nano smoothing (Q3's axis words name the axes smoothed)
-    g(54, 0),     // G05.4 HRV3
-    g(62, 1),     // G06.2 NURBS
-    g(70, 0),     // G07 hypothetical axis interpolation
-    g(71, 0),     // G07.1 cylindrical interpolation
-    g(80, 0),     // G08 advanced preview control
-    g(90, 0),     // G09 exact stop
-    gx(100, 0),   // G10 programmable data input
-    g(106, 0),    // G10.6 tool retract and recover
-    g(110, 0),    // G11 data input cancel
-    g(121, 21),   // G12.1 polar coordinate interpolation
-    g(131, 21),   // G13.1 cancel
-    g(150, 17),   // G15 polar coordinates cancel
-    g(160, 17),   // G16 polar coordinates
-    g(170, 2),    // G17 XY plane
-    g(171, 2),    // G17.1 plane conversion
-    g(180, 2),    // G18 ZX plane
-    g(190, 2),    // G19 YZ plane
-    g(200, 6),    // G20 inch
-    g(210, 6),    // G21 mm
-    gx(220, 4),   // G22 stored stroke check on
-    g(230, 4),    // G23 off
-    g(250, 24),   // G25 spindle speed fluctuation detection off
-    g(260, 24),   // G26 on
-    gx(270, 0),   // G27 reference position return check
-    gx(280, 0),   // G28 reference position return
-    gx(282, 0),   // G28.2
-    gx(290, 0),   // G29 return from reference position
-    gx(300, 0),   // G30 2nd-4th reference position return
-    gx(301, 0),   // G30.1 floating reference position return
-    gx(310, 0),   // G31 skip
-    gx(318, 0),   // G31.8 EGB skip
-    gx(319, 0),   // G31.9 continuous high-speed skip
-    g(330, 1),    // G33 threading
-    g(340, 1),    // G34 variable lead threading
-    g(350, 1),    // G35 circular threading CW
-    g(360, 1),    // G36 circular threading CCW
-    gx(370, 0),   // G37 automatic tool length measurement
-    g(380, 0),    // G38 cutter compensation: preserve vector
-    gx(390, 0),   // G39 corner circular interpolation (I/J/K: direction; no move command)
-    g(400, 7),    // G40 cutter compensation cancel
-    g(401, 19),   // G40.1 normal direction control cancel
-    g(410, 7),    // G41 left
-    g(411, 19),   // G41.1 normal direction control left
-    gf(412, 7),   // G41.2 3-D cutter compensation left, type 1
-    gf(413, 7),   // G41.3 leading edge offset
-    gf(414, 7),   // G41.4 left, type 1 (FS16i compatible)
-    gf(415, 7),   // G41.5 left, type 1 (FS16i compatible)
-    gf(416, 7),   // G41.6 left, type 2
-    g(420, 7),    // G42 right
-    g(421, 19),   // G42.1 normal direction control right
-    gf(422, 7),   // G42.2 right, type 1
-    gf(424, 7),   // G42.4 right, type 1 (FS16i compatible)
-    gf(425, 7),   // G42.5 right, type 1 (FS16i compatible)
-    gf(426, 7),   // G42.6 right, type 2
-    g(430, 8),    // G43 tool length compensation +
-    g(431, 8),    // G43.1 tool length compensation in tool axis direction
-    g(434, 8),    // G43.4 tool center point control type 1
-    g(435, 8),    // G43.5 tool center point control type 2
-    g(437, 8),    // G43.7 tool offset
-    gf(438, 8),   // G43.8 cutting point command type 1
-    gf(439, 8),   // G43.9 cutting point command type 2
-    g(440, 8),    // G44 tool length compensation -
-    gx(450, 0),   // G45 tool offset increase
-    gx(460, 0),   // G46 decrease
-    gx(470, 0),   // G47 double increase
-    gx(480, 0),   // G48 double decrease
-    g(490, 8),    // G49 tool length compensation cancel
-    g(491, 8),    // G49.1
-    g(500, 11),   // G50 scaling cancel
-    g(501, 22),   // G50.1 programmable mirror image cancel
-    g(510, 11),   // G51 scaling
-    g(511, 22),   // G51.1 programmable mirror image
-    gx(520, 0),   // G52 local coordinate system
-    gx(530, 0),   // G53 machine coordinate system
-    g(531, 0),    // G53.1 tool axis direction control
-    gsx(533, 0),  // G53.3 alignment plus positioning (Syntec)
-    g(536, 0),    // G53.6 tool center point retention type tool axis direction control
-    g(540, 14),   // G54
-    g(541, 14),   // G54.1 additional workpiece coordinate systems
-    g(542, 23),   // G54.2 rotary table dynamic fixture offset
-    gf(544, 33),  // G54.4 workpiece setting error compensation
-    g(550, 14),   // G55
-    g(560, 14),   // G56
-    g(570, 14),   // G57
-    g(580, 14),   // G58
-    g(590, 14),   // G59
-    gx(600, 0),   // G60 single direction positioning
-    g(610, 15),   // G61 exact stop mode
-    g(620, 15),   // G62 automatic corner override
-    g(630, 15),   // G63 tapping mode
-    g(640, 15),   // G64 cutting mode
-    g(650, 0),    // G65 macro call
-    g(660, 12),   // G66 macro modal call A
-    g(661, 12),   // G66.1 macro modal call B
-    g(670, 12),   // G67 macro modal call cancel
-    g(680, 16),   // G68 coordinate system rotation
-    g(682, 16),   // G68.2 tilted working plane
-    g(683, 16),   // G68.3 tilted working plane by tool axis
-    gf(684, 16),  // G68.4 tilted working plane, incremental
-    g(690, 16),   // G69 cancel
-    g(691, 16),   // G69.1
-    g(721, 0),    // G72.1 figure copy, rotary
-    g(722, 0),    // G72.2 figure copy, linear
-    g(730, 9),    // G73 high-speed peck drilling
-    g(740, 9),    // G74 left-hand tapping
-    g(760, 9),    // G76 fine boring
-    g(800, 9),    // G80 canned cycle cancel
-    g(805, 25),   // G80.5 EGB synchronisation cancel
-    g(810, 9),    // G81 drilling
-    g(811, 0),    // G81.1 chopping
-    g(815, 25),   // G81.5 EGB synchronisation start
-    g(820, 9),    // G82 drilling with dwell
-    g(830, 9),    // G83 peck drilling
-    g(840, 9),    // G84 tapping
-    g(842, 9),    // G84.2 rigid tapping (FS10/11 format)
-    g(843, 9),    // G84.3 left-hand rigid tapping
-    g(850, 9),    // G85 boring
-    g(860, 9),    // G86 boring, spindle stop
-    g(870, 9),    // G87 back boring
-    g(880, 9),    // G88 boring, manual retract
-    g(890, 9),    // G89 boring with dwell
-    g(900, 3),    // G90 absolute
-    g(910, 3),    // G91 incremental
-    gx(920, 0),   // G92 workpiece coordinate system setting
-    gx(921, 0),   // G92.1 workpiece coordinate system preset
-    g(930, 5),    // G93 inverse time feed
-    g(940, 5),    // G94 feed per minute
-    g(950, 5),    // G95 feed per revolution
-    g(960, 13),   // G96 constant surface speed
-    g(970, 13),   // G97 cancel
-    g(980, 10),   // G98 return to initial level
-    g(990, 10),   // G99 return to R level
-    g(1600, 20),  // G160 in-feed control cancel
-    g(1610, 20),  // G161 in-feed control
-    gh(2340, 8),  // G234 Haas tool center point control (TCPC)
-    gh(2540, 23), // G254 Haas dynamic work offset (DWO)
-    gh(2550, 23), // G255 Haas DWO cancel
+    g(0, 1),     // positioning
+    g(10, 1),    // linear interpolation
+    g(20, 1),    // circular/helical CW
+    g(22, 1),    // involute CW
+    g(23, 1),    // exponential CW
+    g(24, 1),    // 3-D circular
+    g(30, 1),    // circular/helical CCW
+    g(32, 1),    // involute CCW
+    g(33, 1),    // exponential CCW
+    g(34, 1),    // 3-D circular
+    gx(40, 0),   // dwell
+    g(41, 0),    // G04.1 prevent buffering
+    g(50, 0),    // G05 high-speed cycle / HPCC (Syntec: its axis words name the axes, `GDef::owns_axes`)
+    gx(51, 0),   // G05.1 AI contour / nano smoothing (Q3's axis words name the axes smoothed)
+    g(54, 0),    // G05.4 HRV3
+    g(62, 1),    // G06.2 NURBS
+    g(70, 0),    // G07 hypothetical axis interpolation
+    g(71, 0),    // G07.1 cylindrical interpolation
+    g(80, 0),    // G08 advanced preview control
+    g(90, 0),    // G09 exact stop
+    gx(100, 0),  // G10 programmable data input
+    g(106, 0),   // G10.6 tool retract and recover
+    g(110, 0),   // G11 data input cancel
+    g(121, 21),  // G12.1 polar coordinate interpolation
+    g(131, 21),  // G13.1 cancel
+    g(150, 17),  // G15 polar coordinates cancel
+    g(160, 17),  // G16 polar coordinates
+    g(170, 2),   // G17 XY plane
+    g(171, 2),   // G17.1 plane conversion
+    g(180, 2),   // G18 ZX plane
+    g(190, 2),   // G19 YZ plane
+    g(200, 6),   // G20 inch
+    g(210, 6),   // G21 mm
+    gx(220, 4),  // G22 stored stroke check on
+    g(230, 4),   // G23 off
+    g(250, 24),  // G25 spindle speed fluctuation detection off
+    g(260, 24),  // G26 on
+    gx(270, 0),  // G27 reference position return check
+    gx(280, 0),  // G28 reference position return
+    gx(282, 0),  // G28.2
+    gx(290, 0),  // G29 return from reference position
+    gx(300, 0),  // G30 2nd-4th reference position return
+    gx(301, 0),  // G30.1 floating reference position return
+    gx(310, 0),  // G31 skip
+    gx(318, 0),  // G31.8 EGB skip
+    gx(319, 0),  // G31.9 continuous high-speed skip
+    g(330, 1),   // G33 threading
+    g(340, 1),   // G34 variable lead threading
+    g(350, 1),   // G35 circular threading CW
+    g(360, 1),   // G36 circular threading CCW
+    gx(370, 0),  // G37 automatic tool length measurement
+    g(380, 0),   // G38 cutter compensation: preserve vector
+    gx(390, 0),  // G39 corner circular interpolation (I/J/K: direction; no move command)
+    g(400, 7),   // G40 cutter compensation cancel
+    g(401, 19),  // G40.1 normal direction control cancel
+    g(410, 7),   // G41 left
+    g(411, 19),  // G41.1 normal direction control left
+    gf(412, 7),  // G41.2 3-D cutter compensation left, type 1
+    gf(413, 7),  // G41.3 leading edge offset
+    gf(414, 7),  // G41.4 left, type 1 (FS16i compatible)
+    gf(415, 7),  // G41.5 left, type 1 (FS16i compatible)
+    gf(416, 7),  // G41.6 left, type 2
+    g(420, 7),   // G42 right
+    g(421, 19),  // G42.1 normal direction control right
+    gf(422, 7),  // G42.2 right, type 1
+    gf(424, 7),  // G42.4 right, type 1 (FS16i compatible)
+    gf(425, 7),  // G42.5 right, type 1 (FS16i compatible)
+    gf(426, 7),  // G42.6 right, type 2
+    g(430, 8),   // G43 tool length compensation +
+    g(431, 8),   // G43.1 tool length compensation in tool axis direction
+    g(434, 8),   // G43.4 tool center point control type 1
+    g(435, 8),   // G43.5 tool center point control type 2
+    g(437, 8),   // G43.7 tool offset
+    gf(438, 8),  // G43.8 cutting point command type 1
+    gf(439, 8),  // G43.9 cutting point command type 2
+    g(440, 8),   // G44 tool length compensation -
+    gx(450, 0),  // G45 tool offset increase
+    gx(460, 0),  // G46 decrease
+    gx(470, 0),  // G47 double increase
+    gx(480, 0),  // G48 double decrease
+    g(490, 8),   // G49 tool length compensation cancel
+    g(491, 8),   // G49.1
+    g(500, 11),  // G50 scaling cancel
+    g(501, 22),  // G50.1 programmable mirror image cancel
+    g(510, 11),  // G51 scaling
+    g(511, 22),  // G51.1 programmable mirror image
+    gx(520, 0),  // G52 local coordinate system
+    gx(530, 0),  // G53 machine coordinate system
+    g(531, 0),   // G53.1 tool axis direction control
+    gsx(533, 0), // G53.3 alignment plus positioning (Syntec)
+    g(536, 0),   // G53.6 tool center point retention type tool axis direction control
+    g(540, 14),  // G54
+    g(541, 14),  // G54.1 additional workpiece coordinate systems
+    g(542, 23),  // G54.2 rotary table dynamic fixture offset
+    gf(544, 33), // G54.4 workpiece setting error compensation
+    g(550, 14),  // G55
+    g(560, 14),  // G56
+    g(570, 14),  // G57
+    g(580, 14),  // G58
+    g(590, 14),  // G59
+    gx(600, 0),  // G60 single direction positioning
+    g(610, 15),  // G61 exact stop mode
+    g(620, 15),  // G62 automatic corner override
+    g(630, 15),  // G63 tapping mode
+    g(640, 15),  // G64 cutting mode
+    g(650, 0),   // G65 macro call
+    g(660, 12),  // G66 macro modal call A
+    g(661, 12),  // G66.1 macro modal call B
+    g(670, 12),  // G67 macro modal call cancel
+    g(680, 16),  // G68 coordinate system rotation
+    g(682, 16),  // G68.2 tilted working plane
+    g(683, 16),  // G68.3 tilted working plane by tool axis
+    gf(684, 16), // G68.4 tilted working plane, incremental
+    g(690, 16),  // G69 cancel
+    g(691, 16),  // G69.1
+    g(721, 0),   // G72.1 figure copy, rotary
+    g(722, 0),   // G72.2 figure copy, linear
+    g(730, 9),   // G73 high-speed peck drilling
+    g(740, 9),   // G74 left-hand tapping
+    g(760, 9),   // G76 fine boring
+    g(800, 9),   // G80 canned cycle cancel
+    g(805, 25),  // G80.5 EGB synchronisation cancel
+    g(810, 9),   // G81 drilling
+    g(811, 0),   // G81.1 chopping
+    g(815, 25),  // G81.5 EGB synchronisation start
+    g(820, 9),   // G82 drilling with dwell
+    g(830, 9),   // G83 peck drilling
+    g(840, 9),   // G84 tapping
+    g(842, 9),   // G84.2 rigid tapping (FS10/11 format)
+    g(843, 9),   // G84.3 left-hand rigid tapping
+    g(850, 9),   // G85 boring
+    g(860, 9),   // G86 boring, spindle stop
+    g(870, 9),   // G87 back boring
+    g(880, 9),   // G88 boring, manual retract
+    g(890, 9),   // G89 boring with dwell
+    g(900, 3),   // G90 absolute
+    g(910, 3),   // G91 incremental
+    gx(920, 0),  // G92 workpiece coordinate system setting
+    gx(921, 0),  // G92.1 workpiece coordinate system preset
+    g(930, 5),   // G93 inverse time feed
+    g(940, 5),   // G94 feed per minute
+    g(950, 5),   // G95 feed per revolution
+    g(960, 13),  // G96 constant surface speed
+    g(970, 13),  // G97 cancel
+    g(980, 10),  // G98 return to initial level
+    g(990, 10),  // G99 return to R level
+    g(1600, 20), // G160 in-feed control cancel
+    g(1610, 20), // G161 in-feed control
+    // Haas: G234 tool center point control (TCPC), G254 dynamic work offset (DWO), G255 its
+    // cancel.
+    gh(2340, 8),
+    gh(2540, 23),
+    gh(2550, 23),
 ];
 
 /// Highest code in the table, ×10.
