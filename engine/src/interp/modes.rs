@@ -10,7 +10,8 @@
 //!
 //! The rules are one table, [`RULES`], tried in order; the first that holds gives the alarm. Each
 //! row names the rule it implements (`crc` cutter compensation, `tcp` tool centre point control,
-//! `twp` tilted plane / G54.4 / manual, `syn` Syntec; `docs/references.md`) and the
+//! `twp` tilted plane / G54.4 / manual, `syn` Syntec, `haas` the Haas NGC manual's G234/G254
+//! pages; `docs/references.md`) and the
 //! dialect it belongs to: a rule one vendor states and the other does not is not applied to the
 //! other. Decisions where the extracts leave a choice are in `docs/conventions.md` ("Mode
 //! interlocks"). Order: block formats, then rules naming one combination, then the lists of G
@@ -1415,7 +1416,7 @@ mod tests {
     #[test]
     fn every_rule_names_its_spec_row() {
         for r in RULES {
-            let known = ["crc ", "tcp ", "twp ", "syn "].iter().any(|p| r.src.starts_with(p));
+            let known = ["crc ", "tcp ", "twp ", "syn ", "haas "].iter().any(|p| r.src.starts_with(p));
             assert!(known && r.src.contains(':'), "rule without a spec row: {}", r.src);
         }
     }
