@@ -328,3 +328,62 @@ fn haas_codes_run_on_a_head_machine_too() {
         assert!(r.completed(), "{body}: {:?}", r.alarms);
     }
 }
+
+/// The G234 page's conceptual example, in inches: the edge from X0 Y0 Z0 to X0 Y-1. Z0 of the
+/// part (G54) is cut with the table turned (the page's B and C values are not in the text read:
+/// B30 C45 here); under TCPC the tip runs along the part's Y only, 25.4 mm, while the machine's
+/// X, Y and Z all move.
+#[test]
+fn g234_manual_example_edge_in_inches() {
+    let m = umc();
+    let kin = Kinematics::new(&m).unwrap();
+    let g54 = [-381.0, -254.0, -432.0];
+    let src = "G20\nG10 L2 P1 X-15. Y-10. Z-17.007874\nG90 G54 G00 B0 C0\nG234 H1\nG00 X0 Y0 Z1. B30. C45.\nG01 Z0 F10.\nY-1.\nG00 Z1.\nG49\nM30\n";
+    let (r, samples) = run_on(&m, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let pi = pi(&kin, &m, g54);
+    let on = |s: &Sample| pi.from_parent(&kin.forward(&s.machine, LENGTH).tip);
+    let edge: Vec<&Sample> = samples.iter().filter(|s| s.line == 7).collect();
+    assert!(edge.len() > 10);
+    let mut moved = [0.0f64; 3];
+    for s in &edge {
+        let tip = on(s);
+        assert!(tip.x.abs() < 1e-6 && tip.z.abs() < 1e-6 && tip.y <= 1e-6 && tip.y >= -25.4 - 1e-6, "{tip:?}");
+        for (k, d) in moved.iter_mut().enumerate() {
+            *d = d.max((s.machine[k] - edge[0].machine[k]).abs());
+        }
+    }
+    let end = on(edge.last().unwrap());
+    assert!((end.y + 25.4).abs() < 1e-6, "{end:?}");
+    // The machine moves in X, Y and Z to draw a line along the part's Y.
+    assert!(moved.iter().all(|d| *d > 1.0), "{moved:?}");
+}
+
+/// A canned drilling cycle under G254 drills along the tool into the turned part: the hole's
+/// bottom is the programmed point of the workpiece system turned with the table.
+#[test]
+fn g254_drills_into_the_turned_part() {
+    let m = umc();
+    let kin = Kinematics::new(&m).unwrap();
+    let g54 = [-381.0, -254.0, -432.0];
+    let src = format!(
+        "{}G90 G54 G00 B90. C30.\nG43 H1 Z150.\nG254\nG00 X5. Y5.\nZ20.\nG81 X5. Y5. Z-10. R2. F100.\nX-5. Y8.\nG80\nG255\nM30\n",
+        g10(g54)
+    );
+    let (r, samples) = run_on(&m, &src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let pi = pi(&kin, &m, g54);
+    for (line, x, y) in [(7, 5.0, 5.0), (8, -5.0, 8.0)] {
+        let tips: Vec<Vec3> = samples
+            .iter()
+            .filter(|s| s.line == line)
+            .map(|s| pi.from_parent(&kin.forward(&s.machine, LENGTH).tip))
+            .collect();
+        let bottom = tips.iter().copied().min_by(|a, b| a.z.total_cmp(&b.z)).unwrap();
+        assert!((bottom - Vec3::new(x, y, -10.0)).norm() < 1e-3, "line {line}: {bottom:?}");
+        // Drilled along the part's Z: X and Y stay at the hole while the tip is below R.
+        for t in tips.iter().filter(|t| t.z < 2.0 - 1e-6) {
+            assert!((t.x - x).abs() < 1e-6 && (t.y - y).abs() < 1e-6, "line {line}: {t:?}");
+        }
+    }
+}
