@@ -227,6 +227,17 @@ pub enum AlarmId {
     RestartMdi,
     /// The restart block lies in a mode the return cannot enter (fivex's decision).
     RestartInMode,
+    // --- Haas 5-axis: TCPC G234, DWO G254/G255 (`interp::tcp`, `interp::dwo`) ---------------
+    /// G234 with no tool length offset H given or in force.
+    TcpcNoToolLength,
+    /// A rotary axis of the mechanism commanded while G254 is on (or in its block).
+    DwoRotaryMotion,
+    /// A cutting move after G254 before X, Y and Z were all commanded.
+    DwoXyzNotGiven,
+    /// G254 with a work offset whose tilt axis value is not zero.
+    DwoWorkOffsetTilt,
+    /// G254 while G234 is on, or G234 while G254 is on.
+    DwoWithTcpc,
 }
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.

@@ -191,6 +191,11 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RestartPOffsetChanged,
     AlarmId::RestartMdi,
     AlarmId::RestartInMode,
+    AlarmId::TcpcNoToolLength,
+    AlarmId::DwoRotaryMotion,
+    AlarmId::DwoXyzNotGiven,
+    AlarmId::DwoWorkOffsetTilt,
+    AlarmId::DwoWithTcpc,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -341,6 +346,11 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         RestartInMode => {
             (("FX0005", "RESTART NOT ALLOWED IN THIS MODE"), ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"))
         }
+        // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
+        // Haas codes are constructed in `haas`.
+        TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
+            (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code"))
+        }
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }
@@ -416,6 +426,12 @@ fn haas(id: &AlarmId) -> Text {
         EmergencyStop => ("107", "EMERGENCY OFF"),
         RestartBlockNotFound | RestartPNoRun | RestartPOffsetChanged | RestartMdi => RESTART,
         RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
+        // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
+        TcpcNoToolLength => ("741", "G234 WITHOUT TOOL LENGTH OFFSET (H)"),
+        DwoRotaryMotion => ("742", "ROTARY MOTION NOT ALLOWED WITH G254"),
+        DwoXyzNotGiven => ("743", "X, Y AND Z NOT COMMANDED AFTER G254"),
+        DwoWorkOffsetTilt => ("744", "G254 WORK OFFSET TILT AXIS NOT ZERO"),
+        DwoWithTcpc => ("745", "G254 AND G234 CANNOT BE COMBINED"),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }

@@ -386,6 +386,20 @@ test("every preset kind draws in the 3D view", async () => {
     assert.ok(n > 20);
     await page.screenshot({ path: join(shots, `machine-${preset}.png`) });
   }
+  // The Haas machines of the library (Haas settings lists: travels below machine zero, the
+  // trunnions' axes through the MRZP) draw too.
+  for (const name of ["haas-umc-750", "haas-vf2-tr160", "haas-vf2-hrt160"]) {
+    const { machine } = (await http("GET", `/api/v1/fleet/library/${name}`)).body;
+    const c = (await http("POST", "/api/v1/controllers", { name: `view ${name}`, machine })).body;
+    await page.goto(`${base}/#/c/${c.id}`);
+    await page.locator(".view3d canvas").waitFor();
+    const n = await poll(`a drawn ${name}`, async () => {
+      const k = await colours(".view3d canvas");
+      return k > 20 ? k : 0;
+    });
+    assert.ok(n > 20);
+    await page.screenshot({ path: join(shots, `machine-${name}.png`) });
+  }
 });
 
 test("a fleet run compares machines, shows why one cannot run it, and opens one in 3D", async () => {

@@ -265,10 +265,17 @@ pub mod code {
         G99 = 990 in RETURN_LEVEL;
         /// In-feed control cancel.
         G160 = 1600 in IN_FEED;
+        /// Haas tool center point control (TCPC): type 1 tool centre point control in the
+        /// work coordinate system fixed to the table (`interp::tcp`).
+        G234 = 2340 in LENGTH_COMP;
+        /// Haas dynamic work offset (DWO) and its cancel (`interp::dwo`).
+        G254 = 2540 in DYNAMIC_FIXTURE;
+        G255 = 2550 in DYNAMIC_FIXTURE;
     }
 
     /// Tool centre point control, type 1 and type 2, alone or with cutting point control.
-    pub const TCP: [u16; 4] = [G43_4, G43_5, G43_8, G43_9];
+    /// Haas G234 (TCPC) is type 1.
+    pub const TCP: [u16; 5] = [G43_4, G43_5, G43_8, G43_9, G234];
     /// Tool centre point control whose tool direction is a vector I, J, K (type 2).
     pub const TCP_TYPE2: [u16; 2] = [G43_5, G43_9];
     /// The tool length compensation cancels.
@@ -701,7 +708,7 @@ mod tests {
         assert!(code::CLAIMS.len() > 100);
         for &(name, value, claimed) in code::CLAIMS {
             assert_eq!(display(value), name.replace('_', "."), "{name} = {value}");
-            let def = lookup(value, Dialect::Fanuc).or_else(|| lookup(value, Dialect::Syntec));
+            let def = [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas].into_iter().find_map(|d| lookup(value, d));
             assert_eq!(def.map(|d| d.group), Some(claimed), "{name}: not in TABLE, or in another group");
         }
     }

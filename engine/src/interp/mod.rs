@@ -7,6 +7,7 @@
 mod chain;
 mod cutting_point;
 mod cycles;
+mod dwo;
 pub mod expr;
 mod frames;
 pub mod gcode;
@@ -302,6 +303,9 @@ pub struct State {
     plane: Option<crate::geom::Rigid>,
     /// A G68.2 P2/P3 definition in progress.
     definition: plane::Definition,
+    /// Haas DWO (G254): the linear axes (bits X 0, Y 1, Z 2) not yet commanded since G254;
+    /// a cutting move waits for all three (`dwo`).
+    dwo_due: u8,
     /// Simulated time, seconds, advanced by the executor.
     clock_s: f64,
     /// #3001 / #3002 are the clock minus these (they are writable).
@@ -455,6 +459,7 @@ impl Interpreter {
             st.five.plane_ended();
         }
         st.wse_reset();
+        st.haas_end_five_axis();
     }
 
     /// The machine was moved outside the program (jog, handle, reference return): the
@@ -608,6 +613,7 @@ impl State {
             follow_machine: None,
             plane: None,
             definition: plane::Definition::default(),
+            dwo_due: 0,
             clock_s: 0.0,
             timer_ms_base: 0.0,
             timer_h_base: 0.0,

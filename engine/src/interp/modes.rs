@@ -10,7 +10,8 @@
 //!
 //! The rules are one table, [`RULES`], tried in order; the first that holds gives the alarm. Each
 //! row names the rule it implements (`crc` cutter compensation, `tcp` tool centre point control,
-//! `twp` tilted plane / G54.4 / manual, `syn` Syntec; `docs/references.md`) and the
+//! `twp` tilted plane / G54.4 / manual, `syn` Syntec, `haas` the Haas NGC manual's G234/G254
+//! pages; `docs/references.md`) and the
 //! dialect it belongs to: a rule one vendor states and the other does not is not applied to the
 //! other. Decisions where the extracts leave a choice are in `docs/conventions.md` ("Mode
 //! interlocks"). Order: block formats, then rules naming one combination, then the lists of G
@@ -79,6 +80,7 @@ enum On {
     Both,
     Fanuc,
     Syntec,
+    Haas,
 }
 
 struct Rule {
@@ -95,7 +97,7 @@ const fn rule(on: On, src: &'static str, alarm: AlarmId, when: fn(&Ctx) -> bool)
 }
 
 use AlarmId as A;
-use On::{Both, Fanuc, Syntec};
+use On::{Both, Fanuc, Haas, Syntec};
 
 /// The rules, tried in order.
 static RULES: &[Rule] = &[
@@ -552,6 +554,29 @@ static RULES: &[Rule] = &[
             |c, g| tcp_allows(g) || matches!(g, G05_1 | G06_2) && c.after[group::LENGTH_COMP] == G43_4 && !c.posture(),
         )
     }),
+    // --- Haas DWO (G254) and TCPC (G234): the manual's rules (`docs/dialects.md`) ----------
+    rule(Haas, "haas G254: no rotary motion while DWO is on, nor in its block", A::DwoRotaryMotion, |c| {
+        c.during(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.any_rotary()
+    }),
+    rule(Haas, "haas G254/G234: DWO and TCPC exclude each other", A::DwoWithTcpc, |c| {
+        c.during(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.during(group::LENGTH_COMP, |_, m| m == G234)
+    }),
+    rule(Haas, "haas G254: not with a tilted working plane (decision)", A::IllegalCommandInMode, |c| {
+        c.during(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.during(group::ROTATION, |c, m| c.twp(m))
+    }),
+    rule(Haas, "haas G254: a machine with rotary axes (decision)", A::IllegalCommandInMode, |c| {
+        c.starts(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.st.kinematics.is_none()
+    }),
+    rule(Haas, "haas G254: the work offset's tilt axis value is zero", A::DwoWorkOffsetTilt, |c| {
+        c.starts(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.st.dwo_tilt_offset() != 0.0
+    }),
+    rule(Haas, "haas G254: X, Y and Z commanded before cutting", A::DwoXyzNotGiven, |c| {
+        let due = if c.before[group::DYNAMIC_FIXTURE] == G254 { c.st.dwo_due() } else { 0b111 };
+        c.after[group::DYNAMIC_FIXTURE] == G254 && c.cutting_move() && due & !c.st.xyz_given(c.w) != 0
+    }),
+    rule(Haas, "haas G234: the G codes allowed in TCPC (FANUC's TCP list)", A::IllegalCommandInTcp, |c| {
+        c.foreign(group::LENGTH_COMP, |c, m| m == G234 && c.tcp(m), |_, g| tcp_allows(g))
+    }),
     // --- lists of modal states a mode may start in ----------------------------------------
     rule(Fanuc, "twp §6.3, TV-WSE-16: modal states G54.4 may start in", A::WseModalState, |c| {
         c.has(G54_4) && c.five.wse == 0 && c.word(b'P') != Some(0.0) && c.state_outside(group::WSE, wse_state_allows)
@@ -658,6 +683,7 @@ fn check_rules(st: &State, w: &Words) -> Result<FiveAxisModes, AlarmId> {
             Both => true,
             Fanuc => dialect == Dialect::Fanuc,
             Syntec => dialect == Dialect::Syntec,
+            Haas => dialect == Dialect::Haas,
         };
         if applies && (r.when)(&c) {
             return Err(r.alarm.clone());
@@ -820,6 +846,15 @@ impl Ctx<'_> {
     /// The block is a G02/G03 arc: the group-01 mode is an arc and its axis words are the end point.
     fn arc(&self) -> bool {
         matches!(self.after[group::MOTION], G02 | G03) && !self.axes_are_data()
+    }
+
+    /// The block cuts: axis words in G01/G02/G03 or a canned cycle, not owned by a one-shot
+    /// code (G28, G53 …).
+    fn cutting_move(&self) -> bool {
+        let owned = self.g.iter().any(|&g| gcode::lookup(g, self.dialect).is_some_and(|d| d.takes_axes));
+        self.any_axis()
+            && !owned
+            && (matches!(self.after[group::MOTION], G01 | G02 | G03) || self.after[group::CYCLE] != G80)
     }
 
     fn any_rotary(&self) -> bool {
@@ -999,7 +1034,8 @@ impl Ctx<'_> {
 fn any_mode(m: &[u16; GROUPS]) -> bool {
     // The 3-D / 5-axis cutter compensations (G41.2…G41.6, G42.2…G42.6), not G42 itself.
     matches!(m[group::CUTTER_COMP], G41_2..=G41_6 | G42_2..=G42_6)
-        || matches!(m[group::LENGTH_COMP], G43_4..=G43_9)
+        || matches!(m[group::LENGTH_COMP], G43_4..=G43_9 | G234)
+        || m[group::DYNAMIC_FIXTURE] == G254
         || TILTED_PLANES.contains(&m[group::ROTATION])
         || m[group::POLAR_INTERPOLATION] == G12_1
 }
@@ -1380,7 +1416,7 @@ mod tests {
     #[test]
     fn every_rule_names_its_spec_row() {
         for r in RULES {
-            let known = ["crc ", "tcp ", "twp ", "syn "].iter().any(|p| r.src.starts_with(p));
+            let known = ["crc ", "tcp ", "twp ", "syn ", "haas "].iter().any(|p| r.src.starts_with(p));
             assert!(known && r.src.contains(':'), "rule without a spec row: {}", r.src);
         }
     }

@@ -456,6 +456,7 @@ impl State {
         }
         let machine_before = self.machine_position();
         let comp_before = self.modes[group::CUTTER_COMP];
+        let dwo_before = self.modes[group::DYNAMIC_FIXTURE];
         let mut axes_owner: Option<u16> = None;
         let mut one_shots: [u16; 12] = [0; 12];
         let mut n_one_shots = 0;
@@ -555,6 +556,7 @@ impl State {
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
         self.apply_wse(&w)?;
         let transform_axes = self.apply_transforms(&w)? | self.apply_plane(&w)?;
+        self.apply_dwo(&w, dwo_before);
         if transform_axes && axes_owner.is_some() {
             return Err(AlarmId::IllegalGCodeCombination);
         }
@@ -617,7 +619,7 @@ impl State {
         // tool length, computed at their end only).
         let tcp_mode = code::TCP.contains(&self.modes[group::LENGTH_COMP]);
         if tcp_mode && w.gcodes().iter().any(|g| code::TCP.contains(g)) {
-            self.tcp_begin(&w)?;
+            self.tcp_begin(&w, machine_before)?;
             tool_length_changed = true;
         } else if !tcp_mode && self.tcp_active() {
             self.tcp_end();
@@ -755,6 +757,8 @@ impl State {
                     if code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
                         self.modes[group::CUTTER_COMP] = code::G40;
                     }
+                    // Haas: M02/M30 end DWO and TCPC.
+                    self.haas_end_five_axis();
                 }
                 mcode::M05 => {
                     self.spindle = SpindleState::Stop;

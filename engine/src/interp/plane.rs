@@ -38,7 +38,7 @@ pub(super) struct Definition {
 /// machine keeps planes over a restart (Syntec Pr3014 = 2, SYN-25), kept.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TiltedPlane {
-    /// 682, 683 or 684 (G68.2, G68.3, G68.4).
+    /// 682, 683 or 684 (G68.2, G68.3, G68.4); 2540 for Haas DWO (G254, `super::dwo`).
     pub code: u16,
     /// The FCS origin in the workpiece system.
     pub origin: [f64; 3],
@@ -58,7 +58,8 @@ impl State {
         let fcs = self.plane?;
         let column = |k: usize| [fcs.r[(0, k)], fcs.r[(1, k)], fcs.r[(2, k)]];
         Some(TiltedPlane {
-            code: self.modes[group::ROTATION],
+            // Haas DWO runs as a plane (`super::dwo`): shown as G254.
+            code: if self.dwo_active() { code::G254 } else { self.modes[group::ROTATION] },
             origin: fcs.o.into(),
             axes: [column(0), column(1), column(2)],
         })

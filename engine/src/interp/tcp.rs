@@ -1,5 +1,7 @@
 //! Tool centre point control: FANUC G43.4 (type 1, the tool direction by rotary angles) and
-//! G43.5 (type 2, by a vector I, J, K), Syntec RTCP (spec `fanuc-tcp.md` TCP-03…TCP-35,
+//! G43.5 (type 2, by a vector I, J, K), Haas G234 TCPC (type 1 with Π the work coordinate
+//! system fixed to the table at the rotary zero, FANUC's `TableAtZero`; `docs/dialects.md`,
+//! "Haas 5-axis"), Syntec RTCP (spec `fanuc-tcp.md` TCP-03…TCP-35,
 //! `syntec.md` SYN-07…SYN-11), and the same under cutting point control (G43.8/G43.9, whose
 //! X/Y/Z are the cutting point: `super::cutting_point`). The choices the manuals leave open are
 //! in `docs/five-axis.md`.
@@ -127,7 +129,9 @@ impl State {
 
     /// The block starts (or restarts with new data) tool centre point control (group 08 is
     /// G43.4/G43.5 and the block commands it).
-    pub(super) fn tcp_begin(&mut self, w: &Words) -> Result<(), AlarmId> {
+    /// `machine_before`: where the machine stands at the block's start (the position before
+    /// group 08 changed the tool length the program position is read with).
+    pub(super) fn tcp_begin(&mut self, w: &Words, machine_before: Pos) -> Result<(), AlarmId> {
         let Some(kin) = self.kinematics.clone() else {
             return Err(AlarmId::IllegalCommandInTcp);
         };
@@ -147,11 +151,25 @@ impl State {
                 return Err(AlarmId::MachineParameter);
             }
         }
-        let machine = self.machine_position();
+        let haas = self.cfg.dialect == crate::Dialect::Haas;
+        let machine = if haas { machine_before } else { self.machine_position() };
+        if haas && self.h == 0 {
+            // Haas G234 takes the tool length from H (given in the block or in force): without
+            // one the tip would be the spindle nose (decision, `docs/dialects.md`, "Haas 5-axis").
+            return Err(AlarmId::TcpcNoToolLength);
+        }
         // The start block is read in the workpiece system on the table as it stands (TCP-22:
         // also with INZ = 1); the frame for later blocks is set at its end (`tcp_started`).
-        let frame = Some(self.frame_on_table(&kin, &machine));
+        // Haas TCPC: the work coordinate system is fixed to the table as it is at the rotary
+        // axes' zero (the active work offset and the MRZP), from the G234 block on.
+        let frame = Some(if haas {
+            self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine))
+        } else {
+            self.frame_on_table(&kin, &machine)
+        });
+        // The NGC has no tool posture control: the rotary axes interpolate their angles.
         let posture = match w.integer(b'P') {
+            _ if haas => false,
             Some(p) => p == 1.0,
             None => self.cfg.machine.five_axis.posture_control,
         };
@@ -162,7 +180,7 @@ impl State {
         let cutting = self.cutting_begin(w)?;
         self.tcp = Some(Tcp {
             code: self.modes[group::LENGTH_COMP],
-            kin,
+            kin: kin.clone(),
             frame,
             posture,
             tool_length,
@@ -174,6 +192,14 @@ impl State {
             cutting,
         });
         self.follow_machine = Some(machine);
+        if haas {
+            // The G234 block does not move by itself (decision): the current point becomes
+            // the tool tip, length H, in the table-fixed work coordinates, where it stands.
+            if let Some(f) = frame {
+                self.pos = self.tip_position(&kin, &f, &machine, tool_length);
+                self.sync_programmed();
+            }
+        }
         Ok(())
     }
 
@@ -181,7 +207,13 @@ impl State {
     fn tcp_started(&mut self) {
         let (Some(t), Some(machine)) = (&self.tcp, self.follow_machine) else { return };
         let kin = t.kin.clone();
-        let frame = match self.cfg.machine.five_axis.tcp_coordinates {
+        // Haas TCPC has one convention, whatever the FANUC parameters say: the work
+        // coordinate system fixed to the table at the rotary zero (`tcp_begin`).
+        let coordinates = match self.cfg.dialect {
+            crate::Dialect::Haas => TcpCoordinates::TableAtZero,
+            _ => self.cfg.machine.five_axis.tcp_coordinates,
+        };
+        let frame = match coordinates {
             TcpCoordinates::TableAtStart => Some(self.frame_on_table(&kin, &machine)),
             TcpCoordinates::TableAtZero => Some(self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine))),
             TcpCoordinates::Workpiece => None,
@@ -398,6 +430,8 @@ impl State {
         // later blocks in Π (or the workpiece system at the block's end angles, WKP = 1).
         let frame = match (t.starting, t.frame) {
             (false, Some(f)) => f,
+            // Haas: Π from the G234 block on (`tcp_begin`).
+            (true, Some(f)) if self.cfg.dialect == crate::Dialect::Haas => f,
             _ => self.frame_on_table(&kin, &machine_end),
         };
         // FANUC tool posture control acts on lines (G00 of the linear type, G01) and circles
@@ -406,9 +440,10 @@ impl State {
         let posture = t.posture
             && !through_singular
             && match self.cfg.dialect {
-                // TODO(haas): skeleton: FANUC's.
-                crate::Dialect::Fanuc | crate::Dialect::Haas => true,
+                crate::Dialect::Fanuc => true,
                 crate::Dialect::Syntec => kind != MotionKind::Rapid,
+                // The NGC has no tool posture control (`tcp_begin` never turns it on).
+                crate::Dialect::Haas => false,
             };
         if let (true, Some(a), crate::Dialect::Fanuc, false) = (posture, &arc, self.cfg.dialect, t.starting) {
             posture_stays_on_one_side(&kin, a, &frame, &from_machine, &machine_end, t.tool_length)?;

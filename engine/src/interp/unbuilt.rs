@@ -159,10 +159,7 @@ const TABLE: &[NotBuilt] = &[
     haas(1740, "non-vertical rigid tapping (G174)"),
     haas(1840, "non-vertical rigid tapping (G184)"),
     haas(1870, "smoothness level (G187)"),
-    haas(2340, "tool center point control (G234)"),
     haas(2530, "spindle normal to the feature coordinate system (G253)"),
-    haas(2540, "dynamic work offset (G254)"),
-    haas(2550, "dynamic work offset cancel (G255)"),
     haas(2660, "visible axes linear rapid motion (G266)"),
     haas(2680, "feature coordinate system (G268)"),
     haas(2690, "feature coordinate system cancel (G269)"),
@@ -368,7 +365,9 @@ mod tests {
         let none = |_: u8| Word::Absent;
         assert_eq!(g_code(370, Dialect::Haas, none), Some("automatic tool offset measurement (G37)"));
         assert_eq!(g_code(370, Dialect::Fanuc, none), Some("automatic tool length measurement (G37)"));
-        assert_eq!(g_code(2340, Dialect::Haas, none), Some("tool center point control (G234)"));
+        assert_eq!(g_code(2530, Dialect::Haas, none), Some("spindle normal to the feature coordinate system (G253)"));
+        // G234, G254/G255 are performed (`interp::tcp`, `interp::dwo`).
+        assert_eq!(g_code(2340, Dialect::Haas, none), None);
         // G154 / G110–G129 are performed (the G54.1 P work offsets).
         assert_eq!(g_code(1540, Dialect::Haas, none), None);
         assert_eq!(g_code(1100, Dialect::Haas, none), None);

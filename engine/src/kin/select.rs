@@ -70,7 +70,10 @@ impl Kinematics {
     /// Choose among `candidates` (from [`Kinematics::inverse`]) starting from `from`.
     pub fn select(&self, candidates: &[Candidate], from: &[f64], how: Selection) -> Result<Choice, AlarmId> {
         match how.dialect {
-            // TODO(haas): skeleton: FANUC's.
+            // Haas: the NGC manual gives no rule of its own (its TCPC and DWO take machine
+            // angles, nothing is solved); where fivex solves for a Haas program it takes FANUC's
+            // cascade, least movement then nearest 0 (decision, `docs/dialects.md`, "Haas
+            // 5-axis").
             Dialect::Fanuc | Dialect::Haas => self.select_fanuc(candidates, from, how.pri),
             Dialect::Syntec => self.select_syntec(candidates, from, how.p),
         }

@@ -296,7 +296,11 @@ proptest! {
         let (q, from) = (&q[..n], &from[..n]);
         let pose = kin.forward(q, length);
         let cands = kin.inverse(pose.tip, pose.tool, length, from);
-        for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+        // Haas takes FANUC's cascade (`docs/dialects.md`, "Haas 5-axis"): the same choice.
+        let fanuc = kin.select(&cands, from, Selection { dialect: Dialect::Fanuc, pri: false, p: 0 });
+        let haas = kin.select(&cands, from, Selection { dialect: Dialect::Haas, pri: false, p: 0 });
+        prop_assert_eq!(&fanuc, &haas);
+        for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
             let how = Selection { dialect, pri: false, p: 0 };
             let choice = kin.select(&cands, from, how);
             if dialect == Dialect::Syntec && choice.is_err() {

@@ -1,4 +1,5 @@
-//! The vendors' parameter sets: FANUC No.1020… / No.19680… and Syntec Pr21… / Pr3001…, mapped
+//! The vendors' parameter sets: FANUC No.1020… / No.19680…, Syntec Pr21… / Pr3001… and the
+//! Haas settings (MRZP Setting 255–257 and a constructed machine description), mapped
 //! onto the vendor-neutral [`MachineConfig`] and back (`docs/machine-config.md`, "Parameter
 //! sets", lists every number).
 //!
@@ -9,6 +10,7 @@
 //! [0°, 180°] with RB 0 when RA is 0) — so vendor → model → vendor is the identity on it.
 
 mod fanuc;
+mod haas;
 mod params;
 mod syntec;
 pub mod unmodelled;
@@ -22,8 +24,8 @@ use crate::Dialect;
 /// The machine a vendor parameter list describes.
 pub fn machine_from(dialect: Dialect, name: &str, params: &Params) -> Result<MachineConfig, ConfigError> {
     let m = match dialect {
-        // TODO(haas): the Haas settings (MRZP…); skeleton: FANUC's parameters.
-        Dialect::Fanuc | Dialect::Haas => fanuc::machine(name, params)?,
+        Dialect::Fanuc => fanuc::machine(name, params)?,
+        Dialect::Haas => haas::machine(name, params)?,
         Dialect::Syntec => syntec::machine(name, params)?,
     };
     // The mechanism checks (parallel axes, axes parallel to the tool) raise the vendor's alarm.
@@ -35,8 +37,9 @@ pub fn machine_from(dialect: Dialect, name: &str, params: &Params) -> Result<Mac
 pub fn params_of(dialect: Dialect, m: &MachineConfig) -> Result<Params, ConfigError> {
     crate::kin::Kinematics::new(m)?;
     match dialect {
-        Dialect::Fanuc | Dialect::Haas => fanuc::params(m),
+        Dialect::Fanuc => fanuc::params(m),
         Dialect::Syntec => syntec::params(m),
+        Dialect::Haas => haas::params(m),
     }
 }
 

@@ -50,7 +50,7 @@ fn inside(m: &MachineConfig, i: usize, frac: f64) -> f64 {
 }
 
 #[test]
-fn the_library_covers_every_kind_and_both_dialects() {
+fn the_library_covers_every_kind_and_every_dialect() {
     let lib = library();
     assert!(lib.len() >= 20, "{} machines", lib.len());
     let kinds: Vec<MachineKind> = lib.iter().map(|(_, m, _)| Kinematics::new(m).unwrap().kind).collect();
@@ -64,7 +64,7 @@ fn the_library_covers_every_kind_and_both_dialects() {
     ] {
         assert!(kinds.contains(&kind), "no {kind:?} machine");
     }
-    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
         assert!(lib.iter().any(|(_, _, d)| *d == Some(dialect)), "no {dialect:?} parameter list");
     }
     // Inclined axes (nutating heads and tables): a rotary direction off the coordinate axes.

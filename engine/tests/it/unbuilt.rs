@@ -223,10 +223,7 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G174 X1. Z-1. F100.", &[Haas]),
     ("G184 X1. Z-1. F100.", &[Haas]),
     ("G187 P1", &[Haas]),
-    ("G234 H1", &[Haas]),
     ("G253", &[Haas]),
-    ("G254", &[Haas]),
-    ("G255", &[Haas]),
     ("G266 X1.", &[Haas]),
     ("G268 X0 Y0 Z0 I0 J30. K0", &[Haas]),
     ("G269", &[Haas]),
@@ -256,6 +253,9 @@ const PERFORMED_IN_HAAS: &[(&str, &str, &str)] = &[
     ("G127", "G127\nG54", "G154 P18"),
     ("G128", "G128\nG54", "G154 P19"),
     ("G129", "G129\nG54", "G154 P20"),
+    ("G234", "G234 H1\nG49", "haas_five_axis.rs"),
+    ("G254", "G254\nG255", "haas_five_axis.rs"),
+    ("G255", "G255", "haas_five_axis.rs"),
 ];
 
 /// The Haas dialect reads an F without a decimal point in least increments (Setting 77): the

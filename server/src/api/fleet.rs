@@ -473,7 +473,7 @@ pub struct LibraryMachine {
     /// The mechanism, as a controller's status names it.
     #[schema(value_type = crate::wire::words::MechanismName)]
     pub kind: String,
-    /// `fanuc` or `syntec` for a vendor parameter list (it runs in that dialect); null for a
+    /// `fanuc`, `syntec` or `haas` for a vendor parameter list (it runs in that dialect); null for a
     /// model file (it runs in the fleet's dialect).
     #[schema(value_type = Option<fivex_engine::Dialect>)]
     pub dialect: Option<String>,

@@ -26,7 +26,7 @@ pub struct FkArgs {
     /// Tool length, mm.
     #[arg(long, default_value_t = 0.0)]
     tool_length: f64,
-    /// Whose alarm a machine that cannot work raises: fanuc or syntec.
+    /// Whose alarm a machine that cannot work raises: fanuc, syntec or haas.
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
     /// The mechanism chain, as Syntec's G10 L5000 P_ Q_ selects it: SET or SET,SUB (default 1).
@@ -56,7 +56,7 @@ pub struct IkArgs {
     /// FANUC No.19608#5 PRI: judge the second rotary axis's movement first.
     #[arg(long)]
     pri: bool,
-    /// Whose selection rules: fanuc or syntec.
+    /// Whose selection rules: fanuc, syntec or haas (Haas: FANUC's).
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
     /// The mechanism chain, as Syntec's G10 L5000 P_ Q_ selects it: SET or SET,SUB (default 1).

@@ -10,7 +10,7 @@ use fivex_engine::Dialect;
 pub struct MachineShowArgs {
     #[command(flatten)]
     machine: MachineArgs,
-    /// Print the vendor's parameter list (fanuc or syntec) instead of the model.
+    /// Print the vendor's parameter list (fanuc, syntec or haas) instead of the model.
     #[arg(long)]
     params: Option<Dialect>,
 }

@@ -45,7 +45,7 @@ enum Command {
     /// Kinematics of a machine: `kin fk` and `kin ik`.
     #[command(subcommand)]
     Kin(kin::KinCommand),
-    /// Print a machine as a model file or as a FANUC / Syntec parameter list.
+    /// Print a machine as a model file or as a FANUC / Syntec / Haas parameter list.
     Machine(machine::MachineShowArgs),
     /// Start the HTTP service.
     Serve(ServeArgs),

@@ -568,6 +568,29 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
     assert_eq!(app.get(&format!("{C}/{syntec}/parameters")).await.json()["parameters"]["3001"], 1);
 }
 
+/// A Haas controller's parameters are the Haas settings list: the MRZP Settings 255–257 and the
+/// constructed machine description (`docs/machine-config.md`, "Haas"); a change moves the rotary
+/// centres; a machine the list cannot describe has no Haas parameter form.
+#[tokio::test]
+async fn haas_settings_are_a_haas_controller_s_parameters() {
+    let app = spawn_app().await;
+    let doc: Value =
+        serde_json::from_str(include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../machines/haas-umc-750.json")))
+            .unwrap();
+    let id = create(&app, json!({"name": "umc", "machine": doc})).await;
+    let list = app.get(&format!("{C}/{id}/parameters")).await.json();
+    assert_eq!((list["dialect"].clone(), list["parameters"]["255"].clone()), (json!("haas"), json!(-381)));
+    assert_eq!(list["parameters"]["9000"], 3);
+    let moved = app.put(&format!("{C}/{id}/parameters/256"), &json!({"value": -250.5})).await;
+    assert_eq!(moved.status, StatusCode::OK, "{}", moved.text());
+    assert_eq!(moved.json()["parameters"]["256"], -250.5);
+    let bad = app.put(&format!("{C}/{id}/parameters/9000"), &json!({"value": 7})).await;
+    assert_eq!(bad.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error_of(&bad).contains("9000"), "{}", bad.text());
+    let head = create(&app, json!({"name": "h", "preset": "head-bc", "dialect": "haas"})).await;
+    assert_eq!(app.get(&format!("{C}/{head}/parameters")).await.status, StatusCode::CONFLICT);
+}
+
 #[tokio::test]
 async fn with_a_token_the_api_needs_it_and_the_rest_stays_open() {
     let mut app = spawn_app().await;
