@@ -172,6 +172,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RestartPOffsetChanged,
     AlarmId::RestartMdi,
     AlarmId::RestartInMode,
+    AlarmId::CycleArgument,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -196,6 +197,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         }
         DataSettingFormat => (("PS1144", "G10 FORMAT ERROR"), ("COR-014", "G10 format error")),
         MissingQ => (("PS0045", "ADDRESS Q NOT FOUND (G73/G83)"), ("COR-015", "Peck depth Q missing")),
+        // Raised by the Haas cycles alone (G12/G13, G70–G72, G103: not codes of the other
+        // dialects); the columns are the other dialects' alarms for a wrong address value.
+        CycleArgument => (("PS0009", "IMPROPER NC-ADDRESS"), ("COR-002", "Illegal address")),
         ReferenceReturnInCycle => {
             (("PS0044", "G27-G30 NOT ALLOWED IN FIXED CYC"), ("COR-016", "Reference return in canned cycle"))
         }

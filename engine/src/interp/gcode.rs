@@ -106,6 +106,10 @@ pub mod code {
         /// Programmable data input.
         G10 = 100 in ONE_SHOT;
         G11 = 110 in ONE_SHOT;
+        /// Haas: circular pocket milling clockwise.
+        G12 = 120 in ONE_SHOT;
+        /// Haas: circular pocket milling counter-clockwise.
+        G13 = 130 in ONE_SHOT;
         /// Polar coordinate interpolation.
         G12_1 = 121 in POLAR_INTERPOLATION;
         G13_1 = 131 in POLAR_INTERPOLATION;
@@ -222,6 +226,12 @@ pub mod code {
         G68_4 = 684 in ROTATION;
         G69 = 690 in ROTATION;
         G69_1 = 691 in ROTATION;
+        /// Haas: bolt hole circle.
+        G70 = 700 in ONE_SHOT;
+        /// Haas: bolt hole arc.
+        G71 = 710 in ONE_SHOT;
+        /// Haas: bolt holes along an angle.
+        G72 = 720 in ONE_SHOT;
         /// Figure copy, rotary.
         G72_1 = 721 in ONE_SHOT;
         /// Figure copy, linear.
@@ -262,8 +272,14 @@ pub mod code {
         G97 = 970 in SURFACE_SPEED;
         G98 = 980 in RETURN_LEVEL;
         G99 = 990 in RETURN_LEVEL;
+        /// Haas: block look-ahead limit (P0–P15).
+        G103 = 1030 in ONE_SHOT;
+        /// Haas: general purpose pocket milling.
+        G150 = 1500 in ONE_SHOT;
         /// In-feed control cancel.
         G160 = 1600 in IN_FEED;
+        /// Haas: smoothness level.
+        G187 = 1870 in ONE_SHOT;
     }
 
     /// Tool centre point control, type 1 and type 2, alone or with cutting point control.
@@ -302,6 +318,9 @@ pub struct GDef {
     pub syntec_only: bool,
     /// A FANUC code the Syntec manual does not have (COR-070 in the Syntec dialect).
     pub fanuc_only: bool,
+    /// A code of the Haas NGC alone (G12/G13 circular pockets, G70–G72 bolt patterns, G103,
+    /// G150, G187): not a code of the FANUC and Syntec dialects.
+    pub haas_only: bool,
 }
 
 impl GDef {
@@ -314,20 +333,26 @@ impl GDef {
 }
 
 const fn g(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false }
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false, haas_only: false }
 }
 const fn gx(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false }
+    GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false, haas_only: false }
 }
 const fn gsx(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false }
+    GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false, haas_only: false }
 }
 /// FANUC's 5-axis codes that the Syntec 5-axis manual does not list (its 5-axis functions are
 /// RTCP/STCP G43.4/G43.5, G68.2/G68.3, the tool alignments G53.1/G53.3/G53.6 and the chains
 /// G10 L5000): 3-D cutter compensation, cutting point command, G54.4, G68.4. Not codes of the
 /// Syntec dialect (COR-070), rather than FANUC's behaviour under a Syntec name.
 const fn gf(code: u16, group: usize) -> GDef {
-    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true }
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true, haas_only: false }
+}
+
+/// A Haas-only code (`GDef::haas_only`); `takes_axes`: its block's axis words are its data
+/// (G12/G13: the pocket's centre and depth; G70–G72: the pattern's centre or first hole).
+const fn gh(code: u16, group: usize, takes_axes: bool) -> GDef {
+    GDef { code, group, takes_axes, syntec_only: false, fanuc_only: false, haas_only: true }
 }
 
 /// Sorted by code, for binary search.
@@ -355,7 +380,9 @@ pub const TABLE: &[GDef] = &[
     gx(100, 0),  // G10 programmable data input
     g(106, 0),   // G10.6 tool retract and recover
     g(110, 0),   // G11 data input cancel
+    gh(120, 0, true), // G12 circular pocket milling CW (Haas)
     g(121, 21),  // G12.1 polar coordinate interpolation
+    gh(130, 0, true), // G13 circular pocket milling CCW (Haas)
     g(131, 21),  // G13.1 cancel
     g(150, 17),  // G15 polar coordinates cancel
     g(160, 17),  // G16 polar coordinates
@@ -447,6 +474,9 @@ pub const TABLE: &[GDef] = &[
     gf(684, 16), // G68.4 tilted working plane, incremental
     g(690, 16),  // G69 cancel
     g(691, 16),  // G69.1
+    gh(700, 0, true), // G70 bolt hole circle (Haas)
+    gh(710, 0, true), // G71 bolt hole arc (Haas)
+    gh(720, 0, true), // G72 bolt holes along an angle (Haas)
     g(721, 0),   // G72.1 figure copy, rotary
     g(722, 0),   // G72.2 figure copy, linear
     g(730, 9),   // G73 high-speed peck drilling
@@ -478,12 +508,15 @@ pub const TABLE: &[GDef] = &[
     g(970, 13),  // G97 cancel
     g(980, 10),  // G98 return to initial level
     g(990, 10),  // G99 return to R level
+    gh(1030, 0, false), // G103 block look-ahead limit (Haas)
+    gh(1500, 0, true),  // G150 general purpose pocket milling (Haas)
     g(1600, 20), // G160 in-feed control cancel
     g(1610, 20), // G161 in-feed control
+    gh(1870, 0, false), // G187 smoothness level (Haas)
 ];
 
 /// Highest code in the table, ×10.
-const MAX_CODE: usize = 1610;
+const MAX_CODE: usize = 1870;
 
 /// `TABLE` index + 1 by code (0 = no such code): one array access per G word.
 static INDEX: [u8; MAX_CODE + 1] = {
@@ -501,7 +534,10 @@ pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
     let i = *INDEX.get(code as usize)?;
     let def = TABLE.get((i as usize).checked_sub(1)?)?;
     // TODO(haas): the NGC's own code list (skeleton: FANUC's).
-    if def.syntec_only && dialect != Dialect::Syntec || def.fanuc_only && dialect == Dialect::Syntec {
+    if def.syntec_only && dialect != Dialect::Syntec
+        || def.fanuc_only && dialect == Dialect::Syntec
+        || def.haas_only && dialect != Dialect::Haas
+    {
         return None;
     }
     Some(def)
@@ -579,7 +615,13 @@ mod tests {
         assert!(TABLE.len() < u8::MAX as usize);
         assert_eq!(TABLE.last().map(|d| d.code as usize), Some(MAX_CODE));
         for d in TABLE {
-            let dialect = if d.fanuc_only { Dialect::Fanuc } else { Dialect::Syntec };
+            let dialect = if d.haas_only {
+                Dialect::Haas
+            } else if d.fanuc_only {
+                Dialect::Fanuc
+            } else {
+                Dialect::Syntec
+            };
             assert_eq!(lookup(d.code, dialect), Some(d));
         }
     }
@@ -591,7 +633,9 @@ mod tests {
         assert!(code::CLAIMS.len() > 100);
         for &(name, value, claimed) in code::CLAIMS {
             assert_eq!(display(value), name.replace('_', "."), "{name} = {value}");
-            let def = lookup(value, Dialect::Fanuc).or_else(|| lookup(value, Dialect::Syntec));
+            let def = lookup(value, Dialect::Fanuc)
+                .or_else(|| lookup(value, Dialect::Syntec))
+                .or_else(|| lookup(value, Dialect::Haas));
             assert_eq!(def.map(|d| d.group), Some(claimed), "{name}: not in TABLE, or in another group");
         }
     }
@@ -610,6 +654,11 @@ mod tests {
         assert!(lookup(1000, Dialect::Fanuc).is_none());
         assert!(lookup(412, Dialect::Syntec).is_none());
         assert!(lookup(439, Dialect::Syntec).is_none());
+        // Haas-only codes: not codes of the other dialects.
+        for c in [120, 130, 700, 710, 720, 1030, 1500, 1870] {
+            assert!(lookup(c, Dialect::Fanuc).is_none() && lookup(c, Dialect::Syntec).is_none(), "{c}");
+            assert_eq!(lookup(c, Dialect::Haas).map(|d| d.group), Some(0), "{c}");
+        }
     }
 
     #[test]

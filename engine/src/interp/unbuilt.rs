@@ -112,6 +112,10 @@ const TABLE: &[NotBuilt] = &[
     row(437, When::Always, "tool offset (G43.7)"),
     row(450, When::Always, "tool position offset (G45)"),
     row(460, When::Always, "tool position offset (G46)"),
+    // Haas's G47 is text engraving: it needs the NGC's engraving font, which no public,
+    // licensable source gives (docs/dialects.md, "Haas cycles"). Before the both-dialects row,
+    // which the lookup would find first.
+    NotBuilt { code: 470, dialect: Some(Dialect::Haas), when: When::Always, function: "text engraving (G47)" },
     row(470, When::Always, "tool position offset (G47)"),
     row(480, When::Always, "tool position offset (G48)"),
     // G54.2 P0 is the cancel.
@@ -122,7 +126,19 @@ const TABLE: &[NotBuilt] = &[
     row(811, When::Always, "chopping (G81.1)"),
     row(815, When::Always, "electronic gear box (G81.5)"),
     row(960, When::Always, "constant surface speed (G96)"),
+    // Haas: its pocket offsetting (islands, the Q/K/J step rules, the finish passes) is not
+    // built (docs/dialects.md, "Haas cycles").
+    NotBuilt {
+        code: 1500,
+        dialect: Some(Dialect::Haas),
+        when: When::Always,
+        function: "general purpose pocket milling (G150)",
+    },
     row(1610, When::Always, "in-feed control (G161)"),
+    // Haas: fivex's path is exact (no corner is rounded), so a corner tolerance has nothing to
+    // drive; an accepted G187 that changes nothing would be a confident wrong cycle time
+    // (docs/dialects.md, "Haas cycles").
+    NotBuilt { code: 1870, dialect: Some(Dialect::Haas), when: When::Always, function: "smoothness level (G187)" },
 ];
 
 /// The function a G code (×10) selects with its block's addresses, if fivex does not carry it
@@ -242,9 +258,10 @@ pub fn address(letter: u8) -> Option<&'static str> {
 }
 
 /// `letter` is an argument of the G code `code` in `dialect`, decided by the code's row rather
-/// than by [`address`]: Syntec's G05 E.
+/// than by [`address`]: Syntec's G05 E, Haas's G187 E (its corner tolerance: the code is
+/// refused as a whole, by its row).
 pub fn argument_of(code: u16, dialect: Dialect, letter: u8) -> bool {
-    code == 50 && dialect == Dialect::Syntec && letter == b'E'
+    letter == b'E' && (code == 50 && dialect == Dialect::Syntec || code == 1870 && dialect == Dialect::Haas)
 }
 
 /// The codes of the table (for documentation checks).

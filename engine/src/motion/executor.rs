@@ -320,6 +320,7 @@ impl Executor {
             seg.after_interpolation = true;
         }
         (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
+        seg.block_limit = m.block_limit;
         seg.contact = self.contact(m, &seg).map(Box::new);
         seg
     }

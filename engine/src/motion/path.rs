@@ -109,6 +109,9 @@ pub struct Segment {
     /// and the axes' interpolated positions pass through the filter after interpolation
     /// (`motion::after`; `docs/motion.md`, "Without look-ahead").
     pub after_interpolation: bool,
+    /// Haas G103 P: at the end of the block this segment ends, the machine can stop within the
+    /// next `block_limit` blocks (0: no such limit; `motion::planner`).
+    pub block_limit: u8,
     /// Under cutter compensation: what places the point where the tool touches the contour
     /// (`Segment::cutting_point`; the executor sets it, knowing the vector the motion starts
     /// with). Boxed: most segments are not compensated.
@@ -1265,6 +1268,7 @@ impl Segment {
             axis_speed,
             factor: 1.0,
             after_interpolation: false,
+            block_limit: 0,
             contact: None,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
@@ -1393,6 +1397,7 @@ impl Segment {
             tip_basis: crate::tip::Basis::default(),
             factor: 1.0,
             after_interpolation: false,
+            block_limit: 0,
             contact: None,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
@@ -1470,6 +1475,7 @@ impl Segment {
             tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
             factor: 1.0,
             after_interpolation: false,
+            block_limit: 0,
             contact: None,
         };
         seg.set_override(1.0, 1.0);

@@ -15,6 +15,7 @@ mod cycles;
 mod data;
 mod fast_path;
 mod frames;
+mod haas_cycles;
 mod hpcc;
 mod incremental;
 mod kinematic_speed;

@@ -248,7 +248,7 @@ fn has_code(dialect: Dialect, name: &str) -> bool {
 /// The alarm a refused function gives in `dialect`.
 fn refusal(dialect: Dialect, code: &str) -> &'static str {
     match dialect {
-        Fanuc => "PS0010",
+        Fanuc | Dialect::Haas => "PS0010",
         Syntec if FANUC_ONLY.contains(&code) => "COR-070",
         Syntec => "COR-100",
     }
