@@ -197,7 +197,10 @@ impl State {
             code::G72 => (0..l).map(|n| hole(i * n as f64, j)).collect(),
             _ => return Err(AlarmId::CycleArgument),
         };
-        for h in holes {
+        for mut h in holes {
+            // Over the next hole at the level the last one left the tool (G98/G99), as a
+            // cycle block's next hole.
+            h[d] = self.xf.programmed[d];
             self.cycle_at(h, d, (pa, pb), out)?;
         }
         Ok(true)
