@@ -308,7 +308,7 @@ proptest! {
                 let (i, [lo, hi]) = (j.index.unwrap(), j.range.unwrap());
                 let a = choice.pos[i];
                 let inside = match dialect {
-                    Dialect::Fanuc => a >= lo - 1e-6 && a <= hi + 1e-6,
+                    Dialect::Fanuc | Dialect::Haas => a >= lo - 1e-6 && a <= hi + 1e-6,
                     Dialect::Syntec => (a - lo).rem_euclid(360.0) <= hi - lo + 1e-6,
                 };
                 prop_assert!(inside, "{dialect:?} axis {} at {a} outside [{lo}, {hi}]", j.name);

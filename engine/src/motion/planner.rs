@@ -635,7 +635,7 @@ fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) 
 /// The highest speed through the junction of `a` into `b` that its corner and its change of
 /// curvature allow (infinite where the path goes on smoothly, as between a block's pieces).
 fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
-    match (a.after_interpolation, b.after_interpolation) {
+    match (a.after_interpolation(), b.after_interpolation()) {
         // Without look-ahead the interpolation runs through corners at the feed: the filter
         // after interpolation rounds them.
         (true, true) => return f64::INFINITY,
