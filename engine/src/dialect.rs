@@ -57,8 +57,12 @@ impl Dialect {
             AlarmId::OverTravel { axis, positive } => {
                 let sign = if *positive { '+' } else { '-' };
                 match (self, positive) {
-                    (Dialect::Fanuc | Dialect::Haas, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
-                    (Dialect::Fanuc | Dialect::Haas, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    (Dialect::Fanuc | Dialect::Haas, true) => {
+                        ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}"))
+                    }
+                    (Dialect::Fanuc | Dialect::Haas, false) => {
+                        ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}"))
+                    }
                     (Dialect::Syntec, true) => {
                         ("MOT-001".into(), format!("{axis} axis exceeds positive software limit"))
                     }

@@ -349,10 +349,14 @@ const fn gf(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: true, haas_only: false }
 }
 
-/// A Haas-only code (`GDef::haas_only`); `takes_axes`: its block's axis words are its data
-/// (G12/G13: the pocket's centre and depth; G70–G72: the pattern's centre or first hole).
-const fn gh(code: u16, group: usize, takes_axes: bool) -> GDef {
-    GDef { code, group, takes_axes, syntec_only: false, fanuc_only: false, haas_only: true }
+/// A code of the Haas NGC alone (`GDef::haas_only`).
+const fn gh(code: u16, group: usize) -> GDef {
+    GDef { code, group, takes_axes: false, syntec_only: false, fanuc_only: false, haas_only: true }
+}
+/// A Haas-only code whose block's axis words are its data (G12/G13: the pocket's centre and
+/// depth; G70–G72: the pattern's centre or first hole).
+const fn ghx(code: u16, group: usize) -> GDef {
+    GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false, haas_only: true }
 }
 
 /// Sorted by code, for binary search.
@@ -380,9 +384,9 @@ pub const TABLE: &[GDef] = &[
     gx(100, 0),  // G10 programmable data input
     g(106, 0),   // G10.6 tool retract and recover
     g(110, 0),   // G11 data input cancel
-    gh(120, 0, true), // G12 circular pocket milling CW (Haas)
+    ghx(120, 0), // G12 circular pocket milling CW (Haas)
     g(121, 21),  // G12.1 polar coordinate interpolation
-    gh(130, 0, true), // G13 circular pocket milling CCW (Haas)
+    ghx(130, 0), // G13 circular pocket milling CCW (Haas)
     g(131, 21),  // G13.1 cancel
     g(150, 17),  // G15 polar coordinates cancel
     g(160, 17),  // G16 polar coordinates
@@ -474,9 +478,9 @@ pub const TABLE: &[GDef] = &[
     gf(684, 16), // G68.4 tilted working plane, incremental
     g(690, 16),  // G69 cancel
     g(691, 16),  // G69.1
-    gh(700, 0, true), // G70 bolt hole circle (Haas)
-    gh(710, 0, true), // G71 bolt hole arc (Haas)
-    gh(720, 0, true), // G72 bolt holes along an angle (Haas)
+    ghx(700, 0), // G70 bolt hole circle (Haas)
+    ghx(710, 0), // G71 bolt hole arc (Haas)
+    ghx(720, 0), // G72 bolt holes along an angle (Haas)
     g(721, 0),   // G72.1 figure copy, rotary
     g(722, 0),   // G72.2 figure copy, linear
     g(730, 9),   // G73 high-speed peck drilling
@@ -508,11 +512,11 @@ pub const TABLE: &[GDef] = &[
     g(970, 13),  // G97 cancel
     g(980, 10),  // G98 return to initial level
     g(990, 10),  // G99 return to R level
-    gh(1030, 0, false), // G103 block look-ahead limit (Haas)
-    gh(1500, 0, true),  // G150 general purpose pocket milling (Haas)
+    gh(1030, 0), // G103 block look-ahead limit (Haas)
+    gh(1500, 0), // G150 general purpose pocket milling (Haas)
     g(1600, 20), // G160 in-feed control cancel
     g(1610, 20), // G161 in-feed control
-    gh(1870, 0, false), // G187 smoothness level (Haas)
+    gh(1870, 0), // G187 smoothness level (Haas)
 ];
 
 /// Highest code in the table, ×10.

@@ -34,14 +34,14 @@ fn count(w: &Words, letter: u8, max: f64) -> Result<Option<u32>, AlarmId> {
 /// the manual's: I greater than the tool radius and less than K, Q (positive) with K only.
 pub fn pocket_radii(i: Option<f64>, k: Option<f64>, q: Option<f64>, tool: f64) -> Result<Vec<f64>, AlarmId> {
     let i = i.ok_or(AlarmId::CycleArgument)?;
-    if !(tool >= 0.0) || !(i > tool) {
+    if tool < 0.0 || i <= tool {
         return Err(AlarmId::CycleArgument);
     }
     let Some(k) = k else {
         return if q.is_some() { Err(AlarmId::CycleArgument) } else { Ok(vec![i - tool]) };
     };
     let q = q.ok_or(AlarmId::CycleArgument)?;
-    if !(k > i) || !(q > 0.0) || (k - i) / q > MAX_PASSES {
+    if k <= i || q <= 0.0 || (k - i) / q > MAX_PASSES {
         return Err(AlarmId::CycleArgument);
     }
     let mut radii = Vec::new();

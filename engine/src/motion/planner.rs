@@ -715,7 +715,7 @@ mod tests {
                     speed_cap: f32::INFINITY,
                     offset: None,
                     no_look_ahead: false,
-            block_limit: 0,
+                    block_limit: 0,
                 };
                 let seg = Segment::new(&m, &here, &here, axes, ctx, None);
                 here = to;

@@ -46,11 +46,15 @@ fn g70_drills_l_holes_evenly_around_the_circle_from_j() {
 #[test]
 fn g71_steps_k_degrees_and_g72_steps_i_along_the_line() {
     let arc = holes("G00 Z10.\nG81 Z-5. R2. F300 L0\nG71 I40. J30. K-20. L3\nG80\nM30\n");
-    let want: Vec<_> = [30.0f64, 10.0, -10.0].iter().map(|a| (40.0 * a.to_radians().cos(), 40.0 * a.to_radians().sin())).collect();
+    let want: Vec<_> =
+        [30.0f64, 10.0, -10.0].iter().map(|a| (40.0 * a.to_radians().cos(), 40.0 * a.to_radians().sin())).collect();
     assert!(arc.len() == 3 && arc.iter().zip(&want).all(|(h, w)| close(*h, *w)), "{arc:?}");
     // G72: the first hole at the block's point, then every I along the angle J.
     let line = holes("G00 X5. Y5. Z10.\nG81 Z-5. R2. F300 L0\nG72 I10. J90. L3\nG80\nM30\n");
-    assert!(line.len() == 3 && line.iter().zip([(5.0, 5.0), (5.0, 15.0), (5.0, 25.0)]).all(|(h, w)| close(*h, w)), "{line:?}");
+    assert!(
+        line.len() == 3 && line.iter().zip([(5.0, 5.0), (5.0, 15.0), (5.0, 25.0)]).all(|(h, w)| close(*h, w)),
+        "{line:?}"
+    );
 }
 
 #[test]
@@ -74,17 +78,43 @@ fn refusals_and_bad_arguments() {
         r.alarms.first().map(|a| (a.code.clone(), a.line))
     };
     // Not built: text engraving, general purpose pocket milling, smoothness.
-    for src in ["G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)", "G150 P1 Q2 R0.1 Z-1. I0.4 J0.3 K0.01 F10.", "G187 P1 E0.01"] {
+    for src in [
+        "G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)",
+        "G150 P1 Q2 R0.1 Z-1. I0.4 J0.3 K0.01 F10.",
+        "G187 P1 E0.01",
+    ] {
         assert_eq!(first(src), Some(("PS0010".into(), 2)), "{src}");
+    }
+    // `fivex check` reports them at their G word, with the function's name.
+    for (src, name) in [("G47 P0 (FIVEX)", "text engraving"), ("G150 P1 Q2 Z-1. F10.", "pocket milling"), ("G187 P1 E0.01", "smoothness")] {
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
+        let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
+        assert_eq!(found, vec![(2, 1, "PS0010".to_string())], "{src}: {diags:?}");
+        assert!(diags[0].detail.contains(name), "{src}: {diags:?}");
     }
     // A bolt pattern without a canned cycle, and its arguments.
     assert_eq!(first("G70 I10. L4"), Some(("PS0010".into(), 2)));
-    for src in ["G81 Z-1. R1. F100 L0\nG70 L4", "G81 Z-1. R1. F100 L0\nG70 I10.", "G81 Z-1. R1. F100 L0\nG70 I10. L0", "G81 Z-1. R1. F100 L0\nG71 I10. L3", "G81 Z-1. R1. F100 L0\nG70 I10. L2.5"] {
+    for src in [
+        "G81 Z-1. R1. F100 L0\nG70 L4",
+        "G81 Z-1. R1. F100 L0\nG70 I10.",
+        "G81 Z-1. R1. F100 L0\nG70 I10. L0",
+        "G81 Z-1. R1. F100 L0\nG71 I10. L3",
+        "G81 Z-1. R1. F100 L0\nG70 I10. L2.5",
+    ] {
         assert_eq!(first(src), Some(("PS0009".into(), 3)), "{src}");
     }
     // G12/G13: I not above the tool radius (D1: 5 mm), K without Q, Q without K, K below I, L
     // in G90, G103 P out of range.
-    for src in ["G12 I5. D1 Z-1. F100", "G13 I10. K20. D1 Z-1. F100", "G12 I10. Q2. D1 Z-1. F100", "G12 I10. K8. Q1. D1 Z-1. F100", "G12 I10. D1 Z-1. L2 F100", "G12 D1 Z-1. F100", "G103 P16", "G103 P-1"] {
+    for src in [
+        "G12 I5. D1 Z-1. F100",
+        "G13 I10. K20. D1 Z-1. F100",
+        "G12 I10. Q2. D1 Z-1. F100",
+        "G12 I10. K8. Q1. D1 Z-1. F100",
+        "G12 I10. D1 Z-1. L2 F100",
+        "G12 D1 Z-1. F100",
+        "G103 P16",
+        "G103 P-1",
+    ] {
         assert_eq!(first(src), Some(("PS0009".into(), 2)), "{src}");
     }
     // G12 outside G17, in a canned cycle, under G41 or rotation: refused.
@@ -128,7 +158,11 @@ fn the_manual_s_single_pass_pocket_ends_at_its_centre_at_depth() {
     assert!(r.completed(), "{:?}", r.alarms);
     let reach = tips.iter().map(|t| (t[0] - 30.0).hypot(t[1] - 40.0)).fold(0.0, f64::max);
     assert!((reach - 15.0).abs() < 1e-6, "reach {reach}");
-    assert!(approx(r.workpiece[0], 30.0) && approx(r.workpiece[1], 40.0) && approx(r.workpiece[2], -3.0), "{:?}", r.workpiece);
+    assert!(
+        approx(r.workpiece[0], 30.0) && approx(r.workpiece[1], 40.0) && approx(r.workpiece[2], -3.0),
+        "{:?}",
+        r.workpiece
+    );
     // D0: the tool centre on I.
     let (tips, _) = pocket_samples("G00 Z2.\nG12 I20. D0 Z-3. F600\nM30\n");
     let reach = tips.iter().map(|t| t[0].hypot(t[1])).fold(0.0, f64::max);
