@@ -256,3 +256,16 @@ fn g103_p1_slows_a_chain_of_short_blocks() {
     let limited = run_with(&src(""), "mill3", Haas).cycle_time_s;
     assert!(approx(ended, zero) && limited > zero, "{ended} {zero} {limited}");
 }
+
+#[test]
+fn haas_canned_cycles_repeat_with_l_and_refuse_k() {
+    // L2 in G91: two holes 10 mm apart; L0 stores the data only; K (Haas: a peck argument of
+    // G73/G83, not built) is refused, as FANUC's dialect refuses L.
+    let two = holes("G00 Z10.\nG91 G81 X10. Z-5. R-8. F300 L2\nG90 G80\nM30\n");
+    assert!(two.len() == 2 && close(two[0], (10.0, 0.0)) && close(two[1], (20.0, 0.0)), "{two:?}");
+    assert!(holes("G00 Z10.\nG81 X10. Z-5. R2. F300 L0\nG80\nM30\n").is_empty());
+    let r = run_with("G00 Z10.\nG81 X10. Z-5. R2. F300 K2\nG80\nM30\n", "mill3", Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0009", 2)));
+    let r = run_with("G00 Z10.\nG81 X10. Z-5. R2. F300 L2\nG80\nM30\n", "mill3", Fanuc);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0009", 2)));
+}
