@@ -3,7 +3,7 @@
 //! Beyond the parser's diagnostics: G codes the dialect does not have, G codes and addresses of
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
-//! do not exist, L in a block that names a canned cycle, a `,L` other than `,L2` and a zero
+//! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other than `,L2` and a zero
 //! surface normal of cutting point control, and Syntec's G05 format errors that literal words
 //! show.
 //!
@@ -44,7 +44,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
                 }
                 BlockKind::Words(words) => {
-                    let (mut calls, mut cycle) = (false, false);
+                    let (mut calls, mut cycle, mut pattern) = (false, false, false);
                     // The block's literal G codes (an argument of one is not an address of its own).
                     let codes = || {
                         words.iter().filter_map(|w| match (w.letter, &w.value) {
@@ -72,6 +72,8 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                         ));
                                     }
                                     cycle |= d.group == group::CYCLE && d.code != code::G80;
+                                    // Haas's bolt patterns take the block's I J K L.
+                                    pattern |= matches!(d.code, code::G70 | code::G71 | code::G72);
                                 }
                             },
                             b'M' => calls |= mcode::SUBPROGRAM_CALLS.contains(&(value as u32)),
@@ -115,13 +117,15 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         }
                     }
                     // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).
-                    // Only a block naming the cycle is known to be one without running the program.
-                    if let Some(l) = words.iter().find(|w| w.letter == b'L').filter(|_| cycle) {
-                        diags.push(at(
-                            l.col,
-                            AlarmId::ImproperAddress,
-                            "L in a canned cycle: the repeat count is K".into(),
-                        ));
+                    // The Haas NGC counts with L and its K is refused. Only a block naming the
+                    // cycle is known to be one without running the program.
+                    let (other, detail) = if dialect == Dialect::Haas {
+                        (b'K', "K in a canned cycle: the repeat count is L")
+                    } else {
+                        (b'L', "L in a canned cycle: the repeat count is K")
+                    };
+                    if let Some(l) = words.iter().find(|w| w.letter == other).filter(|_| cycle && !pattern) {
+                        diags.push(at(l.col, AlarmId::ImproperAddress, detail.into()));
                     }
                     if calls {
                         let p = words.iter().find_map(|w| match (w.letter, &w.value) {

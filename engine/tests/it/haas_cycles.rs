@@ -86,8 +86,13 @@ fn refusals_and_bad_arguments() {
         assert_eq!(first(src), Some(("PS0010".into(), 2)), "{src}");
     }
     // `fivex check` reports them at their G word, with the function's name.
-    for (src, name) in [("G47 P0 (FIVEX)", "text engraving"), ("G150 P1 Q2 Z-1. F10.", "pocket milling"), ("G187 P1 E0.01", "smoothness")] {
-        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
+    for (src, name) in [
+        ("G47 P0 (FIVEX)", "text engraving"),
+        ("G150 P1 Q2 Z-1. F10.", "pocket milling"),
+        ("G187 P1 E0.01", "smoothness"),
+    ] {
+        let diags =
+            fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
         let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
         assert_eq!(found, vec![(2, 1, "PS0010".to_string())], "{src}: {diags:?}");
         assert!(diags[0].detail.contains(name), "{src}: {diags:?}");
@@ -268,4 +273,20 @@ fn haas_canned_cycles_repeat_with_l_and_refuse_k() {
     assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0009", 2)));
     let r = run_with("G00 Z10.\nG81 X10. Z-5. R2. F300 L2\nG80\nM30\n", "mill3", Fanuc);
     assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0009", 2)));
+}
+
+#[test]
+fn check_reads_the_haas_repeat_count() {
+    let diag = |src: &str, dialect| {
+        fivex_engine::check::check(fivex_engine::lang::parse_file(src), dialect)
+            .iter()
+            .map(|d| (d.line, d.col, dialect.describe(&d.id).0))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(diag("G81 Z-1. R1. F100 L0\nM30\n", Haas), vec![]);
+    assert_eq!(diag("G81 Z-1. R1. F100 K2\nM30\n", Haas), vec![(1, 19, "PS0009".to_string())]);
+    assert_eq!(diag("G81 Z-1. R1. F100 L2\nM30\n", Fanuc), vec![(1, 19, "PS0009".to_string())]);
+    // A bolt pattern in the cycle's block: its K and L are the pattern's.
+    assert_eq!(diag("G81 G71 I10. J0 K30. L3 Z-1. R1. F100\nM30\n", Haas), vec![]);
+    assert!(run_with("G00 Z10.\nG81 G71 I10. J0 K30. L3 Z-1. R1. F100\nG80\nM30\n", "mill3", Haas).completed());
 }
