@@ -3,9 +3,9 @@
 //! Beyond the parser's diagnostics: G codes the dialect does not have, G codes and addresses of
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
-//! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other than `,L2` and a zero
-//! surface normal of cutting point control, and Syntec's G05 format errors that literal words
-//! show.
+//! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other
+//! than `,L2` and a zero surface normal of cutting point control, and Syntec's G05 format errors
+//! that literal words show.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
