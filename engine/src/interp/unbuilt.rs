@@ -126,8 +126,9 @@ const TABLE: &[NotBuilt] = &[
     row(811, When::Always, "chopping (G81.1)"),
     row(815, When::Always, "electronic gear box (G81.5)"),
     row(960, When::Always, "constant surface speed (G96)"),
-    // Haas: its pocket offsetting (islands, the Q/K/J step rules, the finish passes) is not
-    // built (docs/dialects.md, "Haas cycles").
+    // Haas: its pocket geometry (the outline offset inward, the roughing lines every I or J
+    // clipped to it, their linking, the finish pass K) is not built (docs/dialects.md, "Haas
+    // cycles").
     NotBuilt {
         code: 1500,
         dialect: Some(Dialect::Haas),
