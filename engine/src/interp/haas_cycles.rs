@@ -92,6 +92,11 @@ impl State {
     pub(super) fn circular_pocket(&mut self, cw: bool, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
         self.pocket_modes_supported()?;
         let (a, b, c) = self.plane_axes()?;
+        // Another axis's word has no place in the cycle: refused rather than ignored.
+        let axes = &self.cfg.machine.axes;
+        if (0..axes.len()).any(|k| ![a, b, c].contains(&k) && w.has(axes[k].name as u8)) {
+            return Err(AlarmId::CycleArgument);
+        }
         let tool = self.offsets.radius(self.d);
         let radii = pocket_radii(self.value(w, b'I'), self.value(w, b'K'), self.value(w, b'Q'), tool)?;
         let incremental = self.modes[group::DISTANCE] == code::G91;
@@ -122,10 +127,11 @@ impl State {
                 self.pocket_arc(bottom, (a, b, c), (at + r) / 2.0, (r - at) / 2.0, r, sign * 180.0, out);
                 self.pocket_arc(bottom, (a, b, c), 0.0, r, r, sign * 360.0, out);
                 at = r;
+                // Passes × loops may be 10⁸ arcs: FX0003 before memory runs out.
+                super::cycles::check_output(out)?;
             }
             self.pocket_arc(bottom, (a, b, c), at / 2.0, at / 2.0, 0.0, sign * 180.0, out);
         }
-        super::cycles::check_output(out)?;
         Ok(true)
     }
 

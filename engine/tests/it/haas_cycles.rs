@@ -122,6 +122,14 @@ fn refusals_and_bad_arguments() {
     ] {
         assert_eq!(first(src), Some(("PS0009".into(), 2)), "{src}");
     }
+    // A rotary axis word in a pocket's block (head-bc: B C), and more arcs than a block may
+    // expand into.
+    let r = run_with("G00 Z10.\nG12 I10. D1 Z-1. B10. F100\nM30\n", "head-bc", Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0009", 2)));
+    // (The interpreter alone: a run carries out what the block read before the alarm, which
+    // would take longer than the time budget.)
+    let src = "G00 Z10.\nG91 G12 I6. K400. Q0.04 D1 Z-0.001 L12 F100\nM30\n";
+    assert_eq!(through_stages(interpreter(src, "mill3", Haas), |_| {}), Some(("FX0003".into(), 2)));
     // G12 outside G17, in a canned cycle, under G41 or rotation: refused.
     assert_eq!(first("G18\nG12 I10. D1 Z-1. F100"), Some(("PS0010".into(), 3)));
     assert_eq!(first("G68 X0 Y0 R30.\nG12 I10. D1 Z-1. F100"), Some(("PS0010".into(), 3)));
