@@ -298,3 +298,28 @@ fn check_reads_the_haas_repeat_count() {
     assert_eq!(diag("G81 G71 I10. J0 K30. L3 Z-1. R1. F100\nM30\n", Haas), vec![]);
     assert!(run_with("G00 Z10.\nG81 G71 I10. J0 K30. L3 Z-1. R1. F100\nG80\nM30\n", "mill3", Haas).completed());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(32)))]
+
+    /// G70: L holes, each on the circle of radius |I| about the block's point, J the first's
+    /// angle, consecutive ones 360/L degrees apart in I's sense.
+    #[test]
+    fn g70_holes_lie_evenly_on_the_circle(
+        i in prop_oneof![-80.0f64..-1.0, 1.0f64..80.0],
+        j in -360.0f64..360.0,
+        l in 1u32..13,
+        (cx, cy) in (-100.0f64..100.0, -100.0f64..100.0),
+    ) {
+        let src = format!("G00 Z10.\nG81 Z-1. R1. F300 L0\nG70 X{cx:.3} Y{cy:.3} I{i:.3} J{j:.3} L{l}\nG80\nM30\n");
+        let round = |v: f64| (v * 1e3).round() / 1e3;
+        let (i, j, cx, cy) = (round(i), round(j), round(cx), round(cy));
+        let got = holes(&src);
+        prop_assert_eq!(got.len(), l as usize, "{}", src);
+        for (k, h) in got.iter().enumerate() {
+            let t = (j + i.signum() * 360.0 / l as f64 * k as f64).to_radians();
+            let want = (cx + i.abs() * t.cos(), cy + i.abs() * t.sin());
+            prop_assert!((h.0 - want.0).abs() < 1e-9 && (h.1 - want.1).abs() < 1e-9, "hole {} {:?} {:?}\n{}", k, h, want, src);
+        }
+    }
+}
