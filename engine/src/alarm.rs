@@ -38,6 +38,9 @@ pub enum AlarmId {
     DataSettingFormat,
     /// Canned cycle without the Q it needs (G73/G83).
     MissingQ,
+    /// A Haas cycle's argument missing or out of its range: G12/G13 circular pocket (I, K, Q,
+    /// L against the tool radius), G70–G72 bolt patterns (I, J, K, L), G103 P.
+    CycleArgument,
     /// Reference return commands not allowed in a canned cycle.
     ReferenceReturnInCycle,
     IllegalReferenceReturn,

@@ -116,6 +116,9 @@ pub struct Motion {
     /// (look-ahead) for manual moves. Beside the
     /// context rather than in it: there it would grow every canonical command by 8 bytes.
     pub no_look_ahead: bool,
+    /// Haas G103 P: the planner looks at most this many blocks ahead of this motion's end
+    /// (0: as far as its look-ahead goes; `motion::planner`).
+    pub block_limit: u8,
     /// The highest speed along the path, mm/s, that the curve this motion is a chord of allows
     /// the axes (its bending against their acceleration: NURBS and nano smoothing,
     /// `crate::chords::bending_speed`); infinite for any other motion. Not scaled by the feed override.

@@ -3,9 +3,10 @@
 //! Beyond the parser's diagnostics: G codes the dialect does not have, G codes and addresses of
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
-//! do not exist, L in a block that names a canned cycle, a `,L` other than `,L2` and a zero
-//! surface normal of cutting point control, Syntec's G05 format errors that literal words
-//! show, and Haas's M97/M98/G65 without P and M97 P of a line the program does not have.
+//! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other
+//! than `,L2` and a zero surface normal of cutting point control, Syntec's G05 format errors
+//! that literal words show, and Haas's M97/M98/G65 without P and M97 P of a line the program
+//! does not have.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
@@ -44,7 +45,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
                 }
                 BlockKind::Words(words) => {
-                    let (mut calls, mut cycle) = (false, false);
+                    let (mut calls, mut cycle, mut pattern) = (false, false, false);
                     // The block's literal G codes (an argument of one is not an address of its own).
                     let codes = || {
                         words.iter().filter_map(|w| match (w.letter, &w.value) {
@@ -72,6 +73,8 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                         ));
                                     }
                                     cycle |= d.group == group::CYCLE && d.code != code::G80;
+                                    // Haas's bolt patterns take the block's I J K L.
+                                    pattern |= matches!(d.code, code::G70 | code::G71 | code::G72);
                                 }
                             },
                             b'M' => {
@@ -125,13 +128,15 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         }
                     }
                     // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).
-                    // Only a block naming the cycle is known to be one without running the program.
-                    if let Some(l) = words.iter().find(|w| w.letter == b'L').filter(|_| cycle) {
-                        diags.push(at(
-                            l.col,
-                            AlarmId::ImproperAddress,
-                            "L in a canned cycle: the repeat count is K".into(),
-                        ));
+                    // The Haas NGC counts with L and its K is refused. Only a block naming the
+                    // cycle is known to be one without running the program.
+                    let (other, detail) = if dialect == Dialect::Haas {
+                        (b'K', "K in a canned cycle: the repeat count is L")
+                    } else {
+                        (b'L', "L in a canned cycle: the repeat count is K")
+                    };
+                    if let Some(l) = words.iter().find(|w| w.letter == other).filter(|_| cycle && !pattern) {
+                        diags.push(at(l.col, AlarmId::ImproperAddress, detail.into()));
                     }
                     // Haas: M97 P<n> calls N<n> of this program; M97, M98 and G65 need their P.
                     let literal_m = |m: u32| {

@@ -820,6 +820,7 @@ impl Controller {
             speed_cap: f32::INFINITY,
             offset: None,
             no_look_ahead: false,
+            block_limit: 0,
         };
         let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, true);
         let mut seg = self.exec.segment_within(&m, ctx, &self.manual_limits());

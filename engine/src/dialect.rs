@@ -196,6 +196,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::DwoXyzNotGiven,
     AlarmId::DwoWorkOffsetTilt,
     AlarmId::DwoWithTcpc,
+    AlarmId::CycleArgument,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -222,6 +223,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         }
         DataSettingFormat => (("PS1144", "G10 FORMAT ERROR"), ("COR-014", "G10 format error")),
         MissingQ => (("PS0045", "ADDRESS Q NOT FOUND (G73/G83)"), ("COR-015", "Peck depth Q missing")),
+        // Raised by the Haas cycles alone (G12/G13, G70–G72, G103: not codes of the other
+        // dialects); the columns are the other dialects' alarms for a wrong address value.
+        CycleArgument => (("PS0009", "IMPROPER NC-ADDRESS"), ("COR-002", "Illegal address")),
         ReferenceReturnInCycle => {
             (("PS0044", "G27-G30 NOT ALLOWED IN FIXED CYC"), ("COR-016", "Reference return in canned cycle"))
         }
@@ -427,6 +431,8 @@ fn haas(id: &AlarmId) -> Text {
         RestartBlockNotFound | RestartPNoRun | RestartPOffsetChanged | RestartMdi => RESTART,
         RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
+        // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
+        CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),
         TcpcNoToolLength => ("741", "G234 WITHOUT TOOL LENGTH OFFSET (H)"),
         DwoRotaryMotion => ("742", "ROTARY MOTION NOT ALLOWED WITH G254"),
         DwoXyzNotGiven => ("743", "X, Y AND Z NOT COMMANDED AFTER G254"),

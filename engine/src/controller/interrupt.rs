@@ -256,6 +256,7 @@ impl Controller {
             speed_cap: f32::INFINITY,
             offset: None,
             no_look_ahead: false,
+            block_limit: 0,
         };
         // At the handle clamp whatever the overrides.
         let ctx = self.exec.feed_context(1.0, 1.0, true);

@@ -122,6 +122,7 @@ impl Controller {
             speed_cap: f32::INFINITY,
             offset: None,
             no_look_ahead: false,
+            block_limit: 0,
         };
         let queued = (self.exec.queued.machine, self.exec.queued.work);
         (self.exec.queued.machine, self.exec.queued.work) = (from, from_work);

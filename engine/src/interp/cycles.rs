@@ -19,6 +19,7 @@ use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, FeedMode, MotionKind, Pos, SpindleState};
+use crate::dialect::Dialect;
 
 /// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm.
 const G73_RETRACT: f64 = 0.5;
@@ -28,7 +29,7 @@ const G83_CLEARANCE: f64 = 0.5;
 /// huge L ends in alarm FX0003 instead of exhausting memory.
 pub const MAX_COMMANDS_PER_BLOCK: usize = 200_000;
 
-fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
+pub(super) fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
     if out.len() > MAX_COMMANDS_PER_BLOCK {
         return Err(AlarmId::BlockOutputExceeded { limit: MAX_COMMANDS_PER_BLOCK });
     }
@@ -38,6 +39,19 @@ fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
 impl State {
     /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
     pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+        let repeats = repeats(w, self.cfg.dialect)?;
+        let (d, plane) = self.cycle_data(w)?;
+        for _ in 0..repeats {
+            // Position over the hole: every axis but the drilling axis.
+            let hole = self.programmed_target(w, Some(d));
+            self.cycle_at(hole, d, plane, out)?;
+        }
+        Ok(repeats > 0)
+    }
+
+    /// The block's cycle data (R, the drilling-axis level, Q, P) taken into the modal cycle data
+    /// and checked; the drilling axis and the plane's two axes.
+    pub(super) fn cycle_data(&mut self, w: &Words) -> Result<(usize, (usize, usize)), AlarmId> {
         // Under TCP type 2 (Syntec G43.5; FANUC refuses cycles in TCP) I/J/K are the tool
         // direction: a K there cannot also be the repeat count (*decision*, docs/five-axis.md).
         if self.ijk_is_direction() && [b'I', b'J', b'K'].iter().any(|&l| w.has(l)) {
@@ -67,7 +81,6 @@ impl State {
         if let Some(p) = w.integer(b'P') {
             self.cycle.p = p / 1000.0;
         }
-        let repeats = repeats(w)?;
         let code = self.modes[group::CYCLE];
         if matches!(code, code::G73 | code::G83) && self.cycle.q <= 0.0 {
             return Err(AlarmId::MissingQ);
@@ -75,14 +88,22 @@ impl State {
         if self.f <= 0.0 {
             return Err(AlarmId::FeedZero);
         }
-        for _ in 0..repeats {
-            // Position over the hole: every axis but the drilling axis.
-            let hole = self.programmed_target(w, Some(d));
-            self.cycle_move(MotionKind::Rapid, hole, out)?;
-            self.hole(code, d, (pa, pb), out)?;
-            check_output(out)?;
-        }
-        Ok(repeats > 0)
+        Ok((d, (pa, pb)))
+    }
+
+    /// The active cycle at one hole: positioned over `hole` (programmed coordinates, every axis
+    /// but the drilling axis `d`), then the hole.
+    pub(super) fn cycle_at(
+        &mut self,
+        hole: Pos,
+        d: usize,
+        plane: (usize, usize),
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
+        let code = self.modes[group::CYCLE];
+        self.cycle_move(MotionKind::Rapid, hole, out)?;
+        self.hole(code, d, plane, out)?;
+        check_output(out)
     }
 
     fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
@@ -241,12 +262,15 @@ impl State {
 /// The repeat count of a cycle block: K, 0–9999 (FANUC 30i and Syntec; K0 stores the cycle's
 /// data without machining), 1 without K. L (the repeat count of older FANUC controls and of
 /// the 30i's FS15 program format, a parameter) is refused rather than read one way or ignored
-/// (*decision*, `docs/dialects.md`).
-fn repeats(w: &Words) -> Result<u32, AlarmId> {
-    if w.has(b'L') {
+/// (*decision*, `docs/dialects.md`). The Haas NGC counts with L (L0: the data only, as the bolt
+/// patterns' examples put it on the cycle's line), and its K is a peck argument of G73/G83
+/// that fivex does not perform: refused there.
+fn repeats(w: &Words, dialect: Dialect) -> Result<u32, AlarmId> {
+    let (count, other) = if dialect == Dialect::Haas { (b'L', b'K') } else { (b'K', b'L') };
+    if w.has(other) {
         return Err(AlarmId::ImproperAddress);
     }
-    match w.integer(b'K') {
+    match w.integer(count) {
         None => Ok(1),
         Some(k) if (0.0..=9999.0).contains(&k) && k.fract() == 0.0 => Ok(k as u32),
         Some(_) => Err(AlarmId::ImproperAddress),

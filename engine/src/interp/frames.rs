@@ -72,6 +72,11 @@ impl Transforms {
         self.active = self.scale.is_some() || self.rotation.is_some() || self.mirror.iter().any(Option::is_some);
     }
 
+    /// Whether mirror image, scaling or rotation is on.
+    pub(super) fn active(&self) -> bool {
+        self.active
+    }
+
     /// Whether an axis is mirrored by G51.1.
     pub(super) fn mirrored(&self) -> bool {
         self.mirror.iter().any(Option::is_some)

@@ -107,6 +107,10 @@ pub mod code {
         /// Programmable data input.
         G10 = 100 in ONE_SHOT;
         G11 = 110 in ONE_SHOT;
+        /// Haas: circular pocket milling clockwise.
+        G12 = 120 in ONE_SHOT;
+        /// Haas: circular pocket milling counter-clockwise.
+        G13 = 130 in ONE_SHOT;
         /// Polar coordinate interpolation.
         G12_1 = 121 in POLAR_INTERPOLATION;
         G13_1 = 131 in POLAR_INTERPOLATION;
@@ -223,6 +227,12 @@ pub mod code {
         G68_4 = 684 in ROTATION;
         G69 = 690 in ROTATION;
         G69_1 = 691 in ROTATION;
+        /// Haas: bolt hole circle.
+        G70 = 700 in ONE_SHOT;
+        /// Haas: bolt hole arc.
+        G71 = 710 in ONE_SHOT;
+        /// Haas: bolt holes along an angle.
+        G72 = 720 in ONE_SHOT;
         /// Figure copy, rotary.
         G72_1 = 721 in ONE_SHOT;
         /// Figure copy, linear.
@@ -263,6 +273,10 @@ pub mod code {
         G97 = 970 in SURFACE_SPEED;
         G98 = 980 in RETURN_LEVEL;
         G99 = 990 in RETURN_LEVEL;
+        /// Haas: block look-ahead limit (P0–P15).
+        G103 = 1030 in ONE_SHOT;
+        /// Haas: general purpose pocket milling.
+        G150 = 1500 in ONE_SHOT;
         /// In-feed control cancel.
         G160 = 1600 in IN_FEED;
         /// Haas tool center point control (TCPC): type 1 tool centre point control in the
@@ -271,6 +285,8 @@ pub mod code {
         /// Haas dynamic work offset (DWO) and its cancel (`interp::dwo`).
         G254 = 2540 in DYNAMIC_FIXTURE;
         G255 = 2550 in DYNAMIC_FIXTURE;
+        /// Haas: smoothness level.
+        G187 = 1870 in ONE_SHOT;
     }
 
     /// Tool centre point control, type 1 and type 2, alone or with cutting point control.
@@ -525,15 +541,15 @@ const fn hx(code: u16, group: usize) -> GDef {
 /// offsets) is [`group::WORK_SYSTEM`]. Which of them fivex performs: `unbuilt` (G110–G129 and
 /// G154 are the G54.1 P work offsets). Sorted by code.
 pub const HAAS_TABLE: &[GDef] = &[
-    h(120, 0),   // G12 circular pocket milling CW
-    h(130, 0),   // G13 circular pocket milling CCW
+    hx(120, 0),  // G12 circular pocket milling CW
+    hx(130, 0),  // G13 circular pocket milling CCW
     hx(350, 0),  // G35 automatic tool diameter measurement (probe)
     hx(360, 0),  // G36 automatic work offset measurement (probe)
     hx(370, 0),  // G37 automatic tool offset measurement (probe)
     h(470, 0),   // G47 text engraving
-    h(700, 0),   // G70 bolt hole circle
-    h(710, 0),   // G71 bolt hole arc
-    h(720, 0),   // G72 bolt holes along an angle
+    hx(700, 0),  // G70 bolt hole circle
+    hx(710, 0),  // G71 bolt hole arc
+    hx(720, 0),  // G72 bolt holes along an angle
     h(770, 9),   // G77 back bore canned cycle
     h(1000, 0),  // G100 mirror image cancel
     hx(1010, 0), // G101 mirror image
@@ -727,6 +743,11 @@ mod tests {
         assert!(lookup(1000, Dialect::Fanuc).is_none());
         assert!(lookup(412, Dialect::Syntec).is_none());
         assert!(lookup(439, Dialect::Syntec).is_none());
+        // Haas-only codes: not codes of the other dialects.
+        for c in [120, 130, 700, 710, 720, 1030, 1500, 1870] {
+            assert!(lookup(c, Dialect::Fanuc).is_none() && lookup(c, Dialect::Syntec).is_none(), "{c}");
+            assert_eq!(lookup(c, Dialect::Haas).map(|d| d.group), Some(0), "{c}");
+        }
     }
 
     #[test]

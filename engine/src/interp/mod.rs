@@ -11,6 +11,7 @@ mod dwo;
 pub mod expr;
 mod frames;
 pub mod gcode;
+mod haas_cycles;
 mod manual_view;
 pub mod mcode;
 mod modes;
@@ -265,6 +266,9 @@ pub struct State {
     /// (`Motion::no_look_ahead`), which plans cutting feed without it through the filter
     /// after interpolation (`docs/motion.md`, "Without look-ahead").
     look_ahead: bool,
+    /// Haas G103 P: the look-ahead of the motions limited to this many blocks (0: not limited).
+    /// A reset and the program end (M02/M30) end it (`docs/dialects.md`, "Haas cycles").
+    block_limit: u8,
     /// Programming coordinates of the current point (the last block's end point), after the
     /// programming transforms (G51.1, G51, G68): the workpiece coordinates of the tool.
     pos: Pos,
@@ -443,6 +447,7 @@ impl Interpreter {
         st.locals[0] = [None; LOCALS];
         st.modal_calls.clear();
         st.wse_between = None;
+        st.block_limit = 0;
         st.nurbs = None;
         st.smoothing_reset();
         st.ended = true;
@@ -595,6 +600,7 @@ impl State {
             wse: None,
             wse_between: None,
             look_ahead: !cfg.machine.motion.look_ahead_by_command,
+            block_limit: 0,
             pos: [0.0; MAX_AXES],
             xf: frames::Transforms::default(),
             local: [0.0; MAX_AXES],

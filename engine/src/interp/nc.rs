@@ -752,6 +752,7 @@ impl State {
                     // here: the reading runs ahead of the machine.
                     self.emit(out, CanonKind::ProgramEnd { m });
                     self.ended = true;
+                    self.block_limit = 0;
                     self.hpcc_end();
                     // M02/M30 end cutter compensation (its stage drops the vector there).
                     if code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
@@ -939,6 +940,7 @@ impl State {
             context: self.context(),
             speed_cap: f32::INFINITY,
             offset: None,
+            block_limit: self.block_limit,
             no_look_ahead: !self.look_ahead || {
                 let motion = &self.cfg.machine.motion;
                 match kind {
@@ -1313,6 +1315,10 @@ impl State {
             // Syntec's G05 P10000 / P0: HPCC on / off (`smoothing`; FANUC's P0 does nothing,
             // its other forms are refused, `unbuilt`).
             code::G05 => self.g05(w)?,
+            // The Haas dialect's own (`haas_cycles`; `gcode::GDef::haas_only`).
+            code::G12 | code::G13 => return self.circular_pocket(code == code::G12, w, out),
+            code::G70 | code::G71 | code::G72 => return self.bolt_pattern(code, w, out),
+            code::G103 => self.block_look_ahead(w)?,
             // The one-shot codes left are performed by doing nothing here (G04.1, G09, G22
             // without limits…), or refused before this (`unbuilt`).
             _ => {}

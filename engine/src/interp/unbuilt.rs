@@ -129,19 +129,15 @@ const TABLE: &[NotBuilt] = &[
     row(1610, When::Always, "in-feed control (G161)"),
     // The Haas NGC's own codes that fivex does not carry out (`gcode::HAAS_TABLE`); a Haas row
     // comes before a row for every dialect of the same number (G35, G36, G37, G47, G161 are other
-    // functions on the NGC).
-    haas(120, "circular pocket milling (G12)"),
-    haas(130, "circular pocket milling (G13)"),
+    // functions on the NGC). Why G47, G150 and G187 are not built: docs/dialects.md, "Haas
+    // cycles" (G47 needs the NGC's engraving font; G150 the pocket geometry; G187 a corner
+    // tolerance fivex's exact path does not have).
     haas(350, "automatic tool diameter measurement (G35)"),
     haas(360, "automatic work offset measurement (G36)"),
     haas(370, "automatic tool offset measurement (G37)"),
     haas(470, "text engraving (G47)"),
-    haas(700, "bolt hole circle (G70)"),
-    haas(710, "bolt hole arc (G71)"),
-    haas(720, "bolt holes along an angle (G72)"),
     haas(770, "back bore canned cycle (G77)"),
     haas(1010, "mirror image (G101)"),
-    haas(1030, "limit block buffering (G103)"),
     haas(1070, "cylindrical mapping (G107)"),
     haas(1360, "automatic work offset center measurement (G136)"),
     haas(1410, "3D+ cutter compensation (G141)"),
@@ -301,9 +297,10 @@ pub fn haas_m_code(m: u32) -> Option<&'static str> {
 }
 
 /// `letter` is an argument of the G code `code` in `dialect`, decided by the code's row rather
-/// than by [`address`]: Syntec's G05 E.
+/// than by [`address`]: Syntec's G05 E, Haas's G187 E (its corner tolerance: the code is
+/// refused as a whole, by its row).
 pub fn argument_of(code: u16, dialect: Dialect, letter: u8) -> bool {
-    code == 50 && dialect == Dialect::Syntec && letter == b'E'
+    letter == b'E' && (code == 50 && dialect == Dialect::Syntec || code == 1870 && dialect == Dialect::Haas)
 }
 
 /// The codes of the table (for documentation checks).

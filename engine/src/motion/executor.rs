@@ -317,9 +317,10 @@ impl Executor {
         let filtered = self.after.as_mut().is_some_and(|a| a.filter(seg.rapid).is_some());
         if m.no_look_ahead && filtered && !seg.is_kinematic() && !seg.is_independent() {
             seg = self.segment_within(m, ctx, &self.at_once);
-            seg.after_interpolation = true;
+            seg.set_after_interpolation(true);
         }
         (seg.line, seg.n, seg.tip_basis, seg.block) = (c.line, c.n, c.tip_basis, block);
+        seg.block_limit = m.block_limit;
         seg.contact = self.contact(m, &seg).map(Box::new);
         seg
     }
@@ -417,7 +418,7 @@ impl Executor {
     }
 
     fn start(&mut self, planned: Planned) {
-        let which = planned.segments.first().filter(|s| s.after_interpolation).map(|s| s.rapid);
+        let which = planned.segments.first().filter(|s| s.after_interpolation()).map(|s| s.rapid);
         if let Some(a) = &mut self.after {
             if let Some(rapid) = which.filter(|w| a.engaged != Some(*w)) {
                 // The machine is at rest here (look-ahead switched off, or from a rapid to

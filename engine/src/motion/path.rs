@@ -104,18 +104,16 @@ pub struct Segment {
     pub tip_basis: crate::tip::Basis,
     /// The override applied (`set_override`), for the pieces it is split into.
     factor: f64,
-    /// Cutting feed planned without look-ahead (acceleration/deceleration before
-    /// interpolation off): its limits let the commanded feed come at once, no corner slows it,
-    /// and the axes' interpolated positions pass through the filter after interpolation
-    /// (`motion::after`; `docs/motion.md`, "Without look-ahead").
-    pub after_interpolation: bool,
+    /// Haas G103 P: at the end of the block this segment ends, the machine can stop within the
+    /// next `block_limit` blocks (0: no such limit; `motion::planner`).
+    pub block_limit: u8,
     /// Under cutter compensation: what places the point where the tool touches the contour
     /// (`Segment::cutting_point`; the executor sets it, knowing the vector the motion starts
     /// with). Boxed: most segments are not compensated.
     pub contact: Option<Box<super::contact::Contact>>,
 }
 
-/// Four yes/no facts of a segment in one byte (the look-ahead holds hundreds of segments:
+/// Six yes/no facts of a segment in one byte (the look-ahead holds hundreds of segments:
 /// issue 18).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct Traits(u8);
@@ -134,6 +132,12 @@ impl Traits {
     /// A chord of a curve whose bending caps its speed (`Motion::speed_cap`: NURBS, nano
     /// smoothing): its corners with the next chord are the curve's, which the cap has seen.
     const CHORD: u8 = 16;
+    /// Cutting feed planned without look-ahead (acceleration/deceleration before
+    /// interpolation off): its limits let the commanded feed come at once, no corner slows it,
+    /// and the axes' interpolated positions pass through the filter after interpolation
+    /// (`motion::after`; `docs/motion.md`, "Without look-ahead"). A trait rather than a field,
+    /// so that G103's `Segment::block_limit` fits the segment's size.
+    const AFTER_INTERPOLATION: u8 = 32;
 
     fn of(m: &Motion, unfed: bool) -> Traits {
         let mut t = Traits::default();
@@ -1264,7 +1268,7 @@ impl Segment {
             programmed,
             axis_speed,
             factor: 1.0,
-            after_interpolation: false,
+            block_limit: 0,
             contact: None,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
@@ -1392,7 +1396,7 @@ impl Segment {
             tool_length: m.context.tool_length,
             tip_basis: crate::tip::Basis::default(),
             factor: 1.0,
-            after_interpolation: false,
+            block_limit: 0,
             contact: None,
         };
         seg.set_override(ctx.feed_override, ctx.rapid_override);
@@ -1469,7 +1473,7 @@ impl Segment {
             // The caller places it in the workpiece system it runs in.
             tip_basis: crate::tip::Basis { tool_length, ..Default::default() },
             factor: 1.0,
-            after_interpolation: false,
+            block_limit: 0,
             contact: None,
         };
         seg.set_override(1.0, 1.0);
@@ -1654,6 +1658,15 @@ impl Segment {
 
     pub fn continued(&self) -> bool {
         self.traits.has(Traits::CONTINUED)
+    }
+
+    /// Cutting feed planned without look-ahead (`Traits::AFTER_INTERPOLATION`).
+    pub fn after_interpolation(&self) -> bool {
+        self.traits.has(Traits::AFTER_INTERPOLATION)
+    }
+
+    pub fn set_after_interpolation(&mut self, on: bool) {
+        self.traits.set(Traits::AFTER_INTERPOLATION, on);
     }
 
     /// The segment as the planner queues it: a kinematic path whose limits change along the

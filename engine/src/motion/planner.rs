@@ -127,6 +127,9 @@ struct Run {
     v_end: f64,
 }
 
+/// The highest block look-ahead limit a segment carries (Haas G103 P15).
+const MAX_BLOCK_LIMIT: usize = 15;
+
 /// The most segments of a kinematic run planned against the axes at every point
 /// (`motion::optimal`): a block's pieces (at most 16) and a few short blocks.
 const OPTIMAL_SEGMENTS: usize = 48;
@@ -229,6 +232,41 @@ impl Planner {
             last.smooth = corner == f64::INFINITY;
         }
         self.queue.push_back(Queued { segment, junction: 0.0, smooth: false });
+        self.limit_to_blocks();
+    }
+
+    /// Haas G103 P<n>: the control reads only n blocks ahead, so at the end of a block read
+    /// under it the machine must be able to stop within the n blocks that follow, whatever
+    /// comes after them. When the newest segment completes a block, each earlier block end
+    /// that now has exactly its n blocks queued after it gets that speed as its junction cap
+    /// (a stop at the end of the n-th block, from the lowest limits on the way). A block is
+    /// its segments up to one that is not `continued` (a split kinematic path's pieces are one
+    /// block; a canned cycle's or a pocket's moves are each a block of their own).
+    fn limit_to_blocks(&mut self) {
+        let Some(newest) = self.queue.back() else { return };
+        if newest.segment.continued() {
+            return;
+        }
+        let (mut blocks, mut len) = (0, 0.0);
+        let mut lim: Option<Limits> = None;
+        for k in (0..self.queue.len() - 1).rev() {
+            let after = &self.queue[k + 1].segment;
+            len += after.len;
+            lim = Some(lim.map_or(after.limits, |l| l.min(after.limits)));
+            if !after.continued() {
+                blocks += 1;
+            }
+            if blocks > MAX_BLOCK_LIMIT {
+                break;
+            }
+            let q = &mut self.queue[k];
+            let n = q.segment.block_limit as usize;
+            if n > 0 && blocks == n && !q.segment.continued() {
+                if let Some(l) = lim {
+                    q.junction = q.junction.min(reachable(0.0, len, l.v, &l));
+                }
+            }
+        }
     }
 
     /// Every segment not yet executed, in order (the planner unchanged).
@@ -597,7 +635,7 @@ fn junction_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) 
 /// The highest speed through the junction of `a` into `b` that its corner and its change of
 /// curvature allow (infinite where the path goes on smoothly, as between a block's pieces).
 fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) -> f64 {
-    match (a.after_interpolation, b.after_interpolation) {
+    match (a.after_interpolation(), b.after_interpolation()) {
         // Without look-ahead the interpolation runs through corners at the feed: the filter
         // after interpolation rounds them.
         (true, true) => return f64::INFINITY,
@@ -677,6 +715,7 @@ mod tests {
                     speed_cap: f32::INFINITY,
                     offset: None,
                     no_look_ahead: false,
+                    block_limit: 0,
                 };
                 let seg = Segment::new(&m, &here, &here, axes, ctx, None);
                 here = to;

@@ -16,6 +16,7 @@ mod data;
 mod fast_path;
 mod frames;
 mod haas_core;
+mod haas_cycles;
 mod haas_five_axis;
 mod hpcc;
 mod incremental;

@@ -199,14 +199,8 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G96 S100", &[Fanuc, Syntec]),
     ("G161 R1.", &[Fanuc, Syntec, Haas]),
     // The Haas NGC's own codes fivex does not carry out (its G35/G36/G37/G47/G161 are above).
-    ("G12 I1. D1 F100.", &[Haas]),
-    ("G13 I1. D1 F100.", &[Haas]),
-    ("G70 I1. J0 L4", &[Haas]),
-    ("G71 I1. J0 K10. L4", &[Haas]),
-    ("G72 I1. J0 L4", &[Haas]),
     ("G77 X1. Z-1. R1. I0.1 F100.", &[Haas]),
     ("G101 X0", &[Haas]),
-    ("G103 P1", &[Haas]),
     ("G107 Y0 R10.", &[Haas]),
     ("G136 P1", &[Haas]),
     ("G141 D1 X1. F100.", &[Haas]),
@@ -256,6 +250,12 @@ const PERFORMED_IN_HAAS: &[(&str, &str, &str)] = &[
     ("G234", "G234 H1\nG49", "haas_five_axis.rs"),
     ("G254", "G254\nG255", "haas_five_axis.rs"),
     ("G255", "G255", "haas_five_axis.rs"),
+    ("G12", "G00 Z10.\nG12 I10. D1 Z-1. F100.", "haas_cycles.rs, fixture haas_g13_circular_pocket"),
+    ("G13", "G00 Z10.\nG13 I10. D1 Z-1. F100.", "haas_cycles.rs, fixture haas_g13_circular_pocket"),
+    ("G70", "G81 Z-1. R1. F100. L0\nG70 I10. J0 L4\nG80", "fixture haas_g70_bolt_hole_circle"),
+    ("G71", "G81 Z-1. R1. F100. L0\nG71 I10. J0 K10. L4\nG80", "fixture haas_g71_bolt_hole_arc"),
+    ("G72", "G81 Z-1. R1. F100. L0\nG72 I10. J0 L4\nG80", "fixture haas_g72_bolt_holes_along_an_angle"),
+    ("G103", "G103 P1\nG103 P0", "haas_cycles.rs g103_p1_slows_a_chain_of_short_blocks"),
 ];
 
 /// The Haas dialect reads an F without a decimal point in least increments (Setting 77): the
