@@ -128,31 +128,12 @@ fn haas_slot(n: u32, axes: usize) -> Slot {
         }
         3000..=3004 | 3006 | 3011 | 3012 | 3026 | 3027 | 3901 | 4101..=4126 => Slot::System(n),
         5001..=5006 | 5021..=5026 | 5041..=5046 | 5061..=5069 | 5081..=5086 => Slot::System(n),
-        // What the NGC lists and fivex does not model: hidden variables, discrete and analog
-        // inputs/outputs, axis loads, flutes, vibrations, the timers #3020–#3025, single block,
-        // block delete and optional stop, actual diameters, coolant positions, M30 count 2,
-        // servo deviations, tool life and load monitors, settings and parameters (legacy
-        // #6001…/#6501… and NGC #20000…/#30000…), ATM and tool data, inputs/outputs #11000…/
-        // #12000…, tool table #50001….
-        700..=749
-        | 1000..=1068
-        | 1080..=1098
-        | 1100..=1155
-        | 1264..=1268
-        | 1601..=2000
-        | 3020..=3025
-        | 3028..=3033
-        | 3196
-        | 3201..=3600
-        | 3902
-        | 5101..=5106
-        | 5401..=6000
-        | 6001..=6999
-        | 8500..=8999
-        | 11_000..=12_255
-        | 20_000..=39_999
-        | 50_001..=59_999 => Slot::NotModelled,
-        // Not a variable of the NGC.
+        // Everything else: what the NGC lists and fivex does not model (hidden variables,
+        // discrete and analog inputs/outputs #1000…/#11000…, axis loads, flutes, vibrations,
+        // the timers #3020–#3025, single block, block delete and optional stop #3028…, actual
+        // diameters, coolant positions, M30 count 2 #3902, servo deviations, tool life and load
+        // monitors #5401…, settings and parameters #6001…/#20000…/#30000…, ATM and tool data,
+        // tool table #50001…; `docs/dialects.md` lists the ranges), or no NGC variable at all.
         _ => Slot::NotModelled,
     }
 }
