@@ -630,6 +630,17 @@ pub fn written(code: u16, dialect: Dialect) -> Option<&'static GDef> {
     lookup(code, dialect)
 }
 
+/// The name a panel of `dialect` shows for `code` in force in its group: the dialect's own name
+/// (the Haas NGC shows G154 where fivex holds G54.1 P), or `None` when the code is no code of
+/// the dialect (the power-on state of a group the dialect does not have, such as FANUC's G15 or
+/// G67 on a Haas control): a panel must not show a code its control does not have.
+pub fn shown(code: u16, dialect: Dialect) -> Option<String> {
+    match (dialect, code) {
+        (Dialect::Haas, code::G54_1) => Some("G154".into()),
+        _ => written(code, dialect).map(|_| display(code)),
+    }
+}
+
 /// The Haas work offset a code selects as G54.1's P: G154 (P given) → None, G110 … G129 →
 /// Some(1 … 20) (the NGC's G110–G129 are G154 P1–P20).
 pub fn haas_work_offset(code: u16) -> Option<Option<u16>> {
@@ -719,6 +730,20 @@ mod tests {
 
     /// Each `code::` constant is the code its name says (`G43_4` is 434), in the table (of
     /// either dialect) and in the group it claims, so a mistyped constant cannot hide.
+    #[test]
+    fn a_panel_shows_the_dialect_s_codes_only() {
+        assert_eq!(shown(code::G54_1, Dialect::Haas).as_deref(), Some("G154"));
+        assert_eq!(shown(code::G54_1, Dialect::Fanuc).as_deref(), Some("G54.1"));
+        assert_eq!(shown(code::G01, Dialect::Haas).as_deref(), Some("G01"));
+        assert_eq!(shown(code::G234, Dialect::Haas).as_deref(), Some("G234"));
+        // FANUC's power-on G15 and G67 are no codes of the NGC.
+        let initial = initial_modes();
+        for g in [group::POLAR, group::MODAL_CALL] {
+            assert!(shown(initial[g], Dialect::Fanuc).is_some());
+            assert_eq!(shown(initial[g], Dialect::Haas), None, "group {g}");
+        }
+    }
+
     #[test]
     fn code_constants_are_the_table_s() {
         assert!(code::CLAIMS.len() > 100);

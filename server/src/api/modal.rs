@@ -13,7 +13,9 @@ use crate::http::{ApiError, ErrorBody};
 /// `GET /modal`.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct ModalState {
-    /// The G code in force per modal group number (`{"1": "G01", "8": "G43.4", "16": "G68.2"}`).
+    /// The G code in force per modal group number (`{"1": "G01", "8": "G43.4", "16": "G68.2"}`),
+    /// as the controller's dialect names it (Haas: `G154` for its extra work offsets); a group
+    /// whose code the dialect does not have (FANUC's power-on G15 on a Haas control) is absent.
     #[schema(value_type = std::collections::HashMap<String, String>)]
     pub groups: BTreeMap<u8, String>,
     /// Feed (mm/min; 1/min under G93), spindle speed, tool prepared, tool in the spindle, H and D.
@@ -40,10 +42,11 @@ pub async fn modal(Addressed(hosted): Addressed) -> Result<Json<ModalState>, Api
     // The executing block's state, not the read-ahead interpreter's.
     let modal = hosted.station().controller.modal();
     let initial = gcode::initial_modes();
-    // The groups the dialects use (group 1's G00 is code 0; the others start non-zero).
+    // The groups the dialects use (group 1's G00 is code 0; the others start non-zero), each
+    // as the dialect names its code; a code the dialect does not have is not shown.
     let groups = (1..gcode::GROUPS)
         .filter(|&g| g == gcode::group::MOTION || initial[g] != 0)
-        .map(|g| (g as u8, gcode::display(modal.modal(g))))
+        .filter_map(|g| Some((g as u8, gcode::shown(modal.modal(g), hosted.dialect)?)))
         .collect();
     let w = modal.words;
     Ok(Json(ModalState { groups, f: w.f, s: w.s, t: w.t, spindle_tool: w.spindle_tool, h: w.h, d: w.d }))

@@ -1230,6 +1230,14 @@ async fn a_haas_controller_runs_its_dialect() {
     let v100 = app.get(&format!("{C}/{id}/variables/100")).await.json()["value"].clone();
     let v101 = app.get(&format!("{C}/{id}/variables/101")).await.json()["value"].clone();
     assert_eq!((v100, v101), (json!(2.0), json!(20.0)));
+    // The panel shows the NGC's codes: G154 for its extra work offsets, and no group whose
+    // power-on code the NGC lacks (FANUC's G15 polar coordinates, G67 modal call).
+    let mdi = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G154 P3"})).await;
+    assert_eq!(mdi.status, StatusCode::OK, "{}", mdi.text());
+    let modal = eventually(&app, &format!("{C}/{id}/modal"), |m| m["groups"]["14"] == "G154").await;
+    let groups = modal["groups"].as_object().unwrap();
+    assert!(!groups.contains_key("17") && !groups.contains_key("12"), "{modal}");
+    assert_eq!(groups["1"], "G01", "{modal}");
 
     // A Haas code fivex does not build is reported with the Haas alarm when stored...
     let reply = store(&app, &id, 3, "G00 X1.\nG187 P1\nM30\n").await;

@@ -1987,7 +1987,11 @@ export interface components {
              * @description Feed (mm/min; 1/min under G93), spindle speed, tool prepared, tool in the spindle, H and D.
              */
             f: number;
-            /** @description The G code in force per modal group number (`{"1": "G01", "8": "G43.4", "16": "G68.2"}`). */
+            /**
+             * @description The G code in force per modal group number (`{"1": "G01", "8": "G43.4", "16": "G68.2"}`),
+             *     as the controller's dialect names it (Haas: `G154` for its extra work offsets); a group
+             *     whose code the dialect does not have (FANUC's power-on G15 on a Haas control) is absent.
+             */
             groups: {
                 [key: string]: string;
             };
