@@ -12,7 +12,7 @@ use crate::host::Hosted;
 use crate::http::extract::body;
 use crate::http::extract::JsonBody;
 use crate::http::{ApiError, AppState, ErrorBody};
-use crate::service::panel::{self, Applied, PanelCommand};
+use crate::service::panel::{self, Applied, PanelCommand, Switches};
 use crate::service::programs;
 
 /// Applies `command` to the controller and answers its status after it (`service::panel`).
@@ -228,23 +228,6 @@ pub async fn set_overrides(
     status_after(&state, &hosted, PanelCommand::Overrides { feed, rapid, spindle })
 }
 
-/// `PUT /switches`.
-#[derive(Debug, Clone, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
-pub struct Switches {
-    pub single_block: Option<bool>,
-    pub optional_stop: Option<bool>,
-    pub block_delete: Option<bool>,
-    /// Dry run (changes only while nothing moves or is queued: idle, a block stop).
-    pub dry_run: Option<bool>,
-    /// Machine lock, all axes (the same rule).
-    pub machine_lock: Option<bool>,
-    /// Z-axis neglect, FANUC only (the same rule).
-    pub z_neglect: Option<bool>,
-    /// Auxiliary function lock (any time).
-    pub aux_lock: Option<bool>,
-}
-
 /// Single block, optional stop (M01), block delete (`/`), dry run, machine lock, Z-axis
 /// neglect and auxiliary function lock (`docs/dialects.md`, "The operator's switches and
 /// counters"). Refused with 409 (nothing changed) when dry run, machine lock or Z-axis neglect
@@ -267,18 +250,7 @@ pub async fn set_switches(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Switches>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    let Switches { single_block, optional_stop, block_delete, dry_run, machine_lock, z_neglect, aux_lock } =
-        body(request)?;
-    let command = PanelCommand::Switches {
-        single_block,
-        optional_stop,
-        block_delete,
-        dry_run,
-        machine_lock,
-        z_neglect,
-        aux_lock,
-    };
-    status_after(&state, &hosted, command)
+    status_after(&state, &hosted, PanelCommand::Switches(body(request)?))
 }
 
 /// `PUT /emergency-stop`.

@@ -104,6 +104,25 @@ pub fn restart_type(word: &str) -> Result<RestartType, ServiceError> {
     }
 }
 
+/// `PUT /switches`.
+// (The API's request body and the service's command are this one struct; `None` leaves a switch
+// as it is.)
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Switches {
+    pub single_block: Option<bool>,
+    pub optional_stop: Option<bool>,
+    pub block_delete: Option<bool>,
+    /// Dry run (changes only while nothing moves or is queued: idle, a block stop).
+    pub dry_run: Option<bool>,
+    /// Machine lock, all axes (the same rule).
+    pub machine_lock: Option<bool>,
+    /// Z-axis neglect, FANUC only (the same rule).
+    pub z_neglect: Option<bool>,
+    /// Auxiliary function lock (any time).
+    pub aux_lock: Option<bool>,
+}
+
 /// One action on the operator panel. A field that is `None` leaves that setting as it is.
 /// Serialisable both ways, so that a command can be recorded or handed to another process as
 /// it is (`{"command": "set_mode", "mode": "jog"}`).
@@ -133,19 +152,7 @@ pub enum PanelCommand {
         spindle: Option<f64>,
     },
     /// Dry run, machine lock and Z-axis neglect change only at rest (`Controller::set_dry_run`).
-    Switches {
-        single_block: Option<bool>,
-        optional_stop: Option<bool>,
-        block_delete: Option<bool>,
-        #[serde(default)]
-        dry_run: Option<bool>,
-        #[serde(default)]
-        machine_lock: Option<bool>,
-        #[serde(default)]
-        z_neglect: Option<bool>,
-        #[serde(default)]
-        aux_lock: Option<bool>,
-    },
+    Switches(Switches),
     /// Pressing it ends the run under way (recorded as `alarm`).
     EmergencyStop {
         pressed: bool,
@@ -345,7 +352,7 @@ pub fn apply(
                 c.set_spindle_override(p / 100.0);
             }
         }
-        PanelCommand::Switches {
+        PanelCommand::Switches(Switches {
             single_block,
             optional_stop,
             block_delete,
@@ -353,7 +360,7 @@ pub fn apply(
             machine_lock,
             z_neglect,
             aux_lock,
-        } => {
+        }) => {
             // The switches that may be refused first, so that a refusal changes nothing: Z-axis
             // neglect for its dialect, then the three that change only at rest (the same rule).
             if z_neglect == Some(true) && !c.can_neglect_z() {
@@ -532,15 +539,11 @@ mod tests {
             PanelCommand::Mdi { text: "G91 X1.".into() },
             PanelCommand::SetMode { mode: Mode::Handle },
             PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None },
-            PanelCommand::Switches {
+            PanelCommand::Switches(Switches {
                 single_block: Some(true),
-                optional_stop: None,
                 block_delete: Some(false),
-                dry_run: None,
-                machine_lock: None,
-                z_neglect: None,
-                aux_lock: None,
-            },
+                ..Default::default()
+            }),
             PanelCommand::EmergencyStop { pressed: true },
             PanelCommand::Jog { target: ManualTarget::Axis('X'), positive: false },
             PanelCommand::JogStop,
@@ -587,15 +590,7 @@ mod tests {
         let hosted = hosted();
         let mut station = hosted.station();
         let mut ended = Vec::new();
-        let switches = PanelCommand::Switches {
-            single_block: Some(true),
-            optional_stop: None,
-            block_delete: None,
-            dry_run: None,
-            machine_lock: None,
-            z_neglect: None,
-            aux_lock: None,
-        };
+        let switches = PanelCommand::Switches(Switches { single_block: Some(true), ..Default::default() });
         assert_eq!(apply(&mut station, "c1", switches, &mut ended), Ok(Applied::Done));
         assert!(station.controller.panel.single_block && !station.controller.panel.optional_stop);
         let overrides = PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None };
