@@ -241,6 +241,13 @@ pub enum AlarmId {
     DwoWorkOffsetTilt,
     /// G254 while G234 is on, or G234 while G254 is on.
     DwoWithTcpc,
+    // --- Skip (`interp::skip`) ----------------------------------------------------------------
+    /// G31 while cutter compensation is on.
+    SkipInCutterComp,
+    /// Haas M78: the last skip move touched.
+    SkipSignalFound,
+    /// Haas M79: the last skip move did not touch.
+    SkipSignalNotFound,
 }
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.

@@ -197,6 +197,9 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::DwoWorkOffsetTilt,
     AlarmId::DwoWithTcpc,
     AlarmId::CycleArgument,
+    AlarmId::SkipInCutterComp,
+    AlarmId::SkipSignalFound,
+    AlarmId::SkipSignalNotFound,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -355,6 +358,10 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
             (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code"))
         }
+        // FANUC's from its alarm list (G31 in cutter compensation C); Syntec's constructed.
+        SkipInCutterComp => (("PS0035", "CAN NOT COMMANDED G31"), ("COR-041", "G31 in cutter compensation")),
+        // Haas M78/M79 are no M codes of FANUC or Syntec: never raised there.
+        SkipSignalFound | SkipSignalNotFound => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }
@@ -438,6 +445,9 @@ fn haas(id: &AlarmId) -> Text {
         DwoXyzNotGiven => ("743", "X, Y AND Z NOT COMMANDED AFTER G254"),
         DwoWorkOffsetTilt => ("744", "G254 WORK OFFSET TILT AXIS NOT ZERO"),
         DwoWithTcpc => ("745", "G254 AND G234 CANNOT BE COMBINED"),
+        SkipInCutterComp => ("747", "G31 NOT ALLOWED WITH CUTTER COMPENSATION"),
+        SkipSignalFound => ("748", "SKIP SIGNAL FOUND (M78)"),
+        SkipSignalNotFound => ("749", "SKIP SIGNAL NOT FOUND (M79)"),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }

@@ -28,6 +28,7 @@ pub mod teach;
 pub mod tip;
 pub mod twp;
 pub mod vendor;
+pub mod workpiece;
 pub mod wse;
 
 pub use alarm::{Alarm, AlarmId};

@@ -145,6 +145,7 @@ impl Controller {
         if !self.interrupt.applied && !self.interrupt.is_zero() {
             self.interrupt.done = [0.0; MAX_AXES];
             self.stand_here();
+            self.tell_machine_view();
         }
     }
 
@@ -211,6 +212,7 @@ impl Controller {
         };
         let Some(planned) = self.exec.plan_alone(seg) else { return Ok(0.0) };
         self.interrupt.moving = Some((planned, self.exec.time()));
+        self.tell_machine_view();
         Ok(amount * fraction)
     }
 

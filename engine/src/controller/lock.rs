@@ -72,7 +72,17 @@ impl Controller {
             }
         }
         (self.panel.machine_lock, self.panel.z_neglect) = (all, z);
+        self.tell_machine_view();
         Ok(())
+    }
+
+    /// Tell the interpreter where the real axes stand beside the program's machine coordinates
+    /// (locked axes, a locked run's offset, the handle interruption's shift once its move has
+    /// ended), for the probe of a skip move read from now on (`interp::skip`).
+    pub(super) fn tell_machine_view(&mut self) {
+        let shift = self.interrupt.last();
+        let offset = std::array::from_fn(|i| self.lock.offset[i] + shift[i]);
+        self.interp.set_machine_view(crate::interp::MachineView { held: self.lock.held, offset });
     }
 
     /// How far the machine stands from where the program's coordinates put it, per axis: what
@@ -105,5 +115,6 @@ impl Controller {
             *x += d;
         }
         self.stand_here();
+        self.tell_machine_view();
     }
 }

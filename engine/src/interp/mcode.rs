@@ -25,6 +25,9 @@ pub const M09: u32 = 9;
 pub const M19: u32 = 19;
 /// Program end and rewind.
 pub const M30: u32 = 30;
+/// Haas: alarm if the last skip move (G31) touched / did not touch (`interp::skip`).
+pub const M78: u32 = 78;
+pub const M79: u32 = 79;
 /// Haas: local subprogram call (`M97 P<n> L<count>`: the block N<n> of the same program). In
 /// the FANUC and Syntec dialects an ordinary M code.
 pub const M97: u32 = 97;

@@ -23,6 +23,7 @@ mod plane;
 pub(crate) mod program;
 pub mod restart;
 mod singular;
+mod skip;
 mod smoothing;
 mod table_crc;
 mod tcp;
@@ -40,6 +41,7 @@ use gcode::GROUPS;
 use gcode::{code, group};
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
 pub use plane::TiltedPlane;
+pub use skip::MachineView;
 pub use vars::InterfaceSignals;
 
 /// F, S, T, the tool in the spindle, H and D as they stand.
@@ -126,6 +128,8 @@ pub struct Config {
     /// What this interpreter tells the path stages it feeds that the commands do not carry
     /// (`crate::stage::Link`): where cutter compensation started.
     pub stages: crate::stage::Link,
+    /// What is clamped on the table: the boxes a G31 probe touches (`interp::skip`).
+    pub workpiece: std::sync::Arc<crate::workpiece::Workpiece>,
 }
 
 impl Config {
@@ -146,6 +150,7 @@ impl Config {
             five_axes_per_block: false,
             refuse_unbuilt: true,
             stages: Default::default(),
+            workpiece: Default::default(),
         }
     }
 
@@ -251,6 +256,10 @@ pub struct State {
     last_m: u32,
     /// G09 in the block being executed: its motions stop at their end.
     exact_stop: bool,
+    /// The last G31's result (`#5061…`, Haas M78/M79).
+    skip: skip::Skip,
+    /// Where the real axes are beside the program's (the controller's locks).
+    machine_view: skip::MachineView,
     last_n: u32,
     spindle: crate::canon::SpindleState,
     pub offsets: Offsets,
@@ -550,6 +559,17 @@ impl Interpreter {
         &self.state.cfg
     }
 
+    /// Where the real axes stand beside the program's machine coordinates (the controller's
+    /// machine lock and Z-axis neglect): a skip move's probe moves with the real axes.
+    pub fn set_machine_view(&mut self, view: MachineView) {
+        self.state.machine_view = view;
+    }
+
+    /// Put `workpiece` on the table (the boxes a G31 probe touches, `crate::workpiece`).
+    pub fn set_workpiece(&mut self, workpiece: std::sync::Arc<crate::workpiece::Workpiece>) {
+        self.state.cfg.workpiece = workpiece;
+    }
+
     /// The machine's mechanism, compiled once from the configuration (`None` when the
     /// kinematics refuses it); the controller, a run and the preview share it.
     pub fn kinematics(&self) -> Option<&std::sync::Arc<crate::kin::Kinematics>> {
@@ -593,6 +613,8 @@ impl State {
             e: 0.0,
             last_m: 0,
             exact_stop: false,
+            skip: Default::default(),
+            machine_view: Default::default(),
             last_n: 0,
             spindle: crate::canon::SpindleState::Stop,
             offsets: Offsets::default(),

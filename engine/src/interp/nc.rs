@@ -767,6 +767,14 @@ impl State {
                 }
                 mcode::M09 => self.emit(out, CanonKind::Coolant(Coolant::Off)),
                 mcode::M03 | mcode::M04 | mcode::M06 | mcode::M07 | mcode::M08 => {}
+                // Haas: alarm if the last skip move touched (M78) or did not (M79).
+                mcode::M78 if self.cfg.dialect == crate::Dialect::Haas && self.skip.found => {
+                    return Err(AlarmId::SkipSignalFound)
+                }
+                mcode::M79 if self.cfg.dialect == crate::Dialect::Haas && !self.skip.found => {
+                    return Err(AlarmId::SkipSignalNotFound)
+                }
+                mcode::M78 | mcode::M79 if self.cfg.dialect == crate::Dialect::Haas => {}
                 mcode::M97 if self.cfg.dialect == crate::Dialect::Haas => {
                     // Haas local subprogram: N<P> of this program, L times, back after M99.
                     let n = w.integer(b'P').ok_or(AlarmId::MissingP)?;
@@ -967,7 +975,7 @@ impl State {
         self.programmed_target(w, None)
     }
 
-    fn check_feed(&self) -> Result<(), AlarmId> {
+    pub(super) fn check_feed(&self) -> Result<(), AlarmId> {
         if self.f <= 0.0 {
             return Err(AlarmId::FeedZero);
         }
@@ -1302,11 +1310,9 @@ impl State {
                 self.move_to(MotionKind::Rapid, target, out);
                 return Ok(true);
             }
-            // G31 without a skip signal (fivex has none): the whole move; #5061… hold its end.
+            // G31: to the end point or where the probe touches the workpiece (`skip`).
             code::G31 => {
-                self.check_feed()?;
-                let target = self.target(w);
-                self.move_to(MotionKind::Linear, target, out);
+                self.skip_move(w, out)?;
                 return Ok(true);
             }
             // G05.1 Q1 / Q0: look-ahead (AI contour control) on / off; Q3 nano smoothing

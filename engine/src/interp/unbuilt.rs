@@ -282,14 +282,12 @@ pub fn address(letter: u8) -> Option<&'static str> {
 }
 
 /// A Haas M code that changes what the program does next from a machine state fivex does not
-/// model (an input, a pallet, a skip signal, the operator's answer): refused rather than passed
+/// model (an input, a pallet, the operator's answer): refused rather than passed
 /// on as an auxiliary function, which would run on as if the condition never held.
 pub fn haas_m_code(m: u32) -> Option<&'static str> {
     match m {
         46 => Some("jump if the pallet is loaded (M46)"),
         47 => Some("jump on the pallet (M47)"),
-        78 => Some("alarm if the skip signal is found (M78)"),
-        79 => Some("alarm if the skip signal is not found (M79)"),
         96 => Some("jump if no input (M96)"),
         109 => Some("interactive user input (M109)"),
         _ => None,

@@ -284,7 +284,8 @@ impl State {
             // The current point in the WCS, also under G54.4 (WSE-20).
             5041..=5060 => self.in_input_unit(axis(5041)?, self.wcs_position()),
             26000..=26099 => self.setting_errors.variable(n).ok_or(AlarmId::VariableOutOfRange)?,
-            5061..=5080 => self.in_input_unit(axis(5061)?, self.pos),
+            // Where the last G31 ended (`skip`).
+            5061..=5080 => self.in_input_unit(axis(5061)?, self.skip.pos),
             5081..=5100 => self.in_input_unit(axis(5081)?, self.tool_vec),
             5101..=5120 => {
                 axis(5101)?;

@@ -53,7 +53,7 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G28", "G28 Z0", "fixture g28_g53"),
     ("G29", "G28 Z0\nG29 Z0", "fixture g28_g53"),
     ("G30", "G30 Z0", "fixture scaling_g51_g62_g63_g30"),
-    ("G31", "G31 X1. F100", "macro_b.rs decision_skip_position_5061 (no skip signal)"),
+    ("G31", "G31 X1. F100", "data probing/skip_* (the probe and the workpiece, interp::skip)"),
     ("G38", "G41 D1 G01 X10. F500\nG38 Y10.\nG40 X0", "cutter.rs vector_hold (G38 vector hold)"),
     ("G39", "G41 D1 G01 X10. F500\nG39\nY10.\nG40 X0", "cutter.rs corner_arc (G39 corner circular interpolation)"),
     ("G40", "G40", "the cancelled state of cutter compensation"),

@@ -72,6 +72,10 @@ struct InterpreterArgs {
     /// "corner_radius" (mm, 0 or more; default 0).
     #[arg(long)]
     tools: Option<PathBuf>,
+    /// What is clamped on the table, the boxes a G31 probe touches: {"boxes": [{"min": [x, y,
+    /// z], "max": [x, y, z]}, …]} in the table frame, mm (`docs/conventions.md`). Default: none.
+    #[arg(long)]
+    workpiece: Option<PathBuf>,
     /// Turn the block delete switch on (skip blocks starting with '/').
     #[arg(long)]
     block_delete: bool,
@@ -275,6 +279,13 @@ fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
     cfg.block_delete = args.block_delete;
     cfg.optional_stop = args.optional_stop;
     cfg.max_blocks = args.max_blocks;
+    if let Some(path) = &args.workpiece {
+        let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        let workpiece: fivex_engine::workpiece::Workpiece =
+            serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        workpiece.check().map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        cfg.workpiece = workpiece.into();
+    }
     Ok(cfg)
 }
 

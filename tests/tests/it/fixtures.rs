@@ -39,6 +39,7 @@ const VALUE_OPTS: &[(&str, &[&str])] = &[
     ("--machine", &["run", "interp"]),
     ("--dialect", &["run", "interp", "check"]),
     ("--tools", &["run", "interp"]),
+    ("--workpiece", &["run", "interp"]),
     ("--max-blocks", &["run", "interp"]),
     ("--trace", &["run"]),
     ("--period-ms", &["run"]),

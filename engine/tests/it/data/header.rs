@@ -15,6 +15,8 @@ pub struct Header {
     pub dialects: Vec<Dialect>,
     /// `--tools FILE` (relative to the fixture): these offsets instead of the default 1–99.
     pub tools: Option<String>,
+    /// `--workpiece FILE` (relative to the fixture): the boxes on the table a G31 probe touches.
+    pub workpiece: Option<String>,
     pub max_blocks: Option<u64>,
     pub block_delete: bool,
     pub optional_stop: bool,
@@ -71,6 +73,7 @@ pub fn parse(text: &str) -> Result<Header, String> {
                     h.dialects = value()?.split(',').map(str::parse).collect::<Result<_, _>>()?;
                 }
                 "--tools" => h.tools = Some(value()?),
+                "--workpiece" => h.workpiece = Some(value()?),
                 "--machine" => h.machine = Some(value()?),
                 "--max-blocks" => h.max_blocks = Some(value()?.parse().map_err(|e| format!("--max-blocks: {e}"))?),
                 "--block-delete" => h.block_delete = true,

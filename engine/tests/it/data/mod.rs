@@ -30,7 +30,7 @@ const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data");
 const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/fixtures");
 
 /// The topics, one test each (below).
-const TOPICS: &[&str] = &["alarms", "macro", "frames", "modes", "cycles", "five-axis"];
+const TOPICS: &[&str] = &["alarms", "macro", "frames", "modes", "cycles", "five-axis", "probing"];
 
 macro_rules! topics {
     ($($test:ident => $dir:literal),* $(,)?) => {
@@ -45,6 +45,7 @@ topics! {
     data_modes => "modes",
     data_cycles => "cycles",
     data_five_axis => "five-axis",
+    data_probing => "probing",
 }
 
 #[test]
@@ -141,6 +142,13 @@ fn interpreter(text: &str, h: &Header, dialect: Dialect, dir: &Path) -> Result<I
     cfg.optional_stop = h.optional_stop;
     cfg.nat = h.nat;
     cfg.refuse_unbuilt = !h.allow_unbuilt;
+    if let Some(f) = &h.workpiece {
+        let json = std::fs::read_to_string(dir.join(f)).map_err(|e| format!("{f}: {e}"))?;
+        let workpiece: fivex_engine::workpiece::Workpiece =
+            serde_json::from_str(&json).map_err(|e| format!("{f}: {e}"))?;
+        workpiece.check().map_err(|e| format!("{f}: {e}"))?;
+        cfg.workpiece = workpiece.into();
+    }
     let mut interp = Interpreter::new(parse_file(text), cfg);
     // The CLI's tools: the file's, or 1–99 with length 100 and radius 5.
     let tools: Vec<(u32, f64, f64)> = match &h.tools {
