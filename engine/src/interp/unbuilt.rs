@@ -103,6 +103,8 @@ const TABLE: &[NotBuilt] = &[
     row(270, When::Always, "reference position return check (G27)"),
     row(282, When::Always, "G28.2"),
     row(301, When::Always, "floating reference position return (G30.1)"),
+    // One probe, one skip signal (`interp::skip`): P selects among several inputs.
+    row(310, When::WithAny(b"P"), "multi-step skip (G31 P)"),
     row(318, When::Always, "EGB skip (G31.8)"),
     row(319, When::Always, "continuous high-speed skip (G31.9)"),
     row(330, When::Always, "threading (G33)"),

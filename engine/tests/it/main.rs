@@ -32,6 +32,7 @@ mod no_panic;
 mod nurbs;
 mod operation;
 mod preview;
+mod probing;
 mod report;
 mod restart;
 mod smoke;
