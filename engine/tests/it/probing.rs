@@ -116,8 +116,8 @@ proptest! {
         let gap = distance(&b, centre(last)) - BALL;
         prop_assert!(gap.abs() < 1e-6, "{}: stopped {gap} mm off the box", MACHINES[which]);
         let skip: Vec<f64> = (100..103).map(|n| r.variables.iter().find(|(k, _)| *k == n).unwrap().1).collect();
-        for k in 0..3 {
-            prop_assert!((skip[k] - last.programmed[k]).abs() < 1e-6, "#{} = {} but the machine stopped at {:?}", 5061 + k, skip[k], last.programmed);
+        for (k, (v, at)) in skip.iter().zip(last.programmed).enumerate() {
+            prop_assert!((v - at).abs() < 1e-6, "#{} = {v} but the machine stopped at {:?}", 5061 + k, last.programmed);
         }
     }
 }
