@@ -5,8 +5,9 @@
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
 //! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other
 //! than `,L2` and a zero surface normal of cutting point control, Syntec's G05 format errors
-//! that literal words show, and Haas's M97/M98/G65 without P and M97 P of a line the program
-//! does not have.
+//! that literal words show, Haas's M97/M98/G65 without P and M97 P of a line the program
+//! does not have, and the conditional `[cond] M99 P<n>` outside the Haas dialect, in another
+//! form, or with a literal P the program has no N for.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
@@ -43,6 +44,21 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     if loaded.find_label(*n as u32, i).is_none() =>
                 {
                     diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
+                }
+                // `[cond] M99 P<n>`: the Haas NGC's conditional M99 (`interp::exec`).
+                BlockKind::IfWords { .. } if dialect != Dialect::Haas => {
+                    diags.push(at(block.col, AlarmId::Syntax, "unexpected '['".into()));
+                }
+                BlockKind::IfWords { words, .. } if !crate::interp::program::is_conditional_m99(words) => {
+                    diags.push(at(block.col, AlarmId::MacroFormat, "only M99 P<n> may follow a condition".into()));
+                }
+                BlockKind::IfWords { words, .. } => {
+                    if let Word::Value(n) = literal(words, b'P') {
+                        let col = words.iter().find(|w| w.letter == b'P').map_or(block.col, |w| w.col);
+                        if n < 0.0 || n.fract() != 0.0 || loaded.find_label(n as u32, i).is_none() {
+                            diags.push(at(col, AlarmId::LineNotFound, format!("no N{n} in this program")));
+                        }
+                    }
                 }
                 BlockKind::Words(words) => {
                     let (mut calls, mut cycle, mut pattern) = (false, false, false);

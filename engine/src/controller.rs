@@ -836,6 +836,9 @@ impl Controller {
     pub fn tick(&mut self, dt: f64) {
         let end = self.exec.time() + dt.max(0.0);
         let mut blocks = 0;
+        // The blocks read now see the panel's switches (Haas #3030, #3031).
+        self.interp.state.set_panel_switches(self.panel.single_block, self.panel.dry_run);
+        let before = self.times;
         // The counters take each stretch of time by what was under way at its start.
         let mut piece = self.piece();
         while self.exec.time() < end {
@@ -905,6 +908,9 @@ impl Controller {
         }
         self.count(&mut piece);
         self.interp.state.advance_time(dt.max(0.0));
+        // The interpreter's timers (Haas #3021…) count what the controller's counters counted.
+        let operating = self.times.operating_s - before.operating_s;
+        self.interp.state.count_operation(operating, self.times.cutting_s - before.cutting_s);
         self.settle_interrupt();
     }
 

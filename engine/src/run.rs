@@ -104,6 +104,7 @@ pub fn run_observed(
         messages: Vec::new(),
         over_budget: None,
         parts: 0,
+        cutting_s: 0.0,
         observer,
     };
     let mut stages = Pipeline::for_config(interp.config());
@@ -117,7 +118,7 @@ pub fn run_observed(
         }
         let step = interp.step(&mut out);
         let stage_alarm = stages.process(&mut out, ends(&step));
-        let before = exec.exec.time();
+        let (before, cut_before) = (exec.exec.time(), exec.cutting_s);
         for c in out.drain(..) {
             if let Err(id) = exec.apply(&c, tracing, &mut on_sample) {
                 let (code, message) = interp.config().dialect.describe(&id);
@@ -135,6 +136,8 @@ pub fn run_observed(
             break;
         }
         interp.state.advance_time(exec.exec.time() - before);
+        // The whole run is automatic operation (Haas #3021…, the controller's operating time).
+        interp.state.count_operation(exec.exec.time() - before, exec.cutting_s - cut_before);
         match step {
             Ok(Step::Continue) => {}
             // A caller that streams parts handles this itself; here every part has arrived.
@@ -147,7 +150,9 @@ pub fn run_observed(
         }
     }
     // Whatever was read before the end or the alarm is carried out, and the machine stops.
+    let (before, cut_before) = (exec.exec.time(), exec.cutting_s);
     exec.drain(true, tracing, &mut on_sample);
+    let (last_s, last_cut_s) = (exec.exec.time() - before, exec.cutting_s - cut_before);
     if let Some((line, n)) = exec.over_budget {
         // The run stopped there: a program error read ahead in a later block was never reached.
         let id = AlarmId::TimeBudgetExceeded { budget_s: opts.max_time_s };
@@ -159,6 +164,8 @@ pub fn run_observed(
     for _ in 0..parts {
         interp.state.count_part();
     }
+    // The last stretch of operation, which closes the parts' times too (Haas #3024).
+    interp.state.count_operation(last_s, last_cut_s);
     // The machine is where the executor left it: a path stage may have moved it off the
     // interpreter's point (cutter compensation) or held back what an alarm then dropped.
     let machine = exec.here.machine;
@@ -196,6 +203,8 @@ struct Driver<'o, O: Observer> {
     over_budget: Option<(u32, Option<u32>)>,
     /// Program ends (M02/M30) the machine reached: parts machined (#3901).
     parts: u32,
+    /// Seconds the machine moved along cutting feeds (not rapids): Haas #3022.
+    cutting_s: f64,
 }
 
 impl<O: Observer> Driver<'_, O> {
@@ -272,6 +281,7 @@ impl<O: Observer> Driver<'_, O> {
         for seg in &finished.planned.segments {
             self.observer.executed(seg);
         }
+        self.cutting_s += cutting_seconds(&finished.planned);
         self.exec.arrive(&finished);
         if let Some(last) = finished.planned.segments.last() {
             self.check_budget(last.line, last.n);
@@ -329,7 +339,99 @@ impl<O: Observer> Driver<'_, O> {
     }
 }
 
+/// The seconds of a run spent along its cutting feeds: the profile's time between the ends of
+/// each segment that is not a rapid (the time the profile reaches a distance, by bisection).
+fn cutting_seconds(planned: &crate::motion::Planned) -> f64 {
+    let profile = &planned.profile;
+    let segments = &planned.segments;
+    if segments.iter().all(|s| !s.rapid) {
+        return profile.duration();
+    }
+    if segments.iter().all(|s| s.rapid) {
+        return 0.0;
+    }
+    let time_at = |s: f64| {
+        let (mut lo, mut hi) = (0.0, profile.duration());
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if profile.at(mid).s < s {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
+    };
+    let (mut s0, mut total) = (0.0, 0.0);
+    for (k, seg) in segments.iter().enumerate() {
+        let s1 = if k + 1 == segments.len() { profile.len() } else { s0 + seg.len };
+        if !seg.rapid {
+            let t0 = if k == 0 { 0.0 } else { time_at(s0) };
+            let t1 = if k + 1 == segments.len() { profile.duration() } else { time_at(s1) };
+            total += t1 - t0;
+        }
+        s0 = s1;
+    }
+    total
+}
+
 /// The program ends after this step (its end or an alarm): the path stages release everything.
 pub(crate) fn ends(step: &Result<Step, Alarm>) -> bool {
     !matches!(step, Ok(Step::Continue | Step::NeedInput))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::canon::{FeedMode, Motion, MotionContext, MotionKind};
+    use crate::machine::MotionOptions;
+    use crate::motion::{AxisLimits, FeedContext, Limits, Planned, Profile};
+
+    /// A 10 mm move along X from `from`, a rapid or a feed.
+    fn segment(from: f64, rapid: bool) -> Segment {
+        let axes = AxisLimits { count: 3, v: [100.0; 8], a: [1000.0; 8], j: [20000.0; 8] };
+        let ctx = FeedContext {
+            feed_override: 1.0,
+            rapid_override: 1.0,
+            exact_stop: false,
+            options: MotionOptions::default(),
+        };
+        let (mut a, mut b): (Pos, Pos) = ([0.0; 8], [0.0; 8]);
+        (a[0], b[0]) = (from, from + 10.0);
+        let m = Motion {
+            kind: if rapid { MotionKind::Rapid } else { MotionKind::Linear },
+            target: b,
+            machine: b,
+            arc: None,
+            tip: None,
+            feed: 3000.0,
+            feed_mode: FeedMode::PerMinute,
+            spindle: 0.0,
+            context: MotionContext::default(),
+            speed_cap: f32::INFINITY,
+            offset: None,
+            no_look_ahead: false,
+            block_limit: 0,
+        };
+        Segment::new(&m, &a, &a, &axes, ctx, None)
+    }
+
+    /// A run of two 10 mm segments from rest to rest is symmetric in time: the first half of
+    /// its distance takes half its duration. Whichever of the two is the feed, the feed timer
+    /// gets half; both feeds, all of it; both rapids, none.
+    #[test]
+    fn cutting_seconds_split_a_run_at_its_rapids() {
+        let profile = Profile::plan(0.0, 0.0, 20.0, &Limits { v: 50.0, a: 1000.0, j: 20000.0 });
+        let run = |first: bool, second: bool| {
+            let planned =
+                Planned { segments: vec![segment(0.0, first), segment(10.0, second)], profile: profile.clone() };
+            cutting_seconds(&planned)
+        };
+        let whole = profile.duration();
+        assert!(whole > 0.4, "{whole}");
+        assert!((run(false, true) - whole / 2.0).abs() < 1e-9, "{} of {whole}", run(false, true));
+        assert!((run(true, false) - whole / 2.0).abs() < 1e-9, "{} of {whole}", run(true, false));
+        assert_eq!(run(false, false), whole);
+        assert_eq!(run(true, true), 0.0);
+    }
 }

@@ -66,6 +66,8 @@ impl Controller {
     pub fn load_times(&mut self, times: Times) {
         let kept = |s: f64| if s.is_finite() { s.max(0.0) } else { 0.0 };
         self.times = Times { operating_s: kept(times.operating_s), cutting_s: kept(times.cutting_s) };
+        // Haas #3021/#3022 go on from the kept counters too.
+        self.interp.state.load_operation_times(self.times.operating_s, self.times.cutting_s);
     }
 
     /// Motion `m` as dry run feeds it: a cutting feed at the dry run rate per minute (F, its

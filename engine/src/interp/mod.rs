@@ -324,6 +324,25 @@ pub struct State {
     /// #3001 / #3002 are the clock minus these (they are writable).
     timer_ms_base: f64,
     timer_h_base: f64,
+    /// Haas #3020–#3025 (`vars.rs`): the seconds of automatic operation and of cutting feed
+    /// counted as the controller counts its operating and cutting time (`Controller::times`;
+    /// in `fivex run` the whole run operates).
+    operating_s: f64,
+    cutting_s: f64,
+    /// #3021 / #3022 are the counters minus these (they are writable).
+    cycle_timer_base: f64,
+    feed_timer_base: f64,
+    /// Haas part timers: the operating time when the present part began, and the operating
+    /// times of the last complete part and of the one before it.
+    part_start_s: f64,
+    last_part_s: f64,
+    previous_part_s: f64,
+    /// Parts completed whose time is not yet closed (`count_operation`).
+    parts_to_time: u32,
+    /// The panel's single block and dry run switches as the controller last gave them (Haas
+    /// #3030, #3031; block delete and optional stop are in `cfg`).
+    single_block: bool,
+    dry_run: bool,
     sys3003: f64,
     /// The custom macro interface signals (#1000–#1035 in, #1100–#1135 out).
     pub signals: InterfaceSignals,
@@ -645,6 +664,16 @@ impl State {
             clock_s: 0.0,
             timer_ms_base: 0.0,
             timer_h_base: 0.0,
+            operating_s: 0.0,
+            cutting_s: 0.0,
+            cycle_timer_base: 0.0,
+            feed_timer_base: 0.0,
+            part_start_s: 0.0,
+            last_part_s: 0.0,
+            previous_part_s: 0.0,
+            parts_to_time: 0,
+            single_block: false,
+            dry_run: false,
             sys3003: 0.0,
             signals: InterfaceSignals::default(),
             sys3004: 0.0,
@@ -699,9 +728,43 @@ impl State {
         c.chain(p).chain(e).chain(ngc).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).collect()
     }
 
-    /// A program end (M02/M30) was carried out: one more part machined (#3901).
+    /// Count `operating_s` seconds of automatic operation, `cutting_s` of them along a cutting
+    /// feed (Haas #3021–#3025), as the controller counts its operating and cutting time.
+    /// The parts completed since the last call ([`State::count_part`]) close here, so that a
+    /// part's time is all that was counted up to its end (the controller counts a tick's
+    /// stretches after it carries out the M30 within it).
+    pub fn count_operation(&mut self, operating_s: f64, cutting_s: f64) {
+        self.operating_s += operating_s.max(0.0);
+        self.cutting_s += cutting_s.max(0.0);
+        for _ in 0..std::mem::take(&mut self.parts_to_time) {
+            self.previous_part_s = self.last_part_s;
+            self.last_part_s = self.operating_s - self.part_start_s;
+            self.part_start_s = self.operating_s;
+        }
+    }
+
+    /// The operation counters as kept through a power cycle (the controller's, loaded with
+    /// its own): Haas #3021/#3022 go on from there.
+    pub fn load_operation_times(&mut self, operating_s: f64, cutting_s: f64) {
+        // The present part keeps the time it has run.
+        self.part_start_s += operating_s - self.operating_s;
+        self.operating_s = operating_s;
+        self.cutting_s = cutting_s;
+    }
+
+    /// The panel's single block and dry run switches (Haas #3030, #3031), for the blocks read
+    /// from now on.
+    pub fn set_panel_switches(&mut self, single_block: bool, dry_run: bool) {
+        self.single_block = single_block;
+        self.dry_run = dry_run;
+    }
+
+    /// A program end (M02/M30) was carried out: one more part machined (#3901); the Haas part
+    /// timers (#3023 present, #3024 last complete, #3025 previous part) move on at the next
+    /// [`State::count_operation`], with the time counted up to the end.
     pub fn count_part(&mut self) {
         self.parts_done += 1.0;
+        self.parts_to_time += 1;
     }
 
     /// The part count (#3901, parts machined) and the parts required (#3902).
@@ -909,6 +972,20 @@ impl State {
                     let number = self.target_number(var)?;
                     let v = eval(value, self, &self.expr)?;
                     self.write(number, v, block, out)?;
+                }
+            }
+            BlockKind::IfWords { cond, words } => {
+                // Haas NGC's conditional M99 (`docs/dialects.md`, "Subprograms and macros"):
+                // M99 P<n> branches only when the condition holds. No other dialect has the form
+                // (a block cannot start with '[' there), and no other words may follow it.
+                if self.cfg.dialect != Dialect::Haas {
+                    return Err(AlarmId::Syntax);
+                }
+                if !program::is_conditional_m99(words) {
+                    return Err(AlarmId::MacroFormat);
+                }
+                if truth(eval(cond, self, &self.expr)?) {
+                    self.exec_words(progs, by_number, words, block, out)?;
                 }
             }
             BlockKind::Goto(target) => self.goto(prog, idx, target)?,

@@ -37,6 +37,15 @@ pub struct Loaded {
     pub reaches_beyond: Vec<bool>,
 }
 
+/// Whether the words of a `[cond] words` block are the Haas NGC's conditional M99: a literal
+/// M99 and a P, nothing else (`[cond] M99 P<n>`, the one form the NGC manual gives).
+pub(crate) fn is_conditional_m99(words: &crate::lang::Words) -> bool {
+    use crate::lang::WordValue;
+    let m99 =
+        |w: &crate::lang::Word| w.letter == b'M' && matches!(w.value, WordValue::Number { value, .. } if value == 99.0);
+    words.len() == 2 && words.iter().filter(|w| m99(w)).count() == 1 && words.iter().any(|w| w.letter == b'P')
+}
+
 /// Whether a block may jump, loop, call or return (see `Loaded::reaches_beyond`).
 fn reaches_beyond(block: &Block) -> bool {
     use crate::lang::{Expr, WordValue};
@@ -44,6 +53,7 @@ fn reaches_beyond(block: &Block) -> bool {
         BlockKind::Empty | BlockKind::Error(_) | BlockKind::Assign { .. } | BlockKind::IfThen { .. } => false,
         BlockKind::Output(_) => false,
         BlockKind::Goto(_) | BlockKind::IfGoto { .. } | BlockKind::Do { .. } | BlockKind::End { .. } => true,
+        BlockKind::IfWords { .. } => true,
         BlockKind::Words(words) => words.iter().any(|w| match (&w.letter, &w.value) {
             (b'M', WordValue::Number { value, .. }) => {
                 matches!(*value as u32, mcode::M97 | mcode::M98 | mcode::M99 | mcode::M198)

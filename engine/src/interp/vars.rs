@@ -127,13 +127,15 @@ fn haas_slot(n: u32, axes: usize) -> Slot {
             Slot::Work { index: g54_1_index(((n - 14_001) / 20) as usize + 1), axis: ((n - 14_001) % 20) as usize }
         }
         3000..=3004 | 3006 | 3011 | 3012 | 3026 | 3027 | 3901 | 4101..=4126 => Slot::System(n),
+        // The timers and the panel's switches (`State::haas_timer`, `haas_switch`).
+        3020..=3025 | 3030..=3033 => Slot::System(n),
         5001..=5006 | 5021..=5026 | 5041..=5046 | 5061..=5069 | 5081..=5086 => Slot::System(n),
         // Everything else: what the NGC lists and fivex does not model (hidden variables,
-        // discrete and analog inputs/outputs #1000…/#11000…, axis loads, flutes, vibrations,
-        // the timers #3020–#3025, single block, block delete and optional stop #3028…, actual
-        // diameters, coolant positions, M30 count 2 #3902, servo deviations, tool life and load
-        // monitors #5401…, settings and parameters #6001…/#20000…/#30000…, ATM and tool data,
-        // tool table #50001…; `docs/dialects.md` lists the ranges), or no NGC variable at all.
+        // discrete and analog inputs/outputs #1000…/#11000…, axis loads, flutes, vibrations, actual
+        // diameters, coolant positions, M30 count 2 #3902, the pallets loaded #3028 (fivex
+        // has no pallet changer), servo deviations, tool life and load monitors #5401…,
+        // settings and parameters #6001…/#20000…/#30000…, ATM and tool data, tool table
+        // #50001…; `docs/dialects.md` lists the ranges), or no NGC variable at all.
         _ => Slot::NotModelled,
     }
 }
@@ -242,6 +244,33 @@ impl State {
         self.clock_s / 3600.0 - self.timer_h_base
     }
 
+    /// Haas #3020–#3025, seconds (`docs/dialects.md`, "Haas: the dialect's core"): the
+    /// power-on timer (the interpreter's clock, from its making), the cycle start timer (the
+    /// automatic operation counted), the feed timer (the part of it along cutting feeds), the
+    /// present part's operating time, the last complete part's and the one before it.
+    fn haas_timer(&self, n: u32) -> f64 {
+        match n {
+            3020 => self.clock_s,
+            3021 => self.operating_s - self.cycle_timer_base,
+            3022 => self.cutting_s - self.feed_timer_base,
+            3023 => self.operating_s - self.part_start_s,
+            3024 => self.last_part_s,
+            _ => self.previous_part_s,
+        }
+    }
+
+    /// Haas #3030–#3033: single block, dry run, block delete, optional stop (1 on, 0 off), as
+    /// the interpreter reads the blocks now (the panel's state when it reads ahead).
+    fn haas_switch(&self, n: u32) -> f64 {
+        let on = match n {
+            3030 => self.single_block,
+            3031 => self.dry_run,
+            3032 => self.cfg.block_delete,
+            _ => self.cfg.optional_stop,
+        };
+        f64::from(u8::from(on))
+    }
+
     fn read_system(&self, n: u32) -> Result<f64, AlarmId> {
         let axes = self.cfg.machine.axes.len() as u32;
         let axis = |base: u32| -> Result<usize, AlarmId> {
@@ -267,6 +296,8 @@ impl State {
             // Haas: the tool in the spindle and the spindle speed (the commanded S while the
             // spindle turns, 0 stopped; the panel's spindle override is not the interpreter's).
             3026 if self.cfg.dialect == crate::Dialect::Haas => self.tool_in_spindle as f64,
+            3020..=3025 if self.cfg.dialect == crate::Dialect::Haas => self.haas_timer(n),
+            3030..=3033 if self.cfg.dialect == crate::Dialect::Haas => self.haas_switch(n),
             3027 if self.cfg.dialect == crate::Dialect::Haas => {
                 if self.spindle == crate::canon::SpindleState::Stop {
                     0.0
@@ -365,7 +396,11 @@ impl State {
                     // G54.4 error data (WSE-08); COMMON has no Δa/Δb/Δc (#26003–#26005).
                     26000..=26099 => *self.setting_errors.variable_mut(n).ok_or(AlarmId::VariableOutOfRange)? = v,
                     3902 => self.parts_required = v,
-                    3026 | 3027 if self.cfg.dialect == crate::Dialect::Haas => {
+                    // Haas: the cycle start and feed timers are set (as #3001), the power-on
+                    // and part timers, the tool, the spindle speed and the switches are read only.
+                    3021 if self.cfg.dialect == crate::Dialect::Haas => self.cycle_timer_base = self.operating_s - v,
+                    3022 if self.cfg.dialect == crate::Dialect::Haas => self.feed_timer_base = self.cutting_s - v,
+                    3020 | 3023..=3027 | 3030..=3033 if self.cfg.dialect == crate::Dialect::Haas => {
                         return Err(AlarmId::WriteProtectedVariable)
                     }
                     3011 | 3012 | 4001..=4030 | 4101..=4130 | 4201..=4230 | 4301..=4330 | 5001..=5120 => {

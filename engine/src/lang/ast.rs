@@ -56,6 +56,9 @@ pub enum BlockKind {
     IfGoto { cond: Expr, target: Expr },
     /// `IF [cond] THEN #i = expr`
     IfThen { cond: Expr, var: Expr, value: Expr },
+    /// `[cond] words`: NC words carried out only when the condition holds. The Haas NGC's
+    /// conditional `[cond] M99 P<n>`; the interpreter refuses every other form and dialect.
+    IfWords { cond: Expr, words: Words },
     /// `GOTO n`
     Goto(Expr),
     /// `WHILE [cond] DO m`, or `DO m` alone (cond `None`: loop forever)

@@ -322,6 +322,14 @@ impl BlockParser<'_> {
                 BlockKind::Output(Output::BinaryPrint(self.print_items(true)?))
             }
             Tok::Letter(_) => BlockKind::Words(self.words()?),
+            // `[cond] M99 P<n>` (Haas NGC): read in every dialect, refused where it is none.
+            Tok::LBracket => {
+                let cond = self.condition()?;
+                match self.lx.peek() {
+                    (Tok::Letter(_), _) => BlockKind::IfWords { cond, words: self.words()? },
+                    (tok, col) => return self.unexpected(tok, col),
+                }
+            }
             _ => return self.unexpected(tok, col),
         };
         match self.lx.peek() {

@@ -1,6 +1,7 @@
 //! The Haas NGC dialect's core rules that data fixtures cannot show (`tests/data/*/haas_*.nc`
 //! hold the rest): the dwell's units, `fivex check` of the NGC's codes, the alarm of a FANUC
-//! code the NGC does not have, and a main program that reaches an M99 after M97.
+//! code the NGC does not have, a main program that reaches an M99 after M97, and `fivex check`
+//! of the conditional M99.
 
 use crate::common::*;
 use fivex_engine::canon::CanonKind;
@@ -100,4 +101,18 @@ fn check_reports_m97_targets_and_missing_p() {
     let found: Vec<_> = check(parse_file(src), Haas).iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
     let want = [(2, 5, "337"), (3, 1, "313"), (4, 1, "313"), (5, 1, "313")];
     assert_eq!(found, want.map(|(l, c, code)| (l, c, code.to_string())), "{found:?}");
+}
+
+/// `fivex check` and the conditional M99 `[cond] M99 P<n>`: in the Haas dialect a literal P the
+/// program has no N for is 337 and other words after the condition 540; FANUC reports the
+/// block as the syntax error it was before the form was read (a block cannot start with '[').
+#[test]
+fn check_reports_the_conditional_m99() {
+    let src = "#100=1\nN10 [#100 LT 3] M99 P10\n[#100 LT 3] M99 P20\n[#100 LT 3] X1.\nM30\n";
+    let found = |d: fivex_engine::Dialect| -> Vec<_> {
+        check(parse_file(src), d).iter().map(|x| (x.line, d.describe(&x.id).0)).collect()
+    };
+    assert_eq!(found(Haas), vec![(3, "337".to_string()), (4, "540".to_string())]);
+    let fanuc = vec![(2, "PS0004".to_string()), (3, "PS0004".to_string()), (4, "PS0004".to_string())];
+    assert_eq!(found(Fanuc), fanuc);
 }

@@ -2,7 +2,8 @@
 //! operator's switches and counters"): dry run feeds cutting moves at the dry run rate with the
 //! feed override and leaves rapids alone, changes only at a block boundary; the spindle
 //! override scales the speed the controller reports; operating and cutting time count
-//! automatic operation and its cutting feeds.
+//! automatic operation and its cutting feeds; the Haas timers #3020–#3025 and switches
+//! #3030–#3033 follow them.
 
 use fivex_engine::controller::{Controller, Refusal, RunState};
 use fivex_engine::interp::Config;
@@ -280,4 +281,85 @@ fn auxiliary_function_lock_skips_the_spindle_and_the_tool_change_not_the_program
     c.tick(0.01);
     assert_eq!(c.run_state(), RunState::Idle);
     assert_eq!(c.point().machine[0], 0.0);
+}
+
+/// Haas #3020–#3025 on a controller: the cycle start and feed timers count what the operating
+/// and cutting time count; the part timers move on at each M30 the machine reaches
+/// (`docs/dialects.md`, "Haas: the dialect's core").
+#[test]
+fn haas_timers_follow_the_operating_time_and_the_parts() {
+    use fivex_engine::interp::expr::Variables;
+    let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Haas));
+    let read = |c: &Controller, n: u32| Variables::read(&c.interpreter().state, n).unwrap().unwrap();
+    // Idle time before the first cycle start: power on counts it, the cycle start timer not.
+    c.tick(0.5);
+    start(&mut c, "G90 G01 X100. F3000.\nG04 P1.\nM30\n");
+    run_to_end(&mut c);
+    let first = c.times();
+    assert!((first.operating_s - (line_time(50.0) + 1.0)).abs() <= 2.0 * TICK, "{first:?}");
+    assert!((read(&c, 3020) - c.time()).abs() < 1e-9);
+    assert!((read(&c, 3021) - first.operating_s).abs() < 1e-9);
+    assert!((read(&c, 3022) - first.cutting_s).abs() < 1e-9);
+    assert!((read(&c, 3024) - first.operating_s).abs() < 1e-9, "the part just completed");
+    assert_eq!(read(&c, 3023), 0.0);
+    assert_eq!(read(&c, 3025), 0.0);
+
+    // A second part (a 2 s dwell): the first part's time moves to #3025.
+    c.tick(0.3);
+    start(&mut c, "G04 P2.\nM30\n");
+    run_to_end(&mut c);
+    let second = c.times().operating_s - first.operating_s;
+    assert!((second - 2.0).abs() <= 2.0 * TICK, "{second}");
+    assert!((read(&c, 3024) - second).abs() < 1e-9);
+    assert!((read(&c, 3025) - first.operating_s).abs() < 1e-9);
+    assert!((read(&c, 3022) - first.cutting_s).abs() < 1e-9, "a dwell is no feed");
+
+    // The counters kept through a restart: #3021/#3022 go on from them.
+    c.load_times(fivex_engine::controller::Times { operating_s: 100.0, cutting_s: 40.0 });
+    assert_eq!((read(&c, 3021), read(&c, 3022)), (100.0, 40.0));
+    assert_eq!(read(&c, 3023), 0.0, "the present part keeps its time");
+}
+
+/// Haas #3030/#3031 read the panel's single block and dry run switches as the program is read.
+#[test]
+fn haas_3030_3031_read_the_panel() {
+    let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Haas));
+    c.panel.single_block = true;
+    c.set_dry_run(true).unwrap();
+    start(&mut c, "#100=#3030\n#101=#3031\n#102=#3032\nM30\n");
+    for _ in 0..100 {
+        if c.run_state() == RunState::Idle {
+            break;
+        }
+        if c.run_state() != RunState::Running {
+            c.cycle_start().unwrap();
+        }
+        c.tick(TICK);
+    }
+    assert_eq!(c.run_state(), RunState::Idle);
+    let vars: Vec<_> = c.interpreter().state.common_variables();
+    assert_eq!(vars, vec![(100, 1.0), (101, 1.0), (102, 0.0)]);
+}
+
+/// Haas #3022 in `fivex run` (the planned profile's time along the segments that are no rapid)
+/// agrees with the controller's cutting time (counted tick by tick from the segment under way)
+/// on a program that mixes feeds and rapids: two independent counts of the same motion.
+#[test]
+fn haas_feed_timer_of_a_run_agrees_with_the_controller() {
+    use fivex_engine::interp::expr::Variables;
+    use fivex_engine::run::{run, RunOptions};
+    let src = "G90 G01 X20. F3000.\nG00 X60.\nG01 X80. Y10.\nG00 Y30.\nG01 X0 Y0 F6000.\nG04 P0\n#100=#3022\nM30\n";
+    let mut interp = fivex_engine::interp::Interpreter::new(
+        fivex_engine::lang::parse_file(src),
+        Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Haas),
+    );
+    assert!(run(&mut interp, &RunOptions::default(), |_| {}).completed());
+    let feed = Variables::read(&interp.state, 100).unwrap().unwrap();
+    let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Haas));
+    start(&mut c, src);
+    run_to_end(&mut c);
+    let t = c.times();
+    assert!(feed > 0.0 && feed < t.operating_s - 0.1, "{feed} of {t:?}");
+    // Each of the five changes between feed and rapid may fall inside a tick.
+    assert!((feed - t.cutting_s).abs() <= 5.0 * TICK, "run {feed}, controller {t:?}");
 }

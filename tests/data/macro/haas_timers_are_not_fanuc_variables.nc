@@ -1,0 +1,5 @@
+(fivex: --dialect fanuc,syntec)
+#100=#3021
+M30
+(The NGC's cycle start timer is no FANUC or Syntec variable.)
+(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-021 alarm_line=2)
