@@ -16,7 +16,7 @@ use super::gcode::{code, group};
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, MotionKind, Pos};
+use crate::canon::{Canon, CanonKind, MotionKind, Pos};
 use crate::kin::Vec3;
 use crate::machine::{AxisKind, MAX_AXES};
 
@@ -57,32 +57,59 @@ impl State {
         if self.modes[group::CUTTER_COMP] != code::G40 {
             return Err(AlarmId::SkipInCutterComp);
         }
+        // The control cannot blend a skip block into the next: it does not know where it ends.
+        self.exact_stop = true;
         let from = self.xf.programmed;
         let target = self.target(w);
-        let contact = self.contact_on_the_way(&target)?;
+        let contact = match self.cfg.workpiece.is_empty() {
+            true => None,
+            false => {
+                // The whole move made on a copy of the state gives the machine axes at its end,
+                // in whatever mode the block is read (TCP, a tilted plane, DWO…).
+                let mut whole = self.clone();
+                let mut scratch = Vec::new();
+                whole.straight_move(target, &mut scratch)?;
+                let end = scratch.iter().rev().find_map(|c| match &c.kind {
+                    CanonKind::Motion(m) => Some(m.machine),
+                    _ => None,
+                });
+                match end {
+                    Some(end) => self.contact_on_the_way(&end)?,
+                    None => None,
+                }
+            }
+        };
         let end = match contact {
             Some(t) => std::array::from_fn(|i| from[i] + (target[i] - from[i]) * t),
             None => target,
         };
-        // The control cannot blend a skip block into the next: it does not know where it ends.
-        self.exact_stop = true;
-        self.move_to(MotionKind::Linear, end, out);
+        self.straight_move(end, out)?;
         self.skip = Skip { pos: self.pos, found: contact.is_some() };
         Ok(())
     }
 
-    /// The fraction of the move to `target` (programmed coordinates) at which the probe first
-    /// touches the workpiece. The programmed point and the tip move in proportion while no
-    /// rotary axis turns (every transform between them is then affine); a move that turns one
-    /// toward a workpiece is not built.
-    fn contact_on_the_way(&self, target: &Pos) -> Result<Option<f64>, AlarmId> {
-        let workpiece = &self.cfg.workpiece;
-        if workpiece.is_empty() {
-            return Ok(None);
+    /// A straight feed move to `programmed`: along the tip under TCP, in a tilted plane and the
+    /// other modes that follow it, else as a plain move.
+    fn straight_move(&mut self, programmed: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        if !self.follows_tip() {
+            self.move_to(MotionKind::Linear, programmed, out);
+            return Ok(());
         }
+        let target = self.xf.forward(&programmed);
+        self.tip_motion(MotionKind::Linear, target, None, out)?;
+        self.xf.programmed = programmed;
+        Ok(())
+    }
+
+    /// The fraction of the move from where the machine stands to the machine axes `end` at which
+    /// the probe first touches the workpiece. The programmed point and the tip move in
+    /// proportion while no rotary axis turns (every transform between them is then affine); a
+    /// move that turns one toward a workpiece is not built.
+    fn contact_on_the_way(&self, end: &Pos) -> Result<Option<f64>, AlarmId> {
+        let workpiece = &self.cfg.workpiece;
         let view = &self.machine_view;
         let start = view.real(&self.machine_position());
-        let end = view.real(&self.program_to_machine(&self.xf.forward(target)));
+        let end = view.real(end);
         let machine = &self.cfg.machine;
         let turns = machine.axes.iter().enumerate().any(|(i, a)| a.kind == AxisKind::Rotary && start[i] != end[i]);
         // Without length compensation fivex knows no tool length to place the probe by (the
