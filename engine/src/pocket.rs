@@ -6,9 +6,10 @@
 //! The order of the moves is fivex's decision where the manual describes the cycle only in words
 //! (`docs/dialects.md`, "Haas cycles", G150): at each depth the tool goes from the start hole
 //! straight to the outline pass's start, runs the outline pass once around, then the roughing
-//! strokes in zigzag from the side nearest that start, each linked to the next along the outline
-//! pass already cut (the shorter way round), then back along it to the pass's start and straight
-//! to the hole. Where fivex cannot give an order it can justify (a stroke line crossing the
+//! strokes in zigzag from the side nearest that start (the stroke's end nearer along the pass,
+//! on a tie the one the outline's direction reaches), each linked to the next along the outline
+//! pass already cut (the shorter way round; a tie: the outline's direction), then back along it
+//! to the pass's start and straight to the hole. Where fivex cannot give an order it can justify (a stroke line crossing the
 //! region in several pieces, an offset region that splits or vanishes, a self-intersecting
 //! outline) the pocket is refused ([`Refusal`]).
 
@@ -115,10 +116,15 @@ impl Seg {
 
     /// The point at parameter `t` (0 start, 1 end).
     pub fn at(&self, t: f64) -> P {
+        // The ends exactly: a crossing at a joint must count on one side of it only.
+        if t <= 0.0 {
+            return self.start;
+        }
+        if t >= 1.0 {
+            return self.end;
+        }
         match self.arc {
             None => add(self.start, mul(sub(self.end, self.start), t)),
-            Some(_) if t >= 1.0 => self.end,
-            Some(_) if t <= 0.0 => self.start,
             Some((c, s)) => polar(c, self.radius(), angle(sub(self.start, c)) + s * t),
         }
     }
@@ -529,14 +535,19 @@ fn path_length(from: P, moves: &[Move]) -> f64 {
     len
 }
 
-/// The shorter way along the contour from `a` to `b`.
-fn link(c: &[Seg], a: Spot, b: Spot) -> Vec<Move> {
+/// Lengths that differ by less than this are a tie (mm).
+const TIE: f64 = 1e-6;
+
+/// The shorter way along the contour from `a` to `b` (a tie: forward, the way the outline
+/// runs), its length, and whether it runs forward.
+fn link(c: &[Seg], a: Spot, b: Spot) -> (Vec<Move>, f64, bool) {
     let f = walk(c, a, b, true);
     let r = walk(c, a, b, false);
-    if path_length(a.p, &f) <= path_length(a.p, &r) {
-        f
+    let (lf, lr) = (path_length(a.p, &f), path_length(a.p, &r));
+    if lf <= lr + TIE {
+        (f, lf, true)
     } else {
-        r
+        (r, lr, false)
     }
 }
 
@@ -655,17 +666,21 @@ pub fn plan(outline: &[Seg], hole: P, tool: f64, k: f64, step: f64, strokes_alon
         }
         let (a, b) = (xs[0], xs[1]);
         // The first stroke starts at its end nearer the pass's start; then they alternate.
+        // (A tie: the end the outline's own direction reaches.)
         let ltr = match left_to_right {
-            None => path_length(at.p, &link(&c, at, a)) <= path_length(at.p, &link(&c, at, b)),
+            None => {
+                let ((_, la, fa), (_, lb, fb)) = (link(&c, at, a), link(&c, at, b));
+                la < lb - TIE || (la <= lb + TIE && (fa || !fb))
+            }
             Some(prev) => !prev,
         };
         left_to_right = Some(ltr);
         let (from, to) = if ltr { (a, b) } else { (b, a) };
-        level.extend(link(&c, at, from));
+        level.extend(link(&c, at, from).0);
         level.push(Move::Line { to: to.p });
         at = to;
     }
-    level.extend(link(&c, at, s0));
+    level.extend(link(&c, at, s0).0);
     level.push(Move::Line { to: hole });
     let finish = if k > 0.0 {
         let f = offset(&outline, tool)?;
