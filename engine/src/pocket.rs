@@ -33,9 +33,15 @@ pub struct Seg {
 /// A move of the tool centre from where the last one ended.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Move {
-    Line { to: P },
+    Line {
+        to: P,
+    },
     /// About `centre`, `sweep` radians (positive counter-clockwise).
-    Arc { to: P, centre: P, sweep: f64 },
+    Arc {
+        to: P,
+        centre: P,
+        sweep: f64,
+    },
 }
 
 impl Move {
@@ -166,7 +172,13 @@ impl Seg {
 
     /// The move along this segment from parameter `a` to `b` (either way).
     fn piece(&self, a: f64, b: f64) -> Move {
-        let to = if b >= 1.0 { self.end } else if b <= 0.0 { self.start } else { self.at(b) };
+        let to = if b >= 1.0 {
+            self.end
+        } else if b <= 0.0 {
+            self.start
+        } else {
+            self.at(b)
+        };
         match self.arc {
             None => Move::Line { to },
             Some((c, s)) => Move::Arc { to, centre: c, sweep: s * (b - a) },
@@ -344,9 +356,11 @@ fn self_intersects(c: &[Seg]) -> bool {
                 _ => vec![],
             };
             if overlap && (next || wrap) {
-                // Adjacent segments folding back over each other.
-                let straight_on = dot(c[i].tangent(1.0), c[j].tangent(0.0)) > 0.0;
-                if !(next && straight_on) && !(wrap && dot(c[j].tangent(1.0), c[i].tangent(0.0)) > 0.0) {
+                // Adjacent segments on one line (or circle) go straight on; folding back over
+                // each other they cross.
+                let on_after_i = next && dot(c[i].tangent(1.0), c[j].tangent(0.0)) > 0.0;
+                let on_after_j = wrap && dot(c[j].tangent(1.0), c[i].tangent(0.0)) > 0.0;
+                if !(on_after_i || on_after_j) {
                     return true;
                 }
                 continue;
@@ -594,7 +608,8 @@ fn inside(c: &[Seg], p: P) -> bool {
 /// The tool's way from the start hole to the contour's start: straight, and inside the region
 /// all the way (else the cycle's start point is not inside the pocket).
 fn entry(c: &[Seg], hole: P) -> Result<(), Refusal> {
-    let bad = Refusal::Argument("the start point X/Y is not inside the pocket, clear of the wall by the tool radius + K");
+    let bad =
+        Refusal::Argument("the start point X/Y is not inside the pocket, clear of the wall by the tool radius + K");
     let start = c[0].start;
     if dist(hole, start) < EPS {
         return Ok(());
@@ -621,7 +636,7 @@ fn loop_moves(c: &[Seg]) -> Vec<Move> {
 /// tool radius; `k`: the finish allowance; `step`: the roughing increment (I or J);
 /// `strokes_along_x`: J given (the strokes run along X, stepping in Y), else I (along Y).
 pub fn plan(outline: &[Seg], hole: P, tool: f64, k: f64, step: f64, strokes_along_x: bool) -> Result<Pocket, Refusal> {
-    if !(step > EPS) || tool < 0.0 || k < 0.0 {
+    if step.is_nan() || step <= EPS || tool < 0.0 || k < 0.0 {
         return Err(Refusal::Argument("I/J positive, K not negative, a tool radius not negative"));
     }
     if outline.is_empty() || area(outline).abs() < EPS * EPS {

@@ -99,7 +99,7 @@ pub fn arc_centre(start: P, end: P, r: Option<f64>, ij: P, cw: bool, tol: f64) -
 
 /// The depths of a G150's passes: from R down by Q, the last at Z.
 pub fn pocket_levels(r: f64, z: f64, q: f64) -> Result<Vec<f64>, AlarmId> {
-    if !(q > 0.0) || z >= r || (r - z) / q > MAX_LEVELS {
+    if q.is_nan() || q <= 0.0 || z >= r || (r - z) / q > MAX_LEVELS {
         return Err(AlarmId::CycleArgument);
     }
     let mut levels = Vec::new();
@@ -304,7 +304,7 @@ impl State {
         let k = self.value(w, b'K').unwrap_or(0.0);
         let tool = self.offsets.radius(self.d);
         // A step wider than the tool would leave ribs standing between the strokes.
-        if !(step > 0.0) || k < 0.0 || tool < 0.0 || step > 2.0 * tool {
+        if step.is_nan() || step <= 0.0 || k < 0.0 || tool < 0.0 || step > 2.0 * tool {
             return Err(AlarmId::CycleArgument);
         }
         let q = self.value(w, b'Q').ok_or(AlarmId::CycleArgument)?;

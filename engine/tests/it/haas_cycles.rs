@@ -85,10 +85,7 @@ fn refusals_and_bad_arguments() {
         assert_eq!(first(src), Some(("310".into(), 2)), "{src}");
     }
     // `fivex check` reports them at their G word, with the function's name.
-    for (src, name) in [
-        ("G47 P0 (FIVEX)", "text engraving"),
-        ("G187 P1 E0.01", "smoothness"),
-    ] {
+    for (src, name) in [("G47 P0 (FIVEX)", "text engraving"), ("G187 P1 E0.01", "smoothness")] {
         let diags =
             fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
         let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
@@ -357,9 +354,9 @@ fn g150_cuts_a_rectangle_level_by_level_and_ends_at_the_hole_at_r() {
         }
     });
     let at = |k: usize| moves[k].1;
-    // G00 Z10; the rapid over the hole (already there in X/Y: none); to R; the plunge; the entry
+    // G00 Z10; the rapid over the hole at the tool's height; to R; the plunge; the entry
     // straight up to the outline pass at y 14.5, along it to the corner x 5.5.
-    assert_eq!(moves[1], (MotionKind::Rapid, [0.0, 0.0, 10.0]).clone().with_xy(15.0, 10.0));
+    assert_eq!(moves[1], (MotionKind::Rapid, [15.0, 10.0, 10.0]));
     assert_eq!(moves[2].0, MotionKind::Rapid);
     assert!(approx(at(2)[2], 1.0));
     assert!(moves[3].0 == MotionKind::Linear && approx(at(3)[2], -1.0) && approx(at(3)[0], 15.0));
@@ -376,16 +373,6 @@ fn g150_cuts_a_rectangle_level_by_level_and_ends_at_the_hole_at_r() {
     // K: the finish pass at the tool radius alone (y 15) at Z only.
     assert!(moves.iter().any(|(_, p)| approx(p[1], 15.0) && approx(p[2], -2.0)));
     assert!(!moves.iter().any(|(_, p)| approx(p[1], 15.0) && approx(p[2], -1.0)));
-}
-
-trait WithXy {
-    fn with_xy(self, x: f64, y: f64) -> Self;
-}
-impl WithXy for (MotionKind, [f64; 3]) {
-    fn with_xy(mut self, x: f64, y: f64) -> Self {
-        (self.1[0], self.1[1]) = (x, y);
-        self
-    }
 }
 
 #[test]
@@ -446,8 +433,7 @@ fn g150_refusals() {
         let want_line = if src.contains("G68") { 3 } else { 2 };
         assert_eq!(first_alarm(&src), Some(("310".into(), want_line)), "{src}");
     }
-    let along_y =
-        g150("G150 X15. Y-8. Z-2. R1. Q2. I4. P100 D1 F300.", U);
+    let along_y = g150("G150 X15. Y-8. Z-2. R1. Q2. I4. P100 D1 F300.", U);
     assert!(run_with(&along_y, "mill3", Haas).completed());
     // In a canned cycle: 339 (multiple codes), as G12.
     let cycle = block("G81 Z-1. R1. F100. L0\nG150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.");
@@ -513,7 +499,8 @@ fn as_move(s: &Seg) -> Move {
 /// (to 1e-9), the outline pass exactly there, the finish pass at `tool`, every point of the
 /// region less the step within step/2 of a pass, and the path back at the hole.
 fn check_pocket(outline: &[Seg], hole: P, tool: f64, k: f64, step: f64, along_x: bool) -> Result<(), TestCaseError> {
-    let plan = pocket::plan(outline, hole, tool, k, step, along_x).map_err(|e| TestCaseError::fail(format!("{e:?}")))?;
+    let plan =
+        pocket::plan(outline, hole, tool, k, step, along_x).map_err(|e| TestCaseError::fail(format!("{e:?}")))?;
     let d = tool + k;
     let cut = samples(hole, &plan.level, 8);
     for p in &cut {
@@ -678,4 +665,19 @@ proptest! {
         }
         prop_assert!(approx(last[0], 15.0) && approx(last[1], 10.0) && approx(last[2], r), "{:?}", last);
     }
+}
+
+#[test]
+fn check_reads_g150_s_subprogram() {
+    let found = |src: &str| {
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(src), Haas);
+        diags.iter().map(|d| (d.line, Haas.describe(&d.id).0)).collect::<Vec<_>>()
+    };
+    // N100 in the program, O200 in the file: nothing to report.
+    assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.", RECT)), vec![]);
+    let o200 = "G150 X15. Y10. Z-1. R1. Q2. I4. P200 D1 F300.\nM30\nO200\nG01 Y20.\nX0\nY0\nX30.\nY20.\nX15.\nM99\n";
+    assert_eq!(found(o200), vec![]);
+    // Neither (314), no P (313).
+    assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. P300 D1 F300.", RECT)), vec![(2, "314".to_string())]);
+    assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. D1 F300.", RECT)), vec![(2, "313".to_string())]);
 }
