@@ -18,6 +18,9 @@ use std::f64::consts::{PI, TAU};
 /// A point of the plane (X, Y).
 pub type P = [f64; 2];
 
+/// The most roughing strokes of one depth (a 2 m pocket at a 0.1 mm step).
+const MAX_STROKES: f64 = 20_000.0;
+
 /// Lengths below this are zero (mm): a closing gap, a vanished segment, a point on a line.
 pub const EPS: f64 = 1e-7;
 
@@ -663,8 +666,8 @@ pub fn plan(outline: &[Seg], hole: P, tool: f64, k: f64, step: f64, strokes_alon
     // (the extremes are on the outline pass).
     let (lo, hi) = c.iter().map(|s| s.range(1)).fold((f64::MAX, f64::MIN), |(l, h), (a, b)| (l.min(a), h.max(b)));
     let count = ((hi - lo) / step - 1e-9).ceil().max(1.0);
-    if count > 100_000.0 {
-        return Err(Refusal::Argument("more than 100000 roughing strokes"));
+    if count > MAX_STROKES {
+        return Err(Refusal::Argument("more than 20000 roughing strokes"));
     }
     let count = count as usize;
     let mut lines: Vec<f64> = (1..count).map(|i| lo + (hi - lo) * i as f64 / count as f64).collect();

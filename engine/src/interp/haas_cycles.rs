@@ -25,8 +25,9 @@ const MAX_PASSES: f64 = 10_000.0;
 /// The most depth passes of one G150 block (R to Z by Q).
 const MAX_LEVELS: f64 = 10_000.0;
 
-/// The most blocks a G150 outline subprogram may have before its M99.
-const MAX_OUTLINE_BLOCKS: usize = 10_000;
+/// The most blocks a G150 outline subprogram may have before its M99 (the 1999 manual allows
+/// fewer than 20 moves; the bound keeps the geometry's pairwise checks small).
+const MAX_OUTLINE_BLOCKS: usize = 1_000;
 
 /// Highest G103 P (the NGC's range, 0–15).
 pub const MAX_BLOCK_LIMIT: f64 = 15.0;
