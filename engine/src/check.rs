@@ -6,8 +6,9 @@
 //! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other
 //! than `,L2` and a zero surface normal of cutting point control, Syntec's G05 format errors
 //! that literal words show, Haas's M97/M98/G65 without P and M97 P of a line the program
-//! does not have, and the conditional `[cond] M99 P<n>` outside the Haas dialect, in another
-//! form, or with a literal P the program has no N for.
+//! does not have, the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form,
+//! or with a literal P the program has no N for, and Haas's G150 without P or with a P that is
+//! neither a line of the program nor a program of the file.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
@@ -178,6 +179,30 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             if !found {
                                 diags.push(at(col, AlarmId::LineNotFound, format!("no N{n} in this program")));
                             }
+                        }
+                    }
+                    // Haas G150: its outline is the block N<P> of this program, else the program
+                    // O<P> (`interp/haas_cycles.rs`).
+                    let g150 = words.iter().find(|w| {
+                        w.letter == b'G'
+                            && matches!(w.value, WordValue::Number { value, .. } if gcode::code_of(value) == Some(code::G150))
+                    });
+                    if let Some(g) = g150.filter(|_| dialect == Dialect::Haas) {
+                        match literal(words, b'P') {
+                            Word::Absent => {
+                                diags.push(at(g.col, AlarmId::MissingP, "no P: the pocket's outline".into()))
+                            }
+                            Word::Value(n) => {
+                                let whole = n >= 0.0 && n.fract() == 0.0 && n <= u32::MAX as f64;
+                                let found = whole
+                                    && (loaded.find_label(n as u32, i).is_some() || numbers.contains(&(n as u32)));
+                                if !found {
+                                    let col = words.iter().find(|w| w.letter == b'P').map_or(g.col, |w| w.col);
+                                    let detail = format!("no N{n} in this program and no program O{n} in this file");
+                                    diags.push(at(col, AlarmId::ProgramNotFound, detail));
+                                }
+                            }
+                            _ => {}
                         }
                     }
                     if calls {

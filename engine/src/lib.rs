@@ -19,6 +19,7 @@ pub mod machine;
 pub mod machine_file;
 pub mod motion;
 pub mod nurbs;
+pub mod pocket;
 pub mod preview;
 pub mod report;
 pub mod run;

@@ -578,7 +578,7 @@ pub const HAAS_TABLE: &[GDef] = &[
     h(1360, 0),  // G136 automatic work offset center measurement (probe)
     h(1410, 7),  // G141 3D+ cutter compensation
     h(1430, 8),  // G143 5-axis tool length compensation
-    h(1500, 0),  // G150 general purpose pocket milling
+    hx(1500, 0), // G150 general purpose pocket milling
     h(1530, 9),  // G153 5-axis high speed peck drilling
     h(1540, 14), // G154 P1–P99 work offsets
     h(1550, 9),  // G155 5-axis reverse tap

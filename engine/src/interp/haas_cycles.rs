@@ -1,14 +1,19 @@
 //! The Haas NGC's own cycles and motion settings (Haas dialect only; `gcode::GDef::haas_only`):
 //! G12/G13 circular pocket milling, the bolt patterns G70 (circle), G71 (arc) and G72 (line at
-//! an angle) around the canned cycle in force, and G103's block look-ahead limit. G47 (text
-//! engraving), G150 (general purpose pocket milling) and G187 (smoothness) stay refused
-//! (`unbuilt`). Sources, decisions and what is not built: `docs/dialects.md`, "Haas cycles".
+//! an angle) around the canned cycle in force, G150 general purpose pocket milling (its outline
+//! read from the subprogram P, its geometry `crate::pocket`), and G103's block look-ahead limit.
+//! G47 (text engraving) and G187 (smoothness) stay refused (`unbuilt`). Sources, decisions and
+//! what is not built: `docs/dialects.md`, "Haas cycles".
 
 use super::gcode::{code, group};
 use super::nc::Words;
+use super::program::Loaded;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, MotionKind, Pos};
+use crate::lang::BlockKind;
+use crate::pocket::{self, Move, Refusal, Seg, P};
+use std::collections::HashMap;
 
 /// The most holes one bolt pattern block may give (the canned cycles' own output limit,
 /// `cycles::MAX_COMMANDS_PER_BLOCK`, bounds what they expand into).
@@ -16,6 +21,13 @@ const MAX_HOLES: f64 = 9999.0;
 
 /// The most pocket passes (I to K by Q) and depth loops (L) of one G12/G13 block.
 const MAX_PASSES: f64 = 10_000.0;
+
+/// The most depth passes of one G150 block (R to Z by Q).
+const MAX_LEVELS: f64 = 10_000.0;
+
+/// The most blocks a G150 outline subprogram may have before its M99 (the 1999 manual allows
+/// fewer than 20 moves; the bound keeps the geometry's pairwise checks small).
+const MAX_OUTLINE_BLOCKS: usize = 1_000;
 
 /// Highest G103 P (the NGC's range, 0–15).
 pub const MAX_BLOCK_LIMIT: f64 = 15.0;
@@ -53,6 +65,53 @@ pub fn pocket_radii(i: Option<f64>, k: Option<f64>, q: Option<f64>, tool: f64) -
     }
     radii.push(k - tool);
     Ok(radii)
+}
+
+/// The centre of an arc of the XY plane from `start` to `end`: by radius `r` (negative: more
+/// than a half circle) or by the centre's offset `ij` from the start; its sweep in radians
+/// (positive counter-clockwise; a full turn when the ends meet). `ArcRadiusTolerance` where the
+/// ends are not on one circle within `tol` (as `nc.rs` reads G02/G03).
+pub fn arc_centre(start: P, end: P, r: Option<f64>, ij: P, cw: bool, tol: f64) -> Result<(P, f64), AlarmId> {
+    let (dx, dy) = (end[0] - start[0], end[1] - start[1]);
+    let d = dx.hypot(dy);
+    let c = match r {
+        Some(r) => {
+            // R cannot give a full circle.
+            if d < 1e-9 || d / 2.0 - r.abs() > tol {
+                return Err(AlarmId::ArcRadiusTolerance);
+            }
+            let h = (r * r - d * d / 4.0).max(0.0).sqrt();
+            let side = if cw { -1.0 } else { 1.0 } * if r < 0.0 { -1.0 } else { 1.0 };
+            [start[0] + dx / 2.0 - side * h * dy / d, start[1] + dy / 2.0 + side * h * dx / d]
+        }
+        None => [start[0] + ij[0], start[1] + ij[1]],
+    };
+    let r0 = pocket::dist(start, c);
+    if (r0 - pocket::dist(end, c)).abs() > tol || r0 < 1e-9 {
+        return Err(AlarmId::ArcRadiusTolerance);
+    }
+    let a0 = (start[1] - c[1]).atan2(start[0] - c[0]);
+    let a1 = (end[1] - c[1]).atan2(end[0] - c[0]);
+    let tau = std::f64::consts::TAU;
+    let s = if cw { (a0 - a1).rem_euclid(tau) } else { (a1 - a0).rem_euclid(tau) };
+    let s = if d < 1e-9 || s == 0.0 { tau } else { s };
+    Ok((c, if cw { -s } else { s }))
+}
+
+/// The depths of a G150's passes: from R down by Q, the last at Z.
+pub fn pocket_levels(r: f64, z: f64, q: f64) -> Result<Vec<f64>, AlarmId> {
+    if q.is_nan() || q <= 0.0 || z >= r || (r - z) / q > MAX_LEVELS {
+        return Err(AlarmId::CycleArgument);
+    }
+    let mut levels = Vec::new();
+    let mut at = r - q;
+    // A pass within a micrometre of Z is Z's.
+    while at > z + 1e-6 {
+        levels.push(at);
+        at -= q;
+    }
+    levels.push(z);
+    Ok(levels)
 }
 
 /// The angles (degrees, CCW from the plane's first axis) of a bolt pattern's holes: G70 `l`
@@ -210,6 +269,212 @@ impl State {
             self.cycle_at(h, d, (pa, pb), out)?;
         }
         Ok(true)
+    }
+
+    /// G150 general purpose pocket milling. The block's X/Y are the start hole (reached at rapid
+    /// at the tool's height, then R at rapid); the outline is the subprogram P (the block N<P>
+    /// of this program, else the program O<P>): its first move from the hole to the outline,
+    /// the outline's moves back to where that first move ended. At each depth (R less Q, less
+    /// 2Q … down to Z) a feed down at the hole and the moves of `pocket::plan`; with K the pass
+    /// at the tool radius alone at Z; the tool ends at the hole, back at R (`docs/dialects.md`,
+    /// "Haas cycles", G150).
+    pub(super) fn general_pocket(
+        &mut self,
+        progs: &[Loaded],
+        by_number: &HashMap<u32, usize>,
+        w: &Words,
+        out: &mut Vec<Canon>,
+    ) -> Result<bool, AlarmId> {
+        self.pocket_modes_supported()?;
+        let (a, b, c) = self.plane_axes()?;
+        let axes = &self.cfg.machine.axes;
+        if (0..axes.len()).any(|k| ![a, b, c].contains(&k) && w.has(axes[k].name as u8)) {
+            return Err(AlarmId::CycleArgument);
+        }
+        // Not built: the repetition count L (with G91 X/Y moving the pocket) and the block in
+        // G91 (whose R and Z the manual does not define).
+        if w.integer(b'L').is_some_and(|l| l != 1.0) || self.modes[group::DISTANCE] == code::G91 {
+            return Err(AlarmId::GCodeNotBuilt);
+        }
+        let (i, j) = (self.value(w, b'I'), self.value(w, b'J'));
+        let (step, along_x) = match (i, j) {
+            (Some(i), None) => (i, false),
+            (None, Some(j)) => (j, true),
+            _ => return Err(AlarmId::CycleArgument),
+        };
+        let k = self.value(w, b'K').unwrap_or(0.0);
+        let tool = self.offsets.radius(self.d);
+        // A step wider than the tool would leave ribs standing between the strokes.
+        if step.is_nan() || step <= 0.0 || k < 0.0 || tool < 0.0 || step > 2.0 * tool {
+            return Err(AlarmId::CycleArgument);
+        }
+        let q = self.value(w, b'Q').ok_or(AlarmId::CycleArgument)?;
+        // R: the block's, or the last G150's (the manual: else the last R given is used).
+        let r = self.value(w, b'R').or(self.pocket_r).ok_or(AlarmId::CycleArgument)?;
+        if !w.has(b'Z') {
+            return Err(AlarmId::CycleArgument);
+        }
+        if self.f <= 0.0 {
+            return Err(AlarmId::FeedZero);
+        }
+        let target = self.programmed_target(w, None);
+        let levels = pocket_levels(r, target[c], q)?;
+        let hole = [target[a], target[b]];
+        let p = w.integer(b'P').ok_or(AlarmId::MissingP)?;
+        let outline = self.pocket_outline(progs, by_number, p, hole)?;
+        // G41 / G42 in the block name the side the tool cuts on: inside the pocket, so the
+        // outline runs counter-clockwise (G41) or clockwise (G42).
+        let ccw = pocket::area(&outline) > 0.0;
+        match self.block_code(w, group::CUTTER_COMP) {
+            Some(code::G41) if !ccw => return Err(AlarmId::CycleArgument),
+            Some(code::G42) if ccw => return Err(AlarmId::CycleArgument),
+            Some(code::G40 | code::G41 | code::G42) | None => {}
+            Some(_) => return Err(AlarmId::CycleArgument),
+        }
+        let plan = pocket::plan(&outline, hole, tool, k, step, along_x).map_err(|e| match e {
+            Refusal::Argument(_) => AlarmId::CycleArgument,
+            Refusal::NotBuilt(_) => AlarmId::GCodeNotBuilt,
+        })?;
+        self.pocket_r = Some(r);
+        let mut at = self.xf.programmed;
+        (at[a], at[b]) = (hole[0], hole[1]);
+        if at != self.xf.programmed {
+            self.move_to(MotionKind::Rapid, at, out);
+        }
+        at[c] = r;
+        if at != self.xf.programmed {
+            self.move_to(MotionKind::Rapid, at, out);
+        }
+        let last = levels.len() - 1;
+        for (n, &z) in levels.iter().enumerate() {
+            at[c] = z;
+            self.move_to(MotionKind::Linear, at, out);
+            self.pocket_moves(&plan.level, z, (a, b, c), out);
+            if n == last {
+                self.pocket_moves(&plan.finish, z, (a, b, c), out);
+            }
+            super::cycles::check_output(out)?;
+        }
+        at[c] = r;
+        self.move_to(MotionKind::Rapid, at, out);
+        Ok(true)
+    }
+
+    /// The moves of a pocket pass at depth `z`, at F, in plain programming coordinates.
+    fn pocket_moves(&mut self, moves: &[Move], z: f64, (a, b, c): (usize, usize, usize), out: &mut Vec<Canon>) {
+        for m in moves {
+            let mut target = self.xf.programmed;
+            (target[a], target[b], target[c]) = (m.to()[0], m.to()[1], z);
+            match *m {
+                Move::Line { .. } => self.move_to(MotionKind::Linear, target, out),
+                Move::Arc { centre, sweep, .. } => {
+                    let mut at = target;
+                    (at[a], at[b]) = (centre[0], centre[1]);
+                    let from = [self.xf.programmed[a], self.xf.programmed[b]];
+                    let kind = if sweep < 0.0 { MotionKind::ArcCw } else { MotionKind::ArcCcw };
+                    let radius = pocket::dist(from, centre);
+                    let arc = Arc { center: at, plane_axes: (a, b, c), radius, sweep_deg: sweep.to_degrees() };
+                    self.push_motion(kind, target, Some(Box::new(arc)), out);
+                    self.xf.programmed = target;
+                }
+            }
+        }
+    }
+
+    /// A G150's outline from its subprogram P: the block N<P> of the running program, else the
+    /// program O<P> (neither: `ProgramNotFound`, the manual's 314), read to its M99. Only
+    /// G01/G02/G03 with X, Y and I, J or R, and G90/G91, may be in it (anything else is
+    /// `CycleArgument`); the first move, a G01 from the start hole, leads to the outline,
+    /// which must end where that move did. Returns the outline without the entry move.
+    fn pocket_outline(
+        &self,
+        progs: &[Loaded],
+        by_number: &HashMap<u32, usize>,
+        p: f64,
+        hole: P,
+    ) -> Result<Vec<Seg>, AlarmId> {
+        let (prog, pc) = self.frames.last().map_or((0, 0), |f| (f.prog, f.pc));
+        let n = super::nc::sequence_number(p).ok_or(AlarmId::ProgramNotFound)?;
+        let (prog, first) = match progs.get(prog).and_then(|l| l.find_label(n, pc.saturating_sub(1))) {
+            Some(at) => (prog, at),
+            None => (*by_number.get(&n).ok_or(AlarmId::ProgramNotFound)?, 0),
+        };
+        let program = &progs[prog];
+        let bad = AlarmId::CycleArgument;
+        let mut incremental = self.modes[group::DISTANCE] == code::G91;
+        let mut motion: Option<u16> = None;
+        let mut at = hole;
+        let mut segs: Vec<Seg> = Vec::new();
+        let mut ended = false;
+        for idx in first..program.len().min(first + MAX_OUTLINE_BLOCKS) {
+            let block = program.block(idx);
+            if block.block_delete.is_some() && self.cfg.block_delete {
+                continue;
+            }
+            let words = match &block.kind {
+                BlockKind::Empty => continue,
+                BlockKind::Words(words) => words,
+                _ => return Err(bad),
+            };
+            let mut w = Words::new();
+            self.collect_into(words, &mut w)?;
+            if w.mcodes() == [super::mcode::M99] {
+                if w.letters().any(|l| l != b'M') {
+                    return Err(bad);
+                }
+                ended = true;
+                break;
+            }
+            if !w.mcodes().is_empty() || w.letters().any(|l| !matches!(l, b'G' | b'X' | b'Y' | b'I' | b'J' | b'R')) {
+                return Err(bad);
+            }
+            for &g in w.gcodes() {
+                match g {
+                    code::G90 => incremental = false,
+                    code::G91 => incremental = true,
+                    code::G01 | code::G02 | code::G03 => motion = Some(g),
+                    _ => return Err(bad),
+                }
+            }
+            let coord = |letter: u8, k: usize| match self.value(&w, letter) {
+                Some(v) if incremental => at[k] + v,
+                Some(v) => v,
+                None => at[k],
+            };
+            let end = [coord(b'X', 0), coord(b'Y', 1)];
+            let arcs = w.has(b'I') || w.has(b'J') || w.has(b'R');
+            let moves = w.has(b'X') || w.has(b'Y') || arcs;
+            if !moves {
+                continue;
+            }
+            let seg = match motion {
+                Some(code::G01) if !arcs => Seg::line(at, end),
+                Some(g @ (code::G02 | code::G03)) => {
+                    let ij = [self.value(&w, b'I').unwrap_or(0.0), self.value(&w, b'J').unwrap_or(0.0)];
+                    let r = self.value(&w, b'R');
+                    let (centre, sweep) = arc_centre(at, end, r, ij, g == code::G02, self.cfg.arc_tolerance)?;
+                    Seg { start: at, end, arc: Some((centre, sweep)) }
+                }
+                _ => return Err(bad),
+            };
+            // The first move is the way from the hole to the outline: a straight one.
+            if segs.is_empty() && seg.arc.is_some() {
+                return Err(bad);
+            }
+            if seg.arc.is_some() || pocket::dist(at, end) > pocket::EPS {
+                segs.push(seg);
+            }
+            at = end;
+        }
+        if !ended || segs.len() < 2 {
+            return Err(bad);
+        }
+        let outline = segs.split_off(1);
+        // "Do not move back to the starting hole": the outline closes where the entry ended.
+        if pocket::dist(at, segs[0].end) > pocket::EPS {
+            return Err(bad);
+        }
+        Ok(outline)
     }
 
     /// G103 P0–P15: the look-ahead of the motions that follow limited to P blocks (P0, or no P:

@@ -278,6 +278,8 @@ pub struct State {
     /// Haas G103 P: the look-ahead of the motions limited to this many blocks (0: not limited).
     /// A reset and the program end (M02/M30) end it (`docs/dialects.md`, "Haas cycles").
     block_limit: u8,
+    /// Haas G150: the last R plane given to it (a G150 without R uses it, as the manual says).
+    pocket_r: Option<f64>,
     /// Programming coordinates of the current point (the last block's end point), after the
     /// programming transforms (G51.1, G51, G68): the workpiece coordinates of the tool.
     pos: Pos,
@@ -642,6 +644,7 @@ impl State {
             wse_between: None,
             look_ahead: !cfg.machine.motion.look_ahead_by_command,
             block_limit: 0,
+            pocket_r: None,
             pos: [0.0; MAX_AXES],
             xf: frames::Transforms::default(),
             local: [0.0; MAX_AXES],

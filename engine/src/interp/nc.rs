@@ -493,6 +493,11 @@ impl State {
                     if let Some(d) = w.integer(b'D') {
                         self.d = offset_number(d)?;
                     }
+                    // Haas G150's G41/G42 name the side of its outline the tool cuts on; the
+                    // cycle offsets its path itself and the mode stays as it was (`haas_cycles`).
+                    if w.has_g(code::G150) {
+                        continue;
+                    }
                 }
                 group::LENGTH_COMP => tool_length_changed = true,
                 group::CYCLE if code != code::G80 && self.modes[group::CYCLE] == code::G80 => {
@@ -629,7 +634,12 @@ impl State {
         // --- one-shot G codes ---------------------------------------------------------------
         let mut moved = false;
         for &code in &one_shots[..n_one_shots] {
-            moved |= self.one_shot(code, &w, machine_before, out)?;
+            moved |= if code == code::G150 {
+                // It reads its outline from another block or program (`haas_cycles`).
+                self.general_pocket(progs, by_number, &w, out)?
+            } else {
+                self.one_shot(code, &w, machine_before, out)?
+            };
         }
 
         // --- motion -------------------------------------------------------------------------
@@ -1479,6 +1489,6 @@ impl CallFrame {
 }
 
 /// A P value as a sequence number (N0–N99999999), if it is one.
-fn sequence_number(p: f64) -> Option<u32> {
+pub(super) fn sequence_number(p: f64) -> Option<u32> {
     ((0.0..=99_999_999.0).contains(&p) && p.fract() == 0.0).then_some(p as u32)
 }

@@ -59,7 +59,8 @@ fn reaches_beyond(block: &Block) -> bool {
                 matches!(*value as u32, mcode::M97 | mcode::M98 | mcode::M99 | mcode::M198)
             }
             (b'G', WordValue::Number { value, .. }) => {
-                super::gcode::code_of(*value).is_some_and(|c| code::MACRO_CALLS.contains(&c))
+                // Haas G150 reads its outline from another block or program.
+                super::gcode::code_of(*value).is_some_and(|c| code::MACRO_CALLS.contains(&c) || c == code::G150)
             }
             (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num(_)),
             _ => false,

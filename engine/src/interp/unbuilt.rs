@@ -131,9 +131,9 @@ const TABLE: &[NotBuilt] = &[
     row(1610, When::Always, "in-feed control (G161)"),
     // The Haas NGC's own codes that fivex does not carry out (`gcode::HAAS_TABLE`); a Haas row
     // comes before a row for every dialect of the same number (G35, G36, G37, G47, G161 are other
-    // functions on the NGC). Why G47, G150 and G187 are not built: docs/dialects.md, "Haas
-    // cycles" (G47 needs the NGC's engraving font; G150 the pocket geometry; G187 a corner
-    // tolerance fivex's exact path does not have).
+    // functions on the NGC). Why G47 and G187 are not built: docs/dialects.md, "Haas cycles"
+    // (G47 needs the NGC's engraving font; G187 a corner tolerance fivex's exact path does not
+    // have).
     haas(350, "automatic tool diameter measurement (G35)"),
     haas(360, "automatic work offset measurement (G36)"),
     haas(370, "automatic tool offset measurement (G37)"),
@@ -144,7 +144,6 @@ const TABLE: &[NotBuilt] = &[
     haas(1360, "automatic work offset center measurement (G136)"),
     haas(1410, "3D+ cutter compensation (G141)"),
     haas(1430, "5-axis tool length compensation (G143)"),
-    haas(1500, "general purpose pocket milling (G150)"),
     haas(1530, "5-axis high speed peck drilling (G153)"),
     haas(1550, "5-axis reverse tap (G155)"),
     haas(1610, "5-axis drill cycle (G161)"),

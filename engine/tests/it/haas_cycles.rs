@@ -1,8 +1,11 @@
 //! The Haas NGC's own cycles (`interp::haas_cycles`, `docs/dialects.md`, "Haas cycles"): G12/G13
 //! circular pockets (the tool inside the pocket on every sample, ending at its centre at depth),
 //! the bolt patterns G70/G71/G72 (the cycle in force at each hole), G103's block look-ahead
-//! limit (a chain of short blocks slows down under P1), and the refusals (G47, G150, G187, bad
-//! arguments). The manual's examples are data fixtures, `tests/data/cycles/haas_*.nc`.
+//! limit (a chain of short blocks slows down under P1), G150 general purpose pocket milling (the
+//! geometry of `fivex_engine::pocket` on random convex polygons and rounded rectangles: inside
+//! the wall less the tool radius and K, the outline pass on it, every point reached, every depth,
+//! the end at the hole), and the refusals (G47, G187, bad arguments). The manual's examples are
+//! data fixtures, `tests/data/cycles/haas_*.nc`.
 
 use crate::common::*;
 use fivex_engine::canon::{CanonKind, MotionKind};
@@ -77,20 +80,12 @@ fn refusals_and_bad_arguments() {
         let r = run_with(&format!("G00 Z10.\n{src}\nM30\n"), "mill3", Haas);
         r.alarms.first().map(|a| (a.code.clone(), a.line))
     };
-    // Not built: text engraving, general purpose pocket milling, smoothness.
-    for src in [
-        "G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)",
-        "G150 P1 Q2 R0.1 Z-1. I0.4 J0.3 K0.01 F10.",
-        "G187 P1 E0.01",
-    ] {
+    // Not built: text engraving, smoothness.
+    for src in ["G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)", "G187 P1 E0.01"] {
         assert_eq!(first(src), Some(("310".into(), 2)), "{src}");
     }
     // `fivex check` reports them at their G word, with the function's name.
-    for (src, name) in [
-        ("G47 P0 (FIVEX)", "text engraving"),
-        ("G150 P1 Q2 Z-1. F10.", "pocket milling"),
-        ("G187 P1 E0.01", "smoothness"),
-    ] {
+    for (src, name) in [("G47 P0 (FIVEX)", "text engraving"), ("G187 P1 E0.01", "smoothness")] {
         let diags =
             fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
         let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
@@ -322,4 +317,367 @@ proptest! {
             prop_assert!((h.0 - want.0).abs() < 1e-9 && (h.1 - want.1).abs() < 1e-9, "hole {} {:?} {:?}\n{}", k, h, want, src);
         }
     }
+}
+
+// --- G150 general purpose pocket milling ------------------------------------------------------
+
+use fivex_engine::pocket::{self, Move, Seg, P};
+
+/// A G150 program: `block` at line 2 (after `G00 Z10.`), the outline `sub` as N100 after M30.
+fn g150(block: &str, sub: &str) -> String {
+    format!("G00 Z10.\n{block}\nM30\nN100 {sub}\nM99\n")
+}
+
+/// A U from the start hole X15 Y-8: its base y -15..0, its arms x 0..12 and 20..32 up to y 15.
+const U: &str = "G01 Y-15.\nX32.\nY15.\nX20.\nY0\nX12.\nY15.\nX0\nY-15.\nX15.";
+
+/// A 30 x 20 rectangle from the start hole X15 Y10: up to the top edge, round counter-clockwise.
+const RECT: &str = "G01 Y20.\nX0\nY0\nX30.\nY20.\nX15.";
+
+fn first_alarm(src: &str) -> Option<(String, u32)> {
+    let r = run_with(src, "mill3", Haas);
+    r.alarms.first().map(|a| (a.code.clone(), a.line))
+}
+
+#[test]
+fn g150_cuts_a_rectangle_level_by_level_and_ends_at_the_hole_at_r() {
+    // D1: radius 5; K0.5 → the region is x 5.5..24.5, y 5.5..14.5; J4 → strokes along X, 9 / 4
+    // → 3 intervals: y = 8.5 and 11.5. Q2 from R1: depths -1, -2 (Z).
+    let src = g150("G150 X15. Y10. Z-2. R1. Q2. J4. K0.5 P100 D1 F300.", RECT);
+    let r = run_with(&src, "mill3", Haas);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(approx(r.workpiece[0], 15.0) && approx(r.workpiece[1], 10.0) && approx(r.workpiece[2], 1.0));
+    let mut moves = Vec::new();
+    through_stages(interpreter(&src, "mill3", Haas), |c| {
+        if let CanonKind::Motion(m) = &c.kind {
+            moves.push((m.kind, [m.target[0], m.target[1], m.target[2]]));
+        }
+    });
+    let at = |k: usize| moves[k].1;
+    // G00 Z10; the rapid over the hole at the tool's height; to R; the plunge; the entry
+    // straight up to the outline pass at y 14.5, along it to the corner x 5.5.
+    assert_eq!(moves[1], (MotionKind::Rapid, [15.0, 10.0, 10.0]));
+    assert_eq!(moves[2].0, MotionKind::Rapid);
+    assert!(approx(at(2)[2], 1.0));
+    assert!(moves[3].0 == MotionKind::Linear && approx(at(3)[2], -1.0) && approx(at(3)[0], 15.0));
+    assert!(approx(at(4)[0], 15.0) && approx(at(4)[1], 14.5));
+    assert!(approx(at(5)[0], 5.5) && approx(at(5)[1], 14.5));
+    // Both depths cut, strokes on y 8.5 and 11.5 across the region at each.
+    for z in [-1.0, -2.0] {
+        for y in [8.5, 11.5] {
+            let ends: Vec<f64> =
+                moves.iter().filter(|(_, p)| approx(p[2], z) && approx(p[1], y)).map(|(_, p)| p[0]).collect();
+            assert!(ends.iter().any(|&x| approx(x, 5.5)) && ends.iter().any(|&x| approx(x, 24.5)), "{z} {y}: {ends:?}");
+        }
+    }
+    // K: the finish pass at the tool radius alone (y 15) at Z only.
+    assert!(moves.iter().any(|(_, p)| approx(p[1], 15.0) && approx(p[2], -2.0)));
+    assert!(!moves.iter().any(|(_, p)| approx(p[1], 15.0) && approx(p[2], -1.0)));
+}
+
+#[test]
+fn g150_finds_n_in_the_program_first_then_the_program_o_and_reads_g91() {
+    // The outline as program O200, in G91, strokes along Y (I).
+    let sub = "O200\nG91 G01 Y10.\nX-15.\nY-20.\nX30.\nY20.\nX-15.\nG90\nM99\n";
+    let src = format!("G00 Z10.\nG150 X15. Y10. Z-1. R1. Q2. I4. P200 D1 F300.\nM30\n{sub}");
+    let r = run_with(&src, "mill3", Haas);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let same = run_with(&g150("G150 X15. Y10. Z-1. R1. Q2. I4. P100 D1 F300.", RECT), "mill3", Haas);
+    assert_eq!(r.workpiece, same.workpiece);
+    assert!((r.cycle_time_s - same.cycle_time_s).abs() < 1e-9, "{} {}", r.cycle_time_s, same.cycle_time_s);
+    // N200 in the program wins over O200.
+    let both = format!("G00 Z10.\nG150 X15. Y10. Z-1. R1. Q2. I4. P200 D1 F300.\nM30\nN200 G01 Y13.\nX10.\nY7.\nX20.\nY13.\nX15.\nM99\n{sub}");
+    assert_eq!(first_alarm(&both), Some(("746".into(), 2)), "the 10 x 6 outline is too small for the tool: N200 read");
+}
+
+#[test]
+fn g150_refusals() {
+    let block = |b: &str| g150(b, RECT);
+    for src in [
+        // I and J both, neither; a step wider than the tool; Q missing, zero; R never given; Z
+        // missing, not below R; K negative.
+        block("G150 X15. Y10. Z-2. R1. Q2. I4. J4. P100 D1 F300."),
+        block("G150 X15. Y10. Z-2. R1. Q2. P100 D1 F300."),
+        block("G150 X15. Y10. Z-2. R1. Q2. J10.5 P100 D1 F300."),
+        block("G150 X15. Y10. Z-2. R1. J4. P100 D1 F300."),
+        block("G150 X15. Y10. Z-2. R1. Q0 J4. P100 D1 F300."),
+        block("G150 X15. Y10. Z-2. Q2. J4. P100 D1 F300."),
+        block("G150 X15. Y10. R1. Q2. J4. P100 D1 F300."),
+        block("G150 X15. Y10. Z1. R1. Q2. J4. P100 D1 F300."),
+        block("G150 X15. Y10. Z-2. R1. Q2. J4. K-0.1 P100 D1 F300."),
+        // The start hole too near the wall; G42 on a counter-clockwise outline; the tool too big.
+        block("G150 X3. Y10. Z-2. R1. Q2. J4. P100 D1 F300."),
+        block("G150 G42 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300."),
+        g150("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.", "G01 Y14.\nX11.\nY6.\nX19.\nY14.\nX15."),
+        // The outline: an F in it, not closed, an arc first, a G00, no M99.
+        g150("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.", "G01 Y20. F100.\nX0\nY0\nX30.\nY20.\nX15."),
+        g150("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.", "G01 Y20.\nX0\nY0\nX30.\nY20."),
+        g150("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.", "G02 Y20. R5.\nX0\nY0\nX30.\nY20.\nX15."),
+        g150("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.", "G00 Y20.\nX0\nY0\nX30.\nY20.\nX15."),
+        "G00 Z10.\nG150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.\nM30\nN100 G01 Y20.\nX0\n".into(),
+    ] {
+        assert_eq!(first_alarm(&src), Some(("746".into(), 2)), "{src}");
+    }
+    // Program / line not found (314), no P (313), no F (320).
+    assert_eq!(first_alarm(&block("G150 X15. Y10. Z-2. R1. Q2. J4. P300 D1 F300.")), Some(("314".into(), 2)));
+    assert_eq!(first_alarm(&block("G150 X15. Y10. Z-2. R1. Q2. J4. D1 F300.")), Some(("313".into(), 2)));
+    assert_eq!(first_alarm(&block("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1")), Some(("320".into(), 2)));
+    // Not built (310): L, the block in G91, a stroke line crossing the region twice (a U whose
+    // arms the X strokes cut; along Y the same U is cut), and the modes G12/G13 refuse.
+    for src in [
+        block("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 L2 F300."),
+        block("G91 G150 X0 Y0 Z-2. R1. Q2. J4. P100 D1 F300."),
+        g150("G150 X15. Y-8. Z-2. R1. Q2. J4. P100 D1 F300.", U),
+        block("G68 X0 Y0 R30.\nG150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300."),
+    ] {
+        let want_line = if src.contains("G68") { 3 } else { 2 };
+        assert_eq!(first_alarm(&src), Some(("310".into(), want_line)), "{src}");
+    }
+    let along_y = g150("G150 X15. Y-8. Z-2. R1. Q2. I4. P100 D1 F300.", U);
+    assert!(run_with(&along_y, "mill3", Haas).completed());
+    // In a canned cycle: 339 (multiple codes), as G12.
+    let cycle = block("G81 Z-1. R1. F100. L0\nG150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.");
+    assert_eq!(first_alarm(&cycle), Some(("339".into(), 3)));
+    // R given once is kept for the next G150 (the manual).
+    let again = "G00 Z10.\nG150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.\nG150 X15. Y10. Z-3. Q2. J4. P100 D1 F300.\nM30\nN100 G01 Y20.\nX0\nY0\nX30.\nY20.\nX15.\nM99\n";
+    let r = run_with(again, "mill3", Haas);
+    assert!(r.completed() && approx(r.workpiece[2], 1.0), "{:?} {:?}", r.alarms, r.workpiece);
+}
+
+/// The points of a path of moves from `from`, `n` samples per move (its ends included).
+fn samples(from: P, moves: &[Move], n: usize) -> Vec<P> {
+    let mut at = from;
+    let mut out = vec![from];
+    for m in moves {
+        match *m {
+            Move::Line { to } => {
+                out.extend((1..=n).map(|k| {
+                    let t = k as f64 / n as f64;
+                    [at[0] + (to[0] - at[0]) * t, at[1] + (to[1] - at[1]) * t]
+                }));
+            }
+            Move::Arc { to, centre, sweep } => {
+                let r = pocket::dist(at, centre);
+                let a0 = (at[1] - centre[1]).atan2(at[0] - centre[0]);
+                out.extend((1..n).map(|k| {
+                    let t = a0 + sweep * k as f64 / n as f64;
+                    [centre[0] + r * t.cos(), centre[1] + r * t.sin()]
+                }));
+                out.push(to);
+            }
+        }
+        at = m.to();
+    }
+    out
+}
+
+fn wall_distance(outline: &[Seg], p: P) -> f64 {
+    outline.iter().map(|s| pocket::distance_to(s, p)).fold(f64::MAX, f64::min)
+}
+
+/// Whether `p` is inside the outline (winding by crossings of a ray along +X, sampled arcs).
+fn inside_outline(outline: &[Seg], p: P) -> bool {
+    let pts: Vec<P> = outline.iter().flat_map(|s| samples(s.start, &[as_move(s)], 64)).collect();
+    let mut inside = false;
+    for w in pts.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+fn as_move(s: &Seg) -> Move {
+    match s.arc {
+        None => Move::Line { to: s.end },
+        Some((centre, sweep)) => Move::Arc { to: s.end, centre, sweep },
+    }
+}
+
+/// The G150 invariants on one outline: every point of the cut inside the wall less `tool + k`
+/// (to 1e-9), the outline pass exactly there, the finish pass at `tool`, every point of the
+/// region less the step within step/2 of a pass, and the path back at the hole.
+fn check_pocket(outline: &[Seg], hole: P, tool: f64, k: f64, step: f64, along_x: bool) -> Result<(), TestCaseError> {
+    let plan =
+        pocket::plan(outline, hole, tool, k, step, along_x).map_err(|e| TestCaseError::fail(format!("{e:?}")))?;
+    let d = tool + k;
+    let cut = samples(hole, &plan.level, 8);
+    for p in &cut {
+        prop_assert!(inside_outline(outline, *p), "{p:?} outside");
+        prop_assert!(wall_distance(outline, *p) >= d - 1e-9, "{p:?}: {} < {d}", wall_distance(outline, *p));
+    }
+    let pass = samples(plan.contour[0].start, &plan.contour.iter().map(as_move).collect::<Vec<_>>(), 8);
+    for p in &pass {
+        prop_assert!((wall_distance(outline, *p) - d).abs() < 1e-9, "pass {p:?}: {}", wall_distance(outline, *p));
+    }
+    prop_assert!(pocket::dist(plan.level.last().unwrap().to(), hole) < 1e-12);
+    if k > 0.0 {
+        for p in &samples(plan.finish[0].to(), &plan.finish[1..plan.finish.len() - 1], 8) {
+            prop_assert!((wall_distance(outline, *p) - tool).abs() < 1e-9, "finish {p:?}");
+        }
+        prop_assert!(pocket::dist(plan.finish.last().unwrap().to(), hole) < 1e-12);
+    } else {
+        prop_assert!(plan.finish.is_empty());
+    }
+    // Coverage: grid points of the region at least `step` inside the pass.
+    let lines: Vec<(P, P)> = {
+        let mut at = hole;
+        let mut v = Vec::new();
+        for m in &plan.level {
+            if let Move::Line { to } = *m {
+                v.push((at, to));
+            }
+            at = m.to();
+        }
+        v
+    };
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for p in &pass {
+        for a in 0..2 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    let seg_dist = |p: P, (a, b): (P, P)| pocket::distance_to(&Seg::line(a, b), p);
+    let mut checked = 0;
+    for i in 0..=24 {
+        for j in 0..=24 {
+            let p = [lo[0] + (hi[0] - lo[0]) * i as f64 / 24.0, lo[1] + (hi[1] - lo[1]) * j as f64 / 24.0];
+            if !inside_outline(outline, p) || wall_distance(outline, p) < d + step {
+                continue;
+            }
+            checked += 1;
+            let near = lines.iter().map(|&l| seg_dist(p, l)).fold(f64::MAX, f64::min);
+            prop_assert!(near <= step / 2.0 + 1e-9, "{p:?} is {near} from every stroke (step {step})");
+        }
+    }
+    let _ = checked;
+    Ok(())
+}
+
+/// A convex polygon: `n` corners on a circle of radius `r` about `c`, evenly spaced give or
+/// take 15 % of the spacing (no gap above 156°, so every edge is at least 0.2 r from the
+/// centre), either way round.
+fn polygon(c: P, r: f64, jitter: &[f64], ccw: bool) -> Vec<Seg> {
+    let n = jitter.len();
+    let mut pts: Vec<P> = (0..n)
+        .map(|i| {
+            let t = (i as f64 + 0.15 * jitter[i]) * std::f64::consts::TAU / n as f64;
+            [c[0] + r * t.cos(), c[1] + r * t.sin()]
+        })
+        .collect();
+    if !ccw {
+        pts.reverse();
+    }
+    (0..n).map(|i| Seg::line(pts[i], pts[(i + 1) % n])).collect()
+}
+
+/// A rectangle `w` x `h` from (x0, y0) with corners rounded by `rho` (tangent arcs), starting
+/// mid-top, counter-clockwise.
+fn rounded(x0: f64, y0: f64, w: f64, h: f64, rho: f64) -> Vec<Seg> {
+    use std::f64::consts::FRAC_PI_2 as Q;
+    let (x1, y1) = (x0 + w, y0 + h);
+    let arc = |c: P, a0: f64| {
+        let s = [c[0] + rho * a0.cos(), c[1] + rho * a0.sin()];
+        let e = [c[0] + rho * (a0 + Q).cos(), c[1] + rho * (a0 + Q).sin()];
+        Seg { start: s, end: e, arc: Some((c, Q)) }
+    };
+    let tl = arc([x0 + rho, y1 - rho], Q);
+    let bl = arc([x0 + rho, y0 + rho], 2.0 * Q);
+    let br = arc([x1 - rho, y0 + rho], 3.0 * Q);
+    let tr = arc([x1 - rho, y1 - rho], 0.0);
+    let mid = [x0 + w / 2.0, y1];
+    vec![
+        Seg::line(mid, tl.start),
+        tl,
+        Seg::line(tl.end, bl.start),
+        bl,
+        Seg::line(bl.end, br.start),
+        br,
+        Seg::line(br.end, tr.start),
+        tr,
+        Seg::line(tr.end, mid),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases(48)))]
+
+    #[test]
+    fn g150_on_random_convex_polygons(
+        cx in -50.0..50.0f64, cy in -50.0..50.0f64, r in 10.0..80.0f64,
+        jitter in prop::collection::vec(-1.0..1.0f64, 3..10),
+        ccw in any::<bool>(), along_x in any::<bool>(),
+        tool_f in 0.01..0.06f64, k_f in 0.0..0.04f64, step_f in 0.1..1.0f64,
+    ) {
+        let outline = polygon([cx, cy], r, &jitter, ccw);
+        let (tool, k) = (tool_f * r, k_f * r);
+        check_pocket(&outline, [cx, cy], tool, k, step_f * 2.0 * tool, along_x)?;
+    }
+
+    #[test]
+    fn g150_on_random_rounded_rectangles(
+        x0 in -50.0..50.0f64, y0 in -50.0..50.0f64, w in 20.0..120.0f64, h in 20.0..120.0f64,
+        rho_f in 0.0..0.45f64, along_x in any::<bool>(),
+        tool_f in 0.01..0.15f64, k_f in 0.0..0.05f64, step_f in 0.1..1.0f64,
+    ) {
+        let m = w.min(h);
+        // Corners rounded from a hair to almost half the side (some smaller than the tool
+        // radius plus K, whose offset arcs vanish into a sharp corner).
+        let rho = (rho_f * m).max(0.01);
+        let (tool, k) = (tool_f * m, k_f * m);
+        let outline = rounded(x0, y0, w, h, rho);
+        check_pocket(&outline, [x0 + w / 2.0, y0 + h / 2.0], tool, k, step_f * 2.0 * tool, along_x)?;
+    }
+
+    /// Through the interpreter: every depth from R down by Q is cut at the hole, the last at Z,
+    /// and the tool ends over the hole at R.
+    #[test]
+    fn g150_cuts_every_depth_and_ends_at_the_hole_at_r(
+        r in -2.0..5.0f64, depth in 0.5..20.0f64, q in 0.3..6.0f64,
+    ) {
+        let (r, depth, q) = ((r * 1000.0).round() / 1000.0, (depth * 1000.0).round() / 1000.0, (q * 1000.0).round() / 1000.0);
+        let z = r - depth;
+        let src = g150(&format!("G150 X15. Y10. Z{z:.3} R{r:.3} Q{q:.3} J4. P100 D1 F3000."), RECT);
+        let mut plunges = Vec::new();
+        let mut last = [0.0; 3];
+        let alarm = through_stages(interpreter(&src, "mill3", Haas), |c| {
+            if let CanonKind::Motion(m) = &c.kind {
+                let p = [m.target[0], m.target[1], m.target[2]];
+                if m.kind == MotionKind::Linear && p[2] < last[2] - 1e-9 && approx(p[0], 15.0) && approx(p[1], 10.0) {
+                    plunges.push(p[2]);
+                }
+                last = p;
+            }
+        });
+        prop_assert!(alarm.is_none(), "{alarm:?}");
+        let mut want = Vec::new();
+        let mut at = r - q;
+        while at > z + 1e-6 {
+            want.push(at);
+            at -= q;
+        }
+        want.push(z);
+        prop_assert_eq!(plunges.len(), want.len());
+        for (g, w) in plunges.iter().zip(&want) {
+            prop_assert!((g - w).abs() < 1e-9, "{:?} {:?}", plunges, want);
+        }
+        prop_assert!(approx(last[0], 15.0) && approx(last[1], 10.0) && approx(last[2], r), "{:?}", last);
+    }
+}
+
+#[test]
+fn check_reads_g150_s_subprogram() {
+    let found = |src: &str| {
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(src), Haas);
+        diags.iter().map(|d| (d.line, Haas.describe(&d.id).0)).collect::<Vec<_>>()
+    };
+    // N100 in the program, O200 in the file: nothing to report.
+    assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. P100 D1 F300.", RECT)), vec![]);
+    let o200 = "G150 X15. Y10. Z-1. R1. Q2. I4. P200 D1 F300.\nM30\nO200\nG01 Y20.\nX0\nY0\nX30.\nY20.\nX15.\nM99\n";
+    assert_eq!(found(o200), vec![]);
+    // Neither (314), no P (313).
+    assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. P300 D1 F300.", RECT)), vec![(2, "314".to_string())]);
+    assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. D1 F300.", RECT)), vec![(2, "313".to_string())]);
 }

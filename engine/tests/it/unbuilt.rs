@@ -205,7 +205,6 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G136 P1", &[Haas]),
     ("G141 D1 X1. F100.", &[Haas]),
     ("G143 H1", &[Haas]),
-    ("G150 P100 D1 F100.", &[Haas]),
     ("G153 X1. Z-1. R1. Q0.5 F100.", &[Haas]),
     ("G155 X1. Z-1. R1. F100.", &[Haas]),
     ("G162 X1. Z-1. R1. F100.", &[Haas]),
@@ -256,6 +255,11 @@ const PERFORMED_IN_HAAS: &[(&str, &str, &str)] = &[
     ("G71", "G81 Z-1. R1. F100. L0\nG71 I10. J0 K10. L4\nG80", "fixture haas_g71_bolt_hole_arc"),
     ("G72", "G81 Z-1. R1. F100. L0\nG72 I10. J0 L4\nG80", "fixture haas_g72_bolt_holes_along_an_angle"),
     ("G103", "G103 P1\nG103 P0", "haas_cycles.rs g103_p1_slows_a_chain_of_short_blocks"),
+    (
+        "G150",
+        "G00 Z10.\nG150 X15. Y10. Z-2. R1. Q2. J4. K0.5 P100 D1 F100.\nM30\nN100 G01 Y20.\nX0\nY0\nX30.\nY20.\nX15.\nM99",
+        "haas_cycles.rs g150_*, fixture haas_g150_manual_example_o0100",
+    ),
 ];
 
 /// The Haas dialect reads an F without a decimal point in least increments (Setting 77): the
