@@ -154,6 +154,26 @@ pub enum Touch {
 }
 
 impl Motion {
+    /// A straight move outside any program mode: every axis linear to `machine` (`target` in
+    /// the workpiece system), at `feed` mm/min or as a rapid, no spindle, default context.
+    pub fn straight(rapid: bool, target: Pos, machine: Pos, feed: f64) -> Motion {
+        Motion {
+            kind: if rapid { MotionKind::Rapid } else { MotionKind::Linear },
+            target,
+            machine,
+            arc: None,
+            tip: None,
+            feed,
+            feed_mode: FeedMode::PerMinute,
+            spindle: 0.0,
+            context: MotionContext::default(),
+            speed_cap: f32::INFINITY,
+            offset: None,
+            no_look_ahead: false,
+            block_limit: 0,
+        }
+    }
+
     /// Record, before a compensation stage first moves this motion, where the block put it
     /// and the tool (`radius`, `touch`); a motion already moved keeps its record (an inserted
     /// move copied from a moved block stays with that block's programmed end). A motion

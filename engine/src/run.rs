@@ -383,7 +383,7 @@ pub(crate) fn ends(step: &Result<Step, Alarm>) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::canon::{FeedMode, Motion, MotionContext, MotionKind};
+    use crate::canon::Motion;
     use crate::machine::MotionOptions;
     use crate::motion::{AxisLimits, FeedContext, Limits, Planned, Profile};
 
@@ -398,21 +398,7 @@ mod tests {
         };
         let (mut a, mut b): (Pos, Pos) = ([0.0; 8], [0.0; 8]);
         (a[0], b[0]) = (from, from + 10.0);
-        let m = Motion {
-            kind: if rapid { MotionKind::Rapid } else { MotionKind::Linear },
-            target: b,
-            machine: b,
-            arc: None,
-            tip: None,
-            feed: 3000.0,
-            feed_mode: FeedMode::PerMinute,
-            spindle: 0.0,
-            context: MotionContext::default(),
-            speed_cap: f32::INFINITY,
-            offset: None,
-            no_look_ahead: false,
-            block_limit: 0,
-        };
+        let m = Motion::straight(rapid, b, b, 3000.0);
         Segment::new(&m, &a, &a, &axes, ctx, None)
     }
 

@@ -5,7 +5,7 @@
 
 use super::signals::{signal_axis, ManualTarget};
 use super::{Controller, Mode, Refusal, RunState};
-use crate::canon::{Motion, MotionContext, MotionKind, Pos};
+use crate::canon::{Motion, MotionKind, Pos};
 use crate::kin::{latitude_longitude, ManualFeed, Vec3};
 use crate::machine::{ManualOptions, ManualVertical};
 use crate::motion::{AxisLimits, Segment};
@@ -109,21 +109,7 @@ impl Controller {
     /// A straight move (all axes linear) from `from` to the end of `end`, at its programmed feed
     /// (its rapid if it is one), standing in for it.
     fn straight(&mut self, from: Pos, from_work: Pos, end: &Segment) -> Segment {
-        let m = Motion {
-            kind: if end.rapid { MotionKind::Rapid } else { MotionKind::Linear },
-            target: end.work_to(),
-            machine: end.to(),
-            arc: None,
-            tip: None,
-            feed: end.programmed_feed(),
-            feed_mode: crate::canon::FeedMode::PerMinute,
-            spindle: 0.0,
-            context: MotionContext::default(),
-            speed_cap: f32::INFINITY,
-            offset: None,
-            no_look_ahead: false,
-            block_limit: 0,
-        };
+        let m = Motion::straight(end.rapid, end.work_to(), end.to(), end.programmed_feed());
         let queued = (self.exec.queued.machine, self.exec.queued.work);
         (self.exec.queued.machine, self.exec.queued.work) = (from, from_work);
         let mut seg = self.segment(&m);

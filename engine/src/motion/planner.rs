@@ -684,7 +684,7 @@ fn corner_speed(a: &Segment, b: &Segment, speed_step: &Pos, accel_step: &Pos) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::canon::{FeedMode, Motion, MotionContext, MotionKind};
+    use crate::canon::Motion;
     use crate::machine::MotionOptions;
     use crate::motion::path::FeedContext;
 
@@ -702,21 +702,7 @@ mod tests {
             .map(|k| {
                 let mut to = here;
                 to[(k / 300) % 2] += 0.1;
-                let m = Motion {
-                    kind: MotionKind::Linear,
-                    target: to,
-                    machine: to,
-                    arc: None,
-                    tip: None,
-                    feed: 3000.0,
-                    feed_mode: FeedMode::PerMinute,
-                    spindle: 0.0,
-                    context: MotionContext::default(),
-                    speed_cap: f32::INFINITY,
-                    offset: None,
-                    no_look_ahead: false,
-                    block_limit: 0,
-                };
+                let m = Motion::straight(false, to, to, 3000.0);
                 let seg = Segment::new(&m, &here, &here, axes, ctx, None);
                 here = to;
                 seg
