@@ -868,8 +868,11 @@ pub async fn workpiece(db: &Db, id: &str) -> Result<Option<String>, sqlx::Error>
 /// Stores what is on a controller's table (the engine's workpiece JSON); false if there is no
 /// controller `id`.
 pub async fn save_workpiece(db: &Db, id: &str, json: &str) -> Result<bool, sqlx::Error> {
-    let done =
-        sqlx::query("UPDATE controllers SET workpiece = $1 WHERE id = $2").bind(json).bind(id).execute(db.writes()).await?;
+    let done = sqlx::query("UPDATE controllers SET workpiece = $1 WHERE id = $2")
+        .bind(json)
+        .bind(id)
+        .execute(db.writes())
+        .await?;
     Ok(done.rows_affected() > 0)
 }
 

@@ -298,7 +298,8 @@ fn the_workpiece_changes_at_a_block_boundary_and_the_next_skip_probes_it() {
     assert!(c.workpiece().is_empty(), "nothing on the table at first");
     start(&mut c, probe);
     run_to_end(&mut c);
-    let var100 = |c: &Controller| c.interpreter().state.common_variables().into_iter().find(|v| v.0 == 100).map(|v| v.1);
+    let var100 =
+        |c: &Controller| c.interpreter().state.common_variables().into_iter().find(|v| v.0 == 100).map(|v| v.1);
     assert_eq!(var100(&c), Some(-10.0), "without boxes the skip runs its whole move");
 
     c.set_workpiece(block.clone()).unwrap();

@@ -71,7 +71,7 @@ pub fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(offsets::set_work))
         .routes(routes!(parameters::get_all))
         .routes(routes!(parameters::set))
-        .routes(routes!(workpiece::get, workpiece::set))
+        .routes(routes!(workpiece::get_workpiece, workpiece::put_workpiece))
         .routes(routes!(teach::get))
         .routes(routes!(teach::clear))
         .routes(routes!(teach::latch))

@@ -19,7 +19,7 @@ use fivex_engine::workpiece::Workpiece;
         (status = 404, description = "No such controller", body = ErrorBody),
     )
 )]
-pub async fn get(Addressed(hosted): Addressed) -> Result<Json<Workpiece>, ApiError> {
+pub async fn get_workpiece(Addressed(hosted): Addressed) -> Result<Json<Workpiece>, ApiError> {
     Ok(Json((*workpiece::of(&hosted)).clone()))
 }
 
@@ -41,7 +41,7 @@ pub async fn get(Addressed(hosted): Addressed) -> Result<Json<Workpiece>, ApiErr
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
-pub async fn set(
+pub async fn put_workpiece(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Workpiece>, ApiError>,

@@ -1327,7 +1327,12 @@ async fn the_workpiece_is_probed_by_g31_and_kept() {
     let two = json!({"boxes": [{"min": [-5.0, -5.0, -5.0], "max": [5.0, 5.0, 0.0]}, {"min": [100.0, 0.0, -10.0], "max": [120.0, 10.0, 30.0]}]});
     let made = create(&app, json!({"name": "set up", "preset": "mill3", "workpiece": two})).await;
     assert_eq!(app.get(&format!("{C}/{made}/workpiece")).await.json(), two);
-    let refused = app.post(C, &json!({"name": "x", "preset": "mill3", "workpiece": {"boxes": [{"min": [0, 0, 0], "max": [0, 1, 1]}]}})).await;
+    let refused = app
+        .post(
+            C,
+            &json!({"name": "x", "preset": "mill3", "workpiece": {"boxes": [{"min": [0, 0, 0], "max": [0, 1, 1]}]}}),
+        )
+        .await;
     assert_eq!(refused.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", refused.text());
     assert!(error_of(&refused).contains("min must be less than max"));
 

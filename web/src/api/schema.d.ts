@@ -778,14 +778,14 @@ export interface paths {
             cookie?: never;
         };
         /** The boxes on the table (`{"boxes": []}`: nothing there, and a G31 runs its whole move). */
-        get: operations["get"];
+        get: operations["get_workpiece"];
         /**
          * Put boxes on the table (replacing what was there; `{"boxes": []}` clears it): axis-aligned
          *     boxes in the table frame, mm, at most 256, each `min` below `max` on every axis. A skip
          *     block read from now on probes them. Only at a block boundary, as machine lock: not while the
          *     axes move or a move is planned.
          */
-        put: operations["set"];
+        put: operations["put_workpiece"];
         post?: never;
         delete?: never;
         options?: never;
@@ -6813,7 +6813,7 @@ export interface operations {
             };
         };
     };
-    get: {
+    get_workpiece: {
         parameters: {
             query?: never;
             header?: never;
@@ -6863,7 +6863,7 @@ export interface operations {
             };
         };
     };
-    set: {
+    put_workpiece: {
         parameters: {
             query?: never;
             header?: never;
