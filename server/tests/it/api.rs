@@ -1353,3 +1353,25 @@ async fn the_workpiece_is_probed_by_g31_and_kept() {
     wait_for(&again, &id, "idle").await;
     assert_eq!(again.get(&format!("{C}/{id}/variables/100")).await.json()["value"], json!(-10.0));
 }
+
+/// A stored workpiece this version cannot read, or one its check refuses (a row written by hand
+/// or by another version), is left out at the restart: the controller comes back with nothing on
+/// the table rather than with boxes it would not accept through the API.
+#[tokio::test]
+async fn a_stored_workpiece_that_is_no_workpiece_is_left_out_at_a_restart() {
+    let app = spawn_app().await;
+    let (a, b) = (
+        create(&app, json!({"name": "a", "preset": "mill3"})).await,
+        create(&app, json!({"name": "b", "preset": "mill3"})).await,
+    );
+    let db = &app.state.db;
+    assert!(fivex_server::db::save_workpiece(db, &a, r#"{"boxes": 3}"#).await.unwrap());
+    let flat = r#"{"boxes": [{"min": [0, 0, 0], "max": [1, 1, 0]}]}"#;
+    assert!(fivex_server::db::save_workpiece(db, &b, flat).await.unwrap());
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    for id in [&a, &b] {
+        let reply = again.get(&format!("{C}/{id}/workpiece")).await;
+        assert_eq!((reply.status, reply.json()), (StatusCode::OK, json!({"boxes": []})), "{id}");
+    }
+}
