@@ -442,6 +442,27 @@ impl Controller {
         }
     }
 
+    /// What is clamped on the table (`crate::workpiece`): the boxes a G31 probe touches.
+    pub fn workpiece(&self) -> &Arc<crate::workpiece::Workpiece> {
+        &self.interp.config().workpiece
+    }
+
+    /// Put `workpiece` on the table (an empty one: nothing there). Changed only at a block
+    /// boundary, under the rule of machine lock (`Controller::at_block_boundary`): a skip block
+    /// finds its contact when it is read, so a move planned or under way was found against the
+    /// boxes that were there; a block read after the change probes the new ones. A workpiece
+    /// that `check` refuses is `Refusal::BadValue`.
+    pub fn set_workpiece(&mut self, workpiece: Arc<crate::workpiece::Workpiece>) -> Result<(), Refusal> {
+        if workpiece.check().is_err() {
+            return Err(Refusal::BadValue);
+        }
+        if !self.at_block_boundary() {
+            return Err(Refusal::Busy);
+        }
+        self.interp.set_workpiece(workpiece);
+        Ok(())
+    }
+
     /// Change the mode: only while no program or motion is under way, or, for a manual
     /// intervention, from AUTO/MDI held (feed hold, single-block stop) to JOG/HANDLE and back.
     pub fn set_mode(&mut self, mode: Mode) -> Result<(), Refusal> {

@@ -358,16 +358,18 @@ pub async fn controller_settings(db: &Db) -> Result<std::collections::HashMap<St
     rows.iter().map(|r| Ok((r.try_get("id")?, (r.try_get("speed")?, r.try_get("extra_parameters")?)))).collect()
 }
 
-/// Inserts a controller row with its speed factor and the parameters its model does not read.
+/// Inserts a controller row with its speed factor, the parameters its model does not read and
+/// what is on its table (`None`: nothing).
 pub async fn insert_controller_with(
     db: &Db,
     row: &ControllerRow,
     speed: f64,
     extra_json: &str,
+    workpiece_json: Option<&str>,
 ) -> Result<(), sqlx::Error> {
     sqlx::query(
-        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters) \
-         VALUES ($1, $2, $3, $4, $5, $6, $7)",
+        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters, workpiece) \
+         VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
     )
     .bind(&row.id)
     .bind(&row.name)
@@ -376,14 +378,15 @@ pub async fn insert_controller_with(
     .bind(&row.created_at)
     .bind(speed)
     .bind(extra_json)
+    .bind(workpiece_json)
     .execute(db.writes())
     .await?;
     Ok(())
 }
 
 /// Copies a controller with everything it keeps but its history (machine, dialect, speed,
-/// parameters, programs, retained variables, tool and work offsets) to a new id and name, in
-/// one transaction. False if there is no controller `from`.
+/// parameters, the workpiece, programs, retained variables, tool and work offsets) to a new id
+/// and name, in one transaction. False if there is no controller `from`.
 pub async fn clone_controller(
     db: &Db,
     from: &str,
@@ -393,8 +396,8 @@ pub async fn clone_controller(
 ) -> Result<bool, sqlx::Error> {
     let mut tx = db.begin_write().await?;
     let copied = sqlx::query(
-        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters) \
-         SELECT $1, $2, dialect, machine_json, $3, speed, extra_parameters FROM controllers WHERE id = $4",
+        "INSERT INTO controllers (id, name, dialect, machine_json, created_at, speed, extra_parameters, workpiece) \
+         SELECT $1, $2, dialect, machine_json, $3, speed, extra_parameters, workpiece FROM controllers WHERE id = $4",
     )
     .bind(id)
     .bind(name)
@@ -853,6 +856,24 @@ pub async fn operation_times(db: &Db, id: &str) -> Result<fivex_engine::controll
         operating_s: r.try_get("operating_time_s").unwrap_or(0.0),
         cutting_s: r.try_get("cutting_time_s").unwrap_or(0.0),
     }))
+}
+
+/// What is on a controller's table (the engine's workpiece JSON), if anything was stored.
+pub async fn workpiece(db: &Db, id: &str) -> Result<Option<String>, sqlx::Error> {
+    let row =
+        sqlx::query("SELECT workpiece FROM controllers WHERE id = $1").bind(id).fetch_optional(db.reads()).await?;
+    Ok(row.and_then(|r| r.try_get::<Option<String>, _>("workpiece").ok().flatten()))
+}
+
+/// Stores what is on a controller's table (the engine's workpiece JSON); false if there is no
+/// controller `id`.
+pub async fn save_workpiece(db: &Db, id: &str, json: &str) -> Result<bool, sqlx::Error> {
+    let done = sqlx::query("UPDATE controllers SET workpiece = $1 WHERE id = $2")
+        .bind(json)
+        .bind(id)
+        .execute(db.writes())
+        .await?;
+    Ok(done.rows_affected() > 0)
 }
 
 /// Stores (or, `None`, clears) the tilted working plane a controller keeps over a restart.

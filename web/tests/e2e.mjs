@@ -824,6 +824,57 @@ test("responsiveness: 200 controllers in the fleet view and a 100,000-point trac
   console.log(`  fleet of 200: rows shown in ${fleetMs} ms, longest frame gap ${fleetGap.toFixed(0)} ms; 100,000 trace points added in ${traceMs.toFixed(0)} ms, a render with them ${renderMs.toFixed(1)} ms, longest frame gap after ${traceGap.toFixed(0)} ms`);
 });
 
+test("the workpiece put through the API is drawn on the table, rides with it, is listed and cleared from its tab", async () => {
+  const made = await http("POST", "/api/v1/controllers", { name: "workpiece", preset: "table-ac" });
+  assert.equal(made.status, 201, JSON.stringify(made.body));
+  const cid = made.body.id;
+  // A block on the table and a smaller one on it (table frame: the table top is Z0).
+  const workpiece = { boxes: [{ min: [-60, -40, 0], max: [60, 40, 30] }, { min: [-20, -20, 30], max: [20, 20, 50] }] };
+  const put = await http("PUT", `/api/v1/controllers/${cid}/workpiece`, workpiece);
+  assert.equal(put.status, 200, JSON.stringify(put.body));
+  await page.goto(`${base}/#/c/${cid}/workpiece`);
+  await page.locator(".view3d canvas").waitFor();
+  await page.locator(".pill.live").waitFor();
+  // What the page draws: the boxes under the table frame, and their corners in the world
+  // against the table's own mapping of the same table-frame points.
+  const drawn = () =>
+    page.evaluate(() => {
+      const s = window.__fivexView?.view.machineScene;
+      if (!s) return null;
+      s.rig.root.updateMatrixWorld(true);
+      const w = s.workpiece.object;
+      const corners = w.children.map((g) => g.localToWorld(g.position.clone().set(1, 1, 1)).toArray());
+      return { onTable: w.parent === s.rig.tableFrame, count: w.children.length, corners, axes: s.getAxes(), want: w.children.map((_, i) => s.rig.kinematics.tableToMachine(s.workpiece.boxes[i].max.toArray(), s.getAxes())) };
+    });
+  const near = (a, b) => a.every((x, i) => Math.abs(x - b[i]) <= 1e-6);
+  const first = await poll("the workpiece drawn", async () => ((await drawn())?.count === 2 ? drawn() : null));
+  assert.ok(first.onTable, "the boxes are children of the table frame");
+  // The table turns: the boxes turn with it (the tool up, out of the way of the picture).
+  const mdi = await http("POST", `/api/v1/controllers/${cid}/mdi`, { text: "G90 G00 Z250. A30. C45." });
+  assert.equal(mdi.status, 200, JSON.stringify(mdi.body));
+  const turned = await poll("the table at A30 C45", async () => {
+    const d = await drawn();
+    return d && d.axes.A === 30 && d.axes.C === 45 && d.axes.Z === 250 ? d : null;
+  });
+  turned.corners.forEach((c, i) => assert.ok(near(c, turned.want[i]), `box ${i}: drawn ${c}, table ${turned.want[i]}`));
+  assert.ok(!near(turned.corners[0], first.corners[0]), "the corner moved with the table");
+  // The tab lists them.
+  const rows = await page.locator("[data-testid=workpiece-boxes] tbody tr").count();
+  assert.equal(rows, 2);
+  await page.click(".ctl-head h1");
+  await page.keyboard.press("f");
+  await page.waitForTimeout(300);
+  await page.locator(".view3d").screenshot({ path: join(shots, "workpiece.png") });
+  assert.ok((await colours(".view3d")) > 20, "a drawn scene");
+  // Cleared from the tab: nothing on the table, nothing drawn.
+  await page.click(".workpiece button:has-text('Clear the table')");
+  await poll("the table cleared", async () => ((await drawn())?.count === 0 ? true : null));
+  assert.deepEqual((await http("GET", `/api/v1/controllers/${cid}/workpiece`)).body, { boxes: [] });
+  await page.locator("[data-testid=workpiece-empty]").waitFor();
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
 let failed = 0;
 for (const [name, fn] of tests) {
   try {

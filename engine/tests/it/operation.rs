@@ -363,3 +363,43 @@ fn haas_feed_timer_of_a_run_agrees_with_the_controller() {
     // Each of the five changes between feed and rapid may fall inside a tick.
     assert!((feed - t.cutting_s).abs() <= 5.0 * TICK, "run {feed}, controller {t:?}");
 }
+
+/// The workpiece (`crate::workpiece`) changes at a block boundary only, like machine lock: the
+/// skip move read after the change probes the new boxes, and while a move is under way the
+/// change is refused and the boxes stay.
+#[test]
+fn the_workpiece_changes_at_a_block_boundary_and_the_next_skip_probes_it() {
+    use fivex_engine::workpiece::{Cuboid, Workpiece};
+    use std::sync::Arc;
+    let block = Arc::new(Workpiece { boxes: vec![Cuboid { min: [0.0, 0.0, -20.0], max: [50.0, 40.0, 0.0] }] });
+    // G43 H1: the tip is 100 below the spindle nose (the defaults of a new controller have no
+    // length: set one), so on mill3 G54 = 0 the table frame is the workpiece system.
+    let probe = "G90 G21 G54 G00 G43 H1 Z10.\nX25. Y20.\nG31 Z-10. F100.\n#100=#5063\nM30\n";
+    let mut c = controller(0.0);
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().h_geometry = 100.0;
+    assert!(c.workpiece().is_empty(), "nothing on the table at first");
+    start(&mut c, probe);
+    run_to_end(&mut c);
+    let var100 =
+        |c: &Controller| c.interpreter().state.common_variables().into_iter().find(|v| v.0 == 100).map(|v| v.1);
+    assert_eq!(var100(&c), Some(-10.0), "without boxes the skip runs its whole move");
+
+    c.set_workpiece(block.clone()).unwrap();
+    assert_eq!(c.workpiece(), &block);
+    start(&mut c, probe);
+    run_to_end(&mut c);
+    let top = var100(&c).unwrap();
+    assert!(top.abs() < 1e-9, "the skip stops on the top of the box: {top}");
+
+    // Refused while the axes move: the boxes stay.
+    start(&mut c, "G90 G01 X100. F3000.\nM30\n");
+    c.tick(0.2);
+    assert_eq!(c.set_workpiece(Arc::default()), Err(Refusal::Busy));
+    assert_eq!(c.workpiece(), &block);
+    run_to_end(&mut c);
+    // A workpiece `check` refuses is a bad value, whatever the state.
+    let flat = Workpiece { boxes: vec![Cuboid { min: [0.0; 3], max: [1.0, 1.0, 0.0] }] };
+    assert_eq!(c.set_workpiece(Arc::new(flat)), Err(Refusal::BadValue));
+    c.set_workpiece(Arc::default()).unwrap();
+    assert!(c.workpiece().is_empty());
+}

@@ -34,6 +34,9 @@ pub struct CreateController {
     /// Simulated seconds per real second (default 1; up to 1000).
     #[schema(exclusive_minimum = 0.0, maximum = 1000.0)]
     pub speed: Option<f64>,
+    /// What is clamped on its table, the boxes a G31 probe touches (default: nothing; as
+    /// `PUT /controllers/{id}/workpiece` takes it).
+    pub workpiece: Option<fivex_engine::workpiece::Workpiece>,
 }
 
 /// `PATCH /controllers/{id}`: what may change on a controller that exists.
@@ -55,7 +58,7 @@ pub struct UpdateController {
     responses(
         (status = 201, description = "Created", body = ControllerStatus),
         (status = 400, description = "Not JSON", body = ErrorBody),
-        (status = 422, description = "Not a valid controller (name, preset, machine, dialect, speed)", body = ErrorBody),
+        (status = 422, description = "Not a valid controller (name, preset, machine, dialect, speed, workpiece)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
@@ -70,6 +73,7 @@ pub async fn create(
         machine: request.machine,
         dialect: request.dialect,
         speed: request.speed,
+        workpiece: request.workpiece,
     };
     let hosted = controllers::create(&state.db, &state.host, new).await?;
     place(&state, &hosted.id).await;

@@ -19,6 +19,7 @@ pub mod restart;
 pub mod stream;
 pub mod teach;
 pub mod variables;
+pub mod workpiece;
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -70,6 +71,7 @@ pub fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(offsets::set_work))
         .routes(routes!(parameters::get_all))
         .routes(routes!(parameters::set))
+        .routes(routes!(workpiece::get_workpiece, workpiece::put_workpiece))
         .routes(routes!(teach::get))
         .routes(routes!(teach::clear))
         .routes(routes!(teach::latch))

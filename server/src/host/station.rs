@@ -89,7 +89,8 @@ impl Station {
     }
 
     /// Put a new machine under the controller (a parameter change): a fresh controller in reset
-    /// state that keeps the offsets, the retained variables and the panel settings.
+    /// state that keeps the offsets, the retained variables, the panel settings and the
+    /// workpiece.
     pub fn replace_machine(&mut self, machine: MachineConfig, dialect: fivex_engine::Dialect) {
         let old = &self.controller;
         let (offsets, retained, panel, plane, times) = (
@@ -99,7 +100,11 @@ impl Station {
             old.interpreter().state.kept_plane(),
             old.times(),
         );
+        let workpiece = old.workpiece().clone();
         let mut controller = Controller::new(fivex_engine::interp::Config::new(machine, dialect));
+        // What is clamped on the table stays there when the machine's parameters change. (A
+        // fresh controller is at rest and the boxes were checked once: it takes them.)
+        let _ = controller.set_workpiece(workpiece);
         controller.interpreter_mut().state.offsets = offsets;
         let retained: Vec<(u32, Option<f64>)> = retained.into_iter().map(|(n, v)| (n, Some(v))).collect();
         // (The numbers come from the same engine's retained list: none is refused.)

@@ -55,6 +55,7 @@ use crate::origin::OriginDoc;
         (name = "variables", description = "Custom macro variables"),
         (name = "offsets", description = "Tool and work offsets"),
         (name = "parameters", description = "Vendor parameters"),
+        (name = "workpiece", description = "What is clamped on the table: the boxes a G31 probe touches"),
         (name = "teach", description = "Syntec's tilted working plane teach function"),
         (name = "history", description = "Alarm and run history"),
         (name = "stream", description = "Live websocket stream"),

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::Dialect;
 
-use super::{parameters, ServiceError};
+use super::{parameters, workpiece, ServiceError};
 use crate::db::{self, ControllerRow};
 use crate::host::{now_rfc3339, Host, Hosted, Spec, MAX_SPEED};
 
@@ -22,6 +22,8 @@ pub struct NewController {
     /// `fanuc` when none (or the parameter list's own).
     pub dialect: Option<String>,
     pub speed: Option<f64>,
+    /// What is clamped on its table (none: nothing).
+    pub workpiece: Option<fivex_engine::workpiece::Workpiece>,
 }
 
 /// A display name: trimmed, 1 to 200 characters.
@@ -70,6 +72,7 @@ pub async fn create(db: &db::Db, host: &Host, request: NewController) -> Result<
         _ => Default::default(),
     };
     let speed = check_speed(request.speed.unwrap_or(1.0))?;
+    let workpiece_json = request.workpiece.as_ref().map(workpiece::checked_json).transpose()?;
     let row = ControllerRow {
         id: uuid::Uuid::new_v4().simple().to_string(),
         name: name.clone(),
@@ -78,7 +81,7 @@ pub async fn create(db: &db::Db, host: &Host, request: NewController) -> Result<
         created_at: now_rfc3339(),
     };
     let extra_json = serde_json::to_string(&extra).unwrap_or_else(|_| "{}".into());
-    db::insert_controller_with(db, &row, speed, &extra_json).await?;
+    db::insert_controller_with(db, &row, speed, &extra_json, workpiece_json.as_deref()).await?;
     let machine_name = machine.name.clone();
     let hosted = Arc::new(Hosted::new(Spec {
         id: row.id.clone(),
@@ -97,6 +100,10 @@ pub async fn create(db: &db::Db, host: &Host, request: NewController) -> Result<
             None => parameters::unmodelled(dialect, &station.machine, &extra),
         };
         station.extra_parameters = extra;
+        if let Some(w) = request.workpiece {
+            // A new controller is at rest, and the boxes were checked above.
+            let _ = station.controller.set_workpiece(w.into());
+        }
     }
     host.add(hosted.clone());
     tracing::info!(id = %row.id, name = %row.name, machine = %machine_name, "controller created");
@@ -135,7 +142,8 @@ pub async fn remove(db: &db::Db, host: &Host, hosted: &Hosted) -> Result<(), Ser
 }
 
 /// A new controller named `name` with what `source` stores (machine, dialect, speed,
-/// parameters, programs, retained variables, offsets; not its history), in reset state.
+/// parameters, the workpiece, programs, retained variables, offsets; not its history), in
+/// reset state.
 pub async fn clone(db: &db::Db, host: &Host, source: &Hosted, name: &str) -> Result<Arc<Hosted>, ServiceError> {
     let name = check_name(name)?;
     let id = uuid::Uuid::new_v4().simple().to_string();
@@ -208,6 +216,11 @@ pub async fn load(
             Default::default()
         });
         station.unmodelled = parameters::unmodelled(dialect, &station.machine.clone(), &station.extra_parameters);
+    }
+    // What is clamped on the table stays there through a restart.
+    if let Some(w) = workpiece::stored(db, &row_id).await? {
+        // A controller just made is at rest, and `stored` checked the boxes.
+        let _ = hosted.station().controller.set_workpiece(w.into());
     }
     let times = db::operation_times(db, &row_id).await?;
     hosted.station().load_times(times);

@@ -10,6 +10,7 @@ pub mod panel;
 pub mod parameters;
 pub mod programs;
 pub mod settings;
+pub mod workpiece;
 
 /// Why the service did not do what it was asked; `http::error` gives each its status.
 #[derive(Debug, thiserror::Error)]

@@ -1261,3 +1261,117 @@ async fn a_haas_controller_runs_its_dialect() {
     let teach = app.post(&format!("{C}/{id}/teach/points/p1"), &json!({})).await;
     assert_eq!(teach.status, StatusCode::CONFLICT, "{}", teach.text());
 }
+
+/// The workpiece on the table: put through the API, probed by a G31 (the program of
+/// `tests/data/probing/skip_down_stops_on_the_top.nc`), kept over a parameter change, a clone
+/// and a restart of the service; refused with a reason when it is no workpiece, and while the
+/// axes move.
+#[tokio::test]
+async fn the_workpiece_is_probed_by_g31_and_kept() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "probe", "preset": "mill3", "speed": 50})).await;
+    let uri = format!("{C}/{id}/workpiece");
+    assert_eq!(app.get(&uri).await.json(), json!({"boxes": []}), "nothing on the table at first");
+    let block = json!({"boxes": [{"min": [0.0, 0.0, -20.0], "max": [50.0, 40.0, 0.0]}]});
+    let put = app.put(&uri, &block).await;
+    assert_eq!((put.status, put.json()), (StatusCode::OK, block.clone()), "{}", put.text());
+
+    // The tool offsets of a new controller have length 100 and G54 is 0 on mill3: the table
+    // frame is the workpiece system, and the probe (D0: a point at the tip) stops on the top.
+    let program = "G90 G21 G54 G00 G43 H1 Z10.\nX25. Y20.\nG31 Z-10. F100.\n#100=#5063\nM30\n";
+    assert_eq!(store(&app, &id, 1, program).await.status, StatusCode::CREATED);
+    let run = |number: u32| {
+        let (app, id) = (&app, id.clone());
+        async move {
+            let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": number})).await;
+            assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+            wait_for(app, &id, "idle").await
+        }
+    };
+    run(1).await;
+    let top = app.get(&format!("{C}/{id}/variables/100")).await.json()["value"].as_f64().unwrap();
+    assert!(top.abs() < 1e-9, "#100 = {top}: the skip stops on the top of the box");
+
+    // Not a workpiece: a reason, and what is on the table stays.
+    for (bad, why) in [
+        (json!({"boxes": [{"min": [0, 0, 0], "max": [1, 1, 0]}]}), "min must be less than max"),
+        (json!({"boxes": [{"min": [0, 0, 0], "max": [1, 1, 1], "colour": "red"}]}), "unknown field `colour`"),
+        (json!({"boxes": [], "stock": true}), "unknown field `stock`"),
+        (json!({"boxes": [{"min": [0, 0], "max": [1, 1, 1]}]}), "boxes[0].min"),
+        (json!({"boxes": vec![json!({"min": [0, 0, 0], "max": [1, 1, 1]}); 257]}), "at most 256"),
+    ] {
+        let reply = app.put(&uri, &bad).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad}: {}", reply.text());
+        assert!(error_of(&reply).contains(why), "{why}: {}", reply.text());
+    }
+    assert_eq!(app.get(&uri).await.json(), block);
+
+    // While the axes move: 409, and the boxes stay.
+    store(&app, &id, 2, "G90 G00 Z50.\nG01 X200. F600.\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 2})).await;
+    eventually(&app, &format!("{C}/{id}"), |s| s["position"]["machine"]["X"].as_f64().is_some_and(|x| x > 0.0)).await;
+    let busy = app.put(&uri, &json!({"boxes": []})).await;
+    assert_eq!(busy.status, StatusCode::CONFLICT, "{}", busy.text());
+    assert!(error_of(&busy).contains("block boundary"), "{}", busy.text());
+    assert_eq!(app.get(&uri).await.json(), block);
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    wait_for(&app, &id, "idle").await;
+
+    // A parameter change puts a new controller on a new machine: the workpiece stays on it.
+    let changed = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 5})).await;
+    assert_eq!(changed.status, StatusCode::OK, "{}", changed.text());
+    assert_eq!(app.get(&uri).await.json(), block);
+    // So does a clone, and a controller may be created with one.
+    let copy = app.post(&format!("{C}/{id}/clone"), &json!({"name": "copy"})).await.json();
+    assert_eq!(app.get(&format!("{C}/{}/workpiece", copy["id"].as_str().unwrap())).await.json(), block);
+    let two = json!({"boxes": [{"min": [-5.0, -5.0, -5.0], "max": [5.0, 5.0, 0.0]}, {"min": [100.0, 0.0, -10.0], "max": [120.0, 10.0, 30.0]}]});
+    let made = create(&app, json!({"name": "set up", "preset": "mill3", "workpiece": two})).await;
+    assert_eq!(app.get(&format!("{C}/{made}/workpiece")).await.json(), two);
+    let refused = app
+        .post(
+            C,
+            &json!({"name": "x", "preset": "mill3", "workpiece": {"boxes": [{"min": [0, 0, 0], "max": [0, 1, 1]}]}}),
+        )
+        .await;
+    assert_eq!(refused.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", refused.text());
+    assert!(error_of(&refused).contains("min must be less than max"));
+
+    // A restart of the service: the workpiece comes back, and the skip still stops on it.
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    assert_eq!(again.get(&uri).await.json(), block);
+    assert_eq!(again.get(&format!("{C}/{made}/workpiece")).await.json(), two);
+    again.put(&format!("{C}/{id}/variables/100"), &json!({"value": null})).await;
+    let started = again.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+    wait_for(&again, &id, "idle").await;
+    let top = again.get(&format!("{C}/{id}/variables/100")).await.json()["value"].as_f64().unwrap();
+    assert!(top.abs() < 1e-9, "#100 = {top} after the restart");
+    // Cleared: the G31 runs its whole move.
+    assert_eq!(again.put(&uri, &json!({"boxes": []})).await.status, StatusCode::OK);
+    again.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&again, &id, "idle").await;
+    assert_eq!(again.get(&format!("{C}/{id}/variables/100")).await.json()["value"], json!(-10.0));
+}
+
+/// A stored workpiece this version cannot read, or one its check refuses (a row written by hand
+/// or by another version), is left out at the restart: the controller comes back with nothing on
+/// the table rather than with boxes it would not accept through the API.
+#[tokio::test]
+async fn a_stored_workpiece_that_is_no_workpiece_is_left_out_at_a_restart() {
+    let app = spawn_app().await;
+    let (a, b) = (
+        create(&app, json!({"name": "a", "preset": "mill3"})).await,
+        create(&app, json!({"name": "b", "preset": "mill3"})).await,
+    );
+    let db = &app.state.db;
+    assert!(fivex_server::db::save_workpiece(db, &a, r#"{"boxes": 3}"#).await.unwrap());
+    let flat = r#"{"boxes": [{"min": [0, 0, 0], "max": [1, 1, 0]}]}"#;
+    assert!(fivex_server::db::save_workpiece(db, &b, flat).await.unwrap());
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    for id in [&a, &b] {
+        let reply = again.get(&format!("{C}/{id}/workpiece")).await;
+        assert_eq!((reply.status, reply.json()), (StatusCode::OK, json!({"boxes": []})), "{id}");
+    }
+}

@@ -770,6 +770,29 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/v1/controllers/{id}/workpiece": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The boxes on the table (`{"boxes": []}`: nothing there, and a G31 runs its whole move). */
+        get: operations["get_workpiece"];
+        /**
+         * Put boxes on the table (replacing what was there; `{"boxes": []}` clears it): axis-aligned
+         *     boxes in the table frame, mm, at most 256, each `min` below `max` on every axis. A skip
+         *     block read from now on probes them. Only at a block boundary, as machine lock: not while the
+         *     axes move or a move is planned.
+         */
+        put: operations["put_workpiece"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/v1/fleet/library": {
         parameters: {
             query?: never;
@@ -1333,6 +1356,12 @@ export interface components {
              * @description Simulated seconds per real second (default 1; up to 1000).
              */
             speed?: number | null;
+            workpiece?: null | components["schemas"]["Workpiece"];
+        };
+        /** @description One box: its least and greatest corner in the table frame, mm. */
+        Cuboid: {
+            max: number[];
+            min: number[];
         };
         /** @description `POST /cycle-start`: optionally the stored program to run. */
         CycleStart: {
@@ -2977,6 +3006,11 @@ export interface components {
             /** @description The feature coordinate system's origin, mm. */
             origin: number[];
         };
+        /** @description Everything on the table. */
+        Workpiece: {
+            /** @description Axis-aligned boxes in the table frame, mm. */
+            boxes?: components["schemas"]["Cuboid"][];
+        };
     };
     responses: never;
     parameters: never;
@@ -3100,7 +3134,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Not a valid controller (name, preset, machine, dialect, speed) */
+            /** @description Not a valid controller (name, preset, machine, dialect, speed, workpiece) */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -6760,6 +6794,164 @@ export interface operations {
                 };
             };
             /** @description No such offset or axis, or not a finite value */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Database error (logged, not returned) */
+            500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    get_workpiece: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The workpiece */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Workpiece"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Host is not a name the service answers to (an IP address, localhost, an allowed origin's host) */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+        };
+    };
+    put_workpiece: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description Controller id */
+                id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["Workpiece"];
+            };
+        };
+        responses: {
+            /** @description On the table and stored */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Workpiece"];
+                };
+            };
+            /** @description Malformed: a path or query value of the wrong type, or JSON that does not parse */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The service has a token and the request does not carry it */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A web page from a foreign origin sent it (Origin, Sec-Fetch-Site), or Host is not a name the service answers to */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description No such controller */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The axes move or a move is planned */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The body is larger than 8 MiB + 64 KiB */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
+            415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description Not a workpiece: an unknown field, a corner not finite, min not below max, more than 256 boxes */
             422: {
                 headers: {
                     [name: string]: unknown;

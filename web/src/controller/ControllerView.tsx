@@ -7,7 +7,7 @@
 // The program column is always there: its text, with the executing block, stays in view beside
 // the readout whatever tab is open, and another program can be edited in it while one runs.
 import { useEffect, useState } from "preact/hooks";
-import { api, must } from "../api/client";
+import { api, must, type Schemas } from "../api/client";
 import { useController } from "./useController";
 import { Position } from "./Position";
 import { Modal } from "./Modal";
@@ -18,6 +18,7 @@ import { Alarms } from "./Alarms";
 import { Variables } from "./Variables";
 import { Parameters } from "./Parameters";
 import { Offsets } from "./Offsets";
+import { WorkpieceView } from "./Workpiece";
 import { Machine3D } from "./Machine3D";
 import { Teach } from "./Teach";
 import { Progress } from "./Progress";
@@ -29,6 +30,7 @@ const TABS: [string, string][] = [
   ["alarms", "Alarms"],
   ["variables", "Macro variables"],
   ["offsets", "Offsets"],
+  ["workpiece", "Workpiece"],
   ["parameters", "Parameters"],
 ];
 
@@ -55,6 +57,13 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
       () => setPath(null),
     );
   }, [id, shown, status?.run_state === "running"]);
+
+  // What is on the table, for the 3D view and the workpiece tab: read again when the run state
+  // changes (the service refuses a change while the axes move) and after an edit here.
+  const [workpiece, setWorkpiece] = useState<Schemas["Workpiece"] | null>(null);
+  useEffect(() => {
+    must(api.GET("/api/v1/controllers/{id}/workpiece", { params: { path: { id } } })).then(setWorkpiece, () => setWorkpiece(null));
+  }, [id, status?.run_state]);
 
   if (live.error && !status) return <p class="error">{live.error}</p>;
   if (!status) return <p>Loading…</p>;
@@ -100,7 +109,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
         <div class="program-col panel-box">
           <Programs status={status} line={live.frame?.line ?? status.line} selected={program} onSelect={setProgram} run={live.act} onError={setError} onStored={() => setStored((n) => n + 1)} />
         </div>
-        <div class="view-col">{live.machine && <Machine3D machine={live.machine} frame={live.frame} path={path} onFrame={live.onFrame} />}</div>
+        <div class="view-col">{live.machine && <Machine3D machine={live.machine} frame={live.frame} path={path} workpiece={workpiece} onFrame={live.onFrame} />}</div>
       </div>
       <Panel status={status} axes={axes} run={live.act} onError={setError} />
       {status.dialect === "syntec" && <Teach status={status} run={live.act} onError={setError} />}
@@ -118,6 +127,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
         {tab === "variables" && <Variables id={id} values={live.variables} onError={setError} />}
         {tab === "offsets" && <Offsets id={id} axes={axes} onError={setError} />}
         {tab === "parameters" && <Parameters status={status} onError={setError} />}
+        {tab === "workpiece" && <WorkpieceView id={id} workpiece={workpiece} onChanged={setWorkpiece} onError={setError} />}
       </div>
     </section>
   );

@@ -3,9 +3,10 @@
 // the programmed path of the selected program, the executed tool tip trace and, under cutting
 // point control (G43.8/G43.9), the trace of the cutting point (where the tool touches the part),
 // the active work offset's zero as a triad and, while a tilted working plane is in force, its
-// frame (triad and square); F (or "fit part") frames the part.
+// frame (triad and square), and what is clamped on the table (the workpiece's boxes, translucent,
+// riding with the table); F (or "fit part") frames the part.
 import { useEffect, useRef } from "preact/hooks";
-import type { Frame, Machine } from "../api/client";
+import type { Frame, Machine, Schemas } from "../api/client";
 import { View3D, type View3DHandle } from "../three/View3D";
 import { planeInTable, traceFrame, workZeroInTable } from "../three/frameTrace";
 
@@ -13,11 +14,14 @@ export function Machine3D({
   machine,
   frame,
   path,
+  workpiece,
   onFrame,
 }: {
   machine: Machine;
   frame: Frame | null;
   path: { xyz: Float32Array; rapid: boolean[]; programmed: Float32Array | null } | null;
+  /** The boxes on the table (`GET …/workpiece`), table frame. */
+  workpiece: Schemas["Workpiece"] | null;
   onFrame: (f: (frame: Frame) => void) => () => void;
 }) {
   const view = useRef<View3DHandle | null>(null);
@@ -44,6 +48,7 @@ export function Machine3D({
         path={path?.xyz}
         pathRapid={path?.rapid}
         programmedPath={path?.programmed ?? null}
+        workpiece={workpiece?.boxes ?? null}
         onReady={(h) => {
           view.current = h;
           // The browser tests reach the view through this.

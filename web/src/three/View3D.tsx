@@ -18,6 +18,7 @@ import type { MachineViewOptions, ViewPreset } from "./scene";
 import type { MachineModel, MachineModelInput } from "./model";
 import type { Chain } from "./chain";
 import type { PlaneInTable } from "./frameTrace";
+import type { WorkpieceBox } from "./part";
 
 export interface View3DHandle {
   /** One executed tool-tip position, table frame. */
@@ -36,12 +37,14 @@ export interface View3DHandle {
   /** Clear the tip trace and the cutting point's trace. */
   clearTrace(): void;
   fit(): void;
-  /** Frame the part: the programmed path, the tip trace and the work zero (key F). */
+  /** Frame the part: the programmed path, the tip trace, the work zero and the workpiece (key F). */
   fitPart(): void;
   /** The active work offset's zero in the table frame (a frame's `tip_table − tip`). */
   setWorkZero(x: number, y: number, z: number): void;
   /** The tilted working plane in the table frame (`planeInTable`), or null to hide it. */
   setWorkingPlane(plane: PlaneInTable | null): void;
+  /** The workpiece's boxes in the table frame (`GET …/workpiece` `boxes`); empty: nothing on the table. */
+  setWorkpiece(boxes: readonly WorkpieceBox[]): void;
   setView(view: ViewPreset): void;
   /** The underlying view (camera, controls, scene) for anything else. */
   view: MachineView;
@@ -67,6 +70,8 @@ export interface View3DProps {
    * drawn dashed beside `path`, which is then the tool centre's; a legend tells them apart.
    */
   programmedPath?: Float32Array | null;
+  /** What is clamped on the table (`GET …/workpiece` `boxes`, table frame): drawn translucent, riding with the table. */
+  workpiece?: readonly WorkpieceBox[] | null;
   /** Receives the handle once the view exists, and null when it goes away. */
   onReady?: (handle: View3DHandle | null) => void;
   /** Hide the toolbar. */
@@ -140,6 +145,7 @@ export function View3D(props: View3DProps) {
     if (p.toolLength !== undefined) v.setToolLength(p.toolLength);
     if (p.path) v.setPath(p.path, p.pathRapid);
     if (p.programmedPath) v.setProgrammedPath(p.programmedPath);
+    if (p.workpiece) v.machineScene.setWorkpiece(p.workpiece);
     v.setView("iso");
     const handle: View3DHandle = {
       addTrace: (x, y, z) => v.addTrace(x, y, z),
@@ -152,6 +158,7 @@ export function View3D(props: View3DProps) {
       fitPart: () => v.fitPart(),
       setWorkZero: (x, y, z) => v.machineScene.setWorkZero(x, y, z),
       setWorkingPlane: (plane) => v.machineScene.setWorkingPlane(plane),
+      setWorkpiece: (boxes) => v.machineScene.setWorkpiece(boxes),
       setView: (name) => v.setView(name),
       view: v,
     };
@@ -183,6 +190,10 @@ export function View3D(props: View3DProps) {
   useEffect(() => {
     view.current?.setProgrammedPath(props.programmedPath ?? null);
   }, [props.programmedPath]);
+
+  useEffect(() => {
+    view.current?.machineScene.setWorkpiece(props.workpiece ?? null);
+  }, [props.workpiece]);
 
   // F frames the part, as on a control's graphic screen, unless a field has the keyboard.
   useEffect(() => {
@@ -217,7 +228,7 @@ export function View3D(props: View3DProps) {
           <button type="button" style={button} title="Frame the machine" onClick={act((v) => v.fit())}>
             fit
           </button>
-          <button type="button" style={button} title="Frame the part: the path, the tool tip trace and the work zero (key F)" data-action="fit-part" onClick={act((v) => v.fitPart())}>
+          <button type="button" style={button} title="Frame the part: the path, the tool tip trace, the work zero and the workpiece (key F)" data-action="fit-part" onClick={act((v) => v.fitPart())}>
             fit part (F)
           </button>
           <button type="button" style={button} title="Isometric view" onClick={act((v) => v.setView("iso"))}>

@@ -4,7 +4,7 @@ import * as THREE from "three";
 import { describe, expect, it } from "vitest";
 import { fixture } from "./fixtures/fixture";
 import { MachineScene } from "./scene";
-import { MIN_PART_RADIUS, WORK_ZERO_SCREEN, WorkZeroFrame } from "./part";
+import { MIN_PART_RADIUS, WORK_ZERO_SCREEN, WorkZeroFrame, WorkpieceBoxes } from "./part";
 import { planeInTable, workZeroInTable } from "./frameTrace";
 import { isFitKey } from "./View3D";
 
@@ -78,6 +78,85 @@ describe("the tilted working plane", () => {
     expect(s.partBounds().containsPoint(frame.getWorldPosition(new THREE.Vector3()))).toBe(true);
     s.setWorkingPlane(null);
     expect(frame.visible).toBe(false);
+    s.dispose();
+  });
+});
+
+describe("the workpiece", () => {
+  /** The drawn box `i`'s corner at fractions `f` of its size (0 or 1 per axis), in the world. */
+  const corner = (s: MachineScene, i: number, f: [number, number, number]) => {
+    s.rig.root.updateMatrixWorld(true);
+    const box = s.workpiece.object.getObjectByName(`workpiece-box-${i}`);
+    if (!box) throw new Error(`no box ${i}`);
+    return new THREE.Vector3(...f).applyMatrix4(box.matrixWorld);
+  };
+
+  it("rides with the table: a box's corner at the engine's table-frame tip is drawn at its machine tip, on every machine at every pose", () => {
+    let checked = 0;
+    for (const m of fixture.machines) {
+      const s = new MachineScene(m.model);
+      for (const p of m.poses) {
+        // A box whose least corner is where the engine puts the tip in the table frame, and its
+        // greatest 40 × 30 × 20 beyond.
+        const min = p.tip;
+        const max = [min[0] + 40, min[1] + 30, min[2] + 20];
+        s.setWorkpiece([{ min, max }]);
+        s.setAxes(p.axes);
+        s.setToolLength(p.tool_length);
+        expect(corner(s, 0, [0, 0, 0]).distanceTo(new THREE.Vector3(...p.tip_machine)), `${m.source} ${JSON.stringify(p.axes)}`).toBeLessThanOrEqual(1e-6);
+        const far = new THREE.Vector3(...s.rig.kinematics.tableToMachine(max as [number, number, number], s.getAxes()));
+        expect(corner(s, 0, [1, 1, 1]).distanceTo(far)).toBeLessThanOrEqual(1e-6);
+        checked++;
+      }
+      s.dispose();
+    }
+    expect(checked).toBeGreaterThanOrEqual(fixture.machines.length * 4);
+  });
+
+  it("stays on the table frame when the mechanism chain changes", () => {
+    const m = fixture.machines.find((x) => x.chains && x.chains.length > 0);
+    if (!m?.chains) throw new Error("no machine with further chains in the fixture");
+    const s = new MachineScene(m.model);
+    s.setWorkpiece([{ min: [0, 0, -20], max: [50, 40, 0] }]);
+    s.setChain(m.chains[0].chain);
+    expect(s.workpiece.object.parent).toBe(s.rig.tableFrame);
+    const p = m.chains[0].poses[0];
+    s.setAxes(p.axes);
+    const want = new THREE.Vector3(...s.rig.kinematics.tableToMachine([50, 40, 0], s.getAxes()));
+    expect(corner(s, 0, [1, 1, 1]).distanceTo(want)).toBeLessThanOrEqual(1e-6);
+    s.dispose();
+  });
+
+  it("is translucent boxes, one per box, replaced as a whole; what no box can be is left out", () => {
+    const w = new WorkpieceBoxes();
+    expect(w.set([{ min: [0, 0, -20], max: [50, 40, 0] }, { min: [60, 0, -20], max: [70, 40, 0] }])).toBe(true);
+    expect(w.object.children.length).toBe(2);
+    const fill = w.object.children[0].children[0] as THREE.Mesh;
+    const material = fill.material as THREE.MeshBasicMaterial;
+    expect(material.transparent && material.opacity < 1 && !material.depthWrite).toBe(true);
+    expect(w.set([{ min: [0, 0, -20], max: [50, 40, 0] }, { min: [60, 0, -20], max: [70, 40, 0] }])).toBe(false);
+    expect(w.set([{ min: [0, 0, 0], max: [1, 1, 0] }, { min: [0, 0, NaN], max: [1, 1, 1] }, { min: [0, 0, 0], max: [1, 2, 3] }])).toBe(true);
+    expect(w.boxes.map((b) => b.max.toArray())).toEqual([[1, 2, 3]]);
+    expect(w.set([])).toBe(true);
+    expect(w.object.children.length).toBe(0);
+    w.dispose();
+  });
+
+  it("is in the part's bounds, at the pose the table is in", () => {
+    const m = tableAc();
+    const s = new MachineScene(m.model);
+    s.setWorkpiece([{ min: [0, 0, -20], max: [50, 40, 0] }]);
+    for (const p of m.poses.slice(0, 4)) {
+      s.setAxes(p.axes);
+      const b = s.partBounds();
+      for (const f of [[0, 0, 0], [1, 1, 1], [1, 0, 1], [0, 1, 0]] as [number, number, number][]) {
+        expect(b.distanceToPoint(corner(s, 0, f))).toBeLessThanOrEqual(1e-9);
+      }
+      const size = b.getSize(new THREE.Vector3());
+      expect(size.length()).toBeLessThanOrEqual(Math.hypot(50, 40, 20) * Math.sqrt(3) + 1e-6);
+    }
+    s.setWorkpiece([]);
+    expect(s.partBounds().isEmpty()).toBe(true);
     s.dispose();
   });
 });

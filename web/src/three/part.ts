@@ -117,3 +117,74 @@ export function pointsBounds(count: number, point: (i: number) => readonly numbe
 
 /** The smallest half size a part box is framed with, mm (a single point still gives a view). */
 export const MIN_PART_RADIUS = 5;
+
+/** One box of the workpiece: its least and greatest corner in the table frame, mm (the service's `Cuboid`). */
+export type WorkpieceBox = { min: readonly number[]; max: readonly number[] };
+
+/**
+ * The workpiece's boxes: a translucent fill, so the path and the tool inside stay visible, and
+ * solid edges; a warm stock colour that the grey-blue table and machine do not have.
+ */
+export const WORKPIECE_FILL = 0xc8894a;
+export const WORKPIECE_OPACITY = 0.35;
+export const WORKPIECE_EDGES = 0xf2c48e;
+
+/**
+ * What is clamped on the table (`GET /controllers/{id}/workpiece`): its boxes, children of the
+ * table frame like the path (the service keeps them in the table frame), so they ride with the
+ * table. Each box is a unit cube scaled and moved onto its corners, drawn as a translucent fill
+ * with its edges.
+ */
+export class WorkpieceBoxes {
+  readonly object = new THREE.Group();
+  private readonly cube = new THREE.BoxGeometry(1, 1, 1).translate(0.5, 0.5, 0.5);
+  private readonly edges = new THREE.EdgesGeometry(this.cube);
+  private readonly fill = new THREE.MeshBasicMaterial({ color: WORKPIECE_FILL, transparent: true, opacity: WORKPIECE_OPACITY, side: THREE.DoubleSide, depthWrite: false });
+  private readonly line = new THREE.LineBasicMaterial({ color: WORKPIECE_EDGES });
+  private key = "[]";
+  /** The boxes in the table frame (empty: nothing on the table). */
+  readonly boxes: THREE.Box3[] = [];
+
+  constructor() {
+    this.object.name = "workpiece";
+  }
+
+  /** Replace the boxes (a box whose corners are not finite, or not below each other, is left out); returns whether the drawing changed. */
+  set(boxes: readonly WorkpieceBox[] | null | undefined): boolean {
+    const good = (boxes ?? []).filter((b) => b.min.length >= 3 && b.max.length >= 3 && [0, 1, 2].every((k) => Number.isFinite(b.min[k]) && Number.isFinite(b.max[k]) && b.min[k] < b.max[k]));
+    const key = JSON.stringify(good.map((b) => [b.min.slice(0, 3), b.max.slice(0, 3)]));
+    if (key === this.key) return false;
+    this.key = key;
+    this.object.clear();
+    this.boxes.length = 0;
+    good.forEach((b, i) => {
+      const box = new THREE.Box3(new THREE.Vector3(b.min[0], b.min[1], b.min[2]), new THREE.Vector3(b.max[0], b.max[1], b.max[2]));
+      this.boxes.push(box);
+      const group = new THREE.Group();
+      group.name = `workpiece-box-${i}`;
+      group.position.copy(box.min);
+      group.scale.copy(box.getSize(new THREE.Vector3()));
+      const fill = new THREE.Mesh(this.cube, this.fill);
+      // After the opaque machine, so the table shows through it.
+      fill.renderOrder = 5;
+      group.add(fill, new THREE.LineSegments(this.edges, this.line));
+      this.object.add(group);
+    });
+    this.object.updateMatrixWorld(true);
+    return true;
+  }
+
+  /** World bounds of the boxes mapped by `matrix` (the table frame's), added to `into`. */
+  bounds(matrix: THREE.Matrix4, into = new THREE.Box3()): THREE.Box3 {
+    for (const b of this.boxes) into.union(b.clone().applyMatrix4(matrix));
+    return into;
+  }
+
+  dispose(): void {
+    this.object.clear();
+    this.cube.dispose();
+    this.edges.dispose();
+    this.fill.dispose();
+    this.line.dispose();
+  }
+}

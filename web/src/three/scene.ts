@@ -21,7 +21,8 @@ import type { Chain } from "./chain";
 import { normalizeModel } from "./model";
 import type { MachineModel, MachineModelInput } from "./model";
 import { PathLine, ProgrammedLine, TraceLine, TraceStretches } from "./trace";
-import { MIN_PART_RADIUS, WorkZeroFrame, WorkingPlaneFrame, pointsBounds } from "./part";
+import { MIN_PART_RADIUS, WorkZeroFrame, WorkingPlaneFrame, WorkpieceBoxes, pointsBounds } from "./part";
+import type { WorkpieceBox } from "./part";
 import type { PlaneInTable } from "./frameTrace";
 
 export type ViewPreset = "iso" | "front" | "top" | "side";
@@ -61,6 +62,8 @@ export class MachineScene {
   readonly workZero = new WorkZeroFrame();
   /** The tilted working plane's frame while one is in force (`setWorkingPlane`). */
   readonly workingPlane = new WorkingPlaneFrame();
+  /** What is clamped on the table, the boxes a G31 probe touches (`setWorkpiece`). */
+  readonly workpiece = new WorkpieceBoxes();
   private axes: AxisValues = {};
   private toolLength = 0;
   private current: MachineRig;
@@ -105,7 +108,7 @@ export class MachineScene {
     this.placeTipPoint();
     this.path = new PathLine();
     this.programmed = new ProgrammedLine();
-    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object, this.workingPlane.object);
+    this.rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object, this.workingPlane.object, this.workpiece.object);
     this.rig.root.updateMatrixWorld(true);
   }
 
@@ -134,7 +137,7 @@ export class MachineScene {
     const old = this.current;
     const rig = buildMachine(view);
     // Moved out before the old rig is disposed (which disposes everything under its root).
-    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object, this.workingPlane.object);
+    rig.tableFrame.add(this.path.object, this.programmed.object, this.trace.object, this.cutting.object, this.cuttingMarker, this.workZero.object, this.workingPlane.object, this.workpiece.object);
     this.scene.remove(old.root);
     old.dispose();
     this.scene.add(rig.root);
@@ -254,10 +257,15 @@ export class MachineScene {
     if (plane ? this.workingPlane.set(plane.origin, plane.axes) : this.workingPlane.hide()) this.onChange();
   }
 
+  /** The workpiece's boxes in the table frame (`GET …/workpiece` `boxes`); null or empty: nothing on the table. */
+  setWorkpiece(boxes: readonly WorkpieceBox[] | null | undefined): void {
+    if (this.workpiece.set(boxes)) this.onChange();
+  }
+
   /**
    * World bounds of the part at the current pose: the programmed path, the executed tip trace,
-   * the work zero and the working plane's origin (empty when there is none of them), at least
-   * MIN_PART_RADIUS around.
+   * the work zero, the working plane's origin and the workpiece's boxes (empty when there is
+   * none of them), at least MIN_PART_RADIUS around.
    */
   partBounds(): THREE.Box3 {
     this.rig.root.updateMatrixWorld(true);
@@ -265,6 +273,7 @@ export class MachineScene {
     const box = new THREE.Box3();
     for (const b of [this.path.bounds, this.programmed.bounds]) if (b && !b.isEmpty()) box.union(b.clone().applyMatrix4(table));
     pointsBounds(this.trace.length, (i) => this.trace.point(i), table, box);
+    this.workpiece.bounds(table, box);
     for (const frame of [this.workZero, this.workingPlane]) if (frame.object.visible) box.expandByPoint(frame.object.getWorldPosition(new THREE.Vector3()));
     if (!box.isEmpty()) box.union(new THREE.Box3().setFromCenterAndSize(box.getCenter(new THREE.Vector3()), new THREE.Vector3().setScalar(2 * MIN_PART_RADIUS)));
     return box;
@@ -300,6 +309,7 @@ export class MachineScene {
     this.programmed.dispose();
     this.workZero.dispose();
     this.workingPlane.dispose();
+    this.workpiece.dispose();
     this.rig.dispose();
   }
 }
@@ -466,7 +476,7 @@ export class MachineView {
     this.frameFrom(dir);
   }
 
-  /** Frame the part (the path, the tip trace and the work zero) from the current viewing direction; the machine when there is none. */
+  /** Frame the part (the path, the tip trace, the work zero and the workpiece) from the current viewing direction; the machine when there is none. */
   fitPart(): void {
     const box = this.machineScene.partBounds();
     if (box.isEmpty()) return this.fit();

@@ -189,8 +189,8 @@ async fn writes_succeed_while_controllers_write_on_postgres() {
 }
 
 /// A service stopped and started again on the same PostgreSQL database brings its controllers
-/// back with their programs, retained variables, tool offsets, run and alarm history, and its
-/// fleet runs; the URL's password is not logged.
+/// back with their programs, retained variables, tool offsets, workpiece, run and alarm
+/// history, and its fleet runs; the URL's password is not logged.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_restarted_service_finds_what_it_kept_on_postgres() {
     const C: &str = "/api/v1/controllers";
@@ -201,6 +201,9 @@ async fn a_restarted_service_finds_what_it_kept_on_postgres() {
     let reply = served.send_json(Method::POST, C, &json!({"name": "kept", "preset": "head-bc"})).await;
     assert_eq!(reply.status, StatusCode::CREATED, "{:?}", reply.body);
     let id = reply.json()["id"].as_str().unwrap().to_owned();
+    let workpiece = json!({"boxes": [{"min": [-10.0, -10.0, -30.0], "max": [10.0, 10.0, 0.0]}]});
+    let put = served.send_json(Method::PUT, &format!("{C}/{id}/workpiece"), &workpiece).await;
+    assert_eq!(put.status, StatusCode::OK, "{:?}", put.body);
     let program = "O0001\n#500=12.5\n#501=#0\nG10 L10 P3 R42.\nG91 G01 X1. F6000\nX-1.\nM30\n";
     let stored =
         served.request(Method::PUT, &format!("{C}/{id}/programs/1"), &[("content-type", "text/plain")], program).await;
@@ -254,6 +257,7 @@ async fn a_restarted_service_finds_what_it_kept_on_postgres() {
     let text = again.get(&format!("{C}/{id}/programs/1")).await;
     assert_eq!(String::from_utf8_lossy(&text.body), program);
     assert_eq!(again.get(&format!("{C}/{id}/variables/500")).await.json()["value"], json!(12.5));
+    assert_eq!(again.get(&format!("{C}/{id}/workpiece")).await.json(), workpiece);
     let tools = again.get(&format!("{C}/{id}/tool-offsets")).await.json();
     let three = tools.as_array().unwrap().iter().find(|t| t["number"] == 3).cloned().expect("offset 3");
     assert_eq!(three["length"], json!(42.0));
