@@ -1,8 +1,8 @@
 //! The Haas NGC's own cycles and motion settings (Haas dialect only; `gcode::GDef::haas_only`):
 //! G12/G13 circular pocket milling, the bolt patterns G70 (circle), G71 (arc) and G72 (line at
 //! an angle) around the canned cycle in force, and G103's block look-ahead limit. G47 (text
-//! engraving), G150 (general purpose pocket milling) and G187 (smoothness) stay refused
-//! (`unbuilt`). Sources, decisions and what is not built: `docs/dialects.md`, "Haas cycles".
+//! engraving) and G150 (general purpose pocket milling) stay refused
+//! (`unbuilt`); G187's corner rounding is `corner_blend`. Sources, decisions and what is not built: `docs/dialects.md`, "Haas cycles".
 
 use super::gcode::{code, group};
 use super::nc::Words;

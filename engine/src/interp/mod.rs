@@ -25,6 +25,7 @@ pub mod restart;
 mod singular;
 mod skip;
 mod smoothing;
+mod corner_blend;
 mod table_crc;
 mod tcp;
 pub mod unbuilt;
@@ -309,6 +310,8 @@ pub struct State {
     /// Nano smoothing (G05.1 Q3), Syntec STCP or HPCC (G05 P10000) in force, with the points it
     /// holds.
     smoothing: Option<Box<smoothing::Smoothing>>,
+    /// Haas G187 rounding corners, with the move it holds (`corner_blend`).
+    blend: Option<Box<corner_blend::CornerBlend>>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
@@ -478,6 +481,7 @@ impl Interpreter {
         st.block_limit = 0;
         st.nurbs = None;
         st.smoothing_reset();
+        st.blend_end();
         st.ended = true;
         st.cfg.stages.clear();
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
@@ -657,6 +661,7 @@ impl State {
             table_crc: None,
             nurbs: None,
             smoothing: None,
+            blend: None,
             follow_machine: None,
             plane: None,
             definition: plane::Definition::default(),
@@ -917,7 +922,9 @@ impl State {
                     return Err(AlarmId::NurbsFormat);
                 }
                 self.smoothing_flush(out)?;
+                self.blend_flush(out)?;
                 self.hpcc_end();
+                self.blend_end();
                 self.ended = true;
                 return Ok(Step::Ended);
             }
@@ -954,6 +961,11 @@ impl State {
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
         let prog = &progs[prog_idx];
+        if !matches!(block.kind, BlockKind::Words(_) | BlockKind::Empty) {
+            // Under G187 a macro statement or a branch between two moves keeps their corner
+            // exact: what is held moves first (`corner_blend`).
+            self.blend_flush(out)?;
+        }
         match &block.kind {
             BlockKind::Empty => {}
             BlockKind::Error(d) => return Err(d.id.clone()),

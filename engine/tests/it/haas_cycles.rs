@@ -1,8 +1,8 @@
 //! The Haas NGC's own cycles (`interp::haas_cycles`, `docs/dialects.md`, "Haas cycles"): G12/G13
 //! circular pockets (the tool inside the pocket on every sample, ending at its centre at depth),
 //! the bolt patterns G70/G71/G72 (the cycle in force at each hole), G103's block look-ahead
-//! limit (a chain of short blocks slows down under P1), and the refusals (G47, G150, G187, bad
-//! arguments). The manual's examples are data fixtures, `tests/data/cycles/haas_*.nc`.
+//! limit (a chain of short blocks slows down under P1), and the refusals (G47, G150, bad
+//! arguments). G187's corner rounding: `corner_rounding.rs`. The manual's examples are data fixtures, `tests/data/cycles/haas_*.nc`.
 
 use crate::common::*;
 use fivex_engine::canon::{CanonKind, MotionKind};
@@ -77,11 +77,10 @@ fn refusals_and_bad_arguments() {
         let r = run_with(&format!("G00 Z10.\n{src}\nM30\n"), "mill3", Haas);
         r.alarms.first().map(|a| (a.code.clone(), a.line))
     };
-    // Not built: text engraving, general purpose pocket milling, smoothness.
+    // Not built: text engraving, general purpose pocket milling.
     for src in [
         "G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)",
         "G150 P1 Q2 R0.1 Z-1. I0.4 J0.3 K0.01 F10.",
-        "G187 P1 E0.01",
     ] {
         assert_eq!(first(src), Some(("310".into(), 2)), "{src}");
     }
@@ -89,7 +88,6 @@ fn refusals_and_bad_arguments() {
     for (src, name) in [
         ("G47 P0 (FIVEX)", "text engraving"),
         ("G150 P1 Q2 Z-1. F10.", "pocket milling"),
-        ("G187 P1 E0.01", "smoothness"),
     ] {
         let diags =
             fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
