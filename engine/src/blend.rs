@@ -159,16 +159,13 @@ impl<T: Clone, const D: usize> Blender<T, D> {
                 let arc = move |t: f64| -> [f64; D] {
                     let phi = t * turn;
                     let (s, k) = phi.sin_cos();
-                    std::array::from_fn(|c| if linear[c] { centre[c] + e1[c] * k + u[c] * radius * s } else { corner[c] })
+                    std::array::from_fn(
+                        |c| if linear[c] { centre[c] + e1[c] * k + u[c] * radius * s } else { corner[c] },
+                    )
                 };
                 // The bending v²/r along each axis: the arc's plane is spanned by e1/r and u.
-                let xss: [f64; D] = std::array::from_fn(|c| {
-                    if self.linear[c] {
-                        (e1[c] / radius).hypot(u[c]) / radius
-                    } else {
-                        0.0
-                    }
-                });
+                let xss: [f64; D] =
+                    std::array::from_fn(|c| if self.linear[c] { (e1[c] / radius).hypot(u[c]) / radius } else { 0.0 });
                 let step: [f64; D] = std::array::from_fn(|c| self.jerk[c] * STEP_S / chords::BENDING_SHARE);
                 let cap = chords::bending_speed(&xss, &self.accel).min(chords::bending_speed(&xss, &step));
                 let mid = arc(0.5);
@@ -176,11 +173,14 @@ impl<T: Clone, const D: usize> Blender<T, D> {
                 let mut second = Vec::new();
                 chords::split(&arc, 0.0, &enter, 0.5, &mid, &self.mm(), MAX_CHORDS, &mut first).map_err(|_| TooMany)?;
                 let exit = arc(1.0);
-                chords::split(&arc, 0.5, &mid, 1.0, &exit, &self.mm(), MAX_CHORDS, &mut second)
-                    .map_err(|_| TooMany)?;
+                chords::split(&arc, 0.5, &mid, 1.0, &exit, &self.mm(), MAX_CHORDS, &mut second).map_err(|_| TooMany)?;
                 out.push(Piece { chords: vec![enter], tag: held.tag.clone(), speed_cap: f64::INFINITY });
                 out.push(Piece { chords: first.into_iter().map(|(_, p)| p).collect(), tag: held.tag, speed_cap: cap });
-                out.push(Piece { chords: second.into_iter().map(|(_, p)| p).collect(), tag: tag.clone(), speed_cap: cap });
+                out.push(Piece {
+                    chords: second.into_iter().map(|(_, p)| p).collect(),
+                    tag: tag.clone(),
+                    speed_cap: cap,
+                });
                 self.from = exit;
             }
         }

@@ -119,7 +119,8 @@ impl State {
         let tag = (self.line, self.n, self.f);
         let start = self.pos;
         let m = &self.cfg.machine;
-        let linear: [bool; MAX_AXES] = std::array::from_fn(|i| m.axes.get(i).is_some_and(|a| a.kind == AxisKind::Linear));
+        let linear: [bool; MAX_AXES] =
+            std::array::from_fn(|i| m.axes.get(i).is_some_and(|a| a.kind == AxisKind::Linear));
         let accel = std::array::from_fn(|i| m.axes.get(i).map_or(f64::INFINITY, crate::machine::Axis::max_accel));
         let jerk = std::array::from_fn(|i| m.axes.get(i).map_or(f64::INFINITY, crate::machine::Axis::max_jerk));
         let b = self.blend.as_deref_mut().expect("G187 in force");
@@ -163,8 +164,8 @@ impl State {
             return Ok(());
         }
         let after = |group: usize| self.after_block(w, group);
-        let tilted = code::TILTED_PLANES.contains(&after(group::ROTATION))
-            || code::ALIGNMENTS.iter().any(|&c| w.has_g(c));
+        let tilted =
+            code::TILTED_PLANES.contains(&after(group::ROTATION)) || code::ALIGNMENTS.iter().any(|&c| w.has_g(c));
         let refused = self.follows_tip()
             || tilted
             || code::TCP.contains(&after(group::LENGTH_COMP))

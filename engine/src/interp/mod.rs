@@ -5,6 +5,7 @@
 //! is mutated, with no copying on the hot path.
 
 mod chain;
+mod corner_blend;
 mod cutting_point;
 mod cycles;
 mod dwo;
@@ -25,7 +26,6 @@ pub mod restart;
 mod singular;
 mod skip;
 mod smoothing;
-mod corner_blend;
 mod table_crc;
 mod tcp;
 pub mod unbuilt;

@@ -97,8 +97,8 @@ proptest! {
         prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
         prop_assert!(worst <= e + 1e-9, "a sample {worst} from the polyline, E {e}\n{src}");
         let last = points[points.len() - 1];
-        for i in 0..3 {
-            prop_assert!((r.workpiece[i] - last[i]).abs() < 1e-9, "{:?}\n{src}", r.workpiece);
+        for (w, l) in r.workpiece.iter().zip(last) {
+            prop_assert!((w - l).abs() < 1e-9, "{:?}\n{src}", r.workpiece);
         }
 
         // The emitted path: its vertices from the first point on.

@@ -78,17 +78,11 @@ fn refusals_and_bad_arguments() {
         r.alarms.first().map(|a| (a.code.clone(), a.line))
     };
     // Not built: text engraving, general purpose pocket milling.
-    for src in [
-        "G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)",
-        "G150 P1 Q2 R0.1 Z-1. I0.4 J0.3 K0.01 F10.",
-    ] {
+    for src in ["G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)", "G150 P1 Q2 R0.1 Z-1. I0.4 J0.3 K0.01 F10."] {
         assert_eq!(first(src), Some(("310".into(), 2)), "{src}");
     }
     // `fivex check` reports them at their G word, with the function's name.
-    for (src, name) in [
-        ("G47 P0 (FIVEX)", "text engraving"),
-        ("G150 P1 Q2 Z-1. F10.", "pocket milling"),
-    ] {
+    for (src, name) in [("G47 P0 (FIVEX)", "text engraving"), ("G150 P1 Q2 Z-1. F10.", "pocket milling")] {
         let diags =
             fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
         let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
