@@ -22,7 +22,7 @@ const MAX_DEPTH: u32 = 40;
 /// The share of an axis's acceleration a curve's bending may take at the speed it caps (the
 /// rest is left to speed changes along it), as the planner's cruise share for kinematic paths
 /// (`motion::path`).
-const BENDING_SHARE: f64 = 0.9;
+pub const BENDING_SHARE: f64 = 0.9;
 
 /// A curve's second derivative by its path length s at one point, from its first and second
 /// derivatives by any parameter t there (`linear` marks the components whose length s is):

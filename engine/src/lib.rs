@@ -5,6 +5,7 @@
 
 pub mod alarm;
 pub mod angle;
+pub mod blend;
 pub mod canon;
 pub mod check;
 pub mod chords;

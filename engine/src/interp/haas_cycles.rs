@@ -2,8 +2,8 @@
 //! G12/G13 circular pocket milling, the bolt patterns G70 (circle), G71 (arc) and G72 (line at
 //! an angle) around the canned cycle in force, G150 general purpose pocket milling (its outline
 //! read from the subprogram P, its geometry `crate::pocket`), and G103's block look-ahead limit.
-//! G47 (text engraving) and G187 (smoothness) stay refused (`unbuilt`). Sources, decisions and
-//! what is not built: `docs/dialects.md`, "Haas cycles".
+//! G47 (text engraving) stays refused (`unbuilt`); G187's corner rounding is `corner_blend`.
+//! Sources, decisions and what is not built: `docs/dialects.md`, "Haas cycles".
 
 use super::gcode::{code, group};
 use super::nc::Words;

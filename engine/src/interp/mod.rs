@@ -5,6 +5,7 @@
 //! is mutated, with no copying on the hot path.
 
 mod chain;
+mod corner_blend;
 mod cutting_point;
 mod cycles;
 mod dwo;
@@ -311,6 +312,8 @@ pub struct State {
     /// Nano smoothing (G05.1 Q3), Syntec STCP or HPCC (G05 P10000) in force, with the points it
     /// holds.
     smoothing: Option<Box<smoothing::Smoothing>>,
+    /// Haas G187 rounding corners, with the move it holds (`corner_blend`).
+    blend: Option<Box<corner_blend::CornerBlend>>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
@@ -480,6 +483,7 @@ impl Interpreter {
         st.block_limit = 0;
         st.nurbs = None;
         st.smoothing_reset();
+        st.blend_end();
         st.ended = true;
         st.cfg.stages.clear();
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
@@ -660,6 +664,7 @@ impl State {
             table_crc: None,
             nurbs: None,
             smoothing: None,
+            blend: None,
             follow_machine: None,
             plane: None,
             definition: plane::Definition::default(),
@@ -920,7 +925,9 @@ impl State {
                     return Err(AlarmId::NurbsFormat);
                 }
                 self.smoothing_flush(out)?;
+                self.blend_flush(out)?;
                 self.hpcc_end();
+                self.blend_end();
                 self.ended = true;
                 return Ok(Step::Ended);
             }
@@ -957,6 +964,11 @@ impl State {
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
         let prog = &progs[prog_idx];
+        if !matches!(block.kind, BlockKind::Words(_) | BlockKind::Empty) {
+            // Under G187 a macro statement or a branch between two moves keeps their corner
+            // exact: what is held moves first (`corner_blend`).
+            self.blend_flush(out)?;
+        }
         match &block.kind {
             BlockKind::Empty => {}
             BlockKind::Error(d) => return Err(d.id.clone()),

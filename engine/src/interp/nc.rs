@@ -101,7 +101,7 @@ impl Words {
         self.list.iter().map(|&(letter, _, _)| letter)
     }
 
-    fn has_g(&self, code: u16) -> bool {
+    pub(super) fn has_g(&self, code: u16) -> bool {
         self.g_bits & (1 << (code % 64)) != 0 && self.g[..self.ng].contains(&code)
     }
 
@@ -348,6 +348,7 @@ impl State {
             return self.nurbs_block(&w, out);
         }
         self.smoothing_block(&w, out)?;
+        self.blend_block(&w, out)?;
         if self.cfg.fast_paths && self.is_plain_motion(&w) {
             return self.plain_motion(&w, out);
         }
@@ -764,6 +765,7 @@ impl State {
                     self.ended = true;
                     self.block_limit = 0;
                     self.hpcc_end();
+                    self.blend_end();
                     // M02/M30 end cutter compensation (its stage drops the vector there).
                     if code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
                         self.modes[group::CUTTER_COMP] = code::G40;
@@ -997,6 +999,12 @@ impl State {
         if self.smoothing_point_block() {
             self.check_feed()?;
             self.smoothing_point(self.xf.forward(&programmed), out)?;
+            self.xf.programmed = programmed;
+            return Ok(());
+        }
+        if self.blend_point_block() {
+            self.check_feed()?;
+            self.blend_point(self.xf.forward(&programmed), out)?;
             self.xf.programmed = programmed;
             return Ok(());
         }
@@ -1335,6 +1343,8 @@ impl State {
             code::G12 | code::G13 => return self.circular_pocket(code == code::G12, w, out),
             code::G70 | code::G71 | code::G72 => return self.bolt_pattern(code, w, out),
             code::G103 => self.block_look_ahead(w)?,
+            // G187: corner rounding (`corner_blend`).
+            code::G187 => self.g187(w)?,
             // The one-shot codes left are performed by doing nothing here (G04.1, G09, G22
             // without limits…), or refused before this (`unbuilt`).
             _ => {}
@@ -1352,6 +1362,7 @@ impl State {
         if w.gcodes().iter().any(|&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
             return Err(AlarmId::GCodeNotBuilt);
         }
+        self.refuse_unbuilt_blend(w)?;
         self.refuse_unbuilt_cutter(w)
     }
 

@@ -33,7 +33,7 @@ impl State {
             && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some())
     }
 
-    fn rotary_word(&self, w: &Words) -> bool {
+    pub(super) fn rotary_word(&self, w: &Words) -> bool {
         w.letters().any(|l| self.axis_of(l).is_some_and(|i| self.cfg.machine.axes[i].kind == AxisKind::Rotary))
     }
 

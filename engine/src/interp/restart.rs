@@ -142,6 +142,7 @@ impl State {
             || self.follow_machine.is_some()
             || self.nurbs.is_some()
             || self.smoothing.is_some()
+            || self.blend.is_some()
             || !self.modal_calls.is_empty();
         in_mode.then_some(AlarmId::RestartInMode)
     }

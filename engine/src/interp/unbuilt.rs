@@ -131,9 +131,8 @@ const TABLE: &[NotBuilt] = &[
     row(1610, When::Always, "in-feed control (G161)"),
     // The Haas NGC's own codes that fivex does not carry out (`gcode::HAAS_TABLE`); a Haas row
     // comes before a row for every dialect of the same number (G35, G36, G37, G47, G161 are other
-    // functions on the NGC). Why G47 and G187 are not built: docs/dialects.md, "Haas cycles"
-    // (G47 needs the NGC's engraving font; G187 a corner tolerance fivex's exact path does not
-    // have).
+    // functions on the NGC). Why G47 is not built: docs/dialects.md, "Haas cycles" (it needs the
+    // NGC's engraving font).
     haas(350, "automatic tool diameter measurement (G35)"),
     haas(360, "automatic work offset measurement (G36)"),
     haas(370, "automatic tool offset measurement (G37)"),
@@ -155,7 +154,6 @@ const TABLE: &[NotBuilt] = &[
     haas(1690, "5-axis bore and dwell cycle (G169)"),
     haas(1740, "non-vertical rigid tapping (G174)"),
     haas(1840, "non-vertical rigid tapping (G184)"),
-    haas(1870, "smoothness level (G187)"),
     haas(2530, "spindle normal to the feature coordinate system (G253)"),
     haas(2660, "visible axes linear rapid motion (G266)"),
     haas(2680, "feature coordinate system (G268)"),
@@ -296,8 +294,8 @@ pub fn haas_m_code(m: u32) -> Option<&'static str> {
 }
 
 /// `letter` is an argument of the G code `code` in `dialect`, decided by the code's row rather
-/// than by [`address`]: Syntec's G05 E, Haas's G187 E (its corner tolerance: the code is
-/// refused as a whole, by its row).
+/// than by [`address`]: Syntec's G05 E (decided by its row), Haas's G187 E (its maximum corner
+/// rounding, `interp::corner_blend`).
 pub fn argument_of(code: u16, dialect: Dialect, letter: u8) -> bool {
     letter == b'E' && (code == 50 && dialect == Dialect::Syntec || code == 1870 && dialect == Dialect::Haas)
 }

@@ -4,8 +4,8 @@
 //! limit (a chain of short blocks slows down under P1), G150 general purpose pocket milling (the
 //! geometry of `fivex_engine::pocket` on random convex polygons and rounded rectangles: inside
 //! the wall less the tool radius and K, the outline pass on it, every point reached, every depth,
-//! the end at the hole), and the refusals (G47, G187, bad arguments). The manual's examples are
-//! data fixtures, `tests/data/cycles/haas_*.nc`.
+//! the end at the hole), and the refusals (G47, bad arguments). G187's corner rounding:
+//! `corner_rounding.rs`. The manual's examples are data fixtures, `tests/data/cycles/haas_*.nc`.
 
 use crate::common::*;
 use fivex_engine::canon::{CanonKind, MotionKind};
@@ -80,12 +80,12 @@ fn refusals_and_bad_arguments() {
         let r = run_with(&format!("G00 Z10.\n{src}\nM30\n"), "mill3", Haas);
         r.alarms.first().map(|a| (a.code.clone(), a.line))
     };
-    // Not built: text engraving, smoothness.
-    for src in ["G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)", "G187 P1 E0.01"] {
+    // Not built: text engraving.
+    for src in ["G47 P0 X0 Y0 I0 J0.5 R0.05 Z-0.005 F15. (FIVEX)"] {
         assert_eq!(first(src), Some(("310".into(), 2)), "{src}");
     }
-    // `fivex check` reports them at their G word, with the function's name.
-    for (src, name) in [("G47 P0 (FIVEX)", "text engraving"), ("G187 P1 E0.01", "smoothness")] {
+    // `fivex check` reports it at its G word, with the function's name.
+    for (src, name) in [("G47 P0 (FIVEX)", "text engraving")] {
         let diags =
             fivex_engine::check::check(fivex_engine::lang::parse_file(&format!("G00 Z10.\n{src}\nM30\n")), Haas);
         let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();

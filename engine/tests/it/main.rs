@@ -8,6 +8,7 @@ mod ai_contour;
 mod alarms;
 mod chains;
 mod controller;
+mod corner_rounding;
 mod crc16i;
 mod cutter;
 mod cutting_point;

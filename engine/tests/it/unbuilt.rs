@@ -215,7 +215,6 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G169 X1. Z-1. R1. P100 F100.", &[Haas]),
     ("G174 X1. Z-1. F100.", &[Haas]),
     ("G184 X1. Z-1. F100.", &[Haas]),
-    ("G187 P1", &[Haas]),
     ("G253", &[Haas]),
     ("G266 X1.", &[Haas]),
     ("G268 X0 Y0 Z0 I0 J30. K0", &[Haas]),
@@ -226,6 +225,7 @@ const REFUSED: &[(&str, &[Dialect])] = &[
 const PERFORMED_IN_HAAS: &[(&str, &str, &str)] = &[
     ("G100", "G100", "the cancelled state of G101 (refused)"),
     ("G154", "G154 P5\nG54", "data fixture frames/haas_g154_work_offsets (the G54.1 P offsets)"),
+    ("G187", "G187 P3 E0.01\nG01 X1. F100.\nY1.", "corner_rounding.rs (G187 rounds corners within E)"),
     ("G110", "G110\nG54", "data fixture frames/haas_g154_work_offsets (G154 P1)"),
     ("G111", "G111\nG54", "G154 P2"),
     ("G112", "G112\nG54", "G154 P3"),

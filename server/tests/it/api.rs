@@ -1240,7 +1240,7 @@ async fn a_haas_controller_runs_its_dialect() {
     assert_eq!(groups["1"], "G01", "{modal}");
 
     // A Haas code fivex does not build is reported with the Haas alarm when stored...
-    let reply = store(&app, &id, 3, "G00 X1.\nG187 P1\nM30\n").await;
+    let reply = store(&app, &id, 3, "G00 X1.\nG47 P0\nM30\n").await;
     assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", reply.text());
     let body = reply.json();
     assert_eq!(
@@ -1249,7 +1249,7 @@ async fn a_haas_controller_runs_its_dialect() {
         "{body}"
     );
     // ... and stops a forced run at its block with it.
-    app.raw(Method::PUT, &format!("{C}/{id}/programs/3?force=true"), "text/plain", "G00 X1.\nG187 P1\nM30\n").await;
+    app.raw(Method::PUT, &format!("{C}/{id}/programs/3?force=true"), "text/plain", "G00 X1.\nG47 P0\nM30\n").await;
     app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 3})).await;
     let status = wait_for(&app, &id, "alarm").await;
     assert_eq!(
