@@ -29,12 +29,12 @@ fn dwell_p_with_a_point_is_seconds_in_haas() {
 /// a FANUC code the NGC does not have as no code of the dialect.
 #[test]
 fn check_reports_haas_codes() {
-    let src = "G00 X1.\nG150 P1\nG54.1 P2\nG154 P3\nG110\nM30\n";
+    let src = "G00 X1.\nG47 P0 (FIVEX)\nG54.1 P2\nG154 P3\nG110\nM30\n";
     let diags = check(parse_file(src), Haas);
     let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect();
     assert_eq!(found, vec![(2, 1, "310".to_string()), (3, 1, "310".to_string())], "{diags:?}");
-    assert!(diags[0].detail.contains("general purpose pocket milling (G150)"), "{}", diags[0].detail);
-    // FANUC has neither G150 nor G154 nor G110.
+    assert!(diags[0].detail.contains("text engraving (G47)"), "{}", diags[0].detail);
+    // FANUC's G47 is another function fivex does not build; it has neither G154 nor G110.
     let fanuc: Vec<_> = check(parse_file(src), Fanuc).iter().map(|d| d.line).collect();
     assert_eq!(fanuc, vec![2, 4, 5]);
 }
