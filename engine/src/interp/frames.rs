@@ -269,7 +269,17 @@ impl State {
                     }
                     owns_axes = true;
                 }
-                code::G50_1 => {
+                // Haas G101: the named axes mirrored about work zero, whatever their values
+                // (96-8000, G101: "around your work coordinate zero point").
+                code::G101 => {
+                    for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+                        if w.has(axis.name as u8) {
+                            self.xf.mirror[i] = Some(0.0);
+                        }
+                    }
+                    owns_axes = true;
+                }
+                code::G50_1 | code::G100 => {
                     // The named axes; without axis words, all of them.
                     let axes = &self.cfg.machine.axes;
                     let all = !axes.iter().any(|a| w.has(a.name as u8));

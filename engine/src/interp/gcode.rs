@@ -274,6 +274,8 @@ pub mod code {
         G98 = 980 in RETURN_LEVEL;
         G99 = 990 in RETURN_LEVEL;
         /// Haas: block look-ahead limit (P0–P15).
+        G100 = 1000 in MIRROR;
+        G101 = 1010 in MIRROR;
         G103 = 1030 in ONE_SHOT;
         /// Haas: general purpose pocket milling.
         G150 = 1500 in ONE_SHOT;
@@ -551,8 +553,8 @@ pub const HAAS_TABLE: &[GDef] = &[
     hx(710, 0),  // G71 bolt hole arc
     hx(720, 0),  // G72 bolt holes along an angle
     h(770, 9),   // G77 back bore canned cycle
-    h(1000, 0),  // G100 mirror image cancel
-    hx(1010, 0), // G101 mirror image
+    h(1000, 22), // G100 mirror image cancel (of the axes named, or all)
+    h(1010, 22), // G101 mirror image
     h(1030, 0),  // G103 limit block buffering
     h(1070, 0),  // G107 cylindrical mapping
     h(1100, 14), // G110 … G129: G154 P1 … P20
@@ -637,6 +639,9 @@ pub fn written(code: u16, dialect: Dialect) -> Option<&'static GDef> {
 pub fn shown(code: u16, dialect: Dialect) -> Option<String> {
     match (dialect, code) {
         (Dialect::Haas, code::G54_1) => Some("G154".into()),
+        // fivex holds the Haas mirror image as FANUC's programmable mirror image (`frames`).
+        (Dialect::Haas, code::G51_1) => Some("G101".into()),
+        (Dialect::Haas, code::G50_1) => Some("G100".into()),
         _ => written(code, dialect).map(|_| display(code)),
     }
 }
@@ -736,6 +741,7 @@ mod tests {
         assert_eq!(shown(code::G54_1, Dialect::Fanuc).as_deref(), Some("G54.1"));
         assert_eq!(shown(code::G01, Dialect::Haas).as_deref(), Some("G01"));
         assert_eq!(shown(code::G234, Dialect::Haas).as_deref(), Some("G234"));
+        assert_eq!(shown(code::G50_1, Dialect::Haas).as_deref(), Some("G100"));
         // FANUC's power-on G15 and G67 are no codes of the NGC.
         let initial = initial_modes();
         for g in [group::POLAR, group::MODAL_CALL] {

@@ -837,7 +837,7 @@ impl Ctx<'_> {
     /// G51/G51.1/G68 transform), not the group-01 motion: such a block is no arc.
     fn axes_are_data(&self) -> bool {
         self.g.iter().any(|&g| {
-            matches!(g, G51 | G51_1 | G68)
+            matches!(g, G51 | G51_1 | G68 | G101 | G100)
                 || gcode::lookup(g, self.st.cfg.dialect)
                     .is_some_and(|d| d.owns_axes(self.st.cfg.dialect) && d.group == group::ONE_SHOT)
         })

@@ -138,7 +138,6 @@ const TABLE: &[NotBuilt] = &[
     haas(370, "automatic tool offset measurement (G37)"),
     haas(470, "text engraving (G47)"),
     haas(770, "back bore canned cycle (G77)"),
-    haas(1010, "mirror image (G101)"),
     haas(1070, "cylindrical mapping (G107)"),
     haas(1360, "automatic work offset center measurement (G136)"),
     haas(1410, "3D+ cutter compensation (G141)"),

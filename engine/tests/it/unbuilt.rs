@@ -200,7 +200,6 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G161 R1.", &[Fanuc, Syntec, Haas]),
     // The Haas NGC's own codes fivex does not carry out (its G35/G36/G37/G47/G161 are above).
     ("G77 X1. Z-1. R1. I0.1 F100.", &[Haas]),
-    ("G101 X0", &[Haas]),
     ("G107 Y0 R10.", &[Haas]),
     ("G136 P1", &[Haas]),
     ("G141 D1 X1. F100.", &[Haas]),
@@ -223,7 +222,8 @@ const REFUSED: &[(&str, &[Dialect])] = &[
 
 /// Performed in the Haas dialect only: the NGC's own codes fivex carries out.
 const PERFORMED_IN_HAAS: &[(&str, &str, &str)] = &[
-    ("G100", "G100", "the cancelled state of G101 (refused)"),
+    ("G100", "G101 X0\nG100", "data fixture frames/haas_g101_mirrors_about_work_zero (mirror image off)"),
+    ("G101", "G101 X0\nG100", "data fixture frames/haas_g101_mirrors_about_work_zero (mirror image about work zero)"),
     ("G154", "G154 P5\nG54", "data fixture frames/haas_g154_work_offsets (the G54.1 P offsets)"),
     ("G187", "G187 P3 E0.01\nG01 X1. F100.\nY1.", "corner_rounding.rs (G187 rounds corners within E)"),
     ("G110", "G110\nG54", "data fixture frames/haas_g154_work_offsets (G154 P1)"),
