@@ -4,7 +4,8 @@
 //! (`run::run`) are fed (a) arbitrary strings and bytes, (b) strings built from an NC-ish alphabet
 //! and from a small random grammar of blocks, and (c) random mutations of a valid macro program.
 //! And (d) random block sequences of the 5-axis compensations (G41.2…G42.6, G41.3, with TCP)
-//! on every mechanism type. Every run has a small block budget, so loops end. Case counts keep
+//! on every mechanism type. Every run has a small block budget, so loops end, and a box on the
+//! table, so that skip moves touch something. Case counts keep
 //! the file to a few seconds in a debug build; `PROPTEST_CASES=N` raises them all for a longer
 //! local run.
 //!
@@ -26,6 +27,11 @@ const MAX_BLOCKS: u64 = 10_000;
 fn interpreter(text: &str, preset: &str, dialect: Dialect) -> Interpreter {
     let mut cfg = Config::new(MachineConfig::preset(preset).expect("preset"), dialect);
     cfg.max_blocks = MAX_BLOCKS;
+    // Something on the table, so that skip moves find contacts (`interp::skip`).
+    cfg.workpiece = fivex_engine::workpiece::Workpiece {
+        boxes: vec![fivex_engine::workpiece::Cuboid { min: [-50.0, -50.0, -40.0], max: [50.0, 50.0, 0.0] }],
+    }
+    .into();
     let mut interp = Interpreter::new(parse_file(text), cfg);
     for n in 1..=99 {
         let t = interp.state.offsets.tool_mut(n).expect("offset");
@@ -151,9 +157,12 @@ fn block() -> impl Strategy<Value = String> {
         "G20", "G21", "G28", "G29", "G30", "G43", "G44", "G49", "G52", "G53", "G54", "G55", "G59", "G54.1", "G65",
         "G66", "G66.1", "G67", "G73", "G76", "G80", "G81", "G82", "G83", "G84", "G85", "G86", "G87", "G89", "G90",
         "G91", "G92", "G92.1", "G93", "G94", "G95", "G98", "G99", "G41", "G42", "G40", "G68", "G69", "G43.4", "G53.1",
-        "G53.3",
+        "G53.3", "G31", "G12", "G13", "G70", "G71", "G72", "G100", "G101", "G103", "G150", "G187", "G234", "G254",
+        "G255",
     ]);
-    let m = prop::sample::select(vec!["", "M03", "M05", "M06", "M08", "M98", "M99", "M00", "M01", "M30", "M02", "M19"]);
+    let m = prop::sample::select(vec![
+        "", "M03", "M05", "M06", "M08", "M98", "M99", "M00", "M01", "M30", "M02", "M19", "M78", "M79", "M97",
+    ]);
     prop_oneof![
         4 => (prop::collection::vec(g, 0..3), prop::collection::vec(word(), 0..5), m)
             .prop_map(|(g, w, m)| format!("{} {} {m}", g.join(" "), w.join(" "))),
