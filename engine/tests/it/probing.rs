@@ -177,3 +177,37 @@ fn a_locked_axis_does_not_carry_the_probe() {
     locked.set_machine_lock(false).unwrap();
     assert_eq!(run(&mut locked, "G91 G31 Z-40. F3000.\n#100=#5063\nM30\n"), Some(-60.0));
 }
+
+/// Under Haas DWO (G254) on a UMC, the table turned B20 C30, a skip move straight down the
+/// part's Z touches the top of the part where the tilted ball does: the tip stops at the top plus
+/// r·(1 − cos tilt), the ball's centre at r from the part. (Under TCPC, G234, G31 is refused by
+/// the interlock of the modes, as FANUC's G43.4 list leaves it out.)
+#[test]
+fn under_dwo_the_tilted_ball_touches_the_top() {
+    let (m, dialect) = machine("haas-umc-750");
+    let g54 = m.rotary[0].point;
+    let top = 10.0;
+    let part = Cuboid {
+        min: [g54[0] - 30.0, g54[1] - 30.0, g54[2] - 20.0],
+        max: [g54[0] + 30.0, g54[1] + 30.0, g54[2] + top],
+    };
+    let src = format!(
+        "G10 L2 P1 X{:.4} Y{:.4} Z{:.4}\nG90 G54 G17 G00 B0 C0\nG43 H1 D1 Z150.\nB20. C30.\nG254\nX0 Y0 Z80.\nG31 Z-20. F300.\nG04 P100\n#100=#5063\nG255\nM30\n",
+        g54[0], g54[1], g54[2]
+    );
+    let (r, samples) = run_on(&m, dialect, &src, &Workpiece { boxes: vec![part] });
+    let last = samples.last().unwrap();
+    let tilt_cos = last.tool[2];
+    assert!(tilt_cos < 0.99, "the tool is tilted: {:?}", last.tool);
+    let z = r.variables.iter().find(|(n, _)| *n == 100).unwrap().1;
+    let want = top + BALL * (1.0 - tilt_cos);
+    assert!((z - want).abs() < 1e-6, "#5063 = {z}, the tilted ball touches with the tip at {want}");
+    assert!((distance(&part, centre(last)) - BALL).abs() < 1e-6);
+    let refused = format!(
+        "G10 L2 P1 X{:.4} Y{:.4} Z{:.4}\nG90 G54 G00 B0 C0\nG234 H1 D1\nX0 Y0 Z80.\nG31 Z-20. F300.\nM30\n",
+        g54[0], g54[1], g54[2]
+    );
+    let mut interp = interpreter_with(&refused, "mill3", dialect, |c| c.machine = m.clone().into());
+    let r = run(&mut interp, &RunOptions::default(), |_| {});
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("731", 5));
+}
