@@ -154,6 +154,7 @@ struct Asked {
     controllers: Vec<String>,
     dialect: Option<String>,
     tools: Option<BTreeMap<u32, Tool>>,
+    workpiece: Option<fivex_engine::workpiece::Workpiece>,
     #[serde(default)]
     report: bool,
 }
@@ -175,7 +176,12 @@ fn rebuild(row: &FleetRunRow) -> Result<(Vec<Entry>, Vec<Source>, Options), Stri
     if entries.len() != row.machines as usize {
         return Err(format!("its request names {} machines, the run {}", entries.len(), row.machines));
     }
-    Ok((entries, sources, Options { tools: asked.tools, report: asked.report, ..Options::default() }))
+    // Checked when it was posted; checked again, as the tools are by the nodes.
+    if let Some(w) = &asked.workpiece {
+        w.check().map_err(|e| format!("its workpiece: {e}"))?;
+    }
+    let workpiece = asked.workpiece.map(std::sync::Arc::new);
+    Ok((entries, sources, Options { tools: asked.tools, report: asked.report, workpiece, ..Options::default() }))
 }
 
 #[cfg(test)]
