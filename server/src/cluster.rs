@@ -773,3 +773,27 @@ async fn take(node: &Node, nats: &Nats, message: jetstream::Message) {
         tracing::warn!(%run, index, %machine, "fleet job's result not published: left for redelivery");
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A job carries the run's workpiece to the node, and a run without one writes no
+    /// `workpiece` (its jobs read as before it existed).
+    #[test]
+    fn a_job_carries_the_workpiece_only_when_the_run_has_one() {
+        let entries = vec![fleet::preset("mill3", Dialect::Fanuc).unwrap()];
+        let sources = vec![Source::Preset("mill3".into())];
+        let bare = Job::all("r", "M30\n", &entries, sources.clone(), &Options::default());
+        let text = serde_json::to_value(&bare[0]).unwrap();
+        assert!(text.get("workpiece").is_none(), "{text}");
+        assert_eq!(serde_json::from_value::<Job>(text).unwrap(), bare[0]);
+
+        let block: Workpiece =
+            serde_json::from_str(r#"{"boxes": [{"min": [12, 8, -20], "max": [62, 48, -3]}]}"#).unwrap();
+        let opts = Options { workpiece: Some(Arc::new(block.clone())), ..Options::default() };
+        let jobs = Job::all("r", "M30\n", &entries, sources, &opts);
+        let read: Job = serde_json::from_slice(&serde_json::to_vec(&jobs[0]).unwrap()).unwrap();
+        assert_eq!(read.workpiece, Some(block));
+    }
+}

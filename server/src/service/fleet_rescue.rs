@@ -216,6 +216,17 @@ mod tests {
         assert_eq!(sources[3], Source::Library("trunnion-ac-120".into()));
         assert!(opts.report);
         assert_eq!(opts.tools.unwrap()[&3].length, 50.0);
+        assert!(opts.workpiece.is_none(), "none asked for: nothing on the tables");
+        // The run's workpiece comes back with it, checked again.
+        let block = serde_json::json!({"boxes": [{"min": [12.0, 8.0, -20.0], "max": [62.0, 48.0, -3.0]}]});
+        let (_, _, opts) =
+            rebuild(&row(serde_json::json!({"program": "M30\n", "presets": ["mill3"], "workpiece": block}), 1))
+                .unwrap();
+        assert_eq!(serde_json::to_value(&*opts.workpiece.unwrap()).unwrap(), block);
+        let flat = serde_json::json!({"boxes": [{"min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0]}]});
+        let refused =
+            rebuild(&row(serde_json::json!({"program": "M30\n", "presets": ["mill3"], "workpiece": flat}), 1));
+        assert!(refused.unwrap_err().contains("its workpiece: box 0"));
         // The whole library, in name order.
         let (entries, _, _) = rebuild(&row(
             serde_json::json!({"program": "M30\n", "library": ["*"]}),
