@@ -29,6 +29,7 @@ use async_nats::jetstream::consumer::{pull, push, AckPolicy, DeliverPolicy};
 use async_nats::jetstream::stream::LastRawMessageErrorKind;
 use async_nats::jetstream::{self, kv, stream, AckKind};
 use bytes::Bytes;
+use fivex_engine::workpiece::Workpiece;
 use fivex_engine::Dialect;
 use futures_util::StreamExt;
 use serde::{Deserialize, Serialize};
@@ -122,6 +123,10 @@ pub struct Job {
     /// Of presets, models and library models (a parameter list runs in its own).
     pub dialect: Dialect,
     pub tools: Option<BTreeMap<u32, Tool>>,
+    /// What is clamped on the machine's table (the run's `workpiece`); absent: nothing, and
+    /// then not written, so a job without one reads as before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub workpiece: Option<Workpiece>,
     pub report: bool,
     pub report_period_s: f64,
     pub max_blocks: u64,
@@ -143,6 +148,7 @@ impl Job {
                 machine,
                 dialect: entry.dialect,
                 tools: opts.tools.clone(),
+                workpiece: opts.workpiece.as_deref().cloned(),
                 report: opts.report,
                 report_period_s: opts.report_period_s,
                 max_blocks: opts.max_blocks,
@@ -698,7 +704,11 @@ async fn take(node: &Node, nats: &Nats, message: jetstream::Message) {
         let _ = message.ack().await;
         return;
     }
-    let checked = job.tools.as_ref().map_or(Ok(()), fleet::check_tools);
+    let checked = job
+        .tools
+        .as_ref()
+        .map_or(Ok(()), fleet::check_tools)
+        .and_then(|()| job.workpiece.as_ref().map_or(Ok(()), |w| w.check().map_err(|e| format!("workpiece: {e}"))));
     let entry = match checked.and_then(|()| job.machine.entry(job.dialect)) {
         Ok(entry) => entry,
         Err(e) => {
@@ -717,6 +727,7 @@ async fn take(node: &Node, nats: &Nats, message: jetstream::Message) {
         jobs: 1,
         max_blocks: job.max_blocks,
         max_time_s: job.max_time_s,
+        workpiece: job.workpiece.map(Arc::new),
         cancel: Some(cancel.clone()),
     };
     let program = job.program;
@@ -760,5 +771,29 @@ async fn take(node: &Node, nats: &Nats, message: jetstream::Message) {
         tracing::info!(%run, index, %machine, "fleet job done");
     } else {
         tracing::warn!(%run, index, %machine, "fleet job's result not published: left for redelivery");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A job carries the run's workpiece to the node, and a run without one writes no
+    /// `workpiece` (its jobs read as before it existed).
+    #[test]
+    fn a_job_carries_the_workpiece_only_when_the_run_has_one() {
+        let entries = vec![fleet::preset("mill3", Dialect::Fanuc).unwrap()];
+        let sources = vec![Source::Preset("mill3".into())];
+        let bare = Job::all("r", "M30\n", &entries, sources.clone(), &Options::default());
+        let text = serde_json::to_value(&bare[0]).unwrap();
+        assert!(text.get("workpiece").is_none(), "{text}");
+        assert_eq!(serde_json::from_value::<Job>(text).unwrap(), bare[0]);
+
+        let block: Workpiece =
+            serde_json::from_str(r#"{"boxes": [{"min": [12, 8, -20], "max": [62, 48, -3]}]}"#).unwrap();
+        let opts = Options { workpiece: Some(Arc::new(block.clone())), ..Options::default() };
+        let jobs = Job::all("r", "M30\n", &entries, sources, &opts);
+        let read: Job = serde_json::from_slice(&serde_json::to_vec(&jobs[0]).unwrap()).unwrap();
+        assert_eq!(read.workpiece, Some(block));
     }
 }

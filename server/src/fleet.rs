@@ -13,6 +13,7 @@ use fivex_engine::lang::parse_file;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::motion::Segment;
 use fivex_engine::run::{run_observed, NoObserver, Observer, RunOptions, Sample};
+use fivex_engine::workpiece::Workpiece;
 use fivex_engine::Dialect;
 
 use crate::wire::{FleetResult, RunStatus, RunSummary};
@@ -31,6 +32,9 @@ pub struct Entry {
     /// The tool and work offsets to start with (an existing controller's); `None`: the run's
     /// tool table.
     pub offsets: Option<Box<Offsets>>,
+    /// What is on its table to start with (an existing controller's); `None`: the run's
+    /// workpiece, or nothing.
+    pub workpiece: Option<Arc<Workpiece>>,
 }
 
 /// One tool offset of a `--tools` table: length and radius geometry, and the corner radius.
@@ -57,6 +61,9 @@ pub struct Options {
     pub jobs: usize,
     pub max_blocks: u64,
     pub max_time_s: f64,
+    /// What is clamped on every machine's table, the boxes a G31 probe touches (checked with
+    /// `Workpiece::check` before the run); `None`: nothing, or an existing controller's own.
+    pub workpiece: Option<Arc<Workpiece>>,
     /// Set by someone else to cancel the run: no machine starts after it, and the machines
     /// running stop before their next block (or sample). `None`: the run cannot be cancelled.
     pub cancel: Option<Arc<AtomicBool>>,
@@ -100,6 +107,7 @@ impl Default for Options {
             jobs: default_jobs(),
             max_blocks: 50_000_000,
             max_time_s: 1.0e6,
+            workpiece: None,
             cancel: None,
         }
     }
@@ -134,7 +142,7 @@ pub enum Event {
 pub fn preset(name: &str, dialect: Dialect) -> Result<Entry, String> {
     let machine = MachineConfig::preset(name)
         .ok_or_else(|| format!("unknown preset '{name}' (presets: {})", MachineConfig::PRESETS.join(", ")))?;
-    Ok(Entry { name: name.to_string(), machine, dialect, offsets: None })
+    Ok(Entry { name: name.to_string(), machine, dialect, offsets: None, workpiece: None })
 }
 
 /// A machine file (model or parameter list; a parameter list runs in its own dialect, a model
@@ -142,7 +150,7 @@ pub fn preset(name: &str, dialect: Dialect) -> Result<Entry, String> {
 pub fn machine_file(text: &str, dialect: Dialect) -> Result<Entry, String> {
     let machine = fivex_engine::machine_file::parse(text)?;
     let dialect = fivex_engine::machine_file::dialect_of(text).unwrap_or(dialect);
-    Ok(Entry { name: machine.name.clone(), machine, dialect, offsets: None })
+    Ok(Entry { name: machine.name.clone(), machine, dialect, offsets: None, workpiece: None })
 }
 
 /// A machine of the library (`machines/NAME.json`).
@@ -197,6 +205,10 @@ pub fn check_tools(tools: &BTreeMap<u32, Tool>) -> Result<(), String> {
 pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> FleetResult {
     let mut cfg = Config::new(entry.machine.clone(), entry.dialect);
     cfg.max_blocks = opts.max_blocks;
+    // The run's workpiece wins over a controller's own, as its tool table does.
+    if let Some(w) = opts.workpiece.as_ref().or(entry.workpiece.as_ref()) {
+        cfg.workpiece = w.clone();
+    }
     let mut interp = Interpreter::new(parse_file(text), cfg);
     match &entry.offsets {
         Some(offsets) if opts.tools.is_none() => interp.state.offsets = (**offsets).clone(),

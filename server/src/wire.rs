@@ -171,7 +171,7 @@ impl PartialSchema for ControllerMessage {
         use crate::host::stream::{Message, PositionFrame};
         messages(
             &[Snapshot::name(), PositionFrame::name(), Message::name()],
-            "A message of a controller's stream: `snapshot`, `position`, `state`, `alarm`, `variables` or `message`",
+            "A message of a controller's stream: `snapshot`, `position`, `state`, `alarm`, `variables`, `message` or `workpiece`",
         )
     }
 }

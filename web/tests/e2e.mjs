@@ -824,7 +824,7 @@ test("responsiveness: 200 controllers in the fleet view and a 100,000-point trac
   console.log(`  fleet of 200: rows shown in ${fleetMs} ms, longest frame gap ${fleetGap.toFixed(0)} ms; 100,000 trace points added in ${traceMs.toFixed(0)} ms, a render with them ${renderMs.toFixed(1)} ms, longest frame gap after ${traceGap.toFixed(0)} ms`);
 });
 
-test("the workpiece put through the API is drawn on the table, rides with it, is listed and cleared from its tab", async () => {
+test("the workpiece put through the API is drawn on the table, rides with it, is listed, follows another client's change and is cleared from its tab", async () => {
   const made = await http("POST", "/api/v1/controllers", { name: "workpiece", preset: "table-ac" });
   assert.equal(made.status, 201, JSON.stringify(made.body));
   const cid = made.body.id;
@@ -866,6 +866,24 @@ test("the workpiece put through the API is drawn on the table, rides with it, is
   await page.waitForTimeout(300);
   await page.locator(".view3d").screenshot({ path: join(shots, "workpiece.png") });
   assert.ok((await colours(".view3d")) > 20, "a drawn scene");
+  // Another client puts one box in their place: this page redraws and relists it from the
+  // controller's stream, without a reload (the mark set on this document survives).
+  await page.evaluate(() => (window.__noReload = true));
+  const other = { boxes: [{ min: [-30, -30, 0], max: [30, 30, 80] }] };
+  const again = await http("PUT", `/api/v1/controllers/${cid}/workpiece`, other);
+  assert.equal(again.status, 200, JSON.stringify(again.body));
+  const redrawn = await poll("the other client's box drawn", () =>
+    page.evaluate(() => {
+      const s = window.__fivexView?.view.machineScene;
+      return s && s.workpiece.boxes.length === 1 ? { min: s.workpiece.boxes[0].min.toArray(), max: s.workpiece.boxes[0].max.toArray(), count: s.workpiece.object.children.length } : null;
+    }),
+  );
+  assert.deepEqual(redrawn, { min: [-30, -30, 0], max: [30, 30, 80], count: 1 });
+  await poll("the tab relists it", async () => ((await page.locator("[data-testid=workpiece-boxes] tbody tr").count()) === 1 ? true : null));
+  const cells = await page.locator("[data-testid=workpiece-boxes] tbody tr td").allTextContents();
+  assert.deepEqual(cells.map(Number), [-30, -30, 0, 30, 30, 80]);
+  assert.deepEqual(JSON.parse(await page.locator("textarea[aria-label='workpiece JSON']").inputValue()), other, "the editor too");
+  assert.equal(await page.evaluate(() => window.__noReload), true, "no reload");
   // Cleared from the tab: nothing on the table, nothing drawn.
   await page.click(".workpiece button:has-text('Clear the table')");
   await poll("the table cleared", async () => ((await drawn())?.count === 0 ? true : null));

@@ -56,6 +56,10 @@ pub struct FleetRequest {
     /// Tool offsets by number (the schema and its description: [`tool_table_schema`]).
     #[schema(schema_with = tool_table_schema)]
     pub tools: Option<BTreeMap<u32, Tool>>,
+    /// What is clamped on every machine's table, the boxes a G31 probe touches (as
+    /// `PUT /controllers/{id}/workpiece` takes it); absent: nothing (a controller keeps its own
+    /// unless this is given).
+    pub workpiece: Option<fivex_engine::workpiece::Workpiece>,
     /// Add each machine's run report (`"report"`).
     #[serde(default)]
     pub report: bool,
@@ -166,6 +170,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<(Vec<
             machine: station.machine.config().clone(),
             dialect: hosted.dialect,
             offsets: Some(Box::new(station.controller.interpreter().state.offsets.clone())),
+            workpiece: Some(station.controller.workpiece().clone()),
         });
     }
     Ok((out, sources))
@@ -186,7 +191,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<(Vec<
         (status = 202, description = "`wait=false`: started; follow it on the stream", body = FleetRunInfo),
         (status = 400, description = "Not JSON", body = ErrorBody),
         (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
-        (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes)", body = ErrorBody),
+        (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect, tool table or workpiece, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes)", body = ErrorBody),
         (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`), or, on a node with `--nats`, the run gave up (`interrupted`: no node heard from for `--nats-timeout-s`, NATS failing)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
@@ -206,10 +211,11 @@ pub async fn create(
         None => Dialect::Fanuc,
     };
     let (entries, sources) = entries(&state, &request, dialect)?;
+    let workpiece = request.workpiece.clone().map(std::sync::Arc::new);
     let plan = Plan {
         sources,
         request_json: serde_json::to_string(&request).unwrap_or_else(|_| "{}".into()),
-        options: Options { tools: request.tools, report: request.report, ..Options::default() },
+        options: Options { tools: request.tools, report: request.report, workpiece, ..Options::default() },
         program: request.program,
         entries,
     };

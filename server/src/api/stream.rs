@@ -1,5 +1,6 @@
 //! `GET /controllers/{id}/stream`: a websocket with the controller's live state. The first
-//! message is a snapshot (`{"type": "snapshot", "controller": status, "variables": {…}}`), the
+//! message is a snapshot (`{"type": "snapshot", "controller": status, "variables": {…},
+//! "workpiece": {…}}`), the
 //! next the position now; then position frames at most at the requested rate and only when
 //! something in them changed (the newest wins, so a slow client sees fewer frames, never old
 //! ones; each is encoded once and the same bytes go to every subscriber) and every event
@@ -72,6 +73,9 @@ pub struct Snapshot {
     /// Non-vacant common variables, `{"#500": 1.5}`.
     #[schema(value_type = std::collections::HashMap<String, f64>)]
     pub variables: Map<String, Value>,
+    /// What is clamped on the table now (`GET …/workpiece`); a `workpiece` message tells a
+    /// change.
+    pub workpiece: fivex_engine::workpiece::Workpiece,
 }
 
 impl Snapshot {
@@ -85,7 +89,8 @@ impl Snapshot {
             .into_iter()
             .filter_map(|(n, v)| Some((format!("#{n}"), Value::Number(serde_json::Number::from_f64(v)?))))
             .collect();
-        Snapshot { kind: "snapshot", controller: ControllerStatus::of(hosted, &station), variables }
+        let workpiece = (**station.controller.workpiece()).clone();
+        Snapshot { kind: "snapshot", controller: ControllerStatus::of(hosted, &station), variables, workpiece }
     }
 }
 
@@ -96,7 +101,7 @@ impl Snapshot {
     tag = "stream",
     params(("id" = String, Path, description = "Controller id"), StreamOptions),
     responses(
-        (status = 101, description = "Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects; closed with 4404 \"controller deleted\" when the controller is deleted, 1001 when the service stops", body = Snapshot),
+        (status = 101, description = "Websocket: a snapshot, then `position`, `state`, `alarm`, `variables`, `message` and `workpiece` objects; closed with 4404 \"controller deleted\" when the controller is deleted, 1001 when the service stops", body = Snapshot),
         (status = 400, description = "Not a websocket upgrade request", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Bad rate", body = ErrorBody),

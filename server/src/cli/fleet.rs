@@ -2,7 +2,7 @@
 //! at once; stdout is the JSON array of `fivex run` summaries, each with `"machine"` (and
 //! `"dialect"`, and with `--report` the run report); progress goes to stderr.
 
-use super::{read_program, Fail};
+use super::{read_program, read_workpiece, Fail};
 use crate::cluster::{self, Job, Outcome, Source};
 use crate::fleet::{self, Entry, Event, Options, Tool};
 use clap::Args;
@@ -33,6 +33,11 @@ pub struct FleetArgs {
     /// "corner_radius" (mm, 0 or more; default 0).
     #[arg(long)]
     tools: Option<PathBuf>,
+    /// What is clamped on every machine's table, the boxes a G31 probe touches: {"boxes":
+    /// [{"min": [x, y, z], "max": [x, y, z]}, …]} in the table frame, mm, as `fivex run
+    /// --workpiece` (`docs/conventions.md`). Default: none.
+    #[arg(long)]
+    workpiece: Option<PathBuf>,
     /// Machines simulated at once (default: one per core).
     #[arg(long, conflicts_with = "nats")]
     jobs: Option<usize>,
@@ -108,6 +113,7 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
         }
         None => None,
     };
+    let workpiece = a.workpiece.as_deref().map(read_workpiece).transpose()?.map(std::sync::Arc::new);
     let opts = Options {
         tools,
         report: a.report,
@@ -115,6 +121,7 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
         jobs: a.jobs.unwrap_or_else(fleet::default_jobs).max(1),
         max_blocks: a.max_blocks,
         max_time_s: a.max_time_s,
+        workpiece,
         cancel: None,
     };
     let total = entries.len();

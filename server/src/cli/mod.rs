@@ -280,13 +280,19 @@ fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
     cfg.optional_stop = args.optional_stop;
     cfg.max_blocks = args.max_blocks;
     if let Some(path) = &args.workpiece {
-        let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-        let workpiece: fivex_engine::workpiece::Workpiece =
-            serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-        workpiece.check().map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-        cfg.workpiece = workpiece.into();
+        cfg.workpiece = read_workpiece(path)?.into();
     }
     Ok(cfg)
+}
+
+/// A `--workpiece` file (`fivex run`, `fivex fleet`): read, parsed and checked
+/// (`Workpiece::check`); a file that is none is a usage error naming the file and the reason.
+fn read_workpiece(path: &Path) -> Result<fivex_engine::workpiece::Workpiece, Fail> {
+    let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    let workpiece: fivex_engine::workpiece::Workpiece =
+        serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    workpiece.check().map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    Ok(workpiece)
 }
 
 /// Load the tool offsets (`--tools`, or the default 1–99: length 100, radius 5), read and

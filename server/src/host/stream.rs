@@ -14,6 +14,7 @@ use fivex_engine::interp::gcode::display;
 use fivex_engine::interp::TiltedPlane;
 use fivex_engine::machine::{Chain, Machine, MachineConfig};
 use fivex_engine::motion::Sample;
+use fivex_engine::workpiece::{Cuboid, Workpiece};
 use fivex_engine::Alarm;
 
 use super::{now_unix_ms, Station};
@@ -265,12 +266,19 @@ pub enum Message {
     },
     /// An operator message (`#3006`, `(MSG…)`).
     Message { text: String },
+    /// What is clamped on the table changed (`PUT …/workpiece`): every box on it now, in the
+    /// table frame, mm (`[]`: nothing). The snapshot's `workpiece` gives it to start with.
+    Workpiece { boxes: Vec<Cuboid> },
 }
 
 impl Message {
     pub fn state(station: &Station) -> Message {
         let c = &station.controller;
         Message::State { run_state: c.run_state(), mode: c.mode(), program: station.program }
+    }
+
+    pub fn workpiece(workpiece: &Workpiece) -> Message {
+        Message::Workpiece { boxes: workpiece.boxes.clone() }
     }
 
     pub fn variables(changes: &[(u32, Option<f64>)]) -> Message {

@@ -154,6 +154,7 @@ struct Asked {
     controllers: Vec<String>,
     dialect: Option<String>,
     tools: Option<BTreeMap<u32, Tool>>,
+    workpiece: Option<fivex_engine::workpiece::Workpiece>,
     #[serde(default)]
     report: bool,
 }
@@ -175,7 +176,12 @@ fn rebuild(row: &FleetRunRow) -> Result<(Vec<Entry>, Vec<Source>, Options), Stri
     if entries.len() != row.machines as usize {
         return Err(format!("its request names {} machines, the run {}", entries.len(), row.machines));
     }
-    Ok((entries, sources, Options { tools: asked.tools, report: asked.report, ..Options::default() }))
+    // Checked when it was posted; checked again, as the tools are by the nodes.
+    if let Some(w) = &asked.workpiece {
+        w.check().map_err(|e| format!("its workpiece: {e}"))?;
+    }
+    let workpiece = asked.workpiece.map(std::sync::Arc::new);
+    Ok((entries, sources, Options { tools: asked.tools, report: asked.report, workpiece, ..Options::default() }))
 }
 
 #[cfg(test)]
@@ -210,6 +216,17 @@ mod tests {
         assert_eq!(sources[3], Source::Library("trunnion-ac-120".into()));
         assert!(opts.report);
         assert_eq!(opts.tools.unwrap()[&3].length, 50.0);
+        assert!(opts.workpiece.is_none(), "none asked for: nothing on the tables");
+        // The run's workpiece comes back with it, checked again.
+        let block = serde_json::json!({"boxes": [{"min": [12.0, 8.0, -20.0], "max": [62.0, 48.0, -3.0]}]});
+        let (_, _, opts) =
+            rebuild(&row(serde_json::json!({"program": "M30\n", "presets": ["mill3"], "workpiece": block}), 1))
+                .unwrap();
+        assert_eq!(serde_json::to_value(&*opts.workpiece.unwrap()).unwrap(), block);
+        let flat = serde_json::json!({"boxes": [{"min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0]}]});
+        let refused =
+            rebuild(&row(serde_json::json!({"program": "M30\n", "presets": ["mill3"], "workpiece": flat}), 1));
+        assert!(refused.unwrap_err().contains("its workpiece: box 0"));
         // The whole library, in name order.
         let (entries, _, _) = rebuild(&row(
             serde_json::json!({"program": "M30\n", "library": ["*"]}),

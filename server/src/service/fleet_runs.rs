@@ -319,6 +319,9 @@ pub async fn start(db: &db::Db, runs: &Runs, plan: Plan) -> Result<Started, Serv
     if let Some(tools) = &options.tools {
         fleet::check_tools(tools).map_err(ServiceError::invalid)?;
     }
+    if let Some(w) = &options.workpiece {
+        w.check().map_err(|e| ServiceError::invalid(format!("workpiece: {e}")))?;
+    }
     if runs.remote.is_some() && sources.len() != entries.len() {
         return Err(ServiceError::invalid(
             "existing controllers cannot run on a distributed fleet (this node runs with --nats): \

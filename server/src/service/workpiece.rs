@@ -1,6 +1,7 @@
 //! What is clamped on a controller's table (`fivex_engine::workpiece`): the boxes a G31 probe
 //! touches. Kept in the database beside the controller (migration 0009), so it survives a
-//! restart of the service and, with the controller, a parameter change.
+//! restart of the service and, with the controller, a parameter change. A change is told to the
+//! controller's stream subscribers (`{"type": "workpiece", "boxes": […]}`).
 
 use std::sync::Arc;
 
@@ -9,7 +10,7 @@ use fivex_engine::workpiece::Workpiece;
 
 use super::ServiceError;
 use crate::db;
-use crate::host::Hosted;
+use crate::host::{Hosted, Message};
 
 /// Why a workpiece change is refused while the axes move (the engine's `Refusal::Busy`).
 const BUSY: &str = "the workpiece changes only at a block boundary: not while the axes move or a move is planned";
@@ -40,7 +41,16 @@ pub async fn set(db: &db::Db, hosted: &Hosted, workpiece: Workpiece) -> Result<A
         return Err(ServiceError::NotFound(format!("no controller {}", hosted.id)));
     }
     let workpiece = Arc::new(workpiece);
-    let refused = hosted.station().controller.set_workpiece(workpiece.clone());
+    let refused = {
+        let mut station = hosted.station();
+        let refused = station.controller.set_workpiece(workpiece.clone());
+        if refused.is_ok() {
+            // Told while the station is locked, so that two changes reach every subscriber in
+            // the order the controller took them.
+            hosted.publish(vec![Message::workpiece(&workpiece)]);
+        }
+        refused
+    };
     match refused {
         Ok(()) => Ok(workpiece),
         Err(refusal) => {

@@ -1,6 +1,7 @@
 //! Fleet runs over HTTP (`POST/GET /api/v1/fleet/runs`, `GET /fleet/runs/{id}`, the progress
 //! websocket; `docs/api.md`): the answer is the `fivex fleet` array, equal to `fivex run` per
-//! machine; runs are stored; bad requests are 4xx JSON with the reason.
+//! machine; runs are stored; a run's workpiece is probed on every machine; bad requests are 4xx
+//! JSON with the reason.
 
 use crate::common;
 
@@ -142,6 +143,46 @@ async fn a_tool_table_may_give_corner_radii_and_is_stored_as_posted() {
 }
 
 #[tokio::test]
+async fn every_machine_probes_the_workpiece_of_the_run_and_a_controller_its_own() {
+    let app = spawn_app().await;
+    let nc = program("probe.nc");
+    let block: Value =
+        serde_json::from_str(&std::fs::read_to_string(workspace_file("tests/fleet/probe_block.json")).unwrap())
+            .unwrap();
+    // probe.nc: G31 Z-10 from above X25 Y20; the block's top is at Z-3 there.
+    let skip_z = |items: &Value| -> Vec<f64> {
+        items.as_array().unwrap().iter().map(|v| v["variables"]["#101"].as_f64().unwrap()).collect()
+    };
+    let air = app.post("/api/v1/fleet/runs", &json!({"program": nc, "presets": ["mill3", "table-ac"]})).await;
+    assert_eq!(air.status, StatusCode::OK, "{}", air.text());
+    assert_eq!(skip_z(&air.json()), [-10.0, -10.0]);
+    let request = json!({"program": nc, "presets": ["mill3", "table-ac"], "workpiece": block});
+    let probed = app.post("/api/v1/fleet/runs", &request).await;
+    assert_eq!(probed.status, StatusCode::OK, "{}", probed.text());
+    assert_eq!(skip_z(&probed.json()), [-3.0, -3.0]);
+    // The machine ends where the probe stopped (tool length 100), as `fivex run --workpiece`.
+    assert_eq!(probed.json()[0]["position"]["machine"]["Z"], 97.0);
+    let id = app.get("/api/v1/fleet/runs").await.json()[0]["id"].as_str().unwrap().to_string();
+    assert_eq!(app.get(&format!("/api/v1/fleet/runs/{id}")).await.json()["request"]["workpiece"], block);
+
+    // An existing controller brings what is on its table, unless the run gives a workpiece.
+    let created =
+        app.post("/api/v1/controllers", &json!({"name": "probing", "preset": "mill3", "workpiece": block})).await;
+    assert_eq!(created.status, StatusCode::CREATED, "{}", created.text());
+    let controller = created.json()["id"].as_str().unwrap().to_string();
+    let own = app.post("/api/v1/fleet/runs", &json!({"program": nc, "controllers": [controller]})).await;
+    assert_eq!(own.status, StatusCode::OK, "{}", own.text());
+    assert_eq!(skip_z(&own.json()), [-3.0]);
+    let cleared = app
+        .post("/api/v1/fleet/runs", &json!({"program": nc, "controllers": [controller], "workpiece": {"boxes": []}}))
+        .await;
+    assert_eq!(cleared.status, StatusCode::OK, "{}", cleared.text());
+    assert_eq!(skip_z(&cleared.json()), [-10.0]);
+    // The controller's own workpiece is untouched by the run.
+    assert_eq!(app.get(&format!("/api/v1/controllers/{controller}/workpiece")).await.json(), block);
+}
+
+#[tokio::test]
 async fn a_malformed_program_is_a_run_whose_machines_alarm() {
     let app = spawn_app().await;
     let reply = app.post("/api/v1/fleet/runs", &json!({"program": program("malformed.nc"), "presets": PRESETS})).await;
@@ -189,6 +230,16 @@ async fn bad_requests_are_4xx_json_with_the_reason() {
             "corner_radius",
         ),
         (json!({"program": nc, "presets": ["mill3"], "colour": "red"}), StatusCode::UNPROCESSABLE_ENTITY, "colour"),
+        (
+            json!({"program": nc, "presets": ["mill3"], "workpiece": {"boxes": [{"min": [0, 0, 0], "max": [10, 10, 0]}]}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "workpiece: box 0: min must be less than max",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "workpiece": {"boxes": [], "colour": "red"}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "colour",
+        ),
         (json!({"presets": ["mill3"]}), StatusCode::UNPROCESSABLE_ENTITY, "program"),
     ] {
         let reply = app.post("/api/v1/fleet/runs", &body).await;

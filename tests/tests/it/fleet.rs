@@ -1,7 +1,7 @@
 //! `fivex fleet` (docs/contracts.md "`fivex fleet` stdout", `docs/fleet.md`): one summary per machine
 //! with `"machine"`, each equal to `fivex run` on that machine alone; programs that run
 //! everywhere, that alarm on some machines (rotary range, over-travel, no solution for a tool
-//! direction), and a malformed one; usage errors.
+//! direction), and a malformed one; a probe with and without `--workpiece`; usage errors.
 
 use crate::common;
 
@@ -187,18 +187,56 @@ fn a_malformed_program_alarms_everywhere_at_its_line() {
 }
 
 #[test]
+fn every_machine_probes_the_workpiece_given() {
+    let block = root().join("tests/fleet/probe_block.json").display().to_string();
+    let machines = ["--preset", "mill3", "--preset", "table-ac"];
+    let (code, bare, err) = fleet("probe.nc", &machines);
+    assert_eq!(code, 0, "{err}");
+    let (code, probed, err) = fleet("probe.nc", &[&machines[..], &["--workpiece", block.as_str()]].concat());
+    assert_eq!(code, 0, "{err}");
+    for name in ["mill3", "table-ac"] {
+        // Nothing on the table: the probe runs its whole move to Z-10 (tool length 100: machine
+        // Z 90). The block's top at table Z-3 stops the ball (radius 5) with its tip there.
+        let (air, block_) = (by_machine(&bare, name), by_machine(&probed, name));
+        assert_eq!(air["variables"]["#101"], -10.0, "{name}: {air}");
+        assert_eq!(air["position"]["machine"]["Z"], 90.0, "{name}: {air}");
+        assert_eq!(block_["variables"]["#101"], -3.0, "{name}: {block_}");
+        assert_eq!(block_["position"]["machine"]["Z"], 97.0, "{name}: {block_}");
+        // And each machine's summary is `fivex run --workpiece`'s, bit for bit.
+        let p = program("probe.nc");
+        let alone = fivex(&["run", &p, "--preset", name, "--workpiece", &block]);
+        let alone: Value = serde_json::from_str(&stdout(&alone)).unwrap();
+        assert_eq!(summary_of(block_), alone, "{name}");
+    }
+}
+
+#[test]
 fn usage_errors_exit_2() {
     let p = program("everywhere.nc");
+    // A box whose min is not below its max (`Workpiece::check`), and a file that is no workpiece.
+    let dir = std::env::temp_dir().join(format!("fivex-fleet-usage-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad_box = dir.join("flat.json");
+    std::fs::write(&bad_box, r#"{"boxes": [{"min": [0, 0, 0], "max": [10, 10, 0]}]}"#).unwrap();
+    let not_json = dir.join("tools.json");
+    std::fs::write(&not_json, r#"{"1": {"length": 100, "radius": 5}}"#).unwrap();
+    let (bad_box, not_json) = (bad_box.display().to_string(), not_json.display().to_string());
     for args in [
         vec!["fleet", p.as_str()],
         vec!["fleet", p.as_str(), "--preset", "nope"],
         vec!["fleet", p.as_str(), "--library", "nope"],
         vec!["fleet", p.as_str(), "--machine", "/nonexistent.json"],
         vec!["fleet", "/nonexistent.nc", "--preset", "mill3"],
+        vec!["fleet", p.as_str(), "--preset", "mill3", "--workpiece", "/nonexistent.json"],
+        vec!["fleet", p.as_str(), "--preset", "mill3", "--workpiece", bad_box.as_str()],
+        vec!["fleet", p.as_str(), "--preset", "mill3", "--workpiece", not_json.as_str()],
     ] {
         let out = fivex(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
         assert!(stdout(&out).is_empty());
         assert!(stderr(&out).starts_with("fivex: "), "{}", stderr(&out));
     }
+    let out = fivex(&["fleet", p.as_str(), "--preset", "mill3", "--workpiece", bad_box.as_str()]);
+    assert!(stderr(&out).contains("box 0: min must be less than max"), "{}", stderr(&out));
+    let _ = std::fs::remove_dir_all(&dir);
 }

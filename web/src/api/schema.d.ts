@@ -1198,7 +1198,7 @@ export interface components {
             /** @example cell 1 (copy) */
             name: string;
         };
-        /** @description A message of a controller's stream: `snapshot`, `position`, `state`, `alarm`, `variables` or `message` */
+        /** @description A message of a controller's stream: `snapshot`, `position`, `state`, `alarm`, `variables`, `message` or `workpiece` */
         ControllerMessage: components["schemas"]["Snapshot"] | components["schemas"]["PositionFrame"] | components["schemas"]["Message"];
         /** @description A controller as `GET /controllers/{id}` shows it. */
         ControllerStatus: {
@@ -1688,6 +1688,7 @@ export interface components {
             tools?: {
                 [key: string]: components["schemas"]["Tool"];
             } | null;
+            workpiece?: null | components["schemas"]["Workpiece"];
         };
         /**
          * @description One machine's result of a fleet run (`fivex fleet`, `POST /fleet/runs`): its name and
@@ -2006,6 +2007,10 @@ export interface components {
             text: string;
             /** @enum {string} */
             type: "message";
+        } | {
+            boxes: components["schemas"]["Cuboid"][];
+            /** @enum {string} */
+            type: "workpiece";
         };
         /** @description `GET /modal`. */
         ModalState: {
@@ -2756,6 +2761,11 @@ export interface components {
             variables: {
                 [key: string]: number;
             };
+            /**
+             * @description What is clamped on the table now (`GET …/workpiece`); a `workpiece` message tells a
+             *     change.
+             */
+            workpiece: components["schemas"]["Workpiece"];
         };
         /**
          * @description Axis speeds over time: the mean speed of each axis in consecutive intervals of `period_s`
@@ -5803,7 +5813,7 @@ export interface operations {
         };
         requestBody?: never;
         responses: {
-            /** @description Websocket: a snapshot, then `position`, `state`, `alarm`, `variables` and `message` objects; closed with 4404 "controller deleted" when the controller is deleted, 1001 when the service stops */
+            /** @description Websocket: a snapshot, then `position`, `state`, `alarm`, `variables`, `message` and `workpiece` objects; closed with 4404 "controller deleted" when the controller is deleted, 1001 when the service stops */
             101: {
                 headers: {
                     [name: string]: unknown;
@@ -7209,7 +7219,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect or tool table, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes) */
+            /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect, tool table or workpiece, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes) */
             422: {
                 headers: {
                     [name: string]: unknown;

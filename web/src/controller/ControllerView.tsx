@@ -58,12 +58,11 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
     );
   }, [id, shown, status?.run_state === "running"]);
 
-  // What is on the table, for the 3D view and the workpiece tab: read again when the run state
-  // changes (the service refuses a change while the axes move) and after an edit here.
+  // What is on the table, for the 3D view and the workpiece tab: as the stream tells it (its
+  // snapshot, then every change, this page's or another client's), and the answer to an edit
+  // here at once.
   const [workpiece, setWorkpiece] = useState<Schemas["Workpiece"] | null>(null);
-  useEffect(() => {
-    must(api.GET("/api/v1/controllers/{id}/workpiece", { params: { path: { id } } })).then(setWorkpiece, () => setWorkpiece(null));
-  }, [id, status?.run_state]);
+  useEffect(() => setWorkpiece(live.workpiece), [live.workpiece]);
 
   if (live.error && !status) return <p class="error">{live.error}</p>;
   if (!status) return <p>Loading…</p>;

@@ -1,18 +1,21 @@
 // What is clamped on the table: the boxes a G31 probe touches (`GET/PUT …/workpiece`, table
-// frame, mm), listed, and edited as the JSON the service takes. The 3D view draws them.
+// frame, mm), listed, and edited as the JSON the service takes. The 3D view draws them. The
+// list follows the controller's stream, so a change another client makes shows at once.
 import { useEffect, useState } from "preact/hooks";
-import { api, must, type Schemas, errorText, fmt } from "../api/client";
-
-type Workpiece = Schemas["Workpiece"];
+import { api, must, errorText, fmt } from "../api/client";
+import { editorFor, type Editor, type Workpiece } from "./workpiece";
 
 export function WorkpieceView({ id, workpiece, onChanged, onError }: { id: string; workpiece: Workpiece | null; onChanged: (w: Workpiece) => void; onError: (e: string | null) => void }) {
-  const [text, setText] = useState("");
-  // The editor starts from what is on the table, and again after each change.
-  useEffect(() => setText(JSON.stringify(workpiece ?? { boxes: [] }, null, 1)), [JSON.stringify(workpiece)]);
+  const [editor, setEditor] = useState<Editor>({ text: "", edited: false });
+  // The editor starts from what is on the table, and again after each change unless an edit is
+  // under way.
+  useEffect(() => setEditor((e) => editorFor(e, workpiece)), [JSON.stringify(workpiece)]);
   const put = async (body: Workpiece) => {
     onError(null);
     try {
-      onChanged(await must(api.PUT("/api/v1/controllers/{id}/workpiece", { params: { path: { id } }, body })));
+      const now = await must(api.PUT("/api/v1/controllers/{id}/workpiece", { params: { path: { id } }, body }));
+      setEditor(editorFor({ text: "", edited: false }, now));
+      onChanged(now);
     } catch (e) {
       onError(errorText(e));
     }
@@ -49,13 +52,13 @@ export function WorkpieceView({ id, workpiece, onChanged, onError }: { id: strin
           </tbody>
         </table>
       )}
-      <textarea class="nc" rows={6} spellcheck={false} value={text} onInput={(e) => setText(e.currentTarget.value)} aria-label="workpiece JSON" />
+      <textarea class="nc" rows={6} spellcheck={false} value={editor.text} onInput={(e) => setEditor({ text: e.currentTarget.value, edited: true })} aria-label="workpiece JSON" />
       <div class="row">
         <button
           onClick={() => {
             let body: Workpiece;
             try {
-              body = JSON.parse(text);
+              body = JSON.parse(editor.text);
             } catch (e) {
               return onError(`not JSON: ${errorText(e)}`);
             }

@@ -1,7 +1,9 @@
 // One controller as the page sees it: its status, machine, the latest position frame, alarms,
-// variables and operator messages, kept current by the controller's websocket.
+// variables, operator messages and what is clamped on the table, kept current by the
+// controller's websocket.
 import { useCallback, useEffect, useRef, useState } from "preact/hooks";
 import { api, errorText, liveSocket, must, wsUrl, type AlarmInfo, type ControllerMessage, type Frame, type Machine, type Status } from "../api/client";
+import { workpieceOf, type Workpiece } from "./workpiece";
 
 export type Live = {
   status: Status | null;
@@ -10,6 +12,9 @@ export type Live = {
   alarms: AlarmInfo[];
   variables: Record<string, number | null>;
   messages: string[];
+  /// What is clamped on the table (the snapshot's, then every `workpiece` message); null until
+  /// the stream's snapshot.
+  workpiece: Workpiece | null;
   connected: boolean;
   error: string | null;
   /// Called with every position frame as it arrives (the 3D trace), not throttled.
@@ -28,6 +33,7 @@ export function useController(id: string): Live {
   const [alarms, setAlarms] = useState<AlarmInfo[]>([]);
   const [variables, setVariables] = useState<Record<string, number | null>>({});
   const [messages, setMessages] = useState<string[]>([]);
+  const [workpiece, setWorkpiece] = useState<Workpiece | null>(null);
   const [connected, setConnected] = useState(false);
   const [error, setError] = useState<string | null>(null);
   const listeners = useRef(new Set<(f: Frame) => void>());
@@ -66,6 +72,8 @@ export function useController(id: string): Live {
     const socket = liveSocket<ControllerMessage>(
       () => wsUrl(`/api/v1/controllers/${encodeURIComponent(id)}/stream`, { rate: 30 }),
       (msg) => {
+        const told = workpieceOf(msg);
+        if (told) setWorkpiece(told);
         switch (msg.type) {
           case "snapshot": {
             events.current++;
@@ -116,6 +124,7 @@ export function useController(id: string): Live {
     alarms,
     variables,
     messages,
+    workpiece,
     connected,
     error,
     onFrame,

@@ -199,6 +199,40 @@ async fn a_fleet_run_over_nats_equals_the_single_node_run_and_survives_a_killed_
 }
 
 /// The machine indices of the log lines with `what` (`index=N`).
+/// A run's workpiece goes with its jobs: every node probes it as the single node does, through
+/// the API and `fivex fleet --nats --workpiece`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_workpiece_travels_with_the_jobs() {
+    let nats = NatsServer::start();
+    let url = nats.url();
+    let node = Served::start(&["--nats", &url, "--nats-jobs", "2"]);
+    let alone = Served::start(&[]);
+    let block_file = workspace_file("tests/fleet/probe_block.json");
+    let block: Value = serde_json::from_str(&std::fs::read_to_string(&block_file).unwrap()).unwrap();
+    let program_file = workspace_file("tests/fleet/probe.nc");
+    let request = json!({"program": std::fs::read_to_string(&program_file).unwrap(),
+                         "presets": ["mill3", "table-ac", "head-bc"], "workpiece": block});
+    let expected = post_fleet(&alone, &request).await;
+    let distributed = post_fleet(&node, &request).await;
+    assert_eq!(distributed, expected);
+    // probe.nc stops on the block's top (Z-3), not at the end of its move (Z-10).
+    for item in distributed.as_array().unwrap() {
+        assert_eq!(item["variables"]["#101"], -3.0, "{item}");
+    }
+
+    let fleet = |extra: &[&str]| {
+        let mut args = vec!["fleet", program_file.to_str().unwrap(), "--quiet", "--preset", "mill3"];
+        args.extend(["--workpiece", block_file.to_str().unwrap()]);
+        args.extend(extra);
+        let out = Command::new(env!("CARGO_BIN_EXE_fivex")).args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let local = fleet(&[]);
+    assert!(local.contains("\"#101\": -3.0"), "{local}");
+    assert_eq!(fleet(&["--nats", &url]), local);
+}
+
 fn indices(log: &str, what: &str) -> Vec<usize> {
     log.lines()
         .filter(|l| l.contains(what))

@@ -1,5 +1,6 @@
 //! Streams that scale (issue 18): position frames only when something in them changed, the
-//! fleet stream as a snapshot then deltas, and one frame shared by every subscriber.
+//! fleet stream as a snapshot then deltas, and one frame shared by every subscriber; a workpiece
+//! change told to every subscriber of its controller.
 
 use std::collections::HashMap;
 use std::time::Duration;
@@ -201,4 +202,60 @@ async fn a_chain_switch_sends_a_frame_that_names_the_new_chain() {
         assert_eq!(last["chain"], json!({"set": set, "sub": 1}), "{text}: {last}");
         assert_eq!((&last["machine"], &last["tip"]), (&now["machine"], &now["tip"]), "{text}: {last}");
     }
+}
+
+/// The next message of kind `kind` (others, position frames among them, passed over), or `None`
+/// when none came within `within`.
+async fn next_of(ws: &mut Socket, kind_: &str, within: Duration) -> Option<Value> {
+    let end = Instant::now() + within;
+    while let Some(text) = next_text(ws, end.saturating_duration_since(Instant::now())).await {
+        if kind(&text) == kind_ {
+            return Some(serde_json::from_str(&text).expect("a JSON message"));
+        }
+    }
+    None
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_workpiece_put_reaches_every_subscriber_of_its_controller() {
+    let served = Served::start(&[]);
+    let id = create(&served, "clamped").await;
+    let other = create(&served, "elsewhere").await;
+    let stream = format!("/api/v1/controllers/{id}/stream?rate=30");
+    // Two dashboards on the controller, one on another controller.
+    let (mut first, mut second) = (connect(&served, &stream).await, connect(&served, &stream).await);
+    let mut bystander = connect(&served, &format!("/api/v1/controllers/{other}/stream?rate=30")).await;
+    for ws in [&mut first, &mut second, &mut bystander] {
+        let snapshot = next_of(ws, "snapshot", Duration::from_secs(10)).await.expect("a snapshot");
+        assert_eq!(snapshot["workpiece"], json!({"boxes": []}), "nothing on the table at first");
+    }
+
+    // The first client puts two boxes; both subscribers are told, with the boxes.
+    let boxes = json!([
+        {"min": [-60.0, -40.0, 0.0], "max": [60.0, 40.0, 30.0]},
+        {"min": [-20.0, -20.0, 30.0], "max": [20.0, 20.0, 50.0]}
+    ]);
+    let uri = format!("/api/v1/controllers/{id}/workpiece");
+    let put = served.send_json(Method::PUT, &uri, &json!({"boxes": boxes})).await;
+    assert_eq!(put.status, 200, "{:?}", String::from_utf8_lossy(&put.body));
+    for ws in [&mut first, &mut second] {
+        let told = next_of(ws, "workpiece", Duration::from_secs(10)).await.expect("a workpiece message");
+        assert_eq!(told, json!({"type": "workpiece", "boxes": boxes}));
+    }
+    // A refused workpiece tells nothing; clearing the table does.
+    let refused = served.send_json(Method::PUT, &uri, &json!({"boxes": [{"min": [0, 0, 0], "max": [0, 1, 1]}]})).await;
+    assert_eq!(refused.status, 422);
+    let cleared = served.send_json(Method::PUT, &uri, &json!({"boxes": []})).await;
+    assert_eq!(cleared.status, 200);
+    let told = next_of(&mut second, "workpiece", Duration::from_secs(10)).await.expect("the clearing");
+    assert_eq!(told, json!({"type": "workpiece", "boxes": []}), "the refused one was not told");
+    // The other controller's subscriber heard of neither.
+    let heard = collect(&mut bystander, Duration::from_millis(500)).await;
+    assert!(heard.iter().all(|m| kind(m) != "workpiece"), "{heard:?}");
+
+    // A dashboard that connects later has the boxes in its snapshot.
+    served.send_json(Method::PUT, &uri, &json!({"boxes": boxes})).await;
+    let mut late = connect(&served, &stream).await;
+    let snapshot = next_of(&mut late, "snapshot", Duration::from_secs(10)).await.expect("a snapshot");
+    assert_eq!(snapshot["workpiece"], json!({"boxes": boxes}));
 }

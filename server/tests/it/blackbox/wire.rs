@@ -204,6 +204,9 @@ async fn every_stream_message_is_in_the_document() {
         .await;
     assert_eq!(stored.status, 201, "{}", String::from_utf8_lossy(&stored.body));
     let mut controller = connect(&served, &format!("/api/v1/controllers/{id}/stream?rate=100")).await;
+    let block = json!({"boxes": [{"min": [-50.0, -50.0, -30.0], "max": [50.0, 50.0, 0.0]}]});
+    let put = served.send_json(Method::PUT, &format!("/api/v1/controllers/{id}/workpiece"), &block).await;
+    assert_eq!(put.status, 200, "{}", String::from_utf8_lossy(&put.body));
     let started =
         served.send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
     assert_eq!(started.status, 200, "{}", String::from_utf8_lossy(&started.body));
@@ -216,7 +219,7 @@ async fn every_stream_message_is_in_the_document() {
         assert_valid(&doc, "ControllerMessage", m, &format!("the controller stream's {}", m["type"]));
     }
     let kinds = types(&seen);
-    for kind in ["snapshot", "position", "state", "variables", "message", "alarm"] {
+    for kind in ["snapshot", "position", "state", "variables", "message", "alarm", "workpiece"] {
         assert!(kinds.contains(kind), "no {kind} message among {kinds:?}");
     }
 
