@@ -1,7 +1,7 @@
 //! G31, the skip function: a straight feed move that ends where the probe touches what is on
 //! the table (`crate::workpiece`), or at its end point when it touches nothing; `#5061…` hold
-//! where it ended and the Haas M78/M79 alarm on whether it touched (`docs/dialects.md`,
-//! "Skip and probing").
+//! where it ended and the Haas M78/M79 alarm on whether it touched (`docs/conventions.md`,
+//! "Workpiece and probing").
 //!
 //! The contact is found when the block is read, from the geometry alone: the machine axes at
 //! the start and at the end of the move, the tool tip and direction there by forward
@@ -30,8 +30,8 @@ pub(super) struct Skip {
 }
 
 /// Where the machine's axes really are beside the program's machine coordinates, as the
-/// controller knows it (machine lock, Z-axis neglect, what a locked run left): the probe moves
-/// with the real axes.
+/// controller knows it (machine lock, Z-axis neglect, what a locked run left, a handle
+/// interruption's shift): the probe moves with the real axes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct MachineView {
     /// Per axis: locked at this machine position.
