@@ -248,6 +248,15 @@ pub enum AlarmId {
     SkipSignalFound,
     /// Haas M79: the last skip move did not touch.
     SkipSignalNotFound,
+    // --- Chamfering and corner R (`interp::chamfer`) -----------------------------------------
+    /// The block after a `,C`/`,R` block is not a G01 move in the selected plane (or there is
+    /// none).
+    CornerNextBlock,
+    /// The block after a `,C`/`,R` block is a rapid (G00) move.
+    CornerNotG01,
+    /// A line of a `,C`/`,R` corner is shorter than the chamfer or the arc's tangent length
+    /// (or the block does not move).
+    CornerTooShort,
 }
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.

@@ -107,7 +107,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             }
                             letter => {
                                 let argument = codes().any(|c| unbuilt::argument_of(c, dialect, letter));
-                                if let Some(function) = unbuilt::address(letter).filter(|_| !argument) {
+                                if let Some(function) = unbuilt::address(letter, dialect).filter(|_| !argument) {
                                     diags.push(at(
                                         w.col,
                                         AlarmId::AddressNotBuilt,

@@ -200,6 +200,9 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::SkipInCutterComp,
     AlarmId::SkipSignalFound,
     AlarmId::SkipSignalNotFound,
+    AlarmId::CornerNextBlock,
+    AlarmId::CornerNotG01,
+    AlarmId::CornerTooShort,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -362,6 +365,11 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         SkipInCutterComp => (("PS0035", "CAN NOT COMMANDED G31"), ("COR-041", "G31 in cutter compensation")),
         // Haas M78/M79 are no M codes of FANUC or Syntec: never raised there.
         SkipSignalFound | SkipSignalNotFound => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
+        // The numbers and texts of the FANUC 30i alarm list (`docs/dialects.md`, "Chamfering
+        // and corner R"); Syntec's ,C/,R are refused as not built, so never raised there.
+        CornerNextBlock => (("PS0051", "MISSING MOVE AFTER CNR/CHF"), COR100),
+        CornerNotG01 => (("PS0052", "CODE IS NOT G01 AFTER CNR/CHF"), COR100),
+        CornerTooShort => (("PS0055", "MISSING MOVE VALUE IN CHF/CNR"), COR100),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }
@@ -448,6 +456,10 @@ fn haas(id: &AlarmId) -> Text {
         SkipInCutterComp => ("747", "G31 NOT ALLOWED WITH CUTTER COMPENSATION"),
         SkipSignalFound => ("748", "SKIP SIGNAL FOUND (M78)"),
         SkipSignalNotFound => ("749", "SKIP SIGNAL NOT FOUND (M79)"),
+        // No Haas source names the alarms of ,C/,R: constructed.
+        CornerNextBlock => ("750", "NO LINEAR MOVE AFTER CHAMFER OR CORNER R"),
+        CornerNotG01 => ("751", "RAPID MOVE AFTER CHAMFER OR CORNER R"),
+        CornerTooShort => ("752", "MOVE TOO SHORT FOR CHAMFER OR CORNER R"),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }

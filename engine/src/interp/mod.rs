@@ -5,6 +5,7 @@
 //! is mutated, with no copying on the hot path.
 
 mod chain;
+mod chamfer;
 mod corner_blend;
 mod cutting_point;
 mod cycles;
@@ -314,6 +315,8 @@ pub struct State {
     smoothing: Option<Box<smoothing::Smoothing>>,
     /// Haas G187 rounding corners, with the move it holds (`corner_blend`).
     blend: Option<Box<corner_blend::CornerBlend>>,
+    /// A G01 block with `,C`/`,R` whose move waits for the next block (`chamfer`).
+    corner: Option<Box<chamfer::HeldCorner>>,
     /// The machine position while X/Y/Z follow a tool tip (TCP, tilted working plane): not the
     /// programmed point plus offsets then.
     follow_machine: Option<Pos>,
@@ -484,6 +487,7 @@ impl Interpreter {
         st.nurbs = None;
         st.smoothing_reset();
         st.blend_end();
+        st.corner = None;
         st.ended = true;
         st.cfg.stages.clear();
         // Modal codes survive a reset (No.3402 CLR = 0) except cutter compensation: a reset
@@ -665,6 +669,7 @@ impl State {
             nurbs: None,
             smoothing: None,
             blend: None,
+            corner: None,
             follow_machine: None,
             plane: None,
             definition: plane::Definition::default(),
@@ -926,6 +931,7 @@ impl State {
                 }
                 self.smoothing_flush(out)?;
                 self.blend_flush(out)?;
+                self.corner_end()?;
                 self.hpcc_end();
                 self.blend_end();
                 self.ended = true;

@@ -214,7 +214,7 @@ impl State {
     /// 0.0012 in/min in G20, 0.012 mm/min in G21).
     fn counts_increments(&self, letter: u8) -> bool {
         !self.cfg.pocket_calculator
-            && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k')
+            && (matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k' | b'c' | b'r')
                 || self.axis_of(letter).is_some()
                 || letter == b'F' && self.cfg.dialect == crate::Dialect::Haas)
     }
@@ -225,7 +225,9 @@ impl State {
         match self.axis_of(letter) {
             Some(i) if self.cfg.machine.axes[i].kind != AxisKind::Linear => 1000.0,
             Some(_) => 1.0 / self.increment(),
-            None if matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k') => 1.0 / self.increment(),
+            None if matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k' | b'c' | b'r') => {
+                1.0 / self.increment()
+            }
             None => 1.0,
         }
     }
@@ -241,7 +243,8 @@ impl State {
         };
         let linear = match self.axis_of(letter) {
             Some(i) => self.cfg.machine.axes[i].kind == AxisKind::Linear,
-            None => matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q'),
+            // `,C` `,R` (chamfer, corner radius) are lengths too.
+            None => matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'c' | b'r'),
         };
         Some(if linear && self.inch() { v * 25.4 } else { v })
     }
@@ -349,6 +352,7 @@ impl State {
         }
         self.smoothing_block(&w, out)?;
         self.blend_block(&w, out)?;
+        self.corner_block(&w)?;
         if self.cfg.fast_paths && self.is_plain_motion(&w) {
             return self.plain_motion(&w, out);
         }
@@ -427,7 +431,7 @@ impl State {
                 return Err(AlarmId::ImproperAddress);
             }
             let argument = w.gcodes().iter().any(|&c| unbuilt::argument_of(c, self.cfg.dialect, letter));
-            if self.cfg.refuse_unbuilt && unbuilt::address(letter).is_some() && !argument {
+            if self.cfg.refuse_unbuilt && unbuilt::address(letter, self.cfg.dialect).is_some() && !argument {
                 return Err(AlarmId::AddressNotBuilt);
             }
         }
@@ -1007,6 +1011,9 @@ impl State {
             self.blend_point(self.xf.forward(&programmed), out)?;
             self.xf.programmed = programmed;
             return Ok(());
+        }
+        if self.modes[group::MOTION] == code::G01 && self.corner_motion_block(w) {
+            return self.corner_motion(w, programmed, out);
         }
         if self.follows_tip() {
             let target = self.xf.forward(&programmed);

@@ -264,16 +264,16 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
     .find_map(|(refused, function)| refused.then_some(function))
 }
 
-/// An address letter fivex reads but no function of it uses: E (FANUC M series: the thread
-/// lead of G33, which is not built), the comma addresses of chamfering and corner rounding
-/// (`,C` `,R`) and of the angle of direct drawing dimension programming (`,A`), in the lower
-/// case `lang::ast::Word::letter` gives them. Macro call arguments (G65/G66) are not addresses
-/// here.
-pub fn address(letter: u8) -> Option<&'static str> {
+/// An address letter fivex reads but no function of it uses in `dialect`: E (FANUC M series:
+/// the thread lead of G33, which is not built), the comma addresses of chamfering and corner
+/// rounding (`,C` `,R`: performed in FANUC and Haas, `interp::chamfer`; Syntec's form is not
+/// known) and of the angle of direct drawing dimension programming (`,A`), in the lower case
+/// `lang::ast::Word::letter` gives them. Macro call arguments (G65/G66) are not addresses here.
+pub fn address(letter: u8, dialect: Dialect) -> Option<&'static str> {
     match letter {
         b'E' => Some("address E (thread lead)"),
-        b'c' => Some("chamfering (,C)"),
-        b'r' => Some("corner rounding (,R)"),
+        b'c' if dialect == Dialect::Syntec => Some("chamfering (,C)"),
+        b'r' if dialect == Dialect::Syntec => Some("corner rounding (,R)"),
         b'a' => Some("angle of direct drawing dimension programming (,A)"),
         _ => None,
     }

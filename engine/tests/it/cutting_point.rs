@@ -177,9 +177,10 @@ fn tv29i_and_the_refusals() {
     assert_eq!(alarm_with(cutting_first, "head-bc", SQUARE, rcm), Some(("PS5421".into(), 4)));
     let plane = "G90 G00 X0 Y0 Z50. B0 C0\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG43.8 H1 D1\nM30\n";
     assert_eq!(alarm_of(plane, "head-bc", SQUARE), Some(("PS5462".into(), 4)));
-    // Comma addresses other than ,L: after ,L only I, J, K; ,C and ,R are not built.
+    // Comma addresses other than ,L: after ,L only I, J, K; ,C and ,R (performed,
+    // `interp::chamfer`) need a next move in the plane, which M30 is not (PS0051).
     for (src, code) in
-        [("G01 X1. ,C1. F100\n", "PS0009"), ("G01 X1. ,R1. F100\n", "PS0009"), ("G01 X1. ,Q1.\n", "PS0004")]
+        [("G01 X1. ,C1. F100\n", "PS0051"), ("G01 X1. ,R1. F100\n", "PS0051"), ("G01 X1. ,Q1.\n", "PS0004")]
     {
         let got = first_alarm_with(&format!("{src}M30\n"), "mill3", |_| {});
         assert_eq!(got.map(|a| a.0), Some(code.to_string()), "{src}");

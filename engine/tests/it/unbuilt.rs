@@ -442,17 +442,30 @@ fn every_address_letter_has_a_decision() {
 }
 
 /// The comma addresses: `,L2 I J K` belongs to cutting point control (FANUC, `cutting_point.rs`);
-/// chamfering `,C`, corner rounding `,R` and the drawing angle `,A` are refused at their block
-/// and reported by `fivex check` at their word, in both dialects.
+/// chamfering `,C` and corner rounding `,R` are performed in FANUC and Haas (`interp::chamfer`)
+/// and refused in Syntec; the drawing angle `,A` is refused in every dialect. A refused one is
+/// refused at its block and reported by `fivex check` at its word.
 #[test]
 fn comma_addresses_have_a_decision() {
-    for dialect in [Fanuc, Syntec] {
+    for dialect in [Fanuc, Syntec, Haas] {
         for (letter, body) in [("C", "G01 X1. ,C1. F100"), ("R", "G01 X1. ,R1. F100"), ("A", "G01 X1. ,A30. F100")] {
-            let r = run_with(&program(body), PRESET, dialect);
-            let expected = if dialect == Fanuc { "PS0009" } else { "COR-100" };
-            assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (expected, 2), "{dialect:?} ,{letter}");
+            let refused = dialect == Syntec || letter == "A";
             let diags = check(parse_file(&program(body)), dialect);
             let found = diags.iter().find(|d| d.detail.contains("not built"));
+            if !refused {
+                assert_eq!(found.map(|d| (d.line, d.col)), None, "{dialect:?} ,{letter}: {diags:?}");
+                // Performed: with a next move in the plane the program runs.
+                let r = run_with(&program(&format!("{body}\nY1.")), PRESET, dialect);
+                assert!(r.alarms.is_empty(), "{dialect:?} ,{letter}: {:?}", r.alarms);
+                continue;
+            }
+            let r = run_with(&program(body), PRESET, dialect);
+            let expected = match dialect {
+                Fanuc => "PS0009",
+                Syntec => "COR-100",
+                Haas => "311",
+            };
+            assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (expected, 2), "{dialect:?} ,{letter}");
             assert_eq!(found.map(|d| (d.line, d.col)), Some((2, 9)), "{dialect:?} ,{letter}: {diags:?}");
         }
     }
