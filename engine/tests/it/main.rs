@@ -7,6 +7,7 @@ mod common;
 mod ai_contour;
 mod alarms;
 mod chains;
+mod chamfer;
 mod controller;
 mod corner_rounding;
 mod crc16i;
