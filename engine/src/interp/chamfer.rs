@@ -9,8 +9,10 @@
 //! G01 move in the selected plane (`CornerNextBlock`, FANUC PS0051; a G00 is `CornerNotG01`,
 //! PS0052; a G02/G03 — FANUC's line–arc — is not built). A line shorter than the chamfer or
 //! the arc's tangent length is `CornerTooShort` (PS0055). Built: line–line corners in the
-//! plane, in G90/G91, with the modes of a plain 3-axis path; every other mode is refused as not
-//! built (`refuse`).
+//! plane, in G90/G91, under coordinate rotation and mirror image (the corner is built on the
+//! transformed lines: a rigid motion keeps the lengths, and a mirrored corner turns the other
+//! way), with the modes of a plain 3-axis path; every other mode is refused as not built
+//! (`refuse_corner_modes`).
 //!
 //! The held line, the chamfer and the arc are motions of the first block (its line, sequence
 //! number and F); the second block's line (from the chamfer's end) is the second block's.
@@ -173,7 +175,7 @@ impl State {
 
     /// The modes the corner is not built for, refused like a function not built: cutter
     /// compensation, TCP or a tilted plane (the tip path), G54.4, nano smoothing, G187,
-    /// scaling/rotation/mirror image, inverse time feed, a modal macro call.
+    /// scaling, inverse time feed, a modal macro call.
     fn refuse_corner_modes(&self, w: &Words) -> Result<(), AlarmId> {
         let after = |group: usize| self.after_block(w, group);
         let refused = self.follows_tip()
@@ -184,7 +186,9 @@ impl State {
             || after(group::CUTTER_COMP) != code::G40
             || self.smoothing.is_some()
             || self.blend.is_some()
-            || self.xf.active()
+            // Rotation and mirror image move the lines rigidly: the corner is built on the
+            // transformed lines, lengths kept. Whether scaling scales `c`/`r` no source says.
+            || self.xf.scaling()
             || after(group::FEED_MODE) == code::G93
             || !self.modal_calls.is_empty()
             || self.rotary_word(w);

@@ -77,6 +77,11 @@ impl Transforms {
         self.active
     }
 
+    /// Whether scaling (G51) is on.
+    pub(super) fn scaling(&self) -> bool {
+        self.scale.is_some()
+    }
+
     /// Whether an axis is mirrored by G51.1.
     pub(super) fn mirrored(&self) -> bool {
         self.mirror.iter().any(Option::is_some)
