@@ -11,8 +11,8 @@
 //! the arc's tangent length is `CornerTooShort` (PS0055). Built: line–line corners in the
 //! plane, in G90/G91, under coordinate rotation and mirror image (the corner is built on the
 //! transformed lines: a rigid motion keeps the lengths, and a mirrored corner turns the other
-//! way), with the modes of a plain 3-axis path; every other mode is refused as not built
-//! (`refuse_corner_modes`).
+//! way) and in cutter compensation's offset mode (the stage offsets the pieces), with the modes
+//! of a plain 3-axis path; every other mode is refused as not built (`refuse_corner_modes`).
 //!
 //! The held line, the chamfer and the arc are motions of the first block (its line, sequence
 //! number and F); the second block's line (from the chamfer's end) is the second block's.
@@ -21,7 +21,7 @@ use super::gcode::{code, group};
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
-use crate::canon::{Arc, Canon, MotionKind, Pos};
+use crate::canon::{Arc, Canon, CanonKind, MotionContext, MotionKind, Pos};
 
 /// What joins the two lines.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,6 +50,9 @@ pub(super) struct HeldCorner {
     corner: Pos,
     /// The block's line, sequence number and F.
     tag: (u32, Option<u32>, f64),
+    /// The block's modal context (its G09, cutter compensation …): the pieces are emitted while
+    /// the next block runs, and carry their own block's.
+    context: MotionContext,
 }
 
 /// The corner between a line arriving along `d1` (unit, `avail` mm of it left before the
@@ -174,16 +177,23 @@ impl State {
     }
 
     /// The modes the corner is not built for, refused like a function not built: cutter
-    /// compensation, TCP or a tilted plane (the tip path), G54.4, nano smoothing, G187,
+    /// compensation other than in G41/G42's offset mode, TCP or a tilted plane (the tip path), G54.4, nano smoothing, G187,
     /// scaling, inverse time feed, a modal macro call.
     fn refuse_corner_modes(&self, w: &Words) -> Result<(), AlarmId> {
         let after = |group: usize| self.after_block(w, group);
+        // Under cutter compensation C the corner is built on the programmed path and its pieces
+        // go to the compensation stage as any other motions (FANUC offsets the chamfered path):
+        // only in offset mode, G41/G42 in force before the block and no group-07 code in it
+        // (the start-up and cancel blocks, G41.x/G42.x, are not built).
+        let before = self.modes[group::CUTTER_COMP];
+        let comp_not_built = (before != code::G40 || after(group::CUTTER_COMP) != code::G40)
+            && (self.block_code(w, group::CUTTER_COMP).is_some() || !matches!(before, code::G41 | code::G42));
         let refused = self.follows_tip()
             || code::TILTED_PLANES.contains(&after(group::ROTATION))
             || code::TCP.contains(&after(group::LENGTH_COMP))
             || after(group::DYNAMIC_FIXTURE) == code::G254
             || self.wse.is_some()
-            || after(group::CUTTER_COMP) != code::G40
+            || comp_not_built
             || self.smoothing.is_some()
             || self.blend.is_some()
             // Rotation and mirror image move the lines rigidly: the corner is built on the
@@ -232,6 +242,7 @@ impl State {
                 p
             };
             let (p1, p2) = (at(k.p1), at(k.p2));
+            let first = out.len();
             let here = (self.line, self.n, self.f);
             (self.line, self.n, self.f) = held.tag;
             self.pos = held.from;
@@ -255,6 +266,11 @@ impl State {
                 None => {}
             }
             (self.line, self.n, self.f) = here;
+            for c in &mut out[first..] {
+                if let CanonKind::Motion(m) = &mut c.kind {
+                    m.context = held.context;
+                }
+            }
             self.pos = p2;
             start = p2;
         }
@@ -276,6 +292,7 @@ impl State {
                     dir,
                     corner: target,
                     tag: (self.line, self.n, self.f),
+                    context: self.context(),
                 }));
                 // The next block starts at the corner (incremental words count from it).
                 self.pos = target;

@@ -187,3 +187,33 @@ fn zero_keeps_the_corner_and_a_negative_value_is_refused() {
     assert_eq!(ms.iter().map(xy).collect::<Vec<_>>(), vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]]);
     assert_eq!(run("G90 G00 X0 Y0\nG01 X10. ,C-1. F100.\nY10.\nM30\n", Fanuc).err().as_deref(), Some("PS0009"));
 }
+
+/// Under cutter compensation C (offset mode) the chamfered path is offset like any other: with
+/// G41 D1 (radius 5) the line along +X runs at Y5, the chamfer from X35 Y0 to X40 Y-5 at 5 on
+/// its left, the line down at X45; the two corners are outside corners of 45° (interior 135°),
+/// so each is the crossing of the offset lines: X35 + 5·tan 22.5° = X37.0710678 at Y5, and
+/// Y-5 + 5·tan 22.5° = Y-2.9289322 at X45. Start-up is type A (the vector perpendicular to the
+/// next block: X0 Y5); the cancel block along +X makes an inside corner with the line down, so
+/// that line ends where the offset lines cross, X45 Y-25.
+#[test]
+fn the_chamfered_path_is_offset_under_cutter_compensation() {
+    let t = 5.0 * (22.5f64).to_radians().tan();
+    let src = "G90 G21 G54 G00 X-20. Y-20. Z0\nG41 D1 G01 X0 Y0 F500.\nX40. ,C5.\nY-30.\nG40 X60.\nM30\n";
+    assert_ends(
+        src,
+        "mill3",
+        &[
+            (1, [-20.0, -20.0, 0.0]),
+            (2, [0.0, 5.0, 0.0]),
+            (3, [35.0 + t, 5.0, 0.0]),
+            (3, [45.0, -5.0 + t, 0.0]),
+            (4, [45.0, -25.0, 0.0]),
+            (5, [60.0, -30.0, 0.0]),
+        ],
+    );
+    // A ,C in the start-up block or in the cancel block is not built (PS0010 at that block).
+    let start_up = "G90 G00 X-20. Y-20.\nG41 D1 G01 X0 Y0 ,C1. F500.\nX40.\nG40 X60.\nM30\n";
+    assert_eq!(first_alarm(start_up, "mill3"), Some(("PS0010".into(), 2)));
+    let cancel = "G90 G00 X-20. Y-20.\nG41 D1 G01 X0 Y0 F500.\nG40 X40. ,C1.\nY-30.\nM30\n";
+    assert_eq!(first_alarm(cancel, "mill3"), Some(("PS0010".into(), 3)));
+}
