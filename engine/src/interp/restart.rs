@@ -130,7 +130,7 @@ impl State {
     /// Why a restart cannot go on from here. The search runs neither the path stages nor the
     /// executor, so a mode whose next move depends on what they hold (a compensation vector, a
     /// canned cycle's hole pattern, a tool tip followed through the kinematics, a curve being
-    /// collected, a modal macro call) cannot be entered by a return in machine coordinates:
+    /// collected, a `,C`/`,R` corner held, a modal macro call) cannot be entered by a return in machine coordinates:
     /// fivex refuses a restart block in it (a decision, `docs/dialects.md`).
     pub(super) fn restart_refusal(&self) -> Option<AlarmId> {
         let in_mode = self.modes[group::CUTTER_COMP] != code::G40
@@ -143,6 +143,7 @@ impl State {
             || self.nurbs.is_some()
             || self.smoothing.is_some()
             || self.blend.is_some()
+            || self.corner.is_some()
             || !self.modal_calls.is_empty();
         in_mode.then_some(AlarmId::RestartInMode)
     }

@@ -150,6 +150,7 @@ fn a_restart_block_in_a_mode_the_return_cannot_enter_is_refused() {
         ("G81 X10. Y10. Z-5. R2. F100.", "canned cycle"),
         ("G41 D1 G01 X10. Y10. F100.", "cutter compensation"),
         ("G66 P9000 A1.", "modal macro call"),
+        ("G01 X10. ,C1. F100.", "a chamfer's corner held"),
     ] {
         let src = format!("N10 G90 G00 X0 Y0 Z10.\nN20 {mode}\nN30 X20.\nN40 G80 G40 G67\nM30\nO9000\nM99\n");
         let mut i = Interpreter::new(parse_file(&src), config(Dialect::Fanuc));
