@@ -145,11 +145,10 @@ impl State {
                 .gcodes()
                 .iter()
                 .all(|&g| matches!(g, code::G00 | code::G01 | code::G02 | code::G03 | code::G90 | code::G91));
-            let (a, b, _) = self.plane_axes()?;
+            // Axis words of any axis: one that moves off the plane is refused where the move is
+            // known (`corner_motion`), one that stays where it is (Z0 at Z0) does not count.
             let letters_ok = w.mcodes().is_empty()
-                && w.letters().all(|l| {
-                    matches!(l, b'G' | b'F' | b'N' | b'c' | b'r') || self.axis_of(l).is_some_and(|i| i == a || i == b)
-                });
+                && w.letters().all(|l| matches!(l, b'G' | b'F' | b'N' | b'c' | b'r') || self.axis_of(l).is_some());
             let moves = w.letters().any(|l| self.axis_of(l).is_some());
             if motion == code::G00 && moves {
                 return Err(AlarmId::CornerNotG01);

@@ -217,3 +217,15 @@ fn the_chamfered_path_is_offset_under_cutter_compensation() {
     let cancel = "G90 G00 X-20. Y-20.\nG41 D1 G01 X0 Y0 F500.\nG40 X40. ,C1.\nY-30.\nM30\n";
     assert_eq!(first_alarm(cancel, "mill3"), Some(("PS0010".into(), 3)));
 }
+
+/// The next block may name an axis off the plane that stays where it is; one that moves is
+/// PS0051, and so is a next block that moves only off the plane.
+#[test]
+fn the_next_block_moves_in_the_plane_only() {
+    let ms = run("G90 G00 X0 Y0 Z0\nG01 X10. ,C1. F100.\nY10. Z0\nM30\n", Fanuc).expect("runs");
+    assert_eq!(ms.iter().map(xy).collect::<Vec<_>>(), vec![[0.0, 0.0], [9.0, 0.0], [10.0, 1.0], [10.0, 10.0]]);
+    for next in ["Y10. Z-1.", "Z-1."] {
+        let src = format!("G90 G00 X0 Y0 Z0\nG01 X10. ,C1. F100.\n{next}\nM30\n");
+        assert_eq!(run(&src, Fanuc).err().as_deref(), Some("PS0051"), "{next}");
+    }
+}
