@@ -249,13 +249,13 @@ pub enum AlarmId {
     /// Haas M79: the last skip move did not touch.
     SkipSignalNotFound,
     // --- Chamfering and corner R (`interp::chamfer`) -----------------------------------------
-    /// The block after a `,C`/`,R` block is not a G01 move in the selected plane (or there is
-    /// none).
+    /// The block after a `,C`/`,R` block is not a G01/G02/G03 move in the selected plane (or
+    /// there is none).
     CornerNextBlock,
     /// The block after a `,C`/`,R` block is a rapid (G00) move.
     CornerNotG01,
-    /// A line of a `,C`/`,R` corner is shorter than the chamfer or the arc's tangent length
-    /// (or the block does not move).
+    /// An element of a `,C`/`,R` corner is shorter than the chamfer or the arc's tangent length,
+    /// no circle of the radius fits the corner, or the block does not move.
     CornerTooShort,
 }
 

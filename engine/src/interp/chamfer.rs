@@ -1,21 +1,23 @@
-//! Chamfering `,C` and corner rounding `,R` between two G01 blocks (FANUC M series "optional
-//! angle chamfering and corner R", Haas NGC G01 "corner rounding and chamfering";
+//! Chamfering `,C` and corner rounding `,R` between two G01/G02/G03 blocks (FANUC M series
+//! "optional angle chamfering and corner R", Haas NGC G01 "corner rounding and chamfering";
 //! `docs/dialects.md`, "Chamfering and corner R"): `G01 X… Y… ,C c` moves to the virtual
-//! corner of this block and the next, cut short by `c` along each line from that corner and
-//! joined by a straight line; `,R r` joins them by an arc of radius `r` tangent to both.
+//! corner of this block and the next, cut short by `c` along each line from that corner (on an
+//! arc, the chord `c`) and joined by a straight line; `,R r` joins them by an arc of radius `r`
+//! tangent to both.
 //!
-//! The block cannot move until the next block is read: its line is held (the current point is
+//! The block cannot move until the next block is read: its move is held (the current point is
 //! its corner, so that an incremental next block starts there), and the next block must be a
-//! G01 move in the selected plane (`CornerNextBlock`, FANUC PS0051; a G00 is `CornerNotG01`,
-//! PS0052; a G02/G03 — FANUC's line–arc — is not built). A line shorter than the chamfer or
-//! the arc's tangent length is `CornerTooShort` (PS0055). Built: line–line corners in the
-//! plane, in G90/G91, under coordinate rotation and mirror image (the corner is built on the
-//! transformed lines: a rigid motion keeps the lengths, and a mirrored corner turns the other
-//! way) and in cutter compensation's offset mode (the stage offsets the pieces), with the modes
-//! of a plain 3-axis path; every other mode is refused as not built (`refuse_corner_modes`).
+//! G01/G02/G03 move in the selected plane (`CornerNextBlock`, FANUC PS0051; a G00 is
+//! `CornerNotG01`, PS0052). An element shorter than the chamfer or the tangent length is
+//! `CornerTooShort` (PS0055). Built: line–line (closed form), line–arc, arc–line and arc–arc
+//! corners in the plane, in G90/G91, under coordinate rotation and mirror image (the corner is
+//! built on the transformed elements: a rigid motion keeps the lengths, and a mirrored corner
+//! turns the other way) and in cutter compensation's offset mode (the stage offsets the
+//! pieces), with the modes of a plain 3-axis path; every other mode is refused as not built
+//! (`refuse_corner_modes`).
 //!
-//! The held line, the chamfer and the arc are motions of the first block (its line, sequence
-//! number and F); the second block's line (from the chamfer's end) is the second block's.
+//! The held element, the chamfer and the arc are motions of the first block (its line, sequence
+//! number and F); the second block's element (from the chamfer's end) is the second block's.
 
 use super::gcode::{code, group};
 use super::nc::Words;
@@ -44,8 +46,10 @@ pub(super) struct HeldCorner {
     /// Where the held line starts now (its programmed start, or the end of the chamfer before
     /// it), workpiece coordinates.
     from: Pos,
-    /// The line's direction in the plane (unit), from its programmed start.
-    dir: [f64; 2],
+    /// The block's element: its line's direction (unit), or its arc.
+    elem: Elem,
+    /// What is left of it before the corner: mm of a line, radians of an arc.
+    avail: f64,
     /// The virtual corner: the block's end point.
     corner: Pos,
     /// The block's line, sequence number and F.
@@ -113,6 +117,217 @@ pub(crate) fn corner(
     Ok(Corner { p1, p2, arc })
 }
 
+/// One element of a corner in the plane: a line (its direction, unit) or an arc (its center,
+/// radius and turning sense).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Elem {
+    Line { dir: [f64; 2] },
+    Arc { center: [f64; 2], radius: f64, ccw: bool },
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+fn norm(a: [f64; 2]) -> f64 {
+    a[0].hypot(a[1])
+}
+
+fn unit2(a: [f64; 2]) -> [f64; 2] {
+    let l = norm(a);
+    [a[0] / l, a[1] / l]
+}
+
+/// The angle an arc about `c` turns through from `x` to `y` in its sense, in [0, 2π).
+pub(crate) fn travel(c: [f64; 2], ccw: bool, x: [f64; 2], y: [f64; 2]) -> f64 {
+    let (ax, ay) = ((x[1] - c[1]).atan2(x[0] - c[0]), (y[1] - c[1]).atan2(y[0] - c[0]));
+    let t = if ccw { (ay - ax).rem_euclid(std::f64::consts::TAU) } else { (ax - ay).rem_euclid(std::f64::consts::TAU) };
+    // A point a hair behind `x` counts as `x` itself.
+    if std::f64::consts::TAU - t < 1e-9 {
+        0.0
+    } else {
+        t
+    }
+}
+
+impl Elem {
+    /// The direction of travel at `at` (a point of the element).
+    fn tangent(&self, at: [f64; 2]) -> [f64; 2] {
+        match *self {
+            Elem::Line { dir } => dir,
+            Elem::Arc { center, ccw, .. } => {
+                let v = unit2(sub(at, center));
+                if ccw {
+                    [-v[1], v[0]]
+                } else {
+                    [v[1], -v[0]]
+                }
+            }
+        }
+    }
+
+    /// How far (mm on a line, radians on an arc) the element travels from `x` to `y`; on a line
+    /// negative if `y` is behind `x`.
+    fn travel(&self, x: [f64; 2], y: [f64; 2]) -> f64 {
+        match *self {
+            Elem::Line { dir } => dot(sub(y, x), dir),
+            Elem::Arc { center, ccw, .. } => travel(center, ccw, x, y),
+        }
+    }
+
+    /// The point at chord `c` from `p` along the element (`forward`) or back along it.
+    fn at_chord(&self, p: [f64; 2], c: f64, forward: bool) -> Result<[f64; 2], AlarmId> {
+        match *self {
+            Elem::Line { dir } => {
+                let s = if forward { c } else { -c };
+                Ok([p[0] + s * dir[0], p[1] + s * dir[1]])
+            }
+            Elem::Arc { center, radius, ccw } => {
+                if c > 2.0 * radius + EPS {
+                    return Err(AlarmId::CornerTooShort);
+                }
+                let phi = 2.0 * (c / (2.0 * radius)).min(1.0).asin();
+                let a = if ccw == forward { phi } else { -phi };
+                let (sn, cs) = a.sin_cos();
+                let v = sub(p, center);
+                Ok([center[0] + v[0] * cs - v[1] * sn, center[1] + v[0] * sn + v[1] * cs])
+            }
+        }
+    }
+
+    /// The element moved `r` to the side `s` (+1 left of the travel, −1 right): a circle's new
+    /// radius (a line keeps its direction; where it passes is the caller's).
+    fn offset(&self, s: f64, r: f64) -> Result<Elem, AlarmId> {
+        match *self {
+            Elem::Line { dir } => Ok(Elem::Line { dir }),
+            Elem::Arc { center, radius, ccw } => {
+                // Left of a counter-clockwise arc is toward its center.
+                let radius = if (s > 0.0) == ccw { radius - r } else { radius + r };
+                if radius <= EPS {
+                    return Err(AlarmId::CornerTooShort);
+                }
+                Ok(Elem::Arc { center, radius, ccw })
+            }
+        }
+    }
+
+    /// Where a circle about `f` tangent to the element touches it.
+    fn touch(&self, p: [f64; 2], f: [f64; 2]) -> [f64; 2] {
+        match *self {
+            Elem::Line { dir } => {
+                let t = dot(sub(f, p), dir);
+                [p[0] + t * dir[0], p[1] + t * dir[1]]
+            }
+            Elem::Arc { center, radius, .. } => {
+                let u = unit2(sub(f, center));
+                [center[0] + radius * u[0], center[1] + radius * u[1]]
+            }
+        }
+    }
+}
+
+/// The points where a line through `a` along `d` (unit) meets a circle.
+fn line_circle(a: [f64; 2], d: [f64; 2], c: [f64; 2], r: f64) -> Vec<[f64; 2]> {
+    let v = sub(a, c);
+    let b = dot(v, d);
+    let disc = b * b - (dot(v, v) - r * r);
+    if disc < 0.0 {
+        return Vec::new();
+    }
+    let q = disc.sqrt();
+    [-b - q, -b + q].iter().map(|t| [a[0] + t * d[0], a[1] + t * d[1]]).collect()
+}
+
+/// The points where two circles meet.
+fn circle_circle(c1: [f64; 2], r1: f64, c2: [f64; 2], r2: f64) -> Vec<[f64; 2]> {
+    let d = norm(sub(c2, c1));
+    if d < EPS || d > r1 + r2 || d < (r1 - r2).abs() {
+        return Vec::new();
+    }
+    let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+    let h = (r1 * r1 - a * a).max(0.0).sqrt();
+    let u = unit2(sub(c2, c1));
+    let m = [c1[0] + a * u[0], c1[1] + a * u[1]];
+    vec![[m[0] - h * u[1], m[1] + h * u[0]], [m[0] + h * u[1], m[1] - h * u[0]]]
+}
+
+/// The corner at `p` between element `e1` (with `avail` of it left before `p`: mm or radians)
+/// and element `e2` (`extent` of it after `p`), where either may be an arc. A chamfer joins the
+/// points at chord `size` from `p` on each (the NCT manual's rule for arcs, the distance along a
+/// line); a corner R is the circle of radius `size` tangent to both on the inside of the turn
+/// whose center is nearest the corner. The alarms as [`corner`].
+pub(crate) fn corner_general(
+    e1: Elem,
+    avail: f64,
+    p: [f64; 2],
+    e2: Elem,
+    extent: f64,
+    join: Join,
+    size: f64,
+) -> Result<Corner, AlarmId> {
+    let (t1, t2) = (e1.tangent(p), e2.tangent(p));
+    let cross = t1[0] * t2[1] - t1[1] * t2[0];
+    let straight = cross.abs() < 1e-9;
+    if size > 0.0 && straight && dot(t1, t2) < 0.0 {
+        return Err(AlarmId::CornerTooShort);
+    }
+    if size == 0.0 || (straight && join == Join::Round) {
+        return Ok(Corner { p1: p, p2: p, arc: None });
+    }
+    let (q1, q2, arc) = match join {
+        Join::Chamfer => (e1.at_chord(p, size, false)?, e2.at_chord(p, size, true)?, None),
+        Join::Round => {
+            let s = if cross > 0.0 { 1.0 } else { -1.0 };
+            let (o1, o2) = (e1.offset(s, size)?, e2.offset(s, size)?);
+            let shift = |e: &Elem| match *e {
+                Elem::Line { dir } => [p[0] - s * size * dir[1], p[1] + s * size * dir[0]],
+                Elem::Arc { .. } => p,
+            };
+            let (a1, a2) = (shift(&e1), shift(&e2));
+            let candidates = match (o1, o2) {
+                (Elem::Line { dir: d1 }, Elem::Line { dir: d2 }) => {
+                    // Both lines: the crossing of the offset lines.
+                    let den = d1[0] * d2[1] - d1[1] * d2[0];
+                    let t = ((a2[0] - a1[0]) * d2[1] - (a2[1] - a1[1]) * d2[0]) / den;
+                    vec![[a1[0] + t * d1[0], a1[1] + t * d1[1]]]
+                }
+                (Elem::Line { dir }, Elem::Arc { center, radius, .. }) => line_circle(a1, dir, center, radius),
+                (Elem::Arc { center, radius, .. }, Elem::Line { dir }) => line_circle(a2, dir, center, radius),
+                (Elem::Arc { center: c1, radius: r1, .. }, Elem::Arc { center: c2, radius: r2, .. }) => {
+                    circle_circle(c1, r1, c2, r2)
+                }
+            };
+            // Of the circles tangent to both, the one touching each element on its part next
+            // to the corner, nearest the corner.
+            let valid = |q1: [f64; 2], q2: [f64; 2]| {
+                (-EPS..=avail + EPS).contains(&e1.travel(q1, p)) && (-EPS..=extent + EPS).contains(&e2.travel(p, q2))
+            };
+            let (f, q1, q2) = candidates
+                .into_iter()
+                .filter(|f| f[0].is_finite() && f[1].is_finite())
+                .map(|f| (f, e1.touch(p, f), e2.touch(p, f)))
+                .filter(|&(_, q1, q2)| valid(q1, q2))
+                .min_by(|x, y| {
+                    (norm(sub(x.1, p)) + norm(sub(x.2, p))).total_cmp(&(norm(sub(y.1, p)) + norm(sub(y.2, p))))
+                })
+                .ok_or(AlarmId::CornerTooShort)?;
+            let sweep = if s > 0.0 { travel(f, true, q1, q2) } else { -travel(f, false, q1, q2) };
+            (q1, q2, Some((f, sweep)))
+        }
+    };
+    // Each point on its element's part next to the corner.
+    let back = e1.travel(q1, p);
+    let ahead = e2.travel(p, q2);
+    if !(-EPS..=avail + EPS).contains(&back) || !(-EPS..=extent + EPS).contains(&ahead) {
+        return Err(AlarmId::CornerTooShort);
+    }
+    Ok(Corner { p1: q1, p2: q2, arc })
+}
+
 impl State {
     /// The block's `,C`/`,R` (FANUC and Haas; Syntec refuses them as addresses not built), as
     /// (join, size in mm). A block with both is `ImproperAddress` (**decision**: FANUC's
@@ -148,22 +363,21 @@ impl State {
             // Axis words of any axis: one that moves off the plane is refused where the move is
             // known (`corner_motion`), one that stays where it is (Z0 at Z0) does not count.
             let letters_ok = w.mcodes().is_empty()
-                && w.letters().all(|l| matches!(l, b'G' | b'F' | b'N' | b'c' | b'r') || self.axis_of(l).is_some());
+                && w.letters().all(|l| {
+                    matches!(l, b'G' | b'F' | b'N' | b'I' | b'J' | b'K' | b'R' | b'c' | b'r')
+                        || self.axis_of(l).is_some()
+                });
             let moves = w.letters().any(|l| self.axis_of(l).is_some());
             if motion == code::G00 && moves {
                 return Err(AlarmId::CornerNotG01);
             }
-            if matches!(motion, code::G02 | code::G03) && moves && g_ok {
-                // FANUC's line–arc corner: not built.
-                return Err(AlarmId::GCodeNotBuilt);
-            }
-            if !(g_ok && letters_ok && moves && motion == code::G01) {
+            if !(g_ok && letters_ok && moves && matches!(motion, code::G01 | code::G02 | code::G03)) {
                 return Err(AlarmId::CornerNextBlock);
             }
         }
         if words.is_some() {
-            if motion != code::G01 {
-                // On G00 nothing to chamfer; FANUC's arc–line corner (G02/G03 ,C) not built.
+            if !matches!(motion, code::G01 | code::G02 | code::G03) {
+                // On G00 nothing to chamfer (**decision**: not built).
                 return Err(AlarmId::AddressNotBuilt);
             }
             self.refuse_corner_modes(w)?;
@@ -212,29 +426,52 @@ impl State {
         self.cfg.dialect != crate::Dialect::Syntec && (self.corner.is_some() || w.has(b'c') || w.has(b'r'))
     }
 
-    /// The G01 move of a block that ends a held corner, holds one, or both.
+    /// The G01/G02/G03 move of a block that ends a held corner, holds one, or both.
     pub(super) fn corner_motion(&mut self, w: &Words, programmed: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         self.check_feed()?;
         let target = self.xf.forward(&programmed);
         let (a, b, c) = self.plane_axes()?;
         let off_plane = |p: &Pos, q: &Pos| (0..p.len()).any(|i| i != a && i != b && (p[i] - q[i]).abs() > EPS);
-        // The block's programmed line starts at the current point: the corner held before it,
-        // if any (the chamfer below moves the tool on to `start`).
+        let xy = |p: &Pos| [p[a], p[b]];
+        // The block's programmed element starts at the current point: the corner held before
+        // it, if any (the corner's pieces below move the tool on to `start`).
         let line_start = self.pos;
+        // This block's element (`self.arc` reads the arc from the current point).
+        let elem = match self.modes[group::MOTION] {
+            code::G02 | code::G03 => match self.arc(w, &target)? {
+                // A full circle's corner is not built (where it starts and ends is one point).
+                (_, Some(arc)) if arc.sweep_deg.abs() >= 360.0 - 1e-9 => return Err(AlarmId::GCodeNotBuilt),
+                (_, Some(arc)) if !off_plane(&line_start, &target) => {
+                    let sweep = arc.sweep_deg.to_radians();
+                    let center = [arc.center[a], arc.center[b]];
+                    (Elem::Arc { center, radius: arc.radius, ccw: sweep > 0.0 }, sweep.abs())
+                }
+                // A helix, or an R arc that does not move in the plane: not built / no move.
+                (_, Some(_)) => return Err(AlarmId::GCodeNotBuilt),
+                (_, None) => return Err(AlarmId::CornerNextBlock),
+            },
+            _ => {
+                let len = norm(sub(xy(&target), xy(&line_start)));
+                let dir = if len < EPS { [0.0, 0.0] } else { unit2(sub(xy(&target), xy(&line_start))) };
+                (Elem::Line { dir }, len)
+            }
+        };
         let mut start = self.pos;
         if let Some(held) = self.corner.take() {
             if off_plane(&held.corner, &target) {
                 return Err(AlarmId::CornerNextBlock);
             }
-            let avail = (held.corner[a] - held.from[a]).hypot(held.corner[b] - held.from[b]);
-            let k = corner(
-                held.dir,
-                avail,
-                [held.corner[a], held.corner[b]],
-                [target[a], target[b]],
-                held.join,
-                held.size,
-            )?;
+            if elem.1 < EPS {
+                return Err(AlarmId::CornerNextBlock);
+            }
+            let p = xy(&held.corner);
+            let k = match (held.elem, elem.0) {
+                // Line–line: the closed form (its property test).
+                (Elem::Line { dir }, Elem::Line { .. }) => {
+                    corner(dir, held.avail, p, xy(&target), held.join, held.size)?
+                }
+                (e1, e2) => corner_general(e1, held.avail, p, e2, elem.1, held.join, held.size)?,
+            };
             let at = |q: [f64; 2]| {
                 let mut p = held.corner;
                 (p[a], p[b]) = (q[0], q[1]);
@@ -245,9 +482,7 @@ impl State {
             let here = (self.line, self.n, self.f);
             (self.line, self.n, self.f) = held.tag;
             self.pos = held.from;
-            if (p1[a] - held.from[a]).hypot(p1[b] - held.from[b]) > EPS {
-                self.push_motion(MotionKind::Linear, p1, None, out);
-            }
+            self.emit_piece(held.elem, held.from, p1, (a, b, c), out);
             match k.arc {
                 Some((center, sweep)) => {
                     let kind = if sweep > 0.0 { MotionKind::ArcCcw } else { MotionKind::ArcCw };
@@ -259,9 +494,7 @@ impl State {
                     };
                     self.push_motion(kind, p2, Some(Box::new(arc)), out);
                 }
-                None if (p2[a] - p1[a]).hypot(p2[b] - p1[b]) > EPS => {
-                    self.push_motion(MotionKind::Linear, p2, None, out)
-                }
+                None if norm(sub(xy(&p2), xy(&p1))) > EPS => self.push_motion(MotionKind::Linear, p2, None, out),
                 None => {}
             }
             (self.line, self.n, self.f) = here;
@@ -275,20 +508,20 @@ impl State {
         }
         match self.corner_words(w)? {
             Some((join, size)) => {
-                let from = line_start;
-                if off_plane(&from, &target) {
+                if off_plane(&line_start, &target) {
                     return Err(AlarmId::GCodeNotBuilt);
                 }
-                let len = (target[a] - from[a]).hypot(target[b] - from[b]);
-                if len < EPS {
+                if elem.1 < EPS {
                     return Err(AlarmId::CornerTooShort);
                 }
-                let dir = [(target[a] - from[a]) / len, (target[b] - from[b]) / len];
+                // What is left of the element after the corner before it.
+                let avail = if start == line_start { elem.1 } else { elem.0.travel(xy(&start), xy(&target)) };
                 self.corner = Some(Box::new(HeldCorner {
                     join,
                     size,
                     from: start,
-                    dir,
+                    elem: elem.0,
+                    avail,
                     corner: target,
                     tag: (self.line, self.n, self.f),
                     context: self.context(),
@@ -297,14 +530,35 @@ impl State {
                 self.pos = target;
             }
             None => {
-                if (target[a] - start[a]).hypot(target[b] - start[b]) > EPS || off_plane(&start, &target) {
-                    self.push_motion(MotionKind::Linear, target, None, out);
-                }
+                self.emit_piece(elem.0, start, target, (a, b, c), out);
                 self.pos = target;
             }
         }
         self.xf.programmed = programmed;
         Ok(())
+    }
+
+    /// A piece of an element from `from` to `to` (the current point is `from`): a line, or an
+    /// arc about the element's center turning its way. Nothing if it has no length in the plane
+    /// (a line off the plane still moves).
+    fn emit_piece(&mut self, elem: Elem, from: Pos, to: Pos, (a, b, c): (usize, usize, usize), out: &mut Vec<Canon>) {
+        let (f, t) = ([from[a], from[b]], [to[a], to[b]]);
+        let moves_off = (0..from.len()).any(|i| i != a && i != b && (from[i] - to[i]).abs() > EPS);
+        if norm(sub(t, f)) <= EPS && !moves_off {
+            return;
+        }
+        match elem {
+            Elem::Line { .. } => self.push_motion(MotionKind::Linear, to, None, out),
+            Elem::Arc { center, radius, ccw } => {
+                let turn = travel(center, ccw, f, t);
+                let mut cp = from;
+                (cp[a], cp[b]) = (center[0], center[1]);
+                let sweep = if ccw { turn } else { -turn };
+                let arc = Arc { center: cp, plane_axes: (a, b, c), radius, sweep_deg: sweep.to_degrees() };
+                let kind = if ccw { MotionKind::ArcCcw } else { MotionKind::ArcCw };
+                self.push_motion(kind, to, Some(Box::new(arc)), out);
+            }
+        }
     }
 
     /// The end of the text, M02/M30 or a reset with a corner held: the next move never comes.
@@ -415,6 +669,91 @@ mod tests {
                 prop_assert!(tangent[0] * d1[0] + tangent[1] * d1[1] > 0.0);
             } else {
                 prop_assert!(k.arc.is_none());
+            }
+        }
+
+        /// Random corners with arcs (line–arc, arc–line, arc–arc): a chamfer's ends are on
+        /// their elements at chord `c` from the corner; a corner R's ends are on their elements,
+        /// `r` from its center, and the path turns smoothly there (the fillet leaves the first
+        /// element along its direction and meets the second along its direction); or the
+        /// corner is refused as too short.
+        #[test]
+        fn corners_with_arcs_are_exact(
+            p in (-50.0..50.0f64, -50.0..50.0f64),
+            kinds in (0..3u8),
+            a1 in 0.0..std::f64::consts::TAU, a2 in 0.0..std::f64::consts::TAU,
+            r1 in 5.0..80.0f64, r2 in 5.0..80.0f64,
+            ccw1 in any::<bool>(), ccw2 in any::<bool>(),
+            size in 0.1..8.0f64, round in any::<bool>(),
+        ) {
+            let p = [p.0, p.1];
+            let line = |a: f64| Elem::Line { dir: [a.cos(), a.sin()] };
+            // An arc through p: its center r away from p in direction a.
+            let arc = |a: f64, r: f64, ccw: bool| Elem::Arc { center: [p[0] + r * a.cos(), p[1] + r * a.sin()], radius: r, ccw };
+            let (e1, e2) = match kinds {
+                0 => (line(a1), arc(a2, r2, ccw2)),
+                1 => (arc(a1, r1, ccw1), line(a2)),
+                _ => (arc(a1, r1, ccw1), arc(a2, r2, ccw2)),
+            };
+            let extent = |e: &Elem| if matches!(e, Elem::Line { .. }) { 1000.0 } else { 3.0 };
+            let join = if round { Join::Round } else { Join::Chamfer };
+            let (t1, t2) = (e1.tangent(p), e2.tangent(p));
+            let cross = t1[0] * t2[1] - t1[1] * t2[0];
+            prop_assume!(cross.abs() > 1e-3);
+            let got = corner_general(e1, extent(&e1), p, e2, extent(&e2), join, size);
+            // Where the chamfer or fillet must exist: a corner turning by 0.2–2.4 rad, a chamfer
+            // under a quarter of every radius; a fillet between a line and an arc under a
+            // quarter of the radius, and where it lies inside the arc's circle, under a fifth of
+            // the circular segment the line cuts off (its depth R·(1 − cos φ), φ the angle
+            // between the line and the arc's tangent).
+            let turn = cross.abs().atan2(t1[0] * t2[0] + t1[1] * t2[1]);
+            let left = cross > 0.0;
+            let room = |e: &Elem| match *e {
+                Elem::Line { .. } => f64::INFINITY,
+                Elem::Arc { radius, ccw, .. } if ccw == left => {
+                    0.2 * radius * (1.0 - turn.min(std::f64::consts::PI - turn).cos())
+                }
+                Elem::Arc { radius, .. } => 0.25 * radius,
+            };
+            let radius = |e: &Elem| if let Elem::Arc { radius, .. } = *e { radius } else { f64::INFINITY };
+            let easy = (0.2..2.4).contains(&turn)
+                && if round { kinds < 2 && size < room(&e1).min(room(&e2)) } else { size < 0.25 * radius(&e1).min(radius(&e2)) };
+            prop_assert!(!easy || got.is_ok(), "{:?}", got);
+            let Ok(k) = got else {
+                prop_assert_eq!(got, Err(AlarmId::CornerTooShort));
+                return Ok(());
+            };
+            let on = |e: &Elem, q: [f64; 2]| match *e {
+                Elem::Line { dir } => (dir[0] * (q[1] - p[1]) - dir[1] * (q[0] - p[0])).abs(),
+                Elem::Arc { center, radius, .. } => (dist(q, center) - radius).abs(),
+            };
+            prop_assert!(on(&e1, k.p1) < 1e-7 && on(&e2, k.p2) < 1e-7, "{:?}", k);
+            // On the part next to the corner: before it on the first, after it on the second.
+            prop_assert!(e1.travel(k.p1, p) >= -1e-9 && e1.travel(k.p1, p) <= extent(&e1) + 1e-9);
+            prop_assert!(e2.travel(p, k.p2) >= -1e-9 && e2.travel(p, k.p2) <= extent(&e2) + 1e-9);
+            match k.arc {
+                None => {
+                    prop_assert!(!round);
+                    prop_assert!((dist(k.p1, p) - size).abs() < 1e-7 && (dist(k.p2, p) - size).abs() < 1e-7);
+                }
+                Some((f, sweep)) => {
+                    prop_assert!(round);
+                    prop_assert!((dist(f, k.p1) - size).abs() < 1e-7 && (dist(f, k.p2) - size).abs() < 1e-7);
+                    // The fillet's direction at each end is the element's there (G1).
+                    let dir_at = |q: [f64; 2]| {
+                        let v = [(q[0] - f[0]) / size, (q[1] - f[1]) / size];
+                        if sweep > 0.0 { [-v[1], v[0]] } else { [v[1], -v[0]] }
+                    };
+                    let (u1, u2) = (dir_at(k.p1), dir_at(k.p2));
+                    let (w1, w2) = (e1.tangent(k.p1), e2.tangent(k.p2));
+                    prop_assert!(dist(u1, w1) < 1e-6, "leaves along {:?}, element {:?}", u1, w1);
+                    prop_assert!(dist(u2, w2) < 1e-6, "meets along {:?}, element {:?}", u2, w2);
+                    // Turning p1 about f by the sweep gives p2.
+                    let (sn, cs) = sweep.sin_cos();
+                    let v = [k.p1[0] - f[0], k.p1[1] - f[1]];
+                    prop_assert!(dist([f[0] + v[0] * cs - v[1] * sn, f[1] + v[0] * sn + v[1] * cs], k.p2) < 1e-7);
+                    prop_assert!((cross > 0.0) == (sweep > 0.0));
+                }
             }
         }
     }

@@ -1012,7 +1012,7 @@ impl State {
             self.xf.programmed = programmed;
             return Ok(());
         }
-        if self.modes[group::MOTION] == code::G01 && self.corner_motion_block(w) {
+        if matches!(self.modes[group::MOTION], code::G01 | code::G02 | code::G03) && self.corner_motion_block(w) {
             return self.corner_motion(w, programmed, out);
         }
         if self.follows_tip() {
@@ -1158,7 +1158,7 @@ impl State {
     /// is the end point after the programming transforms), and whether it turns clockwise there
     /// (a mirror image swaps G02 and G03). No geometry for an R arc whose end point equals its
     /// start (no movement in the plane).
-    fn arc(&self, w: &Words, target: &Pos) -> Result<(bool, Option<Box<Arc>>), AlarmId> {
+    pub(super) fn arc(&self, w: &Words, target: &Pos) -> Result<(bool, Option<Box<Arc>>), AlarmId> {
         let (a, b, c) = self.plane_axes()?;
         let (sx, sy) = (self.pos[a], self.pos[b]);
         let (ex, ey) = (target[a], target[b]);
