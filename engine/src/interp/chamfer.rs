@@ -59,20 +59,20 @@ pub(super) struct HeldCorner {
     context: MotionContext,
 }
 
-/// The corner between a line arriving along `d1` (unit, `avail` mm of it left before the
-/// corner) and the line from `corner` to `end`, all in the plane's two coordinates.
+/// A corner's pieces in the plane's two coordinates ([`corner`], [`corner_general`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Corner {
-    /// Where the first line stops.
+    /// Where the first element stops.
     pub p1: [f64; 2],
-    /// Where the second line starts.
+    /// Where the second element starts.
     pub p2: [f64; 2],
     /// For `,R`: the arc's center and its signed sweep (radians, positive counter-clockwise);
     /// `None` for a chamfer or where the lines go straight on (nothing to round).
     pub arc: Option<([f64; 2], f64)>,
 }
 
-/// The geometry of the corner, or the alarm: the second line has no length in the plane
+/// The corner between a line arriving along `d1` (unit, `avail` mm of it left before the
+/// corner) and the line from `corner` to `end`, or the alarm: the second line has no length in the plane
 /// (`CornerNextBlock`), the lines turn back on themselves, or either is shorter than the
 /// chamfer or the arc's tangent length (`CornerTooShort`).
 pub(crate) fn corner(
