@@ -53,7 +53,7 @@ pub(super) struct HeldCorner {
     /// The virtual corner: the block's end point.
     corner: Pos,
     /// The block's line, sequence number and F.
-    tag: (u32, Option<u32>, f64),
+    tag: super::BlockTag,
     /// The block's modal context (its G09, cutter compensation …): the pieces are emitted while
     /// the next block runs, and carry their own block's.
     context: MotionContext,
@@ -479,25 +479,24 @@ impl State {
             };
             let (p1, p2) = (at(k.p1), at(k.p2));
             let first = out.len();
-            let here = (self.line, self.n, self.f);
-            (self.line, self.n, self.f) = held.tag;
-            self.pos = held.from;
-            self.emit_piece(held.elem, held.from, p1, (a, b, c), out);
-            match k.arc {
-                Some((center, sweep)) => {
-                    let kind = if sweep > 0.0 { MotionKind::ArcCcw } else { MotionKind::ArcCw };
-                    let arc = Arc {
-                        center: at(center),
-                        plane_axes: (a, b, c),
-                        radius: held.size,
-                        sweep_deg: sweep.to_degrees(),
-                    };
-                    self.push_motion(kind, p2, Some(Box::new(arc)), out);
+            self.as_block(held.tag, |s| {
+                s.pos = held.from;
+                s.emit_piece(held.elem, held.from, p1, (a, b, c), out);
+                match k.arc {
+                    Some((center, sweep)) => {
+                        let kind = if sweep > 0.0 { MotionKind::ArcCcw } else { MotionKind::ArcCw };
+                        let arc = Arc {
+                            center: at(center),
+                            plane_axes: (a, b, c),
+                            radius: held.size,
+                            sweep_deg: sweep.to_degrees(),
+                        };
+                        s.push_motion(kind, p2, Some(Box::new(arc)), out);
+                    }
+                    None if norm(sub(xy(&p2), xy(&p1))) > EPS => s.push_motion(MotionKind::Linear, p2, None, out),
+                    None => {}
                 }
-                None if norm(sub(xy(&p2), xy(&p1))) > EPS => self.push_motion(MotionKind::Linear, p2, None, out),
-                None => {}
-            }
-            (self.line, self.n, self.f) = here;
+            });
             for c in &mut out[first..] {
                 if let CanonKind::Motion(m) = &mut c.kind {
                     m.context = held.context;
@@ -523,7 +522,7 @@ impl State {
                     elem: elem.0,
                     avail,
                     corner: target,
-                    tag: (self.line, self.n, self.f),
+                    tag: self.block_tag(),
                     context: self.context(),
                 }));
                 // The next block starts at the corner (incremental words count from it).

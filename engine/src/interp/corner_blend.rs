@@ -20,8 +20,7 @@ use crate::blend::{Blender, Piece, MAX_CHORDS};
 use crate::canon::{Canon, MotionKind};
 use crate::machine::{AxisKind, MAX_AXES};
 
-/// The block a piece belongs to: line, sequence number and feed.
-type Tag = (u32, Option<u32>, f64);
+use super::BlockTag as Tag;
 
 /// Setting 191, Default Smoothness: Medium (P2), the NGC's default (Haas UK, "Smooth Operator").
 const SETTING_191: u8 = 2;
@@ -116,7 +115,7 @@ impl State {
     /// The block's end point `target` (after the programming transforms) into the rounding; the
     /// pieces its corner fixes are moved.
     pub(super) fn blend_point(&mut self, target: crate::canon::Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
-        let tag = (self.line, self.n, self.f);
+        let tag = self.block_tag();
         let start = self.pos;
         let m = &self.cfg.machine;
         let linear: [bool; MAX_AXES] =
@@ -144,16 +143,15 @@ impl State {
 
     /// Each piece's chords as motions of its block (its line, sequence number and F).
     fn emit_pieces(&mut self, pieces: Vec<Piece<Tag, MAX_AXES>>, out: &mut Vec<Canon>) {
-        let here = (self.line, self.n, self.f);
         for piece in pieces {
-            (self.line, self.n, self.f) = piece.tag;
             let first = out.len();
-            for q in piece.chords {
-                self.push_motion(MotionKind::Linear, q, None, out);
-            }
+            self.as_block(piece.tag, |s| {
+                for q in piece.chords {
+                    s.push_motion(MotionKind::Linear, q, None, out);
+                }
+            });
             crate::canon::cap_speed(&mut out[first..], piece.speed_cap);
         }
-        (self.line, self.n, self.f) = here;
     }
 
     /// Under G187 (in force after the block) the modes whose path the rounding is not built

@@ -230,6 +230,10 @@ pub(super) struct CycleData {
     initial: f64,
 }
 
+/// A block as the motions of a move held across blocks name it: its line, sequence number and
+/// F (`State::as_block`).
+pub(super) type BlockTag = (u32, Option<u32>, f64);
+
 /// Everything a block can change.
 #[derive(Debug, Clone)]
 pub struct State {

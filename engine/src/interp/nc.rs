@@ -943,6 +943,22 @@ impl State {
         self.pos = target;
     }
 
+    /// The block being read, as the motions of a move held across blocks name it (nano
+    /// smoothing, G187 corner rounding, a `,C`/`,R` corner).
+    pub(super) fn block_tag(&self) -> super::BlockTag {
+        (self.line, self.n, self.f)
+    }
+
+    /// `emit` as the block `tag`: the motions it makes carry that block's line, sequence number
+    /// and F; then back to the block being read.
+    pub(super) fn as_block<T>(&mut self, tag: super::BlockTag, emit: impl FnOnce(&mut State) -> T) -> T {
+        let here = self.block_tag();
+        (self.line, self.n, self.f) = tag;
+        let result = emit(self);
+        (self.line, self.n, self.f) = here;
+        result
+    }
+
     /// A motion with the block's feed, spindle speed and modal context.
     pub(super) fn motion(
         &self,

@@ -18,8 +18,7 @@ use crate::canon::{Canon, MotionKind};
 use crate::machine::{AxisKind, MAX_AXES, STCP_PATH_TOLERANCE_MM, STCP_ROTARY_TOLERANCE_DEG};
 use crate::smoothing::{Settings, Smoother, Span};
 
-/// The block a span belongs to: line, sequence number and feed.
-type Tag = (u32, Option<u32>, f64);
+use super::BlockTag as Tag;
 
 /// The least input increment of a rotary axis (IS-B), the tolerance No.19587 = 0 gives.
 const LEAST_INCREMENT_DEG: f64 = 0.001;
@@ -274,7 +273,7 @@ impl State {
     /// The block's end point `target` (after the programming transforms): into the curve;
     /// the spans it completes are moved.
     pub(super) fn smoothing_point(&mut self, target: crate::canon::Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
-        let tag = (self.line, self.n, self.f);
+        let tag = self.block_tag();
         let start = self.pos;
         let s = self.smoothing.as_deref_mut().expect("nano smoothing in force");
         let settings = s.settings;
@@ -305,21 +304,21 @@ impl State {
     /// Each span's chords as motions of its block (its line, sequence number and F), no faster
     /// than the span's curve allows the axes.
     fn emit_spans(&mut self, spans: Vec<Span<Tag, MAX_AXES>>, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
-        let here = (self.line, self.n, self.f);
         for span in spans {
-            (self.line, self.n, self.f) = span.tag;
             let first = out.len();
-            for q in span.chords {
-                if self.follows_tip() {
-                    // An alarm here names the block whose motion it is.
-                    self.tip_motion(MotionKind::Linear, q, None, out)?;
-                } else {
-                    self.push_motion(MotionKind::Linear, q, None, out);
+            self.as_block(span.tag, |s| {
+                for q in span.chords {
+                    if s.follows_tip() {
+                        // An alarm here names the block whose motion it is.
+                        s.tip_motion(MotionKind::Linear, q, None, out)?;
+                    } else {
+                        s.push_motion(MotionKind::Linear, q, None, out);
+                    }
                 }
-            }
+                Ok(())
+            })?;
             crate::canon::cap_speed(&mut out[first..], span.speed_cap);
         }
-        (self.line, self.n, self.f) = here;
         Ok(())
     }
 }
