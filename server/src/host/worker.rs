@@ -47,13 +47,13 @@ pub(super) fn run(inner: Weak<Inner>, index: usize, count: usize) {
 fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
     let watching = hosted.events.receiver_count() > 0;
     let positions = hosted.position.receiver_count() > 0;
-    let (messages, records, frame) = {
-        let mut station = hosted.station();
-        station.controller.tick(real_dt * hosted.speed());
-        let (messages, records) = station.collect(&hosted.id, real_dt, watching);
-        let frame = positions.then(|| Reading::of(&station));
-        (messages, records, frame)
-    };
+    let mut station = hosted.station();
+    station.controller.tick(real_dt * hosted.speed());
+    let (messages, records) = station.collect(&hosted.id, real_dt, watching);
+    let frame = positions.then(|| Reading::of(&station));
+    // The records and messages leave before the station is unlocked (neither send blocks), so
+    // they reach the writer and the streams in the order the station produced them, whoever
+    // (this worker or a panel command, `service::panel::execute`) holds it next.
     for record in records {
         match &record {
             super::Record::Alarm { alarm, .. } => {
@@ -67,6 +67,7 @@ fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
         inner.record(record);
     }
     hosted.publish(messages);
+    drop(station);
     if let Some(reading) = frame {
         // Only a change is published: an idle controller's subscribers get nothing.
         let moved = hosted.position.borrow().as_ref().is_none_or(|last| !last.reading.same_frame(&reading));

@@ -459,24 +459,27 @@ pub fn execute<T>(
 ) -> Result<(Applied, T), ServiceError> {
     command.check()?;
     let mut ended = Vec::new();
-    let (result, messages, records, seen) = {
-        let mut station = hosted.station();
-        // Removed while this request waited for the lock (handed to another node, which
-        // loads it from the database): acting on this copy would be lost.
-        if hosted.is_removed() {
-            return Err(ServiceError::Unavailable(format!(
-                "controller {} is moving to another node: retry in a few seconds",
-                hosted.id
-            )));
-        }
-        let result = apply(&mut station, &hosted.id, command, &mut ended);
-        let (messages, records) = station.collect(&hosted.id, 0.0, true);
-        (result, messages, records, view(hosted, &station))
-    };
+    let mut station = hosted.station();
+    // Removed while this request waited for the lock (handed to another node, which
+    // loads it from the database): acting on this copy would be lost.
+    if hosted.is_removed() {
+        return Err(ServiceError::Unavailable(format!(
+            "controller {} is moving to another node: retry in a few seconds",
+            hosted.id
+        )));
+    }
+    let result = apply(&mut station, &hosted.id, command, &mut ended);
+    let (messages, records) = station.collect(&hosted.id, 0.0, true);
+    // Sent before the lock is let go (neither send blocks): a worker's tick that follows this
+    // command sends its records and messages after these. Sent after the unlock, a cycle
+    // start's save (#3002 as it stood then) could reach the writer after the run's end had
+    // saved the program's #3002 = 1.5, and overwrite it.
     for r in ended.into_iter().chain(records) {
         host.record(r);
     }
     hosted.publish(messages);
+    let seen = view(hosted, &station);
+    drop(station);
     Ok((result?, seen))
 }
 
@@ -485,6 +488,7 @@ mod tests {
     use super::*;
     use crate::host::Spec;
     use fivex_engine::machine::MachineConfig;
+    use std::sync::Arc;
 
     fn hosted() -> Hosted {
         Hosted::new(Spec {
@@ -583,6 +587,52 @@ mod tests {
         }
         let read: PanelCommand = serde_json::from_str(r#"{"command": "set_mode", "mode": "jog"}"#).unwrap();
         assert_eq!(read, PanelCommand::SetMode { mode: Mode::Jog });
+    }
+
+    /// The #3002 lost over a restart: a cycle start saves #3002 as it stands (its state event);
+    /// the worker's tick that ends the run saves the program's #3002 = 1.5. Had the command
+    /// sent its record after letting the station go, the worker could send first and the
+    /// writer would store the older value last.
+    #[test]
+    fn a_commands_records_are_sent_before_the_station_is_let_go() {
+        let (tx, mut rx) = tokio::sync::mpsc::unbounded_channel();
+        let host = Host::new(1, tx);
+        let hosted = Arc::new(hosted());
+        hosted.set_speed(1000.0);
+        // The hour timer is under way before the run (so the cycle start saves a value).
+        hosted.station().controller.tick(36.0);
+        host.add(hosted.clone());
+        let program = "#3002=1.5\nG01 X10. F6000\nM30\n".to_string();
+        let start = PanelCommand::CycleStart { program: Some((1, program)) };
+        // `view` runs while the station is still locked: what the channel holds then was
+        // sent before any worker could tick the controller again.
+        let (applied, sent_while_locked) =
+            execute(&host, &hosted, start, |_, _| std::iter::from_fn(|| rx.try_recv().ok()).collect::<Vec<_>>())
+                .unwrap();
+        assert_eq!(applied, Applied::Done);
+        let hour_timer = |records: &[Record]| {
+            records.iter().rev().find_map(|r| match r {
+                Record::Variables { values, .. } => values.iter().find(|(n, _)| *n == 3002).and_then(|(_, v)| *v),
+                _ => None,
+            })
+        };
+        let at_start = hour_timer(&sent_while_locked).expect("the cycle start saves #3002");
+        assert!((0.009..0.011).contains(&at_start), "{sent_while_locked:?}");
+        // The worker ends the run; the writer sees the records in the order they were sent:
+        // the last #3002 it stores is the program's.
+        let mut written = sent_while_locked;
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+        while !written.iter().any(|r| matches!(r, Record::Run { .. })) {
+            assert!(std::time::Instant::now() < deadline, "the run did not end: {written:?}");
+            match rx.try_recv() {
+                Ok(r) => written.push(r),
+                Err(_) => std::thread::sleep(std::time::Duration::from_millis(5)),
+            }
+        }
+        host.shutdown();
+        written.extend(std::iter::from_fn(|| rx.try_recv().ok()));
+        let last = hour_timer(&written).unwrap();
+        assert!((1.5..1.6).contains(&last), "#3002 stored last: {last} ({written:?})");
     }
 
     #[test]
