@@ -343,6 +343,33 @@ impl Track {
         (lo, hi)
     }
 
+    /// The jerk a landing from `x` turns its acceleration to zero with, coming `up` to its
+    /// speed (the acceleration falls) or down to it (it rises); `now` the jerk bounds at `x`:
+    /// [`RAMP`] of the mean, over the speeds the landing passes, of the bound where it passes
+    /// them (Simpson's rule on its start, middle speed and end, each at the point of the path
+    /// it is at then). A drive that follows the landing curve of that jerk tick by tick turns
+    /// at the share of the bound at every point (v' = a and a' = −J(v) give a² = 2∫J dv).
+    /// (The mean of the start and end bounds, no more than the start's, left the binding axis
+    /// at 84–89 % of its jerk in landings whose bound rises: the drive then follows a curve
+    /// that rises too, and turns by less than it.)
+    fn landing_jerk(&self, x: &Tick, (lo, hi): (f64, f64), up: bool) -> f64 {
+        let bound = |(lo, hi): (f64, f64)| if up { -lo } else { hi };
+        let j0 = bound((lo, hi));
+        let a0 = if up { x.a.max(0.0) } else { x.a.min(0.0) };
+        if a0 == 0.0 || j0 <= TINY {
+            return (RAMP * j0).max(TINY);
+        }
+        // Where the landing passes its speeds: as a constant-jerk ramp at the bound now.
+        let t = a0.abs() / j0;
+        let along = |u: f64| x.s + x.v * u + 0.5 * a0 * u * u - a0 * u * u * u / (6.0 * t);
+        let dv = 0.5 * a0 * t;
+        // The middle speed is passed where a² is half a0² (a² falls linearly in v).
+        let half = std::f64::consts::FRAC_1_SQRT_2;
+        let mid = bound(self.jerk_bounds(&self.at(along(t * (1.0 - half))), x.v + 0.5 * dv, a0 * half, 1.0));
+        let end = bound(self.jerk_bounds(&self.at(along(t)), x.v + dv, 0.0, 1.0));
+        (RAMP * (j0 + 4.0 * mid + end) / 6.0).max(TINY)
+    }
+
     /// The highest speed at which every axis is within its speed where the derivatives are
     /// `d`, in the cell from point `k`.
     fn top_speed_at(&self, d: &[Pos; 3], k: usize) -> f64 {
@@ -402,20 +429,11 @@ impl Track {
             // a halt lands on rest by the discrete one, which does not overshoot it.)
             let room = target - x.v - 0.5 * x.a * DT;
             // `law` is the jerk that landing turns the acceleration with: negative coming up
-            // to the target, positive coming down to it; the mean of what it has now and where
-            // it ends (the bound moves with the speed along the landing, which the drive
-            // follows tick by tick), no more than now. (Both directions' lower bound, as
-            // `turn`, held ramps down to 73 % of the jerk at hand where the other direction's
-            // was the tighter; the lower of now and the end, to 80 % where the bound tightens
-            // along the landing.)
-            let coming_up = RAMP * (-j_lo).min(-0.5 * (j_lo + end_lo));
-            let law = if room >= 0.0 {
-                coming_up
-            } else {
-                let (_, end_hi) = self.jerk_bounds(&d, x.v - x.a.min(0.0).powi(2) / (2.0 * j_hi.max(TINY)), 0.0, 1.0);
-                RAMP * j_hi.min(0.5 * (j_hi + end_hi))
-            }
-            .max(TINY);
+            // to the target, positive coming down to it (`landing_jerk`). (Both directions'
+            // lower bound, as `turn`, held ramps down to 73 % of the jerk at hand where the
+            // other direction's was the tighter.)
+            let up = self.landing_jerk(&x, (j_lo, j_hi), true);
+            let law = if room >= 0.0 { up } else { self.landing_jerk(&x, (j_lo, j_hi), false) };
             let disc = 0.25 * DT * DT + 2.0 * room / law;
             let wanted = if room < 0.0 && halt {
                 law * (0.5 * DT - (0.25 * DT * DT - 2.0 * room / law).sqrt())
@@ -442,7 +460,7 @@ impl Track {
                 self.top_speed_at(&next, cell).min(self.top_speed_at(&next, (cell + 1).min(self.s.len() - 1)));
             // (It brakes with the jerk a landing on the target would: at 80 % of the jerk at
             // hand, as it was, it landed every drive coming up to an axis's top speed early.)
-            let guard = self.brake_guard(&x, -coming_up);
+            let guard = self.brake_guard(&x, -up);
             j = j.min(2.0 * (fastest - x.v - x.a * DT) / (DT * DT)).min(guard);
             j = j.clamp(j_lo, j_hi);
             // The jerk's bounds move with the speed and acceleration over the tick: within them
