@@ -88,8 +88,10 @@ pub struct Db {
     backend: Backend,
     /// The workers' records that could not be stored (`write_records`), for `/metrics`.
     failed_records: Arc<AtomicU64>,
-    /// The workers' records `write_records` is done with (stored, or failed and counted).
-    records_done: Arc<AtomicU64>,
+    /// The workers' records `write_records` is done with (stored, or failed and counted): a
+    /// `watch`, so a request can wait for the writer to reach its own record
+    /// ([`Db::records_written`]).
+    records_done: Arc<tokio::sync::watch::Sender<u64>>,
 }
 
 /// Readers: enough for the handlers that read at once on a small machine.
@@ -142,7 +144,16 @@ impl Db {
     /// How many of the workers' records the writer is done with, in the order they were sent
     /// (`host::Host::records_sent`): stored, or failed (and counted in `failed_records`).
     pub fn records_done(&self) -> u64 {
-        self.records_done.load(Ordering::SeqCst)
+        *self.records_done.borrow()
+    }
+
+    /// Waits until the writer is done with the first `count` records sent to it
+    /// (`host::Host::record` numbers them), at most [`WRITER_WAIT`]: whether it got there.
+    pub async fn records_written(&self, count: u64) -> bool {
+        let mut done = self.records_done.subscribe();
+        // (The sender lives as long as `self`: `wait_for` cannot fail on a closed channel.)
+        let reached = tokio::time::timeout(WRITER_WAIT, done.wait_for(|d| *d >= count)).await;
+        matches!(reached, Ok(Ok(_)))
     }
 
     /// A write transaction; on SQLite it holds the write lock from its start (`BEGIN
@@ -647,7 +658,7 @@ pub async fn write_records(db: Db, mut records: tokio::sync::mpsc::UnboundedRece
             db.failed_records.fetch_add(1, Ordering::Relaxed);
             tracing::warn!(error = %e, records = batch.len(), "cannot store the workers' records");
         }
-        db.records_done.fetch_add(batch.len() as u64, Ordering::SeqCst);
+        db.records_done.send_modify(|done| *done += batch.len() as u64);
         batch.clear();
     }
 }

@@ -1,6 +1,7 @@
 //! Tool offset memory (H/D, geometry and wear; the corner radius) and work offsets (external,
 //! G54–G59, G54.1 P1–P300). Changes are in the database when the answer comes; a program's own
-//! changes (G10, system variables) are saved when its run state changes.
+//! changes (G10, system variables) are saved when its run state changes, or with the next
+//! change through the API (`service::settings`).
 
 use crate::http::extract::Addressed;
 use axum::extract::rejection::PathRejection;
@@ -155,7 +156,7 @@ pub async fn set_tool(
         radius_wear: request.radius_wear,
         corner_radius: request.corner_radius,
     };
-    let row = settings::set_tool_offset(&state.db, &hosted, number, change).await?;
+    let row = settings::set_tool_offset(&state.db, &state.host, &hosted, number, change).await?;
     Ok(Json(row.into()))
 }
 
@@ -204,7 +205,7 @@ pub async fn set_work(
     let hosted = hosted(&state, &id)?;
     let request = body(request)?;
     let slot = slot_of(&name).ok_or_else(|| ApiError::Unprocessable(format!("no work offset {name}"), None))?;
-    let shown = settings::set_work_offset(&state.db, &hosted, slot, &request.axes).await?;
+    let shown = settings::set_work_offset(&state.db, &state.host, &hosted, slot, &request.axes).await?;
     Ok(Json(WorkOffsetDto { name: name_of(slot), axes: shown }))
 }
 

@@ -96,6 +96,6 @@ pub async fn write(
     let (id, number) = path(params)?;
     let hosted = hosted(&state, &id)?;
     let value = body(request)?.value;
-    settings::set_variable(&state.db, &hosted, number, value).await?;
+    settings::set_variable(&state.db, &state.host, &hosted, number, value).await?;
     Ok(Json(Variable { number, value }))
 }

@@ -76,12 +76,12 @@ struct Inner {
 }
 
 impl Inner {
-    fn record(&self, record: Record) {
-        if let Some(records) = lock(&self.records).as_ref() {
-            if records.send(record).is_ok() {
-                self.sent.fetch_add(1, Ordering::SeqCst);
-            }
-        }
+    /// The record's number in the channel's order (counting from 1), `None` once the writer is
+    /// gone.
+    fn record(&self, record: Record) -> Option<u64> {
+        let records = lock(&self.records);
+        records.as_ref()?.send(record).ok()?;
+        Some(self.sent.fetch_add(1, Ordering::SeqCst) + 1)
     }
 }
 
@@ -178,10 +178,11 @@ impl Host {
         self.len() == 0
     }
 
-    /// Hand a record to the database writer (dropped silently once the writer is gone, at
-    /// shutdown).
-    pub fn record(&self, record: Record) {
-        self.inner.record(record);
+    /// Hand a record to the database writer: its number in the order the writer takes them
+    /// (once `db::Db::records_done` reaches it, it is written), or `None` (the record dropped)
+    /// once the writer is gone, at shutdown.
+    pub fn record(&self, record: Record) -> Option<u64> {
+        self.inner.record(record)
     }
 
     /// How many records were handed to the database writer so far: once the writer has done

@@ -169,12 +169,13 @@ impl Station {
         self.saved_plane = self.controller.interpreter().state.kept_plane();
     }
 
-    /// The offsets as they are now were written to the database (by the API).
-    pub fn offsets_saved(&mut self) {
+    /// The offsets as they are now are in the database (read from it).
+    fn offsets_saved(&mut self) {
         self.controller.interpreter_mut().state.offsets.take_touched();
     }
 
-    /// A variable was set from outside (the API wrote it to the database already).
+    /// A variable was set from outside: the caller saves it (`service::settings`), so a tick
+    /// does not.
     pub fn variable_saved(&mut self, number: u32, value: Option<f64>) {
         if State::is_retained(number) {
             match value {
@@ -308,7 +309,7 @@ impl Station {
             }
         }
         if changed {
-            records.extend(self.offset_changes(controller));
+            records.extend(self.offset_records(controller));
             let plane = self.controller.interpreter().state.kept_plane();
             if plane != self.saved_plane {
                 self.saved_plane = plane;
@@ -332,8 +333,9 @@ impl Station {
         changes
     }
 
-    /// Tool and work offsets that differ from what was saved last (a program's G10), as records.
-    fn offset_changes(&mut self, controller: &str) -> Vec<Record> {
+    /// The tool and work offsets written since they were last saved (a program's G10, an API
+    /// write), as records; from now on they count as saved.
+    pub fn offset_records(&mut self, controller: &str) -> Vec<Record> {
         let axes = self.controller.interpreter().config().machine.axes.len();
         let (tools, work) = self.controller.interpreter_mut().state.offsets.take_touched();
         let now = &self.controller.interpreter().state.offsets;
