@@ -139,6 +139,7 @@ pub async fn tools(Addressed(hosted): Addressed) -> Result<Json<Vec<ToolOffsetDt
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "No such offset number, not a finite value, or a negative corner radius", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+        (status = 503, description = "The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept)", body = ErrorBody),
     )
 )]
 pub async fn set_tool(
@@ -194,6 +195,7 @@ pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDt
         (status = 409, description = "A program runs or holds", body = ErrorBody),
         (status = 422, description = "No such offset or axis, or not a finite value", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+        (status = 503, description = "The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept)", body = ErrorBody),
     )
 )]
 pub async fn set_work(

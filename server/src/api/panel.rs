@@ -71,6 +71,7 @@ fn optional_json<T: serde::de::DeserializeOwned + Default>(body: &[u8]) -> Resul
         (status = 404, description = "No such controller or program", body = ErrorBody),
         (status = 409, description = "Not possible now (running another program, alarm, wrong mode)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn cycle_start(
@@ -100,6 +101,7 @@ pub async fn cycle_start(
     responses(
         (status = 200, description = "Holding (or nothing was running)", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn feed_hold(
@@ -118,6 +120,7 @@ pub async fn feed_hold(
     responses(
         (status = 200, description = "Reset", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn reset(
@@ -148,6 +151,7 @@ pub struct Mdi {
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "Busy or in alarm", body = ErrorBody),
         (status = 422, description = "Not an MDI request", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn mdi(
@@ -179,6 +183,7 @@ pub struct SetMode {
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "Busy", body = ErrorBody),
         (status = 422, description = "Unknown mode", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn set_mode(
@@ -217,6 +222,7 @@ pub struct Overrides {
         (status = 200, description = "Set", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Out of range", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn set_overrides(
@@ -243,6 +249,7 @@ pub async fn set_overrides(
         (status = 200, description = "Set", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "Not now (the axes move or a path waits), or no Z-axis neglect here", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn set_switches(
@@ -271,6 +278,7 @@ pub struct EmergencyStop {
     responses(
         (status = 200, description = "Set", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
 pub async fn emergency_stop(

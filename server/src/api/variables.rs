@@ -86,6 +86,7 @@ pub async fn read(
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 422, description = "Not a writable variable or not a finite number", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
+        (status = 503, description = "The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept)", body = ErrorBody),
     )
 )]
 pub async fn write(

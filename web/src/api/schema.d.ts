@@ -3656,6 +3656,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     emergency_stop: {
@@ -3746,6 +3755,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     feed_hold: {
@@ -3798,6 +3816,15 @@ export interface operations {
             };
             /** @description A content type this endpoint does not take (JSON endpoints: application/json), or a body without one */
             415: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4607,6 +4634,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     modal: {
@@ -4756,6 +4792,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     set_overrides: {
@@ -4839,6 +4884,15 @@ export interface operations {
             };
             /** @description Out of range */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5617,6 +5671,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     restart: {
@@ -5977,6 +6040,15 @@ export interface operations {
             };
             /** @description JSON of the wrong shape: a missing or unknown field, a value out of range */
             422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -6440,6 +6512,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     list_variables: {
@@ -6661,6 +6742,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
         };
     };
     works: {
@@ -6814,6 +6904,15 @@ export interface operations {
             };
             /** @description Database error (logged, not returned) */
             500: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept) */
+            503: {
                 headers: {
                     [name: string]: unknown;
                 };
