@@ -296,7 +296,7 @@ const SURVEY_TWP: usize = 30;
 
 /// The share of all samples below the feed where no axis is at [`AT_LIMIT`] (short samples),
 /// at most, over the survey; `docs/motion.md` gives the measured figure.
-const SURVEY_SHORT: f64 = 0.01;
+const SURVEY_SHORT: f64 = 0.004;
 
 /// Every sample of a fixed set of random TCP and tilted-plane blocks, classified: the figures
 /// `docs/motion.md` quotes. Run with `--nocapture` to see them.
@@ -338,7 +338,7 @@ fn kinematic_samples_survey() {
     let short = total.short as f64 / below_feed.max(1) as f64;
     eprintln!(
         "kinematic survey: {blocks} blocks, {} samples: feed {:.1} %, axis at 90 % {:.1} %, smeared {:.2} %, \
-         ends {:.2} %, short {:.1} % ({:.1} % of the samples below the feed; in {whole_short} blocks)",
+         ends {:.2} %, short {:.2} % ({:.2} % of the samples below the feed; in {whole_short} blocks)",
         total.samples,
         100.0 * total.share(total.feed),
         100.0 * total.share(total.axis),
