@@ -66,6 +66,8 @@ struct Track {
     /// The highest steady speed at each point: feed, tolerance, junction, and every axis
     /// within its speed and [`CRUISE`] of its acceleration and jerk.
     cap: Vec<f64>,
+    /// The feed and junction caps alone (`cap` before the axes' steady speeds lower it).
+    fed: Vec<f64>,
     /// `cap` lowered to what the machine can brake to at [`ENVELOPE`] of its deceleration.
     envelope: Vec<f64>,
     /// [`Track::rate_error`] of the cell from each point to the next.
@@ -121,6 +123,7 @@ impl Track {
             s: Vec::new(),
             d: Vec::new(),
             cap: Vec::new(),
+            fed: Vec::new(),
             envelope: Vec::new(),
             error: Vec::new(),
             top: Vec::new(),
@@ -141,6 +144,7 @@ impl Track {
                     cap = cap.min(junctions[k - 1]);
                 }
                 t.cap.push(cap);
+                t.fed.push(cap);
             }
             t.len += seg.len;
         }
@@ -174,6 +178,7 @@ impl Track {
             s: self.s.iter().rev().map(|s| self.len - s).collect(),
             d: self.d.iter().rev().map(flip).collect(),
             cap: self.cap.iter().rev().copied().collect(),
+            fed: self.fed.iter().rev().copied().collect(),
             envelope: Vec::new(),
             error: Vec::new(),
             top: Vec::new(),
@@ -696,8 +701,7 @@ impl Drives {
 
     /// The profile joining the drives (see the module).
     fn join(&self, to_beat: f64) -> Joined {
-        let Drives { forward, backward, f, b, v_end } = self;
-        let v_end = *v_end;
+        let Drives { forward, backward, f, b, .. } = self;
         let speed_back = |s: f64| self.speed_back(s);
         let len = forward.len;
         let crossing = f.iter().position(|x| x.v > speed_back(x.s) * (1.0 + 1e-9) + 1e-12).unwrap_or(f.len() - 1);
@@ -754,11 +758,12 @@ impl Drives {
                         t.a == 0.0 || end >= v - 1e-9
                     }
                 };
-                let (m, rb) = (0..top).rev().take(4000).filter(reaches).take(8).find_map(|m| {
-                    let rb = backward.join_ramp(&b[m], v, len - ef.s + 1e-12)?;
-                    (len - rb.last()?.s >= ef.s - 1e-12).then_some((m, rb))
-                })?;
-                let s_back = len - rb.last()?.s;
+                let (m, (rb, s_back)) = (0..top)
+                    .rev()
+                    .take(4000)
+                    .filter(reaches)
+                    .take(8)
+                    .find_map(|m| Some((m, self.back_ramp(m, v, ef.s)?)))?;
                 forward.cruise_fits(ef.s, s_back.max(ef.s), v).then_some((v, rf, m, rb, s_back))
             })
         };
@@ -786,21 +791,91 @@ impl Drives {
                 None => failed = mid,
             }
         }
-        if let Some((k, (v, rf, m, rb, s_back))) = joined {
-            let ef = rf[rf.len() - 1];
-            let state = |t: &Tick| PathState { s: t.s, v: t.v, a: t.a };
-            let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + rf.len() + rb.len() + 1);
-            phases.extend(f[..k].iter().chain(&rf[..rf.len() - 1]).map(|t| (t.dt, t.j, state(t))));
-            phases.push(((s_back - ef.s).max(0.0) / v, 0.0, PathState { s: ef.s, v, a: 0.0 }));
-            // The backward drive read forwards: a state at σ is one at len − σ with its
-            // acceleration's sign changed; the jerk keeps its sign.
-            let fwd = |t: &Tick| PathState { s: len - t.s, v: t.v, a: -t.a };
-            phases.extend((0..rb.len() - 1).rev().map(|i| (rb[i].dt, rb[i].j, fwd(&rb[i + 1]))));
-            phases.extend((0..m).rev().map(|i| (b[i].dt, b[i].j, fwd(&b[i + 1]))));
-            let profile = Profile::tabled(phases, len, v_end);
-            return verified(forward, profile).map_or(Joined::None(crossing), |p| Joined::Profile(Box::new(p)));
+        let Some((k, join)) = joined else { return Joined::None(crossing) };
+        // The join with its cruise closed, or as found where that one breaks a limit.
+        let closed = self.closed(k, join.clone());
+        match self.profile(k, closed).or_else(|| self.profile(k, join)) {
+            Some(profile) => Joined::Profile(Box::new(profile)),
+            None => Joined::None(crossing),
         }
-        Joined::None(crossing)
+    }
+
+    /// The profile of the drives joined from forward tick `k` by `join`, if it keeps every
+    /// axis within its limits.
+    fn profile(&self, k: usize, (v, rf, m, rb, s_back): Join) -> Option<Profile> {
+        let Drives { forward, f, b, v_end, .. } = self;
+        let len = forward.len;
+        let ef = rf[rf.len() - 1];
+        let state = |t: &Tick| PathState { s: t.s, v: t.v, a: t.a };
+        let mut phases: Vec<(f64, f64, PathState)> = Vec::with_capacity(k + m + rf.len() + rb.len() + 1);
+        phases.extend(f[..k].iter().chain(&rf[..rf.len() - 1]).map(|t| (t.dt, t.j, state(t))));
+        phases.push(((s_back - ef.s).max(0.0) / v, 0.0, PathState { s: ef.s, v, a: 0.0 }));
+        // The backward drive read forwards: a state at σ is one at len − σ with its
+        // acceleration's sign changed; the jerk keeps its sign.
+        let fwd = |t: &Tick| PathState { s: len - t.s, v: t.v, a: -t.a };
+        phases.extend((0..rb.len() - 1).rev().map(|i| (rb[i].dt, rb[i].j, fwd(&rb[i + 1]))));
+        phases.extend((0..m).rev().map(|i| (b[i].dt, b[i].j, fwd(&b[i + 1]))));
+        verified(forward, Profile::tabled(phases, len, *v_end))
+    }
+}
+
+/// A join: its speed, the forward ramp, the backward tick it starts from, the backward ramp,
+/// and where that ramp starts (read forwards).
+type Join = (f64, Vec<Tick>, usize, Vec<Tick>, f64);
+
+impl Drives {
+    /// The ramp from backward tick `m` to a steady `v` that ends (read forwards) at or after
+    /// `from`, where the forward ramp ends; and where it starts, read forwards.
+    fn back_ramp(&self, m: usize, v: f64, from: f64) -> Option<(Vec<Tick>, f64)> {
+        let len = self.forward.len;
+        let rb = self.backward.join_ramp(&self.b[m], v, len - from + 1e-12)?;
+        let s_back = len - rb.last()?.s;
+        (s_back >= from - 1e-12).then_some((rb, s_back))
+    }
+
+    /// `join` from forward tick `k` with the cruise between its ramps closed: the highest
+    /// speed (within 5 % above the join's) whose ramps from the same two ticks still meet,
+    /// found by halving. The ramps land at zero acceleration on the join's speed and the
+    /// cruise between them runs with no axis near a limit: the quickest profile turns
+    /// through the join's speed instead. (Cruises of 1–24 ms were a third of the samples
+    /// short of issue 17's rule.)
+    fn closed(&self, k: usize, join: Join) -> Join {
+        let Drives { forward, f, b, .. } = self;
+        let len = forward.len;
+        let m = join.2;
+        let meet = |v: f64| -> Option<Join> {
+            let rf = forward.join_ramp(&f[k], v, len)?;
+            let ef = rf.last()?.s;
+            let (rb, s_back) = self.back_ramp(m, v, ef)?;
+            forward.cruise_fits(ef, s_back.max(ef), v).then_some((v, rf, m, rb, s_back))
+        };
+        let gap = |j: &Join| j.4 - j.1[j.1.len() - 1].s;
+        if gap(&join) <= 1e-9 {
+            return join;
+        }
+        // No faster than the feed or a junction's speed anywhere the ramps cover — but for a
+        // junction the join already passes faster: a junction between two pieces of one block
+        // (its speed the look-ahead's path limit, `path::kinematic_limits`), which the drives
+        // and joins cross by the axes' own limits (`verified`).
+        let (k0, k1) = (forward.index(f[k].s), forward.index(len - b[m].s));
+        let span = forward.fed[(k0 + 1).min(k1)..=k1.max(k0)]
+            .iter()
+            .copied()
+            .filter(|&cap| cap >= join.0)
+            .fold(f64::INFINITY, f64::min);
+        let (mut lo, mut hi) = (join.0, (join.0 * 1.05).min(span));
+        let mut best = join;
+        for _ in 0..12 {
+            let mid = 0.5 * (lo + hi);
+            match meet(mid) {
+                Some(j) => {
+                    lo = mid;
+                    best = j;
+                }
+                None => hi = mid,
+            }
+        }
+        best
     }
 }
 
