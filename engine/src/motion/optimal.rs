@@ -18,9 +18,11 @@
 //! The derivatives come from the segments' own grids (`Segment::derivatives`), interpolated
 //! between points; the plan keeps to [`MARGIN`] of each axis's acceleration and jerk for what
 //! interpolation misses, bounds its speed with what the rate can add between points, and checks
-//! every phase against the whole limits at the end. Anything it cannot do — a path that turns
+//! every phase against the whole limits at the end. A drive caught above a limit (a top speed
+//! falling faster than its jerk can build the deceleration) runs again with the braking
+//! envelope softer there (`Track::soften`). Anything it cannot do — a path that turns
 //! faster than its drive can follow, a ramp that would break a limit, a run too long for a
-//! table — leaves the run to the analytic profile (`None`). `stop` plans a feed hold's stop on
+//! table — leaves the run to the analytic profile (`None`), as does a plan slower than it. `stop` plans a feed hold's stop on
 //! such a run the same way (a drive toward rest).
 
 use super::path::{AxisLimits, Segment};
@@ -51,6 +53,9 @@ const TINY: f64 = 1e-12;
 /// How far ahead (in time at the speed at hand) a drive makes sure it can brake under a
 /// falling top speed.
 const GUARD: f64 = 0.06;
+/// How many times the drives run again, each time with the braking envelope softer around
+/// where one was caught above a limit, before the run keeps the analytic plan.
+const SOFTENINGS: usize = 4;
 
 /// Derivatives, speed caps and the braking envelope at points along a run (or along it read
 /// backwards).
@@ -78,6 +83,11 @@ struct Track {
     /// The last point [`Track::index`] found: a drive asks for the same or the next one
     /// tick after tick.
     hint: std::cell::Cell<usize>,
+    /// The share of the deceleration at hand the envelope assumes at each point ([`ENVELOPE`],
+    /// less where [`Track::soften`] lowered it).
+    brake: Vec<f64>,
+    /// Where the last drive was caught above a limit (see [`Track::steer`]).
+    trap: std::cell::Cell<Option<f64>>,
 }
 
 /// What a drive steers to.
@@ -99,6 +109,9 @@ const SETTLE_TICKS: usize = 2000;
 /// How much quicker than the two drives' lower speed a join may be (it is not below both
 /// everywhere: a settling ramp may run above a braking drive for a few ticks).
 const MARGIN_BEAT: f64 = 1.02;
+/// How much slower than the analytic plan a run along a bending path may be planned this way
+/// (see [`plan`]).
+const BENDING_BEAT: f64 = 1.01;
 
 /// A state of a drive and the jerk of its next tick.
 #[derive(Debug, Clone, Copy)]
@@ -128,6 +141,8 @@ impl Track {
             error: Vec::new(),
             top: Vec::new(),
             hint: std::cell::Cell::new(0),
+            brake: Vec::new(),
+            trap: std::cell::Cell::new(None),
         };
         for (k, seg) in segments.iter().enumerate() {
             let grid = seg.derivatives(axes)?;
@@ -157,6 +172,7 @@ impl Track {
         }
         // A path too short to difference (or a rate that is not a number) keeps the analytic
         // plan.
+        t.brake = vec![ENVELOPE; t.s.len()];
         let finite = t.d.iter().all(|d| d.iter().all(|row| row.iter().all(|x| x.is_finite())));
         if !finite || t.cap.iter().any(|&c| c.is_nan() || c <= TINY) {
             return None;
@@ -183,6 +199,8 @@ impl Track {
             error: Vec::new(),
             top: Vec::new(),
             hint: std::cell::Cell::new(0),
+            brake: self.brake.iter().rev().copied().collect(),
+            trap: std::cell::Cell::new(None),
         };
         t.error = (0..t.s.len()).map(|k| t.rate_error(k)).collect();
         t.fill_envelope();
@@ -269,17 +287,37 @@ impl Track {
     }
 
     /// Backward from the end (with no speed required there: the other drive ends the run),
-    /// the speed from which the machine can still brake to every later cap.
+    /// the speed from which the machine can still brake to every later cap (at each point's
+    /// `brake` share of the deceleration at hand).
     fn fill_envelope(&mut self) {
         let n = self.s.len();
         self.envelope = self.cap.clone();
         for k in (0..n - 1).rev() {
             let after = self.envelope[k + 1];
             let (lo, _) = self.accel_bounds(&self.d[k + 1], after, 1.0);
-            let brake = (-lo).max(0.0) * ENVELOPE;
+            let brake = (-lo).max(0.0) * self.brake[k + 1];
             let ds = self.s[k + 1] - self.s[k];
             self.envelope[k] = self.cap[k].min((after * after + 2.0 * brake * ds).sqrt());
         }
+    }
+
+    /// Halve the deceleration the envelope assumes around `trap`, where a drive (either way
+    /// along the track) was caught above a limit: over the distance the top speed there
+    /// covers in the time the jerk needs to build the deceleration at hand, either side (the
+    /// top speed may go on falling past it). The drives then start braking earlier for a top
+    /// speed, or an acceleration bound, that falls faster than they can follow: the envelope
+    /// assumes a deceleration at once, not one the jerk has to build.
+    fn soften(&mut self, trap: f64) {
+        let k = self.index(trap);
+        let (lo, _) = self.accel_bounds(&self.d[k], self.top[k], 1.0);
+        let (jerk, _) = self.jerk_bounds(&self.d[k], self.top[k], 0.0, 1.0);
+        let span = self.top[k] * (2.0 * (-lo).max(0.0) / (-jerk).max(TINY)).max(0.1);
+        for (share, s) in self.brake.iter_mut().zip(&self.s) {
+            if (s - trap).abs() <= span {
+                *share *= 0.5;
+            }
+        }
+        self.fill_envelope();
     }
 
     /// The point at or before `s` (the later of two at a junction).
@@ -404,8 +442,11 @@ impl Track {
         self.steer(start, Steer::Settle { v, until })
     }
 
+    /// The ticks of a drive from `start` steering by `steer` (see [`Steer`]); `None` where it
+    /// cannot keep to the limits, with [`Track::trap`] set where it was caught above one.
     fn steer(&self, start: Tick, steer: Steer) -> Option<Vec<Tick>> {
         let halt = matches!(steer, Steer::Halt);
+        self.trap.set(None);
         let mut x = start;
         let mut out = Vec::new();
         while x.s < self.len {
@@ -475,6 +516,15 @@ impl Track {
             let (end_lo, end_hi) = self.jerk_bounds(&next, v_end, a_end, 1.0);
             if end_lo <= end_hi {
                 j = j.clamp(end_lo.max(j_lo).min(j_hi), end_hi.min(j_hi).max(j_lo));
+            }
+            // Caught: no jerk at hand keeps the tick's end within an axis's speed or its whole
+            // acceleration (the top speed or the bound falls faster than the drive can follow).
+            // The run cannot pass the final check this way: stop here and say where.
+            let (v_end, a_end) = (x.v + DT * (x.a + 0.5 * DT * j), x.a + DT * j);
+            let (whole_lo, whole_hi) = self.accel_bounds(&next, v_end, 1.0 / MARGIN);
+            if v_end > fastest * (1.0 + 1e-9) + 1e-9 || a_end > whole_hi + 1e-9 || a_end < whole_lo - 1e-9 {
+                self.trap.set(Some(x.s));
+                return None;
             }
             let mut t = DT;
             // Landing on the steady speed within this tick: one ramp that ends exactly there
@@ -606,6 +656,12 @@ impl Track {
             && v <= self.cap_between(k0, k1)
     }
 
+    /// Whether some axis's rate by s changes along the track (a TCP swing; not a straight move
+    /// in a tilted plane, whose analytic plan keeps to the axes' limits exactly).
+    fn bends(&self) -> bool {
+        self.d.iter().any(|d| d[1].iter().chain(&d[2]).any(|x| x.abs() > 1e-9))
+    }
+
     fn cap_between(&self, k0: usize, k1: usize) -> f64 {
         self.cap[k0..=k1.min(self.cap.len() - 1)].iter().copied().fold(f64::INFINITY, f64::min)
     }
@@ -625,7 +681,8 @@ fn tighten(lo: &mut f64, hi: &mut f64, q1: f64, rest: f64, limit: f64) {
 
 /// The profile of a run of kinematic segments from speed `v_start` to `v_end` (both with zero
 /// acceleration), `junctions[k]` the highest speed where segment k meets k + 1; `None` when a
-/// segment is not kinematic or the plan cannot keep to the limits (see the module).
+/// segment is not kinematic, the plan cannot keep to the limits (see the module), or it takes
+/// longer than `to_beat`, the analytic plan's time (along a bending path, 1 % longer).
 pub fn plan(
     segments: &[&Segment],
     junctions: &[f64],
@@ -634,8 +691,12 @@ pub fn plan(
     to_beat: f64,
 ) -> Option<Profile> {
     let forward = Track::new(segments, junctions, axes)?;
+    // Along a bending path the analytic plan's limits are bounded over stretches, and where it
+    // wins by a hair it leaves every axis below 90 % of its limits for a while (issue 17's
+    // rule): the plan that keeps them at their limits is taken within 1 % of it.
+    let to_beat = if forward.bends() { BENDING_BEAT * to_beat } else { to_beat };
     let drives = Drives::new(forward, (v_start, v_end))?;
-    match drives.join(to_beat) {
+    let profile = match drives.join(to_beat) {
         Joined::Profile(profile) => Some(*profile),
         Joined::Skipped => None,
         // Both drives still accelerating toward each other where they cross (each landing on
@@ -649,7 +710,8 @@ pub fn plan(
                 _ => None,
             }
         }),
-    }
+    };
+    profile.filter(|p| p.duration() <= to_beat)
 }
 
 /// How a join of the two drives came out.
@@ -671,12 +733,25 @@ struct Drives {
 }
 
 impl Drives {
-    fn new(forward: Track, (v_start, v_end): (f64, f64)) -> Option<Drives> {
-        let backward = forward.reversed();
+    /// The drives from the run's end speeds; where one is caught above a limit, both run
+    /// again with the envelope softer there (up to [`SOFTENINGS`] times).
+    fn new(mut forward: Track, (v_start, v_end): (f64, f64)) -> Option<Drives> {
         let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
-        let b = backward.drive(rest(v_end), false)?;
-        let f = forward.drive(rest(v_start), false)?;
-        Some(Drives { forward, backward, f, b, v_end })
+        for _ in 0..SOFTENINGS {
+            let backward = forward.reversed();
+            let Some(b) = backward.drive(rest(v_end), false) else {
+                let trap = forward.len - backward.trap.get()?;
+                forward.soften(trap);
+                continue;
+            };
+            let Some(f) = forward.drive(rest(v_start), false) else {
+                let trap = forward.trap.get()?;
+                forward.soften(trap);
+                continue;
+            };
+            return Some(Drives { forward, backward, f, b, v_end });
+        }
+        None
     }
 
     /// The backward drive's speed at forward distance s.

@@ -366,8 +366,9 @@ impl Planner {
                 continue;
             }
             // A kinematic run: planned against the axes' own limits, or as runs of similar path
-            // limits between the same speeds — whichever is quicker (the first can fail, or
-            // lose to the second where its joins are conservative: `motion::optimal`).
+            // limits between the same speeds — the first where it can be planned and is quick
+            // enough against the second (`optimal::plan`: it can lose where its joins are
+            // conservative).
             let mut parts = self.runs(taken..r.end, false);
             pass(&mut parts, self.v_now, r.v_end);
             // Each part's speed change starts and ends at zero acceleration, so a chain of short
@@ -391,7 +392,7 @@ impl Planner {
                 }
                 _ => None,
             };
-            match optimal.filter(|p| p.duration() <= analytic) {
+            match optimal {
                 Some(profile) => {
                     self.release(r, taken, Some(Box::new(profile)));
                 }
@@ -415,13 +416,21 @@ impl Planner {
         self.v_now = r.v_end;
     }
 
-    /// The profile of kinematic run `r` (from queue index `from`) against the axes' limits.
+    /// The profile of kinematic run `r` (from queue index `from`) against the axes' limits,
+    /// if it is quick enough against the analytic plan's `to_beat` (`optimal::plan`).
     fn optimal(&self, from: usize, r: &Run, axes: &AxisLimits, to_beat: f64) -> Option<Profile> {
         let segments: Vec<&Segment> = self.queue.range(from..r.end).map(|q| &q.segment).collect();
-        // The junction speeds as queued: between a block's pieces, the lower of their path
-        // limits (the drives' look-ahead is surer with them where the path bends sharply).
-        let junctions: Vec<f64> = self.queue.range(from..r.end - 1).map(|q| q.junction).collect();
-        super::optimal::plan(&segments, &junctions, (self.v_now, r.v_end), axes, to_beat)
+        let queued = self.queue.range(from..r.end - 1);
+        let plan = |junctions: &[f64]| super::optimal::plan(&segments, junctions, (self.v_now, r.v_end), axes, to_beat);
+        // Between a block's pieces nothing but the axes' own limits at every point: the queued
+        // junction speed there is the lower of the two pieces' path limits, each bounded over
+        // its whole stretch (it cost TCP swings up to a tenth of their time). Where the drives
+        // cannot plan the run that way (a top speed or acceleration bound that falls faster
+        // than they can follow), with the queued speeds, which keep them slower there.
+        let open: Vec<f64> =
+            queued.clone().map(|q| if q.segment.continued() { f64::INFINITY } else { q.junction }).collect();
+        let junctions: Vec<f64> = queued.map(|q| q.junction).collect();
+        plan(&open).or_else(|| if open == junctions { None } else { plan(&junctions) })
     }
 
     /// The corner speed at each junction of `path` (one fewer than its segments).
