@@ -19,11 +19,11 @@
 //! between points; the plan keeps to [`MARGIN`] of each axis's acceleration and jerk for what
 //! interpolation misses, bounds its speed with what the rate can add between points, and checks
 //! every phase against the whole limits at the end. A drive caught above a limit (a top speed
-//! falling faster than its jerk can build the deceleration) runs again with the braking
-//! envelope softer there (`Track::soften`). Anything it cannot do — a path that turns
-//! faster than its drive can follow, a ramp that would break a limit, a run too long for a
-//! table — leaves the run to the analytic profile (`None`), as does a plan slower than it. `stop` plans a feed hold's stop on
-//! such a run the same way (a drive toward rest).
+//! falling faster than its jerk can build the deceleration) or with no jerk left at all runs
+//! again with the braking envelope softer there (`Track::soften`). Anything it cannot do — a
+//! path that turns faster than its drive can follow, a ramp that would break a limit, a run too
+//! long for a table — leaves the run to the analytic profile (`None`), as does a plan slower
+//! than it. `stop` plans a feed hold's stop on such a run the same way (a drive toward rest).
 
 use super::path::{AxisLimits, Segment};
 use super::profile::{PathState, Profile};
@@ -54,8 +54,11 @@ const TINY: f64 = 1e-12;
 /// falling top speed.
 const GUARD: f64 = 0.06;
 /// How many times the drives run again, each time with the braking envelope softer around
-/// where one was caught above a limit, before the run keeps the analytic plan.
+/// where one was caught, before the run keeps the analytic plan.
 const SOFTENINGS: usize = 4;
+/// The share of the speed where a drive was stuck with no jerk at hand that the caps around
+/// it are lowered to (see [`Track::soften`]).
+const STUCK: f64 = 0.9;
 
 /// Derivatives, speed caps and the braking envelope at points along a run (or along it read
 /// backwards).
@@ -86,8 +89,18 @@ struct Track {
     /// The share of the deceleration at hand the envelope assumes at each point ([`ENVELOPE`],
     /// less where [`Track::soften`] lowered it).
     brake: Vec<f64>,
-    /// Where the last drive was caught above a limit (see [`Track::steer`]).
-    trap: std::cell::Cell<Option<f64>>,
+    /// Where the last drive was caught (see [`Track::steer`]).
+    trap: std::cell::Cell<Option<Trap>>,
+}
+
+/// Where a drive was caught, and how.
+#[derive(Debug, Clone, Copy)]
+struct Trap {
+    s: f64,
+    /// The speed there where no path jerk kept every axis within its jerk (3·v·a·q2 and v³·q3
+    /// pulling two axes apart); `None` where the tick could not end within an axis's speed or
+    /// acceleration.
+    stuck: Option<f64>,
 }
 
 /// What a drive steers to.
@@ -302,19 +315,29 @@ impl Track {
     }
 
     /// Halve the deceleration the envelope assumes around `trap`, where a drive (either way
-    /// along the track) was caught above a limit: over the distance the top speed there
-    /// covers in the time the jerk needs to build the deceleration at hand, either side (the
-    /// top speed may go on falling past it). The drives then start braking earlier for a top
-    /// speed, or an acceleration bound, that falls faster than they can follow: the envelope
-    /// assumes a deceleration at once, not one the jerk has to build.
-    fn soften(&mut self, trap: f64) {
-        let k = self.index(trap);
+    /// along the track) was caught: over the distance the top speed there covers in the time
+    /// the jerk needs to build the deceleration at hand, either side (the top speed may go on
+    /// falling past it). The drives then start braking earlier for a top speed, or an
+    /// acceleration bound, that falls faster than they can follow: the envelope assumes a
+    /// deceleration at once, not one the jerk has to build. Where the drive was stuck with no
+    /// jerk at all, the caps there are lowered to [`STUCK`] of its speed too.
+    fn soften(&mut self, trap: Trap) {
+        let k = self.index(trap.s);
         let (lo, _) = self.accel_bounds(&self.d[k], self.top[k], 1.0);
         let (jerk, _) = self.jerk_bounds(&self.d[k], self.top[k], 0.0, 1.0);
         let span = self.top[k] * (2.0 * (-lo).max(0.0) / (-jerk).max(TINY)).max(0.1);
+        let near = |s: f64| (s - trap.s).abs() <= span;
         for (share, s) in self.brake.iter_mut().zip(&self.s) {
-            if (s - trap).abs() <= span {
+            if near(*s) {
                 *share *= 0.5;
+            }
+        }
+        // Stuck with no jerk at all: not slowly enough there, whatever the braking before.
+        if let Some(v) = trap.stuck {
+            for (cap, s) in self.cap.iter_mut().zip(&self.s) {
+                if near(*s) {
+                    *cap = cap.min(STUCK * v);
+                }
             }
         }
         self.fill_envelope();
@@ -443,7 +466,7 @@ impl Track {
     }
 
     /// The ticks of a drive from `start` steering by `steer` (see [`Steer`]); `None` where it
-    /// cannot keep to the limits, with [`Track::trap`] set where it was caught above one.
+    /// cannot keep to the limits, with [`Track::trap`] set where it was caught.
     fn steer(&self, start: Tick, steer: Steer) -> Option<Vec<Tick>> {
         let halt = matches!(steer, Steer::Halt);
         self.trap.set(None);
@@ -456,6 +479,9 @@ impl Track {
             let d = self.at(x.s);
             let (j_lo, j_hi) = self.jerk_bounds(&d, x.v, x.a, 1.0);
             if j_lo.is_nan() || j_hi.is_nan() || j_lo > j_hi {
+                if j_lo > j_hi {
+                    self.trap.set(Some(Trap { s: x.s, stuck: Some(x.v) }));
+                }
                 return None;
             }
             // The jerk a ramp down can count on: what it has now and where it ends (at zero
@@ -523,7 +549,7 @@ impl Track {
             let (v_end, a_end) = (x.v + DT * (x.a + 0.5 * DT * j), x.a + DT * j);
             let (whole_lo, whole_hi) = self.accel_bounds(&next, v_end, 1.0 / MARGIN);
             if v_end > fastest * (1.0 + 1e-9) + 1e-9 || a_end > whole_hi + 1e-9 || a_end < whole_lo - 1e-9 {
-                self.trap.set(Some(x.s));
+                self.trap.set(Some(Trap { s: x.s, stuck: None }));
                 return None;
             }
             let mut t = DT;
@@ -733,15 +759,15 @@ struct Drives {
 }
 
 impl Drives {
-    /// The drives from the run's end speeds; where one is caught above a limit, both run
-    /// again with the envelope softer there (up to [`SOFTENINGS`] times).
+    /// The drives from the run's end speeds; where one is caught, both run again with the
+    /// envelope softer there (up to [`SOFTENINGS`] times).
     fn new(mut forward: Track, (v_start, v_end): (f64, f64)) -> Option<Drives> {
         let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
         for _ in 0..SOFTENINGS {
             let backward = forward.reversed();
             let Some(b) = backward.drive(rest(v_end), false) else {
-                let trap = forward.len - backward.trap.get()?;
-                forward.soften(trap);
+                let trap = backward.trap.get()?;
+                forward.soften(Trap { s: forward.len - trap.s, ..trap });
                 continue;
             };
             let Some(f) = forward.drive(rest(v_start), false) else {
