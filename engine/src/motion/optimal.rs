@@ -613,11 +613,15 @@ impl Track {
 
     /// The speed the drive steers to from `x` (with `j_hi` the highest jerk at hand and `turn`
     /// the jerk its ramps use): the lowest cap, and envelope, a ramp from the acceleration
-    /// the next tick may reach would pass.
+    /// the next tick may reach would pass. Its length is taken as the distance covered keeping
+    /// that acceleration for the ramp's time τ, v·τ + a·τ²/2 (the ramp covers v·τ + a·τ²/3).
+    /// (Taken as at the ramp's end speed all along, v·τ + a·τ², the excess shrank with the
+    /// acceleration while the drive landed, pulling the window's end back to a higher
+    /// envelope: the target rose in steps and the jerk chattered between ticks.)
     fn goal(&self, x: &Tick, j_hi: f64, turn: f64) -> f64 {
         let most = (x.a + j_hi * DT).max(0.0);
         let tau = most / turn + 2.0 * DT;
-        self.target(x.s, x.s + (x.v + most * tau) * tau)
+        self.target(x.s, x.s + (x.v + 0.5 * most * tau) * tau)
     }
 
     /// [`Track::goal`] with the jerk at `x`.
