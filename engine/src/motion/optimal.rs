@@ -38,8 +38,9 @@ const MARGIN: f64 = 0.98;
 /// path's limits close in is within the rest).
 const STEER: f64 = 0.995;
 /// The share of an axis's acceleration and jerk a steady speed may take with its own v²·q2 and
-/// v³·q3 (the rest lets the speed follow the path's changes).
-const CRUISE: f64 = 0.94;
+/// v³·q3 (the rest lets the speed follow the path's changes). At 94 % a drive that follows a
+/// cap a little below it (landing on each point's) left the binding axis under 90 %.
+const CRUISE: f64 = 0.97;
 /// The share of the jerk at hand that a ramp toward a target speed uses.
 const RAMP: f64 = 0.95;
 /// The shares of the jerk at hand tried for the ramp into the cruise that joins the drives.
@@ -485,10 +486,13 @@ impl Track {
                 return None;
             }
             // The jerk a ramp down can count on: what it has now and where it ends (at zero
-            // acceleration, a little faster), the lower. How far ahead the drive looks for
-            // its target takes the lower of either direction's.
+            // acceleration, a little faster), the lower; how far ahead the drive looks for its
+            // target takes it. (The lower of either direction's made the window far longer than
+            // the landing where rising had the tighter bound: the drive aimed at caps beyond
+            // where it lands, and as its acceleration changed, the window's end crossed points
+            // and the target flipped between their caps.)
             let (end_lo, _) = self.jerk_bounds(&d, x.v + x.a.max(0.0).powi(2) / (2.0 * (-j_lo).max(TINY)), 0.0, 1.0);
-            let turn = RAMP * j_hi.min(-j_lo).min(-end_lo).max(TINY);
+            let turn = RAMP * (-j_lo).min(-end_lo).max(TINY);
             let target = match steer {
                 Steer::Halt => 0.0,
                 Steer::Settle { v, .. } => v,
@@ -624,10 +628,10 @@ impl Track {
         self.target(x.s, x.s + (x.v + 0.5 * most * tau) * tau)
     }
 
-    /// [`Track::goal`] with the jerk at `x`.
+    /// [`Track::goal`] with the jerk at `x` (a ramp down's, as in the drive).
     fn goal_at(&self, x: &Tick) -> f64 {
         let (lo, hi) = self.jerk_bounds(&self.at(x.s), x.v, x.a, 1.0);
-        self.goal(x, hi, RAMP * hi.min(-lo).max(TINY))
+        self.goal(x, hi, RAMP * (-lo).max(TINY))
     }
 
     /// The constant-jerk ramp from `x` that brings its acceleration to zero at speed `v`
