@@ -41,8 +41,12 @@ const STEER: f64 = 0.995;
 /// v³·q3 (the rest lets the speed follow the path's changes). At 94 % a drive that follows a
 /// cap a little below it (landing on each point's) left the binding axis under 90 %.
 const CRUISE: f64 = 0.97;
-/// The share of the jerk at hand that a ramp toward a target speed uses.
+/// The share of the jerk at hand that a ramp toward a target speed uses (less near where a
+/// drive overshot a landing, [`Track::soften`]).
 const RAMP: f64 = 0.95;
+/// What [`Track::soften`] multiplies the landings' share of the jerk by where a drive is
+/// caught at the same point again.
+const RAMP_SOFTER: f64 = 0.95;
 /// The shares of the jerk at hand tried for the ramp into the cruise that joins the drives.
 const RAMPS: [f64; 4] = [RAMP, 0.8, 0.6, 0.4];
 /// The share of the deceleration at hand the look-ahead's braking envelope assumes (the drive
@@ -54,9 +58,9 @@ const TINY: f64 = 1e-12;
 /// How far ahead (in time at the speed at hand) a drive makes sure it can brake under a
 /// falling top speed.
 const GUARD: f64 = 0.06;
-/// How many times the drives run again, each time with the braking envelope softer around
-/// where one was caught, before the run keeps the analytic plan.
-const SOFTENINGS: usize = 4;
+/// How many times the drives run again, each time softer around where one was caught, before
+/// the run keeps the analytic plan.
+const SOFTENINGS: usize = 6;
 /// The share of the speed where a drive was stuck with no jerk at hand that the caps around
 /// it are lowered to (see [`Track::soften`]).
 const STUCK: f64 = 0.9;
@@ -90,6 +94,9 @@ struct Track {
     /// The share of the deceleration at hand the envelope assumes at each point ([`ENVELOPE`],
     /// less where [`Track::soften`] lowered it).
     brake: Vec<f64>,
+    /// The share of the jerk at hand a landing uses at each point ([`RAMP`], less where
+    /// [`Track::soften`] lowered it).
+    ramp: Vec<f64>,
     /// Where the last drive was caught (see [`Track::steer`]).
     trap: std::cell::Cell<Option<Trap>>,
 }
@@ -156,6 +163,7 @@ impl Track {
             top: Vec::new(),
             hint: std::cell::Cell::new(0),
             brake: Vec::new(),
+            ramp: Vec::new(),
             trap: std::cell::Cell::new(None),
         };
         for (k, seg) in segments.iter().enumerate() {
@@ -187,6 +195,7 @@ impl Track {
         // A path too short to difference (or a rate that is not a number) keeps the analytic
         // plan.
         t.brake = vec![ENVELOPE; t.s.len()];
+        t.ramp = vec![RAMP; t.s.len()];
         let finite = t.d.iter().all(|d| d.iter().all(|row| row.iter().all(|x| x.is_finite())));
         if !finite || t.cap.iter().any(|&c| c.is_nan() || c <= TINY) {
             return None;
@@ -214,6 +223,7 @@ impl Track {
             top: Vec::new(),
             hint: std::cell::Cell::new(0),
             brake: self.brake.iter().rev().copied().collect(),
+            ramp: self.ramp.iter().rev().copied().collect(),
             trap: std::cell::Cell::new(None),
         };
         t.error = (0..t.s.len()).map(|k| t.rate_error(k)).collect();
@@ -316,21 +326,43 @@ impl Track {
     }
 
     /// Halve the deceleration the envelope assumes around `trap`, where a drive (either way
-    /// along the track) was caught: over the distance the top speed there covers in the time
-    /// the jerk needs to build the deceleration at hand, either side (the top speed may go on
-    /// falling past it). The drives then start braking earlier for a top speed, or an
-    /// acceleration bound, that falls faster than they can follow: the envelope assumes a
-    /// deceleration at once, not one the jerk has to build. Where the drive was stuck with no
-    /// jerk at all, the caps there are lowered to [`STUCK`] of its speed too.
-    fn soften(&mut self, trap: Trap) {
+    /// along the track: `backward`) was caught: over the distance the top speed there covers
+    /// in the time the jerk needs to build the deceleration at hand, either side (the top
+    /// speed may go on falling past it). The drives then start braking earlier for a top
+    /// speed, or an acceleration bound, that falls faster than they can follow: the envelope
+    /// assumes a deceleration at once, not one the jerk has to build.
+    ///
+    /// Caught at the same point `again`, the drive was landing on a cap it overshot, and the
+    /// envelope is not what failed: its landing's share of the jerk is lowered instead, by
+    /// [`RAMP_SOFTER`], over three times the distance the top speed covers while the jerk turns
+    /// the larger deceleration at hand (at rest or at the top speed) before it. A landing's
+    /// jerk is the mean of the bound over the speeds it passes; where that bound is low when
+    /// the landing starts and the drive falls behind its curve, the acceleration it keeps
+    /// lowers the bound further on (3·v·a·q2), and the drive ran past the cap. (Without this a
+    /// twentieth of random TCP blocks kept the analytic plan, hundreds of short samples each.)
+    ///
+    /// Where the drive was stuck with no jerk at all, the caps there are lowered to [`STUCK`]
+    /// of its speed too.
+    fn soften(&mut self, trap: Trap, backward: bool, again: bool) {
         let k = self.index(trap.s);
         let (lo, _) = self.accel_bounds(&self.d[k], self.top[k], 1.0);
         let (jerk, _) = self.jerk_bounds(&self.d[k], self.top[k], 0.0, 1.0);
         let span = self.top[k] * (2.0 * (-lo).max(0.0) / (-jerk).max(TINY)).max(0.1);
         let near = |s: f64| (s - trap.s).abs() <= span;
-        for (share, s) in self.brake.iter_mut().zip(&self.s) {
-            if near(*s) {
-                *share *= 0.5;
+        if !again {
+            for (share, s) in self.brake.iter_mut().zip(&self.s) {
+                if near(*s) {
+                    *share *= 0.5;
+                }
+            }
+        } else if trap.stuck.is_none() {
+            let (rest, _) = self.accel_bounds(&self.d[k], 0.0, 1.0);
+            let landing = self.top[k] * rest.abs().max(lo.abs()) / (-jerk).max(TINY);
+            for (share, s) in self.ramp.iter_mut().zip(&self.s) {
+                let before = if backward { s - trap.s } else { trap.s - s };
+                if before >= -span && before <= 3.0 * landing.max(span) {
+                    *share *= RAMP_SOFTER;
+                }
             }
         }
         // Stuck with no jerk at all: not slowly enough there, whatever the braking before.
@@ -419,22 +451,26 @@ impl Track {
     /// (The mean of the start and end bounds, no more than the start's, left the binding axis
     /// at 84–89 % of its jerk in landings whose bound rises: the drive then follows a curve
     /// that rises too, and turns by less than it.)
-    fn landing_jerk(&self, x: &Tick, (lo, hi): (f64, f64), up: bool) -> f64 {
+    fn landing_jerk(&self, x: &Tick, (lo, hi): (f64, f64), up: bool, room: f64) -> f64 {
         let bound = |(lo, hi): (f64, f64)| if up { -lo } else { hi };
         let j0 = bound((lo, hi));
         let a0 = if up { x.a.max(0.0) } else { x.a.min(0.0) };
+        let share = self.ramp[self.index(x.s)];
         if a0 == 0.0 || j0 <= TINY {
-            return (RAMP * j0).max(TINY);
+            return (share * j0).max(TINY);
         }
-        // Where the landing passes its speeds: as a constant-jerk ramp at the bound now.
-        let t = a0.abs() / j0;
+        // Where the landing passes its speeds: as a constant-jerk ramp at the bound now, up to
+        // the target `room` away at most. (Past it, the bound at speeds the drive never
+        // reaches raised the mean: landings that began at a bound lower than the mean ran
+        // past the cap.)
+        let t = (a0.abs() / j0).min(2.0 * room.max(0.0) / a0.abs()).max(TINY);
         let along = |u: f64| x.s + x.v * u + 0.5 * a0 * u * u - a0 * u * u * u / (6.0 * t);
         let dv = 0.5 * a0 * t;
         // The middle speed is passed where a² is half a0² (a² falls linearly in v).
         let half = std::f64::consts::FRAC_1_SQRT_2;
         let mid = bound(self.jerk_bounds(&self.at(along(t * (1.0 - half))), x.v + 0.5 * dv, a0 * half, 1.0));
         let end = bound(self.jerk_bounds(&self.at(along(t)), x.v + dv, 0.0, 1.0));
-        (RAMP * (j0 + 4.0 * mid + end) / 6.0).max(TINY)
+        (share * (j0 + 4.0 * mid + end) / 6.0).max(TINY)
     }
 
     /// The highest speed at which every axis is within its speed where the derivatives are
@@ -492,7 +528,7 @@ impl Track {
             // where it lands, and as its acceleration changed, the window's end crossed points
             // and the target flipped between their caps.)
             let (end_lo, _) = self.jerk_bounds(&d, x.v + x.a.max(0.0).powi(2) / (2.0 * (-j_lo).max(TINY)), 0.0, 1.0);
-            let turn = RAMP * (-j_lo).min(-end_lo).max(TINY);
+            let turn = self.ramp[self.index(x.s)] * (-j_lo).min(-end_lo).max(TINY);
             let target = match steer {
                 Steer::Halt => 0.0,
                 Steer::Settle { v, .. } => v,
@@ -508,8 +544,8 @@ impl Track {
             // to the target, positive coming down to it (`landing_jerk`). (Both directions'
             // lower bound, as `turn`, held ramps down to 73 % of the jerk at hand where the
             // other direction's was the tighter.)
-            let up = self.landing_jerk(&x, (j_lo, j_hi), true);
-            let law = if room >= 0.0 { up } else { self.landing_jerk(&x, (j_lo, j_hi), false) };
+            let up = self.landing_jerk(&x, (j_lo, j_hi), true, if room >= 0.0 { room } else { f64::INFINITY });
+            let law = if room >= 0.0 { up } else { self.landing_jerk(&x, (j_lo, j_hi), false, -room) };
             let disc = 0.25 * DT * DT + 2.0 * room / law;
             let wanted = if room < 0.0 && halt {
                 law * (0.5 * DT - (0.25 * DT * DT - 2.0 * room / law).sqrt())
@@ -631,7 +667,7 @@ impl Track {
     /// [`Track::goal`] with the jerk at `x` (a ramp down's, as in the drive).
     fn goal_at(&self, x: &Tick) -> f64 {
         let (lo, hi) = self.jerk_bounds(&self.at(x.s), x.v, x.a, 1.0);
-        self.goal(x, hi, RAMP * (-lo).max(TINY))
+        self.goal(x, hi, self.ramp[self.index(x.s)] * (-lo).max(TINY))
     }
 
     /// The constant-jerk ramp from `x` that brings its acceleration to zero at speed `v`
@@ -767,23 +803,24 @@ struct Drives {
 }
 
 impl Drives {
-    /// The drives from the run's end speeds; where one is caught, both run again with the
-    /// envelope softer there (up to [`SOFTENINGS`] times).
+    /// The drives from the run's end speeds; where one is caught, both run again softer there
+    /// (up to [`SOFTENINGS`] times; see [`Track::soften`]).
     fn new(mut forward: Track, (v_start, v_end): (f64, f64)) -> Option<Drives> {
         let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
+        // Where the last drive was caught (forward distance) and which way it ran.
+        let mut last = None;
         for _ in 0..SOFTENINGS {
             let backward = forward.reversed();
-            let Some(b) = backward.drive(rest(v_end), false) else {
-                let trap = backward.trap.get()?;
-                forward.soften(Trap { s: forward.len - trap.s, ..trap });
-                continue;
+            let caught = match backward.drive(rest(v_end), false) {
+                None => backward.trap.get().map(|trap| (Trap { s: forward.len - trap.s, ..trap }, true)),
+                Some(b) => match forward.drive(rest(v_start), false) {
+                    Some(f) => return Some(Drives { forward, backward, f, b, v_end }),
+                    None => forward.trap.get().map(|trap| (trap, false)),
+                },
             };
-            let Some(f) = forward.drive(rest(v_start), false) else {
-                let trap = forward.trap.get()?;
-                forward.soften(trap);
-                continue;
-            };
-            return Some(Drives { forward, backward, f, b, v_end });
+            let (trap, backward) = caught?;
+            forward.soften(trap, backward, last == Some((trap.s, backward)));
+            last = Some((trap.s, backward));
         }
         None
     }

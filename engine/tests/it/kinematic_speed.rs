@@ -8,7 +8,8 @@
 //! measures the classes over a fixed set of random cases and holds them to the figures
 //! `docs/motion.md` gives (the short samples are the part of the rule not reached yet: where
 //! the planned profile joins its forward and backward drives, a drive braking early for a dip
-//! of the path's speed limit, and runs whose analytic profile was quicker).
+//! of the path's speed limit, runs whose analytic profile was quicker, and runs the drives
+//! cannot plan, which keep the analytic one).
 //!
 //! The axis speeds, accelerations and jerks are finite differences of the 1 ms samples (as in
 //! `common::check_limits_of`): over four samples of one block they are exact for the cubic
@@ -294,13 +295,15 @@ proptest! {
     }
 }
 
-/// The cases of the survey: the same random blocks every run.
-const SURVEY_TCP: usize = 120;
-const SURVEY_TWP: usize = 30;
+/// The cases of the survey: the same random blocks every run. (120 and 30 until 2026-11-29:
+/// too few to hold a block that falls back to the analytic plan, one in twenty then, so the
+/// figure they gave was 40 times better than on larger sets.)
+const SURVEY_TCP: usize = 600;
+const SURVEY_TWP: usize = 100;
 
 /// The share of all samples below the feed where no axis is at [`AT_LIMIT`] (short samples),
 /// at most, over the survey; `docs/motion.md` gives the measured figure.
-const SURVEY_SHORT: f64 = 0.0005;
+const SURVEY_SHORT: f64 = 0.0035;
 
 /// Every sample of a fixed set of random TCP and tilted-plane blocks, classified: the figures
 /// `docs/motion.md` quotes. Run with `--nocapture` to see them.
