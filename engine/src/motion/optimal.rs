@@ -34,6 +34,12 @@ use crate::machine::MAX_AXES;
 const DT: f64 = 0.001;
 /// The share of each axis limit the plan keeps to.
 const MARGIN: f64 = 0.98;
+/// The share of each axis limit the final check ([`verified`]) and a caught drive
+/// ([`Track::steer`]) hold the plan to, where the plan's own bounds cannot be kept: a hair
+/// under the whole limit, for the axes' rates between points, which the plan takes as
+/// linear. (At the whole limit a drive squeezed between an axis's acceleration and another's
+/// jerk rode at 99.9997 % of the acceleration in the plan and 100.002 % on the sampled axes.)
+const WHOLE: f64 = 0.999 / MARGIN;
 /// The share of an axis's speed the drives steer to (what they overshoot by when the
 /// path's limits close in is within the rest).
 const STEER: f64 = 0.995;
@@ -60,7 +66,7 @@ const TINY: f64 = 1e-12;
 const GUARD: f64 = 0.06;
 /// How many times the drives run again, each time softer around where one was caught, before
 /// the run keeps the analytic plan.
-const SOFTENINGS: usize = 6;
+const SOFTENINGS: usize = 8;
 /// The share of the speed where a drive was stuck with no jerk at hand that the caps around
 /// it are lowered to (see [`Track::soften`]).
 const STUCK: f64 = 0.9;
@@ -124,7 +130,7 @@ enum Steer {
 
 /// The shares of the speed where the drives cross that a run without a join is capped at
 /// around the crossing, tried in turn (each lower one leaves the two landings more room).
-const BELOW_CROSSING: [f64; 4] = [0.99, 0.97, 0.93, 0.85];
+const BELOW_CROSSING: [f64; 6] = [0.99, 0.97, 0.93, 0.85, 0.7, 0.5];
 /// The most ticks a settling drive may take.
 const SETTLE_TICKS: usize = 2000;
 /// How much quicker than the two drives' lower speed a join may be (it is not below both
@@ -332,8 +338,9 @@ impl Track {
     /// speed, or an acceleration bound, that falls faster than they can follow: the envelope
     /// assumes a deceleration at once, not one the jerk has to build.
     ///
-    /// Caught at the same point `again`, the drive was landing on a cap it overshot, and the
-    /// envelope is not what failed: its landing's share of the jerk is lowered instead, by
+    /// Caught `again` — at the same point, or inside the stretch where a landing was softened
+    /// before — the drive was landing on a cap it overshot, and the envelope is not what
+    /// failed: its landing's share of the jerk is lowered instead, by
     /// [`RAMP_SOFTER`], over three times the distance the top speed covers while the jerk turns
     /// the larger deceleration at hand (at rest or at the top speed) before it. A landing's
     /// jerk is the mean of the bound over the speeds it passes; where that bound is low when
@@ -342,8 +349,9 @@ impl Track {
     /// twentieth of random TCP blocks kept the analytic plan, hundreds of short samples each.)
     ///
     /// Where the drive was stuck with no jerk at all, the caps there are lowered to [`STUCK`]
-    /// of its speed too.
-    fn soften(&mut self, trap: Trap, backward: bool, again: bool) {
+    /// of its speed too. Returns the stretch where landings were softened.
+    fn soften(&mut self, trap: Trap, backward: bool, again: bool) -> Option<(f64, f64)> {
+        let mut softened = None;
         let k = self.index(trap.s);
         let (lo, _) = self.accel_bounds(&self.d[k], self.top[k], 1.0);
         let (jerk, _) = self.jerk_bounds(&self.d[k], self.top[k], 0.0, 1.0);
@@ -358,12 +366,14 @@ impl Track {
         } else if trap.stuck.is_none() {
             let (rest, _) = self.accel_bounds(&self.d[k], 0.0, 1.0);
             let landing = self.top[k] * rest.abs().max(lo.abs()) / (-jerk).max(TINY);
+            let reach = 3.0 * landing.max(span);
+            let stretch = if backward { (trap.s - span, trap.s + reach) } else { (trap.s - reach, trap.s + span) };
             for (share, s) in self.ramp.iter_mut().zip(&self.s) {
-                let before = if backward { s - trap.s } else { trap.s - s };
-                if before >= -span && before <= 3.0 * landing.max(span) {
+                if (stretch.0..=stretch.1).contains(s) {
                     *share *= RAMP_SOFTER;
                 }
             }
+            softened = Some(stretch);
         }
         // Stuck with no jerk at all: not slowly enough there, whatever the braking before.
         if let Some(v) = trap.stuck {
@@ -374,6 +384,7 @@ impl Track {
             }
         }
         self.fill_envelope();
+        softened
     }
 
     /// The point at or before `s` (the later of two at a junction).
@@ -587,7 +598,7 @@ impl Track {
             // acceleration (the top speed or the bound falls faster than the drive can follow).
             // The run cannot pass the final check this way: stop here and say where.
             let (v_end, a_end) = (x.v + DT * (x.a + 0.5 * DT * j), x.a + DT * j);
-            let (whole_lo, whole_hi) = self.accel_bounds(&next, v_end, 1.0 / MARGIN);
+            let (whole_lo, whole_hi) = self.accel_bounds(&next, v_end, WHOLE);
             if v_end > fastest * (1.0 + 1e-9) + 1e-9 || a_end > whole_hi + 1e-9 || a_end < whole_lo - 1e-9 {
                 self.trap.set(Some(Trap { s: x.s, stuck: None }));
                 return None;
@@ -807,8 +818,10 @@ impl Drives {
     /// (up to [`SOFTENINGS`] times; see [`Track::soften`]).
     fn new(mut forward: Track, (v_start, v_end): (f64, f64)) -> Option<Drives> {
         let rest = |v: f64| Tick { s: 0.0, v, a: 0.0, j: 0.0, dt: DT };
-        // Where the last drive was caught (forward distance) and which way it ran.
+        // Where the last drive was caught (forward distance) and which way it ran, and where
+        // landings were last softened and for which way.
         let mut last = None;
+        let mut landed: Option<(bool, (f64, f64))> = None;
         for _ in 0..SOFTENINGS {
             let backward = forward.reversed();
             let caught = match backward.drive(rest(v_end), false) {
@@ -819,7 +832,11 @@ impl Drives {
                 },
             };
             let (trap, backward) = caught?;
-            forward.soften(trap, backward, last == Some((trap.s, backward)));
+            // Caught again where the landings were softened: they were not softened enough.
+            let inside = landed.is_some_and(|(way, (from, to))| way == backward && (from..=to).contains(&trap.s));
+            if let Some(stretch) = forward.soften(trap, backward, inside || last == Some((trap.s, backward))) {
+                landed = Some((backward, stretch));
+            }
             last = Some((trap.s, backward));
         }
         None
@@ -1052,7 +1069,7 @@ fn verified(track: &Track, profile: Profile) -> Option<Profile> {
                 v: x.v + t * (x.a + 0.5 * t * j),
                 a: x.a + t * j,
             };
-            track.within(&p, j, 1.0 / MARGIN)
+            track.within(&p, j, WHOLE)
         };
         if !(at(0.0) && at(duration)) {
             return false;
