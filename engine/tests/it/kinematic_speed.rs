@@ -306,7 +306,7 @@ const SURVEY_TWP: usize = 100;
 
 /// The share of all samples below the feed where no axis is at [`AT_LIMIT`] (short samples),
 /// at most, over the survey; `docs/motion.md` gives the measured figure.
-const SURVEY_SHORT: f64 = 0.0025;
+const SURVEY_SHORT: f64 = 0.0015;
 
 /// Every sample of a fixed set of random TCP and tilted-plane blocks, classified: the figures
 /// `docs/motion.md` quotes. Run with `--nocapture` to see them.
