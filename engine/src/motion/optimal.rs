@@ -18,9 +18,10 @@
 //! The derivatives come from the segments' own grids (`Segment::derivatives`), interpolated
 //! between points; the plan keeps to [`MARGIN`] of each axis's acceleration and jerk for what
 //! interpolation misses, bounds its speed with what the rate can add between points, and checks
-//! every phase against the whole limits at the end. A drive caught above a limit (a top speed
-//! falling faster than its jerk can build the deceleration) or with no jerk left at all runs
-//! again with the braking envelope softer there (`Track::soften`). Anything it cannot do — a
+//! every phase against [`WHOLE`], a hair under the whole limits, at the end. A drive caught
+//! above a limit (a top speed falling faster than its jerk can build the deceleration, or a
+//! landing that overshoots its cap) or with no jerk left at all runs again softer there
+//! (`Track::soften`). Anything it cannot do — a
 //! path that turns faster than its drive can follow, a ramp that would break a limit, a run too
 //! long for a table — leaves the run to the analytic profile (`None`), as does a plan slower
 //! than it. `stop` plans a feed hold's stop on such a run the same way (a drive toward rest).
@@ -349,7 +350,9 @@ impl Track {
     /// twentieth of random TCP blocks kept the analytic plan, hundreds of short samples each.)
     ///
     /// Where the drive was stuck with no jerk at all, the caps there are lowered to [`STUCK`]
-    /// of its speed too, at the points of its cell and the cells beside it. Returns the stretch where landings were softened.
+    /// of its speed too, at the points of its cell and the cells beside it.
+    ///
+    /// Returns the stretch where landings were softened.
     fn soften(&mut self, trap: Trap, backward: bool, again: bool) -> Option<(f64, f64)> {
         let mut softened = None;
         let k = self.index(trap.s);
@@ -493,7 +496,7 @@ impl Track {
     }
 
     /// Every axis within its speed, and within `share` of the acceleration and jerk the plan
-    /// keeps to, at state `x` with path jerk `j` (`1 / MARGIN`: the whole limits).
+    /// keeps to, at state `x` with path jerk `j` ([`WHOLE`]: the final check's).
     fn within(&self, x: &PathState, j: f64, share: f64) -> bool {
         let d = self.at(x.s);
         let speed_ok = x.v.abs() <= self.top_speed_at(&d, self.index(x.s)) + 1e-9;
@@ -1055,7 +1058,7 @@ pub fn stop(path: &[&Segment], corners: &[f64], v: f64, a: f64, axes: &AxisLimit
     verified(&track, Profile::tabled(phases, last.s, 0.0))
 }
 
-/// The profile, if every one of its phases keeps every axis within its whole limits.
+/// The profile, if every one of its phases keeps every axis within [`WHOLE`] of its limits.
 fn verified(track: &Track, profile: Profile) -> Option<Profile> {
     if !profile.is_continuous(1e-9) {
         return None;
