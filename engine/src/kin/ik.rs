@@ -75,6 +75,24 @@ fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> PerJoint<(Optio
         .collect()
 }
 
+/// The tool directions (table frame) two rotary axes reach: the other joint sweeps the tool
+/// over a cone, so a direction's component along `axis` stays within `half` of `centre`
+/// (`two_axes` has a solution iff (a·q − s·b·p)² ≤ (1 − s²)(1 − (b·p)²), s = a·b, with b·p fixed).
+/// Near that band's edge the two solutions meet and the axes turn without bound.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reach {
+    axis: Vec3,
+    centre: f64,
+    half: f64,
+}
+
+impl Reach {
+    /// How far inside the band the unit direction `tool` is (negative: the axes cannot give it).
+    pub fn slack(&self, tool: &Vec3) -> f64 {
+        self.half - (self.axis.dot(tool) - self.centre).abs()
+    }
+}
+
 /// The angle in [0, 360), a hair below a whole turn counting as 0.
 fn basic(angle: f64) -> f64 {
     let a = crate::angle::basic(angle);
@@ -153,6 +171,33 @@ impl Kinematics {
             }
         }
         out
+    }
+
+    /// The directions the rotary axes reach; `None` on machines with fewer than two.
+    pub fn reach(&self) -> Option<Reach> {
+        // `w` is the joint whose dot product with the direction varies in `two_axes`, `other`
+        // the one whose dot product is fixed at `fixed`.
+        let band = |w: Vec3, other: Vec3, fixed: f64| {
+            let s = w.dot(&other);
+            Reach { axis: w, centre: s * fixed, half: ((1.0 - s * s) * (1.0 - fixed * fixed)).max(0.0).sqrt() }
+        };
+        let joints = self.joints();
+        let t0 = self.tool_axis;
+        match self.kind {
+            MachineKind::HeadHead => {
+                let (a, b) = (joints[0].direction, joints[1].direction);
+                Some(band(a, b, b.dot(&t0)))
+            }
+            MachineKind::TableTable => {
+                let (a, b) = (joints[0].direction, joints[1].direction);
+                Some(band(b, a, a.dot(&t0)))
+            }
+            MachineKind::HeadTable => {
+                let (h, t) = (joints[0].direction, joints[1].direction);
+                Some(band(-t, h, h.dot(&t0)))
+            }
+            _ => None,
+        }
     }
 
     /// Fill in free angles (at the joint's current rotation in `from`) and solve the other

@@ -15,7 +15,7 @@ mod ik;
 mod select;
 
 pub use feed_directions::{latitude_longitude, ManualDirections, ManualFeed};
-pub use ik::{Candidate, Candidates, PerJoint};
+pub use ik::{Candidate, Candidates, PerJoint, Reach};
 pub use select::{Choice, Selection};
 
 use crate::alarm::AlarmId;

@@ -274,6 +274,24 @@ proptest! {
         }
     }
 
+    /// `reach` is exactly the set the inverse solves: every posture of the axes is inside it,
+    /// and a direction is solved where it is inside and not where it is outside.
+    #[test]
+    fn reach_is_where_the_inverse_has_solutions(
+        m in machine(),
+        q in prop::collection::vec(-400.0f64..400.0, 5),
+        direction in prop::array::uniform3(-1.0f64..1.0),
+    ) {
+        let Ok(k) = Kinematics::new(&m) else { return Ok(()) };
+        let Some(reach) = k.reach() else { return Ok(()) };
+        let q = &q[..k.axes];
+        let tool = k.forward(q, 0.0).tool;
+        prop_assert!(reach.slack(&tool) > -1e-12, "{q:?} gives {tool:?}, slack {}", reach.slack(&tool));
+        let Some(v) = Vec3::from(direction).try_normalize(1e-3) else { return Ok(()) };
+        let (slack, solved) = (reach.slack(&v), !k.inverse(Vec3::zeros(), v, 0.0, q).is_empty());
+        prop_assert!(slack.abs() < 1e-6 || solved == (slack > 0.0), "{v:?}: slack {slack}, solved {solved}");
+    }
+
     /// With movement ranges (FANUC No.19741–19744): whenever the posture of `q`, which lies in
     /// the ranges, is asked for, a choice exists, every chosen rotary angle lies in its range,
     /// and it reproduces the tip and direction. Syntec P0 likewise with cyclic ranges around q.

@@ -460,7 +460,42 @@ pub(crate) fn great_circle_continuous(kin: &Kinematics, from: &Pos, to: &Pos) ->
 fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
     /// More than this in 1/64 of the block is a jump to the other branch.
     const JUMP_DEG: f64 = 30.0;
-    no_jump(kin, from, to, &direction, JUMP_DEG)
+    within_reach(kin, &direction) && no_jump(kin, from, to, &direction, JUMP_DEG)
+}
+
+/// Whether `direction(u)` stays among the directions the rotary axes reach
+/// (`Kinematics::reach`) all the way. Looking at every 1/64 of the block is not enough: a
+/// random great circle left them for 1.5 % of its way, between two looks, and the axes jumped
+/// 3° in a millisecond on each side. A smooth way leaves them around a least distance to
+/// their edge, so each sampled dip of that distance is followed down to its bottom.
+fn within_reach(kin: &Kinematics, direction: &impl Fn(f64) -> Vec3) -> bool {
+    /// Outside by less than this (a dot product) is rounding.
+    const OUTSIDE: f64 = 1e-9;
+    let Some(reach) = kin.reach() else { return true };
+    let slack = |u: f64| reach.slack(&direction(u).normalize());
+    let at: Vec<f64> = (0..=STEPS).map(|k| slack(k as f64 / STEPS as f64)).collect();
+    if at.iter().any(|s| *s < -OUTSIDE) {
+        return false;
+    }
+    (1..STEPS).filter(|&k| at[k] <= at[k - 1] && at[k] <= at[k + 1]).all(|k| {
+        // Golden-section search for the least slack between the neighbouring looks.
+        const R: f64 = 0.618_033_988_749_894_9;
+        let (mut lo, mut hi) = ((k - 1) as f64 / STEPS as f64, (k + 1) as f64 / STEPS as f64);
+        let (mut a, mut b) = (hi - R * (hi - lo), lo + R * (hi - lo));
+        let (mut sa, mut sb) = (slack(a), slack(b));
+        for _ in 0..48 {
+            if sa < sb {
+                (hi, b, sb) = (b, a, sa);
+                a = hi - R * (hi - lo);
+                sa = slack(a);
+            } else {
+                (lo, a, sa) = (a, b, sb);
+                b = lo + R * (hi - lo);
+                sb = slack(b);
+            }
+        }
+        sa.min(sb) >= -OUTSIDE
+    })
 }
 
 /// As `continuous`, and steady enough to plan (G54.4's recomputed direction): no 1/64 of the
@@ -470,7 +505,8 @@ fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) ->
 /// segment's limit samples, so such a block turns its axes in proportion instead.
 fn steady(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
     let travel = kin.joints().iter().filter_map(|j| j.index).map(|i| (to[i] - from[i]).abs()).fold(0.0, f64::max);
-    steps_within(kin, from, to, &direction, (4.0 * travel / STEPS as f64 + 1e-6).min(30.0))
+    within_reach(kin, &direction)
+        && steps_within(kin, from, to, &direction, (4.0 * travel / STEPS as f64 + 1e-6).min(30.0))
 }
 
 const STEPS: usize = 64;
