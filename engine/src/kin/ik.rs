@@ -76,20 +76,27 @@ fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> PerJoint<(Optio
 }
 
 /// The tool directions (table frame) two rotary axes reach: the other joint sweeps the tool
-/// over a cone, so a direction's component along `axis` stays within `half` of `centre`
-/// (`two_axes` has a solution iff (a·q − s·b·p)² ≤ (1 − s²)(1 − (b·p)²), s = a·b, with b·p fixed).
-/// Near that band's edge the two solutions meet and the axes turn without bound.
+/// over a cone, so a direction's component along `axis` lies between `lo` and `hi`
+/// (`two_axes` has a solution iff (a·q − s·b·p)² ≤ (1 − s²)(1 − (b·p)²), s = a·b, with b·p
+/// fixed). At such an edge the two solutions meet and the axes turn without bound — unless
+/// the edge is ±1, the pole of `axis`: that is the singular posture, where the axis is free.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Reach {
     axis: Vec3,
-    centre: f64,
-    half: f64,
+    lo: f64,
+    hi: f64,
 }
 
 impl Reach {
-    /// How far inside the band the unit direction `tool` is (negative: the axes cannot give it).
+    /// How far (a dot product) the unit direction `tool` is inside the band from its nearest
+    /// edge that is not a pole (negative: the axes cannot give it; infinite: no such edge).
     pub fn slack(&self, tool: &Vec3) -> f64 {
-        self.half - (self.axis.dot(tool) - self.centre).abs()
+        /// An edge this near ±1 is the pole.
+        const POLE: f64 = 1e-9;
+        let d = self.axis.dot(tool);
+        let above = if self.lo > -1.0 + POLE { d - self.lo } else { f64::INFINITY };
+        let below = if self.hi < 1.0 - POLE { self.hi - d } else { f64::INFINITY };
+        above.min(below)
     }
 }
 
@@ -179,7 +186,8 @@ impl Kinematics {
         // the one whose dot product is fixed at `fixed`.
         let band = |w: Vec3, other: Vec3, fixed: f64| {
             let s = w.dot(&other);
-            Reach { axis: w, centre: s * fixed, half: ((1.0 - s * s) * (1.0 - fixed * fixed)).max(0.0).sqrt() }
+            let half = ((1.0 - s * s) * (1.0 - fixed * fixed)).max(0.0).sqrt();
+            Reach { axis: w, lo: s * fixed - half, hi: s * fixed + half }
         };
         let joints = self.joints();
         let t0 = self.tool_axis;
