@@ -83,6 +83,21 @@ pub(crate) fn pi_frame_at(kin: &Kinematics, start: &[f64]) -> Rigid {
     Rigid { r, o: r * (kin.nose - table.o) }
 }
 
+/// How far a block that only turns the rotary axes from `q0` to `q1` has come with the axes at
+/// `machine`: the share of its travel the axis that turns most has made (a rollover axis's
+/// samples are within one turn, its block ends are not). `None` when no rotary axis turns.
+pub(crate) fn turned(kin: &Kinematics, q0: &Pos, q1: &Pos, machine: &[f64]) -> Option<f64> {
+    let travel = |i: &usize| (q1[*i] - q0[*i]).abs();
+    let widest = kin.joints().iter().filter_map(|j| j.index).max_by(|i, k| travel(i).total_cmp(&travel(k)))?;
+    let turn = q1[widest] - q0[widest];
+    if turn == 0.0 {
+        return None;
+    }
+    let along = |k: i32| (machine[widest] - q0[widest] + 360.0 * k as f64) / turn;
+    let outside = |u: f64| (u - u.clamp(0.0, 1.0)).abs();
+    (-2..=2).map(along).min_by(|x, y| outside(*x).total_cmp(&outside(*y)))
+}
+
 /// The tip and the tool of the sampled axes in Π.
 pub(crate) fn in_pi(kin: &Kinematics, pi: &Rigid, machine: &[f64]) -> (Vec3, Vec3) {
     let pose = kin.forward(machine, LENGTH);
@@ -466,7 +481,6 @@ proptest! {
             // A block whose tip stays put only turns the tool: its fraction is then the tool's
             // turn (great circle) or the turn of the axis that turns most (proportional).
             let still = (b - a).norm() < 1e-9;
-            let widest = kin.joints().iter().map(|j| j.index.unwrap()).max_by(|&i, &k| (q1[i] - q0[i]).abs().total_cmp(&(q1[k] - q0[k]).abs())).unwrap();
             for s in of_line {
                 let (tip, tool) = in_pi(&kin, &pi, &s.machine);
                 let d = path.distance(tip);
@@ -477,15 +491,7 @@ proptest! {
                     let want = (v0 * ((1.0 - u) * angle).sin() + v1 * (u * angle).sin()) / angle.sin();
                     circle = circle.max((tool - want).norm());
                 }
-                // A rollover axis's samples are within one turn, its block ends are not.
-                let u = if still && q1[widest] != q0[widest] {
-                    let turn = q1[widest] - q0[widest];
-                    let along = |k: f64| (s.machine[widest] - q0[widest] + 360.0 * k) / turn;
-                    let outside = |u: f64| (u - u.clamp(0.0, 1.0)).abs();
-                    (-2..=2).map(|k| along(k as f64)).min_by(|x, y| outside(*x).total_cmp(&outside(*y))).unwrap()
-                } else {
-                    u
-                };
+                let u = if still { turned(&kin, &q0, &q1, &s.machine).unwrap_or(u) } else { u };
                 for j in kin.joints() {
                     let i = j.index.unwrap();
                     let want = q0[i] + (q1[i] - q0[i]) * u;
