@@ -635,11 +635,12 @@ impl Follow {
         }
     }
 
-    /// Whether the rotary axes follow a direction by the inverse (tool posture control,
-    /// G54.4's compensation) rather than turning in proportion; their way can then bend
-    /// sharply (`Grid::fine`).
-    fn by_inverse(&self) -> bool {
-        self.posture.is_some() || self.compensation.is_some()
+    /// Whether the axes' way can bend sharply (`Grid::fine`): the rotary axes follow a
+    /// direction by the inverse (tool posture control, G54.4's compensation) rather than
+    /// turning in proportion, or the tip moves with the tool's direction (cutting point
+    /// control: a flat end's vector turns fast near its singular posture).
+    fn bends_sharply(&self) -> bool {
+        self.posture.is_some() || self.compensation.is_some() || self.cutting.is_some()
     }
 
     /// A block's cutting point vector all along it, the axes going from `from` to `to`.
@@ -838,10 +839,11 @@ impl Grid {
 
     /// `make(cells)`, its cells doubled (at most [`DOUBLINGS`] times) until the finer grid's
     /// derivatives stay within 2 % of their largest size of the coarser one's, read between
-    /// its points as the planner reads them (linearly). Where the inverse bends the axes' way
-    /// sharply — tool posture control near the edge of the directions the axes reach, where
-    /// their derivatives grow as 1/√ of the distance to it — the planner missed peaks between
-    /// the points of the usual grid: a random block ran an axis's jerk 7 % over its limit.
+    /// its points as the planner reads them (linearly). Where the axes' way bends sharply —
+    /// tool posture control near the edge of the directions the axes reach, where their
+    /// derivatives grow as 1/√ of the distance to it; cutting point control near a flat end's
+    /// singular posture — the planner missed peaks between the points of the usual grid:
+    /// random blocks ran an axis's jerk up to 7 % (posture) and 10 % (cutting point) over.
     fn fine(make: impl Fn(usize) -> Grid, cells: usize) -> Grid {
         /// At most 16 times the usual number of cells.
         const DOUBLINGS: usize = 4;
@@ -1450,7 +1452,7 @@ impl Segment {
         let n = sample_count(turn, sweep_deg);
         let grid = |cells| Grid::new(|u| follow.at(from, &to, u), len, cells, axes);
         let grid =
-            if follow.by_inverse() { Grid::fine(grid, CELLS_PER_SAMPLE * n) } else { grid(CELLS_PER_SAMPLE * n) };
+            if follow.bends_sharply() { Grid::fine(grid, CELLS_PER_SAMPLE * n) } else { grid(CELLS_PER_SAMPLE * n) };
         let found = grid.whole();
         let cap = tip
             .deviation
@@ -1642,7 +1644,7 @@ impl Segment {
         let (from, to) = (self.from(), self.to());
         let n = sample_count(rotary_travel(&f.kin, &from, &to), sweep);
         let lattice = |cells| Grid::lattice(|u| f.at(&from, &to, u), self.len, cells, axes);
-        Some(if f.by_inverse() { Grid::fine(lattice, CELLS_PER_SAMPLE * n) } else { lattice(CELLS_PER_SAMPLE * n) })
+        Some(if f.bends_sharply() { Grid::fine(lattice, CELLS_PER_SAMPLE * n) } else { lattice(CELLS_PER_SAMPLE * n) })
     }
 
     /// The highest path speed that is not the axes' own: the programmed feed after the
