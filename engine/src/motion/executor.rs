@@ -46,6 +46,11 @@ pub struct Sample {
     /// its lowest point along the surface normal; under a cutter compensation its side nearest to
     /// the programmed contour or G41.3's leading edge (`motion::contact`). `None` elsewhere.
     pub cutting: Option<[f64; 3]>,
+    /// The number (in queue order) of the motion segment the machine is on; `None` standing.
+    /// Several segments can share a line — a compensated corner's connecting moves, a block
+    /// cut into pieces — and the axes' acceleration is bounded within a segment, not across
+    /// a corner between two (`docs/motion.md`, "Corners").
+    pub segment: Option<u64>,
 }
 
 /// Where the last queued motion ends: where the next one starts.
@@ -714,8 +719,8 @@ impl Executor {
         let placed = crate::tip::locate(self.machine.kinematics_of(basis.chain).map(|k| &**k), machine, basis);
         let o = basis.origin;
         let (tip, tool) = (Vec3::from(placed.table), Vec3::from(placed.tool));
-        let cutting = self
-            .on()
+        let on = self.on();
+        let cutting = on
             .and_then(|(seg, s, _)| seg.cutting_point(s, machine, tip, tool))
             .map(|p| [p.x - o[0], p.y - o[1], p.z - o[2]]);
         Sample {
@@ -730,6 +735,7 @@ impl Executor {
             programmed_in: basis.programmed_in,
             feed: self.here.feed,
             cutting,
+            segment: on.map(|(_, _, k)| k),
         }
     }
 }

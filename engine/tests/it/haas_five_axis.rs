@@ -7,7 +7,7 @@
 
 use crate::common;
 
-use common::{cases, check_strokes, end_of, interpreter_with, motion_ends};
+use common::{cases, check_limits_of, check_strokes, end_of, interpreter_with, motion_ends};
 use fivex_engine::geom::Rigid;
 use fivex_engine::interp::gcode::{code, group};
 use fivex_engine::kin::{Kinematics, Vec3};
@@ -88,8 +88,8 @@ proptest! {
 
     /// G234 on every Haas rotary machine, the part anywhere near the MRZP: lines while the
     /// rotary axes turn to random angles; the tip (length H) stays within 1 µm of the
-    /// programmed line in the table-fixed work coordinates at every 1 ms sample, and inside the
-    /// strokes.
+    /// programmed line in the table-fixed work coordinates at every 1 ms sample, inside the
+    /// strokes and every axis within its speed, acceleration and jerk.
     #[test]
     fn g234_tip_on_the_path(
         which in 0..3usize,
@@ -126,6 +126,7 @@ proptest! {
         }
         prop_assert!(worst < 1e-3, "the tip is {worst} mm off the path\n{src}");
         check_strokes(&samples, &m)?;
+        check_limits_of(&samples, &m, false).map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))?;
     }
 }
 

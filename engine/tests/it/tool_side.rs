@@ -648,7 +648,8 @@ mod random {
         /// At every sample of the run in the middle of a contour block, the real tool tip (forward
         /// kinematics of the sampled axes) is at the radius from the programmed line, measured
         /// in the plane perpendicular to the tool, on the commanded side: on a tool rotation, a
-        /// mixed and a table machine, under TCP in the workpiece system.
+        /// mixed and a table machine, under TCP in the workpiece system; every axis within its
+        /// speed, acceleration and jerk (a corner's step between segments allowed).
         #[test]
         fn every_sample_of_a_straight_block_keeps_the_tip_at_the_radius(
             machine in 0..3usize,
@@ -674,7 +675,9 @@ mod random {
             let n = points.len();
             let (mut checked, mut cut_checked) = (0, 0);
             let (mut worst, mut worst_cut) = (0.0f64, 0.0f64);
+            let mut samples = Vec::new();
             let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+                samples.push(*s);
                 // Line 5 + k runs from corner k to corner k + 1 (the start-up block is line 4).
                 let k = s.line as usize;
                 if !(5..5 + n).contains(&k) {
@@ -712,6 +715,8 @@ mod random {
             prop_assert!(worst < 1e-3, "a sample {} mm off the radius", worst);
             prop_assert_eq!(cut_checked, checked, "samples without a cutting point");
             prop_assert!(worst_cut < 1e-3, "a cutting point {} mm off the programmed line", worst_cut);
+            check_limits_by_segment(&samples, &MachineConfig::preset(preset).unwrap())
+                .map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))?;
         }
     }
 }
@@ -1583,7 +1588,9 @@ mod table_system_random {
             let n = points.len();
             let (mut checked, mut cut_checked) = (0, 0);
             let (mut worst, mut worst_cut) = (0.0f64, 0.0f64);
+            let mut samples = Vec::new();
             let r = fivex_engine::run::run(&mut interp, &Default::default(), |s| {
+                samples.push(*s);
                 // Line 4 + k runs from corner k to corner k + 1 (the start-up block is line 3).
                 let k = s.line as usize;
                 if !(4..4 + n).contains(&k) {
@@ -1615,6 +1622,8 @@ mod table_system_random {
             prop_assert!(worst < 1e-3, "a sample {} mm off the radius", worst);
             prop_assert_eq!(cut_checked, checked, "samples without a cutting point");
             prop_assert!(worst_cut < 1e-3, "a cutting point {} mm off the programmed line", worst_cut);
+            check_limits_by_segment(&samples, &MachineConfig::preset(preset).unwrap())
+                .map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))?;
         }
     }
 }

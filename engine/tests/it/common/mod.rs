@@ -161,6 +161,14 @@ pub fn check_limits_of(samples: &[Sample], m: &MachineConfig, junctions_too: boo
     check_limits_every(samples, m, junctions_too, 0.001)
 }
 
+/// [`check_limits_of`] with every junction between two motion segments taken as a corner,
+/// also within one line (`Sample::segment`: a compensated corner's connecting moves).
+pub fn check_limits_by_segment(samples: &[Sample], m: &MachineConfig) -> Result<(), TestCaseError> {
+    check_limits_within(samples, m, false, 0.001, |w| {
+        w.iter().all(|s| s.line == w[0].line && s.segment == w[0].segment)
+    })
+}
+
 /// [`check_limits_of`] on samples `period` seconds apart (a finite difference over a longer
 /// period averages the derivative over it, so the same limits hold).
 pub fn check_limits_every(
@@ -169,10 +177,22 @@ pub fn check_limits_every(
     junctions_too: bool,
     period: f64,
 ) -> Result<(), TestCaseError> {
+    check_limits_within(samples, m, junctions_too, period, |w| w.iter().all(|s| s.line == w[0].line))
+}
+
+/// The limits check of [`check_limits_every`], `same_block` telling the windows of four samples
+/// that lie within one block from those across a junction.
+fn check_limits_within(
+    samples: &[Sample],
+    m: &MachineConfig,
+    junctions_too: bool,
+    period: f64,
+    same_block: impl Fn(&[Sample]) -> bool,
+) -> Result<(), TestCaseError> {
     let lim = limits_of(m);
     let slack = 1.0 + 1e-6;
     for w in samples.windows(4) {
-        let same_block = w.iter().all(|s| s.line == w[0].line);
+        let same_block = same_block(w);
         for (i, &(v, a, j, rollover)) in lim.iter().enumerate() {
             let x = positions([&w[0], &w[1], &w[2], &w[3]], i, rollover);
             let (vel, acc, jerk) = derivatives_every(x, period);
