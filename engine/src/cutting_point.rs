@@ -207,22 +207,13 @@ fn touches_singular(normals: (Vec3, Vec3), tool_at: &impl Fn(f64) -> Vec3) -> bo
     let reach = |i: usize| 2.0 * (points[i].0.angle(&points[i + 1].0) + points[i].1.angle(&points[i + 1].1));
     // Each stretch that may come near: a golden-section search for its closest point.
     let step = 1.0 / SINGULAR_PROBES as f64;
-    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let angle = |u: f64| {
+        let (v, n) = at(u);
+        off(v, n)
+    };
     (0..SINGULAR_PROBES).filter(|&i| probes[i].min(probes[i + 1]) - reach(i) <= SINGULAR).any(|i| {
-        let (mut a, mut b) = (i as f64 * step, (i + 1) as f64 * step);
-        let mut best = probes[i].min(probes[i + 1]);
-        for _ in 0..60 {
-            let (c, d) = (b - g * (b - a), a + g * (b - a));
-            let ((vc, nc), (vd, nd)) = (at(c), at(d));
-            let (fc, fd) = (off(vc, nc), off(vd, nd));
-            best = best.min(fc).min(fd);
-            if fc < fd {
-                b = d;
-            } else {
-                a = c;
-            }
-        }
-        best < SINGULAR
+        let closest = crate::golden::least(angle, i as f64 * step, (i + 1) as f64 * step, 60);
+        probes[i].min(probes[i + 1]).min(closest) < SINGULAR
     })
 }
 

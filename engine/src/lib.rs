@@ -13,6 +13,7 @@ pub mod controller;
 pub mod cutting_point;
 pub mod dialect;
 pub mod geom;
+mod golden;
 pub mod interp;
 pub mod kin;
 pub mod lang;

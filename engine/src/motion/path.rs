@@ -480,25 +480,10 @@ fn within_reach(kin: &Kinematics, direction: &impl Fn(f64) -> Vec3) -> bool {
     if at.iter().any(|s| *s < EDGE) {
         return false;
     }
-    (1..STEPS).filter(|&k| at[k] <= at[k - 1] && at[k] <= at[k + 1]).all(|k| {
-        // Golden-section search for the least slack between the neighbouring looks.
-        const R: f64 = 0.618_033_988_749_894_9;
-        let (mut lo, mut hi) = ((k - 1) as f64 / STEPS as f64, (k + 1) as f64 / STEPS as f64);
-        let (mut a, mut b) = (hi - R * (hi - lo), lo + R * (hi - lo));
-        let (mut sa, mut sb) = (slack(a), slack(b));
-        for _ in 0..48 {
-            if sa < sb {
-                (hi, b, sb) = (b, a, sa);
-                a = hi - R * (hi - lo);
-                sa = slack(a);
-            } else {
-                (lo, a, sa) = (a, b, sb);
-                b = lo + R * (hi - lo);
-                sb = slack(b);
-            }
-        }
-        sa.min(sb) >= EDGE
-    })
+    let step = 1.0 / STEPS as f64;
+    (1..STEPS)
+        .filter(|&k| at[k] <= at[k - 1] && at[k] <= at[k + 1])
+        .all(|k| crate::golden::least(slack, (k - 1) as f64 * step, (k + 1) as f64 * step, 48) >= EDGE)
 }
 
 /// As `continuous`, and steady enough to plan (G54.4's recomputed direction): no 1/64 of the
