@@ -15,7 +15,7 @@ use common::{cases, check_limits_of, check_strokes, end_of, interpreter_with, mo
 use fivex_engine::canon::Pos;
 use fivex_engine::geom::Rigid;
 use fivex_engine::kin::{Kinematics, MachineKind, Selection, Vec3};
-use fivex_engine::machine::{AxisKind, MachineConfig};
+use fivex_engine::machine::{Axis, AxisKind, Hand, MachineConfig, RotaryLink, Side};
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
 use fivex_engine::Dialect;
 use proptest::prelude::*;
@@ -618,26 +618,16 @@ proptest! {
 /// block now runs with conventional control: rotary axes in proportion, within their limits.
 #[test]
 fn posture_control_falls_back_when_the_great_circle_would_switch_branches() {
-    use fivex_engine::machine::{Axis, Hand, RotaryLink, Side};
-    let mut m = MachineConfig::preset("mill3").unwrap();
-    m.name = "branch-jump".into();
-    for a in &mut m.axes {
-        (a.rapid, a.accel, a.jerk) = (10_000.0, Some(1_000.0), Some(20_000.0));
-    }
-    for name in ['A', 'B'] {
-        m.axes.push(Axis { accel: Some(500.0), jerk: Some(10_000.0), ..Axis::new(name, AxisKind::Rotary, 3_600.0) });
-    }
-    let link = |axis, direction| RotaryLink {
-        axis,
-        side: Side::Head,
-        direction,
-        hand: Hand::Left,
-        point: [0.0; 3],
-        zero_offset: 0.0,
-        fixed: None,
-        range: None,
-    };
-    m.rotary = vec![link('A', [1.0, 0.0, 0.0]), link('B', [0.0, 0.0, 1.0])];
+    let rotary = ['A', 'B'].map(|name| Axis {
+        accel: Some(500.0),
+        jerk: Some(10_000.0),
+        ..Axis::new(name, AxisKind::Rotary, 3_600.0)
+    });
+    let mut m = fixed_machine("branch-jump", rotary);
+    m.rotary = vec![
+        link('A', Side::Head, [1.0, 0.0, 0.0], Hand::Left, None),
+        link('B', Side::Head, [0.0, 0.0, 1.0], Hand::Left, None),
+    ];
     m.tool_axis = [0.0, 1.0, 0.0];
     let src = "G90 G17 G00 A12.347 B-55.\nG43.5 H1 P1\nX0 Y0 Z50.\nG01 F1000.\n\
                G01 X0 Y0 Z0 I-0.905576468 J-0.332759152 K-0.263063883\nG49\nM30\n";
@@ -670,35 +660,17 @@ fn posture_control_falls_back_when_the_great_circle_would_switch_branches() {
 /// conventional control, the rotary axes in proportion, as for a branch change.
 #[test]
 fn posture_control_falls_back_when_the_great_circle_leaves_the_reach() {
-    use fivex_engine::machine::{Axis, Hand, RotaryLink, Side};
-    let mut m = MachineConfig::preset("mill3").unwrap();
-    m.name = "out-of-reach".into();
-    for a in &mut m.axes {
-        (a.rapid, a.accel, a.jerk) = (10_000.0, Some(1_000.0), Some(20_000.0));
-    }
     let b_range = [-145.07053108359807, 66.48880290542363];
-    m.axes.push(Axis {
-        accel: Some(500.0),
-        jerk: Some(10_000.0),
-        stroke: Some(b_range),
-        ..Axis::new('B', AxisKind::Rotary, 3_600.0)
-    });
-    m.axes.push(Axis {
-        accel: Some(500.0),
-        jerk: Some(10_000.0),
-        rollover: true,
-        ..Axis::new('A', AxisKind::Rotary, 3_600.0)
-    });
-    let link = |axis, side, direction, hand, range| RotaryLink {
-        axis,
-        side,
-        direction,
-        hand,
-        point: [0.0; 3],
-        zero_offset: 0.0,
-        fixed: None,
-        range,
-    };
+    let rotary = [
+        Axis {
+            accel: Some(500.0),
+            jerk: Some(10_000.0),
+            stroke: Some(b_range),
+            ..Axis::new('B', AxisKind::Rotary, 3_600.0)
+        },
+        Axis { accel: Some(500.0), jerk: Some(10_000.0), rollover: true, ..Axis::new('A', AxisKind::Rotary, 3_600.0) },
+    ];
+    let mut m = fixed_machine("out-of-reach", rotary);
     m.rotary = vec![
         link('A', Side::Head, [0.0, 0.0, -1.0], Hand::Left, None),
         link('B', Side::Table, [-1.0, 0.0, 0.0], Hand::Right, Some(b_range)),
@@ -731,4 +703,21 @@ fn posture_control_falls_back_when_the_great_circle_leaves_the_reach() {
         assert!((s.machine[3] - want).abs() < 1e-6, "B at {} not {want} (u {u})", s.machine[3]);
     }
     check_limits_of(&samples, &m, false).unwrap();
+}
+
+/// mill3 with the random machines' usual linear limits and the rotary axes `rotary`: the
+/// fixed machines of the shrunk cases above (their links set by the test).
+fn fixed_machine(name: &str, rotary: [Axis; 2]) -> MachineConfig {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    m.name = name.into();
+    for a in &mut m.axes {
+        (a.rapid, a.accel, a.jerk) = (10_000.0, Some(1_000.0), Some(20_000.0));
+    }
+    m.axes.extend(rotary);
+    m
+}
+
+/// A rotary link through the origin with no zero offset.
+fn link(axis: char, side: Side, direction: [f64; 3], hand: Hand, range: Option<[f64; 2]>) -> RotaryLink {
+    RotaryLink { axis, side, direction, hand, point: [0.0; 3], zero_offset: 0.0, fixed: None, range }
 }
