@@ -18,6 +18,7 @@ use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, Spi
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::Machine;
+use crate::notice::Notice;
 use crate::motion::{Braking, Endpoint, Executor, FeedContext, Finished, Point, Sample, Segment};
 use crate::stage::Pipeline;
 use std::sync::Arc;
@@ -136,6 +137,8 @@ pub enum Event {
     Alarm(Alarm),
     AlarmsCleared,
     Message(String),
+    /// A block queued to run by a rule of fivex's own (`crate::notice`).
+    Notice(crate::notice::Notice),
 }
 
 /// Refused operator actions (the panel would ignore them; a service answers 409).
@@ -1069,7 +1072,9 @@ impl Controller {
                     };
                     let ctx = self.program_feed(m);
                     let shift = (!self.interrupt.is_zero()).then(|| self.interrupt.last());
-                    let queued = self.exec.queue(&c, m, ctx, self.reading_block, shift.as_ref(), |_| {});
+                    let events = &mut self.events;
+                    let noticed = |seg: &Segment| events.extend(Notice::of(seg).map(Event::Notice));
+                    let queued = self.exec.queue(&c, m, ctx, self.reading_block, shift.as_ref(), noticed);
                     if let Err(id) = queued {
                         if motion_pending {
                             // The alarm comes when the machine has stopped before the block.

@@ -20,6 +20,7 @@ pub mod lang;
 pub mod machine;
 pub mod machine_file;
 pub mod motion;
+pub mod notice;
 pub mod nurbs;
 pub mod pocket;
 pub mod preview;

@@ -7,6 +7,7 @@ use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Pos};
 use crate::interp::{Interpreter, Step};
 use crate::motion::{Endpoint, Executor, Segment};
+use crate::notice::Notice;
 use crate::stage::Pipeline;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,6 +46,8 @@ pub struct RunResult {
     pub variables: Vec<(u32, f64)>,
     /// DPRNT output and stop messages, in order.
     pub messages: Vec<String>,
+    /// Blocks run by a rule of fivex's own (`crate::notice`), in order.
+    pub notices: Vec<crate::notice::Notice>,
 }
 
 impl RunResult {
@@ -102,6 +105,7 @@ pub fn run_observed(
         next_sample: 0,
         opts: *opts,
         messages: Vec::new(),
+        notices: Vec::new(),
         over_budget: None,
         parts: 0,
         cutting_s: 0.0,
@@ -160,7 +164,7 @@ pub fn run_observed(
         alarms = vec![Alarm { code, message, line, n }];
         motion_alarm = true;
     }
-    let Driver { exec, messages, parts, .. } = exec;
+    let Driver { exec, messages, notices, parts, .. } = exec;
     for _ in 0..parts {
         interp.state.count_part();
     }
@@ -188,6 +192,7 @@ pub fn run_observed(
         programmed_in: basis.programmed_in,
         variables: interp.state.common_variables(),
         messages,
+        notices,
     }
 }
 
@@ -199,6 +204,7 @@ struct Driver<'o, O: Observer> {
     next_sample: u64,
     opts: RunOptions,
     messages: Vec<String>,
+    notices: Vec<crate::notice::Notice>,
     /// The block during which simulated time ran past `max_time_s`; nothing runs after it.
     over_budget: Option<(u32, Option<u32>)>,
     /// Program ends (M02/M30) the machine reached: parts machined (#3901).
@@ -213,8 +219,14 @@ impl<O: Observer> Driver<'_, O> {
             CanonKind::Motion(m) => {
                 let ctx =
                     self.exec.feed_context(self.opts.feed_override, self.opts.rapid_override, m.context.exact_stop);
-                let observer = &mut *self.observer;
-                if let Err(id) = self.exec.queue(c, m, ctx, 0, None, |seg| observer.queued(m, seg)) {
+                let (observer, notices) = (&mut *self.observer, &mut self.notices);
+                let queued = |seg: &Segment| {
+                    observer.queued(m, seg);
+                    if let Some(notice) = Notice::of(seg) {
+                        Notice::add(notices, notice);
+                    }
+                };
+                if let Err(id) = self.exec.queue(c, m, ctx, 0, None, queued) {
                     // The machine stops at the end of the block before; the offending one never moves.
                     self.drain(true, tracing, on_sample);
                     return Err(id);

@@ -52,6 +52,10 @@ pub struct RunSummary {
     pub variables: Map<String, Value>,
     /// DPRNT output and stop messages, in order.
     pub messages: Vec<String>,
+    /// Blocks run by a rule of fivex's own where the manuals do not say what the control does
+    /// (`FX1…`), in order; left out when there is none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notices: Vec<fivex_engine::notice::Notice>,
 }
 
 /// `fivex kin fk`: the tool tip and direction of axis positions, in the table frame and in the
@@ -111,6 +115,7 @@ impl RunSummary {
             },
             variables: r.variables.iter().map(|(n, v)| (format!("#{n}"), Value::from(*v))).collect(),
             messages: r.messages.clone(),
+            notices: r.notices.clone(),
         }
     }
 }

@@ -258,6 +258,8 @@ struct Follow {
     to: Vec3,
     circle: Option<Circle3>,
     posture: Option<Posture>,
+    /// Why tool posture control was asked for and the rotary axes turn in proportion instead.
+    posture_fallback: Option<PostureFallback>,
     /// G54.4 tool direction compensation along the way (when there is no posture).
     compensation: Option<Compensation>,
     /// Cutting point control: `from`/`to`/`circle` are the cutting point's path, the tip is
@@ -436,14 +438,25 @@ impl Posture {
         }
     }
 
-    /// Whether the axes can follow the posture from `from` to `to` as `Follow::at` turns
-    /// them (the inverse solution nearest the proportional angles) without a jump: not when the
-    /// end angles lie on the other branch of the inverse than the start's, or the way
-    /// leaves the directions the machine reaches; such a block runs with conventional control,
-    /// as for equal or opposite directions (`docs/five-axis.md`).
-    fn continuous(&self, kin: &Kinematics, from: &Pos, to: &Pos, circle: Option<&Circle3>) -> bool {
-        continuous(kin, from, to, |u| self.at(u, circle))
+    /// What keeps the axes from following the posture from `from` to `to` as `Follow::at`
+    /// turns them (the inverse solution nearest the proportional angles) without a jump (`None`:
+    /// nothing); such a block runs with conventional control, as for equal or opposite
+    /// directions (`docs/five-axis.md`).
+    fn hindrance(&self, kin: &Kinematics, from: &Pos, to: &Pos, circle: Option<&Circle3>) -> Option<PostureFallback> {
+        hindrance(kin, from, to, |u| self.at(u, circle))
     }
+}
+
+/// Why a block that asks for tool posture control runs with conventional control (the rotary
+/// axes in proportion) although its end directions are neither equal nor opposite. The manuals
+/// do not say what the control does there: the fallback is fivex's own rule, so a run tells the
+/// user (`crate::notice`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PostureFallback {
+    /// The way leaves the directions the rotary axes reach, or comes within `EDGE` of their edge.
+    Reach,
+    /// The axes would have to jump to the other branch of the inverse.
+    Branch,
 }
 
 /// Whether the tool can turn on the great circle from its direction at `from` to that at `to`
@@ -451,16 +464,20 @@ impl Posture {
 /// it continuously; `true` also when there is nothing to turn.
 pub(crate) fn great_circle_continuous(kin: &Kinematics, from: &Pos, to: &Pos) -> bool {
     let (v0, v1) = (kin.forward(from, 0.0).tool, kin.forward(to, 0.0).tool);
-    Posture::new(v0, v1).is_none_or(|p| p.continuous(kin, from, to, None))
+    Posture::new(v0, v1).is_none_or(|p| p.hindrance(kin, from, to, None).is_none())
 }
 
-/// Whether the axes can follow the tool direction `direction(u)` from `from` to `to` as
-/// `Follow::at` turns them (the inverse solution nearest the proportional angles) without a
-/// jump to another branch of the inverse or leaving the directions the machine reaches.
-fn continuous(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
+/// What keeps the axes from following the tool direction `direction(u)` from `from` to `to`
+/// as `Follow::at` turns them (the inverse solution nearest the proportional angles): leaving
+/// the directions the machine reaches, or a jump to another branch of the inverse.
+fn hindrance(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> Option<PostureFallback> {
     /// More than this in 1/64 of the block is a jump to the other branch.
     const JUMP_DEG: f64 = 30.0;
-    within_reach(kin, &direction) && no_jump(kin, from, to, &direction, JUMP_DEG)
+    if !within_reach(kin, &direction) {
+        Some(PostureFallback::Reach)
+    } else {
+        (!no_jump(kin, from, to, &direction, JUMP_DEG)).then_some(PostureFallback::Branch)
+    }
 }
 
 /// Whether `direction(u)` stays among the directions the rotary axes reach
@@ -567,15 +584,24 @@ fn compensated(kin: &Kinematics, c: &Compensation, u: f64) -> Vec3 {
     c.turn * kin.forward(&q, 0.0).tool
 }
 
-/// How tool posture control turns the tool along a tip path from `from` to `to` (`None`: the
-/// rotary axes in proportion).
-fn posture_along(kin: &Kinematics, tip: &TipMove, circle: Option<&Circle3>, from: &Pos, to: &Pos) -> Option<Posture> {
-    tip.posture
-        .and_then(|(a, b)| match circle {
-            Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
-            _ => Posture::new(a, b),
-        })
-        .filter(|p| p.continuous(kin, from, to, circle))
+/// How tool posture control turns the tool along a tip path from `from` to `to` (`Ok(None)`:
+/// the rotary axes in proportion, as asked or for equal or opposite directions; `Err`: in
+/// proportion although posture control was asked for, and why).
+fn posture_along(
+    kin: &Kinematics,
+    tip: &TipMove,
+    circle: Option<&Circle3>,
+    from: &Pos,
+    to: &Pos,
+) -> Result<Option<Posture>, PostureFallback> {
+    let posture = tip.posture.and_then(|(a, b)| match circle {
+        Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
+        _ => Posture::new(a, b),
+    });
+    match posture.and_then(|p| p.hindrance(kin, from, to, circle)) {
+        Some(why) => Err(why),
+        None => Ok(posture),
+    }
 }
 
 /// Cutting point control: the vector from the cutting point to the tool tip (table frame) where
@@ -584,7 +610,7 @@ fn posture_along(kin: &Kinematics, tip: &TipMove, circle: Option<&Circle3>, from
 /// cannot follow the block (`cutting_point::through_singular`).
 pub(crate) fn cutting_end(kin: &std::sync::Arc<Kinematics>, tip: &TipMove, from: &Pos, to: &Pos) -> Option<Vec3> {
     let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
-    let posture = posture_along(kin, tip, circle.as_ref(), from, to);
+    let posture = posture_along(kin, tip, circle.as_ref(), from, to).unwrap_or(None);
     let follow = Follow { circle, posture, ..Follow::plain(kin.clone(), tip.tool_length, tip.from, tip.to) };
     match &tip.cutting {
         Some(c) => {
@@ -609,6 +635,7 @@ impl Follow {
             to,
             circle: None,
             posture: None,
+            posture_fallback: None,
             compensation: None,
             cutting: None,
             work_frame: None,
@@ -1405,7 +1432,10 @@ impl Segment {
             None => ((tip.to - tip.from).norm(), 0.0),
         };
         let turn = rotary_travel(&kin, from, &m.machine);
-        let posture = posture_along(&kin, tip, circle.as_ref(), from, &m.machine);
+        let (posture, posture_fallback) = match posture_along(&kin, tip, circle.as_ref(), from, &m.machine) {
+            Ok(posture) => (posture, None),
+            Err(why) => (None, Some(why)),
+        };
         // G54.4's compensation all along the way, where it starts and ends on the block's end
         // points (not so when a singular-posture rule held an axis within No.11204), differs
         // from turning the axes in proportion (it does not for an error about the
@@ -1429,6 +1459,7 @@ impl Segment {
         let mut follow = Follow {
             circle,
             posture,
+            posture_fallback,
             compensation,
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
@@ -1901,6 +1932,12 @@ impl Segment {
         let c = f.cutting.as_ref()?;
         let pose = f.kin.forward(machine, f.tool_length);
         Some(c.along.contact(c.lo + (c.hi - c.lo) * u, pose.tip, pose.tool))
+    }
+
+    /// Why this block's tool posture control runs as conventional control (`None`: it does
+    /// not, or was not asked for).
+    pub fn posture_fallback(&self) -> Option<PostureFallback> {
+        self.follow.as_ref()?.posture_fallback
     }
 
     /// A circular segment's centre, axis and sweep.

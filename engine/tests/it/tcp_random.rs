@@ -499,13 +499,17 @@ proptest! {
                 }
             }
             // Tool posture control: the tool on the great circle at the fraction of the tip's
-            // travel; or, where the axes cannot follow it without a jump (the end angles on
-            // the other branch of the inverse), conventional control: the rotary axes in
-            // proportion to the tip's travel.
-            if turning {
+            // travel; or, where the axes cannot follow it (a jump to the other branch of the
+            // inverse, leaving the directions they reach), conventional control — the rotary
+            // axes in proportion to the tip's travel — and a notice on that line saying so.
+            let noticed = r.notices.iter().any(|n| n.line == line);
+            prop_assert!(turning || !noticed, "line {line}: a notice without posture control: {:?}\n{src}", r.notices);
+            if noticed {
+                prop_assert!(proportional < 1e-6, "line {line}: noticed, yet the axes are {proportional}° off proportional\n{src}\n{m:?}");
+            } else if turning {
                 prop_assert!(
-                    circle < 1e-6 || proportional < 1e-6,
-                    "line {line}: the tool is {circle} off the great circle and the axes {proportional}° off proportional\n{src}\n{m:?}"
+                    circle < 1e-6,
+                    "line {line}: the tool is {circle} off the great circle (the axes {proportional}° off proportional) without a notice\n{src}\n{m:?}"
                 );
             } else {
                 prop_assert!(proportional < 1e-6, "line {line}: axes {proportional}° off proportional\n{src}");
@@ -634,6 +638,7 @@ fn posture_control_falls_back_when_the_great_circle_would_switch_branches() {
     let kin = Kinematics::new(&m).unwrap();
     let (r, samples) = run_on(&m, Dialect::Fanuc, src);
     assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(noticed(&r), [("FX1002", 5)], "{:?}", r.notices);
     let e = ends(&m, Dialect::Fanuc, src);
     let (q0, q1) = (end_of(&e, 3), end_of(&e, 5));
     // The FANUC choice from (12.347, −55): (−38.328, −115.099); the great circle's own branch
@@ -694,6 +699,9 @@ fn posture_control_falls_back_when_the_great_circle_leaves_the_reach() {
     assert!(least < -1e-4, "the great circle stays within reach ({least})");
     let (r, samples) = run_on(&m, Dialect::Fanuc, src);
     assert!(r.completed(), "{:?}", r.alarms);
+    // Both turns run with conventional control, and the run says so: the first because its
+    // end angles lie on the other branch of the inverse, the second for the reach.
+    assert_eq!(noticed(&r), [("FX1002", 5), ("FX1001", 6)], "{:?}", r.notices);
     // A pure turn: A (rollover, sampled within one turn; −151°) turns most, B in proportion.
     let n6: Vec<&Sample> = samples.iter().filter(|s| s.line == 6).collect();
     assert!(n6.len() > 100, "{} samples", n6.len());
@@ -703,6 +711,11 @@ fn posture_control_falls_back_when_the_great_circle_leaves_the_reach() {
         assert!((s.machine[3] - want).abs() < 1e-6, "B at {} not {want} (u {u})", s.machine[3]);
     }
     check_limits_of(&samples, &m, false).unwrap();
+}
+
+/// The code and line of each notice of a run.
+fn noticed(r: &RunResult) -> Vec<(&str, u32)> {
+    r.notices.iter().map(|n| (n.code.as_str(), n.line)).collect()
 }
 
 /// mill3 with the random machines' usual linear limits and the rotary axes `rotary`: the

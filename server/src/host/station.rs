@@ -285,6 +285,7 @@ impl Station {
                     messages.push(Message::Alarm { event: "cleared", raised: None, active: Vec::new() });
                 }
                 Event::Message(text) => messages.push(Message::Message { text }),
+                Event::Notice(notice) => messages.push(Message::Notice(notice)),
             }
         }
         let running = self.controller.run_state() == RunState::Running;
