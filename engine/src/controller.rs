@@ -18,8 +18,8 @@ use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, Spi
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::Machine;
-use crate::notice::Notice;
 use crate::motion::{Braking, Endpoint, Executor, FeedContext, Finished, Point, Sample, Segment};
+use crate::notice::Notice;
 use crate::stage::Pipeline;
 use std::sync::Arc;
 

@@ -10,7 +10,8 @@ use crate::motion::path::PostureFallback;
 use crate::motion::Segment;
 use serde::{Deserialize, Serialize};
 
-/// One notice, placed as an alarm is.
+/// A block fivex ran by a rule of its own where the manuals do not say what the control does,
+/// placed as an alarm is (`docs/five-axis.md`, "Notices").
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Notice {

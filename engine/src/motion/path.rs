@@ -598,10 +598,24 @@ fn posture_along(
         Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
         _ => Posture::new(a, b),
     });
-    match posture.and_then(|p| p.hindrance(kin, from, to, circle)) {
+    let Some(p) = posture else { return Ok(None) };
+    match p.hindrance(kin, from, to, circle) {
+        // The rotary axes in proportion may turn the tool on the posture's own way (a
+        // nutating head turning a horizontal tool on the edge of its reach): nothing differs.
+        Some(_) if proportional_follows(kin, from, to, |u| p.at(u, circle)) => Ok(None),
         Some(why) => Err(why),
-        None => Ok(posture),
+        None => Ok(Some(p)),
     }
+}
+
+/// Whether the rotary axes turning in proportion from `from` to `to` point the tool along
+/// `direction(u)` (within 10⁻⁸ rad at every 1/64 of the block).
+fn proportional_follows(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
+    (0..=STEPS).all(|k| {
+        let u = k as f64 / STEPS as f64;
+        let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+        (kin.forward(&q, 0.0).tool - direction(u).normalize()).norm() < 1e-8
+    })
 }
 
 /// Cutting point control: the vector from the cutting point to the tool tip (table frame) where

@@ -23,6 +23,7 @@
 //! | `mX=V` / `wX=V` | machine / workpiece position of axis X (±1e-6) |
 //! | `msg="TEXT"` | the `messages` list, in order (all of them when any is given) |
 //! | `canon=N` | number of `interp` lines |
+//! | `notice=CODE:LINE` | the summary's `notices`, all of them in order (none given = none expected) |
 //! | `diag=LINE:CODE` | `check` diagnostics, all of them in order (none given = none expected) |
 //! | `stand=X:Y` | the machine's X and Y axes stand still at X, Y (±1e-6) in two consecutive samples of `run --trace` (a dwell or the end: where the tool centre stops) |
 
@@ -119,6 +120,7 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran, trace: &
     let mut interp_exit = None;
     let mut msgs: Option<Vec<String>> = None;
     let mut diags: Vec<String> = Vec::new();
+    let mut notices: Vec<String> = Vec::new();
     for body in tagged_comments(text, "expect") {
         for item in split_words(body) {
             let (k, v) = item.split_once('=').unwrap_or_else(|| panic!("expectation {item:?} is not key=value"));
@@ -175,6 +177,7 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran, trace: &
                 }
                 "msg" => msgs.get_or_insert_with(Vec::new).push(v.to_string()),
                 "diag" => diags.push(v.to_string()),
+                "notice" => notices.push(v.to_string()),
                 "stand" => {
                     let (x, y) = v.split_once(':').unwrap_or_else(|| panic!("stand={v}: not X:Y"));
                     let (x, y) = (parse_num(x), parse_num(y));
@@ -232,6 +235,13 @@ fn check_expectations(text: &str, run: &Ran, interp: &Ran, check: &Ran, trace: &
         if got != want {
             errs.push(format!("messages: expected {want:?}, got {got:?}"));
         }
+    }
+    let got_notices: Vec<String> = summary["notices"]
+        .as_array()
+        .map(|a| a.iter().map(|n| format!("{}:{}", n["code"].as_str().unwrap_or(""), n["line"])).collect())
+        .unwrap_or_default();
+    if got_notices != notices {
+        errs.push(format!("notices: expected {notices:?}, got {got_notices:?}"));
     }
     // check: `FILE:LINE:COL: CODE message` lines.
     let got_diags: Vec<String> = check

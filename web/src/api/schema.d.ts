@@ -2007,7 +2007,10 @@ export interface components {
             text: string;
             /** @enum {string} */
             type: "message";
-        } | {
+        } | (components["schemas"]["Notice"] & {
+            /** @enum {string} */
+            type: "notice";
+        }) | {
             boxes: components["schemas"]["Cuboid"][];
             /** @enum {string} */
             type: "workpiece";
@@ -2176,6 +2179,25 @@ export interface components {
             version: string;
             /** @description Worker threads running (all of those started, when ready). */
             workers: number;
+        };
+        /**
+         * @description A block fivex ran by a rule of its own where the manuals do not say what the control does,
+         *     placed as an alarm is (`docs/five-axis.md`, "Notices").
+         */
+        Notice: {
+            /** @example FX1001 */
+            code: string;
+            /**
+             * Format: int32
+             * @description 1-based line in the program.
+             */
+            line: number;
+            message: string;
+            /**
+             * Format: int32
+             * @description Sequence number of the block, if it has one.
+             */
+            n?: number | null;
         };
         /** @description `PUT /overrides`, percent. */
         Overrides: {
@@ -2696,6 +2718,11 @@ export interface components {
             cycle_time_s: number;
             /** @description DPRNT output and stop messages, in order. */
             messages: string[];
+            /**
+             * @description Blocks run by a rule of fivex's own where the manuals do not say what the control does
+             *     (`FX1…`), in order; left out when there is none.
+             */
+            notices?: components["schemas"]["Notice"][];
             /** @description Where the machine ends. */
             position: components["schemas"]["Position"];
             status: components["schemas"]["RunStatus"];

@@ -3,7 +3,9 @@ import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, fmt, type AlarmInfo, type Schemas } from "../api/client";
 
-function AlarmsView({ id, active, messages }: { id: string; active: AlarmInfo[]; messages: string[] }) {
+type Props = { id: string; active: AlarmInfo[]; messages: string[]; notices: Schemas["Notice"][] };
+
+function AlarmsView({ id, active, messages, notices }: Props) {
   const [history, setHistory] = useState<Schemas["Alarms"]["history"]>([]);
   const [runs, setRuns] = useState<Schemas["Run"][]>([]);
   useEffect(() => {
@@ -31,6 +33,19 @@ function AlarmsView({ id, active, messages }: { id: string; active: AlarmInfo[];
           <ul>
             {messages.map((m) => (
               <li>{m}</li>
+            ))}
+          </ul>
+        </>
+      )}
+      {notices.length > 0 && (
+        <>
+          <h3>Notices</h3>
+          <p class="quiet">Blocks fivex ran by a rule of its own where the manuals do not say what the control does.</p>
+          <ul class="notices">
+            {notices.map((n) => (
+              <li>
+                <strong>{n.code}</strong> {n.message} <span class="where">line {n.line}{n.n != null ? ` N${n.n}` : ""}</span>
+              </li>
             ))}
           </ul>
         </>

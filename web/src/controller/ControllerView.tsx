@@ -122,7 +122,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
       </nav>
       <div class={`tab-body ${TABS.some(([t]) => t === tab) ? "" : "closed"}`}>
         {tab === "mdi" && <Mdi status={status} run={live.act} onError={setError} />}
-        {tab === "alarms" && <Alarms id={id} active={live.alarms} messages={live.messages} />}
+        {tab === "alarms" && <Alarms id={id} active={live.alarms} messages={live.messages} notices={live.notices} />}
         {tab === "variables" && <Variables id={id} values={live.variables} onError={setError} />}
         {tab === "offsets" && <Offsets id={id} axes={axes} onError={setError} />}
         {tab === "parameters" && <Parameters status={status} onError={setError} />}

@@ -1,8 +1,8 @@
 // One controller as the page sees it: its status, machine, the latest position frame, alarms,
-// variables, operator messages and what is clamped on the table, kept current by the
+// variables, operator messages, notices and what is clamped on the table, kept current by the
 // controller's websocket.
 import { useCallback, useEffect, useRef, useState } from "preact/hooks";
-import { api, errorText, liveSocket, must, wsUrl, type AlarmInfo, type ControllerMessage, type Frame, type Machine, type Status } from "../api/client";
+import { api, errorText, liveSocket, must, wsUrl, type AlarmInfo, type ControllerMessage, type Frame, type Machine, type Schemas, type Status } from "../api/client";
 import { workpieceOf, type Workpiece } from "./workpiece";
 
 export type Live = {
@@ -12,6 +12,8 @@ export type Live = {
   alarms: AlarmInfo[];
   variables: Record<string, number | null>;
   messages: string[];
+  /// Blocks run by a rule of fivex's own (the last 20), as the stream's `notice` messages told.
+  notices: Schemas["Notice"][];
   /// What is clamped on the table (the snapshot's, then every `workpiece` message); null until
   /// the stream's snapshot.
   workpiece: Workpiece | null;
@@ -33,6 +35,7 @@ export function useController(id: string): Live {
   const [alarms, setAlarms] = useState<AlarmInfo[]>([]);
   const [variables, setVariables] = useState<Record<string, number | null>>({});
   const [messages, setMessages] = useState<string[]>([]);
+  const [notices, setNotices] = useState<Schemas["Notice"][]>([]);
   const [workpiece, setWorkpiece] = useState<Workpiece | null>(null);
   const [connected, setConnected] = useState(false);
   const [error, setError] = useState<string | null>(null);
@@ -110,6 +113,11 @@ export function useController(id: string): Live {
           case "message":
             setMessages((m) => [...m.slice(-19), msg.text]);
             break;
+          case "notice": {
+            const { type: _, ...notice } = msg;
+            setNotices((n) => [...n.slice(-19), notice]);
+            break;
+          }
         }
       },
       setConnected,
@@ -124,6 +132,7 @@ export function useController(id: string): Live {
     alarms,
     variables,
     messages,
+    notices,
     workpiece,
     connected,
     error,

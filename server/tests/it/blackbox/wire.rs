@@ -256,3 +256,49 @@ async fn every_stream_message_is_in_the_document() {
     assert!(validator.is_valid(&waited.json()), "the fleet array: {:?}", validator.iter_errors(&waited.json()).next());
     assert_eq!(waited.json().as_array().map(Vec::len), Some(3));
 }
+
+/// A block fivex runs by a rule of its own reaches the controller stream as a `notice` message
+/// of the document's shape, with its code and line (the fixture `tcp_posture_nutating_edge.nc`
+/// shows the run summary's).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_notice_reaches_the_stream_as_the_document_says() {
+    let served = Served::start(&[]);
+    let doc = served.get("/api-docs/openapi.json").await.json();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let machine: Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("machines/nutating-head-b45.json")).unwrap()).unwrap();
+    let created = served
+        .send_json(Method::POST, "/api/v1/controllers", &json!({"name": "notice", "machine": machine, "speed": 100}))
+        .await;
+    assert_eq!(created.status, 201, "{}", String::from_utf8_lossy(&created.body));
+    let id = created.json()["id"].as_str().unwrap().to_owned();
+    let text =
+        "O0001\nG90 G00 X0 Y0 Z200. B180. C0\nG43.4 H1 P1\nG00 X0 Y0 Z150.\nG01 X20. B120. C60. F2000.\nG49\nM30\n";
+    let stored = served
+        .request(Method::PUT, &format!("/api/v1/controllers/{id}/programs/1"), &[("content-type", "text/plain")], text)
+        .await;
+    assert_eq!(stored.status, 201, "{}", String::from_utf8_lossy(&stored.body));
+    let mut controller = connect(&served, &format!("/api/v1/controllers/{id}/stream?rate=10")).await;
+    let started =
+        served.send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, 200, "{}", String::from_utf8_lossy(&started.body));
+    let seen = messages(&mut controller, Duration::from_secs(20), |m| m["type"] == "notice").await;
+    let notice = seen.iter().find(|m| m["type"] == "notice").expect("a notice message");
+    assert_valid(&doc, "ControllerMessage", notice, "the notice");
+    assert_eq!((notice["code"].as_str(), notice["line"].as_u64()), (Some("FX1001"), Some(5)), "{notice}");
+    // The same program in a fleet run: the summary's `notices`.
+    let request = json!({"program": text, "library": ["nutating-head-b45"], "presets": ["head-bc"]});
+    let answered = served.send_json(Method::POST, "/api/v1/fleet/runs", &request).await;
+    assert_eq!(answered.status, 200, "{}", String::from_utf8_lossy(&answered.body));
+    let results = answered.json();
+    for result in results.as_array().unwrap() {
+        assert_valid(&doc, "FleetResult", result, &format!("the fleet result on {}", result["machine"]));
+    }
+    let noticed: Vec<(&str, usize)> = results
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["machine"].as_str().unwrap(), r["notices"].as_array().map_or(0, Vec::len)))
+        .collect();
+    assert_eq!(noticed, [("head-bc", 0), ("nutating-head-b45", 1)]);
+}
