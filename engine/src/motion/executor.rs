@@ -15,7 +15,7 @@ use super::contact::{Contact, Contour};
 use super::path::TurnCenter;
 use super::{AxisLimits, Cursor, FeedContext, Limits, PathState, Planned, Planner, Point, Profile, Segment};
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, Motion, Pos};
+use crate::canon::{Canon, Motion, Pos, TipMove};
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::Machine;
 use crate::tip::{Basis, System};
@@ -372,17 +372,83 @@ impl Executor {
         ctx: FeedContext,
         block: u64,
         shift: Option<&Pos>,
-        queued: impl FnOnce(&Segment),
+        mut queued: impl FnMut(&Segment),
     ) -> Result<(), AlarmId> {
-        let seg = self.segment_of(c, m, ctx, block);
-        match shift {
-            Some(shift) => super::stroke_check_shifted(&seg, &self.machine, shift)?,
-            None => super::stroke_check(&seg, &self.machine)?,
+        let check = |exec: &Self, seg: &Segment| match shift {
+            Some(shift) => super::stroke_check_shifted(seg, &exec.machine, shift),
+            None => super::stroke_check(seg, &exec.machine),
+        };
+        let Some(parts) = self.singular_parts(c, m) else {
+            let seg = self.segment_of(c, m, ctx, block);
+            check(self, &seg)?;
+            self.queued_to(m, &seg);
+            queued(&seg);
+            self.planner.push(seg);
+            return Ok(());
+        };
+        // All the block's parts or none.
+        let (was, was_contour) = (self.queued, self.queued_contour);
+        let mut segs = Vec::with_capacity(parts.len());
+        for (k, part) in parts.iter().enumerate() {
+            let mut seg = self.segment_of(c, part, ctx, block);
+            // The free axis turns from rest to rest: the tip stands while it turns, and a
+            // corner between the turn and the way would step the linear axes' speed.
+            seg.stop_after |= k + 1 < parts.len();
+            if let Err(id) = check(self, &seg) {
+                (self.queued, self.queued_contour) = (was, was_contour);
+                return Err(id);
+            }
+            self.queued_to(part, &seg);
+            segs.push(seg);
         }
-        self.queued_to(m, &seg);
-        queued(&seg);
-        self.planner.push(seg);
+        for seg in segs {
+            queued(&seg);
+            self.planner.push(seg);
+        }
         Ok(())
+    }
+
+    /// A tool posture control motion from or to the singular posture as the machine runs it
+    /// (`path::singular_turns`): the free axis turning with the tip standing, the way, and the
+    /// free axis turning at its end, as they are needed; `None`: the motion as it is.
+    fn singular_parts(&mut self, c: &Canon, m: &Motion) -> Option<Vec<Motion>> {
+        let tip = m.tip.as_deref().filter(|t| t.posture.is_some() && m.offset.is_none())?;
+        self.follow_chain(c.tip_basis.chain);
+        let kin = self.machine.kinematics()?;
+        let from = self.queued.machine;
+        let turns = super::path::singular_turns(kin, tip, &from, &m.machine)?;
+        let (lead, trail) = (turns.lead, turns.trail);
+        let way = Some(Box::new(TipMove { posture: Some(turns.way), ..tip.clone() }));
+        // A turn about the standing tip, as fast as the axes go (not a programmed rotary move).
+        let standing = |at: Vec3| TipMove {
+            from: at,
+            to: at,
+            arc: None,
+            posture: None,
+            posture_on_arc: false,
+            rotary_feed: false,
+            ..tip.clone()
+        };
+        // The programmed position with the free axis where `machine` has it (the rotary axes'
+        // programmed values differ from the machine's by a constant offset).
+        let shifted = |target: &Pos, machine_was: &Pos, machine: &Pos| -> Pos {
+            std::array::from_fn(|i| target[i] + machine[i] - machine_was[i])
+        };
+        let mut parts = Vec::with_capacity(3);
+        if let Some(lead) = lead {
+            let target = shifted(&self.queued.work, &from, &lead);
+            let at = Box::new(standing(tip.from));
+            parts.push(Motion { machine: lead, target, arc: None, tip: Some(at), ..m.clone() });
+        }
+        match trail {
+            Some(trail) => {
+                let target = shifted(&m.target, &m.machine, &trail);
+                parts.push(Motion { machine: trail, target, tip: way, ..m.clone() });
+                parts.push(Motion { arc: None, tip: Some(Box::new(standing(tip.to))), ..m.clone() });
+            }
+            None => parts.push(Motion { tip: way, ..m.clone() }),
+        }
+        Some(parts)
     }
 
     /// Queue a segment made elsewhere (a manual move) and take its end as the queued endpoint

@@ -608,6 +608,97 @@ fn posture_along(
     }
 }
 
+/// Tool posture control from or to the singular posture (TV-43: B0 C30 → B90 C0 on head-bc).
+/// There the free axis (`Kinematics::singularity`) has no angle of its own, yet the tool leaves
+/// (or reaches) the posture along its way only with that axis at one angle: the axes following
+/// the way stepped to it within one interpolation period (C by 30° in a millisecond, found
+/// when the notices made such blocks visible). The machine turns the free axis there instead,
+/// the tip standing — at the singular posture that does not turn the tool, within `AT_DEG` of
+/// it by at most twice that — before (or after) the way. `None` when neither end needs such
+/// a turn or the way cannot be followed from there (tool posture control then decides as
+/// without this).
+pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &Pos) -> Option<SingularTurns> {
+    /// An end this near the singular posture (degrees) is at it: a program's 0.001° angles
+    /// reach no nearer on a machine whose singular angle is not a round number, and between
+    /// there and the posture the free axis would turn faster than any grid of the way resolves.
+    const AT_DEG: f64 = 1e-3;
+    /// How far the turn's other axes may lie from the end's (degrees): the way followed from
+    /// the other end must come back to this end's angles, not to an equivalent pair.
+    const SAME_DEG: f64 = 1e-2;
+    if tip.posture.is_none() || tip.cutting.is_some() || tip.compensation.is_some() {
+        return None;
+    }
+    let at_pole = |q: &Pos| kin.singularity(q).filter(|s| s.angle < AT_DEG);
+    let free = at_pole(from).or_else(|| at_pole(to))?.axis;
+    let free_joint = kin.joints().into_iter().find(|j| j.name == free)?;
+    let free = free_joint.index?;
+    let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
+    let posture_of = |(a, b): (Vec3, Vec3)| match &circle {
+        Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
+        _ => Posture::new(a, b),
+    };
+    let (v0, v1) = tip.posture?;
+    // An end within `AT_DEG` of the posture counts as on it: the way from (to) the posture
+    // itself, whose direction near it sets the free axis's angle.
+    let pole = |v: Vec3| free_joint.direction * v.dot(&free_joint.direction).signum();
+    let (p0, p1) = (at_pole(from).map_or(v0, |_| pole(v0)), at_pole(to).map_or(v1, |_| pole(v1)));
+    let posture = posture_of((p0, p1))?;
+    // The axes along the way from `start` (at `u0`) to just off the other end, each point's
+    // inverse solution nearest the last; the last steps shrink geometrically, since near the
+    // singular posture the free axis turns fastest.
+    let follow = |start: &Pos, u0: f64, u1: f64| -> Option<Pos> {
+        let even = (1..256).map(|k| k as f64 / 256.0);
+        let near_end = (1..=13).map(|k| 1.0 - 2f64.powi(-k) / 256.0);
+        let mut q = *start;
+        for t in even.chain(near_end) {
+            q = kin.angles_near(posture.at(u0 + (u1 - u0) * t, circle.as_ref()), &q)?;
+        }
+        Some(q)
+    };
+    // `end` with the free axis where the way followed to it has it (`None`: where it is).
+    let turned = |end: &Pos, q: Pos| -> Option<Option<Pos>> {
+        let joints = kin.joints();
+        let mut others = joints.iter().filter_map(|j| j.index).filter(|&i| i != free);
+        if !others.all(|i| (q[i] - end[i]).abs() < SAME_DEG) {
+            return None;
+        }
+        let mut at = *end;
+        at[free] = q[free];
+        Some(((at[free] - end[free]).abs() > 1e-9).then_some(at))
+    };
+    let lead = match at_pole(from) {
+        Some(_) => turned(from, follow(to, 1.0, 0.0)?)?,
+        None => None,
+    };
+    let start = lead.unwrap_or(*from);
+    let trail = match at_pole(to) {
+        Some(_) => turned(to, follow(&start, 0.0, 1.0)?)?,
+        None => None,
+    };
+    if lead.is_none() && trail.is_none() {
+        return None;
+    }
+    // The way between the directions the turns leave the tool in.
+    let way = (kin.forward(&start, 0.0).tool, kin.forward(&trail.unwrap_or(*to), 0.0).tool);
+    let p = posture_of(way)?;
+    p.hindrance(kin, &start, &trail.unwrap_or(*to), circle.as_ref()).is_none().then_some(SingularTurns {
+        lead,
+        trail,
+        way,
+    })
+}
+
+/// A tool posture control block at the singular posture as the machine runs it
+/// (`singular_turns`).
+pub(crate) struct SingularTurns {
+    /// The axes after the free axis's turn at the start (`None`: no turn there).
+    pub lead: Option<Pos>,
+    /// The axes before the free axis's turn at the end (`None`: no turn there).
+    pub trail: Option<Pos>,
+    /// The tool directions (table frame) the way turns between.
+    pub way: (Vec3, Vec3),
+}
+
 /// Whether the rotary axes turning in proportion from `from` to `to` point the tool along
 /// `direction(u)` (within 10⁻⁸ rad at every 1/64 of the block).
 fn proportional_follows(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {

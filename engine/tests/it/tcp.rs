@@ -394,6 +394,73 @@ fn tv43_tv44_tool_posture_control_turns_on_the_great_circle() {
     assert!(tool_at(&conventional, 50.0).y.abs() > 0.05, "P0 leaves the XZ plane");
 }
 
+/// Tool posture control from or to the singular posture: the free axis has no angle of its own
+/// there, yet the tool leaves (reaches) the posture on its great circle only with that axis at
+/// one angle. The axes stepped to it within one millisecond (C by 30° in TV-43, 1.8·10⁶ °/min),
+/// or — beyond a 30° step — the block ran with conventional control. The free axis now turns
+/// there with the tip standing (which does not turn the tool), then the tool follows the
+/// great circle: every sample on it, every axis within its limits, no notice.
+#[test]
+fn posture_control_at_the_singular_posture_turns_the_free_axis_with_the_tip_standing() {
+    let nutating: MachineConfig =
+        serde_json::from_str(include_str!("../../../machines/nutating-head-b45.json")).unwrap();
+    let cases = [
+        // Leaving it: C turns 90° → 0 first (the great circle is the XZ meridian).
+        (preset("head-bc"), "G90 G00 B0 C90.\nG43.4 H1 P1\nX0 Y0 Z0\nG01 X100. B90. C0 F600.\nG49\nM30\n", 90.0),
+        // Within 0.001° of it (a program's angles on a machine whose singular angle is not a
+        // round number): the same turn, which turns the tool by at most twice that.
+        (preset("head-bc"), "G90 G00 B0.0005 C90.\nG43.4 H1 P1\nX0 Y0 Z0\nG01 X100. B90. C0 F600.\nG49\nM30\n", 90.0),
+        // Reaching it: C turns 0 → 30° last.
+        (preset("head-bc"), "G90 G00 B90. C0\nG43.4 H1 P1\nX0 Y0 Z0\nG01 X100. B0 C30. F600.\nG49\nM30\n", 30.0),
+        // A nutating head (B about a line 45° off Z): B90 C0 points the tool at (√½, ½, ½),
+        // azimuth atan(½/√½) = 35.26°, while a little B at C0 tilts it toward +X: C turns
+        // 35.26° first, then back to 0 along the way.
+        (
+            nutating,
+            "G90 G00 X0 Y0 Z200. B0 C0\nG43.4 H1 P1\nG00 X0 Y0 Z150.\nG01 X20. B90. C0 F2000.\nG49\nM30\n",
+            0.5f64.sqrt().atan().to_degrees(),
+        ),
+    ];
+    for (m, src, turn) in cases {
+        let kin = Kinematics::new(&m).unwrap();
+        let (r, samples) = run_on(m.clone(), Dialect::Fanuc, src);
+        assert!(r.completed() && r.notices.is_empty(), "{:?} {:?}\n{src}", r.alarms, r.notices);
+        let line = 4;
+        let e = ends(m.clone(), Dialect::Fanuc, src);
+        let (q0, q1) = (end_of(&e, line - 1), end_of(&e, line));
+        let (a, b) = (kin.forward(&q0, 100.0).tip, kin.forward(&q1, 100.0).tip);
+        let (v0, v1) = (kin.forward(&q0, 0.0).tool, kin.forward(&q1, 0.0).tool);
+        let angle = v0.dot(&v1).clamp(-1.0, 1.0).acos();
+        let block = of_line(&samples, line);
+        let mut worst = 0.0f64;
+        for s in &block {
+            let pose = kin.forward(&s.machine, 100.0);
+            let u = ((pose.tip - a).norm() / (b - a).norm()).min(1.0);
+            let want = (v0 * ((1.0 - u) * angle).sin() + v1 * (u * angle).sin()) / angle.sin();
+            worst = worst.max((pose.tool - want).norm());
+        }
+        let off = kin.singularity(&q0).map_or(0.0, |s| s.angle.to_radians());
+        assert!(worst < 1e-6 + 2.0 * off, "the tool {worst} off the great circle\n{src}");
+        // (The turn and the way are two motion segments, each from rest to rest: where they
+        // meet, a third difference of C spans the turn's last jerk and the way's first.)
+        common::check_limits_by_segment(&samples, &m).unwrap_or_else(|e| panic!("{e}\n{src}"));
+        // The free axis turns with the tip standing at the block's end it turns at: C where
+        // the tip first (last) moves is the start's (end's) turned by `turn`, within what the
+        // way turns it in its first (last) millisecond from rest.
+        let c = m.axes.iter().position(|x| x.name == 'C').unwrap();
+        let moving: Vec<&Sample> = block
+            .iter()
+            .filter(|s| {
+                let tip = kin.forward(&s.machine, 100.0).tip;
+                (tip - a).norm() > 1e-9 && (tip - b).norm() > 1e-9
+            })
+            .collect();
+        let (first, last) = (moving[0].machine[c], moving[moving.len() - 1].machine[c]);
+        let turned = (first - q0[c]).abs() + (q1[c] - last).abs();
+        assert!((turned - turn).abs() < 1e-3, "C turned {turned}° with the tip standing, not {turn}\n{src}");
+    }
+}
+
 /// A preset without stroke limits, with Π the workpiece system (WKP = 1).
 fn workpiece_preset(name: &str) -> MachineConfig {
     let mut m = with_coordinates(preset(name), TcpCoordinates::Workpiece);
