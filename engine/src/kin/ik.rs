@@ -60,7 +60,15 @@ fn two_axes(a: &Vec3, b: &Vec3, p: &Vec3, q: &Vec3, tol: f64) -> PerJoint<(Optio
     let (pa, pb) = (a.dot(q), b.dot(p));
     let alpha = (pa - s * pb) / denom;
     let beta = (pb - s * pa) / denom;
-    let g2 = (p.norm_squared() - alpha * alpha - beta * beta - 2.0 * alpha * beta * s) / n.norm_squared();
+    // γ²·|n|² = |c|² − |αa + βb|², a difference of numbers near 1 where c is near the a–b
+    // plane: near a pole of either axis that left γ with an error of √ε (1.5·10⁻⁸, B frozen
+    // at 0 for the first micrometres of a way from the singular posture, a jerk of thousands of
+    // mm/s³ in the samples). The part of c across a (or b) is q's across a (p's across b),
+    // whose cross product keeps its digits: γ²·|n|² = |q×a|² − β²(1 − s²) = |p×b|² − α²(1 − s²),
+    // taken from the axis c is nearer to.
+    let (across_a, across_b) = (q.cross(a).norm_squared(), p.cross(b).norm_squared());
+    let g2 = if across_a <= across_b { across_a - beta * beta * denom } else { across_b - alpha * alpha * denom }
+        / n.norm_squared();
     if g2 < -tol {
         return PerJoint::new();
     }

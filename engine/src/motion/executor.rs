@@ -417,7 +417,17 @@ impl Executor {
         let kin = self.machine.kinematics()?;
         let from = self.queued.machine;
         let turns = super::path::singular_turns(kin, tip, &from, &m.machine)?;
-        let (lead, trail) = (turns.lead, turns.trail);
+        // The carriage where the turned angles put the tip where it stands.
+        let placed = |mut q: Pos, tip_at: Vec3| {
+            let carriage = tip.carriage_for(kin, &q, tip_at);
+            for (axis, index) in kin.linear.iter().enumerate() {
+                if let Some(i) = index {
+                    q[*i] = carriage[axis];
+                }
+            }
+            q
+        };
+        let (lead, trail) = (turns.lead.map(|q| placed(q, tip.from)), turns.trail.map(|q| placed(q, tip.to)));
         let way = Some(Box::new(TipMove { posture: Some(turns.way), ..tip.clone() }));
         // A turn about the standing tip, as fast as the axes go (not a programmed rotary move).
         let standing = |at: Vec3| TipMove {

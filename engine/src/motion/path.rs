@@ -655,24 +655,54 @@ pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &P
         }
         Some(q)
     };
-    // `end` with the free axis where the way followed to it has it (`None`: where it is).
-    let turned = |end: &Pos, q: Pos| -> Option<Option<Pos>> {
+    // Off the posture by a hair, the free axis turns the tool about the posture's line: it
+    // turns it until the tool leans in the plane of that line and `along` (the way's direction
+    // just off the posture), toward it or away (then the way passes the posture's line), so
+    // that the way leaves (reaches) the posture without turning about it at once. Of the
+    // angles that do that, the one nearest `near` (where the way followed from its other end
+    // has the free axis).
+    let aligned = |end: &Pos, along: Vec3, near: f64| -> f64 {
+        let d = free_joint.direction;
+        let across = |v: Vec3| v - d * d.dot(&v);
+        let (lean, want) = (across(kin.forward(end, 0.0).tool), across(along));
+        if lean.norm() < 1e-9 || want.norm() < 1e-9 {
+            return near;
+        }
+        let delta = d.dot(&lean.cross(&want)).atan2(lean.dot(&want)).to_degrees();
+        let in_plane = |angle: f64| {
+            let mut q = *end;
+            q[free] = angle;
+            across(kin.forward(&q, 0.0).tool).normalize().cross(&want.normalize()).norm() < 1e-6
+        };
+        [delta, -delta, delta + 180.0, 180.0 - delta]
+            .into_iter()
+            .map(|turn| end[free] + turn)
+            .filter(|&angle| in_plane(angle))
+            .map(|angle| angle + 360.0 * ((near - angle) / 360.0).round())
+            .min_by(|a, b| (a - near).abs().total_cmp(&(b - near).abs()))
+            .unwrap_or(near)
+    };
+    // `end` with the free axis where the way followed to it has it, leaning along `along`
+    // (`None`: where it is).
+    let turned = |end: &Pos, q: Pos, along: Vec3| -> Option<Option<Pos>> {
         let joints = kin.joints();
         let mut others = joints.iter().filter_map(|j| j.index).filter(|&i| i != free);
         if !others.all(|i| (q[i] - end[i]).abs() < SAME_DEG) {
             return None;
         }
         let mut at = *end;
-        at[free] = q[free];
+        at[free] = aligned(end, along, q[free]);
         Some(((at[free] - end[free]).abs() > 1e-9).then_some(at))
     };
+    /// How far along the way its direction just off the posture is looked at.
+    const OFF: f64 = 1e-3;
     let lead = match at_pole(from) {
-        Some(_) => turned(from, follow(to, 1.0, 0.0)?)?,
+        Some(_) => turned(from, follow(to, 1.0, 0.0)?, posture.at(OFF, circle.as_ref()))?,
         None => None,
     };
     let start = lead.unwrap_or(*from);
     let trail = match at_pole(to) {
-        Some(_) => turned(to, follow(&start, 0.0, 1.0)?)?,
+        Some(_) => turned(to, follow(&start, 0.0, 1.0)?, posture.at(1.0 - OFF, circle.as_ref()))?,
         None => None,
     };
     if lead.is_none() && trail.is_none() {

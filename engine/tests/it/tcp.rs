@@ -420,6 +420,13 @@ fn posture_control_at_the_singular_posture_turns_the_free_axis_with_the_tip_stan
             "G90 G00 X0 Y0 Z200. B0 C0\nG43.4 H1 P1\nG00 X0 Y0 Z150.\nG01 X20. B90. C0 F2000.\nG49\nM30\n",
             0.5f64.sqrt().atan().to_degrees(),
         ),
+        // A head whose B zero is 3.998° off (found by random machines): B−3.998 is 1.3·10⁻⁴°
+        // from the posture, and the tool leans off it the other way than the way leaves. A
+        // (the free axis, ±60°) turns until the lean lies in the way's plane — to the angle
+        // the block ends at, since A keeps it along this head's meridians — and B then passes
+        // the posture's line; turning it until the tool leaned toward the way took A 180°
+        // round, beyond its range.
+        (zero_offset_head(), "G90 G00 A-55. B-3.998\nG43.5 H1 P1\nX0 Y0 Z50.\nG01 X0 Y0 Z0 I-0.129855578 J0.138293346 K0.981841372 F1000.\nG49\nM30\n", f64::NAN),
     ];
     for (m, src, turn) in cases {
         let kin = Kinematics::new(&m).unwrap();
@@ -447,7 +454,10 @@ fn posture_control_at_the_singular_posture_turns_the_free_axis_with_the_tip_stan
         // The free axis turns with the tip standing at the block's end it turns at: C where
         // the tip first (last) moves is the start's (end's) turned by `turn`, within what the
         // way turns it in its first (last) millisecond from rest.
-        let c = m.axes.iter().position(|x| x.name == 'C').unwrap();
+        let free = kin.singularity(&q0).unwrap().axis;
+        let c = m.axes.iter().position(|x| x.name == free).unwrap();
+        // (NaN: to the angle the block ends at.)
+        let turn = if turn.is_nan() { (q1[c] - q0[c]).abs() } else { turn };
         let moving: Vec<&Sample> = block
             .iter()
             .filter(|s| {
@@ -459,6 +469,25 @@ fn posture_control_at_the_singular_posture_turns_the_free_axis_with_the_tip_stan
         let turned = (first - q0[c]).abs() + (q1[c] - last).abs();
         assert!((turned - turn).abs() < 1e-3, "C turned {turned}° with the tip standing, not {turn}\n{src}");
     }
+}
+
+/// A head-head machine: A about Z carries B about X (left-handed both, ±60°), B's zero 3.998°
+/// off, the tool along Z.
+fn zero_offset_head() -> MachineConfig {
+    serde_json::from_str(
+        r#"{"name": "zero-offset-head", "axes": [
+            {"name": "X", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
+            {"name": "Y", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
+            {"name": "Z", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
+            {"name": "A", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]},
+            {"name": "B", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]}],
+          "rotary": [
+            {"axis": "A", "side": "head", "direction": [0.0, 0.0, 1.0], "hand": "left", "point": [0.0, 0.0, 0.0], "range": [-60.0, 60.0]},
+            {"axis": "B", "side": "head", "direction": [1.0, 0.0, 0.0], "hand": "left", "point": [0.0, 0.0, 0.0],
+             "zero_offset": 3.9978745311791073, "range": [-60.0, 60.0]}],
+          "tool_axis": [0.0, 0.0, 1.0]}"#,
+    )
+    .unwrap()
 }
 
 /// A preset without stroke limits, with Π the workpiece system (WKP = 1).
