@@ -543,12 +543,13 @@ fn steps_within(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64)
 
 /// As [`steps_within`] with `limit_deg`, and no smaller jump either: a 1/64 step of more than
 /// 5° is halved 16 times; a steep but continuous turn shrinks with it, a change of inverse
-/// branch keeps its size (random machines found a 28° jump of A inside a block). At (within 1°
-/// of) the singular posture the free axis may step at once (TV-43/44's start).
+/// branch keeps its size (random machines found a 28° jump of A inside a block). Nor does the
+/// free axis step at the singular posture: no machine turns it in no time (a block from or to
+/// the posture turns it first or last, `singular_turns`; one that would step near it runs with
+/// conventional control, and says so).
 fn no_jump(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> Vec3, limit_deg: f64) -> bool {
     const STEEP_DEG: f64 = 5.0;
     let at = |u: f64| angles_at(kin, from, to, direction, u);
-    let singular = |q: &Pos| kin.singularity(q).is_some_and(|s| s.angle < 1.0);
     let mut prev = (0.0, *from);
     for k in 1..=STEPS {
         let u = k as f64 / STEPS as f64;
@@ -569,7 +570,7 @@ fn no_jump(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> V
                     lo = (mid_u, mid);
                 }
             }
-            if largest_step(kin, &hi.1, &lo.1) > 1.0 && !singular(&lo.1) && !singular(&hi.1) {
+            if largest_step(kin, &hi.1, &lo.1) > 1.0 {
                 return false;
             }
         }
