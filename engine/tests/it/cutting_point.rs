@@ -427,13 +427,13 @@ fn start(m: &MachineConfig, code: &str, tilt: [f64; 3]) -> (Kinematics, Rigid, S
     (kin, pi, src, n0)
 }
 
-/// Run a random program to its end; the samples. Left out (not failed): an axis beyond its
-/// stroke and a square or bull-nose end mill taken through its singular posture (PS5464 without
-/// No.11262, as `a_flat_end_through_the_singular_posture_needs_no_11262` shows). A run past the
-/// time budget fails, as in `tcp_random`.
+/// Run a random program to its end; the samples. Left out (not failed): a square or bull-nose
+/// end mill taken through its singular posture (PS5464 without No.11262, as
+/// `a_flat_end_through_the_singular_posture_needs_no_11262` shows; not seen in 500 cases of
+/// each property). An axis beyond its stroke fails (the rotary axes turn between angles within
+/// their ranges; none in those cases), and so does a run past the time budget, as in `tcp_random`.
 fn run_or_skip(m: &MachineConfig, tool: Shape, src: &str) -> Result<Vec<Sample>, TestCaseError> {
     let (r, samples) = run_tool(m, tool, src);
-    prop_assume!(r.completed() || !r.alarms[0].code.starts_with("OT"));
     prop_assume!(r.completed() || r.alarms[0].code != "PS5464" || tool.corner >= tool.radius);
     prop_assert!(r.completed(), "{:?}\n{src}\n{m:?}", r.alarms);
     Ok(samples)

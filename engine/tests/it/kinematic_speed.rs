@@ -241,7 +241,8 @@ proptest! {
         prop_assume!(src.is_some());
         let src = src.unwrap_or_default();
         let (r, samples) = run_on(&m, &src);
-        prop_assume!(r.completed() || !r.alarms[0].code.starts_with("OT"));
+        // No OT refusal is left out: the rotary axes turn in proportion between angles within
+        // their ranges, and the linear strokes are far (none in 1 000 cases).
         prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
         check_block(&samples, &m, 4, feed.round(), &src)?;
     }
