@@ -6,7 +6,7 @@
 //!
 //! Codes are fivex's own (`FX1…`, alarms are `FX0…`) and the same in every dialect.
 
-use crate::motion::path::PostureFallback;
+use crate::motion::path::{Fallback, PostureFallback};
 use crate::motion::Segment;
 use serde::{Deserialize, Serialize};
 
@@ -27,16 +27,23 @@ pub struct Notice {
 impl Notice {
     /// What a queued segment has to report, if anything.
     pub fn of(segment: &Segment) -> Option<Notice> {
-        let (code, message) = match segment.posture_fallback()? {
-            PostureFallback::Reach => (
+        let (code, message) = match segment.fallback()? {
+            Fallback::Posture(PostureFallback::Reach) => (
                 "FX1001",
                 "tool posture control: the tool's great circle leaves (or comes within 0.06° of the edge of) the \
                  directions the rotary axes reach; the rotary axes turn in proportion (conventional control)",
             ),
-            PostureFallback::Branch => (
+            Fallback::Posture(PostureFallback::Branch) => (
                 "FX1002",
                 "tool posture control: the rotary axes would have to jump to the other solution of the inverse \
                  kinematics; they turn in proportion (conventional control)",
+            ),
+            Fallback::Compensation => (
+                "FX1003",
+                "G54.4: the tool direction compensation cannot be followed along this block (an end at or near the \
+                 singular posture, an axis held by the singular-posture rule, or a step of the rotary axes); they \
+                 turn in proportion between its compensated ends, the tool up to more than 0.001° off the \
+                 compensated direction",
             ),
         };
         Some(Notice { code: code.into(), message: message.into(), line: segment.line, n: segment.n })

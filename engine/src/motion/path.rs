@@ -258,8 +258,9 @@ struct Follow {
     to: Vec3,
     circle: Option<Circle3>,
     posture: Option<Posture>,
-    /// Why tool posture control was asked for and the rotary axes turn in proportion instead.
-    posture_fallback: Option<PostureFallback>,
+    /// Why the rotary axes turn in proportion although the block asked otherwise (`None`: they
+    /// do not, or it did not).
+    fallback: Option<Fallback>,
     /// G54.4 tool direction compensation along the way (when there is no posture).
     compensation: Option<Compensation>,
     /// Cutting point control: `from`/`to`/`circle` are the cutting point's path, the tip is
@@ -457,6 +458,18 @@ pub enum PostureFallback {
     Reach,
     /// The axes would have to jump to the other branch of the inverse.
     Branch,
+}
+
+/// Why a block's rotary axes turn in proportion between its end points although it asked for
+/// another way, by a rule of fivex's own (`crate::notice`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fallback {
+    /// Tool posture control, and why it is not followed.
+    Posture(PostureFallback),
+    /// G54.4's tool direction compensation, which is not followed along the block (an end at
+    /// or near the singular posture, an axis the singular-posture rule held, or a step) where
+    /// it differs from the axes in proportion by more than 0.001°.
+    Compensation,
 }
 
 /// Whether the tool can turn on the great circle from its direction at `from` to that at `to`
@@ -771,7 +784,7 @@ impl Follow {
             to,
             circle: None,
             posture: None,
-            posture_fallback: None,
+            fallback: None,
             compensation: None,
             cutting: None,
             work_frame: None,
@@ -1592,10 +1605,21 @@ impl Segment {
             .filter(|c| posture.is_none() && on(c, 0.0) && on(c, 1.0))
             .filter(|c| ![0.25, 0.5, 0.75].iter().all(|&u| on(c, u)))
             .filter(|c| steady(&kin, from, &m.machine, |u| compensated(&kin, c, u)));
+        // Dropped where it would have turned the tool otherwise (beyond what a display shows):
+        // the run tells it.
+        let deviates = |c: &Compensation| {
+            [0.25, 0.5, 0.75].iter().any(|&u| {
+                let q: Pos = std::array::from_fn(|i| from[i] + (m.machine[i] - from[i]) * u);
+                let cos = compensated(&kin, c, u).normalize().dot(&kin.forward(&q, 0.0).tool);
+                cos.clamp(-1.0, 1.0).acos().to_degrees() > 1e-3
+            })
+        };
+        let dropped = compensation.is_none() && posture.is_none() && tip.compensation.as_ref().is_some_and(deviates);
+        let fallback = posture_fallback.map(Fallback::Posture).or(dropped.then_some(Fallback::Compensation));
         let mut follow = Follow {
             circle,
             posture,
-            posture_fallback,
+            fallback,
             compensation,
             work_frame: Some(tip.frame),
             display_shift: tip.display_shift,
@@ -2070,10 +2094,10 @@ impl Segment {
         Some(c.along.contact(c.lo + (c.hi - c.lo) * u, pose.tip, pose.tool))
     }
 
-    /// Why this block's tool posture control runs as conventional control (`None`: it does
-    /// not, or was not asked for).
-    pub fn posture_fallback(&self) -> Option<PostureFallback> {
-        self.follow.as_ref()?.posture_fallback
+    /// Why this block's rotary axes turn in proportion although it asked for another way
+    /// (`None`: they do not, or it did not).
+    pub fn fallback(&self) -> Option<Fallback> {
+        self.follow.as_ref()?.fallback
     }
 
     /// A circular segment's centre, axis and sweep.

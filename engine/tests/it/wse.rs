@@ -1120,7 +1120,7 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
                 samples.push((s.programmed, s.machine));
             }
         });
-        assert!(r.completed(), "{preset}: {:?}", r.alarms);
+        assert!(r.completed() && r.notices.is_empty(), "{preset}: {:?} {:?}", r.alarms, r.notices);
         let vars = r.variables.clone();
         let v = |n| vars.iter().find(|(k, _)| *k == n).unwrap().1;
         let (a0, c0) = (v(100), v(101));
@@ -1488,6 +1488,9 @@ fn leaving_the_exact_singular_posture_keeps_the_axis_limits() {
         let mut samples = Vec::new();
         let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
         assert!(r.completed(), "{preset}: {:?}", r.alarms);
+        // fivex's own rule, so the run tells it.
+        let noticed: Vec<(&str, u32)> = r.notices.iter().map(|n| (n.code.as_str(), n.line)).collect();
+        assert_eq!(noticed, [("FX1003", 3)], "{preset}");
         // Where the block ended (the run's end: M30 does not move), not the block's last
         // sample, which may come up to a period before its end.
         let c = r.machine[4];
