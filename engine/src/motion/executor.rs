@@ -439,10 +439,15 @@ impl Executor {
             rotary_feed: false,
             ..tip.clone()
         };
-        // The programmed position with the free axis where `machine` has it (the rotary axes'
-        // programmed values differ from the machine's by a constant offset).
+        // The programmed position with the rotary axes where `machine` has them (their
+        // programmed values differ from the machine's by a constant offset); the tip, and so
+        // the programmed X, Y, Z, stands.
         let shifted = |target: &Pos, machine_was: &Pos, machine: &Pos| -> Pos {
-            std::array::from_fn(|i| target[i] + machine[i] - machine_was[i])
+            let mut at = *target;
+            for i in kin.joints().iter().filter_map(|j| j.index) {
+                at[i] += machine[i] - machine_was[i];
+            }
+            at
         };
         let mut parts = Vec::with_capacity(3);
         if let Some(lead) = lead {

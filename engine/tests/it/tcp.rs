@@ -465,6 +465,12 @@ fn posture_control_at_the_singular_posture_turns_the_free_axis_with_the_tip_stan
                 (tip - a).norm() > 1e-9 && (tip - b).norm() > 1e-9
             })
             .collect();
+        // The programmed point is where the tip is, while the free axis turns and after (these
+        // heads carry no table: the programming system is the workpiece system).
+        for s in &block {
+            let off = Vec3::from(s.programmed) - Vec3::from(s.tip);
+            assert!(off.norm() < 1e-9, "the programmed point is {off:?} off the tip at t={}\n{src}", s.t);
+        }
         let (first, last) = (moving[0].machine[c], moving[moving.len() - 1].machine[c]);
         let turned = (first - q0[c]).abs() + (q1[c] - last).abs();
         assert!((turned - turn).abs() < 1e-3, "C turned {turned}° with the tip standing, not {turn}\n{src}");
