@@ -365,6 +365,15 @@ impl Posture {
         (angle > 1e-9 && angle < std::f64::consts::PI - 1e-9).then_some(Posture::Great { v0, v1, angle })
     }
 
+    /// The posture `tip` asks for from direction `v0` to `v1`: on its circle by the arc rule
+    /// where the dialect has one, else the great circle.
+    fn of(tip: &TipMove, circle: Option<&Circle3>, (v0, v1): (Vec3, Vec3)) -> Option<Posture> {
+        match circle {
+            Some(c) if tip.posture_on_arc => Posture::on_arc(v0, v1, c),
+            _ => Posture::new(v0, v1),
+        }
+    }
+
     /// The arc rule on `circle` (also `None` for equal or opposite directions, TCP-27). The
     /// tool stays on the side of the plane it starts on (the interpreter has refused directions
     /// on both sides, P/S0432). *Decision* (Q-7): a start or end direction in the plane has no
@@ -608,11 +617,7 @@ fn posture_along(
     from: &Pos,
     to: &Pos,
 ) -> Result<Option<Posture>, PostureFallback> {
-    let posture = tip.posture.and_then(|(a, b)| match circle {
-        Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
-        _ => Posture::new(a, b),
-    });
-    let Some(p) = posture else { return Ok(None) };
+    let Some(p) = tip.posture.and_then(|ends| Posture::of(tip, circle, ends)) else { return Ok(None) };
     match p.hindrance(kin, from, to, circle) {
         // The rotary axes in proportion may turn the tool on the posture's own way (a
         // nutating head turning a horizontal tool on the edge of its reach): nothing differs.
@@ -639,7 +644,8 @@ pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &P
     /// How far the turn's other axes may lie from the end's (degrees): the way followed from
     /// the other end must come back to this end's angles, not to an equivalent pair.
     const SAME_DEG: f64 = 1e-2;
-    if tip.posture.is_none() || tip.cutting.is_some() || tip.compensation.is_some() {
+    let (v0, v1) = tip.posture?;
+    if tip.cutting.is_some() || tip.compensation.is_some() {
         return None;
     }
     let at_pole = |q: &Pos| kin.singularity(q).filter(|s| s.angle < AT_DEG);
@@ -647,11 +653,7 @@ pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &P
     let free_joint = kin.joints().into_iter().find(|j| j.name == free)?;
     let free = free_joint.index?;
     let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
-    let posture_of = |(a, b): (Vec3, Vec3)| match &circle {
-        Some(c) if tip.posture_on_arc => Posture::on_arc(a, b, c),
-        _ => Posture::new(a, b),
-    };
-    let (v0, v1) = tip.posture?;
+    let posture_of = |ends: (Vec3, Vec3)| Posture::of(tip, circle.as_ref(), ends);
     // An end within `AT_DEG` of the posture counts as on it: the way from (to) the posture
     // itself, whose direction near it sets the free axis's angle.
     let pole = |v: Vec3| free_joint.direction * v.dot(&free_joint.direction).signum();
