@@ -621,7 +621,7 @@ fn posture_along(
     match p.hindrance(kin, from, to, circle) {
         // The rotary axes in proportion may turn the tool on the posture's own way (a
         // nutating head turning a horizontal tool on the edge of its reach): nothing differs.
-        Some(_) if proportional_follows(kin, from, to, |u| p.at(u, circle)) => Ok(None),
+        Some(_) if off_proportional(kin, from, to, |u| p.at(u, circle), STEPS) < 1e-8 => Ok(None),
         Some(why) => Err(why),
         None => Ok(Some(p)),
     }
@@ -745,14 +745,17 @@ pub(crate) struct SingularTurns {
     pub way: (Vec3, Vec3),
 }
 
-/// Whether the rotary axes turning in proportion from `from` to `to` point the tool along
-/// `direction(u)` (within 10⁻⁸ rad at every 1/64 of the block).
-fn proportional_follows(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3) -> bool {
-    (0..=STEPS).all(|k| {
-        let u = k as f64 / STEPS as f64;
-        let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
-        (kin.forward(&q, 0.0).tool - direction(u).normalize()).norm() < 1e-8
-    })
+/// How far (the largest distance between unit vectors, about the angle in radians) the tool
+/// of the rotary axes turning in proportion from `from` to `to` is from `direction(u)` at the
+/// inner points of `steps` even steps of the block.
+fn off_proportional(kin: &Kinematics, from: &Pos, to: &Pos, direction: impl Fn(f64) -> Vec3, steps: usize) -> f64 {
+    (1..steps)
+        .map(|k| {
+            let u = k as f64 / steps as f64;
+            let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * u);
+            (kin.forward(&q, 0.0).tool - direction(u).normalize()).norm()
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Cutting point control: the vector from the cutting point to the tool tip (table frame) where
@@ -1610,11 +1613,7 @@ impl Segment {
         // Dropped where it would have turned the tool otherwise (beyond what a display shows):
         // the run tells it.
         let deviates = |c: &Compensation| {
-            [0.25, 0.5, 0.75].iter().any(|&u| {
-                let q: Pos = std::array::from_fn(|i| from[i] + (m.machine[i] - from[i]) * u);
-                let cos = compensated(&kin, c, u).normalize().dot(&kin.forward(&q, 0.0).tool);
-                cos.clamp(-1.0, 1.0).acos().to_degrees() > 1e-3
-            })
+            off_proportional(&kin, from, &m.machine, |u| compensated(&kin, c, u), 4) > 1e-3f64.to_radians()
         };
         let dropped = compensation.is_none() && posture.is_none() && tip.compensation.as_ref().is_some_and(deviates);
         let fallback = posture_fallback.map(Fallback::Posture).or(dropped.then_some(Fallback::Compensation));
