@@ -178,7 +178,7 @@ impl Track {
             let cells = grid.d.len() - 1;
             let feed = seg.speed_cap();
             for (p, d) in grid.d.iter().enumerate() {
-                t.s.push(t.len + seg.len * p as f64 / cells as f64);
+                t.s.push(t.len + seg.len * grid.u[p]);
                 t.d.push(*d);
                 let mut cap = feed;
                 if p == cells {

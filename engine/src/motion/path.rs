@@ -941,36 +941,59 @@ struct Sampled {
     end_curvature: Pos,
 }
 
-/// The first three derivatives by s of every axis at `cells + 1` evenly spaced points of a
-/// kinematic path (`q` gives the axes at u = s / `len`), by differences around each point.
+/// The first three derivatives by s of every axis at points of a kinematic path (`q` gives the
+/// axes at u = s / `len`): evenly spaced, then, where the axes' way bends too sharply for that,
+/// closer (`Grid::fine`).
 pub(super) struct Grid {
     len: f64,
-    /// `d[k]`: d/ds, d²/ds², d³/ds³ of every axis at u = k / cells.
+    /// Where each point lies, as a share of the path: ascending from 0 to 1.
+    pub(super) u: Vec<f64>,
+    /// `d[k]`: d/ds, d²/ds², d³/ds³ of every axis at `u[k]`.
     pub(super) d: Vec<[Pos; 3]>,
+}
+
+/// d/ds, d²/ds², d³/ds³ of every axis at `u` by differences of `q` at u ± h/2 and u ± 3h/2
+/// (`h` a share of the path `len` long).
+fn differences(q: &impl Fn(f64) -> Pos, u: f64, h: f64, len: f64, axes: &AxisLimits) -> [Pos; 3] {
+    let mut out = [[0.0; MAX_AXES]; 3];
+    if len <= 0.0 {
+        return out;
+    }
+    let ds = h * len;
+    let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
+    for i in 0..axes.count {
+        out[0][i] = (c[i] - b[i]) / ds;
+        out[1][i] = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
+        out[2][i] = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
+    }
+    out
+}
+
+/// What a scatter of [`ROUNDING`] in the positions makes of each of [`differences`] taken `ds`
+/// (mm) apart.
+fn rounding(ds: f64) -> [f64; 3] {
+    [2.0 * ROUNDING / ds, 2.0 * ROUNDING / (ds * ds), 8.0 * ROUNDING / (ds * ds * ds)]
+}
+
+/// How far apart (mm or degrees) two positions of a path's axes may be and still be the same
+/// to [`Grid::refine`]: a nanometre is below any machine's resolution, and the positions the
+/// kinematics give near a flat end's singular posture scatter by 10⁻¹⁰ mm (its vector there is
+/// the difference of nearly equal directions); differences of such positions over steps far
+/// finer than the path's own changes would never read as smooth.
+const ROUNDING: f64 = 1e-9;
+
+/// The points of `cells` even cells (0 … 1).
+fn even(cells: usize) -> Vec<f64> {
+    (0..=cells).map(|k| k as f64 / cells as f64).collect()
 }
 
 impl Grid {
     fn new(q: impl Fn(f64) -> Pos, len: f64, cells: usize, axes: &AxisLimits) -> Grid {
         let cells = cells.max(1);
         let h = 1.0 / (4.0 * cells as f64);
-        let ds = h * len;
-        let d = (0..=cells)
-            .map(|k| {
-                let mut out = [[0.0; MAX_AXES]; 3];
-                if len <= 0.0 {
-                    return out;
-                }
-                let u = k as f64 / cells as f64;
-                let (a, b, c, d) = (q(u - 1.5 * h), q(u - 0.5 * h), q(u + 0.5 * h), q(u + 1.5 * h));
-                for i in 0..axes.count {
-                    out[0][i] = (c[i] - b[i]) / ds;
-                    out[1][i] = (d[i] - c[i] - b[i] + a[i]) / (2.0 * ds * ds);
-                    out[2][i] = (d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i]) / (ds * ds * ds);
-                }
-                out
-            })
-            .collect();
-        Grid { len, d }
+        let u = even(cells);
+        let d = u.iter().map(|&u| differences(&q, u, h, len, axes)).collect();
+        Grid { len, u, d }
     }
 
     /// The same derivatives by differences between the points themselves (one evaluation of
@@ -996,17 +1019,22 @@ impl Grid {
                 out
             })
             .collect();
-        Grid { len, d }
+        Grid { len, u: even(cells), d }
     }
 
     fn cells(&self) -> usize {
         self.d.len() - 1
     }
 
+    /// The point at share `u` of the path (one of the grid's: a piece's end).
+    fn point(&self, u: f64) -> usize {
+        self.u.partition_point(|&x| x < u).min(self.cells())
+    }
+
     /// `make(cells)` — kept as it is where each point reads as its neighbours' mean — else its
     /// cells doubled (at most [`DOUBLINGS`] times) until the finer grid's derivatives read as
     /// the coarser one's between its points, as the planner reads them
-    /// (linearly): within 2 % of their largest size, or of what would move an axis by 1 % of
+    /// (linearly): within [`READ`] of their largest size, or of what would move an axis by 1 % of
     /// its limit at the highest speed the axes allow the path (below that a difference is
     /// nothing to the planner — and finite differences over a short block's tiny steps differ
     /// by rounding alone: cutting-5x's 20,000 blocks ran 9.5 times slower before that floor).
@@ -1014,8 +1042,10 @@ impl Grid {
     /// directions the axes reach, where their derivatives grow as 1/√ of the distance to it;
     /// cutting point control near a flat end's singular posture — the planner missed peaks
     /// between the points of the usual grid: random blocks ran an axis's jerk up to 7 %
-    /// (posture) and 10 % (cutting point) over.
-    fn fine(make: impl Fn(usize) -> Grid, cells: usize, axes: &AxisLimits) -> Grid {
+    /// (posture) and 10 % (cutting point) over. Where even the finest even grid does not
+    /// agree with the one before, its cells are halved further where they disagree
+    /// ([`Grid::refine`]).
+    fn fine(make: impl Fn(usize) -> Grid, q: impl Fn(f64) -> Pos, cells: usize, axes: &AxisLimits) -> Grid {
         /// At most 16 times the usual number of cells.
         const DOUBLINGS: usize = 4;
         let mut grid = make(cells);
@@ -1023,7 +1053,7 @@ impl Grid {
         // (most blocks: one look, no finer grid to make).
         let tolerance = grid.tolerance(axes);
         let smooth = (1..grid.cells())
-            .all(|m| grid.reads_as(m, &tolerance, |o, i| 0.5 * (grid.d[m - 1][o][i] + grid.d[m + 1][o][i])));
+            .all(|m| reads_as(&grid.d[m], &tolerance, |o, i| 0.5 * (grid.d[m - 1][o][i] + grid.d[m + 1][o][i])));
         if smooth {
             return grid;
         }
@@ -1033,7 +1063,7 @@ impl Grid {
             let coarse = &grid.d;
             let agree = (0..finer.d.len()).all(|m| {
                 let (k, between) = (m / 2, m % 2 == 1);
-                finer.reads_as(m, &tolerance, |o, i| {
+                reads_as(&finer.d[m], &tolerance, |o, i| {
                     if between {
                         0.5 * (coarse[k][o][i] + coarse[k + 1][o][i])
                     } else {
@@ -1043,54 +1073,93 @@ impl Grid {
             });
             grid = finer;
             if agree {
-                break;
+                return grid;
             }
         }
-        grid
+        grid.refine(&q, axes)
     }
 
-    /// How far two readings of a derivative may differ (see [`Grid::fine`]): 2 % of its
+    /// This grid with its cells halved, again and again, where the derivatives in a cell's
+    /// middle do not read as the mean of its ends' — first by [`Grid::tolerance`], then, inside
+    /// a cell being halved, by the cell's own sizes ([`halve`]): a flat end's vector under
+    /// cutting point control turns half round within a sliver of the block about twice the
+    /// tool's least angle to the normal wide, far narrower than an even grid resolves (an
+    /// axis's jerk ran at up to 5 times its limit there). Every point beside a halved cell takes
+    /// its derivatives again over its nearer neighbour's spacing.
+    fn refine(self, q: &impl Fn(f64) -> Pos, axes: &AxisLimits) -> Grid {
+        /// At most 2⁻³⁰ of a cell: far below a sliver 10⁻⁷ rad wide (PS5464 nearer).
+        const DEPTH: usize = 30;
+        /// At most this many points added to a block.
+        const ADDED: usize = 4096;
+        let (len, tolerance) = (self.len, self.tolerance(axes));
+        let at = |u: f64, h: f64| differences(q, u, h, len, axes);
+        let mut u = vec![self.u[0]];
+        let mut budget = ADDED;
+        for c in 0..self.cells() {
+            let (u0, u1) = (self.u[c], self.u[c + 1]);
+            let middle = at(0.5 * (u0 + u1), 0.125 * (u1 - u0));
+            let (d0, d1) = (&self.d[c], &self.d[c + 1]);
+            if !reads_as(&middle, &tolerance, |o, i| 0.5 * (d0[o][i] + d1[o][i])) {
+                halve(&at, axes, len, (u0, u1), DEPTH, &mut budget, &mut u);
+            }
+            u.push(u1);
+        }
+        // Points whose nearer neighbour moved closer: their derivatives over that spacing (the
+        // rest, as on the even grid this one was).
+        let even = 1.0 / self.cells() as f64;
+        let d = (0..u.len())
+            .map(|k| {
+                let before = k.checked_sub(1).map_or(f64::INFINITY, |p| u[k] - u[p]);
+                let after = u.get(k + 1).map_or(f64::INFINITY, |n| n - u[k]);
+                let spacing = before.min(after);
+                if spacing > 0.999 * even {
+                    self.d[self.point(u[k])]
+                } else {
+                    at(u[k], 0.25 * spacing)
+                }
+            })
+            .collect();
+        Grid { len, u, d }
+    }
+
+    /// How far two readings of a derivative may differ (see [`Grid::fine`]): [`READ`] of its
     /// largest size on the grid, plus what moves the axis by 1 % of its limit at the path's
     /// highest speed.
     fn tolerance(&self, axes: &AxisLimits) -> [Pos; 3] {
-        let mut largest = [[0.0; MAX_AXES]; 3];
-        for d in &self.d {
-            widen(&mut largest, d);
-        }
-        // The path is never faster than its fastest axis allows.
-        let top = (0..axes.count).map(|i| axes.v[i] / largest[0][i]).fold(f64::INFINITY, f64::min);
-        let limits = [&axes.v, &axes.a, &axes.j];
-        std::array::from_fn(|o| {
-            std::array::from_fn(|i| 0.02 * largest[o][i] + 0.01 * limits[o][i] / top.powi(o as i32 + 1))
-        })
+        tolerance_of(&self.d, axes, READ)
     }
 
-    /// Whether point `m`'s derivatives are within `tolerance` of `read(order, axis)`.
-    fn reads_as(&self, m: usize, tolerance: &[Pos; 3], read: impl Fn(usize, usize) -> f64) -> bool {
-        (0..3).all(|o| (0..MAX_AXES).all(|i| (self.d[m][o][i] - read(o, i)).abs() <= tolerance[o][i]))
+    /// The bounds of cell `c` (from point `c` to `c + 1`): its points' largest |d/ds|,
+    /// |d²/ds²|, |d³/ds³| of every axis, the first two raised by the next one's times half the
+    /// cell — between two points a derivative can exceed them by at most that, so a peak
+    /// between points does not let an axis run past its limits (random machines found 1e-5
+    /// overshoots without it).
+    fn cell(&self, c: usize) -> [Pos; 3] {
+        let mut out = [[0.0; MAX_AXES]; 3];
+        widen(&mut out, &self.d[c]);
+        widen(&mut out, &self.d[c + 1]);
+        let half = 0.5 * self.len * (self.u[c + 1] - self.u[c]);
+        let [rate, bend, twist] = out;
+        [
+            std::array::from_fn(|i| rate[i] + bend[i] * half),
+            std::array::from_fn(|i| bend[i] + twist[i] * half),
+            twist,
+        ]
     }
 
-    /// The largest |d/ds|, |d²/ds²|, |d³/ds³| of every axis at the points `k0..=k1`.
+    /// The bounds ([`Grid::cell`]) over the cells from point `k0` to point `k1`.
     fn maxima(&self, k0: usize, k1: usize) -> [Pos; 3] {
         let mut out = [[0.0; MAX_AXES]; 3];
-        for d in &self.d[k0..=k1] {
-            widen(&mut out, d);
+        for c in k0..k1.max(k0 + 1).min(self.cells()) {
+            widen(&mut out, &self.cell(c));
         }
         out
     }
 
-    /// The bounds over the cells from point `k0` to point `k1`, whose points' largest
-    /// derivatives are `maxima`. Between two points (`len / cells` apart) a derivative can
-    /// exceed its sampled maximum by at most the next derivative's maximum times half the
-    /// spacing: the maxima are raised by that, so that a peak between points does not let an
-    /// axis run past its limits (random machines found 1e-5 overshoots without it).
+    /// The bounds over the cells from point `k0` to point `k1`, whose cells' bounds are
+    /// `maxima` ([`Grid::maxima`]).
     fn bounds_of(&self, maxima: [Pos; 3], k0: usize, k1: usize) -> Sampled {
-        let [mut rate, mut bend, twist] = maxima;
-        let half = 0.5 * self.len / self.cells() as f64;
-        for i in 0..MAX_AXES {
-            rate[i] += bend[i] * half;
-            bend[i] += twist[i] * half;
-        }
+        let [rate, bend, twist] = maxima;
         Sampled {
             rate,
             bend,
@@ -1110,6 +1179,71 @@ impl Grid {
     fn whole(&self) -> Sampled {
         self.bounds(0, self.cells())
     }
+}
+
+/// How far a derivative between a grid's points may stray from its linear reading, as a share
+/// of its largest size ([`Grid::fine`]): the optimal plan reads the derivatives so and takes
+/// every axis to 99.9 % of its limits, so a misreading of a few tenths of a percent shows as an
+/// axis past its limit (with 2 %, random flat ends passing near their singular posture ran Z's
+/// jerk 0.15 % over).
+const READ: f64 = 0.005;
+
+/// The same share within a cell being halved ([`halve`]), of the cell's own sizes: with
+/// [`READ`] there, such a block ran Y's jerk 2 % over (the floor of 1 % of a limit, and the
+/// rounding, add to it); none in 3 000 random blocks with this.
+const READ_HALVED: f64 = 0.001;
+
+/// [`Grid::tolerance`] of the derivatives `d`, straying by `share` of their largest size.
+fn tolerance_of<'a>(d: impl IntoIterator<Item = &'a [Pos; 3]>, axes: &AxisLimits, share: f64) -> [Pos; 3] {
+    let mut largest = [[0.0; MAX_AXES]; 3];
+    for d in d {
+        widen(&mut largest, d);
+    }
+    // The path is never faster than its fastest axis allows.
+    let top = (0..axes.count).map(|i| axes.v[i] / largest[0][i]).fold(f64::INFINITY, f64::min);
+    let limits = [&axes.v, &axes.a, &axes.j];
+    std::array::from_fn(|o| {
+        std::array::from_fn(|i| share * largest[o][i] + 0.01 * limits[o][i] / top.powi(o as i32 + 1))
+    })
+}
+
+/// Whether derivatives `d` are within `tolerance` of `read(order, axis)`.
+fn reads_as(d: &[Pos; 3], tolerance: &[Pos; 3], read: impl Fn(usize, usize) -> f64) -> bool {
+    (0..3).all(|o| (0..MAX_AXES).all(|i| (d[o][i] - read(o, i)).abs() <= tolerance[o][i]))
+}
+
+/// Push onto `points` the points that halve the cell `u0 … u1` of a path `len` long (neither
+/// end) until each part's middle reads as its ends' mean by the part's own sizes
+/// ([`tolerance_of`] its three points with [`READ_HALVED`], plus what [`ROUNDING`] makes of
+/// their differences), at most `depth` times, while `budget` lasts. `at(u, h)` the derivatives
+/// at `u` by differences `h` apart.
+fn halve(
+    at: &impl Fn(f64, f64) -> [Pos; 3],
+    axes: &AxisLimits,
+    len: f64,
+    (u0, u1): (f64, f64),
+    depth: usize,
+    budget: &mut usize,
+    points: &mut Vec<f64>,
+) {
+    if depth == 0 || *budget == 0 {
+        return;
+    }
+    let (um, h) = (0.5 * (u0 + u1), 0.125 * (u1 - u0));
+    let (d0, dm, d1) = (at(u0, h), at(um, h), at(u1, h));
+    let mut tolerance = tolerance_of([&d0, &dm, &d1], axes, READ_HALVED);
+    for (row, r) in tolerance.iter_mut().zip(rounding(h * len)) {
+        for t in row {
+            *t += r;
+        }
+    }
+    if reads_as(&dm, &tolerance, |o, i| 0.5 * (d0[o][i] + d1[o][i])) {
+        return;
+    }
+    *budget -= 1;
+    halve(at, axes, len, (u0, um), depth - 1, budget, points);
+    points.push(um);
+    halve(at, axes, len, (um, u1), depth - 1, budget, points);
 }
 
 /// Raise `maxima` to the magnitudes of the derivatives `d` where they are larger.
@@ -1183,10 +1317,9 @@ fn kinematic_limits(grid: &Grid, axes: &AxisLimits, feed: f64, cap: f64, may_cut
     // better with a low one (a lower top speed, more acceleration left), one that cruises with
     // a high one.
     let mut time = time;
-    let m = grid.cells() as f64;
     for k in 0..cut.len() {
-        let k0 = if k == 0 { 0 } else { (cut[k - 1].end * m).round() as usize };
-        let k1 = (cut[k].end * m).round() as usize;
+        let k0 = if k == 0 { 0 } else { grid.point(cut[k - 1].end) };
+        let k1 = grid.point(cut[k].end);
         let bounds = grid.bounds(k0, k1);
         for share in CRUISE_SHARES {
             let kept = cut[k].limits;
@@ -1248,14 +1381,8 @@ fn merge_ends(grid: &Grid, axes: &AxisLimits, share: f64, cap: f64, cut: &[Piece
     if first >= last {
         return Vec::new();
     }
-    let m = grid.cells() as f64;
     let merged = |k0: usize, k1: usize| Piece {
-        limits: limits_with_share(
-            &grid.bounds((starts[k0] * m).round() as usize, (cut[k1].end * m).round() as usize),
-            axes,
-            share,
-            cap,
-        ),
+        limits: limits_with_share(&grid.bounds(grid.point(starts[k0]), grid.point(cut[k1].end)), axes, share, cap),
         ..cut[k1].clone()
     };
     let mut out = vec![merged(0, first)];
@@ -1289,7 +1416,6 @@ const PIECE_TOLERANCE: f64 = 0.03;
 /// `cap`) are each within a few % of every cell's in them. Empty when one stretch is the whole
 /// path.
 fn pieces(grid: &Grid, cell_bounds: &[Sampled], axes: &AxisLimits, share: f64, cap: f64) -> Vec<Piece> {
-    let m = grid.cells();
     let own = |k0: usize, k1: usize| limits_with_share(&grid.bounds(k0, k1), axes, share, cap);
     let cells: Vec<Limits> = cell_bounds.iter().map(|b| limits_with_share(b, axes, share, cap)).collect();
     let mut tolerance = PIECE_TOLERANCE;
@@ -1311,12 +1437,8 @@ fn pieces(grid: &Grid, cell_bounds: &[Sampled], axes: &AxisLimits, share: f64, c
     let mut k0 = 0;
     ends.iter()
         .map(|&k1| {
-            let piece = Piece {
-                end: k1 as f64 / m as f64,
-                limits: own(k0, k1),
-                end_dir: grid.d[k1][0],
-                end_curvature: grid.d[k1][1],
-            };
+            let piece =
+                Piece { end: grid.u[k1], limits: own(k0, k1), end_dir: grid.d[k1][0], end_curvature: grid.d[k1][1] };
             k0 = k1;
             piece
         })
@@ -1333,7 +1455,7 @@ fn cuts(grid: &Grid, cells: &[Limits], own: impl Fn([Pos; 3], usize, usize) -> L
     for (c, cell) in cells.iter().enumerate().skip(1) {
         let up = Limits { v: top.v.max(cell.v), a: top.a.max(cell.a), j: top.j.max(cell.j) };
         let mut wider = maxima;
-        widen(&mut wider, &grid.d[c + 1]);
+        widen(&mut wider, &grid.cell(c));
         let merged = own(wider, k0, c + 1);
         if close(merged.v, up.v) && close(merged.a, up.a) && close(merged.j, up.j) {
             (top, maxima) = (up, wider);
@@ -1651,9 +1773,10 @@ impl Segment {
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);
-        let grid = |cells| Grid::new(|u| follow.at(from, &to, u), len, cells, axes);
+        let q = |u| follow.at(from, &to, u);
+        let grid = |cells| Grid::new(q, len, cells, axes);
         let grid = if follow.bends_sharply() {
-            Grid::fine(grid, CELLS_PER_SAMPLE * n, axes)
+            Grid::fine(grid, q, CELLS_PER_SAMPLE * n, axes)
         } else {
             grid(CELLS_PER_SAMPLE * n)
         };
@@ -1847,9 +1970,10 @@ impl Segment {
         let sweep = f.circle.as_ref().map_or(0.0, |c| c.sweep.to_degrees());
         let (from, to) = (self.from(), self.to());
         let n = sample_count(rotary_travel(&f.kin, &from, &to), sweep);
-        let lattice = |cells| Grid::lattice(|u| f.at(&from, &to, u), self.len, cells, axes);
+        let q = |u| f.at(&from, &to, u);
+        let lattice = |cells| Grid::lattice(q, self.len, cells, axes);
         Some(if f.bends_sharply() {
-            Grid::fine(lattice, CELLS_PER_SAMPLE * n, axes)
+            Grid::fine(lattice, q, CELLS_PER_SAMPLE * n, axes)
         } else {
             lattice(CELLS_PER_SAMPLE * n)
         })
