@@ -1140,11 +1140,7 @@ impl Grid {
         widen(&mut out, &self.d[c + 1]);
         let half = 0.5 * self.len * (self.u[c + 1] - self.u[c]);
         let [rate, bend, twist] = out;
-        [
-            std::array::from_fn(|i| rate[i] + bend[i] * half),
-            std::array::from_fn(|i| bend[i] + twist[i] * half),
-            twist,
-        ]
+        [std::array::from_fn(|i| rate[i] + bend[i] * half), std::array::from_fn(|i| bend[i] + twist[i] * half), twist]
     }
 
     /// The bounds ([`Grid::cell`]) over the cells from point `k0` to point `k1`.
