@@ -18,6 +18,9 @@ Writes into OUT_DIR (default: bench/out/ next to this script's parent):
   nano-5x.nc       200,000 G43.4 blocks for `fivex run` on head-bc (tip X Y Z and B C) of
                    0.1 mm over a dome, in nano smoothing (G05.1 Q3 X0 Y0 Z0 B0 C0)
   tcp4-5x.nc       the very same blocks without nano smoothing
+  posture-5x.nc    400 G43.5 P1 blocks (tool posture control) for `fivex run` on head-bc:
+                   random points and tool directions 15-60 degrees off +Z, each turned on
+                   the great circle between its ends
 and prints the expected final value of #2 for the macro programs.
 
 Coordinates are computed with integer arithmetic only (micrometres), so the
@@ -26,6 +29,7 @@ output is byte-identical on every machine and Python version.
 import argparse
 import math
 import os
+import random
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -207,6 +211,21 @@ def write_cutting5x(path, blocks):
         f.write("G49\nM30\n")
 
 
+def write_posture5x(path, blocks):
+    """Tool posture control for `fivex run` on head-bc: G43.5 H1 P1 blocks to random points
+    (a fixed seed) with random tool directions 15 to 60 degrees off +Z, clear of the singular
+    posture (the planner's grid is finest where the axes' way bends: `Grid::fine`)."""
+    rnd = random.Random(7)
+    with open(path, "w", newline="\n") as f:
+        f.write("O0007\nG90 G54 G00 X0 Y0 Z100. B30. C0\nG43.5 H1 P1\nG00 X0 Y0 Z50.\nG01 F3000.\n")
+        for _ in range(blocks):
+            tilt, azimuth = math.radians(rnd.uniform(15, 60)), math.radians(rnd.uniform(-170, 170))
+            i, j, k = math.sin(tilt) * math.cos(azimuth), math.sin(tilt) * math.sin(azimuth), math.cos(tilt)
+            x, y, z = rnd.uniform(-40, 40), rnd.uniform(-40, 40), rnd.uniform(20, 50)
+            f.write("X%.3f Y%.3f Z%.3f I%.6f J%.6f K%.6f\n" % (x, y, z, i, j, k))
+        f.write("G49\nM30\n")
+
+
 def write_nano5x(path, blocks, smoothing):
     """A 5-axis finishing pass for `fivex run` on head-bc: G43.4 over a dome z = -(x^2 +
     y^2) / 2R in rows of 0.1 mm moves along X, 0.5 mm apart from Y5 on (so the tool never
@@ -267,6 +286,7 @@ def main():
         "cutting-5x.nc": lambda p: write_cutting5x(p, 20_000),
         "nano-5x.nc": lambda p: write_nano5x(p, 200_000, True),
         "tcp4-5x.nc": lambda p: write_nano5x(p, 200_000, False),
+        "posture-5x.nc": lambda p: write_posture5x(p, 400),
     }
     for name, writer in files.items():
         path = os.path.join(a.out, name)
