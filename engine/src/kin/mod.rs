@@ -386,15 +386,20 @@ impl Kinematics {
     /// How near the posture at `pos` is to singular; `None` on machines with fewer than two
     /// rotary axes (one axis never has a free angle).
     pub fn singularity(&self, pos: &[f64]) -> Option<Singularity> {
-        let joint = match self.kind {
-            MachineKind::HeadHead => &self.head[0],
-            MachineKind::TableTable => &self.table[1],
-            MachineKind::HeadTable => &self.table[0],
-            _ => return None,
-        };
-        // That axis keeps its direction in the table frame, whatever the angles.
+        let joint = self.singular_joint()?;
         let cos = self.forward(pos, 0.0).tool.dot(&joint.direction).abs().min(1.0);
         Some(Singularity { axis: joint.name, angle: cos.acos().to_degrees() })
+    }
+
+    /// The joint whose angle is free at the singular posture ([`Singularity::axis`]): the tool
+    /// along its line, which keeps its direction in the table frame whatever the angles.
+    pub fn singular_joint(&self) -> Option<&Joint> {
+        match self.kind {
+            MachineKind::HeadHead => Some(&self.head[0]),
+            MachineKind::TableTable => Some(&self.table[1]),
+            MachineKind::HeadTable => Some(&self.table[0]),
+            _ => None,
+        }
     }
 
     /// The joints in FANUC's order θ1, θ2 (No.19680): master, slave on a head-head or

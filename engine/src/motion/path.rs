@@ -618,6 +618,13 @@ fn posture_along(
     to: &Pos,
 ) -> Result<Option<Posture>, PostureFallback> {
     let Some(p) = tip.posture.and_then(|ends| Posture::of(tip, circle, ends)) else { return Ok(None) };
+    // Both ends at the singular posture (within `AT_POLE_DEG`, the tool turning by at most twice
+    // that): the directions count as equal or opposite. Followed, the way reached the end's
+    // free axis only by a step (random machines: A by 3·10⁻⁵° in a millisecond, a linear axis
+    // at twice its jerk).
+    if at_pole(kin, from).is_some() && at_pole(kin, to).is_some() {
+        return Ok(None);
+    }
     match p.hindrance(kin, from, to, circle) {
         // The rotary axes in proportion may turn the tool on the posture's own way (a
         // nutating head turning a horizontal tool on the edge of its reach): nothing differs.
@@ -632,15 +639,11 @@ fn posture_along(
 /// (or reaches) the posture along its way only with that axis at one angle: the axes following
 /// the way stepped to it within one interpolation period (C by 30° in a millisecond, found
 /// when the notices made such blocks visible). The machine turns the free axis there instead,
-/// the tip standing — at the singular posture that does not turn the tool, within `AT_DEG` of
-/// it by at most twice that — before (or after) the way. `None` when neither end needs such
-/// a turn or the way cannot be followed from there (tool posture control then decides as
-/// without this).
+/// the tip standing — at the singular posture that does not turn the tool; within
+/// [`AT_POLE_DEG`] of it the turn also takes the tool onto the posture — before (or after) the
+/// way. `None` when neither end needs such a turn or the way cannot be followed from there
+/// (tool posture control then decides as without this).
 pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &Pos) -> Option<SingularTurns> {
-    /// An end this near the singular posture (degrees) is at it: a program's 0.001° angles
-    /// reach no nearer on a machine whose singular angle is not a round number, and between
-    /// there and the posture the free axis would turn faster than any grid of the way resolves.
-    const AT_DEG: f64 = 1e-3;
     /// How far the turn's other axes may lie from the end's (degrees): the way followed from
     /// the other end must come back to this end's angles, not to an equivalent pair.
     const SAME_DEG: f64 = 1e-2;
@@ -648,77 +651,60 @@ pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &P
     if tip.cutting.is_some() || tip.compensation.is_some() {
         return None;
     }
-    let at_pole = |q: &Pos| kin.singularity(q).filter(|s| s.angle < AT_DEG);
-    let free = at_pole(from).or_else(|| at_pole(to))?.axis;
-    let free_joint = kin.joints().into_iter().find(|j| j.name == free)?;
+    at_pole(kin, from).or_else(|| at_pole(kin, to))?;
+    let free_joint = kin.singular_joint()?;
     let free = free_joint.index?;
     let circle = tip.arc.as_ref().map(|a| Circle3::new(a, &tip.from, &tip.to));
     let posture_of = |ends: (Vec3, Vec3)| Posture::of(tip, circle.as_ref(), ends);
-    // An end within `AT_DEG` of the posture counts as on it: the way from (to) the posture
+    // An end within `AT_POLE_DEG` of the posture counts as on it: the way from (to) the posture
     // itself, whose direction near it sets the free axis's angle.
     let pole = |v: Vec3| free_joint.direction * v.dot(&free_joint.direction).signum();
-    let (p0, p1) = (at_pole(from).map_or(v0, |_| pole(v0)), at_pole(to).map_or(v1, |_| pole(v1)));
+    let (p0, p1) = (at_pole(kin, from).map_or(v0, |_| pole(v0)), at_pole(kin, to).map_or(v1, |_| pole(v1)));
     let posture = posture_of((p0, p1))?;
-    // The axes along the way from `start` (at `u0`) to just off the other end, each point's
-    // inverse solution nearest the last; the last steps shrink geometrically, since near the
-    // singular posture the free axis turns fastest.
+    // The axes along the way from `start` (at `u0`) to the other end, each point's inverse
+    // solution nearest the last; the last steps shrink geometrically, since near the singular
+    // posture the free axis turns fastest. At the posture itself the axes have no inverse of
+    // their own: their limit there is extrapolated from the last two points (the angles are
+    // smooth in the tool's distance from the posture; where the axes are not square to each
+    // other the free axis still turns along the way, and the last point alone left it 10⁻⁶°
+    // from the way's own start — a step a linear axis read as 5 % over its jerk).
     let follow = |start: &Pos, u0: f64, u1: f64| -> Option<Pos> {
         let even = (1..256).map(|k| k as f64 / 256.0);
         let near_end = (1..=13).map(|k| 1.0 - 2f64.powi(-k) / 256.0);
-        let mut q = *start;
+        let (mut before, mut q) = (*start, *start);
         for t in even.chain(near_end) {
-            q = kin.angles_near(posture.at(u0 + (u1 - u0) * t, circle.as_ref()), &q)?;
+            (before, q) = (q, kin.angles_near(posture.at(u0 + (u1 - u0) * t, circle.as_ref()), &q)?);
         }
-        Some(q)
+        Some(std::array::from_fn(|i| 2.0 * q[i] - before[i]))
     };
-    // Off the posture by a hair, the free axis turns the tool about the posture's line: it
-    // turns it until the tool leans in the plane of that line and `along` (the way's direction
-    // just off the posture), toward it or away (then the way passes the posture's line), so
-    // that the way leaves (reaches) the posture without turning about it at once. Of the
-    // angles that do that, the one nearest `near` (where the way followed from its other end
-    // has the free axis).
-    let aligned = |end: &Pos, along: Vec3, near: f64| -> f64 {
-        let d = free_joint.direction;
-        let across = |v: Vec3| v - d * d.dot(&v);
-        let (lean, want) = (across(kin.forward(end, 0.0).tool), across(along));
-        if lean.norm() < 1e-9 || want.norm() < 1e-9 {
-            return near;
-        }
-        let delta = d.dot(&lean.cross(&want)).atan2(lean.dot(&want)).to_degrees();
-        let in_plane = |angle: f64| {
-            let mut q = *end;
-            q[free] = angle;
-            across(kin.forward(&q, 0.0).tool).normalize().cross(&want.normalize()).norm() < 1e-6
-        };
-        [delta, -delta, delta + 180.0, 180.0 - delta]
-            .into_iter()
-            .map(|turn| end[free] + turn)
-            .filter(|&angle| in_plane(angle))
-            .map(|angle| angle + 360.0 * ((near - angle) / 360.0).round())
-            .min_by(|a, b| (a - near).abs().total_cmp(&(b - near).abs()))
-            .unwrap_or(near)
-    };
-    // `end` with the free axis where the way followed to it has it, leaning along `along`
-    // (`None`: where it is).
-    let turned = |end: &Pos, q: Pos, along: Vec3| -> Option<Option<Pos>> {
+    // `end` turned onto the posture `pole` itself, the free axis where the way followed to it
+    // has it (`q`), so that the way leaves (reaches) the posture exactly, its axes' limit there
+    // its first (last) point (`None`: already there). At the posture that turns only the free
+    // axis; within `AT_POLE_DEG` of it the other axis too, by a hair. (Turning only the free
+    // axis until the tool's lean off the posture lay along the way, as fivex did until
+    // 2026-11-30, left the way's end 10⁻⁹ rad off the posture, where the inverse keeps fewer
+    // digits: its last point stepped 10⁻⁷° from the way's limit, a linear axis 6 % over its
+    // jerk.)
+    let turned = |end: &Pos, q: Pos, pole: Vec3| -> Option<Option<Pos>> {
         let joints = kin.joints();
         let mut others = joints.iter().filter_map(|j| j.index).filter(|&i| i != free);
         if !others.all(|i| (q[i] - end[i]).abs() < SAME_DEG) {
             return None;
         }
+        let on = kin.angles_near(pole, &q)?;
         let mut at = *end;
-        at[free] = aligned(end, along, q[free]);
-        Some(((at[free] - end[free]).abs() > 1e-9).then_some(at))
+        for i in joints.iter().filter_map(|j| j.index) {
+            at[i] = on[i];
+        }
+        Some((largest_step(kin, &at, end) > 1e-9).then_some(at))
     };
-    /// How far along the way its direction just off the posture is looked at.
-    const OFF: f64 = 1e-3;
-    let lead = match at_pole(from) {
-        Some(_) => turned(from, follow(to, 1.0, 0.0)?, posture.at(OFF, circle.as_ref()))?,
+    let lead = match at_pole(kin, from) {
+        Some(_) => turned(from, follow(to, 1.0, 0.0)?, p0)?,
         None => None,
     };
     let start = lead.unwrap_or(*from);
-    let trail = match at_pole(to) {
-        Some(_) => turned(to, follow(&start, 0.0, 1.0)?, posture.at(1.0 - OFF, circle.as_ref()))?,
+    let trail = match at_pole(kin, to) {
+        Some(_) => turned(to, follow(&start, 0.0, 1.0)?, p1)?,
         None => None,
     };
     if lead.is_none() && trail.is_none() {
@@ -734,12 +720,26 @@ pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &P
     })
 }
 
+/// How far (radians) off the singular posture the inverse's free axis is read on a way that
+/// ends there (`Follow::free_off_pole`): there the lean keeps 10 digits.
+const LEAN_READ: f64 = 1e-6;
+
+/// An end this near the singular posture (degrees) is at it: a program's 0.001° angles reach no
+/// nearer on a machine whose singular angle is not a round number, and between there and the
+/// posture the free axis would turn faster than any grid of the way resolves.
+const AT_POLE_DEG: f64 = 1e-3;
+
+/// How the axes `q` stand at the singular posture (within [`AT_POLE_DEG`]); `None`: off it.
+fn at_pole(kin: &Kinematics, q: &Pos) -> Option<crate::kin::Singularity> {
+    kin.singularity(q).filter(|s| s.angle < AT_POLE_DEG)
+}
+
 /// A tool posture control block at the singular posture as the machine runs it
 /// (`singular_turns`).
 pub(crate) struct SingularTurns {
-    /// The axes after the free axis's turn at the start (`None`: no turn there).
+    /// The axes after the turn at the start, at the posture (`None`: no turn there).
     pub lead: Option<Pos>,
-    /// The axes before the free axis's turn at the end (`None`: no turn there).
+    /// The axes before the turn at the end, at the posture (`None`: no turn there).
     pub trail: Option<Pos>,
     /// The tool directions (table frame) the way turns between.
     pub way: (Vec3, Vec3),
@@ -850,7 +850,45 @@ impl Follow {
             (None, Some(c)) => Some(compensated(&self.kin, c, u)),
             (None, None) => None,
         };
-        direction.and_then(|d| self.kin.angles_near(d, &q)).unwrap_or(q)
+        let Some(d) = direction else { return q };
+        let mut out = self.kin.angles_near(d, &q).unwrap_or(q);
+        if let Some((free, angle)) = self.posture.as_ref().and_then(|p| self.free_off_pole(p, from, to, u, d)) {
+            out[free] = angle;
+        }
+        out
+    }
+
+    /// Near the singular posture the inverse reads the free axis from the tool's lean off the
+    /// posture's line, and where the lean is tiny it keeps few digits: on a way from the posture
+    /// of a random machine its angle held still, then stepped 10⁻⁷° where the lean reached
+    /// 10⁻⁸ rad — and the linear axes, which keep the tip, 10⁻⁶ mm, a jerk 4 000 % over
+    /// in 0.1 ms samples. Within [`LEAN_READ`] of the posture, at an end of the way that lies
+    /// there, the free axis instead runs straight from that end to where the way is
+    /// [`LEAN_READ`] off (which turns the tool off its way by the lean times the difference,
+    /// 10⁻¹⁵ rad). `None`: elsewhere; the index of the free axis and its angle.
+    fn free_off_pole(&self, posture: &Posture, from: &Pos, to: &Pos, u: f64, direction: Vec3) -> Option<(usize, f64)> {
+        let joint = self.kin.singular_joint()?;
+        let lean = |v: Vec3| v.normalize().dot(&joint.direction).abs().min(1.0).acos();
+        let off = |u: f64| lean(posture.at(u, self.circle.as_ref()));
+        let (end, at_end) = if u < 0.5 { (0.0, from) } else { (1.0, to) };
+        if lean(direction) >= LEAN_READ || off(end) >= LEAN_READ || off(0.5) < LEAN_READ {
+            return None;
+        }
+        // Where the way is `LEAN_READ` off the posture, between the end and the middle.
+        let (mut near, mut far) = (end, 0.5);
+        for _ in 0..60 {
+            let mid = 0.5 * (near + far);
+            if off(mid) < LEAN_READ {
+                near = mid;
+            } else {
+                far = mid;
+            }
+        }
+        let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * far);
+        let there = self.kin.angles_near(posture.at(far, self.circle.as_ref()), &q)?;
+        let i = joint.index?;
+        let share = (u - end) / (far - end);
+        Some((i, at_end[i] + (there[i] - at_end[i]) * share))
     }
 
     /// Where the tip goes `u` of the way with the axes at `q` (only their angles count): on
