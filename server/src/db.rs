@@ -812,13 +812,6 @@ pub async fn work_offsets(db: &Db, controller: &str) -> Result<Vec<(usize, Vec<f
     Ok(out)
 }
 
-/// Saves work offsets (slot, value per axis) in one transaction.
-pub async fn save_work_offsets(db: &Db, controller: &str, rows: &[(usize, Vec<f64>)]) -> Result<(), sqlx::Error> {
-    let mut tx = db.begin_write().await?;
-    work_offsets_on(&mut tx, controller, rows).await?;
-    tx.commit().await
-}
-
 async fn work_offsets_on(
     conn: &mut AnyConnection,
     controller: &str,

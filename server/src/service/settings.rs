@@ -179,7 +179,8 @@ fn save_offsets(host: &Host, hosted: &Hosted, station: &mut Station) -> Option<u
 }
 
 /// Changes the axes `axes` names (letter: number) of work offset `slot`, only while nothing
-/// runs; the offset after the change, per axis letter.
+/// runs; the offset after the change, per axis letter, once the writer has stored it (in order
+/// with what a program's G10 wrote).
 pub async fn set_work_offset(
     db: &db::Db,
     host: &Host,
@@ -201,12 +202,13 @@ pub async fn set_work_offset(
         let v = value.as_f64().ok_or_else(|| ServiceError::invalid(format!("{letter} must be a number")))?;
         values[index] = finite(v, letter)?;
     }
-    if hosted.station().controller.run_state() != RunState::Idle {
-        return Err(ServiceError::Conflict("work offsets change only while nothing runs".into()));
-    }
-    db::save_work_offsets(db, &hosted.id, &[(slot, values.clone())]).await?;
     let (shown, sent) = {
         let mut station = station(hosted)?;
+        // The check and the change under one lock: checked before the database write, as it
+        // was, a cycle start in between ran a program whose offset then changed under it.
+        if station.controller.run_state() != RunState::Idle {
+            return Err(ServiceError::Conflict("work offsets change only while nothing runs".into()));
+        }
         let work = station.controller.interpreter_mut().state.offsets.work_mut(slot);
         work[..values.len()].copy_from_slice(&values);
         let shown = crate::host::stream::axes(&machine, work);
@@ -358,6 +360,23 @@ mod tests {
         let stored = db::work_offsets(&s.db, &hosted.id).await.unwrap();
         assert_eq!(stored.iter().find(|(slot, _)| *slot == 1).map(|(_, axes)| axes[0]), Some(7.0), "{stored:?}");
         assert_eq!(again.station().controller.interpreter().state.offsets.work(1)[0], 7.0, "G54 X after the restart");
+    }
+
+    /// While a program runs a work offset does not change (409): not in the controller, not in
+    /// the database.
+    #[tokio::test]
+    async fn a_work_offset_does_not_change_while_a_program_runs() {
+        let mut s = service(|_| true).await;
+        let hosted = s.controller(1.0).await;
+        run(&s.host, &hosted, "G04 X100.\nM30\n");
+        until(&hosted, "running", |s| s.controller.run_state() == RunState::Running).await;
+        let axes: Map<String, Value> = serde_json::from_str(r#"{"X": 7.0}"#).unwrap();
+        let refused = set_work_offset(&s.db, &s.host, &hosted, 1, &axes).await;
+        assert!(matches!(refused, Err(ServiceError::Conflict(_))), "{refused:?}");
+        assert_eq!(hosted.station().controller.interpreter().state.offsets.work(1)[0], 0.0);
+        command(&s.host, &hosted, PanelCommand::Reset);
+        let again = s.restart(&hosted.id).await;
+        assert_eq!(again.station().controller.interpreter().state.offsets.work(1)[0], 0.0, "G54 X after a restart");
     }
 
     /// A program's G10 is saved when the run state changes; an API write of another tool
