@@ -438,12 +438,8 @@ fn posture_control_at_the_singular_posture_turns_the_free_axis_with_the_tip_stan
         (skew_head(), "G90 G00 A-125.569 B-2.482\nG43.5 H1 P1\nX0 Y0 Z50.\nG01 X0 Y0 Z0 I0.099663484 J0.967877712 K-0.230824447 F1000.\nG49\nM30\n", Turn::ToWay),
     ];
     for (m, src, turn) in cases {
-        let kin = Kinematics::new(&m).unwrap();
-        let (r, samples) = run_on(m.clone(), Dialect::Fanuc, src);
-        assert!(r.completed() && r.notices.is_empty(), "{:?} {:?}\n{src}", r.alarms, r.notices);
+        let (kin, samples, q0, q1) = posture_run(&m, src);
         let line = 4;
-        let e = ends(m.clone(), Dialect::Fanuc, src);
-        let (q0, q1) = (end_of(&e, line - 1), end_of(&e, line));
         let (a, b) = (kin.forward(&q0, 100.0).tip, kin.forward(&q1, 100.0).tip);
         let (v0, v1) = (kin.forward(&q0, 0.0).tool, kin.forward(&q1, 0.0).tool);
         let angle = v0.dot(&v1).clamp(-1.0, 1.0).acos();
@@ -514,31 +510,20 @@ fn posture_control_at_the_singular_posture_turns_the_free_axis_with_the_tip_stan
 /// 7.6° off square to the tool's line (found by random machines; X at twice its jerk).
 #[test]
 fn posture_control_between_two_ends_at_the_singular_posture_turns_the_axes_in_proportion() {
-    let head: MachineConfig = serde_json::from_str(
-        r#"{"name": "inclined-b", "axes": [
-            {"name": "X", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
-            {"name": "Y", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
-            {"name": "Z", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
-            {"name": "A", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]},
-            {"name": "B", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]}],
-          "rotary": [
-            {"axis": "A", "side": "head", "direction": [0.0, 1.0, 0.0], "hand": "left", "point": [0.0, 0.0, 160.6], "range": [-60.0, 60.0]},
-            {"axis": "B", "side": "head", "direction": [0.9913, 0.1317, 0.0], "hand": "left", "point": [0.0, 0.0, 0.0],
-             "zero_offset": -3.7496, "range": [-60.0, 60.0]}],
-          "tool_axis": [0.0, 1.0, 0.0]}"#,
-    )
-    .unwrap();
+    let head = ab_head(
+        "inclined-b",
+        r#"{"axis": "A", "side": "head", "direction": [0.0, 1.0, 0.0], "hand": "left", "point": [0.0, 0.0, 160.6], "range": [-60.0, 60.0]},
+           {"axis": "B", "side": "head", "direction": [0.9913, 0.1317, 0.0], "hand": "left", "point": [0.0, 0.0, 0.0],
+            "zero_offset": -3.7496, "range": [-60.0, 60.0]}"#,
+        [0.0, 1.0, 0.0],
+    );
     let cases = [
         (preset("head-bc"), "G90 G00 B0.0005 C90.\nG43.4 H1 P1\nX0 Y0 Z0\nG01 X100. B0 C0 F600.\nG49\nM30\n"),
         (head, "G90 G00 A-55. B3.75\nG43.5 H1 P1\nX0 Y0 Z50.\nG01 X0 Y0 Z0 I0 J1. K0 F1000.\nG49\nM30\n"),
     ];
     for (m, src) in cases {
-        let kin = Kinematics::new(&m).unwrap();
-        let (r, samples) = run_on(m.clone(), Dialect::Fanuc, src);
-        assert!(r.completed() && r.notices.is_empty(), "{:?} {:?}\n{src}", r.alarms, r.notices);
+        let (kin, samples, q0, q1) = posture_run(&m, src);
         let line = 4;
-        let e = ends(m.clone(), Dialect::Fanuc, src);
-        let (q0, q1) = (end_of(&e, line - 1), end_of(&e, line));
         for q in [&q0, &q1] {
             assert!(kin.singularity(q).unwrap().angle < 1e-3, "{q:?} is not at the singular posture\n{src}");
         }
@@ -554,6 +539,15 @@ fn posture_control_between_two_ends_at_the_singular_posture_turns_the_axes_in_pr
         assert!(worst < 1e-6, "the rotary axes {worst}° off proportional\n{src}");
         common::check_limits_of(&samples, &m, false).unwrap_or_else(|e| panic!("{e}\n{src}"));
     }
+}
+
+/// Runs `src`, whose line 4 is a block of tool posture control, on `m`: it completes without a
+/// notice. The kinematics, every sample, and the axes where line 4 starts and ends.
+fn posture_run(m: &MachineConfig, src: &str) -> (Kinematics, Vec<Sample>, Pos, Pos) {
+    let (r, samples) = run_on(m.clone(), Dialect::Fanuc, src);
+    assert!(r.completed() && r.notices.is_empty(), "{:?} {:?}\n{src}", r.alarms, r.notices);
+    let e = ends(m.clone(), Dialect::Fanuc, src);
+    (Kinematics::new(m).unwrap(), samples, end_of(&e, 3), end_of(&e, 4))
 }
 
 /// How far the free axis turns with the tip standing (`posture_control_at_the_singular_posture_…`).
@@ -604,20 +598,28 @@ fn skew_head() -> MachineConfig {
 /// A head-head machine: A about Z carries B about X (left-handed both, ±60°), B's zero 3.998°
 /// off, the tool along Z.
 fn zero_offset_head() -> MachineConfig {
-    serde_json::from_str(
-        r#"{"name": "zero-offset-head", "axes": [
-            {"name": "X", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
-            {"name": "Y", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
-            {"name": "Z", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
-            {"name": "A", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]},
-            {"name": "B", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]}],
-          "rotary": [
-            {"axis": "A", "side": "head", "direction": [0.0, 0.0, 1.0], "hand": "left", "point": [0.0, 0.0, 0.0], "range": [-60.0, 60.0]},
-            {"axis": "B", "side": "head", "direction": [1.0, 0.0, 0.0], "hand": "left", "point": [0.0, 0.0, 0.0],
-             "zero_offset": 3.9978745311791073, "range": [-60.0, 60.0]}],
-          "tool_axis": [0.0, 0.0, 1.0]}"#,
+    ab_head(
+        "zero-offset-head",
+        r#"{"axis": "A", "side": "head", "direction": [0.0, 0.0, 1.0], "hand": "left", "point": [0.0, 0.0, 0.0], "range": [-60.0, 60.0]},
+           {"axis": "B", "side": "head", "direction": [1.0, 0.0, 0.0], "hand": "left", "point": [0.0, 0.0, 0.0],
+            "zero_offset": 3.9978745311791073, "range": [-60.0, 60.0]}"#,
+        [0.0, 0.0, 1.0],
     )
-    .unwrap()
+}
+
+/// A head-head machine of A and B (±60°) with the usual limits: its rotary links (JSON objects)
+/// and tool axis.
+fn ab_head(name: &str, rotary: &str, tool_axis: [f64; 3]) -> MachineConfig {
+    let axes = r#"
+        {"name": "X", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
+        {"name": "Y", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
+        {"name": "Z", "kind": "linear", "rapid": 10000.0, "accel": 1000.0, "jerk": 20000.0},
+        {"name": "A", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]},
+        {"name": "B", "kind": "rotary", "rapid": 3600.0, "accel": 500.0, "jerk": 10000.0, "stroke": [-60.0, 60.0]}"#;
+    let [x, y, z] = tool_axis;
+    let json =
+        format!(r#"{{"name": "{name}", "axes": [{axes}], "rotary": [{rotary}], "tool_axis": [{x:?}, {y:?}, {z:?}]}}"#);
+    serde_json::from_str(&json).unwrap()
 }
 
 /// A preset without stroke limits, with Π the workpiece system (WKP = 1).
