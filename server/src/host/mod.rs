@@ -212,6 +212,9 @@ pub struct Hosted {
     ticked: AtomicU64,
     /// When (ns since [`EPOCH`]) a command or write last addressed it, or it was hosted here.
     used: AtomicU64,
+    /// Held while a change of its settings is checked, stored and put into effect
+    /// ([`Hosted::editing`]).
+    editing: tokio::sync::Mutex<()>,
 }
 
 impl std::fmt::Debug for Hosted {
@@ -249,7 +252,14 @@ impl Hosted {
             removed: watch::channel(false).0,
             ticked: AtomicU64::new(since_epoch(Instant::now())),
             used: AtomicU64::new(since_epoch(Instant::now())),
+            editing: tokio::sync::Mutex::new(()),
         }
+    }
+
+    /// One change of its settings at a time (held across the database write, which the
+    /// station's lock cannot be).
+    pub async fn editing(&self) -> tokio::sync::MutexGuard<'_, ()> {
+        self.editing.lock().await
     }
 
     pub fn name(&self) -> String {

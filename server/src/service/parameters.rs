@@ -67,6 +67,9 @@ pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Res
     if !finite {
         return Err(ServiceError::invalid("parameter values must be finite numbers"));
     }
+    // One change of this controller's settings at a time: a second one read before this one took
+    // effect would undo it, and the two database writes could land in either order.
+    let _editing = hosted.editing().await;
     let (current, extra) = {
         let station = hosted.station();
         (station.machine.clone(), station.extra_parameters.clone())
@@ -75,18 +78,36 @@ pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Res
     parameters.0.insert(number, value);
     let machine = vendor::machine_from(hosted.dialect, &current.name, &parameters)
         .map_err(|e| ServiceError::invalid(e.describe(hosted.dialect)))?;
-    let json = serde_json::to_string(&machine).map_err(|e| ServiceError::invalid(e.to_string()))?;
+    let busy = || ServiceError::Conflict("parameters change only while nothing runs".into());
     if hosted.station().controller.run_state() != RunState::Idle {
-        return Err(ServiceError::Conflict("parameters change only while nothing runs".into()));
+        return Err(busy());
     }
-    let extra = extras(hosted.dialect, &machine, &parameters);
-    let extra_json = serde_json::to_string(&extra).unwrap_or_else(|_| "{}".into());
+    let stored = |machine: &MachineConfig, extra: &Params| {
+        let json = serde_json::to_string(machine).map_err(|e| ServiceError::invalid(e.to_string()))?;
+        Ok::<_, ServiceError>((json, serde_json::to_string(extra).unwrap_or_else(|_| "{}".into())))
+    };
+    let after = extras(hosted.dialect, &machine, &parameters);
+    let answer = list(hosted.dialect, &machine, &after)?;
+    let (json, extra_json) = stored(&machine, &after)?;
     db::update_machine(db, &hosted.id, &json, &extra_json).await?;
-    let answer = list(hosted.dialect, &machine, &extra)?;
-    let mut station = hosted.station();
-    station.replace_machine(machine, hosted.dialect);
-    station.unmodelled = answer.unmodelled.clone();
-    station.extra_parameters = extra;
+    // Checked again where the change takes effect: a cycle start while the machine was being
+    // stored runs on the machine it started on (restarting the controller under it, as fivex
+    // did, ended the program unasked), and the stored machine goes back.
+    let applied = {
+        let mut station = hosted.station();
+        let idle = station.controller.run_state() == RunState::Idle;
+        if idle {
+            station.replace_machine(machine, hosted.dialect);
+            station.unmodelled = answer.unmodelled.clone();
+            station.extra_parameters = after;
+        }
+        idle
+    };
+    if !applied {
+        let (json, extra_json) = stored(&current, &extra)?;
+        db::update_machine(db, &hosted.id, &json, &extra_json).await?;
+        return Err(busy());
+    }
     tracing::info!(id = %hosted.id, number, "parameter changed; controller restarted on the new machine");
     Ok(answer)
 }

@@ -547,6 +547,15 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
     let linear = app.put(&format!("{C}/{id}/parameters/19681"), &json!({"value": 1})).await;
     assert_eq!(linear.status, StatusCode::UNPROCESSABLE_ENTITY);
     assert!(error_of(&linear).contains("PS5459"), "TV-KIN-16: {}", linear.text());
+    // Not while a program runs (409), and nothing changes.
+    store(&app, &id, 1, "G04 X100.\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    let busy = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 5})).await;
+    assert_eq!(busy.status, StatusCode::CONFLICT, "{}", busy.text());
+    let listed = app.get(&format!("{C}/{id}/parameters")).await.json();
+    assert!(listed["parameters"]["8130"].is_null(), "{}", listed["parameters"]["8130"]);
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    wait_for(&app, &id, "idle").await;
     // A parameter the model does not read is kept as given (a control keeps them all).
     let kept = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 5})).await;
     assert_eq!((kept.status, kept.json()["parameters"]["8130"].clone()), (StatusCode::OK, json!(5)));
