@@ -358,7 +358,9 @@ fn the_generator_covers_every_kind_and_feature() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(16), ..ProptestConfig::default() })]
+    // (Blocks whose great circle passes near the singular posture are left out, a fifth of the
+    // type-2 cases: at 8 000 cases more than proptest's default 1 024 rejects.)
+    #![proptest_config(ProptestConfig { cases: cases(16), max_global_rejects: 100_000, ..ProptestConfig::default() })]
 
     /// Forward then inverse kinematics on random machines: the inverse of the pose of random
     /// axis positions contains those angles (modulo 360; a free angle of a singular posture
