@@ -30,6 +30,9 @@ pub fn checked_json(workpiece: &Workpiece) -> Result<String, ServiceError> {
 /// (else 409, as machine lock), stored first so that a refusal of the database changes nothing.
 pub async fn set(db: &db::Db, hosted: &Hosted, workpiece: Workpiece) -> Result<Arc<Workpiece>, ServiceError> {
     let json = checked_json(&workpiece)?;
+    // One change of the controller's settings at a time: two at once could be stored in either
+    // order, and the put-back below overwrite the other's.
+    let _editing = hosted.editing().await;
     let old = {
         let station = hosted.station();
         if !station.controller.at_block_boundary() {
