@@ -67,7 +67,7 @@ pub struct MotionContext {
     pub rotation: u16,
 }
 
-/// What a cutter compensation block's G38, G39 or I/J/K say to the cutter compensation stage
+/// What a cutter compensation block's G38, G39, I/J/K or Q say to the compensation stages
 /// (`stage::cutter`, `docs/cutter-compensation.md`). Directions are in programming coordinates
 /// (I along X, J along Y, K along Z; the stage reads the two of its plane).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,9 +88,14 @@ pub enum CutterWord {
     /// the way, it ends at its perpendicular vector (1), at the first of its corner vectors
     /// (2), or at all of them (3), without the alarm.
     PlaneChange(u8),
-    /// G41.2/G42.2 given again in its own mode: the block before ends at its perpendicular
-    /// vector.
+    /// G41/G42 (or G41.2/G42.2) given again in its own mode: the block before ends at its
+    /// perpendicular vector.
     Perpendicular,
+    /// A block in offset mode that counts among the blocks without movement the compensation
+    /// reads ahead (FANUC 30i §6.6.3): one that gave no command of its own (a G code alone, F,
+    /// S with the spindle stopped, G10), and a second one after a block whose move is zero.
+    /// The stages count it; the pipeline drops it (the executor never sees it).
+    WithoutMotion,
 }
 
 #[derive(Debug, Clone, PartialEq)]

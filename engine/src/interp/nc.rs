@@ -344,17 +344,77 @@ impl State {
     ) -> Result<(), AlarmId> {
         let mut w = Words::new();
         self.collect_into(words, &mut w)?;
+        let (first, depth) = (out.len(), self.frames.len());
+        let (machine_before, comp_before) = (self.machine_position(), self.modes[group::CUTTER_COMP]);
+        self.nc_words(progs, by_number, &w, block, out)?;
+        if code::COMPENSATED_BY_STAGES.contains(&comp_before) {
+            self.count_without_motion(&w, first, depth, &machine_before, out);
+        }
+        Ok(())
+    }
+
+    /// In offset mode (here before and after the block) the control reads a few blocks ahead to place the next corner,
+    /// and the blocks without movement among them count (`stage::cutter::MAX_BLOCKS_BETWEEN`,
+    /// `docs/cutter-compensation.md` rule 8). Most give a command the stages see (M, S, T, a
+    /// dwell, a move off the plane); this marks the others: a block that gave none (a G code
+    /// alone, F, S with the spindle stopped, G10), and — FANUC: "when the move distance is
+    /// zero, even if the block is commanded singly", the tool moves as after two blocks without
+    /// movement — a block whose move is zero, once more. Not counted (decision): a block with
+    /// no word but N (a comment, a sequence number), macro statements (never NC blocks here),
+    /// and subprogram and macro calls and returns (FANUC treats a call block holding nothing
+    /// else like a macro statement, e.g. in single block); the blocks they lead to count.
+    fn count_without_motion(
+        &mut self,
+        w: &Words,
+        first: usize,
+        depth: usize,
+        machine_before: &Pos,
+        out: &mut Vec<Canon>,
+    ) {
+        if !code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) || self.ended {
+            return;
+        }
+        let calls = self.frames.len() != depth
+            || w.gcodes().iter().any(|c| code::MACRO_CALLS.contains(c) || *c == code::G67)
+            || w.mcodes().iter().any(|&m| matches!(m, mcode::M97 | mcode::M98 | mcode::M99 | mcode::M198));
+        if calls || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
+            return;
+        }
+        let made = &out[first..];
+        let commands = made.iter().filter(|c| !matches!(c.kind, CanonKind::Cutter(_)));
+        let motions = || made.iter().filter_map(|c| if let CanonKind::Motion(m) = &c.kind { Some(m) } else { None });
+        // (A whole circle ends where it starts, and moves; G38/G39/G40 I J K give their motion
+        // a meaning of its own.)
+        let owned = made.iter().any(|c| matches!(c.kind, CanonKind::Cutter(w) if w != CutterWord::Perpendicular));
+        let still = |m: &Motion| {
+            m.machine == *machine_before && m.arc.is_none() && m.tip.as_ref().is_none_or(|t| t.arc.is_none())
+        };
+        let zero_move = !owned && motions().next().is_some() && motions().all(still);
+        if commands.count() == 0 || zero_move {
+            self.emit(out, CanonKind::Cutter(CutterWord::WithoutMotion));
+        }
+    }
+
+    /// A block of NC words (`exec_words` after reading them).
+    fn nc_words(
+        &mut self,
+        progs: &[Loaded],
+        by_number: &HashMap<u32, usize>,
+        w: &Words,
+        block: &Block,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
         self.exact_stop = false;
         let first = out.len();
         if self.nurbs.is_some() {
             // Inside a NURBS curve only its control points and knots may come (`nurbs`).
-            return self.nurbs_block(&w, out);
+            return self.nurbs_block(w, out);
         }
-        self.smoothing_block(&w, out)?;
-        self.blend_block(&w, out)?;
-        self.corner_block(&w)?;
-        if self.cfg.fast_paths && self.is_plain_motion(&w) {
-            return self.plain_motion(&w, out);
+        self.smoothing_block(w, out)?;
+        self.blend_block(w, out)?;
+        self.corner_block(w)?;
+        if self.cfg.fast_paths && self.is_plain_motion(w) {
+            return self.plain_motion(w, out);
         }
 
         // --- macro calls: the block's words are arguments, nothing else runs ----------------
@@ -363,14 +423,14 @@ impl State {
                 return Err(AlarmId::GAsArgument);
             }
             let prog = self.find_program(by_number, w.integer(b'P'))?;
-            let args = self.macro_args(&w)?;
-            return self.push_frame(progs, prog, Self::count(&w)?, Some(args));
+            let args = self.macro_args(w)?;
+            return self.push_frame(progs, prog, Self::count(w)?, Some(args));
         }
         if w.has_g(code::G66) || w.has_g(code::G66_1) {
             let every_block = w.has_g(code::G66_1);
             let prog = self.find_program(by_number, w.integer(b'P'))?;
-            let args = self.macro_args(&w)?;
-            let count = Self::count(&w)?;
+            let args = self.macro_args(w)?;
+            let count = Self::count(w)?;
             // Modal calls nest: the latest is called from this level, the one before from inside
             // it, and so on (four calls deep at most, like any macro nesting).
             if self.modal_calls.len() == MAX_MODAL_CALLS {
@@ -389,7 +449,7 @@ impl State {
                     return Err(AlarmId::GAsArgument);
                 }
                 let (prog, count) = (mc.prog, mc.count);
-                let args = self.macro_args(&w)?;
+                let args = self.macro_args(w)?;
                 return self.push_frame(progs, prog, count, Some(args));
             }
         }
@@ -438,10 +498,10 @@ impl State {
 
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
-        let five = modes::check(self, &w)?;
-        self.refuse_unbuilt(&w)?;
+        let five = modes::check(self, w)?;
+        self.refuse_unbuilt(w)?;
         if self.cfg.refuse_unbuilt {
-            self.refuse_unbuilt_nurbs(&w)?;
+            self.refuse_unbuilt_nurbs(w)?;
         }
         self.five = five;
         self.follow_stcp();
@@ -554,7 +614,7 @@ impl State {
             let conventional = matches!(comp, code::G41 | code::G42);
             let tool_side = code::TOOL_SIDE.contains(&comp);
             let inserts =
-                (conventional || tool_side) && self.perpendicular_start_stop(&w, tool_side) || comp == code::G41_3;
+                (conventional || tool_side) && self.perpendicular_start_stop(w, tool_side) || comp == code::G41_3;
             let perpendicular = inserts.then_some(PerpendicularStart {
                 line: self.line,
                 n: self.n,
@@ -564,15 +624,15 @@ impl State {
             self.cfg.stages.comp_started(CompStart { pos: self.pos, machine, perpendicular, table: None });
         }
         // G51/G51.1/G68 take the block's axis words as their data: the block does not move.
-        self.apply_wse(&w)?;
-        let transform_axes = self.apply_transforms(&w)? | self.apply_plane(&w)?;
-        self.apply_dwo(&w, dwo_before);
+        self.apply_wse(w)?;
+        let transform_axes = self.apply_transforms(w)? | self.apply_plane(w)?;
+        self.apply_dwo(w, dwo_before);
         if transform_axes && axes_owner.is_some() {
             return Err(AlarmId::IllegalGCodeCombination);
         }
 
         // --- F S T, and the M codes that act before motion ----------------------------------
-        self.set_feed(&w)?;
+        self.set_feed(w)?;
         if let Some(e) = w.number(b'E') {
             self.e = e;
         }
@@ -629,21 +689,21 @@ impl State {
         // tool length, computed at their end only).
         let tcp_mode = code::TCP.contains(&self.modes[group::LENGTH_COMP]);
         if tcp_mode && w.gcodes().iter().any(|g| code::TCP.contains(g)) {
-            self.tcp_begin(&w, machine_before)?;
+            self.tcp_begin(w, machine_before)?;
             tool_length_changed = true;
         } else if !tcp_mode && self.tcp_active() {
             self.tcp_end();
         }
-        self.tcp_words(&w)?;
+        self.tcp_words(w)?;
 
         // --- one-shot G codes ---------------------------------------------------------------
         let mut moved = false;
         for &code in &one_shots[..n_one_shots] {
             moved |= if code == code::G150 {
                 // It reads its outline from another block or program (`haas_cycles`).
-                self.general_pocket(progs, by_number, &w, out)?
+                self.general_pocket(progs, by_number, w, out)?
             } else {
-                self.one_shot(code, &w, machine_before, out)?
+                self.one_shot(code, w, machine_before, out)?
             };
         }
 
@@ -659,7 +719,7 @@ impl State {
             && self.modes[group::CYCLE] == code::G80
             && axes_owner.is_none()
             && !transform_axes)
-            .then(|| self.cutter_direction(&w))
+            .then(|| self.cutter_direction(w))
             .flatten();
         if let Some(d) = cancel_direction {
             self.emit(out, CanonKind::Cutter(CutterWord::CancelDirection(d)));
@@ -674,7 +734,7 @@ impl State {
             && axes_owner.is_none()
             && !transform_axes
             && self.modes[group::CYCLE] == code::G80
-            && self.perpendicular_start_stop(&w, code::TOOL_SIDE.contains(&comp_before))
+            && self.perpendicular_start_stop(w, code::TOOL_SIDE.contains(&comp_before))
         {
             // No.5003#1 SUV: a G40 block in G00/G01 without motion removes the vector itself,
             // straight to where the program stands (`stage::cutter`, `stage::tool_side`; under
@@ -704,13 +764,15 @@ impl State {
             }
             moved = true;
         }
-        // Under the tool side offset, Q1/Q2/Q3 and G41.2/G42.2 given again go to its stage
-        // before the block's motion (`stage::tool_side`; other Q values are refused, `unbuilt`).
+        // G41/G42 (cutter compensation C) and G41.2/G42.2 given again in their own mode go to
+        // their stage before the block's motion, and under the tool side offset Q1/Q2/Q3
+        // (`stage::cutter`, `stage::tool_side`; other Q values are refused, `unbuilt`).
         let comp = self.modes[group::CUTTER_COMP];
+        let again = matches!(comp, code::G41 | code::G42) || code::TOOL_SIDE.contains(&comp);
+        if again && comp_before == comp && w.has_g(comp) {
+            self.emit(out, CanonKind::Cutter(CutterWord::Perpendicular));
+        }
         if code::TOOL_SIDE.contains(&comp) {
-            if comp_before == comp && w.has_g(comp) {
-                self.emit(out, CanonKind::Cutter(CutterWord::Perpendicular));
-            }
             if let Some(q) = w.integer(b'Q').filter(|_| code::TOOL_SIDE_TYPE1.contains(&comp)) {
                 self.emit(out, CanonKind::Cutter(CutterWord::PlaneChange(q as u8)));
             }
@@ -720,7 +782,7 @@ impl State {
             return Err(AlarmId::IllegalGCodeCombination);
         }
         if nurbs_start {
-            self.nurbs_start(&w)?;
+            self.nurbs_start(w)?;
         } else if self.modes[group::MOTION] == code::G06_2
             && axes_owner.is_none()
             && !transform_axes
@@ -733,13 +795,13 @@ impl State {
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))
             {
                 if has_axes || w.has(b'R') || w.has(b'Z') {
-                    moved |= self.canned_cycle(&w, out)?;
+                    moved |= self.canned_cycle(w, out)?;
                 }
             } else if has_axes
                 || (matches!(self.modes[group::MOTION], code::G02 | code::G03)
                     && (w.has(b'I') || w.has(b'J') || w.has(b'K')))
             {
-                self.group01_motion(&w, out)?;
+                self.group01_motion(w, out)?;
                 moved = true;
             } else if tool_length_changed {
                 // The offset takes effect at once: the tool moves, the programmed point stays.
@@ -794,7 +856,7 @@ impl State {
                 mcode::M97 if self.cfg.dialect == crate::Dialect::Haas => {
                     // Haas local subprogram: N<P> of this program, L times, back after M99.
                     let n = w.integer(b'P').ok_or(AlarmId::MissingP)?;
-                    let count = Self::count(&w)?;
+                    let count = Self::count(w)?;
                     let (prog, pc) = self.frames.last().map_or((0, 0), |f| (f.prog, f.pc));
                     let from = pc.saturating_sub(1);
                     let to = sequence_number(n).and_then(|n| progs[prog].find_label(n, from));
@@ -808,7 +870,7 @@ impl State {
                     }
                 }
                 mcode::M98 | mcode::M198 => {
-                    let (prog, count) = self.subprogram_target(by_number, &w)?;
+                    let (prog, count) = self.subprogram_target(by_number, w)?;
                     self.push_frame(progs, prog, count, None)?;
                 }
                 mcode::M99 => {

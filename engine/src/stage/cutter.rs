@@ -134,6 +134,9 @@ pub struct Cutter {
     staged_at: usize,
     /// The next motion in the plane while the held block is released at the corner with it.
     next: Option<(Curve, f64)>,
+    /// G41/G42 was given again in offset mode: the held motion ends at its perpendicular vector
+    /// when the next motion in the plane comes.
+    respecified: bool,
     /// `Config::refuse_unbuilt`: off only in the tests of the 5-axis mode interlocks, where a
     /// motion the stage does not compensate passes as it came (as before the stage existed).
     refuse: bool,
@@ -165,6 +168,7 @@ impl Cutter {
             avoided: None,
             staged_at: 0,
             next: None,
+            respecified: false,
             refuse: config.refuse_unbuilt,
         }
     }
@@ -441,8 +445,19 @@ impl Cutter {
             Some(CutterWord::CornerArc(direction)) => return self.corner_arc(c, direction, out),
             Some(CutterWord::CancelDirection(d)) => Some(ijk_in_plane(d, m.context.plane)),
             Some(CutterWord::VectorHold(direction)) if comp => return self.vector_hold(c, direction, out),
+            // G41/G42 given again: it acts at the next motion in the plane.
+            Some(CutterWord::Perpendicular) if comp && self.on => {
+                self.respecified = true;
+                None
+            }
             // (The tool side offset's words are taken by its stage, before this one.)
-            Some(CutterWord::VectorHold(_) | CutterWord::PlaneChange(_) | CutterWord::Perpendicular) | None => None,
+            Some(
+                CutterWord::VectorHold(_)
+                | CutterWord::PlaneChange(_)
+                | CutterWord::Perpendicular
+                | CutterWord::WithoutMotion,
+            )
+            | None => None,
         };
         // G41/G42 again after a G40 that moved nothing: that cancel, then a new start-up.
         let restart = if comp { self.link.take_comp_start() } else { None };
@@ -510,10 +525,20 @@ impl Cutter {
             }
             (Some(curve), true) => {
                 self.finish_corner(&curve, out);
+                let respecified = std::mem::take(&mut self.respecified);
                 let start = match self.held.take() {
                     None => add(curve.from(), self.vector),
                     Some(h) => {
-                        let points = match corner(&h, &curve, r, false, self.type_b) {
+                        // G41/G42 given again in offset mode (FANUC 30i §6.6, "cutter compensation
+                        // G code in the offset mode"): the block before ends at its vector
+                        // perpendicular to its move, "irrespective of machining inner or outer
+                        // side"; this block starts there.
+                        let corner = if respecified {
+                            Ok(vec![h.curve.offset_point(true, h.r)])
+                        } else {
+                            corner(&h, &curve, r, false, self.type_b)
+                        };
+                        let points = match corner {
                             Ok(p) => p,
                             Err(id) => {
                                 let canon = h.canon.clone();
@@ -704,6 +729,7 @@ impl Cutter {
         self.on = false;
         self.startup = false;
         self.perpendicular = None;
+        self.respecified = false;
         self.vector = [0.0; 2];
     }
 
@@ -729,9 +755,7 @@ impl Cutter {
     /// perpendicular, the next one starts from there (FANUC: the vector is lost).
     fn lose_vector_if_too_many(&mut self, out: &mut Vec<Canon>) {
         let Some(h) = &self.held else { return };
-        let mut lines: Vec<u32> = self.after.iter().map(|c| c.line).filter(|&l| l != h.canon.line).collect();
-        lines.dedup();
-        if lines.len() > MAX_BLOCKS_BETWEEN {
+        if super::blocks_without_motion(&self.after, h.canon.line) > MAX_BLOCKS_BETWEEN {
             self.release_perpendicular(out);
         }
     }
@@ -926,6 +950,13 @@ impl Cutter {
     fn push_command(&mut self, command: Canon, out: &mut Vec<Canon>) {
         match &command.kind {
             CanonKind::Motion(_) => self.motion(command, out),
+            // A block without movement: counted while a motion waits for its corner (the
+            // pipeline drops it).
+            CanonKind::Cutter(CutterWord::WithoutMotion) if self.held.is_some() => {
+                self.after.push(command);
+                self.lose_vector_if_too_many(out);
+            }
+            CanonKind::Cutter(CutterWord::WithoutMotion) => {}
             CanonKind::Cutter(word) => self.word = Some(*word),
             CanonKind::ProgramEnd { .. } if self.on => {
                 // M02/M30 cancel: the last motion ends perpendicular, the vector stays there.
@@ -1008,6 +1039,7 @@ impl Stage for Cutter {
         self.on = false;
         self.startup = false;
         self.perpendicular = None;
+        self.respecified = false;
         self.vector = [0.0; 2];
         self.held = None;
         self.word = None;

@@ -205,9 +205,7 @@ impl LeadingEdge {
     /// it (CRC-25), and so do they.
     fn keep_vector_if_too_many(&mut self, out: &mut Vec<Canon>) {
         let Some(w) = &self.waiting else { return };
-        let mut lines: Vec<u32> = self.after.iter().map(|c| c.line).filter(|&l| l != w.canon.line).collect();
-        lines.dedup();
-        if lines.len() >= 2 {
+        if super::blocks_without_motion(&self.after, w.canon.line) >= 2 {
             let vc = self.kept();
             self.release(vc, out);
         }

@@ -34,11 +34,21 @@ mod tool_shift;
 pub mod tool_side;
 
 use crate::alarm::{Alarm, AlarmId};
-use crate::canon::{Canon, Pos};
+use crate::canon::{Canon, CanonKind, CutterWord, Pos};
 use crate::interp::Config;
 use crate::Dialect;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
+
+/// How many blocks without movement `after` holds (the commands a stage holds behind the motion
+/// of line `held` that waits for its corner): one per block, and one more for each
+/// [`CutterWord::WithoutMotion`] (a block that gave nothing else, or a zero move's second).
+fn blocks_without_motion(after: &[Canon], held: u32) -> usize {
+    let marked = |c: &&Canon| matches!(c.kind, CanonKind::Cutter(CutterWord::WithoutMotion));
+    let mut lines: Vec<u32> = after.iter().filter(|c| !marked(c)).map(|c| c.line).filter(|&l| l != held).collect();
+    lines.dedup();
+    lines.len() + after.iter().filter(marked).count()
+}
 
 /// What the path stages tell the interpreter that feeds them (one per interpreter: a cloned
 /// `Config` gets a new one, [`Link::share`] hands the same one to the stages).
@@ -209,6 +219,8 @@ impl Pipeline {
             std::mem::swap(commands, &mut self.between);
             found = found.or_else(|| stage.take_alarm());
         }
+        // The blocks without movement have been counted; the executor has nothing to do for them.
+        commands.retain(|c| !matches!(c.kind, CanonKind::Cutter(CutterWord::WithoutMotion)));
         let (id, line, n) = found?;
         let (code, message) = self.dialect.describe(&id);
         Some(Alarm { code, message, line, n })

@@ -522,9 +522,7 @@ impl ToolSide {
     /// More blocks without motion in the plane than the read-ahead holds: the vector is lost.
     fn lose_vector_if_too_many(&mut self, out: &mut Vec<Canon>) {
         let Some(w) = &self.waiting else { return };
-        let mut lines: Vec<u32> = self.after.iter().map(|c| c.line).filter(|&l| l != w.held.canon.line).collect();
-        lines.dedup();
-        if lines.len() > MAX_BLOCKS_BETWEEN {
+        if super::blocks_without_motion(&self.after, w.held.canon.line) > MAX_BLOCKS_BETWEEN {
             self.release_perpendicular(out);
         }
     }
@@ -843,7 +841,8 @@ impl ToolSide {
         match &command.kind {
             // The words of the tool side offset are this stage's; G38/G39/G40's go on.
             CanonKind::Cutter(CutterWord::PlaneChange(q)) => self.q = Some(*q),
-            CanonKind::Cutter(CutterWord::Perpendicular) => self.perpendicular = true,
+            // (G41/G42 given again is cutter compensation C's.)
+            CanonKind::Cutter(CutterWord::Perpendicular) if self.on => self.perpendicular = true,
             _ if !self.refuse => out.push(command),
             CanonKind::Motion(_) => self.motion(command, out),
             CanonKind::ProgramEnd { .. } if self.on => {

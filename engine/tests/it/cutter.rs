@@ -181,6 +181,58 @@ fn two_blocks_without_motion_in_the_plane_lose_the_vector() {
 }
 
 #[test]
+fn a_block_that_gives_no_command_is_a_block_without_motion() {
+    // FANUC lists "G90 ; G code only", "S21 ; S code output" and "G10 L11 …" among the blocks
+    // without tool movement (16i-LB §12), Mitsubishi M700V §12.4 "F100 ;" and "S500 ;" (the
+    // spindle stopped here, so S gives no command): with M08 they are two, the vector is lost
+    // as in `two_blocks_without_motion_in_the_plane_lose_the_vector`.
+    for block in ["G90", "F400.", "G17", "S1000", "G10 L12 P2 R4.", "G94 G21"] {
+        let src = format!("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nM08\n{block}\nY20.\nG40 X0.\nM30\n");
+        assert_ends(&src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)]);
+    }
+    // Not blocks of the read-ahead (decision, `docs/cutter-compensation.md` rule 8): a comment,
+    // a sequence number alone, a macro statement, a subprogram's return. M08 alone keeps the
+    // corner (15,5).
+    for block in ["(A COMMENT)", "N100", "#1=2.", "M98 P9"] {
+        let src =
+            format!("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nM08\n{block}\nY20.\nG40 X0.\nM30\nO0009\nM99\n");
+        assert_ends(&src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 15.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)]);
+    }
+}
+
+#[test]
+fn a_block_whose_move_is_zero_counts_as_two_blocks_without_motion() {
+    // FANUC 16i-LB §12: "when the move distance is zero, even if the block is commanded
+    // singly", the tool moves as after two blocks without movement: X20. at X20 loses the vector.
+    for block in ["X20.", "G91 X0 Y0\nG90"] {
+        let src = format!("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\n{block}\nY20.\nG40 X0.\nM30\n");
+        let (ends, alarm) = centre(&src, Fanuc);
+        assert_eq!(alarm, None);
+        let at = |line: u32| ends.iter().find(|(l, _)| *l == line).map(|(_, p)| *p);
+        assert_eq!(at(3), Some([20.0, 5.0]), "{src}: {ends:?}");
+    }
+}
+
+#[test]
+fn g41_given_again_in_offset_mode_ends_the_block_before_perpendicular() {
+    // FANUC 30i §6.6, "cutter compensation G code in the offset mode": the block before ends
+    // at the vector perpendicular to its move "irrespective of machining inner or outer side";
+    // the inside corner (15,5) of `one_block_without_motion_in_the_plane_keeps_the_corner`
+    // becomes (20,5), the G41 block runs from there to its own corner (15,15).
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG41 Y20.\nG40 X0.\nM30\n";
+    assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (4, 15.0, 15.0), (5, 0.0, 20.0)]);
+    // G41 alone, a block without movement of its own: the same at the next move.
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG41\nY20.\nG40 X0.\nM30\n";
+    assert_ends(src, &[(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (5, 15.0, 15.0), (6, 0.0, 20.0)]);
+    // G42 in G42 mode at an outside corner: the block before ends perpendicular too, (20,-5)
+    // where the corner's intersection was (25,-5).
+    let src = "G90 G00 X-10. Y0 Z0\nG42 D1 G01 X0. F500\nX20.\nG42 Y20.\nG40 X0.\nM30\n";
+    let (ends, alarm) = centre(src, Fanuc);
+    assert_eq!(alarm, None);
+    assert!(ends.iter().any(|(l, p)| *l == 3 && approx(p[0], 20.0) && approx(p[1], -5.0)), "{ends:?}");
+}
+
+#[test]
 fn g18_compensates_z_and_x() {
     // G18: the plane is (Z, X); left of +Z is +X. Y never moves.
     let src = "G18 G90 G00 X0. Z-10.\nG41 D1 G01 Z0. F500\nZ20.\nG40 Z30.\nM30\n";

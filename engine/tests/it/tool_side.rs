@@ -338,6 +338,23 @@ fn tv07_changing_the_side_retraces_the_block() {
 }
 
 #[test]
+fn blocks_without_a_command_count_under_g41_2_as_under_g41() {
+    // M08 and G90 between two sides are two blocks without movement: the vector is lost, the
+    // side X40. ends perpendicular to itself at (40, 5) under both (`cutter.rs`,
+    // `a_block_that_gives_no_command_is_a_block_without_motion`).
+    let contour = "G01 X0 Y0 F500.\nX40.\nM08\nG90\nY40.\nG40 X0.\nM30\n";
+    let start = "G90 G00 X-10. Y-10. Z0\n";
+    let g41 = ends_of(&format!("{start}G41 D1\n{contour}"), "mill3");
+    let g41_2 = ends_of(&format!("{start}G41.2 D1\n{contour}"), "head-bc");
+    assert_eq!((&g41.alarm, &g41_2.alarm), (&None, &None));
+    for got in [&g41, &g41_2] {
+        let side = got.ends.iter().find(|(l, _)| *l == 4).map(|(_, p)| *p);
+        assert!(side.is_some_and(|p| (p - Vec3::new(40.0, 5.0, 0.0)).norm() < 1e-9), "{:?}", got.ends);
+    }
+    assert_eq!(g41.ends.len(), g41_2.ends.len());
+}
+
+#[test]
 fn a_rotary_axis_alone_keeps_the_vector_and_the_corner_takes_the_next_move() {
     // CRC-14: N4 turns B only; the corner at the end of N3 is made with N5, and N4 ends at
     // the same vector. Tool vertical at N3's end: the corner is in XY, (95, 5, 0); B then tilts

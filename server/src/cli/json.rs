@@ -230,7 +230,8 @@ impl CanonWriter {
             CanonKind::Cutter(word) => {
                 // `"corner_arc": [I, J, K]` or `null` (G39 without I/J/K), `"cancel_direction":
                 // [I, J, K]` (G40 with I/J/K), `"vector_hold"` as G39's, `"plane_change": Q`
-                // (Q1/Q2/Q3 under G41.2/G42.2), `"perpendicular": null` (G41.2/G42.2 again).
+                // (Q1/Q2/Q3 under G41.2/G42.2), `"perpendicular": null` (G41/G42, G41.2/G42.2
+                // again), `"without_motion": null` (a block without movement in offset mode).
                 let direction = |w: &mut Out, key: &[u8], d: Option<[f64; 3]>| {
                     put(w, key);
                     match d {
@@ -253,6 +254,7 @@ impl CanonWriter {
                         uint(w, u64::from(*q));
                     }
                     CutterWord::Perpendicular => put(w, b",\"perpendicular\":null"),
+                    CutterWord::WithoutMotion => put(w, b",\"without_motion\":null"),
                 }
             }
         }

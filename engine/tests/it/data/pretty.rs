@@ -115,6 +115,7 @@ fn kind(m: &MachineConfig, k: &CanonKind) -> String {
         },
         CanonKind::Cutter(CutterWord::PlaneChange(q)) => format!("plane change Q{q}"),
         CanonKind::Cutter(CutterWord::Perpendicular) => "perpendicular".to_string(),
+        CanonKind::Cutter(CutterWord::WithoutMotion) => "without motion".to_string(),
     }
 }
 
