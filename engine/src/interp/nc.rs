@@ -345,16 +345,17 @@ impl State {
         let mut w = Words::new();
         self.collect_into(words, &mut w)?;
         let (first, depth) = (out.len(), self.frames.len());
-        let (machine_before, comp_before) = (self.machine_position(), self.modes[group::CUTTER_COMP]);
+        let offset_mode = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
+        let machine_before = offset_mode.then(|| self.machine_position());
         self.nc_words(progs, by_number, &w, block, out)?;
-        if code::COMPENSATED_BY_STAGES.contains(&comp_before) {
-            self.count_without_motion(&w, first, depth, &machine_before, out);
+        if let Some(before) = machine_before {
+            self.count_without_motion(&w, first, depth, &before, out);
         }
         Ok(())
     }
 
-    /// In offset mode (here before and after the block) the control reads a few blocks ahead to place the next corner,
-    /// and the blocks without movement among them count (`stage::cutter::MAX_BLOCKS_BETWEEN`,
+    /// In offset mode (before and after the block) the control reads a few blocks ahead to place
+    /// the next corner, and the blocks without movement among them count (`MAX_BLOCKS_BETWEEN`,
     /// `docs/cutter-compensation.md` rule 8). Most give a command the stages see (M, S, T, a
     /// dwell, a move off the plane); this marks the others: a block that gave none (a G code
     /// alone, F, S with the spindle stopped, G10), and — FANUC: "when the move distance is
