@@ -248,8 +248,11 @@ static RULES: &[Rule] = &[
     rule(Fanuc, "crc CRC-34, §6.3: no leading edge offset G41.3 (table/mixed)", A::IllegalCommandInMode, |c| {
         c.table_or_mixed() && c.has(G41_3)
     }),
-    rule(Fanuc, "crc CRC-33, §6.3: no I/J/K with G41.6/G42.6 (table)", A::IllegalCommandInMode, |c| {
-        c.mech() == Mech::Table && is_crc_type2(c.after[group::CUTTER_COMP]) && c.count_letters(b"IJK") > 0
+    // Only in the G41.6/G42.6 block itself (§3.2.1: "I, J, and K can be specified in a
+    // G41.6/G42.6 command block; in a table rotation type machine, however, they cannot"): the
+    // blocks after it give the tool direction by I/J/K.
+    rule(Fanuc, "crc CRC-33, §3.2.1: no I/J/K in the G41.6/G42.6 block (table)", A::IllegalCommandInMode, |c| {
+        c.mech() == Mech::Table && (c.has(G41_6) || c.has(G42_6)) && c.count_letters(b"IJK") > 0
     }),
     rule(
         Fanuc,

@@ -79,6 +79,40 @@ fn type_2_under_g43_5_places_the_tip_as_type_1_with_the_same_tool_directions() {
 }
 
 #[test]
+fn type_2_on_a_table_machine_takes_i_j_k_after_its_g41_6_block() {
+    // §3.2.1: "In a tool rotation type machine, I, J, and K can be specified in a G41.6/G42.6
+    // command block; in a table rotation type machine, however, they cannot" — in that block
+    // only: the blocks after it give the tool's direction by I/J/K as on any machine. On table-ac
+    // in the table coordinate system (TBP = 1, WKP = 0): the tips of type 1 with A/C words for
+    // the same directions.
+    let kin = Kinematics::new(&MachineConfig::preset("table-ac").unwrap()).unwrap();
+    let blocks = [("X0 Y0", -20.0, 0.0), ("X60.", -30.0, 45.0), ("Y50. Z10.", -25.0, 90.0), ("X10. Y40.", -20.0, 60.0)];
+    let (mut type1, mut type2) = (String::new(), String::new());
+    for (k, (xyz, a, c)) in blocks.iter().enumerate() {
+        let mut pos = [0.0; 8];
+        (pos[3], pos[4]) = (*a, *c);
+        let t = kin.forward(&pos, 0.0).tool;
+        let feed = if k == 0 { " F1000." } else { "" };
+        type1 += &format!("G01 {xyz} A{a:.3} C{c:.3}{feed}\n");
+        type2 += &format!("G01 {xyz} I{:.9} J{:.9} K{:.9}{feed}\n", t.x, t.y, t.z);
+    }
+    let table = |c: &mut fivex_engine::interp::Config| c.edit_machine(|m| m.five_axis.crc_table_coordinates = true);
+    let (start, end) = ("G90 G00 X-50. Y0 Z50. A0 C0\n", "G40 X-50.\nG49\nM30\n");
+    let one = ends_with(&format!("{start}G43.4 H1\nG41.2 D1\n{type1}{end}"), "table-ac", table);
+    let two = ends_with(&format!("{start}G43.5 H1\nG41.6 D1\n{type2}{end}"), "table-ac", table);
+    assert_eq!((&one.alarm, &two.alarm), (&None, &None));
+    let tips = |e: &Ends| e.ends.iter().filter(|(l, _)| (4..=8).contains(l)).map(|(l, p)| (*l, *p)).collect::<Vec<_>>();
+    let (a, b) = (tips(&one), tips(&two));
+    assert!(a.len() >= 5 && a.len() == b.len(), "{a:?}\n{b:?}");
+    for ((l1, p), (l2, q)) in a.iter().zip(&b) {
+        assert!(l1 == l2 && (p - q).norm() < 1e-6, "line {l1}: type 1 {p:?}, type 2 {q:?}");
+    }
+    // In the G41.6 block itself I/J/K stay PS5460.
+    let in_block = format!("{start}G43.5 H1\nG41.6 D1 I0 J0 K1.\n{type2}{end}");
+    assert_eq!(ends_with(&in_block, "table-ac", table).alarm, Some(("PS5460".into(), 3)));
+}
+
+#[test]
 fn a_vertical_tool_compensates_as_g41_in_g17() {
     // With the tool along Z the plane is XY: the same tool centre as cutter compensation C.
     let contour = "G01 X0 Y0 F500.\nX40.\nY40.\nX20. Y25.\nX0 Y40.\nY0\nG40 Y-10.\nM30\n";
