@@ -372,6 +372,13 @@ static RULES: &[Rule] = &[
             && (c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
                 || c.during(group::POLAR_INTERPOLATION, |_, m| m == G12_1))
     }),
+    // The manual names no alarm, only "abnormal motion": fivex cannot know that motion, so it
+    // refuses the block rather than run a return the control does not make; "G49 before" is
+    // taken as a block before, so the G49 block itself is refused too (decisions,
+    // `docs/five-axis.md`, Q-34).
+    rule(Syntec, "syn SYN-07/08, §2.2.2 #4, §2.3.2 #5: G49 before G28/G29/G30", A::IllegalCommandInTcp, |c| {
+        c.any(&[G28, G29, G30]) && (c.tcp(c.before[group::LENGTH_COMP]) || c.tcp(c.after[group::LENGTH_COMP]))
+    }),
     rule(Syntec, "syn SYN-07/08/09, TV-16: no G05 P10000 in RTCP/STCP", A::HpccInTcp, |c| {
         c.has(G05) && c.word(b'P') == Some(10000.0) && c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
     }),
