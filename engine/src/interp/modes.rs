@@ -581,6 +581,12 @@ static RULES: &[Rule] = &[
         let due = if c.before[group::DYNAMIC_FIXTURE] == G254 { c.st.dwo_due() } else { 0b111 };
         c.after[group::DYNAMIC_FIXTURE] == G254 && c.cutting_move() && due & !c.st.xyz_given(c.w) != 0
     }),
+    // The manual: G28/G29 do not apply DWO's rotation, and it strongly recommends not using
+    // them under G254; which point an incremental intermediate point or G29's end is then
+    // taken from it does not say, so fivex refuses them rather than guess (decision).
+    rule(Haas, "haas G254: no G28/G29 while DWO is on (decision)", A::IllegalCommandInMode, |c| {
+        c.any(&[G28, G29]) && c.during(group::DYNAMIC_FIXTURE, |_, m| m == G254)
+    }),
     rule(Haas, "haas G234: the G codes allowed in TCPC (FANUC's TCP list)", A::IllegalCommandInTcp, |c| {
         c.foreign(group::LENGTH_COMP, |c, m| m == G234 && c.tcp(m), |_, g| tcp_allows(g))
     }),
