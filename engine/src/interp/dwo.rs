@@ -9,8 +9,9 @@
 //! identity FCS, the tool length along the tool as it stands. The rules of the manual are
 //! checked before the block changes anything (`super::modes`, the `Haas` rows): no rotary motion
 //! under G254 or in its block, not with G234 or a tilted plane, the work offset's tilt axis at
-//! zero, and X, Y and Z all commanded before the first cutting move (tracked here). G28, G29,
-//! G53 and M06 ignore it (they move in machine terms; the current point follows), reset, M02,
+//! zero, and X, Y and Z all commanded before the first cutting move (tracked here), no G28/G29
+//! (the manual advises against them; which point they start from is not said: a decision). G53
+//! and M06 ignore it (they move in machine terms; the current point follows), reset, M02,
 //! M30 and G255 cancel it, M00/M01 do not.
 
 use super::gcode::{code, group};

@@ -375,6 +375,13 @@ static RULES: &[Rule] = &[
             && (c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
                 || c.during(group::POLAR_INTERPOLATION, |_, m| m == G12_1))
     }),
+    // The manual names no alarm, only "abnormal motion": fivex cannot know that motion, so it
+    // refuses the block rather than run a return the control does not make; "G49 before" is
+    // taken as a block before, so the G49 block itself is refused too (decisions,
+    // `docs/five-axis.md`, Q-34).
+    rule(Syntec, "syn SYN-07/08, §2.2.2 #4, §2.3.2 #5: G49 before G28/G29/G30", A::IllegalCommandInTcp, |c| {
+        c.any(&[G28, G29, G30]) && (c.tcp(c.before[group::LENGTH_COMP]) || c.tcp(c.after[group::LENGTH_COMP]))
+    }),
     rule(Syntec, "syn SYN-07/08/09, TV-16: no G05 P10000 in RTCP/STCP", A::HpccInTcp, |c| {
         c.has(G05) && c.word(b'P') == Some(10000.0) && c.during(group::LENGTH_COMP, |c, m| c.tcp(m))
     }),
@@ -576,6 +583,12 @@ static RULES: &[Rule] = &[
     rule(Haas, "haas G254: X, Y and Z commanded before cutting", A::DwoXyzNotGiven, |c| {
         let due = if c.before[group::DYNAMIC_FIXTURE] == G254 { c.st.dwo_due() } else { 0b111 };
         c.after[group::DYNAMIC_FIXTURE] == G254 && c.cutting_move() && due & !c.st.xyz_given(c.w) != 0
+    }),
+    // The manual: G28/G29 do not apply DWO's rotation, and it strongly recommends not using
+    // them under G254; which point an incremental intermediate point or G29's end is then
+    // taken from it does not say, so fivex refuses them rather than guess (decision).
+    rule(Haas, "haas G254: no G28/G29 while DWO is on (decision)", A::IllegalCommandInMode, |c| {
+        c.any(&[G28, G29]) && c.during(group::DYNAMIC_FIXTURE, |_, m| m == G254)
     }),
     rule(Haas, "haas G234: the G codes allowed in TCPC (FANUC's TCP list)", A::IllegalCommandInTcp, |c| {
         c.foreign(group::LENGTH_COMP, |c, m| m == G234 && c.tcp(m), |_, g| tcp_allows(g))

@@ -1054,6 +1054,27 @@ impl State {
         }
     }
 
+    /// A rapid of a reference return to a program point (G28/G30's intermediate point, G29's
+    /// end point): through the programming transforms like any point, and in the tilted plane
+    /// an FCS point the tip goes to like a G00 there (twp §1.3.2 allows G28/G29/G30 in the
+    /// plane; only the return itself is in machine coordinates, TWP-13, OQ-16).
+    fn rapid_to_program_point(&mut self, programmed: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        self.rapid_to_workpiece_point(self.xf.forward(&programmed), out)?;
+        self.xf.programmed = programmed;
+        Ok(())
+    }
+
+    /// As `rapid_to_program_point` for a point after the programming transforms; the caller
+    /// keeps the programmed point.
+    fn rapid_to_workpiece_point(&mut self, target: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        if self.plane_active() {
+            self.tip_motion(MotionKind::Rapid, target, None, out)
+        } else {
+            self.push_motion(MotionKind::Rapid, target, None, out);
+            Ok(())
+        }
+    }
+
     /// A motion in machine coordinates (G53, reference returns).
     fn emit_machine_motion(&mut self, machine: Pos, out: &mut Vec<Canon>) {
         let target = self.machine_to_program(&machine);
@@ -1390,7 +1411,7 @@ impl State {
                 };
                 // Through the intermediate point, then to the reference position.
                 let mid = self.target(w);
-                self.move_to(MotionKind::Rapid, mid, out);
+                self.rapid_to_program_point(mid, out)?;
                 self.last_g28_mid = self.pos;
                 let mut m = self.machine_position();
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
@@ -1402,16 +1423,18 @@ impl State {
                 return Ok(true);
             }
             code::G29 => {
+                // The intermediate point's coordinates as G28/G30 stored them, read in the
+                // system in force now.
                 let mut mid = self.pos;
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if w.has(axis.name as u8) {
                         mid[i] = self.last_g28_mid[i];
                     }
                 }
-                self.push_motion(MotionKind::Rapid, mid, None, out);
+                self.rapid_to_workpiece_point(mid, out)?;
                 self.sync_programmed();
                 let target = self.target(w);
-                self.move_to(MotionKind::Rapid, target, out);
+                self.rapid_to_program_point(target, out)?;
                 return Ok(true);
             }
             // G31: to the end point or where the probe touches the workpiece (`skip`).

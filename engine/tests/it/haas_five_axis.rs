@@ -206,6 +206,30 @@ fn g254_alarms_of_the_manual_s_rules() {
     assert!((r.machine[c] - 45.0).abs() < 1e-9);
 }
 
+/// The reference returns in the Haas 5-axis modes. Under G254 the manual says G28/G29 do not
+/// apply DWO's rotation and strongly recommends against them; fivex cannot tell from which
+/// point an incremental intermediate point or G29's end is then taken, so it refuses them (730,
+/// decision; before, `G91 G28 Z0` moved Y by 41 mm on its way up). G234 refuses them as FANUC's
+/// TCP does (731). After G255 / G49 they run within the axes' limits.
+#[test]
+fn reference_returns_in_dwo_and_tcpc() {
+    let m = umc();
+    let dwo = "G10 L2 P1 X-381. Y-254. Z-400.\nG90 G54 G00 B30. C45.\nG43 H1 Z100.\nG254\nG00 X0 Y0\nZ50.\n";
+    let tcpc = "G10 L2 P1 X-381. Y-254. Z-400.\nG90 G54 G00 B30. C45.\nG43 H1 Z100.\nG234 H1\nG00 X0 Y0\nZ50.\n";
+    for block in ["G91 G28 Z0", "G28 X0 Y0 Z50.", "G29 X0 Y0 Z50."] {
+        assert_eq!(alarm_on(&m, &format!("{dwo}{block}\nG255\nM30\n")), ("730".into(), 7), "G254 {block}");
+        assert_eq!(alarm_on(&m, &format!("{tcpc}{block}\nG49\nM30\n")), ("731".into(), 7), "G234 {block}");
+    }
+    for src in [format!("{dwo}G255\nG91 G28 Z0\nM30\n"), format!("{tcpc}G49\nG91 G28 Z0\nM30\n")] {
+        let (r, samples) = run_on(&m, &src);
+        assert!(r.completed(), "{src}: {:?}", r.alarms);
+        // The speed bound holds across block ends too: no block starts where the machine is not.
+        if let Err(e) = check_limits_of(&samples, &m, false) {
+            panic!("{src}: {e}");
+        }
+    }
+}
+
 /// What cancels G254 and G234: G255, M30 and reset do; M00/M01 do not (the manual's lists).
 #[test]
 fn what_cancels_dwo_and_tcpc() {
@@ -240,8 +264,8 @@ fn what_cancels_dwo_and_tcpc() {
     assert_eq!(interp.state.modal(group::DYNAMIC_FIXTURE), code::G255);
 }
 
-/// G53 and G28 move in machine terms under G254 (the manual: they ignore it); the current point
-/// follows, so the next block needs no new rule.
+/// G53 moves in machine terms under G254 (the manual: it ignores it); the current point follows,
+/// so the next block needs no new rule.
 #[test]
 fn g53_under_dwo_moves_in_machine_coordinates() {
     let m = umc();

@@ -1224,3 +1224,41 @@ fn q6_posture_control_on_a_rotary_only_block_turns_on_the_great_circle() {
     let b = of_line(&samples, 4);
     assert!((b.last().unwrap().t - b[0].t - 15.0).abs() < 0.2, "{}", b.last().unwrap().t - b[0].t);
 }
+
+/// Syntec: "Disable RTCP mode with G49 before applying G53, G28, G29 or G30 to avoid abnormal
+/// motions" (§2.2.2 #4, §2.3.2 #5; no alarm named, syntec Q-34). fivex cannot know that motion,
+/// so it refuses G28/G29/G30 under RTCP (decision: COR-100, as FANUC refuses them, PS5421) on
+/// head and table machines, in both types, and in the G49 block; after it the return runs,
+/// without a step.
+#[test]
+fn syntec_reference_returns_under_rtcp_are_refused() {
+    for preset in ["head-bc", "table-ac"] {
+        let m = MachineConfig::preset(preset).unwrap();
+        for (start, words) in [("G43.4 H1", " B30."), ("G43.5 H1", " I0 J0 K1.")] {
+            let words = if preset == "table-ac" { words.replace("B30.", "A30.") } else { words.to_string() };
+            let start_block = format!("G90 G00 X0 Y0 Z100.\nG28 X0 Y0 Z100.\n{start}\nG01 X0 Y0 Z0{words} F1000\n");
+            for (block, code) in [("G91 G28 Z0", "G28"), ("G91 G30 Z0", "G30"), ("G29 X0 Y0 Z50.", "G29")] {
+                let block = if start == "G43.5 H1" { block.replace("G91 ", "") } else { block.to_string() };
+                let src = format!("{start_block}{block}\nG90 G01 X10. Y0 Z0\nG49\nM30\n");
+                let (r, _) = run_on(m.clone(), Dialect::Syntec, &src);
+                let alarm = r.alarms.first().map(|a| (a.code.as_str(), a.line));
+                assert_eq!(alarm, Some(("COR-100", 5)), "{preset} {start} {code}: {:?}", r.alarms);
+            }
+            // Not in the G49 block either ("G49 before"); after it the return is an ordinary one.
+            let src = format!("{start_block}G49 G28 Z50.\nM30\n");
+            let (r, _) = run_on(m.clone(), Dialect::Syntec, &src);
+            assert_eq!(
+                r.alarms.first().map(|a| (a.code.as_str(), a.line)),
+                Some(("COR-100", 5)),
+                "{preset} {start} G49 G28"
+            );
+            let src = format!("{start_block}G49\nG91 G28 Z0\nG90 G00 X10. Y0 Z50.\nM30\n");
+            let (r, samples) = run_on(m.clone(), Dialect::Syntec, &src);
+            assert!(r.completed(), "{preset} {start}: {:?}", r.alarms);
+            // The speed bound holds across block ends too: no block starts where the machine is not.
+            if let Err(e) = common::check_limits_of(&samples, &m, false) {
+                panic!("{preset} {start}: {e}");
+            }
+        }
+    }
+}

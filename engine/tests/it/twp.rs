@@ -303,3 +303,74 @@ fn g68_3_x_axis_from_no_12321() {
         assert!(close(n4 - n3_origin, want, 1e-9), "{vertical:?}: {n4:?}");
     }
 }
+
+/// The reference returns in the plane (FANUC, and Syntec's G68.2): twp §1.3.2 lists G28, G29
+/// and G30 among the plane's commands and TWP-13 puts the return itself in machine
+/// coordinates; the intermediate point is an FCS point (OQ-16), as is G29's end point. The
+/// plane `G68.2 X10 Y20 Z5 I0 J30 K0` by hand: Xc (1, 0, 0), Yc (0, cos 30°, sin 30°),
+/// Zc (0, −sin 30°, cos 30°), origin (10, 20, 5); G54 is zero, so WCS points are table points.
+const RETURNS_IN_PLANE: &str = "G90 G17 G49 G40 G80\nG00 X0 Y0 Z100.\nG68.2 X10. Y20. Z5. I0 J30. K0\nG53.1\n\
+                                G43 H1\nG00 X5. Y5. Z50.\nG91 G28 Z0\nG90 G00 X5. Y5. Z50.\nG91 G30 Z0\n\
+                                G90 G00 X5. Y5. Z50.\nG28 X5. Y5. Z50.\nG29 X10. Y10. Z40.\nG49\nG69\nM30\n";
+
+#[test]
+fn reference_returns_in_the_plane_go_through_fcs_points() {
+    let (s, c) = (0.5, 3f64.sqrt() / 2.0);
+    let fcs = |p: [f64; 3]| {
+        Vec3::new(10.0, 20.0, 5.0) + p[0] * Vec3::x() + p[1] * Vec3::new(0.0, c, s) + p[2] * Vec3::new(0.0, -s, c)
+    };
+    let same = |a: &Pos, b: &Pos| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9);
+    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+        for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+            let m = MachineConfig::preset(preset).unwrap();
+            let kin = Kinematics::new(&m).unwrap();
+            let e = ends(preset, dialect, RETURNS_IN_PLANE);
+            let of = |line: u32| e.iter().filter(|(l, _)| *l == line).map(|(_, p)| *p).collect::<Vec<_>>();
+            // `G91 G28 Z0` / `G91 G30 Z0` after the tip went to FCS (5, 5, 50): the intermediate
+            // point is where the tip stands, then machine Z alone goes to the reference position (0).
+            for (line, before) in [(7, 6), (9, 8)] {
+                let here = end_of(&e, before);
+                let legs = of(line);
+                assert_eq!(legs.len(), 2, "{preset} {dialect:?} line {line}: {legs:?}");
+                assert!(
+                    same(&legs[0], &here),
+                    "{preset} {dialect:?} line {line}: intermediate {:?} from {here:?}",
+                    legs[0]
+                );
+                let mut back = here;
+                back[2] = 0.0;
+                assert!(same(&legs[1], &back), "{preset} {dialect:?} line {line}: return {:?}", legs[1]);
+            }
+            // `G28 X5. Y5. Z50.`: the intermediate point is the current FCS point again.
+            let legs = of(11);
+            assert!(same(&legs[0], &end_of(&e, 10)), "{preset} {dialect:?}: G28 X5 Y5 Z50 {:?}", legs[0]);
+            // G29: through the intermediate point to FCS (10, 10, 40), the tool along Zc.
+            let legs = of(12);
+            let mid = kin.forward(&legs[0], 100.0).tip;
+            assert!(close(mid, fcs([5.0, 5.0, 50.0]), 1e-6), "{preset} {dialect:?}: G29 via {mid:?}");
+            let end = kin.forward(legs.last().unwrap(), 100.0);
+            assert!(close(end.tip, fcs([10.0, 10.0, 40.0]), 1e-6), "{preset} {dialect:?}: G29 to {:?}", end.tip);
+            assert!(close(end.tool, Vec3::new(0.0, -s, c), 1e-9), "{preset} {dialect:?}: tool {:?}", end.tool);
+        }
+    }
+}
+
+/// The same program run: it completes, and the axes keep their limits — the speed bound holds
+/// across block ends too, so no block starts from a point the machine is not at (before, the
+/// block after G29 was planned from where the machine had been before it).
+#[test]
+fn reference_returns_in_the_plane_run_continuously() {
+    use fivex_engine::run::{run, RunOptions};
+    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
+        for preset in ["head-bc", "table-ac", "table-bc", "mixed-bc"] {
+            let mut interp = interpreter_with(RETURNS_IN_PLANE, preset, dialect, |_| {});
+            let mut samples = Vec::new();
+            let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
+            assert!(r.completed(), "{preset} {dialect:?}: {:?}", r.alarms);
+            let m = MachineConfig::preset(preset).unwrap();
+            if let Err(e) = common::check_limits_of(&samples, &m, false) {
+                panic!("{preset} {dialect:?}: {e}");
+            }
+        }
+    }
+}
