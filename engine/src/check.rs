@@ -5,10 +5,11 @@
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
 //! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other
 //! than `,L2` and a zero surface normal of cutting point control, Syntec's G05 format errors
-//! that literal words show, Haas's M97/M98/G65 without P and M97 P of a line the program
-//! does not have, the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form,
-//! or with a literal P the program has no N for, and Haas's G150 without P or with a P that is
-//! neither a line of the program nor a program of the file.
+//! that literal words show, the addresses Syntec's G68.2/G43.4/G43.5 do not take (P, Q, R; an
+//! L other than 0/1), Haas's M97/M98/G65 without P and M97 P of a line the program does not
+//! have, the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form, or with a
+//! literal P the program has no N for, and Haas's G150 without P or with a P that is neither a
+//! line of the program nor a program of the file.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
@@ -19,6 +20,7 @@ use crate::alarm::{Alarm, AlarmId};
 use crate::dialect::Dialect;
 use crate::interp::gcode::{self, code, group};
 use crate::interp::mcode;
+use crate::interp::modes::syntec_improper_address;
 use crate::interp::unbuilt::{self, Word};
 use crate::interp::{Interpreter, Loaded, Step};
 use crate::lang::Word as NcWord;
@@ -141,6 +143,22 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         if let Some(g05) = words.iter().find(is_g05) {
                             if let Some((col, detail)) = g05_format(words, g05.col) {
                                 diags.push(at(col, AlarmId::HpccFormat, detail.into()));
+                            }
+                        }
+                        // Addresses Syntec's G68.2/G43.4/G43.5 do not take (the mode table's row).
+                        let block_codes: Vec<u16> = codes().collect();
+                        let m_call = words.iter().any(|w| {
+                            w.letter == b'M'
+                                && matches!(w.value, WordValue::Number { value, .. }
+                                    if mcode::SUBPROGRAM_CALLS.contains(&(value as u32)) || value == mcode::M99 as f64)
+                        });
+                        for word in words {
+                            let value = match word.value {
+                                WordValue::Number { value, .. } => Some(value),
+                                WordValue::Expr(_) => None,
+                            };
+                            if let Some(detail) = syntec_improper_address(&block_codes, m_call, word.letter, value) {
+                                diags.push(at(word.col, AlarmId::ImproperAddress, detail.into()));
                             }
                         }
                     }

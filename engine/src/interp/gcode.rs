@@ -624,12 +624,18 @@ pub fn lookup(code: u16, dialect: Dialect) -> Option<&'static GDef> {
 }
 
 /// The definition of a G code as a program writes it: [`lookup`], except that the Haas dialect
-/// has no G54.1 (its extra work offsets are G154 P and G110–G129).
+/// has no G54.1 (its extra work offsets are G154 P and G110–G129), and that the Syntec dialect
+/// reads G70/G71 as inch/metric input, G20/G21 (its definition's `code`: the block holds G20/G21).
 pub fn written(code: u16, dialect: Dialect) -> Option<&'static GDef> {
-    if dialect == Dialect::Haas && code == code::G54_1 {
-        return None;
+    match (dialect, code) {
+        (Dialect::Haas, code::G54_1) => None,
+        // *Decision*, inferred: the Syntec 5-axis manual's worked program (§4.7.2) starts with
+        // G71 where a metric program sets its units; no Syntec G-code list is among the sources
+        // (`docs/dialects.md`, its opening paragraph).
+        (Dialect::Syntec, code::G70) => lookup(code::G20, dialect),
+        (Dialect::Syntec, code::G71) => lookup(code::G21, dialect),
+        _ => lookup(code, dialect),
     }
-    lookup(code, dialect)
 }
 
 /// The name a panel of `dialect` shows for `code` in force in its group: the dialect's own name

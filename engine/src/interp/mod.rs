@@ -16,7 +16,7 @@ pub mod gcode;
 mod haas_cycles;
 mod manual_view;
 pub mod mcode;
-mod modes;
+pub(crate) mod modes;
 mod nc;
 mod nurbs;
 mod offsets;

@@ -134,6 +134,18 @@ static RULES: &[Rule] = &[
     rule(Syntec, "syn SYN-24, TV-24, COR-154: no G53.1/G68.3 with Pr3001 = 0", A::MachineParameter, |c| {
         c.any(&[G53_1, G68_3]) && c.st.cfg.machine.rotary.is_empty()
     }),
+    rule(
+        Syntec,
+        "syn SYN-18, §4.1.3; SYN-07/08, §2.2.1/§2.3.1/§3.1.1: an address Syntec's G68.2/G43.4/G43.5 does not take",
+        A::ImproperAddress,
+        |c| c.w.letters().any(|l| syntec_improper_address(c.g, m_call(c.w), l, c.word(l)).is_some()),
+    ),
+    rule(
+        Both,
+        "twp TWP-07, syn §4.2.1 (decision): no rotary axis word in a tool alignment block",
+        A::ImproperAddress,
+        |c| c.any(&ALIGNMENTS) && c.any_rotary(),
+    ),
     rule(Syntec, "syn SYN-22: P of G53.1/G53.3/G53.6 is 0, 1 or 2", A::AlignmentP, |c| {
         c.any(&ALIGNMENTS) && c.word(b'P').is_some_and(|p| !int_in(p, 0, 2))
     }),
@@ -455,6 +467,18 @@ static RULES: &[Rule] = &[
             && !matches!(c.after[group::MOTION], G00 | G01)
     }),
     // --- tilted working plane --------------------------------------------------------------
+    // FANUC §1.3.1: the plane starts only from the modal states listed, and G68 is not among them
+    // (TWP-11; the extract's "modes not in either list ⇒ PS5462"). fivex does not compose a coordinate rotation with the FCS, so the Syntec
+    // dialect, whose manual says nothing of G68 there, refuses it too (*decision*).
+    rule(Both, "twp TWP-11, §1.3.1: no G68.2/G68.3 while G68 rotation is on", A::TwpIllegalCommand, |c| {
+        c.any(&TILTED_PLANES) && c.before[group::ROTATION] == G68
+    }),
+    rule(
+        Fanuc,
+        "twp TWP-14, TV-TWP-27, OQ-17: the tilted plane needs linear rapids (LRP = 1)",
+        A::TwpIllegalCommand,
+        |c| c.starts(group::ROTATION, |c, m| c.twp(m)) && c.st.cfg.machine.motion.nonlinear_rapid,
+    ),
     rule(
         Both,
         "twp TWP-16, TV-TWP-21; syn SYN-18: tool length compensation off at G68.2/G68.3",
@@ -467,6 +491,19 @@ static RULES: &[Rule] = &[
         A::TwpIllegalCommand,
         |c| c.has(G69) && c.twp(c.before[group::ROTATION]) && c.after[group::CYCLE] != G80,
     ),
+    // FANUC §1.4 "Relationships with other modal commands" (TWP-16): cutter compensation, tool
+    // length compensation and the mirror image are off before G69, as the cycle above. G43/G44
+    // must end in a block before the G69 (*decision*): in one block fivex would end the plane
+    // first and cancel the length along the machine Z instead of along the tilted tool, and the
+    // manual gives no order within a block. Syntec's manual ends with `G69 G49` (§4.6.5): FANUC only.
+    rule(Fanuc, "twp TWP-16, §1.4: G41/G42, G43/G44 and G51.1 off before G69", A::TwpIllegalCommand, |c| {
+        c.has(G69)
+            && c.twp(c.before[group::ROTATION])
+            && (!LENGTH_CANCEL.contains(&c.before[group::LENGTH_COMP])
+                || !LENGTH_CANCEL.contains(&c.after[group::LENGTH_COMP])
+                || c.after[group::CUTTER_COMP] != G40
+                || c.after[group::MIRROR] != G50_1)
+    }),
     // Syntec names no nesting rule; a cycle spanning the plane's start would read its levels,
     // taken in the workpiece system, in the FCS (*decision*, docs/five-axis.md). FANUC's row is
     // the §6.1 list below.
@@ -479,6 +516,16 @@ static RULES: &[Rule] = &[
     rule(Syntec, "syn SYN-21, TV-19: G53.6 needs a tool (H, or the last H) other than 0", A::AlignmentToolZero, |c| {
         c.has(G53_6) && c.word(b'H').map_or(c.st.h == 0, |h| h == 0.0)
     }),
+    // Syntec §4.2.3/§4.3.3/§4.4.3 #1 "can't be executed before G68.2" (no alarm named); FANUC's
+    // G53.1 aligns to the FCS "after G68.2" (TWP-07) and names no alarm either. Without a plane
+    // there is nothing to align to: the block would do nothing (G53.3 not even its move and
+    // tool length), so it is refused (*decision*: PS5462 / COR-100, the mode interlocks' alarms).
+    rule(
+        Both,
+        "twp TWP-07; syn SYN-19/20/21, §4.2.3 #1: a tool alignment only in the tilted plane",
+        A::TwpIllegalCommand,
+        |c| c.any(&ALIGNMENTS) && !c.twp(c.after[group::ROTATION]),
+    ),
     // --- lists of G codes allowed in a mode (the mode before the block, or started by it) -------
     rule(Fanuc, "twp §6.4: G codes allowed in G54.4 mode", A::WseCommand, |c| {
         c.wse_during()
@@ -1054,6 +1101,36 @@ fn any_mode(m: &[u16; GROUPS]) -> bool {
         || m[group::DYNAMIC_FIXTURE] == G254
         || TILTED_PLANES.contains(&m[group::ROTATION])
         || m[group::POLAR_INTERPOLATION] == G12_1
+}
+
+/// Why Syntec refuses the word `letter` (value `value`, when known) of a block whose G codes are
+/// `codes`: its manual's formats are `G68.2 X_ Y_ Z_ I_ J_ K_` (Euler angles only, §4.1.3:
+/// FANUC's P1…P4 forms and their Q/R are the teach screen's, not the block's), `G43.4 H_ [L_]`
+/// with L1 / L0 (§3.1.1) and `G43.5 H_` (§2.3.1): FANUC's tool posture control P is no Syntec
+/// address (the interpolation is Pr3054's). A word another code of the block takes is that
+/// code's: a one-shot G code (G04, G05, G10, G53.1, G65 … P) or, with `m_call`, a subprogram
+/// call or return (M98/M99 P, L). `fivex check` asks the same with the literal words.
+pub(crate) fn syntec_improper_address(
+    codes: &[u16],
+    m_call: bool,
+    letter: u8,
+    value: Option<f64>,
+) -> Option<&'static str> {
+    let one_shot = |g: u16| gcode::lookup(g, Dialect::Syntec).is_some_and(|d| d.group == group::ONE_SHOT);
+    if m_call || codes.iter().any(|&g| one_shot(g)) {
+        return None;
+    }
+    codes.iter().find_map(|&code| match (code, letter) {
+        (G68_2, b'P' | b'Q' | b'R') => Some("Syntec's G68.2 takes X Y Z I J K (Euler angles) only, no P, Q or R"),
+        (G43_4 | G43_5, b'P') => Some("no P in Syntec's G43.4/G43.5 (tool posture control is FANUC's; Pr3054)"),
+        (G43_4, b'L') if value.is_some_and(|l| l != 0.0 && l != 1.0) => Some("G43.4 L is L1 (STCP on) or L0 (off)"),
+        _ => None,
+    })
+}
+
+/// The block calls a subprogram or returns by an M code (its P and L are the call's).
+fn m_call(w: &Words) -> bool {
+    w.mcodes().iter().any(|&m| super::mcode::SUBPROGRAM_CALLS.contains(&m) || m == super::mcode::M99)
 }
 
 /// G80 and the canned cycles (group 09).

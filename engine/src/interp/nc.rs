@@ -160,8 +160,9 @@ impl State {
             };
             match word.letter {
                 b'G' => {
-                    let mut code = gcode::code_of(v).ok_or(AlarmId::ImproperGCode)?;
-                    gcode::written(code, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?;
+                    let written = gcode::code_of(v).ok_or(AlarmId::ImproperGCode)?;
+                    // The code the block holds (Syntec's G70/G71 are G20/G21).
+                    let mut code = gcode::written(written, self.cfg.dialect).ok_or(AlarmId::ImproperGCode)?.code;
                     // Haas: G154 P1–P99 and G110–G129 (= G154 P1–P20) are the G54.1 P work
                     // offsets (the same storage, #7001…/#14001…).
                     if self.cfg.dialect == crate::Dialect::Haas {

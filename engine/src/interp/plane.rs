@@ -185,7 +185,7 @@ impl State {
             Vec3::new(word(s, b'I').unwrap_or(0.0), word(s, b'J').unwrap_or(0.0), word(s, b'K').unwrap_or(0.0))
         };
         let q = w.integer(b'Q').map(|q| q as u32);
-        // Syntec's G68.2 has the Euler form only (SYN-18): its P and Q mean nothing.
+        // Syntec's G68.2 has the Euler form only (SYN-18): the mode table refuses its P, Q, R.
         let form = match self.cfg.dialect {
             crate::Dialect::Fanuc => w.integer(b'P').unwrap_or(0.0) as u32,
             crate::Dialect::Syntec => 0,
@@ -313,7 +313,8 @@ impl State {
     /// tool from the tip; G53.3 switches the tool length on with H and puts the tip on X/Y/Z in
     /// the same rapid.
     pub(super) fn align(&mut self, code: u16, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
-        let Some(fcs) = self.plane else { return Ok(false) };
+        // Outside the plane the mode table refuses the block first (nothing to align to).
+        let Some(fcs) = self.plane else { return Err(AlarmId::TwpIllegalCommand) };
         let kin = self.kin()?;
         if code != code::G53_1 {
             if let Some(h) = w.integer(b'H') {

@@ -38,6 +38,26 @@ fn positions_read_in_inch_under_g20() {
     assert!(approx(v(100), 1.0) && approx(v(101), 0.0001) && approx(v(102), 1.0), "{:?}", r.variables);
 }
 
+/// Syntec's G70/G71 are inch/metric input, as G20/G21 (decision, inferred from the Syntec
+/// 5-axis manual's worked program, §4.7.2, which starts with G71); FANUC's milling G-code list
+/// has neither (PS0010), the Haas NGC's are its bolt patterns.
+#[test]
+fn syntec_g70_and_g71_are_inch_and_metric_input() {
+    let src = "G70 G00 X1. Y1\n#100=#5001\n#101=#5021\n#102=#4006\nG71\n#103=#4006\nG00 X1.\n#104=#5021\nM30\n";
+    let r = run_with(src, "mill3", Syntec);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let v = |n| r.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v).unwrap();
+    // X1. in inch is 25.4 mm (#5001 reads the inch value), #4006 the units group: 20, then 21.
+    assert!(approx(v(100), 1.0) && approx(v(101), 1.0) && v(102) == 20.0, "{:?}", r.variables);
+    assert!(v(103) == 21.0 && approx(v(104), 1.0), "{:?}", r.variables);
+    let e = motion_ends(interpreter("G70 G00 X1.\nG71 G00 Y1.\nM30\n", "mill3", Syntec));
+    assert!(approx(end_of(&e, 1)[0], 25.4) && approx(end_of(&e, 2)[1], 1.0), "{e:?}");
+    for g in ["G70", "G71"] {
+        let r = run_with(&format!("{g}\nM30\n"), "mill3", Fanuc);
+        assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("PS0010", 1), "{g}");
+    }
+}
+
 /// A resource bound, not data: kept here rather than in `tests/data/alarms` (its run takes the
 /// interpreter through 200,000 pecks, four times over in the data harness).
 #[test]

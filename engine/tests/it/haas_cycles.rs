@@ -124,9 +124,10 @@ fn refusals_and_bad_arguments() {
     assert_eq!(first("G68 X0 Y0 R30.\nG12 I10. D1 Z-1. F100."), Some(("310".into(), 3)));
     // No F yet.
     assert_eq!(first("G12 I10. D1 Z-1."), Some(("320".into(), 2)));
-    // The codes are the Haas dialect's only.
+    // The codes are the Haas dialect's only (Syntec's G70/G71 are inch/metric input,
+    // `alarms.rs`).
     for dialect in [Fanuc, Syntec] {
-        for g in ["G12 I10. D1 Z-1. F100.", "G70 I10. L4", "G103 P1"] {
+        for g in ["G12 I10. D1 Z-1. F100.", "G72 I10. L4", "G103 P1"] {
             let r = run_with(&format!("{g}\nM30\n"), "mill3", dialect);
             let want = if dialect == Fanuc { "PS0010" } else { "COR-070" };
             assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some(want), "{dialect:?} {g}");

@@ -272,7 +272,8 @@ fn g68_2_p2_and_p3_blocks_are_consecutive() {
         [format!("{q1}\nG01 X10. F100\n{q2}"), q2.to_string(), format!("{q1}\n{q3}"), format!("{q1}\n{q2}\n{q2}")]
     {
         assert_eq!(fanuc(MILL, &bad), "PS5457", "{bad}");
-        assert_eq!(syntec(MILL, &format!("{bad}\nG69")), "ok", "{bad}");
+        // Syntec's G68.2 has no P (syn SYN-18): COR-002 at the first block.
+        assert_eq!(syntec(MILL, &format!("{bad}\nG69")), "COR-002", "{bad}");
     }
     assert_eq!(fanuc(MILL, "G68.2 P3 Q2 I0 J0 K1."), "PS5457");
 }
@@ -317,4 +318,142 @@ fn modal_states_the_tilted_plane_starts_in() {
         let syntec_ok = if bad.starts_with("G81") { "COR-100" } else { "ok" };
         assert_eq!(syntec(MILL, &format!("{src}\nG69")), syntec_ok, "{bad}");
     }
+}
+
+#[test]
+fn a_tool_alignment_needs_the_tilted_plane() {
+    // syn §4.2.3/§4.3.3/§4.4.3 #1 "can't be executed before G68.2" (no alarm named: COR-100,
+    // decision); FANUC TWP-07 aligns "after G68.2" (no alarm named: PS5462, decision). Each of
+    // these blocks did nothing at all before (G53.3 not even its move and tool length).
+    for block in ["G53.1", "G53.1 P1", "G53.3 X0 Y0 Z0 H1", "G53.6 H1"] {
+        let src = format!("G01 X0 Y0 Z100. F1000\n{block}\nG01 X10.");
+        assert_eq!(syntec(HEAD, &src), "COR-100", "{block}");
+        // After G69 the plane is over: the same.
+        assert_eq!(syntec(HEAD, &format!("G68.2 X0 Y0 Z0 I0 J30. K0\nG69\n{block}")), "COR-100", "{block}");
+        assert_eq!(syntec(HEAD, &format!("G68.2 X0 Y0 Z0 I0 J30. K0\n{block}\nG49\nG69")), "ok", "{block}");
+    }
+    assert_eq!(fanuc(HEAD, "G01 X0 Y0 Z100. F1000\nG53.1\nG01 X10."), "PS5462");
+    assert_eq!(fanuc(HEAD, "G53.6 H1"), "PS5462");
+    assert_eq!(fanuc(HEAD, "G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG69"), "ok");
+    // The plane defined in the same block is there when the alignment runs.
+    assert_eq!(syntec(HEAD, "G68.2 X0 Y0 Z0 I0 J30. K0 G53.1\nG69"), "ok");
+}
+
+#[test]
+fn syntec_g68_2_takes_no_fanuc_form() {
+    // syn SYN-18, §4.1.3: `G68.2 X_ Y_ Z_ I_ J_ K_` (Euler angles) only; FANUC's P1…P4 forms
+    // ran as Euler angles before (a three-point program got another plane). COR-002.
+    for block in [
+        "G68.2 P2 Q1 X10. Y0 Z0",
+        "G68.2 P1 X10. Y20. Z30. I10. J20. K30.",
+        "G68.2 P0 X0 Y0 Z0 I0 J30. K0",
+        "G68.2 X0 Y0 Z0 I0 J30. K0 Q123",
+        "G68.2 X0 Y0 Z0 I0 J30. K0 R5.",
+    ] {
+        assert_eq!(syntec(HEAD, &format!("{block}\nG69")), "COR-002", "{block}");
+    }
+    assert_eq!(fanuc(HEAD, "G68.2 P1 X10. Y20. Z30. I10. J20. K30.\nG69"), "ok");
+    assert_eq!(syntec(HEAD, "G68.2 X10. Y20. Z30. I10. J20. K30.\nG69"), "ok");
+}
+
+#[test]
+fn syntec_g43_4_and_g43_5_take_no_posture_p_and_l_is_0_or_1() {
+    // syn §2.2.1, §3.1.1: `G43.4 H_ [L_]` with L1 (STCP on) or L0 (off); §2.3.1 `G43.5 H_`. P
+    // turned FANUC's tool posture control on (or off against Pr3054 = 1) before; L2, L-1 and
+    // L0.5 ran as L0. COR-002.
+    for block in ["G43.4 H1 P1", "G43.4 H1 P0", "G43.5 H1 P1", "G43.4 H1 L2", "G43.4 H1 L-1", "G43.4 H1 L0.5"] {
+        assert_eq!(syntec(HEAD, &format!("{block}\nG01 X10. F1000\nG49")), "COR-002", "{block}");
+    }
+    for block in ["G43.4 H1", "G43.4 H1 L1", "G43.4 H1 L1.", "G43.4 H1 L0", "G43.5 H1"] {
+        assert_eq!(syntec(HEAD, &format!("{block}\nG01 X10. F1000\nG49")), "ok", "{block}");
+    }
+    assert_eq!(fanuc(HEAD, "G43.4 H1 P1\nG01 X10. F1000\nG49"), "ok");
+    // A P another code of the block takes is that code's (G05 P0, M98 P).
+    assert_eq!(syntec(HEAD, "G05 P10000\nG05 P0 G43.4 H1\nG49"), "ok");
+}
+
+#[test]
+fn a_tool_alignment_block_takes_no_rotary_word() {
+    // twp TWP-07 (`G53.1 ;`), syn §4.2.1 (`G53.1 [P_]`): the alignment turns the rotary axes
+    // itself; `G53.1 B10.` took C from the alignment and B from the word (decision: PS0009 /
+    // COR-002, the dialects' illegal address).
+    let plane = "G68.2 X0 Y0 Z0 I0 J30. K0";
+    assert_eq!(fanuc(HEAD, &format!("{plane}\nG53.1 B10.\nG69")), "PS0009");
+    assert_eq!(syntec(HEAD, &format!("{plane}\nG53.1 C10.\nG69")), "COR-002");
+    assert_eq!(syntec(HEAD, &format!("{plane}\nG53.6 H1 B10.\nG49\nG69")), "COR-002");
+}
+
+#[test]
+fn no_tilted_plane_while_g68_rotation_is_on() {
+    // twp TWP-11, §1.3.1: G68 is not among the modal states the plane may start in (PS5462);
+    // the rotation was dropped silently before. Syntec: not composed either (decision, COR-100).
+    let src = "G00 X0 Y0 Z100.\nG68 X0 Y0 R30.\nG68.2 X10. Y20. Z5. I0 J0 K0\nG01 X10. Y0 Z0 F1000\nG69";
+    assert_eq!(fanuc(HEAD, src), "PS5462");
+    assert_eq!(syntec(HEAD, src), "COR-100");
+    assert_eq!(fanuc(HEAD, "G68 X0 Y0 R30.\nG69\nG68.2 X10. Y20. Z5. I0 J0 K0\nG69"), "ok");
+    assert_eq!(fanuc(HEAD, "G68 X0 Y0 R30.\nG68.3\nG69"), "PS5462");
+}
+
+#[test]
+fn length_compensation_and_mirror_image_end_before_g69() {
+    // twp TWP-16, §1.4 "Relationships with other modal commands": G43/G49 and G51.1/G50.1 nest
+    // inside G68.2 … G69 (no alarm named: PS5462, as for the cycle). G49 in the G69 block itself
+    // is refused too (decision: fivex would end the plane first). FANUC only: Syntec's manual
+    // ends its program with `G69 G49` (§4.6.5).
+    let plane = "G00 X0 Y0 Z100.\nG68.2 X10. Y20. Z5. I0 J30. K0\nG53.1";
+    for (end, want) in [
+        ("G43 H1\nG00 X0 Y0 Z50.\nG69", "PS5462"),
+        ("G44 H1\nG69", "PS5462"),
+        ("G43 H1\nG49 G69", "PS5462"),
+        ("G69 G43 H1", "PS5462"),
+        ("G51.1 X0\nG69", "PS5462"),
+        ("G51.1 X0 G69", "PS5462"),
+        ("G43 H1\nG49\nG69", "ok"),
+        ("G51.1 X0\nG50.1 X0\nG69", "ok"),
+        ("G51.1 X0\nG50.1 X0 G69", "ok"),
+    ] {
+        assert_eq!(fanuc(HEAD, &format!("{plane}\n{end}\nG49\nG50.1 X0")), want, "{end}");
+    }
+    assert_eq!(syntec(HEAD, &format!("{plane}\nG43 H1\nG69 G49")), "ok");
+}
+
+#[test]
+fn the_tilted_plane_needs_linear_rapids() {
+    // twp TWP-14, TV-TWP-27, OQ-17: LRP (No.1401#1) = 1 required, no alarm named: PS5462 at the
+    // plane's start (the extract's proposal); G43.4 there is PS5420. FANUC only.
+    let lrp0 = |dialect| {
+        outcome({
+            let mut interp = interpreter_with("G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG00 X10.\nG69", HEAD, dialect, |c| {
+                c.refuse_unbuilt = false;
+                c.edit_machine(|m| m.motion.nonlinear_rapid = true);
+            });
+            run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {})
+        })
+    };
+    assert_eq!(lrp0(Dialect::Fanuc), "PS5462");
+    assert_eq!(lrp0(Dialect::Syntec), "ok");
+    assert_eq!(fanuc(HEAD, "G68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG00 X10.\nG69"), "ok");
+}
+
+#[test]
+fn fivex_check_reports_the_syntec_addresses_literal_words_decide() {
+    // The rows of `syntec_g68_2_takes_no_fanuc_form` and of the G43.4/G43.5 P and L, at the word;
+    // a value given by an expression is left to the run.
+    let diag = |text: &str, dialect: Dialect| {
+        fivex_engine::check::check(parse_file(&format!("{text}\nM30\n")), dialect)
+            .iter()
+            .map(|d| (d.col, dialect.describe(&d.id).0))
+            .collect::<Vec<_>>()
+    };
+    let at = |cols: &[u32]| cols.iter().map(|&c| (c, "COR-002".to_string())).collect::<Vec<_>>();
+    assert_eq!(diag("G68.2 P2 Q1 X10. Y0 Z0", Dialect::Syntec), at(&[7, 10]));
+    assert_eq!(diag("G68.2 X0 Y0 Z0 I0 J30. K0 R5.", Dialect::Syntec), at(&[27]));
+    assert_eq!(diag("G43.4 H1 P1", Dialect::Syntec), at(&[10]));
+    assert_eq!(diag("G43.5 H1 P0", Dialect::Syntec), at(&[10]));
+    assert_eq!(diag("G43.4 H1 L2", Dialect::Syntec), at(&[10]));
+    for fine in ["G43.4 H1 L1", "G43.4 H1 L0", "G43.4 H1 L#1", "G05 P0 G43.4 H1", "G68.2 X0 Y0 Z0 I0 J30. K0"] {
+        assert_eq!(diag(fine, Dialect::Syntec), vec![], "{fine}");
+    }
+    assert_eq!(diag("G43.4 H1 P1", Dialect::Fanuc), vec![]);
+    assert_eq!(diag("G68.2 P2 Q1 X10. Y0 Z0", Dialect::Fanuc), vec![]);
 }

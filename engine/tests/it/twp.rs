@@ -50,6 +50,27 @@ fn tv32_tip_at_the_plane_origin_with_the_tool_along_feature_z_on_every_machine()
     }
 }
 
+/// Syntec §4.7.2 (TV-09/TV-34): the manual's own program as printed, from its first block
+/// `G71` (metric input in the Syntec dialect, decision; it was COR-070 at line 1). Surface 1's
+/// frame Xc (0, 0.965926, 0.258819), Yc (−1, 0, 0), Zc (0, −0.258819, 0.965926) at G54
+/// (100, 0, −26.7): the tip at FCS (11.4608, 24.1067, 10) after the G01 is G54 (75.893300, 8.482092,
+/// −14.074468), after `Z-.15` (75.893300, 11.109106, −23.878616), by hand.
+#[test]
+fn syntec_manual_example_4_7_2_runs_from_its_g71() {
+    let src = "G71\nG17 G40 G49 G90 G80\nG91 G28 Z0.0\nG90 G54 G00 X11.4608 Y24.1067\n\
+               G68.2 X100. Y0. Z-26.7 I0. J15. K90.\nG53.1\nG43 G00 Z10. H01\nS20000 M03\n\
+               G01 X11.4608 Y24.1067 F1000.\nZ-.15\nG49\nG69\nM30\n";
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let e = ends("head-bc", Dialect::Syntec, src);
+    let zc = Vec3::new(0.0, -0.258819, 0.965926);
+    for (line, want) in [(9, Vec3::new(75.8933, 8.482092, -14.074468)), (10, Vec3::new(75.8933, 11.109106, -23.878616))]
+    {
+        let at = kin.forward(&end_of(&e, line), 100.0);
+        assert!(close(at.tip, want, 1e-5), "line {line}: tip {:?}", at.tip);
+        assert!(close(at.tool, zc, 1e-6), "line {line}: tool {:?}", at.tool);
+    }
+}
+
 #[test]
 fn tv33_alignment_takes_the_masters_shortest_way() {
     // Spindle C–B from all zero: (C −60, B 15) or (C 120, B −15); the master C moves least.

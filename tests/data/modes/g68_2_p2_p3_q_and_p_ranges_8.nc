@@ -1,5 +1,5 @@
 (fivex: --preset mill3 --dialect syntec --allow-unbuilt)
 G68.2 P5 X0
 G69
-(twp TWP-03/04, TV-TWP-11e; P outside 0..4 [decision])
-(expect: status=completed)
+(twp TWP-03/04, TV-TWP-11e; P outside 0..4 [decision]; Syntec's G68.2 has no P: COR-002, syn SYN-18)
+(expect: alarm=COR-002 alarm_line=2)
