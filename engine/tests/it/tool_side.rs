@@ -112,14 +112,17 @@ fn type_2_on_a_table_machine_takes_i_j_k_after_its_g41_6_block() {
     assert_eq!(ends_with(&in_block, "table-ac", table).alarm, Some(("PS5460".into(), 3)));
 }
 
+/// `contour` from (-10, -10) under G41 on mill3 and under G41.2 on head-bc (the tool vertical).
+fn g41_and_g41_2(contour: &str) -> (Ends, Ends) {
+    let start = "G90 G00 X-10. Y-10. Z0\n";
+    (ends_of(&format!("{start}G41 D1\n{contour}"), "mill3"), ends_of(&format!("{start}G41.2 D1\n{contour}"), "head-bc"))
+}
+
 #[test]
 fn a_vertical_tool_compensates_as_g41_in_g17() {
     // With the tool along Z the plane is XY: the same tool centre as cutter compensation C.
-    let contour = "G01 X0 Y0 F500.\nX40.\nY40.\nX20. Y25.\nX0 Y40.\nY0\nG40 Y-10.\nM30\n";
-    let start = "G90 G00 X-10. Y-10. Z0\n";
-    let g41 = ends_of(&format!("{start}G41 D1\n{contour}"), "mill3");
-    let g41_2 = ends_of(&format!("{start}G41.2 D1\n{contour}"), "head-bc");
-    assert_eq!((g41.alarm, g41_2.alarm), (None, None));
+    let (g41, g41_2) = g41_and_g41_2("G01 X0 Y0 F500.\nX40.\nY40.\nX20. Y25.\nX0 Y40.\nY0\nG40 Y-10.\nM30\n");
+    assert_eq!((&g41.alarm, &g41_2.alarm), (&None, &None));
     assert_eq!(g41.ends.len(), g41_2.ends.len());
     assert_eq!(g41.ends.len(), 8, "the start, the start-up, 5 blocks, the cancel");
     for ((l1, a), (l2, b)) in g41.ends.iter().zip(&g41_2.ends) {
@@ -376,10 +379,7 @@ fn blocks_without_a_command_count_under_g41_2_as_under_g41() {
     // M08 and G90 between two sides are two blocks without movement: the vector is lost, the
     // side X40. ends perpendicular to itself at (40, 5) under both (`cutter.rs`,
     // `a_block_that_gives_no_command_is_a_block_without_motion`).
-    let contour = "G01 X0 Y0 F500.\nX40.\nM08\nG90\nY40.\nG40 X0.\nM30\n";
-    let start = "G90 G00 X-10. Y-10. Z0\n";
-    let g41 = ends_of(&format!("{start}G41 D1\n{contour}"), "mill3");
-    let g41_2 = ends_of(&format!("{start}G41.2 D1\n{contour}"), "head-bc");
+    let (g41, g41_2) = g41_and_g41_2("G01 X0 Y0 F500.\nX40.\nM08\nG90\nY40.\nG40 X0.\nM30\n");
     assert_eq!((&g41.alarm, &g41_2.alarm), (&None, &None));
     for got in [&g41, &g41_2] {
         let side = got.ends.iter().find(|(l, _)| *l == 4).map(|(_, p)| *p);
