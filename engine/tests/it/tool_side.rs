@@ -46,22 +46,29 @@ fn tv09_the_same_under_tool_centre_point_control() {
     assert!((at(7) - Vec3::new(95.0, 100.0, 100.0)).norm() < 1e-9, "{:?}", at(7));
 }
 
+/// The moves `blocks` (axis words, the two rotary angles at the end) of `preset` twice: with the
+/// rotary words `letters` (type 1), and with the tool directions they give as I/J/K (type 2).
+fn both_types(preset: &str, letters: (char, char), blocks: &[(&str, f64, f64)]) -> (String, String) {
+    let kin = Kinematics::new(&MachineConfig::preset(preset).unwrap()).unwrap();
+    let (mut type1, mut type2) = (String::new(), String::new());
+    for (k, (xyz, p, q)) in blocks.iter().enumerate() {
+        let mut pos = [0.0; 8];
+        (pos[3], pos[4]) = (*p, *q);
+        let t = kin.forward(&pos, 0.0).tool;
+        let feed = if k == 0 { " F1000." } else { "" };
+        type1 += &format!("G01 {xyz} {}{p:.3} {}{q:.3}{feed}\n", letters.0, letters.1);
+        type2 += &format!("G01 {xyz} I{:.9} J{:.9} K{:.9}{feed}\n", t.x, t.y, t.z);
+    }
+    (type1, type2)
+}
+
 #[test]
 fn type_2_under_g43_5_places_the_tip_as_type_1_with_the_same_tool_directions() {
     // G41.6 with the tool given by I/J/K at each block end (G43.5 turns them into angles) and
     // G41.2 with the same directions given by B/C: the same tool tip at every block end.
-    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
     let blocks =
         [("X0", 45.0, -90.0), ("X100.", 30.0, -60.0), ("Y100. Z60.", 20.0, -120.0), ("X20. Y80.", 35.0, -90.0)];
-    let (mut type1, mut type2) = (String::new(), String::new());
-    for (k, (xyz, b, c)) in blocks.iter().enumerate() {
-        let mut pos = [0.0; 8];
-        (pos[3], pos[4]) = (*b, *c);
-        let t = kin.forward(&pos, 0.0).tool;
-        let feed = if k == 0 { " F1000." } else { "" };
-        type1 += &format!("G01 {xyz} B{b:.3} C{c:.3}{feed}\n");
-        type2 += &format!("G01 {xyz} I{:.9} J{:.9} K{:.9}{feed}\n", t.x, t.y, t.z);
-    }
+    let (type1, type2) = both_types("head-bc", ('B', 'C'), &blocks);
     let start = "G90 G00 X-50. Y0 Z0 B45. C-90.\n";
     let end = "G40 X-50.\nG49\nM30\n";
     let one = ends_of(&format!("{start}G43.4 H1\nG41.2 D1\n{type1}{end}"), "head-bc");
@@ -85,17 +92,8 @@ fn type_2_on_a_table_machine_takes_i_j_k_after_its_g41_6_block() {
     // only: the blocks after it give the tool's direction by I/J/K as on any machine. On table-ac
     // in the table coordinate system (TBP = 1, WKP = 0): the tips of type 1 with A/C words for
     // the same directions.
-    let kin = Kinematics::new(&MachineConfig::preset("table-ac").unwrap()).unwrap();
     let blocks = [("X0 Y0", -20.0, 0.0), ("X60.", -30.0, 45.0), ("Y50. Z10.", -25.0, 90.0), ("X10. Y40.", -20.0, 60.0)];
-    let (mut type1, mut type2) = (String::new(), String::new());
-    for (k, (xyz, a, c)) in blocks.iter().enumerate() {
-        let mut pos = [0.0; 8];
-        (pos[3], pos[4]) = (*a, *c);
-        let t = kin.forward(&pos, 0.0).tool;
-        let feed = if k == 0 { " F1000." } else { "" };
-        type1 += &format!("G01 {xyz} A{a:.3} C{c:.3}{feed}\n");
-        type2 += &format!("G01 {xyz} I{:.9} J{:.9} K{:.9}{feed}\n", t.x, t.y, t.z);
-    }
+    let (type1, type2) = both_types("table-ac", ('A', 'C'), &blocks);
     let table = |c: &mut fivex_engine::interp::Config| c.edit_machine(|m| m.five_axis.crc_table_coordinates = true);
     let (start, end) = ("G90 G00 X-50. Y0 Z50. A0 C0\n", "G40 X-50.\nG49\nM30\n");
     let one = ends_with(&format!("{start}G43.4 H1\nG41.2 D1\n{type1}{end}"), "table-ac", table);
