@@ -424,7 +424,7 @@ impl State {
             kin.syntec_move_in_range(&from_machine, &machine_end)?;
         }
         if let (Some(a), None, false) = (&arc, t.frame, t.starting) {
-            workpiece_arc_allowed(&kin, a, &t.start_machine, &from_machine, &machine_end)?;
+            workpiece_arc_allowed(&kin, a.plane_axes.2, &t.start_machine, &from_machine, &machine_end)?;
         }
         // The start block is placed in the workpiece system on the table as it will stand;
         // later blocks in Π (or the workpiece system at the block's end angles, WKP = 1).
@@ -631,8 +631,8 @@ pub(super) struct FollowPath {
 /// block, or stands at another angle than at the end of the TCP start block. The line is taken
 /// in machine directions (those of W) at the block start, tilted by any table axis carrying it;
 /// tool rotary axes are free.
-fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos, to: &Pos) -> Result<(), AlarmId> {
-    let Some(normal_axis) = kin.linear.iter().position(|&i| i == Some(arc.plane_axes.2)) else {
+fn workpiece_arc_allowed(kin: &Kinematics, normal: usize, at_start: &Pos, from: &Pos, to: &Pos) -> Result<(), AlarmId> {
+    let Some(normal_axis) = kin.linear.iter().position(|&i| i == Some(normal)) else {
         return Ok(());
     };
     for (k, j) in kin.table.iter().enumerate() {
@@ -646,6 +646,58 @@ fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos
         }
     }
     Ok(())
+}
+
+/// Programming coordinates carried by the table's turn over a block: a circle under TCP in
+/// the workpiece system (WKP = 1) is on the table (§2.2.2: the tip "moves along an arc with
+/// respect to the table"; §2.3.7: "the start point, end point, and center of an arc change as
+/// the table rotation axis rotates"), so its start point, and the centre I/J/K give from it
+/// ("the vector … from the start point in the rotary axis position" of the block's start), are
+/// taken where the table carries them by the block's end, where the end point is read.
+pub(super) struct Carry {
+    kin: Shared<Kinematics>,
+    /// Programming coordinates at the block's start → the same table points' at its end.
+    map: Rigid,
+}
+
+impl Carry {
+    /// Where the table carries the point `p` (its X/Y/Z; the other axes stay).
+    pub(super) fn point(&self, p: &Pos) -> Pos {
+        with_xyz(&self.kin, p, self.map.to_parent(&xyz(&self.kin, p)))
+    }
+
+    /// The vector `v` along the plane axes `(a, b)` as the table turns it (the circle's plane
+    /// is normal to the turning axis, `workpiece_arc_allowed`, so it stays in the plane).
+    pub(super) fn vector(&self, (a, b): (usize, usize), v: (f64, f64)) -> (f64, f64) {
+        let mut p: Pos = [0.0; crate::machine::MAX_AXES];
+        (p[a], p[b]) = v;
+        let turned = with_xyz(&self.kin, &p, self.map.r * xyz(&self.kin, &p));
+        (turned[a], turned[b])
+    }
+}
+
+impl State {
+    /// A G02/G03 in the plane whose normal is the axis `normal`, to `target`: under TCP in the
+    /// workpiece system (WKP = 1) the rule of M-13 (PS5421), then, where a table axis turns in
+    /// the block, how the table carries the circle's start and centre (`Carry`). `None`: the
+    /// circle is read as it is.
+    pub(super) fn workpiece_arc_carry(&self, target: &Pos, normal: usize) -> Result<Option<Carry>, AlarmId> {
+        let Some(t) = self.tcp.as_ref().filter(|t| t.frame.is_none() && !t.starting) else { return Ok(None) };
+        let kin = t.kin.clone();
+        let from = self.machine_position();
+        let off = self.offset_vector();
+        let mut to = from;
+        for i in kin.joints().iter().filter_map(|j| j.index) {
+            to[i] = target[i] + off[i];
+        }
+        workpiece_arc_allowed(&kin, normal, &t.start_machine, &from, &to)?;
+        if !kin.table.iter().filter_map(|j| j.index).any(|i| (to[i] - from[i]).abs() > 1e-9) {
+            return Ok(None);
+        }
+        let (start, end) = (self.frame_on_table(&kin, &from), self.frame_on_table(&kin, &to));
+        let map = Rigid { r: end.r.transpose() * start.r, o: end.from_parent(&start.o) };
+        Ok(Some(Carry { kin, map }))
+    }
 }
 
 /// FANUC tool posture control on a circle (M-8, TCP-29): the tool keeps to one side of the
@@ -676,6 +728,17 @@ pub(super) fn xyz(kin: &Kinematics, p: &Pos) -> Vec3 {
         v[axis] = index.map_or(0.0, |i| p[i]);
     }
     v
+}
+
+/// `p` with its X/Y/Z (the machine's linear axes) set to `v`.
+fn with_xyz(kin: &Kinematics, p: &Pos, v: Vec3) -> Pos {
+    let mut out = *p;
+    for (axis, index) in kin.linear.iter().enumerate() {
+        if let Some(i) = index {
+            out[*i] = v[axis];
+        }
+    }
+    out
 }
 
 /// Type 2 inclination Q (TCP-13, M-6): `v` leans by `deg` toward the direction of travel, in
