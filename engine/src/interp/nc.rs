@@ -1045,8 +1045,11 @@ impl State {
                     (MotionKind::Linear, None)
                 }
             };
+            let reread = self.tcp_start_changes_system();
             self.tip_motion(kind, target, arc, out)?;
-            self.xf.programmed = programmed;
+            if !reread {
+                self.xf.programmed = programmed;
+            }
             return Ok(());
         }
         match self.modes[group::MOTION] {

@@ -207,13 +207,7 @@ impl State {
     fn tcp_started(&mut self) {
         let (Some(t), Some(machine)) = (&self.tcp, self.follow_machine) else { return };
         let kin = t.kin.clone();
-        // Haas TCPC has one convention, whatever the FANUC parameters say: the work
-        // coordinate system fixed to the table at the rotary zero (`tcp_begin`).
-        let coordinates = match self.cfg.dialect {
-            crate::Dialect::Haas => TcpCoordinates::TableAtZero,
-            _ => self.cfg.machine.five_axis.tcp_coordinates,
-        };
-        let frame = match coordinates {
+        let frame = match self.tcp_coordinates() {
             TcpCoordinates::TableAtStart => Some(self.frame_on_table(&kin, &machine)),
             TcpCoordinates::TableAtZero => Some(self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine))),
             TcpCoordinates::Workpiece => None,
@@ -226,6 +220,27 @@ impl State {
         t.starting = false;
         t.start_machine = machine;
         self.tcp_moved_to(machine);
+    }
+
+    /// Where Π is fixed after the start block. Haas TCPC has one convention, whatever the FANUC
+    /// parameters say: the work coordinate system fixed to the table at the rotary zero
+    /// (`tcp_begin`).
+    fn tcp_coordinates(&self) -> TcpCoordinates {
+        match self.cfg.dialect {
+            crate::Dialect::Haas => TcpCoordinates::TableAtZero,
+            _ => self.cfg.machine.five_axis.tcp_coordinates,
+        }
+    }
+
+    /// This block starts TCP and its X/Y/Z are read in another system than Π (FANUC INZ = 1,
+    /// Syntec Pr3055 = 1: the start block moves in the workpiece system, the next blocks in the
+    /// table system at zero, §2.3.5). Its end then sets the current point itself, the tip in Π
+    /// (`tcp_started`); the block's programmed X/Y/Z must not stand for it, or the next block's
+    /// incremental and omitted coordinates would be the start block's workpiece values.
+    pub(super) fn tcp_start_changes_system(&self) -> bool {
+        self.tcp.as_ref().is_some_and(|t| t.starting)
+            && self.cfg.dialect != crate::Dialect::Haas
+            && self.tcp_coordinates() == TcpCoordinates::TableAtZero
     }
 
     /// `machine` with every rotary axis at its program zero (machine angle = work offset).

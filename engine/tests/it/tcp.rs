@@ -1351,3 +1351,34 @@ fn q6_posture_control_on_a_rotary_only_block_turns_on_the_great_circle() {
     let b = of_line(&samples, 4);
     assert!((b.last().unwrap().t - b[0].t - 15.0).abs() < 0.2, "{}", b.last().unwrap().t - b[0].t);
 }
+
+#[test]
+fn after_an_inz_start_block_the_current_point_is_the_tip_in_the_table_system() {
+    // §2.3.5 (INZ = 1): the start block moves in the workpiece system, the next blocks in the
+    // table system at zero. table-ac at A30 C20: the tip at W (0, 0, 50) is the table point
+    // Rz(20)·(Rx(30) about (0, 0, −120))·(0, 0, 50): (0, −170·sin30°, −120 + 170·cos30°)
+    // turned by C: (85·sin20°, −85·cos20°, −120 + 170·cos30°) = (29.072, −79.874, 27.224).
+    let m = with_coordinates(free_preset("table-ac"), TcpCoordinates::TableAtZero);
+    let kin = Kinematics::new(&m).unwrap();
+    let here = Vec3::new(
+        85.0 * 20f64.to_radians().sin(),
+        -85.0 * 20f64.to_radians().cos(),
+        170.0 * 30f64.to_radians().cos() - 120.0,
+    );
+    let start = "G90 G00 X0 Y0 Z100. A0 C0\nG00 A30. C20.\nG43.4 H01 X0 Y0 Z50.\n";
+    // G91 X0 does not move the tip; X10. moves it 10 along Π's X; an absolute X30. keeps the
+    // omitted Y and Z where the tip is.
+    let cases = [
+        ("G91 G01 X0 F1000\nX10.\n", [0.0, 10.0]),
+        ("G90 G01 X29.072 F1000\nX30.\n", [29.072 - here.x, 30.0 - here.x]),
+    ];
+    for (moves, dx) in cases {
+        let src = format!("{start}{moves}G90 G49\nM30\n");
+        let ends = ends(m.clone(), Dialect::Fanuc, &src);
+        for (line, dx) in [(4, dx[0]), (5, dx[1])] {
+            let tip = kin.forward(&end_of(&ends, line), 100.0).tip;
+            let want = here + Vec3::new(dx, 0.0, 0.0);
+            assert!(close(tip, want, 1e-3), "{moves:?} line {line}: the tip at {tip:?} in Π, want {want:?}");
+        }
+    }
+}
