@@ -150,6 +150,14 @@ impl State {
             {
                 return Err(AlarmId::MachineParameter);
             }
+            // §2.3.19 CAUTION 1 (TCP-35): a movement range whose lower limit is above its upper
+            // limit raises PS5459 "when G43.5 is specified", not at the first block that needs
+            // the type 2 angles.
+            if code::TCP_TYPE2.contains(&self.modes[group::LENGTH_COMP])
+                && kin.joints().iter().any(|j| j.range.is_some_and(|[lo, hi]| lo > hi))
+            {
+                return Err(AlarmId::MachineParameter);
+            }
         }
         let haas = self.cfg.dialect == crate::Dialect::Haas;
         let machine = if haas { machine_before } else { self.machine_position() };
@@ -326,10 +334,22 @@ impl State {
             }
         }
         let Some(t) = &self.tcp else { return Ok(()) };
-        if !t.type2() || t.starting {
+        if !t.type2() {
             return Ok(());
         }
         let [i, j, k] = [b'I', b'J', b'K'].map(|l| self.value(w, l));
+        if t.starting && [i, j, k].iter().any(Option::is_some) {
+            // §2.2.3: a tool rotation machine may give the direction in the G43.5 block itself,
+            // which turns the tool there (`tcp_motion`); a table or mixed machine may not
+            // (PS5421, the mode rule TCP-08 for FANUC; the same for the other dialects).
+            // *Decision*: with an inclination Q the start block's lean is not defined (its
+            // move is not a tip travel under TCP): refused.
+            if !t.kin.table.is_empty() || t.inclination != 0.0 {
+                return Err(AlarmId::IllegalCommandInTcp);
+            }
+        } else if t.starting {
+            return Ok(());
+        }
         let commanded = if i.is_none() && j.is_none() && k.is_none() {
             None
         } else {
@@ -376,7 +396,8 @@ impl State {
         let from_machine = self.machine_position();
         let off = self.offset_vector();
         let mut through_singular = false;
-        if t.type2() && !t.starting {
+        // (The start block turns the tool only to a direction it gives: `tcp_words`.)
+        if t.type2() && (!t.starting || t.commanded.is_some()) {
             // Type 2: the rotary angles that give the commanded direction (TCP-09, M-10).
             let mut v = t.commanded.unwrap_or(t.direction);
             if t.inclination != 0.0 {
@@ -390,6 +411,7 @@ impl State {
             // Near a singular posture a FANUC TPC line may end through it instead (M-9), but
             // not while workpiece setting error compensation is on (WSE-24).
             if t.posture
+                && !t.starting
                 && self.wse.is_none()
                 && self.cfg.dialect == crate::Dialect::Fanuc
                 && matches!(kind, MotionKind::Rapid | MotionKind::Linear)

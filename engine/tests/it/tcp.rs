@@ -1382,3 +1382,47 @@ fn after_an_inz_start_block_the_current_point_is_the_tip_in_the_table_system() {
         }
     }
 }
+
+#[test]
+fn g43_5_with_i_j_k_on_a_tool_rotation_machine_turns_the_tool_in_the_start_block() {
+    // §2.2.3: a tool rotation machine may give I, J, K in the G43.5 block. head-bc from B0 C0:
+    // (1, 0, 1) is B45 C0 or B−45 C180; C (the first axis judged) moves least with C0. The
+    // start block ends with the tip at (10, 0, 50) and the tool along (1, 0, 1)/√2, and the
+    // next block, without I/J/K, keeps that direction.
+    let src = "G90 G00 X0 Y0 Z0 B0 C0\nG43.5 H01 X10. Y0 Z50. I1. J0 K1.\nG01 X20. F1000\nG49\nM30\n";
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    let ends = ends(m.clone(), Dialect::Fanuc, src);
+    let tool = Vec3::new(1.0, 0.0, 1.0).normalize();
+    for (line, tip) in [(2, Vec3::new(10.0, 0.0, 50.0)), (3, Vec3::new(20.0, 0.0, 50.0))] {
+        let end = end_of(&ends, line);
+        let pose = kin.forward(&end, 100.0);
+        assert!(close(pose.tip_machine, tip, 1e-6), "line {line}: tip {:?}", pose.tip_machine);
+        assert!(close(pose.tool, tool, 1e-9), "line {line}: tool {:?}", pose.tool);
+        assert!((end[3] - 45.0).abs() < 1e-9 && end[4].abs() < 1e-9, "line {line}: B{} C{}", end[3], end[4]);
+    }
+    // Decision: the start block's lean Q with a direction in it is not defined: refused.
+    let q = "G90 G00 X0 Y0 Z0 B0 C0\nG43.5 H01 X10. Y0 Z50. I1. J0 K1. Q5.\nG49\nM30\n";
+    assert_eq!(common::first_alarm_with(q, "head-bc", |_| {}), Some(("PS5421".to_string(), 2)));
+}
+
+/// head-bc with a movement range on C.
+fn head_with_c_range(range: [f64; 2]) -> MachineConfig {
+    let mut m = preset("head-bc");
+    m.rotary.iter_mut().find(|l| l.axis == 'C').unwrap().range = Some(range);
+    m
+}
+
+#[test]
+fn a_movement_range_with_lower_above_upper_is_refused_at_g43_5() {
+    // §2.3.19 CAUTION 1: PS5459 when G43.5 is specified, also when no block needs the angles.
+    let m = head_with_c_range([200.0, 100.0]);
+    for src in [
+        "G90 G00 X0 Y0 Z0 B0 C25.\nG43.5 H01 X0 Y0 Z50.\nG01 X10. F2000\nG49\nM30\n",
+        "G90 G00 X0 Y0 Z0 B0 C25.\nG43.5 H01 X0 Y0 Z50.\nG49\nM30\n",
+    ] {
+        let (r, _) = run_on(m.clone(), Dialect::Fanuc, src);
+        let first = r.alarms.first().map(|a| (a.code.clone(), a.line));
+        assert_eq!(first, Some(("PS5459".to_string(), 2)), "{src}");
+    }
+}
