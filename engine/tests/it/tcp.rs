@@ -1414,6 +1414,27 @@ fn head_with_c_range(range: [f64; 2]) -> MachineConfig {
 }
 
 #[test]
+fn a_rollover_axis_with_a_range_of_0_to_360_does_not_cross_0() {
+    // §2.3.19 CAUTION 4: with rollover and a 0–360 range the axis does not take the shortcut
+    // across 0°/360°. From C350 (reached from C0 the short way), (B60, C10) or (B−60, C190):
+    // C10 is only reached across 360° (or 340° the other way), C190 by 160°: B−60 C190, with C
+    // turning down from 350 to 190.
+    let m = head_with_c_range([0.0, 360.0]);
+    let c = m.axes.iter().find(|a| a.name == 'C').unwrap();
+    assert!(c.rollover && c.shortest, "the preset's C rolls over the short way");
+    let src = "G90 G00 X0 Y0 Z0 B0 C350.\nG43.5 H01 X0 Y0 Z50.\nG01 X10. I0.852869 J0.150384 K0.5 F2000\nM30\n";
+    let (r, samples) = run_on(m.clone(), Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let shown = |s: &Sample| m.shown(&s.machine);
+    let last = shown(samples.last().unwrap());
+    assert!((last[3] + 60.0).abs() < 1e-3 && (last[4] - 190.0).abs() < 1e-3, "ends at B{} C{}", last[3], last[4]);
+    for s in of_line(&samples, 3) {
+        let c = shown(&s)[4];
+        assert!((190.0 - 1e-6..=350.0 + 1e-6).contains(&c), "C at {c} at t = {}", s.t);
+    }
+}
+
+#[test]
 fn a_movement_range_with_lower_above_upper_is_refused_at_g43_5() {
     // §2.3.19 CAUTION 1: PS5459 when G43.5 is specified, also when no block needs the angles.
     let m = head_with_c_range([200.0, 100.0]);
