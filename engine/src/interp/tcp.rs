@@ -429,6 +429,14 @@ impl State {
                 self.tcp.as_mut().expect("under TCP").direction = c;
             }
         }
+        if self.cfg.dialect == crate::Dialect::Fanuc
+            && turns_with_the_tip_standing(&kin, kind, &arc, &self.pos, &target)
+        {
+            // TCP-06/07/10: a move that turns the rotary axes only must be G00/G01. The mode rule
+            // (`modes.rs`) sees a G02/G03 without X/Y/Z words; this one an R circle to its own
+            // start point (no circle, `State::arc`) while the tool turns.
+            return Err(AlarmId::IllegalCommandInTcp);
+        }
         let programmed = target;
         if self.tcp.as_ref().is_some_and(|t| !t.type2()) {
             // Type 1 under G54.4 with RCM = 1: the programmed angles seen from the WSCS.
@@ -765,6 +773,21 @@ pub(super) fn xyz(kin: &Kinematics, p: &Pos) -> Vec3 {
         v[axis] = index.map_or(0.0, |i| p[i]);
     }
     v
+}
+
+/// A G02/G03 that has no circle (an R arc whose end point is its start point in the plane)
+/// and no move along the normal either, while a rotary axis turns: the tip stands.
+fn turns_with_the_tip_standing(
+    kin: &Kinematics,
+    kind: MotionKind,
+    arc: &Option<Box<Arc>>,
+    from: &Pos,
+    to: &Pos,
+) -> bool {
+    matches!(kind, MotionKind::ArcCw | MotionKind::ArcCcw)
+        && arc.is_none()
+        && (xyz(kin, to) - xyz(kin, from)).norm() < 1e-9
+        && kin.joints().iter().filter_map(|j| j.index).any(|i| (to[i] - from[i]).abs() > 1e-9)
 }
 
 /// `p` with its X/Y/Z (the machine's linear axes) set to `v`.

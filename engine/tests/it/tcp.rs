@@ -1447,3 +1447,15 @@ fn a_movement_range_with_lower_above_upper_is_refused_at_g43_5() {
         assert_eq!(first, Some(("PS5459".to_string(), 2)), "{src}");
     }
 }
+
+#[test]
+fn a_circle_whose_tip_stands_while_a_rotary_axis_turns_is_refused() {
+    // §2.2.2 CAUTION: a command that does not move the tip relative to the workpiece must be
+    // G00/G01, also when it names X/Y (an R circle to its own start point) or G91 X0 Y0.
+    for circle in ["G17 G03 X40. Y0 B20. R10. F1000", "G91 G17 G03 X0 Y0 R10. B20. F1000"] {
+        let src = format!("G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H01 X40. Y0 Z20.\n{circle}\nG90 G01 G49\nM30\n");
+        let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src);
+        let first = r.alarms.first().map(|a| (a.code.clone(), a.line));
+        assert_eq!(first, Some(("PS5421".to_string(), 3)), "{circle}");
+    }
+}
