@@ -1130,8 +1130,11 @@ impl State {
                     (MotionKind::Linear, None)
                 }
             };
+            let reread = self.tcp_start_changes_system();
             self.tip_motion(kind, target, arc, out)?;
-            self.xf.programmed = programmed;
+            if !reread {
+                self.xf.programmed = programmed;
+            }
             return Ok(());
         }
         match self.modes[group::MOTION] {
@@ -1261,7 +1264,11 @@ impl State {
     /// start (no movement in the plane).
     pub(super) fn arc(&self, w: &Words, target: &Pos) -> Result<(bool, Option<Box<Arc>>), AlarmId> {
         let (a, b, c) = self.plane_axes()?;
-        let (sx, sy) = (self.pos[a], self.pos[b]);
+        // Under TCP in the workpiece system a circle is on the table: where the table turns in
+        // the block, its start (and centre) are read where the table carries them by the end.
+        let carry = self.workpiece_arc_carry(target, c)?;
+        let start = carry.as_ref().map_or(self.pos, |m| m.point(&self.pos));
+        let (sx, sy) = (start[a], start[b]);
         let (ex, ey) = (target[a], target[b]);
         let ijk = |axis: usize| -> Option<f64> {
             let letter = match self.cfg.machine.axes[axis].name {
@@ -1281,6 +1288,7 @@ impl State {
         let words =
             super::frames::ArcWords { r: self.value(w, b'R'), offset, cw: self.modes[group::MOTION] == code::G02 };
         let super::frames::ArcWords { r: radius, offset, cw } = self.arc_words((a, b), words)?;
+        let offset = carry.as_ref().map_or(offset, |m| m.vector((a, b), offset));
         let (cx, cy) = if let Some(r) = radius {
             let (dx, dy) = (ex - sx, ey - sy);
             let d = (dx * dx + dy * dy).sqrt();
@@ -1319,7 +1327,7 @@ impl State {
                 s
             }
         };
-        let mut center = self.pos;
+        let mut center = start;
         center[a] = cx;
         center[b] = cy;
         Ok((cw, Some(Box::new(Arc { center, plane_axes: (a, b, c), radius: r0, sweep_deg: sweep.to_degrees() }))))

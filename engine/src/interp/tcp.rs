@@ -150,6 +150,14 @@ impl State {
             {
                 return Err(AlarmId::MachineParameter);
             }
+            // §2.3.19 CAUTION 1 (TCP-35): a movement range whose lower limit is above its upper
+            // limit raises PS5459 "when G43.5 is specified", not at the first block that needs
+            // the type 2 angles.
+            if code::TCP_TYPE2.contains(&self.modes[group::LENGTH_COMP])
+                && kin.joints().iter().any(|j| j.range.is_some_and(|[lo, hi]| lo > hi))
+            {
+                return Err(AlarmId::MachineParameter);
+            }
         }
         let haas = self.cfg.dialect == crate::Dialect::Haas;
         let machine = if haas { machine_before } else { self.machine_position() };
@@ -207,13 +215,7 @@ impl State {
     fn tcp_started(&mut self) {
         let (Some(t), Some(machine)) = (&self.tcp, self.follow_machine) else { return };
         let kin = t.kin.clone();
-        // Haas TCPC has one convention, whatever the FANUC parameters say: the work
-        // coordinate system fixed to the table at the rotary zero (`tcp_begin`).
-        let coordinates = match self.cfg.dialect {
-            crate::Dialect::Haas => TcpCoordinates::TableAtZero,
-            _ => self.cfg.machine.five_axis.tcp_coordinates,
-        };
-        let frame = match coordinates {
+        let frame = match self.tcp_coordinates() {
             TcpCoordinates::TableAtStart => Some(self.frame_on_table(&kin, &machine)),
             TcpCoordinates::TableAtZero => Some(self.frame_on_table(&kin, &self.at_rotary_zero(&kin, &machine))),
             TcpCoordinates::Workpiece => None,
@@ -226,6 +228,27 @@ impl State {
         t.starting = false;
         t.start_machine = machine;
         self.tcp_moved_to(machine);
+    }
+
+    /// Where Π is fixed after the start block. Haas TCPC has one convention, whatever the FANUC
+    /// parameters say: the work coordinate system fixed to the table at the rotary zero
+    /// (`tcp_begin`).
+    fn tcp_coordinates(&self) -> TcpCoordinates {
+        match self.cfg.dialect {
+            crate::Dialect::Haas => TcpCoordinates::TableAtZero,
+            _ => self.cfg.machine.five_axis.tcp_coordinates,
+        }
+    }
+
+    /// This block starts TCP and its X/Y/Z are read in another system than Π (FANUC INZ = 1,
+    /// Syntec Pr3055 = 1: the start block moves in the workpiece system, the next blocks in the
+    /// table system at zero, §2.3.5). Its end then sets the current point itself, the tip in Π
+    /// (`tcp_started`); the block's programmed X/Y/Z must not stand for it, or the next block's
+    /// incremental and omitted coordinates would be the start block's workpiece values.
+    pub(super) fn tcp_start_changes_system(&self) -> bool {
+        self.tcp.as_ref().is_some_and(|t| t.starting)
+            && self.cfg.dialect != crate::Dialect::Haas
+            && self.tcp_coordinates() == TcpCoordinates::TableAtZero
     }
 
     /// `machine` with every rotary axis at its program zero (machine angle = work offset).
@@ -311,10 +334,22 @@ impl State {
             }
         }
         let Some(t) = &self.tcp else { return Ok(()) };
-        if !t.type2() || t.starting {
+        if !t.type2() {
             return Ok(());
         }
         let [i, j, k] = [b'I', b'J', b'K'].map(|l| self.value(w, l));
+        if t.starting && [i, j, k].iter().any(Option::is_some) {
+            // §2.2.3: a tool rotation machine may give the direction in the G43.5 block itself,
+            // which turns the tool there (`tcp_motion`); a table or mixed machine may not
+            // (PS5421, the mode rule TCP-08 for FANUC; the same for the other dialects).
+            // *Decision*: with an inclination Q the start block's lean is not defined (its
+            // move is not a tip travel under TCP): refused.
+            if !t.kin.table.is_empty() || t.inclination != 0.0 {
+                return Err(AlarmId::IllegalCommandInTcp);
+            }
+        } else if t.starting {
+            return Ok(());
+        }
         let commanded = if i.is_none() && j.is_none() && k.is_none() {
             None
         } else {
@@ -361,7 +396,8 @@ impl State {
         let from_machine = self.machine_position();
         let off = self.offset_vector();
         let mut through_singular = false;
-        if t.type2() && !t.starting {
+        // (The start block turns the tool only to a direction it gives: `tcp_words`.)
+        if t.type2() && (!t.starting || t.commanded.is_some()) {
             // Type 2: the rotary angles that give the commanded direction (TCP-09, M-10).
             let mut v = t.commanded.unwrap_or(t.direction);
             if t.inclination != 0.0 {
@@ -375,6 +411,7 @@ impl State {
             // Near a singular posture a FANUC TPC line may end through it instead (M-9), but
             // not while workpiece setting error compensation is on (WSE-24).
             if t.posture
+                && !t.starting
                 && self.wse.is_none()
                 && self.cfg.dialect == crate::Dialect::Fanuc
                 && matches!(kind, MotionKind::Rapid | MotionKind::Linear)
@@ -391,6 +428,14 @@ impl State {
             if let Some(c) = t.commanded {
                 self.tcp.as_mut().expect("under TCP").direction = c;
             }
+        }
+        if self.cfg.dialect == crate::Dialect::Fanuc
+            && turns_with_the_tip_standing(&kin, kind, &arc, &self.pos, &target)
+        {
+            // TCP-06/07/10: a move that turns the rotary axes only must be G00/G01. The mode rule
+            // (`modes.rs`) sees a G02/G03 without X/Y/Z words; this one an R circle to its own
+            // start point (no circle, `State::arc`) while the tool turns.
+            return Err(AlarmId::IllegalCommandInTcp);
         }
         let programmed = target;
         if self.tcp.as_ref().is_some_and(|t| !t.type2()) {
@@ -424,7 +469,7 @@ impl State {
             kin.syntec_move_in_range(&from_machine, &machine_end)?;
         }
         if let (Some(a), None, false) = (&arc, t.frame, t.starting) {
-            workpiece_arc_allowed(&kin, a, &t.start_machine, &from_machine, &machine_end)?;
+            workpiece_arc_allowed(&kin, a.plane_axes.2, &t.start_machine, &from_machine, &machine_end)?;
         }
         // The start block is placed in the workpiece system on the table as it will stand;
         // later blocks in Π (or the workpiece system at the block's end angles, WKP = 1).
@@ -631,8 +676,8 @@ pub(super) struct FollowPath {
 /// block, or stands at another angle than at the end of the TCP start block. The line is taken
 /// in machine directions (those of W) at the block start, tilted by any table axis carrying it;
 /// tool rotary axes are free.
-fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos, to: &Pos) -> Result<(), AlarmId> {
-    let Some(normal_axis) = kin.linear.iter().position(|&i| i == Some(arc.plane_axes.2)) else {
+fn workpiece_arc_allowed(kin: &Kinematics, normal: usize, at_start: &Pos, from: &Pos, to: &Pos) -> Result<(), AlarmId> {
+    let Some(normal_axis) = kin.linear.iter().position(|&i| i == Some(normal)) else {
         return Ok(());
     };
     for (k, j) in kin.table.iter().enumerate() {
@@ -646,6 +691,58 @@ fn workpiece_arc_allowed(kin: &Kinematics, arc: &Arc, at_start: &Pos, from: &Pos
         }
     }
     Ok(())
+}
+
+/// Programming coordinates carried by the table's turn over a block: a circle under TCP in
+/// the workpiece system (WKP = 1) is on the table (§2.2.2: the tip "moves along an arc with
+/// respect to the table"; §2.3.7: "the start point, end point, and center of an arc change as
+/// the table rotation axis rotates"), so its start point, and the centre I/J/K give from it
+/// ("the vector … from the start point in the rotary axis position" of the block's start), are
+/// taken where the table carries them by the block's end, where the end point is read.
+pub(super) struct Carry {
+    kin: Shared<Kinematics>,
+    /// Programming coordinates at the block's start → the same table points' at its end.
+    map: Rigid,
+}
+
+impl Carry {
+    /// Where the table carries the point `p` (its X/Y/Z; the other axes stay).
+    pub(super) fn point(&self, p: &Pos) -> Pos {
+        with_xyz(&self.kin, p, self.map.to_parent(&xyz(&self.kin, p)))
+    }
+
+    /// The vector `v` along the plane axes `(a, b)` as the table turns it (the circle's plane
+    /// is normal to the turning axis, `workpiece_arc_allowed`, so it stays in the plane).
+    pub(super) fn vector(&self, (a, b): (usize, usize), v: (f64, f64)) -> (f64, f64) {
+        let mut p: Pos = [0.0; crate::machine::MAX_AXES];
+        (p[a], p[b]) = v;
+        let turned = with_xyz(&self.kin, &p, self.map.r * xyz(&self.kin, &p));
+        (turned[a], turned[b])
+    }
+}
+
+impl State {
+    /// A G02/G03 in the plane whose normal is the axis `normal`, to `target`: under TCP in the
+    /// workpiece system (WKP = 1) the rule of M-13 (PS5421), then, where a table axis turns in
+    /// the block, how the table carries the circle's start and centre (`Carry`). `None`: the
+    /// circle is read as it is.
+    pub(super) fn workpiece_arc_carry(&self, target: &Pos, normal: usize) -> Result<Option<Carry>, AlarmId> {
+        let Some(t) = self.tcp.as_ref().filter(|t| t.frame.is_none() && !t.starting) else { return Ok(None) };
+        let kin = t.kin.clone();
+        let from = self.machine_position();
+        let off = self.offset_vector();
+        let mut to = from;
+        for i in kin.joints().iter().filter_map(|j| j.index) {
+            to[i] = target[i] + off[i];
+        }
+        workpiece_arc_allowed(&kin, normal, &t.start_machine, &from, &to)?;
+        if !kin.table.iter().filter_map(|j| j.index).any(|i| (to[i] - from[i]).abs() > 1e-9) {
+            return Ok(None);
+        }
+        let (start, end) = (self.frame_on_table(&kin, &from), self.frame_on_table(&kin, &to));
+        let map = Rigid { r: end.r.transpose() * start.r, o: end.from_parent(&start.o) };
+        Ok(Some(Carry { kin, map }))
+    }
 }
 
 /// FANUC tool posture control on a circle (M-8, TCP-29): the tool keeps to one side of the
@@ -676,6 +773,32 @@ pub(super) fn xyz(kin: &Kinematics, p: &Pos) -> Vec3 {
         v[axis] = index.map_or(0.0, |i| p[i]);
     }
     v
+}
+
+/// A G02/G03 that has no circle (an R arc whose end point is its start point in the plane)
+/// and no move along the normal either, while a rotary axis turns: the tip stands.
+fn turns_with_the_tip_standing(
+    kin: &Kinematics,
+    kind: MotionKind,
+    arc: &Option<Box<Arc>>,
+    from: &Pos,
+    to: &Pos,
+) -> bool {
+    matches!(kind, MotionKind::ArcCw | MotionKind::ArcCcw)
+        && arc.is_none()
+        && (xyz(kin, to) - xyz(kin, from)).norm() < 1e-9
+        && kin.joints().iter().filter_map(|j| j.index).any(|i| (to[i] - from[i]).abs() > 1e-9)
+}
+
+/// `p` with its X/Y/Z (the machine's linear axes) set to `v`.
+fn with_xyz(kin: &Kinematics, p: &Pos, v: Vec3) -> Pos {
+    let mut out = *p;
+    for (axis, index) in kin.linear.iter().enumerate() {
+        if let Some(i) = index {
+            out[*i] = v[axis];
+        }
+    }
+    out
 }
 
 /// Type 2 inclination Q (TCP-13, M-6): `v` leans by `deg` toward the direction of travel, in

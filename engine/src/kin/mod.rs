@@ -60,6 +60,9 @@ pub struct Joint {
     pub fixed: f64,
     /// Allowed commanded angles `[low, high]`; `None`: unrestricted.
     pub range: Option<[f64; 2]>,
+    /// The axis rolls over (its angle counts modulo 360°): a range limits the angle, not the
+    /// count of turns.
+    pub rollover: bool,
 }
 
 impl Joint {
@@ -228,6 +231,7 @@ impl Kinematics {
         m.validate().map_err(ConfigError::invalid)?;
         let joint = |link: &crate::machine::RotaryLink| {
             let index = m.axes.iter().position(|a| a.name == link.axis && a.kind == AxisKind::Rotary);
+            let rollover = index.is_some_and(|i| m.axes[i].rollover);
             Joint {
                 name: link.axis,
                 index,
@@ -238,6 +242,7 @@ impl Kinematics {
                 point: vec3(link.point),
                 fixed: link.fixed.unwrap_or(0.0),
                 range: link.range,
+                rollover,
             }
         };
         let head: Vec<Joint> = m.rotary.iter().filter(|l| l.side == Side::Head).map(joint).collect();

@@ -56,6 +56,24 @@ fn nearest_member(basic: f64, current: f64, range: Option<[f64; 2]>) -> Option<f
     Some(nearest)
 }
 
+/// FANUC §2.3.19 CAUTION 4: on a rollover axis a movement range limits the angle (modulo
+/// 360°), not the count of turns the machine position keeps (C350 reached from C0 the short
+/// way is −10 there): the turns to add to `current` so that it lies in the range, where one
+/// member does, else 0. The choice is then made in the range and the axis turns to it the
+/// linear way, never across the range's ends (with 0–360: across 0°/360°).
+fn rollover_turns(j: &super::Joint, current: f64) -> f64 {
+    let Some([lo, hi]) = j.range.filter(|r| j.rollover && (r[0] != 0.0 || r[1] != 0.0)) else { return 0.0 };
+    if current >= lo - TIE && current <= hi + TIE {
+        return 0.0;
+    }
+    let turns = 360.0 * ceil((lo - TIE - current) * (1.0 / 360.0));
+    if current + turns <= hi + TIE {
+        turns
+    } else {
+        0.0
+    }
+}
+
 /// `x` in units of the tie tolerance: equal keys are ties.
 fn quantum(x: f64) -> i64 {
     crate::angle::round(x * (1.0 / TIE))
@@ -125,16 +143,18 @@ impl Kinematics {
             let mut zero = [0.0; 2];
             for (k, j) in joints.iter().enumerate() {
                 let Some(i) = j.index else { continue };
+                let turns = rollover_turns(j, from[i]);
+                let current = from[i] + turns;
                 let target = if c.free[k] {
-                    from[i]
+                    current
                 } else {
-                    match nearest_member(c.pos[i], from[i], j.range) {
+                    match nearest_member(c.pos[i], current, j.range) {
                         Some(t) => t,
                         None => continue 'candidates,
                     }
                 };
-                pos[i] = target;
-                moved[k] = (target - from[i]).abs();
+                pos[i] = target - turns;
+                moved[k] = (target - current).abs();
                 zero[k] = zero_distance(target);
             }
             // Judged in order: movements, then distances to 0° (absent joints count 0).

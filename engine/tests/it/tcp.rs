@@ -677,8 +677,10 @@ fn tv34_to_tv42_workpiece_arcs_on_a_table_machine() {
     assert_eq!(workpiece_arc("table-ac", a90, "", 17, "C10."), ps, "TV-36");
     // TV-37: A (not normal to XY) turned since G43.4.
     assert_eq!(workpiece_arc("table-ac", "", "G01 A10. F1000.", 17, "C10."), ps, "TV-37");
-    // TV-38: A is normal to YZ and may turn.
-    assert_eq!(workpiece_arc("table-ac", a90, "", 19, "A10."), None, "TV-38");
+    // TV-38: A is normal to YZ and may turn. (The rule lets it through; this quarter circle
+    // is then on the table, and A's 80° turn carries its start (130 mm from A's line) over 100 mm
+    // away, beyond the reach of R10: PS0020. `workpiece_circles_are_on_the_table_while_it_turns` runs one that fits.)
+    assert_eq!(workpiece_arc("table-ac", a90, "", 19, "A10."), Some("PS0020".to_string()), "TV-38");
     // TV-39: C (along Z at A0) turned since G43.4, not normal to YZ.
     assert_eq!(workpiece_arc("table-ac", "", "G01 C10. F1000.", 19, ""), ps, "TV-39");
     // TV-40: at A90 C is along Y, normal to ZX; A unmoved.
@@ -701,6 +703,131 @@ fn workpiece_arc_rule_is_only_for_wkp_1() {
     }
     let (r, _) = run_on(m, Dialect::Fanuc, src);
     assert!(r.completed(), "{:?}", r.alarms);
+}
+
+/// Runs a WKP = 1 circle (line 4 of `src`, line 5 the G49 block after it) and checks it is the
+/// circle about `center` (table frame) of radius `radius` at every sample, ends with the tip
+/// at the programmed point `end` (workpiece system = machine coordinates here), and no linear
+/// axis steps more than 0.5 mm in a 1 ms sample (the axes ran 19–25 mm in one when the circle
+/// missed its end point).
+fn check_workpiece_circle(machine: &str, src: &str, center: Vec3, radius: f64, end: Vec3) {
+    let m = workpiece_preset(machine);
+    let kin = Kinematics::new(&m).unwrap();
+    let (r, samples) = run_on(m.clone(), Dialect::Fanuc, src);
+    assert!(r.completed(), "{src}: {:?}", r.alarms);
+    for s in of_line(&samples, 4) {
+        let off = (kin.forward(&s.machine, 100.0).tip - center).norm() - radius;
+        assert!(off.abs() < 2e-3, "{src}: the tip {off} mm off the circle on the table at t = {}", s.t);
+    }
+    let (tip, _) = tip_at_end(&m, src, 4);
+    assert!(close(tip, end, 1e-6), "{src}: the circle ends at {tip:?}, not at {end:?}");
+    let around: Vec<&Sample> = samples.iter().filter(|s| s.line == 4 || s.line == 5).collect();
+    for w in around.windows(2) {
+        let step = (0..3).map(|i| (w[1].machine[i] - w[0].machine[i]).abs()).fold(0.0, f64::max);
+        assert!(step < 0.5, "{src}: a linear axis steps {step} mm at t = {}", w[1].t);
+    }
+}
+
+#[test]
+fn workpiece_circles_are_on_the_table_while_it_turns() {
+    // §2.3.7/§2.3.8 (TV-30's program with numbers): under WKP = 1 a circle during which the
+    // table axis normal to its plane turns is a circle on the table whose start point and I/J/K
+    // are read where the table stands at the block's start and its end point where it stands
+    // at the end. mixed-bc: C (table, about Z through the origin, left-hand) puts a table point
+    // p at Rz(−C)·p. The tip starts at W (50, 0) at C90: the table point (0, 50). The circle on
+    // the table about (0, 30), R20, clockwise to (20, 30), which at C20 is at W Rz(−20)·(20, 30)
+    // = (29.0545, 21.3504). I/J/K at C90: the centre at W Rz(−90)·(0, 30) = (30, 0), I−20 J0.
+    for words in ["R20.", "I-20. J0"] {
+        let src = format!(
+            "G90 G00 X0 Y0 Z50. B0 C0\nG01 C90. F2000\nG43.4 H01 X50. Y0 Z0\n\
+             G17 G02 X29.054 Y21.350 {words} B10. C20. F500\nG01 G49\nM30\n"
+        );
+        let end = Vec3::new(29.054, 21.35, 0.0);
+        check_workpiece_circle("mixed-bc", &src, Vec3::new(0.0, 30.0, 0.0), 20.0, end);
+    }
+    // table-ac, TV-38's case (A normal to YZ turns): A (about X through (0, 0, −120),
+    // left-hand) puts a table point p at Rx(−A) about that line. W (0, 0, 50) at A90 is the
+    // table point (0, −170, −120); the circle on the table about (0, −170, −100), R20,
+    // counter-clockwise seen from +X to (0, −150, −100), which at A10 is at W
+    // (0, −150·cos10° + 20·sin10°, −120 − 150·sin(−10°) + 20·cos10°) = (0, −144.2482, −74.2566).
+    let src = "G90 G00 X0 Y0 Z100. A0 C0\nG01 A90. F2000\nG43.4 H01 X0 Y0 Z50.\n\
+               G19 G03 Y-144.248 Z-74.257 R20. A10. F500\nG01 G49\nM30\n";
+    let end = Vec3::new(0.0, -144.248, -74.257);
+    check_workpiece_circle("table-ac", src, Vec3::new(0.0, -170.0, -100.0), 20.0, end);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(32), ..ProptestConfig::default() })]
+
+    /// The executed path ends at the block's end point: random circles on the table of
+    /// mixed-bc (G17) while C turns, written as WKP = 1 programs (each end point in the
+    /// workpiece system where the table stands then, `Kinematics::table_frame`). Every sample
+    /// on the circle, the block's end at its programmed point, no axis step.
+    #[test]
+    fn workpiece_circles_end_where_programmed_while_the_table_turns(
+        c0 in -180.0..180.0f64,
+        turn in -90.0..90.0f64,
+        center in (-60.0..60.0f64, -60.0..60.0f64),
+        radius in 5.0..40.0f64,
+        phase in 0.0..360.0f64,
+        sweep in 10.0..150.0f64,
+        cw in any::<bool>(),
+    ) {
+        let m = workpiece_preset("mixed-bc");
+        let kin = Kinematics::new(&m).unwrap();
+        let c = m.axes.iter().position(|a| a.name == 'C').unwrap();
+        let on_circle = |deg: f64| {
+            let (s, co) = deg.to_radians().sin_cos();
+            Vec3::new(center.0 + radius * co, center.1 + radius * s, 0.0)
+        };
+        let end_phase = if cw { phase - sweep } else { phase + sweep };
+        let at = |angle: f64, p: Vec3| {
+            let mut pos = [0.0; 8];
+            pos[c] = angle;
+            kin.table_frame(&pos).to_parent(&p)
+        };
+        let (c0, c1) = (mm(c0), mm(c0 + turn));
+        let (start, end) = (at(c0, on_circle(phase)), at(c1, on_circle(end_phase)));
+        let (start, end) = (start.map(mm), end.map(mm));
+        let src = format!(
+            "G90 G00 X0 Y0 Z50. B0 C{c0:.3}\nG43.4 H01 X{:.3} Y{:.3} Z0\nG01 F2000\n\
+             G17 G0{} X{:.3} Y{:.3} R{radius:.3} B10. C{c1:.3} F1000\nG01 G49\nM30\n",
+            start.x, start.y, if cw { 2 } else { 3 }, end.x, end.y
+        );
+        let (r, samples) = run_on(m.clone(), Dialect::Fanuc, &src);
+        prop_assert!(r.completed(), "{}: {:?}", src, r.alarms);
+        let centre = Vec3::new(center.0, center.1, 0.0);
+        for s in of_line(&samples, 4) {
+            let off = (kin.forward(&s.machine, 100.0).tip - centre).norm() - radius;
+            // (The program's 0.001 mm digits move an R circle's centre by up to about 4 times
+            // that at 150°.)
+            prop_assert!(off.abs() < 5e-3, "{}: the tip {} mm off the circle at t = {}", src, off, s.t);
+        }
+        let (tip, _) = tip_at_end(&m, &src, 4);
+        prop_assert!(close(tip, end, 1e-6), "{}: ends at {:?}, not {:?}", src, tip, end);
+        let around: Vec<&Sample> = samples.iter().filter(|s| s.line == 4 || s.line == 5).collect();
+        for w in around.windows(2) {
+            let step = (0..3).map(|i| (w[1].machine[i] - w[0].machine[i]).abs()).fold(0.0, f64::max);
+            prop_assert!(step < 0.5, "{}: a linear axis steps {} mm at t = {}", src, step, w[1].t);
+        }
+    }
+}
+
+#[test]
+fn a_workpiece_circle_that_cannot_be_on_the_table_is_refused() {
+    // The audit's numbers: from W (50, 0) at C90 (table (0, 50)) to W (30, −20) at C20 (table
+    // Rz(20)·(30, −20) = (35.031, −8.533)): a chord of 68.2 mm on the table, an R20 circle
+    // cannot join them (PS0020, as any arc whose radius is short of half its chord); I−20 J0
+    // puts the centre at the table point (0, 30), 52 mm from the end.
+    for words in ["R20.", "I-20. J0"] {
+        let src = format!(
+            "G90 G00 X0 Y0 Z50. B0 C0\nG01 C90. F2000\nG43.4 H01 X50. Y0 Z0\n\
+             G17 G02 X30. Y-20. {words} B10. C20. F500\nG01 G49\nM30\n"
+        );
+        let (r, _) = run_on(workpiece_preset("mixed-bc"), Dialect::Fanuc, &src);
+        let first = r.alarms.first().map(|a| (a.code.clone(), a.line));
+        assert_eq!(first, Some(("PS0020".to_string(), 4)), "{words}");
+    }
 }
 
 /// A preset without stroke limits.
@@ -1260,5 +1387,113 @@ fn syntec_reference_returns_under_rtcp_are_refused() {
                 panic!("{preset} {start}: {e}");
             }
         }
+    }
+}
+
+#[test]
+fn after_an_inz_start_block_the_current_point_is_the_tip_in_the_table_system() {
+    // §2.3.5 (INZ = 1): the start block moves in the workpiece system, the next blocks in the
+    // table system at zero. table-ac at A30 C20: the tip at W (0, 0, 50) is the table point
+    // Rz(20)·(Rx(30) about (0, 0, −120))·(0, 0, 50): (0, −170·sin30°, −120 + 170·cos30°)
+    // turned by C: (85·sin20°, −85·cos20°, −120 + 170·cos30°) = (29.072, −79.874, 27.224).
+    let m = with_coordinates(free_preset("table-ac"), TcpCoordinates::TableAtZero);
+    let kin = Kinematics::new(&m).unwrap();
+    let here = Vec3::new(
+        85.0 * 20f64.to_radians().sin(),
+        -85.0 * 20f64.to_radians().cos(),
+        170.0 * 30f64.to_radians().cos() - 120.0,
+    );
+    let start = "G90 G00 X0 Y0 Z100. A0 C0\nG00 A30. C20.\nG43.4 H01 X0 Y0 Z50.\n";
+    // G91 X0 does not move the tip; X10. moves it 10 along Π's X; an absolute X30. keeps the
+    // omitted Y and Z where the tip is.
+    let cases = [
+        ("G91 G01 X0 F1000\nX10.\n", [0.0, 10.0]),
+        ("G90 G01 X29.072 F1000\nX30.\n", [29.072 - here.x, 30.0 - here.x]),
+    ];
+    for (moves, dx) in cases {
+        let src = format!("{start}{moves}G90 G49\nM30\n");
+        let ends = ends(m.clone(), Dialect::Fanuc, &src);
+        for (line, dx) in [(4, dx[0]), (5, dx[1])] {
+            let tip = kin.forward(&end_of(&ends, line), 100.0).tip;
+            let want = here + Vec3::new(dx, 0.0, 0.0);
+            assert!(close(tip, want, 1e-3), "{moves:?} line {line}: the tip at {tip:?} in Π, want {want:?}");
+        }
+    }
+}
+
+#[test]
+fn g43_5_with_i_j_k_on_a_tool_rotation_machine_turns_the_tool_in_the_start_block() {
+    // §2.2.3: a tool rotation machine may give I, J, K in the G43.5 block. head-bc from B0 C0:
+    // (1, 0, 1) is B45 C0 or B−45 C180; C (the first axis judged) moves least with C0. The
+    // start block ends with the tip at (10, 0, 50) and the tool along (1, 0, 1)/√2, and the
+    // next block, without I/J/K, keeps that direction.
+    let src = "G90 G00 X0 Y0 Z0 B0 C0\nG43.5 H01 X10. Y0 Z50. I1. J0 K1.\nG01 X20. F1000\nG49\nM30\n";
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    let ends = ends(m.clone(), Dialect::Fanuc, src);
+    let tool = Vec3::new(1.0, 0.0, 1.0).normalize();
+    for (line, tip) in [(2, Vec3::new(10.0, 0.0, 50.0)), (3, Vec3::new(20.0, 0.0, 50.0))] {
+        let end = end_of(&ends, line);
+        let pose = kin.forward(&end, 100.0);
+        assert!(close(pose.tip_machine, tip, 1e-6), "line {line}: tip {:?}", pose.tip_machine);
+        assert!(close(pose.tool, tool, 1e-9), "line {line}: tool {:?}", pose.tool);
+        assert!((end[3] - 45.0).abs() < 1e-9 && end[4].abs() < 1e-9, "line {line}: B{} C{}", end[3], end[4]);
+    }
+    // Decision: the start block's lean Q with a direction in it is not defined: refused.
+    let q = "G90 G00 X0 Y0 Z0 B0 C0\nG43.5 H01 X10. Y0 Z50. I1. J0 K1. Q5.\nG49\nM30\n";
+    assert_eq!(common::first_alarm_with(q, "head-bc", |_| {}), Some(("PS5421".to_string(), 2)));
+}
+
+/// head-bc with a movement range on C.
+fn head_with_c_range(range: [f64; 2]) -> MachineConfig {
+    let mut m = preset("head-bc");
+    m.rotary.iter_mut().find(|l| l.axis == 'C').unwrap().range = Some(range);
+    m
+}
+
+#[test]
+fn a_rollover_axis_with_a_range_of_0_to_360_does_not_cross_0() {
+    // §2.3.19 CAUTION 4: with rollover and a 0–360 range the axis does not take the shortcut
+    // across 0°/360°. From C350 (reached from C0 the short way), (B60, C10) or (B−60, C190):
+    // C10 is only reached across 360° (or 340° the other way), C190 by 160°: B−60 C190, with C
+    // turning down from 350 to 190.
+    let m = head_with_c_range([0.0, 360.0]);
+    let c = m.axes.iter().find(|a| a.name == 'C').unwrap();
+    assert!(c.rollover && c.shortest, "the preset's C rolls over the short way");
+    let src = "G90 G00 X0 Y0 Z0 B0 C350.\nG43.5 H01 X0 Y0 Z50.\nG01 X10. I0.852869 J0.150384 K0.5 F2000\nM30\n";
+    let (r, samples) = run_on(m.clone(), Dialect::Fanuc, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let shown = |s: &Sample| m.shown(&s.machine);
+    let last = shown(samples.last().unwrap());
+    assert!((last[3] + 60.0).abs() < 1e-3 && (last[4] - 190.0).abs() < 1e-3, "ends at B{} C{}", last[3], last[4]);
+    for s in of_line(&samples, 3) {
+        let c = shown(&s)[4];
+        assert!((190.0 - 1e-6..=350.0 + 1e-6).contains(&c), "C at {c} at t = {}", s.t);
+    }
+}
+
+#[test]
+fn a_movement_range_with_lower_above_upper_is_refused_at_g43_5() {
+    // §2.3.19 CAUTION 1: PS5459 when G43.5 is specified, also when no block needs the angles.
+    let m = head_with_c_range([200.0, 100.0]);
+    for src in [
+        "G90 G00 X0 Y0 Z0 B0 C25.\nG43.5 H01 X0 Y0 Z50.\nG01 X10. F2000\nG49\nM30\n",
+        "G90 G00 X0 Y0 Z0 B0 C25.\nG43.5 H01 X0 Y0 Z50.\nG49\nM30\n",
+    ] {
+        let (r, _) = run_on(m.clone(), Dialect::Fanuc, src);
+        let first = r.alarms.first().map(|a| (a.code.clone(), a.line));
+        assert_eq!(first, Some(("PS5459".to_string(), 2)), "{src}");
+    }
+}
+
+#[test]
+fn a_circle_whose_tip_stands_while_a_rotary_axis_turns_is_refused() {
+    // §2.2.2 CAUTION: a command that does not move the tip relative to the workpiece must be
+    // G00/G01, also when it names X/Y (an R circle to its own start point) or G91 X0 Y0.
+    for circle in ["G17 G03 X40. Y0 B20. R10. F1000", "G91 G17 G03 X0 Y0 R10. B20. F1000"] {
+        let src = format!("G90 G00 X0 Y0 Z0 B0 C0\nG43.4 H01 X40. Y0 Z20.\n{circle}\nG90 G01 G49\nM30\n");
+        let (r, _) = run_on(free_preset("head-bc"), Dialect::Fanuc, &src);
+        let first = r.alarms.first().map(|a| (a.code.clone(), a.line));
+        assert_eq!(first, Some(("PS5421".to_string(), 3)), "{circle}");
     }
 }
