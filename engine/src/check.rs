@@ -150,7 +150,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         let m_call = words.iter().any(|w| {
                             w.letter == b'M'
                                 && matches!(w.value, WordValue::Number { value, .. }
-                                    if mcode::SUBPROGRAM_CALLS.contains(&(value as u32)) || value == mcode::M99 as f64)
+                                    if value.fract() == 0.0 && mcode::call_or_return(value as u32))
                         });
                         for word in words {
                             let value = match word.value {

@@ -40,3 +40,8 @@ pub const M198: u32 = 198;
 
 /// The subprogram calls.
 pub const SUBPROGRAM_CALLS: [u32; 2] = [M98, M198];
+
+/// A subprogram call or the return from one (its P and L are the call's).
+pub fn call_or_return(m: u32) -> bool {
+    SUBPROGRAM_CALLS.contains(&m) || m == M99
+}

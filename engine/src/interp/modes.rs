@@ -1130,7 +1130,7 @@ pub(crate) fn syntec_improper_address(
 
 /// The block calls a subprogram or returns by an M code (its P and L are the call's).
 fn m_call(w: &Words) -> bool {
-    w.mcodes().iter().any(|&m| super::mcode::SUBPROGRAM_CALLS.contains(&m) || m == super::mcode::M99)
+    w.mcodes().iter().any(|&m| super::mcode::call_or_return(m))
 }
 
 /// G80 and the canned cycles (group 09).

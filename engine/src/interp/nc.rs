@@ -378,7 +378,7 @@ impl State {
         }
         let calls = self.frames.len() != depth
             || w.gcodes().iter().any(|c| code::MACRO_CALLS.contains(c) || *c == code::G67)
-            || w.mcodes().iter().any(|&m| matches!(m, mcode::M97 | mcode::M98 | mcode::M99 | mcode::M198));
+            || w.mcodes().iter().any(|&m| mcode::call_or_return(m) || m == mcode::M97);
         if calls || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
             return;
         }
