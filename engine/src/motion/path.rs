@@ -549,12 +549,42 @@ fn largest_step(kin: &Kinematics, a: &Pos, b: &Pos) -> f64 {
     kin.joints().iter().filter_map(|j| j.index).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max)
 }
 
+/// Where the axes are looked at along a block ([`steps_within`], [`no_jump`]): every
+/// 1/[`STEPS`] of it, and where `direction(u)` comes nearest the singular posture between two of
+/// those. A way passing within a hair of the posture needs the free axis to turn half round
+/// within that hair, and the inverse solution nearest the proportional angles changes branch
+/// there; between two looks that went unseen, and the axes stepped (a random head-head: A by
+/// 180° in a millisecond, with no notice). Each sampled dip of the tool's lean off the
+/// posture's line is followed down to its bottom.
+fn checkpoints(kin: &Kinematics, direction: &impl Fn(f64) -> Vec3) -> Vec<f64> {
+    let mut out: Vec<f64> = (1..=STEPS).map(|k| k as f64 / STEPS as f64).collect();
+    let Some(joint) = kin.singular_joint() else { return out };
+    // The sine of the lean: exact near the posture, where its cosine keeps no digits.
+    let lean = |u: f64| direction(u).normalize().cross(&joint.direction).norm();
+    let at: Vec<f64> = (0..=STEPS).map(|k| lean(k as f64 / STEPS as f64)).collect();
+    // A dip at an end point lies between it and its neighbour (the way may pass the posture
+    // within the last 64th and end beyond it: a random head-table machine stepped B 180° there).
+    let step = 1.0 / STEPS as f64;
+    let lower = |k: usize, j: Option<usize>| j.and_then(|j| at.get(j)).is_none_or(|&a| at[k] <= a);
+    for k in (0..=STEPS).filter(|&k| lower(k, k.checked_sub(1)) && lower(k, Some(k + 1))) {
+        let (lo, hi) = (k.saturating_sub(1) as f64 * step, ((k + 1).min(STEPS)) as f64 * step);
+        let (u, _) = crate::golden::bottom(lean, lo, hi, 60);
+        if u > 1e-9 && u < 1.0 - 1e-9 {
+            out.push(u);
+        }
+    }
+    out.sort_by(f64::total_cmp);
+    out.dedup();
+    out
+}
+
 /// Whether the inverse solution nearest the proportional angles for `direction(u)` exists at
-/// every 1/64 of the block and no rotary axis moves more than `limit_deg` between two of them.
+/// every [`checkpoints`] of the block and no rotary axis moves more than `limit_deg` between two of
+/// them.
 fn steps_within(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> Vec3, limit_deg: f64) -> bool {
     let mut prev = *from;
-    for k in 1..=STEPS {
-        let Some(a) = angles_at(kin, from, to, direction, k as f64 / STEPS as f64) else { return false };
+    for u in checkpoints(kin, direction) {
+        let Some(a) = angles_at(kin, from, to, direction, u) else { return false };
         if largest_step(kin, &a, &prev) > limit_deg {
             return false;
         }
@@ -563,7 +593,7 @@ fn steps_within(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64)
     true
 }
 
-/// As [`steps_within`] with `limit_deg`, and no smaller jump either: a 1/64 step of more than
+/// As [`steps_within`] with `limit_deg`, and no smaller jump either: a step of more than
 /// 5° is halved 16 times; a steep but continuous turn shrinks with it, a change of inverse
 /// branch keeps its size (random machines found a 28° jump of A inside a block). Nor does the
 /// free axis step at the singular posture: no machine turns it in no time (a block from or to
@@ -573,8 +603,7 @@ fn no_jump(kin: &Kinematics, from: &Pos, to: &Pos, direction: &impl Fn(f64) -> V
     const STEEP_DEG: f64 = 5.0;
     let at = |u: f64| angles_at(kin, from, to, direction, u);
     let mut prev = (0.0, *from);
-    for k in 1..=STEPS {
-        let u = k as f64 / STEPS as f64;
+    for u in checkpoints(kin, direction) {
         let Some(a) = at(u) else { return false };
         let step = largest_step(kin, &a, &prev.1);
         if step > limit_deg {

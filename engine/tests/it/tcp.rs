@@ -1018,6 +1018,37 @@ fn tv06_to_tv11_singular_posture_end_point_change_on_a_bc_head() {
 }
 
 #[test]
+fn posture_control_passing_a_hair_from_the_singular_posture_does_not_step_the_free_axis() {
+    // No.19738 = 0 (no end-point change). From B1.277 C52.432 to the direction of B10 with C
+    // half a turn and `dc` on: the great circle passes 0.01°, 0.001° and 0.0001° from +Z, where
+    // the free axis C turns half round within a hair of the way. The axes following the way
+    // (the inverse nearest the proportional angles) change branch there; at the two smaller
+    // distances that hid between the looks of `no_jump`, and C stepped 180° in a millisecond
+    // with no notice. Every block's axes now keep their limits; a block that does not turn on
+    // the great circle says so (FX1002).
+    let m = free_preset("head-bc");
+    let kin = Kinematics::new(&m).unwrap();
+    for dc in [0.5, 0.05, 0.005] {
+        let mut q: Pos = [0.0; fivex_engine::machine::MAX_AXES];
+        (q[3], q[4]) = (10.0, 52.432 + 180.0 + dc);
+        let v = kin.forward(&q, 0.0).tool;
+        let src = format!(
+            "G90 G17 G00 B1.277 C52.432\nG43.5 H1 P1\nX0 Y0 Z50.\nG01 X0 Y0 Z0 I{:.9} J{:.9} K{:.9} F1000.\nG49\nM30\n",
+            v.x, v.y, v.z
+        );
+        let (r, samples) = run_on(m.clone(), Dialect::Fanuc, &src);
+        assert!(r.completed(), "{:?}\n{src}", r.alarms);
+        common::check_limits_of(&samples, &m, false).unwrap_or_else(|e| panic!("{e}\n{src}"));
+        let line = of_line(&samples, 4);
+        let turned = line.iter().map(|s| s.machine[4]).fold(f64::NEG_INFINITY, f64::max)
+            - line.iter().map(|s| s.machine[4]).fold(f64::INFINITY, f64::min);
+        let noticed: Vec<&str> = r.notices.iter().filter(|n| n.line == 4).map(|n| n.code.as_str()).collect();
+        // Either C turns half round (on the great circle) or the block says it does not.
+        assert!(turned > 170.0 || noticed == ["FX1002"], "dc {dc}: C turned {turned}°, notices {noticed:?}\n{src}");
+    }
+}
+
+#[test]
 fn tv12_no_change_when_the_posture_is_exactly_singular() {
     // Through +Z exactly on the way (B10 C0 → B10 C180, both in the XZ plane): unchanged.
     let (alarm, (b, c)) = singular_line(singular_head(10.0, 5.0, true), "I-0.1736 J0 K0.9848");

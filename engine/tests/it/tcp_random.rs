@@ -283,20 +283,6 @@ fn leaves_a_range(kin: &Kinematics, m: &MachineConfig, q0: &Pos, q1: &Pos, v0: V
     })
 }
 
-/// Whether the great circle from `v0` to `v1` keeps `deg` degrees from the line `axis`.
-fn great_circle_clear_of(v0: Vec3, v1: Vec3, axis: Vec3, deg: f64) -> bool {
-    let angle = v0.dot(&v1).clamp(-1.0, 1.0).acos();
-    (0..=200).all(|k| {
-        let u = k as f64 / 200.0;
-        let v = if !(1e-9..=PI - 1e-9).contains(&angle) {
-            v0 * (1.0 - u) + v1 * u
-        } else {
-            (v0 * ((1.0 - u) * angle).sin() + v1 * (u * angle).sin()) / angle.sin()
-        };
-        v.normalize().dot(&axis).abs() < deg.to_radians().cos()
-    })
-}
-
 const FANUC: Selection = Selection { dialect: Dialect::Fanuc, pri: false, p: 0 };
 
 /// A machine with two rotary axes.
@@ -501,18 +487,11 @@ proptest! {
             moves.push((5 + k as u32, at, end, tool, v));
             (at, tool) = (end, v);
         }
-        // With tool posture control, a great circle through (or near) the singular posture needs
-        // the free axis to turn without bound there: FANUC changes the end point or alarms
-        // (M-9, No.19738/19739), which is not modelled, and the planner crawls. Such blocks are
-        // left out (a limitation of the model, docs/five-axis.md).
+        // Also where the way passes near the singular posture (No.19738 = 0: no end-point change):
+        // the free axis turns fast there, or, where following the way would step it to the other
+        // branch of the inverse, conventional control with a notice (a jump once hid between the
+        // looks of `no_jump`; such blocks were left out until 2026-11-30).
         let singular = pi.r.transpose() * singular_axis(&kin);
-        if posture > 0 {
-            // From (to) the singular posture the free axis turns first (last), the tip standing;
-            // the way leaves (reaches) the posture.
-            let at_pole = |k: usize| (k == 0 && from_pole) || (k + 1 == moves.len() && to_pole);
-            let clear = |k: usize, v0: Vec3, v1: Vec3| at_pole(k) || great_circle_clear_of(v0, v1, singular, 10.0);
-            prop_assume!(moves.iter().enumerate().all(|(k, &(_, _, _, v0, v1))| clear(k, v0, v1)));
-        }
         src += "G49\nM30\n";
         let (r, samples) = run_on(&m, Dialect::Fanuc, &src);
         let e = ends(&m, Dialect::Fanuc, &src);
