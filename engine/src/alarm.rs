@@ -230,6 +230,10 @@ pub enum AlarmId {
     RestartMdi,
     /// The restart block lies in a mode the return cannot enter (fivex's decision).
     RestartInMode,
+    /// A current position (#5021…, #5041…) read where a cutter compensation vector may stand
+    /// at the current point: the control gives the tool's own position there (its offset
+    /// included) and stops reading ahead, which fivex does not model (`interp::vars`).
+    PositionInCompensation,
     // --- Haas 5-axis: TCPC G234, DWO G254/G255 (`interp::tcp`, `interp::dwo`) ---------------
     /// G234 with no tool length offset H given or in force.
     TcpcNoToolLength,

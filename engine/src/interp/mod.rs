@@ -363,6 +363,10 @@ pub struct State {
     parts_required: f64,
     blocks: u64,
     ended: bool,
+    /// A cutter compensation vector may stand at the current point: the last block that moved
+    /// did so in a mode of `code::COMPENSATED_BY_STAGES` (until a move in G40 or a reset). The
+    /// current position variables are then not built (`AlarmId::PositionInCompensation`).
+    cutter_vector: bool,
     /// Axis index per address letter A..Z (`NO_AXIS` when the machine has no such axis).
     axis_by_letter: [u8; 26],
     /// Line and N of the block being executed, for alarms.
@@ -498,6 +502,7 @@ impl Interpreter {
         // puts group 07 in G40 (CRC-44, TV-30; the manual lists the 5-axis codes, fivex ends
         // G41/G42 the same way, as their offset vector does not survive a reset either).
         st.modes[group::CUTTER_COMP] = code::G40;
+        st.cutter_vector = false;
         st.table_crc_end();
         st.five.compensation_ended();
         let after_reset = st.cfg.machine.five_axis.plane_after_reset;
@@ -698,6 +703,7 @@ impl State {
             parts_required: 0.0,
             blocks: 0,
             ended: false,
+            cutter_vector: false,
             line: 0,
             n: None,
             cfg,

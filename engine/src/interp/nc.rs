@@ -349,6 +349,9 @@ impl State {
         let offset_mode = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
         let machine_before = offset_mode.then(|| self.machine_position());
         self.nc_words(progs, by_number, &w, block, out)?;
+        if out[first..].iter().any(|c| matches!(c.kind, CanonKind::Motion(_))) {
+            self.cutter_vector = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
+        }
         if let Some(before) = machine_before {
             self.count_without_motion(&w, first, depth, &before, out);
         }

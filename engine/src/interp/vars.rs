@@ -311,6 +311,7 @@ impl State {
             4101..=4130 => self.modal_address(n - 4100),
             4301..=4330 => self.modal_address(n - 4300),
             5001..=5020 => self.in_input_unit(axis(5001)?, self.pos),
+            5021..=5060 if self.cutter_vector => return Err(AlarmId::PositionInCompensation),
             5021..=5040 => self.in_input_unit(axis(5021)?, self.machine_position()),
             // The current point in the WCS, also under G54.4 (WSE-20).
             5041..=5060 => self.in_input_unit(axis(5041)?, self.wcs_position()),

@@ -324,6 +324,40 @@ fn what_the_stage_does_not_perform_stays_refused() {
     }
 }
 
+#[test]
+fn the_current_position_is_refused_where_a_compensation_vector_may_stand() {
+    // FANUC's #5021…/#5041… include the compensation vector and stop the read-ahead (the block
+    // before then ends perpendicular): not modelled, so FX0006 rather than the programmed point.
+    let refused = [
+        // In offset mode, after the start-up.
+        "G41 D1 G01 X10. F500\n#100=#5041\n",
+        "G42 D1 G01 X10. F500\nY10.\n#100=#5022\n",
+        // After a G40 that has not moved yet: the vector still stands.
+        "G41 D1 G01 X10. F500\nG40\n#100=#5041\n",
+        // The 5-axis tool side offset.
+        "G41.2 D1 G01 X10. F500\n#100=#5043\n",
+    ];
+    for body in refused {
+        let src = format!("G90 G00 X0 Y0 Z0\n{body}G40 X0\nM30\n");
+        let line = src.lines().position(|l| l.starts_with("#100")).unwrap() as u32 + 1;
+        // (The tool side offset is FANUC's.)
+        let dialects: &[Dialect] = if body.contains("G41.2") { &[Fanuc] } else { &[Fanuc, Syntec, Dialect::Haas] };
+        for &dialect in dialects {
+            let r = run_with(&src, if body.contains("G41.2") { "head-bc" } else { "mill3" }, dialect);
+            assert_eq!(r.alarms.len(), 1, "{dialect:?} {src}");
+            assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("FX0006", line), "{dialect:?} {src}");
+        }
+    }
+    // G41 given but nothing moved yet, and after the cancel's move: the programmed point is
+    // where the tool is.
+    for body in ["G41 D1\n#100=#5041\nG01 X10. F500\nG40 X0\n", "G41 D1 G01 X10. F500\nG40 X0\n#100=#5041\n"] {
+        let src = format!("G90 G00 X0 Y0 Z0\n{body}M30\n");
+        let r = run_with(&src, "mill3", Fanuc);
+        assert!(r.completed(), "{:?}\n{src}", r.alarms);
+        assert_eq!(r.variables.iter().find(|v| v.0 == 100).map(|v| v.1), Some(0.0), "{src}");
+    }
+}
+
 mod random {
     //! Random contours of lines and arcs with no feature smaller than the radius: the tool
     //! centre path is at exactly R from each block's own line or circle along its interior, on
