@@ -519,10 +519,20 @@ fn within_reach(kin: &Kinematics, direction: &impl Fn(f64) -> Vec3) -> bool {
     if at.iter().any(|s| *s < EDGE) {
         return false;
     }
+    dips(&at).into_iter().all(|(lo, hi)| crate::golden::least(slack, lo, hi, 48) >= EDGE)
+}
+
+/// Where a function sampled at every 1/[`STEPS`] of a block (`at`) may dip below its samples:
+/// the span about each sample no higher than its neighbours, to be followed down to its bottom.
+/// A dip at an end lies between it and its neighbour (a way passing the singular posture within
+/// the last 64th and ending beyond it: a random head-table machine stepped B 180° there).
+fn dips(at: &[f64]) -> Vec<(f64, f64)> {
     let step = 1.0 / STEPS as f64;
-    (1..STEPS)
-        .filter(|&k| at[k] <= at[k - 1] && at[k] <= at[k + 1])
-        .all(|k| crate::golden::least(slack, (k - 1) as f64 * step, (k + 1) as f64 * step, 48) >= EDGE)
+    let lower = |k: usize, j: Option<usize>| j.and_then(|j| at.get(j)).is_none_or(|&a| at[k] <= a);
+    (0..at.len())
+        .filter(|&k| lower(k, k.checked_sub(1)) && lower(k, Some(k + 1)))
+        .map(|k| (k.saturating_sub(1) as f64 * step, (k + 1).min(STEPS) as f64 * step))
+        .collect()
 }
 
 /// As `continuous`, and steady enough to plan (G54.4's recomputed direction): no 1/64 of the
@@ -555,20 +565,16 @@ fn largest_step(kin: &Kinematics, a: &Pos, b: &Pos) -> f64 {
 /// within that hair, and the inverse solution nearest the proportional angles changes branch
 /// there; between two looks that went unseen, and the axes stepped (a random head-head: A by
 /// 180° in a millisecond, with no notice). Each sampled dip of the tool's lean off the
-/// posture's line is followed down to its bottom.
+/// posture's line is followed down to its bottom ([`dips`]).
 fn checkpoints(kin: &Kinematics, direction: &impl Fn(f64) -> Vec3) -> Vec<f64> {
     let mut out: Vec<f64> = (1..=STEPS).map(|k| k as f64 / STEPS as f64).collect();
     let Some(joint) = kin.singular_joint() else { return out };
     // The sine of the lean: exact near the posture, where its cosine keeps no digits.
     let lean = |u: f64| direction(u).normalize().cross(&joint.direction).norm();
     let at: Vec<f64> = (0..=STEPS).map(|k| lean(k as f64 / STEPS as f64)).collect();
-    // A dip at an end point lies between it and its neighbour (the way may pass the posture
-    // within the last 64th and end beyond it: a random head-table machine stepped B 180° there).
-    let step = 1.0 / STEPS as f64;
-    let lower = |k: usize, j: Option<usize>| j.and_then(|j| at.get(j)).is_none_or(|&a| at[k] <= a);
-    for k in (0..=STEPS).filter(|&k| lower(k, k.checked_sub(1)) && lower(k, Some(k + 1))) {
-        let (lo, hi) = (k.saturating_sub(1) as f64 * step, ((k + 1).min(STEPS)) as f64 * step);
+    for (lo, hi) in dips(&at) {
         let (u, _) = crate::golden::bottom(lean, lo, hi, 60);
+        // (A way that ends nearest the posture has its bottom at the end, looked at already.)
         if u > 1e-9 && u < 1.0 - 1e-9 {
             out.push(u);
         }
