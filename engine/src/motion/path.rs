@@ -660,7 +660,10 @@ fn posture_along(
     if at_pole(kin, from).is_some() && at_pole(kin, to).is_some() {
         return Ok(None);
     }
-    match p.hindrance(kin, from, to, circle) {
+    let hindrance = p
+        .hindrance(kin, from, to, circle)
+        .or_else(|| free_axis_steps_at_an_end(kin, &p, circle, from, to).then_some(PostureFallback::Branch));
+    match hindrance {
         // The rotary axes in proportion may turn the tool on the posture's own way (a
         // nutating head turning a horizontal tool on the edge of its reach): nothing differs.
         Some(_) if off_proportional(kin, from, to, |u| p.at(u, circle), STEPS) < 1e-8 => Ok(None),
@@ -752,6 +755,67 @@ pub(crate) fn singular_turns(kin: &Kinematics, tip: &TipMove, from: &Pos, to: &P
         lead,
         trail,
         way,
+    })
+}
+
+/// The tool's angle (radians) off the posture's line `pole`, either side.
+fn lean_off(pole: Vec3, v: Vec3) -> f64 {
+    v.normalize().dot(&pole).abs().min(1.0).acos()
+}
+
+/// An end (`end`: 0 or 1) of a way within [`LEAN_READ`] of the singular posture, its middle not
+/// (`Follow::free_off_pole`): the free axis's index, where the way is [`LEAN_READ`] off the
+/// posture (a share of it) and the free axis's angle there. `None` elsewhere.
+fn pole_end(
+    kin: &Kinematics,
+    posture: &Posture,
+    circle: Option<&Circle3>,
+    from: &Pos,
+    to: &Pos,
+    end: f64,
+) -> Option<(usize, f64, f64)> {
+    let joint = kin.singular_joint()?;
+    let off = |u: f64| lean_off(joint.direction, posture.at(u, circle));
+    if off(end) >= LEAN_READ || off(0.5) < LEAN_READ {
+        return None;
+    }
+    let (mut near, mut far) = (end, 0.5);
+    for _ in 0..60 {
+        let mid = 0.5 * (near + far);
+        if off(mid) < LEAN_READ {
+            near = mid;
+        } else {
+            far = mid;
+        }
+    }
+    let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * far);
+    let there = kin.angles_near(posture.at(far, circle), &q)?;
+    let i = joint.index?;
+    Some((i, far, there[i]))
+}
+
+/// Whether the free axis has to turn at an end of the way within [`LEAN_READ`] of the singular
+/// posture (`pole_end`, where the tool turns by less than 10⁻⁶ rad) far more than over the same
+/// share of the way next to it: a step. An end on the posture itself is turned onto with the
+/// way's own free axis (`singular_turns`), and where the axes are not square the free axis turns
+/// along the way evenly there; one a hair off the posture, on a random machine whose tool axis
+/// kept it from the posture by 8·10⁻⁷ rad, needed A 0.0087° there and stepped.
+fn free_axis_steps_at_an_end(
+    kin: &Kinematics,
+    posture: &Posture,
+    circle: Option<&Circle3>,
+    from: &Pos,
+    to: &Pos,
+) -> bool {
+    /// Below this (degrees) no turn is a step: a rotary axis moves that much from rest in 1 ms
+    /// at a jerk of 10 000°/s³.
+    const STEP_DEG: f64 = 1e-6;
+    [(0.0, from), (1.0, to)].into_iter().any(|(end, at)| {
+        let Some((i, far, there)) = pole_end(kin, posture, circle, from, to, end) else { return false };
+        let next = end + 2.0 * (far - end);
+        let q: Pos = std::array::from_fn(|k| from[k] + (to[k] - from[k]) * next);
+        let beyond = kin.angles_near(posture.at(next, circle), &q).map_or(there, |b| b[i]);
+        (there - at[i]).abs() > 10.0 * (beyond - there).abs() + STEP_DEG
     })
 }
 
@@ -903,27 +967,13 @@ impl Follow {
     /// 10⁻¹⁵ rad). `None`: elsewhere; the index of the free axis and its angle.
     fn free_off_pole(&self, posture: &Posture, from: &Pos, to: &Pos, u: f64, direction: Vec3) -> Option<(usize, f64)> {
         let joint = self.kin.singular_joint()?;
-        let lean = |v: Vec3| v.normalize().dot(&joint.direction).abs().min(1.0).acos();
-        let off = |u: f64| lean(posture.at(u, self.circle.as_ref()));
-        let (end, at_end) = if u < 0.5 { (0.0, from) } else { (1.0, to) };
-        if lean(direction) >= LEAN_READ || off(end) >= LEAN_READ || off(0.5) < LEAN_READ {
+        if lean_off(joint.direction, direction) >= LEAN_READ {
             return None;
         }
-        // Where the way is `LEAN_READ` off the posture, between the end and the middle.
-        let (mut near, mut far) = (end, 0.5);
-        for _ in 0..60 {
-            let mid = 0.5 * (near + far);
-            if off(mid) < LEAN_READ {
-                near = mid;
-            } else {
-                far = mid;
-            }
-        }
-        let q: Pos = std::array::from_fn(|i| from[i] + (to[i] - from[i]) * far);
-        let there = self.kin.angles_near(posture.at(far, self.circle.as_ref()), &q)?;
-        let i = joint.index?;
+        let (end, at_end) = if u < 0.5 { (0.0, from) } else { (1.0, to) };
+        let (i, far, there) = pole_end(&self.kin, posture, self.circle.as_ref(), from, to, end)?;
         let share = (u - end) / (far - end);
-        Some((i, at_end[i] + (there[i] - at_end[i]) * share))
+        Some((i, at_end[i] + (there - at_end[i]) * share))
     }
 
     /// Where the tip goes `u` of the way with the axes at `q` (only their angles count): on
