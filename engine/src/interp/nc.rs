@@ -682,6 +682,12 @@ impl State {
             } else {
                 self.h = offset_number(h)?;
                 tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
+                // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
+                // by the offset in this block, as in a G49 block.
+                let haas = self.cfg.dialect == Dialect::Haas;
+                if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
+                    self.modes[group::LENGTH_COMP] = code::G49;
+                }
             }
         }
         if tool_length_changed {
@@ -841,8 +847,11 @@ impl State {
                     if code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
                         self.modes[group::CUTTER_COMP] = code::G40;
                     }
-                    // Haas: M02/M30 end DWO and TCPC.
+                    // Haas: M02/M30 end DWO and TCPC; M30 (not M02) G43/G44 too.
                     self.haas_end_five_axis();
+                    if m == mcode::M30 {
+                        self.haas_cancel_length_comp();
+                    }
                 }
                 mcode::M05 => {
                     self.spindle = SpindleState::Stop;
@@ -934,6 +943,27 @@ impl State {
             v[z] = self.signed_tool_length();
         }
         self.tool_vec = v;
+    }
+
+    /// Haas: a G28 without axis words returns every axis, the rotary ones too, to machine zero
+    /// (96-8000 rev R, G28: "all axes … unless an axis (or axes) is specified"). FANUC's G28
+    /// moves only the axes it names.
+    fn g28_returns_every_axis(&self, w: &Words) -> bool {
+        self.cfg.dialect == Dialect::Haas && !self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8))
+    }
+
+    /// Haas: H0, G28, M30 and reset cancel tool length compensation (96-8000 rev R, G49; the
+    /// G28 page: "for the following lines of code"), the machine staying where it is; FANUC
+    /// keeps G43/G44 through them. G234 has its own end (`haas_end_five_axis`).
+    pub(super) fn haas_cancel_length_comp(&mut self) {
+        if self.cfg.dialect != Dialect::Haas || !matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
+            return;
+        }
+        let machine = self.machine_position();
+        self.modes[group::LENGTH_COMP] = code::G49;
+        self.refresh_tool_length();
+        self.pos = self.machine_to_program(&machine);
+        self.sync_programmed();
     }
 
     /// The tool length group 08 applies along the tool: +H (G43, G43.4…), −H (G44), 0 (G49).
@@ -1425,13 +1455,17 @@ impl State {
                 let mid = self.target(w);
                 self.rapid_to_program_point(mid, out)?;
                 self.last_g28_mid = self.pos;
+                let all = code == code::G28 && self.g28_returns_every_axis(w);
                 let mut m = self.machine_position();
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
-                    if w.has(axis.name as u8) {
+                    if all || w.has(axis.name as u8) {
                         m[i] = if which == 1 { 0.0 } else { axis.references[which - 2] };
                     }
                 }
                 self.emit_machine_motion(m, out);
+                if code == code::G28 {
+                    self.haas_cancel_length_comp();
+                }
                 return Ok(true);
             }
             code::G29 => {
