@@ -572,7 +572,7 @@ impl State {
                 group::LENGTH_COMP => tool_length_changed = true,
                 group::CYCLE if code != code::G80 && self.modes[group::CYCLE] == code::G80 => {
                     let axis = self.drill_axis();
-                    self.cycle.initial = axis.map_or(0.0, |a| self.xf.programmed[a]);
+                    self.cycle.initial = axis.map_or(0.0, |a| self.cycle_level(a, self.xf.programmed[a]));
                 }
                 group::WORK_SYSTEM => {
                     wcs_changed = true;
