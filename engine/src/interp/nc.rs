@@ -561,7 +561,7 @@ impl State {
                 }
                 group::CUTTER_COMP => {
                     if let Some(d) = w.integer(b'D') {
-                        self.d = offset_number(d)?;
+                        self.d = offset_number(d, self.cfg.dialect)?;
                     }
                     // Haas G150's G41/G42 name the side of its outline the tool cuts on; the
                     // cycle offsets its path itself and the mode stays as it was (`haas_cycles`).
@@ -604,7 +604,7 @@ impl State {
         // D is modal whether or not cutter compensation is on (#4107 shows it, a later G41
         // without D uses it).
         if let Some(d) = w.integer(b'D') {
-            self.d = offset_number(d)?;
+            self.d = offset_number(d, self.cfg.dialect)?;
         }
         if wcs_changed {
             self.pos = self.machine_to_program(&machine_before);
@@ -680,7 +680,7 @@ impl State {
             if w.has_g(code::G10) {
                 // H is data of G10 there, not an offset selection.
             } else {
-                self.h = offset_number(h)?;
+                self.h = offset_number(h, self.cfg.dialect)?;
                 tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
                 // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
                 // by the offset in this block, as in a G49 block.
@@ -1620,6 +1620,9 @@ impl State {
             }
             1 | 10..=13 => {
                 let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;
+                if p > super::offsets::max_tool_offset(self.cfg.dialect) {
+                    return Err(AlarmId::IllegalOffsetNumber);
+                }
                 let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalOffsetNumber)?;
                 let slot = match l as u32 {
                     10 => &mut t.h_geometry,
@@ -1637,8 +1640,9 @@ impl State {
     }
 }
 
-fn offset_number(v: f64) -> Result<u32, AlarmId> {
-    if v < 0.0 || v.fract() != 0.0 || v > super::offsets::MAX_TOOL_OFFSETS as f64 {
+/// An H or D word's offset number, within the dialect's tool offsets.
+fn offset_number(v: f64, dialect: Dialect) -> Result<u32, AlarmId> {
+    if v < 0.0 || v.fract() != 0.0 || v > super::offsets::max_tool_offset(dialect) as f64 {
         return Err(AlarmId::IllegalOffsetNumber);
     }
     Ok(v as u32)

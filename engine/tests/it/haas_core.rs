@@ -195,3 +195,20 @@ fn reset_cancels_tool_length_in_haas() {
         assert_eq!(interp.state.modal(group::LENGTH_COMP), want, "{dialect:?}");
     }
 }
+
+/// Haas has 200 tool offsets: H or D beyond them, and G10 L10–L13 P beyond them, are `331
+/// RANGE ERROR` (before, `G43 H999` ran with a length of 0); FANUC's 999 are unchanged.
+#[test]
+fn tool_offsets_beyond_200_are_a_range_error_in_haas() {
+    for block in ["G43 H201 Z10.", "G43 H999 Z10.", "G41 D201 X1.", "G10 L10 P201 R50.", "D250"] {
+        let src = format!("G00 Z100.\n{block}\nG40 G49\nM30\n");
+        let r = run_with(&src, "mill3", Haas);
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("331", 2)), "{block}");
+        assert!(run_with(&src, "mill3", Fanuc).completed(), "FANUC {block}");
+    }
+    assert!(run_with("G43 H200 Z10.\nD200\nG49\nM30\n", "mill3", Haas).completed());
+    // G234 (TCPC) took its length from H999 as 0 too.
+    let tcpc = run_with("G90 G00 A0 C0\nG234 H999\nG49\nM30\n", "table-ac", Haas);
+    assert_eq!(tcpc.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("331", 2)));
+    assert_eq!(alarm_with("G43 H1000 Z10.\nM30\n", Fanuc), "PS0030");
+}
