@@ -8,7 +8,9 @@
 //! Every point of a cycle is computed in programmed coordinates and goes through the programming
 //! transforms (`frames`) like any other: hole positions and R/Z levels are rotated, scaled and
 //! mirrored. Peck depths Q, the G73/G83 retract and the G76/G87 shift are lengths scaling does
-//! not change (FANUC), so they are divided by the axis's magnification here. In the tilted
+//! not change (FANUC), so they are divided by the axis's magnification here. Haas scales the
+//! hole positions only: the drilling-axis levels and pecks are kept unscaled
+//! ([`State::cycle_level`]). In the tilted
 //! working plane (twp §1.3.2 allows the cycles there) the programmed coordinates are the feature
 //! coordinate system's, and every move of the cycle follows the tool tip through the kinematics
 //! like any move in the plane: the hole is drilled at the FCS point along the FCS Z.
@@ -37,6 +39,33 @@ pub(super) fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
 }
 
 impl State {
+    /// Whether scaling leaves the drilling-axis levels (initial, R, Z) and the peck depths
+    /// alone: Haas, "scaling does not affect canned cycle Z-axis movements such as clearance
+    /// planes and incremental values" (96-8000 rev R, G51, programming notes). FANUC scales the
+    /// levels (`docs/conventions.md`).
+    fn levels_unscaled(&self) -> bool {
+        self.cfg.dialect == Dialect::Haas
+    }
+
+    /// The cycle level that programmed coordinate `p` on the drilling axis `d` stands at: `p`,
+    /// or where the tool is along `d` once scaling is taken out (Haas).
+    pub(super) fn cycle_level(&self, d: usize, p: f64) -> f64 {
+        if self.levels_unscaled() {
+            self.xf.unscaled_level(d, p)
+        } else {
+            p
+        }
+    }
+
+    /// The programmed coordinate on the drilling axis `d` of the cycle level `level`.
+    fn level_target(&self, d: usize, level: f64) -> f64 {
+        if self.levels_unscaled() {
+            self.xf.programmed_level(d, level)
+        } else {
+            level
+        }
+    }
+
     /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
     pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
         let repeats = repeats(w, self.cfg.dialect)?;
@@ -66,7 +95,7 @@ impl State {
             self.cycle.r_set = true;
         }
         if !self.cycle.r_set {
-            self.cycle.r = self.xf.programmed[d];
+            self.cycle.r = self.cycle_level(d, self.xf.programmed[d]);
         }
         match self.value(w, drill_letter) {
             Some(z) => self.cycle.z = if incremental { self.cycle.r + z } else { z },
@@ -108,7 +137,7 @@ impl State {
 
     fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let mut t = self.xf.programmed;
-        t[d] = level;
+        t[d] = self.level_target(d, level);
         self.cycle_move(kind, t, out)
     }
 
@@ -153,8 +182,9 @@ impl State {
         use MotionKind::{Linear, Rapid};
         let c = self.cycle;
         let ret = if self.modes[group::RETURN_LEVEL] == code::G99 { c.r } else { c.initial };
-        // Peck depth and retract in programmed units along the drilling axis.
-        let unit = self.xf.length_factor(d);
+        // Peck depth and retract in programmed units along the drilling axis (Haas: the levels
+        // are unscaled, and so are they).
+        let unit = if self.levels_unscaled() { 1.0 } else { self.xf.length_factor(d) };
         let (q, retract, clearance) = (c.q / unit, G73_RETRACT / unit, G83_CLEARANCE / unit);
         let dir = if c.z < c.r { -1.0 } else { 1.0 };
         let dwell = |st: &mut State, out: &mut Vec<Canon>| {
@@ -178,7 +208,7 @@ impl State {
             self.spindle(SpindleState::Cw, out);
             return Ok(());
         }
-        if self.xf.programmed[d] != c.r {
+        if self.xf.programmed[d] != self.level_target(d, c.r) {
             self.move_drill_axis(d, c.r, Rapid, out)?;
         }
         match code {

@@ -170,6 +170,30 @@ impl Transforms {
         self.scale.map_or(1.0, |s| s.factor[i].abs())
     }
 
+    /// The level on axis `i` that programmed coordinate `p` stands at when scaling leaves
+    /// levels alone: `p` through the mirror image and the scaling, back through the mirror
+    /// image (a Haas canned cycle's drilling-axis levels, `cycles`).
+    pub(super) fn unscaled_level(&self, i: usize, p: f64) -> f64 {
+        match self.scale.map(|s| (s.center[i], s.factor[i])) {
+            Some((c, f)) if f != 1.0 => self.mirror_on(i, c + f * (self.mirror_on(i, p) - c)),
+            _ => p,
+        }
+    }
+
+    /// The programmed coordinate on axis `i` that puts the tool at `level` when scaling leaves
+    /// levels alone: the inverse of [`Transforms::unscaled_level`].
+    pub(super) fn programmed_level(&self, i: usize, level: f64) -> f64 {
+        match self.scale.map(|s| (s.center[i], s.factor[i])) {
+            Some((c, f)) if f != 1.0 => self.mirror_on(i, c + (self.mirror_on(i, level) - c) / f),
+            _ => level,
+        }
+    }
+
+    /// A coordinate on axis `i` through the mirror image (its own inverse).
+    fn mirror_on(&self, i: usize, x: f64) -> f64 {
+        self.mirror[i].map_or(x, |c| 2.0 * c - x)
+    }
+
     /// Whether the transforms mirror the plane of axes `a`, `b` (an odd number of its axes
     /// mirrored by G51.1 or a negative magnification): G02 and G03 swap, as do G41 and G42.
     pub(super) fn flips(&self, a: usize, b: usize) -> bool {

@@ -512,6 +512,7 @@ impl Interpreter {
         }
         st.wse_reset();
         st.haas_end_five_axis();
+        st.haas_cancel_length_comp();
     }
 
     /// The machine was moved outside the program (jog, handle, reference return): the

@@ -561,7 +561,7 @@ impl State {
                 }
                 group::CUTTER_COMP => {
                     if let Some(d) = w.integer(b'D') {
-                        self.d = offset_number(d)?;
+                        self.d = offset_number(d, self.cfg.dialect)?;
                     }
                     // Haas G150's G41/G42 name the side of its outline the tool cuts on; the
                     // cycle offsets its path itself and the mode stays as it was (`haas_cycles`).
@@ -572,7 +572,7 @@ impl State {
                 group::LENGTH_COMP => tool_length_changed = true,
                 group::CYCLE if code != code::G80 && self.modes[group::CYCLE] == code::G80 => {
                     let axis = self.drill_axis();
-                    self.cycle.initial = axis.map_or(0.0, |a| self.xf.programmed[a]);
+                    self.cycle.initial = axis.map_or(0.0, |a| self.cycle_level(a, self.xf.programmed[a]));
                 }
                 group::WORK_SYSTEM => {
                     wcs_changed = true;
@@ -604,7 +604,7 @@ impl State {
         // D is modal whether or not cutter compensation is on (#4107 shows it, a later G41
         // without D uses it).
         if let Some(d) = w.integer(b'D') {
-            self.d = offset_number(d)?;
+            self.d = offset_number(d, self.cfg.dialect)?;
         }
         if wcs_changed {
             self.pos = self.machine_to_program(&machine_before);
@@ -680,8 +680,14 @@ impl State {
             if w.has_g(code::G10) {
                 // H is data of G10 there, not an offset selection.
             } else {
-                self.h = offset_number(h)?;
+                self.h = offset_number(h, self.cfg.dialect)?;
                 tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
+                // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
+                // by the offset in this block, as in a G49 block.
+                let haas = self.cfg.dialect == Dialect::Haas;
+                if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
+                    self.modes[group::LENGTH_COMP] = code::G49;
+                }
             }
         }
         if tool_length_changed {
@@ -841,8 +847,11 @@ impl State {
                     if code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
                         self.modes[group::CUTTER_COMP] = code::G40;
                     }
-                    // Haas: M02/M30 end DWO and TCPC.
+                    // Haas: M02/M30 end DWO and TCPC; M30 (not M02) G43/G44 too.
                     self.haas_end_five_axis();
+                    if m == mcode::M30 {
+                        self.haas_cancel_length_comp();
+                    }
                 }
                 mcode::M05 => {
                     self.spindle = SpindleState::Stop;
@@ -934,6 +943,27 @@ impl State {
             v[z] = self.signed_tool_length();
         }
         self.tool_vec = v;
+    }
+
+    /// Haas: a G28 without axis words returns every axis, the rotary ones too, to machine zero
+    /// (96-8000 rev R, G28: "all axes … unless an axis (or axes) is specified"). FANUC's G28
+    /// moves only the axes it names.
+    fn g28_returns_every_axis(&self, w: &Words) -> bool {
+        self.cfg.dialect == Dialect::Haas && !self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8))
+    }
+
+    /// Haas: H0, G28, M30 and reset cancel tool length compensation (96-8000 rev R, G49; the
+    /// G28 page: "for the following lines of code"), the machine staying where it is; FANUC
+    /// keeps G43/G44 through them. G234 has its own end (`haas_end_five_axis`).
+    pub(super) fn haas_cancel_length_comp(&mut self) {
+        if self.cfg.dialect != Dialect::Haas || !matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
+            return;
+        }
+        let machine = self.machine_position();
+        self.modes[group::LENGTH_COMP] = code::G49;
+        self.refresh_tool_length();
+        self.pos = self.machine_to_program(&machine);
+        self.sync_programmed();
     }
 
     /// The tool length group 08 applies along the tool: +H (G43, G43.4…), −H (G44), 0 (G49).
@@ -1425,13 +1455,17 @@ impl State {
                 let mid = self.target(w);
                 self.rapid_to_program_point(mid, out)?;
                 self.last_g28_mid = self.pos;
+                let all = code == code::G28 && self.g28_returns_every_axis(w);
                 let mut m = self.machine_position();
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
-                    if w.has(axis.name as u8) {
+                    if all || w.has(axis.name as u8) {
                         m[i] = if which == 1 { 0.0 } else { axis.references[which - 2] };
                     }
                 }
                 self.emit_machine_motion(m, out);
+                if code == code::G28 {
+                    self.haas_cancel_length_comp();
+                }
                 return Ok(true);
             }
             code::G29 => {
@@ -1586,6 +1620,9 @@ impl State {
             }
             1 | 10..=13 => {
                 let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;
+                if p > super::offsets::max_tool_offset(self.cfg.dialect) {
+                    return Err(AlarmId::IllegalOffsetNumber);
+                }
                 let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalOffsetNumber)?;
                 let slot = match l as u32 {
                     10 => &mut t.h_geometry,
@@ -1603,8 +1640,9 @@ impl State {
     }
 }
 
-fn offset_number(v: f64) -> Result<u32, AlarmId> {
-    if v < 0.0 || v.fract() != 0.0 || v > super::offsets::MAX_TOOL_OFFSETS as f64 {
+/// An H or D word's offset number, within the dialect's tool offsets.
+fn offset_number(v: f64, dialect: Dialect) -> Result<u32, AlarmId> {
+    if v < 0.0 || v.fract() != 0.0 || v > super::offsets::max_tool_offset(dialect) as f64 {
         return Err(AlarmId::IllegalOffsetNumber);
     }
     Ok(v as u32)

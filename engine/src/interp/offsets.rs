@@ -5,6 +5,17 @@ use crate::machine::MAX_AXES;
 
 /// Tool offset numbers 1..=MAX_TOOL_OFFSETS.
 pub const MAX_TOOL_OFFSETS: usize = 999;
+/// The Haas NGC mill's 200 tool offsets (its variables #2001–#2800 hold 200 of each kind, and D
+/// is "between 0 and 200"): H, D and G10's P beyond are its RANGE ERROR, not a length of 0.
+pub const HAAS_TOOL_OFFSETS: usize = 200;
+
+/// The last tool offset number a program of `dialect` may select.
+pub fn max_tool_offset(dialect: crate::Dialect) -> usize {
+    match dialect {
+        crate::Dialect::Haas => HAAS_TOOL_OFFSETS,
+        _ => MAX_TOOL_OFFSETS,
+    }
+}
 /// G54.1 P1..=MAX_G54_1.
 pub const MAX_G54_1: usize = 300;
 

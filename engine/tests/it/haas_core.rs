@@ -6,6 +6,7 @@
 use crate::common::*;
 use fivex_engine::canon::CanonKind;
 use fivex_engine::check::check;
+use fivex_engine::interp::gcode::{code, group};
 use fivex_engine::lang::parse_file;
 use fivex_engine::Dialect::{Fanuc, Haas};
 
@@ -115,4 +116,99 @@ fn check_reports_the_conditional_m99() {
     assert_eq!(found(Haas), vec![(3, "337".to_string()), (4, "540".to_string())]);
     let fanuc = vec![(2, "PS0004".to_string()), (3, "PS0004".to_string()), (4, "PS0004".to_string())];
     assert_eq!(found(Fanuc), fanuc);
+}
+
+/// The machine position of every axis at the end of `src` on `preset`, which must complete.
+fn machine_at_end(src: &str, preset: &str, dialect: fivex_engine::Dialect) -> Vec<f64> {
+    let r = run_with(src, preset, dialect);
+    assert!(r.completed(), "{dialect:?}: {:?}", r.alarms);
+    let axes = fivex_engine::machine::MachineConfig::preset(preset).unwrap().axes.len();
+    r.machine[..axes].to_vec()
+}
+
+fn approx_all(got: &[f64], want: &[f64]) -> bool {
+    got.len() == want.len() && got.iter().zip(want).all(|(a, b)| approx(*a, *b))
+}
+
+/// Haas: a G28 without axis words returns every axis, the rotary ones too, to machine zero
+/// (96-8000 rev R, G28); before, it moved nothing, as FANUC's G28 that names no axis, which
+/// stays so. G54 = (−400, −200, −400), tool length 100: line 3 leaves the machine at X −500,
+/// Y −300, Z −400 + 50 + 100 = −250, A30 C45.
+#[test]
+fn g28_without_axes_returns_every_axis_in_haas() {
+    let src = "G10 L2 P1 X-400. Y-200. Z-400.\nG90 G54 G00 A30. C45.\nG43 H1 X-100. Y-100. Z50.\nG28\nM30\n";
+    let haas = machine_at_end(src, "table-ac", Haas);
+    assert!(approx_all(&haas, &[0.0; 5]), "{haas:?}");
+    let fanuc = machine_at_end(src, "table-ac", Fanuc);
+    assert!(approx_all(&fanuc, &[-500.0, -300.0, -250.0, 30.0, 45.0]), "{fanuc:?}");
+    // With axis words only those return (Z), in both dialects.
+    let z_only = src.replace("G28\n", "G91 G28 Z0\n");
+    for dialect in [Haas, Fanuc] {
+        let m = machine_at_end(&z_only, "table-ac", dialect);
+        assert!(approx_all(&m, &[-500.0, -300.0, 0.0, 30.0, 45.0]), "{dialect:?}: {m:?}");
+    }
+}
+
+/// Haas: G28 cancels tool length compensation for the blocks after it (96-8000 rev R, G28 and
+/// G49); FANUC keeps G43. G54 Z −400, tool length 100: after `G91 G28 Z0` the `G00 Z200.` goes
+/// to machine Z −400 + 200 = −200 without the length, −100 with it. The audit's program (the
+/// report's F1/F2): after a bare G28, `G01 Z100.` feeds to −300 on a Haas.
+#[test]
+fn g28_cancels_tool_length_in_haas() {
+    let head = "G10 L2 P1 X-400. Y-200. Z-400.\nG90 G54 G00 G17 G40 G49 G80\nG43 H1 Z150.\n";
+    let src = format!("{head}G91 G28 Z0.\nG90 G00 X0 Y0\nG00 Z200.\n#100=#4008\nM30\n");
+    assert!(approx_all(&machine_at_end(&src, "mill3", Haas), &[-400.0, -200.0, -200.0]));
+    assert!(approx_all(&machine_at_end(&src, "mill3", Fanuc), &[-400.0, -200.0, -100.0]));
+    let group08 = |d| run_with(&src, "mill3", d).variables.iter().find(|v| v.0 == 100).map(|v| v.1);
+    assert_eq!((group08(Haas), group08(Fanuc)), (Some(49.0), Some(43.0)));
+    let audit = format!("{head}G00 X-100. Y-100.\nG28\nG00 X0 Y0\nG01 Z100. F500.\nM30\n");
+    assert!(approx_all(&machine_at_end(&audit, "mill3", Haas), &[-400.0, -200.0, -300.0]));
+}
+
+/// Haas: H0 and M30 cancel tool length compensation too (96-8000 rev R, G49). `G43 H1` then
+/// `H0 Z50.` goes to machine Z −400 + 50 = −350 with no length in both dialects (FANUC's H0 is
+/// a length of 0 under G43), but a later `H1` alone takes the length again only where G43 is
+/// still in force: FANUC −250, Haas −350. After M30 the next program starts in G49 on a Haas.
+#[test]
+fn h0_and_m30_cancel_tool_length_in_haas() {
+    let src = "G10 L2 P1 Z-400.\nG90 G54 G00 G43 H1 Z50.\nH0 Z50.\nH1 Z50.\nM30\n";
+    let z = |d| machine_at_end(src, "mill3", d)[2];
+    assert!(approx(z(Haas), -350.0) && approx(z(Fanuc), -250.0), "{} {}", z(Haas), z(Fanuc));
+    // M30: the group 08 mode after the program end (the interpreter keeps its state).
+    for (dialect, want) in [(Haas, code::G49), (Fanuc, code::G43)] {
+        let mut interp = interpreter("G10 L2 P1 Z-400.\nG90 G54 G00 G43 H1 Z50.\nM30\n", "mill3", dialect);
+        interp.run(|_| {}).expect("no alarm");
+        assert_eq!(interp.state.modal(group::LENGTH_COMP), want, "{dialect:?}");
+    }
+}
+
+/// Haas: reset cancels tool length compensation (96-8000 rev R, G49); the machine stays.
+#[test]
+fn reset_cancels_tool_length_in_haas() {
+    for (dialect, want) in [(Haas, code::G49), (Fanuc, code::G43)] {
+        let mut interp = interpreter("G10 L2 P1 Z-400.\nG90 G54 G00 G43 H1 Z50.\nM00\nM30\n", "mill3", dialect);
+        let mut out = Vec::new();
+        while !out.iter().any(|c: &fivex_engine::canon::Canon| matches!(c.kind, CanonKind::Stop { .. })) {
+            interp.step(&mut out).expect("no alarm");
+        }
+        interp.reset();
+        assert_eq!(interp.state.modal(group::LENGTH_COMP), want, "{dialect:?}");
+    }
+}
+
+/// Haas has 200 tool offsets: H or D beyond them, and G10 L10–L13 P beyond them, are `331
+/// RANGE ERROR` (before, `G43 H999` ran with a length of 0); FANUC's 999 are unchanged.
+#[test]
+fn tool_offsets_beyond_200_are_a_range_error_in_haas() {
+    for block in ["G43 H201 Z10.", "G43 H999 Z10.", "G41 D201 X1.", "G10 L10 P201 R50.", "D250"] {
+        let src = format!("G00 Z100.\n{block}\nG40 G49\nM30\n");
+        let r = run_with(&src, "mill3", Haas);
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("331", 2)), "{block}");
+        assert!(run_with(&src, "mill3", Fanuc).completed(), "FANUC {block}");
+    }
+    assert!(run_with("G43 H200 Z10.\nD200\nG49\nM30\n", "mill3", Haas).completed());
+    // G234 (TCPC) took its length from H999 as 0 too.
+    let tcpc = run_with("G90 G00 A0 C0\nG234 H999\nG49\nM30\n", "table-ac", Haas);
+    assert_eq!(tcpc.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("331", 2)));
+    assert_eq!(alarm_with("G43 H1000 Z10.\nM30\n", Fanuc), "PS0030");
 }

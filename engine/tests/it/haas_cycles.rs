@@ -676,3 +676,56 @@ fn check_reads_g150_s_subprogram() {
     assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. P300 D1 F300.", RECT)), vec![(2, "314".to_string())]);
     assert_eq!(found(&g150("G150 X15. Y10. Z-2. R1. Q2. J4. D1 F300.", RECT)), vec![(2, "313".to_string())]);
 }
+
+/// The drilling-axis (Z) end of every motion of line `line`, with its kind, and the first
+/// motion's X/Y (the hole).
+fn cycle_z(src: &str, line: u32, dialect: fivex_engine::Dialect) -> ((f64, f64), Vec<(MotionKind, f64)>) {
+    let mut moves = Vec::new();
+    let mut hole = None;
+    for c in canon_in(src, dialect) {
+        if let CanonKind::Motion(m) = &c.kind {
+            if c.line == line {
+                hole.get_or_insert((m.target[0], m.target[1]));
+                moves.push((m.kind, (m.target[2] * 1e9).round() / 1e9));
+            }
+        }
+    }
+    (hole.expect("a motion on that line"), moves)
+}
+
+fn canon_in(src: &str, dialect: fivex_engine::Dialect) -> Vec<fivex_engine::canon::Canon> {
+    let mut v = Vec::new();
+    interpreter(src, "mill3", dialect).run(|c| v.push(c)).expect("no alarm");
+    v
+}
+
+/// Haas G51: "scaling does not affect canned cycle Z-axis movements such as clearance planes
+/// and incremental values" (96-8000 rev R, G51, programming notes): the hole is scaled, R, Z,
+/// the initial level and Q are not. FANUC scales the levels (×2 about Z0 here: R4, Z−10) and
+/// not Q. Before, the Haas hole went 5 mm deeper (the audit's F3).
+#[test]
+fn haas_scaling_leaves_the_cycle_levels_alone() {
+    use MotionKind::{Linear as F, Rapid as R};
+    let head = "G00 X0 Y0 Z50.\nG51 X0 Y0 Z0 P2.\n";
+    // G99 G81 from Z50: the hole at (20, 10); Haas R2, Z−5, back to R2.
+    let g81 = format!("{head}G99 G81 X10. Y5. Z-5. R2. F200.\nG80\nG50\nM30\n");
+    let (hole, haas) = cycle_z(&g81, 3, Haas);
+    assert!(close(hole, (20.0, 10.0)), "{hole:?}");
+    assert_eq!(haas, vec![(R, 50.0), (R, 2.0), (F, -5.0), (R, 2.0)]);
+    let (_, fanuc) = cycle_z(&g81, 3, Fanuc);
+    assert_eq!(fanuc, vec![(R, 50.0), (R, 4.0), (F, -10.0), (R, 4.0)]);
+    // G91 G98: R from the initial level Z50 (the tool's, 25 programmed), Z from R; back to 50.
+    let inc = format!("{head}G91 G98 G81 X10. Y5. Z-7. R-48. F200.\nG80\nG90 G50\nM30\n");
+    let (_, haas) = cycle_z(&inc, 3, Haas);
+    assert_eq!(haas, vec![(R, 50.0), (R, 2.0), (F, -5.0), (R, 50.0)]);
+    // FANUC: 25 − 48 = −23 and −30 programmed, −46 and −60 after the scaling.
+    let (_, fanuc) = cycle_z(&inc, 3, Fanuc);
+    assert_eq!(fanuc, vec![(R, 50.0), (R, -46.0), (F, -60.0), (R, 50.0)]);
+    // G83 Q3 from R2 to Z−5 (Haas): pecks to −1, −4, −5, each return to R and back to 0.5 mm
+    // above the last depth.
+    let g83 = format!("{head}G99 G83 X10. Y5. Z-5. R2. Q3. F200.\nG80\nG50\nM30\n");
+    let (_, haas) = cycle_z(&g83, 3, Haas);
+    let want =
+        [(R, 50.0), (R, 2.0), (F, -1.0), (R, 2.0), (R, -0.5), (F, -4.0), (R, 2.0), (R, -3.5), (F, -5.0), (R, 2.0)];
+    assert_eq!(haas, want.to_vec());
+}

@@ -13,4 +13,5 @@ G90 X2.
 G91 Z-0.1
 G90 X0
 M99
-(expect: feeds=X0,Y0,Z0/X0,Y0,Z-0.1/X2,Y0,Z-0.1/X2,Y0,Z-0.2/X0,Y0,Z-0.2/X0,Y0,Z-0.3/X2,Y0,Z-0.3/X2,Y0,Z-0.4/X0,Y0,Z-0.4/X0,Y0,Z-0.5/X2,Y0,Z-0.5/X2,Y0,Z-0.6/X0,Y0,Z-0.6/X0,Y0,Z-0.7/X2,Y0,Z-0.7/X2,Y0,Z-0.8/X0,Y0,Z-0.8/X0,Y0,Z-0.9/X2,Y0,Z-0.9/X2,Y0,Z-1/X0,Y0,Z-1 wZ=1 status=completed)
+(M30 cancels the tool length (96-8000, G49): the work Z after it is the nose's, Z1 + 100.)
+(expect: feeds=X0,Y0,Z0/X0,Y0,Z-0.1/X2,Y0,Z-0.1/X2,Y0,Z-0.2/X0,Y0,Z-0.2/X0,Y0,Z-0.3/X2,Y0,Z-0.3/X2,Y0,Z-0.4/X0,Y0,Z-0.4/X0,Y0,Z-0.5/X2,Y0,Z-0.5/X2,Y0,Z-0.6/X0,Y0,Z-0.6/X0,Y0,Z-0.7/X2,Y0,Z-0.7/X2,Y0,Z-0.8/X0,Y0,Z-0.8/X0,Y0,Z-0.9/X2,Y0,Z-0.9/X2,Y0,Z-1/X0,Y0,Z-1 wZ=101 status=completed)

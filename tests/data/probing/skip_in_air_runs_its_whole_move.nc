@@ -7,5 +7,6 @@ G31 X70. F100.
 #101=#5061
 #102=#5063
 M30
-(Beside the box: nothing is touched, the move ends at its end point, which #5061… hold.)
-(expect: #100=-10 #101=70 #102=-10 wX=70 wZ=-10 status=completed)
+(Beside the box: nothing is touched, the move ends at its end point, which #5061… hold. M30)
+(cancels the tool length on a Haas, 96-8000 G49: its work Z after M30 is the nose's, 100 above.)
+(expect: #100=-10 #101=70 #102=-10 wX=70 wZ[fanuc]=-10 wZ[haas]=90 status=completed)
