@@ -274,6 +274,19 @@ impl InterfaceSignals {
     }
 }
 
+/// `#3000 = n (MESSAGE)`: the program's alarm n, rounded to a whole number, 0–999 (FANUC
+/// MC3000–MC3999, Syntec MAR-000–999, Haas 1000–1999) with the block's comment. An n out of that
+/// range, or vacant, is PS0115 rather than an alarm number fivex would invent (decision,
+/// `docs/dialects.md`, "Macro alarms").
+fn macro_alarm(value: Value, block: &Block) -> AlarmId {
+    match value.map(f64::round) {
+        Some(n) if (0.0..=999.0).contains(&n) => {
+            AlarmId::MacroAlarm { number: n as u32, message: block.comment.clone().unwrap_or_default() }
+        }
+        _ => AlarmId::VariableOutOfRange,
+    }
+}
+
 impl State {
     /// #3002, the hour timer (retained through power off).
     pub(super) fn hour_timer(&self) -> f64 {
@@ -427,11 +440,7 @@ impl State {
             Slot::System(n) => {
                 let v = value.unwrap_or(0.0);
                 match n {
-                    3000 => {
-                        let number = v.round().clamp(0.0, 999.0) as u32;
-                        let message = block.comment.clone().unwrap_or_default();
-                        return Err(AlarmId::MacroAlarm { number, message });
-                    }
+                    3000 => return Err(macro_alarm(value, block)),
                     3001 => self.timer_ms_base = self.clock_s * 1000.0 - v,
                     3002 => self.timer_h_base = self.clock_s / 3600.0 - v,
                     3003 => self.sys3003 = v,

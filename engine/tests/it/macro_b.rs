@@ -469,6 +469,30 @@ fn macro_alarm_number_from_an_expression_in_a_subprogram() {
     assert_eq!(alarm_full("#3000=1\nM30\n", Dialect::Fanuc).message, "");
 }
 
+/// Decision (`docs/dialects.md`, "Macro alarms"): n is rounded and must be 0–999; out of that
+/// range or vacant the block is PS0115 (as an interface signal written out of its range), never
+/// a clamped alarm number (the audit's -1 gave MC3000, 1000 and 4096 both MC3999).
+#[test]
+fn macro_alarm_numbers_out_of_range_are_refused_not_clamped() {
+    for n in ["-1", "1000", "4096", "#0", "999.5"] {
+        let src = format!("#100=1\n#3000={n} (MSG)\nM30\n");
+        alarms(&src, "PS0115", "COR-021");
+        assert_eq!(alarm_with(&src, Dialect::Haas), "503", "Haas, #3000={n}");
+        assert_eq!(alarm_full(&src, Dialect::Fanuc).line, 2, "#3000={n}");
+    }
+    // The ends of the range, and a value rounded into it (half away from zero).
+    for (n, fanuc, syntec, haas) in [
+        ("0", "MC3000", "MAR-000", "1000"),
+        ("999", "MC3999", "MAR-999", "1999"),
+        ("-0.4", "MC3000", "MAR-000", "1000"),
+        ("12.5", "MC3013", "MAR-013", "1013"),
+    ] {
+        let src = format!("#3000={n} (MSG)\nM30\n");
+        alarms(&src, fanuc, syntec);
+        assert_eq!(alarm_with(&src, Dialect::Haas), haas, "Haas, #3000={n}");
+    }
+}
+
 #[test]
 fn stop_with_message_3006() {
     let src = "#3006=1 (CHECK PART)\n#100=1\nM30\n";
