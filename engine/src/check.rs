@@ -19,7 +19,6 @@
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind};
-use crate::motion::{Endpoint, Executor};
 use crate::dialect::Dialect;
 use crate::interp::gcode::{self, code, group};
 use crate::interp::mcode;
@@ -28,6 +27,7 @@ use crate::interp::unbuilt::{self, Word};
 use crate::interp::{Interpreter, Loaded, Step};
 use crate::lang::Word as NcWord;
 use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
+use crate::motion::{Endpoint, Executor};
 use std::collections::HashSet;
 
 /// Every diagnostic of `file`, sorted by line and column.

@@ -194,20 +194,21 @@ fn check_reports_the_over_travel_the_run_stops_with() {
     let mut tight = MachineConfig::preset("head-bc").unwrap();
     // head-bc's B pivot at Z 100 when B passes 0 (the test below): a limit just under it.
     tight.axes[2].stroke = Some([-500.0, 99.9]);
-    let cases: [(&str, &str, Option<MachineConfig>, Option<(&str, u32)>); 8] = [
-        ("G90 G00 X5000.\nM30\n", "mill3", None, Some(("OT0510", 1))),
-        ("G90 G00 X-100. Y400.\nG02 X100. Y400. R100. F1000.\nM30\n", "mill3", None, Some(("OT0510", 2))),
-        ("G90 G01 Z-600. F1000.\nM30\n", "mill3", None, Some(("OT0511", 1))),
-        ("G10 L2 P1 X500.\nG90 G54 G00 X100.\nX150.\nM30\n", "mill3", None, Some(("OT0510", 3))),
-        ("G20 G90 G00 X23.\nX24.\nM30\n", "mill3", None, Some(("OT0510", 2))),
-        ("G90 G00 B100.\nB120.\nM30\n", "head-bc", None, Some(("OT0510", 2))),
-        ("G90 G00 B-30. C0\nG43.4 H1\nG00 X0 Y0 Z0\nG01 B45. F2000.\nG49\nM30\n", "head-bc", Some(tight), Some(("OT0510", 4))),
-        ("G90 G00 X599. Y-449. Z299.\nM30\n", "mill3", None, None),
+    // (program, preset, with head-bc's Z limit under the pivot's peak, the alarm and its line)
+    let cases = [
+        ("G90 G00 X5000.\nM30\n", "mill3", false, Some(("OT0510", 1))),
+        ("G90 G00 X-100. Y400.\nG02 X100. Y400. R100. F1000.\nM30\n", "mill3", false, Some(("OT0510", 2))),
+        ("G90 G01 Z-600. F1000.\nM30\n", "mill3", false, Some(("OT0511", 1))),
+        ("G10 L2 P1 X500.\nG90 G54 G00 X100.\nX150.\nM30\n", "mill3", false, Some(("OT0510", 3))),
+        ("G20 G90 G00 X23.\nX24.\nM30\n", "mill3", false, Some(("OT0510", 2))),
+        ("G90 G00 B100.\nB120.\nM30\n", "head-bc", false, Some(("OT0510", 2))),
+        ("G90 G00 B-30. C0\nG43.4 H1\nG00 X0 Y0 Z0\nG01 B45. F2000.\nG49\nM30\n", "head-bc", true, Some(("OT0510", 4))),
+        ("G90 G00 X599. Y-449. Z299.\nM30\n", "mill3", false, None),
     ];
-    for (src, preset, machine, want) in cases {
+    for (src, preset, tight_z, want) in cases {
         let tweak = |c: &mut fivex_engine::interp::Config| {
-            if let Some(m) = &machine {
-                c.machine = m.clone().into();
+            if tight_z {
+                c.machine = tight.clone().into();
             }
         };
         let want = want.map(|(code, line)| (code.to_string(), line, true));
