@@ -12,11 +12,13 @@
 //! line of the program nor a program of the file.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
-//! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) without the
-//! executor, so the compensation's alarms (PS0033, PS0034, PS0041 …) are found as a run finds
-//! them; [`uses_cutter_compensation`] says whether the text can raise them at all.
+//! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) and the
+//! executor's stroke check without its planner, so the compensation's alarms (PS0033, PS0034,
+//! PS0041 …) and the stored stroke limits (OT0510/OT0511) are found as a run finds them;
+//! [`uses_cutter_compensation`] says whether the text can raise the compensation's at all.
 
 use crate::alarm::{Alarm, AlarmId};
+use crate::canon::{Canon, CanonKind};
 use crate::dialect::Dialect;
 use crate::interp::gcode::{self, code, group};
 use crate::interp::mcode;
@@ -25,6 +27,7 @@ use crate::interp::unbuilt::{self, Word};
 use crate::interp::{Interpreter, Loaded, Step};
 use crate::lang::Word as NcWord;
 use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
+use crate::motion::{Endpoint, Executor};
 use std::collections::HashSet;
 
 /// Every diagnostic of `file`, sorted by line and column.
@@ -297,21 +300,40 @@ pub struct RunStop {
     pub by_stage: bool,
     /// Cutter compensation (G41/G42) was in force where it was raised (always for a stage).
     pub compensating: bool,
+    /// The stored stroke check raised it (an over-travel: the machine's strokes decide it).
+    pub by_strokes: bool,
 }
 
 /// Runs `interp` (loaded, in its start state) to its end through the interpreter and the path
-/// stages a run uses (`crate::stage::Pipeline::for_config`), without the executor: nothing is
-/// planned or moves, so no stroke or speed is checked. The first alarm, if any — a stage's is
-/// found where a run finds it (a corner when the next motion has been read, what the stage
-/// still holds at the program end).
+/// stages a run uses (`crate::stage::Pipeline::for_config`), and every motion through the
+/// executor's stroke check (`Executor::check_strokes`: the end point, an arc's extremes, the
+/// points along a kinematic path, as the run checks them before a block moves), never planned:
+/// nothing moves and no speed or time is checked. The first alarm, if any, in the run's order —
+/// a stroke limit of a command the stages released, then a stage's (found where a run finds it:
+/// a corner when the next motion has been read, what the stage still holds at the program
+/// end), then the interpreter's.
 pub fn run_without_motion(interp: &mut Interpreter) -> Option<RunStop> {
     let mut stages = crate::stage::Pipeline::for_config(interp.config());
+    let start = Endpoint {
+        machine: interp.state.machine_position(),
+        work: interp.state.position(),
+        basis: interp.state.tip_basis(),
+    };
+    let mut exec = Executor::new(interp.config().machine.clone(), start);
     let mut out = Vec::new();
     loop {
         out.clear();
         let step = interp.step(&mut out);
-        if let Some(alarm) = stages.process(&mut out, crate::run::ends(&step)) {
-            return Some(RunStop { alarm, by_stage: true, compensating: true });
+        let stage_alarm = stages.process(&mut out, crate::run::ends(&step));
+        for c in &out {
+            if let Err(id) = check_strokes(&mut exec, c) {
+                let (code, message) = interp.config().dialect.describe(&id);
+                let alarm = Alarm { code, message, line: c.line, n: c.n };
+                return Some(RunStop { alarm, by_stage: false, compensating: false, by_strokes: true });
+            }
+        }
+        if let Some(alarm) = stage_alarm {
+            return Some(RunStop { alarm, by_stage: true, compensating: true, by_strokes: false });
         }
         match step {
             Ok(Step::Continue) => {}
@@ -320,8 +342,27 @@ pub fn run_without_motion(interp: &mut Interpreter) -> Option<RunStop> {
             Err(alarm) => {
                 let mode = interp.state.modal(group::CUTTER_COMP);
                 let compensating = mode == code::G41 || mode == code::G42;
-                return Some(RunStop { alarm, by_stage: false, compensating });
+                return Some(RunStop { alarm, by_stage: false, compensating, by_strokes: false });
             }
+        }
+    }
+}
+
+/// The run's stroke check of command `c` (`run::Driver::apply`): a motion is checked from where
+/// the one before ended; any other command leaves the machine standing in its block's system
+/// (and Syntec's chain switch selects the mechanism the next motions are made with).
+fn check_strokes(exec: &mut Executor, c: &Canon) -> Result<(), AlarmId> {
+    match &c.kind {
+        CanonKind::Motion(m) => {
+            let ctx = exec.feed_context(1.0, 1.0, m.context.exact_stop);
+            exec.check_strokes(c, m, ctx)
+        }
+        other => {
+            exec.stand_in(c.tip_basis);
+            if let CanonKind::Chain(chain) = other {
+                exec.follow_chain(*chain);
+            }
+            Ok(())
         }
     }
 }

@@ -58,6 +58,12 @@ impl SettingErrors {
     }
 }
 
+/// Whether macro variable `number` is a shift Δx, Δy, Δz of a set (a length; the others are
+/// angles).
+pub fn is_shift_variable(number: u32) -> bool {
+    matches!(split(number), Some((_, 0..=2)))
+}
+
 /// Set number and item of a variable that exists.
 fn split(number: u32) -> Option<(usize, usize)> {
     let i = number.checked_sub(FIRST_VARIABLE)?;

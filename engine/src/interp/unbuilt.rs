@@ -293,10 +293,13 @@ pub fn haas_m_code(m: u32) -> Option<&'static str> {
 }
 
 /// `letter` is an argument of the G code `code` in `dialect`, decided by the code's row rather
-/// than by [`address`]: Syntec's G05 E (decided by its row), Haas's G187 E (its maximum corner
-/// rounding, `interp::corner_blend`).
+/// than by [`address`]: every letter of a macro call G65/G66/G66.1 (E is argument #8 of
+/// specification I; the call takes the words as arguments, none as an address), Syntec's G05 E
+/// (decided by its row), Haas's G187 E (its maximum corner rounding, `interp::corner_blend`).
 pub fn argument_of(code: u16, dialect: Dialect, letter: u8) -> bool {
-    letter == b'E' && (code == 50 && dialect == Dialect::Syntec || code == 1870 && dialect == Dialect::Haas)
+    use crate::interp::gcode::code::MACRO_CALLS;
+    MACRO_CALLS.contains(&code) && letter.is_ascii_uppercase()
+        || letter == b'E' && (code == 50 && dialect == Dialect::Syntec || code == 1870 && dialect == Dialect::Haas)
 }
 
 /// The codes of the table (for documentation checks).

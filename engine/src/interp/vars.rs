@@ -159,6 +159,39 @@ impl State {
         }
     }
 
+    /// mm in one input unit: 25.4 under G20 (Syntec's G70), else 1.
+    pub(super) fn mm_per_input_unit(&self) -> f64 {
+        if self.modes[group::UNITS] == code::G20 {
+            25.4
+        } else {
+            1.0
+        }
+    }
+
+    fn linear_axis(&self, axis: usize) -> bool {
+        self.cfg.machine.axes[axis].kind == crate::machine::AxisKind::Linear
+    }
+
+    /// mm in one unit of what an offset variable holds: the lengths (tool offsets, work offsets
+    /// and the Haas G52 of linear axes, the shifts of G54.4's error data) are read and written
+    /// in the input unit, as G10 and the axis words take them and `#5001…` show positions, so
+    /// `#5241 = #5221` and `G10 L2 P3 X#5221` set the same offset under G20 (decision,
+    /// `docs/conventions.md`, "Units and numbers"). Angles and numbers: 1. The position
+    /// variables convert themselves (`in_input_unit`).
+    fn slot_unit(&self, slot: &Slot) -> f64 {
+        let length = match *slot {
+            Slot::Tool { .. } => true,
+            Slot::Work { axis, .. } | Slot::HaasG52(axis) => self.linear_axis(axis),
+            Slot::System(n) => crate::wse::is_shift_variable(n),
+            _ => false,
+        };
+        if length {
+            self.mm_per_input_unit()
+        } else {
+            1.0
+        }
+    }
+
     /// Haas #4001–#4021: the code of the group, as the NGC names it (G154 for a G154 P or
     /// G110–G129 offset: fivex keeps them as G54.1 P).
     fn haas_group_code(&self, g: u32) -> Result<f64, AlarmId> {
@@ -172,7 +205,9 @@ impl State {
 
 impl Variables for State {
     fn read(&self, n: u32) -> Result<Value, AlarmId> {
-        Ok(match self.slot(n) {
+        let slot = self.slot(n);
+        let unit = self.slot_unit(&slot);
+        let value = match slot {
             Slot::HaasGroup(g) => Some(self.haas_group_code(g)?),
             Slot::HaasG52(axis) => Some(self.local[axis]),
             Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
@@ -186,7 +221,8 @@ impl Variables for State {
             }
             Slot::Work { index, axis } => Some(self.offsets.work(index)[axis]),
             Slot::System(n) => Some(self.read_system(n)?),
-        })
+        };
+        Ok(value.map(|v| v / unit))
     }
 }
 
@@ -235,6 +271,19 @@ impl InterfaceSignals {
     /// The host (the machine's PLC side) sets input `n` (#1000–#1035).
     pub fn set_input(&mut self, n: u32, value: f64) -> Result<(), AlarmId> {
         self.set(n, value, true)
+    }
+}
+
+/// `#3000 = n (MESSAGE)`: the program's alarm n, rounded to a whole number, 0–999 (FANUC
+/// MC3000–MC3999, Syntec MAR-000–999, Haas 1000–1999) with the block's comment. An n out of that
+/// range, or vacant, is PS0115 rather than an alarm number fivex would invent (decision,
+/// `docs/dialects.md`, "Macro alarms").
+fn macro_alarm(value: Value, block: &Block) -> AlarmId {
+    match value.map(f64::round) {
+        Some(n) if (0.0..=999.0).contains(&n) => {
+            AlarmId::MacroAlarm { number: n as u32, message: block.comment.clone().unwrap_or_default() }
+        }
+        _ => AlarmId::VariableOutOfRange,
     }
 }
 
@@ -330,10 +379,9 @@ impl State {
     /// Position variables read in the input unit: inch under G20 for linear axes.
     /// A position as the control shows it: inch under G20, rollover axes modulo 360.
     fn in_input_unit(&self, axis: usize, p: crate::canon::Pos) -> f64 {
-        let a = &self.cfg.machine.axes[axis];
-        if a.kind == crate::machine::AxisKind::Linear && self.modes[group::UNITS] == code::G20 {
-            p[axis] / 25.4
-        } else if a.rollover {
+        if self.linear_axis(axis) {
+            p[axis] / self.mm_per_input_unit()
+        } else if self.cfg.machine.axes[axis].rollover {
             crate::angle::basic(p[axis])
         } else {
             p[axis]
@@ -345,7 +393,7 @@ impl State {
         match i {
             7 => self.d as f64,
             8 => self.e,
-            9 => self.f,
+            9 => self.modal_feed(),
             11 => self.h as f64,
             13 => self.last_m as f64,
             14 => self.last_n as f64,
@@ -357,9 +405,22 @@ impl State {
         }
     }
 
+    /// `#4109`: the modal F as the program gives it: in/min (in/rev) under G20, so `F#4109`
+    /// commands the same feed again (decision, `docs/conventions.md`, "Units and numbers");
+    /// 1/min under G93, which has no unit to convert. Held in mm/min (`set_feed`).
+    fn modal_feed(&self) -> f64 {
+        if self.modes[group::FEED_MODE] == code::G93 {
+            self.f
+        } else {
+            self.f / self.mm_per_input_unit()
+        }
+    }
+
     /// Assign `value` to variable `n` (the block supplies `#3000`/`#3006` messages).
     pub(super) fn write(&mut self, n: u32, value: Value, block: &Block, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
-        match self.slot(n) {
+        let slot = self.slot(n);
+        let unit = self.slot_unit(&slot);
+        match slot {
             Slot::Vacant | Slot::HaasGroup(_) | Slot::HaasG52(_) => return Err(AlarmId::WriteProtectedVariable),
             Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Local(i) => {
@@ -370,19 +431,16 @@ impl State {
             Slot::Persistent(i) => self.persistent[i] = value,
             Slot::Extended(n) => self.set_extended(n, value),
             Slot::Tool { number, field } => {
+                let mm = value.unwrap_or(0.0) * unit;
                 let t = self.offsets.tool_mut(number).ok_or(AlarmId::VariableOutOfRange)?;
                 // Like G10, a new value takes effect at the next H selection.
-                *field.get_mut(t) = value.unwrap_or(0.0);
+                *field.get_mut(t) = mm;
             }
-            Slot::Work { index, axis } => self.offsets.work_mut(index)[axis] = value.unwrap_or(0.0),
+            Slot::Work { index, axis } => self.offsets.work_mut(index)[axis] = value.unwrap_or(0.0) * unit,
             Slot::System(n) => {
                 let v = value.unwrap_or(0.0);
                 match n {
-                    3000 => {
-                        let number = v.round().clamp(0.0, 999.0) as u32;
-                        let message = block.comment.clone().unwrap_or_default();
-                        return Err(AlarmId::MacroAlarm { number, message });
-                    }
+                    3000 => return Err(macro_alarm(value, block)),
                     3001 => self.timer_ms_base = self.clock_s * 1000.0 - v,
                     3002 => self.timer_h_base = self.clock_s / 3600.0 - v,
                     3003 => self.sys3003 = v,
@@ -395,7 +453,9 @@ impl State {
                     1100..=1135 => self.signals.set(n, v, false)?,
                     1000..=1035 => return Err(AlarmId::WriteProtectedVariable),
                     // G54.4 error data (WSE-08); COMMON has no Δa/Δb/Δc (#26003–#26005).
-                    26000..=26099 => *self.setting_errors.variable_mut(n).ok_or(AlarmId::VariableOutOfRange)? = v,
+                    26000..=26099 => {
+                        *self.setting_errors.variable_mut(n).ok_or(AlarmId::VariableOutOfRange)? = v * unit
+                    }
                     3902 => self.parts_required = v,
                     // Haas: the cycle start and feed timers are set (as #3001), the power-on
                     // and part timers, the tool, the spindle speed and the switches are read only.

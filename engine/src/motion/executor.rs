@@ -374,6 +374,31 @@ impl Executor {
         shift: Option<&Pos>,
         mut queued: impl FnMut(&Segment),
     ) -> Result<(), AlarmId> {
+        self.checked_segments(c, m, ctx, block, shift, |exec, seg| {
+            queued(&seg);
+            exec.planner.push(seg);
+        })
+    }
+
+    /// [`Executor::queue`]'s stroke check without the planner (`fivex check`): the alarm the
+    /// run raises before motion `m` moves, if any; the next motion starts at this one's end.
+    pub fn check_strokes(&mut self, c: &Canon, m: &Motion, ctx: FeedContext) -> Result<(), AlarmId> {
+        self.checked_segments(c, m, ctx, 0, None, |_, _| {})
+    }
+
+    /// The segments of motion `m` as the machine runs them (a tool posture control motion
+    /// through the singular posture in its parts), each checked against the stored strokes
+    /// (moved by `shift`) and handed to `each` once all passed, the queued end then at the
+    /// last; at the first limit crossed, its alarm, nothing handed on and the queued end left.
+    fn checked_segments(
+        &mut self,
+        c: &Canon,
+        m: &Motion,
+        ctx: FeedContext,
+        block: u64,
+        shift: Option<&Pos>,
+        mut each: impl FnMut(&mut Self, Segment),
+    ) -> Result<(), AlarmId> {
         let check = |exec: &Self, seg: &Segment| match shift {
             Some(shift) => super::stroke_check_shifted(seg, &exec.machine, shift),
             None => super::stroke_check(seg, &exec.machine),
@@ -382,8 +407,7 @@ impl Executor {
             let seg = self.segment_of(c, m, ctx, block);
             check(self, &seg)?;
             self.queued_to(m, &seg);
-            queued(&seg);
-            self.planner.push(seg);
+            each(self, seg);
             return Ok(());
         };
         // All the block's parts or none.
@@ -402,8 +426,7 @@ impl Executor {
             segs.push(seg);
         }
         for seg in segs {
-            queued(&seg);
-            self.planner.push(seg);
+            each(self, seg);
         }
         Ok(())
     }

@@ -13,6 +13,7 @@ use fivex_engine::canon::{Canon, CanonKind, Motion, MotionKind, SpindleState};
 use fivex_engine::interp::expr::Variables;
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::run::{run, RunOptions, RunResult};
+use fivex_engine::workpiece::{Cuboid, Workpiece};
 use fivex_engine::Dialect;
 
 // ---------------------------------------------------------------------------------------------
@@ -468,6 +469,30 @@ fn macro_alarm_number_from_an_expression_in_a_subprogram() {
     assert_eq!(alarm_full("#3000=1\nM30\n", Dialect::Fanuc).message, "");
 }
 
+/// Decision (`docs/dialects.md`, "Macro alarms"): n is rounded and must be 0–999; out of that
+/// range or vacant the block is PS0115 (as an interface signal written out of its range), never
+/// a clamped alarm number (the audit's -1 gave MC3000, 1000 and 4096 both MC3999).
+#[test]
+fn macro_alarm_numbers_out_of_range_are_refused_not_clamped() {
+    for n in ["-1", "1000", "4096", "#0", "999.5"] {
+        let src = format!("#100=1\n#3000={n} (MSG)\nM30\n");
+        alarms(&src, "PS0115", "COR-021");
+        assert_eq!(alarm_with(&src, Dialect::Haas), "503", "Haas, #3000={n}");
+        assert_eq!(alarm_full(&src, Dialect::Fanuc).line, 2, "#3000={n}");
+    }
+    // The ends of the range, and a value rounded into it (half away from zero).
+    for (n, fanuc, syntec, haas) in [
+        ("0", "MC3000", "MAR-000", "1000"),
+        ("999", "MC3999", "MAR-999", "1999"),
+        ("-0.4", "MC3000", "MAR-000", "1000"),
+        ("12.5", "MC3013", "MAR-013", "1013"),
+    ] {
+        let src = format!("#3000={n} (MSG)\nM30\n");
+        alarms(&src, fanuc, syntec);
+        assert_eq!(alarm_with(&src, Dialect::Haas), haas, "Haas, #3000={n}");
+    }
+}
+
 #[test]
 fn stop_with_message_3006() {
     let src = "#3006=1 (CHECK PART)\n#100=1\nM30\n";
@@ -851,4 +876,142 @@ fn a_machine_set_to_inch_at_power_on_starts_in_g20() {
         .unwrap();
     assert_eq!(ends, vec![25.4, 26.4]);
     assert_eq!(interp.state.read(100).unwrap(), Some(20.0));
+}
+
+// --- Inch (G20): offsets and the modal F in the input unit -----------------------------------
+// Decision (`docs/conventions.md`, "Units and numbers"): under G20 the offset variables hold
+// inch like G10, the axis words and the position variables, so one macro line means one thing.
+// Expected values by hand: 1 in = 25.4 mm.
+
+/// A G20 program's interpreter after its run on mill3 in `dialect`, with `workpiece` on the
+/// table; panics on an alarm.
+fn inch_run(src: &str, dialect: Dialect, workpiece: Workpiece) -> (Interpreter, RunResult) {
+    let mut interp = interp_cfg(src, "mill3", dialect, |c| c.workpiece = workpiece.into());
+    let r = run_interp(&mut interp);
+    assert!(r.completed(), "{:?} in\n{src}", r.alarms);
+    (interp, r)
+}
+
+fn value_of(r: &RunResult, n: u32) -> f64 {
+    r.variables.iter().find(|(k, _)| *k == n).unwrap_or_else(|| panic!("#{n} vacant")).1
+}
+
+/// `got` equals `want` within 1 nm (a value that went to mm and back may lose an ulp).
+#[track_caller]
+fn assert_near(got: &[f64], want: &[f64], what: &str) {
+    assert!(
+        got.len() == want.len() && got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-9),
+        "{what}: {got:?}, want {want:?}"
+    );
+}
+
+#[test]
+fn under_g20_a_probed_height_added_to_the_work_offset_sets_it_in_inch() {
+    // The stock's top at -50.8 mm = -2 in; tool length 0 and no D: the probe is the tip.
+    let src = "\
+G20 G90 G17 G40 G49 G80 G54
+G10 L10 P1 R0
+G00 G43 H1 X0 Y0 Z0
+G31 Z-5. F20.
+#100=#5063
+#5223=#5223+#100
+G00 Z1.
+#101=#5023
+#102=#5043
+#103=#5223
+M30
+";
+    let stock = Cuboid { min: [-100.0, -100.0, -200.0], max: [100.0, 100.0, -50.8] };
+    let (interp, r) = inch_run(src, Dialect::Fanuc, Workpiece { boxes: vec![stock] });
+    // Touch at Z -2 in; G54 Z = 0 + (-2) = -2 in; Z1. in G54 is machine Z 1 - 2 = -1 in.
+    let v = |n| value_of(&r, n);
+    assert_near(&[v(100), v(103)], &[-2.0, -2.0], "#5063 (the touch), #5223 (G54 Z)");
+    assert_near(&[v(101), v(102)], &[-1.0, 1.0], "#5023, #5043 after G00 Z1.");
+    assert_near(&[interp.state.offsets.work(1)[2]], &[-50.8], "G54 Z held in mm");
+}
+
+#[test]
+fn under_g20_an_offset_copied_by_variables_equals_one_copied_by_g10() {
+    // FANUC and Haas in G20, Syntec in its G70; the length geometry of H1 is #11001, Haas #2001.
+    for (dialect, inch, h) in
+        [(Dialect::Fanuc, "G20", 11000), (Dialect::Syntec, "G70", 11000), (Dialect::Haas, "G20", 2000)]
+    {
+        let src = format!(
+            "\
+{inch} G90 G17 G40 G49 G80
+G10 L2 P1 X2. Y1. Z-3.
+#100=#5221
+#5241=#5221
+#5242=#5222
+#5243=#5223
+G10 L2 P3 X#5221 Y#5222 Z#5223
+G55 G00 X0 Y0 Z0
+#101=#5021
+#102=#5022
+#103=#5023
+G56 X0 Y0 Z0
+#104=#5021
+#105=#5022
+#106=#5023
+G10 L10 P1 R4.
+#107=#{h1}
+#{h2}=#{h1}
+G10 L10 P3 R#{h1}
+M30
+",
+            h1 = h + 1,
+            h2 = h + 2,
+        );
+        let (interp, r) = inch_run(&src, dialect, Workpiece::default());
+        let v = |n| value_of(&r, n);
+        let what = |s: &str| format!("{dialect:?}: {s}");
+        assert_near(&[v(100)], &[2.0], &what("#5221 after G10 L2 P1 X2. in inch"));
+        assert_near(&[v(101), v(102), v(103)], &[2.0, 1.0, -3.0], &what("G55 X0 Y0 Z0 in machine inch"));
+        assert_near(&[v(104), v(105), v(106)], &[2.0, 1.0, -3.0], &what("G56 X0 Y0 Z0 in machine inch"));
+        let o = &interp.state.offsets;
+        for slot in [2, 3] {
+            assert_near(&o.work(slot)[..3], &[50.8, 25.4, -76.2], &what("G55/G56 held in mm"));
+        }
+        assert_near(&[v(107)], &[4.0], &what("H1 after G10 L10 P1 R4."));
+        assert_near(&[o.length(2), o.length(3)], &[101.6, 101.6], &what("H2 and H3 held in mm"));
+    }
+}
+
+#[test]
+fn under_g20_the_haas_g52_offset_reads_in_inch() {
+    let src = "G20\nG52 X1. Z-0.5\n#100=#5201\n#101=#5203\nM30\n";
+    let (_, r) = inch_run(src, Dialect::Haas, Workpiece::default());
+    assert_near(&[value_of(&r, 100), value_of(&r, 101)], &[1.0, -0.5], "#5201, #5203");
+}
+
+#[test]
+fn under_g20_the_modal_f_reads_in_inch_per_minute_and_f4109_restores_the_feed() {
+    // The audit's save/restore idiom: F10. in/min = 254 mm/min before and after the macro.
+    let src = "\
+G20 G90 G94 G00 X0 Y0 Z0
+G01 X1. F10.
+#101=#4109
+G65 P9030
+G01 X2.
+G93 G01 X3. F2.
+#102=#4109
+M30
+O9030
+#1=#4109
+G01 Y1. F50.
+F#1
+M99
+";
+    let (_, r) = inch_run(src, Dialect::Fanuc, Workpiece::default());
+    // G93: F is 1/min, not a length (2 = half a minute per block).
+    assert_near(&[value_of(&r, 101), value_of(&r, 102)], &[10.0, 2.0], "#4109 in G94, in G93");
+    let (lines, feeds): (Vec<u32>, Vec<f64>) = canon(src)
+        .into_iter()
+        .filter_map(|c| match c.kind {
+            CanonKind::Motion(m) if m.kind != MotionKind::Rapid => Some((c.line, m.feed)),
+            _ => None,
+        })
+        .unzip();
+    assert_eq!(lines, vec![2, 11, 5, 6]);
+    assert_near(&feeds, &[254.0, 1270.0, 254.0, 2.0], "feeds of lines 2, 11, 5, 6 (mm/min; G93 1/min)");
 }

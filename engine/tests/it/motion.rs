@@ -175,6 +175,48 @@ fn a_move_beyond_the_stroke_alarms_before_it_starts() {
     assert_eq!(syntec.alarms[0].code, "MOT-002");
 }
 
+/// `fivex check` on a machine (`check::run_without_motion`) reports the stored stroke limit the
+/// run stops with, at its line, without planning: a rapid to X5000 (X stroke ±600), an arc whose
+/// bulge alone passes Y450, Z-600 (stroke -500), an offset that carries X150 to machine 650, a
+/// G20 X24. (609.6 mm), B120 on head-bc (range ±110°), a tip-following swing whose pivot passes
+/// the Z limit between its ends; each compared with the run.
+#[test]
+fn check_reports_the_over_travel_the_run_stops_with() {
+    let check = |src: &str, preset: &str, tweak: &dyn Fn(&mut fivex_engine::interp::Config)| {
+        let mut interp = interpreter_with(src, preset, Dialect::Fanuc, tweak);
+        fivex_engine::check::run_without_motion(&mut interp).map(|s| (s.alarm.code, s.alarm.line, s.by_strokes))
+    };
+    let run_of = |src: &str, preset: &str, tweak: &dyn Fn(&mut fivex_engine::interp::Config)| {
+        let mut interp = interpreter_with(src, preset, Dialect::Fanuc, tweak);
+        let r = run(&mut interp, &RunOptions::default(), |_| {});
+        r.alarms.first().map(|a| (a.code.clone(), a.line, true))
+    };
+    let mut tight = MachineConfig::preset("head-bc").unwrap();
+    // head-bc's B pivot at Z 100 when B passes 0 (the test below): a limit just under it.
+    tight.axes[2].stroke = Some([-500.0, 99.9]);
+    // (program, preset, with head-bc's Z limit under the pivot's peak, the alarm and its line)
+    let cases = [
+        ("G90 G00 X5000.\nM30\n", "mill3", false, Some(("OT0510", 1))),
+        ("G90 G00 X-100. Y400.\nG02 X100. Y400. R100. F1000.\nM30\n", "mill3", false, Some(("OT0510", 2))),
+        ("G90 G01 Z-600. F1000.\nM30\n", "mill3", false, Some(("OT0511", 1))),
+        ("G10 L2 P1 X500.\nG90 G54 G00 X100.\nX150.\nM30\n", "mill3", false, Some(("OT0510", 3))),
+        ("G20 G90 G00 X23.\nX24.\nM30\n", "mill3", false, Some(("OT0510", 2))),
+        ("G90 G00 B100.\nB120.\nM30\n", "head-bc", false, Some(("OT0510", 2))),
+        ("G90 G00 B-30. C0\nG43.4 H1\nG00 X0 Y0 Z0\nG01 B45. F2000.\nG49\nM30\n", "head-bc", true, Some(("OT0510", 4))),
+        ("G90 G00 X599. Y-449. Z299.\nM30\n", "mill3", false, None),
+    ];
+    for (src, preset, tight_z, want) in cases {
+        let tweak = |c: &mut fivex_engine::interp::Config| {
+            if tight_z {
+                c.machine = tight.clone().into();
+            }
+        };
+        let want = want.map(|(code, line)| (code.to_string(), line, true));
+        assert_eq!(check(src, preset, &tweak), want, "check of\n{src}");
+        assert_eq!(run_of(src, preset, &tweak), want, "run of\n{src}");
+    }
+}
+
 /// A tool-tip-following move whose axis peaks between the stroke check's 16 points along the
 /// block: on head-bc (a 100 mm tool, the B pivot 150 mm above the nose) the tip stays put while B
 /// swings from -30° to 45°, so the pivot's Z (250 cos B - 150) peaks at B0, 40 % along, between

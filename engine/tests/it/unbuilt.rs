@@ -497,6 +497,25 @@ fn comma_addresses_have_a_decision() {
     assert_eq!(diag("G01 X1. F100 ,L2 I0 K1.", Fanuc), vec![]);
 }
 
+/// The words of a macro call are its arguments, not addresses: E is argument #8 of
+/// specification I (`macro-b.md`), so `G65 P9001 E0.5` and `G66 P9001 E0.25` are neither
+/// refused by the run nor reported by `fivex check` (which reported PS0009 "address E").
+#[test]
+fn e_in_a_macro_call_is_an_argument_for_check_as_for_the_run() {
+    for dialect in [Fanuc, Syntec, Haas] {
+        let modal = if has_code(dialect, "G66") { "G66 P9001 E0.25\nG00 X1.\nG67\n" } else { "" };
+        let src = format!("G65 P9001 E0.5\n{modal}M30\nO9001\n#102=#101\n#101=#8\nM99\n");
+        assert_eq!(check(parse_file(&src), dialect), vec![], "{dialect:?}: check of\n{src}");
+        let r = run_with(&src, PRESET, dialect);
+        assert!(r.completed(), "{dialect:?}: {:?}", r.alarms);
+        let want = if modal.is_empty() { vec![(101, 0.5)] } else { vec![(101, 0.25), (102, 0.5)] };
+        assert_eq!(r.variables, want, "{dialect:?}");
+    }
+    // Outside a call E stays refused, by check too.
+    let diags = check(parse_file("G01 X1. E0.5 F100\nM30\n"), Fanuc);
+    assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(1, 9)]);
+}
+
 #[test]
 fn the_refused_forms_of_a_code_are_values_not_the_code() {
     // Conditional refusals: the performed values of the same code run (the PERFORMED list has

@@ -666,6 +666,20 @@ fn check_without_a_machine_reports_only_the_compensations_alarms() {
     assert!(stdout(&out).contains(":3:1: "), "{}", stdout(&out));
 }
 
+#[test]
+fn check_on_a_machine_reports_the_over_travel_the_run_stops_with() {
+    // The audit's ot.nc: mill3's X stroke is ±600; the run stops with OT0510 at line 2.
+    let (_d, p) = scratch(&[("ot.nc", "O1\nG90 G00 X5000.\nM30\n")]);
+    let out = fivex(&["check", s(&p[0]), "--preset", "mill3"]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = stdout(&out);
+    assert_eq!(parse_diag(text.trim_end(), s(&p[0])).0, 2, "{text}");
+    assert!(text.contains("OT0510 + OVERTRAVEL ( PRE-CHECK ) X: when run on mill3"), "{text}");
+    // Without a machine the strokes are mill3's, not the text's: nothing to report.
+    let out = fivex(&["check", s(&p[0])]);
+    assert_eq!((out.status.code(), stdout(&out)), (Some(0), String::new()));
+}
+
 // --- interp ---------------------------------------------------------------------------------
 
 fn json_lines(text: &str) -> Vec<Value> {
