@@ -234,6 +234,10 @@ pub enum AlarmId {
     /// at the current point: the control gives the tool's own position there (its offset
     /// included) and stops reading ahead, which fivex does not model (`interp::vars`).
     PositionInCompensation,
+    /// A tool tip path (tool centre point control, the tilted working plane) after a manual
+    /// intervention with manual absolute off turned a rotary axis: how the control carries
+    /// the turn on such a path is not established (`controller::manual`, decision).
+    RotaryShiftOnTipPath,
     // --- Haas 5-axis: TCPC G234, DWO G254/G255 (`interp::tcp`, `interp::dwo`) ---------------
     /// G234 with no tool length offset H given or in force.
     TcpcNoToolLength,

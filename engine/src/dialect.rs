@@ -103,6 +103,8 @@ const PS5421: Text = ("PS5421", "ILLEGAL COMMAND IN G43.4/G43.5");
 const COR100: Text = ("COR-100", "Unsupported G code command or option software is not activated");
 /// fivex's own, in every dialect: no vendor names an alarm for it (`AlarmId::PositionInCompensation`).
 const POSITION_IN_COMPENSATION: Text = ("FX0006", "POSITION READ IN CUTTER COMPENSATION NOT BUILT");
+/// fivex's own, in every dialect (`AlarmId::RotaryShiftOnTipPath`).
+const ROTARY_SHIFT_ON_TIP_PATH: Text = ("FX0007", "MANUAL ROTARY SHIFT ON TOOL TIP PATH NOT BUILT");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -194,6 +196,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RestartMdi,
     AlarmId::RestartInMode,
     AlarmId::PositionInCompensation,
+    AlarmId::RotaryShiftOnTipPath,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -360,6 +363,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             (("FX0005", "RESTART NOT ALLOWED IN THIS MODE"), ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"))
         }
         PositionInCompensation => (POSITION_IN_COMPENSATION, POSITION_IN_COMPENSATION),
+        RotaryShiftOnTipPath => (ROTARY_SHIFT_ON_TIP_PATH, ROTARY_SHIFT_ON_TIP_PATH),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -450,6 +454,7 @@ fn haas(id: &AlarmId) -> Text {
         RestartBlockNotFound | RestartPNoRun | RestartPOffsetChanged | RestartMdi => RESTART,
         RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
         PositionInCompensation => POSITION_IN_COMPENSATION,
+        RotaryShiftOnTipPath => ROTARY_SHIFT_ON_TIP_PATH,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),

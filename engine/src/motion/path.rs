@@ -2053,6 +2053,12 @@ impl Segment {
         (self.programmed * self.factor).min(tolerance)
     }
 
+    /// A tool tip path (tool centre point control, the tilted working plane): the axes follow
+    /// a programmed tip through the kinematics, not in machine coordinates.
+    pub fn is_tip_path(&self) -> bool {
+        self.follow.is_some() && !self.traits.has(Traits::MACHINE_COORDINATES)
+    }
+
     /// A path the axes follow through the kinematics, limited by the machine's own axis
     /// limits (its speed can be planned against them at every point, `Segment::derivatives`).
     pub fn is_kinematic(&self) -> bool {
