@@ -362,6 +362,9 @@ fn tv_wse_19_example_2_keeps_the_tool_direction_relative_to_the_displaced_workpi
         (13, 45.0, 160.0, [74.085638, 49.883624, 20.0], 100.0),
         // Singular target from a posture that is not: C stays (§2.14 rule 2).
         (14, 0.0, 160.0, [10.0, 20.0, 40.0], 100.0),
+        // Singular to singular, the programmed posture singular too: C moves as commanded
+        // (rule 1-(2)), and G49 Z300 commands no C motion: it stays at 160.
+        (15, 0.0, 160.0, [10.0, 20.0, 300.0], 0.0),
     ];
     let dirs = [
         (6, [-0.241845, -0.664463, 0.707107]),
@@ -381,6 +384,28 @@ fn tv_wse_19_example_2_keeps_the_tool_direction_relative_to_the_displaced_workpi
         let t = kin.forward(&end_of(&ends, line), 100.0).tool;
         assert!(close3(t.into(), d, 1e-6), "line {line}: tool {t:?}");
     }
+}
+
+/// Example 2's closing `G49 Z300.` (N130) commands no C: at the singular posture C does not
+/// turn at any sample (it turned 160° → 360° the long way, +200°, on head-bc's shortest-way C).
+#[test]
+fn tv_wse_19_the_closing_g49_block_does_not_turn_c() {
+    let mut interp = example_2(EXAMPLE_2, rcm);
+    let mut seen = 0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.005, ..RunOptions::default() }, |s| {
+        if s.line == 15 {
+            seen += 1;
+            let c = (s.machine[4] - 160.0).rem_euclid(360.0);
+            assert!(
+                c.min(360.0 - c) < 1e-6 && s.machine[3].abs() < 1e-6,
+                "N130 at B {} C {}",
+                s.machine[3],
+                s.machine[4]
+            );
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(seen > 10, "{seen} samples of N130");
 }
 
 #[test]
