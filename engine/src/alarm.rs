@@ -198,10 +198,13 @@ pub enum AlarmId {
     /// A circle outside the plane of the active coordinate rotation (G68).
     IllegalPlaneInRotation,
     // --- motion (`crate::motion`) ----------------------------------------------------------
-    /// The block would take `axis` beyond its stored stroke limit (checked before it moves).
+    /// The block would take `axis` beyond its stored stroke limit: checked before it moves
+    /// (`precheck`), or, where that check is not available (G54.4), reached during the move,
+    /// which stops there.
     OverTravel {
         axis: char,
         positive: bool,
+        precheck: bool,
     },
     // --- fivex's own guards ---------------------------------------------------------------
     /// The block budget was used up: an endless loop or endless recursion.

@@ -1088,6 +1088,15 @@ impl Controller {
                     let events = &mut self.events;
                     let noticed = |seg: &Segment| events.extend(Notice::of(seg).map(Event::Notice));
                     let queued = self.exec.queue(&c, m, ctx, self.reading_block, shift.as_ref(), noticed);
+                    if let Ok(Some(id)) = queued {
+                        // A stroke limit stops the block on its way (G54.4): the alarm comes when
+                        // the machine stands there, and nothing after it is read.
+                        let (code, message) = self.interp.config().dialect.describe(&id);
+                        let alarm = Alarm { code, message, line: c.line, n: c.n };
+                        self.cycle.blocks_mut().push_front(Item::Alarm(alarm));
+                        self.cycle.blocks_mut().end_reading();
+                        return true;
+                    }
                     if let Err(id) = queued {
                         if motion_pending {
                             // The alarm comes when the machine has stopped before the block.

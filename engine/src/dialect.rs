@@ -56,7 +56,7 @@ impl Dialect {
                 ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"))
             }
             // FANUC's stroke limit check before movement; Syntec's code is constructed (MOT-).
-            AlarmId::OverTravel { axis, positive } => {
+            AlarmId::OverTravel { axis, positive, precheck } => {
                 let sign = if *positive { '+' } else { '-' };
                 match (self, positive) {
                     // Haas: 316–319 for X, Y, Z, A (its alarm list); the other axes constructed.
@@ -70,8 +70,18 @@ impl Dialect {
                         };
                         (code.into(), format!("{axis} OVER TRAVEL RANGE"))
                     }
-                    (Dialect::Fanuc, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
-                    (Dialect::Fanuc, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    // The check before movement; without it (G54.4) the stored stroke check 1 stops
+                    // the axis on the way (the 30i's alarm list, not the seeds').
+                    (Dialect::Fanuc, _) => {
+                        let code = match (precheck, positive) {
+                            (true, true) => "OT0510",
+                            (true, false) => "OT0511",
+                            (false, true) => "OT0500",
+                            (false, false) => "OT0501",
+                        };
+                        let kind = if *precheck { "PRE-CHECK" } else { "SOFT 1" };
+                        (code.into(), format!("{sign} OVERTRAVEL ( {kind} ) {axis}"))
+                    }
                     (Dialect::Syntec, true) => {
                         ("MOT-001".into(), format!("{axis} axis exceeds positive software limit"))
                     }
@@ -525,7 +535,7 @@ mod tests {
         for id in [AlarmId::MissingP, AlarmId::LineNotFound, AlarmId::ProgramNotFound] {
             assert_eq!(Dialect::Fanuc.describe(&id).0, "PS0078");
         }
-        let ot = AlarmId::OverTravel { axis: 'Z', positive: false };
+        let ot = AlarmId::OverTravel { axis: 'Z', positive: false, precheck: true };
         assert_eq!(Dialect::Haas.describe(&ot), ("318".into(), "Z OVER TRAVEL RANGE".into()));
     }
 }

@@ -364,7 +364,10 @@ impl Executor {
 
     /// Queue the motion `m` of command `c` (see [`Executor::segment_of`]). A motion that would
     /// cross a stroke limit (moved by `shift`, a handle interruption's) is not queued: its
-    /// alarm is returned and the queued end stays. `queued` sees the segment before it is queued.
+    /// alarm is returned and the queued end stays. Without the check before movement (G54.4,
+    /// `MotionContext::no_stroke_precheck`) the motion is queued up to where the axis reaches
+    /// the limit, ending at rest there, and `Ok(Some(alarm))` tells the caller to raise the
+    /// alarm when the machine has stopped. `queued` sees the segment before it is queued.
     pub fn queue(
         &mut self,
         c: &Canon,
@@ -373,18 +376,30 @@ impl Executor {
         block: u64,
         shift: Option<&Pos>,
         mut queued: impl FnMut(&Segment),
-    ) -> Result<(), AlarmId> {
+    ) -> Result<Option<AlarmId>, AlarmId> {
         let check = |exec: &Self, seg: &Segment| match shift {
             Some(shift) => super::stroke_check_shifted(seg, &exec.machine, shift),
             None => super::stroke_check(seg, &exec.machine),
         };
         let Some(parts) = self.singular_parts(c, m) else {
             let seg = self.segment_of(c, m, ctx, block);
-            check(self, &seg)?;
+            if let Err(id) = check(self, &seg) {
+                let stop = m.context.no_stroke_precheck.then(|| {
+                    super::stroke_stop(&seg, &self.machine, shift.unwrap_or(&[0.0; crate::machine::MAX_AXES]))
+                });
+                let Some((head, alarm)) = stop.flatten() else { return Err(id) };
+                (self.queued.machine, self.queued.work) = (head.to(), head.work_to());
+                self.queued_contour = None;
+                if head.len > 0.0 {
+                    queued(&head);
+                    self.planner.push(head);
+                }
+                return Ok(Some(alarm));
+            }
             self.queued_to(m, &seg);
             queued(&seg);
             self.planner.push(seg);
-            return Ok(());
+            return Ok(None);
         };
         // All the block's parts or none.
         let (was, was_contour) = (self.queued, self.queued_contour);
@@ -405,7 +420,7 @@ impl Executor {
             queued(&seg);
             self.planner.push(seg);
         }
-        Ok(())
+        Ok(None)
     }
 
     /// A tool posture control motion from or to the singular posture as the machine runs it

@@ -2310,6 +2310,20 @@ impl Segment {
         Some(Turn { center: TurnCenter::Axes(center), axis: unit(c.a)?.cross(&unit(c.b)?), sweep: c.sweep })
     }
 
+    /// The segment up to distance `s`, ending there at rest (where a stored stroke limit stops
+    /// the machine in a block nothing checked before it moved: `motion::stroke_stop`).
+    pub fn head(&self, s: f64) -> Segment {
+        let s = s.clamp(0.0, self.len);
+        let u = if self.len > 0.0 { s / self.len } else { 1.0 };
+        let mut seg = self.whole().part(0.0, s);
+        if let Some(c) = seg.circle.as_mut().filter(|_| u < 1.0) {
+            c.r1 = c.r0 + (c.r1 - c.r0) * u;
+            c.sweep *= u;
+        }
+        seg.stop_after = true;
+        seg
+    }
+
     /// What is left of the segment from distance `s` on (a feed hold resumes from there).
     pub fn tail(&self, s: f64) -> Segment {
         let s = s.clamp(0.0, self.len);

@@ -486,6 +486,62 @@ fn tv_wse_22_to_25_the_side_of_the_singular_angle() {
     assert!(near(got, (90.0, 90.0)), "{got:?}");
 }
 
+/// S000 III.2 (restrictions): "In the mode of Workpiece setting error compensation, Stroke
+/// limit check before movement is not available." The seed's O2 (§2.3.12, error Δb −2°, from
+/// B −1) on its machine whose B moves in [−45, 100] (§2.3.18: "set the stored stroke limit
+/// check to prevent a movement over the range"): N50 runs until B reaches −45, stops there
+/// and gives the stored stroke check's alarm OT0501, not the pre-check's OT0511 before
+/// anything of N50 moves. The tip (TCP, X0 Y0 Z0) stays at the origin all the while.
+#[test]
+fn g54_4_has_no_stroke_check_before_movement_the_axis_stops_at_its_limit() {
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    use fivex_engine::kin::Kinematics;
+    let src =
+        "N10 G05.1 Q1\nN20 G90 G01 B-1.0 C0 F1000.\nN25 G54.4 P1\nN30 G43.4 H1\nN40 X0 Y0 Z0\nN50 B90.0 C90.0\nM30\n";
+    let b45 = |c: &mut Config| {
+        rcm(c);
+        c.edit_machine(|m| m.axes[3].stroke = Some([-45.0, 100.0]));
+    };
+    let mut interp = fanuc_with(src, "head-bc", b45);
+    interp.state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let mut n50 = Vec::new();
+    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+        if s.line == 6 {
+            n50.push(s.machine);
+        }
+    });
+    let a = &r.alarms[0];
+    assert_eq!(
+        (a.code.as_str(), a.message.as_str(), a.line),
+        ("OT0501", "- OVERTRAVEL ( SOFT 1 ) B", 6),
+        "{:?}",
+        r.alarms
+    );
+    assert!(n50.iter().all(|m| m[3] >= -45.0 - 1e-9), "B stays within its stroke");
+    assert!(n50.iter().any(|m| m[3] < -40.0), "N50 moved toward the limit");
+    assert!((r.machine[3] + 45.0).abs() < 1e-6, "stopped at the limit: {:?}", r.machine);
+    for m in &n50 {
+        let tip = kin.forward(m, 100.0).tip - kin.nose;
+        assert!(tip.norm() < 1e-6, "the tip stays at the origin: {tip:?}");
+    }
+    // The same in the controller.
+    let mut cfg = Config::new(MachineConfig::preset("head-bc").unwrap(), Dialect::Fanuc);
+    b45(&mut cfg);
+    let mut c = Controller::new(cfg);
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().h_geometry = 100.0;
+    c.interpreter_mut().state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    while c.run_state() == RunState::Running && c.time() < 60.0 {
+        c.tick(0.005);
+    }
+    assert_eq!(c.run_state(), RunState::Alarm);
+    assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].line), ("OT0501", 6), "{:?}", c.alarms());
+    assert!((c.point().machine[3] + 45.0).abs() < 1e-6, "{:?}", c.point().machine);
+}
+
 #[test]
 fn tv_wse_18_rcm_start_block_turns_the_absolute_rotary_coordinates() {
     // TV-WSE-23's start: machine B −1 C0, Δb −2°: the tool seen from the WSCS is at B +1 C0.
@@ -737,7 +793,8 @@ fn extreme_error_data_end_in_alarms_not_panics() {
             // to "complete" in the run-time guard's 10⁶ s with every position null).
             let code = r.alarms.first().map(|a| a.code.as_str());
             assert!(!r.completed(), "{preset} {data:?} completed");
-            assert!(matches!(code, Some("OT0510" | "OT0511" | "PS0111")), "{preset} {data:?}: {:?}", r.alarms);
+            // G54.4 has no check before movement: the stored stroke check stops the move.
+            assert!(matches!(code, Some("OT0500" | "OT0501" | "PS0111")), "{preset} {data:?}: {:?}", r.alarms);
             assert!(r.alarms[0].line >= 4, "{preset} {data:?}: the data itself is accepted: {:?}", r.alarms);
         }
     }
@@ -1388,8 +1445,8 @@ proptest::proptest! {
             interp.state.setting_errors.sets[1] = wse::ErrorSet { shift, rotation: rot, table: [0.0; 2] };
             let mut samples = Vec::new();
             let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
-            // A plane the rotary strokes cannot reach is refused before the move (OT0511).
-            if r.alarms.iter().any(|a| a.code == "OT0511") {
+            // A plane the rotary strokes cannot reach stops at the stroke (G54.4: OT0500/OT0501).
+            if r.alarms.iter().any(|a| a.code == "OT0500" || a.code == "OT0501") {
                 continue;
             }
             proptest::prop_assert!(r.completed(), "{preset}: {:?}", r.alarms);
