@@ -198,10 +198,13 @@ pub enum AlarmId {
     /// A circle outside the plane of the active coordinate rotation (G68).
     IllegalPlaneInRotation,
     // --- motion (`crate::motion`) ----------------------------------------------------------
-    /// The block would take `axis` beyond its stored stroke limit (checked before it moves).
+    /// The block would take `axis` beyond its stored stroke limit: checked before it moves
+    /// (`precheck`), or, where that check is not available (G54.4), reached during the move,
+    /// which stops there.
     OverTravel {
         axis: char,
         positive: bool,
+        precheck: bool,
     },
     // --- fivex's own guards ---------------------------------------------------------------
     /// The block budget was used up: an endless loop or endless recursion.
@@ -234,6 +237,10 @@ pub enum AlarmId {
     /// at the current point: the control gives the tool's own position there (its offset
     /// included) and stops reading ahead, which fivex does not model (`interp::vars`).
     PositionInCompensation,
+    /// A tool tip path (tool centre point control, the tilted working plane) after a manual
+    /// intervention with manual absolute off turned a rotary axis: how the control carries
+    /// the turn on such a path is not established (`controller::manual`, decision).
+    RotaryShiftOnTipPath,
     // --- Haas 5-axis: TCPC G234, DWO G254/G255 (`interp::tcp`, `interp::dwo`) ---------------
     /// G234 with no tool length offset H given or in force.
     TcpcNoToolLength,

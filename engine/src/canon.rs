@@ -65,6 +65,9 @@ pub struct MotionContext {
     /// The feed override does not act (G63 tapping mode, the tapping cycles G74/G84).
     pub fixed_feed: bool,
     pub rotation: u16,
+    /// The stored stroke limits are not checked before the motion moves (G54.4): an axis that
+    /// reaches one stops there (`motion::stroke_stop`).
+    pub no_stroke_precheck: bool,
 }
 
 /// What a cutter compensation block's G38, G39, I/J/K or Q say to the compensation stages

@@ -614,6 +614,9 @@ impl Controller {
             // was last set.
             self.stand_here();
         }
+        // A new run: the shift of manual absolute off lasts until the program's end, however
+        // the last one ended (M02/M30, the end of its text, an MDI program).
+        (self.shift, self.reposition) = (None, false);
         if self.mode == Mode::Auto {
             // Where a P type restart's search starts from (`restart.rs`).
             self.memory.start = Some(self.exec.here.machine);
@@ -1054,6 +1057,16 @@ impl Controller {
             }
             Item::Canon(c) => match &c.kind {
                 CanonKind::Motion(m) => {
+                    if self.shift.as_ref().is_some_and(|s| self.refuses_on_tip_path(s, m)) {
+                        if motion_pending {
+                            // The alarm comes when the machine has stopped before the block.
+                            self.cycle.blocks_mut().push_front(Item::Canon(c));
+                            self.flush();
+                        } else {
+                            self.raise(AlarmId::RotaryShiftOnTipPath, c.line, c.n);
+                        }
+                        return true;
+                    }
                     let (shifted, dry);
                     // After a manual intervention only (a plain run pays one test).
                     let m = if self.shift.is_none() && !self.reposition {
@@ -1075,6 +1088,15 @@ impl Controller {
                     let events = &mut self.events;
                     let noticed = |seg: &Segment| events.extend(Notice::of(seg).map(Event::Notice));
                     let queued = self.exec.queue(&c, m, ctx, self.reading_block, shift.as_ref(), noticed);
+                    if let Ok(Some(id)) = queued {
+                        // A stroke limit stops the block on its way (G54.4): the alarm comes when
+                        // the machine stands there, and nothing after it is read.
+                        let (code, message) = self.interp.config().dialect.describe(&id);
+                        let alarm = Alarm { code, message, line: c.line, n: c.n };
+                        self.cycle.blocks_mut().push_front(Item::Alarm(alarm));
+                        self.cycle.blocks_mut().end_reading();
+                        return true;
+                    }
                     if let Err(id) = queued {
                         if motion_pending {
                             // The alarm comes when the machine has stopped before the block.
@@ -1202,7 +1224,11 @@ impl Controller {
             }
             CanonKind::Print { text } => self.events.push(Event::Message(text.clone())),
             // The machine has reached the program's end: a part is done (FANUC No.6700#0 PCM = 0).
-            CanonKind::ProgramEnd { .. } => self.interp.state.count_part(),
+            // Manual absolute off: the shift of the interventions ends with the program.
+            CanonKind::ProgramEnd { .. } => {
+                self.interp.state.count_part();
+                self.shift = None;
+            }
             // The manual feeds use the mechanism the program switched to, from here on.
             CanonKind::Chain(chain) => self.follow_chain(*chain),
             CanonKind::Spindle { state, speed } => {

@@ -56,7 +56,7 @@ impl Dialect {
                 ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"))
             }
             // FANUC's stroke limit check before movement; Syntec's code is constructed (MOT-).
-            AlarmId::OverTravel { axis, positive } => {
+            AlarmId::OverTravel { axis, positive, precheck } => {
                 let sign = if *positive { '+' } else { '-' };
                 match (self, positive) {
                     // Haas: 316–319 for X, Y, Z, A (its alarm list); the other axes constructed.
@@ -70,8 +70,18 @@ impl Dialect {
                         };
                         (code.into(), format!("{axis} OVER TRAVEL RANGE"))
                     }
-                    (Dialect::Fanuc, true) => ("OT0510".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
-                    (Dialect::Fanuc, false) => ("OT0511".into(), format!("{sign} OVERTRAVEL ( PRE-CHECK ) {axis}")),
+                    // The check before movement; without it (G54.4) the stored stroke check 1 stops
+                    // the axis on the way (the 30i's alarm list, not the seeds').
+                    (Dialect::Fanuc, _) => {
+                        let code = match (precheck, positive) {
+                            (true, true) => "OT0510",
+                            (true, false) => "OT0511",
+                            (false, true) => "OT0500",
+                            (false, false) => "OT0501",
+                        };
+                        let kind = if *precheck { "PRE-CHECK" } else { "SOFT 1" };
+                        (code.into(), format!("{sign} OVERTRAVEL ( {kind} ) {axis}"))
+                    }
                     (Dialect::Syntec, true) => {
                         ("MOT-001".into(), format!("{axis} axis exceeds positive software limit"))
                     }
@@ -103,6 +113,8 @@ const PS5421: Text = ("PS5421", "ILLEGAL COMMAND IN G43.4/G43.5");
 const COR100: Text = ("COR-100", "Unsupported G code command or option software is not activated");
 /// fivex's own, in every dialect: no vendor names an alarm for it (`AlarmId::PositionInCompensation`).
 const POSITION_IN_COMPENSATION: Text = ("FX0006", "POSITION READ IN CUTTER COMPENSATION NOT BUILT");
+/// fivex's own, in every dialect (`AlarmId::RotaryShiftOnTipPath`).
+const ROTARY_SHIFT_ON_TIP_PATH: Text = ("FX0007", "MANUAL ROTARY SHIFT ON TOOL TIP PATH NOT BUILT");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -194,6 +206,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RestartMdi,
     AlarmId::RestartInMode,
     AlarmId::PositionInCompensation,
+    AlarmId::RotaryShiftOnTipPath,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -360,6 +373,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             (("FX0005", "RESTART NOT ALLOWED IN THIS MODE"), ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"))
         }
         PositionInCompensation => (POSITION_IN_COMPENSATION, POSITION_IN_COMPENSATION),
+        RotaryShiftOnTipPath => (ROTARY_SHIFT_ON_TIP_PATH, ROTARY_SHIFT_ON_TIP_PATH),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -450,6 +464,7 @@ fn haas(id: &AlarmId) -> Text {
         RestartBlockNotFound | RestartPNoRun | RestartPOffsetChanged | RestartMdi => RESTART,
         RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
         PositionInCompensation => POSITION_IN_COMPENSATION,
+        RotaryShiftOnTipPath => ROTARY_SHIFT_ON_TIP_PATH,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),
@@ -520,7 +535,7 @@ mod tests {
         for id in [AlarmId::MissingP, AlarmId::LineNotFound, AlarmId::ProgramNotFound] {
             assert_eq!(Dialect::Fanuc.describe(&id).0, "PS0078");
         }
-        let ot = AlarmId::OverTravel { axis: 'Z', positive: false };
+        let ot = AlarmId::OverTravel { axis: 'Z', positive: false, precheck: true };
         assert_eq!(Dialect::Haas.describe(&ot), ("318".into(), "Z OVER TRAVEL RANGE".into()));
     }
 }

@@ -226,8 +226,9 @@ impl<O: Observer> Driver<'_, O> {
                         Notice::add(notices, notice);
                     }
                 };
-                if let Err(id) = self.exec.queue(c, m, ctx, 0, None, queued) {
-                    // The machine stops at the end of the block before; the offending one never moves.
+                // The machine stops at the end of the block before, the offending one never
+                // moving; or (G54.4) where a stroke limit stops the block on its way.
+                if let Err(id) | Ok(Some(id)) = self.exec.queue(c, m, ctx, 0, None, queued) {
                     self.drain(true, tracing, on_sample);
                     return Err(id);
                 }

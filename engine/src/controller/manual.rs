@@ -5,6 +5,7 @@
 
 use super::signals::{signal_axis, ManualTarget};
 use super::{Controller, Mode, Refusal, RunState};
+use crate::alarm::AlarmId;
 use crate::canon::{Motion, MotionKind, Pos};
 use crate::kin::{latitude_longitude, ManualFeed, Vec3};
 use crate::machine::{ManualOptions, ManualVertical};
@@ -64,6 +65,13 @@ impl Controller {
         if moved.iter().any(|d| d.abs() > 1e-9) {
             if !self.panel.manual_absolute {
                 let shift = self.intervention_shift(&i.start, &moved);
+                if let Some(seg) = path.iter().find(|seg| seg.is_tip_path() && self.turns_rotary(&shift)) {
+                    // The rest of the block under way is a tool tip path (`refuses_on_tip_path`).
+                    let (line, n) = (seg.line, seg.n);
+                    (self.exec.queued.machine, self.exec.queued.work) = (here, self.exec.here.work);
+                    self.raise(AlarmId::RotaryShiftOnTipPath, line, n);
+                    return;
+                }
                 path = path.iter().map(|seg| seg.shifted(&shift.machine, shift.tip)).collect();
                 if let Some(last) = path.last() {
                     (self.exec.queued.machine, self.exec.queued.work) = (last.to(), last.work_to());
@@ -131,6 +139,26 @@ impl Controller {
             None => Vec3::zeros(),
         };
         Shift { machine: *moved, tip }
+    }
+
+    /// Whether a shift of manual absolute off turned a rotary axis of the mechanism.
+    fn turns_rotary(&self, shift: &Shift) -> bool {
+        let Some(kin) = self.machine.kinematics() else { return false };
+        let mut rotary = kin.head.iter().chain(&kin.table).filter_map(|j| j.index);
+        rotary.any(|i| shift.machine[i].abs() > 1e-9)
+    }
+
+    /// A program motion refused after a manual intervention with manual absolute off turned a
+    /// rotary axis (FX0007, decision, `docs/five-axis.md`): on a tool tip path (tool centre
+    /// point control, the tilted working plane). The manual says the later end points get the
+    /// intervention added and the turn shifts the tool centre point (S000 IV §1.1, MAN-02), and
+    /// the TCP manual that the compensation vector comes from the rotary position before the
+    /// intervention; how that vector follows a block that turns the axis, and what a table
+    /// machine keeps "on the table coordinate system" (MAN-03) for a turned table, it does not
+    /// say. Carrying the tip shift with the axis at its programmed angle turned the axis by the
+    /// amount in the next block without tool tip path (G49), so the case is refused instead.
+    pub(super) fn refuses_on_tip_path(&self, shift: &Shift, m: &Motion) -> bool {
+        m.tip.is_some() && m.kind != MotionKind::MachineRapid && self.turns_rotary(shift)
     }
 
     /// Syntec R518: the direction (machine coordinates) manual moves of axis `i` follow when it

@@ -68,6 +68,9 @@ pub struct ModalState {
     /// The code in force per group (`gcode::display` names it).
     pub modes: [u16; GROUPS],
     pub words: ModalWords,
+    /// The workpiece setting error set in force, G54.4 Pn's n (group 33; 0: G54.4 P0, none;
+    /// the group's code alone does not tell, P0 being G54.4 too).
+    pub wse_set: u8,
 }
 
 impl ModalState {
@@ -910,7 +913,7 @@ impl State {
 
     /// The G codes and words as the interpreter has read to.
     pub fn modal_state(&self) -> ModalState {
-        ModalState { modes: self.modes, words: self.modal_words() }
+        ModalState { modes: self.modes, words: self.modal_words(), wse_set: self.wse.map_or(0, |a| a.set) }
     }
 
     /// Whether the next block may need blocks that have not arrived: the end of the text of a

@@ -994,6 +994,9 @@ impl State {
             fixed_feed: self.modes[group::PATH_MODE] == code::G63
                 || matches!(self.modes[group::CYCLE], code::G74 | code::G84),
             rotation: self.modes[group::ROTATION],
+            // S000 III.2: "In the mode of Workpiece setting error compensation, Stroke limit
+            // check before movement is not available."
+            no_stroke_precheck: self.wse.is_some(),
         }
     }
 

@@ -442,7 +442,9 @@ impl State {
     /// The compensated machine angles for a block from machine `from` whose programmed angles
     /// go from `start` to `end` (machine-like positions), by §2.14:
     /// 1. current and target singular: the workpiece-side axis stays (1) or, when the
-    ///    programmed posture is singular too, goes to its programmed angle (2);
+    ///    programmed posture is singular too, moves as commanded (2): by the block's programmed
+    ///    motion of that axis, from where it stands (a block that does not command it leaves
+    ///    it where an earlier rule held it);
     /// 2. target singular only: the workpiece-side axis stays;
     /// 3. current singular only: the pair with the smaller workpiece-side motion, judged where
     ///    the programmed interpolation first leaves the singular posture;
@@ -483,7 +485,8 @@ impl State {
             let mut p = least(&found, ti);
             if let Some(i) = wi {
                 let programmed_singular = self.wse_singular(kin, &kin.forward(end, 0.0).tool);
-                p[i] = if current_singular && programmed_singular { end[i] } else { from[i] };
+                let commanded = if current_singular && programmed_singular { end[i] - start[i] } else { 0.0 };
+                p[i] = from[i] + commanded;
             }
             return Ok(p);
         }

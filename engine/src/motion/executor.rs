@@ -364,7 +364,10 @@ impl Executor {
 
     /// Queue the motion `m` of command `c` (see [`Executor::segment_of`]). A motion that would
     /// cross a stroke limit (moved by `shift`, a handle interruption's) is not queued: its
-    /// alarm is returned and the queued end stays. `queued` sees the segment before it is queued.
+    /// alarm is returned and the queued end stays. Without the check before movement (G54.4,
+    /// `MotionContext::no_stroke_precheck`) the motion is queued up to where the axis reaches
+    /// the limit, ending at rest there, and `Ok(Some(alarm))` tells the caller to raise the
+    /// alarm when the machine has stopped. `queued` sees the segment before it is queued.
     pub fn queue(
         &mut self,
         c: &Canon,
@@ -373,7 +376,7 @@ impl Executor {
         block: u64,
         shift: Option<&Pos>,
         mut queued: impl FnMut(&Segment),
-    ) -> Result<(), AlarmId> {
+    ) -> Result<Option<AlarmId>, AlarmId> {
         self.checked_segments(c, m, ctx, block, shift, |exec, seg| {
             queued(&seg);
             exec.planner.push(seg);
@@ -381,15 +384,21 @@ impl Executor {
     }
 
     /// [`Executor::queue`]'s stroke check without the planner (`fivex check`): the alarm the
-    /// run raises before motion `m` moves, if any; the next motion starts at this one's end.
+    /// run raises for motion `m` (before it moves, or where it stops at a limit without the
+    /// check before movement), if any; the next motion starts at this one's end.
     pub fn check_strokes(&mut self, c: &Canon, m: &Motion, ctx: FeedContext) -> Result<(), AlarmId> {
-        self.checked_segments(c, m, ctx, 0, None, |_, _| {})
+        match self.checked_segments(c, m, ctx, 0, None, |_, _| {})? {
+            Some(alarm) => Err(alarm),
+            None => Ok(()),
+        }
     }
 
     /// The segments of motion `m` as the machine runs them (a tool posture control motion
     /// through the singular posture in its parts), each checked against the stored strokes
     /// (moved by `shift`) and handed to `each` once all passed, the queued end then at the
-    /// last; at the first limit crossed, its alarm, nothing handed on and the queued end left.
+    /// last; at the first limit crossed, its alarm, nothing handed on and the queued end left —
+    /// or, without the check before movement, the part up to the limit handed on and the alarm
+    /// to raise when the machine stands (`Ok(Some)`).
     fn checked_segments(
         &mut self,
         c: &Canon,
@@ -398,17 +407,28 @@ impl Executor {
         block: u64,
         shift: Option<&Pos>,
         mut each: impl FnMut(&mut Self, Segment),
-    ) -> Result<(), AlarmId> {
+    ) -> Result<Option<AlarmId>, AlarmId> {
         let check = |exec: &Self, seg: &Segment| match shift {
             Some(shift) => super::stroke_check_shifted(seg, &exec.machine, shift),
             None => super::stroke_check(seg, &exec.machine),
         };
         let Some(parts) = self.singular_parts(c, m) else {
             let seg = self.segment_of(c, m, ctx, block);
-            check(self, &seg)?;
+            if let Err(id) = check(self, &seg) {
+                let stop = m.context.no_stroke_precheck.then(|| {
+                    super::stroke_stop(&seg, &self.machine, shift.unwrap_or(&[0.0; crate::machine::MAX_AXES]))
+                });
+                let Some((head, alarm)) = stop.flatten() else { return Err(id) };
+                (self.queued.machine, self.queued.work) = (head.to(), head.work_to());
+                self.queued_contour = None;
+                if head.len > 0.0 {
+                    each(self, head);
+                }
+                return Ok(Some(alarm));
+            }
             self.queued_to(m, &seg);
             each(self, seg);
-            return Ok(());
+            return Ok(None);
         };
         // All the block's parts or none.
         let (was, was_contour) = (self.queued, self.queued_contour);
@@ -428,7 +448,7 @@ impl Executor {
         for seg in segs {
             each(self, seg);
         }
-        Ok(())
+        Ok(None)
     }
 
     /// A tool posture control motion from or to the singular posture as the machine runs it

@@ -61,6 +61,41 @@ pub fn stroke_check_shifted(seg: &Segment, m: &MachineConfig, shift: &Pos) -> Re
     check_points(points.map(shifted), m)
 }
 
+/// Without the stroke limit check before movement (G54.4, S000 III.2 "Stroke limit check
+/// before movement": not available in that mode): the stored stroke limit stops the machine
+/// where an axis reaches it. `seg` (moved by `shift`) up to there, ending at rest, and the
+/// alarm it gives (`precheck: false`); `None` when no axis leaves its stroke on the way, or the
+/// crossing is not found on the segment (an axis-independent rapid, whose distance is time,
+/// or a bulge between the search's points): the caller keeps the check before movement then.
+pub fn stroke_stop(seg: &Segment, m: &MachineConfig, shift: &Pos) -> Option<(Segment, AlarmId)> {
+    const STEPS: usize = 512;
+    if seg.is_independent() {
+        return None;
+    }
+    let outside = |s: f64| {
+        let p = seg.at(s).0;
+        check_points(std::iter::once(std::array::from_fn(|i| p[i] + shift[i])), m).err()
+    };
+    let len = seg.len;
+    let k = (0..=STEPS).find(|&k| outside(len * k as f64 / STEPS as f64).is_some())?;
+    let (mut inside, mut out) = (len * k.saturating_sub(1) as f64 / STEPS as f64, len * k as f64 / STEPS as f64);
+    if k == 0 {
+        inside = 0.0;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (inside + out);
+        if outside(mid).is_some() {
+            out = mid;
+        } else {
+            inside = mid;
+        }
+    }
+    let Some(AlarmId::OverTravel { axis, positive, .. }) = outside(out) else { return None };
+    let head = seg.head(if k == 0 { 0.0 } else { inside });
+    stroke_check_shifted(&head, m, shift).ok()?;
+    Some((head, AlarmId::OverTravel { axis, positive, precheck: false }))
+}
+
 /// The points of a kinematic path to check: 17 along it, and where an axis comes within reach
 /// of a limit, its peak between them found by search (random machines went 0.0014° past a
 /// limit between two of the 17). "Within reach": less than the largest second difference of
@@ -94,10 +129,10 @@ fn check_points(points: impl Iterator<Item = Pos>, m: &MachineConfig) -> Result<
             // A hair of rounding at the limit itself is not an over-travel.
             let tol = 1e-9 * (1.0 + hi.abs().max(lo.abs()));
             if p[i] > hi + tol {
-                return Err(AlarmId::OverTravel { axis: axis.name, positive: true });
+                return Err(AlarmId::OverTravel { axis: axis.name, positive: true, precheck: true });
             }
             if p[i] < lo - tol {
-                return Err(AlarmId::OverTravel { axis: axis.name, positive: false });
+                return Err(AlarmId::OverTravel { axis: axis.name, positive: false, precheck: true });
             }
         }
     }

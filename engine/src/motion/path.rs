@@ -2109,6 +2109,12 @@ impl Segment {
         (self.programmed * self.factor).min(tolerance)
     }
 
+    /// A tool tip path (tool centre point control, the tilted working plane): the axes follow
+    /// a programmed tip through the kinematics, not in machine coordinates.
+    pub fn is_tip_path(&self) -> bool {
+        self.follow.is_some() && !self.traits.has(Traits::MACHINE_COORDINATES)
+    }
+
     /// A path the axes follow through the kinematics, limited by the machine's own axis
     /// limits (its speed can be planned against them at every point, `Segment::derivatives`).
     pub fn is_kinematic(&self) -> bool {
@@ -2358,6 +2364,20 @@ impl Segment {
         center[c.a] = c.center.0 + from[c.a] - work_from[c.a];
         center[c.b] = c.center.1 + from[c.b] - work_from[c.b];
         Some(Turn { center: TurnCenter::Axes(center), axis: unit(c.a)?.cross(&unit(c.b)?), sweep: c.sweep })
+    }
+
+    /// The segment up to distance `s`, ending there at rest (where a stored stroke limit stops
+    /// the machine in a block nothing checked before it moved: `motion::stroke_stop`).
+    pub fn head(&self, s: f64) -> Segment {
+        let s = s.clamp(0.0, self.len);
+        let u = if self.len > 0.0 { s / self.len } else { 1.0 };
+        let mut seg = self.whole().part(0.0, s);
+        if let Some(c) = seg.circle.as_mut().filter(|_| u < 1.0) {
+            c.r1 = c.r0 + (c.r1 - c.r0) * u;
+            c.sweep *= u;
+        }
+        seg.stop_after = true;
+        seg
     }
 
     /// What is left of the segment from distance `s` on (a feed hold resumes from there).

@@ -471,8 +471,8 @@ fn intervention_at_a_block_stop_under_tcp() {
 }
 
 /// MAN-01/02 under tool centre point control on a BC head: B turned by hand during a block;
-/// manual absolute off shifts the tool tip by what the turn moved it, on goes to the
-/// programmed tip.
+/// manual absolute on goes to the programmed tip; off is refused with FX0007 at the block
+/// under way (decision: how the turn is carried on a tool tip path is not established).
 #[test]
 fn rotary_intervention_under_tcp_man_01_02() {
     let kin = Kinematics::new(&preset("head-bc")).unwrap();
@@ -481,20 +481,119 @@ fn rotary_intervention_under_tcp_man_01_02() {
         let mut c = controller(preset("head-bc"), Dialect::Fanuc);
         c.panel.manual_absolute = absolute;
         held(&mut c, src, 8.0);
-        assert!(c.point().machine[0] > 1.0 && c.point().machine[0] < 99.0, "held in N3");
-        let before = kin.forward(&c.point().machine, 50.0).tip;
+        let stop = c.point().machine;
+        assert!(stop[0] > 1.0 && stop[0] < 99.0, "held in N3");
+        let before = kin.forward(&stop, 50.0).tip;
         c.set_mode(Mode::Handle).unwrap();
         c.handle('B', 10.0).unwrap();
         settle(&mut c, 5.0);
         let after = kin.forward(&c.point().machine, 50.0).tip;
         assert!((after - before).norm() > 5.0, "the plain B move carried the tip");
+        if !absolute {
+            c.set_mode(Mode::Auto).unwrap();
+            assert_eq!(c.run_state(), RunState::Alarm);
+            assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].line), ("FX0007", 3), "{:?}", c.alarms());
+            assert!(c.cycle_start().is_err());
+            for _ in 0..100 {
+                c.tick(TICK);
+            }
+            let here = c.point().machine;
+            assert!((0..5).all(|k| (here[k] - stop[k] - if k == 3 { 10.0 } else { 0.0 }).abs() < 1e-9), "{here:?}");
+            continue;
+        }
         resume(&mut c);
         let end = c.point().machine;
         let tip = kin.forward(&end, 50.0).tip;
-        let expect = Vec3::new(100.0, 50.0, 0.0) + if absolute { Vec3::zeros() } else { after - before };
-        assert!((tip - expect).norm() < 1e-6, "absolute {absolute}: tip {tip:?}, expected {expect:?}");
+        assert!(close(tip, [100.0, 50.0, 0.0], 1e-6), "tip {tip:?}");
         assert!((end[3] - 20.0).abs() < 1e-9, "B as programmed: {end:?}");
     }
+}
+
+/// Run the AUTO program one single block at a time until line `line` has been carried out.
+fn single_blocks_to(c: &mut Controller, line: u32) {
+    loop {
+        c.cycle_start().unwrap();
+        settle(c, 30.0);
+        assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+        if c.point().line >= line {
+            return;
+        }
+    }
+}
+
+/// The audit's case (manual absolute off, single block): B turned +5° by hand at the stop
+/// after a TCP block. The next TCP block is refused with FX0007 before anything moves
+/// (the tip moved off by the turn, B at 10 as programmed, then the G49 block turning B by 5°
+/// without a B word); after reset the next run goes where it says (the shift is gone).
+#[test]
+fn rotary_intervention_at_a_block_stop_under_tcp_is_refused() {
+    let src = "G49 G90 G54 G00 X0 Y0 Z0 B0 C0\nG43.4 H1\nG01 X10. F1000\nX20. B10.\nX30. C20.\nG49\nM30\n";
+    let mut c = controller(preset("head-bc"), Dialect::Fanuc);
+    c.panel.manual_absolute = false;
+    c.panel.single_block = true;
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    single_blocks_to(&mut c, 3);
+    // H1 = 50: the tip (10, 0, 0) with B0 has the pivot 50 above.
+    assert!(close(xyz(&c.point().machine), [10.0, 0.0, 50.0], 1e-9), "{:?}", c.point().machine);
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('B', 5.0).unwrap();
+    settle(&mut c, 5.0);
+    c.set_mode(Mode::Auto).unwrap();
+    let stop = c.point().machine;
+    c.cycle_start().unwrap();
+    settle(&mut c, 30.0);
+    assert_eq!(c.run_state(), RunState::Alarm);
+    assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].line), ("FX0007", 4), "{:?}", c.alarms());
+    assert_eq!(c.point().machine, stop, "nothing of N4 moved");
+    c.reset();
+    c.panel.single_block = false;
+    c.cycle_start().unwrap();
+    settle(&mut c, 60.0);
+    assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+    let end = c.point().machine;
+    assert!((0..5).all(|k| (end[k] - [30.0, 0.0, 0.0, 10.0, 20.0][k]).abs() < 1e-9), "as programmed: {end:?}");
+}
+
+/// Manual absolute off: the shift lasts until the program's end (S000 IV §1.1: it is added
+/// to the later end points of that program). X +1 and B +5 by hand at a single-block stop of
+/// a plain program shift its later blocks per axis; a G49 block under no tool tip path keeps
+/// B where the hand left it; the next run of the program goes where it says.
+#[test]
+fn the_shift_of_manual_absolute_off_ends_with_the_program() {
+    let src = "G90 G00 X0 Y0 Z0 B0 C0\nG01 X10. F3000.\nX20.\nG49\nM30\n";
+    let mut c = controller(preset("head-bc"), Dialect::Fanuc);
+    c.panel.manual_absolute = false;
+    c.panel.single_block = true;
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    single_blocks_to(&mut c, 2);
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('X', 1.0).unwrap();
+    settle(&mut c, 5.0);
+    c.handle('B', 5.0).unwrap();
+    settle(&mut c, 5.0);
+    c.set_mode(Mode::Auto).unwrap();
+    c.panel.single_block = false;
+    c.cycle_start().unwrap();
+    settle(&mut c, 60.0);
+    assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+    let end = c.point().machine;
+    assert!((0..5).all(|k| (end[k] - [21.0, 0.0, 0.0, 5.0, 0.0][k]).abs() < 1e-9), "X20. shifted by X+1 B+5: {end:?}");
+    // The program ended (M30): a new run from the top is not shifted.
+    c.cycle_start().unwrap();
+    let mut after_n1 = None;
+    while c.run_state() == RunState::Running {
+        c.tick(TICK);
+        if c.point().line == 1 {
+            after_n1 = Some(c.point().machine);
+        }
+    }
+    // The last sample in N1, within a tick of its end.
+    let after_n1 = after_n1.unwrap();
+    assert!((0..5).all(|k| after_n1[k].abs() < 1e-3), "G00 X0 Y0 Z0 B0 C0 not shifted: {after_n1:?}");
+    let end = c.point().machine;
+    assert!((0..5).all(|k| (end[k] - [20.0, 0.0, 0.0, 0.0, 0.0][k]).abs() < 1e-9), "{end:?}");
 }
 
 /// MAN-03: on a table machine the intervention amount is kept in the table coordinate system

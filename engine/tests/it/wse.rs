@@ -362,6 +362,9 @@ fn tv_wse_19_example_2_keeps_the_tool_direction_relative_to_the_displaced_workpi
         (13, 45.0, 160.0, [74.085638, 49.883624, 20.0], 100.0),
         // Singular target from a posture that is not: C stays (§2.14 rule 2).
         (14, 0.0, 160.0, [10.0, 20.0, 40.0], 100.0),
+        // Singular to singular, the programmed posture singular too: C moves as commanded
+        // (rule 1-(2)), and G49 Z300 commands no C motion: it stays at 160.
+        (15, 0.0, 160.0, [10.0, 20.0, 300.0], 0.0),
     ];
     let dirs = [
         (6, [-0.241845, -0.664463, 0.707107]),
@@ -381,6 +384,28 @@ fn tv_wse_19_example_2_keeps_the_tool_direction_relative_to_the_displaced_workpi
         let t = kin.forward(&end_of(&ends, line), 100.0).tool;
         assert!(close3(t.into(), d, 1e-6), "line {line}: tool {t:?}");
     }
+}
+
+/// Example 2's closing `G49 Z300.` (N130) commands no C: at the singular posture C does not
+/// turn at any sample (it turned 160° → 360° the long way, +200°, on head-bc's shortest-way C).
+#[test]
+fn tv_wse_19_the_closing_g49_block_does_not_turn_c() {
+    let mut interp = example_2(EXAMPLE_2, rcm);
+    let mut seen = 0;
+    let r = run(&mut interp, &RunOptions { period_s: 0.005, ..RunOptions::default() }, |s| {
+        if s.line == 15 {
+            seen += 1;
+            let c = (s.machine[4] - 160.0).rem_euclid(360.0);
+            assert!(
+                c.min(360.0 - c) < 1e-6 && s.machine[3].abs() < 1e-6,
+                "N130 at B {} C {}",
+                s.machine[3],
+                s.machine[4]
+            );
+        }
+    });
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(seen > 10, "{seen} samples of N130");
 }
 
 #[test]
@@ -459,6 +484,62 @@ fn tv_wse_22_to_25_the_side_of_the_singular_angle() {
     // (0.035° at programmed B ≈ 2.0): treated as singular, B crosses 0.
     let got = bc(singular_run(-1.0, true, 0.1));
     assert!(near(got, (90.0, 90.0)), "{got:?}");
+}
+
+/// S000 III.2 (restrictions): "In the mode of Workpiece setting error compensation, Stroke
+/// limit check before movement is not available." The seed's O2 (§2.3.12, error Δb −2°, from
+/// B −1) on its machine whose B moves in [−45, 100] (§2.3.18: "set the stored stroke limit
+/// check to prevent a movement over the range"): N50 runs until B reaches −45, stops there
+/// and gives the stored stroke check's alarm OT0501, not the pre-check's OT0511 before
+/// anything of N50 moves. The tip (TCP, X0 Y0 Z0) stays at the origin all the while.
+#[test]
+fn g54_4_has_no_stroke_check_before_movement_the_axis_stops_at_its_limit() {
+    use fivex_engine::controller::{Controller, Mode, RunState};
+    use fivex_engine::kin::Kinematics;
+    let src =
+        "N10 G05.1 Q1\nN20 G90 G01 B-1.0 C0 F1000.\nN25 G54.4 P1\nN30 G43.4 H1\nN40 X0 Y0 Z0\nN50 B90.0 C90.0\nM30\n";
+    let b45 = |c: &mut Config| {
+        rcm(c);
+        c.edit_machine(|m| m.axes[3].stroke = Some([-45.0, 100.0]));
+    };
+    let mut interp = fanuc_with(src, "head-bc", b45);
+    interp.state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    let kin = Kinematics::new(&MachineConfig::preset("head-bc").unwrap()).unwrap();
+    let mut n50 = Vec::new();
+    let r = run(&mut interp, &RunOptions { period_s: 0.002, ..RunOptions::default() }, |s| {
+        if s.line == 6 {
+            n50.push(s.machine);
+        }
+    });
+    let a = &r.alarms[0];
+    assert_eq!(
+        (a.code.as_str(), a.message.as_str(), a.line),
+        ("OT0501", "- OVERTRAVEL ( SOFT 1 ) B", 6),
+        "{:?}",
+        r.alarms
+    );
+    assert!(n50.iter().all(|m| m[3] >= -45.0 - 1e-9), "B stays within its stroke");
+    assert!(n50.iter().any(|m| m[3] < -40.0), "N50 moved toward the limit");
+    assert!((r.machine[3] + 45.0).abs() < 1e-6, "stopped at the limit: {:?}", r.machine);
+    for m in &n50 {
+        let tip = kin.forward(m, 100.0).tip - kin.nose;
+        assert!(tip.norm() < 1e-6, "the tip stays at the origin: {tip:?}");
+    }
+    // The same in the controller.
+    let mut cfg = Config::new(MachineConfig::preset("head-bc").unwrap(), Dialect::Fanuc);
+    b45(&mut cfg);
+    let mut c = Controller::new(cfg);
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().h_geometry = 100.0;
+    c.interpreter_mut().state.setting_errors.sets[1].rotation = [0.0, -2.0, 0.0];
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    while c.run_state() == RunState::Running && c.time() < 60.0 {
+        c.tick(0.005);
+    }
+    assert_eq!(c.run_state(), RunState::Alarm);
+    assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].line), ("OT0501", 6), "{:?}", c.alarms());
+    assert!((c.point().machine[3] + 45.0).abs() < 1e-6, "{:?}", c.point().machine);
 }
 
 #[test]
@@ -712,7 +793,8 @@ fn extreme_error_data_end_in_alarms_not_panics() {
             // to "complete" in the run-time guard's 10⁶ s with every position null).
             let code = r.alarms.first().map(|a| a.code.as_str());
             assert!(!r.completed(), "{preset} {data:?} completed");
-            assert!(matches!(code, Some("OT0510" | "OT0511" | "PS0111")), "{preset} {data:?}: {:?}", r.alarms);
+            // G54.4 has no check before movement: the stored stroke check stops the move.
+            assert!(matches!(code, Some("OT0500" | "OT0501" | "PS0111")), "{preset} {data:?}: {:?}", r.alarms);
             assert!(r.alarms[0].line >= 4, "{preset} {data:?}: the data itself is accepted: {:?}", r.alarms);
         }
     }
@@ -1363,8 +1445,8 @@ proptest::proptest! {
             interp.state.setting_errors.sets[1] = wse::ErrorSet { shift, rotation: rot, table: [0.0; 2] };
             let mut samples = Vec::new();
             let r = run(&mut interp, &RunOptions { period_s: 0.001, ..RunOptions::default() }, |s| samples.push(*s));
-            // A plane the rotary strokes cannot reach is refused before the move (OT0511).
-            if r.alarms.iter().any(|a| a.code == "OT0511") {
+            // A plane the rotary strokes cannot reach stops at the stroke (G54.4: OT0500/OT0501).
+            if r.alarms.iter().any(|a| a.code == "OT0500" || a.code == "OT0501") {
                 continue;
             }
             proptest::prop_assert!(r.completed(), "{preset}: {:?}", r.alarms);

@@ -10,6 +10,7 @@ use utoipa::ToSchema;
 
 use crate::http::{ApiError, ErrorBody};
 
+// FANUC's group 33 carries its P (`"33": "G54.4 P1"`; `"G54.4 P0"` when off, `docs/api.md`).
 /// `GET /modal`.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct ModalState {
@@ -44,10 +45,15 @@ pub async fn modal(Addressed(hosted): Addressed) -> Result<Json<ModalState>, Api
     let initial = gcode::initial_modes();
     // The groups the dialects use (group 1's G00 is code 0; the others start non-zero), each
     // as the dialect names its code; a code the dialect does not have is not shown.
-    let groups = (1..gcode::GROUPS)
+    let mut groups: BTreeMap<u8, String> = (1..gcode::GROUPS)
         .filter(|&g| g == gcode::group::MOTION || initial[g] != 0)
         .filter_map(|g| Some((g as u8, gcode::shown(modal.modal(g), hosted.dialect)?)))
         .collect();
+    // Group 33, workpiece setting error compensation (FANUC: "G54.4 is a modal G code that
+    // belongs to group 33"), with its set: on, G54.4 Pn; off (power-on, P0, a reset), G54.4 P0.
+    if gcode::written(gcode::code::G54_4, hosted.dialect).is_some() {
+        groups.insert(gcode::group::WSE as u8, format!("G54.4 P{}", modal.wse_set));
+    }
     let w = modal.words;
     Ok(Json(ModalState { groups, f: w.f, s: w.s, t: w.t, spindle_tool: w.spindle_tool, h: w.h, d: w.d }))
 }

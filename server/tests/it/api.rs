@@ -691,6 +691,27 @@ async fn the_modal_state_shows_g_codes_and_words() {
     );
 }
 
+/// Group 33 (seed: "G54.4 is a modal G code that belongs to group 33 with the M series"):
+/// workpiece setting error compensation with its set, on and off; a Syntec control has no G54.4.
+#[tokio::test]
+async fn the_modal_state_shows_workpiece_setting_error_compensation_in_group_33() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "head-bc", "speed": 20})).await;
+    let g33 = |m: &Value| m["groups"]["33"].clone();
+    assert_eq!(g33(&app.get(&format!("{C}/{id}/modal")).await.json()), json!("G54.4 P0"));
+    let text = "#26015=10.\nG54.4 P1\nG01 X5. F1000.";
+    assert_eq!(app.post(&format!("{C}/{id}/mdi"), &json!({ "text": text })).await.status, StatusCode::OK);
+    wait_for(&app, &id, "idle").await;
+    let m = app.get(&format!("{C}/{id}/modal")).await.json();
+    assert_eq!(g33(&m), json!("G54.4 P1"), "{m}");
+    assert_eq!(app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G54.4 P0"})).await.status, StatusCode::OK);
+    wait_for(&app, &id, "idle").await;
+    assert_eq!(g33(&app.get(&format!("{C}/{id}/modal")).await.json()), json!("G54.4 P0"));
+    let syntec = create(&app, json!({"name": "s", "preset": "head-bc", "dialect": "syntec", "speed": 20})).await;
+    let m = app.get(&format!("{C}/{syntec}/modal")).await.json();
+    assert!(m["groups"].get("33").is_none(), "{m}");
+}
+
 #[tokio::test]
 async fn unmodelled_machine_settings_are_listed_with_the_controller_and_its_parameters() {
     // Issue 17, item 1: a parameter the model does not read, and an unknown field of a model
