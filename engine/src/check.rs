@@ -305,14 +305,16 @@ pub struct RunStop {
 }
 
 /// Runs `interp` (loaded, in its start state) to its end through the interpreter and the path
-/// stages a run uses (`crate::stage::Pipeline::for_config`), and every motion through the
-/// executor's stroke check (`Executor::check_strokes`: the end point, an arc's extremes, the
-/// points along a kinematic path, as the run checks them before a block moves), never planned:
-/// nothing moves and no speed or time is checked. The first alarm, if any, in the run's order —
-/// a stroke limit of a command the stages released, then a stage's (found where a run finds it:
-/// a corner when the next motion has been read, what the stage still holds at the program
-/// end), then the interpreter's.
-pub fn run_without_motion(interp: &mut Interpreter) -> Option<RunStop> {
+/// stages a run uses (`crate::stage::Pipeline::for_config`), and with `strokes` every motion
+/// through the executor's stroke check (`Executor::check_strokes`: the end point, an arc's
+/// extremes, the points along a kinematic path, as the run checks them before a block moves),
+/// never planned: nothing moves and no speed or time is checked. `strokes` is for the machine
+/// the program is meant for; on a stand-in (the default machine of a check without one) its
+/// strokes would stop the run before the compensation's alarms it is run for. The first
+/// alarm, if any, in the run's order — a stroke limit of a command the stages released, then a
+/// stage's (found where a run finds it: a corner when the next motion has been read, what the
+/// stage still holds at the program end), then the interpreter's.
+pub fn run_without_motion(interp: &mut Interpreter, strokes: bool) -> Option<RunStop> {
     let mut stages = crate::stage::Pipeline::for_config(interp.config());
     let start = Endpoint {
         machine: interp.state.machine_position(),
@@ -325,7 +327,7 @@ pub fn run_without_motion(interp: &mut Interpreter) -> Option<RunStop> {
         out.clear();
         let step = interp.step(&mut out);
         let stage_alarm = stages.process(&mut out, crate::run::ends(&step));
-        for c in &out {
+        for c in out.iter().filter(|_| strokes) {
             if let Err(id) = check_strokes(&mut exec, c) {
                 let (code, message) = interp.config().dialect.describe(&id);
                 let alarm = Alarm { code, message, line: c.line, n: c.n };

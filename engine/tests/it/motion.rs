@@ -184,7 +184,7 @@ fn a_move_beyond_the_stroke_alarms_before_it_starts() {
 fn check_reports_the_over_travel_the_run_stops_with() {
     let check = |src: &str, preset: &str, tweak: &dyn Fn(&mut fivex_engine::interp::Config)| {
         let mut interp = interpreter_with(src, preset, Dialect::Fanuc, tweak);
-        fivex_engine::check::run_without_motion(&mut interp).map(|s| (s.alarm.code, s.alarm.line, s.by_strokes))
+        fivex_engine::check::run_without_motion(&mut interp, true).map(|s| (s.alarm.code, s.alarm.line, s.by_strokes))
     };
     let run_of = |src: &str, preset: &str, tweak: &dyn Fn(&mut fivex_engine::interp::Config)| {
         let mut interp = interpreter_with(src, preset, Dialect::Fanuc, tweak);
@@ -215,6 +215,20 @@ fn check_reports_the_over_travel_the_run_stops_with() {
         assert_eq!(check(src, preset, &tweak), want, "check of\n{src}");
         assert_eq!(run_of(src, preset, &tweak), want, "run of\n{src}");
     }
+}
+
+/// Without the program's machine (`fivex check` without `--preset`: mill3 stands in) the
+/// strokes are not checked: a groove whose G54 puts it past mill3's X600 still reports the
+/// compensation's PS0041 (line 7), which the stand-in's OT0510 at the first move would hide.
+#[test]
+fn check_on_a_stand_in_machine_leaves_the_strokes_out() {
+    let src = "G10 L2 P1 X700.\nG21 G17 G40 G90 G94 G54\nG00 X-10. Y0. Z0.\nG41 D1 G01 X0. F1000.\nX20.\nY-2.\nX24.\nY0.\nX40.\nG40 X50.\nM30\n";
+    let check = |strokes: bool| {
+        let mut interp = interpreter(src, "mill3", Dialect::Fanuc);
+        fivex_engine::check::run_without_motion(&mut interp, strokes).map(|s| (s.alarm.code, s.alarm.line))
+    };
+    assert_eq!(check(true), Some(("OT0510".to_string(), 3)));
+    assert_eq!(check(false), Some(("PS0041".to_string(), 7)));
 }
 
 /// A tool-tip-following move whose axis peaks between the stroke check's 16 points along the

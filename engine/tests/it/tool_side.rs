@@ -1103,7 +1103,7 @@ mod interference {
         // `fivex check` runs the same stages: nothing to report with avoidance, PS0041 without.
         let check = |cav: bool| {
             let mut interp = interpreter_with(&src, "head-bc", Fanuc, with(true, cav, 0.0));
-            fivex_engine::check::run_without_motion(&mut interp).map(|s| (s.alarm.code, s.alarm.line))
+            fivex_engine::check::run_without_motion(&mut interp, true).map(|s| (s.alarm.code, s.alarm.line))
         };
         assert_eq!((check(true), check(false)), (None, Some(("PS0041".into(), 5))));
         // Without avoidance: PS0041 at N4, N3 ends at its own corner 15 + 5√2, 5.
@@ -1545,7 +1545,7 @@ mod table_system {
         assert_eq!(alarm(&src, |_| {}), None);
         // `fivex check` runs the interpreter and the stages: no longer "not built" (PS0010).
         let mut interp = interpreter_with(&src, "table-ac", Fanuc, tbp(TableAtStart));
-        assert_eq!(fivex_engine::check::run_without_motion(&mut interp).map(|s| s.alarm.code), None);
+        assert_eq!(fivex_engine::check::run_without_motion(&mut interp, true).map(|s| s.alarm.code), None);
         // PS5483: the look-ahead prerequisites, at the G41.2 block (TV-20).
         assert_eq!(alarm(&src, |m| m.motion.nonlinear_rapid = true), Some(("PS5483".into(), 3)));
         assert_eq!(alarm(&src, |m| m.motion.no_feed_look_ahead = true), Some(("PS5483".into(), 3)));

@@ -510,7 +510,7 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
         let mut cfg = Config::new(machine, a.dialect);
         cfg.max_blocks = CHECK_MAX_BLOCKS;
         let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
-        let stop = machine_alarm(interp, a.dialect).filter(|s| on_machine || s.compensating);
+        let stop = machine_alarm(interp, a.dialect, on_machine).filter(|s| on_machine || s.compensating);
         // Where the text itself is wrong the static diagnostic says it already.
         if let Some(fivex_engine::check::RunStop { alarm, .. }) = stop {
             if !lines.iter().any(|(line, ..)| *line == alarm.line) {
@@ -536,9 +536,10 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
 }
 
 /// How a program stops when the interpreter and the path stages run it on a machine (nothing
-/// moves), if it does. A call of a program the file does not hold is not an alarm here: a check
+/// moves), if it does; the strokes are checked on the machine the caller named (`strokes`), not
+/// on the default one. A call of a program the file does not hold is not an alarm here: a check
 /// sees one file, the control has them all.
-fn machine_alarm(mut interp: Interpreter, dialect: Dialect) -> Option<fivex_engine::check::RunStop> {
+fn machine_alarm(mut interp: Interpreter, dialect: Dialect, strokes: bool) -> Option<fivex_engine::check::RunStop> {
     let not_found = dialect.describe(&fivex_engine::alarm::AlarmId::ProgramNotFound).0;
-    fivex_engine::check::run_without_motion(&mut interp).filter(|s| s.by_stage || s.alarm.code != not_found)
+    fivex_engine::check::run_without_motion(&mut interp, strokes).filter(|s| s.by_stage || s.alarm.code != not_found)
 }
