@@ -183,13 +183,12 @@ impl State {
         }
         match code {
             code::G73 | code::G83 => {
-                let mut depth = c.r;
-                loop {
-                    let next = if (c.z - depth) * dir <= q { c.z } else { depth + dir * q };
-                    self.move_drill_axis(d, next, Linear, out)?;
+                let pecks = peck_count(c.z - c.r, q);
+                for k in 1..=pecks {
+                    let depth = if k == pecks { c.z } else { c.r + dir * q * k as f64 };
+                    self.move_drill_axis(d, depth, Linear, out)?;
                     check_output(out)?;
-                    depth = next;
-                    if depth == c.z {
+                    if k == pecks {
                         break;
                     }
                     if code == code::G73 {
@@ -258,6 +257,17 @@ impl State {
         Ok(())
     }
 }
+
+/// How many cutting feeds of at most `q` a G73/G83 hole `depth` deep takes (at least one). The
+/// control counts in least input increments (0.001 mm), so a depth that is a whole number of
+/// pecks ends on its last full peck: a remainder below `PECK_TOLERANCE` (binary fractions:
+/// 4.2 / 0.7 is 6.000000000000001) is no further peck.
+fn peck_count(depth: f64, q: f64) -> u64 {
+    ((depth.abs() - PECK_TOLERANCE) / q).ceil().max(1.0) as u64
+}
+
+/// Far below the least input increment (0.001 mm), far above the rounding of a depth.
+const PECK_TOLERANCE: f64 = 1e-6;
 
 /// The repeat count of a cycle block: K, 0–9999 (FANUC 30i and Syntec; K0 stores the cycle's
 /// data without machining), 1 without K. L (the repeat count of older FANUC controls and of

@@ -172,3 +172,45 @@ fn syntec_refuses_k_in_a_cycle_block_under_tcp_type_2() {
     assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("COR-100", 5)));
     assert!(common::run_with(&src.replace(" K2", ""), "head-bc", Dialect::Syntec).completed());
 }
+
+/// The cutting feeds of each line of `src` (mill3, FANUC).
+fn feeds_per_line(src: &str) -> Vec<(u32, usize)> {
+    let mut count: Vec<(u32, usize)> = Vec::new();
+    for c in canon(src) {
+        if let CanonKind::Motion(m) = &c.kind {
+            if m.kind == fivex_engine::canon::MotionKind::Linear {
+                match count.last_mut() {
+                    Some((l, n)) if *l == c.line => *n += 1,
+                    _ => count.push((c.line, 1)),
+                }
+            }
+        }
+    }
+    count
+}
+
+#[test]
+fn peck_cycles_cut_depth_over_q_feeds_with_no_empty_last_peck() {
+    // Depth (R − Z) over Q, rounded up: the control counts in least input increments, so a
+    // depth that is a whole number of pecks ends on its last full peck (4.2 / 0.7 = 6), where a
+    // running sum in binary fractions fell short by 1e-16 and added a zero-depth peck.
+    let cases = [
+        ("G83", "Z-2.2 R2. Q0.7", 6),
+        ("G83", "Z-0.9 R0.3 Q0.3", 4),
+        ("G73", "Z-0.9 R0.3 Q0.1", 12),
+        ("G83", "Z-0.9 R0.1 Q0.1", 10),
+        ("G83", "Z-3.3 R0.3 Q0.3", 12),
+        ("G83", "Z-4.2 R0.3 Q0.3", 15),
+        ("G83", "Z-6.3 R0.3 Q0.3", 22),
+        ("G83", "Z-6.3 R1. Q0.1", 73),
+        ("G83", "Z-1.3 R0.5 Q0.3", 6),
+        ("G83", "Z-3. R3. Q0.2", 30),
+        ("G73", "Z-10. R2. Q5.", 3),
+        ("G83", "Z-10. R2. Q-5.", 3),
+        ("G83", "Z-10. R2. Q20.", 1),
+    ];
+    for (code, words, want) in cases {
+        let src = format!("G90 G00 X0 Y0 Z50.\n{code} X0 Y0 {words} F600.\nG80\nM30\n");
+        assert_eq!(feeds_per_line(&src), vec![(2, want)], "{code} {words}");
+    }
+}
