@@ -41,6 +41,10 @@ pub enum AlarmId {
     /// A Haas cycle's argument missing or out of its range: G12/G13 circular pocket (I, K, Q,
     /// L against the tool radius), G70–G72 bolt patterns (I, J, K, L), G103 P.
     CycleArgument,
+    /// A canned cycle block that drills while no hole bottom (the drilling axis's word) was
+    /// given since the cycle started: the manuals at hand do not say what depth the control
+    /// takes (fivex's own code).
+    CycleBottomMissing,
     /// Reference return commands not allowed in a canned cycle.
     ReferenceReturnInCycle,
     IllegalReferenceReturn,

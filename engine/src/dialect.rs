@@ -103,6 +103,9 @@ const PS5421: Text = ("PS5421", "ILLEGAL COMMAND IN G43.4/G43.5");
 const COR100: Text = ("COR-100", "Unsupported G code command or option software is not activated");
 /// fivex's own, in every dialect: no vendor names an alarm for it (`AlarmId::PositionInCompensation`).
 const POSITION_IN_COMPENSATION: Text = ("FX0006", "POSITION READ IN CUTTER COMPENSATION NOT BUILT");
+/// fivex's own, in every dialect: no vendor alarm names a missing hole bottom (FANUC's PS0045
+/// is Q's alone), and no manual at hand says what the control does (`AlarmId::CycleBottomMissing`).
+const CYCLE_BOTTOM_MISSING: Text = ("FX0007", "CANNED CYCLE WITHOUT HOLE BOTTOM");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -194,6 +197,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RestartMdi,
     AlarmId::RestartInMode,
     AlarmId::PositionInCompensation,
+    AlarmId::CycleBottomMissing,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -360,6 +364,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             (("FX0005", "RESTART NOT ALLOWED IN THIS MODE"), ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"))
         }
         PositionInCompensation => (POSITION_IN_COMPENSATION, POSITION_IN_COMPENSATION),
+        CycleBottomMissing => (CYCLE_BOTTOM_MISSING, CYCLE_BOTTOM_MISSING),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -450,6 +455,7 @@ fn haas(id: &AlarmId) -> Text {
         RestartBlockNotFound | RestartPNoRun | RestartPOffsetChanged | RestartMdi => RESTART,
         RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
         PositionInCompensation => POSITION_IN_COMPENSATION,
+        CycleBottomMissing => CYCLE_BOTTOM_MISSING,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),

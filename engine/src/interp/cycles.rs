@@ -69,7 +69,10 @@ impl State {
             self.cycle.r = self.xf.programmed[d];
         }
         match self.value(w, drill_letter) {
-            Some(z) => self.cycle.z = if incremental { self.cycle.r + z } else { z },
+            Some(z) => {
+                self.cycle.z = if incremental { self.cycle.r + z } else { z };
+                self.cycle.z_set = true;
+            }
             // G91: the retained bottom is a distance from R, so it moves with a new R (FANUC).
             None if incremental && new_r.is_some() => self.cycle.z = self.cycle.r + self.cycle.depth,
             None => {}
@@ -100,6 +103,13 @@ impl State {
         plane: (usize, usize),
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
+        // No manual at hand says what depth the control drills to when no bottom was given
+        // since the cycle started (the first cycle, or after G80 or a group-01 code cleared
+        // the data): refused rather than drilled to a depth fivex makes up (*decision*,
+        // `docs/conventions.md`, "Canned cycles").
+        if !self.cycle.z_set {
+            return Err(AlarmId::CycleBottomMissing);
+        }
         let code = self.modes[group::CYCLE];
         self.cycle_move(MotionKind::Rapid, hole, out)?;
         self.hole(code, d, plane, out)?;

@@ -226,6 +226,8 @@ pub(super) struct CycleData {
     p: f64,
     /// Whether an R word was given since the cycle started.
     r_set: bool,
+    /// Whether the hole bottom (the drilling axis's word) was given since the cycle started.
+    z_set: bool,
     /// The drilling-axis level when the cycle started (G98 returns here).
     initial: f64,
 }

@@ -214,3 +214,40 @@ fn peck_cycles_cut_depth_over_q_feeds_with_no_empty_last_peck() {
         assert_eq!(feeds_per_line(&src), vec![(2, want)], "{code} {words}");
     }
 }
+
+#[test]
+fn a_cycle_without_its_hole_bottom_is_refused_not_drilled_to_zero() {
+    // *Decision* (docs/conventions.md, "Canned cycles"): no manual at hand says what the control
+    // drills to when no bottom was given since the cycle started (the first cycle, or after
+    // G80 / a group-01 code cleared the data); fivex refused to invent one (it fed to Z0).
+    let head = "G90 G00 X0 Y0 Z50.\n";
+    let cases = [
+        ("G81 X10. Y10. R5. F600.\nG80\nM30\n", 2),
+        ("G81 X10. Y10. Z-10. R5. F600.\nG80\nG81 X20. R5.\nG80\nM30\n", 4),
+        ("G81 X10. Y10. Z-10. R5. F600.\nG01 X0\nG81 X20. R5.\nG80\nM30\n", 4),
+        ("G81 X10. Y10. Z-10. R5. F600.\nG00 X0\nG83 X20. R5. Q2.\nG80\nM30\n", 4),
+        // The drilling axis of G18 is Y, of G19 X: Z (or Y) there is no bottom.
+        ("G18 G81 X10. Z10. R5. F600.\nG80\nM30\n", 2),
+        ("G19 G81 Y10. Z10. R5. F600.\nG80\nM30\n", 2),
+        // K0 stores the data, the next block drills with it: still without a bottom.
+        ("G81 X10. Y10. R5. K0 F600.\nX20.\nG80\nM30\n", 3),
+    ];
+    for (body, line) in cases {
+        let src = format!("{head}{body}");
+        for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
+            let src = if dialect == Dialect::Haas { src.replace(" K0", " L0") } else { src.clone() };
+            let r = common::run_with(&src, "mill3", dialect);
+            assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("FX0007", line)), "{dialect:?}\n{src}");
+        }
+    }
+    // The bottom given once is kept while the cycle lasts, in every plane.
+    for ok in [
+        "G81 X10. Y10. Z-10. R5. F600.\nX20.\nR3.\nG80\nM30\n",
+        "G18 G81 X10. Z10. Y-5. R5. F600.\nX20.\nG80\nG17\nM30\n",
+        "G19 G81 Y10. Z10. X-5. R5. F600.\nY20.\nG80\nG17\nM30\n",
+        "G81 X10. Y10. Z-10. R5. K0 F600.\nX20.\nG80\nM30\n",
+    ] {
+        let r = common::run_with(&format!("{head}{ok}"), "mill3", Dialect::Fanuc);
+        assert!(r.completed(), "{ok}: {:?}", r.alarms);
+    }
+}
