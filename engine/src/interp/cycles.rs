@@ -13,7 +13,7 @@
 //! coordinate system's, and every move of the cycle follows the tool tip through the kinematics
 //! like any move in the plane: the hole is drilled at the FCS point along the FCS Z.
 
-use super::gcode::{code, group};
+use super::gcode::{self, code, group};
 use super::mcode;
 use super::nc::Words;
 use super::State;
@@ -47,6 +47,26 @@ impl State {
             self.cycle_at(hole, d, plane, out)?;
         }
         Ok(repeats > 0)
+    }
+
+    /// A plane change (G17/G18/G19) while a canned cycle stays in force changes the drilling
+    /// axis under levels taken on the old one (the initial level, R, the bottom); FANUC's
+    /// canned-cycle restrictions ask for the cycle to be cancelled before the drilling axis is
+    /// changed, naming no alarm: refused as a G code the mode does not allow (PS0010,
+    /// *decision*, `docs/conventions.md`, "Canned cycles"). A block that cancels the cycle
+    /// (G80, a group-01 code) may change the plane.
+    pub(super) fn refuse_plane_change_in_cycle(&self, w: &Words) -> Result<(), AlarmId> {
+        if self.modes[group::CYCLE] == code::G80 {
+            return Ok(());
+        }
+        let group_of = |c: u16| gcode::lookup(c, self.cfg.dialect).map(|d| d.group);
+        let codes = w.gcodes();
+        let cancels = codes.iter().any(|&c| c == code::G80 || group_of(c) == Some(group::MOTION));
+        let plane_change = codes.iter().any(|&c| group_of(c) == Some(group::PLANE) && c != self.modes[group::PLANE]);
+        if plane_change && !cancels {
+            return Err(AlarmId::ImproperGCode);
+        }
+        Ok(())
     }
 
     /// The block's cycle data (R, the drilling-axis level, Q, P) taken into the modal cycle data

@@ -505,6 +505,7 @@ impl State {
         // (The interlocks first: their alarm is the more precise one where both apply.)
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
+        self.refuse_plane_change_in_cycle(w)?;
         if self.cfg.refuse_unbuilt {
             self.refuse_unbuilt_nurbs(w)?;
         }

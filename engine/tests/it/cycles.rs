@@ -251,3 +251,38 @@ fn a_cycle_without_its_hole_bottom_is_refused_not_drilled_to_zero() {
         assert!(r.completed(), "{ok}: {:?}", r.alarms);
     }
 }
+
+#[test]
+fn a_plane_change_while_a_cycle_is_in_force_is_refused() {
+    // FANUC: the cycle is cancelled before the drilling axis changes (decision: PS0010 at the
+    // plane's block). fivex drilled along Y with the Z levels (R5 → Y5, Z-10 → Y-10, the
+    // initial level Z50 → Y50).
+    let head = "G90 G17 G00 X0 Y10. Z50.\nG81 G98 X10. Y10. Z-10. R5. F600.\n";
+    for (body, code) in [
+        ("G18\nX20. Z5.\nG80\nM30\n", "G18"),
+        ("G19\nG80\nM30\n", "G19"),
+        ("G18 X20. Z5.\nG80\nM30\n", "G18 with a hole"),
+        ("G18 G83 X20. Z5. Y-5. R5. Q2.\nG80\nM30\n", "G18 with a new cycle"),
+    ] {
+        let src = format!("{head}{body}");
+        for (dialect, want) in [(Dialect::Fanuc, "PS0010"), (Dialect::Syntec, "COR-070"), (Dialect::Haas, "310")] {
+            let r = common::run_with(&src, "mill3", dialect);
+            assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some((want, 3)), "{code} {dialect:?}");
+        }
+        // `fivex check` on a machine runs the program without motion and finds it there.
+        let mut interp = interpreter(&src, "mill3", Dialect::Fanuc);
+        let stop = fivex_engine::check::run_without_motion(&mut interp).map(|s| (s.alarm.code, s.alarm.line));
+        assert_eq!(stop, Some(("PS0010".to_string(), 3)), "{code}: check");
+    }
+    // Cancelling first, in the block or before it, or naming the plane in force, is allowed.
+    for ok in [
+        "G80\nG18\nG17\nM30\n",
+        "G80 G18\nG17\nM30\n",
+        "G18 G80\nG17\nM30\n",
+        "G00 G18 X0\nG17\nM30\n",
+        "G17 X20.\nG80\nM30\n",
+    ] {
+        let r = common::run_with(&format!("{head}{ok}"), "mill3", Dialect::Fanuc);
+        assert!(r.completed(), "{ok}: {:?}", r.alarms);
+    }
+}
