@@ -38,15 +38,66 @@ pub(super) fn check_output(out: &[Canon]) -> Result<(), AlarmId> {
 
 impl State {
     /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
-    pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+    /// `length_before` is the tool length offset vector before the block: a G43/G44/G49 or H
+    /// of the block takes effect at the move to point R (FANUC 15i-MA operator's manual, G76
+    /// "Tool length compensation": "the offset is applied at the time of positioning to point
+    /// R"), so the positioning over the hole runs with the old length.
+    pub(super) fn canned_cycle(&mut self, w: &Words, length_before: Pos, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
         let repeats = repeats(w, self.cfg.dialect)?;
         let (d, plane) = self.cycle_data(w)?;
+        if self.tool_vec != length_before {
+            self.cycle.length_due = Some(self.tool_vec);
+            self.tool_vec = length_before;
+        }
+        let drilled = self.holes(w, repeats, d, plane, out);
+        // K0 (no hole) or an alarm: the block's length stands all the same.
+        self.apply_due_length();
+        drilled?;
+        Ok(repeats > 0)
+    }
+
+    fn holes(&mut self, w: &Words, repeats: u32, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         for _ in 0..repeats {
             // Position over the hole: every axis but the drilling axis.
             let hole = self.programmed_target(w, Some(d));
             self.cycle_at(hole, d, plane, out)?;
         }
-        Ok(repeats > 0)
+        Ok(())
+    }
+
+    /// The tool length the cycle block selected takes effect (at the move to R); whether one
+    /// was due.
+    fn apply_due_length(&mut self) -> bool {
+        match self.cycle.length_due.take() {
+            Some(v) => {
+                self.tool_vec = v;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// A tool length change (G43/G44/G49, H, or tool centre point control starting) in a cycle
+    /// block while the cycle's moves follow the tool tip (the tilted working plane, Syntec
+    /// RTCP): the tip is followed with the new length from the positioning on, where the
+    /// control applies it at the move to R; not built (*decision*, `docs/conventions.md`,
+    /// "Canned cycles").
+    pub(super) fn refuse_length_change_in_tip_cycle(&self, w: &Words) -> Result<(), AlarmId> {
+        let length_code = self.block_code(w, group::LENGTH_COMP);
+        let changes = length_code.is_some() || (w.has(b'H') && !w.has_g(code::G10));
+        let follows = self.plane_active() || self.tcp_active() || length_code.is_some_and(|c| code::TCP.contains(&c));
+        if changes && follows && self.cycle_after_block(w) {
+            return Err(AlarmId::GCodeNotBuilt);
+        }
+        Ok(())
+    }
+
+    /// A canned cycle is in force after the block: it is not cancelled there (G80, a group-01
+    /// code) and one was in force or the block names one.
+    fn cycle_after_block(&self, w: &Words) -> bool {
+        let group_of = |c: u16| gcode::lookup(c, self.cfg.dialect).map(|d| d.group);
+        let cancels = w.gcodes().iter().any(|&c| c == code::G80 || group_of(c) == Some(group::MOTION));
+        !cancels && self.after_block(w, group::CYCLE) != code::G80
     }
 
     /// A plane change (G17/G18/G19) while a canned cycle stays in force changes the drilling
@@ -56,14 +107,8 @@ impl State {
     /// *decision*, `docs/conventions.md`, "Canned cycles"). A block that cancels the cycle
     /// (G80, a group-01 code) may change the plane.
     pub(super) fn refuse_plane_change_in_cycle(&self, w: &Words) -> Result<(), AlarmId> {
-        if self.modes[group::CYCLE] == code::G80 {
-            return Ok(());
-        }
-        let group_of = |c: u16| gcode::lookup(c, self.cfg.dialect).map(|d| d.group);
-        let codes = w.gcodes();
-        let cancels = codes.iter().any(|&c| c == code::G80 || group_of(c) == Some(group::MOTION));
-        let plane_change = codes.iter().any(|&c| group_of(c) == Some(group::PLANE) && c != self.modes[group::PLANE]);
-        if plane_change && !cancels {
+        let plane_change = self.block_code(w, group::PLANE).is_some_and(|c| c != self.modes[group::PLANE]);
+        if plane_change && self.modes[group::CYCLE] != code::G80 && self.cycle_after_block(w) {
             return Err(AlarmId::ImproperGCode);
         }
         Ok(())
@@ -196,6 +241,7 @@ impl State {
             // Back boring: orient, shift, go below to R (the hole bottom), bore upward to Z.
             self.emit(out, CanonKind::Aux { m: mcode::M19 });
             self.shift(plane.0, c.q, out)?;
+            self.apply_due_length();
             self.move_drill_axis(d, c.r, Rapid, out)?;
             self.shift(plane.0, -c.q, out)?;
             self.spindle(SpindleState::Cw, out);
@@ -208,7 +254,8 @@ impl State {
             self.spindle(SpindleState::Cw, out);
             return Ok(());
         }
-        if self.xf.programmed[d] != c.r {
+        // Already at R, the tool still moves there if the block's tool length takes effect.
+        if self.apply_due_length() || self.xf.programmed[d] != c.r {
             self.move_drill_axis(d, c.r, Rapid, out)?;
         }
         match code {

@@ -506,6 +506,7 @@ impl State {
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
         self.refuse_plane_change_in_cycle(w)?;
+        self.refuse_length_change_in_tip_cycle(w)?;
         if self.cfg.refuse_unbuilt {
             self.refuse_unbuilt_nurbs(w)?;
         }
@@ -526,6 +527,7 @@ impl State {
             self.modes[group::UNITS] = code::G21;
         }
         let machine_before = self.machine_position();
+        let length_before = self.tool_vec;
         let comp_before = self.modes[group::CUTTER_COMP];
         let dwo_before = self.modes[group::DYNAMIC_FIXTURE];
         let mut axes_owner: Option<u16> = None;
@@ -800,8 +802,12 @@ impl State {
             if self.modes[group::CYCLE] != code::G80
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))
             {
-                if has_axes || w.has(b'R') || w.has(b'Z') {
-                    moved |= self.canned_cycle(w, out)?;
+                let drilled = (has_axes || w.has(b'R') || w.has(b'Z')) && self.canned_cycle(w, length_before, out)?;
+                moved |= drilled;
+                // A block that drills no hole (K0, no position) has no move to R to take the
+                // length at: it takes effect at once, as in a block of its own.
+                if !drilled && tool_length_changed {
+                    self.length_change_move(out)?;
                 }
             } else if has_axes
                 || (matches!(self.modes[group::MOTION], code::G02 | code::G03)
@@ -810,14 +816,7 @@ impl State {
                 self.group01_motion(w, out)?;
                 moved = true;
             } else if tool_length_changed {
-                // The offset takes effect at once: the tool moves, the programmed point stays.
-                let target = self.pos;
-                let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
-                if self.follows_tip() {
-                    self.tip_motion(kind, target, None, out)?;
-                } else {
-                    self.push_motion(kind, target, None, out);
-                }
+                self.length_change_move(out)?;
             }
         }
 
@@ -926,6 +925,18 @@ impl State {
         let count = (p / 10_000.0).trunc();
         let number = p - count * 10_000.0;
         Ok((self.find_program(by_number, Some(number))?, count as u32))
+    }
+
+    /// A tool length offset taking effect at once: the tool moves, the programmed point stays.
+    fn length_change_move(&mut self, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let target = self.pos;
+        let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+        if self.follows_tip() {
+            self.tip_motion(kind, target, None, out)?;
+        } else {
+            self.push_motion(kind, target, None, out);
+        }
+        Ok(())
     }
 
     /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A).

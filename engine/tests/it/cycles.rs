@@ -286,3 +286,57 @@ fn a_plane_change_while_a_cycle_is_in_force_is_refused() {
         assert!(r.completed(), "{ok}: {:?}", r.alarms);
     }
 }
+
+/// The machine X/Y/Z at the end of each motion of `line` (mill3, FANUC; H1–H99 are 100 long).
+fn machine_ends(src: &str, line: u32) -> Vec<[f64; 3]> {
+    common::motion_ends(interpreter(src, "mill3", Dialect::Fanuc))
+        .into_iter()
+        .filter(|(l, _)| *l == line)
+        .map(|(_, m)| [m[0], m[1], m[2]])
+        .collect()
+}
+
+#[test]
+fn a_tool_length_offset_in_a_cycle_block_takes_effect_at_the_move_to_r() {
+    // FANUC 15i-MA operator's manual (G76, "Tool length compensation"): "the offset is applied
+    // at the time of positioning to point R". The positioning over the hole keeps the old
+    // length (machine Z50 with no offset), the move to R takes the new one: R5 + 100 = 105,
+    // the bottom −10 + 100 = 90, the initial level 50 + 100 = 150 (G98).
+    let src = "G90 G00 X0 Y0 Z50.\nG81 G43 H1 X10. Y10. Z-10. R5. F600.\nG80\nM30\n";
+    assert_eq!(machine_ends(src, 1), vec![[0.0, 0.0, 50.0]]);
+    let want = vec![[10.0, 10.0, 50.0], [10.0, 10.0, 105.0], [10.0, 10.0, 90.0], [10.0, 10.0, 150.0]];
+    assert_eq!(machine_ends(src, 2), want);
+    // G99: the tool waits at R (machine 5) after the first hole; the next block's G43 still
+    // moves it to R with the new length (105) before the feed, which would otherwise start
+    // 85 mm under the bottom and cut upward.
+    let src = "G90 G00 X0 Y0 Z50.\nG81 G99 X10. Y10. Z-10. R5. F600.\nG43 H1 X20.\nG80\nM30\n";
+    let want = vec![[20.0, 10.0, 5.0], [20.0, 10.0, 105.0], [20.0, 10.0, 90.0], [20.0, 10.0, 105.0]];
+    assert_eq!(machine_ends(src, 3), want);
+    // G49 in the block: positioned with the length in force (150), then R without it (5).
+    let src = "G90 G00 X0 Y0 Z50.\nG43 H1 Z50.\nG81 G49 G98 X10. Y10. Z-10. R5. F600.\nG80\nM30\n";
+    let want = vec![[10.0, 10.0, 150.0], [10.0, 10.0, 5.0], [10.0, 10.0, -10.0], [10.0, 10.0, 50.0]];
+    assert_eq!(machine_ends(src, 3), want);
+    // K0 stores the data and has no move to R: the length takes effect in its block, as in a
+    // block of its own (machine Z 150), not along the next hole's positioning.
+    let src = "G00 G90 X0 Y0 Z50.\nG81 G43 H1 X10. Y10. Z-10. R5. K0 F600.\nX20.\nG80\nM30\n";
+    assert_eq!(machine_ends(src, 2), vec![[0.0, 0.0, 150.0]]);
+    let want = vec![[20.0, 0.0, 150.0], [20.0, 0.0, 105.0], [20.0, 0.0, 90.0], [20.0, 0.0, 150.0]];
+    assert_eq!(machine_ends(src, 3), want);
+}
+
+#[test]
+fn a_tool_length_change_in_a_cycle_block_that_follows_the_tip_is_not_built() {
+    // In the tilted plane (and under Syntec RTCP) the moves follow the tip with the new
+    // length from the positioning on: refused (decision), not run with the diagonal.
+    let tilted = "G90 G00 X0 Y0 Z60.\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG43 H1\nG00 X0 Y0 Z30.\n\
+                  G81 X10. Y0 Z-5. R3. F300.\nX20. H2\nG80\nG49\nG69\nM30\n";
+    for (dialect, code) in [(Dialect::Fanuc, "PS0010"), (Dialect::Syntec, "COR-100")] {
+        let r = common::run_with(tilted, "head-bc", dialect);
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some((code, 7)), "{dialect:?}");
+        assert!(common::run_with(&tilted.replace(" H2", ""), "head-bc", dialect).completed(), "{dialect:?}");
+    }
+    let rtcp = "G90 G00 X0 Y0 Z60. B0 C0\nG43.4 H1\nG00 X5. Y5. Z30.\nG98 G81 X10. Y-5. Z-8. R3. F300.\n\
+                X20. H2\nG80\nG49\nM30\n";
+    let r = common::run_with(rtcp, "head-bc", Dialect::Syntec);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("COR-100", 5)));
+}
