@@ -20,6 +20,7 @@ use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, FeedMode, MotionKind, Pos, SpindleState};
 use crate::dialect::Dialect;
+use crate::notice::BlockNotice;
 
 /// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm.
 const G73_RETRACT: f64 = 0.5;
@@ -225,6 +226,34 @@ impl State {
     }
 
     fn hole(&mut self, code: u16, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let first = out.len();
+        self.hole_moves(code, d, plane, out)?;
+        if self.r_beyond_z(code, d) {
+            mark_first_feed(&mut out[first..], BlockNotice::CycleRBeyondZ);
+        }
+        Ok(())
+    }
+
+    /// Point R lies beyond point Z on the side the cycle cuts toward, seen in the workpiece (or
+    /// feature) system, where the tool comes from the drilling axis's + side: R below Z, or for
+    /// G87 (back boring from below, R under Z by design) R above Z. The control runs it as
+    /// programmed, as far as the manuals at hand say (RS274NGC calls R below Z an error): the
+    /// run tells (`docs/five-axis.md`, "Notices").
+    fn r_beyond_z(&self, code: u16, d: usize) -> bool {
+        let level = |v: f64| {
+            let mut p = self.xf.programmed;
+            p[d] = v;
+            self.xf.forward(&p)[d]
+        };
+        let (r, z) = (level(self.cycle.r), level(self.cycle.z));
+        if code == code::G87 {
+            r > z
+        } else {
+            r < z
+        }
+    }
+
+    fn hole_moves(&mut self, code: u16, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         use MotionKind::{Linear, Rapid};
         let c = self.cycle;
         let ret = if self.modes[group::RETURN_LEVEL] == code::G99 { c.r } else { c.initial };
@@ -332,6 +361,17 @@ impl State {
             }
         }
         Ok(())
+    }
+}
+
+/// Marks the first cutting feed among a hole's commands with `notice`.
+fn mark_first_feed(hole: &mut [Canon], notice: BlockNotice) {
+    let feed = hole.iter_mut().find_map(|c| match &mut c.kind {
+        CanonKind::Motion(m) if m.kind == MotionKind::Linear => Some(m),
+        _ => None,
+    });
+    if let Some(m) = feed {
+        m.notice = Some(notice);
     }
 }
 

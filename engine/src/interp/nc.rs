@@ -1059,6 +1059,7 @@ impl State {
             context: self.context(),
             speed_cap: f32::INFINITY,
             offset: None,
+            notice: None,
             block_limit: self.block_limit,
             no_look_ahead: !self.look_ahead || {
                 let motion = &self.cfg.machine.motion;

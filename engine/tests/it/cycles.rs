@@ -340,3 +340,54 @@ fn a_tool_length_change_in_a_cycle_block_that_follows_the_tip_is_not_built() {
     let r = common::run_with(rtcp, "head-bc", Dialect::Syntec);
     assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("COR-100", 5)));
 }
+
+/// The notices of a run of `src` on mill3 (FANUC) as (code, line); the run must complete.
+fn notices(src: &str) -> Vec<(String, u32)> {
+    let r = common::run_with(src, "mill3", Dialect::Fanuc);
+    assert!(r.completed(), "{:?}\n{src}", r.alarms);
+    r.notices.iter().map(|n| (n.code.clone(), n.line)).collect()
+}
+
+#[test]
+fn a_cycle_whose_r_lies_beyond_its_bottom_runs_with_a_notice() {
+    // R below the bottom: the tool rapids past Z to R and cuts back up toward Z. FANUC's text
+    // at hand names no alarm; the run says where (FX1004), once per block.
+    let head = "G90 G00 X0 Y0 Z50.\n";
+    let beyond = |s: &str| notices(&format!("{head}{s}")) == vec![("FX1004".to_string(), 2)];
+    for cycle in ["G73 Q2.", "G74", "G76 Q1.", "G81", "G82 P100", "G83 Q2.", "G84", "G85", "G86", "G88 P100", "G89 P100"] {
+        assert!(beyond(&format!("{cycle} X10. Y10. Z-10. R-20. F600.\nG80\nM30\n")), "{cycle}");
+        // R above Z: no notice.
+        assert_eq!(notices(&format!("{head}{cycle} X10. Y10. Z-10. R5. F600.\nG80\nM30\n")), vec![], "{cycle}");
+    }
+    // Z above R, in G91 (R from the initial level, Z from R), in G18 (along Y), K2: one notice
+    // for the block.
+    assert!(beyond("G81 X10. Y10. Z10. R5. F600.\nG80\nM30\n"));
+    assert!(beyond("G91 G81 X10. Y10. Z10. R-45. F600.\nG80\nG90\nM30\n"));
+    assert!(beyond("G18 G81 X10. Z10. Y-10. R-20. F600.\nG80\nG17\nM30\n"));
+    assert!(beyond("G91 G81 X10. Z10. R-45. K2 F600.\nG80\nG90\nM30\n"));
+    // Every hole block of the cycle is told (the audit's e_mix: G90 R2. keeps the bottom 15).
+    let mix = "G81 G99 X10. Y10. Z-10. R5. F600.\nG91 X10.\nR-20.\nG90 X40. R2.\nG80\nM30\n";
+    assert_eq!(notices(&format!("{head}{mix}")), vec![("FX1004".to_string(), 5)]);
+    // G87 back boring: R lies below Z by design; R above Z is told.
+    assert_eq!(notices(&format!("{head}G87 X10. Y10. Z-10. R-20. Q1. F600.\nG80\nM30\n")), vec![]);
+    assert_eq!(notices(&format!("{head}G87 X10. Y10. Z-10. R5. Q1. F600.\nG80\nM30\n")), vec![("FX1004".to_string(), 2)]);
+}
+
+#[test]
+fn the_controller_sends_the_cycle_notice_too() {
+    use fivex_engine::controller::{Controller, Event, RunState};
+    let src = "G90 G00 X0 Y0 Z50.\nG81 X10. Y10. Z-10. R-20. F600.\nG80\nM30\n";
+    let mut c = Controller::new(fivex_engine::interp::Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    let mut found = Vec::new();
+    while c.run_state() == RunState::Running && c.time() < 60.0 {
+        c.tick(0.001);
+        for e in c.take_events() {
+            if let Event::Notice(n) = e {
+                found.push((n.code, n.line));
+            }
+        }
+    }
+    assert_eq!(found, vec![("FX1004".to_string(), 2)]);
+}
