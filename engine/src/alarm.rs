@@ -13,6 +13,8 @@ pub enum AlarmId {
     ImproperAddress,
     /// An address without a value.
     NoDataAfterAddress,
+    /// A decimal point at an address that takes none (FANUC: the dwell's P).
+    IllegalDecimalPoint,
     /// A value with too many digits or out of the address's range.
     TooManyDigits,
     /// An unknown G code, or a G code not allowed in the current mode.

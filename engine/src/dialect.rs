@@ -114,6 +114,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::Syntax,
     AlarmId::ImproperAddress,
     AlarmId::NoDataAfterAddress,
+    AlarmId::IllegalDecimalPoint,
     AlarmId::TooManyDigits,
     AlarmId::ImproperGCode,
     AlarmId::GCodeNotBuilt,
@@ -219,6 +220,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         Syntax => (("PS0004", "INVALID BREAK POINT OF WORDS"), ("COR-001", "Syntax error")),
         ImproperAddress => (("PS0009", "IMPROPER NC-ADDRESS"), ("COR-002", "Illegal address")),
         NoDataAfterAddress => (("PS0005", "NO DATA AFTER ADDRESS"), ("COR-003", "Missing value after address")),
+        // Raised in the FANUC dialect only; Syntec's column for completeness.
+        IllegalDecimalPoint => (("PS0007", "ILLEGAL USE OF DECIMAL POINT"), ("COR-001", "Syntax error")),
         TooManyDigits => (("PS0003", "TOO MANY DIGITS"), ("COR-004", "Value out of range")),
         ImproperGCode => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
         // FANUC's alarms for a G code / an address of a function the control does not have;
@@ -406,6 +409,8 @@ fn haas(id: &AlarmId) -> Text {
     match id {
         Syntax | ImproperAddress | AddressNotBuilt => UNKNOWN,
         NoDataAfterAddress => ("701", "NO VALUE AFTER ADDRESS"),
+        // Raised in the FANUC dialect only (a Haas P with a point is seconds).
+        IllegalDecimalPoint => ("311", "UNKNOWN CODE"),
         TooManyDigits | IllegalOffsetNumber => RANGE,
         ImproperGCode | GCodeNotBuilt => INVALID_G,
         MCodeNotBuilt => ("329", "UNDEFINED M CODE"),

@@ -43,7 +43,12 @@ impl State {
     /// of the block takes effect at the move to point R (FANUC 15i-MA operator's manual, G76
     /// "Tool length compensation": "the offset is applied at the time of positioning to point
     /// R"), so the positioning over the hole runs with the old length.
-    pub(super) fn canned_cycle(&mut self, w: &Words, length_before: Pos, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+    pub(super) fn canned_cycle(
+        &mut self,
+        w: &Words,
+        length_before: Pos,
+        out: &mut Vec<Canon>,
+    ) -> Result<bool, AlarmId> {
         let repeats = repeats(w, self.cfg.dialect)?;
         let (d, plane) = self.cycle_data(w)?;
         if self.tool_vec != length_before {
@@ -57,7 +62,14 @@ impl State {
         Ok(repeats > 0)
     }
 
-    fn holes(&mut self, w: &Words, repeats: u32, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+    fn holes(
+        &mut self,
+        w: &Words,
+        repeats: u32,
+        d: usize,
+        plane: (usize, usize),
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
         for _ in 0..repeats {
             // Position over the hole: every axis but the drilling axis.
             let hole = self.programmed_target(w, Some(d));
@@ -147,6 +159,7 @@ impl State {
         if let Some(q) = self.value(w, b'Q') {
             self.cycle.q = q.abs();
         }
+        self.refuse_point_at_dwell_p(w)?;
         if let Some(p) = w.integer(b'P') {
             self.cycle.p = p / 1000.0;
         }

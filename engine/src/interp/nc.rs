@@ -86,6 +86,12 @@ impl Words {
         self.last[slot(letter)] != 0
     }
 
+    /// The last word of `letter` is a number written with a decimal point (not a variable or
+    /// an expression).
+    pub(super) fn has_point(&self, letter: u8) -> bool {
+        self.word(letter).is_some_and(|(_, form)| form == Form::Point)
+    }
+
     /// The block's G codes (×10), in block order.
     pub(super) fn gcodes(&self) -> &[u16] {
         &self.g[..self.ng]
@@ -939,6 +945,18 @@ impl State {
         Ok(())
     }
 
+    /// FANUC: the dwell's P (G04, the canned cycles' dwell at the bottom) is a whole number of
+    /// milliseconds, and a decimal point at an address that takes none is PS0007 (the 30i's
+    /// alarm list): `P1.5` meant as 1.5 s would otherwise dwell 1.5 ms. A variable or an
+    /// expression is rounded as at any such address. Syntec and Haas keep their readings
+    /// (`docs/dialects.md`).
+    pub(super) fn refuse_point_at_dwell_p(&self, w: &Words) -> Result<(), AlarmId> {
+        if self.cfg.dialect == crate::Dialect::Fanuc && w.has_point(b'P') {
+            return Err(AlarmId::IllegalDecimalPoint);
+        }
+        Ok(())
+    }
+
     /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A).
     pub(super) fn refresh_tool_length(&mut self) {
         let mut v = [0.0; MAX_AXES];
@@ -1354,6 +1372,7 @@ impl State {
         let axes = self.cfg.machine.axes.len();
         match code {
             code::G04 => {
+                self.refuse_point_at_dwell_p(w)?;
                 let haas = self.cfg.dialect == crate::Dialect::Haas;
                 let seconds = match (w.integer(b'P'), w.raw(b'X')) {
                     // Haas: P with a decimal point is seconds, without milliseconds.

@@ -237,7 +237,11 @@ fn a_cycle_without_its_hole_bottom_is_refused_not_drilled_to_zero() {
         for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
             let src = if dialect == Dialect::Haas { src.replace(" K0", " L0") } else { src.clone() };
             let r = common::run_with(&src, "mill3", dialect);
-            assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("FX0007", line)), "{dialect:?}\n{src}");
+            assert_eq!(
+                r.alarms.first().map(|a| (a.code.as_str(), a.line)),
+                Some(("FX0007", line)),
+                "{dialect:?}\n{src}"
+            );
         }
     }
     // The bottom given once is kept while the cycle lasts, in every plane.
@@ -354,7 +358,9 @@ fn a_cycle_whose_r_lies_beyond_its_bottom_runs_with_a_notice() {
     // at hand names no alarm; the run says where (FX1004), once per block.
     let head = "G90 G00 X0 Y0 Z50.\n";
     let beyond = |s: &str| notices(&format!("{head}{s}")) == vec![("FX1004".to_string(), 2)];
-    for cycle in ["G73 Q2.", "G74", "G76 Q1.", "G81", "G82 P100", "G83 Q2.", "G84", "G85", "G86", "G88 P100", "G89 P100"] {
+    for cycle in
+        ["G73 Q2.", "G74", "G76 Q1.", "G81", "G82 P100", "G83 Q2.", "G84", "G85", "G86", "G88 P100", "G89 P100"]
+    {
         assert!(beyond(&format!("{cycle} X10. Y10. Z-10. R-20. F600.\nG80\nM30\n")), "{cycle}");
         // R above Z: no notice.
         assert_eq!(notices(&format!("{head}{cycle} X10. Y10. Z-10. R5. F600.\nG80\nM30\n")), vec![], "{cycle}");
@@ -370,14 +376,18 @@ fn a_cycle_whose_r_lies_beyond_its_bottom_runs_with_a_notice() {
     assert_eq!(notices(&format!("{head}{mix}")), vec![("FX1004".to_string(), 5)]);
     // G87 back boring: R lies below Z by design; R above Z is told.
     assert_eq!(notices(&format!("{head}G87 X10. Y10. Z-10. R-20. Q1. F600.\nG80\nM30\n")), vec![]);
-    assert_eq!(notices(&format!("{head}G87 X10. Y10. Z-10. R5. Q1. F600.\nG80\nM30\n")), vec![("FX1004".to_string(), 2)]);
+    assert_eq!(
+        notices(&format!("{head}G87 X10. Y10. Z-10. R5. Q1. F600.\nG80\nM30\n")),
+        vec![("FX1004".to_string(), 2)]
+    );
 }
 
 #[test]
 fn the_controller_sends_the_cycle_notice_too() {
     use fivex_engine::controller::{Controller, Event, RunState};
     let src = "G90 G00 X0 Y0 Z50.\nG81 X10. Y10. Z-10. R-20. F600.\nG80\nM30\n";
-    let mut c = Controller::new(fivex_engine::interp::Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
+    let mut c =
+        Controller::new(fivex_engine::interp::Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
     c.select_program(src).unwrap();
     c.cycle_start().unwrap();
     let mut found = Vec::new();
@@ -390,4 +400,46 @@ fn the_controller_sends_the_cycle_notice_too() {
         }
     }
     assert_eq!(found, vec![("FX1004".to_string(), 2)]);
+}
+
+#[test]
+fn fanuc_refuses_a_decimal_point_at_the_dwell_s_p() {
+    // P is a whole number of milliseconds; `P1.5` meant as 1.5 s would dwell 1.5 ms. FANUC:
+    // PS0007 ILLEGAL USE OF DECIMAL POINT at the block. A variable or an expression is rounded
+    // as at any address that takes whole numbers.
+    let head = "G90 G00 X0 Y0 Z50.\n";
+    for body in [
+        "G04 P1.5\nM30\n",
+        "G82 X10. Y10. Z-10. R5. P1.5 F600.\nG80\nM30\n",
+        "G89 X10. Y10. Z-10. R5. P2. F600.\nG80\nM30\n",
+    ] {
+        let r = common::run_with(&format!("{head}{body}"), "mill3", Dialect::Fanuc);
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0007", 2)), "{body}");
+    }
+    let seconds = |src: &str| -> Vec<f64> {
+        canon(src)
+            .iter()
+            .filter_map(|c| match c.kind {
+                CanonKind::Dwell { seconds } => Some(seconds),
+                _ => None,
+            })
+            .collect()
+    };
+    assert_eq!(seconds(&format!("{head}G04 P1500\n#1=1499.6\nG04 P#1\nG04 P[1.5*1000]\nM30\n")), vec![1.5, 1.5, 1.5]);
+    assert_eq!(seconds(&format!("{head}G82 X10. Y10. Z-10. R5. P1500 F600.\nG80\nM30\n")), vec![1.5]);
+    // `fivex check` finds it in a block that names G04 or the cycle; a later hole block is
+    // left to the run.
+    use fivex_engine::check::check;
+    use fivex_engine::lang::parse_file;
+    let src = "G04 P1.5\nG82 X10. Y10. Z-10. R5. P2. F600.\nX20. P1.5\nG80\nG04 P#1\nM30\n";
+    let found: Vec<_> = check(parse_file(src), Dialect::Fanuc).iter().map(|d| (d.line, d.col, d.id.clone())).collect();
+    let id = fivex_engine::AlarmId::IllegalDecimalPoint;
+    assert_eq!(found, vec![(1, 5, id.clone()), (2, 25, id)]);
+    assert!(check(parse_file(src), Dialect::Haas).is_empty());
+    // Haas reads P with a point as seconds (its own rule); Syntec keeps milliseconds (no
+    // source at hand says otherwise).
+    let haas = common::run_with("G04 P1.5\nM30\n", "mill3", Dialect::Haas);
+    assert!(haas.completed(), "{:?}", haas.alarms);
+    let syntec = common::run_with("G04 P1.5\nM30\n", "mill3", Dialect::Syntec);
+    assert!(syntec.completed(), "{:?}", syntec.alarms);
 }
