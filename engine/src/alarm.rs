@@ -13,6 +13,8 @@ pub enum AlarmId {
     ImproperAddress,
     /// An address without a value.
     NoDataAfterAddress,
+    /// A decimal point at an address that takes none (FANUC: the dwell's P).
+    IllegalDecimalPoint,
     /// A value with too many digits or out of the address's range.
     TooManyDigits,
     /// An unknown G code, or a G code not allowed in the current mode.
@@ -41,6 +43,10 @@ pub enum AlarmId {
     /// A Haas cycle's argument missing or out of its range: G12/G13 circular pocket (I, K, Q,
     /// L against the tool radius), G70–G72 bolt patterns (I, J, K, L), G103 P.
     CycleArgument,
+    /// A canned cycle block that drills while no hole bottom (the drilling axis's word) was
+    /// given since the cycle started: the manuals at hand do not say what depth the control
+    /// takes (fivex's own code).
+    CycleBottomMissing,
     /// Reference return commands not allowed in a canned cycle.
     ReferenceReturnInCycle,
     IllegalReferenceReturn,

@@ -135,6 +135,9 @@ pub struct Motion {
     /// Moved off its programmed path by a cutter compensation stage (G41/G42, G41.2…G42.6,
     /// G41.3): what the trace's cutting point is read from. `None` outside compensation.
     pub offset: Option<Box<Offset>>,
+    /// What the run tells about this motion's block, where the interpreter ran it as
+    /// programmed though the manuals do not say the control does (`crate::notice`).
+    pub notice: Option<crate::notice::BlockNotice>,
 }
 
 /// A motion a cutter compensation stage moved: where the block put the machine before it was
@@ -179,6 +182,7 @@ impl Motion {
             offset: None,
             no_look_ahead: false,
             block_limit: 0,
+            notice: None,
         }
     }
 

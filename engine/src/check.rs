@@ -3,7 +3,8 @@
 //! Beyond the parser's diagnostics: G codes the dialect does not have, G codes and addresses of
 //! functions fivex does not carry out (`interp::unbuilt`, with the literal values of the block's
 //! addresses), DO/END structure, GOTO targets and called programs given as literal numbers that
-//! do not exist, L in a block that names a canned cycle (K in the Haas dialect), a `,L` other
+//! do not exist, L in a block that names a canned cycle (K in the Haas dialect), FANUC's P with a
+//! decimal point in a block that names G04 or a canned cycle (PS0007), a `,L` other
 //! than `,L2` and a zero surface normal of cutting point control, Syntec's G05 format errors
 //! that literal words show, the addresses Syntec's G68.2/G43.4/G43.5 do not take (P, Q, R; an
 //! L other than 0/1), Haas's M97/M98/G65 without P and M97 P of a line the program does not
@@ -67,7 +68,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     }
                 }
                 BlockKind::Words(words) => {
-                    let (mut calls, mut cycle, mut pattern) = (false, false, false);
+                    let (mut calls, mut cycle, mut pattern, mut dwell) = (false, false, false, false);
                     // The block's literal G codes (an argument of one is not an address of its own).
                     let codes = || {
                         words.iter().filter_map(|w| match (w.letter, &w.value) {
@@ -95,6 +96,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                         ));
                                     }
                                     cycle |= d.group == group::CYCLE && d.code != code::G80;
+                                    dwell |= d.code == code::G04;
                                     // Haas's bolt patterns take the block's I J K L.
                                     pattern |= matches!(d.code, code::G70 | code::G71 | code::G72);
                                 }
@@ -164,6 +166,21 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                 diags.push(at(word.col, AlarmId::ImproperAddress, detail.into()));
                             }
                         }
+                    }
+                    // FANUC: the dwell's P (G04, a cycle's) takes no decimal point (PS0007,
+                    // `interp::nc`'s `refuse_point_at_dwell_p`); a block that does not name G04
+                    // or the cycle is left to the run.
+                    let pointed_p = words
+                        .iter()
+                        .rev()
+                        .find(|w| w.letter == b'P')
+                        .filter(|w| matches!(w.value, WordValue::Number { decimal_point: true, .. }));
+                    if let Some(p) = pointed_p.filter(|_| dialect == Dialect::Fanuc && (dwell || cycle)) {
+                        diags.push(at(
+                            p.col,
+                            AlarmId::IllegalDecimalPoint,
+                            "P with a decimal point: the dwell is in ms".into(),
+                        ));
                     }
                     // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).
                     // The Haas NGC counts with L and its K is refused. Only a block naming the

@@ -848,6 +848,7 @@ impl Controller {
             offset: None,
             no_look_ahead: false,
             block_limit: 0,
+            notice: None,
         };
         let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, true);
         let mut seg = self.exec.segment_within(&m, ctx, &self.manual_limits());
@@ -1107,6 +1108,7 @@ impl Controller {
                         }
                         return true;
                     }
+                    self.events.extend(Notice::of_command(&c).map(Event::Notice));
                 }
                 _ if motion_pending => {
                     // Every other command waits for the motion before it.

@@ -115,6 +115,9 @@ const COR100: Text = ("COR-100", "Unsupported G code command or option software 
 const POSITION_IN_COMPENSATION: Text = ("FX0006", "POSITION READ IN CUTTER COMPENSATION NOT BUILT");
 /// fivex's own, in every dialect (`AlarmId::RotaryShiftOnTipPath`).
 const ROTARY_SHIFT_ON_TIP_PATH: Text = ("FX0007", "MANUAL ROTARY SHIFT ON TOOL TIP PATH NOT BUILT");
+/// fivex's own, in every dialect: no vendor alarm names a missing hole bottom (FANUC's PS0045
+/// is Q's alone), and no manual at hand says what the control does (`AlarmId::CycleBottomMissing`).
+const CYCLE_BOTTOM_MISSING: Text = ("FX0008", "CANNED CYCLE WITHOUT HOLE BOTTOM");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -123,6 +126,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::Syntax,
     AlarmId::ImproperAddress,
     AlarmId::NoDataAfterAddress,
+    AlarmId::IllegalDecimalPoint,
     AlarmId::TooManyDigits,
     AlarmId::ImproperGCode,
     AlarmId::GCodeNotBuilt,
@@ -207,6 +211,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RestartInMode,
     AlarmId::PositionInCompensation,
     AlarmId::RotaryShiftOnTipPath,
+    AlarmId::CycleBottomMissing,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -228,6 +233,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         Syntax => (("PS0004", "INVALID BREAK POINT OF WORDS"), ("COR-001", "Syntax error")),
         ImproperAddress => (("PS0009", "IMPROPER NC-ADDRESS"), ("COR-002", "Illegal address")),
         NoDataAfterAddress => (("PS0005", "NO DATA AFTER ADDRESS"), ("COR-003", "Missing value after address")),
+        // Raised in the FANUC dialect only; Syntec's column for completeness.
+        IllegalDecimalPoint => (("PS0007", "ILLEGAL USE OF DECIMAL POINT"), ("COR-001", "Syntax error")),
         TooManyDigits => (("PS0003", "TOO MANY DIGITS"), ("COR-004", "Value out of range")),
         ImproperGCode => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
         // FANUC's alarms for a G code / an address of a function the control does not have;
@@ -374,6 +381,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         }
         PositionInCompensation => (POSITION_IN_COMPENSATION, POSITION_IN_COMPENSATION),
         RotaryShiftOnTipPath => (ROTARY_SHIFT_ON_TIP_PATH, ROTARY_SHIFT_ON_TIP_PATH),
+        CycleBottomMissing => (CYCLE_BOTTOM_MISSING, CYCLE_BOTTOM_MISSING),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -415,6 +423,8 @@ fn haas(id: &AlarmId) -> Text {
     match id {
         Syntax | ImproperAddress | AddressNotBuilt => UNKNOWN,
         NoDataAfterAddress => ("701", "NO VALUE AFTER ADDRESS"),
+        // Raised in the FANUC dialect only (a Haas P with a point is seconds).
+        IllegalDecimalPoint => ("311", "UNKNOWN CODE"),
         TooManyDigits | IllegalOffsetNumber => RANGE,
         ImproperGCode | GCodeNotBuilt => INVALID_G,
         MCodeNotBuilt => ("329", "UNDEFINED M CODE"),
@@ -465,6 +475,7 @@ fn haas(id: &AlarmId) -> Text {
         RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
         PositionInCompensation => POSITION_IN_COMPENSATION,
         RotaryShiftOnTipPath => ROTARY_SHIFT_ON_TIP_PATH,
+        CycleBottomMissing => CYCLE_BOTTOM_MISSING,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),

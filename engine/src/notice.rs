@@ -1,11 +1,13 @@
 //! Notices: what a run reports besides alarms and operator messages — a block fivex carried out
-//! by a rule of its own, where the manuals do not say what the control does. The program still
+//! by a rule of its own, where the manuals do not say what the control does, or ran as
+//! programmed though it looks like a mistake a control may refuse. The program still
 //! completes (a real control may do otherwise, or alarm); the notice says where and how the
 //! motion differs from what the block asked for, so that a user deciding whether a program is
 //! safe does not take fivex's rule for the control's (`docs/five-axis.md`, "Notices").
 //!
 //! Codes are fivex's own (`FX1…`, alarms are `FX0…`) and the same in every dialect.
 
+use crate::canon::{Canon, CanonKind};
 use crate::motion::path::{Fallback, PostureFallback};
 use crate::motion::Segment;
 use serde::{Deserialize, Serialize};
@@ -24,7 +26,32 @@ pub struct Notice {
     pub n: Option<u32>,
 }
 
+/// What the interpreter marks on a motion of a block it ran as programmed where the manuals
+/// do not say the control does (a real control may alarm): the run reports it when the motion
+/// is queued ([`Notice::of_command`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BlockNotice {
+    /// A canned cycle's point R lies beyond its point Z on the side the cycle cuts toward:
+    /// below the hole bottom (above the top of G87's back bore). Marked on the hole's first
+    /// cutting feed.
+    CycleRBeyondZ,
+}
+
 impl Notice {
+    /// What a motion's block has to report, if anything (`BlockNotice`).
+    pub fn of_command(c: &Canon) -> Option<Notice> {
+        let CanonKind::Motion(m) = &c.kind else { return None };
+        let (code, message) = match m.notice? {
+            BlockNotice::CycleRBeyondZ => (
+                "FX1004",
+                "canned cycle: point R lies beyond point Z on the side the cycle cuts toward (below the hole \
+                 bottom; above the top of a G87 back bore): the tool reaches R at rapid past Z and cuts back \
+                 toward it, as programmed",
+            ),
+        };
+        Some(Notice { code: code.into(), message: message.into(), line: c.line, n: c.n })
+    }
+
     /// What a queued segment has to report, if anything.
     pub fn of(segment: &Segment) -> Option<Notice> {
         let (code, message) = match segment.fallback()? {

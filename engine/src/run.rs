@@ -219,6 +219,9 @@ impl<O: Observer> Driver<'_, O> {
             CanonKind::Motion(m) => {
                 let ctx =
                     self.exec.feed_context(self.opts.feed_override, self.opts.rapid_override, m.context.exact_stop);
+                if let Some(notice) = Notice::of_command(c) {
+                    Notice::add(&mut self.notices, notice);
+                }
                 let (observer, notices) = (&mut *self.observer, &mut self.notices);
                 let queued = |seg: &Segment| {
                     observer.queued(m, seg);

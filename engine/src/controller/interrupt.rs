@@ -259,6 +259,7 @@ impl Controller {
             offset: None,
             no_look_ahead: false,
             block_limit: 0,
+            notice: None,
         };
         // At the handle clamp whatever the overrides.
         let ctx = self.exec.feed_context(1.0, 1.0, true);

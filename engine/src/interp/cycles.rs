@@ -15,13 +15,14 @@
 //! coordinate system's, and every move of the cycle follows the tool tip through the kinematics
 //! like any move in the plane: the hole is drilled at the FCS point along the FCS Z.
 
-use super::gcode::{code, group};
+use super::gcode::{self, code, group};
 use super::mcode;
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, FeedMode, MotionKind, Pos, SpindleState};
 use crate::dialect::Dialect;
+use crate::notice::BlockNotice;
 
 /// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm.
 const G73_RETRACT: f64 = 0.5;
@@ -67,15 +68,92 @@ impl State {
     }
 
     /// Run the active cycle at the block's hole position(s). Returns whether anything moved.
-    pub(super) fn canned_cycle(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+    /// `length_before` is the tool length offset vector before the block: a G43/G44/G49 or H
+    /// of the block takes effect at the move to point R (FANUC 15i-MA operator's manual, G76
+    /// "Tool length compensation": "the offset is applied at the time of positioning to point
+    /// R"), so the positioning over the hole runs with the old length.
+    pub(super) fn canned_cycle(
+        &mut self,
+        w: &Words,
+        length_before: Pos,
+        out: &mut Vec<Canon>,
+    ) -> Result<bool, AlarmId> {
         let repeats = repeats(w, self.cfg.dialect)?;
         let (d, plane) = self.cycle_data(w)?;
+        if self.tool_vec != length_before {
+            self.cycle.length_due = Some(self.tool_vec);
+            self.tool_vec = length_before;
+        }
+        let drilled = self.holes(w, repeats, d, plane, out);
+        // K0 (no hole) or an alarm: the block's length stands all the same.
+        self.apply_due_length();
+        drilled?;
+        Ok(repeats > 0)
+    }
+
+    fn holes(
+        &mut self,
+        w: &Words,
+        repeats: u32,
+        d: usize,
+        plane: (usize, usize),
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
         for _ in 0..repeats {
             // Position over the hole: every axis but the drilling axis.
             let hole = self.programmed_target(w, Some(d));
             self.cycle_at(hole, d, plane, out)?;
         }
-        Ok(repeats > 0)
+        Ok(())
+    }
+
+    /// The tool length the cycle block selected takes effect (at the move to R); whether one
+    /// was due.
+    fn apply_due_length(&mut self) -> bool {
+        match self.cycle.length_due.take() {
+            Some(v) => {
+                self.tool_vec = v;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// A tool length change (G43/G44/G49, H, or tool centre point control starting) in a cycle
+    /// block while the cycle's moves follow the tool tip (the tilted working plane, Syntec
+    /// RTCP): the tip is followed with the new length from the positioning on, where the
+    /// control applies it at the move to R; not built (*decision*, `docs/conventions.md`,
+    /// "Canned cycles").
+    pub(super) fn refuse_length_change_in_tip_cycle(&self, w: &Words) -> Result<(), AlarmId> {
+        let length_code = self.block_code(w, group::LENGTH_COMP);
+        let changes = length_code.is_some() || (w.has(b'H') && !w.has_g(code::G10));
+        let follows = self.plane_active() || self.tcp_active() || length_code.is_some_and(|c| code::TCP.contains(&c));
+        if changes && follows && self.cycle_after_block(w) {
+            return Err(AlarmId::GCodeNotBuilt);
+        }
+        Ok(())
+    }
+
+    /// A canned cycle is in force after the block: it is not cancelled there (G80, a group-01
+    /// code) and one was in force or the block names one.
+    fn cycle_after_block(&self, w: &Words) -> bool {
+        let group_of = |c: u16| gcode::lookup(c, self.cfg.dialect).map(|d| d.group);
+        let cancels = w.gcodes().iter().any(|&c| c == code::G80 || group_of(c) == Some(group::MOTION));
+        !cancels && self.after_block(w, group::CYCLE) != code::G80
+    }
+
+    /// A plane change (G17/G18/G19) while a canned cycle stays in force changes the drilling
+    /// axis under levels taken on the old one (the initial level, R, the bottom); FANUC's
+    /// canned-cycle restrictions ask for the cycle to be cancelled before the drilling axis is
+    /// changed, naming no alarm: refused as a G code the mode does not allow (PS0010,
+    /// *decision*, `docs/conventions.md`, "Canned cycles"). A block that cancels the cycle
+    /// (G80, a group-01 code) may change the plane.
+    pub(super) fn refuse_plane_change_in_cycle(&self, w: &Words) -> Result<(), AlarmId> {
+        let plane_change = self.block_code(w, group::PLANE).is_some_and(|c| c != self.modes[group::PLANE]);
+        if plane_change && self.modes[group::CYCLE] != code::G80 && self.cycle_after_block(w) {
+            return Err(AlarmId::ImproperGCode);
+        }
+        Ok(())
     }
 
     /// The block's cycle data (R, the drilling-axis level, Q, P) taken into the modal cycle data
@@ -98,7 +176,10 @@ impl State {
             self.cycle.r = self.cycle_level(d, self.xf.programmed[d]);
         }
         match self.value(w, drill_letter) {
-            Some(z) => self.cycle.z = if incremental { self.cycle.r + z } else { z },
+            Some(z) => {
+                self.cycle.z = if incremental { self.cycle.r + z } else { z };
+                self.cycle.z_set = true;
+            }
             // G91: the retained bottom is a distance from R, so it moves with a new R (FANUC).
             None if incremental && new_r.is_some() => self.cycle.z = self.cycle.r + self.cycle.depth,
             None => {}
@@ -107,6 +188,7 @@ impl State {
         if let Some(q) = self.value(w, b'Q') {
             self.cycle.q = q.abs();
         }
+        self.refuse_point_at_dwell_p(w)?;
         if let Some(p) = w.integer(b'P') {
             self.cycle.p = p / 1000.0;
         }
@@ -129,6 +211,13 @@ impl State {
         plane: (usize, usize),
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
+        // No manual at hand says what depth the control drills to when no bottom was given
+        // since the cycle started (the first cycle, or after G80 or a group-01 code cleared
+        // the data): refused rather than drilled to a depth fivex makes up (*decision*,
+        // `docs/conventions.md`, "Canned cycles").
+        if !self.cycle.z_set {
+            return Err(AlarmId::CycleBottomMissing);
+        }
         let code = self.modes[group::CYCLE];
         self.cycle_move(MotionKind::Rapid, hole, out)?;
         self.hole(code, d, plane, out)?;
@@ -179,6 +268,34 @@ impl State {
     }
 
     fn hole(&mut self, code: u16, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let first = out.len();
+        self.hole_moves(code, d, plane, out)?;
+        if self.r_beyond_z(code, d) {
+            mark_first_feed(&mut out[first..], BlockNotice::CycleRBeyondZ);
+        }
+        Ok(())
+    }
+
+    /// Point R lies beyond point Z on the side the cycle cuts toward, seen in the workpiece (or
+    /// feature) system, where the tool comes from the drilling axis's + side: R below Z, or for
+    /// G87 (back boring from below, R under Z by design) R above Z. The control runs it as
+    /// programmed, as far as the manuals at hand say (RS274NGC calls R below Z an error): the
+    /// run tells (`docs/five-axis.md`, "Notices").
+    fn r_beyond_z(&self, code: u16, d: usize) -> bool {
+        let level = |v: f64| {
+            let mut p = self.xf.programmed;
+            p[d] = v;
+            self.xf.forward(&p)[d]
+        };
+        let (r, z) = (level(self.cycle.r), level(self.cycle.z));
+        if code == code::G87 {
+            r > z
+        } else {
+            r < z
+        }
+    }
+
+    fn hole_moves(&mut self, code: u16, d: usize, plane: (usize, usize), out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         use MotionKind::{Linear, Rapid};
         let c = self.cycle;
         let ret = if self.modes[group::RETURN_LEVEL] == code::G99 { c.r } else { c.initial };
@@ -196,6 +313,7 @@ impl State {
             // Back boring: orient, shift, go below to R (the hole bottom), bore upward to Z.
             self.emit(out, CanonKind::Aux { m: mcode::M19 });
             self.shift(plane.0, c.q, out)?;
+            self.apply_due_length();
             self.move_drill_axis(d, c.r, Rapid, out)?;
             self.shift(plane.0, -c.q, out)?;
             self.spindle(SpindleState::Cw, out);
@@ -208,18 +326,18 @@ impl State {
             self.spindle(SpindleState::Cw, out);
             return Ok(());
         }
-        if self.xf.programmed[d] != self.level_target(d, c.r) {
+        // Already at R, the tool still moves there if the block's tool length takes effect.
+        if self.apply_due_length() || self.xf.programmed[d] != self.level_target(d, c.r) {
             self.move_drill_axis(d, c.r, Rapid, out)?;
         }
         match code {
             code::G73 | code::G83 => {
-                let mut depth = c.r;
-                loop {
-                    let next = if (c.z - depth) * dir <= q { c.z } else { depth + dir * q };
-                    self.move_drill_axis(d, next, Linear, out)?;
+                let pecks = peck_count(c.z - c.r, q);
+                for k in 1..=pecks {
+                    let depth = if k == pecks { c.z } else { c.r + dir * q * k as f64 };
+                    self.move_drill_axis(d, depth, Linear, out)?;
                     check_output(out)?;
-                    depth = next;
-                    if depth == c.z {
+                    if k == pecks {
                         break;
                     }
                     if code == code::G73 {
@@ -288,6 +406,28 @@ impl State {
         Ok(())
     }
 }
+
+/// Marks the first cutting feed among a hole's commands with `notice`.
+fn mark_first_feed(hole: &mut [Canon], notice: BlockNotice) {
+    let feed = hole.iter_mut().find_map(|c| match &mut c.kind {
+        CanonKind::Motion(m) if m.kind == MotionKind::Linear => Some(m),
+        _ => None,
+    });
+    if let Some(m) = feed {
+        m.notice = Some(notice);
+    }
+}
+
+/// How many cutting feeds of at most `q` a G73/G83 hole `depth` deep takes (at least one). The
+/// control counts in least input increments (0.001 mm), so a depth that is a whole number of
+/// pecks ends on its last full peck: a remainder below `PECK_TOLERANCE` (binary fractions:
+/// 4.2 / 0.7 is 6.000000000000001) is no further peck.
+fn peck_count(depth: f64, q: f64) -> u64 {
+    ((depth.abs() - PECK_TOLERANCE) / q).ceil().max(1.0) as u64
+}
+
+/// Far below the least input increment (0.001 mm), far above the rounding of a depth.
+const PECK_TOLERANCE: f64 = 1e-6;
 
 /// The repeat count of a cycle block: K, 0–9999 (FANUC 30i and Syntec; K0 stores the cycle's
 /// data without machining), 1 without K. L (the repeat count of older FANUC controls and of

@@ -229,6 +229,11 @@ pub(super) struct CycleData {
     p: f64,
     /// Whether an R word was given since the cycle started.
     r_set: bool,
+    /// Whether the hole bottom (the drilling axis's word) was given since the cycle started.
+    z_set: bool,
+    /// The tool length offset vector a G43/G44/G49 or H of the cycle block selected, due at the
+    /// move to point R (the positioning over the hole runs with the length before the block).
+    length_due: Option<Pos>,
     /// The drilling-axis level when the cycle started (G98 returns here).
     initial: f64,
 }

@@ -86,6 +86,12 @@ impl Words {
         self.last[slot(letter)] != 0
     }
 
+    /// The last word of `letter` is a number written with a decimal point (not a variable or
+    /// an expression).
+    pub(super) fn has_point(&self, letter: u8) -> bool {
+        self.word(letter).is_some_and(|(_, form)| form == Form::Point)
+    }
+
     /// The block's G codes (×10), in block order.
     pub(super) fn gcodes(&self) -> &[u16] {
         &self.g[..self.ng]
@@ -505,6 +511,8 @@ impl State {
         // (The interlocks first: their alarm is the more precise one where both apply.)
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
+        self.refuse_plane_change_in_cycle(w)?;
+        self.refuse_length_change_in_tip_cycle(w)?;
         if self.cfg.refuse_unbuilt {
             self.refuse_unbuilt_nurbs(w)?;
         }
@@ -525,6 +533,7 @@ impl State {
             self.modes[group::UNITS] = code::G21;
         }
         let machine_before = self.machine_position();
+        let length_before = self.tool_vec;
         let comp_before = self.modes[group::CUTTER_COMP];
         let dwo_before = self.modes[group::DYNAMIC_FIXTURE];
         let mut axes_owner: Option<u16> = None;
@@ -805,8 +814,12 @@ impl State {
             if self.modes[group::CYCLE] != code::G80
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))
             {
-                if has_axes || w.has(b'R') || w.has(b'Z') {
-                    moved |= self.canned_cycle(w, out)?;
+                let drilled = (has_axes || w.has(b'R') || w.has(b'Z')) && self.canned_cycle(w, length_before, out)?;
+                moved |= drilled;
+                // A block that drills no hole (K0, no position) has no move to R to take the
+                // length at: it takes effect at once, as in a block of its own.
+                if !drilled && tool_length_changed {
+                    self.length_change_move(out)?;
                 }
             } else if has_axes
                 || (matches!(self.modes[group::MOTION], code::G02 | code::G03)
@@ -815,14 +828,7 @@ impl State {
                 self.group01_motion(w, out)?;
                 moved = true;
             } else if tool_length_changed {
-                // The offset takes effect at once: the tool moves, the programmed point stays.
-                let target = self.pos;
-                let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
-                if self.follows_tip() {
-                    self.tip_motion(kind, target, None, out)?;
-                } else {
-                    self.push_motion(kind, target, None, out);
-                }
+                self.length_change_move(out)?;
             }
         }
 
@@ -934,6 +940,30 @@ impl State {
         let count = (p / 10_000.0).trunc();
         let number = p - count * 10_000.0;
         Ok((self.find_program(by_number, Some(number))?, count as u32))
+    }
+
+    /// A tool length offset taking effect at once: the tool moves, the programmed point stays.
+    fn length_change_move(&mut self, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        let target = self.pos;
+        let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+        if self.follows_tip() {
+            self.tip_motion(kind, target, None, out)?;
+        } else {
+            self.push_motion(kind, target, None, out);
+        }
+        Ok(())
+    }
+
+    /// FANUC: the dwell's P (G04, the canned cycles' dwell at the bottom) is a whole number of
+    /// milliseconds, and a decimal point at an address that takes none is PS0007 (the 30i's
+    /// alarm list): `P1.5` meant as 1.5 s would otherwise dwell 1.5 ms. A variable or an
+    /// expression is rounded as at any such address. Syntec and Haas keep their readings
+    /// (`docs/dialects.md`).
+    pub(super) fn refuse_point_at_dwell_p(&self, w: &Words) -> Result<(), AlarmId> {
+        if self.cfg.dialect == crate::Dialect::Fanuc && w.has_point(b'P') {
+            return Err(AlarmId::IllegalDecimalPoint);
+        }
+        Ok(())
     }
 
     /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A).
@@ -1080,6 +1110,7 @@ impl State {
             context: self.context(),
             speed_cap: f32::INFINITY,
             offset: None,
+            notice: None,
             block_limit: self.block_limit,
             no_look_ahead: !self.look_ahead || {
                 let motion = &self.cfg.machine.motion;
@@ -1374,6 +1405,7 @@ impl State {
         let axes = self.cfg.machine.axes.len();
         match code {
             code::G04 => {
+                self.refuse_point_at_dwell_p(w)?;
                 let haas = self.cfg.dialect == crate::Dialect::Haas;
                 let seconds = match (w.integer(b'P'), w.raw(b'X')) {
                     // Haas: P with a decimal point is seconds, without milliseconds.

@@ -18,12 +18,13 @@ fn dwells(src: &str, dialect: fivex_engine::Dialect) -> Vec<f64> {
 }
 
 /// G04 P: Haas reads a P with a decimal point in seconds and one without in milliseconds;
-/// FANUC always in milliseconds.
+/// FANUC takes milliseconds without a point and refuses one (PS0007).
 #[test]
 fn dwell_p_with_a_point_is_seconds_in_haas() {
     let src = "G04 P1.5\nG04 P500\nM30\n";
     assert_eq!(dwells(src, Haas), vec![1.5, 0.5]);
-    assert_eq!(dwells(src, Fanuc), vec![0.0015, 0.5]);
+    assert_eq!(dwells("G04 P500\nM30\n", Fanuc), vec![0.5]);
+    assert_eq!(alarm(src), "PS0007");
 }
 
 /// `fivex check` reports a Haas code fivex does not build at its word, with the Haas alarm, and
