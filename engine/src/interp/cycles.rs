@@ -80,15 +80,25 @@ impl State {
     ) -> Result<bool, AlarmId> {
         let repeats = repeats(w, self.cfg.dialect)?;
         let (d, plane) = self.cycle_data(w)?;
+        self.with_length_at_r(length_before, |s| s.holes(w, repeats, d, plane, out))?;
+        Ok(repeats > 0)
+    }
+
+    /// Make the holes of a cycle block (`drill`) with the block's tool length change
+    /// (`tool_vec` against `length_before`) held back until the first move to R. No hole
+    /// (K0) or an alarm: the block's length stands all the same.
+    pub(super) fn with_length_at_r<T>(
+        &mut self,
+        length_before: Pos,
+        drill: impl FnOnce(&mut Self) -> Result<T, AlarmId>,
+    ) -> Result<T, AlarmId> {
         if self.tool_vec != length_before {
             self.cycle.length_due = Some(self.tool_vec);
             self.tool_vec = length_before;
         }
-        let drilled = self.holes(w, repeats, d, plane, out);
-        // K0 (no hole) or an alarm: the block's length stands all the same.
+        let drilled = drill(self);
         self.apply_due_length();
-        drilled?;
-        Ok(repeats > 0)
+        drilled
     }
 
     fn holes(

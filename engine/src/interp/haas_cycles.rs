@@ -223,8 +223,16 @@ impl State {
     /// G70 bolt hole circle, G71 bolt hole arc, G72 bolt holes along an angle: the canned cycle
     /// in force at each hole. The block's X/Y give the pattern's centre (G70/G71) or its first
     /// hole (G72), where the cycle does not drill; its R/Z/Q/P/F are the cycle's data, as in a
-    /// cycle block. The tool ends over the last hole at the cycle's return level.
-    pub(super) fn bolt_pattern(&mut self, code: u16, w: &Words, out: &mut Vec<Canon>) -> Result<bool, AlarmId> {
+    /// cycle block, and a tool length change of the block takes effect at the first move to R
+    /// (`with_length_at_r`; `length_before`: the length before the block). The tool ends over
+    /// the last hole at the cycle's return level.
+    pub(super) fn bolt_pattern(
+        &mut self,
+        code: u16,
+        w: &Words,
+        length_before: Pos,
+        out: &mut Vec<Canon>,
+    ) -> Result<bool, AlarmId> {
         if self.modes[group::CYCLE] == code::G80 {
             // The manual: a canned cycle must be in force for a hole to be made at each
             // position; without one fivex refuses the block rather than guess a move.
@@ -262,13 +270,15 @@ impl State {
             code::G72 => (0..l).map(|n| hole(i * n as f64, j)).collect(),
             _ => return Err(AlarmId::CycleArgument),
         };
-        for mut h in holes {
-            // Over the next hole at the level the last one left the tool (G98/G99), as a
-            // cycle block's next hole.
-            h[d] = self.xf.programmed[d];
-            self.cycle_at(h, d, (pa, pb), out)?;
-        }
-        Ok(true)
+        self.with_length_at_r(length_before, |s| {
+            for mut h in holes {
+                // Over the next hole at the level the last one left the tool (G98/G99), as a
+                // cycle block's next hole.
+                h[d] = s.xf.programmed[d];
+                s.cycle_at(h, d, (pa, pb), out)?;
+            }
+            Ok(true)
+        })
     }
 
     /// G150 general purpose pocket milling. The block's X/Y are the start hole (reached at rapid

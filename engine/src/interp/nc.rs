@@ -719,11 +719,13 @@ impl State {
         // --- one-shot G codes ---------------------------------------------------------------
         let mut moved = false;
         for &code in &one_shots[..n_one_shots] {
-            moved |= if code == code::G150 {
+            moved |= match code {
                 // It reads its outline from another block or program (`haas_cycles`).
-                self.general_pocket(progs, by_number, w, out)?
-            } else {
-                self.one_shot(code, w, machine_before, out)?
+                code::G150 => self.general_pocket(progs, by_number, w, out)?,
+                // The Haas dialect's bolt patterns (`haas_cycles`): the cycle in force at each
+                // hole, the block's length change at the move to R.
+                code::G70 | code::G71 | code::G72 => self.bolt_pattern(code, w, length_before, out)?,
+                _ => self.one_shot(code, w, machine_before, out)?,
             };
         }
 
@@ -1531,7 +1533,6 @@ impl State {
             code::G05 => self.g05(w)?,
             // The Haas dialect's own (`haas_cycles`; `gcode::GDef::haas_only`).
             code::G12 | code::G13 => return self.circular_pocket(code == code::G12, w, out),
-            code::G70 | code::G71 | code::G72 => return self.bolt_pattern(code, w, out),
             code::G103 => self.block_look_ahead(w)?,
             // G187: corner rounding (`corner_blend`).
             code::G187 => self.g187(w)?,

@@ -75,6 +75,26 @@ fn a_bolt_pattern_block_does_not_drill_its_centre_and_takes_the_cycle_data() {
 }
 
 #[test]
+fn a_tool_length_offset_in_a_bolt_pattern_block_takes_effect_at_the_move_to_r() {
+    // As in a cycle block (`cycles.rs`): the positioning over the first hole keeps the old
+    // length (machine Z50, no offset), the move to R takes H1's 100 mm (R5 → 105, bottom −10 →
+    // 90, the initial level 50 → 150 under G98); the second hole is positioned at 150. Applied
+    // from the positioning on, the first rapid ran diagonally 100 mm up.
+    let src = "G00 G90 X0 Y0 Z50.\nG81 G98 Z-10. R5. F300. L0\nG70 G43 H1 I10. J0 L2\nG80\nM30\n";
+    let ends: Vec<[f64; 3]> = motion_ends(interpreter(src, "mill3", Haas))
+        .into_iter()
+        .filter(|(line, _)| *line == 3)
+        .map(|(_, m)| [m[0], m[1], m[2]])
+        .collect();
+    let mut want = vec![[10.0, 0.0, 50.0], [10.0, 0.0, 105.0], [10.0, 0.0, 90.0], [10.0, 0.0, 150.0]];
+    want.extend([[-10.0, 0.0, 150.0], [-10.0, 0.0, 105.0], [-10.0, 0.0, 90.0], [-10.0, 0.0, 150.0]]);
+    assert_eq!(ends.len(), want.len(), "{ends:?}");
+    for (got, want) in ends.iter().zip(&want) {
+        assert!(got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-9), "{ends:?}");
+    }
+}
+
+#[test]
 fn refusals_and_bad_arguments() {
     let first = |src: &str| {
         let r = run_with(&format!("G00 Z10.\n{src}\nM30\n"), "mill3", Haas);
