@@ -7,10 +7,15 @@ fn main() {
     println!("cargo:rerun-if-changed=../web/dist/index.html");
     println!("cargo:rerun-if-changed=../migrations");
     println!("cargo:rerun-if-changed=../machines");
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../machines");
-    let mut files: Vec<std::path::PathBuf> =
-        std::fs::read_dir(&dir).map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect()).unwrap_or_default();
+    // The manifest directory of this build, read when the script runs: `env!` would freeze the
+    // one the script was compiled in (a target directory copied between worktrees then read
+    // a machines folder that no longer exists and embedded an empty library without a word).
+    let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
+    let dir = std::path::Path::new(&manifest).join("../machines");
+    let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("the machine library {}: {e}", dir.display()));
+    let mut files: Vec<std::path::PathBuf> = entries.map(|e| e.expect("a machine library entry").path()).collect();
     files.retain(|p| p.extension().is_some_and(|e| e == "json"));
+    assert!(!files.is_empty(), "the machine library {} holds no machine file", dir.display());
     files.sort();
     let mut out = String::from("[\n");
     for path in &files {
