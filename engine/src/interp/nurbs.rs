@@ -36,14 +36,17 @@ pub(super) struct Builder {
 impl State {
     /// A G06.2 block in a state whose NURBS interpolation fivex does not perform is refused
     /// like a function not built (before the block changes anything): under cutter
-    /// compensation, polar coordinates (G16), inverse time feed (G93), or a modal macro call.
+    /// compensation, polar coordinates (G16), inverse time feed (G93) or feed per revolution
+    /// (G95), polar coordinate interpolation (G12.1), or a modal macro call. The 15i-MA manual
+    /// (NURBS, alarm 1006) raises an alarm for G06.2 in G41/G42, G93/G95 and G12.1 alike.
     pub(super) fn refuse_unbuilt_nurbs(&self, w: &Words) -> Result<(), AlarmId> {
         if !w.gcodes().contains(&code::G06_2) {
             return Ok(());
         }
         if self.after_block(w, group::CUTTER_COMP) != code::G40
             || self.after_block(w, group::POLAR) == code::G16
-            || self.after_block(w, group::FEED_MODE) == code::G93
+            || matches!(self.after_block(w, group::FEED_MODE), code::G93 | code::G95)
+            || self.after_block(w, group::POLAR_INTERPOLATION) == code::G12_1
             || !self.modal_calls.is_empty()
             || w.gcodes().iter().any(|&c| c == code::G66 || c == code::G66_1)
         {

@@ -330,11 +330,14 @@ fn a_foreign_block_inside_the_curve_is_ps5116() {
 
 #[test]
 fn not_built_around_nurbs_is_refused() {
-    // Cutter compensation, polar coordinates, inverse time feed: PS0010.
-    for before in ["G41 D1 G01 X0 Y0 F100", "G16", "G93"] {
+    // Cutter compensation, polar coordinates, inverse time feed, feed per revolution: PS0010
+    // (the 15i-MA manual's alarm 1006: G06.2 in G41/G42, G93/G95 or G12.1 mode).
+    for before in ["G41 D1 G01 X0 Y0 F100", "G42 D1 G01 X0 Y0 F100", "G16", "G93", "G95 M03 S1000"] {
         let body = format!("{before}\nG06.2 P3 K0 X0 Y0 F100");
         assert_eq!(alarm_of(&body), Some(("PS0010".into(), 3)), "{before}");
     }
+    // G95 given in the G06.2 block itself: the same.
+    assert_eq!(alarm_of("M03 S1000\nG95 G06.2 P3 K0 X0 Y0 F0.2"), Some(("PS0010".into(), 3)));
     // Syntec keeps refusing G06.2 (its manual does not describe it).
     let r = common::run_with("G90 G00 X0 Y0\nG06.2 P3 K0 X0 Y0 F100\nM30\n", "mill3", Dialect::Syntec);
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("COR-100", 2));
