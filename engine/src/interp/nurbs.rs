@@ -28,6 +28,11 @@ pub(super) struct Builder {
     weights: Vec<f64>,
     /// Knot-only blocks so far (the curve is complete at `rank` of them).
     closing: usize,
+    /// The curve's axes (bit per axis index): those of the G06.2 block, or of the second
+    /// block when the G06.2 block names none (`None` until then). An axis outside them in a
+    /// later control point is PS5115 (15i-MA: an axis not given a control point in the first
+    /// block "cannot be specified until the next NURBS curved line starts").
+    axes: Option<u32>,
     /// The machine was moved by hand (jog, handle) between the curve's blocks
     /// (`Interpreter::moved_to`): the curve's next block is PS5117.
     pub(super) moved_by_hand: bool,
@@ -53,6 +58,11 @@ impl State {
             return Err(AlarmId::GCodeNotBuilt);
         }
         Ok(())
+    }
+
+    /// The axes a block names, a bit per axis index.
+    fn axes_named(&self, w: &Words) -> u32 {
+        w.letters().filter_map(|l| self.axis_of(l)).fold(0, |m, i| m | 1 << i)
     }
 
     /// The control point of a block: its axis words from the previous control point `from`
@@ -91,6 +101,7 @@ impl State {
             points: vec![here],
             weights: vec![weight],
             closing: 0,
+            axes: Some(self.axes_named(w)).filter(|&axes| axes != 0),
             moved_by_hand: false,
         }));
         Ok(())
@@ -128,11 +139,16 @@ impl State {
                 // A control point after the closing knots: the knot count is wrong.
                 return Err(AlarmId::NurbsFormat);
             }
+            let named = self.axes_named(w);
+            if b.axes.is_some_and(|axes| named & !axes != 0) {
+                return Err(AlarmId::NurbsFormat);
+            }
             self.five = modes::check(self, w)?;
             let last = *b.points.last().expect("the first control point");
             let p = self.control_point(w, last);
             let weight = w.number(b'R').unwrap_or(1.0);
             let b = self.nurbs.as_deref_mut().expect("a curve in progress");
+            b.axes.get_or_insert(named);
             b.points.push(p);
             b.knots.push(knot);
             b.weights.push(weight);
