@@ -8,9 +8,10 @@
 //! Rules and sources: `docs/dialects.md`, "Program restart".
 
 use super::gcode::{code, group};
+use super::mcode;
 use super::{Interpreter, State, Step};
 use crate::alarm::{Alarm, AlarmId};
-use crate::canon::{Canon, CanonKind, Pos};
+use crate::canon::{Canon, CanonKind, Coolant, Pos};
 
 /// The block a restart goes on from, in the main program.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -102,6 +103,9 @@ impl Interpreter {
                     CanonKind::ToolChange { .. } => tool = Some(c),
                     CanonKind::Spindle { .. } => spindle = Some(c),
                     CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => m_codes.push(*m),
+                    // Coolant is the operator's to give again (fivex outputs only the tool
+                    // change and the spindle): the screen lists it with the other M codes.
+                    CanonKind::Coolant(coolant) => m_codes.push(coolant_m(*coolant)),
                     _ => {}
                 }
             }
@@ -123,6 +127,15 @@ impl Interpreter {
         self.state.ended = true;
         let (code, message) = self.state.cfg.dialect.describe(&id);
         Alarm { code, message, line, n }
+    }
+}
+
+/// The M code that gave a coolant command.
+fn coolant_m(coolant: Coolant) -> u32 {
+    match coolant {
+        Coolant::Mist => mcode::M07,
+        Coolant::Flood => mcode::M08,
+        Coolant::Off => mcode::M09,
     }
 }
 

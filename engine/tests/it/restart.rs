@@ -101,6 +101,16 @@ fn the_search_stands_before_the_restart_block_with_the_state_of_a_run_from_the_t
 }
 
 #[test]
+fn the_coolant_passed_over_is_listed_for_the_operator_with_the_other_m_codes() {
+    // The audit's program: M08, M10, M07, M21, M51 before N9; the list in program order.
+    let src = "N1 G90 G17 G21 G94\nN2 T1 M06\nN3 S1000 M03\nN4 M08\nN5 M10\nN6 M07\nN7 M21\n\
+        N8 M51 M09\nN9 G01 X10. F600\nN10 M30\n";
+    let mut searched = Interpreter::new(parse_file(src), config(Dialect::Fanuc));
+    let found = searched.search(n(9)).unwrap();
+    assert_eq!(found.m_codes, vec![8, 10, 7, 21, 51, 9]);
+}
+
+#[test]
 fn the_occurrence_counts_the_passes_of_a_loop_and_a_line_can_be_the_target() {
     let src = "#1 = 0\nWHILE [#1 LT 5] DO1\nN50 #1 = #1 + 1\nEND1\nN60 M30\n";
     let mut i = Interpreter::new(parse_file(src), config(Dialect::Fanuc));
