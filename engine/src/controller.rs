@@ -528,7 +528,7 @@ impl Controller {
             return Err(Refusal::Busy);
         }
         self.program = Some(text.to_string());
-        self.restart = None;
+        self.forget_search();
         Ok(())
     }
 
@@ -620,6 +620,7 @@ impl Controller {
         if self.mode == Mode::Auto {
             // Where a P type restart's search starts from (`restart.rs`).
             self.memory.start = Some(self.exec.here.machine);
+            self.memory.running = true;
         }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
@@ -687,7 +688,7 @@ impl Controller {
 
     /// The program stops for good: nothing read ahead is carried out.
     fn abandon_program(&mut self) {
-        self.restart = None;
+        self.forget_search();
         self.remember_stop();
         self.shift = None;
         self.reposition = false;
@@ -1138,6 +1139,8 @@ impl Controller {
                 self.flush();
             }
             Item::Alarm(a) => {
+                // The run is interrupted here (not at the reset that clears the alarm).
+                self.remember_stop();
                 self.alarms.push(a.clone());
                 self.events.push(Event::Alarm(a));
                 self.set_state(RunState::Alarm);
@@ -1263,6 +1266,7 @@ impl Controller {
     fn raise(&mut self, id: AlarmId, line: u32, n: Option<u32>) {
         let (code, message) = self.interp.config().dialect.describe(&id);
         let alarm = Alarm { code, message, line, n };
+        self.remember_stop();
         self.alarms.push(alarm.clone());
         self.events.push(Event::Alarm(alarm));
         self.cycle.abort();

@@ -51,8 +51,15 @@ pub(super) struct RestartMemory {
     /// The machine position the last automatic operation started from (none since power-on or
     /// the emergency stop: P type is PS0097).
     pub(super) start: Option<Pos>,
-    /// The work offsets when the program last stopped for good (changed since: PS0096).
+    /// The work offsets when the last automatic operation stopped (interrupted or ended;
+    /// changed since: PS0096).
     pub(super) work: Vec<Pos>,
+    /// An automatic operation runs (or is held, or stands at an operator stop): its stop takes
+    /// `work`. A reset with nothing running is no stop and keeps it.
+    pub(super) running: bool,
+    /// The interpreter's state before the search under way, restored when the search is
+    /// forgotten before its return (`Controller::forget_search`).
+    pub(super) before_search: Option<Box<crate::interp::State>>,
 }
 
 impl Controller {
@@ -85,7 +92,7 @@ impl Controller {
             return Err(Refusal::Busy);
         }
         let text = self.program.clone().ok_or(Refusal::NoProgram)?;
-        self.restart = None;
+        self.forget_search();
         self.stand_here();
         if kind == RestartType::P {
             let Some(start) = self.memory.start else {
@@ -93,12 +100,16 @@ impl Controller {
                 return Ok(());
             };
             if !self.interp.state.offsets.same_work(&self.memory.work) {
+                // FANUC's PS0097 text: P type needs an automatic operation after "P/S alarm 94
+                // to 97 reset" too, so the reset of this alarm does not open the way.
+                self.memory.start = None;
                 self.raise(AlarmId::RestartPOffsetChanged, 0, None);
                 return Ok(());
             }
             // The coordinates are the interrupted run's: the search starts where it started.
             self.interp.moved_to(&start);
         }
+        self.memory.before_search = Some(Box::new(self.interp.state.clone()));
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load(crate::lang::parse_file(&text));
         match self.interp.search(target) {
@@ -108,6 +119,7 @@ impl Controller {
                 self.restart = Some(Restart { kind, phase: RestartPhase::Searched, found });
             }
             Err(alarm) => {
+                self.forget_search();
                 self.interp.reset();
                 self.stand_here();
                 self.alarm(alarm);
@@ -124,12 +136,15 @@ impl Controller {
             return false;
         };
         if self.mode == Mode::Mdi {
-            self.restart = None;
+            self.forget_search();
             self.interp.reset();
             self.raise(AlarmId::RestartMdi, 0, None);
             return true;
         }
         r.phase = RestartPhase::Returning;
+        // From here the program runs: a reset is a run's reset.
+        self.memory.before_search = None;
+        self.memory.running = true;
         let (target, output) = (r.found.machine, r.found.output.clone());
         // Hand moves since the search moved the interpreter's current point with the machine:
         // the program goes on from the restart position.
@@ -177,9 +192,25 @@ impl Controller {
         true
     }
 
-    /// The program stopped for good: what a later P type restart compares the offsets with.
+    /// The search under way is forgotten (a reset, an emergency stop, another program, another
+    /// search, an alarm): before its return the interpreter goes back to the state the search
+    /// began from (`State::forget_search`): the searched modes (G91, G68…) must not carry
+    /// into the next program, as the search moved nothing.
+    pub(super) fn forget_search(&mut self) {
+        if let Some(before) = self.memory.before_search.take() {
+            self.interp.state.forget_search(*before);
+        }
+        self.restart = None;
+    }
+
+    /// The automatic operation stopped (interrupted by a reset, an emergency stop or an alarm,
+    /// or ended): what a later P type restart compares the offsets with. A reset while nothing
+    /// runs is not an interruption and keeps the interrupted run's offsets (FANUC's PS0096:
+    /// the work offset changed after the interruption).
     pub(super) fn remember_stop(&mut self) {
-        self.memory.work = self.interp.state.offsets.work_copy();
+        if std::mem::take(&mut self.memory.running) {
+            self.memory.work = self.interp.state.offsets.work_copy();
+        }
     }
 
     fn alarm(&mut self, a: Alarm) {

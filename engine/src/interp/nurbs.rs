@@ -28,6 +28,11 @@ pub(super) struct Builder {
     weights: Vec<f64>,
     /// Knot-only blocks so far (the curve is complete at `rank` of them).
     closing: usize,
+    /// The curve's axes (bit per axis index): those of the G06.2 block, or of the second
+    /// block when the G06.2 block names none (`None` until then). An axis outside them in a
+    /// later control point is PS5115 (15i-MA: an axis not given a control point in the first
+    /// block "cannot be specified until the next NURBS curved line starts").
+    axes: Option<u32>,
     /// The machine was moved by hand (jog, handle) between the curve's blocks
     /// (`Interpreter::moved_to`): the curve's next block is PS5117.
     pub(super) moved_by_hand: bool,
@@ -36,20 +41,28 @@ pub(super) struct Builder {
 impl State {
     /// A G06.2 block in a state whose NURBS interpolation fivex does not perform is refused
     /// like a function not built (before the block changes anything): under cutter
-    /// compensation, polar coordinates (G16), inverse time feed (G93), or a modal macro call.
+    /// compensation, polar coordinates (G16), inverse time feed (G93) or feed per revolution
+    /// (G95), polar coordinate interpolation (G12.1), or a modal macro call. The 15i-MA manual
+    /// (NURBS, alarm 1006) raises an alarm for G06.2 in G41/G42, G93/G95 and G12.1 alike.
     pub(super) fn refuse_unbuilt_nurbs(&self, w: &Words) -> Result<(), AlarmId> {
         if !w.gcodes().contains(&code::G06_2) {
             return Ok(());
         }
         if self.after_block(w, group::CUTTER_COMP) != code::G40
             || self.after_block(w, group::POLAR) == code::G16
-            || self.after_block(w, group::FEED_MODE) == code::G93
+            || matches!(self.after_block(w, group::FEED_MODE), code::G93 | code::G95)
+            || self.after_block(w, group::POLAR_INTERPOLATION) == code::G12_1
             || !self.modal_calls.is_empty()
             || w.gcodes().iter().any(|&c| c == code::G66 || c == code::G66_1)
         {
             return Err(AlarmId::GCodeNotBuilt);
         }
         Ok(())
+    }
+
+    /// The axes a block names, a bit per axis index.
+    fn axes_named(&self, w: &Words) -> u32 {
+        w.letters().filter_map(|l| self.axis_of(l)).fold(0, |m, i| m | 1 << i)
     }
 
     /// The control point of a block: its axis words from the previous control point `from`
@@ -88,6 +101,7 @@ impl State {
             points: vec![here],
             weights: vec![weight],
             closing: 0,
+            axes: Some(self.axes_named(w)).filter(|&axes| axes != 0),
             moved_by_hand: false,
         }));
         Ok(())
@@ -125,11 +139,16 @@ impl State {
                 // A control point after the closing knots: the knot count is wrong.
                 return Err(AlarmId::NurbsFormat);
             }
+            let named = self.axes_named(w);
+            if b.axes.is_some_and(|axes| named & !axes != 0) {
+                return Err(AlarmId::NurbsFormat);
+            }
             self.five = modes::check(self, w)?;
             let last = *b.points.last().expect("the first control point");
             let p = self.control_point(w, last);
             let weight = w.number(b'R').unwrap_or(1.0);
             let b = self.nurbs.as_deref_mut().expect("a curve in progress");
+            b.axes.get_or_insert(named);
             b.points.push(p);
             b.knots.push(knot);
             b.weights.push(weight);

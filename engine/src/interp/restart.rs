@@ -8,9 +8,10 @@
 //! Rules and sources: `docs/dialects.md`, "Program restart".
 
 use super::gcode::{code, group};
+use super::mcode;
 use super::{Interpreter, State, Step};
 use crate::alarm::{Alarm, AlarmId};
-use crate::canon::{Canon, CanonKind, Pos};
+use crate::canon::{Canon, CanonKind, Coolant, Pos};
 
 /// The block a restart goes on from, in the main program.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -102,6 +103,9 @@ impl Interpreter {
                     CanonKind::ToolChange { .. } => tool = Some(c),
                     CanonKind::Spindle { .. } => spindle = Some(c),
                     CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => m_codes.push(*m),
+                    // Coolant is the operator's to give again (fivex outputs only the tool
+                    // change and the spindle): the screen lists it with the other M codes.
+                    CanonKind::Coolant(coolant) => m_codes.push(coolant_m(*coolant)),
                     _ => {}
                 }
             }
@@ -126,6 +130,15 @@ impl Interpreter {
     }
 }
 
+/// The M code that gave a coolant command.
+fn coolant_m(coolant: Coolant) -> u32 {
+    match coolant {
+        Coolant::Mist => mcode::M07,
+        Coolant::Flood => mcode::M08,
+        Coolant::Off => mcode::M09,
+    }
+}
+
 impl State {
     /// Why a restart cannot go on from here. The search runs neither the path stages nor the
     /// executor, so a mode whose next move depends on what they hold (a compensation vector, a
@@ -146,5 +159,49 @@ impl State {
             || self.corner.is_some()
             || !self.modal_calls.is_empty();
         in_mode.then_some(AlarmId::RestartInMode)
+    }
+}
+
+impl State {
+    /// A search abandoned before its return (a reset, an emergency stop, another program or
+    /// another search: `docs/dialects.md`, "Program restart") is forgotten: the search moved
+    /// nothing, so the program's state — modal groups, F/S/T/H/D, the programming transforms,
+    /// G52/G92, the current point — goes back to `before`, what it was when the search began,
+    /// and the next program does not start in the searched modes (G91, G68…). What the search
+    /// wrote to memory (G10 offsets, common variables) stays, as a run's writes stay after its
+    /// reset and as the operator may have edited it since; so do the clocks and counters, the
+    /// configuration and the interface signals.
+    pub fn forget_search(&mut self, before: State) {
+        let now = std::mem::replace(self, before);
+        self.cfg = now.cfg;
+        self.expr = now.expr;
+        self.common = now.common;
+        self.persistent = now.persistent;
+        self.extended = now.extended;
+        self.offsets = now.offsets;
+        self.setting_errors = now.setting_errors;
+        self.machine_view = now.machine_view;
+        self.kinematics = now.kinematics;
+        self.wse_kinematics = now.wse_kinematics;
+        self.axis_by_letter = now.axis_by_letter;
+        self.clock_s = now.clock_s;
+        self.timer_ms_base = now.timer_ms_base;
+        self.timer_h_base = now.timer_h_base;
+        self.operating_s = now.operating_s;
+        self.cutting_s = now.cutting_s;
+        self.cycle_timer_base = now.cycle_timer_base;
+        self.feed_timer_base = now.feed_timer_base;
+        self.part_start_s = now.part_start_s;
+        self.last_part_s = now.last_part_s;
+        self.previous_part_s = now.previous_part_s;
+        self.parts_to_time = now.parts_to_time;
+        self.single_block = now.single_block;
+        self.dry_run = now.dry_run;
+        self.sys3003 = now.sys3003;
+        self.sys3004 = now.sys3004;
+        self.signals = now.signals;
+        self.parts_done = now.parts_done;
+        self.parts_required = now.parts_required;
+        self.blocks = now.blocks;
     }
 }

@@ -318,6 +318,20 @@ fn the_first_control_point_must_be_the_current_position() {
 }
 
 #[test]
+fn an_axis_not_in_the_curve_s_first_control_point_cannot_join_it_later() {
+    // 15i-MA (NURBS): an axis without a control point in the first block cannot be specified
+    // until the next curve; Z here would have been a NURBS component ending at Z20.
+    let body = "G06.2 P3 X0. Y0. K0. F500\nX10. Y10. K0.\nX20. Y20. Z20. K0.\nK1.\nK1.\nK1.";
+    assert_eq!(alarm_of(body), Some(("PS5115".into(), 4)));
+    // A G06.2 block without axis words: the second block's axes are the curve's.
+    let body = "G06.2 P3 K0 F100\nK0 X10. Y10.\nK0 X20. Y0 Z5.\nK1.\nK1.\nK1.";
+    assert_eq!(alarm_of(body), Some(("PS5115".into(), 4)));
+    // The curve's own axes may be omitted in later blocks (they keep their value).
+    let body = "G06.2 P3 X0. Y0. Z0. K0. F500\nX10. K0.\nY20. Z5. K0.\nK1.\nK1.\nK1.\nG01 X20.";
+    assert_eq!(alarm_of(body), None);
+}
+
+#[test]
 fn a_foreign_block_inside_the_curve_is_ps5116() {
     for foreign in ["M08", "G04 P100", "S1000", "G90 K0 X5.", "F200 K0 X5.", "M30"] {
         let body = format!("G06.2 P3 K0 X0 Y0 F100\nK0 X10. Y10.\n{foreign}\nK0 X20. Y0\nK1.\nK1.\nK1.");
@@ -330,11 +344,14 @@ fn a_foreign_block_inside_the_curve_is_ps5116() {
 
 #[test]
 fn not_built_around_nurbs_is_refused() {
-    // Cutter compensation, polar coordinates, inverse time feed: PS0010.
-    for before in ["G41 D1 G01 X0 Y0 F100", "G16", "G93"] {
+    // Cutter compensation, polar coordinates, inverse time feed, feed per revolution: PS0010
+    // (the 15i-MA manual's alarm 1006: G06.2 in G41/G42, G93/G95 or G12.1 mode).
+    for before in ["G41 D1 G01 X0 Y0 F100", "G42 D1 G01 X0 Y0 F100", "G16", "G93", "G95 M03 S1000"] {
         let body = format!("{before}\nG06.2 P3 K0 X0 Y0 F100");
         assert_eq!(alarm_of(&body), Some(("PS0010".into(), 3)), "{before}");
     }
+    // G95 given in the G06.2 block itself: the same.
+    assert_eq!(alarm_of("M03 S1000\nG95 G06.2 P3 K0 X0 Y0 F0.2"), Some(("PS0010".into(), 3)));
     // Syntec keeps refusing G06.2 (its manual does not describe it).
     let r = common::run_with("G90 G00 X0 Y0\nG06.2 P3 K0 X0 Y0 F100\nM30\n", "mill3", Dialect::Syntec);
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("COR-100", 2));

@@ -101,6 +101,16 @@ fn the_search_stands_before_the_restart_block_with_the_state_of_a_run_from_the_t
 }
 
 #[test]
+fn the_coolant_passed_over_is_listed_for_the_operator_with_the_other_m_codes() {
+    // The audit's program: M08, M10, M07, M21, M51 before N9; the list in program order.
+    let src = "N1 G90 G17 G21 G94\nN2 T1 M06\nN3 S1000 M03\nN4 M08\nN5 M10\nN6 M07\nN7 M21\n\
+        N8 M51 M09\nN9 G01 X10. F600\nN10 M30\n";
+    let mut searched = Interpreter::new(parse_file(src), config(Dialect::Fanuc));
+    let found = searched.search(n(9)).unwrap();
+    assert_eq!(found.m_codes, vec![8, 10, 7, 21, 51, 9]);
+}
+
+#[test]
 fn the_occurrence_counts_the_passes_of_a_loop_and_a_line_can_be_the_target() {
     let src = "#1 = 0\nWHILE [#1 LT 5] DO1\nN50 #1 = #1 + 1\nEND1\nN60 M30\n";
     let mut i = Interpreter::new(parse_file(src), config(Dialect::Fanuc));
@@ -340,6 +350,79 @@ fn mdi_after_the_search_is_ps0099_and_reset_forgets_the_search() {
     c.cycle_start().unwrap();
     c.tick(0.001);
     assert_eq!(c.point().n, Some(10));
+}
+
+#[test]
+fn a_search_forgotten_by_a_reset_leaves_none_of_its_modes_to_the_next_program() {
+    // The search passes G68 R90 and G91; the reset forgets it; the next program (no G90/G69 of
+    // its own) starts in the modes the controller had before the search: absolute, unrotated.
+    let searched = "N1 G90 G17 G21 G94\nN2 G68 X0 Y0 R90.\nN3 G91 G01 X10. F600\nN4 X5.\nN5 G69 G90\nN6 M30\n";
+    let next = "N1 G01 X30. Y3. F600\nN2 M30\n";
+    for forget in ["reset", "emergency stop", "another program", "an alarm in the next search"] {
+        let mut c = controller();
+        c.select_program(searched).unwrap();
+        c.restart(n(4), RestartType::Q).unwrap();
+        // In the search's state the restart point is X0 Y10 (X10 rotated 90°).
+        assert!(close(&c.restart_status().unwrap().found.machine, &[0.0, 10.0, 0.0]));
+        match forget {
+            "reset" => c.reset(),
+            "emergency stop" => {
+                c.emergency_stop(true);
+                c.emergency_stop(false);
+                c.reset();
+            }
+            "another program" => {}
+            _ => {
+                c.restart(n(99), RestartType::Q).unwrap();
+                assert_eq!(alarm_code(&c), "PS0071");
+                c.reset();
+            }
+        }
+        c.select_program(next).unwrap();
+        assert!(c.restart_status().is_none());
+        c.cycle_start().unwrap();
+        settle(&mut c, 60.0);
+        assert!(c.alarms().is_empty(), "{forget}: {:?}", c.alarms());
+        assert!(close(&c.point().work[..3], &[30.0, 3.0, 0.0]), "{forget}: {:?}", c.point().work);
+    }
+}
+
+#[test]
+fn a_reset_with_nothing_running_does_not_take_the_changed_offsets_as_the_interruption_s() {
+    // The run ends; G54 X changes; an idle reset (or the reset of the PS0096 it gives) must not
+    // make the changed offset the interrupted run's.
+    let mut c = ran(PROGRAM);
+    c.interpreter_mut().state.offsets.work_mut(1)[0] += 5.0;
+    c.offsets_changed();
+    c.reset();
+    c.restart(n(100), RestartType::P).unwrap();
+    assert_eq!(alarm_code(&c), "PS0096");
+    // After the reset of PS0096, P type needs an automatic operation first (FANUC PS0097's
+    // "after … P/S alarm 94 to 97 reset").
+    c.reset();
+    c.restart(n(100), RestartType::P).unwrap();
+    assert_eq!(alarm_code(&c), "PS0097");
+    // A new run with the new offset is the new interruption: P type is allowed again.
+    c.reset();
+    c.cycle_start().unwrap();
+    settle(&mut c, 600.0);
+    c.restart(n(100), RestartType::P).unwrap();
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    // A run interrupted by a reset: the offsets at that reset are the baseline, and a later
+    // idle reset keeps them.
+    let mut c = controller();
+    c.select_program(PROGRAM).unwrap();
+    c.cycle_start().unwrap();
+    while c.point().n != Some(100) {
+        c.tick(0.001);
+    }
+    c.reset();
+    settle(&mut c, 10.0);
+    c.interpreter_mut().state.offsets.work_mut(2)[1] -= 1.0;
+    c.offsets_changed();
+    c.reset();
+    c.restart(n(100), RestartType::P).unwrap();
+    assert_eq!(alarm_code(&c), "PS0096");
 }
 
 #[test]

@@ -39,7 +39,7 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G04.1", "G04.1", "decision: fivex reads no block ahead that a program could see (docs/dialects.md)"),
     ("G05", "G05 P0", "G05 P0 is the cancelled state; Syntec's G05 P10000 (HPCC): hpcc.rs"),
     ("G05.1", "G05.1 Q1\nG05.1 Q0", "wse.rs (look-ahead on/off); FANUC's Q3: smoothing.rs"),
-    ("G06.2", "G06.2 P3 K0 F100\nK0 X1.\nK0 X1. Y1.\nK1.\nK1.\nK1.\nG01 X1.", "nurbs.rs (FANUC; Syntec refuses it)"),
+    ("G06.2", "G06.2 P3 K0 F100\nK0 X1. Y0\nK0 X1. Y1.\nK1.\nK1.\nK1.\nG01 X1.", "nurbs.rs (FANUC; Syntec refuses it)"),
     ("G08", "G08 P1\nG08 P0", "decision: the planner always looks ahead (docs/dialects.md)"),
     ("G09", "G09 G01 X1. F100", "fixture exact_stop_g09_g61_g64"),
     ("G10", "G10 L2 P1 X0\nG10 L10 P1 R100.", "fixture g10_tool_offsets"),
