@@ -34,6 +34,8 @@ pub enum AlarmId {
     IllegalOffsetNumber,
     /// A circle whose end point is not on it, or a bad radius.
     ArcRadiusTolerance,
+    /// A circle given neither its radius R nor its centre (I, J, K of the plane).
+    ArcCentreMissing,
     /// A plane change while cutter compensation is on.
     PlaneChangeInCompensation,
     /// Data setting (G10) with a wrong L/P or format.

@@ -136,6 +136,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::FeedZero,
     AlarmId::IllegalOffsetNumber,
     AlarmId::ArcRadiusTolerance,
+    AlarmId::ArcCentreMissing,
     AlarmId::PlaneChangeInCompensation,
     AlarmId::DataSettingFormat,
     AlarmId::MissingQ,
@@ -247,6 +248,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         FeedZero => (("PS0011", "FEED ZERO ( COMMAND )"), ("COR-010", "Feedrate is zero")),
         IllegalOffsetNumber => (("PS0030", "ILLEGAL OFFSET NUMBER"), ("COR-011", "Illegal offset number")),
         ArcRadiusTolerance => (("PS0020", "OVER TOLERANCE OF RADIUS"), ("COR-012", "Arc end point not on the arc")),
+        ArcCentreMissing => (("PS0022", "R OR I,J,K COMMAND NOT FOUND"), ("COR-017", "Arc radius or centre missing")),
         PlaneChangeInCompensation => {
             (("PS0037", "CAN NOT CHANGE PLANE IN G41/G42"), ("COR-013", "Plane change in cutter compensation"))
         }
@@ -430,7 +432,7 @@ fn haas(id: &AlarmId) -> Text {
         MCodeNotBuilt => ("329", "UNDEFINED M CODE"),
         IllegalGCodeCombination => ("339", "MULTIPLE CODES"),
         FeedZero => ("320", "NO FEED RATE SPECIFIED"),
-        ArcRadiusTolerance => ("338", "INVALID IJK AND XYZ IN G02 OR G03"),
+        ArcRadiusTolerance | ArcCentreMissing => ("338", "INVALID IJK AND XYZ IN G02 OR G03"),
         PlaneChangeInCompensation => ("702", "PLANE CHANGE IN CUTTER COMP"),
         DataSettingFormat => ("703", "G10 FORMAT ERROR"),
         MissingQ => ("305", "INVALID Q IN CANNED CYCLE"),

@@ -1353,6 +1353,12 @@ impl State {
         if by_radius && (!w.has(b'R') || (target[a] - sx).hypot(target[b] - sy) < 1e-9) {
             return Err(AlarmId::IllegalCommandInTcp);
         }
+        // Neither R nor a centre word of the plane: the control has no circle (FANUC PS0022; its
+        // No.3403#5 CIR, which makes such a block a straight move, is not modelled). Read as a
+        // centre at the start, it was PS0020, the alarm of a circle that is given.
+        if !by_radius && !w.has(b'R') && ijk(a).is_none() && ijk(b).is_none() {
+            return Err(AlarmId::ArcCentreMissing);
+        }
         let offset = if by_radius { (0.0, 0.0) } else { (ijk(a).unwrap_or(0.0), ijk(b).unwrap_or(0.0)) };
         let words =
             super::frames::ArcWords { r: self.value(w, b'R'), offset, cw: self.modes[group::MOTION] == code::G02 };

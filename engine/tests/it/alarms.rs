@@ -24,6 +24,26 @@ fn plane_change_during_cutter_compensation() {
 }
 
 #[test]
+fn a_circle_without_radius_or_centre_is_r_or_ijk_not_found() {
+    // FANUC PS0022 R OR I,J,K COMMAND NOT FOUND (30i alarm list); it was PS0020, the alarm of a
+    // circle whose end is off it, as if the centre were the start.
+    both("G90 G17 G01 X10. Y0 F1000.\nG02 X20. Y0\nM30\n", "PS0022", "COR-017", 2);
+    // In G18 the plane's centre words are K and I; a J does not give the circle.
+    both("G90 G18 G01 X10. Z0 F1000.\nG03 X20. Z0 J5.\nM30\n", "PS0022", "COR-017", 2);
+    // A helical block with no motion in the plane and no centre has no circle either.
+    both("G90 G17 G01 X10. Y0 F1000.\nG02 Z-5.\nM30\n", "PS0022", "COR-017", 2);
+    let r = run_with("G90 G17 G01 X10. Y0 F1000.\nG02 X20. Y0\nM30\n", "mill3", fivex_engine::Dialect::Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("338", 2)));
+    // One centre word is enough (the other is 0), R alone too.
+    for arc in ["G02 X20. Y0 I5.", "G02 X20. Y0 R5.", "G02 X10. Y0 J5."] {
+        let src = format!("G90 G17 G01 X10. Y0 F1000.\n{arc}\nM30\n");
+        for dialect in [Fanuc, Syntec] {
+            assert!(run_with(&src, "mill3", dialect).completed(), "{dialect:?} {arc}");
+        }
+    }
+}
+
+#[test]
 fn g80_forgets_the_cycle_data() {
     // The dwell P of G82 must not survive G80 into a later G81.
     let src = "G00 Z10.\nG82 X0 Y0 Z-1. R1. P500 F600\nG80\nG81 X1. Y0 Z-1. R1.\nM30\n";
