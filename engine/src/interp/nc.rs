@@ -1177,9 +1177,15 @@ impl State {
         }
     }
 
+    /// A cutting block's feed: F given (PS0011 without), and in G95 a turning spindle: the
+    /// feed per revolution follows the spindle's position coder, so with the spindle stopped
+    /// (M05, S0) a control waits without end; fivex says so at the block (FX0009, decision).
     pub(super) fn check_feed(&self) -> Result<(), AlarmId> {
         if self.f <= 0.0 {
             return Err(AlarmId::FeedZero);
+        }
+        if self.modes[group::FEED_MODE] == code::G95 && (self.spindle == SpindleState::Stop || self.s <= 0.0) {
+            return Err(AlarmId::FeedPerRevolutionSpindleStopped);
         }
         Ok(())
     }

@@ -481,3 +481,27 @@ fn in_g93_every_cutting_block_needs_its_own_f() {
     let (r, _) = traced("G90 G93 G09 G01 X10. F6.\nG94 X20. F600.\nM30\n", "head-bc");
     close(r.cycle_time_s, move_time(10.0, 1.0, A, J) + move_time(10.0, 10.0, A, J));
 }
+
+/// G95's feed follows the spindle's turning: with the spindle stopped (M05, never started, S0)
+/// a control waits for it without end, so the block is refused (FX0009, fivex's own) rather
+/// than fed at F × S or run for ever; M03 in the block starts the spindle before the move,
+/// M05 in it stops it after.
+#[test]
+fn feed_per_revolution_with_the_spindle_stopped_is_refused() {
+    let code = "FX0009";
+    let cases = [
+        ("G90 G95 S1000 M03\nM05\nG01 X10. F0.1\nM30\n", 3),
+        ("G90 G95\nG01 X10. F0.1\nM30\n", 2),
+        ("G90 G95 S1000 M03\nG01 X10. F0.1 S0\nM30\n", 2),
+        ("G90 G95 M03\nG02 X10. R5. F0.1\nM30\n", 2),
+        ("G90 G95 S1000 M03\nM05\nG00 Z10.\nG81 X10. Z-5. R2. F0.1\nM30\n", 4),
+        // Fine: M03 in the block, M05 after the move in it, rapids, and G94.
+        ("G90 G95 S1000\nG01 X10. F0.1 M03\nX20. M05\nG00 X0\nG94 G01 X10. F100.\nM30\n", 0),
+    ];
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
+        for (src, line) in cases {
+            let want = (line > 0).then(|| (code.to_string(), line));
+            assert_eq!(feed_alarm(src, dialect), want, "{dialect:?}:\n{src}");
+        }
+    }
+}
