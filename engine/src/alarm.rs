@@ -49,6 +49,9 @@ pub enum AlarmId {
     /// given since the cycle started: the manuals at hand do not say what depth the control
     /// takes (fivex's own code).
     CycleBottomMissing,
+    /// A cutting block in G95 while the spindle stands (M05, or S0): the feed follows the
+    /// spindle's turning, so the control waits for it without end (fivex's own code).
+    FeedPerRevolutionSpindleStopped,
     /// Reference return commands not allowed in a canned cycle.
     ReferenceReturnInCycle,
     IllegalReferenceReturn,

@@ -9,8 +9,9 @@
 //! that literal words show, the addresses Syntec's G68.2/G43.4/G43.5 do not take (P, Q, R; an
 //! L other than 0/1), Haas's M97/M98/G65 without P and M97 P of a line the program does not
 //! have, the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form, or with a
-//! literal P the program has no N for, and Haas's G150 without P or with a P that is neither a
-//! line of the program nor a program of the file.
+//! literal P the program has no N for, Haas's G150 without P or with a P that is neither a
+//! line of the program nor a program of the file, and a block naming G93 and a cutting move
+//! without F.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) and the
@@ -180,6 +181,22 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             p.col,
                             AlarmId::IllegalDecimalPoint,
                             "P with a decimal point: the dwell is in ms".into(),
+                        ));
+                    }
+                    // G93's F is the block's own (`interp::nc`'s `forget_inverse_time_feed`): a
+                    // block naming G93 and a cutting move (G01/G02/G03, a canned cycle) that
+                    // moves without F is PS0011; a block in G93 without naming it is the run's.
+                    let g93 = words.iter().find(|w| {
+                        w.letter == b'G'
+                            && matches!(w.value, WordValue::Number { value, .. } if gcode::code_of(value) == Some(code::G93))
+                    });
+                    let cuts = cycle || codes().any(|c| matches!(c, code::G01 | code::G02 | code::G03));
+                    let moves = words.iter().any(|w| b"XYZABCUVWIJK".contains(&w.letter));
+                    if let Some(g) = g93.filter(|_| cuts && moves && !words.iter().any(|w| w.letter == b'F')) {
+                        diags.push(at(
+                            g.col,
+                            AlarmId::FeedZero,
+                            "G93 without F: an inverse time is each block's own".into(),
                         ));
                     }
                     // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).

@@ -118,6 +118,10 @@ const ROTARY_SHIFT_ON_TIP_PATH: Text = ("FX0007", "MANUAL ROTARY SHIFT ON TOOL T
 /// fivex's own, in every dialect: no vendor alarm names a missing hole bottom (FANUC's PS0045
 /// is Q's alone), and no manual at hand says what the control does (`AlarmId::CycleBottomMissing`).
 const CYCLE_BOTTOM_MISSING: Text = ("FX0008", "CANNED CYCLE WITHOUT HOLE BOTTOM");
+/// fivex's own, in every dialect: a real control raises nothing, it waits for the spindle
+/// (feed per revolution follows the position coder), which a run cannot show
+/// (`AlarmId::FeedPerRevolutionSpindleStopped`).
+const SPINDLE_STOPPED_IN_G95: Text = ("FX0009", "FEED PER REVOLUTION WITH THE SPINDLE STOPPED");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -213,6 +217,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::PositionInCompensation,
     AlarmId::RotaryShiftOnTipPath,
     AlarmId::CycleBottomMissing,
+    AlarmId::FeedPerRevolutionSpindleStopped,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -384,6 +389,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         PositionInCompensation => (POSITION_IN_COMPENSATION, POSITION_IN_COMPENSATION),
         RotaryShiftOnTipPath => (ROTARY_SHIFT_ON_TIP_PATH, ROTARY_SHIFT_ON_TIP_PATH),
         CycleBottomMissing => (CYCLE_BOTTOM_MISSING, CYCLE_BOTTOM_MISSING),
+        FeedPerRevolutionSpindleStopped => (SPINDLE_STOPPED_IN_G95, SPINDLE_STOPPED_IN_G95),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -478,6 +484,7 @@ fn haas(id: &AlarmId) -> Text {
         PositionInCompensation => POSITION_IN_COMPENSATION,
         RotaryShiftOnTipPath => ROTARY_SHIFT_ON_TIP_PATH,
         CycleBottomMissing => CYCLE_BOTTOM_MISSING,
+        FeedPerRevolutionSpindleStopped => SPINDLE_STOPPED_IN_G95,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),

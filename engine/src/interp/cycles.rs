@@ -206,9 +206,7 @@ impl State {
         if matches!(code, code::G73 | code::G83) && self.cycle.q <= 0.0 {
             return Err(AlarmId::MissingQ);
         }
-        if self.f <= 0.0 {
-            return Err(AlarmId::FeedZero);
-        }
+        self.check_feed()?;
         Ok((d, (pa, pb)))
     }
 

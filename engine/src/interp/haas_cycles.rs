@@ -164,9 +164,7 @@ impl State {
         if loops > 1 && !incremental {
             return Err(AlarmId::CycleArgument);
         }
-        if self.f <= 0.0 {
-            return Err(AlarmId::FeedZero);
-        }
+        self.check_feed()?;
         let target = self.programmed_target(w, None);
         let step = target[c] - self.xf.programmed[c];
         // The centre at the tool's height.
@@ -324,9 +322,7 @@ impl State {
         if !w.has(b'Z') {
             return Err(AlarmId::CycleArgument);
         }
-        if self.f <= 0.0 {
-            return Err(AlarmId::FeedZero);
-        }
+        self.check_feed()?;
         let target = self.programmed_target(w, None);
         let levels = pocket_levels(r, target[c], q)?;
         let hole = [target[a], target[b]];

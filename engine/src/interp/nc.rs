@@ -416,6 +416,7 @@ impl State {
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
         self.exact_stop = false;
+        self.forget_inverse_time_feed();
         let first = out.len();
         if self.nurbs.is_some() {
             // Inside a NURBS curve only its control points and knots may come (`nurbs`).
@@ -565,6 +566,8 @@ impl State {
                     self.cycle = CycleData::default();
                 }
                 group::CYCLE if code == code::G80 => self.cycle = CycleData::default(),
+                // An F of G94/G95 is no inverse time: the G93 block needs its own F.
+                group::FEED_MODE if code == code::G93 => self.f = 0.0,
                 group::PLANE if self.modes[group::CUTTER_COMP] != code::G40 && self.modes[group::PLANE] != code => {
                     return Err(AlarmId::PlaneChangeInCompensation)
                 }
@@ -948,6 +951,9 @@ impl State {
     fn length_change_move(&mut self, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let target = self.pos;
         let kind = if self.modes[group::MOTION] == code::G00 { MotionKind::Rapid } else { MotionKind::Linear };
+        if kind == MotionKind::Linear {
+            self.check_feed()?;
+        }
         if self.follows_tip() {
             self.tip_motion(kind, target, None, out)?;
         } else {
@@ -1161,9 +1167,25 @@ impl State {
         self.programmed_target(w, None)
     }
 
+    /// In G93 F is each block's own (Mitsubishi M700V §7.5: "The F command in G93 modal is
+    /// unmodal. Issue an F command for each block"; RS274/NGC), so a cutting block without F
+    /// is PS0011, as is the first one after G93 is left without a new F (FANUC A-91417E:
+    /// PS0011 after a group-05 change): an inverse time is no feed of G94/G95 either way.
+    fn forget_inverse_time_feed(&mut self) {
+        if self.modes[group::FEED_MODE] == code::G93 {
+            self.f = 0.0;
+        }
+    }
+
+    /// A cutting block's feed: F given (PS0011 without), and in G95 a turning spindle: the
+    /// feed per revolution follows the spindle's position coder, so with the spindle stopped
+    /// (M05, S0) a control waits without end; fivex says so at the block (FX0009, decision).
     pub(super) fn check_feed(&self) -> Result<(), AlarmId> {
         if self.f <= 0.0 {
             return Err(AlarmId::FeedZero);
+        }
+        if self.modes[group::FEED_MODE] == code::G95 && (self.spindle == SpindleState::Stop || self.s <= 0.0) {
+            return Err(AlarmId::FeedPerRevolutionSpindleStopped);
         }
         Ok(())
     }

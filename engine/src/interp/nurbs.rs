@@ -87,9 +87,7 @@ impl State {
         // Without K here the first knot is the second block's (FANUC 15i-MA §4.17: NaN marks it).
         let knot = w.number(b'K').unwrap_or(f64::NAN);
         let weight = w.number(b'R').unwrap_or(1.0);
-        if self.f <= 0.0 {
-            return Err(AlarmId::FeedZero);
-        }
+        self.check_feed()?;
         let here = self.xf.programmed;
         let first = self.control_point(w, here);
         if first.iter().zip(&here).any(|(a, b)| (a - b).abs() > CHORD_TOLERANCE_MM) {

@@ -8,6 +8,7 @@
 use crate::common;
 
 use common::{check_limits, interpreter, interpreter_with};
+use fivex_engine::alarm::AlarmId;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
 use fivex_engine::Dialect;
@@ -416,4 +417,91 @@ fn a_tilting_axis_stops_at_its_range() {
     let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].message.as_str()), ("OT0511", "- OVERTRAVEL ( PRE-CHECK ) B"));
     assert_eq!((r.machine[3], r.machine[4]), (100.0, 0.0));
+}
+
+// --- Feed modes: what a cutting block needs to have a feed ------------------------------------
+
+/// The first alarm of `src` on head-bc in `dialect` (code, line), and what `fivex check` on the
+/// machine finds (the run without motion), which must agree.
+fn feed_alarm(src: &str, dialect: Dialect) -> Option<(String, u32)> {
+    let mut interp = interpreter(src, "head-bc", dialect);
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+    let ran = r.alarms.first().map(|a| (a.code.clone(), a.line));
+    let mut interp = interpreter(src, "head-bc", dialect);
+    let checked = fivex_engine::check::run_without_motion(&mut interp, true).map(|s| (s.alarm.code, s.alarm.line));
+    assert_eq!(ran, checked, "run and check of\n{src}");
+    ran
+}
+
+/// G93's F is each block's own (Mitsubishi M700V §7.5, RS274/NGC), and F is needed again once
+/// G93 is entered or left (FANUC A-91417E: PS0011 after a group-05 change): a G94 F600 read as
+/// an inverse time would run 10 mm at 6000 mm/min, an FRN 6 read as mm/min at 6 mm/min.
+#[test]
+fn in_g93_every_cutting_block_needs_its_own_f() {
+    let dialects = [(Dialect::Fanuc, "PS0011"), (Dialect::Syntec, "COR-010"), (Dialect::Haas, "320")];
+    // The audit's program: line 3 enters G93 without F.
+    let audit = "G90 G94 G17\nG01 X10. F600.\nG93 X20.\nG01 X30. F6.\nX40.\nG94 X50.\nM30\n";
+    // (program, the line of the alarm)
+    let cases = [
+        (audit, 3),
+        // G93 with F: line 3 is fine; line 4 is a G93 block without F.
+        ("G90 G94 G01 X10. F600.\nG93 X20. F60.\nG01 X30. F6.\nX40.\nM30\n", 4),
+        // Leaving G93 without a new F.
+        ("G90 G93 G01 X10. F6.\nG94 X20.\nM30\n", 2),
+        // F alone in a block of its own is not the next block's F.
+        ("G90 G93 G01 X10. F6.\nF6.\nX20.\nM30\n", 3),
+        // A G93 arc, and a canned cycle's next hole.
+        ("G90 G93 G01 X10. F6.\nG02 X20. R5.\nM30\n", 2),
+        ("G90 G00 Z10.\nG93 G81 X10. Z-5. R2. F6.\nX20.\nG80\nM30\n", 3),
+        // G94 entered without a G93 block moving: G93's F is no feed of G94 either.
+        ("G90 G93 G01 X10. F6.\nG94\nX20.\nM30\n", 3),
+        // A tool length change moving in G01 with no F ever given (it ran for ever).
+        ("G90 G01\nG43 H1\nM30\n", 2),
+        // Fine: every cutting block has its F; rapids need none; G94 F again after G93.
+        ("G90 G93 G01 X10. F6.\nG00 X0\nG01 X10. F6.\nG02 X20. R5. F3.\nG94 G01 X30. F600.\nX40.\nM30\n", 0),
+    ];
+    for (dialect, code) in dialects {
+        for (src, line) in cases {
+            let want = (line > 0).then(|| (code.to_string(), line));
+            assert_eq!(feed_alarm(src, dialect), want, "{dialect:?}:\n{src}");
+        }
+    }
+    // `fivex check` without a machine sees a block that names G93 and a cutting move.
+    for (src, want) in [
+        ("G90 G94 G01 X10. F600.\nG93 G01 X20.\nM30\n", vec![(2, 1)]),
+        ("G90 G93 G02 X10. R5.\nG93 G81 X0 Z-5. R2.\nG93 G00 X0\nG93 G01 X10. F6.\nM30\n", vec![(1, 5), (2, 1)]),
+    ] {
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(src), Dialect::Fanuc);
+        let got: Vec<_> = diags.iter().map(|d| (d.line, d.col, d.id.clone())).collect();
+        let want: Vec<_> = want.into_iter().map(|(line, col)| (line, col, AlarmId::FeedZero)).collect();
+        assert_eq!(got, want, "{src}");
+    }
+    // Where every block has its F: 10 mm at F6 takes 1/6 min (1 mm/s), then 10 mm at G94
+    // F600 (10 mm/s), stopping between them (G09 in the first), each with its S-curve ramps.
+    let (r, _) = traced("G90 G93 G09 G01 X10. F6.\nG94 X20. F600.\nM30\n", "head-bc");
+    close(r.cycle_time_s, move_time(10.0, 1.0, A, J) + move_time(10.0, 10.0, A, J));
+}
+
+/// G95's feed follows the spindle's turning: with the spindle stopped (M05, never started, S0)
+/// a control waits for it without end, so the block is refused (FX0009, fivex's own) rather
+/// than fed at F × S or run for ever; M03 in the block starts the spindle before the move,
+/// M05 in it stops it after.
+#[test]
+fn feed_per_revolution_with_the_spindle_stopped_is_refused() {
+    let code = "FX0009";
+    let cases = [
+        ("G90 G95 S1000 M03\nM05\nG01 X10. F0.1\nM30\n", 3),
+        ("G90 G95\nG01 X10. F0.1\nM30\n", 2),
+        ("G90 G95 S1000 M03\nG01 X10. F0.1 S0\nM30\n", 2),
+        ("G90 G95 M03\nG02 X10. R5. F0.1\nM30\n", 2),
+        ("G90 G95 S1000 M03\nM05\nG00 Z10.\nG81 X10. Z-5. R2. F0.1\nM30\n", 4),
+        // Fine: M03 in the block, M05 after the move in it, rapids, and G94.
+        ("G90 G95 S1000\nG01 X10. F0.1 M03\nX20. M05\nG00 X0\nG94 G01 X10. F100.\nM30\n", 0),
+    ];
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
+        for (src, line) in cases {
+            let want = (line > 0).then(|| (code.to_string(), line));
+            assert_eq!(feed_alarm(src, dialect), want, "{dialect:?}:\n{src}");
+        }
+    }
 }

@@ -1005,7 +1005,7 @@ fn wse_19_canned_cycle_rapids_run_at_no_5412_in_g54_4() {
     let got = cycle_motions(outside, with(3000.0, 1500.0));
     assert_eq!(got.iter().map(|m| m.0).collect::<Vec<_>>(), [Rapid, Rapid, Linear, Rapid]);
     // In G95 the hole is fed per revolution, the former rapids still per minute.
-    let g95 = "G95 G90 G00 X0 Y0 Z50.\nG54.4 P1\nG99 G81 X10. Y5. Z-5. R2. F0.1\nG80\nG54.4 P0\nM30\n";
+    let g95 = "G95 G90 G00 X0 Y0 Z50. S1000 M03\nG54.4 P1\nG99 G81 X10. Y5. Z-5. R2. F0.1\nG80\nG54.4 P0\nM30\n";
     let got = cycle_motions(g95, with(3000.0, 0.0));
     let kinds: Vec<_> = got.iter().map(|m| (m.0, m.1, m.2)).collect();
     let rev = FeedMode::PerRevolution;

@@ -8,6 +8,7 @@ G90
 G41 D1 X1.
 G40 X0
 G93
-G94
+G94 F100
 G49
+(G94 F100: after G93 the G49 block's move in G01 needs a new F, PS0011)
 (expect: status=completed)
