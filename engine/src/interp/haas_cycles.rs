@@ -414,7 +414,7 @@ impl State {
         let mut ended = false;
         for idx in first..program.len().min(first + MAX_OUTLINE_BLOCKS) {
             let block = program.block(idx);
-            if block.block_delete.is_some() && self.cfg.block_delete {
+            if block.deleted(self.cfg.block_delete) {
                 continue;
             }
             let words = match &block.kind {

@@ -965,7 +965,7 @@ impl State {
         let block = prog.block(idx);
         self.line = block.line;
         self.n = block.n;
-        if block.block_delete.is_some() && self.cfg.block_delete {
+        if block.deleted(self.cfg.block_delete) {
             return Ok(Step::Continue);
         }
         self.blocks += 1;

@@ -43,6 +43,15 @@ pub struct Block {
     pub comment: Option<String>,
 }
 
+impl Block {
+    /// Skipped with the block delete switch `on`: a `/` or `/1` block. `/2`…`/9` belong to the
+    /// FANUC additional optional block skip switches 2–9, which fivex does not model (they stay
+    /// off): such a block runs whatever switch 1 says.
+    pub fn deleted(&self, on: bool) -> bool {
+        on && self.block_delete == Some(1)
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub enum BlockKind {
     /// Nothing but a sequence number and/or comments.

@@ -109,6 +109,12 @@ fn block_delete_switch() {
     let on = run_cfg(src, |c| c.block_delete = true);
     assert_eq!(on.variables, vec![(101, 2.0)]);
     assert_eq!(on.workpiece[0], 0.0);
+    // `/1` is the same switch; `/2`…`/9` are the additional optional block skip switches 2–9,
+    // off in fivex: their blocks run with switch 1 on (they were skipped with it).
+    let src = "G90 G00 X0 Y0 Z0\n/1 #100=1\n/2 #101=2\n/9 G00 Z-7.\nM30\n";
+    let on = run_cfg(src, |c| c.block_delete = true);
+    assert_eq!(on.variables, vec![(101, 2.0)]);
+    assert_eq!(on.workpiece[2], -7.0);
 }
 
 #[test]
