@@ -447,7 +447,8 @@ pub async fn controller(db: &Db, id: &str) -> Result<Option<ControllerRow>, sqlx
 /// The O-numbers and sizes of a controller's stored programs, ascending.
 pub async fn list_programs(db: &Db, controller: &str) -> Result<Vec<(u32, usize)>, sqlx::Error> {
     let rows = sqlx::query(
-        "SELECT number, CAST(length(text) AS BIGINT) AS size FROM programs WHERE controller_id = $1 ORDER BY number",
+        // Bytes, as the store's answer gives them (`length` counts characters).
+        "SELECT number, CAST(octet_length(text) AS BIGINT) AS size FROM programs WHERE controller_id = $1 ORDER BY number",
     )
     .bind(controller)
     .fetch_all(db.reads())

@@ -137,9 +137,12 @@ pub enum PanelCommand {
     FeedHold,
     /// Stop, abandon the program (recorded as `reset`), clear the alarms.
     Reset,
-    /// Switch to MDI (when idle) and run the blocks.
+    /// Switch to MDI (when idle) and run the blocks; `stored`, the stored programs (number,
+    /// text), are there for them to call (`programs::compose_mdi`).
     Mdi {
         text: String,
+        #[serde(default)]
+        stored: Vec<(u32, String)>,
     },
     SetMode {
         mode: Mode,
@@ -251,7 +254,7 @@ impl PanelCommand {
     pub fn check(&self) -> Result<(), ServiceError> {
         let invalid = |why: String| Err(ServiceError::invalid(why));
         match self {
-            PanelCommand::Mdi { text } if text.len() > MAX_PROGRAM_BYTES => invalid("MDI text too long".into()),
+            PanelCommand::Mdi { text, .. } if text.len() > MAX_PROGRAM_BYTES => invalid("MDI text too long".into()),
             PanelCommand::Overrides { feed, rapid, spindle } => {
                 for (value, max, what) in [(feed, 200.0, "feed"), (rapid, 100.0, "rapid")] {
                     if value.is_some_and(|p: f64| !(p.is_finite() && (0.0..=max).contains(&p))) {
@@ -335,11 +338,11 @@ pub fn apply(
             ended.extend(station.end_run(id, "reset"));
             station.controller.reset();
         }
-        PanelCommand::Mdi { text } => {
+        PanelCommand::Mdi { text, stored } => {
             if c.mode() != Mode::Mdi {
                 c.set_mode(Mode::Mdi)?;
             }
-            c.set_mdi(&text)?;
+            c.set_mdi(&crate::service::programs::compose_mdi(&text, &stored))?;
             c.cycle_start()?;
             station.begin_run(None);
         }
@@ -540,7 +543,7 @@ mod tests {
             PanelCommand::CycleStart { program: None },
             PanelCommand::FeedHold,
             PanelCommand::Reset,
-            PanelCommand::Mdi { text: "G91 X1.".into() },
+            PanelCommand::Mdi { text: "G91 X1.".into(), stored: vec![] },
             PanelCommand::SetMode { mode: Mode::Handle },
             PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None },
             PanelCommand::Switches(Switches {
@@ -646,7 +649,7 @@ mod tests {
         let overrides = PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None };
         apply(&mut station, "c1", overrides, &mut ended).unwrap();
         assert_eq!(station.controller.panel.feed_override, 0.5);
-        let mdi = PanelCommand::Mdi { text: "G91 G01 X10. F100".into() };
+        let mdi = PanelCommand::Mdi { text: "G91 G01 X10. F100".into(), stored: vec![] };
         apply(&mut station, "c1", mdi, &mut ended).unwrap();
         assert_eq!(station.controller.mode(), Mode::Mdi);
         assert_ne!(station.controller.run_state(), RunState::Idle);

@@ -66,6 +66,41 @@ fn matches_slot(text: &str, slot: u32) -> Result<(), ServiceError> {
     }
 }
 
+/// The programs of `text` (a header of comments before the first O number is none).
+fn programs_in(text: &str) -> Vec<fivex_engine::lang::Program> {
+    parse_file(text).programs.into_iter().filter(|p| !is_header(p)).collect()
+}
+
+/// A stored text is one program: on the control each O number is one program in memory, and
+/// `M98 P18` must run what is stored as 18, never an `O0018` inside another slot's text (the
+/// controller's text would hold two programs 18, and the first would win).
+fn one_program(text: &str, slot: u32) -> Result<(), ServiceError> {
+    match programs_in(text).get(1) {
+        Some(second) => Err(ServiceError::Invalid(
+            format!(
+                "the text holds a second program{} at line {}: a stored program is one program; store each \
+                 under its own number",
+                second.number.map(|m| format!(" O{m:04}")).unwrap_or_default(),
+                second.line
+            ),
+            Some(serde_json::json!({"slot": slot, "line": second.line, "text_number": second.number})),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A text's first program only: the lines before its second program's `O` line (texts stored
+/// before the store refused a second program, `one_program`, may hold one).
+fn first_program_only(text: &str) -> &str {
+    match programs_in(text).get(1) {
+        Some(second) => {
+            let cut: usize = text.split_inclusive('\n').take(second.line as usize - 1).map(str::len).sum();
+            &text[..cut]
+        }
+        None => text,
+    }
+}
+
 /// A program number in the dialect's range (O1–O9999).
 pub fn number(n: u32) -> Result<u32, ServiceError> {
     if (1..=9999).contains(&n) {
@@ -98,6 +133,7 @@ pub async fn store(db: &db::Db, hosted: &Hosted, n: u32, bytes: &[u8], force: bo
         return Err(ServiceError::invalid("the program contains NUL bytes (binary data?)"));
     }
     matches_slot(text, n)?;
+    one_program(text, n)?;
     let found = problems(text, hosted.dialect);
     if !found.is_empty() && !force {
         let details = serde_json::to_value(found.iter().map(problem_json).collect::<Vec<_>>()).ok();
@@ -136,10 +172,35 @@ pub async fn composed(db: &db::Db, hosted: &Hosted, n: u32) -> Result<String, Se
     compose(n, &programs).ok_or_else(|| ServiceError::NotFound(format!("no program O{n}")))
 }
 
+/// The stored programs, for an MDI text to call (`compose_mdi`).
+pub async fn all(db: &db::Db, hosted: &Hosted) -> Result<Vec<(u32, String)>, ServiceError> {
+    Ok(db::programs(db, &hosted.id).await?)
+}
+
 fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
     let main = programs.iter().find(|(n, _)| *n == number)?;
-    let mut text = main.1.clone();
-    for (n, t) in programs.iter().filter(|(n, _)| *n != number) {
+    Some(followed_by_the_others(&main.1, programs.iter().filter(|(n, _)| *n != number)))
+}
+
+/// The text MDI runs: the MDI blocks first (their lines keep their numbers), then every stored
+/// program under its O number, so that `M98 P1` in MDI calls program 1 from memory as on the
+/// control.
+pub fn compose_mdi(mdi: &str, programs: &[(u32, String)]) -> String {
+    followed_by_the_others(mdi, programs.iter())
+}
+
+/// `first` (its first program only), then each of `others` (their first programs), each under
+/// its O number.
+fn followed_by_the_others<'a>(first: &str, others: impl Iterator<Item = &'a (u32, String)>) -> String {
+    let first = first_program_only(first);
+    // A text without a block (empty, `%` lines, comments) is no program: the first program
+    // after it would be taken for the one selected. It runs nothing and can call nothing.
+    if programs_in(first).is_empty() {
+        return first.to_string();
+    }
+    let mut text = first.to_string();
+    for (n, t) in others {
+        let t = first_program_only(t);
         text.push('\n');
         // A text with its own O number (after `%` lines and comments; the store keeps it equal
         // to the slot) needs no other.
@@ -148,7 +209,7 @@ fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
         }
         text.push_str(t);
     }
-    Some(text)
+    text
 }
 
 #[cfg(test)]
@@ -174,5 +235,26 @@ mod tests {
         let text = compose(1, &iso).unwrap();
         assert!(!text.contains("O0002"), "{text}");
         assert_eq!(fivex_engine::lang::parse_file(&text).programs.iter().filter(|p| p.number == Some(2)).count(), 1);
+    }
+
+    /// The programs the engine loads from `text`, by number (0: anonymous), in order.
+    fn numbers(text: &str) -> Vec<u32> {
+        programs_in(text).iter().map(|p| p.number.unwrap_or(0)).collect()
+    }
+
+    #[test]
+    fn a_selected_text_without_blocks_runs_alone_and_a_second_program_in_a_text_is_left_out() {
+        let others = vec![(2, "O0002\nG0 Y7.\nM30\n".to_string())];
+        for empty in ["", "%\n%\n", "(only a comment)\n", "\n\n"] {
+            let mut programs = others.clone();
+            programs.push((1, empty.to_string()));
+            assert_eq!(compose(1, &programs).unwrap(), empty, "{empty:?}");
+            assert_eq!(compose_mdi(empty, &others), empty);
+        }
+        // Texts stored before the store refused a second program: only their first is loaded.
+        let hidden = vec![(1, "M98 P18\nM30\nO0019\nM99\n".to_string()), (17, "O0017\nM99\nO0018\nM99\n".into())];
+        assert_eq!(numbers(&compose(1, &hidden).unwrap()), vec![0, 17]);
+        assert_eq!(numbers(&compose_mdi("M98 P1\n", &hidden)), vec![0, 1, 17]);
+        assert_eq!(first_program_only("G0 X1.\nO0005\nM99\n"), "G0 X1.\n");
     }
 }
