@@ -84,10 +84,10 @@ pub async fn cycle_start(
         Some(n) => Some((n, programs::composed(&state.db, &hosted, n).await?)),
         None => None,
     };
-    if let Some((_, text)) = &program {
+    if let Some((_, composed)) = &program {
         // Begun (or found) before the start, from the state the run starts in: the run's
         // progress reads it under the same key.
-        crate::host::estimate::ensure(&hosted, text.clone());
+        crate::host::estimate::ensure(&hosted, composed.clone());
     }
     status_after(&state, &hosted, PanelCommand::CycleStart { program })
 }

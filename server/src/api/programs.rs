@@ -270,7 +270,7 @@ pub async fn tool_path(
         return Err(ApiError::Unprocessable("max_points must be 1 to 1000000".into(), None));
     }
     let hosted = hosted(&state, &id)?;
-    let text = programs::composed(&state.db, &hosted, n).await?;
+    let programs::Composed { text, layout } = programs::composed(&state.db, &hosted, n).await?;
     let mut interp = hosted.station().controller.interpreter().clone();
     let body = tokio::task::spawn_blocking(move || {
         interp.load(parse_file(&text));
@@ -279,7 +279,7 @@ pub async fn tool_path(
             xyz: path.points.iter().flatten().copied().collect(),
             lines: path.lines,
             rapid: path.rapid,
-            alarm: path.alarm.as_ref().map(crate::host::stream::AlarmInfo::from),
+            alarm: path.alarm.as_ref().map(|a| crate::host::stream::AlarmInfo::located(a, &layout)),
             truncated: path.truncated,
             programmed: path.programmed.map(|p| ProgrammedPathBody {
                 xyz: p.points.iter().flatten().copied().collect(),
@@ -314,6 +314,6 @@ pub async fn estimate(
 ) -> Result<Json<crate::host::estimate::Estimate>, ApiError> {
     let (id, n) = path(params)?;
     let hosted = hosted(&state, &id)?;
-    let text = programs::composed(&state.db, &hosted, n).await?;
-    Ok(Json(crate::host::estimate::ensure(&hosted, text)))
+    let program = programs::composed(&state.db, &hosted, n).await?;
+    Ok(Json(crate::host::estimate::ensure(&hosted, program)))
 }

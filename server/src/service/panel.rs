@@ -8,7 +8,7 @@ use fivex_engine::interp::restart::Target;
 use fivex_engine::kin::ManualFeed;
 use serde::{Deserialize, Serialize};
 
-use super::programs::MAX_PROGRAM_BYTES;
+use super::programs::{Composed, MAX_PROGRAM_BYTES};
 use super::ServiceError;
 use crate::host::{Host, Hosted, Record, Station};
 
@@ -132,7 +132,7 @@ pub enum PanelCommand {
     /// With a program (its number and the text AUTO runs, `programs::composed`): select it and
     /// run it in AUTO; without: resume, or run what is selected.
     CycleStart {
-        program: Option<(u32, String)>,
+        program: Option<(u32, Composed)>,
     },
     FeedHold,
     /// Stop, abandon the program (recorded as `reset`), clear the alarms.
@@ -197,7 +197,7 @@ pub enum PanelCommand {
     /// (as for cycle start), that program is selected in AUTO first. The next cycle start
     /// returns the axes and goes on from the restart block.
     Restart {
-        program: Option<(u32, String)>,
+        program: Option<(u32, Composed)>,
         kind: RestartType,
         at: RestartAt,
     },
@@ -312,22 +312,25 @@ pub fn apply(
     match command {
         PanelCommand::CycleStart { program } => {
             let fresh = c.run_state() == RunState::Idle;
-            if let Some((n, text)) = &program {
+            if let Some((n, composed)) = &program {
                 if !fresh {
                     return Err(Refused::ProgramUnderWay);
                 }
                 if c.mode() != Mode::Auto {
                     c.set_mode(Mode::Auto)?;
                 }
-                c.select_program(text)?;
+                c.select_program(&composed.text)?;
                 // The inputs of its estimate as they stand before it starts.
-                let key = crate::host::estimate::key(text, c.interpreter());
+                let key = crate::host::estimate::key(&composed.text, c.interpreter());
                 c.cycle_start()?;
+                station.layouts.auto = composed.layout.clone();
+                station.layouts.started(Mode::Auto);
                 station.begin_run(Some(*n));
                 station.estimate_run(key);
             } else {
                 c.cycle_start()?;
                 if fresh {
+                    station.layouts.started(c.mode());
                     let program = if c.mode() == Mode::Auto { station.program } else { None };
                     station.begin_run(program);
                 }
@@ -342,8 +345,11 @@ pub fn apply(
             if c.mode() != Mode::Mdi {
                 c.set_mode(Mode::Mdi)?;
             }
-            c.set_mdi(&crate::service::programs::compose_mdi(&text, &stored))?;
+            let composed = crate::service::programs::compose_mdi(&text, &stored);
+            c.set_mdi(&composed.text)?;
             c.cycle_start()?;
+            station.layouts.mdi = composed.layout;
+            station.layouts.started(Mode::Mdi);
             station.begin_run(None);
         }
         PanelCommand::SetMode { mode } => c.set_mode(mode)?,
@@ -433,15 +439,17 @@ pub fn apply(
         PanelCommand::JogSignal { axis, positive } => c.jog_signal(axis, positive)?,
         PanelCommand::HandlePulses { amount } => return Ok(Applied::Taken(c.handle_pulses(amount)?)),
         PanelCommand::Restart { program, kind, at } => {
-            if let Some((n, text)) = &program {
+            if let Some((n, composed)) = &program {
                 if c.run_state() != RunState::Idle {
                     return Err(Refused::ProgramUnderWay);
                 }
                 if c.mode() != Mode::Auto {
                     c.set_mode(Mode::Auto)?;
                 }
-                c.select_program(text)?;
+                c.select_program(&composed.text)?;
                 c.restart(at.target(), kind)?;
+                station.layouts.auto = composed.layout.clone();
+                station.layouts.started(Mode::Auto);
                 // The cycle start that returns the axes runs this program (`begin_run`).
                 station.program = Some(*n);
             } else {
@@ -606,7 +614,7 @@ mod tests {
         hosted.station().controller.tick(36.0);
         host.add(hosted.clone());
         let program = "#3002=1.5\nG01 X10. F6000\nM30\n".to_string();
-        let start = PanelCommand::CycleStart { program: Some((1, program)) };
+        let start = PanelCommand::CycleStart { program: Some((1, program.into())) };
         // `view` runs while the station is still locked: what the channel holds then was
         // sent before any worker could tick the controller again.
         let (applied, sent_while_locked) =

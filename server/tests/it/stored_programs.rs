@@ -140,3 +140,59 @@ async fn program_sizes_are_bytes_and_a_body_is_declared_utf_8_text() {
     assert_eq!(app.send(empty).await.status, StatusCode::OK);
     assert_eq!(app.get(&uri).await.text(), "");
 }
+
+/// The audit's F3: an alarm in a called program was given a line of the hidden text the
+/// service composes (line 8 for line 3 of O0002), under the selected program's number.
+#[tokio::test]
+async fn an_alarm_in_a_called_program_gives_its_line_in_that_program_and_names_it() {
+    let app = spawn_app().await;
+    let id = create(&app).await;
+    store(&app, &id, 1, "O0001\nG90 G0 X1.\nM98 P2\nM30\n").await;
+    // Program 2 without its own O line, so the service gives it one in the composed text.
+    store(&app, &id, 2, "(sub)\nG0 Y1.\n#3000=1(BOOM)\nM99\n").await;
+    store(&app, &id, 3, "O0003\nM99\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    let status = settled(&app, &id, "alarm").await;
+    let raised = json!({"code": "MC3001", "message": "BOOM", "line": 3, "n": null, "program": 2});
+    assert_eq!(status["alarms"], json!([raised]), "{status}");
+    assert_eq!(
+        (status["program"].clone(), status["line"].clone(), status["line_program"].clone()),
+        (json!(1), json!(3), json!(2))
+    );
+    let history = async {
+        for _ in 0..250 {
+            let alarms = app.get(&format!("{C}/{id}/alarms")).await.json();
+            if !alarms["history"].as_array().unwrap().is_empty() {
+                return alarms;
+            }
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        panic!("no history");
+    };
+    let alarms = history.await;
+    assert_eq!(alarms["active"], json!([raised]));
+    let past = &alarms["history"][0];
+    assert_eq!((past["line"].clone(), past["program"].clone()), (json!(3), json!(2)), "{alarms}");
+    // The estimate's alarm is located the same way.
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    settled(&app, &id, "idle").await;
+    let uri = format!("{C}/{id}/programs/1/estimate");
+    let mut estimate = app.get(&uri).await.json();
+    for _ in 0..250 {
+        if estimate["state"] != "pending" {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+        estimate = app.get(&uri).await.json();
+    }
+    assert_eq!(estimate["alarm"], raised, "{estimate}");
+    // In MDI the MDI blocks are no stored program's; a called one's are.
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G0 X2.\n#3000=2(MDI)"})).await;
+    let status = settled(&app, &id, "alarm").await;
+    assert_eq!((status["alarms"][0]["line"].clone(), status["alarms"][0]["program"].clone()), (json!(2), Value::Null));
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    settled(&app, &id, "idle").await;
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "M98 P2"})).await;
+    let status = settled(&app, &id, "alarm").await;
+    assert_eq!(status["alarms"], json!([raised]), "{status}");
+}
