@@ -447,7 +447,8 @@ pub async fn controller(db: &Db, id: &str) -> Result<Option<ControllerRow>, sqlx
 /// The O-numbers and sizes of a controller's stored programs, ascending.
 pub async fn list_programs(db: &Db, controller: &str) -> Result<Vec<(u32, usize)>, sqlx::Error> {
     let rows = sqlx::query(
-        "SELECT number, CAST(length(text) AS BIGINT) AS size FROM programs WHERE controller_id = $1 ORDER BY number",
+        // Bytes, as the store's answer gives them (`length` counts characters).
+        "SELECT number, CAST(octet_length(text) AS BIGINT) AS size FROM programs WHERE controller_id = $1 ORDER BY number",
     )
     .bind(controller)
     .fetch_all(db.reads())
@@ -559,12 +560,14 @@ pub struct AlarmRow {
     pub message: String,
     pub line: u32,
     pub n: Option<u32>,
+    /// The O number of the program `line` is in (none: MDI, or a row from before it was kept).
+    pub program: Option<u32>,
 }
 
 /// A controller's alarm history, newest first, at most `limit` rows.
 pub async fn alarm_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<AlarmRow>, sqlx::Error> {
     let rows = sqlx::query(
-        "SELECT raised_at, code, message, line, n FROM alarm_history WHERE controller_id = $1 \
+        "SELECT raised_at, code, message, line, n, program FROM alarm_history WHERE controller_id = $1 \
          ORDER BY id DESC LIMIT $2",
     )
     .bind(controller)
@@ -579,6 +582,7 @@ pub async fn alarm_history(db: &Db, controller: &str, limit: u32) -> Result<Vec<
                 message: r.try_get("message")?,
                 line: r.try_get::<i64, _>("line")? as u32,
                 n: r.try_get::<Option<i64>, _>("n")?.map(|n| n as u32),
+                program: r.try_get::<Option<i64>, _>("program")?.map(|n| n as u32),
             })
         })
         .collect()
@@ -634,7 +638,7 @@ pub enum Record {
     /// The tilted working plane kept over a restart changed (Syntec Pr3014 = 2).
     TiltedPlane { controller: String, plane: Option<fivex_engine::interp::TiltedPlane> },
     /// An alarm was raised.
-    Alarm { controller: String, at: String, alarm: fivex_engine::Alarm },
+    Alarm { controller: String, at: String, alarm: crate::host::stream::AlarmInfo },
     /// A program run ended (`completed`, `alarm` or `reset`).
     Run {
         controller: String,
@@ -702,8 +706,8 @@ async fn record_on(conn: &mut AnyConnection, record: &Record) -> Result<(), sqlx
         }
         Record::WorkOffsets { controller, rows } => work_offsets_on(conn, controller, rows).await,
         Record::Alarm { controller, at, alarm } => sqlx::query(
-            "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n) \
-             VALUES ($1, $2, $3, $4, $5, $6)",
+            "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n, program) \
+             VALUES ($1, $2, $3, $4, $5, $6, $7)",
         )
         .bind(controller)
         .bind(at)
@@ -711,6 +715,7 @@ async fn record_on(conn: &mut AnyConnection, record: &Record) -> Result<(), sqlx
         .bind(&alarm.message)
         .bind(alarm.line as i64)
         .bind(alarm.n.map(|n| n as i64))
+        .bind(alarm.program.map(|n| n as i64))
         .execute(conn)
         .await
         .map(|_| ()),

@@ -77,13 +77,16 @@ pub async fn alarms(
     q: Result<Query<Limit>, QueryRejection>,
 ) -> Result<Json<Alarms>, ApiError> {
     let limit = limit(q)?;
-    let active = hosted.station().controller.alarms().iter().map(AlarmInfo::from).collect();
+    let active = {
+        let station = hosted.station();
+        station.layouts.alarms(station.controller.alarms())
+    };
     let history = history::alarms(&state.db, &hosted, limit)
         .await?
         .into_iter()
         .map(|r| PastAlarm {
             raised_at: r.raised_at,
-            alarm: AlarmInfo { code: r.code, message: r.message, line: r.line, n: r.n },
+            alarm: AlarmInfo { code: r.code, message: r.message, line: r.line, n: r.n, program: r.program },
         })
         .collect();
     Ok(Json(Alarms { active, history }))

@@ -119,9 +119,13 @@ pub struct ControllerStatus {
     /// The stored program AUTO runs (O number), once one was started.
     pub program: Option<u32>,
     /// 1-based line of the block being executed (0 before any) and its sequence number: the
-    /// moving block's, or a block without motion (a dwell, a modal change) once reached.
+    /// moving block's, or a block without motion (a dwell, a modal change) once reached. The
+    /// line is in the program `line_program`.
     pub line: u32,
     pub n: Option<u32>,
+    /// The O number of the stored program `line` is in: `program`, or a program it called
+    /// (M98/G65/G66…), as stored; null for MDI's own blocks.
+    pub line_program: Option<u32>,
     pub position: Position,
     /// Tool tip speed relative to the workpiece, mm/min.
     pub feed: f64,
@@ -310,8 +314,9 @@ impl ControllerStatus {
             mode: word(&c.mode()),
             run_state: word(&c.run_state()),
             program: station.program,
-            line: p.line,
+            line: station.layouts.locate(p.line).1,
             n: p.n,
+            line_program: station.layouts.locate(p.line).0,
             position: Position {
                 machine: axes(&station.machine, &p.machine),
                 workpiece: axes(&station.machine, &p.work),
@@ -322,7 +327,7 @@ impl ControllerStatus {
             },
             feed: p.feed,
             time_s: c.time(),
-            alarms: c.alarms().iter().map(AlarmInfo::from).collect(),
+            alarms: station.layouts.alarms(c.alarms()),
             panel: PanelState::of(&c.panel),
             interrupt_shift: axes(&station.machine, &c.interrupt_shift()),
             unmodelled_parameters: UnmodelledParameter::list(&station.unmodelled),

@@ -84,10 +84,10 @@ pub async fn cycle_start(
         Some(n) => Some((n, programs::composed(&state.db, &hosted, n).await?)),
         None => None,
     };
-    if let Some((_, text)) = &program {
+    if let Some((_, composed)) = &program {
         // Begun (or found) before the start, from the state the run starts in: the run's
         // progress reads it under the same key.
-        crate::host::estimate::ensure(&hosted, text.clone());
+        crate::host::estimate::ensure(&hosted, composed.clone());
     }
     status_after(&state, &hosted, PanelCommand::CycleStart { program })
 }
@@ -139,7 +139,8 @@ pub struct Mdi {
     pub text: String,
 }
 
-/// MDI: switch to MDI mode (when idle) and run the blocks.
+/// MDI: switch to MDI mode (when idle) and run the blocks. They may call the stored programs
+/// (`M98 P1`, `G65 P1`), as an MDI program calls programs in memory on the control.
 #[utoipa::path(
     post,
     path = "/api/v1/controllers/{id}/mdi",
@@ -159,7 +160,9 @@ pub async fn mdi(
     Addressed(hosted): Addressed,
     request: Result<JsonBody<Mdi>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
-    status_after(&state, &hosted, PanelCommand::Mdi { text: body(request)?.text })
+    let text = body(request)?.text;
+    let stored = programs::all(&state.db, &hosted).await?;
+    status_after(&state, &hosted, PanelCommand::Mdi { text, stored })
 }
 
 /// `PUT /mode`.

@@ -96,9 +96,9 @@ pub async fn list(
         (status = 200, description = "Stored (replaced)", body = StoredProgram),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 413, description = "Too large", body = ErrorBody),
-        (status = 415, description = "Not text/plain", body = ErrorBody),
+        (status = 415, description = "Not text/plain in UTF-8 (another `charset`), or a body without a content type", body = ErrorBody),
         (status = 400, description = "The number is not a number, or the query is malformed", body = ErrorBody),
-        (status = 422, description = "Not UTF-8 NC text, a number outside 1–9999, an O number in the text other than the slot's (`details`: `slot`, `text_number`; even with `force=true`), or `check` found problems (in `details`)", body = ErrorBody),
+        (status = 422, description = "Not UTF-8 NC text, a number outside 1–9999, an O number in the text other than the slot's (`details`: `slot`, `text_number`; even with `force=true`), a second program in the text (`details`: `slot`, `line`, `text_number`; even with `force=true`), or `check` found problems (in `details`)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]
@@ -113,10 +113,8 @@ pub async fn store(
     let force = options.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?.force;
     let hosted = hosted(&state, &id)?;
     let n = programs::number(n)?;
-    let media = headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).unwrap_or("text/plain");
-    if !media.trim_start().to_ascii_lowercase().starts_with("text/plain") {
-        return Err(ApiError::Rejected(StatusCode::UNSUPPORTED_MEDIA_TYPE, "programs are text/plain".into()));
-    }
+    plain_utf8(&headers, !text.is_empty())
+        .map_err(|why| ApiError::Rejected(StatusCode::UNSUPPORTED_MEDIA_TYPE, why))?;
     if text.len() > MAX_PROGRAM_BYTES {
         return Err(ApiError::Rejected(
             StatusCode::PAYLOAD_TOO_LARGE,
@@ -127,6 +125,28 @@ pub async fn store(
     let status = if stored.new { StatusCode::CREATED } else { StatusCode::OK };
     let diagnostics = stored.problems.into_iter().map(Diagnostic::of).collect();
     Ok((status, Json(StoredProgram { number: n, size: text.len(), diagnostics })))
+}
+
+/// A program's body is `text/plain` in UTF-8 (a `charset` parameter, if any, `utf-8` or its
+/// subset `us-ascii`): the text is read as UTF-8, so another charset would be read wrongly. A
+/// body needs its type declared (`docs/api.md`, "Security"); no body and no type is an empty
+/// program.
+fn plain_utf8(headers: &HeaderMap, has_body: bool) -> Result<(), String> {
+    let Some(media) = headers.get(header::CONTENT_TYPE) else {
+        return if has_body { Err("a program body needs Content-Type: text/plain".into()) } else { Ok(()) };
+    };
+    let media = media.to_str().unwrap_or("(not text)").to_ascii_lowercase();
+    let mut parts = media.split(';').map(str::trim);
+    if parts.next() != Some("text/plain") {
+        return Err(format!("programs are text/plain, not {media}"));
+    }
+    for (name, value) in parts.filter_map(|p| p.split_once('=')) {
+        let value = value.trim().trim_matches('"');
+        if name.trim() == "charset" && !matches!(value, "utf-8" | "utf8" | "us-ascii") {
+            return Err(format!("programs are UTF-8 text, not charset {value}"));
+        }
+    }
+    Ok(())
 }
 
 /// A stored program's NC text.
@@ -250,7 +270,7 @@ pub async fn tool_path(
         return Err(ApiError::Unprocessable("max_points must be 1 to 1000000".into(), None));
     }
     let hosted = hosted(&state, &id)?;
-    let text = programs::composed(&state.db, &hosted, n).await?;
+    let programs::Composed { text, layout } = programs::composed(&state.db, &hosted, n).await?;
     let mut interp = hosted.station().controller.interpreter().clone();
     let body = tokio::task::spawn_blocking(move || {
         interp.load(parse_file(&text));
@@ -259,7 +279,7 @@ pub async fn tool_path(
             xyz: path.points.iter().flatten().copied().collect(),
             lines: path.lines,
             rapid: path.rapid,
-            alarm: path.alarm.as_ref().map(crate::host::stream::AlarmInfo::from),
+            alarm: path.alarm.as_ref().map(|a| crate::host::stream::AlarmInfo::located(a, &layout)),
             truncated: path.truncated,
             programmed: path.programmed.map(|p| ProgrammedPathBody {
                 xyz: p.points.iter().flatten().copied().collect(),
@@ -294,6 +314,6 @@ pub async fn estimate(
 ) -> Result<Json<crate::host::estimate::Estimate>, ApiError> {
     let (id, n) = path(params)?;
     let hosted = hosted(&state, &id)?;
-    let text = programs::composed(&state.db, &hosted, n).await?;
-    Ok(Json(crate::host::estimate::ensure(&hosted, text)))
+    let program = programs::composed(&state.db, &hosted, n).await?;
+    Ok(Json(crate::host::estimate::ensure(&hosted, program)))
 }

@@ -294,7 +294,8 @@ impl Drop for Slot<'_> {
 /// The estimate of running `text` on `hosted` as it stands now: known, or begun on a blocking
 /// thread (then `pending`; ask again). While every slot is taken nothing begins and the answer
 /// is `pending` too. Needs a tokio runtime.
-pub fn ensure(hosted: &std::sync::Arc<super::Hosted>, text: String) -> Estimate {
+pub fn ensure(hosted: &std::sync::Arc<super::Hosted>, program: crate::service::programs::Composed) -> Estimate {
+    let crate::service::programs::Composed { text, layout } = program;
     let Some(slot) = RUNNING.take(super::Host::default_workers()) else {
         let station = hosted.station();
         let key = key(&text, station.controller.interpreter());
@@ -311,7 +312,9 @@ pub fn ensure(hosted: &std::sync::Arc<super::Hosted>, text: String) -> Estimate 
     let hosted = hosted.clone();
     tokio::task::spawn_blocking(move || {
         let _slot = slot;
-        let estimate = compute(interp, &text, WALL_BUDGET);
+        let mut estimate = compute(interp, &text, WALL_BUDGET);
+        // Its alarm's line in the program it is in.
+        estimate.alarm = estimate.alarm.map(|a| layout.relocate(a));
         hosted.station().estimates.put(key, estimate);
     });
     Estimate::pending()

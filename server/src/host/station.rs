@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use fivex_engine::controller::{Controller, Event, RunState};
+use fivex_engine::controller::{Controller, Event, Mode, RunState};
 use fivex_engine::interp::State;
 use fivex_engine::interp::MAX_G54_1;
 use fivex_engine::machine::{Machine, MachineConfig};
@@ -15,6 +15,7 @@ use crate::db::ToolRow;
 use super::estimate::{progress, Conditions, Estimate, Estimates, Key, RunProgress};
 use super::stream::{AlarmInfo, Message};
 use super::{now_rfc3339, Record};
+use crate::service::programs::Layout;
 
 /// How often, in real seconds, a running controller's variables are compared with what was
 /// streamed, and its retained variables with what was saved.
@@ -32,6 +33,9 @@ pub struct Station {
     pub unmodelled: Vec<fivex_engine::vendor::unmodelled::Unmodelled>,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
+    /// Where the stored programs lie in the texts the controller runs, so that lines are given
+    /// in the program they are in.
+    pub layouts: Layouts,
     /// Syntec's teach screen: the boxes F1 latched (`api::teach`; not saved).
     pub teach: fivex_engine::teach::Points,
     run: Option<RunStart>,
@@ -48,6 +52,46 @@ pub struct Station {
     streamed: BTreeMap<u32, f64>,
     since_streamed: f64,
     since_saved: f64,
+}
+
+/// Where the stored programs lie in the texts AUTO and MDI run (`programs::Layout`), and which
+/// of the two the last start ran: the line the controller reports is a line of that text.
+#[derive(Debug, Clone, Default)]
+pub struct Layouts {
+    /// The selected program's (AUTO).
+    pub auto: Layout,
+    pub mdi: Layout,
+    mdi_ran: bool,
+}
+
+impl Layouts {
+    /// A run of what `mode` runs began.
+    pub fn started(&mut self, mode: Mode) {
+        self.mdi_ran = mode == Mode::Mdi;
+    }
+
+    /// The layout of the text the last start ran.
+    pub fn running(&self) -> &Layout {
+        if self.mdi_ran {
+            &self.mdi
+        } else {
+            &self.auto
+        }
+    }
+
+    /// The program and its own line for a line the controller reports.
+    pub fn locate(&self, line: u32) -> (Option<u32>, u32) {
+        self.running().locate(line)
+    }
+
+    /// An alarm as clients see it, its line in the program it is in.
+    pub fn alarm(&self, alarm: &fivex_engine::Alarm) -> AlarmInfo {
+        AlarmInfo::located(alarm, self.running())
+    }
+
+    pub fn alarms(&self, alarms: &[fivex_engine::Alarm]) -> Vec<AlarmInfo> {
+        alarms.iter().map(|a| self.alarm(a)).collect()
+    }
 }
 
 /// A program run under way.
@@ -76,6 +120,7 @@ impl Station {
             machine: controller.interpreter().config().machine.clone(),
             controller,
             program: None,
+            layouts: Layouts::default(),
             teach: Default::default(),
             run: None,
             estimates: Estimates::default(),
@@ -119,6 +164,7 @@ impl Station {
         self.machine = controller.interpreter().config().machine.clone();
         self.controller = controller;
         self.program = None;
+        self.layouts = Layouts::default();
         self.run = None;
         // The key names the machine by its address, which a later model may reuse.
         self.estimates = Estimates::default();
@@ -270,6 +316,7 @@ impl Station {
                     }
                 }
                 Event::Alarm(alarm) => {
+                    let alarm = self.layouts.alarm(&alarm);
                     records.push(Record::Alarm {
                         controller: controller.to_string(),
                         at: now_rfc3339(),
@@ -277,8 +324,8 @@ impl Station {
                     });
                     messages.push(Message::Alarm {
                         event: "raised",
-                        raised: Some(AlarmInfo::from(&alarm)),
-                        active: self.controller.alarms().iter().map(AlarmInfo::from).collect(),
+                        raised: Some(alarm),
+                        active: self.layouts.alarms(self.controller.alarms()),
                     });
                 }
                 Event::AlarmsCleared => {

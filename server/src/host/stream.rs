@@ -51,8 +51,11 @@ pub struct PositionFrame {
     /// plane) or `wscs` (G54.4).
     #[schema(value_type = crate::wire::words::SystemName)]
     pub programmed_in: &'static str,
-    /// 1-based program line of the block moving now (0 before any).
+    /// 1-based program line of the block moving now (0 before any), in the program `program`.
     pub line: u32,
+    /// The O number of the stored program `line` is in: the selected one or one it called
+    /// (M98/G65/G66…); null for MDI's own blocks.
+    pub program: Option<u32>,
     /// Its sequence number.
     pub n: Option<u32>,
     /// Tool tip speed relative to the workpiece, mm/min.
@@ -116,15 +119,19 @@ pub struct Reading {
     tool_length: f64,
     chain: Chain,
     plane: Option<TiltedPlane>,
+    /// The sample's line in the program it is in, and that program (`Layouts::locate`).
+    line: (Option<u32>, u32),
 }
 
 impl Reading {
     pub fn of(station: &Station) -> Reading {
         let c = &station.controller;
+        let sample = c.sample();
         Reading {
             machine_config: station.machine.clone(),
             wall_ms: now_unix_ms(),
-            sample: c.sample(),
+            line: station.layouts.locate(sample.line),
+            sample,
             work: c.point().work,
             to_go: c.to_go(),
             spindle: c.spindle(),
@@ -175,7 +182,8 @@ impl Reading {
             tool: s.tool,
             programmed: s.programmed,
             programmed_in: s.programmed_in.name(),
-            line: s.line,
+            line: self.line.1,
+            program: self.line.0,
             n: s.n,
             feed: s.feed,
             to_go: axes(&self.machine_config, &self.to_go),
@@ -226,15 +234,27 @@ pub struct AlarmInfo {
     #[schema(example = "PS5421")]
     pub code: String,
     pub message: String,
-    /// 1-based line in the program.
+    /// 1-based line in the program `program` (for a stored program run, the program it
+    /// occurred in: the selected one or one it called).
     pub line: u32,
     /// Sequence number of the block, if it has one.
     pub n: Option<u32>,
+    /// The O number of the stored program `line` is in; null for a text of its own (MDI's
+    /// blocks, a fleet run's program, an alarm recorded before this was kept).
+    #[serde(default)]
+    pub program: Option<u32>,
 }
 
 impl From<&Alarm> for AlarmInfo {
     fn from(a: &Alarm) -> Self {
-        AlarmInfo { code: a.code.clone(), message: a.message.clone(), line: a.line, n: a.n }
+        AlarmInfo { code: a.code.clone(), message: a.message.clone(), line: a.line, n: a.n, program: None }
+    }
+}
+
+impl AlarmInfo {
+    /// `a`, raised in a text composed of stored programs: its line in the program it is in.
+    pub fn located(a: &Alarm, layout: &crate::service::programs::Layout) -> AlarmInfo {
+        layout.relocate(AlarmInfo::from(a))
     }
 }
 

@@ -8,7 +8,7 @@ use fivex_engine::interp::restart::Target;
 use fivex_engine::kin::ManualFeed;
 use serde::{Deserialize, Serialize};
 
-use super::programs::MAX_PROGRAM_BYTES;
+use super::programs::{Composed, MAX_PROGRAM_BYTES};
 use super::ServiceError;
 use crate::host::{Host, Hosted, Record, Station};
 
@@ -132,14 +132,17 @@ pub enum PanelCommand {
     /// With a program (its number and the text AUTO runs, `programs::composed`): select it and
     /// run it in AUTO; without: resume, or run what is selected.
     CycleStart {
-        program: Option<(u32, String)>,
+        program: Option<(u32, Composed)>,
     },
     FeedHold,
     /// Stop, abandon the program (recorded as `reset`), clear the alarms.
     Reset,
-    /// Switch to MDI (when idle) and run the blocks.
+    /// Switch to MDI (when idle) and run the blocks; `stored`, the stored programs (number,
+    /// text), are there for them to call (`programs::compose_mdi`).
     Mdi {
         text: String,
+        #[serde(default)]
+        stored: Vec<(u32, String)>,
     },
     SetMode {
         mode: Mode,
@@ -194,7 +197,7 @@ pub enum PanelCommand {
     /// (as for cycle start), that program is selected in AUTO first. The next cycle start
     /// returns the axes and goes on from the restart block.
     Restart {
-        program: Option<(u32, String)>,
+        program: Option<(u32, Composed)>,
         kind: RestartType,
         at: RestartAt,
     },
@@ -251,7 +254,7 @@ impl PanelCommand {
     pub fn check(&self) -> Result<(), ServiceError> {
         let invalid = |why: String| Err(ServiceError::invalid(why));
         match self {
-            PanelCommand::Mdi { text } if text.len() > MAX_PROGRAM_BYTES => invalid("MDI text too long".into()),
+            PanelCommand::Mdi { text, .. } if text.len() > MAX_PROGRAM_BYTES => invalid("MDI text too long".into()),
             PanelCommand::Overrides { feed, rapid, spindle } => {
                 for (value, max, what) in [(feed, 200.0, "feed"), (rapid, 100.0, "rapid")] {
                     if value.is_some_and(|p: f64| !(p.is_finite() && (0.0..=max).contains(&p))) {
@@ -309,22 +312,25 @@ pub fn apply(
     match command {
         PanelCommand::CycleStart { program } => {
             let fresh = c.run_state() == RunState::Idle;
-            if let Some((n, text)) = &program {
+            if let Some((n, composed)) = &program {
                 if !fresh {
                     return Err(Refused::ProgramUnderWay);
                 }
                 if c.mode() != Mode::Auto {
                     c.set_mode(Mode::Auto)?;
                 }
-                c.select_program(text)?;
+                c.select_program(&composed.text)?;
                 // The inputs of its estimate as they stand before it starts.
-                let key = crate::host::estimate::key(text, c.interpreter());
+                let key = crate::host::estimate::key(&composed.text, c.interpreter());
                 c.cycle_start()?;
+                station.layouts.auto = composed.layout.clone();
+                station.layouts.started(Mode::Auto);
                 station.begin_run(Some(*n));
                 station.estimate_run(key);
             } else {
                 c.cycle_start()?;
                 if fresh {
+                    station.layouts.started(c.mode());
                     let program = if c.mode() == Mode::Auto { station.program } else { None };
                     station.begin_run(program);
                 }
@@ -335,12 +341,15 @@ pub fn apply(
             ended.extend(station.end_run(id, "reset"));
             station.controller.reset();
         }
-        PanelCommand::Mdi { text } => {
+        PanelCommand::Mdi { text, stored } => {
             if c.mode() != Mode::Mdi {
                 c.set_mode(Mode::Mdi)?;
             }
-            c.set_mdi(&text)?;
+            let composed = crate::service::programs::compose_mdi(&text, &stored);
+            c.set_mdi(&composed.text)?;
             c.cycle_start()?;
+            station.layouts.mdi = composed.layout;
+            station.layouts.started(Mode::Mdi);
             station.begin_run(None);
         }
         PanelCommand::SetMode { mode } => c.set_mode(mode)?,
@@ -430,15 +439,17 @@ pub fn apply(
         PanelCommand::JogSignal { axis, positive } => c.jog_signal(axis, positive)?,
         PanelCommand::HandlePulses { amount } => return Ok(Applied::Taken(c.handle_pulses(amount)?)),
         PanelCommand::Restart { program, kind, at } => {
-            if let Some((n, text)) = &program {
+            if let Some((n, composed)) = &program {
                 if c.run_state() != RunState::Idle {
                     return Err(Refused::ProgramUnderWay);
                 }
                 if c.mode() != Mode::Auto {
                     c.set_mode(Mode::Auto)?;
                 }
-                c.select_program(text)?;
+                c.select_program(&composed.text)?;
                 c.restart(at.target(), kind)?;
+                station.layouts.auto = composed.layout.clone();
+                station.layouts.started(Mode::Auto);
                 // The cycle start that returns the axes runs this program (`begin_run`).
                 station.program = Some(*n);
             } else {
@@ -540,7 +551,7 @@ mod tests {
             PanelCommand::CycleStart { program: None },
             PanelCommand::FeedHold,
             PanelCommand::Reset,
-            PanelCommand::Mdi { text: "G91 X1.".into() },
+            PanelCommand::Mdi { text: "G91 X1.".into(), stored: vec![] },
             PanelCommand::SetMode { mode: Mode::Handle },
             PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None },
             PanelCommand::Switches(Switches {
@@ -603,7 +614,7 @@ mod tests {
         hosted.station().controller.tick(36.0);
         host.add(hosted.clone());
         let program = "#3002=1.5\nG01 X10. F6000\nM30\n".to_string();
-        let start = PanelCommand::CycleStart { program: Some((1, program)) };
+        let start = PanelCommand::CycleStart { program: Some((1, program.into())) };
         // `view` runs while the station is still locked: what the channel holds then was
         // sent before any worker could tick the controller again.
         let (applied, sent_while_locked) =
@@ -646,7 +657,7 @@ mod tests {
         let overrides = PanelCommand::Overrides { feed: Some(50.0), rapid: None, spindle: None };
         apply(&mut station, "c1", overrides, &mut ended).unwrap();
         assert_eq!(station.controller.panel.feed_override, 0.5);
-        let mdi = PanelCommand::Mdi { text: "G91 G01 X10. F100".into() };
+        let mdi = PanelCommand::Mdi { text: "G91 G01 X10. F100".into(), stored: vec![] };
         apply(&mut station, "c1", mdi, &mut ended).unwrap();
         assert_eq!(station.controller.mode(), Mode::Mdi);
         assert_ne!(station.controller.run_state(), RunState::Idle);

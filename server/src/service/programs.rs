@@ -4,8 +4,11 @@
 use fivex_engine::lang::{is_header, parse_file};
 use fivex_engine::{AlarmId, Dialect};
 
+use serde::{Deserialize, Serialize};
+
 use super::ServiceError;
 use crate::db;
+use crate::host::stream::AlarmInfo;
 use crate::host::Hosted;
 
 /// The largest program text accepted, bytes.
@@ -66,6 +69,41 @@ fn matches_slot(text: &str, slot: u32) -> Result<(), ServiceError> {
     }
 }
 
+/// The programs of `text` (a header of comments before the first O number is none).
+fn programs_in(text: &str) -> Vec<fivex_engine::lang::Program> {
+    parse_file(text).programs.into_iter().filter(|p| !is_header(p)).collect()
+}
+
+/// A stored text is one program: on the control each O number is one program in memory, and
+/// `M98 P18` must run what is stored as 18, never an `O0018` inside another slot's text (the
+/// controller's text would hold two programs 18, and the first would win).
+fn one_program(text: &str, slot: u32) -> Result<(), ServiceError> {
+    match programs_in(text).get(1) {
+        Some(second) => Err(ServiceError::Invalid(
+            format!(
+                "the text holds a second program{} at line {}: a stored program is one program; store each \
+                 under its own number",
+                second.number.map(|m| format!(" O{m:04}")).unwrap_or_default(),
+                second.line
+            ),
+            Some(serde_json::json!({"slot": slot, "line": second.line, "text_number": second.number})),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A text's first program only: the lines before its second program's `O` line (texts stored
+/// before the store refused a second program, `one_program`, may hold one).
+fn first_program_only(text: &str) -> &str {
+    match programs_in(text).get(1) {
+        Some(second) => {
+            let cut: usize = text.split_inclusive('\n').take(second.line as usize - 1).map(str::len).sum();
+            &text[..cut]
+        }
+        None => text,
+    }
+}
+
 /// A program number in the dialect's range (O1–O9999).
 pub fn number(n: u32) -> Result<u32, ServiceError> {
     if (1..=9999).contains(&n) {
@@ -98,6 +136,7 @@ pub async fn store(db: &db::Db, hosted: &Hosted, n: u32, bytes: &[u8], force: bo
         return Err(ServiceError::invalid("the program contains NUL bytes (binary data?)"));
     }
     matches_slot(text, n)?;
+    one_program(text, n)?;
     let found = problems(text, hosted.dialect);
     if !found.is_empty() && !force {
         let details = serde_json::to_value(found.iter().map(problem_json).collect::<Vec<_>>()).ok();
@@ -129,26 +168,114 @@ pub async fn remove(db: &db::Db, hosted: &Hosted, n: u32) -> Result<(), ServiceE
     }
 }
 
-/// The text AUTO runs for stored program `n`: that program first (its lines keep their numbers
-/// in alarms), then every other stored program, each under its O number, for M98/G65.
-pub async fn composed(db: &db::Db, hosted: &Hosted, n: u32) -> Result<String, ServiceError> {
+/// A text the controller runs, composed of stored programs, and where each lies in it.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Composed {
+    pub text: String,
+    pub layout: Layout,
+}
+
+/// A text alone, calling no stored program.
+impl From<&str> for Composed {
+    fn from(text: &str) -> Composed {
+        Composed { text: text.to_string(), layout: Layout::default() }
+    }
+}
+
+impl From<String> for Composed {
+    fn from(text: String) -> Composed {
+        Composed { text, layout: Layout::default() }
+    }
+}
+
+/// Where the programs of a composed text lie in it: alarms and the status give a line of the
+/// program it is in, as stored (the composed text is the service's, no client sees it).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Layout {
+    /// The first text's O number (`None`: an MDI text).
+    first: Option<u32>,
+    /// Each program after it: the composed line its own line 1 is on, and its O number;
+    /// ascending.
+    after: Vec<(u32, u32)>,
+}
+
+impl Layout {
+    /// The program (`None`: MDI's own text) and its own line for `line` of the composed text
+    /// (0, before any block, stays 0 of the first).
+    pub fn locate(&self, line: u32) -> (Option<u32>, u32) {
+        match self.after.iter().rev().find(|(start, _)| *start <= line) {
+            Some(&(start, n)) => (Some(n), line - start + 1),
+            None => (self.first, line),
+        }
+    }
+
+    /// `alarm`, raised in the composed text, with its line in the program it is in.
+    pub fn relocate(&self, alarm: AlarmInfo) -> AlarmInfo {
+        let (program, line) = self.locate(alarm.line);
+        AlarmInfo { program, line, ..alarm }
+    }
+}
+
+/// The text AUTO runs for stored program `n`: that program first (its lines keep their numbers),
+/// then every other stored program, each under its O number, for M98/G65.
+pub async fn composed(db: &db::Db, hosted: &Hosted, n: u32) -> Result<Composed, ServiceError> {
     let programs = db::programs(db, &hosted.id).await?;
     compose(n, &programs).ok_or_else(|| ServiceError::NotFound(format!("no program O{n}")))
 }
 
-fn compose(number: u32, programs: &[(u32, String)]) -> Option<String> {
+/// The stored programs, for an MDI text to call (`compose_mdi`).
+pub async fn all(db: &db::Db, hosted: &Hosted) -> Result<Vec<(u32, String)>, ServiceError> {
+    Ok(db::programs(db, &hosted.id).await?)
+}
+
+fn compose(number: u32, programs: &[(u32, String)]) -> Option<Composed> {
     let main = programs.iter().find(|(n, _)| *n == number)?;
-    let mut text = main.1.clone();
-    for (n, t) in programs.iter().filter(|(n, _)| *n != number) {
+    Some(followed_by_the_others(Some(number), &main.1, programs.iter().filter(|(n, _)| *n != number)))
+}
+
+/// The text MDI runs: the MDI blocks first (their lines keep their numbers), then every stored
+/// program under its O number, so that `M98 P1` in MDI calls program 1 from memory as on the
+/// control.
+pub fn compose_mdi(mdi: &str, programs: &[(u32, String)]) -> Composed {
+    followed_by_the_others(None, mdi, programs.iter())
+}
+
+/// `first` (its first program only; program `number`), then each of `others` (their first
+/// programs), each under its O number.
+fn followed_by_the_others<'a>(
+    number: Option<u32>,
+    first: &str,
+    others: impl Iterator<Item = &'a (u32, String)>,
+) -> Composed {
+    let first = first_program_only(first);
+    let mut layout = Layout { first: number, after: Vec::new() };
+    // A text without a block (empty, `%` lines, comments) is no program: the first program
+    // after it would be taken for the one selected. It runs nothing and can call nothing.
+    if programs_in(first).is_empty() {
+        return Composed { text: first.to_string(), layout };
+    }
+    let mut text = first.to_string();
+    let mut lines = newlines(&text);
+    for (n, t) in others {
+        let t = first_program_only(t);
         text.push('\n');
         // A text with its own O number (after `%` lines and comments; the store keeps it equal
         // to the slot) needs no other.
         if first_number(t).is_none() {
             text.push_str(&format!("O{n:04}\n"));
+            lines += 1;
         }
+        lines += 1;
+        layout.after.push((lines + 1, *n));
         text.push_str(t);
+        lines += newlines(t);
     }
-    Some(text)
+    Composed { text, layout }
+}
+
+/// The line ends in `text` (the parser's lines end at `\n`).
+fn newlines(text: &str) -> u32 {
+    text.bytes().filter(|&b| b == b'\n').count() as u32
 }
 
 #[cfg(test)]
@@ -159,7 +286,7 @@ mod tests {
     fn the_selected_program_comes_first_and_the_others_under_their_numbers() {
         let programs =
             vec![(1, "G01 X1.\nM98 P2\nM30\n".to_string()), (2, "O0002\nX2.\nM99\n".into()), (3, "X3.\nM99".into())];
-        let text = compose(1, &programs).unwrap();
+        let text = compose(1, &programs).unwrap().text;
         assert!(text.starts_with("G01 X1.\n"), "{text}");
         assert!(text.contains("\nO0002\nX2.") && text.contains("\nO0003\nX3."), "{text}");
         assert!(compose(4, &programs).is_none());
@@ -171,8 +298,53 @@ mod tests {
         assert_eq!(first_number(""), None);
         // A text with its own number in the ISO form is not given another (two programs 2).
         let iso = vec![(1, "M98 P2\nM30\n".to_string()), (2, "(sub)\n:0002\nX2.\nM99\n".into())];
-        let text = compose(1, &iso).unwrap();
+        let text = compose(1, &iso).unwrap().text;
         assert!(!text.contains("O0002"), "{text}");
         assert_eq!(fivex_engine::lang::parse_file(&text).programs.iter().filter(|p| p.number == Some(2)).count(), 1);
+    }
+
+    /// The programs the engine loads from `text`, by number (0: anonymous), in order.
+    fn numbers(text: &str) -> Vec<u32> {
+        programs_in(text).iter().map(|p| p.number.unwrap_or(0)).collect()
+    }
+
+    #[test]
+    fn a_selected_text_without_blocks_runs_alone_and_a_second_program_in_a_text_is_left_out() {
+        let others = vec![(2, "O0002\nG0 Y7.\nM30\n".to_string())];
+        for empty in ["", "%\n%\n", "(only a comment)\n", "\n\n"] {
+            let mut programs = others.clone();
+            programs.push((1, empty.to_string()));
+            assert_eq!(compose(1, &programs).unwrap().text, empty, "{empty:?}");
+            assert_eq!(compose_mdi(empty, &others).text, empty);
+        }
+        // Texts stored before the store refused a second program: only their first is loaded.
+        let hidden = vec![(1, "M98 P18\nM30\nO0019\nM99\n".to_string()), (17, "O0017\nM99\nO0018\nM99\n".into())];
+        assert_eq!(numbers(&compose(1, &hidden).unwrap().text), vec![0, 17]);
+        assert_eq!(numbers(&compose_mdi("M98 P1\n", &hidden).text), vec![0, 1, 17]);
+        assert_eq!(first_program_only("G0 X1.\nO0005\nM99\n"), "G0 X1.\n");
+    }
+
+    #[test]
+    fn a_line_of_the_composed_text_is_located_in_its_own_program() {
+        // Program 2 has its number (after a header comment), 3 gets one, 1 has no line end.
+        let programs = vec![
+            (1, "G01 X1.\nM98 P2\nM30".to_string()),
+            (2, "(sub)\nO0002\nX2.\nM99\n".into()),
+            (3, "X3.\r\n#3000=1\n".into()),
+        ];
+        let composed = compose(1, &programs).unwrap();
+        let text: Vec<&str> = composed.text.lines().collect();
+        for (program, line, block) in [(1, 2, "M98 P2"), (1, 3, "M30"), (2, 3, "X2."), (2, 4, "M99"), (3, 2, "#3000=1")]
+        {
+            let at = text.iter().enumerate().filter(|(_, t)| **t == block).map(|(i, _)| i as u32 + 1);
+            let at: Vec<u32> = at.filter(|&i| composed.layout.locate(i).0 == Some(program)).collect();
+            assert_eq!(at.len(), 1, "{block} in {text:?}");
+            assert_eq!(composed.layout.locate(at[0]), (Some(program), line), "{block}");
+        }
+        assert_eq!(composed.layout.locate(0), (Some(1), 0));
+        let mdi = compose_mdi("G0 X1.\nM98 P3\n", &programs);
+        assert_eq!(mdi.layout.locate(2), (None, 2));
+        let at = mdi.text.lines().position(|t| t == "#3000=1").unwrap() as u32 + 1;
+        assert_eq!(mdi.layout.locate(at), (Some(3), 2));
     }
 }

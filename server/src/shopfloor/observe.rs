@@ -32,8 +32,10 @@ pub struct Observed {
     pub run_state: RunState,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
-    /// 1-based line of the executing block (0 before any), its sequence number and its text.
+    /// 1-based line of the executing block (0 before any) in the program `line_program` (the
+    /// selected one or one it called; `None`: MDI's text), its sequence number and its text.
     pub line: u32,
+    pub line_program: Option<u32>,
     pub n: Option<u32>,
     pub block: Option<String>,
     /// Machine coordinates per axis, in the machine's axis order (mm or degrees), sampled.
@@ -65,13 +67,15 @@ impl Observed {
         let sample = c.sample();
         let axes = station.machine.axes.len();
         let line = sample.line;
+        let (line_program, own_line) = station.layouts.locate(line);
         let (parts, parts_required) = c.interpreter().state.part_count();
         Observed {
             emergency_stop: c.emergency_stopped(),
             mode: c.mode(),
             run_state: c.run_state(),
             program: station.program,
-            line,
+            line: own_line,
+            line_program,
             n: sample.n,
             block: c.source_line(line).map(|text| text.trim().to_string()),
             machine: station.machine.shown(&sample.machine)[..axes].to_vec(),
@@ -84,7 +88,7 @@ impl Observed {
             tool: c.modal().words.spindle_tool,
             parts,
             parts_required,
-            alarms: c.alarms().iter().map(AlarmInfo::from).collect(),
+            alarms: station.layouts.alarms(c.alarms()),
             time_s: c.time(),
         }
     }

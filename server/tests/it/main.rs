@@ -15,3 +15,4 @@ mod layers;
 mod metrics;
 mod restart;
 mod shopfloor;
+mod stored_programs;

@@ -218,6 +218,7 @@ mod tests {
             run_state: if alarms.is_empty() { RunState::Running } else { RunState::Alarm },
             program: Some(1),
             line: 3,
+            line_program: Some(1),
             n: None,
             block: None,
             machine: vec![x, 0.0, 0.0],
@@ -232,7 +233,7 @@ mod tests {
             parts_required: 0.0,
             alarms: alarms
                 .iter()
-                .map(|c| AlarmInfo { code: c.to_string(), message: "m".into(), line: 3, n: None })
+                .map(|c| AlarmInfo { code: c.to_string(), message: "m".into(), line: 3, n: None, program: Some(1) })
                 .collect(),
             time_s: 0.0,
         };

@@ -152,9 +152,13 @@ fn observation(o: &Observation) -> Element {
                 .attr("type", item.kind)
                 .attr("nativeCode", alarm.code.clone())
                 .attr("conditionId", alarm.code.clone())
-                .text(match alarm.n {
-                    Some(n) => format!("{} (line {}, N{n})", alarm.message, alarm.line),
-                    None => format!("{} (line {})", alarm.message, alarm.line),
+                .text({
+                    // The line is the program's it is in (a called one's, named).
+                    let program = alarm.program.map(|p| format!("O{p:04} ")).unwrap_or_default();
+                    match alarm.n {
+                        Some(n) => format!("{} ({program}line {}, N{n})", alarm.message, alarm.line),
+                        None => format!("{} ({program}line {})", alarm.message, alarm.line),
+                    }
                 }),
             Said::Normal(code) => base("Normal")
                 .attr("type", item.kind)

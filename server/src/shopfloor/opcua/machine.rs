@@ -544,6 +544,7 @@ mod tests {
                 run_state: RunState::Idle,
                 program: None,
                 line: 0,
+                line_program: None,
                 n: None,
                 block: None,
                 machine: vec![0.0; 5],
