@@ -1908,11 +1908,7 @@ impl Segment {
             _ => 0.0,
         };
         let rotary_only = tip_len < 1e-9 && normal_only < 1e-9;
-        let len = if rotary_only {
-            turn
-        } else {
-            tip_len.max(normal_only)
-        };
+        let len = if rotary_only { turn } else { tip_len.max(normal_only) };
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);

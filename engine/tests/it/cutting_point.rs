@@ -659,3 +659,17 @@ fn a_new_normal_at_a_standing_cutting_point_moves_the_tip_within_the_limits() {
         assert!(lowest_point_error(bull, tool.tip, tool.tool, n, Vec3::zeros()) < 1e-6, "{src}");
     }
 }
+
+/// A D word selecting another offset inside cutting point control is PS5464 at its block
+/// (decision: §2.3.20 places the tool by D's radius and corner radius but does not say what a
+/// D changed in the mode does; the mode had kept D1's ball while D2 was shown, 4.13 mm off for
+/// a square end mill D2). The same D, and a D in the G49 block that ends the mode, run.
+#[test]
+fn a_d_change_in_cutting_point_control_is_refused() {
+    let head = "G90 G00 X0. Y0. Z50. B0. C0.\nG43.8 H1 D1 X0. Y0. Z0. B10. ,L2 I0. J0. K1.\n";
+    let refused = format!("{head}G01 X10. F100. D2\nX20.\nG49\nM30\n");
+    assert_eq!(alarm_of(&refused, "head-bc", BALL), Some(("PS5464".into(), 3)));
+    for tail in ["G01 X10. F100. D1\nG49\nM30\n", "G01 X10. F100.\nG49 D2\nM30\n"] {
+        assert_eq!(alarm_of(&format!("{head}{tail}"), "head-bc", BALL), None, "{tail}");
+    }
+}
