@@ -7,7 +7,8 @@
 //! decimal point in a block that names G04 or a canned cycle (PS0007), a `,L` other
 //! than `,L2` and a zero surface normal of cutting point control, Syntec's G05 format errors
 //! that literal words show, the addresses Syntec's G68.2/G43.4/G43.5 do not take (P, Q, R; an
-//! L other than 0/1), Haas's M97/M98/G65 without P and M97 P of a line the program does not
+//! L other than 0/1), the words of a G10 block its form does not take (`interp::g10`), Haas's
+//! M97/M98/G65 without P and M97 P of a line the program does not
 //! have, the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form, or with a
 //! literal P the program has no N for, Haas's G150 without P or with a P that is neither a
 //! line of the program nor a program of the file, and a block naming G93 and a cutting move
@@ -139,6 +140,12 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         };
                         if let Some((id, detail)) = refusal {
                             diags.push(at(l.col, id, detail.into()));
+                        }
+                    }
+                    // G10's block holds G10's data and nothing a run would drop (`interp::g10`).
+                    if codes().any(|c| c == code::G10) {
+                        if let Some((col, id, detail)) = g10_block(words, dialect) {
+                            diags.push(at(col.unwrap_or(block.col), id, detail.into()));
                         }
                     }
                     if dialect == Dialect::Syntec {
@@ -297,6 +304,37 @@ fn literal(words: &[NcWord], letter: u8) -> Word {
         Some(WordValue::Number { value, .. }) => Word::Value(*value),
         Some(WordValue::Expr(_)) => Word::Unknown,
     }
+}
+
+/// The first word of a G10 block that a run refuses (`interp::g10`, the interpreter's
+/// `refuse_g10_strangers`), with its column: an L no form has, a G code other than G90/G91, an
+/// address given twice or one the form does not take. The axis letters are X Y Z A B C U V W
+/// (a check knows no machine); an L that is an expression is left to the run.
+fn g10_block(words: &[NcWord], dialect: Dialect) -> Option<(Option<u32>, AlarmId, &'static str)> {
+    use crate::interp::g10;
+    let l = words.iter().rev().find(|w| w.letter == b'L');
+    let form = match l.map(|w| &w.value) {
+        None => return Some((None, AlarmId::DataSettingFormat, "G10 without L")),
+        Some(WordValue::Number { value, decimal_point }) => match g10::form(*value, *decimal_point, dialect) {
+            Ok(form) => form,
+            Err(id) => return Some((l.map(|w| w.col), id, "G10 L of no G10 form")),
+        },
+        Some(WordValue::Expr(_)) => return None,
+    };
+    for (i, w) in words.iter().enumerate() {
+        if w.letter == b'G' {
+            let WordValue::Number { value, .. } = w.value else { continue };
+            let found = gcode::code_of(value).and_then(|c| g10::g_code(c, Some(form), dialect));
+            if let Some((id, detail)) = found {
+                return Some((Some(w.col), id, detail));
+            }
+        } else if words[i + 1..].iter().any(|other| other.letter == w.letter) {
+            return Some((Some(w.col), AlarmId::DataSettingFormat, "an address given twice in a G10 block"));
+        } else if let Some(detail) = g10::address(w.letter, b"XYZABCUVW".contains(&w.letter), form) {
+            return Some((Some(w.col), AlarmId::ImproperAddress, detail));
+        }
+    }
+    None
 }
 
 /// The first word of a Syntec G05 block whose literal value is a format error (COR-107,

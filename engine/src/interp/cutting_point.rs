@@ -74,6 +74,21 @@ impl State {
         Ok(Some(CuttingPoint { tool, surface: None, commanded: Some(normal), vector: Vec3::zeros(), disturbed: false }))
     }
 
+    /// A D word that selects another offset while cutting point control stays on (not in the
+    /// G43.8/G43.9 block, which takes its D): PS5464. The manual places the tool from the
+    /// radius and corner radius of D (§2.3.20) but says nothing of a D changed in the mode; the
+    /// mode keeps the tool it started with, so running on would cut with the old tool's
+    /// geometry while the new D is shown (decision, `docs/five-axis.md`).
+    pub(super) fn refuse_d_change_in_cutting(&self, w: &Words) -> Result<(), AlarmId> {
+        let in_mode = self.tcp.as_ref().is_some_and(|t| t.cutting.is_some());
+        let stays = matches!(self.after_block(w, group::LENGTH_COMP), code::G43_8 | code::G43_9)
+            && self.block_code(w, group::LENGTH_COMP).is_none();
+        match w.integer(b'D') {
+            Some(d) if in_mode && stays && d != self.d as f64 => Err(AlarmId::CuttingPoint),
+            _ => Ok(()),
+        }
+    }
+
     /// A block's `,L2 I J K` (in Π, unit; omitted components 0), `None` when it has none.
     /// `,L` is `,L2` and belongs to cutting point control (`cutting`); I = J = K = 0 is PS5464
     /// (TCP-39).

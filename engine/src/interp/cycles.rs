@@ -136,7 +136,7 @@ impl State {
     /// "Canned cycles").
     pub(super) fn refuse_length_change_in_tip_cycle(&self, w: &Words) -> Result<(), AlarmId> {
         let length_code = self.block_code(w, group::LENGTH_COMP);
-        let changes = length_code.is_some() || (w.has(b'H') && !w.has_g(code::G10));
+        let changes = length_code.is_some() || w.has(b'H');
         let follows = self.plane_active() || self.tcp_active() || length_code.is_some_and(|c| code::TCP.contains(&c));
         if changes && follows && self.cycle_after_block(w) {
             return Err(AlarmId::GCodeNotBuilt);

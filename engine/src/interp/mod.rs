@@ -12,6 +12,7 @@ mod cycles;
 mod dwo;
 pub mod expr;
 mod frames;
+pub(crate) mod g10;
 pub mod gcode;
 mod haas_cycles;
 mod manual_view;

@@ -2,6 +2,7 @@
 //! coordinate systems, motion, M codes and subprogram/macro calls, in FANUC's order.
 
 use super::expr::{eval, round_to, ExprSettings, Value};
+use super::g10;
 use super::gcode::{self, GDef};
 use super::gcode::{code, group};
 use super::mcode;
@@ -510,10 +511,12 @@ impl State {
 
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
+        self.refuse_g10_strangers(w)?;
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
         self.refuse_plane_change_in_cycle(w)?;
         self.refuse_length_change_in_tip_cycle(w)?;
+        self.refuse_d_change_in_cutting(w)?;
         if self.cfg.refuse_unbuilt {
             self.refuse_unbuilt_nurbs(w)?;
         }
@@ -688,18 +691,15 @@ impl State {
         }
 
         // --- tool length compensation (group 08) --------------------------------------------
+        // (A G10 block holds no H: `refuse_g10_strangers`.)
         if let Some(h) = w.integer(b'H') {
-            if w.has_g(code::G10) {
-                // H is data of G10 there, not an offset selection.
-            } else {
-                self.h = offset_number(h, self.cfg.dialect)?;
-                tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
-                // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
-                // by the offset in this block, as in a G49 block.
-                let haas = self.cfg.dialect == Dialect::Haas;
-                if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
-                    self.modes[group::LENGTH_COMP] = code::G49;
-                }
+            self.h = offset_number(h, self.cfg.dialect)?;
+            tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
+            // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
+            // by the offset in this block, as in a G49 block.
+            let haas = self.cfg.dialect == Dialect::Haas;
+            if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
+                self.modes[group::LENGTH_COMP] = code::G49;
             }
         }
         if tool_length_changed {
@@ -1645,18 +1645,45 @@ impl State {
         }
     }
 
-    /// G10: programmable data input of work and tool offsets.
+    /// A G10 block holds G10's data and nothing that would be dropped (`g10`): a G code but
+    /// G90/G91, an address its form does not take, an address given twice (the G10 format
+    /// alarm: which of two P's is meant is not the control's guess).
+    fn refuse_g10_strangers(&self, w: &Words) -> Result<(), AlarmId> {
+        if !w.has_g(code::G10) {
+            return Ok(());
+        }
+        let dialect = self.cfg.dialect;
+        let (l, written) = w.word(b'L').ok_or(AlarmId::DataSettingFormat)?;
+        let l = if written == Form::Expr { round_to(l, 1.0) } else { l };
+        let form = g10::form(l, written == Form::Point, dialect)?;
+        if let Some((id, _)) = w.gcodes().iter().find_map(|&c| g10::g_code(c, Some(form), dialect)) {
+            return Err(id);
+        }
+        for (i, letter) in w.letters().enumerate() {
+            if letter != b'G' && w.letters().skip(i + 1).any(|other| other == letter) {
+                return Err(AlarmId::DataSettingFormat);
+            }
+            if g10::address(letter, self.axis_of(letter).is_some(), form).is_some() {
+                return Err(AlarmId::ImproperAddress);
+            }
+        }
+        Ok(())
+    }
+
+    /// G10: programmable data input of work and tool offsets (its block's words checked by
+    /// `refuse_g10_strangers`).
     fn data_setting(&mut self, w: &Words, machine_before: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let l = w.integer(b'L').ok_or(AlarmId::DataSettingFormat)?;
+        let form = g10::form(l, w.has_point(b'L'), self.cfg.dialect)?;
         let p = w.integer(b'P').ok_or(AlarmId::DataSettingFormat)?;
         if p < 0.0 || p.fract() != 0.0 {
             return Err(AlarmId::DataSettingFormat);
         }
         let incremental = self.modes[group::DISTANCE] == code::G91;
         let p = p as usize;
-        match l as u32 {
+        match form {
             // Haas: G10 L2 P0 is the G52 offset (FANUC's P0 is the external offset).
-            2 if p == 0 && self.cfg.dialect == Dialect::Haas => {
+            g10::Form::WorkOffset if l == 2.0 && p == 0 && self.cfg.dialect == Dialect::Haas => {
                 for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
                     if let Some(v) = self.value(w, axis.name as u8) {
                         self.local[i] = if incremental { self.local[i] + v } else { v };
@@ -1665,12 +1692,12 @@ impl State {
                 self.pos = self.machine_to_program(&machine_before);
                 self.sync_programmed();
             }
-            2 | 20 => {
+            g10::Form::WorkOffset => {
                 // Haas: G10 L20 P1–P99 (G154 P1–P99).
                 let max = if self.cfg.dialect == Dialect::Haas { 99 } else { MAX_G54_1 };
-                let index = match (l as u32, p) {
-                    (2, 0..=6) => p,
-                    (20, 1..) if p <= max => g54_1_index(p),
+                let index = match (l == 2.0, p) {
+                    (true, 0..=6) => p,
+                    (false, 1..) if p <= max => g54_1_index(p),
                     _ => return Err(AlarmId::IllegalOffsetNumber),
                 };
                 for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
@@ -1682,7 +1709,7 @@ impl State {
                 self.pos = self.machine_to_program(&machine_before);
                 self.sync_programmed();
             }
-            1 | 10..=13 => {
+            g10::Form::ToolOffset => {
                 let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;
                 if p > super::offsets::max_tool_offset(self.cfg.dialect) {
                     return Err(AlarmId::IllegalOffsetNumber);
@@ -1697,8 +1724,7 @@ impl State {
                 *slot = if incremental { *slot + r } else { r };
             }
             // Syntec: select the mechanism chain (its Q and its modes are checked in `modes`).
-            5000 if self.cfg.dialect == Dialect::Syntec => self.switch_chain(w, p, out)?,
-            _ => return Err(AlarmId::DataSettingFormat),
+            g10::Form::Chain => self.switch_chain(w, p, out)?,
         }
         Ok(())
     }

@@ -914,6 +914,18 @@ impl Follow {
         crate::cutting_point::Along::new(c.tool, c.normals, c.singular_deg, c.start, tool_at)
     }
 
+    /// How far the tip travels relative to the table along the way (chords of 32 steps): a
+    /// cutting point control block whose cutting point and rotary axes stand moves the tip by
+    /// its vector alone.
+    fn vector_travel(&self, from: &Pos, to: &Pos) -> f64 {
+        const STEPS: usize = 32;
+        let tip = |k: usize| {
+            let u = k as f64 / STEPS as f64;
+            self.aimed_tip(&self.angles(from, to, u), u)
+        };
+        (1..=STEPS).map(|k| (tip(k) - tip(k - 1)).norm()).sum()
+    }
+
     fn tip(&self, u: f64) -> Vec3 {
         match &self.circle {
             Some(c) => c.at(u),
@@ -1887,8 +1899,16 @@ impl Segment {
             }
             None => axes,
         };
-        let rotary_only = tip_len < 1e-9;
-        let len = if rotary_only { turn } else { tip_len };
+        // Cutting point control: the cutting point and the rotary axes may stand while the tip
+        // moves, by a new surface normal (`,L2`) alone; the block's path is then the tip's,
+        // fed at F like any move (without this its length was 0 and the planner dropped it: the
+        // next block's first sample stepped by the tip's travel).
+        let normal_only = match &follow.cutting {
+            Some(_) if tip_len < 1e-9 && turn < 1e-9 => follow.vector_travel(from, &m.machine),
+            _ => 0.0,
+        };
+        let rotary_only = tip_len < 1e-9 && normal_only < 1e-9;
+        let len = if rotary_only { turn } else { tip_len.max(normal_only) };
         let rapid = matches!(m.kind, MotionKind::Rapid | MotionKind::MachineRapid);
         let to = m.machine;
         let n = sample_count(turn, sweep_deg);

@@ -2,7 +2,7 @@
 
 use crate::common;
 use common::*;
-use fivex_engine::Dialect::{Fanuc, Syntec};
+use fivex_engine::Dialect::{Fanuc, Haas, Syntec};
 
 /// The alarm `src` ends in, in both dialects, with the line it names.
 fn both(src: &str, fanuc: &str, syntec: &str, line: u32) {
@@ -109,4 +109,53 @@ fn a_time_budget_alarm_names_the_block() {
     // 16.6 mm (less the speed-up).
     assert_eq!(r.cycle_time_s, 10.0);
     assert!(r.machine[0] > 16.0 && r.machine[0] < 16.7, "{}", r.machine[0]);
+}
+
+/// A G10 block holds G10's data, N and G90/G91, nothing else (`docs/conventions.md`, G10):
+/// `G10 L2 P1 X5. G43 H1` had set G43 and dropped its H (the next move ran without the
+/// length), `G10 L2 P1 X5. G01 Y10.` dropped the move. Another G code is the dialect's alarm
+/// for codes that cannot share a block, an address the form does not take the improper
+/// address, an address given twice or an L with a fraction the G10 format alarm; FANUC's L
+/// written with a decimal point is PS0007 as at its other addresses that take none.
+#[test]
+fn a_g10_block_refuses_the_commands_it_would_drop() {
+    let cases = [
+        ("G10 L2 P1 X5. G43 H1", ("PS0010", "COR-070", "339")),
+        ("G10 L2 P1 X5. G01 Y10. F100.", ("PS0010", "COR-070", "339")),
+        ("G10 L2 P1 X5. G54", ("PS0010", "COR-070", "339")),
+        ("G10 L2 P1 X5. H1", ("PS0009", "COR-002", "311")),
+        ("G10 L12 P1 R5. D1", ("PS0009", "COR-002", "311")),
+        ("G10 L10 P1 R5. Z1.", ("PS0009", "COR-002", "311")),
+        ("G10 L2 P1 X5. M03", ("PS0009", "COR-002", "311")),
+        ("G10 L2 P1 X5. F100.", ("PS0009", "COR-002", "311")),
+        ("G10 L2 P1 X5. X6.", ("PS1144", "COR-014", "703")),
+        ("G10 L2 P1 P2 X5.", ("PS1144", "COR-014", "703")),
+        ("G10 L2.4 P1 X5.", ("PS0007", "COR-014", "703")),
+        ("G10 L2. P1 X5.", ("PS0007", "", "")),
+    ];
+    for (block, (fanuc, syntec, haas)) in cases {
+        let src = format!("G00 Z50.\n{block}\nG00 X10.\nM30\n");
+        for (dialect, code) in [(Fanuc, fanuc), (Syntec, syntec), (Haas, haas)] {
+            let r = run_with(&src, "mill3", dialect);
+            if code.is_empty() {
+                assert!(r.completed(), "{dialect:?} {block}: {:?}", r.alarms);
+                continue;
+            }
+            let got = r.alarms.first().map(|a| (a.code.as_str(), a.line));
+            assert_eq!(got, Some((code, 2)), "{dialect:?} {block}");
+        }
+    }
+    // G10's own blocks still run, with G90/G91 and N: X1 added to X5 in G54.
+    let src = "N1 G90 G10 L2 P1 X5.\nN2 G91 G10 L2 P1 X1.\nG90 G10 L12 P1 R5.\n#100=#5221\nM30\n";
+    for dialect in [Fanuc, Syntec, Haas] {
+        let r = run_with(src, "mill3", dialect);
+        assert!(r.completed(), "{dialect:?}: {:?}", r.alarms);
+        let v = |n| r.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v);
+        assert_eq!(v(100), Some(6.0), "{dialect:?}");
+    }
+    // `fivex check` reports them at the word.
+    let diags =
+        fivex_engine::check::check(fivex_engine::lang::parse_file("G10 L2 P1 X5. G43 H1\nG10 L12 P1 R5. D1\n"), Fanuc);
+    let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Fanuc.describe(&d.id).0)).collect();
+    assert_eq!(found, vec![(1, 15, "PS0010".to_string()), (2, 16, "PS0009".to_string())]);
 }

@@ -120,6 +120,41 @@ fn tv_23_switching_under_rtcp_is_cor_160() {
     assert_eq!(alarm("G43.4 H1\nG49\nG10 L5000 P2\n", exchange_head()), None);
 }
 
+/// The switch block holds G10's own words only (`docs/five-axis.md`, "Multiple mechanism
+/// chains"): `G10 L5000 P2 G43.4 H1` had started RTCP on set 1 without its H while the executor
+/// followed set 2 (a 58 mm axis step in 1 ms), and the move of `G10 L5000 P2 G01 X10.` was
+/// dropped. A 5-axis function turned on in the switch block is COR-160 (its solution: "make
+/// sure 5-axis function is disabled for the alarmed block"), any other G code COR-070, an
+/// address L5000 does not take COR-002, an address given twice the G10 format alarm COR-014.
+#[test]
+fn the_chain_switch_block_holds_nothing_but_the_switch() {
+    let head = "G90 G00 X0. Y0. Z50. A0. B0. C0.\n";
+    for (block, code) in [
+        ("G10 L5000 P2 G43.4 H1", "COR-160"),
+        ("G10 L5000 P1 G43.4 H1", "COR-160"),
+        ("G10 L5000 P2 G43.5 H1 I0 J0 K1.", "COR-160"),
+        ("G10 L5000 P2 G68.2 X0 Y0 Z0 I0 J0 K0", "COR-160"),
+        ("G10 L5000 P2 G53.1", "COR-160"),
+        ("G10 L5000 P2 G01 X10. F100.", "COR-070"),
+        ("G10 L5000 P2 G43 H1", "COR-070"),
+        ("G10 L5000 P2 X10.", "COR-002"),
+        ("G10 L5000 P2 H1", "COR-002"),
+        ("G10 L5000 P2 M03", "COR-002"),
+        ("G10 L5000 P2 P3", "COR-014"),
+        ("G10 L5000.5 P2", "COR-014"),
+    ] {
+        let src = format!("{head}{block}\nG01 X20. B10. F500.\nM30\n");
+        assert_eq!(alarm(&src, exchange_head()), at(code, 2), "{block}");
+    }
+    // What the block may hold besides G10's words: N and G90/G91.
+    let ok = format!("{head}N2 G90 G10 L5000 P2\nG91 G10 L5000 P1 Q1\nM30\n");
+    assert_eq!(alarm(&ok, exchange_head()), None);
+    // `fivex check` finds them without running.
+    let diags = fivex_engine::check::check(parse_file("G10 L5000 P2 G43.4 H1\nG10 L5000 P2 G01 X10.\n"), Syntec);
+    let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Syntec.describe(&d.id).0)).collect();
+    assert_eq!(found, vec![(1, 14, "COR-160".to_string()), (2, 14, "COR-070".to_string())]);
+}
+
 #[test]
 fn tv_23b_a_set_or_sub_chain_that_is_not_configured_is_cor_161() {
     // Set 3 absent (Pr5501 = 0); sets outside 1–4; set 2 on a one-chain machine; set 1 on a

@@ -618,3 +618,58 @@ proptest! {
         check_limits(&samples, &m, &src)?;
     }
 }
+
+/// A block whose cutting point stands while its `,L2` normal changes moves the tool tip (the
+/// vector r·n + (R−r)·ŵ − r·v follows n): it is a block of its own, fed at F, not a zero move
+/// the planner drops (before, it had no sample and the next block's first sample stepped the
+/// axes 6.23 mm in 1 ms). Bull nose R5 r2 on head-bc at B20 (v = (sin 20°, 0, cos 20°)): by hand,
+/// tip − cut is (−3.5031, 0, 1.1467) for n = (0, 0, 1), and for n = (0.5, 0.2, 1)/1.1358
+/// ŵ = (n − v(n·v))/|…| = (0.5304, 0.3874, −0.7541), so 2n + 3ŵ − 2v = (1.7146, 2.8800, −0.6711):
+/// the tip travels 6.2308 mm.
+#[test]
+fn a_new_normal_at_a_standing_cutting_point_moves_the_tip_within_the_limits() {
+    let m = MachineConfig::preset("head-bc").unwrap();
+    let kin = Kinematics::new(&m).unwrap();
+    let bull = Shape { radius: 5.0, corner: 2.0 };
+    for g91 in ["", "G91 "] {
+        let src = format!(
+            "G90 G00 X0. Y0. Z50. B0. C0.\nG43.8 H1 D1 X0. Y0. Z0. B20. C0. ,L2 I0. J0. K1.\n\
+             {g91}G01 X0. F1000. ,L2 I0.5 J0.2 K1.\nG90 X10.\nG49\nM30\n"
+        );
+        let (r, samples) = run_tool(&m, bull, &src);
+        assert!(r.completed(), "{:?}\n{src}", r.alarms);
+        check_limits(&samples, &m, &src).unwrap();
+        let line3: Vec<&Sample> = samples.iter().filter(|s| s.line == 3).collect();
+        // 6.23 mm at 1000 mm/min is about 0.37 s.
+        assert!(line3.len() > 300, "{} samples of line 3\n{src}", line3.len());
+        let tip = |machine: &Pos| kin.forward(machine, LENGTH).tip;
+        let near = |a: Vec3, b: [f64; 3], tol: f64| (a - Vec3::from(b)).norm() < tol;
+        let (hand_start, hand_end) = ([-3.5031, 0.0, 1.1467], [1.7146, 2.8800, -0.6711]);
+        // The samples: from the start vector to within one sample's travel (F1000: 0.017 mm)
+        // of the end vector.
+        assert!(near(tip(&line3[0].machine), hand_start, 1e-3), "{src}");
+        assert!(near(tip(&line3.last().unwrap().machine), hand_end, 0.02), "{src}");
+        // The block's end: the tool touches the standing cutting point with the new normal.
+        let mut interp = interpreter_with(&src, "head-bc", Dialect::Fanuc, |_| {});
+        set_tool(&mut interp, bull);
+        let end = end_of(&motion_ends(interp), 3);
+        assert!(near(tip(&end), hand_end, 1e-4), "{end:?}\n{src}");
+        let n = Vec3::new(0.5, 0.2, 1.0).normalize();
+        let tool = kin.forward(&end, LENGTH);
+        assert!(lowest_point_error(bull, tool.tip, tool.tool, n, Vec3::zeros()) < 1e-6, "{src}");
+    }
+}
+
+/// A D word selecting another offset inside cutting point control is PS5464 at its block
+/// (decision: §2.3.20 places the tool by D's radius and corner radius but does not say what a
+/// D changed in the mode does; the mode had kept D1's ball while D2 was shown, 4.13 mm off for
+/// a square end mill D2). The same D, and a D in the G49 block that ends the mode, run.
+#[test]
+fn a_d_change_in_cutting_point_control_is_refused() {
+    let head = "G90 G00 X0. Y0. Z50. B0. C0.\nG43.8 H1 D1 X0. Y0. Z0. B10. ,L2 I0. J0. K1.\n";
+    let refused = format!("{head}G01 X10. F100. D2\nX20.\nG49\nM30\n");
+    assert_eq!(alarm_of(&refused, "head-bc", BALL), Some(("PS5464".into(), 3)));
+    for tail in ["G01 X10. F100. D1\nG49\nM30\n", "G01 X10. F100.\nG49 D2\nM30\n"] {
+        assert_eq!(alarm_of(&format!("{head}{tail}"), "head-bc", BALL), None, "{tail}");
+    }
+}
