@@ -2,4 +2,4 @@
 G43.4 H1
 G02 B10. F100
 (tcp TCP-06/07/10 [alarm not named: PS5421, decision; FANUC only])
-(expect: alarm[fanuc]=PS5421 alarm[syntec]=COR-012)
+(expect: alarm[fanuc]=PS5421 alarm[syntec]=COR-017)
