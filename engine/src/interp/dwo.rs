@@ -33,6 +33,12 @@ impl State {
         self.dwo_due
     }
 
+    /// The machine has a rotary axis for G254 to act on: a 3-axis machine's kinematics has no
+    /// joint (a 3-axis preset has kinematics too, so its presence alone says nothing).
+    pub(super) fn dwo_has_rotary(&self) -> bool {
+        self.kinematics.as_ref().is_some_and(|k| !k.joints().is_empty())
+    }
+
     /// The active work offset's value on the tilt axis (the master of a trunnion, which carries
     /// the platter), 0 on other machines: the manual asks for 0 with G254 (a tilted work
     /// offset would turn the workpiece system out of the table's plane).

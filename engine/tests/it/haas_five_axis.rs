@@ -414,3 +414,13 @@ fn g254_drills_into_the_turned_part() {
         }
     }
 }
+
+/// G254 on a machine without rotary axes is refused at its block (`IllegalCommandInMode`, 730;
+/// decision, `docs/dialects.md`): a 3-axis preset has kinematics too, and G254 ran there
+/// silently before.
+#[test]
+fn g254_is_refused_without_rotary_axes() {
+    let r = common::run_with("G00 G43 H1 Z50.\nG254\nG00 X0 Y0\nM30\n", "mill3", Dialect::Haas);
+    assert!(!r.completed(), "G254 ran on a 3-axis machine");
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("730", 2), "{:?}", r.alarms);
+}
