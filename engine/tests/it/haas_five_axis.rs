@@ -424,3 +424,24 @@ fn g254_is_refused_without_rotary_axes() {
     assert!(!r.completed(), "G254 ran on a 3-axis machine");
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("730", 2), "{:?}", r.alarms);
 }
+
+/// The UMC-750's B tilts about Y, −35…120 (Autodesk's Haas NGC post, `docs/dialects.md`,
+/// "Haas 5-axis"). By hand: G54 (−381, −254, −400), MRZP (−381, −254, −432); at B30 C0 the
+/// part's origin, 32 above the MRZP, turns with the table by −30° about Y (left-hand) to
+/// MRZP + (32·sin −30°, 0, 32·cos 30°) = (−397, −254, −404.2872), and the nose stands 100 above
+/// it; the tool leans toward the part's +X, (sin 30°, 0, cos 30°). B118 is inside the range.
+#[test]
+fn umc_b_tilts_about_y() {
+    let m = umc();
+    let src = "G10 L2 P1 X-381. Y-254. Z-400.\nG90 G54 G00 B30. C0 Z150.\nG234 H1\nG01 X0 Y0 Z0 F1000.\nM30\n";
+    let (r, samples) = run_on(&m, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let want = [-397.0, -254.0, -404.287_187_078_897_9 + LENGTH];
+    for (k, w) in want.iter().enumerate() {
+        assert!((r.machine[k] - w).abs() < 1e-6, "machine {:?}, want {want:?}", r.machine);
+    }
+    let tool = samples.last().unwrap().tool;
+    assert!((tool[0] - 0.5).abs() < 1e-9 && tool[1].abs() < 1e-9, "tool {tool:?}");
+    let (r, _) = run_on(&m, "G90 G54 G00 B118. C0\nB-34.\nM30\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+}
