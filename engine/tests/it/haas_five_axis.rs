@@ -511,3 +511,38 @@ fn umc_b_tilts_about_y() {
     let (r, _) = run_on(&m, "G90 G54 G00 B118. C0\nB-34.\nM30\n");
     assert!(r.completed(), "{:?}", r.alarms);
 }
+
+/// Haas: a G49 block without axis words moves nothing, whether it ends G234 or G43; the length
+/// is gone from the next move on (`docs/dialects.md`, "Haas 5-axis": Autodesk's Haas NGC post
+/// writes `G49 (TCPC OFF)` at the last cutting point and then `G53 G0 Z…`; a G49 that dropped
+/// the spindle by the tool length would crash every such program). By hand: after G49 with G54
+/// Z −450 the nose goes to work Z200 at machine Z −250; with G54 Z −400 and G43 H1 (100) at Z50
+/// the nose stands at −250, stays there through G49 and X10., and Z50. then puts it at −350.
+/// FANUC's G49 block still moves by the length (−350 at once).
+#[test]
+fn g49_without_axis_words_moves_nothing() {
+    let m = umc();
+    let src = "G10 L2 P1 X-400. Y-230. Z-450.\nG90 G54 G00 B20. C30. Z100.\nG234 H1\nG01 X10. Y5. Z60. F1000.\nG49\nG00 Z200.\nG53 Z0\nM30\n";
+    let (r, _) = run_on(&m, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let ends = motion_ends(interpreter_with(src, "mill3", Dialect::Haas, |c| c.machine = m.clone().into()));
+    assert!(ends.iter().all(|(l, _)| *l != 5), "the G49 block moved: {ends:?}");
+    let (cut, up) = (end_of(&ends, 4), end_of(&ends, 6));
+    assert!((up[0] - cut[0]).abs() < 1e-9 && (up[1] - cut[1]).abs() < 1e-9, "{cut:?} → {up:?}");
+    assert!((up[2] + 250.0).abs() < 1e-9, "after G49 the nose goes to work Z200: {up:?}");
+
+    let src = "G10 L2 P1 X-400. Y-230. Z-400.\nG90 G54 G00 G43 H1 Z50.\nG49\nX10.\nZ50.\nM30\n";
+    for (dialect, at_g49) in [(Dialect::Haas, None), (Dialect::Fanuc, Some(-350.0))] {
+        let ends = motion_ends(interpreter_with(src, "mill3", dialect, |_| {}));
+        let z = |line| end_of(&ends, line)[2];
+        assert!((z(2) + 250.0).abs() < 1e-9, "{dialect:?}: {ends:?}");
+        match at_g49 {
+            None => {
+                assert!(ends.iter().all(|(l, _)| *l != 3), "{dialect:?}: the G49 block moved: {ends:?}");
+                assert!((z(4) + 250.0).abs() < 1e-9 && (end_of(&ends, 4)[0] + 390.0).abs() < 1e-9, "{ends:?}");
+            }
+            Some(want) => assert!((z(3) - want).abs() < 1e-9, "{dialect:?}: {ends:?}"),
+        }
+        assert!((z(5) + 350.0).abs() < 1e-9, "{dialect:?}: {ends:?}");
+    }
+}
