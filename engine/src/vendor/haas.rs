@@ -132,6 +132,15 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     })
 }
 
+/// The MRZP settings (255–257) a list with a rotary unit leaves out: each is then 0, machine
+/// zero, which is no rotary centre of a real machine (reported when the list is loaded).
+pub fn missing_mrzp(p: &Params) -> Vec<u32> {
+    if p.code(UNIT, 0, 3).unwrap_or(0) == 0 {
+        return Vec::new();
+    }
+    (MRZP..MRZP + 3).filter(|n| !p.0.contains_key(n)).collect()
+}
+
 /// The Haas list of `m`, if `m` is one of the rotary units a Haas list describes.
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     let no = |what: String| unrepresentable("Haas", what);

@@ -341,6 +341,13 @@ fn haas_list_round_trips() {
     p.set(9000, 0.0);
     let report = vendor::unmodelled::of_params(Dialect::Haas, &p);
     assert!(report.iter().any(|u| u.parameter == "Setting 255"), "{report:?}");
+    // A rotary unit without its MRZP settings loads with the centre at machine zero: said.
+    let mut p = vendor::params_of(Dialect::Haas, &umc()).unwrap();
+    p.0.remove(&255);
+    p.0.remove(&257);
+    let report: Vec<String> =
+        vendor::unmodelled::of_params(Dialect::Haas, &p).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(report, ["Setting 255", "Setting 257"]);
 }
 
 /// G234 runs on a head machine too (head-bc: the tip machinery is the same); G254 is refused
