@@ -187,7 +187,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     let mrzp = m.rotary.first().map_or([0.0; 3], |l| l.point);
     for (j, l) in m.rotary.iter().enumerate() {
         let tilt = j == 0;
-        let direction = if tilt { tilt_direction(unit as i64) } else { [0.0, 0.0, 1.0] };
+        let direction = if tilt { tilt_direction(unit) } else { [0.0, 0.0, 1.0] };
         if l.side != Side::Table || l.direction != direction || l.hand != Hand::Left || l.point != mrzp {
             return Err(no(format!("{}: not the Haas unit's axis through the MRZP", l.axis)));
         }
