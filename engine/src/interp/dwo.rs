@@ -1,18 +1,26 @@
 //! Haas G254 dynamic work offset (DWO) and G255, its cancel (group 23; `docs/dialects.md`,
 //! "Haas 5-axis"). DWO is 3+2 positioning: with the rotary axes standing where the program put
-//! them, G254 makes the block's X/Y/Z the work coordinate system as it turned with the table —
-//! the active work offset placed on the table at the rotary zero (the MRZP centres are the
-//! machine's mechanism), so the program is the CAM program written for the part at B0 C0.
+//! them, G254 carries the active work offset's origin with the table's rotation about the rotary
+//! centres (MRZP) and leaves the axes parallel to the machine's: the block's X/Y/Z are the tip
+//! from that origin along machine X, Y, Z, so Z is the spindle direction and a canned cycle feeds
+//! along the tool. That is how the Haas manual describes it ("applies the appropriate offsets to
+//! account for the differences between the programmed workpiece location and the actual
+//! workpiece location") and how Autodesk's Haas NGC post writes 3+2 programs (coordinates turned
+//! by the remaining orientation, machine-aligned).
 //!
-//! That is a tilted working plane whose feature coordinate system is the workpiece system itself,
-//! fixed to the table: DWO runs on the plane machinery (`super::plane`, `plane_motion`) with an
-//! identity FCS, the tool length along the tool as it stands. The rules of the manual are
-//! checked before the block changes anything (`super::modes`, the `Haas` rows): no rotary motion
-//! under G254 or in its block, not with G234 or a tilted plane, the work offset's tilt axis at
-//! zero, and X, Y and Z all commanded before the first cutting move (tracked here), no G28/G29
-//! (the manual advises against them; which point they start from is not said: a decision). G53
-//! and M06 ignore it (they move in machine terms; the current point follows), reset, M02,
-//! M30 and G255 cancel it, M00/M01 do not.
+//! fivex runs it as a tilted working plane (`super::plane`, `plane_motion`) whose feature
+//! coordinate system, in the workpiece system, has the work origin and the machine's axes as the
+//! table stands: the tool length along the tool as it stands, the current point the tip where it
+//! stands (an X/Y block then moves machine X/Y only, as the manual's "X and Y in one block, Z in
+//! a separate block" expects). The rules of the manual are checked before the block changes
+//! anything (`super::modes`, the `Haas` rows): no rotary motion under G254 or in its block, not
+//! with G234 or a tilted plane, the work offset's tilt axis at zero, and X, Y and Z all commanded
+//! before the first cutting move (tracked here), no G28/G29 (the manual advises against them;
+//! which point they start from is not said: a decision); only on machines whose rotary axes are
+//! all on the table (decision: the pages describe table units; on a head the tool turns, and
+//! whether the NGC's X/Y/Z would then turn with it is not said). G53 and M06 ignore it (they move
+//! in machine terms; the current point follows), reset, M02, M30 and G255 cancel it, M00/M01 do
+//! not.
 
 use super::gcode::{code, group};
 use super::nc::Words;
@@ -31,6 +39,24 @@ impl State {
     /// The linear axes not yet commanded since G254 (bits X 0, Y 1, Z 2).
     pub(super) fn dwo_due(&self) -> u8 {
         self.dwo_due
+    }
+
+    /// The machine has rotary axes for G254 to act on, all of them on the table: a 3-axis
+    /// machine's kinematics has no joint (a 3-axis preset has kinematics too, so its presence
+    /// alone says nothing); a head axis is refused (decision, see the module's note).
+    pub(super) fn dwo_mechanism_fits(&self) -> bool {
+        self.kinematics.as_ref().is_some_and(|k| k.head.is_empty() && !k.table.is_empty())
+    }
+
+    /// The DWO frame in the workpiece system at machine position `machine`: the work origin,
+    /// carried by the table (`plane_frame` places the workpiece system on the table at the
+    /// rotary zero), and the machine's axes as the table stands now, seen from the table at the
+    /// rotary zero.
+    fn dwo_frame(&self, machine: &crate::canon::Pos) -> Rigid {
+        let Some(kin) = &self.kinematics else { return Rigid::identity() };
+        let zero = self.at_rotary_zero(kin, machine);
+        let r = kin.table_frame(&zero).r * kin.table_frame(machine).r.transpose();
+        Rigid { r, o: nalgebra::Vector3::zeros() }
     }
 
     /// The active work offset's value on the tilt axis (the master of a trunnion, which carries
@@ -58,14 +84,14 @@ impl State {
     }
 
     /// The block's G254/G255 after the modal groups were updated (`before`: group 23 before
-    /// the block). G254 puts the workpiece system on the table as it stands; G255 ends it, the
-    /// machine staying where it is.
+    /// the block). G254 carries the work origin with the table as it stands, the axes the
+    /// machine's; G255 ends it, the machine staying where it is.
     pub(super) fn apply_dwo(&mut self, w: &Words, before: u16) {
         let given = self.xyz_given(w);
         let on = self.dwo_active();
         if on && before != code::G254 {
             let machine = self.machine_position();
-            self.plane = Some(Rigid::identity());
+            self.plane = Some(self.dwo_frame(&machine));
             self.plane_moved_to(machine);
             self.dwo_due = XYZ & !given;
         } else if on {

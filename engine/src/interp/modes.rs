@@ -621,8 +621,8 @@ static RULES: &[Rule] = &[
     rule(Haas, "haas G254: not with a tilted working plane (decision)", A::IllegalCommandInMode, |c| {
         c.during(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.during(group::ROTATION, |c, m| c.twp(m))
     }),
-    rule(Haas, "haas G254: a machine with rotary axes (decision)", A::IllegalCommandInMode, |c| {
-        c.starts(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.st.kinematics.is_none()
+    rule(Haas, "haas G254: a machine with rotary axes, all on the table (decision)", A::IllegalCommandInMode, |c| {
+        c.starts(group::DYNAMIC_FIXTURE, |_, m| m == G254) && !c.st.dwo_mechanism_fits()
     }),
     rule(Haas, "haas G254: the work offset's tilt axis value is zero", A::DwoWorkOffsetTilt, |c| {
         c.starts(group::DYNAMIC_FIXTURE, |_, m| m == G254) && c.st.dwo_tilt_offset() != 0.0

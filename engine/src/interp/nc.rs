@@ -696,7 +696,8 @@ impl State {
             self.h = offset_number(h, self.cfg.dialect)?;
             tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
             // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
-            // by the offset in this block, as in a G49 block.
+            // by the offset in this block (a G49 block without axis words does not:
+            // `haas_g49_in_place`; no source for H0 either way).
             let haas = self.cfg.dialect == Dialect::Haas;
             if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
                 self.modes[group::LENGTH_COMP] = code::G49;
@@ -718,6 +719,9 @@ impl State {
             self.tcp_end();
         }
         self.tcp_words(w)?;
+        if self.haas_g49_in_place(w, axes_owner.is_none(), machine_before) {
+            tool_length_changed = false;
+        }
 
         // --- one-shot G codes ---------------------------------------------------------------
         let mut moved = false;
@@ -988,6 +992,28 @@ impl State {
     /// moves only the axes it names.
     fn g28_returns_every_axis(&self, w: &Words) -> bool {
         self.cfg.dialect == Dialect::Haas && !self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8))
+    }
+
+    /// Haas: a G49 block (G43/G44 or G234 ending) that has no axis words and runs no canned
+    /// cycle moves nothing; the length is gone from the next move on, so the current point is
+    /// read again where the machine stands (`docs/dialects.md`, "Haas 5-axis": Autodesk's Haas
+    /// NGC post ends every TCPC section with `G49 (TCPC OFF)` at its last cutting point and then
+    /// retracts with `G53 G0 Z`, which a G49 that dropped the spindle by the tool length would
+    /// crash). Returns whether it applied (`machine`: where the machine stands).
+    fn haas_g49_in_place(&mut self, w: &Words, owns_axes: bool, machine: Pos) -> bool {
+        let cycle = self.modes[group::CYCLE] != code::G80 && (w.has(b'R') || w.gcodes().iter().any(|&c| is_cycle(c)));
+        let axis_words = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
+        if self.cfg.dialect != Dialect::Haas || !w.has_g(code::G49) || axis_words || !owns_axes || cycle {
+            return false;
+        }
+        self.follow_machine = None;
+        if self.plane_active() {
+            self.plane_moved_to(machine);
+        } else {
+            self.pos = self.machine_to_program(&machine);
+            self.sync_programmed();
+        }
+        true
     }
 
     /// Haas: H0, G28, M30 and reset cancel tool length compensation (96-8000 rev R, G49; the

@@ -10,8 +10,10 @@
 //!
 //! The rotary units fivex knows (9000): 1 a 4th axis A about X on the table (an HRT rotary);
 //! 2 a trunnion on a VF, A tilting about X carrying a platter B about Z (TR160, TRT160: Haas
-//! names the platter of a VF's 5th axis B); 3 a UMC, B tilting about X carrying a platter C
-//! about Z. Table axes turn left-hand, as in fivex's presets (ISO 841: the table turns the
+//! names the platter of a VF's 5th axis B); 3 a UMC, B tilting about Y carrying a platter C
+//! about Z (the line of Autodesk's certified "HAAS - Next Generation Control" Fusion post,
+//! whose UMC-500/750/1000 models have B `axis:[0, 1, 0]`, C `axis:[0, 0, 1]`; `docs/dialects.md`,
+//! "Haas 5-axis"). Table axes turn left-hand, as in fivex's presets (ISO 841: the table turns the
 //! other way than the tool would). The platter and a 4th axis without a range roll over and take
 //! the shortest way (decision, `docs/dialects.md`, "Haas 5-axis").
 
@@ -32,6 +34,15 @@ pub const ROTARY_RAPID: u32 = 9007;
 pub const TILT_RANGE: u32 = 9009;
 /// Constructed: linear acceleration, mm/s² (0: the engine's default).
 pub const ACCEL: u32 = 9011;
+
+/// The line of the unit's tilt (or 4th) axis: a UMC's B about Y, an A about X.
+fn tilt_direction(unit: i64) -> [f64; 3] {
+    if unit == 3 {
+        [0.0, 1.0, 0.0]
+    } else {
+        [1.0, 0.0, 0.0]
+    }
+}
 
 /// The rotary units: (tilt or 4th axis, platter) letters.
 fn unit_axes(unit: i64) -> &'static [char] {
@@ -90,7 +101,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         rotary.push(RotaryLink {
             axis: letter,
             side: Side::Table,
-            direction: if tilt { [1.0, 0.0, 0.0] } else { [0.0, 0.0, 1.0] },
+            direction: if tilt { tilt_direction(unit) } else { [0.0, 0.0, 1.0] },
             hand: Hand::Left,
             point: mrzp,
             zero_offset: 0.0,
@@ -119,6 +130,15 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         five_axis: Default::default(),
         manual: Default::default(),
     })
+}
+
+/// The MRZP settings (255–257) a list with a rotary unit leaves out: each is then 0, machine
+/// zero, which is no rotary centre of a real machine (reported when the list is loaded).
+pub fn missing_mrzp(p: &Params) -> Vec<u32> {
+    if p.code(UNIT, 0, 3).unwrap_or(0) == 0 {
+        return Vec::new();
+    }
+    (MRZP..MRZP + 3).filter(|n| !p.0.contains_key(n)).collect()
 }
 
 /// The Haas list of `m`, if `m` is one of the rotary units a Haas list describes.
@@ -167,7 +187,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     let mrzp = m.rotary.first().map_or([0.0; 3], |l| l.point);
     for (j, l) in m.rotary.iter().enumerate() {
         let tilt = j == 0;
-        let direction = if tilt { [1.0, 0.0, 0.0] } else { [0.0, 0.0, 1.0] };
+        let direction = if tilt { tilt_direction(unit) } else { [0.0, 0.0, 1.0] };
         if l.side != Side::Table || l.direction != direction || l.hand != Hand::Left || l.point != mrzp {
             return Err(no(format!("{}: not the Haas unit's axis through the MRZP", l.axis)));
         }

@@ -116,6 +116,15 @@ pub fn of_params(dialect: Dialect, given: &Params) -> Vec<Unmodelled> {
             }
         }
     }
+    if dialect == Dialect::Haas {
+        // Not a setting ignored but one missing: loading goes on with the centre at machine
+        // zero, so it is said (a UMC program would otherwise run about a pivot far off).
+        out.extend(super::haas::missing_mrzp(given).into_iter().map(|n| Unmodelled {
+            parameter: name(n),
+            reason:
+                "not given: the MRZP offset is 0 (machine zero), no real rotary centre; set it to the machine's".into(),
+        }));
+    }
     out.extend(of_model(&base));
     out
 }

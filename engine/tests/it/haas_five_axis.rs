@@ -2,8 +2,9 @@
 //! machines of the library (`machines/haas-*.json`, read as Haas settings lists), the rules of
 //! the manual as alarms, and the Haas list's round trip.
 //!
-//! Π, the programming frame of both functions, is the work coordinate system fixed to the table
-//! as it is at the rotary zero: the point `p` is at machine `p + G54` with the rotaries at 0.
+//! Π, G234's programming frame, is the work coordinate system fixed to the table as it is at
+//! the rotary zero: the point `p` is at machine `p + G54` with the rotaries at 0. G254's frame
+//! has Π's origin, carried by the table, and the machine's axes (`carried`).
 
 use crate::common;
 
@@ -131,16 +132,17 @@ proptest! {
 }
 
 /// G254 on the trunnions at several rotary positions: after it the tip reaches the programmed
-/// workpiece points — Π turned with the table — at the end of every move, rapid or cut.
+/// points — from the work origin carried by the table, along the machine's axes — at the end of
+/// every move, rapid or cut (expected positions by hand, `carried`).
 #[test]
 fn g254_reaches_the_workpiece_points() {
     for name in ["haas-umc-750", "haas-vf2-tr160"] {
         let m = haas(name);
-        let kin = Kinematics::new(&m).unwrap();
         let c = mrzp(&m);
         let g54 = [mm(c[0] + 12.5), mm(c[1] - 20.0), mm(c[2] + 35.0)];
-        let pi = pi(&kin, &m, g54);
         let (tilt, platter) = (m.rotary[0].axis, m.rotary[1].axis);
+        // The UMC's B about Y, the TR160's A about X.
+        let about = if tilt == 'B' { 'Y' } else { 'X' };
         for (t, p) in [(0.0, 0.0), (90.0, 0.0), (-30.0, 45.0), (60.0, -120.0), (100.0, 200.0)] {
             if m.rotary[0].range.is_some_and(|[lo, hi]| t < lo || t > hi) {
                 continue;
@@ -158,13 +160,14 @@ fn g254_reaches_the_workpiece_points() {
                 (8, -15.0, 12.0, Some(5.0)),
                 (9, -5.0, 22.0, Some(5.0)),
             ];
+            let o = carried(c, about, t, p, g54);
             for (line, x, y, z) in wants {
                 let end = end_of(&ends, line);
-                let tip = pi.from_parent(&kin.forward(&end, LENGTH).tip);
-                assert!((tip.x - x).abs() < 1e-6, "{name} {tilt}{t} {platter}{p} line {line}: {tip:?}");
-                assert!((tip.y - y).abs() < 1e-6, "{name} {tilt}{t} {platter}{p} line {line}: {tip:?}");
+                let tip = [end[0] - o[0], end[1] - o[1], end[2] - LENGTH - o[2]];
+                assert!((tip[0] - x).abs() < 1e-6, "{name} {tilt}{t} {platter}{p} line {line}: {tip:?}");
+                assert!((tip[1] - y).abs() < 1e-6, "{name} {tilt}{t} {platter}{p} line {line}: {tip:?}");
                 if let Some(z) = z {
-                    assert!((tip.z - z).abs() < 1e-6, "{name} {tilt}{t} {platter}{p} line {line}: {tip:?}");
+                    assert!((tip[2] - z).abs() < 1e-6, "{name} {tilt}{t} {platter}{p} line {line}: {tip:?}");
                 }
                 // The rotary axes stay where they were put.
                 for l in &m.rotary {
@@ -338,19 +341,25 @@ fn haas_list_round_trips() {
     p.set(9000, 0.0);
     let report = vendor::unmodelled::of_params(Dialect::Haas, &p);
     assert!(report.iter().any(|u| u.parameter == "Setting 255"), "{report:?}");
+    // A rotary unit without its MRZP settings loads with the centre at machine zero: said.
+    let mut p = vendor::params_of(Dialect::Haas, &umc()).unwrap();
+    p.0.remove(&255);
+    p.0.remove(&257);
+    let report: Vec<String> =
+        vendor::unmodelled::of_params(Dialect::Haas, &p).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(report, ["Setting 255", "Setting 257"]);
 }
 
-/// The Haas rows of `unbuilt.rs`'s performed list run to their end in the Haas dialect on its
-/// machine (head-bc: fivex performs TCPC and DWO on any mechanism, `docs/dialects.md`).
+/// G234 runs on a head machine too (head-bc: the tip machinery is the same); G254 is refused
+/// there at its block (730, decision: the pages describe DWO on table units, and whether the
+/// NGC's X/Y/Z would turn with a tilted head is not said; `docs/dialects.md`).
 #[test]
-fn haas_codes_run_on_a_head_machine_too() {
-    for body in [
-        "G234 H1\nG01 X10. Y5. Z20. B20. C30. F1000.\nG49\nM30\n",
-        "G00 B20. C30.\nG254\nG00 X1. Y1.\nZ1.\nG01 X2. F100.\nG255\nM30\n",
-    ] {
-        let r = common::run_with(body, "head-bc", Dialect::Haas);
-        assert!(r.completed(), "{body}: {:?}", r.alarms);
-    }
+fn haas_codes_on_a_head_machine() {
+    let body = "G234 H1\nG01 X10. Y5. Z20. B20. C30. F1000.\nG49\nM30\n";
+    let r = common::run_with(body, "head-bc", Dialect::Haas);
+    assert!(r.completed(), "{body}: {:?}", r.alarms);
+    let r = common::run_with("G00 B20. C30.\nG254\nG00 X1. Y1.\nZ1.\nG255\nM30\n", "head-bc", Dialect::Haas);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("730", 2), "{:?}", r.alarms);
 }
 
 /// The G234 page's conceptual example, in inches: the edge from X0 Y0 Z0 to X0 Y-1. Z0 of the
@@ -386,31 +395,161 @@ fn g234_manual_example_edge_in_inches() {
     assert!(moved.iter().all(|d| *d > 1.0), "{moved:?}");
 }
 
-/// A canned drilling cycle under G254 drills along the tool into the turned part: the hole's
-/// bottom is the programmed point of the workpiece system turned with the table.
+/// `v` turned by `deg` about the machine axis `axis` ('X', 'Y' or 'Z'), right-hand; written out
+/// here so that the expected positions do not come from fivex's kinematics.
+fn turned(axis: char, deg: f64, v: [f64; 3]) -> [f64; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    let [x, y, z] = v;
+    match axis {
+        'X' => [x, y * c - z * s, y * s + z * c],
+        'Y' => [x * c + z * s, y, -x * s + z * c],
+        _ => [x * c - y * s, x * s + y * c, z],
+    }
+}
+
+/// Where the table carries the point `q` (machine coordinates at the rotary zero) when the tilt
+/// axis (line `tilt` through the MRZP `p`) stands at `t` and the platter (about Z) at `c`: table
+/// axes turn left-hand, the platter rides on the tilt.
+fn carried(p: [f64; 3], tilt: char, t: f64, c: f64, q: [f64; 3]) -> [f64; 3] {
+    let r = turned(tilt, -t, turned('Z', -c, [q[0] - p[0], q[1] - p[1], q[2] - p[2]]));
+    [p[0] + r[0], p[1] + r[1], p[2] + r[2]]
+}
+
+/// G254 on a UMC as Autodesk's Haas NGC post writes a 3+2 drilling (`docs/dialects.md`, "Haas
+/// 5-axis"): the hole whose bottom is the part's (20, 10, −5), G54 (−400, −230, −450), the table
+/// at B30 C45. By hand (`carried`, B about Y through the MRZP (−381, −254, −432)): the work
+/// origin goes to (−368.9381, −223.5944, −445.8207) and the hole's bottom to (−348.0670,
+/// −230.6655, −439.5442), so the program gives the bottom as (20.8712, −7.0711, 6.2765) from the
+/// origin along machine X, Y, Z. The X/Y block moves machine X/Y only, the plunge machine Z only
+/// (along the spindle), and the nose ends 100 (the tool length) above the bottom.
 #[test]
-fn g254_drills_into_the_turned_part() {
+fn g254_axes_are_the_machine_s_and_the_origin_turns_with_the_table() {
     let m = umc();
-    let kin = Kinematics::new(&m).unwrap();
-    let g54 = [-381.0, -254.0, -432.0];
-    let src = format!(
-        "{}G90 G54 G00 B90. C30.\nG43 H1 Z150.\nG254\nG00 X5. Y5.\nZ20.\nG81 X5. Y5. Z-10. R2. F100.\nX-5. Y8.\nG80\nG255\nM30\n",
-        g10(g54)
-    );
-    let (r, samples) = run_on(&m, &src);
+    let src = "G10 L2 P1 X-400. Y-230. Z-450.\nG90 G54 G17 G00 B0 C0\nG43 H1 Z150.\nB30. C45.\nG254\nX20.8712 Y-7.0711\nZ56.2765\nG01 Z6.2765 F300.\nG00 Z56.2765\nG255\nM30\n";
+    let (r, samples) = run_on(&m, src);
     assert!(r.completed(), "{:?}", r.alarms);
-    let pi = pi(&kin, &m, g54);
-    for (line, x, y) in [(7, 5.0, 5.0), (8, -5.0, 8.0)] {
-        let tips: Vec<Vec3> = samples
-            .iter()
-            .filter(|s| s.line == line)
-            .map(|s| pi.from_parent(&kin.forward(&s.machine, LENGTH).tip))
-            .collect();
-        let bottom = tips.iter().copied().min_by(|a, b| a.z.total_cmp(&b.z)).unwrap();
-        assert!((bottom - Vec3::new(x, y, -10.0)).norm() < 1e-3, "line {line}: {bottom:?}");
-        // Drilled along the part's Z: X and Y stay at the hole while the tip is below R.
-        for t in tips.iter().filter(|t| t.z < 2.0 - 1e-6) {
-            assert!((t.x - x).abs() < 1e-6 && (t.y - y).abs() < 1e-6, "line {line}: {t:?}");
+    // Independent of the numbers above: the hole's bottom carried by hand.
+    let bottom = carried([-381.0, -254.0, -432.0], 'Y', 30.0, 45.0, [-380.0, -220.0, -455.0]);
+    let want = [bottom[0], bottom[1], bottom[2] + LENGTH];
+    assert!((want[0] + 348.0670).abs() < 1e-4 && (want[2] - 100.0 + 439.5442).abs() < 1e-4, "{want:?}");
+    let ends = motion_ends(interpreter_with(src, "mill3", Dialect::Haas, |c| c.machine = m.clone().into()));
+    let end = end_of(&ends, 8);
+    for k in 0..3 {
+        assert!((end[k] - want[k]).abs() < 1e-3, "plunge ends at {end:?}, want {want:?}");
+    }
+    let moved = |line: u32, k: usize| {
+        let on: Vec<f64> = samples.iter().filter(|s| s.line == line).map(|s| s.machine[k]).collect();
+        assert!(on.len() > 3, "line {line} runs");
+        on.iter().fold(0.0f64, |d, v| d.max((v - on[0]).abs()))
+    };
+    // The X/Y block: machine Z stays; the plunge and the retract: machine X and Y stay.
+    assert!(moved(6, 2) < 1e-9 && moved(6, 0) > 1.0, "the X/Y block moved Z");
+    for line in [8, 9] {
+        assert!(moved(line, 0) < 1e-9 && moved(line, 1) < 1e-9 && moved(line, 2) > 10.0, "line {line}");
+    }
+}
+
+/// A canned drilling cycle under G254 feeds along the spindle (machine Z) on every Haas rotary
+/// unit tilted (the auditor's G81 at A90 on the HRT160 fed along machine Y, across the drill):
+/// G54 the MRZP + (5, −8, 40); the hole at X10 Y5 from the carried origin, its bottom Z40,
+/// R50; by hand the bottom of the nose is the carried origin + (10, 5, 40 + 100).
+#[test]
+fn g254_drills_along_the_spindle() {
+    for (name, rotary, tilt, t, c) in [
+        ("haas-umc-750", "B30. C45.", 'Y', 30.0, 45.0),
+        ("haas-vf2-tr160", "A-30. B45.", 'X', -30.0, 45.0),
+        ("haas-vf2-hrt160", "A90.", 'X', 90.0, 0.0),
+    ] {
+        let m = haas(name);
+        let p = mrzp(&m);
+        let g54 = [p[0] + 5.0, p[1] - 8.0, p[2] + 40.0];
+        let src = format!(
+            "{}G90 G54 G17 G00 G43 H1 Z200.\nG00 {rotary}\nG254\nG00 X10. Y5.\nZ60.\nG98 G81 Z40. R50. F300.\nG80\nG255\nM30\n",
+            g10(g54)
+        );
+        let (r, samples) = run_on(&m, &src);
+        assert!(r.completed(), "{name}: {:?}", r.alarms);
+        let o = carried(p, tilt, t, c, g54);
+        let hole = [o[0] + 10.0, o[1] + 5.0];
+        let cycle: Vec<&Sample> = samples.iter().filter(|s| s.line == 7).collect();
+        assert!(cycle.len() > 10, "{name}: the cycle runs");
+        for s in &cycle {
+            assert!(
+                (s.machine[0] - hole[0]).abs() < 1e-6 && (s.machine[1] - hole[1]).abs() < 1e-6,
+                "{name}: the drill left the hole's line: {:?}, hole {hole:?}",
+                s.machine
+            );
         }
+        let deepest = cycle.iter().map(|s| s.machine[2]).fold(f64::INFINITY, f64::min);
+        assert!((deepest - (o[2] + 40.0 + LENGTH)).abs() < 1e-3, "{name}: bottom {deepest}, origin {o:?}");
+        // The X/Y block moved machine X/Y only.
+        let xy: Vec<&Sample> = samples.iter().filter(|s| s.line == 5).collect();
+        assert!(xy.iter().all(|s| (s.machine[2] - xy[0].machine[2]).abs() < 1e-9), "{name}: the X/Y block moved Z");
+    }
+}
+
+/// G254 on a machine without rotary axes is refused at its block (`IllegalCommandInMode`, 730;
+/// decision, `docs/dialects.md`): a 3-axis preset has kinematics too, and G254 ran there
+/// silently before.
+#[test]
+fn g254_is_refused_without_rotary_axes() {
+    let r = common::run_with("G00 G43 H1 Z50.\nG254\nG00 X0 Y0\nM30\n", "mill3", Dialect::Haas);
+    assert!(!r.completed(), "G254 ran on a 3-axis machine");
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("730", 2), "{:?}", r.alarms);
+}
+
+/// The UMC-750's B tilts about Y, −35…120 (Autodesk's Haas NGC post, `docs/dialects.md`,
+/// "Haas 5-axis"). By hand: G54 (−381, −254, −400), MRZP (−381, −254, −432); at B30 C0 the
+/// part's origin, 32 above the MRZP, turns with the table by −30° about Y (left-hand) to
+/// MRZP + (32·sin −30°, 0, 32·cos 30°) = (−397, −254, −404.2872), and the nose stands 100 above
+/// it; the tool leans toward the part's +X, (sin 30°, 0, cos 30°). B118 is inside the range.
+#[test]
+fn umc_b_tilts_about_y() {
+    let m = umc();
+    let src = "G10 L2 P1 X-381. Y-254. Z-400.\nG90 G54 G00 B30. C0 Z150.\nG234 H1\nG01 X0 Y0 Z0 F1000.\nM30\n";
+    let (r, samples) = run_on(&m, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let want = [-397.0, -254.0, -404.287_187_078_897_9 + LENGTH];
+    for (k, w) in want.iter().enumerate() {
+        assert!((r.machine[k] - w).abs() < 1e-6, "machine {:?}, want {want:?}", r.machine);
+    }
+    let tool = samples.last().unwrap().tool;
+    assert!((tool[0] - 0.5).abs() < 1e-9 && tool[1].abs() < 1e-9, "tool {tool:?}");
+    let (r, _) = run_on(&m, "G90 G54 G00 B118. C0\nB-34.\nM30\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+}
+
+/// Haas: a G49 block without axis words moves nothing, whether it ends G234 or G43; the length
+/// is gone from the next move on (`docs/dialects.md`, "Haas 5-axis": Autodesk's Haas NGC post
+/// writes `G49 (TCPC OFF)` at the last cutting point and then `G53 G0 Z…`; a G49 that dropped
+/// the spindle by the tool length would crash every such program). By hand: after G49 with G54
+/// Z −450 the nose goes to work Z200 at machine Z −250; with G54 Z −400 and G43 H1 (100) at Z50
+/// the nose stands at −250, stays there through G49 and X10., and Z50. then puts it at −350.
+/// FANUC's G49 block still moves by the length (−350 at once).
+#[test]
+fn g49_without_axis_words_moves_nothing() {
+    let m = umc();
+    let src = "G10 L2 P1 X-400. Y-230. Z-450.\nG90 G54 G00 B20. C30. Z100.\nG234 H1\nG01 X10. Y5. Z60. F1000.\nG49\nG00 Z200.\nG53 Z0\nM30\n";
+    let (r, _) = run_on(&m, src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    let ends = motion_ends(interpreter_with(src, "mill3", Dialect::Haas, |c| c.machine = m.clone().into()));
+    assert!(ends.iter().all(|(l, _)| *l != 5), "the G49 block moved: {ends:?}");
+    let (cut, up) = (end_of(&ends, 4), end_of(&ends, 6));
+    assert!((up[0] - cut[0]).abs() < 1e-9 && (up[1] - cut[1]).abs() < 1e-9, "{cut:?} → {up:?}");
+    assert!((up[2] + 250.0).abs() < 1e-9, "after G49 the nose goes to work Z200: {up:?}");
+
+    let src = "G10 L2 P1 X-400. Y-230. Z-400.\nG90 G54 G00 G43 H1 Z50.\nG49\nX10.\nZ50.\nM30\n";
+    for (dialect, at_g49) in [(Dialect::Haas, None), (Dialect::Fanuc, Some(-350.0))] {
+        let ends = motion_ends(interpreter_with(src, "mill3", dialect, |_| {}));
+        let z = |line| end_of(&ends, line)[2];
+        assert!((z(2) + 250.0).abs() < 1e-9, "{dialect:?}: {ends:?}");
+        match at_g49 {
+            None => {
+                assert!(ends.iter().all(|(l, _)| *l != 3), "{dialect:?}: the G49 block moved: {ends:?}");
+                assert!((z(4) + 250.0).abs() < 1e-9 && (end_of(&ends, 4)[0] + 390.0).abs() < 1e-9, "{ends:?}");
+            }
+            Some(want) => assert!((z(3) - want).abs() < 1e-9, "{dialect:?}: {ends:?}"),
+        }
+        assert!((z(5) + 350.0).abs() < 1e-9, "{dialect:?}: {ends:?}");
     }
 }

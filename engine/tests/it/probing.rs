@@ -179,8 +179,10 @@ fn a_locked_axis_does_not_carry_the_probe() {
 }
 
 /// Under Haas DWO (G254) on a UMC, the table turned B20 C30, a skip move straight down the
-/// part's Z touches the top of the part where the tilted ball does: the tip stops at the top plus
-/// r·(1 − cos tilt), the ball's centre at r from the part. (Under TCPC, G234, G31 is refused by
+/// machine's Z (DWO's axes are the machine's, `docs/dialects.md`) from above the work origin
+/// touches the part's tilted top: the ball's centre stops r from the top plane, whose normal
+/// makes the tilt θ with the spindle, so at (top + r)/cos θ above the carried origin, and the
+/// tip, r below it along the spindle, at (top + r)/cos θ − r. (Under TCPC, G234, G31 is refused by
 /// the interlock of the modes, as FANUC's G43.4 list leaves it out.)
 #[test]
 fn under_dwo_the_tilted_ball_touches_the_top() {
@@ -200,7 +202,7 @@ fn under_dwo_the_tilted_ball_touches_the_top() {
     let tilt_cos = last.tool[2];
     assert!(tilt_cos < 0.99, "the tool is tilted: {:?}", last.tool);
     let z = r.variables.iter().find(|(n, _)| *n == 100).unwrap().1;
-    let want = top + BALL * (1.0 - tilt_cos);
+    let want = (top + BALL) / tilt_cos - BALL;
     assert!((z - want).abs() < 1e-6, "#5063 = {z}, the tilted ball touches with the tip at {want}");
     assert!((distance(&part, centre(last)) - BALL).abs() < 1e-6);
     let refused = format!(
