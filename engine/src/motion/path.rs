@@ -1773,14 +1773,15 @@ impl Segment {
                 }
             }),
         };
+        let fed = programmed_speed(m, len) * feed_scale;
         let mut limits = axes.along(&rate);
         if let Some(c) = &circle {
-            arc_limits(&mut limits, c, &rate, axes);
+            limits = arc_limits(limits, c, &rate, axes, len, fed * ctx.feed_override);
         }
         // A chord of a curve: what the curve's bending leaves the axes (`Motion::speed_cap`).
         limits.v = limits.v.min(m.speed_cap as f64);
         let axis_speed = limits.v;
-        let programmed = if rapid { axis_speed } else { programmed_speed(m, len) * feed_scale };
+        let programmed = if rapid { axis_speed } else { fed };
         let mut seg = Segment {
             line: 0,
             block: 0,
@@ -2538,19 +2539,43 @@ fn circle(arc: &Arc, start: &Pos, end: &Pos) -> Circle {
     }
 }
 
-/// On an arc the plane's axes also accelerate toward the centre (v²/r) and that acceleration
-/// turns (v³/r² of jerk): half of each axis's acceleration and a third of its jerk go to the
-/// turning, the rest to speed changes along the path.
-fn arc_limits(lim: &mut Limits, c: &Circle, rate: &Pos, axes: &AxisLimits) {
+/// The limits `along` of an arc's path, fed at `feed` (per second), bounded for its turning.
+///
+/// The plane's axes also accelerate toward the centre (w²/r at a plane speed w) and that
+/// acceleration turns: at angle φ an axis accelerates −(sin φ·a + cos φ·w²/r) and jerks
+/// sin φ·(w³/r² − j) − cos φ·3·w·a/r (a, j the plane's acceleration and jerk along the path),
+/// the two parts in quadrature. As on a kinematic path (`kinematic_limits`) the top speed comes
+/// first: w²/r and w³/r² within a share σ of the plane axes' acceleration and jerk. Speed
+/// changes get what is left at that top speed (an override raised mid-block may take the arc
+/// there): a ≤ √(A² − (w²/r)²), the cross term 3·w·a/r within half of √(J² − (w³/r²)²), and
+/// j ≤ √(J² − (3·w·a/r)²) − w³/r². σ is the one of [`CRUISE_SHARES`] whose rest-to-rest time
+/// over the arc is the shorter: a high share cruises fast but leaves little for speed changes
+/// (a small circle entered slowly from a line spends most of its time changing speed), a low
+/// one the other way round.
+fn arc_limits(along: Limits, c: &Circle, rate: &Pos, axes: &AxisLimits, len: f64, feed: f64) -> Limits {
+    let mut best: Option<(f64, Limits)> = None;
+    for share in CRUISE_SHARES {
+        let lim = arc_limits_with_share(along, c, rate, axes, share);
+        let time = super::planner::chain_time(&[(len, Limits { v: lim.v.min(feed), ..lim })]);
+        if best.is_none_or(|(t, _)| time < t * (1.0 - 1e-9)) {
+            best = Some((time, lim));
+        }
+    }
+    best.map_or(along, |(_, lim)| lim)
+}
+
+/// [`arc_limits`] with the turning at the top speed taking `share` of the plane axes' limits.
+fn arc_limits_with_share(along: Limits, c: &Circle, rate: &Pos, axes: &AxisLimits, share: f64) -> Limits {
     let r = c.r0.min(c.r1).max(1e-9);
+    // Plane speed w = k·v for a path speed v.
     let k = rate[c.a].max(1e-12);
     let (amax, jmax) = (axes.a[c.a].min(axes.a[c.b]), axes.j[c.a].min(axes.j[c.b]));
-    // Plane speed w = k·v: w²/r ≤ amax/2, w³/r² ≤ jmax/3, and the cross term 3·w·a_t·k/r ≤ jmax/3
-    // with a_t ≤ amax/(2k).
-    let w = (0.5 * amax * r).sqrt().min((jmax / 3.0 * r * r).cbrt()).min(jmax * r / (4.5 * amax));
-    lim.v = lim.v.min(w / k);
-    lim.a = lim.a.min(0.5 * amax / k);
-    lim.j = lim.j.min(jmax / 3.0 / k);
+    let w = (share * amax * r).sqrt().min((share * jmax * r * r).cbrt()).min(along.v * k).max(1e-12);
+    let (pull, turn) = (w * w / r, w * w * w / (r * r));
+    let a = (amax * amax - pull * pull).sqrt().min(0.5 * (jmax * jmax - turn * turn).sqrt() * r / (3.0 * w));
+    let cross = 3.0 * w * a / r;
+    let j = (jmax * jmax - cross * cross).sqrt() - turn;
+    Limits { v: along.v.min(w / k), a: along.a.min(a / k), j: along.j.min(j / k) }
 }
 
 #[cfg(test)]

@@ -76,10 +76,19 @@ fn exact_stop_modes_stop_at_every_block_and_g64_does_not_on_a_straight_line() {
 fn helical_feed_is_along_the_arc_unless_htg_is_set() {
     // A full turn of radius 50 (arc 100π) going 30 down, at F600 (10 mm/s along the arc): the
     // path, √((100π)² + 30²), is travelled at 10·path/arc mm/s with HTG = 0 (arc time 10π s),
-    // at 10 mm/s with HTG = 1. On an arc the plane's axes give the path a third of their jerk.
+    // at 10 mm/s with HTG = 1.
     let src = "G90 G17 G92 X50. Y0. Z0.\nG03 I-50. Z-30. F600.\nM30\n";
     let arc = 100.0 * std::f64::consts::PI;
     let path = (arc * arc + 900.0f64).sqrt();
+    // On an arc the plane's top speed turns with half of the plane axes' acceleration (the
+    // faster choice here): w = √(A·r/2) = 316.2 mm/s, below ∛(J·r²/2) = 464.2, so w²/r = 2000
+    // and w³/r² = 12649. Speed changes get a ≤ the cross term's 3·w·a/r within half of
+    // √(J² − (w³/r²)²) (2081.7 mm/s², below √(A² − (w²/r)²) = 3464.1) and the jerk left,
+    // j = √(J² − (3·w·a/r)²) − w³/r² = 56921 mm/s³ (`docs/motion.md`, Limits).
+    let (r, w) = (50.0, (0.5 * A * 50.0f64).sqrt());
+    let (pull, turn) = (w * w / r, w.powi(3) / (r * r));
+    let plane_a = (0.5 * (J * J - turn * turn).sqrt() * r / (3.0 * w)).min((A * A - pull * pull).sqrt());
+    let plane_j = (J * J - (3.0 * w * plane_a / r).powi(2)).sqrt() - turn;
     for (htg, v) in [(false, 10.0 * path / arc), (true, 10.0)] {
         let mut m = MachineConfig::preset("mill3").unwrap();
         m.motion.helical_feed_on_path = htg;
@@ -88,8 +97,8 @@ fn helical_feed_is_along_the_arc_unless_htg_is_set() {
         let mut interp = fivex_engine::interp::Interpreter::new(fivex_engine::lang::parse_file(src), cfg);
         let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
         // The plane axes move arc/path per unit of path (Z only 30/path, looser), so the path
-        // may jerk J/3 · path/arc.
-        close(r.cycle_time_s, move_time(path, v, A, J / 3.0 * path / arc));
+        // may accelerate and jerk path/arc times as much as the plane.
+        close(r.cycle_time_s, move_time(path, v, plane_a * path / arc, plane_j * path / arc));
     }
 }
 
@@ -322,7 +331,7 @@ fn element() -> impl Strategy<Value = Element> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig::with_cases(common::cases(24)))]
 
     #[test]
     fn sampled_axes_stay_within_their_limits_and_the_tip_on_the_path(
@@ -386,6 +395,56 @@ proptest! {
         let (r, samples) = traced(&src, "head-bc");
         prop_assert!(r.completed(), "{:?}\n{src}", r.alarms);
         check_limits(&samples, "head-bc", true)?;
+    }
+}
+
+/// A full circle at F3000 on head-bc (X, Y: 500 mm/s, A = 4000 mm/s², J = 80000 mm/s³) runs as
+/// fast as the axes allow (r = 1 ran at 266.7 mm/min with every axis below 1 % of its limits,
+/// r = 5 at 1333 mm/min). r = 5 and r = 20 cruise at F (the turning at F takes at most
+/// 50²/5 = 500 mm/s² and 50³/25 = 5000 mm/s³). r = 1 cannot: its turning jerk w³/r² reaches J at
+/// ∛(J·r²) = 43.1 mm/s; the arc cruises with half of it, ∛(J·r²/2) = 34.2 mm/s, the rest left
+/// for the speed changes a 6.3 mm circle mostly consists of (with 0.9 of it the rest-to-rest time
+/// is longer: `docs/motion.md`, Limits), and on its way some plane axis reaches 90 % of a limit.
+/// The cruise is the arc's samples within 0.5 % of its top tip speed; the axes' speed,
+/// acceleration and jerk are the finite differences of their sampled positions.
+#[test]
+fn a_circle_runs_as_fast_as_its_axes_allow() {
+    let lim = common::limits("head-bc");
+    for r in [1.0f64, 5.0, 20.0] {
+        let src = format!("G90 G94 G17\nG01 X{r:.1} Y0 F3000.\nG02 X{r:.1} Y0 I-{r:.1} J0\nM30\n");
+        let (run, samples) = traced(&src, "head-bc");
+        assert!(run.completed(), "{:?}", run.alarms);
+        // (tip speed mm/min, the highest share of a limit on X or Y) at each sample of the arc.
+        let arc: Vec<(f64, f64)> = samples
+            .windows(4)
+            .filter(|w| w.iter().all(|s| s.line == 3))
+            .map(|w| {
+                let tip = (w[2].programmed[0] - w[1].programmed[0]).hypot(w[2].programmed[1] - w[1].programmed[1]);
+                let used = (0..2)
+                    .map(|i| {
+                        let (v, a, j) = common::derivatives(common::positions([&w[0], &w[1], &w[2], &w[3]], i, false));
+                        (v.abs() / lim[i].0).max(a.abs() / lim[i].1).max(j.abs() / lim[i].2)
+                    })
+                    .fold(0.0, f64::max);
+                (tip / PERIOD * 60.0, used)
+            })
+            .collect();
+        let top = arc.iter().map(|x| x.0).fold(0.0, f64::max);
+        let cruise = arc.iter().filter(|x| x.0 >= 0.995 * top).count();
+        let used = arc.iter().map(|x| x.1).fold(0.0, f64::max);
+        println!(
+            "r = {r}: {:.4} s, cruise {cruise} samples at {top:.1} mm/min, axes up to {:.1} %",
+            run.cycle_time_s,
+            used * 100.0
+        );
+        assert!(cruise >= 10, "r = {r}: no cruise");
+        if r >= 5.0 {
+            assert!((top - 3000.0).abs() < 0.5, "r = {r}: cruise at {top} mm/min, not F3000");
+        } else {
+            let half = 60.0 * (0.5 * J * r * r).cbrt();
+            assert!((top - half).abs() < 1e-3 * half, "r = {r}: cruise at {top} mm/min, not {half}");
+            assert!(used >= 0.9, "r = {r}: the axes only reach {used} of their limits");
+        }
     }
 }
 
