@@ -66,6 +66,17 @@ pub enum RunState {
     Alarm,
 }
 
+/// Why a program waits for cycle start at a block boundary ([`Controller::program_stop`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProgramStop {
+    /// M00, or a `#3006` message stop.
+    Stop,
+    /// M01 with the optional stop switch on.
+    Optional,
+    /// The end of a block under single block.
+    SingleBlock,
+}
+
 /// The operator panel's switches.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Panel {
@@ -215,6 +226,8 @@ pub struct Controller {
     times: Times,
     /// Machine lock: where the machine is held, what a locked run left (`lock.rs`).
     lock: Lock,
+    /// What made the last operator stop (read while the program waits there).
+    stop_kind: ProgramStop,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -271,6 +284,7 @@ impl Controller {
             memory: restart::RestartMemory::default(),
             times: Times::default(),
             lock: Lock::default(),
+            stop_kind: ProgramStop::Stop,
         }
     }
 
@@ -286,6 +300,12 @@ impl Controller {
 
     pub fn time(&self) -> f64 {
         self.exec.time()
+    }
+
+    /// The program waits for cycle start at M00, M01, `#3006` or a single-block stop, with
+    /// blocks still to run (the run state is then `Idle`; the run is not over): why.
+    pub fn program_stop(&self) -> Option<ProgramStop> {
+        self.cycle.at_operator_stop().then_some(self.stop_kind)
     }
 
     /// Nothing is under way that a restart in reset state would cut short: idle (no alarm, no
@@ -1124,6 +1144,7 @@ impl Controller {
             }
             Item::BlockEnd => {
                 if self.panel.single_block && self.cycle.blocks().has_more() {
+                    self.stop_kind = ProgramStop::SingleBlock;
                     self.cycle.course_mut().stop();
                     self.set_state(RunState::Idle);
                 }
@@ -1217,10 +1238,11 @@ impl Controller {
                 self.cycle.course_mut().dwell(self.exec.time() + self.machine.motion.tool_change_s)
             }
             // M00, and M01 (the interpreter emits it only with the optional stop switch on).
-            CanonKind::Stop { message, .. } => {
+            CanonKind::Stop { optional, message } => {
                 if let Some(m) = message {
                     self.events.push(Event::Message(m.clone()));
                 }
+                self.stop_kind = if *optional { ProgramStop::Optional } else { ProgramStop::Stop };
                 self.cycle.course_mut().stop();
                 self.set_state(RunState::Idle);
             }

@@ -21,6 +21,17 @@ use super::{now_rfc3339, Record};
 const STREAM_VARIABLES_EVERY: f64 = 0.1;
 const SAVE_VARIABLES_EVERY: f64 = 1.0;
 
+/// The run state the service shows (status, stream, MTConnect, OPC UA, metrics, the panel's
+/// checks): a program waiting for cycle start at M00, M01, `#3006` or a single-block stop is
+/// `hold`, as after a feed hold — the run goes on at the next cycle start, so it is neither over
+/// (`idle`) nor running — although the engine's controller is idle there.
+pub fn run_state(c: &Controller) -> RunState {
+    match c.run_state() {
+        RunState::Idle if c.program_stop().is_some() => RunState::Hold,
+        state => state,
+    }
+}
+
 pub struct Station {
     pub controller: Controller,
     /// The machine the controller runs (replaced, with the controller, by a parameter change).
@@ -48,6 +59,8 @@ pub struct Station {
     streamed: BTreeMap<u32, f64>,
     since_streamed: f64,
     since_saved: f64,
+    /// The run state last streamed ([`run_state`]).
+    shown_state: RunState,
 }
 
 /// A program run under way.
@@ -57,7 +70,7 @@ struct RunStart {
     sim_start: f64,
     /// The estimate of a stored program's run, by its key (taken before its cycle start).
     estimate: Option<Key>,
-    /// It was held or stopped (feed hold, single block, M00/M01) on its way.
+    /// It was held or stopped (feed hold, single block, M00/M01, `#3006`) on its way.
     held: bool,
 }
 
@@ -85,6 +98,7 @@ impl Station {
             streamed,
             since_streamed: 0.0,
             since_saved: 0.0,
+            shown_state: RunState::Idle,
         }
     }
 
@@ -227,7 +241,7 @@ impl Station {
             rapid_override: panel.rapid_override,
             single_block: panel.single_block,
             optional_stop: panel.optional_stop,
-            held: run.held || self.controller.run_state() == RunState::Hold,
+            held: run.held || run_state(&self.controller) == RunState::Hold,
             dry_run: panel.dry_run,
             aux_lock: panel.aux_lock,
         };
@@ -256,11 +270,15 @@ impl Station {
             match event {
                 Event::State(state) => {
                     changed = true;
-                    if let (RunState::Hold, Some(run)) = (state, &mut self.run) {
-                        run.held = true;
+                    // The engine is idle at an operator stop too: the run goes on from there.
+                    let stopped = state == RunState::Idle && self.controller.program_stop().is_some();
+                    if let Some(run) = &mut self.run {
+                        run.held |= state == RunState::Hold || stopped;
                     }
                     messages.push(Message::state(self));
+                    self.shown_state = run_state(&self.controller);
                     let result = match state {
+                        RunState::Idle if stopped => None,
                         RunState::Idle => Some("completed"),
                         RunState::Alarm => Some("alarm"),
                         _ => None,
@@ -287,6 +305,13 @@ impl Station {
                 Event::Message(text) => messages.push(Message::Message { text }),
                 Event::Notice(notice) => messages.push(Message::Notice(notice)),
             }
+        }
+        if run_state(&self.controller) != self.shown_state {
+            // A reset at an operator stop leaves the engine idle as it was (no event), while the
+            // state shown goes from hold to idle.
+            changed = true;
+            messages.push(Message::state(self));
+            self.shown_state = run_state(&self.controller);
         }
         let running = self.controller.run_state() == RunState::Running;
         self.since_streamed += real_dt;

@@ -8,6 +8,7 @@ use fivex_engine::Dialect;
 
 use super::ServiceError;
 use crate::db;
+use crate::host::station::run_state;
 use crate::host::Hosted;
 
 /// The dialect's list of a machine and what of it fivex does not carry out.
@@ -79,7 +80,7 @@ pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Res
     let machine = vendor::machine_from(hosted.dialect, &current.name, &parameters)
         .map_err(|e| ServiceError::invalid(e.describe(hosted.dialect)))?;
     let busy = || ServiceError::Conflict("parameters change only while nothing runs".into());
-    if hosted.station().controller.run_state() != RunState::Idle {
+    if run_state(&hosted.station().controller) != RunState::Idle {
         return Err(busy());
     }
     let stored = |machine: &MachineConfig, extra: &Params| {
@@ -95,7 +96,7 @@ pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Res
     // did, ended the program unasked), and the stored machine goes back.
     let applied = {
         let mut station = hosted.station();
-        let idle = station.controller.run_state() == RunState::Idle;
+        let idle = run_state(&station.controller) == RunState::Idle;
         if idle {
             station.replace_machine(machine, hosted.dialect);
             station.unmodelled = answer.unmodelled.clone();

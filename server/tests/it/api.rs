@@ -292,6 +292,52 @@ async fn feed_hold_waits_and_cycle_start_resumes() {
 }
 
 #[tokio::test]
+async fn a_program_stop_holds_the_run_until_cycle_start_goes_on_or_reset_ends_it() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m00", "preset": "mill3", "speed": 20})).await;
+    let text = "O0001\nG90 G01 X20. F1200.\nM00\nG01 Y20.\nM30\n";
+    assert_eq!(store(&app, &id, 1, text).await.status, StatusCode::CREATED);
+    let estimate = eventually(&app, &format!("{C}/{id}/programs/1/estimate"), |e| e["state"] != "pending").await;
+    assert_eq!((estimate["state"].as_str(), &estimate["depends_on"]), (Some("ready"), &json!(["program_stop"])));
+    let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+    // At the M00 the run is held (cycle start goes on), not over: its progress stays, against
+    // the estimate of the whole program, and nothing is recorded yet.
+    let stopped = wait_for(&app, &id, "hold").await;
+    assert_eq!((stopped["line"].clone(), stopped["position"]["machine"]["X"].clone()), (json!(3), json!(20.0)));
+    let progress = &stopped["progress"];
+    assert_eq!((progress["program"].clone(), progress["estimate"].clone()), (json!(1), estimate.clone()), "{stopped}");
+    assert_eq!(progress["caveats"], json!(["held"]), "{stopped}");
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    assert_eq!(app.get(&format!("{C}/{id}/runs")).await.json(), json!([]), "nothing ended");
+    // Held as after a feed hold: another program, MDI and offset changes wait for its end.
+    let other = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(other.status, StatusCode::CONFLICT);
+    assert!(error_of(&other).contains("under way"), "{}", other.text());
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "mdi"})).await.status, StatusCode::CONFLICT);
+    let g54 = app.put(&format!("{C}/{id}/work-offsets/G54"), &json!({"axes": {"X": 1.0}})).await;
+    assert_eq!(g54.status, StatusCode::CONFLICT, "{}", g54.text());
+    // Cycle start goes on to the end: one run, completed, its time the whole program's and the
+    // wait at the M00 (simulated time runs on while it waits).
+    assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await.json()["run_state"], "running");
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(done["position"]["machine"]["Y"], 20.0, "{done}");
+    assert!(done["progress"].is_null(), "{done}");
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    assert_eq!(runs.as_array().unwrap().len(), 1, "{runs}");
+    assert_eq!((runs[0]["program"].clone(), runs[0]["result"].clone()), (json!(1), json!("completed")), "{runs}");
+    assert!(runs[0]["cycle_time_s"].as_f64().unwrap() > estimate["cycle_time_s"].as_f64().unwrap() + 1.0, "{runs}");
+
+    // A single-block stop holds the same way; a reset there ends the run, recorded as reset.
+    assert_eq!(app.put(&format!("{C}/{id}/switches"), &json!({"single_block": true})).await.status, StatusCode::OK);
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&app, &id, "hold").await;
+    assert_eq!(app.post(&format!("{C}/{id}/reset"), &json!({})).await.json()["run_state"], "idle");
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| a.len() == 2)).await;
+    assert_eq!(runs[0]["result"], "reset", "{runs}");
+}
+
+#[tokio::test]
 async fn mdi_runs_blocks_and_panel_settings_are_checked() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
