@@ -228,6 +228,8 @@ pub struct Controller {
     lock: Lock,
     /// What made the last operator stop (read while the program waits there).
     stop_kind: ProgramStop,
+    /// Simulated time of the last run state change ([`Controller::state_changed_at`]).
+    state_changed_at: f64,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -285,6 +287,7 @@ impl Controller {
             times: Times::default(),
             lock: Lock::default(),
             stop_kind: ProgramStop::Stop,
+            state_changed_at: 0.0,
         }
     }
 
@@ -300,6 +303,12 @@ impl Controller {
 
     pub fn time(&self) -> f64 {
         self.exec.time()
+    }
+
+    /// The simulated time at which the run state last changed: where within a tick a program
+    /// ended (or stopped, or alarmed), which [`Controller::time`] after the tick is past.
+    pub fn state_changed_at(&self) -> f64 {
+        self.state_changed_at
     }
 
     /// The program waits for cycle start at M00, M01, `#3006` or a single-block stop, with
@@ -951,6 +960,9 @@ impl Controller {
                 if self.run_state == RunState::Running {
                     self.set_state(RunState::Idle);
                 }
+                // The program ended here, not at the end of the tick: the rest of it is not
+                // automatic operation.
+                self.count(&mut piece);
                 self.exec.idle_until(end);
             }
         }
@@ -1294,6 +1306,7 @@ impl Controller {
     fn set_state(&mut self, s: RunState) {
         if self.run_state != s {
             self.run_state = s;
+            self.state_changed_at = self.exec.time();
             self.events.push(Event::State(s));
         }
     }

@@ -248,15 +248,21 @@ impl Station {
         Some(progress(program, self.controller.time() - run.sim_start, estimate, seen))
     }
 
-    /// The run under way ends with `result`.
+    /// The run under way ends with `result` now (an operator's action).
     pub fn end_run(&mut self, controller: &str, result: &'static str) -> Option<Record> {
+        self.end_run_at(controller, result, self.controller.time())
+    }
+
+    /// The run under way ended with `result` at simulated time `at`: where the program ended
+    /// within the tick, not the tick's end (`cycle_time_s` equals `fivex run`'s at any speed).
+    fn end_run_at(&mut self, controller: &str, result: &'static str, at: f64) -> Option<Record> {
         let run = self.run.take()?;
         Some(Record::Run {
             controller: controller.to_string(),
             program: run.program,
             started_at: run.started_at,
             ended_at: now_rfc3339(),
-            cycle_time_s: self.controller.time() - run.sim_start,
+            cycle_time_s: at - run.sim_start,
             result,
         })
     }
@@ -283,7 +289,8 @@ impl Station {
                         RunState::Alarm => Some("alarm"),
                         _ => None,
                     };
-                    if let Some(record) = result.and_then(|r| self.end_run(controller, r)) {
+                    let at = self.controller.state_changed_at();
+                    if let Some(record) = result.and_then(|r| self.end_run_at(controller, r, at)) {
                         records.push(record);
                     }
                 }

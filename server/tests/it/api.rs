@@ -1288,6 +1288,31 @@ async fn a_stored_program_is_estimated_before_it_runs_and_its_progress_shown_whi
 }
 
 #[tokio::test]
+async fn the_run_history_and_the_operating_time_end_where_the_program_ends_at_any_speed() {
+    let app = spawn_app().await;
+    // A tick is 10 ms of wall time times the speed (10 s of simulated time at 1000): the run
+    // ends within a tick, and its record must not run on to the tick's end.
+    let programs = [("G04 P2000\nM30\n", Some(2.0)), ("G90 G01 X60. F600\nM30\n", None)];
+    for (speed, (text, by_hand)) in [(1.0, programs[0]), (1000.0, programs[0]), (1000.0, programs[1])] {
+        let id = create(&app, json!({"name": "timed", "preset": "mill3", "speed": speed})).await;
+        assert_eq!(store(&app, &id, 1, text).await.status, StatusCode::CREATED);
+        let estimate = eventually(&app, &format!("{C}/{id}/programs/1/estimate"), |e| e["state"] != "pending").await;
+        assert_eq!(estimate["state"], "ready", "{estimate}");
+        // G04 P2000: two seconds (FANUC's P in ms), nothing else; a motion: the estimate, which
+        // is `fivex run`'s time.
+        let want = by_hand.unwrap_or_else(|| estimate["cycle_time_s"].as_f64().unwrap());
+        assert!((estimate["cycle_time_s"].as_f64().unwrap() - want).abs() < 1e-9, "{estimate}");
+        app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+        let done = wait_for(&app, &id, "idle").await;
+        let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+        let recorded = runs[0]["cycle_time_s"].as_f64().unwrap();
+        assert!((recorded - want).abs() < 1e-6, "speed {speed}: recorded {recorded}, not {want}");
+        let operated = done["counters"]["operating_time_s"].as_f64().unwrap();
+        assert!((operated - want).abs() < 1e-6, "speed {speed}: operating time {operated}, not {want}");
+    }
+}
+
+#[tokio::test]
 async fn a_haas_controller_runs_its_dialect() {
     let app = spawn_app().await;
     let reply = app.post(C, &json!({"name": "vf2", "preset": "mill3", "dialect": "haas", "speed": 50})).await;
