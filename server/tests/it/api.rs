@@ -623,6 +623,34 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
     assert_eq!(app.get(&format!("{C}/{syntec}/parameters")).await.json()["parameters"]["3001"], 1);
 }
 
+#[tokio::test]
+async fn a_parameter_value_that_cannot_be_shown_back_is_refused_and_changes_nothing() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "huge", "preset": "head-bc"})).await;
+    let before = app.get(&format!("{C}/{id}/parameters")).await.json();
+    let strokes: Vec<f64> = before["parameters"]["1320"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    // A finite JSON number, but not one the list can show again (it read back as null, and
+    // 1e308 on every axis made every later change fail).
+    let mut last_huge = strokes.clone();
+    *last_huge.last_mut().unwrap() = 1e300;
+    for value in [json!(last_huge), json!(vec![1e308; strokes.len()])] {
+        let reply = app.put(&format!("{C}/{id}/parameters/1320"), &json!({"value": value})).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{value}: {}", reply.text());
+        assert!(error_of(&reply).contains("1320"), "{}", reply.text());
+        assert_eq!(app.get(&format!("{C}/{id}/parameters")).await.json(), before, "nothing changed");
+    }
+    // A large stroke the list can show is taken, shown as given, and later changes still work.
+    let mut last_large = strokes.clone();
+    *last_large.last_mut().unwrap() = 1e6;
+    let reply = app.put(&format!("{C}/{id}/parameters/1320"), &json!({"value": last_large})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let shown: Vec<f64> =
+        reply.json()["parameters"]["1320"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(shown, last_large);
+    let kept = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 5})).await;
+    assert_eq!(kept.status, StatusCode::OK, "{}", kept.text());
+}
+
 /// A Haas controller's parameters are the Haas settings list: the MRZP Settings 255–257 and the
 /// constructed machine description (`docs/machine-config.md`, "Haas"); a change moves the rotary
 /// centres; a machine the list cannot describe has no Haas parameter form.
