@@ -71,7 +71,10 @@ fn shown_back(dialect: Dialect, name: &str, shown: &Params) -> Result<(), Servic
         )));
     }
     vendor::machine_from(dialect, name, shown).map(|_| ()).map_err(|e| {
-        ServiceError::invalid(format!("the value cannot be kept: the list it leaves is refused ({})", e.describe(dialect)))
+        ServiceError::invalid(format!(
+            "the value cannot be kept: the list it leaves is refused ({})",
+            e.describe(dialect)
+        ))
     })
 }
 

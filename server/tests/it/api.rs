@@ -628,7 +628,8 @@ async fn a_parameter_value_that_cannot_be_shown_back_is_refused_and_changes_noth
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "huge", "preset": "head-bc"})).await;
     let before = app.get(&format!("{C}/{id}/parameters")).await.json();
-    let strokes: Vec<f64> = before["parameters"]["1320"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let strokes: Vec<f64> =
+        before["parameters"]["1320"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     // A finite JSON number, but not one the list can show again (it read back as null, and
     // 1e308 on every axis made every later change fail).
     let mut last_huge = strokes.clone();

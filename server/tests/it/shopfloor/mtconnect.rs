@@ -152,7 +152,8 @@ async fn a_program_stop_is_program_stopped_or_optional_stop() {
     let reply = agent.served.send_json(Method::PUT, &path, &json!({"optional_stop": true})).await;
     assert_eq!(reply.status, 200, "{}", String::from_utf8_lossy(&reply.body));
     agent.mdi(&id, "G91 G00 X1.\nM00\nX1.\nM01\nX1.").await;
-    for (x, state, execution) in [(1.0, "hold", "PROGRAM_STOPPED"), (2.0, "hold", "OPTIONAL_STOP"), (3.0, "idle", "READY")]
+    for (x, state, execution) in
+        [(1.0, "hold", "PROGRAM_STOPPED"), (2.0, "hold", "OPTIONAL_STOP"), (3.0, "idle", "READY")]
     {
         agent.status_until(&id, |s| s["run_state"] == state && s["position"]["machine"]["X"] == x).await;
         let deadline = Instant::now() + Duration::from_secs(10);
