@@ -237,6 +237,22 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
 }
 
 #[tokio::test]
+async fn a_run_cut_off_by_a_graceful_stop_is_recorded_interrupted() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "long", "preset": "mill3"})).await;
+    store(&app, &id, 1, "G04 X100.\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&app, &id, "running").await;
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    assert_eq!(again.get(&format!("{C}/{id}")).await.json()["run_state"], "idle", "back in reset state");
+    let runs = again.get(&format!("{C}/{id}/runs")).await.json();
+    assert_eq!(runs.as_array().unwrap().len(), 1, "{runs}");
+    assert_eq!((runs[0]["program"].clone(), runs[0]["result"].clone()), (json!(1), json!("interrupted")), "{runs}");
+    assert!(runs[0]["cycle_time_s"].as_f64().unwrap() < 100.0, "{runs}");
+}
+
+#[tokio::test]
 async fn an_alarm_is_active_then_in_the_history_and_reset_clears_it() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
