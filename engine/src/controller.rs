@@ -66,6 +66,17 @@ pub enum RunState {
     Alarm,
 }
 
+/// Why a program waits for cycle start at a block boundary ([`Controller::program_stop`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProgramStop {
+    /// M00, or a `#3006` message stop.
+    Stop,
+    /// M01 with the optional stop switch on.
+    Optional,
+    /// The end of a block under single block.
+    SingleBlock,
+}
+
 /// The operator panel's switches.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Panel {
@@ -215,6 +226,10 @@ pub struct Controller {
     times: Times,
     /// Machine lock: where the machine is held, what a locked run left (`lock.rs`).
     lock: Lock,
+    /// What made the last operator stop (read while the program waits there).
+    stop_kind: ProgramStop,
+    /// Simulated time of the last run state change ([`Controller::state_changed_at`]).
+    state_changed_at: f64,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -271,6 +286,8 @@ impl Controller {
             memory: restart::RestartMemory::default(),
             times: Times::default(),
             lock: Lock::default(),
+            stop_kind: ProgramStop::Stop,
+            state_changed_at: 0.0,
         }
     }
 
@@ -286,6 +303,18 @@ impl Controller {
 
     pub fn time(&self) -> f64 {
         self.exec.time()
+    }
+
+    /// The simulated time at which the run state last changed: where within a tick a program
+    /// ended (or stopped, or alarmed), which [`Controller::time`] after the tick is past.
+    pub fn state_changed_at(&self) -> f64 {
+        self.state_changed_at
+    }
+
+    /// The program waits for cycle start at M00, M01, `#3006` or a single-block stop, with
+    /// blocks still to run (the run state is then `Idle`; the run is not over): why.
+    pub fn program_stop(&self) -> Option<ProgramStop> {
+        self.cycle.at_operator_stop().then_some(self.stop_kind)
     }
 
     /// Nothing is under way that a restart in reset state would cut short: idle (no alarm, no
@@ -932,6 +961,9 @@ impl Controller {
                 if self.run_state == RunState::Running {
                     self.set_state(RunState::Idle);
                 }
+                // The program ended here, not at the end of the tick: the rest of it is not
+                // automatic operation.
+                self.count(&mut piece);
                 self.exec.idle_until(end);
             }
         }
@@ -1125,6 +1157,7 @@ impl Controller {
             }
             Item::BlockEnd => {
                 if self.panel.single_block && self.cycle.blocks().has_more() {
+                    self.stop_kind = ProgramStop::SingleBlock;
                     self.cycle.course_mut().stop();
                     self.set_state(RunState::Idle);
                 }
@@ -1220,10 +1253,11 @@ impl Controller {
                 self.cycle.course_mut().dwell(self.exec.time() + self.machine.motion.tool_change_s)
             }
             // M00, and M01 (the interpreter emits it only with the optional stop switch on).
-            CanonKind::Stop { message, .. } => {
+            CanonKind::Stop { optional, message } => {
                 if let Some(m) = message {
                     self.events.push(Event::Message(m.clone()));
                 }
+                self.stop_kind = if *optional { ProgramStop::Optional } else { ProgramStop::Stop };
                 self.cycle.course_mut().stop();
                 self.set_state(RunState::Idle);
             }
@@ -1276,6 +1310,7 @@ impl Controller {
     fn set_state(&mut self, s: RunState) {
         if self.run_state != s {
             self.run_state = s;
+            self.state_changed_at = self.exec.time();
             self.events.push(Event::State(s));
         }
     }

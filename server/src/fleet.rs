@@ -188,6 +188,16 @@ pub fn equip(interp: &mut Interpreter, tools: Option<&BTreeMap<u32, Tool>>) -> R
     Ok(())
 }
 
+/// The work offsets of `offsets`, with every tool offset zero (as a run's own tool table
+/// starts).
+fn work_offsets_of(offsets: &Offsets) -> Offsets {
+    let mut fresh = Offsets::default();
+    for (slot, axes) in offsets.work_copy().into_iter().enumerate() {
+        *fresh.work_mut(slot) = axes;
+    }
+    fresh
+}
+
 /// Check a tool table before a run (so a bad number or a negative corner radius is a usage
 /// error, not a failed machine).
 pub fn check_tools(tools: &BTreeMap<u32, Tool>) -> Result<(), String> {
@@ -210,9 +220,15 @@ pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> FleetResult {
         cfg.workpiece = w.clone();
     }
     let mut interp = Interpreter::new(parse_file(text), cfg);
-    match &entry.offsets {
-        Some(offsets) if opts.tools.is_none() => interp.state.offsets = (**offsets).clone(),
-        _ => {
+    match (&entry.offsets, &opts.tools) {
+        (Some(offsets), None) => interp.state.offsets = (**offsets).clone(),
+        (Some(offsets), Some(_)) => {
+            // The run's tool table replaces the controller's tool offsets only: its work
+            // offsets stay (without them the part is cut where G54 is not).
+            interp.state.offsets = work_offsets_of(offsets);
+            let _ = equip(&mut interp, opts.tools.as_ref());
+        }
+        (None, _) => {
             // Checked before the fleet starts (`check_tools`).
             let _ = equip(&mut interp, opts.tools.as_ref());
         }

@@ -199,7 +199,7 @@ impl Now {
         };
         let at = Instant::now();
         for hosted in host.list() {
-            let state = hosted.station().controller.run_state();
+            let state = crate::host::station::run_state(&hosted.station().controller);
             now.controllers[match state {
                 RunState::Idle => 0,
                 RunState::Running => 1,

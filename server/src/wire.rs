@@ -281,6 +281,8 @@ pub mod words {
         Completed,
         Alarm,
         Reset,
+        // The service stopped while it ran (a graceful stop; `kill -9` leaves no record).
+        Interrupted,
     }
 
     /// One machine's state in a fleet run's progress.

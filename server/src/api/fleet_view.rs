@@ -60,7 +60,7 @@ impl FleetEntry {
             kind: super::kind_name(station.machine.kinematics().map(|k| k.kind)),
             dialect: hosted.dialect.name().to_string(),
             mode: super::word(&c.mode()),
-            run_state: super::word(&c.run_state()),
+            run_state: super::word(&crate::host::station::run_state(c)),
             program: station.program,
             line: c.point().line,
             alarm: c.alarms().first().map(crate::host::stream::AlarmInfo::from),

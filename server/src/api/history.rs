@@ -54,7 +54,7 @@ pub struct Run {
     pub ended_at: String,
     /// Simulated seconds.
     pub cycle_time_s: f64,
-    /// `completed`, `alarm` or `reset`.
+    /// `completed`, `alarm`, `reset` or `interrupted` (the service stopped while it ran).
     #[schema(value_type = crate::wire::words::RunEnd)]
     pub result: String,
 }

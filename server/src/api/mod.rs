@@ -312,7 +312,7 @@ impl ControllerStatus {
             created_at: hosted.created_at.clone(),
             speed: hosted.speed(),
             mode: word(&c.mode()),
-            run_state: word(&c.run_state()),
+            run_state: word(&crate::host::station::run_state(c)),
             program: station.program,
             line: station.layouts.locate(p.line).1,
             n: p.n,

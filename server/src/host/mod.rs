@@ -134,14 +134,22 @@ impl Host {
         lock(&self.inner.workers).iter().filter(|w| !w.is_finished()).count()
     }
 
-    /// Stop the workers and wait for them (the controllers stay registered, frozen); then close
-    /// the channel to the database writer, which ends once it has written what it holds.
+    /// Stop the workers and wait for them (the controllers stay registered, frozen); record
+    /// every run under way as `interrupted` (it comes back in reset state: the run is over);
+    /// then close the channel to the database writer, which ends once it has written what it
+    /// holds.
     pub fn shutdown(&self) {
         self.inner.stop.store(true, Ordering::SeqCst);
         // Taken before joining: the lock is not held while the workers finish their round.
         let handles = std::mem::take(&mut *lock(&self.inner.workers));
         for handle in handles {
             let _ = handle.join();
+        }
+        for hosted in self.list() {
+            let ended = hosted.station().end_run(&hosted.id, "interrupted");
+            if let Some(record) = ended {
+                self.inner.record(record);
+            }
         }
         lock(&self.inner.records).take();
     }

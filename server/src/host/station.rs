@@ -22,6 +22,17 @@ use crate::service::programs::Layout;
 const STREAM_VARIABLES_EVERY: f64 = 0.1;
 const SAVE_VARIABLES_EVERY: f64 = 1.0;
 
+/// The run state the service shows (status, stream, MTConnect, OPC UA, metrics, the panel's
+/// checks): a program waiting for cycle start at M00, M01, `#3006` or a single-block stop is
+/// `hold`, as after a feed hold — the run goes on at the next cycle start, so it is neither over
+/// (`idle`) nor running — although the engine's controller is idle there.
+pub fn run_state(c: &Controller) -> RunState {
+    match c.run_state() {
+        RunState::Idle if c.program_stop().is_some() => RunState::Hold,
+        state => state,
+    }
+}
+
 pub struct Station {
     pub controller: Controller,
     /// The machine the controller runs (replaced, with the controller, by a parameter change).
@@ -52,6 +63,8 @@ pub struct Station {
     streamed: BTreeMap<u32, f64>,
     since_streamed: f64,
     since_saved: f64,
+    /// The run state last streamed ([`run_state`]).
+    shown_state: RunState,
 }
 
 /// Where the stored programs lie in the texts AUTO and MDI run (`programs::Layout`), and which
@@ -101,7 +114,7 @@ struct RunStart {
     sim_start: f64,
     /// The estimate of a stored program's run, by its key (taken before its cycle start).
     estimate: Option<Key>,
-    /// It was held or stopped (feed hold, single block, M00/M01) on its way.
+    /// It was held or stopped (feed hold, single block, M00/M01, `#3006`) on its way.
     held: bool,
 }
 
@@ -130,6 +143,7 @@ impl Station {
             streamed,
             since_streamed: 0.0,
             since_saved: 0.0,
+            shown_state: RunState::Idle,
         }
     }
 
@@ -273,22 +287,28 @@ impl Station {
             rapid_override: panel.rapid_override,
             single_block: panel.single_block,
             optional_stop: panel.optional_stop,
-            held: run.held || self.controller.run_state() == RunState::Hold,
+            held: run.held || run_state(&self.controller) == RunState::Hold,
             dry_run: panel.dry_run,
             aux_lock: panel.aux_lock,
         };
         Some(progress(program, self.controller.time() - run.sim_start, estimate, seen))
     }
 
-    /// The run under way ends with `result`.
+    /// The run under way ends with `result` now (an operator's action).
     pub fn end_run(&mut self, controller: &str, result: &'static str) -> Option<Record> {
+        self.end_run_at(controller, result, self.controller.time())
+    }
+
+    /// The run under way ended with `result` at simulated time `at`: where the program ended
+    /// within the tick, not the tick's end (`cycle_time_s` equals `fivex run`'s at any speed).
+    fn end_run_at(&mut self, controller: &str, result: &'static str, at: f64) -> Option<Record> {
         let run = self.run.take()?;
         Some(Record::Run {
             controller: controller.to_string(),
             program: run.program,
             started_at: run.started_at,
             ended_at: now_rfc3339(),
-            cycle_time_s: self.controller.time() - run.sim_start,
+            cycle_time_s: at - run.sim_start,
             result,
         })
     }
@@ -302,16 +322,21 @@ impl Station {
             match event {
                 Event::State(state) => {
                     changed = true;
-                    if let (RunState::Hold, Some(run)) = (state, &mut self.run) {
-                        run.held = true;
+                    // The engine is idle at an operator stop too: the run goes on from there.
+                    let stopped = state == RunState::Idle && self.controller.program_stop().is_some();
+                    if let Some(run) = &mut self.run {
+                        run.held |= state == RunState::Hold || stopped;
                     }
                     messages.push(Message::state(self));
+                    self.shown_state = run_state(&self.controller);
                     let result = match state {
+                        RunState::Idle if stopped => None,
                         RunState::Idle => Some("completed"),
                         RunState::Alarm => Some("alarm"),
                         _ => None,
                     };
-                    if let Some(record) = result.and_then(|r| self.end_run(controller, r)) {
+                    let at = self.controller.state_changed_at();
+                    if let Some(record) = result.and_then(|r| self.end_run_at(controller, r, at)) {
                         records.push(record);
                     }
                 }
@@ -334,6 +359,13 @@ impl Station {
                 Event::Message(text) => messages.push(Message::Message { text }),
                 Event::Notice(notice) => messages.push(Message::Notice(notice)),
             }
+        }
+        if run_state(&self.controller) != self.shown_state {
+            // A reset at an operator stop leaves the engine idle as it was (no event), while the
+            // state shown goes from hold to idle.
+            changed = true;
+            messages.push(Message::state(self));
+            self.shown_state = run_state(&self.controller);
         }
         let running = self.controller.run_state() == RunState::Running;
         self.since_streamed += real_dt;

@@ -297,7 +297,7 @@ pub enum Message {
 impl Message {
     pub fn state(station: &Station) -> Message {
         let c = &station.controller;
-        Message::State { run_state: c.run_state(), mode: c.mode(), program: station.program }
+        Message::State { run_state: super::station::run_state(c), mode: c.mode(), program: station.program }
     }
 
     pub fn workpiece(workpiece: &Workpiece) -> Message {

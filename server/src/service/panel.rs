@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::programs::{Composed, MAX_PROGRAM_BYTES};
 use super::ServiceError;
+use crate::host::station::run_state;
 use crate::host::{Host, Hosted, Record, Station};
 
 /// What a manual move moves: one axis, along a 5-axis manual feed, or the tool tip centre
@@ -311,7 +312,7 @@ pub fn apply(
     let c: &mut Controller = &mut station.controller;
     match command {
         PanelCommand::CycleStart { program } => {
-            let fresh = c.run_state() == RunState::Idle;
+            let fresh = run_state(c) == RunState::Idle;
             if let Some((n, composed)) = &program {
                 if !fresh {
                     return Err(Refused::ProgramUnderWay);
@@ -440,7 +441,7 @@ pub fn apply(
         PanelCommand::HandlePulses { amount } => return Ok(Applied::Taken(c.handle_pulses(amount)?)),
         PanelCommand::Restart { program, kind, at } => {
             if let Some((n, composed)) = &program {
-                if c.run_state() != RunState::Idle {
+                if run_state(c) != RunState::Idle {
                     return Err(Refused::ProgramUnderWay);
                 }
                 if c.mode() != Mode::Auto {

@@ -8,6 +8,7 @@ use fivex_engine::Dialect;
 
 use super::ServiceError;
 use crate::db;
+use crate::host::station::run_state;
 use crate::host::Hosted;
 
 /// The dialect's list of a machine and what of it fivex does not carry out.
@@ -50,6 +51,33 @@ pub fn extras(dialect: Dialect, machine: &MachineConfig, given: &Params) -> Para
     Params(given.0.iter().filter(|(n, _)| !canonical.0.contains_key(n)).map(|(n, v)| (*n, v.clone())).collect())
 }
 
+/// Whether every number of `value` is finite (JSON has no other numbers).
+fn finite(value: &Value) -> bool {
+    match value {
+        Value::One(x) => x.is_finite(),
+        Value::PerAxis(v) => v.iter().all(|x| x.is_finite()),
+    }
+}
+
+/// The list a change leaves is the one the service shows and starts every later change from:
+/// it must be finite numbers only (a non-finite one is written `null`, against the schema) that
+/// describe a machine again (else every later change is refused). A value that only its
+/// canonical form makes unusable is refused here instead: FANUC's list rounds to 1e-9, so a
+/// stroke beyond about 1.8e299 comes back infinite.
+fn shown_back(dialect: Dialect, name: &str, shown: &Params) -> Result<(), ServiceError> {
+    if let Some((number, _)) = shown.0.iter().find(|(_, v)| !finite(v)) {
+        return Err(ServiceError::invalid(format!(
+            "parameter {number} would read back as no number: the value is too large to keep"
+        )));
+    }
+    vendor::machine_from(dialect, name, shown).map(|_| ()).map_err(|e| {
+        ServiceError::invalid(format!(
+            "the value cannot be kept: the list it leaves is refused ({})",
+            e.describe(dialect)
+        ))
+    })
+}
+
 /// The controller's list now.
 pub fn of(hosted: &Hosted) -> Result<ParameterSet, ServiceError> {
     let station = hosted.station();
@@ -60,11 +88,7 @@ pub fn of(hosted: &Hosted) -> Result<ParameterSet, ServiceError> {
 /// vendor's alarm), and nothing may run; the controller restarts on it in reset state and the
 /// machine is stored. The whole list after the change.
 pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Result<ParameterSet, ServiceError> {
-    let finite = match &value {
-        Value::One(x) => x.is_finite(),
-        Value::PerAxis(v) => v.iter().all(|x| x.is_finite()),
-    };
-    if !finite {
+    if !finite(&value) {
         return Err(ServiceError::invalid("parameter values must be finite numbers"));
     }
     // One change of this controller's settings at a time: a second one read before this one took
@@ -79,7 +103,7 @@ pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Res
     let machine = vendor::machine_from(hosted.dialect, &current.name, &parameters)
         .map_err(|e| ServiceError::invalid(e.describe(hosted.dialect)))?;
     let busy = || ServiceError::Conflict("parameters change only while nothing runs".into());
-    if hosted.station().controller.run_state() != RunState::Idle {
+    if run_state(&hosted.station().controller) != RunState::Idle {
         return Err(busy());
     }
     let stored = |machine: &MachineConfig, extra: &Params| {
@@ -88,6 +112,7 @@ pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Res
     };
     let after = extras(hosted.dialect, &machine, &parameters);
     let answer = list(hosted.dialect, &machine, &after)?;
+    shown_back(hosted.dialect, &current.name, &answer.parameters)?;
     let (json, extra_json) = stored(&machine, &after)?;
     db::update_machine(db, &hosted.id, &json, &extra_json).await?;
     // Checked again where the change takes effect: a cycle start while the machine was being
@@ -95,7 +120,7 @@ pub async fn set(db: &db::Db, hosted: &Hosted, number: u32, value: Value) -> Res
     // did, ended the program unasked), and the stored machine goes back.
     let applied = {
         let mut station = hosted.station();
-        let idle = station.controller.run_state() == RunState::Idle;
+        let idle = run_state(&station.controller) == RunState::Idle;
         if idle {
             station.replace_machine(machine, hosted.dialect);
             station.unmodelled = answer.unmodelled.clone();

@@ -18,7 +18,7 @@ use serde_json::{Map, Value};
 
 use super::ServiceError;
 use crate::db::{self, Record, ToolRow};
-use crate::host::station::tool_row;
+use crate::host::station::{run_state, tool_row};
 use crate::host::stream::Message;
 use crate::host::{Host, Hosted, Station};
 
@@ -206,7 +206,7 @@ pub async fn set_work_offset(
         let mut station = station(hosted)?;
         // The check and the change under one lock: checked before the database write, as it
         // was, a cycle start in between ran a program whose offset then changed under it.
-        if station.controller.run_state() != RunState::Idle {
+        if run_state(&station.controller) != RunState::Idle {
             return Err(ServiceError::Conflict("work offsets change only while nothing runs".into()));
         }
         let work = station.controller.interpreter_mut().state.offsets.work_mut(slot);

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use fivex_engine::controller::{Mode, RunState};
+use fivex_engine::controller::{Mode, ProgramStop, RunState};
 use fivex_engine::machine::Machine;
 use fivex_engine::Dialect;
 use tokio::sync::watch;
@@ -30,6 +30,9 @@ pub struct Observed {
     pub emergency_stop: bool,
     pub mode: Mode,
     pub run_state: RunState,
+    /// Why a held program waits (`hold` at M00/M01/`#3006`/a single-block stop); `None`
+    /// otherwise.
+    pub program_stop: Option<ProgramStop>,
     /// The stored program (O number) AUTO runs, once one was started.
     pub program: Option<u32>,
     /// 1-based line of the executing block (0 before any) in the program `line_program` (the
@@ -72,7 +75,8 @@ impl Observed {
         Observed {
             emergency_stop: c.emergency_stopped(),
             mode: c.mode(),
-            run_state: c.run_state(),
+            run_state: crate::host::station::run_state(c),
+            program_stop: c.program_stop(),
             program: station.program,
             line: own_line,
             line_program,

@@ -237,6 +237,22 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
 }
 
 #[tokio::test]
+async fn a_run_cut_off_by_a_graceful_stop_is_recorded_interrupted() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "long", "preset": "mill3"})).await;
+    store(&app, &id, 1, "G04 X100.\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&app, &id, "running").await;
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    assert_eq!(again.get(&format!("{C}/{id}")).await.json()["run_state"], "idle", "back in reset state");
+    let runs = again.get(&format!("{C}/{id}/runs")).await.json();
+    assert_eq!(runs.as_array().unwrap().len(), 1, "{runs}");
+    assert_eq!((runs[0]["program"].clone(), runs[0]["result"].clone()), (json!(1), json!("interrupted")), "{runs}");
+    assert!(runs[0]["cycle_time_s"].as_f64().unwrap() < 100.0, "{runs}");
+}
+
+#[tokio::test]
 async fn an_alarm_is_active_then_in_the_history_and_reset_clears_it() {
     let app = spawn_app().await;
     let id = create(&app, json!({"name": "m", "preset": "mill3", "speed": 20})).await;
@@ -288,6 +304,52 @@ async fn feed_hold_waits_and_cycle_start_resumes() {
     app.post(&format!("{C}/{id}/reset"), &json!({})).await;
     wait_for(&app, &id, "idle").await;
     let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    assert_eq!(runs[0]["result"], "reset", "{runs}");
+}
+
+#[tokio::test]
+async fn a_program_stop_holds_the_run_until_cycle_start_goes_on_or_reset_ends_it() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m00", "preset": "mill3", "speed": 20})).await;
+    let text = "O0001\nG90 G01 X20. F1200.\nM00\nG01 Y20.\nM30\n";
+    assert_eq!(store(&app, &id, 1, text).await.status, StatusCode::CREATED);
+    let estimate = eventually(&app, &format!("{C}/{id}/programs/1/estimate"), |e| e["state"] != "pending").await;
+    assert_eq!((estimate["state"].as_str(), &estimate["depends_on"]), (Some("ready"), &json!(["program_stop"])));
+    let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+    // At the M00 the run is held (cycle start goes on), not over: its progress stays, against
+    // the estimate of the whole program, and nothing is recorded yet.
+    let stopped = wait_for(&app, &id, "hold").await;
+    assert_eq!((stopped["line"].clone(), stopped["position"]["machine"]["X"].clone()), (json!(3), json!(20.0)));
+    let progress = &stopped["progress"];
+    assert_eq!((progress["program"].clone(), progress["estimate"].clone()), (json!(1), estimate.clone()), "{stopped}");
+    assert_eq!(progress["caveats"], json!(["held"]), "{stopped}");
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    assert_eq!(app.get(&format!("{C}/{id}/runs")).await.json(), json!([]), "nothing ended");
+    // Held as after a feed hold: another program, MDI and offset changes wait for its end.
+    let other = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(other.status, StatusCode::CONFLICT);
+    assert!(error_of(&other).contains("under way"), "{}", other.text());
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "mdi"})).await.status, StatusCode::CONFLICT);
+    let g54 = app.put(&format!("{C}/{id}/work-offsets/G54"), &json!({"axes": {"X": 1.0}})).await;
+    assert_eq!(g54.status, StatusCode::CONFLICT, "{}", g54.text());
+    // Cycle start goes on to the end: one run, completed, its time the whole program's and the
+    // wait at the M00 (simulated time runs on while it waits).
+    assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await.json()["run_state"], "running");
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(done["position"]["machine"]["Y"], 20.0, "{done}");
+    assert!(done["progress"].is_null(), "{done}");
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    assert_eq!(runs.as_array().unwrap().len(), 1, "{runs}");
+    assert_eq!((runs[0]["program"].clone(), runs[0]["result"].clone()), (json!(1), json!("completed")), "{runs}");
+    assert!(runs[0]["cycle_time_s"].as_f64().unwrap() > estimate["cycle_time_s"].as_f64().unwrap() + 1.0, "{runs}");
+
+    // A single-block stop holds the same way; a reset there ends the run, recorded as reset.
+    assert_eq!(app.put(&format!("{C}/{id}/switches"), &json!({"single_block": true})).await.status, StatusCode::OK);
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&app, &id, "hold").await;
+    assert_eq!(app.post(&format!("{C}/{id}/reset"), &json!({})).await.json()["run_state"], "idle");
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| a.len() == 2)).await;
     assert_eq!(runs[0]["result"], "reset", "{runs}");
 }
 
@@ -575,6 +637,35 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
     // Syntec numbering for a Syntec controller.
     let syntec = create(&app, json!({"name": "s", "preset": "head-bc", "dialect": "syntec"})).await;
     assert_eq!(app.get(&format!("{C}/{syntec}/parameters")).await.json()["parameters"]["3001"], 1);
+}
+
+#[tokio::test]
+async fn a_parameter_value_that_cannot_be_shown_back_is_refused_and_changes_nothing() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "huge", "preset": "head-bc"})).await;
+    let before = app.get(&format!("{C}/{id}/parameters")).await.json();
+    let strokes: Vec<f64> =
+        before["parameters"]["1320"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    // A finite JSON number, but not one the list can show again (it read back as null, and
+    // 1e308 on every axis made every later change fail).
+    let mut last_huge = strokes.clone();
+    *last_huge.last_mut().unwrap() = 1e300;
+    for value in [json!(last_huge), json!(vec![1e308; strokes.len()])] {
+        let reply = app.put(&format!("{C}/{id}/parameters/1320"), &json!({"value": value})).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{value}: {}", reply.text());
+        assert!(error_of(&reply).contains("1320"), "{}", reply.text());
+        assert_eq!(app.get(&format!("{C}/{id}/parameters")).await.json(), before, "nothing changed");
+    }
+    // A large stroke the list can show is taken, shown as given, and later changes still work.
+    let mut last_large = strokes.clone();
+    *last_large.last_mut().unwrap() = 1e6;
+    let reply = app.put(&format!("{C}/{id}/parameters/1320"), &json!({"value": last_large})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let shown: Vec<f64> =
+        reply.json()["parameters"]["1320"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(shown, last_large);
+    let kept = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 5})).await;
+    assert_eq!(kept.status, StatusCode::OK, "{}", kept.text());
 }
 
 /// A Haas controller's parameters are the Haas settings list: the MRZP Settings 255–257 and the
@@ -1239,6 +1330,31 @@ async fn a_stored_program_is_estimated_before_it_runs_and_its_progress_shown_whi
     // The run ends within the worker round after its last motion: never shorter than estimated.
     assert!(runs[0]["cycle_time_s"].as_f64().unwrap() >= cycle * 0.99, "{runs}");
     assert!(app.get(&format!("{C}/{id}")).await.json()["progress"].is_null(), "over");
+}
+
+#[tokio::test]
+async fn the_run_history_and_the_operating_time_end_where_the_program_ends_at_any_speed() {
+    let app = spawn_app().await;
+    // A tick is 10 ms of wall time times the speed (10 s of simulated time at 1000): the run
+    // ends within a tick, and its record must not run on to the tick's end.
+    let programs = [("G04 P2000\nM30\n", Some(2.0)), ("G90 G01 X60. F600\nM30\n", None)];
+    for (speed, (text, by_hand)) in [(1.0, programs[0]), (1000.0, programs[0]), (1000.0, programs[1])] {
+        let id = create(&app, json!({"name": "timed", "preset": "mill3", "speed": speed})).await;
+        assert_eq!(store(&app, &id, 1, text).await.status, StatusCode::CREATED);
+        let estimate = eventually(&app, &format!("{C}/{id}/programs/1/estimate"), |e| e["state"] != "pending").await;
+        assert_eq!(estimate["state"], "ready", "{estimate}");
+        // G04 P2000: two seconds (FANUC's P in ms), nothing else; a motion: the estimate, which
+        // is `fivex run`'s time.
+        let want = by_hand.unwrap_or_else(|| estimate["cycle_time_s"].as_f64().unwrap());
+        assert!((estimate["cycle_time_s"].as_f64().unwrap() - want).abs() < 1e-9, "{estimate}");
+        app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+        let done = wait_for(&app, &id, "idle").await;
+        let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+        let recorded = runs[0]["cycle_time_s"].as_f64().unwrap();
+        assert!((recorded - want).abs() < 1e-6, "speed {speed}: recorded {recorded}, not {want}");
+        let operated = done["counters"]["operating_time_s"].as_f64().unwrap();
+        assert!((operated - want).abs() < 1e-6, "speed {speed}: operating time {operated}, not {want}");
+    }
 }
 
 #[tokio::test]

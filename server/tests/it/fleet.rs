@@ -183,6 +183,35 @@ async fn every_machine_probes_the_workpiece_of_the_run_and_a_controller_its_own(
 }
 
 #[tokio::test]
+async fn a_tool_table_replaces_a_controllers_tool_offsets_and_keeps_its_work_offsets() {
+    let app = spawn_app().await;
+    let created = app.post("/api/v1/controllers", &json!({"name": "g54 set", "preset": "head-bc"})).await;
+    assert_eq!(created.status, StatusCode::CREATED, "{}", created.text());
+    let controller = created.json()["id"].as_str().unwrap().to_string();
+    let g54 = json!({"axes": {"X": 10.0, "Y": -20.0, "Z": -100.0}});
+    let set = app.put(&format!("/api/v1/controllers/{controller}/work-offsets/G54"), &g54).await;
+    assert_eq!(set.status, StatusCode::OK, "{}", set.text());
+    // B = C = 0: the machine point is the program point plus G54, plus H3 along Z under G43.
+    let nc = "O0001\nG90 G54 G0 X1. Y2. Z3.\n#500=#5221\n#501=#5222\n#502=#5223\nG43 H3 Z3.\nM30\n";
+    for tools in [None, Some(json!({"3": {"length": 50.0, "radius": 1.0}}))] {
+        let mut request = json!({"program": nc, "controllers": [controller]});
+        if let Some(t) = &tools {
+            request["tools"] = t.clone();
+        }
+        let reply = app.post("/api/v1/fleet/runs", &request).await;
+        assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+        let item = &reply.json()[0];
+        assert_eq!(item["status"], "completed", "{item}");
+        let vars = &item["variables"];
+        assert_eq!([&vars["#500"], &vars["#501"], &vars["#502"]], [10.0, -20.0, -100.0], "tools {tools:?}");
+        let machine = &item["position"]["machine"];
+        // The controller's own H3 is 100 mm (its defaults); the table's 50 mm.
+        let h = if tools.is_some() { 50.0 } else { 100.0 };
+        assert_eq!([&machine["X"], &machine["Y"], &machine["Z"]], [11.0, -18.0, 3.0 - 100.0 + h], "tools {tools:?}");
+    }
+}
+
+#[tokio::test]
 async fn a_malformed_program_is_a_run_whose_machines_alarm() {
     let app = spawn_app().await;
     let reply = app.post("/api/v1/fleet/runs", &json!({"program": program("malformed.nc"), "presets": PRESETS})).await;

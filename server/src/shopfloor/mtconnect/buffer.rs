@@ -216,6 +216,7 @@ mod tests {
             emergency_stop: false,
             mode: Mode::Auto,
             run_state: if alarms.is_empty() { RunState::Running } else { RunState::Alarm },
+            program_stop: None,
             program: Some(1),
             line: 3,
             line_program: Some(1),

@@ -15,7 +15,7 @@
 
 use std::sync::Arc;
 
-use fivex_engine::controller::{Mode, RunState};
+use fivex_engine::controller::{Mode, ProgramStop, RunState};
 use fivex_engine::machine::{AxisKind, Hand, Machine, Side};
 
 use super::doc::{Element, Text};
@@ -128,16 +128,21 @@ impl Item {
     }
 }
 
-/// EXECUTION from the run state: an alarm or the emergency stop stops the program.
+/// EXECUTION from the run state: an alarm or the emergency stop stops the program; a program
+/// held at a stop of its own is PROGRAM_STOPPED (M00, `#3006`, a single-block stop) or
+/// OPTIONAL_STOP (M01), the MTConnect 2.5 values for "a command from the program has
+/// intentionally interrupted execution".
 fn execution(o: &Observed) -> &'static str {
     if o.emergency_stop {
         return "STOPPED";
     }
-    match o.run_state {
-        RunState::Idle => "READY",
-        RunState::Running => "ACTIVE",
-        RunState::Hold => "FEED_HOLD",
-        RunState::Alarm => "STOPPED",
+    match (o.run_state, o.program_stop) {
+        (RunState::Idle, _) => "READY",
+        (RunState::Running, _) => "ACTIVE",
+        (RunState::Hold, Some(ProgramStop::Optional)) => "OPTIONAL_STOP",
+        (RunState::Hold, Some(ProgramStop::Stop | ProgramStop::SingleBlock)) => "PROGRAM_STOPPED",
+        (RunState::Hold, None) => "FEED_HOLD",
+        (RunState::Alarm, _) => "STOPPED",
     }
 }
 

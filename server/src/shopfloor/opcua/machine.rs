@@ -542,6 +542,7 @@ mod tests {
                 emergency_stop: false,
                 mode: Mode::Auto,
                 run_state: RunState::Idle,
+                program_stop: None,
                 program: None,
                 line: 0,
                 line_program: None,

@@ -210,11 +210,17 @@ async fn every_stream_message_is_in_the_document() {
     let started =
         served.send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({"program": 1})).await;
     assert_eq!(started.status, 200, "{}", String::from_utf8_lossy(&started.body));
-    // #3006 holds the program: cycle start goes on to the alarm.
-    let mut seen = messages(&mut controller, Duration::from_secs(10), |m| m["type"] == "message").await;
+    // #3006 holds the program (`hold`, not `idle`: the run is not over): cycle start goes on
+    // to the alarm.
+    let held = |m: &Value| m["type"] == "state" && m["run_state"] == "hold";
+    let mut seen = messages(&mut controller, Duration::from_secs(10), held).await;
+    assert!(seen.iter().any(|m| m["type"] == "message"), "the #3006 message before the hold: {seen:?}");
+    assert!(!seen.iter().any(|m| m["type"] == "state" && m["run_state"] == "idle"), "{seen:?}");
     let resumed = served.send_json(Method::POST, &format!("/api/v1/controllers/{id}/cycle-start"), &json!({})).await;
     assert_eq!(resumed.status, 200, "{}", String::from_utf8_lossy(&resumed.body));
-    seen.extend(messages(&mut controller, Duration::from_secs(10), |m| m["event"] == "raised").await);
+    let rest = messages(&mut controller, Duration::from_secs(10), |m| m["event"] == "raised").await;
+    assert!(!rest.iter().any(|m| m["type"] == "state" && m["run_state"] == "idle"), "{rest:?}");
+    seen.extend(rest);
     for m in &seen {
         assert_valid(&doc, "ControllerMessage", m, &format!("the controller stream's {}", m["type"]));
     }

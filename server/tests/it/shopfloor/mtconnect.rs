@@ -141,6 +141,38 @@ fn sequences(xml: &str) -> Vec<u64> {
         .collect()
 }
 
+/// A program waiting at a stop of its own is held (`hold`), and the agent's Execution says why
+/// (MTConnect 2.5 `ExecutionValueType`): PROGRAM_STOPPED at M00, OPTIONAL_STOP at M01 (the
+/// switch on), READY at the end.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_program_stop_is_program_stopped_or_optional_stop() {
+    let agent = Agent::start(&[]);
+    let id = agent.create("stops", "mill3", "fanuc").await;
+    let path = format!("/api/v1/controllers/{id}/switches");
+    let reply = agent.served.send_json(Method::PUT, &path, &json!({"optional_stop": true})).await;
+    assert_eq!(reply.status, 200, "{}", String::from_utf8_lossy(&reply.body));
+    agent.mdi(&id, "G91 G00 X1.\nM00\nX1.\nM01\nX1.").await;
+    for (x, state, execution) in
+        [(1.0, "hold", "PROGRAM_STOPPED"), (2.0, "hold", "OPTIONAL_STOP"), (3.0, "idle", "READY")]
+    {
+        agent.status_until(&id, |s| s["run_state"] == state && s["position"]["machine"]["X"] == x).await;
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            let current = agent.get(&format!("/{id}/current")).await.body;
+            if current.contains(&format!(">{execution}</Execution>")) {
+                break;
+            }
+            assert!(Instant::now() < deadline, "X{x}: never {execution}: {current}");
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+        if state == "hold" {
+            let path = format!("/api/v1/controllers/{id}/cycle-start");
+            let reply = agent.served.send_json(Method::POST, &path, &json!({})).await;
+            assert_eq!(reply.status, 200, "{}", String::from_utf8_lossy(&reply.body));
+        }
+    }
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn every_document_validates_and_says_what_the_api_says() {
     let agent = Agent::start(&[]);
