@@ -479,11 +479,21 @@ fn trace_follows_the_arc() {
     let (d, p) = scratch(&[("p.nc", prog)]);
     let trace = d.path().join("t.jsonl");
     let (_, v) = run_json(&[s(&p[0]), "--trace", s(&trace)]);
-    // The rapid: 10 mm as in trace_writes_one_object_per_period. The arc at 1000 mm/min: on an
-    // arc the path gets a third of the axes' jerk (the rest turns the acceleration).
+    // The rapid: 10 mm as in trace_writes_one_object_per_period. The arc at 1000 mm/min
+    // (docs/motion.md, "Limits", on an arc): the turning at the top speed w takes half the axes'
+    // acceleration A = 4000 (w = √(A·r/2) = 141.42 mm/s, below ∛(J·r²/2) = 158.74; half is the
+    // faster of the two shares here), the speed changes what is left at w: acceleration
+    // min(√(A² − (w²/r)²), ½·√(J² − (w³/r²)²)·r/(3w)) = 881.92, jerk √(J² − (3wa/r)²) − w³/r²
+    // = 42426.4. At 16.67 mm/s the ramp is jerk-limited (v·j ≤ a²).
     let peak = (5.0 * JERK.sqrt()).powf(2.0 / 3.0);
     let rapid = 4.0 * (peak / JERK).sqrt();
-    let t_arc = short_ramp_move(10.0 * std::f64::consts::PI, 1000.0 / 60.0, JERK / 3.0);
+    let (accel, r) = (4000.0f64, 10.0f64);
+    let w = (accel * r / 2.0).sqrt();
+    let (pull, turn) = (w * w / r, w.powi(3) / (r * r));
+    let a = (accel * accel - pull * pull).sqrt().min(0.5 * (JERK * JERK - turn * turn).sqrt() * r / (3.0 * w));
+    let j = (JERK * JERK - (3.0 * w * a / r).powi(2)).sqrt() - turn;
+    assert!((1000.0 / 60.0) * j <= a * a);
+    let t_arc = short_ramp_move(10.0 * std::f64::consts::PI, 1000.0 / 60.0, j);
     assert!((num(&v["cycle_time_s"]) - (rapid + t_arc)).abs() < 1e-9, "{}", v["cycle_time_s"]);
     let samples = read_trace(&trace);
     let on_arc: Vec<&Value> = samples.iter().filter(|s| s["line"] == 2).collect();
