@@ -637,8 +637,8 @@ pub enum Record {
     Times { controller: String, times: fivex_engine::controller::Times },
     /// The tilted working plane kept over a restart changed (Syntec Pr3014 = 2).
     TiltedPlane { controller: String, plane: Option<fivex_engine::interp::TiltedPlane> },
-    /// An alarm was raised.
-    Alarm { controller: String, at: String, alarm: crate::host::stream::AlarmInfo },
+    /// An alarm was raised (the row as `alarm_history` keeps it).
+    Alarm { controller: String, alarm: AlarmRow },
     /// A program run ended (`completed`, `alarm` or `reset`).
     Run {
         controller: String,
@@ -705,12 +705,12 @@ async fn record_on(conn: &mut AnyConnection, record: &Record) -> Result<(), sqlx
                 .map(|_| ())
         }
         Record::WorkOffsets { controller, rows } => work_offsets_on(conn, controller, rows).await,
-        Record::Alarm { controller, at, alarm } => sqlx::query(
+        Record::Alarm { controller, alarm } => sqlx::query(
             "INSERT INTO alarm_history (controller_id, raised_at, code, message, line, n, program) \
              VALUES ($1, $2, $3, $4, $5, $6, $7)",
         )
         .bind(controller)
-        .bind(at)
+        .bind(&alarm.raised_at)
         .bind(&alarm.code)
         .bind(&alarm.message)
         .bind(alarm.line as i64)

@@ -342,11 +342,15 @@ impl Station {
                 }
                 Event::Alarm(alarm) => {
                     let alarm = self.layouts.alarm(&alarm);
-                    records.push(Record::Alarm {
-                        controller: controller.to_string(),
-                        at: now_rfc3339(),
-                        alarm: alarm.clone(),
-                    });
+                    let row = crate::db::AlarmRow {
+                        raised_at: now_rfc3339(),
+                        code: alarm.code.clone(),
+                        message: alarm.message.clone(),
+                        line: alarm.line,
+                        n: alarm.n,
+                        program: alarm.program,
+                    };
+                    records.push(Record::Alarm { controller: controller.to_string(), alarm: row });
                     messages.push(Message::Alarm {
                         event: "raised",
                         raised: Some(alarm),
