@@ -293,7 +293,10 @@ export interface paths {
         };
         get?: never;
         put?: never;
-        /** MDI: switch to MDI mode (when idle) and run the blocks. */
+        /**
+         * MDI: switch to MDI mode (when idle) and run the blocks. They may call the stored programs
+         *     (`M98 P1`, `G65 P1`), as an MDI program calls programs in memory on the control.
+         */
         post: operations["mdi"];
         delete?: never;
         options?: never;
@@ -1043,7 +1046,8 @@ export interface components {
             code: string;
             /**
              * Format: int32
-             * @description 1-based line in the program.
+             * @description 1-based line in the program `program` (for a stored program run, the program it
+             *     occurred in: the selected one or one it called).
              */
             line: number;
             message: string;
@@ -1052,6 +1056,12 @@ export interface components {
              * @description Sequence number of the block, if it has one.
              */
             n?: number | null;
+            /**
+             * Format: int32
+             * @description The O number of the stored program `line` is in; null for a text of its own (MDI's
+             *     blocks, a fleet run's program, an alarm recorded before this was kept).
+             */
+            program?: number | null;
         };
         /** @description `GET /alarms`. */
         Alarms: {
@@ -1240,9 +1250,16 @@ export interface components {
             /**
              * Format: int32
              * @description 1-based line of the block being executed (0 before any) and its sequence number: the
-             *     moving block's, or a block without motion (a dwell, a modal change) once reached.
+             *     moving block's, or a block without motion (a dwell, a modal change) once reached. The
+             *     line is in the program `line_program`.
              */
             line: number;
+            /**
+             * Format: int32
+             * @description The O number of the stored program `line` is in: `program`, or a program it called
+             *     (M98/G65/G66…), as stored; null for MDI's own blocks.
+             */
+            line_program?: number | null;
             /**
              * @description Machine minus the program's machine coordinates per axis after (or during) machine lock
              *     or Z-axis neglect: zero when they agree; the reference return sets them equal
@@ -2362,7 +2379,7 @@ export interface components {
             feed: number;
             /**
              * Format: int32
-             * @description 1-based program line of the block moving now (0 before any).
+             * @description 1-based program line of the block moving now (0 before any), in the program `program`.
              */
             line: number;
             /** @description Machine coordinates per axis letter, in axis order. */
@@ -2375,6 +2392,12 @@ export interface components {
              */
             n?: number | null;
             plane?: null | components["schemas"]["WorkingPlane"];
+            /**
+             * Format: int32
+             * @description The O number of the stored program `line` is in: the selected one or one it called
+             *     (M98/G65/G66…); null for MDI's own blocks.
+             */
+            program?: number | null;
             /**
              * @description The commanded point (X, Y, Z) of the block moving now, in the system `programmed_in`
              *     names.
@@ -2653,7 +2676,7 @@ export interface components {
              * @description O number (null for MDI).
              */
             program?: number | null;
-            /** @description `completed`, `alarm` or `reset`. */
+            /** @description `completed`, `alarm`, `reset` or `interrupted` (the service stopped while it ran). */
             result: components["schemas"]["RunEnd"];
             started_at: string;
         };
@@ -2661,7 +2684,7 @@ export interface components {
          * @description How a run in a controller's history ended.
          * @enum {string}
          */
-        RunEnd: "completed" | "alarm" | "reset";
+        RunEnd: "completed" | "alarm" | "reset" | "interrupted";
         /** @description A run under way against its estimate. */
         RunProgress: {
             /**
@@ -5312,7 +5335,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Not text/plain */
+            /** @description Not text/plain in UTF-8 (another `charset`), or a body without a content type */
             415: {
                 headers: {
                     [name: string]: unknown;
@@ -5321,7 +5344,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Not UTF-8 NC text, a number outside 1–9999, an O number in the text other than the slot's (`details`: `slot`, `text_number`; even with `force=true`), or `check` found problems (in `details`) */
+            /** @description Not UTF-8 NC text, a number outside 1–9999, an O number in the text other than the slot's (`details`: `slot`, `text_number`; even with `force=true`), a second program in the text (`details`: `slot`, `line`, `text_number`; even with `force=true`), or `check` found problems (in `details`) */
             422: {
                 headers: {
                     [name: string]: unknown;
