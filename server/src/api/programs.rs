@@ -210,8 +210,12 @@ pub struct ToolPathBody {
     /// Tip positions in the table frame (`docs/machine-config.md`), x y z of each point in
     /// turn; the first point is where the machine is now.
     pub xyz: Vec<f64>,
-    /// Per point: the 1-based program line that moves to it (0 for the start).
+    /// Per point: the 1-based line that moves to it (0 for the start), in the stored program
+    /// `line_programs` names.
     pub lines: Vec<u32>,
+    /// Per point: the O number of the stored program its line is in: the program asked for,
+    /// or one it calls (M98/G65/G66…).
+    pub line_programs: Vec<u32>,
     /// Per point: the move to it is a rapid.
     pub rapid: Vec<bool>,
     /// The alarm the program would stop with, if it does before its end.
@@ -235,8 +239,11 @@ pub struct ProgrammedPathBody {
     /// Programmed tip positions in the table frame, x y z of each point in turn; the first is
     /// where the machine is now.
     pub xyz: Vec<f64>,
-    /// Per point: the 1-based program line that moves to it (0 for the start).
+    /// Per point: the 1-based line that moves to it (0 for the start), in the stored program
+    /// `line_programs` names.
     pub lines: Vec<u32>,
+    /// Per point: the O number of the stored program its line is in.
+    pub line_programs: Vec<u32>,
     /// Per point: the move to it is a rapid.
     pub rapid: Vec<bool>,
 }
@@ -275,16 +282,27 @@ pub async fn tool_path(
     let body = tokio::task::spawn_blocking(move || {
         interp.load(parse_file(&text));
         let path = fivex_engine::preview::tool_path(&mut interp, max_points);
+        // The composed text's lines, each as its own program's (`docs/api.md`, "Lines of stored
+        // programs"); the start (line 0) belongs to the program asked for.
+        let located = |lines: &[u32]| -> (Vec<u32>, Vec<u32>) {
+            lines.iter().map(|&line| layout.locate(line)).map(|(program, line)| (line, program.unwrap_or(n))).unzip()
+        };
+        let (lines, line_programs) = located(&path.lines);
         ToolPathBody {
             xyz: path.points.iter().flatten().copied().collect(),
-            lines: path.lines,
+            lines,
+            line_programs,
             rapid: path.rapid,
             alarm: path.alarm.as_ref().map(|a| crate::host::stream::AlarmInfo::located(a, &layout)),
             truncated: path.truncated,
-            programmed: path.programmed.map(|p| ProgrammedPathBody {
-                xyz: p.points.iter().flatten().copied().collect(),
-                lines: p.lines,
-                rapid: p.rapid,
+            programmed: path.programmed.map(|p| {
+                let (lines, line_programs) = located(&p.lines);
+                ProgrammedPathBody {
+                    xyz: p.points.iter().flatten().copied().collect(),
+                    lines,
+                    line_programs,
+                    rapid: p.rapid,
+                }
             }),
         }
     })

@@ -9,6 +9,7 @@ use fivex_engine::controller::{Controller, Event, Mode, RunState};
 use fivex_engine::interp::State;
 use fivex_engine::interp::MAX_G54_1;
 use fivex_engine::machine::{Machine, MachineConfig};
+use fivex_engine::notice::Notice;
 
 use crate::db::ToolRow;
 
@@ -361,7 +362,10 @@ impl Station {
                     messages.push(Message::Alarm { event: "cleared", raised: None, active: Vec::new() });
                 }
                 Event::Message(text) => messages.push(Message::Message { text }),
-                Event::Notice(notice) => messages.push(Message::Notice(notice)),
+                Event::Notice(notice) => {
+                    let (program, line) = self.layouts.locate(notice.line);
+                    messages.push(Message::Notice { notice: Notice { line, ..notice }, program });
+                }
             }
         }
         if run_state(&self.controller) != self.shown_state {

@@ -287,8 +287,14 @@ pub enum Message {
     /// An operator message (`#3006`, `(MSG…)`).
     Message { text: String },
     /// A block queued to run by a rule of fivex's own where the manuals do not say what the
-    /// control does (`FX1…`: code, message, line, n).
-    Notice(fivex_engine::notice::Notice),
+    /// control does (`FX1…`: code, message, line, n, program).
+    Notice {
+        /// Its `line` is in the program `program`, as an alarm's.
+        #[serde(flatten)]
+        notice: fivex_engine::notice::Notice,
+        /// The O number of the stored program the line is in; null for MDI's own blocks.
+        program: Option<u32>,
+    },
     /// What is clamped on the table changed (`PUT …/workpiece`): every box on it now, in the
     /// table frame, mm (`[]`: nothing). The snapshot's `workpiece` gives it to start with.
     Workpiece { boxes: Vec<Cuboid> },

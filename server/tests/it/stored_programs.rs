@@ -196,3 +196,19 @@ async fn an_alarm_in_a_called_program_gives_its_line_in_that_program_and_names_i
     let status = settled(&app, &id, "alarm").await;
     assert_eq!(status["alarms"], json!([raised]), "{status}");
 }
+
+/// The path's points give their lines in the program each is in: a called program's blocks
+/// were lines of the hidden composed text (line 6 for line 2 of O0002).
+#[tokio::test]
+async fn the_path_gives_each_point_its_line_in_the_program_it_is_in() {
+    let app = spawn_app().await;
+    let id = create(&app).await;
+    store(&app, &id, 1, "O0001\nG90 G0 X1.\nM98 P2\nG0 X3.\nM30\n").await;
+    store(&app, &id, 2, "(sub)\nG0 Y2.\nM99\n").await;
+    let path = app.get(&format!("{C}/{id}/programs/1/path")).await.json();
+    // The start, X1 (O0001 line 2), Y2 (O0002 line 2), X3 (O0001 line 4).
+    assert_eq!(path["lines"], json!([0, 2, 2, 4]), "{path}");
+    assert_eq!(path["line_programs"], json!([1, 1, 2, 1]), "{path}");
+    let xyz: Vec<f64> = path["xyz"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(xyz.chunks(3).map(|p| (p[0], p[1])).collect::<Vec<_>>(), [(0., 0.), (1., 0.), (1., 2.), (3., 2.)]);
+}

@@ -2025,6 +2025,12 @@ export interface components {
             /** @enum {string} */
             type: "message";
         } | (components["schemas"]["Notice"] & {
+            /**
+             * Format: int32
+             * @description The O number of the stored program the line is in; null for MDI's own blocks.
+             */
+            program?: number | null;
+        } & {
             /** @enum {string} */
             type: "notice";
         }) | {
@@ -2476,7 +2482,12 @@ export interface components {
         };
         /** @description The programmed path beside a compensated tool path, in the same form. */
         ProgrammedPathBody: {
-            /** @description Per point: the 1-based program line that moves to it (0 for the start). */
+            /** @description Per point: the O number of the stored program its line is in. */
+            line_programs: number[];
+            /**
+             * @description Per point: the 1-based line that moves to it (0 for the start), in the stored program
+             *     `line_programs` names.
+             */
             lines: number[];
             /** @description Per point: the move to it is a rapid. */
             rapid: boolean[];
@@ -2995,7 +3006,15 @@ export interface components {
         /** @description The tool tip path a stored program asks for, as the 3D view draws it. */
         ToolPathBody: {
             alarm?: null | components["schemas"]["AlarmInfo"];
-            /** @description Per point: the 1-based program line that moves to it (0 for the start). */
+            /**
+             * @description Per point: the O number of the stored program its line is in: the program asked for,
+             *     or one it calls (M98/G65/G66…).
+             */
+            line_programs: number[];
+            /**
+             * @description Per point: the 1-based line that moves to it (0 for the start), in the stored program
+             *     `line_programs` names.
+             */
             lines: number[];
             /**
              * @description Only when cutter compensation (G41/G42) is in force somewhere in the program: the

@@ -2,8 +2,14 @@
 import { memo } from "preact/compat";
 import { useEffect, useState } from "preact/hooks";
 import { api, must, fmt, type AlarmInfo, type Schemas } from "../api/client";
+import type { LocatedNotice } from "./useController";
 
-type Props = { id: string; active: AlarmInfo[]; messages: string[]; notices: Schemas["Notice"][] };
+type Props = { id: string; active: AlarmInfo[]; messages: string[]; notices: LocatedNotice[] };
+
+/// Where a block is: its line, in the stored program it is in when known, and its N.
+function where(line: number, n: number | null | undefined, program: number | null | undefined): string {
+  return `${program != null ? `O${program} ` : ""}line ${line}${n != null ? ` N${n}` : ""}`;
+}
 
 function AlarmsView({ id, active, messages, notices }: Props) {
   const [history, setHistory] = useState<Schemas["Alarms"]["history"]>([]);
@@ -22,7 +28,7 @@ function AlarmsView({ id, active, messages, notices }: Props) {
         <ul class="active-alarms">
           {active.map((a) => (
             <li class="alarm-line">
-              <strong>{a.code}</strong> {a.message} <span class="where">line {a.line}{a.n != null ? ` N${a.n}` : ""}</span>
+              <strong>{a.code}</strong> {a.message} <span class="where">{where(a.line, a.n, a.program)}</span>
             </li>
           ))}
         </ul>
@@ -44,7 +50,7 @@ function AlarmsView({ id, active, messages, notices }: Props) {
           <ul class="notices">
             {notices.map((n) => (
               <li>
-                <strong>{n.code}</strong> {n.message} <span class="where">line {n.line}{n.n != null ? ` N${n.n}` : ""}</span>
+                <strong>{n.code}</strong> {n.message} <span class="where">{where(n.line, n.n, n.program)}</span>
               </li>
             ))}
           </ul>
@@ -66,7 +72,7 @@ function AlarmsView({ id, active, messages, notices }: Props) {
               <td>{h.raised_at}</td>
               <td>{h.code}</td>
               <td>{h.message}</td>
-              <td class="num">{h.line}</td>
+              <td class="num">{where(h.line, h.n, h.program)}</td>
             </tr>
           ))}
         </tbody>

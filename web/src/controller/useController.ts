@@ -2,8 +2,11 @@
 // variables, operator messages, notices and what is clamped on the table, kept current by the
 // controller's websocket.
 import { useCallback, useEffect, useRef, useState } from "preact/hooks";
-import { api, errorText, liveSocket, must, wsUrl, type AlarmInfo, type ControllerMessage, type Frame, type Machine, type Schemas, type Status } from "../api/client";
+import { api, errorText, liveSocket, must, wsUrl, type AlarmInfo, type ControllerMessage, type Frame, type Machine, type Status } from "../api/client";
 import { workpieceOf, type Workpiece } from "./workpiece";
+
+/// A notice as the stream gives it: its line is in the stored program `program` (null: MDI's own).
+export type LocatedNotice = Omit<Extract<ControllerMessage, { type: "notice" }>, "type">;
 
 export type Live = {
   status: Status | null;
@@ -13,7 +16,7 @@ export type Live = {
   variables: Record<string, number | null>;
   messages: string[];
   /// Blocks run by a rule of fivex's own (the last 20), as the stream's `notice` messages told.
-  notices: Schemas["Notice"][];
+  notices: LocatedNotice[];
   /// What is clamped on the table (the snapshot's, then every `workpiece` message); null until
   /// the stream's snapshot.
   workpiece: Workpiece | null;
@@ -35,7 +38,7 @@ export function useController(id: string): Live {
   const [alarms, setAlarms] = useState<AlarmInfo[]>([]);
   const [variables, setVariables] = useState<Record<string, number | null>>({});
   const [messages, setMessages] = useState<string[]>([]);
-  const [notices, setNotices] = useState<Schemas["Notice"][]>([]);
+  const [notices, setNotices] = useState<LocatedNotice[]>([]);
   const [workpiece, setWorkpiece] = useState<Workpiece | null>(null);
   const [connected, setConnected] = useState(false);
   const [error, setError] = useState<string | null>(null);

@@ -198,11 +198,20 @@ async fn every_stream_message_is_in_the_document() {
         .await;
     assert_eq!(created.status, 201);
     let id = created.json()["id"].as_str().unwrap().to_owned();
-    let text = "O0001\nG90 G01 X10. A5. F3000\n#500=1.5\n#3006=1(CHECK)\nG01 X20.\n#3000=1(STOP)\nM30\n";
-    let stored = served
-        .request(Method::PUT, &format!("/api/v1/controllers/{id}/programs/1"), &[("content-type", "text/plain")], text)
-        .await;
-    assert_eq!(stored.status, 201, "{}", String::from_utf8_lossy(&stored.body));
+    let text = "O0001\nG90 G01 X10. A5. F3000\n#500=1.5\n#3006=1(CHECK)\nM98 P2\nG01 X20.\n#3000=1(STOP)\nM30\n";
+    // O0002 drills with R below Z: a notice (FX1004), on its own line 3.
+    let called = "O0002\nG90 G0 Z10.\nG81 X10. Y0 R-5. Z-1. F600.\nG80\nM99\n";
+    for (n, text) in [(1, text), (2, called)] {
+        let stored = served
+            .request(
+                Method::PUT,
+                &format!("/api/v1/controllers/{id}/programs/{n}"),
+                &[("content-type", "text/plain")],
+                text,
+            )
+            .await;
+        assert_eq!(stored.status, 201, "{}", String::from_utf8_lossy(&stored.body));
+    }
     let mut controller = connect(&served, &format!("/api/v1/controllers/{id}/stream?rate=100")).await;
     let block = json!({"boxes": [{"min": [-50.0, -50.0, -30.0], "max": [50.0, 50.0, 0.0]}]});
     let put = served.send_json(Method::PUT, &format!("/api/v1/controllers/{id}/workpiece"), &block).await;
@@ -225,9 +234,16 @@ async fn every_stream_message_is_in_the_document() {
         assert_valid(&doc, "ControllerMessage", m, &format!("the controller stream's {}", m["type"]));
     }
     let kinds = types(&seen);
-    for kind in ["snapshot", "position", "state", "variables", "message", "alarm", "workpiece"] {
+    for kind in ["snapshot", "position", "state", "variables", "message", "alarm", "workpiece", "notice"] {
         assert!(kinds.contains(kind), "no {kind} message among {kinds:?}");
     }
+    let notice = seen.iter().find(|m| m["type"] == "notice").unwrap();
+    assert_eq!(
+        (notice["code"].clone(), notice["line"].clone(), notice["program"].clone()),
+        (json!("FX1004"), json!(3), json!(2))
+    );
+    let alarm = seen.iter().find(|m| m["event"] == "raised").unwrap();
+    assert_eq!((alarm["raised"]["line"].clone(), alarm["raised"]["program"].clone()), (json!(7), json!(1)), "{alarm}");
 
     // The fleet stream: the whole fleet, then a delta with the controller.
     let fleet_seen = messages(&mut fleet, Duration::from_secs(5), |m| m["type"] == "fleet_delta").await;
