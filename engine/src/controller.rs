@@ -317,6 +317,13 @@ impl Controller {
         self.cycle.at_operator_stop().then_some(self.stop_kind)
     }
 
+    /// A program held (feed hold or a block stop) is waiting while the operator intervenes by
+    /// hand in JOG/HANDLE/INC (the run state is then `Idle` between the hand moves; the run is
+    /// not over).
+    pub fn intervening(&self) -> bool {
+        self.cycle.intervening()
+    }
+
     /// Nothing is under way that a restart in reset state would cut short: idle (no alarm, no
     /// emergency stop), no program started and not over (reading, held, at a single-block stop
     /// or M00/M01, or held for a manual intervention), no motion moving or queued (a jog, a

@@ -29,9 +29,15 @@ const SAVE_VARIABLES_EVERY: f64 = 1.0;
 /// (`idle`) nor running — although the engine's controller is idle there.
 pub fn run_state(c: &Controller) -> RunState {
     match c.run_state() {
-        RunState::Idle if c.program_stop().is_some() => RunState::Hold,
+        RunState::Idle if program_waits(c) => RunState::Hold,
         state => state,
     }
+}
+
+/// The engine is idle but its program is not over: stopped at M00/M01/`#3006`/single block, or
+/// held for a manual intervention between the hand moves. The run goes on from there.
+fn program_waits(c: &Controller) -> bool {
+    c.program_stop().is_some() || c.intervening()
 }
 
 pub struct Station {
@@ -323,8 +329,7 @@ impl Station {
             match event {
                 Event::State(state) => {
                     changed = true;
-                    // The engine is idle at an operator stop too: the run goes on from there.
-                    let stopped = state == RunState::Idle && self.controller.program_stop().is_some();
+                    let stopped = state == RunState::Idle && program_waits(&self.controller);
                     if let Some(run) = &mut self.run {
                         run.held |= state == RunState::Hold || stopped;
                     }

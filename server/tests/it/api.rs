@@ -307,6 +307,41 @@ async fn feed_hold_waits_and_cycle_start_resumes() {
     assert_eq!(runs[0]["result"], "reset", "{runs}");
 }
 
+/// A manual intervention in a held program: the jog ends, the program is still held (its run
+/// not over, nothing recorded) until AUTO and cycle start take it to its end.
+#[tokio::test]
+async fn a_jog_in_a_held_program_leaves_the_run_held() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "jh", "preset": "mill3", "speed": 20})).await;
+    store(&app, &id, 1, "G01 X100. F600\nM30\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    eventually(&app, &format!("{C}/{id}"), |s| s["position"]["machine"]["X"].as_f64().is_some_and(|x| x > 0.0)).await;
+    assert_eq!(app.post(&format!("{C}/{id}/feed-hold"), &json!({})).await.json()["run_state"], "hold");
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "jog"})).await.status, StatusCode::OK);
+    let jog = app.post(&format!("{C}/{id}/jog"), &json!({"axis": "Y", "positive": true})).await;
+    assert_eq!(jog.status, StatusCode::OK, "{}", jog.text());
+    eventually(&app, &format!("{C}/{id}"), |s| s["position"]["machine"]["Y"].as_f64().is_some_and(|y| y > 0.0)).await;
+    app.post(&format!("{C}/{id}/jog-stop"), &json!({})).await;
+    // Until the jog has come to a stop: Y the same over 200 ms.
+    let mut y = Value::Null;
+    loop {
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        let status = app.get(&format!("{C}/{id}")).await.json();
+        if status["position"]["machine"]["Y"] == y {
+            assert_eq!(status["run_state"], "hold", "{status}");
+            break;
+        }
+        y = status["position"]["machine"]["Y"].clone();
+    }
+    assert_eq!(app.get(&format!("{C}/{id}/runs")).await.json(), json!([]), "nothing ended");
+    assert_eq!(app.put(&format!("{C}/{id}/mode"), &json!({"mode": "auto"})).await.status, StatusCode::OK);
+    assert_eq!(app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await.json()["run_state"], "running");
+    let done = wait_for(&app, &id, "idle").await;
+    assert_eq!(done["position"]["machine"]["X"], 100.0, "{done}");
+    let runs = eventually(&app, &format!("{C}/{id}/runs"), |r| r.as_array().is_some_and(|a| !a.is_empty())).await;
+    assert_eq!((runs.as_array().unwrap().len(), runs[0]["result"].clone()), (1, json!("completed")), "{runs}");
+}
+
 #[tokio::test]
 async fn a_program_stop_holds_the_run_until_cycle_start_goes_on_or_reset_ends_it() {
     let app = spawn_app().await;
