@@ -71,6 +71,12 @@ pub async fn create(db: &db::Db, host: &Host, request: NewController) -> Result<
         Some(file) if file.dialect == dialect => parameters::extras(dialect, &machine, &file.parameters),
         _ => Default::default(),
     };
+    // The list the controller will show must read back as it does after a change
+    // (`parameters::change`), whatever the machine came from; without a list in its dialect
+    // there is nothing to show.
+    if let Ok(shown) = parameters::list(dialect, &machine, &extra) {
+        parameters::shown_back(dialect, &machine.name, &shown.parameters)?;
+    }
     let speed = check_speed(request.speed.unwrap_or(1.0))?;
     let workpiece_json = request.workpiece.as_ref().map(workpiece::checked_json).transpose()?;
     let row = ControllerRow {

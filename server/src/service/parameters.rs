@@ -64,7 +64,7 @@ fn finite(value: &Value) -> bool {
 /// describe a machine again (else every later change is refused). A value that only its
 /// canonical form makes unusable is refused here instead: FANUC's list rounds to 1e-9, so a
 /// stroke beyond about 1.8e299 comes back infinite.
-fn shown_back(dialect: Dialect, name: &str, shown: &Params) -> Result<(), ServiceError> {
+pub(super) fn shown_back(dialect: Dialect, name: &str, shown: &Params) -> Result<(), ServiceError> {
     if let Some((number, _)) = shown.0.iter().find(|(_, v)| !finite(v)) {
         return Err(ServiceError::invalid(format!(
             "parameter {number} would read back as no number: the value is too large to keep"

@@ -701,6 +701,14 @@ async fn a_parameter_value_that_cannot_be_shown_back_is_refused_and_changes_noth
     assert_eq!(shown, last_large);
     let kept = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 5})).await;
     assert_eq!(kept.status, StatusCode::OK, "{}", kept.text());
+    // A controller made from a list holding such a value is refused as the change is.
+    let mut params = before["parameters"].clone();
+    params["1320"] = json!(last_huge);
+    let doc = json!({"name": "huge-list", "machine": {"name": "h", "dialect": "fanuc", "parameters": params}});
+    let reply = app.post(C, &doc).await;
+    assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", reply.text());
+    assert!(error_of(&reply).contains("1320"), "{}", reply.text());
+    assert_eq!(app.get(C).await.json().as_array().unwrap().len(), 1, "nothing created");
 }
 
 /// A Haas controller's parameters are the Haas settings list: the MRZP Settings 255–257 and the
