@@ -21,6 +21,8 @@ Writes into OUT_DIR (default: bench/out/ next to this script's parent):
   posture-5x.nc    400 G43.5 P1 blocks (tool posture control) for `fivex run` on head-bc:
                    random points and tool directions 15-60 degrees off +Z, each turned on
                    the great circle between its ends
+  arcs-200k.nc     200,000 G02/G03 half circles (radii 0.5-20 mm, every third one helical)
+                   for `fivex run` on mill3 at F3000: the arc planner's own cost
 and prints the expected final value of #2 for the macro programs.
 
 Coordinates are computed with integer arithmetic only (micrometres), so the
@@ -260,6 +262,27 @@ def write_nano5x(path, blocks, smoothing):
         f.write("G49\nM30\n")
 
 
+def write_arcs(path, arcs):
+    """Half circles along X, alternately G02 and G03 (tangent where they meet), turning back
+    at X +-100; radii cycle through 0.5-20 mm; every third one also moves Z 0.5 mm (a helix)."""
+    radii_um = [1_000, 2_000, 5_000, 10_000, 20_000, 3_000, 500]
+    with open(path, "w", newline="\n") as f:
+        f.write("O0008\nG90 G17 G54 G00 X-100. Y0 Z5.\nG01 Z-1. F3000.\n")
+        x, z, heading = -100_000, -1_000, 1
+        for n in range(arcs):
+            r = radii_um[n % len(radii_um)]
+            if not -100_000 <= x + heading * 2 * r <= 100_000:
+                heading = -heading
+            x += heading * 2 * r
+            word = "G02" if n % 2 == 0 else "G03"
+            helix = ""
+            if n % 3 == 0:
+                z = -1_500 if z == -1_000 else -1_000
+                helix = " Z" + fmt(z)
+            f.write("%s X%s Y0%s R%s\n" % (word, fmt(x), helix, fmt(r)))
+        f.write("G00 Z5.\nM30\n")
+
+
 def expected_macro(iters):
     acc = 0.0
     for i in range(iters):
@@ -287,6 +310,7 @@ def main():
         "nano-5x.nc": lambda p: write_nano5x(p, 200_000, True),
         "tcp4-5x.nc": lambda p: write_nano5x(p, 200_000, False),
         "posture-5x.nc": lambda p: write_posture5x(p, 400),
+        "arcs-200k.nc": lambda p: write_arcs(p, 200_000),
     }
     for name, writer in files.items():
         path = os.path.join(a.out, name)

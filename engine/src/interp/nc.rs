@@ -1206,11 +1206,13 @@ impl State {
     /// A cutting block's feed: F given (PS0011 without), and in G95 a turning spindle: the
     /// feed per revolution follows the spindle's position coder, so with the spindle stopped
     /// (M05, S0) a control waits without end; fivex says so at the block (FX0009, decision).
+    /// Dry run feeds at its own rate per minute, the spindle no matter: no wait there.
     pub(super) fn check_feed(&self) -> Result<(), AlarmId> {
         if self.f <= 0.0 {
             return Err(AlarmId::FeedZero);
         }
-        if self.modes[group::FEED_MODE] == code::G95 && (self.spindle == SpindleState::Stop || self.s <= 0.0) {
+        let stopped = self.spindle == SpindleState::Stop || self.s <= 0.0;
+        if self.modes[group::FEED_MODE] == code::G95 && stopped && !self.dry_run {
             return Err(AlarmId::FeedPerRevolutionSpindleStopped);
         }
         Ok(())

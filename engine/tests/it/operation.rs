@@ -70,6 +70,9 @@ fn dry_run_feeds_cutting_moves_at_the_dry_run_rate_whatever_f() {
     // G95 (per revolution) and G93 (inverse time) feeds too.
     let per_rev = duration("G90 G95 S1000 M03\nG01 X100. F0.01\nM30\n", true, 1.0);
     assert!((per_rev - line_time(50.0)).abs() <= TICK, "{per_rev}");
+    // G95 with the spindle stopped waits for ever without dry run (FX0009); with it, it feeds.
+    let stopped = duration("G90 G95\nG01 X100. F0.01\nM30\n", true, 1.0);
+    assert!((stopped - line_time(50.0)).abs() <= TICK, "{stopped}");
 }
 
 #[test]
