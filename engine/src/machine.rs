@@ -604,6 +604,15 @@ pub struct MotionOptions {
     pub after_interpolation: AfterInterpolation,
 }
 
+/// An axis's rapid rate, mm/min or °/min: fivex's bounds, far beyond any machine either way
+/// (10 km/min), inside which the planner's arithmetic holds. The defaults an axis's
+/// acceleration and jerk take from it stay inside theirs.
+pub const RAPID_RANGE: (f64, f64) = (1.0, 1e7);
+/// An axis's acceleration, mm/s² or °/s² (fivex's bounds, as [`RAPID_RANGE`]).
+pub const ACCEL_RANGE: (f64, f64) = (0.01, 1e8);
+/// An axis's jerk, mm/s³ or °/s³ (fivex's bounds, as [`RAPID_RANGE`]).
+pub const JERK_RANGE: (f64, f64) = (0.01, 1e10);
+
 /// Highest time constant of acceleration/deceleration after interpolation, ms (fivex's bound:
 /// the filter keeps one position per millisecond of it).
 pub const MAX_AFTER_INTERPOLATION_MS: f64 = 4000.0;
@@ -879,7 +888,8 @@ impl MachineConfig {
 
     pub const PRESETS: &'static [&'static str] = &["mill3", "head-bc", "table-ac", "table-bc", "mixed-bc"];
 
-    /// Checks what the engine relies on: 1..=MAX_AXES axes, unique valid letters, positive rates.
+    /// Checks what the engine relies on: 1..=MAX_AXES axes, unique valid letters, rates within
+    /// [`RAPID_RANGE`], [`ACCEL_RANGE`], [`JERK_RANGE`].
     pub fn validate(&self) -> Result<(), String> {
         if self.axes.is_empty() || self.axes.len() > MAX_AXES {
             return Err(format!("a machine needs 1 to {MAX_AXES} axes"));
@@ -895,9 +905,14 @@ impl MachineConfig {
             if self.axes[..i].iter().any(|b| b.name == a.name) {
                 return Err(format!("axis '{}' appears twice", a.name));
             }
-            let positive = |x: Option<f64>| x.is_none_or(|x| x.is_finite() && x > 0.0);
-            if ![Some(a.rapid), a.accel, a.jerk].into_iter().all(positive) {
-                return Err(format!("axis '{}' needs positive rapid rate, acceleration and jerk", a.name));
+            // Far beyond any machine, but where the planner's arithmetic holds: a rapid rate of
+            // 1e50 ran a move in 0 s, a jerk of 1e-20 never ended it.
+            let within = |x: Option<f64>, (lo, hi): (f64, f64)| x.is_none_or(|x| (lo..=hi).contains(&x));
+            if !(within(Some(a.rapid), RAPID_RANGE) && within(a.accel, ACCEL_RANGE) && within(a.jerk, JERK_RANGE)) {
+                return Err(format!(
+                    "axis '{}': rapid is {} to {} per minute, accel {} to {} per s², jerk {} to {} per s³",
+                    a.name, RAPID_RANGE.0, RAPID_RANGE.1, ACCEL_RANGE.0, ACCEL_RANGE.1, JERK_RANGE.0, JERK_RANGE.1
+                ));
             }
             if a.stroke.is_some_and(|[lo, hi]| !(lo.is_finite() && hi.is_finite() && lo <= hi)) {
                 return Err(format!("axis '{}': the stroke is [negative, positive] with negative <= positive", a.name));
@@ -918,6 +933,9 @@ impl MachineConfig {
             if !time_constant(a.after_interpolation_ms) {
                 return Err(format!("axis '{}': after_interpolation_ms is 0 to {MAX_AFTER_INTERPOLATION_MS}", a.name));
             }
+        }
+        if !(self.motion.tool_change_s.is_finite() && self.motion.tool_change_s >= 0.0) {
+            return Err("motion.tool_change_s is 0 or more seconds".into());
         }
         let n = &self.motion.nano_smoothing;
         let positive = |x: f64| x.is_finite() && x > 0.0;
@@ -1340,6 +1358,42 @@ mod tests {
             let mut m = MachineConfig::preset("table-ac").unwrap();
             (m.five_axis.wse_cycle_feed, m.five_axis.wse_rapid_clamp_pct) = (feed, pct);
             assert!(m.validate().is_err(), "{feed} {pct}");
+        }
+    }
+
+    /// The audit's F10: a rapid rate of 1e50 ran a move in 0 s, an acceleration or jerk of
+    /// 1e-20 ended in a budget alarm after 10⁶ s; a negative tool change time counted as 0.
+    #[test]
+    fn rates_outside_fivex_s_bounds_and_a_negative_tool_change_time_are_refused() {
+        let with = |f: &dyn Fn(&mut MachineConfig)| {
+            let mut m = MachineConfig::preset("head-bc").unwrap();
+            f(&mut m);
+            m.validate()
+        };
+        for rapid in [1e50, 1e7 * 1.001, 0.999, 1e-6, f64::INFINITY, f64::NAN, 0.0, -1.0] {
+            assert!(
+                with(&|m| m.axes[0].rapid = rapid).unwrap_err().contains("rapid is 1 to 10000000 per minute"),
+                "{rapid}"
+            );
+        }
+        for bad in [1e-20, 0.0099, 1.01e8, f64::NAN] {
+            assert!(with(&|m| m.axes[1].accel = Some(bad)).is_err(), "accel {bad}");
+        }
+        for bad in [1e-20, 0.0099, 1.01e10, f64::INFINITY] {
+            assert!(with(&|m| m.axes[2].jerk = Some(bad)).is_err(), "jerk {bad}");
+        }
+        // The bounds themselves, and the defaults they give at the ends of the rapid range.
+        with(&|m| {
+            m.axes[0].rapid = 1.0;
+            m.axes[0].accel = None;
+            m.axes[0].jerk = None;
+            m.axes[1].rapid = 1e7;
+            (m.axes[1].accel, m.axes[1].jerk) = (None, None);
+            (m.axes[2].accel, m.axes[2].jerk) = (Some(0.01), Some(1e10));
+        })
+        .unwrap();
+        for t in [-1.0, f64::NAN, f64::INFINITY] {
+            assert!(with(&|m| m.motion.tool_change_s = t).unwrap_err().contains("tool_change_s"), "{t}");
         }
     }
 }
