@@ -180,8 +180,9 @@ impl Station {
         // A restart on the new machine keeps the plane as a power cycle would (Pr3014 = 2).
         if let Some(plane) = &plane {
             controller.interpreter_mut().state.restore_plane(plane);
-            controller.offsets_changed();
         }
+        // The program's current point from the offsets kept (it was the machine position).
+        controller.offsets_changed();
         self.machine = controller.interpreter().config().machine.clone();
         self.controller = controller;
         self.program = None;

@@ -674,6 +674,21 @@ async fn parameters_in_the_dialects_numbering_change_the_machine() {
     assert_eq!(app.get(&format!("{C}/{syntec}/parameters")).await.json()["parameters"]["3001"], 1);
 }
 
+/// The audit's F11: after a parameter change the workpiece position was the machine's (0)
+/// while the tip was right (−100) until the next move.
+#[tokio::test]
+async fn a_parameter_change_keeps_the_workpiece_position_of_the_offsets_kept() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "wp", "preset": "mill3"})).await;
+    let g54 = app.put(&format!("{C}/{id}/work-offsets/G54"), &json!({"axes": {"X": 100.0}})).await;
+    assert_eq!(g54.status, StatusCode::OK, "{}", g54.text());
+    let changed = app.put(&format!("{C}/{id}/parameters/8130"), &json!({"value": 3})).await;
+    assert_eq!(changed.status, StatusCode::OK, "{}", changed.text());
+    let position = app.get(&format!("{C}/{id}")).await.json()["position"].clone();
+    assert_eq!((position["machine"]["X"].clone(), position["workpiece"]["X"].clone()), (json!(0.0), json!(-100.0)));
+    assert_eq!(position["tip"][0], -100.0, "{position}");
+}
+
 #[tokio::test]
 async fn a_parameter_value_that_cannot_be_shown_back_is_refused_and_changes_nothing() {
     let app = spawn_app().await;
