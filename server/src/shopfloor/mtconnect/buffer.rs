@@ -104,21 +104,22 @@ impl Buffer {
     pub fn observe(&mut self, round: &Round) {
         let at: Arc<str> = Arc::from(round.at.as_str());
         let mut seen = vec![false; self.devices.len()];
-        for entry in &round.controllers {
+        let names = super::model::unique_names(&round.controllers);
+        for (entry, name) in round.controllers.iter().zip(&names) {
             let index = match self.devices.iter().position(|d| d.model.uuid == entry.id) {
                 Some(i) => {
                     seen[i] = true;
                     let held = &self.devices[i];
-                    if !Arc::ptr_eq(&held.model.machine, &entry.machine) || held.model.name != entry.name {
+                    if !Arc::ptr_eq(&held.model.machine, &entry.machine) || held.model.name != *name {
                         // A new machine (or name): the device's model is rebuilt, every value
                         // observed afresh.
-                        self.devices[i] = Held::new(Arc::new(Device::of(entry)));
+                        self.devices[i] = Held::new(Arc::new(Device::of(entry, name)));
                         self.model_changed_at = round.at.clone();
                     }
                     i
                 }
                 None => {
-                    self.devices.push(Held::new(Arc::new(Device::of(entry))));
+                    self.devices.push(Held::new(Arc::new(Device::of(entry, name))));
                     seen.push(true);
                     self.model_changed_at = round.at.clone();
                     self.devices.len() - 1
@@ -290,6 +291,27 @@ mod tests {
         assert!(b.devices.is_empty());
         let last = b.range(b.next_sequence() - 1, 1)[0].clone();
         assert_eq!(last.said, Said::Unavailable);
+    }
+
+    /// Two controllers of one name were two devices of that name: `/{name}/current` answered
+    /// for the first only. The later one is named with the head of its id, and takes the
+    /// plain name when the first is gone.
+    #[test]
+    fn devices_of_controllers_with_one_name_are_named_apart() {
+        let machine = Arc::new(Machine::new(MachineConfig::preset("mill3").unwrap()));
+        let with_id = |id: &str| {
+            let mut e = (*entry(&machine, 0.0, &[])).clone();
+            e.id = id.into();
+            Arc::new(e)
+        };
+        let (first, second) = (with_id("0123456789abcdef"), with_id("fedcba9876543210"));
+        let mut b = Buffer::new(1000);
+        b.observe(&round(1, vec![first.clone(), second.clone()]));
+        let names: Vec<&str> = b.devices.iter().map(|d| d.model.name.as_str()).collect();
+        assert_eq!(names, ["one", "one-fedcba98"]);
+        assert!(b.devices[1].model.is("one-fedcba98") && !b.devices[1].model.is("one"));
+        b.observe(&round(2, vec![second]));
+        assert_eq!(b.devices[0].model.name, "one");
     }
 
     #[test]

@@ -169,8 +169,9 @@ pub struct Device {
 }
 
 impl Device {
-    pub fn of(entry: &Entry) -> Device {
-        Builder::new(entry).build()
+    /// The device of `entry`, named `name` (`unique_names`).
+    pub fn of(entry: &Entry, name: &str) -> Device {
+        Builder::new(entry, name).build()
     }
 
     /// Whether `name` (a request path's device) names this device: its name or its uuid.
@@ -179,17 +180,37 @@ impl Device {
     }
 }
 
+/// The device names of `entries` (in creation order): each controller's name, and for a name an
+/// earlier controller already has, the name and the head of its id (`Mill-1a2b3c4d`), so that
+/// a request's `/{device}` names one device and the probe's names are unique.
+pub fn unique_names(entries: &[Arc<Entry>]) -> Vec<String> {
+    let mut used = std::collections::HashSet::new();
+    entries
+        .iter()
+        .map(|e| {
+            let name = if used.contains(e.name.as_str()) {
+                format!("{}-{}", e.name, e.id.get(..8).unwrap_or(&e.id))
+            } else {
+                e.name.clone()
+            };
+            used.insert(name.clone());
+            name
+        })
+        .collect()
+}
+
 struct Builder<'a> {
     entry: &'a Entry,
     id: String,
     items: Vec<Item>,
     components: Vec<Component>,
+    name: &'a str,
 }
 
 impl<'a> Builder<'a> {
-    fn new(entry: &'a Entry) -> Builder<'a> {
+    fn new(entry: &'a Entry, name: &'a str) -> Builder<'a> {
         // The device's `id` attribute prefixes every id: an XML ID must not start with a digit.
-        Builder { entry, id: format!("d{}", entry.id), items: Vec::new(), components: Vec::new() }
+        Builder { entry, id: format!("d{}", entry.id), items: Vec::new(), components: Vec::new(), name }
     }
 
     fn component(&mut self, element: &'static str, suffix: &str, name: Option<String>) -> usize {
@@ -340,7 +361,7 @@ impl<'a> Builder<'a> {
         let axes_element = self.component_element(axes).child(Element::one("Components").children(axis_elements));
         let probe = Element::item("Device")
             .attr("id", self.id.clone())
-            .attr("name", entry.name.clone())
+            .attr("name", self.name.to_string())
             .attr("uuid", entry.id.clone())
             .child(description)
             .child(coordinate_systems)
@@ -348,7 +369,7 @@ impl<'a> Builder<'a> {
             .child(Element::one("Components").child(axes_element).child(controller_element));
         Device {
             uuid: entry.id.clone(),
-            name: entry.name.clone(),
+            name: self.name.to_string(),
             items: self.items,
             components: self.components,
             probe,
