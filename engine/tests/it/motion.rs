@@ -628,3 +628,23 @@ fn a_macro_argument_at_a_rotary_letter_counts_thousandths_in_inch_too() {
     let got = [var_of(&v, 100), var_of(&v, 101)];
     assert!((got[0] - 0.010).abs() < 1e-12 && (got[1] - 0.0010).abs() < 1e-12, "{got:?}");
 }
+
+/// Decision (`docs/conventions.md`, "Motion"; open question there): under G20 F is converted to
+/// mm/min when read and the composite feed counts a degree as a millimetre, the machine's unit
+/// (a metric machine, FANUC No.1001#0 INM = 0), not as an inch. So `G20 X1. C10. F10.` runs as
+/// `G21 X25.4 C10. F254.`: √(25.4² + 10²) = 27.298 at 254/min, 6.448 s before the ramps (60.3 s
+/// if the degree counted as an inch); a rotary-only `C90. F10.` at 254 °/min (10 °/min would
+/// take 540 s).
+#[test]
+fn decision_under_g20_the_composite_feed_counts_a_degree_as_a_millimetre() {
+    let time = |src: &str| {
+        let (r, _) = traced(src, "table-ac");
+        assert!(r.completed(), "{:?}\n{src}", r.alarms);
+        r.cycle_time_s
+    };
+    let inch = time("G20 G91 G01 X1. C10. F10.\nM30\n");
+    close(inch, time("G21 G91 G01 X25.4 C10. F254.\nM30\n"));
+    let ideal = (25.4f64.powi(2) + 100.0).sqrt() / 254.0 * 60.0;
+    assert!((6.448..6.449).contains(&ideal) && inch > ideal && inch < ideal + 0.1, "{inch} s against {ideal} s");
+    close(time("G20 G91 G01 C90. F10.\nM30\n"), time("G21 G91 G01 C90. F254.\nM30\n"));
+}
