@@ -209,11 +209,22 @@ impl State {
         self.modes[group::UNITS] == code::G20
     }
 
+    /// The least input increment of a length: 0.001 mm, or 0.0001 inch under G20.
     fn increment(&self) -> f64 {
         if self.inch() {
             0.0001
         } else {
             0.001
+        }
+    }
+
+    /// What one least input increment is worth at an address that counts them: 0.001° at a
+    /// rotary axis in mm and inch alike (an angle has no inch form: FANUC 30i-A5 manual §2.3.2
+    /// gives the angles' increment apart from the input unit), the length increment elsewhere.
+    fn increment_at(&self, letter: u8) -> f64 {
+        match self.axis_of(letter) {
+            Some(i) if self.cfg.machine.axes[i].kind != AxisKind::Linear => 0.001,
+            _ => self.increment(),
         }
     }
 
@@ -231,8 +242,7 @@ impl State {
     /// I J K R Q, 10000 for linear ones in G20 (0.0001 inch), 1 at the other addresses.
     pub(super) fn steps_of(&self, letter: u8) -> f64 {
         match self.axis_of(letter) {
-            Some(i) if self.cfg.machine.axes[i].kind != AxisKind::Linear => 1000.0,
-            Some(_) => 1.0 / self.increment(),
+            Some(_) => 1.0 / self.increment_at(letter),
             None if matches!(letter, b'I' | b'J' | b'K' | b'R' | b'Q' | b'i' | b'j' | b'k' | b'c' | b'r') => {
                 1.0 / self.increment()
             }
@@ -245,7 +255,7 @@ impl State {
     pub(super) fn value(&self, w: &Words, letter: u8) -> Option<f64> {
         let (v, form) = w.word(letter)?;
         let v = match form {
-            Form::NoPoint if self.counts_increments(letter) => v * self.increment(),
+            Form::NoPoint if self.counts_increments(letter) => v * self.increment_at(letter),
             Form::Expr => round_to(v, self.steps_of(letter)),
             _ => v,
         };
@@ -263,7 +273,8 @@ impl State {
         let (mut set, mut last_ijk) = (0usize, 0u8);
         for &(letter, v, form) in &w.list {
             // (An argument keeps a variable's exact value: no rounding to the increment.)
-            let v = if form == Form::NoPoint && self.counts_increments(letter) { v * self.increment() } else { v };
+            let v =
+                if form == Form::NoPoint && self.counts_increments(letter) { v * self.increment_at(letter) } else { v };
             let var = match letter {
                 b'G' | b'L' | b'N' | b'O' | b'P' => continue,
                 b'A' => 1,

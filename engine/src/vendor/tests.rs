@@ -969,6 +969,39 @@ fn unmodelled_fanuc_parameters_are_reported() {
     }
 }
 
+/// Audit G F3: No.1006's bits beside #0 ROT (#1 ROS, #3 DIA, #5 ZMI, …) are not read, so a set
+/// one is reported alone, as No.1008#2 is, also where every flip of ROT itself is refused (a
+/// rotary link needs its axis rotary: vmc-4th-a's A, the BC head's B). They were dropped with
+/// no word.
+#[test]
+fn fanuc_1006_bits_beside_rot_are_reported() {
+    let file = include_str!("../../../machines/vmc-4th-a.json");
+    let with = |n: &str, axis: usize, v: u32| {
+        let mut doc: serde_json::Value = serde_json::from_str(file).unwrap();
+        doc["parameters"][n][axis] = v.into();
+        let names: Vec<String> =
+            crate::machine_file::unmodelled(&doc.to_string()).into_iter().map(|u| u.parameter).collect();
+        names
+    };
+    assert_eq!(crate::machine_file::unmodelled(file), vec![], "the file as shipped");
+    // A (axis 4) is ROT = 1; X (axis 1) is linear: its bits beside ROT are not read either.
+    for (axis, v, want) in [
+        (3, 3, "No.1006#1 (axis 4)"),
+        (3, 9, "No.1006#3 (axis 4)"),
+        (3, 33, "No.1006#5 (axis 4)"),
+        (3, 129, "No.1006#7 (axis 4)"),
+        (0, 2, "No.1006#1 (axis 1)"),
+    ] {
+        assert_eq!(with("1006", axis, v), [want], "No.1006 = {v} on axis {}", axis + 1);
+    }
+    assert_eq!(with("1008", 3, 5), ["No.1008#2 (axis 4)"], "as No.1008's RRL");
+    // The BC head (B axis 4, C axis 5, both linked): ROS on B.
+    let mut p = fanuc_bc_head();
+    p.set_axes(1006, vec![0.0, 0.0, 0.0, 3.0, 1.0]);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &p).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["No.1006#1 (axis 4)"]);
+}
+
 /// Syntec: an unknown number is reported; STCP's settings (SYN-09: Pr3051–3053, Pr407) are
 /// carried out, read and written back.
 #[test]

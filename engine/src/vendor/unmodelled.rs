@@ -105,8 +105,15 @@ pub fn of_params(dialect: Dialect, given: &Params) -> Vec<Unmodelled> {
             continue;
         }
         // Bit by bit only where bits are what the model reads: some bit's flip gives another
-        // working machine (No.1022's one legal value, say, has no such bit).
-        if flips.iter().any(|f| f.2 == Some(false)) {
+        // working machine, or the same machine with the element still set (No.1006#1 ROS
+        // beside #0 ROT, whose own flip a rotary link refuses: No.1006 = 3 → 1). A checked
+        // code (No.1022's one legal value per axis) flips only into refusals or to 0, unset.
+        let bitwise = flips.iter().any(|&(k, b, same)| match same {
+            Some(false) => true,
+            Some(true) => (values[k] as u32) ^ (1 << b) != 0,
+            None => false,
+        });
+        if bitwise {
             for &(k, b, _) in flips.iter().filter(|f| f.2 == Some(true) && (values[f.0] as u32) & (1 << f.1) != 0) {
                 let axis = if values.len() > 1 { format!(" (axis {})", k + 1) } else { String::new() };
                 out.push(Unmodelled {

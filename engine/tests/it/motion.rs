@@ -564,3 +564,87 @@ fn feed_per_revolution_with_the_spindle_stopped_is_refused() {
         }
     }
 }
+
+// --- Inch input (G20) and rotary axes -----------------------------------------------------------
+
+/// The common variables of a completed run of `src` on `preset` in `dialect`, `tweak`ed.
+fn vars_of(
+    src: &str,
+    preset: &str,
+    dialect: Dialect,
+    tweak: impl FnOnce(&mut fivex_engine::interp::Config),
+) -> Vec<(u32, f64)> {
+    let mut interp = interpreter_with(src, preset, dialect, tweak);
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+    assert!(r.completed(), "{dialect:?}: unexpected alarm {:?} in\n{src}", r.alarms);
+    r.variables.clone()
+}
+
+fn var_of(vars: &[(u32, f64)], n: u32) -> f64 {
+    vars.iter().find(|(k, _)| *k == n).map(|(_, v)| *v).unwrap_or_else(|| panic!("#{n} vacant"))
+}
+
+/// A rotary word without a decimal point counts 0.001° in G20 as in G21: only lengths have an
+/// inch increment (FANUC 30i-A5 manual §2.3.2 gives the angles' increment apart from the
+/// input unit; 30i user's manual §8.2: "The unit of data input for degrees remains unchanged").
+/// `C10` is 0.010°, `A1000` 1.000°, while `X10` is 0.0010 inch. It was 0.001° and 0.1°.
+#[test]
+fn a_rotary_word_without_a_point_counts_thousandths_of_a_degree_in_inch_too() {
+    // Hand values: C10 → 0.010°, A1000 → 1.000° (both units); X10 → 0.0010 in = 0.0254 mm,
+    // which #5021 reads back in inch under G20.
+    let body = |mm: &str, inch: &str| {
+        format!(
+            "{mm} G91 G00 C10 A1000\n#100=#5025\n#101=#5024\n{inch} C10 A1000 X10\n#102=#5025-#100\n\
+             #103=#5024-#101\n#104=#5021\nG91 G00 C10 A1000\n#105=#5025-#100-#102\n#106=#5024-#101-#103\nM30\n"
+        )
+    };
+    for (dialect, mm, inch) in
+        [(Dialect::Fanuc, "G21", "G20"), (Dialect::Syntec, "G71", "G70"), (Dialect::Haas, "G21", "G20")]
+    {
+        let v = vars_of(&body(mm, inch), "table-ac", dialect, |_| {});
+        let got: Vec<f64> = (100..=106).map(|n| var_of(&v, n)).collect();
+        let want = [0.010, 1.000, 0.010, 1.000, 0.001, 0.010, 1.000];
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-9, "{dialect:?}: got {got:?}, want {want:?}");
+        }
+    }
+    // Inch at power on (FANUC No.0000#2 INI): the same without a G20 in the program.
+    let mut m = MachineConfig::preset("table-ac").unwrap();
+    m.motion.power_on_inch = true;
+    let v =
+        vars_of("G91 G00 C10 A1000 X10\n#100=#5025\n#101=#5024\n#102=#5021\nM30\n", "table-ac", Dialect::Fanuc, |c| {
+            c.machine = m.into()
+        });
+    let got = [var_of(&v, 100), var_of(&v, 101), var_of(&v, 102)];
+    assert!(got.iter().zip([0.010, 1.000, 0.001]).all(|(g, w)| (g - w).abs() < 1e-9), "power-on inch: {got:?}");
+}
+
+/// A macro call's argument at a rotary axis's letter counts the axis's increment too: in G20
+/// `G65 C10` passes 0.010 (a length's letter 0.0010 inch, as FANUC's I/J/K example).
+#[test]
+fn a_macro_argument_at_a_rotary_letter_counts_thousandths_in_inch_too() {
+    let src = "G20\nG65 P9001 C10 X10\nM30\nO9001\n#100=#3\n#101=#24\nM99\n";
+    let v = vars_of(src, "table-ac", Dialect::Fanuc, |_| {});
+    let got = [var_of(&v, 100), var_of(&v, 101)];
+    assert!((got[0] - 0.010).abs() < 1e-12 && (got[1] - 0.0010).abs() < 1e-12, "{got:?}");
+}
+
+/// Decision (`docs/conventions.md`, "Motion"; open question there): under G20 F is converted to
+/// mm/min when read and the composite feed counts a degree as a millimetre, the machine's unit
+/// (a metric machine, FANUC No.1001#0 INM = 0), not as an inch. So `G20 X1. C10. F10.` runs as
+/// `G21 X25.4 C10. F254.`: √(25.4² + 10²) = 27.298 at 254/min, 6.448 s before the ramps (60.3 s
+/// if the degree counted as an inch); a rotary-only `C90. F10.` at 254 °/min (10 °/min would
+/// take 540 s).
+#[test]
+fn decision_under_g20_the_composite_feed_counts_a_degree_as_a_millimetre() {
+    let time = |src: &str| {
+        let (r, _) = traced(src, "table-ac");
+        assert!(r.completed(), "{:?}\n{src}", r.alarms);
+        r.cycle_time_s
+    };
+    let inch = time("G20 G91 G01 X1. C10. F10.\nM30\n");
+    close(inch, time("G21 G91 G01 X25.4 C10. F254.\nM30\n"));
+    let ideal = (25.4f64.powi(2) + 100.0).sqrt() / 254.0 * 60.0;
+    assert!((6.448..6.449).contains(&ideal) && inch > ideal && inch < ideal + 0.1, "{inch} s against {ideal} s");
+    close(time("G20 G91 G01 C90. F10.\nM30\n"), time("G21 G91 G01 C90. F254.\nM30\n"));
+}
