@@ -82,18 +82,25 @@ pub struct SetWorkOffset {
     pub axes: Map<String, Value>,
 }
 
-/// The slot of a work offset name.
+/// The slot of a work offset name. Haas's names of the same storage are taken too: G154 P1–P99
+/// is G54.1 P1–P99, G110–G129 are G154 P1–P20 (`docs/dialects.md`, "Work offsets G154").
 fn slot_of(name: &str) -> Option<usize> {
     let upper = name.to_ascii_uppercase().replace(' ', "");
+    let additional = |p: usize, most: usize| (1..=most).contains(&p).then_some(6 + p);
     match upper.as_str() {
         "EXT" => Some(0),
         _ => {
             if let Some(p) = upper.strip_prefix("G54.1P") {
-                let p: usize = p.parse().ok()?;
-                (1..=WORK_SLOTS - 7).contains(&p).then_some(6 + p)
+                additional(p.parse().ok()?, WORK_SLOTS - 7)
+            } else if let Some(p) = upper.strip_prefix("G154P") {
+                additional(p.parse().ok()?, 99)
             } else {
                 let g: usize = upper.strip_prefix('G')?.parse().ok()?;
-                (54..=59).contains(&g).then_some(g - 53)
+                match g {
+                    54..=59 => Some(g - 53),
+                    110..=129 => additional(g - 109, 20),
+                    _ => None,
+                }
             }
         }
     }
@@ -187,7 +194,7 @@ pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDt
     put,
     path = "/api/v1/controllers/{id}/work-offsets/{name}",
     tag = "offsets",
-    params(("id" = String, Path, description = "Controller id"), ("name" = String, Path, description = "EXT, G54…G59, G54.1P1…G54.1P300")),
+    params(("id" = String, Path, description = "Controller id"), ("name" = String, Path, description = "EXT, G54…G59, G54.1P1…G54.1P300 (Haas's G154P1…G154P99 and G110…G129 name the same storage)")),
     request_body = SetWorkOffset,
     responses(
         (status = 200, description = "Changed", body = WorkOffsetDto),
@@ -220,7 +227,11 @@ mod tests {
         for (name, slot) in [("EXT", 0), ("G54", 1), ("g59", 6), ("G54.1P1", 7), ("G54.1 P300", 306)] {
             assert_eq!(slot_of(name), Some(slot), "{name}");
         }
-        for bad in ["G53", "G60", "G54.1P0", "G54.1P301", "X", ""] {
+        // Haas's names of the same storage.
+        for (name, slot) in [("G154P1", 7), ("g154 p99", 105), ("G110", 7), ("G129", 26)] {
+            assert_eq!(slot_of(name), Some(slot), "{name}");
+        }
+        for bad in ["G53", "G60", "G54.1P0", "G54.1P301", "X", "", "G154P0", "G154P100", "G109", "G130", "G154"] {
             assert_eq!(slot_of(bad), None, "{bad}");
         }
         assert_eq!(name_of(306), "G54.1P300");

@@ -6879,7 +6879,7 @@ export interface operations {
             path: {
                 /** @description Controller id */
                 id: string;
-                /** @description EXT, G54…G59, G54.1P1…G54.1P300 */
+                /** @description EXT, G54…G59, G54.1P1…G54.1P300 (Haas's G154P1…G154P99 and G110…G129 name the same storage) */
                 name: string;
             };
             cookie?: never;
