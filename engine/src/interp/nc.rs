@@ -697,7 +697,7 @@ impl State {
             tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
             // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
             // by the offset in this block (a G49 block without axis words does not:
-            // `haas_g49_in_place`; no source for H0 either way).
+            // `g49_in_place`; no source for H0 either way).
             let haas = self.cfg.dialect == Dialect::Haas;
             if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
                 self.modes[group::LENGTH_COMP] = code::G49;
@@ -722,7 +722,7 @@ impl State {
             self.tcp_end();
         }
         self.tcp_words(w)?;
-        if self.haas_g49_in_place(w, axes_owner.is_none(), machine_before) {
+        if self.g49_in_place(w, axes_owner.is_none(), machine_before) {
             tool_length_changed = false;
         }
 
@@ -1028,16 +1028,21 @@ impl State {
         self.cfg.dialect == Dialect::Haas && !self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8))
     }
 
-    /// Haas: a G49 block (G43/G44 or G234 ending) that has no axis words and runs no canned
-    /// cycle moves nothing; the length is gone from the next move on, so the current point is
-    /// read again where the machine stands (`docs/dialects.md`, "Haas 5-axis": Autodesk's Haas
-    /// NGC post ends every TCPC section with `G49 (TCPC OFF)` at its last cutting point and then
-    /// retracts with `G53 G0 Z`, which a G49 that dropped the spindle by the tool length would
-    /// crash). Returns whether it applied (`machine`: where the machine stands).
-    fn haas_g49_in_place(&mut self, w: &Words, owns_axes: bool, machine: Pos) -> bool {
+    /// Haas and Syntec: a G49 block (G43/G44, G234 or RTCP ending) that has no axis words and
+    /// runs no canned cycle moves nothing; the length is gone from the next move on, so the
+    /// current point is read again where the machine stands. Haas: `docs/dialects.md`, "Haas
+    /// 5-axis" (Autodesk's Haas NGC post ends every TCPC section with `G49 (TCPC OFF)` at its
+    /// last cutting point and then retracts with `G53 G0 Z`, which a G49 that dropped the
+    /// spindle by the tool length would crash). Syntec: *decision*, `docs/dialects.md`, "Syntec
+    /// G49" (the manual's G49 cancels "tool tip control" and describes no motion; Autodesk's
+    /// SYIL post writes G49 at clearance height before G69 and the retract). FANUC's G49 moves
+    /// by the length (a coordinate-system shift, TOS = 1, is not built). Returns whether it
+    /// applied (`machine`: where the machine stands).
+    fn g49_in_place(&mut self, w: &Words, owns_axes: bool, machine: Pos) -> bool {
         let cycle = self.modes[group::CYCLE] != code::G80 && (w.has(b'R') || w.gcodes().iter().any(|&c| is_cycle(c)));
         let axis_words = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
-        if self.cfg.dialect != Dialect::Haas || !w.has_g(code::G49) || axis_words || !owns_axes || cycle {
+        let dialect = matches!(self.cfg.dialect, Dialect::Haas | Dialect::Syntec);
+        if !dialect || !w.has_g(code::G49) || axis_words || !owns_axes || cycle {
             return false;
         }
         self.follow_machine = None;

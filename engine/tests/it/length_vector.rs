@@ -96,8 +96,8 @@ fn after_the_return_the_position_is_read_without_the_vector() {
 /// block's) or with a length selection; a move of X/Y alone leaves Z at the reference position.
 /// By hand (G54 zero, lengths 100): after `G28 G91 Z0.` the X/Y move stays at machine Z 0,
 /// `G0 Z50.` goes to 150. After a second return, `G43 H2` with H2 = 120 moves by the 120 in
-/// force (machine Z 0 → 120; its block moves by the length, as before), and a G49 after the
-/// restored vector moves by it again (120 → 0). G44 and G91 Z moves alike.
+/// force (machine Z 0 → 120; its block moves by the length, as before), and a FANUC G49 after
+/// the restored vector moves by it again (120 → 0). G44 and G91 Z moves alike.
 #[test]
 fn the_next_z_move_or_a_length_selection_restores_the_vector() {
     let src = "G90 G54 G17\nG0 X0 Y0\nG43 Z50. H1\nG28 G91 Z0.\nG90 G0 X10. Y10.\nG0 Z50.\n\
@@ -111,7 +111,12 @@ fn the_next_z_move_or_a_length_selection_restores_the_vector() {
         assert_eq!((end_of(&e, 5)[0], z(5)), (10.0, 0.0), "{dialect:?} {e:?}");
         assert_eq!(z(6), 150.0, "{dialect:?} {e:?}");
         assert_eq!(z(8), 120.0, "{dialect:?} {e:?}");
-        assert_eq!(z(9), 0.0, "{dialect:?} {e:?}");
+        // (Syntec's G49 without axis words moves nothing: "Syntec G49", below.)
+        if dialect == Dialect::Fanuc {
+            assert_eq!(z(9), 0.0, "{dialect:?} {e:?}");
+        } else {
+            assert!(!moves_on(&e, 9), "{e:?}");
+        }
         assert_eq!(z(10), -50.0, "{dialect:?} {e:?}");
         assert_eq!(z(11), 0.0, "{dialect:?} {e:?}");
         // G91 Z-10. from machine 0, the program point 0 less the vector: 0 − 10 − 100.
@@ -173,4 +178,31 @@ fn the_g49_ending_tcp_still_moves_by_the_offset() {
     let e = ends(src, "head-bc", Dialect::Fanuc);
     assert!((end_of(&e, 2)[2] - 100.0).abs() < 1e-9, "{e:?}");
     assert!(end_of(&e, 4)[2].abs() < 1e-9, "{e:?}");
+}
+
+/// Syntec G49 (*decision*, `docs/dialects.md`, "Syntec G49"): a G49 block without axis words
+/// moves nothing, whether it ends G43 in the tilted plane or RTCP; the current point is then
+/// the nose where it stands. Autodesk's SYIL post (the audit's s1b and s2) writes `G49` at
+/// clearance height before `G69` and `G28 G91 Z0.`. By hand on head-bc, plane `G68.2 X0 Y0 Z0
+/// I0 J30. K0` (a turn of 30° about X; Syntec's G53.1 P0 from B0 C0: B−30 C90 or B30 C−90,
+/// whichever), `G43 H1` / `G0 X0 Y0 Z15.`: the tip 15 up the feature Z with the 100 mm tool;
+/// the G49 leaves the machine there (before: 100 mm down the tilted tool, to 85 below the
+/// tip's level), and the next `G0 Z115.` in the plane puts the nose — now the controlled point
+/// — at feature Z 115, where the G43 tip at Z15 had it: no motion either. FANUC's G49 still
+/// moves (a coordinate-system shift, TOS = 1, is not built).
+#[test]
+fn a_syntec_g49_without_axis_words_moves_nothing() {
+    let plane = "G90 G17 G49\nG0 X0 Y0 Z200. B0 C0\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG43 H1\nG0 X0 Y0 Z15.\nG49\nG0 Z115.\nG69\nM30\n";
+    let e = ends(plane, "head-bc", Dialect::Syntec);
+    assert!(!moves_on(&e, 7), "{e:?}");
+    let at = end_of(&e, 6);
+    let same = end_of(&e, 8);
+    assert!(at.iter().zip(&same).all(|(a, b)| (a - b).abs() < 1e-9), "{at:?} → {same:?}");
+    let e = ends(plane, "head-bc", Dialect::Fanuc);
+    assert!(moves_on(&e, 7), "FANUC's G49 moves by the length: {e:?}");
+
+    let rtcp = "G90 G0 X0 Y0 Z0 B0 C0\nG43.4 H1\nG0 X10. Y0 Z20. B30.\nG49\nM30\n";
+    let e = ends(rtcp, "head-bc", Dialect::Syntec);
+    assert!(!moves_on(&e, 4), "{e:?}");
+    assert!(moves_on(&ends(rtcp, "head-bc", Dialect::Fanuc), 4));
 }
