@@ -305,6 +305,9 @@ pub struct State {
     shift: Pos,
     /// Tool length offset vector currently applied.
     tool_vec: Pos,
+    /// FANUC/Syntec: a G28/G30/G53 moving Z in G43/G44 cancelled the tool length offset
+    /// vector; the mode and H stay (`State::cancel_length_vector`).
+    length_cancelled: bool,
     cycle: CycleData,
     /// The intermediate point of the last G28, for G29.
     last_g28_mid: Pos,
@@ -677,6 +680,7 @@ impl State {
             local: [0.0; MAX_AXES],
             shift: [0.0; MAX_AXES],
             tool_vec: [0.0; MAX_AXES],
+            length_cancelled: false,
             cycle: CycleData::default(),
             last_g28_mid: [0.0; MAX_AXES],
             modal_calls: Vec::new(),

@@ -708,11 +708,14 @@ impl State {
             tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
             // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
             // by the offset in this block (a G49 block without axis words does not:
-            // `haas_g49_in_place`; no source for H0 either way).
+            // `g49_in_place`; no source for H0 either way).
             let haas = self.cfg.dialect == Dialect::Haas;
             if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
                 self.modes[group::LENGTH_COMP] = code::G49;
             }
+        }
+        if !tool_length_changed && self.restores_length_vector(w, axes_owner, transform_axes) {
+            self.refresh_tool_length();
         }
         if tool_length_changed {
             let before = self.tool_vec;
@@ -730,7 +733,7 @@ impl State {
             self.tcp_end();
         }
         self.tcp_words(w)?;
-        if self.haas_g49_in_place(w, axes_owner.is_none(), machine_before) {
+        if self.g49_in_place(w, axes_owner.is_none(), machine_before) {
             tool_length_changed = false;
         }
 
@@ -989,13 +992,44 @@ impl State {
         Ok(())
     }
 
-    /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A).
+    /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A). A
+    /// selection re-establishes a vector a reference return cancelled.
     pub(super) fn refresh_tool_length(&mut self) {
+        self.length_cancelled = false;
         let mut v = [0.0; MAX_AXES];
         if let Some(z) = self.axis_of(b'Z') {
             v[z] = self.signed_tool_length();
         }
         self.tool_vec = v;
+    }
+
+    /// FANUC/Syntec: G28/G30 (the return to the reference position) and G53 that move the tool
+    /// length offset axis Z in G43/G44 cancel the offset vector; the mode stays G43/G44 and H
+    /// stays selected (FANUC 0i-MB B-63844EN §14.1.2: "tool length offset vectors are canceled
+    /// … the previously specified modal G code remains displayed"). So the `G49` posts write
+    /// after `G28 G91 Z0.` has nothing left to remove. Called before the machine motion, whose
+    /// end point is then read without the vector. In the tilted plane the whole length along
+    /// the tool goes (*decision*, `docs/five-axis.md`). Haas cancels G43 itself at G28
+    /// (`haas_cancel_length_comp`).
+    fn cancel_length_vector(&mut self, w: &Words) {
+        let in_length_comp = matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44);
+        if self.cfg.dialect == Dialect::Haas || !in_length_comp || !w.has(b'Z') || self.axis_of(b'Z').is_none() {
+            return;
+        }
+        self.length_cancelled = true;
+        self.tool_vec = [0.0; MAX_AXES];
+    }
+
+    /// Whether the block re-establishes a vector a reference return cancelled: it moves Z
+    /// (not as the data of G10/G52/G92/G68/G51, nor as a G28/G30/G53 return, which keeps it
+    /// cancelled). *Decision* (the manual's page on restoration is not in the text at hand):
+    /// the next move of the offset axis, its end point with the vector, as a G43 H block's;
+    /// a move of other axes leaves Z where the return put it.
+    fn restores_length_vector(&self, w: &Words, axes_owner: Option<u16>, transform_axes: bool) -> bool {
+        self.length_cancelled
+            && w.has(b'Z')
+            && !transform_axes
+            && axes_owner.is_none_or(|g| matches!(g, code::G29 | code::G31))
     }
 
     /// Haas: a G28 without axis words returns every axis, the rotary ones too, to machine zero
@@ -1005,16 +1039,21 @@ impl State {
         self.cfg.dialect == Dialect::Haas && !self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8))
     }
 
-    /// Haas: a G49 block (G43/G44 or G234 ending) that has no axis words and runs no canned
-    /// cycle moves nothing; the length is gone from the next move on, so the current point is
-    /// read again where the machine stands (`docs/dialects.md`, "Haas 5-axis": Autodesk's Haas
-    /// NGC post ends every TCPC section with `G49 (TCPC OFF)` at its last cutting point and then
-    /// retracts with `G53 G0 Z`, which a G49 that dropped the spindle by the tool length would
-    /// crash). Returns whether it applied (`machine`: where the machine stands).
-    fn haas_g49_in_place(&mut self, w: &Words, owns_axes: bool, machine: Pos) -> bool {
+    /// Haas and Syntec: a G49 block (G43/G44, G234 or RTCP ending) that has no axis words and
+    /// runs no canned cycle moves nothing; the length is gone from the next move on, so the
+    /// current point is read again where the machine stands. Haas: `docs/dialects.md`, "Haas
+    /// 5-axis" (Autodesk's Haas NGC post ends every TCPC section with `G49 (TCPC OFF)` at its
+    /// last cutting point and then retracts with `G53 G0 Z`, which a G49 that dropped the
+    /// spindle by the tool length would crash). Syntec: *decision*, `docs/dialects.md`, "Syntec
+    /// G49" (the manual's G49 cancels "tool tip control" and describes no motion; Autodesk's
+    /// SYIL post writes G49 at clearance height before G69 and the retract). FANUC's G49 moves
+    /// by the length (a coordinate-system shift, TOS = 1, is not built). Returns whether it
+    /// applied (`machine`: where the machine stands).
+    fn g49_in_place(&mut self, w: &Words, owns_axes: bool, machine: Pos) -> bool {
         let cycle = self.modes[group::CYCLE] != code::G80 && (w.has(b'R') || w.gcodes().iter().any(|&c| is_cycle(c)));
         let axis_words = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
-        if self.cfg.dialect != Dialect::Haas || !w.has_g(code::G49) || axis_words || !owns_axes || cycle {
+        let dialect = matches!(self.cfg.dialect, Dialect::Haas | Dialect::Syntec);
+        if !dialect || !w.has_g(code::G49) || axis_words || !owns_axes || cycle {
             return false;
         }
         self.follow_machine = None;
@@ -1052,7 +1091,8 @@ impl State {
     }
 
     pub(super) fn context(&self) -> MotionContext {
-        let length_on = !code::LENGTH_CANCEL.contains(&self.modes[group::LENGTH_COMP]);
+        // (A vector a reference return cancelled is no length in effect.)
+        let length_on = !code::LENGTH_CANCEL.contains(&self.modes[group::LENGTH_COMP]) && !self.length_cancelled;
         let comp_on = self.modes[group::CUTTER_COMP] != code::G40;
         MotionContext {
             plane: self.modes[group::PLANE],
@@ -1518,6 +1558,7 @@ impl State {
                         m[i] = v;
                     }
                 }
+                self.cancel_length_vector(w);
                 self.emit_machine_motion(m, out);
                 return Ok(true);
             }
@@ -1566,6 +1607,7 @@ impl State {
                         m[i] = if which == 1 { 0.0 } else { axis.references[which - 2] };
                     }
                 }
+                self.cancel_length_vector(w);
                 self.emit_machine_motion(m, out);
                 if code == code::G28 {
                     self.haas_cancel_length_comp();

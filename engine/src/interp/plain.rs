@@ -29,6 +29,8 @@ impl State {
             // general path; the block's other conditions are modal, checked where they were set.
             && (self.modes[group::CUTTER_COMP] == code::G40 || !self.rotary_word(w))
             && self.modal_calls.is_empty()
+            // A move of Z re-establishes a tool length vector a reference return cancelled.
+            && !self.length_cancelled
             && modes::no_rule_applies(self, g)
             && w.letters().all(|l| l == b'G' || l == b'F' || self.axis_of(l).is_some())
     }

@@ -88,8 +88,12 @@ impl State {
         self.kinematics.clone().ok_or(AlarmId::TwpFormat)
     }
 
-    /// Tool length of group 08 as it acts now (G43 +H, G44 −H, otherwise 0).
+    /// Tool length of group 08 as it acts now (G43 +H, G44 −H, otherwise 0; 0 while a
+    /// reference return has cancelled the vector, `cancel_length_vector`).
     pub(super) fn active_tool_length(&self) -> f64 {
+        if self.length_cancelled {
+            return 0.0;
+        }
         match self.modes[group::LENGTH_COMP] {
             code::G43 => self.offsets.length(self.h),
             code::G44 => -self.offsets.length(self.h),

@@ -24,6 +24,7 @@ mod hpcc;
 mod incremental;
 mod kinematic_speed;
 mod leading_edge;
+mod length_vector;
 mod library;
 mod macro_b;
 mod manual;
