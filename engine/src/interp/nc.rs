@@ -708,7 +708,7 @@ impl State {
             tool_length_changed |= self.modes[group::LENGTH_COMP] != code::G49;
             // Haas: H0 cancels G43/G44 as G49 does (96-8000 rev R, G49); the tool moves
             // by the offset in this block (a G49 block without axis words does not:
-            // `g49_in_place`; no source for H0 either way).
+            // `g49_in_place_dialect`; no source for H0 either way).
             let haas = self.cfg.dialect == Dialect::Haas;
             if haas && self.h == 0 && matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44) {
                 self.modes[group::LENGTH_COMP] = code::G49;
@@ -726,14 +726,19 @@ impl State {
         // Tool centre point control starts or ends here (its start and end blocks move by the
         // tool length, computed at their end only).
         let tcp_mode = code::TCP.contains(&self.modes[group::LENGTH_COMP]);
+        let mut tcp_switch = false;
         if tcp_mode && w.gcodes().iter().any(|g| code::TCP.contains(g)) {
             self.tcp_begin(w, machine_before)?;
             tool_length_changed = true;
+            tcp_switch = true;
         } else if !tcp_mode && self.tcp_active() {
             self.tcp_end();
+            tcp_switch = true;
         }
         self.tcp_words(w)?;
-        if self.g49_in_place(w, axes_owner.is_none(), machine_before) {
+        let fanuc_shift = tool_length_changed && !tcp_switch && self.length_shifts_coordinates();
+        let in_place = fanuc_shift || self.g49_in_place_dialect(w);
+        if in_place && self.length_in_place(w, fanuc_shift, axes_owner.is_none(), machine_before) {
             tool_length_changed = false;
         }
 
@@ -1039,26 +1044,48 @@ impl State {
         self.cfg.dialect == Dialect::Haas && !self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8))
     }
 
-    /// Haas and Syntec: a G49 block (G43/G44, G234 or RTCP ending) that has no axis words and
-    /// runs no canned cycle moves nothing; the length is gone from the next move on, so the
-    /// current point is read again where the machine stands. Haas: `docs/dialects.md`, "Haas
-    /// 5-axis" (Autodesk's Haas NGC post ends every TCPC section with `G49 (TCPC OFF)` at its
-    /// last cutting point and then retracts with `G53 G0 Z`, which a G49 that dropped the
-    /// spindle by the tool length would crash). Syntec: *decision*, `docs/dialects.md`, "Syntec
-    /// G49" (the manual's G49 cancels "tool tip control" and describes no motion; Autodesk's
-    /// SYIL post writes G49 at clearance height before G69 and the retract). FANUC's G49 moves
-    /// by the length (a coordinate-system shift, TOS = 1, is not built). Returns whether it
-    /// applied (`machine`: where the machine stands).
-    fn g49_in_place(&mut self, w: &Words, owns_axes: bool, machine: Pos) -> bool {
-        let cycle = self.modes[group::CYCLE] != code::G80 && (w.has(b'R') || w.gcodes().iter().any(|&c| is_cycle(c)));
+    /// Haas and Syntec: a G49 block (G43/G44, G234 or RTCP ending) moves nothing when it has no
+    /// axis words (`length_in_place`). Haas: `docs/dialects.md`, "Haas 5-axis" (Autodesk's Haas
+    /// NGC post ends every TCPC section with `G49 (TCPC OFF)` at its last cutting point and then
+    /// retracts with `G53 G0 Z`, which a G49 that dropped the spindle by the tool length would
+    /// crash). Syntec: *decision*, `docs/dialects.md`, "Syntec G49" (the manual's G49 cancels
+    /// "tool tip control" and describes no motion; Autodesk's SYIL post writes G49 at clearance
+    /// height before G69 and the retract).
+    fn g49_in_place_dialect(&self, w: &Words) -> bool {
+        matches!(self.cfg.dialect, Dialect::Haas | Dialect::Syntec) && w.has_g(code::G49)
+    }
+
+    /// FANUC with No.5006#6 TOS = 1 (`five_axis.length_offset_by_motion` false, fivex's
+    /// default): tool length offset shifts the coordinate system instead of moving the axes,
+    /// so a G43/G44/G49 or H block moves nothing by itself (`docs/five-axis.md`, "TOS";
+    /// Autodesk's fanuc.cps requires it: "Ensure that the G49 command does not cause axis
+    /// movement"). TCP's start and end blocks move by the length all the same (TCP-03, TCP-17):
+    /// the caller leaves them out.
+    fn length_shifts_coordinates(&self) -> bool {
+        self.cfg.dialect == Dialect::Fanuc && !self.cfg.machine.five_axis.length_offset_by_motion
+    }
+
+    /// A length change in a block that runs no canned cycle (whose length is taken at the move
+    /// to R) moves nothing by itself: the current point is read again where the machine
+    /// stands, and the length is in force from the next move of the axis on. Haas/Syntec G49:
+    /// only without axis words. FANUC TOS = 1 (`shift`): with axis words too, so that a G90
+    /// move ends where it would have anyway, an axis the block does not name stays, and a G91
+    /// move moves by its increment only. Returns whether it applied (`machine`: where the
+    /// machine stands).
+    fn length_in_place(&mut self, w: &Words, shift: bool, owns_axes: bool, machine: Pos) -> bool {
         let axis_words = self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8));
-        let dialect = matches!(self.cfg.dialect, Dialect::Haas | Dialect::Syntec);
-        if !dialect || !w.has_g(code::G49) || axis_words || !owns_axes || cycle {
+        let cycle = self.modes[group::CYCLE] != code::G80
+            && (axis_words || w.has(b'R') || w.gcodes().iter().any(|&c| is_cycle(c)));
+        if (axis_words && !shift) || !owns_axes || cycle {
             return false;
         }
         self.follow_machine = None;
         if self.plane_active() {
             self.plane_moved_to(machine);
+        } else if self.wse_follows() {
+            // G54.4 with RCM = 1 (TOS = 1 is its condition, WSE-24): the tip in the WSCS with
+            // the new length, the rotary coordinates the programmed angles.
+            self.wse_moved_to(machine);
         } else {
             self.pos = self.machine_to_program(&machine);
             self.sync_programmed();

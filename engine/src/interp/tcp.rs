@@ -13,7 +13,7 @@
 //! follow it through the kinematics, so the tip moves on the programmed line or arc while the
 //! rotary axes turn. The start block and the G49 block are ordinary moves that apply or remove
 //! the tool length at their end only (TCP-03, TCP-17); a Haas or Syntec G49 block without axis
-//! words moves nothing (`nc::g49_in_place`).
+//! words moves nothing (`nc::length_in_place`).
 
 use super::gcode::{code, group};
 use super::nc::Words;

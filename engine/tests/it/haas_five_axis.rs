@@ -525,7 +525,8 @@ fn umc_b_tilts_about_y() {
 /// the spindle by the tool length would crash every such program). By hand: after G49 with G54
 /// Z −450 the nose goes to work Z200 at machine Z −250; with G54 Z −400 and G43 H1 (100) at Z50
 /// the nose stands at −250, stays there through G49 and X10., and Z50. then puts it at −350.
-/// FANUC's G49 block still moves by the length (−350 at once).
+/// FANUC with TOS = 1 (its default, `docs/five-axis.md`, "TOS") the same; with TOS = 0 the
+/// G49 block moves by the length (−350 at once).
 #[test]
 fn g49_without_axis_words_moves_nothing() {
     let m = umc();
@@ -539,8 +540,12 @@ fn g49_without_axis_words_moves_nothing() {
     assert!((up[2] + 250.0).abs() < 1e-9, "after G49 the nose goes to work Z200: {up:?}");
 
     let src = "G10 L2 P1 X-400. Y-230. Z-400.\nG90 G54 G00 G43 H1 Z50.\nG49\nX10.\nZ50.\nM30\n";
-    for (dialect, at_g49) in [(Dialect::Haas, None), (Dialect::Fanuc, Some(-350.0))] {
-        let ends = motion_ends(interpreter_with(src, "mill3", dialect, |_| {}));
+    for (dialect, at_g49) in [(Dialect::Haas, None), (Dialect::Fanuc, None), (Dialect::Fanuc, Some(-350.0))] {
+        let ends = motion_ends(interpreter_with(src, "mill3", dialect, |c| {
+            let mut m = MachineConfig::preset("mill3").unwrap();
+            m.five_axis.length_offset_by_motion = at_g49.is_some();
+            c.machine = m.into();
+        }));
         let z = |line| end_of(&ends, line)[2];
         assert!((z(2) + 250.0).abs() < 1e-9, "{dialect:?}: {ends:?}");
         match at_g49 {

@@ -96,23 +96,33 @@ fn after_the_return_the_position_is_read_without_the_vector() {
 /// block's) or with a length selection; a move of X/Y alone leaves Z at the reference position.
 /// By hand (G54 zero, lengths 100): after `G28 G91 Z0.` the X/Y move stays at machine Z 0,
 /// `G0 Z50.` goes to 150. After a second return, `G43 H2` with H2 = 120 moves by the 120 in
-/// force (machine Z 0 → 120; its block moves by the length, as before), and a FANUC G49 after
-/// the restored vector moves by it again (120 → 0). G44 and G91 Z moves alike.
+/// force (machine Z 0 → 120; its block moves by the length, as before: Syntec, and FANUC with
+/// TOS = 0), and a FANUC TOS = 0 G49 after the restored vector moves by it again (120 → 0).
+/// FANUC with TOS = 1 (the default): the bare `G43 H2` and `G49` move nothing ("TOS", below),
+/// machine Z stays 0. G44 and G91 Z moves alike.
 #[test]
 fn the_next_z_move_or_a_length_selection_restores_the_vector() {
     let src = "G90 G54 G17\nG0 X0 Y0\nG43 Z50. H1\nG28 G91 Z0.\nG90 G0 X10. Y10.\nG0 Z50.\n\
                G28 G91 Z0.\nG90 G43 H2\nG49\nG44 H1 Z50.\nG91 G28 Z0.\nZ-10.\nM30\n";
-    for dialect in [Dialect::Fanuc, Dialect::Syntec] {
-        let mut interp = interpreter_with(src, "mill3", dialect, |_| {});
+    for (dialect, by_motion) in [(Dialect::Fanuc, false), (Dialect::Fanuc, true), (Dialect::Syntec, false)] {
+        let mut interp = if by_motion {
+            interpreter_with(src, "mill3", dialect, tos0("mill3"))
+        } else {
+            interpreter_with(src, "mill3", dialect, |_| {})
+        };
         interp.state.offsets.tool_mut(2).unwrap().h_geometry = 120.0;
         let e = motion_ends(interp);
         let z = |line| end_of(&e, line)[2];
         assert_eq!(z(4), 0.0, "{dialect:?} {e:?}");
         assert_eq!((end_of(&e, 5)[0], z(5)), (10.0, 0.0), "{dialect:?} {e:?}");
         assert_eq!(z(6), 150.0, "{dialect:?} {e:?}");
-        assert_eq!(z(8), 120.0, "{dialect:?} {e:?}");
+        if dialect == Dialect::Fanuc && !by_motion {
+            assert!(!moves_on(&e, 8) && !moves_on(&e, 9), "TOS = 1: {e:?}");
+        } else {
+            assert_eq!(z(8), 120.0, "{dialect:?} {e:?}");
+        }
         // (Syntec's G49 without axis words moves nothing: "Syntec G49", below.)
-        if dialect == Dialect::Fanuc {
+        if by_motion {
             assert_eq!(z(9), 0.0, "{dialect:?} {e:?}");
         } else {
             assert!(!moves_on(&e, 9), "{e:?}");
@@ -125,14 +135,19 @@ fn the_next_z_move_or_a_length_selection_restores_the_vector() {
 }
 
 /// G28 of X/Y alone and G53 of X alone in G43 leave the Z vector ("other than tool length offset
-/// axis: not canceled"): the G49 after them still moves by the length (machine Z 150 → 50).
+/// axis: not canceled"): with TOS = 0 the G49 after them still moves by the length (machine Z
+/// 150 → 50); with TOS = 1 it moves nothing, and `G0 Z60.` then goes to 60 without it.
 #[test]
 fn a_return_of_other_axes_keeps_the_vector() {
     for ret in ["G28 G91 X0. Y0.", "G90 G53 X100."] {
-        let src = format!("G90 G54 G17\nG0 X0 Y0\nG43 Z50. H1\n{ret}\nG90\nG49\nM30\n");
-        let e = ends(&src, "mill3", Dialect::Fanuc);
+        let src = format!("G90 G54 G17\nG0 X0 Y0\nG43 Z50. H1\n{ret}\nG90\nG49\nG0 Z60.\nM30\n");
+        let e = motion_ends(interpreter_with(&src, "mill3", Dialect::Fanuc, tos0("mill3")));
         assert_eq!(end_of(&e, 4)[2], 150.0, "{ret}: {e:?}");
         assert_eq!(end_of(&e, 6)[2], 50.0, "{ret}: {e:?}");
+        let e = ends(&src, "mill3", Dialect::Fanuc);
+        assert_eq!(end_of(&e, 4)[2], 150.0, "{ret}: {e:?}");
+        assert!(!moves_on(&e, 6), "{ret}: {e:?}");
+        assert_eq!(end_of(&e, 7)[2], 60.0, "{ret}: {e:?}");
     }
 }
 
@@ -188,8 +203,9 @@ fn the_g49_ending_tcp_still_moves_by_the_offset() {
 /// whichever), `G43 H1` / `G0 X0 Y0 Z15.`: the tip 15 up the feature Z with the 100 mm tool;
 /// the G49 leaves the machine there (before: 100 mm down the tilted tool, to 85 below the
 /// tip's level), and the next `G0 Z115.` in the plane puts the nose — now the controlled point
-/// — at feature Z 115, where the G43 tip at Z15 had it: no motion either. FANUC's G49 still
-/// moves (a coordinate-system shift, TOS = 1, is not built).
+/// — at feature Z 115, where the G43 tip at Z15 had it: no motion either. FANUC with TOS = 1
+/// (the default) the same, its bare G43 in the plane moving nothing too (the tilted-plane
+/// interplay of "TOS"); with TOS = 0 the G49 moves by the length down the tilted tool.
 #[test]
 fn a_syntec_g49_without_axis_words_moves_nothing() {
     let plane = "G90 G17 G49\nG0 X0 Y0 Z200. B0 C0\nG68.2 X0 Y0 Z0 I0 J30. K0\nG53.1\nG43 H1\nG0 X0 Y0 Z15.\nG49\nG0 Z115.\nG69\nM30\n";
@@ -199,10 +215,87 @@ fn a_syntec_g49_without_axis_words_moves_nothing() {
     let same = end_of(&e, 8);
     assert!(at.iter().zip(&same).all(|(a, b)| (a - b).abs() < 1e-9), "{at:?} → {same:?}");
     let e = ends(plane, "head-bc", Dialect::Fanuc);
-    assert!(moves_on(&e, 7), "FANUC's G49 moves by the length: {e:?}");
+    assert!(!moves_on(&e, 5) && !moves_on(&e, 7), "FANUC, TOS = 1: {e:?}");
+    let (fanuc_at, fanuc_same) = (end_of(&e, 6), end_of(&e, 8));
+    assert!(at.iter().zip(&fanuc_at).all(|(a, b)| (a - b).abs() < 1e-9), "{at:?} / {fanuc_at:?}");
+    assert!(at.iter().zip(&fanuc_same).all(|(a, b)| (a - b).abs() < 1e-9), "{at:?} → {fanuc_same:?}");
+    let e = motion_ends(interpreter_with(plane, "head-bc", Dialect::Fanuc, tos0("head-bc")));
+    assert!(moves_on(&e, 5) && moves_on(&e, 7), "FANUC TOS = 0 moves by the length: {e:?}");
 
     let rtcp = "G90 G0 X0 Y0 Z0 B0 C0\nG43.4 H1\nG0 X10. Y0 Z20. B30.\nG49\nM30\n";
     let e = ends(rtcp, "head-bc", Dialect::Syntec);
     assert!(!moves_on(&e, 4), "{e:?}");
     assert!(moves_on(&ends(rtcp, "head-bc", Dialect::Fanuc), 4));
+}
+
+/// `preset` with FANUC No.5006#6 TOS = 0 (`five_axis.length_offset_by_motion`): tool length
+/// offset by moving the axes.
+fn tos0(preset: &str) -> impl FnOnce(&mut Config) + '_ {
+    move |c: &mut Config| {
+        let mut m = MachineConfig::preset(preset).unwrap();
+        m.five_axis.length_offset_by_motion = true;
+        c.machine = m.into();
+    }
+}
+
+/// FANUC TOS = 1 (fivex's default; `docs/five-axis.md`, "TOS"): a bare `G43 H1` shifts the
+/// coordinate system and moves nothing; the X move after it stays at the height the machine
+/// stands at, and the next Z move goes to its target with the length. By hand (G54 zero,
+/// length 100): `G0 Z50.` without length puts the nose at machine Z 50; `G43 H1` nothing;
+/// `G0 X50.` ends at (50, 0, 50); `Z20.` at 20 + 100 = 120. With TOS = 0 the G43 block lifts the
+/// nose by the length (Z 50 → 150) and the X move runs at 150.
+#[test]
+fn a_bare_g43_moves_nothing_with_tos_1() {
+    let src = "G90 G54 G17 G49\nG0 X0 Y0 Z50.\nG43 H1\nG0 X50.\nZ20.\nM30\n";
+    let e = ends(src, "mill3", Dialect::Fanuc);
+    assert!(!moves_on(&e, 3), "{e:?}");
+    assert_eq!(&end_of(&e, 4)[..3], &[50.0, 0.0, 50.0], "{e:?}");
+    assert_eq!(end_of(&e, 5)[2], 120.0, "{e:?}");
+    let e = motion_ends(interpreter_with(src, "mill3", Dialect::Fanuc, tos0("mill3")));
+    assert_eq!(end_of(&e, 3)[2], 150.0, "TOS = 0: {e:?}");
+    assert_eq!(&end_of(&e, 4)[..3], &[50.0, 0.0, 150.0], "TOS = 0: {e:?}");
+    assert_eq!(end_of(&e, 5)[2], 120.0, "TOS = 0: {e:?}");
+}
+
+/// FANUC TOS = 1: a bare `G49` at clearance height does not plunge. By hand: `G43 Z50. H1`
+/// puts the nose at machine Z 150; `G49` moves nothing (TOS = 0: down by the length to 50);
+/// `G0 X10.` stays at 150; `Z60.` goes to 60 without length. The workpiece Z (#5043) reads the
+/// nose's 150 after the G49 (TOS = 0: 50).
+#[test]
+fn a_bare_g49_at_clearance_does_not_plunge_with_tos_1() {
+    let src = "G90 G54 G17\nG0 X0 Y0\nG43 Z50. H1\nG49\n#100=#5043\nG0 X10.\nZ60.\nM30\n";
+    let e = ends(src, "mill3", Dialect::Fanuc);
+    assert_eq!(end_of(&e, 3)[2], 150.0, "{e:?}");
+    assert!(!moves_on(&e, 4), "{e:?}");
+    assert_eq!(&end_of(&e, 6)[..3], &[10.0, 0.0, 150.0], "{e:?}");
+    assert_eq!(end_of(&e, 7)[2], 60.0, "{e:?}");
+    let e = motion_ends(interpreter_with(src, "mill3", Dialect::Fanuc, tos0("mill3")));
+    assert_eq!(end_of(&e, 4)[2], 50.0, "TOS = 0: {e:?}");
+    assert_eq!(&end_of(&e, 6)[..3], &[10.0, 0.0, 50.0], "TOS = 0: {e:?}");
+    assert_eq!(end_of(&e, 7)[2], 60.0, "TOS = 0: {e:?}");
+
+    let r = run_on(src, "mill3", Dialect::Fanuc, |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(r.machine[2], 60.0);
+    assert!(r.variables.iter().any(|&(k, v)| k == 100 && v == 150.0), "#5043 after the G49: {:?}", r.variables);
+    // Ending right after the G49: the summary's tip is the nose where it stands (length 0).
+    let r = run_on("G90 G54 G17\nG0 X0 Y0\nG43 Z50. H1\nG49\nM30\n", "mill3", Dialect::Fanuc, |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!((r.machine[2], r.tip.tip[2]), (150.0, 150.0));
+}
+
+/// FANUC TOS = 1, a G43 block with axis words: a G90 Z move ends where it would with TOS = 0
+/// (Z 20 + 100 = 120), an H change with only X leaves Z where it stands, and a G91 Z move moves
+/// by its increment only (from 50: `G91 G43 H1 Z-10.` → 40; TOS = 0: 50 − 10 + 100 = 140).
+#[test]
+fn a_g43_block_with_axis_words_under_tos_1() {
+    for (block, z1, z0) in
+        [("G43 H1 Z20.", 120.0, 120.0), ("G43 H1 X10.", 50.0, 150.0), ("G91 G43 H1 Z-10.", 40.0, 140.0)]
+    {
+        let src = format!("G90 G54 G17 G49\nG0 X0 Y0 Z50.\n{block}\nM30\n");
+        let e = ends(&src, "mill3", Dialect::Fanuc);
+        assert_eq!(end_of(&e, 3)[2], z1, "{block}: {e:?}");
+        let e = motion_ends(interpreter_with(&src, "mill3", Dialect::Fanuc, tos0("mill3")));
+        assert_eq!(end_of(&e, 3)[2], z0, "TOS = 0 {block}: {e:?}");
+    }
 }

@@ -515,7 +515,7 @@ fn in_g93_every_cutting_block_needs_its_own_f() {
         // G94 entered without a G93 block moving: G93's F is no feed of G94 either.
         ("G90 G93 G01 X10. F6.\nG94\nX20.\nM30\n", 3),
         // A tool length change moving in G01 with no F ever given (it ran for ever).
-        ("G90 G01\nG43 H1\nM30\n", 2),
+        ("G90 G01\nG43 H1 Z10.\nM30\n", 2),
         // Fine: every cutting block has its F; rapids need none; G94 F again after G93.
         ("G90 G93 G01 X10. F6.\nG00 X0\nG01 X10. F6.\nG02 X20. R5. F3.\nG94 G01 X30. F600.\nX40.\nM30\n", 0),
     ];

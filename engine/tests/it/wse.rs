@@ -1185,7 +1185,7 @@ fn compensation_holds_the_tool_direction_at_every_sample_of_a_block() {
     // first rotary axis (B of head-bc, A of table-ac) is index 3, C index 4.
     for (preset, first_axis) in [("head-bc", 'B'), ("table-ac", 'A')] {
         let src = format!(
-            "G90 G00 X0 Y0 Z100. {first_axis}30. C0\nG54.4 P1\n#100=#5004\n#101=#5005\nG43 H1\n\
+            "G90 G00 X0 Y0 Z100. {first_axis}30. C0\nG54.4 P1\n#100=#5004\n#101=#5005\nG43 H1 Z100.\n\
              G01 X20. {first_axis}45. C60. F1000.\nG49\nG54.4 P0\nM30\n"
         );
         let mut interp = fanuc_with(&src, preset, rcm);
