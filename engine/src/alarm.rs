@@ -281,6 +281,15 @@ pub enum AlarmId {
     CornerTooShort,
 }
 
+impl AlarmId {
+    /// An alarm about what the block's own move found (Haas M78/M79 after a G31 in the same
+    /// block): the move is made, then the alarm is raised. Every other alarm of a block comes
+    /// before any of its motion (`Interpreter::step`).
+    pub fn follows_motion(&self) -> bool {
+        matches!(self, AlarmId::SkipSignalFound | AlarmId::SkipSignalNotFound)
+    }
+}
+
 /// An alarm as a user sees it: the dialect's code and message, where it happened.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]

@@ -113,6 +113,17 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                         format!("{function} is not built in fivex"),
                                     ));
                                 }
+                                let whole = value.fract() == 0.0 && value >= 0.0;
+                                let form = words.iter().find_map(|a| {
+                                    unbuilt::call_address(value as u32, a.letter, dialect).map(|f| (a.col, f))
+                                });
+                                if let Some((col, function)) = form.filter(|_| whole) {
+                                    diags.push(at(
+                                        col,
+                                        AlarmId::AddressNotBuilt,
+                                        format!("{function} is not built in fivex"),
+                                    ));
+                                }
                             }
                             letter => {
                                 let argument = codes().any(|c| unbuilt::argument_of(c, dialect, letter));

@@ -279,6 +279,18 @@ pub fn address(letter: u8, dialect: Dialect) -> Option<&'static str> {
     }
 }
 
+/// A word of a subprogram call block (M98/M198) that asks for a form of the call fivex does not
+/// carry out in `dialect`. Syntec: H, which Autodesk's SYIL/Syntec post writes as `M98 H<n>` to
+/// call the subprogram it puts after M30 as the block N<n> of the same program; no Syntec
+/// source among fivex's references describes the form, and read as a tool length offset (as
+/// it is in any other block) it would change the tool length (`docs/dialects.md`, "Functions
+/// not built").
+pub fn call_address(m: u32, letter: u8, dialect: Dialect) -> Option<&'static str> {
+    use crate::interp::mcode::SUBPROGRAM_CALLS;
+    (dialect == Dialect::Syntec && SUBPROGRAM_CALLS.contains(&m) && letter == b'H')
+        .then_some("subprogram call of a sequence number (M98 H)")
+}
+
 /// A Haas M code that changes what the program does next from a machine state fivex does not
 /// model (an input, a pallet, the operator's answer): refused rather than passed
 /// on as an auxiliary function, which would run on as if the condition never held.

@@ -548,3 +548,22 @@ fn g41_square_runs_with_the_tool_centre_offset() {
         assert!(approx(path.points[i][0], 5.0) && approx(path.points[i][1], 5.0), "{:?}", path.points[i]);
     }
 }
+
+/// Audit A2 F4: Syntec's M98 with H (the SYIL post's `M98 H<n>`, a call of the block N<n>) is
+/// refused as not built, with or without P, before anything of the block is done; `fivex check`
+/// reports it at the H. FANUC and Haas keep H as the tool length offset (the M98 without P is the
+/// dialect's missing program alarm).
+#[test]
+fn syntec_m98_h_is_refused_by_the_run_and_by_check() {
+    for block in ["M98 H2", "M98 P20 H2"] {
+        let src = format!("#100=1\n{block}\nM30\nO0020\nM99\n");
+        let r = run_with(&src, PRESET, Syntec);
+        assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect::<Vec<_>>(), [("COR-100", 2)]);
+        assert_eq!(r.variables, vec![(100, 1.0)]);
+        let diags = check(parse_file(&src), Syntec);
+        let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Syntec.describe(&d.id).0)).collect();
+        assert_eq!(found, [(2, block.find('H').unwrap() as u32 + 1, "COR-100".to_string())], "{block}");
+        assert!(check(parse_file(&src), Fanuc).iter().all(|d| !d.detail.contains("not built")));
+    }
+    assert!(run_with("M98 P20 H2\nM30\nO0020\nM99\n", PRESET, Fanuc).completed());
+}
