@@ -157,6 +157,21 @@ const TABLE: &[NotBuilt] = &[
     haas(2660, "visible axes linear rapid motion (G266)"),
     haas(2680, "feature coordinate system (G268)"),
     haas(2690, "feature coordinate system cancel (G269)"),
+    // Syntec codes that Autodesk's SYIL/Syntec post writes and no Syntec source among fivex's
+    // references describes: its extended work offset and its smoothing mode with the cancel.
+    NotBuilt {
+        code: 591,
+        dialect: Some(Dialect::Syntec),
+        when: When::Always,
+        function: "extended work coordinate system (G59.1)",
+    },
+    NotBuilt { code: 1201, dialect: Some(Dialect::Syntec), when: When::Always, function: "smoothing mode (G120.1)" },
+    NotBuilt {
+        code: 1210,
+        dialect: Some(Dialect::Syntec),
+        when: When::Always,
+        function: "smoothing mode cancel (G121)",
+    },
 ];
 
 /// The function a G code (×10) selects with its block's addresses, if fivex does not carry it

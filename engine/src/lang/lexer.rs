@@ -151,6 +151,17 @@ impl<'a> Lexer<'a> {
         }
     }
 
+    /// The name of a function another control has (`PRM[`, Syntec's `R_G53G59_COOR[`, `TIME[`)
+    /// at column `col`: two or more letters, digits or underscores that follow a letter, then
+    /// `[`; upper-cased. Not a keyword fivex knows: those are lexed as such before.
+    pub fn function_name_at(&self, col: u32) -> Option<String> {
+        let t = &self.text[(col.checked_sub(self.col0)? as usize).min(self.text.len())..];
+        let len = t.iter().position(|c| !(c.is_ascii_alphanumeric() || *c == b'_')).unwrap_or(t.len());
+        let rest = t[len..].iter().skip_while(|c| matches!(c, b' ' | b'\t'));
+        let named = len >= 2 && t[0].is_ascii_alphabetic();
+        (named && rest.clone().next() == Some(&b'[')).then(|| String::from_utf8_lossy(&t[..len]).to_ascii_uppercase())
+    }
+
     /// The column of the next token.
     pub fn col(&mut self) -> u32 {
         self.peek().1

@@ -344,6 +344,10 @@ impl BlockParser<'_> {
 
     fn unexpected<T>(&self, tok: Tok, col: u32) -> PResult<T> {
         match tok {
+            // Syntec's `@` variables (`@980 = TIME[3]`, written by Autodesk's SYIL post).
+            Tok::Bad(b'@') => {
+                self.err(col, AlarmId::AddressNotBuilt, "the @ variables (Syntec) are not built in fivex")
+            }
             Tok::Bad(c) => self.err(col, AlarmId::Syntax, format!("unexpected character '{}'", c as char)),
             Tok::BadNumber => self.err(col, AlarmId::Syntax, "more than one decimal point in a number"),
             Tok::TooManyDigits => self.err(col, AlarmId::TooManyDigits, "more than 15 digits in a number"),
@@ -557,6 +561,15 @@ impl BlockParser<'_> {
                 Ok(Expr::Func2(Func2::Pow, Box::new(a), Box::new(b)))
             }
             Tok::Eof => self.err(col, AlarmId::MacroFormat, "expression expected"),
+            Tok::Letter(_) => match self.lx.function_name_at(col) {
+                // Another control's function (FANUC's PRM[] parameter read, Syntec's R_…[] and
+                // TIME[]): named as not built rather than a stray address
+                // (`docs/dialects.md`, "Functions not built").
+                Some(name) => {
+                    self.err(col, AlarmId::AddressNotBuilt, format!("the function {name}[] is not built in fivex"))
+                }
+                None => self.unexpected(tok, col),
+            },
             other => self.unexpected(other, col),
         }
     }
