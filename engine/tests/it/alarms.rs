@@ -194,3 +194,31 @@ fn m79_alarms_after_its_skip_move() {
     assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("749", 2), "{:?}", r.alarms);
     assert_eq!(r.machine[0], 20.0);
 }
+
+/// Audit A F3: a number with more digits than an address takes is PS0003 TOO MANY DIGITS (it
+/// was PS0005 for a nine-digit N, OT0510 for `X1234567890.`). FANUC's words have nine digits of
+/// the least input increment (IS-B: ±999999.999), a sequence number eight (N1–N99999999).
+#[test]
+fn too_many_digits() {
+    for block in ["N123456789 G00 X1.", "G00 X1234567890.", "G00 X1234567.", "G00 X1234567890", "G01 X1. F1234567."] {
+        let src = format!("G90 G54 G17 G94\n{block}\nM30\n");
+        both(&src, "PS0003", "COR-004", 2);
+        let r = run_with(&src, "mill3", Haas);
+        assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("331", 2), "{block}");
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&src), Fanuc);
+        assert_eq!(diags.iter().map(|d| (d.line, Fanuc.describe(&d.id).0)).collect::<Vec<_>>(), [(2, "PS0003".into())]);
+    }
+    // At the limit, and decimals beyond the increment (rounded to it, not counted).
+    for block in [
+        "N12345678 G00 X1.",
+        "G00 X123.456",
+        "G00 X123456789",
+        "G00 X-999.999",
+        "G00 X12.3456789012",
+        "G00 X0.000000001",
+    ] {
+        let src = format!("G90 G54 G17 G94\n{block}\nM30\n");
+        let r = run_with(&src, "mill3", Fanuc);
+        assert!(!r.alarms.iter().any(|a| a.code == "PS0003"), "{block}: {:?}", r.alarms);
+    }
+}
