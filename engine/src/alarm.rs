@@ -279,6 +279,11 @@ pub enum AlarmId {
     /// An element of a `,C`/`,R` corner is shorter than the chamfer or the arc's tangent length,
     /// no circle of the radius fits the corner, or the block does not move.
     CornerTooShort,
+    // --- Haas G187 corner rounding (`interp::corner_blend`) ------------------------------------
+    /// G187 rounds corners (a maximum corner rounding above 0) in a mode whose path the rounding
+    /// is not built for: TCP, a tilted working plane or DWO, G54.4, cutter compensation,
+    /// smoothing.
+    CornerRoundingInMode,
 }
 
 impl AlarmId {
