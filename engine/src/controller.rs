@@ -831,7 +831,8 @@ impl Controller {
         self.manual_move(i, target, self.panel.jog_feed)
     }
 
-    /// REF: every axis back to the reference position (machine zero) at rapid.
+    /// REF: every axis back to the reference position (machine zero) at rapid; a rollover axis
+    /// less than a turn (`Axis::reference_return_end`).
     pub fn reference_return(&mut self) -> Result<(), Refusal> {
         if self.mode != Mode::Ref {
             return Err(Refusal::WrongMode);
@@ -844,8 +845,11 @@ impl Controller {
         }
         self.clear_interrupt();
         self.clear_lock_offset();
-        let zero = [0.0; crate::machine::MAX_AXES];
-        self.push_manual(MotionKind::MachineRapid, zero, 0.0);
+        let (mut to, dialect) = (self.exec.here.machine, self.interp.config().dialect);
+        for (i, axis) in self.machine.axes.iter().enumerate() {
+            to[i] = axis.reference_return_end(to[i], 0.0, dialect);
+        }
+        self.push_manual(MotionKind::MachineRapid, to, 0.0);
         Ok(())
     }
 
