@@ -1596,7 +1596,7 @@ impl State {
                 let mut m = machine_before;
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if let Some(v) = self.value(w, axis.name as u8) {
-                        m[i] = v;
+                        m[i] = axis.machine_command_end(m[i], v);
                     }
                 }
                 self.cancel_length_vector(w);
@@ -1645,7 +1645,8 @@ impl State {
                 let mut m = self.machine_position();
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if all || w.has(axis.name as u8) {
-                        m[i] = if which == 1 { 0.0 } else { axis.references[which - 2] };
+                        let reference = if which == 1 { 0.0 } else { axis.references[which - 2] };
+                        m[i] = axis.reference_return_end(m[i], reference, self.cfg.dialect);
                     }
                 }
                 self.cancel_length_vector(w);
