@@ -279,6 +279,20 @@ pub enum AlarmId {
     /// An element of a `,C`/`,R` corner is shorter than the chamfer or the arc's tangent length,
     /// no circle of the radius fits the corner, or the block does not move.
     CornerTooShort,
+    // --- Haas G187 corner rounding (`interp::corner_blend`) ------------------------------------
+    /// G187 rounds corners (a maximum corner rounding above 0) in a mode whose path the rounding
+    /// is not built for: TCP, a tilted working plane or DWO, G54.4, cutter compensation,
+    /// smoothing.
+    CornerRoundingInMode,
+}
+
+impl AlarmId {
+    /// An alarm about what the block's own move found (Haas M78/M79 after a G31 in the same
+    /// block): the move is made, then the alarm is raised. Every other alarm of a block comes
+    /// before any of its motion (`Interpreter::step`).
+    pub fn follows_motion(&self) -> bool {
+        matches!(self, AlarmId::SkipSignalFound | AlarmId::SkipSignalNotFound)
+    }
 }
 
 /// An alarm as a user sees it: the dialect's code and message, where it happened.

@@ -63,6 +63,32 @@ pub fn rollover_travel(from: f64, command: f64, shortest: bool) -> f64 {
     }
 }
 
+/// The travel of a rollover rotary axis at `from` (any number of turns) back to the machine
+/// angle `reference` by a reference return (G28, G30, manual REF): less than one turn. A
+/// rollover axis of FANUC's is a rotary axis of A type, whose machine coordinate is kept within
+/// one turn, and its automatic reference return goes the way of the manual one without
+/// exceeding a turn (FANUC 15i-B connection manual B-63783EN-1 §1.6.3, No.1006#1 ROS; Power Mate
+/// i B-63172EN §7.4); that way is No.1006#5 ZMI, which fivex writes and reads as 0: positive.
+/// With `shortest` the shorter way instead (half a turn positive: the Haas dialect,
+/// `docs/conventions.md`, "Rollover axes and machine positions").
+pub fn reference_travel(from: f64, reference: f64, shortest: bool) -> f64 {
+    if shortest {
+        return rollover_travel(from, reference, true);
+    }
+    let ahead = basic(reference - from);
+    // Already there, but for the rounding of unwound positions: not a whole turn.
+    if 360.0 - ahead < WHOLE_TURN_SLACK {
+        0.0
+    } else {
+        ahead
+    }
+}
+
+/// How close to a whole turn a reference return's travel is taken as none (degrees): far below
+/// the least input increment (0.001°), far above the rounding of positions thousands of
+/// degrees unwound.
+const WHOLE_TURN_SLACK: f64 = 1e-6;
+
 /// sin and cos of an angle in degrees, exact at multiples of 90° (so that a quarter turn maps
 /// axes onto axes without rounding noise), and the same on every platform.
 ///
@@ -155,6 +181,21 @@ mod tests {
         // Half a turn goes positive; already there is no travel either way.
         assert_eq!(rollover_travel(0.0, 180.0, true), 180.0);
         assert_eq!((rollover_travel(90.0, 450.0, true), rollover_travel(90.0, -270.0, false)), (0.0, 0.0));
+    }
+
+    #[test]
+    fn reference_travel_is_less_than_a_turn() {
+        // From 3630 (ten turns and 30°) to 0: +330, not −3630.
+        assert_eq!(reference_travel(3630.0, 0.0, false), 330.0);
+        assert_eq!(reference_travel(-30.0, 0.0, false), 30.0);
+        assert_eq!(reference_travel(-720.0, 0.0, false), 0.0);
+        assert_eq!(reference_travel(100.0, 270.0, false), 170.0);
+        // A position a rounding short of a whole number of turns is there already.
+        assert_eq!(reference_travel(-720.0 + 1e-10, 0.0, false), 0.0);
+        assert!(reference_travel(720.0 - 1e-10, 0.0, false) < 1e-9);
+        // The shorter way: from 3630 back 30; from 950 (230) on 130.
+        assert_eq!(reference_travel(3630.0, 0.0, true), -30.0);
+        assert_eq!(reference_travel(950.0, 0.0, true), 130.0);
     }
 
     #[test]

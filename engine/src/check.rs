@@ -39,6 +39,9 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
     let numbers: HashSet<u32> = file.programs.iter().filter_map(|p| p.number).collect();
     for program in file.programs {
         let loaded = Loaded::new(program);
+        if dialect == Dialect::Haas {
+            haas_modes(&loaded, &mut diags);
+        }
         for (i, block) in loaded.blocks().enumerate() {
             let at = |col: u32, id: AlarmId, detail: String| Diagnostic { line: block.line, col, id, detail };
             if let Some(id) = loaded.loop_error.get(&(i as u32)) {
@@ -110,6 +113,17 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     diags.push(at(
                                         w.col,
                                         AlarmId::MCodeNotBuilt,
+                                        format!("{function} is not built in fivex"),
+                                    ));
+                                }
+                                let whole = value.fract() == 0.0 && value >= 0.0;
+                                let form = words.iter().find_map(|a| {
+                                    unbuilt::call_address(value as u32, a.letter, dialect).map(|f| (a.col, f))
+                                });
+                                if let Some((col, function)) = form.filter(|_| whole) {
+                                    diags.push(at(
+                                        col,
+                                        AlarmId::AddressNotBuilt,
                                         format!("{function} is not built in fivex"),
                                     ));
                                 }
@@ -294,6 +308,58 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
     }
     diags.sort_by_key(|d| (d.line, d.col));
     diags
+}
+
+/// Haas: what the modes refuse that the text shows, reading the program's blocks in order (a
+/// jump or a call is not followed; the run finds the rest): G28/G29 while DWO (G254) is on
+/// (730, the `interp::modes` row), and G254 or G234 while G187 rounds corners, or G187 rounding
+/// corners while either is on (753, `interp::corner_blend`). G187 rounds corners with a literal
+/// E above 0 (without E the machines' Setting 85 is 0: corners exact); an E given by an
+/// expression is left to the run. G255 ends DWO, G49/G43/G44 end TCPC, M02/M30 end all three.
+fn haas_modes(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
+    let (mut dwo, mut tcpc, mut rounding) = (false, false, false);
+    for block in loaded.blocks() {
+        let BlockKind::Words(words) = &block.kind else { continue };
+        let word = |letter: u8, wanted: &dyn Fn(f64) -> bool| {
+            words
+                .iter()
+                .find(|w| w.letter == letter && matches!(w.value, WordValue::Number { value, .. } if wanted(value)))
+        };
+        let g = |c: u16| word(b'G', &|v| gcode::code_of(v) == Some(c));
+        let at = |w: &NcWord, id: AlarmId, detail: &str| Diagnostic {
+            line: block.line,
+            col: w.col,
+            id,
+            detail: detail.into(),
+        };
+        let (g187, g254, g234) = (g(code::G187), g(code::G254), g(code::G234));
+        if g254.is_some() {
+            dwo = true;
+        }
+        if g(code::G255).is_some() {
+            dwo = false;
+        }
+        if g234.is_some() {
+            tcpc = true;
+        }
+        if [code::G49, code::G43, code::G44].iter().any(|&c| g(c).is_some()) {
+            tcpc = false;
+        }
+        if g187.is_some() {
+            rounding = matches!(literal(words, b'E'), Word::Value(e) if e > 0.0);
+        }
+        if let Some(g28) = g(code::G28).or_else(|| g(code::G29)).filter(|_| dwo) {
+            diags.push(at(g28, AlarmId::IllegalCommandInMode, "G28/G29 while DWO (G254) is on (decision)"));
+        }
+        // Where the two meet: the block that starts the mode, or the rounding, in the other.
+        let meets = g254.or(g234).or(g187).filter(|_| rounding && (dwo || tcpc));
+        if let Some(w) = meets {
+            diags.push(at(w, AlarmId::CornerRoundingInMode, "G187 corner rounding with DWO or TCPC"));
+        }
+        if word(b'M', &|v| v == mcode::M02 as f64 || v == mcode::M30 as f64).is_some() {
+            (dwo, tcpc, rounding) = (false, false, false);
+        }
+    }
 }
 
 /// The last `letter` word of a block (the one that counts), as `unbuilt` asks for it: an

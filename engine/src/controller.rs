@@ -230,6 +230,9 @@ pub struct Controller {
     stop_kind: ProgramStop,
     /// Simulated time of the last run state change ([`Controller::state_changed_at`]).
     state_changed_at: f64,
+    /// The manual move under way ends at a stored stroke limit: the overtravel alarm it raises
+    /// when it gets there (FANUC OT0500/OT0501; a jog stopped short raises nothing).
+    stroke_reached: Option<AlarmId>,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -288,6 +291,7 @@ impl Controller {
             lock: Lock::default(),
             stop_kind: ProgramStop::Stop,
             state_changed_at: 0.0,
+            stroke_reached: None,
         }
     }
 
@@ -698,6 +702,7 @@ impl Controller {
         // The machine's reset stops the spindle (as the usual machine ladder does).
         self.spindle = 0.0;
         self.cycle.end_intervention();
+        self.stroke_reached = None;
         if self.exec.is_moving() {
             self.decelerate(AfterStop::Drop);
         } else {
@@ -773,11 +778,7 @@ impl Controller {
             return self.turn_about_tip(axis, if positive { turn } else { -turn }, length, feed, None);
         }
         let far = if positive { reach.min(1.0e6) } else { -reach.min(1.0e6) };
-        let mut target = self.exec.here.machine[i] + far;
-        if let Some([lo, hi]) = self.machine.axes[i].stroke {
-            target = target.clamp(lo, hi);
-        }
-        self.manual_move(i, target, jog_feed)
+        self.manual_move_within_stroke(i, self.exec.here.machine[i] + far, jog_feed)
     }
 
     /// How far a JOG key press moves: until jog stop (JOG mode), or the panel's increment (INC
@@ -809,7 +810,7 @@ impl Controller {
     }
 
     /// HANDLE: move `axis` by `amount` (mm or deg; the hand wheel's pulses × increment),
-    /// stopping at the stroke limit.
+    /// stopping at the stroke limit with the overtravel alarm.
     pub fn handle(&mut self, axis: char, amount: f64) -> Result<(), Refusal> {
         if self.mode != Mode::Handle {
             return Err(Refusal::WrongMode);
@@ -824,14 +825,11 @@ impl Controller {
         if let Some(length) = self.rtcp_length(i) {
             return self.turn_about_tip(axis, amount, length, self.panel.jog_feed, None);
         }
-        let mut target = self.exec.here.machine[i] + amount;
-        if let Some([lo, hi]) = self.machine.axes[i].stroke {
-            target = target.clamp(lo, hi);
-        }
-        self.manual_move(i, target, self.panel.jog_feed)
+        self.manual_move_within_stroke(i, self.exec.here.machine[i] + amount, self.panel.jog_feed)
     }
 
-    /// REF: every axis back to the reference position (machine zero) at rapid.
+    /// REF: every axis back to the reference position (machine zero) at rapid; a rollover axis
+    /// less than a turn (`Axis::reference_return_end`).
     pub fn reference_return(&mut self) -> Result<(), Refusal> {
         if self.mode != Mode::Ref {
             return Err(Refusal::WrongMode);
@@ -844,13 +842,52 @@ impl Controller {
         }
         self.clear_interrupt();
         self.clear_lock_offset();
-        let zero = [0.0; crate::machine::MAX_AXES];
-        self.push_manual(MotionKind::MachineRapid, zero, 0.0);
+        let (mut to, dialect) = (self.exec.here.machine, self.interp.config().dialect);
+        for (i, axis) in self.machine.axes.iter().enumerate() {
+            to[i] = axis.reference_return_end(to[i], 0.0, dialect);
+        }
+        self.push_manual(MotionKind::MachineRapid, to, 0.0);
         Ok(())
     }
 
     fn axis(&self, name: char) -> Result<usize, Refusal> {
         self.machine.axes.iter().position(|a| a.name == name).ok_or(Refusal::NoAxis)
+    }
+
+    /// A manual move of one axis toward `wanted`, which stops at the axis's stored stroke
+    /// limit: reaching it raises the overtravel alarm of stored stroke check 1 (FANUC
+    /// OT0500/OT0501; `docs/motion.md`, "The controller"); at the limit already, at once.
+    fn manual_move_within_stroke(&mut self, axis: usize, wanted: f64, feed: f64) -> Result<(), Refusal> {
+        let Some((target, over)) = self.stroke_limited(axis, wanted) else {
+            return self.manual_move(axis, wanted, feed);
+        };
+        if self.manual_blocked() {
+            return Err(Refusal::Busy);
+        }
+        if target == self.exec.here.machine[axis] {
+            self.raise(over, self.exec.here.line, self.exec.here.n);
+            return Ok(());
+        }
+        self.manual_move(axis, target, feed)?;
+        if self.run_state == RunState::Running {
+            self.stroke_reached = Some(over);
+        }
+        Ok(())
+    }
+
+    /// Where a manual move of `axis` toward `wanted` must stop, and the alarm it raises there,
+    /// if `wanted` is beyond the axis's stored stroke.
+    fn stroke_limited(&self, axis: usize, wanted: f64) -> Option<(f64, AlarmId)> {
+        let [lo, hi] = self.machine.axes[axis].stroke?;
+        let name = self.machine.axes[axis].name;
+        let over = |positive| AlarmId::OverTravel { axis: name, positive, precheck: false };
+        if wanted > hi {
+            Some((hi, over(true)))
+        } else if wanted < lo {
+            Some((lo, over(false)))
+        } else {
+            None
+        }
     }
 
     fn manual_move(&mut self, axis: usize, target: f64, feed: f64) -> Result<(), Refusal> {
@@ -868,6 +905,7 @@ impl Controller {
 
     /// A motion outside the program, in machine coordinates.
     fn push_manual(&mut self, kind: MotionKind, machine: Pos, feed: f64) {
+        self.stroke_reached = None;
         let offset: Pos = std::array::from_fn(|i| self.exec.here.work[i] - self.exec.here.machine[i]);
         let target: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
         let m = Motion {
@@ -988,10 +1026,23 @@ impl Controller {
         let Some(after) = self.stopping.take() else {
             // A whole run ends exactly on its last point.
             self.exec.arrive(&finished);
+            self.at_stroke_limit();
             return;
         };
+        // Stopped short (jog stop, reset): no limit reached.
+        self.stroke_reached = None;
         let p = &finished.planned;
         self.after_stop(after, p.rest(p.profile.len()), p.profile.end_speed());
+    }
+
+    /// A manual move that ended at a stored stroke limit stops there in the overtravel alarm;
+    /// the program's current point is where the machine stands. The alarm clears with reset,
+    /// after which the axis moves again (back from the limit; on, it alarms again at once).
+    fn at_stroke_limit(&mut self) {
+        let Some(over) = self.stroke_reached.take() else { return };
+        self.stand_here();
+        self.exec.here.feed = 0.0;
+        self.raise(over, self.exec.here.line, self.exec.here.n);
     }
 
     /// Carry on after a deceleration that ended at `speed` with `rest` of the path ahead.
@@ -1024,6 +1075,10 @@ impl Controller {
     /// Decelerate to rest along the path, within the limits of every segment the stop covers;
     /// the path after the stop point is kept for `after`.
     fn decelerate(&mut self, after: AfterStop) {
+        if after == AfterStop::Drop {
+            // The move will not get to its end: no stroke limit reached.
+            self.stroke_reached = None;
+        }
         if let Some(already @ (AfterStop::Hold | AfterStop::Drop)) = self.stopping {
             // Already stopping: only what follows may change (dropping wins over holding).
             if already == AfterStop::Hold {

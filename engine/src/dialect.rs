@@ -230,6 +230,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::CornerNextBlock,
     AlarmId::CornerNotG01,
     AlarmId::CornerTooShort,
+    AlarmId::CornerRoundingInMode,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -404,6 +405,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         CornerNextBlock => (("PS0051", "MISSING MOVE AFTER CNR/CHF"), COR100),
         CornerNotG01 => (("PS0052", "CODE IS NOT G01 AFTER CNR/CHF"), COR100),
         CornerTooShort => (("PS0055", "MISSING MOVE VALUE IN CHF/CNR"), COR100),
+        // Raised in the Haas dialect only (G187 is the NGC's); the columns for completeness.
+        CornerRoundingInMode => (("PS0010", "IMPROPER G-CODE"), COR100),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }
@@ -500,6 +503,9 @@ fn haas(id: &AlarmId) -> Text {
         CornerNextBlock => ("750", "NO LINEAR MOVE AFTER CHAMFER OR CORNER R"),
         CornerNotG01 => ("751", "RAPID MOVE AFTER CHAMFER OR CORNER R"),
         CornerTooShort => ("752", "MOVE TOO SHORT FOR CHAMFER OR CORNER R"),
+        // Constructed: fivex's refusal, not the NGC's (which was `310 INVALID G CODE`, calling the
+        // valid G254 or G234 invalid).
+        CornerRoundingInMode => ("753", "G187 CORNER ROUNDING NOT BUILT IN THIS MODE"),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }

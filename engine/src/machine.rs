@@ -110,6 +110,30 @@ impl Axis {
     pub fn max_jerk(&self) -> f64 {
         self.jerk.unwrap_or(self.max_accel() / 0.05)
     }
+
+    /// Where a reference return (G28, G30, manual REF) from `from` ends on this axis, the
+    /// reference being `reference` in machine coordinates: there on a linear-type axis; on a
+    /// rollover axis, whose positions stay unwound in the engine, the reference's angle less
+    /// than a turn away (`angle::reference_travel`, positive; the shorter way in the Haas
+    /// dialect): the return does not unwind the turns made.
+    pub fn reference_return_end(&self, from: f64, reference: f64, dialect: crate::Dialect) -> f64 {
+        if self.rollover {
+            from + crate::angle::reference_travel(from, reference, dialect == crate::Dialect::Haas)
+        } else {
+            reference
+        }
+    }
+
+    /// Where a move to the machine coordinate `command` (G53) from `from` ends on this axis:
+    /// there on a linear-type axis; on a rollover axis the command's angle the way an absolute
+    /// command takes (`angle::rollover_travel`), not back over the turns made.
+    pub fn machine_command_end(&self, from: f64, command: f64) -> f64 {
+        if self.rollover {
+            from + crate::angle::rollover_travel(from, command, self.shortest)
+        } else {
+            command
+        }
+    }
 }
 
 /// A machine description that cannot work: the alarm the vendor's control raises for it (if

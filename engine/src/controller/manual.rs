@@ -531,7 +531,8 @@ impl Controller {
     }
 
     /// Move X, Y, Z up to `distance` along the unit direction `d` (machine coordinates),
-    /// clamped to the strokes.
+    /// clamped to the strokes: a move the first stroke met cuts short ends in its overtravel
+    /// alarm, as a single axis's does (`Controller::manual_move_within_stroke`).
     pub(super) fn move_along(&mut self, d: Vec3, distance: f64, feed: f64) -> Result<(), Refusal> {
         let kin = self.machine.kinematics().cloned().ok_or(Refusal::NoAxis)?;
         if !d.iter().all(|x| x.is_finite()) || (d.norm() - 1.0).abs() > 1e-6 {
@@ -543,18 +544,28 @@ impl Controller {
         if self.manual_refused_in_wse() {
             return Ok(());
         }
-        // The longest move along d that stays inside every stroke.
-        let mut reach = distance;
+        // The longest move along d that stays inside every stroke, and the stroke that ends it.
+        let (mut reach, mut over) = (distance, None);
         for (axis, &index) in kin.linear.iter().enumerate() {
             let Some(i) = index else { continue };
             let (x, di) = (self.exec.here.machine[i], d[axis]);
             if let (Some([lo, hi]), true) = (self.machine.axes[i].stroke, di.abs() > 1e-12) {
                 let bound = if di > 0.0 { hi } else { lo };
-                reach = reach.min(((bound - x) / di).max(0.0));
+                let to_bound = ((bound - x) / di).max(0.0);
+                if to_bound < reach {
+                    reach = to_bound;
+                    over = self.stroke_limited(i, x + di * distance).map(|(_, alarm)| alarm);
+                }
             }
         }
         if !reach.is_finite() {
             reach = 1.0e6;
+        }
+        if reach == 0.0 {
+            if let Some(alarm) = over {
+                self.raise(alarm, self.exec.here.line, self.exec.here.n);
+                return Ok(());
+            }
         }
         let mut to = self.exec.here.machine;
         for (axis, &index) in kin.linear.iter().enumerate() {
@@ -563,6 +574,7 @@ impl Controller {
             }
         }
         self.push_manual(MotionKind::Linear, to, feed);
+        self.stroke_reached = over;
         Ok(())
     }
 

@@ -173,7 +173,7 @@ impl State {
             || after(group::CUTTER_COMP) != code::G40
             || self.smoothing.is_some();
         if refused {
-            return Err(AlarmId::GCodeNotBuilt);
+            return Err(AlarmId::CornerRoundingInMode);
         }
         Ok(())
     }

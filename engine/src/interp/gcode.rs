@@ -345,6 +345,9 @@ const fn g(code: u16, group: usize) -> GDef {
 const fn gx(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: true, syntec_only: false, fanuc_only: false }
 }
+const fn gs(code: u16, group: usize) -> GDef {
+    GDef { code, group, takes_axes: false, syntec_only: true, fanuc_only: false }
+}
 const fn gsx(code: u16, group: usize) -> GDef {
     GDef { code, group, takes_axes: true, syntec_only: true, fanuc_only: false }
 }
@@ -458,6 +461,7 @@ pub const TABLE: &[GDef] = &[
     g(570, 14),  // G57
     g(580, 14),  // G58
     g(590, 14),  // G59
+    gs(591, 14), // G59.1 extended work coordinate system (Syntec; not built)
     gx(600, 0),  // G60 single direction positioning
     g(610, 15),  // G61 exact stop mode
     g(620, 15),  // G62 automatic corner override
@@ -504,6 +508,8 @@ pub const TABLE: &[GDef] = &[
     g(970, 13),  // G97 cancel
     g(980, 10),  // G98 return to initial level
     g(990, 10),  // G99 return to R level
+    gs(1201, 0), // G120.1 smoothing as Autodesk's SYIL post writes it (Syntec; not built)
+    gs(1210, 0), // G121 its cancel (Syntec; not built)
     g(1600, 20), // G160 in-feed control cancel
     g(1610, 20), // G161 in-feed control
 ];

@@ -374,6 +374,9 @@ pub struct State {
     parts_done: f64,
     parts_required: f64,
     blocks: u64,
+    /// Where the commands of the block being executed begin in the step's output: before them
+    /// are what the block released of the ones before it (a smoothing or corner rounding run).
+    block_out: usize,
     ended: bool,
     /// A cutter compensation vector may stand at the current point: the last block that moved
     /// did so in a mode of `code::COMPENSATED_BY_STAGES` (until a move in G40 or a reset). The
@@ -578,6 +581,13 @@ impl Interpreter {
         match result {
             Ok(step) => Ok(step),
             Err(id) => {
+                // A block refused with an alarm does nothing: none of its own commands run, even
+                // those it made before the alarm was found (a call found missing after the
+                // block's tool length change). What it released of the blocks before it runs.
+                // Only an alarm about the block's own move comes after it (`follows_motion`).
+                if !id.follows_motion() {
+                    out.truncate(st.block_out.max(before));
+                }
                 st.ended = true;
                 let (code, message) = st.cfg.dialect.describe(&id);
                 Err(Alarm { code, message, line: st.line, n: st.n })
@@ -716,6 +726,7 @@ impl State {
             parts_done: 0.0,
             parts_required: 0.0,
             blocks: 0,
+            block_out: 0,
             ended: false,
             cutter_vector: false,
             line: 0,
@@ -980,6 +991,7 @@ impl State {
         if let Some(n) = block.n {
             self.last_n = n;
         }
+        self.block_out = out.len();
         self.exec(progs, by_number, prog_idx, idx, block, out)?;
         Ok(if self.ended { Step::Ended } else { Step::Continue })
     }
@@ -998,6 +1010,7 @@ impl State {
             // Under G187 a macro statement or a branch between two moves keeps their corner
             // exact: what is held moves first (`corner_blend`).
             self.blend_flush(out)?;
+            self.block_out = out.len();
         }
         match &block.kind {
             BlockKind::Empty => {}

@@ -22,6 +22,15 @@ use crate::stage::{CompStart, PerpendicularStart};
 use arrayvec::ArrayVec;
 use std::collections::HashMap;
 
+/// A subprogram call of the block (`call_target`): the program, how many times, and the block
+/// it starts at (Haas M97: a line of the calling program; else the program's top).
+#[derive(Debug, Clone, Copy)]
+struct Call {
+    prog: usize,
+    count: u32,
+    at: Option<usize>,
+}
+
 /// Modal macro calls that may nest (FANUC: four macro levels).
 const MAX_MODAL_CALLS: usize = 4;
 
@@ -437,6 +446,8 @@ impl State {
         self.smoothing_block(w, out)?;
         self.blend_block(w, out)?;
         self.corner_block(w)?;
+        // What the two released belongs to the blocks before: the block's own commands start here.
+        self.block_out = out.len();
         if self.cfg.fast_paths && self.is_plain_motion(w) {
             return self.plain_motion(w, out);
         }
@@ -520,6 +531,11 @@ impl State {
             }
         }
 
+        let call_form = |m: u32| w.letters().any(|l| unbuilt::call_address(m, l, self.cfg.dialect).is_some());
+        if self.cfg.refuse_unbuilt && w.mcodes().iter().any(|&m| call_form(m)) {
+            return Err(AlarmId::AddressNotBuilt);
+        }
+
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
         self.refuse_g10_strangers(w)?;
@@ -531,6 +547,8 @@ impl State {
         if self.cfg.refuse_unbuilt {
             self.refuse_unbuilt_nurbs(w)?;
         }
+        // A call whose program or line is missing is refused before the block changes anything.
+        let call = self.call_target(progs, by_number, w)?;
         self.five = five;
         self.follow_stcp();
         if w.has_g(code::G67) {
@@ -903,23 +921,17 @@ impl State {
                 mcode::M78 | mcode::M79 if self.cfg.dialect == crate::Dialect::Haas => {}
                 mcode::M97 if self.cfg.dialect == crate::Dialect::Haas => {
                     // Haas local subprogram: N<P> of this program, L times, back after M99.
-                    let n = w.integer(b'P').ok_or(AlarmId::MissingP)?;
-                    let count = Self::count(w)?;
-                    let (prog, pc) = self.frames.last().map_or((0, 0), |f| (f.prog, f.pc));
-                    let from = pc.saturating_sub(1);
-                    let to = sequence_number(n).and_then(|n| progs[prog].find_label(n, from));
-                    let to = to.ok_or(AlarmId::LineNotFound)?;
-                    if progs[prog].jump_enters_loop(from, to) {
-                        return Err(AlarmId::IllegalLoopNumber);
-                    }
-                    if count > 0 {
-                        self.push_frame(progs, prog, count, None)?;
-                        self.start_at(to);
+                    if let Some(Call { prog, count, at: Some(to) }) = call {
+                        if count > 0 {
+                            self.push_frame(progs, prog, count, None)?;
+                            self.start_at(to);
+                        }
                     }
                 }
                 mcode::M98 | mcode::M198 => {
-                    let (prog, count) = self.subprogram_target(by_number, w)?;
-                    self.push_frame(progs, prog, count, None)?;
+                    if let Some(Call { prog, count, .. }) = call {
+                        self.push_frame(progs, prog, count, None)?;
+                    }
                 }
                 mcode::M99 => {
                     let to_n = match w.integer(b'P') {
@@ -955,6 +967,35 @@ impl State {
             self.f = if self.inch() && self.modes[group::FEED_MODE] != code::G93 { f * 25.4 } else { f };
         }
         Ok(())
+    }
+
+    /// The subprogram the block's M98/M198 (Haas: M97) calls, found before the block runs.
+    fn call_target(
+        &self,
+        progs: &[Loaded],
+        by_number: &HashMap<u32, usize>,
+        w: &Words,
+    ) -> Result<Option<Call>, AlarmId> {
+        let haas = self.cfg.dialect == crate::Dialect::Haas;
+        for &m in w.mcodes() {
+            if m == mcode::M97 && haas {
+                let n = w.integer(b'P').ok_or(AlarmId::MissingP)?;
+                let count = Self::count(w)?;
+                let (prog, pc) = self.frames.last().map_or((0, 0), |f| (f.prog, f.pc));
+                let from = pc.saturating_sub(1);
+                let to = sequence_number(n).and_then(|n| progs[prog].find_label(n, from));
+                let to = to.ok_or(AlarmId::LineNotFound)?;
+                if progs[prog].jump_enters_loop(from, to) {
+                    return Err(AlarmId::IllegalLoopNumber);
+                }
+                return Ok(Some(Call { prog, count, at: Some(to) }));
+            }
+            if mcode::SUBPROGRAM_CALLS.contains(&m) {
+                let (prog, count) = self.subprogram_target(by_number, w)?;
+                return Ok(Some(Call { prog, count, at: None }));
+            }
+        }
+        Ok(None)
     }
 
     /// M98 P… L…, or P with the count in front of a four-digit number (`P30010` = O0010 ×3).
@@ -1582,7 +1623,7 @@ impl State {
                 let mut m = machine_before;
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if let Some(v) = self.value(w, axis.name as u8) {
-                        m[i] = v;
+                        m[i] = axis.machine_command_end(m[i], v);
                     }
                 }
                 self.cancel_length_vector(w);
@@ -1631,7 +1672,8 @@ impl State {
                 let mut m = self.machine_position();
                 for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if all || w.has(axis.name as u8) {
-                        m[i] = if which == 1 { 0.0 } else { axis.references[which - 2] };
+                        let reference = if which == 1 { 0.0 } else { axis.references[which - 2] };
+                        m[i] = axis.reference_return_end(m[i], reference, self.cfg.dialect);
                     }
                 }
                 self.cancel_length_vector(w);

@@ -157,6 +157,21 @@ const TABLE: &[NotBuilt] = &[
     haas(2660, "visible axes linear rapid motion (G266)"),
     haas(2680, "feature coordinate system (G268)"),
     haas(2690, "feature coordinate system cancel (G269)"),
+    // Syntec codes that Autodesk's SYIL/Syntec post writes and no Syntec source among fivex's
+    // references describes: its extended work offset and its smoothing mode with the cancel.
+    NotBuilt {
+        code: 591,
+        dialect: Some(Dialect::Syntec),
+        when: When::Always,
+        function: "extended work coordinate system (G59.1)",
+    },
+    NotBuilt { code: 1201, dialect: Some(Dialect::Syntec), when: When::Always, function: "smoothing mode (G120.1)" },
+    NotBuilt {
+        code: 1210,
+        dialect: Some(Dialect::Syntec),
+        when: When::Always,
+        function: "smoothing mode cancel (G121)",
+    },
 ];
 
 /// The function a G code (×10) selects with its block's addresses, if fivex does not carry it
@@ -277,6 +292,18 @@ pub fn address(letter: u8, dialect: Dialect) -> Option<&'static str> {
         b'a' => Some("angle of direct drawing dimension programming (,A)"),
         _ => None,
     }
+}
+
+/// A word of a subprogram call block (M98/M198) that asks for a form of the call fivex does not
+/// carry out in `dialect`. Syntec: H, which Autodesk's SYIL/Syntec post writes as `M98 H<n>` to
+/// call the subprogram it puts after M30 as the block N<n> of the same program; no Syntec
+/// source among fivex's references describes the form, and read as a tool length offset (as
+/// it is in any other block) it would change the tool length (`docs/dialects.md`, "Functions
+/// not built").
+pub fn call_address(m: u32, letter: u8, dialect: Dialect) -> Option<&'static str> {
+    use crate::interp::mcode::SUBPROGRAM_CALLS;
+    (dialect == Dialect::Syntec && SUBPROGRAM_CALLS.contains(&m) && letter == b'H')
+        .then_some("subprogram call of a sequence number (M98 H)")
 }
 
 /// A Haas M code that changes what the program does next from a machine state fivex does not

@@ -151,6 +151,24 @@ impl<'a> Lexer<'a> {
         }
     }
 
+    /// The name of a function another control has (`PRM[`, Syntec's `R_G53G59_COOR[`, `TIME[`)
+    /// at column `col`: two or more letters, digits or underscores that follow a letter, then
+    /// `[`; upper-cased. Not a keyword fivex knows: those are lexed as such before.
+    pub fn function_name_at(&self, col: u32) -> Option<String> {
+        let t = &self.text[(col.checked_sub(self.col0)? as usize).min(self.text.len())..];
+        let len = t.iter().position(|c| !(c.is_ascii_alphanumeric() || *c == b'_')).unwrap_or(t.len());
+        let rest = t[len..].iter().skip_while(|c| matches!(c, b' ' | b'\t'));
+        let named = len >= 2 && t[0].is_ascii_alphabetic();
+        (named && rest.clone().next() == Some(&b'[')).then(|| String::from_utf8_lossy(&t[..len]).to_ascii_uppercase())
+    }
+
+    /// The digits of the number at column `col` that count towards an address's limit
+    /// ([`increment_digits`]: `X1234567.` has ten, `X12.3456789` five).
+    pub fn digits_at(&self, col: u32) -> usize {
+        let start = col.saturating_sub(self.col0) as usize;
+        increment_digits(self.text.get(start..).unwrap_or_default())
+    }
+
     /// The column of the next token.
     pub fn col(&mut self) -> u32 {
         self.peek().1
@@ -243,6 +261,18 @@ impl<'a> Lexer<'a> {
         self.pos = end;
         tok
     }
+}
+
+/// The digits of the number `t` starts with, counted as a FANUC address counts them: in least
+/// input increments of IS-B (0.001 mm, 0.001°), so a number with a decimal point has its integer
+/// digits (less leading zeros) and three more; decimals beyond the increment are rounded, not
+/// counted. (Inch input's increment, 0.0001, is not told apart: its limit is one digit wider.)
+pub(super) fn increment_digits(t: &[u8]) -> usize {
+    const DECIMALS: usize = 3;
+    let len = t.iter().position(|c| !c.is_ascii_digit()).unwrap_or(t.len());
+    let leading = t[..len].iter().take_while(|&&c| c == b'0').count();
+    let point = t.get(len) == Some(&b'.');
+    len - leading + if point { DECIMALS } else { 0 }
 }
 
 /// The number starting at `pos` (digits and at most one point) and the offset after it.

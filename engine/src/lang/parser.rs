@@ -9,6 +9,12 @@ use crate::alarm::AlarmId;
 /// Brackets may nest this deep (FANUC: five levels, function brackets included).
 const MAX_BRACKET_DEPTH: u32 = 5;
 
+/// Most digits a number written at an address may have, in least input increments
+/// (`lexer::increment_digits`; more: PS0003 TOO MANY DIGITS): FANUC's nine digits of the least
+/// input increment (IS-B ±999999.999, the 5-axis manual's data ranges); a sequence number has
+/// eight (N1–N99999999). `docs/dialects.md`, "Too many digits".
+const MAX_DIGITS: usize = 9;
+
 /// Parse a whole NC file. Never fails: problems are collected in `File::diagnostics` and the
 /// offending blocks become [`BlockKind::Error`].
 pub fn parse_file(text: &str) -> File {
@@ -205,6 +211,9 @@ fn plain_words(t: &[u8], col0: u32, line: u32) -> Option<Block> {
             return None;
         }
         let (Tok::Num { value, point }, end) = super::lexer::number_at(t, i) else { return None };
+        if super::lexer::increment_digits(&t[i..]) > MAX_DIGITS {
+            return None;
+        }
         i = end;
         if letter == b'N' && words.is_empty() && n.is_none() {
             if signed || point || value > 99_999_999.0 {
@@ -246,6 +255,9 @@ impl BlockParser<'_> {
             self.lx.next_tok();
             match self.lx.next_tok() {
                 (Tok::Num { value, point: false }, _) if value <= 99_999_999.0 => block.n = Some(value as u32),
+                (Tok::Num { point: false, .. }, c) => {
+                    return self.err(c, AlarmId::TooManyDigits, "a sequence number has at most 8 digits")
+                }
                 (_, c) => {
                     return self.err(c.max(col), AlarmId::NoDataAfterAddress, "N needs an integer sequence number")
                 }
@@ -344,6 +356,10 @@ impl BlockParser<'_> {
 
     fn unexpected<T>(&self, tok: Tok, col: u32) -> PResult<T> {
         match tok {
+            // Syntec's `@` variables (`@980 = TIME[3]`, written by Autodesk's SYIL post).
+            Tok::Bad(b'@') => {
+                self.err(col, AlarmId::AddressNotBuilt, "the @ variables (Syntec) are not built in fivex")
+            }
             Tok::Bad(c) => self.err(col, AlarmId::Syntax, format!("unexpected character '{}'", c as char)),
             Tok::BadNumber => self.err(col, AlarmId::Syntax, "more than one decimal point in a number"),
             Tok::TooManyDigits => self.err(col, AlarmId::TooManyDigits, "more than 15 digits in a number"),
@@ -416,6 +432,9 @@ impl BlockParser<'_> {
         };
         let sign = |e: Expr| if negative { Expr::Neg(Box::new(e)) } else { e };
         match tok {
+            Tok::Num { .. } if self.lx.digits_at(col) > MAX_DIGITS => {
+                self.err(col, AlarmId::TooManyDigits, format!("{} has at most {MAX_DIGITS} digits", letter as char))
+            }
             Tok::Num { value, point } => {
                 Ok(WordValue::Number { value: if negative { -value } else { value }, decimal_point: point })
             }
@@ -557,6 +576,15 @@ impl BlockParser<'_> {
                 Ok(Expr::Func2(Func2::Pow, Box::new(a), Box::new(b)))
             }
             Tok::Eof => self.err(col, AlarmId::MacroFormat, "expression expected"),
+            Tok::Letter(_) => match self.lx.function_name_at(col) {
+                // Another control's function (FANUC's PRM[] parameter read, Syntec's R_…[] and
+                // TIME[]): named as not built rather than a stray address
+                // (`docs/dialects.md`, "Functions not built").
+                Some(name) => {
+                    self.err(col, AlarmId::AddressNotBuilt, format!("the function {name}[] is not built in fivex"))
+                }
+                None => self.unexpected(tok, col),
+            },
             other => self.unexpected(other, col),
         }
     }

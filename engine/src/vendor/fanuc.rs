@@ -1,6 +1,7 @@
 //! FANUC 30i-A5 parameters (fanuc-twp-wsec-manual-params.md §2.9, §5; fanuc-tcp.md §5).
 //!
-//! Axis parameters hold one value per axis: No.1020 name (ASCII), 1022 basic axis, 1006#0 ROT,
+//! Axis parameters hold one value per axis: No.1020 name (ASCII), 1022 basic axis, 1006#0 ROT (#5 ZMI
+//! refused on a rollover axis),
 //! 1008#0 ROA / #1 RAB, 1260 per revolution, 1320/1321 stroke, 1401#1 LRP, 1403#5 HTG, 1420 rapid, 1660 acceleration,
 //! 1672 bell-shaped time. The mechanism: 19680 type, 19681–19690 the two rotary axes, 19696#0/#1
 //! hypothetical axes, 19697–19699 reference tool direction, 19700–19705 table positions, 19666
@@ -71,7 +72,8 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         if !NAMES.contains(letter) || code == 0 {
             return Err(ConfigError::invalid(format!("No.1020 axis {}: {} is not one of {NAMES}", i + 1, names[i])));
         }
-        let rotary = super::params::whole(1006, rot[i], 0, 255)? & 1 == 1;
+        let rot_bits = super::params::whole(1006, rot[i], 0, 255)?;
+        let rotary = rot_bits & 1 == 1;
         let bits = super::params::whole(1008, roll[i], 0, 255)?;
         if basics[i] != 0.0 && basics[i] != basic(letter) {
             return Err(ConfigError::invalid(format!(
@@ -81,6 +83,14 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
             )));
         }
         let rollover = rotary && bits & 1 == 1;
+        // No.1006#5 ZMI: the manual reference return's direction, which a rollover axis's G28/G30
+        // follow (`angle::reference_travel`); fivex turns them positive (ZMI = 0) only, so a
+        // negative one is refused rather than turned the other way round.
+        if rollover && rot_bits & 0x20 != 0 {
+            return Err(ConfigError::invalid(format!(
+                "No.1006#5 ZMI of axis {letter}: fivex returns a rollover axis to its reference in the positive direction only"
+            )));
+        }
         // No.1260, the move per revolution: fivex turns a rotary axis 360° per revolution (and
         // rolls over there), so any other value is refused rather than ignored.
         if rotary && per_rev[i] != 360.0 && per_rev[i] != 0.0 {

@@ -988,12 +988,18 @@ fn fanuc_1006_bits_beside_rot_are_reported() {
     for (axis, v, want) in [
         (3, 3, "No.1006#1 (axis 4)"),
         (3, 9, "No.1006#3 (axis 4)"),
-        (3, 33, "No.1006#5 (axis 4)"),
         (3, 129, "No.1006#7 (axis 4)"),
         (0, 2, "No.1006#1 (axis 1)"),
+        (0, 32, "No.1006#5 (axis 1)"),
     ] {
         assert_eq!(with("1006", axis, v), [want], "No.1006 = {v} on axis {}", axis + 1);
     }
+    // #5 ZMI is read on a rollover axis (its G28/G30 direction): ZMI = 1 there is refused, not
+    // reported (`docs/conventions.md`, "Rollover axes and machine positions").
+    let mut doc: serde_json::Value = serde_json::from_str(file).unwrap();
+    doc["parameters"]["1006"][3] = 33.into();
+    let refused = crate::machine_file::parse(&doc.to_string()).unwrap_err();
+    assert!(refused.contains("1006"), "{refused}");
     assert_eq!(with("1008", 3, 5), ["No.1008#2 (axis 4)"], "as No.1008's RRL");
     // The BC head (B axis 4, C axis 5, both linked): ROS on B.
     let mut p = fanuc_bc_head();

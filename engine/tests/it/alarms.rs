@@ -159,3 +159,66 @@ fn a_g10_block_refuses_the_commands_it_would_drop() {
     let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Fanuc.describe(&d.id).0)).collect();
     assert_eq!(found, vec![(1, 15, "PS0010".to_string()), (2, 16, "PS0009".to_string())]);
 }
+
+/// Audit A2 F4: `M98 H2` (Autodesk's SYIL/Syntec post calls its subprograms so) changed the tool
+/// length to H2's in G43 and moved Z by the difference, then raised the call's alarm. A block
+/// refused with an alarm does nothing: the machine stays where the block before left it
+/// (tool 1 length 100 at Z15: machine Z 115), and the state it reports is the one before.
+#[test]
+fn a_call_refused_at_its_block_moves_nothing() {
+    let src = "G10 L10 P2 R120.\nG90 G21 G54\nG00 X0 Y0\nG43 Z15. H01\nM98 H2\nM30\n";
+    // FANUC: H is the tool length offset; an M98 without P has no program to call (PS0078).
+    // Syntec: H of an M98 is the form of the call fivex does not build (COR-100).
+    for (dialect, code) in [(Fanuc, "PS0078"), (Syntec, "COR-100")] {
+        let r = run_with(src, "mill3", dialect);
+        assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect::<Vec<_>>(), [(code, 5)], "{dialect:?}");
+        assert_eq!(r.machine[2], 115.0, "{dialect:?}: the refused block moved Z");
+        assert_eq!(r.workpiece[2], 15.0, "{dialect:?}");
+    }
+    // A call of a program the file does not have, in a block that moves: neither the move nor
+    // the tool length change is made.
+    let r = run_with("G90 G00 X0 Y0 Z15.\nG43 H1 G00 X10. Z20. M98 P1234\nM30\n", "mill3", Fanuc);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("PS0078", 2));
+    assert_eq!(&r.machine[..3], &[0.0, 0.0, 15.0]);
+    // Haas M97 to a line the program does not have: 337, nothing moved.
+    let r = run_with("G90 G00 X0 Y0 Z15.\nG00 X10. M97 P500\nM30\n", "mill3", Haas);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("337", 2));
+    assert_eq!(&r.machine[..3], &[0.0, 0.0, 15.0]);
+}
+
+/// The Haas M78/M79 alarms are about the block's own G31 move: that move is made, then the
+/// alarm (the one kind of alarm that follows its block's motion).
+#[test]
+fn m79_alarms_after_its_skip_move() {
+    let r = run_with("G90 G00 X0 Y0 Z15.\nG31 X20. F500. M79\nM30\n", "mill3", Haas);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("749", 2), "{:?}", r.alarms);
+    assert_eq!(r.machine[0], 20.0);
+}
+
+/// Audit A F3: a number with more digits than an address takes is PS0003 TOO MANY DIGITS (it
+/// was PS0005 for a nine-digit N, OT0510 for `X1234567890.`). FANUC's words have nine digits of
+/// the least input increment (IS-B: ±999999.999), a sequence number eight (N1–N99999999).
+#[test]
+fn too_many_digits() {
+    for block in ["N123456789 G00 X1.", "G00 X1234567890.", "G00 X1234567.", "G00 X1234567890", "G01 X1. F1234567."] {
+        let src = format!("G90 G54 G17 G94\n{block}\nM30\n");
+        both(&src, "PS0003", "COR-004", 2);
+        let r = run_with(&src, "mill3", Haas);
+        assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("331", 2), "{block}");
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&src), Fanuc);
+        assert_eq!(diags.iter().map(|d| (d.line, Fanuc.describe(&d.id).0)).collect::<Vec<_>>(), [(2, "PS0003".into())]);
+    }
+    // At the limit, and decimals beyond the increment (rounded to it, not counted).
+    for block in [
+        "N12345678 G00 X1.",
+        "G00 X123.456",
+        "G00 X123456789",
+        "G00 X-999.999",
+        "G00 X12.3456789012",
+        "G00 X0.000000001",
+    ] {
+        let src = format!("G90 G54 G17 G94\n{block}\nM30\n");
+        let r = run_with(&src, "mill3", Fanuc);
+        assert!(!r.alarms.iter().any(|a| a.code == "PS0003"), "{block}: {:?}", r.alarms);
+    }
+}

@@ -399,10 +399,13 @@ fn jog_handle_and_reference_return() {
     run_until_stopped(&mut c, 5.0);
     assert_eq!(c.point().machine[1], -2.5);
     assert_eq!(c.handle('Q', 1.0), Err(Refusal::NoAxis));
-    // A hand wheel turned past the stroke stops at the limit (Z −500…300).
+    // A hand wheel turned past the stroke stops at the limit (Z −500…300), in the overtravel
+    // alarm (`manual_moves_to_a_stroke_limit_end_in_the_overtravel_alarm`); reset clears it.
     c.handle('Z', 1000.0).unwrap();
     run_until_stopped(&mut c, 10.0);
     assert_eq!(c.point().machine[2], 300.0);
+    assert_eq!(c.alarms()[0].code, "OT0500");
+    c.reset();
     c.set_mode(Mode::Mdi).unwrap();
     c.set_mdi("G91 G01 X10. F6000.").unwrap();
     c.cycle_start().unwrap();
@@ -412,6 +415,74 @@ fn jog_handle_and_reference_return() {
     c.reference_return().unwrap();
     run_until_stopped(&mut c, 10.0);
     assert_eq!(c.point().machine[..3], [0.0, 0.0, 0.0]);
+}
+
+/// FANUC stored stroke check 1 in manual operation: a JOG, INC or HANDLE move that reaches a
+/// stored stroke limit stops there with OT0500 (+) / OT0501 (−), "OVERTRAVEL (SOFT 1)" (the
+/// 30i's alarm list); it was a silent stop. Reset clears the alarm; the axis then moves back
+/// from the limit, and on into it alarms again at once. A jog released short of the limit
+/// raises nothing. mill3: X −600…600, Y −450…450, Z −500…300.
+#[test]
+fn manual_moves_to_a_stroke_limit_end_in_the_overtravel_alarm() {
+    let mut c = controller();
+    c.set_mode(Mode::Jog).unwrap();
+    c.panel.jog_feed = 30000.0;
+    // JOG X+ held: 600 mm at 500 mm/s reach the limit in about 1.2 s.
+    c.jog_start('X', true).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.run_state(), RunState::Alarm);
+    assert_eq!(c.point().machine[0], 600.0);
+    assert_eq!(c.alarms().len(), 1);
+    assert_eq!((c.alarms()[0].code.as_str(), c.alarms()[0].message.as_str()), ("OT0500", "+ OVERTRAVEL ( SOFT 1 ) X"));
+    assert_eq!(c.jog_start('X', false), Err(Refusal::Busy), "the alarm stands until reset");
+    c.reset();
+    assert!(c.alarms().is_empty() && c.run_state() == RunState::Idle);
+    // On into the limit: the alarm at once, nothing moves.
+    c.jog_start('X', true).unwrap();
+    assert_eq!((c.run_state(), c.alarms()[0].code.as_str()), (RunState::Alarm, "OT0500"));
+    c.reset();
+    // Back from it, released after 0.5 s: no alarm.
+    c.jog_start('X', false).unwrap();
+    let mut xs = Vec::new();
+    record(&mut c, 500, &mut xs);
+    c.jog_stop();
+    run_until_stopped(&mut c, 5.0);
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert!(c.alarms().is_empty());
+    let x = c.point().machine[0];
+    assert!(x < 600.0 && x > 0.0, "{x}");
+    // INC: an increment past the limit stops at it with the alarm; one inside does not.
+    c.set_mode(Mode::Inc).unwrap();
+    c.set_increment(1000.0).unwrap();
+    c.jog_start('Y', false).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!((c.point().machine[1], c.alarms()[0].code.as_str()), (-450.0, "OT0501"));
+    assert_eq!(c.alarms()[0].message, "- OVERTRAVEL ( SOFT 1 ) Y");
+    c.reset();
+    c.set_increment(10.0).unwrap();
+    c.jog_start('Y', true).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!((c.point().machine[1], c.run_state()), (-440.0, RunState::Idle));
+    // HANDLE −1000 from Z0: stops at −500 with OT0501; the program's current point is there.
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('Z', -1000.0).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!((c.point().machine[2], c.alarms()[0].code.as_str()), (-500.0, "OT0501"));
+    c.reset();
+    assert_eq!(c.run_state(), RunState::Idle);
+}
+
+#[test]
+fn the_manual_overtravel_alarm_is_each_dialects() {
+    // Syntec's code is fivex's constructed MOT-001/002; Haas's 316–319 (X, Y, Z, A).
+    for (dialect, code) in [(Dialect::Syntec, "MOT-001"), (Dialect::Haas, "318")] {
+        let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
+        c.panel.jog_feed = 30000.0;
+        c.set_mode(Mode::Handle).unwrap();
+        c.handle('Z', 400.0).unwrap();
+        run_until_stopped(&mut c, 10.0);
+        assert_eq!((c.point().machine[2], c.alarms()[0].code.as_str()), (300.0, code), "{dialect:?}");
+    }
 }
 
 #[test]

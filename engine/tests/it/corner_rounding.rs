@@ -214,8 +214,8 @@ fn the_modes_the_rounding_is_not_built_for_are_refused() {
         r.alarms.first().map(|a| (a.code.clone(), a.line))
     };
     // Cutter compensation: G41 in G187, G187 in G41.
-    assert_eq!(first("G187 E0.1\nG41 D1 G01 X10. F100."), Some(("310".into(), 3)));
-    assert_eq!(first("G41 D1 G01 X10. F100.\nG187 E0.1"), Some(("310".into(), 3)));
+    assert_eq!(first("G187 E0.1\nG41 D1 G01 X10. F100."), Some(("753".into(), 3)));
+    assert_eq!(first("G41 D1 G01 X10. F100.\nG187 E0.1"), Some(("753".into(), 3)));
     // Bad arguments: P other than 1–3, a negative E.
     assert_eq!(first("G187 P4"), Some(("746".into(), 2)));
     assert_eq!(first("G187 E-0.1"), Some(("746".into(), 2)));
@@ -227,7 +227,35 @@ fn the_modes_the_rounding_is_not_built_for_are_refused() {
 #[test]
 fn tcp_and_dwo_are_refused_in_g187() {
     let r = run_with("G187 E0.1\nG234 H1\nM30\n", "table-ac", Haas);
-    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("310", 2)), "{:?}", r.alarms);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("753", 2)), "{:?}", r.alarms);
     let r = run_with("G187 E0.1\nG254\nM30\n", "table-ac", Haas);
-    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("310", 2)), "{:?}", r.alarms);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("753", 2)), "{:?}", r.alarms);
+}
+
+/// Audit A2 F6/F7: the NGC post's `G187 P3 E0.01` then its `G254` lead-in stopped with `310
+/// INVALID G CODE`, which calls the valid G254 invalid; the alarm now names the refusal
+/// (constructed `753`). `fivex check` reports it without a machine, as it does G28 under G254
+/// (730, the post's "Safe retracts = G28" option), reading the blocks in order.
+#[test]
+fn g187_with_dwo_names_the_refusal_and_check_reports_it() {
+    let r = run_with("G187 P3 E0.01\nG00 X0 Y0\nG254\nG255\nM30\n", "table-ac", Haas);
+    let alarm = r.alarms.first().expect("refused");
+    assert_eq!((alarm.code.as_str(), alarm.line), ("753", 3));
+    assert_eq!(alarm.message, "G187 CORNER ROUNDING NOT BUILT IN THIS MODE");
+    let found = |src: &str| {
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(src), Haas);
+        diags.iter().map(|d| (d.line, d.col, Haas.describe(&d.id).0)).collect::<Vec<_>>()
+    };
+    let at = |line, col, code: &str| vec![(line, col, code.to_string())];
+    assert_eq!(found("G187 P3 E0.01\nG00 X0 Y0\nG254\nG255\nM30\n"), at(3, 1, "753"));
+    assert_eq!(found("G254\nG00 X0 Y0 Z10.\nG187 P3 E0.01\nG255\nM30\n"), at(3, 1, "753"));
+    assert_eq!(found("G187 E0.1\nG00 G234 X0 Y0 Z50. H01\nG49\nM30\n"), at(2, 5, "753"));
+    // No rounding (the post's default `G187 P3`: Setting 85 is 0), rounding ended, or M30 between.
+    assert_eq!(found("G187 P3\nG254\nG255\nM30\n"), vec![]);
+    assert_eq!(found("G187 P2 E0.02\nG187\nG254\nG255\nM30\n"), vec![]);
+    assert_eq!(found("G187 E0.02\nM30\nG254\nG255\nM30\n"), vec![]);
+    // G28 while G254 is on (not before it, not after G255).
+    assert_eq!(found("G28 G91 Z0.\nG90 G254\nG28 G91 Z0.\nG90 G255\nG28 G91 X0. Y0.\nM30\n"), at(3, 1, "730"));
+    let r = run_with("G28 G91 Z0.\nG90 G254\nG28 G91 Z0.\nG90 G255\nM30\n", "table-ac", Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("730", 3)));
 }

@@ -38,6 +38,7 @@ mod preview;
 mod probing;
 mod report;
 mod restart;
+mod rollover;
 mod smoke;
 mod smoothing;
 mod stop;

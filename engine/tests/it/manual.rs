@@ -249,6 +249,28 @@ fn manual_rapid_clamps_every_axis_tv_man_09() {
     assert!(close(xyz(&c.point().machine), [10.0, 0.0, 17.320508], 1e-6));
 }
 
+/// A 5-axis manual feed cut short by a stroke ends in the overtravel alarm of that axis, as a
+/// single axis's jog does (`controller.rs`, `manual_moves_to_a_stroke_limit_end_in_the_overtravel_alarm`):
+/// head-bc at zero angles, the tool axis is +Z; Z's stroke ends at 300.
+#[test]
+fn a_manual_feed_to_a_stroke_ends_in_the_overtravel_alarm() {
+    let mut c = controller(preset("head-bc"), Dialect::Fanuc);
+    c.panel.jog_feed = 30000.0;
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle_direction(ManualFeed::ToolAxis, 1000.0).unwrap();
+    settle(&mut c, 10.0);
+    assert_eq!(c.point().machine[2], 300.0);
+    assert_eq!((c.run_state(), c.alarms()[0].code.as_str()), (RunState::Alarm, "OT0500"));
+    c.reset();
+    // At the limit already: the alarm at once; back along −Z it moves.
+    c.handle_direction(ManualFeed::ToolAxis, 1.0).unwrap();
+    assert_eq!(c.alarms()[0].code, "OT0500");
+    c.reset();
+    c.handle_direction(ManualFeed::ToolAxis, -20.0).unwrap();
+    settle(&mut c, 10.0);
+    assert_eq!((c.point().machine[2], c.run_state()), (280.0, RunState::Idle));
+}
+
 /// TV-MAN-10 and the refusals: the 5-axis feeds need JOG or HANDLE (not REF), a machine with
 /// the kinematics, a rotary axis to turn and a finite amount; nothing panics.
 #[test]

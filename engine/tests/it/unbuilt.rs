@@ -223,6 +223,10 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G266 X1.", &[Haas]),
     ("G268 X0 Y0 Z0 I0 J30. K0", &[Haas]),
     ("G269", &[Haas]),
+    // Syntec codes Autodesk's SYIL post writes (audit A2 F5): COR-100 naming them, not COR-070.
+    ("G59.1", &[Syntec]),
+    ("G120.1 P2 Q2", &[Syntec]),
+    ("G121", &[Syntec]),
 ];
 
 /// Performed in the Haas dialect only: the NGC's own codes fivex carries out.
@@ -547,4 +551,49 @@ fn g41_square_runs_with_the_tool_centre_offset() {
         let i = path.lines.iter().position(|&l| l == 2).unwrap();
         assert!(approx(path.points[i][0], 5.0) && approx(path.points[i][1], 5.0), "{:?}", path.points[i]);
     }
+}
+
+/// Audit A2 F5 / A F2: lines every program of Autodesk's SYIL/Syntec post starts with, and the
+/// Fusion FANUC post's head-machine check, were refused as syntax errors ("unexpected address
+/// R", "unexpected character '@'", "unexpected address P"): another control's functions are
+/// refused as not built, named, by the run and by `fivex check` alike.
+#[test]
+fn other_controls_functions_are_refused_by_name() {
+    let cases = [
+        ("#199 = R_G53G59_COOR[0,59,3]", Syntec, "COR-100", 8, "R_G53G59_COOR[]"),
+        ("@980 = TIME[3]", Syntec, "COR-100", 1, "@ variables"),
+        ("IF[PRM[5006,6]NE1]THEN#3000=91(PARAMETER_5006_BIT_6_MUST_BE_SET_TO_1)", Fanuc, "PS0009", 4, "PRM[]"),
+        ("#100=PRM[5006,6]", Fanuc, "PS0009", 6, "PRM[]"),
+        ("#100=TIME[3]", Haas, "311", 6, "TIME[]"),
+    ];
+    for (block, dialect, code, col, name) in cases {
+        let r = run_with(&program(block), PRESET, dialect);
+        assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect::<Vec<_>>(), [(code, 2)], "{block}");
+        let diags = check(parse_file(&program(block)), dialect);
+        let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, dialect.describe(&d.id).0)).collect();
+        assert_eq!(found, [(2, col, code.to_string())], "{block}");
+        assert!(diags[0].detail.contains(name) && diags[0].detail.contains("not built"), "{}", diags[0].detail);
+    }
+    // A known function is still a function, and a stray letter still a syntax error.
+    assert!(run_with(&program("#101=SIN[30.]"), PRESET, Fanuc).completed());
+    assert_eq!(run_with(&program("#101=X[1]"), PRESET, Fanuc).alarms[0].code, "PS0004");
+}
+
+/// Audit A2 F4: Syntec's M98 with H (the SYIL post's `M98 H<n>`, a call of the block N<n>) is
+/// refused as not built, with or without P, before anything of the block is done; `fivex check`
+/// reports it at the H. FANUC and Haas keep H as the tool length offset (the M98 without P is the
+/// dialect's missing program alarm).
+#[test]
+fn syntec_m98_h_is_refused_by_the_run_and_by_check() {
+    for block in ["M98 H2", "M98 P20 H2"] {
+        let src = format!("#100=1\n{block}\nM30\nO0020\nM99\n");
+        let r = run_with(&src, PRESET, Syntec);
+        assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect::<Vec<_>>(), [("COR-100", 2)]);
+        assert_eq!(r.variables, vec![(100, 1.0)]);
+        let diags = check(parse_file(&src), Syntec);
+        let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Syntec.describe(&d.id).0)).collect();
+        assert_eq!(found, [(2, block.find('H').unwrap() as u32 + 1, "COR-100".to_string())], "{block}");
+        assert!(check(parse_file(&src), Fanuc).iter().all(|d| !d.detail.contains("not built")));
+    }
+    assert!(run_with("M98 P20 H2\nM30\nO0020\nM99\n", PRESET, Fanuc).completed());
 }
