@@ -188,11 +188,16 @@ impl Db {
 /// Opens the database `db` names — a `postgres://` (or `postgresql://`) URL, else the path of a
 /// SQLite file — and brings its schema up to date.
 pub async fn open_any(db: &str) -> Result<Db, OpenError> {
-    if db.starts_with("postgres://") || db.starts_with("postgresql://") {
+    if is_postgres(db) {
         open_postgres(db).await
     } else {
         open(Path::new(db)).await
     }
+}
+
+/// Whether `db` (as `open_any` takes it) names a PostgreSQL database rather than a SQLite file.
+pub fn is_postgres(db: &str) -> bool {
+    db.starts_with("postgres://") || db.starts_with("postgresql://")
 }
 
 /// `db` as `open_any` takes it, for messages and logs: a URL without its password.
@@ -216,6 +221,7 @@ pub async fn open(path: &Path) -> Result<Db, OpenError> {
     let shown = path.display().to_string();
     let connect = |source| OpenError::Connect { path: shown.clone(), source };
     let url = sqlite_url(path).map_err(connect)?;
+    sqlite_usable(&url).await.map_err(connect)?;
     // The writer first: it creates the file and turns on WAL, which the readers then find.
     let writes = AnyPoolOptions::new()
         .max_connections(1)
@@ -243,6 +249,63 @@ pub async fn open(path: &Path) -> Result<Db, OpenError> {
     })
 }
 
+/// The lock a `fivex serve` holds on its SQLite file for as long as it runs
+/// ([`lock_sqlite`]); the operating system lets it go when the process ends, however it ends.
+#[derive(Debug)]
+pub struct FileLock {
+    _file: std::fs::File,
+}
+
+/// Takes the lock of the SQLite database at `path`: an exclusive lock on `<path>.lock` beside
+/// it (created if missing, left there), or a message for the user when another process holds
+/// it.
+///
+/// *Decision* (docs/api.md, "The database"): each `fivex serve` keeps its controllers in memory
+/// and writes whole rows from its copy, so two services on one file overwrote each other's
+/// acknowledged changes. The second is refused at start. The lock is a file of its own, not
+/// SQLite's locks: SQLite's exclusive locking mode would shut out the service's own readers,
+/// and a tool that only reads the file (`sqlite3 fivex.db`) is still let in. The file is named
+/// after the database's real path, so two spellings of one file take the same lock.
+pub fn lock_sqlite(path: &Path) -> Result<FileLock, String> {
+    use std::io::{Read, Seek, Write};
+    let shown = path.display();
+    let real = std::fs::canonicalize(path)
+        .or_else(|_| std::path::absolute(path))
+        .map_err(|e| format!("cannot open database {shown}: {e}"))?;
+    let mut name = real.into_os_string();
+    name.push(".lock");
+    let lock = std::path::PathBuf::from(name);
+    let opened = std::fs::OpenOptions::new().create(true).truncate(false).read(true).write(true).open(&lock);
+    // A lock file another user made (an earlier service as root) locks as well read-only.
+    let opened = match opened {
+        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => std::fs::File::open(&lock),
+        opened => opened,
+    };
+    let mut file = opened
+        .map_err(|e| format!("cannot open database {shown}: cannot open its lock file {}: {e}", lock.display()))?;
+    match file.try_lock() {
+        Ok(()) => {}
+        Err(std::fs::TryLockError::WouldBlock) => {
+            let mut holder = String::new();
+            let _ = file.read_to_string(&mut holder);
+            let holder = match holder.trim() {
+                "" => String::new(),
+                pid => format!(" (process {pid})"),
+            };
+            return Err(format!(
+                "cannot open database {shown}: another fivex serve uses it{holder}, holding {}; two services on                  one SQLite file would overwrite each other's changes: stop the other one, or give this one                  another --db",
+                lock.display()
+            ));
+        }
+        Err(std::fs::TryLockError::Error(e)) => {
+            return Err(format!("cannot open database {shown}: cannot lock {}: {e}", lock.display()))
+        }
+    }
+    // Who holds it, for the message above (the lock, not this text, is what counts).
+    let _ = file.set_len(0).and_then(|_| file.rewind()).and_then(|_| writeln!(file, "{}", std::process::id()));
+    Ok(FileLock { _file: file })
+}
+
 /// The `Any` options of a SQLite file, created if missing (`mode=rwc`): its absolute path,
 /// percent-encoded (a `?` or `#` in a file name stays in it).
 fn sqlite_url(path: &Path) -> Result<AnyConnectOptions, sqlx::Error> {
@@ -251,6 +314,20 @@ fn sqlite_url(path: &Path) -> Result<AnyConnectOptions, sqlx::Error> {
     url.set_path(&absolute.to_string_lossy());
     url.set_query(Some("mode=rwc"));
     AnyConnectOptions::from_url(&url)
+}
+
+/// One connection first, which fails at once with SQLite's own reason: a pool retries a
+/// connection that fails until its acquire timeout (60 s), then says only that it timed out (a
+/// file that is not a database took 68 s to refuse, "pool timed out"). It also writes (the
+/// header's `user_version`, as it is), so a file the service may read but not write is refused
+/// at start ("attempt to write a readonly database"), not answered 500 at every write.
+async fn sqlite_usable(url: &AnyConnectOptions) -> Result<(), sqlx::Error> {
+    use sqlx::Connection;
+    let mut conn = url.connect().await?;
+    sqlite_pragmas(&mut conn, false).await?;
+    let version: i64 = sqlx::query_scalar("PRAGMA user_version").fetch_one(&mut conn).await?;
+    sqlx::query(&format!("PRAGMA user_version = {version}")).execute(&mut conn).await?;
+    conn.close().await
 }
 
 /// What every SQLite connection is set to: foreign keys enforced, WAL, synchronous NORMAL (safe

@@ -163,6 +163,10 @@ pub fn run_with(options: ServeOptions) -> Result<(), String> {
         .map_err(|e| format!("cannot start the async runtime: {e}"))?;
     let served = runtime.block_on(async {
         let (db, addr) = (db::shown(&options.db.to_string_lossy()), &options.addr);
+        // One service per SQLite file, for the process's life (`db::lock_sqlite`); PostgreSQL
+        // is shared by design (the nodes of a cluster).
+        let _lock =
+            if db::is_postgres(&options.db.to_string_lossy()) { None } else { Some(db::lock_sqlite(&options.db)?) };
         let pool = db::open_any(&options.db.to_string_lossy()).await.map_err(|e| e.to_string())?;
         let workers = options.workers.unwrap_or_else(Host::default_workers);
         let postgres = pool.backend() == db::Backend::Postgres;

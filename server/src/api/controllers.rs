@@ -20,7 +20,7 @@ use crate::service::controllers::{self, NewController};
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CreateController {
-    #[schema(example = "cell 1", min_length = 1, max_length = 200)]
+    #[schema(example = "cell 1", min_length = 1, max_length = 200, pattern = r"^[^\u0000-\u001F\u007F-\u009F]*$")]
     pub name: String,
     /// A built-in preset (`mill3`, `head-bc`, `table-ac`, `table-bc`, `mixed-bc`).
     #[schema(example = "table-ac")]
@@ -43,7 +43,7 @@ pub struct CreateController {
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UpdateController {
-    #[schema(min_length = 1, max_length = 200)]
+    #[schema(min_length = 1, max_length = 200, pattern = r"^[^\u0000-\u001F\u007F-\u009F]*$")]
     pub name: Option<String>,
     #[schema(exclusive_minimum = 0.0, maximum = 1000.0)]
     pub speed: Option<f64>,
@@ -196,7 +196,12 @@ pub async fn remove(
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CloneController {
-    #[schema(example = "cell 1 (copy)", min_length = 1, max_length = 200)]
+    #[schema(
+        example = "cell 1 (copy)",
+        min_length = 1,
+        max_length = 200,
+        pattern = r"^[^\u0000-\u001F\u007F-\u009F]*$"
+    )]
     pub name: String,
 }
 

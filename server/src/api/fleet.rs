@@ -191,7 +191,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<(Vec<
         (status = 202, description = "`wait=false`: started; follow it on the stream", body = FleetRunInfo),
         (status = 400, description = "Not JSON", body = ErrorBody),
         (status = 409, description = "`wait`: the run was cancelled before it finished", body = ErrorBody),
-        (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect, tool table or workpiece, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes)", body = ErrorBody),
+        (status = 422, description = "No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect, tool table or workpiece, an empty program or one with a NUL; on a node with `--nats`, existing controllers (they cannot be sent to other nodes)", body = ErrorBody),
         (status = 503, description = "The service is stopping; `wait`: it stopped before the run finished (`interrupted`), or, on a node with `--nats`, the run gave up (`interrupted`: no node heard from for `--nats-timeout-s`, NATS failing)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
@@ -206,6 +206,7 @@ pub async fn create(
     if request.program.trim().is_empty() {
         return Err(bad("program is empty"));
     }
+    crate::service::programs::no_nul(&request.program)?;
     let dialect: Dialect = match &request.dialect {
         Some(d) => d.parse().map_err(|e: String| bad(e))?,
         None => Dialect::Fanuc,
@@ -257,6 +258,7 @@ pub async fn create(
     params(("id" = String, Path, description = "Fleet run id")),
     responses(
         (status = 200, description = "The run, stopped", body = FleetRunInfo),
+        (status = 400, description = "A body that is not JSON (the action takes none: JSON is ignored)", body = ErrorBody),
         (status = 404, description = "No such run", body = ErrorBody),
         (status = 409, description = "The run is already over (done, cancelled or interrupted)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
@@ -265,6 +267,7 @@ pub async fn create(
 pub async fn cancel(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
+    _: crate::http::extract::Bodyless,
 ) -> Result<Json<FleetRunInfo>, ApiError> {
     let id = path(id)?;
     let row = fleet_runs::cancel(&state.db, &state.fleet_runs, &id).await?;

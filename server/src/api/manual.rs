@@ -12,8 +12,8 @@ use utoipa::ToSchema;
 
 use super::panel::{command, status_after};
 use super::ControllerStatus;
-use crate::http::extract::JsonBody;
 use crate::http::extract::{body, hosted, path};
+use crate::http::extract::{Bodyless, JsonBody};
 use crate::http::{ApiError, AppState, ErrorBody};
 use crate::service::panel::{self, Applied, ManualTarget, PanelCommand};
 
@@ -71,12 +71,14 @@ pub async fn jog(
     params(("id" = String, Path, description = "Controller id")),
     responses(
         (status = 200, description = "Stopping", body = ControllerStatus),
+        (status = 400, description = "A body that is not JSON (the action takes none: JSON is ignored)", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
     )
 )]
 pub async fn jog_stop(
     State(state): State<AppState>,
     id: Result<Path<String>, PathRejection>,
+    _: Bodyless,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let hosted = hosted(&state, &path(id)?)?;
     status_after(&state, &hosted, PanelCommand::JogStop)
@@ -122,6 +124,7 @@ fn target(m: &ManualMove) -> Result<ManualTarget, ApiError> {
     params(("id" = String, Path, description = "Controller id")),
     responses(
         (status = 200, description = "Returning", body = ControllerStatus),
+        (status = 400, description = "A body that is not JSON (the action takes none: JSON is ignored)", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "Not in REF mode or busy", body = ErrorBody),
     )
@@ -129,6 +132,7 @@ fn target(m: &ManualMove) -> Result<ManualTarget, ApiError> {
 pub async fn reference_return(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
+    _: Bodyless,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     status_after(&state, &hosted, PanelCommand::ReferenceReturn)
 }

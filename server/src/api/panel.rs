@@ -10,7 +10,7 @@ use utoipa::ToSchema;
 use super::ControllerStatus;
 use crate::host::Hosted;
 use crate::http::extract::body;
-use crate::http::extract::JsonBody;
+use crate::http::extract::{Bodyless, JsonBody};
 use crate::http::{ApiError, AppState, ErrorBody};
 use crate::service::panel::{self, Applied, PanelCommand, Switches};
 use crate::service::programs;
@@ -100,6 +100,7 @@ pub async fn cycle_start(
     params(("id" = String, Path, description = "Controller id")),
     responses(
         (status = 200, description = "Holding (or nothing was running)", body = ControllerStatus),
+        (status = 400, description = "A body that is not JSON (the action takes none: JSON is ignored)", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
@@ -107,6 +108,7 @@ pub async fn cycle_start(
 pub async fn feed_hold(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
+    _: Bodyless,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     status_after(&state, &hosted, PanelCommand::FeedHold)
 }
@@ -119,6 +121,7 @@ pub async fn feed_hold(
     params(("id" = String, Path, description = "Controller id")),
     responses(
         (status = 200, description = "Reset", body = ControllerStatus),
+        (status = 400, description = "A body that is not JSON (the action takes none: JSON is ignored)", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
@@ -126,6 +129,7 @@ pub async fn feed_hold(
 pub async fn reset(
     State(state): State<AppState>,
     Addressed(hosted): Addressed,
+    _: Bodyless,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     status_after(&state, &hosted, PanelCommand::Reset)
 }
@@ -151,7 +155,7 @@ pub struct Mdi {
         (status = 200, description = "Running", body = ControllerStatus),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "Busy or in alarm", body = ErrorBody),
-        (status = 422, description = "Not an MDI request", body = ErrorBody),
+        (status = 422, description = "Not an MDI request, or a text with a NUL", body = ErrorBody),
         (status = 503, description = "In a cluster (docs/cluster.md): the controller is moving to another node; retry in a few seconds", body = ErrorBody),
     )
 )]
@@ -161,6 +165,7 @@ pub async fn mdi(
     request: Result<JsonBody<Mdi>, ApiError>,
 ) -> Result<Json<ControllerStatus>, ApiError> {
     let text = body(request)?.text;
+    programs::no_nul(&text)?;
     let stored = programs::all(&state.db, &hosted).await?;
     status_after(&state, &hosted, PanelCommand::Mdi { text, stored })
 }

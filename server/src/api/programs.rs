@@ -84,7 +84,8 @@ pub async fn list(
 }
 
 /// Stores a program's NC text (`text/plain`, UTF-8). A text `check` finds problems in is
-/// refused with the diagnostics (422) unless `force=true`.
+/// refused with the diagnostics (422) unless `force=true`; a program a run under way reads is
+/// not replaced (409).
 #[utoipa::path(
     put,
     path = "/api/v1/controllers/{id}/programs/{number}",
@@ -95,6 +96,7 @@ pub async fn list(
         (status = 201, description = "Stored (new)", body = StoredProgram),
         (status = 200, description = "Stored (replaced)", body = StoredProgram),
         (status = 404, description = "No such controller", body = ErrorBody),
+        (status = 409, description = "A run under way reads this program (the one it started, or the one it called and is in): it can change once the run is over", body = ErrorBody),
         (status = 413, description = "Too large", body = ErrorBody),
         (status = 415, description = "Not text/plain in UTF-8 (another `charset`), or a body without a content type", body = ErrorBody),
         (status = 400, description = "The number is not a number, or the query is malformed", body = ErrorBody),
@@ -124,7 +126,7 @@ pub async fn store(
     let stored = programs::store(&state.db, &hosted, n, &text, force).await?;
     let status = if stored.new { StatusCode::CREATED } else { StatusCode::OK };
     let diagnostics = stored.problems.into_iter().map(Diagnostic::of).collect();
-    Ok((status, Json(StoredProgram { number: n, size: text.len(), diagnostics })))
+    Ok((status, Json(StoredProgram { number: n, size: stored.size, diagnostics })))
 }
 
 /// A program's body is `text/plain` in UTF-8 (a `charset` parameter, if any, `utf-8` or its
@@ -171,7 +173,7 @@ pub async fn text(
     Ok(([(header::CONTENT_TYPE, "text/plain; charset=utf-8")], text))
 }
 
-/// Removes a stored program.
+/// Removes a stored program (not while a run under way reads it).
 #[utoipa::path(
     delete,
     operation_id = "remove_program",
@@ -181,6 +183,7 @@ pub async fn text(
     responses(
         (status = 204, description = "Removed"),
         (status = 404, description = "No such controller or program", body = ErrorBody),
+        (status = 409, description = "A run under way reads this program (the one it started, or the one it called and is in): it can be removed once the run is over", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
     )
 )]

@@ -144,6 +144,7 @@ pub async fn clear(Addressed(hosted): Addressed) -> Result<Json<TeachState>, Api
     params(("id" = String, Path, description = "Controller id"), ("slot" = String, Path, description = "p1, p2 or p3")),
     responses(
         (status = 200, description = "Latched", body = TeachPoint),
+        (status = 400, description = "A body that is not JSON (the action takes none: JSON is ignored)", body = ErrorBody),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "Not a Syntec controller; G49 in force; or a tilted plane in force", body = ErrorBody),
         (status = 422, description = "No such box", body = ErrorBody),
@@ -152,6 +153,7 @@ pub async fn clear(Addressed(hosted): Addressed) -> Result<Json<TeachState>, Api
 pub async fn latch(
     State(state): State<AppState>,
     params: Result<Path<(String, String)>, PathRejection>,
+    _: crate::http::extract::Bodyless,
 ) -> Result<Json<TeachPoint>, ApiError> {
     let (id, name) = path(params)?;
     let hosted = hosted(&state, &id)?;

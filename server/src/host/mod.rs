@@ -135,8 +135,8 @@ impl Host {
     }
 
     /// Stop the workers and wait for them (the controllers stay registered, frozen); record
-    /// every run under way as `interrupted` (it comes back in reset state: the run is over);
-    /// then close the channel to the database writer, which ends once it has written what it
+    /// every run under way as `interrupted` (it comes back in reset state: the run is over) and
+    /// save what is not saved yet (`Station::final_records`); then close the channel to the database writer, which ends once it has written what it
     /// holds.
     pub fn shutdown(&self) {
         self.inner.stop.store(true, Ordering::SeqCst);
@@ -146,8 +146,7 @@ impl Host {
             let _ = handle.join();
         }
         for hosted in self.list() {
-            let ended = hosted.station().end_run(&hosted.id, "interrupted");
-            if let Some(record) = ended {
+            for record in hosted.station().final_records(&hosted.id) {
                 self.inner.record(record);
             }
         }

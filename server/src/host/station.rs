@@ -265,6 +265,16 @@ impl Station {
         });
     }
 
+    /// The stored programs a run under way reads now: the one it started (AUTO), and the one
+    /// its block is in (a program it called, from AUTO or MDI); none when no run is under way.
+    /// They may not be replaced or removed meanwhile (`service::programs`).
+    pub fn programs_in_use(&self) -> [Option<u32>; 2] {
+        match &self.run {
+            Some(run) => [run.program, self.layouts.locate(self.controller.point().line).0],
+            None => [None, None],
+        }
+    }
+
     /// The run just begun is the one estimated under `key`.
     pub fn estimate_run(&mut self, key: Key) {
         if let Some(run) = &mut self.run {
@@ -393,24 +403,46 @@ impl Station {
         }
         if changed || running && self.since_saved >= SAVE_VARIABLES_EVERY {
             self.since_saved = 0.0;
-            if let Some(record) = self.save_changes(controller) {
-                records.push(record);
-            }
-            let times = self.controller.times();
-            if times != self.saved_times {
-                self.saved_times = times;
-                records.push(Record::Times { controller: controller.to_string(), times });
-            }
+            self.save_counting(controller, &mut records);
         }
         if changed {
-            records.extend(self.offset_records(controller));
-            let plane = self.controller.interpreter().state.kept_plane();
-            if plane != self.saved_plane {
-                self.saved_plane = plane;
-                records.push(Record::TiltedPlane { controller: controller.to_string(), plane });
-            }
+            self.save_settings(controller, &mut records);
         }
         (messages, records)
+    }
+
+    /// At a graceful stop of the service: the run under way ends `interrupted`, and what is not
+    /// saved yet is, as it stands — among it `#3002`, which counts while the controller stands
+    /// idle too and was saved only at run state changes (it went back over a restart).
+    pub fn final_records(&mut self, controller: &str) -> Vec<Record> {
+        let mut records: Vec<Record> = self.end_run(controller, "interrupted").into_iter().collect();
+        self.save_counting(controller, &mut records);
+        self.save_settings(controller, &mut records);
+        records
+    }
+
+    /// What changes as time passes, where it differs from what was saved: the retained
+    /// variables (`#3002`, a program's `#500=…`) and the counters of automatic operation.
+    fn save_counting(&mut self, controller: &str, records: &mut Vec<Record>) {
+        if let Some(record) = self.save_changes(controller) {
+            records.push(record);
+        }
+        let times = self.controller.times();
+        if times != self.saved_times {
+            self.saved_times = times;
+            records.push(Record::Times { controller: controller.to_string(), times });
+        }
+    }
+
+    /// What a program sets now and then, where it differs from what was saved: the offsets
+    /// (G10) and the tilted plane kept over a restart.
+    fn save_settings(&mut self, controller: &str, records: &mut Vec<Record>) {
+        records.extend(self.offset_records(controller));
+        let plane = self.controller.interpreter().state.kept_plane();
+        if plane != self.saved_plane {
+            self.saved_plane = plane;
+            records.push(Record::TiltedPlane { controller: controller.to_string(), plane });
+        }
     }
 
     /// Common variables that differ from what was streamed last.

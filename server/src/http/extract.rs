@@ -33,6 +33,29 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
     }
 }
 
+/// The body of an action that takes none (reset, feed hold, jog stop, …): nothing, or JSON,
+/// which is ignored (`{}` and `null` are what clients send). A body that is not JSON is refused
+/// with 400, as on every JSON endpoint: the content type says JSON (`content_type.rs`), and an
+/// answer of 200 to `{` would tell a client its malformed request was understood.
+pub struct Bodyless;
+
+impl<S: Send + Sync> FromRequest<S> for Bodyless {
+    type Rejection = ApiError;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
+        let bytes = axum::body::Bytes::from_request(req, state)
+            .await
+            .map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+        if !bytes.iter().all(u8::is_ascii_whitespace) {
+            // A `Value`, not `IgnoredAny`: that one skips numbers without reading them (`1e400`).
+            serde_json::from_slice::<Value>(&bytes).map_err(|e| {
+                ApiError::Rejected(axum::http::StatusCode::BAD_REQUEST, format!("the request body is not JSON: {e}"))
+            })?;
+        }
+        Ok(Bodyless)
+    }
+}
+
 /// `value`, which must be an object, as a `T` (422 with the field's path when it does not fit).
 pub fn from_object<T: DeserializeOwned>(mut value: Value) -> Result<T, ApiError> {
     if !value.is_object() {

@@ -26,11 +26,20 @@ pub struct NewController {
     pub workpiece: Option<fivex_engine::workpiece::Workpiece>,
 }
 
-/// A display name: trimmed, 1 to 200 characters.
+/// A display name: trimmed, 1 to 200 characters, none a control character (NUL, a line end, a
+/// tab, ESC, DEL, C1: a name is one line to show, and PostgreSQL's text cannot hold a NUL —
+/// refused on both databases alike).
 pub fn check_name(name: &str) -> Result<String, ServiceError> {
     let name = name.trim();
     if name.is_empty() || name.chars().count() > 200 {
         return Err(ServiceError::invalid("name must have 1 to 200 characters"));
+    }
+    if let Some(c) = name.chars().find(|c| c.is_control()) {
+        return Err(ServiceError::invalid(format!(
+            "name must not hold control characters (U+{:04X} at character {})",
+            c as u32,
+            name.chars().position(|d| d == c).unwrap_or(0) + 1
+        )));
     }
     Ok(name.to_string())
 }
@@ -116,16 +125,15 @@ pub async fn create(db: &db::Db, host: &Host, request: NewController) -> Result<
     Ok(hosted)
 }
 
-/// Renames `hosted` or changes its speed factor (`None`: as it is).
+/// Renames `hosted` or changes its speed factor (`None`: as it is). The row stored holds both,
+/// so changes take their turn (`Hosted::editing`, held across the write): a rename and a speed
+/// change at once both stay.
 pub async fn update(db: &db::Db, hosted: &Hosted, name: Option<&str>, speed: Option<f64>) -> Result<(), ServiceError> {
-    let name = match name {
-        Some(n) => check_name(n)?,
-        None => hosted.name(),
-    };
-    let speed = match speed {
-        Some(s) => check_speed(s)?,
-        None => hosted.speed(),
-    };
+    let name = name.map(check_name).transpose()?;
+    let speed = speed.map(check_speed).transpose()?;
+    let _editing = hosted.editing().await;
+    let name = name.unwrap_or_else(|| hosted.name());
+    let speed = speed.unwrap_or_else(|| hosted.speed());
     db::update_controller(db, &hosted.id, &name, speed).await?;
     hosted.rename(name);
     hosted.set_speed(speed);

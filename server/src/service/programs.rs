@@ -123,8 +123,20 @@ pub async fn list(db: &db::Db, hosted: &Hosted) -> Result<Vec<(u32, usize)>, Ser
 pub struct Stored {
     /// There was no program `n` before.
     pub new: bool,
+    /// The text's size as stored, bytes (a byte order mark left out).
+    pub size: usize,
     /// What `check` found (stored anyway: `force`).
     pub problems: Vec<Problem>,
+}
+
+/// An NC text (a program to store, MDI's blocks, a fleet run's program) holds no NUL: no NC
+/// text does (binary data sent by mistake), and PostgreSQL's text cannot hold one (a 500 there,
+/// stored on SQLite: one answer on both).
+pub fn no_nul(text: &str) -> Result<(), ServiceError> {
+    if text.contains('\0') {
+        return Err(ServiceError::invalid("the program contains NUL bytes (binary data?)"));
+    }
+    Ok(())
 }
 
 /// Stores `bytes` as program `n` once it is NC text whose O number, if any, is `n` and in which
@@ -132,9 +144,10 @@ pub struct Stored {
 pub async fn store(db: &db::Db, hosted: &Hosted, n: u32, bytes: &[u8], force: bool) -> Result<Stored, ServiceError> {
     let text =
         std::str::from_utf8(bytes).map_err(|e| ServiceError::invalid(format!("the program is not UTF-8 text: {e}")))?;
-    if text.contains('\0') {
-        return Err(ServiceError::invalid("the program contains NUL bytes (binary data?)"));
-    }
+    // The byte order mark an editor may put first (Windows Notepad's UTF-8) is no character of
+    // the program: left out, not refused as "unexpected character 'ï'".
+    let text = text.strip_prefix('\u{FEFF}').unwrap_or(text);
+    no_nul(text)?;
     matches_slot(text, n)?;
     one_program(text, n)?;
     let found = problems(text, hosted.dialect);
@@ -145,8 +158,9 @@ pub async fn store(db: &db::Db, hosted: &Hosted, n: u32, bytes: &[u8], force: bo
             details,
         ));
     }
+    not_in_use(hosted, n)?;
     let new = db::put_program(db, &hosted.id, n, text).await?;
-    Ok(Stored { new, problems: found })
+    Ok(Stored { new, size: text.len(), problems: found })
 }
 
 /// A problem as the refusal's `details` list it (the fields of the API's `Diagnostic`).
@@ -159,8 +173,22 @@ pub async fn text(db: &db::Db, hosted: &Hosted, n: u32) -> Result<String, Servic
     db::program(db, &hosted.id, n).await?.ok_or_else(|| ServiceError::NotFound(format!("no program O{n}")))
 }
 
-/// Removes program `n`.
+/// Program `n` is not one a run under way reads (`Station::programs_in_use`): replaced or
+/// removed under it, its run would go on with the old text (read at the cycle start) while the
+/// status, the stream and the alarms gave lines of a text that no longer is (on the control the
+/// program being executed cannot be edited either).
+fn not_in_use(hosted: &Hosted, n: u32) -> Result<(), ServiceError> {
+    if hosted.station().programs_in_use().contains(&Some(n)) {
+        return Err(ServiceError::Conflict(format!(
+            "program O{n:04} is in use by the run under way: it can change once the run is over (its end, or a reset)"
+        )));
+    }
+    Ok(())
+}
+
+/// Removes program `n`, unless a run under way reads it (409).
 pub async fn remove(db: &db::Db, hosted: &Hosted, n: u32) -> Result<(), ServiceError> {
+    not_in_use(hosted, n)?;
     if db::delete_program(db, &hosted.id, n).await? {
         Ok(())
     } else {

@@ -50,8 +50,8 @@ async fn stored(db: &db::Db, sent: Option<u64>) -> Result<(), ServiceError> {
     }
 }
 
-/// Sets macro variable `number` (`None`: vacant) or input signal #1000–#1035 (`None`: 0), and
-/// tells the controller's subscribers.
+/// Sets macro variable `number` (`None`: vacant) or input signal #1000–#1035 (never vacant),
+/// and tells the controller's subscribers.
 pub async fn set_variable(
     db: &db::Db,
     host: &Host,
@@ -68,6 +68,13 @@ pub async fn set_variable(
     }
     if value.is_some_and(|v| !v.is_finite()) {
         return Err(ServiceError::invalid("the value must be a finite number or null"));
+    }
+    // An input signal is never vacant (a program reads it as 0 or 1, or a group's number): a
+    // `null` answered 200 and read back `null` while programs read 0.
+    if signal && value.is_none() {
+        return Err(ServiceError::invalid(format!(
+            "#{number} is an input signal: 0 or 1 (a group: 0…2³²−1), not null"
+        )));
     }
     let retained = fivex_engine::interp::State::is_retained(number);
     if retained {
@@ -138,6 +145,12 @@ pub struct ToolChange {
 }
 
 /// Changes tool offset `number`; the offset after the change.
+///
+/// A read-modify-write: the values left out are kept as they are *at the change*. Changes
+/// through the API take their turn (`Hosted::editing`, held to the end), so the row stored
+/// first never carries a value an earlier answered change has replaced; the values given are
+/// set in the controller under its lock, so a program's G10 of the other values meanwhile is
+/// kept too, and the writer then stores the offset as the controller holds it.
 pub async fn set_tool_offset(
     db: &db::Db,
     host: &Host,
@@ -145,26 +158,43 @@ pub async fn set_tool_offset(
     number: u32,
     change: ToolChange,
 ) -> Result<ToolRow, ServiceError> {
-    let current = tool_offset(hosted, number)?;
-    let row = ToolRow {
-        number,
-        length: finite(change.length.unwrap_or(current.length), "length")?,
-        length_wear: finite(change.length_wear.unwrap_or(current.length_wear), "length_wear")?,
-        radius: finite(change.radius.unwrap_or(current.radius), "radius")?,
-        radius_wear: finite(change.radius_wear.unwrap_or(current.radius_wear), "radius_wear")?,
-        corner_radius: corner_radius(change.corner_radius.unwrap_or(current.corner_radius))?,
+    let change = ToolChange {
+        length: change.length.map(|v| finite(v, "length")).transpose()?,
+        length_wear: change.length_wear.map(|v| finite(v, "length_wear")).transpose()?,
+        radius: change.radius.map(|v| finite(v, "radius")).transpose()?,
+        radius_wear: change.radius_wear.map(|v| finite(v, "radius_wear")).transpose()?,
+        corner_radius: change.corner_radius.map(corner_radius).transpose()?,
     };
-    db::save_tool_offsets(db, &hosted.id, &[row]).await?;
-    let sent = {
+    let _editing = hosted.editing().await;
+    let stored_first = change.applied_to(tool_offset(hosted, number)?);
+    db::save_tool_offsets(db, &hosted.id, &[stored_first]).await?;
+    let (row, sent) = {
         let mut station = station(hosted)?;
-        if let Some(t) = station.controller.interpreter_mut().state.offsets.tool_mut(number) {
-            (t.h_geometry, t.h_wear, t.d_geometry, t.d_wear, t.corner_radius) =
-                (row.length, row.length_wear, row.radius, row.radius_wear, row.corner_radius);
-        }
-        save_offsets(host, hosted, &mut station)
+        let t = station.controller.interpreter_mut().state.offsets.tool_mut(number);
+        let Some(t) = t else {
+            return Err(ServiceError::invalid(format!("tool offset number {number} is outside 1–999")));
+        };
+        let row = change.applied_to(tool_row(number, t));
+        (t.h_geometry, t.h_wear, t.d_geometry, t.d_wear, t.corner_radius) =
+            (row.length, row.length_wear, row.radius, row.radius_wear, row.corner_radius);
+        (row, save_offsets(host, hosted, &mut station))
     };
     stored(db, sent).await?;
     Ok(row)
+}
+
+impl ToolChange {
+    /// `row` with the values this change gives.
+    fn applied_to(self, row: ToolRow) -> ToolRow {
+        ToolRow {
+            number: row.number,
+            length: self.length.unwrap_or(row.length),
+            length_wear: self.length_wear.unwrap_or(row.length_wear),
+            radius: self.radius.unwrap_or(row.radius),
+            radius_wear: self.radius_wear.unwrap_or(row.radius_wear),
+            corner_radius: self.corner_radius.unwrap_or(row.corner_radius),
+        }
+    }
 }
 
 /// Hands the offsets written since they were last saved to the writer, the station still
@@ -180,7 +210,8 @@ fn save_offsets(host: &Host, hosted: &Hosted, station: &mut Station) -> Option<u
 
 /// Changes the axes `axes` names (letter: number) of work offset `slot`, only while nothing
 /// runs; the offset after the change, per axis letter, once the writer has stored it (in order
-/// with what a program's G10 wrote).
+/// with what a program's G10 wrote). Only the axes named are set, under the controller's lock:
+/// two changes of other axes of one offset at once both stay.
 pub async fn set_work_offset(
     db: &db::Db,
     host: &Host,
@@ -188,29 +219,30 @@ pub async fn set_work_offset(
     slot: usize,
     axes: &Map<String, Value>,
 ) -> Result<Map<String, Value>, ServiceError> {
-    let (machine, mut values) = {
-        let station = hosted.station();
-        let values = station.controller.interpreter().state.offsets.work(slot)[..station.machine.axes.len()].to_vec();
-        (station.machine.clone(), values)
-    };
-    for (letter, value) in axes {
-        let index = machine
-            .axes
-            .iter()
-            .position(|a| a.name.to_string().eq_ignore_ascii_case(letter))
-            .ok_or_else(|| ServiceError::invalid(format!("the machine has no axis {letter}")))?;
-        let v = value.as_f64().ok_or_else(|| ServiceError::invalid(format!("{letter} must be a number")))?;
-        values[index] = finite(v, letter)?;
-    }
     let (shown, sent) = {
         let mut station = station(hosted)?;
+        // The axes read on the machine the change is made on (a parameter change may have
+        // given the controller another one while the request waited).
+        let machine = station.machine.clone();
+        let mut given = Vec::with_capacity(axes.len());
+        for (letter, value) in axes {
+            let index = machine
+                .axes
+                .iter()
+                .position(|a| a.name.to_string().eq_ignore_ascii_case(letter))
+                .ok_or_else(|| ServiceError::invalid(format!("the machine has no axis {letter}")))?;
+            let v = value.as_f64().ok_or_else(|| ServiceError::invalid(format!("{letter} must be a number")))?;
+            given.push((index, finite(v, letter)?));
+        }
         // The check and the change under one lock: checked before the database write, as it
         // was, a cycle start in between ran a program whose offset then changed under it.
         if run_state(&station.controller) != RunState::Idle {
             return Err(ServiceError::Conflict("work offsets change only while nothing runs".into()));
         }
         let work = station.controller.interpreter_mut().state.offsets.work_mut(slot);
-        work[..values.len()].copy_from_slice(&values);
+        for (index, v) in given {
+            work[index] = v;
+        }
         let shown = crate::host::stream::axes(&machine, work);
         station.controller.offsets_changed();
         (shown, save_offsets(host, hosted, &mut station))

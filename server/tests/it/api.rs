@@ -176,6 +176,26 @@ async fn programs_are_checked_and_stored_only_if_clean_or_forced() {
     assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}/programs/2")).await.status, StatusCode::NOT_FOUND);
 }
 
+/// The audit's F8: the hour timer #3002 goes on while the controller stands idle; a graceful
+/// restart keeps where it stood, not its value at the run's end.
+#[tokio::test]
+async fn the_hour_timer_is_kept_where_it_stood_at_a_graceful_stop() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "timer", "preset": "mill3", "speed": 1000})).await;
+    assert_eq!(store(&app, &id, 1, "#3002=5.\nM30\n").await.status, StatusCode::CREATED);
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    wait_for(&app, &id, "idle").await;
+    let hours = |reply: Reply| reply.json()["value"].as_f64().unwrap();
+    // Idle at speed 1000: 0.3 s of real time is 300 s, 0.083 h.
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let before = hours(app.get(&format!("{C}/{id}/variables/3002")).await);
+    assert!(before > 5.08, "the timer counts while idle: {before}");
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    let after = hours(again.get(&format!("{C}/{id}/variables/3002")).await);
+    assert!(after >= before, "#3002 went back over the restart: {before} h before, {after} h after");
+}
+
 #[tokio::test]
 async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
     let app = spawn_app().await;
@@ -488,6 +508,35 @@ async fn concurrent_commands_on_one_controller_leave_it_consistent() {
     wait_for(&app, &id, "idle").await;
 }
 
+/// The audit's F7: a name with a control character (NUL among them, which PostgreSQL's text
+/// cannot hold: a 500 there) is refused with 422 on creation, rename and clone, and an NC text
+/// with a NUL (MDI, a fleet run's program) as a stored program's is; nothing is stored.
+#[tokio::test]
+async fn control_characters_in_names_and_nul_in_nc_texts_are_refused() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "plain", "preset": "mill3"})).await;
+    for bad in ["a\u{0}b", "x\u{0}", "two\nlines", "tab\there", "esc\u{1b}[31m", "del\u{7f}", "c1\u{85}x"] {
+        let created = app.post(C, &json!({"name": bad, "preset": "mill3"})).await;
+        assert_eq!(created.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad:?}: {}", created.text());
+        assert!(error_of(&created).contains("control character"), "{bad:?}: {}", created.text());
+        let renamed = app.json(Method::PATCH, &format!("{C}/{id}"), &json!({"name": bad})).await;
+        assert_eq!(renamed.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad:?}: {}", renamed.text());
+        let cloned = app.post(&format!("{C}/{id}/clone"), &json!({"name": bad})).await;
+        assert_eq!(cloned.status, StatusCode::UNPROCESSABLE_ENTITY, "{bad:?}: {}", cloned.text());
+    }
+    // What is not a control character stays a name: right-to-left marks, emoji, trimmed blanks.
+    let fine = app.json(Method::PATCH, &format!("{C}/{id}"), &json!({"name": " \u{202e}cell 🛠 "})).await;
+    assert_eq!(fine.json()["name"], "\u{202e}cell 🛠");
+    assert_eq!(app.get(C).await.json().as_array().unwrap().len(), 1, "nothing created");
+    let mdi = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "(\u{0})G0 X1."})).await;
+    assert_eq!(mdi.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", mdi.text());
+    let fleet = json!({"program": "(\u{0})\nG0 X1.\n", "presets": ["mill3"]});
+    let run = app.post("/api/v1/fleet/runs", &fleet).await;
+    assert_eq!(run.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", run.text());
+    assert!(error_of(&run).contains("NUL"), "{}", run.text());
+    assert_eq!(app.get("/api/v1/fleet/runs").await.json(), json!([]), "no fleet run stored");
+}
+
 #[tokio::test]
 async fn renaming_and_speed_are_kept() {
     let app = spawn_app().await;
@@ -501,6 +550,53 @@ async fn renaming_and_speed_are_kept() {
     let state = app.restart().await;
     let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
     assert_eq!(again.get(&format!("{C}/{id}")).await.json()["name"], "new");
+}
+
+/// Partial changes sent at once each keep what the others set, in the controller and in the
+/// database: four values of one tool offset, two axes of one work offset, a rename and a speed
+/// change (each answer acknowledged a value; none may be lost).
+#[tokio::test]
+async fn partial_changes_sent_at_once_all_stay() {
+    use futures_util::future::join_all;
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "old", "preset": "mill3"})).await;
+    let tools =
+        [("length", 10.0), ("radius", 1.0), ("length_wear", 0.5), ("radius_wear", 0.25), ("corner_radius", 0.125)];
+    for number in 40..45 {
+        let uri = format!("{C}/{id}/tool-offsets/{number}");
+        let bodies: Vec<Value> = tools.iter().map(|(field, v)| json!({ *field: v })).collect();
+        for reply in join_all(bodies.iter().map(|b| app.put(&uri, b))).await {
+            assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+        }
+    }
+    let uri = format!("{C}/{id}/work-offsets/G55");
+    let bodies = [json!({"axes": {"X": 1.5}}), json!({"axes": {"Y": 2.5}}), json!({"axes": {"Z": 3.5}})];
+    for reply in join_all(bodies.iter().map(|b| app.put(&uri, b))).await {
+        assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    }
+    let patches = [json!({"name": "new"}), json!({"speed": 7})];
+    let uri = format!("{C}/{id}");
+    for reply in join_all(patches.iter().map(|b| app.json(Method::PATCH, &uri, b))).await {
+        assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    }
+    all_stayed(&app, &id, "in the controller").await;
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    all_stayed(&again, &id, "after a restart").await;
+}
+
+/// What `partial_changes_sent_at_once_all_stay` set, every value of it.
+async fn all_stayed(app: &TestApp, id: &str, when: &str) {
+    let listed = app.get(&format!("{C}/{id}/tool-offsets")).await.json();
+    for number in 40..45 {
+        let t = listed.as_array().unwrap().iter().find(|t| t["number"] == number).cloned();
+        let want = json!({"number": number, "length": 10.0, "length_wear": 0.5, "radius": 1.0, "radius_wear": 0.25, "corner_radius": 0.125});
+        assert_eq!(t, Some(want), "{when}: tool offset {number}");
+    }
+    let works = app.get(&format!("{C}/{id}/work-offsets")).await.json();
+    assert_eq!(works[2], json!({"name": "G55", "axes": {"X": 1.5, "Y": 2.5, "Z": 3.5}}), "{when}");
+    let status = app.get(&format!("{C}/{id}")).await.json();
+    assert_eq!((status["name"].clone(), status["speed"].clone()), (json!("new"), json!(7.0)), "{when}");
 }
 
 #[tokio::test]
@@ -1578,4 +1674,34 @@ async fn a_stored_workpiece_that_is_no_workpiece_is_left_out_at_a_restart() {
         let reply = again.get(&format!("{C}/{id}/workpiece")).await;
         assert_eq!((reply.status, reply.json()), (StatusCode::OK, json!({"boxes": []})), "{id}");
     }
+}
+
+/// The audit's F13: a bodyless action refuses a body that is not JSON (400, it answered 200)
+/// and takes none, `{}` or `null`; a program's byte order mark is left out (it was refused as
+/// "unexpected character 'ï'"); an input signal is never vacant (`null` answered 200).
+#[tokio::test]
+async fn small_contract_mismatches_are_kept_to_the_contract() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
+    for action in ["reset", "feed-hold", "jog-stop"] {
+        let uri = format!("{C}/{id}/{action}");
+        for bad in ["{", "1e400", deep.as_str(), "{\"a\":}"] {
+            let reply = app.raw(Method::POST, &uri, "application/json", bad.to_string()).await;
+            assert_eq!(reply.status, StatusCode::BAD_REQUEST, "{action} {:.20}: {}", bad, reply.text());
+            assert!(error_of(&reply).contains("not JSON"), "{}", reply.text());
+        }
+        for fine in ["", "{}", "null", " \n"] {
+            let reply = app.raw(Method::POST, &uri, "application/json", fine.to_string()).await;
+            assert_eq!(reply.status, StatusCode::OK, "{action} {fine:?}: {}", reply.text());
+        }
+    }
+    let bom = "\u{feff}G90 G0 X1.\nM30\n";
+    let stored = store(&app, &id, 1, bom).await;
+    assert_eq!(stored.status, StatusCode::CREATED, "{}", stored.text());
+    assert_eq!(stored.json()["size"], "G90 G0 X1.\nM30\n".len());
+    assert_eq!(app.get(&format!("{C}/{id}/programs/1")).await.text(), "G90 G0 X1.\nM30\n");
+    let reply = app.put(&format!("{C}/{id}/variables/1000"), &json!({"value": null})).await;
+    assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", reply.text());
+    assert_eq!(app.get(&format!("{C}/{id}/variables/1000")).await.json()["value"], 0.0);
 }

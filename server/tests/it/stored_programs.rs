@@ -212,3 +212,43 @@ async fn the_path_gives_each_point_its_line_in_the_program_it_is_in() {
     let xyz: Vec<f64> = path["xyz"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     assert_eq!(xyz.chunks(3).map(|p| (p[0], p[1])).collect::<Vec<_>>(), [(0., 0.), (1., 0.), (1., 2.), (3., 2.)]);
 }
+
+/// Programs 1 and 2 are refused a new text and a removal (409), and 2 keeps its text.
+async fn refused(app: &TestApp, id: &str, when: &str) {
+    for n in [1, 2] {
+        let put = store(app, id, n, "G0 X9.\nM30\n").await;
+        assert_eq!(put.status, StatusCode::CONFLICT, "{when}: PUT {n}: {}", put.text());
+        assert!(put.json()["error"].as_str().unwrap().contains("in use by the run"), "{}", put.text());
+        let delete = app.request(Method::DELETE, &format!("{C}/{id}/programs/{n}")).await;
+        assert_eq!(delete.status, StatusCode::CONFLICT, "{when}: DELETE {n}: {}", delete.text());
+    }
+    assert_eq!(app.get(&format!("{C}/{id}/programs/2")).await.text(), "G91 G01 X50. F10\nM99\n", "{when}");
+}
+
+/// The audit's F9: the program a run under way started, and the one it called and is in, are
+/// neither replaced nor removed (409, the text kept) while the run runs or holds; the others
+/// are; once the run is over both can change again.
+#[tokio::test]
+async fn the_programs_a_run_reads_do_not_change_under_it() {
+    let app = spawn_app().await;
+    let id = create(&app).await;
+    assert_eq!(store(&app, &id, 1, "M98 P2\nM30\n").await.status, StatusCode::CREATED);
+    assert_eq!(store(&app, &id, 2, "G91 G01 X50. F10\nM99\n").await.status, StatusCode::CREATED);
+    assert_eq!(store(&app, &id, 3, "G0 X1.\nM30\n").await.status, StatusCode::CREATED);
+    let started = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+    let status = settled(&app, &id, "running").await;
+    assert_eq!((status["program"].clone(), status["line_program"].clone()), (json!(1), json!(2)), "{status}");
+    refused(&app, &id, "running").await;
+    // Another program changes (background editing), and a new one is stored.
+    assert_eq!(store(&app, &id, 3, "G0 X2.\nM30\n").await.status, StatusCode::OK);
+    assert_eq!(store(&app, &id, 4, "M30\n").await.status, StatusCode::CREATED);
+    assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}/programs/4")).await.status, StatusCode::NO_CONTENT);
+    assert_eq!(app.post(&format!("{C}/{id}/feed-hold"), &json!({})).await.status, StatusCode::OK);
+    settled(&app, &id, "hold").await;
+    refused(&app, &id, "held").await;
+    assert_eq!(app.post(&format!("{C}/{id}/reset"), &json!({})).await.status, StatusCode::OK);
+    settled(&app, &id, "idle").await;
+    assert_eq!(store(&app, &id, 1, "G0 X9.\nM30\n").await.status, StatusCode::OK);
+    assert_eq!(app.request(Method::DELETE, &format!("{C}/{id}/programs/2")).await.status, StatusCode::NO_CONTENT);
+}

@@ -424,11 +424,12 @@ export interface paths {
         get: operations["text"];
         /**
          * Stores a program's NC text (`text/plain`, UTF-8). A text `check` finds problems in is
-         *     refused with the diagnostics (422) unless `force=true`.
+         *     refused with the diagnostics (422) unless `force=true`; a program a run under way reads is
+         *     not replaced (409).
          */
         put: operations["store"];
         post?: never;
-        /** Removes a stored program. */
+        /** Removes a stored program (not while a run under way reads it). */
         delete: operations["remove_program"];
         options?: never;
         head?: never;
@@ -3856,6 +3857,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description A body that is not JSON (the action takes none: JSON is ignored) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -4320,6 +4330,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description A body that is not JSON (the action takes none: JSON is ignored) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -4694,7 +4713,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Not an MDI request */
+            /** @description Not an MDI request, or a text with a NUL */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -5345,6 +5364,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
+            /** @description A run under way reads this program (the one it started, or the one it called and is in): it can change once the run is over */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description Too large */
             413: {
                 headers: {
@@ -5433,6 +5461,15 @@ export interface operations {
             };
             /** @description No such controller or program */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
+            /** @description A run under way reads this program (the one it started, or the one it called and is in): it can be removed once the run is over */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5636,6 +5673,15 @@ export interface operations {
                     "application/json": components["schemas"]["ControllerStatus"];
                 };
             };
+            /** @description A body that is not JSON (the action takes none: JSON is ignored) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
+                };
+            };
             /** @description The service has a token and the request does not carry it */
             401: {
                 headers: {
@@ -5702,6 +5748,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ControllerStatus"];
+                };
+            };
+            /** @description A body that is not JSON (the action takes none: JSON is ignored) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -6374,6 +6429,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["TeachPoint"];
+                };
+            };
+            /** @description A body that is not JSON (the action takes none: JSON is ignored) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */
@@ -7387,7 +7451,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect, tool table or workpiece, an empty program; on a node with `--nats`, existing controllers (they cannot be sent to other nodes) */
+            /** @description No machines, too many, an unknown preset, library machine or controller, a refused machine document, a bad dialect, tool table or workpiece, an empty program or one with a NUL; on a node with `--nats`, existing controllers (they cannot be sent to other nodes) */
             422: {
                 headers: {
                     [name: string]: unknown;
@@ -7494,6 +7558,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["FleetRunInfo"];
+                };
+            };
+            /** @description A body that is not JSON (the action takes none: JSON is ignored) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorBody"];
                 };
             };
             /** @description The service has a token and the request does not carry it */

@@ -15,6 +15,7 @@ pub mod postgres;
 mod rebalance;
 mod relay;
 pub mod served;
+mod startup;
 mod store;
 mod streams;
 mod wire;
