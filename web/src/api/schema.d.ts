@@ -1522,8 +1522,9 @@ export interface components {
             leading_edge_tolerance?: number;
             /**
              * @description Tool length offsets move the axes instead of shifting the coordinate system (FANUC
-             *     No.5006#6 TOS = 0). The engine applies an offset the same way either way; G54.4 refuses
-             *     a tool length offset or TCP started inside it with this setting (PS0438, WSE-24).
+             *     No.5006#6 TOS = 0): a G43/G44/G49 or H block moves the axis by the offset. False (TOS =
+             *     1): such a block moves nothing by itself (`docs/five-axis.md`, "TOS"). G54.4 refuses a
+             *     tool length offset or TCP started inside it with this setting (PS0438, WSE-24).
              */
             length_offset_by_motion?: boolean;
             /**
