@@ -446,7 +446,8 @@ impl State {
         self.smoothing_block(w, out)?;
         self.blend_block(w, out)?;
         self.corner_block(w)?;
-        // What the two released belongs to the blocks before: the block's own commands start here.
+        // What smoothing and blending released belongs to the blocks before: this block's own
+        // commands start here (an alarm of this block drops only those).
         self.block_out = out.len();
         if self.cfg.fast_paths && self.is_plain_motion(w) {
             return self.plain_motion(w, out);
