@@ -189,8 +189,8 @@ pub struct Controller {
     exec: Executor,
     /// The path stages between the interpreter and the executor (`crate::stage`).
     stages: Pipeline,
-    program: Option<String>,
-    mdi: Option<String>,
+    program: Option<crate::lang::Source>,
+    mdi: Option<crate::lang::Source>,
     mode: Mode,
     run_state: RunState,
     pub panel: Panel,
@@ -354,11 +354,11 @@ impl Controller {
     /// as a panel's program display shows the executing block; `None` past its end or before
     /// anything was selected.
     pub fn source_line(&self, line: u32) -> Option<&str> {
-        let text = match self.mode {
-            Mode::Mdi => self.mdi.as_deref(),
-            _ => self.program.as_deref(),
+        let source = match self.mode {
+            Mode::Mdi => self.mdi.as_ref(),
+            _ => self.program.as_ref(),
         }?;
-        text.lines().nth((line as usize).checked_sub(1)?)
+        source.line(line)
     }
 
     /// Where the machine is now (rollover axes shown modulo 360). The machine position includes
@@ -562,25 +562,25 @@ impl Controller {
         Ok(())
     }
 
-    /// The program AUTO runs (NC text).
-    pub fn select_program(&mut self, text: &str) -> Result<(), Refusal> {
+    /// The program AUTO runs (an NC text, or a text and the stored programs it can call).
+    pub fn select_program(&mut self, source: impl Into<crate::lang::Source>) -> Result<(), Refusal> {
         if self.busy() || self.cycle.intervening() {
             return Err(Refusal::Busy);
         }
-        self.program = Some(text.to_string());
+        self.program = Some(source.into());
         self.forget_search();
         Ok(())
     }
 
-    /// The text MDI runs.
-    pub fn set_mdi(&mut self, text: &str) -> Result<(), Refusal> {
+    /// The text MDI runs (and the stored programs it can call).
+    pub fn set_mdi(&mut self, source: impl Into<crate::lang::Source>) -> Result<(), Refusal> {
         if self.mode != Mode::Mdi {
             return Err(Refusal::WrongMode);
         }
         if self.busy() {
             return Err(Refusal::Busy);
         }
-        self.mdi = Some(text.to_string());
+        self.mdi = Some(source.into());
         Ok(())
     }
 
@@ -642,12 +642,12 @@ impl Controller {
         if self.restart_start() {
             return Ok(());
         }
-        let text = match self.mode {
+        let source = match self.mode {
             Mode::Auto => self.program.clone(),
             Mode::Mdi => self.mdi.clone(),
             _ => return Err(Refusal::WrongMode),
         };
-        let text = text.ok_or(Refusal::NoProgram)?;
+        let source = source.ok_or(Refusal::NoProgram)?;
         if !self.exec.is_moving() && !self.exec.has_queued() {
             // A fresh start begins where the machine stands: a manual move (a HANDLE move that
             // ran to its end, an INC step) may have moved it since the program's current point
@@ -663,7 +663,7 @@ impl Controller {
             self.memory.running = true;
         }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
-        self.interp.load(crate::lang::parse_file(&text));
+        self.interp.load_source(&source);
         self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();

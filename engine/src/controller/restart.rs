@@ -91,7 +91,7 @@ impl Controller {
         {
             return Err(Refusal::Busy);
         }
-        let text = self.program.clone().ok_or(Refusal::NoProgram)?;
+        let source = self.program.clone().ok_or(Refusal::NoProgram)?;
         self.forget_search();
         self.stand_here();
         if kind == RestartType::P {
@@ -111,7 +111,7 @@ impl Controller {
         }
         self.memory.before_search = Some(Box::new(self.interp.state.clone()));
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
-        self.interp.load(crate::lang::parse_file(&text));
+        self.interp.load_source(&source);
         match self.interp.search(target) {
             Ok(found) => {
                 self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());

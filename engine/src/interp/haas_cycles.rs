@@ -7,7 +7,7 @@
 
 use super::gcode::{code, group};
 use super::nc::Words;
-use super::program::Loaded;
+use super::program::Slot;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Arc, Canon, MotionKind, Pos};
@@ -288,7 +288,7 @@ impl State {
     /// "Haas cycles", G150).
     pub(super) fn general_pocket(
         &mut self,
-        progs: &[Loaded],
+        progs: &[Slot],
         by_number: &HashMap<u32, usize>,
         w: &Words,
         out: &mut Vec<Canon>,
@@ -394,7 +394,7 @@ impl State {
     /// which must end where that move did. Returns the outline without the entry move.
     fn pocket_outline(
         &self,
-        progs: &[Loaded],
+        progs: &[Slot],
         by_number: &HashMap<u32, usize>,
         p: f64,
         hole: P,

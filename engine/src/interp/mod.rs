@@ -80,6 +80,7 @@ impl ModalState {
     }
 }
 pub(crate) use program::Loaded;
+use program::Slot;
 use std::collections::{BTreeMap, HashMap};
 
 /// Number of local variables per level (`#1`–`#33`).
@@ -392,7 +393,7 @@ pub struct State {
 /// A loaded set of programs and the state that runs them.
 #[derive(Debug, Clone)]
 pub struct Interpreter {
-    progs: Vec<Loaded>,
+    progs: Vec<Slot>,
     by_number: HashMap<u32, usize>,
     pub state: State,
     /// Every program has arrived (always, unless built with `new_incremental`).
@@ -402,7 +403,7 @@ pub struct Interpreter {
 impl Interpreter {
     /// Prepare to run `file`'s first program; its other programs can be called.
     pub fn new(file: crate::lang::File, cfg: Config) -> Interpreter {
-        let progs: Vec<Loaded> = file.programs.into_iter().map(Loaded::new).collect();
+        let progs: Vec<Slot> = file.programs.into_iter().map(|p| Loaded::new(p).into()).collect();
         let mut by_number = HashMap::new();
         for (i, p) in progs.iter().enumerate() {
             if let Some(n) = p.number() {
@@ -434,7 +435,7 @@ impl Interpreter {
         if let Some(first) = programs.next_if(|p| p.number.is_none()) {
             match self.progs.last_mut() {
                 Some(last) if !last.finished => last.extend(first.blocks),
-                _ => self.progs.push(Loaded::new_open(first)),
+                _ => self.progs.push(Loaded::new_open(first).into()),
             }
         }
         if programs.peek().is_some() {
@@ -453,7 +454,7 @@ impl Interpreter {
             if let Some(n) = p.number {
                 self.by_number.entry(n).or_insert(self.progs.len());
             }
-            self.progs.push(Loaded::new_open(p));
+            self.progs.push(Loaded::new_open(p).into());
         }
         // A first program of comments only may still turn out to be a header: wait.
         let maybe_header = self.progs.len() == 1 && self.progs[0].is_header();
@@ -465,7 +466,7 @@ impl Interpreter {
     /// The whole file has arrived.
     pub fn finish(&mut self) {
         self.complete = true;
-        for p in &mut self.progs {
+        for p in self.progs.iter_mut().filter(|p| p.is_loaded()) {
             p.finish();
         }
         if self.state.frames.is_empty() {
@@ -494,6 +495,25 @@ impl Interpreter {
         self.reset();
         self.state.ended = self.progs.is_empty();
         self.start_main();
+    }
+
+    /// [`Interpreter::load`] `source`'s main program; its stored programs are parsed when a
+    /// call first reaches them. The same run as loading one text of them all, each program
+    /// cut to its first.
+    pub fn load_source(&mut self, source: &crate::lang::Source) {
+        let mut file = crate::lang::parse_file(&source.main);
+        file.programs.truncate(1);
+        self.load(file);
+        if self.progs.is_empty() {
+            // A main text of no program runs nothing and calls nothing.
+            return;
+        }
+        for stored in &source.library {
+            if let std::collections::hash_map::Entry::Vacant(e) = self.by_number.entry(stored.number) {
+                e.insert(self.progs.len());
+                self.progs.push(Slot::stored(stored.clone()));
+            }
+        }
     }
 
     /// Reset: the program stops where it is and cannot continue; local variables, call
@@ -940,7 +960,7 @@ impl State {
     /// Whether the next block may need blocks that have not arrived: the end of the text of a
     /// program still growing, a block that may reach beyond itself (`Loaded::reaches_beyond`),
     /// or any block while a modal call is active.
-    fn needs_input(&self, progs: &[Loaded]) -> bool {
+    fn needs_input(&self, progs: &[Slot]) -> bool {
         let Some(frame) = self.frames.last() else { return true };
         let prog = &progs[frame.prog];
         match prog.reaches_beyond.get(frame.pc) {
@@ -949,12 +969,7 @@ impl State {
         }
     }
 
-    fn step(
-        &mut self,
-        progs: &[Loaded],
-        by_number: &HashMap<u32, usize>,
-        out: &mut Vec<Canon>,
-    ) -> Result<Step, AlarmId> {
+    fn step(&mut self, progs: &[Slot], by_number: &HashMap<u32, usize>, out: &mut Vec<Canon>) -> Result<Step, AlarmId> {
         let frame = self.frames.last_mut().expect("a running interpreter has a frame");
         let prog = &progs[frame.prog];
         if frame.pc >= prog.len() {
@@ -998,7 +1013,7 @@ impl State {
 
     fn exec(
         &mut self,
-        progs: &[Loaded],
+        progs: &[Slot],
         by_number: &HashMap<u32, usize>,
         prog_idx: usize,
         idx: usize,
@@ -1173,7 +1188,7 @@ impl State {
 
     /// M99 (or the end of a called program's text): repeat, or return to the caller, optionally
     /// to its sequence number `to_n`.
-    fn return_from_call(&mut self, progs: &[Loaded], to_n: Option<u32>) -> Result<(), AlarmId> {
+    fn return_from_call(&mut self, progs: &[Slot], to_n: Option<u32>) -> Result<(), AlarmId> {
         let frame = self.frames.last_mut().expect("frame");
         if frame.kind == CallKind::Main {
             // M99 in the main program: start again (at N to_n if given).
@@ -1268,5 +1283,27 @@ fn finite_motion(c: &Canon) -> bool {
     match &c.kind {
         CanonKind::Motion(m) => m.target.iter().chain(&m.machine).all(|x| x.is_finite()),
         _ => true,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lang::{Source, Stored};
+    use std::sync::Arc;
+
+    #[test]
+    fn a_stored_program_is_parsed_when_a_call_first_reaches_it() {
+        let machine = crate::machine::MachineConfig::preset("mill3").unwrap();
+        let mut interp = Interpreter::new(crate::lang::parse_file(""), Config::new(machine, Dialect::Fanuc));
+        let stored = |number, first_line, text: &str| Arc::new(Stored { number, first_line, text: text.into() });
+        let library = vec![stored(2, 10, "O0002\n#101=2\nM99\n"), stored(3, 20, "#101=3\nM99\n")];
+        interp.load_source(&Source { main: "G00 X1.\nM98 P2\nM30\n".into(), library });
+        let loaded = |i: &Interpreter| i.progs.iter().map(|p| p.is_loaded()).collect::<Vec<_>>();
+        assert_eq!(loaded(&interp), [true, false, false]);
+        let mut out = Vec::new();
+        while let Ok(Step::Continue) = interp.step(&mut out) {}
+        assert_eq!(interp.state.common_variables(), vec![(101, 2.0)]);
+        assert_eq!(loaded(&interp), [true, true, false], "O0003 is never called");
     }
 }

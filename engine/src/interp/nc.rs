@@ -8,7 +8,7 @@ use super::gcode::{code, group};
 use super::mcode;
 use super::modes;
 use super::offsets::{g54_1_index, MAX_G54_1};
-use super::program::Loaded;
+use super::program::Slot;
 use super::unbuilt;
 use super::{CallFrame, CallKind, CycleData, ModalCall, State, LOCALS};
 use crate::alarm::AlarmId;
@@ -350,7 +350,7 @@ impl State {
 
     fn push_frame(
         &mut self,
-        progs: &[Loaded],
+        progs: &[Slot],
         prog: usize,
         count: u32,
         args: Option<Box<[Value; LOCALS]>>,
@@ -364,7 +364,7 @@ impl State {
 
     pub(super) fn exec_words(
         &mut self,
-        progs: &[Loaded],
+        progs: &[Slot],
         by_number: &HashMap<u32, usize>,
         words: &[Word],
         block: &Block,
@@ -430,7 +430,7 @@ impl State {
     /// A block of NC words (`exec_words` after reading them).
     fn nc_words(
         &mut self,
-        progs: &[Loaded],
+        progs: &[Slot],
         by_number: &HashMap<u32, usize>,
         w: &Words,
         block: &Block,
@@ -971,12 +971,7 @@ impl State {
     }
 
     /// The subprogram the block's M98/M198 (Haas: M97) calls, found before the block runs.
-    fn call_target(
-        &self,
-        progs: &[Loaded],
-        by_number: &HashMap<u32, usize>,
-        w: &Words,
-    ) -> Result<Option<Call>, AlarmId> {
+    fn call_target(&self, progs: &[Slot], by_number: &HashMap<u32, usize>, w: &Words) -> Result<Option<Call>, AlarmId> {
         let haas = self.cfg.dialect == crate::Dialect::Haas;
         for &m in w.mcodes() {
             if m == mcode::M97 && haas {

@@ -3,10 +3,58 @@
 use super::gcode::code;
 use super::mcode;
 use crate::alarm::AlarmId;
-use crate::lang::{Block, BlockKind, Program};
+use crate::lang::{Block, BlockKind, Program, Stored};
 use std::collections::HashMap;
+use std::ops::{Deref, DerefMut};
+use std::sync::{Arc, OnceLock};
 
 const NONE: u32 = u32::MAX;
+
+/// A program of the interpreter: loaded with the text, or a stored program loaded the first
+/// time a call reaches it (`lang::Source`). It reads as its [`Loaded`] either way.
+#[derive(Debug, Clone)]
+pub struct Slot {
+    loaded: OnceLock<Loaded>,
+    stored: Option<Arc<Stored>>,
+}
+
+impl Slot {
+    pub fn stored(stored: Arc<Stored>) -> Slot {
+        Slot { loaded: OnceLock::new(), stored: Some(stored) }
+    }
+
+    /// Loaded already: not a stored program waiting for its first call.
+    pub fn is_loaded(&self) -> bool {
+        self.loaded.get().is_some()
+    }
+
+    fn get(&self) -> &Loaded {
+        self.loaded.get_or_init(|| {
+            let stored = self.stored.as_ref().expect("a slot is loaded or stored");
+            Loaded::new(stored.parse())
+        })
+    }
+}
+
+impl From<Loaded> for Slot {
+    fn from(loaded: Loaded) -> Slot {
+        Slot { loaded: OnceLock::from(loaded), stored: None }
+    }
+}
+
+impl Deref for Slot {
+    type Target = Loaded;
+    fn deref(&self) -> &Loaded {
+        self.get()
+    }
+}
+
+impl DerefMut for Slot {
+    fn deref_mut(&mut self) -> &mut Loaded {
+        self.get();
+        self.loaded.get_mut().expect("loaded by get")
+    }
+}
 
 #[derive(Debug, Clone)]
 pub struct Loaded {

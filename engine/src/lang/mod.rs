@@ -8,7 +8,9 @@ pub mod ast;
 pub mod diag;
 mod lexer;
 mod parser;
+mod source;
 
 pub use ast::*;
 pub use diag::Diagnostic;
 pub use parser::{is_header, is_header_block, parse_file, parse_part};
+pub use source::{Source, Stored};

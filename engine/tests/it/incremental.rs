@@ -6,7 +6,7 @@ use crate::common;
 
 use fivex_engine::canon::Canon;
 use fivex_engine::interp::{Config, Interpreter, Step};
-use fivex_engine::lang::{parse_file, parse_part};
+use fivex_engine::lang::{parse_file, parse_part, Source, Stored};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::{Alarm, Dialect};
 
@@ -118,4 +118,48 @@ fn plain_blocks_run_before_the_rest_arrives() {
     assert_eq!(out.len(), 100);
     // Part k is asked for only after the 10·(k−1) motions before it ran.
     assert_eq!(emitted_before_each_push, (0..10).map(|k| k * 10).collect::<Vec<_>>());
+}
+
+/// `text`'s first program as the main text and each further program as a stored one, numbered
+/// from its own `O` line on (`lang::Source`, what the service gives a cycle start): loaded when a
+/// call reaches it.
+fn from_memory(text: &str, preset: &str, dialect: Dialect) -> Outcome {
+    let starts: Vec<u32> = parse_file(text).programs.iter().skip(1).map(|p| p.line).collect();
+    let lines: Vec<&str> = text.split_inclusive('\n').collect();
+    let piece =
+        |from: u32, to: Option<&u32>| lines[from as usize - 1..to.map_or(lines.len(), |&t| t as usize - 1)].concat();
+    let main = piece(1, starts.first());
+    let library = starts
+        .iter()
+        .enumerate()
+        .map(|(k, &first_line)| {
+            let text = piece(first_line, starts.get(k + 1));
+            let number = parse_file(&text).programs[0].number.expect("an O line");
+            std::sync::Arc::new(Stored { number, first_line, text })
+        })
+        .collect();
+    let mut interp = Interpreter::new(parse_file(""), config(preset, dialect));
+    interp.load_source(&Source { main, library });
+    drive(&mut interp, |_| false)
+}
+
+#[test]
+fn every_fixture_runs_from_memory_like_a_whole_file() {
+    let mut called = 0;
+    for (path, text) in common::fixture_programs() {
+        if parse_file(&text).programs.len() < 2 {
+            continue;
+        }
+        called += 1;
+        for (preset, dialect) in [("mill3", Dialect::Fanuc), ("head-bc", Dialect::Syntec)] {
+            let expected = whole(&text, preset, dialect);
+            assert!(from_memory(&text, preset, dialect) == expected, "{path} on {preset}/{dialect:?} differs");
+        }
+    }
+    assert!(called >= 5, "only {called} fixtures call another program");
+    let text = "(HEADER)\n%\nO0001\n#1=0\nGOTO 10\n#100=99\nN10 WHILE [#1 LT 3] DO 1\nG01 X#1 F100\nM98 P3\n#1=#1+1\nEND 1\nM98 P2\n#102=#5001\nM30\nO0002\n#101=7\nM99\nO0003\n#103=#103+1\nM99\n%\n";
+    let expected = whole(text, "mill3", Dialect::Fanuc);
+    assert_eq!(from_memory(text, "mill3", Dialect::Fanuc), expected);
+    assert!(expected.1.is_none(), "{:?}", expected.1);
+    assert_eq!(expected.3, vec![(101, 7.0), (102, 2.0), (103, 3.0)]);
 }

@@ -7,7 +7,6 @@ use axum::extract::{Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::IntoResponse;
 use axum::Json;
-use fivex_engine::lang::parse_file;
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -280,12 +279,12 @@ pub async fn tool_path(
         return Err(ApiError::Unprocessable("max_points must be 1 to 1000000".into(), None));
     }
     let hosted = hosted(&state, &id)?;
-    let programs::Composed { text, layout } = programs::composed(&state.db, &hosted, n).await?;
+    let programs::Composed { source, layout } = programs::composed(&state.db, &hosted, n).await?;
     let mut interp = hosted.station().controller.interpreter().clone();
     let body = tokio::task::spawn_blocking(move || {
-        interp.load(parse_file(&text));
+        interp.load_source(&source);
         let path = fivex_engine::preview::tool_path(&mut interp, max_points);
-        // The composed text's lines, each as its own program's (`docs/api.md`, "Lines of stored
+        // The composed source's lines, each as its own program's (`docs/api.md`, "Lines of stored
         // programs"); the start (line 0) belongs to the program asked for.
         let located = |lines: &[u32]| -> (Vec<u32>, Vec<u32>) {
             lines.iter().map(|&line| layout.locate(line)).map(|(program, line)| (line, program.unwrap_or(n))).unzip()

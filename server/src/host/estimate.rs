@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use fivex_engine::interp::Interpreter;
-use fivex_engine::lang::parse_file;
+use fivex_engine::lang::Source;
 use fivex_engine::run::{self, Observer, RunOptions};
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
@@ -92,12 +92,15 @@ impl Estimates {
     }
 }
 
-/// The key of running `text` on `interp` now: the text, the machine (by identity: a parameter
+/// The key of running `source` on `interp` now: its texts, the machine (by identity: a parameter
 /// change makes a new one and clears the estimates), the dialect, the offsets, the common and
 /// retained variables, the modal state and the machine position.
-pub fn key(text: &str, interp: &Interpreter) -> Key {
+pub fn key(source: &Source, interp: &Interpreter) -> Key {
     let mut h = DefaultHasher::new();
-    text.hash(&mut h);
+    source.main.hash(&mut h);
+    for stored in &source.library {
+        (stored.number, &stored.text).hash(&mut h);
+    }
     let state = &interp.state;
     (std::sync::Arc::as_ptr(&interp.config().machine) as usize).hash(&mut h);
     format!("{:?}", interp.config().dialect).hash(&mut h);
@@ -128,15 +131,18 @@ impl Observer for Deadline {
     }
 }
 
-/// Run `text` on `interp` (a copy of the controller's) to its end: blocking, up to `budget` of
-/// wall-clock time.
-pub fn compute(mut interp: Interpreter, text: &str, budget: Duration) -> Estimate {
-    interp.load(parse_file(text));
+/// Run `source` on `interp` (a copy of the controller's) to its end: blocking, up to `budget`
+/// of wall-clock time.
+pub fn compute(mut interp: Interpreter, source: &Source, budget: Duration) -> Estimate {
+    interp.load_source(source);
     // No samples: only the cycle time is wanted.
     let opts = RunOptions { period_s: 0.0, max_time_s: SIMULATED_BUDGET_S, ..RunOptions::default() };
     let mut deadline = Deadline { at: Instant::now() + budget, passed: false };
     let result = run::run_observed(&mut interp, &opts, |_| {}, &mut deadline);
-    let depends_on = depends_on(text);
+    // Any text may be called (which ones, only the run knows).
+    let mut depends_on: Vec<String> = source.texts().flat_map(depends_on).collect();
+    depends_on.sort();
+    depends_on.dedup();
     if deadline.passed {
         return Estimate {
             state: "unknown".into(),
@@ -170,26 +176,26 @@ pub fn compute(mut interp: Interpreter, text: &str, budget: Duration) -> Estimat
 pub fn depends_on(text: &str) -> Vec<String> {
     let (mut signals, mut stop) = (false, false);
     let mut comment = false;
-    let chars: Vec<char> = text.chars().collect();
+    // Bytes, not chars: every character the scan looks at is ASCII, and a text may be megabytes.
+    let bytes = text.as_bytes();
     let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i].to_ascii_uppercase();
+    while i < bytes.len() {
+        let c = bytes[i].to_ascii_uppercase();
         i += 1;
         match c {
-            '(' => comment = true,
-            ')' => comment = false,
-            '\n' => comment = false,
-            '#' | 'M' if !comment => {
+            b'(' => comment = true,
+            b')' => comment = false,
+            b'\n' => comment = false,
+            b'#' | b'M' if !comment => {
                 let start = i;
-                while i < chars.len() && chars[i].is_ascii_digit() {
+                while i < bytes.len() && bytes[i].is_ascii_digit() {
                     i += 1;
                 }
-                let digits: String = chars[start..i].iter().collect();
                 // A word's letter follows no other letter (`M` of `DPRNT`'s text does).
-                let word = start < 2 || !chars[start - 2].is_ascii_alphabetic();
-                match (c, digits.parse::<u32>()) {
-                    ('#', Ok(n)) => signals |= (1000..=1035).contains(&n),
-                    ('M', Ok(0)) => stop |= word,
+                let word = start < 2 || !bytes[start - 2].is_ascii_alphabetic();
+                match (c, text[start..i].parse::<u32>()) {
+                    (b'#', Ok(n)) => signals |= (1000..=1035).contains(&n),
+                    (b'M', Ok(0)) => stop |= word,
                     _ => {}
                 }
             }
@@ -295,15 +301,15 @@ impl Drop for Slot<'_> {
 /// thread (then `pending`; ask again). While every slot is taken nothing begins and the answer
 /// is `pending` too. Needs a tokio runtime.
 pub fn ensure(hosted: &std::sync::Arc<super::Hosted>, program: crate::service::programs::Composed) -> Estimate {
-    let crate::service::programs::Composed { text, layout } = program;
+    let crate::service::programs::Composed { source, layout } = program;
     let Some(slot) = RUNNING.take(super::Host::default_workers()) else {
         let station = hosted.station();
-        let key = key(&text, station.controller.interpreter());
+        let key = key(&source, station.controller.interpreter());
         return station.estimates.get(key).cloned().unwrap_or_else(Estimate::pending);
     };
     let (key, interp) = {
         let mut station = hosted.station();
-        let key = key(&text, station.controller.interpreter());
+        let key = key(&source, station.controller.interpreter());
         if !station.estimates.begin(key) {
             return station.estimates.get(key).cloned().unwrap_or_else(Estimate::pending);
         }
@@ -312,7 +318,7 @@ pub fn ensure(hosted: &std::sync::Arc<super::Hosted>, program: crate::service::p
     let hosted = hosted.clone();
     tokio::task::spawn_blocking(move || {
         let _slot = slot;
-        let mut estimate = compute(interp, &text, WALL_BUDGET);
+        let mut estimate = compute(interp, &source, WALL_BUDGET);
         // Its alarm's line in the program it is in.
         estimate.alarm = estimate.alarm.map(|a| layout.relocate(a));
         hosted.station().estimates.put(key, estimate);

@@ -320,9 +320,9 @@ pub fn apply(
                 if c.mode() != Mode::Auto {
                     c.set_mode(Mode::Auto)?;
                 }
-                c.select_program(&composed.text)?;
+                c.select_program(composed.source.clone())?;
                 // The inputs of its estimate as they stand before it starts.
-                let key = crate::host::estimate::key(&composed.text, c.interpreter());
+                let key = crate::host::estimate::key(&composed.source, c.interpreter());
                 c.cycle_start()?;
                 station.layouts.auto = composed.layout.clone();
                 station.layouts.started(Mode::Auto);
@@ -347,7 +347,7 @@ pub fn apply(
                 c.set_mode(Mode::Mdi)?;
             }
             let composed = crate::service::programs::compose_mdi(&text, &stored);
-            c.set_mdi(&composed.text)?;
+            c.set_mdi(composed.source.clone())?;
             c.cycle_start()?;
             station.layouts.mdi = composed.layout;
             station.layouts.started(Mode::Mdi);
@@ -447,7 +447,7 @@ pub fn apply(
                 if c.mode() != Mode::Auto {
                     c.set_mode(Mode::Auto)?;
                 }
-                c.select_program(&composed.text)?;
+                c.select_program(composed.source.clone())?;
                 c.restart(at.target(), kind)?;
                 station.layouts.auto = composed.layout.clone();
                 station.layouts.started(Mode::Auto);

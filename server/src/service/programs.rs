@@ -1,7 +1,9 @@
 //! A controller's stored programs (O numbers): checked and stored, read, removed, and composed
 //! into the text AUTO runs.
 
-use fivex_engine::lang::{is_header, parse_file};
+use std::sync::Arc;
+
+use fivex_engine::lang::{self, is_header, parse_file, Source};
 use fivex_engine::{AlarmId, Dialect};
 
 use serde::{Deserialize, Serialize};
@@ -89,18 +91,6 @@ fn one_program(text: &str, slot: u32) -> Result<(), ServiceError> {
             Some(serde_json::json!({"slot": slot, "line": second.line, "text_number": second.number})),
         )),
         None => Ok(()),
-    }
-}
-
-/// A text's first program only: the lines before its second program's `O` line (texts stored
-/// before the store refused a second program, `one_program`, may hold one).
-fn first_program_only(text: &str) -> &str {
-    match programs_in(text).get(1) {
-        Some(second) => {
-            let cut: usize = text.split_inclusive('\n').take(second.line as usize - 1).map(str::len).sum();
-            &text[..cut]
-        }
-        None => text,
     }
 }
 
@@ -197,27 +187,31 @@ pub async fn remove(db: &db::Db, hosted: &Hosted, n: u32) -> Result<(), ServiceE
 }
 
 /// A text the controller runs, composed of stored programs, and where each lies in it.
+/// What a cycle start or MDI runs: the selected text and every other stored program for it to
+/// call (parsed only when called: `fivex_engine::lang::Source`), and where each one's lines lie
+/// in their shared numbering.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Composed {
-    pub text: String,
+    pub source: Source,
     pub layout: Layout,
 }
 
 /// A text alone, calling no stored program.
 impl From<&str> for Composed {
     fn from(text: &str) -> Composed {
-        Composed { text: text.to_string(), layout: Layout::default() }
+        Composed { source: text.into(), layout: Layout::default() }
     }
 }
 
 impl From<String> for Composed {
     fn from(text: String) -> Composed {
-        Composed { text, layout: Layout::default() }
+        Composed { source: text.into(), layout: Layout::default() }
     }
 }
 
-/// Where the programs of a composed text lie in it: alarms and the status give a line of the
-/// program it is in, as stored (the composed text is the service's, no client sees it).
+/// Where the programs of a composed source lie in its line numbering: alarms and the status
+/// give a line of the program it is in, as stored (the shared numbering is the service's, no
+/// client sees it).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Layout {
     /// The first text's O number (`None`: an MDI text).
@@ -228,7 +222,7 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// The program (`None`: MDI's own text) and its own line for `line` of the composed text
+    /// The program (`None`: MDI's own text) and its own line for `line` of the shared numbering
     /// (0, before any block, stays 0 of the first).
     pub fn locate(&self, line: u32) -> (Option<u32>, u32) {
         match self.after.iter().rev().find(|(start, _)| *start <= line) {
@@ -237,15 +231,15 @@ impl Layout {
         }
     }
 
-    /// `alarm`, raised in the composed text, with its line in the program it is in.
+    /// `alarm`, raised in the composed source, with its line in the program it is in.
     pub fn relocate(&self, alarm: AlarmInfo) -> AlarmInfo {
         let (program, line) = self.locate(alarm.line);
         AlarmInfo { program, line, ..alarm }
     }
 }
 
-/// The text AUTO runs for stored program `n`: that program first (its lines keep their numbers),
-/// then every other stored program, each under its O number, for M98/G65.
+/// What AUTO runs for stored program `n`: that program (its lines keep their numbers), and
+/// every other stored program under its number, for M98/G65.
 pub async fn composed(db: &db::Db, hosted: &Hosted, n: u32) -> Result<Composed, ServiceError> {
     let programs = db::programs(db, &hosted.id).await?;
     compose(n, &programs).ok_or_else(|| ServiceError::NotFound(format!("no program O{n}")))
@@ -261,44 +255,30 @@ fn compose(number: u32, programs: &[(u32, String)]) -> Option<Composed> {
     Some(followed_by_the_others(Some(number), &main.1, programs.iter().filter(|(n, _)| *n != number)))
 }
 
-/// The text MDI runs: the MDI blocks first (their lines keep their numbers), then every stored
-/// program under its O number, so that `M98 P1` in MDI calls program 1 from memory as on the
-/// control.
+/// What MDI runs: the MDI blocks (their lines keep their numbers), and every stored program
+/// under its number, so that `M98 P1` in MDI calls program 1 from memory as on the control.
 pub fn compose_mdi(mdi: &str, programs: &[(u32, String)]) -> Composed {
     followed_by_the_others(None, mdi, programs.iter())
 }
 
-/// `first` (its first program only; program `number`), then each of `others` (their first
-/// programs), each under its O number.
+/// `first` (program `number`; the engine loads its first program only), then each of `others`,
+/// numbered after it. Nothing is parsed here: a stored program is parsed when a call reaches
+/// it, so a cycle start costs the selected program, not the whole memory.
 fn followed_by_the_others<'a>(
     number: Option<u32>,
     first: &str,
     others: impl Iterator<Item = &'a (u32, String)>,
 ) -> Composed {
-    let first = first_program_only(first);
     let mut layout = Layout { first: number, after: Vec::new() };
-    // A text without a block (empty, `%` lines, comments) is no program: the first program
-    // after it would be taken for the one selected. It runs nothing and can call nothing.
-    if programs_in(first).is_empty() {
-        return Composed { text: first.to_string(), layout };
+    let mut source = Source::from(first);
+    // The line after the first text's last (which may have no line end).
+    let mut line = newlines(first) + 2;
+    for (n, text) in others {
+        layout.after.push((line, *n));
+        source.library.push(Arc::new(lang::Stored { number: *n, first_line: line, text: text.clone() }));
+        line += newlines(text) + 1;
     }
-    let mut text = first.to_string();
-    let mut lines = newlines(&text);
-    for (n, t) in others {
-        let t = first_program_only(t);
-        text.push('\n');
-        // A text with its own O number (after `%` lines and comments; the store keeps it equal
-        // to the slot) needs no other.
-        if first_number(t).is_none() {
-            text.push_str(&format!("O{n:04}\n"));
-            lines += 1;
-        }
-        lines += 1;
-        layout.after.push((lines + 1, *n));
-        text.push_str(t);
-        lines += newlines(t);
-    }
-    Composed { text, layout }
+    Composed { source, layout }
 }
 
 /// The line ends in `text` (the parser's lines end at `\n`).
@@ -310,13 +290,34 @@ fn newlines(text: &str) -> u32 {
 mod tests {
     use super::*;
 
+    /// Runs `composed` in an interpreter of the default machine: the lines the run passed, in
+    /// the program they are in, and its alarm.
+    fn run(composed: &Composed) -> (Vec<(Option<u32>, u32)>, Option<String>) {
+        let machine = fivex_engine::machine::MachineConfig::preset("mill3").unwrap();
+        let cfg = fivex_engine::interp::Config::new(machine, Dialect::Fanuc);
+        let mut interp = fivex_engine::interp::Interpreter::new(parse_file(""), cfg);
+        interp.load_source(&composed.source);
+        let mut lines = Vec::new();
+        loop {
+            let mut out = Vec::new();
+            match interp.step(&mut out) {
+                Ok(fivex_engine::interp::Step::Continue) => {}
+                Ok(_) => return (lines, None),
+                Err(alarm) => return (lines, Some(alarm.code)),
+            }
+            lines.extend(out.iter().map(|c| composed.layout.locate(c.line)));
+        }
+    }
+
     #[test]
-    fn the_selected_program_comes_first_and_the_others_under_their_numbers() {
-        let programs =
-            vec![(1, "G01 X1.\nM98 P2\nM30\n".to_string()), (2, "O0002\nX2.\nM99\n".into()), (3, "X3.\nM99".into())];
-        let text = compose(1, &programs).unwrap().text;
-        assert!(text.starts_with("G01 X1.\n"), "{text}");
-        assert!(text.contains("\nO0002\nX2.") && text.contains("\nO0003\nX3."), "{text}");
+    fn the_selected_program_runs_and_calls_the_others_by_their_numbers() {
+        let programs = vec![
+            (1, "G00 X1.\nM98 P2\nM98 P3\nM30\n".to_string()),
+            (2, "O0002\nX2.\nM99\n".into()),
+            (3, "(sub)\n:0003\nX3.\nM99".into()),
+        ];
+        let composed = compose(1, &programs).unwrap();
+        assert_eq!(run(&composed), (vec![(Some(1), 1), (Some(2), 2), (Some(3), 3)], None));
         assert!(compose(4, &programs).is_none());
         // The parser's rules for the text's own number: after `%` lines, blanks and comment
         // lines, `O` or the ISO `:`; a comment naming a number is not one.
@@ -324,55 +325,47 @@ mod tests {
         assert_eq!(first_number("(header)\n  :0555\nM99\n"), Some(555));
         assert_eq!(first_number("(O1)\nG01\nO0002\n"), None);
         assert_eq!(first_number(""), None);
-        // A text with its own number in the ISO form is not given another (two programs 2).
-        let iso = vec![(1, "M98 P2\nM30\n".to_string()), (2, "(sub)\n:0002\nX2.\nM99\n".into())];
-        let text = compose(1, &iso).unwrap().text;
-        assert!(!text.contains("O0002"), "{text}");
-        assert_eq!(fivex_engine::lang::parse_file(&text).programs.iter().filter(|p| p.number == Some(2)).count(), 1);
-    }
-
-    /// The programs the engine loads from `text`, by number (0: anonymous), in order.
-    fn numbers(text: &str) -> Vec<u32> {
-        programs_in(text).iter().map(|p| p.number.unwrap_or(0)).collect()
     }
 
     #[test]
-    fn a_selected_text_without_blocks_runs_alone_and_a_second_program_in_a_text_is_left_out() {
+    fn a_selected_text_without_blocks_runs_nothing_and_a_second_program_in_a_text_is_left_out() {
         let others = vec![(2, "O0002\nG0 Y7.\nM30\n".to_string())];
         for empty in ["", "%\n%\n", "(only a comment)\n", "\n\n"] {
             let mut programs = others.clone();
             programs.push((1, empty.to_string()));
-            assert_eq!(compose(1, &programs).unwrap().text, empty, "{empty:?}");
-            assert_eq!(compose_mdi(empty, &others).text, empty);
+            assert_eq!(run(&compose(1, &programs).unwrap()), (vec![], None), "{empty:?}");
+            assert_eq!(run(&compose_mdi(empty, &others)), (vec![], None), "{empty:?}");
         }
         // Texts stored before the store refused a second program: only their first is loaded.
-        let hidden = vec![(1, "M98 P18\nM30\nO0019\nM99\n".to_string()), (17, "O0017\nM99\nO0018\nM99\n".into())];
-        assert_eq!(numbers(&compose(1, &hidden).unwrap().text), vec![0, 17]);
-        assert_eq!(numbers(&compose_mdi("M98 P1\n", &hidden).text), vec![0, 1, 17]);
-        assert_eq!(first_program_only("G0 X1.\nO0005\nM99\n"), "G0 X1.\n");
+        let hidden =
+            vec![(1, "M98 P17\nM98 P19\nM30\nO0019\nM99\n".to_string()), (17, "O0017\nM99\nO0018\nM99\n".into())];
+        assert_eq!(run(&compose(1, &hidden).unwrap()).1, Some("PS0078".into()));
+        assert_eq!(run(&compose_mdi("M98 P18\n", &hidden)).1, Some("PS0078".into()));
+        assert_eq!(run(&compose_mdi("M98 P17\nG0 X1.\n", &hidden)), (vec![(None, 2)], None));
     }
 
     #[test]
-    fn a_line_of_the_composed_text_is_located_in_its_own_program() {
-        // Program 2 has its number (after a header comment), 3 gets one, 1 has no line end.
+    fn a_line_of_the_composed_source_is_located_in_its_own_program() {
+        // Program 2 has its number (after a header comment), 3 has none, 1 has no line end.
         let programs = vec![
             (1, "G01 X1.\nM98 P2\nM30".to_string()),
             (2, "(sub)\nO0002\nX2.\nM99\n".into()),
             (3, "X3.\r\n#3000=1\n".into()),
         ];
         let composed = compose(1, &programs).unwrap();
-        let text: Vec<&str> = composed.text.lines().collect();
+        let source = &composed.source;
+        let count = (1..200).filter(|&l| source.line(l).is_some()).count();
+        assert_eq!(count, 3 + 4 + 2, "every line of every text, once");
         for (program, line, block) in [(1, 2, "M98 P2"), (1, 3, "M30"), (2, 3, "X2."), (2, 4, "M99"), (3, 2, "#3000=1")]
         {
-            let at = text.iter().enumerate().filter(|(_, t)| **t == block).map(|(i, _)| i as u32 + 1);
-            let at: Vec<u32> = at.filter(|&i| composed.layout.locate(i).0 == Some(program)).collect();
-            assert_eq!(at.len(), 1, "{block} in {text:?}");
+            let at: Vec<u32> = (1..200).filter(|&l| source.line(l) == Some(block)).collect();
+            assert_eq!(at.len(), 1, "{block}");
             assert_eq!(composed.layout.locate(at[0]), (Some(program), line), "{block}");
         }
         assert_eq!(composed.layout.locate(0), (Some(1), 0));
         let mdi = compose_mdi("G0 X1.\nM98 P3\n", &programs);
         assert_eq!(mdi.layout.locate(2), (None, 2));
-        let at = mdi.text.lines().position(|t| t == "#3000=1").unwrap() as u32 + 1;
+        let at = (1..200).find(|&l| mdi.source.line(l) == Some("#3000=1")).unwrap();
         assert_eq!(mdi.layout.locate(at), (Some(3), 2));
     }
 }

@@ -28,7 +28,7 @@ fn hosted(text: &str) -> Hosted {
 /// The estimate of `text` on a fresh controller of its preset, with a wall-clock `budget`.
 fn estimate_of(text: &str, budget: Duration) -> Estimate {
     let interp = hosted(text).station().controller.interpreter().clone();
-    estimate::compute(interp, text, budget)
+    estimate::compute(interp, &text.into(), budget)
 }
 
 /// The estimate of `text` on the controller as it stands, then the controller's own run of it
@@ -37,7 +37,7 @@ fn estimate_and_run(text: &str) -> (Estimate, f64) {
     let hosted = hosted(text);
     let mut station = hosted.station();
     let interp = station.controller.interpreter().clone();
-    let estimate = estimate::compute(interp, text, Duration::from_secs(60));
+    let estimate = estimate::compute(interp, &text.into(), Duration::from_secs(60));
     let c = &mut station.controller;
     c.select_program(text).expect("selected");
     let start = c.time();
@@ -154,12 +154,12 @@ fn the_key_changes_with_what_the_run_reads() {
     let text = "G01 X[#100] F600\nM30\n";
     let hosted = hosted(text);
     let mut station = hosted.station();
-    let before = estimate::key(text, station.controller.interpreter());
-    assert_eq!(before, estimate::key(text, station.controller.interpreter()), "the same inputs, the same key");
-    assert_ne!(before, estimate::key("G01 X[#100] F601\nM30\n", station.controller.interpreter()), "another text");
+    let before = estimate::key(&text.into(), station.controller.interpreter());
+    assert_eq!(before, estimate::key(&text.into(), station.controller.interpreter()), "the same inputs, the same key");
+    assert_ne!(before, estimate::key(&"G01 X[#100] F601\nM30\n".into(), station.controller.interpreter()), "another text");
     station.controller.interpreter_mut().state.set_common_variable(100, Some(10.0)).expect("#100 is common");
-    let common = estimate::key(text, station.controller.interpreter());
+    let common = estimate::key(&text.into(), station.controller.interpreter());
     assert_ne!(before, common, "a common variable");
     station.controller.interpreter_mut().state.offsets.work_mut(1)[0] = 5.0;
-    assert_ne!(common, estimate::key(text, station.controller.interpreter()), "a work offset");
+    assert_ne!(common, estimate::key(&text.into(), station.controller.interpreter()), "a work offset");
 }
