@@ -233,6 +233,9 @@ pub struct Controller {
     /// The manual move under way ends at a stored stroke limit: the overtravel alarm it raises
     /// when it gets there (FANUC OT0500/OT0501; a jog stopped short raises nothing).
     stroke_reached: Option<AlarmId>,
+    /// The single block switch as the last tick found it: switched on under way, the blocks
+    /// already read and queued stop at their ends too (`Executor::stop_at_block_ends`).
+    single_block_seen: bool,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -262,7 +265,8 @@ impl Controller {
             work: interp.state.shown_position(),
             basis: interp.state.tip_basis(),
         };
-        let executing = Executing::new(interp.state.modal_state(), interp.state.active_plane());
+        let executing =
+            Executing::new(interp.state.modal_state(), interp.state.active_plane(), interp.state.modal_part());
         Controller {
             exec: Executor::new(machine.clone(), start),
             stages: Pipeline::for_config(interp.config()),
@@ -292,6 +296,7 @@ impl Controller {
             stop_kind: ProgramStop::Stop,
             state_changed_at: 0.0,
             stroke_reached: None,
+            single_block_seen: false,
         }
     }
 
@@ -318,7 +323,14 @@ impl Controller {
     /// The program waits for cycle start at M00, M01, `#3006` or a single-block stop, with
     /// blocks still to run (the run state is then `Idle`; the run is not over): why.
     pub fn program_stop(&self) -> Option<ProgramStop> {
-        self.cycle.at_operator_stop().then_some(self.stop_kind)
+        self.at_operator_stop().then_some(self.stop_kind)
+    }
+
+    /// The program waits for cycle start at a block stop with blocks or queued motion of it
+    /// still to run (a single-block stop in the motion read ahead: `Controller::block_end_stop`).
+    fn at_operator_stop(&self) -> bool {
+        self.cycle.at_operator_stop()
+            || self.cycle.course().stopped() && !self.cycle.intervening() && self.exec.has_queued()
     }
 
     /// A program held (feed hold or a block stop) is waiting while the operator intervenes by
@@ -536,7 +548,7 @@ impl Controller {
             };
         }
         let held = self.run_state == RunState::Hold;
-        let at_block_stop = self.cycle.at_operator_stop();
+        let at_block_stop = self.at_operator_stop();
         if (held || at_block_stop) && matches!(self.mode, Mode::Auto | Mode::Mdi) {
             if !matches!(mode, Mode::Jog | Mode::Handle | Mode::Inc) || self.estop {
                 return Err(Refusal::Busy);
@@ -628,13 +640,18 @@ impl Controller {
         match self.run_state {
             RunState::Running => return Ok(()),
             RunState::Hold => {
+                if self.panel.single_block {
+                    // Switched on while held (perhaps during the deceleration, whose path the
+                    // tick could not mark): the held block's end stops.
+                    self.exec.stop_at_block_ends();
+                }
                 self.cycle.course_mut().release_stop();
                 self.set_state(RunState::Running);
                 return Ok(());
             }
             _ => {}
         }
-        if self.cycle.at_operator_stop() {
+        if self.at_operator_stop() {
             self.cycle.course_mut().release_stop();
             self.set_state(RunState::Running);
             return Ok(());
@@ -664,7 +681,7 @@ impl Controller {
         }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load_source(&source);
-        self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());
+        self.settle_executing();
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();
         // Until its first motion ends, the program stands in the state it starts from.
@@ -699,6 +716,9 @@ impl Controller {
     /// Reset: decelerate, abandon the program, clear the alarms (not an emergency stop that is
     /// still pressed).
     pub fn reset(&mut self) {
+        // Before anything read ahead is dropped (the current point is set from the machine
+        // after it, here or at the end of the deceleration).
+        self.take_back_read_ahead();
         // The machine's reset stops the spindle (as the usual machine ladder does).
         self.spindle = 0.0;
         self.cycle.end_intervention();
@@ -736,8 +756,27 @@ impl Controller {
         self.cycle.abandon();
         self.stages.reset();
         self.interp.reset();
-        self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());
+        self.settle_executing();
         self.wse_no_manual = self.interp.wse_forbids_manual();
+    }
+
+    /// Everything read is dropped or done: the block shown is the interpreter's state.
+    fn settle_executing(&mut self) {
+        let st = &self.interp.state;
+        self.executing.settle(st.modal_state(), st.active_plane(), st.modal_part());
+    }
+
+    /// A reset or an emergency stop while blocks read ahead are queued or moving: they were
+    /// never executed, so what they put in force is taken back (modal codes, the work offset
+    /// selected, G52/G92, the transforms, the tool length vector, canned cycle data, the 5-axis
+    /// modes): the state is the executing block's, as the panel showed it. The variables their
+    /// macro statements set stay (run when read, `docs/motion.md`, "Reading ahead").
+    fn take_back_read_ahead(&mut self) {
+        if self.reading_is_executing() {
+            return;
+        }
+        let executed = self.executing.shown().modal;
+        self.interp.state.restore_executed(self.executing.shown_part(), &executed);
     }
 
     /// Emergency stop pressed (`true`) or released: pressing stops every axis at once.
@@ -747,6 +786,7 @@ impl Controller {
             // A P type restart needs an automatic operation after this (PS0097).
             self.memory.start = None;
             self.end_interrupt_move();
+            self.take_back_read_ahead();
             self.spindle = 0.0;
             self.cycle.end_intervention();
             self.exec.halt();
@@ -941,6 +981,14 @@ impl Controller {
         let mut blocks = 0;
         // The blocks read now see the panel's switches (Haas #3030, #3031).
         self.interp.state.set_panel_switches(self.panel.single_block, self.panel.dry_run);
+        if self.panel.single_block != self.single_block_seen {
+            self.single_block_seen = self.panel.single_block;
+            // Switched on under way: the blocks read ahead (the look-ahead's hundreds) stop at
+            // their ends too, from the first the machine can still stop at.
+            if self.panel.single_block && !self.cycle.intervening() {
+                self.exec.stop_at_block_ends();
+            }
+        }
         let before = self.times;
         // The counters take each stretch of time by what was under way at its start.
         let mut piece = self.piece();
@@ -1027,12 +1075,36 @@ impl Controller {
             // A whole run ends exactly on its last point.
             self.exec.arrive(&finished);
             self.at_stroke_limit();
+            self.block_end_stop(&finished);
             return;
         };
         // Stopped short (jog stop, reset): no limit reached.
         self.stroke_reached = None;
         let p = &finished.planned;
         self.after_stop(after, p.rest(p.profile.len()), p.profile.end_speed());
+    }
+
+    /// Single block on: a program run that ends at rest at the end of a block, with the motion
+    /// of a later block queued (read ahead before the switch went on), stops there for cycle
+    /// start; the commands read ahead wait with it. (A block read with the switch on stops at
+    /// its `Item::BlockEnd`, with nothing of a later block queued.)
+    fn block_end_stop(&mut self, finished: &Finished) {
+        let p = &finished.planned;
+        let Some(last) = p.segments.last() else { return };
+        let next = self.exec.queued_segments().next().map(|s| s.block);
+        if !self.panel.single_block
+            || self.cycle.intervening()
+            || !matches!(self.mode, Mode::Auto | Mode::Mdi)
+            || !last.stop_after
+            || p.profile.end_speed() > 0.0
+            || next.is_none_or(|b| b == last.block)
+        {
+            return;
+        }
+        self.stop_kind = ProgramStop::SingleBlock;
+        self.cycle.course_mut().stop();
+        self.exec.here.feed = 0.0;
+        self.set_state(RunState::Idle);
     }
 
     /// A manual move that ended at a stored stroke limit stops there in the overtravel alarm;
@@ -1259,7 +1331,8 @@ impl Controller {
             let (line, n) = self.interp.state.current_block();
             let state = &self.interp.state;
             let block = BlockState { line, n, modal: state.modal_state(), plane: state.active_plane() };
-            self.cycle.blocks_mut().push(Item::Block(self.executing.read(block, !produced)));
+            let part = state.modal_part_changed().then(|| Box::new(state.modal_part()));
+            self.cycle.blocks_mut().push(Item::Block(self.executing.read(block, !produced, part)));
         }
         // A path stage may release a block it held together with the one just read (cutter
         // compensation: the block before a G40): each block's commands end at its own stop.

@@ -4,8 +4,12 @@
 //! it may already say G49. Each block read leaves its state here, tagged with a serial number
 //! that its motion segments carry; the controller moves the shown block on when a segment of a
 //! later block starts or when a block without motion is reached.
+//!
+//! A block that changed more than the motion group and F (`State::modal_part_changed`) also
+//! leaves a copy of what it put in force (`ModalPart`): a reset puts the interpreter back in
+//! the executed block's state, not the read-ahead's (`Controller::reset`).
 
-use crate::interp::{ModalState, TiltedPlane};
+use crate::interp::{ModalPart, ModalState, TiltedPlane};
 use std::collections::VecDeque;
 
 /// What one block left behind once read.
@@ -47,6 +51,11 @@ pub(super) struct Executing {
     modals: VecDeque<(u64, ModalState)>,
     /// The tilted working planes of the blocks ahead, kept as `modals` (planes change rarely).
     planes: VecDeque<(u64, Option<TiltedPlane>)>,
+    /// What the blocks ahead put in force, kept only for those that changed more than the
+    /// motion group and F (most blocks of a program only move).
+    parts: VecDeque<(u64, Box<ModalPart>)>,
+    /// That of the block shown (or of the last block before it that left one).
+    shown_part: Box<ModalPart>,
     /// The latest block reached in the reading while motion was still under way: it begins when
     /// that motion ends (unless a segment of its own begins it earlier).
     after_motion: Option<u64>,
@@ -55,13 +64,15 @@ pub(super) struct Executing {
 }
 
 impl Executing {
-    pub fn new(modal: ModalState, plane: Option<TiltedPlane>) -> Self {
+    pub fn new(modal: ModalState, plane: Option<TiltedPlane>, part: ModalPart) -> Self {
         Self {
             read: 0,
             shown: (0, BlockState { line: 0, n: None, modal, plane }),
             ahead: VecDeque::new(),
             modals: VecDeque::new(),
             planes: VecDeque::new(),
+            parts: VecDeque::new(),
+            shown_part: Box::new(part),
             after_motion: None,
             last_silent: false,
         }
@@ -70,11 +81,17 @@ impl Executing {
     /// A block was read; its serial. `silent`: it gave no command (a macro statement, a modal
     /// change). A run of silent blocks read while motion is under way keeps only its last entry,
     /// so a long macro loop ahead of a move does not grow the list: none of them has a segment
-    /// of its own to be shown by, and the motion's end shows the last one read.
-    pub fn read(&mut self, block: BlockState, silent: bool) -> u64 {
+    /// of its own to be shown by, and the motion's end shows the last one read. `part`: what the
+    /// block put in force, if it changed more than the motion group and F.
+    pub fn read(&mut self, block: BlockState, silent: bool, mut part: Option<Box<ModalPart>>) -> u64 {
         self.read += 1;
         if silent && self.last_silent {
             if let Some(dropped) = self.ahead.pop_back() {
+                if self.parts.back().is_some_and(|p| p.0 == dropped.serial) {
+                    // Still in force after this block unless it left its own.
+                    let kept = self.parts.pop_back().map(|p| p.1);
+                    part = part.or(kept);
+                }
                 if self.modals.back().is_some_and(|m| m.0 == dropped.serial) {
                     self.modals.pop_back();
                 }
@@ -90,6 +107,9 @@ impl Executing {
         }
         if self.planes.back().map_or(&self.shown.1.plane, |p| &p.1) != &block.plane {
             self.planes.push_back((self.read, block.plane));
+        }
+        if let Some(part) = part {
+            self.parts.push_back((self.read, part));
         }
         self.ahead.push_back(Ahead { serial: self.read, line: block.line, n: block.n.unwrap_or(NO_N) });
         self.read
@@ -130,6 +150,11 @@ impl Executing {
             while self.planes.front().is_some_and(|p| p.0 <= s) {
                 plane = self.planes.pop_front().map_or(plane, |p| p.1);
             }
+            while self.parts.front().is_some_and(|p| p.0 <= s) {
+                if let Some((_, part)) = self.parts.pop_front() {
+                    self.shown_part = part;
+                }
+            }
             self.shown = (s, BlockState { line, n: (n != NO_N).then_some(n), modal, plane });
         }
         if self.after_motion.is_some_and(|s| s <= serial) {
@@ -140,16 +165,23 @@ impl Executing {
 
     /// Everything read is dropped or done (reset, a fresh start): show `modal` and `plane` from
     /// now on.
-    pub fn settle(&mut self, modal: ModalState, plane: Option<TiltedPlane>) {
+    pub fn settle(&mut self, modal: ModalState, plane: Option<TiltedPlane>, part: ModalPart) {
         self.ahead.clear();
         self.modals.clear();
         self.planes.clear();
+        self.parts.clear();
+        *self.shown_part = part;
         self.after_motion = None;
         self.shown = (self.read, BlockState { modal, plane, ..self.shown.1 });
     }
 
     pub fn shown(&self) -> &BlockState {
         &self.shown.1
+    }
+
+    /// What the block shown put in force (with its modal state: `ModalPart`).
+    pub fn shown_part(&self) -> &ModalPart {
+        &self.shown_part
     }
 }
 

@@ -114,7 +114,7 @@ impl Controller {
         self.interp.load_source(&source);
         match self.interp.search(target) {
             Ok(found) => {
-                self.executing.settle(self.interp.state.modal_state(), self.interp.state.active_plane());
+                self.settle_executing();
                 (self.exec.here.line, self.exec.here.n) = (found.line, found.n);
                 self.restart = Some(Restart { kind, phase: RestartPhase::Searched, found });
             }

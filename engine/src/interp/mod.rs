@@ -388,6 +388,47 @@ pub struct State {
     /// Line and N of the block being executed, for alarms.
     line: u32,
     n: Option<u32>,
+    /// The block executed last may have changed the state of [`ModalPart`] beyond the motion
+    /// group and F (`State::moves_only`): a controller keeps a copy of it.
+    modal_part_changed: bool,
+}
+
+/// What a block leaves in force for the blocks after it, besides data (variables, offsets,
+/// counters): modal codes and words, the programming transforms, G52/G92 shifts, the tool
+/// length vector, canned cycle data, the 5-axis modes (F is the executed block's modal state's).
+/// The controller keeps one per block read
+/// ahead that changed it, so that a reset leaves the state of the block the machine executed,
+/// not the read-ahead's ([`State::restore_executed`], `docs/motion.md`, "Reading ahead").
+#[derive(Debug, Clone)]
+pub struct ModalPart {
+    modes: [u16; GROUPS],
+    wcs_p: u16,
+    s: f64,
+    t: u32,
+    tool_in_spindle: u32,
+    h: u32,
+    d: u32,
+    e: f64,
+    spindle: crate::canon::SpindleState,
+    look_ahead: bool,
+    pocket_r: Option<f64>,
+    expr: ExprSettings,
+    pos: Pos,
+    xf: frames::Transforms,
+    local: Pos,
+    shift: Pos,
+    tool_vec: Pos,
+    length_cancelled: bool,
+    cycle: CycleData,
+    last_g28_mid: Pos,
+    five: modes::FiveAxisModes,
+    tcp: Option<tcp::Tcp>,
+    table_crc: Option<table_crc::TableCrc>,
+    follow_machine: Option<Pos>,
+    plane: Option<crate::geom::Rigid>,
+    definition: plane::Definition,
+    dwo_due: u8,
+    wse: Option<wse::Active>,
 }
 
 /// A loaded set of programs and the state that runs them.
@@ -751,8 +792,98 @@ impl State {
             cutter_vector: false,
             line: 0,
             n: None,
+            modal_part_changed: false,
             cfg,
         }
+    }
+
+    /// The state a block leaves in force besides data ([`ModalPart`]).
+    pub fn modal_part(&self) -> ModalPart {
+        ModalPart {
+            modes: self.modes,
+            wcs_p: self.wcs_p,
+            s: self.s,
+            t: self.t,
+            tool_in_spindle: self.tool_in_spindle,
+            h: self.h,
+            d: self.d,
+            e: self.e,
+            spindle: self.spindle,
+            look_ahead: self.look_ahead,
+            pocket_r: self.pocket_r,
+            expr: self.expr,
+            pos: self.pos,
+            xf: self.xf.clone(),
+            local: self.local,
+            shift: self.shift,
+            tool_vec: self.tool_vec,
+            length_cancelled: self.length_cancelled,
+            cycle: self.cycle,
+            last_g28_mid: self.last_g28_mid,
+            five: self.five,
+            tcp: self.tcp.clone(),
+            table_crc: self.table_crc.clone(),
+            follow_machine: self.follow_machine,
+            plane: self.plane,
+            definition: self.definition,
+            dwo_due: self.dwo_due,
+            wse: self.wse,
+        }
+    }
+
+    /// The block executed last may have changed [`ModalPart`] beyond the motion group and F.
+    pub fn modal_part_changed(&self) -> bool {
+        self.modal_part_changed
+    }
+
+    /// Before a reset with blocks read ahead of the machine: the state in force becomes the
+    /// executed block's again — `part` (left by it, or by the last block before it that changed
+    /// more than the motion group and F) with the motion group and F of `executed`, the
+    /// executed block's modal state. Data stays as read: variables (macro statements run when
+    /// read, as in FANUC's buffering), offsets, counters. The current point is set again from
+    /// the machine afterwards ([`Interpreter::moved_to`]).
+    pub fn restore_executed(&mut self, part: &ModalPart, executed: &ModalState) {
+        // Every field named (no `..`): a field added to `ModalPart` must be restored here.
+        let ModalPart {
+            modes,
+            wcs_p,
+            s,
+            t,
+            tool_in_spindle,
+            h,
+            d,
+            e,
+            spindle,
+            look_ahead,
+            pocket_r,
+            expr,
+            pos,
+            xf,
+            local,
+            shift,
+            tool_vec,
+            length_cancelled,
+            cycle,
+            last_g28_mid,
+            five,
+            tcp,
+            table_crc,
+            follow_machine,
+            plane,
+            definition,
+            dwo_due,
+            wse,
+        } = part.clone();
+        (self.modes, self.wcs_p, self.s, self.t, self.tool_in_spindle) = (modes, wcs_p, s, t, tool_in_spindle);
+        (self.h, self.d, self.e, self.spindle, self.look_ahead) = (h, d, e, spindle, look_ahead);
+        (self.pocket_r, self.expr, self.pos, self.xf, self.local) = (pocket_r, expr, pos, xf, local);
+        (self.shift, self.tool_vec, self.length_cancelled, self.cycle) = (shift, tool_vec, length_cancelled, cycle);
+        (self.last_g28_mid, self.five, self.tcp, self.table_crc) = (last_g28_mid, five, tcp, table_crc);
+        (self.follow_machine, self.plane, self.definition) = (follow_machine, plane, definition);
+        (self.dwo_due, self.wse) = (dwo_due, wse);
+        // The blocks after `part` that did not change it changed only these.
+        self.modes[group::MOTION] = executed.modes[group::MOTION];
+        self.f = executed.words.f;
     }
 
     /// The index of the axis an address letter names, if the machine has it.
@@ -993,6 +1124,9 @@ impl State {
         let idx = frame.pc;
         frame.pc += 1;
         let prog_idx = frame.prog;
+        // Macro statements, control flow and calls change data only; an NC block says
+        // (`nc::exec_words`).
+        self.modal_part_changed = false;
         let block = prog.block(idx);
         self.line = block.line;
         self.n = block.n;
@@ -1048,6 +1182,7 @@ impl State {
                 }
             }
             BlockKind::IfWords { cond, words } => {
+                self.modal_part_changed = true;
                 // Haas NGC's conditional M99 (`docs/dialects.md`, "Subprograms and macros"):
                 // M99 P<n> branches only when the condition holds. No other dialect has the form
                 // (a block cannot start with '[' there), and no other words may follow it.

@@ -375,7 +375,10 @@ impl State {
         let (first, depth) = (out.len(), self.frames.len());
         let offset_mode = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
         let machine_before = offset_mode.then(|| self.machine_position());
+        let in_cycle = self.modes[group::CYCLE] != code::G80;
+        self.modal_part_changed = true;
         self.nc_words(progs, by_number, &w, block, out)?;
+        self.modal_part_changed = in_cycle || self.modes[group::CYCLE] != code::G80 || !self.moves_only(&w);
         if out[first..].iter().any(|c| matches!(c.kind, CanonKind::Motion(_))) {
             self.cutter_vector = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
         }
@@ -383,6 +386,17 @@ impl State {
             self.count_without_motion(&w, first, depth, &before, out);
         }
         Ok(())
+    }
+
+    /// The block only moves (G00–G03, F, axis words, an arc's I/J/K/R): of the state a reset
+    /// keeps (`ModalPart`) it changed only the motion group, F and the current point.
+    fn moves_only(&self, w: &Words) -> bool {
+        let arc = matches!(self.modes[group::MOTION], code::G02 | code::G03);
+        w.gcodes().iter().all(|g| matches!(*g, code::G00 | code::G01 | code::G02 | code::G03))
+            && w.mcodes().is_empty()
+            && w.letters().all(|l| {
+                matches!(l, b'G' | b'F') || self.axis_of(l).is_some() || arc && matches!(l, b'I' | b'J' | b'K' | b'R')
+            })
     }
 
     /// In offset mode (before and after the block) the control reads a few blocks ahead to place

@@ -443,6 +443,11 @@ impl State {
                     3000 => return Err(macro_alarm(value, block)),
                     3001 => self.timer_ms_base = self.clock_s * 1000.0 - v,
                     3002 => self.timer_h_base = self.clock_s / 3600.0 - v,
+                    // #3003 (single block stop, wait for FIN) and #3004 (feed hold, feed
+                    // override, exact stop check) suppressed for the blocks after: not built, so
+                    // a value that would suppress anything is refused, not stored and ignored
+                    // (audit ops F5, `docs/dialects.md`, "Functions not built"); 0 keeps all.
+                    3003 | 3004 if v != 0.0 => return Err(AlarmId::VariableOutOfRange),
                     3003 => self.sys3003 = v,
                     3004 => self.sys3004 = v,
                     3006 => {

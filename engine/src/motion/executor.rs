@@ -829,6 +829,27 @@ impl Executor {
         true
     }
 
+    /// Single block switched on under way: every block end in what is queued and not released
+    /// becomes an exact stop, from the first the machine can still stop at coming at the speed
+    /// the queue is entered with (the run under way is final, `ARCHITECTURE.md`, invariants).
+    pub fn stop_at_block_ends(&mut self) {
+        let v = self.current.as_ref().map_or(self.planner.speed(), |c| c.planned.profile.end_speed());
+        let mut queued = self.planner.take_all();
+        if queued.is_empty() {
+            return;
+        }
+        let need = Profile::stop(v, 0.0, &stop_limits(&queued, v, 0.0)).len();
+        let mut s = 0.0;
+        for k in 0..queued.len() - 1 {
+            s += queued[k].len;
+            if queued[k + 1].block != queued[k].block && s >= need - 1e-9 {
+                queued[k].stop_after = true;
+            }
+        }
+        self.planner.continue_at(v);
+        self.requeue(queued);
+    }
+
     /// After a stop or a speed change that ended at `speed` with `rest` of the path ahead:
     /// queue the rest again, moving on at that speed.
     pub fn resume(&mut self, rest: Vec<Segment>, speed: f64) {

@@ -794,3 +794,116 @@ fn the_tilted_plane_shown_is_the_executing_blocks() {
     );
     assert_eq!(c.plane(), None);
 }
+
+/// MDI `text` run to its end on a controller that stands idle.
+fn mdi(c: &mut Controller, text: &str) {
+    c.set_mode(Mode::Mdi).unwrap();
+    c.set_mdi(text).unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(c, 60.0);
+    assert_eq!(c.run_state(), RunState::Idle);
+}
+
+/// Tick until the executing line is `line` (the interpreter has read far beyond it).
+fn run_to_line(c: &mut Controller, line: u32) {
+    while c.point().line < line && c.time() < 60.0 {
+        c.tick(TICK);
+    }
+    assert_eq!(c.point().line, line);
+}
+
+/// Audit ops F1: a reset drops the blocks read ahead, and what they would have put in force with
+/// them: the G55 read behind the G01 never became the work system, so the MDI's X0 Y0 Z0 is the
+/// G54 zero (machine 0, 0, 0), not G55's (X−100 Z−50).
+#[test]
+fn a_reset_leaves_the_executed_blocks_work_system_not_the_read_aheads() {
+    use fivex_engine::interp::gcode::{display, group};
+    let mut c = controller();
+    *c.interpreter_mut().state.offsets.work_mut(2) = [-100.0, 0.0, -50.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    c.select_program("G90 G54 G01 X50. F600.\nG55\nG00 X0 Y0 Z0\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    c.tick(1.0);
+    assert_eq!(c.point().line, 1);
+    assert_eq!(display(c.interpreter().state.modal(group::WORK_SYSTEM)), "G55", "read ahead: the test proves nothing");
+    c.reset();
+    c.tick(1.0);
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert_eq!(display(c.modal().modal(group::WORK_SYSTEM)), "G54");
+    let p = c.point();
+    assert!((p.work[0] - p.machine[0]).abs() < 1e-9 && (p.work[2] - p.machine[2]).abs() < 1e-9, "{p:?}");
+    mdi(&mut c, "G00 X0 Y0 Z0\n");
+    assert_eq!(&c.point().machine[..3], &[0.0, 0.0, 0.0]);
+}
+
+/// Audit ops F1: G68 and G91 read ahead and dropped by a reset are not in force after it: the
+/// MDI `G01 X20.` goes to X20 Y0 (absolute, not rotated).
+#[test]
+fn a_reset_leaves_the_executed_blocks_distance_mode_and_rotation() {
+    let mut c = started("G90 G01 X50. F600.\nG68 X0 Y0 R90.\nG91\nG01 X100.\nM30\n");
+    c.tick(1.0);
+    assert_eq!(c.point().line, 1);
+    c.reset();
+    c.tick(1.0);
+    assert_eq!(c.run_state(), RunState::Idle);
+    mdi(&mut c, "G01 X20. F6000.\n");
+    let m = c.point().machine;
+    assert!((m[0] - 20.0).abs() < 1e-9 && m[1].abs() < 1e-9, "{m:?}");
+}
+
+/// The 40 short blocks of audit ops F2 (t9.py): `G01 X0/50. Y<i>. F3000.`, line i + 1.
+fn zigzag() -> String {
+    let mut p = String::from("G90 G00 X0 Y0\n");
+    for i in 1..=40 {
+        p += &format!("G01 X{}. Y{i}. F3000.\n", if i % 2 == 1 { 50 } else { 0 });
+    }
+    p + "M30\n"
+}
+
+/// Where line `line` of `zigzag` ends.
+fn zigzag_end(line: u32) -> [f64; 2] {
+    let i = line - 1;
+    [if i % 2 == 1 { 50.0 } else { 0.0 }, i as f64]
+}
+
+/// Audit ops F2: single block switched on during a run stops at the end of the block executing
+/// (or the next block end, if the machine cannot stop before it), not after the look-ahead's
+/// blocks; each cycle start then runs one block.
+#[test]
+fn single_block_switched_on_under_way_stops_at_the_next_block_end() {
+    use fivex_engine::controller::ProgramStop;
+    let mut c = started(&zigzag());
+    run_to_line(&mut c, 4);
+    c.panel.single_block = true;
+    run_until_stopped(&mut c, 60.0);
+    assert_eq!(c.program_stop(), Some(ProgramStop::SingleBlock));
+    let line = c.point().line;
+    assert!((4..=5).contains(&line), "stopped at line {line}");
+    let m = c.point().machine;
+    assert_eq!([m[0], m[1]], zigzag_end(line));
+    for next in line + 1..line + 3 {
+        c.cycle_start().unwrap();
+        run_until_stopped(&mut c, 60.0);
+        assert_eq!(c.program_stop(), Some(ProgramStop::SingleBlock));
+        let m = c.point().machine;
+        assert_eq!((c.point().line, [m[0], m[1]]), (next, zigzag_end(next)));
+    }
+}
+
+/// Audit ops F2 (t14.py): feed hold, single block on, cycle start: the held block is finished
+/// and the machine stops at its end.
+#[test]
+fn feed_hold_then_single_block_then_cycle_start_runs_the_held_block_and_stops() {
+    use fivex_engine::controller::ProgramStop;
+    let mut c = started(&zigzag());
+    run_to_line(&mut c, 4);
+    c.feed_hold();
+    c.tick(0.5);
+    assert_eq!(c.run_state(), RunState::Hold);
+    c.panel.single_block = true;
+    c.tick(0.1);
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 60.0);
+    assert_eq!(c.program_stop(), Some(ProgramStop::SingleBlock));
+    let m = c.point().machine;
+    assert_eq!((c.point().line, [m[0], m[1]]), (4, zigzag_end(4)));
+}

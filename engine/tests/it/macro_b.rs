@@ -1021,3 +1021,15 @@ M99
     assert_eq!(lines, vec![2, 11, 5, 6]);
     assert_near(&feeds, &[254.0, 1270.0, 254.0, 2.0], "feeds of lines 2, 11, 5, 6 (mm/min; G93 1/min)");
 }
+
+/// Audit ops F5: `#3003` (single block stop, FIN wait) and `#3004` (feed hold, feed override,
+/// exact stop check) suppression are not built: a value that would suppress anything is
+/// refused at its block (the value was stored, and the operator's stops and overrides still
+/// acted); 0, everything in effect, is what fivex does and is taken.
+#[test]
+fn suppressing_single_block_or_feed_hold_by_3003_3004_is_refused_not_ignored() {
+    alarms("G01 X10. F600.\n#3004=3\nG01 X100.\nM30\n", "PS0115", "COR-021");
+    alarms("#3003=1\nG01 X10. F600.\nM30\n", "PS0115", "COR-021");
+    assert_eq!(alarm_with("#3004=4\nM30\n", Dialect::Haas), "503");
+    assert_eq!(val("#3003=0\n#3004=0\n#100=#3003+#3004+1\nM30\n", 100), 1.0);
+}
