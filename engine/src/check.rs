@@ -29,7 +29,7 @@ use crate::interp::modes::syntec_improper_address;
 use crate::interp::unbuilt::{self, Word};
 use crate::interp::{Interpreter, Loaded, Step};
 use crate::lang::Word as NcWord;
-use crate::lang::{BlockKind, Diagnostic, Expr, File, WordValue};
+use crate::lang::{BinOp, BlockKind, Diagnostic, Expr, File, Output, PrintItem, WordValue};
 use crate::motion::{Endpoint, Executor};
 use std::collections::HashSet;
 
@@ -51,12 +51,18 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     "DO/END: unmatched, crossing, or a loop number other than 1–3".into(),
                 ));
             }
+            if dialect == Dialect::Syntec {
+                syntec_expressions(&block.kind, |id, detail| diags.push(at(block.col, id, detail)));
+            }
             match &block.kind {
-                BlockKind::Goto(Expr::Num(n)) | BlockKind::IfGoto { target: Expr::Num(n), .. }
+                BlockKind::Goto(Expr::Num { value: n, .. })
+                | BlockKind::IfGoto { target: Expr::Num { value: n, .. }, .. }
                     if loaded.find_label(*n as u32, i).is_none() =>
                 {
                     diags.push(at(block.col, AlarmId::IllegalSequenceNumber, format!("no block N{n} in this program")));
                 }
+                // Syntec's text fivex does not perform (`%@MACRO`, `(*` without `*)`, ALARM(…)…).
+                BlockKind::SyntecOnly(s) => diags.extend(s.refusal(dialect).cloned()),
                 // `[cond] M99 P<n>`: the Haas NGC's conditional M99 (`interp::exec`).
                 BlockKind::IfWords { .. } if dialect != Dialect::Haas => {
                     diags.push(at(block.col, AlarmId::Syntax, "unexpected '['".into()));
@@ -308,6 +314,86 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
     }
     diags.sort_by_key(|d| (d.line, d.col));
     diags
+}
+
+/// Syntec: what a block's expressions show that the run refuses (`docs/dialects.md`, "The
+/// Syntec macro language"): a variable of a number whose Syntec meaning is not fivex's
+/// (`interp::vars::syntec_differs`; #100–#199, refused in a macro call only, are left to the
+/// run: a program may be called by M98 and by G65), and a `/` of two literal numbers that
+/// Syntec would divide as integers (`interp::expr::syntec_division_differs`).
+fn syntec_expressions(kind: &BlockKind, mut report: impl FnMut(AlarmId, String)) {
+    let mut visit = |e: &Expr| match e {
+        Expr::Var(n) if crate::interp::vars::syntec_differs(*n, false) => report(
+            AlarmId::VariableOutOfRange,
+            format!("#{n} has another meaning on a Syntec control (not built in fivex)"),
+        ),
+        Expr::Binary(BinOp::Div, a, b) => {
+            if let (Some(x), Some(y)) = (literal_number(a), literal_number(b)) {
+                if crate::interp::expr::syntec_division_differs(a, Some(x), b, Some(y)) {
+                    report(
+                        AlarmId::AddressNotBuilt,
+                        format!("{x}/{y}: Syntec's integer division is not built in fivex"),
+                    );
+                }
+            }
+        }
+        _ => {}
+    };
+    for e in block_expressions(kind) {
+        walk(e, &mut visit);
+    }
+}
+
+/// A number as written, also signed or bracketed (`-7`, `[2]`).
+fn literal_number(e: &Expr) -> Option<f64> {
+    match e {
+        Expr::Num { value, .. } => Some(*value),
+        Expr::Neg(inner) => literal_number(inner).map(|v| -v),
+        Expr::Bracket(inner) => literal_number(inner),
+        _ => None,
+    }
+}
+
+/// Every expression of a block, assignment targets included.
+fn block_expressions(kind: &BlockKind) -> Vec<&Expr> {
+    fn words(w: &[NcWord]) -> Vec<&Expr> {
+        w.iter()
+            .filter_map(|w| match &w.value {
+                WordValue::Expr(e) => Some(&**e),
+                WordValue::Number { .. } => None,
+            })
+            .collect()
+    }
+    match kind {
+        BlockKind::Assign { var, value } => vec![var, value],
+        BlockKind::IfGoto { cond, target } => vec![cond, target],
+        BlockKind::IfThen { cond, var, value } => vec![cond, var, value],
+        BlockKind::IfWords { cond, words: w } => [vec![cond], words(w)].concat(),
+        BlockKind::Goto(target) => vec![target],
+        BlockKind::Do { cond: Some(cond), .. } => vec![cond],
+        BlockKind::Words(w) => words(w),
+        BlockKind::Output(Output::Print(items) | Output::BinaryPrint(items)) => items
+            .iter()
+            .filter_map(|i| match i {
+                PrintItem::Var { var, .. } => Some(var),
+                PrintItem::Text(_) => None,
+            })
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// `e` and every expression inside it, outermost first.
+fn walk(e: &Expr, visit: &mut impl FnMut(&Expr)) {
+    visit(e);
+    match e {
+        Expr::IndirectVar(inner) | Expr::Neg(inner) | Expr::Bracket(inner) | Expr::Func(_, inner) => walk(inner, visit),
+        Expr::Binary(_, a, b) | Expr::Func2(_, a, b) => {
+            walk(a, visit);
+            walk(b, visit);
+        }
+        Expr::Num { .. } | Expr::Var(_) => {}
+    }
 }
 
 /// Haas: what the modes refuse that the text shows, reading the program's blocks in order (a

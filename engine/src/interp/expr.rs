@@ -22,6 +22,9 @@ pub struct ExprSettings {
     /// address, the address's least input increment (1000 for 0.001 mm), as FANUC's ROUND in
     /// NC statement addresses does. 0 reads as 1.
     pub round_steps: f64,
+    /// The Syntec dialect: a division whose answer Syntec's integer division may change is
+    /// refused ([`syntec_division_differs`]).
+    pub syntec_division: bool,
 }
 
 /// `x` rounded half away from zero to a multiple of `1 / steps` (steps 1000: 0.001). A value
@@ -50,15 +53,17 @@ pub fn var_number(v: Value) -> Result<u32, AlarmId> {
 
 pub fn eval(e: &Expr, vars: &impl Variables, s: &ExprSettings) -> Result<Value, AlarmId> {
     Ok(match e {
-        Expr::Num(x) => Some(*x),
+        Expr::Num { value, .. } => Some(*value),
         Expr::Var(n) => vars.read(*n)?,
         Expr::IndirectVar(inner) => vars.read(var_number(eval(inner, vars, s)?)?)?,
         Expr::Bracket(inner) => eval(inner, vars, s)?,
         Expr::Neg(inner) => eval(inner, vars, s)?.map(|x| -x),
         Expr::Binary(op, a, b) => {
-            let a = eval(a, vars, s)?;
-            let b = eval(b, vars, s)?;
-            Some(finite(binary(*op, a, b)?)?)
+            let (x, y) = (eval(a, vars, s)?, eval(b, vars, s)?);
+            if *op == BinOp::Div && s.syntec_division && syntec_division_differs(a, x, b, y) {
+                return Err(AlarmId::AddressNotBuilt);
+            }
+            Some(finite(binary(*op, x, y)?)?)
         }
         Expr::Func(f, a) => Some(finite(func(*f, eval(a, vars, s)?.unwrap_or(0.0), s)?)?),
         Expr::Func2(f, a, b) => {
@@ -67,6 +72,33 @@ pub fn eval(e: &Expr, vars: &impl Variables, s: &ExprSettings) -> Result<Value, 
             Some(finite(func2(*f, a, b, s)?)?)
         }
     })
+}
+
+/// Whether Syntec's `/` may answer otherwise than fivex's: Syntec divides two integers (numbers
+/// written without a decimal point, and their results) as integers and truncates (the Syntec
+/// MACRO syntax handbook, §3.4: `1 / 2` is 0, `1. / 2` is 0.5), fivex has no integer type. So:
+/// both values whole, their quotient not (a zero divisor is the zero divide alarm), and neither
+/// operand a number written with a decimal point — a variable's or an expression's type fivex
+/// cannot tell (`docs/dialects.md`, "The Syntec macro language").
+pub fn syntec_division_differs(a: &Expr, x: Value, b: &Expr, y: Value) -> bool {
+    let (x, y) = (x.unwrap_or(0.0), y.unwrap_or(0.0));
+    let quotient = x / y;
+    x.fract() == 0.0
+        && y.fract() == 0.0
+        && quotient.is_finite()
+        && quotient.fract() != 0.0
+        && !written_with_point(a)
+        && !written_with_point(b)
+}
+
+/// A number written with a decimal point, also signed or bracketed (`-7.`, `[7.]`): a real to
+/// Syntec whatever the other operand is.
+fn written_with_point(e: &Expr) -> bool {
+    match e {
+        Expr::Num { decimal_point, .. } => *decimal_point,
+        Expr::Neg(inner) | Expr::Bracket(inner) => written_with_point(inner),
+        _ => false,
+    }
 }
 
 /// Evaluate a condition (IF, WHILE): true when the value is non-zero.

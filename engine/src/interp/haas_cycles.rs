@@ -419,6 +419,8 @@ impl State {
             }
             let words = match &block.kind {
                 BlockKind::Empty => continue,
+                // Syntec's text (`%@MACRO`, a `(*` comment) is nothing in the Haas dialect.
+                BlockKind::SyntecOnly(s) if s.others.is_none() => continue,
                 BlockKind::Words(words) => words,
                 _ => return Err(bad),
             };

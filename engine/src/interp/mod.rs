@@ -31,7 +31,7 @@ mod smoothing;
 mod table_crc;
 mod tcp;
 pub mod unbuilt;
-mod vars;
+pub(crate) mod vars;
 mod wse;
 
 use crate::alarm::{Alarm, AlarmId};
@@ -479,16 +479,20 @@ impl Interpreter {
                 _ => self.progs.push(Loaded::new_open(first).into()),
             }
         }
+        let mut carried = Vec::new();
         if programs.peek().is_some() {
-            // Comments before the first O number were a header, not a program.
+            // Comments before the first O number were a header, not a program; the Syntec
+            // dialect's refusals among them go on to the program (as `lang::parse_part` does).
             if self.progs.len() == 1 && self.state.frames.is_empty() && self.progs[0].is_header() {
-                self.progs.clear();
+                let header = self.progs.remove(0);
+                carried = header.blocks().filter(|b| matches!(b.kind, BlockKind::SyntecOnly(_))).cloned().collect();
             }
             if let Some(last) = self.progs.last_mut() {
                 last.finish();
             }
         }
-        for p in programs {
+        for mut p in programs {
+            p.blocks.splice(0..0, std::mem::take(&mut carried));
             if let Some(last) = self.progs.last_mut() {
                 last.finish();
             }
@@ -534,6 +538,12 @@ impl Interpreter {
         self.by_number = fresh.by_number;
         self.complete = true;
         self.reset();
+        if self.state.cfg.dialect == Dialect::Syntec {
+            // #100–#199 are the main program's local variables on a Syntec control (vacant at
+            // each start; the Syntec MACRO syntax handbook, §2.1, §2.3), fivex's common ones,
+            // which keep their value: a run must not read the last run's.
+            *self.state.common = [None; COMMON];
+        }
         self.state.ended = self.progs.is_empty();
         self.start_main();
     }
@@ -701,7 +711,8 @@ impl Interpreter {
 
 impl State {
     fn new(cfg: Config) -> State {
-        let expr = ExprSettings { nat: cfg.nat, increment: 0.001, round_steps: 1.0 };
+        let syntec_division = cfg.dialect == Dialect::Syntec;
+        let expr = ExprSettings { nat: cfg.nat, increment: 0.001, round_steps: 1.0, syntec_division };
         let mut axis_by_letter = [NO_AXIS; 26];
         for (i, axis) in cfg.machine.axes.iter().enumerate() {
             if axis.name.is_ascii_uppercase() {
@@ -1155,7 +1166,7 @@ impl State {
         out: &mut Vec<Canon>,
     ) -> Result<(), AlarmId> {
         let prog = &progs[prog_idx];
-        if !matches!(block.kind, BlockKind::Words(_) | BlockKind::Empty) {
+        if !matches!(block.kind, BlockKind::Words(_) | BlockKind::Empty | BlockKind::SyntecOnly(_)) {
             // Under G187 a macro statement or a branch between two moves keeps their corner
             // exact: what is held moves first (`corner_blend`).
             self.blend_flush(out)?;
@@ -1164,6 +1175,11 @@ impl State {
         match &block.kind {
             BlockKind::Empty => {}
             BlockKind::Error(d) => return Err(d.id.clone()),
+            BlockKind::SyntecOnly(s) => {
+                if let Some(d) = s.refusal(self.cfg.dialect) {
+                    return Err(d.id.clone());
+                }
+            }
             BlockKind::Assign { var, value } => {
                 let number = self.target_number(var)?;
                 let v = eval(value, self, &self.expr)?;

@@ -99,6 +99,7 @@ fn reaches_beyond(block: &Block) -> bool {
     use crate::lang::{Expr, WordValue};
     match &block.kind {
         BlockKind::Empty | BlockKind::Error(_) | BlockKind::Assign { .. } | BlockKind::IfThen { .. } => false,
+        BlockKind::SyntecOnly(_) => false,
         BlockKind::Output(_) => false,
         BlockKind::Goto(_) | BlockKind::IfGoto { .. } | BlockKind::Do { .. } | BlockKind::End { .. } => true,
         BlockKind::IfWords { .. } => true,
@@ -110,7 +111,7 @@ fn reaches_beyond(block: &Block) -> bool {
                 // Haas G150 reads its outline from another block or program.
                 super::gcode::code_of(*value).is_some_and(|c| code::MACRO_CALLS.contains(&c) || c == code::G150)
             }
-            (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num(_)),
+            (b'M' | b'G', WordValue::Expr(e)) => !matches!(**e, Expr::Num { .. }),
             _ => false,
         }),
     }

@@ -294,16 +294,23 @@ pub fn address(letter: u8, dialect: Dialect) -> Option<&'static str> {
     }
 }
 
-/// A word of a subprogram call block (M98/M198) that asks for a form of the call fivex does not
-/// carry out in `dialect`. Syntec: H, which Autodesk's SYIL/Syntec post writes as `M98 H<n>` to
-/// call the subprogram it puts after M30 as the block N<n> of the same program; no Syntec
-/// source among fivex's references describes the form, and read as a tool length offset (as
-/// it is in any other block) it would change the tool length (`docs/dialects.md`, "Functions
-/// not built").
+/// A word of a subprogram call or return block (M98/M198, M99) that asks for a form of the call
+/// fivex does not carry out in `dialect` (`docs/dialects.md`, "Functions not built"). Syntec:
+/// - H of M98/M198, which Autodesk's SYIL/Syntec post writes as `M98 H<n>` to call the
+///   subprogram it puts after M30 as the block N<n> of the same program; no Syntec source among
+///   fivex's references describes the form, and read as a tool length offset (as it is in any
+///   other block) it would change the tool length;
+/// - Q of M99, the return to a line number of the caller (the Syntec MACRO syntax handbook,
+///   §5.2); fivex ignored Q and returned to the block after the call.
 pub fn call_address(m: u32, letter: u8, dialect: Dialect) -> Option<&'static str> {
-    use crate::interp::mcode::SUBPROGRAM_CALLS;
-    (dialect == Dialect::Syntec && SUBPROGRAM_CALLS.contains(&m) && letter == b'H')
-        .then_some("subprogram call of a sequence number (M98 H)")
+    use crate::interp::mcode::{M99, SUBPROGRAM_CALLS};
+    match (dialect, letter) {
+        (Dialect::Syntec, b'H') if SUBPROGRAM_CALLS.contains(&m) => {
+            Some("subprogram call of a sequence number (M98 H)")
+        }
+        (Dialect::Syntec, b'Q') if m == M99 => Some("return to a line number (M99 Q)"),
+        _ => None,
+    }
 }
 
 /// A Haas M code that changes what the program does next from a machine state fivex does not

@@ -30,8 +30,9 @@ enum Slot {
     HaasGroup(u32),
     /// Haas: #5201–#5206, the G52 offset (fivex's local coordinate system), read only.
     HaasG52(usize),
-    /// A variable the NGC has but fivex does not model (`haas_slot`): refused when read or
-    /// written, never a silent value.
+    /// A variable the dialect's control has but fivex does not model (`haas_slot`), or has with
+    /// another meaning than fivex's (`syntec_differs`): refused when read or written, never a
+    /// silent value.
     NotModelled,
 }
 
@@ -140,6 +141,21 @@ fn haas_slot(n: u32, axes: usize) -> Slot {
     }
 }
 
+/// Syntec: the numbers whose meaning on a Syntec control is not the one fivex gives them
+/// (FANUC's), after the Syntec MACRO syntax handbook (§2.1, §2.3, §2.6, §1.10; `docs/dialects.md`,
+/// "The Syntec macro language"): #100–#199 in a macro call (G65/G66: Syntec's local variables
+/// of that call, fivex's common ones; the main program's and its M98 subprograms' are alike),
+/// #1000–#3100 (Syntec's modal state, #1000 the interpolation mode, #1004 G90/G91, and modal
+/// variables #1080–#3100; fivex's interface signals, tool offsets, #3000 alarm, timers) and
+/// #4001–#5500 (Syntec's user parameters; fivex's modal codes, positions, work offsets).
+pub(crate) fn syntec_differs(n: u32, in_macro_call: bool) -> bool {
+    match n {
+        100..=199 => in_macro_call,
+        1000..=3100 | 4001..=5500 => true,
+        _ => false,
+    }
+}
+
 /// The NGC's modal groups as fivex's (FANUC's numbers): the same but the work offsets, which
 /// the NGC calls group 12 (FANUC's 12 is the modal macro call, which the NGC does not have).
 fn haas_group(g: u32) -> Option<usize> {
@@ -155,6 +171,7 @@ impl State {
         let axes = self.cfg.machine.axes.len();
         match self.cfg.dialect {
             crate::Dialect::Haas => haas_slot(n, axes),
+            crate::Dialect::Syntec if syntec_differs(n, self.level() > 0) => Slot::NotModelled,
             _ => slot(n, axes),
         }
     }

@@ -78,6 +78,30 @@ pub enum BlockKind {
     Output(Output),
     /// A block that could not be parsed; raising its alarm is deferred until it is executed.
     Error(Diagnostic),
+    /// Text the Syntec controller reads with a meaning fivex does not perform
+    /// (`docs/dialects.md`, "The Syntec macro language"): refused in the Syntec dialect, read
+    /// as before in the others.
+    SyntecOnly(Box<SyntecOnly>),
+}
+
+/// What a [`BlockKind::SyntecOnly`] block is in each dialect.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SyntecOnly {
+    /// The Syntec dialect's refusal: not built, naming the function.
+    pub syntec: Diagnostic,
+    /// What the FANUC and Haas dialects read there: nothing (a `%` line, a comment), or a block
+    /// they refuse with this diagnostic (`ALARM(…)`: the address A without a value).
+    pub others: Option<Diagnostic>,
+}
+
+impl SyntecOnly {
+    /// The diagnostic `dialect` raises at the block, if any.
+    pub fn refusal(&self, dialect: crate::dialect::Dialect) -> Option<&Diagnostic> {
+        match dialect {
+            crate::dialect::Dialect::Syntec => Some(&self.syntec),
+            _ => self.others.as_ref(),
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -128,7 +152,12 @@ pub enum WordValue {
 /// Expressions. Variables are read when the expression is evaluated.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expr {
-    Num(f64),
+    /// A number and whether it was written with a decimal point (Syntec's division tells an
+    /// integer by it, `interp::expr::syntec_division_differs`).
+    Num {
+        value: f64,
+        decimal_point: bool,
+    },
     /// `#n` with a literal number (the common, fast case).
     Var(u32),
     /// `#[expr]`

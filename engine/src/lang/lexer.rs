@@ -162,6 +162,24 @@ impl<'a> Lexer<'a> {
         (named && rest.clone().next() == Some(&b'[')).then(|| String::from_utf8_lossy(&t[..len]).to_ascii_uppercase())
     }
 
+    /// The Syntec statement at column `col` that fivex does not have: `ALARM`, `MSG`, `SLEEP` or
+    /// `WAIT` followed by `(`, or `EXIT` alone; its name as Syntec writes it (the handbook's
+    /// §1.10, §4.9). `(` opens a comment for fivex, so such a block read as FANUC text is an
+    /// address without a value.
+    pub fn syntec_statement_at(&self, col: u32) -> Option<&'static str> {
+        const CALLS: [(&str, &str); 4] =
+            [("ALARM", "ALARM()"), ("MSG", "MSG()"), ("SLEEP", "SLEEP()"), ("WAIT", "WAIT()")];
+        let t = &self.text[(col.checked_sub(self.col0)? as usize).min(self.text.len())..];
+        let len = t.iter().position(|c| !c.is_ascii_alphabetic()).unwrap_or(t.len());
+        let name = &t[..len];
+        let next = t[len..].iter().find(|c| !matches!(c, b' ' | b'\t' | b'\r'));
+        match next {
+            Some(b'(') => CALLS.iter().find(|(n, _)| name.eq_ignore_ascii_case(n.as_bytes())).map(|(_, shown)| *shown),
+            None | Some(b';') if name.eq_ignore_ascii_case(b"EXIT") => Some("EXIT"),
+            _ => None,
+        }
+    }
+
     /// The digits of the number at column `col` that count towards an address's limit
     /// ([`increment_digits`]: `X1234567.` has ten, `X12.3456789` five).
     pub fn digits_at(&self, col: u32) -> usize {

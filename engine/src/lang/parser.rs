@@ -38,9 +38,17 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
         let line_no = first_line + idx as u32;
         file.lines = idx as u32 + 1;
         let trimmed = trim_start(line);
-        if trimmed.is_empty() || trimmed.starts_with('%') {
+        if trimmed.is_empty() {
             continue;
         }
+        if trimmed.starts_with('%') {
+            // `%` lines delimit the file and are ignored, but for Syntec's `%@MACRO`.
+            if let Some(block) = macro_format(trimmed, line_no, (line.len() - trimmed.len()) as u32 + 1) {
+                current.get_or_insert_with(|| new_program(None, line_no)).blocks.push(block);
+            }
+            continue;
+        }
+        let mut block_comment = unclosed_block_comment(line).map(|at| block_comment_refusal(line_no, at as u32 + 1));
         // A `;` ends a block; text after it on the same line is another block.
         let mut start = 0usize;
         while start < line.len() {
@@ -48,15 +56,25 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
             let mut col0 = start as u32 + 1;
             let mut rest = segment;
             if let Some((number, after)) = program_number(segment) {
+                let mut carried = Vec::new();
                 if let Some(p) = current.take() {
-                    // Comments before the first O number are a file header, not a program.
+                    // Comments before the first O number are a file header, not a program; the
+                    // Syntec dialect's refusals among them go on to the program.
                     if continues || !is_header(&p) {
                         file.programs.push(p);
+                    } else {
+                        carried = p.blocks.into_iter().filter(|b| matches!(b.kind, BlockKind::SyntecOnly(_))).collect();
                     }
                 }
-                current = Some(new_program(Some(number), line_no));
+                let mut program = new_program(Some(number), line_no);
+                program.blocks.extend(carried);
+                current = Some(program);
                 rest = &segment[after..];
                 col0 += after as u32;
+            }
+            // The whole line lies in Syntec's block comment: its refusal comes before its blocks.
+            if let Some(block) = block_comment.take() {
+                current.get_or_insert_with(|| new_program(None, line_no)).blocks.push(block);
             }
             let (block, next) = parse_block(rest, col0, line_no);
             if !is_blank(&block) {
@@ -82,9 +100,57 @@ pub fn is_header(p: &Program) -> bool {
     p.number.is_none() && p.blocks.iter().all(is_header_block)
 }
 
-/// A block a file header may hold: comments only.
+/// A block a file header may hold: comments only (Syntec's `%@MACRO` and block comments are
+/// nothing in the other dialects).
 pub fn is_header_block(b: &Block) -> bool {
-    b.kind == BlockKind::Empty && b.n.is_none()
+    let nothing = match &b.kind {
+        BlockKind::Empty => true,
+        BlockKind::SyntecOnly(s) => s.others.is_none(),
+        _ => false,
+    };
+    nothing && b.n.is_none()
+}
+
+/// A block the Syntec dialect refuses as not built at `line`, `col`, and the others read as
+/// nothing.
+fn syntec_only(line: u32, col: u32, detail: &str) -> Block {
+    let syntec = Diagnostic { line, col, id: AlarmId::AddressNotBuilt, detail: detail.into() };
+    let kind = BlockKind::SyntecOnly(Box::new(SyntecOnly { syntec, others: None }));
+    Block { line, col, block_delete: None, n: None, kind, comment: None }
+}
+
+/// Syntec's `%@MACRO` line (the Syntec MACRO syntax handbook, §1.1: a file whose first line it
+/// is runs in the MACRO format): fivex runs FANUC's custom macro B, whose text a MACRO-format
+/// file shares with other meanings (variable numbers, integer division, comments), so the
+/// Syntec dialect refuses the file there (`docs/dialects.md`, "The Syntec macro language").
+fn macro_format(trimmed: &str, line: u32, col: u32) -> Option<Block> {
+    let header = trimmed.as_bytes().get(..7).is_some_and(|h| h.eq_ignore_ascii_case(b"%@MACRO"));
+    header.then(|| syntec_only(line, col, "the Syntec MACRO-format file (%@MACRO) is not built in fivex"))
+}
+
+/// The block the Syntec dialect refuses at a `(*` whose `*)` is not on its line.
+fn block_comment_refusal(line: u32, col: u32) -> Block {
+    syntec_only(line, col, "the Syntec block comment (* … *) across lines is not built in fivex")
+}
+
+/// Where a Syntec block comment `(*` opens on `line` without its `*)` (the byte offset of the
+/// `(`): Syntec's MACRO format reads `(* … *)` across lines (handbook §4.10), fivex a comment to
+/// the first `)` or the line's end, and would run the lines after it.
+fn unclosed_block_comment(line: &str) -> Option<usize> {
+    let b = line.as_bytes();
+    let mut i = 0;
+    while let Some(k) = memchr::memchr(b'(', &b[i..]) {
+        let open = i + k;
+        let (close, len) = if b.get(open + 1) == Some(&b'*') { (&b"*)"[..], 2) } else { (&b")"[..], 1) };
+        let from = open + len;
+        match b[from..].windows(close.len()).position(|w| w == close) {
+            Some(c) => i = from + c + close.len(),
+            None if len == 2 => return Some(open),
+            // An ordinary comment unclosed runs to the end of the line.
+            None => return None,
+        }
+    }
+    None
 }
 
 /// A block with nothing in it at all (not even a comment) is not a block.
@@ -333,7 +399,10 @@ impl BlockParser<'_> {
                 self.lx.next_tok();
                 BlockKind::Output(Output::BinaryPrint(self.print_items(true)?))
             }
-            Tok::Letter(_) => BlockKind::Words(self.words()?),
+            Tok::Letter(_) => match self.lx.syntec_statement_at(col) {
+                Some(name) => return Ok(self.syntec_statement(name, col)),
+                None => BlockKind::Words(self.words()?),
+            },
             // `[cond] M99 P<n>` (Haas NGC): read in every dialect, refused where it is none.
             Tok::LBracket => {
                 let cond = self.condition()?;
@@ -352,6 +421,16 @@ impl BlockParser<'_> {
             }
             (tok, col) => self.unexpected(tok, col),
         }
+    }
+
+    /// A Syntec statement (`ALARM(…)`, `MSG(…)`, `SLEEP(…)`, `WAIT(…)`, `EXIT`): refused by name
+    /// as not built in the Syntec dialect; the others keep what they read, an address without
+    /// a value (`ALARM` is the address A, then L: a name's second letter is never a value).
+    fn syntec_statement(&mut self, name: &str, col: u32) -> BlockKind {
+        let detail = format!("the Syntec statement {name} is not built in fivex");
+        let syntec = Diagnostic { line: self.line, col, id: AlarmId::AddressNotBuilt, detail };
+        let others = self.words().err();
+        BlockKind::SyntecOnly(Box::new(SyntecOnly { syntec, others }))
     }
 
     fn unexpected<T>(&self, tok: Tok, col: u32) -> PResult<T> {
@@ -527,7 +606,7 @@ impl BlockParser<'_> {
     fn primary(&mut self, allow_cmp: bool) -> PResult<Expr> {
         let (tok, col) = self.lx.next_tok();
         match tok {
-            Tok::Num { value, .. } => Ok(Expr::Num(value)),
+            Tok::Num { value, point } => Ok(Expr::Num { value, decimal_point: point }),
             Tok::Hash => self.variable_after_hash(col),
             Tok::LBracket => Ok(Expr::Bracket(Box::new(self.bracketed(col, allow_cmp)?))),
             Tok::Kw(Kw::Func(f)) => {

@@ -426,22 +426,24 @@ M99
 #[test]
 fn g66_opens_a_macro_level_too() {
     // Four G65 levels plus the G66 call = five: fine; five G65 levels plus G66 = six: alarm.
-    let inner = "O9600\nG66 P9601\nG00 X1.\nG67\nM99\nO9601\n#102=1\nM99\n";
+    // (#500…: the Syntec dialect refuses #100–#199 in a macro call, `syntec_macro.rs`.)
+    let inner = "O9600\nG66 P9601\nG00 X1.\nG67\nM99\nO9601\n#502=1\nM99\n";
     let src = format!(
-        "#101=4\nG65 P9500\nM30\nO9500\n#100=#100+1\nIF[#100GE#101]GOTO 9\nG65 P9500\nM99\nN9 M98 P9600\nM99\n{inner}"
+        "#501=4\nG65 P9500\nM30\nO9500\n#500=#500+1\nIF[#500GE#501]GOTO 9\nG65 P9500\nM99\nN9 M98 P9600\nM99\n{inner}"
     );
-    assert_eq!(var(&src, 102), Some(1.0));
-    let src = src.replacen("#101=4", "#101=5", 1);
+    assert_eq!(var(&src, 502), Some(1.0));
+    let src = src.replacen("#501=4", "#501=5", 1);
     alarms(&src, "PS0077", "COR-031");
 }
 
 #[test]
 fn nested_call_limit_counts_macro_and_subprogram_calls_together() {
     // Five G65 levels, then M98 subprograms: 15 calls in all are fine, 16 are not.
-    let macros = "O9500\n#100=#100+1\nIF[#100GE5]GOTO 9\nG65 P9500\nM99\nN9 M98 P100\nM99\n";
-    let subs = "O0100\n#103=#103+1\nIF[#103GE#101]GOTO 9\nM98 P100\nN9 M99\n";
-    let ok = format!("#101=10\nG65 P9500\n#102=1\nM30\n{macros}{subs}");
-    let too_deep = ok.replacen("#101=10", "#101=11", 1);
+    // (#500…: the Syntec dialect refuses #100–#199 in a macro call, `syntec_macro.rs`.)
+    let macros = "O9500\n#500=#500+1\nIF[#500GE5]GOTO 9\nG65 P9500\nM99\nN9 M98 P100\nM99\n";
+    let subs = "O0100\n#503=#503+1\nIF[#503GE#501]GOTO 9\nM98 P100\nN9 M99\n";
+    let ok = format!("#501=10\nG65 P9500\n#502=1\nM30\n{macros}{subs}");
+    let too_deep = ok.replacen("#501=10", "#501=11", 1);
     alarms(&too_deep, "PS0077", "COR-031");
 }
 
@@ -457,11 +459,13 @@ fn macro_alarm_3000_fanuc() {
     assert_eq!(a.n, Some(20));
 }
 
+/// Syntec raises a program's alarm with ALARM(…) and #3000 is one of its modal variables (the
+/// Syntec MACRO syntax handbook, §2.6): refused there, not MAR-012 (`docs/dialects.md`).
 #[test]
-fn macro_alarm_3000_syntec() {
+fn macro_alarm_3000_is_refused_in_syntec() {
     let src = "#100=1\nN20 #3000=12 (TOOL BROKEN)\n#101=1\nM30\n";
     let a = alarm_full(src, Dialect::Syntec);
-    assert_eq!(a.message, "TOOL BROKEN");
+    assert_eq!((a.code.as_str(), a.line), ("COR-021", 2));
     assert_eq!(run_with(src, "mill3", Dialect::Syntec).variables, vec![(100, 1.0)]);
 }
 
@@ -470,7 +474,7 @@ fn macro_alarm_number_from_an_expression_in_a_subprogram() {
     let src = "#1=7\nM98 P20\nM30\nO0020\n#3000=#1*10+1 (BAD PART)\nM99\n";
     let a = alarm_full(src, Dialect::Fanuc);
     assert_eq!((a.code.as_str(), a.message.as_str(), a.line), ("MC3071", "BAD PART", 5));
-    assert_eq!(alarm_full(src, Dialect::Syntec).code, "MAR-071");
+    assert_eq!(alarm_full(src, Dialect::Syntec).code, "COR-021");
     // Without a comment the message is empty.
     assert_eq!(alarm_full("#3000=1\nM30\n", Dialect::Fanuc).message, "");
 }
@@ -488,10 +492,10 @@ fn macro_alarm_numbers_out_of_range_are_refused_not_clamped() {
     }
     // The ends of the range, and a value rounded into it (half away from zero).
     for (n, fanuc, syntec, haas) in [
-        ("0", "MC3000", "MAR-000", "1000"),
-        ("999", "MC3999", "MAR-999", "1999"),
-        ("-0.4", "MC3000", "MAR-000", "1000"),
-        ("12.5", "MC3013", "MAR-013", "1013"),
+        ("0", "MC3000", "COR-021", "1000"),
+        ("999", "MC3999", "COR-021", "1999"),
+        ("-0.4", "MC3000", "COR-021", "1000"),
+        ("12.5", "MC3013", "COR-021", "1013"),
     ] {
         let src = format!("#3000={n} (MSG)\nM30\n");
         alarms(&src, fanuc, syntec);
@@ -938,10 +942,9 @@ M30
 
 #[test]
 fn under_g20_an_offset_copied_by_variables_equals_one_copied_by_g10() {
-    // FANUC and Haas in G20, Syntec in its G70; the length geometry of H1 is #11001, Haas #2001.
-    for (dialect, inch, h) in
-        [(Dialect::Fanuc, "G20", 11000), (Dialect::Syntec, "G70", 11000), (Dialect::Haas, "G20", 2000)]
-    {
+    // FANUC and Haas in G20; the length geometry of H1 is #11001, Haas #2001. (Syntec refuses
+    // #5021… and #5221…: its #4001–#5500 are user parameters, `syntec_macro.rs`.)
+    for (dialect, inch, h) in [(Dialect::Fanuc, "G20", 11000), (Dialect::Haas, "G20", 2000)] {
         let src = format!(
             "\
 {inch} G90 G17 G40 G49 G80

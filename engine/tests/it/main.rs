@@ -42,6 +42,7 @@ mod rollover;
 mod smoke;
 mod smoothing;
 mod stop;
+mod syntec_macro;
 mod tcp;
 mod tcp_random;
 mod teach;

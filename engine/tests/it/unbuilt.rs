@@ -510,11 +510,11 @@ fn comma_addresses_have_a_decision() {
 fn e_in_a_macro_call_is_an_argument_for_check_as_for_the_run() {
     for dialect in [Fanuc, Syntec, Haas] {
         let modal = if has_code(dialect, "G66") { "G66 P9001 E0.25\nG00 X1.\nG67\n" } else { "" };
-        let src = format!("G65 P9001 E0.5\n{modal}M30\nO9001\n#102=#101\n#101=#8\nM99\n");
+        let src = format!("G65 P9001 E0.5\n{modal}M30\nO9001\n#502=#501\n#501=#8\nM99\n");
         assert_eq!(check(parse_file(&src), dialect), vec![], "{dialect:?}: check of\n{src}");
         let r = run_with(&src, PRESET, dialect);
         assert!(r.completed(), "{dialect:?}: {:?}", r.alarms);
-        let want = if modal.is_empty() { vec![(101, 0.5)] } else { vec![(101, 0.25), (102, 0.5)] };
+        let want = if modal.is_empty() { vec![(501, 0.5)] } else { vec![(501, 0.25), (502, 0.5)] };
         assert_eq!(r.variables, want, "{dialect:?}");
     }
     // Outside a call E stays refused, by check too.

@@ -1,3 +1,4 @@
 (fivex: --dialect fanuc,syntec)
 #1000=1
-(expect: alarm[fanuc]=PS0116 alarm[syntec]=COR-022)
+(Syntec's #1000 is its interpolation mode, not an input: refused, docs/dialects.md.)
+(expect: alarm[fanuc]=PS0116 alarm[syntec]=COR-021)

@@ -1,4 +1,5 @@
 (fivex: --dialect fanuc,syntec)
 #5001=1.
 M30
-(expect: alarm[fanuc]=PS0116 alarm[syntec]=COR-022)
+(Syntec's #4001–#5500 are user parameters: refused, docs/dialects.md.)
+(expect: alarm[fanuc]=PS0116 alarm[syntec]=COR-021)

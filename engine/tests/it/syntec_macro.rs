@@ -1,0 +1,274 @@
+//! The Syntec dialect does not run Syntec's macro language where its text is FANUC's with another
+//! meaning (audit "Syntec language", findings 1–9; `docs/dialects.md`, "The Syntec macro
+//! language"): the `%@MACRO` file, the variable numbers whose Syntec meaning differs, #100–#199
+//! in a macro call, an integer division, `M99 Q`, a `(*` comment across lines and Syntec's
+//! statements are refused at their block (and by `fivex check` where the text shows them);
+//! FANUC and Haas read the same text as before. Sources: the Syntec MACRO syntax handbook
+//! (`SYNTEC-40101720/syntec-macro`, `docs/新代MACRO语法规范手册.md`).
+
+use crate::common::*;
+
+use fivex_engine::check::check;
+use fivex_engine::controller::{Controller, RunState};
+use fivex_engine::interp::expr::Variables;
+use fivex_engine::interp::{Config, Interpreter, Step};
+use fivex_engine::lang::{parse_file, parse_part};
+use fivex_engine::machine::MachineConfig;
+use fivex_engine::run::RunResult;
+use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
+
+fn syntec(src: &str) -> RunResult {
+    run_with(src, "mill3", Syntec)
+}
+
+/// The alarms of a run as (code, line).
+fn alarms(r: &RunResult) -> Vec<(String, u32)> {
+    r.alarms.iter().map(|a| (a.code.clone(), a.line)).collect()
+}
+
+/// `fivex check`'s diagnostics as (line, column, code).
+fn checked(src: &str, dialect: Dialect) -> Vec<(u32, u32, String)> {
+    check(parse_file(src), dialect).iter().map(|d| (d.line, d.col, dialect.describe(&d.id).0)).collect()
+}
+
+/// The machine position at the end of the run.
+fn end(r: &RunResult) -> [f64; 3] {
+    let p = r.machine;
+    [p[0], p[1], p[2]]
+}
+
+/// Audit finding 8: a Syntec MACRO-format file (`%@MACRO`, handbook §1.1) ran as custom macro B.
+/// Refused at its line before anything runs, by the run and by `fivex check`, also before an O
+/// number (a file header) and when the file arrives in parts; other `%` lines are still
+/// nothing, and FANUC and Haas still ignore the line.
+#[test]
+fn a_macro_format_file_is_refused_at_its_header() {
+    let plain = "%@MACRO\nG90 G01 X0 Y0 Z0 F100.\nG01 X10.\nM30\n";
+    let numbered = "%@MACRO\nO1000\nG90 G01 X0 Y0 Z0 F100.\nG01 X10.\nM30\n";
+    for src in [plain, numbered, &plain.replace("MACRO", "macro")] {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-100".to_string(), 1)], "{src}");
+        assert_eq!(end(&r), [0.0; 3], "nothing ran: {src}");
+        assert_eq!(checked(src, Syntec), [(1, 1, "COR-100".to_string())], "{src}");
+        let diags = check(parse_file(src), Syntec);
+        assert!(diags[0].detail.contains("%@MACRO") && diags[0].detail.contains("not built"), "{}", diags[0].detail);
+        for other in [Fanuc, Haas] {
+            let r = run_with(src, "mill3", other);
+            assert!(r.completed(), "{other:?}: {:?}", r.alarms);
+            assert_eq!(end(&r)[0], 10.0);
+            assert_eq!(checked(src, other), []);
+        }
+    }
+    let percent = "%\nG90 G01 X10. F100.\nM30\n%\n";
+    assert!(syntec(percent).completed());
+    // Streamed: the header alone in the first part, the program after it.
+    for dialect in [Syntec, Fanuc] {
+        let mut cfg = Config::new(MachineConfig::preset("mill3").unwrap(), dialect);
+        cfg.max_blocks = 1000;
+        let mut interp = Interpreter::new_incremental(cfg);
+        interp.push_part(parse_part("%@MACRO\n", 1, false));
+        interp.push_part(parse_part("O1000\nG90 G01 X10. F100.\nM30\n", 2, true));
+        interp.finish();
+        let mut out = Vec::new();
+        let outcome = loop {
+            match interp.step(&mut out) {
+                Ok(Step::Ended) => break None,
+                Ok(_) => {}
+                Err(a) => break Some((a.code, a.line)),
+            }
+        };
+        let want = (dialect == Syntec).then(|| ("COR-100".to_string(), 1));
+        assert_eq!(outcome, want, "{dialect:?}");
+    }
+}
+
+/// Audit findings 1, 2, 4: Syntec's modal state (#1000 interpolation mode, #1004 G90/G91),
+/// modal variables (#1080–#3100: #2001 was H1's wear, #3000 an alarm, #3001 the clock) and user
+/// parameters (#4001–#5500: #4001 was the modal G code, #5001 the position) were read and
+/// written with fivex's FANUC meaning. Refused (COR-021) when read and when written, at the
+/// block, by the run and by `fivex check`; FANUC keeps them.
+#[test]
+fn syntec_variables_of_another_meaning_are_refused() {
+    let numbers = [
+        1000, 1004, 1015, 1099, 1100, 1135, 2001, 2002, 2201, 2400, 3000, 3001, 3002, 3004, 3006, 3011, 3100, 4001,
+        4003, 4109, 4201, 4330, 5001, 5021, 5041, 5061, 5081, 5221, 5500,
+    ];
+    for n in numbers {
+        for src in
+            [format!("G01 X1. F100.\n#101=#{n}\nG01 X2.\nM30\n"), format!("G01 X1. F100.\n#{n}=1.\nG01 X2.\nM30\n")]
+        {
+            let r = syntec(&src);
+            assert_eq!(alarms(&r), [("COR-021".to_string(), 2)], "{src}");
+            assert_eq!(end(&r)[0], 1.0, "{src}");
+            assert_eq!(checked(&src, Syntec), [(2, 1, "COR-021".to_string())], "{src}");
+        }
+    }
+    // By an expression: the run finds it.
+    let r = syntec("#101=2001\n#[#101]=5.\nM30\n");
+    assert_eq!(alarms(&r), [("COR-021".to_string(), 2)]);
+    // The report's program (reproB): #2001 changed H1's length in the Syntec dialect.
+    let src = "G90 G00 X0 Y0 Z100.\n#2001=5.\nG43 H1 Z10.\nM30\n";
+    assert_eq!(alarms(&syntec(src)), [("COR-021".to_string(), 2)]);
+    let fanuc = run_with(src, "mill3", Fanuc);
+    assert!(fanuc.completed());
+    assert!((end(&fanuc)[2] - 115.0).abs() < 1e-9, "H1 100 + wear 5 + Z10: {:?}", end(&fanuc));
+    // What keeps its meaning: locals, #100–#199 in the main program, #500–#999, #3901.
+    let kept = "#1=1.\n#101=#1\n#500=2.\n#102=#500\n#103=#3901\nM30\n";
+    let r = syntec(kept);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(checked(kept, Syntec), []);
+    for n in [1000, 2001, 3001, 4001, 5001] {
+        assert!(run_with(&format!("#101=#{n}\nM30\n"), "mill3", Fanuc).completed(), "#{n}");
+        assert_eq!(checked(&format!("#101=#{n}\nM30\n"), Fanuc), []);
+    }
+}
+
+/// Audit finding 3: #100–#199 are a macro call's own local variables on Syntec (handbook §2.3:
+/// G65/G66 make their own #1–#400, M98 inherits the caller's), fivex's common variables: the
+/// G65 macro overwrote its caller's #101 (X20 instead of X10). Refused when read or written in a
+/// G65/G66 call (also in an M98 subprogram it calls); the main program and its M98 subprograms
+/// use them as before; FANUC unchanged.
+#[test]
+fn syntec_hundreds_are_refused_in_a_macro_call() {
+    let repro = "G90 G01 X0 Y0 Z0 F1000\n#101=10.\nG65 P1000 A5.\nG90 G01 X#101\nM30\nO1000\n#101=#1*4.\nG91 G01 Y#101\nG90\nM99\n";
+    let r = syntec(repro);
+    assert_eq!(alarms(&r), [("COR-021".to_string(), 7)]);
+    assert_eq!(end(&r), [0.0; 3]);
+    let fanuc = run_with(repro, "mill3", Fanuc);
+    assert!(fanuc.completed());
+    assert_eq!(end(&fanuc), [20.0, 20.0, 0.0], "FANUC's common #101 is the macro's");
+    // Read in a G66 call; read in an M98 subprogram of a G65 call.
+    let g66 = "#101=1.\nG66 P1000\nG01 X1. F100.\nG67\nM30\nO1000\n#1=#101\nM99\n";
+    assert_eq!(alarms(&syntec(g66)), [("COR-021".to_string(), 7)]);
+    let nested = "G65 P1000\nM30\nO1000\nM98 P2000\nM99\nO2000\n#1=#150\nM99\n";
+    assert_eq!(alarms(&syntec(nested)), [("COR-021".to_string(), 7)]);
+    // M98 shares the main program's: the subprogram's #101 is the caller's.
+    let m98 = "#101=10.\nM98 P1000\nG01 X#101 F100.\nM30\nO1000\n#101=#101*2.\nM99\n";
+    let r = syntec(m98);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r)[0], 20.0);
+    assert_eq!(r.variables, [(101, 20.0)]);
+}
+
+/// #100–#199 start vacant at each cycle start in the Syntec dialect (Syntec's main program
+/// locals, handbook §2.1, §2.3): a program read the last run's value. FANUC's common variables
+/// keep it.
+#[test]
+fn syntec_hundreds_start_vacant_at_each_cycle_start() {
+    for (dialect, want) in [(Syntec, None), (Fanuc, Some(5.0))] {
+        let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
+        for program in ["#101=5.\nM30\n", "#102=1.\nM30\n"] {
+            c.select_program(program).unwrap();
+            c.cycle_start().unwrap();
+            while c.run_state() == RunState::Running {
+                c.tick(0.001);
+            }
+        }
+        let state = &c.interpreter().state;
+        assert_eq!(state.read(101).unwrap(), want, "{dialect:?}");
+        assert_eq!(state.read(102).unwrap(), Some(1.0), "{dialect:?}");
+    }
+}
+
+/// Audit finding 6: Syntec divides two integers (numbers without a decimal point) as integers
+/// (handbook §3.4: `1 / 2` is 0); fivex gave 3.5 for `7/2`. Refused (COR-100) where the answers may
+/// differ: both values whole, the quotient not, no operand written with a decimal point;
+/// `fivex check` reports a quotient of two literal numbers.
+#[test]
+fn syntec_integer_division_is_refused_where_it_would_truncate() {
+    let value = |expr: &str| {
+        let r = syntec(&format!("#101={expr}\nM30\n"));
+        assert!(r.completed(), "{expr}: {:?}", r.alarms);
+        r.variables.iter().find(|(n, _)| *n == 101).map(|(_, v)| *v)
+    };
+    assert_eq!(value("7./2"), Some(3.5));
+    assert_eq!(value("7/2."), Some(3.5));
+    assert_eq!(value("-7./2"), Some(-3.5));
+    assert_eq!(value("[7.]/2"), Some(3.5));
+    assert_eq!(value("8/2"), Some(4.0));
+    assert_eq!(value("7.5/3"), Some(2.5));
+    for src in ["#101=7/2\nM30\n", "#101=1/2\nM30\n", "#101=[7]/-2\nM30\n", "G01 X[7/2] F100.\nM30\n"] {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-100".to_string(), 1)], "{src}");
+        assert_eq!(checked(src, Syntec), [(1, 1, "COR-100".to_string())], "{src}");
+        assert!(run_with(src, "mill3", Fanuc).completed(), "{src}");
+        assert_eq!(checked(src, Fanuc), []);
+    }
+    // Variables: their type is not known, so whole values whose quotient is not are refused.
+    let r = syntec("#1=7\n#2=2\n#101=#1/#2\nM30\n");
+    assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
+    assert!(syntec("#1=8\n#2=2\n#101=#1/#2\n#102=#1/3.\nM30\n").completed());
+    // A zero divisor stays the zero divide alarm.
+    assert_eq!(alarms(&syntec("#101=1/0\nM30\n")), [("COR-023".to_string(), 1)]);
+    assert_eq!(var("#101=7/2\nM30\n", 101), Some(3.5), "FANUC");
+}
+
+/// Audit finding 5: Syntec's `M99 Q_` returns to a line number of the caller (handbook §5.2);
+/// fivex ignored Q and cut X10/Y10 at Z-1. Refused as not built at the M99 block (run) and at
+/// the Q (check); FANUC unchanged.
+#[test]
+fn syntec_m99_q_is_refused() {
+    let src = "G90 G01 X0 Y0 Z0 F1000\nM98 P100\nG01 X10.\nG01 Y10.\nG01 Z10.\nM30\nO100\nG01 Z-1.\nM99 Q5\n";
+    let r = syntec(src);
+    assert_eq!(alarms(&r), [("COR-100".to_string(), 9)]);
+    assert_eq!(end(&r), [0.0, 0.0, -1.0]);
+    assert_eq!(checked(src, Syntec), [(9, 5, "COR-100".to_string())]);
+    let diags = check(parse_file(src), Syntec);
+    assert!(diags[0].detail.contains("M99 Q"), "{}", diags[0].detail);
+    assert!(syntec(&src.replace("M99 Q5", "M99")).completed());
+    assert!(run_with(src, "mill3", Fanuc).completed());
+    assert_eq!(checked(src, Fanuc), []);
+}
+
+/// Audit finding 7: a `(*` block comment spanning lines (handbook §4.10): fivex ran the
+/// commented-out plunge, then raised COR-001 at `*)`. The line that opens it without its `*)` is
+/// refused before anything of it runs; a one-line `(* … *)` is a comment; FANUC unchanged.
+#[test]
+fn syntec_block_comment_across_lines_is_refused_at_its_opening() {
+    let src = "G90 G01 X0 Y0 Z10. F1000\n(* roughing disabled\nG01 Z-5.\n*)\nG01 X10.\nM30\n";
+    let r = syntec(src);
+    assert_eq!(alarms(&r), [("COR-100".to_string(), 2)]);
+    assert_eq!(end(&r), [0.0, 0.0, 10.0], "the plunge did not run");
+    let found = checked(src, Syntec);
+    assert_eq!(found[0], (2, 1, "COR-100".to_string()), "{found:?}");
+    // On a line with words, after them, and after an O number: the whole line is refused.
+    let r = syntec("G90 G01 X0 Y0 Z10. F1000\nG01 X5. (* start\n*)\nM30\n");
+    assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 2)], [0.0, 0.0, 10.0]));
+    let r = syntec("M98 P20\nM30\nO0020 (* sub\nG01 X5. F100.\n*)\nM99\n");
+    assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
+    // Closed on its line, or a plain comment: comments.
+    for ok in ["G01 X10. F100. (* finish *)\nM30\n", "(*** TOOL 1 ***)\nG01 X10. F100.\nM30\n", "(a (* b)\nM30\n"] {
+        let r = syntec(ok);
+        assert!(r.completed(), "{ok}: {:?}", r.alarms);
+        assert_eq!(checked(ok, Syntec), [], "{ok}");
+    }
+    let fanuc = run_with(src, "mill3", Fanuc);
+    assert_eq!(alarms(&fanuc), [("PS0004".to_string(), 4)]);
+    assert_eq!(end(&fanuc), [0.0, 0.0, -5.0], "FANUC reads one line's comment");
+    assert_eq!(checked(src, Fanuc).iter().map(|d| d.0).collect::<Vec<_>>(), [4]);
+}
+
+/// Audit finding 9: Syntec's statements were "missing value after address" (COR-003): refused
+/// by name as not built (COR-100), by the run and by `fivex check`; FANUC and Haas still read an
+/// address without a value.
+#[test]
+fn syntec_statements_are_refused_by_name() {
+    for (block, name, col) in [
+        ("ALARM(1,\"x\")", "ALARM()", 1),
+        ("MSG(\"hello\")", "MSG()", 1),
+        ("SLEEP(100)", "SLEEP()", 1),
+        ("N10 WAIT()", "WAIT()", 5),
+        ("EXIT", "EXIT", 1),
+        ("exit;", "EXIT", 1),
+    ] {
+        let src = format!("G01 X1. F100.\n{block}\nM30\n");
+        assert_eq!(alarms(&syntec(&src)), [("COR-100".to_string(), 2)], "{block}");
+        let diags = check(parse_file(&src), Syntec);
+        assert_eq!(checked(&src, Syntec), [(2, col, "COR-100".to_string())], "{block}");
+        assert!(diags[0].detail.contains(name) && diags[0].detail.contains("not built"), "{}", diags[0].detail);
+        for (dialect, code) in [(Fanuc, "PS0005"), (Haas, "701")] {
+            assert_eq!(alarms(&run_with(&src, "mill3", dialect)), [(code.to_string(), 2)], "{dialect:?} {block}");
+            assert_eq!(checked(&src, dialect).iter().map(|d| (d.0, d.2.as_str())).collect::<Vec<_>>(), [(2, code)]);
+        }
+    }
+}
