@@ -393,8 +393,10 @@ impl State {
     /// zero, even if the block is commanded singly", the tool moves as after two blocks without
     /// movement — a block whose move is zero, once more. Not counted (decision): a block with
     /// no word but N (a comment, a sequence number), macro statements (never NC blocks here),
-    /// and subprogram and macro calls and returns (FANUC treats a call block holding nothing
-    /// else like a macro statement, e.g. in single block); the blocks they lead to count.
+    /// and subprogram and macro calls and returns with nothing else (FANUC treats such a block
+    /// like a macro statement, e.g. in single block); the blocks they lead to count. A call or
+    /// return with anything else (`G90 M99`, `G91 M98 P…`) counts as any block: its G code is
+    /// an NC command ("G90 ; G code only").
     fn count_without_motion(
         &mut self,
         w: &Words,
@@ -406,10 +408,19 @@ impl State {
         if !code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) || self.ended {
             return;
         }
-        let calls = self.frames.len() != depth
-            || w.gcodes().iter().any(|c| code::MACRO_CALLS.contains(c) || *c == code::G67)
-            || w.mcodes().iter().any(|&m| mcode::call_or_return(m) || m == mcode::M97);
-        if calls || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
+        let macro_code = |c: &u16| code::MACRO_CALLS.contains(c) || *c == code::G67;
+        let sub_code = |m: &u32| mcode::call_or_return(*m) || *m == mcode::M97;
+        let alone = if w.gcodes().iter().any(macro_code) {
+            // Every other letter of G65/G66 is an argument.
+            w.gcodes().iter().all(macro_code)
+        } else if w.mcodes().iter().any(sub_code) {
+            w.gcodes().is_empty() && w.mcodes().iter().all(sub_code) && w.letters().all(|l| b"MPL".contains(&l))
+        } else {
+            // A macro called by another code (G66's modal call, an M or T code's macro): the
+            // block's words are its arguments.
+            self.frames.len() != depth
+        };
+        if alone || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
             return;
         }
         let made = &out[first..];

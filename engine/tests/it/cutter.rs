@@ -201,6 +201,33 @@ fn a_block_that_gives_no_command_is_a_block_without_motion() {
 }
 
 #[test]
+fn a_call_or_return_with_a_g_code_is_a_block_without_motion() {
+    // Audit crc2 N2: rule 8 exempts a call or return "with nothing else"; a G code beside it
+    // is an NC command ("G90 ; G code only", 16i-LB §12) and the block counts. With M08 that
+    // is two blocks without motion: the vector is lost, X20. ends perpendicular at (20,5) as
+    // in `a_block_that_gives_no_command_is_a_block_without_motion` (until then the corner
+    // (15,5) was kept: the overcut the control makes, hidden).
+    let lost = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
+    let kept = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 15.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
+    let cases = [
+        // (the call in the main program, the return in O0009, the corner lost)
+        ("G90 M98 P9", "M99", true),
+        ("M98 P9", "G90 M99", true),
+        ("M98 P9", "G90 M99 (RETURN)", true),
+        ("M98 P9", "G91 M99", true),
+        // With nothing else: neither counts, the corner stays.
+        ("M98 P9", "M99", false),
+        ("M98 P9 L2", "M99 (RETURN)", false),
+    ];
+    for (call, ret, lost_here) in cases {
+        let src = format!(
+            "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nM08\n{call}\nY20.\nG90 G40 X0.\nM30\nO0009\n{ret}\n"
+        );
+        assert_ends(&src, if lost_here { &lost } else { &kept });
+    }
+}
+
+#[test]
 fn a_block_whose_move_is_zero_counts_as_two_blocks_without_motion() {
     // FANUC 16i-LB §12: "when the move distance is zero, even if the block is commanded
     // singly", the tool moves as after two blocks without movement: X20. at X20 loses the vector.
