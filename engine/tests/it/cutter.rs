@@ -311,6 +311,46 @@ fn an_interference_in_the_last_block_before_the_end_is_raised() {
 }
 
 #[test]
+fn a_cancel_block_that_runs_backwards_is_an_interference_alarm() {
+    // Audit crc2 N3 (shortexit.nc): rule 9 holds for the G40 block as for any block. The square
+    // 0..50 clockwise with G41 (R5) outside; X0. (line 6, −X) turns left into the 3 mm exit
+    // G40 Y-3. (−Y): an inside corner, X0. ends at the crossing of y = −5 and x = 5, (5,−5). The
+    // cancel would run from (5,−5) to (0,−3), direction (−5,2) against the programmed (0,−3):
+    // dot −6 < 0, PS0041 at line 7; the tool stops at (5,−5) (it ran on to (0,−3), 3 mm from
+    // the part's corner (0,0): a 2 mm gouge). Start-up (line 2) by hand: its offset line
+    // 5·(−1,1)/√2 + t·(1,1) meets x = −5 at y = 5√2 − 5.
+    let body = "G90 G00 X-20. Y-20. Z0\nG41 D1 G01 X0. Y0. F500\nY50.\nX50.\nY0.\nX0.\n";
+    let src = format!("{body}G40 Y-3.\nM30\n");
+    let (ends, alarm) = centre(&src, Fanuc);
+    assert_eq!(alarm, Some(("PS0041".to_string(), 7)));
+    let want = [
+        (1, -20.0, -20.0),
+        (2, -5.0, 50f64.sqrt() - 5.0),
+        (3, -5.0, 55.0),
+        (4, 55.0, 55.0),
+        (5, 55.0, -5.0),
+        (6, 5.0, -5.0),
+    ];
+    let close = ends.len() == want.len()
+        && ends.iter().zip(&want).all(|((l, p), (wl, x, y))| l == wl && approx(p[0], *x) && approx(p[1], *y));
+    assert!(close, "got {ends:?}\nwant {want:?}");
+    for (dialect, code) in [(Fanuc, "PS0041"), (Syntec, "COR-100")] {
+        let r = run_with(&src, "mill3", dialect);
+        assert_eq!((r.alarms.len(), r.alarms[0].code.as_str(), r.alarms[0].line), (1, code, 7));
+    }
+    // A cancel that leaves the corner forward runs: G40 Y-10. from (5,−5) to (0,−10), direction
+    // (−5,−5), dot 50 > 0.
+    let src = format!("{body}G40 Y-10.\nM30\n");
+    let mut want = want.to_vec();
+    want.push((7, 0.0, -10.0));
+    assert_ends(&src, &want);
+    // G40 with I/J (rule 11): X0. ends where y = −5 meets the line from (0,0) along (0,−1)
+    // offset left, x = 5: the same (5,−5), and the same alarm.
+    let src = format!("{body}G40 Y-3. I0 J-1.\nM30\n");
+    assert_eq!(centre(&src, Fanuc).1, Some(("PS0041".to_string(), 7)));
+}
+
+#[test]
 fn an_arc_in_the_start_up_or_cancel_block_is_ps0034() {
     for src in [
         "G90 G00 X0. Y0 Z0\nG41 D1 G02 X10. R5. F500\nG40 G01 X20.\nM30\n",
