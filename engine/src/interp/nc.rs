@@ -1740,7 +1740,7 @@ impl State {
             return Ok(());
         }
         let word = |letter: u8| w.integer(letter).map_or(unbuilt::Word::Absent, unbuilt::Word::Value);
-        if w.gcodes().iter().any(|&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
+        if w.gcodes().iter().any(|&code| unbuilt::g_code(code, self.cfg.dialect, w.gcodes(), word).is_some()) {
             return Err(AlarmId::GCodeNotBuilt);
         }
         self.refuse_unbuilt_blend(w)?;
@@ -1793,6 +1793,10 @@ impl State {
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
+            ijk_in_comp_block: matches!(in_block(group::CUTTER_COMP), Some(code::G41 | code::G42))
+                && [b'I', b'J', b'K'].into_iter().any(|l| w.has(l))
+                && matches!(after(group::MOTION), code::G00 | code::G01)
+                && !w.gcodes().iter().any(|c| unbuilt::OWN_IJK.contains(c)),
             smoothing: if w.has_g(code::G05_1) {
                 w.integer(b'Q') == Some(3.0)
             } else if w.has_g(code::G05) && self.cfg.dialect == crate::Dialect::Syntec {

@@ -351,6 +351,41 @@ fn a_cancel_block_that_runs_backwards_is_an_interference_alarm() {
 }
 
 #[test]
+fn i_j_k_in_a_g41_block_are_refused_not_ignored() {
+    // Audit crc2 N1 (tdc.nc): I, J and K all in the G41 block start FANUC's three-dimensional
+    // tool compensation (the vector R·(I,J,K)/|IJK|: (0,0,5) at the end of line 5), which ran as
+    // cutter compensation C: the tool centre at (0,5,0), 5 mm off in Y and in Z. Refused at the
+    // G41 block, by the run and by `fivex check`; nothing of it moves (the tool stays at the
+    // end of line 4, X-20. Y0 Z0).
+    let src = "G90 G17 G21 G40\nG00 X-20. Y0.\nZ5.\nG01 Z0. F500.\nG41 X0. Y0. Z0. I0. J0. K1. D01\n\
+               G01 X20. Z-5. I0.5 J0. K0.866\nX40. I0. J0. K1.\nG40 X60.\nG00 Z50.\nM30\n";
+    for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-100"), (fivex_engine::Dialect::Haas, "310")] {
+        let r = run_with(src, "mill3", dialect);
+        assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect::<Vec<_>>(), [(code, 5)], "{dialect:?}");
+        assert_eq!(&r.machine[..3], &[-20.0, 0.0, 0.0], "{dialect:?}");
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(src), dialect);
+        let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, dialect.describe(&d.id).0)).collect();
+        assert_eq!(found, [(5, 1, code.to_string())], "{dialect:?}");
+        assert!(diags[0].detail.contains("three-dimensional tool compensation"), "{}", diags[0].detail);
+    }
+    // Only some of them: two-dimensional compensation C (FANUC 16/18-C), where some controls
+    // set the offset vector's direction by them; fivex ignored them. Refused at the block, in
+    // the start-up and in offset mode alike.
+    for (src, line) in [
+        ("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. Y0. I1. J0 F500\nX20.\nG40 X30.\nM30\n", 2),
+        ("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nG41 X20. I1.\nY20.\nG40 X0.\nM30\n", 3),
+    ] {
+        assert_eq!(centre(src, Fanuc).1, Some(("PS0010".to_string(), line)), "{src}");
+        let mut interp = interpreter(src, "mill3", Fanuc);
+        let stop = fivex_engine::check::run_without_motion(&mut interp, false).map(|s| (s.alarm.code, s.alarm.line));
+        assert_eq!(stop, Some(("PS0010".to_string(), line)), "fivex check's run: {src}");
+    }
+    // In an arc's block I and J are its centre: G41 given again there runs (rule 5).
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG41 G03 X30. Y10. I0 J10.\nG01 Y20.\nG40 X40.\nM30\n";
+    assert_eq!(centre(src, Fanuc).1, None);
+}
+
+#[test]
 fn an_arc_in_the_start_up_or_cancel_block_is_ps0034() {
     for src in [
         "G90 G00 X0. Y0 Z0\nG41 D1 G02 X10. R5. F500\nG40 G01 X20.\nM30\n",
