@@ -99,7 +99,8 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                 Some(d) => {
                                     calls |= code::MACRO_CALLS.contains(&d.code);
                                     let word = |letter| literal(words, letter);
-                                    if let Some(function) = unbuilt::g_code(d.code, dialect, word) {
+                                    let block_codes: Vec<u16> = codes().collect();
+                                    if let Some(function) = unbuilt::g_code(d.code, dialect, &block_codes, word) {
                                         diags.push(at(
                                             w.col,
                                             AlarmId::GCodeNotBuilt,

@@ -407,8 +407,10 @@ impl State {
     /// zero, even if the block is commanded singly", the tool moves as after two blocks without
     /// movement — a block whose move is zero, once more. Not counted (decision): a block with
     /// no word but N (a comment, a sequence number), macro statements (never NC blocks here),
-    /// and subprogram and macro calls and returns (FANUC treats a call block holding nothing
-    /// else like a macro statement, e.g. in single block); the blocks they lead to count.
+    /// and subprogram and macro calls and returns with nothing else (FANUC treats such a block
+    /// like a macro statement, e.g. in single block); the blocks they lead to count. A call or
+    /// return with anything else (`G90 M99`, `G91 M98 P…`) counts as any block: its G code is
+    /// an NC command ("G90 ; G code only").
     fn count_without_motion(
         &mut self,
         w: &Words,
@@ -420,10 +422,19 @@ impl State {
         if !code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) || self.ended {
             return;
         }
-        let calls = self.frames.len() != depth
-            || w.gcodes().iter().any(|c| code::MACRO_CALLS.contains(c) || *c == code::G67)
-            || w.mcodes().iter().any(|&m| mcode::call_or_return(m) || m == mcode::M97);
-        if calls || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
+        let macro_code = |c: &u16| code::MACRO_CALLS.contains(c) || *c == code::G67;
+        let sub_code = |m: &u32| mcode::call_or_return(*m) || *m == mcode::M97;
+        let alone = if w.gcodes().iter().any(macro_code) {
+            // Every other letter of G65/G66 is an argument.
+            w.gcodes().iter().all(macro_code)
+        } else if w.mcodes().iter().any(sub_code) {
+            w.gcodes().is_empty() && w.mcodes().iter().all(sub_code) && w.letters().all(|l| b"MPL".contains(&l))
+        } else {
+            // A macro called by another code (G66's modal call, an M or T code's macro): the
+            // block's words are its arguments.
+            self.frames.len() != depth
+        };
+        if alone || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
             return;
         }
         let made = &out[first..];
@@ -1738,7 +1749,7 @@ impl State {
             return Ok(());
         }
         let word = |letter: u8| w.integer(letter).map_or(unbuilt::Word::Absent, unbuilt::Word::Value);
-        if w.gcodes().iter().any(|&code| unbuilt::g_code(code, self.cfg.dialect, word).is_some()) {
+        if w.gcodes().iter().any(|&code| unbuilt::g_code(code, self.cfg.dialect, w.gcodes(), word).is_some()) {
             return Err(AlarmId::GCodeNotBuilt);
         }
         self.refuse_unbuilt_blend(w)?;
@@ -1791,6 +1802,10 @@ impl State {
             q: w.has(b'Q')
                 && (matches!(comp, code::G41_6 | code::G42_6 | code::G41_3)
                     || !matches!(w.integer(b'Q'), Some(1.0 | 2.0 | 3.0))),
+            ijk_in_comp_block: matches!(in_block(group::CUTTER_COMP), Some(code::G41 | code::G42))
+                && [b'I', b'J', b'K'].into_iter().any(|l| w.has(l))
+                && matches!(after(group::MOTION), code::G00 | code::G01)
+                && !w.gcodes().iter().any(|c| unbuilt::OWN_IJK.contains(c)),
             smoothing: if w.has_g(code::G05_1) {
                 w.integer(b'Q') == Some(3.0)
             } else if w.has_g(code::G05) && self.cfg.dialect == crate::Dialect::Syntec {

@@ -27,7 +27,17 @@ enum When {
     /// When the address is given a positive value (its other values are format errors of the
     /// mode interlocks, `interp::modes`).
     Positive(u8),
+    /// When every one of these addresses is given, unless a code of the block takes them as its
+    /// own words ([`OWN_IJK`]).
+    WithAll(&'static [u8]),
 }
+
+/// The codes whose block's I, J, K are their own words: an arc's centre, and the Haas cycles'
+/// arguments (G12/G13 and G150 take G41/G42 in their block to name the side they cut on).
+pub const OWN_IJK: &[u16] = {
+    use crate::interp::gcode::code::*;
+    &[G02, G03, G12, G13, G70, G71, G72, G150]
+};
 
 struct NotBuilt {
     /// ×10, as in `gcode::TABLE`.
@@ -112,6 +122,14 @@ const TABLE: &[NotBuilt] = &[
     row(350, When::Always, "circular threading (G35)"),
     row(360, When::Always, "circular threading (G36)"),
     row(370, When::Always, "automatic tool length measurement (G37)"),
+    // FANUC's three-dimensional tool compensation: I, J and K all given in the G41/G42 block
+    // start it, and the I, J, K of the blocks after are the surface normals (FANUC 16/18-C,
+    // "Three-dimensional tool compensation"; 30i-A descriptions B-63942EN/02 p.299, `G41 X_ I_
+    // J_ K_ D_`). Run as cutter compensation C, the tool went R off the surface, silently
+    // (audit crc2 N1). Syntec's and Haas's sources give I, J, K no meaning there (Haas's 3-D
+    // compensation is G141): refused alike.
+    row(410, When::WithAll(b"IJK"), "three-dimensional tool compensation (G41 with I, J and K)"),
+    row(420, When::WithAll(b"IJK"), "three-dimensional tool compensation (G42 with I, J and K)"),
     row(411, When::Always, "normal direction control (G41.1)"),
     row(421, When::Always, "normal direction control (G42.1)"),
     row(431, When::Always, "tool length compensation in tool axis direction (G43.1)"),
@@ -174,9 +192,9 @@ const TABLE: &[NotBuilt] = &[
     },
 ];
 
-/// The function a G code (×10) selects with its block's addresses, if fivex does not carry it
-/// out in `dialect`.
-pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<&'static str> {
+/// The function a G code (×10) selects with its block's addresses (and its other codes,
+/// `codes`), if fivex does not carry it out in `dialect`.
+pub fn g_code(code: u16, dialect: Dialect, codes: &[u16], word: impl Fn(u8) -> Word) -> Option<&'static str> {
     // The dialect's own row first, then the row for every dialect.
     let row = TABLE
         .iter()
@@ -191,6 +209,9 @@ pub fn g_code(code: u16, dialect: Dialect, word: impl Fn(u8) -> Word) -> Option<
         When::Always => Some(true),
         When::Unless(letter, values) => value_in(letter, values).map(|ok| !ok),
         When::WithAny(letters) => Some(letters.iter().any(|&l| word(l) != Word::Absent)),
+        When::WithAll(letters) => {
+            Some(letters.iter().all(|&l| word(l) != Word::Absent) && !codes.iter().any(|c| OWN_IJK.contains(c)))
+        }
         When::Positive(letter) => match word(letter) {
             Word::Value(v) => Some(v > 0.0),
             Word::Absent => Some(false),
@@ -243,6 +264,11 @@ pub struct CutterBlock {
     /// Nano smoothing (G05.1 Q3) or Syntec's HPCC (G05 P10000) in force after the block: its
     /// curve is built from the programmed points, before (not after) any compensation.
     pub smoothing: bool,
+    /// I, J or K in a G41/G42 block in G00/G01 (not all three: that is [`TABLE`]'s
+    /// three-dimensional tool compensation), where no code of the block takes them
+    /// ([`OWN_IJK`]): some controls set the offset vector's direction by them, which the stage
+    /// does not perform (it ignored them).
+    pub ijk_in_comp_block: bool,
 }
 
 /// The function a block under cutter compensation asks for that its stage does not perform.
@@ -266,6 +292,7 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
         (b.rotary && conventional, "cutter radius compensation with a rotary axis moving"),
         (b.inverse_time, "cutter radius compensation in inverse time feed (G93)"),
         (b.corner_override, "automatic corner override (G62) in cutter radius compensation"),
+        (b.ijk_in_comp_block, "I, J, K in a G41/G42 block (the direction of the offset vector)"),
         (b.tool_side && b.q, "Q other than Q1/Q2/Q3 in the tool side offset (type 2: its inclination)"),
         (b.type2_alone, "the tool side offset of type 2 (G41.6/G42.6) without G43.5"),
         (b.leading_edge && b.rotary_table, "the leading edge offset (G41.3) on a machine with a rotary table"),
@@ -369,12 +396,12 @@ mod tests {
     #[test]
     fn values_decide() {
         let q = |v: Word| move |l: u8| if l == b'Q' { v } else { Word::Absent };
-        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(1.0))).is_none());
-        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(3.0))).is_none());
-        assert!(g_code(51, Dialect::Fanuc, q(Word::Value(2.0))).is_some());
-        assert!(g_code(51, Dialect::Syntec, q(Word::Value(3.0))).is_some());
-        assert!(g_code(51, Dialect::Fanuc, q(Word::Absent)).is_some());
-        assert!(g_code(51, Dialect::Fanuc, q(Word::Unknown)).is_none());
+        assert!(g_code(51, Dialect::Fanuc, &[], q(Word::Value(1.0))).is_none());
+        assert!(g_code(51, Dialect::Fanuc, &[], q(Word::Value(3.0))).is_none());
+        assert!(g_code(51, Dialect::Fanuc, &[], q(Word::Value(2.0))).is_some());
+        assert!(g_code(51, Dialect::Syntec, &[], q(Word::Value(3.0))).is_some());
+        assert!(g_code(51, Dialect::Fanuc, &[], q(Word::Absent)).is_some());
+        assert!(g_code(51, Dialect::Fanuc, &[], q(Word::Unknown)).is_none());
         let p_e = |p: f64, e: Word| {
             move |l: u8| match l {
                 b'P' => Word::Value(p),
@@ -382,24 +409,27 @@ mod tests {
                 _ => Word::Absent,
             }
         };
-        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Absent)).is_none());
-        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Value(1.0))).is_some());
-        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Value(0.0))).is_none());
-        assert!(g_code(50, Dialect::Syntec, p_e(10000.0, Word::Unknown)).is_none());
-        assert!(g_code(50, Dialect::Fanuc, p_e(10000.0, Word::Absent)).is_some());
-        assert!(g_code(50, Dialect::Fanuc, p_e(0.0, Word::Absent)).is_none());
+        assert!(g_code(50, Dialect::Syntec, &[], p_e(10000.0, Word::Absent)).is_none());
+        assert!(g_code(50, Dialect::Syntec, &[], p_e(10000.0, Word::Value(1.0))).is_some());
+        assert!(g_code(50, Dialect::Syntec, &[], p_e(10000.0, Word::Value(0.0))).is_none());
+        assert!(g_code(50, Dialect::Syntec, &[], p_e(10000.0, Word::Unknown)).is_none());
+        assert!(g_code(50, Dialect::Fanuc, &[], p_e(10000.0, Word::Absent)).is_some());
+        assert!(g_code(50, Dialect::Fanuc, &[], p_e(0.0, Word::Absent)).is_none());
     }
 
     #[test]
     fn haas_rows_name_the_ngc_function() {
         let none = |_: u8| Word::Absent;
-        assert_eq!(g_code(370, Dialect::Haas, none), Some("automatic tool offset measurement (G37)"));
-        assert_eq!(g_code(370, Dialect::Fanuc, none), Some("automatic tool length measurement (G37)"));
-        assert_eq!(g_code(2530, Dialect::Haas, none), Some("spindle normal to the feature coordinate system (G253)"));
+        assert_eq!(g_code(370, Dialect::Haas, &[], none), Some("automatic tool offset measurement (G37)"));
+        assert_eq!(g_code(370, Dialect::Fanuc, &[], none), Some("automatic tool length measurement (G37)"));
+        assert_eq!(
+            g_code(2530, Dialect::Haas, &[], none),
+            Some("spindle normal to the feature coordinate system (G253)")
+        );
         // G234, G254/G255 are performed (`interp::tcp`, `interp::dwo`).
-        assert_eq!(g_code(2340, Dialect::Haas, none), None);
+        assert_eq!(g_code(2340, Dialect::Haas, &[], none), None);
         // G154 / G110–G129 are performed (the G54.1 P work offsets).
-        assert_eq!(g_code(1540, Dialect::Haas, none), None);
-        assert_eq!(g_code(1100, Dialect::Haas, none), None);
+        assert_eq!(g_code(1540, Dialect::Haas, &[], none), None);
+        assert_eq!(g_code(1100, Dialect::Haas, &[], none), None);
     }
 }

@@ -583,8 +583,18 @@ impl Cutter {
                 } else {
                     self.release_perpendicular(out);
                 }
+                // Rule 9 holds for the cancel block too (no FANUC source exempts it): from where
+                // the tool stands to its programmed end it must not run against its own move (a
+                // cancel shorter than the radius after an inside corner: audit crc2 N3). The tool
+                // stops at the end of the block before.
+                let start = add(curve.from(), self.vector);
+                let cancel = Held { canon: c, curve, r: 0.0, start, startup: false };
+                if check_direction(&cancel, curve.to()).is_err() {
+                    self.alarm(AlarmId::CutterInterference, &cancel.canon);
+                    return;
+                }
                 self.cancelled();
-                out.push(c);
+                out.push(cancel.canon);
             }
         }
     }

@@ -201,6 +201,33 @@ fn a_block_that_gives_no_command_is_a_block_without_motion() {
 }
 
 #[test]
+fn a_call_or_return_with_a_g_code_is_a_block_without_motion() {
+    // Audit crc2 N2: rule 8 exempts a call or return "with nothing else"; a G code beside it
+    // is an NC command ("G90 ; G code only", 16i-LB §12) and the block counts. With M08 that
+    // is two blocks without motion: the vector is lost, X20. ends perpendicular at (20,5) as
+    // in `a_block_that_gives_no_command_is_a_block_without_motion` (until then the corner
+    // (15,5) was kept: the overcut the control makes, hidden).
+    let lost = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
+    let kept = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 15.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
+    let cases = [
+        // (the call in the main program, the return in O0009, the corner lost)
+        ("G90 M98 P9", "M99", true),
+        ("M98 P9", "G90 M99", true),
+        ("M98 P9", "G90 M99 (RETURN)", true),
+        ("M98 P9", "G91 M99", true),
+        // With nothing else: neither counts, the corner stays.
+        ("M98 P9", "M99", false),
+        ("M98 P9 L2", "M99 (RETURN)", false),
+    ];
+    for (call, ret, lost_here) in cases {
+        let src = format!(
+            "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nM08\n{call}\nY20.\nG90 G40 X0.\nM30\nO0009\n{ret}\n"
+        );
+        assert_ends(&src, if lost_here { &lost } else { &kept });
+    }
+}
+
+#[test]
 fn a_block_whose_move_is_zero_counts_as_two_blocks_without_motion() {
     // FANUC 16i-LB §12: "when the move distance is zero, even if the block is commanded
     // singly", the tool moves as after two blocks without movement: X20. at X20 loses the vector.
@@ -281,6 +308,81 @@ fn an_interference_in_the_last_block_before_the_end_is_raised() {
     let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nY-2.\nX24.\nY0.\nM30\n";
     let r = run_with(src, "mill3", Fanuc);
     assert_eq!((r.alarms.len(), r.alarms[0].code.as_str(), r.alarms[0].line), (1, "PS0041", 5));
+}
+
+#[test]
+fn a_cancel_block_that_runs_backwards_is_an_interference_alarm() {
+    // Audit crc2 N3 (shortexit.nc): rule 9 holds for the G40 block as for any block. The square
+    // 0..50 clockwise with G41 (R5) outside; X0. (line 6, −X) turns left into the 3 mm exit
+    // G40 Y-3. (−Y): an inside corner, X0. ends at the crossing of y = −5 and x = 5, (5,−5). The
+    // cancel would run from (5,−5) to (0,−3), direction (−5,2) against the programmed (0,−3):
+    // dot −6 < 0, PS0041 at line 7; the tool stops at (5,−5) (it ran on to (0,−3), 3 mm from
+    // the part's corner (0,0): a 2 mm gouge). Start-up (line 2) by hand: its offset line
+    // 5·(−1,1)/√2 + t·(1,1) meets x = −5 at y = 5√2 − 5.
+    let body = "G90 G00 X-20. Y-20. Z0\nG41 D1 G01 X0. Y0. F500\nY50.\nX50.\nY0.\nX0.\n";
+    let src = format!("{body}G40 Y-3.\nM30\n");
+    let (ends, alarm) = centre(&src, Fanuc);
+    assert_eq!(alarm, Some(("PS0041".to_string(), 7)));
+    let want = [
+        (1, -20.0, -20.0),
+        (2, -5.0, 50f64.sqrt() - 5.0),
+        (3, -5.0, 55.0),
+        (4, 55.0, 55.0),
+        (5, 55.0, -5.0),
+        (6, 5.0, -5.0),
+    ];
+    let close = ends.len() == want.len()
+        && ends.iter().zip(&want).all(|((l, p), (wl, x, y))| l == wl && approx(p[0], *x) && approx(p[1], *y));
+    assert!(close, "got {ends:?}\nwant {want:?}");
+    for (dialect, code) in [(Fanuc, "PS0041"), (Syntec, "COR-100")] {
+        let r = run_with(&src, "mill3", dialect);
+        assert_eq!((r.alarms.len(), r.alarms[0].code.as_str(), r.alarms[0].line), (1, code, 7));
+    }
+    // A cancel that leaves the corner forward runs: G40 Y-10. from (5,−5) to (0,−10), direction
+    // (−5,−5), dot 50 > 0.
+    let src = format!("{body}G40 Y-10.\nM30\n");
+    let mut want = want.to_vec();
+    want.push((7, 0.0, -10.0));
+    assert_ends(&src, &want);
+    // G40 with I/J (rule 11): X0. ends where y = −5 meets the line from (0,0) along (0,−1)
+    // offset left, x = 5: the same (5,−5), and the same alarm.
+    let src = format!("{body}G40 Y-3. I0 J-1.\nM30\n");
+    assert_eq!(centre(&src, Fanuc).1, Some(("PS0041".to_string(), 7)));
+}
+
+#[test]
+fn i_j_k_in_a_g41_block_are_refused_not_ignored() {
+    // Audit crc2 N1 (tdc.nc): I, J and K all in the G41 block start FANUC's three-dimensional
+    // tool compensation (the vector R·(I,J,K)/|IJK|: (0,0,5) at the end of line 5), which ran as
+    // cutter compensation C: the tool centre at (0,5,0), 5 mm off in Y and in Z. Refused at the
+    // G41 block, by the run and by `fivex check`; nothing of it moves (the tool stays at the
+    // end of line 4, X-20. Y0 Z0).
+    let src = "G90 G17 G21 G40\nG00 X-20. Y0.\nZ5.\nG01 Z0. F500.\nG41 X0. Y0. Z0. I0. J0. K1. D01\n\
+               G01 X20. Z-5. I0.5 J0. K0.866\nX40. I0. J0. K1.\nG40 X60.\nG00 Z50.\nM30\n";
+    for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-100"), (fivex_engine::Dialect::Haas, "310")] {
+        let r = run_with(src, "mill3", dialect);
+        assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect::<Vec<_>>(), [(code, 5)], "{dialect:?}");
+        assert_eq!(&r.machine[..3], &[-20.0, 0.0, 0.0], "{dialect:?}");
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(src), dialect);
+        let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, dialect.describe(&d.id).0)).collect();
+        assert_eq!(found, [(5, 1, code.to_string())], "{dialect:?}");
+        assert!(diags[0].detail.contains("three-dimensional tool compensation"), "{}", diags[0].detail);
+    }
+    // Only some of them: two-dimensional compensation C (FANUC 16/18-C), where some controls
+    // set the offset vector's direction by them; fivex ignored them. Refused at the block, in
+    // the start-up and in offset mode alike.
+    for (src, line) in [
+        ("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. Y0. I1. J0 F500\nX20.\nG40 X30.\nM30\n", 2),
+        ("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nG41 X20. I1.\nY20.\nG40 X0.\nM30\n", 3),
+    ] {
+        assert_eq!(centre(src, Fanuc).1, Some(("PS0010".to_string(), line)), "{src}");
+        let mut interp = interpreter(src, "mill3", Fanuc);
+        let stop = fivex_engine::check::run_without_motion(&mut interp, false).map(|s| (s.alarm.code, s.alarm.line));
+        assert_eq!(stop, Some(("PS0010".to_string(), line)), "fivex check's run: {src}");
+    }
+    // In an arc's block I and J are its centre: G41 given again there runs (rule 5).
+    let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG41 G03 X30. Y10. I0 J10.\nG01 Y20.\nG40 X40.\nM30\n";
+    assert_eq!(centre(src, Fanuc).1, None);
 }
 
 #[test]

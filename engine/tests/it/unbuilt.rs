@@ -176,6 +176,10 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G35 X10. Z0 R5. F1.", &[Fanuc, Syntec, Haas]),
     ("G36 X10. Z0 R5. F1.", &[Fanuc, Syntec, Haas]),
     ("G37 Z-10.", &[Fanuc, Syntec, Haas]),
+    // FANUC's three-dimensional tool compensation: I, J and K all in the G41/G42 block (audit
+    // crc2 N1). Syntec and Haas give them no meaning there: refused alike.
+    ("G41 D1 G01 X10. Y0 Z0 I0 J0 K1. F500.", &[Fanuc, Syntec, Haas]),
+    ("G42 D1 G01 X10. I0.5 J0 K0.866 F500.", &[Fanuc, Syntec, Haas]),
     ("G41.1", &[Fanuc, Syntec]),
     ("G41.2 D1", &[Syntec]),
     ("G41.3 D1", &[Syntec]),
