@@ -1,7 +1,10 @@
 #100=#3003
+#3003=0
+#3004=0
+#101=#3003+#3004+1
 #3003=3
-#3004=7
-#101=#3003
-#102=#3004
 M30
-(expect: #100=0 #101=3 #102=7 status=completed)
+(#3003/#3004 read back 0; a value that would suppress single block, feed hold or the override
+ is refused, as fivex does not build the suppression. Syntec's #2001-#3100 are its modal
+ variables: refused at the first read.)
+(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-021)
