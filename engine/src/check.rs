@@ -11,8 +11,8 @@
 //! M97/M98/G65 without P and M97 P of a line the program does not
 //! have, the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form, or with a
 //! literal P the program has no N for, Haas's G150 without P or with a P that is neither a
-//! line of the program nor a program of the file, and a block naming G93 and a cutting move
-//! without F.
+//! line of the program nor a program of the file, a block naming G93 and a cutting move
+//! without F, and FANUC's blocks in NURBS interpolation mode that are not a curve's.
 //!
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) and the
@@ -41,6 +41,9 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
         let loaded = Loaded::new(program);
         if dialect == Dialect::Haas {
             haas_modes(&loaded, &mut diags);
+        }
+        if dialect == Dialect::Fanuc {
+            nurbs_mode(&loaded, &mut diags);
         }
         for (i, block) in loaded.blocks().enumerate() {
             let at = |col: u32, id: AlarmId, detail: String| Diagnostic { line: block.line, col, id, detail };
@@ -445,6 +448,48 @@ fn haas_modes(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
         }
         if word(b'M', &|v| v == mcode::M02 as f64 || v == mcode::M30 as f64).is_some() {
             (dwo, tcpc, rounding) = (false, false, false);
+        }
+    }
+}
+
+/// FANUC: what NURBS interpolation mode refuses that the text shows (`interp::nurbs`,
+/// `refuse_in_nurbs_mode`), reading the program's blocks in order (a jump or a call is not
+/// followed; the run finds the rest): from a G06.2 block to a block with another group-01 code,
+/// a word that is not a curve's — K, R, an axis address (A–C, U–Z); in the G06.2 block also
+/// G06.2, G90/G91, P and F — is PS5116.
+fn nurbs_mode(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
+    let g_of = |w: &NcWord| match (w.letter, &w.value) {
+        (b'G', WordValue::Number { value, .. }) => gcode::code_of(*value),
+        _ => None,
+    };
+    let mut mode = false;
+    for block in loaded.blocks() {
+        let BlockKind::Words(words) = &block.kind else { continue };
+        let motion = words
+            .iter()
+            .filter_map(|w| g_of(w).and_then(|c| gcode::written(c, Dialect::Fanuc)))
+            .find(|d| d.group == group::MOTION)
+            .map(|d| d.code);
+        let starts = motion == Some(code::G06_2);
+        mode = starts || (mode && motion.is_none());
+        if !mode {
+            continue;
+        }
+        let curve_word = |w: &NcWord| match w.letter {
+            b'K' | b'R' | b'A'..=b'C' | b'U'..=b'Z' => true,
+            b'P' | b'F' => starts,
+            b'G' => starts && matches!(g_of(w), Some(code::G06_2 | code::G90 | code::G91)),
+            _ => false,
+        };
+        if let Some(w) = words.iter().find(|w| !curve_word(w)) {
+            diags.push(Diagnostic {
+                line: block.line,
+                col: w.col,
+                id: AlarmId::NurbsBlock,
+                detail: "in NURBS interpolation mode (G06.2) only the curves' blocks may come, until another \
+                         group-01 code"
+                    .into(),
+            });
         }
     }
 }

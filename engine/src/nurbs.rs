@@ -13,6 +13,11 @@ pub const CHORD_TOLERANCE_MM: f64 = crate::chords::TOLERANCE_MM;
 /// chords are a 20 m long curve of radius 10 at `CHORD_TOLERANCE_MM`.
 pub const MAX_CHORDS: usize = 200_000;
 
+/// How close the control points on either side of an interior run of `rank` equal knots must
+/// be for the curve to be continuous there: the same point up to the rounding of the
+/// programming transforms and of G91 sums (a program states 1 µm, or 0.0001°).
+pub const SAME_POINT: f64 = 1e-9;
+
 /// Rank (degree + 1) limits of FANUC's conventional NURBS: P2 (linear) to P4 (cubic).
 pub const RANKS: std::ops::RangeInclusive<usize> = 2..=4;
 
@@ -29,9 +34,11 @@ pub enum Error {
     Decreasing,
     /// The first rank knots (or the last) are not equal, or the curve's knot range is empty.
     Ends,
-    /// A run of equal knots inside the curve as long as the rank or longer (the curve could
-    /// jump there), or longer than the rank at its ends.
+    /// A run of equal knots longer than the rank.
     Multiplicity,
+    /// A run of equal knots as long as the rank inside the curve where the control points on
+    /// either side differ: the curve jumps there.
+    Break,
     /// A weight that is not positive (or not finite).
     Weight,
     /// More than `MAX_CHORDS` chords.
@@ -49,7 +56,10 @@ pub struct Curve<const D: usize> {
 
 impl<const D: usize> Curve<D> {
     /// Check and build a curve: `points.len() + rank` knots, non-decreasing, the first `rank`
-    /// equal and the last `rank` equal, no interior run of `rank` equal knots, positive weights.
+    /// equal and the last `rank` equal, no run longer than the rank, positive weights. An
+    /// interior run as long as the rank ends one piece of the curve at the control point before
+    /// it and starts the next at the one after it (all basis functions but theirs are zero
+    /// there): the curve is continuous only where those two coincide (to `SAME_POINT`).
     pub fn new(rank: usize, knots: Vec<f64>, points: Vec<[f64; D]>, weights: Vec<f64>) -> Result<Self, Error> {
         if !RANKS.contains(&rank) {
             return Err(Error::Rank);
@@ -70,7 +80,9 @@ impl<const D: usize> Curve<D> {
         {
             return Err(Error::Ends);
         }
-        // Runs of equal knots: `rank` at each end (checked above), fewer than `rank` inside.
+        // Runs of equal knots: `rank` at each end (checked above), at most `rank` inside
+        // (FANUC: not "in excess of the rank value"), and a run of `rank` only where the curve
+        // stays continuous.
         let mut start = 0;
         while start < n {
             let mut end = start;
@@ -78,9 +90,13 @@ impl<const D: usize> Curve<D> {
                 end += 1;
             }
             let run = end - start + 1;
-            let at_end = start == 0 || end == n - 1;
-            if run > rank || (!at_end && run >= rank) {
+            if run > rank {
                 return Err(Error::Multiplicity);
+            }
+            let inside = start > 0 && end < n - 1;
+            let apart = |a: &[f64; D], b: &[f64; D]| a.iter().zip(b).any(|(x, y)| (x - y).abs() > SAME_POINT);
+            if inside && run == rank && apart(&points[start - 1], &points[start]) {
+                return Err(Error::Break);
             }
             start = end + 1;
         }
@@ -88,6 +104,15 @@ impl<const D: usize> Curve<D> {
             return Err(Error::Weight);
         }
         Ok(Curve { rank, knots, points, weights })
+    }
+
+    /// Whether `u` is an interior knot where the curve may have a corner: a run of equal knots
+    /// at least `rank − 1` long (the degree) leaves the curve only continuous there, so the
+    /// chords on either side meet at an angle the curve itself has (a rank-2 curve: every
+    /// interior knot, its control polygon's corners).
+    pub fn corner_at(&self, u: f64) -> bool {
+        let (a, b) = self.domain();
+        u > a && u < b && self.knots.iter().filter(|&&k| k == u).count() + 1 >= self.rank
     }
 
     /// The parameter range: from the first knot to the last.
@@ -310,9 +335,19 @@ mod tests {
             Curve::<1>::new(3, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], pts.clone(), vec![1.0, 0.0, 1.0]),
             Err(Error::Weight)
         );
+        // An interior run as long as the rank: the curve jumps from points[2] to points[3]
+        // unless they coincide; a run longer than the rank is refused either way.
         let pts6 = vec![[0.0], [1.0], [2.0], [3.0], [4.0], [5.0]];
         let knots = vec![0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0];
-        assert_eq!(Curve::<1>::new(3, knots, pts6, vec![1.0; 6]), Err(Error::Multiplicity));
+        assert_eq!(Curve::<1>::new(3, knots.clone(), pts6, vec![1.0; 6]), Err(Error::Break));
+        let joined = vec![[0.0], [1.0], [2.0], [2.0], [4.0], [5.0]];
+        let c = Curve::<1>::new(3, knots, joined.clone(), vec![1.0, 1.0, 0.5, 3.0, 1.0, 1.0]).unwrap();
+        assert_eq!((c.eval(0.5), c.eval(0.5 - 1e-12)[0].round()), ([2.0], 2.0));
+        assert!(c.corner_at(0.5) && !c.corner_at(0.25) && !c.corner_at(0.0));
+        let knots = vec![0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0];
+        let mut pts7 = joined;
+        pts7.push([6.0]);
+        assert_eq!(Curve::<1>::new(3, knots, pts7, vec![1.0; 7]), Err(Error::Multiplicity));
     }
 
     #[test]

@@ -477,6 +477,8 @@ impl State {
         if self.cfg.fast_paths && self.is_plain_motion(w) {
             return self.plain_motion(w, out);
         }
+        // In NURBS interpolation mode only the curves' blocks may come (a macro call included).
+        self.refuse_in_nurbs_mode(w)?;
 
         // --- macro calls: the block's words are arguments, nothing else runs ----------------
         if w.has_g(code::G65) {
@@ -875,13 +877,6 @@ impl State {
         }
         if nurbs_start {
             self.nurbs_start(w)?;
-        } else if self.modes[group::MOTION] == code::G06_2
-            && axes_owner.is_none()
-            && !transform_axes
-            && (has_axes || w.has(b'K'))
-        {
-            // A NURBS block after the curve ended: a new curve starts with G06.2.
-            return Err(AlarmId::NurbsBlock);
         } else if axes_owner.is_none() && !transform_axes {
             if self.modes[group::CYCLE] != code::G80
                 && (has_axes || w.has(b'R') || w.g[..w.ng].iter().any(|&c| is_cycle(c)))

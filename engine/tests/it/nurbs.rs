@@ -443,3 +443,268 @@ fn the_feed_along_the_curve_is_what_its_bending_leaves_the_axes() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// speed along the curve: the chords the machine runs, not a point of the curve between them
+// ---------------------------------------------------------------------------------------------
+
+/// Seconds the 1 ms samples of `line` span.
+fn seconds_on(samples: &[Sample], line: u32) -> f64 {
+    samples.iter().filter(|s| s.line == line).count() as f64 * 1e-3
+}
+
+/// The time lost against cruising when a straight move along `dir` (unit, X/Y) starts from rest
+/// on mill3 (jerk 80,000 mm/s³ per axis, acceleration 4000 mm/s² not reached below 200 mm/s):
+/// the S-curve reaches v in 2·√(v/J) over v·√(v/J), so it loses √(v/J) with J the path's jerk,
+/// the lowest J/|dᵢ| over the axes.
+fn start_from_rest(v: f64, dir: [f64; 2]) -> f64 {
+    let j = dir.iter().filter(|d| d.abs() > 1e-12).map(|d| 80000.0 / d.abs()).fold(f64::INFINITY, f64::min);
+    (v / j).sqrt()
+}
+
+/// The audit's F1a: a rational quadratic whose middle weight is tiny is the straight line from
+/// (0, 0) to (5, 5) within a micrometre, except a stretch of micrometres at its end where it
+/// turns toward its end tangent (0,5)→(5,5). Its chords are straight; it ran at 1.1 mm/min for
+/// 7513 s, the slowest speed of that stretch given to whole chords.
+#[test]
+fn a_nearly_straight_curve_with_a_tiny_weight_runs_at_its_feed() {
+    let src = "G90 G17 G00 X0 Y0 Z0\nG06.2 P3 K0 X0 Y0 F1000\nK0 X0 Y5. R0.000001\nK0 X5. Y5.\nK1.\nK1.\nK1.\n\
+               G01 X10. Y10.\nM30\n";
+    let samples = samples_of(src, "mill3");
+    // 5·√2 mm at 1000 mm/min, from rest, on into the G01 along the same line.
+    let v = 1000.0 / 60.0;
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let ideal = 50f64.sqrt() / v + start_from_rest(v, [h, h]);
+    let t = seconds_on(&samples, 7);
+    assert!((t - ideal).abs() < 0.02 * ideal, "{t} s against {ideal} s");
+}
+
+/// The audit's F1b: a cubic whose second control point is 1 µm off the start (a CAM rounding):
+/// the curve's radius of curvature is 0.3 µm at its start, 5 mm a few micrometres on. The first
+/// chord (57 µm) ran at 1.88 mm/min.
+#[test]
+fn a_control_point_a_micrometre_off_the_tangent_does_not_slow_a_chord() {
+    let src = "G90 G17 G00 X0 Y0 Z0\nG06.2 P4 K0 X0 Y0 Z0 F3000\nK0 X0 Y0.001 Z0\nK0 X10. Y0.001 Z0\n\
+               K0 X20. Y5. Z0\nK1. X30. Y5. Z0\nK2.\nK2.\nK2.\nK2.\nG01 X40. Y5.\nM30\n";
+    // The curve's length by the basis-function sum above (the chords of 200,000 steps: within
+    // 1e-9 of the length).
+    let knots = [0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0, 2.0];
+    let points = [[0.0, 0.0, 0.0], [0.0, 0.001, 0.0], [10.0, 0.001, 0.0], [20.0, 5.0, 0.0], [30.0, 5.0, 0.0]];
+    let steps = 200_000;
+    let at = |k: usize| reference(&knots, &points, 2.0 * k as f64 / steps as f64);
+    let length: f64 = (1..=steps).map(|k| (at(k) - at(k - 1)).norm()).sum();
+    assert!((length - 30.545).abs() < 1e-3, "{length}");
+    let v = 3000.0 / 60.0;
+    let ideal = length / v + start_from_rest(v, [1.0, 0.0]);
+    let samples = samples_of(src, "mill3");
+    let t = seconds_on(&samples, 10);
+    assert!((t - ideal).abs() < 0.02 * ideal, "{t} s against {ideal} s");
+}
+
+/// A genuinely curved NURBS is still slowed as an arc of its radius is: a full circle of radius
+/// 5 (nine control points) at F20000 (333 mm/s) against G02 of the same circle. fivex's arc
+/// rule holds the plane's speed to w = min(√(σ·4000·5), ∛(σ·80000·25)) with the share σ of
+/// the axes' limits that gives the arc the shorter time: 121.6 mm/s at σ = 0.9, 100 mm/s at
+/// 0.5 — which this G02 takes, as its speed changes get the rest. The chords' caps are the
+/// bending at 0.9, per axis (between 1 and 2^(1/6) times w, the most at 45° where each axis
+/// takes a part of it), rounded down to steps of 2^(1/8); their speed changes are not charged
+/// the bending's share (`docs/motion.md`, "NURBS"), so the curve cruises at the σ = 0.9 figure.
+#[test]
+fn a_circle_of_radius_5_is_slowed_as_its_arc_is() {
+    let nurbs = "G90 G17 G00 X0 Y0 Z0
+#1=SQRT[2]/2
+G06.2 P3 K0 X0 Y0 F20000
+K0 X0 Y5. R#1
+K0 X5. Y5.
+                 K1. X10. Y5. R#1
+K1. X10. Y0
+K2. X10. Y-5. R#1
+K2. X5. Y-5.
+K3. X0 Y-5. R#1
+K3. X0 Y0
+                 K4.
+K4.
+K4.
+G01 X0 Y10.
+M30
+";
+    let arc = "G90 G17 G00 X0 Y0 Z0
+G02 I5. F20000
+G01 X0 Y10.
+M30
+";
+    let (on_curve, on_arc) = (samples_of(nurbs, "mill3"), samples_of(arc, "mill3"));
+    // The speed along the middle half of each (the first and last quarters hold the speed
+    // changes from rest and into the line).
+    let middle = |s: &[Sample], line: u32| {
+        let on: Vec<f64> = s.iter().filter(|s| s.line == line).map(|s| s.feed / 60.0).collect();
+        let half = &on[on.len() / 4..on.len() * 3 / 4];
+        (half.iter().sum::<f64>() / half.len() as f64, on.iter().copied().fold(0.0, f64::max))
+    };
+    let ((v_curve, top_curve), (v_arc, top_arc)) = (middle(&on_curve, 14), middle(&on_arc, 2));
+    let w = |share: f64| (share * 4000.0 * 5.0f64).sqrt().min((share * 80000.0 * 25.0f64).cbrt());
+    assert!((top_arc / w(0.5) - 1.0).abs() < 0.01 && v_arc > 0.9 * w(0.5), "arc {v_arc} mm/s, at most {top_arc}");
+    assert!((top_curve / w(0.9) - 1.0).abs() < 0.05, "curve at most {top_curve} mm/s");
+    assert!(v_curve > 0.85 * w(0.9) && v_curve < w(0.9), "curve {v_curve} mm/s");
+    // Before, a curve's chord took the slowest point of the curve it replaced; with no cap at
+    // all it would run at F (333 mm/s).
+    assert!(seconds_on(&on_curve, 14) > 31.4 / w(0.9), "{}", seconds_on(&on_curve, 14));
+}
+
+// ---------------------------------------------------------------------------------------------
+// NURBS interpolation mode: as long as G06.2 is the group-01 code
+// ---------------------------------------------------------------------------------------------
+
+/// A curve on lines 2–7 of `alarm_of`'s program; the mode stays G06.2 after it.
+const CURVE: &str = "G06.2 P3 K0 X0 Y0 F1000\nK0 X0 Y5.\nK0 X5. Y5.\nK1.\nK1.\nK1.";
+
+/// 15i-MA (NURBS): "In NURBS interpolation mode, commands (such as auxiliary functions) other
+/// than NURBS interpolation cannot be specified", and the mode ends only with another group-01
+/// code. They all ran (the audit's F2).
+#[test]
+fn after_the_curve_only_a_curve_or_another_group_01_code_may_come() {
+    let foreign = [
+        "M08",
+        "S1000 M03",
+        "T2 M06",
+        "G04 P500",
+        "G43 H2",
+        "G49",
+        "G68 X0 Y0 R10.",
+        "G69",
+        "G51 X0 Y0 P2000",
+        "G50",
+        "G91",
+        "G55",
+        "G92 X0 Y0",
+        "G28 X0",
+        "G53 X0",
+        "G10 L2 P1 X5.",
+        "F500",
+        "G61",
+        "M00",
+        "M30",
+        "G65 P9010 A1.",
+    ];
+    for block in foreign {
+        assert_eq!(alarm_of(&format!("{CURVE}\n{block}\nG01 X0 Y0")), Some(("PS5116".into(), 8)), "{block}");
+    }
+    // In the G06.2 block itself too.
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F1000 M08\nK0 X0 Y5."), Some(("PS5116".into(), 2)));
+    assert_eq!(alarm_of("G06.2 P3 K0 X0 Y0 F1000 S500\nK0 X0 Y5."), Some(("PS5116".into(), 2)));
+    // A block ending the mode (with what it holds), a new curve, comments and macro
+    // statements are accepted.
+    for after in [
+        "G01 X0 Y0",
+        "G00 Z10. M09",
+        "#100=#5001\n(comment)\nG01 X0 Y0",
+        "G91 G06.2 P2 K0 X0 Y0\nK0 X1.\nK1.\nK1.\nG01 X0",
+    ] {
+        assert_eq!(alarm_of(&format!("{CURVE}\n{after}")), None, "{after}");
+    }
+    // `fivex check` finds them in the text.
+    let lines = |src: &str| -> Vec<(u32, String)> {
+        fivex_engine::check::check(fivex_engine::lang::parse_file(src), Dialect::Fanuc)
+            .into_iter()
+            .map(|d| (d.line, Dialect::Fanuc.describe(&d.id).0))
+            .collect()
+    };
+    let src = format!("G90 G00 X0 Y0 Z0\n{CURVE}\nG69\nT2 M06\nG01 X0 Y0\nM08\nM30\n");
+    assert_eq!(lines(&src), [(8, "PS5116".to_string()), (9, "PS5116".to_string())]);
+    assert_eq!(lines("G06.2 P3 K0 X0 Y0 F100 M08\nK0 X1. Y1.\nG04 P1\n"), [(1, "PS5116".into()), (3, "PS5116".into())]);
+    assert!(lines("G06.2 P3 K0 X0 Y0 F100\nK0 X1. Y1. R0.5\nN10 K1.\n#1=1\nG00 G49 Z0\nM08\n").is_empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// rollover axes: a control point is not re-wrapped
+// ---------------------------------------------------------------------------------------------
+
+/// head-bc's C rolls over the shorter way (FANUC RAB = 0). The audit's F3: C control points 0,
+/// 190, 270, 360 were taken as 0, −170, −90, 0 (the shorter way from each to the next), and C
+/// turned backwards along the cut. A control point the rule would move is refused (PS5115,
+/// decision); where the rule leaves every written step (RAB = 1 here, or steps under a half
+/// turn) the curve is the written one.
+#[test]
+fn a_rollover_axis_s_control_point_is_taken_as_written_or_refused() {
+    let src = "G90 G00 X0 Y0 Z0 B0 C0\nG06.2 P4 K0 X0 Y0 Z0 B0 C0 F2000\nK0 X10. C190.\nK0 X20. C270.\nK0 X30. C360.\n\
+               K1.\nK1.\nK1.\nK1.\nG01 X40.\nM30\n";
+    assert_eq!(first_alarm(src, "head-bc"), Some(("PS5115".into(), 3)));
+    // Taken the written way (RAB = 1: by the command's sign): the literal curve.
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let (x, c) = (m.axis_index(b'X').unwrap(), m.axis_index(b'C').unwrap());
+    m.axes[c].shortest = false;
+    let mut interp = interpreter_with(src, "head-bc", Dialect::Fanuc, |cfg| cfg.machine = m.into());
+    let mut targets = Vec::new();
+    interp
+        .run(|cmd| {
+            if let fivex_engine::canon::CanonKind::Motion(mo) = cmd.kind {
+                targets.push(mo.target);
+            }
+        })
+        .expect("no alarm");
+    // X runs evenly (30·t), so each chord vertex is the Bézier at t = X/30; C at X15 (t = ½)
+    // is (3·190 + 3·270 + 360)/8 = 217.5.
+    let bezier = |t: f64| 3.0 * t * (1.0 - t).powi(2) * 190.0 + 3.0 * t * t * (1.0 - t) * 270.0 + t.powi(3) * 360.0;
+    assert_eq!(bezier(0.5), 217.5);
+    let on: Vec<_> = targets.iter().filter(|p| p[x] <= 30.0).collect();
+    assert!(on.len() >= 4, "{} vertices", on.len());
+    for p in on {
+        let off = (p[c] - bezier(p[x] / 30.0) + 180.0).rem_euclid(360.0) - 180.0;
+        assert!(off.abs() < 1e-6, "X{} C{} against C{}", p[x], p[c], bezier(p[x] / 30.0));
+    }
+    // The shorter way keeps steps under half a turn: 0, 90, 170, 250 and 300, 350, 400, 450
+    // (400 is 40 written on another turn) run.
+    let ok = "G90 G00 X0 Y0 Z0 B0 C0\nG06.2 P4 K0 X0 Y0 Z0 B0 C0 F2000\nK0 X10. C90.\nK0 X20. C170.\nK0 X30. C250.\n\
+              K1.\nK1.\nK1.\nK1.\nG01 X40.\nM30\n";
+    assert_eq!(first_alarm(ok, "head-bc"), None);
+    let on =
+        "G90 G00 X0 Y0 Z0 B0 C300.\nG06.2 P4 K0 X0 Y0 Z0 C300. F2000\nK0 X10. C350.\nK0 X20. C400.\nK0 X30. C450.\n\
+              K1.\nK1.\nK1.\nK1.\nG01 X40.\nM30\n";
+    assert_eq!(first_alarm(on, "head-bc"), None);
+    // 350 → 0 is −350 written, +10 the shorter way: refused.
+    let back = "G90 G00 X0 Y0 Z0 B0 C350.\nG06.2 P4 K0 X0 Y0 Z0 C350. F2000\nK0 X10. C0\nK0 X20. C10.\nK0 X30. C20.\n\
+                K1.\nK1.\nK1.\nK1.\nG01 X40.\nM30\n";
+    assert_eq!(first_alarm(back, "head-bc"), Some(("PS5115".into(), 3)));
+    // Incremental control points are the steps themselves.
+    let g91 = "G90 G00 X0 Y0 Z0 B0 C0\nG91 G06.2 P4 K0 X0 C0 F2000\nK0 X10. C190.\nK0 X10. C80.\nK0 X10. C90.\n\
+               K1.\nK1.\nK1.\nK1.\nG90 G01 X40.\nM30\n";
+    assert_eq!(first_alarm(g91, "head-bc"), None);
+}
+
+// ---------------------------------------------------------------------------------------------
+// an interior run of knots as long as the rank
+// ---------------------------------------------------------------------------------------------
+
+/// 15i-MA: "Knots of the same value that continue in excess of the rank value cannot be
+/// specified". A run equal to the rank ends one piece of the curve at the control point before
+/// it and starts the next at the one after: where those coincide the curve is continuous, with
+/// a corner, which the tool slows down for as at any corner (the audit's F4: it was PS5115).
+/// Where they differ the curve jumps: PS5115 (decision).
+#[test]
+fn an_interior_run_as_long_as_the_rank_is_a_corner_where_the_curve_is_continuous() {
+    let src = "G90 G00 X0 Y0 Z0\nG06.2 P3 K0 X0 Y0 F1000\nK0 X5. Y5.\nK0 X10. Y0\nK1. X10. Y0\nK1. X15. Y5.\n\
+               K1. X20. Y0\nK2.\nK2.\nK2.\nG01 X30. Y0\nM30\n";
+    let samples = samples_of(src, "mill3");
+    let on: Vec<&Sample> = samples.iter().filter(|s| s.line == 10).collect();
+    // Each piece is the quadratic Bézier of its three points: x runs 0→10 and 10→20 evenly,
+    // y = 10·t·(1 − t) on each (t = x/10 − its start), a parabola; the corner is (10, 0).
+    for s in &on {
+        let (x, y) = (s.machine[0], s.machine[1]);
+        let t = if x <= 10.0 { x / 10.0 } else { x / 10.0 - 1.0 };
+        assert!((y - 10.0 * t * (1.0 - t)).abs() < 1e-3, "({x}, {y})");
+    }
+    let corner = on.iter().min_by(|a, b| (a.machine[0] - 10.0).abs().total_cmp(&(b.machine[0] - 10.0).abs())).unwrap();
+    assert!((corner.machine[0] - 10.0).abs() < 1e-3 && corner.machine[1].abs() < 1e-3, "{:?}", corner.machine);
+    // At the corner Y's direction turns from −1/√2 to +1/√2: a speed step of 4 mm/s (mill3's
+    // 4000 mm/s² for 1 ms) allows 4/√2 = 2.83 mm/s there (170 mm/min), against 1000 mm/min.
+    assert!(corner.feed <= 170.0 * 1.05, "{} mm/min at the corner", corner.feed);
+    // The curve jumps where the points either side differ: (10, 0) to (10, 1).
+    let jump =
+        "G06.2 P3 K0 X0 Y0 F1000\nK0 X5. Y5.\nK0 X10. Y0\nK1. X10. Y1.\nK1. X15. Y5.\nK1. X20. Y0\nK2.\nK2.\nK2.";
+    assert_eq!(alarm_of(jump), Some(("PS5115".into(), 10)));
+    // A run longer than the rank stays PS5115.
+    let long =
+        "G06.2 P3 K0 X0 Y0 F1000\nK0 X5. Y5.\nK0 X10. Y0\nK1. X10. Y0\nK1. X15. Y5.\nK1. X20. Y0\nK1. X25. Y5.\n\
+                K2.\nK2.\nK2.";
+    assert_eq!(alarm_of(long), Some(("PS5115".into(), 11)));
+}

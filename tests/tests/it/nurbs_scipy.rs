@@ -2,7 +2,7 @@
 //! Every chord vertex `fivex interp` prints for a curve lies on the rational curve SciPy
 //! evaluates from the same control points, weights and knots within 1e-9 mm, the path ends
 //! where the curve does, and the curve's first and second derivatives the engine computes
-//! (`fivex_engine::nurbs::Curve::derivatives`, which bound the speed along it) are SciPy's
+//! (`fivex_engine::nurbs::Curve::derivatives`) are SciPy's
 //! within 1e-9 of their size. Needs python3 with SciPy (Debian's python3-scipy): ignored by a plain
 //! `cargo test`, run by scripts/test.sh, which installs it.
 
