@@ -5,6 +5,6 @@
 #3003=3
 M30
 (#3003/#3004 read back 0; a value that would suppress single block, feed hold or the override
- is refused, as fivex does not build the suppression. Syntec's #2001-#3100 are its modal
- variables: refused at the first read.)
-(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-021)
+ is refused, as fivex does not build the suppression. FANUC only: Syntec refuses its
+ #2001-#3100, tests/it/syntec_macro.rs.)
+(expect: alarm=PS0115)
