@@ -52,12 +52,42 @@ fn bad(detail: String) -> ConfigError {
     ConfigError::alarm(AlarmId::AxisSetting, detail)
 }
 
+/// Parameters that change the unit of every length the list and the programs give: refused,
+/// not reported as unmodelled, since the same list read in fivex's units describes another
+/// machine (an inch machine read as mm is 25.4 times too small; an IS-C axis read as IS-B moves
+/// `X10` ten times as far). fivex's FANUC machines are metric (No.1001#0 INM = 0), with the
+/// increment system IS-B (No.1013#0–#3 = 0) and numbers without a point in least increments
+/// (No.3401#0 DPI = 0; the programs' own G20/G21 and No.0000#2 INI are built).
+fn refuse_other_units(p: &Params, names: &[f64]) -> Result<(), ConfigError> {
+    if p.0.contains_key(&1001) && p.bit(1001, 0)? {
+        return Err(ConfigError::invalid(
+            "No.1001#0 INM = 1 (an inch machine: the parameters' lengths in inch) is not built; fivex's FANUC machines are metric",
+        ));
+    }
+    if p.0.contains_key(&3401) && p.bit(3401, 0)? {
+        return Err(ConfigError::invalid(
+            "No.3401#0 DPI = 1 (a number without a point in mm or degrees) is not built; fivex reads it in least increments",
+        ));
+    }
+    for (i, bits) in p.axes(1013, names.len())?.into_iter().enumerate() {
+        if super::params::whole(1013, bits, 0, 255)? & 0x0f != 0 {
+            let letter = super::params::whole(1020, names[i], 0, 127)? as u8 as char;
+            return Err(ConfigError::invalid(format!(
+                "No.1013 of axis {letter}: an increment system other than IS-B (ISA/ISC/ISD/ISE) is not built; \
+                 fivex's least increment is 0.001 mm / 0.001 deg"
+            )));
+        }
+    }
+    Ok(())
+}
+
 pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let names = match p.0.get(&1020) {
         Some(Value::PerAxis(v)) if !v.is_empty() => v.clone(),
         _ => return Err(ConfigError::invalid("No.1020 (axis names, ASCII codes, one per axis) is needed")),
     };
     let n = names.len();
+    refuse_other_units(p, &names)?;
     let (rot, roll, per_rev, basics) = (p.axes(1006, n)?, p.axes(1008, n)?, p.axes(1260, n)?, p.axes(1022, n)?);
     let references = [p.axes(1241, n)?, p.axes(1242, n)?, p.axes(1243, n)?];
     let smoothing = p.axes(19587, n)?;

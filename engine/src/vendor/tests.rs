@@ -1266,3 +1266,27 @@ fn fanuc_after_interpolation_1610_1620_1621_1622_round_trip() {
     q.set_axes(1621, vec![0.0, 4001.0, 0.0, 0.0, 0.0]);
     assert!(machine_from(Dialect::Fanuc, "m", &q).unwrap_err().detail.contains("No.1621"));
 }
+
+/// Audit params F3: parameters that change the unit of every length are refused, not reported
+/// as unmodelled (the list read in fivex's units is another machine); their 0 is taken.
+#[test]
+fn fanuc_unit_parameters_other_than_fivex_s_are_refused() {
+    for (number, value, names) in [
+        (1001, Value::One(1.0), "No.1001#0 INM"),
+        (3401, Value::One(1.0), "No.3401#0 DPI"),
+        (1013, Value::PerAxis(vec![0.0, 0.0, 0.0, 2.0, 0.0]), "No.1013 of axis B"),
+        (1013, Value::PerAxis(vec![1.0, 0.0, 0.0, 0.0, 0.0]), "No.1013 of axis X"),
+    ] {
+        let mut p = fanuc_bc_head();
+        p.0.insert(number, value.clone());
+        let e = machine_from(Dialect::Fanuc, "m", &p).unwrap_err();
+        assert!(e.describe(Dialect::Fanuc).contains(names), "{number} {value:?}: {}", e.describe(Dialect::Fanuc));
+        assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![], "refused, not reported");
+    }
+    // Their zero and the bits fivex does not read (No.1013#7 IESP, No.3401#1) load.
+    let mut p = fanuc_bc_head();
+    p.set(1001, 0.0);
+    p.set(3401, 2.0);
+    p.set_axes(1013, vec![0.0, 0.0, 0.0, 128.0, 0.0]);
+    assert!(machine_from(Dialect::Fanuc, "m", &p).is_ok());
+}
