@@ -586,6 +586,13 @@ impl State {
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
         self.refuse_g10_strangers(w)?;
+        // G53 under G91 (in force, or in its block): FANUC's manuals give G53 in absolute
+        // terms only, and controls differ on an incremental one (ignored, or moved by the
+        // increment); fivex moved to the absolute machine position. Refused, not guessed
+        // (`docs/conventions.md`, "G53 under G91").
+        if w.has_g(code::G53) && self.after_block(w, group::DISTANCE) == code::G91 {
+            return Err(AlarmId::IllegalGCodeCombination);
+        }
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
         self.refuse_plane_change_in_cycle(w)?;

@@ -51,3 +51,20 @@ fn a_p_beside_g54_to_g59_is_not_dropped() {
     assert!(r.completed(), "{:?}", r.alarms);
     assert!(checked("G55 G04 P100\nM30\n", Syntec).is_empty());
 }
+
+/// Audit F4: `G91 G53 X-10.` moved to machine X−10 (90 mm from −100) without an alarm. G53 is
+/// given in absolute terms; controls differ on an incremental one, so it is refused (PS0010,
+/// COR-070, Haas 339) under G91 in force or in its block, and nothing moves.
+#[test]
+fn g53_under_g91_is_refused() {
+    let src = "G21 G90 G49\nG10 L2 P1 X-100. Y-50. Z-200.\nG54 G00 X0 Y0 Z100.\nG91 G53 X-10.\nG90\nM30\n";
+    for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-070"), (Haas, "339")] {
+        let r = run_with(src, "mill3", dialect);
+        let got: Vec<_> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
+        assert_eq!(got, [(code, 4)], "{dialect:?}");
+        assert_eq!(r.machine[0], -100.0, "{dialect:?}");
+    }
+    assert_eq!(alarm("G91\nG53 Z0\nM30\n"), "PS0010");
+    assert_eq!(alarm("G53 G91 Z0\nM30\n"), "PS0010");
+    assert!(run_src("G91 G28 Z0\nG90 G53 Z0\nM30\n").completed());
+}
