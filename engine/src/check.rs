@@ -26,6 +26,7 @@ use crate::dialect::Dialect;
 use crate::interp::gcode::{self, code, group};
 use crate::interp::mcode;
 use crate::interp::modes::syntec_improper_address;
+use crate::interp::offsets;
 use crate::interp::unbuilt::{self, Word};
 use crate::interp::{Interpreter, Loaded, Step};
 use crate::lang::Word as NcWord;
@@ -170,6 +171,31 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     if codes().any(|c| c == code::G10) {
                         if let Some((col, id, detail)) = g10_block(words, dialect) {
                             diags.push(at(col.unwrap_or(block.col), id, detail.into()));
+                        }
+                    }
+                    // A P beside G54…G59 (`interp::offsets::work_system_p`); a canned cycle in
+                    // force is the run's to know.
+                    let block_codes: Vec<u16> = codes().collect();
+                    let work = block_codes.iter().find(|&&c| (code::G54..=code::G59).contains(&c) && c % 10 == 0);
+                    let p = words.iter().rev().find(|w| w.letter == b'P');
+                    if let (Some(&work), Some(p)) = (work, p) {
+                        let m_codes: Vec<u32> = words
+                            .iter()
+                            .filter_map(|w| match (w.letter, &w.value) {
+                                (b'M', WordValue::Number { value, .. }) if value.fract() == 0.0 && *value >= 0.0 => {
+                                    Some(*value as u32)
+                                }
+                                _ => None,
+                            })
+                            .collect();
+                        let elsewhere = offsets::p_taken_elsewhere(dialect, &block_codes, &m_codes, false);
+                        if let offsets::WorkP::Refused(id) = offsets::work_system_p(dialect, work, true, elsewhere) {
+                            let detail = if id == AlarmId::AddressNotBuilt {
+                                format!("P at {}: no meaning in the {} dialect", gcode::display(work), dialect.name())
+                            } else {
+                                "P of G54 (G54.1 Pn) and of another code of the block".into()
+                            };
+                            diags.push(at(p.col, id, detail));
                         }
                     }
                     if dialect == Dialect::Syntec {

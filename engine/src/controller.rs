@@ -15,6 +15,7 @@
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState};
+use crate::interp::gcode::{code, group};
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::Machine;
@@ -413,12 +414,13 @@ impl Controller {
 
     /// How the tool tip is read from the machine axes now (`crate::tip`): the tool length and
     /// workpiece system of the segment moving now; standing still, those of the last one while
-    /// a program is under way or held (the interpreter may have read ahead), otherwise the
-    /// interpreter's (an MDI G54 or an offset edit takes effect at once).
+    /// commands read ahead wait (the interpreter is ahead of the machine), otherwise the
+    /// interpreter's: an MDI G54, an offset edit, or a program's G92/G52/G10 L2 before a stop
+    /// takes effect at once (audit of offsets F3).
     pub fn tip_basis(&self) -> crate::tip::Basis {
         if self.exec.is_moving() {
             self.exec.basis()
-        } else if self.cycle.blocks().reading() || self.exec.has_queued() {
+        } else if !self.stands_where_read() {
             self.exec.last_basis()
         } else {
             self.interp.state.tip_basis()
@@ -1200,6 +1202,41 @@ impl Controller {
     /// Read the program on: hand the next pending command to the planner (or carry it out),
     /// or run the next block. Returns false when there is nothing more to read.
     fn advance_program(&mut self) -> bool {
+        let more = self.read_on();
+        self.show_work_at_rest();
+        more
+    }
+
+    /// Standing with nothing read ahead, the interpreter's state is the machine's: the
+    /// workpiece position shown (the status, the stream's programmed point) is its current
+    /// point, which has the blocks without motion since the last motion — G92, G52, G10 L2, a
+    /// G5x change. The executor's is where the last segment ended, in that segment's system, so
+    /// at a stop after `G92 X50.` the position showed the old system while #5041 read the new
+    /// one (audit of offsets F3). Under cutter compensation the executor's (the tool centre)
+    /// stays, during a manual intervention the held program's point, and the manual modes set
+    /// their own (`stand_here`, the reference return).
+    fn show_work_at_rest(&mut self) {
+        if matches!(self.mode, Mode::Auto | Mode::Mdi)
+            && self.stands_where_read()
+            && !self.cycle.intervening()
+            && self.interp.state.modal(group::CUTTER_COMP) == code::G40
+        {
+            self.exec.here.work = self.interp.state.shown_position();
+        }
+    }
+
+    /// Nothing of the program moves or waits to move: the machine stands where the interpreter
+    /// has read to. (The commands still ahead are the last block's — the interpreter reads a
+    /// block only when none are left — such as its M00 and its end.)
+    fn stands_where_read(&self) -> bool {
+        let motion = |i: &Item| matches!(i, Item::Canon(c) if matches!(c.kind, CanonKind::Motion(_)));
+        !self.exec.is_moving()
+            && !self.exec.has_queued()
+            && self.cycle.blocks().ahead().is_none_or(|q| !q.iter().any(motion))
+    }
+
+    /// [`Controller::advance_program`]'s step.
+    fn read_on(&mut self) -> bool {
         if self.restart_arrived() {
             return true;
         }

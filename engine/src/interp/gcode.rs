@@ -316,6 +316,12 @@ pub mod code {
     pub const TOOL_SIDE_RIGHT: [u16; 4] = [G42_2, G42_4, G42_5, G42_6];
     /// The macro calls, single and modal.
     pub const MACRO_CALLS: [u16; 3] = [G65, G66, G66_1];
+    /// The codes with a P of their own in their format (besides the canned cycles, group 09,
+    /// and G54.1): a P in a block with one of them is not G54's (`offsets::work_system_p`).
+    pub const TAKE_P: [u16; 22] = [
+        G04, G05, G05_1, G06_2, G10, G31, G43_4, G43_5, G51, G53_1, G53_3, G53_6, G54_2, G54_4, G65, G66, G66_1, G68_2,
+        G68_3, G68_4, G150, G187,
+    ];
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

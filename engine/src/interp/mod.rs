@@ -20,7 +20,7 @@ pub mod mcode;
 pub(crate) mod modes;
 mod nc;
 mod nurbs;
-mod offsets;
+pub(crate) mod offsets;
 mod plain;
 mod plane;
 pub(crate) mod program;

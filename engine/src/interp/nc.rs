@@ -7,7 +7,7 @@ use super::gcode::{self, GDef};
 use super::gcode::{code, group};
 use super::mcode;
 use super::modes;
-use super::offsets::{g54_1_index, MAX_G54_1};
+use super::offsets::{g54_1_index, p_taken_elsewhere, work_system_p, WorkP, MAX_G54_1};
 use super::program::Slot;
 use super::unbuilt;
 use super::{CallFrame, CallKind, CycleData, ModalCall, State, LOCALS};
@@ -211,7 +211,26 @@ impl State {
             w.list.try_push((word.letter, v, form)).map_err(|_| AlarmId::ImproperAddress)?;
             w.last[slot(word.letter)] = w.list.len() as u8;
         }
-        Ok(())
+        self.work_system_p(w)
+    }
+
+    /// A P beside G54…G59: FANUC's `G54 Pn` is G54.1 Pn (held as G54.1 from here on); a P no
+    /// code of the block takes is refused rather than dropped (`offsets::work_system_p`).
+    fn work_system_p(&self, w: &mut Words) -> Result<(), AlarmId> {
+        let Some(i) = w.gcodes().iter().position(|&c| (code::G54..=code::G59).contains(&c) && c % 10 == 0) else {
+            return Ok(());
+        };
+        let in_cycle = self.modes[group::CYCLE] != code::G80;
+        let elsewhere = p_taken_elsewhere(self.cfg.dialect, w.gcodes(), w.mcodes(), in_cycle);
+        match work_system_p(self.cfg.dialect, w.g[i], w.has(b'P'), elsewhere) {
+            WorkP::NotOurs => Ok(()),
+            WorkP::Additional => {
+                w.g[i] = code::G54_1;
+                w.g_bits |= 1 << (code::G54_1 % 64);
+                Ok(())
+            }
+            WorkP::Refused(alarm) => Err(alarm),
+        }
     }
 
     fn inch(&self) -> bool {
@@ -567,6 +586,13 @@ impl State {
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
         self.refuse_g10_strangers(w)?;
+        // G53 under G91 (in force, or in its block): FANUC's manuals give G53 in absolute
+        // terms only, and controls differ on an incremental one (ignored, or moved by the
+        // increment); fivex moved to the absolute machine position. Refused, not guessed
+        // (`docs/conventions.md`, "G53 under G91").
+        if w.has_g(code::G53) && self.after_block(w, group::DISTANCE) == code::G91 {
+            return Err(AlarmId::IllegalGCodeCombination);
+        }
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
         self.refuse_plane_change_in_cycle(w)?;

@@ -19,6 +19,44 @@ pub fn max_tool_offset(dialect: crate::Dialect) -> usize {
 /// G54.1 P1..=MAX_G54_1.
 pub const MAX_G54_1: usize = 300;
 
+/// What the P of a block that selects G54–G59 is (`docs/conventions.md`, "G54 P").
+#[derive(Debug, Clone, PartialEq)]
+pub enum WorkP {
+    /// No P, or the P of another code of the block: a plain selection.
+    NotOurs,
+    /// FANUC's `G54 Pn`: the additional workpiece system G54.1 Pn.
+    Additional,
+    /// Refused with this alarm: a P no manual at hand gives a meaning (dropping it ran the
+    /// program in another work system than the one it named), or a P that both G54 and another
+    /// code of the block would take.
+    Refused(crate::alarm::AlarmId),
+}
+
+/// The meaning of P in a block selecting `code` (G54…G59, ×10) in `dialect`, given whether the
+/// block has a P and whether another code of it (or the canned cycle in force) takes one
+/// (`gcode::code::TAKE_P`, the cycles, M98/M198/M99). FANUC's "G54.1 Pn ; or G54 Pn ;" (30i
+/// operator's manual, "Additional workpiece coordinate systems") is the only format at hand.
+pub fn work_system_p(dialect: crate::Dialect, code: u16, p: bool, p_elsewhere: bool) -> WorkP {
+    use crate::alarm::AlarmId;
+    let fanuc_g54 = dialect == crate::Dialect::Fanuc && code == super::gcode::code::G54;
+    match (p, p_elsewhere, fanuc_g54) {
+        (false, _, _) | (true, true, false) => WorkP::NotOurs,
+        (true, false, true) => WorkP::Additional,
+        (true, true, true) => WorkP::Refused(AlarmId::IllegalGCodeCombination),
+        (true, false, false) => WorkP::Refused(AlarmId::AddressNotBuilt),
+    }
+}
+
+/// Another code of a block takes its P: one of `gcode::code::TAKE_P`, a canned cycle (in the
+/// block, or `cycle_in_force`), a subprogram call or return.
+pub fn p_taken_elsewhere(dialect: crate::Dialect, codes: &[u16], mcodes: &[u32], cycle_in_force: bool) -> bool {
+    use super::gcode::{code, group, lookup};
+    let cycle = |c: u16| c != code::G80 && lookup(c, dialect).is_some_and(|d| d.group == group::CYCLE);
+    cycle_in_force
+        || codes.iter().any(|&c| code::TAKE_P.contains(&c) || cycle(c))
+        || mcodes.iter().any(|&m| super::mcode::call_or_return(m))
+}
+
 /// Index 0: external offset; 1..=6: G54..G59; 7..: G54.1 P1…
 pub fn g54_1_index(p: usize) -> usize {
     6 + p

@@ -907,3 +907,37 @@ fn feed_hold_then_single_block_then_cycle_start_runs_the_held_block_and_stops() 
     let m = c.point().machine;
     assert_eq!((c.point().line, [m[0], m[1]]), (4, zigzag_end(4)));
 }
+
+/// Audit of offsets F3: at a program stop after blocks without motion that change the workpiece
+/// system (G92, G10 L2, G52) the shown workpiece position, the trace's programmed point and the
+/// tip read the new system, as `#5041` does; they showed the system of the last motion (X10
+/// after `G92 X50.`). By hand: machine X −90 (G54 X−100 + X10); `G92 X50.` makes it 50 (shift
+/// −40); `G10 L2 P1 X-80.` moves the G54 zero +20: 30; `G52 X5.`: 25.
+#[test]
+fn the_position_shown_at_a_stop_reads_the_work_system_the_blocks_without_motion_set() {
+    let src = "G90 G92.1 X0 Y0 Z0\nG52 X0 Y0 Z0\nG10 L2 P1 X-100. Y-50. Z-200.\nG54 G00 X10. Y0 Z0\n\
+               G92 X50.\nM00\nG10 L2 P1 X-80.\nM00\nG52 X5.\nM00\nG00 X0\nM30\n";
+    let mut c = started(src);
+    for (line, want) in [(6, 50.0), (8, 30.0), (10, 25.0)] {
+        run_until_stopped(&mut c, 10.0);
+        let p = c.point();
+        assert_eq!((p.line, c.run_state()), (line, RunState::Idle));
+        assert!((p.work[0] - want).abs() < 1e-9, "line {line}: work X {} (machine {})", p.work[0], p.machine[0]);
+        assert!((c.tip().tip[0] - want).abs() < 1e-9, "line {line}: tip {:?}", c.tip().tip);
+        assert!((c.sample().programmed[0] - want).abs() < 1e-9, "line {line}");
+        assert_eq!(p.machine[0], -90.0);
+        c.cycle_start().unwrap();
+    }
+    run_until_stopped(&mut c, 10.0);
+    // G00 X0: X0 of G54 (−80) with the G92 shift (−40 after the offset change) and G52 X5.
+    assert!((c.point().machine[0] - (-80.0 - 40.0 + 5.0)).abs() < 1e-9, "{:?}", c.point());
+
+    // MDI, from machine X0 in G54 (zero): each command shows its own result, not the one
+    // before. `G92 X50.`: 50 (shift −50); `G10 L2 P1 X-120.`: 0 + 120 + 50 = 170.
+    let mut c = controller();
+    for (text, want) in [("G92 X50.\n", 50.0), ("G10 L2 P1 X-120.\n", 170.0)] {
+        mdi(&mut c, text);
+        assert!((c.point().work[0] - want).abs() < 1e-9, "{text}: {:?}", c.point());
+        assert!((c.tip().tip[0] - want).abs() < 1e-9, "{text}: tip {:?}", c.tip());
+    }
+}

@@ -33,6 +33,7 @@ mod modes;
 mod motion;
 mod no_panic;
 mod nurbs;
+mod offsets;
 mod operation;
 mod preview;
 mod probing;

@@ -101,17 +101,17 @@ fn g53_on_a_rollover_axis_goes_the_way_an_absolute_command_goes() {
     let ends = c_ends(interpreter(src, "table-ac", Dialect::Fanuc));
     assert!(close(&travels(&ends, 2), &[-30.0]), "{:?}", travels(&ends, 2));
     // G53 C200 from 30: 170 ahead, the shorter way is positive.
-    let ends = c_ends(interpreter("G91 G01 C3630. F36000.\nG53 C200.\nM30\n", "table-ac", Dialect::Fanuc));
+    let ends = c_ends(interpreter("G91 G01 C3630. F36000.\nG90 G53 C200.\nM30\n", "table-ac", Dialect::Fanuc));
     assert!(close(&travels(&ends, 2), &[170.0]), "{:?}", travels(&ends, 2));
     // The sign gives the way (No.1008#1 RAB = 1, Syntec Pr201 = 2): C0 goes +330, C−0. −30.
     let sign = |a: &mut fivex_engine::machine::Axis| a.shortest = false;
-    let src = "G91 G01 C3630. F36000.\nG53 C0.\nG91 G01 C30.\nG53 C-0.\nM30\n";
+    let src = "G91 G01 C3630. F36000.\nG90 G53 C0.\nG91 G01 C30.\nG90 G53 C-0.\nM30\n";
     let ends = c_ends(table_ac_with(src, sign));
     assert!(close(&travels(&ends, 2), &[330.0]), "{:?}", travels(&ends, 2));
     assert!(close(&travels(&ends, 4), &[-30.0]), "{:?}", travels(&ends, 4));
     // A rotary axis that does not roll over goes to the machine coordinate as said.
     let linear = |a: &mut fivex_engine::machine::Axis| (a.rollover, a.shortest) = (false, false);
-    let ends = c_ends(table_ac_with("G91 G01 C730. F36000.\nG53 C0.\nG91 C30.\nG28 C0.\nM30\n", linear));
+    let ends = c_ends(table_ac_with("G91 G01 C730. F36000.\nG90 G53 C0.\nG91 C30.\nG28 C0.\nM30\n", linear));
     assert!(close(&travels(&ends, 2), &[-730.0]), "{:?}", travels(&ends, 2));
     assert!(close(&travels(&ends, 4), &[0.0, -30.0]), "{:?}", travels(&ends, 4));
 }

@@ -1,0 +1,70 @@
+//! Work and tool offsets as programs select and set them: the audit of tool data and work
+//! offsets (`docs/conventions.md`, "The language", G10 and "G54 P").
+
+use crate::common::*;
+use fivex_engine::check::check;
+use fivex_engine::lang::parse_file;
+use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
+
+/// The codes `fivex check` reports for `src` in `dialect`, with their line.
+fn checked(src: &str, dialect: Dialect) -> Vec<(u32, String)> {
+    check(parse_file(src), dialect).iter().map(|d| (d.line, dialect.describe(&d.id).0)).collect()
+}
+
+/// Audit F1: `G54 P2` ran in G54, its P dropped. FANUC's format is "G54.1 Pn ; or G54 Pn ;":
+/// G54 P2 selects G54.1 P2 (machine X −3 = its offset; −7 was G54's), `#4014` reads 54.1 and
+/// `#4130` 2.
+#[test]
+fn fanuc_g54_p_selects_the_additional_work_system() {
+    let src = "G21 G90 G49\nG10 L20 P1 X-1.\nG10 L20 P2 X-3.\nG10 L2 P1 X-7.\nG10 L2 P2 X-9.\n\
+               G54 P2 G00 X0\n#100=#4014\n#101=#4130\nM30\n";
+    let r = run_src(src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(r.machine[0], -3.0);
+    let v = |n| r.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v);
+    assert_eq!((v(100), v(101)), (Some(54.1), Some(2.0)));
+    // P out of G54.1's range is G54.1's alarm.
+    assert_eq!(alarm("G54 P301\nM30\n"), "PS0030");
+}
+
+/// Where the dialect gives P beside G54…G59 no meaning (FANUC's G55–G59, Syntec's and Haas's
+/// G54–G59), the P is refused (not built) rather than dropped; the P of another code of the
+/// block is that code's (`G54 M98 P100` calls O100), except in FANUC's G54, where both would
+/// take it (PS0010). `fivex check` reports them.
+#[test]
+fn a_p_beside_g54_to_g59_is_not_dropped() {
+    for (src, dialect, code) in [
+        ("G55 P2 G00 X0\nM30\n", Fanuc, "PS0009"),
+        ("G54 P2 G00 X0\nM30\n", Syntec, "COR-100"),
+        ("G54 P2 G00 X0\nM30\n", Haas, "311"),
+        ("G59 P2\nM30\n", Haas, "311"),
+        ("G54 G04 P100\nM30\n", Fanuc, "PS0010"),
+        ("G54 M98 P100\nM30\n", Fanuc, "PS0010"),
+    ] {
+        let r = run_with(src, "mill3", dialect);
+        let got: Vec<_> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
+        assert_eq!(got, [(code, 1)], "{dialect:?} {src}");
+        assert!(checked(src, dialect).contains(&(1, code.to_string())), "{dialect:?} {src}");
+    }
+    // The P of a dwell or a call in Syntec: that code's.
+    let r = run_with("G55 G04 P100\nM30\n", "mill3", Syntec);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(checked("G55 G04 P100\nM30\n", Syntec).is_empty());
+}
+
+/// Audit F4: `G91 G53 X-10.` moved to machine X−10 (90 mm from −100) without an alarm. G53 is
+/// given in absolute terms; controls differ on an incremental one, so it is refused (PS0010,
+/// COR-070, Haas 339) under G91 in force or in its block, and nothing moves.
+#[test]
+fn g53_under_g91_is_refused() {
+    let src = "G21 G90 G49\nG10 L2 P1 X-100. Y-50. Z-200.\nG54 G00 X0 Y0 Z100.\nG91 G53 X-10.\nG90\nM30\n";
+    for (dialect, code) in [(Fanuc, "PS0010"), (Syntec, "COR-070"), (Haas, "339")] {
+        let r = run_with(src, "mill3", dialect);
+        let got: Vec<_> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
+        assert_eq!(got, [(code, 4)], "{dialect:?}");
+        assert_eq!(r.machine[0], -100.0, "{dialect:?}");
+    }
+    assert_eq!(alarm("G91\nG53 Z0\nM30\n"), "PS0010");
+    assert_eq!(alarm("G53 G91 Z0\nM30\n"), "PS0010");
+    assert!(run_src("G91 G28 Z0\nG90 G53 Z0\nM30\n").completed());
+}
