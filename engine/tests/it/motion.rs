@@ -608,7 +608,8 @@ fn a_rotary_word_without_a_point_counts_thousandths_of_a_degree_in_inch_too() {
         }
     }
     // Syntec: G71 (mm) then G70 (inch), incremental: A and C twice their steps, X 0.0010 in.
-    let mut interp = interpreter_with("G71 G91 G00 C10 A1000\nG70 C10 A1000 X10\nM30\n", "table-ac", Dialect::Syntec, |_| {});
+    let mut interp =
+        interpreter_with("G71 G91 G00 C10 A1000\nG70 C10 A1000 X10\nM30\n", "table-ac", Dialect::Syntec, |_| {});
     let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
     assert!(r.completed(), "Syntec: {:?}", r.alarms);
     let (x, a, c) = (r.machine[0], r.machine[3], r.machine[4]);

@@ -156,7 +156,11 @@ fn the_key_changes_with_what_the_run_reads() {
     let mut station = hosted.station();
     let before = estimate::key(&text.into(), station.controller.interpreter());
     assert_eq!(before, estimate::key(&text.into(), station.controller.interpreter()), "the same inputs, the same key");
-    assert_ne!(before, estimate::key(&"G01 X[#100] F601\nM30\n".into(), station.controller.interpreter()), "another text");
+    assert_ne!(
+        before,
+        estimate::key(&"G01 X[#100] F601\nM30\n".into(), station.controller.interpreter()),
+        "another text"
+    );
     station.controller.interpreter_mut().state.set_common_variable(100, Some(10.0)).expect("#100 is common");
     let common = estimate::key(&text.into(), station.controller.interpreter());
     assert_ne!(before, common, "a common variable");
