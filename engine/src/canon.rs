@@ -64,10 +64,29 @@ pub struct MotionContext {
     pub exact_stop: bool,
     /// The feed override does not act (G63 tapping mode, the tapping cycles G74/G84).
     pub fixed_feed: bool,
+    /// A tapping cycle's feed into the hole or back out of it: a feed hold takes effect at the
+    /// end of the feed out, the spindle override does not act (`docs/motion.md`, "The
+    /// controller").
+    pub tapping: Tapping,
+    /// A canned cycle's single-block stop point (FANUC: the end of the positioning, of the
+    /// rapid to point R and of the hole, operations 1, 2 and 6): under single block the
+    /// machine stops after this motion and the commands without motion that follow it.
+    pub cycle_stop: bool,
     pub rotation: u16,
     /// The stored stroke limits are not checked before the motion moves (G54.4): an axis that
     /// reaches one stops there (`motion::stroke_stop`).
     pub no_stroke_precheck: bool,
+}
+
+/// Where a motion stands in a tapping cycle ([`MotionContext::tapping`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Tapping {
+    #[default]
+    No,
+    /// The feed into the hole, to the bottom.
+    In,
+    /// The feed back out of the hole, to point R: the tap is out at its end.
+    Out,
 }
 
 /// What a cutter compensation block's G38, G39, I/J/K or Q say to the compensation stages

@@ -14,7 +14,7 @@
 //! read, commands read ahead, a dwell, a stop, a manual intervention) in `cycle.rs`.
 
 use crate::alarm::{Alarm, AlarmId};
-use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState};
+use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState, Tapping};
 use crate::interp::gcode::{code, group};
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
@@ -237,6 +237,12 @@ pub struct Controller {
     /// The single block switch as the last tick found it: switched on under way, the blocks
     /// already read and queued stop at their ends too (`Executor::stop_at_block_ends`).
     single_block_seen: bool,
+    /// The last run that ended was a tapping cycle's feed into the hole: the tap is at the
+    /// bottom (dwelling, the spindle reversing) until its feed out ([`Controller::tapping`]).
+    tap_at_bottom: bool,
+    /// A feed hold pressed while the tap was in the hole: it takes effect at the end of the
+    /// feed out, with the tap out of the hole (`Controller::feed_hold`).
+    hold_after_tap: bool,
 }
 
 /// A pending canonical command, or a single-block stop point. (Commands stay inline, the other
@@ -298,6 +304,8 @@ impl Controller {
             state_changed_at: 0.0,
             stroke_reached: None,
             single_block_seen: false,
+            tap_at_bottom: false,
+            hold_after_tap: false,
         }
     }
 
@@ -402,9 +410,23 @@ impl Controller {
     }
 
     /// Spindle speed, 1/min: positive clockwise (M03), negative counter-clockwise (M04), 0
-    /// stopped; the commanded speed times the spindle override.
+    /// stopped; the commanded speed times the spindle override, except while the tap of a
+    /// tapping cycle is in the hole: there the override does not act, as the feed override
+    /// does not (the tap's feed is F, its pitch F/S; `docs/motion.md`, "The controller").
     pub fn spindle(&self) -> f64 {
+        if self.tapping() {
+            return self.spindle;
+        }
         self.spindle * self.panel.spindle_override
+    }
+
+    /// The tap of a tapping cycle is in the hole: from the start of its feed in to the end of
+    /// its feed out, the dwell and the spindle's reversal at the bottom between.
+    fn tapping(&self) -> bool {
+        match self.exec.on() {
+            Some((seg, _, _)) => seg.tapping() != Tapping::No,
+            None => self.tap_at_bottom,
+        }
     }
 
     /// The tool length offset of the block moving now (of the last one when nothing moves).
@@ -708,8 +730,17 @@ impl Controller {
         }
     }
 
+    /// Feed hold: decelerate along the path and wait for cycle start. While the tap of a
+    /// tapping cycle is in the hole the machine goes on to the end of the tap's feed out
+    /// (point R) and holds there: stopping the feed with the spindle turning would strip the
+    /// thread or break the tap ("When feedhold or halt is applied, the tap will stop when it
+    /// is out of the hole", `docs/motion.md`, "The controller").
     pub fn feed_hold(&mut self) {
         if self.run_state == RunState::Running {
+            if self.tapping() {
+                self.hold_after_tap = true;
+                return;
+            }
             self.decelerate(AfterStop::Hold);
             self.set_state(RunState::Hold);
         }
@@ -752,6 +783,7 @@ impl Controller {
     /// The program stops for good: nothing read ahead is carried out.
     fn abandon_program(&mut self) {
         self.forget_search();
+        (self.tap_at_bottom, self.hold_after_tap) = (false, false);
         self.remember_stop();
         self.shift = None;
         self.reposition = false;
@@ -1077,6 +1109,9 @@ impl Controller {
             // A whole run ends exactly on its last point.
             self.exec.arrive(&finished);
             self.at_stroke_limit();
+            if self.tap_out_hold(&finished) {
+                return;
+            }
             self.block_end_stop(&finished);
             return;
         };
@@ -1086,10 +1121,30 @@ impl Controller {
         self.after_stop(after, p.rest(p.profile.len()), p.profile.end_speed());
     }
 
-    /// Single block on: a program run that ends at rest at the end of a block, with the motion
-    /// of a later block queued (read ahead before the switch went on), stops there for cycle
-    /// start; the commands read ahead wait with it. (A block read with the switch on stops at
-    /// its `Item::BlockEnd`, with nothing of a later block queued.)
+    /// Where the tap stands after `finished` ended on its last point; a feed hold pressed while
+    /// it was in the hole takes effect once it is out, at rest at the end of its feed out (the
+    /// spindle's restart and the rest of the cycle wait for cycle start). True when it did.
+    fn tap_out_hold(&mut self, finished: &Finished) -> bool {
+        let p = &finished.planned;
+        let Some(last) = p.segments.last() else { return false };
+        self.tap_at_bottom = last.tapping() == Tapping::In;
+        let out = last.tapping() == Tapping::Out && !last.continued() && p.profile.end_speed() <= 0.0;
+        if !(out && self.hold_after_tap) {
+            return false;
+        }
+        self.hold_after_tap = false;
+        self.exec.here.feed = 0.0;
+        if self.run_state == RunState::Running {
+            self.set_state(RunState::Hold);
+        }
+        true
+    }
+
+    /// Single block on: a program run that ends at rest at the end of a block (or of a stretch
+    /// of a canned cycle's block, `run_block`), with the motion after it queued (read ahead
+    /// before the switch went on), stops there for cycle start; the commands read ahead wait
+    /// with it. (A block read with the switch on stops at its `Item::BlockEnd`, with nothing
+    /// of a later block queued.)
     fn block_end_stop(&mut self, finished: &Finished) {
         let p = &finished.planned;
         let Some(last) = p.segments.last() else { return };
@@ -1364,21 +1419,37 @@ impl Controller {
         let step = self.interp.step(&mut out);
         let stage_alarm = self.stages.process(&mut out, crate::run::ends(&step));
         let produced = !out.is_empty();
+        let mut block = None;
         if !matches!(step, Ok(Step::NeedInput)) {
             let (line, n) = self.interp.state.current_block();
             let state = &self.interp.state;
-            let block = BlockState { line, n, modal: state.modal_state(), plane: state.active_plane() };
+            let read = BlockState { line, n, modal: state.modal_state(), plane: state.active_plane() };
             let part = state.modal_part_changed().then(|| Box::new(state.modal_part()));
-            self.cycle.blocks_mut().push(Item::Block(self.executing.read(block, !produced, part)));
+            self.cycle.blocks_mut().push(Item::Block(self.executing.read(read, !produced, part)));
+            block = Some(read);
         }
         // A path stage may release a block it held together with the one just read (cutter
         // compensation: the block before a G40): each block's commands end at its own stop.
+        // A canned cycle's stop point (FANUC: operations 1, 2 and 6 of each hole) ends a stretch
+        // of the block the same way, before the next motion (after the commands without motion
+        // that follow the marked one: a spindle restarted), and the next stretch is read as a
+        // block of its own (the same line and state, a new serial), so that single block
+        // switched on under way finds the stop among the segments read ahead too.
         let mut line = out.first().map(|c| c.line);
+        let mut cycle_stop = false;
         for c in out {
-            if line != Some(c.line) {
+            let motion = match &c.kind {
+                CanonKind::Motion(m) => Some(m.context.cycle_stop),
+                _ => None,
+            };
+            if line != Some(c.line) || (cycle_stop && motion.is_some()) {
                 self.cycle.blocks_mut().push(Item::BlockEnd);
-                line = Some(c.line);
+                if let Some(stretch) = block.filter(|_| line == Some(c.line)) {
+                    self.cycle.blocks_mut().push(Item::Block(self.executing.read(stretch, false, None)));
+                }
+                (line, cycle_stop) = (Some(c.line), false);
             }
+            cycle_stop = motion.unwrap_or(cycle_stop);
             self.cycle.blocks_mut().push(Item::Canon(c));
         }
         if self.interp.wse_forbids_manual() != banned {

@@ -20,7 +20,7 @@ use super::mcode;
 use super::nc::Words;
 use super::State;
 use crate::alarm::AlarmId;
-use crate::canon::{Canon, CanonKind, FeedMode, MotionKind, Pos, SpindleState};
+use crate::canon::{Canon, CanonKind, FeedMode, Motion, MotionKind, Pos, SpindleState, Tapping};
 use crate::dialect::Dialect;
 use crate::notice::BlockNotice;
 
@@ -227,9 +227,28 @@ impl State {
             return Err(AlarmId::CycleBottomMissing);
         }
         let code = self.modes[group::CYCLE];
+        let first = out.len();
         self.cycle_move(MotionKind::Rapid, hole, out)?;
+        // Operation 1, the positioning at the initial level.
+        self.stop_point(&mut out[first..]);
+        let first = out.len();
         self.hole(code, d, plane, out)?;
+        // Operation 6, the return: the hole's end (the block's too, for its last hole).
+        self.stop_point(&mut out[first..]);
         check_output(out)
+    }
+
+    /// Single block stops at the end of the cycle's last motion in `moves` (and the commands
+    /// without motion after it): FANUC stops three times per hole, "at the end of operations
+    /// 1, 2 and 6" (the positioning, the rapid to R, the return), not in the hole
+    /// (`docs/conventions.md`, "Canned cycles"). Syntec and Haas: once at the block's end, as
+    /// any block (no text at hand says otherwise).
+    fn stop_point(&self, moves: &mut [Canon]) {
+        if self.cfg.dialect == Dialect::Fanuc {
+            if let Some(m) = motions(moves).last() {
+                m.context.cycle_stop = true;
+            }
+        }
     }
 
     fn move_drill_axis(&mut self, d: usize, level: f64, kind: MotionKind, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
@@ -322,7 +341,10 @@ impl State {
             self.emit(out, CanonKind::Aux { m: mcode::M19 });
             self.shift(plane.0, c.q, out)?;
             self.apply_due_length();
+            let first = out.len();
             self.move_drill_axis(d, c.r, Rapid, out)?;
+            // Operation 2: oriented and shifted, at point R below the hole.
+            self.stop_point(&mut out[first..]);
             self.shift(plane.0, -c.q, out)?;
             self.spindle(SpindleState::Cw, out);
             self.move_drill_axis(d, c.z, Linear, out)?;
@@ -336,7 +358,10 @@ impl State {
         }
         // Already at R, the tool still moves there if the block's tool length takes effect.
         if self.apply_due_length() || self.xf.programmed[d] != self.level_target(d, c.r) {
+            let first = out.len();
             self.move_drill_axis(d, c.r, Rapid, out)?;
+            // Operation 2, the rapid to point R.
+            self.stop_point(&mut out[first..]);
         }
         match code {
             code::G73 | code::G83 => {
@@ -365,10 +390,16 @@ impl State {
                 } else {
                     (SpindleState::Cw, SpindleState::Ccw)
                 };
+                // The tap in the hole: from the feed in to the end of the feed out, a feed hold
+                // waits and the spindle override does not act (the controller).
+                let first = out.len();
                 self.move_drill_axis(d, c.z, Linear, out)?;
+                motions(&mut out[first..]).for_each(|m| m.context.tapping = Tapping::In);
                 dwell(self, out);
                 self.spindle(reverse, out);
+                let first = out.len();
                 self.move_drill_axis(d, c.r, Linear, out)?;
+                motions(&mut out[first..]).for_each(|m| m.context.tapping = Tapping::Out);
                 self.spindle(forward, out);
                 if ret != c.r {
                     self.move_drill_axis(d, ret, Rapid, out)?;
@@ -413,6 +444,14 @@ impl State {
         }
         Ok(())
     }
+}
+
+/// The motions among `commands`.
+fn motions(commands: &mut [Canon]) -> impl DoubleEndedIterator<Item = &mut Motion> {
+    commands.iter_mut().filter_map(|c| match &mut c.kind {
+        CanonKind::Motion(m) => Some(m),
+        _ => None,
+    })
 }
 
 /// Marks the first cutting feed among a hole's commands with `notice`.

@@ -296,6 +296,10 @@ pub mod code {
     pub const TCP: [u16; 5] = [G43_4, G43_5, G43_8, G43_9, G234];
     /// Tool centre point control whose tool direction is a vector I, J, K (type 2).
     pub const TCP_TYPE2: [u16; 2] = [G43_5, G43_9];
+    /// The tapping cycles (FANUC G74/G84; G84.2/G84.3 rigid tapping of the FS10/11 format):
+    /// their feed override, and the spindle override and feed hold while the tap is in the
+    /// hole, do not act (`docs/conventions.md`, "Canned cycles").
+    pub const TAPPING: [u16; 4] = [G74, G84, G84_2, G84_3];
     /// The tool length compensation cancels.
     pub const LENGTH_CANCEL: [u16; 2] = [G49, G49_1];
     /// The tool alignments (tool axis direction control).

@@ -1216,8 +1216,10 @@ impl State {
             cutter_radius: if comp_on { self.offsets.radius(self.d) } else { 0.0 },
             path_mode: self.modes[group::PATH_MODE],
             exact_stop: self.exact_stop || self.modes[group::PATH_MODE] == code::G61,
-            fixed_feed: self.modes[group::PATH_MODE] == code::G63
-                || matches!(self.modes[group::CYCLE], code::G74 | code::G84),
+            fixed_feed: self.modes[group::PATH_MODE] == code::G63 || code::TAPPING.contains(&self.modes[group::CYCLE]),
+            // Set on the motions of a canned cycle where it makes them (`cycles.rs`).
+            tapping: crate::canon::Tapping::No,
+            cycle_stop: false,
             rotation: self.modes[group::ROTATION],
             // S000 III.2: "In the mode of Workpiece setting error compensation, Stroke limit
             // check before movement is not available."

@@ -8,7 +8,7 @@
 //! within the tolerance) in the plane's two axes with every other axis moving in proportion.
 
 use super::profile::{Limits, Profile};
-use crate::canon::{Arc, Compensation, CuttingMove, FeedMode, Motion, MotionKind, Pos, TipArc, TipMove};
+use crate::canon::{Arc, Compensation, CuttingMove, FeedMode, Motion, MotionKind, Pos, Tapping, TipArc, TipMove};
 use crate::geom::Rigid;
 use crate::kin::{Kinematics, Vec3};
 use crate::machine::{MotionOptions, MAX_AXES};
@@ -113,7 +113,7 @@ pub struct Segment {
     pub contact: Option<Box<super::contact::Contact>>,
 }
 
-/// Six yes/no facts of a segment in one byte (the look-ahead holds hundreds of segments:
+/// Eight yes/no facts of a segment in one byte (the look-ahead holds hundreds of segments:
 /// issue 18).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct Traits(u8);
@@ -138,6 +138,10 @@ impl Traits {
     /// (`motion::after`; `docs/motion.md`, "Without look-ahead"). A trait rather than a field,
     /// so that G103's `Segment::block_limit` fits the segment's size.
     const AFTER_INTERPOLATION: u8 = 32;
+    /// A tapping cycle's feed into the hole (`canon::Tapping::In`).
+    const TAP_IN: u8 = 64;
+    /// A tapping cycle's feed back out of the hole (`canon::Tapping::Out`).
+    const TAP_OUT: u8 = 128;
 
     fn of(m: &Motion, unfed: bool) -> Traits {
         let mut t = Traits::default();
@@ -145,6 +149,8 @@ impl Traits {
         t.set(Traits::MACHINE_COORDINATES, m.kind == MotionKind::MachineRapid);
         t.set(Traits::UNFED, unfed);
         t.set(Traits::CHORD, m.speed_cap.is_finite());
+        t.set(Traits::TAP_IN, m.context.tapping == Tapping::In);
+        t.set(Traits::TAP_OUT, m.context.tapping == Tapping::Out);
         t
     }
 
@@ -2229,6 +2235,17 @@ impl Segment {
 
     pub fn continued(&self) -> bool {
         self.traits.has(Traits::CONTINUED)
+    }
+
+    /// Where the segment stands in a tapping cycle (`canon::MotionContext::tapping`).
+    pub fn tapping(&self) -> Tapping {
+        if self.traits.has(Traits::TAP_IN) {
+            Tapping::In
+        } else if self.traits.has(Traits::TAP_OUT) {
+            Tapping::Out
+        } else {
+            Tapping::No
+        }
     }
 
     /// Cutting feed planned without look-ahead (`Traits::AFTER_INTERPOLATION`).

@@ -941,3 +941,170 @@ fn the_position_shown_at_a_stop_reads_the_work_system_the_blocks_without_motion_
         assert!((c.tip().tip[0] - want).abs() < 1e-9, "{text}: tip {:?}", c.tip());
     }
 }
+
+/// Audit ops F3 (t2.py): the tapping cycle of the audit, at X0 Y0 from Z50 (G54 zero, no tool
+/// length: machine Z is the program's): R at Z5, the bottom at Z−20, F500 with S500 (pitch 1).
+fn tap_program(cycle: &str) -> String {
+    format!("G90 G0 X0 Y0 Z50.\nS500 M03\n{cycle} Z-20. R5. F500.\nG80\nM30\n")
+}
+
+/// Tick until machine Z satisfies `at` (the program running), Z after each tick in the result.
+fn run_until_z(c: &mut Controller, at: impl Fn(f64) -> bool) -> Vec<f64> {
+    let mut zs = Vec::new();
+    while !at(c.point().machine[2]) {
+        assert_eq!(c.run_state(), RunState::Running, "at Z {}", c.point().machine[2]);
+        c.tick(TICK);
+        zs.push(c.point().machine[2]);
+    }
+    zs
+}
+
+/// Audit ops F3: a feed hold while the tap is in the hole stops the machine only once the tap
+/// is out, at the end of its feed out to point R (FANUC ignores feed hold in the tapping and its
+/// return; "When feedhold or halt is applied, the tap will stop when it is out of the hole"):
+/// pressed on the way in (G84), at the bottom's dwell (G84 P) and on the way out (G74, M04),
+/// the machine holds at R (Z5), not in the hole and not at the initial level (G98); cycle
+/// start then finishes the cycle.
+#[test]
+fn a_feed_hold_in_a_tap_holds_once_the_tap_is_out_of_the_hole() {
+    // Where the hold is pressed: on the way in below Z−5, at the bottom, on the way out above
+    // Z−10 (after having been below it).
+    type Press = fn(f64) -> bool;
+    let cases: [(&str, bool, Press); 3] = [
+        ("G99 G84", false, |z| z < -5.0),
+        ("G98 G84 P1000", false, |z| z <= -20.0 + 1e-9),
+        ("G98 G74", true, |z| z < -19.0),
+    ];
+    for (cycle, out, press) in cases {
+        let program = tap_program(cycle).replace("M03", if cycle.contains("G74") { "M04" } else { "M03" });
+        let mut c = started(&program);
+        run_until_z(&mut c, press);
+        if out {
+            run_until_z(&mut c, |z| z > -10.0);
+        }
+        c.feed_hold();
+        // The machine goes on: to the bottom (if not there yet), then out to R.
+        let mut zs = vec![c.point().machine[2]];
+        while c.run_state() == RunState::Running && c.time() < 30.0 {
+            c.tick(TICK);
+            zs.push(c.point().machine[2]);
+        }
+        assert_eq!(c.run_state(), RunState::Hold, "{cycle}");
+        let z = c.point().machine[2];
+        assert!((z - 5.0).abs() < 1e-9, "{cycle}: held at Z {z}, not at R");
+        let bottom = zs.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(out || (bottom + 20.0).abs() < 1e-3, "{cycle}: the tap reached Z {bottom}");
+        // Held: it stays there (the spindle turns on, as in any feed hold).
+        c.tick(3.0);
+        assert_eq!((c.run_state(), c.point().machine[2]), (RunState::Hold, z), "{cycle}");
+        c.cycle_start().unwrap();
+        run_until_stopped(&mut c, 30.0);
+        assert_eq!((c.run_state(), c.program_stop()), (RunState::Idle, None), "{cycle}");
+        let end = if cycle.contains("G98") { 50.0 } else { 5.0 };
+        assert!((c.point().machine[2] - end).abs() < 1e-9, "{cycle}: ended at Z {}", c.point().machine[2]);
+    }
+}
+
+/// A feed hold outside the tap (the rapid to R of a tapping cycle) stops at once, as ever.
+#[test]
+fn a_feed_hold_before_the_tap_enters_the_hole_stops_where_it_is() {
+    let mut c = started(&tap_program("G98 G84"));
+    run_until_z(&mut c, |z| z > 49.0);
+    run_until_z(&mut c, |z| z < 30.0);
+    c.feed_hold();
+    run_until_stopped(&mut c, 30.0);
+    assert_eq!(c.run_state(), RunState::Hold);
+    let z = c.point().machine[2];
+    assert!(z > 5.0 + 1.0 && z < 30.0, "held at Z {z}");
+}
+
+/// Audit ops F3 (t13.py): with the spindle override at 50 % the tap still feeds at F500 (the
+/// feed override does not act in tapping) and the spindle it reports is the commanded 500, not
+/// 250 (a 2 mm pitch for a 1 mm tap): in tapping the spindle override does not act either.
+/// Before and after the tap, it does.
+#[test]
+fn the_spindle_override_does_not_act_while_the_tap_is_in_the_hole() {
+    for rigid in ["", "M29 S500\n"] {
+        let mut c = controller();
+        c.set_spindle_override(0.5);
+        c.set_overrides(0.5, 1.0);
+        let program = tap_program("G99 G84").replace("S500 M03\n", &format!("S500 M03\n{rigid}"));
+        c.select_program(program.as_str()).unwrap();
+        c.cycle_start().unwrap();
+        run_until_z(&mut c, |z| z > 49.0);
+        run_until_z(&mut c, |z| z < 30.0);
+        assert_eq!(c.spindle(), 250.0, "{rigid:?}: on the way to R");
+        run_until_z(&mut c, |z| z < -10.0);
+        let feed = c.point().feed;
+        assert!((feed - 500.0).abs() < 1e-6, "{rigid:?}: feed {feed} mm/min");
+        assert_eq!(c.spindle(), 500.0, "{rigid:?}: in the hole");
+        // At the bottom, reversed; on the way out, still the commanded speed.
+        run_until_z(&mut c, |z| z > -10.0);
+        assert_eq!(c.spindle(), -500.0, "{rigid:?}: on the way out");
+        run_until_stopped(&mut c, 30.0);
+        assert_eq!(c.spindle(), 250.0, "{rigid:?}: after the cycle");
+    }
+}
+
+/// Where a controller stops under single block from the start of `program`, until it ends: the
+/// machine X/Y/Z of each stop.
+fn single_block_stops(dialect: Dialect, program: &str) -> Vec<[f64; 3]> {
+    use fivex_engine::controller::ProgramStop;
+    let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
+    c.panel.single_block = true;
+    c.select_program(program).unwrap();
+    c.cycle_start().unwrap();
+    let mut stops = Vec::new();
+    loop {
+        run_until_stopped(&mut c, 60.0);
+        if c.program_stop() != Some(ProgramStop::SingleBlock) {
+            assert_eq!(c.run_state(), RunState::Idle);
+            return stops;
+        }
+        let m = c.point().machine;
+        stops.push([m[0], m[1], m[2]].map(|v| (v * 1e6).round() / 1e6));
+        c.cycle_start().unwrap();
+    }
+}
+
+/// Audit ops F6 (t3.py): single block in a canned cycle stops three times per hole (FANUC "the
+/// operation stops at the end of operations 1, 2 and 6"): over the hole at the initial level,
+/// at R, and at the return level; none in the hole (G84: "the cycle does not stop until the tap
+/// is completed"). K repeats stop so at every hole (G91: the second hole positions at R, already
+/// there, so no move to R and no stop for it). Syntec and Haas stop once per cycle block.
+#[test]
+fn single_block_in_a_canned_cycle_stops_after_the_positioning_the_move_to_r_and_the_hole() {
+    let top = [0.0, 0.0, 50.0];
+    for cycle in ["G81", "G83 Q7.", "G84", "G86"] {
+        let program = format!("G90 G0 X0 Y0 Z50.\nS500 M03\nG98 {cycle} X10. Y10. Z-20. R5. F500.\nX30.\nG80\nM30\n");
+        let stops = single_block_stops(Dialect::Fanuc, &program);
+        let hole = |x: f64| [[x, 10.0, 50.0], [x, 10.0, 5.0], [x, 10.0, 50.0]];
+        let expected: Vec<[f64; 3]> = [vec![top, top], hole(10.0).to_vec(), hole(30.0).to_vec()].concat();
+        assert_eq!(stops, expected, "{cycle}");
+    }
+    let program = "G90 G0 X0 Y0 Z50.\nG91 G99 G81 X10. Z-25. R-45. F500. K2\nG80\nM30\n";
+    let expected = vec![top, [10.0, 0.0, 50.0], [10.0, 0.0, 5.0], [10.0, 0.0, 5.0], [20.0, 0.0, 5.0], [20.0, 0.0, 5.0]];
+    assert_eq!(single_block_stops(Dialect::Fanuc, program), expected, "K2");
+    let program = "G90 G0 X0 Y0 Z50.\nG98 G81 X10. Y10. Z-20. R5. F500.\nX30.\nG80\nM30\n";
+    for dialect in [Dialect::Syntec, Dialect::Haas] {
+        let expected = vec![top, [10.0, 10.0, 50.0], [30.0, 10.0, 50.0]];
+        assert_eq!(single_block_stops(dialect, program), expected, "{dialect:?}");
+    }
+}
+
+/// Single block switched on while a canned cycle block of many holes runs (its moves read and
+/// queued with the switch off): the stops come at the cycle's stop points too, from the next
+/// one the machine can stop at.
+#[test]
+fn single_block_switched_on_in_a_cycle_stops_at_the_cycles_next_stop_point() {
+    use fivex_engine::controller::ProgramStop;
+    let mut c = started("G90 G0 X0 Y0 Z10.\nG91 G99 G81 X10. Z-3. R-8. F3000. K10\nG80\nM30\n");
+    run_to_line(&mut c, 2);
+    run_until_z(&mut c, |z| z < 0.0);
+    c.panel.single_block = true;
+    run_until_stopped(&mut c, 60.0);
+    assert_eq!(c.program_stop(), Some(ProgramStop::SingleBlock));
+    let m = c.point().machine;
+    // At R (Z2) of the hole under way or the next: not at the end of the block's ten holes.
+    assert!((m[2] - 2.0).abs() < 1e-9 && m[0] <= 30.0 + 1e-9, "stopped at {m:?}");
+}

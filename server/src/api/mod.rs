@@ -151,7 +151,8 @@ pub struct ControllerStatus {
     pub progress: Option<crate::host::estimate::RunProgress>,
     /// FANUC program restart under way (`POST /restart`): `null` when none.
     pub restart: Option<restart::RestartInfo>,
-    /// Spindle speed, 1/min: the commanded speed times the spindle override; positive clockwise
+    /// Spindle speed, 1/min: the commanded speed times the spindle override (not while a
+    /// tapping cycle's tap is in the hole, where the override does not act); positive clockwise
     /// (M03), negative counter-clockwise (M04), 0 stopped.
     pub spindle: f64,
     /// Machine minus the program's machine coordinates per axis after (or during) machine lock

@@ -1299,7 +1299,8 @@ export interface components {
             speed: number;
             /**
              * Format: double
-             * @description Spindle speed, 1/min: the commanded speed times the spindle override; positive clockwise
+             * @description Spindle speed, 1/min: the commanded speed times the spindle override (not while a
+             *     tapping cycle's tap is in the hole, where the override does not act); positive clockwise
              *     (M03), negative counter-clockwise (M04), 0 stopped.
              */
             spindle: number;
