@@ -588,6 +588,14 @@ impl Interpreter {
         // puts group 07 in G40 (CRC-44, TV-30; the manual lists the 5-axis codes, fivex ends
         // G41/G42 the same way, as their offset vector does not survive a reset either).
         st.modes[group::CUTTER_COMP] = code::G40;
+        // A reset ends NURBS interpolation mode too (*decision*: the Mitsubishi M700 manual
+        // cancels it at a reset; FANUC's pages are silent): left in G06.2, where only a curve or
+        // another group-01 code may come (`nurbs::refuse_in_nurbs_mode`), every program after it
+        // would stop at its first block (`G90 G17 G40 …`, PS5116), reset after reset. Group 01
+        // goes to its power-on code.
+        if st.modes[group::MOTION] == code::G06_2 {
+            st.modes[group::MOTION] = gcode::initial_modes()[group::MOTION];
+        }
         st.cutter_vector = false;
         st.table_crc_end();
         st.five.compensation_ended();

@@ -558,6 +558,24 @@ M30
 /// A curve on lines 2–7 of `alarm_of`'s program; the mode stays G06.2 after it.
 const CURVE: &str = "G06.2 P3 K0 X0 Y0 F1000\nK0 X0 Y5.\nK0 X5. Y5.\nK1.\nK1.\nK1.";
 
+/// Verification audit F1: a program that stops in NURBS mode (its M30 right after the curve is
+/// PS5116, or a reset during a curve) left G06.2 in force, and the next program alarmed at its
+/// first block, `G90 G17 G40 G49 G80`, PS5116 again. A reset (and a new program's start) ends
+/// the mode: group 01 at its power-on G00.
+#[test]
+fn a_reset_ends_nurbs_mode_so_the_next_program_runs() {
+    let mut interp = interpreter(&format!("G90 G00 X0 Y0 Z0\n{CURVE}\nM30\n"), "mill3", Dialect::Fanuc);
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS5116", 8)));
+    use fivex_engine::interp::gcode::{code, group};
+    assert_eq!(interp.state.modal_state().modes[group::MOTION], code::G06_2);
+    interp.reset();
+    assert_eq!(interp.state.modal_state().modes[group::MOTION], code::G00);
+    interp.load(fivex_engine::lang::parse_file("G90 G17 G40 G49 G80\nG01 X10. F500\nM30\n"));
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+}
+
 /// 15i-MA (NURBS): "In NURBS interpolation mode, commands (such as auxiliary functions) other
 /// than NURBS interpolation cannot be specified", and the mode ends only with another group-01
 /// code. They all ran (the audit's F2).
