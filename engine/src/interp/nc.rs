@@ -395,9 +395,11 @@ impl State {
         let offset_mode = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
         let machine_before = offset_mode.then(|| self.machine_position());
         let in_cycle = self.modes[group::CYCLE] != code::G80;
+        let modes_before = self.modes;
         self.modal_part_changed = true;
         self.nc_words(progs, by_number, &w, block, out)?;
-        self.modal_part_changed = in_cycle || self.modes[group::CYCLE] != code::G80 || !self.moves_only(&w);
+        self.modal_part_changed =
+            in_cycle || self.modes[group::CYCLE] != code::G80 || !self.moves_only(&w, &modes_before);
         if out[first..].iter().any(|c| matches!(c.kind, CanonKind::Motion(_))) {
             self.cutter_vector = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
         }
@@ -409,9 +411,25 @@ impl State {
 
     /// The block only moves (G00–G03, F, axis words, an arc's I/J/K/R): of the state a reset
     /// keeps (`ModalPart`) it changed only the motion group, F and the current point.
-    fn moves_only(&self, w: &Words) -> bool {
+    fn moves_only(&self, w: &Words, modes_before: &[u16; gcode::GROUPS]) -> bool {
         let arc = matches!(self.modes[group::MOTION], code::G02 | code::G03);
-        w.gcodes().iter().all(|g| matches!(*g, code::G00 | code::G01 | code::G02 | code::G03))
+        // A code of a group that holds no data, given again while in force (the `G90 G01 …` a
+        // post writes on every line): nothing changes, and a copy per such block (hundreds read
+        // ahead) would more than double a running controller's memory.
+        let again = |g: u16| {
+            gcode::lookup(g, self.cfg.dialect).is_some_and(|d| {
+                matches!(
+                    d.group,
+                    group::PLANE
+                        | group::DISTANCE
+                        | group::FEED_MODE
+                        | group::UNITS
+                        | group::RETURN_LEVEL
+                        | group::PATH_MODE
+                ) && modes_before[d.group] == g
+            })
+        };
+        w.gcodes().iter().all(|&g| matches!(g, code::G00 | code::G01 | code::G02 | code::G03) || again(g))
             && w.mcodes().is_empty()
             && w.letters().all(|l| {
                 matches!(l, b'G' | b'F') || self.axis_of(l).is_some() || arc && matches!(l, b'I' | b'J' | b'K' | b'R')
