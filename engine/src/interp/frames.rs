@@ -23,6 +23,9 @@ use crate::machine::{AxisKind, MAX_AXES};
 
 /// Largest magnification of G51 (FANUC: 999999 in units of 0.001).
 const MAX_MAGNIFICATION: f64 = 999.999;
+/// Smallest magnification of G51: one unit of 0.001 (FANUC's range 0.001…999.999; a smaller
+/// factor written with a point, `P.0004`, would shrink the part to nothing).
+const MIN_MAGNIFICATION: f64 = 0.001;
 
 /// The circle words of a G02/G03 block in its plane: R, the centre offset (I/J/K of the plane's
 /// two axes) and the direction.
@@ -272,7 +275,8 @@ impl State {
         let Some((v, no_point)) = w.raw(letter) else { return Ok(None) };
         let m = if no_point && !self.cfg.pocket_calculator { v * 0.001 } else { v };
         // FANUC PS0142 (ILLEGAL SCALE RATE); P must be positive, I/J/K may be negative (mirror).
-        if m == 0.0 || m.abs() > MAX_MAGNIFICATION || (letter == b'P' && m < 0.0) {
+        // The 1e-9 margin keeps a written 0.001 inside despite its binary value.
+        if m.abs() < MIN_MAGNIFICATION - 1e-9 || m.abs() > MAX_MAGNIFICATION || (letter == b'P' && m < 0.0) {
             return Err(AlarmId::IllegalScaleRate);
         }
         Ok(Some(m))

@@ -1,0 +1,4 @@
+G51 X0 Y0 I-.0001 J1. K1.
+G01 X1. F100.
+M30
+(expect: alarm=PS0142)
