@@ -191,7 +191,9 @@ pub enum AlarmId {
     ProgramNotFound,
     /// A sequence number that a call or return names does not exist: M99 P, Haas M97 P.
     LineNotFound,
-    /// Haas: M97, M98 or G65 without the P that names the line or program (alarm 313).
+    /// A call (M98, G65, G66, Haas M97) without the P that names the program or line: an error
+    /// of the block, where `ProgramNotFound` may be a program the file does not hold (Haas 313;
+    /// FANUC and Syntec give both their not-found code).
     MissingP,
     /// Too many nested subprogram or macro calls.
     NestingTooDeep,

@@ -83,6 +83,12 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     }
                 }
                 BlockKind::Words(words) => {
+                    if let Some((col, id, detail)) = over_block_limits(words) {
+                        // The run refuses the block as it reads it; nothing else of it matters
+                        // (and a line of 100,000 words is not looked at word by word).
+                        diags.push(at(col, id, detail));
+                        continue;
+                    }
                     let (mut calls, mut cycle, mut pattern, mut dwell) = (false, false, false, false);
                     // The block's literal G codes (an argument of one is not an address of its own).
                     let codes = || {
@@ -91,6 +97,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             _ => None,
                         })
                     };
+                    let block_codes: Vec<u16> = codes().collect();
                     for w in words {
                         let WordValue::Number { value, .. } = w.value else { continue };
                         match w.letter {
@@ -103,7 +110,6 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                 Some(d) => {
                                     calls |= code::MACRO_CALLS.contains(&d.code);
                                     let word = |letter| literal(words, letter);
-                                    let block_codes: Vec<u16> = codes().collect();
                                     if let Some(function) = unbuilt::g_code(d.code, dialect, &block_codes, word) {
                                         diags.push(at(
                                             w.col,
@@ -267,17 +273,21 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     if let Some(l) = words.iter().find(|w| w.letter == other).filter(|_| cycle && !pattern) {
                         diags.push(at(l.col, AlarmId::ImproperAddress, detail.into()));
                     }
-                    // Haas: M97 P<n> calls N<n> of this program; M97, M98 and G65 need their P.
+                    // A call needs the P that names its program (Haas M97: its line). Syntec's
+                    // `M98 H…` is refused as not built above, which the run raises first.
                     let literal_m = |m: u32| {
                         words.iter().find(|w| {
                             w.letter == b'M' && matches!(w.value, WordValue::Number { value, .. } if value == m as f64)
                         })
                     };
                     let m97 = literal_m(mcode::M97).filter(|_| dialect == Dialect::Haas);
-                    if dialect == Dialect::Haas && (calls || m97.is_some()) && !words.iter().any(|w| w.letter == b'P') {
+                    let syntec_h = dialect == Dialect::Syntec && words.iter().any(|w| w.letter == b'H');
+                    if (calls || m97.is_some()) && !syntec_h && !words.iter().any(|w| w.letter == b'P') {
                         let call = m97.or(literal_m(mcode::M98)).or_else(|| {
                             words.iter().find(|w| {
-                                w.letter == b'G' && matches!(w.value, WordValue::Number { value, .. } if value == 65.0)
+                                w.letter == b'G'
+                                    && matches!(w.value, WordValue::Number { value, .. }
+                                        if gcode::code_of(value).is_some_and(|c| code::MACRO_CALLS.contains(&c)))
                             })
                         });
                         if let Some(call) = call {
@@ -522,6 +532,27 @@ fn nurbs_mode(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
 
 /// The last `letter` word of a block (the one that counts), as `unbuilt` asks for it: an
 /// expression's value is not known without running.
+/// A block holding more words, G codes or M codes than the interpreter takes in one block
+/// (`interp::MAX_WORDS`, `MAX_G_CODES`, `MAX_M_CODES`): where, the alarm and why. Only literal
+/// words count (a vacant expression is dropped from the block).
+fn over_block_limits(words: &[NcWord]) -> Option<(u32, AlarmId, String)> {
+    use crate::interp::{MAX_G_CODES, MAX_M_CODES, MAX_WORDS};
+    let literal: Vec<&NcWord> = words.iter().filter(|w| matches!(w.value, WordValue::Number { .. })).collect();
+    let nth = |letter: Option<u8>, n: usize| {
+        literal.iter().filter(|w| letter.is_none_or(|l| w.letter == l)).nth(n).map(|w| w.col)
+    };
+    let whole_m =
+        |w: &&&NcWord| matches!(w.value, WordValue::Number { value, .. } if value >= 0.0 && value.fract() == 0.0);
+    if let Some(col) = nth(Some(b'G'), MAX_G_CODES) {
+        return Some((col, AlarmId::IllegalGCodeCombination, format!("more than {MAX_G_CODES} G codes in one block")));
+    }
+    let m_codes: Vec<u32> = literal.iter().filter(|w| w.letter == b'M').filter(whole_m).map(|w| w.col).collect();
+    if let Some(&col) = m_codes.get(MAX_M_CODES) {
+        return Some((col, AlarmId::ImproperAddress, format!("more than {MAX_M_CODES} M codes in one block")));
+    }
+    nth(None, MAX_WORDS).map(|col| (col, AlarmId::ImproperAddress, format!("more than {MAX_WORDS} words in one block")))
+}
+
 fn literal(words: &[NcWord], letter: u8) -> Word {
     match words.iter().rev().find(|w| w.letter == letter).map(|w| &w.value) {
         None => Word::Absent,
@@ -598,6 +629,9 @@ pub struct RunStop {
     pub compensating: bool,
     /// The stored stroke check raised it (an over-travel: the machine's strokes decide it).
     pub by_strokes: bool,
+    /// The identity behind the code, when the interpreter or the stroke check raised it (a
+    /// stage's alarm has none here).
+    pub id: Option<AlarmId>,
 }
 
 /// Runs `interp` (loaded, in its start state) to its end through the interpreter and the path
@@ -627,11 +661,11 @@ pub fn run_without_motion(interp: &mut Interpreter, strokes: bool) -> Option<Run
             if let Err(id) = check_strokes(&mut exec, c) {
                 let (code, message) = interp.config().dialect.describe(&id);
                 let alarm = Alarm { code, message, line: c.line, n: c.n };
-                return Some(RunStop { alarm, by_stage: false, compensating: false, by_strokes: true });
+                return Some(RunStop { alarm, by_stage: false, compensating: false, by_strokes: true, id: Some(id) });
             }
         }
         if let Some(alarm) = stage_alarm {
-            return Some(RunStop { alarm, by_stage: true, compensating: true, by_strokes: false });
+            return Some(RunStop { alarm, by_stage: true, compensating: true, by_strokes: false, id: None });
         }
         match step {
             Ok(Step::Continue) => {}
@@ -640,7 +674,8 @@ pub fn run_without_motion(interp: &mut Interpreter, strokes: bool) -> Option<Run
             Err(alarm) => {
                 let mode = interp.state.modal(group::CUTTER_COMP);
                 let compensating = mode == code::G41 || mode == code::G42;
-                return Some(RunStop { alarm, by_stage: false, compensating, by_strokes: false });
+                let id = interp.stopped_by().cloned();
+                return Some(RunStop { alarm, by_stage: false, compensating, by_strokes: false, id });
             }
         }
     }

@@ -19,6 +19,7 @@ mod manual_view;
 pub mod mcode;
 pub(crate) mod modes;
 mod nc;
+pub(crate) use nc::{MAX_G_CODES, MAX_M_CODES, MAX_WORDS};
 mod nurbs;
 pub(crate) mod offsets;
 mod plain;
@@ -439,6 +440,9 @@ pub struct Interpreter {
     pub state: State,
     /// Every program has arrived (always, unless built with `new_incremental`).
     complete: bool,
+    /// What stopped the run, once `step` has returned an alarm: the identity behind its dialect
+    /// code (several causes share FANUC's PS0078; a check tells them apart by this).
+    stopped_by: Option<AlarmId>,
 }
 
 impl Interpreter {
@@ -452,7 +456,7 @@ impl Interpreter {
             }
         }
         let state = State::new(cfg);
-        let mut interp = Interpreter { progs, by_number, state, complete: true };
+        let mut interp = Interpreter { progs, by_number, state, complete: true, stopped_by: None };
         interp.start_main();
         if interp.progs.is_empty() {
             interp.state.ended = true;
@@ -466,7 +470,13 @@ impl Interpreter {
     /// jump, loop or call target may lie in a part that has not arrived; the outcome is the same
     /// as with [`Interpreter::new`] on the whole file (`engine/tests/it/incremental.rs`).
     pub fn new_incremental(cfg: Config) -> Interpreter {
-        Interpreter { progs: Vec::new(), by_number: HashMap::new(), state: State::new(cfg), complete: false }
+        Interpreter {
+            progs: Vec::new(),
+            by_number: HashMap::new(),
+            state: State::new(cfg),
+            complete: false,
+            stopped_by: None,
+        }
     }
 
     /// The next part of the file.
@@ -669,7 +679,9 @@ impl Interpreter {
                 }
                 st.ended = true;
                 let (code, message) = st.cfg.dialect.describe(&id);
-                Err(Alarm { code, message, line: st.line, n: st.n })
+                let alarm = Alarm { code, message, line: st.line, n: st.n };
+                self.stopped_by = Some(id);
+                Err(alarm)
             }
         }
     }
@@ -688,6 +700,11 @@ impl Interpreter {
                 Step::Continue => {}
             }
         }
+    }
+
+    /// The identity of the alarm `step` stopped with, if it did.
+    pub fn stopped_by(&self) -> Option<&AlarmId> {
+        self.stopped_by.as_ref()
     }
 
     /// Executed blocks so far.

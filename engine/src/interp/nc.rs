@@ -35,7 +35,11 @@ struct Call {
 const MAX_MODAL_CALLS: usize = 4;
 
 /// Most words one block may hold (G65 with ten I/J/K sets needs 35).
-const MAX_WORDS: usize = 48;
+pub(crate) const MAX_WORDS: usize = 48;
+/// Most G codes one block may hold (a post's safe-start line holds about ten).
+pub(crate) const MAX_G_CODES: usize = 12;
+/// Most M codes one block may hold (FANUC's multiple M codes in a block: up to three).
+pub(crate) const MAX_M_CODES: usize = 3;
 
 /// How a word's value was written: it decides its unit and its rounding.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,11 +69,11 @@ pub(super) struct Words {
     /// Index into `list` of the last word per letter, +1 (0 = absent): A–Z, then the comma
     /// addresses' lower-case letters a–z (`lang::ast::Word::letter`).
     last: [u8; 52],
-    g: [u16; 12],
+    g: [u16; MAX_G_CODES],
     ng: usize,
     /// Bit `code % 64` set for every G code of the block: most `has_g` questions end here.
     g_bits: u64,
-    m: [u32; 4],
+    m: [u32; MAX_M_CODES],
     nm: usize,
     /// An M word that is no M code (`M3.5`, a negative value): refused where the block's M
     /// codes run, but a macro call's argument (`G65 P9010 M0.070`, #13).
@@ -139,10 +143,10 @@ impl Words {
         Words {
             list: ArrayVec::new(),
             last: [0; 52],
-            g: [0; 12],
+            g: [0; MAX_G_CODES],
             ng: 0,
             g_bits: 0,
-            m: [0; 4],
+            m: [0; MAX_M_CODES],
             nm: 0,
             improper_m: false,
             haas_wcs_p: None,
@@ -199,7 +203,7 @@ impl State {
                     if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
                         w.improper_m = true;
                     } else {
-                        if w.nm == w.m.len() - 1 {
+                        if w.nm == w.m.len() {
                             return Err(AlarmId::ImproperAddress);
                         }
                         w.m[w.nm] = v as u32;
@@ -342,9 +346,9 @@ impl State {
     }
 
     fn find_program(&self, by_number: &HashMap<u32, usize>, p: Option<f64>) -> Result<usize, AlarmId> {
-        let missing =
-            if self.cfg.dialect == crate::Dialect::Haas { AlarmId::MissingP } else { AlarmId::ProgramNotFound };
-        let p = p.ok_or(missing)?;
+        // No P is an error of the block, not a program the file may lack (a check tells them
+        // apart; FANUC and Syntec give both the same code).
+        let p = p.ok_or(AlarmId::MissingP)?;
         if p < 0.0 || p.fract() != 0.0 || p > u32::MAX as f64 {
             return Err(AlarmId::ProgramNotFound);
         }
@@ -1062,7 +1066,7 @@ impl State {
     /// Haas: P is the program number (O00001–O99999) and L the count; no P is alarm 313.
     fn subprogram_target(&self, by_number: &HashMap<u32, usize>, w: &Words) -> Result<(usize, u32), AlarmId> {
         let haas = self.cfg.dialect == crate::Dialect::Haas;
-        let p = w.integer(b'P').ok_or(if haas { AlarmId::MissingP } else { AlarmId::ProgramNotFound })?;
+        let p = w.integer(b'P').ok_or(AlarmId::MissingP)?;
         if haas || w.has(b'L') || p < 10_000.0 {
             return Ok((self.find_program(by_number, Some(p))?, Self::count(w)?));
         }

@@ -38,7 +38,8 @@ enum Command {
     Run(RunArgs),
     /// Interpret a program and print its canonical commands, one JSON object per line.
     Interp(InterpArgs),
-    /// Check a program without running it; one line per diagnostic.
+    /// Check a program from its text (with --preset/--machine also run on that machine, nothing
+    /// moving); one line per diagnostic.
     Check(CheckArgs),
     /// Run a program on many machines at once; a JSON array of run summaries (docs/fleet.md).
     Fleet(fleet::FleetArgs),
@@ -510,7 +511,7 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
         let mut cfg = Config::new(machine, a.dialect);
         cfg.max_blocks = CHECK_MAX_BLOCKS;
         let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
-        let stop = machine_alarm(interp, a.dialect, on_machine).filter(|s| on_machine || s.compensating);
+        let stop = machine_alarm(interp, on_machine).filter(|s| on_machine || s.compensating);
         // Where the text itself is wrong the static diagnostic says it already.
         if let Some(fivex_engine::check::RunStop { alarm, .. }) = stop {
             if !lines.iter().any(|(line, ..)| *line == alarm.line) {
@@ -538,8 +539,9 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
 /// How a program stops when the interpreter and the path stages run it on a machine (nothing
 /// moves), if it does; the strokes are checked on the machine the caller named (`strokes`), not
 /// on the default one. A call of a program the file does not hold is not an alarm here: a check
-/// sees one file, the control has them all.
-fn machine_alarm(mut interp: Interpreter, dialect: Dialect, strokes: bool) -> Option<fivex_engine::check::RunStop> {
-    let not_found = dialect.describe(&fivex_engine::alarm::AlarmId::ProgramNotFound).0;
-    fivex_engine::check::run_without_motion(&mut interp, strokes).filter(|s| s.by_stage || s.alarm.code != not_found)
+/// sees one file, the control has them all. Only that cause is passed over: a missing sequence
+/// number or a call without P share FANUC's PS0078 but are errors of the file itself.
+fn machine_alarm(mut interp: Interpreter, strokes: bool) -> Option<fivex_engine::check::RunStop> {
+    fivex_engine::check::run_without_motion(&mut interp, strokes)
+        .filter(|s| s.id != Some(fivex_engine::alarm::AlarmId::ProgramNotFound))
 }

@@ -611,6 +611,51 @@ fn check_on_a_machine_reports_what_only_that_machine_refuses() {
 
 /// A groove 4 wide, cut with the default tool (radius 5) under G41: the interference check's
 /// PS0041 at line 6, where the compensated block would run backwards.
+#[test]
+fn check_on_a_machine_passes_over_only_a_program_the_file_lacks() {
+    // PS0078 has several causes: a call of O4242 may be a program the control holds, but a
+    // return to a sequence number the caller lacks (`M99 P77`) and a call without P are errors
+    // of the file itself, which a run on the machine stops with.
+    let missing_line = "G90 G00 X0 Y0 Z50.\nM98 P20\nM30\nO0020\nG01 X10. F100.\nM99 P77\n";
+    let no_p = "G90 G00 X0 Y0 Z50.\nG65 A1. B2.\nM30\n";
+    let other_program = "G90 G00 X0 Y0 Z50.\nM98 P4242\nM30\n";
+    let (_d, p) = scratch(&[("line.nc", missing_line), ("nop.nc", no_p), ("other.nc", other_program)]);
+    for dialect in ["fanuc", "syntec"] {
+        let first = |i: usize| {
+            let out = fivex(&["check", s(&p[i]), "--preset", "mill3", "--dialect", dialect]);
+            stdout(&out).lines().next().map(|l| parse_diag(l, s(&p[i])).0)
+        };
+        assert_eq!(first(0), Some(6), "{dialect}: M99 P77 without N77");
+        assert_eq!(first(1), Some(2), "{dialect}: G65 without P");
+        let out = fivex(&["check", s(&p[2]), "--preset", "mill3", "--dialect", dialect]);
+        let lines: Vec<String> = stdout(&out).lines().map(str::to_string).collect();
+        assert!(lines.iter().all(|l| !l.ends_with("when run on mill3")), "{dialect}: {lines:?}");
+    }
+}
+
+#[test]
+fn check_reports_a_block_over_the_interpreters_limits_without_looking_at_each_word() {
+    // 13 G codes, 4 M codes, 49 words: the run refuses each block as it reads it.
+    let g13 = "G00 G17 G21 G40 G49 G80 G90 G94 G54 G64 G69 G15 G50\nM30\n";
+    let m4 = "M08 M03 M07 M09 S1000\nM30\n";
+    let words49 = format!("G01 {}F100.\nM30\n", "X1. ".repeat(48));
+    // A line of 40,000 G words is answered at once (the check was quadratic in them).
+    let long = format!("{}\nM30\n", "G01 ".repeat(40_000));
+    let (_d, p) = scratch(&[("g.nc", g13), ("m.nc", m4), ("w.nc", &words49), ("long.nc", &long)]);
+    let code_of = |i: usize| {
+        let out = fivex(&["check", s(&p[i])]);
+        stdout(&out).lines().next().map(|l| parse_diag(l, s(&p[i])).2.to_string())
+    };
+    assert_eq!(code_of(0).as_deref(), Some("PS0010"));
+    assert_eq!(code_of(1).as_deref(), Some("PS0009"));
+    assert_eq!(code_of(2).as_deref(), Some("PS0009"));
+    assert_eq!(code_of(3).as_deref(), Some("PS0010"));
+    for i in 0..3 {
+        let run = fivex(&["run", s(&p[i])]);
+        assert!(stdout(&run).contains("\"alarm\""), "the run refuses it too: {}", stdout(&run));
+    }
+}
+
 const CRC_GROOVE: &str = "\
 G21 G17 G40 G90 G94
 G00 X-10. Y0. Z0.
