@@ -1891,12 +1891,8 @@ impl State {
     fn data_setting(&mut self, w: &Words, machine_before: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let l = w.integer(b'L').ok_or(AlarmId::DataSettingFormat)?;
         let form = g10::form(l, w.has_point(b'L'), self.cfg.dialect)?;
-        let p = w.integer(b'P').ok_or(AlarmId::DataSettingFormat)?;
-        if p < 0.0 || p.fract() != 0.0 {
-            return Err(AlarmId::DataSettingFormat);
-        }
+        let p = g10::p_number(w.integer(b'P'), w.has_point(b'P'), form, self.cfg.dialect)?;
         let incremental = self.modes[group::DISTANCE] == code::G91;
-        let p = p as usize;
         match form {
             // Haas: G10 L2 P0 is the G52 offset (FANUC's P0 is the external offset).
             g10::Form::WorkOffset if l == 2.0 && p == 0 && self.cfg.dialect == Dialect::Haas => {
@@ -1914,7 +1910,7 @@ impl State {
                 let index = match (l == 2.0, p) {
                     (true, 0..=6) => p,
                     (false, 1..) if p <= max => g54_1_index(p),
-                    _ => return Err(AlarmId::IllegalOffsetNumber),
+                    _ => return Err(AlarmId::IllegalG10Command),
                 };
                 for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
                     if let Some(v) = self.value(w, axis.name as u8) {
@@ -1926,11 +1922,11 @@ impl State {
                 self.sync_programmed();
             }
             g10::Form::ToolOffset => {
-                let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;
+                let r = self.value(w, b'R').ok_or(AlarmId::IllegalG10Command)?;
                 if p > super::offsets::max_tool_offset(self.cfg.dialect) {
-                    return Err(AlarmId::IllegalOffsetNumber);
+                    return Err(AlarmId::IllegalG10Command);
                 }
-                let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalOffsetNumber)?;
+                let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalG10Command)?;
                 let slot = match l as u32 {
                     10 => &mut t.h_geometry,
                     1 | 11 => &mut t.h_wear,

@@ -68,3 +68,50 @@ fn g53_under_g91_is_refused() {
     assert_eq!(alarm("G53 G91 Z0\nM30\n"), "PS0010");
     assert!(run_src("G91 G28 Z0\nG90 G53 Z0\nM30\n").completed());
 }
+
+/// The alarm code and line of `src` in `dialect` on mill3 (None: it completed).
+fn first(src: &str, dialect: Dialect) -> Option<(String, u32)> {
+    run_with(src, "mill3", dialect).alarms.first().map(|a| (a.code.clone(), a.line))
+}
+
+/// Audit F5: a G10 whose P is missing, negative, fractional or out of its form's range, or
+/// whose R is missing, is FANUC's PS0031 ILLEGAL P COMMAND IN G10 ("No data setting address
+/// such as P or R was specified … The sign or decimal point of the specified address is in
+/// error, or the specified address is out of range", 30i alarm list); it was PS0030 (the H/D
+/// number alarm) or PS1144. Syntec's constructed COR-042, Haas's 331 RANGE ERROR.
+#[test]
+fn a_wrong_or_missing_p_of_g10_is_ps0031() {
+    for block in [
+        "G10 L2 P7 X1.",
+        "G10 L2 P-1 X1.",
+        "G10 L2 X1.",
+        "G10 L20 P0 X1.",
+        "G10 L20 P301 X1.",
+        "G10 L10 P1000 R1.",
+        "G10 L10 P0 R1.",
+        "G10 L11 R1.",
+        "G10 L12 P2.5 R1.",
+        "G10 L10 P1",
+        "G10 L13 P1 R#0",
+    ] {
+        let src = format!("G21 G90\n{block}\nM30\n");
+        for (dialect, code) in [(Fanuc, "PS0031"), (Syntec, "COR-042"), (Haas, "331")] {
+            assert_eq!(first(&src, dialect), Some((code.to_string(), 2)), "{dialect:?} {block}");
+        }
+    }
+    // The ranges themselves: L2 P0–P6, L20 P1–P300 (Haas P1–P99), L10–L13 P1–P999 (Haas 200).
+    let src = "G10 L2 P0 X1.\nG10 L2 P6 X1.\nG10 L20 P1 X1.\nG10 L20 P300 X1.\nG10 L10 P999 R1.\nM30\n";
+    assert_eq!(first(src, Fanuc), None);
+    assert_eq!(first("G10 L20 P100 X1.\nM30\n", Haas), Some(("331".into(), 1)));
+    assert_eq!(first("G10 L10 P201 R1.\nM30\n", Haas), Some(("331".into(), 1)));
+    // A P or L with a decimal point: PS0031 / PS0007 in FANUC; Syntec and Haas read the whole
+    // value (P2 takes 7 mm), as their L.
+    let src = "G21 G90\nG10 L10 P2. R7.\n#100=#11002\nM30\n";
+    assert_eq!(first(src, Fanuc), Some(("PS0031".into(), 2)));
+    // (Haas's length geometry of offset 2 is #2002.)
+    for (dialect, src) in [(Syntec, src.to_string()), (Haas, src.replace("#11002", "#2002"))] {
+        let r = run_with(&src, "mill3", dialect);
+        assert!(r.completed(), "{dialect:?} {:?}", r.alarms);
+        assert_eq!(r.variables.iter().find(|(k, _)| *k == 100).map(|(_, v)| *v), Some(7.0), "{dialect:?}");
+    }
+}
