@@ -604,6 +604,7 @@ impl State {
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
         self.refuse_g10_strangers(w)?;
+        self.refuse_point_at_numbers(w)?;
         // G53 under G91 (in force, or in its block): FANUC's manuals give G53 in absolute
         // terms only, and controls differ on an incremental one (ignored, or moved by the
         // increment); fivex moved to the absolute machine position. Refused, not guessed
@@ -1093,6 +1094,23 @@ impl State {
     /// (`docs/dialects.md`).
     pub(super) fn refuse_point_at_dwell_p(&self, w: &Words) -> Result<(), AlarmId> {
         if self.cfg.dialect == crate::Dialect::Fanuc && w.has_point(b'P') {
+            return Err(AlarmId::IllegalDecimalPoint);
+        }
+        Ok(())
+    }
+
+    /// FANUC: H, D and T name an offset or a tool, and the P of G54.1 (or G54) a work system:
+    /// numbers without a decimal point, so one written with a point is PS0007 ("a decimal
+    /// point specified at an address where no decimal point may be specified", the 30i's alarm
+    /// list), as at L and the dwell's P; `H1.` ran as H1. A variable or an expression is
+    /// rounded as at any such address; a macro call's arguments (G65/G66) were taken before.
+    /// Syntec and Haas read the whole value (`docs/conventions.md`, "Units and numbers").
+    fn refuse_point_at_numbers(&self, w: &Words) -> Result<(), AlarmId> {
+        if self.cfg.dialect != crate::Dialect::Fanuc {
+            return Ok(());
+        }
+        let work_p = w.has_g(code::G54_1) || w.has_g(code::G54);
+        if [b'H', b'D', b'T'].into_iter().any(|l| w.has_point(l)) || work_p && w.has_point(b'P') {
             return Err(AlarmId::IllegalDecimalPoint);
         }
         Ok(())

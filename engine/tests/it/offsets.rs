@@ -115,3 +115,25 @@ fn a_wrong_or_missing_p_of_g10_is_ps0031() {
         assert_eq!(r.variables.iter().find(|(k, _)| *k == 100).map(|(_, v)| *v), Some(7.0), "{dialect:?}");
     }
 }
+
+/// Audit F6: in FANUC a decimal point at H, D, T or the P of G54.1/G54 is PS0007 ILLEGAL USE OF
+/// DECIMAL POINT at its block (`H1.` ran as H1); a variable there is rounded as before, and a
+/// macro call's argument keeps its point. Syntec and Haas read the whole value.
+#[test]
+fn fanuc_refuses_a_decimal_point_at_h_d_t_and_the_work_system_p() {
+    for block in ["G43 H1. Z0", "G41 D1. X10. F100.", "D2.", "T1. M06", "T1.5 M06", "G54.1 P1. X0", "G54 P2. X0"] {
+        let src = format!("G21 G90 G00 Z50.\n{block}\nG40 G49\nM30\n");
+        assert_eq!(first(&src, Fanuc), Some(("PS0007".to_string(), 2)), "{block}");
+    }
+    // Syntec and Haas: `H1.` is H1 (length 100 from the tools of the test helper: Z 0 + 100).
+    for dialect in [Syntec, Haas] {
+        let r = run_with("G21 G90 G00 Z50.\nG43 H1. Z0\nM30\n", "mill3", dialect);
+        assert!(r.completed(), "{dialect:?} {:?}", r.alarms);
+        assert!(approx(r.machine[2], 100.0), "{dialect:?} {}", r.machine[2]);
+    }
+    // A variable at H is rounded (#1 = 1.: H1), a macro call's H keeps its point (#11 = 1.5).
+    let r = run_src("#1=1.\nG21 G90 G00 Z50.\nG43 H#1 Z0\nG65 P9001 H1.5\nM30\nO9001\n#100=#11\nM99\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(approx(r.machine[2], 100.0), "{}", r.machine[2]);
+    assert_eq!(r.variables.iter().find(|(k, _)| *k == 100).map(|(_, v)| *v), Some(1.5));
+}
