@@ -1944,6 +1944,7 @@ impl State {
                 if p > super::offsets::max_tool_offset(self.cfg.dialect) {
                     return Err(AlarmId::IllegalG10Command);
                 }
+                let (unit, inch) = (self.mm_per_input_unit(), self.modes[group::UNITS] == code::G20);
                 let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalG10Command)?;
                 let slot = match l as u32 {
                     10 => &mut t.h_geometry,
@@ -1951,7 +1952,13 @@ impl State {
                     12 => &mut t.d_geometry,
                     _ => &mut t.d_wear,
                 };
-                *slot = if incremental { *slot + r } else { r };
+                let value = if incremental { *slot + r } else { r };
+                // The value set (under G91 the sum) within the input range, in the input unit.
+                let wear = matches!(l as u32, 1 | 11 | 13);
+                if !super::offsets::tool_value_fits(value / unit, wear, inch) {
+                    return Err(AlarmId::IllegalOffsetValue);
+                }
+                *slot = value;
             }
             // Syntec: select the mechanism chain (its Q and its modes are checked in `modes`).
             g10::Form::Chain => self.switch_chain(w, p, out)?,

@@ -4,6 +4,7 @@
 use crate::common::*;
 use fivex_engine::check::check;
 use fivex_engine::lang::parse_file;
+use fivex_engine::run::RunOptions;
 use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
 
 /// The codes `fivex check` reports for `src` in `dialect`, with their line.
@@ -136,4 +137,56 @@ fn fanuc_refuses_a_decimal_point_at_h_d_t_and_the_work_system_p() {
     assert!(r.completed(), "{:?}", r.alarms);
     assert!(approx(r.machine[2], 100.0), "{}", r.machine[2]);
     assert_eq!(r.variables.iter().find(|(k, _)| *k == 100).map(|(_, v)| *v), Some(1.5));
+}
+
+/// Audit F2: a tool offset value beyond the valid input range (IS-B: geometry ±999.999 mm /
+/// ±99.9999 in, wear ±99.999 mm / ±9.9999 in), set by G10 (under G91 the sum) or by a system
+/// variable, is FANUC's PS0032 ILLEGAL OFFSET VALUE IN G10 at its block and the offset keeps its
+/// value; fivex stored 999999 mm. Syntec COR-043, Haas 331.
+#[test]
+fn a_tool_offset_value_out_of_range_is_ps0032() {
+    let bad = [
+        ("G10 L10 P1 R999999.", 1),
+        ("G10 L10 P1 R1000.", 1),
+        ("G10 L12 P1 R-1000.", 1),
+        ("G10 L11 P1 R100.", 1),
+        ("G10 L1 P1 R-100.", 1),
+        ("G10 L13 P1 R100.", 1),
+        ("G91 G10 L10 P1 R900.", 1),
+        ("G20\nG10 L10 P1 R100.", 1),
+        ("G20\nG10 L11 P1 R10.", 1),
+        ("#11001=1000.", 1),
+        ("#10002=5000.", 2),
+        ("#2001=100.", 1),
+        ("#13001=-1000.", 1),
+        ("#12001=100.", 1),
+        ("G20\n#11001=100.", 1),
+    ];
+    for (block, number) in bad {
+        let src = format!("G21 G90\n{block}\nM30\n");
+        let line = 2 + block.matches('\n').count() as u32;
+        let mut interp = interpreter(&src, "mill3", Fanuc);
+        let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0032", line)), "{block}");
+        // The helper's tools: length 100, radius 5, no wear; the refused value is not stored.
+        let t = interp.state.offsets.tool(number).unwrap();
+        assert_eq!((t.h_geometry, t.h_wear, t.d_geometry, t.d_wear), (100.0, 0.0, 5.0, 0.0), "{block}");
+    }
+    // The limits themselves are values, in mm and in inch (stored in mm: 99.9999 in = 2539.99746).
+    let src = "G21 G90\nG10 L10 P1 R999.999\nG10 L11 P1 R-99.999\nG10 L12 P2 R-999.999\n#12002=99.999\n\
+               G91 G10 L10 P3 R899.999\nG90\nG20\nG10 L10 P4 R99.9999\n#10004=-9.9999\nG21\nM30\n";
+    let mut interp = interpreter(src, "mill3", Fanuc);
+    let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    let o = &interp.state.offsets;
+    let t = |n| *o.tool(n).unwrap();
+    assert_eq!((t(1).h_geometry, t(1).h_wear), (999.999, -99.999));
+    assert_eq!((t(2).d_geometry, t(2).d_wear), (-999.999, 99.999));
+    assert!(approx(t(3).h_geometry, 999.999), "{}", t(3).h_geometry);
+    assert!(approx(t(4).h_geometry, 2539.99746) && approx(t(4).h_wear, -253.99746), "{:?}", t(4));
+    // Syntec and Haas (Haas #2001 is the length geometry).
+    assert_eq!(first("G10 L10 P1 R1000.\nM30\n", Syntec), Some(("COR-043".into(), 1)));
+    assert_eq!(first("G10 L10 P1 R1000.\nM30\n", Haas), Some(("331".into(), 1)));
+    assert_eq!(first("#2001=1000.\nM30\n", Haas), Some(("331".into(), 1)));
+    assert_eq!(first("#2001=999.\nM30\n", Haas), None);
 }
