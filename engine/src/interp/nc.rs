@@ -775,6 +775,7 @@ impl State {
             self.t = t as u32;
             self.emit(out, CanonKind::ToolSelect { tool: self.t });
         }
+        let mut tool_change = None;
         for &m in &w.m[..w.nm] {
             self.last_m = m;
             match m {
@@ -784,6 +785,7 @@ impl State {
                 }
                 mcode::M06 => {
                     self.tool_in_spindle = self.t;
+                    tool_change = Some(out.len());
                     self.emit(out, CanonKind::ToolChange { tool: self.t });
                 }
                 mcode::M07 => self.emit(out, CanonKind::Coolant(Coolant::Mist)),
@@ -831,6 +833,12 @@ impl State {
         let in_place = fanuc_shift || self.g49_in_place_dialect(w);
         if in_place && self.length_in_place(w, fanuc_shift, axes_owner.is_none(), machine_before) {
             tool_length_changed = false;
+        }
+        // The machine stands through a tool change with its block's own state (`docs/conventions.md`,
+        // "Positions"): the length the block selects (`T3 M06 H3`) is the new tool's, so its
+        // samples show it, not the old tool's (audit of offsets F7).
+        if let Some(i) = tool_change {
+            out[i].tip_basis = self.tip_basis();
         }
 
         // --- one-shot G codes ---------------------------------------------------------------
