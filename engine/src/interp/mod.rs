@@ -596,6 +596,10 @@ impl Interpreter {
         if st.modes[group::MOTION] == code::G06_2 {
             st.modes[group::MOTION] = gcode::initial_modes()[group::MOTION];
         }
+        // A reset ends the canned cycle (G80; *decision*, `docs/conventions.md`, "Reset"): left in
+        // force, the next MDI or program block with X/Y (`X50. Y5.`) drilled a hole at once. No
+        // FANUC page at hand tells whether a reset in the reset state (CLR = 0) keeps it.
+        st.modes[group::CYCLE] = code::G80;
         st.cutter_vector = false;
         st.table_crc_end();
         st.five.compensation_ended();
