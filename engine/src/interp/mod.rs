@@ -569,7 +569,7 @@ impl Interpreter {
 
     /// Reset: the program stops where it is and cannot continue; local variables, call
     /// frames and the modal macro call are dropped (modal G codes, offsets, common variables
-    /// and the position stay, FANUC No.3402 CLR = 0).
+    /// and the position stay, FANUC No.3402 CLR = 0; but G40, and G80 below).
     pub fn reset(&mut self) {
         let st = &mut self.state;
         st.frames.clear();

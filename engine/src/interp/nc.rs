@@ -1118,7 +1118,7 @@ impl State {
             return Ok(());
         }
         let work_p = w.has_g(code::G54_1) || w.has_g(code::G54);
-        if [b'H', b'D', b'T'].into_iter().any(|l| w.has_point(l)) || work_p && w.has_point(b'P') {
+        if [b'H', b'D', b'T'].into_iter().any(|l| w.has_point(l)) || (work_p && w.has_point(b'P')) {
             return Err(AlarmId::IllegalDecimalPoint);
         }
         Ok(())

@@ -279,6 +279,12 @@ fn a_tool_change_block_with_h_shows_the_new_length_while_it_stands() {
     let change: Vec<_> = samples.iter().filter(|s| s.line == 5).collect();
     assert!(!change.is_empty(), "the tool change takes time");
     for s in change {
-        assert!((s.machine[2] - 250.0).abs() < 1e-9 && (s.tip[2] - 200.0).abs() < 1e-9, "t {}: {:?} {:?}", s.t, s.machine, s.tip);
+        assert!(
+            (s.machine[2] - 250.0).abs() < 1e-9 && (s.tip[2] - 200.0).abs() < 1e-9,
+            "t {}: {:?} {:?}",
+            s.t,
+            s.machine,
+            s.tip
+        );
     }
 }
