@@ -600,6 +600,8 @@ impl Interpreter {
         // force, the next MDI or program block with X/Y (`X50. Y5.`) drilled a hole at once. No
         // FANUC page at hand tells whether a reset in the reset state (CLR = 0) keeps it.
         st.modes[group::CYCLE] = code::G80;
+        // As G80 does: the next cycle takes none of the old one's data (its hole bottom).
+        st.cycle = CycleData::default();
         st.cutter_vector = false;
         st.table_crc_end();
         st.five.compensation_ended();

@@ -1131,4 +1131,10 @@ fn a_reset_ends_the_canned_cycle() {
     let xs = run_until_stopped(&mut c, 30.0);
     assert_eq!(c.point().machine[..3], [50.0, 5.0, z], "a positioning only");
     assert!(xs.iter().all(|p| p[2] == z), "Z never moved");
+    // As after G80, a new cycle takes none of the old data: without Z it has no hole bottom.
+    c.set_mdi("G81 X60. Y5. R2. F100.").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 30.0);
+    assert_eq!(c.alarms().first().map(|a| a.code.as_str()), Some("FX0008"));
+    assert_eq!(c.point().machine[2], z);
 }
