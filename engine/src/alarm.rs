@@ -38,8 +38,13 @@ pub enum AlarmId {
     ArcCentreMissing,
     /// A plane change while cutter compensation is on.
     PlaneChangeInCompensation,
-    /// Data setting (G10) with a wrong L/P or format.
+    /// Data setting (G10) with a wrong L or format (no L, an L no form has, an address twice).
     DataSettingFormat,
+    /// G10 without the P or R its form needs, or a P out of the form's range, negative, with a
+    /// fraction or (FANUC) written with a decimal point.
+    IllegalG10Command,
+    /// A tool offset value beyond the valid input range, set by G10 or by a system variable.
+    IllegalOffsetValue,
     /// Canned cycle without the Q it needs (G73/G83).
     MissingQ,
     /// A Haas cycle's argument missing or out of its range: G12/G13 circular pocket (I, K, Q,

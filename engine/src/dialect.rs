@@ -143,6 +143,8 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::ArcCentreMissing,
     AlarmId::PlaneChangeInCompensation,
     AlarmId::DataSettingFormat,
+    AlarmId::IllegalG10Command,
+    AlarmId::IllegalOffsetValue,
     AlarmId::MissingQ,
     AlarmId::ReferenceReturnInCycle,
     AlarmId::IllegalReferenceReturn,
@@ -259,6 +261,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
             (("PS0037", "CAN NOT CHANGE PLANE IN G41/G42"), ("COR-013", "Plane change in cutter compensation"))
         }
         DataSettingFormat => (("PS1144", "G10 FORMAT ERROR"), ("COR-014", "G10 format error")),
+        // The 30i alarm list's (`docs/dialects.md`, "G10 data checks"); Syntec's constructed.
+        IllegalG10Command => (("PS0031", "ILLEGAL P COMMAND IN G10"), ("COR-042", "Illegal P or R command in G10")),
+        IllegalOffsetValue => (("PS0032", "ILLEGAL OFFSET VALUE IN G10"), ("COR-043", "Offset value out of range")),
         MissingQ => (("PS0045", "ADDRESS Q NOT FOUND (G73/G83)"), ("COR-015", "Peck depth Q missing")),
         // Raised by the Haas cycles alone (G12/G13, G70–G72, G103: not codes of the other
         // dialects); the columns are the other dialects' alarms for a wrong address value.
@@ -436,7 +441,7 @@ fn haas(id: &AlarmId) -> Text {
         NoDataAfterAddress => ("701", "NO VALUE AFTER ADDRESS"),
         // Raised in the FANUC dialect only (a Haas P with a point is seconds).
         IllegalDecimalPoint => ("311", "UNKNOWN CODE"),
-        TooManyDigits | IllegalOffsetNumber => RANGE,
+        TooManyDigits | IllegalOffsetNumber | IllegalG10Command | IllegalOffsetValue => RANGE,
         ImproperGCode | GCodeNotBuilt => INVALID_G,
         MCodeNotBuilt => ("329", "UNDEFINED M CODE"),
         IllegalGCodeCombination => ("339", "MULTIPLE CODES"),

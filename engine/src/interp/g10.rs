@@ -22,6 +22,21 @@ pub(crate) enum Form {
     Chain,
 }
 
+/// G10's P as a number (`p`: its value, a variable's rounded; `pointed`: written with a
+/// decimal point). FANUC's PS0031 is the alarm of a G10 whose "sign or decimal point of the
+/// specified address is in error, or the specified address is out of range", or without "a
+/// data setting address such as P or R" (30i alarm list): so a missing, negative or fractional P
+/// and, in FANUC, one written with a point. Syntec and Haas read `P2.` as P2, as their L. The
+/// range of P is the form's (`nc`'s `data_setting`); Syntec's L5000 keeps its own alarms.
+pub(crate) fn p_number(p: Option<f64>, pointed: bool, form: Form, dialect: Dialect) -> Result<usize, AlarmId> {
+    let wrong = if form == Form::Chain { AlarmId::DataSettingFormat } else { AlarmId::IllegalG10Command };
+    let p = p.ok_or(wrong.clone())?;
+    if p < 0.0 || p.fract() != 0.0 || (pointed && dialect == Dialect::Fanuc && form != Form::Chain) {
+        return Err(wrong);
+    }
+    Ok(p as usize)
+}
+
 /// The form of `G10 L<l>`; a value no form has (an L with a fraction, `L5000` outside the
 /// Syntec dialect) is the G10 format alarm. `pointed`: L was written with a decimal point,
 /// which FANUC's L does not take (PS0007, as its other addresses without one); Syntec and Haas

@@ -579,7 +579,7 @@ impl Interpreter {
 
     /// Reset: the program stops where it is and cannot continue; local variables, call
     /// frames and the modal macro call are dropped (modal G codes, offsets, common variables
-    /// and the position stay, FANUC No.3402 CLR = 0).
+    /// and the position stay, FANUC No.3402 CLR = 0; but G40, and G80 below).
     pub fn reset(&mut self) {
         let st = &mut self.state;
         st.frames.clear();
@@ -606,6 +606,12 @@ impl Interpreter {
         if st.modes[group::MOTION] == code::G06_2 {
             st.modes[group::MOTION] = gcode::initial_modes()[group::MOTION];
         }
+        // A reset ends the canned cycle (G80; *decision*, `docs/conventions.md`, "Reset"): left in
+        // force, the next MDI or program block with X/Y (`X50. Y5.`) drilled a hole at once. No
+        // FANUC page at hand tells whether a reset in the reset state (CLR = 0) keeps it.
+        st.modes[group::CYCLE] = code::G80;
+        // As G80 does: the next cycle takes none of the old one's data (its hole bottom).
+        st.cycle = CycleData::default();
         st.cutter_vector = false;
         st.table_crc_end();
         st.five.compensation_ended();

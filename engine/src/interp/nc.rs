@@ -608,6 +608,7 @@ impl State {
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
         self.refuse_g10_strangers(w)?;
+        self.refuse_point_at_numbers(w)?;
         // G53 under G91 (in force, or in its block): FANUC's manuals give G53 in absolute
         // terms only, and controls differ on an incremental one (ignored, or moved by the
         // increment); fivex moved to the absolute machine position. Refused, not guessed
@@ -778,6 +779,7 @@ impl State {
             self.t = t as u32;
             self.emit(out, CanonKind::ToolSelect { tool: self.t });
         }
+        let mut tool_change = None;
         for &m in &w.m[..w.nm] {
             self.last_m = m;
             match m {
@@ -787,6 +789,7 @@ impl State {
                 }
                 mcode::M06 => {
                     self.tool_in_spindle = self.t;
+                    tool_change = Some(out.len());
                     self.emit(out, CanonKind::ToolChange { tool: self.t });
                 }
                 mcode::M07 => self.emit(out, CanonKind::Coolant(Coolant::Mist)),
@@ -834,6 +837,12 @@ impl State {
         let in_place = fanuc_shift || self.g49_in_place_dialect(w);
         if in_place && self.length_in_place(w, fanuc_shift, axes_owner.is_none(), machine_before) {
             tool_length_changed = false;
+        }
+        // The machine stands through a tool change with its block's own state (`docs/conventions.md`,
+        // "Positions"): the length the block selects (`T3 M06 H3`) is the new tool's, so its
+        // samples show it, not the old tool's (audit of offsets F7).
+        if let Some(i) = tool_change {
+            out[i].tip_basis = self.tip_basis();
         }
 
         // --- one-shot G codes ---------------------------------------------------------------
@@ -1097,6 +1106,23 @@ impl State {
     /// (`docs/dialects.md`).
     pub(super) fn refuse_point_at_dwell_p(&self, w: &Words) -> Result<(), AlarmId> {
         if self.cfg.dialect == crate::Dialect::Fanuc && w.has_point(b'P') {
+            return Err(AlarmId::IllegalDecimalPoint);
+        }
+        Ok(())
+    }
+
+    /// FANUC: H, D and T name an offset or a tool, and the P of G54.1 (or G54) a work system:
+    /// numbers without a decimal point, so one written with a point is PS0007 ("a decimal
+    /// point specified at an address where no decimal point may be specified", the 30i's alarm
+    /// list), as at L and the dwell's P; `H1.` ran as H1. A variable or an expression is
+    /// rounded as at any such address; a macro call's arguments (G65/G66) were taken before.
+    /// Syntec and Haas read the whole value (`docs/conventions.md`, "Units and numbers").
+    fn refuse_point_at_numbers(&self, w: &Words) -> Result<(), AlarmId> {
+        if self.cfg.dialect != crate::Dialect::Fanuc {
+            return Ok(());
+        }
+        let work_p = w.has_g(code::G54_1) || w.has_g(code::G54);
+        if [b'H', b'D', b'T'].into_iter().any(|l| w.has_point(l)) || (work_p && w.has_point(b'P')) {
             return Err(AlarmId::IllegalDecimalPoint);
         }
         Ok(())
@@ -1895,12 +1921,8 @@ impl State {
     fn data_setting(&mut self, w: &Words, machine_before: Pos, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let l = w.integer(b'L').ok_or(AlarmId::DataSettingFormat)?;
         let form = g10::form(l, w.has_point(b'L'), self.cfg.dialect)?;
-        let p = w.integer(b'P').ok_or(AlarmId::DataSettingFormat)?;
-        if p < 0.0 || p.fract() != 0.0 {
-            return Err(AlarmId::DataSettingFormat);
-        }
+        let p = g10::p_number(w.integer(b'P'), w.has_point(b'P'), form, self.cfg.dialect)?;
         let incremental = self.modes[group::DISTANCE] == code::G91;
-        let p = p as usize;
         match form {
             // Haas: G10 L2 P0 is the G52 offset (FANUC's P0 is the external offset).
             g10::Form::WorkOffset if l == 2.0 && p == 0 && self.cfg.dialect == Dialect::Haas => {
@@ -1918,7 +1940,7 @@ impl State {
                 let index = match (l == 2.0, p) {
                     (true, 0..=6) => p,
                     (false, 1..) if p <= max => g54_1_index(p),
-                    _ => return Err(AlarmId::IllegalOffsetNumber),
+                    _ => return Err(AlarmId::IllegalG10Command),
                 };
                 for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
                     if let Some(v) = self.value(w, axis.name as u8) {
@@ -1930,18 +1952,25 @@ impl State {
                 self.sync_programmed();
             }
             g10::Form::ToolOffset => {
-                let r = self.value(w, b'R').ok_or(AlarmId::DataSettingFormat)?;
+                let r = self.value(w, b'R').ok_or(AlarmId::IllegalG10Command)?;
                 if p > super::offsets::max_tool_offset(self.cfg.dialect) {
-                    return Err(AlarmId::IllegalOffsetNumber);
+                    return Err(AlarmId::IllegalG10Command);
                 }
-                let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalOffsetNumber)?;
+                let (unit, inch) = (self.mm_per_input_unit(), self.modes[group::UNITS] == code::G20);
+                let t = self.offsets.tool_mut(p as u32).ok_or(AlarmId::IllegalG10Command)?;
                 let slot = match l as u32 {
                     10 => &mut t.h_geometry,
                     1 | 11 => &mut t.h_wear,
                     12 => &mut t.d_geometry,
                     _ => &mut t.d_wear,
                 };
-                *slot = if incremental { *slot + r } else { r };
+                let value = if incremental { *slot + r } else { r };
+                // The value set (under G91 the sum) within the input range, in the input unit.
+                let wear = matches!(l as u32, 1 | 11 | 13);
+                if !super::offsets::tool_value_fits(value / unit, wear, inch) {
+                    return Err(AlarmId::IllegalOffsetValue);
+                }
+                *slot = value;
             }
             // Syntec: select the mechanism chain (its Q and its modes are checked in `modes`).
             g10::Form::Chain => self.switch_chain(w, p, out)?,

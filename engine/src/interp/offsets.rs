@@ -16,6 +16,26 @@ pub fn max_tool_offset(dialect: crate::Dialect) -> usize {
         _ => MAX_TOOL_OFFSETS,
     }
 }
+/// Whether a tool offset value may be set (G10 L1/L10–L13, `#2001…`/`#10001…`–`#13999`): its
+/// magnitude in the input unit (`inch`: G20) within the valid input range of tool compensation
+/// values for IS-B, geometry ±999.999 mm / ±99.9999 inch, wear ±99.999 mm / ±9.9999 inch
+/// (FANUC Series 16i-LA operator's manual B-63194EN §12.4, Table 12.4(a); the 30i's own table
+/// was not at hand, `docs/conventions.md`, "Tool offset values"). Beyond is FANUC's PS0032
+/// ILLEGAL OFFSET VALUE IN G10 ("in setting an offset amount by G10 or in writing an offset
+/// amount by system variables, the offset amount was excessive"): a probing macro's bad
+/// reading otherwise became a tool length of metres, found later as an overtravel or not at
+/// all. A tolerance of 1e-9 input units keeps a sum of increments (G91) that reaches the limit
+/// exactly inside it.
+pub fn tool_value_fits(value: f64, wear: bool, inch: bool) -> bool {
+    let limit = match (wear, inch) {
+        (false, false) => 999.999,
+        (false, true) => 99.9999,
+        (true, false) => 99.999,
+        (true, true) => 9.9999,
+    };
+    value.abs() <= limit + 1e-9
+}
+
 /// G54.1 P1..=MAX_G54_1.
 pub const MAX_G54_1: usize = 300;
 
@@ -198,6 +218,16 @@ mod tests {
         assert_eq!(o.take_touched(), (vec![1, 64, 999], vec![0, WORK_SLOTS - 1]));
         assert_eq!(o.take_touched(), (vec![], vec![]), "cleared");
         assert_eq!(o.length(999), 1.0, "the values stay");
+    }
+
+    #[test]
+    fn tool_values_within_the_is_b_range_fit() {
+        assert!(tool_value_fits(999.999, false, false) && tool_value_fits(-999.999, false, false));
+        assert!(!tool_value_fits(1000.0, false, false) && !tool_value_fits(-999.9991, false, false));
+        assert!(tool_value_fits(99.999, true, false) && !tool_value_fits(100.0, true, false));
+        assert!(tool_value_fits(99.9999, false, true) && !tool_value_fits(100.0, false, true));
+        assert!(tool_value_fits(-9.9999, true, true) && !tool_value_fits(10.0, true, true));
+        assert!(tool_value_fits(999.0 + 0.999, false, false), "a sum that reaches the limit");
     }
 
     #[test]

@@ -448,7 +448,12 @@ impl State {
             Slot::Persistent(i) => self.persistent[i] = value,
             Slot::Extended(n) => self.set_extended(n, value),
             Slot::Tool { number, field } => {
-                let mm = value.unwrap_or(0.0) * unit;
+                let v = value.unwrap_or(0.0);
+                let wear = matches!(field, ToolField::HWear | ToolField::DWear);
+                if !super::offsets::tool_value_fits(v, wear, self.modes[group::UNITS] == code::G20) {
+                    return Err(AlarmId::IllegalOffsetValue);
+                }
+                let mm = v * unit;
                 let t = self.offsets.tool_mut(number).ok_or(AlarmId::VariableOutOfRange)?;
                 // Like G10, a new value takes effect at the next H selection.
                 *field.get_mut(t) = mm;

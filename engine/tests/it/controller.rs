@@ -1108,3 +1108,33 @@ fn single_block_switched_on_in_a_cycle_stops_at_the_cycles_next_stop_point() {
     // At R (Z2) of the hole under way or the next: not at the end of the block's ten holes.
     assert!((m[2] - 2.0).abs() < 1e-9 && m[0] <= 30.0 + 1e-9, "stopped at {m:?}");
 }
+
+/// A reset while a canned cycle is in force ends it (G80, decision: `docs/conventions.md`,
+/// "Reset"): the MDI block `X50. Y5.` after it positions and drills nothing. It drilled a hole
+/// (Z down to R and the bottom) at once, the cycle left in force by the reset.
+#[test]
+fn a_reset_ends_the_canned_cycle() {
+    use fivex_engine::interp::gcode::{code, group};
+    let mut c = started("G90 G00 X0 Y0 Z50.\nG81 X10. Y0 Z-5. R2. F100.\nX20.\nX30.\nX40.\nM30\n");
+    while c.point().line < 3 && c.time() < 30.0 {
+        c.tick(TICK);
+    }
+    assert_eq!(c.modal().modal(group::CYCLE), code::G81, "reset while the cycle runs");
+    c.reset();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.modal().modal(group::CYCLE), code::G80);
+    assert_eq!(c.interpreter().state.modal(group::CYCLE), code::G80);
+    let z = c.point().machine[2];
+    c.set_mode(Mode::Mdi).unwrap();
+    c.set_mdi("X50. Y5.").unwrap();
+    c.cycle_start().unwrap();
+    let xs = run_until_stopped(&mut c, 30.0);
+    assert_eq!(c.point().machine[..3], [50.0, 5.0, z], "a positioning only");
+    assert!(xs.iter().all(|p| p[2] == z), "Z never moved");
+    // As after G80, a new cycle takes none of the old data: without Z it has no hole bottom.
+    c.set_mdi("G81 X60. Y5. R2. F100.").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 30.0);
+    assert_eq!(c.alarms().first().map(|a| a.code.as_str()), Some("FX0008"));
+    assert_eq!(c.point().machine[2], z);
+}

@@ -4,6 +4,7 @@
 use crate::common::*;
 use fivex_engine::check::check;
 use fivex_engine::lang::parse_file;
+use fivex_engine::run::RunOptions;
 use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
 
 /// The codes `fivex check` reports for `src` in `dialect`, with their line.
@@ -67,4 +68,125 @@ fn g53_under_g91_is_refused() {
     assert_eq!(alarm("G91\nG53 Z0\nM30\n"), "PS0010");
     assert_eq!(alarm("G53 G91 Z0\nM30\n"), "PS0010");
     assert!(run_src("G91 G28 Z0\nG90 G53 Z0\nM30\n").completed());
+}
+
+/// The alarm code and line of `src` in `dialect` on mill3 (None: it completed).
+fn first(src: &str, dialect: Dialect) -> Option<(String, u32)> {
+    run_with(src, "mill3", dialect).alarms.first().map(|a| (a.code.clone(), a.line))
+}
+
+/// Audit F5: a G10 whose P is missing, negative, fractional or out of its form's range, or
+/// whose R is missing, is FANUC's PS0031 ILLEGAL P COMMAND IN G10 ("No data setting address
+/// such as P or R was specified … The sign or decimal point of the specified address is in
+/// error, or the specified address is out of range", 30i alarm list); it was PS0030 (the H/D
+/// number alarm) or PS1144. Syntec's constructed COR-042, Haas's 331 RANGE ERROR.
+#[test]
+fn a_wrong_or_missing_p_of_g10_is_ps0031() {
+    for block in [
+        "G10 L2 P7 X1.",
+        "G10 L2 P-1 X1.",
+        "G10 L2 X1.",
+        "G10 L20 P0 X1.",
+        "G10 L20 P301 X1.",
+        "G10 L10 P1000 R1.",
+        "G10 L10 P0 R1.",
+        "G10 L11 R1.",
+        "G10 L12 P2.5 R1.",
+        "G10 L10 P1",
+        "G10 L13 P1 R#0",
+    ] {
+        let src = format!("G21 G90\n{block}\nM30\n");
+        for (dialect, code) in [(Fanuc, "PS0031"), (Syntec, "COR-042"), (Haas, "331")] {
+            assert_eq!(first(&src, dialect), Some((code.to_string(), 2)), "{dialect:?} {block}");
+        }
+    }
+    // The ranges themselves: L2 P0–P6, L20 P1–P300 (Haas P1–P99), L10–L13 P1–P999 (Haas 200).
+    let src = "G10 L2 P0 X1.\nG10 L2 P6 X1.\nG10 L20 P1 X1.\nG10 L20 P300 X1.\nG10 L10 P999 R1.\nM30\n";
+    assert_eq!(first(src, Fanuc), None);
+    assert_eq!(first("G10 L20 P100 X1.\nM30\n", Haas), Some(("331".into(), 1)));
+    assert_eq!(first("G10 L10 P201 R1.\nM30\n", Haas), Some(("331".into(), 1)));
+    // A P or L with a decimal point: PS0031 / PS0007 in FANUC; Syntec and Haas read the whole
+    // value (P2 takes 7 mm), as their L.
+    let src = "G21 G90\nG10 L10 P2. R7.\n#100=#11002\nM30\n";
+    assert_eq!(first(src, Fanuc), Some(("PS0031".into(), 2)));
+    // (Haas's length geometry of offset 2 is #2002.)
+    for (dialect, src) in [(Syntec, src.to_string()), (Haas, src.replace("#11002", "#2002"))] {
+        let r = run_with(&src, "mill3", dialect);
+        assert!(r.completed(), "{dialect:?} {:?}", r.alarms);
+        assert_eq!(r.variables.iter().find(|(k, _)| *k == 100).map(|(_, v)| *v), Some(7.0), "{dialect:?}");
+    }
+}
+
+/// Audit F6: in FANUC a decimal point at H, D, T or the P of G54.1/G54 is PS0007 ILLEGAL USE OF
+/// DECIMAL POINT at its block (`H1.` ran as H1); a variable there is rounded as before, and a
+/// macro call's argument keeps its point. Syntec and Haas read the whole value.
+#[test]
+fn fanuc_refuses_a_decimal_point_at_h_d_t_and_the_work_system_p() {
+    for block in ["G43 H1. Z0", "G41 D1. X10. F100.", "D2.", "T1. M06", "T1.5 M06", "G54.1 P1. X0", "G54 P2. X0"] {
+        let src = format!("G21 G90 G00 Z50.\n{block}\nG40 G49\nM30\n");
+        assert_eq!(first(&src, Fanuc), Some(("PS0007".to_string(), 2)), "{block}");
+    }
+    // Syntec and Haas: `H1.` is H1 (length 100 from the tools of the test helper: Z 0 + 100).
+    for dialect in [Syntec, Haas] {
+        let r = run_with("G21 G90 G00 Z50.\nG43 H1. Z0\nM30\n", "mill3", dialect);
+        assert!(r.completed(), "{dialect:?} {:?}", r.alarms);
+        assert!(approx(r.machine[2], 100.0), "{dialect:?} {}", r.machine[2]);
+    }
+    // A variable at H is rounded (#1 = 1.: H1), a macro call's H keeps its point (#11 = 1.5).
+    let r = run_src("#1=1.\nG21 G90 G00 Z50.\nG43 H#1 Z0\nG65 P9001 H1.5\nM30\nO9001\n#100=#11\nM99\n");
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert!(approx(r.machine[2], 100.0), "{}", r.machine[2]);
+    assert_eq!(r.variables.iter().find(|(k, _)| *k == 100).map(|(_, v)| *v), Some(1.5));
+}
+
+/// Audit F2: a tool offset value beyond the valid input range (IS-B: geometry ±999.999 mm /
+/// ±99.9999 in, wear ±99.999 mm / ±9.9999 in), set by G10 (under G91 the sum) or by a system
+/// variable, is FANUC's PS0032 ILLEGAL OFFSET VALUE IN G10 at its block and the offset keeps its
+/// value; fivex stored 999999 mm. Syntec COR-043, Haas 331.
+#[test]
+fn a_tool_offset_value_out_of_range_is_ps0032() {
+    let bad = [
+        ("G10 L10 P1 R999999.", 1),
+        ("G10 L10 P1 R1000.", 1),
+        ("G10 L12 P1 R-1000.", 1),
+        ("G10 L11 P1 R100.", 1),
+        ("G10 L1 P1 R-100.", 1),
+        ("G10 L13 P1 R100.", 1),
+        ("G91 G10 L10 P1 R900.", 1),
+        ("G20\nG10 L10 P1 R100.", 1),
+        ("G20\nG10 L11 P1 R10.", 1),
+        ("#11001=1000.", 1),
+        ("#10002=5000.", 2),
+        ("#2001=100.", 1),
+        ("#13001=-1000.", 1),
+        ("#12001=100.", 1),
+        ("G20\n#11001=100.", 1),
+    ];
+    for (block, number) in bad {
+        let src = format!("G21 G90\n{block}\nM30\n");
+        let line = 2 + block.matches('\n').count() as u32;
+        let mut interp = interpreter(&src, "mill3", Fanuc);
+        let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0032", line)), "{block}");
+        // The helper's tools: length 100, radius 5, no wear; the refused value is not stored.
+        let t = interp.state.offsets.tool(number).unwrap();
+        assert_eq!((t.h_geometry, t.h_wear, t.d_geometry, t.d_wear), (100.0, 0.0, 5.0, 0.0), "{block}");
+    }
+    // The limits themselves are values, in mm and in inch (stored in mm: 99.9999 in = 2539.99746).
+    let src = "G21 G90\nG10 L10 P1 R999.999\nG10 L11 P1 R-99.999\nG10 L12 P2 R-999.999\n#12002=99.999\n\
+               G91 G10 L10 P3 R899.999\nG90\nG20\nG10 L10 P4 R99.9999\n#10004=-9.9999\nG21\nM30\n";
+    let mut interp = interpreter(src, "mill3", Fanuc);
+    let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    let o = &interp.state.offsets;
+    let t = |n| *o.tool(n).unwrap();
+    assert_eq!((t(1).h_geometry, t(1).h_wear), (999.999, -99.999));
+    assert_eq!((t(2).d_geometry, t(2).d_wear), (-999.999, 99.999));
+    assert!(approx(t(3).h_geometry, 999.999), "{}", t(3).h_geometry);
+    assert!(approx(t(4).h_geometry, 2539.99746) && approx(t(4).h_wear, -253.99746), "{:?}", t(4));
+    // Syntec and Haas (Haas #2001 is the length geometry).
+    assert_eq!(first("G10 L10 P1 R1000.\nM30\n", Syntec), Some(("COR-043".into(), 1)));
+    assert_eq!(first("G10 L10 P1 R1000.\nM30\n", Haas), Some(("331".into(), 1)));
+    assert_eq!(first("#2001=1000.\nM30\n", Haas), Some(("331".into(), 1)));
+    assert_eq!(first("#2001=999.\nM30\n", Haas), None);
 }

@@ -266,3 +266,25 @@ fn started(src: &str, preset: &str) -> fivex_engine::controller::Controller {
     c.cycle_start().unwrap();
     c
 }
+
+/// Audit of offsets F7: a tool change block that also selects H (`T3 M06 H3` under G43) stands
+/// with the block's own state: its samples show the new tool's length. By hand: G43 H2 (150)
+/// at Z100 puts machine Z at 250; H3 (50) shifts the coordinates without a move (FANUC TOS = 1),
+/// so the tip during the change is 250 − 50 = 200 (it showed 100, the H2 length's).
+#[test]
+fn a_tool_change_block_with_h_shows_the_new_length_while_it_stands() {
+    let src = "N1 G10 L10 P2 R150.\nN2 G10 L10 P3 R50.\nN3 G90 G54 G00 X0 Y0 Z100.\nN4 G43 H2 Z100.\n\
+               N5 T3 M06 H3\nN6 M30\n";
+    let (samples, _) = trace(src, "mill3", Dialect::Fanuc);
+    let change: Vec<_> = samples.iter().filter(|s| s.line == 5).collect();
+    assert!(!change.is_empty(), "the tool change takes time");
+    for s in change {
+        assert!(
+            (s.machine[2] - 250.0).abs() < 1e-9 && (s.tip[2] - 200.0).abs() < 1e-9,
+            "t {}: {:?} {:?}",
+            s.t,
+            s.machine,
+            s.tip
+        );
+    }
+}

@@ -1,3 +1,3 @@
 (fivex: --dialect fanuc,syntec)
 T5.5
-(expect: alarm[fanuc]=PS0009 alarm[syntec]=COR-002)
+(expect: alarm[fanuc]=PS0007 alarm[syntec]=COR-002)
