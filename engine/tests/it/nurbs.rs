@@ -679,6 +679,15 @@ fn after_the_curve_only_a_curve_or_another_group_01_code_may_come() {
     assert_eq!(lines(&src), [(8, "PS5116".to_string()), (9, "PS5116".to_string())]);
     assert_eq!(lines("G06.2 P3 K0 X0 Y0 F100 M08\nK0 X1. Y1.\nG04 P1\n"), [(1, "PS5116".into()), (3, "PS5116".into())]);
     assert!(lines("G06.2 P3 K0 X0 Y0 F100\nK0 X1. Y1. R0.5\nN10 K1.\n#1=1\nG00 G49 Z0\nM08\n").is_empty());
+    // A program that ends or retracts right after the curve (the verification audit's §4: M30,
+    // M02, an M99 subprogram, G91 G28 Z0.) is told before the run, with what to write instead.
+    for end in ["M30", "M02", "M99", "G91 G28 Z0."] {
+        let src = format!("G90 G00 X0 Y0 Z0\n{CURVE}\n{end}\n");
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&src), Dialect::Fanuc);
+        assert_eq!(diags.iter().map(|d| d.line).collect::<Vec<_>>(), [8], "{end}");
+        assert!(diags[0].detail.contains("end the mode with a G01 or G00 block"), "{}", diags[0].detail);
+        assert!(lines(&format!("G90 G00 X0 Y0 Z0\n{CURVE}\nG01 X0 Y0\n{end}\n")).is_empty(), "{end}");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
