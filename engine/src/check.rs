@@ -522,8 +522,11 @@ fn nurbs_mode(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
                 line: block.line,
                 col: w.col,
                 id: AlarmId::NurbsBlock,
-                detail: "in NURBS interpolation mode (G06.2) only the curves' blocks may come, until another \
-                         group-01 code"
+                // What to write, not only what is wrong: the common case is a program ending
+                // (M30, M02, M99) or retracting (G91 G28) right after the curve's last knot.
+                detail: "in NURBS interpolation mode (G06.2) only a curve's blocks may come: end the mode with \
+                         a G01 or G00 block (another group-01 code) after the curve's last knot, before any \
+                         other command (M30, M02, M99, G28, M and T codes…)"
                     .into(),
             });
         }

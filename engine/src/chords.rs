@@ -1,7 +1,8 @@
 //! Curves the interpreter emits as straight chords (NURBS, `crate::nurbs`; nano smoothing,
 //! `crate::smoothing`): a parameter interval of a curve is halved until three points inside
 //! each piece (at ¼, ½, ¾) are within the tolerance of its chord, on the linear components in
-//! mm and on the others (rotary axes) in degrees.
+//! mm and on the others (rotary axes) in degrees, both at one point of the chord
+//! ([`along`]): the machine runs a chord as a G01, every axis at the same share of its travel.
 //!
 //! Pure: no state, no IO. A curve has `D` components and is given as its evaluation function.
 
@@ -96,12 +97,17 @@ impl<F: Fn(f64) -> [f64; D], const D: usize> Halving<'_, F, D> {
     /// The piece from `a` to `b` (parameters and points), halved `depth` times so far.
     fn piece(&mut self, (a, pa): (f64, &[f64; D]), (b, pb): (f64, &[f64; D]), depth: u32) -> Result<(), TooMany> {
         let (curve, linear) = (self.curve, self.linear);
-        let fine = depth >= MAX_DEPTH
-            || [0.25, 0.5, 0.75].iter().all(|t| {
-                let q = curve(a + (b - a) * t);
-                deviation(pa, pb, &q, linear, true) <= TOLERANCE_MM
-                    && deviation(pa, pb, &q, linear, false) <= TOLERANCE_DEG
-            });
+        let fine = depth >= MAX_DEPTH || {
+            // The three points in order along the chord: the machine runs it one way.
+            let mut s = 0.0;
+            [0.25, 0.5, 0.75].iter().all(|t| match along(pa, pb, &curve(a + (b - a) * t), linear) {
+                Some((lo, hi)) if hi >= s => {
+                    s = s.max(lo);
+                    true
+                }
+                _ => false,
+            })
+        };
         if fine {
             if self.out.len() >= self.max {
                 return Err(TooMany);
@@ -114,6 +120,41 @@ impl<F: Fn(f64) -> [f64; D], const D: usize> Halving<'_, F, D> {
         self.piece((a, pa), (m, &pm), depth + 1)?;
         self.piece((m, &pm), (b, pb), depth + 1)
     }
+}
+
+/// Where on the chord `a`–`b`, run as a G01 (the point a + s·(b − a), s from 0 to 1, every
+/// component at the same s), the point `q` is within the tolerances: `TOLERANCE_MM` on the
+/// components `linear` marks, `TOLERANCE_DEG` on the others, both at one s. `None` where no s
+/// holds both. Each group's distance to its part of the chord is within its bound on an
+/// interval of s (a ball cut by a line); a group that does not move (a linear length of zero
+/// where only rotary axes turn, or rotary axes standing still) bounds s nowhere, but is
+/// within its bound everywhere or nowhere. Measured apart, a rotary axis turning unevenly
+/// while X/Y/Z move evenly was within its bound of its own part of the chord at another s
+/// than the linear axes' (C a cubic of X: 3° off between the vertices).
+pub fn along<const D: usize>(a: &[f64; D], b: &[f64; D], q: &[f64; D], linear: &[bool; D]) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    for (on, tol) in [(true, TOLERANCE_MM), (false, TOLERANCE_DEG)] {
+        let group = || (0..D).filter(move |&c| linear[c] == on);
+        // |a + s·d − q|² = d²·s² − 2·s·(d·e) + e², e = q − a.
+        let d2: f64 = group().map(|c| (b[c] - a[c]).powi(2)).sum();
+        let de: f64 = group().map(|c| (b[c] - a[c]) * (q[c] - a[c])).sum();
+        let e2: f64 = group().map(|c| (q[c] - a[c]).powi(2)).sum();
+        if d2 == 0.0 {
+            if e2 > tol * tol {
+                return None;
+            }
+            continue;
+        }
+        let s0 = de / d2;
+        // The squared distance at the nearest point, from the point itself (no cancellation).
+        let off2: f64 = group().map(|c| (a[c] + s0 * (b[c] - a[c]) - q[c]).powi(2)).sum();
+        if off2 > tol * tol {
+            return None;
+        }
+        let half = ((tol * tol - off2) / d2).sqrt();
+        (lo, hi) = (lo.max(s0 - half), hi.min(s0 + half));
+    }
+    (lo <= hi).then_some((lo, hi))
 }
 
 /// The distance from `q` to the segment `a`–`b`, on the components `linear` marks (`on` true)
@@ -154,5 +195,69 @@ mod tests {
         let mut out = Vec::new();
         split(&curve, 0.0, &curve(0.0), 1.0, &curve(1.0), &[true, false, false], 1000, &mut out).unwrap();
         assert_eq!(out.len(), 64);
+    }
+
+    #[test]
+    fn a_rotary_axis_turning_unevenly_is_on_the_curve_where_the_machine_runs_the_chord() {
+        // C a cubic of X (the Bézier of C 0, 190, 270, 360 over X 0–30, X = 30·u, C rising):
+        // each chord runs X and C at one share s of their travel. A machine point (x, C) is on
+        // the curve where some u has 30·u within 0.1 µm of x and c(u) within 0.0001° of C: u
+        // within tol/30 of x/30, where c, rising, spans c((x − tol)/30) to c((x + tol)/30).
+        // Measured apart, X's part and C's part of the chords each held the curve, and the
+        // machine was 3° off C between the vertices.
+        let c = |u: f64| 3.0 * u * (1.0 - u).powi(2) * 190.0 + 3.0 * u * u * (1.0 - u) * 270.0 + 360.0 * u.powi(3);
+        let curve = |u: f64| [30.0 * u, c(u)];
+        let mut out = Vec::new();
+        split(&curve, 0.0, &curve(0.0), 1.0, &curve(1.0), &[true, false], 100_000, &mut out).unwrap();
+        // 214 chords (4 when the groups were measured apart).
+        assert!((150..400).contains(&out.len()), "{} chords", out.len());
+        let (mut from, slack) = (curve(0.0), 1e-9);
+        for (_, to) in &out {
+            for k in 0..=64 {
+                let s = k as f64 / 64.0;
+                let (x, at) = (from[0] + s * (to[0] - from[0]), from[1] + s * (to[1] - from[1]));
+                let (lo, hi) = (c((x - TOLERANCE_MM) / 30.0), c((x + TOLERANCE_MM) / 30.0));
+                assert!(
+                    at >= lo - TOLERANCE_DEG - slack && at <= hi + TOLERANCE_DEG + slack,
+                    "X{x}: C{at}, curve {lo}–{hi}"
+                );
+            }
+            from = *to;
+        }
+        // X standing still and two rotary axes, B even and C uneven: only the rotary group
+        // moves, and the machine's (B, C) is within 0.0001° of the curve's at some u (the
+        // nearest, by a ternary search where B is within the bound).
+        let curve = |u: f64| [0.0, 30.0 * u, c(u)];
+        let mut out = Vec::new();
+        split(&curve, 0.0, &curve(0.0), 1.0, &curve(1.0), &[true, false, false], 100_000, &mut out).unwrap();
+        let mut from = curve(0.0);
+        for (_, to) in &out {
+            for k in 0..=64 {
+                let s = k as f64 / 64.0;
+                let m = [from[1] + s * (to[1] - from[1]), from[2] + s * (to[2] - from[2])];
+                let off = |u: f64| (m[0] - 30.0 * u).hypot(m[1] - c(u));
+                let (mut lo, mut hi) = ((m[0] - TOLERANCE_DEG) / 30.0, (m[0] + TOLERANCE_DEG) / 30.0);
+                for _ in 0..100 {
+                    let (u1, u2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+                    (lo, hi) = if off(u1) < off(u2) { (lo, u2) } else { (u1, hi) };
+                }
+                assert!(off(lo) <= TOLERANCE_DEG + slack, "B{} C{}: {}° off", m[0], m[1], off(lo));
+            }
+            from = *to;
+        }
+    }
+
+    #[test]
+    fn a_point_is_on_a_chord_at_one_share_of_its_travel() {
+        let lin = [true, false];
+        // X 0→10 with C 0→10: X5 C5 is at s = ½; X5 C7 is on neither group's own line at that s.
+        let (lo, hi) = along(&[0.0, 0.0], &[10.0, 10.0], &[5.0, 5.0], &lin).unwrap();
+        assert!(lo < 0.5 && hi > 0.5 && hi - lo < 1e-4);
+        assert_eq!(along(&[0.0, 0.0], &[10.0, 10.0], &[5.0, 7.0], &lin), None);
+        // No linear travel: C alone sets s; X must stay within the bound.
+        assert!(along(&[1.0, 0.0], &[1.0, 10.0], &[1.0, 2.5], &lin).is_some_and(|(lo, hi)| lo < 0.25 && hi > 0.25));
+        assert_eq!(along(&[1.0, 0.0], &[1.0, 10.0], &[1.001, 2.5], &lin), None);
+        // Nothing moves: the whole chord, or nowhere.
+        assert_eq!(along(&[1.0, 2.0], &[1.0, 2.0], &[1.0, 2.0], &lin), Some((0.0, 1.0)));
     }
 }

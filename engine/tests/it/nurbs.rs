@@ -408,6 +408,54 @@ fn under_g43_4_the_tip_follows_the_curve_while_b_turns() {
     assert!((end.tip - Vec3::new(100.0, 150.0, 20.0)).norm() < 1e-6, "{:?}", end.tip);
 }
 
+/// C a cubic of X: control points C 0, 190, 270, 360 over X 0–30 (one Bézier span, so X = 30·u
+/// runs evenly and C turns unevenly). A chord is run as a G01, every axis at one share of its
+/// travel; the chords were once tested on X/Y/Z and on B/C apart, and this curve got few of
+/// them, the machine 3° off C at X11.25. Every 1 ms sample, without TCP on the machine's axes
+/// and under G43.4 on the tip, must be on the curve (computed here by Cox–de Boor): some u
+/// with the linear axes within 0.1 µm and C within 0.0001° (X within 0.1 µm of 30·u puts u
+/// within 0.1/30 µm of X/30, where C, rising, spans C((X − 0.0001)/30) to C((X + 0.0001)/30)).
+#[test]
+fn a_rotary_axis_turning_unevenly_stays_on_the_curve_between_the_chords() {
+    let knots = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+    let cs = [0.0, 190.0, 270.0, 360.0];
+    let curve_c = |u: f64| (0..4).map(|i| cs[i] * basis(&knots, i, 3, u.clamp(0.0, 1.0))).sum::<f64>();
+    assert!((curve_c(0.5) - 217.5).abs() < 1e-12 && (curve_c(1.0) - 360.0).abs() < 1e-12);
+    let (tol_mm, tol_deg, slack) = (1e-4, 1e-4, 1e-9);
+    let on_curve = |x: f64, y: f64, z: f64, c: f64| {
+        let (lo, hi) = (curve_c((x - tol_mm) / 30.0), curve_c((x + tol_mm) / 30.0));
+        assert!(y.hypot(z) <= tol_mm + slack, "X{x} Y{y} Z{z} off the line");
+        assert!(c >= lo - tol_deg - slack && c <= hi + tol_deg + slack, "X{x}: C{c}, the curve's C{lo}–{hi}");
+    };
+    // head-bc's C taken as written (RAB = 1): 0 → 190 is a step of more than half a turn.
+    let mut m = MachineConfig::preset("head-bc").unwrap();
+    let [x, y, z, b, c] = [b'X', b'Y', b'Z', b'B', b'C'].map(|n| m.axis_index(n).unwrap());
+    m.axes[c].shortest = false;
+    let kin = Kinematics::new(&m).unwrap();
+    let body = "G06.2 P4 K0 X0 Y0 Z0 C0 F2000\nK0 X10. C190.\nK0 X20. C270.\nK0 X30. C360.\nK1.\nK1.\nK1.\nK1.\n";
+    for (src, line, tcp) in [
+        (format!("G90 G00 X0 Y0 Z0 B0 C0\n{body}G01 X40.\nM30\n"), 9, false),
+        (format!("G90 G00 B30. C0\nG43.4 H01\nG00 X0 Y0 Z0\n{body}G01 X40.\nG49\nM30\n"), 11, true),
+    ] {
+        let machine = m.clone();
+        let mut interp = interpreter_with(&src, "head-bc", Dialect::Fanuc, |cfg| cfg.machine = machine.into());
+        let mut samples = Vec::new();
+        let r = run(&mut interp, &RunOptions::default(), |s| samples.push(*s));
+        assert!(r.completed(), "{:?}", r.alarms);
+        let on: Vec<&Sample> = samples.iter().filter(|s| s.line == line).collect();
+        assert!(on.len() > 500, "{} samples", on.len());
+        for s in &on {
+            let p = if tcp {
+                kin.forward(&s.machine, 100.0).tip
+            } else {
+                Vec3::new(s.machine[x], s.machine[y], s.machine[z])
+            };
+            assert!((s.machine[b] - if tcp { 30.0 } else { 0.0 }).abs() < 1e-9, "B{}", s.machine[b]);
+            on_curve(p.x, p.y, p.z, s.machine[c]);
+        }
+    }
+}
+
 #[test]
 fn the_feed_along_the_curve_is_what_its_bending_leaves_the_axes() {
     // A full circle of radius 3 (nine control points) at F30000 (500 mm/s) on mill3 (4000 mm/s²
@@ -631,6 +679,15 @@ fn after_the_curve_only_a_curve_or_another_group_01_code_may_come() {
     assert_eq!(lines(&src), [(8, "PS5116".to_string()), (9, "PS5116".to_string())]);
     assert_eq!(lines("G06.2 P3 K0 X0 Y0 F100 M08\nK0 X1. Y1.\nG04 P1\n"), [(1, "PS5116".into()), (3, "PS5116".into())]);
     assert!(lines("G06.2 P3 K0 X0 Y0 F100\nK0 X1. Y1. R0.5\nN10 K1.\n#1=1\nG00 G49 Z0\nM08\n").is_empty());
+    // A program that ends or retracts right after the curve (the verification audit's §4: M30,
+    // M02, an M99 subprogram, G91 G28 Z0.) is told before the run, with what to write instead.
+    for end in ["M30", "M02", "M99", "G91 G28 Z0."] {
+        let src = format!("G90 G00 X0 Y0 Z0\n{CURVE}\n{end}\n");
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&src), Dialect::Fanuc);
+        assert_eq!(diags.iter().map(|d| d.line).collect::<Vec<_>>(), [8], "{end}");
+        assert!(diags[0].detail.contains("end the mode with a G01 or G00 block"), "{}", diags[0].detail);
+        assert!(lines(&format!("G90 G00 X0 Y0 Z0\n{CURVE}\nG01 X0 Y0\n{end}\n")).is_empty(), "{end}");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
