@@ -200,7 +200,7 @@ impl State {
         }
         self.refuse_point_at_dwell_p(w)?;
         if let Some(p) = w.integer(b'P') {
-            self.cycle.p = p / 1000.0;
+            self.cycle.p = self.dwell_p_seconds(w, p);
         }
         let code = self.modes[group::CYCLE];
         if matches!(code, code::G73 | code::G83) && self.cycle.q <= 0.0 {
@@ -380,8 +380,13 @@ impl State {
                         self.move_drill_axis(d, depth - dir * clearance, Rapid, out)?;
                     }
                 }
-                // G73/G83 have no dwell (their format has no P): a P left from G82/G89 is
-                // kept for those cycles, not used here.
+                // FANUC: G73/G83 have no dwell (their format has no P), a P left from G82/G89 is
+                // kept for those cycles, not used here. Haas: P is the "pause at the bottom of
+                // the hole after the last peck", kept for the later blocks until the cycle is
+                // cancelled (96-8000, the G73 and G83 pages; `docs/dialects.md`, "Haas cycles").
+                if self.cfg.dialect == Dialect::Haas {
+                    dwell(self, out);
+                }
                 self.move_drill_axis(d, ret, Rapid, out)?;
             }
             code::G74 | code::G84 | code::G84_2 | code::G84_3 => {

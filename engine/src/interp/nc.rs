@@ -1098,6 +1098,20 @@ impl State {
         Ok(())
     }
 
+    /// The dwell a P word of the block asks for (G04, and the canned cycles' dwell), seconds:
+    /// P counts milliseconds, except that in the Haas dialect a P written with a decimal point
+    /// counts seconds (`docs/dialects.md`, "Decimal point": the NGC's G82 example `P0.3`, the
+    /// G83 page's `P5.` "five seconds"). A P given by an expression counts milliseconds.
+    pub(super) fn dwell_p_seconds(&self, w: &Words, p: f64) -> f64 {
+        let haas_seconds =
+            self.cfg.dialect == crate::Dialect::Haas && w.word(b'P').is_some_and(|(_, form)| form == Form::Point);
+        if haas_seconds {
+            p
+        } else {
+            p / 1000.0
+        }
+    }
+
     /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A). A
     /// selection re-establishes a vector a reference return cancelled.
     pub(super) fn refresh_tool_length(&mut self) {
@@ -1645,11 +1659,8 @@ impl State {
         match code {
             code::G04 => {
                 self.refuse_point_at_dwell_p(w)?;
-                let haas = self.cfg.dialect == crate::Dialect::Haas;
                 let seconds = match (w.integer(b'P'), w.raw(b'X')) {
-                    // Haas: P with a decimal point is seconds, without milliseconds.
-                    (Some(p), _) if haas && w.word(b'P').is_some_and(|(_, form)| form == Form::Point) => p,
-                    (Some(p), _) => p / 1000.0,
+                    (Some(p), _) => self.dwell_p_seconds(w, p),
                     (None, Some((x, no_point))) => {
                         if no_point && !self.cfg.pocket_calculator {
                             x * 0.001

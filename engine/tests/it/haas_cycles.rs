@@ -4,7 +4,8 @@
 //! limit (a chain of short blocks slows down under P1), G150 general purpose pocket milling (the
 //! geometry of `fivex_engine::pocket` on random convex polygons and rounded rectangles: inside
 //! the wall less the tool radius and K, the outline pass on it, every point reached, every depth,
-//! the end at the hole), and the refusals (G47, bad arguments). G187's corner rounding:
+//! the end at the hole), the refusals (G47, bad arguments), and the shared canned cycles' Haas
+//! rules (the dwell P of G73/G83 and its units, G87, the I/J/K words). G187's corner rounding:
 //! `corner_rounding.rs`. The manual's examples are data fixtures, `tests/data/cycles/haas_*.nc`.
 
 use crate::common::*;
@@ -748,4 +749,79 @@ fn haas_scaling_leaves_the_cycle_levels_alone() {
     let want =
         [(R, 50.0), (R, 2.0), (F, -1.0), (R, 2.0), (R, -0.5), (F, -4.0), (R, 2.0), (R, -3.5), (F, -5.0), (R, 2.0)];
     assert_eq!(haas, want.to_vec());
+}
+
+// --- The shared canned cycles in the Haas dialect (`docs/dialects.md`, "Haas cycles") -----------
+
+/// A dwell (seconds), the drilling-axis (Z) end of the motion before it, and the kind and Z of
+/// the motion after it (mm, rounded to 1 nm).
+type DwellAt = (f64, f64, Option<(MotionKind, f64)>);
+
+/// Line `line`'s dwells.
+fn dwells(src: &str, line: u32, dialect: fivex_engine::Dialect) -> Vec<DwellAt> {
+    let round = |z: f64| (z * 1e9).round() / 1e9;
+    let canon: Vec<_> = canon_in(src, dialect).into_iter().filter(|c| c.line == line).collect();
+    let motion = |c: &fivex_engine::canon::Canon| match &c.kind {
+        CanonKind::Motion(m) => Some((m.kind, round(m.target[2]))),
+        _ => None,
+    };
+    let mut out = Vec::new();
+    for (i, c) in canon.iter().enumerate() {
+        if let CanonKind::Dwell { seconds } = c.kind {
+            let before = canon[..i].iter().rev().find_map(motion).expect("a motion before").1;
+            out.push((seconds, before, canon[i + 1..].iter().find_map(motion)));
+        }
+    }
+    out
+}
+
+/// The manual's G83 line (96-8000, G83: "peck several times and dwell for five seconds at the
+/// end", `G83 Z-0.62 F15. R0.1 Q0.175 P5.`): 5 s at the bottom (−0.62 in = −15.748 mm) of each
+/// hole after the last peck, then the return to R (0.1 in = 2.54 mm, G99); the same P for the next
+/// hole. Before, the P was dropped (the audit's F2).
+#[test]
+fn haas_g83_and_g73_dwell_p_after_the_last_peck() {
+    use MotionKind::Rapid;
+    let src = "G20\nG00 X0 Y0 Z1.\nG99 G83 X1. Y1. Z-0.62 F15. R0.1 Q0.175 P5.\nX2.\nG80\nM30\n";
+    assert_eq!(dwells(src, 3, Haas), vec![(5.0, -15.748, Some((Rapid, 2.54)))]);
+    assert_eq!(dwells(src, 4, Haas), vec![(5.0, -15.748, Some((Rapid, 2.54)))]);
+    // Without P no dwell; a P without a point counts milliseconds (Autodesk's Haas post writes
+    // `P500`); G73 likewise; G98 returns to the initial level (Z1 in = 25.4 mm).
+    assert_eq!(dwells(&src.replace(" P5.", ""), 3, Haas), vec![]);
+    let ms = "G00 X0 Y0 Z50.\nG98 G83 X10. Y10. Z-10. R2. Q4. P500 F200.\nG73 X20. Q4. P2.\nG80\nM30\n";
+    assert_eq!(dwells(ms, 2, Haas), vec![(0.5, -10.0, Some((Rapid, 50.0)))]);
+    assert_eq!(dwells(ms, 3, Haas), vec![(2.0, -10.0, Some((Rapid, 50.0)))]);
+    // G80 (and a group-01 code) resets it: "the dwell time will be reset to zero".
+    let reset = "G00 X0 Y0 Z50.\nG83 X10. Z-10. R2. Q4. P500 F200.\nG80\nG83 X20. Z-10. R2. Q4.\nG80\nM30\n";
+    assert_eq!(dwells(reset, 4, Haas), vec![]);
+    // FANUC's G83 has no dwell (unchanged).
+    assert_eq!(dwells(&ms.replace("P2.", "P2000"), 2, Fanuc), vec![]);
+}
+
+/// A cycle's P with a decimal point counts seconds in the Haas dialect, as G04's: the NGC's G82
+/// example `G82 Z-0.720 P0.3 R0.1 F15.` dwells 0.3 s. Before, `P1.` dwelt 0.001 s (the audit's F3).
+#[test]
+fn haas_cycle_p_with_a_point_is_seconds() {
+    let head = "G00 X0 Y0 Z50.\n";
+    for cycle in ["G82", "G89", "G76 Q0.5", "G88"] {
+        for (p, want) in [("P1.", 1.0), ("P1000", 1.0), ("P0.3", 0.3), ("P250", 0.25)] {
+            let src = format!("{head}M03 S500\nG98 {cycle} X10. Y10. Z-10. R2. {p} F200.\nG80\nM30\n");
+            let got = dwells(&src, 3, Haas);
+            assert_eq!(got.iter().map(|d| (d.0, d.1)).collect::<Vec<_>>(), vec![(want, -10.0)], "{cycle} {p}");
+        }
+    }
+    // The manual's example, inch: 0.3 s at −0.72 in.
+    let src = "G20\nG00 X2. Y-2. Z0.1\nG82 Z-0.720 P0.3 R0.1 F15.\nG80\nM30\n";
+    assert_eq!(dwells(src, 3, Haas).iter().map(|d| (d.0, d.1)).collect::<Vec<_>>(), vec![(0.3, -18.288)]);
+    // G04 reads P the same way.
+    assert_eq!(
+        canon_in("G04 P1.\nG04 P1000\nM30\n", Haas)
+            .iter()
+            .filter(|c| matches!(c.kind, CanonKind::Dwell { seconds } if seconds == 1.0))
+            .count(),
+        2
+    );
+    // FANUC refuses the point at a dwell's P (PS0007), as before.
+    let r = run_with(&format!("{head}G82 X10. Z-10. R2. P1. F200.\nM30\n"), "mill3", Fanuc);
+    assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS0007"));
 }
