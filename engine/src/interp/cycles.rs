@@ -18,6 +18,7 @@
 use super::gcode::{self, code, group};
 use super::mcode;
 use super::nc::Words;
+use super::unbuilt;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, FeedMode, Motion, MotionKind, Pos, SpindleState, Tapping};
@@ -140,6 +141,29 @@ impl State {
         let follows = self.plane_active() || self.tcp_active() || length_code.is_some_and(|c| code::TCP.contains(&c));
         if changes && follows && self.cycle_after_block(w) {
             return Err(AlarmId::GCodeNotBuilt);
+        }
+        Ok(())
+    }
+
+    /// Haas: a block that runs the canned cycle in force (or names it) with a word the cycle does
+    /// not perform. The I, J, K peck forms of G73/G83 and G76's shift by I/J are functions not
+    /// built (`unbuilt`, asked here of the cycle in force, which the block need not name); I and
+    /// J mean nothing to the other cycles (K is the repeat count's, [`repeats`]): refused rather
+    /// than ignored (*decision*, `docs/dialects.md`, "Haas cycles"). A bolt pattern, a macro
+    /// call or G10 in the block takes them as its own words.
+    pub(super) fn refuse_unperformed_cycle_words(&self, w: &Words) -> Result<(), AlarmId> {
+        let codes = w.gcodes();
+        let own = |c: &u16| unbuilt::OWN_IJK.contains(c) || code::MACRO_CALLS.contains(c) || *c == code::G10;
+        if self.cfg.dialect != Dialect::Haas || codes.iter().any(own) || !self.cycle_after_block(w) {
+            return Ok(());
+        }
+        let cycle = self.after_block(w, group::CYCLE);
+        let word = |l: u8| if w.has(l) { unbuilt::Word::Value(0.0) } else { unbuilt::Word::Absent };
+        if self.cfg.refuse_unbuilt && unbuilt::g_code(cycle, self.cfg.dialect, codes, word).is_some() {
+            return Err(AlarmId::GCodeNotBuilt);
+        }
+        if w.has(b'I') || w.has(b'J') {
+            return Err(AlarmId::ImproperAddress);
         }
         Ok(())
     }

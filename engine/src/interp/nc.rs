@@ -613,6 +613,7 @@ impl State {
         }
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
+        self.refuse_unperformed_cycle_words(w)?;
         self.refuse_plane_change_in_cycle(w)?;
         self.refuse_length_change_in_tip_cycle(w)?;
         self.refuse_d_change_in_cutting(w)?;

@@ -825,3 +825,72 @@ fn haas_cycle_p_with_a_point_is_seconds() {
     let r = run_with(&format!("{head}G82 X10. Z-10. R2. P1. F200.\nM30\n"), "mill3", Fanuc);
     assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS0007"));
 }
+
+/// The NGC's back bore is G77 and its G87 another cycle: G87 no longer runs FANUC's back boring
+/// (orient, shift, up from below, automatic return) in the Haas dialect: it is refused as not
+/// built, as G77 is, and `fivex check` names it (the audit's F1). FANUC's G87 is unchanged.
+#[test]
+fn haas_g87_is_not_fanuc_s_back_boring() {
+    let block = "G87 G98 X10. Y10. Z-20. R2. Q1. F100.";
+    let src = format!("G00 X0 Y0 Z50.\nM03 S500\n{block}\nG80\nM30\n");
+    let r = run_with(&src, "mill3", Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("310", 3)));
+    assert!(r.machine.iter().take(2).all(|&v| v == 0.0), "{:?}", r.machine);
+    let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&src), Haas);
+    assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(3, 1)]);
+    assert!(diags[0].detail.contains("G87") && diags[0].detail.contains("G77"), "{diags:?}");
+    assert!(run_with(&src.replace("R2.", "R-30."), "mill3", Fanuc).completed());
+}
+
+/// The words a Haas cycle does not perform are refused, not ignored (the audit's F4, F6): the
+/// I, J, K peck forms of G83/G73 (96-8000, the G83 and G73 pages) and G76's shift by I/J (the
+/// NGC's G77 page: "if Q is not specified") as functions not built (310, named by `fivex check`;
+/// before, G83 I/J said `305 INVALID Q`), also in a later block that runs the cycle without
+/// naming it; I or J in the other cycles (G81 I5., G84 J2 ran as if absent) as unknown (311).
+/// A bolt pattern's own I/J/K still go (`check_reads_the_haas_repeat_count`).
+#[test]
+fn haas_cycle_words_not_performed_are_refused() {
+    let first = |body: &str| {
+        let src = format!("G00 X0 Y0 Z50.\nM03 S500\n{body}\nG80\nM30\n");
+        let r = run_with(&src, "mill3", Haas);
+        r.alarms.first().map(|a| (a.code.clone(), a.line))
+    };
+    let refused = |code: &str, line| Some((code.to_string(), line));
+    for body in [
+        "G83 G99 X10. Y10. Z-20. R2. I5. J1. F200.",
+        "G83 G99 X10. Y10. Z-20. R2. I5. J1. K1. Q2. F200.",
+        "G73 X10. Y10. Z-20. R2. I5. J1. K1. F200.",
+        "G73 X10. Y10. Z-20. R2. K4. Q1. F200.",
+        "G98 G76 X10. Y10. Z-10. R2. I0.5 J0.3 P500 F200.",
+    ] {
+        assert_eq!(first(body), refused("310", 3), "{body}");
+    }
+    // The cycle in force, a later block: its I is refused the same way.
+    assert_eq!(first("G83 X10. Z-20. R2. Q5. F200.\nX20. I5."), refused("310", 4));
+    assert_eq!(first("G76 X10. Z-20. R2. Q0.5 F200.\nX20. J0.3"), refused("310", 4));
+    for body in [
+        "G81 X10. Y10. Z-10. R2. I5. J5. F200.",
+        "G84 X10. Y10. Z-10. R2. F750. J2",
+        "G81 X10. Z-10. R2. F200.\nX20. I5.",
+    ] {
+        let line = 2 + body.lines().count() as u32;
+        assert_eq!(first(body), refused("311", line), "{body}");
+    }
+    // `fivex check` names the peck form at its G word.
+    let diags = fivex_engine::check::check(
+        fivex_engine::lang::parse_file("G83 G99 X10. Y10. Z-20. R2. I5. J1. F200.\nG80\nM30\n"),
+        Haas,
+    );
+    assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(1, 1)], "{diags:?}");
+    assert!(diags[0].detail.contains("I, J, K peck form of G83"), "{diags:?}");
+    // G47's E (its plunge feed) is G47's: the run refuses G47 (310), not the E as FANUC's thread
+    // lead (311), and `fivex check` reports G47 alone.
+    let g47 = "G00 X0 Y0 Z0\nG47 P0 X0 Y0 I0 J.5 R.05 Z-.005 F15. E10. (TEXT)\nM30\n";
+    let r = run_with(g47, "mill3", Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("310", 2)));
+    let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(g47), Haas);
+    assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(2, 1)], "{diags:?}");
+    // FANUC is unchanged: G81 with I runs (the I is ignored, as before).
+    assert!(run_with("G00 X0 Y0 Z50.\nG81 X10. Z-10. R2. I5. F200.\nG80\nM30\n", "mill3", Fanuc).completed());
+}
+
