@@ -894,3 +894,27 @@ fn haas_cycle_words_not_performed_are_refused() {
     assert!(run_with("G00 X0 Y0 Z50.\nG81 X10. Z-10. R2. I5. F200.\nG80\nM30\n", "mill3", Fanuc).completed());
 }
 
+/// A pocket whose outline starts on a concave corner (the audit's F5): a 40 x 40 square with a
+/// half-disc tab (radius 10) on its right edge, started where the tab leaves the edge, (20, 0).
+/// Before, 746 (the straight entry to the end of the corner's arc cut the corner); the same
+/// outline started on an edge ran. Now it runs: every point inside the wall by the tool radius +
+/// K, the passes exactly there, the region covered (`check_pocket`); the run's tip never nearer
+/// the wall than the tool radius (5), reaching X 25 (the tab's edge 30 − 5) on the finish pass.
+#[test]
+fn g150_starts_on_a_concave_corner() {
+    let tab = Seg { start: [20.0, 0.0], end: [20.0, 20.0], arc: Some(([20.0, 10.0], std::f64::consts::PI)) };
+    let corners = [[20.0, 20.0], [-20.0, 20.0], [-20.0, -20.0], [20.0, -20.0], [20.0, 0.0]];
+    let mut outline = vec![tab];
+    outline.extend(corners.windows(2).map(|w| Seg::line(w[0], w[1])));
+    for (k, step, along_x) in [(0.5, 8.0, false), (0.0, 4.0, true), (0.5, 8.0, true)] {
+        check_pocket(&outline, [0.0, 0.0], 5.0, k, step, along_x).unwrap();
+    }
+    let sub = "G01 X20. Y0\nG03 X20. Y20. R10.\nG01 X-20. Y20.\nG01 Y-20.\nG01 X20.\nG01 Y0.";
+    let (tips, r) = pocket_samples(&g150("G150 X0 Y0 Z-6. R2. Q3. I8. K0.5 P100 D7 F3000.", sub));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let near = tips.iter().map(|t| wall_distance(&outline, [t[0], t[1]])).fold(f64::MAX, f64::min);
+    let reach = tips.iter().map(|t| t[0]).fold(f64::MIN, f64::max);
+    assert!(tips.iter().all(|t| inside_outline(&outline, [t[0], t[1]])));
+    // (The samples are 0.1 mm apart at F3000: the arc's top lies within 3e-4 mm of one.)
+    assert!((near - 5.0).abs() < 1e-6 && (reach - 25.0).abs() < 1e-3, "{near} {reach}");
+}
