@@ -377,7 +377,7 @@ fn self_intersects(c: &[Seg]) -> bool {
 }
 
 /// The outline offset inward by `d` (the tool centre's path at `d` from the wall), starting at
-/// the offset of the outline's start. Convex corners are the meeting points of the offset
+/// the offset of the outline's start (at a concave start corner, the middle of the arc about it). Convex corners are the meeting points of the offset
 /// elements, concave ones arcs of radius `d` about the corner; a convex arc smaller than `d`
 /// gives way to the corner of its neighbours. Refused where the offset loses a segment's
 /// direction, turns over, or crosses itself (the region vanishes or splits).
@@ -483,6 +483,18 @@ pub fn offset(outline: &[Seg], d: f64) -> Result<Vec<Seg>, Refusal> {
         };
         out.extend(s);
         out.extend(joins[k]);
+    }
+    // A concave corner at the outline's start (the join after the last element, the tool
+    // rolling about the start point): the pass starts where the tool stands at that point, at
+    // `d` from it on the corner's bisector (the middle of the arc), not at one end of the arc,
+    // an edge's offset beside the corner, whose straight way from the start hole may cut into
+    // the corner (the audit's F5: a valid pocket refused as if its start hole were outside).
+    if kept[0] == 0 && kept[m - 1] == n - 1 && joins[m - 1].is_some() {
+        let arc = out.pop().expect("the join is the last element");
+        let (v, sweep) = arc.arc.expect("a join is an arc");
+        let mid = polar(v, d, angle(sub(arc.start, v)) + sweep / 2.0);
+        out.insert(0, Seg { start: mid, end: arc.end, arc: Some((v, sweep / 2.0)) });
+        out.push(Seg { start: arc.start, end: mid, arc: Some((v, sweep / 2.0)) });
     }
     segs = out;
     if segs.is_empty() || area(&segs) * sigma <= EPS * EPS {
@@ -775,6 +787,26 @@ mod tests {
         let (centre, sweep) = arcs[0].arc.unwrap();
         assert!(dist(centre, [4.0, 4.0]) < 1e-12 && (sweep + PI / 2.0).abs() < 1e-12, "{:?}", arcs[0]);
         assert!(dist(arcs[0].start, [4.0, 3.0]) < 1e-12 && dist(arcs[0].end, [3.0, 4.0]) < 1e-12);
+    }
+
+    #[test]
+    fn a_concave_start_corner_starts_the_pass_on_its_bisector() {
+        // A 40 x 40 square with a half-disc tab (radius 10) on its right edge, started at the
+        // tab's lower end (20, 0), a concave corner: up the edge +Y, then the arc leaves +X.
+        let tab = Seg { start: [20.0, 0.0], end: [20.0, 20.0], arc: Some(([20.0, 10.0], PI)) };
+        let c = [[20.0, 20.0], [-20.0, 20.0], [-20.0, -20.0], [20.0, -20.0], [20.0, 0.0]];
+        let mut outline = vec![tab];
+        outline.extend(c.windows(2).map(|w| Seg::line(w[0], w[1])));
+        let o = offset(&outline, 5.5).unwrap();
+        // The tool at d = 5.5 from (20, 0) on the bisector of +X (the arc) and −Y (back along
+        // the edge): the direction 135°, (20 − 5.5/√2, 5.5/√2).
+        let h = 5.5 / 2f64.sqrt();
+        assert!(dist(o[0].start, [20.0 - h, h]) < 1e-12, "{:?}", o[0]);
+        // The first half of the arc ends on the tab's offset (radius 4.5 about (20, 10)), the
+        // last half starts at the edge's offset (14.5, 0) and closes the pass.
+        assert!(dist(o[0].end, [20.0, 5.5]) < 1e-12 && dist(o[o.len() - 1].start, [14.5, 0.0]) < 1e-12);
+        assert!(dist(o[o.len() - 1].end, o[0].start) < 1e-12);
+        assert!(plan(&outline, [0.0, 0.0], 5.0, 0.5, 8.0, false).is_ok());
     }
 
     #[test]

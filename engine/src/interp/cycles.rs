@@ -18,6 +18,7 @@
 use super::gcode::{self, code, group};
 use super::mcode;
 use super::nc::Words;
+use super::unbuilt;
 use super::State;
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind, FeedMode, Motion, MotionKind, Pos, SpindleState, Tapping};
@@ -144,6 +145,29 @@ impl State {
         Ok(())
     }
 
+    /// Haas: a block that runs the canned cycle in force (or names it) with a word the cycle does
+    /// not perform. The I, J, K peck forms of G73/G83 and G76's shift by I/J are functions not
+    /// built (`unbuilt`, asked here of the cycle in force, which the block need not name); I and
+    /// J mean nothing to the other cycles (K is the repeat count's, [`repeats`]): refused rather
+    /// than ignored (*decision*, `docs/dialects.md`, "Haas cycles"). A bolt pattern, a macro
+    /// call or G10 in the block takes them as its own words.
+    pub(super) fn refuse_unperformed_cycle_words(&self, w: &Words) -> Result<(), AlarmId> {
+        let codes = w.gcodes();
+        let own = |c: &u16| unbuilt::OWN_IJK.contains(c) || code::MACRO_CALLS.contains(c) || *c == code::G10;
+        if self.cfg.dialect != Dialect::Haas || codes.iter().any(own) || !self.cycle_after_block(w) {
+            return Ok(());
+        }
+        let cycle = self.after_block(w, group::CYCLE);
+        let word = |l: u8| if w.has(l) { unbuilt::Word::Value(0.0) } else { unbuilt::Word::Absent };
+        if self.cfg.refuse_unbuilt && unbuilt::g_code(cycle, self.cfg.dialect, codes, word).is_some() {
+            return Err(AlarmId::GCodeNotBuilt);
+        }
+        if w.has(b'I') || w.has(b'J') {
+            return Err(AlarmId::ImproperAddress);
+        }
+        Ok(())
+    }
+
     /// A canned cycle is in force after the block: it is not cancelled there (G80, a group-01
     /// code) and one was in force or the block names one.
     fn cycle_after_block(&self, w: &Words) -> bool {
@@ -200,7 +224,7 @@ impl State {
         }
         self.refuse_point_at_dwell_p(w)?;
         if let Some(p) = w.integer(b'P') {
-            self.cycle.p = p / 1000.0;
+            self.cycle.p = self.dwell_p_seconds(w, p);
         }
         let code = self.modes[group::CYCLE];
         if matches!(code, code::G73 | code::G83) && self.cycle.q <= 0.0 {
@@ -380,8 +404,13 @@ impl State {
                         self.move_drill_axis(d, depth - dir * clearance, Rapid, out)?;
                     }
                 }
-                // G73/G83 have no dwell (their format has no P): a P left from G82/G89 is
-                // kept for those cycles, not used here.
+                // FANUC: G73/G83 have no dwell (their format has no P), a P left from G82/G89 is
+                // kept for those cycles, not used here. Haas: P is the "pause at the bottom of
+                // the hole after the last peck", kept for the later blocks until the cycle is
+                // cancelled (96-8000, the G73 and G83 pages; `docs/dialects.md`, "Haas cycles").
+                if self.cfg.dialect == Dialect::Haas {
+                    dwell(self, out);
+                }
                 self.move_drill_axis(d, ret, Rapid, out)?;
             }
             code::G74 | code::G84 | code::G84_2 | code::G84_3 => {

@@ -618,6 +618,7 @@ impl State {
         }
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
+        self.refuse_unperformed_cycle_words(w)?;
         self.refuse_plane_change_in_cycle(w)?;
         self.refuse_length_change_in_tip_cycle(w)?;
         self.refuse_d_change_in_cutting(w)?;
@@ -1126,6 +1127,20 @@ impl State {
             return Err(AlarmId::IllegalDecimalPoint);
         }
         Ok(())
+    }
+
+    /// The dwell a P word of the block asks for (G04, and the canned cycles' dwell), seconds:
+    /// P counts milliseconds, except that in the Haas dialect a P written with a decimal point
+    /// counts seconds (`docs/dialects.md`, "Decimal point": the NGC's G82 example `P0.3`, the
+    /// G83 page's `P5.` "five seconds"). A P given by an expression counts milliseconds.
+    pub(super) fn dwell_p_seconds(&self, w: &Words, p: f64) -> f64 {
+        let haas_seconds =
+            self.cfg.dialect == crate::Dialect::Haas && w.word(b'P').is_some_and(|(_, form)| form == Form::Point);
+        if haas_seconds {
+            p
+        } else {
+            p / 1000.0
+        }
     }
 
     /// Tool length offset vector from group 08 and H (along Z: FANUC tool length type A). A
@@ -1675,11 +1690,8 @@ impl State {
         match code {
             code::G04 => {
                 self.refuse_point_at_dwell_p(w)?;
-                let haas = self.cfg.dialect == crate::Dialect::Haas;
                 let seconds = match (w.integer(b'P'), w.raw(b'X')) {
-                    // Haas: P with a decimal point is seconds, without milliseconds.
-                    (Some(p), _) if haas && w.word(b'P').is_some_and(|(_, form)| form == Form::Point) => p,
-                    (Some(p), _) => p / 1000.0,
+                    (Some(p), _) => self.dwell_p_seconds(w, p),
                     (None, Some((x, no_point))) => {
                         if no_point && !self.cfg.pocket_calculator {
                             x * 0.001

@@ -30,6 +30,9 @@ enum When {
     /// When every one of these addresses is given, unless a code of the block takes them as its
     /// own words ([`OWN_IJK`]).
     WithAll(&'static [u8]),
+    /// When any of these addresses is given, unless a code of the block takes them as its own
+    /// words ([`OWN_IJK`]: a bolt pattern in a cycle's block).
+    WithAnyNotOwn(&'static [u8]),
 }
 
 /// The codes whose block's I, J, K are their own words: an arc's centre, and the Haas cycles'
@@ -54,6 +57,13 @@ const fn row(code: u16, when: When, function: &'static str) -> NotBuilt {
 
 const fn haas(code: u16, function: &'static str) -> NotBuilt {
     NotBuilt { code, dialect: Some(Dialect::Haas), when: When::Always, function }
+}
+
+/// A Haas canned cycle given one of `letters`, which select a form of it fivex does not build.
+/// The cycle is modal: `State::refuse_unperformed_cycle_words` asks the same of a block that runs
+/// the cycle in force without naming it.
+const fn haas_cycle(code: u16, letters: &'static [u8], function: &'static str) -> NotBuilt {
+    NotBuilt { code, dialect: Some(Dialect::Haas), when: When::WithAnyNotOwn(letters), function }
 }
 
 /// Every G code of `gcode::TABLE` (and `gcode::HAAS_TABLE`) that fivex does not perform, or performs only with some
@@ -156,6 +166,17 @@ const TABLE: &[NotBuilt] = &[
     haas(370, "automatic tool offset measurement (G37)"),
     haas(470, "text engraving (G47)"),
     haas(770, "back bore canned cycle (G77)"),
+    // FANUC's G87 is back boring; the NGC's back bore is G77 and its G87 another cycle, whose
+    // page is not among fivex's sources (docs/dialects.md, "Haas cycles"): FANUC's cycle must
+    // not run under the number.
+    haas(870, "the NGC's G87 canned cycle (its back bore is G77)"),
+    // The I, J, K peck forms of the Haas G73/G83 (96-8000, the G73 and G83 pages: first peck I,
+    // reduced by J, down to K; G73's K with Q: back to R every K) and the G76 shift by I/J (the
+    // NGC's G77 page gives I/J as the shift "if Q is not specified" and refers to G76; the G76
+    // page itself is not among fivex's sources): not built (docs/dialects.md, "Haas cycles").
+    haas_cycle(730, b"IJK", "the I, J, K peck forms of G73"),
+    haas_cycle(760, b"IJ", "the shift by I, J of G76"),
+    haas_cycle(830, b"IJK", "the I, J, K peck form of G83"),
     haas(1070, "cylindrical mapping (G107)"),
     haas(1360, "automatic work offset center measurement (G136)"),
     haas(1410, "3D+ cutter compensation (G141)"),
@@ -211,6 +232,9 @@ pub fn g_code(code: u16, dialect: Dialect, codes: &[u16], word: impl Fn(u8) -> W
         When::WithAny(letters) => Some(letters.iter().any(|&l| word(l) != Word::Absent)),
         When::WithAll(letters) => {
             Some(letters.iter().all(|&l| word(l) != Word::Absent) && !codes.iter().any(|c| OWN_IJK.contains(c)))
+        }
+        When::WithAnyNotOwn(letters) => {
+            Some(letters.iter().any(|&l| word(l) != Word::Absent) && !codes.iter().any(|c| OWN_IJK.contains(c)))
         }
         When::Positive(letter) => match word(letter) {
             Word::Value(v) => Some(v > 0.0),
@@ -356,11 +380,13 @@ pub fn haas_m_code(m: u32) -> Option<&'static str> {
 /// `letter` is an argument of the G code `code` in `dialect`, decided by the code's row rather
 /// than by [`address`]: every letter of a macro call G65/G66/G66.1 (E is argument #8 of
 /// specification I; the call takes the words as arguments, none as an address), Syntec's G05 E
-/// (decided by its row), Haas's G187 E (its maximum corner rounding, `interp::corner_blend`).
+/// (decided by its row), Haas's G187 E (its maximum corner rounding, `interp::corner_blend`) and
+/// G47 E (the engraving's plunge feed: the block is refused as G47, not as an E of G33).
 pub fn argument_of(code: u16, dialect: Dialect, letter: u8) -> bool {
     use crate::interp::gcode::code::MACRO_CALLS;
+    let haas_e = dialect == Dialect::Haas && matches!(code, 470 | 1870);
     MACRO_CALLS.contains(&code) && letter.is_ascii_uppercase()
-        || letter == b'E' && (code == 50 && dialect == Dialect::Syntec || code == 1870 && dialect == Dialect::Haas)
+        || letter == b'E' && (code == 50 && dialect == Dialect::Syntec || haas_e)
 }
 
 /// The codes of the table (for documentation checks).

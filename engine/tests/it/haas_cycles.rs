@@ -4,7 +4,8 @@
 //! limit (a chain of short blocks slows down under P1), G150 general purpose pocket milling (the
 //! geometry of `fivex_engine::pocket` on random convex polygons and rounded rectangles: inside
 //! the wall less the tool radius and K, the outline pass on it, every point reached, every depth,
-//! the end at the hole), and the refusals (G47, bad arguments). G187's corner rounding:
+//! the end at the hole), the refusals (G47, bad arguments), and the shared canned cycles' Haas
+//! rules (the dwell P of G73/G83 and its units, G87, the I/J/K words). G187's corner rounding:
 //! `corner_rounding.rs`. The manual's examples are data fixtures, `tests/data/cycles/haas_*.nc`.
 
 use crate::common::*;
@@ -748,4 +749,172 @@ fn haas_scaling_leaves_the_cycle_levels_alone() {
     let want =
         [(R, 50.0), (R, 2.0), (F, -1.0), (R, 2.0), (R, -0.5), (F, -4.0), (R, 2.0), (R, -3.5), (F, -5.0), (R, 2.0)];
     assert_eq!(haas, want.to_vec());
+}
+
+// --- The shared canned cycles in the Haas dialect (`docs/dialects.md`, "Haas cycles") -----------
+
+/// A dwell (seconds), the drilling-axis (Z) end of the motion before it, and the kind and Z of
+/// the motion after it (mm, rounded to 1 nm).
+type DwellAt = (f64, f64, Option<(MotionKind, f64)>);
+
+/// Line `line`'s dwells.
+fn dwells(src: &str, line: u32, dialect: fivex_engine::Dialect) -> Vec<DwellAt> {
+    let round = |z: f64| (z * 1e9).round() / 1e9;
+    let canon: Vec<_> = canon_in(src, dialect).into_iter().filter(|c| c.line == line).collect();
+    let motion = |c: &fivex_engine::canon::Canon| match &c.kind {
+        CanonKind::Motion(m) => Some((m.kind, round(m.target[2]))),
+        _ => None,
+    };
+    let mut out = Vec::new();
+    for (i, c) in canon.iter().enumerate() {
+        if let CanonKind::Dwell { seconds } = c.kind {
+            let before = canon[..i].iter().rev().find_map(motion).expect("a motion before").1;
+            out.push((seconds, before, canon[i + 1..].iter().find_map(motion)));
+        }
+    }
+    out
+}
+
+/// The manual's G83 line (96-8000, G83: "peck several times and dwell for five seconds at the
+/// end", `G83 Z-0.62 F15. R0.1 Q0.175 P5.`): 5 s at the bottom (−0.62 in = −15.748 mm) of each
+/// hole after the last peck, then the return to R (0.1 in = 2.54 mm, G99); the same P for the next
+/// hole. Before, the P was dropped (the audit's F2).
+#[test]
+fn haas_g83_and_g73_dwell_p_after_the_last_peck() {
+    use MotionKind::Rapid;
+    let src = "G20\nG00 X0 Y0 Z1.\nG99 G83 X1. Y1. Z-0.62 F15. R0.1 Q0.175 P5.\nX2.\nG80\nM30\n";
+    assert_eq!(dwells(src, 3, Haas), vec![(5.0, -15.748, Some((Rapid, 2.54)))]);
+    assert_eq!(dwells(src, 4, Haas), vec![(5.0, -15.748, Some((Rapid, 2.54)))]);
+    // Without P no dwell; a P without a point counts milliseconds (Autodesk's Haas post writes
+    // `P500`); G73 likewise; G98 returns to the initial level (Z1 in = 25.4 mm).
+    assert_eq!(dwells(&src.replace(" P5.", ""), 3, Haas), vec![]);
+    let ms = "G00 X0 Y0 Z50.\nG98 G83 X10. Y10. Z-10. R2. Q4. P500 F200.\nG73 X20. Q4. P2.\nG80\nM30\n";
+    assert_eq!(dwells(ms, 2, Haas), vec![(0.5, -10.0, Some((Rapid, 50.0)))]);
+    assert_eq!(dwells(ms, 3, Haas), vec![(2.0, -10.0, Some((Rapid, 50.0)))]);
+    // G80 (and a group-01 code) resets it: "the dwell time will be reset to zero".
+    let reset = "G00 X0 Y0 Z50.\nG83 X10. Z-10. R2. Q4. P500 F200.\nG80\nG83 X20. Z-10. R2. Q4.\nG80\nM30\n";
+    assert_eq!(dwells(reset, 4, Haas), vec![]);
+    // FANUC's G83 has no dwell (unchanged).
+    assert_eq!(dwells(&ms.replace("P2.", "P2000"), 2, Fanuc), vec![]);
+}
+
+/// A cycle's P with a decimal point counts seconds in the Haas dialect, as G04's: the NGC's G82
+/// example `G82 Z-0.720 P0.3 R0.1 F15.` dwells 0.3 s. Before, `P1.` dwelt 0.001 s (the audit's F3).
+#[test]
+fn haas_cycle_p_with_a_point_is_seconds() {
+    let head = "G00 X0 Y0 Z50.\n";
+    for cycle in ["G82", "G89", "G76 Q0.5", "G88"] {
+        for (p, want) in [("P1.", 1.0), ("P1000", 1.0), ("P0.3", 0.3), ("P250", 0.25)] {
+            let src = format!("{head}M03 S500\nG98 {cycle} X10. Y10. Z-10. R2. {p} F200.\nG80\nM30\n");
+            let got = dwells(&src, 3, Haas);
+            assert_eq!(got.iter().map(|d| (d.0, d.1)).collect::<Vec<_>>(), vec![(want, -10.0)], "{cycle} {p}");
+        }
+    }
+    // The manual's example, inch: 0.3 s at −0.72 in.
+    let src = "G20\nG00 X2. Y-2. Z0.1\nG82 Z-0.720 P0.3 R0.1 F15.\nG80\nM30\n";
+    assert_eq!(dwells(src, 3, Haas).iter().map(|d| (d.0, d.1)).collect::<Vec<_>>(), vec![(0.3, -18.288)]);
+    // G04 reads P the same way.
+    assert_eq!(
+        canon_in("G04 P1.\nG04 P1000\nM30\n", Haas)
+            .iter()
+            .filter(|c| matches!(c.kind, CanonKind::Dwell { seconds } if seconds == 1.0))
+            .count(),
+        2
+    );
+    // FANUC refuses the point at a dwell's P (PS0007), as before.
+    let r = run_with(&format!("{head}G82 X10. Z-10. R2. P1. F200.\nM30\n"), "mill3", Fanuc);
+    assert_eq!(r.alarms.first().map(|a| a.code.as_str()), Some("PS0007"));
+}
+
+/// The NGC's back bore is G77 and its G87 another cycle: G87 no longer runs FANUC's back boring
+/// (orient, shift, up from below, automatic return) in the Haas dialect: it is refused as not
+/// built, as G77 is, and `fivex check` names it (the audit's F1). FANUC's G87 is unchanged.
+#[test]
+fn haas_g87_is_not_fanuc_s_back_boring() {
+    let block = "G87 G98 X10. Y10. Z-20. R2. Q1. F100.";
+    let src = format!("G00 X0 Y0 Z50.\nM03 S500\n{block}\nG80\nM30\n");
+    let r = run_with(&src, "mill3", Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("310", 3)));
+    assert!(r.machine.iter().take(2).all(|&v| v == 0.0), "{:?}", r.machine);
+    let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&src), Haas);
+    assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(3, 1)]);
+    assert!(diags[0].detail.contains("G87") && diags[0].detail.contains("G77"), "{diags:?}");
+    assert!(run_with(&src.replace("R2.", "R-30."), "mill3", Fanuc).completed());
+}
+
+/// The words a Haas cycle does not perform are refused, not ignored (the audit's F4, F6): the
+/// I, J, K peck forms of G83/G73 (96-8000, the G83 and G73 pages) and G76's shift by I/J (the
+/// NGC's G77 page: "if Q is not specified") as functions not built (310, named by `fivex check`;
+/// before, G83 I/J said `305 INVALID Q`), also in a later block that runs the cycle without
+/// naming it; I or J in the other cycles (G81 I5., G84 J2 ran as if absent) as unknown (311).
+/// A bolt pattern's own I/J/K still go (`check_reads_the_haas_repeat_count`).
+#[test]
+fn haas_cycle_words_not_performed_are_refused() {
+    let first = |body: &str| {
+        let src = format!("G00 X0 Y0 Z50.\nM03 S500\n{body}\nG80\nM30\n");
+        let r = run_with(&src, "mill3", Haas);
+        r.alarms.first().map(|a| (a.code.clone(), a.line))
+    };
+    let refused = |code: &str, line| Some((code.to_string(), line));
+    for body in [
+        "G83 G99 X10. Y10. Z-20. R2. I5. J1. F200.",
+        "G83 G99 X10. Y10. Z-20. R2. I5. J1. K1. Q2. F200.",
+        "G73 X10. Y10. Z-20. R2. I5. J1. K1. F200.",
+        "G73 X10. Y10. Z-20. R2. K4. Q1. F200.",
+        "G98 G76 X10. Y10. Z-10. R2. I0.5 J0.3 P500 F200.",
+    ] {
+        assert_eq!(first(body), refused("310", 3), "{body}");
+    }
+    // The cycle in force, a later block: its I is refused the same way.
+    assert_eq!(first("G83 X10. Z-20. R2. Q5. F200.\nX20. I5."), refused("310", 4));
+    assert_eq!(first("G76 X10. Z-20. R2. Q0.5 F200.\nX20. J0.3"), refused("310", 4));
+    for body in [
+        "G81 X10. Y10. Z-10. R2. I5. J5. F200.",
+        "G84 X10. Y10. Z-10. R2. F750. J2",
+        "G81 X10. Z-10. R2. F200.\nX20. I5.",
+    ] {
+        let line = 2 + body.lines().count() as u32;
+        assert_eq!(first(body), refused("311", line), "{body}");
+    }
+    // `fivex check` names the peck form at its G word.
+    let diags = fivex_engine::check::check(
+        fivex_engine::lang::parse_file("G83 G99 X10. Y10. Z-20. R2. I5. J1. F200.\nG80\nM30\n"),
+        Haas,
+    );
+    assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(1, 1)], "{diags:?}");
+    assert!(diags[0].detail.contains("I, J, K peck form of G83"), "{diags:?}");
+    // G47's E (its plunge feed) is G47's: the run refuses G47 (310), not the E as FANUC's thread
+    // lead (311), and `fivex check` reports G47 alone.
+    let g47 = "G00 X0 Y0 Z0\nG47 P0 X0 Y0 I0 J.5 R.05 Z-.005 F15. E10. (TEXT)\nM30\n";
+    let r = run_with(g47, "mill3", Haas);
+    assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("310", 2)));
+    let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(g47), Haas);
+    assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(2, 1)], "{diags:?}");
+    // FANUC is unchanged: G81 with I runs (the I is ignored, as before).
+    assert!(run_with("G00 X0 Y0 Z50.\nG81 X10. Z-10. R2. I5. F200.\nG80\nM30\n", "mill3", Fanuc).completed());
+}
+
+/// A pocket whose outline starts on a concave corner (the audit's F5): a 40 x 40 square with a
+/// half-disc tab (radius 10) on its right edge, started where the tab leaves the edge, (20, 0).
+/// Before, 746 (the straight entry to the end of the corner's arc cut the corner); the same
+/// outline started on an edge ran. Now it runs: every point inside the wall by the tool radius +
+/// K, the passes exactly there, the region covered (`check_pocket`); the run's tip never nearer
+/// the wall than the tool radius (5), reaching X 25 (the tab's edge 30 − 5) on the finish pass.
+#[test]
+fn g150_starts_on_a_concave_corner() {
+    let tab = Seg { start: [20.0, 0.0], end: [20.0, 20.0], arc: Some(([20.0, 10.0], std::f64::consts::PI)) };
+    let corners = [[20.0, 20.0], [-20.0, 20.0], [-20.0, -20.0], [20.0, -20.0], [20.0, 0.0]];
+    let mut outline = vec![tab];
+    outline.extend(corners.windows(2).map(|w| Seg::line(w[0], w[1])));
+    for (k, step, along_x) in [(0.5, 8.0, false), (0.0, 4.0, true), (0.5, 8.0, true)] {
+        check_pocket(&outline, [0.0, 0.0], 5.0, k, step, along_x).unwrap();
+    }
+    let sub = "G01 X20. Y0\nG03 X20. Y20. R10.\nG01 X-20. Y20.\nG01 Y-20.\nG01 X20.\nG01 Y0.";
+    let (tips, r) = pocket_samples(&g150("G150 X0 Y0 Z-6. R2. Q3. I8. K0.5 P100 D7 F3000.", sub));
+    assert!(r.completed(), "{:?}", r.alarms);
+    let near = tips.iter().map(|t| wall_distance(&outline, [t[0], t[1]])).fold(f64::MAX, f64::min);
+    let reach = tips.iter().map(|t| t[0]).fold(f64::MIN, f64::max);
+    assert!(tips.iter().all(|t| inside_outline(&outline, [t[0], t[1]])));
+    // (The samples are 0.1 mm apart at F3000: the arc's top lies within 3e-4 mm of one.)
+    assert!((near - 5.0).abs() < 1e-6 && (reach - 25.0).abs() < 1e-3, "{near} {reach}");
 }

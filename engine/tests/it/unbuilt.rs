@@ -28,6 +28,10 @@ const PERFORMED_IN_FANUC_ONLY: &[&str] = &["G06.2"];
 /// (`modes.rs`, `docs/five-axis.md`).
 const PERFORMED_IN_SYNTEC_ONLY: &[&str] = &["G53.6"];
 
+/// Shared codes the Haas dialect refuses: the NGC's G87 is not FANUC's back boring (its back
+/// bore is G77, refused too; `docs/dialects.md`, "Haas cycles").
+const NOT_PERFORMED_IN_HAAS: &[&str] = &["G87"];
+
 /// Performed: (the code, an example that must run to its end, where its behaviour is tested).
 /// `M30` is appended unless the example has it (to put subprograms after it).
 const PERFORMED: &[(&str, &str, &str)] = &[
@@ -209,6 +213,7 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G161 R1.", &[Fanuc, Syntec, Haas]),
     // The Haas NGC's own codes fivex does not carry out (its G35/G36/G37/G47/G161 are above).
     ("G77 X1. Z-1. R1. I0.1 F100.", &[Haas]),
+    ("G87 X1. Z1. R-5. Q0.1 F100.", &[Haas]),
     ("G107 Y0 R10.", &[Haas]),
     ("G136 P1", &[Haas]),
     ("G141 D1 X1. F100.", &[Haas]),
@@ -392,6 +397,7 @@ fn performed_codes_run_to_their_end() {
             has_code(dialect, g)
                 && !(dialect == Syntec && PERFORMED_IN_FANUC_ONLY.contains(&g))
                 && !(dialect == Fanuc && PERFORMED_IN_SYNTEC_ONLY.contains(&g))
+                && !(dialect == Haas && NOT_PERFORMED_IN_HAAS.contains(&g))
         };
         // The NGC's own codes of FANUC's numbers (G35 … G161) are not FANUC's functions.
         let haas_own = |g: &str| dialect == Haas && gcode::HAAS_TABLE.iter().any(|d| gcode::display(d.code) == g);
