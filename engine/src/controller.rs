@@ -237,6 +237,10 @@ pub struct Controller {
     /// The single block switch as the last tick found it: switched on under way, the blocks
     /// already read and queued stop at their ends too (`Executor::stop_at_block_ends`).
     single_block_seen: bool,
+    /// The serial of the last block whose end the reader passed with single block off (its
+    /// `Item::BlockEnd` gone): switched on later, nothing read stops at that block's end but
+    /// the motion's own stop (`Controller::block_end_stop`).
+    block_ends_passed: u64,
     /// The last run that ended was a tapping cycle's feed into the hole: the tap is at the
     /// bottom (dwelling, the spindle reversing) until its feed out ([`Controller::tapping`]).
     tap_at_bottom: bool,
@@ -304,6 +308,7 @@ impl Controller {
             state_changed_at: 0.0,
             stroke_reached: None,
             single_block_seen: false,
+            block_ends_passed: 0,
             tap_at_bottom: false,
             hold_after_tap: false,
         }
@@ -664,11 +669,9 @@ impl Controller {
         match self.run_state {
             RunState::Running => return Ok(()),
             RunState::Hold => {
-                if self.panel.single_block {
-                    // Switched on while held (perhaps during the deceleration, whose path the
-                    // tick could not mark): the held block's end stops.
-                    self.exec.stop_at_block_ends();
-                }
+                // Switched on while held: the held block's end stops (during the deceleration,
+                // once it has ended: `after_stop`).
+                self.stop_at_block_ends();
                 self.cycle.course_mut().release_stop();
                 self.set_state(RunState::Running);
                 return Ok(());
@@ -1019,9 +1022,7 @@ impl Controller {
             self.single_block_seen = self.panel.single_block;
             // Switched on under way: the blocks read ahead (the look-ahead's hundreds) stop at
             // their ends too, from the first the machine can still stop at.
-            if self.panel.single_block && !self.cycle.intervening() {
-                self.exec.stop_at_block_ends();
-            }
+            self.stop_at_block_ends();
         }
         let before = self.times;
         // The counters take each stretch of time by what was under way at its start.
@@ -1141,20 +1142,25 @@ impl Controller {
     }
 
     /// Single block on: a program run that ends at rest at the end of a block (or of a stretch
-    /// of a canned cycle's block, `run_block`), with the motion after it queued (read ahead
-    /// before the switch went on), stops there for cycle start; the commands read ahead wait
-    /// with it. (A block read with the switch on stops at its `Item::BlockEnd`, with nothing
-    /// of a later block queued.)
+    /// of a canned cycle's block, `run_block`) read before the switch went on stops there for
+    /// cycle start, with the motion after it queued or with nothing queued (the program's last
+    /// moves, commands still to carry out); the commands read ahead wait with it. (A block
+    /// read with the switch on stops at its `Item::BlockEnd`, with nothing of a later block
+    /// queued.)
     fn block_end_stop(&mut self, finished: &Finished) {
         let p = &finished.planned;
         let Some(last) = p.segments.last() else { return };
-        let next = self.exec.queued_segments().next().map(|s| s.block);
+        let ended = match self.exec.queued_segments().next() {
+            Some(next) => crate::motion::executor::block_end(last, Some(next), self.block_ends_passed),
+            // Its `Item::BlockEnd` is gone: nothing else stops at its end.
+            None => last.block <= self.block_ends_passed && self.cycle.blocks().has_more(),
+        };
         if !self.panel.single_block
             || self.cycle.intervening()
             || !matches!(self.mode, Mode::Auto | Mode::Mdi)
             || !last.stop_after
             || p.profile.end_speed() > 0.0
-            || next.is_none_or(|b| b == last.block)
+            || !ended
         {
             return;
         }
@@ -1162,6 +1168,23 @@ impl Controller {
         self.cycle.course_mut().stop();
         self.exec.here.feed = 0.0;
         self.set_state(RunState::Idle);
+    }
+
+    /// Single block on in a program under way: the blocks already read and queued stop at
+    /// their ends too, from the first the machine can still stop at (`Executor::stop_at_block_ends`).
+    /// Not during a feed hold's or a reset's deceleration: it stops where it stops, and the
+    /// rest of the path is marked when it has ended (`after_stop`).
+    fn stop_at_block_ends(&mut self) {
+        if !self.panel.single_block
+            || self.cycle.intervening()
+            || matches!(self.stopping, Some(AfterStop::Hold | AfterStop::Drop))
+        {
+            return;
+        }
+        if self.exec.stop_at_block_ends(self.block_ends_passed) && self.stopping == Some(AfterStop::Continue) {
+            // An override's speed change was under way: the run now ends at rest at the stop.
+            self.stopping = None;
+        }
     }
 
     /// A manual move that ended at a stored stroke limit stops there in the overtravel alarm;
@@ -1177,7 +1200,12 @@ impl Controller {
     /// Carry on after a deceleration that ended at `speed` with `rest` of the path ahead.
     fn after_stop(&mut self, after: AfterStop, rest: Vec<Segment>, speed: f64) {
         match after {
-            AfterStop::Hold => self.exec.requeue(rest),
+            AfterStop::Hold => {
+                self.exec.requeue(rest);
+                // Single block switched on during the deceleration (and cycle start perhaps
+                // already pressed): the held block's end stops.
+                self.stop_at_block_ends();
+            }
             AfterStop::Continue => self.exec.resume(rest, speed),
             AfterStop::Drop => {
                 self.stand_here();
@@ -1376,7 +1404,7 @@ impl Controller {
                 }
                 kind => self.carry_out(kind),
             },
-            Item::BlockEnd if !self.panel.single_block => {}
+            Item::BlockEnd if !self.panel.single_block => self.block_ends_passed = self.reading_block,
             Item::BlockEnd if motion_pending => {
                 self.cycle.blocks_mut().push_front(Item::BlockEnd);
                 self.flush();

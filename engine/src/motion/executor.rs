@@ -829,25 +829,63 @@ impl Executor {
         true
     }
 
-    /// Single block switched on under way: every block end in what is queued and not released
-    /// becomes an exact stop, from the first the machine can still stop at coming at the speed
-    /// the queue is entered with (the run under way is final, `ARCHITECTURE.md`, invariants).
-    pub fn stop_at_block_ends(&mut self) {
+    /// Single block switched on under way: every block end from the first the machine can
+    /// reach at rest within its limits becomes an exact stop — in the run under way (replanned
+    /// to end at rest there: a run holds every block of a stretch without a binding corner, a
+    /// line of collinear blocks as one move), at its end, and in what is queued. `complete`:
+    /// the serial of the last block the program has read to its end, so that the end of what
+    /// is queued is a block end when its block is that one or earlier. True when the run under
+    /// way was replanned (it ends at rest at the stop).
+    pub fn stop_at_block_ends(&mut self, complete: u64) -> bool {
         let v = self.current.as_ref().map_or(self.planner.speed(), |c| c.planned.profile.end_speed());
         let mut queued = self.planner.take_all();
-        if queued.is_empty() {
-            return;
-        }
-        let need = Profile::stop(v, 0.0, &stop_limits(&queued, v, 0.0)).len();
-        let mut s = 0.0;
-        for k in 0..queued.len() - 1 {
-            s += queued[k].len;
-            if queued[k + 1].block != queued[k].block && s >= need - 1e-9 {
-                queued[k].stop_after = true;
-            }
-        }
+        let replanned = self.stop_in_run(&mut queued, complete);
+        let v = if replanned { 0.0 } else { v };
+        let need = match queued.is_empty() {
+            true => 0.0,
+            false => Profile::stop(v, 0.0, &stop_limits(&queued, v, 0.0)).len(),
+        };
+        mark_block_ends(&mut queued, need, complete);
         self.planner.continue_at(v);
         self.requeue(queued);
+        replanned
+    }
+
+    /// [`Executor::stop_at_block_ends`] in the run under way: the first block end in its rest
+    /// that the machine can stop at from where it is (`Profile::stop_at`, within the lowest
+    /// limits of the way there) becomes the end of the run, at rest; the rest of the run goes
+    /// to the front of `queued` (true). The run stays as it is (false) where no block end in
+    /// it is far enough, it already ends at rest at one, or its motion is not a path profile
+    /// to cut short (a non-linear rapid, a run planned against the axes at every point).
+    fn stop_in_run(&mut self, queued: &mut Vec<Segment>, complete: u64) -> bool {
+        let Some(c) = self.current.as_mut() else { return false };
+        if c.planned.profile.is_tabled() || c.planned.segments.first().is_none_or(Segment::is_independent) {
+            return false;
+        }
+        let state = c.planned.profile.at(self.t - c.start);
+        let mut rest = c.planned.rest(state.s);
+        let (mut len, mut lim) = (0.0, rest.first().map_or(c.planned.segments[0].limits, |s| s.limits));
+        for k in 0..rest.len() {
+            (len, lim) = (len + rest[k].len, lim.min(rest[k].limits));
+            if !block_end(&rest[k], rest.get(k + 1).or(queued.first()), complete) {
+                continue;
+            }
+            if k + 1 == rest.len() && c.planned.profile.end_speed() <= 0.0 {
+                // The run ends at rest there as planned.
+                if let Some(last) = c.planned.segments.last_mut() {
+                    last.stop_after = true;
+                }
+                return false;
+            }
+            if let Some(profile) = Profile::stop_at(state.v, state.a, len, &lim) {
+                let after = rest.split_off(k + 1);
+                rest[k].stop_after = true;
+                queued.splice(0..0, after);
+                self.start(Planned { segments: rest, profile });
+                return true;
+            }
+        }
+        false
     }
 
     /// After a stop or a speed change that ended at `speed` with `rest` of the path ahead:
@@ -935,4 +973,24 @@ fn stop_limits(path: &[Segment], v: f64, a: f64) -> Limits {
         covered += seg.len;
     }
     lim
+}
+
+/// Whether `seg` ends its block: the segment after it (`next`) is another block's, or nothing
+/// follows and its block was read to its end (serial `complete` or before). Another line is
+/// another block too: a path stage releases a block it held with the one read after it, both
+/// under the later block's serial (cutter compensation: the block before a G40).
+pub(crate) fn block_end(seg: &Segment, next: Option<&Segment>, complete: u64) -> bool {
+    next.map_or(seg.block <= complete, |n| n.block != seg.block || n.line != seg.line)
+}
+
+/// Every block end of `path` at least `need` from its start becomes an exact stop (`complete`:
+/// [`block_end`]'s).
+fn mark_block_ends(path: &mut [Segment], need: f64, complete: u64) {
+    let mut s = 0.0;
+    for k in 0..path.len() {
+        s += path[k].len;
+        if s >= need - 1e-9 && block_end(&path[k], path.get(k + 1), complete) {
+            path[k].stop_after = true;
+        }
+    }
 }

@@ -347,6 +347,57 @@ impl Profile {
         p
     }
 
+    /// From speed `v` and acceleration `a` to rest exactly `len` further on (single block
+    /// switched on under way: the machine stops at a block end, not wherever its quickest stop
+    /// ends): down (or up) to a steady speed, a cruise at it, an S-curve to rest. The steady
+    /// speed is the highest, at most `lim.v`, from which that fits in `len`. `None` where the
+    /// machine cannot stop within `len` ([`Profile::stop`] is longer), or is braking harder
+    /// than `lim.j` can end without reversing.
+    pub fn stop_at(v: f64, a: f64, len: f64, lim: &Limits) -> Option<Profile> {
+        if (a < 0.0 && a * a > 2.0 * lim.j * v) || Profile::stop(v, a, lim).len() > len {
+            return None;
+        }
+        let start = PathState { s: 0.0, v, a };
+        let settled = |vc: f64| {
+            let mut p = Profile { phases: ArrayVec::new(), table: None, len: 0.0, duration: 0.0, end_speed: vc };
+            let mut state = start;
+            p.settle(&mut state, vc, lim);
+            (p, state)
+        };
+        let dist = |vc: f64| settled(vc).1.s + change(vc, 0.0, lim).1;
+        // Jerking the acceleration to zero at once gives this speed: the top never lies below it.
+        let top = lim.v.max(v + a * a.abs() / (2.0 * lim.j));
+        let vc = if dist(top) <= len { top } else { bisect(0.0, top, |x| dist(x) <= len) };
+        let (mut p, mut state) = settled(vc);
+        let cruise = len - dist(vc);
+        if cruise > 0.0 && vc > 0.0 {
+            p.push(&mut state, cruise / vc, 0.0);
+        }
+        p.ramp(&mut state, 0.0, lim);
+        (p.end_speed, p.len) = (0.0, len);
+        Some(p)
+    }
+
+    /// From the state's speed and acceleration to steady speed `vc`, as quickly as `lim`
+    /// allows: the acceleration jerked toward the change (to at most A, held there), then back
+    /// to zero. The side is the change's from the speed the acceleration's end alone gives
+    /// (v + a·|a|/2J); the speed gained that way is (2p² − a²)/2J + p·t, p the peak.
+    fn settle(&mut self, state: &mut PathState, vc: f64, lim: &Limits) {
+        let j = lim.j;
+        let side = if vc >= state.v + state.a * state.a.abs() / (2.0 * j) { 1.0 } else { -1.0 };
+        let (gain, a0) = (side * (vc - state.v), side * state.a);
+        let mut peak = (j * gain + 0.5 * a0 * a0).max(0.0).sqrt();
+        let mut hold = 0.0;
+        if peak > lim.a {
+            peak = lim.a.max(a0);
+            hold = ((gain - (2.0 * peak * peak - a0 * a0) / (2.0 * j)) / peak).max(0.0);
+        }
+        self.push(state, (peak - a0) / j, side * j);
+        self.push(state, hold, 0.0);
+        self.push(state, peak / j, -side * j);
+        (state.v, state.a) = (vc, 0.0);
+    }
+
     /// The distance the profile covers.
     pub fn len(&self) -> f64 {
         self.len
@@ -462,6 +513,15 @@ mod tests {
     const LIM: Limits = Limits { v: 100.0, a: 1000.0, j: 20000.0 };
 
     #[test]
+    fn a_stop_far_ahead_goes_up_to_the_limit_first() {
+        // From 50 to 100 (Δv·J = A²: two jerk phases, 2·√(50/J) = 0.1 s over 7.5), 100 down to
+        // rest (v/A + A/J = 0.15 s over 7.5), and 985 at 100 between: 10.1 s.
+        let p = Profile::stop_at(50.0, 0.0, 1000.0, &LIM).unwrap();
+        assert!((p.duration() - 10.1).abs() < 1e-9, "{}", p.duration());
+        assert_eq!((p.len(), p.end_speed()), (1000.0, 0.0));
+    }
+
+    #[test]
     fn rest_to_rest_time_is_analytic() {
         // Long enough to cruise: accelerating takes v/a + a/j over (v/2)(v/a + a/j).
         let p = Profile::plan(0.0, 0.0, 500.0, &LIM);
@@ -509,6 +569,30 @@ mod tests {
             let len = 10f64.powf(l);
             let planned = Profile::plan(0.0, 0.0, len, &lim).duration();
             prop_assert!(rest_to_rest_floor(len, &lim) <= planned * (1.0 + 1e-14), "{planned}");
+        }
+
+        #[test]
+        fn a_stop_at_a_distance_ends_there_at_rest_within_limits(
+            vs in 0.0..100.0f64, ve in 0.0..100.0f64, f in 0.0..1.0f64, more in 0.0..50.0f64,
+        ) {
+            // Any instant of a planned profile: stop `more` beyond its quickest stop, exactly.
+            let p = Profile::plan(vs, ve, change(vs, ve, &LIM).1 + 10.0, &LIM);
+            let at = p.at(p.duration() * f);
+            let least = Profile::stop(at.v, at.a, &LIM).len();
+            prop_assert!(least < 1e-9 || Profile::stop_at(at.v, at.a, least * 0.999, &LIM).is_none());
+            let len = least + more;
+            let stop = Profile::stop_at(at.v, at.a, len, &LIM).expect("far enough");
+            prop_assert!(stop.phases.iter().all(|ph| ph.jerk.abs() <= LIM.j * (1.0 + 1e-12)));
+            let mut last = stop.at(0.0);
+            prop_assert!((last.v - at.v).abs() < 1e-9 && (last.a - at.a).abs() < 1e-9);
+            for i in 1..=500 {
+                let s = stop.at(stop.duration() * i as f64 / 500.0);
+                prop_assert!(s.v >= -1e-9 && s.v <= LIM.v.max(at.v) + 1e-9 && s.a.abs() <= LIM.a + 1e-6, "{s:?}");
+                prop_assert!(s.s >= last.s - 1e-12);
+                last = s;
+            }
+            let end = stop.phases.last().map_or(PathState { s: 0.0, v: at.v, a: at.a }, |ph| ph.at(ph.duration));
+            prop_assert!((end.s - len).abs() < 1e-6 * (1.0 + len) && end.v.abs() < 1e-6 && end.a.abs() < 1e-6, "{end:?} for {len}");
         }
 
         #[test]

@@ -1138,3 +1138,190 @@ fn a_reset_ends_the_canned_cycle() {
     assert_eq!(c.alarms().first().map(|a| a.code.as_str()), Some("FX0008"));
     assert_eq!(c.point().machine[2], z);
 }
+
+/// Stopping distance of mill3 (J = 80000 mm/s³, A = 4000 mm/s²) from a steady `v` mm/s: jerk
+/// down to a deceleration √(J·v) (within A for v ≤ A²/J = 200 mm/s) and back, in 2·√(v/J) s at
+/// a mean speed of v/2: v·√(v/J).
+fn mill3_stop_distance(v: f64) -> f64 {
+    assert!(v <= 200.0);
+    v * (v / 80000.0).sqrt()
+}
+
+/// Verification audit of F2 (s2.py): `c` runs until `at` holds, then single block goes on, and
+/// cycle start is pressed at every single-block stop until the program ends (idle, no alarm):
+/// the line and machine X/Y/Z of each stop, and the machine X/Y/Z where the switch went on and
+/// at every tick from there to the first stop.
+type Stops = Vec<(u32, [f64; 3])>;
+fn stops_after_switching_on(c: &mut Controller, at: impl Fn(&Controller) -> bool) -> (Stops, Vec<[f64; 3]>) {
+    use fivex_engine::controller::ProgramStop;
+    while !at(c) {
+        assert!(c.time() < 120.0 && c.run_state() == RunState::Running, "never got there");
+        c.tick(TICK);
+    }
+    c.panel.single_block = true;
+    let m = c.point().machine;
+    let (mut stops, mut first) = (Vec::new(), None);
+    loop {
+        let xs = run_until_stopped(c, 120.0);
+        first.get_or_insert_with(|| [vec![[m[0], m[1], m[2]]], xs].concat());
+        if c.program_stop() != Some(ProgramStop::SingleBlock) {
+            assert_eq!((c.run_state(), c.alarms().len()), (RunState::Idle, 0));
+            return (stops, first.unwrap_or_default());
+        }
+        let m = c.point().machine;
+        stops.push((c.point().line, [m[0], m[1], m[2]]));
+        c.cycle_start().unwrap();
+    }
+}
+
+/// Collinear blocks of `step` mm along X at `feed` mm/min (`count` of them, on lines 3…):
+/// switched on once X reaches `x_on` at the programmed feed, the machine stops at every block
+/// end from the first at least the stopping distance ahead, exactly on it, within the limits.
+/// A line of collinear blocks is one planned move (one run of the look-ahead): its block ends
+/// were not stops at all (1 mm blocks: no stop to the program's end; 0.05 mm: 160 blocks late).
+fn collinear_stops(step: f64, feed: f64, count: u32, x_on: f64) {
+    let mut src = format!("O0001\nG90 G01 X0 Y0 F{feed:.1}\n");
+    for i in 1..=count {
+        src += &format!("G01 X{:.3}\n", f64::from(i) * step);
+    }
+    let mut c = started(&(src + "M30\n"));
+    let on = |c: &Controller| {
+        let p = c.point();
+        p.machine[0] >= x_on && {
+            assert!((p.feed - feed).abs() < 1e-6, "not at the feed: {}", p.feed);
+            true
+        }
+    };
+    let (stops, xs) = stops_after_switching_on(&mut c, on);
+    let x = xs.first().map_or(0.0, |m| m[0]);
+    // Where the switch went on, the machine ran at the feed (no acceleration).
+    let d = mill3_stop_distance(feed / 60.0);
+    let first = (1..=count).find(|&i| f64::from(i) * step - x >= d).unwrap();
+    assert!((f64::from(first) * step - x - d).abs() > 1e-4, "too near to tell: {x}");
+    let want: Vec<(u32, [f64; 3])> = (first..=count).map(|i| (i + 2, [f64::from(i) * step, 0.0, 0.0])).collect();
+    let got: Vec<(u32, [f64; 3])> = stops.iter().map(|&(l, m)| (l, m.map(|v| (v * 1e9).round() / 1e9))).collect();
+    let want: Vec<(u32, [f64; 3])> = want.iter().map(|&(l, m)| (l, m.map(|v| (v * 1e9).round() / 1e9))).collect();
+    assert_eq!(got, want, "{step} mm at F{feed}, switched on at X{x}");
+    assert_within_limits(&xs);
+}
+
+#[test]
+fn single_block_switched_on_in_collinear_blocks_stops_at_the_first_reachable_block_end() {
+    // t_sb_col_1mm: 1.25 mm to stop from 50 mm/s; on at X23.98 (line 26): X26, line 28.
+    collinear_stops(1.0, 3000.0, 39, 23.98);
+    // t_sb_collinear: 0.112 mm from 10 mm/s.
+    collinear_stops(0.05, 600.0, 200, 4.93);
+    // t_sb_col_fast: 1.25 mm of 0.1 mm blocks: the 13th block end or so, no sooner within J.
+    collinear_stops(0.1, 3000.0, 300, 10.0);
+}
+
+/// The machine ends of `stops`, rounded to a nanometre.
+fn rounded(stops: &[(u32, [f64; 3])]) -> Vec<(u32, [f64; 3])> {
+    stops.iter().map(|&(l, m)| (l, m.map(|v| (v * 1e9).round() / 1e9 + 0.0))).collect()
+}
+
+/// t_sb_4blocks, t_sb_full_tail, t_sb_tail2: switched on far from the end of the block under
+/// way (tens of mm, more than the 1.25 mm a stop from 50 mm/s takes), the machine stops at that
+/// block's end and at every later one, the program's last moves included (the end of the block
+/// under way and the last block read were not stops: its `BlockEnd` was passed with the switch
+/// off and nothing followed it in the queue).
+#[test]
+fn single_block_switched_on_under_way_stops_at_the_end_of_the_block_under_way_and_every_later_one() {
+    let mut c = started("O0001\nG90 G01 X50. F600.\nY50.\nX0\nY0\nM30\n");
+    let (stops, _) = stops_after_switching_on(&mut c, |c| c.point().machine[0] >= 9.9);
+    let want = vec![(2, [50.0, 0.0, 0.0]), (3, [50.0, 50.0, 0.0]), (4, [0.0, 50.0, 0.0]), (5, [0.0, 0.0, 0.0])];
+    assert_eq!(rounded(&stops), want, "t_sb_4blocks");
+
+    let mut src = String::from("O0001\nG90\n");
+    for i in 1..=10 {
+        src += &format!("G01 X{}. Y{i}. F3000.\n", (i % 2) * 50);
+    }
+    let mut c = started(&(src + "M30\n"));
+    let (stops, _) = stops_after_switching_on(&mut c, |c| c.point().line == 3 && c.point().machine[0] >= 20.0);
+    let want: Vec<(u32, [f64; 3])> = (1..=10).map(|i| (i + 2, [f64::from((i % 2) * 50), f64::from(i), 0.0])).collect();
+    assert_eq!(rounded(&stops), want, "t_sb_full_tail");
+
+    let mut c = started("O0001\nG90 G01 X50. F1200.\nY10.\nX0\nY20.\nX50.\nY30.\nG00 Z50.\nM05\nM30\n");
+    let (stops, _) = stops_after_switching_on(&mut c, |c| c.point().machine[0] >= 10.0);
+    let want = vec![
+        (2, [50.0, 0.0, 0.0]),
+        (3, [50.0, 10.0, 0.0]),
+        (4, [0.0, 10.0, 0.0]),
+        (5, [0.0, 20.0, 0.0]),
+        (6, [50.0, 20.0, 0.0]),
+        (7, [50.0, 30.0, 0.0]),
+        (8, [50.0, 30.0, 50.0]),
+        (9, [50.0, 30.0, 50.0]),
+    ];
+    assert_eq!(rounded(&stops), want, "t_sb_tail2");
+}
+
+/// t_sb_crc: switched on at the start of the G41 start-up block (line 4), a tool of radius 5
+/// around the outside of the square 0…50 clockwise: every block stops at its tool centre end —
+/// the start-up's at the intersection of its offset line with X−5 (an inside corner,
+/// `docs/cutter-compensation.md` rule 3: through (0, −10) + 5·(−1, 2)/√5 along (2, 1), at
+/// X−5: Y = −12.5 + 2.5·√5), the offset lines' intersections at the outer corners, line 8's
+/// at the cancel's inside corner (the mirror image of the start-up's: X = −12.5 + 2.5·√5,
+/// Y−5), and the G40 block at its programmed point. Line 8, which the stage releases with the
+/// G40 block under its serial, ran without a stop.
+#[test]
+fn single_block_switched_on_under_cutter_compensation_stops_at_every_later_block() {
+    let mut c = controller();
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
+    c.select_program(
+        "O0001\nG90 G17 G00 X-20. Y-20.\nG01 F1200.\nG41 D1 X0. Y-10.\nY50.\nX50.\nY0.\nX-10.\nG40 X-20. Y-20.\nM30\n",
+    )
+    .unwrap();
+    c.cycle_start().unwrap();
+    let (stops, _) = stops_after_switching_on(&mut c, |c| c.point().line == 4 && c.point().machine[0] >= -18.0);
+    let corner = ((-12.5 + 2.5 * 5f64.sqrt()) * 1e9).round() / 1e9;
+    let want = vec![
+        (4, [-5.0, corner, 0.0]),
+        (5, [-5.0, 55.0, 0.0]),
+        (6, [55.0, 55.0, 0.0]),
+        (7, [55.0, -5.0, 0.0]),
+        (8, [corner, -5.0, 0.0]),
+        (9, [-20.0, -20.0, 0.0]),
+    ];
+    assert_eq!(rounded(&stops), want);
+}
+
+/// t_sb_canned: switched on while the first hole of a G81 (G99) is drilled, FANUC's three stops
+/// per hole (positioning, point R, the hole's end; from the second hole on it positions at R,
+/// so there is no move to R) come at every later hole, the last one included (hole 4 ran
+/// without a stop).
+#[test]
+fn single_block_switched_on_in_a_canned_cycle_stops_at_every_later_holes_stop_points() {
+    let mut c = started("O0001\nG90 G00 X0 Y0 Z50.\nG99 G81 X10. Y0 Z-20. R5. F300.\nX20.\nX30.\nX40.\nG80\nM30\n");
+    let (stops, _) = stops_after_switching_on(&mut c, |c| c.point().line == 3 && c.point().machine[2] < 0.0);
+    let mut want = vec![(3, [10.0, 0.0, 5.0])];
+    for (line, x) in [(4, 20.0), (5, 30.0), (6, 40.0)] {
+        want.extend([(line, [x, 0.0, 5.0]), (line, [x, 0.0, 5.0])]);
+    }
+    assert_eq!(rounded(&stops), want);
+}
+
+/// t_sb_hold_r0: feed hold, single block on and cycle start in one instant or in consecutive
+/// ticks, during the deceleration: the held block is finished and the machine stops at its end
+/// (it ran to M30: the deceleration's rest of the path was queued again unmarked).
+#[test]
+fn feed_hold_single_block_and_cycle_start_at_once_stop_at_the_held_blocks_end() {
+    use fivex_engine::controller::ProgramStop;
+    for gaps in [[0, 0], [1, 0], [0, 1], [1, 1], [5, 5]] {
+        let mut c = started(&zigzag());
+        run_to_line(&mut c, 4);
+        c.feed_hold();
+        for _ in 0..gaps[0] {
+            c.tick(TICK);
+        }
+        c.panel.single_block = true;
+        for _ in 0..gaps[1] {
+            c.tick(TICK);
+        }
+        c.cycle_start().unwrap();
+        run_until_stopped(&mut c, 60.0);
+        assert_eq!(c.program_stop(), Some(ProgramStop::SingleBlock), "{gaps:?}");
+        let m = c.point().machine;
+        assert_eq!((c.point().line, [m[0], m[1]]), (4, zigzag_end(4)), "{gaps:?}");
+    }
+}
