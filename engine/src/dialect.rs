@@ -367,10 +367,12 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         IllegalLoopNumber => (("PS0126", "ILLEGAL LOOP NUMBER"), ("COR-028", "Illegal loop number")),
         IllegalSequenceNumber => (("PS0128", "ILLEGAL MACRO SEQUENCE NUMBER"), ("COR-029", "GOTO target not found")),
         ProgramNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
-        // FANUC and Syntec raise their "not found" alarm for these (PS0078 / COR-030), as before
-        // the Haas dialect split them out.
+        // FANUC and Syntec raise their "not found" alarm for a line (PS0078 / COR-030), as before
+        // the Haas dialect split it out; FANUC for a missing P too.
         LineNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
-        MissingP => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
+        // Syntec: raised by M198 without P only, the handbook's code for it (call semantics
+        // pack §2.2: "`M198 P_ H_ L_` 必须有 `P`；缺失时会触发 `COR-052`"); its message is fivex's.
+        MissingP => (("PS0078", "NUMBER NOT FOUND"), ("COR-052", "M198 without program number P")),
         NestingTooDeep => (("PS0077", "TOO MANY SUB,MACRO NESTING"), ("COR-031", "Too many nested calls")),
         GAsArgument => (("PS0129", "USE 'G' AS ARGUMENT"), ("COR-032", "G used as macro argument")),
         MixedStatements => {

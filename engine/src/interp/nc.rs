@@ -1058,12 +1058,23 @@ impl State {
         Ok(None)
     }
 
-    /// M98 P… L…, or P with the count in front of a four-digit number (`P30010` = O0010 ×3).
-    /// Haas: P is the program number (O00001–O99999) and L the count; no P is alarm 313.
+    /// M98 P… L…, or (FANUC) P with the count in front of a four-digit number (`P30010` = O0010
+    /// ×3). Haas: P is the program number (O00001–O99999) and L the count; no P is alarm 313.
+    /// Syntec: the same, P is the program's name and L the count (the Syntec MACRO handbook §5.1,
+    /// CALL-M98-001: no count in P, so `P12345` is O12345); M198 without P is the handbook's
+    /// COR-052, and M98 without P, which calls the running program itself there, is not built
+    /// (`docs/dialects.md`, "Syntec's subprogram and macro calls").
     fn subprogram_target(&self, by_number: &HashMap<u32, usize>, w: &Words) -> Result<(usize, u32), AlarmId> {
-        let haas = self.cfg.dialect == crate::Dialect::Haas;
-        let p = w.integer(b'P').ok_or(if haas { AlarmId::MissingP } else { AlarmId::ProgramNotFound })?;
-        if haas || w.has(b'L') || p < 10_000.0 {
+        let dialect = self.cfg.dialect;
+        let Some(p) = w.integer(b'P') else {
+            return Err(match dialect {
+                crate::Dialect::Haas => AlarmId::MissingP,
+                crate::Dialect::Syntec if w.mcodes().contains(&mcode::M198) => AlarmId::MissingP,
+                crate::Dialect::Syntec => AlarmId::MCodeNotBuilt,
+                crate::Dialect::Fanuc => AlarmId::ProgramNotFound,
+            });
+        };
+        if dialect != crate::Dialect::Fanuc || w.has(b'L') || p < 10_000.0 {
             return Ok((self.find_program(by_number, Some(p))?, Self::count(w)?));
         }
         let count = (p / 10_000.0).trunc();

@@ -1,0 +1,84 @@
+//! Syntec's subprogram and macro calls where they are not FANUC's (audit "Syntec everyday G
+//! codes", F1–F4; `docs/dialects.md`, "Syntec's subprogram calls"): M98's P is the whole program
+//! name, M02/M30 in an M98 subprogram returns to the caller, G66.1 is not built, and the alarms
+//! the Syntec MACRO handbook (`SYNTEC-40101720/syntec-macro`) names carry its codes. FANUC and
+//! Haas read the same text as before.
+
+use crate::common::*;
+
+use fivex_engine::check::check;
+use fivex_engine::lang::parse_file;
+use fivex_engine::run::RunResult;
+use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
+
+fn syntec(src: &str) -> RunResult {
+    run_with(src, "mill3", Syntec)
+}
+
+/// The alarms of a run as (code, line).
+fn alarms(r: &RunResult) -> Vec<(String, u32)> {
+    r.alarms.iter().map(|a| (a.code.clone(), a.line)).collect()
+}
+
+/// `fivex check`'s diagnostics as (line, code).
+fn checked(src: &str, dialect: Dialect) -> Vec<(u32, String)> {
+    check(parse_file(src), dialect).iter().map(|d| (d.line, dialect.describe(&d.id).0)).collect()
+}
+
+/// The machine position at the end of the run (mill3, no offsets: the programmed position).
+fn end(r: &RunResult) -> [f64; 3] {
+    let p = r.machine;
+    [p[0], p[1], p[2]]
+}
+
+/// F2: `M98 P12345` ran O2345 (FANUC's count 1 in front of a four-digit number); on Syntec P is
+/// the subprogram's name and L the count (handbook §5.1, CALL-M98-001), so O12345 runs once:
+/// Y 0 → 7, X stays 0. FANUC keeps its reading (O2345: X 0 → 1).
+#[test]
+fn m98_p_of_five_digits_is_the_program_number() {
+    let src = "O1\nG90 G00 X0 Y0 Z10.\nM98 P12345\nM30\n\
+               O2345\nG91 G01 X1. F1000\nG90\nM99\n\
+               O12345\nG91 G01 Y7. F1000\nG90\nM99\n";
+    let r = syntec(src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [0.0, 7.0, 10.0]);
+    assert_eq!(checked(src, Syntec), []);
+    let r = run_with(src, "mill3", Fanuc);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [1.0, 0.0, 10.0]);
+    // With L the count is L's: three times O12345, Y 0 → 21.
+    let r = syntec(&src.replace("M98 P12345", "M98 P12345 L3"));
+    assert_eq!(end(&r), [0.0, 21.0, 10.0]);
+}
+
+/// F2: `M98 P30100` with only O100 loaded ran O100 three times; on Syntec it calls O30100,
+/// which is not there: COR-030 at the call, before anything of it runs, and `fivex check`
+/// says so too. FANUC and Haas as before (FANUC: O100 three times; Haas: 314).
+#[test]
+fn m98_p30100_calls_o30100_not_o100_three_times() {
+    let src = "O1\nG90 G00 X3. Y0 Z10.\nM98 P30100\nM30\nO100\nG91 G01 X1. F1000\nG90\nM99\n";
+    let r = syntec(src);
+    assert_eq!(alarms(&r), [("COR-030".to_string(), 3)]);
+    assert_eq!(end(&r), [3.0, 0.0, 10.0]);
+    assert_eq!(checked(src, Syntec), [(3, "COR-030".to_string())]);
+    let r = run_with(src, "mill3", Fanuc);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [6.0, 0.0, 10.0]);
+    assert_eq!(checked(src, Fanuc), []);
+    assert_eq!(alarm_with(src, Haas), "314");
+}
+
+/// F4 (call semantics pack §2.2): M198 without P is COR-052 on Syntec (it was COR-030, "not
+/// found"); M98 without P calls the running program itself there, which fivex does not build
+/// (COR-100). Both before the block moves, in the run and in `fivex check`.
+#[test]
+fn m198_without_p_is_cor_052_and_m98_without_p_is_not_built() {
+    for (m, code) in [("M198", "COR-052"), ("M98", "COR-100")] {
+        let src = format!("O1\nG90 G00 X0 Y0 Z10.\nG00 X5. {m}\nM30\nO100\nM99\n");
+        let r = syntec(&src);
+        assert_eq!(alarms(&r), [(code.to_string(), 3)], "{m}");
+        assert_eq!(end(&r), [0.0, 0.0, 10.0], "{m}: the block did nothing");
+        assert_eq!(checked(&src, Syntec), [(3, code.to_string())], "{m}");
+        assert_eq!(alarm_with(&src, Fanuc), "PS0078");
+    }
+}
