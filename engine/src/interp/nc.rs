@@ -600,6 +600,9 @@ impl State {
         if self.cfg.refuse_unbuilt && w.mcodes().iter().any(|&m| call_form(m)) {
             return Err(AlarmId::AddressNotBuilt);
         }
+        if self.cfg.refuse_unbuilt && self.syntec_end_not_built(w) {
+            return Err(AlarmId::MCodeNotBuilt);
+        }
 
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
         // (The interlocks first: their alarm is the more precise one where both apply.)
@@ -952,6 +955,8 @@ impl State {
                         self.emit(out, CanonKind::Stop { optional: true, message: block.comment.clone() })
                     }
                 }
+                // Syntec: M02/M30 in an M98 subprogram ends it and returns to the caller, as M99.
+                mcode::M02 | mcode::M30 if self.syntec_in_subprogram() => self.return_from_call(progs, None)?,
                 mcode::M02 | mcode::M30 => {
                     // The part is counted when the machine gets there (`State::count_part`), not
                     // here: the reading runs ahead of the machine.
@@ -1032,6 +1037,25 @@ impl State {
             self.f = if self.inch() && self.modes[group::FEED_MODE] != code::G93 { f * 25.4 } else { f };
         }
         Ok(())
+    }
+
+    /// Syntec: the running program was called by M98/M198 (not G65/G66, not the main program).
+    /// There M02/M30 "视同结束子程序并返回主程序" — is taken as the subprogram's end and returns
+    /// to the caller (the Syntec MACRO handbook's call semantics pack §2.2, citing Syntec's
+    /// "副程序控制(M98)(M99)(C-type)"): like M99, with no part counted and no reset of modes.
+    fn syntec_in_subprogram(&self) -> bool {
+        self.cfg.dialect == crate::Dialect::Syntec && self.frames.last().is_some_and(|f| f.kind == CallKind::Sub)
+    }
+
+    /// Syntec: an M02/M30 whose meaning the handbook leaves open — in a G65/G66 macro (it speaks
+    /// of subprograms only), or in a subprogram whose call has repetitions (L) still to come
+    /// (whether they run is not said) — is refused as not built rather than end the whole run.
+    fn syntec_end_not_built(&self, w: &Words) -> bool {
+        let ends = w.mcodes().iter().any(|&m| m == mcode::M02 || m == mcode::M30);
+        let frame = self.frames.last().expect("frame");
+        self.cfg.dialect == crate::Dialect::Syntec
+            && ends
+            && (frame.kind == CallKind::Macro || frame.kind == CallKind::Sub && frame.repeats > 0)
     }
 
     /// The subprogram the block's M98/M198 (Haas: M97) calls, found before the block runs.

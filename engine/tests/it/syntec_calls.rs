@@ -1,5 +1,5 @@
 //! Syntec's subprogram and macro calls where they are not FANUC's (audit "Syntec everyday G
-//! codes", F1–F4; `docs/dialects.md`, "Syntec's subprogram calls"): M98's P is the whole program
+//! codes", F1–F4; `docs/dialects.md`, "Syntec's subprogram and macro calls"): M98's P is the whole program
 //! name, M02/M30 in an M98 subprogram returns to the caller, G66.1 is not built, and the alarms
 //! the Syntec MACRO handbook (`SYNTEC-40101720/syntec-macro`) names carry its codes. FANUC and
 //! Haas read the same text as before.
@@ -8,7 +8,7 @@ use crate::common::*;
 
 use fivex_engine::check::check;
 use fivex_engine::lang::parse_file;
-use fivex_engine::run::RunResult;
+use fivex_engine::run::{run, RunOptions, RunResult};
 use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
 
 fn syntec(src: &str) -> RunResult {
@@ -81,4 +81,56 @@ fn m198_without_p_is_cor_052_and_m98_without_p_is_not_built() {
         assert_eq!(checked(&src, Syntec), [(3, code.to_string())], "{m}");
         assert_eq!(alarm_with(&src, Fanuc), "PS0078");
     }
+}
+
+const F1: &str = "O1\nG21 G90 G17 G54 G40 G49 G80\nG00 X0 Y0 Z10.\nM98 P100\nG00 Z50.\nG00 X50. Y50.\nM30\n\
+                  O100\nG01 Z-1. F500\nG01 X20. F1000\nG00 Z10.\nM30\n";
+
+/// F1: an M30 in an M98 subprogram ended the whole run at (20, 0, 10); on Syntec it ends the
+/// subprogram and returns to the caller (call semantics pack §2.2), so the main program's
+/// `G00 Z50.` and `G00 X50. Y50.` run: the end is (50, 50, 50), and the part is counted once
+/// (the main program's M30), not at the subprogram's. FANUC and Haas end at the subprogram's M30.
+#[test]
+fn m30_in_an_m98_subprogram_returns_to_the_caller() {
+    let mut interp = interpreter(F1, "mill3", Syntec);
+    let r = run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [50.0, 50.0, 50.0]);
+    assert_eq!(interp.state.part_count().0, 1.0);
+    // M02 the same; and from a subprogram called by a subprogram, back to that one.
+    let r = syntec(&F1.replace("G00 Z10.\nM30", "G00 Z10.\nM02"));
+    assert_eq!(end(&r), [50.0, 50.0, 50.0]);
+    let nested = "O1\nG90 G00 X0 Y0 Z10.\nM98 P100\nG00 Z50.\nM30\n\
+                  O100\nM98 P200\nG00 Y9.\nM30\nO200\nG00 X4.\nM30\n";
+    let r = syntec(nested);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [4.0, 9.0, 50.0]);
+    for other in [Fanuc, Haas] {
+        let r = run_with(F1, "mill3", other);
+        assert!(r.completed(), "{other:?}: {:?}", r.alarms);
+        assert_eq!(end(&r), [20.0, 0.0, 10.0], "{other:?}");
+    }
+    // M30 in the main program still ends the run.
+    let r = syntec("G90 G00 X0 Y0 Z10.\nM30\nG00 X99.\n");
+    assert_eq!(end(&r), [0.0, 0.0, 10.0]);
+}
+
+/// F1: where the handbook does not say what M02/M30 does — in a G65 macro (it speaks of
+/// subprograms), or in a subprogram whose call has repetitions still to come (`M98 P100 L2`) —
+/// the Syntec dialect refuses the M30 block as not built (COR-100) instead of ending the run.
+#[test]
+fn m30_in_a_macro_or_a_repeated_subprogram_is_refused_on_syntec() {
+    let g65 = F1.replace("M98 P100", "G65 P100 A1.");
+    let repeated = F1.replace("M98 P100", "M98 P100 L2");
+    for src in [&g65, &repeated] {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-100".to_string(), 12)], "{src}");
+        assert_eq!(end(&r), [20.0, 0.0, 10.0], "{src}");
+        let r = run_with(src, "mill3", Fanuc);
+        assert!(r.completed(), "{:?}", r.alarms);
+        assert_eq!(end(&r), [20.0, 0.0, 10.0]);
+    }
+    // The last repetition's M30 returns: L1 is a plain call.
+    let r = syntec(&F1.replace("M98 P100", "M98 P100 L1"));
+    assert_eq!(end(&r), [50.0, 50.0, 50.0]);
 }
