@@ -101,10 +101,12 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     format!("G{value} is not a G code of the {} dialect", dialect.name()),
                                 )),
                                 Some(d) => {
-                                    calls |= code::MACRO_CALLS.contains(&d.code);
                                     let word = |letter| literal(words, letter);
                                     let block_codes: Vec<u16> = codes().collect();
-                                    if let Some(function) = unbuilt::g_code(d.code, dialect, &block_codes, word) {
+                                    let refused = unbuilt::g_code(d.code, dialect, &block_codes, word);
+                                    // (A refused call, Syntec's G66.1, is refused before its P is looked for.)
+                                    calls |= code::MACRO_CALLS.contains(&d.code) && refused.is_none();
+                                    if let Some(function) = refused {
                                         diags.push(at(
                                             w.col,
                                             AlarmId::GCodeNotBuilt,

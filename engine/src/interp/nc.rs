@@ -528,6 +528,11 @@ impl State {
         }
         if w.has_g(code::G66) || w.has_g(code::G66_1) {
             let every_block = w.has_g(code::G66_1);
+            // (Syntec's G66.1 is a row of `unbuilt`; this block's other words are arguments.)
+            let not_built = unbuilt::g_code(code::G66_1, self.cfg.dialect, &[], |_| unbuilt::Word::Absent);
+            if every_block && self.cfg.refuse_unbuilt && not_built.is_some() {
+                return Err(AlarmId::GCodeNotBuilt);
+            }
             let prog = self.find_program(by_number, w.integer(b'P'))?;
             let args = self.macro_args(w)?;
             let count = Self::count(w)?;

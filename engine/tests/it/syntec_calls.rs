@@ -134,3 +134,34 @@ fn m30_in_a_macro_or_a_repeated_subprogram_is_refused_on_syntec() {
     let r = syntec(&F1.replace("M98 P100", "M98 P100 L1"));
     assert_eq!(end(&r), [50.0, 50.0, 50.0]);
 }
+
+/// F3: G66.1 ran FANUC's rule (the later blocks' moves not made, their words the arguments:
+/// X10. and X20. never moved, the macro ran three times, end (0, 0, 13)); Syntec's runs each
+/// block and calls after it (handbook CALL-G661-001), with details the source leaves open, so the
+/// Syntec dialect refuses G66.1 as not built at its block (COR-100), in the run and in
+/// `fivex check`. FANUC keeps its rule.
+#[test]
+fn g66_1_is_not_built_in_the_syntec_dialect() {
+    let src = "O1\nG90 G01 X0 Y0 Z10. F1000\nG66.1 P100\nX10.\nX20.\nG67\nM30\nO100\nG91 G00 Z1.\nG90\nM99\n";
+    let r = syntec(src);
+    assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
+    assert_eq!(end(&r), [0.0, 0.0, 10.0]);
+    assert_eq!(checked(src, Syntec), [(3, "COR-100".to_string())]);
+    let r = run_with(src, "mill3", Fanuc);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [0.0, 0.0, 13.0]);
+    assert_eq!(checked(src, Fanuc), []);
+}
+
+/// F3, G66: Syntec's, as FANUC's, makes the block's move and then calls the macro with the G66
+/// block's arguments (the technical reference's GETARG/GETTRAPARG example: `GETARG(X)` is the
+/// G66 block's 100 after `G01 X20.`): X 0 → 20, then Y to #24 = 100.
+#[test]
+fn g66_moves_then_calls_with_its_own_arguments_in_the_syntec_dialect() {
+    let src = "O1\nG90 G01 X0 Y0 Z10. F1000\nG66 P100 X100.\nG01 X20.\nG67\nM30\nO100\nG01 Y#24\nM99\n";
+    for dialect in [Syntec, Fanuc] {
+        let r = run_with(src, "mill3", dialect);
+        assert!(r.completed(), "{dialect:?}: {:?}", r.alarms);
+        assert_eq!(end(&r), [20.0, 100.0, 10.0], "{dialect:?}");
+    }
+}
