@@ -165,3 +165,33 @@ fn g66_moves_then_calls_with_its_own_arguments_in_the_syntec_dialect() {
         assert_eq!(end(&r), [20.0, 100.0, 10.0], "{dialect:?}");
     }
 }
+
+/// F4: the handbook's §9.14 names COR-004 for an operation's domain error (`ATAN2(0,0)`), and
+/// COR-016, COR-023, COR-027 and COR-034 are its codes of other alarms: fivex's constructed
+/// codes for a zero divisor, DO without END, G28 in a canned cycle and scaling P0 move off them.
+#[test]
+fn syntec_alarm_codes_do_not_collide_with_the_handbooks() {
+    let cases = [
+        ("#1=ATAN[0]/[0]\nM30\n", "COR-004", "PS0119"),
+        ("#1=SQRT[-1]\nM30\n", "COR-004", "PS0119"),
+        ("#1=0\n#2=1/#1\nM30\n", "COR-004", "PS0112"),
+        ("WHILE[1 LT 2] DO1\nG00 X1.\nM30\n", "COR-044", "PS0124"),
+        ("G90 G00 X0 Y0 Z10.\nG81 X1. Y1. Z-1. R2. F100\nG28 Z10.\nM30\n", "COR-043", "PS0044"),
+        ("G51 X0 Y0 Z0 P0\nM30\n", "COR-045", "PS0142"),
+        ("G00 X1234567890123456\nM30\n", "COR-042", "PS0003"),
+    ];
+    for (src, syntec_code, fanuc_code) in cases {
+        assert_eq!(alarm_with(src, Syntec), syntec_code, "{src}");
+        assert_eq!(alarm_with(src, Fanuc), fanuc_code, "{src}");
+    }
+    // POW's base may not be negative on Syntec (handbook §9.2, COR-122); FANUC takes a whole
+    // exponent: POW[-2,3] = -8.
+    assert_eq!(alarm_with("#1=POW[-2,3]\nM30\n", Syntec), "COR-122");
+    assert_eq!(alarm_with("#1=POW[-2.5,2]\nM30\n", Syntec), "COR-122");
+    assert_eq!(var("#100=POW[-2,3]\nM30\n", 100), Some(-8.0));
+    assert!(syntec("#1=POW[2,3]\n#2=POW[0,2]\nM30\n").completed());
+    let message = |id| Syntec.describe(&id);
+    use fivex_engine::alarm::AlarmId;
+    assert_eq!(message(AlarmId::MissingP).0, "COR-052");
+    assert_eq!(message(AlarmId::ArgumentOutOfRange), ("COR-004".into(), "Operation domain error".into()));
+}
