@@ -184,6 +184,9 @@ pub enum AlarmId {
     BracketNesting,
     /// A function argument outside its domain.
     ArgumentOutOfRange,
+    /// Syntec: POW with a negative base, which FANUC takes with a whole exponent (the Syntec
+    /// MACRO handbook's §9.2/§9.14: "`POW` 的基底不可为负值，否则触发 `COR-122`").
+    NegativePowerBase,
     /// A result that is not a finite number.
     FloatOverflow,
     /// DO without its END.

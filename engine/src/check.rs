@@ -108,9 +108,11 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                                     format!("G{value} is not a G code of the {} dialect", dialect.name()),
                                 )),
                                 Some(d) => {
-                                    calls |= code::MACRO_CALLS.contains(&d.code);
                                     let word = |letter| literal(words, letter);
-                                    if let Some(function) = unbuilt::g_code(d.code, dialect, &block_codes, word) {
+                                    let refused = unbuilt::g_code(d.code, dialect, &block_codes, word);
+                                    // (A refused call, Syntec's G66.1, is refused before its P is looked for.)
+                                    calls |= code::MACRO_CALLS.contains(&d.code) && refused.is_none();
+                                    if let Some(function) = refused {
                                         diags.push(at(
                                             w.col,
                                             AlarmId::GCodeNotBuilt,
@@ -294,6 +296,18 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             diags.push(at(call.col, AlarmId::MissingP, "no P: the line or program to call".into()));
                         }
                     }
+                    // Syntec: M198 needs its P (the handbook's COR-052); M98 without P calls the
+                    // running program itself, not built.
+                    // (An H there is refused on its own: `unbuilt::call_address`.)
+                    let p_or_h = |w: &NcWord| w.letter == b'P' || w.letter == b'H';
+                    if dialect == Dialect::Syntec && !words.iter().any(p_or_h) {
+                        if let Some(m) = literal_m(mcode::M198) {
+                            diags.push(at(m.col, AlarmId::MissingP, "M198 without P: the program to call".into()));
+                        } else if let Some(m) = literal_m(mcode::M98) {
+                            let detail = "M98 without P (a call of the running program) is not built in fivex";
+                            diags.push(at(m.col, AlarmId::MCodeNotBuilt, detail.into()));
+                        }
+                    }
                     if let Some(m97) = m97 {
                         if let Word::Value(n) = literal(words, b'P') {
                             let col = words.iter().find(|w| w.letter == b'P').map_or(m97.col, |w| w.col);
@@ -335,8 +349,9 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         if let Some((p, col)) = p {
                             let m98 = words.iter().any(|w| w.letter == b'M');
                             let has_l = words.iter().any(|w| w.letter == b'L');
-                            // Haas: P is the program number itself (no count in front of it).
-                            let count_form = m98 && !has_l && p >= 10_000.0 && dialect != Dialect::Haas;
+                            // Haas and Syntec: P is the program number itself (no count in
+                            // front of it, `interp::nc`'s `subprogram_target`).
+                            let count_form = m98 && !has_l && p >= 10_000.0 && dialect == Dialect::Fanuc;
                             let number = if count_form { p % 10_000.0 } else { p };
                             if !numbers.contains(&(number as u32)) {
                                 diags.push(at(

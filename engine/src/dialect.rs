@@ -1,8 +1,9 @@
 //! The dialect layer: one place per vendor for alarm codes and messages.
 //!
 //! FANUC codes are the 30i's own (`PS0010`, `PS0112`…). Syntec's seed lists only its 5-axis
-//! alarms (`COR-070`, `COR-153`, `MAR-406`…); the codes it does not print are *constructed* in a
-//! range the seed does not use and are marked so in `docs/dialects.md`. Haas codes are the NGC
+//! alarms (`COR-070`, `COR-153`, `MAR-406`…), the Syntec MACRO handbook a few of the interpreter's
+//! (`COR-004`, `COR-052`); the codes neither prints are *constructed* in a range neither uses
+//! and are marked so in `docs/dialects.md`. Haas codes are the NGC
 //! mill alarm numbers (`313`, `314`…), with constructed `7xx` where no Haas source names one.
 
 use crate::alarm::AlarmId;
@@ -200,6 +201,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::ZeroDivide,
     AlarmId::BracketNesting,
     AlarmId::ArgumentOutOfRange,
+    AlarmId::NegativePowerBase,
     AlarmId::FloatOverflow,
     AlarmId::MissingEnd,
     AlarmId::IllegalLoopNumber,
@@ -244,7 +246,8 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         NoDataAfterAddress => (("PS0005", "NO DATA AFTER ADDRESS"), ("COR-003", "Missing value after address")),
         // Raised in the FANUC dialect only; Syntec's column for completeness.
         IllegalDecimalPoint => (("PS0007", "ILLEGAL USE OF DECIMAL POINT"), ("COR-001", "Syntax error")),
-        TooManyDigits => (("PS0003", "TOO MANY DIGITS"), ("COR-004", "Value out of range")),
+        // (Syntec: constructed; COR-004 is the handbook's operation domain error, below.)
+        TooManyDigits => (("PS0003", "TOO MANY DIGITS"), ("COR-042", "Value out of range")),
         ImproperGCode => (("PS0010", "IMPROPER G-CODE"), ("COR-070", "Invalid G Code")),
         // FANUC's alarms for a G code / an address of a function the control does not have;
         // Syntec's COR-100 names the option not activated (both from the manuals' alarm lists).
@@ -262,14 +265,15 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         }
         DataSettingFormat => (("PS1144", "G10 FORMAT ERROR"), ("COR-014", "G10 format error")),
         // The 30i alarm list's (`docs/dialects.md`, "G10 data checks"); Syntec's constructed.
-        IllegalG10Command => (("PS0031", "ILLEGAL P COMMAND IN G10"), ("COR-042", "Illegal P or R command in G10")),
-        IllegalOffsetValue => (("PS0032", "ILLEGAL OFFSET VALUE IN G10"), ("COR-043", "Offset value out of range")),
+        IllegalG10Command => (("PS0031", "ILLEGAL P COMMAND IN G10"), ("COR-046", "Illegal P or R command in G10")),
+        IllegalOffsetValue => (("PS0032", "ILLEGAL OFFSET VALUE IN G10"), ("COR-047", "Offset value out of range")),
         MissingQ => (("PS0045", "ADDRESS Q NOT FOUND (G73/G83)"), ("COR-015", "Peck depth Q missing")),
         // Raised by the Haas cycles alone (G12/G13, G70–G72, G103: not codes of the other
         // dialects); the columns are the other dialects' alarms for a wrong address value.
         CycleArgument => (("PS0009", "IMPROPER NC-ADDRESS"), ("COR-002", "Illegal address")),
         ReferenceReturnInCycle => {
-            (("PS0044", "G27-G30 NOT ALLOWED IN FIXED CYC"), ("COR-016", "Reference return in canned cycle"))
+            // (Syntec: constructed; COR-016 is the handbook's illegal variable access.)
+            (("PS0044", "G27-G30 NOT ALLOWED IN FIXED CYC"), ("COR-043", "Reference return in canned cycle"))
         }
         IllegalCommandInMode => (
             ("PS5460", "ILLEGAL COMMAND IN 5-AXIS MODE"),
@@ -357,25 +361,33 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         IllegalReferenceReturn => {
             (("PS0046", "ILLEGAL REFERENCE RETURN COMMAND"), ("COR-036", "Illegal reference position number"))
         }
-        IllegalScaleRate => (("PS0142", "ILLEGAL SCALE RATE"), ("COR-034", "Illegal scaling magnification")),
+        // (Syntec: constructed; COR-034 is the handbook's missing path-extension argument.)
+        IllegalScaleRate => (("PS0142", "ILLEGAL SCALE RATE"), ("COR-045", "Illegal scaling magnification")),
         IllegalPlaneInRotation => (("PS0144", "ILLEGAL PLANE SELECTED"), ("COR-035", "Arc outside the rotation plane")),
         MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),
         VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-021", "Variable number out of range")),
         WriteProtectedVariable => (("PS0116", "WRITE PROTECTED VARIABLE"), ("COR-022", "Variable is read-only")),
-        ZeroDivide => (("PS0112", "ZERO DIVIDE"), ("COR-023", "Division by zero")),
+        // Syntec: the Syntec MACRO handbook's §9.14 alarm table names COR-004 "运算域错误" (an
+        // operation's domain error, its example ATAN2(0,0)): the code of the arguments a function
+        // is not defined for, and (constructed: the handbook names no code for it) of a zero
+        // divisor, the same class. Its COR-023 is a semantic error (a wrong argument type).
+        ZeroDivide => (("PS0112", "ZERO DIVIDE"), ("COR-004", "Operation domain error: division by zero")),
         BracketNesting => (("PS0118", "PARENTHESIS NESTING LEVEL"), ("COR-024", "Too many nested brackets")),
-        ArgumentOutOfRange => {
-            (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-025", "Function argument out of range"))
-        }
+        ArgumentOutOfRange => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-004", "Operation domain error")),
+        // Raised in the Syntec dialect only (the handbook's §9.14 code; the message is fivex's).
+        NegativePowerBase => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-122", "POW with a negative base")),
         FloatOverflow => (("PS0111", "OVERFLOW :FLOAT"), ("COR-026", "Calculation overflow")),
-        MissingEnd => (("PS0124", "MISSING END STATEMENT"), ("COR-027", "DO without END")),
+        // (Syntec: constructed; COR-027 is the handbook's ALARM() macro alarm.)
+        MissingEnd => (("PS0124", "MISSING END STATEMENT"), ("COR-044", "DO without END")),
         IllegalLoopNumber => (("PS0126", "ILLEGAL LOOP NUMBER"), ("COR-028", "Illegal loop number")),
         IllegalSequenceNumber => (("PS0128", "ILLEGAL MACRO SEQUENCE NUMBER"), ("COR-029", "GOTO target not found")),
         ProgramNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
-        // FANUC and Syntec raise their "not found" alarm for these (PS0078 / COR-030), as before
-        // the Haas dialect split them out.
+        // FANUC and Syntec raise their "not found" alarm for a line (PS0078 / COR-030), as before
+        // the Haas dialect split it out; FANUC for a missing P too.
         LineNotFound => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
-        MissingP => (("PS0078", "NUMBER NOT FOUND"), ("COR-030", "Program or sequence number not found")),
+        // Syntec: raised by M198 without P only, the handbook's code for it (call semantics
+        // pack §2.2: "`M198 P_ H_ L_` 必须有 `P`；缺失时会触发 `COR-052`"); its message is fivex's.
+        MissingP => (("PS0078", "NUMBER NOT FOUND"), ("COR-052", "Program number P missing")),
         NestingTooDeep => (("PS0077", "TOO MANY SUB,MACRO NESTING"), ("COR-031", "Too many nested calls")),
         GAsArgument => (("PS0129", "USE 'G' AS ARGUMENT"), ("COR-032", "G used as macro argument")),
         MixedStatements => {
@@ -476,7 +488,7 @@ fn haas(id: &AlarmId) -> Text {
         WriteProtectedVariable => ("522", "ILLEGAL ASSIGNMENT VAR OR VALUE"),
         ZeroDivide => ("508", "DIVISION BY ZERO"),
         BracketNesting => ("504", "UNBALANCED PAREN. IN EXPRESSION"),
-        ArgumentOutOfRange => ("521", "ILLEGAL FUNCTIONAL PARAMETER"),
+        ArgumentOutOfRange | NegativePowerBase => ("521", "ILLEGAL FUNCTIONAL PARAMETER"),
         FloatOverflow => ("709", "CALCULATION OVERFLOW"),
         MissingEnd => ("538", "MATCHING END NOT FOUND"),
         IllegalLoopNumber => ("534", "DO OR END ALREADY IN USE"),

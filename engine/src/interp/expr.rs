@@ -25,6 +25,8 @@ pub struct ExprSettings {
     /// The Syntec dialect: a division whose answer Syntec's integer division may change is
     /// refused ([`syntec_division_differs`]).
     pub syntec_division: bool,
+    /// The Syntec dialect: POW's base may not be negative ([`AlarmId::NegativePowerBase`]).
+    pub syntec_pow: bool,
 }
 
 /// `x` rounded half away from zero to a multiple of `1 / steps` (steps 1000: 0.001). A value
@@ -238,6 +240,9 @@ fn func2(f: Func2, a: f64, b: f64, s: &ExprSettings) -> Result<f64, AlarmId> {
             angle_range(deg, s)
         }
         Func2::Pow => {
+            if a < 0.0 && s.syntec_pow {
+                return Err(AlarmId::NegativePowerBase);
+            }
             if a == 0.0 && b <= 0.0 {
                 return Err(AlarmId::ArgumentOutOfRange);
             }

@@ -743,7 +743,8 @@ impl Interpreter {
 impl State {
     fn new(cfg: Config) -> State {
         let syntec_division = cfg.dialect == Dialect::Syntec;
-        let expr = ExprSettings { nat: cfg.nat, increment: 0.001, round_steps: 1.0, syntec_division };
+        let syntec_pow = cfg.dialect == Dialect::Syntec;
+        let expr = ExprSettings { nat: cfg.nat, increment: 0.001, round_steps: 1.0, syntec_division, syntec_pow };
         let mut axis_by_letter = [NO_AXIS; 26];
         for (i, axis) in cfg.machine.axes.iter().enumerate() {
             if axis.name.is_ascii_uppercase() {

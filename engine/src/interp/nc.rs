@@ -532,6 +532,11 @@ impl State {
         }
         if w.has_g(code::G66) || w.has_g(code::G66_1) {
             let every_block = w.has_g(code::G66_1);
+            // (Syntec's G66.1 is a row of `unbuilt`; this block's other words are arguments.)
+            let not_built = unbuilt::g_code(code::G66_1, self.cfg.dialect, &[], |_| unbuilt::Word::Absent);
+            if every_block && self.cfg.refuse_unbuilt && not_built.is_some() {
+                return Err(AlarmId::GCodeNotBuilt);
+            }
             let prog = self.find_program(by_number, w.integer(b'P'))?;
             let args = self.macro_args(w)?;
             let count = Self::count(w)?;
@@ -603,6 +608,9 @@ impl State {
         let call_form = |m: u32| w.letters().any(|l| unbuilt::call_address(m, l, self.cfg.dialect).is_some());
         if self.cfg.refuse_unbuilt && w.mcodes().iter().any(|&m| call_form(m)) {
             return Err(AlarmId::AddressNotBuilt);
+        }
+        if self.cfg.refuse_unbuilt && self.syntec_end_not_built(w) {
+            return Err(AlarmId::MCodeNotBuilt);
         }
 
         // --- mode interlocks, then functions not built: a refused block changes nothing -------
@@ -966,6 +974,8 @@ impl State {
                         self.emit(out, CanonKind::Stop { optional: true, message: block.comment.clone() })
                     }
                 }
+                // Syntec: M02/M30 in an M98 subprogram ends it and returns to the caller, as M99.
+                mcode::M02 | mcode::M30 if self.syntec_in_subprogram() => self.return_from_call(progs, None)?,
                 mcode::M02 | mcode::M30 => {
                     // The part is counted when the machine gets there (`State::count_part`), not
                     // here: the reading runs ahead of the machine.
@@ -1048,6 +1058,25 @@ impl State {
         Ok(())
     }
 
+    /// Syntec: the running program was called by M98/M198 (not G65/G66, not the main program).
+    /// There M02/M30 "视同结束子程序并返回主程序" — is taken as the subprogram's end and returns
+    /// to the caller (the Syntec MACRO handbook's call semantics pack §2.2, citing Syntec's
+    /// "副程序控制(M98)(M99)(C-type)"): like M99, with no part counted and no reset of modes.
+    fn syntec_in_subprogram(&self) -> bool {
+        self.cfg.dialect == crate::Dialect::Syntec && self.frames.last().is_some_and(|f| f.kind == CallKind::Sub)
+    }
+
+    /// Syntec: an M02/M30 whose meaning the handbook leaves open — in a G65/G66 macro (it speaks
+    /// of subprograms only), or in a subprogram whose call has repetitions (L) still to come
+    /// (whether they run is not said) — is refused as not built rather than end the whole run.
+    fn syntec_end_not_built(&self, w: &Words) -> bool {
+        let ends = w.mcodes().iter().any(|&m| m == mcode::M02 || m == mcode::M30);
+        let frame = self.frames.last().expect("frame");
+        self.cfg.dialect == crate::Dialect::Syntec
+            && ends
+            && (frame.kind == CallKind::Macro || frame.kind == CallKind::Sub && frame.repeats > 0)
+    }
+
     /// The subprogram the block's M98/M198 (Haas: M97) calls, found before the block runs.
     fn call_target(&self, progs: &[Slot], by_number: &HashMap<u32, usize>, w: &Words) -> Result<Option<Call>, AlarmId> {
         let haas = self.cfg.dialect == crate::Dialect::Haas;
@@ -1072,12 +1101,23 @@ impl State {
         Ok(None)
     }
 
-    /// M98 P… L…, or P with the count in front of a four-digit number (`P30010` = O0010 ×3).
-    /// Haas: P is the program number (O00001–O99999) and L the count; no P is alarm 313.
+    /// M98 P… L…, or (FANUC) P with the count in front of a four-digit number (`P30010` = O0010
+    /// ×3). Haas: P is the program number (O00001–O99999) and L the count; no P is alarm 313.
+    /// Syntec: the same, P is the program's name and L the count (the Syntec MACRO handbook §5.1,
+    /// CALL-M98-001: no count in P, so `P12345` is O12345); M198 without P is the handbook's
+    /// COR-052, and M98 without P, which calls the running program itself there, is not built
+    /// (`docs/dialects.md`, "Syntec's subprogram and macro calls").
     fn subprogram_target(&self, by_number: &HashMap<u32, usize>, w: &Words) -> Result<(usize, u32), AlarmId> {
-        let haas = self.cfg.dialect == crate::Dialect::Haas;
-        let p = w.integer(b'P').ok_or(AlarmId::MissingP)?;
-        if haas || w.has(b'L') || p < 10_000.0 {
+        let dialect = self.cfg.dialect;
+        let Some(p) = w.integer(b'P') else {
+            return Err(match dialect {
+                crate::Dialect::Haas => AlarmId::MissingP,
+                crate::Dialect::Syntec if w.mcodes().contains(&mcode::M198) => AlarmId::MissingP,
+                crate::Dialect::Syntec => AlarmId::MCodeNotBuilt,
+                crate::Dialect::Fanuc => AlarmId::MissingP,
+            });
+        };
+        if dialect != crate::Dialect::Fanuc || w.has(b'L') || p < 10_000.0 {
             return Ok((self.find_program(by_number, Some(p))?, Self::count(w)?));
         }
         let count = (p / 10_000.0).trunc();

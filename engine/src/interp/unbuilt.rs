@@ -151,6 +151,17 @@ const TABLE: &[NotBuilt] = &[
     // G54.2 P0 is the cancel.
     row(542, When::Unless(b'P', &[0.0]), "rotary table dynamic fixture offset (G54.2)"),
     row(600, When::Always, "single direction positioning (G60)"),
+    // Syntec's G66.1 is not FANUC's: the handbook (call semantics pack CALL-G661-001, §2.1;
+    // GETTRAPARG) has each block carried out and the macro called after it ends, with the G66.1
+    // block's arguments, where FANUC makes the block's words the arguments and moves nothing.
+    // The source is secondary and leaves open which blocks call (macro statements, the G67
+    // block, blocks of the called program): refused rather than guessed.
+    NotBuilt {
+        code: 661,
+        dialect: Some(Dialect::Syntec),
+        when: When::Always,
+        function: "modal macro call after every block (G66.1)",
+    },
     row(721, When::Always, "figure copy (G72.1)"),
     row(722, When::Always, "figure copy (G72.2)"),
     row(811, When::Always, "chopping (G81.1)"),

@@ -202,7 +202,7 @@ fn m79_alarms_after_its_skip_move() {
 fn too_many_digits() {
     for block in ["N123456789 G00 X1.", "G00 X1234567890.", "G00 X1234567.", "G00 X1234567890", "G01 X1. F1234567."] {
         let src = format!("G90 G54 G17 G94\n{block}\nM30\n");
-        both(&src, "PS0003", "COR-004", 2);
+        both(&src, "PS0003", "COR-042", 2);
         let r = run_with(&src, "mill3", Haas);
         assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("331", 2), "{block}");
         let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(&src), Fanuc);

@@ -43,6 +43,7 @@ mod rollover;
 mod smoke;
 mod smoothing;
 mod stop;
+mod syntec_calls;
 mod syntec_macro;
 mod tcp;
 mod tcp_random;

@@ -79,7 +79,7 @@ fn first(src: &str, dialect: Dialect) -> Option<(String, u32)> {
 /// whose R is missing, is FANUC's PS0031 ILLEGAL P COMMAND IN G10 ("No data setting address
 /// such as P or R was specified … The sign or decimal point of the specified address is in
 /// error, or the specified address is out of range", 30i alarm list); it was PS0030 (the H/D
-/// number alarm) or PS1144. Syntec's constructed COR-042, Haas's 331 RANGE ERROR.
+/// number alarm) or PS1144. Syntec's constructed COR-046, Haas's 331 RANGE ERROR.
 #[test]
 fn a_wrong_or_missing_p_of_g10_is_ps0031() {
     for block in [
@@ -96,7 +96,7 @@ fn a_wrong_or_missing_p_of_g10_is_ps0031() {
         "G10 L13 P1 R#0",
     ] {
         let src = format!("G21 G90\n{block}\nM30\n");
-        for (dialect, code) in [(Fanuc, "PS0031"), (Syntec, "COR-042"), (Haas, "331")] {
+        for (dialect, code) in [(Fanuc, "PS0031"), (Syntec, "COR-046"), (Haas, "331")] {
             assert_eq!(first(&src, dialect), Some((code.to_string(), 2)), "{dialect:?} {block}");
         }
     }
@@ -142,7 +142,7 @@ fn fanuc_refuses_a_decimal_point_at_h_d_t_and_the_work_system_p() {
 /// Audit F2: a tool offset value beyond the valid input range (IS-B: geometry ±999.999 mm /
 /// ±99.9999 in, wear ±99.999 mm / ±9.9999 in), set by G10 (under G91 the sum) or by a system
 /// variable, is FANUC's PS0032 ILLEGAL OFFSET VALUE IN G10 at its block and the offset keeps its
-/// value; fivex stored 999999 mm. Syntec COR-043, Haas 331.
+/// value; fivex stored 999999 mm. Syntec COR-047, Haas 331.
 #[test]
 fn a_tool_offset_value_out_of_range_is_ps0032() {
     let bad = [
@@ -185,7 +185,7 @@ fn a_tool_offset_value_out_of_range_is_ps0032() {
     assert!(approx(t(3).h_geometry, 999.999), "{}", t(3).h_geometry);
     assert!(approx(t(4).h_geometry, 2539.99746) && approx(t(4).h_wear, -253.99746), "{:?}", t(4));
     // Syntec and Haas (Haas #2001 is the length geometry).
-    assert_eq!(first("G10 L10 P1 R1000.\nM30\n", Syntec), Some(("COR-043".into(), 1)));
+    assert_eq!(first("G10 L10 P1 R1000.\nM30\n", Syntec), Some(("COR-047".into(), 1)));
     assert_eq!(first("G10 L10 P1 R1000.\nM30\n", Haas), Some(("331".into(), 1)));
     assert_eq!(first("#2001=1000.\nM30\n", Haas), Some(("331".into(), 1)));
     assert_eq!(first("#2001=999.\nM30\n", Haas), None);

@@ -21,7 +21,8 @@ const FANUC_ONLY: &[&str] = &[
 ];
 
 /// Performed in the FANUC dialect only (refused in Syntec's, listed in `REFUSED`).
-const PERFORMED_IN_FANUC_ONLY: &[&str] = &["G06.2"];
+/// G66.1: Syntec's is not FANUC's (`syntec_calls.rs`). Haas: its own table decides.
+const PERFORMED_IN_FANUC_ONLY: &[&str] = &["G06.2", "G66.1"];
 
 /// Performed in the Syntec dialect only: FANUC's tilted plane refuses G53.6 (the FANUC extract
 /// does not name it) and outside a plane there is nothing to align to, PS5462 either way
@@ -162,6 +163,7 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G05.1", &[Fanuc, Syntec]),
     ("G05.4 Q1", &[Fanuc, Syntec]),
     ("G06.2 P4 X0 Y0 Z0 K0", &[Syntec]),
+    ("G66.1 P9000", &[Syntec]),
     ("G07 C10.", &[Fanuc, Syntec]),
     ("G07.1 C10.", &[Fanuc, Syntec]),
     ("G07.1 C0", &[Fanuc, Syntec]),

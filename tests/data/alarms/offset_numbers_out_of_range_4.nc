@@ -1,3 +1,3 @@
 (fivex: --dialect fanuc,syntec)
 G10 L10 P1000 R1.
-(expect: alarm[fanuc]=PS0031 alarm_line=2 alarm[syntec]=COR-042)
+(expect: alarm[fanuc]=PS0031 alarm_line=2 alarm[syntec]=COR-046)

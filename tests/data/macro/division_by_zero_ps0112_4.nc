@@ -2,4 +2,4 @@
 #100=7 MOD 0.4
 M30
 (Decision: MOD rounds its divisor first, so MOD 0.4 divides by 0.)
-(expect: alarm[fanuc]=PS0112 alarm[syntec]=COR-023)
+(expect: alarm[fanuc]=PS0112 alarm[syntec]=COR-004)

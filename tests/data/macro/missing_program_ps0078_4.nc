@@ -1,4 +1,4 @@
 (fivex: --dialect fanuc,syntec)
 G66.1 P1234
 M30
-(expect: alarm[fanuc]=PS0078 alarm[syntec]=COR-030)
+(expect: alarm[fanuc]=PS0078 alarm[syntec]=COR-100)

@@ -1,4 +1,4 @@
 (fivex: --dialect fanuc,syntec)
 M98
 M30
-(expect: alarm[fanuc]=PS0078 alarm[syntec]=COR-030)
+(expect: alarm[fanuc]=PS0078 alarm[syntec]=COR-100)

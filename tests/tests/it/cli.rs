@@ -206,7 +206,7 @@ fn dialect_changes_alarm_codes() {
     let (_, f) = run_json(&[s(&p[0]), "--dialect", "fanuc"]);
     let (_, sy) = run_json(&[s(&p[0]), "--dialect", "syntec"]);
     assert_eq!(f["alarms"][0]["code"], "PS0112");
-    assert_eq!(sy["alarms"][0]["code"], "COR-023");
+    assert_eq!(sy["alarms"][0]["code"], "COR-004");
 }
 
 #[test]
