@@ -1,12 +1,66 @@
 //! Variable numbers: local, common, persistent and the system variables of `macro-b.md`.
 
-use super::expr::{Value, Variables};
+use super::expr::{Ty, Value, Variables};
 use super::gcode::{code, group};
 use super::offsets::{g54_1_index, ToolOffset, MAX_G54_1};
 use super::{gcode, State, LOCALS};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind};
 use crate::lang::Block;
+
+/// Syntec: the type of each variable of a bank (`Ty`), two bits a variable: a Long, a Double,
+/// or neither (not known). Tracked only for what a program assigns to a local variable (#1–#33,
+/// its arguments) and to #100–#199, the Syntec local variables fivex keeps; the retained
+/// #500–#999 and every other number read as not known. Bits, so that the controller's memory
+/// (issue 18) grows by 16 bytes a bank, not a byte a variable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Types<const W: usize> {
+    long: [u64; W],
+    double: [u64; W],
+}
+
+impl<const W: usize> Default for Types<W> {
+    fn default() -> Self {
+        Types { long: [0; W], double: [0; W] }
+    }
+}
+
+impl<const W: usize> Types<W> {
+    pub(super) fn get(&self, i: usize) -> Ty {
+        let (w, bit) = (i / 64, 1u64 << (i % 64));
+        if self.long[w] & bit != 0 {
+            Ty::Long
+        } else if self.double[w] & bit != 0 {
+            Ty::Double
+        } else {
+            Ty::Unknown
+        }
+    }
+
+    pub(super) fn set(&mut self, i: usize, t: Ty) {
+        let (w, bit) = (i / 64, 1u64 << (i % 64));
+        self.long[w] &= !bit;
+        self.double[w] &= !bit;
+        match t {
+            Ty::Long => self.long[w] |= bit,
+            Ty::Double => self.double[w] |= bit,
+            Ty::Unknown => {}
+        }
+    }
+}
+
+/// One macro level's local variables #1–#33 and their Syntec types.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Locals {
+    pub v: [Value; LOCALS],
+    pub ty: Types<1>,
+}
+
+impl Default for Locals {
+    fn default() -> Locals {
+        Locals { v: [None; LOCALS], ty: Types::default() }
+    }
+}
 
 /// Where a variable number lives.
 enum Slot {
@@ -229,7 +283,7 @@ impl Variables for State {
             Slot::HaasG52(axis) => Some(self.local[axis]),
             Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Vacant => None,
-            Slot::Local(i) => self.locals[self.level()][i],
+            Slot::Local(i) => self.locals[self.level()].v[i],
             Slot::Common(i) => self.common[i],
             Slot::Persistent(i) => self.persistent[i],
             Slot::Extended(n) => self.extended.get(&n).copied(),
@@ -240,6 +294,14 @@ impl Variables for State {
             Slot::System(n) => Some(self.read_system(n)?),
         };
         Ok(value.map(|v| v / unit))
+    }
+
+    fn ty(&self, n: u32) -> Ty {
+        match self.slot(n) {
+            Slot::Local(i) => self.locals[self.level()].ty.get(i),
+            Slot::Common(i) => self.common_types.get(i),
+            _ => Ty::Unknown,
+        }
     }
 }
 
@@ -433,8 +495,15 @@ impl State {
         }
     }
 
-    /// Assign `value` to variable `n` (the block supplies `#3000`/`#3006` messages).
-    pub(super) fn write(&mut self, n: u32, value: Value, block: &Block, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+    /// Assign `value`, of Syntec type `ty`, to variable `n` (the block supplies `#3000`/`#3006`
+    /// messages).
+    pub(super) fn write(
+        &mut self,
+        n: u32,
+        (value, ty): (Value, Ty),
+        block: &Block,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
         let slot = self.slot(n);
         let unit = self.slot_unit(&slot);
         match slot {
@@ -442,9 +511,13 @@ impl State {
             Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Local(i) => {
                 let level = self.level();
-                self.locals[level][i] = value;
+                self.locals[level].v[i] = value;
+                self.locals[level].ty.set(i, ty);
             }
-            Slot::Common(i) => self.common[i] = value,
+            Slot::Common(i) => {
+                self.common[i] = value;
+                self.common_types.set(i, ty);
+            }
             Slot::Persistent(i) => self.persistent[i] = value,
             Slot::Extended(n) => self.set_extended(n, value),
             Slot::Tool { number, field } => {
@@ -497,7 +570,7 @@ impl State {
     }
 
     /// Fresh local variables for a macro call from its arguments.
-    pub(super) fn empty_locals() -> Box<[Value; LOCALS]> {
-        Box::new([None; LOCALS])
+    pub(super) fn empty_locals() -> Box<Locals> {
+        Box::default()
     }
 }

@@ -153,7 +153,7 @@ pub enum WordValue {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expr {
     /// A number and whether it was written with a decimal point (Syntec's division tells an
-    /// integer by it, `interp::expr::syntec_division_differs`).
+    /// integer by it, `interp::expr::eval_typed`).
     Num {
         value: f64,
         decimal_point: bool,

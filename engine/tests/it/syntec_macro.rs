@@ -170,37 +170,90 @@ fn syntec_hundreds_start_vacant_at_each_cycle_start() {
     }
 }
 
-/// Audit finding 6: Syntec divides two integers (numbers without a decimal point) as integers
-/// (handbook §3.4: `1 / 2` is 0); fivex gave 3.5 for `7/2`. Refused (COR-100) where the answers may
-/// differ: both values whole, the quotient not, no operand written with a decimal point;
-/// `fivex check` reports a quotient of two literal numbers.
+/// Audit finding 6 and verification §3: Syntec divides two Longs (integers: numbers written
+/// without a decimal point, arguments so written, results of Longs) as integers, truncated
+/// (handbook §3.4: `1 / 2` is 0, `(1/2) * 1.0` is 0.0), and anything with a Double (a number or
+/// an argument written with a point, the result of a Double, ABS/SQRT) as reals (§3.9). fivex
+/// gave 3.5 for `7/2`, then refused by the *value* (`G65 … A15.` then `#1/2` was refused, `A15.5`
+/// ran). Values now carry their type through variables, arguments and expressions: a Long
+/// quotient is truncated as Syntec does; refused (COR-100) only where the handbook leaves the
+/// answer open: a negative Long quotient that is not whole (its rounding direction is "to be
+/// confirmed"), and a quotient that is not whole of whole values whose type fivex does not know.
+/// FANUC divides as reals. Expected values worked by hand from the handbook's rules.
 #[test]
-fn syntec_integer_division_is_refused_where_it_would_truncate() {
-    let value = |expr: &str| {
-        let r = syntec(&format!("#101={expr}\nM30\n"));
-        assert!(r.completed(), "{expr}: {:?}", r.alarms);
-        r.variables.iter().find(|(n, _)| *n == 101).map(|(_, v)| *v)
-    };
-    assert_eq!(value("7./2"), Some(3.5));
-    assert_eq!(value("7/2."), Some(3.5));
-    assert_eq!(value("-7./2"), Some(-3.5));
-    assert_eq!(value("[7.]/2"), Some(3.5));
-    assert_eq!(value("8/2"), Some(4.0));
-    assert_eq!(value("7.5/3"), Some(2.5));
-    for src in ["#101=7/2\nM30\n", "#101=1/2\nM30\n", "#101=[7]/-2\nM30\n", "G01 X[7/2] F100.\nM30\n"] {
+fn syntec_division_follows_syntec_types() {
+    let value = |src: &str, n: u32| {
         let r = syntec(src);
-        assert_eq!(alarms(&r), [("COR-100".to_string(), 1)], "{src}");
-        assert_eq!(checked(src, Syntec), [(1, 1, "COR-100".to_string())], "{src}");
+        assert!(r.completed(), "{src}: {:?}", r.alarms);
+        r.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v)
+    };
+    // Literals: a point makes a Double; two Longs truncate.
+    for (expr, want) in [
+        ("7./2", 3.5),
+        ("7/2.", 3.5),
+        ("-7./2", -3.5),
+        ("[7.]/2", 3.5),
+        ("7.5/3", 2.5),
+        ("8/2", 4.0),
+        ("7/2", 3.0),
+        ("1/2", 0.0),
+        ("[1/2]*1.0", 0.0),
+        ("10/4*2.", 4.0),
+        ("[1+2]/2.", 1.5),
+        ("10*3/4.", 7.5),
+        ("-8/2", -4.0),
+        ("ROUND[7.4]/2", 3.0),
+        ("SQRT[49]/2", 3.5),
+        ("ABS[-7]/2", 3.5),
+    ] {
+        assert_eq!(value(&format!("#101={expr}\nM30\n"), 101), Some(want), "{expr}");
+        assert_eq!(checked(&format!("#101={expr}\nM30\n"), Syntec), [], "{expr}");
+    }
+    // Through variables and arguments (verification §3: div2, div3, div8, div6).
+    let through = [
+        ("#2=7.\n#101=#2/2\nM30\n", 3.5),
+        ("#1=1.5\n#101=#1*2/4\nM30\n", 0.75),
+        ("#1=7\n#2=2\n#101=#1/#2\nM30\n", 3.0),
+        ("#1=7\n#2=2.\n#101=#1/#2\nM30\n", 3.5),
+        ("#101=7\n#102=#101/2\n#101=#102\nM30\n", 3.0),
+        ("#1=7\nM98 P2\nM30\nO2\n#101=#1/2\nM99\n", 3.0),
+        ("G65 P1000 A15.\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
+        ("G65 P1000 A15\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.0),
+        ("#5=15.\nG65 P1000 A#5\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
+        ("#5=15\nG65 P1000 A#5\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.0),
+        ("#5=15\nG65 P1000 A[#5*1.]\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
+    ];
+    for (src, want) in through {
+        let r = syntec(src);
+        assert!(r.completed(), "{src}: {:?}", r.alarms);
+        let got = if src.contains("G65") { r.machine[0] } else { value(src, 101).unwrap() };
+        assert_eq!(got, want, "{src}");
+    }
+    // The NC address takes the Long quotient.
+    assert_eq!(end(&syntec("G01 X[7/2] F100.\nM30\n"))[0], 3.0);
+    // Refused: a negative Long quotient that is not whole; an untyped whole value (FIX is
+    // FANUC's, the retained #500–#999 are not tracked, a host's value has no type).
+    for (src, line) in [
+        ("#101=-7/2\nM30\n", 1),
+        ("#101=[7]/-2\nM30\n", 1),
+        ("#1=-7\n#101=#1/2\nM30\n", 2),
+        ("#1=FIX[7.9]\n#101=#1/2\nM30\n", 2),
+        ("#500=7\n#101=#500/2\nM30\n", 2),
+    ] {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-100".to_string(), line)], "{src}");
         assert!(run_with(src, "mill3", Fanuc).completed(), "{src}");
+    }
+    for src in ["#101=-7/2\nM30\n", "G01 X[7/-2] F100.\nM30\n"] {
+        assert_eq!(checked(src, Syntec), [(1, 1, "COR-100".to_string())], "{src}");
         assert_eq!(checked(src, Fanuc), []);
     }
-    // Variables: their type is not known, so whole values whose quotient is not are refused.
-    let r = syntec("#1=7\n#2=2\n#101=#1/#2\nM30\n");
-    assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
-    assert!(syntec("#1=8\n#2=2\n#101=#1/#2\n#102=#1/3.\nM30\n").completed());
-    // A zero divisor stays the zero divide alarm.
+    // Vacant reads as 0; a zero divisor stays the zero divide alarm.
+    assert_eq!(value("#3=#1/2\n#101=1\nM30\n", 101), Some(1.0));
     assert_eq!(alarms(&syntec("#101=1/0\nM30\n")), [("COR-023".to_string(), 1)]);
+    // FANUC divides as reals.
     assert_eq!(var("#101=7/2\nM30\n", 101), Some(3.5), "FANUC");
+    assert_eq!(var("#1=1.5\n#101=#1*2/4\nM30\n", 101), Some(0.75), "FANUC");
 }
 
 /// Audit finding 5: Syntec's `M99 Q_` returns to a line number of the caller (handbook §5.2);
