@@ -528,6 +528,17 @@ impl Interpreter {
         if let Some(first) = self.progs.first() {
             let mut main = CallFrame::main();
             main.number = first.number().unwrap_or(0);
+            // Syntec: a `%@MACRO` line anywhere in the file refuses it before anything of it
+            // runs (verification audit §6: one before a later program was never reached, and
+            // the file ran): the run starts at that line, which raises the refusal.
+            if self.state.cfg.dialect == Dialect::Syntec {
+                let mut loaded = self.progs.iter().enumerate().filter(|(_, p)| p.is_loaded());
+                if let Some((prog, pc)) = loaded.find_map(|(i, p)| p.macro_format.map(|pc| (i, pc))) {
+                    main.prog = prog;
+                    main.pc = pc as usize;
+                    main.number = self.progs[prog].number().unwrap_or(0);
+                }
+            }
             self.state.frames.push(main);
         }
     }

@@ -386,9 +386,17 @@ impl State {
         count: u32,
         args: Option<Box<Locals>>,
     ) -> Result<(), AlarmId> {
+        let depth = self.frames.len();
         self.call(prog, count, args)?;
+        let refuse_here = self.cfg.dialect == Dialect::Syntec && self.frames.len() > depth;
         if let Some(f) = self.frames.last_mut() {
             f.number = progs[f.prog].number().unwrap_or(0);
+            // A called program holding Syntec's `%@MACRO` line is refused before any of it runs.
+            if refuse_here {
+                if let Some(pc) = progs[prog].macro_format {
+                    f.pc = pc as usize;
+                }
+            }
         }
         Ok(())
     }

@@ -92,6 +92,9 @@ pub struct SyntecOnly {
     /// What the FANUC and Haas dialects read there: nothing (a `%` line, a comment), or a block
     /// they refuse with this diagnostic (`ALARM(…)`: the address A without a value).
     pub others: Option<Diagnostic>,
+    /// The Syntec dialect refuses the whole file here, before anything of it runs (the
+    /// MACRO-format line `%@MACRO`, wherever it stands: `interp::Loaded::macro_format`).
+    pub whole_file: bool,
 }
 
 impl SyntecOnly {

@@ -12,7 +12,7 @@ use fivex_engine::check::check;
 use fivex_engine::controller::{Controller, RunState};
 use fivex_engine::interp::expr::Variables;
 use fivex_engine::interp::{Config, Interpreter, Step};
-use fivex_engine::lang::{parse_file, parse_part};
+use fivex_engine::lang::{parse_file, parse_part, Source, Stored};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::RunResult;
 use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
@@ -79,6 +79,49 @@ fn a_macro_format_file_is_refused_at_its_header() {
         };
         let want = (dialect == Syntec).then(|| ("COR-100".to_string(), 1));
         assert_eq!(outcome, want, "{dialect:?}");
+    }
+}
+
+/// Verification audit §6: a `%@MACRO` line before a later program was never reached, so `fivex
+/// run` ran the file (the later program as custom macro B) while `fivex check` reported it; in
+/// the middle of a program it was refused only after the moves before it. Wherever it stands,
+/// the Syntec dialect refuses the file at that line before anything of it runs; a stored
+/// program holding it is refused when a call reaches it, before any of it runs. FANUC ignores
+/// the line.
+#[test]
+fn a_macro_format_line_anywhere_refuses_the_file_before_anything_runs() {
+    let later = "%\nO1\nG90 G01 X10. F100.\nM98 P2\nM30\n%@MACRO\nO2\nG01 Y5.\nM99\n";
+    let middle = "G90 G01 X10. F100.\n%@MACRO\nG01 Y5.\nM30\n";
+    let after_end = "G90 G01 X10. F100.\nM30\n%@Macro\n";
+    for (src, line) in [(later, 6), (middle, 2), (after_end, 3)] {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-100".to_string(), line)], "{src}");
+        assert_eq!(end(&r), [0.0; 3], "nothing ran: {src}");
+        assert_eq!(checked(src, Syntec), [(line, 1, "COR-100".to_string())], "{src}");
+        let fanuc = run_with(src, "mill3", Fanuc);
+        assert!(fanuc.completed(), "{src}: {:?}", fanuc.alarms);
+        assert_eq!(end(&fanuc)[0], 10.0, "{src}");
+    }
+    let library = vec![std::sync::Arc::new(Stored { number: 2, first_line: 1, text: "O2\nG01 Y5.\nM99\n%@MACRO\n".into() })];
+    for dialect in [Syntec, Fanuc] {
+        let mut interp = Interpreter::new(parse_file(""), Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
+        let main = "G90 G01 X10. F100.\nM98 P2\nG01 Z5.\nM30\n".to_string();
+        interp.load_source(&Source { main, library: library.clone() });
+        let mut out = Vec::new();
+        let outcome = loop {
+            match interp.step(&mut out) {
+                Ok(Step::Ended) => break None,
+                Ok(_) => {}
+                Err(a) => break Some((a.code, a.line)),
+            }
+        };
+        let p = interp.state.position();
+        if dialect == Syntec {
+            assert_eq!(outcome, Some(("COR-100".to_string(), 4)));
+            assert_eq!([p[0], p[1], p[2]], [10.0, 0.0, 0.0], "the main program's move ran, none of O2");
+        } else {
+            assert_eq!((outcome, [p[0], p[1], p[2]]), (None, [10.0, 5.0, 5.0]));
+        }
     }
 }
 
@@ -289,8 +332,20 @@ fn syntec_block_comment_across_lines_is_refused_at_its_opening() {
     assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 2)], [0.0, 0.0, 10.0]));
     let r = syntec("M98 P20\nM30\nO0020 (* sub\nG01 X5. F100.\n*)\nM99\n");
     assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
+    let r = syntec("G90 G01 X0 Y0 Z10. F1000\n(A) (* off\nG01 Z-5.\n*)\nM30\n");
+    assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 2)], [0.0, 0.0, 10.0]));
     // Closed on its line, or a plain comment: comments.
-    for ok in ["G01 X10. F100. (* finish *)\nM30\n", "(*** TOOL 1 ***)\nG01 X10. F100.\nM30\n", "(a (* b)\nM30\n"] {
+    // Every file the Syntec dialect runs is an ISO-format file, whose comment is `( … )`
+    // (handbook §4.10): a `(*` closed by `)` on its line is a comment, as posts write them
+    // (`(* ROUGH)` was refused).
+    for ok in [
+        "G01 X10. F100. (* finish *)\nM30\n",
+        "(*** TOOL 1 ***)\nG01 X10. F100.\nM30\n",
+        "(a (* b)\nM30\n",
+        "(* ROUGH)\nG01 X10. F100.\nM30\n",
+        "G01 X10. F100. (*ROUGH) (* T1 D10 *)\nM30\n",
+        "(*)\nM30\n",
+    ] {
         let r = syntec(ok);
         assert!(r.completed(), "{ok}: {:?}", r.alarms);
         assert_eq!(checked(ok, Syntec), [], "{ok}");
