@@ -356,7 +356,7 @@ fn syntec_expressions(kind: &BlockKind, mut report: impl FnMut(AlarmId, String))
     let mut visit = |e: &Expr| match e {
         Expr::Var(n) if crate::interp::vars::syntec_differs(*n, false) => report(
             AlarmId::VariableOutOfRange,
-            format!("#{n} has another meaning on a Syntec control (not built in fivex)"),
+            format!("#{n} has another meaning on a Syntec control, or one fivex does not know (not built in fivex)"),
         ),
         Expr::Binary(BinOp::Div, a, b) => {
             if let (Some(x), Some(y)) = (literal_number(a), literal_number(b)) {

@@ -196,17 +196,22 @@ fn haas_slot(n: u32, axes: usize) -> Slot {
 }
 
 /// Syntec: the numbers whose meaning on a Syntec control is not the one fivex gives them
-/// (FANUC's), after the Syntec MACRO syntax handbook (§2.1, §2.3, §2.6, §1.10; `docs/dialects.md`,
-/// "The Syntec macro language"): #100–#199 in a macro call (G65/G66: Syntec's local variables
-/// of that call, fivex's common ones; the main program's and its M98 subprograms' are alike),
-/// #1000–#3100 (Syntec's modal state, #1000 the interpolation mode, #1004 G90/G91, and modal
-/// variables #1080–#3100; fivex's interface signals, tool offsets, #3000 alarm, timers) and
-/// #4001–#5500 (Syntec's user parameters; fivex's modal codes, positions, work offsets).
+/// (FANUC's), or is not known, after the Syntec MACRO syntax handbook (§2.1, §2.3, §2.6, §1.10,
+/// the cross-vendor notes §2, §4.1; `docs/dialects.md`, "The Syntec macro language"). fivex
+/// keeps only what both share: #0, the locals #1–#33, #100–#199 outside a macro call (Syntec's
+/// locals of the main program and its M98 subprograms; in a G65/G66 call that call's own, fivex's
+/// common ones) and #500–#999 (Syntec's retained axis-group user variables #401–#999). Every other
+/// number is refused: Syntec's locals #34–#99 and #200–#400, its modal state and modal variables
+/// #1000–#3100, its user parameters #4001–#5500, and what the handbook does not list at all,
+/// where fivex's FANUC meaning would be a guess: the part counts #3901/#3902, the G54.1 P
+/// offsets #7001…/#14001…, the tool offsets #10001–#13999 (the handbook's one mention, a
+/// FANUC converter's `#11000+n`, does not say which length it is), the G54.4 data #26000…, the
+/// extended common variables #100000….
 pub(crate) fn syntec_differs(n: u32, in_macro_call: bool) -> bool {
     match n {
         100..=199 => in_macro_call,
-        1000..=3100 | 4001..=5500 => true,
-        _ => false,
+        0..=33 | 500..=999 => false,
+        _ => true,
     }
 }
 
