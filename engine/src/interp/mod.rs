@@ -1052,8 +1052,14 @@ impl State {
 
     /// Set common variable `n` (#100–#199, #500–#999 or an extended one) from outside a
     /// program (a host, an operator); other numbers are not the host's to write:
-    /// `WriteProtectedVariable`.
+    /// `WriteProtectedVariable`. In the Syntec dialect only #500–#999: #100–#199 are a Syntec
+    /// program's local variables, vacant at each cycle start (`Interpreter::load`), so a value
+    /// set before it would be wiped unseen, and the extended numbers are no Syntec program's
+    /// (`vars::syntec_differs`).
     pub fn set_common_variable(&mut self, n: u32, value: Value) -> Result<(), AlarmId> {
+        if self.cfg.dialect == Dialect::Syntec && !matches!(n, 500..=999) {
+            return Err(AlarmId::WriteProtectedVariable);
+        }
         match n {
             100..=199 => {
                 self.common[n as usize - 100] = value;

@@ -215,6 +215,14 @@ fn syntec_hundreds_start_vacant_at_each_cycle_start() {
         let state = &c.interpreter().state;
         assert_eq!(state.read(101).unwrap(), want, "{dialect:?}");
         assert_eq!(state.read(102).unwrap(), Some(1.0), "{dialect:?}");
+        // The host cannot set them in the Syntec dialect: the next cycle start would wipe the
+        // value unseen. #500–#999 it can.
+        let state = &mut c.interpreter_mut().state;
+        let set = state.set_common_variable(103, Some(7.0));
+        let want = if dialect == Syntec { Err(fivex_engine::AlarmId::WriteProtectedVariable) } else { Ok(()) };
+        assert_eq!(set, want, "{dialect:?}");
+        assert_eq!(state.set_common_variable(100_001, Some(7.0)).is_ok(), dialect == Fanuc);
+        assert_eq!(state.set_common_variable(500, Some(7.0)), Ok(()), "{dialect:?}");
     }
 }
 
