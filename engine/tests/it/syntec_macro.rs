@@ -102,9 +102,11 @@ fn a_macro_format_line_anywhere_refuses_the_file_before_anything_runs() {
         assert!(fanuc.completed(), "{src}: {:?}", fanuc.alarms);
         assert_eq!(end(&fanuc)[0], 10.0, "{src}");
     }
-    let library = vec![std::sync::Arc::new(Stored { number: 2, first_line: 1, text: "O2\nG01 Y5.\nM99\n%@MACRO\n".into() })];
+    let library =
+        vec![std::sync::Arc::new(Stored { number: 2, first_line: 1, text: "O2\nG01 Y5.\nM99\n%@MACRO\n".into() })];
     for dialect in [Syntec, Fanuc] {
-        let mut interp = Interpreter::new(parse_file(""), Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
+        let mut interp =
+            Interpreter::new(parse_file(""), Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
         let main = "G90 G01 X10. F100.\nM98 P2\nG01 Z5.\nM30\n".to_string();
         interp.load_source(&Source { main, library: library.clone() });
         let mut out = Vec::new();
@@ -138,8 +140,7 @@ fn syntec_variables_of_another_meaning_are_refused() {
         // Not in the handbook at all (refused since the review of the ranges the handbook does
         // not give, `docs/dialects.md`): Syntec locals fivex does not have, the part counts,
         // G54.1 P offsets, tool offsets, G54.4 data, extended common variables.
-        34, 99, 200, 400, 499, 3901, 3902, 5501, 7001, 7960, 10001, 11001, 12001, 13999, 14001, 26000, 100000,
-        500000,
+        34, 99, 200, 400, 499, 3901, 3902, 5501, 7001, 7960, 10001, 11001, 12001, 13999, 14001, 26000, 100000, 500000,
     ];
     for n in numbers {
         for src in
