@@ -23,6 +23,7 @@
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind};
 use crate::dialect::Dialect;
+use crate::interp::expr::{syntec_divide, written_with_point, Ty};
 use crate::interp::gcode::{self, code, group};
 use crate::interp::mcode;
 use crate::interp::modes::syntec_improper_address;
@@ -374,20 +375,21 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
 /// Syntec: what a block's expressions show that the run refuses (`docs/dialects.md`, "The
 /// Syntec macro language"): a variable of a number whose Syntec meaning is not fivex's
 /// (`interp::vars::syntec_differs`; #100–#199, refused in a macro call only, are left to the
-/// run: a program may be called by M98 and by G65), and a `/` of two literal numbers that
-/// Syntec would divide as integers (`interp::expr::syntec_division_differs`).
+/// run: a program may be called by M98 and by G65), and a `/` of two literal integers whose
+/// quotient is negative and not whole (`interp::expr::syntec_divide`).
 fn syntec_expressions(kind: &BlockKind, mut report: impl FnMut(AlarmId, String)) {
     let mut visit = |e: &Expr| match e {
         Expr::Var(n) if crate::interp::vars::syntec_differs(*n, false) => report(
             AlarmId::VariableOutOfRange,
-            format!("#{n} has another meaning on a Syntec control (not built in fivex)"),
+            format!("#{n} has another meaning on a Syntec control, or one fivex does not know (not built in fivex)"),
         ),
         Expr::Binary(BinOp::Div, a, b) => {
             if let (Some(x), Some(y)) = (literal_number(a), literal_number(b)) {
-                if crate::interp::expr::syntec_division_differs(a, Some(x), b, Some(y)) {
+                let ty = |e: &Expr| if written_with_point(e) { Ty::Double } else { Ty::Long };
+                if syntec_divide((x, ty(a)), (y, ty(b))) == Err(AlarmId::AddressNotBuilt) {
                     report(
                         AlarmId::AddressNotBuilt,
-                        format!("{x}/{y}: Syntec's integer division is not built in fivex"),
+                        format!("{x}/{y}: Syntec's integer division of a negative quotient is not built in fivex"),
                     );
                 }
             }

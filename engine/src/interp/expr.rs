@@ -22,8 +22,8 @@ pub struct ExprSettings {
     /// address, the address's least input increment (1000 for 0.001 mm), as FANUC's ROUND in
     /// NC statement addresses does. 0 reads as 1.
     pub round_steps: f64,
-    /// The Syntec dialect: a division whose answer Syntec's integer division may change is
-    /// refused ([`syntec_division_differs`]).
+    /// The Syntec dialect: values are typed as Syntec types them and `/` divides as Syntec's
+    /// does ([`eval_typed`], [`syntec_divide`]).
     pub syntec_division: bool,
     /// The Syntec dialect: POW's base may not be negative ([`AlarmId::NegativePowerBase`]).
     pub syntec_pow: bool,
@@ -39,9 +39,41 @@ pub fn round_to(x: f64, steps: f64) -> f64 {
     (k / steps).copysign(x)
 }
 
+/// Syntec's type of a value (the Syntec MACRO syntax handbook, §2.5, §3.4, §3.9): a Long (an
+/// integer: a number written without a decimal point, an argument so written, the result of
+/// two Longs, `ROUND`), a Double (a number written with a point, an argument so written, the
+/// result of an operation with a Double, `ABS`, `SQRT`, any value with a fraction), or not known
+/// to fivex (a function the handbook gives no type for, FANUC's functions, a vacant variable,
+/// a variable fivex does not track, a comparison). Only the Syntec dialect uses it: FANUC and
+/// Haas divide as reals (`docs/dialects.md`, "The Syntec macro language").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Ty {
+    #[default]
+    Unknown,
+    Long,
+    Double,
+}
+
+impl Ty {
+    /// The type of `v` as `self` says, but a value with a fraction is a Double whatever was
+    /// said (a Long cannot hold it), and vacant is not known.
+    fn of(self, v: Value) -> Ty {
+        match v {
+            None => Ty::Unknown,
+            Some(x) if x.fract() != 0.0 => Ty::Double,
+            Some(_) => self,
+        }
+    }
+}
+
 /// Read access to variables, so evaluation does not depend on where they live.
 pub trait Variables {
     fn read(&self, number: u32) -> Result<Value, AlarmId>;
+
+    /// The Syntec type of what variable `number` holds, where it is tracked (`Ty`).
+    fn ty(&self, _number: u32) -> Ty {
+        Ty::Unknown
+    }
 }
 
 /// The variable number an `#[expr]` designates: the value rounded to an integer; vacant is #0.
@@ -54,48 +86,97 @@ pub fn var_number(v: Value) -> Result<u32, AlarmId> {
 }
 
 pub fn eval(e: &Expr, vars: &impl Variables, s: &ExprSettings) -> Result<Value, AlarmId> {
+    eval_typed(e, vars, s).map(|(v, _)| v)
+}
+
+/// [`eval`] and, in the Syntec dialect, the value's Syntec type ([`Ty`]; not known elsewhere).
+pub fn eval_typed(e: &Expr, vars: &impl Variables, s: &ExprSettings) -> Result<(Value, Ty), AlarmId> {
+    let read = |n: u32| -> Result<(Value, Ty), AlarmId> {
+        let v = vars.read(n)?;
+        Ok((v, if s.syntec_division { vars.ty(n).of(v) } else { Ty::Unknown }))
+    };
     Ok(match e {
-        Expr::Num { value, .. } => Some(*value),
-        Expr::Var(n) => vars.read(*n)?,
-        Expr::IndirectVar(inner) => vars.read(var_number(eval(inner, vars, s)?)?)?,
-        Expr::Bracket(inner) => eval(inner, vars, s)?,
-        Expr::Neg(inner) => eval(inner, vars, s)?.map(|x| -x),
-        Expr::Binary(op, a, b) => {
-            let (x, y) = (eval(a, vars, s)?, eval(b, vars, s)?);
-            if *op == BinOp::Div && s.syntec_division && syntec_division_differs(a, x, b, y) {
-                return Err(AlarmId::AddressNotBuilt);
-            }
-            Some(finite(binary(*op, x, y)?)?)
+        Expr::Num { value, decimal_point } => (Some(*value), if *decimal_point { Ty::Double } else { Ty::Long }),
+        Expr::Var(n) => read(*n)?,
+        Expr::IndirectVar(inner) => read(var_number(eval(inner, vars, s)?)?)?,
+        Expr::Bracket(inner) => eval_typed(inner, vars, s)?,
+        Expr::Neg(inner) => {
+            let (v, t) = eval_typed(inner, vars, s)?;
+            (v.map(|x| -x), t)
         }
-        Expr::Func(f, a) => Some(finite(func(*f, eval(a, vars, s)?.unwrap_or(0.0), s)?)?),
+        Expr::Binary(op, a, b) => {
+            let (a, b) = (eval_typed(a, vars, s)?, eval_typed(b, vars, s)?);
+            if s.syntec_division {
+                syntec_binary(*op, a, b)?
+            } else {
+                (Some(finite(binary(*op, a.0, b.0)?)?), Ty::Unknown)
+            }
+        }
+        Expr::Func(f, a) => {
+            let v = finite(func(*f, eval(a, vars, s)?.unwrap_or(0.0), s)?)?;
+            let t = match f {
+                // The handbook's return types (§9.2): ABS and SQRT a Double, ROUND a Long (in a
+                // macro statement, where it rounds to a whole number).
+                Func::Abs | Func::Sqrt => Ty::Double,
+                Func::Round if s.round_steps <= 1.0 => Ty::Long,
+                _ => Ty::Unknown,
+            };
+            (Some(v), t.of(Some(v)))
+        }
         Expr::Func2(f, a, b) => {
             let a = eval(a, vars, s)?.unwrap_or(0.0);
             let b = eval(b, vars, s)?.unwrap_or(0.0);
-            Some(finite(func2(*f, a, b, s)?)?)
+            let v = finite(func2(*f, a, b, s)?)?;
+            (Some(v), Ty::Unknown.of(Some(v)))
         }
     })
 }
 
-/// Whether Syntec's `/` may answer otherwise than fivex's: Syntec divides two integers (numbers
-/// written without a decimal point, and their results) as integers and truncates (the Syntec
-/// MACRO syntax handbook, §3.4: `1 / 2` is 0, `1. / 2` is 0.5), fivex has no integer type. So:
-/// both values whole, their quotient not (a zero divisor is the zero divide alarm), and neither
-/// operand a number written with a decimal point — a variable's or an expression's type fivex
-/// cannot tell (`docs/dialects.md`, "The Syntec macro language").
-pub fn syntec_division_differs(a: &Expr, x: Value, b: &Expr, y: Value) -> bool {
-    let (x, y) = (x.unwrap_or(0.0), y.unwrap_or(0.0));
-    let quotient = x / y;
-    x.fract() == 0.0
-        && y.fract() == 0.0
-        && quotient.is_finite()
-        && quotient.fract() != 0.0
-        && !written_with_point(a)
-        && !written_with_point(b)
+/// A binary operation as Syntec types it (the handbook, §3.9: Long with Long is a Long, with a
+/// Double a Double), with Syntec's division ([`syntec_divide`]).
+fn syntec_binary(op: BinOp, (x, tx): (Value, Ty), (y, ty): (Value, Ty)) -> Result<(Value, Ty), AlarmId> {
+    let (tx, ty) = (tx.of(x), ty.of(y));
+    if op == BinOp::Div {
+        return syntec_divide((x.unwrap_or(0.0), tx), (y.unwrap_or(0.0), ty)).map(|(q, t)| (Some(q), t));
+    }
+    let v = finite(binary(op, x, y)?)?;
+    let t = match op {
+        BinOp::Add | BinOp::Sub | BinOp::Mul if tx == Ty::Double || ty == Ty::Double => Ty::Double,
+        BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Mod if tx == Ty::Long && ty == Ty::Long => Ty::Long,
+        _ => Ty::Unknown,
+    };
+    Ok((Some(v), t.of(Some(v))))
 }
 
-/// A number written with a decimal point, also signed or bracketed (`-7.`, `[7.]`): a real to
-/// Syntec whatever the other operand is.
-fn written_with_point(e: &Expr) -> bool {
+/// Syntec's `/` (the handbook, §3.4, §3.9): with a Double operand a real division; of two Longs
+/// a Long, the quotient truncated (`7 / 2` is 3, `1 / 2` is 0, `(1/2) * 1.0` is 0.0). What the
+/// handbook leaves open is refused (`AddressNotBuilt`) rather than guessed: a Long quotient
+/// below zero that is not whole (the direction of its rounding is "to be confirmed", §3.4), and
+/// a quotient that is not whole of operands whose type fivex does not know. A zero divisor is
+/// the zero divide alarm.
+pub fn syntec_divide((x, tx): (f64, Ty), (y, ty): (f64, Ty)) -> Result<(f64, Ty), AlarmId> {
+    if y == 0.0 {
+        return Err(AlarmId::ZeroDivide);
+    }
+    let q = finite(x / y)?;
+    let (tx, ty) = (tx.of(Some(x)), ty.of(Some(y)));
+    if tx == Ty::Double || ty == Ty::Double {
+        return Ok((q, Ty::Double));
+    }
+    let long = tx == Ty::Long && ty == Ty::Long;
+    if q.fract() == 0.0 {
+        return Ok((q, if long { Ty::Long } else { Ty::Unknown }));
+    }
+    if long && q > 0.0 {
+        // Whole operands below 2^53: the rounded quotient truncates as the exact one does.
+        return Ok((q.trunc(), Ty::Long));
+    }
+    Err(AlarmId::AddressNotBuilt)
+}
+
+/// A number written with a decimal point, also signed or bracketed (`-7.`, `[7.]`): a Double
+/// to Syntec.
+pub fn written_with_point(e: &Expr) -> bool {
     match e {
         Expr::Num { decimal_point, .. } => *decimal_point,
         Expr::Neg(inner) | Expr::Bracket(inner) => written_with_point(inner),

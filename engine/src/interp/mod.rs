@@ -40,7 +40,7 @@ use crate::canon::{Canon, CanonKind, Pos};
 use crate::dialect::Dialect;
 use crate::lang::{Block, BlockKind, Output, PrintItem};
 use crate::machine::{MachineConfig, MAX_AXES};
-use expr::{eval, truth, ExprSettings, Value};
+use expr::{eval, eval_typed, truth, ExprSettings, Value};
 use gcode::GROUPS;
 use gcode::{code, group};
 pub use offsets::{Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
@@ -203,7 +203,7 @@ struct CallFrame {
     /// Where each repetition starts: 0, or a Haas M97's block N<P>.
     start: usize,
     /// The arguments a G65 repetition starts from again.
-    args: Option<Box<[Value; LOCALS]>>,
+    args: Option<Box<vars::Locals>>,
     /// O number of the program (for #4115).
     number: u32,
 }
@@ -215,7 +215,7 @@ struct ModalCall {
     every_block: bool,
     prog: usize,
     count: u32,
-    args: Box<[Value; LOCALS]>,
+    args: Box<vars::Locals>,
     /// Local level the call was specified at; blocks of deeper levels do not trigger it.
     level: usize,
 }
@@ -251,8 +251,10 @@ pub struct State {
     cfg: Config,
     expr: ExprSettings,
     frames: Vec<CallFrame>,
-    locals: Vec<[Value; LOCALS]>,
+    locals: Vec<vars::Locals>,
     common: Box<[Value; COMMON]>,
+    /// Syntec: the types of #100–#199 (`vars::Types`).
+    common_types: vars::Types<2>,
     persistent: Box<[Value; PERSISTENT]>,
     /// The optional extended common variables, non-vacant ones only: #100000–#199999 (like
     /// #100–#199) and #500000–#999999 (retained like #500–#999). Few programs use more than a
@@ -536,6 +538,17 @@ impl Interpreter {
         if let Some(first) = self.progs.first() {
             let mut main = CallFrame::main();
             main.number = first.number().unwrap_or(0);
+            // Syntec: a `%@MACRO` line anywhere in the file refuses it before anything of it
+            // runs (verification audit §6: one before a later program was never reached, and
+            // the file ran): the run starts at that line, which raises the refusal.
+            if self.state.cfg.dialect == Dialect::Syntec {
+                let mut loaded = self.progs.iter().enumerate().filter(|(_, p)| p.is_loaded());
+                if let Some((prog, pc)) = loaded.find_map(|(i, p)| p.macro_format.map(|pc| (i, pc))) {
+                    main.prog = prog;
+                    main.pc = pc as usize;
+                    main.number = self.progs[prog].number().unwrap_or(0);
+                }
+            }
             self.state.frames.push(main);
         }
     }
@@ -553,6 +566,7 @@ impl Interpreter {
             // each start; the Syntec MACRO syntax handbook, §2.1, §2.3), fivex's common ones,
             // which keep their value: a run must not read the last run's.
             *self.state.common = [None; COMMON];
+            self.state.common_types = vars::Types::default();
         }
         self.state.ended = self.progs.is_empty();
         self.start_main();
@@ -584,7 +598,7 @@ impl Interpreter {
         let st = &mut self.state;
         st.frames.clear();
         st.locals.truncate(1);
-        st.locals[0] = [None; LOCALS];
+        st.locals[0] = vars::Locals::default();
         st.modal_calls.clear();
         st.wse_between = None;
         st.block_limit = 0;
@@ -757,8 +771,9 @@ impl State {
             axis_by_letter,
             expr,
             frames: Vec::new(),
-            locals: vec![[None; LOCALS]],
+            locals: vec![vars::Locals::default()],
             common: Box::new([None; COMMON]),
+            common_types: vars::Types::default(),
             persistent: Box::new([None; PERSISTENT]),
             extended: BTreeMap::new(),
             modes: {
@@ -1027,7 +1042,10 @@ impl State {
                 500..=999 => self.persistent[n as usize - 500] = value,
                 500_000..=999_999 => self.set_extended(n, value),
                 // Haas (`retained_variables`).
-                100..=199 if self.cfg.dialect == crate::Dialect::Haas => self.common[n as usize - 100] = value,
+                100..=199 if self.cfg.dialect == crate::Dialect::Haas => {
+                    self.common[n as usize - 100] = value;
+                    self.common_types.set(n as usize - 100, expr::Ty::Unknown);
+                }
                 10_000..=10_999 if self.cfg.dialect == crate::Dialect::Haas => self.set_extended(n, value),
                 3002 => self.timer_h_base = self.clock_s / 3600.0 - value.unwrap_or(0.0),
                 3901 => self.parts_done = value.unwrap_or(0.0),
@@ -1058,10 +1076,20 @@ impl State {
 
     /// Set common variable `n` (#100–#199, #500–#999 or an extended one) from outside a
     /// program (a host, an operator); other numbers are not the host's to write:
-    /// `WriteProtectedVariable`.
+    /// `WriteProtectedVariable`. In the Syntec dialect only #500–#999: #100–#199 are a Syntec
+    /// program's local variables, vacant at each cycle start (`Interpreter::load`), so a value
+    /// set before it would be wiped unseen, and the extended numbers are no Syntec program's
+    /// (`vars::syntec_differs`).
     pub fn set_common_variable(&mut self, n: u32, value: Value) -> Result<(), AlarmId> {
+        if self.cfg.dialect == Dialect::Syntec && !matches!(n, 500..=999) {
+            return Err(AlarmId::WriteProtectedVariable);
+        }
         match n {
-            100..=199 => self.common[n as usize - 100] = value,
+            100..=199 => {
+                self.common[n as usize - 100] = value;
+                // A host's value has no Syntec type.
+                self.common_types.set(n as usize - 100, expr::Ty::Unknown);
+            }
             500..=999 => self.persistent[n as usize - 500] = value,
             100_000..=199_999 | 500_000..=999_999 => self.set_extended(n, value),
             // Haas: the NGC's #10000 + n names #n (`vars::haas_slot`).
@@ -1214,7 +1242,7 @@ impl State {
             }
             BlockKind::Assign { var, value } => {
                 let number = self.target_number(var)?;
-                let v = eval(value, self, &self.expr)?;
+                let v = eval_typed(value, self, &self.expr)?;
                 self.write(number, v, block, out)?;
             }
             BlockKind::IfGoto { cond, target } => {
@@ -1225,7 +1253,7 @@ impl State {
             BlockKind::IfThen { cond, var, value } => {
                 if truth(eval(cond, self, &self.expr)?) {
                     let number = self.target_number(var)?;
-                    let v = eval(value, self, &self.expr)?;
+                    let v = eval_typed(value, self, &self.expr)?;
                     self.write(number, v, block, out)?;
                 }
             }
@@ -1330,7 +1358,7 @@ impl State {
     }
 
     /// Call a program: M98 (`macro_args` None, same local level) or G65/G66 (a new level).
-    fn call(&mut self, prog: usize, count: u32, macro_args: Option<Box<[Value; LOCALS]>>) -> Result<(), AlarmId> {
+    fn call(&mut self, prog: usize, count: u32, macro_args: Option<Box<vars::Locals>>) -> Result<(), AlarmId> {
         if self.frames.len() > MAX_NESTED_CALLS {
             return Err(AlarmId::NestingTooDeep);
         }

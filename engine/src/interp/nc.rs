@@ -1,7 +1,7 @@
 //! Execution of an NC statement (a block of address words): modal updates, data setting,
 //! coordinate systems, motion, M codes and subprogram/macro calls, in FANUC's order.
 
-use super::expr::{eval, round_to, ExprSettings, Value};
+use super::expr::{eval_typed, round_to, ExprSettings, Ty};
 use super::g10;
 use super::gcode::{self, GDef};
 use super::gcode::{code, group};
@@ -10,7 +10,8 @@ use super::modes;
 use super::offsets::{g54_1_index, p_taken_elsewhere, work_system_p, WorkP, MAX_G54_1};
 use super::program::Slot;
 use super::unbuilt;
-use super::{CallFrame, CallKind, CycleData, ModalCall, State, LOCALS};
+use super::vars::Locals;
+use super::{CallFrame, CallKind, CycleData, ModalCall, State};
 use crate::alarm::AlarmId;
 use crate::canon::{
     Arc, Canon, CanonKind, Coolant, CutterWord, FeedMode, Motion, MotionContext, MotionKind, Pos, SpindleState,
@@ -50,8 +51,9 @@ pub(super) enum Form {
     Point,
     /// A variable or expression: FANUC rounds its value to the address's least input
     /// increment where the address is used (a whole number at M, S, T, H, D, P, L …; G codes
-    /// excepted), while a macro call's argument keeps the exact value.
-    Expr,
+    /// excepted), while a macro call's argument keeps the exact value. With its Syntec type,
+    /// which a macro call's argument keeps.
+    Expr(Ty),
 }
 
 /// Where a letter's last word is kept in `Words::last`.
@@ -129,7 +131,7 @@ impl Words {
     /// expression's value is rounded half away from zero (`T[5.5]` is T6, `S#1` with 1000.4999
     /// S1000), a written number stays as written (so `T5.5` is still refused).
     pub(super) fn integer(&self, letter: u8) -> Option<f64> {
-        self.word(letter).map(|(v, form)| if form == Form::Expr { round_to(v, 1.0) } else { v })
+        self.word(letter).map(|(v, form)| if matches!(form, Form::Expr(_)) { round_to(v, 1.0) } else { v })
     }
 
     /// The value exactly as written or evaluated (F, E, and questions about the block's form).
@@ -172,9 +174,9 @@ impl State {
                 WordValue::Expr(e) => {
                     // ROUND in an NC address rounds to the address's least input increment.
                     let settings = ExprSettings { round_steps: self.steps_of(word.letter), ..self.expr };
-                    match eval(e, self, &settings)? {
-                        Some(v) => (v, Form::Expr),
-                        None => continue,
+                    match eval_typed(e, self, &settings)? {
+                        (Some(v), ty) => (v, Form::Expr(ty)),
+                        (None, _) => continue,
                     }
                 }
             };
@@ -199,7 +201,7 @@ impl State {
                     w.g_bits |= 1 << (code % 64);
                 }
                 b'M' => {
-                    let v = if form == Form::Expr { round_to(v, 1.0) } else { v };
+                    let v = if matches!(form, Form::Expr(_)) { round_to(v, 1.0) } else { v };
                     if v < 0.0 || v.fract() != 0.0 || v > 99_999_999.0 {
                         w.improper_m = true;
                     } else {
@@ -288,7 +290,7 @@ impl State {
         let (v, form) = w.word(letter)?;
         let v = match form {
             Form::NoPoint if self.counts_increments(letter) => v * self.increment_at(letter),
-            Form::Expr => round_to(v, self.steps_of(letter)),
+            Form::Expr(_) => round_to(v, self.steps_of(letter)),
             _ => v,
         };
         let linear = match self.axis_of(letter) {
@@ -300,13 +302,22 @@ impl State {
     }
 
     /// Arguments of G65/G66/G66.1: specification I and II mixed as FANUC does (later wins).
-    fn macro_args(&self, w: &Words) -> Result<Box<[Value; LOCALS]>, AlarmId> {
+    fn macro_args(&self, w: &Words) -> Result<Box<Locals>, AlarmId> {
         let mut args = State::empty_locals();
         let (mut set, mut last_ijk) = (0usize, 0u8);
         for &(letter, v, form) in &w.list {
             // (An argument keeps a variable's exact value: no rounding to the increment.)
-            let v =
-                if form == Form::NoPoint && self.counts_increments(letter) { v * self.increment_at(letter) } else { v };
+            let scaled = form == Form::NoPoint && self.counts_increments(letter);
+            let v = if scaled { v * self.increment_at(letter) } else { v };
+            // Its Syntec type (the handbook, §3.4: an integer is a number without a decimal
+            // point; `STD` turns such an argument into the input unit, §9.3); one read in
+            // increments is fivex's reading, not Syntec's: not known.
+            let ty = match form {
+                Form::Point => Ty::Double,
+                Form::NoPoint if scaled => Ty::Unknown,
+                Form::NoPoint => Ty::Long,
+                Form::Expr(ty) => ty,
+            };
             let var = match letter {
                 b'G' | b'L' | b'N' | b'O' | b'P' => continue,
                 b'A' => 1,
@@ -340,7 +351,8 @@ impl State {
                 b'Z' => 26,
                 _ => return Err(AlarmId::ImproperAddress),
             };
-            args[var - 1] = Some(v);
+            args.v[var - 1] = Some(v);
+            args.ty.set(var - 1, ty);
         }
         Ok(args)
     }
@@ -376,11 +388,19 @@ impl State {
         progs: &[Slot],
         prog: usize,
         count: u32,
-        args: Option<Box<[Value; LOCALS]>>,
+        args: Option<Box<Locals>>,
     ) -> Result<(), AlarmId> {
+        let depth = self.frames.len();
         self.call(prog, count, args)?;
+        let refuse_here = self.cfg.dialect == Dialect::Syntec && self.frames.len() > depth;
         if let Some(f) = self.frames.last_mut() {
             f.number = progs[f.prog].number().unwrap_or(0);
+            // A called program holding Syntec's `%@MACRO` line is refused before any of it runs.
+            if refuse_here {
+                if let Some(pc) = progs[prog].macro_format {
+                    f.pc = pc as usize;
+                }
+            }
         }
         Ok(())
     }
@@ -1952,7 +1972,7 @@ impl State {
         }
         let dialect = self.cfg.dialect;
         let (l, written) = w.word(b'L').ok_or(AlarmId::DataSettingFormat)?;
-        let l = if written == Form::Expr { round_to(l, 1.0) } else { l };
+        let l = if matches!(written, Form::Expr(_)) { round_to(l, 1.0) } else { l };
         let form = g10::form(l, written == Form::Point, dialect)?;
         if let Some((id, _)) = w.gcodes().iter().find_map(|&c| g10::g_code(c, Some(form), dialect)) {
             return Err(id);

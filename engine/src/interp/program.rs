@@ -74,6 +74,9 @@ pub struct Loaded {
     enclosing: Vec<u32>,
     /// A loop-structure alarm a block raises when executed.
     pub loop_error: HashMap<u32, AlarmId>,
+    /// The first of its blocks that refuses the whole file in the Syntec dialect (`%@MACRO`,
+    /// `lang::SyntecOnly::whole_file`): a run of the file, or a call of the program, starts there.
+    pub macro_format: Option<u32>,
     /// Open DOs while blocks are still being added: (id, block index).
     open: Vec<(u8, u32)>,
     /// DOs whose END came while the listed inner DOs were still open.
@@ -143,6 +146,7 @@ impl Loaded {
             pair: Vec::new(),
             enclosing: Vec::new(),
             loop_error: HashMap::new(),
+            macro_format: None,
             open: Vec::new(),
             crossed: Vec::new(),
             finished: false,
@@ -173,6 +177,7 @@ impl Loaded {
                     }
                     self.open.push((*id, i));
                 }
+                BlockKind::SyntecOnly(s) if s.whole_file && self.macro_format.is_none() => self.macro_format = Some(i),
                 BlockKind::End { id } => match self.open.last() {
                     Some(&(top, d)) if top == *id => {
                         self.open.pop();

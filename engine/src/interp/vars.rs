@@ -1,12 +1,66 @@
 //! Variable numbers: local, common, persistent and the system variables of `macro-b.md`.
 
-use super::expr::{Value, Variables};
+use super::expr::{Ty, Value, Variables};
 use super::gcode::{code, group};
 use super::offsets::{g54_1_index, ToolOffset, MAX_G54_1};
 use super::{gcode, State, LOCALS};
 use crate::alarm::AlarmId;
 use crate::canon::{Canon, CanonKind};
 use crate::lang::Block;
+
+/// Syntec: the type of each variable of a bank (`Ty`), two bits a variable: a Long, a Double,
+/// or neither (not known). Tracked only for what a program assigns to a local variable (#1–#33,
+/// its arguments) and to #100–#199, the Syntec local variables fivex keeps; the retained
+/// #500–#999 and every other number read as not known. Bits, so that the controller's memory
+/// (issue 18) grows by 16 bytes a bank, not a byte a variable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Types<const W: usize> {
+    long: [u64; W],
+    double: [u64; W],
+}
+
+impl<const W: usize> Default for Types<W> {
+    fn default() -> Self {
+        Types { long: [0; W], double: [0; W] }
+    }
+}
+
+impl<const W: usize> Types<W> {
+    pub(super) fn get(&self, i: usize) -> Ty {
+        let (w, bit) = (i / 64, 1u64 << (i % 64));
+        if self.long[w] & bit != 0 {
+            Ty::Long
+        } else if self.double[w] & bit != 0 {
+            Ty::Double
+        } else {
+            Ty::Unknown
+        }
+    }
+
+    pub(super) fn set(&mut self, i: usize, t: Ty) {
+        let (w, bit) = (i / 64, 1u64 << (i % 64));
+        self.long[w] &= !bit;
+        self.double[w] &= !bit;
+        match t {
+            Ty::Long => self.long[w] |= bit,
+            Ty::Double => self.double[w] |= bit,
+            Ty::Unknown => {}
+        }
+    }
+}
+
+/// One macro level's local variables #1–#33 and their Syntec types.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Locals {
+    pub v: [Value; LOCALS],
+    pub ty: Types<1>,
+}
+
+impl Default for Locals {
+    fn default() -> Locals {
+        Locals { v: [None; LOCALS], ty: Types::default() }
+    }
+}
 
 /// Where a variable number lives.
 enum Slot {
@@ -142,17 +196,22 @@ fn haas_slot(n: u32, axes: usize) -> Slot {
 }
 
 /// Syntec: the numbers whose meaning on a Syntec control is not the one fivex gives them
-/// (FANUC's), after the Syntec MACRO syntax handbook (§2.1, §2.3, §2.6, §1.10; `docs/dialects.md`,
-/// "The Syntec macro language"): #100–#199 in a macro call (G65/G66: Syntec's local variables
-/// of that call, fivex's common ones; the main program's and its M98 subprograms' are alike),
-/// #1000–#3100 (Syntec's modal state, #1000 the interpolation mode, #1004 G90/G91, and modal
-/// variables #1080–#3100; fivex's interface signals, tool offsets, #3000 alarm, timers) and
-/// #4001–#5500 (Syntec's user parameters; fivex's modal codes, positions, work offsets).
+/// (FANUC's), or is not known, after the Syntec MACRO syntax handbook (§2.1, §2.3, §2.6, §1.10,
+/// the cross-vendor notes §2, §4.1; `docs/dialects.md`, "The Syntec macro language"). fivex
+/// keeps only what both share: #0, the locals #1–#33, #100–#199 outside a macro call (Syntec's
+/// locals of the main program and its M98 subprograms; in a G65/G66 call that call's own, fivex's
+/// common ones) and #500–#999 (Syntec's retained axis-group user variables #401–#999). Every other
+/// number is refused: Syntec's locals #34–#99 and #200–#400, its modal state and modal variables
+/// #1000–#3100, its user parameters #4001–#5500, and what the handbook does not list at all,
+/// where fivex's FANUC meaning would be a guess: the part counts #3901/#3902, the G54.1 P
+/// offsets #7001…/#14001…, the tool offsets #10001–#13999 (the handbook's one mention, a
+/// FANUC converter's `#11000+n`, does not say which length it is), the G54.4 data #26000…, the
+/// extended common variables #100000….
 pub(crate) fn syntec_differs(n: u32, in_macro_call: bool) -> bool {
     match n {
         100..=199 => in_macro_call,
-        1000..=3100 | 4001..=5500 => true,
-        _ => false,
+        0..=33 | 500..=999 => false,
+        _ => true,
     }
 }
 
@@ -229,7 +288,7 @@ impl Variables for State {
             Slot::HaasG52(axis) => Some(self.local[axis]),
             Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Vacant => None,
-            Slot::Local(i) => self.locals[self.level()][i],
+            Slot::Local(i) => self.locals[self.level()].v[i],
             Slot::Common(i) => self.common[i],
             Slot::Persistent(i) => self.persistent[i],
             Slot::Extended(n) => self.extended.get(&n).copied(),
@@ -240,6 +299,14 @@ impl Variables for State {
             Slot::System(n) => Some(self.read_system(n)?),
         };
         Ok(value.map(|v| v / unit))
+    }
+
+    fn ty(&self, n: u32) -> Ty {
+        match self.slot(n) {
+            Slot::Local(i) => self.locals[self.level()].ty.get(i),
+            Slot::Common(i) => self.common_types.get(i),
+            _ => Ty::Unknown,
+        }
     }
 }
 
@@ -433,8 +500,15 @@ impl State {
         }
     }
 
-    /// Assign `value` to variable `n` (the block supplies `#3000`/`#3006` messages).
-    pub(super) fn write(&mut self, n: u32, value: Value, block: &Block, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+    /// Assign `value`, of Syntec type `ty`, to variable `n` (the block supplies `#3000`/`#3006`
+    /// messages).
+    pub(super) fn write(
+        &mut self,
+        n: u32,
+        (value, ty): (Value, Ty),
+        block: &Block,
+        out: &mut Vec<Canon>,
+    ) -> Result<(), AlarmId> {
         let slot = self.slot(n);
         let unit = self.slot_unit(&slot);
         match slot {
@@ -442,9 +516,13 @@ impl State {
             Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Local(i) => {
                 let level = self.level();
-                self.locals[level][i] = value;
+                self.locals[level].v[i] = value;
+                self.locals[level].ty.set(i, ty);
             }
-            Slot::Common(i) => self.common[i] = value,
+            Slot::Common(i) => {
+                self.common[i] = value;
+                self.common_types.set(i, ty);
+            }
             Slot::Persistent(i) => self.persistent[i] = value,
             Slot::Extended(n) => self.set_extended(n, value),
             Slot::Tool { number, field } => {
@@ -502,7 +580,7 @@ impl State {
     }
 
     /// Fresh local variables for a macro call from its arguments.
-    pub(super) fn empty_locals() -> Box<[Value; LOCALS]> {
-        Box::new([None; LOCALS])
+    pub(super) fn empty_locals() -> Box<Locals> {
+        Box::default()
     }
 }

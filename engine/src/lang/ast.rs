@@ -92,6 +92,9 @@ pub struct SyntecOnly {
     /// What the FANUC and Haas dialects read there: nothing (a `%` line, a comment), or a block
     /// they refuse with this diagnostic (`ALARM(…)`: the address A without a value).
     pub others: Option<Diagnostic>,
+    /// The Syntec dialect refuses the whole file here, before anything of it runs (the
+    /// MACRO-format line `%@MACRO`, wherever it stands: `interp::Loaded::macro_format`).
+    pub whole_file: bool,
 }
 
 impl SyntecOnly {
@@ -153,7 +156,7 @@ pub enum WordValue {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Expr {
     /// A number and whether it was written with a decimal point (Syntec's division tells an
-    /// integer by it, `interp::expr::syntec_division_differs`).
+    /// integer by it, `interp::expr::eval_typed`).
     Num {
         value: f64,
         decimal_point: bool,

@@ -12,5 +12,5 @@ mod source;
 
 pub use ast::*;
 pub use diag::Diagnostic;
-pub use parser::{is_header, is_header_block, parse_file, parse_part};
+pub use parser::{has_macro_format_line, is_header, is_header_block, parse_file, parse_part};
 pub use source::{Source, Stored};

@@ -113,39 +113,51 @@ pub fn is_header_block(b: &Block) -> bool {
 
 /// A block the Syntec dialect refuses as not built at `line`, `col`, and the others read as
 /// nothing.
-fn syntec_only(line: u32, col: u32, detail: &str) -> Block {
+fn syntec_only(line: u32, col: u32, detail: &str, whole_file: bool) -> Block {
     let syntec = Diagnostic { line, col, id: AlarmId::AddressNotBuilt, detail: detail.into() };
-    let kind = BlockKind::SyntecOnly(Box::new(SyntecOnly { syntec, others: None }));
+    let kind = BlockKind::SyntecOnly(Box::new(SyntecOnly { syntec, others: None, whole_file }));
     Block { line, col, block_delete: None, n: None, kind, comment: None }
 }
 
 /// Syntec's `%@MACRO` line (the Syntec MACRO syntax handbook, §1.1: a file whose first line it
 /// is runs in the MACRO format): fivex runs FANUC's custom macro B, whose text a MACRO-format
 /// file shares with other meanings (variable numbers, integer division, comments), so the
-/// Syntec dialect refuses the file there (`docs/dialects.md`, "The Syntec macro language").
+/// Syntec dialect refuses the file, before anything of it runs, wherever the line stands
+/// (`docs/dialects.md`, "The Syntec macro language").
 fn macro_format(trimmed: &str, line: u32, col: u32) -> Option<Block> {
-    let header = trimmed.as_bytes().get(..7).is_some_and(|h| h.eq_ignore_ascii_case(b"%@MACRO"));
-    header.then(|| syntec_only(line, col, "the Syntec MACRO-format file (%@MACRO) is not built in fivex"))
+    is_macro_format(trimmed)
+        .then(|| syntec_only(line, col, "the Syntec MACRO-format file (%@MACRO) is not built in fivex", true))
 }
 
-/// The block the Syntec dialect refuses at a `(*` whose `*)` is not on its line.
+fn is_macro_format(trimmed: &str) -> bool {
+    trimmed.as_bytes().get(..7).is_some_and(|h| h.eq_ignore_ascii_case(b"%@MACRO"))
+}
+
+/// Whether `text` holds a Syntec `%@MACRO` line: a reader that hands a file over in parts gives
+/// such a file as one part, so the Syntec dialect can refuse it before anything of it runs.
+pub fn has_macro_format_line(text: &str) -> bool {
+    lines(text).any(|l| is_macro_format(trim_start(l)))
+}
+
+/// The block the Syntec dialect refuses at a `(*` that nothing closes on its line.
 fn block_comment_refusal(line: u32, col: u32) -> Block {
-    syntec_only(line, col, "the Syntec block comment (* … *) across lines is not built in fivex")
+    syntec_only(line, col, "the Syntec block comment (* … *) across lines is not built in fivex", false)
 }
 
-/// Where a Syntec block comment `(*` opens on `line` without its `*)` (the byte offset of the
-/// `(`): Syntec's MACRO format reads `(* … *)` across lines (handbook §4.10), fivex a comment to
-/// the first `)` or the line's end, and would run the lines after it.
+/// Where a comment that opens `(*` runs on past its line's end (the byte offset of the `(`).
+/// Every file the Syntec dialect runs is an ISO-format file (a MACRO-format file, `%@MACRO`, is
+/// refused whole), where a comment is `( … )` (handbook §4.10), so `(* ROUGH)` and
+/// `(*** TOOL 1 ***)`, as posts write them, are comments to their `)`. Only a `(*` with no `)`
+/// after it on the line is refused: it was written as a MACRO-format block comment across lines
+/// (§4.10), and its lines would run in an ISO-format file as in fivex, not as the writer meant.
 fn unclosed_block_comment(line: &str) -> Option<usize> {
     let b = line.as_bytes();
     let mut i = 0;
     while let Some(k) = memchr::memchr(b'(', &b[i..]) {
         let open = i + k;
-        let (close, len) = if b.get(open + 1) == Some(&b'*') { (&b"*)"[..], 2) } else { (&b")"[..], 1) };
-        let from = open + len;
-        match b[from..].windows(close.len()).position(|w| w == close) {
-            Some(c) => i = from + c + close.len(),
-            None if len == 2 => return Some(open),
+        match memchr::memchr(b')', &b[open + 1..]) {
+            Some(c) => i = open + 1 + c + 1,
+            None if b.get(open + 1) == Some(&b'*') => return Some(open),
             // An ordinary comment unclosed runs to the end of the line.
             None => return None,
         }
@@ -430,7 +442,7 @@ impl BlockParser<'_> {
         let detail = format!("the Syntec statement {name} is not built in fivex");
         let syntec = Diagnostic { line: self.line, col, id: AlarmId::AddressNotBuilt, detail };
         let others = self.words().err();
-        BlockKind::SyntecOnly(Box::new(SyntecOnly { syntec, others }))
+        BlockKind::SyntecOnly(Box::new(SyntecOnly { syntec, others, whole_file: false }))
     }
 
     fn unexpected<T>(&self, tok: Tok, col: u32) -> PResult<T> {

@@ -12,7 +12,7 @@ use fivex_engine::check::check;
 use fivex_engine::controller::{Controller, RunState};
 use fivex_engine::interp::expr::Variables;
 use fivex_engine::interp::{Config, Interpreter, Step};
-use fivex_engine::lang::{parse_file, parse_part};
+use fivex_engine::lang::{parse_file, parse_part, Source, Stored};
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::RunResult;
 use fivex_engine::Dialect::{self, Fanuc, Haas, Syntec};
@@ -82,6 +82,51 @@ fn a_macro_format_file_is_refused_at_its_header() {
     }
 }
 
+/// Verification audit §6: a `%@MACRO` line before a later program was never reached, so `fivex
+/// run` ran the file (the later program as custom macro B) while `fivex check` reported it; in
+/// the middle of a program it was refused only after the moves before it. Wherever it stands,
+/// the Syntec dialect refuses the file at that line before anything of it runs; a stored
+/// program holding it is refused when a call reaches it, before any of it runs. FANUC ignores
+/// the line.
+#[test]
+fn a_macro_format_line_anywhere_refuses_the_file_before_anything_runs() {
+    let later = "%\nO1\nG90 G01 X10. F100.\nM98 P2\nM30\n%@MACRO\nO2\nG01 Y5.\nM99\n";
+    let middle = "G90 G01 X10. F100.\n%@MACRO\nG01 Y5.\nM30\n";
+    let after_end = "G90 G01 X10. F100.\nM30\n%@Macro\n";
+    for (src, line) in [(later, 6), (middle, 2), (after_end, 3)] {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-100".to_string(), line)], "{src}");
+        assert_eq!(end(&r), [0.0; 3], "nothing ran: {src}");
+        assert_eq!(checked(src, Syntec), [(line, 1, "COR-100".to_string())], "{src}");
+        let fanuc = run_with(src, "mill3", Fanuc);
+        assert!(fanuc.completed(), "{src}: {:?}", fanuc.alarms);
+        assert_eq!(end(&fanuc)[0], 10.0, "{src}");
+    }
+    let library =
+        vec![std::sync::Arc::new(Stored { number: 2, first_line: 1, text: "O2\nG01 Y5.\nM99\n%@MACRO\n".into() })];
+    for dialect in [Syntec, Fanuc] {
+        let mut interp =
+            Interpreter::new(parse_file(""), Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
+        let main = "G90 G01 X10. F100.\nM98 P2\nG01 Z5.\nM30\n".to_string();
+        interp.load_source(&Source { main, library: library.clone() });
+        let mut out = Vec::new();
+        let outcome = loop {
+            match interp.step(&mut out) {
+                Ok(Step::Ended) => break None,
+                Ok(_) => {}
+                Err(a) => break Some((a.code, a.line)),
+            }
+        };
+        let p = interp.state.position();
+        if dialect == Syntec {
+            assert_eq!(outcome, Some(("COR-100".to_string(), 4)));
+            assert_eq!([p[0], p[1], p[2]], [10.0, 0.0, 0.0], "the main program's move ran, none of O2");
+        } else {
+            assert_eq!((outcome, [p[0], p[1], p[2]]), (None, [10.0, 5.0, 5.0]));
+        }
+    }
+}
+
 /// Audit findings 1, 2, 4: Syntec's modal state (#1000 interpolation mode, #1004 G90/G91),
 /// modal variables (#1080–#3100: #2001 was H1's wear, #3000 an alarm, #3001 the clock) and user
 /// parameters (#4001–#5500: #4001 was the modal G code, #5001 the position) were read and
@@ -92,6 +137,10 @@ fn syntec_variables_of_another_meaning_are_refused() {
     let numbers = [
         1000, 1004, 1015, 1099, 1100, 1135, 2001, 2002, 2201, 2400, 3000, 3001, 3002, 3004, 3006, 3011, 3100, 4001,
         4003, 4109, 4201, 4330, 5001, 5021, 5041, 5061, 5081, 5221, 5500,
+        // Not in the handbook at all (refused since the review of the ranges the handbook does
+        // not give, `docs/dialects.md`): Syntec locals fivex does not have, the part counts,
+        // G54.1 P offsets, tool offsets, G54.4 data, extended common variables.
+        34, 99, 200, 400, 499, 3901, 3902, 5501, 7001, 7960, 10001, 11001, 12001, 13999, 14001, 26000, 100000, 500000,
     ];
     for n in numbers {
         for src in
@@ -112,12 +161,12 @@ fn syntec_variables_of_another_meaning_are_refused() {
     let fanuc = run_with(src, "mill3", Fanuc);
     assert!(fanuc.completed());
     assert!((end(&fanuc)[2] - 115.0).abs() < 1e-9, "H1 100 + wear 5 + Z10: {:?}", end(&fanuc));
-    // What keeps its meaning: locals, #100–#199 in the main program, #500–#999, #3901.
-    let kept = "#1=1.\n#101=#1\n#500=2.\n#102=#500\n#103=#3901\nM30\n";
+    // What keeps its meaning: locals, #100–#199 in the main program, #500–#999.
+    let kept = "#1=1.\n#33=#1\n#101=#33\n#500=2.\n#102=#500\n#999=3.\nM30\n";
     let r = syntec(kept);
     assert!(r.completed(), "{:?}", r.alarms);
     assert_eq!(checked(kept, Syntec), []);
-    for n in [1000, 2001, 3001, 4001, 5001] {
+    for n in [1000, 2001, 3001, 3901, 4001, 5001, 7001, 11001, 100000] {
         assert!(run_with(&format!("#101=#{n}\nM30\n"), "mill3", Fanuc).completed(), "#{n}");
         assert_eq!(checked(&format!("#101=#{n}\nM30\n"), Fanuc), []);
     }
@@ -167,40 +216,101 @@ fn syntec_hundreds_start_vacant_at_each_cycle_start() {
         let state = &c.interpreter().state;
         assert_eq!(state.read(101).unwrap(), want, "{dialect:?}");
         assert_eq!(state.read(102).unwrap(), Some(1.0), "{dialect:?}");
+        // The host cannot set them in the Syntec dialect: the next cycle start would wipe the
+        // value unseen. #500–#999 it can.
+        let state = &mut c.interpreter_mut().state;
+        let set = state.set_common_variable(103, Some(7.0));
+        let want = if dialect == Syntec { Err(fivex_engine::AlarmId::WriteProtectedVariable) } else { Ok(()) };
+        assert_eq!(set, want, "{dialect:?}");
+        assert_eq!(state.set_common_variable(100_001, Some(7.0)).is_ok(), dialect == Fanuc);
+        assert_eq!(state.set_common_variable(500, Some(7.0)), Ok(()), "{dialect:?}");
     }
 }
 
-/// Audit finding 6: Syntec divides two integers (numbers without a decimal point) as integers
-/// (handbook §3.4: `1 / 2` is 0); fivex gave 3.5 for `7/2`. Refused (COR-100) where the answers may
-/// differ: both values whole, the quotient not, no operand written with a decimal point;
-/// `fivex check` reports a quotient of two literal numbers.
+/// Audit finding 6 and verification §3: Syntec divides two Longs (integers: numbers written
+/// without a decimal point, arguments so written, results of Longs) as integers, truncated
+/// (handbook §3.4: `1 / 2` is 0, `(1/2) * 1.0` is 0.0), and anything with a Double (a number or
+/// an argument written with a point, the result of a Double, ABS/SQRT) as reals (§3.9). fivex
+/// gave 3.5 for `7/2`, then refused by the *value* (`G65 … A15.` then `#1/2` was refused, `A15.5`
+/// ran). Values now carry their type through variables, arguments and expressions: a Long
+/// quotient is truncated as Syntec does; refused (COR-100) only where the handbook leaves the
+/// answer open: a negative Long quotient that is not whole (its rounding direction is "to be
+/// confirmed"), and a quotient that is not whole of whole values whose type fivex does not know.
+/// FANUC divides as reals. Expected values worked by hand from the handbook's rules.
 #[test]
-fn syntec_integer_division_is_refused_where_it_would_truncate() {
-    let value = |expr: &str| {
-        let r = syntec(&format!("#101={expr}\nM30\n"));
-        assert!(r.completed(), "{expr}: {:?}", r.alarms);
-        r.variables.iter().find(|(n, _)| *n == 101).map(|(_, v)| *v)
-    };
-    assert_eq!(value("7./2"), Some(3.5));
-    assert_eq!(value("7/2."), Some(3.5));
-    assert_eq!(value("-7./2"), Some(-3.5));
-    assert_eq!(value("[7.]/2"), Some(3.5));
-    assert_eq!(value("8/2"), Some(4.0));
-    assert_eq!(value("7.5/3"), Some(2.5));
-    for src in ["#101=7/2\nM30\n", "#101=1/2\nM30\n", "#101=[7]/-2\nM30\n", "G01 X[7/2] F100.\nM30\n"] {
+fn syntec_division_follows_syntec_types() {
+    let value = |src: &str, n: u32| {
         let r = syntec(src);
-        assert_eq!(alarms(&r), [("COR-100".to_string(), 1)], "{src}");
-        assert_eq!(checked(src, Syntec), [(1, 1, "COR-100".to_string())], "{src}");
+        assert!(r.completed(), "{src}: {:?}", r.alarms);
+        r.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v)
+    };
+    // Literals: a point makes a Double; two Longs truncate.
+    for (expr, want) in [
+        ("7./2", 3.5),
+        ("7/2.", 3.5),
+        ("-7./2", -3.5),
+        ("[7.]/2", 3.5),
+        ("7.5/3", 2.5),
+        ("8/2", 4.0),
+        ("7/2", 3.0),
+        ("1/2", 0.0),
+        ("[1/2]*1.0", 0.0),
+        ("10/4*2.", 4.0),
+        ("[1+2]/2.", 1.5),
+        ("10*3/4.", 7.5),
+        ("-8/2", -4.0),
+        ("ROUND[7.4]/2", 3.0),
+        ("SQRT[49]/2", 3.5),
+        ("ABS[-7]/2", 3.5),
+    ] {
+        assert_eq!(value(&format!("#101={expr}\nM30\n"), 101), Some(want), "{expr}");
+        assert_eq!(checked(&format!("#101={expr}\nM30\n"), Syntec), [], "{expr}");
+    }
+    // Through variables and arguments (verification §3: div2, div3, div8, div6).
+    let through = [
+        ("#2=7.\n#101=#2/2\nM30\n", 3.5),
+        ("#1=1.5\n#101=#1*2/4\nM30\n", 0.75),
+        ("#1=7\n#2=2\n#101=#1/#2\nM30\n", 3.0),
+        ("#1=7\n#2=2.\n#101=#1/#2\nM30\n", 3.5),
+        ("#101=7\n#102=#101/2\n#101=#102\nM30\n", 3.0),
+        ("#1=7\nM98 P2\nM30\nO2\n#101=#1/2\nM99\n", 3.0),
+        ("G65 P1000 A15.\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
+        ("G65 P1000 A15\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.0),
+        ("#5=15.\nG65 P1000 A#5\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
+        ("#5=15\nG65 P1000 A#5\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.0),
+        ("#5=15\nG65 P1000 A[#5*1.]\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
+    ];
+    for (src, want) in through {
+        let r = syntec(src);
+        assert!(r.completed(), "{src}: {:?}", r.alarms);
+        let got = if src.contains("G65") { r.machine[0] } else { value(src, 101).unwrap() };
+        assert_eq!(got, want, "{src}");
+    }
+    // The NC address takes the Long quotient.
+    assert_eq!(end(&syntec("G01 X[7/2] F100.\nM30\n"))[0], 3.0);
+    // Refused: a negative Long quotient that is not whole; an untyped whole value (FIX is
+    // FANUC's, the retained #500–#999 are not tracked, a host's value has no type).
+    for (src, line) in [
+        ("#101=-7/2\nM30\n", 1),
+        ("#101=[7]/-2\nM30\n", 1),
+        ("#1=-7\n#101=#1/2\nM30\n", 2),
+        ("#1=FIX[7.9]\n#101=#1/2\nM30\n", 2),
+        ("#500=7\n#101=#500/2\nM30\n", 2),
+    ] {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-100".to_string(), line)], "{src}");
         assert!(run_with(src, "mill3", Fanuc).completed(), "{src}");
+    }
+    for src in ["#101=-7/2\nM30\n", "G01 X[7/-2] F100.\nM30\n"] {
+        assert_eq!(checked(src, Syntec), [(1, 1, "COR-100".to_string())], "{src}");
         assert_eq!(checked(src, Fanuc), []);
     }
-    // Variables: their type is not known, so whole values whose quotient is not are refused.
-    let r = syntec("#1=7\n#2=2\n#101=#1/#2\nM30\n");
-    assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
-    assert!(syntec("#1=8\n#2=2\n#101=#1/#2\n#102=#1/3.\nM30\n").completed());
-    // A zero divisor stays the zero divide alarm.
+    // Vacant reads as 0; a zero divisor stays the zero divide alarm.
+    assert_eq!(value("#3=#1/2\n#101=1\nM30\n", 101), Some(1.0));
     assert_eq!(alarms(&syntec("#101=1/0\nM30\n")), [("COR-004".to_string(), 1)]);
+    // FANUC divides as reals.
     assert_eq!(var("#101=7/2\nM30\n", 101), Some(3.5), "FANUC");
+    assert_eq!(var("#1=1.5\n#101=#1*2/4\nM30\n", 101), Some(0.75), "FANUC");
 }
 
 /// Audit finding 5: Syntec's `M99 Q_` returns to a line number of the caller (handbook §5.2);
@@ -236,8 +346,20 @@ fn syntec_block_comment_across_lines_is_refused_at_its_opening() {
     assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 2)], [0.0, 0.0, 10.0]));
     let r = syntec("M98 P20\nM30\nO0020 (* sub\nG01 X5. F100.\n*)\nM99\n");
     assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
+    let r = syntec("G90 G01 X0 Y0 Z10. F1000\n(A) (* off\nG01 Z-5.\n*)\nM30\n");
+    assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 2)], [0.0, 0.0, 10.0]));
     // Closed on its line, or a plain comment: comments.
-    for ok in ["G01 X10. F100. (* finish *)\nM30\n", "(*** TOOL 1 ***)\nG01 X10. F100.\nM30\n", "(a (* b)\nM30\n"] {
+    // Every file the Syntec dialect runs is an ISO-format file, whose comment is `( … )`
+    // (handbook §4.10): a `(*` closed by `)` on its line is a comment, as posts write them
+    // (`(* ROUGH)` was refused).
+    for ok in [
+        "G01 X10. F100. (* finish *)\nM30\n",
+        "(*** TOOL 1 ***)\nG01 X10. F100.\nM30\n",
+        "(a (* b)\nM30\n",
+        "(* ROUGH)\nG01 X10. F100.\nM30\n",
+        "G01 X10. F100. (*ROUGH) (* T1 D10 *)\nM30\n",
+        "(*)\nM30\n",
+    ] {
         let r = syntec(ok);
         assert!(r.completed(), "{ok}: {:?}", r.alarms);
         assert_eq!(checked(ok, Syntec), [], "{ok}");

@@ -1,4 +1,5 @@
-//! Macro variables: read any a program may read; write the common ones (#100–#199) and the
+//! Macro variables: read any a program may read; write the common ones (#100–#199; not in the
+//! Syntec dialect, where they are a program's locals: `service::settings::set_variable`) and the
 //! retained ones (#500–#999, saved in the database before the answer).
 
 use crate::http::extract::Addressed;

@@ -402,7 +402,9 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
         let mut first_line = 1u32;
         let mut rest = text.as_str();
         // Parts end at a line end near these sizes: small first, so interpretation starts at once.
-        let mut part_bytes = 32 * 1024;
+        // A Syntec `%@MACRO` line refuses the whole file before anything of it runs: such a
+        // file comes as one part, so the interpreter sees the line before it starts.
+        let mut part_bytes = if fivex_engine::lang::has_macro_format_line(&text) { usize::MAX } else { 32 * 1024 };
         while !rest.is_empty() {
             let end = rest.get(part_bytes..).and_then(|t| t.find('\n')).map_or(rest.len(), |i| part_bytes + i + 1);
             let (chunk, tail) = rest.split_at(end);
@@ -412,7 +414,7 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
                 return;
             }
             rest = tail;
-            part_bytes = 512 * 1024;
+            part_bytes = part_bytes.max(512 * 1024);
         }
     });
     // Interpretation and JSON formatting run side by side: the interpreter hands batches of

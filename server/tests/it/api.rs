@@ -474,6 +474,17 @@ async fn only_common_variables_are_writable_and_values_must_be_numbers() {
     assert_eq!(app.get(&v(99999)).await.status, StatusCode::UNPROCESSABLE_ENTITY);
     app.put(&v(150), &json!({"value": 4})).await;
     assert_eq!(app.get(&format!("{C}/{id}/variables")).await.json(), json!([{"number": 150, "value": 4.0}]));
+    // Syntec: #100–#199 are a program's locals, vacant at each cycle start: a value set before
+    // it was wiped unseen (the 200 said it was set). Refused with the reason; #500… still set.
+    let syntec = create(&app, json!({"name": "s", "preset": "mill3", "dialect": "syntec"})).await;
+    let s = |n: u32| format!("{C}/{syntec}/variables/{n}");
+    for n in [100, 150, 199, 100_001, 500_001] {
+        let reply = app.put(&s(n), &json!({"value": 4})).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "#{n}");
+        assert!(error_of(&reply).contains("Syntec"), "{}", error_of(&reply));
+    }
+    assert_eq!(app.put(&s(500), &json!({"value": 2.5})).await.status, StatusCode::OK);
+    assert_eq!(app.get(&format!("{C}/{syntec}/variables")).await.json(), json!([{"number": 500, "value": 2.5}]));
 }
 
 #[tokio::test]
