@@ -277,22 +277,26 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                         diags.push(at(l.col, AlarmId::ImproperAddress, detail.into()));
                     }
                     // A call needs the P that names its program (Haas M97: its line). Syntec's
-                    // `M98 H…` is refused as not built above, which the run raises first.
+                    // M98/M198 without P are its own (below).
                     let literal_m = |m: u32| {
                         words.iter().find(|w| {
                             w.letter == b'M' && matches!(w.value, WordValue::Number { value, .. } if value == m as f64)
                         })
                     };
                     let m97 = literal_m(mcode::M97).filter(|_| dialect == Dialect::Haas);
-                    let syntec_h = dialect == Dialect::Syntec && words.iter().any(|w| w.letter == b'H');
-                    if (calls || m97.is_some()) && !syntec_h && !words.iter().any(|w| w.letter == b'P') {
-                        let call = m97.or(literal_m(mcode::M98)).or_else(|| {
+                    if (calls || m97.is_some()) && !words.iter().any(|w| w.letter == b'P') {
+                        let macro_call = || {
                             words.iter().find(|w| {
                                 w.letter == b'G'
                                     && matches!(w.value, WordValue::Number { value, .. }
                                         if gcode::code_of(value).is_some_and(|c| code::MACRO_CALLS.contains(&c)))
                             })
-                        });
+                        };
+                        let call = if dialect == Dialect::Syntec {
+                            macro_call()
+                        } else {
+                            m97.or(literal_m(mcode::M98)).or_else(macro_call)
+                        };
                         if let Some(call) = call {
                             diags.push(at(call.col, AlarmId::MissingP, "no P: the line or program to call".into()));
                         }
