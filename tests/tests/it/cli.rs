@@ -650,8 +650,8 @@ fn check_reports_a_block_over_the_interpreters_limits_without_looking_at_each_wo
     assert_eq!(code_of(1).as_deref(), Some("PS0009"));
     assert_eq!(code_of(2).as_deref(), Some("PS0009"));
     assert_eq!(code_of(3).as_deref(), Some("PS0010"));
-    for i in 0..3 {
-        let run = fivex(&["run", s(&p[i])]);
+    for program in &p[..3] {
+        let run = fivex(&["run", s(program)]);
         assert!(stdout(&run).contains("\"alarm\""), "the run refuses it too: {}", stdout(&run));
     }
 }
