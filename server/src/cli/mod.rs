@@ -513,7 +513,16 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
         let mut cfg = Config::new(machine, a.dialect);
         cfg.max_blocks = CHECK_MAX_BLOCKS;
         let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
-        let stop = machine_alarm(interp, on_machine).filter(|s| on_machine || s.compensating);
+        let (stop, unheld_call) = machine_alarm(interp, on_machine);
+        let stop = stop.filter(|s| on_machine || s.compensating);
+        if let Some(line) = unheld_call.filter(|_| on_machine) {
+            // Not a diagnostic (the control may hold the program), but the check is partial.
+            eprintln!(
+                "{}:{line}: the run on {name} ends at this call of a program the file does not hold: \
+                 the blocks after it are checked from the text only",
+                a.program.display()
+            );
+        }
         // Where the text itself is wrong the static diagnostic says it already.
         if let Some(fivex_engine::check::RunStop { alarm, .. }) = stop {
             if !lines.iter().any(|(line, ..)| *line == alarm.line) {
@@ -540,10 +549,13 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
 
 /// How a program stops when the interpreter and the path stages run it on a machine (nothing
 /// moves), if it does; the strokes are checked on the machine the caller named (`strokes`), not
-/// on the default one. A call of a program the file does not hold is not an alarm here: a check
-/// sees one file, the control has them all. Only that cause is passed over: a missing sequence
-/// number or a call without P share FANUC's PS0078 but are errors of the file itself.
-fn machine_alarm(mut interp: Interpreter, strokes: bool) -> Option<fivex_engine::check::RunStop> {
-    fivex_engine::check::run_without_motion(&mut interp, strokes)
-        .filter(|s| s.id != Some(fivex_engine::alarm::AlarmId::ProgramNotFound))
+/// on the default one. A call of a program the file does not hold is not an alarm here (a check
+/// sees one file, the control has them all; a missing sequence number or a call without P
+/// share FANUC's PS0078 but are errors of the file itself): the run ends there, and its line
+/// is returned instead, as the lines after it were not run.
+fn machine_alarm(mut interp: Interpreter, strokes: bool) -> (Option<fivex_engine::check::RunStop>, Option<u32>) {
+    match fivex_engine::check::run_without_motion(&mut interp, strokes) {
+        Some(s) if s.id == Some(fivex_engine::alarm::AlarmId::ProgramNotFound) => (None, Some(s.alarm.line)),
+        stop => (stop, None),
+    }
 }

@@ -68,12 +68,14 @@ pub async fn set_variable(
     }
     // Syntec: #100–#199 are a program's local variables there, vacant at each cycle start, so a
     // value set now would be wiped before any program read it; the extended numbers are no
-    // Syntec program's (`docs/dialects.md`, "The Syntec macro language").
-    if hosted.dialect == fivex_engine::Dialect::Syntec && !signal && !matches!(number, 500..=999) {
+    // Syntec program's, and #1000… are Syntec's modal state, which its programs read as such (a
+    // FANUC input signal there is refused, COR-021): a value set there would reach nothing
+    // (`docs/dialects.md`, "The Syntec macro language").
+    if hosted.dialect == fivex_engine::Dialect::Syntec && !matches!(number, 500..=999) {
         return Err(ServiceError::invalid(format!(
             "#{number} is not writable in the Syntec dialect: #100–#199 are a Syntec program's local \
-             variables, vacant at each cycle start, and #100000… are no Syntec variables (#500–#999 \
-             and the input signals #1000–#1035 are writable)"
+             variables, vacant at each cycle start, #1000… its modal state (no input signals), and \
+             #100000… are no Syntec variables (#500–#999 are writable)"
         )));
     }
     if value.is_some_and(|v| !v.is_finite()) {

@@ -630,6 +630,8 @@ fn check_on_a_machine_passes_over_only_a_program_the_file_lacks() {
         let out = fivex(&["check", s(&p[2]), "--preset", "mill3", "--dialect", dialect]);
         let lines: Vec<String> = stdout(&out).lines().map(str::to_string).collect();
         assert!(lines.iter().all(|l| !l.ends_with("when run on mill3")), "{dialect}: {lines:?}");
+        // The run ends at that call: the check says the blocks after it were not run.
+        assert!(stderr(&out).contains(":2: the run on mill3 ends at this call"), "{dialect}: {}", stderr(&out));
     }
 }
 
