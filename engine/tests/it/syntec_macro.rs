@@ -32,6 +32,18 @@ fn checked(src: &str, dialect: Dialect) -> Vec<(u32, u32, String)> {
 }
 
 /// The machine position at the end of the run.
+/// Step `interp` to its end: the alarm it stops with (code, line), if any.
+fn stop_of(interp: &mut Interpreter) -> Option<(String, u32)> {
+    let mut out = Vec::new();
+    loop {
+        match interp.step(&mut out) {
+            Ok(Step::Ended) => return None,
+            Ok(_) => out.clear(),
+            Err(a) => return Some((a.code, a.line)),
+        }
+    }
+}
+
 fn end(r: &RunResult) -> [f64; 3] {
     let p = r.machine;
     [p[0], p[1], p[2]]
@@ -69,14 +81,7 @@ fn a_macro_format_file_is_refused_at_its_header() {
         interp.push_part(parse_part("%@MACRO\n", 1, false));
         interp.push_part(parse_part("O1000\nG90 G01 X10. F100.\nM30\n", 2, true));
         interp.finish();
-        let mut out = Vec::new();
-        let outcome = loop {
-            match interp.step(&mut out) {
-                Ok(Step::Ended) => break None,
-                Ok(_) => {}
-                Err(a) => break Some((a.code, a.line)),
-            }
-        };
+        let outcome = stop_of(&mut interp);
         let want = (dialect == Syntec).then(|| ("COR-100".to_string(), 1));
         assert_eq!(outcome, want, "{dialect:?}");
     }
@@ -109,14 +114,7 @@ fn a_macro_format_line_anywhere_refuses_the_file_before_anything_runs() {
             Interpreter::new(parse_file(""), Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
         let main = "G90 G01 X10. F100.\nM98 P2\nG01 Z5.\nM30\n".to_string();
         interp.load_source(&Source { main, library: library.clone() });
-        let mut out = Vec::new();
-        let outcome = loop {
-            match interp.step(&mut out) {
-                Ok(Step::Ended) => break None,
-                Ok(_) => {}
-                Err(a) => break Some((a.code, a.line)),
-            }
-        };
+        let outcome = stop_of(&mut interp);
         let p = interp.state.position();
         if dialect == Syntec {
             assert_eq!(outcome, Some(("COR-100".to_string(), 4)));
