@@ -341,13 +341,14 @@ pub fn cutter(b: &CutterBlock) -> Option<&'static str> {
     .find_map(|(refused, function)| refused.then_some(function))
 }
 
-/// An address letter fivex reads but no function of it uses in `dialect`: E (FANUC M series:
-/// the thread lead of G33, which is not built), the comma addresses of chamfering and corner
+/// An address letter fivex reads but no function of it uses in `dialect`: E (FANUC M series and
+/// Syntec: the thread lead of G33, which is not built; Haas: [`HAAS_E`]), the comma addresses of chamfering and corner
 /// rounding (`,C` `,R`: performed in FANUC and Haas, `interp::chamfer`; Syntec's form is not
 /// known) and of the angle of direct drawing dimension programming (`,A`), in the lower case
 /// `lang::ast::Word::letter` gives them. Macro call arguments (G65/G66) are not addresses here.
 pub fn address(letter: u8, dialect: Dialect) -> Option<&'static str> {
     match letter {
+        b'E' if dialect == Dialect::Haas => Some(HAAS_E),
         b'E' => Some("address E (thread lead)"),
         b'c' if dialect == Dialect::Syntec => Some("chamfering (,C)"),
         b'r' if dialect == Dialect::Syntec => Some("corner rounding (,R)"),
@@ -355,6 +356,13 @@ pub fn address(letter: u8, dialect: Dialect) -> Option<&'static str> {
         _ => None,
     }
 }
+
+/// What the NGC mill's E is where fivex refuses it: the E of G187 (contouring accuracy,
+/// performed) and of G47 (engraving feed, G47 refused as a whole) are `argument_of` those codes;
+/// anywhere else it is the E of a function fivex does not build (the NGC's G82 chip-clean
+/// speed…). The mill has no G33, so "thread lead" named no function of the dialect (Haas's
+/// address list: "E Engraving Feed Rate or Contouring Accuracy", `docs/dialects.md`).
+pub const HAAS_E: &str = "address E outside G187 (contouring accuracy) and G47 (engraving feed)";
 
 /// A word of a subprogram call or return block (M98/M198, M99) that asks for a form of the call
 /// fivex does not carry out in `dialect` (`docs/dialects.md`, "Functions not built"). Syntec:

@@ -534,6 +534,28 @@ fn e_in_a_macro_call_is_an_argument_for_check_as_for_the_run() {
     assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(1, 9)]);
 }
 
+/// E outside its codes is refused in every dialect; what `fivex check` calls it is the
+/// dialect's own E: FANUC's and Syntec's thread lead of G33, but the Haas NGC mill has no G33
+/// (its E is G187's contouring accuracy and G47's engraving feed, Haas's address list), where
+/// "thread lead" named no function the control has (verification audit, Haas item 5).
+#[test]
+fn check_names_the_dialect_s_own_e() {
+    let detail = |dialect| {
+        let diags = check(parse_file("G01 X1. E0.5 F100\nM30\n"), dialect);
+        assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(1, 9)], "{dialect:?}");
+        diags[0].detail.clone()
+    };
+    for dialect in [Fanuc, Syntec] {
+        assert_eq!(detail(dialect), "address E (thread lead) is not built in fivex");
+    }
+    let haas = detail(Haas);
+    assert!(!haas.contains("thread"), "{haas}");
+    assert!(haas.contains("G187") && haas.contains("G47"), "{haas}");
+    // The run refuses it at its block all the same (311 UNKNOWN CODE).
+    let r = run_with("G01 X1. E0.5 F100\nM30\n", PRESET, Haas);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("311", 1));
+}
+
 #[test]
 fn the_refused_forms_of_a_code_are_values_not_the_code() {
     // Conditional refusals: the performed values of the same code run (the PERFORMED list has
