@@ -294,6 +294,10 @@ pub enum AlarmId {
     /// is not built for: TCP, a tilted working plane or DWO, G54.4, cutter compensation,
     /// smoothing.
     CornerRoundingInMode,
+    // --- Haas tool length compensation (`interp::nc`) ------------------------------------------
+    /// Haas: G43/G44 in force after a block that selects it with no tool length offset H given
+    /// in it or in force (none since power-on or a reset, or H0): the length would be 0.
+    LengthCompWithoutH,
 }
 
 impl AlarmId {

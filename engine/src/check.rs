@@ -39,10 +39,16 @@ use std::collections::HashSet;
 pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
     let mut diags = file.diagnostics;
     let numbers: HashSet<u32> = file.programs.iter().filter_map(|p| p.number).collect();
+    let mut main = true;
     for program in file.programs {
         let loaded = Loaded::new(program);
         if dialect == Dialect::Haas {
             haas_modes(&loaded, &mut diags);
+            // The run starts at the first program, with no H in force.
+            if main && !loaded.is_header() {
+                haas_length_without_h(&loaded, &mut diags);
+                main = false;
+            }
         }
         if dialect == Dialect::Fanuc {
             nurbs_mode(&loaded, &mut diags);
@@ -505,6 +511,49 @@ fn haas_modes(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
         }
         if word(b'M', &|v| v == mcode::M02 as f64 || v == mcode::M30 as f64).is_some() {
             (dwo, tcpc, rounding) = (false, false, false);
+        }
+    }
+}
+
+/// Haas: a G43/G44 block without H where no H is in force (`754`, the interpreter's
+/// `refuse_length_without_h`), found in the main program from its top, where the run starts
+/// with none: the blocks are read in order up to the first one after which the text no longer
+/// tells the H in force (a jump, a loop, a call or return, M02/M30, an H given by an expression,
+/// an unparsed block). A block the block delete switch may skip neither reports nor clears.
+fn haas_length_without_h(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
+    let mut no_h = true;
+    for block in loaded.blocks() {
+        let words = match &block.kind {
+            BlockKind::Empty | BlockKind::Assign { .. } | BlockKind::Output(_) => continue,
+            BlockKind::Words(words) => words,
+            _ => return,
+        };
+        let number = |letter: u8, wanted: &dyn Fn(f64) -> bool| {
+            words.iter().any(|w| w.letter == letter && matches!(w.value, WordValue::Number { value, .. } if wanted(value)))
+        };
+        let optional = block.block_delete.is_some();
+        match literal(words, b'H') {
+            Word::Unknown => return,
+            Word::Value(h) if !optional => no_h = h == 0.0,
+            Word::Value(_) => no_h = false,
+            Word::Absent => {}
+        }
+        let length = words.iter().find(|w| {
+            w.letter == b'G'
+                && matches!(w.value, WordValue::Number { value, .. }
+                    if matches!(gcode::code_of(value), Some(code::G43 | code::G44)))
+        });
+        if let Some(g) = length.filter(|_| no_h && !optional && literal(words, b'H') == Word::Absent) {
+            diags.push(Diagnostic {
+                line: block.line,
+                col: g.col,
+                id: AlarmId::LengthCompWithoutH,
+                detail: "G43/G44 without H, and no tool length offset H in force (decision)".into(),
+            });
+        }
+        let flow = [mcode::M02, mcode::M30, mcode::M97, mcode::M98, mcode::M99];
+        if number(b'M', &|v| flow.iter().any(|&m| v == m as f64)) || number(b'G', &|v| gcode::code_of(v).is_some_and(|c| code::MACRO_CALLS.contains(&c))) {
+            return;
         }
     }
 }

@@ -235,6 +235,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::CornerNotG01,
     AlarmId::CornerTooShort,
     AlarmId::CornerRoundingInMode,
+    AlarmId::LengthCompWithoutH,
 ];
 
 /// (FANUC, Syntec) code and message of every alarm that carries no data.
@@ -424,6 +425,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         CornerTooShort => (("PS0055", "MISSING MOVE VALUE IN CHF/CNR"), COR100),
         // Raised in the Haas dialect only (G187 is the NGC's); the columns for completeness.
         CornerRoundingInMode => (("PS0010", "IMPROPER G-CODE"), COR100),
+        // Raised in the Haas dialect only (FANUC and Syntec run G43 with the H in force, H0 a
+        // length of 0); the columns are their alarms for a wrong offset number.
+        LengthCompWithoutH => (("PS0030", "ILLEGAL OFFSET NUMBER"), ("COR-011", "Illegal offset number")),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }
@@ -523,6 +527,9 @@ fn haas(id: &AlarmId) -> Text {
         // Constructed: fivex's refusal, not the NGC's (which was `310 INVALID G CODE`, calling the
         // valid G254 or G234 invalid).
         CornerRoundingInMode => ("753", "G187 CORNER ROUNDING NOT BUILT IN THIS MODE"),
+        // Constructed: no Haas source says what the NGC does with G43/G44 and no H
+        // (`docs/dialects.md`, "Haas: the dialect's core"), so fivex refuses it.
+        LengthCompWithoutH => ("754", "G43/G44 WITHOUT TOOL LENGTH OFFSET (H)"),
         // Alarms with data are described in `Dialect::describe`; this arm is never taken.
         MacroAlarm { .. }
         | BlockBudgetExceeded { .. }

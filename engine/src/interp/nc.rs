@@ -840,6 +840,7 @@ impl State {
                 self.modes[group::LENGTH_COMP] = code::G49;
             }
         }
+        self.refuse_length_without_h(w)?;
         if !tool_length_changed && self.restores_length_vector(w, axes_owner, transform_axes) {
             self.refresh_tool_length();
         }
@@ -1248,6 +1249,20 @@ impl State {
     /// moves only the axes it names.
     fn g28_returns_every_axis(&self, w: &Words) -> bool {
         self.cfg.dialect == Dialect::Haas && !self.cfg.machine.axes.iter().any(|a| w.has(a.name as u8))
+    }
+
+    /// Haas: a block that selects G43/G44 with no tool length offset H in it or in force (none
+    /// since power-on or a reset, or H0) is refused (`754`, constructed). The length would be
+    /// 0: `G43 Z50.` would put the spindle nose at Z50., the real tip a tool length below it.
+    /// No Haas source says what the NGC does (*decision*, `docs/dialects.md`, "Haas:
+    /// the dialect's core", as G234 without H). FANUC and Syntec run it with H0's length 0.
+    fn refuse_length_without_h(&self, w: &Words) -> Result<(), AlarmId> {
+        let selects = matches!(self.block_code(w, group::LENGTH_COMP), Some(code::G43 | code::G44));
+        let in_force = matches!(self.modes[group::LENGTH_COMP], code::G43 | code::G44);
+        if self.cfg.dialect == Dialect::Haas && selects && in_force && self.h == 0 {
+            return Err(AlarmId::LengthCompWithoutH);
+        }
+        Ok(())
     }
 
     /// Haas and Syntec: a G49 block (G43/G44, G234 or RTCP ending) moves nothing when it has no

@@ -213,3 +213,35 @@ fn tool_offsets_beyond_200_are_a_range_error_in_haas() {
     assert_eq!(tcpc.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("331", 2)));
     assert_eq!(alarm_with("G43 H1000 Z10.\nM30\n", Fanuc), "PS0030");
 }
+
+/// Haas: a block that selects G43/G44 with no H given or in force (none since power-on, or H0)
+/// is `754` at its block, and `fivex check` reports it in the main program (constructed code,
+/// *decision*: no Haas source says what the NGC does; before, `G43 Z50.` ran with a length of
+/// 0, the spindle nose at machine Z −400 + 50 = −350 and the 100 mm tool's tip at −450, where
+/// Z50. was programmed). With an H in force it runs with that length: −400 + 50 + 100 = −250.
+/// FANUC keeps H0's length of 0 (−350).
+#[test]
+fn g43_without_h_is_refused_in_haas() {
+    let head = "G10 L2 P1 Z-400.\nG90 G54 G00 G17 G40 G49 G80\n";
+    for block in ["G43 Z50.", "G44 Z50.", "G43 H1 Z50.\nH0 Z60.\nG43 Z50."] {
+        let src = format!("{head}{block}\nM30\n");
+        let line = 2 + block.lines().count() as u32;
+        let r = run_with(&src, "mill3", Haas);
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("754", line)), "{block}");
+        let diags = check(parse_file(&src), Haas);
+        assert_eq!(diags.iter().map(|d| (d.line, d.col)).collect::<Vec<_>>(), vec![(line, 1)], "{block}");
+        assert!(run_with(&src, "mill3", Fanuc).completed(), "FANUC {block}");
+    }
+    assert!(approx(machine_at_end(&format!("{head}G43 Z50.\nM30\n"), "mill3", Fanuc)[2], -350.0));
+    // An H in force: given alone before, or kept through G49 (as FANUC's H is; no source either
+    // way for the NGC). H0 in the G43 block cancels it (the G49 page): no length, no alarm.
+    for (block, z) in [("H1\nG43 Z50.", -250.0), ("G43 H1 Z80.\nG49 Z80.\nG43 Z50.", -250.0), ("G43 H0 Z50.", -350.0)] {
+        let src = format!("{head}{block}\nM30\n");
+        assert!(approx(machine_at_end(&src, "mill3", Haas)[2], z), "{block}");
+        assert_eq!(check(parse_file(&src), Haas), vec![], "{block}");
+    }
+    // Check reads no further than the text tells the H: after a call, a subprogram's G43 alone.
+    let called = format!("{head}M98 P100\nG43 Z50.\nM30\nO100\nH1\nG43 Z50.\nM99\n");
+    assert_eq!(check(parse_file(&called), Haas), vec![]);
+    assert!(run_with(&called, "mill3", Haas).completed());
+}
