@@ -529,7 +529,9 @@ fn haas_length_without_h(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
             _ => return,
         };
         let number = |letter: u8, wanted: &dyn Fn(f64) -> bool| {
-            words.iter().any(|w| w.letter == letter && matches!(w.value, WordValue::Number { value, .. } if wanted(value)))
+            words
+                .iter()
+                .any(|w| w.letter == letter && matches!(w.value, WordValue::Number { value, .. } if wanted(value)))
         };
         let optional = block.block_delete.is_some();
         match literal(words, b'H') {
@@ -552,7 +554,9 @@ fn haas_length_without_h(loaded: &Loaded, diags: &mut Vec<Diagnostic>) {
             });
         }
         let flow = [mcode::M02, mcode::M30, mcode::M97, mcode::M98, mcode::M99];
-        if number(b'M', &|v| flow.iter().any(|&m| v == m as f64)) || number(b'G', &|v| gcode::code_of(v).is_some_and(|c| code::MACRO_CALLS.contains(&c))) {
+        if number(b'M', &|v| flow.iter().any(|&m| v == m as f64))
+            || number(b'G', &|v| gcode::code_of(v).is_some_and(|c| code::MACRO_CALLS.contains(&c)))
+        {
             return;
         }
     }
