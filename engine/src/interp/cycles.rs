@@ -25,7 +25,9 @@ use crate::canon::{Canon, CanonKind, FeedMode, Motion, MotionKind, Pos, SpindleS
 use crate::dialect::Dialect;
 use crate::notice::BlockNotice;
 
-/// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm.
+/// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm. The Haas dialect uses
+/// them too: its G73 retract is Setting 22 and G83's return to R is raised by Setting 52, whose
+/// defaults no source at hand gives (unverified, `docs/dialects.md`, "Haas cycles").
 const G73_RETRACT: f64 = 0.5;
 const G83_CLEARANCE: f64 = 0.5;
 
@@ -434,6 +436,8 @@ impl State {
                     self.move_drill_axis(d, ret, Rapid, out)?;
                 }
             }
+            // The shift goes toward + of the plane's first axis: FANUC's default, and the Haas
+            // dialect's where Setting 27 is X+ (its default unverified, `docs/dialects.md`).
             code::G76 => {
                 self.move_drill_axis(d, c.z, Linear, out)?;
                 dwell(self, out);
