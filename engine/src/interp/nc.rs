@@ -471,7 +471,8 @@ impl State {
     /// and subprogram and macro calls and returns with nothing else (FANUC treats such a block
     /// like a macro statement, e.g. in single block); the blocks they lead to count. A call or
     /// return with anything else (`G90 M99`, `G91 M98 P…`) counts as any block: its G code is
-    /// an NC command ("G90 ; G code only").
+    /// an NC command ("G90 ; G code only"). A Syntec subprogram's M02/M30 is its return (as
+    /// M99), alone or not.
     fn count_without_motion(
         &mut self,
         w: &Words,
@@ -484,7 +485,11 @@ impl State {
             return;
         }
         let macro_code = |c: &u16| code::MACRO_CALLS.contains(c) || *c == code::G67;
-        let sub_code = |m: &u32| mcode::call_or_return(*m) || *m == mcode::M97;
+        // A Syntec subprogram's M02/M30 that returned to the caller is that return, as M99.
+        let returned = self.frames.len() < depth;
+        let sub_code = |m: &u32| {
+            mcode::call_or_return(*m) || *m == mcode::M97 || returned && matches!(*m, mcode::M02 | mcode::M30)
+        };
         let alone = if w.gcodes().iter().any(macro_code) {
             // Every other letter of G65/G66 is an argument.
             w.gcodes().iter().all(macro_code)
