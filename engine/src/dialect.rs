@@ -365,7 +365,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         IllegalScaleRate => (("PS0142", "ILLEGAL SCALE RATE"), ("COR-045", "Illegal scaling magnification")),
         IllegalPlaneInRotation => (("PS0144", "ILLEGAL PLANE SELECTED"), ("COR-035", "Arc outside the rotation plane")),
         MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),
-        VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-021", "Variable number out of range")),
+        // Syntec: the handbook's "不合法的变数存取" (§2.8, §9.14: a variable outside the open
+        // ranges, or not allowed where it is used).
+        VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-016", "Illegal variable access")),
         WriteProtectedVariable => (("PS0116", "WRITE PROTECTED VARIABLE"), ("COR-022", "Variable is read-only")),
         // Syntec: the Syntec MACRO handbook's §9.14 alarm table names COR-004 "运算域错误" (an
         // operation's domain error, its example ATAN2(0,0)): the code of the arguments a function

@@ -465,7 +465,7 @@ fn the_current_position_is_refused_where_a_compensation_vector_may_stand() {
             let r = run_with(&src, if body.contains("G41.2") { "head-bc" } else { "mill3" }, dialect);
             assert_eq!(r.alarms.len(), 1, "{dialect:?} {src}");
             // Syntec's #5001…#5500 are its user parameters: refused as any use of them.
-            let code = if dialect == Syntec { "COR-021" } else { "FX0006" };
+            let code = if dialect == Syntec { "COR-016" } else { "FX0006" };
             assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, line), "{dialect:?} {src}");
         }
     }

@@ -195,3 +195,18 @@ fn syntec_alarm_codes_do_not_collide_with_the_handbooks() {
     assert_eq!(message(AlarmId::MissingP).0, "COR-052");
     assert_eq!(message(AlarmId::ArgumentOutOfRange), ("COR-004".into(), "Operation domain error".into()));
 }
+
+/// A variable number the Syntec dialect does not keep is the handbook's `COR-016` "不合法的变数
+/// 存取" (illegal variable access: §2.8's "存取超出开放范围或当前应用不允许的变量", a variable outside
+/// the open ranges or not allowed here, and §9.14), read or written, in the run and in `fivex
+/// check`; it was the constructed COR-021. FANUC keeps PS0115.
+#[test]
+fn a_variable_out_of_the_kept_ranges_is_the_handbooks_cor_016() {
+    for src in ["#34=1.\nM30\n", "#1=#3901\nM30\n", "G00 X#1100\nM30\n"] {
+        assert_eq!(alarm_with(src, Syntec), "COR-016", "{src}");
+        assert_eq!(checked(src, Syntec), [(1, "COR-016".to_string())], "{src}");
+    }
+    assert_eq!(alarm_with("#34=1.\nM30\n", Fanuc), "PS0115");
+    let message = Syntec.describe(&fivex_engine::alarm::AlarmId::VariableOutOfRange);
+    assert_eq!(message, ("COR-016".into(), "Illegal variable access".into()));
+}

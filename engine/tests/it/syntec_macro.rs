@@ -128,7 +128,7 @@ fn a_macro_format_line_anywhere_refuses_the_file_before_anything_runs() {
 /// Audit findings 1, 2, 4: Syntec's modal state (#1000 interpolation mode, #1004 G90/G91),
 /// modal variables (#1080–#3100: #2001 was H1's wear, #3000 an alarm, #3001 the clock) and user
 /// parameters (#4001–#5500: #4001 was the modal G code, #5001 the position) were read and
-/// written with fivex's FANUC meaning. Refused (COR-021) when read and when written, at the
+/// written with fivex's FANUC meaning. Refused (COR-016) when read and when written, at the
 /// block, by the run and by `fivex check`; FANUC keeps them.
 #[test]
 fn syntec_variables_of_another_meaning_are_refused() {
@@ -145,17 +145,17 @@ fn syntec_variables_of_another_meaning_are_refused() {
             [format!("G01 X1. F100.\n#101=#{n}\nG01 X2.\nM30\n"), format!("G01 X1. F100.\n#{n}=1.\nG01 X2.\nM30\n")]
         {
             let r = syntec(&src);
-            assert_eq!(alarms(&r), [("COR-021".to_string(), 2)], "{src}");
+            assert_eq!(alarms(&r), [("COR-016".to_string(), 2)], "{src}");
             assert_eq!(end(&r)[0], 1.0, "{src}");
-            assert_eq!(checked(&src, Syntec), [(2, 1, "COR-021".to_string())], "{src}");
+            assert_eq!(checked(&src, Syntec), [(2, 1, "COR-016".to_string())], "{src}");
         }
     }
     // By an expression: the run finds it.
     let r = syntec("#101=2001\n#[#101]=5.\nM30\n");
-    assert_eq!(alarms(&r), [("COR-021".to_string(), 2)]);
+    assert_eq!(alarms(&r), [("COR-016".to_string(), 2)]);
     // The report's program (reproB): #2001 changed H1's length in the Syntec dialect.
     let src = "G90 G00 X0 Y0 Z100.\n#2001=5.\nG43 H1 Z10.\nM30\n";
-    assert_eq!(alarms(&syntec(src)), [("COR-021".to_string(), 2)]);
+    assert_eq!(alarms(&syntec(src)), [("COR-016".to_string(), 2)]);
     let fanuc = run_with(src, "mill3", Fanuc);
     assert!(fanuc.completed());
     assert!((end(&fanuc)[2] - 115.0).abs() < 1e-9, "H1 100 + wear 5 + Z10: {:?}", end(&fanuc));
@@ -179,16 +179,16 @@ fn syntec_variables_of_another_meaning_are_refused() {
 fn syntec_hundreds_are_refused_in_a_macro_call() {
     let repro = "G90 G01 X0 Y0 Z0 F1000\n#101=10.\nG65 P1000 A5.\nG90 G01 X#101\nM30\nO1000\n#101=#1*4.\nG91 G01 Y#101\nG90\nM99\n";
     let r = syntec(repro);
-    assert_eq!(alarms(&r), [("COR-021".to_string(), 7)]);
+    assert_eq!(alarms(&r), [("COR-016".to_string(), 7)]);
     assert_eq!(end(&r), [0.0; 3]);
     let fanuc = run_with(repro, "mill3", Fanuc);
     assert!(fanuc.completed());
     assert_eq!(end(&fanuc), [20.0, 20.0, 0.0], "FANUC's common #101 is the macro's");
     // Read in a G66 call; read in an M98 subprogram of a G65 call.
     let g66 = "#101=1.\nG66 P1000\nG01 X1. F100.\nG67\nM30\nO1000\n#1=#101\nM99\n";
-    assert_eq!(alarms(&syntec(g66)), [("COR-021".to_string(), 7)]);
+    assert_eq!(alarms(&syntec(g66)), [("COR-016".to_string(), 7)]);
     let nested = "G65 P1000\nM30\nO1000\nM98 P2000\nM99\nO2000\n#1=#150\nM99\n";
-    assert_eq!(alarms(&syntec(nested)), [("COR-021".to_string(), 7)]);
+    assert_eq!(alarms(&syntec(nested)), [("COR-016".to_string(), 7)]);
     // M98 shares the main program's: the subprogram's #101 is the caller's.
     let m98 = "#101=10.\nM98 P1000\nG01 X#101 F100.\nM30\nO1000\n#101=#101*2.\nM99\n";
     let r = syntec(m98);
