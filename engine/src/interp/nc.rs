@@ -383,6 +383,16 @@ impl State {
         self.modal_calls.iter().enumerate().find(|(i, mc)| mc.level + (n - 1 - i) == self.level()).map(|(_, mc)| mc)
     }
 
+    /// The local variables a G66 call starts with: FANUC's fresh ones from the G66 block's
+    /// arguments; Syntec's shared by the G66's calls until G67 (`ModalCall::shared`), those
+    /// whose reading the handbook leaves open unsettled (`Locals::shared_call`).
+    fn modal_call_locals(&self, mc: &ModalCall) -> Box<Locals> {
+        match self.cfg.dialect {
+            Dialect::Syntec => Box::new(Locals::shared_call(&mc.shared, &mc.args)),
+            _ => mc.args.clone(),
+        }
+    }
+
     fn push_frame(
         &mut self,
         progs: &[Slot],
@@ -571,7 +581,16 @@ impl State {
                 return Err(AlarmId::NestingTooDeep);
             }
             self.modes[group::MODAL_CALL] = if every_block { code::G66_1 } else { code::G66 };
-            self.modal_calls.push(ModalCall { every_block, prog, count, args: args.clone(), level: self.level() });
+            self.modal_serial = self.modal_serial.wrapping_add(1);
+            self.modal_calls.push(ModalCall {
+                every_block,
+                prog,
+                count,
+                shared: args.clone(),
+                args: args.clone(),
+                level: self.level(),
+                serial: self.modal_serial,
+            });
             if every_block {
                 return self.push_frame(progs, prog, count, Some(args));
             }
@@ -1063,8 +1082,13 @@ impl State {
         if moved && !self.ended {
             if let Some(mc) = self.modal_call_here() {
                 if !mc.every_block {
-                    let (prog, count, args) = (mc.prog, mc.count, mc.args.clone());
-                    self.push_frame(progs, prog, count, Some(args))?;
+                    let (prog, count, serial) = (mc.prog, mc.count, mc.serial);
+                    let locals = self.modal_call_locals(mc);
+                    let depth = self.frames.len();
+                    self.push_frame(progs, prog, count, Some(locals))?;
+                    if self.cfg.dialect == Dialect::Syntec && self.frames.len() > depth {
+                        self.frame_mut().modal = Some(serial);
+                    }
                 }
             }
         }
@@ -2070,7 +2094,7 @@ fn is_cycle(code: u16) -> bool {
 
 impl CallFrame {
     pub(super) fn main() -> CallFrame {
-        CallFrame { prog: 0, pc: 0, kind: CallKind::Main, repeats: 0, start: 0, args: None, number: 0 }
+        CallFrame { prog: 0, pc: 0, kind: CallKind::Main, repeats: 0, start: 0, args: None, number: 0, modal: None }
     }
 }
 

@@ -239,7 +239,9 @@ fn a_syntec_subprograms_m30_return_counts_as_m99() {
     let lost = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
     let kept = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 15.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
     for (ret, lost_here) in [("M99", false), ("M30", false), ("M02", false), ("G90 M30", true), ("G90 M99", true)] {
-        let src = format!("G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nM08\nM98 P9\nY20.\nG90 G40 X0.\nM30\nO0009\n{ret}\n");
+        let src = format!(
+            "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nM08\nM98 P9\nY20.\nG90 G40 X0.\nM30\nO0009\n{ret}\n"
+        );
         assert_centre(centre(&src, Syntec), &src, if lost_here { &lost } else { &kept });
     }
 }
