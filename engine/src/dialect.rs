@@ -202,6 +202,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::BracketNesting,
     AlarmId::ArgumentOutOfRange,
     AlarmId::NegativePowerBase,
+    AlarmId::UnitNotDecided,
     AlarmId::FloatOverflow,
     AlarmId::MissingEnd,
     AlarmId::IllegalLoopNumber,
@@ -378,6 +379,12 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         ArgumentOutOfRange => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-004", "Operation domain error")),
         // Raised in the Syntec dialect only (the handbook's §9.14 code; the message is fivex's).
         NegativePowerBase => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-122", "POW with a negative base")),
+        // Raised in the Syntec dialect only (constructed; FANUC and Haas read such a number in
+        // least increments: their columns are for completeness).
+        UnitNotDecided => (
+            ("PS0007", "ILLEGAL USE OF DECIMAL POINT"),
+            ("COR-048", "Length or angle without a decimal point: write X10. or X[1.0*#1]"),
+        ),
         FloatOverflow => (("PS0111", "OVERFLOW :FLOAT"), ("COR-026", "Calculation overflow")),
         // (Syntec: constructed; COR-027 is the handbook's ALARM() macro alarm.)
         MissingEnd => (("PS0124", "MISSING END STATEMENT"), ("COR-044", "DO without END")),
@@ -491,6 +498,7 @@ fn haas(id: &AlarmId) -> Text {
         ZeroDivide => ("508", "DIVISION BY ZERO"),
         BracketNesting => ("504", "UNBALANCED PAREN. IN EXPRESSION"),
         ArgumentOutOfRange | NegativePowerBase => ("521", "ILLEGAL FUNCTIONAL PARAMETER"),
+        UnitNotDecided => ("311", "UNKNOWN CODE"),
         FloatOverflow => ("709", "CALCULATION OVERFLOW"),
         MissingEnd => ("538", "MATCHING END NOT FOUND"),
         IllegalLoopNumber => ("534", "DO OR END ALREADY IN USE"),

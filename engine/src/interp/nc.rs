@@ -375,6 +375,48 @@ impl State {
         }
     }
 
+    /// Syntec: a number without a decimal point at a length or angle address is in mm/degrees
+    /// or in least input increments as the machine's Pr3241 "工件程序小数点型态" (and Pr17, the
+    /// increment) decide (the Syntec MACRO handbook §7.3, §8.4.1, §9.3), which fivex does not model:
+    /// the Syntec 5-axis manual's own RTCP example writes `B-45` for −45°, which fivex read as
+    /// −0.045°. A Long value there (`#1=10`, `X#1`) is the same question (the handbook writes
+    /// `X(1.0 * #1)`, §3.10, and converts a Long argument with `STD` first, §9.3), and so is a
+    /// macro call's argument so written, which Syntec hands over as a Long of the digits while
+    /// fivex reads it in increments. A non-zero one is refused at its block (zero is zero in every
+    /// reading); a value whose type fivex does not know is read as before.
+    pub(super) fn refuse_syntec_undecided_unit(&self, w: &Words) -> Result<(), AlarmId> {
+        if self.cfg.dialect != Dialect::Syntec || !self.cfg.refuse_unbuilt {
+            return Ok(());
+        }
+        let call = w.gcodes().iter().any(|c| code::MACRO_CALLS.contains(c));
+        let in_cycle = self.after_block(w, group::CYCLE) != code::G80;
+        let undecided = |&(letter, v, form): &(u8, f64, Form)| {
+            v != 0.0
+                && match form {
+                    // A call's argument: where fivex scales it.
+                    Form::NoPoint if call => self.counts_increments(letter),
+                    Form::NoPoint | Form::Expr(Ty::Long) if !call => self.syntec_length_address(letter, in_cycle),
+                    _ => false,
+                }
+        };
+        match w.list.iter().any(undecided) {
+            true => Err(AlarmId::UnitNotDecided),
+            false => Ok(()),
+        }
+    }
+
+    /// Syntec: an address a block reads as a length or an angle: the machine's axes, I J R, the
+    /// corner's `,C` `,R`, K but a canned cycle's (its repetitions), Q only a canned cycle's (the
+    /// peck; elsewhere a number: G05.1 Q3, G68.2 Q…, G10 L5000 Q…).
+    fn syntec_length_address(&self, letter: u8, in_cycle: bool) -> bool {
+        match letter {
+            b'I' | b'J' | b'R' | b'c' | b'r' => true,
+            b'K' => !in_cycle,
+            b'Q' => in_cycle,
+            _ => self.axis_of(letter).is_some(),
+        }
+    }
+
     /// The modal call a block of the current level triggers: the latest from the level it was
     /// given at, the one before it from one level deeper (inside the latest's macro), and so on
     /// (FANUC, multiple modal calls: the macros are called in turn from the last specified).
@@ -562,6 +604,7 @@ impl State {
                 return Err(AlarmId::GAsArgument);
             }
             let prog = self.find_program(by_number, w.integer(b'P'))?;
+            self.refuse_syntec_undecided_unit(w)?;
             let args = self.macro_args(w)?;
             return self.push_frame(progs, prog, Self::count(w)?, Some(args));
         }
@@ -573,6 +616,7 @@ impl State {
                 return Err(AlarmId::GCodeNotBuilt);
             }
             let prog = self.find_program(by_number, w.integer(b'P'))?;
+            self.refuse_syntec_undecided_unit(w)?;
             let args = self.macro_args(w)?;
             let count = Self::count(w)?;
             // Modal calls nest: the latest is called from this level, the one before from inside
@@ -670,6 +714,7 @@ impl State {
         }
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
+        self.refuse_syntec_undecided_unit(w)?;
         self.refuse_unperformed_cycle_words(w)?;
         self.refuse_plane_change_in_cycle(w)?;
         self.refuse_length_change_in_tip_cycle(w)?;
