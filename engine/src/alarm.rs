@@ -187,6 +187,10 @@ pub enum AlarmId {
     /// Syntec: POW with a negative base, which FANUC takes with a whole exponent (the Syntec
     /// MACRO handbook's §9.2/§9.14: "`POW` 的基底不可为负值，否则触发 `COR-122`").
     NegativePowerBase,
+    /// Syntec: a non-zero number without a decimal point, or a Long value, at an address read as
+    /// a length or an angle, whose unit Syntec's Pr3241 (and Pr17) decide and fivex does not
+    /// model (`docs/dialects.md`, "A number without a decimal point (Syntec)").
+    UnitNotDecided,
     /// A result that is not a finite number.
     FloatOverflow,
     /// DO without its END.

@@ -55,6 +55,7 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
         }
         for (i, block) in loaded.blocks().enumerate() {
             let at = |col: u32, id: AlarmId, detail: String| Diagnostic { line: block.line, col, id, detail };
+            let block_start = diags.len();
             if let Some(id) = loaded.loop_error.get(&(i as u32)) {
                 diags.push(at(
                     block.col,
@@ -238,6 +239,13 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             if let Some(detail) = syntec_improper_address(&block_codes, m_call, word.letter, value) {
                                 diags.push(at(word.col, AlarmId::ImproperAddress, detail.into()));
                             }
+                        }
+                        // (After what the run refuses first: an expression, a function not built.)
+                        let refused_before = diags.len() > block_start;
+                        if let Some(word) = syntec_undecided_unit(words, &block_codes).filter(|_| !refused_before) {
+                            let detail = "a length or angle without a decimal point: its unit is Syntec's Pr3241 \
+                                          (not built in fivex); write it with a point";
+                            diags.push(at(word.col, AlarmId::UnitNotDecided, detail.into()));
                         }
                     }
                     // FANUC: the dwell's P (G04, a cycle's) takes no decimal point (PS0007,
@@ -628,6 +636,20 @@ fn over_block_limits(words: &[NcWord]) -> Option<(u32, AlarmId, String)> {
         return Some((col, AlarmId::ImproperAddress, format!("more than {MAX_M_CODES} M codes in one block")));
     }
     nth(None, MAX_WORDS).map(|col| (col, AlarmId::ImproperAddress, format!("more than {MAX_WORDS} words in one block")))
+}
+
+/// Syntec: the first literal number without a decimal point, not zero, at an address the run
+/// reads as a length or an angle (`interp::nc`'s `refuse_syntec_undecided_unit`) whatever the
+/// machine and the modes: X Y Z A B C I J R `,C` `,R`, in a G65/G66 block the arguments fivex
+/// scales at X Y Z I J K R Q (K and Q of other blocks, and a call's A B C, depend on the canned
+/// cycle and the machine: the run finds them).
+fn syntec_undecided_unit<'a>(words: &'a [NcWord], block_codes: &[u16]) -> Option<&'a NcWord> {
+    let call = block_codes.iter().any(|c| code::MACRO_CALLS.contains(c));
+    let letters: &[u8] = if call { b"XYZIJKRQ" } else { b"XYZABCIJRcr" };
+    words.iter().find(|w| {
+        letters.contains(&w.letter)
+            && matches!(w.value, WordValue::Number { value, decimal_point: false } if value != 0.0)
+    })
 }
 
 fn literal(words: &[NcWord], letter: u8) -> Word {

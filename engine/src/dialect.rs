@@ -202,6 +202,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::BracketNesting,
     AlarmId::ArgumentOutOfRange,
     AlarmId::NegativePowerBase,
+    AlarmId::UnitNotDecided,
     AlarmId::FloatOverflow,
     AlarmId::MissingEnd,
     AlarmId::IllegalLoopNumber,
@@ -366,7 +367,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         IllegalScaleRate => (("PS0142", "ILLEGAL SCALE RATE"), ("COR-045", "Illegal scaling magnification")),
         IllegalPlaneInRotation => (("PS0144", "ILLEGAL PLANE SELECTED"), ("COR-035", "Arc outside the rotation plane")),
         MacroFormat => (("PS0125", "MACRO STATEMENT FORMAT ERROR"), ("COR-020", "Macro statement format error")),
-        VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-021", "Variable number out of range")),
+        // Syntec: the handbook's "不合法的变数存取" (§2.8, §9.14: a variable outside the open
+        // ranges, or not allowed where it is used).
+        VariableOutOfRange => (("PS0115", "VARIABLE NO. OUT OF RANGE"), ("COR-016", "Illegal variable access")),
         WriteProtectedVariable => (("PS0116", "WRITE PROTECTED VARIABLE"), ("COR-022", "Variable is read-only")),
         // Syntec: the Syntec MACRO handbook's §9.14 alarm table names COR-004 "运算域错误" (an
         // operation's domain error, its example ATAN2(0,0)): the code of the arguments a function
@@ -377,6 +380,12 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         ArgumentOutOfRange => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-004", "Operation domain error")),
         // Raised in the Syntec dialect only (the handbook's §9.14 code; the message is fivex's).
         NegativePowerBase => (("PS0119", "ARGUMENT VALUE OUT OF RANGE"), ("COR-122", "POW with a negative base")),
+        // Raised in the Syntec dialect only (constructed; FANUC and Haas read such a number in
+        // least increments: their columns are for completeness).
+        UnitNotDecided => (
+            ("PS0007", "ILLEGAL USE OF DECIMAL POINT"),
+            ("COR-048", "Length or angle without a decimal point: write X10. or X[1.0*#1]"),
+        ),
         FloatOverflow => (("PS0111", "OVERFLOW :FLOAT"), ("COR-026", "Calculation overflow")),
         // (Syntec: constructed; COR-027 is the handbook's ALARM() macro alarm.)
         MissingEnd => (("PS0124", "MISSING END STATEMENT"), ("COR-044", "DO without END")),
@@ -493,6 +502,7 @@ fn haas(id: &AlarmId) -> Text {
         ZeroDivide => ("508", "DIVISION BY ZERO"),
         BracketNesting => ("504", "UNBALANCED PAREN. IN EXPRESSION"),
         ArgumentOutOfRange | NegativePowerBase => ("521", "ILLEGAL FUNCTIONAL PARAMETER"),
+        UnitNotDecided => ("311", "UNKNOWN CODE"),
         FloatOverflow => ("709", "CALCULATION OVERFLOW"),
         MissingEnd => ("538", "MATCHING END NOT FOUND"),
         IllegalLoopNumber => ("534", "DO OR END ALREADY IN USE"),

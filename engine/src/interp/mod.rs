@@ -206,6 +206,9 @@ struct CallFrame {
     args: Option<Box<vars::Locals>>,
     /// O number of the program (for #4115).
     number: u32,
+    /// Syntec: the G66 ([`ModalCall::serial`]) whose shared local variables this call runs on,
+    /// kept back in it when the call returns.
+    modal: Option<u32>,
 }
 
 /// An active G66/G66.1.
@@ -218,6 +221,12 @@ struct ModalCall {
     args: Box<vars::Locals>,
     /// Local level the call was specified at; blocks of deeper levels do not trigger it.
     level: usize,
+    /// Syntec: the local variables its calls share from G66 to G67 (the Syntec MACRO handbook
+    /// §2.3, §5.1: "从 `G66` 到 `G67` 期间共用"), the arguments at first; FANUC gives each call
+    /// fresh ones from `args`.
+    shared: Box<vars::Locals>,
+    /// Tells this G66 from one given later at the same place (a call's frame names it).
+    serial: u32,
 }
 
 /// Data of the active canned cycle (group 09), kept between blocks.
@@ -318,6 +327,8 @@ pub struct State {
     /// The modal macro calls in force (G66/G66.1), in the order given: they nest, and each
     /// G67 cancels the latest ([`State::modal_call_here`]).
     modal_calls: Vec<ModalCall>,
+    /// The serial number of the last G66/G66.1 given (`ModalCall::serial`).
+    modal_serial: u32,
     /// What the modal groups do not hold about the 5-axis modes (nesting, definition sequences).
     five: modes::FiveAxisModes,
     /// The machine's mechanism (`None` when the kinematics refuses it: no 5-axis function).
@@ -813,6 +824,7 @@ impl State {
             cycle: CycleData::default(),
             last_g28_mid: [0.0; MAX_AXES],
             modal_calls: Vec::new(),
+            modal_serial: 0,
             five: modes::FiveAxisModes::default(),
             kinematics,
             wse_kinematics,
@@ -1379,12 +1391,22 @@ impl State {
                     start: 0,
                     args: Some(args),
                     number: 0,
+                    modal: None,
                 });
                 return Ok(());
             }
             None => CallKind::Sub,
         };
-        self.frames.push(CallFrame { prog, pc: 0, kind, repeats: count - 1, start: 0, args: None, number: 0 });
+        self.frames.push(CallFrame {
+            prog,
+            pc: 0,
+            kind,
+            repeats: count - 1,
+            start: 0,
+            args: None,
+            number: 0,
+            modal: None,
+        });
         Ok(())
     }
 
@@ -1421,16 +1443,24 @@ impl State {
             frame.pc = frame.start;
             // FANUC starts each repetition of G65 … L from the arguments again; Haas sets them on
             // the first only and keeps the local variables from repetition to repetition (the
-            // mill manual, "Local Variables").
+            // mill manual, "Local Variables"); a Syntec G66's repetitions are calls sharing them.
             let fresh_args = self.cfg.dialect != crate::Dialect::Haas;
-            if let Some(args) = frame.args.as_ref().filter(|_| fresh_args) {
-                *self.locals.last_mut().expect("macro level") = **args;
+            let modal = frame.modal.and_then(|serial| self.modal_calls.iter().find(|mc| mc.serial == serial));
+            let level = self.locals.last_mut().expect("macro level");
+            if let Some(mc) = modal {
+                *level = vars::Locals::shared_call(level, &mc.args);
+            } else if let Some(args) = frame.args.as_ref().filter(|_| fresh_args) {
+                *level = **args;
             }
             return Ok(());
         }
         let frame = self.frames.pop().expect("frame");
         if frame.kind == CallKind::Macro {
-            self.locals.pop();
+            let locals = self.locals.pop().expect("macro level");
+            // A Syntec G66's calls share their locals until G67 (gone if the macro gave it).
+            if let Some(mc) = self.modal_calls.iter_mut().find(|mc| Some(mc.serial) == frame.modal) {
+                *mc.shared = locals;
+            }
         }
         if let Some(n) = to_n {
             let caller = self.frames.last_mut().expect("caller frame");

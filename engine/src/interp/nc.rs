@@ -375,12 +375,64 @@ impl State {
         }
     }
 
+    /// Syntec: a number without a decimal point at a length or angle address is in mm/degrees
+    /// or in least input increments as the machine's Pr3241 "工件程序小数点型态" (and Pr17, the
+    /// increment) decide (the Syntec MACRO handbook §7.3, §8.4.1, §9.3), which fivex does not model:
+    /// the Syntec 5-axis manual's own RTCP example writes `B-45` for −45°, which fivex read as
+    /// −0.045°. A Long value there (`#1=10`, `X#1`) is the same question (the handbook writes
+    /// `X(1.0 * #1)`, §3.10, and converts a Long argument with `STD` first, §9.3), and so is a
+    /// macro call's argument so written, which Syntec hands over as a Long of the digits while
+    /// fivex reads it in increments. A non-zero one is refused at its block (zero is zero in every
+    /// reading); a value whose type fivex does not know is read as before.
+    pub(super) fn refuse_syntec_undecided_unit(&self, w: &Words) -> Result<(), AlarmId> {
+        if self.cfg.dialect != Dialect::Syntec || !self.cfg.refuse_unbuilt {
+            return Ok(());
+        }
+        let call = w.gcodes().iter().any(|c| code::MACRO_CALLS.contains(c));
+        let in_cycle = self.after_block(w, group::CYCLE) != code::G80;
+        let undecided = |&(letter, v, form): &(u8, f64, Form)| {
+            v != 0.0
+                && match form {
+                    // A call's argument: where fivex scales it.
+                    Form::NoPoint if call => self.counts_increments(letter),
+                    Form::NoPoint | Form::Expr(Ty::Long) if !call => self.syntec_length_address(letter, in_cycle),
+                    _ => false,
+                }
+        };
+        match w.list.iter().any(undecided) {
+            true => Err(AlarmId::UnitNotDecided),
+            false => Ok(()),
+        }
+    }
+
+    /// Syntec: an address a block reads as a length or an angle: the machine's axes, I J R, the
+    /// corner's `,C` `,R`, K but a canned cycle's (its repetitions), Q only a canned cycle's (the
+    /// peck; elsewhere a number: G05.1 Q3, G68.2 Q…, G10 L5000 Q…).
+    fn syntec_length_address(&self, letter: u8, in_cycle: bool) -> bool {
+        match letter {
+            b'I' | b'J' | b'R' | b'c' | b'r' => true,
+            b'K' => !in_cycle,
+            b'Q' => in_cycle,
+            _ => self.axis_of(letter).is_some(),
+        }
+    }
+
     /// The modal call a block of the current level triggers: the latest from the level it was
     /// given at, the one before it from one level deeper (inside the latest's macro), and so on
     /// (FANUC, multiple modal calls: the macros are called in turn from the last specified).
     fn modal_call_here(&self) -> Option<&ModalCall> {
         let n = self.modal_calls.len();
         self.modal_calls.iter().enumerate().find(|(i, mc)| mc.level + (n - 1 - i) == self.level()).map(|(_, mc)| mc)
+    }
+
+    /// The local variables a G66 call starts with: FANUC's fresh ones from the G66 block's
+    /// arguments; Syntec's shared by the G66's calls until G67 (`ModalCall::shared`), those
+    /// whose reading the handbook leaves open unsettled (`Locals::shared_call`).
+    fn modal_call_locals(&self, mc: &ModalCall) -> Box<Locals> {
+        match self.cfg.dialect {
+            Dialect::Syntec => Box::new(Locals::shared_call(&mc.shared, &mc.args)),
+            _ => mc.args.clone(),
+        }
     }
 
     fn push_frame(
@@ -471,7 +523,8 @@ impl State {
     /// and subprogram and macro calls and returns with nothing else (FANUC treats such a block
     /// like a macro statement, e.g. in single block); the blocks they lead to count. A call or
     /// return with anything else (`G90 M99`, `G91 M98 P…`) counts as any block: its G code is
-    /// an NC command ("G90 ; G code only").
+    /// an NC command ("G90 ; G code only"). A Syntec subprogram's M02/M30 is its return (as
+    /// M99), alone or not.
     fn count_without_motion(
         &mut self,
         w: &Words,
@@ -484,7 +537,11 @@ impl State {
             return;
         }
         let macro_code = |c: &u16| code::MACRO_CALLS.contains(c) || *c == code::G67;
-        let sub_code = |m: &u32| mcode::call_or_return(*m) || *m == mcode::M97;
+        // A Syntec subprogram's M02/M30 that returned to the caller is that return, as M99.
+        let returned = self.frames.len() < depth;
+        let sub_code = |m: &u32| {
+            mcode::call_or_return(*m) || *m == mcode::M97 || returned && matches!(*m, mcode::M02 | mcode::M30)
+        };
         let alone = if w.gcodes().iter().any(macro_code) {
             // Every other letter of G65/G66 is an argument.
             w.gcodes().iter().all(macro_code)
@@ -547,6 +604,7 @@ impl State {
                 return Err(AlarmId::GAsArgument);
             }
             let prog = self.find_program(by_number, w.integer(b'P'))?;
+            self.refuse_syntec_undecided_unit(w)?;
             let args = self.macro_args(w)?;
             return self.push_frame(progs, prog, Self::count(w)?, Some(args));
         }
@@ -558,6 +616,7 @@ impl State {
                 return Err(AlarmId::GCodeNotBuilt);
             }
             let prog = self.find_program(by_number, w.integer(b'P'))?;
+            self.refuse_syntec_undecided_unit(w)?;
             let args = self.macro_args(w)?;
             let count = Self::count(w)?;
             // Modal calls nest: the latest is called from this level, the one before from inside
@@ -566,7 +625,16 @@ impl State {
                 return Err(AlarmId::NestingTooDeep);
             }
             self.modes[group::MODAL_CALL] = if every_block { code::G66_1 } else { code::G66 };
-            self.modal_calls.push(ModalCall { every_block, prog, count, args: args.clone(), level: self.level() });
+            self.modal_serial = self.modal_serial.wrapping_add(1);
+            self.modal_calls.push(ModalCall {
+                every_block,
+                prog,
+                count,
+                shared: args.clone(),
+                args: args.clone(),
+                level: self.level(),
+                serial: self.modal_serial,
+            });
             if every_block {
                 return self.push_frame(progs, prog, count, Some(args));
             }
@@ -646,6 +714,7 @@ impl State {
         }
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
+        self.refuse_syntec_undecided_unit(w)?;
         self.refuse_unperformed_cycle_words(w)?;
         self.refuse_plane_change_in_cycle(w)?;
         self.refuse_length_change_in_tip_cycle(w)?;
@@ -1059,8 +1128,13 @@ impl State {
         if moved && !self.ended {
             if let Some(mc) = self.modal_call_here() {
                 if !mc.every_block {
-                    let (prog, count, args) = (mc.prog, mc.count, mc.args.clone());
-                    self.push_frame(progs, prog, count, Some(args))?;
+                    let (prog, count, serial) = (mc.prog, mc.count, mc.serial);
+                    let locals = self.modal_call_locals(mc);
+                    let depth = self.frames.len();
+                    self.push_frame(progs, prog, count, Some(locals))?;
+                    if self.cfg.dialect == Dialect::Syntec && self.frames.len() > depth {
+                        self.frame_mut().modal = Some(serial);
+                    }
                 }
             }
         }
@@ -2080,7 +2154,7 @@ fn is_cycle(code: u16) -> bool {
 
 impl CallFrame {
     pub(super) fn main() -> CallFrame {
-        CallFrame { prog: 0, pc: 0, kind: CallKind::Main, repeats: 0, start: 0, args: None, number: 0 }
+        CallFrame { prog: 0, pc: 0, kind: CallKind::Main, repeats: 0, start: 0, args: None, number: 0, modal: None }
     }
 }
 

@@ -41,6 +41,7 @@ impl State {
 
     /// Execute a block for which [`State::is_plain_motion`] holds.
     pub(super) fn plain_motion(&mut self, w: &Words, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
+        self.refuse_syntec_undecided_unit(w)?;
         // (A group-01 code also clears the canned cycle data, which G80 has already cleared.)
         if let [code] = w.gcodes() {
             self.modes[group::MOTION] = *code;

@@ -54,11 +54,34 @@ impl<const W: usize> Types<W> {
 pub(super) struct Locals {
     pub v: [Value; LOCALS],
     pub ty: Types<1>,
+    /// Syntec G66: bit `i` set while #(i+1) holds a value the handbook leaves open in this call
+    /// (`Locals::shared_call`); reading it is refused until the call writes it.
+    pub unsettled: u64,
 }
 
 impl Default for Locals {
     fn default() -> Locals {
-        Locals { v: [None; LOCALS], ty: Types::default() }
+        Locals { v: [None; LOCALS], ty: Types::default(), unsettled: 0 }
+    }
+}
+
+impl Locals {
+    /// Syntec: the locals a call of a G66 runs on, `shared` by its calls until G67 (the Syntec
+    /// MACRO handbook §2.3, §5.1: "从 `G66` 到 `G67` 期间共用"). The handbook says a G65 call
+    /// writes its arguments into #1–#26 (§2.3), of G66 only that the locals are shared: whether
+    /// each call writes the G66 block's `args` again is not said. A variable holding an argument
+    /// that an earlier call changed (its value or type) reads otherwise under the two readings,
+    /// so it is unsettled; the others read the same under both (the first call's are its
+    /// arguments).
+    pub(super) fn shared_call(shared: &Locals, args: &Locals) -> Locals {
+        let mut locals = Locals { unsettled: 0, ..*shared };
+        for i in 0..LOCALS {
+            let changed = shared.v[i] != args.v[i] || shared.ty.get(i) != args.ty.get(i);
+            if args.v[i].is_some() && changed {
+                locals.unsettled |= 1 << i;
+            }
+        }
+        locals
     }
 }
 
@@ -288,7 +311,14 @@ impl Variables for State {
             Slot::HaasG52(axis) => Some(self.local[axis]),
             Slot::NotModelled => return Err(AlarmId::VariableOutOfRange),
             Slot::Vacant => None,
-            Slot::Local(i) => self.locals[self.level()].v[i],
+            Slot::Local(i) => {
+                let locals = &self.locals[self.level()];
+                if locals.unsettled & 1 << i != 0 {
+                    // A Syntec G66's argument an earlier call changed (`Locals::shared_call`).
+                    return Err(AlarmId::GCodeNotBuilt);
+                }
+                locals.v[i]
+            }
             Slot::Common(i) => self.common[i],
             Slot::Persistent(i) => self.persistent[i],
             Slot::Extended(n) => self.extended.get(&n).copied(),
@@ -518,6 +548,7 @@ impl State {
                 let level = self.level();
                 self.locals[level].v[i] = value;
                 self.locals[level].ty.set(i, ty);
+                self.locals[level].unsettled &= !(1 << i);
             }
             Slot::Common(i) => {
                 self.common[i] = value;

@@ -66,7 +66,7 @@ fn syntec_g70_and_g71_are_inch_and_metric_input() {
     // The units group: G20, then G21 (read from the state: Syntec's #4001–#5500 are user
     // parameters, refused, `syntec_macro.rs`).
     use fivex_engine::interp::gcode::{code, group};
-    for (src, units) in [("G70 G00 X1. Y1\nM30\n", code::G20), ("G70\nG71\nM30\n", code::G21)] {
+    for (src, units) in [("G70 G00 X1. Y1.\nM30\n", code::G20), ("G70\nG71\nM30\n", code::G21)] {
         let mut interp = interpreter(src, "mill3", Syntec);
         interp.run(|_| {}).unwrap();
         assert_eq!(interp.state.modal(group::UNITS), units, "{src}");

@@ -227,6 +227,25 @@ fn a_call_or_return_with_a_g_code_is_a_block_without_motion() {
     }
 }
 
+/// Syntec: an M02/M30 in an M98 subprogram returns to the caller as M99 does (`docs/dialects.md`,
+/// "Syntec's subprogram and macro calls"), so, alone in its block, it is no more a block of the
+/// read-ahead than M99 alone (rule 8): with M08 one block without motion, the corner (15,5)
+/// stays, as in `a_call_or_return_with_a_g_code_is_a_block_without_motion`'s `M99` case.
+/// Beside a G code it counts, as `G90 M99` does: the vector is lost, X20. ends at (20,5).
+/// `G90 M30` did not count (M02/M30 were no call or return words, and the block was taken for
+/// a call's because the call level changed): the corner (15,5) the control loses was kept.
+#[test]
+fn a_syntec_subprograms_m30_return_counts_as_m99() {
+    let lost = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
+    let kept = [(1, -10.0, 0.0), (2, 0.0, 5.0), (3, 15.0, 5.0), (6, 15.0, 15.0), (7, 0.0, 20.0)];
+    for (ret, lost_here) in [("M99", false), ("M30", false), ("M02", false), ("G90 M30", true), ("G90 M99", true)] {
+        let src = format!(
+            "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nM08\nM98 P9\nY20.\nG90 G40 X0.\nM30\nO0009\n{ret}\n"
+        );
+        assert_centre(centre(&src, Syntec), &src, if lost_here { &lost } else { &kept });
+    }
+}
+
 #[test]
 fn a_block_whose_move_is_zero_counts_as_two_blocks_without_motion() {
     // FANUC 16i-LB §12: "when the move distance is zero, even if the block is commanded
@@ -448,7 +467,7 @@ fn the_current_position_is_refused_where_a_compensation_vector_may_stand() {
             let r = run_with(&src, if body.contains("G41.2") { "head-bc" } else { "mill3" }, dialect);
             assert_eq!(r.alarms.len(), 1, "{dialect:?} {src}");
             // Syntec's #5001…#5500 are its user parameters: refused as any use of them.
-            let code = if dialect == Syntec { "COR-021" } else { "FX0006" };
+            let code = if dialect == Syntec { "COR-016" } else { "FX0006" };
             assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), (code, line), "{dialect:?} {src}");
         }
     }

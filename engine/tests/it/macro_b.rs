@@ -227,7 +227,7 @@ fn undefined_variable_numbers_ps0115() {
         "#1036=1\nM30\n",
         "#1136=1\nM30\n",
     ] {
-        alarms(src, "PS0115", "COR-021");
+        alarms(src, "PS0115", "COR-016");
     }
     // The bounds themselves exist.
     assert_eq!(var("#33=1\n#199=#33\n#500=#199\n#999=#500\nM30\n", 999), Some(1.0));
@@ -465,7 +465,7 @@ fn macro_alarm_3000_fanuc() {
 fn macro_alarm_3000_is_refused_in_syntec() {
     let src = "#100=1\nN20 #3000=12 (TOOL BROKEN)\n#101=1\nM30\n";
     let a = alarm_full(src, Dialect::Syntec);
-    assert_eq!((a.code.as_str(), a.line), ("COR-021", 2));
+    assert_eq!((a.code.as_str(), a.line), ("COR-016", 2));
     assert_eq!(run_with(src, "mill3", Dialect::Syntec).variables, vec![(100, 1.0)]);
 }
 
@@ -474,7 +474,7 @@ fn macro_alarm_number_from_an_expression_in_a_subprogram() {
     let src = "#1=7\nM98 P20\nM30\nO0020\n#3000=#1*10+1 (BAD PART)\nM99\n";
     let a = alarm_full(src, Dialect::Fanuc);
     assert_eq!((a.code.as_str(), a.message.as_str(), a.line), ("MC3071", "BAD PART", 5));
-    assert_eq!(alarm_full(src, Dialect::Syntec).code, "COR-021");
+    assert_eq!(alarm_full(src, Dialect::Syntec).code, "COR-016");
     // Without a comment the message is empty.
     assert_eq!(alarm_full("#3000=1\nM30\n", Dialect::Fanuc).message, "");
 }
@@ -486,16 +486,16 @@ fn macro_alarm_number_from_an_expression_in_a_subprogram() {
 fn macro_alarm_numbers_out_of_range_are_refused_not_clamped() {
     for n in ["-1", "1000", "4096", "#0", "999.5"] {
         let src = format!("#100=1\n#3000={n} (MSG)\nM30\n");
-        alarms(&src, "PS0115", "COR-021");
+        alarms(&src, "PS0115", "COR-016");
         assert_eq!(alarm_with(&src, Dialect::Haas), "503", "Haas, #3000={n}");
         assert_eq!(alarm_full(&src, Dialect::Fanuc).line, 2, "#3000={n}");
     }
     // The ends of the range, and a value rounded into it (half away from zero).
     for (n, fanuc, syntec, haas) in [
-        ("0", "MC3000", "COR-021", "1000"),
-        ("999", "MC3999", "COR-021", "1999"),
-        ("-0.4", "MC3000", "COR-021", "1000"),
-        ("12.5", "MC3013", "COR-021", "1013"),
+        ("0", "MC3000", "COR-016", "1000"),
+        ("999", "MC3999", "COR-016", "1999"),
+        ("-0.4", "MC3000", "COR-016", "1000"),
+        ("12.5", "MC3013", "COR-016", "1013"),
     ] {
         let src = format!("#3000={n} (MSG)\nM30\n");
         alarms(&src, fanuc, syntec);
@@ -1031,8 +1031,8 @@ M99
 /// acted); 0, everything in effect, is what fivex does and is taken.
 #[test]
 fn suppressing_single_block_or_feed_hold_by_3003_3004_is_refused_not_ignored() {
-    alarms("G01 X10. F600.\n#3004=3\nG01 X100.\nM30\n", "PS0115", "COR-021");
-    alarms("#3003=1\nG01 X10. F600.\nM30\n", "PS0115", "COR-021");
+    alarms("G01 X10. F600.\n#3004=3\nG01 X100.\nM30\n", "PS0115", "COR-016");
+    alarms("#3003=1\nG01 X10. F600.\nM30\n", "PS0115", "COR-016");
     assert_eq!(alarm_with("#3004=4\nM30\n", Dialect::Haas), "503");
     assert_eq!(val("#3003=0\n#3004=0\n#100=#3003+#3004+1\nM30\n", 100), 1.0);
 }

@@ -166,6 +166,56 @@ fn g66_moves_then_calls_with_its_own_arguments_in_the_syntec_dialect() {
     }
 }
 
+/// The handbook (§2.3, §5.1) gives a G66 macro one set of local variables "从 `G66` 到 `G67`
+/// 期间共用" (shared by its calls from G66 to G67, cleared by G67), where a G65 call makes fresh
+/// ones. A counter the macro keeps in #10 counts 1, 2, 3 over three moves: Y ends at 3, where
+/// fresh locals at each call (FANUC's rule, and fivex's before) end at 1. After G67 a new G66
+/// starts from new locals (Y 1 again). The L repetitions of one call share them too (`L2`: 2, 4, 6).
+#[test]
+fn g66_calls_share_their_local_variables_until_g67_in_the_syntec_dialect() {
+    let prog = |calls: &str| format!("O1\nG90 G01 X0 Y0 Z10. F1000\n{calls}\nM30\nO100\n#10=#10+1.\nG01 Y#10\nM99\n");
+    let three = prog("G66 P100 A1.\nG01 X1.\nG01 X2.\nG01 X3.\nG67");
+    let r = syntec(&three);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [3.0, 3.0, 10.0]);
+    let r = run_with(&three, "mill3", Fanuc);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [3.0, 1.0, 10.0]);
+    // G67 ends them: the next G66's first call counts from vacant again.
+    let r = syntec(&prog("G66 P100\nG01 X1.\nG01 X2.\nG67\nG66 P100\nG01 X3.\nG67"));
+    assert_eq!(end(&r), [3.0, 1.0, 10.0], "{:?}", r.alarms);
+    // Repetitions share them: two calls of L2 count to 4.
+    let r = syntec(&prog("G66 P100 L2\nG01 X1.\nG01 X2.\nG67"));
+    assert_eq!(end(&r), [2.0, 4.0, 10.0], "{:?}", r.alarms);
+}
+
+/// What the handbook leaves open: whether each call of a G66 writes the G66 block's arguments
+/// into #1–#26 again (it says so of G65, §2.3 "引数写入 #1 ~ #26", and of G66 only that the
+/// locals are shared). A variable holding an argument that an earlier call changed reads
+/// differently under the two readings (#1 = 1. again, or 2.): reading it in a later call before
+/// writing it is refused (COR-100 at that block). Written first, it is the same under both;
+/// the first call reads its arguments as any call; a variable no argument set is kept.
+#[test]
+fn g66_argument_an_earlier_call_changed_is_refused_when_read_in_the_syntec_dialect() {
+    let src = "O1\nG90 G01 X0 Y0 Z10. F1000\nG66 P100 A1.\nG01 X1.\nG01 X2.\nG67\nM30\n\
+               O100\n#1=#1+1.\nG01 Y#1\nM99\n";
+    let r = syntec(src);
+    // The first call (after line 4) moves Y to 2; the second's read of #1 (line 9) is refused.
+    assert_eq!(alarms(&r), [("COR-100".to_string(), 9)]);
+    assert_eq!(end(&r), [2.0, 2.0, 10.0]);
+    // Written before it is read: both readings agree.
+    let r = syntec(&src.replace("#1=#1+1.", "#1=5.\n#1=#1+1."));
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [2.0, 6.0, 10.0]);
+    // Changed back to the argument's value and type: no difference, no refusal.
+    let r = syntec(&src.replace("#1=#1+1.\nG01 Y#1", "G01 Y#1\n#1=7.\n#1=1."));
+    assert!(r.completed(), "{:?}", r.alarms);
+    // FANUC: fresh arguments at each call.
+    let r = run_with(src, "mill3", Fanuc);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [2.0, 2.0, 10.0]);
+}
+
 /// F4: the handbook's §9.14 names COR-004 for an operation's domain error (`ATAN2(0,0)`), and
 /// COR-016, COR-023, COR-027 and COR-034 are its codes of other alarms: fivex's constructed
 /// codes for a zero divisor, DO without END, G28 in a canned cycle and scaling P0 move off them.
@@ -194,4 +244,19 @@ fn syntec_alarm_codes_do_not_collide_with_the_handbooks() {
     use fivex_engine::alarm::AlarmId;
     assert_eq!(message(AlarmId::MissingP).0, "COR-052");
     assert_eq!(message(AlarmId::ArgumentOutOfRange), ("COR-004".into(), "Operation domain error".into()));
+}
+
+/// A variable number the Syntec dialect does not keep is the handbook's `COR-016` "不合法的变数
+/// 存取" (illegal variable access: §2.8's "存取超出开放范围或当前应用不允许的变量", a variable outside
+/// the open ranges or not allowed here, and §9.14), read or written, in the run and in `fivex
+/// check`; it was the constructed COR-021. FANUC keeps PS0115.
+#[test]
+fn a_variable_out_of_the_kept_ranges_is_the_handbooks_cor_016() {
+    for src in ["#34=1.\nM30\n", "#1=#3901\nM30\n", "G00 X#1100\nM30\n"] {
+        assert_eq!(alarm_with(src, Syntec), "COR-016", "{src}");
+        assert_eq!(checked(src, Syntec), [(1, "COR-016".to_string())], "{src}");
+    }
+    assert_eq!(alarm_with("#34=1.\nM30\n", Fanuc), "PS0115");
+    let message = Syntec.describe(&fivex_engine::alarm::AlarmId::VariableOutOfRange);
+    assert_eq!(message, ("COR-016".into(), "Illegal variable access".into()));
 }

@@ -128,7 +128,7 @@ fn a_macro_format_line_anywhere_refuses_the_file_before_anything_runs() {
 /// Audit findings 1, 2, 4: Syntec's modal state (#1000 interpolation mode, #1004 G90/G91),
 /// modal variables (#1080–#3100: #2001 was H1's wear, #3000 an alarm, #3001 the clock) and user
 /// parameters (#4001–#5500: #4001 was the modal G code, #5001 the position) were read and
-/// written with fivex's FANUC meaning. Refused (COR-021) when read and when written, at the
+/// written with fivex's FANUC meaning. Refused (COR-016) when read and when written, at the
 /// block, by the run and by `fivex check`; FANUC keeps them.
 #[test]
 fn syntec_variables_of_another_meaning_are_refused() {
@@ -145,17 +145,17 @@ fn syntec_variables_of_another_meaning_are_refused() {
             [format!("G01 X1. F100.\n#101=#{n}\nG01 X2.\nM30\n"), format!("G01 X1. F100.\n#{n}=1.\nG01 X2.\nM30\n")]
         {
             let r = syntec(&src);
-            assert_eq!(alarms(&r), [("COR-021".to_string(), 2)], "{src}");
+            assert_eq!(alarms(&r), [("COR-016".to_string(), 2)], "{src}");
             assert_eq!(end(&r)[0], 1.0, "{src}");
-            assert_eq!(checked(&src, Syntec), [(2, 1, "COR-021".to_string())], "{src}");
+            assert_eq!(checked(&src, Syntec), [(2, 1, "COR-016".to_string())], "{src}");
         }
     }
     // By an expression: the run finds it.
     let r = syntec("#101=2001\n#[#101]=5.\nM30\n");
-    assert_eq!(alarms(&r), [("COR-021".to_string(), 2)]);
+    assert_eq!(alarms(&r), [("COR-016".to_string(), 2)]);
     // The report's program (reproB): #2001 changed H1's length in the Syntec dialect.
     let src = "G90 G00 X0 Y0 Z100.\n#2001=5.\nG43 H1 Z10.\nM30\n";
-    assert_eq!(alarms(&syntec(src)), [("COR-021".to_string(), 2)]);
+    assert_eq!(alarms(&syntec(src)), [("COR-016".to_string(), 2)]);
     let fanuc = run_with(src, "mill3", Fanuc);
     assert!(fanuc.completed());
     assert!((end(&fanuc)[2] - 115.0).abs() < 1e-9, "H1 100 + wear 5 + Z10: {:?}", end(&fanuc));
@@ -179,16 +179,16 @@ fn syntec_variables_of_another_meaning_are_refused() {
 fn syntec_hundreds_are_refused_in_a_macro_call() {
     let repro = "G90 G01 X0 Y0 Z0 F1000\n#101=10.\nG65 P1000 A5.\nG90 G01 X#101\nM30\nO1000\n#101=#1*4.\nG91 G01 Y#101\nG90\nM99\n";
     let r = syntec(repro);
-    assert_eq!(alarms(&r), [("COR-021".to_string(), 7)]);
+    assert_eq!(alarms(&r), [("COR-016".to_string(), 7)]);
     assert_eq!(end(&r), [0.0; 3]);
     let fanuc = run_with(repro, "mill3", Fanuc);
     assert!(fanuc.completed());
     assert_eq!(end(&fanuc), [20.0, 20.0, 0.0], "FANUC's common #101 is the macro's");
     // Read in a G66 call; read in an M98 subprogram of a G65 call.
     let g66 = "#101=1.\nG66 P1000\nG01 X1. F100.\nG67\nM30\nO1000\n#1=#101\nM99\n";
-    assert_eq!(alarms(&syntec(g66)), [("COR-021".to_string(), 7)]);
+    assert_eq!(alarms(&syntec(g66)), [("COR-016".to_string(), 7)]);
     let nested = "G65 P1000\nM30\nO1000\nM98 P2000\nM99\nO2000\n#1=#150\nM99\n";
-    assert_eq!(alarms(&syntec(nested)), [("COR-021".to_string(), 7)]);
+    assert_eq!(alarms(&syntec(nested)), [("COR-016".to_string(), 7)]);
     // M98 shares the main program's: the subprogram's #101 is the caller's.
     let m98 = "#101=10.\nM98 P1000\nG01 X#101 F100.\nM30\nO1000\n#101=#101*2.\nM99\n";
     let r = syntec(m98);
@@ -273,9 +273,9 @@ fn syntec_division_follows_syntec_types() {
         ("#101=7\n#102=#101/2\n#101=#102\nM30\n", 3.0),
         ("#1=7\nM98 P2\nM30\nO2\n#101=#1/2\nM99\n", 3.0),
         ("G65 P1000 A15.\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
-        ("G65 P1000 A15\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.0),
+        ("G65 P1000 A15\nM30\nO1000\n#3=#1/2\nG01 X[1.0*#3] F100.\nM99\n", 7.0),
         ("#5=15.\nG65 P1000 A#5\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
-        ("#5=15\nG65 P1000 A#5\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.0),
+        ("#5=15\nG65 P1000 A#5\nM30\nO1000\n#3=#1/2\nG01 X[1.0*#3] F100.\nM99\n", 7.0),
         ("#5=15\nG65 P1000 A[#5*1.]\nM30\nO1000\n#3=#1/2\nG01 X#3 F100.\nM99\n", 7.5),
     ];
     for (src, want) in through {
@@ -284,8 +284,10 @@ fn syntec_division_follows_syntec_types() {
         let got = if src.contains("G65") { r.machine[0] } else { value(src, 101).unwrap() };
         assert_eq!(got, want, "{src}");
     }
-    // The NC address takes the Long quotient.
-    assert_eq!(end(&syntec("G01 X[7/2] F100.\nM30\n"))[0], 3.0);
+    // The Long quotient at an NC address is refused (its unit is Pr3241's, COR-048); made a
+    // Double after the division, 3.
+    assert_eq!(alarms(&syntec("G01 X[7/2] F100.\nM30\n")), [("COR-048".to_string(), 1)]);
+    assert_eq!(end(&syntec("G01 X[1.0*[7/2]] F100.\nM30\n"))[0], 3.0);
     // Refused: a negative Long quotient that is not whole; an untyped whole value (FIX is
     // FANUC's, the retained #500–#999 are not tracked, a host's value has no type).
     for (src, line) in [
@@ -309,6 +311,61 @@ fn syntec_division_follows_syntec_types() {
     // FANUC divides as reals.
     assert_eq!(var("#101=7/2\nM30\n", 101), Some(3.5), "FANUC");
     assert_eq!(var("#1=1.5\n#101=#1*2/4\nM30\n", 101), Some(0.75), "FANUC");
+}
+
+/// A number without a decimal point at a length or angle address is mm/degrees or least input
+/// increments as Syntec's Pr3241 (and Pr17) decide (handbook §7.3, §8.4.1, §9.3), which fivex does
+/// not model; the Syntec 5-axis manual's RTCP example writes `G00 X0 Y0 Z0 B-45 C0` for the
+/// −45° of `B-45.`, which fivex read as −0.045°. A Long value there (`#1=10`, `X#1`: the
+/// handbook writes `X(1.0 * #1)`) is the same question, and so is a macro call's argument at a
+/// letter fivex reads in increments. Refused at the block (COR-048), in the run and, for a
+/// literal, in `fivex check`; zero, a Double and `[1.0*#1]` run; FANUC reads increments.
+#[test]
+fn a_length_without_a_decimal_point_is_refused_in_the_syntec_dialect() {
+    let refused = [
+        ("G01 X10 F100.\nM30\n", 1),
+        ("#1=10\nG01 X#1 F100.\nM30\n", 2),
+        ("#1=7\nG01 Y[#1*2] F100.\nM30\n", 2),
+        ("G00 X0 Y0\nG02 X10. Y0 R5000 F100.\nM30\n", 2),
+        ("G00 X0 Y0\nG02 X10. Y0 I5000 F100.\nM30\n", 2),
+        ("G00 X0 Y0 Z10.\nG83 X1. Y1. Z-5. R1. Q2 F100.\nG80\nM30\n", 2),
+        ("G65 P1000 X15\nM30\nO1000\nM99\n", 1),
+    ];
+    for (src, line) in refused {
+        let r = syntec(src);
+        assert_eq!(alarms(&r), [("COR-048".to_string(), line)], "{src}");
+        assert!(run_with(src, "mill3", Fanuc).completed(), "{src}");
+    }
+    assert_eq!(end(&syntec("#1=10\nG01 X#1 F100.\nM30\n")), [0.0; 3]);
+    // What runs: a point, a Double, `[1.0*#1]`, zero, whole numbers at P/L/H/D/F/S/T/M and a
+    // canned cycle's K (its repetitions), a G65 argument at a letter no axis has (a Long).
+    let ran = [
+        ("G01 X10. F100.\nM30\n", 10.0),
+        ("#1=10.\nG01 X#1 F100.\nM30\n", 10.0),
+        ("#1=10\nG01 X[1.0*#1] F100.\nM30\n", 10.0),
+        ("G00 X0 Y0 Z0\nG91 G28 Z0\nM30\n", 0.0),
+        ("G00 X0 Y0 Z10.\nG81 X1. Y1. Z-5. R1. K2 F100\nG80\nM30\n", 1.0),
+        ("G65 P1000 A15\nM30\nO1000\nG01 X[1.0*#1] F100.\nM99\n", 15.0),
+    ];
+    for (src, x) in ran {
+        let r = syntec(src);
+        assert!(r.completed(), "{src}: {:?}", r.alarms);
+        assert_eq!(end(&r)[0], x, "{src}");
+    }
+    // The 5-axis manual's example, on a head B/C machine: B-45 refused, B-45. is −45°.
+    let r = run_with("G00 X0 Y0 Z0 B-45 C0\nM30\n", "head-bc", Syntec);
+    assert_eq!(alarms(&r), [("COR-048".to_string(), 1)]);
+    let r = run_with("G00 X0 Y0 Z0 B-45. C0\nM30\n", "head-bc", Syntec);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(r.machine[3], -45.0);
+    // FANUC: the literal counts increments, the variable is mm.
+    assert_eq!(run_with("G01 X10 F100.\nM30\n", "mill3", Fanuc).machine[0], 0.01);
+    assert_eq!(run_with("#1=10\nG01 X#1 F100.\nM30\n", "mill3", Fanuc).machine[0], 10.0);
+    // `fivex check` reports the literal at its word.
+    assert_eq!(checked("G01 X10 F100.\nM30\n", Syntec), [(1, 5, "COR-048".to_string())]);
+    assert_eq!(checked("G00 B-45 C0\nM30\n", Syntec), [(1, 5, "COR-048".to_string())]);
+    assert_eq!(checked("G00 X0 Y0 Z0\nG01 X10. F100\nM30\n", Syntec), []);
+    assert_eq!(checked("G01 X10 F100.\nM30\n", Fanuc), []);
 }
 
 /// Audit finding 5: Syntec's `M99 Q_` returns to a line number of the caller (handbook §5.2);

@@ -69,7 +69,7 @@ pub async fn set_variable(
     // Syntec: #100–#199 are a program's local variables there, vacant at each cycle start, so a
     // value set now would be wiped before any program read it; the extended numbers are no
     // Syntec program's, and #1000… are Syntec's modal state, which its programs read as such (a
-    // FANUC input signal there is refused, COR-021): a value set there would reach nothing
+    // FANUC input signal there is refused, COR-016): a value set there would reach nothing
     // (`docs/dialects.md`, "The Syntec macro language").
     if hosted.dialect == fivex_engine::Dialect::Syntec && !matches!(number, 500..=999) {
         return Err(ServiceError::invalid(format!(

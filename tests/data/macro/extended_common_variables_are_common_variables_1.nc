@@ -1,4 +1,4 @@
 (fivex: --dialect fanuc,syntec)
 #200000=1
 (Between and beyond them there is nothing.)
-(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-021)
+(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-016)

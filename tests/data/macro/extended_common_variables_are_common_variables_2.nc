@@ -1,3 +1,3 @@
 (fivex: --dialect fanuc,syntec)
 #1000000=1
-(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-021)
+(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-016)

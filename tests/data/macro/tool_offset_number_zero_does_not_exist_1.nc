@@ -1,4 +1,4 @@
 (fivex: --dialect fanuc,syntec)
 #10000=1.
 M30
-(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-021)
+(expect: alarm[fanuc]=PS0115 alarm[syntec]=COR-016)
