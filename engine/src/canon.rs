@@ -131,7 +131,8 @@ pub struct Motion {
     /// relative to the table, which the axes follow through the kinematics (`arc` is then
     /// `None`; the tip path carries its own circle).
     pub tip: Option<Box<TipMove>>,
-    /// F in the unit of `feed_mode` (converted to mm).
+    /// F in the unit of `feed_mode` (converted to mm). A FANUC arc in G93 carries the feed
+    /// per minute its inverse time gives (FRN × radius, `interp::nc`'s `feed_of`).
     pub feed: f64,
     pub feed_mode: FeedMode,
     /// Spindle speed at the time (for G95).
@@ -279,6 +280,14 @@ pub struct TipMove {
 }
 
 impl TipMove {
+    /// A circular path's radius at its start (in its plane, a helix's rise left out).
+    pub fn arc_radius(&self) -> Option<f64> {
+        self.arc.as_ref().map(|a| {
+            let v = self.from - a.center;
+            (v - a.normal * v.dot(&a.normal)).norm()
+        })
+    }
+
     /// The carriage (X, Y, Z) that puts this path's point at `point` (table frame) with the
     /// rotary axes of `pos`.
     pub fn carriage_for(&self, kin: &crate::kin::Kinematics, pos: &[f64], point: Vec3) -> Vec3 {

@@ -279,6 +279,15 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             "G93 without F: an inverse time is each block's own".into(),
                         ));
                     }
+                    // Syntec's G93 arc is not built (`interp::nc`'s `arc`).
+                    let arc = codes().any(|c| matches!(c, code::G02 | code::G03));
+                    if let Some(g) = g93.filter(|_| arc && dialect == Dialect::Syntec) {
+                        diags.push(at(
+                            g.col,
+                            AlarmId::GCodeNotBuilt,
+                            "an arc in inverse time feed (G93): how Syntec times it is not known".into(),
+                        ));
+                    }
                     // The cycles' repeat count is K; the interpreter refuses L (`interp/cycles.rs`).
                     // The Haas NGC counts with L and its K is refused. Only a block naming the
                     // cycle is known to be one without running the program.

@@ -1141,10 +1141,21 @@ impl State {
         Ok(())
     }
 
-    /// F: mm/min (inch/min is converted), or 1/min under G93.
+    /// F: mm/min (inch/min is converted), or 1/min under G93. An inverse time has no length
+    /// unit: written without a decimal point FANUC counts it in 0.001 (DPI = 0) "regardless of
+    /// whether the input mode is inches or metric" (16/18-MC B-62764EN/01, §5 "Inverse time
+    /// feed": F1 is FRN 0.001); the Haas dialect refuses it (its sources give Setting 77's
+    /// increment for feeds in in/min and mm/min only, `docs/dialects.md`, "Haas").
     pub(super) fn set_feed(&mut self, w: &Words) -> Result<(), AlarmId> {
         if let Some((f, form)) = w.word(b'F') {
-            let f = if form == Form::NoPoint && self.counts_increments(b'F') { f * self.increment() } else { f };
+            let inverse_time = self.modes[group::FEED_MODE] == code::G93;
+            let f = match self.cfg.dialect {
+                _ if form != Form::NoPoint || self.cfg.pocket_calculator => f,
+                crate::Dialect::Fanuc if inverse_time => f * 0.001,
+                crate::Dialect::Haas if inverse_time => return Err(AlarmId::AddressNotBuilt),
+                _ if self.counts_increments(b'F') => f * self.increment(),
+                _ => f,
+            };
             if f < 0.0 {
                 return Err(AlarmId::ImproperAddress);
             }
@@ -1439,6 +1450,22 @@ impl State {
         }
     }
 
+    /// A motion's feed and its mode; `radius`: an arc's (at its start, mm). FANUC feeds an
+    /// arc in G93 at FRN × its radius: "For circular interpolation FRN = 1/time (min) =
+    /// feedrate / arc radius … the feedrate is calculated not from the actual amount of
+    /// movement in the block but from the arc radius" (FANUC 16/18-MC B-62764EN/01, §5
+    /// "Inverse time feed"), so the arc is fed per minute at that rate, as an F of G94 would
+    /// be (its plane part takes swept angle in rad / FRN minutes). The Haas dialect keeps
+    /// 60/F seconds for every motion (its G93 page); Syntec's G93 arc is refused (`arc`).
+    fn feed_of(&self, radius: Option<f64>) -> (f64, FeedMode) {
+        match (self.feed_mode(), radius) {
+            (FeedMode::InverseTime, Some(r)) if self.cfg.dialect == crate::Dialect::Fanuc => {
+                (self.f * r, FeedMode::PerMinute)
+            }
+            (mode, _) => (self.f, mode),
+        }
+    }
+
     pub(super) fn feed_mode(&self) -> FeedMode {
         match self.modes[group::FEED_MODE] {
             code::G93 => FeedMode::InverseTime,
@@ -1507,14 +1534,17 @@ impl State {
         arc: Option<Box<Arc>>,
         tip: Option<Box<crate::canon::TipMove>>,
     ) -> Motion {
+        let radius =
+            arc.as_ref().map(|a| a.radius).or_else(|| tip.as_deref().and_then(crate::canon::TipMove::arc_radius));
+        let (feed, feed_mode) = self.feed_of(radius);
         Motion {
             kind,
             target,
             machine,
             arc,
             tip,
-            feed: self.f,
-            feed_mode: self.feed_mode(),
+            feed,
+            feed_mode,
             spindle: self.s,
             context: self.context(),
             speed_cap: f32::INFINITY,
@@ -1757,6 +1787,12 @@ impl State {
     /// (a mirror image swaps G02 and G03). No geometry for an R arc whose end point equals its
     /// start (no movement in the plane).
     pub(super) fn arc(&self, w: &Words, target: &Pos) -> Result<(bool, Option<Box<Arc>>), AlarmId> {
+        // No Syntec source says how its G93 times an arc (FANUC's FRN × radius or the block's
+        // 1/F minutes): refused rather than guessed (`docs/motion.md`, "G93 on arcs").
+        let inverse_time = self.modes[group::FEED_MODE] == code::G93;
+        if inverse_time && self.cfg.dialect == crate::Dialect::Syntec && self.cfg.refuse_unbuilt {
+            return Err(AlarmId::GCodeNotBuilt);
+        }
         let (a, b, c) = self.plane_axes()?;
         // Under TCP in the workpiece system a circle is on the table: where the table turns in
         // the block, its start (and centre) are read where the table carries them by the end.

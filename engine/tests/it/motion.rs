@@ -516,8 +516,9 @@ fn in_g93_every_cutting_block_needs_its_own_f() {
         ("G90 G93 G01 X10. F6.\nG94\nX20.\nM30\n", 3),
         // A tool length change moving in G01 with no F ever given (it ran for ever).
         ("G90 G01\nG43 H1 Z10.\nM30\n", 2),
-        // Fine: every cutting block has its F; rapids need none; G94 F again after G93.
-        ("G90 G93 G01 X10. F6.\nG00 X0\nG01 X10. F6.\nG02 X20. R5. F3.\nG94 G01 X30. F600.\nX40.\nM30\n", 0),
+        // Fine: every cutting block has its F; rapids need none; G94 F again after G93. (A
+        // G93 arc with F: `g93_arcs_*`; Syntec refuses it.)
+        ("G90 G93 G01 X10. F6.\nG00 X0\nG01 X10. F6.\nX20. F3.\nG94 G01 X30. F600.\nX40.\nM30\n", 0),
     ];
     for (dialect, code) in dialects {
         for (src, line) in cases {
@@ -539,6 +540,87 @@ fn in_g93_every_cutting_block_needs_its_own_f() {
     // F600 (10 mm/s), stopping between them (G09 in the first), each with its S-curve ramps.
     let (r, _) = traced("G90 G93 G09 G01 X10. F6.\nG94 X20. F600.\nM30\n", "head-bc");
     close(r.cycle_time_s, move_time(10.0, 1.0, A, J) + move_time(10.0, 10.0, A, J));
+}
+
+/// The cycle time of `src` on mill3 in `dialect`, and its first alarm.
+fn timed(src: &str, dialect: Dialect, tweak: impl FnOnce(&mut fivex_engine::interp::Config)) -> (f64, Option<String>) {
+    let mut interp = interpreter_with(src, "mill3", dialect, tweak);
+    let r = run(&mut interp, &RunOptions { period_s: PERIOD, ..RunOptions::default() }, |_| {});
+    (r.cycle_time_s, r.alarms.first().map(|a| format!("{} line {}", a.code, a.line)))
+}
+
+/// FANUC feeds an arc in G93 at FRN × its radius (16/18-MC B-62764EN/01, §5 "Inverse time
+/// feed": FRN = feedrate / arc radius), so its block takes swept angle (rad) / FRN minutes; the
+/// arc took 1/F minutes (a quarter arc 1.57× too fast, a full circle 2π×). A helix is fed
+/// along its arc (HTG = 0) at that rate. Haas keeps 60/F seconds for every motion (its G93
+/// page); Syntec, whose sources say neither, refuses the arc (COR-100).
+#[test]
+fn g93_arcs_take_their_swept_angle_over_frn_in_fanuc() {
+    let quarter = std::f64::consts::FRAC_PI_2;
+    // From X0 Y0 to X10 Y10 by G03 R10: the quarter arc about (0, 10), 5π mm long.
+    let len = 5.0 * std::f64::consts::PI;
+    // The run's arc lags its closed form by a ms or so (its profile on the circle): each arc is
+    // held to its closed-form time within 5 ms, and to the same arc in G94 at FRN × R exactly.
+    let near = |got: f64, want: f64, what: &str| assert!((got - want).abs() < 5e-3, "{what}: {got} s, not {want}");
+    // FANUC: 10 mm/min along the arc, π/2 min.
+    let (t, alarm) = timed("G90 G17 G93 G03 X10. Y10. R10. F1.\nM30\n", Dialect::Fanuc, |_| {});
+    assert_eq!(alarm, None);
+    let v = 10.0 / 60.0;
+    near(t, quarter * 60.0, "quarter arc");
+    near(t, move_time(len, v, A, J), "quarter arc with its ramps");
+    assert_eq!(t, timed("G90 G17 G94 G03 X10. Y10. R10. F10.\nM30\n", Dialect::Fanuc, |_| {}).0);
+    // The same in inch: R1 in at FRN 1 is 1 in/min = 25.4 mm/min, still π/2 min.
+    let (t, _) = timed("G20 G90 G17 G93 G03 X1. Y1. R1. F1.\nM30\n", Dialect::Fanuc, |_| {});
+    near(t, move_time(25.4 * quarter, 25.4 / 60.0, A, J), "inch quarter arc");
+    // A three-quarter arc (G02 from (0,0) to (10,10) with R-10, centre (0,10)): 3π/2 min.
+    let (t, _) = timed("G90 G17 G93 G02 X10. Y10. R-10. F1.\nM30\n", Dialect::Fanuc, |_| {});
+    near(t, move_time(3.0 * len, v, A, J), "three-quarter arc");
+    // A helix rising 5 mm: fed along its arc at 10 mm/min, so its path at 10·L/5π mm/min.
+    let path = (len * len + 25.0).sqrt();
+    let (t, _) = timed("G90 G17 G93 G03 X10. Y10. Z5. R10. F1.\nM30\n", Dialect::Fanuc, |_| {});
+    near(t, move_time(path, v * path / len, A, J), "helix");
+    // An inverse time the axes cannot follow: F60000 on R10 asks 600000 mm/min; the arc is
+    // held to what the axes allow (slower than the rapid rate), not run in 1/F min.
+    let (t, _) = timed("G90 G17 G93 G03 X10. Y10. R10. F60000.\nM30\n", Dialect::Fanuc, |_| {});
+    assert!(t > len / 500.0, "an arc faster than the rapid rate: {t} s");
+    // Haas: 60/F seconds whatever the motion.
+    let (t, alarm) = timed("G90 G17 G93 G03 X10. Y10. R10. F1.\nM30\n", Dialect::Haas, |_| {});
+    assert_eq!(alarm, None);
+    near(t, move_time(len, len / 60.0, A, J), "Haas quarter arc");
+    // Syntec: refused at the arc's block, and by `fivex check` where the block names G93.
+    let (_, alarm) = timed("G90 G17 G93 G01 X1. F1.\nG03 X11. Y10. R10. F1.\nM30\n", Dialect::Syntec, |_| {});
+    assert_eq!(alarm.as_deref(), Some("COR-100 line 2"));
+    let diags = fivex_engine::check::check(
+        fivex_engine::lang::parse_file("G90 G17 G93 G03 X10. Y10. R10. F1.\nM30\n"),
+        Dialect::Syntec,
+    );
+    assert_eq!(diags.iter().map(|d| (d.line, d.id.clone())).collect::<Vec<_>>(), [(1, AlarmId::GCodeNotBuilt)]);
+}
+
+/// An inverse time has no length unit. FANUC counts an F without a decimal point in 0.001 under
+/// G93 (DPI = 0), "regardless of whether the input mode is inches or metric" (B-62764EN/01:
+/// F1 is FRN 0.001); with DPI = 1 (`pocket_calculator`) F1 is 1. It ran F600 as FRN 600, 1000×
+/// too fast. The Haas dialect counted Setting 77's 0.001 mm / 0.0001 in, so an inch program ran
+/// 10× slower: refused (no Haas source gives G93's increment).
+#[test]
+fn g93_f_without_a_decimal_point() {
+    // FRN 0.6: 10 mm (or 1 in) in 1/0.6 min = 100 s, at 6 mm/min (15.24 mm/min).
+    for (src, len) in [("G21 G90 G93 G01 X10. F600\nM30\n", 10.0), ("G20 G90 G93 G01 X1. F600\nM30\n", 25.4)] {
+        let (t, alarm) = timed(src, Dialect::Fanuc, |_| {});
+        assert_eq!(alarm, None);
+        assert!((t - move_time(len, len / 100.0, A, J)).abs() < 1e-6, "{src}: {t} s");
+        // DPI = 1: F6 is FRN 6, 10 s.
+        let (t, _) = timed(&src.replace("F600", "F6"), Dialect::Fanuc, |c| c.pocket_calculator = true);
+        assert!((t - move_time(len, len / 10.0, A, J)).abs() < 1e-6, "{src} with DPI = 1: {t} s");
+        // Haas: refused at the block (311); with a point F6. runs 10 s in both units.
+        let (_, alarm) = timed(src, Dialect::Haas, |_| {});
+        assert_eq!(alarm.as_deref(), Some("311 line 1"), "{src}");
+        let (t, _) = timed(&src.replace("F600", "F6."), Dialect::Haas, |_| {});
+        assert!((t - move_time(len, len / 10.0, A, J)).abs() < 1e-6, "Haas {src} with F6.: {t} s");
+    }
+    // G94's F without a point is unchanged: FANUC as written, Haas in Setting 77's increment.
+    let (t, _) = timed("G21 G90 G94 G01 X10. F600\nM30\n", Dialect::Fanuc, |_| {});
+    assert!((t - move_time(10.0, 10.0, A, J)).abs() < 1e-6, "G94 F600: {t} s");
 }
 
 /// G95's feed follows the spindle's turning: with the spindle stopped (M05, never started, S0)
