@@ -1618,8 +1618,9 @@ async fn the_workpiece_is_probed_by_g31_and_kept() {
     }
     assert_eq!(app.get(&uri).await.json(), block);
 
-    // While the axes move: 409, and the boxes stay.
-    store(&app, &id, 2, "G90 G00 Z50.\nG01 X200. F600.\nM30\n").await;
+    // While the axes move: 409, and the boxes stay. (A slow feed: the move must still be under
+    // way when the request arrives on a loaded machine; the reset below ends it.)
+    store(&app, &id, 2, "G90 G00 Z50.\nG01 X200. F10.\nM30\n").await;
     app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 2})).await;
     eventually(&app, &format!("{C}/{id}"), |s| s["position"]["machine"]["X"].as_f64().is_some_and(|x| x > 0.0)).await;
     let busy = app.put(&uri, &json!({"boxes": []})).await;
