@@ -33,6 +33,7 @@ use crate::interp::{Interpreter, Loaded, Step};
 use crate::lang::Word as NcWord;
 use crate::lang::{BinOp, BlockKind, Diagnostic, Expr, File, Output, PrintItem, WordValue};
 use crate::motion::{Endpoint, Executor};
+use crate::notice::Notice;
 use std::collections::HashSet;
 
 /// Every diagnostic of `file`, sorted by line and column.
@@ -753,6 +754,13 @@ pub struct RunStop {
 /// stage's (found where a run finds it: a corner when the next motion has been read, what the
 /// stage still holds at the program end), then the interpreter's.
 pub fn run_without_motion(interp: &mut Interpreter, strokes: bool) -> Option<RunStop> {
+    run_noting(interp, strokes, &mut Vec::new())
+}
+
+/// [`run_without_motion`], adding to `notices` what the commands the stages release have to
+/// report (`Notice::of_command`: the notices a block's commands carry; those only the planner
+/// finds, of a segment's posture, are not looked for).
+pub fn run_noting(interp: &mut Interpreter, strokes: bool, notices: &mut Vec<Notice>) -> Option<RunStop> {
     let mut stages = crate::stage::Pipeline::for_config(interp.config());
     let start = Endpoint {
         machine: interp.state.machine_position(),
@@ -765,6 +773,9 @@ pub fn run_without_motion(interp: &mut Interpreter, strokes: bool) -> Option<Run
         out.clear();
         let step = interp.step(&mut out);
         let stage_alarm = stages.process(&mut out, crate::run::ends(&step));
+        for notice in out.iter().filter_map(Notice::of_command) {
+            Notice::add(notices, notice);
+        }
         for c in out.iter().filter(|_| strokes) {
             if let Err(id) = check_strokes(&mut exec, c) {
                 let (code, message) = interp.config().dialect.describe(&id);

@@ -125,6 +125,11 @@ mod tests {
         assert!(e.starts_with("COR-155"), "{e}");
         let e = parse(r#"{"name": "x", "dialect": "fanuc", "parameters": {"1020": "X"}}"#).unwrap_err();
         assert!(e.contains("1020") || e.contains("untagged"), "{e}");
+        // A key a parameter list does not have is refused, not dropped: `motion` beside
+        // `parameters` ran the machine in mm without a word.
+        let e = parse(r#"{"name": "x", "dialect": "fanuc", "parameters": {}, "motion": {"power_on_inch": true}}"#)
+            .unwrap_err();
+        assert!(e.contains("unknown field `motion`"), "{e}");
     }
 
     #[test]

@@ -35,21 +35,34 @@ pub enum BlockNotice {
     /// below the hole bottom (above the top of G87's back bore). Marked on the hole's first
     /// cutting feed.
     CycleRBeyondZ,
+    /// G20/G21 switched the unit after the program had moved (its line and sequence number):
+    /// marked on the next motion.
+    UnitSwitched { line: u32, n: Option<u32> },
 }
 
 impl Notice {
     /// What a motion's block has to report, if anything (`BlockNotice`).
     pub fn of_command(c: &Canon) -> Option<Notice> {
         let CanonKind::Motion(m) = &c.kind else { return None };
-        let (code, message) = match m.notice? {
+        let (code, message, line, n) = match m.notice? {
             BlockNotice::CycleRBeyondZ => (
                 "FX1004",
                 "canned cycle: point R lies beyond point Z on the side the cycle cuts toward (below the hole \
                  bottom; above the top of a G87 back bore): the tool reaches R at rapid past Z and cuts back \
                  toward it, as programmed",
+                c.line,
+                c.n,
+            ),
+            BlockNotice::UnitSwitched { line, n } => (
+                "FX1005",
+                "inch/metric input switched after the program had moved: the manuals give G20/G21 at the \
+                 program's start (FANUC: they must not be switched during a program) and do not say what the \
+                 control does then; fivex reads every later word in the new unit, offsets and positions kept",
+                line,
+                n,
             ),
         };
-        Some(Notice { code: code.into(), message: message.into(), line: c.line, n: c.n })
+        Some(Notice { code: code.into(), message: message.into(), line, n })
     }
 
     /// What a queued segment has to report, if anything.

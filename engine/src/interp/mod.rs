@@ -393,6 +393,12 @@ pub struct State {
     /// are what the block released of the ones before it (a smoothing or corner rounding run).
     block_out: usize,
     ended: bool,
+    /// The program has moved since its start (`Interpreter::load`): a G20/G21 that switches the
+    /// unit from here on is reported (`unit_switch`).
+    moved: bool,
+    /// The line and sequence number of a G20/G21 that switched the unit after the program had
+    /// moved, until the next motion carries its notice (`BlockNotice::UnitSwitched`).
+    unit_switch: Option<(u32, Option<u32>)>,
     /// A cutter compensation vector may stand at the current point: the last block that moved
     /// did so in a mode of `code::COMPENSATED_BY_STAGES` (until a move in G40 or a reset). The
     /// current position variables are then not built (`AlarmId::PositionInCompensation`).
@@ -580,6 +586,8 @@ impl Interpreter {
             self.state.common_types = vars::Types::default();
         }
         self.state.ended = self.progs.is_empty();
+        self.state.moved = false;
+        self.state.unit_switch = None;
         self.start_main();
     }
 
@@ -699,7 +707,11 @@ impl Interpreter {
             result = Err(AlarmId::FloatOverflow);
         }
         match result {
-            Ok(step) => Ok(step),
+            Ok(step) => {
+                let own = st.block_out.max(before) - before;
+                st.mark_unit_switch(&mut out[before..], own);
+                Ok(step)
+            }
             Err(id) => {
                 // A block refused with an alarm does nothing: none of its own commands run, even
                 // those it made before the alarm was found (a call found missing after the
@@ -766,6 +778,24 @@ impl Interpreter {
 }
 
 impl State {
+    /// After a block ran: the first motion after a G20/G21 that switched the unit mid-program
+    /// carries its notice (a switch nothing moves after changes no motion), and whether the
+    /// program has moved is kept. `out` holds the step's commands; those before `own` are what
+    /// the block released of the blocks before it (a smoothing or corner rounding run): they
+    /// count as moving but do not carry the notice.
+    fn mark_unit_switch(&mut self, out: &mut [Canon], own: usize) {
+        for (i, c) in out.iter_mut().enumerate() {
+            let CanonKind::Motion(m) = &mut c.kind else { continue };
+            self.moved = true;
+            if let Some((line, n)) = self.unit_switch.filter(|_| i >= own) {
+                if m.notice.is_none() {
+                    m.notice = Some(crate::notice::BlockNotice::UnitSwitched { line, n });
+                    self.unit_switch = None;
+                }
+            }
+        }
+    }
+
     fn new(cfg: Config) -> State {
         let syntec_division = cfg.dialect == Dialect::Syntec;
         let syntec_pow = cfg.dialect == Dialect::Syntec;
@@ -859,6 +889,8 @@ impl State {
             blocks: 0,
             block_out: 0,
             ended: false,
+            moved: false,
+            unit_switch: None,
             cutter_vector: false,
             line: 0,
             n: None,
@@ -982,19 +1014,24 @@ impl State {
     }
 
     /// Every non-vacant variable a power cycle keeps, as (number, value): #500–#999, the
-    /// extended #500000–#999999, and the retained system values — the hour timer #3002 and
-    /// the part counts #3901/#3902 (FANUC keeps them through power off). A host saves these
+    /// extended #500000–#999999, and the retained system values — the hour timer #3002,
+    /// the part counts #3901/#3902 (FANUC keeps them through power off) and FANUC's inch/metric
+    /// mode #4006. A host saves these
     /// and hands them back with [`State::load_retained`] after a restart.
     pub fn retained_variables(&self) -> Vec<(u32, f64)> {
         let p = self.persistent.iter().enumerate().filter_map(|(i, v)| v.map(|x| (500 + i as u32, x)));
         let e = self.extended.range(500_000..=999_999).map(|(&n, &v)| (n, v));
         let system = [(3002, self.hour_timer()), (3901, self.parts_done), (3902, self.parts_required)];
+        // FANUC: "When the power is turned on, the G code is the same as that held before the
+        // power was turned off" (G20/G21, B-63944EN/02 §8.2): kept as its #4006, 20 or 21.
+        let unit = (self.cfg.dialect == crate::Dialect::Fanuc)
+            .then(|| (4006, if self.modes[group::UNITS] == code::G20 { 20.0 } else { 21.0 }));
         // Haas: #100–#199 and the NGC's own #10000… general purpose variables are kept too.
         let haas = self.cfg.dialect == crate::Dialect::Haas;
         let c = self.common.iter().enumerate().filter_map(|(i, v)| v.map(|x| (100 + i as u32, x)));
         let c = c.filter(|_| haas);
         let ngc = self.extended.range(10_000..=10_999).map(|(&n, &v)| (n, v)).filter(|_| haas);
-        c.chain(p).chain(e).chain(ngc).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).collect()
+        c.chain(p).chain(e).chain(ngc).chain(system.into_iter().filter(|&(_, v)| v != 0.0)).chain(unit).collect()
     }
 
     /// Count `operating_s` seconds of automatic operation, `cutting_s` of them along a cutting
@@ -1043,7 +1080,7 @@ impl State {
 
     /// Whether a power cycle keeps variable `n` ([`State::retained_variables`]).
     pub fn is_retained(n: u32) -> bool {
-        matches!(n, 500..=999 | 500_000..=999_999 | 3002 | 3901 | 3902)
+        matches!(n, 500..=999 | 500_000..=999_999 | 3002 | 3901 | 3902 | 4006)
     }
 
     /// Restore retained variables saved before a restart (numbers that are not retained are
@@ -1062,6 +1099,13 @@ impl State {
                 3002 => self.timer_h_base = self.clock_s / 3600.0 - value.unwrap_or(0.0),
                 3901 => self.parts_done = value.unwrap_or(0.0),
                 3902 => self.parts_required = value.unwrap_or(0.0),
+                4006 if self.cfg.dialect == crate::Dialect::Fanuc => {
+                    self.modes[group::UNITS] = match value {
+                        Some(20.0) => code::G20,
+                        Some(21.0) => code::G21,
+                        _ => return Err(AlarmId::VariableOutOfRange),
+                    }
+                }
                 _ => return Err(AlarmId::VariableOutOfRange),
             }
         }

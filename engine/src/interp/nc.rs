@@ -734,11 +734,18 @@ impl State {
         }
 
         // --- G codes: units first, then the modal groups in block order ---------------------
+        let unit_before = self.modes[group::UNITS];
         if w.has_g(code::G20) {
             self.modes[group::UNITS] = code::G20;
         }
         if w.has_g(code::G21) {
             self.modes[group::UNITS] = code::G21;
+        }
+        if self.moved && self.modes[group::UNITS] != unit_before {
+            // "G20 and G21 must not be switched during a program" (FANUC B-63944EN/02 §8.2):
+            // what a control does then is not described; fivex converts every later word and
+            // reports the switch on the next motion (`BlockNotice::UnitSwitched`).
+            self.unit_switch = Some((self.line, self.n));
         }
         let machine_before = self.machine_position();
         let length_before = self.tool_vec;

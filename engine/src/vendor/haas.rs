@@ -20,6 +20,9 @@
 use super::{unrepresentable, Params};
 use crate::machine::{Axis, AxisKind, ConfigError, Hand, MachineConfig, MotionOptions, RotaryLink, Side};
 
+/// Setting 9, Dimensioning: programs start in inch (1) or mm (0, the default) at power on. The
+/// NGC shows the choice by name (INCH / MM); the numbers are fivex's.
+pub const DIMENSIONING: u32 = 9;
 /// Setting 255: MRZP X offset (the first of three, X/Y/Z).
 pub const MRZP: u32 = 255;
 /// Constructed: the rotary unit (0 none, 1 4th axis A, 2 VF trunnion A/B, 3 UMC B/C).
@@ -126,7 +129,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         holder: 0.0,
         sub_chains: Vec::new(),
         chains: Vec::new(),
-        motion: MotionOptions::default(),
+        motion: MotionOptions { power_on_inch: p.code(DIMENSIONING, 0, 1)? == 1, ..MotionOptions::default() },
         five_axis: Default::default(),
         manual: Default::default(),
     })
@@ -158,7 +161,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     if m.tool_axis != [0.0, 0.0, 1.0] || m.nose != [0.0; 3] || m.holder != 0.0 {
         return Err(no("the tool is not along +Z from the spindle nose".into()));
     }
-    if m.motion != MotionOptions::default() {
+    if (MotionOptions { power_on_inch: false, ..m.motion }) != MotionOptions::default() {
         return Err(no("motion options other than the defaults".into()));
     }
     if m.five_axis != Default::default()
@@ -169,6 +172,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         return Err(no("5-axis, manual or chain options".into()));
     }
     let mut p = Params::default();
+    if m.motion.power_on_inch {
+        p.set(DIMENSIONING, 1.0);
+    }
     p.set(UNIT, unit as f64);
     let accel = linear[0].accel;
     for (k, a) in linear.iter().enumerate() {

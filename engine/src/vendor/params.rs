@@ -119,8 +119,11 @@ pub fn whole(number: u32, x: f64, lo: i64, hi: i64) -> Result<i64, ConfigError> 
 }
 
 /// A machine described by its vendor parameter list: the other form of `--machine FILE.json`.
+/// A key it does not have is refused, not dropped (a model field such as `motion` written
+/// beside `parameters` changed nothing, without a word).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(deny_unknown_fields)]
 pub struct ParamFile {
     pub name: String,
     pub dialect: crate::Dialect,

@@ -1032,6 +1032,28 @@ fn unmodelled_syntec_parameters_are_reported_and_stcp_settings_round_trip() {
     assert!(params_of(Dialect::Fanuc, &m).unwrap_err().detail.contains("Pr407"));
 }
 
+/// Haas Setting 9 (Dimensioning, 1 = INCH): programs start in inch; `power_on_inch` both ways.
+/// Before, a Haas list could not carry it: an inch Haas machine could not be written, and a
+/// list that set Setting 9 started in mm.
+#[test]
+fn haas_setting_9_is_the_power_on_unit() {
+    let mut p = Params::default();
+    p.set(super::haas::UNIT, 0.0);
+    p.set(super::haas::TRAVEL, 500.0);
+    p.set(super::haas::TRAVEL + 1, 400.0);
+    p.set(super::haas::TRAVEL + 2, 500.0);
+    for k in 0..3 {
+        p.set(super::haas::RAPID + k, 25000.0);
+    }
+    assert!(!machine_from(Dialect::Haas, "vf2", &p).unwrap().motion.power_on_inch);
+    p.set(super::haas::DIMENSIONING, 1.0);
+    let m = machine_from(Dialect::Haas, "vf2", &p).unwrap();
+    assert!(m.motion.power_on_inch);
+    assert_eq!(params_of(Dialect::Haas, &m).unwrap(), p);
+    p.set(super::haas::DIMENSIONING, 2.0);
+    assert!(machine_from(Dialect::Haas, "vf2", &p).is_err());
+}
+
 /// No.0000#2 INI: programs start in inch; the model's `motion.power_on_inch` both ways.
 #[test]
 fn fanuc_ini_power_on_inch_round_trip() {

@@ -666,6 +666,37 @@ fn var_of(vars: &[(u32, f64)], n: u32) -> f64 {
     vars.iter().find(|(k, _)| *k == n).map(|(_, v)| *v).unwrap_or_else(|| panic!("#{n} vacant"))
 }
 
+/// "G20 and G21 must not be switched during a program" (FANUC 30i user's manual B-63944EN/02
+/// §8.2, a warning; what the control does then is not described): a switch after the program
+/// has moved runs with notice FX1005 at the switching block, carried by the next motion, in
+/// every dialect (Syntec's G70/G71). A unit set before the first move, the same unit given
+/// again, or a switch nothing moves after, are not told. Before, nothing was.
+#[test]
+fn a_unit_switched_after_the_first_motion_runs_with_a_notice() {
+    let notices = |src: &str, dialect: Dialect| {
+        let r = common::run_with(src, "mill3", dialect);
+        assert!(r.completed(), "{dialect:?}: {:?}\n{src}", r.alarms);
+        r.notices.iter().map(|n| (n.code.clone(), n.line, n.n)).collect::<Vec<_>>()
+    };
+    for (dialect, inch, mm) in
+        [(Dialect::Fanuc, "G20", "G21"), (Dialect::Haas, "G20", "G21"), (Dialect::Syntec, "G70", "G71")]
+    {
+        let switched = format!("{mm} G90 G00 X0 Y0\nG01 X10. F600.\nN7 {inch}\nG01 X1. F20.\nM30\n");
+        assert_eq!(notices(&switched, dialect), vec![("FX1005".to_string(), 3, Some(7))], "{dialect:?}");
+        // In the moving block itself, and back again: each switch is told.
+        let twice = format!("{mm} G00 X5.\n{inch} G01 X1. F20.\n{mm} X5.\nM30\n");
+        let got: Vec<u32> = notices(&twice, dialect).iter().map(|n| n.1).collect();
+        assert_eq!(got, vec![2, 3], "{dialect:?}");
+        for quiet in [
+            format!("{inch}\nG90 G00 X1.\nM30\n"),
+            format!("{mm} G00 X1.\n{mm}\nG00 X2.\nM30\n"),
+            format!("{mm} G00 X1.\n{inch}\nM30\n"),
+        ] {
+            assert_eq!(notices(&quiet, dialect), vec![], "{dialect:?}: {quiet}");
+        }
+    }
+}
+
 /// A rotary word without a decimal point counts 0.001° in G20 as in G21: only lengths have an
 /// inch increment (FANUC 30i-A5 manual §2.3.2 gives the angles' increment apart from the
 /// input unit; 30i user's manual §8.2: "The unit of data input for degrees remains unchanged").

@@ -371,7 +371,7 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
     }
 }
 
-/// `{"#500": 1.5, …}` → the retained variable array (keys outside #500–#999 are refused).
+/// `{"#500": 1.5, …}` → the retained variable array (keys that are not retained are refused).
 fn load_retained(path: &Path) -> Result<Vec<(u32, Option<f64>)>, Fail> {
     let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     let map: BTreeMap<String, Option<f64>> =
@@ -381,7 +381,7 @@ fn load_retained(path: &Path) -> Result<Vec<(u32, Option<f64>)>, Fail> {
         let n: u32 = key.strip_prefix('#').and_then(|k| k.parse().ok()).unwrap_or(0);
         if !fivex_engine::interp::State::is_retained(n) {
             return Err(Fail(format!(
-                "{}: '{key}' is not a retained variable (#500–#999, #500000–#999999, #3002, #3901, #3902)",
+                "{}: '{key}' is not a retained variable (#500–#999, #500000–#999999, #3002, #3901, #3902, FANUC #4006)",
                 path.display()
             )));
         }
@@ -505,15 +505,17 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
         .collect();
     let on_machine = a.machine.preset.is_some() || a.machine.machine.is_some();
     let file = parse_file(&text);
-    // Without a machine, only a program that turns cutter compensation on is run (on the
-    // default machine): what the compensation finds hardly depends on the machine.
-    if on_machine || fivex_engine::check::uses_cutter_compensation(&file) {
+    {
+        // Without a machine the program is run on the default one for what hardly depends on
+        // the machine: the alarms of cutter compensation and the notices (a unit switched
+        // mid-program, FX1005 …); its other alarms are the stand-in's, not the text's.
         let machine = load_machine(&a.machine)?;
         let name = machine.name.clone();
         let mut cfg = Config::new(machine, a.dialect);
         cfg.max_blocks = CHECK_MAX_BLOCKS;
         let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
-        let (stop, unheld_call) = machine_alarm(interp, on_machine);
+        let mut notices = Vec::new();
+        let (stop, unheld_call) = machine_alarm(interp, on_machine, &mut notices);
         let stop = stop.filter(|s| on_machine || s.compensating);
         if let Some(line) = unheld_call.filter(|_| on_machine) {
             // Not a diagnostic (the control may hold the program), but the check is partial.
@@ -534,6 +536,7 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
                 lines.push((alarm.line, 1, format!("{} {}: {detail}", alarm.code, alarm.message)));
             }
         }
+        lines.extend(notices.into_iter().map(|n| (n.line, 1, format!("{} {}", n.code, n.message))));
     }
     lines.sort_by_key(|&(line, col, _)| (line, col));
     let stdout = std::io::stdout();
@@ -553,8 +556,12 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
 /// sees one file, the control has them all; a missing sequence number or a call without P
 /// share FANUC's PS0078 but are errors of the file itself): the run ends there, and its line
 /// is returned instead, as the lines after it were not run.
-fn machine_alarm(mut interp: Interpreter, strokes: bool) -> (Option<fivex_engine::check::RunStop>, Option<u32>) {
-    match fivex_engine::check::run_without_motion(&mut interp, strokes) {
+fn machine_alarm(
+    mut interp: Interpreter,
+    strokes: bool,
+    notices: &mut Vec<fivex_engine::notice::Notice>,
+) -> (Option<fivex_engine::check::RunStop>, Option<u32>) {
+    match fivex_engine::check::run_noting(&mut interp, strokes, notices) {
         Some(s) if s.id == Some(fivex_engine::alarm::AlarmId::ProgramNotFound) => (None, Some(s.alarm.line)),
         stop => (stop, None),
     }

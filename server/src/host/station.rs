@@ -192,13 +192,14 @@ impl Station {
         self.estimates = Estimates::default();
     }
 
-    /// Retained values read from the database: they count as saved. Numbers the engine does
-    /// not retain (rows of an older version) are left out.
+    /// Retained values read from the database: they count as saved. A value the engine does
+    /// not retain in this dialect (a row of an older version) is left out, one by one: the
+    /// dialect's own (Haas #100–#199) are kept.
     pub fn load_retained(&mut self, values: &[(u32, f64)]) {
         let state = &mut self.controller.interpreter_mut().state;
-        let values: Vec<(u32, Option<f64>)> =
-            values.iter().filter(|(n, _)| State::is_retained(*n)).map(|&(n, v)| (n, Some(v))).collect();
-        let _ = state.load_retained(&values);
+        for &(n, v) in values {
+            let _ = state.load_retained(&[(n, Some(v))]);
+        }
         self.saved = state.retained_variables().into_iter().collect();
         self.streamed = self.controller.interpreter().state.common_variables().into_iter().collect();
     }

@@ -256,6 +256,34 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
     assert_eq!(again.get(&format!("{C}/{id}/runs")).await.json().as_array().unwrap().len(), 1);
 }
 
+/// FANUC keeps G20/G21 through power off ("When the power is turned on, the G code is the same
+/// as that held before the power was turned off", B-63944EN/02 §8.2): a restart of the service
+/// is the controller's power cycle, and G20 came back as G21 — the next `X1.` moved 1 mm, not
+/// 25.4. The Haas NGC starts in the unit of Setting 9 (mm here), as before, and keeps its
+/// #100–#199 (FANUC does not).
+#[tokio::test]
+async fn fanuc_keeps_its_inch_mode_over_a_restart() {
+    let app = spawn_app().await;
+    let mut ids = Vec::new();
+    for dialect in ["fanuc", "haas"] {
+        let id = create(&app, json!({"name": "u", "preset": "mill3", "dialect": dialect, "speed": 50})).await;
+        let mdi = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G20\n#101=5."})).await;
+        assert_eq!(mdi.status, StatusCode::OK, "{}", mdi.text());
+        wait_for(&app, &id, "idle").await;
+        assert_eq!(app.get(&format!("{C}/{id}/modal")).await.json()["groups"]["6"], "G20", "{dialect}");
+        ids.push((id, dialect));
+    }
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let state = app.restart().await;
+    let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
+    for (id, dialect) in ids {
+        let want = if dialect == "fanuc" { "G20" } else { "G21" };
+        assert_eq!(again.get(&format!("{C}/{id}/modal")).await.json()["groups"]["6"], want, "{dialect}");
+        let kept = if dialect == "haas" { json!(5.0) } else { Value::Null };
+        assert_eq!(again.get(&format!("{C}/{id}/variables/101")).await.json()["value"], kept, "{dialect}");
+    }
+}
+
 #[tokio::test]
 async fn a_run_cut_off_by_a_graceful_stop_is_recorded_interrupted() {
     let app = spawn_app().await;
