@@ -2310,7 +2310,11 @@ export interface components {
             /** @description Z-axis neglect (FANUC): machine lock of the Z axis alone. */
             z_neglect: boolean;
         };
-        /** @description A machine described by its vendor parameter list: the other form of `--machine FILE.json`. */
+        /**
+         * @description A machine described by its vendor parameter list: the other form of `--machine FILE.json`.
+         *     A key it does not have is refused, not dropped (a model field such as `motion` written
+         *     beside `parameters` changed nothing, without a word).
+         */
         ParamFile: {
             dialect: components["schemas"]["Dialect"];
             name: string;
