@@ -252,6 +252,11 @@ pub enum AlarmId {
     RestartBlockNotFound,
     /// P type without an automatic operation since power-on or the emergency stop.
     RestartPNoRun,
+    /// P type after the coordinate system was set or changed since the interruption (G92,
+    /// G52, G92.1, another work coordinate system selected).
+    RestartPCoordinatesChanged,
+    /// P type after the external work offset was changed since the interruption.
+    RestartPExternalOffsetChanged,
     /// P type after the work offsets were changed since the interruption.
     RestartPOffsetChanged,
     /// An MDI operation between the restart's search and its cycle start.

@@ -39,7 +39,7 @@ use lock::Lock;
 pub use manual::ManualCoordinates;
 use manual::{Intervention, Shift};
 pub use operation::{Times, SPINDLE_OVERRIDE};
-pub use restart::{Restart, RestartPhase, RestartType};
+pub use restart::{Restart, RestartPhase, RestartType, SEARCH_BLOCKS_PER_TICK};
 pub use signals::{ManualSignals, ManualTarget};
 
 /// A controller's mode: the operator panel's mode switch.
@@ -739,7 +739,8 @@ impl Controller {
     /// thread or break the tap ("When feedhold or halt is applied, the tap will stop when it
     /// is out of the hole", `docs/motion.md`, "The controller").
     pub fn feed_hold(&mut self) {
-        if self.run_state == RunState::Running {
+        // A restart's search moves nothing to hold (a reset stops it).
+        if self.run_state == RunState::Running && !self.searching() {
             if self.tapping() {
                 self.hold_after_tap = true;
                 return;
@@ -1015,6 +1016,11 @@ impl Controller {
     /// Advance simulated time by `dt` seconds.
     pub fn tick(&mut self, dt: f64) {
         let end = self.exec.time() + dt.max(0.0);
+        if self.run_state == RunState::Running && self.search_slice() {
+            // A program restart's search: nothing moves, time goes on (`restart.rs`).
+            self.exec.idle_until(end);
+            return;
+        }
         let mut blocks = 0;
         // The blocks read now see the panel's switches (Haas #3030, #3031).
         self.interp.state.set_panel_switches(self.panel.single_block, self.panel.dry_run);
@@ -1344,6 +1350,7 @@ impl Controller {
                 }
             }
             Item::Canon(c) => match &c.kind {
+                CanonKind::Motion(_) if self.mdi_moves_after_search(c.line, c.n) => return true,
                 CanonKind::Motion(m) => {
                     if self.shift.as_ref().is_some_and(|s| self.refuses_on_tip_path(s, m)) {
                         if motion_pending {

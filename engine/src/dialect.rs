@@ -216,6 +216,8 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::EmergencyStop,
     AlarmId::RestartBlockNotFound,
     AlarmId::RestartPNoRun,
+    AlarmId::RestartPCoordinatesChanged,
+    AlarmId::RestartPExternalOffsetChanged,
     AlarmId::RestartPOffsetChanged,
     AlarmId::RestartMdi,
     AlarmId::RestartInMode,
@@ -407,6 +409,13 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         // Program restart (FANUC only: the Syntec manuals fivex follows do not describe it).
         RestartBlockNotFound => (("PS0071", "DATA NOT FOUND"), ("COR-037", "Restart block not found")),
         RestartPNoRun => (("PS0097", "P TYPE NOT ALLOWED (AUTO EXEC)"), ("COR-038", "Restart type P not allowed")),
+        // Syntec: constructed (never shown, the restart is refused first).
+        RestartPCoordinatesChanged => {
+            (("PS0094", "P TYPE NOT ALLOWED (COORD CHG)"), ("COR-039", "Restart type P not allowed"))
+        }
+        RestartPExternalOffsetChanged => {
+            (("PS0095", "P TYPE NOT ALLOWED (EXT OFS CHG)"), ("COR-039", "Restart type P not allowed"))
+        }
         RestartPOffsetChanged => {
             (("PS0096", "P TYPE NOT ALLOWED (WRK OFS CHG)"), ("COR-039", "Restart type P not allowed"))
         }
@@ -513,7 +522,12 @@ fn haas(id: &AlarmId) -> Text {
         GAsArgument => ("529", "ILLEGAL G65 PARAMETER"),
         MixedStatements => ("710", "NC AND MACRO STATEMENT IN ONE BLOCK"),
         EmergencyStop => ("107", "EMERGENCY OFF"),
-        RestartBlockNotFound | RestartPNoRun | RestartPOffsetChanged | RestartMdi => RESTART,
+        RestartBlockNotFound
+        | RestartPNoRun
+        | RestartPCoordinatesChanged
+        | RestartPExternalOffsetChanged
+        | RestartPOffsetChanged
+        | RestartMdi => RESTART,
         RestartInMode => ("FX0005", "RESTART NOT ALLOWED IN THIS MODE"),
         PositionInCompensation => POSITION_IN_COMPENSATION,
         RotaryShiftOnTipPath => ROTARY_SHIFT_ON_TIP_PATH,

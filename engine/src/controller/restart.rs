@@ -13,7 +13,11 @@ use super::{Controller, Mode, Refusal, RunState};
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{CanonKind, MotionKind, Pos};
 use crate::dialect::Dialect;
-use crate::interp::restart::{Found, Target};
+use crate::interp::restart::{Coordinates, Found, Search, Target};
+
+/// How many blocks the search runs per controller tick: a long search (a loop of a million
+/// passes) goes on over ticks, the controller answering between them; a reset stops it.
+pub const SEARCH_BLOCKS_PER_TICK: u64 = 5_000;
 
 /// FANUC's two kinds of program restart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -31,6 +35,8 @@ pub enum RestartType {
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema), schema(as = RestartPhaseName))]
 #[serde(rename_all = "lowercase")]
 pub enum RestartPhase {
+    /// The search runs (over ticks: [`SEARCH_BLOCKS_PER_TICK`]); the controller is running.
+    Searching,
     /// The search has found the restart block; cycle start returns the axes.
     Searched,
     /// The axes return to the restart position; then the program goes on.
@@ -42,7 +48,12 @@ pub enum RestartPhase {
 pub struct Restart {
     pub kind: RestartType,
     pub phase: RestartPhase,
+    /// What the search found (while `Searching`: where it has got to, what it passed over).
     pub found: Found,
+    /// The machine position the search started the program from (P type: where the last
+    /// automatic operation started; Q type: where the machine stood). Once the return starts,
+    /// the restart run is the last automatic operation and a later P type starts here.
+    pub from: Pos,
 }
 
 /// What the controller remembers for a P type restart.
@@ -52,14 +63,22 @@ pub(super) struct RestartMemory {
     /// the emergency stop: P type is PS0097).
     pub(super) start: Option<Pos>,
     /// The work offsets when the last automatic operation stopped (interrupted or ended;
-    /// changed since: PS0096).
+    /// changed since: PS0095 for the external one, PS0096 for the others).
     pub(super) work: Vec<Pos>,
+    /// The coordinate system (selection, G52, G92) when it stopped (changed since: PS0094).
+    pub(super) coordinates: Coordinates,
     /// An automatic operation runs (or is held, or stands at an operator stop): its stop takes
     /// `work`. A reset with nothing running is no stop and keeps it.
     pub(super) running: bool,
     /// The interpreter's state before the search under way, restored when the search is
     /// forgotten before its return (`Controller::forget_search`).
     pub(super) before_search: Option<Box<crate::interp::State>>,
+    /// The interpreter's state the search left, kept while MDI runs between the search and
+    /// its cycle start (M/S/T, F, G04, variables: `Controller::keep_search_over_mdi`); that
+    /// cycle start goes on from it.
+    pub(super) searched: Option<Box<crate::interp::State>>,
+    /// The search under way (`RestartPhase::Searching`).
+    pub(super) search: Option<Search>,
 }
 
 impl Controller {
@@ -73,8 +92,9 @@ impl Controller {
     /// or is in alarm, without a program, and in the Syntec and Haas dialects (their manuals, as
     /// fivex has them, describe no FANUC-style P/Q restart: the NGC's restart is its Setting 36
     /// scan, not built). The manual's conditions are alarms: P type without an
-    /// automatic operation since power-on or the emergency stop (PS0097), or after the work
-    /// offsets changed (PS0096); the block not found (PS0071); a program alarm in the search.
+    /// automatic operation since power-on or the emergency stop (PS0097), or after the
+    /// coordinate system, the external or the work offsets changed (PS0094, PS0095, PS0096);
+    /// the block not found (PS0071); a program alarm in the search.
     pub fn restart(&mut self, target: Target, kind: RestartType) -> Result<(), Refusal> {
         if self.interp.config().dialect != Dialect::Fanuc {
             return Err(Refusal::NotInDialect);
@@ -94,29 +114,64 @@ impl Controller {
         let source = self.program.clone().ok_or(Refusal::NoProgram)?;
         self.forget_search();
         self.stand_here();
-        if kind == RestartType::P {
-            let Some(start) = self.memory.start else {
-                self.raise(AlarmId::RestartPNoRun, 0, None);
-                return Ok(());
-            };
-            if !self.interp.state.offsets.same_work(&self.memory.work) {
-                // FANUC's PS0097 text: P type needs an automatic operation after "P/S alarm 94
-                // to 97 reset" too, so the reset of this alarm does not open the way.
-                self.memory.start = None;
-                self.raise(AlarmId::RestartPOffsetChanged, 0, None);
-                return Ok(());
+        let from = match kind {
+            RestartType::Q => self.exec.here.machine,
+            RestartType::P => {
+                let Some(start) = self.memory.start else {
+                    self.raise(AlarmId::RestartPNoRun, 0, None);
+                    return Ok(());
+                };
+                if let Some(id) = self.changed_since_stop() {
+                    // FANUC's PS0097 text: P type needs an automatic operation after "P/S alarm
+                    // 94 to 97 reset" too, so the reset of this alarm does not open the way.
+                    self.memory.start = None;
+                    self.raise(id, 0, None);
+                    return Ok(());
+                }
+                // The coordinates are the interrupted run's: the search starts where it started.
+                self.interp.moved_to(&start);
+                start
             }
-            // The coordinates are the interrupted run's: the search starts where it started.
-            self.interp.moved_to(&start);
-        }
+        };
         self.memory.before_search = Some(Box::new(self.interp.state.clone()));
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load_source(&source);
-        match self.interp.search(target) {
-            Ok(found) => {
+        let search = Search::new(target, &self.interp);
+        let found = search.so_far(&self.interp);
+        self.restart = Some(Restart { kind, phase: RestartPhase::Searching, found, from });
+        self.memory.search = Some(search);
+        // The first slice now (a short program is searched at once); the rest over the ticks,
+        // the controller running meanwhile (nothing else can start; a reset stops it).
+        self.search_slice();
+        if self.searching() {
+            self.set_state(RunState::Running);
+        }
+        Ok(())
+    }
+
+    /// A block search is under way (`RestartPhase::Searching`).
+    pub(super) fn searching(&self) -> bool {
+        self.memory.search.is_some()
+    }
+
+    /// The next [`SEARCH_BLOCKS_PER_TICK`] blocks of the search under way: the restart block
+    /// found, it waits for cycle start; an alarm in it stops it. True when a search was under way.
+    pub(super) fn search_slice(&mut self) -> bool {
+        let Some(mut search) = self.memory.search.take() else { return false };
+        match self.interp.search_on(&mut search, SEARCH_BLOCKS_PER_TICK) {
+            Ok(None) => {
+                if let Some(r) = self.restart.as_mut() {
+                    r.found = search.so_far(&self.interp);
+                }
+                self.memory.search = Some(search);
+            }
+            Ok(Some(found)) => {
                 self.settle_executing();
                 (self.exec.here.line, self.exec.here.n) = (found.line, found.n);
-                self.restart = Some(Restart { kind, phase: RestartPhase::Searched, found });
+                if let Some(r) = self.restart.as_mut() {
+                    (r.phase, r.found) = (RestartPhase::Searched, found);
+                }
+                self.set_state(RunState::Idle);
             }
             Err(alarm) => {
                 self.forget_search();
@@ -125,26 +180,42 @@ impl Controller {
                 self.alarm(alarm);
             }
         }
-        Ok(())
+        true
     }
 
     /// Cycle start after a search: the M/S/T the search passed over are output, then each axis
     /// returns to the restart position on its own (in the machine's axis order) at rapid, and
-    /// the program goes on from the restart block (`arrived`). MDI before it: PS0099.
+    /// the program goes on from the restart block (`arrived`). In MDI the search is kept
+    /// (`keep_search_over_mdi`) and the MDI program runs (false).
     pub(super) fn restart_start(&mut self) -> bool {
-        let Some(r) = self.restart.as_mut().filter(|r| r.phase == RestartPhase::Searched) else {
+        if self.restart.as_ref().is_none_or(|r| r.phase != RestartPhase::Searched) {
             return false;
-        };
-        if self.mode == Mode::Mdi {
-            self.forget_search();
-            self.interp.reset();
-            self.raise(AlarmId::RestartMdi, 0, None);
-            return true;
         }
+        if self.mode == Mode::Mdi {
+            self.keep_search_over_mdi();
+            return false;
+        }
+        // MDI ran since the search: the program goes on in the state the search left (the
+        // search had a program; selecting none or another forgets the search). What the MDI
+        // wrote to memory (variables, offsets) stays; a coordinate system it set would be
+        // dropped without effect, so it is refused (a decision).
+        if let (Some(searched), Some(program)) = (self.memory.searched.take(), self.program.clone()) {
+            let coordinates_set = searched.coordinates() != self.interp.state.coordinates();
+            self.interp.load_source(&program);
+            self.interp.state.forget_search(*searched);
+            self.settle_executing();
+            if coordinates_set {
+                self.refuse_mdi(0, None);
+                return true;
+            }
+        }
+        let Some(r) = self.restart.as_mut() else { return false };
         r.phase = RestartPhase::Returning;
-        // From here the program runs: a reset is a run's reset.
+        // From here the program runs: a reset is a run's reset, and the restart run is the last
+        // automatic operation (a later P type searches from where its search started).
         self.memory.before_search = None;
         self.memory.running = true;
+        self.memory.start = Some(r.from);
         let (target, output) = (r.found.machine, r.found.output.clone());
         // Hand moves since the search moved the interpreter's current point with the machine:
         // the program goes on from the restart position.
@@ -168,6 +239,33 @@ impl Controller {
         }
         self.set_state(RunState::Running);
         true
+    }
+
+    /// MDI between the search and its cycle start: FANUC allows the M/S/T (and fivex F, G04 and
+    /// macro statements) to be given; the search's state is kept for the restart's cycle start
+    /// while the MDI program has the interpreter. A move in it is PS0099 (`mdi_moves_after_search`).
+    fn keep_search_over_mdi(&mut self) {
+        if self.memory.searched.is_none() {
+            self.memory.searched = Some(Box::new(self.interp.state.clone()));
+        }
+    }
+
+    /// An MDI program reads a move while a search waits for its cycle start: PS0099, the search
+    /// is forgotten. True when it did (the move is not made).
+    pub(super) fn mdi_moves_after_search(&mut self, line: u32, n: Option<u32>) -> bool {
+        let held = self.restart.as_ref().is_some_and(|r| r.phase == RestartPhase::Searched);
+        if self.mode != Mode::Mdi || !held {
+            return false;
+        }
+        self.refuse_mdi(line, n);
+        true
+    }
+
+    /// PS0099 MDI EXEC NOT ALLOWED AFT. SEARCH: the search is forgotten.
+    fn refuse_mdi(&mut self, line: u32, n: Option<u32>) {
+        self.forget_search();
+        self.interp.reset();
+        self.raise(AlarmId::RestartMdi, line, n);
     }
 
     /// Called before the program reads on: when the return has ended, the program goes on from
@@ -200,6 +298,8 @@ impl Controller {
         if let Some(before) = self.memory.before_search.take() {
             self.interp.state.forget_search(*before);
         }
+        self.memory.searched = None;
+        self.memory.search = None;
         self.restart = None;
     }
 
@@ -210,6 +310,24 @@ impl Controller {
     pub(super) fn remember_stop(&mut self) {
         if std::mem::take(&mut self.memory.running) {
             self.memory.work = self.interp.state.offsets.work_copy();
+            self.memory.coordinates = self.interp.state.coordinates();
+        }
+    }
+
+    /// What changed since the last automatic operation stopped that makes its coordinates
+    /// wrong for a P type restart: the coordinate system set or another selected (G92, G52,
+    /// G92.1, G54… in MDI: PS0094), the external work offset (PS0095), a work offset (PS0096).
+    /// Tool offsets may change (the broken tool's replacement).
+    fn changed_since_stop(&self) -> Option<AlarmId> {
+        let st = &self.interp.state;
+        if st.coordinates() != self.memory.coordinates {
+            Some(AlarmId::RestartPCoordinatesChanged)
+        } else if !st.offsets.same_external(&self.memory.work) {
+            Some(AlarmId::RestartPExternalOffsetChanged)
+        } else if !st.offsets.same_work(&self.memory.work) {
+            Some(AlarmId::RestartPOffsetChanged)
+        } else {
+            None
         }
     }
 

@@ -150,6 +150,11 @@ impl Offsets {
         (0..self.work.len().max(copy.len())).all(|i| self.work(i) == copy.get(i).unwrap_or(&ZERO_WORK))
     }
 
+    /// Whether the external work offset (slot 0, FANUC's EXT) equals `copy`'s.
+    pub fn same_external(&self, copy: &[Pos]) -> bool {
+        self.work(0) == copy.first().unwrap_or(&ZERO_WORK)
+    }
+
     pub fn work(&self, index: usize) -> &Pos {
         assert!(index < WORK_SLOTS, "work offset slot {index} out of range");
         self.work.get(index).unwrap_or(&ZERO_WORK)

@@ -40,6 +40,52 @@ pub struct Found {
     pub m_codes: Vec<u32>,
 }
 
+/// A block search under way ([`Interpreter::search_on`]): what it has passed over so far.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Search {
+    target: Target,
+    /// How many times the main program has reached the restart block.
+    seen: u32,
+    chain: Option<Canon>,
+    tool: Option<Canon>,
+    spindle: Option<Canon>,
+    m_codes: Vec<u32>,
+    /// The interpreter's block count when the search began.
+    start: u64,
+}
+
+impl Search {
+    /// A search of `interp`'s loaded program (from its top) for `target`.
+    pub fn new(target: Target, interp: &Interpreter) -> Search {
+        Search {
+            target,
+            seen: 0,
+            chain: None,
+            tool: None,
+            spindle: None,
+            m_codes: Vec::new(),
+            start: interp.state.blocks,
+        }
+    }
+
+    /// Where the search stands in `interp`: the next block, the position, what it passed over
+    /// (once the restart block is reached, what it found).
+    pub fn so_far(&self, interp: &Interpreter) -> Found {
+        let (line, n) = match interp.next_block() {
+            Some((line, n, _)) => (line, n),
+            None => interp.state.current_block(),
+        };
+        Found {
+            line,
+            n,
+            machine: interp.state.machine_position(),
+            blocks: interp.state.blocks - self.start,
+            output: [&self.chain, &self.tool, &self.spindle].into_iter().flatten().cloned().collect(),
+            m_codes: self.m_codes.clone(),
+        }
+    }
+}
+
 /// How many of the searched M codes are kept for the operator (FANUC's restart screen: 35).
 pub const M_SHOWN: usize = 35;
 
@@ -63,54 +109,55 @@ impl Interpreter {
     /// search): on success the interpreter stands before the restart block, its state what a
     /// run from the top would have left. The target not reached before the program's end is
     /// PS0071; the program's own alarms come as in a run; a restart block in a mode the search
-    /// cannot carry into the return (see [`State::restart_refusal`]) is refused.
+    /// cannot carry into the return (see [`State::restart_refusal`]) is refused. The search in
+    /// one go: [`Interpreter::search_on`] runs it in slices.
     pub fn search(&mut self, target: Target) -> Result<Found, Alarm> {
-        let (want, occurrence) = match target {
+        let mut search = Search::new(target, self);
+        loop {
+            if let Some(found) = self.search_on(&mut search, u64::MAX)? {
+                return Ok(found);
+            }
+        }
+    }
+
+    /// [`Interpreter::search`] for at most `budget` more blocks: `None` when the restart block
+    /// is not reached yet (call again with the same `search` and nothing else run between).
+    pub fn search_on(&mut self, search: &mut Search, budget: u64) -> Result<Option<Found>, Alarm> {
+        let (want, occurrence) = match search.target {
             Target::Sequence { n, occurrence } | Target::Line { line: n, occurrence } => (n, occurrence.max(1)),
         };
-        let mut seen = 0;
         let mut out = Vec::with_capacity(16);
-        let (mut chain, mut tool, mut spindle) = (None, None, None);
-        let mut m_codes: Vec<u32> = Vec::new();
-        let start = self.state.blocks;
-        loop {
+        for _ in 0..budget {
             if let Some((line, n, 1)) = self.next_block() {
-                let here = match target {
+                let here = match search.target {
                     Target::Sequence { .. } => n == Some(want),
                     Target::Line { .. } => line == want,
                 };
                 if here {
-                    seen += 1;
-                    if seen == occurrence {
+                    search.seen += 1;
+                    if search.seen == occurrence {
                         if let Some(id) = self.state.restart_refusal() {
                             return Err(self.alarm_at(id, line, n));
                         }
-                        return Ok(Found {
-                            line,
-                            n,
-                            machine: self.state.machine_position(),
-                            blocks: self.state.blocks - start,
-                            output: [chain, tool, spindle].into_iter().flatten().collect(),
-                            m_codes,
-                        });
+                        return Ok(Some(search.so_far(self)));
                     }
                 }
             }
             let step = self.step(&mut out)?;
             for c in out.drain(..) {
                 match &c.kind {
-                    CanonKind::Chain(_) => chain = Some(c),
-                    CanonKind::ToolChange { .. } => tool = Some(c),
-                    CanonKind::Spindle { .. } => spindle = Some(c),
-                    CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => m_codes.push(*m),
+                    CanonKind::Chain(_) => search.chain = Some(c),
+                    CanonKind::ToolChange { .. } => search.tool = Some(c),
+                    CanonKind::Spindle { .. } => search.spindle = Some(c),
+                    CanonKind::Aux { m } | CanonKind::ProgramEnd { m } => search.m_codes.push(*m),
                     // Coolant is the operator's to give again (fivex outputs only the tool
                     // change and the spindle): the screen lists it with the other M codes.
-                    CanonKind::Coolant(coolant) => m_codes.push(coolant_m(*coolant)),
+                    CanonKind::Coolant(coolant) => search.m_codes.push(coolant_m(*coolant)),
                     _ => {}
                 }
             }
-            if m_codes.len() > M_SHOWN {
-                m_codes.drain(..m_codes.len() - M_SHOWN);
+            if search.m_codes.len() > M_SHOWN {
+                search.m_codes.drain(..search.m_codes.len() - M_SHOWN);
             }
             match step {
                 Step::Continue => {}
@@ -121,6 +168,7 @@ impl Interpreter {
                 }
             }
         }
+        Ok(None)
     }
 
     fn alarm_at(&mut self, id: AlarmId, line: u32, n: Option<u32>) -> Alarm {
@@ -139,7 +187,22 @@ fn coolant_m(coolant: Coolant) -> u32 {
     }
 }
 
+/// The coordinate system the program's positions are in, beside the offsets' values: the work
+/// coordinate system selected (G54…, G54.1 P), the G52 local offset and the G92 shift. Set or
+/// changed since the interruption, a P type restart is refused (FANUC PS0094).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Coordinates {
+    work: usize,
+    local: Pos,
+    shift: Pos,
+}
+
 impl State {
+    /// The coordinate system in force ([`Coordinates`]).
+    pub fn coordinates(&self) -> Coordinates {
+        Coordinates { work: self.work_index(), local: self.local, shift: self.shift }
+    }
+
     /// Why a restart cannot go on from here. The search runs neither the path stages nor the
     /// executor, so a mode whose next move depends on what they hold (a compensation vector, a
     /// canned cycle's hole pattern, a tool tip followed through the kinematics, a curve being

@@ -4,7 +4,9 @@
 //! the program goes on from the restart block; P type and Q type and the manual's alarms.
 
 use crate::common::cases;
-use fivex_engine::controller::{Controller, Mode, Refusal, RestartPhase, RestartType, RunState};
+use fivex_engine::controller::{
+    Controller, Mode, Refusal, RestartPhase, RestartType, RunState, SEARCH_BLOCKS_PER_TICK,
+};
 use fivex_engine::interp::restart::Target;
 use fivex_engine::interp::{Config, Interpreter};
 use fivex_engine::lang::parse_file;
@@ -331,15 +333,27 @@ fn p_type_searches_from_where_the_interrupted_run_started_wherever_the_machine_i
     assert!(close(&q.restart_status().unwrap().found.machine, &[30.0, 5.0, 0.0]));
 }
 
+/// Run `text` in MDI to its end, then back to AUTO.
+fn mdi(c: &mut Controller, text: &str) {
+    c.set_mode(Mode::Mdi).unwrap();
+    c.set_mdi(text).unwrap();
+    c.cycle_start().unwrap();
+    settle(c, 60.0);
+    c.set_mode(Mode::Auto).unwrap();
+}
+
 #[test]
 fn mdi_after_the_search_is_ps0099_and_reset_forgets_the_search() {
     let mut c = controller();
     c.select_program(PROGRAM).unwrap();
     c.restart(n(100), RestartType::Q).unwrap();
     c.set_mode(Mode::Mdi).unwrap();
-    c.set_mdi("G00 X1.").unwrap();
+    c.set_mdi("M08\nG00 X1.").unwrap();
     c.cycle_start().unwrap();
+    settle(&mut c, 10.0);
     assert_eq!(alarm_code(&c), "PS0099");
+    assert_eq!(c.alarms()[0].line, 2, "the block with the move");
+    assert!(close(&c.point().machine, &[0.0; 3]), "the move is not made: {:?}", c.point().machine);
     assert!(c.restart_status().is_none());
     c.reset();
     c.set_mode(Mode::Auto).unwrap();
@@ -350,6 +364,121 @@ fn mdi_after_the_search_is_ps0099_and_reset_forgets_the_search() {
     c.cycle_start().unwrap();
     c.tick(0.001);
     assert_eq!(c.point().n, Some(10));
+}
+
+#[test]
+fn m_s_t_f_a_dwell_and_variables_in_mdi_keep_the_search_and_the_restart_goes_on_from_it() {
+    // FANUC allows the M/S/T to be given by MDI after the search; only a move there is PS0099.
+    let full = ran(PROGRAM);
+    let mut c = controller();
+    c.select_program(PROGRAM).unwrap();
+    c.restart(n(100), RestartType::Q).unwrap();
+    mdi(&mut c, "M08\nS500 M03\nT2 M06\nG94 F300.\nG04 X0.1\n#500 = 42\n");
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert_eq!(c.restart_status().map(|r| r.phase), Some(RestartPhase::Searched));
+    c.cycle_start().unwrap();
+    assert_eq!(c.spindle(), 2400.0, "the search's spindle is output");
+    settle(&mut c, 60.0);
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert!(close(&c.point().machine, &full.point().machine), "{:?}", c.point().machine);
+    assert_eq!(c.modal(), full.modal(), "the program goes on in the searched modes (F1200., not F300.)");
+    let vars = c.interpreter().state.common_variables();
+    assert!(vars.contains(&(500, 42.0)), "the MDI's variable write stays: {vars:?}");
+    // A coordinate system set in MDI would be dropped by the restart: refused at its cycle start.
+    let mut c = controller();
+    c.select_program(PROGRAM).unwrap();
+    c.restart(n(100), RestartType::Q).unwrap();
+    mdi(&mut c, "G92 X0 Y0\n");
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    c.cycle_start().unwrap();
+    assert_eq!(alarm_code(&c), "PS0099");
+    assert!(c.restart_status().is_none());
+    assert!(close(&c.point().machine, &[0.0; 3]));
+}
+
+#[test]
+fn a_restart_run_is_the_last_automatic_operation() {
+    // Incremental moves: where the search starts decides the restart position.
+    let src = "N10 G91 G00 X10. Y5.\nN20 G01 X20. F3000.\nN30 Y15.\nN40 X-5.\nM30\n";
+    // The first run starts at X0 Y0 and ends at X25 Y20. The operator brings the machine to
+    // X40 Y0 and restarts there by Q type; the restart run ends.
+    let mut c = ran(src);
+    assert!(close(&c.point().machine, &[25.0, 20.0, 0.0]), "{:?}", c.point().machine);
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('X', 15.0).unwrap();
+    settle(&mut c, 10.0);
+    c.handle('Y', -20.0).unwrap();
+    settle(&mut c, 10.0);
+    c.set_mode(Mode::Auto).unwrap();
+    c.restart(n(20), RestartType::Q).unwrap();
+    c.cycle_start().unwrap();
+    settle(&mut c, 60.0);
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert!(close(&c.point().machine, &[65.0, 20.0, 0.0]), "{:?}", c.point().machine);
+    // P type now takes the restart run's coordinates: from X40 Y0, N40 starts at X70 Y20 (the
+    // first run's would give X30 Y20).
+    c.restart(n(40), RestartType::P).unwrap();
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    let target = c.restart_status().unwrap().found.machine;
+    assert!(close(&target, &[70.0, 20.0, 0.0]), "{target:?}");
+
+    // After an emergency stop, a Q type restart run is an automatic operation: P type follows.
+    let mut c = ran(src);
+    c.emergency_stop(true);
+    c.emergency_stop(false);
+    c.reset();
+    c.restart(n(20), RestartType::Q).unwrap();
+    c.cycle_start().unwrap();
+    settle(&mut c, 60.0);
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    c.restart(n(40), RestartType::P).unwrap();
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert_eq!(c.restart_status().map(|r| r.found.n), Some(Some(40)));
+}
+
+#[test]
+fn p_type_is_refused_after_the_coordinate_system_was_set_in_mdi() {
+    // The program ends in G55 with a G92 shift on X.
+    let src = "N10 G90 G55 G00 X10. Y10.\nN20 G92 X0\nN30 G01 X5. F3000.\nN40 M30\n";
+    for (text, changed) in [
+        ("G92 Y3.", true),
+        ("G52 X5.", true),
+        ("G92.1 X0", true),
+        ("G54", true),
+        ("G56", true),
+        ("G55", false),
+        ("S100 M03\nG04 X0.1\n#500 = 1", false),
+    ] {
+        let mut c = ran(src);
+        mdi(&mut c, text);
+        assert!(c.alarms().is_empty(), "{text}: {:?}", c.alarms());
+        c.restart(n(30), RestartType::P).unwrap();
+        if changed {
+            assert_eq!(alarm_code(&c), "PS0094", "{text}");
+            assert_eq!(c.alarms()[0].message, "P TYPE NOT ALLOWED (COORD CHG)");
+            // As after PS0095–PS0097: P type needs an automatic operation first.
+            c.reset();
+            c.restart(n(30), RestartType::P).unwrap();
+            assert_eq!(alarm_code(&c), "PS0097", "{text}");
+        } else {
+            assert!(c.alarms().is_empty(), "{text}: {:?}", c.alarms());
+        }
+    }
+}
+
+#[test]
+fn p_type_after_the_external_work_offset_changed_is_ps0095() {
+    let mut c = ran(PROGRAM);
+    c.interpreter_mut().state.offsets.work_mut(0)[0] += 1.0;
+    c.offsets_changed();
+    c.restart(n(100), RestartType::P).unwrap();
+    assert_eq!(alarm_code(&c), "PS0095");
+    assert_eq!(c.alarms()[0].message, "P TYPE NOT ALLOWED (EXT OFS CHG)");
+    // In MDI too (G10 L2 P0: the external offset).
+    let mut c = ran(PROGRAM);
+    mdi(&mut c, "G10 L2 P0 Z1.");
+    c.restart(n(100), RestartType::P).unwrap();
+    assert_eq!(alarm_code(&c), "PS0095");
 }
 
 #[test]
@@ -423,6 +552,49 @@ fn a_reset_with_nothing_running_does_not_take_the_changed_offsets_as_the_interru
     c.reset();
     c.restart(n(100), RestartType::P).unwrap();
     assert_eq!(alarm_code(&c), "PS0096");
+}
+
+#[test]
+fn a_long_search_runs_over_the_ticks_and_a_reset_stops_it() {
+    // 100,000 passes of a loop (three blocks each) before the restart block.
+    let src = "N1 G90 G00 X0 Y0\n#500 = 0\nWHILE [#500 LT 100000] DO1\n#500 = #500 + 1\nEND1\n\
+        N50 G01 X10. F600.\nN60 M30\n";
+    let mut c = controller();
+    c.select_program(src).unwrap();
+    c.restart(n(50), RestartType::Q).unwrap();
+    let r = c.restart_status().expect("a search under way");
+    assert_eq!(r.phase, RestartPhase::Searching);
+    assert!(r.found.blocks <= SEARCH_BLOCKS_PER_TICK, "one slice at once: {}", r.found.blocks);
+    assert_eq!(c.run_state(), RunState::Running);
+    // Nothing else starts meanwhile; a feed hold does not stop it.
+    assert_eq!(c.set_mode(Mode::Jog), Err(Refusal::Busy));
+    assert_eq!(c.restart(n(50), RestartType::Q), Err(Refusal::Busy));
+    c.feed_hold();
+    c.tick(TICK);
+    let r = c.restart_status().unwrap();
+    assert_eq!(r.phase, RestartPhase::Searching);
+    assert!(r.found.blocks > SEARCH_BLOCKS_PER_TICK && r.found.blocks <= 2 * SEARCH_BLOCKS_PER_TICK);
+    // A reset stops it: nothing of it stays, cycle start runs the program from its top.
+    c.reset();
+    assert!(c.restart_status().is_none());
+    assert_eq!(c.run_state(), RunState::Idle);
+    // Searched to its end over the ticks: the state is a run's from the top.
+    c.restart(n(50), RestartType::Q).unwrap();
+    let mut ticks = 0;
+    while c.restart_status().is_some_and(|r| r.phase == RestartPhase::Searching) {
+        c.tick(TICK);
+        ticks += 1;
+    }
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    let blocks = c.restart_status().unwrap().found.blocks;
+    assert!(blocks > 100_000, "{blocks}");
+    assert_eq!(ticks as u64, blocks / SEARCH_BLOCKS_PER_TICK, "{ticks} ticks for {blocks} blocks");
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert_eq!(c.restart_status().map(|r| (r.phase, r.found.n)), Some((RestartPhase::Searched, Some(50))));
+    assert!(c.interpreter().state.common_variables().contains(&(500, 100000.0)));
+    c.cycle_start().unwrap();
+    settle(&mut c, 60.0);
+    assert!(close(&c.point().machine, &[10.0, 0.0, 0.0]), "{:?}", c.point().machine);
 }
 
 #[test]

@@ -44,15 +44,17 @@ pub struct RestartInfo {
     /// `p` or `q`.
     #[serde(rename = "type")]
     pub kind: RestartType,
-    /// `searched` (cycle start returns the axes) or `returning`.
+    /// `searching` (the search runs over the controller's ticks, `run_state` `running`; a
+    /// reset stops it), `searched` (cycle start returns the axes) or `returning`.
     pub phase: RestartPhase,
-    /// The restart block's line.
+    /// The restart block's line (while `searching`: the block the search has got to).
     pub line: u32,
     /// Its sequence number (none for a block without N).
     pub n: Option<u32>,
-    /// Blocks the search executed.
+    /// Blocks the search executed (so far).
     pub blocks: u64,
-    /// The restart position per axis (machine coordinates): where the return goes.
+    /// The restart position per axis (machine coordinates): where the return goes (while
+    /// `searching`: where the search has got to).
     #[schema(value_type = std::collections::HashMap<String, f64>)]
     pub position: Map<String, Value>,
     /// What cycle start outputs before the return: the tool of the last tool change…
@@ -104,9 +106,9 @@ impl RestartInfo {
     params(("id" = String, Path, description = "Controller id")),
     request_body = RestartRequest,
     responses(
-        (status = 200, description = "Searched (or the alarm that stopped the search)", body = ControllerStatus),
+        (status = 200, description = "Searched, or searching on (a long program), or the alarm that stopped the search", body = ControllerStatus),
         (status = 404, description = "No such controller or program", body = ErrorBody),
-        (status = 409, description = "Not possible now (running, holding, in alarm, not AUTO, no program, a Syntec controller)", body = ErrorBody),
+        (status = 409, description = "Not possible now; `error` names the state (running, searching, holding, in alarm, the emergency stop, not in AUTO, no program selected, Syntec has no program restart)", body = ErrorBody),
         (status = 422, description = "Not a restart request", body = ErrorBody),
     )
 )]

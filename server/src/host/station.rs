@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use fivex_engine::controller::{Controller, Event, Mode, RunState};
+use fivex_engine::controller::{Controller, Event, Mode, RestartPhase, RunState};
 use fivex_engine::interp::State;
 use fivex_engine::interp::MAX_G54_1;
 use fivex_engine::machine::{Machine, MachineConfig};
@@ -256,7 +256,11 @@ impl Station {
 
     /// A program run begins (cycle start from idle): remembered for the run history.
     pub fn begin_run(&mut self, program: Option<u32>) {
-        self.program = program;
+        // An MDI run (no program) leaves the program AUTO runs: a restart's search held over
+        // MDI (`docs/dialects.md`, "Program restart") goes on in it.
+        if program.is_some() {
+            self.program = program;
+        }
         self.run = Some(RunStart {
             program,
             started_at: now_rfc3339(),
@@ -274,6 +278,15 @@ impl Station {
             Some(run) => [run.program, self.layouts.locate(self.controller.point().line).0],
             None => [None, None],
         }
+    }
+
+    /// The stored program a program restart's search holds (searching, or searched and waiting
+    /// for the cycle start that returns the axes, when the run begins): it may not be replaced
+    /// or removed meanwhile, as the restart would go on in the text searched while the status
+    /// showed lines of another (`service::programs`).
+    pub fn program_searched(&self) -> Option<u32> {
+        let searched = self.controller.restart_status().is_some_and(|r| r.phase != RestartPhase::Returning);
+        self.program.filter(|_| searched)
     }
 
     /// The run just begun is the one estimated under `key`.

@@ -3,9 +3,12 @@
 //! applied in one place ([`apply`]). [`execute`] does both on a hosted controller and sends out
 //! what the command caused.
 
-use fivex_engine::controller::{Controller, ManualCoordinates, ManualSignals, Mode, Refusal, RestartType, RunState};
+use fivex_engine::controller::{
+    Controller, ManualCoordinates, ManualSignals, Mode, Refusal, RestartPhase, RestartType, RunState,
+};
 use fivex_engine::interp::restart::Target;
 use fivex_engine::kin::ManualFeed;
+use fivex_engine::Dialect;
 use serde::{Deserialize, Serialize};
 
 use super::programs::{Composed, MAX_PROGRAM_BYTES};
@@ -221,6 +224,8 @@ pub enum Refused {
     ProgramUnderWay,
     /// Z-axis neglect where the dialect or the machine has none.
     NoZNeglect,
+    /// A program restart refused: the state that refuses it (`restart_refused`).
+    Restart(&'static str),
 }
 
 impl From<Refusal> for Refused {
@@ -243,6 +248,7 @@ impl From<Refused> for ServiceError {
                     "a program is under way: resume it with an empty cycle start, or reset first"
                 }
                 Refused::NoZNeglect => "Z-axis neglect needs a FANUC controller and a Z axis",
+                Refused::Restart(why) => why,
             }
             .into(),
         )
@@ -440,25 +446,49 @@ pub fn apply(
         PanelCommand::JogSignal { axis, positive } => c.jog_signal(axis, positive)?,
         PanelCommand::HandlePulses { amount } => return Ok(Applied::Taken(c.handle_pulses(amount)?)),
         PanelCommand::Restart { program, kind, at } => {
+            let refused = |c: &Controller, r: Refusal| Refused::Restart(restart_refused(c, r));
             if let Some((n, composed)) = &program {
                 if run_state(c) != RunState::Idle {
-                    return Err(Refused::ProgramUnderWay);
+                    return Err(refused(c, Refusal::Busy));
                 }
                 if c.mode() != Mode::Auto {
-                    c.set_mode(Mode::Auto)?;
+                    c.set_mode(Mode::Auto).map_err(|r| refused(c, r))?;
                 }
-                c.select_program(composed.source.clone())?;
-                c.restart(at.target(), kind)?;
+                c.select_program(composed.source.clone()).map_err(|r| refused(c, r))?;
+                c.restart(at.target(), kind).map_err(|r| refused(c, r))?;
                 station.layouts.auto = composed.layout.clone();
                 station.layouts.started(Mode::Auto);
                 // The cycle start that returns the axes runs this program (`begin_run`).
                 station.program = Some(*n);
             } else {
-                c.restart(at.target(), kind)?;
+                c.restart(at.target(), kind).map_err(|r| refused(c, r))?;
             }
         }
     }
     Ok(Applied::Done)
+}
+
+/// Why `c` refuses a program restart, named for the operator (`docs/api.md`): the state that
+/// refuses it, not only the kind of refusal.
+fn restart_refused(c: &Controller, r: Refusal) -> &'static str {
+    match r {
+        Refusal::NotInDialect if c.interpreter().config().dialect == Dialect::Syntec => {
+            "Syntec has no program restart (its manuals describe none)"
+        }
+        Refusal::NotInDialect => "the Haas NGC has no FANUC program restart (its Setting 36 scan is not built)",
+        Refusal::WrongMode => "not in AUTO: a restart without a program is made in AUTO",
+        Refusal::NoProgram => "no program selected: name one with \"program\"",
+        _ if c.restart_status().is_some_and(|r| r.phase == RestartPhase::Searching) => {
+            "searching: a restart's search is under way (a reset stops it)"
+        }
+        _ if c.emergency_stopped() => "the emergency stop is pressed",
+        _ => match run_state(c) {
+            RunState::Alarm => "in alarm: reset first",
+            RunState::Running => "running: the program or a move is under way",
+            RunState::Hold => "holding: a feed hold or a program stop waits for cycle start (reset first)",
+            RunState::Idle => "the axes are moving (a manual move or a deceleration)",
+        },
+    }
 }
 
 /// Checks `command`, applies it to `hosted` (locked for as long as that takes), sends out what

@@ -167,10 +167,17 @@ pub async fn text(db: &db::Db, hosted: &Hosted, n: u32) -> Result<String, Servic
 /// removed under it, its run would go on with the old text (read at the cycle start) while the
 /// status, the stream and the alarms gave lines of a text that no longer is (on the control the
 /// program being executed cannot be edited either).
+/// Nor the one a program restart's search holds (`Station::program_searched`).
 fn not_in_use(hosted: &Hosted, n: u32) -> Result<(), ServiceError> {
-    if hosted.station().programs_in_use().contains(&Some(n)) {
+    let station = hosted.station();
+    if station.programs_in_use().contains(&Some(n)) {
         return Err(ServiceError::Conflict(format!(
             "program O{n:04} is in use by the run under way: it can change once the run is over (its end, or a reset)"
+        )));
+    }
+    if station.program_searched() == Some(n) {
+        return Err(ServiceError::Conflict(format!(
+            "program O{n:04} is searched for a program restart: it can change once the restart has run (its cycle start) or is forgotten (a reset)"
         )));
     }
     Ok(())

@@ -79,11 +79,120 @@ async fn the_manuals_conditions_are_alarms_in_the_status() {
     let status = app.post(&format!("{C}/{id}/restart"), &json!({"type": "q", "n": 45})).await.json();
     assert_eq!(status["alarms"][0]["code"], "PS0071", "{status}");
     app.post(&format!("{C}/{id}/reset"), &json!({})).await;
-    // By line, after an MDI operation: PS0099 at cycle start in MDI.
+    // By line; an MDI move after the search: PS0099 when MDI reads it (M/S/T before it keep
+    // the search).
     let status = app.post(&format!("{C}/{id}/restart"), &json!({"type": "q", "line": 5, "occurrence": 1})).await.json();
     assert_eq!(status["restart"]["n"], 40, "{status}");
-    let status = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G91 G00 X1."})).await.json();
+    let status = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "S200 M03"})).await.json();
+    assert_eq!(status["alarms"], json!([]), "{status}");
+    let status = status_until(&app, &id, |s| s["run_state"] == "idle").await;
+    assert_eq!(status["restart"]["phase"], "searched", "{status}");
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G91 G00 X1."})).await;
+    let status = status_until(&app, &id, |s| s["run_state"] != "running").await;
     assert_eq!(status["alarms"][0]["code"], "PS0099", "{status}");
+    assert_eq!(status["restart"], Value::Null);
+    assert_eq!(status["position"]["machine"]["X"], 0.0, "the move is not made");
+}
+
+#[tokio::test]
+async fn p_type_after_a_coordinate_system_setting_or_an_external_offset_change_is_refused() {
+    let app = spawn_app().await;
+    let id = controller(&app, "fanuc").await;
+    let run_to_end = || {
+        let app = &app;
+        let id = id.clone();
+        async move {
+            app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+            status_until(app, &id, |s| s["run_state"] == "idle").await;
+        }
+    };
+    // G92 in MDI after the run: PS0094.
+    run_to_end().await;
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G92 X0 Y0"})).await;
+    status_until(&app, &id, |s| s["run_state"] == "idle").await;
+    app.put(&format!("{C}/{id}/mode"), &json!({"mode": "auto"})).await;
+    let status = app.post(&format!("{C}/{id}/restart"), &json!({"type": "p", "n": 40})).await.json();
+    assert_eq!(status["alarms"][0]["code"], "PS0094", "{status}");
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    // The external work offset changed: PS0095.
+    run_to_end().await;
+    let reply = app.put(&format!("{C}/{id}/work-offsets/EXT"), &json!({"axes": {"X": 1.5}})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let status = app.post(&format!("{C}/{id}/restart"), &json!({"type": "p", "n": 40})).await.json();
+    assert_eq!(status["alarms"][0]["code"], "PS0095", "{status}");
+    assert_eq!(status["alarms"][0]["message"], "P TYPE NOT ALLOWED (EXT OFS CHG)");
+}
+
+#[tokio::test]
+async fn the_searched_program_cannot_change_until_the_restart_ran_or_was_forgotten() {
+    let app = spawn_app().await;
+    let id = controller(&app, "fanuc").await;
+    let put = |text: &'static str| {
+        let app = &app;
+        let id = id.clone();
+        async move { app.raw(Method::PUT, &format!("{C}/{id}/programs/1"), "text/plain", text.to_string()).await }
+    };
+    let status = app.post(&format!("{C}/{id}/restart"), &json!({"program": 1, "type": "q", "n": 50})).await.json();
+    assert_eq!(status["restart"]["phase"], "searched", "{status}");
+    let refused = put(PROGRAM).await;
+    assert_eq!(refused.status, StatusCode::CONFLICT, "{}", refused.text());
+    assert!(refused.json()["error"].as_str().unwrap().contains("restart"), "{}", refused.text());
+    let refused = app.request(Method::DELETE, &format!("{C}/{id}/programs/1")).await;
+    assert_eq!(refused.status, StatusCode::CONFLICT, "{}", refused.text());
+    // M/S/T in MDI keep the search, and the hold on the program.
+    app.post(&format!("{C}/{id}/mdi"), &json!({"text": "M08"})).await;
+    status_until(&app, &id, |s| s["run_state"] == "idle").await;
+    assert_eq!(put(PROGRAM).await.status, StatusCode::CONFLICT);
+    // A reset forgets the search: the program may change.
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    assert_eq!(put(PROGRAM).await.status, StatusCode::OK);
+    // The restart ran to its end: it may change too.
+    app.put(&format!("{C}/{id}/mode"), &json!({"mode": "auto"})).await;
+    app.post(&format!("{C}/{id}/restart"), &json!({"program": 1, "type": "q", "n": 50})).await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({})).await;
+    let done = status_until(&app, &id, |s| s["run_state"] == "idle").await;
+    assert_eq!(done["alarms"], json!([]), "{done}");
+    assert_eq!(put(PROGRAM).await.status, StatusCode::OK);
+}
+
+/// A loop of `passes` (three blocks each) before N50.
+fn long_program(passes: u32) -> String {
+    format!("O0002\n#500 = 0\nWHILE [#500 LT {passes}] DO1\n#500 = #500 + 1\nEND1\nN50 G00 X5.\nN60 M30\n")
+}
+
+#[tokio::test]
+async fn a_long_search_runs_over_the_ticks_without_blocking_the_service_and_a_reset_stops_it() {
+    let app = spawn_app().await;
+    let id = controller(&app, "fanuc").await;
+    for (n, passes) in [(2, 1_000_000), (3, 20_000)] {
+        let text = long_program(passes).replace("O0002", &format!("O{n:04}"));
+        let stored = app.raw(Method::PUT, &format!("{C}/{id}/programs/{n}"), "text/plain", text).await;
+        assert!(stored.status.is_success(), "{}", stored.text());
+    }
+    // A million passes: the answer comes at once, the search goes on.
+    let reply = app.post(&format!("{C}/{id}/restart"), &json!({"program": 2, "type": "q", "n": 50})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let status = reply.json();
+    assert_eq!(status["restart"]["phase"], "searching", "{status}");
+    assert_eq!(status["run_state"], "running");
+    let status = app.get(&format!("{C}/{id}")).await.json();
+    assert_eq!(status["restart"]["phase"], "searching", "the service answers meanwhile: {status}");
+    let again = app.post(&format!("{C}/{id}/restart"), &json!({"type": "q", "n": 50})).await;
+    assert_eq!(again.status, StatusCode::CONFLICT);
+    assert!(again.json()["error"].as_str().unwrap().starts_with("searching"), "{}", again.text());
+    let edit = app.raw(Method::PUT, &format!("{C}/{id}/programs/2"), "text/plain", long_program(5)).await;
+    assert_eq!(edit.status, StatusCode::CONFLICT, "{}", edit.text());
+    // A reset stops it.
+    let status = app.post(&format!("{C}/{id}/reset"), &json!({})).await.json();
+    assert_eq!(status["restart"], Value::Null, "{status}");
+    assert_eq!(status["run_state"], "idle");
+    // A shorter one ends over a few ticks.
+    let status = app.post(&format!("{C}/{id}/restart"), &json!({"program": 3, "type": "q", "n": 50})).await.json();
+    assert_eq!(status["restart"]["phase"], "searching", "{status}");
+    let status = status_until(&app, &id, |s| s["restart"]["phase"] != "searching").await;
+    assert_eq!(status["restart"]["phase"], "searched", "{status}");
+    assert!(status["restart"]["blocks"].as_u64().unwrap() > 20_000, "{status}");
+    assert_eq!(status["run_state"], "idle");
 }
 
 #[tokio::test]
@@ -109,19 +218,49 @@ async fn malformed_restarts_are_422_and_the_panels_refusals_409() {
         assert!(reply.json()["error"].is_string(), "{}", reply.text());
     }
     assert_eq!(restart(json!({"program": 7, "type": "q", "n": 10})).await.status, StatusCode::NOT_FOUND);
+    // Every 409 names the state that refuses it.
+    let refused = |reply: common::Reply, state: &str| {
+        assert_eq!(reply.status, StatusCode::CONFLICT, "{state}: {}", reply.text());
+        let error = reply.json()["error"].as_str().unwrap().to_string();
+        assert!(error.starts_with(state), "{state}: {error}");
+    };
     // Nothing selected yet.
-    assert_eq!(restart(json!({"type": "q", "n": 10})).await.status, StatusCode::CONFLICT);
-    // While the program runs.
+    refused(restart(json!({"type": "q", "n": 10})).await, "no program selected");
+    // Outside AUTO.
     app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
-    let busy = restart(json!({"type": "q", "n": 10})).await;
-    if busy.status != StatusCode::OK {
-        assert_eq!(busy.status, StatusCode::CONFLICT, "{}", busy.text());
+    status_until(&app, &id, |s| s["run_state"] == "idle").await;
+    app.put(&format!("{C}/{id}/mode"), &json!({"mode": "jog"})).await;
+    refused(restart(json!({"type": "q", "n": 10})).await, "not in AUTO");
+    app.put(&format!("{C}/{id}/mode"), &json!({"mode": "auto"})).await;
+    // In alarm (PS0097 is no longer possible: an alarm of the program's own).
+    let bad = app
+        .raw(Method::PUT, &format!("{C}/{id}/programs/4?force=true"), "text/plain", "O0004\n#3000 = 1 (STOP)\nM30\n")
+        .await;
+    assert!(bad.status.is_success(), "{}", bad.text());
+    let status = app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 4})).await.json();
+    let status = if status["run_state"] == "alarm" {
+        status
     } else {
-        // The program was already over (a fast worker): the restart is then allowed.
-        assert_eq!(busy.json()["restart"]["phase"], "searched");
-    }
+        status_until(&app, &id, |s| s["run_state"] == "alarm").await
+    };
+    assert_eq!(status["run_state"], "alarm", "{status}");
+    refused(restart(json!({"type": "q", "n": 10})).await, "in alarm");
+    refused(restart(json!({"program": 1, "type": "q", "n": 10})).await, "in alarm");
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
+    // While the program runs (F10.: a slow move).
+    let slow =
+        app.raw(Method::PUT, &format!("{C}/{id}/programs/5"), "text/plain", "O0005\nG91 G01 X50. F10.\nM30\n").await;
+    assert!(slow.status.is_success(), "{}", slow.text());
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 5})).await;
+    refused(restart(json!({"type": "q", "n": 10})).await, "running");
+    refused(restart(json!({"program": 1, "type": "q", "n": 10})).await, "running");
+    // Held.
+    app.post(&format!("{C}/{id}/feed-hold"), &json!({})).await;
+    status_until(&app, &id, |s| s["run_state"] == "hold").await;
+    refused(restart(json!({"type": "q", "n": 10})).await, "holding");
+    app.post(&format!("{C}/{id}/reset"), &json!({})).await;
     // Syntec: its manuals describe no restart.
     let syntec = controller(&app, "syntec").await;
     let reply = app.post(&format!("{C}/{syntec}/restart"), &json!({"program": 1, "type": "q", "n": 10})).await;
-    assert_eq!(reply.status, StatusCode::CONFLICT, "{}", reply.text());
+    refused(reply, "Syntec has no program restart");
 }

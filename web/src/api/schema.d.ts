@@ -2582,12 +2582,12 @@ export interface components {
         RestartInfo: {
             /**
              * Format: int64
-             * @description Blocks the search executed.
+             * @description Blocks the search executed (so far).
              */
             blocks: number;
             /**
              * Format: int32
-             * @description The restart block's line.
+             * @description The restart block's line (while `searching`: the block the search has got to).
              */
             line: number;
             /** @description The other M codes the search passed over, the last 35 (for the operator to give). */
@@ -2597,9 +2597,15 @@ export interface components {
              * @description Its sequence number (none for a block without N).
              */
             n?: number | null;
-            /** @description `searched` (cycle start returns the axes) or `returning`. */
+            /**
+             * @description `searching` (the search runs over the controller's ticks, `run_state` `running`; a
+             *     reset stops it), `searched` (cycle start returns the axes) or `returning`.
+             */
             phase: components["schemas"]["RestartPhaseName"];
-            /** @description The restart position per axis (machine coordinates): where the return goes. */
+            /**
+             * @description The restart position per axis (machine coordinates): where the return goes (while
+             *     `searching`: where the search has got to).
+             */
             position: {
                 [key: string]: number;
             };
@@ -2620,7 +2626,7 @@ export interface components {
          * @description Where a restart is.
          * @enum {string}
          */
-        RestartPhaseName: "searched" | "returning";
+        RestartPhaseName: "searching" | "searched" | "returning";
         /** @description `POST /restart`: the restart block by its sequence number `n` or its `line` (one of them). */
         RestartRequest: {
             /**
@@ -5828,7 +5834,7 @@ export interface operations {
             };
         };
         responses: {
-            /** @description Searched (or the alarm that stopped the search) */
+            /** @description Searched, or searching on (a long program), or the alarm that stopped the search */
             200: {
                 headers: {
                     [name: string]: unknown;
@@ -5873,7 +5879,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description Not possible now (running, holding, in alarm, not AUTO, no program, a Syntec controller) */
+            /** @description Not possible now; `error` names the state (running, searching, holding, in alarm, the emergency stop, not in AUTO, no program selected, Syntec has no program restart) */
             409: {
                 headers: {
                     [name: string]: unknown;

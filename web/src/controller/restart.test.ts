@@ -31,6 +31,11 @@ describe("the restart line", () => {
       "P type restart at N50 (line 6), searched: cycle start returns the axes; to X40.000 Y20.000 Z30.000; output T3 S1500 M04 M08",
     );
   });
+  it("shows how far a search under way has got, not a restart position", () => {
+    expect(restartSummary({ ...info, phase: "searching", blocks: 15000, n: null, line: 4 })).toBe(
+      "P type restart searching: 15000 blocks, at (line 4); reset stops it",
+    );
+  });
   it("leaves out what the search did not pass", () => {
     const s = restartSummary({ ...info, type: "q", phase: "returning", n: null, tool: null, spindle: 0, m_codes: [] });
     expect(s).toBe("Q type restart at (line 6), returning to the restart position; to X40.000 Y20.000 Z30.000; output M05");

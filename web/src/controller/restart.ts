@@ -32,9 +32,13 @@ export function restartRequest(form: RestartForm, program: number | null): Resta
   return request;
 }
 
-/// One line on the restart under way: the block, where the axes go, what is output first.
+/// One line on the restart under way: the block, where the axes go, what is output first (while
+/// the search runs: how far it has got; a reset stops it).
 export function restartSummary(r: RestartInfo): string {
   const block = `${r.n != null ? `N${r.n} ` : ""}(line ${r.line})`;
+  if (r.phase === "searching") {
+    return `${r.type.toUpperCase()} type restart searching: ${r.blocks} blocks, at ${block}; reset stops it`;
+  }
   const where = Object.entries(r.position)
     .map(([axis, v]) => `${axis}${(v as number).toFixed(3)}`)
     .join(" ");
