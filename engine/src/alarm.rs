@@ -222,6 +222,9 @@ pub enum AlarmId {
     IllegalScaleRate,
     /// A circle outside the plane of the active coordinate rotation (G68).
     IllegalPlaneInRotation,
+    /// G68's angle R beyond ±360° (FANUC's range of the angle, No.5410's; its alarm for a
+    /// larger R is not known: fivex's own code).
+    RotationAngleOutOfRange,
     // --- motion (`crate::motion`) ----------------------------------------------------------
     /// The block would take `axis` beyond its stored stroke limit: checked before it moves
     /// (`precheck`), or, where that check is not available (G54.4), reached during the move,

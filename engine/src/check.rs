@@ -9,7 +9,8 @@
 //! that literal words show, the addresses Syntec's G68.2/G43.4/G43.5 do not take (P, Q, R; an
 //! L other than 0/1), the words of a G10 block its form does not take (`interp::g10`), Haas's
 //! M97/M98/G65 without P and M97 P of a line the program does not
-//! have, the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form, or with a
+//! have, two programming transforms started in one block and a literal G68 R beyond ±360°
+//! (`interp::frames`), the conditional `[cond] M99 P<n>` outside the Haas dialect, in another form, or with a
 //! literal P the program has no N for, Haas's G150 without P or with a P that is neither a
 //! line of the program nor a program of the file, a block naming G93 and a cutting move
 //! without F, and FANUC's blocks in NURBS interpolation mode that are not a curve's.
@@ -24,6 +25,7 @@ use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind};
 use crate::dialect::Dialect;
 use crate::interp::expr::{syntec_divide, written_with_point, Ty};
+use crate::interp::frames;
 use crate::interp::gcode::{self, code, group};
 use crate::interp::mcode;
 use crate::interp::modes::syntec_improper_address;
@@ -188,6 +190,29 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                     if codes().any(|c| c == code::G10) {
                         if let Some((col, id, detail)) = g10_block(words, dialect) {
                             diags.push(at(col.unwrap_or(block.col), id, detail.into()));
+                        }
+                    }
+                    // One programming transform started per block, and G68's literal R within
+                    // ±360° (`interp::frames`; no decimal point: 0.001°).
+                    if let Some(second) = frames::second_start(&block_codes) {
+                        let col = words.iter().filter(|w| w.letter == b'G').find(|w| {
+                            matches!(w.value, WordValue::Number { value, .. } if gcode::code_of(value) == Some(second))
+                        });
+                        let detail = "G51.1, G51 and G68 each take the block's axis words: one per block";
+                        diags.push(at(
+                            col.map_or(block.col, |w| w.col),
+                            AlarmId::IllegalGCodeCombination,
+                            detail.into(),
+                        ));
+                    }
+                    let r = words.iter().rev().find(|w| w.letter == b'R').filter(|_| block_codes.contains(&code::G68));
+                    if let Some(r) = r {
+                        if let WordValue::Number { value, decimal_point } = r.value {
+                            let degrees = if decimal_point { value } else { value * 0.001 };
+                            if !frames::rotation_angle_fits(degrees) {
+                                let detail = format!("G68 R{degrees}: the rotation angle is within ±360°");
+                                diags.push(at(r.col, AlarmId::RotationAngleOutOfRange, detail));
+                            }
                         }
                     }
                     // A P beside G54…G59 (`interp::offsets::work_system_p`); a canned cycle in

@@ -50,9 +50,12 @@ impl Dialect {
                 Dialect::Haas => (format!("{}", 1000 + number), message.clone()),
                 Dialect::Syntec => (format!("MAR-{number:03}"), message.clone()),
             },
-            AlarmId::BlockBudgetExceeded { budget } => {
-                ("FX0001".into(), format!("BLOCK BUDGET EXCEEDED ({budget} BLOCKS)"))
-            }
+            // What happened (the budget ran out, not the program) and the likely cause: the
+            // bare "BLOCK BUDGET EXCEEDED" read as the program's fault of an unknown kind.
+            AlarmId::BlockBudgetExceeded { budget } => (
+                "FX0001".into(),
+                format!("BLOCK BUDGET EXCEEDED ({budget} BLOCKS RUN, PROGRAM NOT ENDED: ENDLESS LOOP?)"),
+            ),
             AlarmId::TimeBudgetExceeded { budget_s } => {
                 ("FX0002".into(), format!("TIME BUDGET EXCEEDED ({budget_s} S)"))
             }
@@ -123,6 +126,9 @@ const CYCLE_BOTTOM_MISSING: Text = ("FX0008", "CANNED CYCLE WITHOUT HOLE BOTTOM"
 /// (feed per revolution follows the position coder), which a run cannot show
 /// (`AlarmId::FeedPerRevolutionSpindleStopped`).
 const SPINDLE_STOPPED_IN_G95: Text = ("FX0009", "FEED PER REVOLUTION WITH THE SPINDLE STOPPED");
+/// fivex's own, in every dialect: the manuals at hand give G68's R the range ±360° but no
+/// alarm for one beyond it (`AlarmId::RotationAngleOutOfRange`).
+const ROTATION_ANGLE_OUT_OF_RANGE: Text = ("FX0010", "ROTATION ANGLE OUT OF RANGE");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -225,6 +231,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::RotaryShiftOnTipPath,
     AlarmId::CycleBottomMissing,
     AlarmId::FeedPerRevolutionSpindleStopped,
+    AlarmId::RotationAngleOutOfRange,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -427,6 +434,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         RotaryShiftOnTipPath => (ROTARY_SHIFT_ON_TIP_PATH, ROTARY_SHIFT_ON_TIP_PATH),
         CycleBottomMissing => (CYCLE_BOTTOM_MISSING, CYCLE_BOTTOM_MISSING),
         FeedPerRevolutionSpindleStopped => (SPINDLE_STOPPED_IN_G95, SPINDLE_STOPPED_IN_G95),
+        RotationAngleOutOfRange => (ROTATION_ANGLE_OUT_OF_RANGE, ROTATION_ANGLE_OUT_OF_RANGE),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -533,6 +541,7 @@ fn haas(id: &AlarmId) -> Text {
         RotaryShiftOnTipPath => ROTARY_SHIFT_ON_TIP_PATH,
         CycleBottomMissing => CYCLE_BOTTOM_MISSING,
         FeedPerRevolutionSpindleStopped => SPINDLE_STOPPED_IN_G95,
+        RotationAngleOutOfRange => ROTATION_ANGLE_OUT_OF_RANGE,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),

@@ -40,12 +40,16 @@ pub struct Entry {
 /// One tool offset of a `--tools` table: length and radius geometry, and the corner radius.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize, utoipa::ToSchema)]
 pub struct Tool {
+    /// mm, within ±999.999 (the range G10 takes, `tools::check_value`).
+    #[schema(minimum = -999.999, maximum = 999.999)]
     pub length: f64,
+    /// mm, within ±999.999.
+    #[schema(minimum = -999.999, maximum = 999.999)]
     pub radius: f64,
-    /// The tool's corner radius, read by cutting point control (G43.8/G43.9); not negative.
-    /// Absent: 0 (a square end mill, or a ball end mill read from the radius).
+    /// The tool's corner radius, read by cutting point control (G43.8/G43.9); not negative, at
+    /// most 999.999 mm. Absent: 0 (a square end mill, or a ball end mill read from the radius).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(minimum = 0.0)]
+    #[schema(minimum = 0.0, maximum = 999.999)]
     pub corner_radius: Option<f64>,
 }
 
@@ -198,15 +202,18 @@ fn work_offsets_of(offsets: &Offsets) -> Offsets {
     fresh
 }
 
-/// Check a tool table before a run (so a bad number or a negative corner radius is a usage
-/// error, not a failed machine).
+/// Check a tool table before a run (so a bad number, a value out of range or a negative corner
+/// radius is a usage error, not a failed machine).
 pub fn check_tools(tools: &BTreeMap<u32, Tool>) -> Result<(), String> {
     let mut probe = Offsets::default();
     for (n, t) in tools {
         probe.tool_mut(*n).ok_or_else(|| format!("tool offset number {n} is out of range 1–999"))?;
-        if let Some(r) = t.corner_radius.filter(|r| !(r.is_finite() && *r >= 0.0)) {
-            return Err(format!("tool offset {n}: corner_radius {r} must be a finite number, 0 or more"));
-        }
+        // The range G10 takes (`tools::check_value`): a run never starts with an offset no
+        // program could set.
+        let values = crate::tools::check_value("length", t.length, false)
+            .and(crate::tools::check_value("radius", t.radius, false))
+            .and(t.corner_radius.map_or(Ok(0.0), crate::tools::check_corner_radius));
+        values.map_err(|e| format!("tool offset {n}: {e}"))?;
     }
     Ok(())
 }

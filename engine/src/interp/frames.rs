@@ -27,6 +27,32 @@ const MAX_MAGNIFICATION: f64 = 999.999;
 /// factor written with a point, `P.0004`, would shrink the part to nothing).
 const MIN_MAGNIFICATION: f64 = 0.001;
 
+/// The largest magnitude of G68's angle R, degrees: FANUC's range of the rotation angle (the
+/// angle taken when R is omitted, No.5410, is −360000…360000 in 0.001°); the manuals at hand
+/// name no alarm for an R beyond it, so fivex's own FX0010 refuses it (R400. is a typing error
+/// or a bad variable, not 40°). A sum of G91 R's may go beyond (the repetition example of
+/// `docs/conventions.md` turns 45° more at each call): only the R written is held to it.
+const MAX_ROTATION_ANGLE: f64 = 360.0;
+
+/// The codes that start a programming transform: G51.1 (Haas G101), G51, G68. Each takes the
+/// block's axis words as its data (mirror axis positions, scaling centre, rotation centre), and
+/// FANUC commands them in that order, one block each (30i user's manual B-63944EN-2, §6,
+/// "Scaling and coordinate system rotation": `G51 ;` `G68 ;` … `G69 ;` `G50 ;`).
+const STARTS: [u16; 4] = [code::G51_1, code::G101, code::G51, code::G68];
+
+/// The second code of `codes` (a block's G codes, in order) that starts a programming transform,
+/// if there is one: two in one block are refused (PS0010, `docs/conventions.md`,
+/// "Programming transforms"), since fivex gave both the same axis words and applied them in
+/// its own order, whatever the block meant. `fivex check` asks the same (`crate::check`).
+pub(crate) fn second_start(codes: &[u16]) -> Option<u16> {
+    codes.iter().copied().filter(|c| STARTS.contains(c)).nth(1)
+}
+
+/// Whether G68's angle `r` (degrees) is within ±360° (1e-9° for a product of 0.001° steps).
+pub(crate) fn rotation_angle_fits(r: f64) -> bool {
+    r.abs() <= MAX_ROTATION_ANGLE + 1e-9
+}
+
 /// The circle words of a G02/G03 block in its plane: R, the centre offset (I/J/K of the plane's
 /// two axes) and the direction.
 #[derive(Debug, Clone, Copy)]
@@ -280,6 +306,18 @@ impl State {
             return Err(AlarmId::IllegalScaleRate);
         }
         Ok(Some(m))
+    }
+
+    /// What a block's transform codes may not hold, refused before the block changes anything:
+    /// two transforms started (`second_start`), a G68 angle beyond ±360° (FX0010).
+    pub(super) fn refuse_transform_block(&self, w: &Words) -> Result<(), AlarmId> {
+        if second_start(w.gcodes()).is_some() {
+            return Err(AlarmId::IllegalGCodeCombination);
+        }
+        if w.has_g(code::G68) && self.angle_word(w, b'R').is_some_and(|r| !rotation_angle_fits(r)) {
+            return Err(AlarmId::RotationAngleOutOfRange);
+        }
+        Ok(())
     }
 
     /// Derive the programmed current point from the workpiece one (after a transform or an

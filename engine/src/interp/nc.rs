@@ -714,6 +714,7 @@ impl State {
         }
         let five = modes::check(self, w)?;
         self.refuse_unbuilt(w)?;
+        self.refuse_transform_block(w)?;
         self.refuse_syntec_undecided_unit(w)?;
         self.refuse_unperformed_cycle_words(w)?;
         self.refuse_plane_change_in_cycle(w)?;

@@ -16,24 +16,31 @@ pub fn max_tool_offset(dialect: crate::Dialect) -> usize {
         _ => MAX_TOOL_OFFSETS,
     }
 }
-/// Whether a tool offset value may be set (G10 L1/L10–L13, `#2001…`/`#10001…`–`#13999`): its
-/// magnitude in the input unit (`inch`: G20) within the valid input range of tool compensation
-/// values for IS-B, geometry ±999.999 mm / ±99.9999 inch, wear ±99.999 mm / ±9.9999 inch
-/// (FANUC Series 16i-LA operator's manual B-63194EN §12.4, Table 12.4(a); the 30i's own table
-/// was not at hand, `docs/conventions.md`, "Tool offset values"). Beyond is FANUC's PS0032
-/// ILLEGAL OFFSET VALUE IN G10 ("in setting an offset amount by G10 or in writing an offset
-/// amount by system variables, the offset amount was excessive"): a probing macro's bad
-/// reading otherwise became a tool length of metres, found later as an overtravel or not at
-/// all. A tolerance of 1e-9 input units keeps a sum of increments (G91) that reaches the limit
-/// exactly inside it.
-pub fn tool_value_fits(value: f64, wear: bool, inch: bool) -> bool {
-    let limit = match (wear, inch) {
+/// The largest magnitude of a tool offset value in the input unit (`inch`: G20): the valid
+/// input range of tool compensation values for IS-B, geometry ±999.999 mm / ±99.9999 inch, wear
+/// ±99.999 mm / ±9.9999 inch (FANUC Series 16i-LA operator's manual B-63194EN §12.4, Table
+/// 12.4(a); the 30i's own table was not at hand, `docs/conventions.md`, "Tool offset values").
+/// One limit for every way an offset is set: G10, the system variables, and the service's API,
+/// a fleet run's `tools` and the `--tools` file (in mm), so no offset a program could not set
+/// reaches a run.
+pub fn tool_value_limit(wear: bool, inch: bool) -> f64 {
+    match (wear, inch) {
         (false, false) => 999.999,
         (false, true) => 99.9999,
         (true, false) => 99.999,
         (true, true) => 9.9999,
-    };
-    value.abs() <= limit + 1e-9
+    }
+}
+
+/// Whether a tool offset value may be set (G10 L1/L10–L13, `#2001…`/`#10001…`–`#13999`, and
+/// from outside the program): its magnitude within [`tool_value_limit`]; not a number is not
+/// within it. Beyond is FANUC's PS0032 ILLEGAL OFFSET VALUE IN G10 ("in setting an offset
+/// amount by G10 or in writing an offset amount by system variables, the offset amount was
+/// excessive"): a probing macro's bad reading otherwise became a tool length of metres, found
+/// later as an overtravel or not at all. A tolerance of 1e-9 input units keeps a sum of
+/// increments (G91) that reaches the limit exactly inside it.
+pub fn tool_value_fits(value: f64, wear: bool, inch: bool) -> bool {
+    value.abs() <= tool_value_limit(wear, inch) + 1e-9
 }
 
 /// G54.1 P1..=MAX_G54_1.

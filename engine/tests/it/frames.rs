@@ -110,6 +110,61 @@ fn with_rin_0_r_is_always_absolute() {
     at(&m[0], 5.0, 10.0 * SQRT3_2);
 }
 
+/// An R beyond ±360° is refused with fivex's FX0010 in every dialect (FANUC's range of the
+/// angle; its alarm is not known): fivex turned `R400.` into a 40° rotation without a word.
+/// ±360 itself and a sum of G91 R's beyond 360 (ten calls of 45°) run.
+#[test]
+fn a_rotation_angle_beyond_360_degrees_is_fx0010() {
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
+        // (Without a decimal point 0.001° in FANUC; Syntec refuses such an angle, COR-048.)
+        let no_point = if dialect == Dialect::Fanuc { &["R360001"][..] } else { &[] };
+        for r in ["R400.", "R-360.5"].iter().chain(no_point) {
+            let src = format!("G90 G00 X0 Y0\nG68 X0 Y0 {r}\nG01 X10. F100.\nM30\n");
+            let result = run_with(&src, "mill3", dialect);
+            let alarm = result.alarms.first().unwrap_or_else(|| panic!("{dialect:?} {r}: no alarm"));
+            assert_eq!((alarm.code.as_str(), alarm.line), ("FX0010", 2), "{dialect:?} {r}");
+            assert_eq!(result.workpiece[0], 0.0, "{dialect:?} {r}: the G01 after it must not run");
+        }
+    }
+    let m = motions("G90 G00 X0 Y0\nG68 X0 Y0 R-360.\nG01 X10. F100.\nG68 X0 Y0 R360000\nX20.\nM30\n");
+    at(&m[m.len() - 2], 10.0, 0.0);
+    at(&m[m.len() - 1], 20.0, 0.0);
+    let src = "O1\nG90 G00 X0 Y0\nM98 P2 L10\nM30\nO2\nG68 X0 Y0 G91 R45.\nG90 G01 X10. Y0 F100.\nM99\n";
+    let m = motions(src);
+    assert_eq!(m.len(), 11, "the G00 and ten calls");
+    at(&m[10], 0.0, 10.0);
+    // `fivex check` says it at the R word (no decimal point: 0.001°).
+    let diags =
+        fivex_engine::check::check(parse_file("G68 X0 Y0 R400.\nG68 X0 Y0 R400000\nG68 R400\nM30\n"), Dialect::Fanuc);
+    let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Dialect::Fanuc.describe(&d.id).0)).collect();
+    assert_eq!(found, [(1, 11, "FX0010".to_string()), (2, 11, "FX0010".to_string())]);
+}
+
+/// Two of G51.1, G51, G68 in one block are FANUC's PS0010 (each takes the block's axis words as
+/// its data, and the manual commands them one block each): fivex gave the block's X Y to all of
+/// them, the mirror axis, the scaling centre and the rotation centre at once. One a block, and
+/// G69/G50/G50.1 beside another code, run as before.
+#[test]
+fn two_transforms_started_in_one_block_are_ps0010() {
+    for block in ["G51.1 X5. G68 R90.", "G51 X0 Y0 P2000 G68 R30.", "G68 R30. G51.1 Y0", "G51.1 X0 G51 P2."] {
+        let src = format!("G90 G00 X0 Y0\n{block}\nG01 X10. F100.\nM30\n");
+        let result = run_src(&src);
+        let alarm = result.alarms.first().unwrap_or_else(|| panic!("{block}: no alarm"));
+        assert_eq!((alarm.code.as_str(), alarm.line), ("PS0010", 2), "{block}");
+        assert_eq!(result.workpiece[0], 0.0, "{block}: nothing after the refused block runs");
+    }
+    // Haas: G101 is its G51.1.
+    let result = run_with("G90 G00 X0 Y0\nG101 X0 G68 R30.\nM30\n", "mill3", Dialect::Haas);
+    assert_eq!(result.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("339", 2)), "{:?}", result.alarms);
+    // One a block, in the manual's order: X mirrored about 0, then turned 90° the other way
+    // (the mirror turns the rotation over): X10 Y0 → X-10 Y0 → X0 Y10.
+    let m = motions("G90 G00 X0 Y0\nG51.1 X0\nG68 X0 Y0 R90.\nG01 X10. Y0 F100.\nG69 G50.1 X0\nM30\n");
+    at(m.last().expect("a motion"), 0.0, 10.0);
+    let diags = fivex_engine::check::check(parse_file("G51.1 X5. G68 R90.\nG51.1 X5.\nG68 R90.\n"), Dialect::Fanuc);
+    let found: Vec<_> = diags.iter().map(|d| (d.line, d.col, Dialect::Fanuc.describe(&d.id).0)).collect();
+    assert_eq!(found, [(1, 11, "PS0010".to_string())]);
+}
+
 #[test]
 fn g68_moves_the_machine_through_the_work_offset() {
     // G54 X100: workpiece (0, 10) is machine (100, 10).

@@ -50,16 +50,20 @@ impl From<ToolRow> for ToolOffsetDto {
 #[derive(Debug, Clone, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SetToolOffset {
-    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
+    /// mm, within ±999.999 (the range G10 takes, `docs/conventions.md`, "Tool offset values").
+    #[schema(minimum = -999.999, maximum = 999.999)]
     pub length: Option<f64>,
-    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
+    /// mm, within ±99.999.
+    #[schema(minimum = -99.999, maximum = 99.999)]
     pub length_wear: Option<f64>,
-    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
+    /// mm, within ±999.999.
+    #[schema(minimum = -999.999, maximum = 999.999)]
     pub radius: Option<f64>,
-    #[schema(exclusive_minimum = -1.0e6, exclusive_maximum = 1.0e6)]
+    /// mm, within ±99.999.
+    #[schema(minimum = -99.999, maximum = 99.999)]
     pub radius_wear: Option<f64>,
-    /// Not negative; absent: as it is (0 for an offset never given one).
-    #[schema(minimum = 0.0, exclusive_maximum = 1.0e6)]
+    /// Not negative, at most 999.999 mm; absent: as it is (0 for an offset never given one).
+    #[schema(minimum = 0.0, maximum = 999.999)]
     pub corner_radius: Option<f64>,
 }
 
@@ -144,7 +148,7 @@ pub async fn tools(Addressed(hosted): Addressed) -> Result<Json<Vec<ToolOffsetDt
     responses(
         (status = 200, description = "Changed", body = ToolOffsetDto),
         (status = 404, description = "No such controller", body = ErrorBody),
-        (status = 422, description = "No such offset number, not a finite value, or a negative corner radius", body = ErrorBody),
+        (status = 422, description = "No such offset number, a value outside the range G10 takes (geometry ±999.999 mm, wear ±99.999 mm), or a negative corner radius", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
         (status = 503, description = "The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept)", body = ErrorBody),
     )

@@ -496,11 +496,13 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
 
 fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
-    let mut lines: Vec<(u32, u32, String)> = fivex_engine::check::check(parse_file(&text), a.dialect)
+    // (line, column, code, the text after the position)
+    let mut lines: Vec<(u32, u32, String, String)> = fivex_engine::check::check(parse_file(&text), a.dialect)
         .into_iter()
         .map(|d| {
             let (code, message) = a.dialect.describe(&d.id);
-            (d.line, d.col, format!("{code} {message}: {}", d.detail))
+            let text = format!("{code} {message}: {}", d.detail);
+            (d.line, d.col, code, text)
         })
         .collect();
     let on_machine = a.machine.preset.is_some() || a.machine.machine.is_some();
@@ -516,7 +518,12 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
         let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
         let mut notices = Vec::new();
         let (stop, unheld_call) = machine_alarm(interp, on_machine, &mut notices);
-        let stop = stop.filter(|s| on_machine || s.compensating);
+        // A run that never ended is reported on any machine: the blocks it did not reach were
+        // not checked, and a program that may loop without end is no clean one.
+        let budget = |s: &fivex_engine::check::RunStop| {
+            matches!(s.id, Some(fivex_engine::alarm::AlarmId::BlockBudgetExceeded { .. }))
+        };
+        let stop = stop.filter(|s| on_machine || s.compensating || budget(s));
         if let Some(line) = unheld_call.filter(|_| on_machine) {
             // Not a diagnostic (the control may hold the program), but the check is partial.
             eprintln!(
@@ -525,23 +532,31 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
                 a.program.display()
             );
         }
-        // Where the text itself is wrong the static diagnostic says it already.
-        if let Some(fivex_engine::check::RunStop { alarm, .. }) = stop {
-            if !lines.iter().any(|(line, ..)| *line == alarm.line) {
-                let detail = if on_machine {
-                    format!("when run on {name}")
+        // Where the text names the same alarm on that line it says it already; another alarm
+        // there (the run stops on the line for a reason the text does not show) is shown too.
+        if let Some(stop) = stop {
+            let alarm = &stop.alarm;
+            if !lines.iter().any(|(line, _, code, _)| *line == alarm.line && *code == alarm.code) {
+                let on = if on_machine { name } else { format!("{name} (the default machine)") };
+                let detail = if budget(&stop) {
+                    format!(
+                        "the run on {on} stopped after {CHECK_MAX_BLOCKS} blocks without reaching the end: \
+                         the program may loop without end (a WHILE or GOTO that never leaves, M99 in the \
+                         main program), and the blocks it did not reach are checked from the text only; \
+                         a program meant to run longer can be run with `fivex run --max-blocks N`"
+                    )
                 } else {
-                    format!("when run on {name} (the default machine)")
+                    format!("when run on {on}")
                 };
-                lines.push((alarm.line, 1, format!("{} {}: {detail}", alarm.code, alarm.message)));
+                lines.push((alarm.line, 1, alarm.code.clone(), format!("{} {}: {detail}", alarm.code, alarm.message)));
             }
         }
-        lines.extend(notices.into_iter().map(|n| (n.line, 1, format!("{} {}", n.code, n.message))));
+        lines.extend(notices.into_iter().map(|n| (n.line, 1, n.code.clone(), format!("{} {}", n.code, n.message))));
     }
-    lines.sort_by_key(|&(line, col, _)| (line, col));
+    lines.sort_by_key(|&(line, col, ..)| (line, col));
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
-    for (line, col, text) in &lines {
+    for (line, col, _, text) in &lines {
         match writeln!(out, "{}:{line}:{col}: {text}", a.program.display()) {
             Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => break,
             other => other?,

@@ -114,7 +114,7 @@ pub async fn set_variable(
     }
 }
 
-/// An offset value: finite and below 1e6 in size.
+/// A work offset value: finite and below 1e6 in size (no range of work offsets is modelled).
 fn finite(v: f64, what: &str) -> Result<f64, ServiceError> {
     if v.is_finite() && v.abs() < 1.0e6 {
         Ok(v)
@@ -123,13 +123,9 @@ fn finite(v: f64, what: &str) -> Result<f64, ServiceError> {
     }
 }
 
-/// A corner radius: an offset value (`finite`) that is not negative.
-fn corner_radius(v: f64) -> Result<f64, ServiceError> {
-    if v.is_finite() && (0.0..1.0e6).contains(&v) {
-        Ok(v)
-    } else {
-        Err(ServiceError::invalid("corner_radius must be a finite number from 0 to below 1e6"))
-    }
+/// A tool offset value: within the range G10 takes (`tools::check_value`).
+fn tool_value(v: f64, what: &str, wear: bool) -> Result<f64, ServiceError> {
+    crate::tools::check_value(what, v, wear).map_err(ServiceError::invalid)
 }
 
 /// Tool offset `number` (1–999) as it is now.
@@ -171,11 +167,15 @@ pub async fn set_tool_offset(
     change: ToolChange,
 ) -> Result<ToolRow, ServiceError> {
     let change = ToolChange {
-        length: change.length.map(|v| finite(v, "length")).transpose()?,
-        length_wear: change.length_wear.map(|v| finite(v, "length_wear")).transpose()?,
-        radius: change.radius.map(|v| finite(v, "radius")).transpose()?,
-        radius_wear: change.radius_wear.map(|v| finite(v, "radius_wear")).transpose()?,
-        corner_radius: change.corner_radius.map(corner_radius).transpose()?,
+        length: change.length.map(|v| tool_value(v, "length", false)).transpose()?,
+        length_wear: change.length_wear.map(|v| tool_value(v, "length_wear", true)).transpose()?,
+        radius: change.radius.map(|v| tool_value(v, "radius", false)).transpose()?,
+        radius_wear: change.radius_wear.map(|v| tool_value(v, "radius_wear", true)).transpose()?,
+        corner_radius: change
+            .corner_radius
+            .map(crate::tools::check_corner_radius)
+            .transpose()
+            .map_err(ServiceError::invalid)?,
     };
     let _editing = hosted.editing().await;
     let stored_first = change.applied_to(tool_offset(hosted, number)?);

@@ -693,6 +693,40 @@ async fn tool_and_work_offsets_are_set_used_and_kept() {
     assert_eq!((works[1]["axes"]["X"].clone(), works[2]["axes"]["X"].clone()), (json!(100.0), json!(7.5)));
 }
 
+/// A tool offset set through the API is held to the range G10 takes (geometry ±999.999 mm, wear
+/// ±99.999 mm, `interp::tool_value_limit`): beyond it 422 naming the value and the range, and
+/// nothing changes; at the limit it is taken. (The API took any value below 1e6: a tool length
+/// of 5 m no program could have set.)
+#[tokio::test]
+async fn a_tool_offset_value_beyond_the_g10_range_is_refused() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    let t3 = format!("{C}/{id}/tool-offsets/3");
+    for (field, bad) in [
+        ("length", 1000.0),
+        ("length", -5000.0),
+        ("radius", 999.9991),
+        ("length_wear", 100.0),
+        ("radius_wear", -99.9991),
+        ("corner_radius", 1000.0),
+    ] {
+        let reply = app.put(&t3, &json!({ field: bad })).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{field} {bad}: {}", reply.text());
+        let error = error_of(&reply);
+        assert!(error.contains(field) && error.contains("mm"), "{field} {bad}: {error}");
+    }
+    let t = app.get(&format!("{C}/{id}/tool-offsets")).await.json();
+    let three = t.as_array().unwrap().iter().find(|t| t["number"] == 3).cloned();
+    let default = json!({"number": 3, "length": 100.0, "length_wear": 0.0, "radius": 5.0, "radius_wear": 0.0, "corner_radius": 0.0});
+    assert_eq!(three, Some(default), "nothing changed");
+    let limits = json!({"length": -999.999, "radius": 999.999, "length_wear": 99.999, "radius_wear": -99.999, "corner_radius": 999.999});
+    let reply = app.put(&t3, &limits).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let mut want = limits.clone();
+    want["number"] = json!(3);
+    assert_eq!(reply.json(), want);
+}
+
 #[tokio::test]
 async fn a_tool_offset_keeps_its_corner_radius() {
     let app = spawn_app().await;

@@ -253,6 +253,22 @@ async fn bad_requests_are_4xx_json_with_the_reason() {
             StatusCode::UNPROCESSABLE_ENTITY,
             "corner_radius",
         ),
+        // Beyond the range G10 takes (`interp::tool_value_limit`): a length no program could set.
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"1": {"length": 1000.0, "radius": 1.0}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "tool offset 1: length 1000 is outside ±999.999 mm",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"2": {"length": 1.0, "radius": -1000.0}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "tool offset 2: radius -1000 is outside ±999.999 mm",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"3": {"length": 1.0, "radius": 1.0, "corner_radius": 1000.0}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "tool offset 3: corner_radius 1000",
+        ),
         (
             json!({"program": nc, "presets": ["mill3"], "tools": {"1": {"length": 1.0, "radius": 1.0, "corner_radius": "1"}}}),
             StatusCode::UNPROCESSABLE_ENTITY,

@@ -326,6 +326,36 @@ fn tools_file_may_give_a_corner_radius() {
     }
 }
 
+#[test]
+fn tools_file_values_beyond_the_g10_range_are_usage_errors() {
+    // The range G10 takes (geometry ±999.999 mm, `interp::tool_value_limit`): a table beyond it
+    // is a bad input file (exit 2, the file, the offset, the value and the range named), not a
+    // run with a tool length no program could set. At the limit it runs.
+    let (_d, p) = scratch(&[
+        ("p.nc", "#100=#11007\nM30\n"),
+        ("long.json", r#"{"7": {"length": 1000.0, "radius": 4.5}}"#),
+        ("radius.json", r#"{"7": {"length": 90.0, "radius": -999.9991}}"#),
+        ("corner.json", r#"{"7": {"length": 90.0, "radius": 4.5, "corner_radius": 1000.0}}"#),
+        ("limit.json", r#"{"7": {"length": 999.999, "radius": -999.999, "corner_radius": 999.999}}"#),
+    ]);
+    for (bad, says) in [
+        (&p[1], "tool offset 7: length 1000 is outside ±999.999 mm"),
+        (&p[2], "radius -999.9991"),
+        (&p[3], "corner_radius 1000"),
+    ] {
+        for cmd in ["run", "check", "interp"] {
+            let out = fivex(&[cmd, s(&p[0]), "--preset", "mill3", "--tools", s(bad)]);
+            assert_eq!(out.status.code(), Some(2), "{cmd} {}: {}", s(bad), stderr(&out));
+            assert!(out.stdout.is_empty(), "{cmd}: {}", stdout(&out));
+            let err = stderr(&out);
+            assert!(err.contains(says) && !err.contains("panicked"), "{cmd}: {err}");
+        }
+    }
+    let (code, v) = run_json(&[s(&p[0]), "--preset", "mill3", "--tools", s(&p[4])]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(num(&v["variables"]["#100"]), 999.999);
+}
+
 // --- --trace --------------------------------------------------------------------------------
 
 fn read_trace(path: &Path) -> Vec<Value> {
@@ -735,6 +765,51 @@ fn check_on_a_machine_reports_the_over_travel_the_run_stops_with() {
     // Without a machine the strokes are mill3's, not the text's: nothing to report.
     let out = fivex(&["check", s(&p[0])]);
     assert_eq!((out.status.code(), stdout(&out)), (Some(0), String::new()));
+}
+
+#[test]
+fn check_shows_the_text_and_the_run_alarms_of_one_line() {
+    // Line 2: the text's P beside G55 (PS0009, not built) and the run's division by zero in
+    // X (PS0112), which stops the run on that line first. Both are shown: the run's alarm
+    // was dropped because the text had a diagnostic on its line.
+    let (_d, p) = scratch(&[("two.nc", "#1=0\nG90 G55 P1 X[1/#1]\nM30\n")]);
+    let program = s(&p[0]);
+    let out = fivex(&["check", program, "--preset", "mill3"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let text = stdout(&out);
+    let found: Vec<(u32, String)> =
+        text.lines().map(|l| (parse_diag(l, program).0, parse_diag(l, program).2.into())).collect();
+    assert_eq!(found.len(), 2, "{text}");
+    assert!(found.contains(&(2, "PS0009".into())), "the text's: {text}");
+    assert!(found.contains(&(2, "PS0112".into())), "the run's: {text}");
+    assert!(text.contains("PS0112 ZERO DIVIDE: when run on mill3"), "{text}");
+    // The same alarm from both on one line is shown once (the text says it already).
+    let (_e, q) = scratch(&[("same.nc", "G90 G55 P1 X1.\nM30\n")]);
+    let out = fivex(&["check", s(&q[0]), "--preset", "mill3"]);
+    let text = stdout(&out);
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert_eq!(parse_diag(text.trim_end(), s(&q[0])), (1, 9, "PS0009"), "{text}");
+}
+
+#[test]
+fn check_reports_a_run_that_never_ends() {
+    // The loop after the compensation: the check runs the program (it has G41) and its block
+    // budget runs out at line 5. It was left out as no compensation alarm (G40 is in force),
+    // and check answered 0, a program that never ends reported clean.
+    let prog = "G21 G17 G40 G90\nG41 D1 G01 X0. Y0. F500.\nX10.\nG40 X20.\nN10 GOTO10\nM30\n";
+    let (_d, p) = scratch(&[("loop.nc", prog)]);
+    let program = s(&p[0]);
+    for args in [&["check", program][..], &["check", program, "--preset", "mill3"]] {
+        let out = fivex(args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+        let text = stdout(&out);
+        assert_eq!(text.lines().count(), 1, "{args:?}: {text}");
+        assert_eq!(parse_diag(text.trim_end(), program), (5, 1, "FX0001"), "{args:?}: {text}");
+        // What happened, the budget, why, and what to do.
+        for says in ["5000000 BLOCKS RUN, PROGRAM NOT ENDED", "may loop without end", "fivex run --max-blocks"] {
+            assert!(text.contains(says), "{args:?}: {says}: {text}");
+        }
+    }
 }
 
 // --- interp ---------------------------------------------------------------------------------

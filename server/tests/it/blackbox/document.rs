@@ -106,11 +106,14 @@ async fn bodies_are_read_as_the_schemas_say() {
     assert_eq!(refused.status, 422);
     assert!(refused.json()["error"].as_str().unwrap_or("").contains("handle_select"), "{:?}", refused.json());
 
-    // A number just under a limit is compared as sent (exact parsing): 999999.9999999999 < 1e6.
+    // A number at a limit is compared as sent (exact parsing): a wear of 99.999 mm is the
+    // range's end, taken and read back as written; a step beyond it is refused.
     let path = format!("/api/v1/controllers/{id}/tool-offsets/1");
-    let taken = served.send_json(Method::PUT, &path, &json!({"radius_wear": 999_999.999_999_999_9})).await;
+    let taken = served.send_json(Method::PUT, &path, &json!({"radius_wear": -99.999})).await;
     assert_eq!(taken.status, 200, "{}", String::from_utf8_lossy(&taken.body));
-    assert!(taken.json()["radius_wear"].as_f64().expect("radius_wear") < 1.0e6);
+    assert_eq!(taken.json()["radius_wear"], json!(-99.999));
+    let refused = served.send_json(Method::PUT, &path, &json!({"radius_wear": -99.99901})).await;
+    assert_eq!(refused.status, 422, "{}", String::from_utf8_lossy(&refused.body));
 
     // Cycle start's optional body: `null` is no body (resume; nothing to run here: 409).
     let path = format!("/api/v1/controllers/{id}/cycle-start");
