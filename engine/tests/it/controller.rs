@@ -825,7 +825,7 @@ fn the_tilted_plane_shown_is_the_executing_blocks() {
 /// Audit of views F3: a reset that cancels G68.2 (FANUC's default: the tilted working plane
 /// ends at a reset) shows the workpiece coordinates at once, in the status's
 /// `position.workpiece` and the stream's programmed point. They stayed in the feature
-/// coordinate system until the next move (here X ≈ 4.8, Z ≈ 12 for the workpiece's X20 Z30).
+/// coordinate system until the next move (X10 Y23.66 Z20.98 for the workpiece's X20 Y10 Z30).
 #[test]
 fn a_reset_that_ends_the_tilted_plane_shows_workpiece_coordinates_at_once() {
     use fivex_engine::tip::System;
