@@ -15,7 +15,6 @@
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind, Motion, MotionContext, MotionKind, Pos, SpindleState, Tapping};
-use crate::interp::gcode::{code, group};
 use crate::interp::{Config, Interpreter, ModalState, Step};
 use crate::kin::Kinematics;
 use crate::machine::Machine;
@@ -760,16 +759,22 @@ impl Controller {
         self.spindle = 0.0;
         self.cycle.end_intervention();
         self.stroke_reached = None;
-        if self.exec.is_moving() {
+        let moving = self.exec.is_moving();
+        if moving {
             self.decelerate(AfterStop::Drop);
         } else {
             self.exec.take_queued();
-            self.stand_here();
         }
         self.abandon_program();
         // A G10 L5000 read ahead and dropped still switched the interpreter, whose state the next
         // program starts from: the machine takes its chain too.
         self.follow_chain(self.interp.config().machine.chain());
+        if !moving {
+            // After the interpreter's reset, as at the end of the deceleration (`after_stop`): what
+            // the reset cancelled is shown cancelled at once — the position in the workpiece
+            // system, not the feature coordinate system of a G68.2 it ended (audit of views F3).
+            self.stand_here();
+        }
         if !self.estop && !self.alarms.is_empty() {
             self.alarms.clear();
             self.events.push(Event::AlarmsCleared);
@@ -1086,9 +1091,11 @@ impl Controller {
                 if self.exec.release(true) {
                     continue;
                 }
-                if matches!(self.mode, Mode::Jog | Mode::Handle | Mode::Inc) {
-                    // A manual move ended: the program's current point (#5001…, #5021…) is
-                    // where the machine stands now, not at the next block.
+                if matches!(self.mode, Mode::Jog | Mode::Handle | Mode::Inc | Mode::Ref) {
+                    // A manual move ended (a reference return too): the program's current point
+                    // (#5001…, #5021…) is where the machine stands now, not at the next block,
+                    // so that what starts from it (the estimate, the path preview, a fleet run
+                    // of this controller) starts there.
                     self.stand_here();
                 }
                 self.exec.here.feed = 0.0;
@@ -1302,15 +1309,12 @@ impl Controller {
     /// G5x change. The executor's is where the last segment ended, in that segment's system, so
     /// at a stop after `G92 X50.` the position showed the old system while #5041 read the new
     /// one (audit of offsets F3). Under cutter compensation the executor's (the tool centre)
-    /// stays, during a manual intervention the held program's point, and the manual modes set
-    /// their own (`stand_here`, the reference return).
+    /// stays (`State::shown_at_rest`, the run summary's rule too), during a manual intervention
+    /// the held program's point, and the manual modes set their own (`stand_here`, the
+    /// reference return).
     fn show_work_at_rest(&mut self) {
-        if matches!(self.mode, Mode::Auto | Mode::Mdi)
-            && self.stands_where_read()
-            && !self.cycle.intervening()
-            && self.interp.state.modal(group::CUTTER_COMP) == code::G40
-        {
-            self.exec.here.work = self.interp.state.shown_position();
+        if matches!(self.mode, Mode::Auto | Mode::Mdi) && self.stands_where_read() && !self.cycle.intervening() {
+            self.exec.here.work = self.interp.state.shown_at_rest(&self.exec.here.work);
         }
     }
 

@@ -176,7 +176,8 @@ pub fn run_observed(
     let (workpiece, basis) = if motion_alarm {
         (exec.here.work, exec.basis())
     } else {
-        (interp.state.shown_position(), interp.state.tip_basis())
+        // As the controller shows it at rest: the one rule of `State::shown_at_rest`.
+        (interp.state.shown_at_rest(&exec.here.work), interp.state.tip_basis())
     };
     let tip = crate::tip::locate(exec.machine().kinematics_of(basis.chain).map(|k| &**k), &machine, &basis);
     let shown = exec.machine();

@@ -35,6 +35,9 @@ pub struct Entry {
     /// What is on its table to start with (an existing controller's); `None`: the run's
     /// workpiece, or nothing.
     pub workpiece: Option<Arc<Workpiece>>,
+    /// Where its axes stand to start with, machine coordinates (an existing controller's);
+    /// `None`: where `fivex run` starts.
+    pub start: Option<Pos>,
 }
 
 /// One tool offset of a `--tools` table: length and radius geometry, and the corner radius.
@@ -146,7 +149,7 @@ pub enum Event {
 pub fn preset(name: &str, dialect: Dialect) -> Result<Entry, String> {
     let machine = MachineConfig::preset(name)
         .ok_or_else(|| format!("unknown preset '{name}' (presets: {})", MachineConfig::PRESETS.join(", ")))?;
-    Ok(Entry { name: name.to_string(), machine, dialect, offsets: None, workpiece: None })
+    Ok(Entry { name: name.to_string(), machine, dialect, offsets: None, workpiece: None, start: None })
 }
 
 /// A machine file (model or parameter list; a parameter list runs in its own dialect, a model
@@ -154,7 +157,7 @@ pub fn preset(name: &str, dialect: Dialect) -> Result<Entry, String> {
 pub fn machine_file(text: &str, dialect: Dialect) -> Result<Entry, String> {
     let machine = fivex_engine::machine_file::parse(text)?;
     let dialect = fivex_engine::machine_file::dialect_of(text).unwrap_or(dialect);
-    Ok(Entry { name: machine.name.clone(), machine, dialect, offsets: None, workpiece: None })
+    Ok(Entry { name: machine.name.clone(), machine, dialect, offsets: None, workpiece: None, start: None })
 }
 
 /// A machine of the library (`machines/NAME.json`).
@@ -239,6 +242,12 @@ pub fn run_one(text: &str, entry: &Entry, opts: &Options) -> FleetResult {
             // Checked before the fleet starts (`check_tools`).
             let _ = equip(&mut interp, opts.tools.as_ref());
         }
+    }
+    if let Some(at) = &entry.start {
+        // An existing controller's machine starts where its axes stand, as a program started
+        // there would; its modal state and variables are not taken over: a fresh run's
+        // (`docs/api.md`, "Fleet runs").
+        interp.moved_to(at);
     }
     let axes: Vec<char> = entry.machine.axes.iter().map(|a| a.name).collect();
     let mut run_opts = RunOptions { period_s: 0.0, max_time_s: opts.max_time_s, ..RunOptions::default() };

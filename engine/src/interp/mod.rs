@@ -1171,6 +1171,22 @@ impl State {
         }
     }
 
+    /// The programmed point a view shows while the machine stands where the interpreter has
+    /// read to — the controller at rest (its status and stream) and the end of a run (the
+    /// summary of `fivex run` and of a fleet run): the current point as the position display
+    /// shows it ([`State::shown_position`], which has the G92/G52/G10 L2/G5x of blocks without
+    /// motion at once), except under a cutter compensation, where it is `commanded`, the point
+    /// the path stages made and the machine went to (the tool centre, off the programmed
+    /// contour). One rule, so that the views and the run summary cannot disagree (audit of
+    /// views F5: under G41 the summary gave the contour's point, the controller the centre).
+    pub fn shown_at_rest(&self, commanded: &Pos) -> Pos {
+        if self.modes[group::CUTTER_COMP] == code::G40 {
+            self.shown_position()
+        } else {
+            *commanded
+        }
+    }
+
     /// How the tool tip is read from the machine axes now (`crate::tip`): the tool length in
     /// effect, the active workpiece system's origin in the table frame, and the system the
     /// programmed point is in.

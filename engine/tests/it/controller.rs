@@ -417,6 +417,33 @@ fn jog_handle_and_reference_return() {
     assert_eq!(c.point().machine[..3], [0.0, 0.0, 0.0]);
 }
 
+/// Audit of views F2: a reference return made in REF mode moves the program's current point
+/// with the machine, as a jog or a handle move does. The estimate and the path preview run a
+/// copy of the interpreter from that point: they started where the MDI had left the machine
+/// (X100 Y-50 Z-20) though it stood at the reference position.
+#[test]
+fn a_reference_return_moves_the_programs_current_point() {
+    let mut c = controller();
+    mdi(&mut c, "G90 G00 X100. Y-50. Z-20.\n");
+    assert_eq!(c.interpreter().state.machine_position()[..3], [100.0, -50.0, -20.0]);
+    c.set_mode(Mode::Ref).unwrap();
+    c.reference_return().unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert_eq!(c.point().machine[..3], [0.0, 0.0, 0.0]);
+    assert_eq!(c.interpreter().state.machine_position()[..3], [0.0, 0.0, 0.0]);
+    assert_eq!(c.interpreter().state.position()[..3], [0.0, 0.0, 0.0]);
+    // The path preview of a program from here (what `GET …/programs/{n}/path` runs) starts at
+    // the reference position, and its G91 move ends 10 mm from it.
+    let mut copy = c.interpreter().clone();
+    copy.load_source(&fivex_engine::lang::Source { main: "G91 G01 X10. F1000.\nM30\n".into(), library: Vec::new() });
+    let path = fivex_engine::preview::tool_path(&mut copy, 100);
+    assert!(path.alarm.is_none(), "{:?}", path.alarm);
+    let (first, last) = (path.points[0], *path.points.last().unwrap());
+    assert!(first.iter().all(|v| v.abs() < 1e-9), "{first:?}");
+    assert!((last[0] - 10.0).abs() < 1e-9 && last[1].abs() < 1e-9, "{last:?}");
+}
+
 /// FANUC stored stroke check 1 in manual operation: a JOG, INC or HANDLE move that reaches a
 /// stored stroke limit stops there with OT0500 (+) / OT0501 (−), "OVERTRAVEL (SOFT 1)" (the
 /// 30i's alarm list); it was a silent stop. Reset clears the alarm; the axis then moves back
@@ -793,6 +820,64 @@ fn the_tilted_plane_shown_is_the_executing_blocks() {
         "the interpreter never read past G69 while the plane's moves ran: the test proves nothing"
     );
     assert_eq!(c.plane(), None);
+}
+
+/// Audit of views F3: a reset that cancels G68.2 (FANUC's default: the tilted working plane
+/// ends at a reset) shows the workpiece coordinates at once, in the status's
+/// `position.workpiece` and the stream's programmed point. They stayed in the feature
+/// coordinate system until the next move (X10 Y23.66 Z20.98 for the workpiece's X20 Y10 Z30).
+#[test]
+fn a_reset_that_ends_the_tilted_plane_shows_workpiece_coordinates_at_once() {
+    use fivex_engine::tip::System;
+    let m = MachineConfig::preset("table-ac").unwrap();
+    let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
+    mdi(&mut c, "G90 G54 G00 X20. Y10. Z30.\nG68.2 X10. Y0 Z0 I0 J30. K0\n");
+    assert_eq!(c.sample().programmed_in, System::Feature, "in the plane: the test proves nothing");
+    let feature = c.point().work;
+    c.reset();
+    assert_eq!(c.plane(), None);
+    let (p, s) = (c.point(), c.sample());
+    assert_eq!(s.programmed_in, System::Workpiece);
+    // mill offsets zero, no tool length: the workpiece point is the machine's.
+    for k in 0..3 {
+        assert!((p.work[k] - [20.0, 10.0, 30.0][k]).abs() < 1e-9, "{:?} (in the plane {feature:?})", p.work);
+        assert_eq!(s.programmed[k], p.work[k]);
+    }
+    // And it stays so as time goes on.
+    c.tick(0.1);
+    assert_eq!(c.point().work[..3], p.work[..3]);
+}
+
+/// Audit of views F5: one rule (`State::shown_at_rest`) gives the programmed point shown at rest
+/// to the controller (status, stream) and to the run summary (`fivex run`, fleet runs). A
+/// program whose text ends under G41 stands at the last block's perpendicular vector, X35 Y30
+/// with D1 = 5 mm: the controller showed that tool centre, the summary the contour's X40 Y30
+/// beside the machine's X35. A G92 without motion at the end is shown at once by both.
+#[test]
+fn the_programmed_point_at_rest_is_the_run_summarys() {
+    let programs = [
+        ("G90 G17 G00 X-20. Y0 Z0\nG41 D1 G01 X0 F3000.\nX40.\nY30.\n", [35.0, 30.0, 0.0]),
+        ("G90 G00 X10. Y5.\nG92 X50.\n", [50.0, 5.0, 0.0]),
+    ];
+    for (src, want) in programs {
+        let cfg = Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc);
+        let mut interp = Interpreter::new(parse_file(src), cfg);
+        interp.state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
+        let r = run(&mut interp, &RunOptions::default(), |_| {});
+        assert!(r.alarms.is_empty(), "{src}: {:?}", r.alarms);
+        let mut c = controller();
+        c.interpreter_mut().state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
+        c.select_program(src).unwrap();
+        c.cycle_start().unwrap();
+        run_until_stopped(&mut c, 60.0);
+        assert!(c.alarms().is_empty(), "{src}: {:?}", c.alarms());
+        let s = c.sample();
+        assert_eq!((s.programmed, s.programmed_in), (r.programmed, r.programmed_in), "{src}");
+        assert_eq!(c.point().work[..3], r.workpiece[..3], "{src}");
+        for k in 0..3 {
+            assert!((r.programmed[k] - want[k]).abs() < 1e-9, "{src}: {:?}", r.programmed);
+        }
+    }
 }
 
 /// MDI `text` run to its end on a controller that stands idle.

@@ -62,8 +62,11 @@ impl FleetEntry {
             mode: super::word(&c.mode()),
             run_state: super::word(&crate::host::station::run_state(c)),
             program: station.program,
-            line: c.point().line,
-            alarm: c.alarms().first().map(crate::host::stream::AlarmInfo::from),
+            // Lines and alarms in the program they are in, as the status and the controller's
+            // stream give them (`docs/api.md`, "Lines of stored programs"), not the service's
+            // own numbering of the composed text.
+            line: station.layouts.locate(c.point().line).1,
+            alarm: c.alarms().first().map(|a| station.layouts.alarm(a)),
         }
     }
 }

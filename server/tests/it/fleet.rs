@@ -211,6 +211,43 @@ async fn a_tool_table_replaces_a_controllers_tool_offsets_and_keeps_its_work_off
     }
 }
 
+/// Audit of views F1: an existing controller's machine starts where its axes stand (it started
+/// at machine zero: #5021 read 0 and the G91 move ended at X10). Decision (`docs/api.md`,
+/// "Fleet runs"): only the position is taken over; the modal state is a fresh run's, so the
+/// G91 the controller's MDI left does not make the program's `Y5.` incremental.
+#[tokio::test]
+async fn a_controllers_machine_starts_where_its_axes_stand() {
+    let app = spawn_app().await;
+    let created = app.post("/api/v1/controllers", &json!({"name": "moved", "preset": "mill3", "speed": 20})).await;
+    assert_eq!(created.status, StatusCode::CREATED, "{}", created.text());
+    let controller = created.json()["id"].as_str().unwrap().to_string();
+    let mdi =
+        app.post(&format!("/api/v1/controllers/{controller}/mdi"), &json!({"text": "G91 G00 X100. Y50. Z-20."})).await;
+    assert_eq!(mdi.status, StatusCode::OK, "{}", mdi.text());
+    let mut status = Value::Null;
+    for _ in 0..500 {
+        status = app.get(&format!("/api/v1/controllers/{controller}")).await.json();
+        if status["run_state"] == "idle" {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    let stands = &status["position"]["machine"];
+    assert_eq!([&stands["X"], &stands["Y"], &stands["Z"]], [100.0, 50.0, -20.0], "{status}");
+    let nc = "O0001\n#500=#5021\n#501=#5022\n#502=#5023\nG00 Y5.\nG91 G01 X10. F3000.\nM30\n";
+    let reply = app.post("/api/v1/fleet/runs", &json!({"program": nc, "controllers": [controller]})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let item = &reply.json()[0];
+    assert_eq!(item["status"], "completed", "{item}");
+    let vars = &item["variables"];
+    assert_eq!([&vars["#500"], &vars["#501"], &vars["#502"]], [100.0, 50.0, -20.0], "{item}");
+    let machine = &item["position"]["machine"];
+    assert_eq!([&machine["X"], &machine["Y"], &machine["Z"]], [110.0, 5.0, -20.0], "{item}");
+    // The controller itself did not move.
+    let after = app.get(&format!("/api/v1/controllers/{controller}")).await.json();
+    assert_eq!(after["position"]["machine"], status["position"]["machine"]);
+}
+
 #[tokio::test]
 async fn a_malformed_program_is_a_run_whose_machines_alarm() {
     let app = spawn_app().await;

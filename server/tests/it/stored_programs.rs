@@ -197,6 +197,39 @@ async fn an_alarm_in_a_called_program_gives_its_line_in_that_program_and_names_i
     assert_eq!(status["alarms"], json!([raised]), "{status}");
 }
 
+/// Audit of views F4: the fleet stream (`GET /api/v1/stream`) gives an alarm in a called
+/// program as the status does, naming that program (it gave `program: null`), and the line
+/// there in that program's own numbering (it gave line 8 of the composed text).
+#[tokio::test]
+async fn the_fleet_stream_names_the_program_an_alarm_happened_in() {
+    use futures_util::StreamExt;
+    let app = spawn_app().await;
+    let id = create(&app).await;
+    store(&app, &id, 1, "O0001\nG90 G0 X1.\nM98 P2\nM30\n").await;
+    store(&app, &id, 2, "(sub)\nG0 Y1.\n#3000=1(BOOM)\nM99\n").await;
+    app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    let status = settled(&app, &id, "alarm").await;
+    let raised = json!({"code": "MC3001", "message": "BOOM", "line": 3, "n": null, "program": 2});
+    assert_eq!(status["alarms"], json!([raised]), "{status}");
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap();
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(fivex_server::serve::serve(listener, app.state.clone(), async {
+        let _ = stopped.await;
+    }));
+    let (mut ws, _) = tokio_tungstenite::connect_async(format!("ws://{addr}/api/v1/stream?rate=30")).await.unwrap();
+    let first = ws.next().await.unwrap().unwrap();
+    let fleet: Value = serde_json::from_str(first.to_text().unwrap()).unwrap();
+    assert_eq!(fleet["type"], "fleet", "{fleet}");
+    let entry = &fleet["controllers"][0];
+    assert_eq!(entry["id"], json!(id), "{fleet}");
+    assert_eq!(entry["alarm"], raised, "{entry}");
+    assert_eq!((entry["program"].clone(), entry["line"].clone()), (status["program"].clone(), status["line"].clone()));
+    drop(ws);
+    let _ = stop.send(());
+    server.await.unwrap().unwrap();
+}
+
 /// The path's points give their lines in the program each is in: a called program's blocks
 /// were lines of the hidden composed text (line 6 for line 2 of O0002).
 #[tokio::test]
