@@ -2795,16 +2795,28 @@ export interface components {
         SetToolOffset: {
             /**
              * Format: double
-             * @description Not negative; absent: as it is (0 for an offset never given one).
+             * @description Not negative, at most 999.999 mm; absent: as it is (0 for an offset never given one).
              */
             corner_radius?: number | null;
-            /** Format: double */
+            /**
+             * Format: double
+             * @description mm, within ±999.999 (the range G10 takes, `docs/conventions.md`, "Tool offset values").
+             */
             length?: number | null;
-            /** Format: double */
+            /**
+             * Format: double
+             * @description mm, within ±99.999.
+             */
             length_wear?: number | null;
-            /** Format: double */
+            /**
+             * Format: double
+             * @description mm, within ±999.999.
+             */
             radius?: number | null;
-            /** Format: double */
+            /**
+             * Format: double
+             * @description mm, within ±99.999.
+             */
             radius_wear?: number | null;
         };
         /** @description `PUT /variables/{number}`. */
@@ -2982,13 +2994,19 @@ export interface components {
         Tool: {
             /**
              * Format: double
-             * @description The tool's corner radius, read by cutting point control (G43.8/G43.9); not negative.
-             *     Absent: 0 (a square end mill, or a ball end mill read from the radius).
+             * @description The tool's corner radius, read by cutting point control (G43.8/G43.9); not negative, at
+             *     most 999.999 mm. Absent: 0 (a square end mill, or a ball end mill read from the radius).
              */
             corner_radius?: number | null;
-            /** Format: double */
+            /**
+             * Format: double
+             * @description mm, within ±999.999 (the range G10 takes, `tools::check_value`).
+             */
             length: number;
-            /** Format: double */
+            /**
+             * Format: double
+             * @description mm, within ±999.999.
+             */
             radius: number;
         };
         /** @description One tool offset number (mm). */
@@ -6639,7 +6657,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No such offset number, not a finite value, or a negative corner radius */
+            /** @description No such offset number, a value outside the range G10 takes (geometry ±999.999 mm, wear ±99.999 mm), or a negative corner radius */
             422: {
                 headers: {
                     [name: string]: unknown;
