@@ -874,8 +874,8 @@ fn the_programmed_point_at_rest_is_the_run_summarys() {
         let s = c.sample();
         assert_eq!((s.programmed, s.programmed_in), (r.programmed, r.programmed_in), "{src}");
         assert_eq!(c.point().work[..3], r.workpiece[..3], "{src}");
-        for k in 0..3 {
-            assert!((r.programmed[k] - want[k]).abs() < 1e-9, "{src}: {:?}", r.programmed);
+        for (got, want) in r.programmed.iter().zip(want) {
+            assert!((got - want).abs() < 1e-9, "{src}: {:?}", r.programmed);
         }
     }
 }
