@@ -810,13 +810,13 @@ fn extended_common_variables_are_common_variables() {
 
 #[test]
 fn retained_variables_come_back_after_a_restart() {
-    // #500–#999, #500000–#999999, the hour timer #3002 and the part counts #3901/#3902 are
-    // kept through power off; #100–#199 and #100000–#199999 are not.
+    // #500–#999, #500000–#999999, the hour timer #3002, the part counts #3901/#3902 and the
+    // inch/metric mode #4006 are kept through power off; #100–#199 and #100000–#199999 are not.
     let mut before = interpreter("#500=1\n#500000=2\n#100000=3\n#3002=1.25\n#3902=40\nM30\n", "mill3", Dialect::Fanuc);
     let r = run(&mut before, &RunOptions::default(), |_| {});
     assert!(r.completed());
     let kept = before.state.retained_variables();
-    assert_eq!(kept, vec![(500, 1.0), (500000, 2.0), (3002, 1.25), (3901, 1.0), (3902, 40.0)]);
+    assert_eq!(kept, vec![(500, 1.0), (500000, 2.0), (3002, 1.25), (3901, 1.0), (3902, 40.0), (4006, 21.0)]);
     let mut after = interpreter("#100=#3002\n#101=#100000\n#102=#500000\nM30\n", "mill3", Dialect::Fanuc);
     let values: Vec<(u32, Option<f64>)> = kept.iter().map(|&(n, v)| (n, Some(v))).collect();
     after.state.load_retained(&values).unwrap();
