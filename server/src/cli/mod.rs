@@ -507,52 +507,50 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
         .collect();
     let on_machine = a.machine.preset.is_some() || a.machine.machine.is_some();
     let file = parse_file(&text);
-    {
-        // Without a machine the program is run on the default one for what hardly depends on
-        // the machine: the alarms of cutter compensation and the notices (a unit switched
-        // mid-program, FX1005 …); its other alarms are the stand-in's, not the text's.
-        let machine = load_machine(&a.machine)?;
-        let name = machine.name.clone();
-        let mut cfg = Config::new(machine, a.dialect);
-        cfg.max_blocks = CHECK_MAX_BLOCKS;
-        let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
-        let mut notices = Vec::new();
-        let (stop, unheld_call) = machine_alarm(interp, on_machine, &mut notices);
-        // A run that never ended is reported on any machine: the blocks it did not reach were
-        // not checked, and a program that may loop without end is no clean one.
-        let budget = |s: &fivex_engine::check::RunStop| {
-            matches!(s.id, Some(fivex_engine::alarm::AlarmId::BlockBudgetExceeded { .. }))
-        };
-        let stop = stop.filter(|s| on_machine || s.compensating || budget(s));
-        if let Some(line) = unheld_call.filter(|_| on_machine) {
-            // Not a diagnostic (the control may hold the program), but the check is partial.
-            eprintln!(
-                "{}:{line}: the run on {name} ends at this call of a program the file does not hold: \
-                 the blocks after it are checked from the text only",
-                a.program.display()
-            );
-        }
-        // Where the text names the same alarm on that line it says it already; another alarm
-        // there (the run stops on the line for a reason the text does not show) is shown too.
-        if let Some(stop) = stop {
-            let alarm = &stop.alarm;
-            if !lines.iter().any(|(line, _, code, _)| *line == alarm.line && *code == alarm.code) {
-                let on = if on_machine { name } else { format!("{name} (the default machine)") };
-                let detail = if budget(&stop) {
-                    format!(
-                        "the run on {on} stopped after {CHECK_MAX_BLOCKS} blocks without reaching the end: \
-                         the program may loop without end (a WHILE or GOTO that never leaves, M99 in the \
-                         main program), and the blocks it did not reach are checked from the text only; \
-                         a program meant to run longer can be run with `fivex run --max-blocks N`"
-                    )
-                } else {
-                    format!("when run on {on}")
-                };
-                lines.push((alarm.line, 1, alarm.code.clone(), format!("{} {}: {detail}", alarm.code, alarm.message)));
-            }
-        }
-        lines.extend(notices.into_iter().map(|n| (n.line, 1, n.code.clone(), format!("{} {}", n.code, n.message))));
+    // Without a machine the program is run on the default one for what hardly depends on
+    // the machine: the alarms of cutter compensation and the notices (a unit switched
+    // mid-program, FX1005 …); its other alarms are the stand-in's, not the text's.
+    let machine = load_machine(&a.machine)?;
+    let name = machine.name.clone();
+    let mut cfg = Config::new(machine, a.dialect);
+    cfg.max_blocks = CHECK_MAX_BLOCKS;
+    let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
+    let mut notices = Vec::new();
+    let (stop, unheld_call) = machine_alarm(interp, on_machine, &mut notices);
+    // A run that never ended is reported on any machine: the blocks it did not reach were
+    // not checked, and a program that may loop without end is no clean one.
+    let budget = |s: &fivex_engine::check::RunStop| {
+        matches!(s.id, Some(fivex_engine::alarm::AlarmId::BlockBudgetExceeded { .. }))
+    };
+    let stop = stop.filter(|s| on_machine || s.compensating || budget(s));
+    if let Some(line) = unheld_call.filter(|_| on_machine) {
+        // Not a diagnostic (the control may hold the program), but the check is partial.
+        eprintln!(
+            "{}:{line}: the run on {name} ends at this call of a program the file does not hold: \
+             the blocks after it are checked from the text only",
+            a.program.display()
+        );
     }
+    // Where the text names the same alarm on that line it says it already; another alarm
+    // there (the run stops on the line for a reason the text does not show) is shown too.
+    if let Some(stop) = stop {
+        let alarm = &stop.alarm;
+        if !lines.iter().any(|(line, _, code, _)| *line == alarm.line && *code == alarm.code) {
+            let on = if on_machine { name } else { format!("{name} (the default machine)") };
+            let detail = if budget(&stop) {
+                format!(
+                    "the run on {on} stopped after {CHECK_MAX_BLOCKS} blocks without reaching the end: \
+                     the program may loop without end (a WHILE or GOTO that never leaves, M99 in the \
+                     main program), and the blocks it did not reach are checked from the text only; \
+                     a program meant to run longer can be run with `fivex run --max-blocks N`"
+                )
+            } else {
+                format!("when run on {on}")
+            };
+            lines.push((alarm.line, 1, alarm.code.clone(), format!("{} {}: {detail}", alarm.code, alarm.message)));
+        }
+    }
+    lines.extend(notices.into_iter().map(|n| (n.line, 1, n.code.clone(), format!("{} {}", n.code, n.message))));
     lines.sort_by_key(|&(line, col, ..)| (line, col));
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
