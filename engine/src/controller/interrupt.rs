@@ -71,8 +71,10 @@ impl Controller {
         std::array::from_fn(|i| axes[i] + shift[i])
     }
 
-    /// The program's machine position (where the machine stands without the shift).
-    pub(super) fn program_machine(&self) -> Pos {
+    /// The program's machine position (where the machine stands without the shift): the point
+    /// a program started now goes from, not the interpreter's, which has read ahead of the
+    /// machine while blocks are queued.
+    pub fn program_machine(&self) -> Pos {
         if self.interrupt.applied {
             return self.exec.here.machine;
         }

@@ -171,7 +171,7 @@ fn entries(state: &AppState, r: &FleetRequest, dialect: Dialect) -> Result<(Vec<
             dialect: hosted.dialect,
             offsets: Some(Box::new(station.controller.interpreter().state.offsets.clone())),
             workpiece: Some(station.controller.workpiece().clone()),
-            start: Some(station.controller.interpreter().state.machine_position()),
+            start: Some(station.controller.program_machine()),
         });
     }
     Ok((out, sources))

@@ -248,6 +248,40 @@ async fn a_controllers_machine_starts_where_its_axes_stand() {
     assert_eq!(after["position"]["machine"], status["position"]["machine"]);
 }
 
+/// A controller held in the middle of a block: its interpreter has read the block's end (and
+/// beyond), its axes stand short of it. The fleet run starts where the axes stand (it started
+/// at the read-ahead point: #5021 read 100 with X at a few mm).
+#[tokio::test]
+async fn a_held_controllers_machine_starts_where_its_axes_stand_not_where_it_read_to() {
+    let app = spawn_app().await;
+    let created = app.post("/api/v1/controllers", &json!({"name": "held", "preset": "mill3", "speed": 1})).await;
+    assert_eq!(created.status, StatusCode::CREATED, "{}", created.text());
+    let controller = created.json()["id"].as_str().unwrap().to_string();
+    let c = format!("/api/v1/controllers/{controller}");
+    let text = "G91 G01 X100. F600.\nY100.\nM30\n".to_string();
+    let stored = app.raw(Method::PUT, &format!("{c}/programs/1"), "text/plain", text).await;
+    assert!(stored.status.is_success(), "{}", stored.text());
+    let started = app.post(&format!("{c}/cycle-start"), &json!({"program": 1})).await;
+    assert_eq!(started.status, StatusCode::OK, "{}", started.text());
+    tokio::time::sleep(std::time::Duration::from_millis(300)).await;
+    assert_eq!(app.post(&format!("{c}/feed-hold"), &json!({})).await.status, StatusCode::OK);
+    let mut status = Value::Null;
+    for _ in 0..500 {
+        status = app.get(&c).await.json();
+        if status["run_state"] == "hold" && status["feed"] == 0.0 {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    let x = status["position"]["machine"]["X"].as_f64().unwrap();
+    assert!(x > 0.0 && x < 100.0, "held inside the first block: {status}");
+    let nc = "O0001\n#500=#5021\n#501=#5022\nM30\n";
+    let reply = app.post("/api/v1/fleet/runs", &json!({"program": nc, "controllers": [controller]})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    let vars = &reply.json()[0]["variables"];
+    assert_eq!([vars["#500"].as_f64(), vars["#501"].as_f64()], [Some(x), Some(0.0)], "{vars} against {status}");
+}
+
 #[tokio::test]
 async fn a_malformed_program_is_a_run_whose_machines_alarm() {
     let app = spawn_app().await;
