@@ -53,6 +53,7 @@ impl FleetEntry {
     pub fn of(hosted: &Hosted) -> FleetEntry {
         let station = hosted.station();
         let c = &station.controller;
+        let (line_program, line) = station.layouts.locate(c.point().line);
         FleetEntry {
             id: hosted.id.clone(),
             name: hosted.name(),
@@ -65,7 +66,8 @@ impl FleetEntry {
             // Lines and alarms in the program they are in, as the status and the controller's
             // stream give them (`docs/api.md`, "Lines of stored programs"), not the service's
             // own numbering of the composed text.
-            line: station.layouts.locate(c.point().line).1,
+            line,
+            line_program,
             alarm: c.alarms().first().map(|a| station.layouts.alarm(a)),
         }
     }

@@ -317,7 +317,11 @@ pub struct FleetEntry {
     #[schema(value_type = fivex_engine::controller::RunState)]
     pub run_state: String,
     pub program: Option<u32>,
+    /// 1-based line of the executing block in the program `line_program`, as in the status.
     pub line: u32,
+    /// The O number of the stored program `line` is in (`program`, or a program it called);
+    /// `null` for MDI's own blocks and before any block.
+    pub line_program: Option<u32>,
     /// The first alarm in force, if any.
     pub alarm: Option<crate::host::stream::AlarmInfo>,
 }

@@ -199,7 +199,9 @@ async fn an_alarm_in_a_called_program_gives_its_line_in_that_program_and_names_i
 
 /// Audit of views F4: the fleet stream (`GET /api/v1/stream`) gives an alarm in a called
 /// program as the status does, naming that program (it gave `program: null`), and the line
-/// there in that program's own numbering (it gave line 8 of the composed text).
+/// there in that program's own numbering (it gave line 8 of the composed text). Its entry names
+/// the program its `line` is in, `line_program`, as the status does (it had none: line 3 of
+/// which program?).
 #[tokio::test]
 async fn the_fleet_stream_names_the_program_an_alarm_happened_in() {
     use futures_util::StreamExt;
@@ -224,7 +226,9 @@ async fn the_fleet_stream_names_the_program_an_alarm_happened_in() {
     let entry = &fleet["controllers"][0];
     assert_eq!(entry["id"], json!(id), "{fleet}");
     assert_eq!(entry["alarm"], raised, "{entry}");
-    assert_eq!((entry["program"].clone(), entry["line"].clone()), (status["program"].clone(), status["line"].clone()));
+    let shown = |v: &Value| [v["program"].clone(), v["line"].clone(), v["line_program"].clone()];
+    assert_eq!(shown(entry), shown(&status), "{entry}");
+    assert_eq!(shown(entry), [json!(1), json!(3), json!(2)], "{entry}");
     drop(ws);
     let _ = stop.send(());
     server.await.unwrap().unwrap();

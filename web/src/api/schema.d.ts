@@ -1674,8 +1674,17 @@ export interface components {
             id: string;
             /** @description The mechanism kind, as in the status. */
             kind: components["schemas"]["MechanismName"];
-            /** Format: int32 */
+            /**
+             * Format: int32
+             * @description 1-based line of the executing block in the program `line_program`, as in the status.
+             */
             line: number;
+            /**
+             * Format: int32
+             * @description The O number of the stored program `line` is in (`program`, or a program it called);
+             *     `null` for MDI's own blocks and before any block.
+             */
+            line_program?: number | null;
             machine: string;
             mode: components["schemas"]["ModeName"];
             name: string;

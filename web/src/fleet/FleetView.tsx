@@ -99,7 +99,7 @@ export function FleetView() {
                   <span class={`state ${c.run_state}`}>{c.run_state}</span>
                 </td>
                 <td>{c.program != null ? `O${String(c.program).padStart(4, "0")}` : ""}</td>
-                <td class="num">{c.line || ""}</td>
+                <td class="num">{lineText(c)}</td>
                 <td class="alarm-cell">{c.alarm ? `${c.alarm.code} ${c.alarm.message}` : ""}</td>
                 <td class="actions">
                   <button
@@ -208,4 +208,11 @@ function CreateForm({ onError }: { onError: (e: string | null) => void }) {
       </button>
     </form>
   );
+}
+
+/** The executing line; inside a called program, with that program's O number. */
+function lineText(c: FleetEntry): string {
+  if (!c.line) return "";
+  const called = c.line_program != null && c.line_program !== c.program;
+  return called ? `${c.line} (O${String(c.line_program).padStart(4, "0")})` : String(c.line);
 }

@@ -12,6 +12,7 @@ const entry = (id: string, run_state: FleetEntry["run_state"] = "idle"): FleetEn
   run_state,
   program: null,
   line: 0,
+  line_program: null,
   alarm: null,
 });
 
