@@ -18,8 +18,7 @@
 //! And what only a run finds: [`run_without_motion`] runs a program through the interpreter and
 //! the path stages of a run (`crate::stage::Pipeline`, cutter compensation C) and the
 //! executor's stroke check without its planner, so the compensation's alarms (PS0033, PS0034,
-//! PS0041 …) and the stored stroke limits (OT0510/OT0511) are found as a run finds them;
-//! [`uses_cutter_compensation`] says whether the text can raise the compensation's at all.
+//! PS0041 …) and the stored stroke limits (OT0510/OT0511) are found as a run finds them.
 
 use crate::alarm::{Alarm, AlarmId};
 use crate::canon::{Canon, CanonKind};
@@ -842,17 +841,4 @@ fn check_strokes(exec: &mut Executor, c: &Canon) -> Result<(), AlarmId> {
             Ok(())
         }
     }
-}
-
-/// The text turns cutter compensation on somewhere: a G41, G42, G41.2 or G42.2 word with a
-/// literal value (a G code given by an expression is not known without running).
-pub fn uses_cutter_compensation(file: &File) -> bool {
-    file.programs.iter().flat_map(|p| &p.blocks).any(|b| match &b.kind {
-        BlockKind::Words(words) => words.iter().any(|w| {
-            w.letter == b'G'
-                && matches!(w.value, WordValue::Number { value, .. }
-                    if gcode::code_of(value).is_some_and(|c| code::COMPENSATED_BY_STAGES.contains(&c)))
-        }),
-        _ => false,
-    })
 }
