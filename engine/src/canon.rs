@@ -379,7 +379,8 @@ pub enum CanonKind {
     Aux {
         m: u32,
     },
-    /// M00, M01 (optional) or `#3006`.
+    /// M00, M01 (`optional`: it stops only with the optional stop switch on where the machine
+    /// reaches it; off, it is an M code the motion before waits for) or `#3006`.
     Stop {
         optional: bool,
         message: Option<String>,

@@ -1027,13 +1027,20 @@ impl Controller {
             return;
         }
         let mut blocks = 0;
-        // The blocks read now see the panel's switches (Haas #3030, #3031).
+        // The blocks read now see the panel's switches (Haas #3030–#3033): block delete skips
+        // the `/` blocks read after it is switched, as the control checks it when it reads a
+        // block into its buffer.
         self.interp.state.set_panel_switches(self.panel.single_block, self.panel.dry_run);
+        self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         if self.panel.single_block != self.single_block_seen {
             self.single_block_seen = self.panel.single_block;
             // Switched on under way: the blocks read ahead (the look-ahead's hundreds) stop at
-            // their ends too, from the first the machine can still stop at.
-            self.stop_at_block_ends();
+            // their ends too, from the first the machine can still stop at. Switched off: those
+            // stops go again.
+            match self.panel.single_block {
+                true => self.stop_at_block_ends(),
+                false => self.exec.clear_block_stops(),
+            }
         }
         let before = self.times;
         // The counters take each stretch of time by what was under way at its start.
@@ -1534,7 +1541,8 @@ impl Controller {
             CanonKind::ToolChange { .. } => {
                 self.cycle.course_mut().dwell(self.exec.time() + self.machine.motion.tool_change_s)
             }
-            // M00, and M01 (the interpreter emits it only with the optional stop switch on).
+            // M01 with the optional stop switch off, as the machine reaches it: nothing to do.
+            CanonKind::Stop { optional: true, .. } if !self.panel.optional_stop => {}
             CanonKind::Stop { optional, message } => {
                 if let Some(m) = message {
                     self.events.push(Event::Message(m.clone()));

@@ -109,6 +109,7 @@ pub fn run_observed(
         over_budget: None,
         parts: 0,
         cutting_s: 0.0,
+        optional_stop: interp.config().optional_stop,
         observer,
     };
     let mut stages = Pipeline::for_config(interp.config());
@@ -212,6 +213,8 @@ struct Driver<'o, O: Observer> {
     parts: u32,
     /// Seconds the machine moved along cutting feeds (not rapids): Haas #3022.
     cutting_s: f64,
+    /// The optional stop switch: off, an M01 is an M code like any other (no message).
+    optional_stop: bool,
 }
 
 impl<O: Observer> Driver<'_, O> {
@@ -251,6 +254,7 @@ impl<O: Observer> Driver<'_, O> {
                     }
                     CanonKind::Print { text } => self.messages.push(text.clone()),
                     CanonKind::Chain(chain) => self.exec.follow_chain(*chain),
+                    CanonKind::Stop { optional: true, .. } if !self.optional_stop => {}
                     CanonKind::Stop { message: Some(m), .. } => self.messages.push(m.clone()),
                     CanonKind::ProgramEnd { .. } => self.parts += 1,
                     _ => {}

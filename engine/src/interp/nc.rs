@@ -1067,11 +1067,9 @@ impl State {
         for &m in &w.m[..w.nm] {
             match m {
                 mcode::M00 => self.emit(out, CanonKind::Stop { optional: false, message: block.comment.clone() }),
-                mcode::M01 => {
-                    if self.cfg.optional_stop {
-                        self.emit(out, CanonKind::Stop { optional: true, message: block.comment.clone() })
-                    }
-                }
+                // Whether M01 stops is the optional stop switch's where the machine reaches it
+                // (the controller's panel, `fivex run`'s option), not where it is read ahead.
+                mcode::M01 => self.emit(out, CanonKind::Stop { optional: true, message: block.comment.clone() }),
                 // Syntec: M02/M30 in an M98 subprogram ends it and returns to the caller, as M99.
                 mcode::M02 | mcode::M30 if self.syntec_in_subprogram() => self.return_from_call(progs, None)?,
                 mcode::M02 | mcode::M30 => {

@@ -154,6 +154,10 @@ pub struct Executor {
     /// Where the programmed contour of the last queued program motion ends under cutter
     /// compensation (table frame; `None`: at the tip where the motion ends).
     queued_contour: Option<Vec3>,
+    /// The block ends (serial, line) single block switched on under way made stops in the path
+    /// read ahead, where the program asked for none: switched off again, they go
+    /// ([`Executor::clear_block_stops`]).
+    block_stops: Vec<(u64, u32)>,
 }
 
 impl Executor {
@@ -174,6 +178,7 @@ impl Executor {
             after,
             at_once,
             queued_contour: None,
+            block_stops: Vec::new(),
         }
     }
 
@@ -845,10 +850,33 @@ impl Executor {
             true => 0.0,
             false => Profile::stop(v, 0.0, &stop_limits(&queued, v, 0.0)).len(),
         };
-        mark_block_ends(&mut queued, need, complete);
+        mark_block_ends(&mut queued, need, complete, &mut self.block_stops);
         self.planner.continue_at(v);
         self.requeue(queued);
         replanned
+    }
+
+    /// Single block switched off again under way: the block ends it marked in the path read
+    /// ahead stop no more (those the program asked for, G09/G61/rapids, stay), and that path is
+    /// planned again from the speed the run under way ends with. The run under way keeps its
+    /// end: the machine may already be braking for it.
+    pub fn clear_block_stops(&mut self) {
+        let marked = std::mem::take(&mut self.block_stops);
+        let ours = |seg: &Segment| seg.stop_after && marked.contains(&(seg.block, seg.line));
+        if !self.planner.segments().any(ours) {
+            return;
+        }
+        let v = self.current.as_ref().map_or(self.planner.speed(), |c| c.planned.profile.end_speed());
+        let mut queued = self.planner.take_all();
+        for k in 0..queued.len() {
+            // The block's last segment (a kinematic path is queued in pieces).
+            let last = queued.get(k + 1).is_none_or(|n| (n.block, n.line) != (queued[k].block, queued[k].line));
+            if last && ours(&queued[k]) {
+                queued[k].stop_after = false;
+            }
+        }
+        self.planner.continue_at(v);
+        self.requeue(queued);
     }
 
     /// [`Executor::stop_at_block_ends`] in the run under way: the first block end in its rest
@@ -984,13 +1012,14 @@ pub(crate) fn block_end(seg: &Segment, next: Option<&Segment>, complete: u64) ->
 }
 
 /// Every block end of `path` at least `need` from its start becomes an exact stop (`complete`:
-/// [`block_end`]'s).
-fn mark_block_ends(path: &mut [Segment], need: f64, complete: u64) {
+/// [`block_end`]'s); those that were not stops already are added to `marked`.
+fn mark_block_ends(path: &mut [Segment], need: f64, complete: u64, marked: &mut Vec<(u64, u32)>) {
     let mut s = 0.0;
     for k in 0..path.len() {
         s += path[k].len;
-        if s >= need - 1e-9 && block_end(&path[k], path.get(k + 1), complete) {
+        if s >= need - 1e-9 && block_end(&path[k], path.get(k + 1), complete) && !path[k].stop_after {
             path[k].stop_after = true;
+            marked.push((path[k].block, path[k].line));
         }
     }
 }

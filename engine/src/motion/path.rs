@@ -94,7 +94,7 @@ pub struct Segment {
     bent: Option<Box<Bent>>,
     /// Tool tip (X, Y, Z of the programming system) distance per unit of `s`.
     pub tip_rate: f64,
-    /// The motion must come to a stop at its end (G09, G61, rapids).
+    /// The motion must come to a stop at its end (G09, G61, rapids, a single-block stop).
     pub stop_after: bool,
     traits: Traits,
     /// The tool length offset in force (what a display needs to place the tip from the axes).

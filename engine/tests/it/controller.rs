@@ -185,6 +185,38 @@ fn single_block_and_program_stops_wait_for_cycle_start() {
     }
 }
 
+/// The optional stop switch acts where the machine reaches M01, and the block delete switch on
+/// the blocks read after it is flipped, as the panel shows them: both were taken at cycle start
+/// only, so an M01 the machine had not reached passed with the switch shown on, and a `/` block
+/// ran with block delete shown on.
+#[test]
+fn the_optional_stop_and_block_delete_switches_act_when_flipped_under_way() {
+    let prog = "G90 G01 X100. F600.\nM01\nX20.\nM01\nX30.\nM30\n";
+    let mut c = started(prog);
+    for _ in 0..10 {
+        c.tick(TICK);
+    }
+    assert!(c.point().machine[0] < 100.0, "still in the first block");
+    c.panel.optional_stop = true;
+    run_until_stopped(&mut c, 30.0);
+    assert_eq!((c.run_state(), c.point().machine[0]), (RunState::Idle, 100.0), "stops at the first M01");
+    c.panel.optional_stop = false;
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 30.0);
+    assert_eq!(c.point().machine[0], 30.0, "the second M01 passes with the switch off");
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+
+    // Block delete switched on while the first block moves: the `/` block the interpreter reads
+    // later is skipped (a 1000-block run keeps the `/` block out of the read-ahead's reach).
+    let moves: String = (1..=1000).map(|i| format!("Y{}.\n", i % 2)).collect();
+    let prog = format!("G90 G01 X100. F600.\n{moves}/X50.\nM30\n");
+    let mut c = started(&prog);
+    c.tick(TICK);
+    c.panel.block_delete = true;
+    run_until_stopped(&mut c, 3000.0);
+    assert_eq!((c.run_state(), c.point().machine[0]), (RunState::Idle, 100.0), "the / block skipped");
+}
+
 #[test]
 fn a_jog_after_a_program_that_ended_on_m00_ends_idle() {
     // The program's last block stops at M00 (alone, or with M30) and nothing follows: the
@@ -972,6 +1004,41 @@ fn single_block_switched_on_under_way_stops_at_the_next_block_end() {
         let m = c.point().machine;
         assert_eq!((c.point().line, [m[0], m[1]]), (next, zigzag_end(next)));
     }
+}
+
+/// Single block switched on under way, then off at its stop: the program runs on without
+/// stopping at the block ends read ahead while it was on. The marks stayed: the machine came to
+/// rest at each of the hundreds of 1 mm blocks already read (no program stop, but 2.5× the time).
+#[test]
+fn single_block_switched_off_again_leaves_no_stops_behind() {
+    use fivex_engine::controller::ProgramStop;
+    let moves: String = (0..300).map(|_| "X1.\n").collect();
+    let prog = format!("G91 G01 F3000.\n{moves}M30\n");
+    let mut c = started(&prog);
+    run_to_line(&mut c, 10);
+    c.panel.single_block = true;
+    run_until_stopped(&mut c, 60.0);
+    assert_eq!(c.program_stop(), Some(ProgramStop::SingleBlock));
+    c.panel.single_block = false;
+    c.tick(TICK);
+    c.cycle_start().unwrap();
+    let (start, x0) = (c.time(), c.point().machine[0]);
+    let mut rests = 0;
+    let mut moving = false;
+    while c.run_state() == RunState::Running && c.time() - start < 60.0 {
+        c.tick(TICK);
+        let feed = c.point().feed;
+        if moving && feed == 0.0 {
+            rests += 1;
+        }
+        moving = feed > 0.0;
+    }
+    assert_eq!(c.point().machine[0], 300.0);
+    // The rest run at 3000 mm/min with one start and one stop, within the limits (about 50 ms
+    // of acceleration each way): the marks made it several times longer.
+    let (len, took) = (300.0 - x0, c.time() - start);
+    assert!(took < len / 50.0 + 0.5, "{len} mm took {took} s, coming to rest {rests} times");
+    assert!(rests <= 1, "came to rest {rests} times on the way");
 }
 
 /// Audit ops F2 (t14.py): feed hold, single block on, cycle start: the held block is finished
