@@ -313,6 +313,53 @@ pub enum AlarmId {
 }
 
 impl AlarmId {
+    /// An alarm of the program's own form or geometry, which any machine running it in its
+    /// dialect raises at the same block: no axis, stroke, kinematics, parameter, position or
+    /// workpiece decides it. `fivex check` without a machine reports these from its run on the
+    /// default machine; every other alarm there may be only that machine's.
+    pub fn is_the_programs(&self) -> bool {
+        use AlarmId::*;
+        matches!(
+            self,
+            Syntax
+                | NoDataAfterAddress
+                | IllegalDecimalPoint
+                | TooManyDigits
+                | IllegalGCodeCombination
+                | FeedZero
+                | IllegalOffsetNumber
+                | ArcRadiusTolerance
+                | ArcCentreMissing
+                | PlaneChangeInCompensation
+                | DataSettingFormat
+                | IllegalG10Command
+                | MissingQ
+                | CycleArgument
+                | CycleBottomMissing
+                | FeedPerRevolutionSpindleStopped
+                | ReferenceReturnInCycle
+                | NurbsFormat
+                | NurbsBlock
+                | NurbsStart
+                | UnitChangeInMode
+                | ArcInCompStartCancel
+                | CornerArcWithMove
+                | MacroFormat
+                | BracketNesting
+                | UnitNotDecided
+                | MissingEnd
+                | IllegalLoopNumber
+                | IllegalSequenceNumber
+                | MissingP
+                | NestingTooDeep
+                | GAsArgument
+                | MixedStatements
+                | IllegalScaleRate
+                | IllegalPlaneInRotation
+                | RotationAngleOutOfRange
+        )
+    }
+
     /// An alarm about what the block's own move found (Haas M78/M79 after a G31 in the same
     /// block): the move is made, then the alarm is raised. Every other alarm of a block comes
     /// before any of its motion (`Interpreter::step`).

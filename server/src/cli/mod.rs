@@ -508,8 +508,10 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     let on_machine = a.machine.preset.is_some() || a.machine.machine.is_some();
     let file = parse_file(&text);
     // Without a machine the program is run on the default one for what hardly depends on
-    // the machine: the alarms of cutter compensation and the notices (a unit switched
-    // mid-program, FX1005 …); its other alarms are the stand-in's, not the text's.
+    // the machine: the alarms of cutter compensation, those of the program's own form or
+    // geometry (`AlarmId::is_the_programs`: a radius off its arc, a nesting too deep …) and the
+    // notices (a unit switched mid-program, FX1005 …); its other alarms are the stand-in's,
+    // not the text's.
     let machine = load_machine(&a.machine)?;
     let name = machine.name.clone();
     let mut cfg = Config::new(machine, a.dialect);
@@ -522,7 +524,25 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     let budget = |s: &fivex_engine::check::RunStop| {
         matches!(s.id, Some(fivex_engine::alarm::AlarmId::BlockBudgetExceeded { .. }))
     };
-    let stop = stop.filter(|s| on_machine || s.compensating || budget(s));
+    let of_the_program = |s: &fivex_engine::check::RunStop| s.id.as_ref().is_some_and(|id| id.is_the_programs());
+    let reported = |s: &fivex_engine::check::RunStop| on_machine || s.compensating || budget(s) || of_the_program(s);
+    let in_text = |s: &fivex_engine::check::RunStop| {
+        lines.iter().any(|(line, _, code, _)| *line == s.alarm.line && *code == s.alarm.code)
+    };
+    if let Some(s) = stop.as_ref().filter(|s| !reported(s) && !in_text(s)) {
+        // Not a diagnostic (the default machine's alarm is not the text's), but the blocks
+        // after it were checked from the text only: a clean check must not hide that.
+        eprintln!(
+            "{}:{}: the run on {name} (the default machine) stopped here ({} {}): the blocks after \
+             it are checked from the text only; give --preset or --machine to run the program on \
+             its machine",
+            a.program.display(),
+            s.alarm.line,
+            s.alarm.code,
+            s.alarm.message
+        );
+    }
+    let stop = stop.filter(reported);
     if let Some(line) = unheld_call.filter(|_| on_machine) {
         // Not a diagnostic (the control may hold the program), but the check is partial.
         eprintln!(
@@ -535,7 +555,7 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     // there (the run stops on the line for a reason the text does not show) is shown too.
     if let Some(stop) = stop {
         let alarm = &stop.alarm;
-        if !lines.iter().any(|(line, _, code, _)| *line == alarm.line && *code == alarm.code) {
+        if !in_text(&stop) {
             let on = if on_machine { name } else { format!("{name} (the default machine)") };
             let detail = if budget(&stop) {
                 format!(

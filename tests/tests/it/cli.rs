@@ -639,6 +639,24 @@ fn check_on_a_machine_reports_what_only_that_machine_refuses() {
     assert_eq!(codes(&head), [(4, "PS0078".to_string())], "{head}");
 }
 
+/// Without a machine, a program the default machine stops early (a 5-axis program on mill3,
+/// at its first B word) was checked from the text only after that point, and check said nothing
+/// of it: exit 0, as for a program run to its end. stderr now says where the run stopped and
+/// why; the exit stays 0 (mill3's alarm is not the text's).
+#[test]
+fn check_without_a_machine_says_where_the_default_machines_run_stopped() {
+    let five_axis = "G90 G00 X0 Y0 Z50. B0 C0\nG43.4 H1\nG01 X10. B30. F1000.\nM30\n";
+    let (_d, p) = scratch(&[("five.nc", five_axis)]);
+    let out = fivex(&["check", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(0), "{}", stdout(&out));
+    let err = stderr(&out);
+    assert!(err.contains(":1: the run on mill3 (the default machine) stopped here"), "{err}");
+    assert!(err.contains("--preset") && err.contains("--machine"), "{err}");
+    // On a machine it runs to its end: nothing to say.
+    let out = fivex(&["check", s(&p[0]), "--preset", "head-bc"]);
+    assert_eq!((out.status.code(), stderr(&out)), (Some(0), String::new()), "{}", stdout(&out));
+}
+
 /// A groove 4 wide, cut with the default tool (radius 5) under G41: the interference check's
 /// PS0041 at line 6, where the compensated block would run backwards.
 #[test]
