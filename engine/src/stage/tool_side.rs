@@ -377,6 +377,21 @@ impl ToolSide {
         centre.dot(&programmed) < 0.0
     }
 
+    /// The interference check of the G40 block, as cutter compensation C holds it to one (audit
+    /// crc2 N3, `stage::cutter`): from where the tool stands, the vector the block before left
+    /// off its programmed start `from`, to its programmed end `to` it must not run against its
+    /// own move — in its plane (`curve`, relative to `to`) with NI5 = 1, in 3-D without.
+    fn cancel_interferes(&self, curve: &Curve, plane: &Plane, from: Vec3, to: Vec3) -> bool {
+        let vector = self.shift.vector;
+        if self.check_in_plane {
+            // A straight move: the stage refuses an arc as the G40 block.
+            use crate::stage::cutter::curve::{add, dot, sub};
+            let start = add(curve.from(), plane.project(vector));
+            return dot(sub(curve.to(), start), sub(curve.to(), curve.from())) < 0.0;
+        }
+        (to - (from + vector)).dot(&(to - from)) < 0.0
+    }
+
     /// The output of the released block `w` ending at `points[0]`, the corner's straight moves,
     /// the commands behind it.
     fn produce(&mut self, w: Waiting, points: &[P2], out: &mut Vec<Canon>) {
@@ -647,6 +662,12 @@ impl ToolSide {
                     }
                 },
                 _ => self.release_perpendicular(out),
+            }
+            if !self.stopped && moves && self.cancel_interferes(&curve, &plane, from_at, to_at) {
+                // The tool stops at the end of the block before (released above).
+                self.flush(out);
+                self.alarm(AlarmId::CutterInterference, &c);
+                return;
             }
             if !self.stopped {
                 self.cancelled();

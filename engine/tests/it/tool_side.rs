@@ -569,6 +569,28 @@ fn m30_ends_the_mode_with_the_last_block_perpendicular() {
     assert_ends(src, "head-bc", &[(1, [0.0, -10.0, 0.0]), (2, [5.0, -5.0, 0.0]), (3, [50.0, -5.0, 0.0])]);
 }
 
+/// The G40 block is held to the interference check as cutter compensation C holds it (audit
+/// crc2 N3): the cancel after a sharp turn starts at the corner's intersection far beyond its
+/// programmed start and would run back against its own move. The random comparison with C found
+/// it (b = c = 0: C stopped with PS0041 at the G40 block, the tool side offset ran it, cutting
+/// back across the corner); with the check in the plane (NI5 = 1) and in 3-D alike.
+#[test]
+fn a_cancel_block_that_runs_backwards_is_an_interference_alarm_on_the_tool_side_too() {
+    let src = "G90 G00 X48. Y0 Z0 B0 C0\nG42.2 D1\nG01 F800. X30. Y0\nX-22.884811521 Y19.398077267\n\
+               X-21.040528013 Y-21.384484584\nX55.602718389 Y-8.522192275\nX30. Y0\nG40 X48. Y0\nM30\n";
+    let plane = ends_with(&src.replace("G42.2", "G42").replace(" B0 C0", ""), "mill3", |_| {});
+    assert_eq!(plane.alarm, Some(("PS0041".into(), 8)), "cutter compensation C");
+    for (check, tweak) in [("in the plane", ni5 as fn(&mut fivex_engine::interp::Config)), ("in 3-D", |_: &mut _| {})] {
+        let got = ends_with(src, "head-bc", tweak);
+        assert_eq!(got.alarm, plane.alarm, "the check {check}");
+        // The tool stops at the end of the block before, where C stops it.
+        assert_eq!(got.ends.len(), plane.ends.len(), "the check {check}");
+        for ((l1, p), (l2, q)) in got.ends.iter().zip(&plane.ends) {
+            assert!(l1 == l2 && (p - q).norm() < 1e-9, "the check {check}: line {l1} at {p:?}, C: line {l2} at {q:?}");
+        }
+    }
+}
+
 /// NI5 = 1 (No.19608#1): the tool side offset's interference check in the compensation plane.
 fn ni5(c: &mut fivex_engine::interp::Config) {
     c.edit_machine(|m| m.five_axis.crc_check_in_plane = true)
