@@ -220,7 +220,8 @@ pub enum AlarmId {
     },
     /// G51 with a magnification of zero, or a negative common one.
     IllegalScaleRate,
-    /// A circle outside the plane of the active coordinate rotation (G68).
+    /// A circle outside the plane of the active coordinate rotation (G68), or another plane
+    /// selected while it is on.
     IllegalPlaneInRotation,
     /// G68's angle R beyond ±360° (FANUC's range of the angle, No.5410's; its alarm for a
     /// larger R is not known: fivex's own code).

@@ -309,8 +309,8 @@ impl State {
     }
 
     /// What a block's transform codes may not hold, refused before the block changes anything:
-    /// two transforms started (`second_start`), a G68 angle beyond ±360° (FX0010), a
-    /// transform changed out of its nesting order (FX0011).
+    /// two transforms started (`second_start`), a G68 angle beyond ±360° (FX0010), a plane
+    /// change under G68 (PS0144), a transform changed out of its nesting order (FX0011).
     pub(super) fn refuse_transform_block(&self, w: &Words) -> Result<(), AlarmId> {
         if second_start(w.gcodes()).is_some() {
             return Err(AlarmId::IllegalGCodeCombination);
@@ -318,7 +318,22 @@ impl State {
         if w.has_g(code::G68) && self.angle_word(w, b'R').is_some_and(|r| !rotation_angle_fits(r)) {
             return Err(AlarmId::RotationAngleOutOfRange);
         }
+        self.refuse_plane_change_in_rotation(w)?;
         self.refuse_out_of_order(w)
+    }
+
+    /// PS0144: another plane selected while G68 stays on (a G68 in the block sets the rotation
+    /// anew, in the block's plane). FANUC: "G17, G18 or G19 must not be designated in the mode
+    /// of coordinate system rotation" (15i B-63324EN §14, 16/18-C B-62764EN §15.10), as Haas
+    /// ("Do not change the plane of rotation while G68 is in effect"); fivex went on rotating
+    /// the old plane's axes while the moves, cycles and polar words took the new plane's.
+    /// PS0144 is FANUC's alarm for a circle or compensation outside the rotation plane.
+    fn refuse_plane_change_in_rotation(&self, w: &Words) -> Result<(), AlarmId> {
+        let stays = self.xf.rotation.is_some() && !w.has_g(code::G69) && !w.has_g(code::G68);
+        if stays && self.after_block(w, group::PLANE) != self.modes[group::PLANE] {
+            return Err(AlarmId::IllegalPlaneInRotation);
+        }
+        Ok(())
     }
 
     /// FX0011: a change of the mirror image while scaling or rotation stays on, or of scaling

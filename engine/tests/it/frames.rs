@@ -208,6 +208,29 @@ fn transforms_out_of_nesting_order_are_fx0011() {
     at(&m[2], 10.0, 10.0);
 }
 
+/// Another plane selected while G68 stays on is PS0144 (Haas 707, Syntec COR-035): FANUC says
+/// G17/G18/G19 "must not be designated in the mode of coordinate system rotation". fivex went on
+/// rotating X/Y while a G18 block's moves and cycles took the ZX plane. The same plane again, a
+/// plane with G69 and a G68 that sets the rotation anew in its block's plane run.
+#[test]
+fn a_plane_change_under_g68_is_ps0144() {
+    for (dialect, code) in [(Dialect::Fanuc, "PS0144"), (Dialect::Syntec, "COR-035"), (Dialect::Haas, "707")] {
+        let src = "G90 G17 G00 X0 Y0 Z0\nG68 X0 Y0 R90.\nG18\nG01 X10. F100.\nM30\n";
+        let result = run_with(src, "mill3", dialect);
+        let alarm = result.alarms.first().unwrap_or_else(|| panic!("{dialect:?}: no alarm"));
+        assert_eq!((alarm.code.as_str(), alarm.line), (code, 3), "{dialect:?}");
+        assert_eq!(result.workpiece[..2], [0.0, 0.0], "{dialect:?}: the G01 after it must not run");
+    }
+    // G17 again keeps the rotation (X10 → Y10); G69 G18 ends it; G18 G68 rotates Z/X anew:
+    // X10 in the ZX plane turned 90° from Z toward X is Z-10.
+    let src = "G90 G17 G00 X0 Y0 Z0\nG68 X0 Y0 R90.\nG17 G01 X10. F100.\nG69 G18\nG00 X0 Z0\n\
+               G18 G68 X0 Z0 R90.\nG01 X10.\nG69\nM30\n";
+    let m = motions(src);
+    at(&m[1], 0.0, 10.0);
+    let end = m.last().expect("a motion").target;
+    assert!(close(end[0], 0.0) && close(end[2], -10.0), "expected X0 Z-10, got {:?}", &end[..3]);
+}
+
 #[test]
 fn g68_moves_the_machine_through_the_work_offset() {
     // G54 X100: workpiece (0, 10) is machine (100, 10).
