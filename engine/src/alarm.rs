@@ -220,11 +220,17 @@ pub enum AlarmId {
     },
     /// G51 with a magnification of zero, or a negative common one.
     IllegalScaleRate,
-    /// A circle outside the plane of the active coordinate rotation (G68).
+    /// A circle outside the plane of the active coordinate rotation (G68), or another plane
+    /// selected while it is on.
     IllegalPlaneInRotation,
     /// G68's angle R beyond ±360° (FANUC's range of the angle, No.5410's; its alarm for a
     /// larger R is not known: fivex's own code).
     RotationAngleOutOfRange,
+    /// A mirror image, scaling or rotation started or cancelled out of FANUC's nesting order
+    /// (mirror image → scaling → rotation, cancelled in reverse): fivex applies them in that
+    /// order whatever the commands' order, and no manual says what the control does (fivex's
+    /// own code).
+    TransformOrder,
     // --- motion (`crate::motion`) ----------------------------------------------------------
     /// The block would take `axis` beyond its stored stroke limit: checked before it moves
     /// (`precheck`), or, where that check is not available (G54.4), reached during the move,

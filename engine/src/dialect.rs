@@ -129,6 +129,9 @@ const SPINDLE_STOPPED_IN_G95: Text = ("FX0009", "FEED PER REVOLUTION WITH THE SP
 /// fivex's own, in every dialect: the manuals at hand give G68's R the range ±360° but no
 /// alarm for one beyond it (`AlarmId::RotationAngleOutOfRange`).
 const ROTATION_ANGLE_OUT_OF_RANGE: Text = ("FX0010", "ROTATION ANGLE OUT OF RANGE");
+/// fivex's own, in every dialect: the manuals ask for mirror image → scaling → rotation and
+/// the reverse to cancel, but name no alarm for another order (`AlarmId::TransformOrder`).
+const TRANSFORM_ORDER: Text = ("FX0011", "MIRROR/SCALING/ROTATION OUT OF ORDER");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -232,6 +235,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::CycleBottomMissing,
     AlarmId::FeedPerRevolutionSpindleStopped,
     AlarmId::RotationAngleOutOfRange,
+    AlarmId::TransformOrder,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -435,6 +439,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         CycleBottomMissing => (CYCLE_BOTTOM_MISSING, CYCLE_BOTTOM_MISSING),
         FeedPerRevolutionSpindleStopped => (SPINDLE_STOPPED_IN_G95, SPINDLE_STOPPED_IN_G95),
         RotationAngleOutOfRange => (ROTATION_ANGLE_OUT_OF_RANGE, ROTATION_ANGLE_OUT_OF_RANGE),
+        TransformOrder => (TRANSFORM_ORDER, TRANSFORM_ORDER),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -542,6 +547,7 @@ fn haas(id: &AlarmId) -> Text {
         CycleBottomMissing => CYCLE_BOTTOM_MISSING,
         FeedPerRevolutionSpindleStopped => SPINDLE_STOPPED_IN_G95,
         RotationAngleOutOfRange => ROTATION_ANGLE_OUT_OF_RANGE,
+        TransformOrder => TRANSFORM_ORDER,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),

@@ -309,7 +309,8 @@ impl State {
     }
 
     /// What a block's transform codes may not hold, refused before the block changes anything:
-    /// two transforms started (`second_start`), a G68 angle beyond ±360° (FX0010).
+    /// two transforms started (`second_start`), a G68 angle beyond ±360° (FX0010), a plane
+    /// change under G68 (PS0144), a transform changed out of its nesting order (FX0011).
     pub(super) fn refuse_transform_block(&self, w: &Words) -> Result<(), AlarmId> {
         if second_start(w.gcodes()).is_some() {
             return Err(AlarmId::IllegalGCodeCombination);
@@ -317,7 +318,53 @@ impl State {
         if w.has_g(code::G68) && self.angle_word(w, b'R').is_some_and(|r| !rotation_angle_fits(r)) {
             return Err(AlarmId::RotationAngleOutOfRange);
         }
+        self.refuse_plane_change_in_rotation(w)?;
+        self.refuse_out_of_order(w)
+    }
+
+    /// PS0144: another plane selected while G68 stays on (a G68 in the block sets the rotation
+    /// anew, in the block's plane). FANUC: "G17, G18 or G19 must not be designated in the mode
+    /// of coordinate system rotation" (15i B-63324EN §14, 16/18-C B-62764EN §15.10), as Haas
+    /// ("Do not change the plane of rotation while G68 is in effect"); fivex went on rotating
+    /// the old plane's axes while the moves, cycles and polar words took the new plane's.
+    /// PS0144 is FANUC's alarm for a circle or compensation outside the rotation plane.
+    fn refuse_plane_change_in_rotation(&self, w: &Words) -> Result<(), AlarmId> {
+        let stays = self.xf.rotation.is_some() && !w.has_g(code::G69) && !w.has_g(code::G68);
+        if stays && self.after_block(w, group::PLANE) != self.modes[group::PLANE] {
+            return Err(AlarmId::IllegalPlaneInRotation);
+        }
         Ok(())
+    }
+
+    /// FX0011: a change of the mirror image while scaling or rotation stays on, or of scaling
+    /// while rotation stays on. FANUC processes mirror image → scaling → rotation and asks for
+    /// the commands in that order and the cancels in reverse ("Do not specify G50.1 or G51.1
+    /// during scaling or coordinate rotation mode"; `G51 ;` `G68 ;` … `G69 ;` `G50 ;`). fivex
+    /// applies them in that order whatever the commands' order, and the rotation keeps the
+    /// sense and centre it took when G68 was commanded, so another order ran a path no
+    /// reading of the program gives (G51.1, G68 R30., G50.1 went on turning −30°). A cancel
+    /// in the block counts first: `G69 G50 G50.1` ends all three. A cancel of what is not on
+    /// changes nothing and is let pass (the `G50 G50.1 G69` of a safety block).
+    fn refuse_out_of_order(&self, w: &Words) -> Result<(), AlarmId> {
+        let rotation_stays = self.xf.rotation.is_some() && !w.has_g(code::G69);
+        let scaling_stays = self.xf.scale.is_some() && !w.has_g(code::G50);
+        let mirror_changes = w.has_g(code::G51_1) || w.has_g(code::G101) || self.mirror_cancel_changes(w);
+        let scaling_changes = w.has_g(code::G51) || (w.has_g(code::G50) && self.xf.scale.is_some());
+        if (mirror_changes && (scaling_stays || rotation_stays)) || (scaling_changes && rotation_stays) {
+            return Err(AlarmId::TransformOrder);
+        }
+        Ok(())
+    }
+
+    /// Whether the block's G50.1 (Haas G100) cancels the mirror image of an axis now mirrored
+    /// (the named axes; without axis words, all).
+    fn mirror_cancel_changes(&self, w: &Words) -> bool {
+        if !(w.has_g(code::G50_1) || w.has_g(code::G100)) {
+            return false;
+        }
+        let axes = &self.cfg.machine.axes;
+        let all = !axes.iter().any(|a| w.has(a.name as u8));
+        axes.iter().enumerate().any(|(i, a)| (all || w.has(a.name as u8)) && self.xf.mirrors(i))
     }
 
     /// Derive the programmed current point from the workpiece one (after a transform or an

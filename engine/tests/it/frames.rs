@@ -165,6 +165,72 @@ fn two_transforms_started_in_one_block_are_ps0010() {
     assert_eq!(found, [(1, 11, "PS0010".to_string())]);
 }
 
+/// A mirror image changed while scaling or rotation is on, or scaling while rotation is on, is
+/// fivex's FX0011 in every dialect: FANUC processes mirror image → scaling → rotation and asks
+/// for the commands in that order, cancelled in reverse ("Do not specify G50.1 or G51.1 during
+/// scaling or coordinate rotation mode"). fivex kept the rotation's sense and centre from the
+/// G68 block: `G51.1 X0`, `G68 R30.`, `G50.1 X0` went on turning −30° (X10 → X8.66 Y-5.), and
+/// `G51 P2.`, `G68 X10. Y0 R90.`, `G50` turned about X20. Cancels in one block count first, and
+/// a cancel of what is not on changes nothing.
+#[test]
+fn transforms_out_of_nesting_order_are_fx0011() {
+    let wrong = [
+        "G51.1 X0\nG68 X0 Y0 R30.\nG50.1 X0",
+        "G68 X0 Y0 R30.\nG51.1 X0",
+        "G51 X0 Y0 P2.\nG51.1 X0",
+        "G51.1 X0\nG51 X0 Y0 P2.\nG50.1",
+        "G51 X0 Y0 P2.\nG68 X10. Y0 R90.\nG50",
+        "G68 X0 Y0 R30.\nG51 X0 Y0 P2.",
+    ];
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
+        for blocks in wrong {
+            let blocks = if dialect == Dialect::Haas {
+                blocks.replace("G51.1", "G101").replace("G50.1", "G100")
+            } else {
+                blocks.to_string()
+            };
+            let src = format!("G90 G00 X0 Y0\n{blocks}\nG01 X10. F100.\nM30\n");
+            let result = run_with(&src, "mill3", dialect);
+            let alarm = result.alarms.first().unwrap_or_else(|| panic!("{dialect:?} {blocks}: no alarm"));
+            let last = 1 + blocks.lines().count() as u32;
+            assert_eq!((alarm.code.as_str(), alarm.line), ("FX0011", last), "{dialect:?} {blocks}");
+            assert_eq!(result.workpiece[0], 0.0, "{dialect:?} {blocks}: the G01 after it must not run");
+        }
+    }
+    // The manual's order, a block cancelling all three, and cancels of what is not on.
+    let src = "G90 G00 X0 Y0\nG50 G50.1 G69\nG51.1 X0\nG51 X0 Y0 P2.\nG68 X0 Y0 R30.\n\
+               G01 X10. F100.\nG69\nG50\nG50.1 X0\nG51.1 X0\nG51 X0 Y0 P2.\nG68 X0 Y0 R30.\n\
+               G69 G50 G50.1\nG01 X10.\nM30\n";
+    let m = motions(src);
+    // X10 mirrored (X-10), doubled (X-20), turned 30° the other way: (−20·cos30°, 20·sin30°).
+    at(&m[1], -20.0 * SQRT3_2, 10.0);
+    // Everything cancelled: X10 as written, Y where the tool stands.
+    at(&m[2], 10.0, 10.0);
+}
+
+/// Another plane selected while G68 stays on is PS0144 (Haas 707, Syntec COR-035): FANUC says
+/// G17/G18/G19 "must not be designated in the mode of coordinate system rotation". fivex went on
+/// rotating X/Y while a G18 block's moves and cycles took the ZX plane. The same plane again, a
+/// plane with G69 and a G68 that sets the rotation anew in its block's plane run.
+#[test]
+fn a_plane_change_under_g68_is_ps0144() {
+    for (dialect, code) in [(Dialect::Fanuc, "PS0144"), (Dialect::Syntec, "COR-035"), (Dialect::Haas, "707")] {
+        let src = "G90 G17 G00 X0 Y0 Z0\nG68 X0 Y0 R90.\nG18\nG01 X10. F100.\nM30\n";
+        let result = run_with(src, "mill3", dialect);
+        let alarm = result.alarms.first().unwrap_or_else(|| panic!("{dialect:?}: no alarm"));
+        assert_eq!((alarm.code.as_str(), alarm.line), (code, 3), "{dialect:?}");
+        assert_eq!(result.workpiece[..2], [0.0, 0.0], "{dialect:?}: the G01 after it must not run");
+    }
+    // G17 again keeps the rotation (X10 → Y10); G69 G18 ends it; G18 G68 rotates Z/X anew:
+    // X10 in the ZX plane turned 90° from Z toward X is Z-10.
+    let src = "G90 G17 G00 X0 Y0 Z0\nG68 X0 Y0 R90.\nG17 G01 X10. F100.\nG69 G18\nG00 X0 Z0\n\
+               G18 G68 X0 Z0 R90.\nG01 X10.\nG69\nM30\n";
+    let m = motions(src);
+    at(&m[1], 0.0, 10.0);
+    let end = m.last().expect("a motion").target;
+    assert!(close(end[0], 0.0) && close(end[2], -10.0), "expected X0 Z-10, got {:?}", &end[..3]);
+}
+
 #[test]
 fn g68_moves_the_machine_through_the_work_offset() {
     // G54 X100: workpiece (0, 10) is machine (100, 10).
