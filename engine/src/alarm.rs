@@ -363,6 +363,7 @@ impl AlarmId {
                 | IllegalScaleRate
                 | IllegalPlaneInRotation
                 | RotationAngleOutOfRange
+                | TransformOrder
         )
     }
 
