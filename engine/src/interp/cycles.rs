@@ -147,6 +147,24 @@ impl State {
         Ok(())
     }
 
+    /// G76/G87 with a shift (Q) while a coordinate rotation or a mirror image (G51.1, a negative
+    /// magnification) is in force: refused as not built. The shift moves the tool's oriented
+    /// edge off the bore wall; the spindle orients it in a fixed direction of the machine, and
+    /// no manual at hand says whether the control turns or mirrors the shift with the program
+    /// (fivex did: mirrored, the retract would push the edge into the wall). (Audit of the
+    /// transforms; `docs/conventions.md`, "Canned cycles".)
+    pub(super) fn refuse_shift_under_transforms(&self, w: &Words) -> Result<(), AlarmId> {
+        let cycle = self.after_block(w, group::CYCLE);
+        if !self.cycle_after_block(w) || ![code::G76, code::G87].contains(&cycle) {
+            return Ok(());
+        }
+        let shifted = self.value(w, b'Q').unwrap_or(self.cycle.q) != 0.0;
+        if shifted && self.xf.turns_or_mirrors() {
+            return Err(AlarmId::GCodeNotBuilt);
+        }
+        Ok(())
+    }
+
     /// Haas: a block that runs the canned cycle in force (or names it) with a word the cycle does
     /// not perform. The I, J, K peck forms of G73/G83 and G76's shift by I/J are functions not
     /// built (`unbuilt`, asked here of the cycle in force, which the block need not name); I and

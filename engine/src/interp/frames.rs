@@ -223,6 +223,12 @@ impl Transforms {
         self.mirror[i].map_or(x, |c| 2.0 * c - x)
     }
 
+    /// Whether a coordinate rotation or a mirror image (G51.1, a negative magnification) is in
+    /// force: a direction of the program is then not the machine's.
+    pub(super) fn turns_or_mirrors(&self) -> bool {
+        self.rotation.is_some() || (0..self.mirror.len()).any(|i| self.axis_factor(i) < 0.0)
+    }
+
     /// Whether the transforms mirror the plane of axes `a`, `b` (an odd number of its axes
     /// mirrored by G51.1 or a negative magnification): G02 and G03 swap, as do G41 and G42.
     pub(super) fn flips(&self, a: usize, b: usize) -> bool {

@@ -719,6 +719,7 @@ impl State {
         self.refuse_unperformed_cycle_words(w)?;
         self.refuse_plane_change_in_cycle(w)?;
         self.refuse_length_change_in_tip_cycle(w)?;
+        self.refuse_shift_under_transforms(w)?;
         self.refuse_d_change_in_cutting(w)?;
         if self.cfg.refuse_unbuilt {
             self.refuse_unbuilt_nurbs(w)?;

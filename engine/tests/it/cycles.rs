@@ -154,6 +154,39 @@ fn a_canned_cycle_must_not_span_the_start_or_end_of_the_plane() {
     }
 }
 
+/// G76/G87 shift the oriented tool's edge off the wall by Q in a direction of the machine; under
+/// a coordinate rotation or a mirror image fivex turned or mirrored it with the program (mirrored,
+/// the shift pushed the edge into the bore), which no manual at hand confirms: refused as not
+/// built, as is the cycle repeated later in that state; without a shift (Q0) or without the
+/// transforms it runs.
+#[test]
+fn fine_and_back_boring_shift_is_refused_under_rotation_or_mirror() {
+    let head = "G90 G00 X0 Y0 Z50.\n";
+    for (transform, cycle) in [
+        ("G68 X0 Y0 R90.", "G76 X10. Y0 Z-10. R2. Q1. F100."),
+        ("G51.1 X0", "G76 X10. Y0 Z-10. R2. Q1. F100."),
+        ("G51 X0 Y0 I-1000 J1000", "G87 X10. Y0 Z-2. R-12. Q1. F100."),
+    ] {
+        // (Syntec's G68 takes another form: its mirror image is enough to show it.)
+        let syntec = transform.starts_with("G51.1");
+        let dialects: &[Dialect] = if syntec { &[Dialect::Fanuc, Dialect::Syntec] } else { &[Dialect::Fanuc] };
+        for &dialect in dialects {
+            let src = format!("{head}{transform}\n{cycle}\nG80\nM30\n");
+            let r = common::run_with(&src, "mill3", dialect);
+            let want = if dialect == Dialect::Fanuc { "PS0010" } else { "COR-100" };
+            assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some((want, 3)), "{src}");
+            // The cycle given before the transform, repeated by a hole position under it.
+            let src = format!("{head}{cycle}\n{transform}\nX20.\nG80\nM30\n");
+            let r = common::run_with(&src, "mill3", dialect);
+            assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some((want, 4)), "{src}");
+            let no_shift = format!("{head}{transform}\n{}\nG80\nM30\n", cycle.replace("Q1.", "Q0"));
+            assert!(common::run_with(&no_shift, "mill3", dialect).completed(), "{no_shift}");
+            let plain = format!("{head}{cycle}\nG80\nM30\n");
+            assert!(common::run_with(&plain, "mill3", dialect).completed(), "{plain}");
+        }
+    }
+}
+
 #[test]
 fn check_reports_l_in_a_cycle_block() {
     use fivex_engine::check::check;
