@@ -209,6 +209,9 @@ pub enum AlarmId {
     MissingP,
     /// Too many nested subprogram or macro calls.
     NestingTooDeep,
+    /// FANUC: the text of a called program (M98, G65, G66) ended without M99: the control
+    /// reads the end of record there and stops; fivex returned to the caller and ran on.
+    EndOfRecord,
     /// G used as a G65 argument.
     GAsArgument,
     /// A macro statement and an NC statement in one block.
@@ -358,6 +361,7 @@ impl AlarmId {
                 | IllegalSequenceNumber
                 | MissingP
                 | NestingTooDeep
+                | EndOfRecord
                 | GAsArgument
                 | MixedStatements
                 | IllegalScaleRate

@@ -220,6 +220,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::LineNotFound,
     AlarmId::MissingP,
     AlarmId::NestingTooDeep,
+    AlarmId::EndOfRecord,
     AlarmId::GAsArgument,
     AlarmId::MixedStatements,
     AlarmId::EmergencyStop,
@@ -412,6 +413,9 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         // pack §2.2: "`M198 P_ H_ L_` 必须有 `P`；缺失时会触发 `COR-052`"); its message is fivex's.
         MissingP => (("PS0078", "NUMBER NOT FOUND"), ("COR-052", "Program number P missing")),
         NestingTooDeep => (("PS0077", "TOO MANY SUB,MACRO NESTING"), ("COR-031", "Too many nested calls")),
+        // Raised in the FANUC dialect only (Syntec and Haas return at the end of a called
+        // program's text: no source of theirs says otherwise); the others' codes are constructed.
+        EndOfRecord => (("PS5010", "END OF RECORD"), ("COR-049", "End of record")),
         GAsArgument => (("PS0129", "USE 'G' AS ARGUMENT"), ("COR-032", "G used as macro argument")),
         MixedStatements => {
             (("PS0127", "DUPLICATE NC, MACRO STATEMENT"), ("COR-033", "NC and macro statement in one block"))
@@ -532,6 +536,7 @@ fn haas(id: &AlarmId) -> Text {
         ProgramNotFound => ("314", "SUBPROGRAM NOT IN MEMORY"),
         MissingP => ("313", "NO P CODE IN M97, M98 OR G65"),
         NestingTooDeep => ("307", "SUBROUTINE NESTING TOO DEEP"),
+        EndOfRecord => ("755", "END OF RECORD"),
         GAsArgument => ("529", "ILLEGAL G65 PARAMETER"),
         MixedStatements => ("710", "NC AND MACRO STATEMENT IN ONE BLOCK"),
         EmergencyStop => ("107", "EMERGENCY OFF"),

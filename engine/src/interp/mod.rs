@@ -1261,6 +1261,11 @@ impl State {
                 self.ended = true;
                 return Ok(Step::Ended);
             }
+            // A 30i reads the end of record (%) there and stops with PS5010 (a 0i names it
+            // SR5010 END OF RECORD): the caller's blocks after the call never run.
+            if self.cfg.dialect == crate::Dialect::Fanuc {
+                return Err(AlarmId::EndOfRecord);
+            }
             self.return_from_call(progs, None)?;
             return Ok(Step::Continue);
         }
