@@ -301,7 +301,9 @@ impl State {
         self.cycle_move(kind, t, out)
     }
 
-    /// A shift along `axis` by `by` mm after the transforms (scaling does not change it).
+    /// A shift along `axis` by `by` mm in programmed coordinates: scaling does not change its
+    /// length (undone here), rotation and mirror image turn it with the program, which is why
+    /// a shift under them is refused (`refuse_shift_under_transforms`).
     fn shift(&mut self, axis: usize, by: f64, out: &mut Vec<Canon>) -> Result<(), AlarmId> {
         let mut t = self.xf.programmed;
         t[axis] += by / self.xf.length_factor(axis);
