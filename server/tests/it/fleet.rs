@@ -211,6 +211,26 @@ async fn a_tool_table_replaces_a_controllers_tool_offsets_and_keeps_its_work_off
     }
 }
 
+/// A mill3 controller named `name` at `speed`: its status URI.
+async fn mill3_controller(app: &TestApp, name: &str, speed: u32) -> String {
+    let created = app.post("/api/v1/controllers", &json!({"name": name, "preset": "mill3", "speed": speed})).await;
+    assert_eq!(created.status, StatusCode::CREATED, "{}", created.text());
+    format!("/api/v1/controllers/{}", created.json()["id"].as_str().unwrap())
+}
+
+/// The status at `uri` once `done` holds for it (polled for up to 10 s; the last one otherwise).
+async fn status_when(app: &TestApp, uri: &str, done: impl Fn(&Value) -> bool) -> Value {
+    let mut status = Value::Null;
+    for _ in 0..500 {
+        status = app.get(uri).await.json();
+        if done(&status) {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
+    status
+}
+
 /// Audit of views F1: an existing controller's machine starts where its axes stand (it started
 /// at machine zero: #5021 read 0 and the G91 move ended at X10). Decision (`docs/api.md`,
 /// "Fleet runs"): only the position is taken over; the modal state is a fresh run's, so the
@@ -218,20 +238,11 @@ async fn a_tool_table_replaces_a_controllers_tool_offsets_and_keeps_its_work_off
 #[tokio::test]
 async fn a_controllers_machine_starts_where_its_axes_stand() {
     let app = spawn_app().await;
-    let created = app.post("/api/v1/controllers", &json!({"name": "moved", "preset": "mill3", "speed": 20})).await;
-    assert_eq!(created.status, StatusCode::CREATED, "{}", created.text());
-    let controller = created.json()["id"].as_str().unwrap().to_string();
-    let mdi =
-        app.post(&format!("/api/v1/controllers/{controller}/mdi"), &json!({"text": "G91 G00 X100. Y50. Z-20."})).await;
+    let c = mill3_controller(&app, "moved", 20).await;
+    let controller = c.rsplit('/').next().unwrap();
+    let mdi = app.post(&format!("{c}/mdi"), &json!({"text": "G91 G00 X100. Y50. Z-20."})).await;
     assert_eq!(mdi.status, StatusCode::OK, "{}", mdi.text());
-    let mut status = Value::Null;
-    for _ in 0..500 {
-        status = app.get(&format!("/api/v1/controllers/{controller}")).await.json();
-        if status["run_state"] == "idle" {
-            break;
-        }
-        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
-    }
+    let status = status_when(&app, &c, |s| s["run_state"] == "idle").await;
     let stands = &status["position"]["machine"];
     assert_eq!([&stands["X"], &stands["Y"], &stands["Z"]], [100.0, 50.0, -20.0], "{status}");
     let nc = "O0001\n#500=#5021\n#501=#5022\n#502=#5023\nG00 Y5.\nG91 G01 X10. F3000.\nM30\n";
@@ -244,7 +255,7 @@ async fn a_controllers_machine_starts_where_its_axes_stand() {
     let machine = &item["position"]["machine"];
     assert_eq!([&machine["X"], &machine["Y"], &machine["Z"]], [110.0, 5.0, -20.0], "{item}");
     // The controller itself did not move.
-    let after = app.get(&format!("/api/v1/controllers/{controller}")).await.json();
+    let after = app.get(&c).await.json();
     assert_eq!(after["position"]["machine"], status["position"]["machine"]);
 }
 
@@ -254,10 +265,8 @@ async fn a_controllers_machine_starts_where_its_axes_stand() {
 #[tokio::test]
 async fn a_held_controllers_machine_starts_where_its_axes_stand_not_where_it_read_to() {
     let app = spawn_app().await;
-    let created = app.post("/api/v1/controllers", &json!({"name": "held", "preset": "mill3", "speed": 1})).await;
-    assert_eq!(created.status, StatusCode::CREATED, "{}", created.text());
-    let controller = created.json()["id"].as_str().unwrap().to_string();
-    let c = format!("/api/v1/controllers/{controller}");
+    let c = mill3_controller(&app, "held", 1).await;
+    let controller = c.rsplit('/').next().unwrap();
     let text = "G91 G01 X100. F600.\nY100.\nM30\n".to_string();
     let stored = app.raw(Method::PUT, &format!("{c}/programs/1"), "text/plain", text).await;
     assert!(stored.status.is_success(), "{}", stored.text());
@@ -265,14 +274,7 @@ async fn a_held_controllers_machine_starts_where_its_axes_stand_not_where_it_rea
     assert_eq!(started.status, StatusCode::OK, "{}", started.text());
     tokio::time::sleep(std::time::Duration::from_millis(300)).await;
     assert_eq!(app.post(&format!("{c}/feed-hold"), &json!({})).await.status, StatusCode::OK);
-    let mut status = Value::Null;
-    for _ in 0..500 {
-        status = app.get(&c).await.json();
-        if status["run_state"] == "hold" && status["feed"] == 0.0 {
-            break;
-        }
-        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
-    }
+    let status = status_when(&app, &c, |s| s["run_state"] == "hold" && s["feed"] == 0.0).await;
     let x = status["position"]["machine"]["X"].as_f64().unwrap();
     assert!(x > 0.0 && x < 100.0, "held inside the first block: {status}");
     let nc = "O0001\n#500=#5021\n#501=#5022\nM30\n";
