@@ -234,6 +234,10 @@ pub enum AlarmId {
     /// order whatever the commands' order, and no manual says what the control does (fivex's
     /// own code).
     TransformOrder,
+    /// A reference position return (G27–G30) or a coordinate system change (G52–G59, G92,
+    /// another work system) while mirror image, scaling or rotation is on: FANUC's manuals
+    /// forbid them there and name no alarm (fivex's own code).
+    ReturnOrSystemInTransforms,
     // --- motion (`crate::motion`) ----------------------------------------------------------
     /// The block would take `axis` beyond its stored stroke limit: checked before it moves
     /// (`precheck`), or, where that check is not available (G54.4), reached during the move,
@@ -368,6 +372,7 @@ impl AlarmId {
                 | IllegalPlaneInRotation
                 | RotationAngleOutOfRange
                 | TransformOrder
+                | ReturnOrSystemInTransforms
         )
     }
 

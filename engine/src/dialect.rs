@@ -132,6 +132,9 @@ const ROTATION_ANGLE_OUT_OF_RANGE: Text = ("FX0010", "ROTATION ANGLE OUT OF RANG
 /// fivex's own, in every dialect: the manuals ask for mirror image → scaling → rotation and
 /// the reverse to cancel, but name no alarm for another order (`AlarmId::TransformOrder`).
 const TRANSFORM_ORDER: Text = ("FX0011", "MIRROR/SCALING/ROTATION OUT OF ORDER");
+/// fivex's own, in every dialect: the manuals forbid G27–G30, G52–G59 and G92 while mirror
+/// image, scaling or rotation is on, but name no alarm (`AlarmId::ReturnOrSystemInTransforms`).
+const RETURN_OR_SYSTEM_IN_TRANSFORMS: Text = ("FX0012", "RETURN OR COORDINATE CHANGE IN MIRROR/SCALING/ROTATION");
 
 /// Every alarm that carries no data (for documentation checks and exhaustive tests).
 pub const PLAIN_ALARMS: &[AlarmId] = &[
@@ -237,6 +240,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::FeedPerRevolutionSpindleStopped,
     AlarmId::RotationAngleOutOfRange,
     AlarmId::TransformOrder,
+    AlarmId::ReturnOrSystemInTransforms,
     AlarmId::TcpcNoToolLength,
     AlarmId::DwoRotaryMotion,
     AlarmId::DwoXyzNotGiven,
@@ -444,6 +448,7 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         FeedPerRevolutionSpindleStopped => (SPINDLE_STOPPED_IN_G95, SPINDLE_STOPPED_IN_G95),
         RotationAngleOutOfRange => (ROTATION_ANGLE_OUT_OF_RANGE, ROTATION_ANGLE_OUT_OF_RANGE),
         TransformOrder => (TRANSFORM_ORDER, TRANSFORM_ORDER),
+        ReturnOrSystemInTransforms => (RETURN_OR_SYSTEM_IN_TRANSFORMS, RETURN_OR_SYSTEM_IN_TRANSFORMS),
         // Haas G234/G254 are not codes of FANUC or Syntec (their improper G code alarm); the
         // Haas codes are constructed in `haas`.
         TcpcNoToolLength | DwoRotaryMotion | DwoXyzNotGiven | DwoWorkOffsetTilt | DwoWithTcpc => {
@@ -553,6 +558,7 @@ fn haas(id: &AlarmId) -> Text {
         FeedPerRevolutionSpindleStopped => SPINDLE_STOPPED_IN_G95,
         RotationAngleOutOfRange => ROTATION_ANGLE_OUT_OF_RANGE,
         TransformOrder => TRANSFORM_ORDER,
+        ReturnOrSystemInTransforms => RETURN_OR_SYSTEM_IN_TRANSFORMS,
         // The manual's rules for G234/G254 (`docs/dialects.md`, "Haas 5-axis"): constructed.
         // A bad argument of a Haas cycle (G12/G13, G70–G72): constructed.
         CycleArgument => ("746", "INVALID CYCLE ARGUMENT"),

@@ -40,6 +40,22 @@ const MAX_ROTATION_ANGLE: f64 = 360.0;
 /// "Scaling and coordinate system rotation": `G51 ;` `G68 ;` … `G69 ;` `G50 ;`).
 const STARTS: [u16; 4] = [code::G51_1, code::G101, code::G51, code::G68];
 
+/// The reference position returns and coordinate system changes FANUC forbids while mirror
+/// image, scaling or rotation is on ("G27, G28, G29, G30, etc." and "G52 to G59, G92, etc.";
+/// the work systems G54–G59 are asked apart: naming the one in force changes nothing).
+const RETURNS_AND_SYSTEMS: [u16; 10] = [
+    code::G27,
+    code::G28,
+    code::G28_2,
+    code::G29,
+    code::G30,
+    code::G30_1,
+    code::G52,
+    code::G53,
+    code::G92,
+    code::G92_1,
+];
+
 /// The second code of `codes` (a block's G codes, in order) that starts a programming transform,
 /// if there is one: two in one block are refused (PS0010, `docs/conventions.md`,
 /// "Programming transforms"), since fivex gave both the same axis words and applied them in
@@ -325,7 +341,50 @@ impl State {
             return Err(AlarmId::RotationAngleOutOfRange);
         }
         self.refuse_plane_change_in_rotation(w)?;
-        self.refuse_out_of_order(w)
+        self.refuse_out_of_order(w)?;
+        self.refuse_returns_and_systems(w)
+    }
+
+    /// FX0012: a reference position return (G27–G30) or a change of the coordinate system
+    /// (G52–G59, G92, another work system) while mirror image, scaling or rotation stays on.
+    /// FANUC names the three codes' ranges in each of the three functions' restrictions ("must
+    /// not be specified … specify it only after cancelling", 30i B-63944EN-2 §6, 16/18-C
+    /// B-62764EN §15.10) and no alarm; controls differ on what follows (Mitsubishi moves the
+    /// rotation centre with a work offset change, fivex kept it). Refused, not guessed. A
+    /// cancel in the block counts first; the work system in force named again changes nothing.
+    fn refuse_returns_and_systems(&self, w: &Words) -> Result<(), AlarmId> {
+        if !self.transforms_stay(w) {
+            return Ok(());
+        }
+        if w.gcodes().iter().any(|c| RETURNS_AND_SYSTEMS.contains(c)) || self.selects_another_work_system(w) {
+            return Err(AlarmId::ReturnOrSystemInTransforms);
+        }
+        Ok(())
+    }
+
+    /// Whether mirror image, scaling or rotation is on after the block's transform codes.
+    fn transforms_stay(&self, w: &Words) -> bool {
+        let started = STARTS.iter().any(|&c| w.has_g(c));
+        let rotation = self.xf.rotation.is_some() && !w.has_g(code::G69);
+        let scaling = self.xf.scale.is_some() && !w.has_g(code::G50);
+        let cancelled = self.mirror_cancels(w);
+        let mirror = (0..MAX_AXES).any(|i| self.xf.mirrors(i) && !cancelled[i]);
+        started || rotation || scaling || mirror
+    }
+
+    /// Whether the block selects a work coordinate system other than the one in force (G54–G59,
+    /// G54.1 with another P; Haas G110–G129/G154).
+    fn selects_another_work_system(&self, w: &Words) -> bool {
+        let selected = self.after_block(w, group::WORK_SYSTEM);
+        if selected != self.modes[group::WORK_SYSTEM] {
+            return true;
+        }
+        if selected != code::G54_1 || !w.has_g(code::G54_1) {
+            return false;
+        }
+        // A P the block does not give (FANUC: P1; Haas: refused where the P is read).
+        let p = w.haas_wcs_p.map(f64::from).or_else(|| w.integer(b'P'));
+        p.is_some_and(|p| p != f64::from(self.wcs_p))
     }
 
     /// PS0144: another plane selected while G68 stays on (a G68 in the block sets the rotation
@@ -362,15 +421,24 @@ impl State {
         Ok(())
     }
 
-    /// Whether the block's G50.1 (Haas G100) cancels the mirror image of an axis now mirrored
-    /// (the named axes; without axis words, all).
+    /// Whether the block's G50.1 (Haas G100) cancels the mirror image of an axis now mirrored.
     fn mirror_cancel_changes(&self, w: &Words) -> bool {
-        if !(w.has_g(code::G50_1) || w.has_g(code::G100)) {
-            return false;
+        let cancelled = self.mirror_cancels(w);
+        (0..MAX_AXES).any(|i| cancelled[i] && self.xf.mirrors(i))
+    }
+
+    /// Per axis, whether the block's G50.1 (Haas G100) cancels its mirror image: the named
+    /// axes; without axis words, all of them.
+    fn mirror_cancels(&self, w: &Words) -> [bool; MAX_AXES] {
+        let mut cancelled = [false; MAX_AXES];
+        if w.has_g(code::G50_1) || w.has_g(code::G100) {
+            let axes = &self.cfg.machine.axes;
+            let all = !axes.iter().any(|a| w.has(a.name as u8));
+            for (i, a) in axes.iter().enumerate() {
+                cancelled[i] = all || w.has(a.name as u8);
+            }
         }
-        let axes = &self.cfg.machine.axes;
-        let all = !axes.iter().any(|a| w.has(a.name as u8));
-        axes.iter().enumerate().any(|(i, a)| (all || w.has(a.name as u8)) && self.xf.mirrors(i))
+        cancelled
     }
 
     /// Derive the programmed current point from the workpiece one (after a transform or an
@@ -404,12 +472,10 @@ impl State {
                     owns_axes = true;
                 }
                 code::G50_1 | code::G100 => {
-                    // The named axes; without axis words, all of them.
-                    let axes = &self.cfg.machine.axes;
-                    let all = !axes.iter().any(|a| w.has(a.name as u8));
-                    for (i, axis) in axes.iter().enumerate() {
-                        if all || w.has(axis.name as u8) {
-                            self.xf.mirror[i] = None;
+                    let cancels = self.mirror_cancels(w);
+                    for (m, cancelled) in self.xf.mirror.iter_mut().zip(cancels) {
+                        if cancelled {
+                            *m = None;
                         }
                     }
                     owns_axes = true;

@@ -81,7 +81,7 @@ pub(super) struct Words {
     /// codes run, but a macro call's argument (`G65 P9010 M0.070`, #13).
     improper_m: bool,
     /// Haas: the G54.1 P that G110 … G129 select (G154 P1 … P20); G154 itself takes the P word.
-    haas_wcs_p: Option<u16>,
+    pub(super) haas_wcs_p: Option<u16>,
 }
 
 impl Words {

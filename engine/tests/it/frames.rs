@@ -376,11 +376,52 @@ fn g76_shift_is_not_scaled() {
     assert!(xs.iter().all(|&x| close(x, 10.0) || close(x, 11.0)), "{xs:?}");
 }
 
+/// G27–G30 and the coordinate system changes (G52–G59, G92) while mirror image, scaling or
+/// rotation stays on are FX0012 in every dialect: FANUC's restrictions of each of the three
+/// forbid them ("specify it only after cancelling") and name no alarm. fivex ran G28's
+/// intermediate point through the rotation and kept the rotation centre's workpiece
+/// coordinates over a work system change, which no manual confirms. A cancel in the block
+/// counts first; the work system in force named again changes nothing. (G27 is not built:
+/// PS0010 comes first.)
 #[test]
-fn g28_intermediate_point_is_transformed() {
-    // G68 R90: the intermediate point X10 Y0 is (0, 10); the reference return is in machine
-    // coordinates.
-    let m = motions("G68 X0 Y0 R90.\nG28 X10. Y0\nM30\n");
-    assert_eq!(m[1].kind, MotionKind::MachineRapid);
-    assert!(close(m[1].machine[0], 0.0) && close(m[1].machine[1], 0.0));
+fn returns_and_coordinate_changes_under_the_transforms_are_fx0012() {
+    let starts = ["G68 X0 Y0 R90.", "G51 X0 Y0 P2.", "G51.1 X0", "G51.1 X0 Y0\nG50.1 X0"];
+    let forbidden =
+        ["G28 X10. Y0", "G91 G28 Z0", "G30 Z0", "G29 X0 Y0", "G52 X5. Y5.", "G53 Z0", "G92 X0 Y0", "G55", "G54.1 P2"];
+    for dialect in [Dialect::Fanuc, Dialect::Syntec, Dialect::Haas] {
+        for start in starts {
+            for block in forbidden {
+                // Not in these dialects (refused on their own: `docs/dialects.md`).
+                let absent = match dialect {
+                    Dialect::Syntec => block.starts_with("G54.1"),
+                    Dialect::Haas => block.starts_with("G30"),
+                    Dialect::Fanuc => false,
+                };
+                if absent {
+                    continue;
+                }
+                let (start, block) = if dialect == Dialect::Haas {
+                    let haas = |s: &str| s.replace("G51.1", "G101").replace("G50.1", "G100").replace("G54.1", "G154");
+                    (haas(start), haas(block))
+                } else {
+                    (start.to_string(), block.to_string())
+                };
+                let src = format!("G90 G00 X0 Y0 Z0\n{start}\n{block}\nG90 G01 X10. F100.\nM30\n");
+                let result = run_with(&src, "mill3", dialect);
+                let what = format!("{dialect:?} {start} / {block}");
+                let alarm = result.alarms.first().unwrap_or_else(|| panic!("{what}: no alarm"));
+                let line = 2 + start.lines().count() as u32;
+                assert_eq!((alarm.code.as_str(), alarm.line), ("FX0012", line), "{what}");
+                assert_eq!(result.workpiece[..3], [0.0; 3], "{what}: nothing after it may run");
+            }
+        }
+    }
+    // Cancelled in the block or before, or the work system in force named again: they run.
+    // G69 G28 returns X and Y through X10 Y0 as written (machine X0 Y0 on mill3); G54 again
+    // keeps the rotation (X10 → Y10).
+    let src = "G90 G54 G00 X0 Y0 Z0\nG68 X0 Y0 R90.\nG54 G01 X10. F100.\nG69 G28 X10. Y0\n\
+               G51.1 X0 Y0\nG50.1 X0\nG50.1\nG53 Z0\nM30\n";
+    let m = motions(src);
+    at(&m[1], 0.0, 10.0);
+    assert!(m.iter().any(|m| m.kind == MotionKind::MachineRapid), "G28 and G53 run");
 }

@@ -1,4 +1,0 @@
-G68 X0 Y0 R90.
-G28 X10. Y0
-M30
-(expect: motion1=X0~1e-6,Y10~1e-6 status=completed)
