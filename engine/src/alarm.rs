@@ -60,6 +60,9 @@ pub enum AlarmId {
     /// Reference return commands not allowed in a canned cycle.
     ReferenceReturnInCycle,
     IllegalReferenceReturn,
+    /// G27: an axis it names does not stand at the reference position after its move (raised
+    /// after the move, `follows_motion`).
+    ReferenceReturnCheck,
     /// A G code that is not allowed in the current 5-axis mode (FANUC PS5460 family).
     IllegalCommandInMode,
     // --- 5-axis mode interlocks (`interp::modes`) ------------------------------------------
@@ -377,10 +380,10 @@ impl AlarmId {
     }
 
     /// An alarm about what the block's own move found (Haas M78/M79 after a G31 in the same
-    /// block): the move is made, then the alarm is raised. Every other alarm of a block comes
+    /// block, G27's check): the move is made, then the alarm is raised. Every other alarm of a block comes
     /// before any of its motion (`Interpreter::step`).
     pub fn follows_motion(&self) -> bool {
-        matches!(self, AlarmId::SkipSignalFound | AlarmId::SkipSignalNotFound)
+        matches!(self, AlarmId::SkipSignalFound | AlarmId::SkipSignalNotFound | AlarmId::ReferenceReturnCheck)
     }
 }
 

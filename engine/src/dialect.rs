@@ -161,6 +161,7 @@ pub const PLAIN_ALARMS: &[AlarmId] = &[
     AlarmId::MissingQ,
     AlarmId::ReferenceReturnInCycle,
     AlarmId::IllegalReferenceReturn,
+    AlarmId::ReferenceReturnCheck,
     AlarmId::IllegalCommandInMode,
     AlarmId::IllegalCommandInTcp,
     AlarmId::RotaryCommandInTcpType2,
@@ -381,6 +382,11 @@ fn codes(id: &AlarmId) -> (Text, Text) {
         IllegalReferenceReturn => {
             (("PS0046", "ILLEGAL REFERENCE RETURN COMMAND"), ("COR-036", "Illegal reference position number"))
         }
+        // (FANUC's number and text as the 0i/16i lists give them, to check against the 30i's;
+        // Syntec: constructed, its G27 is not built.)
+        ReferenceReturnCheck => {
+            (("PS0092", "ZERO RETURN CHECK (G27) ERROR"), ("COR-050", "Reference position return check error"))
+        }
         // (Syntec: constructed; COR-034 is the handbook's missing path-extension argument.)
         IllegalScaleRate => (("PS0142", "ILLEGAL SCALE RATE"), ("COR-045", "Illegal scaling magnification")),
         IllegalPlaneInRotation => (("PS0144", "ILLEGAL PLANE SELECTED"), ("COR-035", "Arc outside the rotation plane")),
@@ -508,6 +514,7 @@ fn haas(id: &AlarmId) -> Text {
         MissingQ => ("305", "INVALID Q IN CANNED CYCLE"),
         ReferenceReturnInCycle => ("704", "G28 NOT ALLOWED IN CANNED CYCLE"),
         IllegalReferenceReturn => ("705", "ILLEGAL REFERENCE RETURN"),
+        ReferenceReturnCheck => ("756", "G27 REFERENCE RETURN CHECK ERROR"),
         IllegalScaleRate => ("706", "ILLEGAL SCALE FACTOR"),
         IllegalPlaneInRotation => ("707", "ILLEGAL PLANE IN ROTATION"),
         UnitChangeInMode => ("708", "G20/G21 NOT ALLOWED IN THIS MODE"),

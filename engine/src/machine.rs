@@ -82,6 +82,10 @@ fn is_false(b: &bool) -> bool {
     !*b
 }
 
+/// How near its reference position an axis must stand for G27's check to pass, mm or degrees:
+/// half the least input increment of IS-B (`docs/conventions.md`, "G27").
+const REFERENCE_CHECK_WIDTH: f64 = 0.0005;
+
 impl Axis {
     /// An axis with the default limits.
     pub fn new(name: char, kind: AxisKind, rapid: f64) -> Axis {
@@ -122,6 +126,15 @@ impl Axis {
         } else {
             reference
         }
+    }
+
+    /// Whether the machine coordinate `at` is the reference position `reference` (G27's
+    /// check): within half the least input increment (0.0005 mm or degree), on a rollover axis
+    /// in any turn.
+    pub fn at_reference(&self, at: f64, reference: f64) -> bool {
+        let off = at - reference;
+        let off = if self.rollover { off - 360.0 * (off / 360.0).round() } else { off };
+        off.abs() <= REFERENCE_CHECK_WIDTH
     }
 
     /// Where a move to the machine coordinate `command` (G53) from `from` ends on this axis:
@@ -1276,6 +1289,16 @@ impl From<MachineConfig> for std::sync::Arc<Machine> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn g27_checks_within_half_an_increment_and_any_turn_of_a_rollover_axis() {
+        let mut a = MachineConfig::preset("head-bc").unwrap().axes[4].clone();
+        assert!(a.rollover, "head-bc's C rolls over");
+        assert!(a.at_reference(720.0004, 0.0) && a.at_reference(-359.9996, 0.0));
+        assert!(!a.at_reference(0.001, 0.0) && !a.at_reference(180.0, 0.0));
+        a.rollover = false;
+        assert!(a.at_reference(-0.0005, 0.0) && !a.at_reference(360.0, 0.0));
+    }
 
     #[test]
     fn every_preset_is_valid() {

@@ -1979,6 +1979,25 @@ impl State {
                 }
                 return Ok(true);
             }
+            code::G27 => {
+                if self.modes[group::CYCLE] != code::G80 {
+                    return Err(AlarmId::ReferenceReturnInCycle);
+                }
+                // To the point at rapid, then the named axes must stand at the 1st reference
+                // position (machine zero): the offsets in force count, as on the control. The
+                // real axes are checked (a handle interruption's shift counts); an axis under
+                // machine lock is not (FANUC: no check while the machine is locked).
+                let target = self.target(w);
+                self.rapid_to_program_point(target, out)?;
+                let real = self.machine_view.real(&self.machine_position());
+                for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
+                    let locked = self.machine_view.held[i].is_some();
+                    if w.has(axis.name as u8) && !locked && !axis.at_reference(real[i], 0.0) {
+                        return Err(AlarmId::ReferenceReturnCheck);
+                    }
+                }
+                return Ok(true);
+            }
             code::G29 => {
                 // The intermediate point's coordinates as G28/G30 stored them, read in the
                 // system in force now.
@@ -2068,7 +2087,7 @@ impl State {
             cutting_point: matches!(after(group::LENGTH_COMP), code::G43_8 | code::G43_9),
             five_axis: self.plane_active() || self.wse.is_some() || in_block(group::WSE).is_some(),
             cycle: after(group::CYCLE) != code::G80,
-            coordinates: [code::G28, code::G30, code::G53, code::G52, code::G92].iter().any(|&c| w.has_g(c))
+            coordinates: [code::G27, code::G28, code::G30, code::G53, code::G52, code::G92].iter().any(|&c| w.has_g(c))
                 || in_block(group::WORK_SYSTEM).is_some(),
             rotary,
             inverse_time: after(group::FEED_MODE) == code::G93,

@@ -41,7 +41,7 @@ pub struct MachineView {
 }
 
 impl MachineView {
-    fn real(&self, program: &Pos) -> Pos {
+    pub(super) fn real(&self, program: &Pos) -> Pos {
         std::array::from_fn(|i| self.held[i].unwrap_or(program[i] + self.offset[i]))
     }
 }

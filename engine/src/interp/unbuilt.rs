@@ -120,7 +120,14 @@ const TABLE: &[NotBuilt] = &[
     // forbidden area: nothing to check); with limits it would define an area fivex ignores.
     row(220, When::WithAny(b"XYZIJK"), "stored stroke check 2 area (G22 with limits)"),
     row(260, When::Always, "spindle speed fluctuation detection (G26)"),
-    row(270, When::Always, "reference position return check (G27)"),
+    // G27 is performed in the FANUC dialect (`nc`); Syntec's sources do not describe it (the
+    // Haas NGC has no G27).
+    NotBuilt {
+        code: 270,
+        dialect: Some(Dialect::Syntec),
+        when: When::Always,
+        function: "reference position return check (G27)",
+    },
     row(282, When::Always, "G28.2"),
     row(301, When::Always, "floating reference position return (G30.1)"),
     // One probe, one skip signal (`interp::skip`): P selects among several inputs.

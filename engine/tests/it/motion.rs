@@ -7,7 +7,7 @@
 
 use crate::common;
 
-use common::{check_limits, interpreter, interpreter_with};
+use common::{alarm_with, check_limits, interpreter, interpreter_with, run_with};
 use fivex_engine::alarm::AlarmId;
 use fivex_engine::machine::MachineConfig;
 use fivex_engine::run::{run, RunOptions, RunResult, Sample};
@@ -467,6 +467,34 @@ fn g30_goes_to_the_second_to_fourth_reference_position() {
     assert_eq!(end("G90 G00 X10. Z-20.\nG30 P2 X10. Z-20.\nM30\n"), (-300.0, 250.0, None));
     assert_eq!(end("G90 G00 X10. Z-20.\nG91 G28 Z0.\nM30\n"), (10.0, 0.0, None));
     assert_eq!(end("G91 G30 P5 Z0.\nM30\n").2.as_deref(), Some("PS0046"));
+}
+
+/// G27 (FANUC): the named axes go to the point at rapid, then must stand at the 1st reference
+/// position (machine zero on mill3), with the offsets in force counted; else PS0092 after the
+/// move, and the program stops there. It was refused as not built (PS0010).
+#[test]
+fn g27_checks_the_named_axes_at_the_reference_position() {
+    let end = |src: &str| {
+        let r = run_with(src, "mill3", Dialect::Fanuc);
+        let alarm = r.alarms.first().map(|a| (a.code.clone(), a.line));
+        (r.machine[0], r.machine[1], r.machine[2], alarm)
+    };
+    // At machine zero: the lamp lights, the program goes on (X5. after it runs).
+    assert_eq!(end("G90 G00 X10. Y10. Z-20.\nG27 X0 Y0 Z0\nG00 X5.\nM30\n"), (5.0, 0.0, 0.0, None));
+    // Incremental, and only the named axes are checked (Y stays at 10).
+    assert_eq!(end("G90 G00 X10. Y10. Z-20.\nG91 G27 X-10. Z20.\nM30\n"), (0.0, 10.0, 0.0, None));
+    // Not there: the move is made, then PS0092; the block after it does not run.
+    let missed = ("PS0092".to_string(), 2);
+    assert_eq!(end("G90 G00 X10. Y10. Z-20.\nG27 X0 Y0 Z-1.\nG00 X5.\nM30\n"), (0.0, 0.0, -1.0, Some(missed.clone())));
+    // The work offset counts: G55 X0 is machine X-100, not the reference position.
+    assert_eq!(end("G10 L2 P2 X-100.\nG55 G00 X10.\nG27 X0\nM30\n").3, Some(("PS0092".to_string(), 3)));
+    // So does the tool length: with H1 = 50 the tip at Z0 puts the machine 50 above it.
+    let r = end("G10 L10 P1 R50.\nG43 H1 G00 Z-20.\nG27 Z0\nM30\n");
+    assert_eq!((r.2, r.3), (50.0, Some(("PS0092".to_string(), 3))));
+    // In a canned cycle: PS0044, before any move.
+    assert_eq!(end("G90 G00 X10. Z10.\nG81 X10. Z-5. R2. F100.\nG27 X0\nM30\n").3, Some(("PS0044".to_string(), 3)));
+    // The Syntec dialect does not build it (its sources do not describe it).
+    assert_eq!(alarm_with("G27 X0\nM30\n", Dialect::Syntec), "COR-100");
 }
 
 #[test]

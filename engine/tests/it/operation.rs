@@ -252,6 +252,35 @@ fn after_machine_lock_the_positions_disagree_until_the_reference_return() {
     assert_eq!(c.lock_offset(), [0.0; fivex_engine::machine::MAX_AXES]);
 }
 
+/// G27 checks the real axes: after a locked run the machine stands at X0 where the program
+/// reads X100, so `G27 X100.` finds the reference position and `G27 X0` does not; under machine
+/// lock it checks nothing (FANUC: no check while the machine is locked).
+#[test]
+fn g27_checks_where_the_axes_really_are() {
+    // Runs `src` on `c` to its end or alarm: the alarm's code.
+    let alarm_after = |c: &mut Controller, src: &str| {
+        start(c, src);
+        while c.run_state() == RunState::Running && c.time() < 120.0 {
+            c.tick(TICK);
+        }
+        c.alarms().first().map(|a| a.code.clone())
+    };
+    let after_lock = || {
+        let mut c = ran("G90 G01 X100. F3000.\nM30\n", |c| c.set_machine_lock(true).unwrap());
+        c.set_machine_lock(false).unwrap();
+        c
+    };
+    let mut c = after_lock();
+    assert_eq!(alarm_after(&mut c, "G90 G27 X100.\nM30\n"), None);
+    assert_eq!((c.run_state(), c.point().machine[0]), (RunState::Idle, 0.0));
+    let mut c = after_lock();
+    assert_eq!(alarm_after(&mut c, "G90 G27 X0\nM30\n").as_deref(), Some("PS0092"));
+    let mut c = controller(0.0);
+    c.set_machine_lock(true).unwrap();
+    assert_eq!(alarm_after(&mut c, "G90 G27 X50.\nM30\n"), None, "machine lock: no check");
+    assert_eq!(c.run_state(), RunState::Idle);
+}
+
 #[test]
 fn z_axis_neglect_locks_z_alone() {
     let mut c = ran("G90 G01 X50. Z-20. F3000.\nM30\n", |c| c.set_z_neglect(true).unwrap());

@@ -21,8 +21,9 @@ const FANUC_ONLY: &[&str] = &[
 ];
 
 /// Performed in the FANUC dialect only (refused in Syntec's, listed in `REFUSED`).
-/// G66.1: Syntec's is not FANUC's (`syntec_calls.rs`). Haas: its own table decides.
-const PERFORMED_IN_FANUC_ONLY: &[&str] = &["G06.2", "G66.1"];
+/// G66.1: Syntec's is not FANUC's (`syntec_calls.rs`); G27: Syntec's sources do not describe
+/// it. Haas: its own table decides.
+const PERFORMED_IN_FANUC_ONLY: &[&str] = &["G06.2", "G27", "G66.1"];
 
 /// Performed in the Syntec dialect only: FANUC's tilted plane refuses G53.6 (the FANUC extract
 /// does not name it) and outside a plane there is nothing to align to, PS5462 either way
@@ -60,6 +61,7 @@ const PERFORMED: &[(&str, &str, &str)] = &[
     ("G22", "G22", "decision: no stored stroke check 2 area is set, nothing to check"),
     ("G23", "G23\nG22", "stroke check 2 off"),
     ("G25", "G25", "the cancelled state of G26"),
+    ("G27", "G27 X0 Y0 Z0", "motion.rs (the check at the reference position; Syntec refuses it)"),
     ("G28", "G28 Z0", "fixture g28_g53"),
     ("G29", "G28 Z0\nG29 Z0", "fixture g28_g53"),
     ("G30", "G30 Z0", "fixture scaling_g51_g62_g63_g30"),
@@ -172,7 +174,7 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G17.1 P1", &[Fanuc, Syntec]),
     ("G22 X100. Y100. Z100. I-100. J-100. K-100.", &[Fanuc, Syntec]),
     ("G26 P1000 Q100 R10", &[Fanuc, Syntec]),
-    ("G27 X0 Y0 Z0", &[Fanuc, Syntec]),
+    ("G27 X0 Y0 Z0", &[Syntec]),
     ("G28.2 Z0", &[Fanuc, Syntec]),
     ("G30.1 Z0", &[Fanuc, Syntec]),
     ("G31.8 X1. F100", &[Fanuc, Syntec]),
