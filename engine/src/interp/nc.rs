@@ -1983,6 +1983,11 @@ impl State {
                 if self.modes[group::CYCLE] != code::G80 {
                     return Err(AlarmId::ReferenceReturnInCycle);
                 }
+                // Where the machine stands after a tip move of TCP, the tilted plane or G54.4
+                // is the executor's to find, not this check's: not built there.
+                if code::TCP.contains(&self.modes[group::LENGTH_COMP]) || self.plane_active() || self.wse.is_some() {
+                    return Err(AlarmId::GCodeNotBuilt);
+                }
                 // To the point at rapid, then the named axes must stand at the 1st reference
                 // position (machine zero): the offsets in force count, as on the control. The
                 // real axes are checked (a handle interruption's shift counts); an axis under

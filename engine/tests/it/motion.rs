@@ -493,6 +493,14 @@ fn g27_checks_the_named_axes_at_the_reference_position() {
     assert_eq!((r.2, r.3), (50.0, Some(("PS0092".to_string(), 3))));
     // In a canned cycle: PS0044, before any move.
     assert_eq!(end("G90 G00 X10. Z10.\nG81 X10. Z-5. R2. F100.\nG27 X0\nM30\n").3, Some(("PS0044".to_string(), 3)));
+    // Refused in the 5-axis modes, where the machine's position after a tip move is the
+    // executor's to find: FANUC's own mode alarms (TCP, tilted plane, G54.4) come first.
+    let five = |src: &str| run_with(src, "head-bc", Dialect::Fanuc).alarms.first().map(|a| (a.code.clone(), a.line));
+    assert_eq!(five("G43.4 H1\nG27 X0\nM30\n"), Some(("PS5421".to_string(), 2)));
+    assert_eq!(five("G68.2 X0 Y0 Z0 I0 J30. K0\nG27 X0\nM30\n"), Some(("PS5462".to_string(), 2)));
+    let src = "#26001=10.\nG54.4 P1\nG27 X0\nM30\n";
+    let wse = run_with(src, "mixed-bc", Dialect::Fanuc).alarms.first().map(|a| (a.code.clone(), a.line));
+    assert_eq!(wse, Some(("PS0437".to_string(), 3)), "G54.4");
     // The Syntec dialect does not build it (its sources do not describe it).
     assert_eq!(alarm_with("G27 X0\nM30\n", Dialect::Syntec), "COR-100");
 }
