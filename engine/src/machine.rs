@@ -275,6 +275,82 @@ pub struct MachineConfig {
     /// How the 5-axis manual feeds behave (`docs/five-axis.md`, 5-axis manual operation).
     #[serde(default, skip_serializing_if = "ManualOptions::is_default")]
     pub manual: ManualOptions,
+    /// The canned cycles' settings (`docs/conventions.md`, canned cycles).
+    #[serde(default, skip_serializing_if = "CycleOptions::is_default")]
+    pub cycles: CycleOptions,
+}
+
+/// The canned cycles' machine settings.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(deny_unknown_fields)]
+pub struct CycleOptions {
+    /// G73's retract after each peck, mm (FANUC No.5114).
+    #[serde(default = "default_peck_distance")]
+    pub peck_retract: f64,
+    /// G83's clearance: the rapid back into the hole stops this far above the last peck's
+    /// bottom, mm (FANUC No.5115).
+    #[serde(default = "default_peck_distance")]
+    pub peck_clearance: f64,
+    /// The direction of G76's and G87's shift Q, as in G17 (FANUC No.5101#4 RD1, #5 RD2).
+    #[serde(default)]
+    pub bore_shift: BoreShift,
+}
+
+/// G73's retract and G83's clearance when a machine does not set them, mm.
+pub const DEFAULT_PECK_DISTANCE: f64 = 0.5;
+
+/// The largest G73 retract or G83 clearance a machine may set, mm (FANUC's real parameters
+/// take far more; beyond this it is a typing error, not a clearance).
+pub const MAX_PECK_DISTANCE: f64 = 100.0;
+
+fn default_peck_distance() -> f64 {
+    DEFAULT_PECK_DISTANCE
+}
+
+impl Default for CycleOptions {
+    fn default() -> Self {
+        CycleOptions {
+            peck_retract: DEFAULT_PECK_DISTANCE,
+            peck_clearance: DEFAULT_PECK_DISTANCE,
+            bore_shift: BoreShift::default(),
+        }
+    }
+}
+
+impl CycleOptions {
+    fn is_default(&self) -> bool {
+        *self == CycleOptions::default()
+    }
+}
+
+/// The direction of G76's and G87's shift, named as in G17; in G18 and G19 the plane's first
+/// and second axes take X's and Y's place (FANUC: +X/−X/+Y/−Y in G17 are +Z/−Z/+X/−X in G18 and
+/// +Y/−Y/+Z/−Z in G19).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub enum BoreShift {
+    #[default]
+    #[serde(rename = "+x")]
+    PlusX,
+    #[serde(rename = "-x")]
+    MinusX,
+    #[serde(rename = "+y")]
+    PlusY,
+    #[serde(rename = "-y")]
+    MinusY,
+}
+
+impl BoreShift {
+    /// Whether the shift is along the plane's second axis, and its sign.
+    pub fn in_plane(self) -> (bool, f64) {
+        match self {
+            BoreShift::PlusX => (false, 1.0),
+            BoreShift::MinusX => (false, -1.0),
+            BoreShift::PlusY => (true, 1.0),
+            BoreShift::MinusY => (true, -1.0),
+        }
+    }
 }
 
 /// A further mechanism chain (Syntec set 2, 3 or 4, type parameter Pr3101 / Pr5501 / Pr5601):
@@ -921,6 +997,7 @@ impl MachineConfig {
             chains: Vec::new(),
             five_axis: FiveAxisOptions::default(),
             manual: ManualOptions::default(),
+            cycles: CycleOptions::default(),
         })
     }
 
@@ -989,6 +1066,11 @@ impl MachineConfig {
             return Err("motion.nano_smoothing: tolerance and max_block above 0, min_block 0 to max_block, \
                         corner_angle 0 to 180 degrees, spacing_ratio 1 or more"
                 .into());
+        }
+        let c = &self.cycles;
+        let distance = |x: f64| (0.0..=MAX_PECK_DISTANCE).contains(&x);
+        if !(distance(c.peck_retract) && distance(c.peck_clearance)) {
+            return Err(format!("cycles: peck_retract and peck_clearance are 0 to {MAX_PECK_DISTANCE} mm"));
         }
         let f = &self.five_axis;
         let percent = |x: f64| (0.0..=100.0).contains(&x);
@@ -1407,6 +1489,14 @@ mod tests {
             (m.five_axis.wse_cycle_feed, m.five_axis.wse_rapid_clamp_pct) = (feed, pct);
             assert!(m.validate().is_err(), "{feed} {pct}");
         }
+        for bad in [-0.1, 100.1, f64::NAN, f64::INFINITY] {
+            let mut m = MachineConfig::preset("mill3").unwrap();
+            m.cycles.peck_clearance = bad;
+            assert!(m.validate().unwrap_err().contains("peck_clearance"), "{bad}");
+        }
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        (m.cycles.peck_retract, m.cycles.peck_clearance) = (0.0, 100.0);
+        m.validate().unwrap();
     }
 
     /// The audit's F10: a rapid rate of 1e50 ran a move in 0 s, an acceleration or jerk of

@@ -25,12 +25,6 @@ use crate::canon::{Canon, CanonKind, FeedMode, Motion, MotionKind, Pos, SpindleS
 use crate::dialect::Dialect;
 use crate::notice::BlockNotice;
 
-/// Retract of G73 (FANUC No.5114) and clearance of G83 (No.5115), mm. The Haas dialect uses
-/// them too: its G73 retract is Setting 22 and G83's return to R is raised by Setting 52, whose
-/// defaults no source at hand gives (unverified, `docs/dialects.md`, "Haas cycles").
-const G73_RETRACT: f64 = 0.5;
-const G83_CLEARANCE: f64 = 0.5;
-
 /// Canonical commands one cycle block may expand into (pecks × holes), so that a tiny Q or a
 /// huge L ends in alarm FX0003 instead of exhausting memory.
 pub const MAX_COMMANDS_PER_BLOCK: usize = 200_000;
@@ -375,7 +369,15 @@ impl State {
         // Peck depth and retract in programmed units along the drilling axis (Haas: the levels
         // are unscaled, and so are they).
         let unit = if self.levels_unscaled() { 1.0 } else { self.xf.length_factor(d) };
-        let (q, retract, clearance) = (c.q / unit, G73_RETRACT / unit, G83_CLEARANCE / unit);
+        // G73's retract and G83's clearance are the machine's (FANUC No.5114/No.5115). The Haas
+        // dialect uses them too: its G73 retract is Setting 22 and G83's return to R is raised
+        // by Setting 52, whose units and defaults no source at hand gives (unverified,
+        // `docs/dialects.md`, "Haas cycles").
+        let settings = self.cfg.machine.cycles;
+        let (q, retract, clearance) = (c.q / unit, settings.peck_retract / unit, settings.peck_clearance / unit);
+        // G76's and G87's shift: along the plane axis and toward the side the machine sets.
+        let (second, sign) = settings.bore_shift.in_plane();
+        let (shift_axis, shift) = (if second { plane.1 } else { plane.0 }, sign * c.q);
         let dir = if c.z < c.r { -1.0 } else { 1.0 };
         let dwell = |st: &mut State, out: &mut Vec<Canon>| {
             if c.p > 0.0 {
@@ -385,20 +387,20 @@ impl State {
         if code == code::G87 {
             // Back boring: orient, shift, go below to R (the hole bottom), bore upward to Z.
             self.emit(out, CanonKind::Aux { m: mcode::M19 });
-            self.shift(plane.0, c.q, out)?;
+            self.shift(shift_axis, shift, out)?;
             self.apply_due_length();
             let first = out.len();
             self.move_drill_axis(d, c.r, Rapid, out)?;
             // Operation 2: oriented and shifted, at point R below the hole.
             self.stop_point(&mut out[first..]);
-            self.shift(plane.0, -c.q, out)?;
+            self.shift(shift_axis, -shift, out)?;
             self.spindle(SpindleState::Cw, out);
             self.move_drill_axis(d, c.z, Linear, out)?;
             dwell(self, out);
             self.emit(out, CanonKind::Aux { m: mcode::M19 });
-            self.shift(plane.0, c.q, out)?;
+            self.shift(shift_axis, shift, out)?;
             self.move_drill_axis(d, c.initial, Rapid, out)?;
-            self.shift(plane.0, -c.q, out)?;
+            self.shift(shift_axis, -shift, out)?;
             self.spindle(SpindleState::Cw, out);
             return Ok(());
         }
@@ -456,15 +458,15 @@ impl State {
                     self.move_drill_axis(d, ret, Rapid, out)?;
                 }
             }
-            // The shift goes toward + of the plane's first axis: FANUC's default, and the Haas
-            // dialect's where Setting 27 is X+ (its default unverified, `docs/dialects.md`).
+            // The shift goes the machine's way (FANUC RD1/RD2; the Haas dialect takes the same
+            // setting for Setting 27, whose default is unverified, `docs/dialects.md`).
             code::G76 => {
                 self.move_drill_axis(d, c.z, Linear, out)?;
                 dwell(self, out);
                 self.emit(out, CanonKind::Aux { m: mcode::M19 });
-                self.shift(plane.0, c.q, out)?;
+                self.shift(shift_axis, shift, out)?;
                 self.move_drill_axis(d, ret, Rapid, out)?;
-                self.shift(plane.0, -c.q, out)?;
+                self.shift(shift_axis, -shift, out)?;
                 self.spindle(SpindleState::Cw, out);
             }
             code::G85 | code::G89 => {

@@ -220,6 +220,7 @@ fn unreachable_directions_have_no_candidate() {
         motion: Default::default(),
         five_axis: Default::default(),
         manual: Default::default(),
+        cycles: Default::default(),
     };
     let k = Kinematics::new(&m).unwrap();
     assert_eq!(k.kind, MachineKind::Table);
@@ -272,6 +273,7 @@ fn machine() -> impl Strategy<Value = MachineConfig> {
             motion: Default::default(),
             five_axis: Default::default(),
             manual: Default::default(),
+            cycles: Default::default(),
         }
     })
 }

@@ -11,15 +11,17 @@
 //! compensation: 5003#0 SUP (start-up/cancel type B), #1 SUV (perpendicular to the next movement), 19607#5 CAV (interference avoidance),
 //! 19607#1 SPG (the tool side offset's G codes by mechanism: G41.4 table, G41.5 mixed).
 //! The 16i variant of 3-D cutter compensation: 19605#5 NIC, 19630 (a list holding either is a 16i's).
-//! Cutting point control: 11262 (the singular posture's angle).
+//! Cutting point control: 11262 (the singular posture's angle). Canned cycles: 5114 G73's retract,
+//! 5115 G83's clearance, 5101#4 RD1 / #5 RD2 the G76/G87 shift direction.
 
 use super::{chain, direction, half_turn, reference_angles, reference_direction, unit, unrepresentable};
 use super::{Params, Value};
 use crate::alarm::AlarmId;
 use crate::kin::{vec3, Vec3};
 use crate::machine::{
-    AfterInterpolation, Axis, AxisKind, ConfigError, CrcVariant, FiveAxisOptions, Hand, MachineConfig, ManualOptions,
-    ManualVertical, MotionOptions, PlaneAfterReset, RotaryLink, Side, TcpCoordinates,
+    AfterInterpolation, Axis, AxisKind, BoreShift, ConfigError, CrcVariant, CycleOptions, FiveAxisOptions, Hand,
+    MachineConfig, ManualOptions, ManualVertical, MotionOptions, PlaneAfterReset, RotaryLink, Side, TcpCoordinates,
+    DEFAULT_PECK_DISTANCE, MAX_PECK_DISTANCE,
 };
 
 const NAMES: &str = "XYZUVWABC";
@@ -257,6 +259,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     };
     let five_axis = five_axis_options(p)?;
     let manual = manual_options(p, n)?;
+    let cycles = cycle_options(p)?;
     Ok(MachineConfig {
         name: name.to_string(),
         axes,
@@ -269,7 +272,46 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         motion,
         five_axis,
         manual,
+        cycles,
     })
+}
+
+/// The canned cycles: No.5114 G73's retract and No.5115 G83's clearance (absent: fivex's
+/// 0.5 mm), No.5101#4 RD1 / #5 RD2 the shift direction of G76/G87 (absent: +X in G17). The
+/// other bits of No.5101 are not read.
+fn cycle_options(p: &Params) -> Result<CycleOptions, ConfigError> {
+    let distance = |number: u32| -> Result<f64, ConfigError> {
+        if !p.0.contains_key(&number) {
+            return Ok(DEFAULT_PECK_DISTANCE);
+        }
+        match non_negative(p, number)? {
+            x if x <= MAX_PECK_DISTANCE => Ok(x),
+            x => Err(ConfigError::invalid(format!("No.{number} = {x} is more than {MAX_PECK_DISTANCE} mm"))),
+        }
+    };
+    let bit = |b: u32| -> Result<bool, ConfigError> { Ok(p.0.contains_key(&5101) && p.bit(5101, b)?) };
+    let bore_shift = match (bit(5)?, bit(4)?) {
+        (false, false) => BoreShift::PlusX,
+        (false, true) => BoreShift::MinusX,
+        (true, false) => BoreShift::PlusY,
+        (true, true) => BoreShift::MinusY,
+    };
+    Ok(CycleOptions { peck_retract: distance(5114)?, peck_clearance: distance(5115)?, bore_shift })
+}
+
+/// [`cycle_options`] the other way: what differs from fivex's defaults is written.
+fn cycle_params(p: &mut Params, m: &MachineConfig) {
+    let c = &m.cycles;
+    for (number, value) in [(5114, c.peck_retract), (5115, c.peck_clearance)] {
+        if value != DEFAULT_PECK_DISTANCE {
+            p.set(number, real(value));
+        }
+    }
+    let (second, sign) = c.bore_shift.in_plane();
+    let bits = (u32::from(sign < 0.0) << 4) | (u32::from(second) << 5);
+    if bits != 0 {
+        p.set_bits(5101, bits);
+    }
 }
 
 /// Look-ahead (acceleration/deceleration before interpolation): No.1604#0 SHP, No.19501#5 FRP
@@ -678,6 +720,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         _ => (zero, zero, zero, zero),
     };
     manual_params(&mut p, m);
+    cycle_params(&mut p, m);
     p.set(19666, real(holder));
     for (first, v) in [(19700, a), (19703, d), (19709, v1), (19712, v2)] {
         for (i, x) in v.iter().enumerate() {

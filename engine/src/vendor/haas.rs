@@ -132,6 +132,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         motion: MotionOptions { power_on_inch: p.code(DIMENSIONING, 0, 1)? == 1, ..MotionOptions::default() },
         five_axis: Default::default(),
         manual: Default::default(),
+        cycles: Default::default(),
     })
 }
 
@@ -163,6 +164,10 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if (MotionOptions { power_on_inch: false, ..m.motion }) != MotionOptions::default() {
         return Err(no("motion options other than the defaults".into()));
+    }
+    if m.cycles != Default::default() {
+        // Settings 22, 27 and 52 are the NGC's, but no source gives their units and codes.
+        return Err(no("canned cycle settings other than the defaults".into()));
     }
     if m.five_axis != Default::default()
         || m.manual != Default::default()

@@ -225,10 +225,15 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         // Syntec has no parameters for the 5-axis manual feeds (its manual RTCP is the PLC
         // registers R518/R519, the controller's panel): they are not carried.
         manual: Default::default(),
+        cycles: Default::default(),
     })
 }
 
 pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
+    if m.cycles != Default::default() {
+        // The Syntec sources at hand give no parameter numbers for the canned cycles.
+        return Err(unrepresentable("Syntec", "canned cycle settings other than the defaults"));
+    }
     // Spec Q-22: the manual gives only the type parameters of sets 2–4 (Pr3101, Pr5501,
     // Pr5601), not the numbers of their vectors; sub-chains have none at all.
     if !m.chains.is_empty() || !m.sub_chains.is_empty() {

@@ -4,7 +4,7 @@
 use super::*;
 use crate::alarm::AlarmId;
 use crate::kin::{Kinematics, Selection, Vec3};
-use crate::machine::AfterInterpolation;
+use crate::machine::{AfterInterpolation, BoreShift, CycleOptions};
 
 use proptest::prelude::*;
 
@@ -743,6 +743,45 @@ fn fanuc_sup_bit_sets_the_cutter_start_up_type() {
     let mut m = MachineConfig::preset("mill3").unwrap();
     m.motion.cutter_startup_perpendicular = true;
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("SUV"));
+}
+
+/// The canned cycles' settings: No.5114 (G73's retract), No.5115 (G83's clearance) and
+/// No.5101#4 RD1 / #5 RD2 (G76/G87's shift direction) are read and written, only where they
+/// differ from fivex's defaults; No.5101's other bits are reported as not modelled; Syntec and
+/// Haas lists have no place for them.
+#[test]
+fn fanuc_cycle_parameters_round_trip() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    let plain = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(![5101, 5114, 5115].iter().any(|n| plain.0.contains_key(n)), "defaults are not written");
+    for (shift, bits) in [(BoreShift::MinusX, 16.0), (BoreShift::PlusY, 32.0), (BoreShift::MinusY, 48.0)] {
+        m.cycles = CycleOptions { peck_retract: 1.0, peck_clearance: 0.0, bore_shift: shift };
+        let p = params_of(Dialect::Fanuc, &m).unwrap();
+        assert_eq!((p.get(5101).unwrap(), p.get(5114).unwrap(), p.get(5115).unwrap()), (bits, 1.0, 0.0));
+        let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+        assert_eq!(back.cycles, m.cycles);
+        assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
+        assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+        assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("canned cycle"));
+    }
+    let mut other = plain.clone();
+    other.set(5101, 1.0 + 16.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &other).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["No.5101#0"]);
+    assert_eq!(machine_from(Dialect::Fanuc, "m", &other).unwrap().cycles.bore_shift, BoreShift::MinusX);
+    other.set(5114, 101.0);
+    assert!(machine_from(Dialect::Fanuc, "m", &other).is_err(), "a retract beyond 100 mm");
+    // A Haas list's own machine (a VF with three axes), with a retract of its own.
+    let mut p = Params::default();
+    p.set(super::haas::UNIT, 0.0);
+    for k in 0..3 {
+        p.set(super::haas::TRAVEL + k, 500.0);
+        p.set(super::haas::RAPID + k, 25000.0);
+    }
+    let mut haas = machine_from(Dialect::Haas, "vf2", &p).unwrap();
+    assert!(params_of(Dialect::Haas, &haas).is_ok());
+    haas.cycles.peck_retract = 1.0;
+    assert!(params_of(Dialect::Haas, &haas).unwrap_err().detail.contains("canned cycle"));
 }
 
 /// The interference check's avoidance: No.19607#5 CAV is read (`cutter_interference_avoidance`),

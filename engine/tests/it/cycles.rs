@@ -187,6 +187,56 @@ fn fine_and_back_boring_shift_is_refused_under_rotation_or_mirror() {
     }
 }
 
+/// The machine's cycle settings (FANUC No.5101#4/#5, No.5114, No.5115): G76's shift goes the
+/// way RD1/RD2 set — named as in G17, the plane's first and second axes in G18/G19 — and G73's
+/// retract and G83's clearance are the machine's; fivex's defaults (+X, 0.5 mm) without them.
+#[test]
+fn cycle_settings_set_the_bore_shift_and_the_peck_distances() {
+    use fivex_engine::machine::{BoreShift, CycleOptions};
+    let ends = |src: &str, cycles: CycleOptions, axis: usize| -> Vec<f64> {
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        m.cycles = cycles;
+        let mut interp = fivex_engine::interp::Interpreter::new(
+            fivex_engine::lang::parse_file(src),
+            fivex_engine::interp::Config::new(m, Dialect::Fanuc),
+        );
+        let mut v = Vec::new();
+        interp.run(|c| v.push(c)).expect("no alarm");
+        v.iter()
+            .filter_map(|c| match &c.kind {
+                CanonKind::Motion(m) => Some(m.target[axis]),
+                _ => None,
+            })
+            .collect()
+    };
+    let with = |bore_shift| CycleOptions { bore_shift, ..CycleOptions::default() };
+    // G17, the hole at X10 Y20: the shift at the bottom by Q2 and back.
+    let g76 = "G90 G17 G00 X0 Y0 Z10.\nG76 X10. Y20. Z-5. R2. Q2. F100.\nG80\nM30\n";
+    for (shift, axis, hole, to) in [
+        (BoreShift::PlusX, 0, 10.0, 12.0),
+        (BoreShift::MinusX, 0, 10.0, 8.0),
+        (BoreShift::PlusY, 1, 20.0, 22.0),
+        (BoreShift::MinusY, 1, 20.0, 18.0),
+    ] {
+        let along = ends(g76, with(shift), axis);
+        assert!(along.contains(&to), "{shift:?}: {along:?}");
+        assert!(along.iter().all(|&x| x == 0.0 || x == hole || x == to), "{shift:?}: {along:?}");
+        let other = ends(g76, with(shift), 1 - axis);
+        assert!(other.iter().all(|&x| x == 0.0 || x == [20.0, 10.0][axis]), "{shift:?} moved across: {other:?}");
+    }
+    // G18 (Z–X plane, drilling along Y): -y is −X, the plane's second axis.
+    let g18 = "G90 G18 G00 X0 Y10. Z0\nG76 X10. Z20. Y-5. R2. Q2. F100.\nG80\nM30\n";
+    assert!(ends(g18, with(BoreShift::MinusY), 0).contains(&8.0));
+    assert!(ends(g18, with(BoreShift::PlusX), 2).contains(&22.0), "+x is +Z in G18");
+    // G73 retracts by No.5114, G83 comes back to No.5115 above the last peck (Z-4).
+    let peck = |code: &str| format!("G90 G00 X0 Y0 Z10.\n{code} Z-6. R2. Q6. F100.\nG80\nM30\n");
+    let c = CycleOptions { peck_retract: 1.5, peck_clearance: 0.25, ..CycleOptions::default() };
+    assert!(ends(&peck("G73"), c, 2).contains(&-2.5), "G73 back up 1.5 from Z-4");
+    assert!(ends(&peck("G83"), c, 2).contains(&-3.75), "G83 down to 0.25 above Z-4");
+    let d = CycleOptions::default();
+    assert!(ends(&peck("G73"), d, 2).contains(&-3.5) && ends(&peck("G83"), d, 2).contains(&-3.5));
+}
+
 #[test]
 fn check_reports_l_in_a_cycle_block() {
     use fivex_engine::check::check;

@@ -88,6 +88,7 @@ fn custom_run(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Confi
             motion: Default::default(),
             five_axis: Default::default(),
             manual: Default::default(),
+            cycles: Default::default(),
         },
         dialect,
     );

@@ -1175,6 +1175,13 @@ export interface components {
             speeds: number[];
         };
         /**
+         * @description The direction of G76's and G87's shift, named as in G17; in G18 and G19 the plane's first
+         *     and second axes take X's and Y's place (FANUC: +X/−X/+Y/−Y in G17 are +Z/−Z/+X/−X in G18 and
+         *     +Y/−Y/+Z/−Z in G19).
+         * @enum {string}
+         */
+        BoreShift: "+x" | "-x" | "+y" | "-y";
+        /**
          * @description Which mechanism chain is in use: Syntec's set (1–4) and sub-chain (1: the set as described,
          *     2–4 an attachment), chosen by `G10 L5000 P_ [Q_]`; set 1, sub-chain 1 at power-on.
          */
@@ -1381,6 +1388,22 @@ export interface components {
         Cuboid: {
             max: number[];
             min: number[];
+        };
+        /** @description The canned cycles' machine settings. */
+        CycleOptions: {
+            /** @description The direction of G76's and G87's shift Q, as in G17 (FANUC No.5101#4 RD1, #5 RD2). */
+            bore_shift?: components["schemas"]["BoreShift"];
+            /**
+             * Format: double
+             * @description G83's clearance: the rapid back into the hole stops this far above the last peck's
+             *     bottom, mm (FANUC No.5115).
+             */
+            peck_clearance?: number;
+            /**
+             * Format: double
+             * @description G73's retract after each peck, mm (FANUC No.5114).
+             */
+            peck_retract?: number;
         };
         /** @description `POST /cycle-start`: optionally the stored program to run. */
         CycleStart: {
@@ -1824,6 +1847,8 @@ export interface components {
              *     as the fields above describe the main one, set 1. Absent: the one chain above.
              */
             chains?: components["schemas"]["ChainSet"][];
+            /** @description The canned cycles' settings (`docs/conventions.md`, canned cycles). */
+            cycles?: components["schemas"]["CycleOptions"];
             /** @description How the 5-axis functions behave (`docs/five-axis.md`). */
             five_axis?: components["schemas"]["FiveAxisOptions"];
             /**

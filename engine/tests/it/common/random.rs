@@ -217,6 +217,7 @@ pub fn random_machine_of(kind: MachineKind) -> impl Strategy<Value = MachineConf
                 motion: Default::default(),
                 five_axis: FiveAxisOptions::default(),
                 manual: Default::default(),
+                cycles: Default::default(),
             }
         })
         .prop_filter("a mechanism the model accepts with margin", well_formed)
