@@ -382,8 +382,9 @@ impl State {
         if selected != code::G54_1 || !w.has_g(code::G54_1) {
             return false;
         }
-        // A P the block does not give (FANUC: P1; Haas: refused where the P is read).
-        let p = w.haas_wcs_p.map(f64::from).or_else(|| w.integer(b'P'));
+        // A P the block does not give is P1 (FANUC; Haas refuses it where the P is read).
+        let haas = self.cfg.dialect == crate::Dialect::Haas;
+        let p = w.haas_wcs_p.map(f64::from).or_else(|| w.integer(b'P')).or((!haas).then_some(1.0));
         p.is_some_and(|p| p != f64::from(self.wcs_p))
     }
 

@@ -424,4 +424,9 @@ fn returns_and_coordinate_changes_under_the_transforms_are_fx0012() {
     let m = motions(src);
     at(&m[1], 0.0, 10.0);
     assert!(m.iter().any(|m| m.kind == MotionKind::MachineRapid), "G28 and G53 run");
+    // G54.1 without P is P1: the same system again runs, from P2 it is another one.
+    let p1 = "G90 G54.1 P1 G00 X0 Y0\nG68 X0 Y0 R90.\nG54.1\nG69\nM30\n";
+    assert!(run_with(p1, "mill3", Dialect::Fanuc).completed());
+    let p2 = "G90 G54.1 P2 G00 X0 Y0\nG68 X0 Y0 R90.\nG54.1\nG69\nM30\n";
+    assert_eq!(run_with(p2, "mill3", Dialect::Fanuc).alarms.first().map(|a| a.code.as_str()), Some("FX0012"));
 }
