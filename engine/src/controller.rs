@@ -988,6 +988,11 @@ impl Controller {
 
     /// A motion outside the program, in machine coordinates.
     fn push_manual(&mut self, kind: MotionKind, machine: Pos, feed: f64) {
+        self.push_manual_at(kind, machine, feed, (0, None));
+    }
+
+    /// [`Self::push_manual`] shown at a program block (`line`, N): a program restart's return.
+    fn push_manual_at(&mut self, kind: MotionKind, machine: Pos, feed: f64, (line, n): (u32, Option<u32>)) {
         self.stroke_reached = None;
         let offset: Pos = std::array::from_fn(|i| self.exec.here.work[i] - self.exec.here.machine[i]);
         let target: Pos = std::array::from_fn(|i| machine[i] + offset[i]);
@@ -1010,7 +1015,7 @@ impl Controller {
         };
         let ctx = self.exec.feed_context(self.panel.feed_override, self.panel.rapid_override, true);
         let mut seg = self.exec.segment_within(&m, ctx, &self.manual_limits());
-        (seg.stop_after, seg.tip_basis) = (true, self.tip_basis());
+        (seg.stop_after, seg.tip_basis, seg.line, seg.n) = (true, self.tip_basis(), line, n);
         self.exec.queued.basis = seg.tip_basis;
         self.exec.push(seg);
         self.set_state(RunState::Running);

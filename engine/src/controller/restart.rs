@@ -216,7 +216,7 @@ impl Controller {
         self.memory.before_search = None;
         self.memory.running = true;
         self.memory.start = Some(r.from);
-        let (target, output) = (r.found.machine, r.found.output.clone());
+        let (target, output, block) = (r.found.machine, r.found.output.clone(), (r.found.line, r.found.n));
         // Hand moves since the search moved the interpreter's current point with the machine:
         // the program goes on from the restart position.
         self.stand_here();
@@ -234,7 +234,8 @@ impl Controller {
         for i in 0..self.machine.axes.len() {
             if (to[i] - target[i]).abs() > 1e-9 {
                 to[i] = target[i];
-                self.push_manual(MotionKind::MachineRapid, to, 0.0);
+                // The panel shows the restart block the axes return to.
+                self.push_manual_at(MotionKind::MachineRapid, to, 0.0, block);
             }
         }
         self.set_state(RunState::Running);

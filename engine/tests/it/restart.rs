@@ -204,6 +204,7 @@ fn q_type_returns_one_axis_at_a_time_then_goes_on_as_a_run_from_the_top() {
             arrived = true;
             continue;
         }
+        assert_eq!(c.point().n, Some(100), "the return shows the restart block");
         let left: Vec<bool> = (0..3).map(|i| (m[i] - from[i]).abs() > 1e-9).collect();
         let there: Vec<bool> = (0..3).map(|i| (m[i] - target[i]).abs() < 1e-9).collect();
         // No axis after the first one still on its way has left where it stood.
