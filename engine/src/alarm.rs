@@ -380,8 +380,8 @@ impl AlarmId {
     }
 
     /// An alarm about what the block's own move found (Haas M78/M79 after a G31 in the same
-    /// block, G27's check): the move is made, then the alarm is raised. Every other alarm of a block comes
-    /// before any of its motion (`Interpreter::step`).
+    /// block, G27's check): the move is made, then the alarm is raised. Every other alarm of a
+    /// block comes before any of its motion (`Interpreter::step`).
     pub fn follows_motion(&self) -> bool {
         matches!(self, AlarmId::SkipSignalFound | AlarmId::SkipSignalNotFound | AlarmId::ReferenceReturnCheck)
     }
