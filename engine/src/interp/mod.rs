@@ -43,7 +43,10 @@ use crate::machine::{MachineConfig, MAX_AXES};
 use expr::{eval, eval_typed, truth, ExprSettings, Value};
 use gcode::GROUPS;
 use gcode::{code, group};
-pub use offsets::{tool_value_fits, tool_value_limit, Offsets, ToolOffset, MAX_G54_1, MAX_TOOL_OFFSETS};
+pub use offsets::{
+    tool_value_fits, tool_value_limit, work_value_fits, work_value_limit, Offsets, ToolOffset, MAX_G54_1,
+    MAX_TOOL_OFFSETS,
+};
 pub use plane::TiltedPlane;
 pub use skip::MachineView;
 pub use vars::InterfaceSignals;

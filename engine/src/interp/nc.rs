@@ -2170,12 +2170,21 @@ impl State {
                     (false, 1..) if p <= max => g54_1_index(p),
                     _ => return Err(AlarmId::IllegalG10Command),
                 };
-                for (i, axis) in self.cfg.machine.axes.clone().iter().enumerate() {
+                let (unit, inch) = (self.mm_per_input_unit(), self.modes[group::UNITS] == code::G20);
+                let mut set = *self.offsets.work(index);
+                for (i, axis) in self.cfg.machine.axes.iter().enumerate() {
                     if let Some(v) = self.value(w, axis.name as u8) {
-                        let slot = &mut self.offsets.work_mut(index)[i];
-                        *slot = if incremental { *slot + v } else { v };
+                        set[i] = if incremental { set[i] + v } else { v };
+                        // The value set (under G91 the sum) within the range, in the input unit
+                        // (degrees on a rotary axis, in inch too).
+                        let linear = axis.kind == AxisKind::Linear;
+                        let input = if linear { set[i] / unit } else { set[i] };
+                        if !super::offsets::work_value_fits(input, inch && linear) {
+                            return Err(AlarmId::IllegalOffsetValue);
+                        }
                     }
                 }
+                *self.offsets.work_mut(index) = set;
                 self.pos = self.machine_to_program(&machine_before);
                 self.sync_programmed();
             }

@@ -43,6 +43,26 @@ pub fn tool_value_fits(value: f64, wear: bool, inch: bool) -> bool {
     value.abs() <= tool_value_limit(wear, inch) + 1e-9
 }
 
+/// The largest magnitude of a work offset value, in the input unit: nine digits of IS-B's least
+/// input increment, ±999999.999 mm / ±99999.9999 inch (FANUC's range of the workpiece origin
+/// offsets, No.1221–1226, and of any number the lexer reads: `docs/dialects.md`, "Too many
+/// digits").
+pub fn work_value_limit(inch: bool) -> f64 {
+    if inch {
+        99999.9999
+    } else {
+        999999.999
+    }
+}
+
+/// Whether a work offset value may be set by G10 L2/L20 (under G91 the sum) or a system
+/// variable (`#5201…`, `#7001…`, `#14001…`): beyond [`work_value_limit`] it is PS0032, as a
+/// tool offset's (a macro's bad reading became a workpiece zero a kilometre away, which a
+/// machine without stroke limits ran to). 1e-9 input units of tolerance as for the tools.
+pub fn work_value_fits(value: f64, inch: bool) -> bool {
+    value.abs() <= work_value_limit(inch) + 1e-9
+}
+
 /// G54.1 P1..=MAX_G54_1.
 pub const MAX_G54_1: usize = 300;
 
@@ -240,6 +260,13 @@ mod tests {
         assert!(tool_value_fits(99.9999, false, true) && !tool_value_fits(100.0, false, true));
         assert!(tool_value_fits(-9.9999, true, true) && !tool_value_fits(10.0, true, true));
         assert!(tool_value_fits(999.0 + 0.999, false, false), "a sum that reaches the limit");
+    }
+
+    #[test]
+    fn work_values_within_nine_digits_fit() {
+        assert!(work_value_fits(999999.999, false) && work_value_fits(-999999.999, false));
+        assert!(!work_value_fits(1.0e6, false) && !work_value_fits(f64::NAN, false));
+        assert!(work_value_fits(99999.9999, true) && !work_value_fits(1.0e5, true));
     }
 
     #[test]

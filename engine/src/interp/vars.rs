@@ -567,7 +567,14 @@ impl State {
                 // Like G10, a new value takes effect at the next H selection.
                 *field.get_mut(t) = mm;
             }
-            Slot::Work { index, axis } => self.offsets.work_mut(index)[axis] = value.unwrap_or(0.0) * unit,
+            Slot::Work { index, axis } => {
+                let v = value.unwrap_or(0.0);
+                // In the input unit: inch where the slot converts (a rotary axis counts degrees).
+                if !super::offsets::work_value_fits(v, unit != 1.0) {
+                    return Err(AlarmId::IllegalOffsetValue);
+                }
+                self.offsets.work_mut(index)[axis] = v * unit;
+            }
             Slot::System(n) => {
                 let v = value.unwrap_or(0.0);
                 match n {

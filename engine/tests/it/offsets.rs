@@ -195,3 +195,41 @@ fn a_tool_offset_value_out_of_range_is_ps0032() {
     assert_eq!(first("#2001=1000.\nM30\n", Haas), Some(("331".into(), 1)));
     assert_eq!(first("#2001=999.\nM30\n", Haas), None);
 }
+
+/// Work offsets have the range of nine digits of IS-B, ±999999.999 mm / ±99999.9999 inch
+/// (a written number cannot pass it, PS0003; a variable, a G91 sum or a system variable could):
+/// beyond it is PS0032 at the block and the offset keeps its value. A macro's bad reading set a
+/// workpiece zero a kilometre away, which a machine without stroke limits ran to. A rotary axis
+/// counts degrees, under G20 too.
+#[test]
+fn a_work_offset_value_out_of_range_is_ps0032() {
+    let bad = [
+        "#1=1000000.\nG10 L2 P1 X#1",
+        "G10 L2 P1 X900000.\nG91 G10 L2 P1 X100000.",
+        "#1=-1000000.\nG10 L20 P5 Y#1",
+        "#5221=1000000.",
+        "#1=1000000.\n#7001=#1",
+        "G20\n#1=100000.\nG10 L2 P1 X#1",
+        "G20\n#5222=100000.",
+    ];
+    for block in bad {
+        let src = format!("G21 G90\n{block}\nM30\n");
+        let line = 2 + block.matches('\n').count() as u32;
+        let mut interp = interpreter(&src, "mill3", Fanuc);
+        let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+        assert_eq!(r.alarms.first().map(|a| (a.code.as_str(), a.line)), Some(("PS0032", line)), "{block}");
+        let o = &interp.state.offsets;
+        assert!(o.work(1)[..3].iter().chain(&o.work(7)[..3]).all(|&v| v == 0.0 || v == 900000.0), "{block}");
+    }
+    // The limits themselves are values (stored in mm: 99999.9999 in = 2539999.99746 mm), and a
+    // rotary axis's offset counts degrees under G20.
+    let src = "G21 G90\n#1=999999.999\nG10 L2 P1 X#1\n#5222=-999999.999\nG20\n#1=99999.9999\n\
+               G10 L2 P2 X#1\n#1=500000.\nG10 L2 P3 C#1\nG21\nM30\n";
+    let mut interp = interpreter(src, "head-bc", Fanuc);
+    let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+    assert!(r.completed(), "{:?}", r.alarms);
+    let o = &interp.state.offsets;
+    assert_eq!((o.work(1)[0], o.work(1)[1]), (999999.999, -999999.999));
+    assert!(approx(o.work(2)[0], 2539999.99746), "{}", o.work(2)[0]);
+    assert_eq!(o.work(3)[4], 500000.0);
+}

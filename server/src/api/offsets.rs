@@ -204,7 +204,7 @@ pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDt
         (status = 200, description = "Changed", body = WorkOffsetDto),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "A program runs or holds", body = ErrorBody),
-        (status = 422, description = "No such offset or axis, or not a finite value", body = ErrorBody),
+        (status = 422, description = "No such offset or axis, or a value beyond ±999999.999 mm (the range G10 takes)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
         (status = 503, description = "The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept)", body = ErrorBody),
     )

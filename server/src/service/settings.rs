@@ -14,6 +14,7 @@
 use std::sync::MutexGuard;
 
 use fivex_engine::controller::RunState;
+use fivex_engine::interp::{work_value_fits, work_value_limit};
 use serde_json::{Map, Value};
 
 use super::ServiceError;
@@ -114,12 +115,16 @@ pub async fn set_variable(
     }
 }
 
-/// A work offset value: finite and below 1e6 in size (no range of work offsets is modelled).
-fn finite(v: f64, what: &str) -> Result<f64, ServiceError> {
-    if v.is_finite() && v.abs() < 1.0e6 {
+/// A work offset value, mm: within the range G10 takes (`work_value_limit`), so that no
+/// workpiece zero a program could not set reaches a run.
+fn work_value(v: f64, what: &str) -> Result<f64, ServiceError> {
+    if work_value_fits(v, false) {
         Ok(v)
     } else {
-        Err(ServiceError::invalid(format!("{what} must be a finite number below 1e6 in size")))
+        let limit = work_value_limit(false);
+        Err(ServiceError::invalid(format!(
+            "{what} {v} is outside ±{limit} mm (the range of a work offset value, as G10 takes it)"
+        )))
     }
 }
 
@@ -244,7 +249,7 @@ pub async fn set_work_offset(
                 .position(|a| a.name.to_string().eq_ignore_ascii_case(letter))
                 .ok_or_else(|| ServiceError::invalid(format!("the machine has no axis {letter}")))?;
             let v = value.as_f64().ok_or_else(|| ServiceError::invalid(format!("{letter} must be a number")))?;
-            given.push((index, finite(v, letter)?));
+            given.push((index, work_value(v, letter)?));
         }
         // The check and the change under one lock: checked before the database write, as it
         // was, a cycle start in between ran a program whose offset then changed under it.

@@ -665,12 +665,18 @@ async fn tool_and_work_offsets_are_set_used_and_kept() {
         (json!(-100.0), json!(50.0))
     );
     assert_eq!(status["position"]["tip"], json!([-100.0, 0.0, 50.0]), "the tip follows the offset edit too");
-    for (name, body) in
-        [("G53", json!({"axes": {"X": 1}})), ("G54", json!({"axes": {"B": 1}})), ("G54", json!({"axes": {"X": "a"}}))]
-    {
+    for (name, body) in [
+        ("G53", json!({"axes": {"X": 1}})),
+        ("G54", json!({"axes": {"B": 1}})),
+        ("G54", json!({"axes": {"X": "a"}})),
+        ("G54", json!({"axes": {"X": 1000000.0}})),
+    ] {
         let reply = app.put(&format!("{C}/{id}/work-offsets/{name}"), &body).await;
         assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{name} {body}");
     }
+    // The range of a work offset value is G10's: the limit itself is taken.
+    let edge = app.put(&format!("{C}/{id}/work-offsets/G59"), &json!({"axes": {"Y": -999999.999}})).await;
+    assert_eq!(edge.status, StatusCode::OK);
     // A program's G10 is saved when it ends, and the H5 length acts.
     store(&app, &id, 1, "G10 L2 P2 X7.5\nG90 G55 G43 H5 G01 Z0 F3000\nM30\n").await;
     app.post(&format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;

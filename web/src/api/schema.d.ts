@@ -7090,7 +7090,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No such offset or axis, or not a finite value */
+            /** @description No such offset or axis, or a value beyond ±999999.999 mm (the range G10 takes) */
             422: {
                 headers: {
                     [name: string]: unknown;
