@@ -147,8 +147,13 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
         <span class="rapid" role="group" aria-label="rapid override">
           rapid
           {RAPID_STEPS.map((r) => (
-            <button key={r} class={`key small ${panel.rapid_override === r ? "lit" : ""}`} onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/overrides", { ...p, body: { rapid: r } }))}>
-              {r === 0 ? "F0" : `${r}%`}
+            <button
+              key={r}
+              class={`key small ${panel.rapid_override === r ? "lit" : ""}`}
+              title={r === 0 ? "rapids hold: FANUC's F0 rate (No.1421) is not modelled" : undefined}
+              onClick={() => act(() => api.PUT("/api/v1/controllers/{id}/overrides", { ...p, body: { rapid: r } }))}
+            >
+              {`${r}%`}
             </button>
           ))}
         </span>
