@@ -581,6 +581,15 @@ impl Controller {
             if !matches!(mode, Mode::Jog | Mode::Handle | Mode::Inc) || self.estop {
                 return Err(Refusal::Busy);
             }
+            if self.in_five_axis_compensation() {
+                // S000 §3.5.1: a manual interruption operation in the cutter compensation
+                // mode for 5-axis machining is a PS alarm (its number is not given: fivex
+                // raises the mode's PS5460); nothing has moved.
+                let (line, n) = (self.exec.here.line, self.exec.here.n);
+                self.raise(AlarmId::IllegalCommandInMode, line, n);
+                self.mode = mode;
+                return Ok(());
+            }
             self.cycle.intervene(Intervention {
                 mode: self.mode,
                 held,
@@ -600,6 +609,15 @@ impl Controller {
         }
         self.mode = mode;
         Ok(())
+    }
+
+    /// Whether the block the machine executes is in a cutter compensation for 5-axis machining
+    /// (the tool side offsets G41.2…G42.6, the leading edge offset G41.3), where S000 §3.5.1
+    /// makes a manual interruption a PS alarm and the manual handle interruption unusable.
+    pub(super) fn in_five_axis_compensation(&self) -> bool {
+        use crate::interp::gcode::{code, group};
+        let comp = self.modal().modal(group::CUTTER_COMP);
+        code::TOOL_SIDE.contains(&comp) || comp == code::G41_3
     }
 
     /// The program AUTO runs (an NC text, or a text and the stored programs it can call).
@@ -1464,31 +1482,17 @@ impl Controller {
         self.exec.release(true);
     }
 
-    fn run_block(&mut self) {
-        let mut out = Vec::new();
-        let banned = self.interp.wse_forbids_manual();
-        let step = self.interp.step(&mut out);
-        let stage_alarm = self.stages.process(&mut out, crate::run::ends(&step));
-        let produced = !out.is_empty();
-        let mut block = None;
-        if !matches!(step, Ok(Step::NeedInput)) {
-            let (line, n) = self.interp.state.current_block();
-            let state = &self.interp.state;
-            let read = BlockState { line, n, modal: state.modal_state(), plane: state.active_plane() };
-            let part = state.modal_part_changed().then(|| Box::new(state.modal_part()));
-            self.cycle.blocks_mut().push(Item::Block(self.executing.read(read, !produced, part)));
-            block = Some(read);
-        }
-        // A path stage may release a block it held together with the one just read (cutter
-        // compensation: the block before a G40): each block's commands end at its own stop.
-        // A canned cycle's stop point (FANUC: operations 1, 2 and 6 of each hole) ends a stretch
-        // of the block the same way, before the next motion (after the commands without motion
-        // that follow the marked one: a spindle restarted), and the next stretch is read as a
-        // block of its own (the same line and state, a new serial), so that single block
-        // switched on under way finds the stop among the segments read ahead too.
-        let mut line = out.first().map(|c| c.line);
+    /// Queue a block's commands (`block`: the block just read, whose stretches they may be).
+    /// A canned cycle's stop point (FANUC: operations 1, 2 and 6 of each hole) ends a stretch
+    /// of the block, before the next motion (after the commands without motion that follow the
+    /// marked one: a spindle restarted), and the next stretch is read as a block of its own
+    /// (the same line and state, a new serial), so that single block switched on under way
+    /// finds the stop among the segments read ahead too. Commands of several lines end each
+    /// line at its own stop.
+    fn push_commands(&mut self, commands: Vec<Canon>, block: Option<BlockState>) {
+        let mut line = commands.first().map(|c| c.line);
         let mut cycle_stop = false;
-        for c in out {
+        for c in commands {
             let motion = match &c.kind {
                 CanonKind::Motion(m) => Some(m.context.cycle_stop),
                 _ => None,
@@ -1503,6 +1507,39 @@ impl Controller {
             cycle_stop = motion.unwrap_or(cycle_stop);
             self.cycle.blocks_mut().push(Item::Canon(c));
         }
+    }
+
+    fn run_block(&mut self) {
+        let mut out = Vec::new();
+        let banned = self.interp.wse_forbids_manual();
+        let step = self.interp.step(&mut out);
+        let stage_alarm = self.stages.process(&mut out, crate::run::ends(&step));
+        let produced = !out.is_empty();
+        let read = (!matches!(step, Ok(Step::NeedInput))).then(|| {
+            let (line, n) = self.interp.state.current_block();
+            let state = &self.interp.state;
+            let part = state.modal_part_changed().then(|| Box::new(state.modal_part()));
+            (BlockState { line, n, modal: state.modal_state(), plane: state.active_plane() }, part)
+        });
+        // A path stage may release blocks it held together with the one just read (cutter
+        // compensation: the block before a G40, or every block while it reads ahead): their
+        // commands go ahead of this block's marker, so that they are shown with the block
+        // they belong to (they showed the one read, a G40 while the machine cut compensated),
+        // and each block's commands end at its own stop.
+        let own = read.as_ref().map_or(0, |(b, _)| out.iter().position(|c| c.line == b.line).unwrap_or(out.len()));
+        let mut out = out.into_iter();
+        let earlier: Vec<Canon> = out.by_ref().take(own).collect();
+        if !earlier.is_empty() {
+            self.push_commands(earlier, None);
+            self.cycle.blocks_mut().push(Item::BlockEnd);
+        }
+        let block = read.map(|(read, part)| {
+            self.cycle.blocks_mut().push(Item::Block(self.executing.read(read, !produced, part)));
+            read
+        });
+        let mine: Vec<Canon> = out.collect();
+        let ends_own = !mine.is_empty();
+        self.push_commands(mine, block);
         if self.interp.wse_forbids_manual() != banned {
             self.cycle.blocks_mut().push(Item::WseNoManual(!banned));
         }
@@ -1514,7 +1551,7 @@ impl Controller {
         }
         match step {
             Ok(Step::Continue) => {
-                if produced {
+                if ends_own {
                     self.cycle.blocks_mut().push(Item::BlockEnd);
                 }
             }

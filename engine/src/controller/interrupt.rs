@@ -156,8 +156,10 @@ impl Controller {
     /// moves by `amount` as a shift over the program, at the handle clamp (No.1424), within the
     /// strokes (for the machine where it is and every point queued ahead, with the new shift);
     /// answers the amount taken. Discarded (0): the select code chooses nothing, an earlier
-    /// pulse's move is still under way, or a 5-axis feed while a block moving a rotary axis
-    /// executes (S000-IV §2 note 2: "must not be generated"; no alarm is named).
+    /// pulse's move is still under way, a 5-axis feed while a block moving a rotary axis
+    /// executes (S000-IV §2 note 2: "must not be generated"; no alarm is named), or any pulse
+    /// in a cutter compensation for 5-axis machining (S000 §3.5.1: the manual handle
+    /// interruption "cannot be used" there; no alarm is named).
     pub(super) fn handle_interrupt(&mut self, amount: f64) -> Result<f64, Refusal> {
         if self.estop || self.run_state == RunState::Alarm {
             return Err(Refusal::Busy);
@@ -166,7 +168,7 @@ impl Controller {
             // No automatic operation under way: nothing to interrupt.
             return Err(Refusal::WrongMode);
         }
-        if self.interrupt.moving.is_some() {
+        if self.interrupt.moving.is_some() || self.in_five_axis_compensation() {
             return Ok(0.0);
         }
         let target = self.panel.manual_signals.handle_target(self.machine.kinematics().map(|k| &**k), &self.machine);

@@ -808,6 +808,34 @@ fn the_modal_state_shown_is_the_executing_blocks() {
     assert_eq!(c.modal(), c.interpreter().state.modal_state());
 }
 
+/// Cutter compensation holds a block until it has read the next (here the last compensated
+/// move comes out with the G40 block): the block shows its own state while it runs — G41 and
+/// its own line — not the G40 read with it.
+#[test]
+fn a_block_released_late_by_cutter_compensation_shows_its_own_state() {
+    use fivex_engine::interp::gcode::display;
+    let m = MachineConfig::preset("mill3").unwrap();
+    let mut c = Controller::new(Config::new(m, Dialect::Fanuc));
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
+    let program = "G90 G54 G00 X-20. Y0 Z0\nG41 D1 G01 X0 F1000.\nY40.\nX40.\nG40 X60. Y60.\nM30\n";
+    c.select_program(program).unwrap();
+    c.cycle_start().unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    while c.run_state() == RunState::Running && c.time() < 60.0 {
+        c.tick(TICK);
+        let line = c.point().line;
+        seen.insert(line);
+        let comp = display(c.modal().modal(7));
+        match line {
+            2..=4 => assert_eq!(comp, "G41", "line {line} executes compensated"),
+            5 => assert_eq!(comp, "G40", "the cancel block"),
+            _ => {}
+        }
+    }
+    assert!(seen.is_superset(&[2, 3, 4, 5].into()), "lines shown: {seen:?}");
+    assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+}
+
 /// The tilted working plane shown is the executing block's (the 3D view draws its frame): while
 /// the moves in the plane run, the plane is G68.2's even after the interpreter has read the G69
 /// behind them; after G69 there is none.

@@ -512,3 +512,40 @@ fn reset_hands_the_machine_position_back_at_once() {
     assert!(near(&p.machine[..2], &[held.machine[0], 4.5], 1e-9), "{:?}", p.machine);
     assert!(near(&p.work[..2], &[held.work[0], 0.5], 1e-9), "{:?}", p.work);
 }
+
+/// In a cutter compensation for 5-axis machining (here the tool side offset G41.2 under
+/// G43.4) S000 §3.5.1 makes the manual handle interruption unusable (its pulses are discarded:
+/// no alarm is named) and a manual interruption operation a PS alarm (PS5460, the mode's;
+/// nothing moves). Cutter compensation C (G41) keeps both.
+#[test]
+fn five_axis_cutter_compensation_takes_no_handle_interruption_and_no_intervention() {
+    let program = |comp: &str| {
+        let head = if comp == "G41.2" { "G43.4 H1\n" } else { "G43 H1\n" };
+        format!("G90 G00 X-50. Y0 Z0 B0 C0\n{head}{comp} D1\nG01 X0 F1000.\nX100.\nG40 X150.\nG49\nM30\n")
+    };
+    for (comp, five_axis) in [("G41.2", true), ("G41", false)] {
+        let run = || {
+            let mut c = controller("head-bc");
+            c.interpreter_mut().state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
+            c.set_manual_signals(signals(false, false, false, 2)).unwrap();
+            start(&mut c, &program(comp), 4.0);
+            c
+        };
+        let mut c = run();
+        let taken = c.handle_pulses(2.0).unwrap();
+        assert_eq!(taken, if five_axis { 0.0 } else { 2.0 }, "{comp}: handle interruption");
+        let mut c2 = run();
+        c2.feed_hold();
+        settle(&mut c2, 2.0);
+        assert_eq!(c2.run_state(), RunState::Hold, "{comp}");
+        let at = c2.point().machine;
+        assert_eq!(c2.set_mode(Mode::Jog), Ok(()));
+        let alarm = c2.alarms().first().map(|a| a.code.clone());
+        if five_axis {
+            assert_eq!((alarm.as_deref(), c2.run_state()), (Some("PS5460"), RunState::Alarm), "{comp}");
+            assert_eq!(c2.point().machine, at, "{comp}: nothing moved");
+        } else {
+            assert_eq!(alarm, None, "{comp}: an intervention");
+        }
+    }
+}
