@@ -1589,13 +1589,15 @@ impl State {
         }
     }
 
-    /// A motion in machine coordinates (G53, reference returns).
+    /// A motion in machine coordinates (G53, reference returns). Its programmed point is the
+    /// current point after it, in the system the block programs in: in a tilted plane the tip
+    /// in the FCS (TWP-13), under G54.4's tool direction compensation the tip in the WSCS
+    /// (the workpiece point read off the machine would be another system's under that name).
     fn emit_machine_motion(&mut self, machine: Pos, out: &mut Vec<Canon>) {
-        let target = self.machine_to_program(&machine);
-        self.emit_motion_at(MotionKind::MachineRapid, target, machine, None, out);
-        // In a tilted plane the current point is the tip in the FCS (TWP-13).
+        self.pos = self.machine_to_program(&machine);
         self.plane_moved_to(machine);
         self.wse_moved_to(machine);
+        self.emit_motion_at(MotionKind::MachineRapid, self.pos, machine, None, out);
         self.sync_programmed();
     }
 

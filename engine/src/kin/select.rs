@@ -31,6 +31,11 @@ pub struct Choice {
 /// Exact ties (FANUC: "when equal, the next rule decides") allow for rounding only.
 const TIE: f64 = 1e-9;
 
+/// Syntec P0: master travels that differ by less than a rotary axis's least increment
+/// (0.001°) are equal, so that a direction given to six digits (`G43.5 I J K`) and the same
+/// direction computed exactly choose alike.
+const MASTER_TIE: f64 = 1e-3;
+
 /// The member of `basic + 360k` nearest `current` within `range` (FANUC: a range with both
 /// limits 0 is no range). Of two equally near members the one nearer 0 wins, then the larger
 /// (spec Q-32 leaves this open).
@@ -169,18 +174,21 @@ impl Kinematics {
     }
 
     /// Syntec SYN-22: P0 the master's shortest path (the other solution if that one leaves
-    /// a range, target or path); P1/P2 the master turning positive/negative, no fallback. The
-    /// slave takes its shortest path. Ranges: Pr3009–3012, start → end in the positive sense.
+    /// a range, target or path: manual §2.1 note 6); P1/P2 the master turning positive/negative
+    /// to the nearer of the two targets that way, COR-153 if it leaves a range (note 7: no
+    /// fallback). The slave takes its shortest path. Ranges: Pr3009–3012, start → end in the
+    /// positive sense. Master travels equal within [`MASTER_TIE`] go to the smaller slave
+    /// travel (the manual is silent, spec Q-25: FANUC's cascade judges the second axis next).
     fn select_syntec(&self, candidates: &[Candidate], from: &[f64], p: u8) -> Result<Choice, AlarmId> {
         if p > 2 {
             return Err(AlarmId::AlignmentP);
         }
         let joints = self.joints();
-        // (master travel, candidate, positions) for every candidate whose paths stay in range.
-        let mut options: ArrayVec<(f64, Choice), 2> = ArrayVec::new();
+        // (master travel, slave travel, whether target and paths stay in range, positions).
+        let mut options: ArrayVec<([f64; 2], bool, Choice), 2> = ArrayVec::new();
         for (ci, c) in candidates.iter().enumerate() {
             let mut pos = c.pos.clone();
-            let mut master_travel = 0.0;
+            let mut travel = [0.0; 2];
             let mut fits = true;
             for (k, j) in joints.iter().enumerate() {
                 let Some(i) = j.index else { continue };
@@ -198,15 +206,29 @@ impl Kinematics {
                 };
                 pos[i] = from[i] + delta;
                 fits &= syntec_path_in_range(from[i], delta, j.range);
-                if k == 0 {
-                    master_travel = delta.abs();
-                }
+                travel[k.min(1)] = delta.abs();
             }
-            options.push((if fits { master_travel } else { f64::INFINITY }, Choice { pos, candidate: ci }));
+            options.push((travel, fits, Choice { pos, candidate: ci }));
         }
-        options.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
-        match options.into_iter().next() {
-            Some((travel, choice)) if travel.is_finite() => Ok(choice),
+        // P0 chooses among the solutions that fit; P1/P2 take theirs or none.
+        if p == 0 {
+            options.retain(|(_, fits, _)| *fits);
+        }
+        let better = |a: &[f64; 2], b: &[f64; 2]| {
+            if (a[0] - b[0]).abs() < MASTER_TIE {
+                a[1] < b[1] - TIE
+            } else {
+                a[0] < b[0]
+            }
+        };
+        let mut best: Option<([f64; 2], bool, Choice)> = None;
+        for option in options {
+            if best.as_ref().is_none_or(|b| better(&option.0, &b.0)) {
+                best = Some(option);
+            }
+        }
+        match best {
+            Some((_, true, choice)) => Ok(choice),
             _ => Err(AlarmId::NoRotarySolution),
         }
     }

@@ -149,6 +149,45 @@ fn syntec_ranges_fall_back_and_then_fail() {
     assert_eq!(k.select(&k.inverse(Vec3::zeros(), v, 0.0, &from), &from, p2), Err(AlarmId::NoRotarySolution));
 }
 
+/// Manual §2.1 note 7: with P1 or P2 a target (or path) out of range is COR-153, not the other
+/// solution (P0's fallback, note 6). From C0 P2 turns −60° to (B15, C−60); with the slave B
+/// allowed only from 270° to 0° that is out, and the other solution (B−15, reached by C −240°)
+/// is not taken. The same for P1 with B allowed from 0° to 90°.
+#[test]
+fn syntec_p1_and_p2_do_not_fall_back() {
+    let solve = |range: [f64; 2], p: u8| {
+        let mut m = spec_machine("head-bc");
+        m.rotary[1].range = Some(range);
+        let k = Kinematics::new(&m).unwrap();
+        let v = k.forward(&[0.0, 0.0, 0.0, 15.0, -60.0], 0.0).tool;
+        let from = [0.0; 5];
+        let how = Selection { dialect: Dialect::Syntec, pri: false, p };
+        k.select(&k.inverse(Vec3::zeros(), v, 0.0, &from), &from, how)
+            .map(|c| [c.pos[3], c.pos[4]].map(|a| (a * 1e9).round() / 1e9))
+    };
+    assert_eq!(solve([270.0, 0.0], 2), Err(AlarmId::NoRotarySolution));
+    assert_eq!(solve([270.0, 0.0], 1), Ok([-15.0, 120.0]));
+    assert_eq!(solve([270.0, 0.0], 0), Ok([-15.0, 120.0]), "P0 falls back");
+    assert_eq!(solve([0.0, 90.0], 1), Err(AlarmId::NoRotarySolution));
+    assert_eq!(solve([0.0, 90.0], 2), Ok([15.0, -60.0]));
+}
+
+/// P0 with the master's two paths equally long (Q-25, decision): the smaller slave travel. From
+/// (B30, C0) to the tool of (B30, C−90) the master turns 90° either way; (B−30, C90) would swing
+/// the tool 60° through the vertical. A direction given to six digits chooses alike.
+#[test]
+fn syntec_p0_breaks_a_master_tie_on_the_slave() {
+    let k = Kinematics::new(&spec_machine("head-bc")).unwrap();
+    let from = [0.0, 0.0, 0.0, 30.0, 0.0];
+    let how = Selection { dialect: Dialect::Syntec, pri: false, p: 0 };
+    let exact = k.forward(&[0.0, 0.0, 0.0, 30.0, -90.0], 0.0).tool;
+    let six_digits = exact.map(|x| (x * 1e6).round() / 1e6);
+    for v in [exact, six_digits, Vec3::new(6e-7, exact.y, exact.z)] {
+        let c = k.select(&k.inverse(Vec3::zeros(), v, 0.0, &from), &from, how).unwrap();
+        assert!((c.pos[3] - 30.0).abs() < 1e-3 && (c.pos[4] + 90.0).abs() < 1e-3, "{v:?}: {:?}", c.pos);
+    }
+}
+
 /// The singular posture of each kind: the tool along the axis at the workpiece end of the chain,
 /// where the inverse leaves that axis free (and keeps it where it is).
 #[test]

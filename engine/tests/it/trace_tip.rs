@@ -147,6 +147,29 @@ fn tilted_plane_tip_is_in_the_workpiece_system_programmed_in_the_feature_system(
     }
 }
 
+/// A move in machine coordinates in a tilted plane (G28's return, TWP-13) shows its programmed
+/// point in the FCS, as its `feature` label says: it ends at the tip seen from the plane, which
+/// is what #5001… read after it. The trace showed the machine position under that name (110 mm
+/// off).
+#[test]
+fn a_reference_return_in_a_tilted_plane_shows_the_tip_in_the_feature_system() {
+    let src = "N1 G90 G00 X50. Y20. Z-100.\nN2 G68.2 X0 Y0 Z0 I0 J30. K0\nN3 G53.1\nN4 G43 H1 Z50.\n\
+               N5 G00 X10. Y5.\nN6 G91 G28 Z0\nN7 G90\nN8 G49\nN9 G69\nN10 M30\n";
+    let (samples, _) = trace(src, "head-bc", Dialect::Fanuc);
+    // The FCS: turned 30° about X (Euler I0 J30 K0), origin at the workpiece zero.
+    let (s, c) = (0.5, 3f64.sqrt() / 2.0);
+    let in_plane = |t: [f64; 3]| [t[0], c * t[1] + s * t[2], -s * t[1] + c * t[2]];
+    let on_return: Vec<_> = samples.iter().filter(|x| x.line == 6).collect();
+    assert!(on_return.len() > 20, "{} samples of the return", on_return.len());
+    let (first, last) = (on_return[0].machine[2], on_return.last().unwrap().machine[2]);
+    assert!(first > 100.0 && last.abs() < 1e-3, "Z from {first} to {last}, not to machine zero");
+    assert!(on_return.iter().all(|x| x.programmed_in == System::Feature));
+    // The return cancels the length vector (the tip read without it from the block's start, as
+    // in a G43 block the programmed point and the tip part there); it ends on the tip.
+    let end = on_return.last().unwrap();
+    assert!(dist(end.programmed, in_plane(end.tip)) < 1e-3, "{:?} vs {:?}", end.programmed, in_plane(end.tip));
+}
+
 /// The length the block takes from the offset memory (set by G10 L10 in the program) is the one
 /// the tip is read with.
 #[test]
