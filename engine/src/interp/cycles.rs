@@ -485,6 +485,13 @@ impl State {
                     dwell(self, out);
                 }
                 self.spindle(SpindleState::Stop, out);
+                if code == code::G88 {
+                    // The hold for the manual retraction: the machine stops at the bottom, the
+                    // operator may jog the tool out, and cycle start goes on with the return
+                    // (FANUC G88; the Haas list's "bore in, dwell, manual retract"). It rapided
+                    // out on its own, as G86 does.
+                    self.emit(out, CanonKind::Stop { optional: false, message: None });
+                }
                 self.move_drill_axis(d, ret, Rapid, out)?;
                 self.spindle(SpindleState::Cw, out);
             }

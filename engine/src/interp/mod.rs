@@ -283,6 +283,10 @@ pub struct State {
     tool_in_spindle: u32,
     h: u32,
     d: u32,
+    /// The offset value of D in effect: read from the offset memory when a D is given or
+    /// compensation starts up, so a G10 (or `#13001…`, the API) to the offset in use waits for
+    /// the next (FANUC No.5001#4 EVR = 0), as the length waits for the next H.
+    radius: f64,
     e: f64,
     last_m: u32,
     /// G09 in the block being executed: its motions stop at their end.
@@ -431,6 +435,7 @@ pub struct ModalPart {
     tool_in_spindle: u32,
     h: u32,
     d: u32,
+    radius: f64,
     e: f64,
     spindle: crate::canon::SpindleState,
     look_ahead: bool,
@@ -834,6 +839,7 @@ impl State {
             tool_in_spindle: 0,
             h: 0,
             d: 0,
+            radius: 0.0,
             e: 0.0,
             last_m: 0,
             exact_stop: false,
@@ -912,6 +918,7 @@ impl State {
             tool_in_spindle: self.tool_in_spindle,
             h: self.h,
             d: self.d,
+            radius: self.radius,
             e: self.e,
             spindle: self.spindle,
             look_ahead: self.look_ahead,
@@ -957,6 +964,7 @@ impl State {
             tool_in_spindle,
             h,
             d,
+            radius,
             e,
             spindle,
             look_ahead,
@@ -980,7 +988,7 @@ impl State {
             wse,
         } = part.clone();
         (self.modes, self.wcs_p, self.s, self.t, self.tool_in_spindle) = (modes, wcs_p, s, t, tool_in_spindle);
-        (self.h, self.d, self.e, self.spindle, self.look_ahead) = (h, d, e, spindle, look_ahead);
+        (self.h, self.d, self.radius, self.e, self.spindle, self.look_ahead) = (h, d, radius, e, spindle, look_ahead);
         (self.pocket_r, self.expr, self.pos, self.xf, self.local) = (pocket_r, expr, pos, xf, local);
         (self.shift, self.tool_vec, self.length_cancelled, self.cycle) = (shift, tool_vec, length_cancelled, cycle);
         (self.last_g28_mid, self.five, self.tcp, self.table_crc) = (last_g28_mid, five, tcp, table_crc);

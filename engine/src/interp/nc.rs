@@ -752,6 +752,7 @@ impl State {
         let machine_before = self.machine_position();
         let length_before = self.tool_vec;
         let comp_before = self.modes[group::CUTTER_COMP];
+        let d_before = self.d;
         let dwo_before = self.modes[group::DYNAMIC_FIXTURE];
         let mut axes_owner: Option<u16> = None;
         let mut one_shots: [u16; 12] = [0; 12];
@@ -838,13 +839,20 @@ impl State {
             self.pos = self.machine_to_program(&machine_before);
             self.sync_programmed();
         }
-        if comp_before == code::G40 && code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) {
+        let comp = self.modes[group::CUTTER_COMP];
+        let conventional = matches!(comp, code::G41 | code::G42);
+        // G41/G42 in force since an offset number 0 (which is no offset, `stage::cutter`) and
+        // now another D: a start-up as after G40.
+        let offset_again = conventional && matches!(comp_before, code::G41 | code::G42) && d_before == 0 && self.d != 0;
+        let starts_up = comp_before == code::G40 && code::COMPENSATED_BY_STAGES.contains(&comp) || offset_again;
+        if w.integer(b'D').is_some() || starts_up {
+            self.radius = self.offsets.radius(self.d);
+        }
+        if starts_up {
             // The start-up block starts here (`stage::cutter`); with No.5003#1 SUV a G00/G01
             // block without an axis word of the plane starts up perpendicular to the next move.
             // The G41.3 block moves by the leading edge offset's first vector when the next
             // block comes (`stage::leading_edge`).
-            let comp = self.modes[group::CUTTER_COMP];
-            let conventional = matches!(comp, code::G41 | code::G42);
             let tool_side = code::TOOL_SIDE.contains(&comp);
             let inserts =
                 (conventional || tool_side) && self.perpendicular_start_stop(w, tool_side) || comp == code::G41_3;
@@ -1443,7 +1451,7 @@ impl State {
             tool_length: if length_on { self.offsets.length(self.h) } else { 0.0 },
             cutter_comp: self.modes[group::CUTTER_COMP],
             d: self.d,
-            cutter_radius: if comp_on { self.offsets.radius(self.d) } else { 0.0 },
+            cutter_radius: if comp_on { self.radius } else { 0.0 },
             path_mode: self.modes[group::PATH_MODE],
             exact_stop: self.exact_stop || self.modes[group::PATH_MODE] == code::G61,
             fixed_feed: self.modes[group::PATH_MODE] == code::G63 || code::TAPPING.contains(&self.modes[group::CYCLE]),

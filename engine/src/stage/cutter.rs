@@ -425,7 +425,7 @@ impl Cutter {
 
     fn motion(&mut self, c: Canon, out: &mut Vec<Canon>) {
         let CanonKind::Motion(m) = &c.kind else { unreachable!("motions only") };
-        let comp = matches!(m.context.cutter_comp, code::G41 | code::G42);
+        let comp = offsets(m);
         if !self.on && !comp {
             out.push(c);
             return;
@@ -794,6 +794,15 @@ fn cancel_toward(h: &Held, d: P2) -> Vec<P2> {
     }
 }
 
+/// Whether a motion is in offset mode: G41/G42 with an offset number other than 0. D0 is no
+/// offset: in offset mode its block is an offset cancel, as a G40 block is (an arc there is
+/// PS0034), and the start-up waits for a block with a D other than 0 (FANUC 15i-MA §14.3,
+/// "Offset mode cancel": "0 has been commanded as the offset number"; its start-up needs
+/// "0 < offset number"). It compensated by 0: the corners around it were placed as corners.
+fn offsets(m: &Motion) -> bool {
+    matches!(m.context.cutter_comp, code::G41 | code::G42) && m.context.d != 0
+}
+
 /// The signed offset radius of a motion: positive puts the tool on the left.
 fn signed_radius(m: &Motion) -> f64 {
     let side = if m.context.cutter_comp == code::G42 { -1.0 } else { 1.0 };
@@ -1034,7 +1043,7 @@ impl Stage for Cutter {
             && self.word.is_none()
             && self.after.is_empty();
         idle && match &command.kind {
-            CanonKind::Motion(m) => !matches!(m.context.cutter_comp, code::G41 | code::G42),
+            CanonKind::Motion(m) => !offsets(m),
             CanonKind::Cutter(_) => false,
             _ => true,
         }

@@ -185,6 +185,28 @@ fn single_block_and_program_stops_wait_for_cycle_start() {
     }
 }
 
+/// G88 (boring, manual retraction): after the dwell at the bottom the spindle stops and the
+/// machine holds there; the operator jogs the tool out and cycle start goes on with the return
+/// to the initial level (G98) and the spindle forward. It rapided out of the hole on its own.
+#[test]
+fn g88_holds_at_the_hole_bottom_for_the_manual_retraction() {
+    use fivex_engine::controller::ProgramStop;
+    let prog = "G90 G00 X0 Y0 Z50.\nS800 M03\nG98 G88 X10. Z-10. R2. P500 F600\nG80\nM30\n";
+    let mut c = started(prog);
+    run_until_stopped(&mut c, 30.0);
+    assert_eq!((c.run_state(), c.program_stop()), (RunState::Idle, Some(ProgramStop::Stop)));
+    assert_eq!((c.point().machine[0], c.point().machine[2], c.spindle()), (10.0, -10.0, 0.0));
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('Z', 30.0).unwrap();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.point().machine[2], 20.0, "jogged out of the hole");
+    c.set_mode(Mode::Auto).unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 30.0);
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert_eq!((c.run_state(), c.point().machine[2], c.spindle()), (RunState::Idle, 50.0, 800.0));
+}
+
 /// The optional stop switch acts where the machine reaches M01, and the block delete switch on
 /// the blocks read after it is flipped, as the panel shows them: both were taken at cycle start
 /// only, so an M01 the machine had not reached passed with the switch shown on, and a `/` block

@@ -159,6 +159,16 @@ fn change_of_radius_takes_effect_at_the_end_of_its_block() {
     );
 }
 
+/// A new value in the offset memory (G10 L12, `#13001…`, the API) for the D in use waits for
+/// the next D (FANUC No.5001#4 EVR = 0), as a length waits for the next H: the contour after
+/// the G10 keeps 5 until `D1` is given again, then that block runs to the new value's vector.
+/// It acted at once.
+#[test]
+fn a_new_offset_value_waits_for_the_next_d() {
+    let src = "G90 G00 X-20. Y0 Z0\nG41 D1 G01 X0. Y0. F500\nX20.\nG10 L12 P1 R1.\nX40.\nD1 X60.\nG40 X80.\nM30\n";
+    assert_ends(src, &[(1, -20.0, 0.0), (2, 0.0, 5.0), (3, 20.0, 5.0), (5, 40.0, 5.0), (6, 60.0, 1.0), (7, 80.0, 0.0)]);
+}
+
 #[test]
 fn one_block_without_motion_in_the_plane_keeps_the_corner() {
     // Z between two moves in the plane: the corner is the intersection (15,5); Z moves there.
@@ -402,6 +412,44 @@ fn i_j_k_in_a_g41_block_are_refused_not_ignored() {
     // In an arc's block I and J are its centre: G41 given again there runs (rule 5).
     let src = "G90 G00 X-10. Y0 Z0\nG41 D1 G01 X0. F500\nX20.\nG41 G03 X30. Y10. I0 J10.\nG01 Y20.\nG40 X40.\nM30\n";
     assert_eq!(centre(src, Fanuc).1, None);
+}
+
+/// D0 in offset mode is an offset cancel, as G40 is (FANUC 15i-MA §14.3, "Offset mode
+/// cancel": "0 has been commanded as the offset number"), and a later D other than 0 is a new
+/// start-up: the block before D0 ends at its perpendicular vector (type A, outside corner) and
+/// the D0 block runs from there to its programmed end; the D1 block starts up perpendicular to
+/// the block after it. It compensated by 0 instead: the corners before and after were placed
+/// as offset-mode corners (3.8 mm off at the D1 block).
+#[test]
+fn d0_in_offset_mode_cancels_and_the_next_d_starts_up_again() {
+    let src = "G90 G00 X-20. Y0 Z0\nG42 D1 G01 X0. Y0. F500\nX50.\nX0. Y20. D0\nY40.\nD1 X-10. Y60.\n\
+               X-60. Y50.\nG40 X-110. Y40.\nM30\n";
+    // Right of the direction (−50, −10): (−10, 50)/√2600.
+    let n = [-10.0 / 2600f64.sqrt(), 50.0 / 2600f64.sqrt()];
+    assert_ends(
+        src,
+        &[
+            (1, -20.0, 0.0),
+            (2, 0.0, -5.0),
+            (3, 50.0, -5.0),
+            (4, 0.0, 20.0),
+            (5, 0.0, 40.0),
+            (6, -10.0 + 5.0 * n[0], 60.0 + 5.0 * n[1]),
+            (7, -60.0 + 5.0 * n[0], 50.0 + 5.0 * n[1]),
+            (8, -110.0, 40.0),
+        ],
+    );
+    // G41 D0 starts nothing: the block with D1 is the start-up (perpendicular to the next one).
+    let src = "G90 G00 X0 Y0 Z0\nG41 D0 G01 X0. Y0. F500\nY50. D1\nX40. Y20.\nG40 X80. Y-10.\nM30\n";
+    let d = [0.8, -0.6];
+    assert_ends(
+        src,
+        &[(1, 0.0, 0.0), (2, 0.0, 0.0), (3, 5.0 * -d[1], 50.0 + 5.0 * d[0]), (4, 43.0, 24.0), (5, 80.0, -10.0)],
+    );
+    // An arc with D0 in offset mode is an arc in the cancel block: PS0034, the tool stops.
+    let src = "G90 G00 X-20. Y-20. Z0\nG41 D1 G01 X0. Y0. F500\nY50.\nG02 X50. Y0. R50. D0\nG01 X0.\nG40 X-30.\nM30\n";
+    let r = run_with(src, "mill3", Fanuc);
+    assert_eq!((r.alarms[0].code.as_str(), r.alarms[0].line), ("PS0034", 4), "{:?}", r.alarms);
 }
 
 #[test]
