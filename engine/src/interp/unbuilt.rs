@@ -169,6 +169,11 @@ const TABLE: &[NotBuilt] = &[
         when: When::Always,
         function: "modal macro call after every block (G66.1)",
     },
+    // FANUC's three-dimensional coordinate conversion: G68 with I, J, K (the axis of
+    // rotation; 15i-MA B-63324EN §13.9, 16i-LA B-63194EN §12). Run as the plane's rotation the
+    // axis was dropped and the contour turned in XY (audit xf 1). Syntec's and Haas's sources
+    // give I, J, K no meaning there: refused alike.
+    row(680, When::WithAny(b"IJK"), "three-dimensional coordinate conversion (G68 with I, J, K)"),
     row(721, When::Always, "figure copy (G72.1)"),
     row(722, When::Always, "figure copy (G72.2)"),
     row(811, When::Always, "chopping (G81.1)"),

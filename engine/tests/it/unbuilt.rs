@@ -209,6 +209,10 @@ const REFUSED: &[(&str, &[Dialect])] = &[
     ("G48 X1. D1", &[Fanuc, Syntec]),
     ("G54.2 P1", &[Fanuc, Syntec]),
     ("G60 X1.", &[Fanuc, Syntec, Haas]),
+    // FANUC's three-dimensional coordinate conversion: G68 with an axis of rotation I, J, K
+    // (audit xf 1: it ran as the plane's rotation, the contour turned in XY). The 2-D G68 runs.
+    ("G68 X0 Y0 Z0 I1. J0 K0 R90.", &[Fanuc, Syntec, Haas]),
+    ("G68 X0 Y0 R90. K1.", &[Fanuc, Syntec, Haas]),
     ("G72.1 P10 L2 X0 Y0 R90.", &[Fanuc, Syntec]),
     ("G72.2 P10 L2 I10. J0", &[Fanuc, Syntec]),
     ("G81.1 Z10. Q5. R2. F1000", &[Fanuc, Syntec]),
