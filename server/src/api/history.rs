@@ -24,7 +24,7 @@ pub struct Limit {
 
 fn limit(q: Result<Query<Limit>, QueryRejection>) -> Result<u32, ApiError> {
     let q = q.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
-    Ok(q.limit.unwrap_or(DEFAULT_LIMIT).clamp(1, MAX_LIMIT))
+    Ok(q.limit.unwrap_or(DEFAULT_LIMIT).min(MAX_LIMIT))
 }
 
 /// An alarm that was raised, with when.

@@ -94,7 +94,8 @@ impl Estimates {
 
 /// The key of running `source` on `interp` now: its texts, the machine (by identity: a parameter
 /// change makes a new one and clears the estimates), the dialect, the offsets, the common and
-/// retained variables, the modal state and the machine position.
+/// retained variables, the interface signals (#1000…: a program may branch on them), the
+/// workpiece (what a G31 touches), the modal state and the machine position.
 pub fn key(source: &Source, interp: &Interpreter) -> Key {
     let mut h = DefaultHasher::new();
     source.main.hash(&mut h);
@@ -105,6 +106,8 @@ pub fn key(source: &Source, interp: &Interpreter) -> Key {
     (std::sync::Arc::as_ptr(&interp.config().machine) as usize).hash(&mut h);
     format!("{:?}", interp.config().dialect).hash(&mut h);
     format!("{:?}", state.offsets).hash(&mut h);
+    (state.signals.inputs, state.signals.outputs).hash(&mut h);
+    format!("{:?}", interp.config().workpiece).hash(&mut h);
     // Not the timers (#3001/#3002), which run on while it stands: a program that reads them
     // still takes the same time.
     let retained = state.retained_variables().into_iter().filter(|(n, _)| !(3001..=3002).contains(n));

@@ -703,9 +703,9 @@ async fn cancel_elsewhere(
     Err(ServiceError::Unavailable(format!("fleet run {id}: its collector changed while it was being cancelled; retry")))
 }
 
-/// The stored runs, newest first, at most `limit` (1–10000).
+/// The stored runs, newest first, at most `limit` (0–10000).
 pub async fn list(db: &db::Db, limit: u32) -> Result<Vec<FleetRunRow>, ServiceError> {
-    Ok(db::fleet_runs(db, limit.clamp(1, 10_000)).await?)
+    Ok(db::fleet_runs(db, limit.min(10_000)).await?)
 }
 
 /// Run `id` as stored.

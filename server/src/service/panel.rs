@@ -222,6 +222,8 @@ pub enum Refused {
     Panel(Refusal),
     /// A cycle start with a program while another is under way.
     ProgramUnderWay,
+    /// A cycle start with a program in alarm (an emergency stop too): only a reset clears it.
+    InAlarm,
     /// Z-axis neglect where the dialect or the machine has none.
     NoZNeglect,
     /// A program restart refused: the state that refuses it (`restart_refused`).
@@ -247,6 +249,7 @@ impl From<Refused> for ServiceError {
                 Refused::ProgramUnderWay => {
                     "a program is under way: resume it with an empty cycle start, or reset first"
                 }
+                Refused::InAlarm => "the controller is in alarm (or its emergency stop is pressed): reset first",
                 Refused::NoZNeglect => "Z-axis neglect needs a FANUC controller and a Z axis",
                 Refused::Restart(why) => why,
             }
@@ -318,8 +321,12 @@ pub fn apply(
     let c: &mut Controller = &mut station.controller;
     match command {
         PanelCommand::CycleStart { program } => {
-            let fresh = run_state(c) == RunState::Idle;
+            let state = run_state(c);
+            let fresh = state == RunState::Idle;
             if let Some((n, composed)) = &program {
+                if state == RunState::Alarm {
+                    return Err(Refused::InAlarm);
+                }
                 if !fresh {
                     return Err(Refused::ProgramUnderWay);
                 }
@@ -702,5 +709,10 @@ mod tests {
         apply(&mut station, "c1", PanelCommand::Reset, &mut ended).unwrap();
         assert_eq!(station.controller.run_state(), RunState::Idle);
         assert!(matches!(ended.as_slice(), [Record::Run { result, .. }] if *result == "reset"), "{ended:?}");
+        // In alarm (here the emergency stop) a program's cycle start says to reset, not to
+        // resume (an empty cycle start is refused there too).
+        apply(&mut station, "c1", PanelCommand::EmergencyStop { pressed: true }, &mut ended).unwrap();
+        let start = PanelCommand::CycleStart { program: Some((1, "G01 X1.\nM30\n".into())) };
+        assert_eq!(apply(&mut station, "c1", start, &mut ended), Err(Refused::InAlarm));
     }
 }

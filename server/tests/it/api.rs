@@ -254,6 +254,10 @@ async fn a_program_runs_sets_variables_and_everything_survives_a_restart() {
     assert!((1.5..2.0).contains(&hours), "#3002 after the restart: {hours}");
     assert_eq!(again.get(&format!("{C}/{id}/programs/1")).await.text(), program);
     assert_eq!(again.get(&format!("{C}/{id}/runs")).await.json().as_array().unwrap().len(), 1);
+    // At most `limit` rows: 0 is none (it gave one).
+    assert_eq!(again.get(&format!("{C}/{id}/runs?limit=0")).await.json(), serde_json::json!([]));
+    assert_eq!(again.get(&format!("{C}/{id}/alarms?limit=0")).await.json()["history"], serde_json::json!([]));
+    assert_eq!(again.get("/api/v1/fleet/runs?limit=0").await.json(), serde_json::json!([]));
 }
 
 /// FANUC keeps G20/G21 through power off ("When the power is turned on, the G code is the same

@@ -165,5 +165,14 @@ fn the_key_changes_with_what_the_run_reads() {
     let common = estimate::key(&text.into(), station.controller.interpreter());
     assert_ne!(before, common, "a common variable");
     station.controller.interpreter_mut().state.offsets.work_mut(1)[0] = 5.0;
-    assert_ne!(common, estimate::key(&text.into(), station.controller.interpreter()), "a work offset");
+    let offset = estimate::key(&text.into(), station.controller.interpreter());
+    assert_ne!(common, offset, "a work offset");
+    // A program may branch on an input signal, and a G31 stops on the workpiece: the estimate
+    // kept its first answer after either changed (audit svc 1, 2).
+    station.controller.interpreter_mut().state.signals.inputs[0] = 1;
+    let signal = estimate::key(&text.into(), station.controller.interpreter());
+    assert_ne!(offset, signal, "an input signal");
+    let boxes = vec![fivex_engine::workpiece::Cuboid { min: [0.0, 0.0, -10.0], max: [10.0, 10.0, 20.0] }];
+    station.controller.set_workpiece(std::sync::Arc::new(fivex_engine::workpiece::Workpiece { boxes })).unwrap();
+    assert_ne!(signal, estimate::key(&text.into(), station.controller.interpreter()), "the workpiece");
 }
