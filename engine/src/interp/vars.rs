@@ -475,7 +475,10 @@ impl State {
             4301..=4330 => self.modal_address(n - 4300),
             5001..=5020 => self.in_input_unit(axis(5001)?, self.pos),
             5021..=5060 if self.cutter_vector => return Err(AlarmId::PositionInCompensation),
-            5021..=5040 => self.in_input_unit(axis(5021)?, self.machine_position()),
+            // Where the machine is: an axis under machine lock or Z-axis neglect stands still,
+            // a handle interruption's shift is in it (as the status's machine position; it read
+            // the program's machine coordinates, 30 mm off under a locked run).
+            5021..=5040 => self.in_input_unit(axis(5021)?, self.machine_view.real(&self.machine_position())),
             // The current point in the WCS, also under G54.4 (WSE-20).
             5041..=5060 => self.in_input_unit(axis(5041)?, self.wcs_position()),
             26000..=26099 => self.setting_errors.variable(n).ok_or(AlarmId::VariableOutOfRange)?,

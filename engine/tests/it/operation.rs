@@ -233,6 +233,18 @@ fn machine_lock_runs_the_program_without_moving_the_machine() {
     assert_eq!(&c.lock_offset()[..2], &[-100.0, -20.0]);
 }
 
+/// `#5021…` read where the machine is, as the status's machine position: under machine lock
+/// the axes stand still while `#5041…` follow the program (they read the program's machine
+/// coordinates, 100 mm off here).
+#[test]
+fn machine_position_variables_read_the_locked_axes_where_they_stand() {
+    let src = "G90 G01 X100. Y20. F3000.\n#100=#5021\n#101=#5022\n#102=#5041\nM30\n";
+    let c = ran(src, |c| c.set_machine_lock(true).unwrap());
+    let vars: Vec<_> = c.interpreter().state.common_variables();
+    assert_eq!(vars, [(100, 0.0), (101, 0.0), (102, 100.0)]);
+    assert_eq!(&c.point().machine[..2], &[0.0, 0.0]);
+}
+
 #[test]
 fn after_machine_lock_the_positions_disagree_until_the_reference_return() {
     let mut c = ran("G90 G01 X100. F3000.\nM30\n", |c| c.set_machine_lock(true).unwrap());
