@@ -1006,7 +1006,17 @@ impl Controller {
 
     /// A motion outside the program, in machine coordinates.
     fn push_manual(&mut self, kind: MotionKind, machine: Pos, feed: f64) {
-        self.push_manual_at(kind, machine, feed, (0, None));
+        self.push_manual_at(kind, machine, feed, self.manual_shown_at());
+    }
+
+    /// The block a manual move shows: in a manual intervention the program block it interrupted
+    /// (the program screen keeps it; the status showed line 0 until cycle start), none otherwise.
+    fn manual_shown_at(&self) -> (u32, Option<u32>) {
+        if self.cycle.intervening() {
+            (self.exec.here.line, self.exec.here.n)
+        } else {
+            (0, None)
+        }
     }
 
     /// [`Self::push_manual`] shown at a program block (`line`, N): a program restart's return.

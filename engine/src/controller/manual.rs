@@ -513,6 +513,7 @@ impl Controller {
         if self.interp.tcp_on() && !self.cycle.intervening() && !self.machine.five_axis.display_workpiece {
             seg = seg.keeping_program_xyz();
         }
+        (seg.line, seg.n) = self.manual_shown_at();
         self.exec.push(seg);
         self.set_state(RunState::Running);
         Ok(())

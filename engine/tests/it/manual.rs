@@ -391,10 +391,13 @@ fn intervention_during_a_block_tv_man_11_12() {
         held(&mut c, "G90 G01 X100. F600.\nY50.\nX0\n", 5.0);
         let stop = c.point().machine;
         assert!(stop[0] > 40.0 && stop[0] < 60.0, "{stop:?}");
+        assert_eq!(c.point().line, 1);
         c.set_mode(Mode::Handle).unwrap();
         c.handle('X', 1.0).unwrap();
         settle(&mut c, 5.0);
         assert!((c.point().machine[0] - stop[0] - 1.0).abs() < 1e-9);
+        // The interrupted block is still the one shown (it showed line 0 until cycle start).
+        assert_eq!(c.point().line, 1, "absolute {absolute}");
         let xs = resume(&mut c);
         let shift = if absolute { 0.0 } else { 1.0 };
         // N1's end: where Y starts to move.
