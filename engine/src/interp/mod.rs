@@ -4,6 +4,7 @@
 //! a block can change). Splitting them lets a block be borrowed from the programs while the state
 //! is mutated, with no copying on the hot path.
 
+mod calendar;
 mod chain;
 mod chamfer;
 mod corner_blend;
@@ -116,9 +117,6 @@ pub struct Config {
     pub nat: bool,
     /// Executed blocks after which the run stops with an alarm (endless loops, recursion).
     pub max_blocks: u64,
-    /// `#3011` (YYYYMMDD) and `#3012` (HHMMSS) at the start: the caller's clock.
-    pub date: f64,
-    pub time: f64,
     /// Arc end-point radius tolerance, mm (FANUC No.3410).
     pub arc_tolerance: f64,
     /// FANUC No.5400#0 RIN: the G68 angle R follows G90/G91 (a G91 R is added to the active
@@ -153,8 +151,6 @@ impl Config {
             pocket_calculator: false,
             nat: false,
             max_blocks: 50_000_000,
-            date: 0.0,
-            time: 0.0,
             arc_tolerance: 0.02,
             rotation_angle_incremental: true,
             fast_paths: true,
@@ -367,6 +363,8 @@ pub struct State {
     dwo_due: u8,
     /// Simulated time, seconds, advanced by the executor.
     clock_s: f64,
+    /// The host's local time against `clock_s` (`#3011`/`#3012`; none: both read 0).
+    wall_clock: Option<calendar::WallClock>,
     /// #3001 / #3002 are the clock minus these (they are writable).
     timer_ms_base: f64,
     timer_h_base: f64,
@@ -878,6 +876,7 @@ impl State {
             definition: plane::Definition::default(),
             dwo_due: 0,
             clock_s: 0.0,
+            wall_clock: None,
             timer_ms_base: 0.0,
             timer_h_base: 0.0,
             operating_s: 0.0,
@@ -1013,6 +1012,12 @@ impl State {
     /// Advance simulated time (the executor calls this as motion takes time).
     pub fn advance_time(&mut self, seconds: f64) {
         self.clock_s += seconds;
+    }
+
+    /// The host's local wall clock now (Unix seconds plus the UTC offset): `#3011`/`#3012` read
+    /// it, running on with simulated time (`calendar`).
+    pub fn set_wall_clock(&mut self, local_s: f64) {
+        self.wall_clock = Some(calendar::WallClock { local_s, at_clock_s: self.clock_s });
     }
 
     /// Persistent common variables `#500`–`#999`, to save between runs.

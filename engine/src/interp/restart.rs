@@ -248,6 +248,7 @@ impl State {
         self.wse_kinematics = now.wse_kinematics;
         self.axis_by_letter = now.axis_by_letter;
         self.clock_s = now.clock_s;
+        self.wall_clock = now.wall_clock;
         self.timer_ms_base = now.timer_ms_base;
         self.timer_h_base = now.timer_h_base;
         self.operating_s = now.operating_s;

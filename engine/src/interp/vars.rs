@@ -453,8 +453,14 @@ impl State {
             3002 => self.hour_timer(),
             3003 => self.sys3003,
             3004 => self.sys3004,
-            3011 => self.cfg.date,
-            3012 => self.cfg.time,
+            3011 | 3012 => {
+                let (date, time) = self.wall_clock.map_or((0.0, 0.0), |c| c.read(self.clock_s));
+                if n == 3011 {
+                    date
+                } else {
+                    time
+                }
+            }
             3901 => self.parts_done,
             // Haas: the tool in the spindle and the spindle speed (the commanded S while the
             // spindle turns, 0 stopped; the panel's spindle override is not the interpreter's).

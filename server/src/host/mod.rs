@@ -366,6 +366,14 @@ pub fn now_rfc3339() -> String {
     now.format(&time::format_description::well_known::Rfc3339).unwrap_or_default()
 }
 
+/// The host's local time as seconds since 1970-01-01 00:00 local (Unix time plus the zone's
+/// offset now): the controllers' calendar clock, `#3011`/`#3012`.
+pub fn local_now_s() -> f64 {
+    let now = chrono::Local::now();
+    (now.timestamp() + i64::from(now.offset().local_minus_utc())) as f64
+        + f64::from(now.timestamp_subsec_millis()) / 1000.0
+}
+
 /// The wall clock in Unix milliseconds (stream frames carry it so a client can measure lag).
 pub fn now_unix_ms() -> f64 {
     (time::OffsetDateTime::now_utc().unix_timestamp_nanos() / 1000) as f64 / 1000.0

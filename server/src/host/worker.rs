@@ -30,8 +30,9 @@ pub(super) fn run(inner: Weak<Inner>, index: usize, count: usize) {
             let all = inner.controllers.read().unwrap_or_else(|e| e.into_inner());
             mine = all.iter().skip(index).step_by(count).cloned().collect();
         }
+        let local_s = super::local_now_s();
         for hosted in &mine {
-            step(&inner, hosted, real_dt);
+            step(&inner, hosted, real_dt, local_s);
             hosted.ticked.store(super::since_epoch(now), Ordering::Relaxed);
         }
         drop(inner);
@@ -44,10 +45,13 @@ pub(super) fn run(inner: Weak<Inner>, index: usize, count: usize) {
 }
 
 /// Advance one controller and send out what it produced.
-fn step(inner: &Inner, hosted: &Hosted, real_dt: f64) {
+fn step(inner: &Inner, hosted: &Hosted, real_dt: f64, local_s: f64) {
     let watching = hosted.events.receiver_count() > 0;
     let positions = hosted.position.receiver_count() > 0;
     let mut station = hosted.station();
+    // #3011/#3012 read the host's clock (set each tick; between ticks it runs with simulated
+    // time, and so does it in an estimate run copied from this controller).
+    station.controller.interpreter_mut().state.set_wall_clock(local_s);
     station.controller.tick(real_dt * hosted.speed());
     let (messages, records) = station.collect(&hosted.id, real_dt, watching);
     let frame = positions.then(|| Reading::of(&station));

@@ -4,6 +4,7 @@
 
 use crate::common;
 
+use chrono::Timelike;
 use std::time::Duration;
 
 use axum::http::{Method, StatusCode};
@@ -194,6 +195,29 @@ async fn the_hour_timer_is_kept_where_it_stood_at_a_graceful_stop() {
     let again = TestApp { state, db_path: app.db_path.clone(), dir: tempfile::tempdir().unwrap() };
     let after = hours(again.get(&format!("{C}/{id}/variables/3002")).await);
     assert!(after >= before, "#3002 went back over the restart: {before} h before, {after} h after");
+}
+
+#[tokio::test]
+async fn a_program_reads_the_host_clock_as_date_and_time() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "clock", "preset": "mill3"})).await;
+    // Whole local seconds: what #3011/#3012 can show.
+    let local = || chrono::Local::now().naive_local().with_nanosecond(0).unwrap();
+    let before = local();
+    let reply = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "#100=#3011\n#101=#3012"})).await;
+    assert_eq!(reply.status, StatusCode::OK, "{}", reply.text());
+    wait_for(&app, &id, "idle").await;
+    let after = local();
+    let read = |n: u32| {
+        let app = &app;
+        let id = &id;
+        async move { app.get(&format!("{C}/{id}/variables/{n}")).await.json()["value"].as_f64().unwrap() as u32 }
+    };
+    let (date, time) = (read(100).await, read(101).await);
+    let read = chrono::NaiveDate::from_ymd_opt((date / 10_000) as i32, date / 100 % 100, date % 100)
+        .and_then(|d| d.and_hms_opt(time / 10_000, time / 100 % 100, time % 100))
+        .unwrap_or_else(|| panic!("#3011 = {date}, #3012 = {time} is no date and time"));
+    assert!(before <= read && read <= after, "#3011/#3012 read {read}, the host's clock was {before} … {after}");
 }
 
 #[tokio::test]
