@@ -36,6 +36,9 @@ pub(super) struct FiveAxisModes {
     crc_inside_tcp: bool,
     /// The last block was G41.3: this one must move.
     g41_3_move_due: bool,
+    /// The last block started G41.2/G42.2 perpendicular to the next movement (No.5003#1 SUV,
+    /// type C): this one must move by G00–G03.
+    suv_move_due: bool,
     /// A G68.2 P2/P3 definition in progress: 20 = P2 after Q0, 21/22 = P2 after Q1/Q2,
     /// 31 = P3 after Q1; 0 = none.
     twp_seq: u8,
@@ -62,6 +65,7 @@ impl FiveAxisModes {
         self.tcp_inside_crc = false;
         self.crc_inside_tcp = false;
         self.g41_3_move_due = false;
+        self.suv_move_due = false;
     }
 
     /// A reset ended G54.4 (WSE-21).
@@ -541,6 +545,30 @@ static RULES: &[Rule] = &[
             },
         )
     }),
+    // --- start-up and cancel perpendicular to the next movement (No.5003#1 SUV; the 16i's type C)
+    // The 30i's NOTE (5-axis manual §3.1.1) and the 16i's (A-78438E p.7): "the following
+    // conditions must always be satisfied". Neither names the alarm: fivex gives PS5460 of the
+    // same family (`docs/cutter-compensation.md`, 3-D rule 2 and "16i variant" 4).
+    rule(
+        Fanuc,
+        "crc CRC-08, TV-32: type C — the G41.2/G42.2/G40 block in G00/G01, without a move command",
+        A::IllegalCommandInMode,
+        |c| {
+            let starts_or_cancels = c.starts(group::CUTTER_COMP, |c, m| c.crc5(m) && is_crc_type1(m))
+                || c.crc5(c.before[group::CUTTER_COMP])
+                    && is_crc_type1(c.before[group::CUTTER_COMP])
+                    && c.after[group::CUTTER_COMP] == G40;
+            c.st.cfg.machine.motion.cutter_startup_perpendicular
+                && starts_or_cancels
+                && (!matches!(c.after[group::MOTION], G00 | G01) || c.any_axis())
+        },
+    ),
+    rule(
+        Fanuc,
+        "crc CRC-08, TV-32: type C — the block after G41.2/G42.2 moves by G00, G01, G02 or G03",
+        A::IllegalCommandInMode,
+        |c| c.five.suv_move_due && !(c.any_axis() && matches!(c.after[group::MOTION], G00 | G01 | G02 | G03)),
+    ),
     // --- the 16i variant of 3-D cutter compensation (`five_axis.crc_variant`, A-78438E) ------
     // The 16i names no alarm number for these ("the alarm is issued"): fivex gives the 30i's
     // PS5460 of the same family (a decision, `docs/cutter-compensation.md`, "16i variant").
@@ -549,21 +577,6 @@ static RULES: &[Rule] = &[
         "crc 16i A-78438E §1.1: G41.6/G42.6, G41.4/G42.4, G41.5/G42.5 are not 16i codes",
         A::ImproperGCode,
         |c| c.crc16i() && c.any(&[G41_6, G42_6, G41_4, G42_4, G41_5, G42_5]),
-    ),
-    rule(
-        Fanuc,
-        "crc 16i A-78438E p.7 NOTE: type C — the G41.2/G42.2/G40 block in G00/G01, without a move command",
-        A::IllegalCommandInMode,
-        |c| {
-            let starts_or_cancels = c.starts(group::CUTTER_COMP, |c, m| c.crc5(m) && is_crc_type1(m))
-                || c.crc5(c.before[group::CUTTER_COMP])
-                    && is_crc_type1(c.before[group::CUTTER_COMP])
-                    && c.after[group::CUTTER_COMP] == G40;
-            c.crc16i()
-                && c.st.cfg.machine.motion.cutter_startup_perpendicular
-                && starts_or_cancels
-                && (!matches!(c.after[group::MOTION], G00 | G01) || c.any_axis())
-        },
     ),
     rule(
         Fanuc,
@@ -770,6 +783,8 @@ fn next(c: &Ctx) -> FiveAxisModes {
         n.crc_inside_tcp = false;
     }
     n.g41_3_move_due = c.crc5(G41_3) && c.after[group::CUTTER_COMP] == G41_3 && c.before[group::CUTTER_COMP] != G41_3;
+    n.suv_move_due = c.st.cfg.machine.motion.cutter_startup_perpendicular
+        && c.starts(group::CUTTER_COMP, |c, m| c.crc5(m) && is_crc_type1(m));
     n.twp_seq = twp_sequence(c).unwrap_or(0);
     if c.twp(c.after[group::ROTATION]) {
         n.aligned |= c.any(&ALIGNMENTS);

@@ -162,19 +162,27 @@ fn no_19630_takes_a_short_move_as_a_block_without_movement() {
 }
 
 #[test]
-fn type_c_on_the_16i_takes_no_move_in_its_g41_2_or_g40_block() {
-    // No.5003#1 SUV (type C). A-78438E p.7 NOTE: the G40/G41.2/G42.2 block is in G00/G01 and has
-    // no move command. The 30i falls back to type A/B there (rule 13's decision); the 16i refuses
-    // it (PS5460, fivex's number: the 16i names none).
+fn type_c_takes_no_move_in_its_g41_2_or_g40_block_and_a_move_after_g41_2() {
+    // No.5003#1 SUV (type C), TV-32. The 30i's NOTE (5-axis manual §3.1.1) and the 16i's
+    // (A-78438E p.7): the G40/G41.2/G42.2 block is in G00/G01 and has no move command, and the
+    // block after G41.2/G42.2 moves by G00, G01, G02 or G03 — conditions that "must always be
+    // satisfied". PS5460, fivex's number: neither names one.
     let suv = |m: &mut MachineConfig| m.motion.cutter_startup_perpendicular = true;
     let moving_start = "G90 G00 X-50. Y0 Z0 B0 C0\nG41.2 D1 X-40.\nG01 X50. F500.\nY50.\nG40\nM30\n";
     let moving_cancel = "G90 G00 X-50. Y0 Z0 B0 C0\nG41.2 D1\nG01 X50. F500.\nY50.\nG40 X0\nM30\n";
     let arc_mode = "G90 G00 X-50. Y0 Z0 B0 C0\nG02 X-30. Y0 R10. F500.\nG41.2 D1\nG01 X50. F500.\nY50.\nG40\nM30\n";
+    let no_move_after = "G90 G00 X-50. Y0 Z0 B0 C0\nG01 G41.2 D1 F500.\nM08\nX50.\nY50.\nG40\nM30\n";
+    let dwell_after = "G90 G00 X-50. Y0 Z0 B0 C0\nG01 G41.2 D1 F500.\nG04 P100\nX50.\nY50.\nG40\nM30\n";
     let on_30i = |c: &mut Config| c.edit_machine(suv);
-    for (src, line) in [(moving_start, 2), (moving_cancel, 5), (arc_mode, 3)] {
+    for (src, line) in [(moving_start, 2), (moving_cancel, 5), (arc_mode, 3), (no_move_after, 3), (dwell_after, 3)] {
         assert_eq!(first_alarm_with(src, "head-bc", sixteen_i(suv)), Some(("PS5460".into(), line)), "{src}");
-        assert_ne!(first_alarm_with(src, "head-bc", on_30i).map(|a| a.0), Some("PS5460".into()), "{src}");
+        assert_eq!(first_alarm_with(src, "head-bc", on_30i), Some(("PS5460".into(), line)), "{src}");
+        // Without SUV (type A/B) the same programs start up and cancel with the moves.
+        assert_eq!(first_alarm_with(src, "head-bc", |_| {}), None, "{src}");
     }
+    // The block after G41.2 may move the rotary axes only, or by an arc (rule 13).
+    let rotary_after = "G90 G00 X-50. Y0 Z0 B0 C0\nG01 G41.2 D1 F500.\nB0.\nX50.\nY50.\nG40\nM30\n";
+    assert_eq!(first_alarm_with(rotary_after, "head-bc", on_30i), None);
     // Without a move, type C is the 30i's: a straight move of the G41.2 block by 5 perpendicular
     // to the first block, (−50, 5); the corner at (50, 0) inside, (45, 5); the block before the
     // G40 ends perpendicular to itself, (45, 50), and the G40 block moves to (50, 50).
