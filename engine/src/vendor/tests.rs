@@ -1190,11 +1190,13 @@ fn fanuc_16i_variant_19605_19630_round_trip() {
     let mut kin = p.clone();
     kin.set(19610, 4.0);
     kin.set(19622, 90.0);
+    // Set to 0 they say something too (RA = 0°, no axis): reported as well.
+    kin.set(19620, 0.0);
     kin.set(19605, 32.0 + 128.0);
     let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &kin).into_iter().map(|u| u.parameter).collect();
-    assert_eq!(names, ["No.19605#7", "No.19610", "No.19622"]);
+    assert_eq!(names, ["No.19605#7", "No.19610", "No.19620", "No.19622"]);
     let reasons = unmodelled::of_params(Dialect::Fanuc, &kin);
-    assert!(reasons[1].reason.contains("16i") && reasons[2].reason.contains("No.19680–19699"), "{reasons:?}");
+    assert!(reasons[1].reason.contains("16i") && reasons[3].reason.contains("No.19680–19699"), "{reasons:?}");
     // A 16i list with NI5 (No.19608#1) describes no machine: NI5 is the 30i's.
     let mut ni5 = p.clone();
     ni5.set(19608, 2.0);

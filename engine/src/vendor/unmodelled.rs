@@ -75,8 +75,11 @@ pub fn of_params(dialect: Dialect, given: &Params) -> Vec<Unmodelled> {
             Value::One(x) => vec![*x],
             Value::PerAxis(v) => v.clone(),
         };
-        // 0 is every parameter's value when not set: a parameter left there changes nothing.
-        if values.iter().all(|x| *x == 0.0) {
+        // 0 is every parameter's value when not set: a parameter left there changes nothing —
+        // except the 16i's tool description, where 0 says something (axis numbers, reference
+        // angles RA/RB 0°: the tool along linear axis 3) that fivex takes from elsewhere.
+        let sixteen_i_tool = dialect == Dialect::Fanuc && (19610..=19623).contains(&n);
+        if values.iter().all(|x| *x == 0.0) && !sixteen_i_tool {
             continue;
         }
         let with = |values: Vec<f64>| match value {
