@@ -625,6 +625,8 @@ impl Interpreter {
         st.locals.truncate(1);
         st.locals[0] = vars::Locals::default();
         st.modal_calls.clear();
+        // What the modal display and #4012 show follows: no call is left (it showed G66).
+        st.modes[group::MODAL_CALL] = code::G67;
         st.wse_between = None;
         st.block_limit = 0;
         st.nurbs = None;

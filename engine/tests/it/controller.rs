@@ -1341,6 +1341,32 @@ fn a_reset_ends_the_canned_cycle() {
     assert_eq!(c.point().machine[2], z);
 }
 
+#[test]
+fn a_reset_ends_the_modal_macro_call_and_shows_g67() {
+    use fivex_engine::interp::gcode::{code, group};
+    use fivex_engine::lang::{Source, Stored};
+    let main = "O1\nG90 G00 X0 Y0 Z50.\nG66 P9999 A5.\nX10.\nX20.\nX30.\nM30\n";
+    let macro_ = Stored { number: 9999, first_line: 8, text: "O9999\n#501=#501+1\nM99\n".into() };
+    let mut c = controller();
+    c.select_program(Source { main: main.into(), library: vec![std::sync::Arc::new(macro_)] }).unwrap();
+    c.cycle_start().unwrap();
+    while c.point().line != 5 && c.time() < 30.0 {
+        c.tick(TICK);
+    }
+    assert_eq!(c.modal().modal(group::MODAL_CALL), code::G66, "reset in the modal call");
+    c.reset();
+    run_until_stopped(&mut c, 10.0);
+    assert_eq!(c.interpreter().state.modal(group::MODAL_CALL), code::G67);
+    assert_eq!(c.modal().modal(group::MODAL_CALL), code::G67);
+    // And nothing calls O9999 at the next move.
+    let calls = c.interpreter().state.persistent()[1];
+    c.set_mode(Mode::Mdi).unwrap();
+    c.set_mdi("X40.").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 30.0);
+    assert_eq!(c.interpreter().state.persistent()[1], calls);
+}
+
 /// Stopping distance of mill3 (J = 80000 mm/s³, A = 4000 mm/s²) from a steady `v` mm/s: jerk
 /// down to a deceleration √(J·v) (within A for v ≤ A²/J = 200 mm/s) and back, in 2·√(v/J) s at
 /// a mean speed of v/2: v·√(v/J).
