@@ -784,6 +784,7 @@ impl Controller {
             self.exec.take_queued();
         }
         self.abandon_program();
+        self.interp.state.clear_commons_at_reset();
         // A G10 L5000 read ahead and dropped still switched the interpreter, whose state the next
         // program starts from: the machine takes its chain too.
         self.follow_chain(self.interp.config().machine.chain());

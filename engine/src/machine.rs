@@ -684,6 +684,11 @@ pub struct MotionOptions {
     /// (FANUC No.0000#2 INI, the setting of the input unit).
     #[serde(default, skip_serializing_if = "is_false")]
     pub power_on_inch: bool,
+    /// FANUC: a reset keeps the common variables #100–#199 (and #100000–#199999) instead of
+    /// clearing them to vacant (No.6001#6 CCV = 1; 0, the default, clears them). The Haas
+    /// NGC keeps them always; on Syntec they are a program's locals, vacant at each start.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub commons_kept_at_reset: bool,
     /// Cutter compensation C starts up and cancels by type B (FANUC No.5003#0 SUP = 1): at an
     /// outside corner the start-up block ends at the vector perpendicular to itself and the
     /// cancel block starts at the vector perpendicular to itself, the corner's own vectors

@@ -1022,6 +1022,16 @@ impl State {
         self.wall_clock = Some(calendar::WallClock { local_s, at_clock_s: self.clock_s });
     }
 
+    /// The operator's reset: FANUC clears the common variables #100–#199 and #100000–#199999
+    /// to vacant unless the machine keeps them (No.6001#6 CCV); the Haas NGC keeps them, and
+    /// Syntec's are a program's locals, vacant at each start anyway.
+    pub fn clear_commons_at_reset(&mut self) {
+        if self.cfg.dialect == crate::Dialect::Fanuc && !self.cfg.machine.motion.commons_kept_at_reset {
+            *self.common = [None; COMMON];
+            self.extended.retain(|&n, _| !(100_000..=199_999).contains(&n));
+        }
+    }
+
     /// Persistent common variables `#500`–`#999`, to save between runs.
     pub fn persistent(&self) -> &[Value; PERSISTENT] {
         &self.persistent

@@ -239,6 +239,9 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
     let nonlinear_rapid = p.0.contains_key(&1401) && !p.bit(1401, 1)?;
     // No.0000#2 INI: the input unit at power on (absent: 0, mm).
     let power_on_inch = p.0.contains_key(&0) && p.bit(0, 2)?;
+    // No.6001#6 CCV: a reset keeps #100–#199 (absent: 0, clears them). The other bits are not
+    // read (reported when set).
+    let commons_kept_at_reset = p.0.contains_key(&6001) && p.bit(6001, 6)?;
     // No.5003#0 SUP: cutter compensation start-up/cancel type B (absent: 0, type A); #1 SUV:
     // "perpendicular to the next movement" where the G41/G42/G40 block does not move in the
     // plane. The other bits are not read.
@@ -251,6 +254,7 @@ pub fn machine(name: &str, p: &Params) -> Result<MachineConfig, ConfigError> {
         helical_feed_on_path,
         nonlinear_rapid,
         power_on_inch,
+        commons_kept_at_reset,
         cutter_startup_type_b,
         cutter_startup_perpendicular,
         cutter_interference_avoidance,
@@ -577,6 +581,9 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
     }
     if m.motion.power_on_inch {
         p.set(0, 4.0);
+    }
+    if m.motion.commons_kept_at_reset {
+        p.set(6001, 64.0);
     }
     if m.motion.cutter_startup_type_b || m.motion.cutter_startup_perpendicular {
         let bits = m.motion.cutter_startup_type_b as u8 | (m.motion.cutter_startup_perpendicular as u8) << 1;

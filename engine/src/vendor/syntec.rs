@@ -344,6 +344,7 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         || o.cutter_startup_type_b
         || o.cutter_startup_perpendicular
         || o.cutter_interference_avoidance
+        || o.commons_kept_at_reset
         || o.after_interpolation != Default::default()
         || m.axes.iter().any(|a| a.after_interpolation_ms != 0.0 || a.rapid_after_interpolation_ms != [0.0; 2])
     {
@@ -351,8 +352,8 @@ pub fn params(m: &MachineConfig) -> Result<Params, ConfigError> {
         return Err(unrepresentable(
             "Syntec",
             "inch at power on (INI), HTG, LRP, the look-ahead settings and cutter compensation start-up types B \
-             and C (SUP, SUV), interference avoidance (CAV) and acceleration/deceleration after interpolation (No.1610, \
-             No.1620–1622) are FANUC settings",
+             and C (SUP, SUV), interference avoidance (CAV), #100–#199 kept at reset (CCV) and acceleration/deceleration \
+             after interpolation (No.1610, No.1620–1622) are FANUC settings",
         ));
     }
     p.set(3013, blu(holder));

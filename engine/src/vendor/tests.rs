@@ -1105,13 +1105,14 @@ fn fanuc_ini_power_on_inch_round_trip() {
     assert_eq!(params_of(Dialect::Fanuc, &back).unwrap(), p);
     assert!(params_of(Dialect::Syntec, &m).unwrap_err().detail.contains("INI"));
     // No FANUC motion setting is dropped silently from a Syntec list.
-    let settings: [fn(&mut crate::machine::MotionOptions); 6] = [
+    let settings: [fn(&mut crate::machine::MotionOptions); 7] = [
         |o| o.helical_feed_on_path = true,
         |o| o.nonlinear_rapid = true,
         |o| o.no_feed_look_ahead = true,
         |o| o.cutter_startup_type_b = true,
         |o| o.cutter_startup_perpendicular = true,
         |o| o.cutter_interference_avoidance = true,
+        |o| o.commons_kept_at_reset = true,
     ];
     for set in settings {
         let mut m = MachineConfig::preset("mill3").unwrap();
@@ -1120,6 +1121,27 @@ fn fanuc_ini_power_on_inch_round_trip() {
     }
     let plain = params_of(Dialect::Fanuc, &MachineConfig::preset("mill3").unwrap()).unwrap();
     assert!(!plain.0.contains_key(&0));
+}
+
+/// No.6001#6 CCV: a reset keeps #100–#199; the model's `motion.commons_kept_at_reset` both
+/// ways, and a list without it (or with 0) clears them, as a 30i by default.
+#[test]
+fn fanuc_ccv_commons_kept_at_reset_round_trip() {
+    let mut m = MachineConfig::preset("mill3").unwrap();
+    assert!(!params_of(Dialect::Fanuc, &m).unwrap().0.contains_key(&6001));
+    m.motion.commons_kept_at_reset = true;
+    let p = params_of(Dialect::Fanuc, &m).unwrap();
+    assert!(p.bit(6001, 6).unwrap());
+    let back = machine_from(Dialect::Fanuc, "m", &p).unwrap();
+    assert!(back.motion.commons_kept_at_reset);
+    assert_eq!(unmodelled::of_params(Dialect::Fanuc, &p), vec![]);
+    // Its other bits are not read: reported.
+    let mut other = p.clone();
+    other.set(6001, 64.0 + 128.0);
+    let names: Vec<String> = unmodelled::of_params(Dialect::Fanuc, &other).into_iter().map(|u| u.parameter).collect();
+    assert_eq!(names, ["No.6001#7"]);
+    other.set(6001, 0.0);
+    assert!(!machine_from(Dialect::Fanuc, "m", &other).unwrap().motion.commons_kept_at_reset);
 }
 
 /// No.19631 (the leading edge offset's Δθ) and No.19635 (the plane-change check's angle) are

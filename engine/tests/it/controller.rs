@@ -1367,6 +1367,32 @@ fn a_reset_ends_the_modal_macro_call_and_shows_g67() {
     assert_eq!(c.interpreter().state.persistent()[1], calls);
 }
 
+/// FANUC No.6001#6 CCV = 0 (the default): a reset clears the common variables #100–#199 and
+/// #100000–#199999 to vacant; CCV = 1 keeps them. #500–#999 stay either way; the Haas NGC
+/// keeps them always.
+#[test]
+fn a_reset_clears_the_common_variables_unless_ccv_keeps_them() {
+    let after_reset = |dialect: Dialect, kept: bool, mdi: &str| {
+        let mut m = MachineConfig::preset("mill3").unwrap();
+        m.motion.commons_kept_at_reset = kept;
+        let mut c = Controller::new(Config::new(m, dialect));
+        c.set_mode(Mode::Mdi).unwrap();
+        c.set_mdi(mdi).unwrap();
+        c.cycle_start().unwrap();
+        c.tick(1.0);
+        assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
+        let set = c.interpreter().state.common_variables();
+        c.reset();
+        (set, c.interpreter().state.common_variables())
+    };
+    let fanuc = "#102=9.\n#100102=8.\n#502=7.";
+    let all = vec![(102, 9.0), (502, 7.0), (100_102, 8.0)];
+    assert_eq!(after_reset(Dialect::Fanuc, false, fanuc), (all.clone(), vec![(502, 7.0)]));
+    assert_eq!(after_reset(Dialect::Fanuc, true, fanuc), (all.clone(), all));
+    let haas = vec![(102, 9.0), (502, 7.0)];
+    assert_eq!(after_reset(Dialect::Haas, false, "#102=9.\n#502=7."), (haas.clone(), haas));
+}
+
 /// Stopping distance of mill3 (J = 80000 mm/s³, A = 4000 mm/s²) from a steady `v` mm/s: jerk
 /// down to a deceleration √(J·v) (within A for v ≤ A²/J = 200 mm/s) and back, in 2·√(v/J) s at
 /// a mean speed of v/2: v·√(v/J).

@@ -2115,6 +2115,12 @@ export interface components {
              */
             after_interpolation?: components["schemas"]["AfterInterpolation"];
             /**
+             * @description FANUC: a reset keeps the common variables #100–#199 (and #100000–#199999) instead of
+             *     clearing them to vacant (No.6001#6 CCV = 1; 0, the default, clears them). The Haas
+             *     NGC keeps them always; on Syntec they are a program's locals, vacant at each start.
+             */
+            commons_kept_at_reset?: boolean;
+            /**
              * @description Cutter compensation C avoids an interference instead of stopping with PS0041 (FANUC
              *     No.19607#5 CAV = 1): a block whose compensated path runs against its programmed one is
              *     given no vector of its own, and the block before it ends where its offset path crosses
