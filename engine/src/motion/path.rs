@@ -281,8 +281,10 @@ struct Follow {
     /// The highest path speed the program's tolerance allows (FANUC CRS), and the curve a
     /// chord belongs to (`Motion::speed_cap`); infinite without.
     speed_cap: f64,
-    /// The rotary axes' speeds are held to a share of theirs (G54.4, No.11202/11203): only
-    /// the segment's own limits know it.
+    /// The axes' speeds are held below the machine's — the rotary axes to a share of theirs
+    /// (G54.4, No.11202/11203), every axis of a manual tip rotation to its manual rapid rate
+    /// (No.1424, `Segment::tip_rotation`): only the segment's own limits know it, so the
+    /// planner plans it with them, not against the machine's axes at every point.
     clamped: bool,
     /// The path's stretches with limits of their own (empty: one for the whole path); the
     /// planner queues each as a segment (`Segment::split`).
@@ -1968,10 +1970,6 @@ impl Segment {
         seg
     }
 
-    /// Tool tip centre rotation (FANUC MAN-11/12): the rotary axes go from `from` to the
-    /// rotary values of `to` in proportion (the path parameter is their angle, fed at
-    /// `feed_deg_min`), X/Y/Z keep the tool tip (`tool_length` long) where it is relative to
-    /// the table.
     /// A [`Segment::tip_rotation`] under tool centre point control: the tip stands still on
     /// the table, so its program coordinates (X/Y/Z in Π) stay what they were while the rotary
     /// axes turn (Syntec R519, TV-27b); the other axes still follow the machine.
@@ -1992,6 +1990,18 @@ impl Segment {
         self
     }
 
+    /// Tool tip centre rotation (FANUC MAN-11/12): the rotary axes go from `from` to the
+    /// rotary values of `to` in proportion (the path parameter is their angle, fed at
+    /// `feed_deg_min`), X/Y/Z keep the tool tip (`tool_length` long) where it is relative to
+    /// the table.
+    ///
+    /// `axes` are the manual move's limits (FANUC No.1424, TV-MAN-09), below the machine's:
+    /// the segment is planned with its own path limits, never against the machine's axes at
+    /// every point (`Follow::clamped`), so no axis passes its `axes.v` and the path speed is
+    /// the slowest axis's all along (the tip stays, the axes keep their proportions). The linear
+    /// axes' resultant (the carriage's tangential speed) is held to the lowest `axes.v` of the
+    /// linear axes that move (MAN-11/12: "the synthetic speed of the linear axes … does not
+    /// exceed the manual rapid traverse rate (No.1424) of any moving linear axis").
     pub fn tip_rotation(
         kin: std::sync::Arc<Kinematics>,
         from: &Pos,
@@ -2003,14 +2013,19 @@ impl Segment {
     ) -> Segment {
         let tip = kin.forward(from, tool_length).tip;
         let len = rotary_travel(&kin, from, to);
-        let follow = Follow::plain(kin, tool_length, tip, tip);
+        let linear: Vec<usize> = kin.linear.iter().flatten().copied().collect();
+        let follow = Follow { clamped: true, ..Follow::plain(kin, tool_length, tip, tip) };
         let end = follow.at(from, to, 1.0);
         let offset: Pos = std::array::from_fn(|i| work_from[i] - from[i]);
-        let grid = Grid::new(|u| follow.at(from, to, u), len, CELLS_PER_SAMPLE * 32, axes);
+        // Cells of at most half a degree: the bounds over a cell exceed the rates at its points
+        // by the bend over half of it (with 64 cells a JOG's full turn ran 5 % under its clamp).
+        let cells = (CELLS_PER_SAMPLE * 32).max((2.0 * len).ceil().min(4096.0) as usize);
+        let grid = Grid::new(|u| follow.at(from, to, u), len, cells, axes);
         let found = grid.whole();
+        let cap = linear_resultant_cap(&grid, &linear, axes, &found);
         // Whole: a handle interruption runs its tip rotation as the one run its planner
         // releases first (`controller/interrupt.rs`), so a manual rotation is never cut.
-        let (limits, _) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, f64::INFINITY, false);
+        let (limits, _) = kinematic_limits(&grid, axes, feed_deg_min / 60.0, cap, false);
         let mut seg = Segment {
             line: 0,
             block: 0,
@@ -2516,6 +2531,27 @@ fn programmed_speed(m: &Motion, len: f64) -> f64 {
 }
 
 /// The rotary axes' combined travel (degrees) from `from` to `to`.
+/// The highest path speed at which the resultant of the `linear` axes' speeds stays within
+/// the lowest `axes.v` of those that move (`found` the grid's bounds): the resultant's rate by
+/// s bounded over each cell as [`Grid::cell`] bounds an axis's (its points' largest, raised by
+/// the next derivative's times half the cell). Infinite when no linear axis moves.
+fn linear_resultant_cap(grid: &Grid, linear: &[usize], axes: &AxisLimits, found: &Sampled) -> f64 {
+    let tiny = 1e-12;
+    let clamp = linear.iter().filter(|&&i| found.rate[i] > tiny).map(|&i| axes.v[i]).fold(f64::INFINITY, f64::min);
+    let size = |k: usize, order: usize| linear.iter().map(|&i| grid.d[k][order][i].powi(2)).sum::<f64>().sqrt();
+    let rate = (0..grid.cells())
+        .map(|c| {
+            let half = 0.5 * grid.len * (grid.u[c + 1] - grid.u[c]);
+            size(c, 0).max(size(c + 1, 0)) + size(c, 1).max(size(c + 1, 1)) * half
+        })
+        .fold(0.0, f64::max);
+    if clamp.is_finite() && rate > tiny {
+        clamp / rate
+    } else {
+        f64::INFINITY
+    }
+}
+
 fn rotary_travel(kin: &Kinematics, from: &Pos, to: &Pos) -> f64 {
     (0..kin.axes).filter(|i| !kin.linear.contains(&Some(*i))).map(|i| (to[i] - from[i]).powi(2)).sum::<f64>().sqrt()
 }

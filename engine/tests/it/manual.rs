@@ -1193,3 +1193,152 @@ fn r519_keeps_the_program_xyz_and_the_position_variables_tv_27b() {
     assert!((m - Vec3::new(10.0, 20.0, 80.0)).norm() > 10.0, "the machine moved: {m:?}");
     assert!(close(xyz(&machine), [m.x, m.y, m.z], 1e-9), "{machine:?}");
 }
+
+// --- the clamp of tool tip centre rotation (MAN-11/12, TV-MAN-09) --------------------------
+
+/// How a tool tip centre rotation is started: the ±J signal with RNDH in JOG and in INC, the
+/// handle's pulses with RNDH and a select code of No.12313/12314, and the direct commands
+/// (the server's `/jog` and `/handle` with `tip_rotation`).
+#[derive(Debug, Clone, Copy)]
+enum TipTurn {
+    JogSignal,
+    IncSignal,
+    HandlePulses,
+    JogTip,
+    HandleTip,
+}
+
+/// What a tip rotation did, sampled every tick: each axis's top speed (units/min), the linear
+/// axes' resultant's, which linear axes moved, how far the tip strayed on the table (mm), and
+/// how far the rotary axis turned (degrees).
+struct Turned {
+    top: Vec<f64>,
+    resultant: f64,
+    moved: [bool; 3],
+    drift: f64,
+    turned: f64,
+}
+
+/// Turn rotary axis `axis` (index `i`) positive about the tip by `how`.
+fn tip_turn(c: &mut Controller, m: &MachineConfig, axis: char, i: usize, how: TipTurn) -> Turned {
+    let kin = &Kinematics::new(m).unwrap();
+    let rndh = |select: u8| signals(false, false, true, false, select);
+    let length = c.manual_tool_length();
+    let tip = |p: &Pos| kin.forward(p, length).tip;
+    let start = c.point().machine;
+    match how {
+        TipTurn::JogSignal | TipTurn::JogTip => {
+            c.set_mode(Mode::Jog).unwrap();
+            c.set_manual_signals(rndh(0)).unwrap();
+            match how {
+                TipTurn::JogSignal => c.jog_signal(axis, true).unwrap(),
+                _ => c.jog_tip_rotation(axis, true).unwrap(),
+            }
+        }
+        TipTurn::IncSignal => {
+            c.set_mode(Mode::Inc).unwrap();
+            c.set_increment(10.0).unwrap();
+            c.set_manual_signals(rndh(0)).unwrap();
+            c.jog_signal(axis, true).unwrap();
+        }
+        TipTurn::HandlePulses => {
+            c.set_mode(Mode::Handle).unwrap();
+            let select = [13, 14]
+                .into_iter()
+                .find(|&s| rndh(s).handle_target(Some(kin), m) == ManualTarget::TipRotation(i))
+                .unwrap();
+            c.set_manual_signals(rndh(select)).unwrap();
+            assert_eq!(c.handle_pulses(15.0), Ok(15.0));
+        }
+        TipTurn::HandleTip => {
+            c.set_mode(Mode::Handle).unwrap();
+            c.handle_tip_rotation(axis, 15.0).unwrap();
+        }
+    }
+    let mut xs = vec![start];
+    if matches!(how, TipTurn::JogSignal | TipTurn::JogTip) {
+        for _ in 0..500 {
+            c.tick(TICK);
+            xs.push(c.point().machine);
+        }
+        c.jog_stop();
+    }
+    xs.extend(settle(c, 30.0));
+    assert_eq!(c.run_state(), RunState::Idle, "{how:?}: {:?}", c.alarms());
+    c.set_manual_signals(ManualSignals::default()).unwrap();
+    let step = |a: &Pos, b: &Pos, k: usize| {
+        let d = b[k] - a[k];
+        if k >= 3 {
+            (d + 180.0).rem_euclid(360.0) - 180.0
+        } else {
+            d
+        }
+    };
+    let top = (0..5).map(|k| xs.windows(2).map(|w| step(&w[0], &w[1], k).abs()).fold(0.0, f64::max) / TICK * 60.0);
+    let end = xs[xs.len() - 1];
+    Turned {
+        top: top.collect(),
+        resultant: xs.windows(2).map(|w| (xyz(&w[1]) - xyz(&w[0])).norm()).fold(0.0, f64::max) / TICK * 60.0,
+        moved: std::array::from_fn(|k| (end[k] - start[k]).abs() > 1e-6),
+        drift: xs.iter().map(|p| (tip(p) - tip(&start)).norm()).fold(0.0, f64::max),
+        turned: step(&start, &end, i),
+    }
+}
+
+/// TV-MAN-09 for tool tip centre rotation (MAN-11/12 "Feedrate clamp"): whichever way it is
+/// started, on head, table and mixed machines and about either rotary axis, no axis runs
+/// faster than its No.1424, the linear axes' resultant no faster than the lowest No.1424 of
+/// the linear axes that move, the tip stays where it is on the table, and the slowest of these
+/// constraints sets the speed of the whole move (it is reached). The JOG feeds ask for more
+/// (the dry run rate 6000 mm/min, the jog feed 100 000 deg/min), the handle as fast as the
+/// clamp allows. Before, the rotation was planned against the machine's own axis rates: the
+/// outside tester's head-bc case (first set) ran X at 23 500 mm/min and B at 7 180 deg/min
+/// under a clamp of 1000.
+#[test]
+fn tip_rotation_keeps_to_the_manual_rapid_clamp_tv_man_09() {
+    let machines = [
+        ("head-bc", "G90 G00 X0 Y0 Z0 B30. C0", ['B', 'C']),
+        ("table-ac", "G90 G00 X50. Y20. Z0 A30. C0", ['A', 'C']),
+        ("table-bc", "G90 G00 X50. Y20. Z0 B30. C0", ['B', 'C']),
+        ("mixed-bc", "G90 G00 X50. Y20. Z0 B30. C0", ['B', 'C']),
+    ];
+    let clamps = [[1000.0; 5], [1000.0, 800.0, 1200.0, 900.0, 500.0]];
+    let turns = [TipTurn::JogSignal, TipTurn::IncSignal, TipTurn::HandlePulses, TipTurn::JogTip, TipTurn::HandleTip];
+    for (name, setup, rotary) in machines {
+        for rapid in clamps {
+            for axis in rotary {
+                for how in turns {
+                    let mut m = preset(name);
+                    m.manual.handle_codes = [0, 0, 0, 13, 14];
+                    (m.manual.tool_length, m.manual.dry_run_feed) = (100.0, 6000.0);
+                    m.manual.rapid = rapid.to_vec();
+                    let i = m.axis_index(axis as u8).unwrap();
+                    let mut c = controller(m.clone(), Dialect::Fanuc);
+                    c.panel.jog_feed = 100_000.0;
+                    mdi(&mut c, setup);
+                    let t = tip_turn(&mut c, &m, axis, i, how);
+                    let case =
+                        format!("{name} {axis} {how:?} No.1424 {rapid:?}: top {:?}, resultant {}", t.top, t.resultant);
+                    let over = |v: f64, limit: f64| v > limit * (1.0 + 1e-6) + 1e-6;
+                    for (k, (&v, &limit)) in t.top.iter().zip(&rapid).enumerate() {
+                        assert!(!over(v, limit), "{case}: axis {k} over its No.1424");
+                    }
+                    let linear = (0..3).filter(|&k| t.moved[k]).map(|k| rapid[k]).fold(f64::INFINITY, f64::min);
+                    assert!(!over(t.resultant, linear), "{case}: the resultant over {linear}");
+                    let share = (t.top[i] / rapid[i]).max(t.resultant / linear);
+                    assert!(share > 0.98, "{case}: the slowest constraint not reached ({share})");
+                    assert!(t.drift < 1e-6, "{case}: the tip strayed {} mm", t.drift);
+                    let amount = match how {
+                        TipTurn::IncSignal => Some(10.0),
+                        TipTurn::HandlePulses | TipTurn::HandleTip => Some(15.0),
+                        _ => None,
+                    };
+                    match amount {
+                        Some(a) => assert!((t.turned - a).abs() < 1e-9, "{case}: turned {}", t.turned),
+                        None => assert!(t.turned > 1.0, "{case}: turned {}", t.turned),
+                    }
+                }
+            }
+        }
+    }
+}
