@@ -2530,7 +2530,6 @@ fn programmed_speed(m: &Motion, len: f64) -> f64 {
     per_minute / 60.0
 }
 
-/// The rotary axes' combined travel (degrees) from `from` to `to`.
 /// The highest path speed at which the resultant of the `linear` axes' speeds stays within
 /// the lowest `axes.v` of those that move (`found` the grid's bounds): the resultant's rate by
 /// s bounded over each cell as [`Grid::cell`] bounds an axis's (its points' largest, raised by
@@ -2552,6 +2551,7 @@ fn linear_resultant_cap(grid: &Grid, linear: &[usize], axes: &AxisLimits, found:
     }
 }
 
+/// The rotary axes' combined travel (degrees) from `from` to `to`.
 fn rotary_travel(kin: &Kinematics, from: &Pos, to: &Pos) -> f64 {
     (0..kin.axes).filter(|i| !kin.linear.contains(&Some(*i))).map(|i| (to[i] - from[i]).powi(2)).sum::<f64>().sqrt()
 }
