@@ -293,6 +293,35 @@ mod tests {
         assert_eq!(last.said, Said::Unavailable);
     }
 
+    /// A rename rebuilds the device's model: a range across it was two DeviceStreams of one
+    /// uuid with the same componentIds (XML IDs). One stream, named as the device is now.
+    #[test]
+    fn a_range_across_a_rebuilt_model_is_one_device_stream() {
+        let machine = Arc::new(Machine::new(MachineConfig::preset("mill3").unwrap()));
+        let mut b = Buffer::new(1000);
+        b.observe(&round(1, vec![entry(&machine, 0.0, &[])]));
+        let mut renamed = (*entry(&machine, 1.0, &[])).clone();
+        renamed.name = "two".into();
+        b.observe(&round(2, vec![Arc::new(renamed)]));
+        let sender = super::super::documents::Sender { sender: "h".into(), instance_id: 1, buffer_size: 1000 };
+        let root = super::super::documents::streams(&sender, &b, b.range(1, 1000), b.next_sequence());
+        let xml = super::super::doc::xml(&root, "Streams");
+        assert_eq!(xml.matches("<DeviceStream ").count(), 1, "{xml}");
+        assert!(xml.contains("<DeviceStream name=\"two\" uuid=\"c1\""), "{xml}");
+        let ids: Vec<&str> = xml
+            .match_indices("componentId=\"")
+            .map(|(at, m)| {
+                let rest = &xml[at + m.len()..];
+                &rest[..rest.find('"').unwrap()]
+            })
+            .collect();
+        let mut unique = ids.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(ids.len(), unique.len(), "{ids:?}");
+        assert_eq!(xml.matches("_avail\"").count(), 2, "both models' observations: {xml}");
+    }
+
     /// Two controllers of one name were two devices of that name: `/{name}/current` answered
     /// for the first only. The later one is named with the head of its id, and takes the
     /// plain name when the first is gone.
