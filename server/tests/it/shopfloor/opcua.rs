@@ -302,3 +302,45 @@ async fn on_postgresql_the_certificate_is_temporary() {
     assert!(status.success(), "{status}: {}", served.log());
     assert!(!pki.exists(), "{} removed at the stop", pki.display());
 }
+
+/// An alarm raised and reset within one period of the observer was never seen: the observer
+/// sampled the controller's alarm list, empty again at both readings, so MTConnect had no Fault
+/// and OPC UA no event although the alarm history had it. The observer now reads the
+/// controller's alarm changes as they happened: the Fault then the Normal of the reset, and the
+/// event.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_alarm_reset_within_one_observer_period_is_still_seen() {
+    use http_body_util::{BodyExt, Empty};
+    let served =
+        Served::start(&["--opcua", "127.0.0.1:0", "--mtconnect", "127.0.0.1:0", "--shopfloor-period-ms", "2000"]);
+    let agent = format!("http://{}", announced(|| served.log(), "MTConnect agent at http://"));
+    let opcua = Opcua::wrap(served, None);
+    let id = opcua.create("quick", "mill3").await;
+    opcua.store(&id, 2, ALARM).await;
+    let base = opcua.served.url("");
+    // Resets as soon as the REST status says alarm: well within the 2 s period.
+    let lines = opcua.client("none", "-", "-", &["quick", "quick", &base, &id, "2", "5"]).await;
+    let events: Vec<&Value> = lines.iter().filter(|l| l["kind"] == "event").collect();
+    assert_eq!(events.len(), 1, "the alarm's event: {lines:?}");
+    assert_eq!(events[0]["message"], "MC3001 BOOM");
+    assert_eq!(events[0]["identifier"], "MC3001");
+    let history = opcua.api(Method::GET, &format!("/controllers/{id}/alarms"), Value::Null).await.json();
+    assert_eq!(history["history"].as_array().map(Vec::len), Some(1), "{history}");
+
+    let client = hyper_util::client::legacy::Client::builder(hyper_util::rt::TokioExecutor::new()).build_http();
+    let url = format!("{agent}/{id}/sample?from=1&count=10000");
+    let response = client.request(hyper::Request::get(url).body(Empty::<bytes::Bytes>::new()).unwrap()).await.unwrap();
+    let body = response.into_body().collect().await.unwrap().to_bytes();
+    let sample = String::from_utf8(body.to_vec()).unwrap();
+    let fault = sample.find("<Fault ").unwrap_or_else(|| panic!("no Fault: {sample}"));
+    assert!(sample[fault..].contains("nativeCode=\"MC3001\""), "{sample}");
+    // The Normal of the reset comes after the Fault (by sequence).
+    let sequence = |at: usize| -> u64 {
+        let rest = &sample[at..];
+        let start = rest.find(" sequence=\"").unwrap() + 11;
+        rest[start..start + rest[start..].find('"').unwrap()].parse().unwrap()
+    };
+    let normals: Vec<u64> = sample.match_indices("<Normal ").map(|(at, _)| sequence(at)).collect();
+    assert!(normals.iter().any(|&n| n > sequence(fault)), "a Normal after the Fault: {sample}");
+    assert_eq!(opcua.status(&id).await["run_state"], "idle");
+}

@@ -210,17 +210,8 @@ def rest(base, method, path, body=None):
         return json.loads(response.read() or b"null")
 
 
-async def cmd_watch(client, args):
-    """Subscribes to machine NAME's X position and channel state and to its events, then over
-    the REST API at BASE (the controller ID): runs program 1 for SECONDS, resets, runs program 2
-    (which raises an alarm) and waits up to 20 s for the alarm's event."""
-    name, base, cid, seconds = args[0], args[1], args[2], float(args[3])
-    node = await machine(client, name)
-    x = await child(node, "Axes", "X", "ActualPosition")
-    state = await child(node, "Monitoring", "Channel1", "ChannelState")
-    collector = Collector({x.nodeid.to_string(): "x", state.nodeid.to_string(): "channel_state"})
-    subscription = await client.create_subscription(100, collector)
-    await subscription.subscribe_data_change([x, state])
+async def subscribe_alarms(client, subscription, node):
+    """Subscribes `subscription` to the alarm events of machine `node`."""
     fivex = await client.get_namespace_index(FIVEX)
     event_type = client.get_node(ua.NodeId("ControllerAlarmEventType", fivex))
     # The fields of the type and its supertypes, and the type by OfType: async-opcua 0.19
@@ -232,6 +223,20 @@ async def cmd_watch(client, args):
     )
     evfilter.WhereClause = ua.ContentFilter(Elements=[of_type])
     await subscription.subscribe_events(node, event_type, evfilter=evfilter)
+
+
+async def cmd_watch(client, args):
+    """Subscribes to machine NAME's X position and channel state and to its events, then over
+    the REST API at BASE (the controller ID): runs program 1 for SECONDS, resets, runs program 2
+    (which raises an alarm) and waits up to 20 s for the alarm's event."""
+    name, base, cid, seconds = args[0], args[1], args[2], float(args[3])
+    node = await machine(client, name)
+    x = await child(node, "Axes", "X", "ActualPosition")
+    state = await child(node, "Monitoring", "Channel1", "ChannelState")
+    collector = Collector({x.nodeid.to_string(): "x", state.nodeid.to_string(): "channel_state"})
+    subscription = await client.create_subscription(100, collector)
+    await subscription.subscribe_data_change([x, state])
+    await subscribe_alarms(client, subscription, node)
     out(kind="subscribed", at=time.monotonic())
     rest(base, "POST", f"/api/v1/controllers/{cid}/cycle-start", {"program": 1})
     await asyncio.sleep(seconds)
@@ -245,6 +250,27 @@ async def cmd_watch(client, args):
     deadline = time.monotonic() + 20
     while not collector.events and time.monotonic() < deadline:
         await asyncio.sleep(0.1)
+    await subscription.delete()
+
+
+async def cmd_quick(client, args):
+    """Subscribes to machine NAME's events, then over the REST API at BASE (the controller ID)
+    runs program PROGRAM, resets it as soon as the REST status shows its alarm (well within an
+    observer period) and collects the events for SECONDS more."""
+    name, base, cid, program, seconds = args[0], args[1], args[2], int(args[3]), float(args[4])
+    node = await machine(client, name)
+    collector = Collector({})
+    subscription = await client.create_subscription(100, collector)
+    await subscribe_alarms(client, subscription, node)
+    rest(base, "POST", f"/api/v1/controllers/{cid}/cycle-start", {"program": program})
+    deadline = time.monotonic() + 10
+    while rest(base, "GET", f"/api/v1/controllers/{cid}")["run_state"] != "alarm":
+        if time.monotonic() > deadline:
+            break
+        await asyncio.sleep(0.005)
+    rest(base, "POST", f"/api/v1/controllers/{cid}/reset")
+    out(kind="reset", at=time.monotonic())
+    await asyncio.sleep(seconds)
     await subscription.delete()
 
 
@@ -265,6 +291,7 @@ COMMANDS = {
     "positions": cmd_positions,
     "names": cmd_names,
     "watch": cmd_watch,
+    "quick": cmd_quick,
     "call": cmd_call,
 }
 
