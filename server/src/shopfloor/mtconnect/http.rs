@@ -274,13 +274,14 @@ fn collect(buffer: &Buffer, window: &Window) -> (Vec<Observation>, u64) {
 }
 
 /// `/sample?interval=`: a `multipart/x-mixed-replace` stream of Streams documents, each as soon
-/// as there is something new (but not sooner than `interval` after the last), an empty one
-/// after `heartbeat` without news. A client that falls out of the buffer gets an Error part
+/// as there is something new (but not sooner than `interval` after the last, unless the last
+/// held `count` observations and more are waiting: then at once), an empty one after
+/// `heartbeat` without news. A client that falls out of the buffer gets an Error part
 /// and the stream ends.
 fn stream(s: Shared, format: Format, window: Window, interval: Duration, heartbeat: Duration) -> Response {
     let boundary = uuid::Uuid::new_v4().simple().to_string();
     let content_type = format!("multipart/x-mixed-replace;boundary={boundary}");
-    let state = Streaming { s, format, window, interval, heartbeat, boundary, last: None, done: false };
+    let state = Streaming { s, format, window, interval, heartbeat, boundary, last: None, more: false, done: false };
     let body = futures_util::stream::unfold(state, |mut st| async move {
         let part = st.next_part().await?;
         Some((Ok::<Bytes, std::convert::Infallible>(part), st))
@@ -297,6 +298,8 @@ struct Streaming {
     boundary: String,
     /// When the last part was sent.
     last: Option<Instant>,
+    /// The last part held `count` observations and more were there: the next one goes at once.
+    more: bool,
     done: bool,
 }
 
@@ -311,8 +314,10 @@ impl Streaming {
             if *stopped.borrow() {
                 return None;
             }
-            // Not sooner than `interval` after the last part.
-            if let Some(last) = self.last {
+            // Not sooner than `interval` after the last part, unless that part could not hold
+            // all there was: what is left goes at once (else a client that asks for fewer than
+            // the machines make per interval falls further behind each interval).
+            if let Some(last) = self.last.filter(|_| !self.more) {
                 tokio::time::sleep_until(last + self.interval).await;
             }
             let due = self.last.map_or(Instant::now(), |l| l + self.heartbeat);
@@ -333,6 +338,8 @@ impl Streaming {
                 } else {
                     let (observations, after) = collect(&buffer, &self.window);
                     self.window.from = after;
+                    // `collect` stops short of the end only when it found `count`.
+                    self.more = after < buffer.next_sequence();
                     // Only another device's news: nothing to send until the heartbeat.
                     if observations.is_empty() && self.last.is_some() && Instant::now() < due {
                         drop(buffer);

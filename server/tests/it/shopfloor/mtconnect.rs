@@ -469,3 +469,59 @@ async fn a_sample_across_a_rebuilt_device_model_has_one_stream_per_device_and_va
     bodies.push(part.to_string());
     validate(&bodies);
 }
+
+/// `sample?interval=` sent at most `count` observations per interval however many were
+/// waiting, so a stream fell behind busy machines (and ended OUT_OF_RANGE once the buffer no
+/// longer held its next one). A part that could not hold all there was is followed at once by
+/// the next: the stream keeps up, gaplessly.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stream_sends_what_count_left_over_at_once_and_keeps_up() {
+    let agent = Agent::start(&["--shopfloor-period-ms", "20"]);
+    let mut ids = Vec::new();
+    for (i, preset) in ["table-ac", "head-bc", "mill3"].iter().enumerate() {
+        ids.push(agent.create(&format!("busy{i}"), preset, "fanuc").await);
+    }
+    let start: u64 = attribute(&agent.get("/current").await.body, "<Header", "nextSequence").unwrap().parse().unwrap();
+    for id in &ids {
+        agent.mdi(id, "G91 G01 X200. Y100. F1200").await;
+    }
+    tokio::time::sleep(Duration::from_millis(300)).await;
+
+    let url = format!("{}/sample?from={start}&interval=1000&count=20", agent.base);
+    let response = agent.client.request(Request::get(url).body(Empty::new()).unwrap()).await.unwrap();
+    assert_eq!(response.status(), 200);
+    let content_type = response.headers()["content-type"].to_str().unwrap().to_string();
+    let boundary = content_type.split("boundary=").nth(1).expect("a multipart stream").to_string();
+    let streamed = tokio::spawn(async move {
+        let mut body = response.into_body();
+        let mut text = String::new();
+        let deadline = Instant::now() + Duration::from_millis(3500);
+        while let Ok(Some(Ok(frame))) = tokio::time::timeout_at(deadline.into(), body.frame()).await {
+            if let Ok(data) = frame.into_data() {
+                text.push_str(&String::from_utf8_lossy(&data));
+            }
+        }
+        text
+    });
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    let agent_next: u64 =
+        attribute(&agent.get("/current").await.body, "<Header", "nextSequence").unwrap().parse().unwrap();
+    let text = streamed.await.unwrap();
+
+    let parts: Vec<&str> = text.split(&format!("--{boundary}")).filter(|p| p.contains("</MTConnectStreams>")).collect();
+    let mut expected = start;
+    for part in &parts {
+        let next: u64 = attribute(part, "<Header", "nextSequence").unwrap().parse().unwrap();
+        let mut seen = sequences(part);
+        seen.sort_unstable();
+        assert!(seen.len() <= 20, "at most count per part");
+        assert_eq!(seen, (expected..next).collect::<Vec<_>>(), "streamed part [{expected}, {next})");
+        expected = next;
+    }
+    assert!(agent_next > start + 200, "the machines made only {} observations by 1.5 s", agent_next - start);
+    assert!(
+        expected >= agent_next,
+        "the stream fell behind: at 3.5 s it had reached {expected}, the agent was at {agent_next} by 1.5 s ({} parts)",
+        parts.len()
+    );
+}
