@@ -525,3 +525,24 @@ async fn a_stream_sends_what_count_left_over_at_once_and_keeps_up() {
         parts.len()
     );
 }
+
+/// A path segment that is not UTF-8 once percent-decoded got axum's `text/plain` 400: it is an
+/// MTConnectError document (`INVALID_URI`, as for any path the agent does not answer), in the
+/// form asked for, valid against the schema.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_path_that_is_not_utf8_is_an_mtconnect_error() {
+    let agent = Agent::start(&[]);
+    let mut bodies = Vec::new();
+    for path in ["/%FF/probe", "/%C3%28/current", "/%FF/sample?count=5", "/%FF/assets", "/asset/%FF", "/%FF"] {
+        let reply = agent.get(path).await;
+        assert_eq!(reply.status, 404, "{path}: {}", reply.body);
+        assert!(reply.content_type.starts_with("text/xml"), "{path}: {}", reply.content_type);
+        assert_eq!(attribute(&reply.body, "<Error", "errorCode").as_deref(), Some("INVALID_URI"), "{}", reply.body);
+        bodies.push(reply.body);
+    }
+    validate(&bodies);
+    let reply = agent.get_with("/asset/%FF", Some("application/json")).await;
+    assert_eq!(reply.status, 404);
+    let error: Value = serde_json::from_str(&reply.body).expect("JSON");
+    assert_eq!(error["MTConnectError"]["Errors"]["Error"][0]["errorCode"], "INVALID_URI");
+}
