@@ -334,6 +334,8 @@ async fn an_alarm_reset_within_one_observer_period_is_still_seen() {
     let sample = String::from_utf8(body.to_vec()).unwrap();
     let fault = sample.find("<Fault ").unwrap_or_else(|| panic!("no Fault: {sample}"));
     assert!(sample[fault..].contains("nativeCode=\"MC3001\""), "{sample}");
+    // What docs/shopfloor.md shows: the code in nativeCode, the text without it.
+    assert!(sample[fault..].contains(">BOOM (O0002 line 2)</Fault>"), "{sample}");
     // The Normal of the reset comes after the Fault (by sequence).
     let sequence = |at: usize| -> u64 {
         let rest = &sample[at..];
@@ -343,4 +345,28 @@ async fn an_alarm_reset_within_one_observer_period_is_still_seen() {
     let normals: Vec<u64> = sample.match_indices("<Normal ").map(|(at, _)| sequence(at)).collect();
     assert!(normals.iter().any(|&n| n > sequence(fault)), "a Normal after the Fault: {sample}");
     assert_eq!(opcua.status(&id).await["run_state"], "idle");
+}
+
+/// A panel method of a controller that is not hosted any more (deleted) is `BadMethodInvalid`,
+/// as docs/shopfloor.md says: async-opcua's answer once the machine's nodes are gone, and the
+/// server's own in the moment before the next round removes them (the docs said
+/// `BadNodeIdUnknown`, which no call answered).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_panel_method_of_a_deleted_controller_is_bad_method_invalid() {
+    let opcua = Opcua::start(None);
+    let id = opcua.create("doomed", "mill3").await;
+    let kept = opcua.create("kept", "mill3").await;
+    let names = opcua.client("none", "-", "-", &["names", r#"["doomed", "kept"]"#]).await;
+    assert_eq!(names[0]["names"], json!(["doomed", "kept"]));
+    assert_eq!(opcua.client("none", "-", "-", &["call-id", &kept, "Reset"]).await[0]["status"], "Good");
+
+    let reply = opcua.api(Method::DELETE, &format!("/controllers/{id}"), Value::Null).await;
+    assert!(reply.status.is_success(), "{}", String::from_utf8_lossy(&reply.body));
+    // At once (the nodes may still be there) and once the machine is gone.
+    assert_eq!(opcua.client("none", "-", "-", &["call-id", &id, "Reset"]).await[0]["status"], "BadMethodInvalid");
+    let names = opcua.client("none", "-", "-", &["names", r#"["kept"]"#]).await;
+    assert_eq!(names[0]["names"], json!(["kept"]));
+    for method in ["Reset", "CycleStart", "FeedHold"] {
+        assert_eq!(opcua.client("none", "-", "-", &["call-id", &id, method]).await[0]["status"], "BadMethodInvalid");
+    }
 }

@@ -286,6 +286,18 @@ async def cmd_call(client, args):
         out(status=status_name(e.code))
 
 
+async def cmd_call_id(client, args):
+    """Calls Panel/METHOD of the controller ID by node id, without browsing for it (a deleted
+    controller's machine is gone): the status's name."""
+    cid, method = args[0], args[1]
+    fivex = await client.get_namespace_index(FIVEX)
+    request = ua.CallMethodRequest()
+    request.ObjectId = ua.NodeId(f"{cid}/Panel", fivex)
+    request.MethodId = ua.NodeId(f"{cid}/Panel/{method}", fivex)
+    result = (await client.uaclient.call([request]))[0]
+    out(status=status_name(result.StatusCode.value))
+
+
 COMMANDS = {
     "browse": cmd_browse,
     "positions": cmd_positions,
@@ -293,6 +305,7 @@ COMMANDS = {
     "watch": cmd_watch,
     "quick": cmd_quick,
     "call": cmd_call,
+    "call-id": cmd_call_id,
 }
 
 
