@@ -72,6 +72,52 @@ pub struct Station {
     since_saved: f64,
     /// The run state last streamed ([`run_state`]).
     shown_state: RunState,
+    /// Every alarm raised and every clearing, in order: what the shop-floor interfaces read, so
+    /// that an alarm raised and reset between two of their readings is seen too.
+    pub alarm_log: AlarmLog,
+}
+
+/// What happened to a controller's alarms: one was raised, or all were cleared (a reset).
+#[derive(Debug, Clone, PartialEq)]
+pub enum AlarmChange {
+    Raised(AlarmInfo),
+    Cleared,
+}
+
+/// A controller's last [`AlarmLog::KEPT`] alarm changes, numbered from 0 on. A reader keeps
+/// the number it read up to ([`AlarmLog::next`]) and asks for what came after
+/// ([`AlarmLog::since`]). Cloning it is cheap (the changes are shared until the next one).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct AlarmLog {
+    next: u64,
+    kept: Arc<std::collections::VecDeque<AlarmChange>>,
+}
+
+impl AlarmLog {
+    /// Changes kept: an alarm stops the program until a reset, so a reader loses one only after
+    /// dozens of alarms and resets between two of its readings (at most 10 s apart).
+    pub const KEPT: usize = 64;
+
+    pub fn push(&mut self, change: AlarmChange) {
+        let kept = Arc::make_mut(&mut self.kept);
+        if kept.len() == Self::KEPT {
+            kept.pop_front();
+        }
+        kept.push_back(change);
+        self.next += 1;
+    }
+
+    /// The number the next change gets.
+    pub fn next(&self) -> u64 {
+        self.next
+    }
+
+    /// The changes numbered `from` on (those still kept), in order.
+    pub fn since(&self, from: u64) -> impl Iterator<Item = &AlarmChange> {
+        let first = self.next - self.kept.len() as u64;
+        let skip = usize::try_from(from.saturating_sub(first)).unwrap_or(usize::MAX);
+        self.kept.iter().skip(skip)
+    }
 }
 
 /// Where the stored programs lie in the texts AUTO and MDI run (`programs::Layout`), and which
@@ -151,6 +197,7 @@ impl Station {
             since_streamed: 0.0,
             since_saved: 0.0,
             shown_state: RunState::Idle,
+            alarm_log: AlarmLog::default(),
         }
     }
 
@@ -167,6 +214,10 @@ impl Station {
             old.times(),
         );
         let workpiece = old.workpiece().clone();
+        if !old.alarms().is_empty() {
+            // The fresh controller has none: they are gone as at a reset.
+            self.alarm_log.push(AlarmChange::Cleared);
+        }
         let mut controller = Controller::new(fivex_engine::interp::Config::new(machine, dialect));
         // What is clamped on the table stays there when the machine's parameters change. (A
         // fresh controller is at rest and the boxes were checked once: it takes them.)
@@ -382,6 +433,7 @@ impl Station {
                         program: alarm.program,
                     };
                     records.push(Record::Alarm { controller: controller.to_string(), alarm: row });
+                    self.alarm_log.push(AlarmChange::Raised(alarm.clone()));
                     messages.push(Message::Alarm {
                         event: "raised",
                         raised: Some(alarm),
@@ -389,6 +441,7 @@ impl Station {
                     });
                 }
                 Event::AlarmsCleared => {
+                    self.alarm_log.push(AlarmChange::Cleared);
                     messages.push(Message::Alarm { event: "cleared", raised: None, active: Vec::new() });
                 }
                 Event::Message(text) => messages.push(Message::Message { text }),

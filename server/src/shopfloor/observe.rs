@@ -17,6 +17,7 @@ use fivex_engine::machine::Machine;
 use fivex_engine::Dialect;
 use tokio::sync::watch;
 
+use crate::host::station::AlarmLog;
 use crate::host::stream::AlarmInfo;
 use crate::host::{Host, Hosted};
 
@@ -60,6 +61,9 @@ pub struct Observed {
     pub parts: f64,
     pub parts_required: f64,
     pub alarms: Vec<AlarmInfo>,
+    /// Every alarm raised and every reset, in order (the last ones): an alarm raised and reset
+    /// between two readings is in it, not in `alarms`.
+    pub alarm_log: AlarmLog,
     /// Simulated seconds since the controller was created (or the service started).
     pub time_s: f64,
 }
@@ -93,6 +97,7 @@ impl Observed {
             parts,
             parts_required,
             alarms: station.layouts.alarms(c.alarms()),
+            alarm_log: station.alarm_log.clone(),
             time_s: c.time(),
         }
     }

@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use super::doc::Text;
 use super::model::{Category, Device, Value};
+use crate::host::station::{AlarmChange, AlarmLog};
 use crate::host::stream::AlarmInfo;
 use crate::shopfloor::observe::Round;
 
@@ -43,6 +44,9 @@ pub struct Held {
     /// Per item: the value last observed (`None`: not yet).
     last: Vec<Option<Value>>,
     pub current: Vec<Vec<Observation>>,
+    /// The controller's alarm changes read up to (`AlarmLog::next`); `None` before the first
+    /// reading. Kept when the model is rebuilt.
+    alarms_read: Option<u64>,
 }
 
 #[derive(Debug)]
@@ -113,7 +117,9 @@ impl Buffer {
                     if !Arc::ptr_eq(&held.model.machine, &entry.machine) || held.model.name != *name {
                         // A new machine (or name): the device's model is rebuilt, every value
                         // observed afresh.
+                        let alarms_read = held.alarms_read;
                         self.devices[i] = Held::new(Arc::new(Device::of(entry, name)));
+                        self.devices[i].alarms_read = alarms_read;
                         self.model_changed_at = round.at.clone();
                     }
                     i
@@ -125,6 +131,7 @@ impl Buffer {
                     self.devices.len() - 1
                 }
             };
+            self.replay_alarms(index, &entry.observed.alarm_log, &at);
             let values: Vec<Value> = self.devices[index].model.items.iter().map(|i| i.value(&entry.observed)).collect();
             for (item, value) in values.into_iter().enumerate() {
                 if self.devices[index].last[item].as_ref() != Some(&value) {
@@ -141,6 +148,36 @@ impl Buffer {
                 }
                 self.devices.remove(i);
                 self.model_changed_at = round.at.clone();
+            }
+        }
+    }
+
+    /// The alarm changes of device `index`'s controller since the last round, in order: a
+    /// Fault for each alarm raised, a Normal for each reset. Comparing the alarm lists of two
+    /// rounds alone missed an alarm raised and reset between them. (What the lists still
+    /// differ in afterwards is observed as any value is.)
+    fn replay_alarms(&mut self, index: usize, log: &AlarmLog, at: &Arc<str>) {
+        let item = self.devices[index].model.items.iter().position(|i| i.is_alarms());
+        let read = self.devices[index].alarms_read.replace(log.next());
+        // At the first reading the alarms in force are the condition's first value.
+        let (Some(read), Some(item)) = (read, item) else {
+            return;
+        };
+        for change in log.since(read) {
+            let faults: Vec<AlarmInfo> = match &self.devices[index].last[item] {
+                Some(Value::Faults(f)) => f.clone(),
+                _ => Vec::new(),
+            };
+            match change {
+                AlarmChange::Raised(alarm) if !faults.contains(alarm) => {
+                    let mut now = faults;
+                    now.push(alarm.clone());
+                    self.change(index, item, Value::Faults(now), at);
+                }
+                AlarmChange::Cleared if !faults.is_empty() || self.devices[index].last[item].is_none() => {
+                    self.change(index, item, Value::Faults(Vec::new()), at);
+                }
+                _ => {}
             }
         }
     }
@@ -201,7 +238,7 @@ impl Buffer {
 impl Held {
     fn new(model: Arc<Device>) -> Held {
         let n = model.items.len();
-        Held { model, last: vec![None; n], current: vec![Vec::new(); n] }
+        Held { model, last: vec![None; n], current: vec![Vec::new(); n], alarms_read: None }
     }
 }
 
@@ -237,6 +274,7 @@ mod tests {
                 .iter()
                 .map(|c| AlarmInfo { code: c.to_string(), message: "m".into(), line: 3, n: None, program: Some(1) })
                 .collect(),
+            alarm_log: Default::default(),
             time_s: 0.0,
         };
         Arc::new(Entry {
@@ -291,6 +329,60 @@ mod tests {
         assert!(b.devices.is_empty());
         let last = b.range(b.next_sequence() - 1, 1)[0].clone();
         assert_eq!(last.said, Said::Unavailable);
+    }
+
+    /// A rename rebuilds the device's model: a range across it was two DeviceStreams of one
+    /// uuid with the same componentIds (XML IDs). One stream, named as the device is now.
+    #[test]
+    fn a_range_across_a_rebuilt_model_is_one_device_stream() {
+        let machine = Arc::new(Machine::new(MachineConfig::preset("mill3").unwrap()));
+        let mut b = Buffer::new(1000);
+        b.observe(&round(1, vec![entry(&machine, 0.0, &[])]));
+        let mut renamed = (*entry(&machine, 1.0, &[])).clone();
+        renamed.name = "two".into();
+        b.observe(&round(2, vec![Arc::new(renamed)]));
+        let sender = super::super::documents::Sender { sender: "h".into(), instance_id: 1, buffer_size: 1000 };
+        let root = super::super::documents::streams(&sender, &b, b.range(1, 1000), b.next_sequence());
+        let xml = super::super::doc::xml(&root, "Streams");
+        assert_eq!(xml.matches("<DeviceStream ").count(), 1, "{xml}");
+        assert!(xml.contains("<DeviceStream name=\"two\" uuid=\"c1\""), "{xml}");
+        let ids: Vec<&str> = xml
+            .match_indices("componentId=\"")
+            .map(|(at, m)| {
+                let rest = &xml[at + m.len()..];
+                &rest[..rest.find('"').unwrap()]
+            })
+            .collect();
+        let mut unique = ids.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(ids.len(), unique.len(), "{ids:?}");
+        assert_eq!(xml.matches("_avail\"").count(), 2, "both models' observations: {xml}");
+    }
+
+    /// An alarm raised and reset between two rounds is in neither round's alarm list: its
+    /// Fault and the Normal of the reset come from the controller's alarm changes.
+    #[test]
+    fn an_alarm_raised_and_reset_between_two_rounds_is_observed() {
+        let machine = Arc::new(Machine::new(MachineConfig::preset("mill3").unwrap()));
+        let mut b = Buffer::new(1000);
+        let mut log = AlarmLog::default();
+        let with_log = |log: &AlarmLog| {
+            let mut e = (*entry(&machine, 0.0, &[])).clone();
+            e.observed.alarm_log = log.clone();
+            Arc::new(e)
+        };
+        b.observe(&round(1, vec![with_log(&log)]));
+        let from = b.next_sequence();
+        let alarm = entry(&machine, 0.0, &["MC3001"]).observed.alarms[0].clone();
+        log.push(AlarmChange::Raised(alarm));
+        log.push(AlarmChange::Cleared);
+        b.observe(&round(2, vec![with_log(&log)]));
+        let said: Vec<Said> = b.range(from, 100).iter().map(|o| o.said.clone()).collect();
+        assert!(matches!(&said[..], [Said::Fault(a), Said::Normal(None)] if a.code == "MC3001"), "{said:?}");
+        assert_eq!(condition(&b), vec![Said::Normal(None)]);
+        b.observe(&round(3, vec![with_log(&log)]));
+        assert_eq!(b.next_sequence(), from + 2, "read once");
     }
 
     /// Two controllers of one name were two devices of that name: `/{name}/current` answered

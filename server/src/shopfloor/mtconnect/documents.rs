@@ -1,11 +1,12 @@
 //! The response documents: Devices (`/probe`), Streams (`/current`, `/sample`), Assets and
 //! Error, built as [`Element`] trees from the buffer.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::buffer::{Buffer, Observation, Said};
 use super::doc::{Element, Text};
-use super::model::{Category, Device};
+use super::model::{Category, Component, Device};
 
 /// What every header carries.
 #[derive(Debug, Clone)]
@@ -93,44 +94,72 @@ pub fn streams<'a>(
         .attr("firstSequence", buffer.first_sequence())
         .attr("lastSequence", buffer.last_sequence())
         .attr("deviceModelChangeTime", buffer.model_changed_at.clone());
-    // Devices in the order first met, components in model order, observations in sequence
-    // order within each.
-    let mut devices: Vec<(Arc<Device>, Vec<Vec<&Observation>>)> = Vec::new();
-    for o in observations {
-        let at = match devices.iter().position(|(d, _)| Arc::ptr_eq(d, &o.device)) {
-            Some(i) => i,
-            None => {
-                devices.push((o.device.clone(), vec![Vec::new(); o.device.components.len()]));
-                devices.len() - 1
-            }
-        };
-        devices[at].1[o.device.items[o.item].component].push(o);
+    // One DeviceStream per device uuid, in the order first met, and one ComponentStream per
+    // componentId (both are unique in a document: `componentId` is an `xs:ID`), although a
+    // range may hold observations of several models of one device (rebuilt by a rename, a
+    // name taken or freed, other axes): the stream is named as the device is now (its latest
+    // model), its components in that model's order, then any only an older model had.
+    // Observations keep sequence order within each component.
+    struct Grouped<'a> {
+        /// The device's model now: the one the agent holds, else the latest one met.
+        model: Arc<Device>,
+        held: bool,
+        /// Per componentId: the component (as its latest model has it) and its observations.
+        components: Vec<(&'a Component, Vec<&'a Observation>)>,
+        /// Index into `components` by componentId.
+        by_id: HashMap<&'a str, usize>,
     }
-    let streams = devices.into_iter().map(|(device, components)| {
-        let component_streams =
-            components.into_iter().enumerate().filter(|(_, list)| !list.is_empty()).map(|(index, list)| {
-                let c = &device.components[index];
-                let mut stream = Element::item("ComponentStream")
-                    .attr("component", c.element)
-                    .attr("componentId", c.id.clone())
-                    .attr_opt("name", c.name.clone());
-                for (category, container) in
-                    [(Category::Sample, "Samples"), (Category::Event, "Events"), (Category::Condition, "Condition")]
-                {
-                    let members: Vec<Element> = list
-                        .iter()
-                        .filter(|o| o.device.items[o.item].category == category)
-                        .map(|o| observation(o))
-                        .collect();
-                    if !members.is_empty() {
-                        stream.push(Element::one(container).children(members));
-                    }
+    let mut devices: Vec<Grouped> = Vec::new();
+    let mut by_uuid: HashMap<&str, usize> = HashMap::new();
+    for o in observations {
+        let at = *by_uuid.entry(o.device.uuid.as_str()).or_insert_with(|| {
+            let held = buffer.devices.iter().find(|h| h.model.uuid == o.device.uuid);
+            let model = held.map_or_else(|| o.device.clone(), |h| h.model.clone());
+            devices.push(Grouped { model, held: held.is_some(), components: Vec::new(), by_id: HashMap::new() });
+            devices.len() - 1
+        });
+        let group = &mut devices[at];
+        let component = &o.device.components[o.device.items[o.item].component];
+        match group.by_id.get(component.id.as_str()) {
+            Some(&i) => group.components[i].1.push(o),
+            None => {
+                group.by_id.insert(component.id.as_str(), group.components.len());
+                group.components.push((component, vec![o]));
+            }
+        }
+        // Observations come in sequence order: a later one's model is the newer one.
+        if !group.held {
+            group.model = o.device.clone();
+        }
+    }
+    let streams = devices.into_iter().map(|mut group| {
+        let model = group.model.clone();
+        let rank = |id: &str| model.components.iter().position(|c| c.id == id).unwrap_or(usize::MAX);
+        // (A stable sort: components of older models only keep the order they were met in.)
+        group.components.sort_by_key(|(c, _)| rank(&c.id));
+        let component_streams = group.components.into_iter().map(|(c, list)| {
+            let c = model.components.iter().find(|m| m.id == c.id).unwrap_or(c);
+            let mut stream = Element::item("ComponentStream")
+                .attr("component", c.element)
+                .attr("componentId", c.id.clone())
+                .attr_opt("name", c.name.clone());
+            for (category, container) in
+                [(Category::Sample, "Samples"), (Category::Event, "Events"), (Category::Condition, "Condition")]
+            {
+                let members: Vec<Element> = list
+                    .iter()
+                    .filter(|o| o.device.items[o.item].category == category)
+                    .map(|o| observation(o))
+                    .collect();
+                if !members.is_empty() {
+                    stream.push(Element::one(container).children(members));
                 }
-                stream
-            });
+            }
+            stream
+        });
         Element::item("DeviceStream")
-            .attr("name", device.name.clone())
-            .attr("uuid", device.uuid.clone())
+            .attr("name", model.name.clone())
+            .attr("uuid", model.uuid.clone())
             .children(component_streams)
     });
     Element::one("MTConnectStreams").child(header).child(Element::one("Streams").children(streams))

@@ -6,7 +6,8 @@ use std::collections::HashMap;
 use std::time::Duration;
 
 use axum::body::{Body, Bytes};
-use axum::extract::{Path, RawQuery, State};
+use axum::extract::{FromRequestParts, Path, RawQuery, State};
+use axum::http::request::Parts;
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
@@ -150,11 +151,32 @@ fn find(shared: &Shared, name: &str) -> Result<String, (ErrorCode, String)> {
 
 type Answer = Result<Response, (ErrorCode, String)>;
 
+/// The name a request's path gives (`/{device}/…`, `/asset/{ids}`), percent-decoded; `None` for
+/// the agent's own requests. A segment that is not UTF-8 once decoded (`/%FF/probe`) is refused
+/// with an MTConnectError document, `INVALID_URI`, like any path the agent does not answer
+/// (axum's own rejection was a `text/plain` 400).
+struct Named(Option<String>);
+
+impl FromRequestParts<Shared> for Named {
+    type Rejection = Response;
+
+    async fn from_request_parts(parts: &mut Parts, s: &Shared) -> Result<Named, Response> {
+        match Option::<Path<String>>::from_request_parts(parts, s).await {
+            Ok(named) => Ok(Named(named.map(|Path(name)| name))),
+            Err(rejection) => {
+                let format = Format::of(&parts.headers, &Query::parse(parts.uri.query().map(str::to_string)));
+                let why = format!("the path is not a request of the agent: {}", rejection.body_text());
+                Err(refuse(s, format, ErrorCode::InvalidUri, &why))
+            }
+        }
+    }
+}
+
 /// One request of the agent's or of a device's (`/{device}/…`: its name or uuid), answered by
 /// `answer_with` with the device's uuid, or its refusal as an Error document.
 async fn request(
     State(s): State<Shared>,
-    device: Option<Path<String>>,
+    Named(device): Named,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
     answer_with: fn(&Shared, Format, &Query, Option<String>) -> Answer,
@@ -162,7 +184,7 @@ async fn request(
     let q = Query::parse(q);
     let format = Format::of(&headers, &q);
     let device = match device {
-        Some(Path(name)) => find(&s, &name).map(Some),
+        Some(name) => find(&s, &name).map(Some),
         None => Ok(None),
     };
     answer(&s, format, device.and_then(|uuid| answer_with(&s, format, &q, uuid)))
@@ -274,13 +296,14 @@ fn collect(buffer: &Buffer, window: &Window) -> (Vec<Observation>, u64) {
 }
 
 /// `/sample?interval=`: a `multipart/x-mixed-replace` stream of Streams documents, each as soon
-/// as there is something new (but not sooner than `interval` after the last), an empty one
-/// after `heartbeat` without news. A client that falls out of the buffer gets an Error part
+/// as there is something new (but not sooner than `interval` after the last, unless the last
+/// held `count` observations and more are waiting: then at once), an empty one after
+/// `heartbeat` without news. A client that falls out of the buffer gets an Error part
 /// and the stream ends.
 fn stream(s: Shared, format: Format, window: Window, interval: Duration, heartbeat: Duration) -> Response {
     let boundary = uuid::Uuid::new_v4().simple().to_string();
     let content_type = format!("multipart/x-mixed-replace;boundary={boundary}");
-    let state = Streaming { s, format, window, interval, heartbeat, boundary, last: None, done: false };
+    let state = Streaming { s, format, window, interval, heartbeat, boundary, last: None, more: false, done: false };
     let body = futures_util::stream::unfold(state, |mut st| async move {
         let part = st.next_part().await?;
         Some((Ok::<Bytes, std::convert::Infallible>(part), st))
@@ -297,6 +320,8 @@ struct Streaming {
     boundary: String,
     /// When the last part was sent.
     last: Option<Instant>,
+    /// The last part held `count` observations and more were there: the next one goes at once.
+    more: bool,
     done: bool,
 }
 
@@ -311,8 +336,10 @@ impl Streaming {
             if *stopped.borrow() {
                 return None;
             }
-            // Not sooner than `interval` after the last part.
-            if let Some(last) = self.last {
+            // Not sooner than `interval` after the last part, unless that part could not hold
+            // all there was: what is left goes at once (else a client that asks for fewer than
+            // the machines make per interval falls further behind each interval).
+            if let Some(last) = self.last.filter(|_| !self.more) {
                 tokio::time::sleep_until(last + self.interval).await;
             }
             let due = self.last.map_or(Instant::now(), |l| l + self.heartbeat);
@@ -333,6 +360,8 @@ impl Streaming {
                 } else {
                     let (observations, after) = collect(&buffer, &self.window);
                     self.window.from = after;
+                    // `collect` stops short of the end only when it found `count`.
+                    self.more = after < buffer.next_sequence();
                     // Only another device's news: nothing to send until the heartbeat.
                     if observations.is_empty() && self.last.is_some() && Instant::now() < due {
                         drop(buffer);
@@ -372,18 +401,13 @@ fn assets(s: &Shared, format: Format, q: &Query, device: Option<String>) -> Answ
     Ok(document(format, &documents::assets(&s.sender, &s.buffer(), &tools, counts), "Assets"))
 }
 
-async fn asset_ids(
-    State(s): State<Shared>,
-    Path(ids): Path<String>,
-    headers: HeaderMap,
-    RawQuery(q): RawQuery,
-) -> Response {
+async fn asset_ids(State(s): State<Shared>, Named(ids): Named, headers: HeaderMap, RawQuery(q): RawQuery) -> Response {
     let q = Query::parse(q);
     let format = Format::of(&headers, &q);
     let result = q.only(&[]).and_then(|()| {
         let all = tools(&s, None);
         let mut found = Vec::new();
-        for id in ids.split(';').filter(|i| !i.is_empty()) {
+        for id in ids.iter().flat_map(|ids| ids.split(';')).filter(|i| !i.is_empty()) {
             match all.iter().find(|t| t.asset_id() == id) {
                 Some(t) => found.push(t.clone()),
                 None => return Err((ErrorCode::AssetNotFound, format!("no asset '{id}'"))),

@@ -92,6 +92,11 @@ pub struct Item {
 }
 
 impl Item {
+    /// Whether this is the condition of the controller's alarms.
+    pub fn is_alarms(&self) -> bool {
+        matches!(self.source, Source::Alarms)
+    }
+
     pub fn value(&self, o: &Observed) -> Value {
         let text = |t: Text| Value::Text(t);
         let optional = |t: Option<String>| t.map_or(Value::Unavailable, |s| Value::Text(Text::Str(s)));

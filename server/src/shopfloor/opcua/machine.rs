@@ -23,6 +23,7 @@ use opcua::types::{
 use super::instance::{member_id, Planned, Types};
 use super::manager::{METHODS, PANEL};
 use super::nodesets::{MACHINERY, MACHINE_TOOL};
+use crate::host::station::AlarmChange;
 use crate::host::stream::AlarmInfo;
 use crate::shopfloor::observe::{Entry, Observed};
 
@@ -384,8 +385,8 @@ impl Shown {
     }
 
     /// The values of `entry` that differ from the last shown, into `out` (stamped `at`: a
-    /// round's values share their instant), and the alarms that appeared since (none at the
-    /// first sight: an event is a change).
+    /// round's values share their instant), and the alarms raised since (none at the first
+    /// sight: an event is a change).
     pub fn update<'a>(
         &'a self,
         model: &Model,
@@ -399,7 +400,12 @@ impl Shown {
         let first = previous.is_none();
         let before = previous.as_ref().map_or(now, |p| &p.observed);
         if !first {
-            alarms.extend(now.alarms.iter().filter(|a| !before.alarms.contains(a)).cloned());
+            // Every alarm raised since the last round, also one a reset already cleared (the
+            // alarm list would not show it).
+            alarms.extend(now.alarm_log.since(before.alarm_log.next()).filter_map(|change| match change {
+                AlarmChange::Raised(alarm) => Some(alarm.clone()),
+                AlarmChange::Cleared => None,
+            }));
         }
         let v = &self.values;
         let mut set = |id: &'a NodeId, value: Variant| out.push((id, DataValue::new_at(value, at)));
@@ -559,6 +565,7 @@ mod tests {
                 parts: 0.0,
                 parts_required: 0.0,
                 alarms: Vec::new(),
+                alarm_log: Default::default(),
                 time_s: 0.0,
             },
             lag: Default::default(),

@@ -128,14 +128,15 @@ impl Machines {
             "Reset" => PanelCommand::Reset,
             _ => return Err(unknown()),
         };
-        let hosted = self
-            .host
-            .get(id)
-            .ok_or_else(|| (StatusCode::BadNodeIdUnknown, format!("controller {id} is not hosted here (deleted?)")))?;
+        // A controller not hosted here any more: its machine's nodes are removed with the next
+        // round, and from then on async-opcua answers BadMethodInvalid (no such method); the
+        // same until then, so that a client sees one status for it.
+        let gone = || (StatusCode::BadMethodInvalid, format!("controller {id} is not hosted here (deleted?)"));
+        let hosted = self.host.get(id).ok_or_else(gone)?;
         panel::execute(&self.host, &hosted, command, |_, _| ()).map(|_| ()).map_err(|e| {
             let status = match &e {
                 ServiceError::Conflict(_) => StatusCode::BadInvalidState,
-                ServiceError::NotFound(_) => StatusCode::BadNodeIdUnknown,
+                ServiceError::NotFound(_) => StatusCode::BadMethodInvalid,
                 ServiceError::Unavailable(_) => StatusCode::BadResourceUnavailable,
                 ServiceError::Invalid(..) => StatusCode::BadInvalidArgument,
                 ServiceError::Database(_) => StatusCode::BadInternalError,

@@ -374,3 +374,175 @@ async fn a_client_left_behind_by_the_buffer_is_told_out_of_range() {
     assert_eq!(reply.status, 400);
     assert_eq!(attribute(&reply.body, "<Error", "errorCode").as_deref(), Some("OUT_OF_RANGE"), "{}", reply.body);
 }
+
+/// Validates the XML documents `bodies` against the standard's schemas (lxml).
+fn validate(bodies: &[String]) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for (i, body) in bodies.iter().enumerate() {
+        let file = dir.path().join(format!("{i}.xml"));
+        std::fs::write(&file, body).unwrap();
+        files.push(file.to_string_lossy().into_owned());
+    }
+    let schemas = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/mtconnect");
+    let mut args = vec![schemas];
+    args.extend(files.iter().map(String::as_str));
+    let out = run_python(VALIDATE, &args);
+    assert_eq!(out.lines().filter(|l| l.starts_with("valid ")).count(), bodies.len(), "{out}");
+}
+
+/// Polls `path` until its body holds `text` (10 s at most).
+async fn until_shown(agent: &Agent, path: &str, text: &str) -> String {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let body = agent.get(path).await.body;
+        if body.contains(text) {
+            return body;
+        }
+        assert!(Instant::now() < deadline, "{path} never showed {text}: {body}");
+        tokio::time::sleep(Duration::from_millis(30)).await;
+    }
+}
+
+/// A device's model is rebuilt when its controller is renamed or its name is freed (a name
+/// collision resolved): a `/sample` across it held two `DeviceStream`s of one uuid with the
+/// same `componentId`s (an `xs:ID`), which the schema refuses. Now one stream per device,
+/// named as the device is now, and every such document validates.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_sample_across_a_rebuilt_device_model_has_one_stream_per_device_and_validates() {
+    let agent = Agent::start(&["--shopfloor-period-ms", "20"]);
+    let renamed = agent.create("before", "mill3", "fanuc").await;
+    let first = agent.create("twin", "mill3", "fanuc").await;
+    let second = agent.create("twin", "table-ac", "fanuc").await;
+    until_shown(&agent, "/probe", &format!("name=\"twin-{}\"", &second[..8])).await;
+    until_shown(&agent, "/probe", "name=\"before\"").await;
+    agent.mdi(&renamed, "G91 G01 X1. F600").await;
+
+    let path = format!("/api/v1/controllers/{renamed}");
+    let reply = agent.served.send_json(Method::PATCH, &path, &json!({"name": "after"})).await;
+    assert_eq!(reply.status, 200, "{}", String::from_utf8_lossy(&reply.body));
+    // The earlier "twin" goes: the later one takes the plain name (its model made again).
+    let reply = agent.served.send_json(Method::DELETE, &format!("/api/v1/controllers/{first}"), &Value::Null).await;
+    assert!(reply.status.is_success(), "{}", String::from_utf8_lossy(&reply.body));
+    until_shown(&agent, "/probe", "name=\"after\"").await;
+    until_shown(&agent, "/probe", &format!("name=\"twin\" uuid=\"{second}\"")).await;
+    agent.status_until(&renamed, |s| s["run_state"] == "idle" && s["position"]["machine"]["X"] == 1.0).await;
+    agent.mdi(&renamed, "G91 G01 X1. F600").await;
+    agent.status_until(&renamed, |s| s["run_state"] == "idle" && s["position"]["machine"]["X"] == 2.0).await;
+    tokio::time::sleep(Duration::from_millis(200)).await;
+
+    let mut bodies = Vec::new();
+    for path in [
+        "/sample?from=1&count=100000".to_string(),
+        format!("/{renamed}/sample?from=1&count=100000"),
+        "/after/sample?from=1&count=100000".to_string(),
+        format!("/{second}/sample?from=1&count=100000"),
+        "/current".to_string(),
+    ] {
+        let reply = agent.get(&path).await;
+        assert_eq!(reply.status, 200, "{path}: {}", reply.body);
+        for uuid in [&renamed, &second] {
+            let streams = reply.body.matches(&format!("uuid=\"{uuid}\"")).count();
+            assert!(streams <= 1, "{path}: {streams} DeviceStreams of {uuid}: {}", reply.body);
+        }
+        bodies.push(reply.body);
+    }
+    // Named as the devices are now; the observations before the rename are in it.
+    assert!(bodies[1].contains(&format!("name=\"after\" uuid=\"{renamed}\"")), "{}", bodies[1]);
+    let avail = format!("dataItemId=\"d{renamed}_avail\"");
+    assert_eq!(bodies[1].matches(&avail).count(), 2, "both models' observations, in one stream: {}", bodies[1]);
+    assert!(bodies[3].contains(&format!("name=\"twin\" uuid=\"{second}\"")), "{}", bodies[3]);
+
+    // A stream's part spanning the rebuilds too.
+    let url = format!("{}/sample?from=1&interval=0&count=100000", agent.base);
+    let response = agent.client.request(Request::get(url).body(Empty::new()).unwrap()).await.unwrap();
+    let mut body = response.into_body();
+    let mut text = String::new();
+    while !text.contains("</MTConnectStreams>") {
+        let frame = tokio::time::timeout(Duration::from_secs(5), body.frame()).await.unwrap().unwrap().unwrap();
+        if let Ok(data) = frame.into_data() {
+            text.push_str(&String::from_utf8_lossy(&data));
+        }
+    }
+    let part = &text[text.find("<?xml").expect("an XML part")..text.find("</MTConnectStreams>").unwrap() + 19];
+    assert_eq!(part.matches(&format!("uuid=\"{renamed}\"")).count(), 1, "{part}");
+    bodies.push(part.to_string());
+    validate(&bodies);
+}
+
+/// `sample?interval=` sent at most `count` observations per interval however many were
+/// waiting, so a stream fell behind busy machines (and ended OUT_OF_RANGE once the buffer no
+/// longer held its next one). A part that could not hold all there was is followed at once by
+/// the next: the stream keeps up, gaplessly.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stream_sends_what_count_left_over_at_once_and_keeps_up() {
+    let agent = Agent::start(&["--shopfloor-period-ms", "20"]);
+    let mut ids = Vec::new();
+    for (i, preset) in ["table-ac", "head-bc", "mill3"].iter().enumerate() {
+        ids.push(agent.create(&format!("busy{i}"), preset, "fanuc").await);
+    }
+    let start: u64 = attribute(&agent.get("/current").await.body, "<Header", "nextSequence").unwrap().parse().unwrap();
+    for id in &ids {
+        agent.mdi(id, "G91 G01 X200. Y100. F1200").await;
+    }
+    tokio::time::sleep(Duration::from_millis(300)).await;
+
+    let url = format!("{}/sample?from={start}&interval=1000&count=20", agent.base);
+    let response = agent.client.request(Request::get(url).body(Empty::new()).unwrap()).await.unwrap();
+    assert_eq!(response.status(), 200);
+    let content_type = response.headers()["content-type"].to_str().unwrap().to_string();
+    let boundary = content_type.split("boundary=").nth(1).expect("a multipart stream").to_string();
+    let streamed = tokio::spawn(async move {
+        let mut body = response.into_body();
+        let mut text = String::new();
+        let deadline = Instant::now() + Duration::from_millis(3500);
+        while let Ok(Some(Ok(frame))) = tokio::time::timeout_at(deadline.into(), body.frame()).await {
+            if let Ok(data) = frame.into_data() {
+                text.push_str(&String::from_utf8_lossy(&data));
+            }
+        }
+        text
+    });
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    let agent_next: u64 =
+        attribute(&agent.get("/current").await.body, "<Header", "nextSequence").unwrap().parse().unwrap();
+    let text = streamed.await.unwrap();
+
+    let parts: Vec<&str> = text.split(&format!("--{boundary}")).filter(|p| p.contains("</MTConnectStreams>")).collect();
+    let mut expected = start;
+    for part in &parts {
+        let next: u64 = attribute(part, "<Header", "nextSequence").unwrap().parse().unwrap();
+        let mut seen = sequences(part);
+        seen.sort_unstable();
+        assert!(seen.len() <= 20, "at most count per part");
+        assert_eq!(seen, (expected..next).collect::<Vec<_>>(), "streamed part [{expected}, {next})");
+        expected = next;
+    }
+    assert!(agent_next > start + 200, "the machines made only {} observations by 1.5 s", agent_next - start);
+    assert!(
+        expected >= agent_next,
+        "the stream fell behind: at 3.5 s it had reached {expected}, the agent was at {agent_next} by 1.5 s ({} parts)",
+        parts.len()
+    );
+}
+
+/// A path segment that is not UTF-8 once percent-decoded got axum's `text/plain` 400: it is an
+/// MTConnectError document (`INVALID_URI`, as for any path the agent does not answer), in the
+/// form asked for, valid against the schema.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_path_that_is_not_utf8_is_an_mtconnect_error() {
+    let agent = Agent::start(&[]);
+    let mut bodies = Vec::new();
+    for path in ["/%FF/probe", "/%C3%28/current", "/%FF/sample?count=5", "/%FF/assets", "/asset/%FF", "/%FF"] {
+        let reply = agent.get(path).await;
+        assert_eq!(reply.status, 404, "{path}: {}", reply.body);
+        assert!(reply.content_type.starts_with("text/xml"), "{path}: {}", reply.content_type);
+        assert_eq!(attribute(&reply.body, "<Error", "errorCode").as_deref(), Some("INVALID_URI"), "{}", reply.body);
+        bodies.push(reply.body);
+    }
+    validate(&bodies);
+    let reply = agent.get_with("/asset/%FF", Some("application/json")).await;
+    assert_eq!(reply.status, 404);
+    let error: Value = serde_json::from_str(&reply.body).expect("JSON");
+    assert_eq!(error["MTConnectError"]["Errors"]["Error"][0]["errorCode"], "INVALID_URI");
+}

@@ -302,3 +302,71 @@ async fn on_postgresql_the_certificate_is_temporary() {
     assert!(status.success(), "{status}: {}", served.log());
     assert!(!pki.exists(), "{} removed at the stop", pki.display());
 }
+
+/// An alarm raised and reset within one period of the observer was never seen: the observer
+/// sampled the controller's alarm list, empty again at both readings, so MTConnect had no Fault
+/// and OPC UA no event although the alarm history had it. The observer now reads the
+/// controller's alarm changes as they happened: the Fault then the Normal of the reset, and the
+/// event.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_alarm_reset_within_one_observer_period_is_still_seen() {
+    use http_body_util::{BodyExt, Empty};
+    let served =
+        Served::start(&["--opcua", "127.0.0.1:0", "--mtconnect", "127.0.0.1:0", "--shopfloor-period-ms", "2000"]);
+    let agent = format!("http://{}", announced(|| served.log(), "MTConnect agent at http://"));
+    let opcua = Opcua::wrap(served, None);
+    let id = opcua.create("quick", "mill3").await;
+    opcua.store(&id, 2, ALARM).await;
+    let base = opcua.served.url("");
+    // Resets as soon as the REST status says alarm: well within the 2 s period.
+    let lines = opcua.client("none", "-", "-", &["quick", "quick", &base, &id, "2", "5"]).await;
+    let events: Vec<&Value> = lines.iter().filter(|l| l["kind"] == "event").collect();
+    assert_eq!(events.len(), 1, "the alarm's event: {lines:?}");
+    assert_eq!(events[0]["message"], "MC3001 BOOM");
+    assert_eq!(events[0]["identifier"], "MC3001");
+    let history = opcua.api(Method::GET, &format!("/controllers/{id}/alarms"), Value::Null).await.json();
+    assert_eq!(history["history"].as_array().map(Vec::len), Some(1), "{history}");
+
+    let client = hyper_util::client::legacy::Client::builder(hyper_util::rt::TokioExecutor::new()).build_http();
+    let url = format!("{agent}/{id}/sample?from=1&count=10000");
+    let response = client.request(hyper::Request::get(url).body(Empty::<bytes::Bytes>::new()).unwrap()).await.unwrap();
+    let body = response.into_body().collect().await.unwrap().to_bytes();
+    let sample = String::from_utf8(body.to_vec()).unwrap();
+    let fault = sample.find("<Fault ").unwrap_or_else(|| panic!("no Fault: {sample}"));
+    assert!(sample[fault..].contains("nativeCode=\"MC3001\""), "{sample}");
+    // What docs/shopfloor.md shows: the code in nativeCode, the text without it.
+    assert!(sample[fault..].contains(">BOOM (O0002 line 2)</Fault>"), "{sample}");
+    // The Normal of the reset comes after the Fault (by sequence).
+    let sequence = |at: usize| -> u64 {
+        let rest = &sample[at..];
+        let start = rest.find(" sequence=\"").unwrap() + 11;
+        rest[start..start + rest[start..].find('"').unwrap()].parse().unwrap()
+    };
+    let normals: Vec<u64> = sample.match_indices("<Normal ").map(|(at, _)| sequence(at)).collect();
+    assert!(normals.iter().any(|&n| n > sequence(fault)), "a Normal after the Fault: {sample}");
+    assert_eq!(opcua.status(&id).await["run_state"], "idle");
+}
+
+/// A panel method of a controller that is not hosted any more (deleted) is `BadMethodInvalid`,
+/// as docs/shopfloor.md says: async-opcua's answer once the machine's nodes are gone, and the
+/// server's own in the moment before the next round removes them (the docs said
+/// `BadNodeIdUnknown`, which no call answered).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_panel_method_of_a_deleted_controller_is_bad_method_invalid() {
+    let opcua = Opcua::start(None);
+    let id = opcua.create("doomed", "mill3").await;
+    let kept = opcua.create("kept", "mill3").await;
+    let names = opcua.client("none", "-", "-", &["names", r#"["doomed", "kept"]"#]).await;
+    assert_eq!(names[0]["names"], json!(["doomed", "kept"]));
+    assert_eq!(opcua.client("none", "-", "-", &["call-id", &kept, "Reset"]).await[0]["status"], "Good");
+
+    let reply = opcua.api(Method::DELETE, &format!("/controllers/{id}"), Value::Null).await;
+    assert!(reply.status.is_success(), "{}", String::from_utf8_lossy(&reply.body));
+    // At once (the nodes may still be there) and once the machine is gone.
+    assert_eq!(opcua.client("none", "-", "-", &["call-id", &id, "Reset"]).await[0]["status"], "BadMethodInvalid");
+    let names = opcua.client("none", "-", "-", &["names", r#"["kept"]"#]).await;
+    assert_eq!(names[0]["names"], json!(["kept"]));
+    for method in ["Reset", "CycleStart", "FeedHold"] {
+        assert_eq!(opcua.client("none", "-", "-", &["call-id", &id, method]).await[0]["status"], "BadMethodInvalid");
+    }
+}

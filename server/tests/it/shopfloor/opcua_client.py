@@ -210,17 +210,8 @@ def rest(base, method, path, body=None):
         return json.loads(response.read() or b"null")
 
 
-async def cmd_watch(client, args):
-    """Subscribes to machine NAME's X position and channel state and to its events, then over
-    the REST API at BASE (the controller ID): runs program 1 for SECONDS, resets, runs program 2
-    (which raises an alarm) and waits up to 20 s for the alarm's event."""
-    name, base, cid, seconds = args[0], args[1], args[2], float(args[3])
-    node = await machine(client, name)
-    x = await child(node, "Axes", "X", "ActualPosition")
-    state = await child(node, "Monitoring", "Channel1", "ChannelState")
-    collector = Collector({x.nodeid.to_string(): "x", state.nodeid.to_string(): "channel_state"})
-    subscription = await client.create_subscription(100, collector)
-    await subscription.subscribe_data_change([x, state])
+async def subscribe_alarms(client, subscription, node):
+    """Subscribes `subscription` to the alarm events of machine `node`."""
     fivex = await client.get_namespace_index(FIVEX)
     event_type = client.get_node(ua.NodeId("ControllerAlarmEventType", fivex))
     # The fields of the type and its supertypes, and the type by OfType: async-opcua 0.19
@@ -232,6 +223,20 @@ async def cmd_watch(client, args):
     )
     evfilter.WhereClause = ua.ContentFilter(Elements=[of_type])
     await subscription.subscribe_events(node, event_type, evfilter=evfilter)
+
+
+async def cmd_watch(client, args):
+    """Subscribes to machine NAME's X position and channel state and to its events, then over
+    the REST API at BASE (the controller ID): runs program 1 for SECONDS, resets, runs program 2
+    (which raises an alarm) and waits up to 20 s for the alarm's event."""
+    name, base, cid, seconds = args[0], args[1], args[2], float(args[3])
+    node = await machine(client, name)
+    x = await child(node, "Axes", "X", "ActualPosition")
+    state = await child(node, "Monitoring", "Channel1", "ChannelState")
+    collector = Collector({x.nodeid.to_string(): "x", state.nodeid.to_string(): "channel_state"})
+    subscription = await client.create_subscription(100, collector)
+    await subscription.subscribe_data_change([x, state])
+    await subscribe_alarms(client, subscription, node)
     out(kind="subscribed", at=time.monotonic())
     rest(base, "POST", f"/api/v1/controllers/{cid}/cycle-start", {"program": 1})
     await asyncio.sleep(seconds)
@@ -248,6 +253,27 @@ async def cmd_watch(client, args):
     await subscription.delete()
 
 
+async def cmd_quick(client, args):
+    """Subscribes to machine NAME's events, then over the REST API at BASE (the controller ID)
+    runs program PROGRAM, resets it as soon as the REST status shows its alarm (well within an
+    observer period) and collects the events for SECONDS more."""
+    name, base, cid, program, seconds = args[0], args[1], args[2], int(args[3]), float(args[4])
+    node = await machine(client, name)
+    collector = Collector({})
+    subscription = await client.create_subscription(100, collector)
+    await subscribe_alarms(client, subscription, node)
+    rest(base, "POST", f"/api/v1/controllers/{cid}/cycle-start", {"program": program})
+    deadline = time.monotonic() + 10
+    while rest(base, "GET", f"/api/v1/controllers/{cid}")["run_state"] != "alarm":
+        if time.monotonic() > deadline:
+            break
+        await asyncio.sleep(0.005)
+    rest(base, "POST", f"/api/v1/controllers/{cid}/reset")
+    out(kind="reset", at=time.monotonic())
+    await asyncio.sleep(seconds)
+    await subscription.delete()
+
+
 async def cmd_call(client, args):
     """Calls Panel/METHOD of machine NAME: the status's name."""
     name, method = args[0], args[1]
@@ -260,12 +286,26 @@ async def cmd_call(client, args):
         out(status=status_name(e.code))
 
 
+async def cmd_call_id(client, args):
+    """Calls Panel/METHOD of the controller ID by node id, without browsing for it (a deleted
+    controller's machine is gone): the status's name."""
+    cid, method = args[0], args[1]
+    fivex = await client.get_namespace_index(FIVEX)
+    request = ua.CallMethodRequest()
+    request.ObjectId = ua.NodeId(f"{cid}/Panel", fivex)
+    request.MethodId = ua.NodeId(f"{cid}/Panel/{method}", fivex)
+    result = (await client.uaclient.call([request]))[0]
+    out(status=status_name(result.StatusCode.value))
+
+
 COMMANDS = {
     "browse": cmd_browse,
     "positions": cmd_positions,
     "names": cmd_names,
     "watch": cmd_watch,
+    "quick": cmd_quick,
     "call": cmd_call,
+    "call-id": cmd_call_id,
 }
 
 
