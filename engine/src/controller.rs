@@ -684,7 +684,10 @@ impl Controller {
             return Err(Refusal::Busy);
         }
         match self.run_state {
-            RunState::Running => return Ok(()),
+            // A program under way: nothing to start. A manual move in JOG/HANDLE/INC/REF: cycle
+            // start has nothing to do there, as at rest in that mode.
+            RunState::Running if matches!(self.mode, Mode::Auto | Mode::Mdi) => return Ok(()),
+            RunState::Running => return Err(Refusal::WrongMode),
             RunState::Hold => {
                 // Switched on while held: the held block's end stops (during the deceleration,
                 // once it has ended: `after_stop`).

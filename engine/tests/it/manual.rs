@@ -353,6 +353,25 @@ fn manual_settings_in_fanuc_parameters_tv_man_04h() {
     assert_eq!(machine_from(Dialect::Syntec, "m", &s).unwrap().manual, ManualOptions::default());
 }
 
+/// Cycle start during a manual move (a JOG, a handle move running) is refused as at rest in
+/// that mode: nothing starts (it answered as if it had, the run state `running`).
+#[test]
+fn cycle_start_during_a_manual_move_is_refused_as_in_its_mode() {
+    let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc));
+    c.set_mode(Mode::Jog).unwrap();
+    assert_eq!(c.cycle_start(), Err(Refusal::WrongMode), "at rest");
+    c.jog_start('X', true).unwrap();
+    c.tick(0.1);
+    assert_eq!(c.run_state(), RunState::Running);
+    assert_eq!(c.cycle_start(), Err(Refusal::WrongMode), "while jogging");
+    c.jog_stop();
+    c.tick(1.0);
+    c.set_mode(Mode::Handle).unwrap();
+    c.handle('X', 30.0).unwrap();
+    c.tick(0.1);
+    assert_eq!(c.cycle_start(), Err(Refusal::WrongMode), "during a handle move");
+}
+
 // --- manual intervention (MAN-01…03) ---------------------------------------------------------
 
 /// Start `src` in AUTO, hold after `hold_after` s, come to rest.
