@@ -575,6 +575,28 @@ fn an_over_travel_stops_the_machine_before_the_block() {
     assert_eq!(c.point().machine[0], 500.0);
 }
 
+/// A stroke pre-check alarm (OT0510/OT0511) comes before the move, and the position stays where
+/// the machine is: the workpiece position, the programmed point of the status and the stream,
+/// and the interpreter's current point (#5001…, #5041…) showed the end of the move that never
+/// happened (X1030 with the machine at X30) until a reset.
+#[test]
+fn a_stroke_pre_check_alarm_leaves_the_position_where_the_machine_is() {
+    for (block, code) in [("G00 X1000.", "OT0510"), ("G00 Y-600.", "OT0511")] {
+        let src = format!("N10 G91 G01 X30. F3000\nN20 {block}\nN30 M30\n");
+        let mut c = started(&src);
+        run_until_stopped(&mut c, 10.0);
+        assert_eq!((c.run_state(), c.alarms()[0].code.as_str(), c.alarms()[0].n), (RunState::Alarm, code, Some(20)));
+        let want = [30.0, 0.0, 0.0];
+        assert_eq!(&c.point().machine[..3], &want, "{block}");
+        assert_eq!(&c.point().work[..3], &want, "{block}: workpiece position");
+        assert_eq!(c.sample().programmed, want, "{block}: programmed point");
+        assert_eq!(c.tip().tip, want, "{block}: tip");
+        let st = &c.interpreter().state;
+        assert_eq!(&st.shown_position()[..3], &want, "{block}: #5041…");
+        assert_eq!(&st.machine_position()[..3], &want, "{block}: machine position read");
+    }
+}
+
 mod random_panel {
     use super::*;
     use proptest::prelude::*;
