@@ -1568,7 +1568,9 @@ impl Controller {
         }
         match step {
             Ok(Step::Continue) => {
-                if ends_own {
+                // Single block stops after every NC block executed, those without commands too
+                // (`State::single_block_stop`).
+                if ends_own || self.interp.state.single_block_stop() {
                     self.cycle.blocks_mut().push(Item::BlockEnd);
                 }
             }
