@@ -1446,6 +1446,12 @@ impl Controller {
                             self.cycle.blocks_mut().push_front(Item::Canon(c));
                             self.flush();
                         } else {
+                            // Refused before it starts (the stroke pre-check OT0510/OT0511):
+                            // the interpreter had read on to the move's end, so its current
+                            // point (the workpiece position shown, the programmed point,
+                            // #5001…, #5041…) is taken back to where the machine stands, as at
+                            // every other stop that drops what was read.
+                            self.stand_here();
                             self.raise(id, c.line, c.n);
                         }
                         return true;
@@ -1565,7 +1571,9 @@ impl Controller {
         }
         match step {
             Ok(Step::Continue) => {
-                if ends_own {
+                // Single block stops after every NC block executed, those without commands too
+                // (`State::single_block_stop`).
+                if ends_own || self.interp.state.single_block_stop() {
                     self.cycle.blocks_mut().push(Item::BlockEnd);
                 }
             }

@@ -416,6 +416,9 @@ pub struct State {
     /// The block executed last may have changed the state of [`ModalPart`] beyond the motion
     /// group and F (`State::moves_only`): a controller keeps a copy of it.
     modal_part_changed: bool,
+    /// The block executed last is an NC block that ends in a single-block stop although it
+    /// made no command (`G90`, `F500`, `G92 …`, `G80`; `State::single_block_stop`).
+    single_block_stop: bool,
 }
 
 /// What a block leaves in force for the blocks after it, besides data (variables, offsets,
@@ -905,6 +908,7 @@ impl State {
             line: 0,
             n: None,
             modal_part_changed: false,
+            single_block_stop: false,
             cfg,
         }
     }
@@ -947,6 +951,17 @@ impl State {
     /// The block executed last may have changed [`ModalPart`] beyond the motion group and F.
     pub fn modal_part_changed(&self) -> bool {
         self.modal_part_changed
+    }
+
+    /// The block executed last is an NC block that made no command and still ends in a stop
+    /// in single block, as every executed NC block does on the control (a block of only `G90`,
+    /// `F500`, `G92 …`, `G10 …`, `G52 …`, `G43 H1`, `G80`). Not: a block with nothing but N or
+    /// a comment, a macro statement (FANUC No.6000#5 SBM = 0), a subprogram or macro call or
+    /// return with nothing else (as a macro statement; the blocks it leads to stop), nor under
+    /// cutter compensation, where the path stage places the block ends (`docs/motion.md`,
+    /// `panel.single_block`). A block that made commands ends in its stop anyway.
+    pub fn single_block_stop(&self) -> bool {
+        self.single_block_stop
     }
 
     /// Before a reset with blocks read ahead of the machine: the state in force becomes the
@@ -1303,6 +1318,7 @@ impl State {
         // Macro statements, control flow and calls change data only; an NC block says
         // (`nc::exec_words`).
         self.modal_part_changed = false;
+        self.single_block_stop = false;
         let block = prog.block(idx);
         self.line = block.line;
         self.n = block.n;

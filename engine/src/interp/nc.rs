@@ -479,6 +479,13 @@ impl State {
         if out[first..].iter().any(|c| matches!(c.kind, CanonKind::Motion(_))) {
             self.cutter_vector = code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]);
         }
+        // Single block stops after every NC block; one that made commands ends in its stop
+        // anyway, one that made none is marked (a call or return alone passes, as a macro
+        // statement; under cutter compensation the stage places the ends).
+        self.single_block_stop = out.len() == first
+            && !offset_mode
+            && !code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP])
+            && !self.call_alone(&w, depth);
         if let Some(before) = machine_before {
             self.count_without_motion(&w, first, depth, &before, out);
         }
@@ -525,6 +532,28 @@ impl State {
     /// return with anything else (`G90 M99`, `G91 M98 P…`) counts as any block: its G code is
     /// an NC command ("G90 ; G code only"). A Syntec subprogram's M02/M30 is its return (as
     /// M99), alone or not.
+    /// The block is a subprogram or macro call or return with nothing else (`depth`: the
+    /// call frames before it): M98/M99/M97 with P and L only, G65/G66 (whose other letters are
+    /// arguments) with no other G code, or a block whose words are the arguments of a macro
+    /// another code called (G66's modal call, an M or T code's macro). FANUC handles it like a
+    /// macro statement (no single-block stop, not a block without movement of compensation).
+    fn call_alone(&self, w: &Words, depth: usize) -> bool {
+        let macro_code = |c: &u16| code::MACRO_CALLS.contains(c) || *c == code::G67;
+        // A Syntec subprogram's M02/M30 that returned to the caller is that return, as M99.
+        let returned = self.frames.len() < depth;
+        let sub_code = |m: &u32| {
+            mcode::call_or_return(*m) || *m == mcode::M97 || returned && matches!(*m, mcode::M02 | mcode::M30)
+        };
+        if w.gcodes().iter().any(macro_code) {
+            // Every other letter of G65/G66 is an argument.
+            w.gcodes().iter().all(macro_code)
+        } else if w.mcodes().iter().any(sub_code) {
+            w.gcodes().is_empty() && w.mcodes().iter().all(sub_code) && w.letters().all(|l| b"MPL".contains(&l))
+        } else {
+            self.frames.len() != depth
+        }
+    }
+
     fn count_without_motion(
         &mut self,
         w: &Words,
@@ -536,23 +565,7 @@ impl State {
         if !code::COMPENSATED_BY_STAGES.contains(&self.modes[group::CUTTER_COMP]) || self.ended {
             return;
         }
-        let macro_code = |c: &u16| code::MACRO_CALLS.contains(c) || *c == code::G67;
-        // A Syntec subprogram's M02/M30 that returned to the caller is that return, as M99.
-        let returned = self.frames.len() < depth;
-        let sub_code = |m: &u32| {
-            mcode::call_or_return(*m) || *m == mcode::M97 || returned && matches!(*m, mcode::M02 | mcode::M30)
-        };
-        let alone = if w.gcodes().iter().any(macro_code) {
-            // Every other letter of G65/G66 is an argument.
-            w.gcodes().iter().all(macro_code)
-        } else if w.mcodes().iter().any(sub_code) {
-            w.gcodes().is_empty() && w.mcodes().iter().all(sub_code) && w.letters().all(|l| b"MPL".contains(&l))
-        } else {
-            // A macro called by another code (G66's modal call, an M or T code's macro): the
-            // block's words are its arguments.
-            self.frames.len() != depth
-        };
-        if alone || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
+        if self.call_alone(w, depth) || w.gcodes().is_empty() && w.mcodes().is_empty() && w.list.is_empty() {
             return;
         }
         let made = &out[first..];

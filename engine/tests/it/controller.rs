@@ -575,6 +575,28 @@ fn an_over_travel_stops_the_machine_before_the_block() {
     assert_eq!(c.point().machine[0], 500.0);
 }
 
+/// A stroke pre-check alarm (OT0510/OT0511) comes before the move, and the position stays where
+/// the machine is: the workpiece position, the programmed point of the status and the stream,
+/// and the interpreter's current point (#5001…, #5041…) showed the end of the move that never
+/// happened (X1030 with the machine at X30) until a reset.
+#[test]
+fn a_stroke_pre_check_alarm_leaves_the_position_where_the_machine_is() {
+    for (block, code) in [("G00 X1000.", "OT0510"), ("G00 Y-600.", "OT0511")] {
+        let src = format!("N10 G91 G01 X30. F3000\nN20 {block}\nN30 M30\n");
+        let mut c = started(&src);
+        run_until_stopped(&mut c, 10.0);
+        assert_eq!((c.run_state(), c.alarms()[0].code.as_str(), c.alarms()[0].n), (RunState::Alarm, code, Some(20)));
+        let want = [30.0, 0.0, 0.0];
+        assert_eq!(&c.point().machine[..3], &want, "{block}");
+        assert_eq!(&c.point().work[..3], &want, "{block}: workpiece position");
+        assert_eq!(c.sample().programmed, want, "{block}: programmed point");
+        assert_eq!(c.tip().tip, want, "{block}: tip");
+        let st = &c.interpreter().state;
+        assert_eq!(&st.shown_position()[..3], &want, "{block}: #5041…");
+        assert_eq!(&st.machine_position()[..3], &want, "{block}: machine position read");
+    }
+}
+
 mod random_panel {
     use super::*;
     use proptest::prelude::*;
@@ -1269,11 +1291,38 @@ fn single_block_stops(dialect: Dialect, program: &str) -> Vec<[f64; 3]> {
     }
 }
 
+/// A FANUC control in single block stops after every NC block executed, those without motion
+/// or M/S/T too; fivex stopped only after the moves, M/S/T and dwells (here only after T1 and
+/// G04). Not a block with nothing but N or a comment, nor a macro statement (SBM = 0).
+#[test]
+fn single_block_stops_after_every_nc_block_with_or_without_motion() {
+    use fivex_engine::controller::ProgramStop;
+    let src = "N10 G90\nN20 F500\nN30 T1\nN40 G10 L2 P1 X0\nN50 G92 X0 Y0 Z0\nN60 G43 H1\nN70 G52 X1.\n\
+               N80 G04 X0.1\nN81 G90 G54 G17\nN82 G80\nN83\n(COMMENT)\n#100=1\nN90 M30\n";
+    let mut c = controller();
+    c.panel.single_block = true;
+    c.select_program(src).unwrap();
+    c.cycle_start().unwrap();
+    let mut stops = Vec::new();
+    loop {
+        run_until_stopped(&mut c, 10.0);
+        if c.program_stop() != Some(ProgramStop::SingleBlock) {
+            break;
+        }
+        stops.push(c.point().n);
+        c.cycle_start().unwrap();
+    }
+    let want: Vec<_> = [10, 20, 30, 40, 50, 60, 70, 80, 81, 82].map(Some).into();
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert_eq!(stops, want);
+}
+
 /// Audit ops F6 (t3.py): single block in a canned cycle stops three times per hole (FANUC "the
 /// operation stops at the end of operations 1, 2 and 6"): over the hole at the initial level,
 /// at R, and at the return level; none in the hole (G84: "the cycle does not stop until the tap
 /// is completed"). K repeats stop so at every hole (G91: the second hole positions at R, already
-/// there, so no move to R and no stop for it). Syntec and Haas stop once per cycle block.
+/// there, so no move to R and no stop for it). Syntec and Haas stop once per cycle block. The
+/// G80 block after the cycle stops as every NC block does.
 #[test]
 fn single_block_in_a_canned_cycle_stops_after_the_positioning_the_move_to_r_and_the_hole() {
     let top = [0.0, 0.0, 50.0];
@@ -1281,15 +1330,25 @@ fn single_block_in_a_canned_cycle_stops_after_the_positioning_the_move_to_r_and_
         let program = format!("G90 G0 X0 Y0 Z50.\nS500 M03\nG98 {cycle} X10. Y10. Z-20. R5. F500.\nX30.\nG80\nM30\n");
         let stops = single_block_stops(Dialect::Fanuc, &program);
         let hole = |x: f64| [[x, 10.0, 50.0], [x, 10.0, 5.0], [x, 10.0, 50.0]];
-        let expected: Vec<[f64; 3]> = [vec![top, top], hole(10.0).to_vec(), hole(30.0).to_vec()].concat();
+        // The G80 block stops too, where the last hole ended.
+        let expected: Vec<[f64; 3]> =
+            [vec![top, top], hole(10.0).to_vec(), hole(30.0).to_vec(), vec![[30.0, 10.0, 50.0]]].concat();
         assert_eq!(stops, expected, "{cycle}");
     }
     let program = "G90 G0 X0 Y0 Z50.\nG91 G99 G81 X10. Z-25. R-45. F500. K2\nG80\nM30\n";
-    let expected = vec![top, [10.0, 0.0, 50.0], [10.0, 0.0, 5.0], [10.0, 0.0, 5.0], [20.0, 0.0, 5.0], [20.0, 0.0, 5.0]];
+    let expected = vec![
+        top,
+        [10.0, 0.0, 50.0],
+        [10.0, 0.0, 5.0],
+        [10.0, 0.0, 5.0],
+        [20.0, 0.0, 5.0],
+        [20.0, 0.0, 5.0],
+        [20.0, 0.0, 5.0],
+    ];
     assert_eq!(single_block_stops(Dialect::Fanuc, program), expected, "K2");
     let program = "G90 G0 X0 Y0 Z50.\nG98 G81 X10. Y10. Z-20. R5. F500.\nX30.\nG80\nM30\n";
     for dialect in [Dialect::Syntec, Dialect::Haas] {
-        let expected = vec![top, [10.0, 10.0, 50.0], [30.0, 10.0, 50.0]];
+        let expected = vec![top, [10.0, 10.0, 50.0], [30.0, 10.0, 50.0], [30.0, 10.0, 50.0]];
         assert_eq!(single_block_stops(dialect, program), expected, "{dialect:?}");
     }
 }

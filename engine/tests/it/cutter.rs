@@ -913,11 +913,21 @@ mod in_the_controller {
     fn the_controller_stops_at_the_compensated_corners_in_single_block() {
         assert_eq!(stops(false)[0], [0.0, -10.0]);
         // Each cycle start runs the block whose end the stage has placed, the block before the
-        // G40 block too (the stage releases both when the G40 block is read).
+        // G40 block too (the stage releases both when the G40 block is read). The G10 block
+        // before the compensation stops as every NC block does, where the machine stands.
         let single = stops(true);
         assert_eq!(
-            single[..7],
-            [[0.0, -10.0], [5.0, -5.0], [25.0, -5.0], [25.0, 25.0], [-5.0, 25.0], [-5.0, 0.0], [0.0, -10.0]]
+            single[..8],
+            [
+                [0.0, 0.0],
+                [0.0, -10.0],
+                [5.0, -5.0],
+                [25.0, -5.0],
+                [25.0, 25.0],
+                [-5.0, 25.0],
+                [-5.0, 0.0],
+                [0.0, -10.0]
+            ]
         );
     }
 }
