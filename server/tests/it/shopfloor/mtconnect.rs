@@ -99,6 +99,30 @@ impl Agent {
         assert_eq!(reply.status, 200, "{}", String::from_utf8_lossy(&reply.body));
     }
 
+    /// Three busy machines (table-ac, head-bc, mill3) named `prefix`0…2, each running the MDI
+    /// `text`: the agent's `nextSequence` before they started, and their ids.
+    async fn busy(&self, prefix: &str, text: &str) -> (u64, Vec<String>) {
+        let mut ids = Vec::new();
+        for (i, preset) in ["table-ac", "head-bc", "mill3"].iter().enumerate() {
+            ids.push(self.create(&format!("{prefix}{i}"), preset, "fanuc").await);
+        }
+        let start = attribute(&self.get("/current").await.body, "<Header", "nextSequence").unwrap().parse().unwrap();
+        for id in &ids {
+            self.mdi(id, text).await;
+        }
+        (start, ids)
+    }
+
+    /// A multipart stream of `query` (`/sample?…`): the response and its boundary.
+    async fn stream(&self, query: &str) -> (hyper::Response<hyper::body::Incoming>, String) {
+        let url = format!("{}{query}", self.base);
+        let response = self.client.request(Request::get(url).body(Empty::new()).unwrap()).await.unwrap();
+        assert_eq!(response.status(), 200);
+        let content_type = response.headers()["content-type"].to_str().unwrap().to_string();
+        let boundary = content_type.split("boundary=").nth(1).expect("a multipart stream").to_string();
+        (response, boundary)
+    }
+
     async fn status(&self, id: &str) -> Value {
         self.served.get(&format!("/api/v1/controllers/{id}")).await.json()
     }
@@ -282,21 +306,11 @@ async fn every_document_validates_and_says_what_the_api_says() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn sample_numbers_every_change_once_in_order_polled_and_streamed() {
     let agent = Agent::start(&["--shopfloor-period-ms", "20"]);
-    let mut ids = Vec::new();
-    for (i, preset) in ["table-ac", "head-bc", "mill3"].iter().enumerate() {
-        ids.push(agent.create(&format!("m{i}"), preset, "fanuc").await);
-    }
-    let start: u64 = attribute(&agent.get("/current").await.body, "<Header", "nextSequence").unwrap().parse().unwrap();
-    for id in &ids {
-        agent.mdi(id, "G91 G01 X40. Y20. F1200").await;
-    }
+    let (start, ids) = agent.busy("m", "G91 G01 X40. Y20. F1200").await;
 
     // A streaming client (interval 0: each part as soon as there is news) beside a polling one.
-    let stream_url = format!("{}/sample?from={start}&interval=0&count=1000&heartbeat=1000", agent.base);
-    let response = agent.client.request(Request::get(stream_url).body(Empty::new()).unwrap()).await.unwrap();
-    assert_eq!(response.status(), 200);
-    let content_type = response.headers()["content-type"].to_str().unwrap().to_string();
-    let boundary = content_type.split("boundary=").nth(1).expect("a multipart stream").to_string();
+    let (response, boundary) =
+        agent.stream(&format!("/sample?from={start}&interval=0&count=1000&heartbeat=1000")).await;
     let streamed = tokio::spawn(async move {
         let mut body = response.into_body();
         let mut text = String::new();
@@ -477,21 +491,10 @@ async fn a_sample_across_a_rebuilt_device_model_has_one_stream_per_device_and_va
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_stream_sends_what_count_left_over_at_once_and_keeps_up() {
     let agent = Agent::start(&["--shopfloor-period-ms", "20"]);
-    let mut ids = Vec::new();
-    for (i, preset) in ["table-ac", "head-bc", "mill3"].iter().enumerate() {
-        ids.push(agent.create(&format!("busy{i}"), preset, "fanuc").await);
-    }
-    let start: u64 = attribute(&agent.get("/current").await.body, "<Header", "nextSequence").unwrap().parse().unwrap();
-    for id in &ids {
-        agent.mdi(id, "G91 G01 X200. Y100. F1200").await;
-    }
+    let (start, _) = agent.busy("busy", "G91 G01 X200. Y100. F1200").await;
     tokio::time::sleep(Duration::from_millis(300)).await;
 
-    let url = format!("{}/sample?from={start}&interval=1000&count=20", agent.base);
-    let response = agent.client.request(Request::get(url).body(Empty::new()).unwrap()).await.unwrap();
-    assert_eq!(response.status(), 200);
-    let content_type = response.headers()["content-type"].to_str().unwrap().to_string();
-    let boundary = content_type.split("boundary=").nth(1).expect("a multipart stream").to_string();
+    let (response, boundary) = agent.stream(&format!("/sample?from={start}&interval=1000&count=20")).await;
     let streamed = tokio::spawn(async move {
         let mut body = response.into_body();
         let mut text = String::new();
