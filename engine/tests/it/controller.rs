@@ -1273,6 +1273,15 @@ fn the_spindle_override_does_not_act_while_the_tap_is_in_the_hole() {
 /// Where a controller stops under single block from the start of `program`, until it ends: the
 /// machine X/Y/Z of each stop.
 fn single_block_stops(dialect: Dialect, program: &str) -> Vec<[f64; 3]> {
+    single_block_stops_by(dialect, program, |c| {
+        let m = c.point().machine;
+        [m[0], m[1], m[2]].map(|v| (v * 1e6).round() / 1e6)
+    })
+}
+
+/// `program` run on mill3 in single block to its end, cycle start after every stop: `record`
+/// of each stop.
+fn single_block_stops_by<T>(dialect: Dialect, program: &str, record: impl Fn(&Controller) -> T) -> Vec<T> {
     use fivex_engine::controller::ProgramStop;
     let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
     c.panel.single_block = true;
@@ -1282,11 +1291,10 @@ fn single_block_stops(dialect: Dialect, program: &str) -> Vec<[f64; 3]> {
     loop {
         run_until_stopped(&mut c, 60.0);
         if c.program_stop() != Some(ProgramStop::SingleBlock) {
-            assert_eq!(c.run_state(), RunState::Idle);
+            assert_eq!(c.run_state(), RunState::Idle, "{:?}", c.alarms());
             return stops;
         }
-        let m = c.point().machine;
-        stops.push([m[0], m[1], m[2]].map(|v| (v * 1e6).round() / 1e6));
+        stops.push(record(&c));
         c.cycle_start().unwrap();
     }
 }
@@ -1296,24 +1304,10 @@ fn single_block_stops(dialect: Dialect, program: &str) -> Vec<[f64; 3]> {
 /// G04). Not a block with nothing but N or a comment, nor a macro statement (SBM = 0).
 #[test]
 fn single_block_stops_after_every_nc_block_with_or_without_motion() {
-    use fivex_engine::controller::ProgramStop;
     let src = "N10 G90\nN20 F500\nN30 T1\nN40 G10 L2 P1 X0\nN50 G92 X0 Y0 Z0\nN60 G43 H1\nN70 G52 X1.\n\
                N80 G04 X0.1\nN81 G90 G54 G17\nN82 G80\nN83\n(COMMENT)\n#100=1\nN90 M30\n";
-    let mut c = controller();
-    c.panel.single_block = true;
-    c.select_program(src).unwrap();
-    c.cycle_start().unwrap();
-    let mut stops = Vec::new();
-    loop {
-        run_until_stopped(&mut c, 10.0);
-        if c.program_stop() != Some(ProgramStop::SingleBlock) {
-            break;
-        }
-        stops.push(c.point().n);
-        c.cycle_start().unwrap();
-    }
+    let stops = single_block_stops_by(Dialect::Fanuc, src, |c| c.point().n);
     let want: Vec<_> = [10, 20, 30, 40, 50, 60, 70, 80, 81, 82].map(Some).into();
-    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
     assert_eq!(stops, want);
 }
 
