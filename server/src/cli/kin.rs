@@ -26,9 +26,10 @@ pub struct FkArgs {
     /// Tool length, mm.
     #[arg(long, default_value_t = 0.0)]
     tool_length: f64,
-    /// Whose alarm a machine that cannot work raises: fanuc, syntec or haas.
-    #[arg(long, default_value = "fanuc")]
-    dialect: Dialect,
+    /// Whose alarm a machine that cannot work raises: fanuc, syntec or haas [default: a
+    /// parameter list's own dialect, else fanuc].
+    #[arg(long)]
+    dialect: Option<Dialect>,
     /// The mechanism chain, as Syntec's G10 L5000 P_ Q_ selects it: SET or SET,SUB (default 1).
     #[arg(long)]
     chain: Option<String>,
@@ -56,9 +57,10 @@ pub struct IkArgs {
     /// FANUC No.19608#5 PRI: judge the second rotary axis's movement first.
     #[arg(long)]
     pri: bool,
-    /// Whose selection rules: fanuc, syntec or haas (Haas: FANUC's).
-    #[arg(long, default_value = "fanuc")]
-    dialect: Dialect,
+    /// Whose selection rules: fanuc, syntec or haas (Haas: FANUC's) [default: a parameter
+    /// list's own dialect, else fanuc].
+    #[arg(long)]
+    dialect: Option<Dialect>,
     /// The mechanism chain, as Syntec's G10 L5000 P_ Q_ selects it: SET or SET,SUB (default 1).
     #[arg(long)]
     chain: Option<String>,
@@ -72,9 +74,13 @@ pub fn run(command: KinCommand) -> Result<i32, Fail> {
 }
 
 /// The machine (as `chain` sees it) and its kinematics; a mechanism that cannot work fails with
-/// the dialect's alarm.
-fn model(args: &MachineArgs, dialect: Dialect, chain: Option<&str>) -> Result<(MachineConfig, Kinematics), Fail> {
-    let mut m = load_machine(args)?;
+/// the dialect's alarm. The dialect is `given` or the machine file's (`load_machine`).
+fn model(
+    args: &MachineArgs,
+    given: Option<Dialect>,
+    chain: Option<&str>,
+) -> Result<(MachineConfig, Kinematics, Dialect), Fail> {
+    let (mut m, dialect) = load_machine(args, given)?;
     if let Some(text) = chain {
         let numbers: Vec<u8> = text
             .split(',')
@@ -89,7 +95,7 @@ fn model(args: &MachineArgs, dialect: Dialect, chain: Option<&str>) -> Result<(M
         m = m.chain_view(chain).ok_or_else(|| Fail(format!("--chain '{text}': the machine has no such chain")))?;
     }
     let k = Kinematics::new(&m).map_err(|e| Fail(e.describe(dialect)))?;
-    Ok((m, k))
+    Ok((m, k, dialect))
 }
 
 /// `X=1,B=-70` → positions in axis order (others 0).
@@ -134,7 +140,7 @@ fn print(value: &impl Serialize) -> Result<(), Fail> {
 }
 
 fn fk(a: FkArgs) -> Result<i32, Fail> {
-    let (m, k) = model(&a.machine, a.dialect, a.chain.as_deref())?;
+    let (m, k, _) = model(&a.machine, a.dialect, a.chain.as_deref())?;
     let pos = positions(&m, &a.axes)?;
     let p = k.forward(&pos, a.tool_length);
     print(&ForwardKinematics {
@@ -148,20 +154,20 @@ fn fk(a: FkArgs) -> Result<i32, Fail> {
 }
 
 fn ik(a: IkArgs) -> Result<i32, Fail> {
-    let (m, k) = model(&a.machine, a.dialect, a.chain.as_deref())?;
+    let (m, k, dialect) = model(&a.machine, a.dialect, a.chain.as_deref())?;
     let from = positions(&m, &a.from)?;
     let tool = triple(&a.tool)?;
     if tool.norm() < 1e-12 {
         return Err(Fail("--tool: the direction must not be zero".into()));
     }
     let candidates = k.inverse(triple(&a.tip)?, tool, a.tool_length, &from);
-    let how = Selection { dialect: a.dialect, pri: a.pri, p: a.p };
+    let how = Selection { dialect, pri: a.pri, p: a.p };
     let choice = k.select(&candidates, &from, how);
     let names: Vec<char> = m.axes.iter().map(|a| a.name).collect();
     let (chosen, alarm) = match &choice {
         Ok(c) => (Some(axis_values(&c.pos, &names)), None),
         Err(id) => {
-            let (code, message) = a.dialect.describe(id);
+            let (code, message) = dialect.describe(id);
             (None, Some(AlarmCode { code: code.to_string(), message: message.to_string() }))
         }
     };

@@ -16,7 +16,7 @@ pub struct MachineShowArgs {
 }
 
 pub fn run(args: MachineShowArgs) -> Result<i32, Fail> {
-    let m = load_machine(&args.machine)?;
+    let (m, _) = load_machine(&args.machine, None)?;
     let text = match args.params {
         None => serde_json::to_string_pretty(&m)?,
         Some(dialect) => match vendor::params_of(dialect, &m) {

@@ -66,9 +66,9 @@ struct MachineArgs {
 struct InterpreterArgs {
     #[command(flatten)]
     machine: MachineArgs,
-    /// Dialect: fanuc, syntec or haas.
-    #[arg(long, default_value = "fanuc")]
-    dialect: Dialect,
+    /// Dialect: fanuc, syntec or haas [default: a parameter list's own dialect, else fanuc].
+    #[arg(long)]
+    dialect: Option<Dialect>,
     /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}; optional per tool
     /// "corner_radius" (mm, 0 or more; default 0).
     #[arg(long)]
@@ -122,8 +122,9 @@ struct InterpArgs {
 #[derive(Args, Debug)]
 struct CheckArgs {
     program: PathBuf,
-    #[arg(long, default_value = "fanuc")]
-    dialect: Dialect,
+    /// Dialect: fanuc, syntec or haas [default: a parameter list's own dialect, else fanuc].
+    #[arg(long)]
+    dialect: Option<Dialect>,
     /// With a machine (`--preset` or `--machine`), the program is also run through the
     /// interpreter and the path stages on it (nothing moves): what only that machine refuses,
     /// and cutter compensation's alarms, are reported too. Without one, a program that turns
@@ -253,7 +254,10 @@ fn read_program(path: &Path) -> Result<String, Fail> {
     Ok(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
 }
 
-fn load_machine(args: &MachineArgs) -> Result<MachineConfig, Fail> {
+/// The machine and the dialect it runs in: `given` (`--dialect`) when there is one, else a
+/// parameter list's own dialect, else FANUC — as `POST /controllers` and `fivex fleet` choose
+/// (a Syntec list read as a FANUC program would misread its programs without a word).
+fn load_machine(args: &MachineArgs, given: Option<Dialect>) -> Result<(MachineConfig, Dialect), Fail> {
     if let Some(path) = &args.machine {
         let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
         let machine = fivex_engine::machine_file::parse(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
@@ -261,11 +265,13 @@ fn load_machine(args: &MachineArgs) -> Result<MachineConfig, Fail> {
         for line in fivex_engine::machine_file::warnings(&path.display().to_string(), &text) {
             eprintln!("{line}");
         }
-        return Ok(machine);
+        let dialect = given.or_else(|| fivex_engine::machine_file::dialect_of(&text)).unwrap_or(Dialect::Fanuc);
+        return Ok((machine, dialect));
     }
     let name = args.preset.as_deref().unwrap_or("mill3");
-    MachineConfig::preset(name)
-        .ok_or_else(|| Fail(format!("unknown preset '{name}' (presets: {})", MachineConfig::PRESETS.join(", "))))
+    let machine = MachineConfig::preset(name)
+        .ok_or_else(|| Fail(format!("unknown preset '{name}' (presets: {})", MachineConfig::PRESETS.join(", "))))?;
+    Ok((machine, given.unwrap_or(Dialect::Fanuc)))
 }
 
 /// Build the interpreter for a program file with the CLI's settings.
@@ -275,8 +281,8 @@ fn interpreter(text: &str, args: &InterpreterArgs) -> Result<Interpreter, Fail> 
 }
 
 fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
-    let machine = load_machine(&args.machine)?;
-    let mut cfg = Config::new(machine, args.dialect);
+    let (machine, dialect) = load_machine(&args.machine, args.dialect)?;
+    let mut cfg = Config::new(machine, dialect);
     cfg.block_delete = args.block_delete;
     cfg.optional_stop = args.optional_stop;
     cfg.max_blocks = args.max_blocks;
@@ -496,11 +502,12 @@ fn cmd_interp(a: InterpArgs) -> Result<i32, Fail> {
 
 fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     let text = read_program(&a.program)?;
+    let (machine, dialect) = load_machine(&a.machine, a.dialect)?;
     // (line, column, code, the text after the position)
-    let mut lines: Vec<(u32, u32, String, String)> = fivex_engine::check::check(parse_file(&text), a.dialect)
+    let mut lines: Vec<(u32, u32, String, String)> = fivex_engine::check::check(parse_file(&text), dialect)
         .into_iter()
         .map(|d| {
-            let (code, message) = a.dialect.describe(&d.id);
+            let (code, message) = dialect.describe(&d.id);
             let text = format!("{code} {message}: {}", d.detail);
             (d.line, d.col, code, text)
         })
@@ -512,9 +519,8 @@ fn cmd_check(a: CheckArgs) -> Result<i32, Fail> {
     // geometry (`AlarmId::is_the_programs`: a radius off its arc, a nesting too deep …) and the
     // notices (a unit switched mid-program, FX1005 …); its other alarms are the stand-in's,
     // not the text's.
-    let machine = load_machine(&a.machine)?;
     let name = machine.name.clone();
-    let mut cfg = Config::new(machine, a.dialect);
+    let mut cfg = Config::new(machine, dialect);
     cfg.max_blocks = CHECK_MAX_BLOCKS;
     let interp = equip(Interpreter::new(file, cfg), a.tools.as_deref())?;
     let mut notices = Vec::new();

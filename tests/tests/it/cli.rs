@@ -209,6 +209,26 @@ fn dialect_changes_alarm_codes() {
     assert_eq!(sy["alarms"][0]["code"], "COR-004");
 }
 
+/// Syntec audit: a Syntec parameter list given with `--machine` ran its programs as FANUC text
+/// (`X[7/2*1.]` reached 3.5 and `X10` 0.010 mm) in `run`, `check` and `interp`, while `fleet`
+/// and the API took the list's own dialect. Now the list's dialect is the default there too,
+/// and `--dialect` still decides when given.
+#[test]
+fn a_parameter_list_runs_in_its_own_dialect() {
+    let syntec = concat!(env!("CARGO_MANIFEST_DIR"), "/../machines/cradle-bc-110.json");
+    let (_d, p) = scratch(&[("p.nc", "G90 G01 X10 F100.\nM30\n")]);
+    let p = [p[0].clone(), PathBuf::from(syntec)];
+    let (code, v) = run_json(&[s(&p[0]), "--machine", s(&p[1])]);
+    assert_eq!((code, v["alarms"][0]["code"].as_str()), (1, Some("COR-048")), "{v}");
+    let (code, v) = run_json(&[s(&p[0]), "--machine", s(&p[1]), "--dialect", "fanuc"]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(num(&v["position"]["machine"]["X"]), 0.01);
+    let check = fivex(&["check", s(&p[0]), "--machine", s(&p[1])]);
+    assert!(stdout(&check).contains("COR-048"), "{}", stdout(&check));
+    let interp = fivex(&["interp", s(&p[0]), "--machine", s(&p[1])]);
+    assert!(stderr(&interp).contains("COR-048"), "{}{}", stdout(&interp), stderr(&interp));
+}
+
 #[test]
 fn machine_file_is_accepted() {
     let machine = r#"{"name": "xyzb", "axes": [
