@@ -303,8 +303,10 @@ impl Recorder {
         }
     }
 
+    /// A position reached, as the machine shows it: a rollover axis modulo 360 (its unwound
+    /// angle, −10 or 620, is no position the machine shows; `travel` stays unwound).
     fn position(&mut self, pos: &Pos) {
-        for (a, p) in self.axes.iter_mut().zip(pos) {
+        for (a, p) in self.axes.iter_mut().zip(&self.machine.shown(pos)) {
             a.min = a.min.min(*p);
             a.max = a.max.max(*p);
         }

@@ -144,6 +144,19 @@ fn unwinds_are_half_turns_back() {
     assert_eq!(axis(&r, 'C').unwinds, 0);
 }
 
+/// Fleet audit: a rollover C from 10 to 350 the short way (through 0) reported min −10, max 10,
+/// angles the machine never shows (its display and the trace read 0…360). The range is the
+/// shown one; the travel stays unwound (30°).
+#[test]
+fn a_rollover_axis_reports_the_positions_it_shows() {
+    let r = report_on("G90 G00 C10.\nG01 C350. F3000\nM30\n", "table-ac");
+    let c = axis(&r, 'C');
+    assert!(c.min >= 0.0 && c.min < 0.1 && c.max > 359.9 && c.max < 360.0, "{} {}", c.min, c.max);
+    assert!((c.travel - 30.0).abs() < 0.01, "{}", c.travel);
+    let r = report_on("G90 G00 C10.\nG01 C40. F3000\nM30\n", "table-ac");
+    assert_eq!((axis(&r, 'C').min, axis(&r, 'C').max), (0.0, 40.0));
+}
+
 #[test]
 fn an_alarm_is_reported_with_its_line() {
     let r = report_on("G90 G01 X10. F600.\nX700.\nM30\n", "mill3");
