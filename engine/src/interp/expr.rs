@@ -139,6 +139,13 @@ fn syntec_binary(op: BinOp, (x, tx): (Value, Ty), (y, ty): (Value, Ty)) -> Resul
     if op == BinOp::Div {
         return syntec_divide((x.unwrap_or(0.0), tx), (y.unwrap_or(0.0), ty)).map(|(q, t)| (Some(q), t));
     }
+    // A vacant operand adds nothing (it counts as 0): the sum has the other's type, so an
+    // argument left out does not hide a Long (`#2 + #5` with #2 = 10 is 10, a Long).
+    let (tx, ty) = match (x, y, op) {
+        (None, Some(_), BinOp::Add | BinOp::Sub) => (ty, ty),
+        (Some(_), None, BinOp::Add | BinOp::Sub) => (tx, tx),
+        _ => (tx, ty),
+    };
     let v = finite(binary(op, x, y)?)?;
     let t = match op {
         BinOp::Add | BinOp::Sub | BinOp::Mul if tx == Ty::Double || ty == Ty::Double => Ty::Double,

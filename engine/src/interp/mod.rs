@@ -1438,7 +1438,13 @@ impl State {
         if !(0.0..=99_999_999.0).contains(&n) {
             return Err(AlarmId::IllegalSequenceNumber);
         }
-        let to = prog.find_label(n as u32, from).ok_or(AlarmId::IllegalSequenceNumber)?;
+        // FANUC searches on from the GOTO, then from the top; Syntec takes the first (its
+        // macro handbook, `docs/dialects.md`).
+        let to = match self.cfg.dialect {
+            crate::Dialect::Syntec => prog.first_label(n as u32),
+            _ => prog.find_label(n as u32, from),
+        };
+        let to = to.ok_or(AlarmId::IllegalSequenceNumber)?;
         if prog.jump_enters_loop(from, to) {
             return Err(AlarmId::IllegalLoopNumber);
         }

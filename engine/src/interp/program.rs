@@ -252,6 +252,12 @@ impl Loaded {
         list.iter().find(|&&i| i as usize > from).or(list.first()).map(|&i| i as usize)
     }
 
+    /// The first block of the program with sequence number `n` (a Syntec GOTO: "if the program
+    /// holds the same N number twice, the first one counts").
+    pub fn first_label(&self, n: u32) -> Option<usize> {
+        self.labels.get(&n)?.first().map(|&i| i as usize)
+    }
+
     /// A jump from `from` to `to` must not enter a DO range it is not already inside.
     pub fn jump_enters_loop(&self, from: usize, to: usize) -> bool {
         let mut d = self.enclosing[to];

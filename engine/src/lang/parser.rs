@@ -34,6 +34,7 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
         let blocks = Vec::with_capacity(std::mem::take(&mut reserve));
         Program { number, line, blocks }
     };
+    let across = block_comments_across_lines(text);
     for (idx, line) in lines(text).enumerate() {
         let line_no = first_line + idx as u32;
         file.lines = idx as u32 + 1;
@@ -48,7 +49,9 @@ pub fn parse_part(text: &str, first_line: u32, continues: bool) -> File {
             }
             continue;
         }
-        let mut block_comment = unclosed_block_comment(line).map(|at| block_comment_refusal(line_no, at as u32 + 1));
+        let mut block_comment = unclosed_block_comment(line)
+            .or_else(|| across.iter().find(|&&(i, _)| i == idx).map(|&(_, at)| at))
+            .map(|at| block_comment_refusal(line_no, at as u32 + 1));
         // A `;` ends a block; text after it on the same line is another block.
         let mut start = 0usize;
         while start < line.len() {
@@ -163,6 +166,39 @@ fn unclosed_block_comment(line: &str) -> Option<usize> {
         }
     }
     None
+}
+
+/// The lines (index in `text`, offset of the `(`) that open a Syntec block comment a later line
+/// closes: a `(*` that no `*)` after it on its line closes, and a later line with a `*)` that
+/// no `(*` before it on that line opens. Read as ISO comments, `(* old roughing (T1)` ends at
+/// its `)` and the lines up to `end *)` would run, where the writer meant them commented out
+/// (handbook §4.10), so its line is refused as `unclosed_block_comment`'s is.
+fn block_comments_across_lines(text: &str) -> Vec<(usize, usize)> {
+    use memchr::memmem::find;
+    let mut found = Vec::new();
+    if find(text.as_bytes(), b"(*").is_none() {
+        return found;
+    }
+    let mut open = None;
+    for (idx, line) in lines(text).enumerate() {
+        let b = line.as_bytes();
+        let closes = find(b, b"*)").is_some_and(|end| find(&b[..end + 1], b"(*").is_none());
+        if closes {
+            found.extend(open.take());
+        }
+        let mut from = 0;
+        while let Some(k) = find(&b[from..], b"(*") {
+            let at = from + k;
+            if find(&b[at + 2..], b"*)").is_none() {
+                // The first opener since the last close: refused there, before any line the
+                // writer meant commented out can run.
+                open.get_or_insert((idx, at));
+                break;
+            }
+            from = at + 2;
+        }
+    }
+    found
 }
 
 /// A block with nothing in it at all (not even a comment) is not a block.

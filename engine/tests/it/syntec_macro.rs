@@ -326,6 +326,9 @@ fn a_length_without_a_decimal_point_is_refused_in_the_syntec_dialect() {
         ("G01 X10 F100.\nM30\n", 1),
         ("#1=10\nG01 X#1 F100.\nM30\n", 2),
         ("#1=7\nG01 Y[#1*2] F100.\nM30\n", 2),
+        // A vacant operand adds nothing: the sum is still a Long (Syntec audit: 10 mm, no word).
+        ("#1=#0+10\nG01 X#1 F100.\nM30\n", 2),
+        ("#2=10\n#1=#2+#5\nG01 X#1 F100.\nM30\n", 3),
         ("G00 X0 Y0\nG02 X10. Y0 R5000 F100.\nM30\n", 2),
         ("G00 X0 Y0\nG02 X10. Y0 I5000 F100.\nM30\n", 2),
         ("G00 X0 Y0 Z10.\nG83 X1. Y1. Z-5. R1. Q2 F100.\nG80\nM30\n", 2),
@@ -385,6 +388,20 @@ fn syntec_m99_q_is_refused() {
     assert_eq!(checked(src, Fanuc), []);
 }
 
+/// Syntec audit: a GOTO to an N number the program holds twice went on to the later one, as
+/// FANUC searches, where Syntec takes the first (handbook §4.3): the loop ran once and the tool
+/// plunged to Z-20 instead of looping three times and ending at Z50.
+#[test]
+fn syntec_goto_takes_the_first_block_of_its_number() {
+    let src = "G90 G00 X0. Y0. Z10.\n#1=0\nN100 #1=#1+1\nG91 G01 X1. F100.\nIF [#1 LT 3] GOTO 100\n\
+               G90 G00 Z50.\nM30\nN100 G90 G01 Z-20. F100.\nM30\n";
+    let r = syntec(src);
+    assert!(r.completed(), "{:?}", r.alarms);
+    assert_eq!(end(&r), [3.0, 0.0, 50.0]);
+    let fanuc = run_with(src, "mill3", Fanuc);
+    assert_eq!(end(&fanuc), [1.0, 0.0, -20.0], "FANUC searches on from the GOTO");
+}
+
 /// Audit finding 7: a `(*` block comment spanning lines (handbook §4.10): fivex ran the
 /// commented-out plunge, then raised COR-001 at `*)`. The line that opens it without its `*)` is
 /// refused before anything of it runs; a one-line `(* … *)` is a comment; FANUC unchanged.
@@ -403,6 +420,18 @@ fn syntec_block_comment_across_lines_is_refused_at_its_opening() {
     assert_eq!(alarms(&r), [("COR-100".to_string(), 3)]);
     let r = syntec("G90 G01 X0 Y0 Z10. F1000\n(A) (* off\nG01 Z-5.\n*)\nM30\n");
     assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 2)], [0.0, 0.0, 10.0]));
+    // Verification audit: a `)` on the opening line (`(T1)`) ended the comment there, and the
+    // lines up to `*)` ran (the plunge and X100 with no alarm; `---- end *)` alarmed after
+    // them). A later `*)` that opens on no `(*` of its own line shows the block comment.
+    for close in ["(---- end *)", "---- end *)"] {
+        let src = format!(
+            "G90 G00 X0. Y0. Z50.\n(* ---- disabled: old roughing (T1)\nG00 Z-50.\nG01 X100. F1000.\n{close}\nM30\n"
+        );
+        let r = syntec(&src);
+        assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 2)], [0.0, 0.0, 50.0]), "{close}");
+        let found = checked(&src, Syntec);
+        assert_eq!(found[0], (2, 1, "COR-100".to_string()), "{close}: {found:?}");
+    }
     // Closed on its line, or a plain comment: comments.
     // Every file the Syntec dialect runs is an ISO-format file, whose comment is `( … )`
     // (handbook §4.10): a `(*` closed by `)` on its line is a comment, as posts write them
@@ -414,6 +443,7 @@ fn syntec_block_comment_across_lines_is_refused_at_its_opening() {
         "(* ROUGH)\nG01 X10. F100.\nM30\n",
         "G01 X10. F100. (*ROUGH) (* T1 D10 *)\nM30\n",
         "(*)\nM30\n",
+        "(* ROUGH (T1)\nG01 X10. F100.\n(* FINISH *)\nM30\n",
     ] {
         let r = syntec(ok);
         assert!(r.completed(), "{ok}: {:?}", r.alarms);
