@@ -17,7 +17,7 @@ use crate::http::ApiError;
 const TEXT_ROUTES: &[(Method, &str)] = &[(Method::PUT, "/api/v1/controllers/{id}/programs/{number}")];
 
 /// Whether a media type is JSON: `application/json` or `application/…+json`, any parameters.
-fn is_json(media: &str) -> bool {
+pub fn is_json(media: &str) -> bool {
     let essence = media.split(';').next().unwrap_or("").trim().to_ascii_lowercase();
     essence == "application/json" || (essence.starts_with("application/") && essence.ends_with("+json"))
 }

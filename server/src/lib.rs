@@ -11,6 +11,7 @@ pub mod fleet_lease;
 pub mod host;
 pub mod http;
 pub mod json_errors;
+pub mod json_keys;
 pub mod listen;
 pub mod metrics;
 pub mod openapi_doc;

@@ -2,7 +2,7 @@
 //! at once; stdout is the JSON array of `fivex run` summaries, each with `"machine"` (and
 //! `"dialect"`, and with `--report` the run report); progress goes to stderr.
 
-use super::{read_program, read_workpiece, Fail};
+use super::{read_json_text, read_program, read_workpiece, Fail};
 use crate::cluster::{self, Job, Outcome, Source};
 use crate::fleet::{self, Entry, Event, Options, Tool};
 use clap::Args;
@@ -78,7 +78,7 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
         sources.push(Source::Preset(name.clone()));
     }
     for path in &a.machines {
-        let file = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        let file = read_json_text(path)?;
         entries.push(fleet::machine_file(&file, a.dialect).map_err(|e| Fail(format!("{}: {e}", path.display())))?);
         for line in fivex_engine::machine_file::warnings(&path.display().to_string(), &file) {
             eprintln!("{line}");

@@ -259,7 +259,7 @@ fn read_program(path: &Path) -> Result<String, Fail> {
 /// (a Syntec list read as a FANUC program would misread its programs without a word).
 fn load_machine(args: &MachineArgs, given: Option<Dialect>) -> Result<(MachineConfig, Dialect), Fail> {
     if let Some(path) = &args.machine {
-        let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+        let text = read_json_text(path)?;
         let machine = fivex_engine::machine_file::parse(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
         // Never dropped silently: what the file sets that fivex does not carry out.
         for line in fivex_engine::machine_file::warnings(&path.display().to_string(), &text) {
@@ -292,12 +292,26 @@ fn config(args: &InterpreterArgs) -> Result<Config, Fail> {
     Ok(cfg)
 }
 
+/// A JSON file's text; one that gives a key twice is refused naming it (`json_keys`: the last
+/// would win without a word).
+fn read_json_text(path: &Path) -> Result<String, Fail> {
+    let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    match crate::json_keys::duplicate_key(text.as_bytes()) {
+        Some(twice) => Err(Fail(format!("{}: ambiguous: {twice}", path.display()))),
+        None => Ok(text),
+    }
+}
+
+/// A JSON file read as a `T` ([`read_json_text`]); what does not fit is a usage error naming
+/// the file and the reason.
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, Fail> {
+    serde_json::from_str(&read_json_text(path)?).map_err(|e| Fail(format!("{}: {e}", path.display())))
+}
+
 /// A `--workpiece` file (`fivex run`, `fivex fleet`): read, parsed and checked
 /// (`Workpiece::check`); a file that is none is a usage error naming the file and the reason.
 fn read_workpiece(path: &Path) -> Result<fivex_engine::workpiece::Workpiece, Fail> {
-    let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-    let workpiece: fivex_engine::workpiece::Workpiece =
-        serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    let workpiece: fivex_engine::workpiece::Workpiece = read_json(path)?;
     workpiece.check().map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     Ok(workpiece)
 }
@@ -379,9 +393,7 @@ fn cmd_run(a: RunArgs) -> Result<i32, Fail> {
 
 /// `{"#500": 1.5, …}` → the retained variable array (keys that are not retained are refused).
 fn load_retained(path: &Path) -> Result<Vec<(u32, Option<f64>)>, Fail> {
-    let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-    let map: BTreeMap<String, Option<f64>> =
-        serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    let map: BTreeMap<String, Option<f64>> = read_json(path)?;
     let mut values = Vec::with_capacity(map.len());
     for (key, value) in map {
         let n: u32 = key.strip_prefix('#').and_then(|k| k.parse().ok()).unwrap_or(0);

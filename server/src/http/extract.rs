@@ -27,8 +27,24 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
     type Rejection = ApiError;
 
     async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
-        let Json(value) =
-            Json::<Value>::from_request(req, state).await.map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+        let rejected = |e: axum::extract::rejection::JsonRejection| ApiError::Rejected(e.status(), e.body_text());
+        let declared = req.headers().get(axum::http::header::CONTENT_TYPE).and_then(|v| v.to_str().ok());
+        if !declared.is_some_and(crate::content_type::is_json) {
+            // Refused as `Json` refuses it (415), whatever the body.
+            return Json::<Value>::from_request(req, state)
+                .await
+                .map_err(rejected)
+                .and_then(|Json(v)| from_object(v))
+                .map(JsonBody);
+        }
+        let bytes = axum::body::Bytes::from_request(req, state)
+            .await
+            .map_err(|e| ApiError::Rejected(e.status(), e.body_text()))?;
+        let Json(value) = Json::<Value>::from_bytes(&bytes).map_err(rejected)?;
+        // `Value` keeps the last of a key given twice: the request is ambiguous (`json_keys`).
+        if let Some(twice) = crate::json_keys::duplicate_key(&bytes) {
+            return Err(ApiError::Unprocessable(format!("the request body is ambiguous: {twice}"), None));
+        }
         from_object(value).map(JsonBody)
     }
 }

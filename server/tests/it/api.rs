@@ -1814,3 +1814,33 @@ async fn small_contract_mismatches_are_kept_to_the_contract() {
     assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", reply.text());
     assert_eq!(app.get(&format!("{C}/{id}/variables/1000")).await.json()["value"], 0.0);
 }
+
+/// Fleet audit: a key given twice in a request body was taken silently, the last winning
+/// (`{"preset": "mill3", "preset": "head-bc"}` made a head-head machine; a tool's second
+/// `length` was stored). The body is ambiguous: 422 naming the key and where it stands, and
+/// nothing is created or changed.
+#[tokio::test]
+async fn a_key_given_twice_is_refused() {
+    let app = spawn_app().await;
+    let created =
+        app.raw(Method::POST, C, "application/json", r#"{"name": "m", "preset": "mill3", "preset": "head-bc"}"#).await;
+    assert_eq!(created.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", created.text());
+    assert!(created.json()["error"].as_str().unwrap().contains("\"preset\" is given twice"), "{}", created.text());
+    assert_eq!(app.get(C).await.json(), json!([]), "nothing was created");
+    let id = create(&app, json!({"name": "m", "preset": "mill3"})).await;
+    let uri = format!("{C}/{id}/tool-offsets/1");
+    let before = app.get(&uri).await.json();
+    let put = app.raw(Method::PUT, &uri, "application/json", r#"{"length": 11, "length": 22}"#).await;
+    assert_eq!(put.status, StatusCode::UNPROCESSABLE_ENTITY, "{}", put.text());
+    assert_eq!(app.get(&uri).await.json(), before, "the offset is unchanged");
+    // A key in two different objects is no duplicate.
+    let fleet = app
+        .raw(
+            Method::POST,
+            "/api/v1/fleet/runs",
+            "application/json",
+            r#"{"program": "G0X1\nM30", "presets": ["mill3"], "tools": {"1": {"length": 10, "radius": 1}, "2": {"length": 10, "radius": 1}}}"#,
+        )
+        .await;
+    assert!(fleet.status.is_success(), "{}", fleet.text());
+}

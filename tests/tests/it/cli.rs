@@ -229,6 +229,26 @@ fn a_parameter_list_runs_in_its_own_dialect() {
     assert!(stderr(&interp).contains("COR-048"), "{}{}", stdout(&interp), stderr(&interp));
 }
 
+/// Fleet audit: a key given twice in a JSON file was taken silently, the last winning. A
+/// machine, workpiece or variables file that does so is a usage error naming the key.
+#[test]
+fn a_json_file_giving_a_key_twice_is_refused() {
+    let machine = r#"{"name": "m", "axes": [{"name": "X", "kind": "linear", "rapid": 6000.0, "rapid": 60.0}]}"#;
+    let (_d, p) = scratch(&[
+        ("p.nc", "G90 G00 X10.\nM30\n"),
+        ("m.json", machine),
+        ("w.json", r#"{"boxes": [], "boxes": []}"#),
+        ("v.json", r##"{"#500": 1, "#500": 2}"##),
+    ]);
+    for (flag, file) in [("--machine", &p[1]), ("--workpiece", &p[2]), ("--variables", &p[3])] {
+        let out = fivex(&["run", s(&p[0]), flag, s(file)]);
+        assert_eq!(out.status.code(), Some(2), "{flag}: {}", stderr(&out));
+        assert!(stderr(&out).contains("is given twice"), "{flag}: {}", stderr(&out));
+    }
+    let out = fivex(&["fleet", s(&p[0]), "--machine", s(&p[1])]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+}
+
 #[test]
 fn machine_file_is_accepted() {
     let machine = r#"{"name": "xyzb", "axes": [
