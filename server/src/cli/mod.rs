@@ -251,7 +251,12 @@ fn dispatch(cli: Cli) -> Result<i32, Fail> {
 fn read_program(path: &Path) -> Result<String, Fail> {
     let bytes = std::fs::read(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
     // NC files are ASCII; anything else is kept (and alarms where it matters) rather than refused.
-    Ok(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+    let text = String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+    // A byte order mark (an editor's, not the program's) is dropped as the API drops it.
+    Ok(match text.strip_prefix('\u{FEFF}') {
+        Some(rest) => rest.to_string(),
+        None => text,
+    })
 }
 
 /// The machine and the dialect it runs in: `given` (`--dialect`) when there is one, else a

@@ -54,6 +54,17 @@ fn exit_0_when_completed() {
     assert_eq!(v["alarms"], serde_json::json!([]));
 }
 
+/// Syntec audit: a file saved with a UTF-8 byte order mark (Windows Notepad) failed with
+/// "unexpected character 'ï'" in `run` and `check`, where the API drops the mark.
+#[test]
+fn a_byte_order_mark_is_no_character_of_the_program() {
+    let (_d, p) = scratch(&[("bom.nc", &format!("\u{FEFF}{SQUARE}"))]);
+    let (code, v) = run_json(&[s(&p[0])]);
+    assert_eq!((code, &v["status"]), (0, &serde_json::json!("completed")), "{v}");
+    let out = fivex(&["check", s(&p[0])]);
+    assert_eq!(out.status.code(), Some(0), "{}{}", stdout(&out), stderr(&out));
+}
+
 #[test]
 fn exit_1_when_alarm() {
     let (_d, p) = scratch(&[("alarm.nc", "G90 G00 X1.\nN70 #3000=1(STOP HERE)\nM30\n")]);
