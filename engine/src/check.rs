@@ -406,7 +406,9 @@ pub fn check(file: File, dialect: Dialect) -> Vec<Diagnostic> {
                             // front of it, `interp::nc`'s `subprogram_target`).
                             let count_form = m98 && !has_l && p >= 10_000.0 && dialect == Dialect::Fanuc;
                             let number = if count_form { p % 10_000.0 } else { p };
-                            if !numbers.contains(&(number as u32)) {
+                            // A number with a fraction names no program, as the run finds
+                            // (`find_program`; `P100.5` was read as O0100 here).
+                            if number.fract() != 0.0 || !numbers.contains(&(number as u32)) {
                                 diags.push(at(
                                     col,
                                     AlarmId::ProgramNotFound,

@@ -186,6 +186,23 @@ fn a_call_refused_at_its_block_moves_nothing() {
     assert_eq!(&r.machine[..3], &[0.0, 0.0, 15.0]);
 }
 
+/// Syntec audit: `M98 P100.5` with O0100 in the file: the run finds no program of a number with
+/// a fraction, `fivex check` truncated it to 100 and said nothing. Both refuse it now.
+#[test]
+fn check_refuses_a_called_program_number_with_a_fraction_as_the_run_does() {
+    let src = "M98 P100.5\nM30\nO0100\nG01 X1. F100.\nM99\n";
+    for (dialect, code) in [(Fanuc, "PS0078"), (Syntec, "COR-030")] {
+        let r = run_with(src, "mill3", dialect);
+        assert_eq!(r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect::<Vec<_>>(), [(code, 1)], "{dialect:?}");
+        let diags = fivex_engine::check::check(fivex_engine::lang::parse_file(src), dialect);
+        let found: Vec<_> = diags.iter().map(|d| (d.line, dialect.describe(&d.id).0)).collect();
+        assert_eq!(found, [(1, code.to_string())], "{dialect:?}");
+    }
+    let src = "M98 P100\nM30\nO0100\nG01 X1. F100.\nM99\n";
+    assert!(run_with(src, "mill3", Fanuc).completed());
+    assert_eq!(fivex_engine::check::check(fivex_engine::lang::parse_file(src), Fanuc), []);
+}
+
 /// The Haas M78/M79 alarms are about the block's own G31 move: that move is made, then the
 /// alarm (the one kind of alarm that follows its block's motion).
 #[test]
