@@ -277,7 +277,16 @@ fn parse_block(text: &str, col0: u32, line: u32) -> (Block, Option<usize>) {
     let mut block = Block { line, col, block_delete: None, n: None, kind: BlockKind::Empty, comment: None };
     match p.block(&mut block) {
         Ok(kind) => block.kind = kind,
-        Err(d) => block.kind = BlockKind::Error(d),
+        Err(d) => {
+            block.kind = match syntec_structure(text) {
+                Some(name) => {
+                    let detail = format!("the Syntec statement {name} (MACRO-format structure) is not built in fivex");
+                    let syntec = Diagnostic { line, col, id: AlarmId::AddressNotBuilt, detail };
+                    BlockKind::SyntecOnly(Box::new(SyntecOnly { syntec, others: Some(d), whole_file: true }))
+                }
+                None => BlockKind::Error(d),
+            }
+        }
     }
     // After an error the rest of the block is skipped, up to a `;` outside comments.
     let next = match p.lx.after_semicolon() {
@@ -286,6 +295,39 @@ fn parse_block(text: &str, col0: u32, line: u32) -> (Block, Option<usize>) {
     };
     block.comment = p.lx.first_comment();
     (block, next)
+}
+
+/// The Syntec MACRO-format structured statement a block that FANUC text cannot read starts with
+/// (handbook §4.1: the ends of `IF … THEN … END_IF` and `WHILE … DO … END_WHILE`, `FOR`,
+/// `REPEAT … UNTIL`, `CASE … OF`, `ELSE`, `ELSEIF`, and the `ENDIF`… forms). Its blocks before and after belong to
+/// a structure fivex does not build: a branch not taken ran its moves before the refusal at
+/// `END_IF`. So the Syntec dialect refuses the whole file there, before anything of it runs, as it
+/// refuses `%@MACRO`; FANUC and Haas keep their own error for the block.
+fn syntec_structure(text: &str) -> Option<&'static str> {
+    // Not `IF` and `WHILE`: FANUC's own statements, whose errors (a bracket too deep) stay
+    // theirs; a Syntec block IF or WHILE is refused at its `END_IF` / `END_WHILE`.
+    const NAMES: [&str; 16] = [
+        "FOR",
+        "REPEAT",
+        "UNTIL",
+        "CASE",
+        "ELSE",
+        "ELSEIF",
+        "END_IF",
+        "ENDIF",
+        "END_WHILE",
+        "ENDWHILE",
+        "END_FOR",
+        "ENDFOR",
+        "END_REPEAT",
+        "ENDREPEAT",
+        "END_CASE",
+        "ENDCASE",
+    ];
+    let t = text.trim_start();
+    let len = t.bytes().position(|c| !(c.is_ascii_alphabetic() || c == b'_')).unwrap_or(t.len());
+    let word = &t[..len];
+    NAMES.iter().copied().find(|n| word.eq_ignore_ascii_case(n))
 }
 
 /// The fast path for the common block: `[N…] Letter Number …` with nothing else (no macro

@@ -388,6 +388,43 @@ fn syntec_m99_q_is_refused() {
     assert_eq!(checked(src, Fanuc), []);
 }
 
+/// Syntec audit: `IF [#1 EQ 1] THEN #2 = 1; G01 Z-30. F1000.; END_IF;` (Syntec's block IF)
+/// read as FANUC's one-line IF, then the plunge, then a refusal at END_IF: the branch not taken
+/// had run. A Syntec structured statement that FANUC text cannot read refuses the whole file
+/// before anything of it runs (COR-100 naming it, in the run and in `fivex check`), wherever it
+/// stands; FANUC and Haas keep their own error for that block. `FOR`, `CASE`, `ELSE`… were
+/// "address F has no value" (COR-003).
+#[test]
+fn a_syntec_structured_statement_refuses_the_file_before_anything_runs() {
+    let src = "G90 G00 X0 Y0 Z0\n#1 = 2\nIF [#1 EQ 1] THEN #2 = 1; G01 Z-30. F1000.; END_IF;\nM30\n";
+    let r = syntec(src);
+    assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 3)], [0.0; 3]), "nothing ran");
+    assert_eq!(checked(src, Syntec), [(3, 45, "COR-100".to_string())]);
+    let diags = check(parse_file(src), Syntec);
+    assert!(diags[0].detail.contains("END_IF"), "{}", diags[0].detail);
+    let fanuc = run_with(src, "mill3", Fanuc);
+    assert_eq!(alarms(&fanuc), [("PS0126".to_string(), 3)], "FANUC reads END as its loop end");
+    for statement in [
+        "FOR #1 := 1 TO 3 DO",
+        "CASE #1 OF",
+        "ELSE",
+        "ELSEIF [#1 EQ 1] THEN",
+        "REPEAT",
+        "UNTIL [#1 GT 2] END_REPEAT",
+        "ENDIF",
+        "END_WHILE",
+    ] {
+        let src = format!("G90 G00 X0 Y0 Z0\nG01 Z-5. F1000.\n{statement}\nM30\n");
+        let r = syntec(&src);
+        assert_eq!((alarms(&r), end(&r)), (vec![("COR-100".to_string(), 3)], [0.0; 3]), "{statement}");
+        assert_eq!(checked(&src, Syntec), [(3, 1, "COR-100".to_string())], "{statement}");
+        assert_eq!(run_with(&src, "mill3", Fanuc).machine[2], -5.0, "{statement}: FANUC runs up to it");
+    }
+    // What FANUC text reads stays: a one-line IF, a WHILE … DO loop.
+    let ok = "#1=1\nIF [#1 EQ 1] THEN #2=5.\nWHILE [#1 LT 3] DO1\n#1=#1+1\nEND1\nG01 X#2 F100.\nM30\n";
+    assert_eq!(end(&syntec(ok)), [5.0, 0.0, 0.0]);
+}
+
 /// Syntec audit: a GOTO to an N number the program holds twice went on to the later one, as
 /// FANUC searches, where Syntec takes the first (handbook §4.3): the loop ran once and the tool
 /// plunged to Z-20 instead of looping three times and ending at Z50.
