@@ -212,8 +212,10 @@ pub enum AlarmId {
     MissingP,
     /// Too many nested subprogram or macro calls.
     NestingTooDeep,
-    /// FANUC: the text of a called program (M98, G65, G66) ended without M99: the control
-    /// reads the end of record there and stops; fivex returned to the caller and ran on.
+    /// FANUC: the text of a called program (M98, G65, G66) ended without M99, or that of the
+    /// main program in memory operation without M02/M30 (an MDI program may end there): the
+    /// control reads the end of record there and stops; fivex returned to the caller and ran
+    /// on, or counted the run as completed.
     EndOfRecord,
     /// G used as a G65 argument.
     GAsArgument,

@@ -728,6 +728,8 @@ impl Controller {
         }
         self.interp.set_switches(self.panel.block_delete, self.panel.optional_stop);
         self.interp.load_source(&source);
+        // An MDI program ends after its last block; one from memory needs M02/M30 (FANUC).
+        self.interp.set_mdi_operation(self.mode == Mode::Mdi);
         self.settle_executing();
         self.wse_no_manual = self.interp.wse_forbids_manual();
         self.apply_interrupt();

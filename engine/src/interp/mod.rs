@@ -398,6 +398,8 @@ pub struct State {
     /// are what the block released of the ones before it (a smoothing or corner rounding run).
     block_out: usize,
     ended: bool,
+    /// The program runs in MDI (`Interpreter::set_mdi_operation`): its text may end without M02/M30.
+    mdi: bool,
     /// The program has moved since its start (`Interpreter::load`): a G20/G21 that switches the
     /// unit from here on is reported (`unit_switch`).
     moved: bool,
@@ -595,6 +597,8 @@ impl Interpreter {
             self.state.common_types = vars::Types::default();
         }
         self.state.ended = self.progs.is_empty();
+        // Memory operation unless the controller says the text is an MDI one (`set_mdi_operation`).
+        self.state.mdi = false;
         self.state.moved = false;
         self.state.unit_switch = None;
         self.start_main();
@@ -700,6 +704,13 @@ impl Interpreter {
         self.state.cfg.optional_stop = optional_stop;
     }
 
+    /// The program loaded runs in MDI, not from memory (set after each load): on a FANUC control
+    /// an MDI program ends after its last block, where a memory one that reaches the end of its
+    /// text without M02/M30 stops with PS5010 END OF RECORD (`State::step`).
+    pub fn set_mdi_operation(&mut self, mdi: bool) {
+        self.state.mdi = mdi;
+    }
+
     /// Execute the next block; its canonical commands are appended to `out`.
     pub fn step(&mut self, out: &mut Vec<Canon>) -> Result<Step, Alarm> {
         let st = &mut self.state;
@@ -711,7 +722,8 @@ impl Interpreter {
         }
         let before = out.len();
         let mut result = st.step(&self.progs, &self.by_number, out);
-        if result.is_ok() && out[before..].iter().any(|c| !finite_motion(c)) {
+        // What the end of record released (`State::step`) runs as well: it is checked too.
+        if matches!(&result, Ok(_) | Err(AlarmId::EndOfRecord)) && out[before..].iter().any(|c| !finite_motion(c)) {
             // Offsets or setting data of absurd size (1e30, a NaN of the kinematics) must not
             // turn into a move to nowhere that "completes": the block alarms instead.
             out.truncate(before);
@@ -902,6 +914,7 @@ impl State {
             blocks: 0,
             block_out: 0,
             ended: false,
+            mdi: false,
             moved: false,
             unit_switch: None,
             cutter_vector: false,
@@ -1301,6 +1314,19 @@ impl State {
                 self.corner_end()?;
                 self.hpcc_end();
                 self.blend_end();
+                if self.cfg.dialect == crate::Dialect::Fanuc && !self.mdi {
+                    // A FANUC control in memory operation reads the end of record (%) after the
+                    // last block and stops with PS5010: only M02/M30 (or M99) end a program.
+                    // The last moves, released above, are made first (they are not the alarm
+                    // block's own: `Interpreter::step` keeps them); the alarm is at the main
+                    // program's last block, also when a call returned there. Syntec and Haas
+                    // end the program here (`docs/dialects.md`, "The end of the program's text").
+                    self.block_out = out.len();
+                    if let Some(last) = prog.len().checked_sub(1).map(|i| prog.block(i)) {
+                        (self.line, self.n) = (last.line, last.n);
+                    }
+                    return Err(AlarmId::EndOfRecord);
+                }
                 self.ended = true;
                 return Ok(Step::Ended);
             }

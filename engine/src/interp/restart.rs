@@ -143,7 +143,12 @@ impl Interpreter {
                     }
                 }
             }
-            let step = self.step(&mut out)?;
+            let step = match self.step(&mut out) {
+                // The end of the main program's text (FANUC's PS5010 in a run): the search
+                // went through the whole program without finding the block, as at its M30.
+                Err(_) if self.stopped_by == Some(AlarmId::EndOfRecord) && self.state.frames.len() == 1 => Step::Ended,
+                step => step?,
+            };
             for c in out.drain(..) {
                 match &c.kind {
                     CanonKind::Chain(_) => search.chain = Some(c),

@@ -956,7 +956,8 @@ fn a_reset_that_ends_the_tilted_plane_shows_workpiece_coordinates_at_once() {
 /// to the controller (status, stream) and to the run summary (`fivex run`, fleet runs). A
 /// program whose text ends under G41 stands at the last block's perpendicular vector, X35 Y30
 /// with D1 = 5 mm: the controller showed that tool centre, the summary the contour's X40 Y30
-/// beside the machine's X35. A G92 without motion at the end is shown at once by both.
+/// beside the machine's X35. A G92 without motion at the end is shown at once by both. (Both
+/// texts end without M30: the run stops there with PS5010 END OF RECORD, at rest all the same.)
 #[test]
 fn the_programmed_point_at_rest_is_the_run_summarys() {
     let programs = [
@@ -968,13 +969,17 @@ fn the_programmed_point_at_rest_is_the_run_summarys() {
         let mut interp = Interpreter::new(parse_file(src), cfg);
         interp.state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
         let r = run(&mut interp, &RunOptions::default(), |_| {});
-        assert!(r.alarms.is_empty(), "{src}: {:?}", r.alarms);
+        let last = src.lines().count() as u32;
+        let end_of_record = |alarms: &[fivex_engine::Alarm]| {
+            alarms.iter().map(|a| (a.code.clone(), a.line)).collect::<Vec<_>>() == [("PS5010".to_string(), last)]
+        };
+        assert!(end_of_record(&r.alarms), "{src}: {:?}", r.alarms);
         let mut c = controller();
         c.interpreter_mut().state.offsets.tool_mut(1).unwrap().d_geometry = 5.0;
         c.select_program(src).unwrap();
         c.cycle_start().unwrap();
         run_until_stopped(&mut c, 60.0);
-        assert!(c.alarms().is_empty(), "{src}: {:?}", c.alarms());
+        assert!(end_of_record(c.alarms()), "{src}: {:?}", c.alarms());
         let s = c.sample();
         assert_eq!((s.programmed, s.programmed_in), (r.programmed, r.programmed_in), "{src}");
         assert_eq!(c.point().work[..3], r.workpiece[..3], "{src}");
@@ -1631,4 +1636,88 @@ fn feed_hold_single_block_and_cycle_start_at_once_stop_at_the_held_blocks_end() 
         let m = c.point().machine;
         assert_eq!((c.point().line, [m[0], m[1]]), (4, zigzag_end(4)), "{gaps:?}");
     }
+}
+
+/// `src` started in `mode` (AUTO or MDI) on a mill3 controller of `dialect`, run until it stops.
+fn run_in(dialect: Dialect, mode: Mode, src: impl Into<fivex_engine::lang::Source>) -> Controller {
+    let src = src.into();
+    let mut c = Controller::new(Config::new(MachineConfig::preset("mill3").unwrap(), dialect));
+    match mode {
+        Mode::Mdi => {
+            c.set_mode(Mode::Mdi).unwrap();
+            c.set_mdi(src).unwrap();
+        }
+        _ => c.select_program(src).unwrap(),
+    }
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 60.0);
+    c
+}
+
+/// A FANUC control in memory operation that reaches the end of the main program's text without
+/// M02/M30 reads the end of record and stops with PS5010 (`docs/dialects.md`, "The end of the
+/// program's text"): after the last block's move, at the last line. fivex ended the run there
+/// as completed.
+#[test]
+fn end_of_record_a_fanuc_program_without_m30_alarms_after_its_last_move() {
+    for src in ["G90 G01 X10. F1000.\n", "G90 G01 X10. F1000.\n%\n", "G90 G00 X5.\nG01 X10. F1000."] {
+        let c = run_in(Dialect::Fanuc, Mode::Auto, src);
+        assert_eq!(c.run_state(), RunState::Alarm, "{src:?}");
+        let lines = src.trim_end_matches(['\n', '%']).lines().count() as u32;
+        let got: Vec<_> = c.alarms().iter().map(|a| (a.code.as_str(), a.message.as_str(), a.line)).collect();
+        assert_eq!(got, [("PS5010", "END OF RECORD", lines)], "{src:?}");
+        assert!((c.point().machine[0] - 10.0).abs() < 1e-9, "{src:?}: {:?}", c.point().machine);
+        // The run summary (`fivex run`): the same alarm, after the same move.
+        let cfg = Config::new(MachineConfig::preset("mill3").unwrap(), Dialect::Fanuc);
+        let r = run(&mut Interpreter::new(parse_file(src), cfg), &RunOptions::default(), |_| {});
+        let got: Vec<_> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
+        assert_eq!(got, [("PS5010", lines)], "{src:?}");
+        assert!((r.machine[0] - 10.0).abs() < 1e-9, "{src:?}: {:?}", r.machine);
+    }
+}
+
+/// The end of record stands at the main program's last block also when a call returned there,
+/// and comes after the moves a smoothing mode still held (they are made first).
+#[test]
+fn end_of_record_after_a_call_and_after_smoothing_is_at_the_main_programs_last_line() {
+    use fivex_engine::lang::{Source, Stored};
+    let sub = Stored { number: 2, first_line: 3, text: "O0002\nG01 X20.\nM99\n".into() };
+    let src = Source { main: "G90 G01 X10. F1000.\nM98 P2\n".into(), library: vec![std::sync::Arc::new(sub)] };
+    let c = run_in(Dialect::Fanuc, Mode::Auto, src);
+    let got: Vec<_> = c.alarms().iter().map(|a| (a.code.as_str(), a.line)).collect();
+    assert_eq!(got, [("PS5010", 2)]);
+    assert!((c.point().machine[0] - 20.0).abs() < 1e-9, "{:?}", c.point().machine);
+    let src = "G90 G00 X0 Y0 Z0\nG01 F1000.\nG05.1 Q3 X0 Y0 Z0\nX10. Y1.\nX20. Y0.\nX30. Y2.\n";
+    let c = run_in(Dialect::Fanuc, Mode::Auto, src);
+    let got: Vec<_> = c.alarms().iter().map(|a| (a.code.as_str(), a.line)).collect();
+    assert_eq!(got, [("PS5010", 6)]);
+    let m = c.point().machine;
+    assert!((m[0] - 30.0).abs() < 1e-9 && (m[1] - 2.0).abs() < 1e-9, "{m:?}");
+}
+
+/// M02, M30 and the end of an MDI program end the run as before; Syntec and Haas end it at the
+/// end of the text too (their manuals describe no alarm there: a decision).
+#[test]
+fn end_of_record_not_raised_at_m30_m02_in_mdi_nor_in_syntec_and_haas() {
+    let runs = [
+        (Dialect::Fanuc, Mode::Auto, "G90 G01 X10. F1000.\nM30\n"),
+        (Dialect::Fanuc, Mode::Auto, "G90 G01 X10. F1000.\nM02\n"),
+        (Dialect::Fanuc, Mode::Mdi, "G90 G01 X10. F1000.\n"),
+        (Dialect::Syntec, Mode::Auto, "G90 G01 X10. F1000.\n"),
+        (Dialect::Haas, Mode::Auto, "G90 G01 X10. F1000.\n"),
+    ];
+    for (dialect, mode, src) in runs {
+        let c = run_in(dialect, mode, src);
+        assert!(c.alarms().is_empty(), "{dialect:?} {mode:?} {src:?}: {:?}", c.alarms());
+        assert_eq!(c.run_state(), RunState::Idle, "{dialect:?} {mode:?} {src:?}");
+        assert!((c.point().machine[0] - 10.0).abs() < 1e-9, "{dialect:?} {mode:?} {src:?}");
+    }
+    // An MDI run does not leave the next memory run exempt.
+    let mut c = run_in(Dialect::Fanuc, Mode::Mdi, "G90 G01 X10. F1000.\n");
+    c.set_mode(Mode::Auto).unwrap();
+    c.select_program("G90 G01 X20. F1000.\n").unwrap();
+    c.cycle_start().unwrap();
+    run_until_stopped(&mut c, 60.0);
+    let got: Vec<_> = c.alarms().iter().map(|a| (a.code.as_str(), a.line)).collect();
+    assert_eq!(got, [("PS5010", 1)]);
 }

@@ -377,7 +377,8 @@ fn cycle_start_during_a_manual_move_is_refused_as_in_its_mode() {
 /// Start `src` in AUTO, hold after `hold_after` s, come to rest.
 fn held(c: &mut Controller, src: &str, hold_after: f64) {
     c.set_mode(Mode::Auto).unwrap();
-    c.select_program(src).unwrap();
+    // Ended by M30, which `resume` runs to (a FANUC text ending without it is PS5010).
+    c.select_program(format!("{src}\nM30\n")).unwrap();
     c.cycle_start().unwrap();
     let t = c.time();
     while c.time() - t < hold_after {

@@ -29,8 +29,15 @@ fn outcome(r: fivex_engine::run::RunResult) -> String {
 /// normal run refuses at their first block (`engine/tests/unbuilt.rs`); their rules stay
 /// checked here until those functions are built.
 fn run_interlocks(src: &str, preset: &str, dialect: Dialect) -> fivex_engine::run::RunResult {
-    let mut interp = interpreter_with(src, preset, dialect, |c| c.refuse_unbuilt = false);
+    let src = ended(src);
+    let mut interp = interpreter_with(&src, preset, dialect, |c| c.refuse_unbuilt = false);
     run(&mut interp, &RunOptions { period_s: 0.0, ..RunOptions::default() }, |_| {})
+}
+
+/// `src` ended by M30: the rules are about its blocks, and a FANUC program whose text ends
+/// without M02/M30 stops with PS5010 END OF RECORD (`docs/dialects.md`).
+fn ended(src: &str) -> String {
+    format!("{src}\nM30\n")
 }
 
 fn fanuc(preset: &str, src: &str) -> String {
@@ -95,7 +102,7 @@ fn custom_run(axes: &str, dialect: Dialect, src: &str, f: impl FnOnce(&mut Confi
     cfg.max_blocks = 10_000;
     cfg.refuse_unbuilt = false;
     f(&mut cfg);
-    let mut interp = Interpreter::new(parse_file(src), cfg);
+    let mut interp = Interpreter::new(parse_file(&ended(src)), cfg);
     for n in 1..=9 {
         interp.state.offsets.tool_mut(n).unwrap().h_geometry = 100.0;
     }

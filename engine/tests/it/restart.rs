@@ -46,6 +46,14 @@ fn ran(src: &str) -> Controller {
     c
 }
 
+/// The run of `src`'s blocks before block `n` (`prefix`) on a fresh controller, in MDI: that text
+/// has no M30, and a FANUC memory run of it would end in PS5010 END OF RECORD after them.
+fn ran_to(src: &str, n: u32) -> Controller {
+    let mut c = controller();
+    mdi(&mut c, &prefix(src, n));
+    c
+}
+
 fn close(a: &[f64], b: &[f64]) -> bool {
     a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-6)
 }
@@ -85,6 +93,8 @@ fn the_search_stands_before_the_restart_block_with_the_state_of_a_run_from_the_t
     assert_eq!(searched.next_block(), Some((12, Some(100), 1)));
 
     let mut top = Interpreter::new(parse_file(&prefix(PROGRAM, 100)), config(Dialect::Fanuc));
+    // As MDI: the text of the blocks before N100 has no M30 (in memory operation: PS5010).
+    top.set_mdi_operation(true);
     top.run(|_| {}).unwrap();
     assert_eq!(searched.state.modal_state(), top.state.modal_state());
     assert!(
@@ -221,7 +231,7 @@ fn q_type_returns_one_axis_at_a_time_then_goes_on_as_a_run_from_the_top() {
 
 #[test]
 fn single_block_stops_on_the_restart_position_before_the_restart_block() {
-    let top = ran(&prefix(PROGRAM, 110));
+    let top = ran_to(PROGRAM, 110);
     let mut c = controller();
     c.select_program(PROGRAM).unwrap();
     c.restart(n(110), RestartType::Q).unwrap();
@@ -661,7 +671,7 @@ proptest! {
         let k = 1 + pick.index(blocks.len() - 1);
         let src = program(&blocks);
         let target = 10 * (k as u32 + 1);
-        let top = ran(&prefix(&src, target));
+        let top = ran_to(&src, target);
         prop_assume!(top.alarms().is_empty());
         let mut c = controller();
         c.select_program(&src).unwrap();

@@ -144,12 +144,22 @@ fn a_corner_between_smooth_runs_is_reached_exactly() {
 
 #[test]
 fn the_program_text_ending_in_the_mode_moves_what_is_held() {
-    // No G05.1 Q0, no M30: the last point is still reached.
+    // No G05.1 Q0, no M30: the last point is still reached, then the end of record stops the
+    // FANUC run at the last line (PS5010, `docs/dialects.md`, "The end of the program's text").
     let points = arc_points();
     let src = program(&points, 3000.0, true, "").replace("G05.1 Q0\nM30\n", "");
     let (r, _) = run_on(&src, "mill3", |_| {});
-    assert!(r.completed(), "{:?}", r.alarms);
-    let ends = ends(&src);
+    let alarms: Vec<_> = r.alarms.iter().map(|a| (a.code.as_str(), a.line)).collect();
+    assert_eq!(alarms, [("PS5010", 183)]);
+    assert!((r.machine[0] + 20.0).abs() < 1e-9 && r.machine[1].abs() < 1e-9, "{:?}", r.machine);
+    // The interpreter hands out the held moves before the alarm.
+    let mut ends = Vec::new();
+    let end = interpreter_with(&src, "mill3", Dialect::Fanuc, |_| {}).run(|c| {
+        if let fivex_engine::canon::CanonKind::Motion(m) = c.kind {
+            ends.push((c.line, m.machine))
+        }
+    });
+    assert_eq!(end.map_err(|a| (a.code, a.line)), Err(("PS5010".into(), 183)));
     let (line, last) = ends.last().unwrap();
     assert_eq!(*line, 183);
     assert!((last[0] + 20.0).abs() < 1e-12 && last[1].abs() < 1e-12, "{last:?}");

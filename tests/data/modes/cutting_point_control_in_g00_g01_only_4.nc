@@ -2,4 +2,5 @@
 G43.8 H1
 G01 X10. F100
 G49
+M30
 (expect: status=completed)

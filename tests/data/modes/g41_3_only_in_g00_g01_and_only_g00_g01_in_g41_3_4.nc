@@ -4,4 +4,5 @@ G41.3 D1
 X10.
 G00 Y10.
 G40
+M30
 (expect: status=completed)

@@ -2,4 +2,5 @@
 G43.4 H1
 G02 X10. Y10. R10. F100
 G01 G49
+M30
 (expect: status=completed)

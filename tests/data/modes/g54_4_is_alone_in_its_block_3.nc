@@ -3,4 +3,5 @@ G90
 G54.4 P1
 X10.
 G54.4 P0
+M30
 (expect: status=completed)

@@ -8,4 +8,5 @@ G81 X0 Y0 Z-1. R1.
 G80
 G54.4 P0
 G61
+M30
 (expect: status=completed)

@@ -4,4 +4,5 @@ G54.1 P3
 G91
 G95
 G54.4 P1
+M30
 (expect: status=completed)

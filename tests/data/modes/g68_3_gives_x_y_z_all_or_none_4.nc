@@ -5,4 +5,5 @@ G68.3
 G69
 G68.3 R30.
 G69
+M30
 (expect: status=completed)

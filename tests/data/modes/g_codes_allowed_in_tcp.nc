@@ -10,5 +10,6 @@ G40 X0
 G93
 G94 F100
 G49
+M30
 (G94 F100: after G93 the G49 block's move in G01 needs a new F, PS0011)
 (expect: status=completed)

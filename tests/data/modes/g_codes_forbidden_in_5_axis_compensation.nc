@@ -5,4 +5,5 @@ G43.4 H1
 G49
 G40 G80
 G28 Z0
+M30
 (expect: status=completed)

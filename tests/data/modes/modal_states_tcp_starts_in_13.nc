@@ -6,4 +6,5 @@ G59
 G99
 G43.4 H1
 G49
+M30
 (expect: status=completed)

@@ -5,4 +5,5 @@ G56
 G20
 G68.2 X0 Y0 Z0 I0 J0 K0
 G69
+M30
 (expect: status=completed)

@@ -6,4 +6,5 @@ K1.
 K1.
 G01 X2.
 G49
+M30
 (expect: status=completed)

@@ -2,4 +2,5 @@
 G43.4 H1
 G01 B10. F100
 G49
+M30
 (expect: status=completed)

@@ -2,4 +2,5 @@
 G41.3 D1
 X10.
 G40
+M30
 (expect: status=completed)

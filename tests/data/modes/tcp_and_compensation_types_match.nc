@@ -3,4 +3,5 @@ G43.5 H1
 G42.6 D1
 G40
 G49
+M30
 (expect: status=completed)

@@ -3,4 +3,5 @@ G43.4 H1
 G49
 G54.4 P1
 G54.4 P0
+M30
 (expect: status=completed)

@@ -5,4 +5,5 @@ G53.1
 G43 H1
 G49
 G69
+M30
 (expect: status=completed)

@@ -4,4 +4,5 @@ G00 X10. Y0 Z0
 G02 X10. Y0 I-10. F100
 G01
 G49
+M30
 (expect: status=completed)

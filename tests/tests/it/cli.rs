@@ -881,6 +881,38 @@ fn check_reports_a_run_that_never_ends() {
     }
 }
 
+/// A FANUC program whose text ends without M02/M30 stops with PS5010 END OF RECORD on the
+/// control (`docs/dialects.md`, "The end of the program's text"): check reports it at the last
+/// line, with or without a machine. Not after M30 or M02, nor in Syntec or Haas.
+#[test]
+fn check_reports_the_end_of_record() {
+    let open = "G90 G01 X10. F1000.\n";
+    let (_d, p) = scratch(&[
+        ("open.nc", open),
+        ("m30.nc", "G90 G01 X10. F1000.\nM30\n"),
+        ("m02.nc", "G90 G01 X10. F1000.\nM02\n%\n"),
+    ]);
+    let program = s(&p[0]);
+    for args in [&["check", program][..], &["check", program, "--preset", "mill3"]] {
+        let out = fivex(args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+        let text = stdout(&out);
+        assert_eq!(text.lines().count(), 1, "{args:?}: {text}");
+        assert_eq!(parse_diag(text.trim_end(), program), (1, 1, "PS5010"), "{args:?}: {text}");
+        assert!(text.contains("PS5010 END OF RECORD"), "{args:?}: {text}");
+    }
+    let clean = [
+        vec!["check", s(&p[1])],
+        vec!["check", s(&p[2])],
+        vec!["check", program, "--dialect", "syntec"],
+        vec!["check", program, "--dialect", "haas"],
+    ];
+    for args in clean {
+        let out = fivex(&args);
+        assert_eq!((out.status.code(), stdout(&out)), (Some(0), String::new()), "{args:?}: {}", stderr(&out));
+    }
+}
+
 // --- interp ---------------------------------------------------------------------------------
 
 fn json_lines(text: &str) -> Vec<Value> {
