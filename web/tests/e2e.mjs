@@ -957,6 +957,29 @@ test("a program save the service refuses shows its reason and keeps the draft; a
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });
 
+test("a refused or unreadable offset puts the stored value back in its cell and says why", async () => {
+  const created = await http("POST", "/api/v1/controllers", { name: "offsets", preset: "table-ac" });
+  const cid = created.body.id;
+  await page.goto(`${base}/#/c/${encodeURIComponent(cid)}/offsets`);
+  const cell = page.locator("tr[data-tool='1'] td[data-field=length] input");
+  const stored = async () => (await http("GET", `/api/v1/controllers/${cid}/tool-offsets`)).body.find((t) => t.number === 1).length;
+  const held = String(await stored());
+  await poll("offset 1's length", async () => (await cell.count()) && (await cell.inputValue()) === held);
+  await cell.fill("1000");
+  await cell.press("Enter");
+  await page.locator("p.error", { hasText: "999.999" }).waitFor();
+  await poll("the refused value taken back", async () => (await cell.inputValue()) === held);
+  assert.equal(String(await stored()), held);
+  await page.click("p.error");
+  await cell.fill("abc");
+  await cell.press("Enter");
+  await page.locator("p.error", { hasText: '"abc" is not a number' }).waitFor();
+  assert.equal(await cell.inputValue(), held);
+  assert.equal(String(await stored()), held);
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
 let failed = 0;
 // E2E_ONLY=<regular expression>: only the tests whose names match (a part, while working on it).
 let ran = 0;
