@@ -980,6 +980,56 @@ test("a refused or unreadable offset puts the stored value back in its cell and 
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });
 
+test("under G20 the readout shows the program's positions and F in inch, every length with its unit; after G49 the tool length is 0", async () => {
+  const created = await http("POST", "/api/v1/controllers", { name: "inch", preset: "table-ac" });
+  const cid = created.body.id;
+  const inch = "O0010\nG20 G90 G54\nG00 X1. Y2. Z3.\nG01 X2. F10.\nG04 P2000\nM30\n";
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/10`, inch, "text/plain")).status, 201);
+  // Until a position frame tells it the tool length is unknown: "—", not 0 (a second page
+  // whose stream lets no position frame through).
+  const blind = await browser.newPage();
+  await blind.routeWebSocket(/\/stream/, (ws) => {
+    const server = ws.connectToServer();
+    server.onMessage((m) => !/"type"\s*:\s*"position"/.test(String(m)) && ws.send(m));
+  });
+  await blind.goto(`${base}/#/c/${encodeURIComponent(cid)}`);
+  await blind.locator(".pos tr[data-axis=X] td.abs").waitFor();
+  await blind.locator(".pill.live").waitFor();
+  await blind.waitForTimeout(300);
+  assert.equal(await blind.locator(".position .tool-length").textContent(), "—", "no tool length before a position frame");
+  await blind.close();
+  await page.goto(`${base}/#/c/${encodeURIComponent(cid)}`);
+  await page.locator(".pos tr[data-axis=X] td.abs").waitFor();
+  assert.equal((await http("POST", `/api/v1/controllers/${cid}/cycle-start`, { program: 10 })).status, 200);
+  await poll("X 2.0000 in", async () => (await textOf(".pos tr[data-axis=X] td.abs")) === "2.0000");
+  const heads = (await page.locator(".pos thead th").allTextContents()).map((t) => t.trim());
+  assert.ok(heads.some((h) => /^absolute in/.test(h)), heads.join("|"));
+  assert.ok(heads.some((h) => /^relative in/.test(h)), heads.join("|"));
+  assert.ok(heads.some((h) => /^machine mm/.test(h)), heads.join("|"));
+  assert.ok(heads.some((h) => /^distance to go in/.test(h)), heads.join("|"));
+  assert.equal(await textOf(".pos tr[data-axis=Y] td.abs"), "2.0000");
+  assert.equal(await textOf(".pos tr[data-axis=Z] td.abs"), "3.0000");
+  await poll("modal F 10 in/min", async () => (await textOf(".modal .modal-f")).replace(/\s+/g, " ").trim() === "F 10 in/min");
+  assert.match(await textOf(".position .feed"), /mm\/min/);
+  assert.match(await textOf(".pos tr[data-axis=A] th"), /°/);
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+  // G21 again: mm, 3 decimals.
+  const metric = "O0011\nG21 G90 G54\nG00 X50.8\nM30\n";
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/11`, metric, "text/plain")).status, 201);
+  assert.equal((await http("POST", `/api/v1/controllers/${cid}/cycle-start`, { program: 11 })).status, 200);
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+  await poll("X 50.800 mm", async () => (await textOf(".pos tr[data-axis=X] td.abs")) === "50.800" && /^absolute mm/.test((await textOf(".pos thead th:nth-child(2)")).trim()));
+  // G49 without a motion: the tip is read with no tool length, and the readout says 0.
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/tool-offsets/1`, { length: 120.5 })).status, 200);
+  const g49 = "O0012\nG90 G54 G00 X0 Y0 Z200.\nG43 H1 Z100.\nG49\nM30\n";
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/12`, g49, "text/plain")).status, 201);
+  assert.equal((await http("POST", `/api/v1/controllers/${cid}/cycle-start`, { program: 12 })).status, 200);
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+  await poll("tool length 0.000 mm after G49", async () => (await textOf(".position .tool-length")).replace(/\s+/g, " ").trim() === "0.000 mm");
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
 let failed = 0;
 // E2E_ONLY=<regular expression>: only the tests whose names match (a part, while working on it).
 let ran = 0;
