@@ -433,9 +433,16 @@ impl Controller {
         }
     }
 
-    /// The tool length offset of the block moving now (of the last one when nothing moves).
+    /// The tool length offset the tip is read with now: the moving block's; standing still,
+    /// [`Controller::tip_basis`]'s — the last block's while commands read ahead wait, otherwise
+    /// the interpreter's, so a G49 (or a G43 H) without a motion changes the shown length as it
+    /// changes the tip (it showed the last motion's length after `G49 / M30`).
     pub fn tool_length(&self) -> f64 {
-        self.exec.tool_length()
+        if self.exec.is_moving() {
+            self.exec.tool_length()
+        } else {
+            self.tip_basis().tool_length
+        }
     }
 
     /// How the tool tip is read from the machine axes now (`crate::tip`): the tool length and

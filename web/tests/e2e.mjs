@@ -62,8 +62,15 @@ const page = await browser.newPage({ viewport: { width: 1500, height: 1100 } });
 const problems = [];
 page.on("pageerror", (e) => problems.push(`page error: ${e.message}`));
 page.on("console", (m) => m.type() === "error" && !/status of 4\d\d/.test(m.text()) && problems.push(`console: ${m.text()}`));
-page.on("dialog", (d) => d.accept(dialogAnswers.shift() ?? undefined));
+// A dialog is answered with the next of `dialogAnswers` (`false`: dismissed, as "Cancel"),
+// else accepted; each is recorded in `dialogsSeen`.
+page.on("dialog", (d) => {
+  dialogsSeen.push({ type: d.type(), message: d.message() });
+  const answer = dialogAnswers.shift();
+  return answer === false ? d.dismiss() : d.accept(answer ?? undefined);
+});
 const dialogAnswers = [];
+const dialogsSeen = [];
 
 const tests = [];
 const test = (name, fn) => tests.push([name, fn]);
@@ -893,8 +900,143 @@ test("the workpiece put through the API is drawn on the table, rides with it, is
   assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
 });
 
+test("a program save the service refuses shows its reason and keeps the draft; an unsaved edit is not thrown away without asking", async () => {
+  const created = await http("POST", "/api/v1/controllers", { name: "edits", preset: "table-ac" });
+  const cid = created.body.id;
+  const six = "O0006\nG90\nM30\n";
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/6`, six, "text/plain")).status, 201);
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/7`, "O0007\nG91\nM30\n", "text/plain")).status, 201);
+  await page.goto(`${base}/#/c/${encodeURIComponent(cid)}`);
+  await page.click(".prog-list a[data-program='6']");
+  await page.locator(".prog-bar strong", { hasText: "O0006" }).waitFor();
+  await page.locator(".code .line[data-line='2']", { hasText: "G90" }).waitFor();
+  await page.click(".prog-bar button:has-text('edit')");
+  // Another O number than the slot: 422 with details {slot, text_number} — the reason shows,
+  // with "check & save" and with "save anyway", and the text stays in the editor.
+  const nine = "O0009\nG90\nM30\n";
+  await page.fill("textarea.nc", nine);
+  for (const button of ["button[data-action=save]", "button:has-text('save anyway')"]) {
+    await page.click(button);
+    await page.locator("p.error", { hasText: "O0009 but would be stored as O0006" }).waitFor();
+    assert.equal(await page.locator("textarea.nc").inputValue(), nine);
+    await page.click("p.error");
+  }
+  // Two programs in the text: 422 with details {slot, line, text_number} — the reason, and the
+  // second program's line marked.
+  const two = "O0006\nG90\nG00 X20. Y10.\nM30\nO0007\nG00 X1.\nM30\n";
+  await page.fill("textarea.nc", two);
+  await page.click("button:has-text('save anyway')");
+  await page.locator("p.error", { hasText: "second program O0007 at line 5" }).waitFor();
+  await page.locator("ul.diags li", { hasText: "line 5" }).waitFor();
+  assert.equal(await page.locator("textarea.nc").inputValue(), two);
+  assert.equal((await http("GET", `/api/v1/controllers/${cid}/programs/6`)).body, six, "nothing stored");
+  // Another program clicked with the edit unsaved: asked; "Cancel" keeps the draft.
+  const before = dialogsSeen.length;
+  dialogAnswers.push(false);
+  await page.click(".prog-list a[data-program='7']");
+  await poll("the confirm", async () => dialogsSeen.length > before);
+  assert.equal(dialogsSeen[before].type, "confirm");
+  assert.match(dialogsSeen[before].message, /unsaved changes to O0006/);
+  assert.equal(await page.locator("textarea.nc").inputValue(), two, "the draft is kept");
+  await page.locator(".prog-bar strong", { hasText: "O0006" }).waitFor();
+  // A reload asks too (beforeunload); accepted, the page reloads.
+  const asked = dialogsSeen.length;
+  await page.reload();
+  assert.ok(dialogsSeen.slice(asked).some((d) => d.type === "beforeunload"), JSON.stringify(dialogsSeen.slice(asked)));
+  // Without an unsaved edit nothing asks: a program is opened, edited back to what it was, and
+  // another one selected.
+  await page.click(".prog-list a[data-program='6']");
+  await page.locator(".prog-bar strong", { hasText: "O0006" }).waitFor();
+  await page.click(".prog-bar button:has-text('edit')");
+  await page.fill("textarea.nc", six);
+  const quiet = dialogsSeen.length;
+  await page.click(".prog-list a[data-program='7']");
+  await page.locator(".code .line[data-line='2']", { hasText: "G91" }).waitFor();
+  assert.equal(dialogsSeen.length, quiet, "no question without an unsaved edit");
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
+test("a refused or unreadable offset puts the stored value back in its cell and says why", async () => {
+  const created = await http("POST", "/api/v1/controllers", { name: "offsets", preset: "table-ac" });
+  const cid = created.body.id;
+  await page.goto(`${base}/#/c/${encodeURIComponent(cid)}/offsets`);
+  const cell = page.locator("tr[data-tool='1'] td[data-field=length] input");
+  const stored = async () => (await http("GET", `/api/v1/controllers/${cid}/tool-offsets`)).body.find((t) => t.number === 1).length;
+  const held = String(await stored());
+  await poll("offset 1's length", async () => (await cell.count()) && (await cell.inputValue()) === held);
+  await cell.fill("1000");
+  await cell.press("Enter");
+  await page.locator("p.error", { hasText: "999.999" }).waitFor();
+  await poll("the refused value taken back", async () => (await cell.inputValue()) === held);
+  assert.equal(String(await stored()), held);
+  await page.click("p.error");
+  await cell.fill("abc");
+  await cell.press("Enter");
+  await page.locator("p.error", { hasText: '"abc" is not a number' }).waitFor();
+  assert.equal(await cell.inputValue(), held);
+  assert.equal(String(await stored()), held);
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
+test("under G20 the readout shows the program's positions and F in inch, every length with its unit; after G49 the tool length is 0", async () => {
+  const created = await http("POST", "/api/v1/controllers", { name: "inch", preset: "table-ac" });
+  const cid = created.body.id;
+  const inch = "O0010\nG20 G90 G54\nG00 X1. Y2. Z3.\nG01 X2. F10.\nG04 P2000\nM30\n";
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/10`, inch, "text/plain")).status, 201);
+  // Until a position frame tells it the tool length is unknown: "—", not 0 (a second page
+  // whose stream lets no position frame through).
+  const blind = await browser.newPage();
+  await blind.routeWebSocket(/\/stream/, (ws) => {
+    const server = ws.connectToServer();
+    server.onMessage((m) => !/"type"\s*:\s*"position"/.test(String(m)) && ws.send(m));
+  });
+  await blind.goto(`${base}/#/c/${encodeURIComponent(cid)}`);
+  await blind.locator(".pos tr[data-axis=X] td.abs").waitFor();
+  await blind.locator(".pill.live").waitFor();
+  await blind.waitForTimeout(300);
+  assert.equal(await blind.locator(".position .tool-length").textContent(), "—", "no tool length before a position frame");
+  await blind.close();
+  await page.goto(`${base}/#/c/${encodeURIComponent(cid)}`);
+  await page.locator(".pos tr[data-axis=X] td.abs").waitFor();
+  assert.equal((await http("POST", `/api/v1/controllers/${cid}/cycle-start`, { program: 10 })).status, 200);
+  await poll("X 2.0000 in", async () => (await textOf(".pos tr[data-axis=X] td.abs")) === "2.0000");
+  const heads = (await page.locator(".pos thead th").allTextContents()).map((t) => t.trim());
+  assert.ok(heads.some((h) => /^absolute in/.test(h)), heads.join("|"));
+  assert.ok(heads.some((h) => /^relative in/.test(h)), heads.join("|"));
+  assert.ok(heads.some((h) => /^machine mm/.test(h)), heads.join("|"));
+  assert.ok(heads.some((h) => /^distance to go in/.test(h)), heads.join("|"));
+  assert.equal(await textOf(".pos tr[data-axis=Y] td.abs"), "2.0000");
+  assert.equal(await textOf(".pos tr[data-axis=Z] td.abs"), "3.0000");
+  await poll("modal F 10 in/min", async () => (await textOf(".modal .modal-f")).replace(/\s+/g, " ").trim() === "F 10 in/min");
+  assert.match(await textOf(".position .feed"), /mm\/min/);
+  assert.match(await textOf(".pos tr[data-axis=A] th"), /°/);
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+  // G21 again: mm, 3 decimals.
+  const metric = "O0011\nG21 G90 G54\nG00 X50.8\nM30\n";
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/11`, metric, "text/plain")).status, 201);
+  assert.equal((await http("POST", `/api/v1/controllers/${cid}/cycle-start`, { program: 11 })).status, 200);
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+  await poll("X 50.800 mm", async () => (await textOf(".pos tr[data-axis=X] td.abs")) === "50.800" && /^absolute mm/.test((await textOf(".pos thead th:nth-child(2)")).trim()));
+  // G49 without a motion: the tip is read with no tool length, and the readout says 0.
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/tool-offsets/1`, { length: 120.5 })).status, 200);
+  const g49 = "O0012\nG90 G54 G00 X0 Y0 Z200.\nG43 H1 Z100.\nG49\nM30\n";
+  assert.equal((await http("PUT", `/api/v1/controllers/${cid}/programs/12`, g49, "text/plain")).status, 201);
+  assert.equal((await http("POST", `/api/v1/controllers/${cid}/cycle-start`, { program: 12 })).status, 200);
+  await page.locator("[data-run-state=idle]").waitFor({ timeout: 20000 });
+  await poll("tool length 0.000 mm after G49", async () => (await textOf(".position .tool-length")).replace(/\s+/g, " ").trim() === "0.000 mm");
+  await page.goto(base + "/");
+  assert.equal((await http("DELETE", `/api/v1/controllers/${cid}`)).status, 204);
+});
+
 let failed = 0;
+// E2E_ONLY=<regular expression>: only the tests whose names match (a part, while working on it).
+let ran = 0;
+const only = process.env.E2E_ONLY ? new RegExp(process.env.E2E_ONLY) : null;
 for (const [name, fn] of tests) {
+  if (only && !only.test(name)) continue;
+  ran++;
   try {
     await fn();
     console.log(`ok - ${name}`);
@@ -910,5 +1052,5 @@ if (problems.length) {
 }
 await browser.close();
 stop();
-console.log(failed ? `${failed} failed` : `all ${tests.length} passed`);
+console.log(failed ? `${failed} failed` : `all ${ran} passed`);
 process.exit(failed ? 1 : 0);

@@ -1721,3 +1721,26 @@ fn end_of_record_not_raised_at_m30_m02_in_mdi_nor_in_syntec_and_haas() {
     let got: Vec<_> = c.alarms().iter().map(|a| (a.code.as_str(), a.line)).collect();
     assert_eq!(got, [("PS5010", 1)]);
 }
+
+/// The tool length the panel shows (the position frame's `tool_length`) is the one the tip is
+/// read with: after `G43 H1 Z100.` then `G49` without a motion the tip is read with no length,
+/// and the shown length is 0 too — it stayed the last motion's 120.5 beside the G49 modal.
+#[test]
+fn the_tool_length_shown_is_the_one_the_tip_is_read_with_after_g49() {
+    let mut c = controller();
+    c.interpreter_mut().state.offsets.tool_mut(1).unwrap().h_geometry = 120.5;
+    c.select_program("G90 G54 G00 X0 Y0 Z200.\nG43 H1 Z100.\nG49\nM30\n").unwrap();
+    c.cycle_start().unwrap();
+    let mut during = None;
+    while c.run_state() == RunState::Running && c.time() < 60.0 {
+        c.tick(TICK);
+        if c.point().line == 2 {
+            during = Some(c.tool_length());
+        }
+        assert_eq!(c.tool_length(), c.tip_basis().tool_length, "line {}", c.point().line);
+    }
+    assert_eq!(c.run_state(), RunState::Idle);
+    assert_eq!(during, Some(120.5), "the G43 block moves with the 120.5 mm tool");
+    assert_eq!(c.tip_basis().tool_length, 0.0, "after G49 the tip is read without a length");
+    assert_eq!(c.tool_length(), 0.0, "and the length shown says so");
+}

@@ -3,6 +3,7 @@
 import createClient from "openapi-fetch";
 import type { components, paths } from "./schema";
 import { authFetch, token, tokenQuery } from "./auth";
+import { refusal } from "./refusal";
 
 export type Schemas = components["schemas"];
 export type Status = Schemas["ControllerStatus"];
@@ -47,8 +48,8 @@ export async function must<T>(
 ): Promise<T> {
   const { data, error, response } = await call;
   if (!response.ok) {
-    const body = error as { error?: string; details?: unknown } | undefined;
-    throw new ApiError(body?.error ?? `${response.status} ${response.statusText}`, response.status, body?.details);
+    const details = typeof error === "object" && error !== null ? (error as { details?: unknown }).details : undefined;
+    throw new ApiError(refusal(response.status, response.statusText, error).message, response.status, details);
   }
   return data as T;
 }

@@ -10,7 +10,7 @@ import { useEffect, useState } from "preact/hooks";
 import { api, must, type Schemas } from "../api/client";
 import { useController } from "./useController";
 import { Position } from "./Position";
-import { Modal } from "./Modal";
+import { Modal, useModal } from "./Modal";
 import { Panel } from "./Panel";
 import { Programs } from "./Programs";
 import { Mdi } from "./Mdi";
@@ -42,6 +42,7 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
   const [stored, setStored] = useState(0);
   const [path, setPath] = useState<{ xyz: Float32Array; rapid: boolean[]; programmed: Float32Array | null } | null>(null);
   const status = live.status;
+  const modal = useModal(id, `${status?.run_state}:${live.frame?.line ?? 0}`);
   // The path shows the program running, else the one selected (which may be another one being
   // edited while it runs).
   const running = status != null && status.run_state !== "idle" && status.program != null;
@@ -101,9 +102,9 @@ export function ControllerView({ id, tab }: { id: string; tab: string }) {
       )}
       <div class="ctl-grid">
         <div class="readout">
-          <Position status={status} frame={live.frame} />
+          <Position status={status} frame={live.frame} modal={modal} />
           <Progress status={status} selected={program} revision={stored} />
-          <Modal id={id} tick={`${status.run_state}:${live.frame?.line ?? 0}`} />
+          <Modal modal={modal} />
         </div>
         <div class="program-col panel-box">
           <Programs status={status} line={live.frame?.line ?? status.line} selected={program} onSelect={setProgram} run={live.act} onError={setError} onStored={() => setStored((n) => n + 1)} />

@@ -1,6 +1,7 @@
 // The modal state: the G code of each group, F S T H D, and the 5-axis functions in force.
 import { useEffect, useState } from "preact/hooks";
 import { api, must, type Schemas } from "../api/client";
+import { modalFeed } from "./units";
 
 const FIVE_AXIS: Record<string, string> = {
   "G43.4": "TCP type 1",
@@ -11,7 +12,9 @@ const FIVE_AXIS: Record<string, string> = {
   "G54.4": "setting error comp.",
 };
 
-export function Modal({ id, tick }: { id: string; tick: unknown }) {
+/// The modal state of the block executing, read again at every `tick` (a run state or line
+/// change): the modal panel shows it, and the readout takes its unit from it (G20/G21).
+export function useModal(id: string, tick: unknown): Schemas["ModalState"] | null {
   const [modal, setModal] = useState<Schemas["ModalState"] | null>(null);
   useEffect(() => {
     let gone = false;
@@ -20,9 +23,14 @@ export function Modal({ id, tick }: { id: string; tick: unknown }) {
       gone = true;
     };
   }, [id, tick]);
+  return modal;
+}
+
+export function Modal({ modal }: { modal: Schemas["ModalState"] | null }) {
   if (!modal) return <div class="panel-box modal">…</div>;
   const codes = Object.values(modal.groups);
   const active = codes.filter((c) => FIVE_AXIS[c]);
+  const feed = modalFeed(modal);
   return (
     <div class="panel-box modal">
       <div class="gcodes">
@@ -33,7 +41,9 @@ export function Modal({ id, tick }: { id: string; tick: unknown }) {
         ))}
       </div>
       <div class="words">
-        <span>F {modal.f}</span> <span>S {modal.s}</span> <span>T {modal.t}</span> <span>spindle T {modal.spindle_tool}</span>{" "}
+        <span class="modal-f">
+          F {feed.text} <span class="unit">{feed.unit}</span>
+        </span> <span>S {modal.s}</span> <span>T {modal.t}</span> <span>spindle T {modal.spindle_tool}</span>{" "}
         <span>H {modal.h}</span> <span>D {modal.d}</span>
       </div>
       <div class="five">

@@ -5,6 +5,14 @@ import { useEffect, useState } from "preact/hooks";
 import { api, must, type Schemas, errorText } from "../api/client";
 import { EditCell } from "./EditCell";
 
+/// A number as typed in a cell (blank, `abc`, `1..2`, `Infinity`: none).
+export function parseNumber(text: string): number | null {
+  const t = text.trim();
+  if (t === "") return null;
+  const v = Number(t);
+  return Number.isFinite(v) ? v : null;
+}
+
 const TOOL_FIELDS = ["length", "length_wear", "radius", "radius_wear", "corner_radius"] as const;
 
 function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onError: (e: string | null) => void }) {
@@ -17,30 +25,42 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
     must(api.GET("/api/v1/controllers/{id}/work-offsets", p)).then(setWorks, (e) => onError(errorText(e)));
   };
   useEffect(load, [id]);
+  /// A change: whether the service took it (refused, the reason is shown and the cell goes back
+  /// to the value the service holds).
   const setTool = async (number: number, field: string, value: number) => {
     onError(null);
     try {
       await must(api.PUT("/api/v1/controllers/{id}/tool-offsets/{number}", { params: { path: { id, number } }, body: { [field]: value } }));
+      return true;
     } catch (e) {
       onError(errorText(e));
+      return false;
+    } finally {
+      load();
     }
-    load();
   };
   const setWork = async (name: string, axis: string, value: number) => {
     onError(null);
     try {
       await must(api.PUT("/api/v1/controllers/{id}/work-offsets/{name}", { params: { path: { id, name } }, body: { axes: { [axis]: value } } }));
+      return true;
     } catch (e) {
       onError(errorText(e));
+      return false;
+    } finally {
+      load();
     }
-    load();
   };
-  const numberInput = (value: number, on: (v: number) => void) => (
+  const numberInput = (value: number, what: string, on: (v: number) => Promise<boolean>) => (
     <EditCell
       value={String(value)}
       onCommit={(text) => {
-        const v = Number(text);
-        if (text.trim() !== "" && Number.isFinite(v)) on(v);
+        const v = parseNumber(text);
+        if (v == null) {
+          onError(`${what}: "${text}" is not a number (${value} kept)`);
+          return false;
+        }
+        return on(v);
       }}
     />
   );
@@ -63,7 +83,7 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
             <tr key={t.number} data-tool={t.number}>
               <th>{t.number}</th>
               {TOOL_FIELDS.map((f) => (
-                <td data-field={f}>{numberInput(t[f], (v) => setTool(t.number, f, v))}</td>
+                <td data-field={f}>{numberInput(t[f], `tool offset ${t.number} ${f}`, (v) => setTool(t.number, f, v))}</td>
               ))}
             </tr>
           ))}
@@ -97,7 +117,7 @@ function OffsetsView({ id, axes, onError }: { id: string; axes: string[]; onErro
             <tr key={w.name}>
               <th>{w.name}</th>
               {axes.map((a) => (
-                <td>{numberInput(w.axes[a] ?? 0, (v) => setWork(w.name, a, v))}</td>
+                <td>{numberInput(w.axes[a] ?? 0, `${w.name} ${a}`, (v) => setWork(w.name, a, v))}</td>
               ))}
             </tr>
           ))}

@@ -212,6 +212,7 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
               <button
                 key={inc}
                 class={`key small ${(status.mode === "inc" ? panel.increment : increment) === inc ? "lit" : ""}`}
+                title={`${inc} mm (° on a rotary axis)`}
                 onClick={() => (status.mode === "inc" ? act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { increment: inc } })) : setIncrement(inc))}
               >
                 ×{Math.round(inc * 1000)}
@@ -258,7 +259,8 @@ export function Panel({ status, axes, run, onError }: { status: Status; axes: st
                 defaultValue={String(panel.jog_feed)}
                 min={1}
                 onChange={(e) => act(() => api.PUT("/api/v1/controllers/{id}/manual", { ...p, body: { jog_feed: Number(e.currentTarget.value) } }))}
-              />
+              />{" "}
+              <span class="unit">mm/min</span>
             </label>
           </span>
         )}

@@ -5,6 +5,7 @@ import { api, authFetch, must, type Schemas, type Status, errorText } from "../a
 import type { Act } from "./useController";
 import { programNumber } from "../api/program";
 import { CodeView, type Mark } from "./CodeView";
+import { refusal } from "../api/refusal";
 import { Restart } from "./Restart";
 
 export function Programs({
@@ -30,6 +31,26 @@ export function Programs({
   const [list, setList] = useState<Schemas["ProgramSummary"][]>([]);
   const [text, setText] = useState("");
   const [draft, setDraft] = useState<string | null>(null);
+  /// What the draft started from (the stored text, a new program's template): it holds an
+  /// unsaved edit when it differs.
+  const [base, setBase] = useState<string | null>(null);
+  const edit = (from: string | null) => {
+    setDraft(from);
+    setBase(from);
+  };
+  const unsaved = draft != null && draft !== base;
+  /// Whether what is being typed may go: nothing unsaved, or the operator says so.
+  const mayDiscard = () => !unsaved || confirm(`Discard the unsaved changes to O${String(selected).padStart(4, "0")}?`);
+  // A reload or closing the tab asks too while an edit is unsaved.
+  useEffect(() => {
+    if (!unsaved) return;
+    const ask = (e: BeforeUnloadEvent) => {
+      e.preventDefault();
+      e.returnValue = "";
+    };
+    addEventListener("beforeunload", ask);
+    return () => removeEventListener("beforeunload", ask);
+  }, [unsaved]);
   const [marks, setMarks] = useState<Mark[]>([]);
   const [newNumber, setNewNumber] = useState("");
   /// The template of a program being created, shown in the editor once it is selected.
@@ -49,7 +70,7 @@ export function Programs({
   }, [status.program, status.run_state]);
   useEffect(() => {
     setMarks([]);
-    setDraft(fresh.current);
+    edit(fresh.current);
     if (fresh.current != null) {
       fresh.current = null;
       return setText("");
@@ -63,31 +84,47 @@ export function Programs({
   const store = async (number: number, body: string, force = false) => {
     onError(null);
     setMarks([]);
-    const res = await authFetch(`/api/v1/controllers/${id}/programs/${number}${force ? "?force=true" : ""}`, {
-      method: "PUT",
-      headers: { "content-type": "text/plain" },
-      body,
-    });
-    const answer = await res.json().catch(() => ({}));
-    if (!res.ok) {
-      const diags = (answer.details ?? []) as Schemas["Diagnostic"][];
-      setMarks(diags.map((d) => ({ line: d.line, text: `${d.code} ${d.message}${d.detail ? `: ${d.detail}` : ""}` })));
-      onError(answer.error ?? `${res.status}`);
+    try {
+      const res = await authFetch(`/api/v1/controllers/${id}/programs/${number}${force ? "?force=true" : ""}`, {
+        method: "PUT",
+        headers: { "content-type": "text/plain" },
+        body,
+      });
+      const raw = await res.text();
+      let answer: unknown = raw;
+      try {
+        answer = JSON.parse(raw);
+      } catch {
+        /* not JSON: the text itself */
+      }
+      if (!res.ok) {
+        // The draft stays in the editor: the reason is shown, and the marks on their lines.
+        const refused = refusal(res.status, res.statusText, answer);
+        setMarks(refused.marks);
+        onError(refused.message);
+        return false;
+      }
+      const stored = answer as Schemas["StoredProgram"];
+      setMarks((stored.diagnostics ?? []).map((d) => ({ line: d.line, text: `${d.code} ${d.message}` })));
+      await refresh();
+      onStored?.(number);
+      if (selected === number) setText(body);
+      else onSelect(number);
+      edit(null);
+      return true;
+    } catch (e) {
+      onError(errorText(e));
       return false;
     }
-    const stored = answer as Schemas["StoredProgram"];
-    setMarks(stored.diagnostics.map((d) => ({ line: d.line, text: `${d.code} ${d.message}` })));
-    await refresh();
-    onStored?.(number);
-    if (selected === number) setText(body);
-    else onSelect(number);
-    setDraft(null);
-    return true;
   };
 
   const upload = async (input: HTMLInputElement) => {
     const file = input.files?.[0];
     if (!file) return;
+    if (!mayDiscard()) {
+      input.value = "";
+      return;
+    }
     const body = await file.text();
     // A text with its own O number can only go in that slot; otherwise the file name's number.
     const own = programNumber(body);
@@ -104,7 +141,7 @@ export function Programs({
         <ul>
           {list.map((p) => (
             <li key={p.number} class={p.number === selected ? "sel" : ""}>
-              <a onClick={() => onSelect(p.number)} data-program={p.number}>
+              <a onClick={() => p.number !== selected && mayDiscard() && onSelect(p.number)} data-program={p.number}>
                 O{String(p.number).padStart(4, "0")}
               </a>
               <span class="size">{p.size} B</span>
@@ -116,9 +153,9 @@ export function Programs({
           <button
             onClick={() => {
               const n = Number(newNumber);
-              if (n >= 1 && n <= 9999) {
+              if (n >= 1 && n <= 9999 && mayDiscard()) {
                 const template = `O${String(n).padStart(4, "0")}\n\nM30\n`;
-                if (n === selected) setDraft(template);
+                if (n === selected) edit(template);
                 else {
                   fresh.current = template;
                   onSelect(n);
@@ -152,7 +189,7 @@ export function Programs({
               >
                 cycle start O{selected}
               </button>
-              <button onClick={() => setDraft(text)} disabled={running}>
+              <button onClick={() => edit(text)} disabled={running}>
                 edit
               </button>
               <button
@@ -177,7 +214,7 @@ export function Programs({
               <button title="store even with diagnostics" onClick={() => store(selected, draft, true)}>
                 save anyway
               </button>
-              <button onClick={() => setDraft(null)}>cancel</button>
+              <button onClick={() => mayDiscard() && edit(null)}>cancel</button>
             </>
           )}
         </div>

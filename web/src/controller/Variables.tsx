@@ -11,11 +11,16 @@ function VariablesView({ id, values, onError }: { id: string; values: Record<str
   const set = async (n: number, text: string) => {
     onError(null);
     const value = text.trim() === "" ? null : Number(text);
-    if (value !== null && !Number.isFinite(value)) return onError(`${text} is not a number`);
+    if (value !== null && !Number.isFinite(value)) {
+      onError(`${text} is not a number`);
+      return false;
+    }
     try {
       await must(api.PUT("/api/v1/controllers/{id}/variables/{number}", { params: { path: { id, number: n } }, body: { value } }));
+      return true;
     } catch (e) {
       onError(errorText(e));
+      return false;
     }
   };
   const rows = Object.entries(values)
