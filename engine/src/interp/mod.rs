@@ -1595,6 +1595,26 @@ impl State {
         m
     }
 
+    /// Sets work offset `index` (the external offset, G54–G59, G54.1 P) to `set`: the one way
+    /// G10 L2/L20 and the work offset variables (#5201…, #7001…, #14001…) change one. No axis
+    /// moves: the coordinate system shifts at once under the machine, standing at `machine`
+    /// (`State::work_system_shifted`).
+    pub(super) fn set_work_offset(&mut self, index: usize, set: Pos, machine: &Pos) {
+        *self.offsets.work_mut(index) = set;
+        self.work_system_shifted(machine);
+    }
+
+    /// The workpiece system moved without an axis moving (a work offset, G52, Haas's G10 L2 P0):
+    /// the current point is read again from where the machine stands (`machine`, where it
+    /// stood before the change), so an axis the next block does not command stays where it is
+    /// in machine coordinates and its absolute position changes (a FANUC-compatible manual: a
+    /// change of a work offset "do[es] not cause axis motion. It does immediately shift the
+    /// active coordinate system").
+    pub(super) fn work_system_shifted(&mut self, machine: &Pos) {
+        self.pos = self.machine_to_program(machine);
+        self.sync_programmed();
+    }
+
     fn machine_to_program(&self, m: &Pos) -> Pos {
         let off = self.offset_vector();
         let mut p = [0.0; MAX_AXES];
