@@ -1206,6 +1206,24 @@ impl State {
         self.pos
     }
 
+    /// The G52 local coordinate system's shift per axis, mm (what G52 sets; Haas: also G10 L2 P0,
+    /// read as #5201…).
+    pub fn local_offset(&self) -> Pos {
+        self.local
+    }
+
+    /// The external work offset in effect (work offset slot 0: FANUC's G10 L2 P0, #5201…).
+    /// Zero in the Haas dialect, which has none (its P0 and #5201… are G52): a value stored
+    /// there (set before, or kept from another dialect's machine) would shift every work system
+    /// with nothing a Haas program can read or cancel (audit of offsets, Haas `EXT`).
+    pub(super) fn external_offset(&self) -> Pos {
+        if self.cfg.dialect == crate::Dialect::Haas {
+            [0.0; MAX_AXES]
+        } else {
+            *self.offsets.work(0)
+        }
+    }
+
     /// Current position in machine coordinates.
     pub fn machine_position(&self) -> Pos {
         match self.follow_machine {

@@ -1949,7 +1949,7 @@ impl State {
             }
             code::G92 => {
                 let w0 = *self.offsets.work(self.work_index());
-                let ext = *self.offsets.work(0);
+                let ext = self.external_offset();
                 for i in 0..axes {
                     if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
                         // FANUC (local coordinate system): G92 cancels G52 on the axes it names.

@@ -291,3 +291,20 @@ fn a_work_offset_variable_shifts_the_system_as_g10_does() {
         }
     }
 }
+
+/// The Haas dialect has no external work offset (its G10 L2 P0 and #5201… are G52): a value in
+/// the external offset's storage (set before through the service, or kept from another
+/// dialect's machine) does not shift a Haas program's work systems, which could neither read
+/// nor cancel it. FANUC applies it.
+#[test]
+fn the_external_offset_storage_does_not_shift_a_haas_program() {
+    for (dialect, want) in [(Fanuc, 7.5), (Haas, 5.0)] {
+        let src = "G21 G90 G54 G00 X5. Y0 Z0\n#100=#5001\nM30\n";
+        let mut interp = interpreter(src, "mill3", dialect);
+        interp.state.offsets.work_mut(0)[0] = 2.5;
+        let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+        assert!(r.completed(), "{:?}", r.alarms);
+        assert_eq!(r.machine[0], want, "{dialect:?}");
+        assert_eq!(r.workpiece[0], 5.0, "{dialect:?}");
+    }
+}

@@ -747,7 +747,7 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** The external offset, G54–G59, and the G54.1 offsets that are not zero. */
+        /** The external offset (Haas: G52), G54–G59, and the G54.1 offsets that are not zero. */
         get: operations["works"];
         put?: never;
         post?: never;
@@ -3154,7 +3154,7 @@ export interface components {
                 [key: string]: number;
             };
             /**
-             * @description `EXT`, `G54`…`G59`, `G54.1P1`…`G54.1P300`.
+             * @description `EXT` (Haas: `G52`, read only), `G54`…`G59`, `G54.1P1`…`G54.1P300`.
              * @example G54
              */
             name: string;
@@ -7111,7 +7111,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No such offset or axis, or a value beyond ±999999.999 mm (the range G10 takes) */
+            /** @description No such offset or axis, a value beyond ±999999.999 mm (the range G10 takes), or `EXT`/`G52` on a Haas controller (it has no external offset; its G52 is the program's) */
             422: {
                 headers: {
                     [name: string]: unknown;
