@@ -40,20 +40,45 @@ pub struct Entry {
     pub start: Option<Pos>,
 }
 
-/// One tool offset of a `--tools` table: length and radius geometry, and the corner radius.
+/// One tool offset of a tool table (`--tools`, a fleet run's `tools`): the values
+/// `PUT /controllers/{id}/tool-offsets/{n}` takes (`api::offsets::SetToolOffset`), with the same
+/// ranges (`tools::ToolValues`), length and radius required. Any other field is refused, not
+/// dropped: a wear left out of the run by a misspelled name moved the tool by it without a word.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, serde::Serialize, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
 pub struct Tool {
-    /// mm, within ±999.999 (the range G10 takes, `tools::check_value`).
+    /// H geometry, mm, within ±999.999 (the range G10 takes, `tools::check_value`).
     #[schema(minimum = -999.999, maximum = 999.999)]
     pub length: f64,
-    /// mm, within ±999.999.
+    /// H wear, mm, within ±99.999. Absent: 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(minimum = -99.999, maximum = 99.999)]
+    pub length_wear: Option<f64>,
+    /// D geometry, mm, within ±999.999.
     #[schema(minimum = -999.999, maximum = 999.999)]
     pub radius: f64,
+    /// D wear, mm, within ±99.999. Absent: 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(minimum = -99.999, maximum = 99.999)]
+    pub radius_wear: Option<f64>,
     /// The tool's corner radius, read by cutting point control (G43.8/G43.9); not negative, at
     /// most 999.999 mm. Absent: 0 (a square end mill, or a ball end mill read from the radius).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(minimum = 0.0, maximum = 999.999)]
     pub corner_radius: Option<f64>,
+}
+
+impl Tool {
+    /// Every value of the offset (what is absent: 0).
+    pub fn values(&self) -> crate::tools::ToolValues {
+        crate::tools::ToolValues {
+            length: Some(self.length),
+            length_wear: Some(self.length_wear.unwrap_or(0.0)),
+            radius: Some(self.radius),
+            radius_wear: Some(self.radius_wear.unwrap_or(0.0)),
+            corner_radius: Some(self.corner_radius.unwrap_or(0.0)),
+        }
+    }
 }
 
 /// How the fleet runs.
@@ -186,9 +211,7 @@ pub fn equip(interp: &mut Interpreter, tools: Option<&BTreeMap<u32, Tool>>) -> R
                     .offsets
                     .tool_mut(*n)
                     .ok_or_else(|| format!("tool offset number {n} is out of range 1–999"))?;
-                slot.h_geometry = t.length;
-                slot.d_geometry = t.radius;
-                slot.corner_radius = t.corner_radius.unwrap_or(0.0);
+                t.values().apply(slot);
             }
         }
     }
@@ -213,10 +236,7 @@ pub fn check_tools(tools: &BTreeMap<u32, Tool>) -> Result<(), String> {
         probe.tool_mut(*n).ok_or_else(|| format!("tool offset number {n} is out of range 1–999"))?;
         // The range G10 takes (`tools::check_value`): a run never starts with an offset no
         // program could set.
-        let values = crate::tools::check_value("length", t.length, false)
-            .and(crate::tools::check_value("radius", t.radius, false))
-            .and(t.corner_radius.map_or(Ok(0.0), crate::tools::check_corner_radius));
-        values.map_err(|e| format!("tool offset {n}: {e}"))?;
+        t.values().checked().map_err(|e| format!("tool offset {n}: {e}"))?;
     }
     Ok(())
 }

@@ -3,7 +3,7 @@
 //! tool offset value given from outside a program must lie in, for the CLI and the service
 //! alike.
 
-use fivex_engine::interp::{tool_value_fits, tool_value_limit, Offsets};
+use fivex_engine::interp::{tool_value_fits, tool_value_limit, Offsets, ToolOffset};
 
 pub const DEFAULT_NUMBERS: std::ops::RangeInclusive<u32> = 1..=99;
 pub const DEFAULT_LENGTH: f64 = 100.0;
@@ -40,5 +40,45 @@ pub fn check_corner_radius(value: f64) -> Result<f64, String> {
         Ok(value)
     } else {
         Err(format!("corner_radius {value} must be a number from 0 to {limit} mm"))
+    }
+}
+
+/// The values of one tool offset given from outside a program, each optional (absent: as it
+/// is): what `PUT /controllers/{id}/tool-offsets/{n}` changes and what an entry of a tool table
+/// (`--tools`, a fleet run's `tools`: `fleet::Tool`) sets. One type, so both take the same
+/// values with the same ranges.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ToolValues {
+    /// H geometry and wear, mm.
+    pub length: Option<f64>,
+    pub length_wear: Option<f64>,
+    /// D geometry and wear, mm.
+    pub radius: Option<f64>,
+    pub radius_wear: Option<f64>,
+    pub corner_radius: Option<f64>,
+}
+
+impl ToolValues {
+    /// The values, each within the range G10 takes ([`check_value`], [`check_corner_radius`]);
+    /// the first one beyond it, named, otherwise.
+    pub fn checked(self) -> Result<ToolValues, String> {
+        let value = |v: Option<f64>, what: &str, wear: bool| v.map(|v| check_value(what, v, wear)).transpose();
+        Ok(ToolValues {
+            length: value(self.length, "length", false)?,
+            length_wear: value(self.length_wear, "length_wear", true)?,
+            radius: value(self.radius, "radius", false)?,
+            radius_wear: value(self.radius_wear, "radius_wear", true)?,
+            corner_radius: self.corner_radius.map(check_corner_radius).transpose()?,
+        })
+    }
+
+    /// Sets the values given in `t` (the others stay as they are).
+    pub fn apply(&self, t: &mut ToolOffset) {
+        let set = |slot: &mut f64, v: Option<f64>| *slot = v.unwrap_or(*slot);
+        set(&mut t.h_geometry, self.length);
+        set(&mut t.h_wear, self.length_wear);
+        set(&mut t.d_geometry, self.radius);
+        set(&mut t.d_wear, self.radius_wear);
+        set(&mut t.corner_radius, self.corner_radius);
     }
 }

@@ -1219,6 +1219,24 @@ impl State {
         self.pos
     }
 
+    /// The G52 local coordinate system's shift per axis, mm (what G52 sets; Haas: also G10 L2 P0,
+    /// read as #5201…).
+    pub fn local_offset(&self) -> Pos {
+        self.local
+    }
+
+    /// The external work offset in effect (work offset slot 0: FANUC's G10 L2 P0, #5201…).
+    /// Zero in the Haas dialect, which has none (its P0 and #5201… are G52): a value stored
+    /// there (set before, or kept from another dialect's machine) would shift every work system
+    /// with nothing a Haas program can read or cancel (audit of offsets, Haas `EXT`).
+    pub(super) fn external_offset(&self) -> Pos {
+        if self.cfg.dialect == crate::Dialect::Haas {
+            [0.0; MAX_AXES]
+        } else {
+            *self.offsets.work(0)
+        }
+    }
+
     /// Current position in machine coordinates.
     pub fn machine_position(&self) -> Pos {
         match self.follow_machine {
@@ -1625,6 +1643,26 @@ impl State {
             m[i] = p[i] + off[i] + self.tool_vec[i];
         }
         m
+    }
+
+    /// Sets work offset `index` (the external offset, G54–G59, G54.1 P) to `set`: the one way
+    /// G10 L2/L20 and the work offset variables (#5201…, #7001…, #14001…) change one. No axis
+    /// moves: the coordinate system shifts at once under the machine, standing at `machine`
+    /// (`State::work_system_shifted`).
+    pub(super) fn set_work_offset(&mut self, index: usize, set: Pos, machine: &Pos) {
+        *self.offsets.work_mut(index) = set;
+        self.work_system_shifted(machine);
+    }
+
+    /// The workpiece system moved without an axis moving (a work offset, G52, Haas's G10 L2 P0):
+    /// the current point is read again from where the machine stands (`machine`, where it
+    /// stood before the change), so an axis the next block does not command stays where it is
+    /// in machine coordinates and its absolute position changes (a FANUC-compatible manual: a
+    /// change of a work offset "do[es] not cause axis motion. It does immediately shift the
+    /// active coordinate system").
+    pub(super) fn work_system_shifted(&mut self, machine: &Pos) {
+        self.pos = self.machine_to_program(machine);
+        self.sync_programmed();
     }
 
     fn machine_to_program(&self, m: &Pos) -> Pos {

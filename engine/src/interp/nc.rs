@@ -849,8 +849,7 @@ impl State {
             self.d = offset_number(d, self.cfg.dialect)?;
         }
         if wcs_changed {
-            self.pos = self.machine_to_program(&machine_before);
-            self.sync_programmed();
+            self.work_system_shifted(&machine_before);
         }
         let comp = self.modes[group::CUTTER_COMP];
         let conventional = matches!(comp, code::G41 | code::G42);
@@ -1934,8 +1933,7 @@ impl State {
                         self.local[i] = if incremental { self.local[i] + v } else { v };
                     }
                 }
-                self.pos = self.machine_to_program(&machine_before);
-                self.sync_programmed();
+                self.work_system_shifted(&machine_before);
             }
             code::G53_1 | code::G53_3 | code::G53_6 => return self.align(code, w, out),
             code::G53 => {
@@ -1951,7 +1949,7 @@ impl State {
             }
             code::G92 => {
                 let w0 = *self.offsets.work(self.work_index());
-                let ext = *self.offsets.work(0);
+                let ext = self.external_offset();
                 for i in 0..axes {
                     if let Some(v) = self.value(w, self.cfg.machine.axes[i].name as u8) {
                         // FANUC (local coordinate system): G92 cancels G52 on the axes it names.
@@ -1969,8 +1967,7 @@ impl State {
                         self.local[i] = 0.0;
                     }
                 }
-                self.pos = self.machine_to_program(&machine_before);
-                self.sync_programmed();
+                self.work_system_shifted(&machine_before);
             }
             code::G28 | code::G30 => {
                 if self.modes[group::CYCLE] != code::G80 {
@@ -2182,8 +2179,7 @@ impl State {
                         self.local[i] = if incremental { self.local[i] + v } else { v };
                     }
                 }
-                self.pos = self.machine_to_program(&machine_before);
-                self.sync_programmed();
+                self.work_system_shifted(&machine_before);
             }
             g10::Form::WorkOffset => {
                 // Haas: G10 L20 P1–P99 (G154 P1–P99).
@@ -2207,9 +2203,7 @@ impl State {
                         }
                     }
                 }
-                *self.offsets.work_mut(index) = set;
-                self.pos = self.machine_to_program(&machine_before);
-                self.sync_programmed();
+                self.set_work_offset(index, set, &machine_before);
             }
             g10::Form::ToolOffset => {
                 let r = self.value(w, b'R').ok_or(AlarmId::IllegalG10Command)?;

@@ -106,7 +106,7 @@ impl State {
     /// without tool length.
     pub(super) fn offset_vector(&self) -> Pos {
         let w = self.offsets.work(self.work_index());
-        let ext = self.offsets.work(0);
+        let ext = self.external_offset();
         std::array::from_fn(|i| w[i] + ext[i] + self.local[i] + self.shift[i])
     }
 

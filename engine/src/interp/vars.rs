@@ -582,7 +582,11 @@ impl State {
                 if !super::offsets::work_value_fits(v, unit != 1.0) {
                     return Err(AlarmId::IllegalOffsetValue);
                 }
-                self.offsets.work_mut(index)[axis] = v * unit;
+                // As G10 L2/L20 sets it: the system shifts, no axis moves.
+                let machine = self.machine_position();
+                let mut set = *self.offsets.work(index);
+                set[axis] = v * unit;
+                self.set_work_offset(index, set, &machine);
             }
             Slot::System(n) => {
                 let v = value.unwrap_or(0.0);

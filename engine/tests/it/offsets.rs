@@ -233,3 +233,78 @@ fn a_work_offset_value_out_of_range_is_ps0032() {
     assert!(approx(o.work(2)[0], 2539999.99746), "{}", o.work(2)[0]);
     assert_eq!(o.work(3)[4], 500000.0);
 }
+
+/// A work offset written through its macro variable (#5201…, #5221…, #7001…, #14001…) shifts
+/// the coordinate system at once without moving an axis, exactly as G10 L2/L20 of the same
+/// offset does: an axis the next block does not command stays where it is in machine
+/// coordinates, and its absolute position reads the shift (audit of offsets: after
+/// `#5223=5.` the next `G01 Y10.` ramped machine Z from 0 to 5, and under G91 `X1.` after
+/// `#5221=5.` went to X6 with #5001 reading 0).
+#[test]
+fn a_work_offset_variable_shifts_the_system_as_g10_does() {
+    // (dialect, work system selected, the variable write, the G10 of the same offset)
+    let cases = [
+        (Fanuc, "G54", "#5223=5.", "G10 L2 P1 Z5."),
+        (Fanuc, "G54", "#5221=5.", "G10 L2 P1 X5."),
+        (Fanuc, "G54", "#5203=5.", "G10 L2 P0 Z5."),
+        (Fanuc, "G54", "#5201=5.", "G10 L2 P0 X5."),
+        (Fanuc, "G54.1 P1", "#7003=5.", "G10 L20 P1 Z5."),
+        (Fanuc, "G54.1 P1", "#14001=5.", "G10 L20 P1 X5."),
+        (Haas, "G54", "#5223=5.", "G10 L2 P1 Z5."),
+        (Haas, "G54", "#5221=5.", "G10 L2 P1 X5."),
+        (Haas, "G154 P1", "#7003=5.", "G10 L20 P1 Z5."),
+        (Haas, "G154 P1", "#14001=5.", "G10 L20 P1 X5."),
+        // G20: the variable and G10 both take inch.
+        (Fanuc, "G54", "G20\n#5223=0.2\nG21", "G20\nG10 L2 P1 Z0.2\nG21"),
+    ];
+    for (dialect, select, write, g10) in cases {
+        let program = |set: &str| {
+            format!(
+                "G21 G90 G17 G40 G49 G80\n{select} G00 X0 Y0 Z0\n{set}\n#100=#5001\n#101=#5003\n#102=#5021\n\
+                 #103=#5023\nG01 Y10. F1000\nG91 G01 X1.\nG90\n#104=#5001\n#105=#5003\nM30\n"
+            )
+        };
+        let by_variable = run_with(&program(write), "mill3", dialect);
+        let by_g10 = run_with(&program(g10), "mill3", dialect);
+        assert!(by_variable.completed() && by_g10.completed(), "{write}: {:?} {:?}", by_variable.alarms, by_g10.alarms);
+        let what = format!("{dialect:?} {select} {write}");
+        assert_eq!(by_variable.machine, by_g10.machine, "{what}: machine");
+        assert_eq!(by_variable.workpiece, by_g10.workpiece, "{what}: workpiece");
+        assert_eq!(by_variable.tip, by_g10.tip, "{what}: tip");
+        assert_eq!(by_variable.programmed, by_g10.programmed, "{what}: programmed");
+        assert_eq!(by_variable.variables, by_g10.variables, "{what}: variables");
+        // And what the G10 does: no axis moved for the shift, the uncommanded one stays put.
+        let m = by_variable.machine;
+        let z_shifted = write.contains("#5223") || write.contains("#5203") || write.contains("#7003");
+        if z_shifted {
+            assert_eq!((m[0], m[1]), (1.0, 10.0), "{what}");
+            assert!(m[2].abs() < 1e-9, "{what}: machine Z {}", m[2]);
+            let shift = if write.contains("G20") { 5.08 } else { 5.0 };
+            assert!((by_variable.workpiece[2] + shift).abs() < 1e-9, "{what}: {:?}", by_variable.workpiece);
+            // The summary's workpiece is the tip's (tool length 0 under G49).
+            assert!((by_variable.tip.tip[2] - by_variable.workpiece[2]).abs() < 1e-9, "{what}");
+        } else {
+            assert_eq!((m[0], m[1], m[2]), (1.0, 10.0, 0.0), "{what}");
+            let v = |n: u32| by_variable.variables.iter().find(|(k, _)| *k == n).map(|(_, v)| *v);
+            assert_eq!((v(100), v(104)), (Some(-5.0), Some(-4.0)), "{what}");
+            assert!((by_variable.tip.tip[0] - by_variable.workpiece[0]).abs() < 1e-9, "{what}");
+        }
+    }
+}
+
+/// The Haas dialect has no external work offset (its G10 L2 P0 and #5201… are G52): a value in
+/// the external offset's storage (set before through the service, or kept from another
+/// dialect's machine) does not shift a Haas program's work systems, which could neither read
+/// nor cancel it. FANUC applies it.
+#[test]
+fn the_external_offset_storage_does_not_shift_a_haas_program() {
+    for (dialect, want) in [(Fanuc, 7.5), (Haas, 5.0)] {
+        let src = "G21 G90 G54 G00 X5. Y0 Z0\n#100=#5001\nM30\n";
+        let mut interp = interpreter(src, "mill3", dialect);
+        interp.state.offsets.work_mut(0)[0] = 2.5;
+        let r = fivex_engine::run::run(&mut interp, &RunOptions { period_s: 0.0, ..Default::default() }, |_| {});
+        assert!(r.completed(), "{:?}", r.alarms);
+        assert_eq!(r.machine[0], want, "{dialect:?}");
+        assert_eq!(r.workpiece[0], 5.0, "{dialect:?}");
+    }
+}

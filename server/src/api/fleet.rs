@@ -76,8 +76,9 @@ fn tool_table_schema() -> utoipa::openapi::Object {
     ObjectBuilder::new()
         .schema_type(SchemaType::from_iter([Type::Object, Type::Null]))
         .description(Some(
-            "Tool offsets `{\"1\": {\"length\": 100.0, \"radius\": 5.0}}` (numbers 1–999; `corner_radius` \
-             optional, default 0); default: 1–99 at 100 / 5 mm (a controller keeps its own unless this is given).",
+            "Tool offsets `{\"1\": {\"length\": 100.0, \"radius\": 5.0}}` (numbers 1–999; `length_wear`, \
+             `radius_wear` and `corner_radius` optional, default 0; any other field is refused); default: 1–99 at \
+             100 / 5 mm (a controller keeps its own unless this is given).",
         ))
         .additional_properties(Some(Ref::from_schema_name("Tool")))
         .property_names(Some(ObjectBuilder::new().schema_type(Type::String).pattern(Some(TOOL_NUMBER_KEY))))

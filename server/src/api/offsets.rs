@@ -17,6 +17,7 @@ use crate::http::extract::JsonBody;
 use crate::http::extract::{body, hosted, path};
 use crate::http::{ApiError, AppState, ErrorBody};
 use crate::service::settings::{self, ToolChange};
+use fivex_engine::Dialect;
 
 /// One tool offset number (mm).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
@@ -70,7 +71,7 @@ pub struct SetToolOffset {
 /// A work offset by name.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct WorkOffsetDto {
-    /// `EXT`, `G54`…`G59`, `G54.1P1`…`G54.1P300`.
+    /// `EXT` (Haas: `G52`, read only), `G54`…`G59`, `G54.1P1`…`G54.1P300`.
     #[schema(example = "G54")]
     pub name: String,
     /// Value per axis letter.
@@ -172,7 +173,7 @@ pub async fn set_tool(
     Ok(Json(row.into()))
 }
 
-/// The external offset, G54–G59, and the G54.1 offsets that are not zero.
+/// The external offset (Haas: G52), G54–G59, and the G54.1 offsets that are not zero.
 #[utoipa::path(
     get,
     path = "/api/v1/controllers/{id}/work-offsets",
@@ -185,12 +186,37 @@ pub async fn set_tool(
 )]
 pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDto>>, ApiError> {
     let station = hosted.station();
-    let offsets = &station.controller.interpreter().state.offsets;
+    let interpreter = station.controller.interpreter();
+    let offsets = &interpreter.state.offsets;
+    let haas = interpreter.config().dialect == Dialect::Haas;
     let list = (0..WORK_SLOTS)
         .filter(|&i| i <= 6 || offsets.work(i).iter().any(|v| *v != 0.0))
-        .map(|i| WorkOffsetDto { name: name_of(i), axes: axes(&station.machine, offsets.work(i)) })
+        .map(|i| match i {
+            // Haas has no external offset: its row is G52, what #5201… read and G52 and
+            // G10 L2 P0 set (`docs/dialects.md`, "Haas: the dialect's core").
+            0 if haas => {
+                WorkOffsetDto { name: HAAS_G52.into(), axes: axes(&station.machine, &interpreter.state.local_offset()) }
+            }
+            _ => WorkOffsetDto { name: name_of(i), axes: axes(&station.machine, offsets.work(i)) },
+        })
         .collect();
     Ok(Json(list))
+}
+
+/// The Haas dialect's row in place of `EXT`: its G52 (read only here).
+const HAAS_G52: &str = "G52";
+
+/// Why a work offset cannot be set through the API on a control of `dialect`, if it cannot:
+/// a Haas control has no external offset (its `G10 L2 P0` and #5201… are G52), and its G52 is the
+/// program's (G52, G10 L2 P0; gone at M30 and reset on the control), not a stored offset.
+fn refused_on(dialect: Dialect, name: &str, slot: Option<usize>) -> Option<String> {
+    let g52 = name.trim().eq_ignore_ascii_case(HAAS_G52);
+    (dialect == Dialect::Haas && (slot == Some(0) || g52)).then(|| {
+        format!(
+            "work offset {name}: a Haas control has no external work offset; its G10 L2 P0 and #5201… are G52, \
+             which programs set (G52, G10 L2 P0) and the API shows but does not set"
+        )
+    })
 }
 
 /// Change a work offset (only while nothing runs: the current position is derived again).
@@ -204,7 +230,7 @@ pub async fn works(Addressed(hosted): Addressed) -> Result<Json<Vec<WorkOffsetDt
         (status = 200, description = "Changed", body = WorkOffsetDto),
         (status = 404, description = "No such controller", body = ErrorBody),
         (status = 409, description = "A program runs or holds", body = ErrorBody),
-        (status = 422, description = "No such offset or axis, or a value beyond ±999999.999 mm (the range G10 takes)", body = ErrorBody),
+        (status = 422, description = "No such offset or axis, a value beyond ±999999.999 mm (the range G10 takes), or `EXT`/`G52` on a Haas controller (it has no external offset; its G52 is the program's)", body = ErrorBody),
         (status = 500, description = "Database error (logged, not returned)", body = ErrorBody),
         (status = 503, description = "The controller left this node while the request waited (deleted, or moving to another node: retry), the service is stopping, or the database writer did not store the change within 60 s (the value is set but may not be kept)", body = ErrorBody),
     )
@@ -217,6 +243,10 @@ pub async fn set_work(
     let (id, name) = path(params)?;
     let hosted = hosted(&state, &id)?;
     let request = body(request)?;
+    let dialect = hosted.station().controller.interpreter().config().dialect;
+    if let Some(why) = refused_on(dialect, &name, slot_of(&name)) {
+        return Err(ApiError::Unprocessable(why, None));
+    }
     let slot = slot_of(&name).ok_or_else(|| ApiError::Unprocessable(format!("no work offset {name}"), None))?;
     let shown = settings::set_work_offset(&state.db, &state.host, &hosted, slot, &request.axes).await?;
     Ok(Json(WorkOffsetDto { name: name_of(slot), axes: shown }))

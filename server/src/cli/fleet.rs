@@ -30,7 +30,8 @@ pub struct FleetArgs {
     #[arg(long, default_value = "fanuc")]
     dialect: Dialect,
     /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}; optional per tool
-    /// "corner_radius" (mm, 0 or more; default 0).
+    /// "length_wear", "radius_wear" (mm, within ±99.999; default 0) and "corner_radius" (mm, 0
+    /// or more; default 0). Any other field is refused.
     #[arg(long)]
     tools: Option<PathBuf>,
     /// What is clamped on every machine's table, the boxes a G31 probe touches: {"boxes":
@@ -105,12 +106,7 @@ pub fn run(a: FleetArgs) -> Result<i32, Fail> {
         return Err(Fail("--report-period-ms must be a positive number".into()));
     }
     let tools: Option<BTreeMap<u32, Tool>> = match &a.tools {
-        Some(path) => {
-            let t = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-            let tools = serde_json::from_str(&t).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-            fleet::check_tools(&tools).map_err(Fail)?;
-            Some(tools)
-        }
+        Some(path) => Some(super::read_tools(path)?),
         None => None,
     };
     let workpiece = a.workpiece.as_deref().map(read_workpiece).transpose()?.map(std::sync::Arc::new);

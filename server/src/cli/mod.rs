@@ -70,7 +70,8 @@ struct InterpreterArgs {
     #[arg(long)]
     dialect: Option<Dialect>,
     /// Tool offsets file: {"1": {"length": 100.0, "radius": 5.0}, …}; optional per tool
-    /// "corner_radius" (mm, 0 or more; default 0).
+    /// "length_wear", "radius_wear" (mm, within ±99.999; default 0) and "corner_radius" (mm, 0
+    /// or more; default 0). Any other field is refused.
     #[arg(long)]
     tools: Option<PathBuf>,
     /// What is clamped on the table, the boxes a G31 probe touches: {"boxes": [{"min": [x, y,
@@ -322,19 +323,23 @@ fn read_workpiece(path: &Path) -> Result<fivex_engine::workpiece::Workpiece, Fai
 }
 
 /// Load the tool offsets (`--tools`, or the default 1–99: length 100, radius 5), read and
-/// checked as `fivex fleet` reads them.
+/// checked as `fivex fleet` reads them (`read_tools`).
 fn equip(mut interp: Interpreter, tools: Option<&Path>) -> Result<Interpreter, Fail> {
     let tools: Option<BTreeMap<u32, crate::fleet::Tool>> = match tools {
-        Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-            let tools = serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
-            crate::fleet::check_tools(&tools).map_err(Fail)?;
-            Some(tools)
-        }
+        Some(path) => Some(read_tools(path)?),
         None => None,
     };
     crate::fleet::equip(&mut interp, tools.as_ref()).map_err(Fail)?;
     Ok(interp)
+}
+
+/// A `--tools` file (`fivex run`/`interp`/`check`/`fleet`): read and parsed (`read_json`: a
+/// number given twice, or an unknown field, is refused) and checked (`fleet::check_tools`); a
+/// file that is none is a usage error naming the file and the reason.
+fn read_tools(path: &Path) -> Result<BTreeMap<u32, crate::fleet::Tool>, Fail> {
+    let tools = read_json(path)?;
+    crate::fleet::check_tools(&tools).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    Ok(tools)
 }
 
 fn cmd_run(a: RunArgs) -> Result<i32, Fail> {

@@ -19,7 +19,7 @@ use super::{now_rfc3339, Record};
 use crate::service::programs::Layout;
 
 /// How often, in real seconds, a running controller's variables are compared with what was
-/// streamed, and its retained variables with what was saved.
+/// streamed, and its retained variables and offsets with what was saved.
 const STREAM_VARIABLES_EVERY: f64 = 0.1;
 const SAVE_VARIABLES_EVERY: f64 = 1.0;
 
@@ -471,8 +471,9 @@ impl Station {
         if changed || running && self.since_saved >= SAVE_VARIABLES_EVERY {
             self.since_saved = 0.0;
             self.save_counting(controller, &mut records);
-        }
-        if changed {
+            // The offsets a running program writes (G10, #5221…, #2001…) too, as the retained
+            // variables: they were saved only at run state changes, and a `kill -9` during a
+            // long program lost its G10 while its `#500=…` was kept.
             self.save_settings(controller, &mut records);
         }
         (messages, records)

@@ -128,11 +128,6 @@ fn work_value(v: f64, what: &str) -> Result<f64, ServiceError> {
     }
 }
 
-/// A tool offset value: within the range G10 takes (`tools::check_value`).
-fn tool_value(v: f64, what: &str, wear: bool) -> Result<f64, ServiceError> {
-    crate::tools::check_value(what, v, wear).map_err(ServiceError::invalid)
-}
-
 /// Tool offset `number` (1–999) as it is now.
 pub fn tool_offset(hosted: &Hosted, number: u32) -> Result<ToolRow, ServiceError> {
     hosted
@@ -147,15 +142,9 @@ pub fn tool_offset(hosted: &Hosted, number: u32) -> Result<ToolRow, ServiceError
         .ok_or_else(|| ServiceError::invalid(format!("tool offset number {number} is outside 1–999")))
 }
 
-/// A change of a tool offset: the values given, the others as they are.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct ToolChange {
-    pub length: Option<f64>,
-    pub length_wear: Option<f64>,
-    pub radius: Option<f64>,
-    pub radius_wear: Option<f64>,
-    pub corner_radius: Option<f64>,
-}
+/// A change of a tool offset: the values given, the others as they are (the values a tool
+/// table's entry sets too, with the same ranges: `tools::ToolValues`).
+pub type ToolChange = crate::tools::ToolValues;
 
 /// Changes tool offset `number`; the offset after the change.
 ///
@@ -171,17 +160,7 @@ pub async fn set_tool_offset(
     number: u32,
     change: ToolChange,
 ) -> Result<ToolRow, ServiceError> {
-    let change = ToolChange {
-        length: change.length.map(|v| tool_value(v, "length", false)).transpose()?,
-        length_wear: change.length_wear.map(|v| tool_value(v, "length_wear", true)).transpose()?,
-        radius: change.radius.map(|v| tool_value(v, "radius", false)).transpose()?,
-        radius_wear: change.radius_wear.map(|v| tool_value(v, "radius_wear", true)).transpose()?,
-        corner_radius: change
-            .corner_radius
-            .map(crate::tools::check_corner_radius)
-            .transpose()
-            .map_err(ServiceError::invalid)?,
-    };
+    let change = change.checked().map_err(ServiceError::invalid)?;
     let _editing = hosted.editing().await;
     let stored_first = change.applied_to(tool_offset(hosted, number)?);
     db::save_tool_offsets(db, &hosted.id, &[stored_first]).await?;
@@ -191,9 +170,8 @@ pub async fn set_tool_offset(
         let Some(t) = t else {
             return Err(ServiceError::invalid(format!("tool offset number {number} is outside 1–999")));
         };
-        let row = change.applied_to(tool_row(number, t));
-        (t.h_geometry, t.h_wear, t.d_geometry, t.d_wear, t.corner_radius) =
-            (row.length, row.length_wear, row.radius, row.radius_wear, row.corner_radius);
+        change.apply(t);
+        let row = tool_row(number, t);
         (row, save_offsets(host, hosted, &mut station))
     };
     stored(db, sent).await?;

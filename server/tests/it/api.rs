@@ -1844,3 +1844,37 @@ async fn a_key_given_twice_is_refused() {
         .await;
     assert!(fleet.status.is_success(), "{}", fleet.text());
 }
+
+/// Haas has no external work offset: its G10 L2 P0 and #5201… are G52 (`docs/dialects.md`,
+/// "Haas: the dialect's core"). The API's row in place of `EXT` is that G52, what programs set
+/// and #5201 reads, and neither `EXT` nor `G52` is set through the API (422). Before, `PUT
+/// …/work-offsets/EXT` set a shift Haas programs could neither see (#5201 read 0) nor cancel
+/// (it survived `G52 X0`), and after `G10 L2 P0 X3.` the API still showed EXT X 0.
+#[tokio::test]
+async fn a_haas_controller_shows_its_g52_in_place_of_the_external_offset() {
+    let app = spawn_app().await;
+    let id = create(&app, json!({"name": "h", "preset": "mill3", "dialect": "haas", "speed": 50})).await;
+    for name in ["EXT", "G52"] {
+        let reply = app.put(&format!("{C}/{id}/work-offsets/{name}"), &json!({"axes": {"X": 2.5}})).await;
+        assert_eq!(reply.status, StatusCode::UNPROCESSABLE_ENTITY, "{name}: {}", reply.text());
+        assert!(error_of(&reply).contains("Haas"), "{}", reply.text());
+    }
+    let mdi = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G10 L2 P0 X3.\n#100=#5201"})).await;
+    assert_eq!(mdi.status, StatusCode::OK, "{}", mdi.text());
+    let status = wait_for(&app, &id, "idle").await;
+    assert_eq!(status["position"]["workpiece"]["X"], -3.0, "{status}");
+    let works = app.get(&format!("{C}/{id}/work-offsets")).await.json();
+    assert_eq!(works[0], json!({"name": "G52", "axes": {"X": 3.0, "Y": 0.0, "Z": 0.0}}), "{works}");
+    assert_eq!(works.as_array().unwrap().len(), 7, "G52 and G54–G59: {works}");
+    assert_eq!(app.get(&format!("{C}/{id}/variables/100")).await.json()["value"], 3.0);
+    let mdi = app.post(&format!("{C}/{id}/mdi"), &json!({"text": "G52 X0"})).await;
+    assert_eq!(mdi.status, StatusCode::OK, "{}", mdi.text());
+    let status = wait_for(&app, &id, "idle").await;
+    assert_eq!(status["position"]["workpiece"]["X"], 0.0, "{status}");
+    let works = app.get(&format!("{C}/{id}/work-offsets")).await.json();
+    assert_eq!(works[0], json!({"name": "G52", "axes": {"X": 0.0, "Y": 0.0, "Z": 0.0}}), "{works}");
+    // FANUC keeps its external offset.
+    let fanuc = create(&app, json!({"name": "f", "preset": "mill3", "speed": 50})).await;
+    let ext = app.put(&format!("{C}/{fanuc}/work-offsets/EXT"), &json!({"axes": {"X": 2.5}})).await;
+    assert_eq!(ext.json(), json!({"name": "EXT", "axes": {"X": 2.5, "Y": 0.0, "Z": 0.0}}));
+}

@@ -193,7 +193,9 @@ async fn a_tool_table_replaces_a_controllers_tool_offsets_and_keeps_its_work_off
     assert_eq!(set.status, StatusCode::OK, "{}", set.text());
     // B = C = 0: the machine point is the program point plus G54, plus H3 along Z under G43.
     let nc = "O0001\nG90 G54 G0 X1. Y2. Z3.\n#500=#5221\n#501=#5222\n#502=#5223\nG43 H3 Z3.\nM30\n";
-    for tools in [None, Some(json!({"3": {"length": 50.0, "radius": 1.0}}))] {
+    // The table's wear acts as the API's tool offset's does (it was dropped without a word).
+    let worn = json!({"3": {"length": 50.0, "radius": 1.0, "length_wear": -0.5, "radius_wear": 0.1}});
+    for (tools, h) in [(None, 100.0), (Some(json!({"3": {"length": 50.0, "radius": 1.0}})), 50.0), (Some(worn), 49.5)] {
         let mut request = json!({"program": nc, "controllers": [controller]});
         if let Some(t) = &tools {
             request["tools"] = t.clone();
@@ -205,8 +207,7 @@ async fn a_tool_table_replaces_a_controllers_tool_offsets_and_keeps_its_work_off
         let vars = &item["variables"];
         assert_eq!([&vars["#500"], &vars["#501"], &vars["#502"]], [10.0, -20.0, -100.0], "tools {tools:?}");
         let machine = &item["position"]["machine"];
-        // The controller's own H3 is 100 mm (its defaults); the table's 50 mm.
-        let h = if tools.is_some() { 50.0 } else { 100.0 };
+        // The controller's own H3 is 100 mm (its defaults); the table's 50 mm (less its wear).
         assert_eq!([&machine["X"], &machine["Y"], &machine["Z"]], [11.0, -18.0, 3.0 - 100.0 + h], "tools {tools:?}");
     }
 }
@@ -346,6 +347,23 @@ async fn bad_requests_are_4xx_json_with_the_reason() {
             json!({"program": nc, "presets": ["mill3"], "tools": {"1": {"length": 1.0, "radius": 1.0, "corner_radius": "1"}}}),
             StatusCode::UNPROCESSABLE_ENTITY,
             "corner_radius",
+        ),
+        // Any field of a tool but the five of the API's tool offset is refused, not dropped
+        // (a misspelled wear ran without it); a wear beyond G10's ±99.999 mm too.
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"1": {"length": 1.0, "radius": 1.0, "wear": 1.0}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "unknown field `wear`",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"1": {"lenght": 1.0, "length": 1.0, "radius": 1.0}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "unknown field `lenght`",
+        ),
+        (
+            json!({"program": nc, "presets": ["mill3"], "tools": {"4": {"length": 1.0, "radius": 1.0, "radius_wear": -100.0}}}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "tool offset 4: radius_wear -100 is outside ±99.999 mm",
         ),
         (json!({"program": nc, "presets": ["mill3"], "colour": "red"}), StatusCode::UNPROCESSABLE_ENTITY, "colour"),
         (

@@ -407,6 +407,44 @@ fn tools_file_values_beyond_the_g10_range_are_usage_errors() {
     assert_eq!(num(&v["variables"]["#100"]), 999.999);
 }
 
+/// A tools file takes the values `PUT /controllers/{id}/tool-offsets/{n}` takes: the wears act
+/// (G43 H1 with length 100 and wear −0.5 stands 99.5 above zero, #10001 reads the wear, the
+/// radius wear is #12001), a wear beyond ±99.999 is refused, and any other field (a misspelled
+/// name) or an offset number given twice is a usage error naming the file and the field: they
+/// were dropped without a word, and the run cut by the wear off.
+#[test]
+fn tools_file_takes_the_wears_and_refuses_unknown_fields() {
+    let (_d, p) = scratch(&[
+        ("p.nc", "G21 G90 G54 G00 X0 Y0\nG43 H1 Z0\n#100=#10001\n#101=#12001\nM30\n"),
+        ("wear.json", r#"{"1": {"length": 100, "radius": 5, "length_wear": -0.5, "radius_wear": 0.1}}"#),
+        ("misspelled.json", r#"{"1": {"length": 100, "radius": 5, "lenght_wear": -0.5}}"#),
+        ("wear_key.json", r#"{"1": {"length": 100, "radius": 5, "wear": 1}}"#),
+        ("beyond.json", r#"{"1": {"length": 100, "radius": 5, "length_wear": 100.0}}"#),
+        ("twice.json", r#"{"1": {"length": 100, "radius": 5}, "1": {"length": 90, "radius": 5}}"#),
+    ]);
+    let (code, v) = run_json(&[s(&p[0]), "--preset", "mill3", "--tools", s(&p[1])]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(num(&v["position"]["machine"]["Z"]), 99.5, "{v}");
+    assert_eq!((num(&v["variables"]["#100"]), num(&v["variables"]["#101"])), (-0.5, 0.1), "{v}");
+    for (bad, says) in [
+        (&p[2], "unknown field `lenght_wear`"),
+        (&p[3], "unknown field `wear`"),
+        (&p[4], "tool offset 1: length_wear 100 is outside ±99.999 mm"),
+        (&p[5], "the key \"1\" is given twice"),
+    ] {
+        for cmd in ["run", "check", "interp"] {
+            let out = fivex(&[cmd, s(&p[0]), "--preset", "mill3", "--tools", s(bad)]);
+            assert_eq!(out.status.code(), Some(2), "{cmd} {}: {}", s(bad), stderr(&out));
+            assert!(out.stdout.is_empty(), "{cmd}: {}", stdout(&out));
+            let err = stderr(&out);
+            assert!(err.contains(says) && err.contains(s(bad)) && !err.contains("panicked"), "{cmd}: {err}");
+        }
+        let out = fivex(&["fleet", s(&p[0]), "--preset", "mill3", "--tools", s(bad)]);
+        assert_eq!(out.status.code(), Some(2), "fleet {}: {}", s(bad), stderr(&out));
+        assert!(stderr(&out).contains(says), "fleet: {}", stderr(&out));
+    }
+}
+
 // --- --trace --------------------------------------------------------------------------------
 
 fn read_trace(path: &Path) -> Vec<Value> {

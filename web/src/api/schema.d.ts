@@ -747,7 +747,7 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** The external offset, G54–G59, and the G54.1 offsets that are not zero. */
+        /** The external offset (Haas: G52), G54–G59, and the G54.1 offsets that are not zero. */
         get: operations["works"];
         put?: never;
         post?: never;
@@ -1736,7 +1736,7 @@ export interface components {
             program: string;
             /** @description Add each machine's run report (`"report"`). */
             report?: boolean;
-            /** @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}` (numbers 1–999; `corner_radius` optional, default 0); default: 1–99 at 100 / 5 mm (a controller keeps its own unless this is given). */
+            /** @description Tool offsets `{"1": {"length": 100.0, "radius": 5.0}}` (numbers 1–999; `length_wear`, `radius_wear` and `corner_radius` optional, default 0; any other field is refused); default: 1–99 at 100 / 5 mm (a controller keeps its own unless this is given). */
             tools?: {
                 [key: string]: components["schemas"]["Tool"];
             } | null;
@@ -3030,7 +3030,12 @@ export interface components {
             /** @description The tool tip there, table frame. */
             tip?: number[] | null;
         };
-        /** @description One tool offset of a `--tools` table: length and radius geometry, and the corner radius. */
+        /**
+         * @description One tool offset of a tool table (`--tools`, a fleet run's `tools`): the values
+         *     `PUT /controllers/{id}/tool-offsets/{n}` takes (`api::offsets::SetToolOffset`), with the same
+         *     ranges (`tools::ToolValues`), length and radius required. Any other field is refused, not
+         *     dropped: a wear left out of the run by a misspelled name moved the tool by it without a word.
+         */
         Tool: {
             /**
              * Format: double
@@ -3040,14 +3045,24 @@ export interface components {
             corner_radius?: number | null;
             /**
              * Format: double
-             * @description mm, within ±999.999 (the range G10 takes, `tools::check_value`).
+             * @description H geometry, mm, within ±999.999 (the range G10 takes, `tools::check_value`).
              */
             length: number;
             /**
              * Format: double
-             * @description mm, within ±999.999.
+             * @description H wear, mm, within ±99.999. Absent: 0.
+             */
+            length_wear?: number | null;
+            /**
+             * Format: double
+             * @description D geometry, mm, within ±999.999.
              */
             radius: number;
+            /**
+             * Format: double
+             * @description D wear, mm, within ±99.999. Absent: 0.
+             */
+            radius_wear?: number | null;
         };
         /** @description One tool offset number (mm). */
         ToolOffsetDto: {
@@ -3139,7 +3154,7 @@ export interface components {
                 [key: string]: number;
             };
             /**
-             * @description `EXT`, `G54`…`G59`, `G54.1P1`…`G54.1P300`.
+             * @description `EXT` (Haas: `G52`, read only), `G54`…`G59`, `G54.1P1`…`G54.1P300`.
              * @example G54
              */
             name: string;
@@ -7096,7 +7111,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorBody"];
                 };
             };
-            /** @description No such offset or axis, or a value beyond ±999999.999 mm (the range G10 takes) */
+            /** @description No such offset or axis, a value beyond ±999999.999 mm (the range G10 takes), or `EXT`/`G52` on a Haas controller (it has no external offset; its G52 is the program's) */
             422: {
                 headers: {
                     [name: string]: unknown;

@@ -370,3 +370,41 @@ async fn every_error_is_the_documented_json() {
         eprintln!("{method} {path}: {status} {error}");
     }
 }
+
+/// What a running program writes is saved every second while it runs (docs/api.md, "What is
+/// kept"): the offsets of its G10 as its retained variables, so a `kill -9` in the middle of the
+/// program keeps them all. The offsets were saved only when the run state changed: after the
+/// kill `#561` was back but tool 22 and G57 X were lost.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_running_programs_offsets_survive_a_kill_as_its_variables_do() {
+    let mut served = Served::start(&[]);
+    let id = create(&served, "kept", 1.0).await;
+    let program = "O0001\nG10 L10 P22 R22.2\nG10 L2 P4 X4.4\n#561=6.6\nG04 X30.\nM30\n";
+    assert!(put_program(&served, &id, 1, program).await.status.is_success());
+    let started = served.send_json(Method::POST, &format!("{C}/{id}/cycle-start"), &json!({"program": 1})).await;
+    assert!(started.status.is_success(), "{:?}", started.body);
+    // The program is in its dwell with everything written.
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        let v = served.get(&format!("{C}/{id}/variables/561")).await.json();
+        if v["value"] == json!(6.6) {
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "the program never wrote #561: {v}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    // More than a second of running, then no shutdown of any kind.
+    tokio::time::sleep(Duration::from_millis(3000)).await;
+    assert_eq!(served.get(&format!("{C}/{id}")).await.json()["run_state"], "running");
+    served.kill();
+    let dir = std::mem::replace(&mut served.dir, tempfile::tempdir().unwrap());
+    let served = Served::start_in(dir, &[]);
+    let v = served.get(&format!("{C}/{id}/variables/561")).await.json();
+    assert_eq!(v["value"], json!(6.6), "{v}");
+    let tools = served.get(&format!("{C}/{id}/tool-offsets")).await.json();
+    let tool = tools.as_array().unwrap().iter().find(|t| t["number"] == 22).cloned();
+    assert_eq!(tool.as_ref().map(|t| t["length"].clone()), Some(json!(22.2)), "tool 22: {tool:?}");
+    let works = served.get(&format!("{C}/{id}/work-offsets")).await.json();
+    let g57 = works.as_array().unwrap().iter().find(|w| w["name"] == "G57").cloned();
+    assert_eq!(g57.map(|w| w["axes"]["X"].clone()), Some(json!(4.4)), "{works}");
+}
