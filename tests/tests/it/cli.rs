@@ -394,17 +394,23 @@ fn tools_file_values_beyond_the_g10_range_are_usage_errors() {
         (&p[2], "radius -999.9991"),
         (&p[3], "corner_radius 1000"),
     ] {
-        for cmd in ["run", "check", "interp"] {
-            let out = fivex(&[cmd, s(&p[0]), "--preset", "mill3", "--tools", s(bad)]);
-            assert_eq!(out.status.code(), Some(2), "{cmd} {}: {}", s(bad), stderr(&out));
-            assert!(out.stdout.is_empty(), "{cmd}: {}", stdout(&out));
-            let err = stderr(&out);
-            assert!(err.contains(says) && !err.contains("panicked"), "{cmd}: {err}");
-        }
+        tools_file_refused(&p[0], bad, says);
     }
     let (code, v) = run_json(&[s(&p[0]), "--preset", "mill3", "--tools", s(&p[4])]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(num(&v["variables"]["#100"]), 999.999);
+}
+
+/// `run`, `check` and `interp` of `program` with the tools file `bad`: a usage error (exit 2,
+/// nothing on stdout) whose message names the file and says `says`.
+fn tools_file_refused(program: &Path, bad: &Path, says: &str) {
+    for cmd in ["run", "check", "interp"] {
+        let out = fivex(&[cmd, s(program), "--preset", "mill3", "--tools", s(bad)]);
+        assert_eq!(out.status.code(), Some(2), "{cmd} {}: {}", s(bad), stderr(&out));
+        assert!(out.stdout.is_empty(), "{cmd}: {}", stdout(&out));
+        let err = stderr(&out);
+        assert!(err.contains(says) && err.contains(s(bad)) && !err.contains("panicked"), "{cmd}: {err}");
+    }
 }
 
 /// A tools file takes the values `PUT /controllers/{id}/tool-offsets/{n}` takes: the wears act
@@ -432,13 +438,7 @@ fn tools_file_takes_the_wears_and_refuses_unknown_fields() {
         (&p[4], "tool offset 1: length_wear 100 is outside ±99.999 mm"),
         (&p[5], "the key \"1\" is given twice"),
     ] {
-        for cmd in ["run", "check", "interp"] {
-            let out = fivex(&[cmd, s(&p[0]), "--preset", "mill3", "--tools", s(bad)]);
-            assert_eq!(out.status.code(), Some(2), "{cmd} {}: {}", s(bad), stderr(&out));
-            assert!(out.stdout.is_empty(), "{cmd}: {}", stdout(&out));
-            let err = stderr(&out);
-            assert!(err.contains(says) && err.contains(s(bad)) && !err.contains("panicked"), "{cmd}: {err}");
-        }
+        tools_file_refused(&p[0], bad, says);
         let out = fivex(&["fleet", s(&p[0]), "--preset", "mill3", "--tools", s(bad)]);
         assert_eq!(out.status.code(), Some(2), "fleet {}: {}", s(bad), stderr(&out));
         assert!(stderr(&out).contains(says), "fleet: {}", stderr(&out));
