@@ -898,6 +898,17 @@ fn check_shows_the_text_and_the_run_alarms_of_one_line() {
     assert_eq!(parse_diag(text.trim_end(), s(&q[0])), (1, 9, "PS0009"), "{text}");
 }
 
+/// `fivex args…` (a check of `program`) finding one problem, at `(line, col, code)`: exit 1
+/// and that one line, returned.
+fn the_one_diagnostic(args: &[&str], program: &str, at: (u32, u32, &str)) -> String {
+    let out = fivex(args);
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+    let text = stdout(&out);
+    assert_eq!(text.lines().count(), 1, "{args:?}: {text}");
+    assert_eq!(parse_diag(text.trim_end(), program), at, "{args:?}: {text}");
+    text
+}
+
 #[test]
 fn check_reports_a_run_that_never_ends() {
     // The loop after the compensation: the check runs the program (it has G41) and its block
@@ -907,11 +918,7 @@ fn check_reports_a_run_that_never_ends() {
     let (_d, p) = scratch(&[("loop.nc", prog)]);
     let program = s(&p[0]);
     for args in [&["check", program][..], &["check", program, "--preset", "mill3"]] {
-        let out = fivex(args);
-        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
-        let text = stdout(&out);
-        assert_eq!(text.lines().count(), 1, "{args:?}: {text}");
-        assert_eq!(parse_diag(text.trim_end(), program), (5, 1, "FX0001"), "{args:?}: {text}");
+        let text = the_one_diagnostic(args, program, (5, 1, "FX0001"));
         // What happened, the budget, why, and what to do.
         for says in ["5000000 BLOCKS RUN, PROGRAM NOT ENDED", "may loop without end", "fivex run --max-blocks"] {
             assert!(text.contains(says), "{args:?}: {says}: {text}");
@@ -932,11 +939,7 @@ fn check_reports_the_end_of_record() {
     ]);
     let program = s(&p[0]);
     for args in [&["check", program][..], &["check", program, "--preset", "mill3"]] {
-        let out = fivex(args);
-        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
-        let text = stdout(&out);
-        assert_eq!(text.lines().count(), 1, "{args:?}: {text}");
-        assert_eq!(parse_diag(text.trim_end(), program), (1, 1, "PS5010"), "{args:?}: {text}");
+        let text = the_one_diagnostic(args, program, (1, 1, "PS5010"));
         assert!(text.contains("PS5010 END OF RECORD"), "{args:?}: {text}");
     }
     let clean = [
