@@ -22,7 +22,6 @@ struct Dashboard;
 /// A file of the built dashboard, by its path in `web/dist`.
 #[cfg(not(debug_assertions))]
 fn file(path: &str) -> Option<EmbeddedFile> {
-    use rust_embed::Embed;
     Dashboard::get(path)
 }
 
